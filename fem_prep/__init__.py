@@ -1,0 +1,1 @@
+"""fem_prep: offline finite-element pre-processing of flexible gear bodies (NumPy/SciPy/skfem)."""

@@ -1,0 +1,35 @@
+"""jaxgear: differentiable gear dynamics in JAX.
+
+Public API (everything else lives in private modules). Float64 is not switched on here: the CLI,
+the tests and the examples do it (``jax.config.update("jax_enable_x64", True)``), or set
+``JAX_ENABLE_X64=1``.
+"""
+
+from ._baseplane import Cells as Cells, MeshModel as MeshModel
+from ._case import Case as Case, list_cases as list_cases, load_case as load_case
+from ._contact import (
+    RESULT_MESSAGES as RESULT_MESSAGES,
+    ContactSolution as ContactSolution,
+    solve_contact as solve_contact,
+)
+from ._geometry import (
+    GearPair as GearPair,
+    Member as Member,
+    involute as involute,
+    inverse_involute as inverse_involute,
+)
+from ._modifications import MemberModification as MemberModification, Modifications as Modifications
+from ._quasi_static import (
+    QuasiStaticResult as QuasiStaticResult,
+    mesh_positions as mesh_positions,
+    quasi_static as quasi_static,
+)
+from ._scene import RigidMesh as RigidMesh, Scene as Scene, TorsionalPair as TorsionalPair
+from ._stiffness import (
+    iso6336_mesh_stiffness as iso6336_mesh_stiffness,
+    iso6336_single_stiffness as iso6336_single_stiffness,
+    stiffness_table as stiffness_table,
+    weber_profile as weber_profile,
+)
+
+__version__ = "0.1.0"

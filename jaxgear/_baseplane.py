@@ -1,0 +1,128 @@
+"""Base-plane discretisation: contact lines cut into thin slices (cells), DESIGN.md §2.
+
+The base plane is spanned by s ∈ [0, g_α] along the transverse line of action (s = 0 at the
+engagement point, where the gear tip meets the pinion's start of active profile; s = g_α at the
+pinion tip) and z ∈ [0, b] across the effective face width. Tooth pair ``i``'s contact line at
+pinion angle θ is ``s = r_b1 θ + i p_bt − z tan β_b``; each line is cut into N slices of equal
+face width b/N, whose mid-points are the cells. Arrays have the fixed shape (n_lines, n_slices)
+with a mask for the cells inside [0, g_α], so shapes never change under jit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from ._util import as_float
+from jaxtyping import Array, Bool, Float
+
+from ._geometry import GearPair
+
+__all__ = ["MeshModel", "Cells"]
+
+
+
+
+class Cells(eqx.Module):
+    """Contact cells at one pinion angle (every array has shape (n_lines, n_slices)).
+
+    Attributes:
+        s: base-plane coordinate along the line of action (m).
+        z: coordinate across the face (m).
+        length: cell length along its contact line, (b/N)/cos β_b (m).
+        stiffness: k_ij, stiffness per unit contact length (N/m²), flank-normal.
+        mask: True where the cell lies on the flanks (0 <= s <= g_α).
+        line: tooth-pair index of each cell's contact line (integer-valued floats).
+    """
+
+    s: Float[Array, "n_lines n_slices"]
+    z: Float[Array, "n_lines n_slices"]
+    length: Float[Array, "n_lines n_slices"]
+    stiffness: Float[Array, "n_lines n_slices"]
+    mask: Bool[Array, "n_lines n_slices"]
+    line: Float[Array, "n_lines n_slices"]
+
+
+class MeshModel(eqx.Module):
+    """The gear mesh in the base plane: geometry scalars, stiffness table and cell layout.
+
+    Build it with :meth:`from_pair`. Dynamic leaves are arrays (constants for gradients unless you
+    differentiate through them); ``n_lines``, ``n_slices`` and ``first_line`` are static shapes.
+
+    Attributes:
+        path_of_contact: g_α (m). base_pitch: p_bt (m). face_width: b (m).
+        base_radius_pinion, base_radius_gear: r_b1, r_b2 (m).
+        base_helix_angle: β_b (rad).
+        contact_ratio: ε_α (-).
+        stiffness_s, stiffness_k: the table k(s) (m, N/m²), shape (n_table,).
+    """
+
+    path_of_contact: Float[Array, ""] = eqx.field(converter=as_float)
+    base_pitch: Float[Array, ""] = eqx.field(converter=as_float)
+    face_width: Float[Array, ""] = eqx.field(converter=as_float)
+    base_radius_pinion: Float[Array, ""] = eqx.field(converter=as_float)
+    base_radius_gear: Float[Array, ""] = eqx.field(converter=as_float)
+    base_helix_angle: Float[Array, ""] = eqx.field(converter=as_float)
+    contact_ratio: Float[Array, ""] = eqx.field(converter=as_float)
+    stiffness_s: Float[Array, " n_table"] = eqx.field(converter=as_float)
+    stiffness_k: Float[Array, " n_table"] = eqx.field(converter=as_float)
+    n_slices: int = eqx.field(static=True)
+    n_lines: int = eqx.field(static=True)
+    first_line: int = eqx.field(static=True)
+
+    def __check_init__(self):
+        if self.n_slices < 1:
+            raise ValueError(f"mesh.slices = {self.n_slices} is out of range: allowed >= 1")
+
+    @classmethod
+    def from_pair(cls, pair: GearPair, stiffness_s: np.ndarray, stiffness_k: np.ndarray,
+                  n_slices: int) -> "MeshModel":
+        """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
+
+        Args:
+            pair: validated gear pair.
+            stiffness_s, stiffness_k: k(s) table from :func:`jaxgear.stiffness_table`.
+            n_slices: slices N per contact line (>= 1).
+        """
+        if int(n_slices) != n_slices or n_slices < 1:
+            raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
+        lead = pair.face_width * math.tan(pair.base_helix_angle)
+        first = -int(math.ceil(lead / pair.base_pitch))
+        last = int(math.ceil(pair.path_of_contact / pair.base_pitch)) + 1
+        return cls(pair.path_of_contact, pair.base_pitch, pair.face_width, pair.base_radii[0],
+                   pair.base_radii[1], pair.base_helix_angle, pair.transverse_contact_ratio,
+                   stiffness_s, stiffness_k, n_slices=int(n_slices), n_lines=last - first + 1,
+                   first_line=first)
+
+    @property
+    def mesh_period_angle(self) -> Float[Array, ""]:
+        """Pinion rotation of one mesh period, p_bt / r_b1 = 2π/z1 (rad)."""
+        return self.base_pitch / self.base_radius_pinion
+
+    def cells(self, theta: Float[Array, ""]) -> Cells:
+        """Cells at pinion angle ``theta`` (rad, from a position where a contact line is at s=0).
+
+        Only the angle modulo one mesh period matters (no pitch deviations are modelled).
+        """
+        dz = self.face_width / self.n_slices
+        z = (jnp.arange(self.n_slices) + 0.5) * dz
+        line = jnp.arange(self.n_lines, dtype=float) + self.first_line
+        roll = jnp.mod(self.base_radius_pinion * theta, self.base_pitch)
+        s = roll + line[:, None] * self.base_pitch - z[None, :] * jnp.tan(self.base_helix_angle)
+        mask = (s >= 0.0) & (s <= self.path_of_contact)
+        k = jnp.interp(s, self.stiffness_s, self.stiffness_k)
+        length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
+        zz = jnp.broadcast_to(z[None, :], s.shape)
+        ll = jnp.broadcast_to(line[:, None], s.shape)
+        return Cells(s=s, z=zz, length=length, stiffness=k, mask=mask, line=ll)
+
+    def contact_length(self, theta: Float[Array, ""]) -> Float[Array, ""]:
+        """Total length of the contact lines inside the base plane (m), discretised."""
+        c = self.cells(theta)
+        return jnp.sum(jnp.where(c.mask, c.length, 0.0))
+
+    def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
+        """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
+        return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))

@@ -1,0 +1,229 @@
+"""Involute gear-pair geometry (ISO 21771), computed once in NumPy.
+
+Geometry fixes the shapes of everything downstream (number of contact lines, base-plane extent),
+so it is evaluated eagerly in float64 NumPy and validated here, before anything is traced. The
+results are plain Python floats in SI units.
+
+Sources: ISO 21771:2007 (involute geometry, profile shift, form circle), DESIGN.md §2, the seed's
+Tab. III-1 / III-5 for the reference pairs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+__all__ = ["Member", "GearPair", "involute", "inverse_involute"]
+
+
+def involute(alpha: float) -> float:
+    """inv α = tan α − α (rad)."""
+    return math.tan(alpha) - alpha
+
+
+def inverse_involute(value: float) -> float:
+    """Solve inv α = value for α ∈ (0, π/2) by Newton's method (float64, 1e-15 rad)."""
+    if value < 0.0:
+        raise ValueError(f"inverse_involute: value {value!r} must be >= 0")
+    alpha = (3.0 * value) ** (1.0 / 3.0)  # series start: inv α ≈ α³/3
+    for _ in range(60):
+        f = math.tan(alpha) - alpha - value
+        step = f / math.tan(alpha) ** 2
+        alpha -= step
+        if abs(step) < 1e-15:
+            break
+    return alpha
+
+
+@dataclasses.dataclass(frozen=True)
+class Member:
+    """One gear of the pair (input data, SI units).
+
+    Attributes:
+        teeth: number of teeth z (>= 5).
+        profile_shift: profile shift coefficient x (multiplies the *normal* module).
+        addendum_coeff: addendum coefficient h_a* (tip radius r_a = r + m_n (h_a* + x)).
+        dedendum_coeff: dedendum coefficient h_f* (root radius r_f = r − m_n (h_f* − x)); it is
+            also the addendum of the generating rack cutter.
+        face_width: face width b (m).
+        fillet_radius_coeff: tip radius of the generating rack ρ_fP / m_n (Tab. III-1: 0.25).
+    """
+
+    teeth: int
+    profile_shift: float = 0.0
+    addendum_coeff: float = 1.0
+    dedendum_coeff: float = 1.25
+    face_width: float = 0.01
+    fillet_radius_coeff: float = 0.25
+
+
+def _require(name: str, value: float, ok: bool, allowed: str) -> None:
+    if not ok:
+        raise ValueError(f"{name} = {value!r} is out of range: allowed {allowed}")
+
+
+@dataclasses.dataclass(frozen=True)
+class GearPair:
+    """External involute spur or helical gear pair; member 1 (pinion) drives.
+
+    Construct with the input data; every derived quantity is a read-only attribute computed in
+    ``__post_init__`` (SI units, angles in rad). Validation raises ``ValueError`` naming the
+    parameter, its value and the allowed range: non-positive sizes, tip below the base circle,
+    pointed tips, undercut (involute form circle below the base circle), interference (active
+    profile starting below the form circle), transverse contact ratio below 1, a centre distance
+    below the zero-backlash distance.
+
+    Args:
+        pinion, gear: the two members (pinion = driving member 1).
+        normal_module: m_n (m).
+        normal_pressure_angle: α_n (rad).
+        helix_angle: β (rad), >= 0; 0 for spur gears.
+        center_distance: operating centre distance a_w (m); ``None`` for the zero-backlash
+            distance from the profile shifts (ISO 21771 (40)).
+
+    Derived attributes (all SI): ``transverse_module``, ``transverse_pressure_angle`` α_t,
+    ``operating_pressure_angle`` α_wt, ``center_distance`` a_w, ``pitch_radii`` (r1, r2),
+    ``base_radii`` (r_b1, r_b2), ``tip_radii``, ``root_radii``, ``form_roll`` (roll distance ρ_F
+    of the form circle from the base tangent point, per member), ``base_pitch`` p_bt,
+    ``base_helix_angle`` β_b, ``path_of_contact`` g_α, ``transverse_contact_ratio`` ε_α,
+    ``overlap_ratio`` ε_β, ``face_width`` b (overlap of the two face widths),
+    ``start_roll`` (roll distance of the pinion's start of active profile from its tangent
+    point T1; the line-of-action coordinate s = 0 of DESIGN.md §2 sits there).
+    """
+
+    pinion: Member
+    gear: Member
+    normal_module: float
+    normal_pressure_angle: float
+    helix_angle: float = 0.0
+    center_distance: float | None = None
+
+    def __post_init__(self) -> None:  # noqa: C901 - a flat list of checks reads best
+        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
+        _require("normal_module", mn, mn > 0, "> 0")
+        _require("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg")
+        _require("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg")
+        for tag, m in (("pinion", self.pinion), ("gear", self.gear)):
+            _require(f"{tag}.teeth", m.teeth, int(m.teeth) == m.teeth and m.teeth >= 5,
+                     "an integer >= 5")
+            _require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
+            _require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
+            _require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
+            _require(f"{tag}.fillet_radius_coeff", m.fillet_radius_coeff,
+                     0 <= m.fillet_radius_coeff < m.dedendum_coeff, "[0, dedendum_coeff)")
+            _require(f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5,
+                     "(-1.5, 1.5)")
+        z1, z2 = self.pinion.teeth, self.gear.teeth
+        x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
+        mt = mn / math.cos(beta)
+        at = math.atan(math.tan(an) / math.cos(beta))
+        r = (z1 * mt / 2.0, z2 * mt / 2.0)
+        rb = (r[0] * math.cos(at), r[1] * math.cos(at))
+        inv_awt0 = involute(at) + 2.0 * math.tan(an) * (x1 + x2) / (z1 + z2)
+        _require("profile_shift (x1 + x2)", x1 + x2, inv_awt0 > 0, f"> {-(z1 + z2) * involute(at) / (2 * math.tan(an)):.4f}")
+        awt0 = inverse_involute(inv_awt0)
+        a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
+        if self.center_distance is None:
+            a, awt = a0, awt0
+        else:
+            a = float(self.center_distance)
+            _require("center_distance", a, a >= a0 * (1 - 1e-9),
+                     f">= {a0 * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)")
+            awt = math.acos((rb[0] + rb[1]) / a)
+        members = (self.pinion, self.gear)
+        ra = tuple(r[i] + mn * (m.addendum_coeff + m.profile_shift) for i, m in enumerate(members))
+        rf = tuple(r[i] - mn * (m.dedendum_coeff - m.profile_shift) for i, m in enumerate(members))
+        for i, tag in enumerate(("pinion", "gear")):
+            _require(f"{tag}.root radius (from dedendum_coeff and profile_shift)", rf[i], rf[i] > 0,
+                     "> 0")
+            _require(f"{tag}.tip radius (from addendum_coeff and profile_shift)", ra[i],
+                     ra[i] > rb[i], f"> base radius {rb[i] * 1e3:.4f} mm")
+        # transverse tooth thickness at the reference circle and at the tip (ISO 21771)
+        st = tuple(mt * (math.pi / 2 + 2 * m.profile_shift * math.tan(an)) for m in members)
+        tip_thickness = []
+        for i, tag in enumerate(("pinion", "gear")):
+            aa = math.acos(rb[i] / ra[i])
+            sa = 2 * ra[i] * (st[i] / (2 * r[i]) + involute(at) - involute(aa))
+            _require(f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth)",
+                     members[i].addendum_coeff, sa > 0, "a tip tooth thickness > 0")
+            tip_thickness.append(sa)
+        # form circle of the generating rack (ISO 21771 (88)-(90)): roll distance from T
+        form_roll = []
+        for i, (tag, m) in enumerate(zip(("pinion", "gear"), members)):
+            h = mn * (m.dedendum_coeff - m.profile_shift - m.fillet_radius_coeff * (1 - math.sin(an)))
+            rho_f = r[i] * math.sin(at) - h / math.sin(at)
+            _require(f"{tag}.profile_shift (undercut: form circle roll {rho_f * 1e3:.4f} mm)",
+                     m.profile_shift, rho_f >= 0, "large enough that the involute starts above the base circle (no undercut)")
+            form_roll.append(rho_f)
+        t1t2 = a * math.sin(awt)
+        roll_tip = (math.sqrt(ra[0] ** 2 - rb[0] ** 2), math.sqrt(ra[1] ** 2 - rb[1] ** 2))
+        start = (t1t2 - roll_tip[1], t1t2 - roll_tip[0])  # start of active profile, each member
+        for i, tag in enumerate(("pinion", "gear")):
+            other = "gear" if i == 0 else "pinion"
+            _require(f"{other}.addendum_coeff (interference: {tag} active profile starts "
+                     f"{start[i] * 1e3:.4f} mm from its tangent point, below the form circle "
+                     f"{form_roll[i] * 1e3:.4f} mm)", members[1 - i].addendum_coeff,
+                     start[i] >= form_roll[i] - 1e-12, "small enough to avoid interference")
+        g_alpha = roll_tip[0] + roll_tip[1] - t1t2
+        pbt = math.pi * mt * math.cos(at)
+        eps_a = g_alpha / pbt
+        _require("transverse contact ratio", eps_a, eps_a >= 1.0, ">= 1 (increase addenda)")
+        b = min(self.pinion.face_width, self.gear.face_width)
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 - frozen dataclass
+        set_("transverse_module", mt)
+        set_("transverse_pressure_angle", at)
+        set_("operating_pressure_angle", awt)
+        set_("center_distance", a)
+        set_("zero_backlash_center_distance", a0)
+        set_("pitch_radii", r)
+        set_("base_radii", rb)
+        set_("tip_radii", ra)
+        set_("root_radii", rf)
+        set_("reference_thickness", st)
+        set_("tip_thickness", tuple(tip_thickness))
+        set_("form_roll", tuple(form_roll))
+        set_("start_roll", start[0])
+        set_("base_pitch", pbt)
+        set_("base_helix_angle", math.atan(math.tan(beta) * math.cos(at)))
+        set_("path_of_contact", g_alpha)
+        set_("transverse_contact_ratio", eps_a)
+        set_("face_width", b)
+        set_("overlap_ratio", b * math.sin(beta) / (math.pi * mn))
+        set_("mesh_period_angle", 2 * math.pi / z1)
+
+    @property
+    def total_contact_ratio(self) -> float:
+        return self.transverse_contact_ratio + self.overlap_ratio
+
+    @property
+    def gear_ratio(self) -> float:
+        """u = z2 / z1."""
+        return self.gear.teeth / self.pinion.teeth
+
+    def roll_distance(self, s, member: int):
+        """Roll distance ρ (m) of base-plane coordinate ``s`` on member 0 (pinion) or 1 (gear).
+
+        ρ is measured along the line of action from the member's base tangent point; the contact
+        point's radius is √(ρ² + r_b²) and its radius of curvature is ρ.
+        """
+        rho1 = self.start_roll + s
+        if member == 0:
+            return rho1
+        return self.center_distance * math.sin(self.operating_pressure_angle) - rho1
+
+    def summary(self) -> dict:
+        """Derived geometry as a JSON-ready dict (SI units)."""
+        return {
+            "transverse_contact_ratio": self.transverse_contact_ratio,
+            "overlap_ratio": self.overlap_ratio,
+            "total_contact_ratio": self.total_contact_ratio,
+            "base_pitch_m": self.base_pitch,
+            "center_distance_m": self.center_distance,
+            "path_of_contact_m": self.path_of_contact,
+            "operating_pressure_angle_deg": math.degrees(self.operating_pressure_angle),
+            "base_helix_angle_deg": math.degrees(self.base_helix_angle),
+            "base_radii_m": list(self.base_radii),
+            "tip_radii_m": list(self.tip_radii),
+            "root_radii_m": list(self.root_radii),
+            "face_width_m": self.face_width,
+        }

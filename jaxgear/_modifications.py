@@ -1,0 +1,141 @@
+"""Tooth modifications and deviations, differentiable in their parameters (DESIGN.md §4).
+
+Sign convention: a deviation ``e`` is normal to the flank, in metres, positive where material is
+*added* (seed II-13). Reliefs and crowning remove material, so their depths (>= 0) enter with a
+minus sign. The pair's deviation at a cell is the sum of the pinion's and the gear's.
+
+Profile coordinate of a member: the roll fraction u ∈ [0, 1] along its *active* profile, 0 at its
+start of active profile and 1 at its tip. With the base-plane coordinate s ∈ [0, g_α] of
+DESIGN.md §2 (s = 0: engagement at the gear tip), the pinion has u = s/g_α and the gear
+u = 1 − s/g_α. Tip relief of extent Γ acts on u > 1 − Γ, root relief on u < Γ, where Γ is the
+relief length along the line of action over g_α = ε_α p_bt (seed (3.1)).
+
+Lead coordinate: ζ = z/b ∈ [0, 1] across the effective face width.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import equinox as eqx
+import jax.numpy as jnp
+from ._util import as_float
+from jaxtyping import Array, Float
+
+__all__ = ["MemberModification", "Modifications"]
+
+_SHAPES = ("linear", "parabolic")
+
+
+def _ramp(x, shape: str):
+    """Relief shape on x ∈ [0, 1] (clipped): x (linear) or x² (parabolic)."""
+    x = jnp.clip(x, 0.0, 1.0)
+    return x if shape == "linear" else x * x
+
+
+
+
+class MemberModification(eqx.Module):
+    """Modifications of one member's flank (SI units, depths in m, extents as fractions).
+
+    Attributes:
+        tip_relief_depth: E (m), >= 0, at the tip.
+        tip_relief_extent: Γ ∈ (0, 1], fraction of the path of contact g_α.
+        root_relief_depth, root_relief_extent: likewise at the start of active profile.
+        crowning_depth: lead crowning C_β (m), >= 0, parabolic, depth at each face edge.
+        end_relief_depth: linear lead end relief (m) at each face edge, >= 0.
+        end_relief_extent: its length at each end as a fraction of the face width, (0, 0.5].
+        helix_slope_deviation: f_Hβ (m), signed: material added at z = b, removed at z = 0
+            (linear across the face, zero at mid-face); models a misalignment too.
+        profile_deviation_roll: roll fractions u (ascending), shape (n,).
+        profile_deviation: user profile deviation (m) at those u, shape (n,), interpolated.
+        tip_relief_shape, root_relief_shape: "linear" or "parabolic" (static).
+    """
+
+    tip_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    tip_relief_extent: Float[Array, ""] = eqx.field(converter=as_float, default=0.25)
+    root_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    root_relief_extent: Float[Array, ""] = eqx.field(converter=as_float, default=0.25)
+    crowning_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    end_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    end_relief_extent: Float[Array, ""] = eqx.field(converter=as_float, default=0.1)
+    helix_slope_deviation: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    profile_deviation_roll: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 1.0))
+    profile_deviation: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 0.0))
+    tip_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
+    root_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
+
+    def __check_init__(self):
+        for name in ("tip_relief_shape", "root_relief_shape"):
+            if getattr(self, name) not in _SHAPES:
+                raise ValueError(f"{name} = {getattr(self, name)!r}: allowed 'linear', 'parabolic'")
+        if self.profile_deviation_roll.shape != self.profile_deviation.shape or \
+                self.profile_deviation.ndim != 1 or self.profile_deviation.shape[0] < 2:
+            raise ValueError("profile_deviation: roll_fraction and deviation_um must be 1-D lists "
+                             "of the same length >= 2")
+
+    def deviation(self, u: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
+        """Normal deviation e (m) at roll fraction ``u`` and lead fraction ``zeta`` (broadcast)."""
+        tip = self.tip_relief_depth * _ramp((u - (1.0 - self.tip_relief_extent)) / self.tip_relief_extent,
+                                            self.tip_relief_shape)
+        root = self.root_relief_depth * _ramp((self.root_relief_extent - u) / self.root_relief_extent,
+                                              self.root_relief_shape)
+        xi = 2.0 * zeta - 1.0
+        crown = self.crowning_depth * xi * xi
+        le = self.end_relief_extent
+        end = self.end_relief_depth * (jnp.clip((le - zeta) / le, 0.0, 1.0)
+                                       + jnp.clip((zeta - (1.0 - le)) / le, 0.0, 1.0))
+        slope = self.helix_slope_deviation * (zeta - 0.5)
+        prof = jnp.interp(u, self.profile_deviation_roll, self.profile_deviation)
+        return prof + slope - tip - root - crown - end
+
+    def validation_errors(self, tag: str) -> list[str]:
+        """Range errors for concrete (not traced) values, as messages naming the parameter."""
+        out = []
+        checks = [
+            ("tip_relief.depth_um", self.tip_relief_depth * 1e6, self.tip_relief_depth >= 0, ">= 0"),
+            ("tip_relief.extent", self.tip_relief_extent, (self.tip_relief_extent > 0) & (self.tip_relief_extent <= 1), "(0, 1]"),
+            ("root_relief.depth_um", self.root_relief_depth * 1e6, self.root_relief_depth >= 0, ">= 0"),
+            ("root_relief.extent", self.root_relief_extent, (self.root_relief_extent > 0) & (self.root_relief_extent <= 1), "(0, 1]"),
+            ("crowning.depth_um", self.crowning_depth * 1e6, self.crowning_depth >= 0, ">= 0"),
+            ("end_relief.depth_um", self.end_relief_depth * 1e6, self.end_relief_depth >= 0, ">= 0"),
+            ("end_relief.extent", self.end_relief_extent, (self.end_relief_extent > 0) & (self.end_relief_extent <= 0.5), "(0, 0.5]"),
+        ]
+        for name, value, ok, allowed in checks:
+            if not bool(ok):
+                out.append(f"modifications.{tag}.{name} = {float(value):g} is out of range: allowed {allowed}")
+        r = self.profile_deviation_roll
+        if not bool(jnp.all(jnp.diff(r) > 0)):
+            out.append(f"modifications.{tag}.profile_deviation.roll_fraction must be strictly ascending")
+        return out
+
+
+class Modifications(eqx.Module):
+    """Flank modifications of both members.
+
+    Attributes:
+        pinion, gear: :class:`MemberModification` of each member.
+
+    Example:
+        >>> tip = MemberModification(tip_relief_depth=15e-6, tip_relief_extent=0.25)
+        >>> mods = Modifications.symmetric(tip)
+    """
+
+    pinion: MemberModification = eqx.field(default_factory=MemberModification)
+    gear: MemberModification = eqx.field(default_factory=MemberModification)
+
+    @classmethod
+    def symmetric(cls, member: MemberModification) -> "Modifications":
+        """The same modification on both members."""
+        return cls(pinion=member, gear=member)
+
+    def deviation(self, s_fraction: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
+        """Pair deviation e (m) at base-plane fraction s/g_α and lead fraction z/b."""
+        return self.pinion.deviation(s_fraction, zeta) + self.gear.deviation(1.0 - s_fraction, zeta)
+
+    def validate(self) -> "Modifications":
+        """Raise ``ValueError`` listing every out-of-range parameter (concrete values only)."""
+        errs = self.pinion.validation_errors("pinion") + self.gear.validation_errors("gear")
+        if errs:
+            raise ValueError("; ".join(errs))
+        return self

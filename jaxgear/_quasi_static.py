@@ -1,0 +1,161 @@
+"""Quasi-static transmission error, mesh stiffness and load distribution over mesh positions."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Bool, Float, Int
+
+from ._baseplane import MeshModel
+from ._contact import RESULT_MESSAGES, solve_contact
+from ._modifications import Modifications
+from ._scene import RigidMesh, Scene
+
+__all__ = ["QuasiStaticResult", "quasi_static", "mesh_positions"]
+
+
+class QuasiStaticResult(eqx.Module):
+    """Quasi-static response at P pinion positions (cell arrays: (P, n_lines, n_slices)).
+
+    Attributes:
+        theta: pinion angle (rad), shape (P,).
+        transmission_error: transverse TE along the line of action (m), shape (P,), measured from
+            the perfect rigid position, positive under load (the driven gear lags):
+            TE = (u·X − max_M e) / cos β_b (DESIGN.md §4).
+        mesh_stiffness: K(θ) = Σ k_ij l_ij over loaded cells (N/m), flank-normal in the base plane
+            (smooth mode: the tangent stiffness Σ k l φ'(Δ)), shape (P,).
+        contact_length: loaded contact length (m), shape (P,) (smooth mode weighted by φ').
+        line_load: load per unit contact length per cell (N/m), shape (P, L, N).
+        cell_s, cell_z: cell coordinates in the base plane (m), shape (P, L, N).
+        cell_mask: cells on the flanks, shape (P, L, N).
+        x: generalised coordinates of the scene, shape (P, n).
+        iterations, result: contact-solver passes and result code per position, shape (P,).
+    """
+
+    theta: Float[Array, " P"]
+    transmission_error: Float[Array, " P"]
+    mesh_stiffness: Float[Array, " P"]
+    contact_length: Float[Array, " P"]
+    line_load: Float[Array, "P L N"]
+    cell_s: Float[Array, "P L N"]
+    cell_z: Float[Array, "P L N"]
+    cell_mask: Bool[Array, "P L N"]
+    x: Float[Array, "P n"]
+    iterations: Int[Array, " P"]
+    result: Int[Array, " P"]
+
+    @property
+    def te_mean(self):
+        return jnp.mean(self.transmission_error)
+
+    @property
+    def te_rms(self):
+        """RMS of the TE about its mean (m)."""
+        te = self.transmission_error
+        return jnp.sqrt(jnp.mean((te - jnp.mean(te)) ** 2))
+
+    @property
+    def te_ptp(self):
+        return jnp.max(self.transmission_error) - jnp.min(self.transmission_error)
+
+    @property
+    def max_line_load(self):
+        return jnp.max(self.line_load)
+
+
+def mesh_positions(mesh: MeshModel, positions_per_pitch: int, periods: int = 1) -> Float[Array, " P"]:
+    """Pinion angles (rad) at the mid-points of ``positions_per_pitch`` steps per mesh period.
+
+    Mid-points keep contact-line ends off the exact edges s = 0 and s = g_α.
+    """
+    if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
+        raise ValueError(f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
+                         "allowed an integer >= 2")
+    if int(periods) != periods or periods < 1:
+        raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
+    k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
+    return k * mesh.mesh_period_angle / positions_per_pitch
+
+
+def _one_position(scene: Scene, mesh: MeshModel, mods: Modifications, torque, theta, mode, width,
+                  max_iterations):
+    cells = mesh.cells(theta)
+    mask = cells.mask
+    e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+    e_max = jnp.max(jnp.where(mask, e, -jnp.inf))
+    delta0 = jnp.where(mask, e_max - e, 0.0)
+    V = scene.cell_vectors(cells)
+    n = V.shape[-1]
+    sol = solve_contact(scene.stiffness(), scene.external_load(torque), V.reshape(-1, n),
+                        cells.stiffness.reshape(-1), cells.length.reshape(-1), delta0.reshape(-1),
+                        mask.reshape(-1), mode, width, max_iterations)
+    cos_bb = jnp.cos(mesh.base_helix_angle)
+    te = (scene.te_vector() @ sol.x - e_max) / cos_bb
+    kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)
+    stiff = jnp.sum(kl * sol.weight)
+    length = jnp.sum(cells.length.reshape(-1) * sol.weight)
+    return dict(theta=theta, transmission_error=te, mesh_stiffness=stiff, contact_length=length,
+                line_load=sol.force_density.reshape(mask.shape), cell_s=cells.s, cell_z=cells.z,
+                cell_mask=mask, x=sol.x, iterations=sol.iterations, result=sol.result)
+
+
+@eqx.filter_jit
+def _quasi_static(scene, mesh, mods, torque, theta, width, mode, max_iterations, throw):
+    torque = eqx.error_if(torque, ~(torque > 0),
+                          "operating.torque_Nm must be > 0 (the pinion drives on its working flank)")
+    if mode == "smooth":
+        width = eqx.error_if(width, ~(width > 0), "smooth contact width must be > 0 (m)")
+    out = jax.vmap(lambda th: _one_position(scene, mesh, mods, torque, th, mode, width,
+                                            max_iterations))(theta)
+    res = QuasiStaticResult(**out)
+    if throw:
+        te = res.transmission_error
+        for code, msg in RESULT_MESSAGES.items():
+            if code:
+                te = eqx.error_if(te, jnp.any(res.result == code), f"quasi_static: {msg}")
+        res = eqx.tree_at(lambda r: r.transmission_error, res, te)
+    return res
+
+
+def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, torque,
+                 theta: Float[Array, " P"] | None = None, *, contact: str = "exact",
+                 width=1e-7, positions_per_pitch: int = 64, periods: int = 1,
+                 max_iterations: int = 100, throw: bool = True) -> QuasiStaticResult:
+    """Quasi-static (no inertia) loaded contact of the gear pair at a series of pinion angles.
+
+    Args:
+        scene: a :class:`Scene` (e.g. :class:`RigidMesh`, :class:`TorsionalPair`), or a
+            :class:`MeshModel` for the rigid 1-DOF mesh.
+        modifications: flank modifications (``None``: perfect involutes).
+        torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
+        theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` over ``periods``
+            mesh periods with ``positions_per_pitch`` positions each.
+        contact: "exact" (active set, seed II-25) or "smooth" (softplus ramp, DESIGN.md §5).
+        width: smoothing width w (m) in smooth mode.
+        max_iterations: cap on active-set passes / Newton steps per position.
+        throw: raise ``eqx.EquinoxRuntimeError`` when a position fails (contact loop not
+            converged, no contact, non-finite state); with ``False`` read ``result`` instead
+            (0 = converged; ``jaxgear.RESULT_MESSAGES``).
+
+    Returns:
+        :class:`QuasiStaticResult`.
+
+    Raises:
+        ValueError: unknown ``contact`` mode, bad position counts (at trace time).
+        eqx.EquinoxRuntimeError: torque <= 0, width <= 0, solver failure (with ``throw``).
+    """
+    if contact not in ("exact", "smooth"):
+        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
+    mesh = scene if isinstance(scene, MeshModel) else scene.mesh
+    if isinstance(scene, MeshModel):
+        scene = RigidMesh(scene)
+    if modifications is None:
+        modifications = Modifications()
+    if theta is None:
+        theta = mesh_positions(mesh, positions_per_pitch, periods)
+    dtype = mesh.base_pitch.dtype
+    torque = jnp.asarray(torque, dtype=dtype)
+    width = jnp.asarray(width, dtype=dtype)
+    return _quasi_static(scene, mesh, modifications, torque, jnp.asarray(theta, dtype=dtype), width,
+                         contact, int(max_iterations), bool(throw))

@@ -1,0 +1,187 @@
+"""Mesh stiffness per unit contact length along the line of action (NumPy, evaluated once).
+
+Three models (DESIGN.md §3):
+
+* ``uniform``: a given constant k0 (N/m per m of contact line).
+* ``iso6336``: ISO 6336-1:2006 method B single stiffness c' and mesh stiffness c_γα, turned into a
+  constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``, so that the mean mesh stiffness
+  (normal to the flanks, in the base plane) times cos² β_b equals c_γα b.
+* ``weber``: Weber–Banaschek thin-slice model, seed (1.1)–(1.3): Hertzian approach, tooth bending
+  and shear of a cantilever on the real tooth-thickness profile, elastic foundation, pinion and
+  gear compliances in series. It varies along the profile; it is tabulated on a grid of the
+  base-plane coordinate s ∈ [0, g_α] and interpolated linearly in the JAX kernels.
+
+The profile is computed in the transverse section. A slice of width dz loaded along the transverse
+line of action with f_t per unit width deflects δ_t = f_t / k_t; the flank-normal force is
+f_t dz / cos β_b and the normal approach δ_t cos β_b, so the stiffness per unit *contact-line
+length* (l = dz / cos β_b) is ``k = k_t / cos β_b``.
+
+Everything here is a constant for JAX (no gradient through stiffness tables).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._geometry import GearPair, involute
+
+__all__ = ["iso6336_single_stiffness", "iso6336_mesh_stiffness", "weber_profile", "stiffness_table"]
+
+_ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
+# Weber (1949) foundation constants for ν = 0.3 quoted by the seed under (1.3); M = 1.0 (Weber).
+_WEBER_FOUNDATION = {"L": 5.2, "M": 1.0, "P": 1.4, "Q": 0.3}
+
+
+def iso6336_single_stiffness(pair: GearPair) -> float:
+    """ISO 6336-1 method B single stiffness c' (N/m per m of face width), eq. (C.1)-(C.5).
+
+    ``c' = c'_th C_M C_R C_B cos β`` with ``c'_th = 1/q'`` (q' in mm·µm/N), C_M = 0.8 (theoretical
+    to measured), C_R = 1 (solid discs), ``C_B = 0.5 Σ [1 + 0.5 (1.2 − h_fP/m_n)][1 − 0.02 (20° − α_n)]``
+    with h_fP/m_n = the member's dedendum coefficient. Valid for specific loads F_t/b >= 100 N/mm.
+    """
+    beta = pair.helix_angle
+    zn1 = pair.pinion.teeth / math.cos(beta) ** 3
+    zn2 = pair.gear.teeth / math.cos(beta) ** 3
+    x1, x2 = pair.pinion.profile_shift, pair.gear.profile_shift
+    c = _ISO_C
+    q = (c[0] + c[1] / zn1 + c[2] / zn2 + c[3] * x1 + c[4] * x1 / zn1 + c[5] * x2 + c[6] * x2 / zn2
+         + c[7] * x1**2 + c[8] * x2**2)
+    cth = 1.0 / q  # N/(mm·µm)
+    an_deg = math.degrees(pair.normal_pressure_angle)
+    cb = 0.5 * sum((1 + 0.5 * (1.2 - m.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg))
+                   for m in (pair.pinion, pair.gear))
+    c_single = cth * 0.8 * 1.0 * cb * math.cos(beta)
+    return c_single * 1e9  # N/(mm·µm) -> N/m²
+
+
+def iso6336_mesh_stiffness(pair: GearPair) -> float:
+    """ISO 6336-1 mesh stiffness c_γα = c' (0.75 ε_α + 0.25) (N/m per m of face width)."""
+    return iso6336_single_stiffness(pair) * (0.75 * pair.transverse_contact_ratio + 0.25)
+
+
+def _half_thickness_angle(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray:
+    """Half angular tooth thickness ψ(r) (rad) of the involute at radius r (transverse)."""
+    rb = pair.base_radii[member]
+    rp = pair.pitch_radii[member]
+    st = pair.reference_thickness[member]
+    ar = np.arccos(np.clip(rb / r, -1.0, 1.0))
+    return st / (2 * rp) + involute(pair.transverse_pressure_angle) - (np.tan(ar) - ar)
+
+
+def _chordal_thickness(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray:
+    """Tooth thickness d(r) (m) across the tooth centre line at radius r.
+
+    Involute flank above the form circle; below it, down to the root circle, a circular fillet of
+    radius ρ' = min(ρ_fP, r_F − r_f) tangent to the root circle widens the tooth (an
+    approximation of the generated trochoid, documented in the README).
+    """
+    rb = pair.base_radii[member]
+    rf = pair.root_radii[member]
+    r_form = max(math.hypot(pair.form_roll[member], rb), rb)
+    r = np.asarray(r, dtype=float)
+    r_inv = np.maximum(r, r_form)
+    half = r_inv * np.sin(_half_thickness_angle(pair, member, r_inv))
+    m = (pair.pinion, pair.gear)[member]
+    rho = min(m.fillet_radius_coeff * pair.normal_module, max(r_form - rf, 0.0))
+    if rho > 0:
+        t = np.clip(r - rf, 0.0, rho)
+        half = half + np.where(r < rf + rho, rho - np.sqrt(np.maximum(rho**2 - (rho - t) ** 2, 0.0)), 0.0)
+    return 2 * half
+
+
+def _member_compliance(pair: GearPair, member: int, rho: np.ndarray, E: float, nu: float,
+                       foundation: bool, n_quad: int = 400) -> np.ndarray:
+    """Bending + shear + compression (1.2) and foundation (1.3) compliance of one tooth.
+
+    Args:
+        rho: roll distances (m) of the contact points on this member, shape (n,).
+    Returns:
+        compliance per unit face width, (m/N)·m, shape (n,), along the transverse line of action.
+    """
+    rb = pair.base_radii[member]
+    rf = pair.root_radii[member]
+    rc = np.hypot(rho, rb)
+    alpha_r = np.arctan2(rho, rb)
+    alpha_p = alpha_r - _half_thickness_angle(pair, member, rc)  # load angle to the centre-line normal
+    r_load = rb / np.cos(alpha_p)  # where the line of action crosses the tooth centre line
+    u = r_load - rf  # cantilever length from the root circle
+    # Gauss-Legendre on [0, u] for each contact point (integrands smooth on the involute part)
+    xg, wg = np.polynomial.legendre.leggauss(n_quad)
+    y = 0.5 * (xg[None, :] + 1.0) * u[:, None]
+    w = 0.5 * wg[None, :] * u[:, None]
+    d = _chordal_thickness(pair, member, rf + y)
+    i_bend = np.sum(w * (u[:, None] - y) ** 2 / d**3, axis=1)
+    i_shear = np.sum(w / d, axis=1)
+    cos2 = np.cos(alpha_p) ** 2
+    tan2 = np.tan(alpha_p) ** 2
+    # (1.2): 10.92 = 12(1-ν²) and 3.1(1 + 0.294 tan²) = 2.4(1+ν) + (1-ν²) tan² for ν = 0.3
+    c = cos2 / E * (12 * (1 - nu**2) * i_bend + (2.4 * (1 + nu) + (1 - nu**2) * tan2) * i_shear)
+    if foundation:
+        s_fd = float(_chordal_thickness(pair, member, np.array([rf]))[0])
+        f = _WEBER_FOUNDATION
+        c = c + cos2 / E * (f["L"] * (u / s_fd) ** 2 + f["M"] * (u / s_fd) + f["P"] * (1 + f["Q"] * tan2))
+    return c
+
+
+def weber_profile(pair: GearPair, s: np.ndarray, youngs_modulus: float, poisson_ratio: float,
+                  line_load: float, foundation: bool = True) -> np.ndarray:
+    """Weber–Banaschek stiffness per unit contact-line length along the line of action.
+
+    Args:
+        pair: the gear pair.
+        s: base-plane coordinates (m), shape (n,), in [0, g_α].
+        youngs_modulus: E (Pa); poisson_ratio: ν.
+        line_load: transverse load per unit face width (N/m) used in the Hertzian term (1.1);
+            the Hertzian approach depends on it logarithmically.
+        foundation: include the Weber foundation term (1.3) for both members (drop it when a
+            condensed FE body supplies the body compliance, (2.31) remark).
+
+    Returns:
+        k(s) (N/m per m of contact line), shape (n,), flank-normal.
+    """
+    s = np.asarray(s, dtype=float)
+    rho1 = pair.roll_distance(s, 0)
+    rho2 = pair.roll_distance(s, 1)
+    E, nu = youngs_modulus, poisson_ratio
+    c = (_member_compliance(pair, 0, rho1, E, nu, foundation)
+         + _member_compliance(pair, 1, rho2, E, nu, foundation))
+    # Hertzian approach (1.1): d_i = distance from the contact point to the tooth centre line
+    d_i = [np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
+           for i, (rho, rb) in enumerate(((rho1, pair.base_radii[0]), (rho2, pair.base_radii[1])))]
+    rho_eq = rho1 * rho2 / (rho1 + rho2)
+    a_h = np.sqrt(8 * line_load * rho_eq * (1 - nu**2) / (math.pi * E))
+    c_hertz = 4 * (1 - nu**2) / (math.pi * E) * (np.log(2 * np.sqrt(d_i[0] * d_i[1]) / a_h)
+                                                   - nu / (2 * (1 - nu)))
+    k_transverse = 1.0 / (c + c_hertz)
+    return k_transverse / math.cos(pair.base_helix_angle)
+
+
+def stiffness_table(pair: GearPair, model: str, *, youngs_modulus: float = 210e9,
+                    poisson_ratio: float = 0.3, line_load: float = 2e5,
+                    uniform_k0: float | None = None, n_points: int = 129,
+                    foundation: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
+
+    Raises:
+        ValueError: unknown ``model``, or ``uniform`` without a positive ``uniform_k0``.
+    """
+    s = np.linspace(0.0, pair.path_of_contact, n_points)
+    if model == "uniform":
+        if uniform_k0 is None or not uniform_k0 > 0:
+            raise ValueError(
+                f"stiffness_per_length_N_per_mm_per_um = {uniform_k0 if uniform_k0 is None else uniform_k0 / 1e9!r} "
+                "is required with stiffness = 'uniform' and must be > 0")
+        k = np.full_like(s, uniform_k0)
+    elif model == "iso6336":
+        k0 = iso6336_mesh_stiffness(pair) / (pair.transverse_contact_ratio * math.cos(pair.base_helix_angle))
+        k = np.full_like(s, k0)
+    elif model == "weber":
+        k = weber_profile(pair, s, youngs_modulus, poisson_ratio, line_load, foundation)
+    else:
+        raise ValueError(f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336'")
+    if not np.all(np.isfinite(k)) or np.any(k <= 0):
+        raise ValueError(f"mesh stiffness model {model!r} gave non-positive or non-finite values; "
+                         "check the tooth geometry (pointed or undercut teeth)")
+    return s, k
