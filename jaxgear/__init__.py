@@ -6,7 +6,7 @@ the tests and the examples do it (``jax.config.update("jax_enable_x64", True)``)
 """
 
 from ._baseplane import Cells as Cells, MeshModel as MeshModel
-from ._case import Case as Case, list_cases as list_cases, load_case as load_case
+from ._case import Case as Case, list_cases as list_cases, load_case as load_case, parse_case as parse_case
 from ._contact import (
     RESULT_MESSAGES as RESULT_MESSAGES,
     ContactSolution as ContactSolution,
@@ -24,6 +24,7 @@ from ._quasi_static import (
     mesh_positions as mesh_positions,
     quasi_static as quasi_static,
 )
+from ._run import harris_map as harris_map, load_map as load_map, run_case as run_case
 from ._scene import RigidMesh as RigidMesh, Scene as Scene, TorsionalPair as TorsionalPair
 from ._stiffness import (
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,

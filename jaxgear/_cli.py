@@ -1,0 +1,91 @@
+"""Command line: ``jaxgear run | cases | bench | prep``.
+
+The CLI is an entry point, so it switches float64 on (library modules never do).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+
+__all__ = ["main"]
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="quasi-static analysis of a case (the main job)")
+    r.add_argument("case", nargs="?", default="accessory-spur",
+                   help="TOML case file or embedded case name (default: accessory-spur)")
+    r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/)")
+    r.add_argument("--json", help="also write the summary to this path")
+    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    sub.add_parser("cases", help="list the embedded cases")
+    b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
+    b.add_argument("what", choices=["quasi-static"], help="which benchmark")
+    b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
+    b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
+    pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (same as fem-prep build)")
+    pr.add_argument("body", help="body TOML file or embedded body name")
+    pr.add_argument("--out", help="output folder")
+    return p
+
+
+def _fail(msg: str) -> int:
+    print(f"jaxgear: error: {msg}", file=sys.stderr)
+    return 2
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the CLI; returns the exit status (0 ok, 2 bad input)."""
+    args = _parser().parse_args(argv)
+    if args.command == "prep":
+        from fem_prep._cli import main as fem_main
+
+        return fem_main(["build", args.body] + (["--out", args.out] if args.out else []))
+
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    import equinox as eqx
+
+    from ._case import list_cases, load_case
+
+    try:
+        if args.command == "cases":
+            for name in list_cases():
+                c = load_case(name)
+                print(f"{name:20s} z {c.pair.pinion.teeth}/{c.pair.gear.teeth}, "
+                      f"m_n {c.pair.normal_module * 1e3:g} mm, β {c.raw['pair'].get('helix_angle_deg', 0)}°, "
+                      f"T {c.torque:g} N·m, {c.stiffness_model} stiffness")
+            return 0
+        if args.command == "run":
+            from ._run import format_table, run_case
+
+            case = load_case(args.case)
+            out = args.out or os.path.join("jaxgear-out", case.name)
+            summary = run_case(case, out, show_progress=not args.quiet)
+            if args.json:
+                from ._util import atomic_open
+
+                with atomic_open(args.json, "w") as f:
+                    json.dump(summary, f, indent=2)
+            print(format_table(summary))
+            print(f"written to {out}/")
+            return 0
+        if args.command == "bench":
+            from ._bench import bench_quasi_static
+
+            bench_quasi_static(args.out, quick=args.quick)
+            return 0
+    except (ValueError, FileNotFoundError) as err:
+        return _fail(str(err))
+    except eqx.EquinoxRuntimeError as err:
+        return _fail(str(err).strip().splitlines()[0])
+    return _fail(f"unknown command {args.command!r}")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,221 @@
+"""The main job: quasi-static analysis of a case, written as JSON, CSV and PNG (``jaxgear run``)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import platform
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from tqdm.auto import tqdm
+
+from ._case import Case
+from ._modifications import Modifications
+from ._quasi_static import QuasiStaticResult, quasi_static
+from ._util import atomic_open
+
+__all__ = ["run_case", "load_map", "harris_map", "result_summary"]
+
+
+def result_summary(r: QuasiStaticResult) -> dict:
+    """Scalar figures of a quasi-static result (SI units), JSON-ready."""
+    k = np.asarray(r.mesh_stiffness)
+    return {
+        "te_mean_m": float(r.te_mean),
+        "te_rms_m": float(r.te_rms),
+        "te_ptp_m": float(r.te_ptp),
+        "mesh_stiffness_mean_N_per_m": float(k.mean()),
+        "mesh_stiffness_min_N_per_m": float(k.min()),
+        "mesh_stiffness_max_N_per_m": float(k.max()),
+        "contact_length_mean_m": float(np.mean(r.contact_length)),
+        "max_line_load_N_per_m": float(r.max_line_load),
+        "max_contact_iterations": int(np.max(r.iterations)),
+    }
+
+
+def load_map(r: QuasiStaticResult, positions_per_pitch: int, base_pitch: float,
+             path_of_contact: float):
+    """Maximum line load (N/m) over a tooth's passage on a grid of the base plane.
+
+    Every tooth pair meets the same cells (no pitch deviations), so the maximum over all positions
+    and contact lines at a base-plane point is the maximum over one tooth's passage.
+
+    Returns:
+        (s_edges (n_s+1,), z (N,), load (n_s, N)): bin edges along the line of action (m), slice
+        mid-points across the face (m), and the maximum line load per bin (N/m; NaN where no cell
+        passed).
+    """
+    ds = base_pitch / positions_per_pitch
+    n_s = int(math.ceil(path_of_contact / ds))
+    s = np.asarray(r.cell_s).reshape(-1, r.cell_s.shape[-1])
+    p = np.asarray(r.line_load).reshape(s.shape)
+    mask = np.asarray(r.cell_mask).reshape(s.shape)
+    idx = np.clip(np.floor(s / ds).astype(int), 0, n_s - 1)
+    out = np.full((n_s, s.shape[1]), -np.inf)
+    cols = np.broadcast_to(np.arange(s.shape[1]), s.shape)
+    np.maximum.at(out, (idx[mask], cols[mask]), p[mask])
+    out[~np.isfinite(out)] = np.nan
+    z = np.asarray(r.cell_z)[0, 0]
+    return np.arange(n_s + 1) * ds, z, out
+
+
+def harris_map(mesh, mods: Modifications, torques, contact: str = "exact", width=1e-7,
+               positions_per_pitch: int = 64) -> np.ndarray:
+    """TE peak-to-peak (m) against pinion torque (N·m), vmapped over the torques, shape (T,)."""
+    def ptp(t):
+        return quasi_static(mesh, mods, t, contact=contact, width=width,
+                            positions_per_pitch=positions_per_pitch).te_ptp
+    return np.asarray(jax.vmap(ptp)(jnp.asarray(torques)))
+
+
+def _write_csv(path, header, columns):
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(header)
+    for row in zip(*columns):
+        w.writerow([f"{v:.12g}" for v in row])
+    with atomic_open(path, "w", newline="") as f:
+        f.write(buf.getvalue())
+
+
+def _save_fig(fig, path):
+    with atomic_open(path, "wb") as f:
+        fig.savefig(f, format="png", dpi=120)
+
+
+def run_case(case: Case, out_dir: str, *, harris_points: int = 16, show_progress: bool = True) -> dict:
+    """Compute geometry, mesh stiffness, quasi-static TE (exact and smooth, with and without the
+    case's modifications), the load map and the Harris map, and write them to ``out_dir``.
+
+    Files (written atomically): ``summary.json``, ``te.csv``, ``mesh_stiffness.csv``,
+    ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``harris_map.png``.
+
+    Returns:
+        The summary dict (also in ``summary.json``).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(out_dir, exist_ok=True)
+    mesh = case.mesh_model()
+    ppp = case.positions_per_pitch
+    none = Modifications()
+    steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    res = {}
+    for label, mods in (("unmodified", none), ("modified", case.modifications)):
+        for mode in ("exact", "smooth"):
+            res[label, mode] = quasi_static(mesh, mods, case.torque, contact=mode,
+                                            width=case.smooth_width, positions_per_pitch=ppp,
+                                            periods=2)
+            steps.update()
+    torques = np.linspace(0.1, 2.0, harris_points) * case.torque
+    harris = {label: harris_map(mesh, mods, torques, positions_per_pitch=ppp)
+              for label, mods in (("unmodified", none), ("modified", case.modifications))}
+    steps.update()
+    pair = case.pair
+    s_edges, z, lmap = load_map(res["modified", "exact"], ppp, pair.base_pitch, pair.path_of_contact)
+    steps.update()
+    steps.close()
+
+    summary = {
+        "case": case.name,
+        "geometry": pair.summary(),
+        "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
+        "mesh": {"stiffness": case.stiffness_model, "slices": case.slices,
+                 "positions_per_pitch": ppp, "smooth_width_m": case.smooth_width},
+        "quasi_static": {m: result_summary(res["modified", m]) for m in ("exact", "smooth")},
+        "quasi_static_unmodified": {m: result_summary(res["unmodified", m]) for m in ("exact", "smooth")},
+        "harris_map": {"torque_Nm": torques.tolist(),
+                       "te_ptp_unmodified_m": harris["unmodified"].tolist(),
+                       "te_ptp_modified_m": harris["modified"].tolist()},
+        "environment": {"jax": jax.__version__, "backend": jax.default_backend(),
+                        "dtype": str(mesh.base_pitch.dtype), "python": platform.python_version()},
+    }
+    theta = np.asarray(res["modified", "exact"].theta)
+    cols = {f"te_{m}_{lab}_m": np.asarray(res[lab, m].transmission_error)
+            for lab in ("unmodified", "modified") for m in ("exact", "smooth")}
+    _write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *cols], [theta, *cols.values()])
+    kcols = {f"mesh_stiffness_{m}_{lab}_N_per_m": np.asarray(res[lab, m].mesh_stiffness)
+             for lab in ("unmodified", "modified") for m in ("exact", "smooth")}
+    lcols = {"contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length)}
+    _write_csv(os.path.join(out_dir, "mesh_stiffness.csv"), ["theta_rad", *kcols, *lcols],
+               [theta, *kcols.values(), *lcols.values()])
+
+    period = 2 * math.pi / pair.pinion.teeth
+    x = theta / period
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    styles = {"exact": "-", "smooth": "--"}
+    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
+        for m in ("exact", "smooth"):
+            ax.plot(x, np.asarray(res[lab, m].transmission_error) * 1e6, styles[m], color=color,
+                    label=f"{lab}, {m}")
+    ax.set_xlabel("pinion position (mesh periods)")
+    ax.set_ylabel("quasi-static TE (µm, transverse, along the line of action)")
+    ax.set_title(f"{case.name}: transmission error at {case.torque:g} N·m")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    _save_fig(fig, os.path.join(out_dir, "transmission_error.png"))
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
+        ax.plot(x, np.asarray(res[lab, "exact"].mesh_stiffness) / 1e6, color=color, label=f"{lab} (loaded cells)")
+    ax.set_xlabel("pinion position (mesh periods)")
+    ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
+    ax.set_title(f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    _save_fig(fig, os.path.join(out_dir, "mesh_stiffness.png"))
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    dz = pair.face_width / len(z)
+    z_edges = np.concatenate([[0.0], z + dz / 2])
+    pc = ax.pcolormesh(s_edges * 1e3, z_edges * 1e3, lmap.T / 1e3, shading="flat", cmap="viridis")
+    fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
+    ax.set_xlabel("s along the line of action (mm): 0 = engagement (gear tip)")
+    ax.set_ylabel("z across the face (mm)")
+    ax.set_title(f"{case.name}: load map over a tooth passage (exact, modified)")
+    _save_fig(fig, os.path.join(out_dir, "load_map.png"))
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.plot(torques, harris["unmodified"] * 1e6, "o-", label="no relief")
+    ax.plot(torques, harris["modified"] * 1e6, "s-", label="case modifications")
+    ax.axvline(case.torque, color="k", lw=0.8, ls=":", label="design torque")
+    ax.set_xlabel("pinion torque (N·m)")
+    ax.set_ylabel("TE peak-to-peak (µm)")
+    ax.set_title(f"{case.name}: Harris map (exact contact)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    _save_fig(fig, os.path.join(out_dir, "harris_map.png"))
+    plt.close(fig)
+
+    with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def format_table(summary: dict) -> str:
+    """A short plain-text table of the main figures."""
+    g = summary["geometry"]
+    lines = [
+        f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
+        f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
+        f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m",
+        f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
+    ]
+    for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
+        for m in ("exact", "smooth"):
+            q = summary[key][m]
+            lines.append(f"{lab + ' ' + m:24s}{q['te_mean_m'] * 1e6:12.4f}{q['te_rms_m'] * 1e6:12.4f}"
+                         f"{q['te_ptp_m'] * 1e6:12.4f}{q['mesh_stiffness_mean_N_per_m'] / 1e6:13.2f}"
+                         f"{q['max_line_load_N_per_m'] / 1e3:10.1f}")
+    return "\n".join(lines)

@@ -1,0 +1,117 @@
+"""The main job (`jaxgear run`), its files, the quickstart example, and atomic output."""
+
+import csv
+import importlib.util
+import json
+import os
+import pathlib
+
+import pytest
+
+from jaxgear._cli import main
+from jaxgear._util import atomic_open
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+SMALL = """
+name = "small-helical"
+[pair]
+normal_module_mm = 2.0
+normal_pressure_angle_deg = 20.0
+helix_angle_deg = 15.0
+[pinion]
+teeth = 23
+face_width_mm = 20.0
+[gear]
+teeth = 41
+face_width_mm = 22.0
+[operating]
+torque_Nm = 120.0
+[mesh]
+stiffness = "iso6336"
+slices = 12
+positions_per_pitch = 16
+[modifications]
+tip_relief = { depth_um = 8.0, extent = 0.3, shape = "parabolic" }
+[modifications.gear]
+crowning = { depth_um = 4.0 }
+"""
+PNGS = ["transmission_error.png", "mesh_stiffness.png", "load_map.png", "harris_map.png"]
+
+
+def test_run_writes_summary_csv_and_plots(tmp_path, capsys):
+    case = tmp_path / "small.toml"
+    case.write_text(SMALL)
+    out = tmp_path / "out"
+    extra = tmp_path / "extra" / "s.json"
+    assert main(["run", str(case), "--out", str(out), "--json", str(extra), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "TE rms" in printed and "small-helical" in printed
+    summary = json.loads((out / "summary.json").read_text())
+    assert json.loads(extra.read_text()) == summary
+    g = summary["geometry"]
+    for key in ("transverse_contact_ratio", "overlap_ratio", "base_pitch_m", "center_distance_m",
+                "path_of_contact_m"):
+        assert g[key] > 0
+    for mode in ("exact", "smooth"):
+        q = summary["quasi_static"][mode]
+        for key in ("te_mean_m", "te_rms_m", "te_ptp_m", "mesh_stiffness_mean_N_per_m",
+                    "mesh_stiffness_min_N_per_m", "mesh_stiffness_max_N_per_m", "max_line_load_N_per_m"):
+            assert key in q
+        assert q["mesh_stiffness_min_N_per_m"] <= q["mesh_stiffness_mean_N_per_m"] <= q["mesh_stiffness_max_N_per_m"]
+        assert 0 < q["te_rms_m"] <= q["te_ptp_m"]
+    # ε_β = b sin β / (π m_n) with b = min(20, 22) mm
+    import math
+    assert g["overlap_ratio"] == pytest.approx(20e-3 * math.sin(math.radians(15)) / (math.pi * 2e-3))
+    with open(out / "te.csv") as f:
+        rows = list(csv.reader(f))
+    assert len(rows) == 1 + 2 * 16  # two mesh periods of 16 positions
+    assert rows[0][0] == "theta_rad" and len(rows[0]) == 5
+    assert (out / "mesh_stiffness.csv").stat().st_size > 0
+    for name in PNGS:
+        data = (out / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000
+    # no temporary files left behind
+    assert not [p for p in os.listdir(out) if p.startswith(".tmp-")]
+
+
+def test_run_bad_input_exits_2_with_a_message(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL.replace("tip_relief = { depth_um = 8.0", "tip_relief = { depth_um = -8.0"))
+    assert main(["run", str(bad), "--out", str(tmp_path / "o"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "depth_um" in err and "-8" in err and ">= 0" in err
+    assert main(["run", str(tmp_path / "missing.toml"), "--quiet"]) == 2
+    assert "neither a file nor an embedded case" in capsys.readouterr().err
+    assert not (tmp_path / "o" / "summary.json").exists()
+
+
+def test_cases_lists_embedded_cases(capsys):
+    assert main(["cases"]) == 0
+    out = capsys.readouterr().out
+    assert "accessory-spur" in out and "power-helical" in out
+
+
+def test_atomic_open_keeps_the_old_file_when_interrupted(tmp_path):
+    target = tmp_path / "summary.json"
+    target.write_text("old")
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_open(target, "w") as f:
+            f.write("half a new fi")
+            raise KeyboardInterrupt  # the run is interrupted mid-write
+    assert target.read_text() == "old"
+    assert os.listdir(tmp_path) == ["summary.json"]
+    with atomic_open(target, "w") as f:
+        f.write("new")
+    assert target.read_text() == "new"
+
+
+def test_quickstart_example_runs(tmp_path):
+    spec = importlib.util.spec_from_file_location("quickstart", ROOT / "examples" / "quickstart.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    res = mod.main(str(tmp_path))
+    # tip relief near the seed's optimum (E ≈ 15 µm, Γ ≈ 0.25, IV-3) must cut the TE fluctuation
+    assert float(res["relieved"].te_rms) < 0.5 * float(res["plain"].te_rms)
+    assert res["summary"]["case"] == "accessory-spur"
+    for name in PNGS:
+        assert (tmp_path / name).exists()
