@@ -25,7 +25,11 @@ def inverse_involute(value: float) -> float:
     """Solve inv α = value for α ∈ (0, π/2) by Newton's method (float64, 1e-15 rad)."""
     if value < 0.0:
         raise ValueError(f"inverse_involute: value {value!r} must be >= 0")
-    alpha = (3.0 * value) ** (1.0 / 3.0)  # series start: inv α ≈ α³/3
+    if value == 0.0:
+        return 0.0
+    # Both starts lie right of the root (inv α >= α³/3 and α = atan(value + α) < atan(value + π/2))
+    # and below π/2; inv is convex and increasing there, so Newton descends monotonically.
+    alpha = min((3.0 * value) ** (1.0 / 3.0), math.atan(value + math.pi / 2))
     for _ in range(60):
         f = math.tan(alpha) - alpha - value
         step = f / math.tan(alpha) ** 2
