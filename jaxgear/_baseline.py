@@ -1,0 +1,250 @@
+"""Independent NumPy/SciPy baseline of the quasi-static rigid-mesh transmission error.
+
+This is the reference the benchmark (``jaxgear bench quasi-static``) and ``tests/test_baseline.py``
+compare jaxgear against. It is written the way a careful engineer would write it without JAX, and
+shares no numerical code with the JAX kernels: only the gear geometry and the stiffness table
+(both NumPy, evaluated once) come from :mod:`jaxgear._geometry` / :mod:`jaxgear._stiffness`.
+
+Model (DESIGN.md §2-§5, rigid 1-DOF mesh): at pinion angle θ, tooth pair ``i``'s contact line is
+``s = (r_b1 θ mod p_bt) + i p_bt − z tan β_b``, cut into N slices of width b/N (cell mid-points,
+cell length l = (b/N)/cos β_b). A cell exists when 0 <= s <= g_α; its stiffness per unit length
+k(s) is interpolated linearly in the table. The pair deviation is e = e_pinion(u = s/g_α, ζ)
++ e_gear(u = 1 − s/g_α, ζ) with ζ = z/b, the initial separation δ0 = max e − e, and the approach
+δ of the rigid mesh solves the scalar monotone equation
+
+    f(δ) = Σ_cells k l φ(δ − δ0) − F_n = 0,   F_n = T / (r_b1 cos β_b),
+
+with φ(Δ) = max(0, Δ) (exact) or φ_w(Δ) = w log(1 + exp(Δ/w)) (smooth). It is solved per position
+by :func:`scipy.optimize.brentq` on a bracket where f changes sign. The transverse transmission
+error is TE = (δ − max e)/cos β_b (DESIGN.md §4).
+
+Everything is plain NumPy: vectorised over the cells of one position, a Python loop over
+positions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+__all__ = ["BaselineMesh", "baseline_mesh", "member_params", "mods_params", "te_curve_numpy"]
+
+_EPS = np.finfo(float).eps
+
+
+@dataclasses.dataclass(frozen=True)
+class BaselineMesh:
+    """Plain-number description of the gear mesh (SI units).
+
+    Attributes:
+        path_of_contact: g_α (m). base_pitch: p_bt (m). face_width: b (m).
+        base_radius_pinion: r_b1 (m). base_helix_angle: β_b (rad).
+        stiffness_s, stiffness_k: table k(s) (m, N/m²), shape (n_table,), s ascending.
+        n_slices: slices N per contact line.
+    """
+
+    path_of_contact: float
+    base_pitch: float
+    face_width: float
+    base_radius_pinion: float
+    base_helix_angle: float
+    stiffness_s: np.ndarray
+    stiffness_k: np.ndarray
+    n_slices: int
+
+    def line_indices(self) -> np.ndarray:
+        """Tooth-pair indices i whose line can reach [0, g_α] at some roll in [0, p_bt)."""
+        lead = self.face_width * math.tan(self.base_helix_angle)
+        lo = -int(math.ceil(lead / self.base_pitch)) - 1
+        hi = int(math.ceil(self.path_of_contact / self.base_pitch)) + 1
+        return np.arange(lo, hi + 1, dtype=float)
+
+
+def baseline_mesh(case, slices: int | None = None, torque: float | None = None) -> BaselineMesh:
+    """:class:`BaselineMesh` of a :class:`jaxgear.Case` (geometry and k(s) table in NumPy).
+
+    The stiffness table is the same one :meth:`jaxgear.Case.mesh_model` uses (evaluated at the
+    nominal line load of ``torque``, default the case torque).
+    """
+    from ._stiffness import stiffness_table  # NumPy only
+
+    pair = case.pair
+    s, k = stiffness_table(pair, case.stiffness_model, youngs_modulus=case.youngs_modulus,
+                           poisson_ratio=case.poisson_ratio,
+                           line_load=case.nominal_line_load(torque), uniform_k0=case.uniform_k0,
+                           foundation=case.foundation)
+    return BaselineMesh(path_of_contact=float(pair.path_of_contact), base_pitch=float(pair.base_pitch),
+                        face_width=float(pair.face_width),
+                        base_radius_pinion=float(pair.base_radii[0]),
+                        base_helix_angle=float(pair.base_helix_angle),
+                        stiffness_s=np.asarray(s, dtype=float), stiffness_k=np.asarray(k, dtype=float),
+                        n_slices=int(case.slices if slices is None else slices))
+
+
+def member_params(tip_relief_depth=0.0, tip_relief_extent=0.25, tip_relief_shape="linear",
+                  root_relief_depth=0.0, root_relief_extent=0.25, root_relief_shape="linear",
+                  crowning_depth=0.0, end_relief_depth=0.0, end_relief_extent=0.1,
+                  helix_slope_deviation=0.0, profile_deviation_roll=(0.0, 1.0),
+                  profile_deviation=(0.0, 0.0)) -> dict[str, Any]:
+    """One member's modification parameters as plain numbers (m, fractions; see
+    :class:`jaxgear.MemberModification` for the meaning of each)."""
+    return dict(tip_relief_depth=float(tip_relief_depth), tip_relief_extent=float(tip_relief_extent),
+                tip_relief_shape=str(tip_relief_shape), root_relief_depth=float(root_relief_depth),
+                root_relief_extent=float(root_relief_extent), root_relief_shape=str(root_relief_shape),
+                crowning_depth=float(crowning_depth), end_relief_depth=float(end_relief_depth),
+                end_relief_extent=float(end_relief_extent),
+                helix_slope_deviation=float(helix_slope_deviation),
+                profile_deviation_roll=np.asarray(profile_deviation_roll, dtype=float),
+                profile_deviation=np.asarray(profile_deviation, dtype=float))
+
+
+def mods_params(modifications=None) -> dict[str, dict[str, Any]]:
+    """Plain-number parameters ``{"pinion": ..., "gear": ...}`` of a :class:`jaxgear.Modifications`
+    (``None``: perfect involutes)."""
+    out = {}
+    for tag in ("pinion", "gear"):
+        m = None if modifications is None else getattr(modifications, tag)
+        if m is None:
+            out[tag] = member_params()
+            continue
+        out[tag] = member_params(
+            tip_relief_depth=float(m.tip_relief_depth), tip_relief_extent=float(m.tip_relief_extent),
+            tip_relief_shape=m.tip_relief_shape, root_relief_depth=float(m.root_relief_depth),
+            root_relief_extent=float(m.root_relief_extent), root_relief_shape=m.root_relief_shape,
+            crowning_depth=float(m.crowning_depth), end_relief_depth=float(m.end_relief_depth),
+            end_relief_extent=float(m.end_relief_extent),
+            helix_slope_deviation=float(m.helix_slope_deviation),
+            profile_deviation_roll=np.asarray(m.profile_deviation_roll),
+            profile_deviation=np.asarray(m.profile_deviation))
+    return out
+
+
+def _relief_shape(x: np.ndarray, shape: str) -> np.ndarray:
+    x = np.clip(x, 0.0, 1.0)
+    if shape == "linear":
+        return x
+    if shape == "parabolic":
+        return x * x
+    raise ValueError(f"relief shape = {shape!r}: allowed 'linear', 'parabolic'")
+
+
+def _member_deviation(p: dict, u: np.ndarray, zeta: np.ndarray) -> np.ndarray:
+    """Normal deviation (m, + = material added) of one member at roll fraction u, lead fraction ζ."""
+    e = np.interp(u, p["profile_deviation_roll"], p["profile_deviation"])
+    # tip relief over the last Γ of the active profile, root relief over the first Γ
+    g = p["tip_relief_extent"]
+    e = e - p["tip_relief_depth"] * _relief_shape((u - 1.0 + g) / g, p["tip_relief_shape"])
+    g = p["root_relief_extent"]
+    e = e - p["root_relief_depth"] * _relief_shape((g - u) / g, p["root_relief_shape"])
+    # lead: parabolic crowning (depth at both face edges), linear end relief, helix slope
+    e = e - p["crowning_depth"] * (2.0 * zeta - 1.0) ** 2
+    le = p["end_relief_extent"]
+    e = e - p["end_relief_depth"] * (np.clip(1.0 - zeta / le, 0.0, 1.0)
+                                     + np.clip((zeta - 1.0 + le) / le, 0.0, 1.0))
+    e = e + p["helix_slope_deviation"] * (zeta - 0.5)
+    return e
+
+
+def _positions(mesh: BaselineMesh, positions_per_pitch: int, periods: int) -> np.ndarray:
+    period = mesh.base_pitch / mesh.base_radius_pinion
+    return (np.arange(positions_per_pitch * periods) + 0.5) * period / positions_per_pitch
+
+
+def _softplus_law(delta: float, delta0: np.ndarray, kl: np.ndarray, width: float) -> float:
+    # w log(1 + exp(Δ/w)), overflow-safe
+    return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width)))
+
+
+def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact: str = "exact",
+                   width: float = 1e-7, positions_per_pitch: int = 64, periods: int = 1,
+                   theta: np.ndarray | None = None) -> dict[str, np.ndarray]:
+    """Quasi-static TE curve of the rigid mesh, NumPy + brentq per position.
+
+    Args:
+        mesh: :class:`BaselineMesh` (from :func:`baseline_mesh`).
+        mods: ``{"pinion": member_params(...), "gear": member_params(...)}`` (``None``: none).
+        torque: pinion torque T (N·m), > 0.
+        contact: "exact" (φ = max(0, Δ)) or "smooth" (softplus ramp of ``width`` m).
+        width: smoothing width w (m), smooth mode only.
+        positions_per_pitch, periods: positions at the mid-points (k + 1/2) p_bt/(r_b1 P).
+        theta: pinion angles (rad), shape (P,), overriding the default positions.
+
+    Returns:
+        dict with ``theta`` (rad), ``te`` (transverse TE, m), ``approach`` (δ, m),
+        ``mesh_stiffness`` (Σ k l φ'(Δ), N/m), ``contact_length`` (Σ l φ'(Δ), m),
+        ``evaluations`` (f evaluations by brentq), each shape (P,).
+
+    Raises:
+        ValueError: bad mode, torque, width, or a position with no cell on the flanks.
+    """
+    if contact not in ("exact", "smooth"):
+        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
+    if not torque > 0:
+        raise ValueError(f"torque = {torque!r} must be > 0 (N·m)")
+    if contact == "smooth" and not width > 0:
+        raise ValueError(f"width = {width!r} must be > 0 (m)")
+    if mods is None:
+        mods = mods_params(None)
+    pin, gear = mods["pinion"], mods["gear"]
+    g_alpha, pb, b = mesh.path_of_contact, mesh.base_pitch, mesh.face_width
+    cos_bb = math.cos(mesh.base_helix_angle)
+    force = torque / (mesh.base_radius_pinion * cos_bb)
+    dz = b / mesh.n_slices
+    z = (np.arange(mesh.n_slices) + 0.5) * dz
+    lines = mesh.line_indices()
+    # geometry that does not depend on the position
+    offset = lines[:, None] * pb - z[None, :] * math.tan(mesh.base_helix_angle)
+    zeta = np.broadcast_to(z / b, offset.shape)
+    cell_length = dz / cos_bb
+    if theta is None:
+        theta = _positions(mesh, positions_per_pitch, periods)
+    theta = np.asarray(theta, dtype=float)
+    n = theta.shape[0]
+    te, approach = np.empty(n), np.empty(n)
+    stiff, clen, evals = np.empty(n), np.empty(n), np.empty(n, dtype=int)
+    for j, th in enumerate(theta):
+        s = np.mod(mesh.base_radius_pinion * th, pb) + offset
+        on = (s >= 0.0) & (s <= g_alpha)
+        if not on.any():
+            raise ValueError(f"no contact cell at theta = {th!r} rad")
+        s_on, zeta_on = s[on], zeta[on]
+        kl = np.interp(s_on, mesh.stiffness_s, mesh.stiffness_k) * cell_length
+        u = s_on / g_alpha
+        e = _member_deviation(pin, u, zeta_on) + _member_deviation(gear, 1.0 - u, zeta_on)
+        e_max = e.max()
+        delta0 = e_max - e
+        sum_kl = kl.sum()
+        # f(lo) < 0 < f(hi): at hi every cell is compressed by more than F/Σkl (the margin keeps
+        # f(hi) > 0 through rounding when every cell is loaded equally)
+        hi = delta0.max() + force / sum_kl * (1.0 + 1e-6)
+        if contact == "exact":
+            def f(d):
+                return float(np.dot(kl, np.maximum(d - delta0, 0.0))) - force
+            lo = 0.0
+        else:
+            def f(d):
+                return _softplus_law(d, delta0, kl, width) - force
+            # Σ kl w softplus((δ − δ0)/w) <= Σ kl w exp(δ/w) < F below this
+            lo = min(0.0, width * (math.log(force / (sum_kl * width)) - 1.0))
+        d, info = brentq(f, lo, hi, xtol=1e-30, rtol=4 * _EPS, maxiter=500, full_output=True)
+        if not info.converged:
+            raise RuntimeError(f"brentq did not converge at theta = {th!r}: {info.flag}")
+        gap = d - delta0
+        weight = (gap > 0).astype(float) if contact == "exact" else 0.5 * (1.0 + np.tanh(0.5 * gap / width))
+        te[j] = (d - e_max) / cos_bb
+        approach[j] = d
+        stiff[j] = np.dot(kl, weight)
+        clen[j] = cell_length * weight.sum()
+        evals[j] = info.function_calls
+    return dict(theta=theta, te=te, approach=approach, mesh_stiffness=stiff, contact_length=clen,
+                evaluations=evals)
+
+
+def te_rms(te: np.ndarray) -> float:
+    """RMS of a TE curve about its mean (m)."""
+    te = np.asarray(te)
+    return float(np.sqrt(np.mean((te - te.mean()) ** 2)))

@@ -1,0 +1,127 @@
+"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (jaxgear._baseline).
+
+Both compute the rigid-mesh TE curve of DESIGN.md §2-§5; they share only the geometry and the
+stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
+"""
+
+import functools
+import json
+
+import numpy as np
+import pytest
+
+import jaxgear as jg
+from jaxgear import _baseline as bl
+
+RTOL = 1e-9
+SLICES = 16
+PPP = 24
+
+
+def _rel(a, b):
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def _mods(kind: str):
+    if kind == "none":
+        return None
+    if kind == "case":
+        return "case"
+    if kind == "tip-crown":  # parabolic tip relief on both, crowning, plus the other deviations
+        pin = jg.MemberModification(tip_relief_depth=12e-6, tip_relief_extent=0.3,
+                                    tip_relief_shape="parabolic", root_relief_depth=3e-6,
+                                    root_relief_extent=0.15, crowning_depth=6e-6,
+                                    end_relief_depth=2e-6, end_relief_extent=0.15,
+                                    helix_slope_deviation=4e-6, profile_deviation_roll=(0.0, 1.0),
+                                    profile_deviation=(1e-6, -2e-6))
+        gear = jg.MemberModification(tip_relief_depth=8e-6, tip_relief_extent=0.2,
+                                     tip_relief_shape="parabolic", crowning_depth=3e-6)
+        return jg.Modifications(pinion=pin, gear=gear)
+    raise AssertionError(kind)
+
+
+@functools.lru_cache(maxsize=None)
+def _setup(name: str, uniform: bool = False):
+    """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once."""
+    case = jg.load_case(name)
+    if uniform:
+        case = case.replace(stiffness_model="uniform", uniform_k0=13e9)
+    bmesh = bl.baseline_mesh(case, slices=SLICES)
+    mesh = jg.MeshModel.from_pair(case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES)
+    return case, mesh, bmesh
+
+
+def _compare(name, mods, contact, width=1e-7, uniform=False):
+    case, mesh, bmesh = _setup(name, uniform)
+    if mods == "case":
+        mods = case.modifications
+    r = jg.quasi_static(mesh, mods, case.torque, contact=contact, width=width,
+                        positions_per_pitch=PPP)
+    b = bl.te_curve_numpy(bmesh, bl.mods_params(mods), case.torque, contact, width,
+                          positions_per_pitch=PPP)
+    np.testing.assert_allclose(np.asarray(r.theta), b["theta"], rtol=1e-14)
+    assert _rel(r.transmission_error, b["te"]) <= RTOL
+    assert _rel(r.mesh_stiffness, b["mesh_stiffness"]) <= RTOL
+    assert _rel(r.contact_length, b["contact_length"]) <= RTOL
+    te = np.asarray(r.transmission_error)
+    rms = float(r.te_rms)
+    assert abs(rms - bl.te_rms(b["te"])) <= RTOL * max(rms, np.max(np.abs(te)) * 1e-6)
+    return r, b
+
+
+# Each distinct static structure compiles once (about 1-2 s): linear-relief modifications share
+# a compilation with "none", the parabolic set ("tip-crown") needs its own, so it runs in one mode
+# per case to keep the file fast.
+@pytest.mark.parametrize("name,mods,contact", [
+    (name, mods, contact)
+    for name in ("accessory-spur", "power-helical")
+    for mods in ("none", "case")
+    for contact in ("exact", "smooth")
+] + [("accessory-spur", "tip-crown", "exact"), ("power-helical", "tip-crown", "smooth")])
+def test_agrees_with_baseline(name, mods, contact):
+    r, b = _compare(name, _mods(mods), contact)
+    assert np.all(np.asarray(r.result) == 0)
+    assert np.all(b["te"] > 0)  # positive under load
+
+
+@pytest.mark.parametrize("contact", ["exact", "smooth"])
+def test_agrees_with_baseline_uniform_stiffness(contact):
+    _compare("accessory-spur", "case", contact, uniform=True)
+    # uniform stiffness, no deviation: TE = F/(k0 L cos β_b) in both codes (spur: cos β_b = 1)
+    case = _setup("accessory-spur", True)[0]
+    _, b0 = _compare("accessory-spur", None, "exact", uniform=True)
+    np.testing.assert_allclose(b0["te"], case.normal_load / (13e9 * b0["contact_length"]),
+                               rtol=1e-12)
+
+
+def test_smooth_width_is_the_same_law():
+    """A wide smoothing width (large changes) still agrees: both use w·log(1 + exp(Δ/w))."""
+    _compare("power-helical", "case", "smooth", width=2e-6)
+
+
+def test_baseline_rejects_bad_input():
+    m = _setup("accessory-spur", True)[2]
+    with pytest.raises(ValueError, match="contact"):
+        bl.te_curve_numpy(m, None, 80.0, contact="penalty")
+    with pytest.raises(ValueError, match="torque"):
+        bl.te_curve_numpy(m, None, 0.0)
+    with pytest.raises(ValueError, match="width"):
+        bl.te_curve_numpy(m, None, 80.0, contact="smooth", width=0.0)
+
+
+@pytest.mark.slow
+def test_bench_quick(tmp_path):
+    from jaxgear._bench import bench_quasi_static
+
+    out = bench_quasi_static(tmp_path, quick=True, progress=False, verbose=False)
+    assert (tmp_path / "speed_accuracy_quasi_static.png").stat().st_size > 1000
+    saved = json.loads((tmp_path / "bench_quasi_static.json").read_text())
+    assert saved["targets"]["agreement_1e-9"] and out["targets"]["agreement_1e-9"]
+    for mode in ("exact", "smooth"):
+        pc = saved["per_te_curve"][mode]
+        assert pc["jaxgear_s"] > 0 and pc["baseline_s"] > 0
+        assert max(pc["max_rel_diff"].values()) <= RTOL
+    assert saved["dtype"] == "float64"
+    assert np.asarray(saved["grid"]["te_rms_m"]).shape == (5, 5)
+    assert not list(tmp_path.glob(".tmp-*"))
