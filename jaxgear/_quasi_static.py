@@ -78,13 +78,21 @@ def mesh_positions(mesh: MeshModel, positions_per_pitch: int, periods: int = 1) 
     return k * mesh.mesh_period_angle / positions_per_pitch
 
 
+def separation(mesh: MeshModel, mods: Modifications, theta):
+    """Cells at pinion angle ``theta`` (rad), max_M e (m) and δ0 = max e − e per cell (m, (2.8)).
+
+    Shared by the quasi-static and the dynamic solvers. δ0 is 0 outside the mask.
+    """
+    cells = mesh.cells(theta)
+    e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+    e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
+    return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
+
+
 def _one_position(scene: Scene, mesh: MeshModel, mods: Modifications, torque, theta, mode, width,
                   max_iterations):
-    cells = mesh.cells(theta)
+    cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
-    e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
-    e_max = jnp.max(jnp.where(mask, e, -jnp.inf))
-    delta0 = jnp.where(mask, e_max - e, 0.0)
     V = scene.cell_vectors(cells)
     n = V.shape[-1]
     sol = solve_contact(scene.stiffness(), scene.external_load(torque), V.reshape(-1, n),
