@@ -42,6 +42,8 @@ class BodyMesh:
         r_grid: meridian radial grid (m), ``(nr + 1,)``.
         z_grid: meridian axial grid in the unsheared frame (m), ``(nz + 1,)``.
         element: ``"hex20"`` or ``"hex27"``.
+        vertex_ijk: structured indices ``(n_vertices, 3)`` of the corner nodes: radial grid
+            index, axial grid index, circumferential index (0..n_theta-1, angle k 2 pi/n_theta).
     """
 
     mesh: skfem.MeshHex2
@@ -54,6 +56,7 @@ class BodyMesh:
     r_grid: np.ndarray
     z_grid: np.ndarray
     element: str
+    vertex_ijk: np.ndarray
 
     @property
     def n_nodes(self) -> int:
@@ -320,4 +323,5 @@ def mesh_from_section(
         r_grid=r_grid,
         z_grid=z_grid,
         element=ms.element,
+        vertex_ijk=np.stack([vi, vj, vk], axis=1),
     )

@@ -1,0 +1,474 @@
+"""Master nodes, bearing couplings and component-mode condensation (seed (2.3)-(2.5)).
+
+Notation (seed (2.3)): the reduced DOF vector is split into boundary (master) DOFs ``b`` and
+interior DOFs ``i``.
+
+* Guyan: ``u = [I; G_ib] u_b`` with ``G_ib = -K_ii^-1 K_ib`` (static constraint modes).
+* Craig-Bampton (fixed interface, [CRA68]): ``u = [I 0; G_ib Phi_i] [u_b; q]`` with ``Phi_i`` the
+  first modes of ``(K_ii, M_ii)`` (interface held), mass-normalised.
+* Herting (free interface, [HER85], seed (2.4)): ``u = [I 0; G_ib (phi_i - G_ib phi_b)] [u_b;
+  q]`` with ``phi`` the first elastic modes of the free structure (rigid-body modes are already
+  spanned by the constraint modes and are dropped).  The modal block is then re-orthonormalised
+  (mass-orthonormal, stiffness-diagonal) so that ``K_s = [[K_bb, 0], [0, K_nn]]`` (2.5): boundary
+  and modal DOFs are statically uncoupled.  The inertia-relief term ``H_i0`` of (2.4) is not
+  needed because the rigid-body motion is exactly represented by the constraint modes.
+
+Bearings are 6-DOF nodes on the axis coupled to a ring of bore nodes by a kinematic
+transformation ``u = T q``: rigid (every ring node follows the rigid motion of the bearing node)
+or averaging (RBE3-like: the bearing node moves as the least-squares rigid fit of the ring; six
+ring DOFs are eliminated).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from tqdm import tqdm
+
+from ._assemble import Operators
+from ._body import Body
+from ._mesh import BodyMesh, rim_master_z
+
+__all__ = [
+    "Coupled",
+    "Condensed",
+    "MasterSet",
+    "condense",
+    "couple_bearings",
+    "factorize",
+    "select_masters",
+    "shift_invert_modes",
+]
+
+
+# ------------------------------------------------------------------------------------------
+# master nodes
+
+
+@dataclass(frozen=True)
+class MasterSet:
+    """Master nodes of a gear body.
+
+    Attributes:
+        rim_nodes: node indices ``(teeth, n_axial)`` on the rim outer radius, tooth ``k`` at
+            angle ``2 pi k / teeth`` from the x axis, axial positions increasing.
+        bearing_positions: bearing node coordinates ``(n_bearings, 3)`` (m), on the axis.
+        bearing_rings: for each bearing, the bore node indices it is coupled to.
+        couplings: ``"rigid"`` or ``"averaging"`` per bearing.
+    """
+
+    rim_nodes: np.ndarray
+    bearing_positions: np.ndarray
+    bearing_rings: tuple[np.ndarray, ...]
+    couplings: tuple[str, ...]
+
+
+def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
+    """Pick the rim master grid and the bore rings of the bearings.
+
+    Args:
+        bm: the body mesh.
+        body: the body (teeth, axial master count, bearings).
+
+    Returns:
+        The :class:`MasterSet`.
+
+    Raises:
+        ValueError: a tooth station or a bore ring has no mesh node.
+    """
+    g = body.geometry
+    teeth = body.condensation.teeth
+    zm = rim_master_z(bm, g, body.condensation.axial_master_nodes)
+    x = bm.nodes
+    rho = np.hypot(x[:, 0], x[:, 1])
+    tol = 1e-7 * g.rim_outer_radius
+    on_rim = np.nonzero(np.abs(rho - g.rim_outer_radius) < tol)[0]
+    ang = np.arctan2(x[on_rim, 1], x[on_rim, 0])
+    rim = np.empty((teeth, len(zm)), dtype=np.int64)
+    lookup = {}
+    kk = np.round(np.mod(ang, 2 * math.pi) / (2 * math.pi / teeth)).astype(int) % teeth
+    exact = np.abs(np.mod(ang, 2 * math.pi) - kk * 2 * math.pi / teeth)
+    exact = np.minimum(exact, 2 * math.pi - exact) < 1e-9
+    for node, k, ok in zip(on_rim, kk, exact):
+        if ok:
+            lookup[(k, round(float(x[node, 2]), 10))] = node
+    for k in range(teeth):
+        for j, z in enumerate(zm):
+            key = (k, round(float(z), 10))
+            if key not in lookup:
+                raise ValueError(f"no rim node at tooth {k}, z = {z * 1e3:g} mm")
+            rim[k, j] = lookup[key]
+
+    on_bore = np.nonzero(np.abs(rho - g.bore_radius) < 1e-7 * g.rim_outer_radius)[0]
+    zb = x[on_bore, 2]
+    planes = np.unique(np.round(zb, 10))
+    rings, pos = [], []
+    for b in body.bearings:
+        zp = planes[np.argmin(np.abs(planes - b.axial_position))]
+        ring = on_bore[np.abs(zb - zp) < 1e-9]
+        if len(ring) < 3:
+            raise ValueError(f"bearing at z = {b.axial_position * 1e3:g} mm: bore ring too small")
+        rings.append(ring)
+        pos.append([0.0, 0.0, b.axial_position])
+    return MasterSet(
+        rim_nodes=rim,
+        bearing_positions=np.array(pos),
+        bearing_rings=tuple(rings),
+        couplings=tuple(b.coupling for b in body.bearings),
+    )
+
+
+def _skew(d: np.ndarray) -> np.ndarray:
+    """``skew(d) @ w == cross(d, w)`` for each row of ``d`` (n, 3) -> (n, 3, 3)."""
+    z = np.zeros(len(d))
+    return np.stack(
+        [
+            np.stack([z, -d[:, 2], d[:, 1]], -1),
+            np.stack([d[:, 2], z, -d[:, 0]], -1),
+            np.stack([-d[:, 1], d[:, 0], z], -1),
+        ],
+        1,
+    )
+
+
+@dataclass(frozen=True)
+class Coupled:
+    """Operators after the bearing couplings, ``u_full = T q``.
+
+    Attributes:
+        T: ``(n_full, n_red)`` sparse transformation.
+        K, M: reduced stiffness/mass ``(n_red, n_red)``.
+        f: reduced centrifugal vector per unit speed squared ``(n_red,)``.
+        S: reduced spin-softening matrix or ``None``.
+        bearing_dofs: reduced indices ``(n_bearings, 6)`` of the bearing DOFs
+            (u_x, u_y, u_z, theta_x, theta_y, theta_z).
+        full_to_red: ``(n_full,)`` reduced index of each full DOF kept as such, -1 if
+            eliminated by a coupling.
+    """
+
+    T: sp.csr_matrix
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    f: np.ndarray
+    S: sp.csr_matrix | None
+    bearing_dofs: np.ndarray
+    full_to_red: np.ndarray
+
+
+def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
+    """Add the 6-DOF bearing nodes by a kinematic transformation (rigid or averaging).
+
+    Args:
+        bm: the mesh (node coordinates).
+        ops: full operators.
+        masters: the master set (bearing rings, couplings).
+
+    Returns:
+        The :class:`Coupled` operators.
+    """
+    n = bm.n_dofs
+    elim_rows, elim_cols, elim_vals = [], [], []  # rows of T for eliminated DOFs
+    eliminated = np.zeros(n, dtype=bool)
+    n_b = len(masters.bearing_rings)
+    for ib, (ring, kind, xb) in enumerate(
+        zip(masters.bearing_rings, masters.couplings, masters.bearing_positions)
+    ):
+        d = bm.nodes[ring] - xb
+        # rigid kinematics: u_node = u_B + theta_B x d = [I, -skew(d)] [u_B; theta_B]
+        R = np.concatenate([np.broadcast_to(np.eye(3), (len(ring), 3, 3)), -_skew(d)], axis=2)
+        R = R.reshape(3 * len(ring), 6)
+        ring_dofs = (3 * ring[:, None] + np.arange(3)).ravel()
+        if eliminated[ring_dofs].any():
+            raise ValueError("two bearings share bore nodes; move them apart")
+        if kind == "rigid":
+            dep = np.arange(len(ring_dofs))
+            for r_loc in dep:
+                for c in range(6):
+                    if R[r_loc, c] != 0.0:
+                        elim_rows.append(ring_dofs[r_loc])
+                        elim_cols.append(("b", ib, c))
+                        elim_vals.append(R[r_loc, c])
+            eliminated[ring_dofs] = True
+        else:
+            W = np.linalg.pinv(R)  # (6, 3 n_r): q_B = W u_ring (least-squares rigid fit)
+            _, _, piv = sla.qr(W, pivoting=True, mode="economic")
+            dep = np.sort(piv[:6])
+            ind = np.setdiff1d(np.arange(len(ring_dofs)), dep)
+            Wd_inv = np.linalg.inv(W[:, dep])
+            A = -Wd_inv @ W[:, ind]  # u_dep = Wd_inv q_B + A u_ind
+            for a, r_loc in enumerate(dep):
+                for c in range(6):
+                    elim_rows.append(ring_dofs[r_loc])
+                    elim_cols.append(("b", ib, c))
+                    elim_vals.append(Wd_inv[a, c])
+                for jj, c_loc in enumerate(ind):
+                    if A[a, jj] != 0.0:
+                        elim_rows.append(ring_dofs[r_loc])
+                        elim_cols.append(("f", int(ring_dofs[c_loc]), 0))
+                        elim_vals.append(A[a, jj])
+            eliminated[ring_dofs[dep]] = True
+    kept = np.nonzero(~eliminated)[0]
+    full_to_red = -np.ones(n, dtype=np.int64)
+    full_to_red[kept] = np.arange(len(kept))
+    n_red = len(kept) + 6 * n_b
+    bearing_dofs = len(kept) + np.arange(6 * n_b).reshape(n_b, 6)
+    rows = list(kept)
+    cols = list(range(len(kept)))
+    vals = [1.0] * len(kept)
+    for r, (kind, a, c), v in zip(elim_rows, elim_cols, elim_vals):
+        rows.append(r)
+        cols.append(bearing_dofs[a, c] if kind == "b" else full_to_red[a])
+        vals.append(v)
+    T = sp.csr_matrix((vals, (rows, cols)), shape=(n, n_red))
+    Tt = T.T.tocsr()
+    K = (Tt @ ops.K @ T).tocsr()
+    M = (Tt @ ops.M @ T).tocsr()
+    S = (Tt @ ops.spin_softening @ T).tocsr() if ops.spin_softening is not None else None
+    f = Tt @ ops.f_centrifugal
+    return Coupled(T=T, K=K, M=M, f=f, S=S, bearing_dofs=bearing_dofs, full_to_red=full_to_red)
+
+
+# ------------------------------------------------------------------------------------------
+# sparse linear algebra
+
+
+class Factor:
+    """Sparse LU factorisation (SuperLU, symmetric mode) of a symmetric matrix."""
+
+    def __init__(self, A: sp.spmatrix):
+        A = sp.csc_matrix(A)
+        self.shape = A.shape
+        self._lu = spla.splu(
+            A,
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+        self.nnz = int(self._lu.L.nnz + self._lu.U.nnz)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """Solve ``A x = b`` for ``b`` of shape ``(n,)`` or ``(n, k)``."""
+        return self._lu.solve(np.asarray(b, dtype=float))
+
+    def operator(self) -> spla.LinearOperator:
+        """``A^-1`` as a LinearOperator."""
+        return spla.LinearOperator(self.shape, matvec=self.solve, dtype=float)
+
+
+def factorize(A: sp.spmatrix) -> Factor:
+    """Factorise a sparse symmetric matrix (SuperLU with a symmetric ordering)."""
+    return Factor(A)
+
+
+def shift_invert_modes(
+    K: sp.spmatrix,
+    M: sp.spmatrix,
+    k: int,
+    *,
+    sigma: float = 0.0,
+    factor: Factor | None = None,
+    tol: float = 1e-10,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest ``k`` modes of ``K phi = lambda M phi`` by shift-invert Lanczos (``eigsh``).
+
+    Args:
+        K, M: sparse symmetric stiffness/mass ``(n, n)``.
+        k: number of modes (``k < n``).
+        sigma: shift (rad/s)^2; negative for free structures with rigid-body modes.
+        factor: a factorisation of ``K - sigma M`` to reuse.
+        tol: eigsh tolerance.
+
+    Returns:
+        ``(lam, phi)``: eigenvalues ``(k,)`` ascending ((rad/s)^2) and mass-normalised modes
+        ``(n, k)``.
+    """
+    n = K.shape[0]
+    if k <= 0:
+        return np.zeros(0), np.zeros((n, 0))
+    if k >= n - 1 or n < 200:
+        lam, phi = sla.eigh(K.toarray(), M.toarray())
+        return lam[:k], phi[:, :k]
+    if factor is None:
+        factor = factorize(K - sigma * M)
+    ncv = min(n, max(2 * k + 1, k + 40))
+    lam, phi = spla.eigsh(
+        K, k=k, M=M, sigma=sigma, OPinv=factor.operator(), which="LM", ncv=ncv, tol=tol
+    )
+    order = np.argsort(lam)
+    lam, phi = lam[order], phi[:, order]
+    # normalise to unit modal mass (eigsh already does up to round-off)
+    mm = np.einsum("ij,ij->j", phi, M @ phi)
+    return lam, phi / np.sqrt(mm)
+
+
+# ------------------------------------------------------------------------------------------
+# condensation
+
+
+@dataclass
+class Condensed:
+    """A condensed substructure.
+
+    Attributes:
+        method: ``"guyan"``, ``"craig-bampton"`` or ``"herting"``.
+        K, M: condensed stiffness (N/m, N/rad, N m/rad) and mass ``(n_c, n_c)``.
+        f_centrifugal: condensed centrifugal vector per unit speed squared ``(n_c,)``.
+        spin_softening: condensed spin-softening matrix per unit speed squared or ``None``.
+        master_dofs: reduced indices ``(n_b,)`` of the boundary DOFs (condensed rows 0..n_b-1).
+        n_modes: number of modal coordinates (condensed rows n_b..n_c-1).
+        basis: reduced-space transformation ``(n_red, n_c)``: ``q_red = basis @ q_c`` (the
+            transfer matrix H of (2.4)); ``u_full = T @ basis @ q_c``.
+        timings: wall times (s) of the steps.
+        modes_hz: natural frequencies of the modes kept in the basis (Hz).
+    """
+
+    method: str
+    K: np.ndarray
+    M: np.ndarray
+    f_centrifugal: np.ndarray
+    spin_softening: np.ndarray | None
+    master_dofs: np.ndarray
+    n_modes: int
+    basis: np.ndarray
+    timings: dict[str, float] = field(default_factory=dict)
+    modes_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def _project(A: sp.spmatrix, V: np.ndarray, block: int = 256) -> np.ndarray:
+    """``V^T A V`` by column blocks (bounded memory)."""
+    out = np.empty((V.shape[1], V.shape[1]))
+    for c0 in range(0, V.shape[1], block):
+        c1 = min(V.shape[1], c0 + block)
+        out[:, c0:c1] = V.T @ (A @ V[:, c0:c1])
+    return 0.5 * (out + out.T)
+
+
+def condense(
+    K: sp.spmatrix,
+    M: sp.spmatrix,
+    master_dofs: np.ndarray,
+    *,
+    method: str = "craig-bampton",
+    n_modes: int = 50,
+    f: np.ndarray | None = None,
+    S: sp.spmatrix | None = None,
+    progress: bool = False,
+    interior_factor: Factor | None = None,
+    free_shift: float | None = None,
+) -> Condensed:
+    """Condense ``(K, M)`` onto ``master_dofs`` (+ ``n_modes`` modal DOFs), seed (2.3)-(2.5).
+
+    Args:
+        K, M: sparse symmetric stiffness and mass ``(n, n)`` of the (coupled) structure.
+        master_dofs: boundary DOF indices ``(n_b,)``; they must restrain the rigid-body modes
+            (``K_ii`` non-singular).
+        method: ``"guyan"``, ``"craig-bampton"`` or ``"herting"``.
+        n_modes: number of retained modes (ignored by Guyan).
+        f: centrifugal vector per unit speed squared ``(n,)`` (condensed as ``H^T f``, (2.37)).
+        S: spin-softening matrix ``(n, n)`` or ``None``.
+        progress: show tqdm progress bars.
+        interior_factor: a factorisation of ``K_ii`` to reuse.
+        free_shift: shift (rad/s)^2 (negative) for the free-interface eigen-solve of Herting;
+            default ``-(2 pi 1 Hz)^2 x`` a scale from the diagonal.
+
+    Returns:
+        The :class:`Condensed` model; boundary DOFs first in the order of ``master_dofs``.
+
+    Raises:
+        ValueError: unknown method or negative ``n_modes``.
+    """
+    if method not in ("guyan", "craig-bampton", "herting"):
+        raise ValueError(f"method = {method!r}; use 'guyan', 'craig-bampton' or 'herting'")
+    if n_modes < 0:
+        raise ValueError(f"n_modes = {n_modes} must be >= 0")
+    K = sp.csr_matrix(K)
+    M = sp.csr_matrix(M)
+    n = K.shape[0]
+    b = np.asarray(master_dofs, dtype=np.int64)
+    mask = np.ones(n, dtype=bool)
+    mask[b] = False
+    i = np.nonzero(mask)[0]
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+    Kii = K[i][:, i]
+    Kib = K[i][:, b]
+    Fii = interior_factor or factorize(Kii)
+    timings["factorisation_s"] = time.perf_counter() - t0
+
+    # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks
+    t0 = time.perf_counter()
+    H = np.zeros((n, len(b) + (0 if method == "guyan" else n_modes)))
+    H[b, np.arange(len(b))] = 1.0
+    blk = 128
+    it = range(0, len(b), blk)
+    for c0 in tqdm(it, desc="constraint modes", disable=not progress, unit="block"):
+        c1 = min(len(b), c0 + blk)
+        H[i, c0:c1] = -Fii.solve(Kib[:, c0:c1].toarray())
+    timings["static_modes_s"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    modes_hz = np.zeros(0)
+    nb = len(b)
+    if method == "craig-bampton" and n_modes > 0:
+        Mii = M[i][:, i]
+        with tqdm(total=1, desc="fixed-interface modes", disable=not progress) as bar:
+            lam, phi = shift_invert_modes(Kii, Mii, n_modes, sigma=0.0, factor=Fii)
+            bar.update()
+        H[i, nb:] = phi
+        modes_hz = np.sqrt(np.maximum(lam, 0)) / (2 * math.pi)
+    elif method == "herting" and n_modes > 0:
+        if free_shift is None:
+            free_shift = -float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300))) * 1e-4
+        with tqdm(total=2, desc="free-interface modes", disable=not progress) as bar:
+            Ffree = factorize(K - free_shift * M)
+            bar.update()
+            n_rigid = 6
+            lam, phi = shift_invert_modes(K, M, n_modes + n_rigid, sigma=free_shift, factor=Ffree)
+            bar.update()
+        del Ffree
+        # drop rigid-body modes (captured by the constraint modes)
+        lam_ref = max(abs(lam[-1]), 1.0)
+        elastic = lam > 1e-8 * lam_ref
+        lam, phi = lam[elastic][:n_modes], phi[:, elastic][:, :n_modes]
+        modes_hz = np.sqrt(lam) / (2 * math.pi)
+        chi = phi - H[:, :nb] @ phi[b]  # (2.4): [0; phi_i - G_ib phi_b]
+        chi[b] = 0.0
+        Mcc = _project(M, chi)
+        Kcc = _project(K, chi)
+        d, V = np.linalg.eigh(Mcc)
+        keep = d > 1e-10 * d.max()
+        Q = V[:, keep] / np.sqrt(d[keep])
+        lam2, U = np.linalg.eigh(Q.T @ Kcc @ Q)
+        chi = chi @ (Q @ U)
+        H = H[:, : nb + chi.shape[1]]
+        H[:, nb:] = chi
+    timings["eigen_s"] = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    Kc = _project(K, H)
+    Mc = _project(M, H)
+    # exact structure (2.5): boundary/modal blocks statically uncoupled
+    if H.shape[1] > nb:
+        Kc[:nb, nb:] = 0.0
+        Kc[nb:, :nb] = 0.0
+    fc = H.T @ f if f is not None else np.zeros(H.shape[1])
+    Sc = _project(S, H) if S is not None else None
+    timings["projection_s"] = time.perf_counter() - t0
+    return Condensed(
+        method=method,
+        K=Kc,
+        M=Mc,
+        f_centrifugal=fc,
+        spin_softening=Sc,
+        master_dofs=b,
+        n_modes=H.shape[1] - nb,
+        basis=H,
+        timings=timings,
+        modes_hz=modes_hz,
+    )

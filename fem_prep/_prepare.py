@@ -1,0 +1,217 @@
+"""The pre-processing pipeline: mesh -> assemble -> couple -> full modal -> condense."""
+
+from __future__ import annotations
+
+import math
+import time
+import tracemalloc
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg as sla
+from tqdm import tqdm
+
+from ._assemble import Operators, assemble_operators
+from ._body import Body
+from ._condense import (
+    Condensed,
+    Coupled,
+    MasterSet,
+    condense,
+    couple_bearings,
+    factorize,
+    select_masters,
+    shift_invert_modes,
+)
+from ._mesh import BodyMesh, mesh_body
+from ._modal import ModeFamily, identify_modes
+
+__all__ = ["Prepared", "prepare"]
+
+
+@dataclass
+class Prepared:
+    """Everything the pre-processing produced (in memory).
+
+    Attributes:
+        body: the input body.
+        mesh: the :class:`BodyMesh`.
+        operators: full operators (K, M, centrifugal vector).
+        masters: master nodes.
+        coupled: operators after the bearing couplings (``u_full = T q``).
+        condensed: the condensed model.
+        master_dofs: reduced indices of the boundary DOFs: rim grid ``(teeth, n_axial, 3)``
+            flattened, then bearings ``(n_bearings, 6)`` flattened.
+        frequencies_full_hz: first ``body.n_frequencies`` frequencies of the full model (Hz).
+        mode_shapes: full-DOF mode shapes ``(n_dofs, n_frequencies)`` (mass-normalised).
+        frequencies_condensed_hz: same modes from the condensed model (Hz).
+        families: nodal diameters/circles of the full-model modes.
+        centrifugal_displacement: full-DOF static displacement ``(n_dofs,)`` (m) under the
+            centrifugal load at ``body.speed`` with the bearings held.
+        rim_radial_displacement: mean radial displacement (m) at the rim outer radius, mid-face.
+        rim_radial_displacement_condensed: the same from the condensed model (m).
+        timings: wall time per step (s).
+        peak_memory_bytes: peak traced Python/NumPy allocation (bytes).
+    """
+
+    body: Body
+    mesh: BodyMesh
+    operators: Operators
+    masters: MasterSet
+    coupled: Coupled
+    condensed: Condensed
+    master_dofs: np.ndarray
+    frequencies_full_hz: np.ndarray
+    mode_shapes: np.ndarray
+    frequencies_condensed_hz: np.ndarray
+    families: list[ModeFamily]
+    centrifugal_displacement: np.ndarray
+    rim_radial_displacement: float
+    rim_radial_displacement_condensed: float
+    timings: dict[str, float] = field(default_factory=dict)
+    peak_memory_bytes: int = 0
+
+
+def _hz(lam: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi)
+
+
+def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -> Prepared:
+    """Run the whole pre-processing of a body.
+
+    Args:
+        body: the validated body.
+        progress: show tqdm progress bars (meshing, assembly, factorisation, eigen-solves).
+        trace_memory: measure the peak allocation with ``tracemalloc`` (slower).
+
+    Returns:
+        The :class:`Prepared` results.
+    """
+    if trace_memory:
+        tracemalloc.start()
+    timings: dict[str, float] = {}
+    steps = tqdm(total=6, desc=f"fem-prep {body.name}", disable=not progress, unit="step")
+
+    def tick(name: str, t0: float) -> None:
+        timings[name] = time.perf_counter() - t0
+        steps.set_postfix_str(f"{name} {timings[name]:.1f}s")
+        steps.update()
+
+    t0 = time.perf_counter()
+    bm = mesh_body(body)
+    tick("mesh_s", t0)
+
+    t0 = time.perf_counter()
+    ops = assemble_operators(bm.basis, body.material, spin_softening=body.spin_softening)
+    tick("assembly_s", t0)
+
+    t0 = time.perf_counter()
+    ms = select_masters(bm, body)
+    cp = couple_bearings(bm, ops, ms)
+    rim_dofs = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    if np.any(rim_dofs < 0):
+        raise ValueError("a rim master node is also a bearing-ring node")
+    master_dofs = np.concatenate([rim_dofs, cp.bearing_dofs.ravel()])
+    bearing_c = len(rim_dofs) + np.arange(cp.bearing_dofs.size)
+    n_red = cp.K.shape[0]
+    tick("coupling_s", t0)
+
+    # ---- full model: modes (support as the body says) and centrifugal deflection
+    t0 = time.perf_counter()
+    nf = body.n_frequencies
+    held = np.zeros(n_red, dtype=bool)
+    held[cp.bearing_dofs.ravel()] = True
+    free = np.nonzero(~held)[0]
+    Kff = cp.K[free][:, free]
+    Fff = factorize(Kff)
+    t_fact = time.perf_counter() - t0
+    u_red = np.zeros(n_red)
+    u_red[free] = Fff.solve(body.speed**2 * cp.f[free])
+    u_cf = cp.T @ u_red
+    if body.support == "bearings":
+        lam, phi_f = shift_invert_modes(Kff, cp.M[free][:, free], nf, sigma=0.0, factor=Fff)
+        phi = np.zeros((n_red, nf))
+        phi[free] = phi_f
+    else:
+        shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
+        lam, phi = shift_invert_modes(cp.K, cp.M, nf, sigma=shift)
+    del Fff
+    shapes = cp.T @ phi
+    f_full = _hz(lam)
+    timings["full_factorisation_s"] = t_fact
+    tick("full_modal_s", t0)
+
+    # ---- condensation
+    t0 = time.perf_counter()
+    cond = condense(
+        cp.K,
+        cp.M,
+        master_dofs,
+        method=body.condensation.method,
+        n_modes=body.condensation.modes,
+        f=cp.f,
+        S=cp.S,
+        progress=progress,
+    )
+    for k, v in cond.timings.items():
+        timings[f"condense_{k}"] = v
+    tick("condensation_s", t0)
+
+    # ---- condensed model: same support, frequencies and centrifugal deflection
+    t0 = time.perf_counter()
+    n_c = cond.K.shape[0]
+    keep = np.ones(n_c, dtype=bool)
+    if body.support == "bearings":
+        keep[bearing_c] = False
+    lam_c = sla.eigh(cond.K[np.ix_(keep, keep)], cond.M[np.ix_(keep, keep)], eigvals_only=True)
+    f_cond = _hz(lam_c[:nf])
+    kc = np.ones(n_c, dtype=bool)
+    kc[bearing_c] = False
+    qc = np.zeros(n_c)
+    qc[kc] = np.linalg.solve(cond.K[np.ix_(kc, kc)], body.speed**2 * cond.f_centrifugal[kc])
+    timings["condensed_modal_s"] = time.perf_counter() - t0
+
+    # ---- rim radial displacement at the rim outer radius, mid-face
+    g = body.geometry
+    x = bm.nodes
+    rho = np.hypot(x[:, 0], x[:, 1])
+    on = np.abs(rho - g.rim_outer_radius) < 1e-7 * g.rim_outer_radius
+    zmid = x[on, 2][np.argmin(np.abs(x[on, 2]))]
+    sel = np.nonzero(on & (np.abs(x[:, 2] - zmid) < 1e-9))[0]
+    u = u_cf.reshape(-1, 3)[sel]
+    ur = (u[:, 0] * x[sel, 0] + u[:, 1] * x[sel, 1]) / rho[sel]
+    rim_ur = float(np.mean(ur))
+    # condensed: rim master column nearest mid-face
+    rim_nodes = ms.rim_nodes
+    jmid = int(np.argmin(np.abs(x[rim_nodes[0], 2])))
+    qr = qc[: rim_nodes.size * 3].reshape(rim_nodes.shape[0], rim_nodes.shape[1], 3)[:, jmid]
+    xr = x[rim_nodes[:, jmid]]
+    ur_c = float(np.mean((qr[:, 0] * xr[:, 0] + qr[:, 1] * xr[:, 1]) / np.hypot(xr[:, 0], xr[:, 1])))
+
+    t0 = time.perf_counter()
+    web_z = g.web_offset
+    fam = identify_modes(bm, shapes, f_full, web_z=web_z)
+    timings["identification_s"] = time.perf_counter() - t0
+    steps.close()
+    peak = 0
+    if trace_memory:
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    return Prepared(
+        body=body,
+        mesh=bm,
+        operators=ops,
+        masters=ms,
+        coupled=cp,
+        condensed=cond,
+        master_dofs=master_dofs,
+        frequencies_full_hz=f_full,
+        mode_shapes=shapes,
+        frequencies_condensed_hz=f_cond,
+        families=fam,
+        centrifugal_displacement=u_cf,
+        rim_radial_displacement=rim_ur,
+        rim_radial_displacement_condensed=ur_c,
+        timings=timings,
+        peak_memory_bytes=int(peak),
+    )
