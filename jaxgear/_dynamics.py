@@ -72,7 +72,9 @@ class MeshTable(eqx.Module):
     Attributes:
         theta: pinion angles (rad), shape (P,). V: structure vectors, shape (P, c, n).
         k: cell stiffness per unit length (N/m²), length: cell length (m), delta0: δ0 (m),
-        mask: cells on the flanks; all shape (P, c). e_max: max_M e (m), shape (P,).
+        mask: cells on the flanks; all shape (P, c).
+        e_max: the reference e_ref = max over the period of max_M e (m), broadcast to (P,):
+            δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant reference.
         n_lines: static number of contact lines (cells are line-major).
     """
 
@@ -98,7 +100,12 @@ def mesh_table(scene: DynamicScene, mods: Modifications, steps_per_period: int) 
                 d0.reshape(-1), cells.mask.reshape(-1), e_max)
 
     V, k, ln, d0, mask, e_max = jax.vmap(row)(theta)
-    return MeshTable(theta, V, k, ln, d0, mask, e_max, n_lines=mesh.n_lines)
+    # one time-constant reference: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e moves its
+    # reference with time, which would be a spurious inertial excitation in dynamics.
+    e_ref = jnp.max(e_max)
+    d0 = jnp.where(mask, d0 + (e_ref - e_max)[:, None], 0.0)
+    return MeshTable(theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape),
+                     n_lines=mesh.n_lines)
 
 
 def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
@@ -371,7 +378,8 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
     def rhs(t, y, args):
         speed, width, mods = args
         X, Xd = y[0] * x_ref, y[1] * v_ref
-        cells, _, d0 = separation(mesh, mods, speed * t + 0.5 * dtheta)
+        cells, e_max, d0 = separation(mesh, mods, speed * t + 0.5 * dtheta)
+        d0 = jnp.where(cells.mask, d0 + (table.e_max[0] - e_max), 0.0)
         V = scene.cell_vectors(cells).reshape(-1, X.shape[0])
         kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
         f = kl * _phi(V @ X - d0.reshape(-1), cfg.contact, width)
