@@ -57,11 +57,15 @@ class BaselineMesh:
     n_slices: int
 
     def line_indices(self) -> np.ndarray:
-        """Tooth-pair indices i whose line can reach [0, g_α] at some roll in [0, p_bt)."""
+        """Tooth-pair indices i whose line can reach [0, g_α] at some roll in [0, p_bt).
+
+        s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt) and z tan β_b ∈ [0, b tan β_b]: a line
+        with i < 0 has s < 0 everywhere, and one with i p_bt − b tan β_b > g_α has s > g_α
+        everywhere, so i runs over 0 … ceil((g_α + b tan β_b)/p_bt) = ceil(ε_α + ε_β).
+        """
         lead = self.face_width * math.tan(self.base_helix_angle)
-        lo = -int(math.ceil(lead / self.base_pitch)) - 1
-        hi = int(math.ceil(self.path_of_contact / self.base_pitch)) + 1
-        return np.arange(lo, hi + 1, dtype=float)
+        hi = int(math.ceil((self.path_of_contact + lead) / self.base_pitch))
+        return np.arange(0, hi + 1, dtype=float)
 
 
 def baseline_mesh(case, slices: int | None = None, torque: float | None = None) -> BaselineMesh:
