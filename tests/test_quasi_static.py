@@ -304,3 +304,22 @@ def test_tip_relief_zero_fluctuation_family():
     depths = jnp.linspace(0.5, 12.0, 116) * delta_m
     best = jnp.min(jax.vmap(lambda d: te_rms(d, gamma)[0])(depths))
     assert float(best) > 0.05 * float(plain.te_rms)
+
+
+@pytest.mark.parametrize("contact", ["exact", "smooth"])
+def test_float32_runs_and_matches_float64(contact):
+    """With x64 off, the whole chain (case, mesh, modifications, solver) runs in float32 and the
+    TE curve stays within 1e-3 (relative) of float64."""
+    case, mesh, theta = _weber("power-helical")
+    te64 = np.asarray(jg.quasi_static(mesh, case.modifications, case.torque, theta,
+                                      contact=contact).transmission_error)
+    with jax.enable_x64(False):
+        case32 = jg.load_case("power-helical")  # arrays built inside the context are float32
+        mesh32 = case32.mesh_model(slices=mesh.n_slices)
+        res = jg.quasi_static(mesh32, case32.modifications, case32.torque,
+                              positions_per_pitch=16, contact=contact)
+        te32 = np.asarray(res.transmission_error)
+        assert te32.dtype == np.float32
+        assert np.all(np.asarray(res.result) == 0)
+    assert np.all(np.isfinite(te32))
+    np.testing.assert_allclose(te32, te64, rtol=1e-3)
