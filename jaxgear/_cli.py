@@ -1,4 +1,4 @@
-"""Command line: ``jaxgear run | cases | bench | prep``.
+"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | bench | prep``.
 
 The CLI is an entry point, so it switches float64 on (library modules never do).
 """
@@ -30,6 +30,12 @@ def _parser() -> argparse.ArgumentParser:
     pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (same as fem-prep build)")
     pr.add_argument("body", help="body TOML file or embedded body name")
     pr.add_argument("--out", help="output folder")
+    from ._sweep import add_sweep_parser
+
+    add_sweep_parser(sub)
+    from optimise._cli import add_parsers as add_optimise_parsers
+
+    add_optimise_parsers(sub)
     return p
 
 
@@ -75,6 +81,18 @@ def main(argv: list[str] | None = None) -> int:
             print(format_table(summary))
             print(f"written to {out}/")
             return 0
+        if args.command == "optimise":
+            from optimise._cli import run_optimise
+
+            return run_optimise(args)
+        if args.command == "master-curve":
+            from optimise._cli import run_master_curve
+
+            return run_master_curve(args)
+        if args.command == "sweep":
+            from ._sweep import run_sweep
+
+            return run_sweep(args)
         if args.command == "bench":
             from ._bench import bench_quasi_static
 

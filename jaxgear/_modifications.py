@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import Literal
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from ._util import as_float
 from jaxtyping import Array, Float
@@ -27,9 +28,16 @@ __all__ = ["MemberModification", "Modifications"]
 _SHAPES = ("linear", "parabolic")
 
 
-def _ramp(x, shape: str):
-    """Relief shape on x ∈ [0, 1] (clipped): x (linear) or x² (parabolic)."""
-    x = jnp.clip(x, 0.0, 1.0)
+def _ramp(x, shape: str, blend):
+    """Relief shape on x ∈ [0, 1]: x (linear) or x² (parabolic), zero below 0, one above 1.
+
+    ``blend`` > 0 rounds the kink at the relief start (x = 0) with a softplus of that width in x
+    units, so the deviation of a fixed point is smooth in the relief parameters; 0 keeps the
+    sharp kink.
+    """
+    safe = jnp.where(blend > 0, blend, 1.0)
+    x = jnp.where(blend > 0, safe * jax.nn.softplus(x / safe), jnp.maximum(x, 0.0))
+    x = jnp.minimum(x, 1.0)
     return x if shape == "linear" else x * x
 
 
@@ -49,6 +57,9 @@ class MemberModification(eqx.Module):
             (linear across the face, zero at mid-face); models a misalignment too.
         profile_deviation_roll: roll fractions u (ascending), shape (n,).
         profile_deviation: user profile deviation (m) at those u, shape (n,), interpolated.
+        relief_blend: rounding width of the tip/root relief start, in roll-fraction units (0:
+            sharp start). Optimisation sets it to about one position step so that objectives
+            sampled at discrete positions are smooth in the relief extent.
         tip_relief_shape, root_relief_shape: "linear" or "parabolic" (static).
     """
 
@@ -62,6 +73,7 @@ class MemberModification(eqx.Module):
     helix_slope_deviation: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     profile_deviation_roll: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 1.0))
     profile_deviation: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 0.0))
+    relief_blend: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     tip_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
     root_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
 
@@ -77,9 +89,9 @@ class MemberModification(eqx.Module):
     def deviation(self, u: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
         """Normal deviation e (m) at roll fraction ``u`` and lead fraction ``zeta`` (broadcast)."""
         tip = self.tip_relief_depth * _ramp((u - (1.0 - self.tip_relief_extent)) / self.tip_relief_extent,
-                                            self.tip_relief_shape)
+                                            self.tip_relief_shape, self.relief_blend / self.tip_relief_extent)
         root = self.root_relief_depth * _ramp((self.root_relief_extent - u) / self.root_relief_extent,
-                                              self.root_relief_shape)
+                                              self.root_relief_shape, self.relief_blend / self.root_relief_extent)
         xi = 2.0 * zeta - 1.0
         crown = self.crowning_depth * xi * xi
         le = self.end_relief_extent

@@ -1,0 +1,19 @@
+"""optimise: gradient-based tooth-modification design on the jaxgear quasi-static model.
+
+Objectives (TE RMS / peak-to-peak at one load or over a torque range, maximum line load), design
+variables normalised and bounded by reparametrisation, optax loops (L-BFGS, Adam), the Master
+Curve and the (Γ, E) contour map of TE RMS.
+"""
+
+from ._master_curve import contour_map as contour_map, master_curve as master_curve
+from ._minimise import OptimisationResult as OptimisationResult, minimise as minimise
+from ._problem import (
+    OBJECTIVES as OBJECTIVES,
+    VARIABLES as VARIABLES,
+    Problem as Problem,
+    make_problem as make_problem,
+    parse_range as parse_range,
+    zero_fluctuation_depth as zero_fluctuation_depth,
+)
+
+__version__ = "0.1.0"

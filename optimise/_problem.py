@@ -1,0 +1,253 @@
+"""Design variables and objectives for tooth-modification optimisation (DESIGN.md §8).
+
+Design variables are named like the case file: ``tip_relief.depth``, ``tip_relief.extent``,
+``root_relief.depth``, ``root_relief.extent``, ``crowning.depth``, ``end_relief.depth``,
+``end_relief.extent``, each optionally prefixed by ``pinion.`` or ``gear.``; without a prefix a
+variable acts on both members at once (symmetric modification).
+
+Normalisation: depths are E* = E/δ_m with δ_m = F_n / K̄ the mean static deflection of the
+unmodified mesh at the design torque (K̄ its mean mesh stiffness); extents are Γ itself. Bounds are
+kept by the reparametrisation x = lo + (hi − lo)·sigmoid(u), u ∈ ℝ free.
+
+Objectives (all scaled by the unmodified value at the design torque, so O(1)):
+``te_rms``, ``te_ptp``, ``robust_te_rms`` (mean or max of TE RMS over a torque range, vmapped),
+``max_line_load`` (maximum line load over the mesh cycle).
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+import jaxgear as jg
+
+__all__ = ["VARIABLES", "OBJECTIVES", "Problem", "make_problem"]
+
+# variable -> (MemberModification field, kind)
+VARIABLES = {
+    "tip_relief.depth": ("tip_relief_depth", "depth"),
+    "tip_relief.extent": ("tip_relief_extent", "extent"),
+    "root_relief.depth": ("root_relief_depth", "depth"),
+    "root_relief.extent": ("root_relief_extent", "extent"),
+    "crowning.depth": ("crowning_depth", "depth"),
+    "end_relief.depth": ("end_relief_depth", "depth"),
+    "end_relief.extent": ("end_relief_extent", "end_extent"),
+}
+OBJECTIVES = ("te_rms", "te_ptp", "robust_te_rms", "max_line_load")
+DEFAULT_BOUNDS = {"depth": (0.0, 3.0), "extent": (0.02, 0.98), "end_extent": (0.02, 0.5)}
+
+
+def _split(name: str) -> tuple[tuple[str, ...], str]:
+    parts = name.strip().split(".")
+    members: tuple[str, ...] = ("pinion", "gear")
+    if parts[0] in ("pinion", "gear"):
+        members, parts = (parts[0],), parts[1:]
+    base = ".".join(parts)
+    if base not in VARIABLES:
+        allowed = ", ".join(sorted(VARIABLES))
+        raise ValueError(f"unknown design variable {name!r}: allowed {allowed}, optionally "
+                         "prefixed by 'pinion.' or 'gear.'")
+    return members, base
+
+
+class Problem(eqx.Module):
+    """A tooth-modification optimisation problem on the quasi-static model.
+
+    Attributes:
+        mesh: the mesh model. base: modifications the variables are written into.
+        torques: torques of the objective (N·m), shape (T,) (one entry for single-load objectives).
+        design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque.
+        scale: unmodified objective value at the design torque (objective units).
+        lower, upper: bounds in normalised units, shape (n,).
+        width: smooth-law width (m).
+        names: variable names (static). objective: objective name (static).
+        reduce: "mean" | "max" over torques (static). positions_per_pitch: static.
+    """
+
+    mesh: jg.MeshModel
+    base: jg.Modifications
+    torques: Float[Array, " T"]
+    design_torque: Float[Array, ""]
+    delta_m: Float[Array, ""]
+    scale: Float[Array, ""]
+    lower: Float[Array, " n"]
+    upper: Float[Array, " n"]
+    width: Float[Array, ""]
+    names: tuple[str, ...] = eqx.field(static=True)
+    objective: str = eqx.field(static=True)
+    reduce: str = eqx.field(static=True)
+    positions_per_pitch: int = eqx.field(static=True)
+
+    # -- variables ---------------------------------------------------------------------------
+    def modifications(self, x: Float[Array, " n"]) -> jg.Modifications:
+        """Modifications for normalised design values ``x`` (E* for depths, Γ for extents)."""
+        mods = self.base
+        for i, name in enumerate(self.names):
+            members, base = _split(name)
+            field, kind = VARIABLES[base]
+            value = x[i] * self.delta_m if kind == "depth" else x[i]
+            for m in members:
+                mods = eqx.tree_at(lambda t, m=m, f=field: getattr(getattr(t, m), f), mods, value)
+        return mods
+
+    def to_physical(self, x) -> dict:
+        """Normalised values → case-file units (``depth_um`` or extent), as a dict by name."""
+        out = {}
+        for i, name in enumerate(self.names):
+            kind = VARIABLES[_split(name)[1]][1]
+            v = float(x[i])
+            out[name] = v * float(self.delta_m) * 1e6 if kind == "depth" else v
+        return out
+
+    def from_physical(self, values: dict) -> np.ndarray:
+        """Case-file units (µm for depths) → normalised values, in ``names`` order."""
+        x = []
+        for name in self.names:
+            kind = VARIABLES[_split(name)[1]][1]
+            v = float(values[name])
+            x.append(v * 1e-6 / float(self.delta_m) if kind == "depth" else v)
+        return np.asarray(x)
+
+    def bounded(self, u: Float[Array, " n"]) -> Float[Array, " n"]:
+        """Unconstrained u → x in [lower, upper]."""
+        return self.lower + (self.upper - self.lower) * jax.nn.sigmoid(u)
+
+    def unbounded(self, x) -> Float[Array, " n"]:
+        """x in (lower, upper) → u (inverse of :meth:`bounded`; clipped just inside the bounds)."""
+        t = (jnp.asarray(x) - self.lower) / (self.upper - self.lower)
+        t = jnp.clip(t, 1e-6, 1 - 1e-6)
+        return jnp.log(t) - jnp.log1p(-t)
+
+    # -- objectives --------------------------------------------------------------------------
+    def _single(self, mods, torque, contact):
+        r = jg.quasi_static(self.mesh, mods, torque, contact=contact, width=self.width,
+                            positions_per_pitch=self.positions_per_pitch)
+        if self.objective in ("te_rms", "robust_te_rms"):
+            return r.te_rms
+        if self.objective == "te_ptp":
+            return r.te_ptp
+        return r.max_line_load
+
+    def value(self, x: Float[Array, " n"], contact: str = "smooth") -> Float[Array, ""]:
+        """Scaled objective at normalised design values ``x`` (1 = unmodified at design load)."""
+        mods = self.modifications(x)
+        vals = jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
+        v = jnp.max(vals) if self.reduce == "max" else jnp.mean(vals)
+        return v / self.scale
+
+    def per_torque(self, x, contact: str = "exact") -> Float[Array, " T"]:
+        """Unscaled objective at each torque (objective units: m or N/m)."""
+        mods = self.modifications(x)
+        return jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
+
+
+def parse_range(text: str, what: str = "--torques") -> np.ndarray:
+    """``"a:b:n"`` → ``linspace(a, b, n)``; a single number → one value.
+
+    Raises:
+        ValueError: malformed text, n < 1, or an empty range.
+    """
+    parts = str(text).split(":")
+    try:
+        if len(parts) == 1:
+            return np.array([float(parts[0])])
+        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise ValueError(f"{what} = {text!r}: expected START:STOP:N (e.g. 40:120:5)") from None
+    if len(parts) != 3 or n < 1 or (n > 1 and a == b):
+        raise ValueError(f"{what} = {text!r} is an empty range: need N >= 1 and START != STOP")
+    return np.linspace(a, b, n)
+
+
+def make_problem(case: jg.Case, variables, objective: str = "te_rms", *, torques=None,
+                 reduce: str = "max", bounds: dict | None = None,
+                 positions_per_pitch: int | None = None, slices: int | None = None,
+                 relief_blend: float | None = None) -> Problem:
+    """Build a :class:`Problem` from a case.
+
+    Args:
+        case: the case (its modifications are the starting design and hold the fixed values).
+        variables: design-variable names (see module docstring), or a comma-separated string.
+        objective: one of ``OBJECTIVES``.
+        torques: torques (N·m) of ``robust_te_rms``, shape (T,), T >= 1; default case torque.
+        reduce: "max" (worst case) or "mean" over the torques (robust objective).
+        bounds: optional ``{name: (lo, hi)}`` in normalised units (E* for depths, Γ for extents).
+        positions_per_pitch, slices: discretisation (default: the case's).
+        relief_blend: rounding of the relief starts in roll-fraction units (see
+            ``MemberModification.relief_blend``); default one position step, 1/(P ε_α), which
+            makes the sampled objective smooth in the extents. 0 keeps sharp relief starts.
+
+    Raises:
+        ValueError: unknown variable or objective, duplicated variable, empty torque range,
+            bounds crossed, extents outside (0, 1), negative depth bounds.
+    """
+    if isinstance(variables, str):
+        variables = [v for v in variables.split(",") if v.strip()]
+    names = tuple(v.strip() for v in variables)
+    if not names:
+        raise ValueError("--vars is empty: give at least one design variable")
+    if len(set(names)) != len(names):
+        raise ValueError(f"--vars {','.join(names)} names a variable twice")
+    for n in names:
+        _split(n)
+    if objective not in OBJECTIVES:
+        raise ValueError(f"--objective {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
+    if reduce not in ("mean", "max"):
+        raise ValueError(f"reduce = {reduce!r}: allowed 'mean', 'max'")
+    if torques is None or objective != "robust_te_rms":
+        torques = np.array([case.torque]) if torques is None or objective != "robust_te_rms" else torques
+    torques = np.asarray(torques, dtype=float).reshape(-1)
+    if torques.size == 0:
+        raise ValueError("--torques is empty: give START:STOP:N with N >= 1")
+    if np.any(torques <= 0):
+        raise ValueError(f"--torques {torques.tolist()} must all be > 0 N·m")
+    lo, hi = [], []
+    bounds = dict(bounds or {})
+    for n in names:
+        kind = VARIABLES[_split(n)[1]][1]
+        a, b = bounds.pop(n, DEFAULT_BOUNDS[kind])
+        if not a < b:
+            raise ValueError(f"bounds of {n!r} = ({a}, {b}) are crossed: need lower < upper")
+        if kind in ("extent", "end_extent") and not (0 < a and b < 1):
+            raise ValueError(f"bounds of {n!r} = ({a}, {b}): an extent must stay inside (0, 1)")
+        if kind == "depth" and a < 0:
+            raise ValueError(f"bounds of {n!r} = ({a}, {b}): a depth must be >= 0")
+        lo.append(a)
+        hi.append(b)
+    if bounds:
+        raise ValueError(f"bounds given for variables not in --vars: {sorted(bounds)}")
+    mesh = case.mesh_model(slices=slices)
+    ppp = int(positions_per_pitch or case.positions_per_pitch)
+    unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
+    k_mean = float(jnp.mean(unmod.mesh_stiffness))
+    delta_m = case.normal_load / k_mean
+    scale = {"te_rms": unmod.te_rms, "robust_te_rms": unmod.te_rms, "te_ptp": unmod.te_ptp,
+             "max_line_load": unmod.max_line_load}[objective]
+    # round the relief starts over one position step so that the sampled objective is smooth in
+    # the extents (a sharp start makes it kink each time the start crosses a sampled point)
+    blend = 1.0 / (ppp * case.pair.transverse_contact_ratio) if relief_blend is None else relief_blend
+    base = eqx.tree_at(lambda m: (m.pinion.relief_blend, m.gear.relief_blend), case.modifications,
+                       (jnp.asarray(blend), jnp.asarray(blend)))
+    return Problem(mesh=mesh, base=base, torques=jnp.asarray(torques),
+                   design_torque=jnp.asarray(case.torque), delta_m=jnp.asarray(delta_m),
+                   scale=jnp.asarray(float(scale)), lower=jnp.asarray(lo), upper=jnp.asarray(hi),
+                   width=jnp.asarray(case.smooth_width), names=names, objective=objective,
+                   reduce=reduce, positions_per_pitch=ppp)
+
+
+def zero_fluctuation_depth(extent, contact_ratio):
+    """Zero-fluctuation tip relief family E*(Γ) of DESIGN.md §8 (spur, uniform stiffness, ε_α < 2).
+
+    ``E* = Γ ε_α² / (2Γε_α − ε_α + 1)`` for ``(ε_α−1)/(2ε_α) < Γ <= (ε_α−1)/ε_α``; NaN outside.
+    """
+    g = np.asarray(extent, dtype=float)
+    e = float(contact_ratio)
+    valid = (g > (e - 1) / (2 * e)) & (g <= (e - 1) / e + 1e-12) & (e < 2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = g * e**2 / (2 * g * e - e + 1)
+    return np.where(valid, out, math.nan)
