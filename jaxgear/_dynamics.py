@@ -136,6 +136,23 @@ def _k_ref(table: MeshTable):
     return jnp.einsum("c,ci,ci->", kl, table.V[0], table.V[0])
 
 
+class _Prepared(eqx.Module):
+    table: MeshTable
+    static_x: Float[Array, "P n"]
+    static_force_density: Float[Array, "P c"]
+    static_weight: Float[Array, "P c"]
+    static_result: Int[Array, " P"]
+
+
+@eqx.filter_jit
+def _prepare(scene, mods, torque, width, steps_per_period: int, contact: str, max_iterations: int):
+    """Cell table and static rows (compiled once per scene structure and N_s; shared by the model
+    build, every solver, direction and period count)."""
+    table = mesh_table(scene, mods, steps_per_period)
+    static = _static_rows(scene, table, torque, contact, width, max_iterations, _k_ref(table))
+    return _Prepared(table, static.x, static.force_density, static.weight, static.result)
+
+
 class DynamicModel(eqx.Module):
     """A dynamic scene at an operating torque, with its damping (build with :func:`dynamic_model`).
 
@@ -194,15 +211,26 @@ def dynamic_model(scene: DynamicScene, mods: Modifications | None, torque, dampi
     torque = jnp.asarray(torque, dtype=dtype)
     if not bool(torque > 0):
         raise ValueError(f"torque = {float(torque)} N·m must be > 0 (the pinion drives)")
-    table = mesh_table(scene, mods, positions_per_pitch)
-    sol = _static_rows(scene, table, torque, contact, jnp.asarray(width, dtype), max_iterations,
-                       _k_ref(table))
-    bad = np.asarray(sol.result) != 0
+    model, codes = _build(scene, mods, torque, damping, jnp.asarray(width, dtype),
+                          positions_per_pitch, contact, max_iterations)
+    codes = np.asarray(codes)
+    bad = codes != 0
     if bad.any():
         raise ValueError(f"static contact solve failed at {int(bad.sum())} positions (result codes "
-                         f"{sorted(set(np.asarray(sol.result)[bad].tolist()))}): check the load "
-                         "and the deviations")
-    kl = jnp.where(table.mask, table.k * table.length, 0.0) * sol.weight
+                         f"{sorted(set(codes[bad].tolist()))}): check the load and the deviations")
+    return model
+
+
+def _build(scene, mods, torque, damping, width, positions_per_pitch, contact, max_iterations):
+    prep = _prepare(scene, mods, torque, width, positions_per_pitch, contact, max_iterations)
+    return _averaged(scene, mods, torque, damping, prep), prep.static_result
+
+
+@eqx.filter_jit
+def _averaged(scene, mods, torque, damping, prep):
+    table = prep.table
+    w = prep.static_weight
+    kl = jnp.where(table.mask, table.k * table.length, 0.0) * w
     Km = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kl, table.V, table.V), axis=0)
     kbar = jnp.mean(jnp.sum(kl, axis=1))
     modes = modal_analysis(scene, Km)
@@ -411,13 +439,6 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
     return (Xl, Xdl, Xddl), (fm, te, lines), code, nsteps
 
 
-def _initial_state(model: DynamicModel, table: MeshTable, static_x, cfg: _Config, width):
-    """Static equilibrium at row 0, zero vibration velocity, acceleration from the equations."""
-    X = static_x
-    Xd = jnp.zeros_like(X)
-    return _with_acceleration(model, table, X, Xd, cfg, width)
-
-
 def _with_acceleration(model, table, X, Xd, cfg, width):
     scene = model.scene
     gap = table.V[0] @ X - table.delta0[0]
@@ -435,20 +456,22 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
     if cfg.solver == "newmark":
+        # one scan (one compiled step) over all steps; the kept periods are sliced off the end
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, width, record=False)
-        carry, (fm, te, lines) = _newmark(model, table, dt, carry, n_keep, cfg, width, record=True)
+        carry, (fm, te, lines) = _newmark(model, table, dt, carry0, n_trans + n_keep, cfg, width,
+                                          record=True)
+        fm, te, lines = fm[n_trans:], te[n_trans:], lines[n_trans:]
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
         final, (fm, te, lines), code, it = _diffrax(model, table, speed, dt, state, cfg, width)
     fs = model.static_force
     j = (jnp.arange(n_keep) + 1) % P
-    static_lines = jnp.sum((static.force_density * table.length).reshape(P, table.n_lines, -1),
+    static_lines = jnp.sum((static.static_force_density * table.length).reshape(P, table.n_lines, -1),
                            axis=2)
     u = model.scene.te_vector()
     cb = jnp.cos(mesh.base_helix_angle)
-    static_te = (static.x @ u - table.e_max) / cb
+    static_te = (static.static_x @ u - table.e_max) / cb
     last = fm[n_keep - P:]
     prev = fm[n_keep - 2 * P:n_keep - P]
     finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
@@ -466,15 +489,23 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final_state=final, iterations=jnp.asarray(it), result=jnp.asarray(code))
 
 
+def _prep(model, width, cfg: _Config) -> "_Prepared":
+    return _prepare(model.scene, model.mods, model.torque, width, cfg.steps_per_period,
+                    cfg.contact, cfg.max_iterations)
+
+
+def _static_start(prep: _Prepared):
+    """(X, Ẋ) of the static equilibrium at the first mesh position, zero vibration velocity."""
+    return prep.static_x[0], jnp.zeros_like(prep.static_x[0])
+
+
 @eqx.filter_jit
-def _run(model: DynamicModel, speeds, state0, width, cfg: _Config, mode: str):
-    table = mesh_table(model.scene, model.mods, cfg.steps_per_period)
-    static = _static_rows(model.scene, table, model.torque, cfg.contact, width, cfg.max_iterations,
-                          _k_ref(table))
-    if state0 is None:
-        state0 = _initial_state(model, table, static.x[0], cfg, width)
-    else:
-        state0 = _with_acceleration(model, table, state0[0], state0[1], cfg, width)
+def _run(model: DynamicModel, prep: _Prepared, speeds, state0, width, cfg: _Config, mode: str):
+    table = prep.table
+    static = prep
+    state0 = _with_acceleration(model, table, state0[0], state0[1], cfg, width)
+    restart = _with_acceleration(model, table, static.static_x[0],
+                                 jnp.zeros_like(static.static_x[0]), cfg, width)
 
     def one(speed, state):
         return _one_speed(model, table, static, speed, state, cfg, width)
@@ -489,7 +520,7 @@ def _run(model: DynamicModel, speeds, state0, width, cfg: _Config, mode: str):
             r = one(s, state)
             # a diverged point restarts the next one from the static equilibrium
             ok = r.result == 0
-            nxt = jax.tree_util.tree_map(lambda a, b: jnp.where(ok, a, b), r.final_state, state0)
+            nxt = jax.tree_util.tree_map(lambda a, b: jnp.where(ok, a, b), r.final_state, restart)
             return nxt, r
 
         return jax.lax.scan(body, state0, sp)[1]
@@ -569,9 +600,12 @@ def simulate(model: DynamicModel, speed, *, solver: str = "newmark", contact: st
                   atol, adaptive, max_steps, blowup)
     dtype = model.mesh.base_pitch.dtype
     speed = jnp.asarray(speed, dtype)
-    if state0 is not None:
-        state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
-    r = _run(model, speed, state0, jnp.asarray(width, dtype), cfg, "single")
+    width = jnp.asarray(width, dtype)
+    prep = _prep(model, width, cfg)
+    if state0 is None:
+        state0 = _static_start(prep)
+    state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
+    r = _run(model, prep, speed, state0, width, cfg, "single")
     if throw and not isinstance(r.result, jax.core.Tracer):
         _raise_on_failure(r.result, "simulate")
     return r
@@ -587,7 +621,16 @@ def _shard(speeds):
     return jax.device_put(padded, sharding), pad
 
 
+def _concat(parts, n):
+    return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[:n], *parts)
+
+
+def _flip(r):
+    return jax.tree_util.tree_map(lambda a: a[::-1], r)
+
+
 def speed_sweep(model: DynamicModel, speeds, *, direction: str = "independent", shard: bool = True,
+                chunk_size: int | None = None, progress=None,
                 solver: str = "newmark", contact: str = "exact", width=1e-7,
                 steps_per_period: int = 64, periods: int = 60, keep_periods: int = 4,
                 max_iterations: int = 100, rtol: float = 1e-6, atol: float = 1e-6,
@@ -599,9 +642,13 @@ def speed_sweep(model: DynamicModel, speeds, *, direction: str = "independent", 
         model: :class:`DynamicModel`.
         speeds: pinion speeds (rad/s), shape (S,), ascending for continuation sweeps.
         direction: "independent" (every speed from the static equilibrium, ``jax.vmap``, sharded
-            over the local devices when there are several and ``shard``), "up" or "down"
-            (continuation: each speed starts from the previous steady state, ``lax.scan``), or
-            "both" (up and down at once; ``SweepResult.down`` in the order of ``speeds``).
+            over the local devices with ``jax.sharding`` when there are several and ``shard``),
+            "up" or "down" (continuation: each speed starts from the previous steady state,
+            ``lax.scan``), or "both" (up and down; ``SweepResult.down`` in the order of
+            ``speeds``; one vmap over the two scans when not chunked).
+        chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
+            chunk is padded), calling ``progress(n_done)`` after each (for a progress bar).
+            Continuation carries the state across chunks.
         Other arguments: as :func:`simulate`.
 
     Returns:
@@ -616,19 +663,62 @@ def speed_sweep(model: DynamicModel, speeds, *, direction: str = "independent", 
     if speeds.ndim != 1 or speeds.shape[0] < 1:
         raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
     width = jnp.asarray(width, dtype)
-    if direction == "independent":
-        if shard and len(jax.local_devices()) > 1:
-            sp, pad = _shard(speeds)
-            r = _run(model, sp, None, width, cfg, "vmap")
-            r = jax.tree_util.tree_map(lambda a: a[: speeds.shape[0]], r)
-        else:
-            r = _run(model, speeds, None, width, cfg, "vmap")
-        return SweepResult(speeds, r)
-    if direction == "up":
-        return SweepResult(speeds, _run(model, speeds, None, width, cfg, "continuation"))
-    if direction == "down":
-        r = _run(model, speeds[::-1], None, width, cfg, "continuation")
-        return SweepResult(speeds, jax.tree_util.tree_map(lambda a: a[::-1], r))
-    up, down = _run(model, speeds, None, width, cfg, "both")
-    return SweepResult(speeds, up, down)
+    S = speeds.shape[0]
+    n_dev = len(jax.local_devices()) if shard else 1
+    prep = _prep(model, width, cfg)
+    start = _static_start(prep)
 
+    def independent(sp):
+        if n_dev > 1:
+            padded, _ = _shard(sp)
+            r = _run(model, prep, padded, start, width, cfg, "vmap")
+            return jax.tree_util.tree_map(lambda a: a[: sp.shape[0]], r)
+        return _run(model, prep, sp, start, width, cfg, "vmap")
+
+    if chunk_size is None:
+        if direction == "independent":
+            return SweepResult(speeds, independent(speeds))
+        if direction == "up":
+            return SweepResult(speeds, _run(model, prep, speeds, start, width, cfg, "continuation"))
+        if direction == "down":
+            return SweepResult(speeds, _flip(_run(model, prep, speeds[::-1], start, width, cfg,
+                                                  "continuation")))
+        up, down = _run(model, prep, speeds, start, width, cfg, "both")
+        return SweepResult(speeds, up, down)
+
+    size = max(1, int(chunk_size))
+    if direction == "independent":
+        size = -(-size // n_dev) * n_dev
+    n_chunks = -(-S // size)
+    done = [0]
+
+    def chunks(sp):
+        pad = n_chunks * size - S
+        return jnp.concatenate([sp, jnp.full((pad,), sp[-1], dtype)]).reshape(n_chunks, size)
+
+    def tick(n):
+        done[0] += n
+        if progress is not None:
+            progress(done[0])
+
+    def continuation(sp):
+        parts, state = [], start
+        for ch in chunks(sp):
+            r = _run(model, prep, ch, state, width, cfg, "continuation")
+            ok = bool(r.result[-1] == 0)
+            state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
+            parts.append(r)
+            tick(min(size, S - len(parts[:-1]) * size))
+        return _concat(parts, S)
+
+    if direction == "independent":
+        parts = []
+        for ch in chunks(speeds):
+            parts.append(independent(ch))
+            tick(min(size, S - (len(parts) - 1) * size))
+        return SweepResult(speeds, _concat(parts, S))
+    if direction == "up":
+        return SweepResult(speeds, continuation(speeds))
+    if direction == "down":
+        return SweepResult(speeds, _flip(continuation(speeds[::-1])))
+    return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1])))
