@@ -12,6 +12,7 @@
   below) removes the TE fluctuation in exact mode.
 """
 
+import dataclasses
 import functools
 import math
 
@@ -96,10 +97,18 @@ def test_uniform_spur_mean_mesh_stiffness_is_k0_eps_b():
     assert float(jnp.mean(res.mesh_stiffness)) == pytest.approx(expected, abs=K0 * pair.face_width / n)
 
 
-def test_uniform_helical_te_equals_f_over_k0_l():
+@pytest.mark.parametrize("face_width_mm", [40.0, 120.0])
+def test_uniform_helical_te_equals_f_over_k0_l(face_width_mm):
+    """power-helical geometry (ε_β = 1.06 at 40 mm; 3.2 at 120 mm, where more contact lines
+    cross the base plane than ε_α alone suggests)."""
     n_slices = 200
-    case, mesh = _uniform_mesh("power-helical", slices=n_slices)
-    pair = case.pair
+    case = jg.load_case("power-helical")
+    p0 = case.pair
+    pair = dataclasses.replace(
+        p0, pinion=dataclasses.replace(p0.pinion, face_width=face_width_mm * 1e-3),
+        gear=dataclasses.replace(p0.gear, face_width=face_width_mm * 1e-3))
+    s, k = jg.stiffness_table(pair, "uniform", uniform_k0=K0)
+    mesh = jg.MeshModel.from_pair(pair, s, k, n_slices)
     theta = jg.mesh_positions(mesh, 12)
     res = jg.quasi_static(mesh, None, case.torque, theta)
     L, crossings = _analytic_length(pair, theta)
