@@ -89,8 +89,10 @@ class MeshModel(eqx.Module):
         if int(n_slices) != n_slices or n_slices < 1:
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
         lead = pair.face_width * math.tan(pair.base_helix_angle)
-        first = -int(math.ceil(lead / pair.base_pitch))
-        last = int(math.ceil(pair.path_of_contact / pair.base_pitch)) + 1
+        # s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt): a line can reach [0, g_α] only for
+        # 0 <= i <= (g_α + b tan β_b)/p_bt
+        first = 0
+        last = int(math.ceil((pair.path_of_contact + lead) / pair.base_pitch))
         return cls(pair.path_of_contact, pair.base_pitch, pair.face_width, pair.base_radii[0],
                    pair.base_radii[1], pair.base_helix_angle, pair.transverse_contact_ratio,
                    stiffness_s, stiffness_k, n_slices=int(n_slices), n_lines=last - first + 1,

@@ -73,6 +73,17 @@ def main(argv: list[str] | None = None) -> int:
             case = load_case(args.case)
             out = args.out or os.path.join("jaxgear-out", case.name)
             summary = run_case(case, out, show_progress=not args.quiet)
+            if case.raw.get("optimise"):  # the case asks for an optimisation too
+                from optimise._cli import optimise_case, settings_from_case
+
+                rep = optimise_case(case, settings_from_case(case), os.path.join(out, "optimise"),
+                                    progress=not args.quiet)
+                summary["optimise"] = {k: rep[k] for k in ("objective", "variables", "initial", "final",
+                                                           "iterations", "evaluations", "converged")}
+                from ._util import atomic_open
+
+                with atomic_open(os.path.join(out, "summary.json"), "w") as f:
+                    json.dump(summary, f, indent=2)
             if args.json:
                 from ._util import atomic_open
 
