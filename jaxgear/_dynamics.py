@@ -338,7 +338,7 @@ def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
 
 
 def _newmark(model: DynamicModel, table: MeshTable, dt, state, n_steps: int, cfg: _Config, width,
-             record: bool):
+             record: bool, record_states: bool = False):
     """Newmark average acceleration with the contact loop, ``n_steps`` steps from table row 0."""
     scene = model.scene
     M, C, Ks, F = scene.mass(), model.damping, scene.stiffness(), scene.external_load(model.torque)
@@ -371,6 +371,8 @@ def _newmark(model: DynamicModel, table: MeshTable, dt, state, n_steps: int, cfg
             return carry, None
         te = (u @ Xn - table.e_max[j]) / cb
         lines = jnp.sum(cell_force.reshape(table.n_lines, -1), axis=1)
+        if record_states:
+            return carry, (fm, te, lines, Xn, Xdn)
         return carry, (fm, te, lines)
 
     return jax.lax.scan(body, state, jnp.arange(n_steps))

@@ -1,0 +1,263 @@
+"""Dynamic model: modal analysis, damping, Newmark + contact, diffrax, sweeps (issue 4).
+
+Each test has an independent reference: the closed-form torsional frequency sqrt(k̄/m_eq) and a
+SciPy generalised eigensolver, the quasi-static solver at low speed, exact energy conservation of
+the average-acceleration rule on a linear system, the closed-form free vibration for the
+convergence order, the mesh-frequency coincidence for the critical speed, central finite
+differences for the gradient.
+"""
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+from jaxgear._dyn_scene import Damping, TorsionalDynamics, damping_matrix, disc_inertia
+from jaxgear._dynamics import (
+    _Config,
+    _newmark,
+    _prep,
+    dynamic_model,
+    simulate,
+    speed_sweep,
+)
+
+
+def _inertias(case):
+    p = case.pair
+    return (disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+            disc_inertia(case.density, p.tip_radii[1], p.gear.face_width))
+
+
+@pytest.fixture(scope="module")
+def accessory():
+    case = jg.load_case("accessory-spur").replace(slices=2)
+    i1, i2 = _inertias(case)
+    scene = TorsionalDynamics(case.mesh_model(), i1, i2)
+    return case, scene
+
+
+@pytest.fixture(scope="module")
+def linear_case():
+    """Uniform stiffness, long tip relief near the Master-Curve design load: small excitation,
+    no contact loss, a linear response (DESIGN.md §8)."""
+    case = jg.load_case("accessory-spur").replace(stiffness_model="uniform", uniform_k0=14e9,
+                                                  slices=2)
+    p = case.pair
+    eps = p.transverse_contact_ratio
+    dm = 1.03 * case.normal_load / (14e9 * eps * p.face_width)
+    mods = jg.Modifications.symmetric(jg.MemberModification(
+        tip_relief_depth=eps * dm, tip_relief_extent=(eps - 1) / eps))
+    i1, i2 = _inertias(case)
+    scene = TorsionalDynamics(case.mesh_model(), i1, i2)
+    return case, scene, mods
+
+
+def test_disc_inertia_and_torsional_frequency(accessory):
+    case, scene = accessory
+    p = case.pair
+    # solid disc by hand: m r²/2 with m = ρ π r² b
+    r, b = p.tip_radii[0], p.pinion.face_width
+    mass = case.density * math.pi * r**2 * b
+    assert float(scene.inertia_pinion) == pytest.approx(mass * r**2 / 2, rel=1e-12)
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=32)
+    rb1, rb2 = p.base_radii
+    m_eq = 1.0 / (rb1**2 / float(scene.inertia_pinion) + rb2**2 / float(scene.inertia_gear))
+    f_ref = math.sqrt(float(model.mesh_stiffness_mean) / m_eq) / (2 * math.pi)
+    f = np.asarray(model.modes.frequency)
+    assert f[0] == 0.0 and bool(model.modes.rigid[0])  # free-free chain: one rigid-body mode
+    assert f[1] == pytest.approx(f_ref, rel=1e-10)
+    assert 4e3 < f_ref < 8e3  # order of magnitude: a few kHz for this accessory pair
+    # the 1-DOF relative-approach reduction has the same frequency
+    red = dynamic_model(scene.reduced(), case.modifications, case.torque, positions_per_pitch=32)
+    assert float(red.modes.frequency[0]) == pytest.approx(f_ref, rel=1e-10)
+    assert float(red.modes.mesh_energy[0]) == pytest.approx(1.0)
+    # critical speed: mesh frequency Ω z1 / 2π = f
+    assert float(model.critical_speeds()[1]) == pytest.approx(2 * math.pi * f_ref / p.pinion.teeth)
+
+
+def test_four_dof_modes_energy_and_damping(accessory):
+    case, scene = accessory
+    s4 = TorsionalDynamics(scene.mesh, scene.inertia_pinion, scene.inertia_gear, 5e-3, 4e-2,
+                           2e4, 6e4, has_motor=True, has_load=True)
+    model = dynamic_model(s4, case.modifications, case.torque, Damping("composite"),
+                          positions_per_pitch=32)
+    M = np.asarray(s4.mass())
+    K = np.asarray(model.modes.mesh_stiffness + s4.stiffness())
+    lam = scipy.linalg.eigh(K, M, eigvals_only=True)
+    lam[np.abs(lam) < 1e-9 * lam.max()] = 0.0
+    np.testing.assert_allclose(np.asarray(model.modes.omega) ** 2, lam, rtol=1e-9, atol=1e-6)
+    e = np.asarray(model.modes.energy)
+    assert model.modes.parts == ("mesh", "motor_shaft", "load_shaft")
+    elastic = ~np.asarray(model.modes.rigid)
+    assert elastic.sum() == 3
+    np.testing.assert_allclose(e[:, elastic].sum(axis=0), 1.0, rtol=1e-12)
+    # composite damping (2.36): Φᵀ C Φ = diag(2 ξ_i ω_i), ξ_i = 0.07 e_i + 0.01 (1 − e_i)
+    Phi = np.asarray(model.modes.shapes)
+    C = np.asarray(model.damping)
+    xi = 0.07 * e[0] + 0.01 * (1 - e[0])
+    modal = Phi.T @ C @ Phi
+    scale = np.abs(modal).max()
+    np.testing.assert_allclose(modal, np.diag(2 * xi * np.asarray(model.modes.omega)),
+                               atol=1e-10 * scale)
+    # Rayleigh (2.34): a M + b K̄
+    Cr = damping_matrix(s4, model.modes, Damping("rayleigh", alpha=30.0, beta=2e-6))
+    np.testing.assert_allclose(np.asarray(Cr), 30.0 * M + 2e-6 * K, rtol=1e-12)
+    # rigid-body mode carries no mesh deflection and no net load
+    r = np.asarray(s4.rigid_modes())[:, 0]
+    assert abs(np.asarray(s4.te_vector()) @ r) < 1e-12
+    assert abs(np.asarray(s4.external_load(jnp.asarray(80.0))) @ r) < 1e-9
+
+
+def test_low_speed_limit_matches_quasi_static(accessory):
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=32)
+    # 2 rad/s: mesh frequency 14 Hz against a 6 kHz mode; Δt ≈ T_n / 10
+    r = simulate(model, 2.0, steps_per_period=2000, periods=3, keep_periods=2)
+    assert int(r.result) == 0
+    assert abs(float(r.dynamic_factor) - 1.0) < 5e-3
+    assert abs(float(r.dynamic_factor_tooth) - 1.0) < 5e-3
+    qs = jg.quasi_static(scene.mesh, case.modifications, case.torque, theta=r.theta)
+    te_qs = np.asarray(qs.transmission_error)
+    err = np.max(np.abs(np.asarray(r.transmission_error) - te_qs))
+    assert err < 5e-3 * np.mean(te_qs)
+    assert float(r.te_rms) == pytest.approx(float(qs.te_rms), rel=0.05)
+
+
+def _linear_problem(case, scene, damping="none"):
+    """The time-averaged system as a linear, time-invariant contact problem (all cells in
+    contact, constant cells), for the integrator checks."""
+    model = dynamic_model(scene, jg.Modifications(), case.torque, Damping(damping),
+                          positions_per_pitch=16)
+    cfg = _Config("newmark", "exact", 16, 2, 2, 100, 1e-6, 1e-6, True, 0, 1e3)
+    prep = _prep(model, jnp.asarray(1e-7), cfg)
+    t = prep.table
+    row = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a[4], a.shape), t)
+    table = eqx.tree_at(lambda x: x.delta0, row, jnp.zeros_like(row.delta0))
+    return model, table, cfg
+
+
+def _linear_energy(model, table, X, Xd):
+    M = model.scene.mass()
+    kl = jnp.where(table.mask[0], table.k[0] * table.length[0], 0.0)
+    K = model.scene.stiffness() + jnp.einsum("c,ci,cj->ij", kl, table.V[0], table.V[0])
+    F = model.scene.external_load(model.torque)
+    return 0.5 * Xd @ M @ Xd + 0.5 * X @ K @ X - F @ X, K
+
+
+def test_newmark_conserves_energy_undamped_linear(accessory):
+    case, scene = accessory
+    model, table, cfg = _linear_problem(case, scene)
+    _, K = _linear_energy(model, table, jnp.zeros(2), jnp.zeros(2))
+    M = model.scene.mass()
+    F = model.scene.external_load(model.torque)
+    Xs = jnp.linalg.lstsq(K, F)[0]
+    X0 = Xs * 1.3  # 30 % off equilibrium: large free vibration, contact kept (δ0 = 0)
+    A0 = jnp.linalg.solve(M, F - K @ X0)
+    w = float(model.modes.omega[1])
+    dt = 2 * math.pi / w / 7.3  # coarse on purpose
+
+    c0 = (X0, jnp.zeros(2), A0, jnp.array(0), jnp.array(0))
+    _, (*_, X, Xd) = _newmark(model, table, jnp.asarray(dt), c0, 3000, cfg, jnp.asarray(1e-7),
+                              record=True, record_states=True)
+    e = np.asarray(jax.vmap(lambda x, v: _linear_energy(model, table, x, v)[0])(X, Xd))
+    e0 = float(_linear_energy(model, table, X0, jnp.zeros(2))[0])
+    amp = 0.5 * float((X0 - Xs) @ K @ (X0 - Xs))  # vibration energy scale
+    assert np.max(np.abs(e - e0)) < 1e-9 * amp
+
+
+def test_newmark_second_order(accessory):
+    case, scene = accessory
+    model, table, cfg = _linear_problem(case, scene)
+    _, K = _linear_energy(model, table, jnp.zeros(2), jnp.zeros(2))
+    M = model.scene.mass()
+    F = model.scene.external_load(model.torque)
+    Xs = jnp.linalg.lstsq(K, F)[0]
+    X0 = Xs * 1.1
+    u = np.asarray(model.scene.te_vector())
+    w = math.sqrt(scipy.linalg.eigh(np.asarray(K), np.asarray(M), eigvals_only=True)[-1])
+    T = 3.25 * 2 * math.pi / w  # a quarter period off: the phase error shows at first order
+    # closed form: the approach u·X oscillates about its static value at ω, from rest
+    x_exact = float(u @ Xs) + float(u @ (X0 - Xs)) * math.cos(w * T)
+
+    n_max = 240
+    run = jax.jit(lambda dt: _newmark(model, table, dt, (X0, jnp.zeros(2), jnp.linalg.solve(
+        M, F - K @ X0), jnp.array(0), jnp.array(0)), n_max, cfg, jnp.asarray(1e-7), record=True,
+        record_states=True)[1][3])
+
+    def approach(n):  # state after n steps of T/n (one compilation: Δt is traced)
+        return float(u @ run(jnp.asarray(T / n))[n - 1])
+
+    errs = [abs(approach(n) - x_exact) for n in (60, 120, 240)]
+    orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    np.testing.assert_allclose(orders, 2.0, atol=0.1)
+
+
+def test_main_critical_speed_linear_case(linear_case):
+    case, scene, mods = linear_case
+    model = dynamic_model(scene, mods, case.torque, Damping("modal", ratio=0.1),
+                          positions_per_pitch=32)
+    cs = float(model.critical_speeds()[1])
+    speeds = cs * np.linspace(0.85, 1.15, 16)
+    s = speed_sweep(model, speeds, steps_per_period=32, periods=40)
+    assert np.all(np.asarray(s.results.result) == 0)
+    assert np.all(np.asarray(s.results.contact_loss) == 0)  # linear: no contact loss
+    df = np.asarray(s.dynamic_factor)
+    peak = speeds[np.argmax(df)]
+    assert abs(peak / cs - 1.0) < 0.05
+    assert df.max() > 1.05 and df.max() > df[0] and df.max() > df[-1]
+
+
+def test_jump_and_hysteresis_with_contact_loss(accessory):
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, Damping("modal", ratio=0.03),
+                          positions_per_pitch=32)
+    cs = float(model.critical_speeds()[1])
+    speeds = cs * np.linspace(0.86, 1.0, 8)
+    s = speed_sweep(model, speeds, direction="both", steps_per_period=32, periods=40)
+    up, down = np.asarray(s.results.dynamic_factor), np.asarray(s.down.dynamic_factor)
+    assert np.all(np.asarray(s.results.result) == 0) and np.all(np.asarray(s.down.result) == 0)
+    gap = down - up
+    assert gap.max() > 0.3  # the down sweep stays on the upper branch: hysteresis
+    i = int(np.argmax(gap))
+    assert float(s.down.contact_loss[i]) > 0  # ... with contact loss (nonlinear, softening)
+    assert float(s.results.contact_loss[i]) == 0
+    # away from the jump both directions agree
+    assert abs(gap[0]) < 1e-3 and abs(gap[-1]) < 1e-3
+
+
+def test_gradient_wrt_tip_relief_matches_finite_differences(accessory):
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    kw = dict(contact="smooth", width=2e-7, steps_per_period=16, periods=6, keep_periods=2)
+
+    def df(depth_um):
+        member = eqx.tree_at(lambda m: m.tip_relief_depth, model.mods.pinion, depth_um * 1e-6)
+        m = eqx.tree_at(lambda m: m.mods.pinion, model, member)
+        return simulate(m, 700.0, throw=False, **kw).dynamic_factor
+
+    def value_and_tangent(e):  # one compilation serves the tangent and the finite differences
+        return jax.jvp(df, (jnp.asarray(e),), (jnp.asarray(1.0),))
+
+    e0, h = 15.0, 0.05
+    _, grad = value_and_tangent(e0)
+    fd = (float(value_and_tangent(e0 + h)[0]) - float(value_and_tangent(e0 - h)[0])) / (2 * h)
+    assert abs(float(grad)) > 1e-4
+    assert float(grad) == pytest.approx(fd, rel=2e-3, abs=1e-6)
+
+
+def test_divergence_is_reported_not_silent(accessory):
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    # explicit Euler, constant steps far beyond its stability limit (ω Δt ≈ 7)
+    kw = dict(solver="euler", contact="smooth", adaptive=False, steps_per_period=16, periods=3,
+              keep_periods=2)
+    r = simulate(model, 30.0, throw=False, **kw)
+    assert int(r.result) in (2, 3)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="diverged|blow-up"):
+        simulate(model, 30.0, **kw)
