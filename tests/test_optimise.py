@@ -185,3 +185,17 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     assert main(["optimise", str(bad), "--quiet"]) == 2
     assert main(["optimise", str(path), "--vars", "tip_relief.width", "--quiet"]) == 2
     assert main(["master-curve", str(path), "--extents", "0.3:0.3:3"]) == 2
+
+
+def test_master_curve_notebook_executes():
+    import pathlib
+
+    import nbformat
+    from nbclient import NotebookClient
+
+    path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "master_curve.ipynb"
+    nb = nbformat.read(path, as_version=4)
+    NotebookClient(nb, timeout=900, kernel_name="python3",
+                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    outputs = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs)
+    assert "worst case" in outputs
