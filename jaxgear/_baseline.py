@@ -64,7 +64,7 @@ class BaselineMesh:
         everywhere, so i runs over 0 … ceil((g_α + b tan β_b)/p_bt) = ceil(ε_α + ε_β).
         """
         lead = self.face_width * math.tan(self.base_helix_angle)
-        hi = int(math.ceil((self.path_of_contact + lead) / self.base_pitch))
+        hi = math.ceil((self.path_of_contact + lead) / self.base_pitch)
         return np.arange(0, hi + 1, dtype=float)
 
 
@@ -81,11 +81,12 @@ def baseline_mesh(case, slices: int | None = None, torque: float | None = None) 
                            poisson_ratio=case.poisson_ratio,
                            line_load=case.nominal_line_load(torque), uniform_k0=case.uniform_k0,
                            foundation=case.foundation)
-    return BaselineMesh(path_of_contact=float(pair.path_of_contact), base_pitch=float(pair.base_pitch),
-                        face_width=float(pair.face_width),
+    return BaselineMesh(path_of_contact=float(pair.path_of_contact),
+                        base_pitch=float(pair.base_pitch), face_width=float(pair.face_width),
                         base_radius_pinion=float(pair.base_radii[0]),
                         base_helix_angle=float(pair.base_helix_angle),
-                        stiffness_s=np.asarray(s, dtype=float), stiffness_k=np.asarray(k, dtype=float),
+                        stiffness_s=np.asarray(s, dtype=float),
+                        stiffness_k=np.asarray(k, dtype=float),
                         n_slices=int(case.slices if slices is None else slices))
 
 
@@ -96,14 +97,20 @@ def member_params(tip_relief_depth=0.0, tip_relief_extent=0.25, tip_relief_shape
                   profile_deviation=(0.0, 0.0)) -> dict[str, Any]:
     """One member's modification parameters as plain numbers (m, fractions; see
     :class:`jaxgear.MemberModification` for the meaning of each)."""
-    return dict(tip_relief_depth=float(tip_relief_depth), tip_relief_extent=float(tip_relief_extent),
-                tip_relief_shape=str(tip_relief_shape), root_relief_depth=float(root_relief_depth),
-                root_relief_extent=float(root_relief_extent), root_relief_shape=str(root_relief_shape),
-                crowning_depth=float(crowning_depth), end_relief_depth=float(end_relief_depth),
-                end_relief_extent=float(end_relief_extent),
-                helix_slope_deviation=float(helix_slope_deviation),
-                profile_deviation_roll=np.asarray(profile_deviation_roll, dtype=float),
-                profile_deviation=np.asarray(profile_deviation, dtype=float))
+    return {
+        "tip_relief_depth": float(tip_relief_depth),
+        "tip_relief_extent": float(tip_relief_extent),
+        "tip_relief_shape": str(tip_relief_shape),
+        "root_relief_depth": float(root_relief_depth),
+        "root_relief_extent": float(root_relief_extent),
+        "root_relief_shape": str(root_relief_shape),
+        "crowning_depth": float(crowning_depth),
+        "end_relief_depth": float(end_relief_depth),
+        "end_relief_extent": float(end_relief_extent),
+        "helix_slope_deviation": float(helix_slope_deviation),
+        "profile_deviation_roll": np.asarray(profile_deviation_roll, dtype=float),
+        "profile_deviation": np.asarray(profile_deviation, dtype=float),
+    }
 
 
 def mods_params(modifications=None) -> dict[str, dict[str, Any]]:
@@ -116,7 +123,8 @@ def mods_params(modifications=None) -> dict[str, dict[str, Any]]:
             out[tag] = member_params()
             continue
         out[tag] = member_params(
-            tip_relief_depth=float(m.tip_relief_depth), tip_relief_extent=float(m.tip_relief_extent),
+            tip_relief_depth=float(m.tip_relief_depth),
+            tip_relief_extent=float(m.tip_relief_extent),
             tip_relief_shape=m.tip_relief_shape, root_relief_depth=float(m.root_relief_depth),
             root_relief_extent=float(m.root_relief_extent), root_relief_shape=m.root_relief_shape,
             crowning_depth=float(m.crowning_depth), end_relief_depth=float(m.end_relief_depth),
@@ -137,7 +145,8 @@ def _relief_shape(x: np.ndarray, shape: str) -> np.ndarray:
 
 
 def _member_deviation(p: dict, u: np.ndarray, zeta: np.ndarray) -> np.ndarray:
-    """Normal deviation (m, + = material added) of one member at roll fraction u, lead fraction ζ."""
+    """Normal deviation (m, + = material added) of one member at roll fraction u and lead
+    fraction ζ (arrays of the same shape)."""
     e = np.interp(u, p["profile_deviation_roll"], p["profile_deviation"])
     # tip relief over the last Γ of the active profile, root relief over the first Γ
     g = p["tip_relief_extent"]
@@ -158,9 +167,15 @@ def _positions(mesh: BaselineMesh, positions_per_pitch: int, periods: int) -> np
     return (np.arange(positions_per_pitch * periods) + 0.5) * period / positions_per_pitch
 
 
-def _softplus_law(delta: float, delta0: np.ndarray, kl: np.ndarray, width: float) -> float:
-    # w log(1 + exp(Δ/w)), overflow-safe
-    return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width)))
+def _residual_exact(delta: float, delta0: np.ndarray, kl: np.ndarray, force: float) -> float:
+    """Σ k l max(0, δ − δ0) − F_n (N)."""
+    return float(np.dot(kl, np.maximum(delta - delta0, 0.0))) - force
+
+
+def _residual_smooth(delta: float, delta0: np.ndarray, kl: np.ndarray, force: float,
+                     width: float) -> float:
+    """Σ k l w log(1 + exp((δ − δ0)/w)) − F_n (N), overflow-safe."""
+    return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width))) - force
 
 
 def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact: str = "exact",
@@ -226,26 +241,27 @@ def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact
         # f(hi) > 0 through rounding when every cell is loaded equally)
         hi = delta0.max() + force / sum_kl * (1.0 + 1e-6)
         if contact == "exact":
-            def f(d):
-                return float(np.dot(kl, np.maximum(d - delta0, 0.0))) - force
-            lo = 0.0
+            f, args, lo = _residual_exact, (delta0, kl, force), 0.0
         else:
-            def f(d):
-                return _softplus_law(d, delta0, kl, width) - force
-            # Σ kl w softplus((δ − δ0)/w) <= Σ kl w exp(δ/w) < F below this
+            # Σ kl w softplus((δ − δ0)/w) <= Σ kl w exp(δ/w) < F below lo
+            f, args = _residual_smooth, (delta0, kl, force, width)
             lo = min(0.0, width * (math.log(force / (sum_kl * width)) - 1.0))
-        d, info = brentq(f, lo, hi, xtol=1e-30, rtol=4 * _EPS, maxiter=500, full_output=True)
+        d, info = brentq(f, lo, hi, args=args, xtol=1e-30, rtol=4 * _EPS, maxiter=500,
+                         full_output=True)
         if not info.converged:
             raise RuntimeError(f"brentq did not converge at theta = {th!r}: {info.flag}")
         gap = d - delta0
-        weight = (gap > 0).astype(float) if contact == "exact" else 0.5 * (1.0 + np.tanh(0.5 * gap / width))
+        if contact == "exact":
+            weight = (gap > 0).astype(float)
+        else:  # φ'_w(Δ) = sigmoid(Δ/w)
+            weight = 0.5 * (1.0 + np.tanh(0.5 * gap / width))
         te[j] = (d - e_max) / cos_bb
         approach[j] = d
         stiff[j] = np.dot(kl, weight)
         clen[j] = cell_length * weight.sum()
         evals[j] = info.function_calls
-    return dict(theta=theta, te=te, approach=approach, mesh_stiffness=stiff, contact_length=clen,
-                evaluations=evals)
+    return {"theta": theta, "te": te, "approach": approach, "mesh_stiffness": stiff,
+            "contact_length": clen, "evaluations": evals}
 
 
 def te_rms(te: np.ndarray) -> float:

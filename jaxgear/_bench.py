@@ -105,7 +105,7 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     from . import _baseline as bl
     from ._case import load_case
     from ._modifications import MemberModification, Modifications
-    from ._quasi_static import mesh_positions, quasi_static
+    from ._quasi_static import quasi_static
     from ._util import atomic_open
 
     c = load_case(case)
@@ -140,7 +140,8 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
             "device_kind": getattr(dev, "device_kind", ""),
             "cpu_model": _cpu_model(),
             "cpu_count": os.cpu_count(),
-            "cpu_affinity": len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None,
+            "cpu_affinity": (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+                             else None),
             "load_average_at_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
         },
         "dtype": str(jnp.result_type(float)),
@@ -192,7 +193,8 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     out["per_te_curve"] = per_curve
 
     # where jaxgear's time per curve goes (each stage jitted on its own; exact mode)
-    out["profile_exact"] = _profile(mesh, mods, torque, P0, rep_jax, per_curve["exact"]["jaxgear_s"])
+    out["profile_exact"] = _profile(mesh, mods, torque, P0, rep_jax,
+                                    per_curve["exact"]["jaxgear_s"])
     step("profile")
 
     # (c) (Γ, E) grid by vmap -------------------------------------------------------------------
@@ -217,8 +219,8 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         lambda ge: grid_rms(ge[0], ge[1], mesh, torque), (G, E), batch_size=_CHUNK))
     first_c = _first_call(lambda: chunk_fn(*gargs), block)
     t_chunk = _min_time(lambda: chunk_fn(*gargs), 2 if quick else 3, block)
-    chunk_diff = float(np.max(np.abs(np.asarray(chunk_fn(*gargs)).reshape(n_grid, n_grid) - rms_grid))
-                       / np.max(rms_grid))
+    rms_chunk = np.asarray(chunk_fn(*gargs)).reshape(n_grid, n_grid)
+    chunk_diff = float(np.max(np.abs(rms_chunk - rms_grid)) / np.max(rms_grid))
     step("grid chunked")
     # baseline: a few points spread over the grid, extrapolated to the whole grid
     rng = np.random.default_rng(0)
@@ -250,7 +252,8 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         "target_s": 5.0, "meets_target": t_grid < 5.0,
         "chunked": {"how": f"jax.lax.map(..., batch_size={_CHUNK}) over the grid points (vmap "
                            f"within chunks of {_CHUNK})", "jaxgear_s": t_chunk,
-                    "jaxgear_compile_s": first_c - t_chunk, "ratio_to_baseline": t_np_grid / t_chunk,
+                    "jaxgear_compile_s": first_c - t_chunk,
+                    "ratio_to_baseline": t_np_grid / t_chunk,
                     "max_rel_diff_to_full_vmap": chunk_diff},
         "te_rms_m": rms_grid.tolist(),
         "optimum": {"gamma": float(GG[k_opt]), "tip_relief_depth_m": float(EE[k_opt]),
@@ -269,13 +272,14 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         m_n = c.mesh_model(slices=n)
         bm_n = bl.baseline_mesh(c, slices=n)
         for p in sweep_ppp:
-            fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, contact="exact",  # noqa: E731
+            fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, contact="exact",
                                                    positions_per_pitch=p)
             t_j = _min_time(fn, max(3, rep_jax // 3), block)
             rj = _rms(fn().transmission_error)
             t_b = _min_time(lambda bm_n=bm_n, p=p: bl.te_curve_numpy(bm_n, bmods, torque, "exact",
                                                                     positions_per_pitch=p), rep_np)
-            rb = bl.te_rms(bl.te_curve_numpy(bm_n, bmods, torque, "exact", positions_per_pitch=p)["te"])
+            rb = bl.te_rms(bl.te_curve_numpy(bm_n, bmods, torque, "exact",
+                                             positions_per_pitch=p)["te"])
             points.append({"mode": "exact", "slices": n, "positions_per_pitch": p,
                            "jaxgear_s": t_j, "baseline_s": t_b, "te_rms_m": rj,
                            "error": abs(rj - ref_rms) / ref_rms,
@@ -283,11 +287,12 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
             step(f"exact N={n} P={p}")
     exact_same = _rms(calls["exact"]().transmission_error)
     for w in widths:
-        fn = lambda w=w: quasi_static(mesh, mods, torque, contact="smooth", width=w,  # noqa: E731
+        fn = lambda w=w: quasi_static(mesh, mods, torque, contact="smooth", width=w,
                                       positions_per_pitch=P0)
         t_j = _min_time(fn, max(3, rep_jax // 3), block)
         rj = _rms(fn().transmission_error)
-        t_b = _min_time(lambda w=w: bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0), rep_np)
+        t_b = _min_time(lambda w=w: bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0),
+                        rep_np)
         rb = bl.te_rms(bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0)["te"])
         points.append({"mode": "smooth", "width_m": w, "slices": N0, "positions_per_pitch": P0,
                        "jaxgear_s": t_j, "baseline_s": t_b, "te_rms_m": rj,
@@ -354,14 +359,18 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
 
     c, d0 = deviations(mesh, mods, theta)
     n = c.s.shape[1] * c.s.shape[2]
-    args = (c.stiffness.reshape(P, n), c.length.reshape(P, n), d0.reshape(P, n), c.mask.reshape(P, n))
+    args = (c.stiffness.reshape(P, n), c.length.reshape(P, n), d0.reshape(P, n),
+            c.mask.reshape(P, n))
     Ks = jnp.zeros((1, 1))
     F = jnp.reshape(mesh.normal_load(jnp.asarray(torque)), (1,))
     V = jnp.ones((n, 1))
 
     @jax.jit
     def solve(k, l, d, m):
-        return jax.vmap(lambda k, l, d, m: solve_contact(Ks, F, V, k, l, d, m, "exact").x)(k, l, d, m)
+        def one(k, l, d, m):
+            return solve_contact(Ks, F, V, k, l, d, m, "exact").x
+
+        return jax.vmap(one)(k, l, d, m)
 
     @jax.jit
     def kernel(mesh, mods, theta, torque):
@@ -399,10 +408,10 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
     for i, p_ in enumerate(ppp):
         col = cmap(i / max(len(ppp) - 1, 1))
         sel = [p for p in ex if p["positions_per_pitch"] == p_]
-        ax.plot([p["jaxgear_s"] for p in sel], [max(p["error"], floor) for p in sel], "o-", color=col,
-                label=f"jaxgear exact, P = {p_}")
-        ax.plot([p["baseline_s"] for p in sel], [max(p["baseline_error"], floor) for p in sel], "x--",
-                color=col, label=f"baseline exact, P = {p_}")
+        ax.plot([p["jaxgear_s"] for p in sel], [max(p["error"], floor) for p in sel], "o-",
+                color=col, label=f"jaxgear exact, P = {p_}")
+        ax.plot([p["baseline_s"] for p in sel], [max(p["baseline_error"], floor) for p in sel],
+                "x--", color=col, label=f"baseline exact, P = {p_}")
         for p in sel:
             ax.annotate(f"N={p['slices']}", (p["jaxgear_s"], max(p["error"], floor)), fontsize=6,
                         xytext=(2, 3), textcoords="offset points", color=col)
@@ -415,7 +424,8 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
                  color="C1", label=f"baseline smooth {disc}: vs converged reference")
         ax2.plot([p["jaxgear_s"] for p in sm],
                  [max(p["error_vs_exact_same_discretisation"], floor) for p in sm], "^:",
-                 color="C3", mfc="none", label=f"jaxgear smooth: vs exact {disc} (contact-law error)")
+                 color="C3", mfc="none",
+                 label=f"jaxgear smooth: vs exact {disc} (contact-law error)")
         for p in sm:
             ax2.annotate(f"w={p['width_m'] * 1e6:g} µm", (p["jaxgear_s"], max(p["error"], floor)),
                          fontsize=6, xytext=(3, 3), textcoords="offset points", color="C3")
@@ -444,27 +454,29 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
 
 def _table(out) -> str:
     pc, g = out["per_te_curve"], out["grid"]
+    opt = g["optimum"]
     lines = [
-        f"quasi-static benchmark: {out['case']}, {out['settings']['slices']} slices × "
-        f"{out['settings']['positions_per_pitch']} positions, {out['dtype']}, JAX "
-        f"{out['versions']['jax']}, {out['machine']['device']}, {out['machine']['cpu_count']} CPU",
+        (f"quasi-static benchmark: {out['case']}, {out['settings']['slices']} slices × "
+         f"{out['settings']['positions_per_pitch']} positions, {out['dtype']}, JAX "
+         f"{out['versions']['jax']}, {out['machine']['device']}, "
+         f"{out['machine']['cpu_count']} CPU"),
         f"{'':24s}{'exact':>12s}{'smooth':>12s}",
-        f"{'compile (s)':24s}{out['compile']['exact']['compile_s']:12.3f}"
-        f"{out['compile']['smooth']['compile_s']:12.3f}",
-        f"{'jaxgear per curve (ms)':24s}{pc['exact']['jaxgear_s'] * 1e3:12.3f}"
-        f"{pc['smooth']['jaxgear_s'] * 1e3:12.3f}",
-        f"{'baseline per curve (ms)':24s}{pc['exact']['baseline_s'] * 1e3:12.3f}"
-        f"{pc['smooth']['baseline_s'] * 1e3:12.3f}",
+        (f"{'compile (s)':24s}{out['compile']['exact']['compile_s']:12.3f}"
+         f"{out['compile']['smooth']['compile_s']:12.3f}"),
+        (f"{'jaxgear per curve (ms)':24s}{pc['exact']['jaxgear_s'] * 1e3:12.3f}"
+         f"{pc['smooth']['jaxgear_s'] * 1e3:12.3f}"),
+        (f"{'baseline per curve (ms)':24s}{pc['exact']['baseline_s'] * 1e3:12.3f}"
+         f"{pc['smooth']['baseline_s'] * 1e3:12.3f}"),
         f"{'ratio (target >= 50)':24s}{pc['exact']['ratio']:12.1f}{pc['smooth']['ratio']:12.1f}",
-        f"{'max rel diff (TE)':24s}{pc['exact']['max_rel_diff']['te']:12.1e}"
-        f"{pc['smooth']['max_rel_diff']['te']:12.1e}",
-        f"grid {g['shape'][0]}×{g['shape'][1]} (Γ, E), exact, vmap: {g['jaxgear_s']:.3f} s after "
-        f"compile ({g['jaxgear_compile_s']:.1f} s compile; target < 5 s); baseline "
-        f"~{g['baseline_s_extrapolated']:.1f} s (extrapolated), ratio {g['ratio']:.1f}",
-        f"same grid in vmap chunks of {_CHUNK} (lax.map): {g['chunked']['jaxgear_s']:.3f} s, "
-        f"ratio {g['chunked']['ratio_to_baseline']:.1f}",
-        f"grid optimum: Γ = {g['optimum']['gamma']:.3f}, E = {g['optimum']['tip_relief_depth_m'] * 1e6:.1f} µm, "
-        f"TE RMS = {g['optimum']['te_rms_m'] * 1e9:.1f} nm",
+        (f"{'max rel diff (TE)':24s}{pc['exact']['max_rel_diff']['te']:12.1e}"
+         f"{pc['smooth']['max_rel_diff']['te']:12.1e}"),
+        (f"grid {g['shape'][0]}×{g['shape'][1]} (Γ, E), exact, vmap: {g['jaxgear_s']:.3f} s "
+         f"after compile ({g['jaxgear_compile_s']:.1f} s compile; target < 5 s); baseline "
+         f"~{g['baseline_s_extrapolated']:.1f} s (extrapolated), ratio {g['ratio']:.1f}"),
+        (f"same grid in vmap chunks of {_CHUNK} (lax.map): {g['chunked']['jaxgear_s']:.3f} s, "
+         f"ratio {g['chunked']['ratio_to_baseline']:.1f}"),
+        (f"grid optimum: Γ = {opt['gamma']:.3f}, E = {opt['tip_relief_depth_m'] * 1e6:.1f} µm, "
+         f"TE RMS = {opt['te_rms_m'] * 1e9:.1f} nm"),
         f"chart: {out['speed_accuracy']['chart']}",
     ]
     return "\n".join(lines)

@@ -43,7 +43,7 @@ def _mods(kind: str):
     raise AssertionError(kind)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _setup(name: str, uniform: bool = False):
     """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once."""
     case = jg.load_case(name)
@@ -132,8 +132,9 @@ def test_bench_quick(tmp_path):
 def _wide_helical(face_width_mm):
     case = jg.load_case("power-helical").replace(stiffness_model="uniform", uniform_k0=13e9)
     pair = case.pair
-    pair = dataclasses.replace(pair, pinion=dataclasses.replace(pair.pinion, face_width=face_width_mm * 1e-3),
-                               gear=dataclasses.replace(pair.gear, face_width=face_width_mm * 1e-3))
+    b = face_width_mm * 1e-3
+    pair = dataclasses.replace(pair, pinion=dataclasses.replace(pair.pinion, face_width=b),
+                               gear=dataclasses.replace(pair.gear, face_width=b))
     return case.replace(pair=pair)
 
 
@@ -149,11 +150,8 @@ def test_baseline_contact_length_wide_helical():
     assert abs(np.mean(b["contact_length"]) / expected - 1) < 1e-3
 
 
-@pytest.mark.xfail(strict=True, reason="core bug: MeshModel.from_pair keeps lines i in "
-                   "[-ceil(ε_β), ceil(ε_α) + 1] but contact lines on the flank are i in "
-                   "[0, ceil(ε_α + ε_β)]: lines are dropped when ε_β is large (here 3.2). Remove "
-                   "this marker when fixed.")
 def test_agrees_with_baseline_wide_helical():
+    """ε_β = 3.2: every contact line on the flank is kept (lines i in [0, ceil(ε_α + ε_β)])."""
     case = _wide_helical(120.0)
     bmesh = bl.baseline_mesh(case, slices=SLICES)
     mesh = jg.MeshModel.from_pair(case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES)
