@@ -94,7 +94,7 @@ def member_params(tip_relief_depth=0.0, tip_relief_extent=0.25, tip_relief_shape
                   root_relief_depth=0.0, root_relief_extent=0.25, root_relief_shape="linear",
                   crowning_depth=0.0, end_relief_depth=0.0, end_relief_extent=0.1,
                   helix_slope_deviation=0.0, profile_deviation_roll=(0.0, 1.0),
-                  profile_deviation=(0.0, 0.0)) -> dict[str, Any]:
+                  profile_deviation=(0.0, 0.0), relief_blend=0.0) -> dict[str, Any]:
     """One member's modification parameters as plain numbers (m, fractions; see
     :class:`jaxgear.MemberModification` for the meaning of each)."""
     return {
@@ -110,6 +110,7 @@ def member_params(tip_relief_depth=0.0, tip_relief_extent=0.25, tip_relief_shape
         "helix_slope_deviation": float(helix_slope_deviation),
         "profile_deviation_roll": np.asarray(profile_deviation_roll, dtype=float),
         "profile_deviation": np.asarray(profile_deviation, dtype=float),
+        "relief_blend": float(relief_blend),
     }
 
 
@@ -131,12 +132,16 @@ def mods_params(modifications=None) -> dict[str, dict[str, Any]]:
             end_relief_extent=float(m.end_relief_extent),
             helix_slope_deviation=float(m.helix_slope_deviation),
             profile_deviation_roll=np.asarray(m.profile_deviation_roll),
-            profile_deviation=np.asarray(m.profile_deviation))
+            profile_deviation=np.asarray(m.profile_deviation),
+            relief_blend=float(getattr(m, "relief_blend", 0.0)))
     return out
 
 
-def _relief_shape(x: np.ndarray, shape: str) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
+def _relief_shape(x: np.ndarray, shape: str, blend: float) -> np.ndarray:
+    """x (linear) or x² (parabolic) of x clipped to [0, 1]; with ``blend`` > 0 (x units) the
+    lower clip is rounded to blend·log(1 + exp(x/blend))."""
+    x = blend * np.logaddexp(0.0, x / blend) if blend > 0 else np.maximum(x, 0.0)
+    x = np.minimum(x, 1.0)
     if shape == "linear":
         return x
     if shape == "parabolic":
@@ -149,10 +154,12 @@ def _member_deviation(p: dict, u: np.ndarray, zeta: np.ndarray) -> np.ndarray:
     fraction ζ (arrays of the same shape)."""
     e = np.interp(u, p["profile_deviation_roll"], p["profile_deviation"])
     # tip relief over the last Γ of the active profile, root relief over the first Γ
+    # (relief_blend rounds each relief start over that roll fraction)
+    blend = p.get("relief_blend", 0.0)
     g = p["tip_relief_extent"]
-    e = e - p["tip_relief_depth"] * _relief_shape((u - 1.0 + g) / g, p["tip_relief_shape"])
+    e = e - p["tip_relief_depth"] * _relief_shape((u - 1.0 + g) / g, p["tip_relief_shape"], blend / g)
     g = p["root_relief_extent"]
-    e = e - p["root_relief_depth"] * _relief_shape((g - u) / g, p["root_relief_shape"])
+    e = e - p["root_relief_depth"] * _relief_shape((g - u) / g, p["root_relief_shape"], blend / g)
     # lead: parabolic crowning (depth at both face edges), linear end relief, helix slope
     e = e - p["crowning_depth"] * (2.0 * zeta - 1.0) ** 2
     le = p["end_relief_extent"]

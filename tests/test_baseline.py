@@ -30,13 +30,13 @@ def _mods(kind: str):
         return None
     if kind == "case":
         return "case"
-    if kind == "tip-crown":  # parabolic tip relief on both, crowning, plus the other deviations
+    if kind == "tip-crown":  # parabolic tip relief, crowning, the other deviations, rounded start
         pin = jg.MemberModification(tip_relief_depth=12e-6, tip_relief_extent=0.3,
                                     tip_relief_shape="parabolic", root_relief_depth=3e-6,
                                     root_relief_extent=0.15, crowning_depth=6e-6,
                                     end_relief_depth=2e-6, end_relief_extent=0.15,
                                     helix_slope_deviation=4e-6, profile_deviation_roll=(0.0, 1.0),
-                                    profile_deviation=(1e-6, -2e-6))
+                                    profile_deviation=(1e-6, -2e-6), relief_blend=0.02)
         gear = jg.MemberModification(tip_relief_depth=8e-6, tip_relief_extent=0.2,
                                      tip_relief_shape="parabolic", crowning_depth=3e-6)
         return jg.Modifications(pinion=pin, gear=gear)
