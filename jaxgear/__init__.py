@@ -32,5 +32,24 @@ from ._stiffness import (
     stiffness_table as stiffness_table,
     weber_profile as weber_profile,
 )
+from ._dyn_scene import (
+    Damping as Damping,
+    DynamicScene as DynamicScene,
+    ModalAnalysis as ModalAnalysis,
+    RelativeApproach as RelativeApproach,
+    TorsionalDynamics as TorsionalDynamics,
+    damping_matrix as damping_matrix,
+    disc_inertia as disc_inertia,
+    modal_analysis as modal_analysis,
+)
+from ._dynamics import (
+    DYNAMICS_RESULTS as DYNAMICS_RESULTS,
+    DynamicModel as DynamicModel,
+    DynamicResult as DynamicResult,
+    SweepResult as SweepResult,
+    dynamic_model as dynamic_model,
+    simulate as simulate,
+    speed_sweep as speed_sweep,
+)
 
 __version__ = "0.1.0"
