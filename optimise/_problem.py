@@ -140,6 +140,13 @@ class Problem(eqx.Module):
         v = jnp.max(vals) if self.reduce == "max" else jnp.mean(vals)
         return v / self.scale
 
+    def te_rms_vs_torque(self, x, torques, contact: str = "exact") -> Float[Array, " T"]:
+        """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view."""
+        mods = self.modifications(x)
+        return jax.vmap(lambda t: jg.quasi_static(self.mesh, mods, t, contact=contact, width=self.width,
+                                                  positions_per_pitch=self.positions_per_pitch).te_rms
+                        )(jnp.asarray(torques))
+
     def per_torque(self, x, contact: str = "exact") -> Float[Array, " T"]:
         """Unscaled objective at each torque (objective units: m or N/m)."""
         mods = self.modifications(x)

@@ -167,7 +167,7 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     rep = json.loads((out / "optimum.json").read_text())
     assert rep["final"]["objective_exact_m"] < rep["initial"]["objective_exact_m"]
     assert set(rep["final"]["parameters"]) == {"tip_relief.depth", "tip_relief.extent"}
-    for f in ("convergence.png", "path.png"):
+    for f in ("convergence.png", "path.png", "harris.png"):
         assert (out / f).read_bytes()[:4] == b"\x89PNG"
     mc = tmp_path / "mc"
     assert main(["master-curve", str(path), "--extents", "0.2:0.29:4", "--out", str(mc)]) == 0
