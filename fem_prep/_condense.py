@@ -34,6 +34,7 @@ from tqdm import tqdm
 from ._assemble import Operators
 from ._body import Body
 from ._mesh import BodyMesh, rim_master_z
+from ._solver import CyclicFactor, SparseFactor, factorize, shift_invert_modes
 
 __all__ = [
     "Coupled",
@@ -41,9 +42,7 @@ __all__ = [
     "MasterSet",
     "condense",
     "couple_bearings",
-    "factorize",
     "select_masters",
-    "shift_invert_modes",
 ]
 
 
@@ -235,79 +234,6 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
 
 
 # ------------------------------------------------------------------------------------------
-# sparse linear algebra
-
-
-class Factor:
-    """Sparse LU factorisation (SuperLU, symmetric mode) of a symmetric matrix."""
-
-    def __init__(self, A: sp.spmatrix):
-        A = sp.csc_matrix(A)
-        self.shape = A.shape
-        self._lu = spla.splu(
-            A,
-            permc_spec="MMD_AT_PLUS_A",
-            diag_pivot_thresh=0.0,
-            options={"SymmetricMode": True},
-        )
-        self.nnz = int(self._lu.L.nnz + self._lu.U.nnz)
-
-    def solve(self, b: np.ndarray) -> np.ndarray:
-        """Solve ``A x = b`` for ``b`` of shape ``(n,)`` or ``(n, k)``."""
-        return self._lu.solve(np.asarray(b, dtype=float))
-
-    def operator(self) -> spla.LinearOperator:
-        """``A^-1`` as a LinearOperator."""
-        return spla.LinearOperator(self.shape, matvec=self.solve, dtype=float)
-
-
-def factorize(A: sp.spmatrix) -> Factor:
-    """Factorise a sparse symmetric matrix (SuperLU with a symmetric ordering)."""
-    return Factor(A)
-
-
-def shift_invert_modes(
-    K: sp.spmatrix,
-    M: sp.spmatrix,
-    k: int,
-    *,
-    sigma: float = 0.0,
-    factor: Factor | None = None,
-    tol: float = 1e-10,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``k`` modes of ``K phi = lambda M phi`` by shift-invert Lanczos (``eigsh``).
-
-    Args:
-        K, M: sparse symmetric stiffness/mass ``(n, n)``.
-        k: number of modes (``k < n``).
-        sigma: shift (rad/s)^2; negative for free structures with rigid-body modes.
-        factor: a factorisation of ``K - sigma M`` to reuse.
-        tol: eigsh tolerance.
-
-    Returns:
-        ``(lam, phi)``: eigenvalues ``(k,)`` ascending ((rad/s)^2) and mass-normalised modes
-        ``(n, k)``.
-    """
-    n = K.shape[0]
-    if k <= 0:
-        return np.zeros(0), np.zeros((n, 0))
-    if k >= n - 1 or n < 200:
-        lam, phi = sla.eigh(K.toarray(), M.toarray())
-        return lam[:k], phi[:, :k]
-    if factor is None:
-        factor = factorize(K - sigma * M)
-    ncv = min(n, max(2 * k + 1, k + 40))
-    lam, phi = spla.eigsh(
-        K, k=k, M=M, sigma=sigma, OPinv=factor.operator(), which="LM", ncv=ncv, tol=tol
-    )
-    order = np.argsort(lam)
-    lam, phi = lam[order], phi[:, order]
-    # normalise to unit modal mass (eigsh already does up to round-off)
-    mm = np.einsum("ij,ij->j", phi, M @ phi)
-    return lam, phi / np.sqrt(mm)
-
-
-# ------------------------------------------------------------------------------------------
 # condensation
 
 
@@ -359,8 +285,9 @@ def condense(
     f: np.ndarray | None = None,
     S: sp.spmatrix | None = None,
     progress: bool = False,
-    interior_factor: Factor | None = None,
+    interior_factor: SparseFactor | CyclicFactor | None = None,
     free_shift: float | None = None,
+    slabs: np.ndarray | None = None,
 ) -> Condensed:
     """Condense ``(K, M)`` onto ``master_dofs`` (+ ``n_modes`` modal DOFs), seed (2.3)-(2.5).
 
@@ -375,7 +302,9 @@ def condense(
         progress: show tqdm progress bars.
         interior_factor: a factorisation of ``K_ii`` to reuse.
         free_shift: shift (rad/s)^2 (negative) for the free-interface eigen-solve of Herting;
-            default ``-(2 pi 1 Hz)^2 x`` a scale from the diagonal.
+            default ``-1e-4`` x the median of ``diag(K)/diag(M)``.
+        slabs: angular slab label per DOF (swept bodies) to use the block-cyclic factorisation
+            (see ``_solver``); ``None`` uses SuperLU.
 
     Returns:
         The :class:`Condensed` model; boundary DOFs first in the order of ``master_dofs``.
@@ -398,7 +327,7 @@ def condense(
     t0 = time.perf_counter()
     Kii = K[i][:, i]
     Kib = K[i][:, b]
-    Fii = interior_factor or factorize(Kii)
+    Fii = interior_factor or factorize(Kii, None if slabs is None else slabs[i])
     timings["factorisation_s"] = time.perf_counter() - t0
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks
@@ -426,7 +355,7 @@ def condense(
         if free_shift is None:
             free_shift = -float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300))) * 1e-4
         with tqdm(total=2, desc="free-interface modes", disable=not progress) as bar:
-            Ffree = factorize(K - free_shift * M)
+            Ffree = factorize((K - free_shift * M).tocsr(), slabs)
             bar.update()
             n_rigid = 6
             lam, phi = shift_invert_modes(K, M, n_modes + n_rigid, sigma=free_shift, factor=Ffree)

@@ -19,12 +19,11 @@ from ._condense import (
     MasterSet,
     condense,
     couple_bearings,
-    factorize,
     select_masters,
-    shift_invert_modes,
 )
 from ._mesh import BodyMesh, mesh_body
 from ._modal import ModeFamily, identify_modes
+from ._solver import factorize, shift_invert_modes
 
 __all__ = ["Prepared", "prepare"]
 
@@ -76,6 +75,18 @@ def _hz(lam: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi)
 
 
+def reduced_slabs(bm: BodyMesh, cp: Coupled) -> np.ndarray:
+    """Angular slab label of each reduced DOF (bearing DOFs: -1), for the cyclic solver."""
+    x = bm.nodes
+    dth = 2 * math.pi / bm.n_theta
+    phi = np.mod(np.arctan2(x[:, 1], x[:, 0]), 2 * math.pi)
+    node_slab = np.floor(phi / dth + 1e-6).astype(np.int64) % bm.n_theta
+    lab = -np.ones(cp.K.shape[0], dtype=np.int64)
+    kept = np.nonzero(cp.full_to_red >= 0)[0]
+    lab[cp.full_to_red[kept]] = node_slab[kept // 3]
+    return lab
+
+
 def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -> Prepared:
     """Run the whole pre-processing of a body.
 
@@ -114,6 +125,7 @@ def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -
     master_dofs = np.concatenate([rim_dofs, cp.bearing_dofs.ravel()])
     bearing_c = len(rim_dofs) + np.arange(cp.bearing_dofs.size)
     n_red = cp.K.shape[0]
+    slabs = reduced_slabs(bm, cp)
     tick("coupling_s", t0)
 
     # ---- full model: modes (support as the body says) and centrifugal deflection
@@ -123,7 +135,7 @@ def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -
     held[cp.bearing_dofs.ravel()] = True
     free = np.nonzero(~held)[0]
     Kff = cp.K[free][:, free]
-    Fff = factorize(Kff)
+    Fff = factorize(Kff, slabs[free])
     t_fact = time.perf_counter() - t0
     u_red = np.zeros(n_red)
     u_red[free] = Fff.solve(body.speed**2 * cp.f[free])
@@ -134,7 +146,9 @@ def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -
         phi[free] = phi_f
     else:
         shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
-        lam, phi = shift_invert_modes(cp.K, cp.M, nf, sigma=shift)
+        lam, phi = shift_invert_modes(
+            cp.K, cp.M, nf, sigma=shift, factor=factorize((cp.K - shift * cp.M).tocsr(), slabs)
+        )
     del Fff
     shapes = cp.T @ phi
     f_full = _hz(lam)
@@ -152,6 +166,7 @@ def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -
         f=cp.f,
         S=cp.S,
         progress=progress,
+        slabs=slabs,
     )
     for k, v in cond.timings.items():
         timings[f"condense_{k}"] = v

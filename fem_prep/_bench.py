@@ -1,0 +1,238 @@
+"""``fem-prep bench``: timings and peak memory of the condensation on three mesh sizes.
+
+Each case runs in a fresh subprocess (so that ``ru_maxrss`` is the peak of that case alone):
+the power-helical wheel meshed at three element sizes (the finest >= 150 000 DOFs), condensed by
+Craig-Bampton with 50 modes, and a dense baseline (dense Cholesky + dense generalised
+eigen-solve) on the smallest size.  A second figure plots the error of the first 20 frequencies
+against the number of retained modes for Craig-Bampton and Herting (Fig. III-13's question).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+SIZES_MM = (16.0, 6.0, 4.0)
+QUICK_SIZES_MM = (16.0, 14.0)
+
+
+def _peak_mib() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _body(size_mm: float, method: str = "craig-bampton", modes: int = 50):
+    from ._body import load_body
+
+    b = load_body("power-helical-wheel")
+    s = size_mm * 1e-3
+    mesh = dataclasses.replace(b.mesh, size=s, web_size=s, circumferential_size=s)
+    cond = dataclasses.replace(b.condensation, method=method, modes=modes)
+    return dataclasses.replace(b, mesh=mesh, condensation=cond)
+
+
+def _case(size_mm: float, dense: bool) -> dict:
+    import scipy.linalg as sla
+
+    from ._assemble import assemble_operators
+    from ._condense import condense, couple_bearings, select_masters
+    from ._mesh import mesh_body
+    from ._prepare import reduced_slabs
+
+    body = _body(size_mm)
+    out: dict = {"size_mm": size_mm}
+    t0 = time.perf_counter()
+    bm = mesh_body(body)
+    out["mesh_s"] = time.perf_counter() - t0
+    out["n_dofs"] = bm.n_dofs
+    out["n_elements"] = int(bm.mesh.nelements)
+    t0 = time.perf_counter()
+    ops = assemble_operators(bm.basis, body.material)
+    out["assembly_s"] = time.perf_counter() - t0
+    ms = select_masters(bm, body)
+    cp = couple_bearings(bm, ops, ms)
+    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
+    out["n_master_dofs"] = int(len(mdofs))
+    if dense:
+        import scipy.sparse.linalg as spla
+
+        t0 = time.perf_counter()
+        n = cp.K.shape[0]
+        mask = np.ones(n, bool)
+        mask[mdofs] = False
+        i = np.nonzero(mask)[0]
+        Kii_s = cp.K[i][:, i]
+        Mii = cp.M[i][:, i]
+        Kib = cp.K[i][:, mdofs].toarray()
+        t1 = time.perf_counter()
+        c = sla.cho_factor(Kii_s.toarray(), overwrite_a=True, check_finite=False)
+        out["factorisation_s"] = time.perf_counter() - t1
+        t1 = time.perf_counter()
+        psi = -sla.cho_solve(c, Kib, check_finite=False)
+        out["static_modes_s"] = time.perf_counter() - t1
+        t1 = time.perf_counter()
+        op = spla.LinearOperator(Kii_s.shape, matvec=lambda v: sla.cho_solve(c, v), dtype=float)
+        lam, phi = spla.eigsh(Kii_s, k=50, M=Mii, sigma=0.0, OPinv=op, which="LM")
+        out["eigen_s"] = time.perf_counter() - t1
+        t1 = time.perf_counter()
+        MH = Mii @ psi
+        _ = psi.T @ MH
+        out["projection_s"] = time.perf_counter() - t1
+        del psi, phi, c, MH
+        out["condensation_s"] = time.perf_counter() - t0
+        out["method"] = "dense Craig-Bampton (LAPACK Cholesky, dense solves, eigsh)"
+    else:
+        t0 = time.perf_counter()
+        cond = condense(
+            cp.K, cp.M, mdofs, method="craig-bampton", n_modes=50, f=cp.f,
+            slabs=reduced_slabs(bm, cp),
+        )
+        out["condensation_s"] = time.perf_counter() - t0
+        out["factorisation_s"] = cond.timings["factorisation_s"]
+        out["static_modes_s"] = cond.timings["static_modes_s"]
+        out["eigen_s"] = cond.timings["eigen_s"]
+        out["projection_s"] = cond.timings["projection_s"]
+        out["n_condensed_dofs"] = int(cond.K.shape[0])
+        out["method"] = "sparse Craig-Bampton (block-cyclic Cholesky + block shift-invert)"
+    out["peak_rss_mib"] = _peak_mib()
+    return out
+
+
+def _error_curve(size_mm: float) -> dict:
+    """Max relative error of the first 20 frequencies (bearings held) vs number of modes."""
+    from ._prepare import prepare
+
+    base = prepare(_body(size_mm, "guyan", 0))
+    f_full = base.frequencies_full_hz
+    cp = base.coupled
+    bearing_c = len(base.master_dofs) - cp.bearing_dofs.size + np.arange(cp.bearing_dofs.size)
+    from ._condense import condense
+    from ._prepare import reduced_slabs
+
+    slabs = reduced_slabs(base.mesh, cp)
+    import scipy.linalg as sla
+
+    curves: dict = {"modes": [0, 5, 10, 20, 30, 50, 80], "f_full_hz": list(map(float, f_full))}
+    for method in ("craig-bampton", "herting"):
+        errs = []
+        for m in curves["modes"]:
+            c = condense(cp.K, cp.M, base.master_dofs, method=method, n_modes=m, slabs=slabs)
+            keep = np.ones(c.K.shape[0], bool)
+            keep[bearing_c] = False
+            lam = sla.eigh(c.K[np.ix_(keep, keep)], c.M[np.ix_(keep, keep)], eigvals_only=True)
+            fc = np.sqrt(np.maximum(lam[: len(f_full)], 0)) / (2 * math.pi)
+            errs.append(float(np.max(np.abs(fc / f_full - 1))))
+        curves[method] = errs
+    curves["n_dofs"] = base.mesh.n_dofs
+    return curves
+
+
+def _sub(args: list[str]) -> dict:
+    cmd = [sys.executable, "-m", "fem_prep._bench", *args]
+    res = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if res.returncode != 0:
+        return {"error": res.stderr[-2000:], "args": args}
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def run_bench(out_dir: str, *, quick: bool = False) -> dict:
+    """Run the benchmark, write ``bench.json``, ``bench.png`` and ``modes_error.png``.
+
+    Args:
+        out_dir: output directory.
+        quick: only two small sizes (smoke test).
+
+    Returns:
+        The benchmark record.
+    """
+    from tqdm import tqdm
+
+    import scipy
+    import skfem
+
+    sizes = QUICK_SIZES_MM if quick else SIZES_MM
+    rec: dict = {
+        "machine": f"{platform.machine()} {platform.processor()}".strip(),
+        "cpus": os.cpu_count(),
+        "load_average": os.getloadavg(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "scikit-fem": skfem.__version__,
+        "cases": [],
+    }
+    jobs = [("case", s, False) for s in sizes] + [("case", sizes[0], True), ("curve", sizes[0], False)]
+    for kind, s, dense in tqdm(jobs, desc="fem-prep bench"):
+        if kind == "case":
+            r = _sub(["case", str(s)] + (["--dense"] if dense else []))
+            rec["cases"].append(r)
+        else:
+            rec["error_curve"] = _sub(["curve", str(s)])
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "bench.json").write_text(json.dumps(rec, indent=2))
+    _plots(rec, out)
+    for c in rec["cases"]:
+        if "error" in c:
+            print("case failed:", c)
+            continue
+        print(
+            f"{c['method'][:20]:20s} size {c['size_mm']:5.1f} mm  DOFs {c['n_dofs']:7d}  "
+            f"assembly {c['assembly_s']:6.1f} s  factor {c['factorisation_s']:6.1f} s  "
+            f"static {c['static_modes_s']:6.1f} s  eigen {c['eigen_s']:6.1f} s  "
+            f"condensation {c['condensation_s']:6.1f} s  peak {c['peak_rss_mib']:7.0f} MiB"
+        )
+    print(f"wrote {out / 'bench.json'}")
+    return rec
+
+
+def _plots(rec: dict, out: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ok = [c for c in rec["cases"] if "error" not in c and "sparse" in c.get("method", "")]
+    if ok:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        n = [c["n_dofs"] for c in ok]
+        for key in ("assembly_s", "factorisation_s", "static_modes_s", "eigen_s", "condensation_s"):
+            ax.loglog(n, [c[key] for c in ok], "o-", label=key[:-2])
+        ax.set_xlabel("DOFs")
+        ax.set_ylabel("time (s)")
+        ax.legend(fontsize=7)
+        ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(out / "bench.png", dpi=120)
+        plt.close(fig)
+    cur = rec.get("error_curve", {})
+    if "modes" in cur:
+        fig, ax = plt.subplots(figsize=(5, 3.5))
+        for method in ("craig-bampton", "herting"):
+            ax.semilogy(cur["modes"], np.maximum(cur[method], 1e-12), "o-", label=method)
+        ax.set_xlabel("retained modes")
+        ax.set_ylabel("max rel. error, first 20 frequencies")
+        ax.set_title(f"power-helical wheel, {cur['n_dofs']} DOFs")
+        ax.legend()
+        ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(out / "modes_error.png", dpi=120)
+        plt.close(fig)
+
+
+if __name__ == "__main__":
+    what = sys.argv[1]
+    if what == "case":
+        print(json.dumps(_case(float(sys.argv[2]), "--dense" in sys.argv)))
+    elif what == "curve":
+        print(json.dumps(_error_curve(float(sys.argv[2]))))

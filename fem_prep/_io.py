@@ -1,0 +1,467 @@
+"""Outputs: versioned ``.npz`` (+ validating loader), ``.vtu`` (meshio), ``summary.json``, cache.
+
+This is the only fem_prep module that imports meshio.  Every file is written atomically (a
+temporary file in the same directory, then ``os.replace``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import platform
+import shutil
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ._body import Body, load_body, parse_body
+
+__all__ = [
+    "FORMAT_VERSION",
+    "CondensedBody",
+    "build",
+    "cache_dir",
+    "load_condensed",
+    "save_condensed",
+    "summary_dict",
+    "write_vtu",
+]
+
+FORMAT = "fem_prep.condensed"
+FORMAT_VERSION = 1
+
+
+# ------------------------------------------------------------------------------------------
+# atomic writes
+
+
+def _atomic(path: Path, write: Callable[[Path], None]) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def _atomic_text(path: Path, text: str) -> None:
+    _atomic(path, lambda p: p.write_text(text, encoding="utf-8"))
+
+
+def _atomic_copy(src: Path, dst: Path) -> None:
+    _atomic(dst, lambda p: shutil.copyfile(src, p))
+
+
+# ------------------------------------------------------------------------------------------
+# the condensed body file
+
+
+@dataclass(frozen=True)
+class CondensedBody:
+    """A condensed gear body loaded from ``.npz`` (all arrays NumPy, SI units).
+
+    Condensed DOF order: rim master nodes (tooth ``k``, axial ``j``, component x/y/z), then the
+    bearing nodes (u_x, u_y, u_z, theta_x, theta_y, theta_z each), then ``n_modes`` modal
+    coordinates.  Everything here is a constant for jaxgear (no gradient through the FE mesh).
+
+    Attributes:
+        K: condensed stiffness ``(n_c, n_c)``.
+        M: condensed mass ``(n_c, n_c)``.
+        f_centrifugal: centrifugal load per unit speed squared ``(n_c,)`` (N/(rad/s)^2,
+            seed (2.37)); the load at wheel speed Omega is ``Omega**2 * f_centrifugal``.
+        spin_softening: ``(n_c, n_c)`` per unit speed squared, or ``None``.
+        master_coords: master-node coordinates ``(n_masters, 3)`` (m), rim nodes then bearings.
+        master_kind: ``(n_masters,)`` 0 = rim node (3 DOFs), 1 = bearing node (6 DOFs).
+        rim_grid: ``(teeth, n_axial)`` master-node index of each rim station.
+        dof_map: ``(n_c, 2)``: master-node index and component (0-5) per DOF; ``(-1, m)`` for
+            modal coordinate ``m``.
+        modes_hz: frequencies of the retained component modes ``(n_modes,)`` (Hz).
+        recovery_coords: ``(n_rec, 3)`` coordinates (m) of the recovery nodes (mesh corners).
+        recovery_cells: ``(n_cells, 8)`` hexahedra on the recovery nodes (VTK order).
+        recovery: ``(3 n_rec, n_c)`` float32: ``u_nodes.ravel() = recovery @ q_c`` (node-major,
+            x/y/z interleaved).
+        metadata: dict (body name, method, sizes, frequencies, versions...).
+        input_toml: the body file text.
+        input_sha256: its sha256.
+    """
+
+    K: np.ndarray
+    M: np.ndarray
+    f_centrifugal: np.ndarray
+    spin_softening: np.ndarray | None
+    master_coords: np.ndarray
+    master_kind: np.ndarray
+    rim_grid: np.ndarray
+    dof_map: np.ndarray
+    modes_hz: np.ndarray
+    recovery_coords: np.ndarray
+    recovery_cells: np.ndarray
+    recovery: np.ndarray
+    metadata: dict[str, Any]
+    input_toml: str
+    input_sha256: str
+
+    @property
+    def n_dofs(self) -> int:
+        """Number of condensed DOFs."""
+        return self.K.shape[0]
+
+    @property
+    def body(self) -> Body:
+        """The body that made this file (parsed again from ``input_toml``)."""
+        return parse_body(self.input_toml, default_name=self.metadata.get("name", "body"))
+
+
+_REQUIRED = (
+    "format",
+    "format_version",
+    "K",
+    "M",
+    "f_centrifugal",
+    "master_coords",
+    "master_kind",
+    "rim_grid",
+    "dof_map",
+    "modes_hz",
+    "recovery_coords",
+    "recovery_cells",
+    "recovery",
+    "metadata",
+    "input_toml",
+    "input_sha256",
+)
+
+
+def _arrays(prep: Any) -> dict[str, np.ndarray]:
+    """Arrays of the condensed file from a :class:`~fem_prep._prepare.Prepared`."""
+    body, bm, ms, cp, cond = prep.body, prep.mesh, prep.masters, prep.coupled, prep.condensed
+    teeth, nax = ms.rim_nodes.shape
+    nb = len(ms.bearing_rings)
+    n_rim = teeth * nax
+    coords = np.concatenate([bm.nodes[ms.rim_nodes.ravel()], ms.bearing_positions])
+    kind = np.concatenate([np.zeros(n_rim, np.int8), np.ones(nb, np.int8)])
+    dof_map = np.concatenate(
+        [
+            np.stack([np.repeat(np.arange(n_rim), 3), np.tile(np.arange(3), n_rim)], 1),
+            np.stack([np.repeat(n_rim + np.arange(nb), 6), np.tile(np.arange(6), nb)], 1),
+            np.stack([-np.ones(cond.n_modes, int), np.arange(cond.n_modes)], 1),
+        ]
+    ).astype(np.int64)
+    nv = bm.n_vertices
+    vdofs = np.arange(3 * nv)
+    rec = (cp.T[vdofs] @ cond.basis).astype(np.float32)
+    meta = {
+        "name": body.name,
+        "method": cond.method,
+        "element": bm.element,
+        "n_nodes": bm.n_nodes,
+        "n_dofs": bm.n_dofs,
+        "n_elements": int(bm.mesh.nelements),
+        "n_theta": bm.n_theta,
+        "teeth": teeth,
+        "axial_master_nodes": nax,
+        "bearing_couplings": list(ms.couplings),
+        "mass_kg": prep.operators.mass,
+        "speed_rad_s": body.speed,
+        "support": body.support,
+        "frequencies_full_hz": [float(x) for x in prep.frequencies_full_hz],
+        "frequencies_condensed_hz": [float(x) for x in prep.frequencies_condensed_hz],
+        "body_sha256": body.sha256,
+        "versions": _versions(),
+    }
+    out = {
+        "format": np.array(FORMAT),
+        "format_version": np.array(FORMAT_VERSION),
+        "K": cond.K,
+        "M": cond.M,
+        "f_centrifugal": cond.f_centrifugal,
+        "master_coords": coords,
+        "master_kind": kind,
+        "rim_grid": np.arange(n_rim).reshape(teeth, nax),
+        "dof_map": dof_map,
+        "modes_hz": np.asarray(cond.modes_hz, dtype=float),
+        "recovery_coords": bm.nodes[:nv],
+        "recovery_cells": bm.cells.astype(np.int64),
+        "recovery": rec,
+        "metadata": np.array(json.dumps(meta)),
+        "input_toml": np.array(body.source_text),
+        "input_sha256": np.array(body.text_sha256),
+    }
+    if cond.spin_softening is not None:
+        out["spin_softening"] = cond.spin_softening
+    return out
+
+
+def save_condensed(prep: Any, path: str | Path) -> Path:
+    """Write the condensed body of a :class:`~fem_prep._prepare.Prepared` to ``.npz``.
+
+    Args:
+        prep: the pipeline result.
+        path: output file (written atomically).
+
+    Returns:
+        The path.
+    """
+    arrays = _arrays(prep)
+
+    def write(p: Path) -> None:
+        with open(p, "wb") as fh:
+            np.savez(fh, **arrays)
+
+    _atomic(Path(path), write)
+    return Path(path)
+
+
+def load_condensed(path: str | Path) -> CondensedBody:
+    """Load and validate a condensed body file.
+
+    Args:
+        path: ``.npz`` written by :func:`save_condensed` / ``fem-prep build``.
+
+    Returns:
+        The :class:`CondensedBody`.
+
+    Raises:
+        FileNotFoundError: no such file.
+        ValueError: truncated/corrupt file, wrong format or version, a missing key, an array
+            of the wrong shape, or an input hash that does not match the stored input.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"condensed body file {str(path)!r} not found")
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            data = {k: z[k] for k in z.files}
+    except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError) as exc:
+        raise ValueError(f"{path}: not a readable .npz (truncated or corrupt file): {exc}") from exc
+    missing = [k for k in _REQUIRED if k not in data]
+    if missing:
+        raise ValueError(f"{path}: missing key(s) {', '.join(missing)}; rebuild with fem-prep")
+    if str(data["format"]) != FORMAT:
+        raise ValueError(f"{path}: format {str(data['format'])!r}, expected {FORMAT!r}")
+    ver = int(data["format_version"])
+    if ver != FORMAT_VERSION:
+        raise ValueError(
+            f"{path}: format_version {ver} is not supported (this fem_prep reads "
+            f"{FORMAT_VERSION}); rebuild with fem-prep"
+        )
+    text = str(data["input_toml"])
+    sha = str(data["input_sha256"])
+    if hashlib.sha256(text.encode()).hexdigest() != sha:
+        raise ValueError(f"{path}: input_sha256 does not match the stored input (hash mismatch)")
+
+    def shape_err(key: str, expected: str) -> ValueError:
+        return ValueError(f"{path}: {key} has shape {data[key].shape}, expected {expected}")
+
+    K, M = data["K"], data["M"]
+    if K.ndim != 2 or K.shape[0] != K.shape[1]:
+        raise shape_err("K", "(n_c, n_c)")
+    n = K.shape[0]
+    for key in ("M", "spin_softening"):
+        if key in data and data[key].shape != (n, n):
+            raise shape_err(key, f"({n}, {n})")
+    if data["f_centrifugal"].shape != (n,):
+        raise shape_err("f_centrifugal", f"({n},)")
+    if data["dof_map"].shape != (n, 2):
+        raise shape_err("dof_map", f"({n}, 2)")
+    mc = data["master_coords"]
+    if mc.ndim != 2 or mc.shape[1] != 3:
+        raise shape_err("master_coords", "(n_masters, 3)")
+    if data["master_kind"].shape != (mc.shape[0],):
+        raise shape_err("master_kind", f"({mc.shape[0]},)")
+    kind = data["master_kind"]
+    n_b = int(3 * np.sum(kind == 0) + 6 * np.sum(kind == 1))
+    n_modes = n - n_b
+    if n_modes < 0 or data["modes_hz"].shape != (n_modes,):
+        raise shape_err("modes_hz", f"({n_modes},) (n_c minus master DOFs)")
+    if data["rim_grid"].ndim != 2 or data["rim_grid"].size != int(np.sum(kind == 0)):
+        raise shape_err("rim_grid", "(teeth, n_axial)")
+    rc = data["recovery_coords"]
+    if rc.ndim != 2 or rc.shape[1] != 3:
+        raise shape_err("recovery_coords", "(n_rec, 3)")
+    if data["recovery"].shape != (3 * rc.shape[0], n):
+        raise shape_err("recovery", f"({3 * rc.shape[0]}, {n})")
+    cells = data["recovery_cells"]
+    if cells.ndim != 2 or cells.shape[1] != 8 or (cells.size and cells.max() >= rc.shape[0]):
+        raise shape_err("recovery_cells", f"(n_cells, 8) with indices < {rc.shape[0]}")
+    if not (np.all(np.isfinite(K)) and np.all(np.isfinite(M))):
+        raise ValueError(f"{path}: K or M contains non-finite values")
+    try:
+        meta = json.loads(str(data["metadata"]))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: metadata is not valid JSON: {exc}") from exc
+    return CondensedBody(
+        K=K,
+        M=M,
+        f_centrifugal=data["f_centrifugal"],
+        spin_softening=data.get("spin_softening"),
+        master_coords=mc,
+        master_kind=kind,
+        rim_grid=data["rim_grid"],
+        dof_map=data["dof_map"],
+        modes_hz=data["modes_hz"],
+        recovery_coords=rc,
+        recovery_cells=cells,
+        recovery=data["recovery"],
+        metadata=meta,
+        input_toml=text,
+        input_sha256=sha,
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# VTU and summary
+
+
+def write_vtu(prep: Any, path: str | Path) -> Path:
+    """Write the mesh (corner nodes, linear hexahedra) with mode shapes and the centrifugal
+    deflection as point data (meshio ``.vtu`` for ParaView).
+
+    Point data: ``centrifugal_displacement`` (m, at ``[centrifugal] speed_rad_s``, bearings
+    held) and ``mode_XX_<f>Hz_ND<n>`` (mass-normalised shapes) for the first ``vtu_modes``
+    modes; cell data: ``region`` (0 hub/stub, 1 web, 2 rim).
+    """
+    import meshio
+
+    bm = prep.mesh
+    nv = bm.n_vertices
+    pdata = {"centrifugal_displacement": prep.centrifugal_displacement.reshape(-1, 3)[:nv]}
+    for k in range(min(prep.body.vtu_modes, prep.mode_shapes.shape[1])):
+        fam = prep.families[k]
+        name = f"mode_{k + 1:02d}_{fam.frequency_hz:.0f}Hz_ND{fam.nodal_diameters}"
+        pdata[name] = prep.mode_shapes[:, k].reshape(-1, 3)[:nv]
+    mesh = meshio.Mesh(
+        bm.nodes[:nv],
+        [("hexahedron", bm.cells)],
+        point_data=pdata,
+        cell_data={"region": [bm.region.astype(np.int32)]},
+    )
+    _atomic(Path(path), lambda p: meshio.write(str(p), mesh, file_format="vtu"))
+    return Path(path)
+
+
+def _versions() -> dict[str, str]:
+    import scipy
+    import skfem
+
+    return {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "scipy": scipy.__version__,
+        "scikit-fem": getattr(skfem, "__version__", "?"),
+        "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
+        "cpus": str(os.cpu_count()),
+    }
+
+
+def summary_dict(prep: Any) -> dict[str, Any]:
+    """The ``summary.json`` content of a pipeline result (see ``docs/fem_prep.md``)."""
+    from ._modal import critical_speeds
+
+    body = prep.body
+    return {
+        "name": body.name,
+        "n_nodes": prep.mesh.n_nodes,
+        "n_dofs": prep.mesh.n_dofs,
+        "n_elements": int(prep.mesh.mesh.nelements),
+        "element": prep.mesh.element,
+        "mass_kg": prep.operators.mass,
+        "method": prep.condensed.method,
+        "n_master_dofs": int(len(prep.master_dofs)),
+        "n_modes": int(prep.condensed.n_modes),
+        "n_condensed_dofs": int(prep.condensed.K.shape[0]),
+        "support": body.support,
+        "frequencies_full_hz": [float(x) for x in prep.frequencies_full_hz],
+        "frequencies_condensed_hz": [float(x) for x in prep.frequencies_condensed_hz],
+        "speed_rad_s": body.speed,
+        "centrifugal_rim_radial_displacement_m": prep.rim_radial_displacement,
+        "centrifugal_rim_radial_displacement_condensed_m": prep.rim_radial_displacement_condensed,
+        "modes": critical_speeds(body.condensation.teeth, prep.families),
+        "timings_s": {k: round(v, 3) for k, v in prep.timings.items()},
+        "body_sha256": body.sha256,
+        "input_sha256": body.text_sha256,
+        "format_version": FORMAT_VERSION,
+        "versions": _versions(),
+    }
+
+
+# ------------------------------------------------------------------------------------------
+# cache and build
+
+
+def cache_dir() -> Path:
+    """Cache directory: ``$FEM_PREP_CACHE`` or ``~/.cache/jaxgear/fem_prep``."""
+    env = os.environ.get("FEM_PREP_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "jaxgear" / "fem_prep"
+
+
+def _cache_key(body: Body) -> str:
+    return hashlib.sha256(f"{body.sha256}:v{FORMAT_VERSION}".encode()).hexdigest()[:32]
+
+
+def _json_default(o: Any) -> Any:
+    if isinstance(o, float) and not math.isfinite(o):
+        return None
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    raise TypeError(str(type(o)))
+
+
+def build(
+    source: str | Path | Body,
+    out_dir: str | Path | None = None,
+    *,
+    use_cache: bool = True,
+    progress: bool = False,
+) -> dict[str, Any]:
+    """Build (or fetch from the cache) a condensed body and write its outputs.
+
+    Writes ``<out_dir>/<name>.npz``, ``<out_dir>/<name>.vtu`` and ``<out_dir>/summary.json``.
+    The cache (``cache_dir()/<key>/``, key = hash of the parsed body and the format version)
+    keeps the three files, so the same body is never condensed twice.
+
+    Args:
+        source: body file path, embedded body name or a :class:`Body`.
+        out_dir: output directory; default ``fem-prep-out/<name>``.
+        use_cache: read/write the cache.
+        progress: show progress bars.
+
+    Returns:
+        The summary dict, plus ``"cache_hit"`` and ``"files"`` (paths written).
+    """
+    from ._prepare import prepare
+
+    body = source if isinstance(source, Body) else load_body(source)
+    out = Path(out_dir) if out_dir is not None else Path("fem-prep-out") / body.name
+    names = {"npz": f"{body.name}.npz", "vtu": f"{body.name}.vtu", "summary": "summary.json"}
+    cdir = cache_dir() / _cache_key(body)
+    hit = False
+    if use_cache and all((cdir / n).is_file() for n in names.values()):
+        try:
+            load_condensed(cdir / names["npz"])
+            summary = json.loads((cdir / names["summary"]).read_text())
+            hit = True
+        except (ValueError, json.JSONDecodeError):
+            hit = False
+    if not hit:
+        prep = prepare(body, progress=progress)
+        summary = summary_dict(prep)
+        target = cdir if use_cache else out
+        save_condensed(prep, target / names["npz"])
+        write_vtu(prep, target / names["vtu"])
+        _atomic_text(target / names["summary"], json.dumps(summary, indent=2, default=_json_default))
+    if hit or use_cache:
+        for n in names.values():
+            _atomic_copy(cdir / n, out / n)
+    summary = dict(summary)
+    summary["cache_hit"] = hit
+    summary["files"] = {k: str(out / n) for k, n in names.items()}
+    return summary
