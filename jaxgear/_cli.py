@@ -24,7 +24,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     sub.add_parser("cases", help="list the embedded cases")
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
-    b.add_argument("what", choices=["quasi-static", "optimise"], help="which benchmark")
+    b.add_argument("what", choices=["quasi-static", "optimise", "dynamics"], help="which benchmark")
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
     pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (same as fem-prep build)")
@@ -105,6 +105,11 @@ def main(argv: list[str] | None = None) -> int:
 
             return run_sweep(args)
         if args.command == "bench":
+            if args.what == "dynamics":
+                from ._bench_dynamics import bench_dynamics
+
+                print(json.dumps(bench_dynamics(args.out, quick=args.quick), indent=2))
+                return 0
             if args.what == "optimise":
                 from optimise._bench import bench_optimise
 

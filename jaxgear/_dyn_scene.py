@@ -37,8 +37,16 @@ from ._baseplane import MeshModel
 from ._scene import Scene
 from ._util import as_float
 
-__all__ = ["DynamicScene", "TorsionalDynamics", "RelativeApproach", "ModalAnalysis",
-           "modal_analysis", "damping_matrix", "Damping", "disc_inertia"]
+__all__ = [
+    "Damping",
+    "DynamicScene",
+    "ModalAnalysis",
+    "RelativeApproach",
+    "TorsionalDynamics",
+    "damping_matrix",
+    "disc_inertia",
+    "modal_analysis",
+]
 
 
 def disc_inertia(density: float, radius: float, width: float) -> float:
@@ -146,7 +154,7 @@ class TorsionalDynamics(DynamicScene):
         r = jnp.where(jnp.arange(self.n_dof) <= self.pinion_index, rp, rg)
         return r[:, None]
 
-    def reduced(self) -> "RelativeApproach":
+    def reduced(self) -> RelativeApproach:
         """The 1-DOF relative-approach reduction (only for a rigid pinion-gear chain)."""
         if self.has_motor or self.has_load:
             raise ValueError("the relative-approach reduction needs a pinion-gear pair without "

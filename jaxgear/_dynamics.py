@@ -45,8 +45,18 @@ from ._dyn_scene import Damping, DynamicScene, ModalAnalysis, damping_matrix, mo
 from ._modifications import Modifications
 from ._quasi_static import mesh_positions, separation
 
-__all__ = ["DYNAMICS_RESULTS", "DynamicModel", "DynamicResult", "SweepResult", "MeshTable",
-           "dynamic_model", "mesh_table", "simulate", "speed_sweep", "DIFFRAX_SOLVERS"]
+__all__ = [
+    "DIFFRAX_SOLVERS",
+    "DYNAMICS_RESULTS",
+    "DynamicModel",
+    "DynamicResult",
+    "MeshTable",
+    "SweepResult",
+    "dynamic_model",
+    "mesh_table",
+    "simulate",
+    "speed_sweep",
+]
 
 DYNAMICS_RESULTS = {
     0: "converged",
@@ -491,7 +501,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final_state=final, iterations=jnp.asarray(it), result=jnp.asarray(code))
 
 
-def _prep(model, width, cfg: _Config) -> "_Prepared":
+def _prep(model, width, cfg: _Config) -> _Prepared:
     return _prepare(model.scene, model.mods, model.torque, width, cfg.steps_per_period,
                     cfg.contact, cfg.max_iterations)
 

@@ -39,7 +39,6 @@ import math
 import os
 import platform
 import time
-
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -47,8 +46,14 @@ import numpy as np
 if TYPE_CHECKING:  # importing this module stays free of JAX (the CLI builds its parser early)
     from ._case import Case
 
-__all__ = ["SceneSpec", "parse_scene", "build_dynamic_model", "add_sweep_parser", "run_sweep",
-           "sweep_case"]
+__all__ = [
+    "SceneSpec",
+    "add_sweep_parser",
+    "build_dynamic_model",
+    "parse_scene",
+    "run_sweep",
+    "sweep_case",
+]
 
 _SCENE_KEYS = {"model", "reduction", "pinion_inertia_kg_m2", "gear_inertia_kg_m2",
                "motor_inertia_kg_m2", "motor_shaft_stiffness_Nm_per_rad", "load_inertia_kg_m2",
@@ -348,7 +353,7 @@ def _plots(summary: dict, out_dir: str, z1: int) -> None:
         plt.close(fig)
 
     sp = np.asarray(summary["speeds_rad_s"], dtype=float)
-    nan = lambda v: np.asarray([np.nan if x is None else x for x in v], dtype=float)  # noqa: E731
+    nan = lambda v: np.asarray([np.nan if x is None else x for x in v], dtype=float)
     fig, ax = plt.subplots(figsize=(8, 4.5))
     label = {"independent": "from static equilibrium", "up": "sweep up", "down": "sweep down",
              "both": "sweep up"}[summary["direction"]]
