@@ -183,3 +183,17 @@ def test_continuation_matches_independent_away_from_jumps(small_model):
     ind = jg.speed_sweep(small_model, speeds, **kw)
     up = jg.speed_sweep(small_model, speeds, direction="up", chunk_size=3, **kw)
     np.testing.assert_allclose(up.dynamic_factor, ind.dynamic_factor, rtol=2e-3)
+
+
+@pytest.mark.slow
+def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("speed_sweep", ROOT / "examples" / "speed_sweep.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    out = mod.main(str(tmp_path), n_speeds=16, periods=30)
+    (up_r, down_r), (up_u, down_u) = out["curves"]["tip relief 15 µm"], out["curves"]["unmodified"]
+    assert max(up_r.max(), down_r.max()) < 0.6 * max(up_u.max(), down_u.max())  # Fig. IV-4
+    assert np.abs(up_u - down_u).max() > 0.3 > np.abs(up_r - down_r).max()
+    assert (tmp_path / "speed_sweep.png").exists()
