@@ -1,0 +1,141 @@
+"""3D lumped scene: Timoshenko shaft elements, structure vectors, stiff limit, modal energies."""
+
+import math
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+from jaxgear._dyn_lumped import Bearing, ShaftSpec, _shaft, lumped_pair, timoshenko_element
+from jaxgear._dynamics import _prepare
+
+
+def _timoshenko_ss(E, G, rho, d, L, kappa, mode=1):
+    """Simply supported Timoshenko beam: the lower root of
+    (ρAω² − κGAk²)(ρIω² − EIk² − κGA) + (κGAk)² = 0, k = nπ/L."""
+    A, I = math.pi * d**2 / 4, math.pi * d**4 / 64  # noqa: E741
+    k = mode * math.pi / L
+    a = rho * A * rho * I
+    b = -(rho * A * (E * I * k**2 + kappa * G * A) + rho * I * kappa * G * A * k**2)
+    c = kappa * G * A * k**2 * (E * I * k**2 + kappa * G * A) - (kappa * G * A * k) ** 2
+    w2 = (-b - math.sqrt(b * b - 4 * a * c)) / (2 * a)
+    return math.sqrt(w2)
+
+
+@pytest.mark.parametrize("d", [0.01, 0.08])  # slender (L/d = 50) and thick (L/d = 6.25)
+def test_timoshenko_shaft_matches_simply_supported_beam(d):
+    E, nu, rho, L, kappa = 210e9, 0.3, 7800.0, 0.5, 0.9
+    G = E / (2 * (1 + nu))
+    pinned = 1e16
+    spec = ShaftSpec(length=L, diameter=d, gear_z=L / 2,
+                     bearings=(Bearing(0.0, pinned, pinned, 0.0), Bearing(L, pinned, 0.0, 0.0)),
+                     elements=24)
+    nodes, K, M, Kb, _, _ = _shaft(spec, E, G, rho)
+    lam = scipy.linalg.eigh(K + Kb, M, eigvals_only=True)
+    w = np.sqrt(np.clip(lam, 0, None))
+    w_ref = _timoshenko_ss(E, G, rho, d, L, kappa)
+    bending = w[w > 1.0][:2]  # the first bending pair (x–z and y–z planes); torsion is free
+    np.testing.assert_allclose(bending, w_ref, rtol=2e-3)
+    w_eb = (math.pi / L) ** 2 * math.sqrt(E * (math.pi * d**4 / 64) / (rho * math.pi * d**2 / 4))
+    if d > 0.05:
+        assert w_ref < 0.98 * w_eb  # shear and rotary inertia matter for the thick shaft
+    else:
+        assert w_ref == pytest.approx(w_eb, rel=2e-3)
+
+
+def test_element_symmetry_and_rigid_modes():
+    K, M = timoshenko_element(210e9, 80.8e9, 7800.0, 0.03, 0.05)
+    np.testing.assert_allclose(K, K.T, atol=1e-6 * np.abs(K).max())
+    assert np.all(np.linalg.eigvalsh(M) > 0)
+    # six rigid-body motions of a straight element cost no strain energy
+    L = 0.05
+    rig = []
+    for d in range(3):
+        v = np.zeros(12)
+        v[d] = v[6 + d] = 1.0
+        rig.append(v)
+    # rotation about x: u_y = −φ_x z, about y: u_x = φ_y z, about z: φ_z
+    rx = np.zeros(12)
+    rx[[3, 9]] = 1.0
+    rx[7] = -L
+    ry = np.zeros(12)
+    ry[[4, 10]] = 1.0
+    ry[6] = L
+    rz = np.zeros(12)
+    rz[[5, 11]] = 1.0
+    for v in rig + [rx, ry, rz]:
+        assert np.abs(K @ v).max() < 1e-9 * np.abs(K).max()
+
+
+def _accessory_lumped(case, radial, diameter=0.03, slices=4):
+    p = case.pair
+    mesh = case.mesh_model(slices=slices)
+
+    def disc(r, b):
+        m = case.density * math.pi * r * r * b
+        return m, (m * r * r / 4 + m * b * b / 12, m * r * r / 2)
+
+    m1, i1 = disc(p.tip_radii[0], p.pinion.face_width)
+    m2, i2 = disc(p.tip_radii[1], p.gear.face_width)
+
+    def shaft():
+        return ShaftSpec(length=0.1, diameter=diameter, gear_z=0.05, elements=4,
+                         bearings=(Bearing(0.0, radial, radial, 0.0), Bearing(0.1, radial, 0.0, 0.0)))
+
+    return lumped_pair(p, mesh, shaft(), shaft(), masses=(m1, m2), inertias=(i1, i2))
+
+
+def test_structure_vectors_reduce_to_torsional_and_rigid_mode_is_free():
+    case = jg.load_case("power-helical")
+    scene = _accessory_lumped(case, 2e8, slices=3)
+    cells = scene.mesh.cells(jnp.asarray(0.01))
+    V = np.asarray(scene.cell_vectors(cells))
+    p = case.pair
+    cb, sb = math.cos(p.base_helix_angle), math.sin(p.base_helix_angle)
+    i, j = scene.gear_dofs
+    # torsional part: cos β_b (r_b1 φ_z1 + r_b2 φ_z2), i.e. cos β_b (r_b1 θ1 − r_b2 θ2)
+    np.testing.assert_allclose(V[..., i + 5], cb * p.base_radii[0], rtol=1e-12)
+    np.testing.assert_allclose(V[..., j + 5], cb * p.base_radii[1], rtol=1e-12)
+    # helical: axial coupling sin β_b on the translations, opposite on the gear
+    np.testing.assert_allclose(V[..., i + 2], sb, rtol=1e-12)
+    np.testing.assert_allclose(V[..., j + 2], -sb, rtol=1e-12)
+    # tilting couplings vary across the face (lever arm z − b/2)
+    assert np.ptp(V[..., i + 3]) > 0 or np.ptp(V[..., i + 4]) > 0
+    r = np.asarray(scene.rigid_modes())[:, 0]
+    assert np.abs(V @ r).max() < 1e-12
+    assert abs(np.asarray(scene.external_load(jnp.asarray(310.0))) @ r) < 1e-9
+
+
+def test_stiff_shafts_and_bearings_recover_the_rigid_mesh_te():
+    case = jg.load_case("accessory-spur")
+    qs = jg.quasi_static(case.mesh_model(slices=4), case.modifications, case.torque,
+                         positions_per_pitch=16)
+    out = {}
+    for radial, d in ((1e14, 0.4), (2e8, 0.03)):
+        scene = _accessory_lumped(case, radial, diameter=d)
+        prep = _prepare(scene, case.modifications, jnp.asarray(case.torque), jnp.asarray(1e-7), 16,
+                        "exact", 100)
+        assert np.all(np.asarray(prep.static_result) == 0)
+        te = np.asarray(prep.static_x @ scene.te_vector() - prep.table.e_max)
+        out[radial] = te
+    np.testing.assert_allclose(out[1e14], np.asarray(qs.transmission_error), rtol=2e-3)
+    # flexible shafts and bearings add to the mean TE, not to its fluctuation (spur, torsional V)
+    assert out[2e8].mean() > 2 * out[1e14].mean()
+    assert 15e-6 < out[2e8].mean() < 80e-6  # seed Tab. III-4: 19–41 µm with shafts and bearings
+
+
+def test_lumped_modes_energy_and_simulation():
+    case = jg.load_case("accessory-spur")
+    scene = _accessory_lumped(case, 2e8)
+    model = jg.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    modes = model.modes
+    assert modes.parts == ("mesh", "pinion_shaft", "gear_shaft", "bearings")
+    assert int(np.sum(np.asarray(modes.rigid))) == 1
+    e = np.asarray(modes.energy)[:, ~np.asarray(modes.rigid)]
+    np.testing.assert_allclose(e.sum(axis=0), 1.0, rtol=1e-9)
+    assert np.all(e > -1e-9)
+    r = jg.simulate(model, 800.0, steps_per_period=16, periods=6, keep_periods=2)
+    assert int(r.result) == 0
+    assert 1.0 < float(r.dynamic_factor) < 3.0
