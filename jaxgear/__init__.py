@@ -42,6 +42,13 @@ from ._dyn_scene import (
     disc_inertia as disc_inertia,
     modal_analysis as modal_analysis,
 )
+from ._dyn_lumped import (
+    Bearing as Bearing,
+    LumpedPair as LumpedPair,
+    ShaftSpec as ShaftSpec,
+    lumped_pair as lumped_pair,
+    timoshenko_element as timoshenko_element,
+)
 from ._dynamics import (
     DYNAMICS_RESULTS as DYNAMICS_RESULTS,
     DynamicModel as DynamicModel,

@@ -5,7 +5,7 @@
 .. code-block:: toml
 
     [scene]
-    model = "torsional"                  # the only model so far ("lumped3d": not yet)
+    model = "torsional"                  # or "lumped3d" (shafts + bearings, see docs/dynamics.md)
     reduction = "none"                   # or "relative": the 1-DOF relative approach
     pinion_inertia_kg_m2 = 2.4e-4        # default: solid disc, tip radius × face width × density
     gear_inertia_kg_m2 = 2.3e-3
@@ -57,7 +57,11 @@ __all__ = [
 
 _SCENE_KEYS = {"model", "reduction", "pinion_inertia_kg_m2", "gear_inertia_kg_m2",
                "motor_inertia_kg_m2", "motor_shaft_stiffness_Nm_per_rad", "load_inertia_kg_m2",
-               "load_shaft_stiffness_Nm_per_rad", "damping", "integration"}
+               "load_shaft_stiffness_Nm_per_rad", "damping", "integration", "pinion_mass_kg",
+               "gear_mass_kg", "pinion_shaft", "gear_shaft"}
+_SHAFT_KEYS = {"length_mm", "diameter_mm", "gear_position_mm", "torque_position_mm", "elements",
+               "bearings"}
+_BEARING_KEYS = {"position_mm", "radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad"}
 _DAMPING_KEYS = {"model", "ratio", "alpha_per_s", "beta_s", "mesh_ratio", "structure_ratio"}
 _INTEGRATION_KEYS = {"solver", "contact", "steps_per_period", "periods", "keep_periods", "rtol",
                      "atol"}
@@ -88,6 +92,57 @@ class SceneSpec:
     keep_periods: int = 4
     rtol: float = 1e-6
     atol: float = 1e-6
+    pinion_mass: float | None = None
+    gear_mass: float | None = None
+    pinion_shaft: object = None  # ShaftSpec (lumped3d)
+    gear_shaft: object = None
+
+
+def _parse_shaft(table, where: str):
+    from ._dyn_lumped import Bearing, ShaftSpec
+
+    if not isinstance(table, dict):
+        raise ValueError(f"[{where}] must be a table")
+    _unknown(table, _SHAFT_KEYS, f"[{where}] ")
+    for key in ("length_mm", "diameter_mm", "gear_position_mm", "bearings"):
+        if key not in table:
+            raise ValueError(f"missing required key [{where}] {key}")
+    length = _number(table, "length_mm", where) * 1e-3
+    diameter = _number(table, "diameter_mm", where) * 1e-3
+    gear_z = _number(table, "gear_position_mm", where, nonneg=True) * 1e-3
+    torque_z = (_number(table, "torque_position_mm", where, nonneg=True) * 1e-3
+                if "torque_position_mm" in table else 0.0)
+    elements = _number(table, "elements", where, integer=True) if "elements" in table else 4
+    bearings = table["bearings"]
+    if not isinstance(bearings, list) or not bearings:
+        raise ValueError(f"[{where}] bearings must be a non-empty list of tables, e.g. "
+                         "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]")
+    out = []
+    for i, b in enumerate(bearings):
+        w = f"{where}.bearings[{i}]"
+        if not isinstance(b, dict):
+            raise ValueError(f"[{w}] must be a table")
+        _unknown(b, _BEARING_KEYS, f"[{w}] ")
+        if "position_mm" not in b:
+            raise ValueError(f"missing required key [{w}] position_mm")
+        out.append(Bearing(
+            z=_number(b, "position_mm", w, nonneg=True) * 1e-3,
+            radial=_number(b, "radial_N_per_um", w, nonneg=True) * 1e6 if "radial_N_per_um" in b else 2e8,
+            axial=_number(b, "axial_N_per_um", w, nonneg=True) * 1e6 if "axial_N_per_um" in b else 0.0,
+            tilt=_number(b, "tilt_Nm_per_rad", w, nonneg=True) if "tilt_Nm_per_rad" in b else 0.0))
+    for name, z in (("gear_position_mm", gear_z), ("torque_position_mm", torque_z),
+                    *((f"bearings[{i}].position_mm", b.z) for i, b in enumerate(out))):
+        if z > length * (1 + 1e-12):
+            raise ValueError(f"[{where}] {name} = {z * 1e3:g} is beyond the shaft length "
+                             f"{length * 1e3:g} mm")
+    if not any(b.axial > 0 for b in out):
+        raise ValueError(f"[{where}] needs an axial stiffness on at least one bearing "
+                         "(axial_N_per_um > 0)")
+    if sum(b.radial > 0 for b in out) < 2 and not any(b.tilt > 0 for b in out):
+        raise ValueError(f"[{where}] needs two radial bearings (or a tilt stiffness) to hold "
+                         "the shaft")
+    return ShaftSpec(length=length, diameter=diameter, gear_z=gear_z, bearings=tuple(out),
+                     torque_z=torque_z, elements=elements)
 
 
 def _unknown(table: dict, allowed: set, where: str) -> None:
@@ -125,10 +180,27 @@ def parse_scene(table: dict | None) -> SceneSpec:
     _unknown(table, _SCENE_KEYS, "[scene] ")
     kw: dict = {}
     model = table.get("model", "torsional")
+    if model not in ("torsional", "lumped3d"):
+        raise ValueError(f"[scene] model = {model!r}: allowed 'torsional', 'lumped3d'")
     if model == "lumped3d":
-        raise ValueError("[scene] model = 'lumped3d' is not implemented yet: use 'torsional'")
-    if model != "torsional":
-        raise ValueError(f"[scene] model = {model!r}: allowed 'torsional'")
+        for key in ("pinion_shaft", "gear_shaft"):
+            if key not in table:
+                raise ValueError(f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
+            kw[key] = _parse_shaft(table[key], f"scene.{key}")
+        for key in ("motor_inertia_kg_m2", "load_inertia_kg_m2", "motor_shaft_stiffness_Nm_per_rad",
+                    "load_shaft_stiffness_Nm_per_rad"):
+            if key in table:
+                raise ValueError(f"[scene] {key} is for model = 'torsional' (lumped3d: the torque "
+                                 "acts at the shafts' torque_position_mm)")
+        if table.get("reduction", "none") != "none":
+            raise ValueError("[scene] reduction applies to model = 'torsional' only")
+    else:
+        for key in ("pinion_shaft", "gear_shaft", "pinion_mass_kg", "gear_mass_kg"):
+            if key in table:
+                raise ValueError(f"[scene] {key} is for model = 'lumped3d'")
+    for key, field in (("pinion_mass_kg", "pinion_mass"), ("gear_mass_kg", "gear_mass")):
+        if key in table:
+            kw[field] = _number(table, key, "scene")
     reduction = table.get("reduction", "none")
     if reduction not in ("none", "relative"):
         raise ValueError(f"[scene] reduction = {reduction!r}: allowed 'none', 'relative'")
@@ -204,12 +276,25 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
     mesh = case.mesh_model(slices=slices)
     i1 = spec.pinion_inertia or disc_inertia(case.density, pair.tip_radii[0], pair.pinion.face_width)
     i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
-    has_m, has_l = spec.motor_inertia is not None, spec.load_inertia is not None
-    scene = TorsionalDynamics(mesh, i1, i2, spec.motor_inertia or 1.0, spec.load_inertia or 1.0,
-                              spec.motor_shaft or 1.0, spec.load_shaft or 1.0,
-                              has_motor=has_m, has_load=has_l)
-    if spec.reduction == "relative":
-        scene = scene.reduced()
+    if spec.model == "lumped3d":
+        from ._dyn_lumped import lumped_pair
+
+        body = []
+        for r, b, m, ip in ((pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
+                            (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2)):
+            m = m or case.density * math.pi * r * r * b
+            body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+        scene = lumped_pair(pair, mesh, spec.pinion_shaft, spec.gear_shaft,
+                            masses=(body[0][0], body[1][0]), inertias=(body[0][1], body[1][1]),
+                            youngs_modulus=case.youngs_modulus, poisson_ratio=case.poisson_ratio,
+                            density=case.density)
+    else:
+        has_m, has_l = spec.motor_inertia is not None, spec.load_inertia is not None
+        scene = TorsionalDynamics(mesh, i1, i2, spec.motor_inertia or 1.0, spec.load_inertia or 1.0,
+                                  spec.motor_shaft or 1.0, spec.load_shaft or 1.0,
+                                  has_motor=has_m, has_load=has_l)
+        if spec.reduction == "relative":
+            scene = scene.reduced()
     damping = Damping(spec.damping_model, ratio=spec.damping_ratio, alpha=spec.rayleigh_alpha,
                       beta=spec.rayleigh_beta, mesh_ratio=spec.mesh_ratio,
                       structure_ratio=spec.structure_ratio)
@@ -439,7 +524,7 @@ def run_sweep(args) -> int:
     n_bad = sum(1 for v in s["result"] if v)
     print(f"{case.name}: {len(df)} speeds, max dynamic factor {df[i]:.3f} at "
           f"{s['speeds_rad_s'][i]:.1f} rad/s; first natural frequencies "
-          f"{', '.join(f'{f:.0f}' for f in s['natural_frequencies_Hz'] if f)} Hz; "
+          f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
           f"{n_bad} diverged; {s['elapsed_s']:.1f} s")
     print(f"written to {out}/")
     return 0

@@ -17,6 +17,11 @@ from jaxgear._sweep import _SOLVER_NAMES, SceneSpec, build_dynamic_model, parse_
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
+SHAFT = {"length_mm": 100.0, "diameter_mm": 30.0, "gear_position_mm": 50.0,
+         "bearings": [{"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0},
+                      {"position_mm": 100.0, "radial_N_per_um": 200.0}]}
+
+
 def test_scene_defaults_and_validation():
     assert parse_scene(None) == SceneSpec()
     s = parse_scene({"model": "torsional", "motor_inertia_kg_m2": 0.01,
@@ -30,7 +35,15 @@ def test_scene_defaults_and_validation():
         ({"inertia": 1.0}, "'inertia'"),
         ({"damping": {"zeta": 0.1}}, "'zeta'"),
         ({"integration": {"dt": 1e-6}}, "'dt'"),
-        ({"model": "lumped3d"}, "not implemented"),
+        ({"model": "lumped3d"}, "pinion_shaft"),
+        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "bore": 1}, "gear_shaft": SHAFT}, "'bore'"),
+        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "bearings": [{"position_mm": 0.0,
+          "radial_N_per_um": 200.0, "stiff": 1}]}, "gear_shaft": SHAFT}, "'stiff'"),
+        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "gear_position_mm": 500.0},
+          "gear_shaft": SHAFT}, "beyond the shaft length"),
+        ({"model": "lumped3d", "pinion_shaft": SHAFT, "gear_shaft": SHAFT,
+          "motor_inertia_kg_m2": 1.0}, "torsional"),
+        ({"pinion_shaft": SHAFT}, "lumped3d"),
         ({"model": "beam"}, "model"),
         ({"motor_inertia_kg_m2": 0.01}, "go together"),
         ({"pinion_inertia_kg_m2": -1.0}, "pinion_inertia_kg_m2"),
@@ -197,3 +210,34 @@ def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
     assert max(up_r.max(), down_r.max()) < 0.6 * max(up_u.max(), down_u.max())  # Fig. IV-4
     assert np.abs(up_u - down_u).max() > 0.3 > np.abs(up_r - down_r).max()
     assert (tmp_path / "speed_sweep.png").exists()
+
+
+def test_cli_sweep_lumped3d_scene(tmp_path):
+    text = CASE + textwrap.dedent("""
+        [scene.pinion_shaft]
+        length_mm = 100.0
+        diameter_mm = 30.0
+        gear_position_mm = 50.0
+        elements = 2
+        bearings = [{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 },
+                    { position_mm = 100.0, radial_N_per_um = 200.0 }]
+        [scene.gear_shaft]
+        length_mm = 100.0
+        diameter_mm = 35.0
+        gear_position_mm = 50.0
+        torque_position_mm = 100.0
+        elements = 2
+        bearings = [{ position_mm = 0.0, radial_N_per_um = 300.0, axial_N_per_um = 100.0 },
+                    { position_mm = 100.0, radial_N_per_um = 300.0 }]
+    """)
+    text = text.replace('model = "torsional"', 'model = "lumped3d"')
+    case = tmp_path / "lumped.toml"
+    case.write_text(text)
+    out = tmp_path / "out"
+    assert main(["sweep", str(case), "--speeds", "400:1200:3", "--periods", "4", "--out",
+                 str(out), "--quiet"]) == 0
+    data = json.loads((out / "sweep.json").read_text())
+    assert data["model"] == "lumped3d"
+    assert data["modal_energy_parts"] == ["mesh", "pinion_shaft", "gear_shaft", "bearings"]
+    assert all(r == 0 for r in data["result"])
+    assert len(data["natural_frequencies_Hz"]) == 6 * (3 + 3)  # 3 nodes per shaft
