@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-__all__ = ["bench_dynamics"]
+__all__ = ["bench_dynamics", "stability_map"]
 
 
 def _numpy_model(model, width):
@@ -173,7 +173,113 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
                      "dtype": str(df_jax.dtype), "python": platform.python_version(),
                      "machine": platform.machine()},
     }
+    summary["stability_map"] = stability_map(out_dir, quick=quick)
     os.makedirs(out_dir, exist_ok=True)
     with atomic_open(os.path.join(out_dir, "bench_dynamics.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+def stability_map(out_dir: str, *, quick: bool = False) -> dict:
+    """Error against a converged reference and run time, per solver and contact law, over steps per
+    mesh period and smoothing widths, at a resonant and a non-resonant speed (accessory pair with
+    its tip relief, modal damping 3 %: contact loss at the resonant speed). Diverged runs
+    (result != 0) are marked.
+
+    Writes ``stability_map.json`` and ``stability_map.png``; returns the dict.
+    """
+    import jax
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ._case import load_case
+    from ._dyn_scene import Damping, TorsionalDynamics, disc_inertia
+    from ._dynamics import dynamic_model, speed_sweep
+    from ._util import atomic_open
+
+    case = load_case("accessory-spur").replace(slices=4)
+    p = case.pair
+    scene = TorsionalDynamics(case.mesh_model(),
+                              disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+                              disc_inertia(case.density, p.tip_radii[1], p.gear.face_width))
+    model = dynamic_model(scene, case.modifications, case.torque, Damping("modal", ratio=0.03),
+                          positions_per_pitch=32)
+    cs = float(model.critical_speeds()[1])
+    speeds = np.array([0.98 * cs, 1.5 * cs])  # resonant (contact loss), non-resonant
+    periods, keep = (12, 2) if quick else (30, 4)
+    steps = (16, 64) if quick else (8, 16, 32, 64, 128)
+    widths = (1e-7,) if quick else (1e-8, 1e-7, 1e-6)
+    base = dict(periods=periods, keep_periods=keep)
+    ref = speed_sweep(model, speeds, steps_per_period=512 if not quick else 256, **base)
+    df_ref = np.asarray(ref.dynamic_factor)
+    methods = [("newmark", "exact", (None,)), ("newmark", "smooth", widths),
+               ("tsit5", "smooth", widths), ("kvaerno5", "smooth", widths[:1])]
+    rows = []
+    for solver, contact, ws in methods:
+        for spp in steps:
+            for w in ws:
+                kw = dict(solver=solver, contact=contact, steps_per_period=spp,
+                          width=1e-7 if w is None else w, adaptive=False, **base)
+                try:
+                    jax.block_until_ready(speed_sweep(model, speeds, **kw).dynamic_factor)
+                    t0 = time.perf_counter()
+                    r = speed_sweep(model, speeds, **kw)
+                    jax.block_until_ready(r.dynamic_factor)
+                    dt = time.perf_counter() - t0
+                    df = np.asarray(r.dynamic_factor)
+                    res = np.asarray(r.results.result)
+                except Exception as err:  # noqa: BLE001 - a failing configuration is a data point
+                    df, res, dt = np.full(2, np.nan), np.full(2, -1), float("nan")
+                    print(f"stability map: {solver}/{contact}/{spp}/{w}: {err}")
+                err_rel = np.abs(df - df_ref) / df_ref
+                rows.append({"solver": solver, "contact": contact, "width_m": w,
+                             "steps_per_period": spp, "time_s": dt,
+                             "error_resonant": None if not np.isfinite(err_rel[0]) else float(err_rel[0]),
+                             "error_nonresonant": None if not np.isfinite(err_rel[1]) else float(err_rel[1]),
+                             "result": [int(v) for v in res],
+                             "contact_loss": [float(v) for v in np.asarray(r.results.contact_loss)]
+                             if np.all(res >= 0) else None})
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+    styles = {}
+    for row in rows:
+        key = (row["solver"], row["contact"], row["width_m"])
+        styles.setdefault(key, f"C{len(styles) % 10}")
+    for k, (label, speed) in enumerate((("error_resonant", speeds[0]), ("error_nonresonant", speeds[1]))):
+        ax = axes[k]
+        for key, color in styles.items():
+            sel = [r for r in rows if (r["solver"], r["contact"], r["width_m"]) == key]
+            x = np.array([r["steps_per_period"] for r in sel], float)
+            y = np.array([np.nan if r[label] is None else r[label] for r in sel], float)
+            bad = np.array([r["result"][k] != 0 for r in sel])
+            name = f"{key[0]}/{key[1]}" + ("" if key[2] is None else f" w={key[2] * 1e6:g} µm")
+            ax.loglog(x[~bad], np.maximum(y[~bad], 1e-12), "o-", color=color, label=name, ms=4)
+            if bad.any():
+                ax.loglog(x[bad], np.ones(bad.sum()), "x", color=color, ms=9, mew=2)
+        ax.set_title(f"{'resonant' if k == 0 else 'non-resonant'}: {speed:.0f} rad/s "
+                     f"(DF ref {df_ref[k]:.3f}); x = diverged")
+        ax.set_xlabel("steps per mesh period")
+        ax.set_ylabel("relative error of the dynamic factor")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].legend(fontsize=7)
+    ax = axes[2]
+    for key, color in styles.items():
+        sel = [r for r in rows if (r["solver"], r["contact"], r["width_m"]) == key]
+        t = np.array([r["time_s"] for r in sel], float)
+        y = np.array([np.nan if r["error_resonant"] is None else r["error_resonant"] for r in sel])
+        ax.loglog(t, np.maximum(y, 1e-12), "o-", color=color, ms=4)
+    ax.set_xlabel("run time, 2 speeds (s)")
+    ax.set_ylabel("relative error at the resonant speed")
+    ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    os.makedirs(out_dir, exist_ok=True)
+    with atomic_open(os.path.join(out_dir, "stability_map.png"), "wb") as f:
+        fig.savefig(f, format="png", dpi=110)
+    plt.close(fig)
+    out = {"speeds_rad_s": speeds.tolist(), "df_reference": df_ref.tolist(),
+           "reference_contact_loss": np.asarray(ref.results.contact_loss).tolist(),
+           "periods": periods, "rows": rows}
+    with atomic_open(os.path.join(out_dir, "stability_map.json"), "w") as f:
+        json.dump(out, f, indent=2)
+    return out

@@ -426,7 +426,15 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
         A = Minv @ (F - C @ Xd - Ks @ X - V.T @ f)
         return (Xd / x_ref, A / v_ref)
 
-    solver = getattr(diffrax, DIFFRAX_SOLVERS[cfg.solver])()
+    cls = getattr(diffrax, DIFFRAX_SOLVERS[cfg.solver])
+    if issubclass(cls, diffrax.AbstractImplicitSolver) and not cfg.adaptive:
+        import optimistix
+
+        # constant steps: the root finder needs its own tolerances
+        solver = cls(root_finder=diffrax.VeryChord(rtol=cfg.rtol, atol=cfg.atol,
+                                                   norm=optimistix.max_norm))
+    else:
+        solver = cls()
     if cfg.adaptive:
         controller = diffrax.PIDController(rtol=cfg.rtol, atol=cfg.atol)
     else:
@@ -442,7 +450,9 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
     fm, te, lines = jax.vmap(lambda X, jj: _observe(model, table, X, jj, cfg.contact, width))(Xs, j)
     code = jnp.where(sol.result == diffrax.RESULTS.successful, 0, 4)
     div = jax.vmap(lambda xd, X, f: _divergence_code(xd, X, f, M, fs, e_ref, cfg.blowup))(Xds, Xs, fm)
-    code = jnp.where(jnp.any(div == 2), 2, jnp.where(jnp.any(div == 3), 3, code))
+    # a failed solve leaves inf in the unreached outputs: report the failure, not the inf
+    code = jnp.where(code != 0, code,
+                     jnp.where(jnp.any(div == 2), 2, jnp.where(jnp.any(div == 3), 3, 0)))
     Xl, Xdl = Xs[-1], Xds[-1]
     gap = table.V[0] @ Xl - table.delta0[0]
     f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, cfg.contact, width), 0.0)
