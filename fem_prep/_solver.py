@@ -167,7 +167,7 @@ def factorize(A: sp.spmatrix, slabs: np.ndarray | None = None) -> SparseFactor |
     Returns:
         A factor with ``solve(B)``.
     """
-    if slabs is not None and A.shape[0] > 3000:
+    if slabs is not None and A.shape[0] > 20000:
         try:
             return CyclicFactor(A, slabs)
         except ValueError:
@@ -192,7 +192,7 @@ def _block_krylov(
     V = np.zeros((n, 0))
     MV = np.zeros((n, 0))
     KV = np.zeros((n, 0))
-    lam = phi = None
+    Kr = np.zeros((0, 0))
     while True:
         for _ in range(2):  # M-orthogonalise against the basis (CGS2)
             if V.shape[1]:
@@ -201,19 +201,23 @@ def _block_krylov(
         d, U = np.linalg.eigh(0.5 * (G + G.T))
         keep = d > 1e-12 * d.max()
         W = W @ (U[:, keep] / np.sqrt(d[keep]))
-        V = np.hstack([V, W])
         MW = M @ W
+        KW = K @ W
+        # incremental Rayleigh-Ritz matrix V^T K V
+        cross = V.T @ KW
+        Kr = np.block([[Kr, cross], [cross.T, W.T @ KW]])
+        V = np.hstack([V, W])
         MV = np.hstack([MV, MW])
-        KV = np.hstack([KV, K @ W])
-        Kr = V.T @ KV
+        KV = np.hstack([KV, KW])
         theta, Y = np.linalg.eigh(0.5 * (Kr + Kr.T))
         lam = theta[:k]
-        phi = V @ Y[:, :k]
-        R = KV @ Y[:, :k] - (MV @ Y[:, :k]) * lam
+        Yk = Y[:, :k]
+        MY = MV @ Yk
+        R = KV @ Yk - MY * lam
         scale = max(abs(theta[k - 1]), abs(sigma), 1e-30)
-        res = np.linalg.norm(R, axis=0) / (scale * np.linalg.norm(MV @ Y[:, :k], axis=0))
+        res = np.linalg.norm(R, axis=0) / (scale * np.linalg.norm(MY, axis=0))
         if np.all(res < tol) or V.shape[1] + bs > max_dim:
-            return lam, phi
+            return lam, V @ Yk
         W = factor.solve(MW)
 
 
@@ -252,7 +256,7 @@ def shift_invert_modes(
         factor = factorize(K - sigma * M)
     if isinstance(factor, CyclicFactor):
         lam, phi = _block_krylov(
-            K, M, k, factor, sigma, tol=max(tol * 1e3, 1e-9), max_dim=min(n, 12 * (k + 10))
+            K, M, k, factor, sigma, tol=max(tol * 1e4, 1e-6), max_dim=min(n, 12 * (k + 10))
         )
     else:
         ncv = min(n, max(2 * k + 1, k + 40))

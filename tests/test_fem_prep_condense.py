@@ -1,0 +1,202 @@
+"""Condensation (seed (2.3)-(2.5)) and modal identification ((3.2), (3.9)) on small bodies."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+from fem_prep import (
+    assemble_operators,
+    condense,
+    couple_bearings,
+    factorize,
+    mesh_body,
+    nodal_diameter_spectrum,
+    parse_body,
+    prepare,
+    resonance_orders,
+    select_masters,
+)
+
+
+def wheel_text(holes=0, method="craig-bampton", modes=50, coupling="rigid", plain=False, teeth=12):
+    web = 10.0 if plain else 1.5
+    hub_r = 26.0 if plain else 12.0
+    return f"""
+name = "tiny"
+[body]
+bore_radius_mm = 8.0
+hub_outer_radius_mm = {hub_r}
+hub_width_mm = {10.0 if plain else 12.0}
+web_thickness_mm = {web}
+rim_inner_radius_mm = 26.0
+rim_outer_radius_mm = 30.0
+rim_width_mm = {10.0 if plain else 8.0}
+holes = {{ count = {holes}, center_radius_mm = 19.0, radius_mm = 4.0 }}
+[[bearings]]
+axial_position_mm = -5.0
+coupling = "{coupling}"
+[[bearings]]
+axial_position_mm = 5.0
+coupling = "{coupling}"
+[mesh]
+size_mm = 4.0
+circumferential_size_mm = 8.0
+[condensation]
+method = "{method}"
+modes = {modes}
+teeth = {teeth}
+axial_master_nodes = 3
+[centrifugal]
+speed_rad_s = 2000.0
+"""
+
+
+@pytest.fixture(scope="module")
+def coupled():
+    body = parse_body(wheel_text())
+    bm = mesh_body(body)
+    ops = assemble_operators(bm.basis, body.material)
+    ms = select_masters(bm, body)
+    cp = couple_bearings(bm, ops, ms)
+    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
+    return body, bm, ms, cp, mdofs
+
+
+@pytest.mark.parametrize("method", ["guyan", "craig-bampton", "herting"])
+def test_static_response_at_masters_is_exact(coupled, method):
+    """Guyan property: loads on master DOFs give the full model's master displacements."""
+    body, bm, ms, cp, mdofs = coupled
+    c = condense(cp.K, cp.M, mdofs, method=method, n_modes=10)
+    nb = len(mdofs)
+    held = cp.bearing_dofs.ravel()
+    rng = np.random.default_rng(1)
+    F = rng.standard_normal(nb)
+    F[nb - held.size :] = 0.0
+    # full model, bearings held
+    n = cp.K.shape[0]
+    free = np.setdiff1d(np.arange(n), held)
+    f_full = np.zeros(n)
+    f_full[mdofs] = F
+    u = np.zeros(n)
+    u[free] = factorize(cp.K[free][:, free]).solve(f_full[free])
+    # condensed model, same support
+    keep = np.ones(c.K.shape[0], bool)
+    keep[nb - held.size : nb] = False
+    fc = np.zeros(c.K.shape[0])
+    fc[:nb] = F
+    q = np.zeros(c.K.shape[0])
+    q[keep] = np.linalg.solve(c.K[np.ix_(keep, keep)], fc[keep])
+    ub_full, ub_c = u[mdofs], q[:nb]
+    assert np.linalg.norm(ub_c - ub_full) <= 1e-8 * np.linalg.norm(ub_full)
+
+
+@pytest.mark.parametrize("coupling", ["rigid", "averaging"])
+def test_condensed_stiffness_has_rigid_body_modes(coupling):
+    """Rigid motions built from the master coordinates cost no strain energy (free body)."""
+    body = parse_body(wheel_text(coupling=coupling))
+    bm = mesh_body(body)
+    ops = assemble_operators(bm.basis, body.material)
+    ms = select_masters(bm, body)
+    cp = couple_bearings(bm, ops, ms)
+    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
+    c = condense(cp.K, cp.M, mdofs, method="guyan")
+    x = bm.nodes[ms.rim_nodes.ravel()]
+    rb = []
+    for k in range(6):
+        v = np.zeros(c.K.shape[0])
+        t = np.zeros(3)
+        w = np.zeros(3)
+        (t if k < 3 else w)[k % 3] = 1.0
+        v[: 3 * len(x)] = (t + np.cross(w, x)).ravel()
+        for ib, xb in enumerate(ms.bearing_positions):
+            v[3 * len(x) + 6 * ib : 3 * len(x) + 6 * ib + 6] = np.concatenate([t + np.cross(w, xb), w])
+        rb.append(v)
+    R = np.array(rb).T
+    scale = np.abs(c.K).max()
+    assert np.abs(c.K @ R).max() < 1e-7 * scale
+    # and the rigid-body mass is the body's mass
+    assert (R[:, 0] @ c.M @ R[:, 0]) == pytest.approx(ops.mass, rel=1e-10)
+
+
+@pytest.fixture(scope="module")
+def prepared_cb():
+    return prepare(parse_body(wheel_text()))
+
+
+def test_first_20_frequencies_within_1_percent(prepared_cb):
+    p = prepared_cb
+    assert len(p.frequencies_full_hz) == 20
+    assert np.all(np.abs(p.frequencies_condensed_hz / p.frequencies_full_hz - 1) < 0.01)
+    # centrifugal: the condensed rim displacement is close to the full one
+    assert p.rim_radial_displacement > 0
+    assert p.rim_radial_displacement_condensed == pytest.approx(p.rim_radial_displacement, rel=0.05)
+
+
+def test_nodal_diameters_come_in_pairs(prepared_cb):
+    fam = prepared_cb.families
+    f = np.array([m.frequency_hz for m in fam])
+    nd = np.array([m.nodal_diameters for m in fam])
+    for k, m in enumerate(fam[:-1]):
+        if m.nodal_diameters >= 1 and m.harmonic_share > 0.9:
+            partners = [j for j in range(len(fam)) if j != k and nd[j] == nd[k] and abs(f[j] / f[k] - 1) < 1e-6]
+            # the last computed mode may have its partner just beyond the computed range
+            if k < len(fam) - 1:
+                assert partners, (k, m)
+        if m.nodal_diameters == 0:
+            close = [j for j in range(len(fam)) if j != k and abs(f[j] / f[k] - 1) < 1e-6 and nd[j] == 0]
+            assert not close
+
+
+def test_fourier_identification_of_a_synthetic_shape(prepared_cb):
+    """(3.2): a field u_z = cos(3 theta) r has all its energy in harmonic 3."""
+    bm = prepared_cb.mesh
+    x = bm.nodes
+    th = np.arctan2(x[:, 1], x[:, 0])
+    u = np.zeros((len(x), 3))
+    u[:, 2] = np.cos(3 * th + 0.4) * np.hypot(x[:, 0], x[:, 1])
+    spec = nodal_diameter_spectrum(bm, u.ravel())
+    assert np.argmax(spec) == 3 and spec[3] > 0.999
+
+
+def test_resonance_orders_table_III_11():
+    back, fwd = resonance_orders(127, np.arange(5, 12))
+    assert list(back) == [132, 133, 134, 135, 136, 137, 138]
+    assert list(fwd) == [122, 121, 120, 119, 118, 117, 116]
+
+
+def test_error_decreases_with_modes(coupled):
+    body, bm, ms, cp, mdofs = coupled
+    held = cp.bearing_dofs.ravel()
+    free = np.setdiff1d(np.arange(cp.K.shape[0]), held)
+    from fem_prep import shift_invert_modes
+
+    lam, _ = shift_invert_modes(cp.K[free][:, free], cp.M[free][:, free], 20)
+    f_ref = np.sqrt(lam)
+    nb = len(mdofs)
+    for method in ("craig-bampton", "herting"):
+        errs = []
+        for m in (0, 10, 30, 60):
+            c = condense(cp.K, cp.M, mdofs, method=method, n_modes=m)
+            keep = np.ones(c.K.shape[0], bool)
+            keep[nb - held.size : nb] = False
+            lc = sla.eigh(c.K[np.ix_(keep, keep)], c.M[np.ix_(keep, keep)], eigvals_only=True)[:20]
+            errs.append(np.max(np.abs(np.sqrt(lc) / f_ref - 1)))
+        errs = np.array(errs)
+        assert np.all(errs[1:] <= errs[:-1] * 1.05 + 1e-9), (method, errs)
+        assert errs[-1] < 0.3 * errs[0], (method, errs)
+
+
+def test_web_holes_shift_frequencies_and_keep_families(prepared_cb):
+    p0 = prepared_cb
+    p6 = prepare(parse_body(wheel_text(holes=6)))
+    assert p6.operators.mass < p0.operators.mass
+    f0, f6 = p0.frequencies_full_hz[:8], p6.frequencies_full_hz[:8]
+    assert np.max(np.abs(f6 / f0 - 1)) > 0.005  # frequencies shift (Tab. IV-6)
+    nd0 = sorted(m.nodal_diameters for m in p0.families[:6])
+    nd6 = sorted(m.nodal_diameters for m in p6.families[:6])
+    assert nd0 == nd6  # the nodal-diameter families are kept
