@@ -238,7 +238,7 @@ def load_condensed(path: str | Path) -> CondensedBody:
     if not path.is_file():
         raise FileNotFoundError(f"condensed body file {str(path)!r} not found")
     try:
-        with np.load(path, allow_pickle=False) as z:
+        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
             data = {k: z[k] for k in z.files}
     except (zipfile.BadZipFile, EOFError, OSError, ValueError, KeyError) as exc:
         raise ValueError(f"{path}: not a readable .npz (truncated or corrupt file): {exc}") from exc
