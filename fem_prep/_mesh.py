@@ -114,13 +114,14 @@ def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
     nax = body.condensation.axial_master_nodes
     s_hub = g.hub_shift
     z_bear = [b.axial_position - s_hub for b in body.bearings]
-    bm = mesh_from_section(g, body.mesh, teeth=teeth, z_rim_lines=[0.0], z_hub_lines=z_bear)
+    targets = _master_targets(g, nax)
+    bm = mesh_from_section(g, body.mesh, teeth=teeth, z_rim_lines=targets, z_hub_lines=z_bear)
     try:
         rim_master_z(bm, g, nax)
     except ValueError:
         # not enough rim nodes across the face width: add grid lines at the master positions
         bm = mesh_from_section(
-            g, body.mesh, teeth=teeth, z_rim_lines=[0.0, *_master_targets(g, nax)],
+            g, body.mesh, teeth=teeth, z_rim_lines=targets, z_tol_factor=0.05,
             z_hub_lines=z_bear,
         )
     return bm
@@ -157,6 +158,7 @@ def mesh_from_section(
     teeth: int,
     z_rim_lines: list[float] = (),  # type: ignore[assignment]
     z_hub_lines: list[float] = (),  # type: ignore[assignment]
+    z_tol_factor: float = 0.3,
 ) -> BodyMesh:
     """Mesh a meridian section swept around the z axis.
 
@@ -165,8 +167,9 @@ def mesh_from_section(
         ms: mesh settings (element, target sizes in m).
         teeth: the number of circumferential elements is a multiple of this.
         z_rim_lines: axial positions (m, z = 0 at mid-rim) where the grid must have a line
-            (snapped to an existing line closer than 0.3 x the element size).
+            (snapped to an existing line closer than ``z_tol_factor`` x the element size).
         z_hub_lines: same, in the unsheared hub frame (bearing planes; they extend shaft stubs).
+        z_tol_factor: snapping tolerance of the soft lines, in element sizes.
 
     Returns:
         The :class:`BodyMesh`.
@@ -198,7 +201,7 @@ def mesh_from_section(
     zr = (-g.rim_width / 2, g.rim_width / 2)
     zs = (min([zh[0]] + list(z_hub_lines)), max([zh[1]] + list(z_hub_lines)))
     hard = [*zh, *zw, *zr, *zs]
-    tol = 0.3 * min(s_hub, s_web, s_rim)
+    tol = z_tol_factor * min(s_hub, s_web, s_rim)
     zb = _merge(hard, list(z_rim_lines) + list(z_hub_lines), tol)
 
     def column_ranges(rmid: float) -> list[tuple[tuple[float, float], int, float]]:
