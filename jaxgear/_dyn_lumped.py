@@ -131,9 +131,11 @@ class LumpedPair(DynamicScene):
     normal: Float[Array, " 3"]
     roll_start: Float[Array, ""]
     rigid: Float[Array, " n"]
+    reaction: Float[Array, "r n"]
     gear_dofs: tuple = eqx.field(static=True)
     torque_dofs: tuple = eqx.field(static=True)
     part_names: tuple = eqx.field(static=True)
+    reaction_names: tuple = eqx.field(static=True, default=())
 
     def mass(self):
         return self.M
@@ -146,6 +148,10 @@ class LumpedPair(DynamicScene):
 
     def rigid_modes(self):
         return self.rigid[:, None]
+
+    def reaction_matrix(self):
+        """Bearing force components k u (N) (x, y, z at each bearing), names in ``reaction_names``."""
+        return self.reaction
 
     def external_load(self, torque):
         n = self.M.shape[0]
@@ -210,7 +216,15 @@ def _shaft(spec: ShaftSpec, E, G, rho):
         for d, k in zip(range(5), (b.radial, b.radial, b.axial, b.tilt, b.tilt), strict=True):
             Kb[6 * i + d, 6 * i + d] += k
     idx = lambda z: int(np.argmin(np.abs(nodes - z)))  # noqa: E731
-    return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z)
+    rows = []
+    for b in spec.bearings:
+        i = idx(b.z)
+        for d, k in zip(range(3), (b.radial, b.radial, b.axial), strict=True):
+            if k > 0:
+                r = np.zeros(n)
+                r[6 * i + d] = k
+                rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
+    return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows
 
 
 def lumped_pair(pair: GearPair, mesh: MeshModel, pinion_shaft: ShaftSpec, gear_shaft: ShaftSpec,
@@ -256,11 +270,20 @@ def lumped_pair(pair: GearPair, mesh: MeshModel, pinion_shaft: ShaftSpec, gear_s
     rigid[5:n1:6] = 1.0 / rb1
     rigid[n1 + 5::6] = -1.0 / pair.base_radii[1]
     parts = np.stack([Ksh1, Ksh2, Kb])
+    names, reaction = [], []
+    for tag, rows, offset in (("pinion", s1[6], 0), ("gear", s2[6], n1)):
+        for name, r in rows:
+            full = np.zeros(n)
+            full[offset:offset + r.size] = r
+            names.append(f"{tag} {name}")
+            reaction.append(full)
+    reaction = np.array(reaction).reshape(-1, n)
     return LumpedPair(mesh=mesh, M=jnp.asarray(M), K=jnp.asarray(Ksh1 + Ksh2 + Kb),
                       parts_K=jnp.asarray(parts),
                       centres=jnp.asarray([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
                       tangent_point=jnp.asarray(T1), direction=jnp.asarray(t),
                       normal=jnp.asarray(normal), roll_start=jnp.asarray(pair.start_roll),
-                      rigid=jnp.asarray(rigid), gear_dofs=(g1, g2),
+                      rigid=jnp.asarray(rigid), reaction=jnp.asarray(reaction),
+                      reaction_names=tuple(names), gear_dofs=(g1, g2),
                       torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
                       part_names=("pinion_shaft", "gear_shaft", "bearings"))

@@ -62,6 +62,11 @@ class DynamicScene(Scene):
     def mass(self) -> Float[Array, "n n"]:
         raise NotImplementedError  # abstract
 
+    def reaction_matrix(self) -> Float[Array, "r n"]:
+        """Rows R with R X the support (bearing) force components (N); none by default."""
+        M = self.mass()
+        return jnp.zeros((0, M.shape[0]), M.dtype)
+
     def rigid_modes(self) -> Float[Array, "n r"]:
         """Rigid-body modes r (columns, r may be 0) with V·r = 0 and F·r = 0."""
         raise NotImplementedError  # abstract

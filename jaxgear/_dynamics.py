@@ -263,6 +263,9 @@ class DynamicResult(eqx.Module):
         transmission_error: dynamic TE (u·X − max e)/cos β_b (m), shape (K,).
         line_force: force per contact line (one tooth pair) (N), shape (K, n_lines).
         static_te: quasi-static TE at the same positions (m), shape (K,).
+        bearing_force: support force components R X (N), shape (K, r) (r = 0 for torsional
+            scenes; :meth:`DynamicScene.reaction_matrix`). bearing_force_max: max |R X| over the
+            kept periods, shape (r,). bearing_force_static: max over positions of the static one.
         dynamic_factor: max mesh force / static mesh force F_s (-).
         dynamic_factor_tooth: max tooth force / max quasi-static tooth force (-).
         te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
@@ -281,6 +284,9 @@ class DynamicResult(eqx.Module):
     transmission_error: Float[Array, " K"]
     line_force: Float[Array, "K L"]
     static_te: Float[Array, " K"]
+    bearing_force: Float[Array, "K r"]
+    bearing_force_max: Float[Array, " r"]
+    bearing_force_static: Float[Array, " r"]
     dynamic_factor: Float[Array, ""]
     dynamic_factor_tooth: Float[Array, ""]
     te_rms: Float[Array, ""]
@@ -353,6 +359,7 @@ def _newmark(model: DynamicModel, table: MeshTable, dt, state, n_steps: int, cfg
     scene = model.scene
     M, C, Ks, F = scene.mass(), model.damping, scene.stiffness(), scene.external_load(model.torque)
     u = scene.te_vector()
+    R = scene.reaction_matrix()
     cb = jnp.cos(model.mesh.base_helix_angle)
     fs = model.static_force
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
@@ -381,9 +388,8 @@ def _newmark(model: DynamicModel, table: MeshTable, dt, state, n_steps: int, cfg
             return carry, None
         te = (u @ Xn - table.e_max[j]) / cb
         lines = jnp.sum(cell_force.reshape(table.n_lines, -1), axis=1)
-        if record_states:
-            return carry, (fm, te, lines, Xn, Xdn)
-        return carry, (fm, te, lines)
+        out = (fm, te, lines, R @ Xn)
+        return carry, (out + (Xn, Xdn) if record_states else out)
 
     return jax.lax.scan(body, state, jnp.arange(n_steps))
 
@@ -458,7 +464,8 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
     f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, cfg.contact, width), 0.0)
     Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - table.V[0].T @ f)
     nsteps = jnp.asarray(sol.stats["num_steps"])
-    return (Xl, Xdl, Xddl), (fm, te, lines), code, nsteps
+    reac = Xs @ scene.reaction_matrix().T
+    return (Xl, Xdl, Xddl), (fm, te, lines, reac), code, nsteps
 
 
 def _with_acceleration(model, table, X, Xd, cfg, width):
@@ -480,13 +487,13 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     if cfg.solver == "newmark":
         # one scan (one compiled step) over all steps; the kept periods are sliced off the end
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        carry, (fm, te, lines) = _newmark(model, table, dt, carry0, n_trans + n_keep, cfg, width,
-                                          record=True)
-        fm, te, lines = fm[n_trans:], te[n_trans:], lines[n_trans:]
+        carry, (fm, te, lines, reac) = _newmark(model, table, dt, carry0, n_trans + n_keep, cfg,
+                                                width, record=True)
+        fm, te, lines, reac = fm[n_trans:], te[n_trans:], lines[n_trans:], reac[n_trans:]
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
-        final, (fm, te, lines), code, it = _diffrax(model, table, speed, dt, state, cfg, width)
+        final, (fm, te, lines, reac), code, it = _diffrax(model, table, speed, dt, state, cfg, width)
     fs = model.static_force
     j = (jnp.arange(n_keep) + 1) % P
     static_lines = jnp.sum((static.static_force_density * table.length).reshape(P, table.n_lines, -1),
@@ -503,6 +510,10 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         speed=speed, mesh_frequency=speed / mesh.mesh_period_angle,
         time=time, theta=table.theta[j], mesh_force=fm, transmission_error=te, line_force=lines,
         static_te=static_te[j],
+        bearing_force=reac,
+        bearing_force_max=jnp.max(jnp.abs(reac), axis=0),
+        bearing_force_static=jnp.max(jnp.abs(static.static_x @ model.scene.reaction_matrix().T),
+                                     axis=0),
         dynamic_factor=jnp.max(fm) / fs,
         dynamic_factor_tooth=jnp.max(lines) / jnp.max(static_lines),
         te_rms=jnp.std(te), te_mean=jnp.mean(te),

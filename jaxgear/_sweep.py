@@ -403,6 +403,10 @@ def sweep_case(case: Case, speeds, out_dir: str, *, direction: str = "independen
         "contact_loss": _clean(r.contact_loss),
         "periodicity": _clean(r.periodicity),
         "result": [int(v) for v in np.asarray(r.result)],
+        "bearing_names": list(getattr(model.scene, "reaction_names", ())),
+        "bearing_force_max_N": [_clean(row) for row in np.asarray(r.bearing_force_max)],
+        "bearing_force_static_N": _clean(np.asarray(r.bearing_force_static)[0])
+        if np.asarray(r.bearing_force_static).size else [],
         "result_messages": {str(k): v for k, v in DYNAMICS_RESULTS.items()},
         "elapsed_s": elapsed,
         "platform": {"jax": jax.__version__, "device": str(jax.devices()[0].platform),

@@ -32,7 +32,7 @@ def test_timoshenko_shaft_matches_simply_supported_beam(d):
     spec = ShaftSpec(length=L, diameter=d, gear_z=L / 2,
                      bearings=(Bearing(0.0, pinned, pinned, 0.0), Bearing(L, pinned, 0.0, 0.0)),
                      elements=24)
-    nodes, K, M, Kb, _, _ = _shaft(spec, E, G, rho)
+    nodes, K, M, Kb, *_ = _shaft(spec, E, G, rho)
     lam = scipy.linalg.eigh(K + Kb, M, eigvals_only=True)
     w = np.sqrt(np.clip(lam, 0, None))
     w_ref = _timoshenko_ss(E, G, rho, d, L, kappa)
@@ -139,3 +139,13 @@ def test_lumped_modes_energy_and_simulation():
     r = jg.simulate(model, 800.0, steps_per_period=16, periods=6, keep_periods=2)
     assert int(r.result) == 0
     assert 1.0 < float(r.dynamic_factor) < 3.0
+    # bearing forces: statically, the radial bearing loads balance the mesh force
+    names = scene.reaction_names
+    assert len(names) == 10 and r.bearing_force.shape == (32, 10)  # x, y (+ z at bearing 0)
+    fs = float(model.static_force)
+    stat = np.asarray(r.bearing_force_static)
+    pin = [i for i, nm in enumerate(names) if nm.startswith("pinion") and "Fz" not in nm]
+    # two bearings at equal distance from the gear: each carries half of F_s (x and y parts)
+    total = np.hypot(stat[pin[0]] + stat[pin[2]], stat[pin[1]] + stat[pin[3]])
+    assert total == pytest.approx(fs, rel=0.02)
+    assert np.all(np.asarray(r.bearing_force_max) >= 0.9 * stat)

@@ -241,3 +241,5 @@ def test_cli_sweep_lumped3d_scene(tmp_path):
     assert data["modal_energy_parts"] == ["mesh", "pinion_shaft", "gear_shaft", "bearings"]
     assert all(r == 0 for r in data["result"])
     assert len(data["natural_frequencies_Hz"]) == 6 * (3 + 3)  # 3 nodes per shaft
+    assert len(data["bearing_names"]) == 10 and len(data["bearing_force_max_N"][0]) == 10
+    assert max(data["bearing_force_static_N"]) > 0
