@@ -12,11 +12,11 @@ import jax
 
 jax.config.update("jax_enable_x64", True)  # float64 (examples switch it on)
 
-import equinox as eqx  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
-import numpy as np  # noqa: E402
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
 
-import jaxgear as jg  # noqa: E402
+import jaxgear as jg
 
 
 def main(out_dir=None, n_speeds: int = 40, periods: int = 40):

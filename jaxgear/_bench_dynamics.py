@@ -99,7 +99,7 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
     import scipy.integrate
 
     from ._case import load_case
-    from ._dynamics import _prep, _static_start, simulate, speed_sweep, _config
+    from ._dynamics import _config, _prep, _static_start, simulate, speed_sweep
     from ._sweep import build_dynamic_model, parse_scene
     from ._util import atomic_open
 

@@ -52,7 +52,7 @@ def timoshenko_element(E: float, G: float, rho: float, diameter: float, length: 
     """
     L = length
     A = math.pi * diameter**2 / 4
-    I = math.pi * diameter**4 / 64  # noqa: E741
+    I = math.pi * diameter**4 / 64
     J = 2 * I
     phi = 12 * E * I / (kappa * G * A * L**2)
     c = E * I / ((1 + phi) * L**3)
@@ -215,7 +215,7 @@ def _shaft(spec: ShaftSpec, E, G, rho):
         i = int(np.argmin(np.abs(nodes - b.z)))
         for d, k in zip(range(5), (b.radial, b.radial, b.axial, b.tilt, b.tilt), strict=True):
             Kb[6 * i + d, 6 * i + d] += k
-    idx = lambda z: int(np.argmin(np.abs(nodes - z)))  # noqa: E731
+    idx = lambda z: int(np.argmin(np.abs(nodes - z)))
     rows = []
     for b in spec.bearings:
         i = idx(b.z)

@@ -15,7 +15,7 @@ from jaxgear._dynamics import _prepare
 def _timoshenko_ss(E, G, rho, d, L, kappa, mode=1):
     """Simply supported Timoshenko beam: the lower root of
     (ρAω² − κGAk²)(ρIω² − EIk² − κGA) + (κGAk)² = 0, k = nπ/L."""
-    A, I = math.pi * d**2 / 4, math.pi * d**4 / 64  # noqa: E741
+    A, I = math.pi * d**2 / 4, math.pi * d**4 / 64
     k = mode * math.pi / L
     a = rho * A * rho * I
     b = -(rho * A * (E * I * k**2 + kappa * G * A) + rho * I * kappa * G * A * k**2)
