@@ -22,25 +22,27 @@ from pathlib import Path
 
 import numpy as np
 
-SIZES_MM = (16.0, 6.0, 4.0)
-QUICK_SIZES_MM = (16.0, 14.0)
+SIZES_MM = ((16.0, 8.0), (8.0, 3.0), (6.0, 2.0))  # (meridian, circumferential) mm
+QUICK_SIZES_MM = ((16.0, 8.0), (14.0, 8.0))
 
 
 def _peak_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def _body(size_mm: float, method: str = "craig-bampton", modes: int = 50):
+def _body(size_mm: float, circ_mm: float, method: str = "craig-bampton", modes: int = 50):
     from ._body import load_body
 
     b = load_body("power-helical-wheel")
     s = size_mm * 1e-3
-    mesh = dataclasses.replace(b.mesh, size=s, web_size=s, circumferential_size=s)
+    mesh = dataclasses.replace(
+        b.mesh, size=s, web_size=s, hub_size=None, rim_size=None, circumferential_size=circ_mm * 1e-3
+    )
     cond = dataclasses.replace(b.condensation, method=method, modes=modes)
     return dataclasses.replace(b, mesh=mesh, condensation=cond)
 
 
-def _case(size_mm: float, dense: bool) -> dict:
+def _case(size_mm: float, circ_mm: float, dense: bool) -> dict:
     import scipy.linalg as sla
 
     from ._assemble import assemble_operators
@@ -48,8 +50,8 @@ def _case(size_mm: float, dense: bool) -> dict:
     from ._mesh import mesh_body
     from ._prepare import reduced_slabs
 
-    body = _body(size_mm)
-    out: dict = {"size_mm": size_mm}
+    body = _body(size_mm, circ_mm)
+    out: dict = {"size_mm": size_mm, "circumferential_size_mm": circ_mm}
     t0 = time.perf_counter()
     bm = mesh_body(body)
     out["mesh_s"] = time.perf_counter() - t0
@@ -108,11 +110,11 @@ def _case(size_mm: float, dense: bool) -> dict:
     return out
 
 
-def _error_curve(size_mm: float) -> dict:
+def _error_curve(size_mm: float, circ_mm: float) -> dict:
     """Max relative error of the first 20 frequencies (bearings held) vs number of modes."""
     from ._prepare import prepare
 
-    base = prepare(_body(size_mm, "guyan", 0))
+    base = prepare(_body(size_mm, circ_mm, "guyan", 0))
     f_full = base.frequencies_full_hz
     cp = base.coupled
     bearing_c = len(base.master_dofs) - cp.bearing_dofs.size + np.arange(cp.bearing_dofs.size)
@@ -172,12 +174,14 @@ def run_bench(out_dir: str, *, quick: bool = False) -> dict:
         "cases": [],
     }
     jobs = [("case", s, False) for s in sizes] + [("case", sizes[0], True), ("curve", sizes[0], False)]
-    for kind, s, dense in tqdm(jobs, desc="fem-prep bench"):
+    for kind, (s, cs), dense in tqdm(jobs, desc="fem-prep bench"):
         if kind == "case":
-            r = _sub(["case", str(s)] + (["--dense"] if dense else []))
+            r = _sub(["case", str(s), str(cs)] + (["--dense"] if dense else []))
             rec["cases"].append(r)
         else:
-            rec["error_curve"] = _sub(["curve", str(s)])
+            rec["error_curve"] = _sub(["curve", str(s), str(cs)])
+        (Path(out_dir) / "partial.json").parent.mkdir(parents=True, exist_ok=True)
+        (Path(out_dir) / "partial.json").write_text(json.dumps(rec, indent=2))
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     (out / "bench.json").write_text(json.dumps(rec, indent=2))
@@ -187,7 +191,7 @@ def run_bench(out_dir: str, *, quick: bool = False) -> dict:
             print("case failed:", c)
             continue
         print(
-            f"{c['method'][:20]:20s} size {c['size_mm']:5.1f} mm  DOFs {c['n_dofs']:7d}  "
+            f"{c['method'][:20]:20s} size {c['size_mm']:5.1f}/{c['circumferential_size_mm']:.1f} mm  DOFs {c['n_dofs']:7d}  "
             f"assembly {c['assembly_s']:6.1f} s  factor {c['factorisation_s']:6.1f} s  "
             f"static {c['static_modes_s']:6.1f} s  eigen {c['eigen_s']:6.1f} s  "
             f"condensation {c['condensation_s']:6.1f} s  peak {c['peak_rss_mib']:7.0f} MiB"
@@ -233,6 +237,6 @@ def _plots(rec: dict, out: Path) -> None:
 if __name__ == "__main__":
     what = sys.argv[1]
     if what == "case":
-        print(json.dumps(_case(float(sys.argv[2]), "--dense" in sys.argv)))
+        print(json.dumps(_case(float(sys.argv[2]), float(sys.argv[3]), "--dense" in sys.argv)))
     elif what == "curve":
-        print(json.dumps(_error_curve(float(sys.argv[2]))))
+        print(json.dumps(_error_curve(float(sys.argv[2]), float(sys.argv[3]))))

@@ -21,6 +21,7 @@ ring DOFs are eliminated).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -34,7 +35,7 @@ from tqdm import tqdm
 from ._assemble import Operators
 from ._body import Body
 from ._mesh import BodyMesh, rim_master_z
-from ._solver import CyclicFactor, SparseFactor, factorize, shift_invert_modes
+from ._solver import CyclicFactor, SparseFactor, blas_threads, factorize, shift_invert_modes
 
 __all__ = [
     "Coupled",
@@ -275,7 +276,7 @@ def _project(A: sp.spmatrix, V: np.ndarray, block: int = 256) -> np.ndarray:
     return 0.5 * (out + out.T)
 
 
-def condense(
+def _condense(
     K: sp.spmatrix,
     M: sp.spmatrix,
     master_dofs: np.ndarray,
@@ -401,3 +402,9 @@ def condense(
         timings=timings,
         modes_hz=modes_hz,
     )
+
+
+@functools.wraps(_condense)
+def condense(*args, **kwargs) -> Condensed:  # noqa: D103 (docstring from _condense)
+    with blas_threads():
+        return _condense(*args, **kwargs)

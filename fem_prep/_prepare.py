@@ -23,7 +23,7 @@ from ._condense import (
 )
 from ._mesh import BodyMesh, mesh_body
 from ._modal import ModeFamily, identify_modes
-from ._solver import factorize, shift_invert_modes
+from ._solver import blas_threads, factorize, shift_invert_modes
 
 __all__ = ["Prepared", "prepare"]
 
@@ -88,6 +88,12 @@ def reduced_slabs(bm: BodyMesh, cp: Coupled) -> np.ndarray:
 
 
 def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -> Prepared:
+    """Run the whole pre-processing of a body (see :func:`_prepare`)."""
+    with blas_threads():
+        return _prepare(body, progress=progress, trace_memory=trace_memory)
+
+
+def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -> Prepared:
     """Run the whole pre-processing of a body.
 
     Args:

@@ -191,7 +191,6 @@ def _block_krylov(
     W = factor.solve(M @ rng.standard_normal((n, bs)))
     V = np.zeros((n, 0))
     MV = np.zeros((n, 0))
-    KV = np.zeros((n, 0))
     Kr = np.zeros((0, 0))
     while True:
         for _ in range(2):  # M-orthogonalise against the basis (CGS2)
@@ -206,18 +205,19 @@ def _block_krylov(
         # incremental Rayleigh-Ritz matrix V^T K V
         cross = V.T @ KW
         Kr = np.block([[Kr, cross], [cross.T, W.T @ KW]])
+        del KW
         V = np.hstack([V, W])
         MV = np.hstack([MV, MW])
-        KV = np.hstack([KV, KW])
         theta, Y = np.linalg.eigh(0.5 * (Kr + Kr.T))
         lam = theta[:k]
-        Yk = Y[:, :k]
-        MY = MV @ Yk
-        R = KV @ Yk - MY * lam
+        phi = V @ Y[:, :k]
+        Mphi = MV @ Y[:, :k]
+        R = K @ phi - Mphi * lam
         scale = max(abs(theta[k - 1]), abs(sigma), 1e-30)
-        res = np.linalg.norm(R, axis=0) / (scale * np.linalg.norm(MY, axis=0))
+        res = np.linalg.norm(R, axis=0) / (scale * np.linalg.norm(Mphi, axis=0))
         if np.all(res < tol) or V.shape[1] + bs > max_dim:
-            return lam, V @ Yk
+            return lam, phi
+        del phi, Mphi, R
         W = factor.solve(MW)
 
 
@@ -256,7 +256,7 @@ def shift_invert_modes(
         factor = factorize(K - sigma * M)
     if isinstance(factor, CyclicFactor):
         lam, phi = _block_krylov(
-            K, M, k, factor, sigma, tol=max(tol * 1e4, 1e-6), max_dim=min(n, 12 * (k + 10))
+            K, M, k, factor, sigma, tol=max(tol * 1e4, 1e-6), max_dim=min(n, 8 * (k + 10))
         )
     else:
         ncv = min(n, max(2 * k + 1, k + 40))
@@ -267,3 +267,79 @@ def shift_invert_modes(
     lam, phi = lam[order], phi[:, order]
     mm = np.einsum("ij,ij->j", phi, M @ phi)
     return lam, phi / np.sqrt(mm)
+
+
+# ------------------------------------------------------------------------------------------
+# BLAS thread control (no threadpoolctl dependency)
+
+
+def _openblas_setters() -> list:
+    """``(get, set)`` ctypes pairs of the OpenBLAS libraries bundled with NumPy and SciPy."""
+    import ctypes
+    import glob
+    import os
+
+    import scipy
+
+    pairs = []
+    for mod in (np, scipy):
+        libdir = os.path.join(os.path.dirname(mod.__file__), "..", f"{mod.__name__}.libs")
+        for path in glob.glob(os.path.join(libdir, "*openblas*")):
+            try:
+                lib = ctypes.CDLL(path)
+            except OSError:
+                continue
+            for get, set_ in (
+                ("scipy_openblas_get_num_threads64_", "scipy_openblas_set_num_threads64_"),
+                ("scipy_openblas_get_num_threads", "scipy_openblas_set_num_threads"),
+                ("openblas_get_num_threads64_", "openblas_set_num_threads64_"),
+                ("openblas_get_num_threads", "openblas_set_num_threads"),
+            ):
+                if hasattr(lib, get) and hasattr(lib, set_):
+                    pairs.append((getattr(lib, get), getattr(lib, set_)))
+                    break
+    return pairs
+
+
+_SETTERS: list | None = None
+
+
+class blas_threads:
+    """Context manager setting the OpenBLAS thread count of NumPy and SciPy.
+
+    ``n=None`` picks ``cpu_count - load average`` (at least 1): multithreaded BLAS on a busy
+    machine spin-waits and can be 10x slower than one thread on the small dense blocks of
+    :class:`CyclicFactor`.  Does nothing when ``OPENBLAS_NUM_THREADS`` is set by the user or
+    the libraries cannot be found.
+    """
+
+    def __init__(self, n: int | None = None):
+        import os
+
+        self._n = n
+        if n is None:
+            cpus = os.cpu_count() or 1
+            try:
+                load = os.getloadavg()[0]
+            except OSError:
+                load = 0.0
+            self._n = max(1, min(cpus, int(cpus - load + 0.5)))
+        self._old: list[int] = []
+
+    def __enter__(self) -> "blas_threads":
+        import os
+
+        global _SETTERS
+        if os.environ.get("OPENBLAS_NUM_THREADS"):
+            return self
+        if _SETTERS is None:
+            _SETTERS = _openblas_setters()
+        self._old = [int(get()) for get, _ in _SETTERS]
+        for _, set_ in _SETTERS:
+            set_(int(self._n))
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if _SETTERS and self._old:
+            for (_, set_), n in zip(_SETTERS, self._old):
+                set_(n)
