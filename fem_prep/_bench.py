@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-SIZES_MM = ((16.0, 8.0), (8.0, 3.0), (6.0, 2.0))  # (meridian, circumferential) mm
+SIZES_MM = ((16.0, 8.0), (8.0, 3.0), (7.0, 2.0))  # (meridian, circumferential) mm
 QUICK_SIZES_MM = ((16.0, 8.0), (14.0, 8.0))
 
 
@@ -107,6 +107,7 @@ def _case(size_mm: float, circ_mm: float, dense: bool) -> dict:
         out["n_condensed_dofs"] = int(cond.K.shape[0])
         out["method"] = "sparse Craig-Bampton (block-cyclic Cholesky + block shift-invert)"
     out["peak_rss_mib"] = _peak_mib()
+    out["load_average_1min"] = os.getloadavg()[0]
     return out
 
 
@@ -147,12 +148,13 @@ def _sub(args: list[str]) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
-def run_bench(out_dir: str, *, quick: bool = False) -> dict:
+def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dict:
     """Run the benchmark, write ``bench.json``, ``bench.png`` and ``modes_error.png``.
 
     Args:
         out_dir: output directory.
         quick: only two small sizes (smoke test).
+        resume: reuse the successful cases of ``partial.json`` from an interrupted run.
 
     Returns:
         The benchmark record.
@@ -174,10 +176,24 @@ def run_bench(out_dir: str, *, quick: bool = False) -> dict:
         "cases": [],
     }
     jobs = [("case", s, False) for s in sizes] + [("case", sizes[0], True), ("curve", sizes[0], False)]
+    old: list = []
+    part = Path(out_dir) / "partial.json"
+    if resume and part.is_file():
+        prev = json.loads(part.read_text())
+        old = [c for c in prev.get("cases", []) if "error" not in c]
+        if "modes" in prev.get("error_curve", {}):
+            rec["error_curve"] = prev["error_curve"]
     for kind, (s, cs), dense in tqdm(jobs, desc="fem-prep bench"):
         if kind == "case":
-            r = _sub(["case", str(s), str(cs)] + (["--dense"] if dense else []))
+            done = [
+                c for c in old
+                if c["size_mm"] == s and c["circumferential_size_mm"] == cs
+                and ("dense" in c["method"]) == dense
+            ]
+            r = done[0] if done else _sub(["case", str(s), str(cs)] + (["--dense"] if dense else []))
             rec["cases"].append(r)
+        elif "error_curve" in rec:
+            continue
         else:
             rec["error_curve"] = _sub(["curve", str(s), str(cs)])
         (Path(out_dir) / "partial.json").parent.mkdir(parents=True, exist_ok=True)

@@ -25,6 +25,7 @@ def _parser() -> argparse.ArgumentParser:
     be = sub.add_parser("bench", help="timing/memory benchmark on three mesh sizes")
     be.add_argument("--out", default="fem-prep-out/bench", help="directory for bench.json/png")
     be.add_argument("--quick", action="store_true", help="small sizes only (smoke test)")
+    be.add_argument("--resume", action="store_true", help="reuse cases of an interrupted run")
     return p
 
 
@@ -80,7 +81,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command == "bench":
         from ._bench import run_bench
 
-        run_bench(args.out, quick=args.quick)
+        run_bench(args.out, quick=args.quick, resume=args.resume)
         return 0
     return 1  # pragma: no cover
 

@@ -180,3 +180,17 @@ def test_cli_errors_and_bodies(tmp_path, capsys):
 def test_atomic_write_leaves_no_temp_files(built):
     _, _, out, _ = built
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+@pytest.mark.slow
+def test_example_runs(tmp_path):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "examples" / "fem_prep_modes_error.py"
+    spec = importlib.util.spec_from_file_location("fem_prep_example", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    curves = mod.main(str(tmp_path / "e.png"))
+    assert curves["craig-bampton"][-1] < curves["craig-bampton"][0]
+    assert (tmp_path / "e.png").is_file()
