@@ -25,6 +25,17 @@ __all__ = ["MeshModel", "Cells"]
 
 
 
+def _interp_uniform(x, xp, fp):
+    """Linear interpolation on an equally spaced table (clamped at the ends); cheaper than
+    ``jnp.interp``'s search. ``MeshModel.from_pair`` checks that the table is equally spaced."""
+    n = xp.shape[0]
+    t = (x - xp[0]) / (xp[-1] - xp[0]) * (n - 1)
+    i = jnp.clip(jnp.floor(t), 0, n - 2)
+    w = jnp.clip(t - i, 0.0, 1.0)
+    i = i.astype(jnp.int32)
+    return fp[i] * (1.0 - w) + fp[i + 1] * w
+
+
 class Cells(eqx.Module):
     """Contact cells at one pinion angle (every array has shape (n_lines, n_slices)).
 
@@ -88,6 +99,10 @@ class MeshModel(eqx.Module):
         """
         if int(n_slices) != n_slices or n_slices < 1:
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
+        ds = np.diff(np.asarray(stiffness_s, dtype=float))
+        if ds.size < 1 or not np.allclose(ds, ds[0], rtol=1e-9) or ds[0] <= 0:
+            raise ValueError("stiffness_s must be an equally spaced, increasing table of >= 2 points "
+                             "(as stiffness_table returns)")
         lead = pair.face_width * math.tan(pair.base_helix_angle)
         # s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt): a line can reach [0, g_α] only for
         # 0 <= i <= (g_α + b tan β_b)/p_bt
@@ -114,7 +129,7 @@ class MeshModel(eqx.Module):
         roll = jnp.mod(self.base_radius_pinion * theta, self.base_pitch)
         s = roll + line[:, None] * self.base_pitch - z[None, :] * jnp.tan(self.base_helix_angle)
         mask = (s >= 0.0) & (s <= self.path_of_contact)
-        k = jnp.interp(s, self.stiffness_s, self.stiffness_k)
+        k = _interp_uniform(s, self.stiffness_s, self.stiffness_k)
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
         zz = jnp.broadcast_to(z[None, :], s.shape)
         ll = jnp.broadcast_to(line[:, None], s.shape)

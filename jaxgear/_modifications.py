@@ -98,7 +98,12 @@ class MemberModification(eqx.Module):
         end = self.end_relief_depth * (jnp.clip((le - zeta) / le, 0.0, 1.0)
                                        + jnp.clip((zeta - (1.0 - le)) / le, 0.0, 1.0))
         slope = self.helix_slope_deviation * (zeta - 0.5)
-        prof = jnp.interp(u, self.profile_deviation_roll, self.profile_deviation)
+        if self.profile_deviation.shape[0] == 2:  # a straight line: no table search needed
+            r, d = self.profile_deviation_roll, self.profile_deviation
+            w = jnp.clip((u - r[0]) / (r[1] - r[0]), 0.0, 1.0)
+            prof = d[0] + (d[1] - d[0]) * w
+        else:
+            prof = jnp.interp(u, self.profile_deviation_roll, self.profile_deviation)
         return prof + slope - tip - root - crown - end
 
     def validation_errors(self, tag: str) -> list[str]:

@@ -109,7 +109,15 @@ def _one_position(scene: Scene, mesh: MeshModel, mods: Modifications, torque, th
 
 
 @eqx.filter_jit
-def _quasi_static(scene, mesh, mods, torque, theta, width, mode, max_iterations, throw):
+def _quasi_static(scene, mesh, mods, torque, theta, width, mode, max_iterations, throw,
+                  positions_per_pitch, periods):
+    # defaults are made here, under jit: building them eagerly costs more than the solve
+    if scene is None:
+        scene = RigidMesh(mesh)
+    if mods is None:
+        mods = Modifications()
+    if theta is None:
+        theta = mesh_positions(mesh, positions_per_pitch, periods)
     torque = eqx.error_if(torque, ~(torque > 0),
                           "operating.torque_Nm must be > 0 (the pinion drives on its working flank)")
     if mode == "smooth":
@@ -155,15 +163,19 @@ def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, 
     """
     if contact not in ("exact", "smooth"):
         raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
-    mesh = scene if isinstance(scene, MeshModel) else scene.mesh
+    if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
+        raise ValueError(f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
+                         "allowed an integer >= 2")
+    if int(periods) != periods or periods < 1:
+        raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
     if isinstance(scene, MeshModel):
-        scene = RigidMesh(scene)
-    if modifications is None:
-        modifications = Modifications()
-    if theta is None:
-        theta = mesh_positions(mesh, positions_per_pitch, periods)
+        mesh, scene = scene, None
+    else:
+        mesh = scene.mesh
     dtype = mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     width = jnp.asarray(width, dtype=dtype)
-    return _quasi_static(scene, mesh, modifications, torque, jnp.asarray(theta, dtype=dtype), width,
-                         contact, int(max_iterations), bool(throw))
+    if theta is not None:
+        theta = jnp.asarray(theta, dtype=dtype)
+    return _quasi_static(scene, mesh, modifications, torque, theta, width, contact,
+                         int(max_iterations), bool(throw), int(positions_per_pitch), int(periods))
