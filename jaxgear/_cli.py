@@ -73,6 +73,24 @@ def main(argv: list[str] | None = None) -> int:
             case = load_case(args.case)
             out = args.out or os.path.join("jaxgear-out", case.name)
             summary = run_case(case, out, show_progress=not args.quiet)
+            if case.raw.get("scene"):  # the case has a dynamic scene: add the dynamic factor curve
+                import numpy as np
+
+                from ._sweep import sweep_case
+
+                sw = sweep_case(case, np.linspace(100.0, 3000.0, 60), os.path.join(out, "sweep"),
+                                slices=min(case.slices, 8), show_progress=not args.quiet)
+                df = np.asarray(sw["dynamic_factor"], dtype=float)
+                summary["dynamics"] = {"model": case.raw["scene"].get("model", "torsional"),
+                                       "speeds_rad_s": sw["speeds_rad_s"],
+                                       "dynamic_factor": sw["dynamic_factor"],
+                                       "max_dynamic_factor": float(np.nanmax(df)),
+                                       "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
+                                       "files": "sweep/sweep.json, sweep/dynamic_factor.png, sweep/campbell.png"}
+                from ._util import atomic_open
+
+                with atomic_open(os.path.join(out, "summary.json"), "w") as f:
+                    json.dump(summary, f, indent=2)
             if case.raw.get("optimise"):  # the case asks for an optimisation too
                 from optimise._cli import optimise_case, settings_from_case
 
