@@ -25,7 +25,13 @@ from ._quasi_static import (
     quasi_static as quasi_static,
 )
 from ._run import harris_map as harris_map, load_map as load_map, run_case as run_case
-from ._scene import RigidMesh as RigidMesh, Scene as Scene, TorsionalPair as TorsionalPair
+from ._scene import (
+    Grounded as Grounded,
+    RigidMesh as RigidMesh,
+    Scene as Scene,
+    TorsionalPair as TorsionalPair,
+    grounded as grounded,
+)
 from ._stiffness import (
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,
     iso6336_single_stiffness as iso6336_single_stiffness,

@@ -88,3 +88,46 @@ class TorsionalPair(Scene):
 
     def te_vector(self):
         return self._v()
+
+
+class Grounded(Scene):
+    """A scene with some coordinates tied to the ground by a stiff spring (for statics).
+
+    Dynamic scenes keep rigid-body modes (the torsional chain turns freely) that make their
+    stiffness singular in a quasi-static solve. Grounding the output rotation (the load) removes
+    the mode; in a statically determinate torsional chain it changes neither the transmission error
+    nor the bearing loads.
+
+    Attributes:
+        base: the scene. dofs: grounded coordinate indices (static).
+        stiffness_value: spring stiffness in the units of those coordinates (default 1e3 times
+            the largest diagonal term of the base stiffness).
+    """
+
+    base: Scene
+    stiffness_value: Float[Array, ""] = eqx.field(converter=as_float)
+    dofs: tuple = eqx.field(static=True)
+
+    @property
+    def mesh(self):
+        return self.base.mesh
+
+    def stiffness(self):
+        K = self.base.stiffness()
+        idx = jnp.asarray(self.dofs)
+        return K.at[idx, idx].add(self.stiffness_value)
+
+    def external_load(self, torque):
+        return self.base.external_load(torque)
+
+    def cell_vectors(self, cells):
+        return self.base.cell_vectors(cells)
+
+    def te_vector(self):
+        return self.base.te_vector()
+
+
+def grounded(scene: Scene, dofs, factor: float = 1e3) -> Grounded:
+    """Ground ``dofs`` of ``scene`` with springs ``factor`` × the largest diagonal stiffness."""
+    k = float(jnp.max(jnp.abs(jnp.diag(scene.stiffness()))))
+    return Grounded(scene, factor * max(k, 1.0), tuple(int(d) for d in dofs))
