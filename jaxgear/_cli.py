@@ -130,6 +130,15 @@ def main(argv: list[str] | None = None) -> int:
                 with atomic_open(args.json, "w") as f:
                     json.dump(summary, f, indent=2)
             print(format_table(summary))
+            if "quasi_static_3d" in summary:
+                q = summary["quasi_static_3d"]
+                print(f"lumped 3D scene, exact: TE mean {q['te_mean_m'] * 1e6:.4f} µm, "
+                      f"TE rms {q['te_rms_m'] * 1e6:.4f} µm (shaft and bearing compliance included)")
+            if "dynamics" in summary:
+                d = summary["dynamics"]
+                print(f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
+                      f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
+                      f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s")
             print(f"written to {out}/")
             return 0
         if args.command == "optimise":
