@@ -13,6 +13,7 @@ import pytest
 import jaxgear as jg
 from jaxgear._cli import main
 from jaxgear._sweep import _SOLVER_NAMES, SceneSpec, build_dynamic_model, parse_scene
+from _toml import ACCESSORY_PAIR
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -77,24 +78,7 @@ def test_case_scene_builds_the_four_dof_model():
 
 CASE = """
 name = "tiny-sweep"
-[pair]
-normal_module_mm = 1.5
-normal_pressure_angle_deg = 25.0
-[pinion]
-teeth = 45
-profile_shift = 0.341
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 11.5
-[gear]
-teeth = 86
-profile_shift = 0.481
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 9.5
-[operating]
-torque_Nm = 80.0
-[mesh]
+""" + ACCESSORY_PAIR + """[mesh]
 stiffness = "uniform"
 stiffness_per_length_N_per_mm_per_um = 14.0
 slices = 2

@@ -7,6 +7,7 @@ import pytest
 
 import jaxgear as jg
 import optimise as op
+from _toml import ACCESSORY_PAIR
 
 PPP = 24  # positions per mesh period: small but enough to resolve the single/double contact zones
 
@@ -124,24 +125,7 @@ def test_parse_range_errors():
 
 SMALL_CASE = """
 name = "opt-small"
-[pair]
-normal_module_mm = 1.5
-normal_pressure_angle_deg = 25.0
-[pinion]
-teeth = 45
-profile_shift = 0.341
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 11.5
-[gear]
-teeth = 86
-profile_shift = 0.481
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 9.5
-[operating]
-torque_Nm = 80.0
-[mesh]
+""" + ACCESSORY_PAIR + """[mesh]
 stiffness = "uniform"
 stiffness_per_length_N_per_mm_per_um = 13.0
 slices = 4
