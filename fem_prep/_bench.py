@@ -77,11 +77,14 @@ def _case(size_mm: float, circ_mm: float, dense: bool) -> dict:
         Mii = cp.M[i][:, i]
         Kib = cp.K[i][:, mdofs].toarray()
         t1 = time.perf_counter()
-        c = sla.cho_factor(Kii_s.toarray(), overwrite_a=True, check_finite=False)
+        # numpy's (64-bit-index) LAPACK: scipy's potrf segfaults on this size here
+        c = (np.linalg.cholesky(Kii_s.toarray()), True)
         out["factorisation_s"] = time.perf_counter() - t1
+        print(json.dumps(out), file=sys.stderr, flush=True)
         t1 = time.perf_counter()
         psi = -sla.cho_solve(c, Kib, check_finite=False)
         out["static_modes_s"] = time.perf_counter() - t1
+        print(json.dumps(out), file=sys.stderr, flush=True)
         t1 = time.perf_counter()
         op = spla.LinearOperator(Kii_s.shape, matvec=lambda v: sla.cho_solve(c, v), dtype=float)
         lam, phi = spla.eigsh(Kii_s, k=50, M=Mii, sigma=0.0, OPinv=op, which="LM")
