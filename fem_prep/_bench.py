@@ -36,7 +36,12 @@ def _body(size_mm: float, circ_mm: float, method: str = "craig-bampton", modes: 
     b = load_body("power-helical-wheel")
     s = size_mm * 1e-3
     mesh = dataclasses.replace(
-        b.mesh, size=s, web_size=s, hub_size=None, rim_size=None, circumferential_size=circ_mm * 1e-3
+        b.mesh,
+        size=s,
+        web_size=s,
+        hub_size=None,
+        rim_size=None,
+        circumferential_size=circ_mm * 1e-3,
     )
     cond = dataclasses.replace(b.condensation, method=method, modes=modes)
     return dataclasses.replace(b, mesh=mesh, condensation=cond)
@@ -99,7 +104,12 @@ def _case(size_mm: float, circ_mm: float, dense: bool) -> dict:
     else:
         t0 = time.perf_counter()
         cond = condense(
-            cp.K, cp.M, mdofs, method="craig-bampton", n_modes=50, f=cp.f,
+            cp.K,
+            cp.M,
+            mdofs,
+            method="craig-bampton",
+            n_modes=50,
+            f=cp.f,
             slabs=reduced_slabs(bm, cp),
         )
         out["condensation_s"] = time.perf_counter() - t0
@@ -162,10 +172,9 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
     Returns:
         The benchmark record.
     """
-    from tqdm import tqdm
-
     import scipy
     import skfem
+    from tqdm import tqdm
 
     sizes = QUICK_SIZES_MM if quick else SIZES_MM
     rec: dict = {
@@ -178,7 +187,10 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
         "scikit-fem": skfem.__version__,
         "cases": [],
     }
-    jobs = [("case", s, False) for s in sizes] + [("case", sizes[0], True), ("curve", sizes[0], False)]
+    jobs = [("case", s, False) for s in sizes] + [
+        ("case", sizes[0], True),
+        ("curve", sizes[0], False),
+    ]
     old: list = []
     part = Path(out_dir) / "partial.json"
     if resume and part.is_file():
@@ -189,11 +201,17 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
     for kind, (s, cs), dense in tqdm(jobs, desc="fem-prep bench"):
         if kind == "case":
             done = [
-                c for c in old
-                if c["size_mm"] == s and c["circumferential_size_mm"] == cs
+                c
+                for c in old
+                if c["size_mm"] == s
+                and c["circumferential_size_mm"] == cs
                 and ("dense" in c["method"]) == dense
             ]
-            r = done[0] if done else _sub(["case", str(s), str(cs)] + (["--dense"] if dense else []))
+            r = (
+                done[0]
+                if done
+                else _sub(["case", str(s), str(cs)] + (["--dense"] if dense else []))
+            )
             rec["cases"].append(r)
         elif "error_curve" in rec:
             continue

@@ -249,7 +249,9 @@ def _int(table: dict[str, Any], key: str, where: str, default: int | None = None
     return int(v)
 
 
-def _str(table: dict[str, Any], key: str, where: str, allowed: tuple[str, ...], default: str) -> str:
+def _str(
+    table: dict[str, Any], key: str, where: str, allowed: tuple[str, ...], default: str
+) -> str:
     v = table.get(key, default)
     if not isinstance(v, str) or v not in allowed:
         raise ValueError(f"{where}{key} = {v!r} is not allowed; use one of {', '.join(allowed)}")
@@ -356,7 +358,9 @@ def parse_body(text: str, *, default_name: str = "body") -> Body:
 
     h = b.get("holes", {})
     if not isinstance(h, dict):
-        raise ValueError("[body] holes must be an inline table {count, center_radius_mm, radius_mm}")
+        raise ValueError(
+            "[body] holes must be an inline table {count, center_radius_mm, radius_mm}"
+        )
     _check_keys(h, _HOLES_KEYS, "[body] holes.")
     n_holes = _int(h, "count", "[body] holes.", 0)
     if n_holes < 0:
@@ -399,7 +403,9 @@ def parse_body(text: str, *, default_name: str = "body") -> Body:
     if isinstance(bl, dict):
         bl = [bl]
     if not isinstance(bl, list) or not bl:
-        raise ValueError("at least one [[bearings]] table is required (axial_position_mm, coupling)")
+        raise ValueError(
+            "at least one [[bearings]] table is required (axial_position_mm, coupling)"
+        )
     bearings = []
     for k, t in enumerate(bl):
         if not isinstance(t, dict):

@@ -73,7 +73,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         print(json.dumps({k: summary[k] for k in keys}, indent=1))
         print("first frequencies (Hz), full / condensed:")
-        for f1, f2 in list(zip(summary["frequencies_full_hz"], summary["frequencies_condensed_hz"]))[:10]:
+        for f1, f2 in list(
+            zip(summary["frequencies_full_hz"], summary["frequencies_condensed_hz"])
+        )[:10]:
             print(f"  {f1:10.1f} {f2:10.1f}")
         for k, v in summary["files"].items():
             print(f"wrote {k}: {v}")

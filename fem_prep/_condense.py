@@ -29,7 +29,6 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 from tqdm import tqdm
 
 from ._assemble import Operators
@@ -38,8 +37,8 @@ from ._mesh import BodyMesh, rim_master_z
 from ._solver import CyclicFactor, SparseFactor, blas_threads, factorize, shift_invert_modes
 
 __all__ = [
-    "Coupled",
     "Condensed",
+    "Coupled",
     "MasterSet",
     "condense",
     "couple_bearings",
@@ -405,6 +404,6 @@ def _condense(
 
 
 @functools.wraps(_condense)
-def condense(*args, **kwargs) -> Condensed:  # noqa: D103 (docstring from _condense)
+def condense(*args, **kwargs) -> Condensed:
     with blas_threads():
         return _condense(*args, **kwargs)

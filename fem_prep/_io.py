@@ -13,9 +13,10 @@ import os
 import platform
 import shutil
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -457,7 +458,9 @@ def build(
         target = cdir if use_cache else out
         save_condensed(prep, target / names["npz"])
         write_vtu(prep, target / names["vtu"])
-        _atomic_text(target / names["summary"], json.dumps(summary, indent=2, default=_json_default))
+        _atomic_text(
+            target / names["summary"], json.dumps(summary, indent=2, default=_json_default)
+        )
     if hit or use_cache:
         for n in names.values():
             _atomic_copy(cdir / n, out / n)

@@ -121,7 +121,11 @@ def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
     except ValueError:
         # not enough rim nodes across the face width: add grid lines at the master positions
         bm = mesh_from_section(
-            g, body.mesh, teeth=teeth, z_rim_lines=targets, z_tol_factor=0.05,
+            g,
+            body.mesh,
+            teeth=teeth,
+            z_rim_lines=targets,
+            z_tol_factor=0.05,
             z_hub_lines=z_bear,
         )
     return bm
@@ -263,7 +267,16 @@ def mesh_from_section(
 
     # skfem reference corner order: (0,0,0),(0,0,1),(0,1,0),(1,0,0),(0,1,1),(1,0,1),(1,1,0),(1,1,1)
     # with (xi, eta, zeta) -> (r, theta, z) (right-handed: e_r x e_theta = e_z)
-    corners = [(0, 0, 0), (0, 0, 1), (0, 1, 0), (1, 0, 0), (0, 1, 1), (1, 0, 1), (1, 1, 0), (1, 1, 1)]
+    corners = [
+        (0, 0, 0),
+        (0, 0, 1),
+        (0, 1, 0),
+        (1, 0, 0),
+        (0, 1, 1),
+        (1, 0, 1),
+        (1, 1, 0),
+        (1, 1, 1),
+    ]
     t = np.array([vid(I + a, J + c, K + b) for a, b, c in corners])
 
     # hole removal (web elements whose centroid is inside a hole)
@@ -291,7 +304,6 @@ def mesh_from_section(
     m2 = skfem.MeshHex2.from_mesh(m1)
     loc = m2.doflocs.copy()
     # curved circumferential geometry: points at mid-angle lie on chords; push them to the arc
-    rho = np.hypot(loc[0], loc[1])
     phi = np.mod(np.arctan2(loc[1], loc[0]), 2 * math.pi) / dth
     mid = np.abs(phi - np.floor(phi) - 0.5) < 1e-6
     scale = np.where(mid, 1.0 / math.cos(dth / 2), 1.0)

@@ -207,7 +207,9 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     jmid = int(np.argmin(np.abs(x[rim_nodes[0], 2])))
     qr = qc[: rim_nodes.size * 3].reshape(rim_nodes.shape[0], rim_nodes.shape[1], 3)[:, jmid]
     xr = x[rim_nodes[:, jmid]]
-    ur_c = float(np.mean((qr[:, 0] * xr[:, 0] + qr[:, 1] * xr[:, 1]) / np.hypot(xr[:, 0], xr[:, 1])))
+    ur_c = float(
+        np.mean((qr[:, 0] * xr[:, 0] + qr[:, 1] * xr[:, 1]) / np.hypot(xr[:, 0], xr[:, 1]))
+    )
 
     t0 = time.perf_counter()
     web_z = g.web_offset

@@ -331,7 +331,7 @@ class blas_threads:
             self._n = max(1, min(cpus, int(cpus - load + 0.5)))
         self._old: list[int] = []
 
-    def __enter__(self) -> "blas_threads":
+    def __enter__(self) -> blas_threads:
         import os
 
         global _SETTERS

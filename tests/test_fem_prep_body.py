@@ -54,7 +54,9 @@ def test_embedded_bodies_load():
     assert {"accessory-wheel", "power-helical-wheel"} <= set(names)
     acc = load_body("accessory-wheel")
     # root radius r_f = m (z/2 + x - h_f*) from Tab. III-1 (independent arithmetic)
-    assert acc.geometry.rim_outer_radius == pytest.approx(1.5e-3 * (86 / 2 + 0.481 - 1.1933), rel=1e-4)
+    assert acc.geometry.rim_outer_radius == pytest.approx(
+        1.5e-3 * (86 / 2 + 0.481 - 1.1933), rel=1e-4
+    )
     assert acc.condensation.teeth == 86
     assert acc.geometry.rim_width == pytest.approx(9.5e-3)
 
@@ -86,14 +88,18 @@ def _replace(old: str, new: str) -> str:
             "holes = { count = 40, center_radius_mm = 45.0, radius_mm = 4.0 }",
             "overlap",
         ),
-        ("web_offset_mm = 0.0", "web_offset_mm = 4.0", r"web_offset_mm = 4 .*allowed range \[-3, 3\]"),
+        (
+            "web_offset_mm = 0.0",
+            "web_offset_mm = 4.0",
+            r"web_offset_mm = 4 .*allowed range \[-3, 3\]",
+        ),
         ("poisson_ratio = 0.3", "poisson_ratio = 0.5", "poisson_ratio = 0.5"),
         ("teeth = 86", "teeth = 2", r"teeth = 2 must be in \[3, 1000\]"),
         ("size_mm = 2.0", "size_mm = 0.0", "size_mm = 0 must be > 0"),
         ("modes = 50", "modes = 50.5", "modes must be an integer"),
         ("speed_rad_s = 1000.0", "speed_rad_s = 1000.0\nrpm = 3", "unknown key.*'rpm'"),
         ("[material]", "[material]\nyoung = 1", "unknown key.*'young'"),
-        ("name = \"my-wheel\"", "name = \"my-wheel\"\ncolour = 'red'", "unknown key 'colour'"),
+        ('name = "my-wheel"', "name = \"my-wheel\"\ncolour = 'red'", "unknown key 'colour'"),
     ],
 )
 def test_bad_inputs_raise_named_errors(old, new, match):
@@ -107,7 +113,12 @@ def test_missing_key_and_bad_toml():
     with pytest.raises(ValueError, match="not valid TOML"):
         parse_body("[body\n")
     with pytest.raises(ValueError, match="bearings"):
-        parse_body(_replace('[[bearings]]                            # 6-DOF nodes coupled to the bore at these axial positions\naxial_position_mm = 0.0\ncoupling = "rigid"                      # or "averaging"\n', ""))
+        parse_body(
+            _replace(
+                '[[bearings]]                            # 6-DOF nodes coupled to the bore at these axial positions\naxial_position_mm = 0.0\ncoupling = "rigid"                      # or "averaging"\n',
+                "",
+            )
+        )
 
 
 def test_missing_file_is_clear(tmp_path):

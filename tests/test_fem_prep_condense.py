@@ -1,8 +1,5 @@
 """Condensation (seed (2.3)-(2.5)) and modal identification ((3.2), (3.9)) on small bodies."""
 
-import dataclasses
-import math
-
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -114,7 +111,9 @@ def test_condensed_stiffness_has_rigid_body_modes(coupling):
         (t if k < 3 else w)[k % 3] = 1.0
         v[: 3 * len(x)] = (t + np.cross(w, x)).ravel()
         for ib, xb in enumerate(ms.bearing_positions):
-            v[3 * len(x) + 6 * ib : 3 * len(x) + 6 * ib + 6] = np.concatenate([t + np.cross(w, xb), w])
+            v[3 * len(x) + 6 * ib : 3 * len(x) + 6 * ib + 6] = np.concatenate(
+                [t + np.cross(w, xb), w]
+            )
         rb.append(v)
     R = np.array(rb).T
     scale = np.abs(c.K).max()
@@ -143,12 +142,18 @@ def test_nodal_diameters_come_in_pairs(prepared_cb):
     nd = np.array([m.nodal_diameters for m in fam])
     for k, m in enumerate(fam[:-1]):
         if m.nodal_diameters >= 1 and m.harmonic_share > 0.9:
-            partners = [j for j in range(len(fam)) if j != k and nd[j] == nd[k] and abs(f[j] / f[k] - 1) < 1e-6]
+            partners = [
+                j
+                for j in range(len(fam))
+                if j != k and nd[j] == nd[k] and abs(f[j] / f[k] - 1) < 1e-6
+            ]
             # the last computed mode may have its partner just beyond the computed range
             if k < len(fam) - 1:
                 assert partners, (k, m)
         if m.nodal_diameters == 0:
-            close = [j for j in range(len(fam)) if j != k and abs(f[j] / f[k] - 1) < 1e-6 and nd[j] == 0]
+            close = [
+                j for j in range(len(fam)) if j != k and abs(f[j] / f[k] - 1) < 1e-6 and nd[j] == 0
+            ]
             assert not close
 
 

@@ -2,14 +2,11 @@
 
 import hashlib
 import json
-import shutil
-import zipfile
 
 import meshio
 import numpy as np
 import pytest
 
-import fem_prep._io as fio
 from fem_prep import build, load_condensed
 from fem_prep._cli import main
 

@@ -35,7 +35,9 @@ def _eliminate(K, M, fixed):
 
 def _cantilever_freqs(nx: int, element) -> np.ndarray:
     L, h = 0.4, 0.02
-    m1 = skfem.MeshHex.init_tensor(np.linspace(0, L, nx + 1), np.linspace(0, h, 2), np.linspace(0, h, 2))
+    m1 = skfem.MeshHex.init_tensor(
+        np.linspace(0, L, nx + 1), np.linspace(0, h, 2), np.linspace(0, h, 2)
+    )
     mesh = skfem.MeshHex2.from_mesh(m1)
     basis = skfem.Basis(mesh, skfem.ElementVector(element), intorder=4)
     ops = assemble_operators(basis, Material(E, NU, RHO))
@@ -49,7 +51,9 @@ def _cantilever_freqs(nx: int, element) -> np.ndarray:
 def test_cantilever_euler_bernoulli_converges():
     L, h = 0.4, 0.02
     I, A = h**4 / 12, h * h
-    ref = [(bl**2) * math.sqrt(E * I / (RHO * A * L**4)) / (2 * math.pi) for bl in (1.875104, 4.694091)]
+    ref = [
+        (bl**2) * math.sqrt(E * I / (RHO * A * L**4)) / (2 * math.pi) for bl in (1.875104, 4.694091)
+    ]
     errs = []
     for nx in (4, 8, 16):
         f = _cantilever_freqs(nx, skfem.ElementHexS2())
@@ -102,7 +106,12 @@ def _kirchhoff_clamped_free(n: int, beta: float, nu: float) -> np.ndarray:
     def fns(x):
         # w, w', w'', w''' for J, Y, I, K at argument x (derivatives wrt x)
         out = []
-        for f, fd in ((special.jv, special.jvp), (special.yv, special.yvp), (special.iv, special.ivp), (special.kv, special.kvp)):
+        for f, fd in (
+            (special.jv, special.jvp),
+            (special.yv, special.yvp),
+            (special.iv, special.ivp),
+            (special.kv, special.kvp),
+        ):
             out.append([f(n, x), fd(n, x, 1), fd(n, x, 2), fd(n, x, 3)])
         return np.array(out)  # (4 functions, 4 derivatives)
 
@@ -123,7 +132,11 @@ def _kirchhoff_clamped_free(n: int, beta: float, nu: float) -> np.ndarray:
 
     grid = np.linspace(0.5, 12.0, 2000)
     vals = np.array([det(g) for g in grid])
-    roots = [so.brentq(det, a, b) for a, b, va, vb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:]) if va * vb < 0]
+    roots = [
+        so.brentq(det, a, b)
+        for a, b, va, vb in zip(grid[:-1], grid[1:], vals[:-1], vals[1:])
+        if va * vb < 0
+    ]
     return np.array(roots)
 
 
@@ -145,9 +158,7 @@ def test_annular_plate_against_kirchhoff_and_converges():
     D = E * h**3 / (12 * (1 - NU**2))
     scale = math.sqrt(D / (RHO * h)) / a**2 / (2 * math.pi)  # f = lam^2 * scale
     # lowest out-of-plane modes: n = 0 (single) and n = 1, 2 (pairs)
-    ref = sorted(
-        [_kirchhoff_clamped_free(n, 0.5, NU)[0] ** 2 * scale for n in (0, 1, 1, 2, 2)]
-    )
+    ref = sorted([_kirchhoff_clamped_free(n, 0.5, NU)[0] ** 2 * scale for n in (0, 1, 1, 2, 2)])
     errs = []
     for size, circ in ((12.5, 20.0), (6.25, 10.0)):
         f, _ = _plate_fe(size, circ, 16)
@@ -172,7 +183,11 @@ def test_rotating_disc_plane_stress_within_1_percent():
     # bore held radially and tangentially (u_x = u_y = 0), axial motion free except on the
     # mid-plane (no rigid axial translation): the plane-stress boundary condition u(a) = 0
     fixed = np.concatenate(
-        [3 * np.nonzero(bore)[0], 3 * np.nonzero(bore)[0] + 1, 3 * np.nonzero(bore & np.isclose(x[:, 2], 0.0))[0] + 2]
+        [
+            3 * np.nonzero(bore)[0],
+            3 * np.nonzero(bore)[0] + 1,
+            3 * np.nonzero(bore & np.isclose(x[:, 2], 0.0))[0] + 2,
+        ]
     )
     K, _, free = _eliminate(ops.K, ops.M, fixed)
     u = np.zeros(ops.K.shape[0])
@@ -184,7 +199,14 @@ def test_rotating_disc_plane_stress_within_1_percent():
     a, b = a_mm * 1e-3, b_mm * 1e-3
     c = (1 - NU**2) * RHO * w**2 / (8 * E)
     Amat = np.array([[a, 1 / a], [E / (1 - NU**2) * (1 + NU), -E / (1 - NU**2) * (1 - NU) / b**2]])
-    rhs = np.array([c * a**3, (3 + NU) * RHO * w**2 * b**2 / 8 - E / (1 - NU**2) * (3 + NU) * c * b**2 + (3 + NU) * RHO * w**2 * b**2 / 8 * 0])
+    rhs = np.array(
+        [
+            c * a**3,
+            (3 + NU) * RHO * w**2 * b**2 / 8
+            - E / (1 - NU**2) * (3 + NU) * c * b**2
+            + (3 + NU) * RHO * w**2 * b**2 / 8 * 0,
+        ]
+    )
     # sigma_r = E/(1-nu^2)[(1+nu)A - (1-nu)B/r^2] - (3+nu) rho w^2 r^2 / 8 = 0 at r = b
     rhs[1] = (3 + NU) * RHO * w**2 * b**2 / 8
     A_, B_ = np.linalg.solve(Amat, rhs)
