@@ -34,7 +34,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._baseplane import MeshModel
-from ._scene import Scene
+from ._scene import RigidMesh, Scene
 from ._util import as_float
 
 __all__ = [
@@ -184,17 +184,18 @@ class RelativeApproach(DynamicScene):
     def stiffness_parts(self):
         return {}
 
+    # the structure is the rigid mesh's; only the mass is added
     def stiffness(self):
-        return jnp.zeros((1, 1), dtype=self.mesh.face_width.dtype)
+        return RigidMesh(self.mesh).stiffness()
 
     def external_load(self, torque):
-        return jnp.reshape(self.mesh.normal_load(torque), (1,))
+        return RigidMesh(self.mesh).external_load(torque)
 
     def cell_vectors(self, cells):
-        return jnp.ones(cells.s.shape + (1,), dtype=cells.s.dtype)
+        return RigidMesh(self.mesh).cell_vectors(cells)
 
     def te_vector(self):
-        return jnp.ones((1,), dtype=self.mesh.face_width.dtype)
+        return RigidMesh(self.mesh).te_vector()
 
     def rigid_modes(self):
         return jnp.zeros((1, 0), dtype=self.mesh.face_width.dtype)

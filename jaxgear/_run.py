@@ -88,6 +88,20 @@ def _save_fig(fig, path):
         fig.savefig(f, format="png", dpi=120)
 
 
+def finish_plot(fig, ax, path, *, xlabel: str, ylabel: str, title: str, legend: bool = True) -> None:
+    """Label, grid and legend ``ax``, write ``fig`` atomically as PNG to ``path`` and close it."""
+    import matplotlib.pyplot as plt
+
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend()
+    _save_fig(fig, path)
+    plt.close(fig)
+
+
 def run_case(case: Case, out_dir: str, *, harris_points: int = 16, show_progress: bool = True) -> dict:
     """Compute geometry, mesh stiffness, quasi-static TE (exact and smooth, with and without the
     case's modifications), the load map and the Harris map, and write them to ``out_dir``.
@@ -156,24 +170,17 @@ def run_case(case: Case, out_dir: str, *, harris_points: int = 16, show_progress
         for m in ("exact", "smooth"):
             ax.plot(x, np.asarray(res[lab, m].transmission_error) * 1e6, styles[m], color=color,
                     label=f"{lab}, {m}")
-    ax.set_xlabel("pinion position (mesh periods)")
-    ax.set_ylabel("quasi-static TE (µm, transverse, along the line of action)")
-    ax.set_title(f"{case.name}: transmission error at {case.torque:g} N·m")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    _save_fig(fig, os.path.join(out_dir, "transmission_error.png"))
-    plt.close(fig)
+    finish_plot(fig, ax, os.path.join(out_dir, "transmission_error.png"),
+                xlabel="pinion position (mesh periods)",
+                ylabel="quasi-static TE (µm, transverse, along the line of action)",
+                title=f"{case.name}: transmission error at {case.torque:g} N·m")
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for lab, color in (("unmodified", "C0"), ("modified", "C3")):
         ax.plot(x, np.asarray(res[lab, "exact"].mesh_stiffness) / 1e6, color=color, label=f"{lab} (loaded cells)")
-    ax.set_xlabel("pinion position (mesh periods)")
-    ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
-    ax.set_title(f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    _save_fig(fig, os.path.join(out_dir, "mesh_stiffness.png"))
-    plt.close(fig)
+    finish_plot(fig, ax, os.path.join(out_dir, "mesh_stiffness.png"),
+                xlabel="pinion position (mesh periods)", ylabel="mesh stiffness K(θ) (N/µm)",
+                title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})")
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     dz = pair.face_width / len(z)
@@ -190,13 +197,8 @@ def run_case(case: Case, out_dir: str, *, harris_points: int = 16, show_progress
     ax.plot(torques, harris["unmodified"] * 1e6, "o-", label="no relief")
     ax.plot(torques, harris["modified"] * 1e6, "s-", label="case modifications")
     ax.axvline(case.torque, color="k", lw=0.8, ls=":", label="design torque")
-    ax.set_xlabel("pinion torque (N·m)")
-    ax.set_ylabel("TE peak-to-peak (µm)")
-    ax.set_title(f"{case.name}: Harris map (exact contact)")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    _save_fig(fig, os.path.join(out_dir, "harris_map.png"))
-    plt.close(fig)
+    finish_plot(fig, ax, os.path.join(out_dir, "harris_map.png"), xlabel="pinion torque (N·m)",
+                ylabel="TE peak-to-peak (µm)", title=f"{case.name}: Harris map (exact contact)")
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)

@@ -11,6 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
+from jaxgear._run import finish_plot
 from jaxgear._util import atomic_open
 
 from ._master_curve import contour_map, master_curve
@@ -116,12 +117,9 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     os.makedirs(out_dir, exist_ok=True)
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.semilogy(np.maximum(res.history_value, 1e-12), "o-")
-    ax.set_xlabel("iteration")
-    ax.set_ylabel(f"{problem.objective} / unmodified")
-    ax.set_title(f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)")
-    ax.grid(alpha=0.3)
-    _save(fig, os.path.join(out_dir, "convergence.png"))
-    plt.close(fig)
+    finish_plot(fig, ax, os.path.join(out_dir, "convergence.png"), xlabel="iteration",
+                ylabel=f"{problem.objective} / unmodified", legend=False,
+                title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)")
     t_design = float(problem.design_torque)
     harris_t = (np.asarray(problem.torques) if problem.objective == "robust_te_rms"
                 else np.linspace(0.25, 2.0, 15) * t_design)
@@ -131,13 +129,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     ax.plot(harris_t, np.asarray(sharp.te_rms_vs_torque(jnp.zeros(len(problem.names)) + problem.lower,
                                                          harris_t)) * 1e6, "k:", label="lower bounds")
     ax.axvline(t_design, color="k", lw=0.8, ls="--")
-    ax.set_xlabel("pinion torque (N·m)")
-    ax.set_ylabel("TE RMS (µm), exact contact")
-    ax.set_title(f"{case.name}: Harris map of the designs")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    _save(fig, os.path.join(out_dir, "harris.png"))
-    plt.close(fig)
+    finish_plot(fig, ax, os.path.join(out_dir, "harris.png"), xlabel="pinion torque (N·m)",
+                ylabel="TE RMS (µm), exact contact", title=f"{case.name}: Harris map of the designs")
     report["harris"] = {"torque_Nm": harris_t.tolist()}
     if sorted(n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n
               for n in problem.names) == ["tip_relief.depth", "tip_relief.extent"] \
