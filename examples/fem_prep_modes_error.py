@@ -8,11 +8,9 @@ rotating-frame resonance orders (seed (3.2), (3.9)).
 Run: ``python examples/fem_prep_modes_error.py [out.png]``
 """
 
-import math
 import sys
 
 import numpy as np
-import scipy.linalg as sla
 
 import fem_prep
 
@@ -45,22 +43,9 @@ speed_rad_s = 1000.0
 def main(out: str = "fem_prep_modes_error.png") -> dict:
     body = fem_prep.parse_body(BODY)
     prep = fem_prep.prepare(body)
-    f_full = prep.frequencies_full_hz
-    cp = prep.coupled
-    n_b = len(prep.master_dofs)
-    bearing_c = n_b - cp.bearing_dofs.size + np.arange(cp.bearing_dofs.size)
     modes = [0, 5, 10, 20, 30, 50, 80]
-    curves = {}
-    for method in ("craig-bampton", "herting"):
-        errs = []
-        for m in modes:
-            c = fem_prep.condense(cp.K, cp.M, prep.master_dofs, method=method, n_modes=m)
-            keep = np.ones(c.K.shape[0], bool)
-            keep[bearing_c] = False
-            lam = sla.eigh(c.K[np.ix_(keep, keep)], c.M[np.ix_(keep, keep)], eigvals_only=True)
-            fc = np.sqrt(np.maximum(lam[: len(f_full)], 0)) / (2 * math.pi)
-            errs.append(float(np.max(np.abs(fc / f_full - 1))))
-        curves[method] = errs
+    curves = fem_prep.frequency_error_vs_modes(prep, modes)
+    for method, errs in curves.items():
         print(method, " ".join(f"{m}:{e:.2e}" for m, e in zip(modes, errs)))
     for row in fem_prep.critical_speeds(body.condensation.teeth, prep.families[:10]):
         print(

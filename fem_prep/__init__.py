@@ -18,6 +18,7 @@ from ._condense import Condensed as Condensed
 from ._condense import MasterSet as MasterSet
 from ._condense import condense as condense
 from ._condense import couple_bearings as couple_bearings
+from ._condense import frequency_error_vs_modes as frequency_error_vs_modes
 from ._condense import select_masters as select_masters
 from ._io import FORMAT_VERSION as FORMAT_VERSION
 from ._io import CondensedBody as CondensedBody

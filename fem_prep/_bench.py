@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import os
 import platform
 import resource
@@ -126,29 +125,14 @@ def _case(size_mm: float, circ_mm: float, dense: bool) -> dict:
 
 def _error_curve(size_mm: float, circ_mm: float) -> dict:
     """Max relative error of the first 20 frequencies (bearings held) vs number of modes."""
-    from ._prepare import prepare
+    from ._condense import frequency_error_vs_modes
+    from ._prepare import prepare, reduced_slabs
 
     base = prepare(_body(size_mm, circ_mm, "guyan", 0))
-    f_full = base.frequencies_full_hz
-    cp = base.coupled
-    bearing_c = len(base.master_dofs) - cp.bearing_dofs.size + np.arange(cp.bearing_dofs.size)
-    from ._condense import condense
-    from ._prepare import reduced_slabs
-
-    slabs = reduced_slabs(base.mesh, cp)
-    import scipy.linalg as sla
-
-    curves: dict = {"modes": [0, 5, 10, 20, 30, 50, 80], "f_full_hz": list(map(float, f_full))}
-    for method in ("craig-bampton", "herting"):
-        errs = []
-        for m in curves["modes"]:
-            c = condense(cp.K, cp.M, base.master_dofs, method=method, n_modes=m, slabs=slabs)
-            keep = np.ones(c.K.shape[0], bool)
-            keep[bearing_c] = False
-            lam = sla.eigh(c.K[np.ix_(keep, keep)], c.M[np.ix_(keep, keep)], eigvals_only=True)
-            fc = np.sqrt(np.maximum(lam[: len(f_full)], 0)) / (2 * math.pi)
-            errs.append(float(np.max(np.abs(fc / f_full - 1))))
-        curves[method] = errs
+    curves: dict = {"modes": [0, 5, 10, 20, 30, 50, 80],
+                    "f_full_hz": list(map(float, base.frequencies_full_hz))}
+    curves.update(frequency_error_vs_modes(base, curves["modes"],
+                                           slabs=reduced_slabs(base.mesh, base.coupled)))
     curves["n_dofs"] = base.mesh.n_dofs
     return curves
 
