@@ -14,6 +14,8 @@ Later scenes (shafts, bearings, condensed bodies) plug into the same solver by p
 
 from __future__ import annotations
 
+import abc
+
 import equinox as eqx
 import jax.numpy as jnp
 from ._util import as_float
@@ -29,17 +31,21 @@ __all__ = ["Scene", "RigidMesh", "TorsionalPair"]
 class Scene(eqx.Module):
     """Abstract linear structure seen by the contact law."""
 
+    @abc.abstractmethod
     def stiffness(self) -> Float[Array, "n n"]:
-        raise NotImplementedError  # abstract
+        """See the module docstring."""
 
+    @abc.abstractmethod
     def external_load(self, torque: Float[Array, ""]) -> Float[Array, " n"]:
-        raise NotImplementedError  # abstract
+        """See the module docstring."""
 
+    @abc.abstractmethod
     def cell_vectors(self, cells: Cells) -> Float[Array, "n_lines n_slices n"]:
-        raise NotImplementedError  # abstract
+        """See the module docstring."""
 
+    @abc.abstractmethod
     def te_vector(self) -> Float[Array, " n"]:
-        raise NotImplementedError  # abstract
+        """See the module docstring."""
 
 
 class RigidMesh(Scene):
