@@ -17,20 +17,27 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
 
 
 def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
-    case = jg.load_case("accessory-spur").replace(slices=4)  # spur: few slices suffice
+    case = jio.load_case("accessory-spur").replace(slices=4)  # spur: few slices suffice
     p = case.pair
-    scene = jg.TorsionalDynamics(
+    scene = jd.TorsionalDynamics(
         case.mesh_model(),
-        jg.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
-        jg.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width))
+        jd.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        jd.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+    )
     kw = dict(steps_per_period=32, periods=periods)
-    models = {"tip relief 15 µm": jg.dynamic_model(scene, case.modifications, case.torque,
-                                                   positions_per_pitch=32),
-              "unmodified": jg.dynamic_model(scene, jg.Modifications(), case.torque,
-                                             positions_per_pitch=32)}
+    models = {
+        "tip relief 15 µm": jd.dynamic_model(
+            scene, case.modifications, case.torque, positions_per_pitch=32
+        ),
+        "unmodified": jd.dynamic_model(
+            scene, jg.Modifications(), case.torque, positions_per_pitch=32
+        ),
+    }
     relieved = models["tip relief 15 µm"]
     f_n = float(relieved.modes.frequency[1])
     cs = float(relieved.critical_speeds()[1])
@@ -38,21 +45,26 @@ def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
     speeds = np.linspace(0.4 * cs, 1.6 * cs, n_speeds)
     curves = {}
     for name, model in models.items():
-        s = jg.speed_sweep(model, speeds, direction="both", **kw)
+        s = jd.speed_sweep(model, speeds, direction="both", **kw)
         up, down = np.asarray(s.results.dynamic_factor), np.asarray(s.down.dynamic_factor)
         curves[name] = (up, down)
         i = int(np.argmax(np.maximum(up, down)))
-        print(f"{name:18s} peak dynamic factor {max(up.max(), down.max()):.2f} at "
-              f"{speeds[i]:.0f} rad/s; max |up − down| {np.abs(up - down).max():.2f}")
+        print(
+            f"{name:18s} peak dynamic factor {max(up.max(), down.max()):.2f} at "
+            f"{speeds[i]:.0f} rad/s; max |up − down| {np.abs(up - down).max():.2f}"
+        )
 
     def df(depth):
         m = eqx.tree_at(lambda m: m.mods.pinion.tip_relief_depth, relieved, depth)
-        return jg.simulate(m, 0.8 * cs, contact="smooth", width=case.smooth_width,
-                           throw=False, **kw).dynamic_factor
+        return jd.simulate(
+            m, 0.8 * cs, contact="smooth", width=case.smooth_width, throw=False, **kw
+        ).dynamic_factor
 
     val, slope = jax.jvp(df, (jnp.asarray(15e-6),), (jnp.asarray(1e-6),))
-    print(f"dynamic factor at {0.8 * cs:.0f} rad/s (smooth law) {float(val):.3f}, "
-          f"d/dE = {float(slope):+.4f} per µm of pinion tip relief")
+    print(
+        f"dynamic factor at {0.8 * cs:.0f} rad/s (smooth law) {float(val):.3f}, "
+        f"d/dE = {float(slope):+.4f} per µm of pinion tip relief"
+    )
 
     if out_dir is not None:
         import os

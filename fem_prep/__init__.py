@@ -11,6 +11,8 @@ seed (3.2), resonance orders (3.9)) and writes a versioned ``.npz``, a ``.vtu`` 
 from ._assemble import Operators as Operators
 from ._assemble import assemble_operators as assemble_operators
 from ._body import Body as Body
+from ._cli import add_build_arguments as add_build_arguments
+from ._cli import run_build as run_build
 from ._body import embedded_bodies as embedded_bodies
 from ._body import load_body as load_body
 from ._body import parse_body as parse_body

@@ -129,10 +129,15 @@ def _error_curve(size_mm: float, circ_mm: float) -> dict:
     from ._prepare import prepare, reduced_slabs
 
     base = prepare(_body(size_mm, circ_mm, "guyan", 0))
-    curves: dict = {"modes": [0, 5, 10, 20, 30, 50, 80],
-                    "f_full_hz": list(map(float, base.frequencies_full_hz))}
-    curves.update(frequency_error_vs_modes(base, curves["modes"],
-                                           slabs=reduced_slabs(base.mesh, base.coupled)))
+    curves: dict = {
+        "modes": [0, 5, 10, 20, 30, 50, 80],
+        "f_full_hz": list(map(float, base.frequencies_full_hz)),
+    }
+    curves.update(
+        frequency_error_vs_modes(
+            base, curves["modes"], slabs=reduced_slabs(base.mesh, base.coupled)
+        )
+    )
     curves["n_dofs"] = base.mesh.n_dofs
     return curves
 

@@ -15,14 +15,12 @@ import math
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from ._util import as_float
 from jaxtyping import Array, Bool, Float
 
 from ._geometry import GearPair
+from ._util import as_float
 
 __all__ = ["MeshModel", "Cells"]
-
-
 
 
 def _interp_uniform(x, xp, fp):
@@ -88,8 +86,9 @@ class MeshModel(eqx.Module):
             raise ValueError(f"mesh.slices = {self.n_slices} is out of range: allowed >= 1")
 
     @classmethod
-    def from_pair(cls, pair: GearPair, stiffness_s: np.ndarray, stiffness_k: np.ndarray,
-                  n_slices: int) -> "MeshModel":
+    def from_pair(
+        cls, pair: GearPair, stiffness_s: np.ndarray, stiffness_k: np.ndarray, n_slices: int
+    ) -> "MeshModel":
         """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
 
         Args:
@@ -101,17 +100,29 @@ class MeshModel(eqx.Module):
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
         ds = np.diff(np.asarray(stiffness_s, dtype=float))
         if ds.size < 1 or not np.allclose(ds, ds[0], rtol=1e-9) or ds[0] <= 0:
-            raise ValueError("stiffness_s must be an equally spaced, increasing table of >= 2 points "
-                             "(as stiffness_table returns)")
+            raise ValueError(
+                "stiffness_s must be an equally spaced, increasing table of >= 2 points "
+                "(as stiffness_table returns)"
+            )
         lead = pair.face_width * math.tan(pair.base_helix_angle)
         # s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt): a line can reach [0, g_α] only for
         # 0 <= i <= (g_α + b tan β_b)/p_bt
         first = 0
         last = int(math.ceil((pair.path_of_contact + lead) / pair.base_pitch))
-        return cls(pair.path_of_contact, pair.base_pitch, pair.face_width, pair.base_radii[0],
-                   pair.base_radii[1], pair.base_helix_angle, pair.transverse_contact_ratio,
-                   stiffness_s, stiffness_k, n_slices=int(n_slices), n_lines=last - first + 1,
-                   first_line=first)
+        return cls(
+            pair.path_of_contact,
+            pair.base_pitch,
+            pair.face_width,
+            pair.base_radii[0],
+            pair.base_radii[1],
+            pair.base_helix_angle,
+            pair.transverse_contact_ratio,
+            stiffness_s,
+            stiffness_k,
+            n_slices=int(n_slices),
+            n_lines=last - first + 1,
+            first_line=first,
+        )
 
     @property
     def mesh_period_angle(self) -> Float[Array, ""]:
@@ -134,11 +145,6 @@ class MeshModel(eqx.Module):
         zz = jnp.broadcast_to(z[None, :], s.shape)
         ll = jnp.broadcast_to(line[:, None], s.shape)
         return Cells(s=s, z=zz, length=length, stiffness=k, mask=mask, line=ll)
-
-    def contact_length(self, theta: Float[Array, ""]) -> Float[Array, ""]:
-        """Total length of the contact lines inside the base plane (m), discretised."""
-        c = self.cells(theta)
-        return jnp.sum(jnp.where(c.mask, c.length, 0.0))
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""

@@ -22,14 +22,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-__all__ = ["ContactSolution", "solve_contact", "RESULT_MESSAGES"]
-
-RESULT_MESSAGES = {
-    0: "converged",
-    1: "contact loop did not converge (active set still changing at max_iterations)",
-    2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
-    3: "non-finite state in the contact solve",
-}
+__all__ = ["ContactSolution", "solve_contact"]
 
 
 class ContactSolution(eqx.Module):
@@ -40,7 +33,7 @@ class ContactSolution(eqx.Module):
         gap: Δ = V·X − δ0 per cell (m), shape (c,) (positive = interpenetration/approach).
         weight: dφ/dΔ per cell (exact: 1 in contact, 0 out), shape (c,).
         force_density: p = k φ(Δ) per cell (N/m), shape (c,), zero outside the mask.
-        iterations: passes used. result: 0 ok, else a key of ``RESULT_MESSAGES``.
+        iterations: passes used. result: 0 ok, else a :class:`~jaxgear.ContactResult` code.
     """
 
     x: Float[Array, " n"]
@@ -72,10 +65,18 @@ def _assemble(Ks, F, V, kl, delta0, weight):
     return Kt, Ft
 
 
-def solve_contact(Ks: Float[Array, "n n"], F: Float[Array, " n"], V: Float[Array, "c n"],
-                  k: Float[Array, " c"], length: Float[Array, " c"], delta0: Float[Array, " c"], mask: Bool[Array, " c"],
-                  mode: str = "exact", width: Float[Array, ""] | float = 1e-7,
-                  max_iterations: int = 100) -> ContactSolution:
+def solve_contact(
+    Ks: Float[Array, "n n"],
+    F: Float[Array, " n"],
+    V: Float[Array, "c n"],
+    k: Float[Array, " c"],
+    length: Float[Array, " c"],
+    delta0: Float[Array, " c"],
+    mask: Bool[Array, " c"],
+    mode: str = "exact",
+    width: Float[Array, ""] | float = 1e-7,
+    max_iterations: int = 100,
+) -> ContactSolution:
     """Solve the unilateral contact problem on a linear structure.
 
     Args:
@@ -117,7 +118,9 @@ def solve_contact(Ks: Float[Array, "n n"], F: Float[Array, " n"], V: Float[Array
         return x, new, it + 1, jnp.any(new != active)
 
     x0 = jnp.zeros(F.shape, F.dtype)
-    x_ex, active, it_ex, changed = jax.lax.while_loop(cond, body, (x0, maskf, jnp.array(0), jnp.array(True)))
+    x_ex, active, it_ex, changed = jax.lax.while_loop(
+        cond, body, (x0, maskf, jnp.array(0), jnp.array(True))
+    )
     result = jnp.where(changed, 1, 0)
 
     if mode == "exact":
@@ -144,7 +147,9 @@ def solve_contact(Ks: Float[Array, "n n"], F: Float[Array, " n"], V: Float[Array
             step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), tiny)
             return x - dx, it + 1, step
 
-        x_sm, it_sm, step = jax.lax.while_loop(ncond, nbody, (sg(x_ex), jnp.array(0), jnp.array(jnp.inf, F.dtype)))
+        x_sm, it_sm, step = jax.lax.while_loop(
+            ncond, nbody, (sg(x_ex), jnp.array(0), jnp.array(jnp.inf, F.dtype))
+        )
         result = jnp.where(step > 1e3 * tiny, 1, result)
         # implicit-function step: value unchanged (r ≈ 0), derivative −J⁻¹ ∂r/∂p
         r, dphi = residual(x_sm, Ks, F, V, kl, delta0)
@@ -157,5 +162,6 @@ def solve_contact(Ks: Float[Array, "n n"], F: Float[Array, " n"], V: Float[Array
     weight = jnp.where(mask, weight, 0.0)
     result = jnp.where(jnp.sum(weight * kl) <= 0, 2, result)
     result = jnp.where(jnp.all(jnp.isfinite(x)), result, 3)
-    return ContactSolution(x=x, gap=gap, weight=weight, force_density=k * phi,
-                           iterations=iterations, result=result)
+    return ContactSolution(
+        x=x, gap=gap, weight=weight, force_density=k * phi, iterations=iterations, result=result
+    )

@@ -108,15 +108,21 @@ class GearPair:
         _require("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg")
         _require("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg")
         for tag, m in (("pinion", self.pinion), ("gear", self.gear)):
-            _require(f"{tag}.teeth", m.teeth, int(m.teeth) == m.teeth and m.teeth >= 5,
-                     "an integer >= 5")
+            _require(
+                f"{tag}.teeth", m.teeth, int(m.teeth) == m.teeth and m.teeth >= 5, "an integer >= 5"
+            )
             _require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
             _require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
             _require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
-            _require(f"{tag}.fillet_radius_coeff", m.fillet_radius_coeff,
-                     0 <= m.fillet_radius_coeff < m.dedendum_coeff, "[0, dedendum_coeff)")
-            _require(f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5,
-                     "(-1.5, 1.5)")
+            _require(
+                f"{tag}.fillet_radius_coeff",
+                m.fillet_radius_coeff,
+                0 <= m.fillet_radius_coeff < m.dedendum_coeff,
+                "[0, dedendum_coeff)",
+            )
+            _require(
+                f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)"
+            )
         z1, z2 = self.pinion.teeth, self.gear.teeth
         x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
         mt = mn / math.cos(beta)
@@ -124,50 +130,81 @@ class GearPair:
         r = (z1 * mt / 2.0, z2 * mt / 2.0)
         rb = (r[0] * math.cos(at), r[1] * math.cos(at))
         inv_awt0 = involute(at) + 2.0 * math.tan(an) * (x1 + x2) / (z1 + z2)
-        _require("profile_shift (x1 + x2)", x1 + x2, inv_awt0 > 0, f"> {-(z1 + z2) * involute(at) / (2 * math.tan(an)):.4f}")
+        _require(
+            "profile_shift (x1 + x2)",
+            x1 + x2,
+            inv_awt0 > 0,
+            f"> {-(z1 + z2) * involute(at) / (2 * math.tan(an)):.4f}",
+        )
         awt0 = inverse_involute(inv_awt0)
         a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
         if self.center_distance is None:
             a, awt = a0, awt0
         else:
             a = float(self.center_distance)
-            _require("center_distance", a, a >= a0 * (1 - 1e-9),
-                     f">= {a0 * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)")
+            _require(
+                "center_distance",
+                a,
+                a >= a0 * (1 - 1e-9),
+                f">= {a0 * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)",
+            )
             awt = math.acos((rb[0] + rb[1]) / a)
         members = (self.pinion, self.gear)
         ra = tuple(r[i] + mn * (m.addendum_coeff + m.profile_shift) for i, m in enumerate(members))
         rf = tuple(r[i] - mn * (m.dedendum_coeff - m.profile_shift) for i, m in enumerate(members))
         for i, tag in enumerate(("pinion", "gear")):
-            _require(f"{tag}.root radius (from dedendum_coeff and profile_shift)", rf[i], rf[i] > 0,
-                     "> 0")
-            _require(f"{tag}.tip radius (from addendum_coeff and profile_shift)", ra[i],
-                     ra[i] > rb[i], f"> base radius {rb[i] * 1e3:.4f} mm")
+            _require(
+                f"{tag}.root radius (from dedendum_coeff and profile_shift)",
+                rf[i],
+                rf[i] > 0,
+                "> 0",
+            )
+            _require(
+                f"{tag}.tip radius (from addendum_coeff and profile_shift)",
+                ra[i],
+                ra[i] > rb[i],
+                f"> base radius {rb[i] * 1e3:.4f} mm",
+            )
         # transverse tooth thickness at the reference circle and at the tip (ISO 21771)
         st = tuple(mt * (math.pi / 2 + 2 * m.profile_shift * math.tan(an)) for m in members)
         tip_thickness = []
         for i, tag in enumerate(("pinion", "gear")):
             aa = math.acos(rb[i] / ra[i])
             sa = 2 * ra[i] * (st[i] / (2 * r[i]) + involute(at) - involute(aa))
-            _require(f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth)",
-                     members[i].addendum_coeff, sa > 0, "a tip tooth thickness > 0")
+            _require(
+                f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth)",
+                members[i].addendum_coeff,
+                sa > 0,
+                "a tip tooth thickness > 0",
+            )
             tip_thickness.append(sa)
         # form circle of the generating rack (ISO 21771 (88)-(90)): roll distance from T
         form_roll = []
         for i, (tag, m) in enumerate(zip(("pinion", "gear"), members)):
-            h = mn * (m.dedendum_coeff - m.profile_shift - m.fillet_radius_coeff * (1 - math.sin(an)))
+            h = mn * (
+                m.dedendum_coeff - m.profile_shift - m.fillet_radius_coeff * (1 - math.sin(an))
+            )
             rho_f = r[i] * math.sin(at) - h / math.sin(at)
-            _require(f"{tag}.profile_shift (undercut: form circle roll {rho_f * 1e3:.4f} mm)",
-                     m.profile_shift, rho_f >= 0, "large enough that the involute starts above the base circle (no undercut)")
+            _require(
+                f"{tag}.profile_shift (undercut: form circle roll {rho_f * 1e3:.4f} mm)",
+                m.profile_shift,
+                rho_f >= 0,
+                "large enough that the involute starts above the base circle (no undercut)",
+            )
             form_roll.append(rho_f)
         t1t2 = a * math.sin(awt)
         roll_tip = (math.sqrt(ra[0] ** 2 - rb[0] ** 2), math.sqrt(ra[1] ** 2 - rb[1] ** 2))
         start = (t1t2 - roll_tip[1], t1t2 - roll_tip[0])  # start of active profile, each member
         for i, tag in enumerate(("pinion", "gear")):
             other = "gear" if i == 0 else "pinion"
-            _require(f"{other}.addendum_coeff (interference: {tag} active profile starts "
-                     f"{start[i] * 1e3:.4f} mm from its tangent point, below the form circle "
-                     f"{form_roll[i] * 1e3:.4f} mm)", members[1 - i].addendum_coeff,
-                     start[i] >= form_roll[i] - 1e-12, "small enough to avoid interference")
+            _require(
+                f"{other}.addendum_coeff (interference: {tag} active profile starts "
+                f"{start[i] * 1e3:.4f} mm from its tangent point, below the form circle "
+                f"{form_roll[i] * 1e3:.4f} mm)",
+                members[1 - i].addendum_coeff,
+                start[i] >= form_roll[i] - 1e-12,
+                "small enough to avoid interference",
+            )
         g_alpha = roll_tip[0] + roll_tip[1] - t1t2
         pbt = math.pi * mt * math.cos(at)
         eps_a = g_alpha / pbt

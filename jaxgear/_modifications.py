@@ -20,8 +20,9 @@ from typing import Literal
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from ._util import as_float
 from jaxtyping import Array, Float
+
+from ._util import as_float
 
 __all__ = ["MemberModification", "Modifications"]
 
@@ -39,8 +40,6 @@ def _ramp(x, shape: str, blend):
     x = jnp.where(blend > 0, safe * jax.nn.softplus(x / safe), jnp.maximum(x, 0.0))
     x = jnp.minimum(x, 1.0)
     return x if shape == "linear" else x * x
-
-
 
 
 class MemberModification(eqx.Module):
@@ -81,22 +80,34 @@ class MemberModification(eqx.Module):
         for name in ("tip_relief_shape", "root_relief_shape"):
             if getattr(self, name) not in _SHAPES:
                 raise ValueError(f"{name} = {getattr(self, name)!r}: allowed 'linear', 'parabolic'")
-        if self.profile_deviation_roll.shape != self.profile_deviation.shape or \
-                self.profile_deviation.ndim != 1 or self.profile_deviation.shape[0] < 2:
-            raise ValueError("profile_deviation: roll_fraction and deviation_um must be 1-D lists "
-                             "of the same length >= 2")
+        if (
+            self.profile_deviation_roll.shape != self.profile_deviation.shape
+            or self.profile_deviation.ndim != 1
+            or self.profile_deviation.shape[0] < 2
+        ):
+            raise ValueError(
+                "profile_deviation: roll_fraction and deviation_um must be 1-D lists "
+                "of the same length >= 2"
+            )
 
     def deviation(self, u: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
         """Normal deviation e (m) at roll fraction ``u`` and lead fraction ``zeta`` (broadcast)."""
-        tip = self.tip_relief_depth * _ramp((u - (1.0 - self.tip_relief_extent)) / self.tip_relief_extent,
-                                            self.tip_relief_shape, self.relief_blend / self.tip_relief_extent)
-        root = self.root_relief_depth * _ramp((self.root_relief_extent - u) / self.root_relief_extent,
-                                              self.root_relief_shape, self.relief_blend / self.root_relief_extent)
+        tip = self.tip_relief_depth * _ramp(
+            (u - (1.0 - self.tip_relief_extent)) / self.tip_relief_extent,
+            self.tip_relief_shape,
+            self.relief_blend / self.tip_relief_extent,
+        )
+        root = self.root_relief_depth * _ramp(
+            (self.root_relief_extent - u) / self.root_relief_extent,
+            self.root_relief_shape,
+            self.relief_blend / self.root_relief_extent,
+        )
         xi = 2.0 * zeta - 1.0
         crown = self.crowning_depth * xi * xi
         le = self.end_relief_extent
-        end = self.end_relief_depth * (jnp.clip((le - zeta) / le, 0.0, 1.0)
-                                       + jnp.clip((zeta - (1.0 - le)) / le, 0.0, 1.0))
+        end = self.end_relief_depth * (
+            jnp.clip((le - zeta) / le, 0.0, 1.0) + jnp.clip((zeta - (1.0 - le)) / le, 0.0, 1.0)
+        )
         slope = self.helix_slope_deviation * (zeta - 0.5)
         if self.profile_deviation.shape[0] == 2:  # a straight line: no table search needed
             r, d = self.profile_deviation_roll, self.profile_deviation
@@ -105,26 +116,6 @@ class MemberModification(eqx.Module):
         else:
             prof = jnp.interp(u, self.profile_deviation_roll, self.profile_deviation)
         return prof + slope - tip - root - crown - end
-
-    def validation_errors(self, tag: str) -> list[str]:
-        """Range errors for concrete (not traced) values, as messages naming the parameter."""
-        out = []
-        checks = [
-            ("tip_relief.depth_um", self.tip_relief_depth * 1e6, self.tip_relief_depth >= 0, ">= 0"),
-            ("tip_relief.extent", self.tip_relief_extent, (self.tip_relief_extent > 0) & (self.tip_relief_extent <= 1), "(0, 1]"),
-            ("root_relief.depth_um", self.root_relief_depth * 1e6, self.root_relief_depth >= 0, ">= 0"),
-            ("root_relief.extent", self.root_relief_extent, (self.root_relief_extent > 0) & (self.root_relief_extent <= 1), "(0, 1]"),
-            ("crowning.depth_um", self.crowning_depth * 1e6, self.crowning_depth >= 0, ">= 0"),
-            ("end_relief.depth_um", self.end_relief_depth * 1e6, self.end_relief_depth >= 0, ">= 0"),
-            ("end_relief.extent", self.end_relief_extent, (self.end_relief_extent > 0) & (self.end_relief_extent <= 0.5), "(0, 0.5]"),
-        ]
-        for name, value, ok, allowed in checks:
-            if not bool(ok):
-                out.append(f"modifications.{tag}.{name} = {float(value):g} is out of range: allowed {allowed}")
-        r = self.profile_deviation_roll
-        if not bool(jnp.all(jnp.diff(r) > 0)):
-            out.append(f"modifications.{tag}.profile_deviation.roll_fraction must be strictly ascending")
-        return out
 
 
 class Modifications(eqx.Module):
@@ -146,13 +137,8 @@ class Modifications(eqx.Module):
         """The same modification on both members."""
         return cls(pinion=member, gear=member)
 
-    def deviation(self, s_fraction: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
+    def deviation(
+        self, s_fraction: Float[Array, "..."], zeta: Float[Array, "..."]
+    ) -> Float[Array, "..."]:
         """Pair deviation e (m) at base-plane fraction s/g_α and lead fraction z/b."""
         return self.pinion.deviation(s_fraction, zeta) + self.gear.deviation(1.0 - s_fraction, zeta)
-
-    def validate(self) -> "Modifications":
-        """Raise ``ValueError`` listing every out-of-range parameter (concrete values only)."""
-        errs = self.pinion.validation_errors("pinion") + self.gear.validation_errors("gear")
-        if errs:
-            raise ValueError("; ".join(errs))
-        return self

@@ -8,9 +8,10 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from ._baseplane import MeshModel
-from ._contact import RESULT_MESSAGES, solve_contact
+from ._contact import solve_contact
 from ._modifications import Modifications
-from ._scene import RigidMesh, Scene
+from ._results import ContactResult
+from .scenes import RigidMesh, Scene
 
 __all__ = ["QuasiStaticResult", "quasi_static", "mesh_positions"]
 
@@ -64,14 +65,18 @@ class QuasiStaticResult(eqx.Module):
         return jnp.max(self.line_load)
 
 
-def mesh_positions(mesh: MeshModel, positions_per_pitch: int, periods: int = 1) -> Float[Array, " P"]:
+def mesh_positions(
+    mesh: MeshModel, positions_per_pitch: int, periods: int = 1
+) -> Float[Array, " P"]:
     """Pinion angles (rad) at the mid-points of ``positions_per_pitch`` steps per mesh period.
 
     Mid-points keep contact-line ends off the exact edges s = 0 and s = g_α.
     """
     if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
-        raise ValueError(f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
-                         "allowed an integer >= 2")
+        raise ValueError(
+            f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
+            "allowed an integer >= 2"
+        )
     if int(periods) != periods or periods < 1:
         raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
     k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
@@ -89,28 +94,59 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
 
 
-def _one_position(scene: Scene, mesh: MeshModel, mods: Modifications, torque, theta, mode, width,
-                  max_iterations):
+def _one_position(
+    scene: Scene, mesh: MeshModel, mods: Modifications, torque, theta, mode, width, max_iterations
+):
     cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
     V = scene.cell_vectors(cells)
     n = V.shape[-1]
-    sol = solve_contact(scene.stiffness(), scene.external_load(torque), V.reshape(-1, n),
-                        cells.stiffness.reshape(-1), cells.length.reshape(-1), delta0.reshape(-1),
-                        mask.reshape(-1), mode, width, max_iterations)
+    sol = solve_contact(
+        scene.stiffness(),
+        scene.external_load(torque),
+        V.reshape(-1, n),
+        cells.stiffness.reshape(-1),
+        cells.length.reshape(-1),
+        delta0.reshape(-1),
+        mask.reshape(-1),
+        mode,
+        width,
+        max_iterations,
+    )
     cos_bb = jnp.cos(mesh.base_helix_angle)
     te = (scene.te_vector() @ sol.x - e_max) / cos_bb
     kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)
     stiff = jnp.sum(kl * sol.weight)
     length = jnp.sum(cells.length.reshape(-1) * sol.weight)
-    return dict(theta=theta, transmission_error=te, mesh_stiffness=stiff, contact_length=length,
-                line_load=sol.force_density.reshape(mask.shape), cell_s=cells.s, cell_z=cells.z,
-                cell_mask=mask, x=sol.x, iterations=sol.iterations, result=sol.result)
+    return dict(
+        theta=theta,
+        transmission_error=te,
+        mesh_stiffness=stiff,
+        contact_length=length,
+        line_load=sol.force_density.reshape(mask.shape),
+        cell_s=cells.s,
+        cell_z=cells.z,
+        cell_mask=mask,
+        x=sol.x,
+        iterations=sol.iterations,
+        result=sol.result,
+    )
 
 
 @eqx.filter_jit
-def _quasi_static(scene, mesh, mods, torque, theta, width, mode, max_iterations, throw,
-                  positions_per_pitch, periods):
+def _quasi_static(
+    scene,
+    mesh,
+    mods,
+    torque,
+    theta,
+    width,
+    mode,
+    max_iterations,
+    throw,
+    positions_per_pitch,
+    periods,
+):
     # defaults are made here, under jit: building them eagerly costs more than the solve
     if scene is None:
         scene = RigidMesh(mesh)
@@ -118,26 +154,39 @@ def _quasi_static(scene, mesh, mods, torque, theta, width, mode, max_iterations,
         mods = Modifications()
     if theta is None:
         theta = mesh_positions(mesh, positions_per_pitch, periods)
-    torque = eqx.error_if(torque, ~(torque > 0),
-                          "operating.torque_Nm must be > 0 (the pinion drives on its working flank)")
+    torque = eqx.error_if(
+        torque,
+        ~(torque > 0),
+        "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
+    )
     if mode == "smooth":
         width = eqx.error_if(width, ~(width > 0), "smooth contact width must be > 0 (m)")
-    out = jax.vmap(lambda th: _one_position(scene, mesh, mods, torque, th, mode, width,
-                                            max_iterations))(theta)
+    out = jax.vmap(
+        lambda th: _one_position(scene, mesh, mods, torque, th, mode, width, max_iterations)
+    )(theta)
     res = QuasiStaticResult(**out)
     if throw:
         te = res.transmission_error
-        for code, msg in RESULT_MESSAGES.items():
+        for code in ContactResult:
             if code:
-                te = eqx.error_if(te, jnp.any(res.result == code), f"quasi_static: {msg}")
+                te = eqx.error_if(te, jnp.any(res.result == code), f"quasi_static: {code.message}")
         res = eqx.tree_at(lambda r: r.transmission_error, res, te)
     return res
 
 
-def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, torque,
-                 theta: Float[Array, " P"] | None = None, *, contact: str = "exact",
-                 width=1e-7, positions_per_pitch: int = 64, periods: int = 1,
-                 max_iterations: int = 100, throw: bool = True) -> QuasiStaticResult:
+def quasi_static(
+    scene: Scene | MeshModel,
+    modifications: Modifications | None,
+    torque,
+    theta: Float[Array, " P"] | None = None,
+    *,
+    contact: str = "exact",
+    width=1e-7,
+    positions_per_pitch: int = 64,
+    periods: int = 1,
+    max_iterations: int = 100,
+    throw: bool = True,
+) -> QuasiStaticResult:
     """Quasi-static (no inertia) loaded contact of the gear pair at a series of pinion angles.
 
     Args:
@@ -152,7 +201,7 @@ def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, 
         max_iterations: cap on active-set passes / Newton steps per position.
         throw: raise ``eqx.EquinoxRuntimeError`` when a position fails (contact loop not
             converged, no contact, non-finite state); with ``False`` read ``result`` instead
-            (0 = converged; ``jaxgear.RESULT_MESSAGES``).
+            (0 = converged; :class:`~jaxgear.ContactResult`).
 
     Returns:
         :class:`QuasiStaticResult`.
@@ -164,8 +213,10 @@ def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, 
     if contact not in ("exact", "smooth"):
         raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
     if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
-        raise ValueError(f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
-                         "allowed an integer >= 2")
+        raise ValueError(
+            f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
+            "allowed an integer >= 2"
+        )
     if int(periods) != periods or periods < 1:
         raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
     if isinstance(scene, MeshModel):
@@ -177,5 +228,16 @@ def quasi_static(scene: Scene | MeshModel, modifications: Modifications | None, 
     width = jnp.asarray(width, dtype=dtype)
     if theta is not None:
         theta = jnp.asarray(theta, dtype=dtype)
-    return _quasi_static(scene, mesh, modifications, torque, theta, width, contact,
-                         int(max_iterations), bool(throw), int(positions_per_pitch), int(periods))
+    return _quasi_static(
+        scene,
+        mesh,
+        modifications,
+        torque,
+        theta,
+        width,
+        contact,
+        int(max_iterations),
+        bool(throw),
+        int(positions_per_pitch),
+        int(periods),
+    )

@@ -46,12 +46,23 @@ def iso6336_single_stiffness(pair: GearPair) -> float:
     zn2 = pair.gear.teeth / math.cos(beta) ** 3
     x1, x2 = pair.pinion.profile_shift, pair.gear.profile_shift
     c = _ISO_C
-    q = (c[0] + c[1] / zn1 + c[2] / zn2 + c[3] * x1 + c[4] * x1 / zn1 + c[5] * x2 + c[6] * x2 / zn2
-         + c[7] * x1**2 + c[8] * x2**2)
+    q = (
+        c[0]
+        + c[1] / zn1
+        + c[2] / zn2
+        + c[3] * x1
+        + c[4] * x1 / zn1
+        + c[5] * x2
+        + c[6] * x2 / zn2
+        + c[7] * x1**2
+        + c[8] * x2**2
+    )
     cth = 1.0 / q  # N/(mm·µm)
     an_deg = math.degrees(pair.normal_pressure_angle)
-    cb = 0.5 * sum((1 + 0.5 * (1.2 - m.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg))
-                   for m in (pair.pinion, pair.gear))
+    cb = 0.5 * sum(
+        (1 + 0.5 * (1.2 - m.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg))
+        for m in (pair.pinion, pair.gear)
+    )
     c_single = cth * 0.8 * 1.0 * cb * math.cos(beta)
     return c_single * 1e9  # N/(mm·µm) -> N/m²
 
@@ -87,12 +98,21 @@ def _chordal_thickness(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray
     rho = min(m.fillet_radius_coeff * pair.normal_module, max(r_form - rf, 0.0))
     if rho > 0:
         t = np.clip(r - rf, 0.0, rho)
-        half = half + np.where(r < rf + rho, rho - np.sqrt(np.maximum(rho**2 - (rho - t) ** 2, 0.0)), 0.0)
+        half = half + np.where(
+            r < rf + rho, rho - np.sqrt(np.maximum(rho**2 - (rho - t) ** 2, 0.0)), 0.0
+        )
     return 2 * half
 
 
-def _member_compliance(pair: GearPair, member: int, rho: np.ndarray, E: float, nu: float,
-                       foundation: bool, n_quad: int = 400) -> np.ndarray:
+def _member_compliance(
+    pair: GearPair,
+    member: int,
+    rho: np.ndarray,
+    E: float,
+    nu: float,
+    foundation: bool,
+    n_quad: int = 400,
+) -> np.ndarray:
     """Bending + shear + compression (1.2) and foundation (1.3) compliance of one tooth.
 
     Args:
@@ -104,7 +124,9 @@ def _member_compliance(pair: GearPair, member: int, rho: np.ndarray, E: float, n
     rf = pair.root_radii[member]
     rc = np.hypot(rho, rb)
     alpha_r = np.arctan2(rho, rb)
-    alpha_p = alpha_r - _half_thickness_angle(pair, member, rc)  # load angle to the centre-line normal
+    alpha_p = alpha_r - _half_thickness_angle(
+        pair, member, rc
+    )  # load angle to the centre-line normal
     r_load = rb / np.cos(alpha_p)  # where the line of action crosses the tooth centre line
     u = r_load - rf  # cantilever length from the root circle
     # Gauss-Legendre on [0, u] for each contact point (integrands smooth on the involute part)
@@ -121,12 +143,20 @@ def _member_compliance(pair: GearPair, member: int, rho: np.ndarray, E: float, n
     if foundation:
         s_fd = float(_chordal_thickness(pair, member, np.array([rf]))[0])
         f = _WEBER_FOUNDATION
-        c = c + cos2 / E * (f["L"] * (u / s_fd) ** 2 + f["M"] * (u / s_fd) + f["P"] * (1 + f["Q"] * tan2))
+        c = c + cos2 / E * (
+            f["L"] * (u / s_fd) ** 2 + f["M"] * (u / s_fd) + f["P"] * (1 + f["Q"] * tan2)
+        )
     return c
 
 
-def weber_profile(pair: GearPair, s: np.ndarray, youngs_modulus: float, poisson_ratio: float,
-                  line_load: float, foundation: bool = True) -> np.ndarray:
+def weber_profile(
+    pair: GearPair,
+    s: np.ndarray,
+    youngs_modulus: float,
+    poisson_ratio: float,
+    line_load: float,
+    foundation: bool = True,
+) -> np.ndarray:
     """Weber–Banaschek stiffness per unit contact-line length along the line of action.
 
     Args:
@@ -145,23 +175,37 @@ def weber_profile(pair: GearPair, s: np.ndarray, youngs_modulus: float, poisson_
     rho1 = pair.roll_distance(s, 0)
     rho2 = pair.roll_distance(s, 1)
     E, nu = youngs_modulus, poisson_ratio
-    c = (_member_compliance(pair, 0, rho1, E, nu, foundation)
-         + _member_compliance(pair, 1, rho2, E, nu, foundation))
+    c = _member_compliance(pair, 0, rho1, E, nu, foundation) + _member_compliance(
+        pair, 1, rho2, E, nu, foundation
+    )
     # Hertzian approach (1.1): d_i = distance from the contact point to the tooth centre line
-    d_i = [np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
-           for i, (rho, rb) in enumerate(((rho1, pair.base_radii[0]), (rho2, pair.base_radii[1])))]
+    d_i = [
+        np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
+        for i, (rho, rb) in enumerate(((rho1, pair.base_radii[0]), (rho2, pair.base_radii[1])))
+    ]
     rho_eq = rho1 * rho2 / (rho1 + rho2)
     a_h = np.sqrt(8 * line_load * rho_eq * (1 - nu**2) / (math.pi * E))
-    c_hertz = 4 * (1 - nu**2) / (math.pi * E) * (np.log(2 * np.sqrt(d_i[0] * d_i[1]) / a_h)
-                                                   - nu / (2 * (1 - nu)))
+    c_hertz = (
+        4
+        * (1 - nu**2)
+        / (math.pi * E)
+        * (np.log(2 * np.sqrt(d_i[0] * d_i[1]) / a_h) - nu / (2 * (1 - nu)))
+    )
     k_transverse = 1.0 / (c + c_hertz)
     return k_transverse / math.cos(pair.base_helix_angle)
 
 
-def stiffness_table(pair: GearPair, model: str, *, youngs_modulus: float = 210e9,
-                    poisson_ratio: float = 0.3, line_load: float = 2e5,
-                    uniform_k0: float | None = None, n_points: int = 129,
-                    foundation: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def stiffness_table(
+    pair: GearPair,
+    model: str,
+    *,
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+    line_load: float = 2e5,
+    uniform_k0: float | None = None,
+    n_points: int = 129,
+    foundation: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
     """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
 
     Raises:
@@ -172,16 +216,23 @@ def stiffness_table(pair: GearPair, model: str, *, youngs_modulus: float = 210e9
         if uniform_k0 is None or not uniform_k0 > 0:
             raise ValueError(
                 f"stiffness_per_length_N_per_mm_per_um = {uniform_k0 if uniform_k0 is None else uniform_k0 / 1e9!r} "
-                "is required with stiffness = 'uniform' and must be > 0")
+                "is required with stiffness = 'uniform' and must be > 0"
+            )
         k = np.full_like(s, uniform_k0)
     elif model == "iso6336":
-        k0 = iso6336_mesh_stiffness(pair) / (pair.transverse_contact_ratio * math.cos(pair.base_helix_angle))
+        k0 = iso6336_mesh_stiffness(pair) / (
+            pair.transverse_contact_ratio * math.cos(pair.base_helix_angle)
+        )
         k = np.full_like(s, k0)
     elif model == "weber":
         k = weber_profile(pair, s, youngs_modulus, poisson_ratio, line_load, foundation)
     else:
-        raise ValueError(f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336'")
+        raise ValueError(
+            f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336'"
+        )
     if not np.all(np.isfinite(k)) or np.any(k <= 0):
-        raise ValueError(f"mesh stiffness model {model!r} gave non-positive or non-finite values; "
-                         "check the tooth geometry (pointed or undercut teeth)")
+        raise ValueError(
+            f"mesh stiffness model {model!r} gave non-positive or non-finite values; "
+            "check the tooth geometry (pointed or undercut teeth)"
+        )
     return s, k

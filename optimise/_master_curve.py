@@ -33,8 +33,10 @@ def _xy(problem: Problem, extent, depth):
 def _check(problem: Problem):
     names = [n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names]
     if sorted(names) != ["tip_relief.depth", "tip_relief.extent"]:
-        raise ValueError(f"the (Γ, E) map needs exactly the variables tip_relief.depth and "
-                         f"tip_relief.extent, got {problem.names}")
+        raise ValueError(
+            f"the (Γ, E) map needs exactly the variables tip_relief.depth and "
+            f"tip_relief.extent, got {problem.names}"
+        )
 
 
 @eqx.filter_jit
@@ -80,8 +82,12 @@ def _refine(problem, extents, lo, hi, iterations):
             m = jnp.where((m_rf - a > 0.05 * (b - a)) & (b - m_rf > 0.05 * (b - a)), m_rf, mid)
             gm = dj(g, m)
             left = gm > 0
-            return (jnp.where(left, a, m), jnp.where(left, m, b), jnp.where(left, ga, gm),
-                    jnp.where(left, gm, gb))
+            return (
+                jnp.where(left, a, m),
+                jnp.where(left, m, b),
+                jnp.where(left, ga, gm),
+                jnp.where(left, gm, gb),
+            )
 
         a2, b2, ga2, gb2 = jax.lax.fori_loop(0, iterations, body, (a, b, ga, gb))
         root = a2 - ga2 * (b2 - a2) / (gb2 - ga2)
@@ -110,18 +116,27 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
     i_g = [i for i, n in enumerate(names) if n.endswith("tip_relief.extent")][0]
     lo_g, hi_g = float(problem.lower[i_g]), float(problem.upper[i_g])
     if extents.size == 0 or np.any(extents < lo_g) or np.any(extents > hi_g):
-        raise ValueError(f"--extents {extents.tolist()} must be non-empty and inside ({lo_g}, {hi_g})")
+        raise ValueError(
+            f"--extents {extents.tolist()} must be non-empty and inside ({lo_g}, {hi_g})"
+        )
     lo_e, hi_e = float(problem.lower[i_d]), float(problem.upper[i_d])
     depths = np.linspace(lo_e, hi_e, 41) if coarse_depths is None else np.asarray(coarse_depths)
     grid = contour_map(problem, extents, depths, "smooth")
     k = np.argmin(grid, axis=1)
     a = depths[np.maximum(k - 1, 0)]
     b = depths[np.minimum(k + 1, len(depths) - 1)]
-    e_star = np.asarray(_refine(problem, jnp.asarray(extents), jnp.asarray(a), jnp.asarray(b),
-                                int(iterations)))
+    e_star = np.asarray(
+        _refine(problem, jnp.asarray(extents), jnp.asarray(a), jnp.asarray(b), int(iterations))
+    )
     scale = float(problem.scale)
     exact = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "exact"))
     smooth = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "smooth"))
-    return {"extent": extents, "depth_star": e_star, "depth_m": e_star * float(problem.delta_m),
-            "te_rms_exact_m": exact * scale, "te_rms_smooth_m": smooth * scale,
-            "coarse_depths": depths, "coarse_grid": grid}
+    return {
+        "extent": extents,
+        "depth_star": e_star,
+        "depth_m": e_star * float(problem.delta_m),
+        "te_rms_exact_m": exact * scale,
+        "te_rms_smooth_m": smooth * scale,
+        "coarse_depths": depths,
+        "coarse_grid": grid,
+    }

@@ -14,7 +14,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optax
-from tqdm.auto import tqdm
 
 from ._problem import Problem
 
@@ -27,8 +26,11 @@ def _optimiser(method: str, learning_rate: float):
     """One optax transformation per (method, rate), reused so compiled chunks are reused too."""
     key = (method, float(learning_rate) if method == "adam" else None)
     if key not in _OPTIMISERS:
-        _OPTIMISERS[key] = (optax.lbfgs(linesearch=optax.scale_by_zoom_linesearch(max_linesearch_steps=20))
-                            if method == "lbfgs" else optax.adam(learning_rate))
+        _OPTIMISERS[key] = (
+            optax.lbfgs(linesearch=optax.scale_by_zoom_linesearch(max_linesearch_steps=20))
+            if method == "lbfgs"
+            else optax.adam(learning_rate)
+        )
     return _OPTIMISERS[key]
 
 
@@ -59,8 +61,9 @@ def _run_chunk(problem, opt, method, chunk, tol, u, state, value, n_eval):
             n_eval = n_eval + 1
         u_new = optax.apply_updates(u, updates)
         v_new = optax.tree_utils.tree_get(state, "value") if method == "lbfgs" else fn(u_new)
-        done = ((jnp.abs(v_new - v) <= tol * jnp.maximum(jnp.abs(v), 1e-12))
-                & (jnp.linalg.norm(g) < jnp.sqrt(tol)))
+        done = (jnp.abs(v_new - v) <= tol * jnp.maximum(jnp.abs(v), 1e-12)) & (
+            jnp.linalg.norm(g) < jnp.sqrt(tol)
+        )
         return u_new, state, v_new, k + 1, n_eval, done
 
     return jax.lax.while_loop(cond, body, (u, state, value, jnp.array(0), n_eval, jnp.array(False)))
@@ -91,9 +94,17 @@ class OptimisationResult(eqx.Module):
     wall_time_s: float
 
 
-def minimise(problem: Problem, x0, *, method: str = "lbfgs", max_iterations: int = 100,
-             tol: float = 1e-7, learning_rate: float = 0.05, chunk: int = 1,
-             progress: bool = True) -> OptimisationResult:
+def minimise(
+    problem: Problem,
+    x0,
+    *,
+    method: str = "lbfgs",
+    max_iterations: int = 100,
+    tol: float = 1e-7,
+    learning_rate: float = 0.05,
+    chunk: int = 1,
+    progress: bool = True,
+) -> OptimisationResult:
     """Minimise ``problem.value`` (smooth contact) from normalised start ``x0``.
 
     Args:
@@ -112,10 +123,14 @@ def minimise(problem: Problem, x0, *, method: str = "lbfgs", max_iterations: int
     x0 = np.asarray(x0, dtype=float).reshape(-1)
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
     if x0.shape != lo.shape:
-        raise ValueError(f"x0 has {x0.size} values for {len(problem.names)} variables {problem.names}")
+        raise ValueError(
+            f"x0 has {x0.size} values for {len(problem.names)} variables {problem.names}"
+        )
     if np.any(x0 < lo) or np.any(x0 > hi):
-        raise ValueError(f"start {dict(zip(problem.names, x0.tolist()))} is outside the bounds "
-                         f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}")
+        raise ValueError(
+            f"start {dict(zip(problem.names, x0.tolist()))} is outside the bounds "
+            f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}"
+        )
     t0 = time.perf_counter()
     opt = _optimiser(method, learning_rate)
     u0 = problem.unbounded(x0)
@@ -125,10 +140,13 @@ def minimise(problem: Problem, x0, *, method: str = "lbfgs", max_iterations: int
     value = jnp.asarray(value0)
     hist_x, hist_v = [np.asarray(x0)], [value0]
     it, n_eval, done = 0, jnp.array(1), False
+    from tqdm.auto import tqdm  # progress only; imported on use
+
     bar = tqdm(total=max_iterations, desc=f"optimise ({method})", disable=not progress)
     while it < max_iterations and not done:
-        u, state, value, k, n_eval, done_arr = _run_chunk(problem, opt, method, chunk, tol, u, state,
-                                                          value, n_eval)
+        u, state, value, k, n_eval, done_arr = _run_chunk(
+            problem, opt, method, chunk, tol, u, state, value, n_eval
+        )
         k = int(k)
         it += k
         done = bool(done_arr)
@@ -140,10 +158,19 @@ def minimise(problem: Problem, x0, *, method: str = "lbfgs", max_iterations: int
             break
     bar.close()
     if not np.all(np.isfinite(hist_v[-1])):
-        raise FloatingPointError("optimisation produced a non-finite objective; check the bounds "
-                                 "and the smooth contact width")
-    return OptimisationResult(x0=np.asarray(x0), x=np.asarray(problem.bounded(u)), value0=value0,
-                              value=float(value), history_x=np.asarray(hist_x),
-                              history_value=np.asarray(hist_v), iterations=it,
-                              evaluations=int(n_eval), converged=bool(done),
-                              wall_time_s=time.perf_counter() - t0)
+        raise FloatingPointError(
+            "optimisation produced a non-finite objective; check the bounds "
+            "and the smooth contact width"
+        )
+    return OptimisationResult(
+        x0=np.asarray(x0),
+        x=np.asarray(problem.bounded(u)),
+        value0=value0,
+        value=float(value),
+        history_x=np.asarray(hist_x),
+        history_value=np.asarray(hist_v),
+        iterations=it,
+        evaluations=int(n_eval),
+        converged=bool(done),
+        wall_time_s=time.perf_counter() - t0,
+    )

@@ -50,8 +50,10 @@ def _split(name: str) -> tuple[tuple[str, ...], str]:
     base = ".".join(parts)
     if base not in VARIABLES:
         allowed = ", ".join(sorted(VARIABLES))
-        raise ValueError(f"unknown design variable {name!r}: allowed {allowed}, optionally "
-                         "prefixed by 'pinion.' or 'gear.'")
+        raise ValueError(
+            f"unknown design variable {name!r}: allowed {allowed}, optionally "
+            "prefixed by 'pinion.' or 'gear.'"
+        )
     return members, base
 
 
@@ -125,8 +127,14 @@ class Problem(eqx.Module):
 
     # -- objectives --------------------------------------------------------------------------
     def _single(self, mods, torque, contact):
-        r = jg.quasi_static(self.mesh, mods, torque, contact=contact, width=self.width,
-                            positions_per_pitch=self.positions_per_pitch)
+        r = jg.quasi_static(
+            self.mesh,
+            mods,
+            torque,
+            contact=contact,
+            width=self.width,
+            positions_per_pitch=self.positions_per_pitch,
+        )
         if self.objective in ("te_rms", "robust_te_rms"):
             return r.te_rms
         if self.objective == "te_ptp":
@@ -143,9 +151,18 @@ class Problem(eqx.Module):
     def te_rms_vs_torque(self, x, torques, contact: str = "exact") -> Float[Array, " T"]:
         """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view."""
         mods = self.modifications(x)
-        return jax.vmap(lambda t: jg.quasi_static(self.mesh, mods, t, contact=contact, width=self.width,
-                                                  positions_per_pitch=self.positions_per_pitch).te_rms
-                        )(jnp.asarray(torques))
+        return jax.vmap(
+            lambda t: (
+                jg.quasi_static(
+                    self.mesh,
+                    mods,
+                    t,
+                    contact=contact,
+                    width=self.width,
+                    positions_per_pitch=self.positions_per_pitch,
+                ).te_rms
+            )
+        )(jnp.asarray(torques))
 
     def per_torque(self, x, contact: str = "exact") -> Float[Array, " T"]:
         """Unscaled objective at each torque (objective units: m or N/m)."""
@@ -171,10 +188,18 @@ def parse_range(text: str, what: str = "--torques") -> np.ndarray:
     return np.linspace(a, b, n)
 
 
-def make_problem(case: jg.Case, variables, objective: str = "te_rms", *, torques=None,
-                 reduce: str = "max", bounds: dict | None = None,
-                 positions_per_pitch: int | None = None, slices: int | None = None,
-                 relief_blend: float | None = None) -> Problem:
+def make_problem(
+    case: jg.Case,
+    variables,
+    objective: str = "te_rms",
+    *,
+    torques=None,
+    reduce: str = "max",
+    bounds: dict | None = None,
+    positions_per_pitch: int | None = None,
+    slices: int | None = None,
+    relief_blend: float | None = None,
+) -> Problem:
     """Build a :class:`Problem` from a case.
 
     Args:
@@ -207,7 +232,9 @@ def make_problem(case: jg.Case, variables, objective: str = "te_rms", *, torques
     if reduce not in ("mean", "max"):
         raise ValueError(f"reduce = {reduce!r}: allowed 'mean', 'max'")
     if torques is None or objective != "robust_te_rms":
-        torques = np.array([case.torque]) if torques is None or objective != "robust_te_rms" else torques
+        torques = (
+            np.array([case.torque]) if torques is None or objective != "robust_te_rms" else torques
+        )
     torques = np.asarray(torques, dtype=float).reshape(-1)
     if torques.size == 0:
         raise ValueError("--torques is empty: give START:STOP:N with N >= 1")
@@ -233,18 +260,37 @@ def make_problem(case: jg.Case, variables, objective: str = "te_rms", *, torques
     unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
     delta_m = case.normal_load / k_mean
-    scale = {"te_rms": unmod.te_rms, "robust_te_rms": unmod.te_rms, "te_ptp": unmod.te_ptp,
-             "max_line_load": unmod.max_line_load}[objective]
+    scale = {
+        "te_rms": unmod.te_rms,
+        "robust_te_rms": unmod.te_rms,
+        "te_ptp": unmod.te_ptp,
+        "max_line_load": unmod.max_line_load,
+    }[objective]
     # round the relief starts over one position step so that the sampled objective is smooth in
     # the extents (a sharp start makes it kink each time the start crosses a sampled point)
-    blend = 1.0 / (ppp * case.pair.transverse_contact_ratio) if relief_blend is None else relief_blend
-    base = eqx.tree_at(lambda m: (m.pinion.relief_blend, m.gear.relief_blend), case.modifications,
-                       (jnp.asarray(blend), jnp.asarray(blend)))
-    return Problem(mesh=mesh, base=base, torques=jnp.asarray(torques),
-                   design_torque=jnp.asarray(case.torque), delta_m=jnp.asarray(delta_m),
-                   scale=jnp.asarray(float(scale)), lower=jnp.asarray(lo), upper=jnp.asarray(hi),
-                   width=jnp.asarray(case.smooth_width), names=names, objective=objective,
-                   reduce=reduce, positions_per_pitch=ppp)
+    blend = (
+        1.0 / (ppp * case.pair.transverse_contact_ratio) if relief_blend is None else relief_blend
+    )
+    base = eqx.tree_at(
+        lambda m: (m.pinion.relief_blend, m.gear.relief_blend),
+        case.modifications,
+        (jnp.asarray(blend), jnp.asarray(blend)),
+    )
+    return Problem(
+        mesh=mesh,
+        base=base,
+        torques=jnp.asarray(torques),
+        design_torque=jnp.asarray(case.torque),
+        delta_m=jnp.asarray(delta_m),
+        scale=jnp.asarray(float(scale)),
+        lower=jnp.asarray(lo),
+        upper=jnp.asarray(hi),
+        width=jnp.asarray(case.smooth_width),
+        names=names,
+        objective=objective,
+        reduce=reduce,
+        positions_per_pitch=ppp,
+    )
 
 
 def zero_fluctuation_depth(extent, contact_ratio):

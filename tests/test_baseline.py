@@ -1,4 +1,4 @@
-"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (jaxgear._baseline).
+"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (jaxgear.bench._baseline).
 
 Both compute the rigid-mesh TE curve of DESIGN.md §2-§5; they share only the geometry and the
 stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear import _baseline as bl
+import jaxgear.io as jio
+from jaxgear.bench import _baseline as bl
 
 RTOL = 1e-9
 SLICES = 16
@@ -31,14 +32,26 @@ def _mods(kind: str):
     if kind == "case":
         return "case"
     if kind == "tip-crown":  # parabolic tip relief, crowning, the other deviations, rounded start
-        pin = jg.MemberModification(tip_relief_depth=12e-6, tip_relief_extent=0.3,
-                                    tip_relief_shape="parabolic", root_relief_depth=3e-6,
-                                    root_relief_extent=0.15, crowning_depth=6e-6,
-                                    end_relief_depth=2e-6, end_relief_extent=0.15,
-                                    helix_slope_deviation=4e-6, profile_deviation_roll=(0.0, 1.0),
-                                    profile_deviation=(1e-6, -2e-6), relief_blend=0.02)
-        gear = jg.MemberModification(tip_relief_depth=8e-6, tip_relief_extent=0.2,
-                                     tip_relief_shape="parabolic", crowning_depth=3e-6)
+        pin = jg.MemberModification(
+            tip_relief_depth=12e-6,
+            tip_relief_extent=0.3,
+            tip_relief_shape="parabolic",
+            root_relief_depth=3e-6,
+            root_relief_extent=0.15,
+            crowning_depth=6e-6,
+            end_relief_depth=2e-6,
+            end_relief_extent=0.15,
+            helix_slope_deviation=4e-6,
+            profile_deviation_roll=(0.0, 1.0),
+            profile_deviation=(1e-6, -2e-6),
+            relief_blend=0.02,
+        )
+        gear = jg.MemberModification(
+            tip_relief_depth=8e-6,
+            tip_relief_extent=0.2,
+            tip_relief_shape="parabolic",
+            crowning_depth=3e-6,
+        )
         return jg.Modifications(pinion=pin, gear=gear)
     raise AssertionError(kind)
 
@@ -46,7 +59,7 @@ def _mods(kind: str):
 @functools.cache
 def _setup(name: str, uniform: bool = False):
     """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once."""
-    case = jg.load_case(name)
+    case = jio.load_case(name)
     if uniform:
         case = case.replace(stiffness_model="uniform", uniform_k0=13e9)
     bmesh = bl.baseline_mesh(case, slices=SLICES)
@@ -58,10 +71,12 @@ def _compare(name, mods, contact, width=1e-7, uniform=False):
     case, mesh, bmesh = _setup(name, uniform)
     if mods == "case":
         mods = case.modifications
-    r = jg.quasi_static(mesh, mods, case.torque, contact=contact, width=width,
-                        positions_per_pitch=PPP)
-    b = bl.te_curve_numpy(bmesh, bl.mods_params(mods), case.torque, contact, width,
-                          positions_per_pitch=PPP)
+    r = jg.quasi_static(
+        mesh, mods, case.torque, contact=contact, width=width, positions_per_pitch=PPP
+    )
+    b = bl.te_curve_numpy(
+        bmesh, bl.mods_params(mods), case.torque, contact, width, positions_per_pitch=PPP
+    )
     np.testing.assert_allclose(np.asarray(r.theta), b["theta"], rtol=1e-14)
     assert _rel(r.transmission_error, b["te"]) <= RTOL
     assert _rel(r.mesh_stiffness, b["mesh_stiffness"]) <= RTOL
@@ -75,12 +90,16 @@ def _compare(name, mods, contact, width=1e-7, uniform=False):
 # Each distinct static structure compiles once (about 1-2 s): linear-relief modifications share
 # a compilation with "none", the parabolic set ("tip-crown") needs its own, so it runs in one mode
 # per case to keep the file fast.
-@pytest.mark.parametrize("name,mods,contact", [
-    (name, mods, contact)
-    for name in ("accessory-spur", "power-helical")
-    for mods in ("none", "case")
-    for contact in ("exact", "smooth")
-] + [("accessory-spur", "tip-crown", "exact"), ("power-helical", "tip-crown", "smooth")])
+@pytest.mark.parametrize(
+    "name,mods,contact",
+    [
+        (name, mods, contact)
+        for name in ("accessory-spur", "power-helical")
+        for mods in ("none", "case")
+        for contact in ("exact", "smooth")
+    ]
+    + [("accessory-spur", "tip-crown", "exact"), ("power-helical", "tip-crown", "smooth")],
+)
 def test_agrees_with_baseline(name, mods, contact):
     r, b = _compare(name, _mods(mods), contact)
     assert np.all(np.asarray(r.result) == 0)
@@ -93,8 +112,9 @@ def test_agrees_with_baseline_uniform_stiffness(contact):
     # uniform stiffness, no deviation: TE = F/(k0 L cos β_b) in both codes (spur: cos β_b = 1)
     case = _setup("accessory-spur", True)[0]
     _, b0 = _compare("accessory-spur", None, "exact", uniform=True)
-    np.testing.assert_allclose(b0["te"], case.normal_load / (13e9 * b0["contact_length"]),
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        b0["te"], case.normal_load / (13e9 * b0["contact_length"]), rtol=1e-12
+    )
 
 
 def test_smooth_width_is_the_same_law():
@@ -114,7 +134,7 @@ def test_baseline_rejects_bad_input():
 
 @pytest.mark.slow
 def test_bench_quick(tmp_path):
-    from jaxgear._bench import bench_quasi_static
+    from jaxgear.bench import bench_quasi_static
 
     out = bench_quasi_static(tmp_path, quick=True, progress=False, verbose=False)
     assert (tmp_path / "speed_accuracy_quasi_static.png").stat().st_size > 1000
@@ -130,11 +150,14 @@ def test_bench_quick(tmp_path):
 
 
 def _wide_helical(face_width_mm):
-    case = jg.load_case("power-helical").replace(stiffness_model="uniform", uniform_k0=13e9)
+    case = jio.load_case("power-helical").replace(stiffness_model="uniform", uniform_k0=13e9)
     pair = case.pair
     b = face_width_mm * 1e-3
-    pair = dataclasses.replace(pair, pinion=dataclasses.replace(pair.pinion, face_width=b),
-                               gear=dataclasses.replace(pair.gear, face_width=b))
+    pair = dataclasses.replace(
+        pair,
+        pinion=dataclasses.replace(pair.pinion, face_width=b),
+        gear=dataclasses.replace(pair.gear, face_width=b),
+    )
     return case.replace(pair=pair)
 
 
@@ -144,8 +167,9 @@ def test_baseline_contact_length_wide_helical():
     case = _wide_helical(120.0)
     pair = case.pair
     assert pair.overlap_ratio > 3
-    b = bl.te_curve_numpy(bl.baseline_mesh(case, slices=40), None, case.torque,
-                          positions_per_pitch=PPP)
+    b = bl.te_curve_numpy(
+        bl.baseline_mesh(case, slices=40), None, case.torque, positions_per_pitch=PPP
+    )
     expected = pair.transverse_contact_ratio * pair.face_width / math.cos(pair.base_helix_angle)
     assert abs(np.mean(b["contact_length"]) / expected - 1) < 1e-3
 

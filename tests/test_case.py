@@ -6,7 +6,7 @@ import tomllib
 import numpy as np
 import pytest
 
-import jaxgear as jg
+import jaxgear.io as jio
 
 SCHEMA_EXAMPLE = """
 name = "my-pair"
@@ -48,7 +48,7 @@ def _data():
 
 
 def test_issue_schema_example_parses_in_si_units():
-    c = jg.parse_case(_data())
+    c = jio.parse_case(_data())
     assert c.name == "my-pair"
     assert c.pair.normal_module == pytest.approx(1.5e-3)
     assert c.pair.normal_pressure_angle == pytest.approx(math.radians(25))
@@ -65,8 +65,10 @@ def test_issue_schema_example_parses_in_si_units():
 
 def test_per_member_modifications_override_the_common_table():
     d = _data()
-    d["modifications"]["pinion"] = {"tip_relief": {"depth_um": 5.0, "extent": 0.4, "shape": "parabolic"}}
-    c = jg.parse_case(d)
+    d["modifications"]["pinion"] = {
+        "tip_relief": {"depth_um": 5.0, "extent": 0.4, "shape": "parabolic"}
+    }
+    c = jio.parse_case(d)
     assert float(c.modifications.pinion.tip_relief_depth) == pytest.approx(5e-6)
     assert c.modifications.pinion.tip_relief_shape == "parabolic"
     assert float(c.modifications.gear.tip_relief_depth) == pytest.approx(15e-6)
@@ -75,7 +77,7 @@ def test_per_member_modifications_override_the_common_table():
 def test_uniform_stiffness_unit_conversion():
     d = _data()
     d["mesh"]["stiffness"] = "uniform"
-    c = jg.parse_case(d)
+    c = jio.parse_case(d)
     # 13 N/(mm·µm) = 13e3 N/m / 1e-6 m = 1.3e10 N/m²
     assert c.uniform_k0 == pytest.approx(1.3e10)
     m = c.mesh_model()
@@ -84,14 +86,14 @@ def test_uniform_stiffness_unit_conversion():
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_embedded_cases_load(name):
-    assert name in jg.list_cases()
-    c = jg.load_case(name)
+    assert name in jio.list_cases()
+    c = jio.load_case(name)
     assert c.name == name
     assert c.pair.transverse_contact_ratio > 1
 
 
 def test_power_helical_is_table_III5():
-    c = jg.load_case("power-helical")
+    c = jio.load_case("power-helical")
     assert (c.pair.pinion.teeth, c.pair.gear.teeth) == (35, 68)
     assert c.pair.helix_angle == pytest.approx(math.radians(12))
     assert c.torque == 310.0
@@ -101,7 +103,7 @@ def _expect(mutate, *needles):
     d = _data()
     mutate(d)
     with pytest.raises(ValueError) as info:
-        jg.parse_case(d)
+        jio.parse_case(d)
     msg = str(info.value)
     for n in needles:
         assert n in msg, msg
@@ -115,8 +117,12 @@ def test_unknown_keys_are_named():
 
 
 def test_range_errors_name_parameter_value_and_range():
-    _expect(lambda d: d["modifications"]["tip_relief"].update(depth_um=-2.0), "depth_um", "-2", ">= 0")
-    _expect(lambda d: d["modifications"]["tip_relief"].update(extent=1.5), "extent", "1.5", "(0, 1]")
+    _expect(
+        lambda d: d["modifications"]["tip_relief"].update(depth_um=-2.0), "depth_um", "-2", ">= 0"
+    )
+    _expect(
+        lambda d: d["modifications"]["tip_relief"].update(extent=1.5), "extent", "1.5", "(0, 1]"
+    )
     _expect(lambda d: d["modifications"]["tip_relief"].update(extent=0.0), "extent", "(0, 1]")
     _expect(lambda d: d["modifications"]["crowning"].update(depth_um=-1.0), "crowning", "depth_um")
     _expect(lambda d: d["pinion"].update(face_width_mm=0.0), "face_width_mm", "> 0")
@@ -129,21 +135,26 @@ def test_range_errors_name_parameter_value_and_range():
 
 def test_geometry_errors_reach_the_case_loader():
     # pointed teeth: a large addendum on a small pinion
-    _expect(lambda d: (d["pinion"].update(teeth=12, addendum_coeff=1.6, profile_shift=0.6)), "pointed")
+    _expect(
+        lambda d: d["pinion"].update(teeth=12, addendum_coeff=1.6, profile_shift=0.6), "pointed"
+    )
     # contact ratio below 1: tiny addenda
-    _expect(lambda d: (d["pinion"].update(addendum_coeff=0.3), d["gear"].update(addendum_coeff=0.3)),
-            "contact ratio", ">= 1")
+    _expect(
+        lambda d: (d["pinion"].update(addendum_coeff=0.3), d["gear"].update(addendum_coeff=0.3)),
+        "contact ratio",
+        ">= 1",
+    )
     # centre distance below the zero-backlash distance
     _expect(lambda d: d["pair"].update(center_distance_mm=99.0), "center_distance", "zero-backlash")
 
 
 def test_missing_file_and_corrupt_toml(tmp_path):
     with pytest.raises(FileNotFoundError, match="neither a file nor an embedded case"):
-        jg.load_case(tmp_path / "nope.toml")
+        jio.load_case(tmp_path / "nope.toml")
     bad = tmp_path / "bad.toml"
     bad.write_text("[pair\nnormal_module_mm = 1")
     with pytest.raises(ValueError, match="not valid TOML"):
-        jg.load_case(bad)
+        jio.load_case(bad)
 
 
 def test_missing_required_key():

@@ -8,8 +8,8 @@ import pathlib
 
 import pytest
 
-from jaxgear._cli import main
-from jaxgear._util import atomic_open
+from jaxgear.cli import main
+from jaxgear.io import atomic_open
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SMALL = """
@@ -49,19 +49,38 @@ def test_run_writes_summary_csv_and_plots(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert json.loads(extra.read_text()) == summary
     g = summary["geometry"]
-    for key in ("transverse_contact_ratio", "overlap_ratio", "base_pitch_m", "center_distance_m",
-                "path_of_contact_m"):
+    for key in (
+        "transverse_contact_ratio",
+        "overlap_ratio",
+        "base_pitch_m",
+        "center_distance_m",
+        "path_of_contact_m",
+    ):
         assert g[key] > 0
     for mode in ("exact", "smooth"):
         q = summary["quasi_static"][mode]
-        for key in ("te_mean_m", "te_rms_m", "te_ptp_m", "mesh_stiffness_mean_N_per_m",
-                    "mesh_stiffness_min_N_per_m", "mesh_stiffness_max_N_per_m", "max_line_load_N_per_m"):
+        for key in (
+            "te_mean_m",
+            "te_rms_m",
+            "te_ptp_m",
+            "mesh_stiffness_mean_N_per_m",
+            "mesh_stiffness_min_N_per_m",
+            "mesh_stiffness_max_N_per_m",
+            "max_line_load_N_per_m",
+        ):
             assert key in q
-        assert q["mesh_stiffness_min_N_per_m"] <= q["mesh_stiffness_mean_N_per_m"] <= q["mesh_stiffness_max_N_per_m"]
+        assert (
+            q["mesh_stiffness_min_N_per_m"]
+            <= q["mesh_stiffness_mean_N_per_m"]
+            <= q["mesh_stiffness_max_N_per_m"]
+        )
         assert 0 < q["te_rms_m"] <= q["te_ptp_m"]
     # ε_β = b sin β / (π m_n) with b = min(20, 22) mm
     import math
-    assert g["overlap_ratio"] == pytest.approx(20e-3 * math.sin(math.radians(15)) / (math.pi * 2e-3))
+
+    assert g["overlap_ratio"] == pytest.approx(
+        20e-3 * math.sin(math.radians(15)) / (math.pi * 2e-3)
+    )
     with open(out / "te.csv") as f:
         rows = list(csv.reader(f))
     assert len(rows) == 1 + 2 * 16  # two mesh periods of 16 positions

@@ -19,21 +19,28 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.io as jio
 
 
 @functools.cache
 def _table():
-    case = jg.load_case("power-helical")
-    s, k = jg.stiffness_table(case.pair, "weber", youngs_modulus=case.youngs_modulus,
-                              poisson_ratio=case.poisson_ratio, line_load=case.nominal_line_load())
+    case = jio.load_case("power-helical")
+    s, k = jg.stiffness_table(
+        case.pair,
+        "weber",
+        youngs_modulus=case.youngs_modulus,
+        poisson_ratio=case.poisson_ratio,
+        line_load=case.nominal_line_load(),
+    )
     return case, s, k
 
 
 def _te_curve(n_slices, positions_per_pitch=16):
     case, s, k = _table()
     mesh = jg.MeshModel.from_pair(case.pair, s, k, n_slices)
-    res = jg.quasi_static(mesh, case.modifications, case.torque,
-                          positions_per_pitch=positions_per_pitch)
+    res = jg.quasi_static(
+        mesh, case.modifications, case.torque, positions_per_pitch=positions_per_pitch
+    )
     return np.asarray(res.transmission_error)
 
 
@@ -81,8 +88,11 @@ def test_position_refinement_converges():
     levels = [4, 8, 16, 32, 64, 128]
     reference = 2048
     thetas = [jg.mesh_positions(mesh, p) for p in levels + [reference]]
-    te = np.asarray(jg.quasi_static(mesh, case.modifications, case.torque,
-                                    jnp.concatenate(thetas)).transmission_error)
+    te = np.asarray(
+        jg.quasi_static(
+            mesh, case.modifications, case.torque, jnp.concatenate(thetas)
+        ).transmission_error
+    )
     splits = np.cumsum([len(t) for t in thetas])[:-1]
     curves = np.split(te, splits)
     rms_ref = _rms(curves[-1])

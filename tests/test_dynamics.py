@@ -17,26 +17,25 @@ import pytest
 import scipy.linalg
 
 import jaxgear as jg
-from jaxgear._dyn_scene import Damping, TorsionalDynamics, damping_matrix, disc_inertia
-from jaxgear._dynamics import (
-    _Config,
-    _newmark,
-    _prep,
-    dynamic_model,
-    simulate,
-    speed_sweep,
-)
+import jaxgear.io as jio
+from jaxgear.dynamics import Damping, damping_matrix, dynamic_model, simulate, speed_sweep
+from jaxgear.dynamics._config import _Config
+from jaxgear.dynamics._newmark import _newmark
+from jaxgear.dynamics._simulate import _prep
+from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 
 def _inertias(case):
     p = case.pair
-    return (disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
-            disc_inertia(case.density, p.tip_radii[1], p.gear.face_width))
+    return (
+        disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+    )
 
 
 @pytest.fixture(scope="module")
 def accessory():
-    case = jg.load_case("accessory-spur").replace(slices=2)
+    case = jio.load_case("accessory-spur").replace(slices=2)
     i1, i2 = _inertias(case)
     scene = TorsionalDynamics(case.mesh_model(), i1, i2)
     return case, scene
@@ -46,13 +45,15 @@ def accessory():
 def linear_case():
     """Uniform stiffness, long tip relief near the Master-Curve design load: small excitation,
     no contact loss, a linear response (DESIGN.md §8)."""
-    case = jg.load_case("accessory-spur").replace(stiffness_model="uniform", uniform_k0=14e9,
-                                                  slices=2)
+    case = jio.load_case("accessory-spur").replace(
+        stiffness_model="uniform", uniform_k0=14e9, slices=2
+    )
     p = case.pair
     eps = p.transverse_contact_ratio
     dm = 1.03 * case.normal_load / (14e9 * eps * p.face_width)
-    mods = jg.Modifications.symmetric(jg.MemberModification(
-        tip_relief_depth=eps * dm, tip_relief_extent=(eps - 1) / eps))
+    mods = jg.Modifications.symmetric(
+        jg.MemberModification(tip_relief_depth=eps * dm, tip_relief_extent=(eps - 1) / eps)
+    )
     i1, i2 = _inertias(case)
     scene = TorsionalDynamics(case.mesh_model(), i1, i2)
     return case, scene, mods
@@ -83,10 +84,20 @@ def test_disc_inertia_and_torsional_frequency(accessory):
 
 def test_four_dof_modes_energy_and_damping(accessory):
     case, scene = accessory
-    s4 = TorsionalDynamics(scene.mesh, scene.inertia_pinion, scene.inertia_gear, 5e-3, 4e-2,
-                           2e4, 6e4, has_motor=True, has_load=True)
-    model = dynamic_model(s4, case.modifications, case.torque, Damping("composite"),
-                          positions_per_pitch=32)
+    s4 = TorsionalDynamics(
+        scene.mesh,
+        scene.inertia_pinion,
+        scene.inertia_gear,
+        5e-3,
+        4e-2,
+        2e4,
+        6e4,
+        has_motor=True,
+        has_load=True,
+    )
+    model = dynamic_model(
+        s4, case.modifications, case.torque, Damping("composite"), positions_per_pitch=32
+    )
     M = np.asarray(s4.mass())
     K = np.asarray(model.modes.mesh_stiffness + s4.stiffness())
     lam = scipy.linalg.eigh(K, M, eigvals_only=True)
@@ -103,8 +114,9 @@ def test_four_dof_modes_energy_and_damping(accessory):
     xi = 0.07 * e[0] + 0.01 * (1 - e[0])
     modal = Phi.T @ C @ Phi
     scale = np.abs(modal).max()
-    np.testing.assert_allclose(modal, np.diag(2 * xi * np.asarray(model.modes.omega)),
-                               atol=1e-10 * scale)
+    np.testing.assert_allclose(
+        modal, np.diag(2 * xi * np.asarray(model.modes.omega)), atol=1e-10 * scale
+    )
     # Rayleigh (2.34): a M + b K̄
     Cr = damping_matrix(s4, model.modes, Damping("rayleigh", alpha=30.0, beta=2e-6))
     np.testing.assert_allclose(np.asarray(Cr), 30.0 * M + 2e-6 * K, rtol=1e-12)
@@ -132,8 +144,9 @@ def test_low_speed_limit_matches_quasi_static(accessory):
 def _linear_problem(case, scene, damping="none"):
     """The time-averaged system as a linear, time-invariant contact problem (all cells in
     contact, constant cells), for the integrator checks."""
-    model = dynamic_model(scene, jg.Modifications(), case.torque, Damping(damping),
-                          positions_per_pitch=16)
+    model = dynamic_model(
+        scene, jg.Modifications(), case.torque, Damping(damping), positions_per_pitch=16
+    )
     cfg = _Config("newmark", "exact", 16, 2, 2, 100, 1e-6, 1e-6, True, 0, 1e3)
     prep = _prep(model, jnp.asarray(1e-7), cfg)
     t = prep.table
@@ -163,8 +176,17 @@ def test_newmark_conserves_energy_undamped_linear(accessory):
     dt = 2 * math.pi / w / 7.3  # coarse on purpose
 
     c0 = (X0, jnp.zeros(2), A0, jnp.array(0), jnp.array(0))
-    _, (*_, X, Xd) = _newmark(model, table, jnp.asarray(dt), c0, 3000, cfg, jnp.asarray(1e-7),
-                              record=True, record_states=True)
+    _, (*_, X, Xd) = _newmark(
+        model,
+        table,
+        jnp.asarray(dt),
+        c0,
+        3000,
+        cfg,
+        jnp.asarray(1e-7),
+        record=True,
+        record_states=True,
+    )
     e = np.asarray(jax.vmap(lambda x, v: _linear_energy(model, table, x, v)[0])(X, Xd))
     e0 = float(_linear_energy(model, table, X0, jnp.zeros(2))[0])
     amp = 0.5 * float((X0 - Xs) @ K @ (X0 - Xs))  # vibration energy scale
@@ -186,9 +208,19 @@ def test_newmark_second_order(accessory):
     x_exact = float(u @ Xs) + float(u @ (X0 - Xs)) * math.cos(w * T)
 
     n_max = 240
-    run = jax.jit(lambda dt: _newmark(model, table, dt, (X0, jnp.zeros(2), jnp.linalg.solve(
-        M, F - K @ X0), jnp.array(0), jnp.array(0)), n_max, cfg, jnp.asarray(1e-7), record=True,
-        record_states=True)[1][-2])
+    run = jax.jit(
+        lambda dt: _newmark(
+            model,
+            table,
+            dt,
+            (X0, jnp.zeros(2), jnp.linalg.solve(M, F - K @ X0), jnp.array(0), jnp.array(0)),
+            n_max,
+            cfg,
+            jnp.asarray(1e-7),
+            record=True,
+            record_states=True,
+        )[1][-2]
+    )
 
     def approach(n):  # state after n steps of T/n (one compilation: Δt is traced)
         return float(u @ run(jnp.asarray(T / n))[n - 1])
@@ -200,8 +232,9 @@ def test_newmark_second_order(accessory):
 
 def test_main_critical_speed_linear_case(linear_case):
     case, scene, mods = linear_case
-    model = dynamic_model(scene, mods, case.torque, Damping("modal", ratio=0.1),
-                          positions_per_pitch=32)
+    model = dynamic_model(
+        scene, mods, case.torque, Damping("modal", ratio=0.1), positions_per_pitch=32
+    )
     cs = float(model.critical_speeds()[1])
     speeds = cs * np.linspace(0.85, 1.15, 16)
     s = speed_sweep(model, speeds, steps_per_period=32, periods=40)
@@ -215,8 +248,9 @@ def test_main_critical_speed_linear_case(linear_case):
 
 def test_jump_and_hysteresis_with_contact_loss(accessory):
     case, scene = accessory
-    model = dynamic_model(scene, case.modifications, case.torque, Damping("modal", ratio=0.03),
-                          positions_per_pitch=32)
+    model = dynamic_model(
+        scene, case.modifications, case.torque, Damping("modal", ratio=0.03), positions_per_pitch=32
+    )
     cs = float(model.critical_speeds()[1])
     speeds = cs * np.linspace(0.86, 1.0, 8)
     s = speed_sweep(model, speeds, direction="both", steps_per_period=32, periods=40)
@@ -255,8 +289,14 @@ def test_divergence_is_reported_not_silent(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
     # explicit Euler, constant steps far beyond its stability limit (ω Δt ≈ 7)
-    kw = dict(solver="euler", contact="smooth", adaptive=False, steps_per_period=16, periods=3,
-              keep_periods=2)
+    kw = dict(
+        solver="euler",
+        contact="smooth",
+        adaptive=False,
+        steps_per_period=16,
+        periods=3,
+        keep_periods=2,
+    )
     r = simulate(model, 30.0, throw=False, **kw)
     assert int(r.result) in (2, 3)
     with pytest.raises(eqx.EquinoxRuntimeError, match="diverged|blow-up"):

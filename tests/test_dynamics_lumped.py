@@ -8,8 +8,11 @@ import pytest
 import scipy.linalg
 
 import jaxgear as jg
-from jaxgear._dyn_lumped import Bearing, ShaftSpec, _shaft, lumped_pair, timoshenko_element
-from jaxgear._dynamics import _prepare
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+from jaxgear.dynamics._model import _prepare
+from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair, timoshenko_element
+from jaxgear.scenes._lumped3d import _shaft
 
 
 def _timoshenko_ss(E, G, rho, d, L, kappa, mode=1):
@@ -29,9 +32,13 @@ def test_timoshenko_shaft_matches_simply_supported_beam(d):
     E, nu, rho, L, kappa = 210e9, 0.3, 7800.0, 0.5, 0.9
     G = E / (2 * (1 + nu))
     pinned = 1e16
-    spec = ShaftSpec(length=L, diameter=d, gear_z=L / 2,
-                     bearings=(Bearing(0.0, pinned, pinned, 0.0), Bearing(L, pinned, 0.0, 0.0)),
-                     elements=24)
+    spec = ShaftSpec(
+        length=L,
+        diameter=d,
+        gear_z=L / 2,
+        bearings=(Bearing(0.0, pinned, pinned, 0.0), Bearing(L, pinned, 0.0, 0.0)),
+        elements=24,
+    )
     nodes, K, M, Kb, *_ = _shaft(spec, E, G, rho)
     lam = scipy.linalg.eigh(K + Kb, M, eigvals_only=True)
     w = np.sqrt(np.clip(lam, 0, None))
@@ -81,14 +88,19 @@ def _accessory_lumped(case, radial, diameter=0.03, slices=4):
     m2, i2 = disc(p.tip_radii[1], p.gear.face_width)
 
     def shaft():
-        return ShaftSpec(length=0.1, diameter=diameter, gear_z=0.05, elements=4,
-                         bearings=(Bearing(0.0, radial, radial, 0.0), Bearing(0.1, radial, 0.0, 0.0)))
+        return ShaftSpec(
+            length=0.1,
+            diameter=diameter,
+            gear_z=0.05,
+            elements=4,
+            bearings=(Bearing(0.0, radial, radial, 0.0), Bearing(0.1, radial, 0.0, 0.0)),
+        )
 
     return lumped_pair(p, mesh, shaft(), shaft(), masses=(m1, m2), inertias=(i1, i2))
 
 
 def test_structure_vectors_reduce_to_torsional_and_rigid_mode_is_free():
-    case = jg.load_case("power-helical")
+    case = jio.load_case("power-helical")
     scene = _accessory_lumped(case, 2e8, slices=3)
     cells = scene.mesh.cells(jnp.asarray(0.01))
     V = np.asarray(scene.cell_vectors(cells))
@@ -109,14 +121,16 @@ def test_structure_vectors_reduce_to_torsional_and_rigid_mode_is_free():
 
 
 def test_stiff_shafts_and_bearings_recover_the_rigid_mesh_te():
-    case = jg.load_case("accessory-spur")
-    qs = jg.quasi_static(case.mesh_model(slices=4), case.modifications, case.torque,
-                         positions_per_pitch=16)
+    case = jio.load_case("accessory-spur")
+    qs = jg.quasi_static(
+        case.mesh_model(slices=4), case.modifications, case.torque, positions_per_pitch=16
+    )
     out = {}
     for radial, d in ((1e14, 0.4), (2e8, 0.03)):
         scene = _accessory_lumped(case, radial, diameter=d)
-        prep = _prepare(scene, case.modifications, jnp.asarray(case.torque), jnp.asarray(1e-7), 16,
-                        "exact", 100)
+        prep = _prepare(
+            scene, case.modifications, jnp.asarray(case.torque), jnp.asarray(1e-7), 16, "exact", 100
+        )
         assert np.all(np.asarray(prep.static_result) == 0)
         te = np.asarray(prep.static_x @ scene.te_vector() - prep.table.e_max)
         out[radial] = te
@@ -127,16 +141,16 @@ def test_stiff_shafts_and_bearings_recover_the_rigid_mesh_te():
 
 
 def test_lumped_modes_energy_and_simulation():
-    case = jg.load_case("accessory-spur")
+    case = jio.load_case("accessory-spur")
     scene = _accessory_lumped(case, 2e8)
-    model = jg.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    model = jd.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
     modes = model.modes
     assert modes.parts == ("mesh", "pinion_shaft", "gear_shaft", "bearings")
     assert int(np.sum(np.asarray(modes.rigid))) == 1
     e = np.asarray(modes.energy)[:, ~np.asarray(modes.rigid)]
     np.testing.assert_allclose(e.sum(axis=0), 1.0, rtol=1e-9)
     assert np.all(e > -1e-9)
-    r = jg.simulate(model, 800.0, steps_per_period=16, periods=6, keep_periods=2)
+    r = jd.simulate(model, 800.0, steps_per_period=16, periods=6, keep_periods=2)
     assert int(r.result) == 0
     assert 1.0 < float(r.dynamic_factor) < 3.0
     # bearing forces: statically, the radial bearing loads balance the mesh force

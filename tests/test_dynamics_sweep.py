@@ -9,27 +9,45 @@ import textwrap
 
 import numpy as np
 import pytest
-
-import jaxgear as jg
-from jaxgear._cli import main
-from jaxgear._sweep import _SOLVER_NAMES, SceneSpec, build_dynamic_model, parse_scene
 from _toml import ACCESSORY_PAIR
+
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+from jaxgear.cli import main
+from jaxgear.cli._sweep import _SOLVER_NAMES
+from jaxgear.dynamics import SceneSpec, build_dynamic_model
+from jaxgear.io import parse_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
-SHAFT = {"length_mm": 100.0, "diameter_mm": 30.0, "gear_position_mm": 50.0,
-         "bearings": [{"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0},
-                      {"position_mm": 100.0, "radial_N_per_um": 200.0}]}
+SHAFT = {
+    "length_mm": 100.0,
+    "diameter_mm": 30.0,
+    "gear_position_mm": 50.0,
+    "bearings": [
+        {"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0},
+        {"position_mm": 100.0, "radial_N_per_um": 200.0},
+    ],
+}
 
 
 def test_scene_defaults_and_validation():
     assert parse_scene(None) == SceneSpec()
-    s = parse_scene({"model": "torsional", "motor_inertia_kg_m2": 0.01,
-                     "motor_shaft_stiffness_Nm_per_rad": 2e4,
-                     "damping": {"model": "rayleigh", "alpha_per_s": 20.0, "beta_s": 1e-6},
-                     "integration": {"solver": "kvaerno5", "contact": "smooth", "periods": 10,
-                                     "keep_periods": 3}})
+    s = parse_scene(
+        {
+            "model": "torsional",
+            "motor_inertia_kg_m2": 0.01,
+            "motor_shaft_stiffness_Nm_per_rad": 2e4,
+            "damping": {"model": "rayleigh", "alpha_per_s": 20.0, "beta_s": 1e-6},
+            "integration": {
+                "solver": "kvaerno5",
+                "contact": "smooth",
+                "periods": 10,
+                "keep_periods": 3,
+            },
+        }
+    )
     assert s.motor_inertia == 0.01 and s.damping_model == "rayleigh" and s.rayleigh_beta == 1e-6
     assert s.solver == "kvaerno5" and s.periods == 10
     bad = [
@@ -37,13 +55,38 @@ def test_scene_defaults_and_validation():
         ({"damping": {"zeta": 0.1}}, "'zeta'"),
         ({"integration": {"dt": 1e-6}}, "'dt'"),
         ({"model": "lumped3d"}, "pinion_shaft"),
-        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "bore": 1}, "gear_shaft": SHAFT}, "'bore'"),
-        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "bearings": [{"position_mm": 0.0,
-          "radial_N_per_um": 200.0, "stiff": 1}]}, "gear_shaft": SHAFT}, "'stiff'"),
-        ({"model": "lumped3d", "pinion_shaft": {**SHAFT, "gear_position_mm": 500.0},
-          "gear_shaft": SHAFT}, "beyond the shaft length"),
-        ({"model": "lumped3d", "pinion_shaft": SHAFT, "gear_shaft": SHAFT,
-          "motor_inertia_kg_m2": 1.0}, "torsional"),
+        (
+            {"model": "lumped3d", "pinion_shaft": {**SHAFT, "bore": 1}, "gear_shaft": SHAFT},
+            "'bore'",
+        ),
+        (
+            {
+                "model": "lumped3d",
+                "pinion_shaft": {
+                    **SHAFT,
+                    "bearings": [{"position_mm": 0.0, "radial_N_per_um": 200.0, "stiff": 1}],
+                },
+                "gear_shaft": SHAFT,
+            },
+            "'stiff'",
+        ),
+        (
+            {
+                "model": "lumped3d",
+                "pinion_shaft": {**SHAFT, "gear_position_mm": 500.0},
+                "gear_shaft": SHAFT,
+            },
+            "beyond the shaft length",
+        ),
+        (
+            {
+                "model": "lumped3d",
+                "pinion_shaft": SHAFT,
+                "gear_shaft": SHAFT,
+                "motor_inertia_kg_m2": 1.0,
+            },
+            "torsional",
+        ),
         ({"pinion_shaft": SHAFT}, "lumped3d"),
         ({"model": "beam"}, "model"),
         ({"motor_inertia_kg_m2": 0.01}, "go together"),
@@ -51,8 +94,14 @@ def test_scene_defaults_and_validation():
         ({"damping": {"model": "modal", "ratio": 2.0}}, "ratio"),
         ({"integration": {"solver": "rk4"}}, "solver"),
         ({"integration": {"periods": 3, "keep_periods": 4}}, "keep_periods"),
-        ({"reduction": "relative", "load_inertia_kg_m2": 1.0,
-          "load_shaft_stiffness_Nm_per_rad": 1e4}, "relative"),
+        (
+            {
+                "reduction": "relative",
+                "load_inertia_kg_m2": 1.0,
+                "load_shaft_stiffness_Nm_per_rad": 1e4,
+            },
+            "relative",
+        ),
     ]
     for table, match in bad:
         with pytest.raises(ValueError, match=match):
@@ -60,25 +109,33 @@ def test_scene_defaults_and_validation():
 
 
 def test_solver_names_match_the_library():
-    from jaxgear._dynamics import DIFFRAX_SOLVERS
+    from jaxgear.dynamics import DIFFRAX_SOLVERS
 
     assert set(_SOLVER_NAMES) == {"newmark", *DIFFRAX_SOLVERS}
 
 
 def test_case_scene_builds_the_four_dof_model():
-    case = jg.load_case("accessory-spur").replace(slices=2)
-    raw = dict(case.raw)
-    raw["scene"] = {"motor_inertia_kg_m2": 5e-3, "motor_shaft_stiffness_Nm_per_rad": 2e4,
-                    "load_inertia_kg_m2": 4e-2, "load_shaft_stiffness_Nm_per_rad": 6e4,
-                    "integration": {"steps_per_period": 16}}
-    model, spec = build_dynamic_model(case.replace(raw=raw))
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    scene = parse_scene(
+        {
+            "motor_inertia_kg_m2": 5e-3,
+            "motor_shaft_stiffness_Nm_per_rad": 2e4,
+            "load_inertia_kg_m2": 4e-2,
+            "load_shaft_stiffness_Nm_per_rad": 6e4,
+            "integration": {"steps_per_period": 16},
+        }
+    )
+    model, spec = build_dynamic_model(case.replace(scene=scene))
     assert model.scene.n_dof == 4 and spec.steps_per_period == 16
     assert model.modes.parts == ("mesh", "motor_shaft", "load_shaft")
 
 
-CASE = """
+CASE = (
+    """
 name = "tiny-sweep"
-""" + ACCESSORY_PAIR + """[mesh]
+"""
+    + ACCESSORY_PAIR
+    + """[mesh]
 stiffness = "uniform"
 stiffness_per_length_N_per_mm_per_um = 14.0
 slices = 2
@@ -94,19 +151,37 @@ steps_per_period = 16
 periods = 6
 keep_periods = 2
 """
+)
 
 
 def test_cli_sweep_writes_json_and_plots(tmp_path, capsys):
     case = tmp_path / "tiny.toml"
     case.write_text(CASE)
     out = tmp_path / "out"
-    rc = main(["sweep", str(case), "--speeds", "300:1100:5", "--direction", "both", "--out",
-               str(out), "--quiet"])
+    rc = main(
+        [
+            "sweep",
+            str(case),
+            "--speeds",
+            "300:1100:5",
+            "--direction",
+            "both",
+            "--out",
+            str(out),
+            "--quiet",
+        ]
+    )
     assert rc == 0
     data = json.loads((out / "sweep.json").read_text())
     assert data["speeds_rad_s"] == pytest.approx(np.linspace(300, 1100, 5).tolist())
-    for key in ("dynamic_factor", "dynamic_factor_down", "dynamic_factor_tooth", "te_rms_m",
-                "contact_loss", "result"):
+    for key in (
+        "dynamic_factor",
+        "dynamic_factor_down",
+        "dynamic_factor_tooth",
+        "te_rms_m",
+        "contact_loss",
+        "result",
+    ):
         assert len(data[key]) == 5, key
     assert all(v > 0.9 for v in data["dynamic_factor"])
     assert data["critical_speeds"][0]["harmonic"] == 1
@@ -125,40 +200,50 @@ def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
     script = textwrap.dedent("""
         import jax, numpy as np
         jax.config.update("jax_enable_x64", True)
-        import jaxgear as jg
-        from jaxgear._sweep import build_dynamic_model, parse_scene
-        case = jg.load_case("accessory-spur").replace(slices=2)
+        import jaxgear.dynamics as jd
+        import jaxgear.io as jio
+        from jaxgear.dynamics import build_dynamic_model
+        from jaxgear.io import parse_scene
+        case = jio.load_case("accessory-spur").replace(slices=2)
         spec = parse_scene({"integration": {"steps_per_period": 16, "periods": 4,
                                             "keep_periods": 2}})
         model, _ = build_dynamic_model(case, spec)
         speeds = np.linspace(300.0, 1200.0, 6)   # 6 speeds on 4 devices: padded to 8
         kw = dict(steps_per_period=16, periods=4, keep_periods=2)
-        a = jg.speed_sweep(model, speeds, shard=True, **kw)
-        b = jg.speed_sweep(model, speeds, shard=False, **kw)
+        a = jd.speed_sweep(model, speeds, shard=True, **kw)
+        b = jd.speed_sweep(model, speeds, shard=False, **kw)
         assert len(jax.local_devices()) == 4
         np.testing.assert_allclose(a.dynamic_factor, b.dynamic_factor, rtol=1e-10)
         print("OK", len(jax.local_devices()))
     """)
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4",
-               JAX_PLATFORMS="cpu")
-    r = subprocess.run([sys.executable, "-c", script], cwd=ROOT, env=env, capture_output=True,
-                       text=True, timeout=600)
+    env = dict(
+        os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", script],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr[-3000:]
     assert "OK 4" in r.stdout
 
 
 @pytest.fixture(scope="module")
 def small_model():
-    case = jg.load_case("accessory-spur").replace(slices=2)
-    spec = parse_scene({"damping": {"model": "modal", "ratio": 0.05},
-                        "integration": {"steps_per_period": 32}})
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    spec = parse_scene(
+        {"damping": {"model": "modal", "ratio": 0.05}, "integration": {"steps_per_period": 32}}
+    )
     return build_dynamic_model(case, spec)[0]
 
 
 def test_diffrax_explicit_agrees_with_newmark(small_model):
     kw = dict(contact="smooth", width=1e-7, steps_per_period=32, periods=8, keep_periods=2)
-    nm = jg.simulate(small_model, 700.0, **kw)
-    ts = jg.simulate(small_model, 700.0, solver="tsit5", rtol=1e-7, atol=1e-7, **kw)
+    nm = jd.simulate(small_model, 700.0, **kw)
+    ts = jd.simulate(small_model, 700.0, solver="tsit5", rtol=1e-7, atol=1e-7, **kw)
     assert int(ts.result) == 0
     assert float(ts.dynamic_factor) == pytest.approx(float(nm.dynamic_factor), rel=5e-3)
     assert float(ts.te_rms) == pytest.approx(float(nm.te_rms), rel=2e-2)
@@ -167,8 +252,8 @@ def test_diffrax_explicit_agrees_with_newmark(small_model):
 @pytest.mark.slow
 def test_diffrax_implicit_agrees_with_newmark(small_model):
     kw = dict(contact="smooth", width=1e-7, steps_per_period=32, periods=8, keep_periods=2)
-    nm = jg.simulate(small_model, 700.0, **kw)
-    kv = jg.simulate(small_model, 700.0, solver="kvaerno5", rtol=1e-7, atol=1e-7, **kw)
+    nm = jd.simulate(small_model, 700.0, **kw)
+    kv = jd.simulate(small_model, 700.0, solver="kvaerno5", rtol=1e-7, atol=1e-7, **kw)
     assert int(kv.result) == 0
     assert float(kv.dynamic_factor) == pytest.approx(float(nm.dynamic_factor), rel=5e-3)
 
@@ -177,8 +262,8 @@ def test_diffrax_implicit_agrees_with_newmark(small_model):
 def test_continuation_matches_independent_away_from_jumps(small_model):
     speeds = np.linspace(200.0, 500.0, 4)
     kw = dict(steps_per_period=32, periods=30, keep_periods=2)
-    ind = jg.speed_sweep(small_model, speeds, **kw)
-    up = jg.speed_sweep(small_model, speeds, direction="up", chunk_size=3, **kw)
+    ind = jd.speed_sweep(small_model, speeds, **kw)
+    up = jd.speed_sweep(small_model, speeds, direction="up", chunk_size=3, **kw)
     np.testing.assert_allclose(up.dynamic_factor, ind.dynamic_factor, rtol=2e-3)
 
 
@@ -186,7 +271,9 @@ def test_continuation_matches_independent_away_from_jumps(small_model):
 def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("speed_sweep", ROOT / "examples" / "speed_sweep.py")
+    spec = importlib.util.spec_from_file_location(
+        "speed_sweep", ROOT / "examples" / "speed_sweep.py"
+    )
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     out = mod.main(str(tmp_path), n_speeds=16, periods=30)
@@ -218,8 +305,22 @@ def test_cli_sweep_lumped3d_scene(tmp_path):
     case = tmp_path / "lumped.toml"
     case.write_text(text)
     out = tmp_path / "out"
-    assert main(["sweep", str(case), "--speeds", "400:1200:3", "--periods", "4", "--out",
-                 str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "sweep",
+                str(case),
+                "--speeds",
+                "400:1200:3",
+                "--periods",
+                "4",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     data = json.loads((out / "sweep.json").read_text())
     assert data["model"] == "lumped3d"
     assert data["modal_energy_parts"] == ["mesh", "pinion_shaft", "gear_shaft", "bearings"]

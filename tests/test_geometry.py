@@ -18,7 +18,7 @@ import math
 
 import pytest
 
-from jaxgear import GearPair, Member, involute, inverse_involute
+from jaxgear import GearPair, Member, inverse_involute, involute
 
 DEG = math.pi / 180
 
@@ -27,8 +27,13 @@ def _khk_spur(**kw) -> GearPair:
     m = 3.0  # mm
     ha1 = (44.840 / 2 - 12 * m / 2) / m - 0.6  # = 0.87333 (KHK: 1 + y − x2 with y = 0.83333)
     ha2 = (79.400 / 2 - 24 * m / 2) / m - 0.36
-    return GearPair(Member(12, 0.6, ha1, 1.25, 20e-3), Member(24, 0.36, ha2, 1.25, 20e-3),
-                    m * 1e-3, 20 * DEG, **kw)
+    return GearPair(
+        Member(12, 0.6, ha1, 1.25, 20e-3),
+        Member(24, 0.36, ha2, 1.25, 20e-3),
+        m * 1e-3,
+        20 * DEG,
+        **kw,
+    )
 
 
 def _khk_helical(**kw) -> GearPair:
@@ -36,8 +41,14 @@ def _khk_helical(**kw) -> GearPair:
     mt = mn / math.cos(beta)
     ha1 = (48.154 / 2 - 12 * mt / 2) / mn - 0.09809
     ha2 = (213.842 / 2 - 60 * mt / 2) / mn - 0.0
-    return GearPair(Member(12, 0.09809, ha1, 1.25, 20e-3), Member(60, 0.0, ha2, 1.25, 20e-3),
-                    mn * 1e-3, 20 * DEG, beta, **kw)
+    return GearPair(
+        Member(12, 0.09809, ha1, 1.25, 20e-3),
+        Member(60, 0.0, ha2, 1.25, 20e-3),
+        mn * 1e-3,
+        20 * DEG,
+        beta,
+        **kw,
+    )
 
 
 def test_khk_profile_shifted_spur():
@@ -84,9 +95,11 @@ def test_base_pitch_and_base_helix_identities():
         for rb, z in zip(p.base_radii, (p.pinion.teeth, p.gear.teeth)):
             assert p.base_pitch == pytest.approx(2 * math.pi * rb / z, rel=1e-14)
         assert math.sin(p.base_helix_angle) == pytest.approx(
-            math.sin(p.helix_angle) * math.cos(p.normal_pressure_angle), abs=1e-15)
+            math.sin(p.helix_angle) * math.cos(p.normal_pressure_angle), abs=1e-15
+        )
         assert p.base_pitch * math.cos(p.base_helix_angle) == pytest.approx(
-            math.pi * p.normal_module * math.cos(p.normal_pressure_angle), rel=1e-14)
+            math.pi * p.normal_module * math.cos(p.normal_pressure_angle), rel=1e-14
+        )
         # the path of contact spans ε_α base pitches; the pitch point lies on it
         assert p.path_of_contact == pytest.approx(p.transverse_contact_ratio * p.base_pitch)
         s_pitch = p.base_radii[0] * math.tan(p.operating_pressure_angle) - p.start_roll
@@ -106,8 +119,16 @@ def test_inverse_involute_reference_values():
         inverse_involute(-1e-3)
 
 
-@pytest.mark.parametrize("x1,x2,beta", [(0.6, 0.36, 0.0), (0.09809, 0.0, 30.0), (0.341, 0.481, 0.0),
-                                        (-0.2, 0.5, 12.0), (0.0, 0.0, 0.0)])
+@pytest.mark.parametrize(
+    "x1,x2,beta",
+    [
+        (0.6, 0.36, 0.0),
+        (0.09809, 0.0, 30.0),
+        (0.341, 0.481, 0.0),
+        (-0.2, 0.5, 12.0),
+        (0.0, 0.0, 0.0),
+    ],
+)
 def test_zero_backlash_center_distance(x1, x2, beta):
     """At the default centre distance the transverse tooth thicknesses on the two operating pitch
     circles fill the operating circular pitch exactly (no backlash), ISO 21771 §5.3."""
@@ -129,7 +150,8 @@ def test_zero_backlash_center_distance(x1, x2, beta):
     q = GearPair(p.pinion, p.gear, mn, an, beta * DEG, center_distance=p.center_distance + 1e-4)
     assert q.operating_pressure_angle > awt
     assert math.cos(q.operating_pressure_angle) == pytest.approx(
-        (p.base_radii[0] + p.base_radii[1]) / q.center_distance, rel=1e-14)
+        (p.base_radii[0] + p.base_radii[1]) / q.center_distance, rel=1e-14
+    )
 
 
 def test_undercut_limit_matches_rack_formula():
@@ -144,26 +166,43 @@ def test_undercut_limit_matches_rack_formula():
 
 
 def _pair(p1=None, p2=None, **kw):
-    d = dict(pinion=p1 or Member(20, 0.0, 1.0, 1.25, 0.01), gear=p2 or Member(40, 0.0, 1.0, 1.25, 0.01),
-             normal_module=2e-3, normal_pressure_angle=20 * DEG)
+    d = dict(
+        pinion=p1 or Member(20, 0.0, 1.0, 1.25, 0.01),
+        gear=p2 or Member(40, 0.0, 1.0, 1.25, 0.01),
+        normal_module=2e-3,
+        normal_pressure_angle=20 * DEG,
+    )
     d.update(kw)
     return GearPair(**d)
 
 
-@pytest.mark.parametrize("kwargs,pattern", [
-    (dict(p1=Member(8, 0.0, 1.0, 1.25)), r"pinion\.profile_shift \(undercut"),
-    (dict(p1=Member(10, 1.0, 1.3, 1.25)), r"pinion\.addendum_coeff \(tip thickness .*pointed"),
-    (dict(p1=Member(17, 0.1, 1.0, 1.25), p2=Member(80, -0.1, 1.25, 1.25)),
-     r"gear\.addendum_coeff \(interference"),
-    (dict(p1=Member(20, 0.0, 0.45, 1.25), p2=Member(40, 0.0, 0.45, 1.25)),
-     r"transverse contact ratio = 0\.8\d* is out of range: allowed >= 1"),
-    (dict(p1=Member(20, -1.0, 0.05, 1.25)), r"pinion\.tip radius .* allowed > base radius"),
-    (dict(normal_module=0.0), r"normal_module = 0\.0 is out of range: allowed > 0"),
-    (dict(normal_module=-1e-3), r"normal_module = -0\.001 is out of range"),
-    (dict(p1=Member(20, 0.0, 1.0, 1.25, 0.0)), r"pinion\.face_width = 0\.0 is out of range: allowed > 0"),
-    (dict(p2=Member(40, 0.0, 1.0, 1.25, -0.01)), r"gear\.face_width = -0\.01 is out of range"),
-    (dict(center_distance=59.9e-3), r"center_distance = 0\.0599 is out of range: allowed >= 60\.000000 mm"),
-])
+@pytest.mark.parametrize(
+    "kwargs,pattern",
+    [
+        (dict(p1=Member(8, 0.0, 1.0, 1.25)), r"pinion\.profile_shift \(undercut"),
+        (dict(p1=Member(10, 1.0, 1.3, 1.25)), r"pinion\.addendum_coeff \(tip thickness .*pointed"),
+        (
+            dict(p1=Member(17, 0.1, 1.0, 1.25), p2=Member(80, -0.1, 1.25, 1.25)),
+            r"gear\.addendum_coeff \(interference",
+        ),
+        (
+            dict(p1=Member(20, 0.0, 0.45, 1.25), p2=Member(40, 0.0, 0.45, 1.25)),
+            r"transverse contact ratio = 0\.8\d* is out of range: allowed >= 1",
+        ),
+        (dict(p1=Member(20, -1.0, 0.05, 1.25)), r"pinion\.tip radius .* allowed > base radius"),
+        (dict(normal_module=0.0), r"normal_module = 0\.0 is out of range: allowed > 0"),
+        (dict(normal_module=-1e-3), r"normal_module = -0\.001 is out of range"),
+        (
+            dict(p1=Member(20, 0.0, 1.0, 1.25, 0.0)),
+            r"pinion\.face_width = 0\.0 is out of range: allowed > 0",
+        ),
+        (dict(p2=Member(40, 0.0, 1.0, 1.25, -0.01)), r"gear\.face_width = -0\.01 is out of range"),
+        (
+            dict(center_distance=59.9e-3),
+            r"center_distance = 0\.0599 is out of range: allowed >= 60\.000000 mm",
+        ),
+    ],
+)
 def test_invalid_geometry_raises(kwargs, pattern):
     with pytest.raises(ValueError, match=pattern):
         _pair(**kwargs)
@@ -172,6 +211,8 @@ def test_invalid_geometry_raises(kwargs, pattern):
 def test_valid_neighbours_of_error_cases():
     """The error cases above are genuine: small changes towards safety pass."""
     _pair(Member(17, 0.1, 1.0, 1.25), Member(80, -0.1, 1.0, 1.25))  # normal gear addendum
-    assert _pair(Member(20, 0.0, 0.6, 1.25), Member(40, 0.0, 0.6, 1.25)).transverse_contact_ratio > 1
+    assert (
+        _pair(Member(20, 0.0, 0.6, 1.25), Member(40, 0.0, 0.6, 1.25)).transverse_contact_ratio > 1
+    )
     _pair(center_distance=60.0e-3)
     _pair(center_distance=60.1e-3)

@@ -16,6 +16,7 @@ import pytest
 from jax.test_util import check_grads
 
 import jaxgear as jg
+import jaxgear.io as jio
 
 P0 = np.array([10.0, 0.2, 5.0])  # tip relief depth (µm), extent Γ, crowning depth (µm)
 STEPS = np.array([1e-3, 1e-5, 1e-3])  # central-difference steps, same units
@@ -23,17 +24,24 @@ STEPS = np.array([1e-3, 1e-5, 1e-3])  # central-difference steps, same units
 
 @functools.cache
 def _setup():
-    case = jg.load_case("power-helical")
+    case = jio.load_case("power-helical")
     mesh = case.mesh_model(slices=8)
     return case, mesh, jg.mesh_positions(mesh, 16)
 
 
 def _te_rms_um(p, contact, setup):
     case, mesh, theta = setup
-    mm = jg.MemberModification(tip_relief_depth=p[0] * 1e-6, tip_relief_extent=p[1],
-                               crowning_depth=p[2] * 1e-6)
-    res = jg.quasi_static(mesh, jg.Modifications.symmetric(mm), case.torque, theta,
-                          contact=contact, width=case.smooth_width)
+    mm = jg.MemberModification(
+        tip_relief_depth=p[0] * 1e-6, tip_relief_extent=p[1], crowning_depth=p[2] * 1e-6
+    )
+    res = jg.quasi_static(
+        mesh,
+        jg.Modifications.symmetric(mm),
+        case.torque,
+        theta,
+        contact=contact,
+        width=case.smooth_width,
+    )
     return res.te_rms * 1e6
 
 
@@ -75,8 +83,12 @@ def test_grad_wrt_torque_smooth():
     case, mesh, theta = _setup()
 
     def te_mean_um(torque):
-        return jg.quasi_static(mesh, case.modifications, torque, theta, contact="smooth",
-                               width=case.smooth_width).te_mean * 1e6
+        return (
+            jg.quasi_static(
+                mesh, case.modifications, torque, theta, contact="smooth", width=case.smooth_width
+            ).te_mean
+            * 1e6
+        )
 
     f = jax.jit(te_mean_um)
     t0, h = case.torque, 1e-2

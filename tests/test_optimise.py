@@ -4,22 +4,24 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-
-import jaxgear as jg
-import optimise as op
 from _toml import ACCESSORY_PAIR
+
+import jaxgear.io as jio
+import optimise as op
 
 PPP = 24  # positions per mesh period: small but enough to resolve the single/double contact zones
 
 
 @pytest.fixture(scope="module")
 def case():
-    return jg.load_case("accessory-spur").replace(slices=4)
+    return jio.load_case("accessory-spur").replace(slices=4)
 
 
 @pytest.fixture(scope="module")
 def problem(case):
-    return op.make_problem(case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP)
+    return op.make_problem(
+        case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP
+    )
 
 
 def _fd(f, x, i, h):
@@ -28,19 +30,27 @@ def _fd(f, x, i, h):
     return (float(f(jnp.asarray(x + e))) - float(f(jnp.asarray(x - e)))) / (2 * h)
 
 
-@pytest.mark.parametrize("objective,variables,x", [
-    ("te_rms", "tip_relief.depth,tip_relief.extent", [1.1, 0.27]),
-    ("te_ptp", "tip_relief.depth,tip_relief.extent", [0.9, 0.31]),
-    ("robust_te_rms", "tip_relief.depth,tip_relief.extent", [1.2, 0.29]),
-    ("max_line_load", "crowning.depth", [0.4]),
-])
+@pytest.mark.parametrize(
+    "objective,variables,x",
+    [
+        ("te_rms", "tip_relief.depth,tip_relief.extent", [1.1, 0.27]),
+        ("te_ptp", "tip_relief.depth,tip_relief.extent", [0.9, 0.31]),
+        ("robust_te_rms", "tip_relief.depth,tip_relief.extent", [1.2, 0.29]),
+        ("max_line_load", "crowning.depth", [0.4]),
+    ],
+)
 def test_objective_gradients_match_central_differences(case, objective, variables, x):
     c = case
     if objective == "max_line_load":
-        c = jg.load_case("power-helical").replace(slices=8)
-    p = op.make_problem(c, variables, objective, positions_per_pitch=PPP,
-                        torques=np.array([40.0, 80.0, 120.0]) if objective == "robust_te_rms" else None,
-                        reduce="mean")
+        c = jio.load_case("power-helical").replace(slices=8)
+    p = op.make_problem(
+        c,
+        variables,
+        objective,
+        positions_per_pitch=PPP,
+        torques=np.array([40.0, 80.0, 120.0]) if objective == "robust_te_rms" else None,
+        reduce="mean",
+    )
     x = np.asarray(x, dtype=float)
     f = jax.jit(lambda v: p.value(v, "smooth"))
     g = np.asarray(jax.grad(lambda v: p.value(v, "smooth"))(jnp.asarray(x)))
@@ -53,9 +63,14 @@ def test_master_curve_matches_zero_fluctuation_family(case):
     # uniform stiffness, spur, ε_α = 1.42 < 2: DESIGN.md §8's family, checked here against the
     # numerical optimum (relative error in E < 1 %) and its TE RMS (< 1 % of the unmodified)
     c = case.replace(stiffness_model="uniform", uniform_k0=13e9)
-    p = op.make_problem(c, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=64,
-                        relief_blend=0.0, bounds={"tip_relief.depth": (0.0, 4.0),
-                                                  "tip_relief.extent": (0.02, 0.98)})
+    p = op.make_problem(
+        c,
+        "tip_relief.depth,tip_relief.extent",
+        "te_rms",
+        positions_per_pitch=64,
+        relief_blend=0.0,
+        bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
+    )
     eps = c.pair.transverse_contact_ratio
     lo, hi = (eps - 1) / (2 * eps), (eps - 1) / eps
     extents = np.linspace(lo + 0.3 * (hi - lo), hi, 5)  # where E* stays within the bounds
@@ -88,9 +103,17 @@ def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
 
 def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     torques = np.linspace(40.0, 120.0, 5)
-    single = op.make_problem(case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP)
-    robust = op.make_problem(case, "tip_relief.depth,tip_relief.extent", "robust_te_rms",
-                             torques=torques, reduce="max", positions_per_pitch=PPP)
+    single = op.make_problem(
+        case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP
+    )
+    robust = op.make_problem(
+        case,
+        "tip_relief.depth,tip_relief.extent",
+        "robust_te_rms",
+        torques=torques,
+        reduce="max",
+        positions_per_pitch=PPP,
+    )
     rs = op.minimise(single, [1.0, 0.3], progress=False)
     rr = op.minimise(robust, [1.0, 0.3], progress=False, max_iterations=200)
     # compare both designs on the same torque range, exact contact
@@ -98,18 +121,29 @@ def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     worst_robust = float(np.max(robust.per_torque(jnp.asarray(rr.x), "exact")))
     assert worst_robust < worst_single
     # and the single-load optimum is better at its own design load
-    assert float(single.value(jnp.asarray(rs.x), "smooth")) <= float(single.value(jnp.asarray(rr.x), "smooth"))
+    assert float(single.value(jnp.asarray(rs.x), "smooth")) <= float(
+        single.value(jnp.asarray(rr.x), "smooth")
+    )
 
 
-@pytest.mark.parametrize("kwargs,needle", [
-    (dict(variables="tip_relief.dpeth"), "unknown design variable"),
-    (dict(variables=""), "--vars is empty"),
-    (dict(variables="tip_relief.depth", objective="te_max"), "--objective"),
-    (dict(variables="tip_relief.depth", objective="robust_te_rms", torques=np.array([])), "--torques is empty"),
-    (dict(variables="tip_relief.extent", bounds={"tip_relief.extent": (0.5, 0.2)}), "crossed"),
-    (dict(variables="tip_relief.extent", bounds={"tip_relief.extent": (0.0, 1.2)}), "inside (0, 1)"),
-    (dict(variables="tip_relief.depth", bounds={"tip_relief.depth": (-1.0, 2.0)}), ">= 0"),
-])
+@pytest.mark.parametrize(
+    "kwargs,needle",
+    [
+        (dict(variables="tip_relief.dpeth"), "unknown design variable"),
+        (dict(variables=""), "--vars is empty"),
+        (dict(variables="tip_relief.depth", objective="te_max"), "--objective"),
+        (
+            dict(variables="tip_relief.depth", objective="robust_te_rms", torques=np.array([])),
+            "--torques is empty",
+        ),
+        (dict(variables="tip_relief.extent", bounds={"tip_relief.extent": (0.5, 0.2)}), "crossed"),
+        (
+            dict(variables="tip_relief.extent", bounds={"tip_relief.extent": (0.0, 1.2)}),
+            "inside (0, 1)",
+        ),
+        (dict(variables="tip_relief.depth", bounds={"tip_relief.depth": (-1.0, 2.0)}), ">= 0"),
+    ],
+)
 def test_bad_inputs_give_clear_errors(case, kwargs, needle):
     variables = kwargs.pop("variables")
     with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
@@ -123,9 +157,12 @@ def test_parse_range_errors():
             op.parse_range(bad)
 
 
-SMALL_CASE = """
+SMALL_CASE = (
+    """
 name = "opt-small"
-""" + ACCESSORY_PAIR + """[mesh]
+"""
+    + ACCESSORY_PAIR
+    + """[mesh]
 stiffness = "uniform"
 stiffness_per_length_N_per_mm_per_um = 13.0
 slices = 4
@@ -137,17 +174,20 @@ objective = "te_rms"
 vars = ["tip_relief.depth", "tip_relief.extent"]
 max_iterations = 60
 """
+)
 
 
 def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     import json
 
-    from jaxgear._cli import main
+    from jaxgear.cli import main
 
     path = tmp_path / "c.toml"
     path.write_text(SMALL_CASE)
     out = tmp_path / "o"
-    assert main(["optimise", str(path), "--out", str(out), "--quiet", "--max-iterations", "40"]) == 0
+    assert (
+        main(["optimise", str(path), "--out", str(out), "--quiet", "--max-iterations", "40"]) == 0
+    )
     rep = json.loads((out / "optimum.json").read_text())
     assert rep["final"]["objective_exact_m"] < rep["initial"]["objective_exact_m"]
     assert set(rep["final"]["parameters"]) == {"tip_relief.depth", "tip_relief.extent"}
@@ -179,7 +219,10 @@ def test_master_curve_notebook_executes():
 
     path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "master_curve.ipynb"
     nb = nbformat.read(path, as_version=4)
-    NotebookClient(nb, timeout=900, kernel_name="python3",
-                   resources={"metadata": {"path": str(path.parent)}}).execute()
-    outputs = "".join(o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs)
+    NotebookClient(
+        nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}
+    ).execute()
+    outputs = "".join(
+        o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs
+    )
     assert "worst case" in outputs

@@ -23,6 +23,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxgear as jg
+import jaxgear.io as jio
 
 K0 = 13e9  # N/m² = 13 N/(mm·µm) per unit contact length
 GOLDEN = (1 + math.sqrt(5)) / 2
@@ -32,13 +33,13 @@ GOLDEN = (1 + math.sqrt(5)) / 2
 def _weber(name: str):
     """Embedded case with its Weber mesh at the suite's standard resolution (shared shapes keep
     the jit cache warm across tests): spur 4 slices, helical 8 slices; 16 positions per pitch."""
-    case = jg.load_case(name)
+    case = jio.load_case(name)
     mesh = case.mesh_model(slices=4 if case.pair.helix_angle == 0 else 8)
     return case, mesh, jg.mesh_positions(mesh, 16)
 
 
 def _uniform_mesh(name: str, slices: int, k0: float = K0):
-    case = jg.load_case(name)
+    case = jio.load_case(name)
     s, k = jg.stiffness_table(case.pair, "uniform", uniform_k0=k0)
     return case, jg.MeshModel.from_pair(case.pair, s, k, slices)
 
@@ -54,7 +55,12 @@ def _roll(pair, theta):
 def _analytic_length(pair, theta):
     """Contact length (m) of the lines inside [0, g_α] × [0, b] and the number of line/edge
     crossings strictly inside the face (each can cost the mid-point slicing up to half a slice)."""
-    g, b, pb, tb = pair.path_of_contact, pair.face_width, pair.base_pitch, math.tan(pair.base_helix_angle)
+    g, b, pb, tb = (
+        pair.path_of_contact,
+        pair.face_width,
+        pair.base_pitch,
+        math.tan(pair.base_helix_angle),
+    )
     out, crossings = [], []
     for roll in _roll(pair, theta):
         total, cross = 0.0, 0
@@ -94,7 +100,9 @@ def test_uniform_spur_mean_mesh_stiffness_is_k0_eps_b():
     res = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=n)
     expected = K0 * pair.transverse_contact_ratio * pair.face_width
     # mid-point sampling of a two-jump step function: the mean line count is off by <= 1/n
-    assert float(jnp.mean(res.mesh_stiffness)) == pytest.approx(expected, abs=K0 * pair.face_width / n)
+    assert float(jnp.mean(res.mesh_stiffness)) == pytest.approx(
+        expected, abs=K0 * pair.face_width / n
+    )
 
 
 @pytest.mark.parametrize("face_width_mm", [40.0, 120.0])
@@ -102,11 +110,13 @@ def test_uniform_helical_te_equals_f_over_k0_l(face_width_mm):
     """power-helical geometry (ε_β = 1.06 at 40 mm; 3.2 at 120 mm, where more contact lines
     cross the base plane than ε_α alone suggests)."""
     n_slices = 200
-    case = jg.load_case("power-helical")
+    case = jio.load_case("power-helical")
     p0 = case.pair
     pair = dataclasses.replace(
-        p0, pinion=dataclasses.replace(p0.pinion, face_width=face_width_mm * 1e-3),
-        gear=dataclasses.replace(p0.gear, face_width=face_width_mm * 1e-3))
+        p0,
+        pinion=dataclasses.replace(p0.pinion, face_width=face_width_mm * 1e-3),
+        gear=dataclasses.replace(p0.gear, face_width=face_width_mm * 1e-3),
+    )
     s, k = jg.stiffness_table(pair, "uniform", uniform_k0=K0)
     mesh = jg.MeshModel.from_pair(pair, s, k, n_slices)
     theta = jg.mesh_positions(mesh, 12)
@@ -132,7 +142,9 @@ def _golden_problem():
     assert g * (1 - gamma) < s_b < g and 0.3 * pb > 0
     te_exact = _normal_load(pair, case.torque) / (K0 * b)
     depth = te_exact / ((s_b - g * (1 - gamma)) / (g * gamma))
-    mods = jg.Modifications(pinion=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=gamma))
+    mods = jg.Modifications(
+        pinion=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=gamma)
+    )
     theta = jnp.array([0.3 * pb / pair.base_radii[0]])
     return case, mesh, mods, theta, te_exact
 
@@ -145,8 +157,11 @@ def test_smooth_contact_first_order_in_width_golden_ratio():
     ex = jg.quasi_static(mesh, mods, case.torque, theta)
     assert float(ex.transmission_error[0]) == pytest.approx(te_exact, rel=1e-12)
     widths = jnp.array([1e-9, 3e-9, 1e-8, 3e-8, 1e-7, 3e-7])
-    te_s = jax.vmap(lambda w: jg.quasi_static(mesh, mods, case.torque, theta, contact="smooth",
-                                              width=w).transmission_error[0])(widths)
+    te_s = jax.vmap(
+        lambda w: jg.quasi_static(
+            mesh, mods, case.torque, theta, contact="smooth", width=w
+        ).transmission_error[0]
+    )(widths)
     err = te_exact - np.asarray(te_s)
     np.testing.assert_allclose(err / np.asarray(widths), math.log(GOLDEN), rtol=1e-6)
     slope = np.polyfit(np.log(widths), np.log(err), 1)[0]
@@ -161,10 +176,17 @@ def test_smooth_converges_to_exact_at_least_first_order_real_case():
     and second order (a spread of cells near zero gap gives ~w², each cell right at zero gap adds
     ~w). Below ~10 nm the error falls exponentially: the discrete cells sit many w from zero gap."""
     case, mesh, theta = _weber("power-helical")
-    ex = np.asarray(jg.quasi_static(mesh, case.modifications, case.torque, theta).transmission_error)
+    ex = np.asarray(
+        jg.quasi_static(mesh, case.modifications, case.torque, theta).transmission_error
+    )
     widths = jnp.array([1.6e-8, 3.2e-8, 6.4e-8, 1.28e-7, 2.56e-7])
-    te = jax.vmap(lambda w: jg.quasi_static(mesh, case.modifications, case.torque, theta,
-                                            contact="smooth", width=w).transmission_error)(widths)
+    te = jax.vmap(
+        lambda w: (
+            jg.quasi_static(
+                mesh, case.modifications, case.torque, theta, contact="smooth", width=w
+            ).transmission_error
+        )
+    )(widths)
     err = np.max(np.abs(np.asarray(te) - ex[None, :]), axis=1)
     assert np.all(np.diff(err) > 0)  # monotone in w
     slope = np.polyfit(np.log(np.asarray(widths)), np.log(err), 1)[0]
@@ -175,10 +197,16 @@ def test_smooth_converges_to_exact_at_least_first_order_real_case():
 @jax.jit
 def _cells_and_deviation(mesh, mods, theta):
     """Cells at the angles θ (P,) and the pair deviation e there, arrays (P, L, N)."""
+
     def one(th):
         c = mesh.cells(th)
-        return c.stiffness, c.length, c.mask, mods.deviation(c.s / mesh.path_of_contact,
-                                                            c.z / mesh.face_width)
+        return (
+            c.stiffness,
+            c.length,
+            c.mask,
+            mods.deviation(c.s / mesh.path_of_contact, c.z / mesh.face_width),
+        )
+
     return jax.vmap(one)(theta)
 
 
@@ -198,17 +226,25 @@ def test_exact_contact_conditions_and_independent_root(name):
         e_max = e[mask].max()
         d0 = np.where(mask, e_max - e, 0.0)  # δ0 = max e − e (2.8)
         kl = np.where(mask, k * length, 0.0)
-        delta = brentq(lambda d: np.sum(kl * np.maximum(0.0, d - d0)) - fn, 0.0, d0.max() + 1.0,
-                       xtol=1e-22, rtol=1e-15, maxiter=500)
+        delta = brentq(
+            lambda d: np.sum(kl * np.maximum(0.0, d - d0)) - fn,
+            0.0,
+            d0.max() + 1.0,
+            xtol=1e-22,
+            rtol=1e-15,
+            maxiter=500,
+        )
         x = float(res.x[j, 0])
         assert x == pytest.approx(delta, rel=1e-10)
-        assert float(res.transmission_error[j]) == pytest.approx((delta - e_max) / cos_bb, rel=1e-10)
+        assert float(res.transmission_error[j]) == pytest.approx(
+            (delta - e_max) / cos_bb, rel=1e-10
+        )
         gap = x - d0
         p = np.asarray(res.line_load[j]).ravel()
         loaded = mask & (p > 0)
-        assert np.all(gap[loaded] > 0)                                # no tensile cell
+        assert np.all(gap[loaded] > 0)  # no tensile cell
         np.testing.assert_allclose(p[loaded], k[loaded] * gap[loaded], rtol=1e-9)
-        assert np.all(gap[mask & ~loaded] <= 1e-12 * x)               # no interference outside
+        assert np.all(gap[mask & ~loaded] <= 1e-12 * x)  # no interference outside
         assert np.all(p[~mask] == 0)
         assert np.sum(p * np.where(mask, length, 0.0)) == pytest.approx(fn, rel=1e-12)
         n_unloaded += int((mask & ~loaded).sum())
@@ -229,12 +265,24 @@ def test_solve_contact_active_set_on_random_problem():
     mask[-5:] = False
     ks, x_target = 1e7, 5e-6  # about a quarter of the cells end in contact
     F = ks * x_target + np.sum(np.where(mask, k * length, 0.0) * np.maximum(0.0, x_target - d0))
-    sol = jg.solve_contact(jnp.array([[ks]]), jnp.array([F]), jnp.ones((c, 1)), jnp.asarray(k),
-                           jnp.asarray(length), jnp.asarray(d0), jnp.asarray(mask))
+    sol = jg.solve_contact(
+        jnp.array([[ks]]),
+        jnp.array([F]),
+        jnp.ones((c, 1)),
+        jnp.asarray(k),
+        jnp.asarray(length),
+        jnp.asarray(d0),
+        jnp.asarray(mask),
+    )
     assert int(sol.result) == 0 and int(sol.iterations) > 2
     kl = np.where(mask, k * length, 0.0)
-    ref = brentq(lambda x: ks * x + np.sum(kl * np.maximum(0.0, x - d0)) - F, 0.0, 1.0,
-                 xtol=1e-22, rtol=1e-15)
+    ref = brentq(
+        lambda x: ks * x + np.sum(kl * np.maximum(0.0, x - d0)) - F,
+        0.0,
+        1.0,
+        xtol=1e-22,
+        rtol=1e-15,
+    )
     assert float(sol.x[0]) == pytest.approx(ref, rel=1e-12)
     gap, w = np.asarray(sol.gap), np.asarray(sol.weight)
     active = w == 1
@@ -258,17 +306,21 @@ def test_load_conservation_every_position(name, contact):
 def test_torsional_pair_gives_rigid_mesh_te():
     case, mesh, theta = _weber("power-helical")
     for contact in ("exact", "smooth"):
-        rigid = jg.quasi_static(jg.RigidMesh(mesh), case.modifications, case.torque, theta,
-                                contact=contact)
+        rigid = jg.quasi_static(
+            jg.RigidMesh(mesh), case.modifications, case.torque, theta, contact=contact
+        )
         for ks in (1e3, 1e5, 1e9):
-            tors = jg.quasi_static(jg.TorsionalPair(mesh, ks), case.modifications, case.torque,
-                                   theta, contact=contact)
+            tors = jg.quasi_static(
+                jg.TorsionalPair(mesh, ks), case.modifications, case.torque, theta, contact=contact
+            )
             np.testing.assert_allclose(tors.transmission_error, rigid.transmission_error, rtol=1e-9)
-            np.testing.assert_allclose(tors.line_load, rigid.line_load, rtol=1e-8,
-                                       atol=1e-9 * float(rigid.max_line_load))
+            np.testing.assert_allclose(
+                tors.line_load, rigid.line_load, rtol=1e-8, atol=1e-9 * float(rigid.max_line_load)
+            )
             # the output shaft carries the gear torque: θ2 = T u / k_s (u = z2/z1)
-            np.testing.assert_allclose(np.asarray(tors.x[:, 1]) * ks,
-                                       case.torque * case.pair.gear_ratio, rtol=1e-9)
+            np.testing.assert_allclose(
+                np.asarray(tors.x[:, 1]) * ks, case.torque * case.pair.gear_ratio, rtol=1e-9
+            )
 
 
 def _zero_fluctuation_depth(eps, gamma):
@@ -294,7 +346,8 @@ def test_tip_relief_zero_fluctuation_family():
 
     def te_rms(depth, gamma):
         mods = jg.Modifications.symmetric(
-            jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=gamma))
+            jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=gamma)
+        )
         r = jg.quasi_static(mesh, mods, case.torque, theta)
         return r.te_rms, r.te_mean
 
@@ -320,13 +373,17 @@ def test_float32_runs_and_matches_float64(contact):
     """With x64 off, the whole chain (case, mesh, modifications, solver) runs in float32 and the
     TE curve stays within 1e-3 (relative) of float64."""
     case, mesh, theta = _weber("power-helical")
-    te64 = np.asarray(jg.quasi_static(mesh, case.modifications, case.torque, theta,
-                                      contact=contact).transmission_error)
+    te64 = np.asarray(
+        jg.quasi_static(
+            mesh, case.modifications, case.torque, theta, contact=contact
+        ).transmission_error
+    )
     with jax.enable_x64(False):
-        case32 = jg.load_case("power-helical")  # arrays built inside the context are float32
+        case32 = jio.load_case("power-helical")  # arrays built inside the context are float32
         mesh32 = case32.mesh_model(slices=mesh.n_slices)
-        res = jg.quasi_static(mesh32, case32.modifications, case32.torque,
-                              positions_per_pitch=16, contact=contact)
+        res = jg.quasi_static(
+            mesh32, case32.modifications, case32.torque, positions_per_pitch=16, contact=contact
+        )
         te32 = np.asarray(res.transmission_error)
         assert te32.dtype == np.float32
         assert np.all(np.asarray(res.result) == 0)

@@ -6,19 +6,25 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._sweep import build_dynamic_model, parse_scene
+import jaxgear.io as jio
+from jaxgear.dynamics import build_dynamic_model
+from jaxgear.io import parse_scene
 
 
 @pytest.fixture(scope="module")
 def case():
-    return jg.load_case("accessory-spur").replace(slices=6)
+    return jio.load_case("accessory-spur").replace(slices=6)
 
 
 def _solve(case, spec=None):
     model, _ = build_dynamic_model(case, spec, slices=6)
     sc = model.scene
-    r = jg.quasi_static(jg.grounded(sc, (sc.torque_dofs[1],)), case.modifications, case.torque,
-                        positions_per_pitch=16)
+    r = jg.quasi_static(
+        jg.grounded(sc, (sc.torque_dofs[1],)),
+        case.modifications,
+        case.torque,
+        positions_per_pitch=16,
+    )
     return sc, r
 
 
@@ -35,15 +41,18 @@ def test_bearing_loads_balance_the_mesh_force(case):
 
 def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(case):
     _, r3 = _solve(case)
-    rigid = jg.quasi_static(case.mesh_model(slices=6), case.modifications, case.torque,
-                            positions_per_pitch=16)
+    rigid = jg.quasi_static(
+        case.mesh_model(slices=6), case.modifications, case.torque, positions_per_pitch=16
+    )
     assert float(r3.te_mean) > float(rigid.te_mean) * 1.5  # shafts and bearings add compliance
     spec = parse_scene(case.raw["scene"])
     stiff = []
     for sh in (spec.pinion_shaft, spec.gear_shaft):
-        bearings = tuple(dataclasses.replace(b, radial=b.radial * 1e4, axial=b.axial * 1e4)
-                         for b in sh.bearings)
+        bearings = tuple(
+            dataclasses.replace(b, radial=b.radial * 1e4, axial=b.axial * 1e4) for b in sh.bearings
+        )
         stiff.append(dataclasses.replace(sh, diameter=sh.diameter * 10, bearings=bearings))
     _, r_stiff = _solve(case, dataclasses.replace(spec, pinion_shaft=stiff[0], gear_shaft=stiff[1]))
-    np.testing.assert_allclose(np.asarray(r_stiff.transmission_error),
-                               np.asarray(rigid.transmission_error), rtol=5e-3)
+    np.testing.assert_allclose(
+        np.asarray(r_stiff.transmission_error), np.asarray(rigid.transmission_error), rtol=5e-3
+    )

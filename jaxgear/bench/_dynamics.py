@@ -27,7 +27,7 @@ def _numpy_model(model, width):
     """NumPy right-hand side of the first-order smooth model (for solve_ivp)."""
     import jax.numpy as jnp
 
-    from ._dynamics import mesh_table
+    from ..dynamics import mesh_table
 
     scene = model.scene
     mesh = scene.mesh
@@ -43,8 +43,9 @@ def _numpy_model(model, width):
     s_tab = np.asarray(mesh.stiffness_s)
     k_tab = np.asarray(mesh.stiffness_k)
     s_grid = np.linspace(0.0, g, 4001)
-    e_grid = np.asarray(model.mods.deviation(jnp.asarray(s_grid / g)[:, None],
-                                             jnp.asarray(z / b)[None, :]))  # (4001, N)
+    e_grid = np.asarray(
+        model.mods.deviation(jnp.asarray(s_grid / g)[:, None], jnp.asarray(z / b)[None, :])
+    )  # (4001, N)
     e_ref = float(mesh_table(scene, model.mods, 64).e_max[0])
     length = dz / math.cos(float(mesh.base_helix_angle))
     V = np.asarray(scene.te_vector())  # torsional: the same V for every cell
@@ -98,10 +99,8 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
     import jax
     import scipy.integrate
 
-    from ._case import load_case
-    from ._dynamics import _config, _prep, _static_start, simulate, speed_sweep
-    from ._sweep import build_dynamic_model, parse_scene
-    from ._util import atomic_open
+    from ..dynamics import build_dynamic_model, simulate, speed_sweep, static_start
+    from ..io import atomic_open, load_case, parse_scene
 
     case = load_case("accessory-spur").replace(slices=10)
     n_speeds, periods, spp, keep = (16, 20, 64, 4) if quick else (200, 100, 64, 4)
@@ -109,8 +108,9 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
     model, _ = build_dynamic_model(case, spec)
     width = case.smooth_width
     speeds = np.linspace(100.0, 3000.0, n_speeds)
-    kw = dict(contact="smooth", width=width, steps_per_period=spp, periods=periods,
-              keep_periods=keep)
+    kw = dict(
+        contact="smooth", width=width, steps_per_period=spp, periods=periods, keep_periods=keep
+    )
     # compile (same shapes), then time
     t0 = time.perf_counter()
     jax.block_until_ready(speed_sweep(model, speeds, **kw).dynamic_factor)
@@ -127,8 +127,7 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
     # SciPy on a few speeds (one resonant), extrapolated to all of them
     probe = [500.0, 860.0, 2000.0] if not quick else [860.0]
     rhs, observe = _numpy_model(model, width)
-    cfg = _config("newmark", "smooth", spp, periods, keep, 100, 1e-6, 1e-6, True, None, 100.0)
-    x0, _ = _static_start(_prep(model, jax.numpy.asarray(width), cfg))
+    x0, _ = static_start(model, contact="smooth", width=width, steps_per_period=spp)
     y0 = np.concatenate([np.asarray(x0), np.zeros_like(np.asarray(x0))])
     rows = []
     for sp in probe:
@@ -143,35 +142,65 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
             chosen = None
             for rtol in (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8):
                 t0 = time.perf_counter()
-                sol = scipy.integrate.solve_ivp(rhs, (0.0, t_end), y0, method=method, rtol=rtol,
-                                                atol=rtol * 1e-6, t_eval=t_keep, args=(sp,))
+                sol = scipy.integrate.solve_ivp(
+                    rhs,
+                    (0.0, t_end),
+                    y0,
+                    method=method,
+                    rtol=rtol,
+                    atol=rtol * 1e-6,
+                    t_eval=t_keep,
+                    args=(sp,),
+                )
                 dt_run = time.perf_counter() - t0
                 if not sol.success:
                     continue
-                fm = np.array([observe(t, y[:x0.shape[0]], sp)
-                               for t, y in zip(sol.t, sol.y.T, strict=True)])
+                fm = np.array(
+                    [observe(t, y[: x0.shape[0]], sp) for t, y in zip(sol.t, sol.y.T, strict=True)]
+                )
                 err = abs(fm.max() / float(model.static_force) - df_ref)
-                chosen = {"method": method, "rtol": rtol, "time_s": dt_run, "error": err,
-                          "nfev": int(sol.nfev)}
+                chosen = {
+                    "method": method,
+                    "rtol": rtol,
+                    "time_s": dt_run,
+                    "error": err,
+                    "nfev": int(sol.nfev),
+                }
                 if err <= max(err_nm, 1e-4):
                     break
-            rows.append({"speed_rad_s": sp, "df_reference": df_ref, "newmark_error": err_nm,
-                         **(chosen or {"method": method, "failed": True})})
-    per_speed = {m: float(np.mean([r["time_s"] for r in rows if r.get("method") == m
-                                   and "time_s" in r])) for m in ("LSODA", "Radau")}
+            rows.append(
+                {
+                    "speed_rad_s": sp,
+                    "df_reference": df_ref,
+                    "newmark_error": err_nm,
+                    **(chosen or {"method": method, "failed": True}),
+                }
+            )
+    per_speed = {
+        m: float(np.mean([r["time_s"] for r in rows if r.get("method") == m and "time_s" in r]))
+        for m in ("LSODA", "Radau")
+    }
     summary = {
-        "case": case.name, "model": "torsional 2-DOF, smooth contact",
-        "speeds": n_speeds, "periods": periods, "steps_per_period": spp,
-        "jax_newmark_vmap_s": t_jax, "jax_first_call_s": first,
+        "case": case.name,
+        "model": "torsional 2-DOF, smooth contact",
+        "speeds": n_speeds,
+        "periods": periods,
+        "steps_per_period": spp,
+        "jax_newmark_vmap_s": t_jax,
+        "jax_first_call_s": first,
         "jax_per_speed_s": t_jax / n_speeds,
         "scipy_probe": rows,
         "scipy_per_speed_s": per_speed,
         "scipy_total_estimate_s": {m: v * n_speeds for m, v in per_speed.items()},
         "speedup": {m: v * n_speeds / t_jax for m, v in per_speed.items()},
         "dynamic_factor_max": float(df_jax.max()),
-        "platform": {"jax": jax.__version__, "device": str(jax.devices()[0].device_kind),
-                     "dtype": str(df_jax.dtype), "python": platform.python_version(),
-                     "machine": platform.machine()},
+        "platform": {
+            "jax": jax.__version__,
+            "device": str(jax.devices()[0].device_kind),
+            "dtype": str(df_jax.dtype),
+            "python": platform.python_version(),
+            "machine": platform.machine(),
+        },
     }
     summary["stability_map"] = stability_map(out_dir, quick=quick)
     os.makedirs(out_dir, exist_ok=True)
@@ -194,18 +223,20 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ._case import load_case
-    from ._dyn_scene import Damping, TorsionalDynamics, disc_inertia
-    from ._dynamics import dynamic_model, speed_sweep
-    from ._util import atomic_open
+    from ..dynamics import Damping, dynamic_model, speed_sweep
+    from ..io import atomic_open, load_case
+    from ..scenes import TorsionalDynamics, disc_inertia
 
     case = load_case("accessory-spur").replace(slices=4)
     p = case.pair
-    scene = TorsionalDynamics(case.mesh_model(),
-                              disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
-                              disc_inertia(case.density, p.tip_radii[1], p.gear.face_width))
-    model = dynamic_model(scene, case.modifications, case.torque, Damping("modal", ratio=0.03),
-                          positions_per_pitch=32)
+    scene = TorsionalDynamics(
+        case.mesh_model(),
+        disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+    )
+    model = dynamic_model(
+        scene, case.modifications, case.torque, Damping("modal", ratio=0.03), positions_per_pitch=32
+    )
     cs = float(model.critical_speeds()[1])
     speeds = np.array([0.98 * cs, 1.5 * cs])  # resonant (contact loss), non-resonant
     periods, keep = (12, 2) if quick else (30, 4)
@@ -214,14 +245,24 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     base = dict(periods=periods, keep_periods=keep)
     ref = speed_sweep(model, speeds, steps_per_period=512 if not quick else 256, **base)
     df_ref = np.asarray(ref.dynamic_factor)
-    methods = [("newmark", "exact", (None,)), ("newmark", "smooth", widths),
-               ("tsit5", "smooth", widths), ("kvaerno5", "smooth", widths[:1])]
+    methods = [
+        ("newmark", "exact", (None,)),
+        ("newmark", "smooth", widths),
+        ("tsit5", "smooth", widths),
+        ("kvaerno5", "smooth", widths[:1]),
+    ]
     rows = []
     for solver, contact, ws in methods:
         for spp in steps:
             for w in ws:
-                kw = dict(solver=solver, contact=contact, steps_per_period=spp,
-                          width=1e-7 if w is None else w, adaptive=False, **base)
+                kw = dict(
+                    solver=solver,
+                    contact=contact,
+                    steps_per_period=spp,
+                    width=1e-7 if w is None else w,
+                    adaptive=False,
+                    **base,
+                )
                 try:
                     jax.block_until_ready(speed_sweep(model, speeds, **kw).dynamic_factor)
                     t0 = time.perf_counter()
@@ -234,19 +275,33 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
                     df, res, dt = np.full(2, np.nan), np.full(2, -1), float("nan")
                     print(f"stability map: {solver}/{contact}/{spp}/{w}: {err}")
                 err_rel = np.abs(df - df_ref) / df_ref
-                rows.append({"solver": solver, "contact": contact, "width_m": w,
-                             "steps_per_period": spp, "time_s": dt,
-                             "error_resonant": None if not np.isfinite(err_rel[0]) else float(err_rel[0]),
-                             "error_nonresonant": None if not np.isfinite(err_rel[1]) else float(err_rel[1]),
-                             "result": [int(v) for v in res],
-                             "contact_loss": [float(v) for v in np.asarray(r.results.contact_loss)]
-                             if np.all(res >= 0) else None})
+                rows.append(
+                    {
+                        "solver": solver,
+                        "contact": contact,
+                        "width_m": w,
+                        "steps_per_period": spp,
+                        "time_s": dt,
+                        "error_resonant": None
+                        if not np.isfinite(err_rel[0])
+                        else float(err_rel[0]),
+                        "error_nonresonant": None
+                        if not np.isfinite(err_rel[1])
+                        else float(err_rel[1]),
+                        "result": [int(v) for v in res],
+                        "contact_loss": [float(v) for v in np.asarray(r.results.contact_loss)]
+                        if np.all(res >= 0)
+                        else None,
+                    }
+                )
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     styles = {}
     for row in rows:
         key = (row["solver"], row["contact"], row["width_m"])
         styles.setdefault(key, f"C{len(styles) % 10}")
-    for k, (label, speed) in enumerate((("error_resonant", speeds[0]), ("error_nonresonant", speeds[1]))):
+    for k, (label, speed) in enumerate(
+        (("error_resonant", speeds[0]), ("error_nonresonant", speeds[1]))
+    ):
         ax = axes[k]
         for key, color in styles.items():
             sel = [r for r in rows if (r["solver"], r["contact"], r["width_m"]) == key]
@@ -257,8 +312,10 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
             ax.loglog(x[~bad], np.maximum(y[~bad], 1e-12), "o-", color=color, label=name, ms=4)
             if bad.any():
                 ax.loglog(x[bad], np.ones(bad.sum()), "x", color=color, ms=9, mew=2)
-        ax.set_title(f"{'resonant' if k == 0 else 'non-resonant'}: {speed:.0f} rad/s "
-                     f"(DF ref {df_ref[k]:.3f}); x = diverged")
+        ax.set_title(
+            f"{'resonant' if k == 0 else 'non-resonant'}: {speed:.0f} rad/s "
+            f"(DF ref {df_ref[k]:.3f}); x = diverged"
+        )
         ax.set_xlabel("steps per mesh period")
         ax.set_ylabel("relative error of the dynamic factor")
         ax.grid(alpha=0.3, which="both")
@@ -277,9 +334,13 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     with atomic_open(os.path.join(out_dir, "stability_map.png"), "wb") as f:
         fig.savefig(f, format="png", dpi=110)
     plt.close(fig)
-    out = {"speeds_rad_s": speeds.tolist(), "df_reference": df_ref.tolist(),
-           "reference_contact_loss": np.asarray(ref.results.contact_loss).tolist(),
-           "periods": periods, "rows": rows}
+    out = {
+        "speeds_rad_s": speeds.tolist(),
+        "df_reference": df_ref.tolist(),
+        "reference_contact_loss": np.asarray(ref.results.contact_loss).tolist(),
+        "periods": periods,
+        "rows": rows,
+    }
     with atomic_open(os.path.join(out_dir, "stability_map.json"), "w") as f:
         json.dump(out, f, indent=2)
     return out

@@ -18,14 +18,12 @@ import abc
 
 import equinox as eqx
 import jax.numpy as jnp
-from ._util import as_float
 from jaxtyping import Array, Float
 
-from ._baseplane import Cells, MeshModel
+from .._baseplane import Cells
+from .._util import as_float
 
-__all__ = ["Scene", "RigidMesh", "TorsionalPair"]
-
-
+__all__ = ["DynamicScene", "Grounded", "Scene", "grounded"]
 
 
 class Scene(eqx.Module):
@@ -48,52 +46,26 @@ class Scene(eqx.Module):
         """See the module docstring."""
 
 
-class RigidMesh(Scene):
-    """Both bodies rigid: one coordinate, the flank-normal approach δ (m), V = 1 for every cell."""
+class DynamicScene(Scene):
+    """Abstract scene with inertia: adds :meth:`mass`, :meth:`rigid_modes` and the named parts of
+    the structure stiffness (for the strain-energy shares of the modal analysis)."""
 
-    mesh: MeshModel
+    @abc.abstractmethod
+    def mass(self) -> Float[Array, "n n"]:
+        """Mass matrix M, shape (n, n) (kg, kg·m², per coordinate)."""
 
-    def stiffness(self):
-        return jnp.zeros((1, 1), dtype=self.mesh.face_width.dtype)
+    def reaction_matrix(self) -> Float[Array, "r n"]:
+        """Rows R with R X the support (bearing) force components (N); none by default."""
+        M = self.mass()
+        return jnp.zeros((0, M.shape[0]), M.dtype)
 
-    def external_load(self, torque):
-        return jnp.reshape(self.mesh.normal_load(torque), (1,))
+    @abc.abstractmethod
+    def rigid_modes(self) -> Float[Array, "n r"]:
+        """Rigid-body modes r (columns, r may be 0) with V·r = 0 and F·r = 0."""
 
-    def cell_vectors(self, cells):
-        return jnp.ones(cells.s.shape + (1,), dtype=cells.s.dtype)
-
-    def te_vector(self):
-        return jnp.ones((1,), dtype=self.mesh.face_width.dtype)
-
-
-class TorsionalPair(Scene):
-    """Two rotations X = (θ1, θ2) (rad, each positive in its direction of motion).
-
-    The pinion carries the input torque T; the gear is held by an output shaft of torsional
-    stiffness ``output_stiffness`` (N·m/rad) to a fixed load. Approach: V = cos β_b (r_b1, −r_b2).
-    The transmission error is independent of the shaft stiffness (statically determinate chain),
-    which the tests use as a check of the structure-vector plumbing.
-    """
-
-    mesh: MeshModel
-    output_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=1e5)
-
-    def _v(self):
-        cb = jnp.cos(self.mesh.base_helix_angle)
-        return jnp.stack([cb * self.mesh.base_radius_pinion, -cb * self.mesh.base_radius_gear])
-
-    def stiffness(self):
-        z = jnp.zeros_like(self.output_stiffness)
-        return jnp.stack([jnp.stack([z, z]), jnp.stack([z, self.output_stiffness])])
-
-    def external_load(self, torque):
-        return jnp.stack([torque, jnp.zeros_like(torque)])
-
-    def cell_vectors(self, cells):
-        return jnp.broadcast_to(self._v(), cells.s.shape + (2,))
-
-    def te_vector(self):
-        return self._v()
+    @abc.abstractmethod
+    def stiffness_parts(self) -> dict[str, Float[Array, "n n"]]:
+        """Named structure stiffness matrices summing to :meth:`stiffness`."""
 
 
 class Grounded(Scene):

@@ -74,27 +74,45 @@ def baseline_mesh(case, slices: int | None = None, torque: float | None = None) 
     The stiffness table is the same one :meth:`jaxgear.Case.mesh_model` uses (evaluated at the
     nominal line load of ``torque``, default the case torque).
     """
-    from ._stiffness import stiffness_table  # NumPy only
+    from jaxgear import stiffness_table  # NumPy only
 
     pair = case.pair
-    s, k = stiffness_table(pair, case.stiffness_model, youngs_modulus=case.youngs_modulus,
-                           poisson_ratio=case.poisson_ratio,
-                           line_load=case.nominal_line_load(torque), uniform_k0=case.uniform_k0,
-                           foundation=case.foundation)
-    return BaselineMesh(path_of_contact=float(pair.path_of_contact),
-                        base_pitch=float(pair.base_pitch), face_width=float(pair.face_width),
-                        base_radius_pinion=float(pair.base_radii[0]),
-                        base_helix_angle=float(pair.base_helix_angle),
-                        stiffness_s=np.asarray(s, dtype=float),
-                        stiffness_k=np.asarray(k, dtype=float),
-                        n_slices=int(case.slices if slices is None else slices))
+    s, k = stiffness_table(
+        pair,
+        case.stiffness_model,
+        youngs_modulus=case.youngs_modulus,
+        poisson_ratio=case.poisson_ratio,
+        line_load=case.nominal_line_load(torque),
+        uniform_k0=case.uniform_k0,
+        foundation=case.foundation,
+    )
+    return BaselineMesh(
+        path_of_contact=float(pair.path_of_contact),
+        base_pitch=float(pair.base_pitch),
+        face_width=float(pair.face_width),
+        base_radius_pinion=float(pair.base_radii[0]),
+        base_helix_angle=float(pair.base_helix_angle),
+        stiffness_s=np.asarray(s, dtype=float),
+        stiffness_k=np.asarray(k, dtype=float),
+        n_slices=int(case.slices if slices is None else slices),
+    )
 
 
-def member_params(tip_relief_depth=0.0, tip_relief_extent=0.25, tip_relief_shape="linear",
-                  root_relief_depth=0.0, root_relief_extent=0.25, root_relief_shape="linear",
-                  crowning_depth=0.0, end_relief_depth=0.0, end_relief_extent=0.1,
-                  helix_slope_deviation=0.0, profile_deviation_roll=(0.0, 1.0),
-                  profile_deviation=(0.0, 0.0), relief_blend=0.0) -> dict[str, Any]:
+def member_params(
+    tip_relief_depth=0.0,
+    tip_relief_extent=0.25,
+    tip_relief_shape="linear",
+    root_relief_depth=0.0,
+    root_relief_extent=0.25,
+    root_relief_shape="linear",
+    crowning_depth=0.0,
+    end_relief_depth=0.0,
+    end_relief_extent=0.1,
+    helix_slope_deviation=0.0,
+    profile_deviation_roll=(0.0, 1.0),
+    profile_deviation=(0.0, 0.0),
+    relief_blend=0.0,
+) -> dict[str, Any]:
     """One member's modification parameters as plain numbers (m, fractions; see
     :class:`jaxgear.MemberModification` for the meaning of each)."""
     return {
@@ -126,14 +144,18 @@ def mods_params(modifications=None) -> dict[str, dict[str, Any]]:
         out[tag] = member_params(
             tip_relief_depth=float(m.tip_relief_depth),
             tip_relief_extent=float(m.tip_relief_extent),
-            tip_relief_shape=m.tip_relief_shape, root_relief_depth=float(m.root_relief_depth),
-            root_relief_extent=float(m.root_relief_extent), root_relief_shape=m.root_relief_shape,
-            crowning_depth=float(m.crowning_depth), end_relief_depth=float(m.end_relief_depth),
+            tip_relief_shape=m.tip_relief_shape,
+            root_relief_depth=float(m.root_relief_depth),
+            root_relief_extent=float(m.root_relief_extent),
+            root_relief_shape=m.root_relief_shape,
+            crowning_depth=float(m.crowning_depth),
+            end_relief_depth=float(m.end_relief_depth),
             end_relief_extent=float(m.end_relief_extent),
             helix_slope_deviation=float(m.helix_slope_deviation),
             profile_deviation_roll=np.asarray(m.profile_deviation_roll),
             profile_deviation=np.asarray(m.profile_deviation),
-            relief_blend=float(getattr(m, "relief_blend", 0.0)))
+            relief_blend=float(getattr(m, "relief_blend", 0.0)),
+        )
     return out
 
 
@@ -157,14 +179,17 @@ def _member_deviation(p: dict, u: np.ndarray, zeta: np.ndarray) -> np.ndarray:
     # (relief_blend rounds each relief start over that roll fraction)
     blend = p.get("relief_blend", 0.0)
     g = p["tip_relief_extent"]
-    e = e - p["tip_relief_depth"] * _relief_shape((u - 1.0 + g) / g, p["tip_relief_shape"], blend / g)
+    e = e - p["tip_relief_depth"] * _relief_shape(
+        (u - 1.0 + g) / g, p["tip_relief_shape"], blend / g
+    )
     g = p["root_relief_extent"]
     e = e - p["root_relief_depth"] * _relief_shape((g - u) / g, p["root_relief_shape"], blend / g)
     # lead: parabolic crowning (depth at both face edges), linear end relief, helix slope
     e = e - p["crowning_depth"] * (2.0 * zeta - 1.0) ** 2
     le = p["end_relief_extent"]
-    e = e - p["end_relief_depth"] * (np.clip(1.0 - zeta / le, 0.0, 1.0)
-                                     + np.clip((zeta - 1.0 + le) / le, 0.0, 1.0))
+    e = e - p["end_relief_depth"] * (
+        np.clip(1.0 - zeta / le, 0.0, 1.0) + np.clip((zeta - 1.0 + le) / le, 0.0, 1.0)
+    )
     e = e + p["helix_slope_deviation"] * (zeta - 0.5)
     return e
 
@@ -179,15 +204,23 @@ def _residual_exact(delta: float, delta0: np.ndarray, kl: np.ndarray, force: flo
     return float(np.dot(kl, np.maximum(delta - delta0, 0.0))) - force
 
 
-def _residual_smooth(delta: float, delta0: np.ndarray, kl: np.ndarray, force: float,
-                     width: float) -> float:
+def _residual_smooth(
+    delta: float, delta0: np.ndarray, kl: np.ndarray, force: float, width: float
+) -> float:
     """Σ k l w log(1 + exp((δ − δ0)/w)) − F_n (N), overflow-safe."""
     return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width))) - force
 
 
-def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact: str = "exact",
-                   width: float = 1e-7, positions_per_pitch: int = 64, periods: int = 1,
-                   theta: np.ndarray | None = None) -> dict[str, np.ndarray]:
+def te_curve_numpy(
+    mesh: BaselineMesh,
+    mods: dict | None,
+    torque: float,
+    contact: str = "exact",
+    width: float = 1e-7,
+    positions_per_pitch: int = 64,
+    periods: int = 1,
+    theta: np.ndarray | None = None,
+) -> dict[str, np.ndarray]:
     """Quasi-static TE curve of the rigid mesh, NumPy + brentq per position.
 
     Args:
@@ -253,8 +286,9 @@ def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact
             # Σ kl w softplus((δ − δ0)/w) <= Σ kl w exp(δ/w) < F below lo
             f, args = _residual_smooth, (delta0, kl, force, width)
             lo = min(0.0, width * (math.log(force / (sum_kl * width)) - 1.0))
-        d, info = brentq(f, lo, hi, args=args, xtol=1e-30, rtol=4 * _EPS, maxiter=500,
-                         full_output=True)
+        d, info = brentq(
+            f, lo, hi, args=args, xtol=1e-30, rtol=4 * _EPS, maxiter=500, full_output=True
+        )
         if not info.converged:
             raise RuntimeError(f"brentq did not converge at theta = {th!r}: {info.flag}")
         gap = d - delta0
@@ -267,8 +301,14 @@ def te_curve_numpy(mesh: BaselineMesh, mods: dict | None, torque: float, contact
         stiff[j] = np.dot(kl, weight)
         clen[j] = cell_length * weight.sum()
         evals[j] = info.function_calls
-    return {"theta": theta, "te": te, "approach": approach, "mesh_stiffness": stiff,
-            "contact_length": clen, "evaluations": evals}
+    return {
+        "theta": theta,
+        "te": te,
+        "approach": approach,
+        "mesh_stiffness": stiff,
+        "contact_length": clen,
+        "evaluations": evals,
+    }
 
 
 def te_rms(te: np.ndarray) -> float:

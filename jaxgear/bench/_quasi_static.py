@@ -76,8 +76,13 @@ def _rms(te) -> float:
     return float(np.sqrt(np.mean((te - te.mean()) ** 2)))
 
 
-def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur",
-                       progress: bool = True, verbose: bool = True) -> dict:
+def bench_quasi_static(
+    out_dir,
+    quick: bool = False,
+    case: str = "accessory-spur",
+    progress: bool = True,
+    verbose: bool = True,
+) -> dict:
     """Run the quasi-static benchmark and write ``bench_quasi_static.json`` and
     ``speed_accuracy_quasi_static.png`` into ``out_dir`` (atomically).
 
@@ -102,11 +107,9 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     import scipy
     from tqdm.auto import tqdm
 
+    from .. import MemberModification, Modifications, quasi_static
+    from ..io import atomic_open, load_case
     from . import _baseline as bl
-    from ._case import load_case
-    from ._modifications import MemberModification, Modifications
-    from ._quasi_static import quasi_static
-    from ._util import atomic_open
 
     c = load_case(case)
     torque = c.torque
@@ -136,22 +139,34 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         "case": c.name,
         "quick": bool(quick),
         "machine": {
-            "device": str(dev), "platform": dev.platform,
+            "device": str(dev),
+            "platform": dev.platform,
             "device_kind": getattr(dev, "device_kind", ""),
             "cpu_model": _cpu_model(),
             "cpu_count": os.cpu_count(),
-            "cpu_affinity": (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                             else None),
+            "cpu_affinity": (
+                len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+            ),
             "load_average_at_start": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
         },
         "dtype": str(jnp.result_type(float)),
-        "versions": {"jax": jax.__version__, "jaxlib": getattr(jax.lib, "__version__", None)
-                     or jax.__version__, "numpy": np.__version__, "scipy": scipy.__version__,
-                     "python": platform.python_version()},
-        "settings": {"slices": N0, "positions_per_pitch": P0, "torque_Nm": torque,
-                     "smooth_width_m": c.smooth_width, "repeats_jax": rep_jax,
-                     "repeats_baseline": rep_np, "timing": "min of repeats after a warm-up call, "
-                     "jax.block_until_ready on the whole result"},
+        "versions": {
+            "jax": jax.__version__,
+            "jaxlib": getattr(jax.lib, "__version__", None) or jax.__version__,
+            "numpy": np.__version__,
+            "scipy": scipy.__version__,
+            "python": platform.python_version(),
+        },
+        "settings": {
+            "slices": N0,
+            "positions_per_pitch": P0,
+            "torque_Nm": torque,
+            "smooth_width_m": c.smooth_width,
+            "repeats_jax": rep_jax,
+            "repeats_baseline": rep_np,
+            "timing": "min of repeats after a warm-up call, "
+            "jax.block_until_ready on the whole result",
+        },
     }
     mesh = c.mesh_model()
     mods = c.modifications
@@ -161,9 +176,14 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
 
     # (a) compile time ---------------------------------------------------------------------
     jax.clear_caches()
-    calls = {mode: (lambda mode=mode: quasi_static(mesh, mods, torque, contact=mode, width=width,
-                                                   positions_per_pitch=P0))
-             for mode in ("exact", "smooth")}
+    calls = {
+        mode: (
+            lambda mode=mode: quasi_static(
+                mesh, mods, torque, contact=mode, width=width, positions_per_pitch=P0
+            )
+        )
+        for mode in ("exact", "smooth")
+    }
     compile_ = {}
     for mode in ("exact", "smooth"):
         first = _first_call(calls[mode], block)
@@ -178,23 +198,33 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         t_jax = _min_time(calls[mode], rep_jax, block)
         step(f"jaxgear {mode}")
         res = calls[mode]()
-        t_np = _min_time(lambda mode=mode: bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P0),
-                         rep_np)
+        t_np = _min_time(
+            lambda mode=mode: bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P0), rep_np
+        )
         ref = bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P0)
         step(f"baseline {mode}")
-        diff = {"te": _rel(res.transmission_error, ref["te"]),
-                "mesh_stiffness": _rel(res.mesh_stiffness, ref["mesh_stiffness"]),
-                "contact_length": _rel(res.contact_length, ref["contact_length"]),
-                "te_rms": abs(float(res.te_rms) - bl.te_rms(ref["te"])) / bl.te_rms(ref["te"])}
-        per_curve[mode] = {"jaxgear_s": t_jax, "baseline_s": t_np, "ratio": t_np / t_jax,
-                           "max_rel_diff": diff, "agree_1e-9": max(diff.values()) <= _TOL,
-                           "te_rms_m": float(res.te_rms), "te_mean_m": float(res.te_mean),
-                           "baseline_mean_brentq_evaluations": float(np.mean(ref["evaluations"]))}
+        diff = {
+            "te": _rel(res.transmission_error, ref["te"]),
+            "mesh_stiffness": _rel(res.mesh_stiffness, ref["mesh_stiffness"]),
+            "contact_length": _rel(res.contact_length, ref["contact_length"]),
+            "te_rms": abs(float(res.te_rms) - bl.te_rms(ref["te"])) / bl.te_rms(ref["te"]),
+        }
+        per_curve[mode] = {
+            "jaxgear_s": t_jax,
+            "baseline_s": t_np,
+            "ratio": t_np / t_jax,
+            "max_rel_diff": diff,
+            "agree_1e-9": max(diff.values()) <= _TOL,
+            "te_rms_m": float(res.te_rms),
+            "te_mean_m": float(res.te_mean),
+            "baseline_mean_brentq_evaluations": float(np.mean(ref["evaluations"])),
+        }
     out["per_te_curve"] = per_curve
 
     # where jaxgear's time per curve goes (each stage jitted on its own; exact mode)
-    out["profile_exact"] = _profile(mesh, mods, torque, P0, rep_jax,
-                                    per_curve["exact"]["jaxgear_s"])
+    out["profile_exact"] = _profile(
+        mesh, mods, torque, P0, rep_jax, per_curve["exact"]["jaxgear_s"]
+    )
     step("profile")
 
     # (c) (Γ, E) grid by vmap -------------------------------------------------------------------
@@ -204,8 +234,9 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
 
     def grid_rms(g, e, mesh, torque):
         m = MemberModification(tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape="linear")
-        return quasi_static(mesh, Modifications.symmetric(m), torque, contact="exact",
-                            positions_per_pitch=P0).te_rms
+        return quasi_static(
+            mesh, Modifications.symmetric(m), torque, contact="exact", positions_per_pitch=P0
+        ).te_rms
 
     grid_fn = jax.jit(jax.vmap(grid_rms, in_axes=(0, 0, None, None)))
     gargs = (jnp.asarray(GG.ravel()), jnp.asarray(EE.ravel()), mesh, jnp.asarray(torque))
@@ -215,8 +246,11 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     rms_grid = np.asarray(grid_fn(*gargs)).reshape(n_grid, n_grid)
     step("grid")
     # the same grid in chunks of CHUNK points (lax.map over vmap): keeps the working set in cache
-    chunk_fn = jax.jit(lambda G, E, mesh, torque: jax.lax.map(
-        lambda ge: grid_rms(ge[0], ge[1], mesh, torque), (G, E), batch_size=_CHUNK))
+    chunk_fn = jax.jit(
+        lambda G, E, mesh, torque: jax.lax.map(
+            lambda ge: grid_rms(ge[0], ge[1], mesh, torque), (G, E), batch_size=_CHUNK
+        )
+    )
     first_c = _first_call(lambda: chunk_fn(*gargs), block)
     t_chunk = _min_time(lambda: chunk_fn(*gargs), 2 if quick else 3, block)
     rms_chunk = np.asarray(chunk_fn(*gargs)).reshape(n_grid, n_grid)
@@ -228,8 +262,10 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     t_pts, diffs = [], []
     for p in picks:
         i, j = divmod(int(p), n_grid)
-        mp = {t: bl.member_params(tip_relief_depth=EE[i, j], tip_relief_extent=GG[i, j])
-              for t in ("pinion", "gear")}
+        mp = {
+            t: bl.member_params(tip_relief_depth=EE[i, j], tip_relief_extent=GG[i, j])
+            for t in ("pinion", "gear")
+        }
         t0 = time.perf_counter()
         r = bl.te_curve_numpy(bmesh, mp, torque, "exact", positions_per_pitch=P0)
         t_pts.append(time.perf_counter() - t0)
@@ -238,72 +274,115 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     k_opt = np.unravel_index(np.argmin(rms_grid), rms_grid.shape)
     t_np_grid = float(np.mean(t_pts)) * n_grid * n_grid
     out["grid"] = {
-        "shape": [n_grid, n_grid], "gamma": gam.tolist(), "tip_relief_depth_m": dep.tolist(),
+        "shape": [n_grid, n_grid],
+        "gamma": gam.tolist(),
+        "tip_relief_depth_m": dep.tolist(),
         "relief": "symmetric linear tip relief, exact contact",
-        "slices": N0, "positions_per_pitch": P0,
-        "jaxgear_compile_s": first - t_grid, "jaxgear_first_call_s": first,
-        "jaxgear_s": t_grid, "jaxgear_per_curve_s": t_grid / (n_grid * n_grid),
+        "slices": N0,
+        "positions_per_pitch": P0,
+        "jaxgear_compile_s": first - t_grid,
+        "jaxgear_first_call_s": first,
+        "jaxgear_s": t_grid,
+        "jaxgear_per_curve_s": t_grid / (n_grid * n_grid),
         "baseline_s_extrapolated": t_np_grid,
         "baseline_extrapolation": f"mean time of {n_grid_np} baseline TE curves at random grid "
-                                  f"points × {n_grid * n_grid} (not run in full)",
+        f"points × {n_grid * n_grid} (not run in full)",
         "ratio": t_np_grid / t_grid,
         "max_rel_diff_at_baseline_points": float(max(diffs)),
         "rel_diff_definition": "|RMS_jaxgear − RMS_baseline| / max over the grid of RMS",
-        "target_s": 5.0, "meets_target": t_grid < 5.0,
-        "chunked": {"how": f"jax.lax.map(..., batch_size={_CHUNK}) over the grid points (vmap "
-                           f"within chunks of {_CHUNK})", "jaxgear_s": t_chunk,
-                    "jaxgear_compile_s": first_c - t_chunk,
-                    "ratio_to_baseline": t_np_grid / t_chunk,
-                    "max_rel_diff_to_full_vmap": chunk_diff},
+        "target_s": 5.0,
+        "meets_target": t_grid < 5.0,
+        "chunked": {
+            "how": f"jax.lax.map(..., batch_size={_CHUNK}) over the grid points (vmap "
+            f"within chunks of {_CHUNK})",
+            "jaxgear_s": t_chunk,
+            "jaxgear_compile_s": first_c - t_chunk,
+            "ratio_to_baseline": t_np_grid / t_chunk,
+            "max_rel_diff_to_full_vmap": chunk_diff,
+        },
         "te_rms_m": rms_grid.tolist(),
-        "optimum": {"gamma": float(GG[k_opt]), "tip_relief_depth_m": float(EE[k_opt]),
-                    "te_rms_m": float(rms_grid[k_opt])},
+        "optimum": {
+            "gamma": float(GG[k_opt]),
+            "tip_relief_depth_m": float(EE[k_opt]),
+            "te_rms_m": float(rms_grid[k_opt]),
+        },
     }
 
     # (d) speed vs accuracy ---------------------------------------------------------------------
     ref_mesh = c.mesh_model(slices=ref_slices)
     ref = quasi_static(ref_mesh, mods, torque, contact="exact", positions_per_pitch=ref_ppp)
     ref_rms = float(ref.te_rms)
-    ref_np = bl.te_curve_numpy(bl.baseline_mesh(c, slices=ref_slices), bmods, torque, "exact",
-                               positions_per_pitch=ref_ppp)
+    ref_np = bl.te_curve_numpy(
+        bl.baseline_mesh(c, slices=ref_slices), bmods, torque, "exact", positions_per_pitch=ref_ppp
+    )
     step("reference")
     points = []
     for n in sweep_slices:
         m_n = c.mesh_model(slices=n)
         bm_n = bl.baseline_mesh(c, slices=n)
         for p in sweep_ppp:
-            fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, contact="exact",
-                                                   positions_per_pitch=p)
+            fn = lambda m_n=m_n, p=p: quasi_static(
+                m_n, mods, torque, contact="exact", positions_per_pitch=p
+            )
             t_j = _min_time(fn, max(3, rep_jax // 3), block)
             rj = _rms(fn().transmission_error)
-            t_b = _min_time(lambda bm_n=bm_n, p=p: bl.te_curve_numpy(bm_n, bmods, torque, "exact",
-                                                                    positions_per_pitch=p), rep_np)
-            rb = bl.te_rms(bl.te_curve_numpy(bm_n, bmods, torque, "exact",
-                                             positions_per_pitch=p)["te"])
-            points.append({"mode": "exact", "slices": n, "positions_per_pitch": p,
-                           "jaxgear_s": t_j, "baseline_s": t_b, "te_rms_m": rj,
-                           "error": abs(rj - ref_rms) / ref_rms,
-                           "baseline_error": abs(rb - ref_rms) / ref_rms})
+            t_b = _min_time(
+                lambda bm_n=bm_n, p=p: bl.te_curve_numpy(
+                    bm_n, bmods, torque, "exact", positions_per_pitch=p
+                ),
+                rep_np,
+            )
+            rb = bl.te_rms(
+                bl.te_curve_numpy(bm_n, bmods, torque, "exact", positions_per_pitch=p)["te"]
+            )
+            points.append(
+                {
+                    "mode": "exact",
+                    "slices": n,
+                    "positions_per_pitch": p,
+                    "jaxgear_s": t_j,
+                    "baseline_s": t_b,
+                    "te_rms_m": rj,
+                    "error": abs(rj - ref_rms) / ref_rms,
+                    "baseline_error": abs(rb - ref_rms) / ref_rms,
+                }
+            )
             step(f"exact N={n} P={p}")
     exact_same = _rms(calls["exact"]().transmission_error)
     for w in widths:
-        fn = lambda w=w: quasi_static(mesh, mods, torque, contact="smooth", width=w,
-                                      positions_per_pitch=P0)
+        fn = lambda w=w: quasi_static(
+            mesh, mods, torque, contact="smooth", width=w, positions_per_pitch=P0
+        )
         t_j = _min_time(fn, max(3, rep_jax // 3), block)
         rj = _rms(fn().transmission_error)
-        t_b = _min_time(lambda w=w: bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0),
-                        rep_np)
+        t_b = _min_time(
+            lambda w=w: bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0), rep_np
+        )
         rb = bl.te_rms(bl.te_curve_numpy(bmesh, bmods, torque, "smooth", w, P0)["te"])
-        points.append({"mode": "smooth", "width_m": w, "slices": N0, "positions_per_pitch": P0,
-                       "jaxgear_s": t_j, "baseline_s": t_b, "te_rms_m": rj,
-                       "error": abs(rj - ref_rms) / ref_rms,
-                       "baseline_error": abs(rb - ref_rms) / ref_rms,
-                       "error_vs_exact_same_discretisation": abs(rj - exact_same) / exact_same})
+        points.append(
+            {
+                "mode": "smooth",
+                "width_m": w,
+                "slices": N0,
+                "positions_per_pitch": P0,
+                "jaxgear_s": t_j,
+                "baseline_s": t_b,
+                "te_rms_m": rj,
+                "error": abs(rj - ref_rms) / ref_rms,
+                "baseline_error": abs(rb - ref_rms) / ref_rms,
+                "error_vs_exact_same_discretisation": abs(rj - exact_same) / exact_same,
+            }
+        )
         step(f"smooth w={w:g}")
     out["speed_accuracy"] = {
-        "reference": {"mode": "exact", "slices": ref_slices, "positions_per_pitch": ref_ppp,
-                      "te_rms_m": ref_rms, "baseline_te_rms_m": bl.te_rms(ref_np["te"]),
-                      "baseline_rel_diff": _rel(ref.transmission_error, ref_np["te"])},
+        "reference": {
+            "mode": "exact",
+            "slices": ref_slices,
+            "positions_per_pitch": ref_ppp,
+            "te_rms_m": ref_rms,
+            "baseline_te_rms_m": bl.te_rms(ref_np["te"]),
+            "baseline_rel_diff": _rel(ref.transmission_error, ref_np["te"]),
+        },
         "error": "|TE RMS − TE RMS_ref| / TE RMS_ref",
         "points": points,
         "chart": "speed_accuracy_quasi_static.png",
@@ -315,7 +394,9 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
         "per_curve_ratio_smooth": per_curve["smooth"]["ratio"],
         "meets_ratio_exact": per_curve["exact"]["ratio"] >= 50.0,
         "meets_ratio_smooth": per_curve["smooth"]["ratio"] >= 50.0,
-        "grid_target_s": 5.0, "grid_s": t_grid, "meets_grid": t_grid < 5.0,
+        "grid_target_s": 5.0,
+        "grid_s": t_grid,
+        "meets_grid": t_grid < 5.0,
         "agreement_1e-9": all(per_curve[m]["agree_1e-9"] for m in per_curve)
         and out["grid"]["max_rel_diff_at_baseline_points"] <= _TOL,
     }
@@ -330,8 +411,10 @@ def bench_quasi_static(out_dir, quick: bool = False, case: str = "accessory-spur
     if verbose:
         print(_table(out))
     if not out["targets"]["agreement_1e-9"]:
-        raise RuntimeError("jaxgear and the NumPy baseline disagree by more than 1e-9 relative: "
-                           f"see {os.path.join(out_dir, 'bench_quasi_static.json')}")
+        raise RuntimeError(
+            "jaxgear and the NumPy baseline disagree by more than 1e-9 relative: "
+            f"see {os.path.join(out_dir, 'bench_quasi_static.json')}"
+        )
     return out
 
 
@@ -340,8 +423,7 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from ._contact import solve_contact
-    from ._quasi_static import mesh_positions, quasi_static
+    from .. import mesh_positions, quasi_static, solve_contact
 
     block = jax.block_until_ready
     theta = mesh_positions(mesh, P)
@@ -359,8 +441,12 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
 
     c, d0 = deviations(mesh, mods, theta)
     n = c.s.shape[1] * c.s.shape[2]
-    args = (c.stiffness.reshape(P, n), c.length.reshape(P, n), d0.reshape(P, n),
-            c.mask.reshape(P, n))
+    args = (
+        c.stiffness.reshape(P, n),
+        c.length.reshape(P, n),
+        d0.reshape(P, n),
+        c.mask.reshape(P, n),
+    )
     Ks = jnp.zeros((1, 1))
     F = jnp.reshape(mesh.normal_load(jnp.asarray(torque)), (1,))
     V = jnp.ones((n, 1))
@@ -389,7 +475,7 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
         "deviations_incl_cells_s": t_dev,
         "contact_solve_s": t_solve,
         "note": "each stage jitted on its own and timed alone (min of repeats); stages overlap "
-                "in the fused kernel, so they need not add up to it",
+        "in the fused kernel, so they need not add up to it",
     }
 
 
@@ -408,32 +494,77 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
     for i, p_ in enumerate(ppp):
         col = cmap(i / max(len(ppp) - 1, 1))
         sel = [p for p in ex if p["positions_per_pitch"] == p_]
-        ax.plot([p["jaxgear_s"] for p in sel], [max(p["error"], floor) for p in sel], "o-",
-                color=col, label=f"jaxgear exact, P = {p_}")
-        ax.plot([p["baseline_s"] for p in sel], [max(p["baseline_error"], floor) for p in sel],
-                "x--", color=col, label=f"baseline exact, P = {p_}")
+        ax.plot(
+            [p["jaxgear_s"] for p in sel],
+            [max(p["error"], floor) for p in sel],
+            "o-",
+            color=col,
+            label=f"jaxgear exact, P = {p_}",
+        )
+        ax.plot(
+            [p["baseline_s"] for p in sel],
+            [max(p["baseline_error"], floor) for p in sel],
+            "x--",
+            color=col,
+            label=f"baseline exact, P = {p_}",
+        )
         for p in sel:
-            ax.annotate(f"N={p['slices']}", (p["jaxgear_s"], max(p["error"], floor)), fontsize=6,
-                        xytext=(2, 3), textcoords="offset points", color=col)
+            ax.annotate(
+                f"N={p['slices']}",
+                (p["jaxgear_s"], max(p["error"], floor)),
+                fontsize=6,
+                xytext=(2, 3),
+                textcoords="offset points",
+                color=col,
+            )
     ax.set_title("exact: N slices × P positions per pitch", fontsize=9)
     if sm:
         disc = f"{sm[0]['slices']}×{sm[0]['positions_per_pitch']}"
-        ax2.plot([p["jaxgear_s"] for p in sm], [max(p["error"], floor) for p in sm], "^-",
-                 color="C3", label=f"jaxgear smooth {disc}: vs converged reference")
-        ax2.plot([p["baseline_s"] for p in sm], [max(p["baseline_error"], floor) for p in sm], "v-",
-                 color="C1", label=f"baseline smooth {disc}: vs converged reference")
-        ax2.plot([p["jaxgear_s"] for p in sm],
-                 [max(p["error_vs_exact_same_discretisation"], floor) for p in sm], "^:",
-                 color="C3", mfc="none",
-                 label=f"jaxgear smooth: vs exact {disc} (contact-law error)")
+        ax2.plot(
+            [p["jaxgear_s"] for p in sm],
+            [max(p["error"], floor) for p in sm],
+            "^-",
+            color="C3",
+            label=f"jaxgear smooth {disc}: vs converged reference",
+        )
+        ax2.plot(
+            [p["baseline_s"] for p in sm],
+            [max(p["baseline_error"], floor) for p in sm],
+            "v-",
+            color="C1",
+            label=f"baseline smooth {disc}: vs converged reference",
+        )
+        ax2.plot(
+            [p["jaxgear_s"] for p in sm],
+            [max(p["error_vs_exact_same_discretisation"], floor) for p in sm],
+            "^:",
+            color="C3",
+            mfc="none",
+            label=f"jaxgear smooth: vs exact {disc} (contact-law error)",
+        )
         for p in sm:
-            ax2.annotate(f"w={p['width_m'] * 1e6:g} µm", (p["jaxgear_s"], max(p["error"], floor)),
-                         fontsize=6, xytext=(3, 3), textcoords="offset points", color="C3")
-        same = [p for p in ex if p["slices"] == sm[0]["slices"]
-                and p["positions_per_pitch"] == sm[0]["positions_per_pitch"]]
+            ax2.annotate(
+                f"w={p['width_m'] * 1e6:g} µm",
+                (p["jaxgear_s"], max(p["error"], floor)),
+                fontsize=6,
+                xytext=(3, 3),
+                textcoords="offset points",
+                color="C3",
+            )
+        same = [
+            p
+            for p in ex
+            if p["slices"] == sm[0]["slices"]
+            and p["positions_per_pitch"] == sm[0]["positions_per_pitch"]
+        ]
         if same:
-            ax2.axhline(max(same[0]["error"], floor), color="grey", lw=0.8, ls="--",
-                        label=f"jaxgear exact {disc} (discretisation error)")
+            ax2.axhline(
+                max(same[0]["error"], floor),
+                color="grey",
+                lw=0.8,
+                ls="--",
+                label=f"jaxgear exact {disc} (discretisation error)",
+            )
         ax2.set_title("smooth: width w", fontsize=9)
     for a in (ax, ax2):
         a.set_xscale("log")
@@ -441,11 +572,16 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
         a.set_xlabel("time per TE curve (s, after compile)")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=6)
-    ax.set_ylabel(f"relative TE RMS error vs exact {r['slices']} slices × "
-                  f"{r['positions_per_pitch']} positions")
+    ax.set_ylabel(
+        f"relative TE RMS error vs exact {r['slices']} slices × "
+        f"{r['positions_per_pitch']} positions"
+    )
     m = out["machine"]
-    fig.suptitle(f"{out['case']}: speed vs accuracy — {m['cpu_count']} CPU ({m['cpu_model']}), "
-                 f"{out['dtype']}, JAX {out['versions']['jax']}", fontsize=9)
+    fig.suptitle(
+        f"{out['case']}: speed vs accuracy — {m['cpu_count']} CPU ({m['cpu_model']}), "
+        f"{out['dtype']}, JAX {out['versions']['jax']}",
+        fontsize=9,
+    )
     fig.tight_layout()
     with atomic_open(path, "wb") as f:
         fig.savefig(f, format="png", dpi=120)
@@ -456,27 +592,43 @@ def _table(out) -> str:
     pc, g = out["per_te_curve"], out["grid"]
     opt = g["optimum"]
     lines = [
-        (f"quasi-static benchmark: {out['case']}, {out['settings']['slices']} slices × "
-         f"{out['settings']['positions_per_pitch']} positions, {out['dtype']}, JAX "
-         f"{out['versions']['jax']}, {out['machine']['device']}, "
-         f"{out['machine']['cpu_count']} CPU"),
+        (
+            f"quasi-static benchmark: {out['case']}, {out['settings']['slices']} slices × "
+            f"{out['settings']['positions_per_pitch']} positions, {out['dtype']}, JAX "
+            f"{out['versions']['jax']}, {out['machine']['device']}, "
+            f"{out['machine']['cpu_count']} CPU"
+        ),
         f"{'':24s}{'exact':>12s}{'smooth':>12s}",
-        (f"{'compile (s)':24s}{out['compile']['exact']['compile_s']:12.3f}"
-         f"{out['compile']['smooth']['compile_s']:12.3f}"),
-        (f"{'jaxgear per curve (ms)':24s}{pc['exact']['jaxgear_s'] * 1e3:12.3f}"
-         f"{pc['smooth']['jaxgear_s'] * 1e3:12.3f}"),
-        (f"{'baseline per curve (ms)':24s}{pc['exact']['baseline_s'] * 1e3:12.3f}"
-         f"{pc['smooth']['baseline_s'] * 1e3:12.3f}"),
+        (
+            f"{'compile (s)':24s}{out['compile']['exact']['compile_s']:12.3f}"
+            f"{out['compile']['smooth']['compile_s']:12.3f}"
+        ),
+        (
+            f"{'jaxgear per curve (ms)':24s}{pc['exact']['jaxgear_s'] * 1e3:12.3f}"
+            f"{pc['smooth']['jaxgear_s'] * 1e3:12.3f}"
+        ),
+        (
+            f"{'baseline per curve (ms)':24s}{pc['exact']['baseline_s'] * 1e3:12.3f}"
+            f"{pc['smooth']['baseline_s'] * 1e3:12.3f}"
+        ),
         f"{'ratio (target >= 50)':24s}{pc['exact']['ratio']:12.1f}{pc['smooth']['ratio']:12.1f}",
-        (f"{'max rel diff (TE)':24s}{pc['exact']['max_rel_diff']['te']:12.1e}"
-         f"{pc['smooth']['max_rel_diff']['te']:12.1e}"),
-        (f"grid {g['shape'][0]}×{g['shape'][1]} (Γ, E), exact, vmap: {g['jaxgear_s']:.3f} s "
-         f"after compile ({g['jaxgear_compile_s']:.1f} s compile; target < 5 s); baseline "
-         f"~{g['baseline_s_extrapolated']:.1f} s (extrapolated), ratio {g['ratio']:.1f}"),
-        (f"same grid in vmap chunks of {_CHUNK} (lax.map): {g['chunked']['jaxgear_s']:.3f} s, "
-         f"ratio {g['chunked']['ratio_to_baseline']:.1f}"),
-        (f"grid optimum: Γ = {opt['gamma']:.3f}, E = {opt['tip_relief_depth_m'] * 1e6:.1f} µm, "
-         f"TE RMS = {opt['te_rms_m'] * 1e9:.1f} nm"),
+        (
+            f"{'max rel diff (TE)':24s}{pc['exact']['max_rel_diff']['te']:12.1e}"
+            f"{pc['smooth']['max_rel_diff']['te']:12.1e}"
+        ),
+        (
+            f"grid {g['shape'][0]}×{g['shape'][1]} (Γ, E), exact, vmap: {g['jaxgear_s']:.3f} s "
+            f"after compile ({g['jaxgear_compile_s']:.1f} s compile; target < 5 s); baseline "
+            f"~{g['baseline_s_extrapolated']:.1f} s (extrapolated), ratio {g['ratio']:.1f}"
+        ),
+        (
+            f"same grid in vmap chunks of {_CHUNK} (lax.map): {g['chunked']['jaxgear_s']:.3f} s, "
+            f"ratio {g['chunked']['ratio_to_baseline']:.1f}"
+        ),
+        (
+            f"grid optimum: Γ = {opt['gamma']:.3f}, E = {opt['tip_relief_depth_m'] * 1e6:.1f} µm, "
+            f"TE RMS = {opt['te_rms_m'] * 1e9:.1f} nm"
+        ),
         f"chart: {out['speed_accuracy']['chart']}",
     ]
     return "\n".join(lines)

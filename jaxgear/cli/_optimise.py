@@ -11,12 +11,19 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
-from jaxgear._run import finish_plot
-from jaxgear._util import atomic_open
+from optimise import (
+    OBJECTIVES,
+    VARIABLES,
+    contour_map,
+    make_problem,
+    master_curve,
+    minimise,
+    parse_range,
+    zero_fluctuation_depth,
+)
 
-from ._master_curve import contour_map, master_curve
-from ._minimise import minimise
-from ._problem import OBJECTIVES, VARIABLES, make_problem, parse_range, zero_fluctuation_depth
+from ..io import atomic_open, load_case
+from ._run import finish_plot
 
 __all__ = ["add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
 
@@ -25,16 +32,25 @@ def add_parsers(sub) -> None:
     """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object."""
     o = sub.add_parser("optimise", help="gradient-based optimisation of tooth modifications")
     o.add_argument("case", help="TOML case file or embedded case name")
-    o.add_argument("--objective", choices=OBJECTIVES, help="objective (default te_rms, or the case's [optimise])")
-    o.add_argument("--vars", help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
-                   f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)")
+    o.add_argument(
+        "--objective",
+        choices=OBJECTIVES,
+        help="objective (default te_rms, or the case's [optimise])",
+    )
+    o.add_argument(
+        "--vars",
+        help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
+        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)",
+    )
     o.add_argument("--torques", help="START:STOP:N torque range (N·m) for robust_te_rms")
     o.add_argument("--reduce", choices=["max", "mean"], help="robust objective: worst case or mean")
     o.add_argument("--method", choices=["lbfgs", "adam"], help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
     o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
     o.add_argument("--quiet", action="store_true")
-    m = sub.add_parser("master-curve", help="Master Curve: optimal tip relief depth for each extent")
+    m = sub.add_parser(
+        "master-curve", help="Master Curve: optimal tip relief depth for each extent"
+    )
     m.add_argument("case", help="TOML case file or embedded case name")
     m.add_argument("--extents", default="0.05:0.6:12", help="START:STOP:N relief extents Γ")
     m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
@@ -42,13 +58,18 @@ def add_parsers(sub) -> None:
 
 def settings_from_case(case: jg.Case, args=None) -> dict:
     """Optimisation settings: command-line options over the case's ``[optimise]`` table."""
-    table = dict(case.raw.get("optimise", {}) or {})
+    table = dict(case.optimise or {})
     allowed = {"objective", "vars", "torques", "reduce", "method", "max_iterations", "bounds"}
     for key in table:
         if key not in allowed:
-            raise ValueError(f"unknown key [optimise] {key!r} in case file: allowed {sorted(allowed)}")
-    get = lambda k, d: (getattr(args, k, None) if args is not None and getattr(args, k, None) is not None  # noqa: E731
-                        else table.get(k, d))
+            raise ValueError(
+                f"unknown key [optimise] {key!r} in case file: allowed {sorted(allowed)}"
+            )
+    get = lambda k, d: (
+        getattr(args, k, None)
+        if args is not None and getattr(args, k, None) is not None  # noqa: E731
+        else table.get(k, d)
+    )
     variables = get("vars", "tip_relief.depth,tip_relief.extent")
     if isinstance(variables, list):
         variables = ",".join(variables)
@@ -56,9 +77,15 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
     if isinstance(torques, list):
         torques = ":".join(str(t) for t in torques) if len(torques) == 3 else None
     bounds = {k: tuple(v) for k, v in (table.get("bounds") or {}).items()}
-    return {"objective": get("objective", "te_rms"), "vars": variables, "torques": torques,
-            "reduce": get("reduce", "max"), "method": get("method", "lbfgs"),
-            "max_iterations": int(get("max_iterations", 100)), "bounds": bounds}
+    return {
+        "objective": get("objective", "te_rms"),
+        "vars": variables,
+        "torques": torques,
+        "reduce": get("reduce", "max"),
+        "method": get("method", "lbfgs"),
+        "max_iterations": int(get("max_iterations", 100)),
+        "bounds": bounds,
+    }
 
 
 def _save(fig, path):
@@ -74,21 +101,44 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     import matplotlib.pyplot as plt
 
     torques = parse_range(settings["torques"]) if settings["torques"] else None
-    problem = make_problem(case, settings["vars"], settings["objective"], torques=torques,
-                           reduce=settings["reduce"], bounds=settings["bounds"])
-    sharp = eqx.tree_at(lambda p: (p.base.pinion.relief_blend, p.base.gear.relief_blend), problem,
-                        (jnp.asarray(0.0), jnp.asarray(0.0)))
+    problem = make_problem(
+        case,
+        settings["vars"],
+        settings["objective"],
+        torques=torques,
+        reduce=settings["reduce"],
+        bounds=settings["bounds"],
+    )
+    sharp = eqx.tree_at(
+        lambda p: (p.base.pinion.relief_blend, p.base.gear.relief_blend),
+        problem,
+        (jnp.asarray(0.0), jnp.asarray(0.0)),
+    )
     start = {}
     for n in problem.names:
-        members = ("pinion",) if n.startswith("pinion.") else ("gear",) if n.startswith("gear.") else ("pinion",)
+        members = (
+            ("pinion",)
+            if n.startswith("pinion.")
+            else ("gear",)
+            if n.startswith("gear.")
+            else ("pinion",)
+        )
         base = n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n
         field, kind = VARIABLES[base]
         v = float(getattr(getattr(case.modifications, members[0]), field))
         start[n] = v * 1e6 if kind == "depth" else v
-    x0 = np.clip(problem.from_physical(start), np.asarray(problem.lower) + 1e-3,
-                 np.asarray(problem.upper) - 1e-3)
-    res = minimise(problem, x0, method=settings["method"], max_iterations=settings["max_iterations"],
-                   progress=progress)
+    x0 = np.clip(
+        problem.from_physical(start),
+        np.asarray(problem.lower) + 1e-3,
+        np.asarray(problem.upper) - 1e-3,
+    )
+    res = minimise(
+        problem,
+        x0,
+        method=settings["method"],
+        max_iterations=settings["max_iterations"],
+        progress=progress,
+    )
     scale = float(problem.scale)
     units = "m" if problem.objective != "max_line_load" else "N_per_m"
     report = {
@@ -99,42 +149,71 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "reduce": problem.reduce,
         "method": settings["method"],
         "mean_static_deflection_m": float(problem.delta_m),
-        "initial": {"parameters": problem.to_physical(res.x0),
-                    f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x0), "exact")) * scale,
-                    f"objective_smooth_{units}": res.value0 * scale},
-        "final": {"parameters": problem.to_physical(res.x),
-                  f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x), "exact")) * scale,
-                  f"objective_smooth_{units}": res.value * scale},
+        "initial": {
+            "parameters": problem.to_physical(res.x0),
+            f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x0), "exact")) * scale,
+            f"objective_smooth_{units}": res.value0 * scale,
+        },
+        "final": {
+            "parameters": problem.to_physical(res.x),
+            f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x), "exact")) * scale,
+            f"objective_smooth_{units}": res.value * scale,
+        },
         "unmodified_objective": scale,
         "iterations": res.iterations,
         "evaluations": res.evaluations,
         "converged": res.converged,
         "wall_time_s": res.wall_time_s,
         "notes": "parameters in case-file units (depth_um for depths, fractions for extents); "
-                 "'exact' values use sharp relief starts, the smooth optimisation rounds them over "
-                 "one position step (relief_blend)",
+        "'exact' values use sharp relief starts, the smooth optimisation rounds them over "
+        "one position step (relief_blend)",
     }
     os.makedirs(out_dir, exist_ok=True)
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.semilogy(np.maximum(res.history_value, 1e-12), "o-")
-    finish_plot(fig, ax, os.path.join(out_dir, "convergence.png"), xlabel="iteration",
-                ylabel=f"{problem.objective} / unmodified", legend=False,
-                title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)")
+    finish_plot(
+        fig,
+        ax,
+        os.path.join(out_dir, "convergence.png"),
+        xlabel="iteration",
+        ylabel=f"{problem.objective} / unmodified",
+        legend=False,
+        title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)",
+    )
     t_design = float(problem.design_torque)
-    harris_t = (np.asarray(problem.torques) if problem.objective == "robust_te_rms"
-                else np.linspace(0.25, 2.0, 15) * t_design)
+    harris_t = (
+        np.asarray(problem.torques)
+        if problem.objective == "robust_te_rms"
+        else np.linspace(0.25, 2.0, 15) * t_design
+    )
     fig, ax = plt.subplots(figsize=(7, 4))
     for x, lab in ((res.x0, "initial"), (res.x, "optimum")):
-        ax.plot(harris_t, np.asarray(sharp.te_rms_vs_torque(jnp.asarray(x), harris_t)) * 1e6, "o-", label=lab)
-    ax.plot(harris_t, np.asarray(sharp.te_rms_vs_torque(jnp.zeros(len(problem.names)) + problem.lower,
-                                                         harris_t)) * 1e6, "k:", label="lower bounds")
+        ax.plot(
+            harris_t,
+            np.asarray(sharp.te_rms_vs_torque(jnp.asarray(x), harris_t)) * 1e6,
+            "o-",
+            label=lab,
+        )
+    ax.plot(
+        harris_t,
+        np.asarray(sharp.te_rms_vs_torque(jnp.zeros(len(problem.names)) + problem.lower, harris_t))
+        * 1e6,
+        "k:",
+        label="lower bounds",
+    )
     ax.axvline(t_design, color="k", lw=0.8, ls="--")
-    finish_plot(fig, ax, os.path.join(out_dir, "harris.png"), xlabel="pinion torque (N·m)",
-                ylabel="TE RMS (µm), exact contact", title=f"{case.name}: Harris map of the designs")
+    finish_plot(
+        fig,
+        ax,
+        os.path.join(out_dir, "harris.png"),
+        xlabel="pinion torque (N·m)",
+        ylabel="TE RMS (µm), exact contact",
+        title=f"{case.name}: Harris map of the designs",
+    )
     report["harris"] = {"torque_Nm": harris_t.tolist()}
-    if sorted(n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n
-              for n in problem.names) == ["tip_relief.depth", "tip_relief.extent"] \
-            and problem.objective in ("te_rms", "te_ptp"):
+    if sorted(
+        n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
+    ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp"):
         i_d = [i for i, n in enumerate(problem.names) if n.endswith("depth")][0]
         i_g = 1 - i_d
         G = np.linspace(float(problem.lower[i_g]), float(problem.upper[i_g]), 41)
@@ -152,22 +231,27 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         _save(fig, os.path.join(out_dir, "path.png"))
         plt.close(fig)
         k = np.unravel_index(np.argmin(grid), grid.shape)
-        report["grid_41x41_best"] = {"extent": float(G[k[0]]), "depth_um": float(E[k[1]] * dm),
-                                     "objective_smooth": float(grid[k]) * scale}
+        report["grid_41x41_best"] = {
+            "extent": float(G[k[0]]),
+            "depth_um": float(E[k[1]] * dm),
+            "objective_smooth": float(grid[k]) * scale,
+        }
     with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
         json.dump(report, f, indent=2)
     return report
 
 
 def run_optimise(args) -> int:
-    case = jg.load_case(args.case)
+    case = load_case(args.case)
     settings = settings_from_case(case, args)
     out = args.out or os.path.join("jaxgear-out", case.name, "optimise")
     rep = optimise_case(case, settings, out, progress=not args.quiet)
     units = "m" if rep["objective"] != "max_line_load" else "N_per_m"
-    print(f"{rep['objective']}: {rep['initial'][f'objective_exact_{units}']:.4g} -> "
-          f"{rep['final'][f'objective_exact_{units}']:.4g} {units} (exact contact), "
-          f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s")
+    print(
+        f"{rep['objective']}: {rep['initial'][f'objective_exact_{units}']:.4g} -> "
+        f"{rep['final'][f'objective_exact_{units}']:.4g} {units} (exact contact), "
+        f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s"
+    )
     for k, v in rep["final"]["parameters"].items():
         print(f"  {k} = {v:.5g}{' µm' if k.endswith('depth') else ''}")
     print(f"written to {out}/")
@@ -182,13 +266,22 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
     import matplotlib.pyplot as plt
 
     t0 = time.perf_counter()
-    problem = make_problem(case, "tip_relief.depth,tip_relief.extent", "te_rms", relief_blend=0.0,
-                           bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)})
+    problem = make_problem(
+        case,
+        "tip_relief.depth,tip_relief.extent",
+        "te_rms",
+        relief_blend=0.0,
+        bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
+    )
     mc = master_curve(problem, extents)
     eps = case.pair.transverse_contact_ratio
     dm = float(problem.delta_m)
-    applies = (case.stiffness_model == "uniform" and case.pair.helix_angle == 0 and eps < 2)
-    zf = zero_fluctuation_depth(mc["extent"], eps) * dm if applies else np.full(len(mc["extent"]), np.nan)
+    applies = case.stiffness_model == "uniform" and case.pair.helix_angle == 0 and eps < 2
+    zf = (
+        zero_fluctuation_depth(mc["extent"], eps) * dm
+        if applies
+        else np.full(len(mc["extent"]), np.nan)
+    )
     G = np.linspace(min(0.02, mc["extent"].min()), max(0.7, mc["extent"].max()), 41)
     E = np.linspace(0.0, 4.0, 41)
     grid = contour_map(problem, G, E, "exact") * float(problem.scale)
@@ -198,13 +291,22 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
         "torque_Nm": case.torque,
         "mean_static_deflection_m": dm,
         "unmodified_te_rms_m": float(problem.scale),
-        "master_curve": [{"extent": float(g), "depth_um": float(e) * 1e6, "te_rms_m": float(t),
-                          "te_rms_smooth_m": float(s)}
-                         for g, e, t, s in zip(mc["extent"], mc["depth_m"], mc["te_rms_exact_m"],
-                                               mc["te_rms_smooth_m"])],
-        "zero_fluctuation_family": ({"applies": True, "depth_um": [None if np.isnan(v) else float(v) * 1e6 for v in zf]}
-                                    if applies else {"applies": False,
-                                                     "why": "needs spur, uniform stiffness, ε_α < 2"}),
+        "master_curve": [
+            {
+                "extent": float(g),
+                "depth_um": float(e) * 1e6,
+                "te_rms_m": float(t),
+                "te_rms_smooth_m": float(s),
+            }
+            for g, e, t, s in zip(
+                mc["extent"], mc["depth_m"], mc["te_rms_exact_m"], mc["te_rms_smooth_m"]
+            )
+        ],
+        "zero_fluctuation_family": (
+            {"applies": True, "depth_um": [None if np.isnan(v) else float(v) * 1e6 for v in zf]}
+            if applies
+            else {"applies": False, "why": "needs spur, uniform stiffness, ε_α < 2"}
+        ),
         "wall_time_s": time.perf_counter() - t0,
     }
     os.makedirs(out_dir, exist_ok=True)
@@ -214,7 +316,9 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
     ax.plot(mc["extent"], mc["depth_m"] * 1e6, "r.-", lw=2, label="Master Curve (numerical)")
     if applies:
         gg = np.linspace((eps - 1) / (2 * eps), (eps - 1) / eps, 200)[1:]
-        ax.plot(gg, zero_fluctuation_depth(gg, eps) * dm * 1e6, "w--", label="zero-fluctuation family")
+        ax.plot(
+            gg, zero_fluctuation_depth(gg, eps) * dm * 1e6, "w--", label="zero-fluctuation family"
+        )
     ax.set_ylim(0, E[-1] * dm * 1e6)
     ax.set_xlabel("relief extent Γ")
     ax.set_ylabel("relief depth E (µm)")
@@ -228,11 +332,13 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
 
 
 def run_master_curve(args) -> int:
-    case = jg.load_case(args.case)
+    case = load_case(args.case)
     extents = parse_range(args.extents, "--extents")
     out = args.out or os.path.join("jaxgear-out", case.name, "master-curve")
     rep = master_curve_case(case, extents, out)
     for row in rep["master_curve"]:
-        print(f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, TE RMS = {row['te_rms_m'] * 1e6:.4f} µm")
+        print(
+            f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, TE RMS = {row['te_rms_m'] * 1e6:.4f} µm"
+        )
     print(f"written to {out}/")
     return 0

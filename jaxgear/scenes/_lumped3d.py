@@ -31,15 +31,16 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._baseplane import MeshModel
-from ._dyn_scene import DynamicScene
-from ._geometry import GearPair
+from .._baseplane import MeshModel
+from .._geometry import GearPair
+from ._scene import DynamicScene
 
 __all__ = ["Bearing", "LumpedPair", "ShaftSpec", "lumped_pair", "timoshenko_element"]
 
 
-def timoshenko_element(E: float, G: float, rho: float, diameter: float, length: float,
-                       kappa: float = 0.9) -> tuple[np.ndarray, np.ndarray]:
+def timoshenko_element(
+    E: float, G: float, rho: float, diameter: float, length: float, kappa: float = 0.9
+) -> tuple[np.ndarray, np.ndarray]:
     """Stiffness and mass (12, 12) of a solid circular shaft element along z.
 
     DOF order per node: u_x, u_y, u_z, φ_x, φ_y, φ_z (m, rad); node 1 then node 2.
@@ -56,18 +57,41 @@ def timoshenko_element(E: float, G: float, rho: float, diameter: float, length: 
     J = 2 * I
     phi = 12 * E * I / (kappa * G * A * L**2)
     c = E * I / ((1 + phi) * L**3)
-    kb = c * np.array([[12, 6 * L, -12, 6 * L],
-                       [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
-                       [-12, -6 * L, 12, -6 * L],
-                       [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2]])
-    mt = rho * A * L / 420 * np.array([[156, 22 * L, 54, -13 * L],
-                                       [22 * L, 4 * L**2, 13 * L, -3 * L**2],
-                                       [54, 13 * L, 156, -22 * L],
-                                       [-13 * L, -3 * L**2, -22 * L, 4 * L**2]])
-    mr = rho * I / (30 * L) * np.array([[36, 3 * L, -36, 3 * L],
-                                        [3 * L, 4 * L**2, -3 * L, -L**2],
-                                        [-36, -3 * L, 36, -3 * L],
-                                        [3 * L, -L**2, -3 * L, 4 * L**2]])
+    kb = c * np.array(
+        [
+            [12, 6 * L, -12, 6 * L],
+            [6 * L, (4 + phi) * L**2, -6 * L, (2 - phi) * L**2],
+            [-12, -6 * L, 12, -6 * L],
+            [6 * L, (2 - phi) * L**2, -6 * L, (4 + phi) * L**2],
+        ]
+    )
+    mt = (
+        rho
+        * A
+        * L
+        / 420
+        * np.array(
+            [
+                [156, 22 * L, 54, -13 * L],
+                [22 * L, 4 * L**2, 13 * L, -3 * L**2],
+                [54, 13 * L, 156, -22 * L],
+                [-13 * L, -3 * L**2, -22 * L, 4 * L**2],
+            ]
+        )
+    )
+    mr = (
+        rho
+        * I
+        / (30 * L)
+        * np.array(
+            [
+                [36, 3 * L, -36, 3 * L],
+                [3 * L, 4 * L**2, -3 * L, -(L**2)],
+                [-36, -3 * L, 36, -3 * L],
+                [3 * L, -(L**2), -3 * L, 4 * L**2],
+            ]
+        )
+    )
     mb = mt + mr
     K = np.zeros((12, 12))
     M = np.zeros((12, 12))
@@ -164,9 +188,11 @@ class LumpedPair(DynamicScene):
         b = self.mesh.face_width
         lead = (1,) * cells.s.ndim
         ez = jnp.array([0.0, 0.0, 1.0], self.M.dtype).reshape(lead + (3,))
-        return (self.tangent_point.reshape(lead + (3,))
-                + (self.roll_start + cells.s)[..., None] * self.direction.reshape(lead + (3,))
-                + (cells.z - 0.5 * b)[..., None] * ez)
+        return (
+            self.tangent_point.reshape(lead + (3,))
+            + (self.roll_start + cells.s)[..., None] * self.direction.reshape(lead + (3,))
+            + (cells.z - 0.5 * b)[..., None] * ez
+        )
 
     def cell_vectors(self, cells):
         P = self._points(cells)
@@ -178,15 +204,19 @@ class LumpedPair(DynamicScene):
         v2 = -jnp.concatenate([nn, jnp.cross(r2, nn)], axis=-1)
         V = jnp.zeros(cells.s.shape + (self.M.shape[0],), self.M.dtype)
         i, j = self.gear_dofs
-        return V.at[..., i:i + 6].set(v1).at[..., j:j + 6].set(v2)
+        return V.at[..., i : i + 6].set(v1).at[..., j : j + 6].set(v2)
 
     def te_vector(self):
         """Angular transmission error at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2)."""
         cb = jnp.cos(self.mesh.base_helix_angle)
         u = jnp.zeros(self.M.shape[0], self.M.dtype)
         i, j = self.gear_dofs
-        return (u.at[i + 5].set(cb * self.mesh.base_radius_pinion)
-                .at[j + 5].set(cb * self.mesh.base_radius_gear))
+        return (
+            u.at[i + 5]
+            .set(cb * self.mesh.base_radius_pinion)
+            .at[j + 5]
+            .set(cb * self.mesh.base_radius_gear)
+        )
 
 
 def _shaft(spec: ShaftSpec, E, G, rho):
@@ -227,10 +257,18 @@ def _shaft(spec: ShaftSpec, E, G, rho):
     return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows
 
 
-def lumped_pair(pair: GearPair, mesh: MeshModel, pinion_shaft: ShaftSpec, gear_shaft: ShaftSpec,
-                *, masses: tuple[float, float], inertias: tuple[tuple[float, float], ...],
-                youngs_modulus: float = 210e9, poisson_ratio: float = 0.3,
-                density: float = 7800.0) -> LumpedPair:
+def lumped_pair(
+    pair: GearPair,
+    mesh: MeshModel,
+    pinion_shaft: ShaftSpec,
+    gear_shaft: ShaftSpec,
+    *,
+    masses: tuple[float, float],
+    inertias: tuple[tuple[float, float], ...],
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+    density: float = 7800.0,
+) -> LumpedPair:
     """Assemble the 3D lumped scene.
 
     Args:
@@ -255,7 +293,7 @@ def lumped_pair(pair: GearPair, mesh: MeshModel, pinion_shaft: ShaftSpec, gear_s
     Kb[:n1, :n1], Kb[n1:, n1:] = s1[3], s2[3]
     g1, g2 = 6 * s1[4], n1 + 6 * s2[4]
     for g, m, (idia, ipol) in ((g1, masses[0], inertias[0]), (g2, masses[1], inertias[1])):
-        M[g:g + 3, g:g + 3] += m * np.eye(3)
+        M[g : g + 3, g : g + 3] += m * np.eye(3)
         M[g + 3, g + 3] += idia
         M[g + 4, g + 4] += idia
         M[g + 5, g + 5] += ipol
@@ -268,22 +306,30 @@ def lumped_pair(pair: GearPair, mesh: MeshModel, pinion_shaft: ShaftSpec, gear_s
     normal = math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0])
     rigid = np.zeros(n)
     rigid[5:n1:6] = 1.0 / rb1
-    rigid[n1 + 5::6] = -1.0 / pair.base_radii[1]
+    rigid[n1 + 5 :: 6] = -1.0 / pair.base_radii[1]
     parts = np.stack([Ksh1, Ksh2, Kb])
     names, reaction = [], []
     for tag, rows, offset in (("pinion", s1[6], 0), ("gear", s2[6], n1)):
         for name, r in rows:
             full = np.zeros(n)
-            full[offset:offset + r.size] = r
+            full[offset : offset + r.size] = r
             names.append(f"{tag} {name}")
             reaction.append(full)
     reaction = np.array(reaction).reshape(-1, n)
-    return LumpedPair(mesh=mesh, M=jnp.asarray(M), K=jnp.asarray(Ksh1 + Ksh2 + Kb),
-                      parts_K=jnp.asarray(parts),
-                      centres=jnp.asarray([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
-                      tangent_point=jnp.asarray(T1), direction=jnp.asarray(t),
-                      normal=jnp.asarray(normal), roll_start=jnp.asarray(pair.start_roll),
-                      rigid=jnp.asarray(rigid), reaction=jnp.asarray(reaction),
-                      reaction_names=tuple(names), gear_dofs=(g1, g2),
-                      torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
-                      part_names=("pinion_shaft", "gear_shaft", "bearings"))
+    return LumpedPair(
+        mesh=mesh,
+        M=jnp.asarray(M),
+        K=jnp.asarray(Ksh1 + Ksh2 + Kb),
+        parts_K=jnp.asarray(parts),
+        centres=jnp.asarray([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
+        tangent_point=jnp.asarray(T1),
+        direction=jnp.asarray(t),
+        normal=jnp.asarray(normal),
+        roll_start=jnp.asarray(pair.start_roll),
+        rigid=jnp.asarray(rigid),
+        reaction=jnp.asarray(reaction),
+        reaction_names=tuple(names),
+        gear_dofs=(g1, g2),
+        torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
+        part_names=("pinion_shaft", "gear_shaft", "bearings"),
+    )

@@ -36,19 +36,17 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     import scipy.optimize
     from tqdm.auto import tqdm
 
-    import jaxgear as jg
-    from jaxgear._util import atomic_open
+    from optimise import contour_map, make_problem, minimise
 
-    from ._master_curve import contour_map
-    from ._minimise import minimise
-    from ._problem import make_problem
+    from ..io import atomic_open, load_case
 
-    case = jg.load_case("accessory-spur")
+    case = load_case("accessory-spur")
     ppp = 24 if quick else case.positions_per_pitch
     slices = 4 if quick else 10  # spur: every slice carries the same load, 10 is plenty
     n_grid = 11 if quick else 41
-    problem = make_problem(case, "tip_relief.depth,tip_relief.extent", "te_rms",
-                           positions_per_pitch=ppp, slices=slices)
+    problem = make_problem(
+        case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=ppp, slices=slices
+    )
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
     f = jax.jit(lambda x: problem.value(x, "smooth"))
     vg = jax.jit(jax.value_and_grad(lambda x: problem.value(x, "smooth")))
@@ -70,12 +68,14 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         return float(f(jnp.asarray(np.clip(x, lo, hi))))
 
     t0 = time.perf_counter()
-    nm = scipy.optimize.minimize(scalar, x0, method="Nelder-Mead",
-                                 options={"xatol": 1e-5, "fatol": 1e-8, "maxfev": 4000})
+    nm = scipy.optimize.minimize(
+        scalar, x0, method="Nelder-Mead", options={"xatol": 1e-5, "fatol": 1e-8, "maxfev": 4000}
+    )
     t_nm = time.perf_counter() - t0
     t0 = time.perf_counter()
-    lb = scipy.optimize.minimize(scalar, x0, method="L-BFGS-B", bounds=list(zip(lo, hi)),
-                                 options={"maxfun": 4000})
+    lb = scipy.optimize.minimize(
+        scalar, x0, method="L-BFGS-B", bounds=list(zip(lo, hi)), options={"maxfun": 4000}
+    )
     t_lb = time.perf_counter() - t0
     steps.update()
 
@@ -89,9 +89,14 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     steps.update()
     steps.close()
 
-    row = lambda name, x, v, n, t: {"method": name, "extent": float(x[1]),  # noqa: E731
-                                    "depth_um": float(x[0]) * float(problem.delta_m) * 1e6,
-                                    "objective": float(v), "evaluations": int(n), "wall_time_s": t}
+    row = lambda name, x, v, n, t: {
+        "method": name,
+        "extent": float(x[1]),  # noqa: E731
+        "depth_um": float(x[0]) * float(problem.delta_m) * 1e6,
+        "objective": float(v),
+        "evaluations": int(n),
+        "wall_time_s": t,
+    }
     methods = [
         row("jaxgear L-BFGS (optax, gradients)", ours.x, ours.value, ours.evaluations, t_ours),
         row("scipy Nelder-Mead", nm.x, nm.fun, nm.nfev, t_nm),
@@ -109,15 +114,23 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         "speedup_vs_nelder_mead": t_nm / t_ours,
         "speedup_vs_lbfgsb_fd": t_lb / t_ours,
         "speedup_vs_grid": t_grid / t_ours,
-        "environment": {"machine": platform.machine(), "cpus": os.cpu_count(),
-                        "backend": jax.default_backend(), "dtype": "float64",
-                        "jax": jax.__version__, "scipy": scipy.__version__, "numpy": np.__version__},
+        "environment": {
+            "machine": platform.machine(),
+            "cpus": os.cpu_count(),
+            "backend": jax.default_backend(),
+            "dtype": "float64",
+            "jax": jax.__version__,
+            "scipy": scipy.__version__,
+            "numpy": np.__version__,
+        },
     }
     # more variables: per-member tip relief and crowning on the helical pair (5 variables), where
     # derivative-free methods need many more evaluations per step
-    names5 = ("pinion.tip_relief.depth,pinion.tip_relief.extent,gear.tip_relief.depth,"
-              "gear.tip_relief.extent,crowning.depth")
-    hel = jg.load_case("power-helical")
+    names5 = (
+        "pinion.tip_relief.depth,pinion.tip_relief.extent,gear.tip_relief.depth,"
+        "gear.tip_relief.extent,crowning.depth"
+    )
+    hel = load_case("power-helical")
     p5 = make_problem(hel, names5, "te_rms", positions_per_pitch=ppp, slices=8 if quick else 20)
     lo5, hi5 = np.asarray(p5.lower), np.asarray(p5.upper)
     x05 = np.array([0.5, 0.15, 0.5, 0.15, 0.1])
@@ -128,38 +141,73 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     ours5 = minimise(p5, x05, progress=False, max_iterations=200)
     t_ours5 = time.perf_counter() - t0
     t0 = time.perf_counter()
-    nm5 = scipy.optimize.minimize(lambda x: float(f5(jnp.asarray(np.clip(x, lo5, hi5)))), x05,
-                                  method="Nelder-Mead",
-                                  options={"xatol": 1e-5, "fatol": 1e-8, "maxfev": 20000})
+    nm5 = scipy.optimize.minimize(
+        lambda x: float(f5(jnp.asarray(np.clip(x, lo5, hi5)))),
+        x05,
+        method="Nelder-Mead",
+        options={"xatol": 1e-5, "fatol": 1e-8, "maxfev": 20000},
+    )
     t_nm5 = time.perf_counter() - t0
     t0 = time.perf_counter()
-    lb5 = scipy.optimize.minimize(lambda x: float(f5(jnp.asarray(x))), x05, method="L-BFGS-B",
-                                  bounds=list(zip(lo5, hi5)), options={"maxfun": 20000})
+    lb5 = scipy.optimize.minimize(
+        lambda x: float(f5(jnp.asarray(x))),
+        x05,
+        method="L-BFGS-B",
+        bounds=list(zip(lo5, hi5)),
+        options={"maxfun": 20000},
+    )
     t_lb5 = time.perf_counter() - t0
-    five = {"case": hel.name, "variables": names5.split(","), "methods": [
-        {"method": "jaxgear L-BFGS (optax, gradients)", "objective": ours5.value,
-         "evaluations": ours5.evaluations, "wall_time_s": t_ours5},
-        {"method": "scipy Nelder-Mead", "objective": float(nm5.fun), "evaluations": int(nm5.nfev),
-         "wall_time_s": t_nm5},
-        {"method": "scipy L-BFGS-B (finite differences)", "objective": float(lb5.fun),
-         "evaluations": int(lb5.nfev), "wall_time_s": t_lb5}],
-        "speedup_vs_nelder_mead": t_nm5 / t_ours5, "speedup_vs_lbfgsb_fd": t_lb5 / t_ours5}
+    five = {
+        "case": hel.name,
+        "variables": names5.split(","),
+        "methods": [
+            {
+                "method": "jaxgear L-BFGS (optax, gradients)",
+                "objective": ours5.value,
+                "evaluations": ours5.evaluations,
+                "wall_time_s": t_ours5,
+            },
+            {
+                "method": "scipy Nelder-Mead",
+                "objective": float(nm5.fun),
+                "evaluations": int(nm5.nfev),
+                "wall_time_s": t_nm5,
+            },
+            {
+                "method": "scipy L-BFGS-B (finite differences)",
+                "objective": float(lb5.fun),
+                "evaluations": int(lb5.nfev),
+                "wall_time_s": t_lb5,
+            },
+        ],
+        "speedup_vs_nelder_mead": t_nm5 / t_ours5,
+        "speedup_vs_lbfgsb_fd": t_lb5 / t_ours5,
+    }
     report["five_variables"] = five
     os.makedirs(out_dir, exist_ok=True)
     with atomic_open(os.path.join(out_dir, "bench_optimise.json"), "w") as fh:
         json.dump(report, fh, indent=2)
-    print(f"objective {t_f * 1e3:.2f} ms, value+gradient {t_vg * 1e3:.2f} ms "
-          f"(ratio {t_vg / t_f:.2f})")
+    print(
+        f"objective {t_f * 1e3:.2f} ms, value+gradient {t_vg * 1e3:.2f} ms (ratio {t_vg / t_f:.2f})"
+    )
     print(f"{'method':40s}{'Γ':>8s}{'E µm':>9s}{'objective':>11s}{'evals':>7s}{'time s':>9s}")
     for m in methods:
-        print(f"{m['method']:40s}{m['extent']:8.4f}{m['depth_um']:9.3f}{m['objective']:11.5f}"
-              f"{m['evaluations']:7d}{m['wall_time_s']:9.3f}")
-    print(f"speed-up of the gradient optimiser: {report['speedup_vs_nelder_mead']:.1f}x vs Nelder-Mead, "
-          f"{report['speedup_vs_lbfgsb_fd']:.1f}x vs L-BFGS-B/FD, {report['speedup_vs_grid']:.1f}x vs grid")
+        print(
+            f"{m['method']:40s}{m['extent']:8.4f}{m['depth_um']:9.3f}{m['objective']:11.5f}"
+            f"{m['evaluations']:7d}{m['wall_time_s']:9.3f}"
+        )
+    print(
+        f"speed-up of the gradient optimiser: {report['speedup_vs_nelder_mead']:.1f}x vs Nelder-Mead, "
+        f"{report['speedup_vs_lbfgsb_fd']:.1f}x vs L-BFGS-B/FD, {report['speedup_vs_grid']:.1f}x vs grid"
+    )
     print(f"5 variables on {hel.name} ({names5}):")
     for m in five["methods"]:
-        print(f"  {m['method']:40s} objective {m['objective']:.5f}, {m['evaluations']} evaluations, "
-              f"{m['wall_time_s']:.3f} s")
-    print(f"  speed-up: {five['speedup_vs_nelder_mead']:.1f}x vs Nelder-Mead, "
-          f"{five['speedup_vs_lbfgsb_fd']:.1f}x vs L-BFGS-B/FD")
+        print(
+            f"  {m['method']:40s} objective {m['objective']:.5f}, {m['evaluations']} evaluations, "
+            f"{m['wall_time_s']:.3f} s"
+        )
+    print(
+        f"  speed-up: {five['speedup_vs_nelder_mead']:.1f}x vs Nelder-Mead, "
+        f"{five['speedup_vs_lbfgsb_fd']:.1f}x vs L-BFGS-B/FD"
+    )
     return report

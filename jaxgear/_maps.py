@@ -1,0 +1,60 @@
+"""Maps derived from quasi-static results: the load map over a tooth's passage and the Harris map
+(TE peak-to-peak against torque)."""
+
+from __future__ import annotations
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._modifications import Modifications
+from ._quasi_static import QuasiStaticResult, quasi_static
+
+__all__ = ["harris_map", "load_map"]
+
+
+def load_map(
+    r: QuasiStaticResult, positions_per_pitch: int, base_pitch: float, path_of_contact: float
+):
+    """Maximum line load (N/m) over a tooth's passage on a grid of the base plane.
+
+    Every tooth pair meets the same cells (no pitch deviations), so the maximum over all positions
+    and contact lines at a base-plane point is the maximum over one tooth's passage.
+
+    Returns:
+        (s_edges (n_s+1,), z (N,), load (n_s, N)): bin edges along the line of action (m), slice
+        mid-points across the face (m), and the maximum line load per bin (N/m; NaN where no cell
+        passed).
+    """
+    ds = base_pitch / positions_per_pitch
+    n_s = int(math.ceil(path_of_contact / ds))
+    s = np.asarray(r.cell_s).reshape(-1, r.cell_s.shape[-1])
+    p = np.asarray(r.line_load).reshape(s.shape)
+    mask = np.asarray(r.cell_mask).reshape(s.shape)
+    idx = np.clip(np.floor(s / ds).astype(int), 0, n_s - 1)
+    out = np.full((n_s, s.shape[1]), -np.inf)
+    cols = np.broadcast_to(np.arange(s.shape[1]), s.shape)
+    np.maximum.at(out, (idx[mask], cols[mask]), p[mask])
+    out[~np.isfinite(out)] = np.nan
+    z = np.asarray(r.cell_z)[0, 0]
+    return np.arange(n_s + 1) * ds, z, out
+
+
+def harris_map(
+    mesh,
+    mods: Modifications,
+    torques,
+    contact: str = "exact",
+    width=1e-7,
+    positions_per_pitch: int = 64,
+) -> np.ndarray:
+    """TE peak-to-peak (m) against pinion torque (N·m), vmapped over the torques, shape (T,)."""
+
+    def ptp(t):
+        return quasi_static(
+            mesh, mods, t, contact=contact, width=width, positions_per_pitch=positions_per_pitch
+        ).te_ptp
+
+    return np.asarray(jax.vmap(ptp)(jnp.asarray(torques)))

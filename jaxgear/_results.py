@@ -1,0 +1,70 @@
+"""Result codes of the iterative solvers, as enumerations with messages (like diffrax's RESULTS).
+
+The solvers store codes as integer arrays (they are vmapped, scanned and differentiated); these
+enumerations give them names and human-readable messages::
+
+    res = jg.quasi_static(mesh, mods, torque, throw=False)
+    for code in set(res.result.tolist()):
+        print(jg.ContactResult(code).message)
+"""
+
+from __future__ import annotations
+
+import enum
+
+__all__ = ["ContactResult", "DynamicsResult"]
+
+
+class _Result(enum.IntEnum):
+    """An integer result code with a message (0 is success)."""
+
+    @property
+    def message(self) -> str:
+        return self._messages()[self.value]
+
+    @classmethod
+    def _messages(cls) -> dict[int, str]:
+        raise NotImplementedError
+
+    @classmethod
+    def messages(cls) -> dict[int, str]:
+        """Code → message, JSON-ready (``{str(code): message}`` after ``str``)."""
+        return dict(cls._messages())
+
+
+class ContactResult(_Result):
+    """Outcome of one contact solve (:func:`jaxgear.solve_contact`, :func:`jaxgear.quasi_static`)."""
+
+    successful = 0
+    max_iterations = 1
+    no_contact = 2
+    non_finite = 3
+
+    @classmethod
+    def _messages(cls):
+        return {
+            0: "converged",
+            1: "contact loop did not converge (active set still changing at max_iterations)",
+            2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
+            3: "non-finite state in the contact solve",
+        }
+
+
+class DynamicsResult(_Result):
+    """Outcome of a dynamic simulation at one speed (:func:`jaxgear.dynamics.simulate`)."""
+
+    successful = 0
+    contact_not_converged = 1
+    non_finite = 2
+    blow_up = 3
+    ode_failed = 4
+
+    @classmethod
+    def _messages(cls):
+        return {
+            0: "converged",
+            1: "contact loop did not converge at some time step (active set still changing)",
+            2: "non-finite state: the integration diverged",
+            3: "energy blow-up: vibration energy or mesh force beyond the divergence bound",
+            4: "ODE solver failed (max_steps reached or step size collapsed)",
+        }

@@ -1,0 +1,150 @@
+"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | bench | prep``.
+
+The CLI is an entry point, so it switches float64 on (library modules never do). Every command
+validates its whole input (case file, options, output folder) before it computes; bad input gives
+one line ``jaxgear: error: …`` and exit status 2, Ctrl-C one line ``jaxgear: interrupted`` and
+exit status 130, a closed pipe (``jaxgear run | head``) a quiet exit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+__all__ = ["main"]
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("jaxgear")
+    except PackageNotFoundError:  # pragma: no cover - source tree not installed
+        return "unknown"
+
+
+def _parser() -> argparse.ArgumentParser:
+    from ._optimise import add_parsers as add_optimise_parsers
+    from ._sweep import add_sweep_parser
+
+    p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
+    p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("run", help="quasi-static analysis of a case (the main job)")
+    r.add_argument(
+        "case",
+        nargs="?",
+        default="accessory-spur",
+        help="TOML case file or embedded case name (default: accessory-spur)",
+    )
+    r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/)")
+    r.add_argument("--json", help="also write the summary to this path")
+    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    sub.add_parser("cases", help="list the embedded cases")
+    b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
+    b.add_argument("what", choices=["quasi-static", "optimise", "dynamics"], help="which benchmark")
+    b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
+    b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
+    from fem_prep import add_build_arguments
+
+    pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (= fem-prep build)")
+    add_build_arguments(pr)
+    add_sweep_parser(sub)
+    add_optimise_parsers(sub)
+    return p
+
+
+def _cases() -> int:
+    from ..io import list_cases, load_case
+
+    for name in list_cases():
+        c = load_case(name)
+        print(
+            f"{name:20s} z {c.pair.pinion.teeth}/{c.pair.gear.teeth}, "
+            f"m_n {c.pair.normal_module * 1e3:g} mm, "
+            f"β {c.raw['pair'].get('helix_angle_deg', 0)}°, "
+            f"T {c.torque:g} N·m, {c.stiffness_model} stiffness"
+        )
+    return 0
+
+
+def _bench(args) -> int:
+    from .. import bench
+
+    if args.what == "dynamics":
+        bench.bench_dynamics(args.out, quick=args.quick)
+    elif args.what == "optimise":
+        bench.bench_optimise(args.out, quick=args.quick)
+    else:
+        bench.bench_quasi_static(args.out, quick=args.quick)
+    return 0
+
+
+def _dispatch(args) -> int:
+    if args.command == "prep":
+        from fem_prep import run_build
+
+        return run_build(args, prog="jaxgear prep")
+
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    if args.command == "cases":
+        return _cases()
+    if args.command == "run":
+        from ._run import run_command
+
+        return run_command(args)
+    if args.command == "optimise":
+        from ._optimise import run_optimise
+
+        return run_optimise(args)
+    if args.command == "master-curve":
+        from ._optimise import run_master_curve
+
+        return run_master_curve(args)
+    if args.command == "sweep":
+        from ._sweep import run_sweep
+
+        return run_sweep(args)
+    if args.command == "bench":
+        return _bench(args)
+    raise ValueError(f"unknown command {args.command!r}")  # pragma: no cover
+
+
+def fail(msg: str) -> int:
+    """Print ``jaxgear: error: msg`` (first line only) on stderr; return exit status 2."""
+    first = str(msg).strip().splitlines()[0] if str(msg).strip() else "failed"
+    print(f"jaxgear: error: {first}", file=sys.stderr)
+    return 2
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted)."""
+    try:
+        args = _parser().parse_args(argv)
+        import equinox as eqx
+
+        try:
+            return _dispatch(args)
+        except (ValueError, FileNotFoundError, NotADirectoryError, PermissionError) as err:
+            return fail(str(err))
+        except eqx.EquinoxRuntimeError as err:
+            return fail(str(err))
+    except KeyboardInterrupt:
+        print("\njaxgear: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # the reader went away (``jaxgear run | head``): exit quietly, no traceback
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+
+
+def entry() -> None:  # pragma: no cover - console-script wrapper
+    sys.exit(main())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    entry()

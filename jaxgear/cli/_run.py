@@ -1,0 +1,314 @@
+"""The main job: quasi-static analysis of a case, written as JSON, CSV and PNG (``jaxgear run``)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+
+import jax
+import numpy as np
+from tqdm.auto import tqdm
+
+from .. import Case, Modifications, QuasiStaticResult, harris_map, load_map, quasi_static
+from ..io import atomic_open, write_csv
+
+__all__ = ["format_table", "result_summary", "run_case"]
+
+
+def result_summary(r: QuasiStaticResult) -> dict:
+    """Scalar figures of a quasi-static result (SI units), JSON-ready."""
+    k = np.asarray(r.mesh_stiffness)
+    return {
+        "te_mean_m": float(r.te_mean),
+        "te_rms_m": float(r.te_rms),
+        "te_ptp_m": float(r.te_ptp),
+        "mesh_stiffness_mean_N_per_m": float(k.mean()),
+        "mesh_stiffness_min_N_per_m": float(k.min()),
+        "mesh_stiffness_max_N_per_m": float(k.max()),
+        "contact_length_mean_m": float(np.mean(r.contact_length)),
+        "max_line_load_N_per_m": float(r.max_line_load),
+        "max_contact_iterations": int(np.max(r.iterations)),
+    }
+
+
+def _save_fig(fig, path):
+    with atomic_open(path, "wb") as f:
+        fig.savefig(f, format="png", dpi=120)
+
+
+def finish_plot(
+    fig, ax, path, *, xlabel: str, ylabel: str, title: str, legend: bool = True
+) -> None:
+    """Label, grid and legend ``ax``, write ``fig`` atomically as PNG to ``path`` and close it."""
+    import matplotlib.pyplot as plt
+
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    if legend:
+        ax.legend()
+    _save_fig(fig, path)
+    plt.close(fig)
+
+
+def run_case(
+    case: Case, out_dir: str, *, harris_points: int = 16, show_progress: bool = True
+) -> dict:
+    """Compute geometry, mesh stiffness, quasi-static TE (exact and smooth, with and without the
+    case's modifications), the load map and the Harris map, and write them to ``out_dir``.
+
+    Files (written atomically): ``summary.json``, ``te.csv``, ``mesh_stiffness.csv``,
+    ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``harris_map.png``.
+
+    Returns:
+        The summary dict (also in ``summary.json``).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(out_dir, exist_ok=True)
+    mesh = case.mesh_model()
+    ppp = case.positions_per_pitch
+    none = Modifications()
+    steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    res = {}
+    for label, mods in (("unmodified", none), ("modified", case.modifications)):
+        for mode in ("exact", "smooth"):
+            res[label, mode] = quasi_static(
+                mesh,
+                mods,
+                case.torque,
+                contact=mode,
+                width=case.smooth_width,
+                positions_per_pitch=ppp,
+                periods=2,
+            )
+            steps.update()
+    torques = np.linspace(0.1, 2.0, harris_points) * case.torque
+    harris = {
+        label: harris_map(mesh, mods, torques, positions_per_pitch=ppp)
+        for label, mods in (("unmodified", none), ("modified", case.modifications))
+    }
+    steps.update()
+    pair = case.pair
+    s_edges, z, lmap = load_map(
+        res["modified", "exact"], ppp, pair.base_pitch, pair.path_of_contact
+    )
+    steps.update()
+    steps.close()
+
+    summary = {
+        "case": case.name,
+        "geometry": pair.summary(),
+        "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
+        "mesh": {
+            "stiffness": case.stiffness_model,
+            "slices": case.slices,
+            "positions_per_pitch": ppp,
+            "smooth_width_m": case.smooth_width,
+        },
+        "quasi_static": {m: result_summary(res["modified", m]) for m in ("exact", "smooth")},
+        "quasi_static_unmodified": {
+            m: result_summary(res["unmodified", m]) for m in ("exact", "smooth")
+        },
+        "harris_map": {
+            "torque_Nm": torques.tolist(),
+            "te_ptp_unmodified_m": harris["unmodified"].tolist(),
+            "te_ptp_modified_m": harris["modified"].tolist(),
+        },
+        "environment": {
+            "jax": jax.__version__,
+            "backend": jax.default_backend(),
+            "dtype": str(mesh.base_pitch.dtype),
+            "python": platform.python_version(),
+        },
+    }
+    theta = np.asarray(res["modified", "exact"].theta)
+    cols = {
+        f"te_{m}_{lab}_m": np.asarray(res[lab, m].transmission_error)
+        for lab in ("unmodified", "modified")
+        for m in ("exact", "smooth")
+    }
+    write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *cols], [theta, *cols.values()])
+    kcols = {
+        f"mesh_stiffness_{m}_{lab}_N_per_m": np.asarray(res[lab, m].mesh_stiffness)
+        for lab in ("unmodified", "modified")
+        for m in ("exact", "smooth")
+    }
+    lcols = {"contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length)}
+    write_csv(
+        os.path.join(out_dir, "mesh_stiffness.csv"),
+        ["theta_rad", *kcols, *lcols],
+        [theta, *kcols.values(), *lcols.values()],
+    )
+
+    period = 2 * math.pi / pair.pinion.teeth
+    x = theta / period
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    styles = {"exact": "-", "smooth": "--"}
+    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
+        for m in ("exact", "smooth"):
+            ax.plot(
+                x,
+                np.asarray(res[lab, m].transmission_error) * 1e6,
+                styles[m],
+                color=color,
+                label=f"{lab}, {m}",
+            )
+    finish_plot(
+        fig,
+        ax,
+        os.path.join(out_dir, "transmission_error.png"),
+        xlabel="pinion position (mesh periods)",
+        ylabel="quasi-static TE (µm, transverse, along the line of action)",
+        title=f"{case.name}: transmission error at {case.torque:g} N·m",
+    )
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
+        ax.plot(
+            x,
+            np.asarray(res[lab, "exact"].mesh_stiffness) / 1e6,
+            color=color,
+            label=f"{lab} (loaded cells)",
+        )
+    finish_plot(
+        fig,
+        ax,
+        os.path.join(out_dir, "mesh_stiffness.png"),
+        xlabel="pinion position (mesh periods)",
+        ylabel="mesh stiffness K(θ) (N/µm)",
+        title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})",
+    )
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    dz = pair.face_width / len(z)
+    z_edges = np.concatenate([[0.0], z + dz / 2])
+    pc = ax.pcolormesh(s_edges * 1e3, z_edges * 1e3, lmap.T / 1e3, shading="flat", cmap="viridis")
+    fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
+    ax.set_xlabel("s along the line of action (mm): 0 = engagement (gear tip)")
+    ax.set_ylabel("z across the face (mm)")
+    ax.set_title(f"{case.name}: load map over a tooth passage (exact, modified)")
+    _save_fig(fig, os.path.join(out_dir, "load_map.png"))
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    ax.plot(torques, harris["unmodified"] * 1e6, "o-", label="no relief")
+    ax.plot(torques, harris["modified"] * 1e6, "s-", label="case modifications")
+    ax.axvline(case.torque, color="k", lw=0.8, ls=":", label="design torque")
+    finish_plot(
+        fig,
+        ax,
+        os.path.join(out_dir, "harris_map.png"),
+        xlabel="pinion torque (N·m)",
+        ylabel="TE peak-to-peak (µm)",
+        title=f"{case.name}: Harris map (exact contact)",
+    )
+
+    with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def format_table(summary: dict) -> str:
+    """A short plain-text table of the main figures."""
+    g = summary["geometry"]
+    lines = [
+        f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
+        f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
+        f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m",
+        f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
+    ]
+    for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
+        for m in ("exact", "smooth"):
+            q = summary[key][m]
+            lines.append(
+                f"{lab + ' ' + m:24s}{q['te_mean_m'] * 1e6:12.4f}{q['te_rms_m'] * 1e6:12.4f}"
+                f"{q['te_ptp_m'] * 1e6:12.4f}{q['mesh_stiffness_mean_N_per_m'] / 1e6:13.2f}"
+                f"{q['max_line_load_N_per_m'] / 1e3:10.1f}"
+            )
+    return "\n".join(lines)
+
+
+def quasi_static_3d_summary(case: Case) -> dict:
+    """JSON summary of :func:`jaxgear.dynamics.quasi_static_3d` (lumped 3D scene, exact contact)."""
+    from ..dynamics import quasi_static_3d
+
+    res, forces = quasi_static_3d(case, slices=min(case.slices, 8))
+    out = result_summary(res)
+    out["bearing_forces_mean_N"] = forces
+    return out
+
+
+def run_command(args) -> int:
+    """``jaxgear run``: quasi-static files, then the sweep and optimisation the case asks for."""
+    import numpy as np
+
+    from ..io import load_case, write_json
+    from ._sweep import sweep_case
+
+    case = load_case(args.case)
+    out = args.out or os.path.join("jaxgear-out", case.name)
+    summary = run_case(case, out, show_progress=not args.quiet)
+    if case.scene is not None:  # the case has a dynamic scene: add the dynamic factor curve
+        sw = sweep_case(
+            case,
+            np.linspace(100.0, 3000.0, 60),
+            os.path.join(out, "sweep"),
+            slices=min(case.slices, 8),
+            show_progress=not args.quiet,
+        )
+        df = np.asarray(sw["dynamic_factor"], dtype=float)
+        if case.scene.model == "lumped3d":
+            summary["quasi_static_3d"] = quasi_static_3d_summary(case)
+        summary["dynamics"] = {
+            "model": case.scene.model,
+            "speeds_rad_s": sw["speeds_rad_s"],
+            "dynamic_factor": sw["dynamic_factor"],
+            "max_dynamic_factor": float(np.nanmax(df)),
+            "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
+            "files": "sweep/sweep.json, sweep/dynamic_factor.png, sweep/campbell.png",
+        }
+        write_json(os.path.join(out, "summary.json"), summary)
+    if case.optimise is not None:  # the case asks for an optimisation too
+        from ._optimise import optimise_case, settings_from_case
+
+        rep = optimise_case(
+            case, settings_from_case(case), os.path.join(out, "optimise"), progress=not args.quiet
+        )
+        summary["optimise"] = {
+            k: rep[k]
+            for k in (
+                "objective",
+                "variables",
+                "initial",
+                "final",
+                "iterations",
+                "evaluations",
+                "converged",
+            )
+        }
+        write_json(os.path.join(out, "summary.json"), summary)
+    if args.json:
+        write_json(args.json, summary)
+    print(format_table(summary))
+    if "quasi_static_3d" in summary:
+        q = summary["quasi_static_3d"]
+        print(
+            f"lumped 3D scene, exact: TE mean {q['te_mean_m'] * 1e6:.4f} µm, "
+            f"TE rms {q['te_rms_m'] * 1e6:.4f} µm (shaft and bearing compliance included)"
+        )
+    if "dynamics" in summary:
+        d = summary["dynamics"]
+        print(
+            f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
+            f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
+            f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
+        )
+    print(f"written to {out}/")
+    return 0

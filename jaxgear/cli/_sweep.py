@@ -1,0 +1,403 @@
+"""The ``[scene]`` table of a case and the ``jaxgear sweep`` command (docs/dynamics.md).
+
+``[scene]`` selects and parameterises the dynamic model (units in key names, SI after parsing):
+
+.. code-block:: toml
+
+    [scene]
+    model = "torsional"                  # or "lumped3d" (shafts + bearings, see docs/dynamics.md)
+    reduction = "none"                   # or "relative": the 1-DOF relative approach
+    pinion_inertia_kg_m2 = 2.4e-4        # default: solid disc, tip radius × face width × density
+    gear_inertia_kg_m2 = 2.3e-3
+    motor_inertia_kg_m2 = 1e-2           # optional, needs motor_shaft_stiffness_Nm_per_rad
+    motor_shaft_stiffness_Nm_per_rad = 2e4
+    load_inertia_kg_m2 = 5e-2            # optional, needs load_shaft_stiffness_Nm_per_rad
+    load_shaft_stiffness_Nm_per_rad = 5e4
+    [scene.damping]
+    model = "composite"                  # "composite" (2.36) | "modal" (2.35) | "rayleigh" (2.34) | "none"
+    mesh_ratio = 0.07                    # composite: ξ_i = mesh_ratio e_i + structure_ratio (1 − e_i)
+    structure_ratio = 0.01
+    ratio = 0.05                         # modal: one ξ for every mode
+    alpha_per_s = 0.0                    # rayleigh: C = α M + β K̄
+    beta_s = 0.0
+    [scene.integration]
+    solver = "newmark"                   # or a diffrax solver: tsit5, dopri5, kvaerno5, ...
+    contact = "exact"                    # or "smooth" (width: [mesh] smooth_width_um)
+    steps_per_period = 64
+    periods = 60
+    keep_periods = 4
+    rtol = 1e-6                          # diffrax PID controller (scaled state)
+    atol = 1e-6
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import os
+import platform
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:  # importing this module stays free of JAX (the CLI builds its parser early)
+    from .. import Case
+
+__all__ = [
+    "SceneSpec",
+    "add_sweep_parser",
+    "build_dynamic_model",
+    "parse_scene",
+    "run_sweep",
+    "sweep_case",
+]
+
+
+def _parse_speeds(text: str) -> np.ndarray:
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise ValueError(f"--speeds {text!r}: expected START:STOP:N (pinion rad/s, N points)")
+    try:
+        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise ValueError(
+            f"--speeds {text!r}: START and STOP must be numbers, N an integer"
+        ) from None
+    if not (a > 0 and b > a and n >= 2):
+        raise ValueError(f"--speeds {text!r}: need 0 < START < STOP and N >= 2")
+    return np.linspace(a, b, n)
+
+
+def _clean(values) -> list:
+    return [float(v) if np.isfinite(v) else None for v in np.asarray(values, dtype=float)]
+
+
+def _critical(model, s_max: float, n_modes: int = 3, harmonics=(1, 2, 3)) -> list[dict]:
+    omega = np.asarray(model.modes.omega)
+    rigid = np.asarray(model.modes.rigid)
+    energy = np.asarray(model.modes.mesh_energy)
+    z1 = 2 * math.pi / float(model.mesh.mesh_period_angle)
+    out = []
+    # the modes the mesh excites: the largest strain-energy shares in the mesh (seed Tab. IV-8)
+    elastic = [i for i in range(omega.size) if not rigid[i] and energy[i] >= 0.05]
+    modes = sorted(sorted(elastic, key=lambda i: -energy[i])[:n_modes])
+    for i in modes:
+        for h in harmonics:
+            sp = omega[i] / (z1 * h)
+            if sp <= s_max * 1.05:
+                out.append(
+                    {
+                        "mode": int(i),
+                        "harmonic": int(h),
+                        "speed_rad_s": float(sp),
+                        "frequency_Hz": float(omega[i] / (2 * math.pi)),
+                        "mesh_energy_share": float(energy[i]),
+                    }
+                )
+    return out
+
+
+def sweep_case(
+    case: Case,
+    speeds,
+    out_dir: str,
+    *,
+    direction: str = "independent",
+    solver: str | None = None,
+    contact: str | None = None,
+    periods: int | None = None,
+    steps_per_period: int | None = None,
+    keep_periods: int | None = None,
+    slices: int | None = None,
+    show_progress: bool = True,
+) -> dict:
+    """Speed sweep of a case's scene; writes ``sweep.json``, ``dynamic_factor.png`` and
+    ``campbell.png`` to ``out_dir`` (atomically) and returns the JSON dict."""
+    import jax
+    from tqdm.auto import tqdm
+
+    from ..dynamics import SceneSpec, build_dynamic_model, speed_sweep
+    from ..io import atomic_open
+
+    spec = case.scene if case.scene is not None else SceneSpec()
+    over = {
+        k: v
+        for k, v in dict(
+            solver=solver,
+            contact=contact,
+            periods=periods,
+            steps_per_period=steps_per_period,
+            keep_periods=keep_periods,
+        ).items()
+        if v is not None
+    }
+    spec = dataclasses.replace(spec, **over)
+    if spec.keep_periods > spec.periods:
+        raise ValueError(f"keep_periods = {spec.keep_periods} must be <= periods = {spec.periods}")
+    if direction not in ("independent", "up", "down", "both"):
+        raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
+    speeds = np.asarray(speeds, dtype=float)
+    t0 = time.perf_counter()
+    model, spec = build_dynamic_model(case, spec, slices=slices)
+    n_dirs = 2 if direction == "both" else 1
+    bar = tqdm(
+        total=n_dirs * speeds.size,
+        desc=f"jaxgear sweep {case.name}",
+        unit="speed",
+        disable=not show_progress,
+    )
+    last = [0]
+
+    def progress(n):
+        bar.update(n - last[0] if n >= last[0] else n)
+        last[0] = n
+
+    chunk = max(1, min(32, -(-speeds.size // 10)))
+    res = speed_sweep(
+        model,
+        speeds,
+        direction=direction,
+        chunk_size=chunk,
+        progress=progress,
+        solver=spec.solver,
+        contact=spec.contact,
+        width=case.smooth_width,
+        steps_per_period=spec.steps_per_period,
+        periods=spec.periods,
+        keep_periods=spec.keep_periods,
+        rtol=spec.rtol,
+        atol=spec.atol,
+    )
+    jax.block_until_ready(res)
+    bar.close()
+    elapsed = time.perf_counter() - t0
+    from .. import DynamicsResult
+
+    r = res.results
+    omega = np.asarray(model.modes.omega)
+    summary = {
+        "case": case.name,
+        "model": spec.model,
+        "reduction": spec.reduction,
+        "solver": spec.solver,
+        "contact": spec.contact,
+        "direction": direction,
+        "steps_per_period": spec.steps_per_period,
+        "periods": spec.periods,
+        "keep_periods": spec.keep_periods,
+        "damping": spec.damping_model,
+        "torque_Nm": case.torque,
+        "static_mesh_force_N": float(model.static_force),
+        "mesh_stiffness_mean_N_per_m": float(model.mesh_stiffness_mean),
+        "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
+        "mesh_energy_share": _clean(model.modes.mesh_energy),
+        "modal_energy_parts": list(model.modes.parts),
+        "modal_energy": [_clean(row) for row in np.asarray(model.modes.energy)],
+        "critical_speeds": _critical(model, float(speeds.max())),
+        "speeds_rad_s": _clean(speeds),
+        "mesh_frequency_Hz": _clean(r.mesh_frequency),
+        "dynamic_factor": _clean(r.dynamic_factor),
+        "dynamic_factor_tooth": _clean(r.dynamic_factor_tooth),
+        "te_rms_m": _clean(r.te_rms),
+        "te_mean_m": _clean(r.te_mean),
+        "contact_loss": _clean(r.contact_loss),
+        "periodicity": _clean(r.periodicity),
+        "result": [int(v) for v in np.asarray(r.result)],
+        "bearing_names": list(getattr(model.scene, "reaction_names", ())),
+        "bearing_force_max_N": [_clean(row) for row in np.asarray(r.bearing_force_max)],
+        "bearing_force_static_N": _clean(np.asarray(r.bearing_force_static)[0])
+        if np.asarray(r.bearing_force_static).size
+        else [],
+        "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
+        "elapsed_s": elapsed,
+        "platform": {
+            "jax": jax.__version__,
+            "device": str(jax.devices()[0].platform),
+            "devices": len(jax.local_devices()),
+            "python": platform.python_version(),
+        },
+    }
+    if res.down is not None:
+        d = res.down
+        summary.update(
+            {
+                "dynamic_factor_down": _clean(d.dynamic_factor),
+                "dynamic_factor_tooth_down": _clean(d.dynamic_factor_tooth),
+                "te_rms_m_down": _clean(d.te_rms),
+                "contact_loss_down": _clean(d.contact_loss),
+                "result_down": [int(v) for v in np.asarray(d.result)],
+            }
+        )
+    os.makedirs(out_dir, exist_ok=True)
+    with atomic_open(os.path.join(out_dir, "sweep.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    _plots(summary, out_dir, z1=case.pair.pinion.teeth)
+    return summary
+
+
+def _plots(summary: dict, out_dir: str, z1: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..io import atomic_open
+
+    def save(fig, name):
+        with atomic_open(os.path.join(out_dir, name), "wb") as f:
+            fig.savefig(f, format="png", dpi=120)
+        plt.close(fig)
+
+    sp = np.asarray(summary["speeds_rad_s"], dtype=float)
+    nan = lambda v: np.asarray([np.nan if x is None else x for x in v], dtype=float)
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    label = {
+        "independent": "from static equilibrium",
+        "up": "sweep up",
+        "down": "sweep down",
+        "both": "sweep up",
+    }[summary["direction"]]
+    df = nan(summary["dynamic_factor"])
+    ax.plot(sp, df, "-", color="C0", label=f"mesh force, {label}")
+    ax.plot(sp, nan(summary["dynamic_factor_tooth"]), ":", color="C0", lw=1, label="per tooth")
+    if "dynamic_factor_down" in summary:
+        ax.plot(
+            sp,
+            nan(summary["dynamic_factor_down"]),
+            "--",
+            color="C3",
+            label="mesh force, sweep down",
+        )
+    loss = nan(summary["contact_loss"]) > 0
+    if loss.any():
+        ax.plot(sp[loss], df[loss], "o", ms=3, color="C1", label="contact loss")
+    bad = np.asarray(summary["result"]) != 0
+    if bad.any():
+        ax.plot(sp[bad], np.ones(bad.sum()), "x", color="k", label="diverged (see result)")
+    for c in summary["critical_speeds"]:
+        if sp.min() <= c["speed_rad_s"] <= sp.max():
+            ax.axvline(c["speed_rad_s"], color="0.5", ls="--", lw=0.8)
+            ax.annotate(
+                f"mode {c['mode']} × H{c['harmonic']}",
+                (c["speed_rad_s"], 1.0),
+                rotation=90,
+                fontsize=7,
+                color="0.4",
+                va="bottom",
+                ha="right",
+            )
+    ax.set_xlabel("pinion speed (rad/s)")
+    ax.set_ylabel("dynamic factor (max / static mesh force)")
+    ax.set_title(
+        f"{summary['case']}: {summary['model']} model, {summary['solver']}, "
+        f"{summary['contact']} contact"
+    )
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, "dynamic_factor.png")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    s_line = np.linspace(0, sp.max() * 1.05, 50)
+    freqs = [
+        f
+        for f, e in zip(
+            nan(summary["natural_frequencies_Hz"]), nan(summary["mesh_energy_share"]), strict=True
+        )
+        if f > 0 and e >= 0.05
+    ]
+    for h in range(1, 5):
+        ax.plot(s_line, h * s_line * z1 / (2 * math.pi), color=f"C{h - 1}", label=f"mesh H{h}")
+    for f in freqs:
+        ax.axhline(f, color="k", ls="--", lw=0.8)
+    for c in summary["critical_speeds"]:
+        ax.plot(c["speed_rad_s"], c["frequency_Hz"], "o", color="C3")
+    if freqs:
+        ax.set_ylim(0, 1.3 * max(max(freqs), sp.max() * z1 / (2 * math.pi)))
+    ax.set_xlim(0, s_line[-1])
+    ax.set_xlabel("pinion speed (rad/s)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title("Campbell diagram: mesh harmonics vs modes with ≥ 5 % mesh energy (dashed)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    save(fig, "campbell.png")
+
+
+_SOLVER_NAMES = [
+    "newmark",
+    "tsit5",
+    "dopri5",
+    "dopri8",
+    "bosh3",
+    "heun",
+    "midpoint",
+    "ralston",
+    "euler",
+    "kvaerno3",
+    "kvaerno4",
+    "kvaerno5",
+    "implicit_euler",
+]
+
+
+def add_sweep_parser(subparsers) -> argparse.ArgumentParser:
+    """Register ``jaxgear sweep`` on an argparse subparsers object."""
+    s = subparsers.add_parser(
+        "sweep", help="dynamic factor vs speed (Newmark/diffrax, [scene] table)"
+    )
+    s.add_argument("case", help="TOML case file or embedded case name")
+    s.add_argument("--speeds", required=True, help="START:STOP:N pinion speeds (rad/s)")
+    s.add_argument(
+        "--direction",
+        default="independent",
+        choices=["independent", "up", "down", "both"],
+        help="independent speeds (vmap) or continuation sweeps (default: independent)",
+    )
+    s.add_argument(
+        "--solver",
+        choices=_SOLVER_NAMES,
+        help="time integrator (default: [scene.integration] solver, else newmark)",
+    )
+    s.add_argument("--contact", choices=["exact", "smooth"], help="contact law")
+    s.add_argument("--periods", type=int, help="mesh periods per speed")
+    s.add_argument("--keep-periods", type=int, help="steady-state periods kept")
+    s.add_argument("--steps-per-period", type=int, help="time steps per mesh period")
+    s.add_argument("--slices", type=int, help="override [mesh] slices")
+    s.add_argument("--out", help="output folder (default: jaxgear-out/<case>/sweep/)")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    return s
+
+
+def run_sweep(args) -> int:
+    """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it). Returns 0."""
+    from ..io import load_case
+
+    case = load_case(args.case)
+    speeds = _parse_speeds(args.speeds)
+    out = args.out or os.path.join("jaxgear-out", case.name, "sweep")
+    s = sweep_case(
+        case,
+        speeds,
+        out,
+        direction=args.direction,
+        solver=args.solver,
+        contact=args.contact,
+        periods=args.periods,
+        steps_per_period=args.steps_per_period,
+        keep_periods=args.keep_periods,
+        slices=args.slices,
+        show_progress=not args.quiet,
+    )
+    df = np.asarray([np.nan if v is None else v for v in s["dynamic_factor"]])
+    i = int(np.nanargmax(df)) if np.isfinite(df).any() else 0
+    n_bad = sum(1 for v in s["result"] if v)
+    print(
+        f"{case.name}: {len(df)} speeds, max dynamic factor {df[i]:.3f} at "
+        f"{s['speeds_rad_s'][i]:.1f} rad/s; first natural frequencies "
+        f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
+        f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
+    )
+    print(f"written to {out}/")
+    return 0

@@ -1,0 +1,104 @@
+"""Integration settings, the contact law φ and the divergence checks shared by the integrators."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import jax
+import jax.numpy as jnp
+
+__all__ = ["DIFFRAX_SOLVERS"]
+
+DIFFRAX_SOLVERS = {
+    "tsit5": "Tsit5",
+    "dopri5": "Dopri5",
+    "dopri8": "Dopri8",
+    "bosh3": "Bosh3",
+    "heun": "Heun",
+    "midpoint": "Midpoint",
+    "ralston": "Ralston",
+    "euler": "Euler",
+    "kvaerno3": "Kvaerno3",
+    "kvaerno4": "Kvaerno4",
+    "kvaerno5": "Kvaerno5",
+    "implicit_euler": "ImplicitEuler",
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class _Config:
+    solver: str
+    contact: str
+    steps_per_period: int
+    periods: int
+    keep_periods: int
+    max_iterations: int
+    rtol: float
+    atol: float
+    adaptive: bool
+    max_steps: int
+    blowup: float
+
+
+def _phi(gap, mode, width):
+    if mode == "exact":
+        return jnp.maximum(gap, 0.0)
+    return width * jax.nn.softplus(gap / width)
+
+
+def _code(code, new):
+    return jnp.where(code == 0, new, code)
+
+
+def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
+    finite = jnp.all(jnp.isfinite(X)) & jnp.all(jnp.isfinite(xd)) & jnp.isfinite(fm)
+    ke = 0.5 * xd @ M @ xd
+    blown = (fm > blowup * fs) | (ke > blowup**2 * e_ref)
+    return jnp.where(~finite, 2, jnp.where(blown, 3, 0))
+
+
+def _config(
+    solver,
+    contact,
+    steps_per_period,
+    periods,
+    keep_periods,
+    max_iterations,
+    rtol,
+    atol,
+    adaptive,
+    max_steps,
+    blowup,
+) -> _Config:
+    if solver != "newmark" and solver not in DIFFRAX_SOLVERS:
+        raise ValueError(
+            f"solver = {solver!r}: allowed 'newmark' or a diffrax solver "
+            f"({', '.join(DIFFRAX_SOLVERS)})"
+        )
+    if contact not in ("exact", "smooth"):
+        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
+    for name, v, lo in (
+        ("steps_per_period", steps_per_period, 4),
+        ("periods", periods, 2),
+        ("keep_periods", keep_periods, 2),
+    ):
+        if int(v) != v or v < lo:
+            raise ValueError(f"{name} = {v!r} is out of range: allowed an integer >= {lo}")
+    if keep_periods > periods:
+        raise ValueError(f"keep_periods = {keep_periods} must be <= periods = {periods}")
+    n_total = int(periods) * int(steps_per_period)
+    if max_steps is None:
+        max_steps = 64 * n_total + 4096
+    return _Config(
+        solver,
+        contact,
+        int(steps_per_period),
+        int(periods),
+        int(keep_periods),
+        int(max_iterations),
+        float(rtol),
+        float(atol),
+        bool(adaptive),
+        int(max_steps),
+        float(blowup),
+    )

@@ -1,0 +1,249 @@
+"""Time integration of the gear dynamics with unilateral contact, and speed sweeps (DESIGN.md §6).
+
+Equations of motion (seed (2.37), :mod:`jaxgear._dyn_scene`):
+
+    M Ẍ + C Ẋ + K_s X + Σ_c k_c l_c φ(V_c·X − δ0_c(t)) V_c = F,
+
+with the cells and δ0 at the nominal mesh position θ(t) = Ω t + Δθ/2 (Ω: pinion speed, rad/s;
+Δθ = 2π/(z1 N_s) the pinion rotation of one time step, N_s steps per mesh period; the half-step
+offset keeps contact-line ends off the edges of the base plane, as in the quasi-static positions).
+The excitation comes only through δ0(t) and the time-varying cell set (seed III §3.3).
+
+Solvers:
+
+* ``"newmark"``: Newmark average acceleration (β = 1/4, γ = 1/2, seed annex 2, (2.1)-(2.6)). Each
+  step is a contact problem K_eff X = F_eff with K_eff = M/(βΔt²) + γC/(βΔt) + K_s, solved by
+  :func:`jaxgear.solve_contact`: exact law by the active set of seed II-25 (cells in tension dropped,
+  interference outside the contact set checked, repeated), or the smooth softplus law by Newton.
+  Because N_s is fixed per mesh period, the cell table (δ0, k, l, V at N_s positions) does not
+  depend on the speed: it is built once and indexed by step mod N_s.
+* a diffrax solver name (``"tsit5"``, ``"dopri5"``, ``"dopri8"``, ``"kvaerno3"``, ``"kvaerno5"``,
+  ...): the first-order form in scaled variables (X/x_ref, Ẋ/(x_ref ω_ref)), adaptive steps with a
+  ``PIDController`` (or constant steps with ``adaptive=False``), cells evaluated at θ(t).
+
+Steady state: ``periods`` mesh periods are integrated from the static equilibrium (or a given
+state), the last ``keep_periods`` are kept. Outputs: mesh force, dynamic TE, per-tooth force, the
+dynamic factor (max dynamic mesh force / static mesh force, global and per tooth), TE RMS, the
+contact-loss fraction, and the change between the last two periods (periodicity check).
+
+Divergence is reported through ``result`` (:class:`~jaxgear.DynamicsResult`), never as a silent NaN.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Bool, Float, Int
+
+from .._baseplane import MeshModel
+from .._contact import solve_contact
+from .._modifications import Modifications
+from .._quasi_static import mesh_positions, separation
+from ..scenes import DynamicScene
+from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
+
+__all__ = ["DynamicModel", "MeshTable", "dynamic_model", "mesh_table"]
+
+
+class MeshTable(eqx.Module):
+    """Contact cells at the N_s positions of one mesh period (c = n_lines·n_slices cells).
+
+    Attributes:
+        theta: pinion angles (rad), shape (P,). V: structure vectors, shape (P, c, n).
+        k: cell stiffness per unit length (N/m²), length: cell length (m), delta0: δ0 (m),
+        mask: cells on the flanks; all shape (P, c).
+        e_max: the reference e_ref = max over the period of max_M e (m), broadcast to (P,):
+            δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant reference.
+        n_lines: static number of contact lines (cells are line-major).
+    """
+
+    theta: Float[Array, " P"]
+    V: Float[Array, "P c n"]
+    k: Float[Array, "P c"]
+    length: Float[Array, "P c"]
+    delta0: Float[Array, "P c"]
+    mask: Bool[Array, "P c"]
+    e_max: Float[Array, " P"]
+    n_lines: int = eqx.field(static=True)
+
+
+def mesh_table(scene: DynamicScene, mods: Modifications, steps_per_period: int) -> MeshTable:
+    """Cells, δ0 (2.8) and structure vectors at the mid-points of ``steps_per_period`` steps."""
+    mesh = scene.mesh
+    theta = mesh_positions(mesh, steps_per_period)
+
+    def row(th):
+        cells, e_max, d0 = separation(mesh, mods, th)
+        V = scene.cell_vectors(cells)
+        return (
+            V.reshape(-1, V.shape[-1]),
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            d0.reshape(-1),
+            cells.mask.reshape(-1),
+            e_max,
+        )
+
+    V, k, ln, d0, mask, e_max = jax.vmap(row)(theta)
+    # one time-constant reference: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e moves its
+    # reference with time, which would be a spurious inertial excitation in dynamics.
+    e_ref = jnp.max(e_max)
+    d0 = jnp.where(mask, d0 + (e_ref - e_max)[:, None], 0.0)
+    return MeshTable(
+        theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape), n_lines=mesh.n_lines
+    )
+
+
+def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
+    """μ Σ (M r)(M r)ᵀ/(rᵀ M r): pins the rigid-body modes of a static problem (F·r = V·r = 0, so
+    the solution is unchanged apart from its M-orthogonality to r)."""
+    M = scene.mass()
+    R = scene.rigid_modes()
+    n = M.shape[0]
+    if R.shape[1] == 0:
+        return jnp.zeros((n, n), M.dtype)
+    MR = M @ R
+    mu = k_ref / (jnp.trace(M) / n)
+    return mu * MR @ jnp.diag(1.0 / jnp.einsum("ir,ij,jr->r", R, M, R)) @ MR.T
+
+
+def _static_rows(scene: DynamicScene, table: MeshTable, torque, mode, width, max_iterations, k_ref):
+    """Static contact solution at each table row (the quasi-static reference)."""
+    K = scene.stiffness() + _rigid_penalty(scene, k_ref)
+    F = scene.external_load(torque)
+    return jax.vmap(
+        lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, mode, width, max_iterations)
+    )(table.V, table.k, table.length, table.delta0, table.mask)
+
+
+def _k_ref(table: MeshTable):
+    kl = jnp.where(table.mask[0], table.k[0] * table.length[0], 0.0)
+    return jnp.einsum("c,ci,ci->", kl, table.V[0], table.V[0])
+
+
+class _Prepared(eqx.Module):
+    table: MeshTable
+    static_x: Float[Array, "P n"]
+    static_force_density: Float[Array, "P c"]
+    static_weight: Float[Array, "P c"]
+    static_result: Int[Array, " P"]
+
+
+@eqx.filter_jit
+def _prepare(scene, mods, torque, width, steps_per_period: int, contact: str, max_iterations: int):
+    """Cell table and static rows (compiled once per scene structure and N_s; shared by the model
+    build, every solver, direction and period count)."""
+    table = mesh_table(scene, mods, steps_per_period)
+    static = _static_rows(scene, table, torque, contact, width, max_iterations, _k_ref(table))
+    return _Prepared(table, static.x, static.force_density, static.weight, static.result)
+
+
+class DynamicModel(eqx.Module):
+    """A dynamic scene at an operating torque, with its damping (build with :func:`dynamic_model`).
+
+    Attributes:
+        scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications (differentiable:
+            δ0 is rebuilt from them in every simulation). torque: pinion torque T (N·m).
+        damping: the (n, n) damping matrix C, built once from the modal analysis of the
+            time-averaged system (held fixed under differentiation wrt ``mods``).
+        modes: :class:`ModalAnalysis` of the time-averaged system.
+        mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m).
+    """
+
+    scene: DynamicScene
+    mods: Modifications
+    torque: Float[Array, ""]
+    damping: Float[Array, "n n"]
+    modes: ModalAnalysis
+    mesh_stiffness_mean: Float[Array, ""]
+
+    @property
+    def mesh(self) -> MeshModel:
+        return self.scene.mesh
+
+    @property
+    def static_force(self) -> Float[Array, ""]:
+        """Static flank-normal mesh force F_s = T/(r_b1 cos β_b) (N)."""
+        return self.mesh.normal_load(self.torque)
+
+    def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
+        """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
+        frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
+        return self.modes.omega * self.mesh.mesh_period_angle / (2 * jnp.pi * harmonic)
+
+
+def dynamic_model(
+    scene: DynamicScene,
+    mods: Modifications | None,
+    torque,
+    damping: Damping | None = None,
+    *,
+    positions_per_pitch: int = 64,
+    contact: str = "exact",
+    width=1e-7,
+    max_iterations: int = 100,
+) -> DynamicModel:
+    """Build a :class:`DynamicModel`: time-averaged mesh stiffness, modal analysis, damping.
+
+    The time-averaged mesh stiffness matrix is K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over one mesh
+    period, w_c the static contact weights at ``torque`` (loaded cells only, so a tip relief that
+    is not in contact does not count); the modal analysis of (M, K_s + K̄_m) gives the damping
+    (2.34)-(2.36).
+
+    Args:
+        scene: dynamic scene. mods: modifications (``None``: none). torque: pinion torque (N·m).
+        damping: :class:`Damping` (default: composite (2.36), 0.07 mesh / 0.01 structure).
+        positions_per_pitch: positions per mesh period for the averages.
+        contact, width, max_iterations: contact law of the static solve (exact by default).
+    """
+    if mods is None:
+        mods = Modifications()
+    if damping is None:
+        damping = Damping()
+    dtype = scene.mesh.base_pitch.dtype
+    torque = jnp.asarray(torque, dtype=dtype)
+    if not bool(torque > 0):
+        raise ValueError(f"torque = {float(torque)} N·m must be > 0 (the pinion drives)")
+    model, codes = _build(
+        scene,
+        mods,
+        torque,
+        damping,
+        jnp.asarray(width, dtype),
+        positions_per_pitch,
+        contact,
+        max_iterations,
+    )
+    codes = np.asarray(codes)
+    bad = codes != 0
+    if bad.any():
+        raise ValueError(
+            f"static contact solve failed at {int(bad.sum())} positions (result codes "
+            f"{sorted(set(codes[bad].tolist()))}): check the load and the deviations"
+        )
+    return model
+
+
+def _build(scene, mods, torque, damping, width, positions_per_pitch, contact, max_iterations):
+    prep = _prepare(scene, mods, torque, width, positions_per_pitch, contact, max_iterations)
+    return _averaged(scene, mods, torque, damping, prep), prep.static_result
+
+
+@eqx.filter_jit
+def _averaged(scene, mods, torque, damping, prep):
+    table = prep.table
+    w = prep.static_weight
+    kl = jnp.where(table.mask, table.k * table.length, 0.0) * w
+    Km = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kl, table.V, table.V), axis=0)
+    kbar = jnp.mean(jnp.sum(kl, axis=1))
+    modes = modal_analysis(scene, Km)
+    C = damping_matrix(scene, modes, damping)
+    return DynamicModel(
+        scene=scene, mods=mods, torque=torque, damping=C, modes=modes, mesh_stiffness_mean=kbar
+    )
+
+
+# --------------------------------------------------------------------------------------------
+# results

@@ -1,0 +1,308 @@
+"""Steady-state response at one speed: :func:`simulate` and the result containers."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float, Int
+
+from .._results import DynamicsResult
+from ._config import _Config, _config, _phi
+from ._diffrax import _diffrax
+from ._model import DynamicModel, MeshTable, _prepare, _Prepared
+from ._newmark import _newmark
+
+__all__ = ["DynamicResult", "SweepResult", "simulate", "static_start"]
+
+
+class DynamicResult(eqx.Module):
+    """Steady-state response at one speed (K = keep_periods · N_s recorded steps).
+
+    Attributes:
+        speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
+        time: recorded times (s), shape (K,). theta: mesh position modulo one period (rad), (K,).
+        mesh_force: dynamic flank-normal mesh force Σ p l (N), shape (K,).
+        transmission_error: dynamic TE (u·X − max e)/cos β_b (m), shape (K,).
+        line_force: force per contact line (one tooth pair) (N), shape (K, n_lines).
+        static_te: quasi-static TE at the same positions (m), shape (K,).
+        bearing_force: support force components R X (N), shape (K, r) (r = 0 for torsional
+            scenes; :meth:`DynamicScene.reaction_matrix`). bearing_force_max: max |R X| over the
+            kept periods, shape (r,). bearing_force_static: max over positions of the static one.
+        dynamic_factor: max mesh force / static mesh force F_s (-).
+        dynamic_factor_tooth: max tooth force / max quasi-static tooth force (-).
+        te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
+        contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
+        periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-).
+        final_state: (X, Ẋ, Ẍ) at the end (continuation start), each shape (n,).
+        iterations: max contact passes per step (Newmark) or ODE steps taken (diffrax).
+        result: 0 ok, else a key of :class:`~jaxgear.DynamicsResult` code.
+    """
+
+    speed: Float[Array, ""]
+    mesh_frequency: Float[Array, ""]
+    time: Float[Array, " K"]
+    theta: Float[Array, " K"]
+    mesh_force: Float[Array, " K"]
+    transmission_error: Float[Array, " K"]
+    line_force: Float[Array, "K L"]
+    static_te: Float[Array, " K"]
+    bearing_force: Float[Array, "K r"]
+    bearing_force_max: Float[Array, " r"]
+    bearing_force_static: Float[Array, " r"]
+    dynamic_factor: Float[Array, ""]
+    dynamic_factor_tooth: Float[Array, ""]
+    te_rms: Float[Array, ""]
+    te_mean: Float[Array, ""]
+    contact_loss: Float[Array, ""]
+    periodicity: Float[Array, ""]
+    final_state: tuple
+    iterations: Int[Array, ""]
+    result: Int[Array, ""]
+
+
+class SweepResult(eqx.Module):
+    """Speed sweep over S speeds.
+
+    Attributes:
+        speeds: pinion speeds (rad/s), shape (S,).
+        results: :class:`DynamicResult` per speed (leaves with a leading S axis), in the order of
+            ``speeds``: the independent, up or down sweep.
+        down: with ``direction="both"``, the down sweep (same order as ``speeds``); else None.
+    """
+
+    speeds: Float[Array, " S"]
+    results: DynamicResult
+    down: DynamicResult | None = None
+
+    @property
+    def dynamic_factor(self) -> Float[Array, " S"]:
+        return self.results.dynamic_factor
+
+
+# --------------------------------------------------------------------------------------------
+# integrators
+
+
+def _with_acceleration(model, table, X, Xd, cfg, width):
+    scene = model.scene
+    gap = table.V[0] @ X - table.delta0[0]
+    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, cfg.contact, width), 0.0)
+    Xdd = jnp.linalg.solve(
+        scene.mass(),
+        scene.external_load(model.torque)
+        - model.damping @ Xd
+        - scene.stiffness() @ X
+        - table.V[0].T @ f,
+    )
+    return (X, Xd, Xdd)
+
+
+def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, width):
+    P = cfg.steps_per_period
+    mesh = model.mesh
+    period = mesh.mesh_period_angle / speed
+    dt = period / P
+    n_keep = cfg.keep_periods * P
+    n_trans = (cfg.periods - cfg.keep_periods) * P
+    if cfg.solver == "newmark":
+        # one scan (one compiled step) over all steps; the kept periods are sliced off the end
+        carry0 = (*state, jnp.array(0), jnp.array(0))
+        carry, (fm, te, lines, reac) = _newmark(
+            model, table, dt, carry0, n_trans + n_keep, cfg, width, record=True
+        )
+        fm, te, lines, reac = fm[n_trans:], te[n_trans:], lines[n_trans:], reac[n_trans:]
+        X, Xd, Xdd, code, it = carry
+        final = (X, Xd, Xdd)
+    else:
+        final, (fm, te, lines, reac), code, it = _diffrax(
+            model, table, speed, dt, state, cfg, width
+        )
+    fs = model.static_force
+    j = (jnp.arange(n_keep) + 1) % P
+    static_lines = jnp.sum(
+        (static.static_force_density * table.length).reshape(P, table.n_lines, -1), axis=2
+    )
+    u = model.scene.te_vector()
+    cb = jnp.cos(mesh.base_helix_angle)
+    static_te = (static.static_x @ u - table.e_max) / cb
+    last = fm[n_keep - P :]
+    prev = fm[n_keep - 2 * P : n_keep - P]
+    finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
+    code = jnp.where((code == 0) & ~finite, 2, code)
+    time = (n_trans + 1 + jnp.arange(n_keep)) * dt
+    return DynamicResult(
+        speed=speed,
+        mesh_frequency=speed / mesh.mesh_period_angle,
+        time=time,
+        theta=table.theta[j],
+        mesh_force=fm,
+        transmission_error=te,
+        line_force=lines,
+        static_te=static_te[j],
+        bearing_force=reac,
+        bearing_force_max=jnp.max(jnp.abs(reac), axis=0),
+        bearing_force_static=jnp.max(
+            jnp.abs(static.static_x @ model.scene.reaction_matrix().T), axis=0
+        ),
+        dynamic_factor=jnp.max(fm) / fs,
+        dynamic_factor_tooth=jnp.max(lines) / jnp.max(static_lines),
+        te_rms=jnp.std(te),
+        te_mean=jnp.mean(te),
+        contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
+        periodicity=jnp.max(jnp.abs(last - prev)) / fs,
+        final_state=final,
+        iterations=jnp.asarray(it),
+        result=jnp.asarray(code),
+    )
+
+
+def _prep(model, width, cfg: _Config) -> _Prepared:
+    return _prepare(
+        model.scene,
+        model.mods,
+        model.torque,
+        width,
+        cfg.steps_per_period,
+        cfg.contact,
+        cfg.max_iterations,
+    )
+
+
+def _static_start(prep: _Prepared):
+    """(X, Ẋ) of the static equilibrium at the first mesh position, zero vibration velocity."""
+    return prep.static_x[0], jnp.zeros_like(prep.static_x[0])
+
+
+def static_start(model: DynamicModel, *, contact: str = "exact", width=1e-7,
+                 steps_per_period: int = 64, max_iterations: int = 100):
+    """The state every simulation starts from by default: the static equilibrium at the first
+    time step's mesh position and zero vibration velocity.
+
+    Returns:
+        (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
+    """
+    cfg = _config("newmark", contact, steps_per_period, 2, 2, max_iterations, 1e-6, 1e-6, True,
+                  None, 100.0)
+    dtype = model.mesh.base_pitch.dtype
+    return _static_start(_prep(model, jnp.asarray(width, dtype), cfg))
+
+
+@eqx.filter_jit
+def _run(model: DynamicModel, prep: _Prepared, speeds, state0, width, cfg: _Config, mode: str):
+    table = prep.table
+    static = prep
+    state0 = _with_acceleration(model, table, state0[0], state0[1], cfg, width)
+    restart = _with_acceleration(
+        model, table, static.static_x[0], jnp.zeros_like(static.static_x[0]), cfg, width
+    )
+
+    def one(speed, state):
+        return _one_speed(model, table, static, speed, state, cfg, width)
+
+    if mode == "single":
+        return one(speeds, state0)
+    if mode == "vmap":
+        return jax.vmap(lambda s: one(s, state0))(speeds)
+
+    def scan_dir(sp):
+        def body(state, s):
+            r = one(s, state)
+            # a diverged point restarts the next one from the static equilibrium
+            ok = r.result == 0
+            nxt = jax.tree_util.tree_map(lambda a, b: jnp.where(ok, a, b), r.final_state, restart)
+            return nxt, r
+
+        return jax.lax.scan(body, state0, sp)[1]
+
+    if mode == "continuation":
+        return scan_dir(speeds)
+    # both directions at once: vmap over (up, reversed)
+    both = jax.vmap(scan_dir)(jnp.stack([speeds, speeds[::-1]]))
+    up = jax.tree_util.tree_map(lambda a: a[0], both)
+    down = jax.tree_util.tree_map(lambda a: a[1][::-1], both)
+    return up, down
+
+
+def _raise_on_failure(result, what):
+    codes = np.atleast_1d(np.asarray(result))
+    bad = codes[codes != 0]
+    if bad.size:
+        raise eqx.EquinoxRuntimeError(
+            f"{what}: {DynamicsResult(int(bad[0])).message} "
+            f"({bad.size} of {codes.size} speed points)"
+        )
+
+
+def simulate(
+    model: DynamicModel,
+    speed,
+    *,
+    solver: str = "newmark",
+    contact: str = "exact",
+    width=1e-7,
+    steps_per_period: int = 64,
+    periods: int = 60,
+    keep_periods: int = 4,
+    state0=None,
+    max_iterations: int = 100,
+    rtol: float = 1e-6,
+    atol: float = 1e-6,
+    adaptive: bool = True,
+    max_steps: int | None = None,
+    blowup: float = 100.0,
+    throw: bool = True,
+) -> DynamicResult:
+    """Steady-state dynamic response at one pinion speed.
+
+    Args:
+        model: :class:`DynamicModel` from :func:`dynamic_model`.
+        speed: pinion speed Ω (rad/s), > 0, scalar (traced: no recompilation per speed).
+        solver: "newmark" or a diffrax solver name (:data:`DIFFRAX_SOLVERS`).
+        contact: "exact" (active set, II-25) or "smooth" (softplus of ``width`` m; use it for
+            gradients and for the diffrax solvers).
+        width: smoothing width w (m).
+        steps_per_period: N_s, time steps per mesh period (Newmark; the diffrax initial step and
+            the sampling of the kept periods). Resolve the highest mode of interest: Δt below a
+            tenth of its period (average acceleration has no numerical damping).
+        periods: mesh periods integrated; keep_periods: the last ones kept (>= 2).
+        state0: (X, Ẋ) to start from (default: static equilibrium, zero vibration velocity).
+        max_iterations: cap on contact passes per step.
+        rtol, atol: diffrax PID tolerances (scaled state: X/x_ref, Ẋ/(x_ref ω_max), x_ref the
+            static mesh deflection). adaptive: False for constant steps Δt = period/N_s.
+        max_steps: diffrax step cap (default 64 × the Newmark step count + 4096).
+        blowup: divergence bound: mesh force > blowup·F_s or kinetic energy > blowup² · F_s²/2k̄.
+        throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result.
+
+    Returns:
+        :class:`DynamicResult`.
+
+    Raises:
+        ValueError: bad solver/contact names or step counts (trace time).
+        eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
+    """
+    cfg = _config(
+        solver,
+        contact,
+        steps_per_period,
+        periods,
+        keep_periods,
+        max_iterations,
+        rtol,
+        atol,
+        adaptive,
+        max_steps,
+        blowup,
+    )
+    dtype = model.mesh.base_pitch.dtype
+    speed = jnp.asarray(speed, dtype)
+    width = jnp.asarray(width, dtype)
+    prep = _prep(model, width, cfg)
+    if state0 is None:
+        state0 = _static_start(prep)
+    state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
+    r = _run(model, prep, speed, state0, width, cfg, "single")
+    if throw and not isinstance(r.result, jax.core.Tracer):
+        _raise_on_failure(r.result, "simulate")
+    return r

@@ -1,0 +1,28 @@
+"""Both bodies rigid: the 1-DOF flank-normal approach (seed (2.9) with V = 1)."""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from .._baseplane import MeshModel
+from ._scene import Scene
+
+__all__ = ["RigidMesh"]
+
+
+class RigidMesh(Scene):
+    """Both bodies rigid: one coordinate, the flank-normal approach δ (m), V = 1 for every cell."""
+
+    mesh: MeshModel
+
+    def stiffness(self):
+        return jnp.zeros((1, 1), dtype=self.mesh.face_width.dtype)
+
+    def external_load(self, torque):
+        return jnp.reshape(self.mesh.normal_load(torque), (1,))
+
+    def cell_vectors(self, cells):
+        return jnp.ones(cells.s.shape + (1,), dtype=cells.s.dtype)
+
+    def te_vector(self):
+        return jnp.ones((1,), dtype=self.mesh.face_width.dtype)
