@@ -8,66 +8,36 @@ Float64 is not switched on here: the CLI, the tests and the examples do it
 (``jax.config.update("jax_enable_x64", True)``), or set ``JAX_ENABLE_X64=1``.
 """
 
-from importlib.metadata import PackageNotFoundError
-from importlib.metadata import version as _version
+from importlib.metadata import PackageNotFoundError, version as _version
 
-from ._baseplane import Cells as Cells
-from ._baseplane import MeshModel as MeshModel
+from ._baseplane import Cells as Cells, MeshModel as MeshModel
 from ._case import Case as Case
-from ._contact import ContactSolution as ContactSolution
-from ._contact import solve_contact as solve_contact
+from ._contact import ContactSolution as ContactSolution, solve_contact as solve_contact
 from ._geometry import (
     GearPair as GearPair,
-)
-from ._geometry import (
     Member as Member,
-)
-from ._geometry import (
     inverse_involute as inverse_involute,
-)
-from ._geometry import (
     involute as involute,
 )
-from ._maps import harris_map as harris_map
-from ._maps import load_map as load_map
-from ._modifications import MemberModification as MemberModification
-from ._modifications import Modifications as Modifications
+from ._maps import harris_map as harris_map, load_map as load_map
+from ._modifications import MemberModification as MemberModification, Modifications as Modifications
 from ._quasi_static import (
     QuasiStaticResult as QuasiStaticResult,
-)
-from ._quasi_static import (
     mesh_positions as mesh_positions,
-)
-from ._quasi_static import (
     quasi_static as quasi_static,
 )
-from ._results import ContactResult as ContactResult
-from ._results import DynamicsResult as DynamicsResult
+from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._stiffness import (
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,
-)
-from ._stiffness import (
     iso6336_single_stiffness as iso6336_single_stiffness,
-)
-from ._stiffness import (
     stiffness_table as stiffness_table,
-)
-from ._stiffness import (
     weber_profile as weber_profile,
 )
 from .scenes import (
     Grounded as Grounded,
-)
-from .scenes import (
     RigidMesh as RigidMesh,
-)
-from .scenes import (
     Scene as Scene,
-)
-from .scenes import (
     TorsionalPair as TorsionalPair,
-)
-from .scenes import (
     grounded as grounded,
 )
 

@@ -18,21 +18,37 @@ import pytest
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 APP = ("jaxgear.cli", "jaxgear.bench", "jaxgear.io", "matplotlib")
 MODEL_SUBPACKAGES = ("jaxgear.scenes", "jaxgear.dynamics", "jaxgear.io")
-FORBIDDEN_IN_MODEL = ("argparse", "matplotlib", "jaxgear.cli", "jaxgear.bench", "jaxgear.io", "tqdm")
+FORBIDDEN_IN_MODEL = (
+    "argparse",
+    "matplotlib",
+    "jaxgear.cli",
+    "jaxgear.bench",
+    "jaxgear.io",
+    "tqdm",
+)
 
 
 def _modules_after(statement: str) -> set[str]:
     code = f"import sys\n{statement}\nprint('\\n'.join(sorted(sys.modules)))"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
-                         timeout=300, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=300,
+        check=True,
+    ).stdout
     return set(out.split())
 
 
-@pytest.mark.parametrize("statement", [
-    "import jaxgear",
-    "import jaxgear.scenes, jaxgear.dynamics",
-    "import optimise",
-])
+@pytest.mark.parametrize(
+    "statement",
+    [
+        "import jaxgear",
+        "import jaxgear.scenes, jaxgear.dynamics",
+        "import optimise",
+    ],
+)
 def test_model_and_optimise_load_no_application_module(statement):
     loaded = _modules_after(statement)
     bad = sorted(m for m in loaded if m.split(".")[0] == "matplotlib" or m.startswith(APP[:3]))
@@ -76,8 +92,11 @@ def _sources(*packages):
 
 
 def test_model_and_optimise_source_import_no_application_module():
-    model = [p for p in _sources("jaxgear", "optimise")
-             if not p.relative_to(ROOT).parts[1] in ("cli", "bench", "io")]
+    model = [
+        p
+        for p in _sources("jaxgear", "optimise")
+        if not p.relative_to(ROOT).parts[1] in ("cli", "bench", "io")
+    ]
     bad = []
     for path in model:
         for mod in _imports(path):

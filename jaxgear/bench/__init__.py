@@ -3,7 +3,6 @@
 Not imported by the model; timing lives here, never in tests.
 """
 
-from ._dynamics import bench_dynamics as bench_dynamics
-from ._dynamics import stability_map as stability_map
+from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stability_map
 from ._optimise import bench_optimise as bench_optimise
 from ._quasi_static import bench_quasi_static as bench_quasi_static

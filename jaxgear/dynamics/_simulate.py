@@ -175,16 +175,23 @@ def _static_start(prep: _Prepared):
     return prep.static_x[0], jnp.zeros_like(prep.static_x[0])
 
 
-def static_start(model: DynamicModel, *, contact: str = "exact", width=1e-7,
-                 steps_per_period: int = 64, max_iterations: int = 100):
+def static_start(
+    model: DynamicModel,
+    *,
+    contact: str = "exact",
+    width=1e-7,
+    steps_per_period: int = 64,
+    max_iterations: int = 100,
+):
     """The state every simulation starts from by default: the static equilibrium at the first
     time step's mesh position and zero vibration velocity.
 
     Returns:
         (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
     """
-    cfg = _config("newmark", contact, steps_per_period, 2, 2, max_iterations, 1e-6, 1e-6, True,
-                  None, 100.0)
+    cfg = _config(
+        "newmark", contact, steps_per_period, 2, 2, max_iterations, 1e-6, 1e-6, True, None, 100.0
+    )
     dtype = model.mesh.base_pitch.dtype
     return _static_start(_prep(model, jnp.asarray(width, dtype), cfg))
 

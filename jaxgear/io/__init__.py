@@ -3,17 +3,9 @@ embedded cases, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.c
 
 from ._case_file import (
     list_cases as list_cases,
-)
-from ._case_file import (
     load_case as load_case,
-)
-from ._case_file import (
     parse_case as parse_case,
-)
-from ._case_file import (
     parse_modifications as parse_modifications,
 )
 from ._scene_table import parse_scene as parse_scene
-from ._writers import atomic_open as atomic_open
-from ._writers import write_csv as write_csv
-from ._writers import write_json as write_json
+from ._writers import atomic_open as atomic_open, write_csv as write_csv, write_json as write_json

@@ -8,41 +8,21 @@ on Timoshenko shafts and bearings). Later: condensed FE bodies.
 
 from ._lumped3d import (
     Bearing as Bearing,
-)
-from ._lumped3d import (
     LumpedPair as LumpedPair,
-)
-from ._lumped3d import (
     ShaftSpec as ShaftSpec,
-)
-from ._lumped3d import (
     lumped_pair as lumped_pair,
-)
-from ._lumped3d import (
     timoshenko_element as timoshenko_element,
 )
 from ._rigid import RigidMesh as RigidMesh
 from ._scene import (
     DynamicScene as DynamicScene,
-)
-from ._scene import (
     Grounded as Grounded,
-)
-from ._scene import (
     Scene as Scene,
-)
-from ._scene import (
     grounded as grounded,
 )
 from ._torsional import (
     RelativeApproach as RelativeApproach,
-)
-from ._torsional import (
     TorsionalDynamics as TorsionalDynamics,
-)
-from ._torsional import (
     TorsionalPair as TorsionalPair,
-)
-from ._torsional import (
     disc_inertia as disc_inertia,
 )
