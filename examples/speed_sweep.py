@@ -19,15 +19,16 @@ import numpy as np
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.scenes as js
 
 
 def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
     case = jio.load_case("accessory-spur").replace(slices=4)  # spur: few slices suffice
     p = case.pair
-    scene = jd.TorsionalDynamics(
+    scene = js.TorsionalDynamics(
         case.mesh_model(),
-        jd.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
-        jd.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+        js.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        js.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
     )
     kw = dict(steps_per_period=32, periods=periods)
     models = {

@@ -10,9 +10,10 @@ equilibrium ``K_s X + Σ_c k_c l_c φ(Δ_c) V_c = F``.
 * ``smooth``: φ_w(Δ) = w·softplus(Δ/w), C^∞, error O(w) (≤ w ln 2 at Δ = 0). Newton's method
   started from the exact solution.
 
-Gradients: the iterations run on stopped gradients; the differentiable answer is one more linear
-step (exact: the final solve with the active set held; smooth: a Newton step with a stopped
-Jacobian, which gives the implicit-function-theorem derivative).
+Gradients: the iterations run on stopped gradients. Exact mode: the final linear solve with the
+active set held is the differentiable answer (valid away from kinks where a cell enters or leaves
+contact). Smooth mode: ``jax.lax.custom_root`` gives the implicit-function-theorem derivatives
+dx = −J⁻¹ ∂r/∂p of every order, forward and reverse (J the tangent stiffness at the root).
 """
 
 from __future__ import annotations
@@ -131,17 +132,19 @@ def solve_contact(
     else:
         tiny = jnp.finfo(F.dtype).eps
 
-        def residual(x, Ks, F, V, kl, delta0):
-            phi, dphi = _phi(V @ x - delta0, "smooth", width)
-            return Ks @ x + V.T @ (kl * phi) - F, dphi
+        def residual(x):
+            phi, _ = _phi(V @ x - delta0, "smooth", width)
+            return Ks @ x + V.T @ (kl * phi) - F
 
+        # Newton on stopped values, from the exact solution
         def ncond(state):
             _, it, step = state
             return (step > 8 * tiny) & (it < max_iterations)
 
         def nbody(state):
             x, it, _ = state
-            r, dphi = residual(x, Ks_, F_, V_, kl_, d0_)
+            phi, dphi = _phi(V_ @ x - d0_, "smooth", sg(width))
+            r = Ks_ @ x + V_.T @ (kl_ * phi) - F_
             Kt = Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_)
             dx = _solve(Kt, r)
             step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), tiny)
@@ -150,11 +153,15 @@ def solve_contact(
         x_sm, it_sm, step = jax.lax.while_loop(
             ncond, nbody, (sg(x_ex), jnp.array(0), jnp.array(jnp.inf, F.dtype))
         )
+
+        def tangent_solve(g, y):
+            # g is the residual linearised at the root: the SPD tangent K_s + Σ k l φ' V Vᵀ
+            return _solve(jax.jacfwd(g)(y), y)
+
+        # value: the Newton root; derivatives of every order, forward and reverse, by the
+        # implicit-function theorem dx = −J⁻¹ ∂r/∂p (jax.lax.custom_root)
+        x = jax.lax.custom_root(residual, sg(x_sm), lambda _, x0: x0, tangent_solve)
         result = jnp.where(step > 1e3 * tiny, 1, result)
-        # implicit-function step: value unchanged (r ≈ 0), derivative −J⁻¹ ∂r/∂p
-        r, dphi = residual(x_sm, Ks, F, V, kl, delta0)
-        J = sg(Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_))
-        x = x_sm - _solve(J, r)
         iterations = it_ex + it_sm
     gap = V @ x - delta0
     phi, weight = _phi(gap, mode, width)

@@ -11,6 +11,7 @@ from ._baseplane import MeshModel
 from ._contact import solve_contact
 from ._modifications import Modifications
 from ._results import ContactResult
+from ._util import rms_about_mean
 from .scenes import RigidMesh, Scene
 
 __all__ = ["QuasiStaticResult", "quasi_static", "mesh_positions"]
@@ -53,8 +54,7 @@ class QuasiStaticResult(eqx.Module):
     @property
     def te_rms(self):
         """RMS of the TE about its mean (m)."""
-        te = self.transmission_error
-        return jnp.sqrt(jnp.mean((te - jnp.mean(te)) ** 2))
+        return rms_about_mean(self.transmission_error)
 
     @property
     def te_ptp(self):

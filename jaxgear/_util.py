@@ -2,11 +2,34 @@
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
 
-__all__ = ["as_float"]
+__all__ = ["as_float", "rms_about_mean", "safe_sqrt"]
 
 
 def as_float(v):
     """Convert to a JAX array of the default float dtype (float64 with x64 on, else float32)."""
     return jnp.asarray(v, dtype=jnp.result_type(float))
+
+
+@jax.custom_jvp
+def safe_sqrt(x):
+    """√x with a finite derivative at 0: 1/(2√x) for x > 0, 0 at x = 0 (a subgradient of the
+    RMS at zero fluctuation, where the exact derivative does not exist). Differentiable again."""
+    return jnp.sqrt(x)
+
+
+@safe_sqrt.defjvp
+def _safe_sqrt_jvp(primals, tangents):
+    (x,), (dx,) = primals, tangents
+    y = jnp.sqrt(x)
+    pos = x > 0
+    return y, jnp.where(pos, dx / (2.0 * jnp.where(pos, y, 1.0)), 0.0)
+
+
+def rms_about_mean(x, axis=-1):
+    """Root mean square of ``x`` about its mean along ``axis`` (the standard deviation), with a
+    finite gradient when ``x`` is constant (e.g. a perfect relief: zero TE fluctuation)."""
+    d = x - jnp.mean(x, axis=axis, keepdims=True)
+    return safe_sqrt(jnp.mean(d * d, axis=axis))

@@ -34,7 +34,6 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import MeshModel
@@ -197,6 +196,9 @@ def dynamic_model(
         damping: :class:`Damping` (default: composite (2.36), 0.07 mesh / 0.01 structure).
         positions_per_pitch: positions per mesh period for the averages.
         contact, width, max_iterations: contact law of the static solve (exact by default).
+
+    Raises:
+        eqx.EquinoxRuntimeError: torque <= 0, or the static contact solve failed (jit/vmap-safe).
     """
     if mods is None:
         mods = Modifications()
@@ -204,9 +206,7 @@ def dynamic_model(
         damping = Damping()
     dtype = scene.mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
-    if not bool(torque > 0):
-        raise ValueError(f"torque = {float(torque)} N·m must be > 0 (the pinion drives)")
-    model, codes = _build(
+    return _build(
         scene,
         mods,
         torque,
@@ -216,19 +216,21 @@ def dynamic_model(
         contact,
         max_iterations,
     )
-    codes = np.asarray(codes)
-    bad = codes != 0
-    if bad.any():
-        raise ValueError(
-            f"static contact solve failed at {int(bad.sum())} positions (result codes "
-            f"{sorted(set(codes[bad].tolist()))}): check the load and the deviations"
-        )
-    return model
 
 
 def _build(scene, mods, torque, damping, width, positions_per_pitch, contact, max_iterations):
+    # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
+    torque = eqx.error_if(torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)")
     prep = _prepare(scene, mods, torque, width, positions_per_pitch, contact, max_iterations)
-    return _averaged(scene, mods, torque, damping, prep), prep.static_result
+    model = _averaged(scene, mods, torque, damping, prep)
+    bad = jnp.any(prep.static_result != 0)
+    kbar = eqx.error_if(
+        model.mesh_stiffness_mean,
+        bad,
+        "dynamic_model: the static contact solve failed at some mesh positions "
+        "(no contact or no convergence): check the load and the deviations",
+    )
+    return eqx.tree_at(lambda m: m.mesh_stiffness_mean, model, kbar)
 
 
 @eqx.filter_jit
