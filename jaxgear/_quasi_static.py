@@ -134,6 +134,7 @@ def _one_position(
 
 
 @eqx.filter_jit
+@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _quasi_static(
     scene,
     mesh,

@@ -1,0 +1,50 @@
+"""No recompilation: the jitted entry points trace once per structure, not per value.
+
+A Python float passed to ``eqx.filter_jit`` is static and would recompile for each value; the
+entry points convert operating values (torque, speed, relief depths) to arrays first. The inner
+jitted functions are decorated with ``eqx.debug.assert_max_traces(max_traces=None)`` so the tests
+can count their traces.
+"""
+
+import equinox as eqx
+import jax.numpy as jnp
+
+import jaxgear as jg
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+import jaxgear.scenes as js
+from jaxgear._quasi_static import _quasi_static
+from jaxgear.dynamics._simulate import _run
+
+
+def _traces(fn):
+    return eqx.debug.get_num_traces(fn)
+
+
+def test_quasi_static_traces_once_for_new_values():
+    case = jio.load_case("accessory-spur")
+    mesh = case.mesh_model(slices=3)
+    kw = dict(positions_per_pitch=8, contact="smooth")
+    jg.quasi_static(mesh, case.modifications, 80.0, **kw)
+    n = _traces(_quasi_static)
+    for torque, depth in ((60.0, 5e-6), (95.5, 12e-6), (jnp.asarray(70.0), 20e-6)):
+        mm = jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3)
+        jg.quasi_static(mesh, jg.Modifications.symmetric(mm), torque, width=2e-7, **kw)
+    assert _traces(_quasi_static) == n
+
+
+def test_simulate_traces_once_for_new_speeds():
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    p = case.pair
+    scene = js.TorsionalDynamics(
+        case.mesh_model(),
+        js.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        js.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+    ).reduced()
+    model = jd.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    kw = dict(steps_per_period=16, periods=3, keep_periods=2)
+    jd.simulate(model, 500.0, **kw)
+    n = _traces(_run)
+    for speed in (650.0, 900.25, jnp.asarray(1200.0)):
+        jd.simulate(model, speed, **kw)
+    assert _traces(_run) == n
