@@ -34,7 +34,7 @@ from tqdm import tqdm
 from ._assemble import Operators
 from ._body import Body
 from ._mesh import BodyMesh, rim_master_z
-from ._solver import CyclicFactor, SparseFactor, blas_threads, factorize, shift_invert_modes
+from ._solver import CholmodFactor, SparseFactor, blas_threads, factorize, shift_invert_modes
 
 __all__ = [
     "Condensed",
@@ -286,9 +286,10 @@ def _condense(
     f: np.ndarray | None = None,
     S: sp.spmatrix | None = None,
     progress: bool = False,
-    interior_factor: SparseFactor | CyclicFactor | None = None,
+    interior_factor: CholmodFactor | SparseFactor | None = None,
     free_shift: float | None = None,
     slabs: np.ndarray | None = None,
+    static_correction: bool = True,
 ) -> Condensed:
     """Condense ``(K, M)`` onto ``master_dofs`` (+ ``n_modes`` modal DOFs), seed (2.3)-(2.5).
 
@@ -304,8 +305,13 @@ def _condense(
         interior_factor: a factorisation of ``K_ii`` to reuse.
         free_shift: shift (rad/s)^2 (negative) for the free-interface eigen-solve of Herting;
             default ``-1e-4`` x the median of ``diag(K)/diag(M)``.
-        slabs: angular slab label per DOF (swept bodies) to use the block-cyclic factorisation
-            (see ``_solver``); ``None`` uses SuperLU.
+        slabs: ignored (the block-cyclic solver it selected was replaced by CHOLMOD); kept so
+            that older callers still run.
+        static_correction: with ``f`` given and a modal method, add the static correction
+            vector ψ = K_ii⁻¹ f_i of the body load (M-orthogonalised against the retained modes,
+            unit modal mass) as one more modal DOF: the fixed-interface modes are bending modes
+            and do not carry the in-plane static response to the centrifugal load, so without
+            ψ the recovered interior field misses it (its frequency is listed in ``modes_hz``).
 
     Returns:
         The :class:`Condensed` model; boundary DOFs first in the order of ``master_dofs``.
@@ -328,7 +334,7 @@ def _condense(
     t0 = time.perf_counter()
     Kii = K[i][:, i]
     Kib = K[i][:, b]
-    Fii = interior_factor or factorize(Kii, None if slabs is None else slabs[i])
+    Fii = interior_factor or factorize(Kii)
     timings["factorisation_s"] = time.perf_counter() - t0
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks
@@ -356,7 +362,7 @@ def _condense(
         if free_shift is None:
             free_shift = -float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300))) * 1e-4
         with tqdm(total=2, desc="free-interface modes", disable=not progress) as bar:
-            Ffree = factorize((K - free_shift * M).tocsr(), slabs)
+            Ffree = factorize((K - free_shift * M).tocsr())
             bar.update()
             n_rigid = 6
             lam, phi = shift_invert_modes(K, M, n_modes + n_rigid, sigma=free_shift, factor=Ffree)
@@ -378,6 +384,31 @@ def _condense(
         chi = chi @ (Q @ U)
         H = H[:, : nb + chi.shape[1]]
         H[:, nb:] = chi
+    if static_correction and f is not None and method != "guyan" and np.any(f[i] != 0):
+        # static correction vector (residual-flexibility attachment of the body load)
+        Mii = M[i][:, i]
+        psi = Fii.solve(np.asarray(f, dtype=float)[i])
+        modal = H[i, nb:]
+        for _ in range(2):  # M-orthogonalise against the retained modes (CGS2)
+            psi = psi - modal @ (modal.T @ (Mii @ psi))
+        m_psi = float(psi @ (Mii @ psi))
+        k_psi = float(psi @ (Kii @ psi))
+        if m_psi > 0 and np.linalg.norm(psi) > 1e-8 * np.linalg.norm(Fii.solve(f[i])):
+            col = np.zeros((n, 1))
+            col[i, 0] = psi / math.sqrt(m_psi)
+            if method == "herting":
+                # the Herting block is not K_ii-orthogonal to ψ: re-diagonalise it with ψ
+                chi = np.hstack([H[:, nb:], col])
+                d, V = np.linalg.eigh(_project(M, chi))
+                keep = d > 1e-10 * d.max()
+                Q = V[:, keep] / np.sqrt(d[keep])
+                lam2, U = np.linalg.eigh(Q.T @ _project(K, chi) @ Q)
+                H = np.hstack([H[:, :nb], chi @ (Q @ U)])
+                modes_hz = np.sqrt(np.maximum(lam2, 0)) / (2 * math.pi)
+            else:
+                # fixed-interface modes are K_ii-orthogonal to an M-orthogonal ψ: block stays diagonal
+                H = np.hstack([H, col])
+                modes_hz = np.r_[modes_hz, math.sqrt(max(k_psi / m_psi, 0.0)) / (2 * math.pi)]
     timings["eigen_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()

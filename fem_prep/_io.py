@@ -387,6 +387,7 @@ def summary_dict(prep: Any) -> dict[str, Any]:
         "centrifugal_rim_radial_displacement_condensed_m": prep.rim_radial_displacement_condensed,
         "modes": critical_speeds(body.condensation.teeth, prep.families),
         "timings_s": {k: round(v, 3) for k, v in prep.timings.items()},
+        "solver": prep.solver,
         "body_sha256": body.sha256,
         "input_sha256": body.text_sha256,
         "format_version": FORMAT_VERSION,

@@ -50,6 +50,7 @@ class Prepared:
         rim_radial_displacement: mean radial displacement (m) at the rim outer radius, mid-face.
         rim_radial_displacement_condensed: the same from the condensed model (m).
         timings: wall time per step (s).
+        solver: the sparse factorisation library that ran (``"cholmod"`` or ``"superlu"``).
         peak_memory_bytes: peak traced Python/NumPy allocation (bytes).
     """
 
@@ -68,6 +69,7 @@ class Prepared:
     rim_radial_displacement: float
     rim_radial_displacement_condensed: float
     timings: dict[str, float] = field(default_factory=dict)
+    solver: str = ""
     peak_memory_bytes: int = 0
 
 
@@ -131,7 +133,6 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     master_dofs = np.concatenate([rim_dofs, cp.bearing_dofs.ravel()])
     bearing_c = len(rim_dofs) + np.arange(cp.bearing_dofs.size)
     n_red = cp.K.shape[0]
-    slabs = reduced_slabs(bm, cp)
     tick("coupling_s", t0)
 
     # ---- full model: modes (support as the body says) and centrifugal deflection
@@ -141,7 +142,8 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     held[cp.bearing_dofs.ravel()] = True
     free = np.nonzero(~held)[0]
     Kff = cp.K[free][:, free]
-    Fff = factorize(Kff, slabs[free])
+    Fff = factorize(Kff)
+    solver = Fff.method
     t_fact = time.perf_counter() - t0
     u_red = np.zeros(n_red)
     u_red[free] = Fff.solve(body.speed**2 * cp.f[free])
@@ -153,7 +155,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     else:
         shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
         lam, phi = shift_invert_modes(
-            cp.K, cp.M, nf, sigma=shift, factor=factorize((cp.K - shift * cp.M).tocsr(), slabs)
+            cp.K, cp.M, nf, sigma=shift, factor=factorize((cp.K - shift * cp.M).tocsr())
         )
     del Fff
     shapes = cp.T @ phi
@@ -172,7 +174,6 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
         f=cp.f,
         S=cp.S,
         progress=progress,
-        slabs=slabs,
     )
     for k, v in cond.timings.items():
         timings[f"condense_{k}"] = v
@@ -236,5 +237,6 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
         rim_radial_displacement=rim_ur,
         rim_radial_displacement_condensed=ur_c,
         timings=timings,
+        solver=solver,
         peak_memory_bytes=int(peak),
     )
