@@ -91,24 +91,23 @@ def test_iso6336_per_length_value_gives_c_gamma_alpha(name):
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_weber_mean_mesh_stiffness_in_iso_band(name):
-    """Weber (theoretical, no measured-vs-theory factor) mean mesh stiffness per unit face width
-    lies between 0.9 c_γα (ISO, C_M = 0.8) and 1.1 c_γα/0.8 (ISO theoretical, C_M = 1).
+    """README: "For the embedded cases Weber's mean mesh stiffness per unit face width is
+    1.28 ± 0.01 c_γα (1.277 accessory-spur, 1.284 power-helical), 2–3 % above ISO's theoretical
+    value c_γα/C_M = 1.25 c_γα" (Weber is theoretical: no measured-vs-theory factor C_M).
 
-    Measured: accessory-spur 30.04 N/(mm·µm) = 1.277 c_γα (= 1.02 c_γα,th); power-helical
-    27.08 N/(mm·µm) = 1.284 c_γα (= 1.03 c_γα,th; 1.331 without the cos²β_b of the per-width
-    convention). Weber tracks the theoretical ISO value within a few per cent, as it should.
+    Measured at the cases' 40 slices × 64 positions: accessory-spur 30.04 N/(mm·µm) = 1.2766 c_γα;
+    power-helical 27.08 N/(mm·µm) = 1.2845 c_γα (1.331 without the cos²β_b of the per-width
+    convention). Coarser sampling shifts it (1.266 for the spur pair at 32 positions).
     """
     case = jio.load_case(name)
     pair = case.pair
-    mesh = case.mesh_model(slices=10)
-    res = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=32)
+    res = jg.quasi_static(case.mesh_model(), None, case.torque)
     per_width = (
         float(jnp.mean(res.mesh_stiffness)) * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
     )
-    c_ga = jg.iso6336_mesh_stiffness(pair)
-    ratio = per_width / c_ga
-    assert 0.9 < ratio < 1.1 / 0.8
-    assert ratio / (1 / 0.8) == pytest.approx(1.0, abs=0.06)  # vs the theoretical c_γα (C_M = 1)
+    ratio = per_width / jg.iso6336_mesh_stiffness(pair)
+    assert ratio == pytest.approx(1.28, abs=0.01)
+    assert ratio > 1 / 0.8  # above the theoretical ISO value c_γα / C_M
 
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
