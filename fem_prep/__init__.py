@@ -6,6 +6,9 @@ K, M and the centrifugal load, condenses it on the rim nodes under the teeth and
 nodes (Guyan, Craig-Bampton or Herting, seed (2.3)-(2.5)), analyses its modes (nodal diameters,
 seed (3.2), resonance orders (3.9)) and writes a versioned ``.npz``, a ``.vtu`` and a
 ``summary.json``.  Arrays are NumPy, SI units, node coordinates ``(n, 3)``.
+
+:mod:`fem_prep.schema` (public, JAX-free) holds the input-file checks and atomic writers shared with
+jaxgear's case files.
 """
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
@@ -44,5 +47,6 @@ from ._modal import (
 )
 from ._prepare import Prepared as Prepared, prepare as prepare
 from ._solver import factorize as factorize, shift_invert_modes as shift_invert_modes
+from .schema import SchemaError as SchemaError
 
 __version__ = "0.1.0"

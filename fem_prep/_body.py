@@ -3,8 +3,10 @@
 The schema is documented in ``docs/fem_prep.md``.  All lengths in the file are in mm, the
 modulus in GPa; :class:`Body` stores SI values (m, Pa, kg/m^3) next to the raw text.
 
-Every error is a :class:`ValueError` whose message names the offending key, its value and the
-allowed range, so that a user can fix the file without reading the code.
+Every error is a :class:`fem_prep.schema.SchemaError` (a ``ValueError``) whose one-line message
+names the offending key, its value as written in the file (mm, deg) and the allowed range, so
+that a user can fix the file without reading the code; integer keys accept integral floats
+(``modes = 50.0``) and reject others (``modes = 50.5``), as in jaxgear's case files.
 """
 
 from __future__ import annotations
@@ -12,11 +14,12 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import tomllib
 from dataclasses import asdict, dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
+
+from . import schema as sc
 
 __all__ = [
     "Bearing",
@@ -182,9 +185,9 @@ class Body:
 
 
 # --------------------------------------------------------------------------------------------
-# Parsing helpers
+# Parsing (checks and messages from fem_prep.schema, shared with jaxgear's case files)
 
-_SCHEMA: dict[str, dict[str, Any] | None] = {
+_SCHEMA: dict[str, set[str] | None] = {
     "name": None,
     "body": {
         "bore_radius_mm",
@@ -214,188 +217,105 @@ _SCHEMA: dict[str, dict[str, Any] | None] = {
     "modal": {"support", "n_frequencies", "vtu_modes"},
 }
 _HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
+_LENGTH = "> 0"  # mm
 
 
-def _check_keys(table: dict[str, Any], allowed: set[str], where: str) -> None:
-    for key in table:
-        if key not in allowed:
-            raise ValueError(
-                f"unknown key {where}{key!r} in body file; allowed keys here: "
-                f"{', '.join(sorted(allowed))}"
-            )
+def _within(key: str, value: float, rng: str, note: str, where: str = "body") -> None:
+    """Raise ``[where] key = value: out of range, allowed rng (note)`` unless value in rng."""
+    r = sc.Interval.parse(rng)
+    if value not in r:
+        raise sc.fail(where, key, f"out of range, allowed {r} ({note})", value)
 
 
-def _num(table: dict[str, Any], key: str, where: str, default: float | None = None) -> float:
-    if key not in table:
-        if default is None:
-            raise ValueError(f"missing required key {where}{key} in body file")
-        return float(default)
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise ValueError(f"{where}{key} must be a number, got {v!r}")
-    if not math.isfinite(v):
-        raise ValueError(f"{where}{key} must be finite, got {v!r}")
-    return float(v)
-
-
-def _int(table: dict[str, Any], key: str, where: str, default: int | None = None) -> int:
-    if key not in table:
-        if default is None:
-            raise ValueError(f"missing required key {where}{key} in body file")
-        return default
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, int):
-        raise ValueError(f"{where}{key} must be an integer, got {v!r}")
-    return int(v)
-
-
-def _str(
-    table: dict[str, Any], key: str, where: str, allowed: tuple[str, ...], default: str
-) -> str:
-    v = table.get(key, default)
-    if not isinstance(v, str) or v not in allowed:
-        raise ValueError(f"{where}{key} = {v!r} is not allowed; use one of {', '.join(allowed)}")
-    return v
-
-
-def _positive(name: str, v: float) -> None:
-    if not v > 0:
-        raise ValueError(f"{name} = {v:g} must be > 0")
-
-
-def _table(data: dict[str, Any], key: str) -> dict[str, Any]:
-    t = data.get(key, {})
-    if not isinstance(t, dict):
-        raise ValueError(f"[{key}] must be a table")
-    return t
-
-
-def parse_body(text: str, *, default_name: str = "body") -> Body:
+def parse_body(text: str, *, default_name: str = "body", label: str = "body file") -> Body:
     """Parse and validate body-file TOML text.
 
     Args:
         text: the TOML text (schema in ``docs/fem_prep.md``).
         default_name: name used when the file has no ``name`` key.
+        label: how TOML syntax errors name the file.
 
     Returns:
         The validated :class:`Body` (SI units).
 
     Raises:
-        ValueError: invalid TOML, an unknown key (named), a missing required key, or an
-            impossible dimension (message names the parameter, its value and the allowed range).
+        SchemaError (a ``ValueError``, see :mod:`fem_prep.schema`): invalid TOML, an unknown key
+            (named), a missing required key, a wrong type, or an impossible dimension; one line
+            naming the key, its value in mm/deg as written and the allowed range.
     """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"body file is not valid TOML: {exc}") from exc
-    _check_keys(data, set(_SCHEMA), "")
-    name = data.get("name", default_name)
-    if not isinstance(name, str) or not name:
-        raise ValueError(f"name must be a non-empty string, got {name!r}")
+    data = sc.load_toml(text, label)
+    sc.check_keys(data, _SCHEMA, "")
+    name = sc.string(data, "name", "", default_name)
 
     # ---- [body]
-    b = _table(data, "body")
-    if not b:
-        raise ValueError("missing required table [body] in body file")
-    _check_keys(b, _SCHEMA["body"], "[body] ")  # type: ignore[arg-type]
-    w = "[body] "
+    b = sc.subtable(data, "body", "", _SCHEMA["body"], required=True)
+    w = "body"
     mm = 1e-3
-    bore = _num(b, "bore_radius_mm", w) * mm
-    hub_r = _num(b, "hub_outer_radius_mm", w) * mm
-    hub_w = _num(b, "hub_width_mm", w) * mm
-    web_t = _num(b, "web_thickness_mm", w) * mm
-    web_off = _num(b, "web_offset_mm", w, 0.0) * mm
-    incl_deg = _num(b, "web_inclination_deg", w, 0.0)
-    rim_i = _num(b, "rim_inner_radius_mm", w) * mm
-    rim_o = _num(b, "rim_outer_radius_mm", w) * mm
-    rim_w = _num(b, "rim_width_mm", w) * mm
-    shaft_r = _num(b, "shaft_outer_radius_mm", w, hub_r / mm) * mm
-    for key, v in [
-        ("bore_radius_mm", bore),
-        ("hub_outer_radius_mm", hub_r),
-        ("hub_width_mm", hub_w),
-        ("web_thickness_mm", web_t),
-        ("rim_inner_radius_mm", rim_i),
-        ("rim_outer_radius_mm", rim_o),
-        ("rim_width_mm", rim_w),
-    ]:
-        _positive(f"[body] {key}", v / mm)
-    if bore >= hub_r:
-        raise ValueError(
-            f"[body] bore_radius_mm = {bore / mm:g} must be < hub_outer_radius_mm = {hub_r / mm:g}"
-        )
-    if hub_r > rim_i:
-        raise ValueError(
-            f"[body] hub_outer_radius_mm = {hub_r / mm:g} must be <= rim_inner_radius_mm = "
-            f"{rim_i / mm:g}"
-        )
-    if rim_i >= rim_o:
-        raise ValueError(
-            f"[body] rim_inner_radius_mm = {rim_i / mm:g} must be < rim_outer_radius_mm = "
-            f"{rim_o / mm:g}"
-        )
-    if web_t > rim_w:
-        raise ValueError(
-            f"[body] web_thickness_mm = {web_t / mm:g} must be <= rim_width_mm = {rim_w / mm:g}"
-        )
-    if web_t > hub_w:
-        raise ValueError(
-            f"[body] web_thickness_mm = {web_t / mm:g} must be <= hub_width_mm = {hub_w / mm:g}"
-        )
+    bore = sc.number(b, "bore_radius_mm", w, allowed=_LENGTH)
+    hub_r = sc.number(b, "hub_outer_radius_mm", w, allowed=_LENGTH)
+    hub_w = sc.number(b, "hub_width_mm", w, allowed=_LENGTH)
+    web_t = sc.number(b, "web_thickness_mm", w, allowed=_LENGTH)
+    web_off = sc.number(b, "web_offset_mm", w, 0.0)
+    incl_deg = sc.number(b, "web_inclination_deg", w, 0.0, allowed="(-60, 60)")
+    rim_i = sc.number(b, "rim_inner_radius_mm", w, allowed=_LENGTH)
+    rim_o = sc.number(b, "rim_outer_radius_mm", w, allowed=_LENGTH)
+    rim_w = sc.number(b, "rim_width_mm", w, allowed=_LENGTH)
+    shaft_r = sc.number(b, "shaft_outer_radius_mm", w, hub_r, allowed=_LENGTH)
+    _within("bore_radius_mm", bore, f"(0, {hub_r!r})", "below hub_outer_radius_mm")
+    _within("hub_outer_radius_mm", hub_r, f"({bore!r}, {rim_i!r}]", "bore to rim_inner_radius_mm")
+    _within("rim_inner_radius_mm", rim_i, f"[{hub_r!r}, {rim_o!r})", "hub_outer to rim_outer")
+    _within("web_thickness_mm", web_t, f"(0, {min(rim_w, hub_w)!r}]", "<= rim and hub widths")
     lim = (rim_w - web_t) / 2
-    if abs(web_off) > lim + 1e-12:
-        raise ValueError(
-            f"[body] web_offset_mm = {web_off / mm:g} puts the web outside the rim; allowed range "
-            f"[{-lim / mm:g}, {lim / mm:g}] (|offset| <= (rim_width - web_thickness)/2)"
-        )
-    if not -60.0 < incl_deg < 60.0:
-        raise ValueError(f"[body] web_inclination_deg = {incl_deg:g} must be in (-60, 60)")
-    if not bore < shaft_r <= hub_r:
-        raise ValueError(
-            f"[body] shaft_outer_radius_mm = {shaft_r / mm:g} must be in "
-            f"({bore / mm:g}, {hub_r / mm:g}] (bore radius, hub outer radius]"
-        )
+    _within(
+        "web_offset_mm",
+        web_off,
+        f"[{-lim!r}, {lim!r}]",
+        "the web inside the rim: |offset| <= (rim_width - web_thickness)/2",
+    )
+    _within("shaft_outer_radius_mm", shaft_r, f"({bore!r}, {hub_r!r}]", "bore to hub outer")
 
     h = b.get("holes", {})
     if not isinstance(h, dict):
-        raise ValueError(
-            "[body] holes must be an inline table {count, center_radius_mm, radius_mm}"
+        raise sc.fail(
+            w, "holes", "must be an inline table { count, center_radius_mm, radius_mm }", h
         )
-    _check_keys(h, _HOLES_KEYS, "[body] holes.")
-    n_holes = _int(h, "count", "[body] holes.", 0)
-    if n_holes < 0:
-        raise ValueError(f"[body] holes.count = {n_holes} must be >= 0")
-    hc = _num(h, "center_radius_mm", "[body] holes.", 0.0) * mm
-    hr = _num(h, "radius_mm", "[body] holes.", 0.0) * mm
+    h = {f"holes.{k}": v for k, v in h.items()}  # messages: [body] holes.count = ...
+    sc.check_keys(h, {f"holes.{k}" for k in _HOLES_KEYS}, w)
+    n_holes = sc.number(h, "holes.count", w, 0, allowed="[0, 10000]", integer=True)
+    hc = sc.number(h, "holes.center_radius_mm", w, 0.0, allowed=">= 0")
+    hr = sc.number(h, "holes.radius_mm", w, 0.0, allowed=">= 0")
     if n_holes > 0:
-        _positive("[body] holes.radius_mm", hr / mm)
+        _within("holes.radius_mm", hr, "> 0", "holes need a radius")
         if hub_r >= rim_i:
-            raise ValueError("[body] holes.count > 0 needs a web (hub_outer_radius_mm < rim_inner)")
-        lo, hi = hub_r + hr, rim_i - hr
-        if not lo < hc < hi:
-            raise ValueError(
-                f"[body] holes.center_radius_mm = {hc / mm:g} does not fit the holes in the web; "
-                f"allowed range ({lo / mm:g}, {hi / mm:g}) (hub_outer + radius, rim_inner - radius)"
+            raise sc.fail(
+                w, "holes.count", "needs a web (hub_outer_radius_mm < rim_inner)", n_holes
             )
+        _within(
+            "holes.center_radius_mm",
+            hc,
+            f"({hub_r + hr!r}, {rim_i - hr!r})",
+            "hub_outer + radius, rim_inner - radius",
+        )
         if n_holes > 1:
             rmax = hc * math.sin(math.pi / n_holes)
-            if hr >= rmax:
-                raise ValueError(
-                    f"[body] holes.radius_mm = {hr / mm:g} makes {n_holes} holes overlap; allowed "
-                    f"range (0, {rmax / mm:g}) (center_radius * sin(pi / count))"
-                )
+            _within(
+                "holes.radius_mm",
+                hr,
+                f"(0, {rmax!r})",
+                f"{n_holes} holes overlap beyond center_radius * sin(pi / count)",
+            )
     geometry = Geometry(
-        bore_radius=bore,
-        hub_outer_radius=hub_r,
-        hub_width=hub_w,
-        web_thickness=web_t,
-        web_offset=web_off,
+        bore_radius=bore * mm,
+        hub_outer_radius=hub_r * mm,
+        hub_width=hub_w * mm,
+        web_thickness=web_t * mm,
+        web_offset=web_off * mm,
         web_inclination=math.radians(incl_deg),
-        rim_inner_radius=rim_i,
-        rim_outer_radius=rim_o,
-        rim_width=rim_w,
-        holes=Holes(n_holes, hc if n_holes else 0.0, hr if n_holes else 0.0),
-        shaft_outer_radius=shaft_r,
+        rim_inner_radius=rim_i * mm,
+        rim_outer_radius=rim_o * mm,
+        rim_width=rim_w * mm,
+        holes=Holes(n_holes, hc * mm if n_holes else 0.0, hr * mm if n_holes else 0.0),
+        shaft_outer_radius=shaft_r * mm,
     )
 
     # ---- [[bearings]]
@@ -403,97 +323,66 @@ def parse_body(text: str, *, default_name: str = "body") -> Body:
     if isinstance(bl, dict):
         bl = [bl]
     if not isinstance(bl, list) or not bl:
-        raise ValueError(
-            "at least one [[bearings]] table is required (axial_position_mm, coupling)"
+        raise sc.SchemaError(
+            "[[bearings]]: at least one [[bearings]] table is required (axial_position_mm, "
+            "coupling)"
         )
     bearings = []
+    lim = 20 * max(rim_w, hub_w, rim_o)
+    seen: dict[float, int] = {}
     for k, t in enumerate(bl):
+        wb = f"bearings[{k}]"
         if not isinstance(t, dict):
-            raise ValueError("[[bearings]] entries must be tables")
-        wb = f"[[bearings]][{k}] "
-        _check_keys(t, _SCHEMA["bearings"], wb)  # type: ignore[arg-type]
-        pos = _num(t, "axial_position_mm", wb) * mm
-        lim = 20 * max(rim_w, hub_w, rim_o)
-        if abs(pos) > lim:
-            raise ValueError(
-                f"{wb}axial_position_mm = {pos / mm:g} outside the allowed range "
-                f"[{-lim / mm:g}, {lim / mm:g}]"
-            )
-        bearings.append(Bearing(pos, _str(t, "coupling", wb, COUPLINGS, "rigid")))
-    pos_sorted = sorted(x.axial_position for x in bearings)
-    for a, c in zip(pos_sorted, pos_sorted[1:]):
-        if c - a < 1e-6:
-            raise ValueError(f"two [[bearings]] share axial_position_mm = {a / mm:g}")
+            raise sc.fail("", wb, "must be a table", t)
+        sc.check_keys(t, _SCHEMA["bearings"], wb)  # type: ignore[arg-type]
+        pos = sc.number(t, "axial_position_mm", wb, allowed=f"[{-lim!r}, {lim!r}]")
+        for other, j in seen.items():
+            if abs(other - pos) < 1e-3:
+                raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
+        seen[pos] = k
+        bearings.append(Bearing(pos * mm, sc.choice(t, "coupling", wb, COUPLINGS, "rigid")))
 
     # ---- [material]
-    m = _table(data, "material")
-    _check_keys(m, _SCHEMA["material"], "[material] ")  # type: ignore[arg-type]
-    e = _num(m, "youngs_modulus_GPa", "[material] ", 210.0)
-    nu = _num(m, "poisson_ratio", "[material] ", 0.3)
-    rho = _num(m, "density_kg_m3", "[material] ", 7800.0)
-    _positive("[material] youngs_modulus_GPa", e)
-    _positive("[material] density_kg_m3", rho)
-    if not -1.0 < nu < 0.5:
-        raise ValueError(f"[material] poisson_ratio = {nu:g} must be in (-1, 0.5)")
+    m = sc.subtable(data, "material", "", _SCHEMA["material"])
+    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 10000]")
+    nu = sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)")
+    rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
     material = Material(e * 1e9, nu, rho)
 
     # ---- [mesh]
-    ms = _table(data, "mesh")
-    _check_keys(ms, _SCHEMA["mesh"], "[mesh] ")  # type: ignore[arg-type]
-    element = _str(ms, "element", "[mesh] ", ELEMENTS, "hex20")
-    size = _num(ms, "size_mm", "[mesh] ", 2.0)
-    _positive("[mesh] size_mm", size)
-    over: dict[str, float | None] = {}
-    for key in ("hub_size_mm", "web_size_mm", "rim_size_mm", "circumferential_size_mm"):
-        if key in ms:
-            v = _num(ms, key, "[mesh] ")
-            _positive(f"[mesh] {key}", v)
-            over[key[:-3]] = v * mm
-        else:
-            over[key[:-3]] = None
-    smallest = min([size * mm] + [v for v in over.values() if v is not None])
-    if smallest < 1e-3 * rim_o:
-        raise ValueError(
-            f"[mesh] sizes must be >= {1e-3 * rim_o / mm:g} mm (1e-3 x rim outer radius), got "
-            f"{smallest / mm:g} mm"
-        )
-    mesh = MeshSettings(element, size * mm, **over)  # type: ignore[arg-type]
+    ms = sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
+    element = sc.choice(ms, "element", "mesh", ELEMENTS, "hex20")
+    floor = 1e-3 * rim_o
+    sizes = {}
+    for key in ("size_mm", "hub_size_mm", "web_size_mm", "rim_size_mm", "circumferential_size_mm"):
+        v = sc.number(ms, key, "mesh", 2.0 if key == "size_mm" else None, allowed=_LENGTH)
+        if v is not None:
+            _within(key, v, f">= {floor!r}", "1e-3 x rim_outer_radius_mm", "mesh")
+        sizes[key[:-3]] = None if v is None else v * mm
+    mesh = MeshSettings(element, **sizes)  # type: ignore[arg-type]
 
     # ---- [condensation]
-    c = _table(data, "condensation")
-    _check_keys(c, _SCHEMA["condensation"], "[condensation] ")  # type: ignore[arg-type]
-    method = _str(c, "method", "[condensation] ", METHODS, "craig-bampton")
-    modes = _int(c, "modes", "[condensation] ", 50)
-    if modes < 0:
-        raise ValueError(f"[condensation] modes = {modes} must be >= 0")
-    teeth = _int(c, "teeth", "[condensation] ")
-    if not 3 <= teeth <= 1000:
-        raise ValueError(f"[condensation] teeth = {teeth} must be in [3, 1000]")
-    nax = _int(c, "axial_master_nodes", "[condensation] ", 5)
-    if not 1 <= nax <= 50:
-        raise ValueError(f"[condensation] axial_master_nodes = {nax} must be in [1, 50]")
-    condensation = Condensation(method, modes, teeth, nax)
+    c = sc.subtable(data, "condensation", "", _SCHEMA["condensation"])
+    w = "condensation"
+    condensation = Condensation(
+        sc.choice(c, "method", w, METHODS, "craig-bampton"),
+        sc.number(c, "modes", w, 50, allowed=">= 0", integer=True),
+        sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
+        sc.number(c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True),
+    )
 
     # ---- [centrifugal]
-    cf = _table(data, "centrifugal")
-    _check_keys(cf, _SCHEMA["centrifugal"], "[centrifugal] ")  # type: ignore[arg-type]
-    speed = _num(cf, "speed_rad_s", "[centrifugal] ", 0.0)
-    if speed < 0:
-        raise ValueError(f"[centrifugal] speed_rad_s = {speed:g} must be >= 0")
-    spin = cf.get("spin_softening", False)
-    if not isinstance(spin, bool):
-        raise ValueError(f"[centrifugal] spin_softening must be true or false, got {spin!r}")
+    cf = sc.subtable(data, "centrifugal", "", _SCHEMA["centrifugal"])
+    speed = sc.number(cf, "speed_rad_s", "centrifugal", 0.0, allowed=">= 0")
+    spin = sc.boolean(cf, "spin_softening", "centrifugal", False)
 
     # ---- [modal] (optional extension)
-    md = _table(data, "modal")
-    _check_keys(md, _SCHEMA["modal"], "[modal] ")  # type: ignore[arg-type]
-    support = _str(md, "support", "[modal] ", SUPPORTS, "bearings")
-    nf = _int(md, "n_frequencies", "[modal] ", 20)
-    if not 1 <= nf <= 200:
-        raise ValueError(f"[modal] n_frequencies = {nf} must be in [1, 200]")
-    nv = _int(md, "vtu_modes", "[modal] ", 10)
-    if not 0 <= nv <= nf:
-        raise ValueError(f"[modal] vtu_modes = {nv} must be in [0, n_frequencies = {nf}]")
+    md = sc.subtable(data, "modal", "", _SCHEMA["modal"])
+    support = sc.choice(md, "support", "modal", SUPPORTS, "bearings")
+    nf = sc.number(md, "n_frequencies", "modal", 20, allowed="[1, 200]", integer=True)
+    nv = sc.number(
+        md, "vtu_modes", "modal", 10, allowed=f"[0, {nf}]", integer=True, note=" (<= n_frequencies)"
+    )
 
     return Body(
         name=name,
@@ -529,17 +418,26 @@ def load_body(source: str | Path) -> Body:
 
     Raises:
         FileNotFoundError: neither a file nor an embedded body of that name exists.
-        ValueError: the file is invalid (see :func:`parse_body`).
+        SchemaError (a ``ValueError``): the file is not UTF-8 or is invalid (see
+            :func:`parse_body`).
     """
     path = Path(source)
     if path.is_file():
-        text = path.read_text(encoding="utf-8")
-        return parse_body(text, default_name=path.stem)
+        label = f"body file {str(source)!r}"
+        return parse_body(_decode(path.read_bytes(), label), default_name=path.stem, label=label)
     name = str(source)
     if name in embedded_bodies():
         text = (resources.files("fem_prep") / "bodies" / f"{name}.toml").read_text("utf-8")
-        return parse_body(text, default_name=name)
+        return parse_body(text, default_name=name, label=f"embedded body {name!r}")
     raise FileNotFoundError(
         f"body file {str(source)!r} not found (and it is not an embedded body; embedded bodies: "
         f"{', '.join(embedded_bodies())})"
     )
+
+
+def _decode(raw: bytes, label: str) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        sc.load_toml(raw, label)  # raises the one-line SchemaError naming the file
+        raise  # pragma: no cover

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ._body import Body, load_body, parse_body
+from .schema import atomic_write
 
 __all__ = [
     "FORMAT_VERSION",
@@ -42,15 +43,7 @@ FORMAT_VERSION = 1
 
 
 def _atomic(path: Path, write: Callable[[Path], None]) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    atomic_write(path, write)  # one implementation for jaxgear and fem_prep (fem_prep.schema)
 
 
 def _atomic_text(path: Path, text: str) -> None:

@@ -234,5 +234,11 @@ def stiffness_table(
         raise ValueError(
             f"mesh stiffness model {model!r} gave non-positive or non-finite values; "
             "check the tooth geometry (pointed or undercut teeth)"
+            + (
+                f" or the load (line load {line_load * 1e-3:.6g} N/mm: a Hertzian contact wider "
+                "than the teeth)"
+                if model == "weber"
+                else ""
+            )
         )
     return s, k

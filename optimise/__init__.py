@@ -12,7 +12,6 @@ from ._problem import (
     VARIABLES as VARIABLES,
     Problem as Problem,
     make_problem as make_problem,
-    parse_range as parse_range,
     zero_fluctuation_depth as zero_fluctuation_depth,
 )
 

@@ -107,7 +107,9 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
 
     Returns:
         dict with ``extent`` (nG,), ``depth_star`` (nG,) E*, ``depth_m`` (nG,) E (m),
-        ``te_rms_exact_m`` and ``te_rms_smooth_m`` (nG,) at the optimum.
+        ``te_rms_exact_m`` and ``te_rms_smooth_m`` (nG,) at the optimum, ``on_bound`` (nG,)
+        bool: the optimum depth lies on a bound of the depth interval (no interior minimum was
+        found there: not a true optimum).
     """
     _check(problem)
     extents = np.asarray(extents, dtype=float)
@@ -128,6 +130,7 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
     e_star = np.asarray(
         _refine(problem, jnp.asarray(extents), jnp.asarray(a), jnp.asarray(b), int(iterations))
     )
+    on_bound = (e_star <= lo_e + 1e-6 * (hi_e - lo_e)) | (e_star >= hi_e - 1e-6 * (hi_e - lo_e))
     scale = float(problem.scale)
     exact = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "exact"))
     smooth = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "smooth"))
@@ -137,6 +140,7 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
         "depth_m": e_star * float(problem.delta_m),
         "te_rms_exact_m": exact * scale,
         "te_rms_smooth_m": smooth * scale,
+        "on_bound": on_bound,
         "coarse_depths": depths,
         "coarse_grid": grid,
     }

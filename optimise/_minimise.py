@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 import time
+import warnings
 
 import equinox as eqx
 import jax
@@ -117,6 +118,10 @@ def minimise(
 
     Raises:
         ValueError: unknown method, x0 of the wrong size or outside the bounds.
+
+    Warns:
+        UserWarning: the iteration cap was reached before the stopping rule (``converged`` is
+            False).
     """
     if method not in ("lbfgs", "adam"):
         raise ValueError(f"method = {method!r}: allowed 'lbfgs', 'adam'")
@@ -156,11 +161,22 @@ def minimise(
         bar.set_postfix(objective=f"{float(value):.5g}")
         if k == 0:
             break
+    if done or it < max_iterations:  # stopped early: the bar ends full, not at it/max_iterations
+        bar.total = max(it, 1)
+        bar.n = it
+        bar.refresh()
     bar.close()
     if not np.all(np.isfinite(hist_v[-1])):
         raise FloatingPointError(
             "optimisation produced a non-finite objective; check the bounds "
             "and the smooth contact width"
+        )
+    if not done:
+        warnings.warn(
+            f"optimiser stopped at the iteration cap ({max_iterations}) before convergence; "
+            "the result may not be an optimum (raise max_iterations)",
+            UserWarning,
+            stacklevel=2,
         )
     return OptimisationResult(
         x0=np.asarray(x0),

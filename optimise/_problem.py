@@ -170,24 +170,6 @@ class Problem(eqx.Module):
         return jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
 
 
-def parse_range(text: str, what: str = "--torques") -> np.ndarray:
-    """``"a:b:n"`` → ``linspace(a, b, n)``; a single number → one value.
-
-    Raises:
-        ValueError: malformed text, n < 1, or an empty range.
-    """
-    parts = str(text).split(":")
-    try:
-        if len(parts) == 1:
-            return np.array([float(parts[0])])
-        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except (ValueError, IndexError):
-        raise ValueError(f"{what} = {text!r}: expected START:STOP:N (e.g. 40:120:5)") from None
-    if len(parts) != 3 or n < 1 or (n > 1 and a == b):
-        raise ValueError(f"{what} = {text!r} is an empty range: need N >= 1 and START != STOP")
-    return np.linspace(a, b, n)
-
-
 def make_problem(
     case: jg.Case,
     variables,

@@ -304,7 +304,9 @@ def test_divergence_is_reported_not_silent(accessory):
         simulate(model, 30.0, **kw)
     # loud under every transform: jit, vmap and grad (it was silent under a caller's jit)
     with pytest.raises(eqx.EquinoxRuntimeError, match="diverged|blow-up"):
-        jax.block_until_ready(eqx.filter_jit(lambda s: simulate(model, s, **kw).dynamic_factor)(30.0))
+        jax.block_until_ready(
+            eqx.filter_jit(lambda s: simulate(model, s, **kw).dynamic_factor)(30.0)
+        )
     with pytest.raises(Exception, match="diverged|blow-up"):  # plain jax.jit: JaxRuntimeError
         jax.block_until_ready(jax.jit(lambda s: simulate(model, s, **kw).dynamic_factor)(30.0))
     with pytest.raises(eqx.EquinoxRuntimeError, match="diverged|blow-up"):

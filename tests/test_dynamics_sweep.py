@@ -6,6 +6,7 @@ import pathlib
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
@@ -158,21 +159,28 @@ def test_cli_sweep_writes_json_and_plots(tmp_path, capsys):
     case = tmp_path / "tiny.toml"
     case.write_text(CASE)
     out = tmp_path / "out"
-    rc = main(
-        [
-            "sweep",
-            str(case),
-            "--speeds",
-            "300:1100:5",
-            "--direction",
-            "both",
-            "--out",
-            str(out),
-            "--quiet",
-        ]
-    )
+    # the tiny case fixes few steps per mesh period: the slow speeds are flagged
+    with warnings.catch_warnings():  # shown by the CLI as one stderr line, not raised
+        warnings.simplefilter("default")
+        rc = main(
+            [
+                "sweep",
+                str(case),
+                "--speeds",
+                "300:1100:5",
+                "--direction",
+                "both",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
     assert rc == 0
+    captured = capsys.readouterr()
+    assert "jaxgear: warning: 4 of 5 speeds are under-resolved" in captured.err
     data = json.loads((out / "sweep.json").read_text())
+    assert any(data["under_resolved"])
+    assert all(u == (s < 20) for u, s in zip(data["under_resolved"], data["steps_per_mode_period"]))
     assert data["speeds_rad_s"] == pytest.approx(np.linspace(300, 1100, 5).tolist())
     for key in (
         "dynamic_factor",
@@ -187,7 +195,7 @@ def test_cli_sweep_writes_json_and_plots(tmp_path, capsys):
     assert data["critical_speeds"][0]["harmonic"] == 1
     for png in ("dynamic_factor.png", "campbell.png"):
         assert (out / png).read_bytes()[:4] == b"\x89PNG"
-    assert "max dynamic factor" in capsys.readouterr().out
+    assert "max dynamic factor" in captured.out
     # bad input: exit status 2 with the offending key named
     bad = tmp_path / "bad.toml"
     bad.write_text(CASE.replace('model = "torsional"', 'model = "torsional"\nshafts = 2'))
@@ -305,8 +313,9 @@ def test_cli_sweep_lumped3d_scene(tmp_path):
     case = tmp_path / "lumped.toml"
     case.write_text(text)
     out = tmp_path / "out"
-    assert (
-        main(
+    with warnings.catch_warnings():  # shown by the CLI as one stderr line, not raised
+        warnings.simplefilter("default")
+        rc = main(
             [
                 "sweep",
                 str(case),
@@ -319,8 +328,7 @@ def test_cli_sweep_lumped3d_scene(tmp_path):
                 "--quiet",
             ]
         )
-        == 0
-    )
+    assert rc == 0
     data = json.loads((out / "sweep.json").read_text())
     assert data["model"] == "lumped3d"
     assert data["modal_energy_parts"] == ["mesh", "pinion_shaft", "gear_shaft", "bearings"]

@@ -113,7 +113,9 @@ def test_hessian_matches_finite_differences_of_the_gradient():
     for j, h in enumerate(STEPS):
         e = np.zeros(3)
         e[j] = h
-        col = (np.asarray(grad(jnp.asarray(P0 + e))) - np.asarray(grad(jnp.asarray(P0 - e)))) / (2 * h)
+        col = (np.asarray(grad(jnp.asarray(P0 + e))) - np.asarray(grad(jnp.asarray(P0 - e)))) / (
+            2 * h
+        )
         np.testing.assert_allclose(H[:, j], col, rtol=2e-4, atol=1e-6 * np.abs(H).max())
     np.testing.assert_allclose(H, H.T, rtol=1e-8, atol=1e-10 * np.abs(H).max())
 

@@ -60,8 +60,12 @@ def test_objective_gradients_match_central_differences(case, objective, variable
 
 
 def test_master_curve_matches_zero_fluctuation_family(case):
-    # uniform stiffness, spur, ε_α = 1.42 < 2: DESIGN.md §8's family, checked here against the
-    # numerical optimum (relative error in E < 1 %) and its TE RMS (< 1 % of the unmodified)
+    """README: "the numerical Master Curve matches it to 0.1 % with TE RMS below 3e-4 of the
+    unmodified value (tests)".
+
+    Uniform stiffness, spur, ε_α = 1.42 < 2: DESIGN.md §8's family against the numerical optimum.
+    Measured: relative error in E* 2e-4 – 5e-4, TE RMS / unmodified 7e-7 – 1.9e-4 (64 positions).
+    """
     c = case.replace(stiffness_model="uniform", uniform_k0=13e9)
     p = op.make_problem(
         c,
@@ -76,8 +80,8 @@ def test_master_curve_matches_zero_fluctuation_family(case):
     extents = np.linspace(lo + 0.3 * (hi - lo), hi, 5)  # where E* stays within the bounds
     mc = op.master_curve(p, extents)
     family = op.zero_fluctuation_depth(extents, eps)
-    np.testing.assert_allclose(mc["depth_star"], family, rtol=1e-2)
-    assert np.all(mc["te_rms_exact_m"] < 1e-2 * float(p.scale))
+    np.testing.assert_allclose(mc["depth_star"], family, rtol=1e-3)
+    assert np.all(mc["te_rms_exact_m"] < 3e-4 * float(p.scale))
     # and the zero-fluctuation point is a true minimum: E ± 5 % is worse
     for g, e in zip(extents[:2], mc["depth_star"][:2]):
         v0 = float(p.value(jnp.array([e, g]), "exact"))
@@ -101,6 +105,7 @@ def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
     assert max(evals) < grid.size / 10  # far fewer evaluations than the 41×41 grid
 
 
+@pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     torques = np.linspace(40.0, 120.0, 5)
     single = op.make_problem(
@@ -151,10 +156,14 @@ def test_bad_inputs_give_clear_errors(case, kwargs, needle):
 
 
 def test_parse_range_errors():
-    np.testing.assert_allclose(op.parse_range("40:120:5"), [40, 60, 80, 100, 120])
-    for bad in ("40:120", "40:120:0", "a:b:c", "40:40:3"):
-        with pytest.raises(ValueError):
-            op.parse_range(bad)
+    from jaxgear.cli._options import range_values
+
+    np.testing.assert_allclose(range_values("40:120:5", "--torques"), [40, 60, 80, 100, 120])
+    for bad in ("40:120", "40:120:0", "a:b:c", "40:40:3", "120:40:5", "nan:1:3"):
+        with pytest.raises(ValueError, match="--torques"):
+            range_values(bad, "--torques")
+    with pytest.raises(ValueError, match="> 0"):
+        range_values("-5:10:3", "--speeds", positive=True)
 
 
 SMALL_CASE = (
@@ -196,7 +205,13 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     mc = tmp_path / "mc"
     assert main(["master-curve", str(path), "--extents", "0.2:0.29:4", "--out", str(mc)]) == 0
     rows = json.loads((mc / "master_curve.json").read_text())["master_curve"]
-    assert [sorted(r) for r in rows][0] == ["depth_um", "extent", "te_rms_m", "te_rms_smooth_m"]
+    assert [sorted(r) for r in rows][0] == [
+        "depth_um",
+        "extent",
+        "on_bound",
+        "te_rms_m",
+        "te_rms_smooth_m",
+    ]
     assert len(rows) == 4 and all(r["depth_um"] > 0 for r in rows)
     assert (mc / "master_curve.png").exists()
     run = tmp_path / "r"
@@ -212,17 +227,98 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
 
 
 def test_master_curve_notebook_executes():
+    """The example notebook runs (SMALL grids), shows its figures inline and its numbers for
+    people, and the values it computes agree with independent references."""
+    import json
+    import math
     import pathlib
+    import re
+    import tomllib
 
     import nbformat
     from nbclient import NotebookClient
 
-    path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "master_curve.ipynb"
+    root = pathlib.Path(__file__).resolve().parents[1]
+    path = root / "examples" / "master_curve.ipynb"
     nb = nbformat.read(path, as_version=4)
+    n_cells = len(nb.cells)
+    # a probe cell, not stored in the notebook: the kernel's values after the notebook ran
+    probe = """import json
+print("PROBE" + json.dumps({
+    "eps": float(pair.transverse_contact_ratio), "a_w": float(pair.center_distance),
+    "p_bt": float(pair.base_pitch), "x": [float(v) for v in res.x],
+    "lower": [float(v) for v in problem.lower], "upper": [float(v) for v in problem.upper],
+    "names": list(problem.names), "value": float(res.value), "te_opt": te_opt,
+    "te_plain": float(plain.te_rms), "te_relief": float(relief.te_rms),
+    "scale": float(problem.scale), "grid_min": float(grid.min()),
+    "mc_extent": [float(v) for v in mc["extent"]], "mc_depth_star": [float(v) for v in mc["depth_star"]],
+    "mc_te": [float(v) for v in mc["te_rms_exact_m"]],
+    "single": [float(v) for v in single], "robust": [float(v) for v in rob]}))"""
+    nb.cells.append(nbformat.v4.new_code_cell(probe))
     NotebookClient(
         nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}
     ).execute()
-    outputs = "".join(
-        o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs
-    )
-    assert "worst case" in outputs
+    code = [c for c in nb.cells[:n_cells] if c.cell_type == "code"]
+    text = "".join(o.get("text", "") for c in code for o in c.outputs if o.get("name") == "stdout")
+    (got,) = [
+        json.loads(line[5:])
+        for o in nb.cells[-1].outputs
+        for line in o.get("text", "").splitlines()
+        if line.startswith("PROBE")
+    ]
+
+    # figures inline, one per plotting cell (TE, Master Curve map, Harris map)
+    pngs = [o for c in code for o in c.outputs if "image/png" in o.get("data", {})]
+    assert len(pngs) >= 3
+    # numbers for people: no raw dicts, arrays or long floats in what the notebook prints
+    assert "worst case" in text
+    assert not re.search(r"\d\.\d{7,}", text), text
+    assert "{" not in text and "array(" not in text and "np.float" not in text, text
+
+    # geometry against the textbook formulas (profile-shifted spur pair, tip radius
+    # m (z/2 + h_a* + x)), computed here from the case file
+    toml = tomllib.loads((root / "jaxgear" / "cases" / "accessory-spur.toml").read_text())
+    m = toml["pair"]["normal_module_mm"] * 1e-3
+    alpha = math.radians(toml["pair"]["normal_pressure_angle_deg"])
+    z1, z2 = toml["pinion"]["teeth"], toml["gear"]["teeth"]
+    x1, x2 = toml["pinion"]["profile_shift"], toml["gear"]["profile_shift"]
+    inv = lambda t: math.tan(t) - t  # noqa: E731
+    target = inv(alpha) + 2 * math.tan(alpha) * (x1 + x2) / (z1 + z2)
+    lo, hi = 0.0, 1.5
+    for _ in range(100):
+        lo, hi = ((lo + hi) / 2, hi) if inv((lo + hi) / 2) < target else (lo, (lo + hi) / 2)
+    alpha_w = lo
+    a_w = m * (z1 + z2) / 2 * math.cos(alpha) / math.cos(alpha_w)
+    r_a = [
+        m * (z / 2 + toml[g]["addendum_coeff"] + x)
+        for z, x, g in ((z1, x1, "pinion"), (z2, x2, "gear"))
+    ]
+    r_b = [m * z / 2 * math.cos(alpha) for z in (z1, z2)]
+    p_bt = math.pi * m * math.cos(alpha)
+    eps = (sum(math.sqrt(a**2 - b**2) for a, b in zip(r_a, r_b)) - a_w * math.sin(alpha_w)) / p_bt
+    assert eps == pytest.approx(1.42155, abs=1e-5)  # the accessory pair (Tab. III-1)
+    assert got["eps"] == pytest.approx(eps, rel=1e-9)
+    assert got["a_w"] == pytest.approx(a_w, rel=1e-9)
+    assert got["p_bt"] == pytest.approx(p_bt, rel=1e-9)
+    assert f"ε_α = {eps:.4f}" in text and f"a_w = {a_w * 1e3:.4f} mm" in text
+
+    # quasi-static TE: the case's relief lowers TE RMS; printed values are the computed ones
+    assert got["te_relief"] < got["te_plain"]
+    assert got["scale"] == pytest.approx(got["te_plain"], rel=1e-2)  # same mesh, same PPP
+    assert f"{got['te_plain'] * 1e6:.3f} µm without relief" in text
+    # the optimum: inside the bounds, below the unmodified TE and no worse than the grid's best
+    lower, upper = np.asarray(got["lower"]), np.asarray(got["upper"])
+    x = np.asarray(got["x"])
+    assert np.all(x >= lower) and np.all(x <= upper)
+    assert got["te_opt"] < 0.5 * got["te_plain"]
+    assert got["value"] < 0.5 and got["value"] <= got["grid_min"] * 1.05
+    assert f"TE RMS {got['te_opt'] * 1e6:.3f} µm" in text
+    # Master Curve: the requested extents, depths inside the bounds, each TE below the unmodified
+    i_d = got["names"].index("tip_relief.depth")
+    np.testing.assert_allclose(got["mc_extent"], np.linspace(0.2, 0.6, 5))
+    assert np.all(np.asarray(got["mc_depth_star"]) >= lower[i_d])
+    assert np.all(np.asarray(got["mc_depth_star"]) <= upper[i_d])
+    assert np.all(np.asarray(got["mc_te"]) < got["te_plain"])
+    # robust design: a lower worst case over 40-120 N·m than the single-load optimum
+    assert max(got["robust"]) < max(got["single"])
+    assert f"robust {max(got['robust']) * 1e6:.3f} µm" in text

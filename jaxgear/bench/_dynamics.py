@@ -15,10 +15,11 @@ from __future__ import annotations
 import json
 import math
 import os
-import platform
 import time
 
 import numpy as np
+
+from ._timing import environment, first_call, min_time
 
 __all__ = ["bench_dynamics", "stability_map"]
 
@@ -91,12 +92,13 @@ def _numpy_model(model, width):
     return rhs, observe
 
 
-def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
+def bench_dynamics(
+    out_dir: str, *, quick: bool = False, progress: bool = True, verbose: bool = True
+) -> dict:
     """Vmapped Newmark (200 speeds × 100 mesh periods × 64 steps) vs ``solve_ivp`` (LSODA, Radau).
 
     Writes ``bench_dynamics.json`` to ``out_dir`` and returns it.
     """
-    import jax
     import scipy.integrate
 
     from ..dynamics import build_dynamic_model, simulate, speed_sweep, static_start
@@ -111,21 +113,19 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
     kw = dict(
         contact="smooth", width=width, steps_per_period=spp, periods=periods, keep_periods=keep
     )
-    # compile (same shapes), then time
-    t0 = time.perf_counter()
-    jax.block_until_ready(speed_sweep(model, speeds, **kw).dynamic_factor)
-    first = time.perf_counter() - t0
-    times = []
-    for _ in range(2):
-        t0 = time.perf_counter()
-        res = speed_sweep(model, speeds, **kw)
-        jax.block_until_ready(res.dynamic_factor)
-        times.append(time.perf_counter() - t0)
-    t_jax = min(times)
-    df_jax = np.asarray(res.dynamic_factor)
+    from tqdm.auto import tqdm
+
+    probe = [500.0, 860.0, 2000.0] if not quick else [860.0]
+    # steps: JAX sweep, one per SciPy probe speed, the stability map
+    bar = tqdm(total=2 + len(probe), desc="bench dynamics", disable=not progress)
+    # compile (same shapes), then time: min of repeats, block_until_ready
+    first = first_call(lambda: speed_sweep(model, speeds, **kw).dynamic_factor)
+    t_jax = min_time(lambda: speed_sweep(model, speeds, **kw).dynamic_factor, 2, warmup=False)
+    df_jax = np.asarray(speed_sweep(model, speeds, **kw).dynamic_factor)
+    bar.set_postfix_str("SciPy probes")
+    bar.update()
 
     # SciPy on a few speeds (one resonant), extrapolated to all of them
-    probe = [500.0, 860.0, 2000.0] if not quick else [860.0]
     rhs, observe = _numpy_model(model, width)
     x0, _ = static_start(model, contact="smooth", width=width, steps_per_period=spp)
     y0 = np.concatenate([np.asarray(x0), np.zeros_like(np.asarray(x0))])
@@ -176,6 +176,8 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
                     **(chosen or {"method": method, "failed": True}),
                 }
             )
+        bar.update()
+    bar.set_postfix_str("stability map")
     per_speed = {
         m: float(np.mean([r["time_s"] for r in rows if r.get("method") == m and "time_s" in r]))
         for m in ("LSODA", "Radau")
@@ -194,19 +196,64 @@ def bench_dynamics(out_dir: str, *, quick: bool = False) -> dict:
         "scipy_total_estimate_s": {m: v * n_speeds for m, v in per_speed.items()},
         "speedup": {m: v * n_speeds / t_jax for m, v in per_speed.items()},
         "dynamic_factor_max": float(df_jax.max()),
-        "platform": {
-            "jax": jax.__version__,
-            "device": str(jax.devices()[0].device_kind),
-            "dtype": str(df_jax.dtype),
-            "python": platform.python_version(),
-            "machine": platform.machine(),
-        },
+        "quick": bool(quick),
+        "timing": "min of repeats after a compiling call, jax.block_until_ready on the result",
+        "platform": {**environment(), "dtype": str(df_jax.dtype)},
     }
     summary["stability_map"] = stability_map(out_dir, quick=quick)
+    bar.update()
+    bar.close()
     os.makedirs(out_dir, exist_ok=True)
     with atomic_open(os.path.join(out_dir, "bench_dynamics.json"), "w") as f:
         json.dump(summary, f, indent=2)
+    if verbose:
+        print(_table(summary))
     return summary
+
+
+def _table(s: dict) -> str:
+    """A short plain-text table of the dynamics benchmark (like ``bench quasi-static``)."""
+    env = s["platform"]
+    lines = [
+        (
+            f"dynamics benchmark: {s['case']}, {s['model']}, {s['speeds']} speeds × "
+            f"{s['periods']} periods × {s['steps_per_period']} steps, {env['dtype']}, JAX "
+            f"{env['jax']}, {env['device']}, {env['cpu_count']} CPU ({env['cpu_model']})"
+        ),
+        f"{'':28s}{'total s':>10s}{'per speed ms':>14s}{'speed-up':>10s}",
+        (
+            f"{'jaxgear Newmark (vmap)':28s}{s['jax_newmark_vmap_s']:10.3f}"
+            f"{s['jax_per_speed_s'] * 1e3:14.2f}{'1':>10s}"
+        ),
+    ]
+    for m, per in s["scipy_per_speed_s"].items():
+        if per == per:  # not NaN
+            lines.append(
+                f"{'SciPy ' + m + ' (estimate)':28s}{per * s['speeds']:10.3f}"
+                f"{per * 1e3:14.2f}{s['speedup'][m]:10.1f}"
+            )
+        else:
+            lines.append(f"{'SciPy ' + m:28s}{'failed':>10s}")
+    lines.append(
+        f"first call (compile + run): {s['jax_first_call_s']:.2f} s; "
+        f"max dynamic factor {s['dynamic_factor_max']:.3f}"
+    )
+    rows = s.get("stability_map", {}).get("rows", [])
+    if rows:
+        lines.append(
+            f"{'stability map':28s}{'steps':>6s}{'time s':>9s}{'err res.':>10s}{'err non-res.':>13s}"
+        )
+        for r in rows:
+            name = f"{r['solver']}/{r['contact']}" + (
+                "" if r["width_m"] is None else f" w={r['width_m'] * 1e6:g}µm"
+            )
+            err = lambda v: f"{v:.1e}" if v is not None else "diverged"  # noqa: E731
+            lines.append(
+                f"{name:28s}{r['steps_per_period']:6d}{r['time_s']:9.3f}"
+                f"{err(r['error_resonant']):>10s}{err(r['error_nonresonant']):>13s}"
+            )
+    lines.append("written: bench_dynamics.json, stability_map.json, stability_map.png")
+    return "\n".join(lines)
 
 
 def stability_map(out_dir: str, *, quick: bool = False) -> dict:

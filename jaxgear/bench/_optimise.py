@@ -9,21 +9,17 @@ from __future__ import annotations
 
 import json
 import os
-import platform
 import time
 
 import numpy as np
+
+from ._timing import environment, min_time
 
 __all__ = ["bench_optimise"]
 
 
 def _best_time(fn, repeats=5):
-    best = np.inf
-    for _ in range(repeats):
-        t = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t)
-    return best
+    return min_time(fn, repeats, warmup=False)
 
 
 def bench_optimise(out_dir: str, quick: bool = False) -> dict:
@@ -115,13 +111,9 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         "speedup_vs_lbfgsb_fd": t_lb / t_ours,
         "speedup_vs_grid": t_grid / t_ours,
         "environment": {
-            "machine": platform.machine(),
-            "cpus": os.cpu_count(),
+            **environment(),
             "backend": jax.default_backend(),
-            "dtype": "float64",
-            "jax": jax.__version__,
             "scipy": scipy.__version__,
-            "numpy": np.__version__,
         },
     }
     # more variables: per-member tip relief and crowning on the helical pair (5 variables), where
@@ -130,6 +122,7 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         "pinion.tip_relief.depth,pinion.tip_relief.extent,gear.tip_relief.depth,"
         "gear.tip_relief.extent,crowning.depth"
     )
+    steps5 = tqdm(total=3, desc="bench optimise, 5 variables")
     hel = load_case("power-helical")
     p5 = make_problem(hel, names5, "te_rms", positions_per_pitch=ppp, slices=8 if quick else 20)
     lo5, hi5 = np.asarray(p5.lower), np.asarray(p5.upper)
@@ -140,6 +133,7 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     t0 = time.perf_counter()
     ours5 = minimise(p5, x05, progress=False, max_iterations=200)
     t_ours5 = time.perf_counter() - t0
+    steps5.update()
     t0 = time.perf_counter()
     nm5 = scipy.optimize.minimize(
         lambda x: float(f5(jnp.asarray(np.clip(x, lo5, hi5)))),
@@ -148,6 +142,7 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         options={"xatol": 1e-5, "fatol": 1e-8, "maxfev": 20000},
     )
     t_nm5 = time.perf_counter() - t0
+    steps5.update()
     t0 = time.perf_counter()
     lb5 = scipy.optimize.minimize(
         lambda x: float(f5(jnp.asarray(x))),
@@ -157,6 +152,8 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         options={"maxfun": 20000},
     )
     t_lb5 = time.perf_counter() - t0
+    steps5.update()
+    steps5.close()
     five = {
         "case": hel.name,
         "variables": names5.split(","),

@@ -23,46 +23,18 @@ repeats; device, dtype and versions are recorded.
 from __future__ import annotations
 
 import json
-import math
 import os
 import platform
 import time
 
 import numpy as np
 
+from ._timing import cpu_model as _cpu_model, first_call as _first_call, min_time as _min_time
+
 __all__ = ["bench_quasi_static"]
 
 _TOL = 1e-9
 _CHUNK = 8  # grid points per vmap chunk in the chunked grid (fastest of 1..512 on 2 cores)
-
-
-def _cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
-
-
-def _min_time(fn, repeats: int, block=None) -> float:
-    """Min wall time (s) of ``fn()`` over ``repeats`` calls, after one warm-up call."""
-    block = block or (lambda r: r)
-    block(fn())
-    best = math.inf
-    for _ in range(repeats):
-        t = time.perf_counter()
-        block(fn())
-        best = min(best, time.perf_counter() - t)
-    return best
-
-
-def _first_call(fn, block) -> float:
-    t = time.perf_counter()
-    block(fn())
-    return time.perf_counter() - t
 
 
 def _rel(a, b) -> float:

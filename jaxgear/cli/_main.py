@@ -39,7 +39,9 @@ def _parser() -> argparse.ArgumentParser:
         help="TOML case file or embedded case name (default: accessory-spur)",
     )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/)")
-    r.add_argument("--json", help="also write the summary to this path")
+    r.add_argument(
+        "--json", help="also write the summary to this file (its folder is created if missing)"
+    )
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     sub.add_parser("cases", help="list the embedded cases")
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
@@ -71,7 +73,9 @@ def _cases() -> int:
 
 def _bench(args) -> int:
     from .. import bench
+    from ._paths import clear_outputs
 
+    clear_outputs(args.out, f"bench {args.what}")
     if args.what == "dynamics":
         bench.bench_dynamics(args.out, quick=args.quick)
     elif args.what == "optimise":
@@ -120,14 +124,41 @@ def fail(msg: str) -> int:
     return 2
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted)."""
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """``warnings.showwarning`` of the CLI: one line ``jaxgear: warning: …`` on stderr."""
+    text = " ".join(str(message).split())
     try:
-        args = _parser().parse_args(argv)
+        print(f"jaxgear: warning: {text}", file=file or sys.stderr, flush=True)
+    except (OSError, ValueError):  # stderr gone: nothing to tell
+        pass
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted).
+
+    Library warnings reach the user as one line ``jaxgear: warning: …`` on stderr.
+    """
+    import warnings
+
+    saved = warnings.showwarning
+    warnings.showwarning = _show_warning
+    try:
+        try:
+            args = _parser().parse_args(argv)
+        except SystemExit as err:  # --help, --version, or argparse's usage error (status 2)
+            return err.code if isinstance(err.code, int) else (0 if err.code is None else 2)
+        try:
+            from ._options import check_options
+
+            check_options(args)  # before JAX, the model or the case file is touched
+        except ValueError as err:
+            return fail(str(err))
         import equinox as eqx
 
         try:
-            return _dispatch(args)
+            status = _dispatch(args)
+            sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+            return status
         except (ValueError, FileNotFoundError, NotADirectoryError, PermissionError) as err:
             return fail(str(err))
         except eqx.EquinoxRuntimeError as err:
@@ -140,10 +171,22 @@ def main(argv: list[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
+    finally:
+        warnings.showwarning = saved
 
 
 def entry() -> None:  # pragma: no cover - console-script wrapper
-    sys.exit(main())
+    status = main()
+    if status == 130:
+        # interrupted: XLA may still run threads of the abandoned computation, and tearing the
+        # interpreter down under them can crash; the files are closed and complete, so leave now
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(130)
+    sys.exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover

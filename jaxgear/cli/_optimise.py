@@ -18,12 +18,12 @@ from optimise import (
     make_problem,
     master_curve,
     minimise,
-    parse_range,
     zero_fluctuation_depth,
 )
 
 from ..io import atomic_open, load_case
-from ._run import finish_plot
+from . import _plots
+from ._options import parse_range, range_values
 
 __all__ = ["add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
 
@@ -54,17 +54,13 @@ def add_parsers(sub) -> None:
     m.add_argument("case", help="TOML case file or embedded case name")
     m.add_argument("--extents", default="0.05:0.6:12", help="START:STOP:N relief extents Γ")
     m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
+    m.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def settings_from_case(case: jg.Case, args=None) -> dict:
-    """Optimisation settings: command-line options over the case's ``[optimise]`` table."""
+    """Optimisation settings: command-line options over the case's ``[optimise]`` table (already
+    validated and normalised by :func:`jaxgear.io.parse_optimise` when the case was loaded)."""
     table = dict(case.optimise or {})
-    allowed = {"objective", "vars", "torques", "reduce", "method", "max_iterations", "bounds"}
-    for key in table:
-        if key not in allowed:
-            raise ValueError(
-                f"unknown key [optimise] {key!r} in case file: allowed {sorted(allowed)}"
-            )
     get = lambda k, d: (
         getattr(args, k, None)
         if args is not None and getattr(args, k, None) is not None  # noqa: E731
@@ -75,8 +71,7 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         variables = ",".join(variables)
     torques = get("torques", None)
     if isinstance(torques, list):
-        torques = ":".join(str(t) for t in torques) if len(torques) == 3 else None
-    bounds = {k: tuple(v) for k, v in (table.get("bounds") or {}).items()}
+        torques = ":".join(str(t) for t in torques)
     return {
         "objective": get("objective", "te_rms"),
         "vars": variables,
@@ -84,23 +79,17 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         "reduce": get("reduce", "max"),
         "method": get("method", "lbfgs"),
         "max_iterations": int(get("max_iterations", 100)),
-        "bounds": bounds,
+        "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
     }
-
-
-def _save(fig, path):
-    with atomic_open(path, "wb") as f:
-        fig.savefig(f, format="png", dpi=120)
 
 
 def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = True) -> dict:
     """Run one optimisation from the case's current modifications and write its files."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    torques = parse_range(settings["torques"]) if settings["torques"] else None
+    torques = (
+        range_values(settings["torques"], "--torques", positive=True)
+        if settings["torques"]
+        else None
+    )
     problem = make_problem(
         case,
         settings["vars"],
@@ -139,6 +128,17 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         max_iterations=settings["max_iterations"],
         progress=progress,
     )
+    from tqdm.auto import tqdm
+
+    two_d = sorted(
+        n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
+    ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp")
+    # after the optimiser: exact-contact values, the Harris map and (2 variables) the 41×41 map
+    post = tqdm(
+        total=3 if two_d else 2,
+        desc="optimise: exact values, Harris map" + (", 41×41 map" if two_d else ""),
+        disable=not progress,
+    )
     scale = float(problem.scale)
     units = "m" if problem.objective != "max_line_load" else "N_per_m"
     report = {
@@ -164,53 +164,58 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "evaluations": res.evaluations,
         "converged": res.converged,
         "wall_time_s": res.wall_time_s,
+        "max_iterations": settings["max_iterations"],
         "notes": "parameters in case-file units (depth_um for depths, fractions for extents); "
         "'exact' values use sharp relief starts, the smooth optimisation rounds them over "
         "one position step (relief_blend)",
     }
+    post.update()
     os.makedirs(out_dir, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.semilogy(np.maximum(res.history_value, 1e-12), "o-")
-    finish_plot(
-        fig,
-        ax,
+    _plots.convergence_plot(
         os.path.join(out_dir, "convergence.png"),
-        xlabel="iteration",
+        res.history_value,
         ylabel=f"{problem.objective} / unmodified",
-        legend=False,
         title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)",
     )
     t_design = float(problem.design_torque)
-    harris_t = (
-        np.asarray(problem.torques)
-        if problem.objective == "robust_te_rms"
-        else np.linspace(0.25, 2.0, 15) * t_design
+    if problem.objective == "robust_te_rms":
+        harris_t = np.array(problem.torques, dtype=float)
+    else:
+        harris_t = np.linspace(0.25, 2.0, 15) * t_design
+        harris_t[np.argmin(np.abs(harris_t - t_design))] = t_design  # the design torque a point
+    lower = np.asarray(problem.lower, dtype=float)
+    te_of = lambda x: np.asarray(sharp.te_rms_vs_torque(jnp.asarray(x), harris_t))
+    harris = {
+        "torque_Nm": harris_t.tolist(),
+        "te_rms_initial_m": te_of(res.x0).tolist(),
+        "te_rms_optimum_m": te_of(res.x).tolist(),
+        "te_rms_unmodified_m": te_of(lower).tolist(),
+    }
+    # the lower bounds mean "no modification" when every depth variable's lower bound is 0
+    kinds = [
+        VARIABLES[n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n][1]
+        for n in problem.names
+    ]
+    unmod = (
+        "unmodified design (variables at lower bounds: depth 0)"
+        if all(lo == 0 for lo, k in zip(lower, kinds, strict=True) if k == "depth")
+        else "design variables at their lower bounds"
     )
-    fig, ax = plt.subplots(figsize=(7, 4))
-    for x, lab in ((res.x0, "initial"), (res.x, "optimum")):
-        ax.plot(
-            harris_t,
-            np.asarray(sharp.te_rms_vs_torque(jnp.asarray(x), harris_t)) * 1e6,
-            "o-",
-            label=lab,
-        )
-    ax.plot(
-        harris_t,
-        np.asarray(sharp.te_rms_vs_torque(jnp.zeros(len(problem.names)) + problem.lower, harris_t))
-        * 1e6,
-        "k:",
-        label="lower bounds",
-    )
-    ax.axvline(t_design, color="k", lw=0.8, ls="--")
-    finish_plot(
-        fig,
-        ax,
+    harris["unmodified_is"] = unmod
+    _plots.harris_plot(
         os.path.join(out_dir, "harris.png"),
-        xlabel="pinion torque (N·m)",
+        harris_t,
+        [
+            ("initial design", harris["te_rms_initial_m"], "o-"),
+            ("optimum", harris["te_rms_optimum_m"], "s-"),
+            (unmod, harris["te_rms_unmodified_m"], "k:"),
+        ],
+        design_torque=t_design,
         ylabel="TE RMS (µm), exact contact",
         title=f"{case.name}: Harris map of the designs",
     )
-    report["harris"] = {"torque_Nm": harris_t.tolist()}
+    report["harris"] = harris
+    post.update()
     if sorted(
         n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
     ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp"):
@@ -219,32 +224,58 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         G = np.linspace(float(problem.lower[i_g]), float(problem.upper[i_g]), 41)
         E = np.linspace(float(problem.lower[i_d]), float(problem.upper[i_d]), 41)
         grid = contour_map(problem, G, E, "smooth")
-        fig, ax = plt.subplots(figsize=(7, 5))
+        post.update()
         dm = float(problem.delta_m) * 1e6
-        cs = ax.contourf(G, E * dm, grid.T * scale * 1e6, levels=30, cmap="viridis")
-        fig.colorbar(cs, ax=ax, label=f"{problem.objective} (µm)")
-        ax.plot(res.history_x[:, i_g], res.history_x[:, i_d] * dm, "w.-", label="optimiser path")
-        ax.plot(res.x[i_g], res.x[i_d] * dm, "r*", ms=14, label="optimum")
-        ax.set_xlabel("relief extent Γ")
-        ax.set_ylabel("relief depth E (µm)")
-        ax.legend()
-        _save(fig, os.path.join(out_dir, "path.png"))
-        plt.close(fig)
+        _plots.optimiser_path_plot(
+            os.path.join(out_dir, "path.png"),
+            G,
+            E * dm,
+            grid * scale * 1e6,
+            res.history_x[:, i_g],
+            res.history_x[:, i_d] * dm,
+            (float(res.x[i_g]), float(res.x[i_d]) * dm),
+            label=f"{problem.objective} (µm), smooth contact",
+            title=f"{case.name}: {problem.objective} over tip relief extent and depth, "
+            f"{settings['method']} path",
+        )
         k = np.unravel_index(np.argmin(grid), grid.shape)
         report["grid_41x41_best"] = {
             "extent": float(G[k[0]]),
             "depth_um": float(E[k[1]] * dm),
             "objective_smooth": float(grid[k]) * scale,
         }
+    post.close()
     with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
         json.dump(report, f, indent=2)
     return report
 
 
+def check_settings(settings: dict) -> dict:
+    """Check optimisation settings that the option parser cannot: a ``torques`` range only with
+    ``robust_te_rms``, and increasing; ``max_iterations >= 1``. Returns ``settings``.
+
+    Raises:
+        ValueError: one line naming the setting.
+    """
+    if settings.get("torques"):
+        if settings["objective"] != "robust_te_rms":
+            raise ValueError(
+                f"torques {settings['torques']!r} apply to the objective robust_te_rms only, "
+                f"not {settings['objective']}"
+            )
+        parse_range(settings["torques"], "--torques", positive=True)
+    if int(settings["max_iterations"]) < 1:
+        raise ValueError(f"max_iterations = {settings['max_iterations']}: must be >= 1")
+    return settings
+
+
 def run_optimise(args) -> int:
+    from ._paths import check_output_dir, clear_outputs
+
     case = load_case(args.case)
-    settings = settings_from_case(case, args)
-    out = args.out or os.path.join("jaxgear-out", case.name, "optimise")
+    settings = check_settings(settings_from_case(case, args))
+    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
+    clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep = optimise_case(case, settings, out, progress=not args.quiet)
     units = "m" if rep["objective"] != "max_line_load" else "N_per_m"
     print(
@@ -254,17 +285,14 @@ def run_optimise(args) -> int:
     )
     for k, v in rep["final"]["parameters"].items():
         print(f"  {k} = {v:.5g}{' µm' if k.endswith('depth') else ''}")
+    if not rep["converged"]:
+        print(f"  not converged: stopped at the iteration cap ({rep['iterations']} iterations)")
     print(f"written to {out}/")
     return 0
 
 
-def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
+def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = True) -> dict:
     """Master Curve and contour map for a case; writes master_curve.json and master_curve.png."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     t0 = time.perf_counter()
     problem = make_problem(
         case,
@@ -273,7 +301,11 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
         relief_blend=0.0,
         bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
     )
+    from tqdm.auto import tqdm
+
+    bar = tqdm(total=2, desc="master curve: optimum per extent, 41×41 map", disable=not progress)
     mc = master_curve(problem, extents)
+    bar.update()
     eps = case.pair.transverse_contact_ratio
     dm = float(problem.delta_m)
     applies = case.stiffness_model == "uniform" and case.pair.helix_angle == 0 and eps < 2
@@ -285,6 +317,8 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
     G = np.linspace(min(0.02, mc["extent"].min()), max(0.7, mc["extent"].max()), 41)
     E = np.linspace(0.0, 4.0, 41)
     grid = contour_map(problem, G, E, "exact") * float(problem.scale)
+    bar.update()
+    bar.close()
     report = {
         "case": case.name,
         "stiffness": case.stiffness_model,
@@ -297,9 +331,15 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
                 "depth_um": float(e) * 1e6,
                 "te_rms_m": float(t),
                 "te_rms_smooth_m": float(s),
+                "on_bound": bool(b),
             }
-            for g, e, t, s in zip(
-                mc["extent"], mc["depth_m"], mc["te_rms_exact_m"], mc["te_rms_smooth_m"]
+            for g, e, t, s, b in zip(
+                mc["extent"],
+                mc["depth_m"],
+                mc["te_rms_exact_m"],
+                mc["te_rms_smooth_m"],
+                mc["on_bound"],
+                strict=True,
             )
         ],
         "zero_fluctuation_family": (
@@ -310,32 +350,35 @@ def master_curve_case(case: jg.Case, extents, out_dir: str) -> dict:
         "wall_time_s": time.perf_counter() - t0,
     }
     os.makedirs(out_dir, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    cs = ax.contourf(G, E * dm * 1e6, grid.T * 1e6, levels=30, cmap="viridis")
-    fig.colorbar(cs, ax=ax, label="TE RMS (µm), exact contact")
-    ax.plot(mc["extent"], mc["depth_m"] * 1e6, "r.-", lw=2, label="Master Curve (numerical)")
+    on_bound = [r["on_bound"] for r in report["master_curve"]]
+    family = None
     if applies:
         gg = np.linspace((eps - 1) / (2 * eps), (eps - 1) / eps, 200)[1:]
-        ax.plot(
-            gg, zero_fluctuation_depth(gg, eps) * dm * 1e6, "w--", label="zero-fluctuation family"
-        )
-    ax.set_ylim(0, E[-1] * dm * 1e6)
-    ax.set_xlabel("relief extent Γ")
-    ax.set_ylabel("relief depth E (µm)")
-    ax.set_title(f"{case.name}: TE RMS map and Master Curve at {case.torque:g} N·m")
-    ax.legend(loc="upper right")
-    _save(fig, os.path.join(out_dir, "master_curve.png"))
-    plt.close(fig)
+        family = (gg, zero_fluctuation_depth(gg, eps) * dm * 1e6)
+    _plots.master_curve_plot(
+        os.path.join(out_dir, "master_curve.png"),
+        G,
+        E * dm * 1e6,
+        grid * 1e6,
+        mc["extent"],
+        mc["depth_m"] * 1e6,
+        on_bound=on_bound,
+        family=family,
+        title=f"{case.name}: TE RMS map and Master Curve at {case.torque:g} N·m",
+    )
     with atomic_open(os.path.join(out_dir, "master_curve.json"), "w") as f:
         json.dump(report, f, indent=2)
     return report
 
 
 def run_master_curve(args) -> int:
+    from ._paths import check_output_dir, clear_outputs
+
+    extents = range_values(args.extents, "--extents")
     case = load_case(args.case)
-    extents = parse_range(args.extents, "--extents")
-    out = args.out or os.path.join("jaxgear-out", case.name, "master-curve")
-    rep = master_curve_case(case, extents, out)
+    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))
+    clear_outputs(out, "master-curve")
+    rep = master_curve_case(case, extents, out, progress=not args.quiet)
     for row in rep["master_curve"]:
         print(
             f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, TE RMS = {row['te_rms_m'] * 1e6:.4f} µm"

@@ -11,7 +11,15 @@ import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Case, Modifications, QuasiStaticResult, harris_map, load_map, quasi_static
+from .. import (
+    Case,
+    Modifications,
+    QuasiStaticResult,
+    __version__,
+    harris_map,
+    load_map,
+    quasi_static,
+)
 from ..io import atomic_open, write_csv
 
 __all__ = ["format_table", "result_summary", "run_case"]
@@ -33,29 +41,13 @@ def result_summary(r: QuasiStaticResult) -> dict:
     }
 
 
-def _save_fig(fig, path):
-    with atomic_open(path, "wb") as f:
-        fig.savefig(f, format="png", dpi=120)
-
-
-def finish_plot(
-    fig, ax, path, *, xlabel: str, ylabel: str, title: str, legend: bool = True
-) -> None:
-    """Label, grid and legend ``ax``, write ``fig`` atomically as PNG to ``path`` and close it."""
-    import matplotlib.pyplot as plt
-
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(alpha=0.3)
-    if legend:
-        ax.legend()
-    _save_fig(fig, path)
-    plt.close(fig)
-
-
 def run_case(
-    case: Case, out_dir: str, *, harris_points: int = 16, show_progress: bool = True
+    case: Case,
+    out_dir: str,
+    *,
+    harris_points: int = 16,
+    show_progress: bool = True,
+    complete: bool = True,
 ) -> dict:
     """Compute geometry, mesh stiffness, quasi-static TE (exact and smooth, with and without the
     case's modifications), the load map and the Harris map, and write them to ``out_dir``.
@@ -63,13 +55,13 @@ def run_case(
     Files (written atomically): ``summary.json``, ``te.csv``, ``mesh_stiffness.csv``,
     ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``harris_map.png``.
 
+    ``summary.json`` says ``"complete": complete`` (``jaxgear run`` passes False when a sweep or
+    an optimisation follows, and rewrites it at the end).
+
     Returns:
         The summary dict (also in ``summary.json``).
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from . import _plots
 
     os.makedirs(out_dir, exist_ok=True)
     mesh = case.mesh_model()
@@ -90,6 +82,7 @@ def run_case(
             )
             steps.update()
     torques = np.linspace(0.1, 2.0, harris_points) * case.torque
+    torques[np.argmin(np.abs(torques - case.torque))] = case.torque  # a point of the Harris map
     harris = {
         label: harris_map(mesh, mods, torques, positions_per_pitch=ppp)
         for label, mods in (("unmodified", none), ("modified", case.modifications))
@@ -104,6 +97,7 @@ def run_case(
 
     summary = {
         "case": case.name,
+        "complete": bool(complete),
         "geometry": pair.summary(),
         "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
         "mesh": {
@@ -122,6 +116,7 @@ def run_case(
             "te_ptp_modified_m": harris["modified"].tolist(),
         },
         "environment": {
+            "jaxgear": __version__,
             "jax": jax.__version__,
             "backend": jax.default_backend(),
             "dtype": str(mesh.base_pitch.dtype),
@@ -149,65 +144,40 @@ def run_case(
 
     period = 2 * math.pi / pair.pinion.teeth
     x = theta / period
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    styles = {"exact": "-", "smooth": "--"}
-    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
-        for m in ("exact", "smooth"):
-            ax.plot(
-                x,
-                np.asarray(res[lab, m].transmission_error) * 1e6,
-                styles[m],
-                color=color,
-                label=f"{lab}, {m}",
-            )
-    finish_plot(
-        fig,
-        ax,
+    designs = ("unmodified", "modified")
+    _plots.transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
-        xlabel="pinion position (mesh periods)",
-        ylabel="quasi-static TE (µm, transverse, along the line of action)",
+        x,
+        {
+            lab: {m: np.asarray(res[lab, m].transmission_error) for m in ("exact", "smooth")}
+            for lab in designs
+        },
         title=f"{case.name}: transmission error at {case.torque:g} N·m",
     )
-
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    for lab, color in (("unmodified", "C0"), ("modified", "C3")):
-        ax.plot(
-            x,
-            np.asarray(res[lab, "exact"].mesh_stiffness) / 1e6,
-            color=color,
-            label=f"{lab} (loaded cells)",
-        )
-    finish_plot(
-        fig,
-        ax,
+    _plots.mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
-        xlabel="pinion position (mesh periods)",
-        ylabel="mesh stiffness K(θ) (N/µm)",
+        x,
+        {f"{lab} (loaded cells)": np.asarray(res[lab, "exact"].mesh_stiffness) for lab in designs},
         title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})",
     )
-
-    fig, ax = plt.subplots(figsize=(8, 4.5))
     dz = pair.face_width / len(z)
-    z_edges = np.concatenate([[0.0], z + dz / 2])
-    pc = ax.pcolormesh(s_edges * 1e3, z_edges * 1e3, lmap.T / 1e3, shading="flat", cmap="viridis")
-    fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
-    ax.set_xlabel("s along the line of action (mm): 0 = engagement (gear tip)")
-    ax.set_ylabel("z across the face (mm)")
-    ax.set_title(f"{case.name}: load map over a tooth passage (exact, modified)")
-    _save_fig(fig, os.path.join(out_dir, "load_map.png"))
-    plt.close(fig)
-
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    ax.plot(torques, harris["unmodified"] * 1e6, "o-", label="no relief")
-    ax.plot(torques, harris["modified"] * 1e6, "s-", label="case modifications")
-    ax.axvline(case.torque, color="k", lw=0.8, ls=":", label="design torque")
-    finish_plot(
-        fig,
-        ax,
+    _plots.load_map_plot(
+        os.path.join(out_dir, "load_map.png"),
+        s_edges,
+        np.concatenate([[0.0], z + dz / 2]),
+        lmap,
+        title=f"{case.name}: load map over a tooth passage (exact, modified)",
+    )
+    _plots.harris_plot(
         os.path.join(out_dir, "harris_map.png"),
-        xlabel="pinion torque (N·m)",
-        ylabel="TE peak-to-peak (µm)",
-        title=f"{case.name}: Harris map (exact contact)",
+        torques,
+        [
+            ("no relief", harris["unmodified"], "o-"),
+            ("case modifications", harris["modified"], "s-"),
+        ],
+        design_torque=case.torque,
+        ylabel="TE peak-to-peak (µm), exact contact",
+        title=f"{case.name}: Harris map",
     )
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
@@ -250,11 +220,21 @@ def run_command(args) -> int:
     import numpy as np
 
     from ..io import load_case, write_json
+    from ._paths import check_output_dir, clear_outputs
     from ._sweep import sweep_case
 
     case = load_case(args.case)
-    out = args.out or os.path.join("jaxgear-out", case.name)
-    summary = run_case(case, out, show_progress=not args.quiet)
+    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
+    clear_outputs(out, "run")  # no file of an earlier run survives next to this run's files
+    summary_path = os.path.join(out, "summary.json")
+    # an interrupted run leaves complete files and a summary saying it is not complete
+    write_json(summary_path, {"case": case.name, "complete": False})
+    last = case.scene is None and case.optimise is None
+    if case.optimise is not None:  # check the optimisation settings before computing anything
+        from ._optimise import check_settings, optimise_case, settings_from_case
+
+        settings = check_settings(settings_from_case(case))
+    summary = run_case(case, out, show_progress=not args.quiet, complete=last)
     if case.scene is not None:  # the case has a dynamic scene: add the dynamic factor curve
         sw = sweep_case(
             case,
@@ -276,11 +256,7 @@ def run_command(args) -> int:
         }
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
-        from ._optimise import optimise_case, settings_from_case
-
-        rep = optimise_case(
-            case, settings_from_case(case), os.path.join(out, "optimise"), progress=not args.quiet
-        )
+        rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
         summary["optimise"] = {
             k: rep[k]
             for k in (
@@ -293,7 +269,10 @@ def run_command(args) -> int:
                 "converged",
             )
         }
-        write_json(os.path.join(out, "summary.json"), summary)
+        write_json(summary_path, summary)
+    if not last:
+        summary["complete"] = True
+        write_json(summary_path, summary)
     if args.json:
         write_json(args.json, summary)
     print(format_table(summary))

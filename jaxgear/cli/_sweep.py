@@ -23,7 +23,7 @@
     [scene.integration]
     solver = "newmark"                   # or a diffrax solver: tsit5, dopri5, kvaerno5, ...
     contact = "exact"                    # or "smooth" (width: [mesh] smooth_width_um)
-    steps_per_period = 64
+    steps_per_period = "auto"
     periods = 60
     keep_periods = 4
     rtol = 1e-6                          # diffrax PID controller (scaled state)
@@ -46,29 +46,7 @@ import numpy as np
 if TYPE_CHECKING:  # importing this module stays free of JAX (the CLI builds its parser early)
     from .. import Case
 
-__all__ = [
-    "SceneSpec",
-    "add_sweep_parser",
-    "build_dynamic_model",
-    "parse_scene",
-    "run_sweep",
-    "sweep_case",
-]
-
-
-def _parse_speeds(text: str) -> np.ndarray:
-    parts = text.split(":")
-    if len(parts) != 3:
-        raise ValueError(f"--speeds {text!r}: expected START:STOP:N (pinion rad/s, N points)")
-    try:
-        a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except ValueError:
-        raise ValueError(
-            f"--speeds {text!r}: START and STOP must be numbers, N an integer"
-        ) from None
-    if not (a > 0 and b > a and n >= 2):
-        raise ValueError(f"--speeds {text!r}: need 0 < START < STOP and N >= 2")
-    return np.linspace(a, b, n)
+__all__ = ["add_sweep_parser", "run_sweep", "sweep_case"]
 
 
 def _clean(values) -> list:
@@ -185,7 +163,7 @@ def sweep_case(
         "solver": spec.solver,
         "contact": spec.contact,
         "direction": direction,
-        "steps_per_period": spec.steps_per_period,
+        "steps_per_period": spec.steps_per_period or "auto",
         "periods": spec.periods,
         "keep_periods": spec.keep_periods,
         "damping": spec.damping_model,
@@ -205,6 +183,9 @@ def sweep_case(
         "te_mean_m": _clean(r.te_mean),
         "contact_loss": _clean(r.contact_loss),
         "periodicity": _clean(r.periodicity),
+        "steps_per_period_used": [int(v) for v in np.asarray(r.steps_per_period)],
+        "steps_per_mode_period": _clean(r.steps_per_mode_period),
+        "under_resolved": [bool(v) for v in np.asarray(r.under_resolved)],
         "result": [int(v) for v in np.asarray(r.result)],
         "bearing_names": list(getattr(model.scene, "reaction_names", ())),
         "bearing_force_max_N": [_clean(row) for row in np.asarray(r.bearing_force_max)],
@@ -239,90 +220,10 @@ def sweep_case(
 
 
 def _plots(summary: dict, out_dir: str, z1: int) -> None:
-    import matplotlib
+    from . import _plots as plots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ..io import atomic_open
-
-    def save(fig, name):
-        with atomic_open(os.path.join(out_dir, name), "wb") as f:
-            fig.savefig(f, format="png", dpi=120)
-        plt.close(fig)
-
-    sp = np.asarray(summary["speeds_rad_s"], dtype=float)
-    nan = lambda v: np.asarray([np.nan if x is None else x for x in v], dtype=float)
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    label = {
-        "independent": "from static equilibrium",
-        "up": "sweep up",
-        "down": "sweep down",
-        "both": "sweep up",
-    }[summary["direction"]]
-    df = nan(summary["dynamic_factor"])
-    ax.plot(sp, df, "-", color="C0", label=f"mesh force, {label}")
-    ax.plot(sp, nan(summary["dynamic_factor_tooth"]), ":", color="C0", lw=1, label="per tooth")
-    if "dynamic_factor_down" in summary:
-        ax.plot(
-            sp,
-            nan(summary["dynamic_factor_down"]),
-            "--",
-            color="C3",
-            label="mesh force, sweep down",
-        )
-    loss = nan(summary["contact_loss"]) > 0
-    if loss.any():
-        ax.plot(sp[loss], df[loss], "o", ms=3, color="C1", label="contact loss")
-    bad = np.asarray(summary["result"]) != 0
-    if bad.any():
-        ax.plot(sp[bad], np.ones(bad.sum()), "x", color="k", label="diverged (see result)")
-    for c in summary["critical_speeds"]:
-        if sp.min() <= c["speed_rad_s"] <= sp.max():
-            ax.axvline(c["speed_rad_s"], color="0.5", ls="--", lw=0.8)
-            ax.annotate(
-                f"mode {c['mode']} × H{c['harmonic']}",
-                (c["speed_rad_s"], 1.0),
-                rotation=90,
-                fontsize=7,
-                color="0.4",
-                va="bottom",
-                ha="right",
-            )
-    ax.set_xlabel("pinion speed (rad/s)")
-    ax.set_ylabel("dynamic factor (max / static mesh force)")
-    ax.set_title(
-        f"{summary['case']}: {summary['model']} model, {summary['solver']}, "
-        f"{summary['contact']} contact"
-    )
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    save(fig, "dynamic_factor.png")
-
-    fig, ax = plt.subplots(figsize=(7, 5))
-    s_line = np.linspace(0, sp.max() * 1.05, 50)
-    freqs = [
-        f
-        for f, e in zip(
-            nan(summary["natural_frequencies_Hz"]), nan(summary["mesh_energy_share"]), strict=True
-        )
-        if f > 0 and e >= 0.05
-    ]
-    for h in range(1, 5):
-        ax.plot(s_line, h * s_line * z1 / (2 * math.pi), color=f"C{h - 1}", label=f"mesh H{h}")
-    for f in freqs:
-        ax.axhline(f, color="k", ls="--", lw=0.8)
-    for c in summary["critical_speeds"]:
-        ax.plot(c["speed_rad_s"], c["frequency_Hz"], "o", color="C3")
-    if freqs:
-        ax.set_ylim(0, 1.3 * max(max(freqs), sp.max() * z1 / (2 * math.pi)))
-    ax.set_xlim(0, s_line[-1])
-    ax.set_xlabel("pinion speed (rad/s)")
-    ax.set_ylabel("frequency (Hz)")
-    ax.set_title("Campbell diagram: mesh harmonics vs modes with ≥ 5 % mesh energy (dashed)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    save(fig, "campbell.png")
+    plots.dynamic_factor_plot(os.path.join(out_dir, "dynamic_factor.png"), summary)
+    plots.campbell_plot(os.path.join(out_dir, "campbell.png"), summary, z1)
 
 
 _SOLVER_NAMES = [
@@ -363,7 +264,12 @@ def add_sweep_parser(subparsers) -> argparse.ArgumentParser:
     s.add_argument("--contact", choices=["exact", "smooth"], help="contact law")
     s.add_argument("--periods", type=int, help="mesh periods per speed")
     s.add_argument("--keep-periods", type=int, help="steady-state periods kept")
-    s.add_argument("--steps-per-period", type=int, help="time steps per mesh period")
+    s.add_argument(
+        "--steps-per-period",
+        type=int,
+        help="time steps per mesh period (default: [scene.integration], else automatic: 40 per "
+        "period of the highest mode the mesh excites, at least 64 per mesh period)",
+    )
     s.add_argument("--slices", type=int, help="override [mesh] slices")
     s.add_argument("--out", help="output folder (default: jaxgear-out/<case>/sweep/)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -373,10 +279,13 @@ def add_sweep_parser(subparsers) -> argparse.ArgumentParser:
 def run_sweep(args) -> int:
     """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it). Returns 0."""
     from ..io import load_case
+    from ._options import range_values
+    from ._paths import check_output_dir, clear_outputs
 
+    speeds = range_values(args.speeds, "--speeds", positive=True, min_points=2)
     case = load_case(args.case)
-    speeds = _parse_speeds(args.speeds)
-    out = args.out or os.path.join("jaxgear-out", case.name, "sweep")
+    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "sweep"))
+    clear_outputs(out, "sweep")
     s = sweep_case(
         case,
         speeds,
@@ -399,5 +308,18 @@ def run_sweep(args) -> int:
         f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
         f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
     )
+    n_under = sum(s["under_resolved"])
+    if n_under:
+        import warnings
+
+        from ..dynamics import UNDER_RESOLVED_STEPS
+
+        warnings.warn(
+            f"{n_under} of {len(df)} speeds are under-resolved (< {UNDER_RESOLVED_STEPS} time "
+            "steps per period of the "
+            "highest mode the mesh excites; see sweep.json steps_per_mode_period): raise "
+            "--steps-per-period or leave it automatic",
+            stacklevel=2,
+        )
     print(f"written to {out}/")
     return 0

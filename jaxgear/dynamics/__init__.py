@@ -6,7 +6,12 @@ the exact contact loop, or a diffrax solver); :func:`speed_sweep` vmaps (or cont
 :func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
 """
 
-from ._config import DIFFRAX_SOLVERS as DIFFRAX_SOLVERS
+from ._config import (
+    DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
+    MIN_STEPS_PER_PERIOD as MIN_STEPS_PER_PERIOD,
+    STEPS_PER_MODE as STEPS_PER_MODE,
+    UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
+)
 from ._from_case import (
     SceneSpec as SceneSpec,
     build_dynamic_model as build_dynamic_model,
@@ -27,6 +32,7 @@ from ._model import (
 from ._simulate import (
     DynamicResult as DynamicResult,
     SweepResult as SweepResult,
+    auto_steps_per_period as auto_steps_per_period,
     simulate as simulate,
     static_start as static_start,
 )

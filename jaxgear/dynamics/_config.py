@@ -40,6 +40,18 @@ class _Config:
     blowup: float
 
 
+# automatic time step (``steps_per_period=None``), docs/dynamics.md "Time step and accuracy":
+# N_s = the smallest power of two >= max(MIN_STEPS_PER_PERIOD, STEPS_PER_MODE · f_max / f_mesh),
+# f_max the highest natural frequency among the modes storing >= MESH_ENERGY_MIN of their strain
+# energy in the mesh (the modes the mesh excites), f_mesh = Ω z1 / 2π.
+STEPS_PER_MODE = 40
+MIN_STEPS_PER_PERIOD = 64
+MESH_ENERGY_MIN = 0.05
+# a run (automatic or user N_s) is flagged ``under_resolved`` below this many steps per period of
+# the highest excited mode
+UNDER_RESOLVED_STEPS = 20
+
+
 def _phi(gap, mode, width):
     if mode == "exact":
         return jnp.maximum(gap, 0.0)

@@ -37,7 +37,7 @@ class SceneSpec:
     structure_ratio: float = 0.01
     solver: str = "newmark"
     contact: str = "exact"
-    steps_per_period: int = 64
+    steps_per_period: int | None = None  # None: automatic (auto_steps_per_period)
     periods: int = 60
     keep_periods: int = 4
     rtol: float = 1e-6
@@ -104,8 +104,14 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
         mesh_ratio=spec.mesh_ratio,
         structure_ratio=spec.structure_ratio,
     )
+    # the time averages (modal analysis, damping) need a fixed grid: 64 positions per period
+    # unless the scene fixes the step
     model = dynamic_model(
-        scene, case.modifications, case.torque, damping, positions_per_pitch=spec.steps_per_period
+        scene,
+        case.modifications,
+        case.torque,
+        damping,
+        positions_per_pitch=spec.steps_per_period or 64,
     )
     return model, spec
 

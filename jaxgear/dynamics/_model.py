@@ -221,7 +221,9 @@ def dynamic_model(
 
 def _build(scene, mods, torque, damping, width, positions_per_pitch, contact, max_iterations):
     # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
-    torque = eqx.error_if(torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)")
+    torque = eqx.error_if(
+        torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
+    )
     prep = _prepare(scene, mods, torque, width, positions_per_pitch, contact, max_iterations)
     model = _averaged(scene, mods, torque, damping, prep)
     bad = jnp.any(prep.static_result != 0)

@@ -5,16 +5,25 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, Float, Int
+import numpy as np
+from jaxtyping import Array, Bool, Float, Int
 
 from .._results import DynamicsResult
 from .._util import rms_about_mean
-from ._config import _Config, _config, _phi
+from ._config import (
+    MESH_ENERGY_MIN,
+    MIN_STEPS_PER_PERIOD,
+    STEPS_PER_MODE,
+    UNDER_RESOLVED_STEPS,
+    _Config,
+    _config,
+    _phi,
+)
 from ._diffrax import _diffrax
 from ._model import DynamicModel, MeshTable, _prepare, _Prepared
 from ._newmark import _newmark
 
-__all__ = ["DynamicResult", "SweepResult", "simulate", "static_start"]
+__all__ = ["DynamicResult", "SweepResult", "auto_steps_per_period", "simulate", "static_start"]
 
 
 class DynamicResult(eqx.Module):
@@ -35,6 +44,11 @@ class DynamicResult(eqx.Module):
         te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
         contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
         periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-).
+        steps_per_period: time steps per mesh period N_s actually used (automatic or given).
+        steps_per_mode_period: N_s f_mesh / f_max, time steps per period of the highest mode the
+            mesh excites (mesh-energy share >= 5 %; docs/dynamics.md "Time step and accuracy").
+        under_resolved: steps_per_mode_period < 20: the dynamic factor may be off by more than
+            1 % (underestimated by 3-30 % below ~13 at low speed with a stepwise stiffness).
         final_state: (X, Ẋ, Ẍ) at the end (continuation start), each shape (n,).
         iterations: max contact passes per step (Newmark) or ODE steps taken (diffrax).
         result: 0 ok, else a key of :class:`~jaxgear.DynamicsResult` code.
@@ -57,6 +71,9 @@ class DynamicResult(eqx.Module):
     te_mean: Float[Array, ""]
     contact_loss: Float[Array, ""]
     periodicity: Float[Array, ""]
+    steps_per_period: Int[Array, ""]
+    steps_per_mode_period: Float[Array, ""]
+    under_resolved: Bool[Array, ""]
     final_state: tuple
     iterations: Int[Array, ""]
     result: Int[Array, ""]
@@ -132,6 +149,8 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
     code = jnp.where((code == 0) & ~finite, 2, code)
     time = (n_trans + 1 + jnp.arange(n_keep)) * dt
+    # f_mesh / f_max = Ω (2π/z1)^-1 / (ω_max / 2π)
+    per_mode = P * 2 * jnp.pi * speed / (mesh.mesh_period_angle * _excited_omega(model))
     return DynamicResult(
         speed=speed,
         mesh_frequency=speed / mesh.mesh_period_angle,
@@ -152,10 +171,57 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         te_mean=jnp.mean(te),
         contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
         periodicity=jnp.max(jnp.abs(last - prev)) / fs,
+        steps_per_period=jnp.asarray(P),
+        steps_per_mode_period=per_mode,
+        under_resolved=per_mode < UNDER_RESOLVED_STEPS,
         final_state=final,
         iterations=jnp.asarray(it),
         result=jnp.asarray(code),
     )
+
+
+def _excited_omega(model: DynamicModel):
+    """Highest natural frequency (rad/s) among the modes the mesh excites: elastic modes with a
+    mesh strain-energy share >= ``MESH_ENERGY_MIN`` (inf-safe: the highest elastic one if none)."""
+    modes = model.modes
+    elastic = ~modes.rigid
+    excited = elastic & (modes.mesh_energy >= MESH_ENERGY_MIN)
+    excited = jnp.where(jnp.any(excited), excited, elastic)
+    return jnp.max(jnp.where(excited, modes.omega, 0.0))
+
+
+def auto_steps_per_period(model: DynamicModel, speeds) -> np.ndarray:
+    """Automatic time steps per mesh period at each pinion speed (the default of
+    :func:`simulate` and :func:`~jaxgear.dynamics.speed_sweep`).
+
+    N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh): at least 40 steps per period
+    of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %) and 64 per mesh period
+    (f_mesh = Ω z1 / 2π). Powers of two keep the number of compiled cell tables small.
+
+    Args:
+        model: :class:`DynamicModel` (concrete values: not under ``jax.jit``).
+        speeds: pinion speed(s) Ω (rad/s), concrete.
+
+    Returns:
+        int array of N_s, the shape of ``speeds``.
+
+    Raises:
+        ValueError: traced speeds or model (pass an explicit ``steps_per_period`` under jit).
+    """
+    try:
+        sp = np.asarray(speeds, dtype=float)
+        w = float(_excited_omega(model))
+        angle = float(model.mesh.mesh_period_angle)
+    except (jax.errors.TracerArrayConversionError, jax.errors.ConcretizationTypeError) as err:
+        raise ValueError(
+            "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
+            "jax.vmap or jax.grad pass an explicit integer steps_per_period"
+        ) from err
+    if np.any(~(sp > 0)):
+        raise ValueError("speeds must be > 0 rad/s")
+    ratio = w * angle / (2 * np.pi * sp)  # f_max / f_mesh
+    n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
+    return (2 ** np.ceil(np.log2(n))).astype(int)
 
 
 def _prep(model, width, cfg: _Config) -> _Prepared:
@@ -256,7 +322,7 @@ def simulate(
     solver: str = "newmark",
     contact: str = "exact",
     width=1e-7,
-    steps_per_period: int = 64,
+    steps_per_period: int | None = None,
     periods: int = 60,
     keep_periods: int = 4,
     state0=None,
@@ -278,8 +344,10 @@ def simulate(
             gradients and for the diffrax solvers).
         width: smoothing width w (m).
         steps_per_period: N_s, time steps per mesh period (Newmark; the diffrax initial step and
-            the sampling of the kept periods). Resolve the highest mode of interest: Δt below a
-            tenth of its period (average acceleration has no numerical damping).
+            the sampling of the kept periods). ``None`` (default): automatic,
+            :func:`auto_steps_per_period` (>= 40 steps per period of the highest mode the mesh
+            excites, >= 64 per mesh period, a power of two; needs a concrete speed). The result
+            reports ``steps_per_mode_period`` and flags ``under_resolved`` (< 20).
         periods: mesh periods integrated; keep_periods: the last ones kept (>= 2).
         state0: (X, Ẋ) to start from (default: static equilibrium, zero vibration velocity).
         max_iterations: cap on contact passes per step.
@@ -294,9 +362,12 @@ def simulate(
         :class:`DynamicResult`.
 
     Raises:
-        ValueError: bad solver/contact names or step counts (trace time).
+        ValueError: bad solver/contact names or step counts (trace time); automatic steps with a
+            traced speed.
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
+    if steps_per_period is None:
+        steps_per_period = int(auto_steps_per_period(model, speed))
     cfg = _config(
         solver,
         contact,

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ._config import _config
 from ._model import DynamicModel
-from ._simulate import SweepResult, _prep, _run, _static_start
+from ._simulate import SweepResult, _prep, _run, _static_start, auto_steps_per_period
 
 __all__ = ["speed_sweep"]
 
@@ -42,7 +43,7 @@ def speed_sweep(
     solver: str = "newmark",
     contact: str = "exact",
     width=1e-7,
-    steps_per_period: int = 64,
+    steps_per_period: int | None = None,
     periods: int = 60,
     keep_periods: int = 4,
     max_iterations: int = 100,
@@ -65,11 +66,132 @@ def speed_sweep(
         chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
             chunk is padded), calling ``progress(n_done)`` after each (for a progress bar).
             Continuation carries the state across chunks.
+        steps_per_period: N_s per mesh period; ``None`` (default): automatic per speed
+            (:func:`~jaxgear.dynamics.auto_steps_per_period`, a power of two). Speeds sharing an
+            N_s are run together (one compilation per distinct N_s); the kept histories of a
+            sweep with several N_s are subsampled to the smallest one (every speed's scalar
+            outputs use its own full resolution); continuation carries the state across them.
         Other arguments: as :func:`simulate`.
 
     Returns:
         :class:`SweepResult` (never raises on divergence: read ``result`` per speed).
     """
+    if direction not in ("independent", "up", "down", "both"):
+        raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
+    dtype = model.mesh.base_pitch.dtype
+    speeds = jnp.asarray(speeds, dtype)
+    if speeds.ndim != 1 or speeds.shape[0] < 1:
+        raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
+    kw = {
+        "shard": shard,
+        "chunk_size": chunk_size,
+        "solver": solver,
+        "contact": contact,
+        "width": width,
+        "periods": periods,
+        "keep_periods": keep_periods,
+        "max_iterations": max_iterations,
+        "rtol": rtol,
+        "atol": atol,
+        "adaptive": adaptive,
+        "max_steps": max_steps,
+        "blowup": blowup,
+    }
+    if steps_per_period is not None:
+        return _fixed_sweep(
+            model,
+            speeds,
+            direction=direction,
+            progress=progress,
+            steps_per_period=steps_per_period,
+            **kw,
+        )
+    ns = auto_steps_per_period(model, np.asarray(speeds))
+    if np.all(ns == ns[0]):
+        return _fixed_sweep(
+            model, speeds, direction=direction, progress=progress, steps_per_period=int(ns[0]), **kw
+        )
+    n_min = int(ns.min())
+    done = [0]
+
+    def run(sp, n, d, start=None):
+        base = done[0]
+
+        def tick(k):
+            if progress is not None:
+                progress(base + k)
+
+        r = _fixed_sweep(
+            model, sp, direction=d, progress=tick, steps_per_period=int(n), start=start, **kw
+        ).results
+        done[0] += int(sp.shape[0])
+        return _subsample(r, int(n) // n_min)
+
+    if direction == "independent":
+        parts, order = [], []
+        for n in np.unique(ns):
+            idx = np.nonzero(ns == n)[0]
+            parts.append(run(speeds[idx], n, "independent"))
+            order.append(idx)
+        inv = np.argsort(np.concatenate(order))
+        return SweepResult(
+            speeds, jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)
+        )
+
+    def continuation(sp, n_s):
+        # runs of equal N_s in sweep order, each continuing from the previous run's last state
+        cuts = np.nonzero(np.diff(n_s))[0] + 1
+        parts, start = [], None
+        for idx in np.split(np.arange(sp.shape[0]), cuts):
+            r = run(sp[idx], n_s[idx[0]], "up", start)
+            ok = bool(r.result[-1] == 0)
+            start = (r.final_state[0][-1], r.final_state[1][-1]) if ok else None
+            parts.append(r)
+        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a), *parts)
+
+    if direction == "up":
+        return SweepResult(speeds, continuation(speeds, ns))
+    down = _flip(continuation(speeds[::-1], ns[::-1]))
+    if direction == "down":
+        return SweepResult(speeds, down)
+    return SweepResult(speeds, continuation(speeds, ns), down)
+
+
+def _subsample(r, m: int):
+    """Keep every m-th recorded step (ending on each period's last step) of a batched result."""
+    if m == 1:
+        return r
+    hist = ("time", "theta", "mesh_force", "transmission_error", "line_force", "static_te")
+    hist += ("bearing_force",)
+    return eqx.tree_at(
+        lambda x: [getattr(x, h) for h in hist],
+        r,
+        [getattr(r, h)[:, m - 1 :: m] for h in hist],
+    )
+
+
+def _fixed_sweep(
+    model: DynamicModel,
+    speeds,
+    *,
+    direction: str = "independent",
+    shard: bool = True,
+    chunk_size: int | None = None,
+    progress=None,
+    solver: str = "newmark",
+    contact: str = "exact",
+    width=1e-7,
+    steps_per_period: int = 64,
+    periods: int = 60,
+    keep_periods: int = 4,
+    max_iterations: int = 100,
+    rtol: float = 1e-6,
+    atol: float = 1e-6,
+    adaptive: bool = True,
+    max_steps: int | None = None,
+    blowup: float = 100.0,
+    start=None,
+) -> SweepResult:
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
     cfg = _config(
@@ -93,7 +215,8 @@ def speed_sweep(
     S = speeds.shape[0]
     n_dev = len(jax.local_devices()) if shard else 1
     prep = _prep(model, width, cfg)
-    start = _static_start(prep)
+    if start is None:
+        start = _static_start(prep)
 
     def independent(sp):
         if n_dev > 1:

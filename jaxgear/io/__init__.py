@@ -2,10 +2,14 @@
 embedded cases, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
 
 from ._case_file import (
+    CaseWarning as CaseWarning,
+    SchemaError as SchemaError,
     list_cases as list_cases,
     load_case as load_case,
     parse_case as parse_case,
     parse_modifications as parse_modifications,
+    parse_optimise as parse_optimise,
+    plausibility as plausibility,
 )
 from ._scene_table import parse_scene as parse_scene
 from ._writers import atomic_open as atomic_open, write_csv as write_csv, write_json as write_json

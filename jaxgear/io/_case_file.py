@@ -1,50 +1,71 @@
 """Case files (TOML, units in key names) and the embedded reference cases.
 
-A case is read, checked against the schema (unknown keys are errors, every value is range
-checked), converted to SI and turned into a :class:`Case`. See README.md for the schema.
+A case is read, checked against the schema as a whole (``[scene]`` and ``[optimise]`` included:
+unknown keys are errors, every value is type and range checked in the file's units, one integer
+rule), converted to SI and turned into a :class:`Case`; absurd but valid inputs then give a
+:class:`CaseWarning`. Errors are :class:`fem_prep.schema.SchemaError` (a ``ValueError``) with a
+one-line message such as ``[pinion] face_width_mm = -3: out of range, allowed > 0``. See README.md
+for the schema.
 """
 
 from __future__ import annotations
 
 import importlib.resources
+import itertools
 import math
 import os
-import tomllib
+import re
+import warnings
 from typing import Any
 
 import numpy as np
 
+from fem_prep import schema as sc
+
 from .._case import Case
 from .._geometry import GearPair, Member
 from .._modifications import MemberModification, Modifications
+from .._stiffness import iso6336_mesh_stiffness, stiffness_table
 from ._scene_table import parse_scene
 
-__all__ = ["list_cases", "load_case", "parse_case", "parse_modifications"]
+__all__ = [
+    "CaseWarning",
+    "list_cases",
+    "load_case",
+    "mean_static_deflection",
+    "parse_case",
+    "parse_modifications",
+    "parse_optimise",
+    "plausibility",
+]
 
+SchemaError = sc.SchemaError
+
+
+class CaseWarning(UserWarning):
+    """A valid but implausible case (one-line message naming the key): relief far deeper than the
+    mean static deflection, a torque too small to deflect the teeth measurably, or a load beyond
+    what steel teeth carry."""
+
+
+_MEMBER_KEYS = {
+    "teeth",
+    "profile_shift",
+    "addendum_coeff",
+    "dedendum_coeff",
+    "face_width_mm",
+    "fillet_radius_coeff",
+}
 _SCHEMA: dict[str, Any] = {
-    "name": str,
+    "name": None,
     "pair": {
         "normal_module_mm",
         "normal_pressure_angle_deg",
         "helix_angle_deg",
         "center_distance_mm",
     },
-    "pinion": {
-        "teeth",
-        "profile_shift",
-        "addendum_coeff",
-        "dedendum_coeff",
-        "face_width_mm",
-        "fillet_radius_coeff",
-    },
-    "gear": {
-        "teeth",
-        "profile_shift",
-        "addendum_coeff",
-        "dedendum_coeff",
-        "face_width_mm",
-        "fillet_radius_coeff",
-    },
+    "pinion": _MEMBER_KEYS,
+    "gear": _MEMBER_KEYS,
     "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
     "operating": {"torque_Nm"},
     "mesh": {
@@ -55,9 +76,9 @@ _SCHEMA: dict[str, Any] = {
         "smooth_width_um",
         "foundation",
     },
-    "modifications": None,  # checked by _member_mods
-    "scene": None,  # reserved for the structure scenes (torsional, lumped 3D); kept raw
-    "optimise": None,  # reserved for the optimisation settings; kept raw
+    "modifications": None,  # checked by parse_modifications
+    "scene": None,  # checked by parse_scene
+    "optimise": None,  # checked by parse_optimise
 }
 _MOD_KEYS = {
     "tip_relief": {"depth_um", "extent", "shape"},
@@ -67,97 +88,62 @@ _MOD_KEYS = {
     "helix_slope": {"deviation_um"},
     "profile_deviation": {"roll_fraction", "deviation_um"},
 }
-_REQUIRED = {
-    "pair": ("normal_module_mm", "normal_pressure_angle_deg"),
-    "pinion": ("teeth", "face_width_mm"),
-    "gear": ("teeth", "face_width_mm"),
-    "operating": ("torque_Nm",),
-}
+
+# plausibility thresholds (CaseWarning), documented in README.md
+RELIEF_RATIO_WARN = 10.0  # a relief/crowning depth above 10 δ_m
+MIN_DEFLECTION_UM = 0.01  # δ_m below 0.01 µm: torque too small
+MAX_LINE_LOAD_N_PER_MM = 2000.0  # F_n / b above what case-hardened steel teeth carry
+MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
 
 
-def _check_keys(table: dict, allowed, where: str) -> None:
-    for key in table:
-        if key not in allowed:
-            raise ValueError(f"unknown key {where}{key!r} in case file: allowed {sorted(allowed)}")
+# --------------------------------------------------------------------------------------------
+# modifications
 
 
-def _num(table: dict, key: str, where: str, default=None, *, positive=False, integer=False):
-    if key not in table:
-        if default is None:
-            raise ValueError(f"missing required key [{where}] {key}")
-        return default
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise ValueError(f"[{where}] {key} = {v!r} must be a number")
-    if integer and int(v) != v:
-        raise ValueError(f"[{where}] {key} = {v!r} must be an integer")
-    if not math.isfinite(v):
-        raise ValueError(f"[{where}] {key} = {v!r} must be finite")
-    if positive and not v > 0:
-        raise ValueError(f"[{where}] {key} = {v!r} is out of range: allowed > 0")
-    return int(v) if integer else float(v)
-
-
-def _member_mods(entries: dict, where: str) -> MemberModification:
+def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
+    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m)."""
     kw: dict[str, Any] = {}
-    for name, spec in entries.items():
-        if name not in _MOD_KEYS:
-            raise ValueError(f"unknown modification {where}.{name!r}: allowed {sorted(_MOD_KEYS)}")
+    for name, (spec, where) in entries.items():
         if not isinstance(spec, dict):
-            raise ValueError(f"{where}.{name} must be a table, e.g. {{ depth_um = 10.0 }}")
-        _check_keys(spec, _MOD_KEYS[name], f"{where}.{name}.")
+            raise sc.fail(where, name, "must be a table, e.g. { depth_um = 10.0 }", spec)
         w = f"{where}.{name}"
+        sc.check_keys(spec, _MOD_KEYS[name], w)
         if name in ("tip_relief", "root_relief"):
-            prefix = name
-            depth = _num(spec, "depth_um", w, 0.0)
-            extent = _num(spec, "extent", w, 0.25)
-            if depth < 0:
-                raise ValueError(f"{w}.depth_um = {depth} is out of range: allowed >= 0")
-            if not 0 < extent <= 1:
-                raise ValueError(
-                    f"{w}.extent = {extent} is out of range: allowed (0, 1] "
-                    "(fraction of the path of contact)"
-                )
-            shape = spec.get("shape", "linear")
-            if shape not in ("linear", "parabolic"):
-                raise ValueError(f"{w}.shape = {shape!r}: allowed 'linear', 'parabolic'")
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0")
+            extent = sc.number(
+                spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
+            )
+            shape = sc.choice(spec, "shape", w, ("linear", "parabolic"), "linear")
             kw.update(
                 {
-                    f"{prefix}_depth": depth * 1e-6,
-                    f"{prefix}_extent": extent,
-                    f"{prefix}_shape": shape,
+                    f"{name}_depth": depth * 1e-6,
+                    f"{name}_extent": extent,
+                    f"{name}_shape": shape,
                 }
             )
         elif name == "crowning":
-            depth = _num(spec, "depth_um", w, 0.0)
-            if depth < 0:
-                raise ValueError(f"{w}.depth_um = {depth} is out of range: allowed >= 0")
-            kw["crowning_depth"] = depth * 1e-6
+            kw["crowning_depth"] = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0") * 1e-6
         elif name == "end_relief":
-            depth = _num(spec, "depth_um", w, 0.0)
-            extent = _num(spec, "extent", w, 0.1)
-            if depth < 0:
-                raise ValueError(f"{w}.depth_um = {depth} is out of range: allowed >= 0")
-            if not 0 < extent <= 0.5:
-                raise ValueError(
-                    f"{w}.extent = {extent} is out of range: allowed (0, 0.5] "
-                    "(fraction of the face width at each end)"
-                )
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0")
+            extent = sc.number(
+                spec,
+                "extent",
+                w,
+                0.1,
+                allowed="(0, 0.5]",
+                note=" (fraction of the face width at each end)",
+            )
             kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent)
         elif name == "helix_slope":
-            kw["helix_slope_deviation"] = _num(spec, "deviation_um", w, 0.0) * 1e-6
+            kw["helix_slope_deviation"] = sc.number(spec, "deviation_um", w, 0.0) * 1e-6
         elif name == "profile_deviation":
-            u = np.asarray(spec.get("roll_fraction", []), dtype=float)
-            d = np.asarray(spec.get("deviation_um", []), dtype=float)
-            if u.ndim != 1 or u.shape != d.shape or u.size < 2:
-                raise ValueError(
-                    f"{w}: roll_fraction and deviation_um must be lists of equal length >= 2"
-                )
-            if np.any(np.diff(u) <= 0) or u[0] < 0 or u[-1] > 1:
-                raise ValueError(
-                    f"{w}.roll_fraction = {u.tolist()} must ascend strictly within [0, 1]"
-                )
-            kw.update(profile_deviation_roll=u, profile_deviation=d * 1e-6)
+            u = sc.number_list(spec, "roll_fraction", w, min_length=2, allowed="[0, 1]")
+            d = sc.number_list(spec, "deviation_um", w, min_length=2)
+            if len(u) != len(d):
+                raise sc.fail(w, "deviation_um", f"needs one value per roll_fraction ({len(u)})", d)
+            if any(b <= a for a, b in itertools.pairwise(u)):
+                raise sc.fail(w, "roll_fraction", "must ascend strictly within [0, 1]", u)
+            kw.update(profile_deviation_roll=np.asarray(u), profile_deviation=np.asarray(d) * 1e-6)
     return MemberModification(**kw)
 
 
@@ -166,101 +152,155 @@ def parse_modifications(table: dict) -> Modifications:
 
     Entries directly under ``[modifications]`` apply to each member; entries under
     ``[modifications.pinion]`` / ``[modifications.gear]`` replace them for that member.
+
+    Raises:
+        SchemaError: unknown modification or key, wrong type, value out of range.
     """
-    common = {k: v for k, v in table.items() if k not in ("pinion", "gear")}
+    if not isinstance(table, dict):
+        raise sc.fail("", "modifications", "must be a table", table)
+    allowed = {*_MOD_KEYS, "pinion", "gear"}
+    sc.check_keys(table, allowed, "modifications")
+    common = {k: (v, "modifications") for k, v in table.items() if k not in ("pinion", "gear")}
     members = []
     for tag in ("pinion", "gear"):
-        own = table.get(tag, {})
-        if not isinstance(own, dict):
-            raise ValueError(f"modifications.{tag} must be a table")
-        members.append(
-            _member_mods({**common, **own}, f"modifications{'' if not own else '.' + tag}")
-        )
+        own = sc.subtable(table, tag, "modifications", _MOD_KEYS)
+        where = f"modifications.{tag}"
+        members.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
     return Modifications(pinion=members[0], gear=members[1])
 
 
+# --------------------------------------------------------------------------------------------
+# the case
+
+
+def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
+    """A :class:`GearPair` ``ValueError`` (SI names and units) → a case-file message (mm, deg)."""
+    msg = str(err)
+    m = re.match(r"(?P<name>.+?) = (?P<value>.+?) is out of range: allowed (?P<allowed>.*)$", msg)
+    if not m:
+        return sc.SchemaError(f"[pair] geometry: {sc.g6(msg)}")
+    name, value, allowed = m.group("name"), m.group("value"), sc.g6(m.group("allowed"))
+    file_value = lambda where, key: data.get(where, {}).get(key, "default")
+    member = re.match(r"(pinion|gear)\.(\w+)(?: \((.*)\))?$", name)
+    if name == "center_distance":
+        v = sc.fmt(file_value("pair", "center_distance_mm"))
+        return sc.SchemaError(f"[pair] center_distance_mm = {v}: out of range, allowed {allowed}")
+    if name.startswith("profile_shift (x1 + x2)"):
+        return sc.SchemaError(
+            f"[pinion] profile_shift + [gear] profile_shift = {sc.g6(value)}: out of range, "
+            f"allowed {allowed}"
+        )
+    if name == "transverse contact ratio":
+        return sc.SchemaError(
+            f"[pinion]/[gear] addendum_coeff: transverse contact ratio = {sc.g6(value)}: out of "
+            f"range, allowed {allowed}"
+        )
+    radius = re.match(r"(pinion|gear)\.(root|tip) radius \(from (\w+) and profile_shift\)$", name)
+    if radius:
+        tag, which, key = radius.groups()
+        try:
+            mm = f"{float(value) * 1e3:.6g} mm"
+        except ValueError:
+            mm = value
+        return sc.SchemaError(
+            f"[{tag}] {key} = {sc.fmt(file_value(tag, key))}: {which} radius {mm} (from {key} "
+            f"and profile_shift), allowed {allowed}"
+        )
+    if member:
+        tag, key, why = member.groups()
+        unit_key = {"face_width": "face_width_mm"}.get(key, key)
+        why = f" ({sc.g6(why)})" if why else ""
+        return sc.SchemaError(
+            f"[{tag}] {unit_key} = {sc.fmt(file_value(tag, unit_key))}: out of range{why}, "
+            f"allowed {allowed}"
+        )
+    keys = {
+        "normal_module": "normal_module_mm",
+        "normal_pressure_angle": "normal_pressure_angle_deg",
+        "helix_angle": "helix_angle_deg",
+    }
+    if name in keys:
+        v = sc.fmt(file_value("pair", keys[name]))
+        return sc.SchemaError(f"[pair] {keys[name]} = {v}: out of range, allowed {allowed}")
+    return sc.SchemaError(f"[pair] geometry: {sc.g6(msg)}")
+
+
+def _member(data: dict, tag: str) -> Member:
+    t = sc.subtable(data, tag, "", _MEMBER_KEYS, required=True)
+    dedendum = sc.number(t, "dedendum_coeff", tag, 1.25, allowed="(0, 3]")
+    fillet = sc.number(t, "fillet_radius_coeff", tag, 0.25, allowed=">= 0")
+    if not fillet < dedendum:
+        raise sc.fail(
+            tag,
+            "fillet_radius_coeff",
+            f"out of range, allowed [0, {dedendum:.6g}) (below dedendum_coeff)",
+            t["fillet_radius_coeff"],
+        )
+    return Member(
+        teeth=sc.number(t, "teeth", tag, allowed="[5, 10000]", integer=True),
+        profile_shift=sc.number(t, "profile_shift", tag, 0.0, allowed="(-1.5, 1.5)"),
+        addendum_coeff=sc.number(t, "addendum_coeff", tag, 1.0, allowed="(0, 3]"),
+        dedendum_coeff=dedendum,
+        face_width=sc.number(t, "face_width_mm", tag, allowed="> 0") * 1e-3,
+        fillet_radius_coeff=fillet,
+    )
+
+
 def parse_case(data: dict, default_name: str = "case") -> Case:
-    """Validate a parsed case TOML (a dict) and build a :class:`Case`.
+    """Validate a parsed case TOML (a dict), ``[scene]`` and ``[optimise]`` included, and build a
+    :class:`Case`; then warn (:class:`CaseWarning`) about absurd but valid inputs.
 
     Raises:
-        ValueError: unknown keys, missing required keys, values out of range, invalid geometry.
+        SchemaError (a ``ValueError``): unknown keys, missing required keys, wrong types, values
+            out of range, invalid geometry; one line, in the file's units.
     """
-    _check_keys(data, _SCHEMA.keys(), "")
+    if not isinstance(data, dict):
+        raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
+    sc.check_keys(data, _SCHEMA, "")
+    name = sc.string(data, "name", "", default_name)
     for section, allowed in _SCHEMA.items():
         if isinstance(allowed, set):
-            table = data.get(section, {})
-            if not isinstance(table, dict):
-                raise ValueError(f"[{section}] must be a table")
-            _check_keys(table, allowed, f"[{section}] ")
-    for section, keys in _REQUIRED.items():
-        if section not in data:
-            raise ValueError(f"missing required table [{section}]")
-        for key in keys:
-            if key not in data[section]:
-                raise ValueError(f"missing required key [{section}] {key}")
+            sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
     p = data["pair"]
-    members = []
-    for tag in ("pinion", "gear"):
-        t = data[tag]
-        members.append(
-            Member(
-                teeth=_num(t, "teeth", tag, integer=True),
-                profile_shift=_num(t, "profile_shift", tag, 0.0),
-                addendum_coeff=_num(t, "addendum_coeff", tag, 1.0),
-                dedendum_coeff=_num(t, "dedendum_coeff", tag, 1.25),
-                face_width=_num(t, "face_width_mm", tag, positive=True) * 1e-3,
-                fillet_radius_coeff=_num(t, "fillet_radius_coeff", tag, 0.25),
-            )
+    pinion, gear = _member(data, "pinion"), _member(data, "gear")
+    module = sc.number(p, "normal_module_mm", "pair", allowed="> 0")
+    alpha = sc.number(p, "normal_pressure_angle_deg", "pair", allowed="(0, 45)")
+    beta = sc.number(p, "helix_angle_deg", "pair", 0.0, allowed="[0, 45)")
+    cd = sc.number(p, "center_distance_mm", "pair", None, allowed="(0, 1e+06]")
+    try:
+        pair = GearPair(
+            pinion=pinion,
+            gear=gear,
+            normal_module=module * 1e-3,
+            normal_pressure_angle=math.radians(alpha),
+            helix_angle=math.radians(beta),
+            center_distance=None if cd is None else cd * 1e-3,
         )
-    cd = p.get("center_distance_mm")
-    pair = GearPair(
-        pinion=members[0],
-        gear=members[1],
-        normal_module=_num(p, "normal_module_mm", "pair", positive=True) * 1e-3,
-        normal_pressure_angle=math.radians(
-            _num(p, "normal_pressure_angle_deg", "pair", positive=True)
-        ),
-        helix_angle=math.radians(_num(p, "helix_angle_deg", "pair", 0.0)),
-        center_distance=None
-        if cd is None
-        else _num(p, "center_distance_mm", "pair", positive=True) * 1e-3,
+    except (ValueError, ArithmeticError) as err:
+        raise _geometry_error(err, data) from None
+    mat = sc.subtable(data, "material", "")
+    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 10000]") * 1e9
+    nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
+    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
+    torque = sc.number(data["operating"], "torque_Nm", "operating", allowed="> 0")
+    m = sc.subtable(data, "mesh", "")
+    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336"), "weber")
+    k0 = sc.number(
+        m,
+        "stiffness_per_length_N_per_mm_per_um",
+        "mesh",
+        sc.MISSING if model == "uniform" else None,
+        allowed="(0, 1e+06]",
     )
-    mat = data.get("material", {})
-    E = _num(mat, "youngs_modulus_GPa", "material", 210.0, positive=True) * 1e9
-    nu = _num(mat, "poisson_ratio", "material", 0.3)
-    if not 0 <= nu < 0.5:
-        raise ValueError(f"[material] poisson_ratio = {nu} is out of range: allowed [0, 0.5)")
-    rho = _num(mat, "density_kg_m3", "material", 7800.0, positive=True)
-    torque = _num(data["operating"], "torque_Nm", "operating", positive=True)
-    m = data.get("mesh", {})
-    model = m.get("stiffness", "weber")
-    if model not in ("weber", "uniform", "iso6336"):
-        raise ValueError(f"[mesh] stiffness = {model!r}: allowed 'weber', 'uniform', 'iso6336'")
-    k0 = m.get("stiffness_per_length_N_per_mm_per_um")
-    if model == "uniform":
-        k0 = _num(m, "stiffness_per_length_N_per_mm_per_um", "mesh", positive=True) * 1e9
-    elif k0 is not None:
-        k0 = _num(m, "stiffness_per_length_N_per_mm_per_um", "mesh", positive=True) * 1e9
-    slices = _num(m, "slices", "mesh", 40, integer=True)
-    if slices < 1:
-        raise ValueError(f"[mesh] slices = {slices} is out of range: allowed >= 1")
-    ppp = _num(m, "positions_per_pitch", "mesh", 64, integer=True)
-    if ppp < 2:
-        raise ValueError(f"[mesh] positions_per_pitch = {ppp} is out of range: allowed >= 2")
-    width = _num(m, "smooth_width_um", "mesh", 0.1, positive=True) * 1e-6
-    foundation = m.get("foundation", True)
-    if not isinstance(foundation, bool):
-        raise ValueError(f"[mesh] foundation = {foundation!r} must be true or false")
-    mods_table = data.get("modifications", {})
-    if not isinstance(mods_table, dict):
-        raise ValueError("[modifications] must be a table")
-    mods = parse_modifications(mods_table)
-    name = data.get("name", default_name)
-    if not isinstance(name, str) or not name:
-        raise ValueError(f"name = {name!r} must be a non-empty string")
+    k0 = None if k0 is None else k0 * 1e9
+    slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
+    ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
+    width = sc.number(m, "smooth_width_um", "mesh", 0.1, allowed="(0, 1e+06]") * 1e-6
+    foundation = sc.boolean(m, "foundation", "mesh", True)
+    mods = parse_modifications(data.get("modifications", {}))
     scene = parse_scene(data["scene"]) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
-    return Case(
+    case = Case(
         name=name,
         pair=pair,
         modifications=mods,
@@ -278,17 +318,211 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
         optimise=optimise,
         raw=data,
     )
+    for text in plausibility(case):
+        warnings.warn(text, CaseWarning, stacklevel=2)
+    return case
 
+
+# --------------------------------------------------------------------------------------------
+# plausibility (absurd but valid)
+
+
+def mean_static_deflection(case: Case) -> float:
+    """A cheap estimate of the mean static deflection δ_m = F_n / K̄ (m), without a contact solve.
+
+    K̄ is the mean mesh stiffness: k0 ε_α b / cos β_b for ``uniform``, the ISO 6336-1 c_γα b for
+    ``iso6336`` and, for ``weber``, c_γα b scaled by E / 210 GPa (the Weber profile of the
+    embedded cases agrees with it within about 25 %).
+
+    Raises:
+        SchemaError: for ``weber``, when the line load is beyond ``MAX_LINE_LOAD_N_PER_MM`` and the
+            stiffness model cannot be evaluated (Hertzian contact wider than the teeth): the
+            message names ``[operating] torque_Nm``.
+    """
+    pair = case.pair
+    b, eps = pair.face_width, pair.transverse_contact_ratio
+    if case.stiffness_model == "uniform" and case.uniform_k0 is not None:
+        k_mean = case.uniform_k0 * eps * b / math.cos(pair.base_helix_angle)
+    else:
+        k_mean = iso6336_mesh_stiffness(pair) * b
+        if case.stiffness_model == "weber":
+            k_mean *= case.youngs_modulus / 210e9
+    w = case.normal_load / b * 1e-3
+    if case.stiffness_model == "weber" and w > MAX_LINE_LOAD_N_PER_MM:
+        try:
+            with np.errstate(all="ignore"):
+                stiffness_table(
+                    pair,
+                    "weber",
+                    youngs_modulus=case.youngs_modulus,
+                    poisson_ratio=case.poisson_ratio,
+                    line_load=case.nominal_line_load(),
+                    foundation=case.foundation,
+                )
+        except (ValueError, ArithmeticError):
+            raise sc.SchemaError(
+                f"[operating] torque_Nm = {case.torque:.6g}: the line load F_n/b = {w:.6g} N/mm "
+                "is far beyond what steel teeth carry (the Hertzian contact would be wider than "
+                f"the teeth), allowed up to about {MAX_LINE_LOAD_N_PER_MM:.6g} N/mm"
+            ) from None
+    return case.normal_load / k_mean
+
+
+def plausibility(case: Case) -> list[str]:
+    """One-line warnings about absurd but valid inputs (thresholds in README.md):
+
+    * a relief or crowning depth above ``RELIEF_RATIO_WARN`` (10) × δ_m;
+    * δ_m below ``MIN_DEFLECTION_UM`` (0.01 µm): the torque is too small to deflect the teeth;
+    * the line load F_n/b above ``MAX_LINE_LOAD_N_PER_MM`` (2000 N/mm) or δ_m above
+      ``MAX_DEFLECTION_MODULE`` (5 %) of the normal module: beyond what steel teeth carry.
+
+    Raises:
+        SchemaError: see :func:`mean_static_deflection`.
+    """
+    out = []
+    delta = mean_static_deflection(case)
+    d_um = delta * 1e6
+    w = case.normal_load / case.pair.face_width * 1e-3
+    t = f"[operating] torque_Nm = {case.torque:.6g}"
+    if not math.isfinite(delta):
+        return [f"{t}: the mean static deflection is not finite; check the material and torque"]
+    if d_um < MIN_DEFLECTION_UM:
+        out.append(
+            f"{t}: mean static deflection {d_um:.6g} µm is below {MIN_DEFLECTION_UM:g} µm; the "
+            "torque is too small for a meaningful transmission error"
+        )
+    ratio_m = delta / case.pair.normal_module
+    if w > MAX_LINE_LOAD_N_PER_MM or ratio_m > MAX_DEFLECTION_MODULE:
+        out.append(
+            f"{t}: line load F_n/b = {w:.6g} N/mm and mean static deflection {d_um:.6g} µm "
+            f"({100 * ratio_m:.3g} % of the module) are beyond what steel teeth carry "
+            f"(limits {MAX_LINE_LOAD_N_PER_MM:g} N/mm, {100 * MAX_DEFLECTION_MODULE:g} %)"
+        )
+    if d_um >= MIN_DEFLECTION_UM:
+        raw = case.raw.get("modifications", {}) if isinstance(case.raw, dict) else {}
+        for tag in ("pinion", "gear"):
+            mm = getattr(case.modifications, tag)
+            own = raw.get(tag, {}) if isinstance(raw, dict) else {}
+            for key in ("tip_relief", "root_relief", "crowning", "end_relief"):
+                depth = float(getattr(mm, f"{key}_depth"))
+                if depth > RELIEF_RATIO_WARN * delta:
+                    where = f"modifications.{tag}" if key in own else "modifications"
+                    out.append(
+                        f"[{where}] {key}.depth_um = {depth * 1e6:.6g}: {depth / delta:.3g} × the "
+                        f"mean static deflection {d_um:.6g} µm (more than {RELIEF_RATIO_WARN:g} ×); "
+                        "the relief removes most of the contact"
+                    )
+    return list(dict.fromkeys(out))
+
+
+# --------------------------------------------------------------------------------------------
+# [optimise]
 
 _OPTIMISE_KEYS = {"objective", "vars", "torques", "reduce", "method", "max_iterations", "bounds"}
+_DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
 
 
 def parse_optimise(table) -> dict:
-    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options)."""
+    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options) and return it
+    normalised: ``vars`` a list of names, ``torques`` ``[start, stop, n]`` (float, float, int),
+    ``bounds`` ``{name: (lo, hi)}`` (E* for depths, Γ for extents), other keys as given.
+
+    Raises:
+        SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
+            with 0 < start < stop and an integer n >= 2; crossed bounds.
+    """
+    from optimise import OBJECTIVES, VARIABLES
+
+    w = "optimise"
     if not isinstance(table, dict):
-        raise ValueError("[optimise] must be a table")
-    _check_keys(table, _OPTIMISE_KEYS, "[optimise] ")
-    return dict(table)
+        raise sc.fail("", "optimise", "must be a table", table)
+    sc.check_keys(table, _OPTIMISE_KEYS, w)
+    out: dict[str, Any] = {}
+    if "objective" in table:
+        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES)
+    if "reduce" in table:
+        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"))
+    if "method" in table:
+        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"))
+    if "max_iterations" in table:
+        out["max_iterations"] = sc.number(
+            table, "max_iterations", w, allowed="[1, 1e+06]", integer=True
+        )
+
+    def kind(name: str):
+        parts = name.split(".")
+        base = ".".join(parts[1:]) if parts[0] in ("pinion", "gear") else name
+        return VARIABLES[base][1] if base in VARIABLES else None
+
+    allowed_vars = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
+    names = list(_DEFAULT_VARS)
+    if "vars" in table:
+        v = table["vars"]
+        if isinstance(v, str):
+            v = [x.strip() for x in v.split(",") if x.strip()]
+        if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
+            raise sc.fail(w, "vars", "must be a non-empty array of variable names", table["vars"])
+        for x in v:
+            if kind(x) is None:
+                raise sc.fail(w, "vars", f"unknown variable {sc.fmt(x)}, allowed {allowed_vars}", v)
+        if len(set(v)) != len(v):
+            raise sc.fail(w, "vars", "names a variable twice", v)
+        out["vars"] = names = list(v)
+    if "torques" in table:
+        v = table["torques"]
+        ok = (
+            isinstance(v, list)
+            and len(v) == 3
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+            and all(math.isfinite(x) for x in v)
+            and 0 < v[0] < v[1]
+            and float(v[2]).is_integer()
+            and 2 <= v[2] <= 10000
+        )
+        if not ok:
+            raise sc.fail(
+                w,
+                "torques",
+                "allowed [start, stop, n] in N·m with 0 < start < stop and an integer n in "
+                "[2, 10000]",
+                v,
+            )
+        if out.get("objective", "robust_te_rms") != "robust_te_rms":
+            raise sc.fail(
+                w,
+                "torques",
+                f"applies to objective = 'robust_te_rms' only, not {out['objective']!r}",
+                v,
+            )
+        out["torques"] = [float(v[0]), float(v[1]), int(v[2])]
+    if "bounds" in table:
+        b = sc.subtable(table, "bounds", w)
+        bounds = {}
+        for name, pair in b.items():
+            k = kind(name)
+            if k is None:
+                raise sc.fail(
+                    f"{w}.bounds", name, f"unknown variable, allowed {allowed_vars}", pair
+                )
+            if name not in names:
+                raise sc.fail(
+                    f"{w}.bounds", name, f"is not a design variable (vars = {sc.fmt(names)})", pair
+                )
+            lo_ok = "0 < lo < hi < 1" if k != "depth" else "0 <= lo < hi"
+            lohi = sc.number_list(b, name, f"{w}.bounds", length=2)
+            lo, hi = lohi
+            good = lo < hi and (lo >= 0 if k == "depth" else 0 < lo and hi < 1)
+            if not good:
+                unit = "E* = depth/δ_m" if k == "depth" else "Γ"
+                raise sc.fail(
+                    f"{w}.bounds",
+                    name,
+                    f"out of range, allowed [lo, hi] with {lo_ok} ({unit})",
+                    pair,
+                )
+            bounds[name] = (lo, hi)
+        out["bounds"] = bounds
+    return out
 
 
 def _embedded():
@@ -305,9 +539,10 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
 
     Raises:
         FileNotFoundError: neither a file nor an embedded case name.
-        ValueError: TOML syntax errors (with the file name) and schema/range errors.
+        SchemaError (a ``ValueError``): non-UTF-8 bytes or TOML syntax errors (naming the
+            file), schema/range errors (see :func:`parse_case`); one line each.
     """
-    text, label = None, str(name_or_path)
+    label = str(name_or_path)
     if os.path.isfile(name_or_path):
         with open(name_or_path, "rb") as f:
             raw = f.read()
@@ -320,9 +555,4 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
             f"case {label!r} is neither a file nor an embedded case "
             f"(embedded: {', '.join(list_cases())})"
         )
-    try:
-        text = raw.decode("utf-8")
-        data = tomllib.loads(text)
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as err:
-        raise ValueError(f"case file {label!r} is not valid TOML: {err}") from None
-    return parse_case(data, default)
+    return parse_case(sc.load_toml(raw, f"case file {label!r}"), default)

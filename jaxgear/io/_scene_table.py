@@ -23,7 +23,7 @@
     [scene.integration]
     solver = "newmark"                   # or a diffrax solver: tsit5, dopri5, kvaerno5, ...
     contact = "exact"                    # or "smooth" (width: [mesh] smooth_width_um)
-    steps_per_period = 64
+    steps_per_period = "auto"           # or an integer: time steps per mesh period (see docs)
     periods = 60
     keep_periods = 4
     rtol = 1e-6                          # diffrax PID controller (scaled state)
@@ -32,7 +32,7 @@
 
 from __future__ import annotations
 
-import math
+from fem_prep import schema as sc
 
 from ..dynamics import DIFFRAX_SOLVERS, SceneSpec
 from ..scenes import Bearing, ShaftSpec
@@ -76,66 +76,50 @@ _INTEGRATION_KEYS = {
 }
 
 
-def _parse_shaft(table, where: str):
-    if not isinstance(table, dict):
-        raise ValueError(f"[{where}] must be a table")
-    _unknown(table, _SHAFT_KEYS, f"[{where}] ")
-    for key in ("length_mm", "diameter_mm", "gear_position_mm", "bearings"):
-        if key not in table:
-            raise ValueError(f"missing required key [{where}] {key}")
-    length = _number(table, "length_mm", where) * 1e-3
-    diameter = _number(table, "diameter_mm", where) * 1e-3
-    gear_z = _number(table, "gear_position_mm", where, nonneg=True) * 1e-3
-    torque_z = (
-        _number(table, "torque_position_mm", where, nonneg=True) * 1e-3
-        if "torque_position_mm" in table
-        else 0.0
-    )
-    elements = _number(table, "elements", where, integer=True) if "elements" in table else 4
-    bearings = table["bearings"]
+def _parse_shaft(table: dict, key: str):
+    where = f"scene.{key}"
+    t = sc.subtable(table, key, "scene", _SHAFT_KEYS, required=True)
+    length_mm = sc.number(t, "length_mm", where, allowed="(0, 1e+06]")
+    length = length_mm * 1e-3
+    diameter = sc.number(t, "diameter_mm", where, allowed="(0, 1e+06]") * 1e-3
+    within = f"[0, {length_mm:.6g}]"
+    note = " (not beyond the shaft length)"
+    gear_z = sc.number(t, "gear_position_mm", where, allowed=within, note=note) * 1e-3
+    torque_z = sc.number(t, "torque_position_mm", where, 0.0, allowed=within, note=note) * 1e-3
+    elements = sc.number(t, "elements", where, 4, allowed="[1, 1000]", integer=True)
+    if "bearings" not in t:
+        raise sc.fail(where, "bearings", "missing required key")
+    bearings = t["bearings"]
     if not isinstance(bearings, list) or not bearings:
-        raise ValueError(
-            f"[{where}] bearings must be a non-empty list of tables, e.g. "
-            "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]"
+        raise sc.fail(
+            where,
+            "bearings",
+            "must be a non-empty array of tables, e.g. "
+            "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]",
+            bearings,
         )
     out = []
     for i, b in enumerate(bearings):
         w = f"{where}.bearings[{i}]"
         if not isinstance(b, dict):
-            raise ValueError(f"[{w}] must be a table")
-        _unknown(b, _BEARING_KEYS, f"[{w}] ")
-        if "position_mm" not in b:
-            raise ValueError(f"missing required key [{w}] position_mm")
+            raise sc.fail(where, f"bearings[{i}]", "must be a table", b)
+        sc.check_keys(b, _BEARING_KEYS, w)
         out.append(
             Bearing(
-                z=_number(b, "position_mm", w, nonneg=True) * 1e-3,
-                radial=_number(b, "radial_N_per_um", w, nonneg=True) * 1e6
-                if "radial_N_per_um" in b
-                else 2e8,
-                axial=_number(b, "axial_N_per_um", w, nonneg=True) * 1e6
-                if "axial_N_per_um" in b
-                else 0.0,
-                tilt=_number(b, "tilt_Nm_per_rad", w, nonneg=True)
-                if "tilt_Nm_per_rad" in b
-                else 0.0,
+                z=sc.number(b, "position_mm", w, allowed=within, note=note) * 1e-3,
+                radial=sc.number(b, "radial_N_per_um", w, 200.0, allowed="[0, 1e+09]") * 1e6,
+                axial=sc.number(b, "axial_N_per_um", w, 0.0, allowed="[0, 1e+09]") * 1e6,
+                tilt=sc.number(b, "tilt_Nm_per_rad", w, 0.0, allowed="[0, 1e+15]"),
             )
         )
-    for name, z in (
-        ("gear_position_mm", gear_z),
-        ("torque_position_mm", torque_z),
-        *((f"bearings[{i}].position_mm", b.z) for i, b in enumerate(out)),
-    ):
-        if z > length * (1 + 1e-12):
-            raise ValueError(
-                f"[{where}] {name} = {z * 1e3:g} is beyond the shaft length {length * 1e3:g} mm"
-            )
     if not any(b.axial > 0 for b in out):
-        raise ValueError(
-            f"[{where}] needs an axial stiffness on at least one bearing (axial_N_per_um > 0)"
+        raise sc.SchemaError(
+            f"[{where}] bearings: needs an axial stiffness on at least one bearing "
+            "(axial_N_per_um > 0)"
         )
     if sum(b.radial > 0 for b in out) < 2 and not any(b.tilt > 0 for b in out):
-        raise ValueError(
-            f"[{where}] needs two radial bearings (or a tilt stiffness) to hold the shaft"
+        raise sc.SchemaError(
+            f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold the shaft"
         )
     return ShaftSpec(
         length=length,
@@ -147,46 +131,25 @@ def _parse_shaft(table, where: str):
     )
 
 
-def _unknown(table: dict, allowed: set, where: str) -> None:
-    for key in table:
-        if key not in allowed:
-            raise ValueError(f"unknown key {where}{key!r} in case file: allowed {sorted(allowed)}")
-
-
-def _number(table, key, where, *, positive=True, nonneg=False, integer=False, upper=None):
-    v = table[key]
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise ValueError(f"[{where}] {key} = {v!r} must be a finite number")
-    if integer and int(v) != v:
-        raise ValueError(f"[{where}] {key} = {v!r} must be an integer")
-    if positive and not nonneg and not v > 0:
-        raise ValueError(f"[{where}] {key} = {v!r} is out of range: allowed > 0")
-    if nonneg and not v >= 0:
-        raise ValueError(f"[{where}] {key} = {v!r} is out of range: allowed >= 0")
-    if upper is not None and not v <= upper:
-        raise ValueError(f"[{where}] {key} = {v!r} is out of range: allowed <= {upper}")
-    return int(v) if integer else float(v)
-
-
 def parse_scene(table: dict | None) -> SceneSpec:
     """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults).
 
     Raises:
-        ValueError: unknown keys (named), wrong types, values out of range, inconsistent inputs.
+        SchemaError (a ``ValueError``): unknown keys (named), wrong types, values out of range,
+            inconsistent inputs; one line, in the file's units.
     """
     table = {} if table is None else table
     if not isinstance(table, dict):
-        raise ValueError("[scene] must be a table")
-    _unknown(table, _SCENE_KEYS, "[scene] ")
+        raise sc.fail("", "scene", "must be a table", table)
+    sc.check_keys(table, _SCENE_KEYS, "scene")
     kw: dict = {}
-    model = table.get("model", "torsional")
-    if model not in ("torsional", "lumped3d"):
-        raise ValueError(f"[scene] model = {model!r}: allowed 'torsional', 'lumped3d'")
+    model = sc.choice(table, "model", "scene", ("torsional", "lumped3d"), "torsional")
+    reduction = sc.choice(table, "reduction", "scene", ("none", "relative"), "none")
     if model == "lumped3d":
         for key in ("pinion_shaft", "gear_shaft"):
             if key not in table:
-                raise ValueError(f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
-            kw[key] = _parse_shaft(table[key], f"scene.{key}")
+                raise sc.SchemaError(f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
+            kw[key] = _parse_shaft(table, key)
         for key in (
             "motor_inertia_kg_m2",
             "load_inertia_kg_m2",
@@ -194,22 +157,21 @@ def parse_scene(table: dict | None) -> SceneSpec:
             "load_shaft_stiffness_Nm_per_rad",
         ):
             if key in table:
-                raise ValueError(
-                    f"[scene] {key} is for model = 'torsional' (lumped3d: the torque "
-                    "acts at the shafts' torque_position_mm)"
+                raise sc.fail(
+                    "scene",
+                    key,
+                    "is for model = 'torsional' (lumped3d: the torque acts at the shafts' "
+                    "torque_position_mm)",
                 )
-        if table.get("reduction", "none") != "none":
-            raise ValueError("[scene] reduction applies to model = 'torsional' only")
+        if reduction != "none":
+            raise sc.fail("scene", "reduction", "applies to model = 'torsional' only", reduction)
     else:
         for key in ("pinion_shaft", "gear_shaft", "pinion_mass_kg", "gear_mass_kg"):
             if key in table:
-                raise ValueError(f"[scene] {key} is for model = 'lumped3d'")
+                raise sc.fail("scene", key, "is for model = 'lumped3d'")
     for key, field in (("pinion_mass_kg", "pinion_mass"), ("gear_mass_kg", "gear_mass")):
         if key in table:
-            kw[field] = _number(table, key, "scene")
-    reduction = table.get("reduction", "none")
-    if reduction not in ("none", "relative"):
-        raise ValueError(f"[scene] reduction = {reduction!r}: allowed 'none', 'relative'")
+            kw[field] = sc.number(table, key, "scene", allowed="(0, 1e+09]")
     kw.update(model=model, reduction=reduction)
     names = {
         "pinion_inertia_kg_m2": "pinion_inertia",
@@ -221,63 +183,53 @@ def parse_scene(table: dict | None) -> SceneSpec:
     }
     for key, field in names.items():
         if key in table:
-            kw[field] = _number(table, key, "scene")
+            kw[field] = sc.number(table, key, "scene", allowed="(0, 1e+15]")
     for side in ("motor", "load"):
         if (f"{side}_inertia" in kw) != (f"{side}_shaft" in kw):
-            raise ValueError(
+            raise sc.SchemaError(
                 f"[scene] {side}_inertia_kg_m2 and {side}_shaft_stiffness_Nm_per_rad "
                 "go together: give both or neither"
             )
         if reduction == "relative" and f"{side}_inertia" in kw:
-            raise ValueError(
+            raise sc.SchemaError(
                 f"[scene] reduction = 'relative' is for a rigid pinion-gear pair: "
                 f"remove {side}_inertia_kg_m2 or set reduction = 'none'"
             )
-    d = table.get("damping", {})
-    if not isinstance(d, dict):
-        raise ValueError("[scene.damping] must be a table")
-    _unknown(d, _DAMPING_KEYS, "[scene.damping] ")
-    dm = d.get("model", "composite")
-    if dm not in ("composite", "modal", "rayleigh", "none"):
-        raise ValueError(
-            f"[scene.damping] model = {dm!r}: allowed 'composite', 'modal', 'rayleigh', 'none'"
-        )
-    kw["damping_model"] = dm
+    d = sc.subtable(table, "damping", "scene", _DAMPING_KEYS)
+    w = "scene.damping"
+    kw["damping_model"] = sc.choice(
+        d, "model", w, ("composite", "modal", "rayleigh", "none"), "composite"
+    )
     for key, field in (
         ("ratio", "damping_ratio"),
         ("mesh_ratio", "mesh_ratio"),
         ("structure_ratio", "structure_ratio"),
     ):
         if key in d:
-            kw[field] = _number(d, key, "scene.damping", nonneg=True, upper=1.0)
+            kw[field] = sc.number(d, key, w, allowed="[0, 1]")
     for key, field in (("alpha_per_s", "rayleigh_alpha"), ("beta_s", "rayleigh_beta")):
         if key in d:
-            kw[field] = _number(d, key, "scene.damping", nonneg=True)
-    g = table.get("integration", {})
-    if not isinstance(g, dict):
-        raise ValueError("[scene.integration] must be a table")
-    _unknown(g, _INTEGRATION_KEYS, "[scene.integration] ")
-    solver = g.get("solver", "newmark")
-    if solver != "newmark" and solver not in DIFFRAX_SOLVERS:
-        raise ValueError(
-            f"[scene.integration] solver = {solver!r}: allowed 'newmark', "
-            f"{', '.join(repr(s) for s in DIFFRAX_SOLVERS)}"
-        )
-    contact = g.get("contact", "exact")
-    if contact not in ("exact", "smooth"):
-        raise ValueError(f"[scene.integration] contact = {contact!r}: allowed 'exact', 'smooth'")
-    kw.update(solver=solver, contact=contact)
+            kw[field] = sc.number(d, key, w, allowed=">= 0")
+    g = sc.subtable(table, "integration", "scene", _INTEGRATION_KEYS)
+    w = "scene.integration"
+    kw["solver"] = sc.choice(g, "solver", w, ("newmark", *DIFFRAX_SOLVERS), "newmark")
+    kw["contact"] = sc.choice(g, "contact", w, ("exact", "smooth"), "exact")
+    spp = g.get("steps_per_period", "auto")
+    if isinstance(spp, str):  # "auto": resolve the highest excited mode (the default)
+        if spp != "auto":
+            raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
+        kw["steps_per_period"] = None
     for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
-        if key in g:
-            v = _number(g, key, "scene.integration", integer=True)
-            if v < lo:
-                raise ValueError(
-                    f"[scene.integration] {key} = {v} is out of range: allowed >= {lo}"
-                )
-            kw[key] = v
+        if key in g and key not in kw:
+            kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)
     if kw.get("keep_periods", 4) > kw.get("periods", 60):
-        raise ValueError("[scene.integration] keep_periods must be <= periods")
+        raise sc.fail(
+            w,
+            "keep_periods",
+            f"out of range, allowed <= periods = {kw.get('periods', 60)}",
+            kw.get("keep_periods", 4),
+        )
     for key in ("rtol", "atol"):
         if key in g:
-            kw[key] = _number(g, key, "scene.integration")
+            kw[key] = sc.number(g, key, w, allowed="(0, 1)")
     return SceneSpec(**kw)

@@ -1,0 +1,418 @@
+"""Input-file schema checks shared by jaxgear (case files) and fem_prep (body files).
+
+JAX-free (standard library only), so that ``fem_prep`` can use it and ``jaxgear.io`` can import it
+by this public name.  One error type, one message style, one integer rule:
+
+* :class:`SchemaError` (a ``ValueError``) carries ONE line: the key path, the value as written in
+  the file (file units: mm, deg, µm, ...), what is wrong and what is allowed, every number with at
+  most 6 significant digits, e.g. ``[pinion] face_width_mm = -3: out of range, allowed > 0``.
+* Integer keys accept an integral float (``slices = 4.0`` is 4) and reject anything else
+  (``teeth = 45.5``); booleans are never numbers; numbers must be finite.
+* Unknown keys are errors that list the allowed keys (and suggest the closest one).
+
+It also holds the atomic file writers of both packages (:func:`atomic_open`,
+:func:`atomic_write`): a file appears complete or not at all.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import difflib
+import math
+import os
+import re
+import tempfile
+import tomllib
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "MISSING",
+    "Interval",
+    "SchemaError",
+    "atomic_open",
+    "atomic_write",
+    "boolean",
+    "check_keys",
+    "choice",
+    "fail",
+    "fmt",
+    "g6",
+    "key_path",
+    "load_toml",
+    "number",
+    "number_list",
+    "string",
+    "subtable",
+]
+
+
+class SchemaError(ValueError):
+    """An input file does not follow its schema; the message is one line (see module doc).
+
+    Attributes:
+        path: the key path, e.g. ``"[pinion] face_width_mm"`` ("" when the whole file is bad).
+    """
+
+    def __init__(self, message: str, path: str = ""):
+        super().__init__(_one_line(message))
+        self.path = path
+
+
+class _Missing:
+    def __repr__(self) -> str:
+        return "MISSING"
+
+
+MISSING: Any = _Missing()
+"""Default of a required key."""
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+# --------------------------------------------------------------------------------------------
+# formatting
+
+
+_NUMBER = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][-+]?\d+)?(?![\w.])")
+
+
+def g6(text: str) -> str:
+    """Rewrite every decimal number in ``text`` with at most 6 significant digits."""
+    return _NUMBER.sub(lambda m: f"{float(m.group()):.6g}", text)
+
+
+def _type_name(v: Any) -> str:
+    if isinstance(v, bool):
+        return "a boolean"
+    if isinstance(v, (int, float)):
+        return "a number"
+    if isinstance(v, str):
+        return "a string"
+    if isinstance(v, dict):
+        return "a table"
+    if isinstance(v, list):
+        return "an array"
+    if isinstance(v, (datetime.date, datetime.time)):
+        return "a date/time"
+    return type(v).__name__
+
+
+def fmt(v: Any, _depth: int = 0) -> str:
+    """A value as it reads in a TOML file, numbers with at most 6 significant digits, short."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v) if abs(v) < 10**6 else f"{v:.6g}"
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    if isinstance(v, str):
+        s = v if len(v) <= 40 else v[:37] + "..."
+        return repr(s)
+    if isinstance(v, list):
+        if _depth > 1:
+            return "[...]"
+        items = [fmt(x, _depth + 1) for x in v[:6]]
+        return "[" + ", ".join(items + (["..."] if len(v) > 6 else [])) + "]"
+    if isinstance(v, dict):
+        if _depth > 1:
+            return "{...}"
+        items = [f"{_key(k)} = {fmt(x, _depth + 1)}" for k, x in list(v.items())[:4]]
+        return "{ " + ", ".join(items + (["..."] if len(v) > 4 else [])) + " }"
+    return _one_line(str(v))[:40]
+
+
+_BARE = re.compile(r"[A-Za-z0-9_-]{1,60}(?:\.[A-Za-z0-9_-]{1,60})*")
+
+
+def _key(k: Any) -> str:
+    k = str(k)
+    if _BARE.fullmatch(k):
+        return k
+    s = k if len(k) <= 40 else k[:37] + "..."
+    return repr(s)
+
+
+def key_path(where: str, key: str | None = None) -> str:
+    """``("pinion", "teeth")`` → ``"[pinion] teeth"``; ``("", "name")`` → ``"name"``."""
+    if key is None:
+        return f"[{where}]" if where else "the file"
+    return f"[{where}] {_key(key)}" if where else _key(key)
+
+
+def fail(where: str, key: str | None, problem: str, value: Any = MISSING) -> SchemaError:
+    """The :class:`SchemaError` ``[where] key = value: problem`` (to be raised by the caller)."""
+    p = key_path(where, key)
+    head = p if value is MISSING else f"{p} = {fmt(value)}"
+    return SchemaError(f"{head}: {problem}", p)
+
+
+# --------------------------------------------------------------------------------------------
+# ranges
+
+
+@dataclass(frozen=True)
+class Interval:
+    """A range of allowed numbers; ``str`` gives ``> 0``, ``[0, 45)``, ``>= 5`` ...
+
+    Build from text with :meth:`parse`: ``"> 0"``, ``">= 0"``, ``"< 1"``, ``"<= 1"``,
+    ``"(0, 1]"``, ``"[3, 1000]"``, ``"any"``.
+    """
+
+    lo: float = -math.inf
+    hi: float = math.inf
+    lo_open: bool = False
+    hi_open: bool = False
+
+    def __contains__(self, v: float) -> bool:
+        above = v > self.lo if self.lo_open else v >= self.lo
+        below = v < self.hi if self.hi_open else v <= self.hi
+        return bool(above and below)
+
+    def __str__(self) -> str:
+        lo, hi = f"{self.lo:.6g}", f"{self.hi:.6g}"
+        if self.lo == -math.inf and self.hi == math.inf:
+            return "any finite number"
+        if self.hi == math.inf:
+            return f"{'>' if self.lo_open else '>='} {lo}"
+        if self.lo == -math.inf:
+            return f"{'<' if self.hi_open else '<='} {hi}"
+        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
+
+    @classmethod
+    def parse(cls, text: str | Interval | None) -> Interval:
+        if text is None:
+            return cls()
+        if isinstance(text, Interval):
+            return text
+        t = text.strip()
+        if t == "any":
+            return cls()
+        m = re.fullmatch(r"(>=|<=|>|<)\s*(\S+)", t)
+        if m:
+            op, v = m.group(1), float(m.group(2))
+            if op[0] == ">":
+                return cls(lo=v, lo_open=op == ">")
+            return cls(hi=v, hi_open=op == "<")
+        m = re.fullmatch(r"([\[(])\s*(\S+)\s*,\s*(\S+)\s*([\])])", t)
+        if not m:
+            raise ValueError(f"bad interval {text!r}")
+        return cls(float(m.group(2)), float(m.group(3)), m.group(1) == "(", m.group(4) == ")")
+
+
+# --------------------------------------------------------------------------------------------
+# checks
+
+
+def check_keys(table: dict, allowed: Iterable[str], where: str) -> None:
+    """Unknown keys are errors:
+    ``[mesh] unknown key 'slice' (did you mean 'slices'?), allowed: foundation, ...``."""
+    allowed = sorted(allowed)
+    for key in table:
+        if key not in allowed:
+            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.7)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            shown = str(key) if len(str(key)) <= 40 else str(key)[:37] + "..."
+            head = f"[{where}] " if where else ""
+            raise SchemaError(
+                f"{head}unknown key {shown!r}{hint}, allowed: {', '.join(allowed)}",
+                key_path(where, key),
+            )
+
+
+def subtable(
+    data: dict,
+    key: str,
+    where: str,
+    allowed: Iterable[str] | None = None,
+    *,
+    required: bool = False,
+) -> dict:
+    """``data[key]`` as a table (``{}`` if absent and not required); unknown keys checked."""
+    inner = f"{where}.{_key(key)}" if where else _key(key)
+    if key not in data:
+        if required:
+            raise SchemaError(f"[{inner}]: missing required table", f"[{inner}]")
+        return {}
+    t = data[key]
+    if not isinstance(t, dict):
+        raise fail(where, key, f"must be a table ([{inner}]), not {_type_name(t)}", t)
+    if allowed is not None:
+        check_keys(t, allowed, inner)
+    return t
+
+
+def number(
+    table: dict,
+    key: str,
+    where: str,
+    default: Any = MISSING,
+    *,
+    allowed: str | Interval | None = None,
+    integer: bool = False,
+    note: str = "",
+):
+    """A finite number (``int`` when ``integer``), checked against ``allowed`` in file units.
+
+    ``default``: :data:`MISSING` makes the key required; any other value (``None`` included) is
+    returned as is when the key is absent.  ``note`` is appended to the range message.
+    """
+    if key not in table:
+        if default is MISSING:
+            raise fail(where, key, "missing required key")
+        return default
+    v = table[key]
+    kind = "an integer" if integer else "a number"
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise fail(where, key, f"must be {kind}, not {_type_name(v)}", v)
+    if not math.isfinite(v):
+        raise fail(where, key, f"must be a finite {kind[2:] if integer else 'number'}", v)
+    if integer:
+        if isinstance(v, float) and not v.is_integer():
+            raise fail(where, key, "must be an integer", v)
+        v = int(v)
+    else:
+        v = float(v)
+    rng = Interval.parse(allowed)
+    if v not in rng:
+        raise fail(where, key, f"out of range, allowed {rng}{note}", table[key])
+    return v
+
+
+def number_list(
+    table: dict,
+    key: str,
+    where: str,
+    default: Any = MISSING,
+    *,
+    min_length: int = 0,
+    length: int | None = None,
+    allowed: str | Interval | None = None,
+) -> list[float]:
+    """An array of finite numbers (each checked against ``allowed``)."""
+    if key not in table:
+        if default is MISSING:
+            raise fail(where, key, "missing required key")
+        return default
+    v = table[key]
+    if not isinstance(v, list):
+        raise fail(where, key, f"must be an array of numbers, not {_type_name(v)}", v)
+    if length is not None and len(v) != length:
+        raise fail(where, key, f"must be an array of {length} numbers", v)
+    if len(v) < min_length:
+        raise fail(where, key, f"must be an array of at least {min_length} numbers", v)
+    rng = Interval.parse(allowed)
+    out = []
+    for x in v:
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+            raise fail(where, key, "must be an array of finite numbers", v)
+        if x not in rng:
+            raise fail(where, key, f"element {fmt(x)} out of range, allowed {rng}", v)
+        out.append(float(x))
+    return out
+
+
+def choice(table: dict, key: str, where: str, choices: Iterable[str], default: Any = MISSING):
+    """A string out of ``choices``."""
+    if key not in table:
+        if default is MISSING:
+            raise fail(where, key, "missing required key")
+        return default
+    v = table[key]
+    choices = list(choices)
+    if not isinstance(v, str) or v not in choices:
+        raise fail(where, key, f"allowed {', '.join(repr(c) for c in choices)}", v)
+    return v
+
+
+def boolean(table: dict, key: str, where: str, default: Any = MISSING):
+    """``true`` or ``false``."""
+    if key not in table:
+        if default is MISSING:
+            raise fail(where, key, "missing required key")
+        return default
+    v = table[key]
+    if not isinstance(v, bool):
+        raise fail(where, key, "must be true or false", v)
+    return v
+
+
+def string(table: dict, key: str, where: str, default: Any = MISSING) -> str:
+    """A non-empty string."""
+    if key not in table:
+        if default is MISSING:
+            raise fail(where, key, "missing required key")
+        return default
+    v = table[key]
+    if not isinstance(v, str) or not v.strip():
+        raise fail(where, key, "must be a non-empty string", v)
+    return v
+
+
+def load_toml(raw: bytes | str, label: str) -> dict:
+    """Decode (UTF-8) and parse TOML text; errors are one-line :class:`SchemaError` naming
+    ``label`` (e.g. ``"case file 'x.toml'"``)."""
+    if isinstance(raw, bytes):
+        try:
+            raw = raw.decode("utf-8")
+        except UnicodeDecodeError as err:
+            raise SchemaError(
+                f"{label} is not valid UTF-8 text (byte 0x{err.object[err.start]:02x} at offset "
+                f"{err.start})"
+            ) from None
+    try:
+        return tomllib.loads(raw)
+    except tomllib.TOMLDecodeError as err:
+        raise SchemaError(f"{label} is not valid TOML: {err}") from None
+    except RecursionError:
+        raise SchemaError(f"{label} is not valid TOML: nested too deeply") from None
+
+
+# --------------------------------------------------------------------------------------------
+# atomic writes
+
+
+@contextlib.contextmanager
+def _atomic_path(path) -> Iterator[Path]:
+    path = Path(os.fspath(path))
+    directory = path.absolute().parent
+    directory.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".tmp-{path.name}-", suffix=".tmp", dir=directory)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file the usual permissions
+    try:
+        yield Path(tmp)
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_open(path, mode: str = "w", **kwargs):
+    """Open a temporary file beside ``path``; rename it onto ``path`` only if the block succeeds.
+
+    An interrupted run never leaves a truncated ``path``: either the old file (or nothing) or the
+    complete new one is there.
+    """
+    with _atomic_path(path) as tmp, open(tmp, mode, **kwargs) as f:
+        yield f
+
+
+def atomic_write(path, write: Callable[[Path], None]) -> Path:
+    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it onto ``path``."""
+    with _atomic_path(path) as tmp:
+        write(tmp)
+    return Path(path)

@@ -1,0 +1,79 @@
+"""Command-line options that need no case file: ranges, counts and output paths, checked before
+JAX or the model is imported (one-line ``ValueError`` messages)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["EXTENT_BOUNDS", "check_options", "parse_range", "range_values"]
+
+
+# the Γ interval ``master-curve`` searches (master_curve_case's extent bounds)
+EXTENT_BOUNDS = (0.02, 0.98)
+
+
+def parse_range(
+    text: str, option: str, *, positive: bool = False, min_points: int = 1
+) -> tuple[float, float, int]:
+    """``START:STOP:N`` (or one number) → (start, stop, n), checked: numbers, N >= ``min_points``,
+    START < STOP when N > 1, START > 0 with ``positive``. One-line ``ValueError`` otherwise."""
+    parts = str(text).split(":")
+    try:
+        if len(parts) == 1:
+            a = b = float(parts[0])
+            n = 1
+        elif len(parts) == 3:
+            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+        else:
+            raise ValueError
+    except ValueError:
+        raise ValueError(f"{option} {text!r}: expected START:STOP:N (e.g. 40:120:5)") from None
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise ValueError(f"{option} {text!r}: START and STOP must be finite numbers")
+    if n < min_points:
+        raise ValueError(f"{option} {text!r}: N = {n} must be >= {min_points}")
+    if n > 1 and not a < b:
+        raise ValueError(f"{option} {text!r}: START must be below STOP (reversed or empty range)")
+    if positive and not a > 0:
+        raise ValueError(f"{option} {text!r}: values must be > 0")
+    return a, b, n
+
+
+def range_values(text: str, option: str, **checks) -> np.ndarray:
+    """The values of a checked ``START:STOP:N`` range, ``linspace(START, STOP, N)``."""
+    a, b, n = parse_range(text, option, **checks)
+    return np.linspace(a, b, n)
+
+
+def check_options(args) -> None:
+    """Check the command-line options that need no case file (ranges, counts, output paths);
+    raises ValueError with a one-line message. Runs before JAX or the model is imported."""
+    from ._paths import check_output_dir, check_output_file
+
+    cmd = args.command
+    if cmd == "optimise":
+        if args.max_iterations is not None and args.max_iterations < 1:
+            raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")
+        if args.torques is not None:
+            parse_range(args.torques, "--torques", positive=True)
+            if args.objective is not None and args.objective != "robust_te_rms":
+                raise ValueError(
+                    f"--torques applies to --objective robust_te_rms only, not {args.objective}"
+                )
+    if cmd == "master-curve":
+        a, b, _ = parse_range(args.extents, "--extents")
+        lo, hi = EXTENT_BOUNDS
+        if not (lo <= a and b <= hi):
+            raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
+    if cmd == "sweep":
+        parse_range(args.speeds, "--speeds", positive=True, min_points=2)
+        for opt in ("periods", "keep_periods", "steps_per_period", "slices"):
+            v = getattr(args, opt)
+            if v is not None and v < 1:
+                raise ValueError(f"--{opt.replace('_', '-')} {v}: must be >= 1")
+    if getattr(args, "out", None) is not None:
+        check_output_dir(args.out)
+    if getattr(args, "json", None) is not None:
+        check_output_file(args.json)

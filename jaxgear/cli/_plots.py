@@ -1,0 +1,553 @@
+"""Every figure the command line writes, as a gear engineer reads it.
+
+The command modules (``_run``, ``_sweep``, ``_optimise``) compute; the functions here take the
+computed data (SI units unless a name says otherwise) and a path, draw one figure and write it
+with :func:`savefig` (atomic, PNG, 120 dpi). Figures are built on the Agg canvas directly, so
+plotting never changes the process's pyplot backend (a notebook keeps its inline figures).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..io import atomic_open
+
+__all__ = [
+    "campbell_plot",
+    "coincidences",
+    "convergence_plot",
+    "dynamic_factor_plot",
+    "harmonic_crossings",
+    "harris_plot",
+    "load_map_plot",
+    "master_curve_plot",
+    "mesh_stiffness_plot",
+    "name_peaks",
+    "new_figure",
+    "optimiser_path_plot",
+    "savefig",
+    "te_coincide",
+    "transmission_error_plot",
+]
+
+FIGSIZE = (8, 4.5)
+DPI = 120
+#: exact and smooth TE are drawn as one curve when they differ by less than this share of the
+#: plotted TE range (about the width of a line on a FIGSIZE figure)
+TE_COINCIDE_SHARE = 0.01
+#: a dynamic-factor maximum is a visible peak above this value
+PEAK_MIN = 1.1
+
+
+def new_figure(figsize=FIGSIZE):
+    """A figure on the Agg canvas (no pyplot state) with one axes, constrained layout."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig, fig.add_subplot()
+
+
+def savefig(fig, path) -> None:
+    """Write ``fig`` as PNG (120 dpi, Agg) to ``path`` atomically and close it."""
+    import sys
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    try:
+        if not isinstance(fig.canvas, FigureCanvasAgg):
+            FigureCanvasAgg(fig)
+        with atomic_open(path, "wb") as f:
+            fig.savefig(f, format="png", dpi=DPI)
+    finally:
+        plt = sys.modules.get("matplotlib.pyplot")
+        if plt is not None:  # a pyplot-managed figure: release it
+            plt.close(fig)
+
+
+def _finish(
+    fig, ax, path, *, xlabel: str, ylabel: str, title: str, legend: bool = True, grid: bool = True
+):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    if grid:
+        ax.grid(alpha=0.3)
+    labels = []
+    if legend:
+        labels = [t.get_text() for t in ax.legend().get_texts()]
+    savefig(fig, path)
+    return labels
+
+
+def _hz(f: float) -> str:
+    """2345.6 -> '2 346' (a space between thousands, as engineering drawings write it)."""
+    return f"{f:,.0f}".replace(",", "\u2009")
+
+
+# ---------------------------------------------------------------- quasi-static (jaxgear run)
+
+
+def te_coincide(exact, smooth, span: float, share: float = TE_COINCIDE_SHARE) -> tuple[bool, float]:
+    """Whether the exact and smooth TE curves are indistinguishable on a plot whose TE axis spans
+    ``span`` (same unit): ``(max |exact - smooth| <= share * span, max |exact - smooth|)``."""
+    d = float(np.max(np.abs(np.asarray(exact) - np.asarray(smooth))))
+    return d <= share * span, d
+
+
+def transmission_error_plot(path, x, curves: dict, *, title: str) -> list[str]:
+    """Quasi-static TE (µm) against pinion position (mesh periods).
+
+    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}``. A design whose exact and
+    smooth curves coincide (:func:`te_coincide`) is drawn once, its legend entry says so;
+    otherwise exact is solid, smooth dashed. Returns the legend labels.
+    """
+    fig, ax = new_figure()
+    um = {k: {m: np.asarray(v[m]) * 1e6 for m in ("exact", "smooth")} for k, v in curves.items()}
+    allv = np.concatenate([a for v in um.values() for a in v.values()])
+    span = float(np.ptp(allv)) or 1.0
+    for (lab, v), color in zip(um.items(), ("C0", "C3", "C2", "C1"), strict=False):
+        same, d = te_coincide(v["exact"], v["smooth"], span)
+        if same:
+            within = f"within {d:.2g} µm" if d >= 1e-3 else "within 0.001 µm"
+            ax.plot(x, v["exact"], "-", color=color, label=f"{lab} (exact = smooth {within})")
+        else:
+            ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
+            ax.plot(x, v["smooth"], "--", color=color, label=f"{lab}, smooth contact")
+    ax.set_xlabel("pinion position (mesh periods)")
+    ax.set_ylabel("quasi-static TE (µm, along the line of action)")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    leg = fig.legend(loc="outside lower center", ncols=2, fontsize=9, frameon=False)
+    savefig(fig, path)
+    return [t.get_text() for t in leg.get_texts()]
+
+
+def mesh_stiffness_plot(path, x, curves: dict, *, title: str) -> list[str]:
+    """Mesh stiffness (N/µm) against pinion position; ``curves``: ``{label: K (N/m)}``."""
+    fig, ax = new_figure()
+    for (lab, k), color in zip(curves.items(), ("C0", "C3", "C2", "C1"), strict=False):
+        ax.plot(x, np.asarray(k) / 1e6, color=color, label=lab)
+    return _finish(
+        fig,
+        ax,
+        path,
+        xlabel="pinion position (mesh periods)",
+        ylabel="mesh stiffness K(θ) (N/µm)",
+        title=title,
+    )
+
+
+def load_map_plot(path, s_edges, z_edges, lmap, *, title: str) -> None:
+    """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs."""
+    fig, ax = new_figure()
+    pc = ax.pcolormesh(
+        np.asarray(s_edges) * 1e3,
+        np.asarray(z_edges) * 1e3,
+        np.asarray(lmap).T / 1e3,
+        shading="flat",
+        cmap="viridis",
+    )
+    fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
+    _finish(
+        fig,
+        ax,
+        path,
+        xlabel="s along the line of action (mm): 0 = engagement (gear tip)",
+        ylabel="z across the face (mm)",
+        title=title,
+        legend=False,
+        grid=False,
+    )
+
+
+def harris_plot(
+    path, torques, curves, *, design_torque: float, ylabel: str, title: str
+) -> list[str]:
+    """Harris map: TE (µm) against torque for several designs, the design torque marked.
+
+    ``curves``: ``[(label, TE (m), matplotlib format), ...]``. Where ``torques`` contains the
+    design torque, each curve's value there is ringed. Returns the legend labels.
+    """
+    fig, ax = new_figure()
+    t = np.asarray(torques, dtype=float)
+    at = np.flatnonzero(np.isclose(t, design_torque, rtol=1e-9, atol=0.0))
+    colors = iter(("C0", "C3", "C2", "C1", "C4"))
+    for lab, te, fmt in curves:
+        kw = {} if any(ch in fmt for ch in "kbgrcmyw") else {"color": next(colors)}
+        line = ax.plot(t, np.asarray(te) * 1e6, fmt, label=lab, **kw)[0]
+        if at.size:
+            ax.plot(
+                t[at],
+                np.asarray(te)[at] * 1e6,
+                "o",
+                ms=11,
+                mfc="none",
+                mec=line.get_color(),
+                mew=1.5,
+            )
+    ax.axvline(
+        design_torque, color="0.3", lw=0.8, ls="--", label=f"design torque {design_torque:g} N·m"
+    )
+    if at.size:
+        ax.plot([], [], "o", ms=9, mfc="none", mec="0.3", label="value at the design torque")
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("pinion torque (N·m)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    leg = fig.legend(loc="outside lower center", ncols=3, fontsize=8.5, frameon=False)
+    savefig(fig, path)
+    return [t.get_text() for t in leg.get_texts()]
+
+
+# ---------------------------------------------------------------- dynamics (jaxgear sweep)
+
+
+def _nan(v) -> np.ndarray:
+    return np.asarray([np.nan if x is None else x for x in v], dtype=float)
+
+
+def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05) -> list[dict]:
+    """Mode × mesh-harmonic coincidences of a sweep summary: the ``critical_speeds`` entries and,
+    for every elastic mode with at least ``min_share`` mesh energy, each harmonic's speed
+    Ω = 2π f / (h z1) (``z1`` from ``mesh_frequency_Hz`` / speed). Each: ``mode``, ``harmonic``,
+    ``speed_rad_s``, ``frequency_Hz``."""
+    out = {(c["mode"], c["harmonic"]): dict(c) for c in summary.get("critical_speeds", [])}
+    sp = _nan(summary.get("speeds_rad_s", []))
+    fm = _nan(summary.get("mesh_frequency_Hz", []))
+    ok = np.isfinite(sp) & np.isfinite(fm) & (sp > 0)
+    if ok.any():
+        z1 = float(np.median(fm[ok] * 2 * math.pi / sp[ok]))
+        freqs = _nan(summary.get("natural_frequencies_Hz", []))
+        share = _nan(summary.get("mesh_energy_share", [np.nan] * freqs.size))
+        for i, (f, e) in enumerate(zip(freqs, share, strict=False)):
+            if f > 0 and e >= min_share:
+                for h in harmonics:
+                    out.setdefault(
+                        (i, h),
+                        {
+                            "mode": i,
+                            "harmonic": h,
+                            "speed_rad_s": 2 * math.pi * f / (h * z1),
+                            "frequency_Hz": float(f),
+                            "mesh_energy_share": float(e),
+                        },
+                    )
+    return sorted(out.values(), key=lambda c: c["speed_rad_s"])
+
+
+def coincidence_name(c: dict) -> str:
+    return f"mode {c['mode']} ({_hz(c['frequency_Hz'])} Hz) × H{c['harmonic']}"
+
+
+def _distance(c: dict, speed: float) -> float:
+    share = max(float(c.get("mesh_energy_share", 1.0)), 1e-12)
+    return abs(math.log(c["speed_rad_s"] / speed)) * math.sqrt(c["harmonic"] / share)
+
+
+def name_peaks(speeds, df, candidates, min_value: float = PEAK_MIN) -> list[dict]:
+    """Visible peaks of a dynamic-factor curve (local maxima above ``min_value`` that stand out by
+    at least 2 % of the curve's range), each with the nearest coincidence of ``candidates``: the
+    smallest |ln(peak speed / coincidence speed)| · sqrt(h / mesh energy share), so a strongly
+    excited mode at a low harmonic wins over a faint one that happens to sit a little closer.
+    Returns ``[{speed_rad_s, value, coincidence, name}]``."""
+    from scipy.signal import find_peaks
+
+    sp = np.asarray(speeds, dtype=float)
+    y = np.asarray(df, dtype=float)
+    good = np.isfinite(y)
+    if good.sum() < 3:
+        return []
+    yy = np.where(good, y, np.nanmin(y))
+    rng = float(np.nanmax(y) - np.nanmin(y))
+    idx, _ = find_peaks(yy, height=min_value, prominence=max(0.02 * rng, 1e-6))
+    out = []
+    for i in idx:
+        c = min(candidates, key=lambda c: _distance(c, sp[i])) if candidates else None
+        out.append(
+            {
+                "speed_rad_s": float(sp[i]),
+                "value": float(y[i]),
+                "coincidence": c,
+                "name": coincidence_name(c) if c else "no excited mode nearby",
+            }
+        )
+    return out
+
+
+def dynamic_factor_plot(path, summary: dict) -> list[dict]:
+    """Dynamic factor against pinion speed (rad/s below, rpm on top) from a sweep summary:
+    critical speeds as labelled vertical lines above the curve, every visible peak named after
+    the nearest mode × harmonic coincidence. Returns the named peaks (:func:`name_peaks`)."""
+    from matplotlib.transforms import blended_transform_factory
+
+    fig, ax = new_figure()
+    sp = _nan(summary["speeds_rad_s"])
+    df = _nan(summary["dynamic_factor"])
+    how = {"independent": "", "up": ", sweep up", "down": ", sweep down", "both": ", sweep up"}[
+        summary["direction"]
+    ]
+    ax.plot(sp, df, "-", color="C0", lw=1.8, label=f"dynamic mesh force / static{how}")
+    if "dynamic_factor_down" in summary:
+        ax.plot(
+            sp,
+            _nan(summary["dynamic_factor_down"]),
+            "--",
+            color="C3",
+            label="dynamic mesh force / static, sweep down",
+        )
+    ax.plot(
+        sp,
+        _nan(summary["dynamic_factor_tooth"]),
+        ":",
+        color="C0",
+        lw=1,
+        label="max tooth force / quasi-static",
+    )
+    loss = _nan(summary["contact_loss"]) > 0
+    if loss.any():
+        ax.plot(sp[loss], df[loss], "o", ms=5, color="C1", zorder=6, label="teeth lose contact")
+    bad = np.asarray(summary["result"]) != 0
+    if bad.any():
+        ax.plot(sp[bad], np.ones(bad.sum()), "x", color="k", label="diverged (see result)")
+    # room above the curves for the labels: the data use the lower 60 % of the axes
+    lo, hi = ax.get_ylim()
+    ymax = np.nanmax(np.concatenate([df, _nan(summary["dynamic_factor_tooth"])]))
+    hi = max(hi, ymax)
+    ax.set_ylim(lo, lo + (hi - lo) / 0.6)
+    ax.set_xlim(sp.min(), sp.max())
+    trans = blended_transform_factory(ax.transData, ax.transAxes)
+    cands = coincidences(summary, min_share=0.01)  # small shares still make visible peaks
+    shown = [c for c in summary["critical_speeds"] if sp.min() <= c["speed_rad_s"] <= sp.max()]
+    peaks = name_peaks(sp, df, cands)
+    named = {
+        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in peaks if p["coincidence"]
+    }
+    for c in shown:
+        ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
+        if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
+            continue
+        ax.text(
+            c["speed_rad_s"],
+            0.985,
+            f"mode {c['mode']} × H{c['harmonic']}",
+            transform=trans,
+            rotation=90,
+            fontsize=7,
+            color="0.35",
+            va="top",
+            ha="center",
+            bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
+        )
+    if shown:
+        ax.plot([], [], "--", color="0.55", lw=0.8, label="critical speed (mode × mesh harmonic)")
+    for k, p in enumerate(peaks):
+        ax.annotate(
+            f"{p['name']}\nDF {p['value']:.2f}",
+            (p["speed_rad_s"], p["value"]),
+            xytext=(0, 12 + 22 * (k % 2)),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=7.5,
+            color="C3",
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
+            arrowprops={"arrowstyle": "->", "color": "C3", "lw": 0.8},
+        )
+    top = ax.secondary_xaxis(
+        "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
+    )
+    top.set_xlabel("pinion speed (rpm)")
+    ax.set_xlabel("pinion speed (rad/s)")
+    ax.set_ylabel("dynamic mesh force / static")
+    ax.set_title(
+        f"{summary['case']}: dynamic factor ({summary['model']} model, {summary['solver']}, "
+        f"{summary['contact']} contact)",
+        fontsize=10,
+    )
+    ax.grid(alpha=0.3)
+    fig.legend(loc="outside lower center", ncols=3, fontsize=8, frameon=False)
+    savefig(fig, path)
+    return peaks
+
+
+def harmonic_crossings(freqs_Hz, z1: int, s_max: float, harmonics=(1, 2, 3, 4)) -> list[dict]:
+    """Where mesh harmonic h (f = h z1 Ω / 2π) crosses each mode frequency, for pinion speeds
+    0 < Ω <= ``s_max`` (rad/s). Returns ``[{frequency_Hz, harmonic, speed_rad_s}]``."""
+    out = []
+    for f in freqs_Hz:
+        for h in harmonics:
+            s = 2 * math.pi * float(f) / (h * z1)
+            if 0 < s <= s_max:
+                out.append({"frequency_Hz": float(f), "harmonic": int(h), "speed_rad_s": s})
+    return out
+
+
+def campbell_plot(
+    path, summary: dict, z1: int, harmonics=(1, 2, 3, 4), min_share: float = 0.01
+) -> list[dict]:
+    """Campbell diagram: mesh harmonics f = h z1 Ω / 2π against the modes with at least
+    ``min_share`` of their strain energy in the mesh (black: ≥ 5 %, grey: weaker), each mode
+    labelled with its frequency at the right end, every crossing in the plotted range marked.
+    Returns the crossings (:func:`harmonic_crossings`)."""
+    fig, ax = new_figure()
+    sp = _nan(summary["speeds_rad_s"])
+    s_max = float(np.nanmax(sp)) * 1.05
+    s_line = np.linspace(0, s_max, 50)
+    modes = [
+        (i, f, e)
+        for i, (f, e) in enumerate(
+            zip(
+                _nan(summary["natural_frequencies_Hz"]),
+                _nan(summary["mesh_energy_share"]),
+                strict=True,
+            )
+        )
+        if f > 0 and e >= min_share
+    ]
+    strong = [f for _, f, e in modes if e >= 0.05]
+    f_top = max([*strong, s_max * z1 / (2 * math.pi)]) * 1.12
+    modes = [m for m in modes if m[1] < f_top]
+    for h in harmonics:
+        ax.plot(s_line, h * s_line * z1 / (2 * math.pi), color=f"C{h - 1}", label=f"mesh H{h}")
+    for _, f, e in modes:
+        ax.axhline(f, color="k" if e >= 0.05 else "0.6", ls="--", lw=0.9 if e >= 0.05 else 0.7)
+    # one label per group of modes closer than 3 % of the axis (they would print over each other)
+    groups: list[list] = []
+    for m in sorted(modes, key=lambda m: m[1]):
+        if groups and m[1] - groups[-1][-1][1] < 0.03 * f_top:
+            groups[-1].append(m)
+        else:
+            groups.append([m])
+    for g in groups:
+        ids = ", ".join(str(i) for i, _, _ in g)
+        hz = ", ".join(_hz(f) for _, f, _ in g)
+        ax.text(
+            s_max * 0.995,
+            g[-1][1] + 0.006 * f_top,
+            f"mode{'s' if len(g) > 1 else ''} {ids}: {hz} Hz",
+            ha="right",
+            va="bottom",
+            fontsize=7.5,
+            color="k" if max(e for _, _, e in g) >= 0.05 else "0.35",
+            bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
+        )
+    cross = harmonic_crossings([f for _, f, _ in modes], z1, s_max, harmonics)
+    if cross:
+        ax.plot(
+            [c["speed_rad_s"] for c in cross],
+            [c["frequency_Hz"] for c in cross],
+            "o",
+            mfc="none",
+            mec="k",
+            ms=6,
+            label="harmonic crossing",
+        )
+    crit = [c for c in summary["critical_speeds"] if c["speed_rad_s"] <= s_max]
+    if crit:
+        ax.plot(
+            [c["speed_rad_s"] for c in crit],
+            [c["frequency_Hz"] for c in crit],
+            "o",
+            color="C3",
+            ms=4,
+            label="critical speed (sweep.json)",
+        )
+    ax.set_ylim(0, f_top)
+    ax.set_xlim(0, s_max)
+    top = ax.secondary_xaxis(
+        "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
+    )
+    top.set_xlabel("pinion speed (rpm)")
+    ax.set_xlabel("pinion speed (rad/s)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title(
+        f"{summary['case']}: Campbell diagram, modes with ≥ {min_share:.0%} mesh strain energy "
+        "(black ≥ 5 %)",
+        fontsize=10,
+    )
+    ax.grid(alpha=0.3)
+    fig.legend(loc="outside lower center", ncols=6, fontsize=8, frameon=False)
+    savefig(fig, path)
+    return cross
+
+
+# ---------------------------------------------------------------- optimisation
+
+
+def convergence_plot(path, history, *, ylabel: str, title: str) -> None:
+    """Objective (relative to the unmodified design) per iteration, log scale."""
+    fig, ax = new_figure()
+    ax.semilogy(np.maximum(np.asarray(history, dtype=float), 1e-12), "o-")
+    _finish(fig, ax, path, xlabel="iteration", ylabel=ylabel, title=title, legend=False)
+
+
+def optimiser_path_plot(
+    path, G, E_um, grid_um, path_g, path_e_um, opt, *, label: str, title: str
+) -> None:
+    """Objective map over relief extent Γ and depth E (µm) with the optimiser's path and the
+    optimum ``opt = (Γ, E µm)``; ``grid_um`` has shape (len(G), len(E_um))."""
+    fig, ax = new_figure()
+    cs = ax.contourf(G, E_um, np.asarray(grid_um).T, levels=30, cmap="viridis")
+    fig.colorbar(cs, ax=ax, label=label)
+    ax.plot(path_g, path_e_um, "w.-", label="optimiser path")
+    ax.plot(path_g[0], path_e_um[0], "wo", mfc="none", ms=9, label="start")
+    ax.plot(*opt, "r*", ms=14, label=f"optimum Γ = {opt[0]:.3f}, E = {opt[1]:.2f} µm")
+    _finish(
+        fig,
+        ax,
+        path,
+        xlabel="relief extent Γ",
+        ylabel="relief depth E (µm)",
+        title=title,
+        grid=False,
+    )
+
+
+def master_curve_plot(
+    path,
+    G,
+    E_um,
+    grid_um,
+    extent,
+    depth_um,
+    *,
+    on_bound=None,
+    family=None,
+    title: str,
+) -> list[str]:
+    """TE RMS map (µm) over (Γ, E µm), the numerical Master Curve, its points on a bound of the
+    depth interval (``on_bound``, bool per point) drawn apart, and the zero-fluctuation family
+    ``(Γ, E µm)`` where it applies. Returns the legend labels."""
+    fig, ax = new_figure()
+    cs = ax.contourf(G, E_um, np.asarray(grid_um).T, levels=30, cmap="viridis")
+    fig.colorbar(cs, ax=ax, label="TE RMS (µm), exact contact")
+    extent = np.asarray(extent, dtype=float)
+    depth_um = np.asarray(depth_um, dtype=float)
+    ax.plot(extent, depth_um, "r.-", lw=2, label="Master Curve (numerical)")
+    if on_bound is not None and np.any(on_bound):
+        b = np.asarray(on_bound, dtype=bool)
+        ax.plot(
+            extent[b],
+            depth_um[b],
+            "X",
+            ms=10,
+            mfc="orange",
+            mec="k",
+            clip_on=False,
+            zorder=5,
+            label="on a bound of the depth interval (not a true optimum)",
+        )
+    if family is not None:
+        ax.plot(*family, "w--", label="zero-fluctuation family")
+    ax.set_ylim(0, float(np.max(E_um)))
+    ax.set_xlabel("relief extent Γ")
+    ax.set_ylabel("relief depth E (µm)")
+    ax.set_title(title)
+    labels = [t.get_text() for t in ax.legend(loc="upper right", fontsize=8).get_texts()]
+    savefig(fig, path)
+    return labels
