@@ -240,10 +240,12 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
         else:
             rec["error_curve"] = _sub(["curve", str(s), str(cs)] + (["--quick"] if quick else []))
         (Path(out_dir) / "partial.json").parent.mkdir(parents=True, exist_ok=True)
-        (Path(out_dir) / "partial.json").write_text(json.dumps(rec, indent=2))
+        with atomic_open(Path(out_dir) / "partial.json") as f:
+            f.write(json.dumps(rec, indent=2))
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "bench.json").write_text(json.dumps(rec, indent=2))
+    with atomic_open(out / "bench.json") as f:
+        f.write(json.dumps(rec, indent=2))
     _plots(rec, out)
     if "error" in rec.get("error_curve", {}):
         print(f"error curve failed: {rec['error_curve']['error']}")
@@ -278,7 +280,8 @@ def _plots(rec: dict, out: Path) -> None:
         ax.legend(fontsize=7)
         ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        fig.savefig(out / "bench.png", dpi=120)
+        with atomic_open(out / "bench.png", "wb") as f:
+            fig.savefig(f, format="png", dpi=120)
         plt.close(fig)
     cur = rec.get("error_curve", {})
     if "modes" in cur:
@@ -291,7 +294,8 @@ def _plots(rec: dict, out: Path) -> None:
         ax.legend()
         ax.grid(True, which="both", alpha=0.3)
         fig.tight_layout()
-        fig.savefig(out / "modes_error.png", dpi=120)
+        with atomic_open(out / "modes_error.png", "wb") as f:
+            fig.savefig(f, format="png", dpi=120)
         plt.close(fig)
 
 
