@@ -1,34 +1,6 @@
-"""The ``[scene]`` table of a case and the ``jaxgear sweep`` command (docs/dynamics.md).
-
-``[scene]`` selects and parameterises the dynamic model (units in key names, SI after parsing):
-
-.. code-block:: toml
-
-    [scene]
-    model = "torsional"                  # or "lumped3d" (shafts + bearings, see docs/dynamics.md)
-    reduction = "none"                   # or "relative": the 1-DOF relative approach
-    pinion_inertia_kg_m2 = 2.4e-4        # default: solid disc, tip radius × face width × density
-    gear_inertia_kg_m2 = 2.3e-3
-    motor_inertia_kg_m2 = 1e-2           # optional, needs motor_shaft_stiffness_Nm_per_rad
-    motor_shaft_stiffness_Nm_per_rad = 2e4
-    load_inertia_kg_m2 = 5e-2            # optional, needs load_shaft_stiffness_Nm_per_rad
-    load_shaft_stiffness_Nm_per_rad = 5e4
-    [scene.damping]
-    model = "composite"                  # "composite" (2.36) | "modal" (2.35) | "rayleigh" (2.34) | "none"
-    mesh_ratio = 0.07                    # composite: ξ_i = mesh_ratio e_i + structure_ratio (1 − e_i)
-    structure_ratio = 0.01
-    ratio = 0.05                         # modal: one ξ for every mode
-    alpha_per_s = 0.0                    # rayleigh: C = α M + β K̄
-    beta_s = 0.0
-    [scene.integration]
-    solver = "newmark"                   # or a diffrax solver: tsit5, dopri5, kvaerno5, ...
-    contact = "exact"                    # or "smooth" (width: [mesh] smooth_width_um)
-    steps_per_period = "auto"
-    periods = 60
-    keep_periods = 4
-    rtol = 1e-6                          # diffrax PID controller (scaled state)
-    atol = 1e-6
-"""
+"""``jaxgear sweep``: dynamic factor against pinion speed for a case's ``[scene]`` (its schema:
+:func:`jaxgear.io.parse_scene` and docs/dynamics.md), written as ``sweep.json``,
+``dynamic_factor.png`` and ``campbell.png``."""
 
 from __future__ import annotations
 
