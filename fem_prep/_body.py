@@ -12,6 +12,7 @@ that a user can fix the file without reading the code; integer keys accept integ
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 import math
 from dataclasses import asdict, dataclass, field
@@ -91,10 +92,27 @@ class Geometry:
 
 @dataclass(frozen=True)
 class Bearing:
-    """A 6-DOF bearing node on the axis, coupled to the bore ring at ``axial_position`` (m)."""
+    """A 6-DOF bearing node on the axis at ``axial_position`` (m), coupled to the bore surface.
+
+    Every bore node whose axial position lies in ``band`` (m, ``(z_min, z_max)``) is coupled to
+    the bearing node (``coupling``: ``"rigid"`` or ``"averaging"``, see ``_condense``).  The band
+    is ``axial_position -/+ width / 2`` clipped to the bore (hub and shaft stubs); ``parse_body``
+    resolves it.  ``band = None`` (a bearing built by hand) means ``axial_position -/+ width / 2``;
+    ``width = 0`` couples the single bore-node ring nearest the bearing plane (a line support
+    that does not converge under mesh refinement; kept for comparison only).
+    """
 
     axial_position: float
     coupling: str = "rigid"
+    width: float = 0.0
+    band: tuple[float, float] | None = None
+
+    @property
+    def z_band(self) -> tuple[float, float]:
+        """The coupled axial band (m)."""
+        if self.band is not None:
+            return self.band
+        return (self.axial_position - self.width / 2, self.axial_position + self.width / 2)
 
 
 @dataclass(frozen=True)
@@ -202,7 +220,7 @@ _SCHEMA: dict[str, set[str] | None] = {
         "holes",
         "shaft_outer_radius_mm",
     },
-    "bearings": {"axial_position_mm", "coupling"},
+    "bearings": {"axial_position_mm", "coupling", "width_mm"},
     "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
     "mesh": {
         "element",
@@ -327,9 +345,9 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
             "[[bearings]]: at least one [[bearings]] table is required (axial_position_mm, "
             "coupling)"
         )
-    bearings = []
     lim = 20 * max(rim_w, hub_w, rim_o)
     seen: dict[float, int] = {}
+    raw = []  # (position, coupling, explicit width or None), mm
     for k, t in enumerate(bl):
         wb = f"bearings[{k}]"
         if not isinstance(t, dict):
@@ -340,7 +358,10 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
             if abs(other - pos) < 1e-3:
                 raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
         seen[pos] = k
-        bearings.append(Bearing(pos * mm, sc.choice(t, "coupling", wb, COUPLINGS, "rigid")))
+        coupling = sc.choice(t, "coupling", wb, COUPLINGS, "rigid")
+        width = sc.number(t, "width_mm", wb, None, allowed=f"(0, {2 * lim!r}]")
+        raw.append((pos, coupling, width))
+    bearings = _bearing_bands(raw, geometry, hub_w)
 
     # ---- [material]
     m = sc.subtable(data, "material", "", _SCHEMA["material"])
@@ -398,6 +419,50 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
         vtu_modes=nv,
         source_text=text,
     )
+
+
+def _bearing_bands(
+    raw: list[tuple[float, str, float | None]], g: Geometry, hub_w: float
+) -> list[Bearing]:
+    """Resolve each bearing's coupled band (file units in, SI out; see ``docs/fem_prep.md``).
+
+    The bore runs over the hub and the shaft stubs: from ``min(hub start, bearings)`` to
+    ``max(hub end, bearings)``.  The default width is ``hub_width / n_bearings``, reduced to
+    the distance to the nearest other bearing (bands do not overlap); each band is
+    ``position -/+ width / 2`` clipped to the bore.  Explicit widths whose bands overlap raise
+    a :class:`~fem_prep.schema.SchemaError` naming the later bearing's ``width_mm``.
+    """
+    hc = g.hub_center * 1e3
+    lo = min([hc - hub_w / 2] + [p for p, _, _ in raw])
+    hi = max([hc + hub_w / 2] + [p for p, _, _ in raw])
+    pos = [p for p, _, _ in raw]
+    bands = []
+    for k, (p, _, w) in enumerate(raw):
+        if w is None:
+            gap = min([abs(p - q) for j, q in enumerate(pos) if j != k], default=math.inf)
+            w = min(hub_w / len(raw), gap)
+        bands.append((w, max(p - w / 2, lo), min(p + w / 2, hi)))
+    order = sorted(range(len(raw)), key=lambda k: raw[k][0])
+    for i, j in itertools.pairwise(order):  # neighbours along the axis
+        overlap = bands[i][2] - bands[j][1]
+        if overlap > 1e-6 * max(1.0, abs(hi - lo)):
+            # blame the later explicit width in the file (default widths never overlap)
+            k = max(m for m in (i, j) if raw[m][2] is not None)
+            o = i + j - k
+            gap = abs(raw[i][0] - raw[j][0])
+            raise sc.fail(
+                f"bearings[{k}]",
+                "width_mm",
+                f"its band [{bands[k][1]:.6g}, {bands[k][2]:.6g}] mm overlaps the band "
+                f"[{bands[o][1]:.6g}, {bands[o][2]:.6g}] mm of bearings[{o}] (bands are "
+                f"axial_position_mm -/+ width_mm/2 and must not overlap; bearings {gap:.6g} mm "
+                "apart)",
+                raw[k][2],
+            )
+    mm = 1e-3
+    return [
+        Bearing(p * mm, c, w * mm, (b0 * mm, b1 * mm)) for (p, c, _), (w, b0, b1) in zip(raw, bands)
+    ]
 
 
 def embedded_bodies() -> list[str]:

@@ -13,10 +13,14 @@ interior DOFs ``i``.
   and modal DOFs are statically uncoupled.  The inertia-relief term ``H_i0`` of (2.4) is not
   needed because the rigid-body motion is exactly represented by the constraint modes.
 
-Bearings are 6-DOF nodes on the axis coupled to a ring of bore nodes by a kinematic
-transformation ``u = T q``: rigid (every ring node follows the rigid motion of the bearing node)
-or averaging (RBE3-like: the bearing node moves as the least-squares rigid fit of the ring; six
-ring DOFs are eliminated).
+Bearings are 6-DOF nodes on the axis coupled to every bore node of an axial band (the bearing
+width, ``Bearing.z_band``) by a kinematic transformation ``u = T q``: rigid (every band node
+follows the rigid motion of the bearing node, a clamped bore over the bearing width) or
+averaging (RBE3-like: the bearing node moves as the least-squares rigid fit of the band; six
+band DOFs are eliminated).  Coupling a whole band rather than one node ring makes the support a
+surface constraint, whose result converges under mesh refinement (a ring is a line constraint:
+its stresses are singular and the deflection it allows grows logarithmically as the mesh is
+refined).
 """
 
 from __future__ import annotations
@@ -59,7 +63,8 @@ class MasterSet:
         rim_nodes: node indices ``(teeth, n_axial)`` on the rim outer radius, tooth ``k`` at
             angle ``2 pi k / teeth`` from the x axis, axial positions increasing.
         bearing_positions: bearing node coordinates ``(n_bearings, 3)`` (m), on the axis.
-        bearing_rings: for each bearing, the bore node indices it is coupled to.
+        bearing_rings: for each bearing, the bore node indices it is coupled to (every bore node
+            of its axial band, ``Bearing.z_band`` snapped to the nearest bore-node planes).
         couplings: ``"rigid"`` or ``"averaging"`` per bearing.
     """
 
@@ -70,7 +75,7 @@ class MasterSet:
 
 
 def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
-    """Pick the rim master grid and the bore rings of the bearings.
+    """Pick the rim master grid and the bore-node bands of the bearings.
 
     Args:
         bm: the body mesh.
@@ -80,7 +85,7 @@ def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
         The :class:`MasterSet`.
 
     Raises:
-        ValueError: a tooth station or a bore ring has no mesh node.
+        ValueError: a tooth station has no mesh node, or a bearing band has fewer than 3.
     """
     g = body.geometry
     teeth = body.condensation.teeth
@@ -108,13 +113,23 @@ def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
     on_bore = np.nonzero(np.abs(rho - g.bore_radius) < 1e-7 * g.rim_outer_radius)[0]
     zb = x[on_bore, 2]
     planes = np.unique(np.round(zb, 10))
+
+    def snap(z: float) -> float:
+        return float(planes[np.argmin(np.abs(planes - z))])
+
+    taken = np.zeros(len(x), dtype=bool)
     rings, pos = [], []
     for b in body.bearings:
-        zp = planes[np.argmin(np.abs(planes - b.axial_position))]
-        ring = on_bore[np.abs(zb - zp) < 1e-9]
-        if len(ring) < 3:
-            raise ValueError(f"bearing at z = {b.axial_position * 1e3:g} mm: bore ring too small")
-        rings.append(ring)
+        # the band's edges snap to the nearest bore-node planes; it always holds the bearing plane
+        zp = snap(b.axial_position)
+        lo, hi = b.z_band
+        lo, hi = min(snap(lo), zp), max(snap(hi), zp)
+        band = on_bore[(zb > lo - 1e-9) & (zb < hi + 1e-9)]
+        band = band[~taken[band]]  # a plane shared by two touching bands: the first bearing's
+        if len(band) < 3:
+            raise ValueError(f"bearing at z = {b.axial_position * 1e3:g} mm: bore band too small")
+        taken[band] = True
+        rings.append(band)
         pos.append([0.0, 0.0, b.axial_position])
     return MasterSet(
         rim_nodes=rim,
@@ -167,13 +182,15 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
     Args:
         bm: the mesh (node coordinates).
         ops: full operators.
-        masters: the master set (bearing rings, couplings).
+        masters: the master set (bearing bands, couplings).
 
     Returns:
         The :class:`Coupled` operators.
     """
     n = bm.n_dofs
-    elim_rows, elim_cols, elim_vals = [], [], []  # rows of T for eliminated DOFs
+    # rows of T for the eliminated DOFs: (full row, column key, value); column key >= 0 is a
+    # bearing column 6 ib + c, key < 0 is the kept full DOF -1 - key
+    elim_rows, elim_keys, elim_vals = [], [], []
     eliminated = np.zeros(n, dtype=bool)
     n_b = len(masters.bearing_rings)
     for ib, (ring, kind, xb) in enumerate(
@@ -187,44 +204,41 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
         if eliminated[ring_dofs].any():
             raise ValueError("two bearings share bore nodes; move them apart")
         if kind == "rigid":
-            dep = np.arange(len(ring_dofs))
-            for r_loc in dep:
-                for c in range(6):
-                    if R[r_loc, c] != 0.0:
-                        elim_rows.append(ring_dofs[r_loc])
-                        elim_cols.append(("b", ib, c))
-                        elim_vals.append(R[r_loc, c])
+            # every band DOF follows the bearing node: u = R q_B
+            r_loc, c = np.nonzero(R)
+            elim_rows.append(ring_dofs[r_loc])
+            elim_keys.append(6 * ib + c)
+            elim_vals.append(R[r_loc, c])
             eliminated[ring_dofs] = True
         else:
-            W = np.linalg.pinv(R)  # (6, 3 n_r): q_B = W u_ring (least-squares rigid fit)
+            # RBE3-like: q_B = W u_band, the least-squares rigid fit of the band (equal weights);
+            # six band DOFs become dependent: u_dep = Wd^-1 q_B + A u_ind
+            W = np.linalg.pinv(R)  # (6, 3 n_r)
             _, _, piv = sla.qr(W, pivoting=True, mode="economic")
             dep = np.sort(piv[:6])
             ind = np.setdiff1d(np.arange(len(ring_dofs)), dep)
             Wd_inv = np.linalg.inv(W[:, dep])
-            A = -Wd_inv @ W[:, ind]  # u_dep = Wd_inv q_B + A u_ind
-            for a, r_loc in enumerate(dep):
-                for c in range(6):
-                    elim_rows.append(ring_dofs[r_loc])
-                    elim_cols.append(("b", ib, c))
-                    elim_vals.append(Wd_inv[a, c])
-                for jj, c_loc in enumerate(ind):
-                    if A[a, jj] != 0.0:
-                        elim_rows.append(ring_dofs[r_loc])
-                        elim_cols.append(("f", int(ring_dofs[c_loc]), 0))
-                        elim_vals.append(A[a, jj])
+            A = -Wd_inv @ W[:, ind]
+            a_loc, c = np.nonzero(Wd_inv)
+            elim_rows.append(ring_dofs[dep[a_loc]])
+            elim_keys.append(6 * ib + c)
+            elim_vals.append(Wd_inv[a_loc, c])
+            a_loc, j = np.nonzero(A)
+            elim_rows.append(ring_dofs[dep[a_loc]])
+            elim_keys.append(-1 - ring_dofs[ind[j]])
+            elim_vals.append(A[a_loc, j])
             eliminated[ring_dofs[dep]] = True
     kept = np.nonzero(~eliminated)[0]
     full_to_red = -np.ones(n, dtype=np.int64)
     full_to_red[kept] = np.arange(len(kept))
     n_red = len(kept) + 6 * n_b
     bearing_dofs = len(kept) + np.arange(6 * n_b).reshape(n_b, 6)
-    rows = list(kept)
-    cols = list(range(len(kept)))
-    vals = [1.0] * len(kept)
-    for r, (kind, a, c), v in zip(elim_rows, elim_cols, elim_vals):
-        rows.append(r)
-        cols.append(bearing_dofs[a, c] if kind == "b" else full_to_red[a])
-        vals.append(v)
+    keys = np.concatenate(elim_keys) if elim_keys else np.zeros(0, dtype=np.int64)
+    bcols = bearing_dofs.ravel()[np.maximum(keys, 0)]
+    fcols = full_to_red[np.maximum(-1 - keys, 0)]
+    rows = np.concatenate([kept, *elim_rows])
+    cols = np.concatenate([np.arange(len(kept)), np.where(keys >= 0, bcols, fcols)])
+    vals = np.concatenate([np.ones(len(kept)), *elim_vals])
     T = sp.csr_matrix((vals, (rows, cols)), shape=(n, n_red))
     Tt = T.T.tocsr()
     K = (Tt @ ops.K @ T).tocsr()

@@ -113,7 +113,13 @@ def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
     teeth = body.condensation.teeth
     nax = body.condensation.axial_master_nodes
     s_hub = g.hub_shift
-    z_bear = [b.axial_position - s_hub for b in body.bearings]
+    # bearing planes and the edges of their coupled bands (clipped to the bore: hub and shaft
+    # stubs) are grid lines, in the unsheared hub frame
+    z_pos = [b.axial_position - s_hub for b in body.bearings]
+    lo = min([g.web_offset - g.hub_width / 2, *z_pos])
+    hi = max([g.web_offset + g.hub_width / 2, *z_pos])
+    z_edges = [min(max(z - s_hub, lo), hi) for b in body.bearings for z in b.z_band]
+    z_bear = z_pos + z_edges
     targets = _master_targets(g, nax)
     bm = mesh_from_section(g, body.mesh, teeth=teeth, z_rim_lines=targets, z_hub_lines=z_bear)
     try:

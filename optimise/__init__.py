@@ -1,7 +1,7 @@
 """optimise: gradient-based tooth-modification design on the jaxgear quasi-static model.
 
 Objectives (TE RMS / peak-to-peak at one load or over a torque range, maximum line load), design
-variables normalised and bounded by reparametrisation, optax loops (L-BFGS, Adam), the Master
+variables normalised and bounded by reparametrisation, optimistix solves (L-BFGS, Adam), the Master
 Curve and the (Γ, E) contour map of TE RMS.
 """
 

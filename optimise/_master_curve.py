@@ -2,8 +2,9 @@
 
 The Master Curve gives, for each relief extent Γ, the relief depth E minimising TE RMS at the
 design load (Velex, Bruyère & Houser, JMD 2011). Here each Γ is solved independently and in
-parallel (``jax.vmap``): a coarse grid in E* warm-starts a bracketed root search (regula falsi
-with bisection safeguard) on dJ/dE* = 0, using the exact implicit gradient of the smooth model.
+parallel (``jax.vmap``): a coarse grid in E* gives the bracket of a root search
+(``optimistix.root_find`` with ``optimistix.Bisection``) on dJ/dE* = 0, using the exact implicit
+gradient of the smooth model.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 
 from ._problem import Problem
 
@@ -40,6 +42,7 @@ def _check(problem: Problem):
 
 
 @eqx.filter_jit
+@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _grid(problem, extents, depths, contact):
     f = lambda g, e: problem.value(_xy(problem, g, e), contact)  # noqa: E731
     return jax.vmap(lambda g: jax.vmap(lambda e: f(g, e))(depths))(extents)
@@ -66,32 +69,30 @@ def _pairs(problem, extents, depths, contact):
 
 
 @eqx.filter_jit
+@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _refine(problem, extents, lo, hi, iterations):
-    def dj(g, e):
+    """Root of dJ/dE* in [lo, hi] for each extent: ``optimistix.root_find`` (Bisection) under
+    ``vmap``; an unbracketed interval (dJ/dE* of one sign) gives the end that is the minimum."""
+
+    def dj(e, g):
         return jax.grad(lambda ee: problem.value(_xy(problem, g, ee), "smooth"))(e)
 
+    # stops when the bracket is below 1e-10 (relative); ``iterations`` caps the bisections
+    solver = optx.Bisection(rtol=1e-10, atol=1e-10, flip=False)
+
     def one(g, a, b):
-        ga, gb = dj(g, a), dj(g, b)
+        ga, gb = dj(a, g), dj(b, g)
         bracketed = (ga < 0) & (gb > 0)
-
-        def body(_, c):
-            a, b, ga, gb = c
-            m_rf = a - ga * (b - a) / (gb - ga)
-            mid = 0.5 * (a + b)
-            # regula falsi, bisection when it stalls near an end
-            m = jnp.where((m_rf - a > 0.05 * (b - a)) & (b - m_rf > 0.05 * (b - a)), m_rf, mid)
-            gm = dj(g, m)
-            left = gm > 0
-            return (
-                jnp.where(left, a, m),
-                jnp.where(left, m, b),
-                jnp.where(left, ga, gm),
-                jnp.where(left, gm, gb),
-            )
-
-        a2, b2, ga2, gb2 = jax.lax.fori_loop(0, iterations, body, (a, b, ga, gb))
-        root = a2 - ga2 * (b2 - a2) / (gb2 - ga2)
-        return jnp.where(bracketed, root, jnp.where(ga >= 0, a, b))
+        sol = optx.root_find(
+            dj,
+            solver,
+            0.5 * (a + b),
+            args=g,
+            options={"lower": a, "upper": b},
+            max_steps=iterations,
+            throw=False,
+        )
+        return jnp.where(bracketed, sol.value, jnp.where(ga >= 0, a, b))
 
     return jax.vmap(one)(extents, lo, hi)
 
@@ -103,7 +104,7 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
         problem: tip_relief.depth / tip_relief.extent problem (single torque).
         extents: Γ values, shape (nG,), inside the problem's extent bounds.
         coarse_depths: E* grid for the warm start (default 41 points over the depth bounds).
-        iterations: bracketed root-search iterations per extent.
+        iterations: cap on the bisection steps per extent (static: a new value recompiles).
 
     Returns:
         dict with ``extent`` (nG,), ``depth_star`` (nG,) E*, ``depth_m`` (nG,) E (m),

@@ -132,3 +132,47 @@ def test_missing_key_and_bad_toml():
 def test_missing_file_is_clear(tmp_path):
     with pytest.raises(FileNotFoundError, match="not found.*embedded bodies"):
         load_body(tmp_path / "nope.toml")
+
+
+def _two_bearings(w0="", w1="", p0=-10.0, p1=5.0):
+    bearings = f"[[bearings]]\naxial_position_mm = {p0}\n{w0}\n[[bearings]]\naxial_position_mm = {p1}\n{w1}\n"
+    return ISSUE_EXAMPLE.replace(
+        '[[bearings]]                            # 6-DOF nodes coupled to the bore at these axial positions\naxial_position_mm = 0.0\ncoupling = "rigid"                      # or "averaging"\n',
+        bearings,
+    )
+
+
+def test_bearing_width_default_covers_the_hub_share_and_is_clipped():
+    # one bearing: the whole hub width (30 mm), centred on the hub
+    (b,) = parse_body(ISSUE_EXAMPLE).bearings
+    assert b.width == pytest.approx(0.030)
+    assert b.z_band == pytest.approx((-0.015, 0.015))
+    # two bearings 15 mm apart on a 30 mm hub [-15, 15]: hub / 2 = 15 mm each, the first
+    # clipped at the hub face, the bands touch at -2.5 mm without overlapping
+    b0, b1 = parse_body(_two_bearings()).bearings
+    assert (b0.width, b1.width) == pytest.approx((0.015, 0.015))
+    assert b0.z_band == pytest.approx((-0.015, -0.0025))
+    assert b1.z_band == pytest.approx((-0.0025, 0.0125))
+    # closer bearings: the default shrinks to their distance
+    b0, b1 = parse_body(_two_bearings(p0=0.0, p1=6.0)).bearings
+    assert b0.width == pytest.approx(0.006) and b0.z_band == pytest.approx((-0.003, 0.003))
+
+
+def test_bearing_width_explicit_and_errors():
+    b0, b1 = parse_body(_two_bearings("width_mm = 4.0", "width_mm = 8.0")).bearings
+    assert b0.z_band == pytest.approx((-0.012, -0.008))
+    assert b1.z_band == pytest.approx((0.001, 0.009))
+    with pytest.raises(ValueError, match=r"^\[bearings\[0\]\] width_mm = 0: out of range, allowed"):
+        parse_body(_two_bearings("width_mm = 0.0"))
+    with pytest.raises(ValueError, match=r"^\[bearings\[1\]\] width_mm = 'wide': must be a number"):
+        parse_body(_two_bearings("", 'width_mm = "wide"'))
+    msg = (
+        r"^\[bearings\[1\]\] width_mm = 28: its band \[-9, 15\] mm overlaps the band \[-12, -8\] "
+        r"mm of bearings\[0\] \(bands are axial_position_mm -/\+ width_mm/2 and must not overlap; "
+        r"bearings 15 mm apart\)$"
+    )
+    with pytest.raises(ValueError, match=msg):
+        parse_body(_two_bearings("width_mm = 4.0", "width_mm = 28.0"))
+    # an explicit width next to a default one: the explicit one is named
+    with pytest.raises(ValueError, match=r"^\[bearings\[0\]\] width_mm = 30: its band"):
+        parse_body(_two_bearings("width_mm = 30.0", ""))

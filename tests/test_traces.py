@@ -48,3 +48,43 @@ def test_simulate_traces_once_for_new_speeds():
     for speed in (650.0, 900.25, jnp.asarray(1200.0)):
         jd.simulate(model, speed, **kw)
     assert _traces(_run) == n
+
+
+def _tip_relief_problem(variables):
+    import optimise as op
+
+    case = jio.load_case("accessory-spur").replace(slices=3, positions_per_pitch=16)
+    return op.make_problem(case, variables, "te_rms", relief_blend=0.0)
+
+
+def test_minimise_traces_once_for_new_starts_tolerances_and_caps():
+    """One optimistix solve per call, traced once: x0, tol, max_iterations and the learning
+    rate are traced values (the old chunked loop traced twice per call and again per tol)."""
+    import optimise as op
+    from optimise._minimise import _solve
+
+    problem = _tip_relief_problem("tip_relief.depth")
+    n0 = _traces(_solve)
+    op.minimise(problem, [0.4], progress=False, max_iterations=30)
+    assert _traces(_solve) <= n0 + 1
+    n = _traces(_solve)
+    for x0, tol, cap in (([1.3], 1e-8, 40), ([2.0], 3e-6, 25)):
+        r = op.minimise(problem, x0, tol=tol, max_iterations=cap, progress=False)
+        assert r.history_x.shape == (r.iterations + 1, 1)
+    assert _traces(_solve) == n
+
+
+def test_master_curve_traces_once_for_new_extents():
+    import numpy as np
+
+    import optimise as op
+    from optimise._master_curve import _grid, _refine
+
+    problem = _tip_relief_problem("tip_relief.depth,tip_relief.extent")
+    kw = {"coarse_depths": np.linspace(0.0, 3.0, 9), "iterations": 8}
+    n0 = _traces(_refine), _traces(_grid)
+    op.master_curve(problem, [0.2, 0.3], **kw)
+    assert _traces(_refine) <= n0[0] + 1 and _traces(_grid) <= n0[1] + 1
+    n = _traces(_refine), _traces(_grid)
+    op.master_curve(problem, [0.25, 0.35], **kw)
+    assert (_traces(_refine), _traces(_grid)) == n

@@ -1,8 +1,9 @@
 """``jaxgear bench optimise``: gradient cost, optimiser vs SciPy and vs the 41×41 grid search.
 
-All figures come from one run on one machine: jaxgear's jitted objective and gradient, the optax
-L-BFGS loop (after compile), ``scipy.optimize.minimize`` (Nelder–Mead, and L-BFGS-B with finite
-differences) calling the same jitted objective, and the vmapped 41×41 grid. Ratios are what count.
+All figures come from one run on one machine: jaxgear's jitted objective and gradient, the
+optimistix L-BFGS solve (after compile), ``scipy.optimize.minimize`` (Nelder–Mead, and L-BFGS-B
+with finite differences) calling the same jitted objective, and the vmapped 41×41 grid. Ratios are
+what count.
 """
 
 from __future__ import annotations
@@ -94,7 +95,7 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         "wall_time_s": t,
     }
     methods = [
-        row("jaxgear L-BFGS (optax, gradients)", ours.x, ours.value, ours.evaluations, t_ours),
+        row("jaxgear L-BFGS (optimistix, gradients)", ours.x, ours.value, ours.evaluations, t_ours),
         row("scipy Nelder-Mead", nm.x, nm.fun, nm.nfev, t_nm),
         row("scipy L-BFGS-B (finite differences)", lb.x, lb.fun, lb.nfev, t_lb),
         row(f"grid {n_grid}x{n_grid} (vmap)", [E[k[1]], G[k[0]]], grid[k], grid.size, t_grid),
@@ -159,7 +160,7 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
         "variables": names5.split(","),
         "methods": [
             {
-                "method": "jaxgear L-BFGS (optax, gradients)",
+                "method": "jaxgear L-BFGS (optimistix, gradients)",
                 "objective": ours5.value,
                 "evaluations": ours5.evaluations,
                 "wall_time_s": t_ours5,
