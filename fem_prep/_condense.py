@@ -302,7 +302,6 @@ def _condense(
     progress: bool = False,
     interior_factor: CholmodFactor | SparseFactor | None = None,
     free_shift: float | None = None,
-    slabs: np.ndarray | None = None,
     static_correction: bool = True,
 ) -> Condensed:
     """Condense ``(K, M)`` onto ``master_dofs`` (+ ``n_modes`` modal DOFs), seed (2.3)-(2.5).
@@ -319,8 +318,6 @@ def _condense(
         interior_factor: a factorisation of ``K_ii`` to reuse.
         free_shift: shift (rad/s)^2 (negative) for the free-interface eigen-solve of Herting;
             default ``-1e-4`` x the median of ``diag(K)/diag(M)``.
-        slabs: ignored (the block-cyclic solver it selected was replaced by CHOLMOD); kept so
-            that older callers still run.
         static_correction: with ``f`` given and a modal method, add the static correction
             vector ψ = K_ii⁻¹ f_i of the body load (M-orthogonalised against the retained modes,
             unit modal mass) as one more modal DOF: the fixed-interface modes are bending modes
@@ -455,14 +452,13 @@ def condense(*args, **kwargs) -> Condensed:
         return _condense(*args, **kwargs)
 
 
-def frequency_error_vs_modes(prep, modes, methods=("craig-bampton", "herting"), slabs=None) -> dict:
+def frequency_error_vs_modes(prep, modes, methods=("craig-bampton", "herting")) -> dict:
     """Largest relative error of the full model's first frequencies (bearings held) against the
     number of retained modes, for each condensation method (Fig. III-13's question).
 
     Args:
         prep: a :class:`~fem_prep.Prepared` body (its ``frequencies_full_hz`` are the reference).
         modes: numbers of retained modes to try. methods: condensation methods.
-        slabs: optional block structure for the fast solver (``reduced_slabs``).
 
     Returns:
         ``{method: [error for each entry of modes]}``.
@@ -476,7 +472,7 @@ def frequency_error_vs_modes(prep, modes, methods=("craig-bampton", "herting"), 
     for method in methods:
         errs = []
         for m in modes:
-            c = condense(cp.K, cp.M, prep.master_dofs, method=method, n_modes=m, slabs=slabs)
+            c = condense(cp.K, cp.M, prep.master_dofs, method=method, n_modes=m)
             keep = np.ones(c.K.shape[0], bool)
             keep[bearing_c] = False
             lam = sla.eigh(c.K[np.ix_(keep, keep)], c.M[np.ix_(keep, keep)], eigvals_only=True)

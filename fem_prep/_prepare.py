@@ -77,18 +77,6 @@ def _hz(lam: np.ndarray) -> np.ndarray:
     return np.sqrt(np.maximum(lam, 0.0)) / (2 * math.pi)
 
 
-def reduced_slabs(bm: BodyMesh, cp: Coupled) -> np.ndarray:
-    """Angular slab label of each reduced DOF (bearing DOFs: -1), for the cyclic solver."""
-    x = bm.nodes
-    dth = 2 * math.pi / bm.n_theta
-    phi = np.mod(np.arctan2(x[:, 1], x[:, 0]), 2 * math.pi)
-    node_slab = np.floor(phi / dth + 1e-6).astype(np.int64) % bm.n_theta
-    lab = -np.ones(cp.K.shape[0], dtype=np.int64)
-    kept = np.nonzero(cp.full_to_red >= 0)[0]
-    lab[cp.full_to_red[kept]] = node_slab[kept // 3]
-    return lab
-
-
 def prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) -> Prepared:
     """Run the whole pre-processing of a body (see :func:`_prepare`)."""
     with blas_threads():
