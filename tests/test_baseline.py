@@ -146,6 +146,9 @@ def test_bench_quick(tmp_path):
         assert max(pc["max_rel_diff"].values()) <= RTOL
     assert saved["dtype"] == "float64"
     assert np.asarray(saved["grid"]["te_rms_m"]).shape == (5, 5)
+    for mode in ("exact", "smooth"):
+        assert saved["cached_jit"][mode]["best_s"] > 0
+    assert saved["batched"]["best_curves_per_s"] > 0
     assert not list(tmp_path.glob(".tmp-*"))
 
 

@@ -1,19 +1,29 @@
-"""Benchmark of the dynamic model: vmapped Newmark over speeds against SciPy's ``solve_ivp``.
+"""Benchmark of the dynamic model: the vmapped Newmark sweep against the best baselines.
 
-The same smooth model on both sides: torsional pinion-gear pair, smooth contact law of width w,
-the same cells (positions, stiffnesses, deviations) at θ(t) = Ω t + Δθ/2. SciPy integrates the
-first-order form with LSODA and Radau; the deviation e(s, z) is tabulated along s for each slice
-(cells keep their slice, only s moves), which is exact for profile modifications up to the table
-step. Accuracy is matched on the dynamic factor against a converged reference (Newmark, 8× finer
-steps): SciPy's tolerance is the loosest of a ladder reaching the Newmark error.
+The 1-DOF relative-approach model of the accessory spur pair (4 slices, its 15 µm tip relief,
+composite damping), exact contact, every speed from the static equilibrium, 200 speeds from 0.2× to
+3× the critical speed, 60 mesh periods (the last 4 kept), the automatic time step (64-256 steps per
+mesh period). Against:
 
-Benchmarks are not tests: compiled separately, warmed up, ``block_until_ready``, min of repeats.
+* Numba: the same Newmark and active-set contact loop on the same matrices and cell table
+  (:func:`~jaxgear.bench._baseline_dynamics.numba_newmark_sweep`; serial, and ``prange`` over
+  speeds), if Numba is installed (``pip install jaxgear[bench]``), else reported as skipped;
+* ``solve_ivp`` (LSODA, DOP853, Radau) segmented at the stiffness discontinuities with a vectorised
+  right-hand side (:func:`~jaxgear.bench._baseline_dynamics.segmented_response`), at the loosest
+  tolerance of a ladder whose dynamic-factor error is <= jaxgear's; run on a subset of the speeds
+  and interpolated (time against speed) to all of them.
+
+Accuracy: the dynamic factor of every method against the fine continuous-time reference
+(:func:`~jaxgear.bench._baseline_dynamics.reference_response`, DOP853 rtol 1e-10 segmented at every
+discontinuity, kink and contact event) at the probe speeds, max absolute error reported.
+
+Benchmarks are not tests: compile time separated (first call − best run), warmed up,
+``block_until_ready``, min of repeats.
 """
 
 from __future__ import annotations
 
 import json
-import math
 import os
 import time
 
@@ -23,185 +33,207 @@ from ._timing import environment, first_call, min_time
 
 __all__ = ["bench_dynamics", "stability_map"]
 
+RTOL_LADDER = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 
-def _numpy_model(model, width):
-    """NumPy right-hand side of the first-order smooth model (for solve_ivp)."""
-    import jax.numpy as jnp
 
-    from ..dynamics import mesh_table
+def _bench_model():
+    from ..dynamics import dynamic_model
+    from ..io import load_case
+    from ..scenes import TorsionalDynamics, disc_inertia
 
-    scene = model.scene
-    mesh = scene.mesh
-    n_lines, n_slices = mesh.n_lines, mesh.n_slices
-    g = float(mesh.path_of_contact)
-    pbt = float(mesh.base_pitch)
-    rb1 = float(mesh.base_radius_pinion)
-    tanb = math.tan(float(mesh.base_helix_angle))
-    b = float(mesh.face_width)
-    dz = b / n_slices
-    z = (np.arange(n_slices) + 0.5) * dz
-    lines = np.arange(n_lines) + mesh.first_line
-    s_tab = np.asarray(mesh.stiffness_s)
-    k_tab = np.asarray(mesh.stiffness_k)
-    s_grid = np.linspace(0.0, g, 4001)
-    e_grid = np.asarray(
-        model.mods.deviation(jnp.asarray(s_grid / g)[:, None], jnp.asarray(z / b)[None, :])
-    )  # (4001, N)
-    e_ref = float(mesh_table(scene, model.mods, 64).e_max[0])
-    length = dz / math.cos(float(mesh.base_helix_angle))
-    V = np.asarray(scene.te_vector())  # torsional: the same V for every cell
-    M = np.asarray(scene.mass())
-    Minv = np.linalg.inv(M)
-    C = np.asarray(model.damping)
-    Ks = np.asarray(scene.stiffness())
-    F = np.asarray(scene.external_load(model.torque))
-    n = M.shape[0]
-    dtheta_half = 0.5 * float(mesh.mesh_period_angle) / 64
-
-    def deviation(s):
-        out = np.empty_like(s)
-        for j in range(n_slices):
-            out[:, j] = np.interp(s[:, j], s_grid, e_grid[:, j])
-        return out
-
-    def rhs(t, y, speed):
-        X, Xd = y[:n], y[n:]
-        theta = speed * t + dtheta_half
-        roll = np.mod(rb1 * theta, pbt)
-        s = roll + lines[:, None] * pbt - z[None, :] * tanb
-        mask = (s >= 0) & (s <= g)
-        k = np.interp(s, s_tab, k_tab)
-        d0 = e_ref - deviation(s)
-        gap = V @ X - d0
-        x = gap / width
-        phi = width * (np.maximum(x, 0) + np.log1p(np.exp(-np.abs(x))))
-        f = np.sum(np.where(mask, k * length * phi, 0.0))
-        A = Minv @ (F - C @ Xd - Ks @ X - V * f)
-        return np.concatenate([Xd, A])
-
-    def observe(t, X, speed):
-        theta = speed * t + dtheta_half
-        roll = np.mod(rb1 * theta, pbt)
-        s = roll + lines[:, None] * pbt - z[None, :] * tanb
-        mask = (s >= 0) & (s <= g)
-        k = np.interp(s, s_tab, k_tab)
-        x = (V @ X - (e_ref - deviation(s))) / width
-        phi = width * (np.maximum(x, 0) + np.log1p(np.exp(-np.abs(x))))
-        return np.sum(np.where(mask, k * length * phi, 0.0))
-
-    return rhs, observe
+    case = load_case("accessory-spur").replace(slices=4)
+    p = case.pair
+    i1 = disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width)
+    i2 = disc_inertia(case.density, p.tip_radii[1], p.gear.face_width)
+    scene = TorsionalDynamics(case.mesh_model(), i1, i2).reduced()
+    return case, dynamic_model(scene, case.modifications, case.torque)
 
 
 def bench_dynamics(
-    out_dir: str, *, quick: bool = False, progress: bool = True, verbose: bool = True
+    out_dir: str,
+    *,
+    quick: bool = False,
+    progress: bool = True,
+    verbose: bool = True,
+    stability: bool = True,
+    numba: bool = True,
 ) -> dict:
-    """Vmapped Newmark (200 speeds × 100 mesh periods × 64 steps) vs ``solve_ivp`` (LSODA, Radau).
+    """jaxgear's vmapped Newmark sweep vs Numba Newmark and segmented ``solve_ivp``.
 
-    Writes ``bench_dynamics.json`` to ``out_dir`` and returns it.
+    Writes ``bench_dynamics.json`` (and, with ``stability``, the stability map) to ``out_dir``
+    and returns the summary. ``numba=False`` (or Numba not installed) skips the Numba rows.
     """
-    import scipy.integrate
-
-    from ..dynamics import build_dynamic_model, simulate, speed_sweep, static_start
-    from ..io import atomic_open, load_case, parse_scene
-
-    case = load_case("accessory-spur").replace(slices=10)
-    n_speeds, periods, spp, keep = (16, 20, 64, 4) if quick else (200, 100, 64, 4)
-    spec = parse_scene({"integration": {"steps_per_period": spp, "contact": "smooth"}})
-    model, _ = build_dynamic_model(case, spec)
-    width = case.smooth_width
-    speeds = np.linspace(100.0, 3000.0, n_speeds)
-    kw = dict(
-        contact="smooth", width=width, steps_per_period=spp, periods=periods, keep_periods=keep
-    )
     from tqdm.auto import tqdm
 
-    probe = [500.0, 860.0, 2000.0] if not quick else [860.0]
-    # steps: JAX sweep, one per SciPy probe speed, the stability map
-    bar = tqdm(total=2 + len(probe), desc="bench dynamics", disable=not progress)
-    # compile (same shapes), then time: min of repeats, block_until_ready
-    first = first_call(lambda: speed_sweep(model, speeds, **kw).dynamic_factor)
-    t_jax = min_time(lambda: speed_sweep(model, speeds, **kw).dynamic_factor, 2, warmup=False)
-    df_jax = np.asarray(speed_sweep(model, speeds, **kw).dynamic_factor)
-    bar.set_postfix_str("SciPy probes")
+    from ..dynamics import auto_steps_per_period, speed_sweep
+    from ..io import atomic_open
+    from . import _baseline_dynamics as bd
+
+    env = environment()
+    case, model = _bench_model()
+    wc = float(model.critical_speeds(1)[0])
+    if quick:
+        n_speeds, lo, hi, periods, keep, n_probe = 16, 0.7, 3.0, 20, 2, 2
+    else:
+        n_speeds, lo, hi, periods, keep, n_probe = 200, 0.2, 3.0, 60, 4, 5
+    speeds = np.linspace(lo, hi, n_speeds) * wc
+    ns = auto_steps_per_period(model, speeds)
+    angle = float(model.mesh.mesh_period_angle)
+    probe = np.unique(np.round(np.linspace(0, n_speeds - 1, n_probe)).astype(int))
+    kw = {"periods": periods, "keep_periods": keep}
+    bar = tqdm(total=4 + (1 if stability else 0), desc="bench dynamics", disable=not progress)
+
+    # fine reference at the probe speeds (same start as simulate: static at θ0 = Δθ/2)
+    bar.set_postfix_str("reference")
+    t0 = time.perf_counter()
+    ref = np.array(
+        [
+            bd.reference_response(model, speeds[i], theta0=angle / (2 * ns[i]), **kw)[
+                "dynamic_factor"
+            ]
+            for i in probe
+        ]
+    )
+    t_ref = time.perf_counter() - t0
     bar.update()
 
-    # SciPy on a few speeds (one resonant), extrapolated to all of them
-    rhs, observe = _numpy_model(model, width)
-    x0, _ = static_start(model, contact="smooth", width=width, steps_per_period=spp)
-    y0 = np.concatenate([np.asarray(x0), np.zeros_like(np.asarray(x0))])
-    rows = []
-    for sp in probe:
-        ref = simulate(model, sp, **{**kw, "steps_per_period": 8 * spp})
-        df_ref = float(ref.dynamic_factor)
-        nm = simulate(model, sp, **kw)
-        err_nm = abs(float(nm.dynamic_factor) - df_ref)
-        period = float(model.mesh.mesh_period_angle) / sp
-        t_end = periods * period
-        t_keep = np.linspace(t_end - keep * period, t_end, keep * spp + 1)[1:]
-        for method in ("LSODA", "Radau"):
-            chosen = None
-            for rtol in (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8):
-                t0 = time.perf_counter()
-                sol = scipy.integrate.solve_ivp(
-                    rhs,
-                    (0.0, t_end),
-                    y0,
-                    method=method,
-                    rtol=rtol,
-                    atol=rtol * 1e-6,
-                    t_eval=t_keep,
-                    args=(sp,),
+    # jaxgear: compile (one per distinct N_s) separated from the run
+    bar.set_postfix_str("jaxgear")
+
+    def sweep():
+        return speed_sweep(model, speeds, **kw).dynamic_factor
+
+    first = first_call(sweep)
+    t_jax = min_time(sweep, 2, warmup=False)
+    df_jax = np.asarray(sweep())
+    err_jax = float(np.max(np.abs(df_jax[probe] - ref)))
+    rows = [
+        {
+            "method": "jaxgear Newmark (vmap)",
+            "error": err_jax,
+            "compile_s": max(first - t_jax, 0.0),
+            "run_s": t_jax,
+            "measured_speeds": n_speeds,
+            "extrapolated": False,
+        }
+    ]
+    bar.update()
+
+    # Numba Newmark (same tables, not timed: they are jaxgear's cell table)
+    bar.set_postfix_str("Numba")
+    if numba and bd.numba_available():
+        tables = {int(n): bd.numba_tables(model, int(n)) for n in np.unique(ns)}
+        for kind in ("serial", "parallel"):
+            one = tables[int(ns[-1])]
+            t0 = time.perf_counter()  # compile: a first call on one step
+            bd._kernels()[kind](*one, np.array([1e-5]), 1, 1, 100)
+            t_comp = time.perf_counter() - t0
+
+            def run(kind=kind):
+                return bd.numba_newmark_sweep(
+                    model, speeds, steps_per_period=ns, kind=kind, tables=tables, **kw
                 )
-                dt_run = time.perf_counter() - t0
-                if not sol.success:
-                    continue
-                fm = np.array(
-                    [observe(t, y[: x0.shape[0]], sp) for t, y in zip(sol.t, sol.y.T, strict=True)]
-                )
-                err = abs(fm.max() / float(model.static_force) - df_ref)
-                chosen = {
-                    "method": method,
-                    "rtol": rtol,
-                    "time_s": dt_run,
-                    "error": err,
-                    "nfev": int(sol.nfev),
-                }
-                if err <= max(err_nm, 1e-4):
-                    break
+
+            t_nb = min_time(run, 3, block=lambda r: r, warmup=False)
+            df_nb = run()
             rows.append(
                 {
-                    "speed_rad_s": sp,
-                    "df_reference": df_ref,
-                    "newmark_error": err_nm,
-                    **(chosen or {"method": method, "failed": True}),
+                    "method": f"Numba Newmark ({kind}"
+                    + (f", {numba_threads()} threads)" if kind == "parallel" else ")"),
+                    "error": float(np.max(np.abs(df_nb[probe] - ref))),
+                    "compile_s": t_comp,
+                    "run_s": t_nb,
+                    "measured_speeds": n_speeds,
+                    "extrapolated": False,
+                    "max_abs_diff_vs_jaxgear": float(np.max(np.abs(df_nb - df_jax))),
                 }
             )
-        bar.update()
-    bar.set_postfix_str("stability map")
-    per_speed = {
-        m: float(np.mean([r["time_s"] for r in rows if r.get("method") == m and "time_s" in r]))
-        for m in ("LSODA", "Radau")
-    }
+    else:
+        rows.append({"method": "Numba Newmark", "skipped": "numba not installed"})
+    bar.update()
+
+    # segmented solve_ivp at the loosest tolerance of the ladder as accurate as jaxgear
+    bar.set_postfix_str("solve_ivp")
+    t0 = time.perf_counter()
+    setup = bd.SegmentedModel(model)
+    t_setup = time.perf_counter() - t0
+    for method in ("LSODA", "DOP853", "Radau"):
+        chosen, tried = None, []
+        for rtol in RTOL_LADDER[:3] if quick else RTOL_LADDER:
+            times, dfs, ok = [], [], True
+            for i in probe:
+                t0 = time.perf_counter()
+                try:
+                    o = bd.segmented_response(
+                        setup, speeds[i], theta0=angle / (2 * ns[i]), method=method, rtol=rtol, **kw
+                    )
+                except RuntimeError:
+                    ok = False
+                    break
+                times.append(time.perf_counter() - t0)
+                dfs.append(o["dynamic_factor"])
+            if not ok:
+                tried.append({"rtol": rtol, "failed": True})
+                continue
+            err = float(np.max(np.abs(np.array(dfs) - ref)))
+            tried.append({"rtol": rtol, "error": err, "probe_times_s": times})
+            if err <= err_jax:
+                # time per speed interpolated (in speed) from the probes, summed over the sweep
+                total = float(np.sum(np.interp(speeds, speeds[probe], times)))
+                chosen = {
+                    "method": f"solve_ivp {method} segmented",
+                    "rtol": rtol,
+                    "error": err,
+                    "compile_s": t_setup,
+                    "run_s": total,
+                    "measured_speeds": int(probe.size),
+                    "extrapolated": True,
+                    "probe_times_s": times,
+                }
+                break
+        rows.append(
+            {
+                **(
+                    chosen or {"method": f"solve_ivp {method} segmented", "skipped": "no tolerance"}
+                ),
+                "ladder": tried,
+            }
+        )
+    bar.update()
+
+    for r in rows[1:]:
+        if "run_s" in r:
+            r["ratio"] = r["run_s"] / t_jax
+            r["ratio_with_compile"] = (r["run_s"] + r["compile_s"]) / (t_jax + rows[0]["compile_s"])
+    timed = [r for r in rows[1:] if "run_s" in r]
+    best = min(timed, key=lambda r: r["run_s"]) if timed else None
     summary = {
         "case": case.name,
-        "model": "torsional 2-DOF, smooth contact",
+        "model": "1-DOF relative approach (torsional pair reduced), 4 slices, tip relief 15 µm, "
+        "exact contact",
         "speeds": n_speeds,
+        "speed_range_rad_s": [float(speeds[0]), float(speeds[-1])],
+        "critical_speed_rad_s": wc,
         "periods": periods,
-        "steps_per_period": spp,
-        "jax_newmark_vmap_s": t_jax,
-        "jax_first_call_s": first,
-        "jax_per_speed_s": t_jax / n_speeds,
-        "scipy_probe": rows,
-        "scipy_per_speed_s": per_speed,
-        "scipy_total_estimate_s": {m: v * n_speeds for m, v in per_speed.items()},
-        "speedup": {m: v * n_speeds / t_jax for m, v in per_speed.items()},
+        "keep_periods": keep,
+        "steps_per_period": {int(n): int(np.sum(ns == n)) for n in np.unique(ns)},
+        "probe_speeds_rad_s": speeds[probe].tolist(),
+        "df_reference": ref.tolist(),
+        "reference_time_s": t_ref,
+        "rows": rows,
+        "best_baseline": None if best is None else best["method"],
+        "speedup_vs_best": None if best is None else best["run_s"] / t_jax,
+        "target_speedup": 20.0,
         "dynamic_factor_max": float(df_jax.max()),
         "quick": bool(quick),
-        "timing": "min of repeats after a compiling call, jax.block_until_ready on the result",
-        "platform": {**environment(), "dtype": str(df_jax.dtype)},
+        "timing": "compile = first call - best run; run = min of repeats (jaxgear, Numba), "
+        "block_until_ready; solve_ivp: one run per probe speed, time interpolated over the sweep",
+        "platform": {**env, "dtype": str(df_jax.dtype), "numba": _numba_version()},
     }
-    summary["stability_map"] = stability_map(out_dir, quick=quick)
-    bar.update()
+    if stability:
+        bar.set_postfix_str("stability map")
+        summary["stability_map"] = stability_map(out_dir, quick=quick)
+        bar.update()
     bar.close()
     os.makedirs(out_dir, exist_ok=True)
     with atomic_open(os.path.join(out_dir, "bench_dynamics.json"), "w") as f:
@@ -211,32 +243,47 @@ def bench_dynamics(
     return summary
 
 
+def numba_threads():
+    import numba
+
+    return numba.get_num_threads()
+
+
+def _numba_version():
+    try:
+        import numba
+    except ImportError:
+        return None
+    return numba.__version__
+
+
 def _table(s: dict) -> str:
     """A short plain-text table of the dynamics benchmark (like ``bench quasi-static``)."""
     env = s["platform"]
+    n = s["speeds"]
     lines = [
         (
-            f"dynamics benchmark: {s['case']}, {s['model']}, {s['speeds']} speeds × "
-            f"{s['periods']} periods × {s['steps_per_period']} steps, {env['dtype']}, JAX "
-            f"{env['jax']}, {env['device']}, {env['cpu_count']} CPU ({env['cpu_model']})"
+            f"dynamics benchmark: {s['case']}, {s['model']}, {n} speeds "
+            f"({s['speed_range_rad_s'][0]:.0f}-{s['speed_range_rad_s'][1]:.0f} rad/s) × "
+            f"{s['periods']} periods, N_s {s['steps_per_period']}, {env['dtype']}, JAX "
+            f"{env['jax']}, Numba {env['numba']}, {env['device']}, {env['cpu_count']} CPU "
+            f"({env['cpu_model']}), load {env['load_average_at_start']}"
         ),
-        f"{'':28s}{'total s':>10s}{'per speed ms':>14s}{'speed-up':>10s}",
-        (
-            f"{'jaxgear Newmark (vmap)':28s}{s['jax_newmark_vmap_s']:10.3f}"
-            f"{s['jax_per_speed_s'] * 1e3:14.2f}{'1':>10s}"
-        ),
+        f"{'method':36s}{'DF error':>10s}{'compile s':>11s}{'run s':>10s}{'ratio':>9s}",
     ]
-    for m, per in s["scipy_per_speed_s"].items():
-        if per == per:  # not NaN
-            lines.append(
-                f"{'SciPy ' + m + ' (estimate)':28s}{per * s['speeds']:10.3f}"
-                f"{per * 1e3:14.2f}{s['speedup'][m]:10.1f}"
-            )
-        else:
-            lines.append(f"{'SciPy ' + m:28s}{'failed':>10s}")
+    for r in s["rows"]:
+        if "run_s" not in r:
+            lines.append(f"{r['method']:36s}  skipped ({r.get('skipped', '')})")
+            continue
+        name = r["method"] + (f" rtol {r['rtol']:g}" if "rtol" in r else "")
+        run = f"{r['run_s']:.3f}" + ("*" if r["extrapolated"] else "")
+        ratio = f"{r['ratio']:.2f}" if "ratio" in r else "1"
+        lines.append(f"{name:36s}{r['error']:10.1e}{r['compile_s']:11.2f}{run:>10s}{ratio:>9s}")
     lines.append(
-        f"first call (compile + run): {s['jax_first_call_s']:.2f} s; "
-        f"max dynamic factor {s['dynamic_factor_max']:.3f}"
+        f"ratio = baseline run s / jaxgear run s; * = interpolated from "
+        f"{len(s['probe_speeds_rad_s'])} probe speeds; DF error = max |DF - reference| at them; "
+        f"best baseline: {s['best_baseline']} (jaxgear {s['speedup_vs_best']:.2f}× faster, "
+        f"target ≥ {s['target_speedup']:g}×)"
     )
     rows = s.get("stability_map", {}).get("rows", [])
     if rows:
@@ -252,7 +299,9 @@ def _table(s: dict) -> str:
                 f"{name:28s}{r['steps_per_period']:6d}{r['time_s']:9.3f}"
                 f"{err(r['error_resonant']):>10s}{err(r['error_nonresonant']):>13s}"
             )
-    lines.append("written: bench_dynamics.json, stability_map.json, stability_map.png")
+        lines.append("written: bench_dynamics.json, stability_map.json, stability_map.png")
+    else:
+        lines.append("written: bench_dynamics.json")
     return "\n".join(lines)
 
 

@@ -98,7 +98,7 @@ def bench_quasi_static(
         sweep_slices, sweep_ppp = (10, 20, 40, 80), (16, 32, 64, 128)
         widths = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
         ref_slices, ref_ppp = 160, 512
-    n_steps = 6 + 1 + 4 + 1 + len(sweep_slices) * len(sweep_ppp) + len(widths)
+    n_steps = 6 + 1 + 4 + 1 + 2 + len(sweep_slices) * len(sweep_ppp) + len(widths)
     bar = tqdm(total=n_steps, desc="bench quasi-static", disable=not progress, leave=False)
 
     def step(msg):
@@ -280,6 +280,12 @@ def bench_quasi_static(
         },
     }
 
+    # (b2) repeated single curves through a cached jax.jit; (c2) batched throughput -------------
+    out["cached_jit"] = _cached_jit(mesh, mods, torque, width, P0, rep_jax, per_curve)
+    step("cached jit")
+    out["batched"] = _batched(mesh, torque, P0, quick, per_curve)
+    step("batched")
+
     # (d) speed vs accuracy ---------------------------------------------------------------------
     ref_mesh = c.mesh_model(slices=ref_slices)
     ref = quasi_static(ref_mesh, mods, torque, contact="exact", positions_per_pitch=ref_ppp)
@@ -366,6 +372,11 @@ def bench_quasi_static(
         "per_curve_ratio_smooth": per_curve["smooth"]["ratio"],
         "meets_ratio_exact": per_curve["exact"]["ratio"] >= 50.0,
         "meets_ratio_smooth": per_curve["smooth"]["ratio"] >= 50.0,
+        "per_curve_ratio_cached_jit_exact": out["cached_jit"]["exact"]["ratio"],
+        "per_curve_ratio_cached_jit_smooth": out["cached_jit"]["smooth"]["ratio"],
+        "batched_target_curves_per_s": 10000.0,
+        "batched_curves_per_s": out["batched"]["best_curves_per_s"],
+        "meets_batched": out["batched"]["best_curves_per_s"] >= 10000.0,
         "grid_target_s": 5.0,
         "grid_s": t_grid,
         "meets_grid": t_grid < 5.0,
@@ -388,6 +399,113 @@ def bench_quasi_static(
             f"see {os.path.join(out_dir, 'bench_quasi_static.json')}"
         )
     return out
+
+
+def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
+    """Repeated single TE curves through a ``jax.jit`` built once (what a caller looping over
+    curves should hold), and where the per-call time goes: dispatch vs compute."""
+    import functools
+
+    import jax
+    import jax.numpy as jnp
+
+    from .. import quasi_static
+
+    block = jax.block_until_ready
+    t = jnp.asarray(torque)
+    out = {}
+    # dispatch alone: a jitted identity taking the same pytrees (flatten, cache hit, launch)
+    ident = jax.jit(lambda mesh, mods, t: t)
+    t_dispatch = _min_time(lambda: ident(mesh, mods, t), repeats, block)
+    ident1 = jax.jit(lambda t: t)
+    t_dispatch1 = _min_time(lambda: ident1(t), repeats, block)
+    for mode in ("exact", "smooth"):
+        qs = functools.partial(quasi_static, contact=mode, width=width, positions_per_pitch=P)
+        full = jax.jit(qs)  # mesh and modifications as arguments
+        te = jax.jit(lambda mesh, mods, t, qs=qs: qs(mesh, mods, t).transmission_error)
+        closed = jax.jit(lambda t, qs=qs: qs(mesh, mods, t).transmission_error)  # constants
+        t_full = _min_time(lambda full=full: full(mesh, mods, t), repeats, block)
+        t_te = _min_time(lambda te=te: te(mesh, mods, t), repeats, block)
+        t_closed = _min_time(lambda closed=closed: closed(t), repeats, block)
+        # compute alone: 64 curves in one call (lax.map, no vmap), per curve
+        many = jax.jit(lambda ts, qs=qs: jax.lax.map(lambda x: qs(mesh, mods, x).te_rms, ts))
+        ts = jnp.full((64,), t)
+        t_many = _min_time(lambda many=many, ts=ts: many(ts), max(3, repeats // 10), block) / 64
+        best = min(t_full, t_te, t_closed)
+        base = per_curve[mode]["baseline_s"]
+        out[mode] = {
+            "jit_full_result_s": t_full,
+            "jit_te_only_s": t_te,
+            "jit_closure_te_only_s": t_closed,
+            "compute_per_curve_in_loop_s": t_many,
+            "best_s": best,
+            "ratio": base / best,
+            "ratio_compute_only": base / t_many,
+        }
+    out["dispatch_identity_same_args_s"] = t_dispatch
+    out["dispatch_identity_scalar_s"] = t_dispatch1
+    out["how"] = (
+        "jax.jit(functools.partial(quasi_static, contact=..., width=..., positions_per_pitch=...)) "
+        "built once and called with (mesh, mods, torque); te-only: the jitted function returns "
+        "the TE array only; closure: mesh and mods closed over (constants), torque the only "
+        "argument; compute per curve: 64 curves in one jitted lax.map, divided by 64"
+    )
+    return out
+
+
+def _batched(mesh, torque, P, quick, per_curve) -> dict:
+    """Throughput (curves/s) of batched exact TE curves: vmap over torques and over (Γ, E) tip
+    reliefs, in chunks (``lax.map(..., batch_size=B)``) of several sizes."""
+    import jax
+    import jax.numpy as jnp
+
+    from .. import MemberModification, Modifications, quasi_static
+
+    block = jax.block_until_ready
+    n = 256 if quick else 4096
+    sizes = (8, 64) if quick else (8, 32, 128, 512)
+    reps = 1 if quick else 2
+    rng = np.random.default_rng(1)
+    torques = jnp.asarray(torque * rng.uniform(0.5, 1.5, n))
+    gam = jnp.asarray(rng.uniform(0.05, 0.6, n))
+    dep = jnp.asarray(rng.uniform(0.0, 40e-6, n))
+
+    def by_torque(x):
+        m = MemberModification(tip_relief_depth=15e-6, tip_relief_extent=0.25)
+        return quasi_static(mesh, Modifications.symmetric(m), x, positions_per_pitch=P).te_rms
+
+    def by_relief(ge):
+        m = MemberModification(
+            tip_relief_depth=ge[1], tip_relief_extent=ge[0], tip_relief_shape="linear"
+        )
+        return quasi_static(mesh, Modifications.symmetric(m), torque, positions_per_pitch=P).te_rms
+
+    rows = []
+    for what, fn, args in (("torque", by_torque, torques), ("relief", by_relief, (gam, dep))):
+        for b in sizes:
+            g = jax.jit(lambda a, fn=fn, b=b: jax.lax.map(fn, a, batch_size=b))
+            first = _first_call(lambda g=g, args=args: g(args), block)
+            t = _min_time(lambda g=g, args=args: g(args), reps, block, warmup=False)
+            rows.append(
+                {
+                    "vmap_over": what,
+                    "batch_size": b,
+                    "curves": n,
+                    "time_s": t,
+                    "compile_s": max(first - t, 0.0),
+                    "curves_per_s": n / t,
+                }
+            )
+    best = max(rows, key=lambda r: r["curves_per_s"])
+    return {
+        "how": "jax.jit(lambda a: jax.lax.map(curve_te_rms, a, batch_size=B)): vmap within "
+        "chunks of B, exact contact, one TE curve = positions_per_pitch positions",
+        "rows": rows,
+        "best_curves_per_s": best["curves_per_s"],
+        "best": {k: best[k] for k in ("vmap_over", "batch_size")},
+        "baseline_curves_per_s": 1.0 / per_curve["exact"]["baseline_s"],
+        "target_curves_per_s": 10000.0,
+    }
 
 
 def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
@@ -600,6 +718,23 @@ def _table(out) -> str:
         (
             f"grid optimum: Γ = {opt['gamma']:.3f}, E = {opt['tip_relief_depth_m'] * 1e6:.1f} µm, "
             f"TE RMS = {opt['te_rms_m'] * 1e9:.1f} nm"
+        ),
+        (
+            f"cached jax.jit, per curve (ms): exact "
+            f"{out['cached_jit']['exact']['best_s'] * 1e3:.3f} "
+            f"({out['cached_jit']['exact']['ratio']:.1f}×), smooth "
+            f"{out['cached_jit']['smooth']['best_s'] * 1e3:.3f} "
+            f"({out['cached_jit']['smooth']['ratio']:.1f}×); compute only (64 in one call) "
+            f"{out['cached_jit']['exact']['compute_per_curve_in_loop_s'] * 1e3:.3f} / "
+            f"{out['cached_jit']['smooth']['compute_per_curve_in_loop_s'] * 1e3:.3f} "
+            f"({out['cached_jit']['exact']['ratio_compute_only']:.1f}× / "
+            f"{out['cached_jit']['smooth']['ratio_compute_only']:.1f}×); dispatch "
+            f"{out['cached_jit']['dispatch_identity_same_args_s'] * 1e3:.3f}"
+        ),
+        (
+            f"batched exact curves: best {out['batched']['best_curves_per_s']:.0f} curves/s "
+            f"(vmap over {out['batched']['best']['vmap_over']}, chunks of "
+            f"{out['batched']['best']['batch_size']}; target >= 10000)"
         ),
         f"chart: {out['speed_accuracy']['chart']}",
     ]

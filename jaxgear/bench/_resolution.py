@@ -2,7 +2,7 @@
 
 The 1-DOF relative-approach model of the accessory spur pair (unmodified and with its tip
 relief) at speeds from 0.05× to 3× the critical speed, Newmark with N_s = 16 … 2048 steps per
-mesh period, against the continuous-time reference of ``tests/_dynamics_reference.py``
+mesh period, against the continuous-time reference of ``_baseline_dynamics.py``
 (solve_ivp DOP853, rtol 1e-10, segmented at every stiffness discontinuity and contact event).
 
 Run from the repository root: ``python -m jaxgear.bench._resolution [--out docs/...png]``.
@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 import time
 from pathlib import Path
 
@@ -44,8 +43,7 @@ def _models(slices: int = 4):
 def run(periods: int = 60, keep: int = 2) -> dict:
     from jaxgear.dynamics import speed_sweep
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tests"))
-    from _dynamics_reference import reference_response
+    from ._baseline_dynamics import reference_response
 
     out = {}
     for name, model in _models().items():
