@@ -4,5 +4,5 @@ Imports flow one way: the CLI uses the model (:mod:`jaxgear`), :mod:`jaxgear.io`
 and :mod:`fem_prep`; none of them imports the CLI.
 """
 
-from ._main import main as main
+from ._main import entry as entry, main as main
 from ._run import run_case as run_case
