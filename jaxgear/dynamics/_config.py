@@ -38,6 +38,7 @@ class _Config:
     adaptive: bool
     max_steps: int
     blowup: float
+    adjoint: str = "reverse"
 
 
 # automatic time step (``steps_per_period=None``), docs/dynamics.md "Time step and accuracy":
@@ -81,7 +82,10 @@ def _config(
     adaptive,
     max_steps,
     blowup,
+    adjoint: str = "reverse",
 ) -> _Config:
+    if adjoint not in ("reverse", "forward"):
+        raise ValueError(f"adjoint = {adjoint!r}: allowed 'reverse', 'forward'")
     if solver != "newmark" and solver not in DIFFRAX_SOLVERS:
         raise ValueError(
             f"solver = {solver!r}: allowed 'newmark' or a diffrax solver "
@@ -113,4 +117,5 @@ def _config(
         bool(adaptive),
         int(max_steps),
         float(blowup),
+        adjoint,
     )

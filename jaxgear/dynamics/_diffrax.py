@@ -76,6 +76,10 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
         stepsize_controller=controller,
         max_steps=cfg.max_steps,
         throw=False,
+        # reverse mode (grad): checkpointed adjoint; forward mode (jvp, jacfwd): ForwardMode
+        adjoint=diffrax.ForwardMode()
+        if cfg.adjoint == "forward"
+        else diffrax.RecursiveCheckpointAdjoint(),
     )
     Xs, Xds = sol.ys[0] * x_ref, sol.ys[1] * v_ref
     j = (jnp.arange(n_keep) + 1) % P

@@ -333,6 +333,7 @@ def simulate(
     max_steps: int | None = None,
     blowup: float = 100.0,
     throw: bool = True,
+    adjoint: str = "reverse",
 ) -> DynamicResult:
     """Steady-state dynamic response at one pinion speed.
 
@@ -355,6 +356,9 @@ def simulate(
             static mesh deflection). adaptive: False for constant steps Δt = period/N_s.
         max_steps: diffrax step cap (default 64 × the Newmark step count + 4096).
         blowup: divergence bound: mesh force > blowup·F_s or kinetic energy > blowup² · F_s²/2k̄.
+        adjoint: diffrax solvers only: "reverse" (checkpointed adjoint, for ``jax.grad``) or
+            "forward" (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``). Newmark supports
+            both modes as it is.
         throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result (``eqx.error_if``: works
             under ``jax.jit``, ``jax.vmap`` and ``jax.grad`` too).
 
@@ -380,6 +384,7 @@ def simulate(
         adaptive,
         max_steps,
         blowup,
+        adjoint,
     )
     dtype = model.mesh.base_pitch.dtype
     speed = jnp.asarray(speed, dtype)
