@@ -33,7 +33,16 @@ def _peak_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
-def _body(size_mm: float, circ_mm: float, method: str = "craig-bampton", modes: int = 50):
+QUICK_TEETH = 17  # --quick: the wheel with 17 angular stations instead of 68 (a smoke test)
+
+
+def _body(
+    size_mm: float,
+    circ_mm: float,
+    method: str = "craig-bampton",
+    modes: int = 50,
+    quick: bool = False,
+):
     from ._body import load_body
 
     b = load_body("power-helical-wheel")
@@ -46,16 +55,18 @@ def _body(size_mm: float, circ_mm: float, method: str = "craig-bampton", modes: 
         rim_size=None,
         circumferential_size=circ_mm * 1e-3,
     )
-    cond = dataclasses.replace(b.condensation, method=method, modes=modes)
+    cond = dataclasses.replace(
+        b.condensation, method=method, modes=modes, **({"teeth": QUICK_TEETH} if quick else {})
+    )
     return dataclasses.replace(b, mesh=mesh, condensation=cond)
 
 
-def _case(size_mm: float, circ_mm: float, baseline: bool) -> dict:
+def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -> dict:
     from ._assemble import assemble_operators
     from ._condense import condense, couple_bearings, select_masters
     from ._mesh import mesh_body
 
-    body = _body(size_mm, circ_mm)
+    body = _body(size_mm, circ_mm, quick=quick)
     out: dict = {"size_mm": size_mm, "circumferential_size_mm": circ_mm}
     t0 = time.perf_counter()
     bm = mesh_body(body)
@@ -106,7 +117,7 @@ def _error_curve(size_mm: float, circ_mm: float, quick: bool = False) -> dict:
     from ._condense import frequency_error_vs_modes
     from ._prepare import prepare
 
-    base = prepare(_body(size_mm, circ_mm, "guyan", 0))
+    base = prepare(_body(size_mm, circ_mm, "guyan", 0, quick=quick))
     curves: dict = {
         "modes": [0, 10] if quick else [0, 5, 10, 20, 30, 50, 80],
         "f_full_hz": list(map(float, base.frequencies_full_hz)),
@@ -156,7 +167,8 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
 
     Args:
         out_dir: output directory.
-        quick: the coarsest mesh only, no dense baseline, a two-point error curve (smoke test).
+        quick: a smoke test: the coarsest mesh of the wheel with 17 angular stations instead of
+            68 (about 5 k DOFs), no baseline, a two-point error curve.
         resume: reuse the successful cases of ``partial.json`` from an interrupted run.
 
     Returns:
@@ -202,7 +214,11 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
             r = (
                 done[0]
                 if done
-                else _sub(["case", str(s), str(cs)] + (["--superlu"] if baseline else []))
+                else _sub(
+                    ["case", str(s), str(cs)]
+                    + (["--superlu"] if baseline else [])
+                    + (["--quick"] if quick else [])
+                )
             )
             rec["cases"].append(r)
         elif "error_curve" in rec:
@@ -274,7 +290,14 @@ if __name__ == "__main__":
     try:
         if what == "case":
             print(
-                json.dumps(_case(float(sys.argv[2]), float(sys.argv[3]), "--superlu" in sys.argv))
+                json.dumps(
+                    _case(
+                        float(sys.argv[2]),
+                        float(sys.argv[3]),
+                        "--superlu" in sys.argv,
+                        "--quick" in sys.argv,
+                    )
+                )
             )
         elif what == "curve":
             curve = _error_curve(float(sys.argv[2]), float(sys.argv[3]), "--quick" in sys.argv)

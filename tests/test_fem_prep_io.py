@@ -192,3 +192,20 @@ def test_example_runs(tmp_path):
     curves = mod.main(str(tmp_path / "e.png"))
     assert curves["craig-bampton"][-1] < curves["craig-bampton"][0]
     assert (tmp_path / "e.png").is_file()
+
+
+def test_bench_quick_is_a_smoke_test(tmp_path):
+    """`fem-prep bench --quick` runs the whole benchmark path on a 17-station wheel in seconds
+    (no baseline, two-point error curve) and reports failures as data, not as `{'error': ''}`."""
+    from fem_prep._bench import QUICK_TEETH, run_bench
+
+    rec = run_bench(str(tmp_path), quick=True)
+    assert rec["quick"] and len(rec["cases"]) == 1
+    case = rec["cases"][0]
+    assert "error" not in case, case
+    assert case["solver"] == "cholmod"
+    assert case["n_master_dofs"] == QUICK_TEETH * 5 * 3 + 3 * 6
+    assert rec["error_curve"]["modes"] == [0, 10]
+    assert rec["error_curve"]["craig-bampton"][1] < rec["error_curve"]["craig-bampton"][0]
+    for name in ("bench.json", "bench.png", "modes_error.png"):
+        assert (tmp_path / name).stat().st_size > 0
