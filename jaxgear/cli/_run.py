@@ -67,7 +67,7 @@ def run_case(
     mesh = case.mesh_model()
     ppp = case.positions_per_pitch
     none = Modifications()
-    steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    steps = tqdm(total=7, desc=f"jaxgear run {case.name}", disable=not show_progress)
     res = {}
     for label, mods in (("unmodified", none), ("modified", case.modifications)):
         for mode in ("exact", "smooth"):
@@ -93,7 +93,6 @@ def run_case(
         res["modified", "exact"], ppp, pair.base_pitch, pair.path_of_contact
     )
     steps.update()
-    steps.close()
 
     summary = {
         "case": case.name,
@@ -179,6 +178,8 @@ def run_case(
         ylabel="TE peak-to-peak (µm), exact contact",
         title=f"{case.name}: Harris map",
     )
+    steps.update()  # the four plots
+    steps.close()
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)

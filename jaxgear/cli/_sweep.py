@@ -91,7 +91,6 @@ def sweep_case(
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
     t0 = time.perf_counter()
-    model, spec = build_dynamic_model(case, spec, slices=slices)
     n_dirs = 2 if direction == "both" else 1
     bar = tqdm(
         total=n_dirs * speeds.size,
@@ -99,6 +98,9 @@ def sweep_case(
         unit="speed",
         disable=not show_progress,
     )
+    bar.set_postfix_str("building the model (modes, damping)")
+    model, spec = build_dynamic_model(case, spec, slices=slices)
+    bar.set_postfix_str("")
     last = [0]
 
     def progress(n):
