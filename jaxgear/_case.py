@@ -30,7 +30,8 @@ class Case:
         stiffness_model: "weber" | "uniform" | "iso6336"; uniform_k0: N/m² (uniform only).
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
-        foundation: include the Weber foundation term.
+        foundation: the foundation (gear-body) term of the ``weber`` model: "weber" | "sainsot"
+            | "none" (``True``/``False`` are accepted as aliases of "weber"/"none").
         scene: the validated ``[scene]`` table (:class:`jaxgear.dynamics.SceneSpec`) or None.
         optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
         raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
@@ -48,10 +49,14 @@ class Case:
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
-    foundation: bool = True
+    foundation: str = "weber"
     scene: Any = None
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if isinstance(self.foundation, bool):  # the old boolean
+            object.__setattr__(self, "foundation", "weber" if self.foundation else "none")
 
     @property
     def normal_load(self) -> float:

@@ -51,6 +51,8 @@ class Member:
             also the addendum of the generating rack cutter.
         face_width: face width b (m).
         fillet_radius_coeff: tip radius of the generating rack ρ_fP / m_n (Tab. III-1: 0.25).
+        bore_radius: radius r_int of the gear body's bore (m), used by the Sainsot foundation
+            term; ``None`` for the default 0.5 × root radius (see ``_stiffness.bore_radius``).
     """
 
     teeth: int
@@ -59,6 +61,7 @@ class Member:
     dedendum_coeff: float = 1.25
     face_width: float = 0.01
     fillet_radius_coeff: float = 0.25
+    bore_radius: float | None = None
 
 
 def _require(name: str, value: float, ok: bool, allowed: str) -> None:
@@ -165,6 +168,14 @@ class GearPair:
                 ra[i] > rb[i],
                 f"> base radius {rb[i] * 1e3:.4f} mm",
             )
+            bore = members[i].bore_radius
+            if bore is not None:
+                _require(
+                    f"{tag}.bore_radius",
+                    bore,
+                    0 < bore < rf[i],
+                    f"(0, {rf[i]:.6g}) m (below the root radius)",
+                )
         # transverse tooth thickness at the reference circle and at the tip (ISO 21771)
         st = tuple(mt * (math.pi / 2 + 2 * m.profile_shift * math.tan(an)) for m in members)
         tip_thickness = []

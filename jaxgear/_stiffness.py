@@ -8,7 +8,9 @@ Three models (DESIGN.md §3):
   (normal to the flanks, in the base plane) times cos² β_b equals c_γα b.
 * ``weber``: Weber–Banaschek thin-slice model, seed (1.1)–(1.3): Hertzian approach, tooth bending
   and shear of a cantilever on the real tooth-thickness profile, elastic foundation, pinion and
-  gear compliances in series. It varies along the profile; it is tabulated on a grid of the
+  gear compliances in series. The foundation (gear-body) term is Weber's half-plane one
+  (``foundation="weber"``, L, M, P, Q = 5.2, 1.0, 1.4, 0.3), Sainsot et al.'s fit that depends on
+  the bore (``"sainsot"``), or left out (``"none"``). It varies along the profile; it is tabulated on a grid of the
   base-plane coordinate s ∈ [0, g_α] and interpolated linearly in the JAX kernels.
 
 The profile is computed in the transverse section. A slice of width dz loaded along the transverse
@@ -27,11 +29,89 @@ import numpy as np
 
 from ._geometry import GearPair, involute
 
-__all__ = ["iso6336_single_stiffness", "iso6336_mesh_stiffness", "weber_profile", "stiffness_table"]
+__all__ = [
+    "FOUNDATIONS",
+    "bore_radius",
+    "iso6336_mesh_stiffness",
+    "iso6336_single_stiffness",
+    "sainsot_coefficients",
+    "sainsot_fit_check",
+    "stiffness_table",
+    "weber_profile",
+]
 
 _ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 # Weber (1949) foundation constants for ν = 0.3 quoted by the seed under (1.3); M = 1.0 (Weber).
 _WEBER_FOUNDATION = {"L": 5.2, "M": 1.0, "P": 1.4, "Q": 0.3}
+
+FOUNDATIONS = ("weber", "sainsot", "none")
+
+# Sainsot, Velex & Duverger (2004), "Contribution of gear body to tooth deflections - a new
+# bidimensional analytical formula", J. Mech. Des. 126(4) 748-752, doi:10.1115/1.1758252: fillet-
+# foundation deflection δ_f = F cos²α_m / (E b) [L* (u_f/S_f)² + M* (u_f/S_f) + P* (1 + Q* tan²α_m)]
+# with X*(h_f, θ_f) = A/θ_f² + B h_f² + C h_f/θ_f + D/θ_f + E h_f + F, h_f = r_f / r_int, θ_f (rad).
+# Coefficients A..F as carried by ROSS (petrobras/ross, ross/multi_rotor/gear_element.py,
+# GearElementTVMS._inv_kf), which also lists the span of each coefficient over the fit's data
+# (_SAINSOT_SPAN); a gear whose L*, M*, P*, Q* fall outside it lies outside the fitted range.
+_SAINSOT_FIT = {  # (A, B, C, D, E, F)
+    "L": (-5.574e-5, -1.9986e-3, -2.3015e-4, 4.7702e-3, 0.0271, 6.8045),
+    "M": (60.111e-5, 28.100e-3, -83.431e-4, -9.9256e-3, 0.1624, 0.9086),
+    "P": (-50.952e-5, 185.50e-3, 0.0538e-4, 53.300e-3, 0.2895, 0.9236),
+    "Q": (-6.2042e-5, 9.0889e-3, -4.0964e-4, 7.8297e-3, -0.1472, 0.6904),
+}
+_SAINSOT_SPAN = {"L": (6.82, 6.94), "M": (1.08, 3.29), "P": (2.56, 13.47), "Q": (0.141, 0.62)}
+BORE_DEFAULT_FRACTION = 0.5  # default bore radius = 0.5 × root radius (solid blank on a shaft)
+
+
+def _foundation_name(foundation: bool | str | None) -> str:
+    """``True``/``False`` (the old boolean) → ``"weber"``/``"none"``; names pass through."""
+    if foundation is True:
+        return "weber"
+    if foundation is False or foundation is None:
+        return "none"
+    if foundation not in FOUNDATIONS:
+        raise ValueError(
+            f"mesh.foundation = {foundation!r} is unknown: allowed 'weber', 'sainsot', 'none'"
+        )
+    return foundation
+
+
+def sainsot_coefficients(h_f, theta_f) -> dict:
+    """Sainsot et al. (2004) L*, M*, P*, Q* at h_f = r_f / r_int and θ_f (rad)."""
+    return {
+        k: a / theta_f**2 + b * h_f**2 + c * h_f / theta_f + d / theta_f + e * h_f + f
+        for k, (a, b, c, d, e, f) in _SAINSOT_FIT.items()
+    }
+
+
+def bore_radius(pair: GearPair, member: int) -> float:
+    """Bore radius r_int (m) of a member: ``Member.bore_radius``, else 0.5 × root radius."""
+    m = (pair.pinion, pair.gear)[member]
+    if m.bore_radius is not None:
+        return float(m.bore_radius)
+    return BORE_DEFAULT_FRACTION * pair.root_radii[member]
+
+
+def _root_angle(pair: GearPair, member: int) -> float:
+    """θ_f (rad): half the angular tooth thickness at the root circle (fillets included)."""
+    rf = pair.root_radii[member]
+    chord = float(_chordal_thickness(pair, member, np.array([rf]))[0])
+    return math.asin(min(chord / (2 * rf), 1.0))
+
+
+def sainsot_fit_check(pair: GearPair) -> list[dict]:
+    """Per member: h_f, θ_f, the Sainsot coefficients and the names of those outside the span
+    of the fit (``outside``; empty when the gear lies within the fitted range)."""
+    out = []
+    for i in (0, 1):
+        h = pair.root_radii[i] / bore_radius(pair, i)
+        th = _root_angle(pair, i)
+        coeffs = sainsot_coefficients(h, th)
+        outside = [
+            k for k, v in coeffs.items() if not _SAINSOT_SPAN[k][0] <= v <= _SAINSOT_SPAN[k][1]
+        ]
+        out.append({"h_f": h, "theta_f": th, "coefficients": coeffs, "outside": outside})
+    return out
 
 
 def iso6336_single_stiffness(pair: GearPair) -> float:
@@ -110,10 +190,13 @@ def _member_compliance(
     rho: np.ndarray,
     E: float,
     nu: float,
-    foundation: bool,
+    foundation: str,
     n_quad: int = 400,
 ) -> np.ndarray:
     """Bending + shear + compression (1.2) and foundation (1.3) compliance of one tooth.
+
+    ``foundation``: "weber" (constants of (1.3)), "sainsot" (Sainsot et al. 2004 fit at
+    h_f = r_f / r_int, θ_f = S_f / (2 r_f)), "none".
 
     Args:
         rho: roll distances (m) of the contact points on this member, shape (n,).
@@ -140,9 +223,14 @@ def _member_compliance(
     tan2 = np.tan(alpha_p) ** 2
     # (1.2): 10.92 = 12(1-ν²) and 3.1(1 + 0.294 tan²) = 2.4(1+ν) + (1-ν²) tan² for ν = 0.3
     c = cos2 / E * (12 * (1 - nu**2) * i_bend + (2.4 * (1 + nu) + (1 - nu**2) * tan2) * i_shear)
-    if foundation:
-        s_fd = float(_chordal_thickness(pair, member, np.array([rf]))[0])
-        f = _WEBER_FOUNDATION
+    if foundation != "none":
+        if foundation == "sainsot":
+            theta_f = _root_angle(pair, member)
+            s_fd = 2 * rf * theta_f
+            f = sainsot_coefficients(rf / bore_radius(pair, member), theta_f)
+        else:
+            s_fd = float(_chordal_thickness(pair, member, np.array([rf]))[0])
+            f = _WEBER_FOUNDATION
         c = c + cos2 / E * (
             f["L"] * (u / s_fd) ** 2 + f["M"] * (u / s_fd) + f["P"] * (1 + f["Q"] * tan2)
         )
@@ -155,7 +243,7 @@ def weber_profile(
     youngs_modulus: float,
     poisson_ratio: float,
     line_load: float,
-    foundation: bool = True,
+    foundation: bool | str = "weber",
 ) -> np.ndarray:
     """Weber–Banaschek stiffness per unit contact-line length along the line of action.
 
@@ -165,8 +253,10 @@ def weber_profile(
         youngs_modulus: E (Pa); poisson_ratio: ν.
         line_load: transverse load per unit face width (N/m) used in the Hertzian term (1.1);
             the Hertzian approach depends on it logarithmically.
-        foundation: include the Weber foundation term (1.3) for both members (drop it when a
-            condensed FE body supplies the body compliance, (2.31) remark).
+        foundation: the foundation (gear-body) term for both members: "weber" (1.3), "sainsot"
+            (Sainsot et al. 2004, depends on ``Member.bore_radius``) or "none" (drop it when a
+            condensed FE body supplies the body compliance, (2.31) remark); ``True``/``False``
+            are aliases of "weber"/"none".
 
     Returns:
         k(s) (N/m per m of contact line), shape (n,), flank-normal.
@@ -175,6 +265,7 @@ def weber_profile(
     rho1 = pair.roll_distance(s, 0)
     rho2 = pair.roll_distance(s, 1)
     E, nu = youngs_modulus, poisson_ratio
+    foundation = _foundation_name(foundation)
     c = _member_compliance(pair, 0, rho1, E, nu, foundation) + _member_compliance(
         pair, 1, rho2, E, nu, foundation
     )
@@ -204,13 +295,18 @@ def stiffness_table(
     line_load: float = 2e5,
     uniform_k0: float | None = None,
     n_points: int = 129,
-    foundation: bool = True,
+    foundation: bool | str = "weber",
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
 
+    ``foundation`` ("weber" | "sainsot" | "none", or the old ``True``/``False``) applies to the
+    ``weber`` model only.
+
     Raises:
-        ValueError: unknown ``model``, or ``uniform`` without a positive ``uniform_k0``.
+        ValueError: unknown ``model`` or ``foundation``, or ``uniform`` without a positive
+            ``uniform_k0``.
     """
+    foundation = _foundation_name(foundation)
     s = np.linspace(0.0, pair.path_of_contact, n_points)
     if model == "uniform":
         if uniform_k0 is None or not uniform_k0 > 0:

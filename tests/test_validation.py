@@ -130,7 +130,21 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         ({"pinion/teeth": None}, "[pinion] teeth: missing required key"),
         ({"operating": None}, "[operating]: missing required table"),
         ({"pinion": 3}, "pinion = 3: must be a table ([pinion]), not a number"),
-        ({"mesh/foundation": 1}, "[mesh] foundation = 1: must be true or false"),
+        (
+            {"mesh/foundation": 1},
+            (
+                "[mesh] foundation = 1: allowed 'weber', 'sainsot', 'none' (or true = 'weber', "
+                "false = 'none')"
+            ),
+        ),
+        (
+            {"mesh/foundation": "winkler"},
+            (
+                "[mesh] foundation = 'winkler': allowed 'weber', 'sainsot', 'none' (or true = "
+                "'weber', false = 'none')"
+            ),
+        ),
+        ({"pinion/bore_radius_mm": 0}, "[pinion] bore_radius_mm = 0: out of range, allowed > 0"),
         (
             {"mesh/stiffness": "fem"},
             "[mesh] stiffness = 'fem': allowed 'weber', 'uniform', 'iso6336'",

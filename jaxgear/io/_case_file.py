@@ -25,7 +25,7 @@ from fem_prep import schema as sc
 from .._case import Case
 from .._geometry import GearPair, Member
 from .._modifications import MemberModification, Modifications
-from .._stiffness import iso6336_mesh_stiffness, stiffness_table
+from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
 from ._scene_table import parse_scene
 
 __all__ = [
@@ -45,7 +45,7 @@ SchemaError = sc.SchemaError
 class CaseWarning(UserWarning):
     """A valid but implausible case (one-line message naming the key): relief far deeper than the
     mean static deflection, a torque too small to deflect the teeth measurably, or a load beyond
-    what steel teeth carry."""
+    what steel teeth carry, or a gear body outside the range of the Sainsot foundation fit."""
 
 
 _MEMBER_KEYS = {
@@ -55,6 +55,7 @@ _MEMBER_KEYS = {
     "dedendum_coeff",
     "face_width_mm",
     "fillet_radius_coeff",
+    "bore_radius_mm",
 }
 _SCHEMA: dict[str, Any] = {
     "name": None,
@@ -208,7 +209,13 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
         )
     if member:
         tag, key, why = member.groups()
-        unit_key = {"face_width": "face_width_mm"}.get(key, key)
+        unit_key = {"face_width": "face_width_mm", "bore_radius": "bore_radius_mm"}.get(key, key)
+        rf = re.match(r"\(0, (\S+)\) m", m.group("allowed"))
+        if key == "bore_radius" and rf:
+            return sc.SchemaError(
+                f"[{tag}] bore_radius_mm = {sc.fmt(file_value(tag, unit_key))}: out of range, "
+                f"allowed (0, {float(rf.group(1)) * 1e3:.6g}) (below the root radius)"
+            )
         why = f" ({sc.g6(why)})" if why else ""
         return sc.SchemaError(
             f"[{tag}] {unit_key} = {sc.fmt(file_value(tag, unit_key))}: out of range{why}, "
@@ -236,6 +243,7 @@ def _member(data: dict, tag: str) -> Member:
             f"out of range, allowed [0, {dedendum:.6g}) (below dedendum_coeff)",
             t["fillet_radius_coeff"],
         )
+    bore = sc.number(t, "bore_radius_mm", tag, None, allowed="> 0")
     return Member(
         teeth=sc.number(t, "teeth", tag, allowed="[5, 10000]", integer=True),
         profile_shift=sc.number(t, "profile_shift", tag, 0.0, allowed="(-1.5, 1.5)"),
@@ -243,6 +251,7 @@ def _member(data: dict, tag: str) -> Member:
         dedendum_coeff=dedendum,
         face_width=sc.number(t, "face_width_mm", tag, allowed="> 0") * 1e-3,
         fillet_radius_coeff=fillet,
+        bore_radius=None if bore is None else bore * 1e-3,
     )
 
 
@@ -296,7 +305,16 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
     slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
     ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
     width = sc.number(m, "smooth_width_um", "mesh", 0.1, allowed="(0, 1e+06]") * 1e-6
-    foundation = sc.boolean(m, "foundation", "mesh", True)
+    foundation = m.get("foundation", "weber")
+    if isinstance(foundation, bool):  # the old boolean: true = "weber", false = "none"
+        foundation = "weber" if foundation else "none"
+    elif foundation not in FOUNDATIONS:
+        raise sc.fail(
+            "mesh",
+            "foundation",
+            "allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')",
+            foundation,
+        )
     mods = parse_modifications(data.get("modifications", {}))
     scene = parse_scene(data["scene"]) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
@@ -374,7 +392,9 @@ def plausibility(case: Case) -> list[str]:
     * a relief or crowning depth above ``RELIEF_RATIO_WARN`` (10) × δ_m;
     * δ_m below ``MIN_DEFLECTION_UM`` (0.01 µm): the torque is too small to deflect the teeth;
     * the line load F_n/b above ``MAX_LINE_LOAD_N_PER_MM`` (2000 N/mm) or δ_m above
-      ``MAX_DEFLECTION_MODULE`` (5 %) of the normal module: beyond what steel teeth carry.
+      ``MAX_DEFLECTION_MODULE`` (5 %) of the normal module: beyond what steel teeth carry;
+    * ``foundation = "sainsot"`` on a member whose h_f = r_f/r_int, θ_f give Sainsot coefficients
+      outside the span of the published fit (extrapolation).
 
     Raises:
         SchemaError: see :func:`mean_static_deflection`.
@@ -412,6 +432,17 @@ def plausibility(case: Case) -> list[str]:
                         f"mean static deflection {d_um:.6g} µm (more than {RELIEF_RATIO_WARN:g} ×); "
                         "the relief removes most of the contact"
                     )
+    if case.stiffness_model == "weber" and case.foundation == "sainsot":
+        for tag, fit in zip(("pinion", "gear"), sainsot_fit_check(case.pair)):
+            if fit["outside"]:
+                bore = (case.pair.pinion, case.pair.gear)[tag == "gear"].bore_radius
+                given = "default 0.5 × root radius" if bore is None else "given"
+                coeffs = ", ".join(f"{k}* = {fit['coefficients'][k]:.4g}" for k in fit["outside"])
+                out.append(
+                    f"[{tag}] bore_radius_mm ({given}): h_f = r_f/r_int = {fit['h_f']:.4g}, "
+                    f"θ_f = {fit['theta_f']:.4g} rad lie outside the range of the Sainsot fit "
+                    f"({coeffs} beyond the fitted span); [mesh] foundation = 'sainsot' extrapolates"
+                )
     return list(dict.fromkeys(out))
 
 
