@@ -20,16 +20,12 @@ class _Result(enum.IntEnum):
 
     @property
     def message(self) -> str:
-        return self._messages()[self.value]
-
-    @classmethod
-    def _messages(cls) -> dict[int, str]:
-        raise NotImplementedError
+        return _MESSAGES[type(self).__name__][self.value]
 
     @classmethod
     def messages(cls) -> dict[int, str]:
         """Code → message, JSON-ready (``{str(code): message}`` after ``str``)."""
-        return dict(cls._messages())
+        return dict(_MESSAGES[cls.__name__])
 
 
 class ContactResult(_Result):
@@ -39,15 +35,6 @@ class ContactResult(_Result):
     max_iterations = 1
     no_contact = 2
     non_finite = 3
-
-    @classmethod
-    def _messages(cls):
-        return {
-            0: "converged",
-            1: "contact loop did not converge (active set still changing at max_iterations)",
-            2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
-            3: "non-finite state in the contact solve",
-        }
 
 
 class DynamicsResult(_Result):
@@ -59,12 +46,19 @@ class DynamicsResult(_Result):
     blow_up = 3
     ode_failed = 4
 
-    @classmethod
-    def _messages(cls):
-        return {
-            0: "converged",
-            1: "contact loop did not converge at some time step (active set still changing)",
-            2: "non-finite state: the integration diverged",
-            3: "energy blow-up: vibration energy or mesh force beyond the divergence bound",
-            4: "ODE solver failed (max_steps reached or step size collapsed)",
-        }
+
+_MESSAGES = {
+    "ContactResult": {
+        0: "converged",
+        1: "contact loop did not converge (active set still changing at max_iterations)",
+        2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
+        3: "non-finite state in the contact solve",
+    },
+    "DynamicsResult": {
+        0: "converged",
+        1: "contact loop did not converge at some time step (active set still changing)",
+        2: "non-finite state: the integration diverged",
+        3: "energy blow-up: vibration energy or mesh force beyond the divergence bound",
+        4: "ODE solver failed (max_steps reached or step size collapsed)",
+    },
+}

@@ -389,3 +389,12 @@ def test_float32_runs_and_matches_float64(contact):
         assert np.all(np.asarray(res.result) == 0)
     assert np.all(np.isfinite(te32))
     np.testing.assert_allclose(te32, te64, rtol=1e-3)
+
+
+def test_result_codes_are_enumerations_with_messages():
+    """Every result code the solvers return has a name and a one-line message."""
+    for enum_cls in (jg.ContactResult, jg.DynamicsResult):
+        assert set(enum_cls.messages()) == {int(c) for c in enum_cls}
+        assert enum_cls(0).message == "converged"
+        for code in enum_cls:
+            assert code.message and "\n" not in code.message
