@@ -188,6 +188,20 @@ def _piece_coefficients(R, wrap_roll, a, b, mask, t_of_roll):
     return pk_m, pd_m
 
 
+def _segment_edges(R, bps, roll0, Om, periods: int, T):
+    """Times (s) in [0, periods·T] where the mesh crosses a breakpoint ``bps`` (roll distances
+    within one base pitch, m): roll0 + r_b1 Ω t = bp + j p_bt, plus the ends; distinct to 1e-12 T.
+    The integration is segmented there (no solver steps across a stiffness jump)."""
+    j0 = math.floor(roll0 / R.pb)
+    times = ((bps[None, :] + np.arange(j0, j0 + periods + 2)[:, None] * R.pb) - roll0) / (
+        R.rb1 * Om
+    )
+    times = times.ravel()
+    times = times[(times > 0.0) & (times < periods * T)]
+    edges = np.unique(np.concatenate([[0.0], times, [periods * T]]))
+    return edges[np.concatenate([[True], np.diff(edges) > 1e-12 * T])]
+
+
 def reference_response(
     model,
     speed,
@@ -218,15 +232,7 @@ def reference_response(
     def total_roll(t):
         return roll0 + R.rb1 * Om * t
 
-    # breakpoint times: roll0 + r_b1 Ω t = bp + j p_bt
-    j0 = math.floor(roll0 / R.pb)
-    times = ((bps[None, :] + np.arange(j0, j0 + periods + 2)[:, None] * R.pb) - roll0) / (
-        R.rb1 * Om
-    )
-    times = times.ravel()
-    times = times[(times > 0.0) & (times < periods * T)]
-    edges = np.unique(np.concatenate([[0.0], times, [periods * T]]))
-    edges = edges[np.concatenate([[True], np.diff(edges) > 1e-12 * T])]
+    edges = _segment_edges(R, bps, roll0, Om, periods, T)
 
     def piece(a, b):
         mid = total_roll(0.5 * (a + b))
@@ -392,14 +398,7 @@ def segmented_response(
     w = R.omega_n
     roll0 = R.rb1 * theta0
     bps = R.entry_exit()
-    j0 = math.floor(roll0 / R.pb)
-    times = ((bps[None, :] + np.arange(j0, j0 + periods + 2)[:, None] * R.pb) - roll0) / (
-        R.rb1 * Om
-    )
-    times = times.ravel()
-    times = times[(times > 0.0) & (times < periods * T)]
-    edges = np.unique(np.concatenate([[0.0], times, [periods * T]]))
-    edges = edges[np.concatenate([[True], np.diff(edges) > 1e-12 * T])]
+    edges = _segment_edges(R, bps, roll0, Om, periods, T)
     all_cells = np.arange(S.offset.size)
 
     def cells_of(a, b):
