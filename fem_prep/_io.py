@@ -35,7 +35,7 @@ __all__ = [
 ]
 
 FORMAT = "fem_prep.condensed"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: rim master planes exactly at linspace(-b/2, b/2, n) (grid lines)
 
 
 # ------------------------------------------------------------------------------------------
@@ -410,6 +410,47 @@ def _json_default(o: Any) -> Any:
     raise TypeError(str(type(o)))
 
 
+def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[Path, bool]:
+    """Directory holding the body's three output files (the cache entry, or ``out`` without the
+    cache) and whether they came from the cache."""
+    from ._prepare import prepare
+
+    names = _names(body)
+    cdir = cache_dir() / _cache_key(body)
+    if use_cache and all((cdir / n).is_file() for n in names.values()):
+        try:
+            load_condensed(cdir / names["npz"])
+            json.loads((cdir / names["summary"]).read_text())
+            return cdir, True
+        except (ValueError, json.JSONDecodeError):
+            pass
+    prep = prepare(body, progress=progress)
+    summary = summary_dict(prep)
+    target = cdir if use_cache else out
+    save_condensed(prep, target / names["npz"])
+    write_vtu(prep, target / names["vtu"])
+    _atomic_text(target / names["summary"], json.dumps(summary, indent=2, default=_json_default))
+    return target, False
+
+
+def _names(body: Body) -> dict[str, str]:
+    return {"npz": f"{body.name}.npz", "vtu": f"{body.name}.vtu", "summary": "summary.json"}
+
+
+def condensed(source: str | Path | Body, *, progress: bool = False) -> CondensedBody:
+    """The condensed body of a body file, an embedded body name, a :class:`Body` or a condensed
+    ``.npz`` path, built once and then read from the cache (:func:`build`'s cache).
+
+    Raises:
+        FileNotFoundError, SchemaError, ValueError: as :func:`load_body` / :func:`load_condensed`.
+    """
+    if isinstance(source, (str, Path)) and str(source).endswith(".npz"):
+        return load_condensed(source)
+    body = source if isinstance(source, Body) else load_body(source)
+    where, _ = _cached(body, use_cache=True, progress=progress, out=cache_dir())
+    return load_condensed(where / _names(body)["npz"])
+
+
 def build(
     source: str | Path | Body,
     out_dir: str | Path | None = None,
@@ -432,32 +473,14 @@ def build(
     Returns:
         The summary dict, plus ``"cache_hit"`` and ``"files"`` (paths written).
     """
-    from ._prepare import prepare
-
     body = source if isinstance(source, Body) else load_body(source)
     out = Path(out_dir) if out_dir is not None else Path("fem-prep-out") / body.name
-    names = {"npz": f"{body.name}.npz", "vtu": f"{body.name}.vtu", "summary": "summary.json"}
-    cdir = cache_dir() / _cache_key(body)
-    hit = False
-    if use_cache and all((cdir / n).is_file() for n in names.values()):
-        try:
-            load_condensed(cdir / names["npz"])
-            summary = json.loads((cdir / names["summary"]).read_text())
-            hit = True
-        except (ValueError, json.JSONDecodeError):
-            hit = False
-    if not hit:
-        prep = prepare(body, progress=progress)
-        summary = summary_dict(prep)
-        target = cdir if use_cache else out
-        save_condensed(prep, target / names["npz"])
-        write_vtu(prep, target / names["vtu"])
-        _atomic_text(
-            target / names["summary"], json.dumps(summary, indent=2, default=_json_default)
-        )
-    if hit or use_cache:
+    names = _names(body)
+    where, hit = _cached(body, use_cache=use_cache, progress=progress, out=out)
+    summary = json.loads((where / names["summary"]).read_text())
+    if where != out:
         for n in names.values():
-            _atomic_copy(cdir / n, out / n)
+            _atomic_copy(where / n, out / n)
     summary = dict(summary)
     summary["cache_hit"] = hit
     summary["files"] = {k: str(out / n) for k, n in names.items()}

@@ -177,9 +177,9 @@ def mesh_from_section(
         ms: mesh settings (element, target sizes in m).
         teeth: the number of circumferential elements is a multiple of this.
         z_rim_lines: axial positions (m, z = 0 at mid-rim) where the grid must have a line
-            (snapped to an existing line closer than ``z_tol_factor`` x the element size).
+            (exactly: the rim master planes).
         z_hub_lines: same, in the unsheared hub frame (bearing planes; they extend shaft stubs).
-        z_tol_factor: snapping tolerance of the soft lines, in element sizes.
+        z_tol_factor: snapping tolerance of the soft lines (``z_hub_lines``), in element sizes.
 
     Returns:
         The :class:`BodyMesh`.
@@ -210,9 +210,11 @@ def mesh_from_section(
     zw = (g.web_offset - g.web_thickness / 2, g.web_offset + g.web_thickness / 2)
     zr = (-g.rim_width / 2, g.rim_width / 2)
     zs = (min([zh[0]] + list(z_hub_lines)), max([zh[1]] + list(z_hub_lines)))
-    hard = [*zh, *zw, *zr, *zs]
+    # the rim master planes are exact grid lines: the hybrid interface interpolates between
+    # them, and its mortar weights are exact only for slices nested in those faces
+    hard = [*zh, *zw, *zr, *zs, *z_rim_lines]
     tol = z_tol_factor * min(s_hub, s_web, s_rim)
-    zb = _merge(hard, list(z_rim_lines) + list(z_hub_lines), tol)
+    zb = _merge(hard, list(z_hub_lines), tol)
 
     def column_ranges(rmid: float) -> list[tuple[tuple[float, float], int, float]]:
         out = []

@@ -20,7 +20,7 @@ from jaxtyping import Array, Bool, Float
 from ._geometry import GearPair
 from ._util import as_float
 
-__all__ = ["MeshModel", "Cells"]
+__all__ = ["Cells", "MeshModel"]
 
 
 def _interp_uniform(x, xp, fp):
@@ -44,6 +44,8 @@ class Cells(eqx.Module):
         stiffness: k_ij, stiffness per unit contact length (N/m²), flank-normal.
         mask: True where the cell lies on the flanks (0 <= s <= g_α).
         line: tooth-pair index of each cell's contact line (integer-valued floats).
+        theta: the pinion angle (rad) these cells belong to, a scalar (bodies that rotate under
+            the mesh, such as condensed FE bodies, need the absolute angle, not only the roll).
     """
 
     s: Float[Array, "n_lines n_slices"]
@@ -52,6 +54,7 @@ class Cells(eqx.Module):
     stiffness: Float[Array, "n_lines n_slices"]
     mask: Bool[Array, "n_lines n_slices"]
     line: Float[Array, "n_lines n_slices"]
+    theta: Float[Array, ""]
 
 
 class MeshModel(eqx.Module):
@@ -88,7 +91,7 @@ class MeshModel(eqx.Module):
     @classmethod
     def from_pair(
         cls, pair: GearPair, stiffness_s: np.ndarray, stiffness_k: np.ndarray, n_slices: int
-    ) -> "MeshModel":
+    ) -> MeshModel:
         """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
 
         Args:
@@ -144,7 +147,15 @@ class MeshModel(eqx.Module):
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
         zz = jnp.broadcast_to(z[None, :], s.shape)
         ll = jnp.broadcast_to(line[:, None], s.shape)
-        return Cells(s=s, z=zz, length=length, stiffness=k, mask=mask, line=ll)
+        return Cells(
+            s=s,
+            z=zz,
+            length=length,
+            stiffness=k,
+            mask=mask,
+            line=ll,
+            theta=jnp.asarray(theta, s.dtype),
+        )
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""

@@ -26,8 +26,10 @@ class Case:
     Attributes:
         name: case name. pair: :class:`GearPair`. modifications: :class:`Modifications`.
         youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
-        torque: pinion torque (N·m).
-        stiffness_model: "weber" | "uniform" | "iso6336"; uniform_k0: N/m² (uniform only).
+        torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
+            centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
+        stiffness_model: "weber" | "uniform" | "iso6336" | "fe2d"; uniform_k0: N/m² (uniform
+            only); fe2d_size: element size (m) of the ``fe2d`` model, ``None`` for m_n / 6.
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
         foundation: the foundation (gear-body) term of the ``weber`` model: "weber" | "sainsot"
@@ -44,12 +46,14 @@ class Case:
     poisson_ratio: float = 0.3
     density: float = 7800.0
     torque: float = 100.0
+    speed: float = 0.0
     stiffness_model: str = "weber"
     uniform_k0: float | None = None
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
     foundation: str = "weber"
+    fe2d_size: float | None = None
     scene: Any = None
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -72,8 +76,20 @@ class Case:
             / (self.pair.transverse_contact_ratio * self.pair.face_width)
         )
 
-    def mesh_model(self, slices: int | None = None, torque: float | None = None) -> MeshModel:
-        """Build the :class:`MeshModel` (stiffness table evaluated at the nominal line load)."""
+    def mesh_model(
+        self,
+        slices: int | None = None,
+        torque: float | None = None,
+        flexible: tuple[bool, bool] = (False, False),
+    ) -> MeshModel:
+        """Build the :class:`MeshModel` (stiffness table evaluated at the nominal line load).
+
+        ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
+        leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
+        """
+        foundation = self.foundation
+        if any(flexible):
+            foundation = tuple("none" if f else self.foundation for f in flexible)
         s, k = stiffness_table(
             self.pair,
             self.stiffness_model,
@@ -81,9 +97,10 @@ class Case:
             poisson_ratio=self.poisson_ratio,
             line_load=self.nominal_line_load(torque),
             uniform_k0=self.uniform_k0,
-            foundation=self.foundation,
+            foundation=foundation,
+            fe2d_size=self.fe2d_size,
         )
         return MeshModel.from_pair(self.pair, s, k, self.slices if slices is None else slices)
 
-    def replace(self, **changes) -> "Case":
+    def replace(self, **changes) -> Case:
         return dataclasses.replace(self, **changes)

@@ -23,7 +23,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-__all__ = ["ContactSolution", "solve_contact"]
+__all__ = ["ContactSolution", "solve_contact", "solve_contact_cells"]
 
 
 class ContactSolution(eqx.Module):
@@ -66,6 +66,67 @@ def _assemble(Ks, F, V, kl, delta0, weight):
     return Kt, Ft
 
 
+def _active_set(solve, gap, maskf, y0, max_iterations):
+    """Active-set iteration of the seed (II-25) on stopped values, from all cells in contact.
+
+    ``solve(weight) -> y`` solves the linear problem with cell weights (1 in contact, 0 out);
+    ``gap(y)`` gives Δ per cell. Returns (y, active weights, passes, still changing).
+    """
+
+    def cond(state):
+        _, _, it, changed = state
+        return changed & (it < max_iterations)
+
+    def body(state):
+        _, active, it, _ = state
+        y = solve(active)
+        new = maskf * (gap(y) > 0).astype(maskf.dtype)
+        return y, new, it + 1, jnp.any(new != active)
+
+    return jax.lax.while_loop(cond, body, (y0, maskf, jnp.array(0), jnp.array(True)))
+
+
+def _newton(step_of, y0, max_iterations):
+    """Newton iteration on stopped values: ``step_of(y)`` is the Newton correction dy.
+
+    Returns (y, iterations, last relative step)."""
+    tiny = jnp.finfo(y0.dtype).eps
+
+    def cond(state):
+        _, it, step = state
+        return (step > 8 * tiny) & (it < max_iterations)
+
+    def body(state):
+        y, it, _ = state
+        dy = step_of(y)
+        step = jnp.max(jnp.abs(dy)) / jnp.maximum(jnp.max(jnp.abs(y)), tiny)
+        return y - dy, it + 1, step
+
+    return jax.lax.while_loop(cond, body, (y0, jnp.array(0), jnp.array(jnp.inf, y0.dtype)))
+
+
+def _implicit_root(residual, y_root):
+    """``y_root`` (a root of ``residual`` found on stopped values) with derivatives of every
+    order, forward and reverse, by the implicit-function theorem dy = −J⁻¹ ∂r/∂p
+    (``jax.lax.custom_root``; J the Jacobian of the residual at the root)."""
+
+    def tangent_solve(g, y):
+        return _solve(jax.jacfwd(g)(y), y)
+
+    return jax.lax.custom_root(residual, y_root, lambda _, y0: y0, tangent_solve)
+
+
+def _finish(x, gap, k, kl, mask, mode, width, iterations, result):
+    phi, weight = _phi(gap, mode, width)
+    phi = jnp.where(mask, phi, 0.0)
+    weight = jnp.where(mask, weight, 0.0)
+    result = jnp.where(jnp.sum(weight * kl) <= 0, 2, result)
+    result = jnp.where(jnp.all(jnp.isfinite(x)) & jnp.all(jnp.isfinite(gap)), result, 3)
+    return ContactSolution(
+        x=x, gap=gap, weight=weight, force_density=k * phi, iterations=iterations, result=result
+    )
+
+
 def solve_contact(
     Ks: Float[Array, "n n"],
     F: Float[Array, " n"],
@@ -78,7 +139,7 @@ def solve_contact(
     width: Float[Array, ""] | float = 1e-7,
     max_iterations: int = 100,
 ) -> ContactSolution:
-    """Solve the unilateral contact problem on a linear structure.
+    """Solve the unilateral contact problem on a linear structure (unknowns: the coordinates X).
 
     Args:
         Ks: structure stiffness (units of F per unit X), shape (n, n).
@@ -107,68 +168,114 @@ def solve_contact(
         Kt, Ft = _assemble(Ks_, F_, V_, kl_, d0_, weight)
         return _solve(Kt, Ft)
 
-    # exact active set from all cells in contact
-    def cond(state):
-        _, _, it, changed = state
-        return changed & (it < max_iterations)
-
-    def body(state):
-        _, active, it, _ = state
-        x = solve_with(active)
-        new = maskf * ((V_ @ x - d0_) > 0).astype(kl.dtype)
-        return x, new, it + 1, jnp.any(new != active)
-
-    x0 = jnp.zeros(F.shape, F.dtype)
-    x_ex, active, it_ex, changed = jax.lax.while_loop(
-        cond, body, (x0, maskf, jnp.array(0), jnp.array(True))
+    x_ex, active, it_ex, changed = _active_set(
+        solve_with, lambda x: V_ @ x - d0_, maskf, jnp.zeros(F.shape, F.dtype), max_iterations
     )
     result = jnp.where(changed, 1, 0)
 
     if mode == "exact":
-        weight = sg(active)
-        Kt, Ft = _assemble(Ks, F, V, kl, delta0, weight)
+        Kt, Ft = _assemble(Ks, F, V, kl, delta0, sg(active))
         x = _solve(Kt, Ft)
         iterations = it_ex
     else:
-        tiny = jnp.finfo(F.dtype).eps
 
         def residual(x):
             phi, _ = _phi(V @ x - delta0, "smooth", width)
             return Ks @ x + V.T @ (kl * phi) - F
 
-        # Newton on stopped values, from the exact solution
-        def ncond(state):
-            _, it, step = state
-            return (step > 8 * tiny) & (it < max_iterations)
-
-        def nbody(state):
-            x, it, _ = state
+        def step_of(x):
             phi, dphi = _phi(V_ @ x - d0_, "smooth", sg(width))
             r = Ks_ @ x + V_.T @ (kl_ * phi) - F_
-            Kt = Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_)
-            dx = _solve(Kt, r)
-            step = jnp.max(jnp.abs(dx)) / jnp.maximum(jnp.max(jnp.abs(x)), tiny)
-            return x - dx, it + 1, step
+            return _solve(Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_), r)
 
-        x_sm, it_sm, step = jax.lax.while_loop(
-            ncond, nbody, (sg(x_ex), jnp.array(0), jnp.array(jnp.inf, F.dtype))
-        )
-
-        def tangent_solve(g, y):
-            # g is the residual linearised at the root: the SPD tangent K_s + Σ k l φ' V Vᵀ
-            return _solve(jax.jacfwd(g)(y), y)
-
-        # value: the Newton root; derivatives of every order, forward and reverse, by the
-        # implicit-function theorem dx = −J⁻¹ ∂r/∂p (jax.lax.custom_root)
-        x = jax.lax.custom_root(residual, sg(x_sm), lambda _, x0: x0, tangent_solve)
-        result = jnp.where(step > 1e3 * tiny, 1, result)
+        x_sm, it_sm, step = _newton(step_of, sg(x_ex), max_iterations)
+        x = _implicit_root(residual, sg(x_sm))
+        result = jnp.where(step > 1e3 * jnp.finfo(F.dtype).eps, 1, result)
         iterations = it_ex + it_sm
-    gap = V @ x - delta0
-    phi, weight = _phi(gap, mode, width)
-    phi = jnp.where(mask, phi, 0.0)
-    weight = jnp.where(mask, weight, 0.0)
-    result = jnp.where(jnp.sum(weight * kl) <= 0, 2, result)
-    result = jnp.where(jnp.all(jnp.isfinite(x)), result, 3)
-    return ContactSolution(
-        x=x, gap=gap, weight=weight, force_density=k * phi, iterations=iterations, result=result
+    return _finish(x, V @ x - delta0, k, kl, mask, mode, width, iterations, result)
+
+
+def solve_contact_cells(
+    C: Float[Array, "c c"],
+    a: Float[Array, " c"],
+    E: Float[Array, "c r"],
+    b: Float[Array, " r"],
+    k: Float[Array, " c"],
+    length: Float[Array, " c"],
+    mask: Bool[Array, " c"],
+    mode: str = "exact",
+    width: Float[Array, ""] | float = 1e-7,
+    max_iterations: int = 100,
+) -> tuple[ContactSolution, Float[Array, c], Float[Array, r]]:
+    """The contact problem in the space of the cells (compliance form; for large structures).
+
+    With the structure's compliance G on the complement of its rigid-body modes N (K G b = b
+    for every load b with Nᵀb = 0), X = G (F − Vᵀ P) + N α, where P_c = k_c l_c φ(Δ_c) is the
+    force of cell c. The unknowns are the gaps Δ (c,) and the rigid-body amplitudes α (r,):
+
+        Δ − a + C P(Δ) − E α = 0,   Eᵀ P(Δ) = b,
+
+    with C = V G Vᵀ (cell compliance, m/N), a = V G F − δ0 (m), E = V N (m per unit α) and
+    b = Nᵀ F (the load on the rigid-body modes, which the contact forces must balance). An
+    active-set pass solves a (c + r)-square system whatever the size of the structure: the
+    structure is factored once, outside (seed (2.30)–(2.31) in the cell space; HYBRID.md §2).
+
+    Args:
+        C: cell compliance (m/N), shape (c, c). a: free gaps (m), shape (c,).
+        E: rigid-body modes seen by the cells, shape (c, r). b: their loads, shape (r,).
+        k, length, mask, mode, width, max_iterations: as :func:`solve_contact`.
+
+    Returns:
+        (solution, P, α): ``solution.x`` holds the gaps Δ (the coordinates are recovered by the
+        caller, X = G (F − Vᵀ P) + N α), P the cell forces (N), shape (c,), α shape (r,).
+    """
+    if mode not in ("exact", "smooth"):
+        raise ValueError(f"contact mode = {mode!r}: allowed 'exact', 'smooth'")
+    c, r = E.shape
+    kl = jnp.where(mask, k * length, 0.0)
+    sg = jax.lax.stop_gradient
+    maskf = mask.astype(kl.dtype)
+    # the balance rows are scaled to O(1) entries (their natural scale is the cell stiffness)
+    scale = 1.0 / jnp.maximum(jnp.max(sg(kl)), jnp.finfo(kl.dtype).tiny)
+    eye = jnp.eye(c, dtype=C.dtype)
+
+    def matrix(C, E, d):
+        top = jnp.concatenate([eye + C * d[None, :], -E], axis=1)
+        bot = jnp.concatenate([scale * E.T * d[None, :], jnp.zeros((r, r), C.dtype)], axis=1)
+        return jnp.concatenate([top, bot], axis=0)
+
+    def solve_with(C, a, E, b, kl, weight):
+        return _solve(matrix(C, E, kl * weight), jnp.concatenate([a, scale * b]))
+
+    C_, a_, E_, b_, kl_ = sg(C), sg(a), sg(E), sg(b), sg(kl)
+    y_ex, active, it_ex, changed = _active_set(
+        lambda w: solve_with(C_, a_, E_, b_, kl_, w),
+        lambda y: y[:c],
+        maskf,
+        jnp.zeros(c + r, a.dtype),
+        max_iterations,
     )
+    result = jnp.where(changed, 1, 0)
+    if mode == "exact":
+        y = solve_with(C, a, E, b, kl, sg(active))
+        iterations = it_ex
+    else:
+
+        def residual(y):
+            phi, _ = _phi(y[:c], "smooth", width)
+            p = kl * phi
+            return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], scale * (E.T @ p - b)])
+
+        def step_of(y):
+            phi, dphi = _phi(y[:c], "smooth", sg(width))
+            p = kl_ * phi
+            res = jnp.concatenate([y[:c] - a_ + C_ @ p - E_ @ y[c:], scale * (E_.T @ p - b_)])
+            return _solve(matrix(C_, E_, kl_ * dphi), res)
+
+        y_sm, it_sm, step = _newton(step_of, sg(y_ex), max_iterations)
+        y = _implicit_root(residual, sg(y_sm))
+        result = jnp.where(step > 1e3 * jnp.finfo(a.dtype).eps, 1, result)
+        iterations = it_ex + it_sm
+    gap, alpha = y[:c], y[c:]
+    sol = _finish(gap, gap, k, kl, mask, mode, width, iterations, result)
+    return sol, kl * jnp.where(mask, _phi(gap, mode, width)[0], 0.0), alpha

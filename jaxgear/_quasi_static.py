@@ -8,13 +8,13 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from ._baseplane import MeshModel
-from ._contact import solve_contact
+from ._contact import solve_contact, solve_contact_cells
 from ._modifications import Modifications
 from ._results import ContactResult
 from ._util import rms_about_mean
 from .scenes import RigidMesh, Scene
 
-__all__ = ["QuasiStaticResult", "quasi_static", "mesh_positions"]
+__all__ = ["QuasiStaticResult", "mesh_positions", "quasi_static"]
 
 
 class QuasiStaticResult(eqx.Module):
@@ -99,22 +99,39 @@ def _one_position(
 ):
     cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
-    V = scene.cell_vectors(cells)
-    n = V.shape[-1]
-    sol = solve_contact(
-        scene.stiffness(),
-        scene.external_load(torque),
-        V.reshape(-1, n),
-        cells.stiffness.reshape(-1),
-        cells.length.reshape(-1),
-        delta0.reshape(-1),
-        mask.reshape(-1),
-        mode,
-        width,
-        max_iterations,
-    )
+    contact = (cells.stiffness.reshape(-1), cells.length.reshape(-1))
+    if hasattr(scene, "cell_space"):
+        # large structures (condensed bodies): solve in the space of the cells
+        C, a0, E, b, window = scene.cell_space(cells, torque)
+        sol, force, alpha = solve_contact_cells(
+            C,
+            a0 - delta0.reshape(-1),
+            E,
+            b,
+            *contact,
+            mask.reshape(-1),
+            mode,
+            width,
+            max_iterations,
+        )
+        x = scene.recover(window, force, alpha)
+    else:
+        V = scene.cell_vectors(cells)
+        n = V.shape[-1]
+        sol = solve_contact(
+            scene.stiffness(),
+            scene.external_load(torque),
+            V.reshape(-1, n),
+            *contact,
+            delta0.reshape(-1),
+            mask.reshape(-1),
+            mode,
+            width,
+            max_iterations,
+        )
+        x = sol.x
     cos_bb = jnp.cos(mesh.base_helix_angle)
-    te = (scene.te_vector() @ sol.x - e_max) / cos_bb
+    te = (scene.te_vector() @ x - e_max) / cos_bb
     kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)
     stiff = jnp.sum(kl * sol.weight)
     length = jnp.sum(cells.length.reshape(-1) * sol.weight)
@@ -127,7 +144,7 @@ def _one_position(
         cell_s=cells.s,
         cell_z=cells.z,
         cell_mask=mask,
-        x=sol.x,
+        x=x,
         iterations=sol.iterations,
         result=sol.result,
     )

@@ -22,7 +22,7 @@ import optimise as op
 from jaxgear.cli import run_case
 from jaxgear.cli._paths import OUTPUT_FILES
 from jaxgear.cli._run import result_summary
-from jaxgear.dynamics import build_dynamic_model, dynamic_model, quasi_static_3d, speed_sweep
+from jaxgear.dynamics import build_dynamic_model, dynamic_model, quasi_static_scene, speed_sweep
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -68,12 +68,12 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
 
 
 def test_lumped3d_mean_te_35um_against_12um_rigid():
-    """README: "a `lumped3d` scene also gets `quasi_static_3d` (…): 35 µm mean TE for the default
+    """README: "a `lumped3d` scene also gets `quasi_static_scene` (…): 35 µm mean TE for the default
     case against 12 µm for rigid bodies"; docs/dynamics.md: "the static TE mean is ≈ 35 µm (rigid
     mesh: 12 µm …), the RMS unchanged". Measured 35.33 and 12.17 µm; RMS equal to 1e-12.
     8 slices as `jaxgear run` uses (spur without crowning: the slices do not change the TE)."""
     case = jio.load_case("accessory-spur")
-    r3, forces = quasi_static_3d(case, slices=8)
+    r3, forces = quasi_static_scene(case, slices=8)
     rigid = jg.quasi_static(case.mesh_model(slices=8), case.modifications, case.torque)
     assert float(r3.te_mean) == pytest.approx(35e-6, abs=0.5e-6)
     assert float(rigid.te_mean) == pytest.approx(12e-6, abs=0.5e-6)

@@ -206,16 +206,6 @@ def format_table(summary: dict) -> str:
     return "\n".join(lines)
 
 
-def quasi_static_3d_summary(case: Case) -> dict:
-    """JSON summary of :func:`jaxgear.dynamics.quasi_static_3d` (lumped 3D scene, exact contact)."""
-    from ..dynamics import quasi_static_3d
-
-    res, forces = quasi_static_3d(case, slices=min(case.slices, 8))
-    out = result_summary(res)
-    out["bearing_forces_mean_N"] = forces
-    return out
-
-
 def run_command(args) -> int:
     """``jaxgear run``: quasi-static files, then the sweep and optimisation the case asks for."""
     import numpy as np
@@ -236,7 +226,13 @@ def run_command(args) -> int:
 
         settings = check_settings(settings_from_case(case))
     summary = run_case(case, out, show_progress=not args.quiet, complete=last)
-    if case.scene is not None:  # the case has a dynamic scene: add the dynamic factor curve
+    if case.scene is not None and case.scene.model == "lumped3d":
+        from ._scene import scene_outputs
+
+        summary["quasi_static_scene"] = scene_outputs(case, out)
+        write_json(summary_path, summary)
+    if case.scene is not None and not case.scene.hybrid:
+        # the case has a dynamic scene: add the dynamic factor curve
         sw = sweep_case(
             case,
             np.linspace(100.0, 3000.0, 60),
@@ -245,8 +241,6 @@ def run_command(args) -> int:
             show_progress=not args.quiet,
         )
         df = np.asarray(sw["dynamic_factor"], dtype=float)
-        if case.scene.model == "lumped3d":
-            summary["quasi_static_3d"] = quasi_static_3d_summary(case)
         summary["dynamics"] = {
             "model": case.scene.model,
             "speeds_rad_s": sw["speeds_rad_s"],
@@ -277,12 +271,12 @@ def run_command(args) -> int:
     if args.json:
         write_json(args.json, summary)
     print(format_table(summary))
-    if "quasi_static_3d" in summary:
-        q = summary["quasi_static_3d"]
-        print(
-            f"lumped 3D scene, exact: TE mean {q['te_mean_m'] * 1e6:.4f} µm, "
-            f"TE rms {q['te_rms_m'] * 1e6:.4f} µm (shaft and bearing compliance included)"
-        )
+    if "quasi_static_scene" in summary:
+        from ._scene import scene_lines
+
+        print("\n".join(scene_lines(summary["quasi_static_scene"])))
+    if case.scene is not None and case.scene.hybrid:
+        print("dynamics with condensed bodies: not available yet (quasi-static scene only)")
     if "dynamics" in summary:
         d = summary["dynamics"]
         print(

@@ -14,8 +14,11 @@ from ._config import (
 )
 from ._from_case import (
     SceneSpec as SceneSpec,
+    bearing_forces as bearing_forces,
     build_dynamic_model as build_dynamic_model,
-    quasi_static_3d as quasi_static_3d,
+    load_bodies as load_bodies,
+    quasi_static_scene as quasi_static_scene,
+    static_scene as static_scene,
 )
 from ._modal import (
     Damping as Damping,

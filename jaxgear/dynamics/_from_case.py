@@ -14,7 +14,14 @@ from ..scenes import ShaftSpec, TorsionalDynamics, disc_inertia, grounded, lumpe
 from ._modal import Damping
 from ._model import dynamic_model
 
-__all__ = ["SceneSpec", "build_dynamic_model", "quasi_static_3d"]
+__all__ = [
+    "SceneSpec",
+    "bearing_forces",
+    "build_dynamic_model",
+    "load_bodies",
+    "quasi_static_scene",
+    "static_scene",
+]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -46,6 +53,18 @@ class SceneSpec:
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d
     gear_shaft: ShaftSpec | None = None
+    # lumped3d with condensed FE bodies (hybrid H1/H2): an embedded fem_prep body name, a body
+    # TOML path or a condensed .npz path (resolved against the case file's folder)
+    pinion_body: str | None = None
+    gear_body: str | None = None
+
+    @property
+    def bodies(self) -> tuple[str | None, str | None]:
+        return (self.pinion_body, self.gear_body)
+
+    @property
+    def hybrid(self) -> bool:
+        return any(b is not None for b in self.bodies)
 
 
 def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: int | None = None):
@@ -63,20 +82,19 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
     )
     i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
     if spec.model == "lumped3d":
-        body = []
-        for r, b, m, ip in (
-            (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
-            (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
-        ):
-            m = m or case.density * math.pi * r * r * b
-            body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+        if spec.hybrid:
+            raise ValueError(
+                "dynamics with condensed FE bodies ([scene.pinion_body]/[scene.gear_body]) "
+                "is not available yet: use the quasi-static scene (quasi_static_scene)"
+            )
+        masses, inertias = _gear_bodies(case, spec, i1, i2)
         scene = lumped_pair(
             pair,
             mesh,
             spec.pinion_shaft,
             spec.gear_shaft,
-            masses=(body[0][0], body[1][0]),
-            inertias=(body[0][1], body[1][1]),
+            masses=masses,
+            inertias=inertias,
             youngs_modulus=case.youngs_modulus,
             poisson_ratio=case.poisson_ratio,
             density=case.density,
@@ -116,25 +134,131 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
     return model, spec
 
 
-def quasi_static_3d(case: Case, *, slices: int | None = None) -> tuple[QuasiStaticResult, dict]:
-    """Quasi-static TE of the case's lumped 3D scene (shaft and bearing compliance; the load
-    rotation grounded), with the case's modifications and exact contact.
+def load_bodies(spec: SceneSpec, *, progress: bool = False) -> tuple:
+    """The condensed bodies of a scene (pinion, gear), ``None`` for a rigid member.
+
+    Bodies are built by :mod:`fem_prep` once and then read from its cache
+    (:func:`fem_prep.condensed`).
+    """
+    if not spec.hybrid:
+        return (None, None)
+    import fem_prep  # NumPy/scikit-fem only; loaded when a case has flexible bodies
+
+    return tuple(
+        None if ref is None else fem_prep.condensed(ref, progress=progress) for ref in spec.bodies
+    )
+
+
+def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
+    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
+    pair = case.pair
+    body = []
+    for r, b, m, ip in (
+        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
+        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
+    ):
+        m = m or case.density * math.pi * r * r * b
+        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
+
+
+def static_scene(
+    case: Case,
+    *,
+    slices: int | None = None,
+    bodies: tuple | None = None,
+    speed: float | None = None,
+):
+    """The scene of the case's quasi-static solve with shafts, bearings and condensed bodies.
+
+    ``lumped3d`` without bodies: the lumped scene with the load rotation grounded. With
+    ``[scene.pinion_body]``/``[scene.gear_body]``: the hybrid scene (:func:`jaxgear.scenes.hybrid_pair`),
+    its flexible members' tooth stiffness without the foundation term, the centrifugal load at
+    ``speed`` (pinion, rad/s; default the case's ``[operating] speed_rad_s``).
 
     Returns:
-        (result, mean bearing force (N) per bearing-force component name).
+        (scene, bodies): the scene and the condensed bodies (pinion, gear) or ``None``.
+
+    Raises:
+        ValueError: the case has no ``lumped3d`` scene; slices that do not nest in the body's
+            axial rim faces; body/gear mismatch (see :func:`jaxgear.scenes.hybrid_pair`).
+    """
+    spec = case.scene
+    if spec is None or spec.model != "lumped3d":
+        raise ValueError("a quasi-static scene needs a case with [scene] model = 'lumped3d'")
+    if not spec.hybrid:
+        model, _ = build_dynamic_model(case, slices=slices)
+        return grounded(model.scene, (model.scene.torque_dofs[1],)), (None, None)
+    from ..scenes import hybrid_pair
+
+    bodies = load_bodies(spec) if bodies is None else bodies
+    flexible = tuple(b is not None for b in bodies)
+    mesh = case.mesh_model(slices=slices, flexible=flexible)
+    pair = case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    masses, inertias = _gear_bodies(case, spec, i1, i2)
+    scene = hybrid_pair(
+        pair,
+        mesh,
+        spec.pinion_shaft,
+        spec.gear_shaft,
+        bodies=bodies,
+        masses=masses,
+        inertias=inertias,
+        youngs_modulus=case.youngs_modulus,
+        poisson_ratio=case.poisson_ratio,
+        density=case.density,
+        speed=case.speed if speed is None else speed,
+    )
+    return scene, bodies
+
+
+def bearing_forces(scene, res: QuasiStaticResult) -> dict:
+    """Mean bearing force (N) per component name over the positions of ``res`` (fixed frame)."""
+    if hasattr(scene, "bearing_forces"):
+        F = np.asarray(scene.bearing_forces(res.theta, res.x))  # (P, r), rotated back
+        names = scene.reaction_names
+    else:
+        base = getattr(scene, "base", scene)
+        F = (np.asarray(base.reaction_matrix()) @ np.asarray(res.x).T).T
+        names = base.reaction_names
+    return dict(zip(names, F.mean(axis=0).tolist()))
+
+
+def quasi_static_scene(
+    case: Case,
+    *,
+    slices: int | None = None,
+    contact: str = "exact",
+    speed: float | None = None,
+    bodies: tuple | None = None,
+) -> tuple[QuasiStaticResult, dict]:
+    """Quasi-static TE of the case's scene: shafts and bearings (``lumped3d``) and condensed FE
+    bodies when the scene has them, with the case's modifications.
+
+    Args:
+        case: a case with ``[scene] model = "lumped3d"``.
+        slices: slices per contact line (default the case's). contact: "exact" | "smooth".
+        speed: pinion speed (rad/s) of the centrifugal load of the bodies (default the case's).
+        bodies: condensed bodies (pinion, gear) already loaded (default: the scene's, built or
+            read from the fem_prep cache).
+
+    Returns:
+        (result, mean bearing force (N) per bearing-force component name, fixed frame).
 
     Raises:
         ValueError: the case has no ``lumped3d`` scene.
     """
-    if case.scene is None or case.scene.model != "lumped3d":
-        raise ValueError("quasi_static_3d needs a case with [scene] model = 'lumped3d'")
-    model, _ = build_dynamic_model(case, slices=slices)
-    scene = model.scene
+    scene, _ = static_scene(case, slices=slices, bodies=bodies, speed=speed)
     res = quasi_static(
-        grounded(scene, (scene.torque_dofs[1],)),
+        scene,
         case.modifications,
         case.torque,
+        contact=contact,
+        width=case.smooth_width,
         positions_per_pitch=case.positions_per_pitch,
     )
-    forces = np.asarray(scene.reaction_matrix()) @ np.asarray(res.x).T
-    return res, dict(zip(scene.reaction_names, forces.mean(axis=1).tolist()))
+    return res, bearing_forces(scene, res)

@@ -12,4 +12,9 @@ from ._case_file import (
     plausibility as plausibility,
 )
 from ._scene_table import parse_scene as parse_scene
-from ._writers import atomic_open as atomic_open, write_csv as write_csv, write_json as write_json
+from ._writers import (
+    atomic_open as atomic_open,
+    write_csv as write_csv,
+    write_json as write_json,
+    write_vtu as write_vtu,
+)

@@ -68,7 +68,7 @@ _SCHEMA: dict[str, Any] = {
     "pinion": _MEMBER_KEYS,
     "gear": _MEMBER_KEYS,
     "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
-    "operating": {"torque_Nm"},
+    "operating": {"torque_Nm", "speed_rad_s"},
     "mesh": {
         "stiffness",
         "stiffness_per_length_N_per_mm_per_um",
@@ -76,6 +76,7 @@ _SCHEMA: dict[str, Any] = {
         "positions_per_pitch",
         "smooth_width_um",
         "foundation",
+        "fe2d_size_um",
     },
     "modifications": None,  # checked by parse_modifications
     "scene": None,  # checked by parse_scene
@@ -255,7 +256,7 @@ def _member(data: dict, tag: str) -> Member:
     )
 
 
-def parse_case(data: dict, default_name: str = "case") -> Case:
+def parse_case(data: dict, default_name: str = "case", base_dir: str | None = None) -> Case:
     """Validate a parsed case TOML (a dict), ``[scene]`` and ``[optimise]`` included, and build a
     :class:`Case`; then warn (:class:`CaseWarning`) about absurd but valid inputs.
 
@@ -292,8 +293,9 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
     nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
     rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
     torque = sc.number(data["operating"], "torque_Nm", "operating", allowed="> 0")
+    speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     m = sc.subtable(data, "mesh", "")
-    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336"), "weber")
+    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336", "fe2d"), "weber")
     k0 = sc.number(
         m,
         "stiffness_per_length_N_per_mm_per_um",
@@ -305,6 +307,16 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
     slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
     ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
     width = sc.number(m, "smooth_width_um", "mesh", 0.1, allowed="(0, 1e+06]") * 1e-6
+    mn_um = pair.normal_module * 1e6  # fe2d element size: 1 to 100 elements per module
+    fe2d_size = sc.number(
+        m,
+        "fe2d_size_um",
+        "mesh",
+        None,
+        allowed=f"[{mn_um / 100:.6g}, {mn_um:.6g}]",
+        note=" (m_n/100 to m_n; default m_n/6)",
+    )
+    fe2d_size = None if fe2d_size is None else fe2d_size * 1e-6
     foundation = m.get("foundation", "weber")
     if isinstance(foundation, bool):  # the old boolean: true = "weber", false = "none"
         foundation = "weber" if foundation else "none"
@@ -316,7 +328,7 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
             foundation,
         )
     mods = parse_modifications(data.get("modifications", {}))
-    scene = parse_scene(data["scene"]) if "scene" in data else None
+    scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     case = Case(
         name=name,
@@ -326,12 +338,14 @@ def parse_case(data: dict, default_name: str = "case") -> Case:
         poisson_ratio=nu,
         density=rho,
         torque=torque,
+        speed=speed,
         stiffness_model=model,
         uniform_k0=k0,
         slices=slices,
         positions_per_pitch=ppp,
         smooth_width=width,
         foundation=foundation,
+        fe2d_size=fe2d_size,
         scene=scene,
         optimise=optimise,
         raw=data,
@@ -363,10 +377,10 @@ def mean_static_deflection(case: Case) -> float:
         k_mean = case.uniform_k0 * eps * b / math.cos(pair.base_helix_angle)
     else:
         k_mean = iso6336_mesh_stiffness(pair) * b
-        if case.stiffness_model == "weber":
+        if case.stiffness_model in ("weber", "fe2d"):
             k_mean *= case.youngs_modulus / 210e9
     w = case.normal_load / b * 1e-3
-    if case.stiffness_model == "weber" and w > MAX_LINE_LOAD_N_PER_MM:
+    if case.stiffness_model in ("weber", "fe2d") and w > MAX_LINE_LOAD_N_PER_MM:
         try:
             with np.errstate(all="ignore"):
                 stiffness_table(
@@ -578,12 +592,14 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
         with open(name_or_path, "rb") as f:
             raw = f.read()
         default = os.path.splitext(os.path.basename(label))[0]
+        base = os.path.dirname(os.path.abspath(name_or_path))
     elif str(name_or_path) in list_cases():
         raw = (_embedded() / f"{name_or_path}.toml").read_bytes()
         default = str(name_or_path)
+        base = None
     else:
         raise FileNotFoundError(
             f"case {label!r} is neither a file nor an embedded case "
             f"(embedded: {', '.join(list_cases())})"
         )
-    return parse_case(sc.load_toml(raw, f"case file {label!r}"), default)
+    return parse_case(sc.load_toml(raw, f"case file {label!r}"), default, base)

@@ -54,7 +54,10 @@ _SCENE_KEYS = {
     "gear_mass_kg",
     "pinion_shaft",
     "gear_shaft",
+    "pinion_body",
+    "gear_body",
 }
+_BODY_KEYS = {"body"}
 _SHAFT_KEYS = {
     "length_mm",
     "diameter_mm",
@@ -131,8 +134,34 @@ def _parse_shaft(table: dict, key: str):
     )
 
 
-def parse_scene(table: dict | None) -> SceneSpec:
-    """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults).
+def _parse_body(table: dict, key: str, base_dir: str | None) -> str:
+    """``[scene.<member>_body] body = ...``: an embedded fem_prep body, a body TOML or a .npz."""
+    import os
+
+    import fem_prep
+
+    t = sc.subtable(table, key, "scene", _BODY_KEYS, required=True)
+    where = f"scene.{key}"
+    ref = sc.string(t, "body", where, sc.MISSING)
+    if ref.endswith((".toml", ".npz")):
+        path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
+        if not os.path.isfile(path):
+            raise sc.fail(where, "body", f"no such file {path!r}", ref)
+        return path
+    names = fem_prep.embedded_bodies()
+    if ref not in names:
+        raise sc.fail(
+            where,
+            "body",
+            f"allowed an embedded body ({', '.join(names)}), a body .toml or a condensed .npz",
+            ref,
+        )
+    return ref
+
+
+def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
+    """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults). Body paths are resolved
+    against ``base_dir`` (the case file's folder).
 
     Raises:
         SchemaError (a ``ValueError``): unknown keys (named), wrong types, values out of range,
@@ -165,8 +194,18 @@ def parse_scene(table: dict | None) -> SceneSpec:
                 )
         if reduction != "none":
             raise sc.fail("scene", "reduction", "applies to model = 'torsional' only", reduction)
+        for key in ("pinion_body", "gear_body"):
+            if key in table:
+                kw[key] = _parse_body(table, key, base_dir)
     else:
-        for key in ("pinion_shaft", "gear_shaft", "pinion_mass_kg", "gear_mass_kg"):
+        for key in (
+            "pinion_shaft",
+            "gear_shaft",
+            "pinion_mass_kg",
+            "gear_mass_kg",
+            "pinion_body",
+            "gear_body",
+        ):
             if key in table:
                 raise sc.fail("scene", key, "is for model = 'lumped3d'")
     for key, field in (("pinion_mass_kg", "pinion_mass"), ("gear_mass_kg", "gear_mass")):

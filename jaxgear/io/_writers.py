@@ -6,9 +6,9 @@ import csv
 import io
 import json
 
-from fem_prep.schema import atomic_open  # one implementation for jaxgear and fem_prep
+from fem_prep.schema import atomic_open, atomic_write  # one implementation for both packages
 
-__all__ = ["atomic_open", "write_csv", "write_json"]
+__all__ = ["atomic_open", "write_csv", "write_json", "write_vtu"]
 
 
 def write_json(path, data) -> None:
@@ -38,3 +38,16 @@ def write_csv(path, header, columns) -> None:
         w.writerow([f"{v:.12g}" for v in row])
     with atomic_open(path, "w", newline="") as f:
         f.write(buf.getvalue())
+
+
+def write_vtu(path, points, cells, point_data) -> None:
+    """Write an unstructured grid (ParaView ``.vtu``, meshio) atomically.
+
+    Args:
+        points: (n, 3) coordinates (m). cells: meshio cell blocks, e.g.
+            ``[("hexahedron", (n_cells, 8) indices)]``. point_data: name → (n, ...) arrays.
+    """
+    import meshio
+
+    mesh = meshio.Mesh(points, cells, point_data=point_data)
+    atomic_write(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))

@@ -3,9 +3,17 @@
 Quasi-static: :class:`RigidMesh` (both bodies rigid, 1 DOF), :class:`TorsionalPair`,
 :class:`Grounded` (pins DOFs of another scene). Dynamic (with a mass matrix):
 :class:`TorsionalDynamics`, :class:`RelativeApproach`, :class:`LumpedPair` (rigid 6-DOF gear nodes
-on Timoshenko shafts and bearings). Later: condensed FE bodies.
+on Timoshenko shafts and bearings). Hybrid: :class:`HybridPair` (the lumped scene with condensed FE
+bodies coupled to the cells, seed II-2).
 """
 
+from ._hybrid import (
+    FlexibleMember as FlexibleMember,
+    HybridPair as HybridPair,
+    RigidMember as RigidMember,
+    hybrid_pair as hybrid_pair,
+    mortar_weights as mortar_weights,
+)
 from ._lumped3d import (
     Bearing as Bearing,
     LumpedPair as LumpedPair,

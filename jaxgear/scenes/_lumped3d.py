@@ -219,11 +219,13 @@ class LumpedPair(DynamicScene):
         )
 
 
-def _shaft(spec: ShaftSpec, E, G, rho):
-    zs = {0.0, spec.length, spec.gear_z, spec.torque_z, *(b.z for b in spec.bearings)}
+def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
+    zs = {0.0, spec.length, spec.gear_z, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
     for z in zs:
         if not -1e-12 <= z <= spec.length + 1e-12:
-            raise ValueError(f"shaft position {z} m is outside the shaft [0, {spec.length}] m")
+            raise ValueError(
+                f"shaft position {z * 1e3:.6g} mm is outside the shaft [0, {spec.length * 1e3:.6g}] mm"
+            )
     # refine every segment into about `elements` elements over the whole length
     base = sorted(zs)
     nodes = []
@@ -257,6 +259,78 @@ def _shaft(spec: ShaftSpec, E, G, rho):
     return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows
 
 
+def _lumped_arrays(
+    pair: GearPair,
+    pinion_shaft: ShaftSpec,
+    gear_shaft: ShaftSpec,
+    masses,
+    inertias,
+    E: float,
+    nu: float,
+    rho: float,
+    extra_z=((), ()),
+) -> dict:
+    """NumPy parts of the lumped scene (shared by :func:`lumped_pair` and the hybrid scene).
+
+    ``extra_z``: additional shaft node positions per shaft (m from the shaft start), e.g. where a
+    condensed body's bearing nodes attach. A member whose mass is ``None`` gets no rigid gear
+    body at its gear node (a condensed body replaces it).
+    """
+    G = E / (2 * (1 + nu))
+    s1 = _shaft(pinion_shaft, E, G, rho, extra_z[0])
+    s2 = _shaft(gear_shaft, E, G, rho, extra_z[1])
+    n1, n2 = 6 * s1[0].size, 6 * s2[0].size
+    n = n1 + n2
+    M = np.zeros((n, n))
+    Ksh1 = np.zeros((n, n))
+    Ksh2 = np.zeros((n, n))
+    Kb = np.zeros((n, n))
+    M[:n1, :n1], M[n1:, n1:] = s1[2], s2[2]
+    Ksh1[:n1, :n1], Ksh2[n1:, n1:] = s1[1], s2[1]
+    Kb[:n1, :n1], Kb[n1:, n1:] = s1[3], s2[3]
+    g1, g2 = 6 * s1[4], n1 + 6 * s2[4]
+    for g, m, inertia in ((g1, masses[0], inertias[0]), (g2, masses[1], inertias[1])):
+        if m is None:
+            continue
+        idia, ipol = inertia
+        M[g : g + 3, g : g + 3] += m * np.eye(3)
+        M[g + 3, g + 3] += idia
+        M[g + 4, g + 4] += idia
+        M[g + 5, g + 5] += ipol
+    a = pair.center_distance
+    alpha = pair.operating_pressure_angle
+    rb1 = pair.base_radii[0]
+    bb = pair.base_helix_angle
+    t = np.array([math.sin(alpha), math.cos(alpha), 0.0])
+    T1 = rb1 * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
+    normal = math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0])
+    rigid = np.zeros(n)
+    rigid[5:n1:6] = 1.0 / rb1
+    rigid[n1 + 5 :: 6] = -1.0 / pair.base_radii[1]
+    names, reaction = [], []
+    for tag, rows, offset in (("pinion", s1[6], 0), ("gear", s2[6], n1)):
+        for name, r in rows:
+            full = np.zeros(n)
+            full[offset : offset + r.size] = r
+            names.append(f"{tag} {name}")
+            reaction.append(full)
+    return dict(
+        M=M,
+        parts=np.stack([Ksh1, Ksh2, Kb]),
+        centres=np.array([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
+        tangent_point=T1,
+        direction=t,
+        normal=normal,
+        rigid=rigid,
+        reaction=np.array(reaction).reshape(-1, n),
+        reaction_names=tuple(names),
+        gear_dofs=(g1, g2),
+        torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
+        shaft_z=(s1[0], s2[0]),  # node positions (m) along each shaft
+        shaft_offsets=(0, n1),  # first DOF of each shaft
+    )
+
+
 def lumped_pair(
     pair: GearPair,
     mesh: MeshModel,
@@ -278,58 +352,23 @@ def lumped_pair(
         inertias: ((I_diametral, I_polar) pinion, (…) gear) (kg·m²) of the gear bodies.
         youngs_modulus, poisson_ratio, density: shaft material.
     """
-    E, nu, rho = youngs_modulus, poisson_ratio, density
-    G = E / (2 * (1 + nu))
-    s1 = _shaft(pinion_shaft, E, G, rho)
-    s2 = _shaft(gear_shaft, E, G, rho)
-    n1, n2 = 6 * s1[0].size, 6 * s2[0].size
-    n = n1 + n2
-    M = np.zeros((n, n))
-    Ksh1 = np.zeros((n, n))
-    Ksh2 = np.zeros((n, n))
-    Kb = np.zeros((n, n))
-    M[:n1, :n1], M[n1:, n1:] = s1[2], s2[2]
-    Ksh1[:n1, :n1], Ksh2[n1:, n1:] = s1[1], s2[1]
-    Kb[:n1, :n1], Kb[n1:, n1:] = s1[3], s2[3]
-    g1, g2 = 6 * s1[4], n1 + 6 * s2[4]
-    for g, m, (idia, ipol) in ((g1, masses[0], inertias[0]), (g2, masses[1], inertias[1])):
-        M[g : g + 3, g : g + 3] += m * np.eye(3)
-        M[g + 3, g + 3] += idia
-        M[g + 4, g + 4] += idia
-        M[g + 5, g + 5] += ipol
-    a = pair.center_distance
-    alpha = pair.operating_pressure_angle
-    rb1 = pair.base_radii[0]
-    bb = pair.base_helix_angle
-    t = np.array([math.sin(alpha), math.cos(alpha), 0.0])
-    T1 = rb1 * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
-    normal = math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0])
-    rigid = np.zeros(n)
-    rigid[5:n1:6] = 1.0 / rb1
-    rigid[n1 + 5 :: 6] = -1.0 / pair.base_radii[1]
-    parts = np.stack([Ksh1, Ksh2, Kb])
-    names, reaction = [], []
-    for tag, rows, offset in (("pinion", s1[6], 0), ("gear", s2[6], n1)):
-        for name, r in rows:
-            full = np.zeros(n)
-            full[offset : offset + r.size] = r
-            names.append(f"{tag} {name}")
-            reaction.append(full)
-    reaction = np.array(reaction).reshape(-1, n)
+    d = _lumped_arrays(
+        pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
+    )
     return LumpedPair(
         mesh=mesh,
-        M=jnp.asarray(M),
-        K=jnp.asarray(Ksh1 + Ksh2 + Kb),
-        parts_K=jnp.asarray(parts),
-        centres=jnp.asarray([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
-        tangent_point=jnp.asarray(T1),
-        direction=jnp.asarray(t),
-        normal=jnp.asarray(normal),
+        M=jnp.asarray(d["M"]),
+        K=jnp.asarray(d["parts"].sum(axis=0)),
+        parts_K=jnp.asarray(d["parts"]),
+        centres=jnp.asarray(d["centres"]),
+        tangent_point=jnp.asarray(d["tangent_point"]),
+        direction=jnp.asarray(d["direction"]),
+        normal=jnp.asarray(d["normal"]),
         roll_start=jnp.asarray(pair.start_roll),
-        rigid=jnp.asarray(rigid),
-        reaction=jnp.asarray(reaction),
-        reaction_names=tuple(names),
-        gear_dofs=(g1, g2),
-        torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
+        rigid=jnp.asarray(d["rigid"]),
+        reaction=jnp.asarray(d["reaction"]),
+        reaction_names=d["reaction_names"],
+        gear_dofs=d["gear_dofs"],
+        torque_dofs=d["torque_dofs"],
         part_names=("pinion_shaft", "gear_shaft", "bearings"),
     )

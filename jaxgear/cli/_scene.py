@@ -1,0 +1,154 @@
+"""``jaxgear run`` on a case with a ``lumped3d`` scene: the quasi-static TE of the scene (shafts,
+bearings and, when the scene has them, condensed FE bodies), bearing forces, centrifugal rim
+growth, load maps and a VTU of the deformed body (``quasi_static_scene`` in ``summary.json``)."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from .. import Case, quasi_static
+from ..io import write_vtu
+
+__all__ = ["scene_lines", "scene_outputs"]
+
+
+
+def _rot(angle, v):
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.array(v, dtype=float)
+    out[:, 0], out[:, 1] = c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]
+    return out
+
+
+def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
+    """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
+    the body turned to that position, centred on its axis) and of the loaded contact cells with
+    their line loads (N/mm)."""
+    from ..scenes import FlexibleMember
+
+    k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
+    theta = float(res.theta[k])
+    x = np.asarray(res.x[k])
+    written = []
+    for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True)):
+        if not isinstance(member, FlexibleMember) or body is None:
+            continue
+        q = x[np.asarray(member.body_dofs)]
+        u = (np.asarray(body.recovery, dtype=float) @ q).reshape(-1, 3)
+        ang = float(member.frame_angle(theta))
+        centre = np.asarray(member.centre)
+        pts = _rot(ang, np.asarray(body.recovery_coords)) + centre
+        name = f"scene_body_{('pinion', 'gear')[m]}.vtu"
+        write_vtu(
+            os.path.join(out_dir, name),
+            pts,
+            [("hexahedron", np.asarray(body.recovery_cells))],
+            {"displacement_m": _rot(ang, u)},
+        )
+        written.append(name)
+    cells = scene.mesh.cells(res.theta[k])
+    on = np.asarray(cells.mask).reshape(-1)
+    P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
+    load = np.asarray(res.line_load[k]).reshape(-1)[on] / 1e3
+    write_vtu(
+        os.path.join(out_dir, "scene_contact.vtu"),
+        P,
+        [("vertex", np.arange(P.shape[0])[:, None])],
+        {"line_load_N_per_mm": load},
+    )
+    written.append("scene_contact.vtu")
+    return written
+
+
+def scene_outputs(case: Case, out_dir: str) -> dict:
+    """Quasi-static solve of the case's scene (exact and smooth contact), written to ``out_dir``.
+
+    Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
+    ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
+    ``centrifugal`` (rim radial growth per body at the case's speed), the load-map files and
+    the VTU files.
+    """
+    from .. import load_map
+    from ..dynamics import bearing_forces, static_scene
+    from . import _plots
+    from ._run import result_summary
+
+    slices = min(case.slices, 8)
+    scene, bodies = static_scene(case, slices=slices)
+    out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
+    res = {}
+    for mode in ("exact", "smooth"):
+        res[mode] = quasi_static(
+            scene,
+            case.modifications,
+            case.torque,
+            contact=mode,
+            width=case.smooth_width,
+            positions_per_pitch=case.positions_per_pitch,
+        )
+        out[mode] = result_summary(res[mode])
+        out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
+    if not case.scene.hybrid:
+        return out
+    pair = case.pair
+    ppp = case.positions_per_pitch
+    growth = scene.rim_radial_growth()
+    out["bodies"] = [b for b in case.scene.bodies]
+    out["speed_rad_s"] = case.speed
+    out["centrifugal"] = {
+        "speed_rad_s": case.speed,
+        "rim_radial_growth_m": {
+            name: float(g) for name, g, b in zip(("pinion", "gear"), growth, bodies, strict=True)
+            if b is not None
+        },
+    }
+    files = []
+    maps = [("load_map_scene.png", res["exact"], "at rest" if case.speed == 0 else "")]
+    if case.speed > 0:
+        import equinox as eqx
+
+        rest = quasi_static(
+            eqx.tree_at(lambda s: s.speed, scene, scene.speed * 0),
+            case.modifications,
+            case.torque,
+            positions_per_pitch=ppp,
+        )
+        out["exact_at_rest"] = result_summary(rest)
+        maps = [
+            ("load_map_scene.png", rest, "at rest"),
+            ("load_map_scene_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
+        ]
+    for name, r, label in maps:
+        s_edges, z, lmap = load_map(r, ppp, pair.base_pitch, pair.path_of_contact)
+        dz = pair.face_width / len(z)
+        _plots.load_map_plot(
+            os.path.join(out_dir, name),
+            s_edges,
+            np.concatenate([[0.0], z + dz / 2]),
+            lmap,
+            title=f"{case.name}: load map, hybrid scene {label}".rstrip(),
+        )
+        files.append(name)
+    files += write_scene_vtu(out_dir, scene, bodies, res["exact"])
+    out["files"] = files
+    return out
+
+
+def scene_lines(q: dict) -> list[str]:
+    """Plain-text lines for the printed summary."""
+    e = q["exact"]
+    what = "hybrid scene (condensed bodies)" if q["model"] == "hybrid" else "lumped 3D scene"
+    head = (
+        f"{what}, exact: TE mean {e['te_mean_m'] * 1e6:.4f} µm, TE rms "
+        f"{e['te_rms_m'] * 1e6:.4f} µm, max line load {e['max_line_load_N_per_m'] / 1e3:.1f} N/mm"
+    )
+    lines = [head]
+    if "centrifugal" in q:
+        for name, g in q["centrifugal"]["rim_radial_growth_m"].items():
+            lines.append(
+                f"  {name} rim radial growth at {q['centrifugal']['speed_rad_s']:g} rad/s "
+                f"(pinion): {g * 1e6:.3f} µm"
+            )
+    return lines
