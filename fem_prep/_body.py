@@ -365,7 +365,8 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
 
     # ---- [material]
     m = sc.subtable(data, "material", "", _SCHEMA["material"])
-    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 10000]")
+    # up to 1e6 GPa: a rigidified body (the seed uses E = 4e14 Pa)
+    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 1e+06]")
     nu = sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)")
     rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
     material = Material(e * 1e9, nu, rho)

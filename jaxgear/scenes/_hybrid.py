@@ -12,7 +12,8 @@ Interface of a cell M on a flexible member (HYBRID.md §1, seed (2.11)–(2.30))
   M_p1, M_p2 (where the tooth's fillets meet the root circle, at ±ψ_f about its centre line);
 * the root displacement u(M_p) = (u_1 + u_2)/2 and rotation ω = κ·(u_1 − u_2) (least squares
   (2.12)–(2.18), κ = (M_p1M_p2 × Z)/|M_p1M_p2|², M_p the chord midpoint [R]: a rigid rotation
-  about the axis is then reproduced exactly) give u(M)·n_m = c_1·u_1 + c_2·u_2 with
+  about the axis is then reproduced exactly; M_p1, M_p2 are taken on the (flat) rim face, i.e.
+  projected on its chord, so that the face interpolation reproduces rigid motions exactly) give u(M)·n_m = c_1·u_1 + c_2·u_2 with
   c_{1,2} = n_m/2 ± λ κ, λ = Z·(M_pM × n_m) (2.19)–(2.20), n_m the member's outward normal
   (n for the pinion, −n for the gear);
 * mortar (2.21)–(2.27): u(M_pk) = (5 u(N1) + 20 u(N2) + 5 u(N3))/30 over the slice, N1, N3 at the
@@ -64,6 +65,11 @@ def mortar_weights() -> tuple[float, float, float]:
     return MORTAR
 
 
+def _lead(v, like):
+    """``v`` (k,) reshaped to broadcast against ``like`` (..., k) without rank promotion."""
+    return v.reshape((1,) * (like.ndim - 1) + v.shape)
+
+
 def _rot(angle, v):
     """Rotate the in-plane part of ``v`` (..., 3) by ``angle`` (...) about z."""
     c, s = jnp.cos(angle), jnp.sin(angle)
@@ -85,7 +91,7 @@ class RigidMember(eqx.Module):
         """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow."""
         normal = line["normal"]
         nm = self.sign * jnp.broadcast_to(normal, points.shape)
-        v = jnp.concatenate([nm, jnp.cross(points - self.centre, nm)], axis=-1)
+        v = jnp.concatenate([nm, jnp.cross(points - _lead(self.centre, points), nm)], axis=-1)
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
@@ -98,7 +104,7 @@ class FlexibleMember(eqx.Module):
             each condensed DOF of the body (fem_prep order), shape (n_c,). z_nodes: axial master
             positions (m, body frame, z = 0 at mid-rim), shape (n_ax,).
         station0: body angle of station 0 (rad). pitch_angle: 2π/Z. rim_radius: R of the master
-            nodes (m). root_radius: r_f of the tooth (m). root_half_angle: ψ_f (rad).
+            nodes (m). (the root points lie on the rim faces; the gear's r_f is checked to lie within 2 % of R). root_half_angle: ψ_f (rad).
         base_radius: r_b (m). base_half_angle: half the angular tooth thickness at the base
             circle, ψ(r) = ψ_b − inv(arccos(r_b/r)) (rad). offset: φ_0 (rad). z_offset: body z
             of the mesh face centre (m).
@@ -114,7 +120,6 @@ class FlexibleMember(eqx.Module):
     station0: Float[Array, ""] = eqx.field(converter=as_float)
     pitch_angle: Float[Array, ""] = eqx.field(converter=as_float)
     rim_radius: Float[Array, ""] = eqx.field(converter=as_float)
-    root_radius: Float[Array, ""] = eqx.field(converter=as_float)
     root_half_angle: Float[Array, ""] = eqx.field(converter=as_float)
     base_radius: Float[Array, ""] = eqx.field(converter=as_float)
     base_half_angle: Float[Array, ""] = eqx.field(converter=as_float)
@@ -136,19 +141,15 @@ class FlexibleMember(eqx.Module):
 
     def tooth_centre_angle(self, points):
         """Fixed-frame polar angle of the centre line of the tooth in contact at ``points``."""
-        m = points - self.centre
+        m = points - _lead(self.centre, points)
         r = jnp.maximum(jnp.hypot(m[..., 0], m[..., 1]), self.base_radius)
         a = jnp.arccos(self.base_radius / r)
         psi = self.base_half_angle - (jnp.tan(a) - a)
         return jnp.arctan2(m[..., 1], m[..., 0]) + self.flank * psi
 
-    def coefficients(self, points, normal):
-        """c_1, c_2 (fixed frame, (..., 3) each) and the tooth-centre angle φ_c (2.19)-(2.20)."""
-        phi_c = self.tooth_centre_angle(points)
-        rf, psi = self.root_radius, self.root_half_angle
-        o = self.centre[:2]
-        p1 = o + rf * jnp.stack([jnp.cos(phi_c - psi), jnp.sin(phi_c - psi)], -1)
-        p2 = o + rf * jnp.stack([jnp.cos(phi_c + psi), jnp.sin(phi_c + psi)], -1)
+    def coefficients(self, points, normal, p1, p2):
+        """c_1, c_2 (fixed frame, (..., 3) each) of (2.19)-(2.20) for contact points M (..., 3)
+        and root points M_p1, M_p2 (fixed frame, in-plane, (..., 2))."""
         mp = 0.5 * (p1 + p2)  # chord midpoint [R]: exact for a rigid rotation
         d = p2 - p1
         kappa = jnp.stack([d[..., 1], -d[..., 0], jnp.zeros_like(d[..., 0])], -1)
@@ -158,16 +159,28 @@ class FlexibleMember(eqx.Module):
         lam = arm[..., 0] * nm[..., 1] - arm[..., 1] * nm[..., 0]  # Z·(M_pM × n_m)
         c1 = 0.5 * nm + lam[..., None] * kappa
         c2 = 0.5 * nm - lam[..., None] * kappa
-        return c1, c2, phi_c
+        return c1, c2
 
     def face_weights(self, phi, z):
-        """Station index i (…), axial face j (…) and the four bilinear corner weights
-        (…, 2, 2) [station i, i+1] × [axial j, j+1] of the rim point at body angle φ, z."""
+        """Station index i (…), axial face j (…), the four bilinear corner weights (…, 2, 2)
+        [station i, i+1] × [axial j, j+1] of the rim point at body angle φ, z, and the point of
+        the face itself (body frame, in-plane, (…, 2)): the orthogonal projection on the face's
+        chord (the inverse of the flat bilinear face's own map)."""
         t = (phi - self.station0) / self.pitch_angle
         i = jnp.floor(t)
         u = (t - i) * self.pitch_angle
         cd = 1.0 - jnp.cos(self.pitch_angle)
         xi = ((1.0 - jnp.cos(u)) * cd + jnp.sin(u) * jnp.sin(self.pitch_angle)) / (2.0 * cd)
+        a0 = self.station0 + i * self.pitch_angle
+        a1 = a0 + self.pitch_angle
+        R = self.rim_radius
+        face = jnp.stack(
+            [
+                R * ((1 - xi) * jnp.cos(a0) + xi * jnp.cos(a1)),
+                R * ((1 - xi) * jnp.sin(a0) + xi * jnp.sin(a1)),
+            ],
+            -1,
+        )
         zn = self.z_nodes
         j = jnp.clip(jnp.searchsorted(zn, z, side="right") - 1, 0, zn.shape[0] - 2)
         eta = (z - zn[j]) / (zn[j + 1] - zn[j])
@@ -178,7 +191,7 @@ class FlexibleMember(eqx.Module):
             ],
             -2,
         )
-        return i.astype(jnp.int32), j, w
+        return i.astype(jnp.int32), j, w, face
 
     def window(self, points, mask, line, theta, mesh: MeshModel):
         """Global DOFs of the window (w,), the structure vectors on them (L, N, w) and whether a
@@ -187,23 +200,27 @@ class FlexibleMember(eqx.Module):
         ``line``: the fixed-frame ``normal`` n and ``direction`` t of the line of action and the
         zone centre ``zone`` (3,) (a point where the window is centred).
         """
-        c1, c2, _ = self.coefficients(points, line["normal"])
         rot = self.frame_angle(theta)
-        # coefficients in the body frame: c·u_fixed = (R(−φ_rot) c)·u_body
-        cb = jnp.stack([_rot(-rot, c1), _rot(-rot, c2)], axis=-2)  # (L, N, 2, 3)
         # the three mortar nodes of each slice along the same tooth (helix): moving by δz across
         # the face along a contact line, s → s − δz tan β_b
         dz = mesh.face_width / mesh.n_slices
         tb = jnp.tan(mesh.base_helix_angle)
         ez = jnp.array([0.0, 0.0, 1.0], points.dtype)
         offsets = jnp.array([-0.5, 0.0, 0.5], points.dtype) * dz
-        pts = points[..., None, :] + offsets[:, None] * (ez - tb * line["direction"])
+        step = offsets[:, None] * (ez - tb * line["direction"])[None, :]  # (3 nodes, xyz)
+        pts = points[..., None, :] + step.reshape((1,) * (points.ndim - 1) + step.shape)
         phi_c = self.tooth_centre_angle(pts) - rot  # body frame, (L, N, 3)
         psi = self.root_half_angle
         phi = jnp.stack([phi_c - psi, phi_c + psi], axis=-2)  # (L, N, 2 points, 3 nodes)
         zb = jnp.broadcast_to((pts[..., 2] + self.z_offset)[..., None, :], phi.shape)
-        i, j, w = self.face_weights(phi, zb)
-        w = w * jnp.asarray(MORTAR, points.dtype)[:, None, None]
+        i, j, w, face = self.face_weights(phi, zb)
+        # root points M_p1, M_p2 on the face at the slice centre, in the fixed frame
+        pk = _rot(rot, jnp.concatenate([face[..., 1, :], jnp.zeros_like(face[..., 1, :1])], -1))
+        pk = pk[..., :2] + _lead(self.centre[:2], pk[..., :2])  # (L, N, 2, 2)
+        c1, c2 = self.coefficients(points, line["normal"], pk[..., 0, :], pk[..., 1, :])
+        # coefficients in the body frame: c·u_fixed = (R(−φ_rot) c)·u_body
+        cb = jnp.stack([_rot(-rot, c1), _rot(-rot, c2)], axis=-2)  # (L, N, 2, 3)
+        w = w * jnp.asarray(MORTAR, points.dtype).reshape((1,) * (w.ndim - 3) + (3, 1, 1))
         # window: n_window stations from the lowest one touched by a cell on the flanks
         Z = self.rim_dofs.shape[0]
         zc = line["zone"] - self.centre
@@ -276,10 +293,11 @@ class HybridPair(Scene):
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
         b = self.mesh.face_width
         ez = jnp.array([0.0, 0.0, 1.0], self.K.dtype)
+        s = (self.roll_start + cells.s)[..., None]
         return (
-            self.tangent_point
-            + (self.roll_start + cells.s)[..., None] * self.direction
-            + (cells.z - 0.5 * b)[..., None] * ez
+            _lead(self.tangent_point, s)
+            + s * _lead(self.direction, s)
+            + (cells.z - 0.5 * b)[..., None] * _lead(ez, s)
         )
 
     def line(self):
@@ -472,7 +490,6 @@ def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None
         station0=float(ang[0]),
         pitch_angle=pitch,
         rim_radius=radius,
-        root_radius=rf,
         root_half_angle=psi_f,
         base_radius=pair.base_radii[member],
         base_half_angle=psi_b,

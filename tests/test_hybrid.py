@@ -1,0 +1,270 @@
+"""Hybrid model, quasi-static (issue 11): condensed FE bodies on the contact cells (seed II-2,
+HYBRID.md §1), the cell-space contact solve, centrifugal loads, case files and outputs.
+
+References: the same contact problem solved on the full coordinates (X space); the rigid-body
+vectors of the seed's (2.9); a rigid-node lumped scene; plane-stress rotating disc theory;
+central finite differences.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import pathlib
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import fem_prep
+import jaxgear as jg
+from jaxgear import io as jio
+from jaxgear.dynamics import quasi_static_scene, static_scene
+from jaxgear.scenes import FlexibleMember, grounded, hybrid_pair
+
+DATA = pathlib.Path(__file__).parent / "data"
+CASE = DATA / "hybrid-test-case.toml"
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("FEM_PREP_CACHE", str(tmp_path_factory.mktemp("fem_prep_cache")))
+        yield
+
+
+@pytest.fixture(scope="module")
+def case(cache):
+    return jio.load_case(CASE)
+
+
+@pytest.fixture(scope="module")
+def body(cache):
+    return fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+
+
+@pytest.fixture(scope="module")
+def scene(case, body):
+    return static_scene(case, bodies=(None, body))[0]
+
+
+def test_cell_space_solve_equals_full_coordinates(case, scene):
+    """The cell-space solve (structure factored once, C = V G Vᵀ) gives the solution of the
+    contact problem on the full coordinates X (output rotation grounded), exact and smooth."""
+    full = grounded(scene, (scene.torque_dofs[1],), factor=1e8)
+    theta = jg.mesh_positions(scene.mesh, 4, periods=2)
+    for mode in ("exact", "smooth"):
+        a = jg.quasi_static(scene, case.modifications, case.torque, theta, contact=mode)
+        b = jg.quasi_static(full, case.modifications, case.torque, theta, contact=mode)
+        assert np.all(np.asarray(a.result) == 0)
+        ll = float(jnp.max(a.line_load))
+        np.testing.assert_allclose(a.line_load, b.line_load, atol=1e-7 * ll)
+        np.testing.assert_allclose(a.transmission_error, b.transmission_error, rtol=1e-6)
+
+
+def _rigid_motion(scene, member, a_body, w_body):
+    """Coordinates X with the flexible member's rim master nodes in the rigid motion
+    u = a + ω × x (body frame); everything else at rest."""
+    X = np.zeros(scene.K.shape[0])
+    dofs = np.asarray(member.rim_dofs)  # (Z, n_ax, 3)
+    Z, n_ax, _ = dofs.shape
+    ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)
+    R = float(member.rim_radius)
+    for k in range(Z):
+        for j in range(n_ax):
+            x = np.array([R * math.cos(ang[k]), R * math.sin(ang[k]), float(member.z_nodes[j])])
+            X[dofs[k, j]] = a_body + np.cross(w_body, x)
+    return jnp.asarray(X)
+
+
+def _rot_z(angle, v):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
+
+
+@pytest.mark.parametrize("helix", [0.0, 8.0])
+def test_rigid_body_motion_gives_the_rigid_node_vector(case, body, helix):
+    """HYBRID.md §1.6: a rigid motion of the body's master nodes gives the (2.9) vector of a
+    rigid gear node, [−n, −(M − O2) × n]·(a, ω) in the fixed frame. Translations are exact; a
+    rotation about the axis to the chord/arc difference of the bilinear faces (measured 1e-4 on
+    30 stations); tilts exact for spur, within tilt·|M_pM|·sin β_b for helical."""
+    pair = case.pair
+    if helix:
+        pair = dataclasses.replace(pair, helix_angle=math.radians(helix), center_distance=None)
+        case = case.replace(pair=pair)
+    sc = static_scene(case, bodies=(None, body))[0]
+    member = sc.members[1]
+    assert isinstance(member, FlexibleMember)
+    n = np.asarray(sc.normal)
+    O2 = np.asarray(member.centre)
+    vectors = jax.jit(lambda th: sc.cell_vectors(sc.mesh.cells(th)))
+    for theta in (0.013, 0.2, 1.7):
+        cells = sc.mesh.cells(jnp.asarray(theta))
+        V = np.asarray(vectors(jnp.asarray(theta)))
+        mask = np.asarray(cells.mask)
+        P = np.asarray(sc.points(cells))
+        rot = float(member.frame_angle(theta))
+        for a_b, w_b, tol in (
+            (np.array([1.0, 0.0, 0.0]), np.zeros(3), 1e-12),
+            (np.array([0.0, 1.0, 0.3]), np.zeros(3), 1e-12),
+            (np.zeros(3), np.array([0.0, 0.0, 1.0 / 0.03]), 2e-3),
+            (np.zeros(3), np.array([2.0, -1.0, 0.0]), 1e-12 if not helix else None),
+        ):
+            X = np.asarray(_rigid_motion(sc, member, a_b, w_b))
+            got = V @ X
+            a, w = _rot_z(rot, a_b), _rot_z(rot, w_b)
+            want = -(n @ a) - np.cross(P - O2, n) @ w
+            scale = np.max(np.abs(want[mask]))
+            err = np.max(np.abs(got - want)[mask]) / scale
+            if tol is None:  # helical tilt: |ω| |M_pM| sin β_b bound (HYBRID.md §1.6)
+                arm = float(pair.tip_radii[1] - member.rim_radius) + 1e-3
+                bound = np.linalg.norm(w_b) * arm * math.sin(pair.base_helix_angle) / scale
+                assert err <= bound, (theta, err, bound)
+            else:
+                assert err <= tol, (theta, a_b, w_b, err)
+
+
+def test_rigidified_body_reproduces_the_rigid_node_scene(case, body, cache, tmp_path):
+    """A body 1000× stiffer (E × 1000) on the same shafts gives the TE of the rigid-node lumped
+    scene: mean within 0.5 %, RMS within 3 % (uniform mesh stiffness: no foundation term)."""
+    text = (DATA / "hybrid-test-wheel.toml").read_text()
+    stiff = fem_prep.parse_body(
+        text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
+    )
+    rigid_body = fem_prep.condensed(stiff)
+    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10, slices=4)
+    hyb = jg.quasi_static(
+        static_scene(uni, bodies=(None, rigid_body))[0], uni.modifications, uni.torque
+    )
+    lumped_case = uni.replace(scene=dataclasses.replace(uni.scene, gear_body=None))
+    ref = jg.quasi_static(static_scene(lumped_case)[0], uni.modifications, uni.torque)
+    assert float(hyb.te_mean) == pytest.approx(float(ref.te_mean), rel=5e-3)
+    assert float(hyb.te_rms) == pytest.approx(float(ref.te_rms), rel=3e-2)
+    # the steel web adds compliance
+    steel = jg.quasi_static(
+        static_scene(uni, bodies=(None, body))[0], uni.modifications, uni.torque
+    )
+    assert float(steel.te_mean) > 1.05 * float(ref.te_mean)
+
+
+def _disc_growth(a, b, E, nu, rho, w):
+    """Plane-stress rotating annular disc, u(a) = 0, σ_r(b) = 0: u(b) (Timoshenko & Goodier)."""
+    c = (1 - nu**2) * rho * w**2 / (8 * E)
+    # u = A r + B / r − c r³ ; σ_r ∝ (1+ν) A − (1−ν) B / r² − (3+ν) c r²
+    M = np.array([[a, 1 / a], [1 + nu, -(1 - nu) / b**2]])
+    A, B = np.linalg.solve(M, [c * a**3, (3 + nu) * c * b**2])
+    return A * b + B / b - c * b**3
+
+
+def test_centrifugal_growth_of_a_plain_disc_matches_plane_stress(case, cache):
+    """fem_prep → npz → hybrid scene: the rim radial growth of a thin plain disc (2 mm, bore
+    clamped by its bearing) at speed is within 1 % of the plane-stress closed form."""
+    text = (DATA / "hybrid-test-wheel.toml").read_text()
+    for old, new in (
+        ("hub_outer_radius_mm = 12.0", "hub_outer_radius_mm = 23.0"),
+        ("hub_width_mm = 16.0", "hub_width_mm = 2.0"),
+        ("web_thickness_mm = 3.0", "web_thickness_mm = 2.0"),
+        ("rim_width_mm = 10.0", "rim_width_mm = 2.0"),
+        ("width_mm = 16.0", "width_mm = 2.0"),
+        ("size_mm = 4.0", "size_mm = 2.0"),
+        ("axial_master_nodes = 3", "axial_master_nodes = 2"),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    disc = fem_prep.condensed(fem_prep.parse_body(text))
+    thin = case.replace(
+        pair=dataclasses.replace(
+            case.pair,
+            pinion=dataclasses.replace(case.pair.pinion, face_width=2e-3),
+            gear=dataclasses.replace(case.pair.gear, face_width=2e-3),
+        ),
+        slices=2,
+    )
+    spec = thin.scene
+    mesh = thin.mesh_model(flexible=(False, True))
+    w_pinion = 3000.0
+    sc = hybrid_pair(
+        thin.pair,
+        mesh,
+        spec.pinion_shaft,
+        spec.gear_shaft,
+        bodies=(None, disc),
+        masses=(1.0, 1.0),
+        inertias=((1e-3, 1e-3), (1e-3, 1e-3)),
+        speed=w_pinion,
+        tooth_mass=False,
+    )
+    w_gear = w_pinion * 20 / 30
+    want = _disc_growth(8e-3, 27.5e-3, 210e9, 0.3, 7800.0, w_gear)
+    got = float(sc.rim_radial_growth()[1])
+    assert got == pytest.approx(want, rel=1e-2)
+
+
+def test_gradients_through_the_hybrid_solve_match_finite_differences(case, scene):
+    """d(TE RMS)/d(tip relief depth) and d(max line load)/d(crowning) through the cell-space
+    solve (smooth contact: implicit function theorem) vs central differences."""
+    theta = jg.mesh_positions(scene.mesh, 8)
+
+    def f(p):
+        mm = jg.MemberModification(
+            tip_relief_depth=p[0] * 1e-6, tip_relief_extent=0.3, crowning_depth=p[1] * 1e-6
+        )
+        r = jg.quasi_static(
+            scene,
+            jg.Modifications.symmetric(mm),
+            case.torque,
+            theta,
+            contact="smooth",
+            width=case.smooth_width,
+        )
+        return jnp.stack([r.te_rms * 1e6, jnp.max(r.line_load) * 1e-6])
+
+    p0 = jnp.array([8.0, 4.0])
+    J = np.asarray(jax.jit(jax.jacfwd(f))(p0))
+    fj = jax.jit(f)
+    h = 1e-3
+    for i in range(2):
+        e = np.zeros(2)
+        e[i] = h
+        fd = (np.asarray(fj(p0 + e)) - np.asarray(fj(p0 - e))) / (2 * h)
+        np.testing.assert_allclose(J[:, i], fd, rtol=1e-5, atol=1e-7)
+    assert abs(J[0, 0]) > 1e-3 and abs(J[1, 1]) > 1e-4  # the derivatives are not trivially 0
+
+
+def test_case_errors_are_one_line(cache, tmp_path):
+    """Bad body references and non-nested slices are one-line errors naming the key."""
+    text = CASE.read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('body = "hybrid-test-wheel.toml"', 'body = "no-such-body"'))
+    with pytest.raises(ValueError, match=r"scene\.gear_body\] body = 'no-such-body'"):
+        jio.load_case(bad)
+    missing = tmp_path / "missing.toml"
+    missing.write_text(text.replace("hybrid-test-wheel.toml", "nowhere.toml"))
+    with pytest.raises(ValueError, match="no such file"):
+        jio.load_case(missing)
+    case = jio.load_case(CASE)
+    with pytest.raises(ValueError, match=r"mesh.slices = 3: the slices must nest"):
+        static_scene(case, slices=3)
+
+
+def test_quasi_static_scene_bearing_forces_balance_the_mesh_force(case, body):
+    """The mean bearing forces of each shaft balance the mesh force (fixed frame), so the
+    rotation of the wheel's forces back from its body frame is right."""
+    res, forces = quasi_static_scene(case, bodies=(None, body))
+    Fn = case.normal_load
+    pin = np.array(
+        [
+            sum(v for k, v in forces.items() if k.startswith("pinion") and k.endswith(c))
+            for c in ("Fx", "Fy")
+        ]
+    )
+    gear = np.array(
+        [
+            sum(v for k, v in forces.items() if k.startswith("gear") and k.endswith(c))
+            for c in ("Fx", "Fy")
+        ]
+    )
+    assert np.linalg.norm(pin) == pytest.approx(Fn, rel=1e-3)
+    np.testing.assert_allclose(gear, -pin, rtol=1e-3)
