@@ -109,9 +109,9 @@ class MeshModel(eqx.Module):
             )
         lead = pair.face_width * math.tan(pair.base_helix_angle)
         # s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt): a line can reach [0, g_α] only for
-        # 0 <= i <= (g_α + b tan β_b)/p_bt
+        # 0 <= i <= (g_α + b tan β_b)/p_bt (the smallest s of line i is i p_bt − b tan β_b)
         first = 0
-        last = int(math.ceil((pair.path_of_contact + lead) / pair.base_pitch))
+        last = int(math.floor((pair.path_of_contact + lead) / pair.base_pitch * (1 + 1e-12)))
         return cls(
             pair.path_of_contact,
             pair.base_pitch,

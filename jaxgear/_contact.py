@@ -195,6 +195,25 @@ def solve_contact(
     return _finish(x, V @ x - delta0, k, kl, mask, mode, width, iterations, result)
 
 
+def _bordered_solve(C, E, d, r1, r2):
+    """Solve [I + C diag(d), −E; Eᵀ diag(d), 0] [u; α] = [r1; r2] for d >= 0.
+
+    With S = diag(√d) and v = S u: (I + S C S) v − S E α = S r1 and (S E)ᵀ v = r2 — a symmetric
+    positive definite matrix (one Cholesky factorisation) and an r × r Schur complement for α;
+    then u = r1 − C S v + E α. Returns [u; α].
+    """
+    s = jnp.sqrt(d)
+    A = jnp.eye(C.shape[0], dtype=C.dtype) + s[:, None] * C * s[None, :]
+    F = s[:, None] * E
+    cf = jax.scipy.linalg.cho_factor(A)
+    Y = jax.scipy.linalg.cho_solve(cf, jnp.concatenate([(s * r1)[:, None], F], axis=1))
+    y0, YF = Y[:, 0], Y[:, 1:]
+    alpha = _solve(F.T @ YF, r2 - F.T @ y0)
+    v = y0 + YF @ alpha
+    u = r1 - C @ (s * v) + E @ alpha
+    return jnp.concatenate([u, alpha])
+
+
 def solve_contact_cells(
     C: Float[Array, "c c"],
     a: Float[Array, " c"],
@@ -235,42 +254,29 @@ def solve_contact_cells(
     kl = jnp.where(mask, k * length, 0.0)
     sg = jax.lax.stop_gradient
     maskf = mask.astype(kl.dtype)
-    # the balance rows are scaled to O(1) entries (their natural scale is the cell stiffness)
-    scale = 1.0 / jnp.maximum(jnp.max(sg(kl)), jnp.finfo(kl.dtype).tiny)
-    eye = jnp.eye(c, dtype=C.dtype)
-
-    def matrix(C, E, d):
-        top = jnp.concatenate([eye + C * d[None, :], -E], axis=1)
-        bot = jnp.concatenate([scale * E.T * d[None, :], jnp.zeros((r, r), C.dtype)], axis=1)
-        return jnp.concatenate([top, bot], axis=0)
-
-    def solve_with(C, a, E, b, kl, weight):
-        return _solve(matrix(C, E, kl * weight), jnp.concatenate([a, scale * b]))
-
     C_, a_, E_, b_, kl_ = sg(C), sg(a), sg(E), sg(b), sg(kl)
+
+    def solve_with(weight):
+        return _bordered_solve(C_, E_, kl_ * weight, a_, b_)
+
     y_ex, active, it_ex, changed = _active_set(
-        lambda w: solve_with(C_, a_, E_, b_, kl_, w),
-        lambda y: y[:c],
-        maskf,
-        jnp.zeros(c + r, a.dtype),
-        max_iterations,
+        solve_with, lambda y: y[:c], maskf, jnp.zeros(c + r, a.dtype), max_iterations
     )
     result = jnp.where(changed, 1, 0)
     if mode == "exact":
-        y = solve_with(C, a, E, b, kl, sg(active))
+        y = _bordered_solve(C, E, kl * sg(active), a, b)
         iterations = it_ex
     else:
 
         def residual(y):
-            phi, _ = _phi(y[:c], "smooth", width)
-            p = kl * phi
-            return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], scale * (E.T @ p - b)])
+            p = kl * _phi(y[:c], "smooth", width)[0]
+            return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], E.T @ p - b])
 
         def step_of(y):
             phi, dphi = _phi(y[:c], "smooth", sg(width))
             p = kl_ * phi
-            res = jnp.concatenate([y[:c] - a_ + C_ @ p - E_ @ y[c:], scale * (E_.T @ p - b_)])
-            return _solve(matrix(C_, E_, kl_ * dphi), res)
+            r1 = y[:c] - a_ + C_ @ p - E_ @ y[c:]
+            return _bordered_solve(C_, E_, kl_ * dphi, r1, E_.T @ p - b_)
 
         y_sm, it_sm, step = _newton(step_of, sg(y_ex), max_iterations)
         y = _implicit_root(residual, sg(y_sm))

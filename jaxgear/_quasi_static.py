@@ -115,6 +115,7 @@ def _one_position(
             max_iterations,
         )
         x = scene.recover(window, force, alpha)
+        u_x = scene.te_recover(window, force, alpha)
     else:
         V = scene.cell_vectors(cells)
         n = V.shape[-1]
@@ -130,8 +131,9 @@ def _one_position(
             max_iterations,
         )
         x = sol.x
+        u_x = scene.te_vector() @ x
     cos_bb = jnp.cos(mesh.base_helix_angle)
-    te = (scene.te_vector() @ x - e_max) / cos_bb
+    te = (u_x - e_max) / cos_bb
     kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)
     stiff = jnp.sum(kl * sol.weight)
     length = jnp.sum(cells.length.reshape(-1) * sol.weight)

@@ -7,11 +7,14 @@ Three models (DESIGN.md §3):
   constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``, so that the mean mesh stiffness
   (normal to the flanks, in the base plane) times cos² β_b equals c_γα b.
 * ``weber``: Weber–Banaschek thin-slice model, seed (1.1)–(1.3): Hertzian approach, tooth bending
-  and shear of a cantilever on the real tooth-thickness profile, elastic foundation, pinion and
-  gear compliances in series. The foundation (gear-body) term is Weber's half-plane one
-  (``foundation="weber"``, L, M, P, Q = 5.2, 1.0, 1.4, 0.3), Sainsot et al.'s fit that depends on
-  the bore (``"sainsot"``), or left out (``"none"``). It varies along the profile; it is tabulated on a grid of the
-  base-plane coordinate s ∈ [0, g_α] and interpolated linearly in the JAX kernels.
+  and shear of a cantilever on the real tooth-thickness profile (the exact rack-generated tooth of
+  :mod:`fem_prep.tooth_form`: involute and trochoidal fillet down to the root circle), elastic
+  foundation, pinion and gear compliances in series. The foundation (gear-body) term is Weber's
+  half-plane one (``foundation="weber"``, L, M, P, Q = 5.2, 1.0, 1.4, 0.3), Sainsot et al.'s fit
+  that depends on the bore (``"sainsot"``), or left out (``"none"``), chosen per member
+  (``("weber", "none")``: a rigid pinion keeps its term, a flexible FE wheel, whose condensed body
+  supplies the body compliance, has none). It varies along the profile; it is tabulated on a
+  grid of the base-plane coordinate s ∈ [0, g_α] and interpolated linearly in the JAX kernels.
 
 The profile is computed in the transverse section. A slice of width dz loaded along the transverse
 line of action with f_t per unit width deflects δ_t = f_t / k_t; the flank-normal force is
@@ -23,6 +26,7 @@ Everything here is a constant for JAX (no gradient through stiffness tables).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -34,6 +38,7 @@ __all__ = [
     "bore_radius",
     "iso6336_mesh_stiffness",
     "iso6336_single_stiffness",
+    "member_foundations",
     "sainsot_coefficients",
     "sainsot_fit_check",
     "stiffness_table",
@@ -76,6 +81,32 @@ def _foundation_name(foundation: bool | str | None) -> str:
     return foundation
 
 
+def member_foundations(foundation) -> tuple[str, str]:
+    """The foundation term of each member, ``(pinion, gear)``.
+
+    Args:
+        foundation: one name for both members ("weber" | "sainsot" | "none"; ``True``/``False``
+            alias "weber"/"none") or a 2-tuple/list of them, ``(pinion, gear)``: e.g.
+            ``("weber", "none")`` when the wheel is a condensed FE body (its rim supplies the body
+            compliance) and the pinion is rigid.
+
+    Returns:
+        ``(pinion, gear)`` names.
+
+    Raises:
+        ValueError: an unknown name, or a sequence that is not of length 2.
+    """
+    if isinstance(foundation, (tuple, list)):
+        if len(foundation) != 2:
+            raise ValueError(
+                f"mesh.foundation = {foundation!r} has {len(foundation)} entries: allowed one "
+                "name for both members or a (pinion, gear) pair of 'weber', 'sainsot', 'none'"
+            )
+        return (_foundation_name(foundation[0]), _foundation_name(foundation[1]))
+    name = _foundation_name(foundation)
+    return (name, name)
+
+
 def sainsot_coefficients(h_f, theta_f) -> dict:
     """Sainsot et al. (2004) L*, M*, P*, Q* at h_f = r_f / r_int and θ_f (rad)."""
     return {
@@ -92,11 +123,47 @@ def bore_radius(pair: GearPair, member: int) -> float:
     return BORE_DEFAULT_FRACTION * pair.root_radii[member]
 
 
+# Fillet points per flank of the tooth form used by the Weber integrals: the half thickness is
+# interpolated between them with an O(n⁻²) error (≈ 1e-7 relative on the mean mesh stiffness).
+_N_FILLET = 200
+
+
+@functools.lru_cache(maxsize=64)
+def _generated_tooth(teeth, mn, an, beta, x, ha, hf, rho_coeff, tag):
+    from fem_prep.tooth_form import generate_tooth  # lazy: fem_prep's __init__ imports SciPy
+
+    try:
+        return generate_tooth(
+            teeth, mn, an, beta, x, ha, hf, rho_coeff, n_fillet=_N_FILLET, n_involute=2, n_tip=0
+        )
+    except ValueError as err:
+        raise ValueError(f"{tag}.{err}") from None
+
+
+def _tooth_form(pair: GearPair, member: int):
+    """The rack-generated tooth of a member (:class:`fem_prep.tooth_form.ToothForm`, cached).
+
+    Its outline carries only the fillet at full resolution (200 points per flank) and the two
+    ends of the involute; call :func:`fem_prep.tooth_form.generate_tooth` for a drawing/mesh.
+    """
+    m = (pair.pinion, pair.gear)[member]
+    return _generated_tooth(
+        int(m.teeth),
+        float(pair.normal_module),
+        float(pair.normal_pressure_angle),
+        float(pair.helix_angle),
+        float(m.profile_shift),
+        float(m.addendum_coeff),
+        float(m.dedendum_coeff),
+        float(m.fillet_radius_coeff),
+        ("pinion", "gear")[member],
+    )
+
+
 def _root_angle(pair: GearPair, member: int) -> float:
-    """θ_f (rad): half the angular tooth thickness at the root circle (fillets included)."""
-    rf = pair.root_radii[member]
-    chord = float(_chordal_thickness(pair, member, np.array([rf]))[0])
-    return math.asin(min(chord / (2 * rf), 1.0))
+    """θ_f (rad): angle from the tooth centre line to the point where the generated fillet meets
+    the root circle (half the angular tooth thickness at the root circle, fillets included)."""
+    return float(_tooth_form(pair, member).root_half_angle)
 
 
 def sainsot_fit_check(pair: GearPair) -> list[dict]:
@@ -162,26 +229,26 @@ def _half_thickness_angle(pair: GearPair, member: int, r: np.ndarray) -> np.ndar
 
 
 def _chordal_thickness(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray:
-    """Tooth thickness d(r) (m) across the tooth centre line at radius r.
+    """Tooth thickness d(r) (m) across the tooth centre line at radius r (transverse).
 
-    Involute flank above the form circle; below it, down to the root circle, a circular fillet of
-    radius ρ' = min(ρ_fP, r_F − r_f) tangent to the root circle widens the tooth (an
-    approximation of the generated trochoid, documented in the README).
+    Twice the distance from the centre line to the flank point at radius r: the involute
+    ``2 r sin ψ(r)`` above the form circle (continued beyond the tip), the rack-generated
+    trochoidal fillet below it, down to the root circle (:meth:`ToothForm.half_thickness`, exact
+    up to an O(200⁻²) interpolation); radii below the root circle get the root value.
     """
-    rb = pair.base_radii[member]
-    rf = pair.root_radii[member]
-    r_form = max(math.hypot(pair.form_roll[member], rb), rb)
+    form = _tooth_form(pair, member)
     r = np.asarray(r, dtype=float)
-    r_inv = np.maximum(r, r_form)
+    r_inv = np.maximum(r, form.form_radius)
     half = r_inv * np.sin(_half_thickness_angle(pair, member, r_inv))
-    m = (pair.pinion, pair.gear)[member]
-    rho = min(m.fillet_radius_coeff * pair.normal_module, max(r_form - rf, 0.0))
-    if rho > 0:
-        t = np.clip(r - rf, 0.0, rho)
-        half = half + np.where(
-            r < rf + rho, rho - np.sqrt(np.maximum(rho**2 - (rho - t) ** 2, 0.0)), 0.0
-        )
-    return 2 * half
+    below = np.clip(r, form.root_radius, form.form_radius)
+    return 2 * np.where(r >= form.form_radius, half, form.half_thickness(below))
+
+
+@functools.lru_cache(maxsize=8)
+def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (cached: NumPy's eigenvalue solve for 400
+    points takes about 0.5 s)."""
+    return np.polynomial.legendre.leggauss(n)
 
 
 def _member_compliance(
@@ -213,7 +280,7 @@ def _member_compliance(
     r_load = rb / np.cos(alpha_p)  # where the line of action crosses the tooth centre line
     u = r_load - rf  # cantilever length from the root circle
     # Gauss-Legendre on [0, u] for each contact point (integrands smooth on the involute part)
-    xg, wg = np.polynomial.legendre.leggauss(n_quad)
+    xg, wg = _gauss_legendre(n_quad)
     y = 0.5 * (xg[None, :] + 1.0) * u[:, None]
     w = 0.5 * wg[None, :] * u[:, None]
     d = _chordal_thickness(pair, member, rf + y)
@@ -243,7 +310,7 @@ def weber_profile(
     youngs_modulus: float,
     poisson_ratio: float,
     line_load: float,
-    foundation: bool | str = "weber",
+    foundation: bool | str | tuple[str, str] = "weber",
 ) -> np.ndarray:
     """Weber–Banaschek stiffness per unit contact-line length along the line of action.
 
@@ -253,10 +320,11 @@ def weber_profile(
         youngs_modulus: E (Pa); poisson_ratio: ν.
         line_load: transverse load per unit face width (N/m) used in the Hertzian term (1.1);
             the Hertzian approach depends on it logarithmically.
-        foundation: the foundation (gear-body) term for both members: "weber" (1.3), "sainsot"
-            (Sainsot et al. 2004, depends on ``Member.bore_radius``) or "none" (drop it when a
-            condensed FE body supplies the body compliance, (2.31) remark); ``True``/``False``
-            are aliases of "weber"/"none".
+        foundation: the foundation (gear-body) term: "weber" (1.3), "sainsot" (Sainsot et al.
+            2004, depends on ``Member.bore_radius``) or "none" (drop it when a condensed FE body
+            supplies the body compliance, (2.31) remark) for both members, or a ``(pinion,
+            gear)`` pair of them (see :func:`member_foundations`); ``True``/``False`` are
+            aliases of "weber"/"none".
 
     Returns:
         k(s) (N/m per m of contact line), shape (n,), flank-normal.
@@ -265,10 +333,8 @@ def weber_profile(
     rho1 = pair.roll_distance(s, 0)
     rho2 = pair.roll_distance(s, 1)
     E, nu = youngs_modulus, poisson_ratio
-    foundation = _foundation_name(foundation)
-    c = _member_compliance(pair, 0, rho1, E, nu, foundation) + _member_compliance(
-        pair, 1, rho2, E, nu, foundation
-    )
+    f1, f2 = member_foundations(foundation)
+    c = _member_compliance(pair, 0, rho1, E, nu, f1) + _member_compliance(pair, 1, rho2, E, nu, f2)
     # Hertzian approach (1.1): d_i = distance from the contact point to the tooth centre line
     d_i = [
         np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
@@ -295,18 +361,26 @@ def stiffness_table(
     line_load: float = 2e5,
     uniform_k0: float | None = None,
     n_points: int = 129,
-    foundation: bool | str = "weber",
+    foundation: bool | str | tuple[str, str] = "weber",
+    fe2d_size: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
 
-    ``foundation`` ("weber" | "sainsot" | "none", or the old ``True``/``False``) applies to the
-    ``weber`` model only.
+    ``foundation`` ("weber" | "sainsot" | "none", or the old ``True``/``False``, for both
+    members, or a ``(pinion, gear)`` pair of them, see :func:`member_foundations`) applies to the
+    ``weber`` model only, except that ``"none"`` with ``fe2d`` selects that member's tooth-only
+    FE compliance (the hybrid model's FE body supplies the rest); any other name gives the FE
+    tooth + body down to the bore (:func:`bore_radius`).
+
+    ``fe2d``: plane-strain FE compliance of each member's tooth + body
+    (:func:`fem_prep.tooth_compliance`, cached by input hash; element size ``fe2d_size`` (m),
+    default m_n / 6) plus Weber's Hertzian approach (1.1), exactly as :func:`weber_profile`.
 
     Raises:
         ValueError: unknown ``model`` or ``foundation``, or ``uniform`` without a positive
             ``uniform_k0``.
     """
-    foundation = _foundation_name(foundation)
+    foundation = member_foundations(foundation)
     s = np.linspace(0.0, pair.path_of_contact, n_points)
     if model == "uniform":
         if uniform_k0 is None or not uniform_k0 > 0:
@@ -322,9 +396,36 @@ def stiffness_table(
         k = np.full_like(s, k0)
     elif model == "weber":
         k = weber_profile(pair, s, youngs_modulus, poisson_ratio, line_load, foundation)
+    elif model == "fe2d":
+        import fem_prep  # lazy: SciPy and scikit-fem only when the FE model runs
+
+        E, nu, cb = youngs_modulus, poisson_ratio, math.cos(pair.base_helix_angle)
+        rho = [pair.roll_distance(s, i) for i in (0, 1)]
+        c = np.zeros_like(s)
+        for i, m in enumerate((pair.pinion, pair.gear)):
+            fe = fem_prep.tooth_compliance(
+                m.teeth,
+                pair.normal_module,
+                pair.normal_pressure_angle,
+                helix_angle=pair.helix_angle,
+                profile_shift=m.profile_shift,
+                addendum_coeff=m.addendum_coeff,
+                dedendum_coeff=m.dedendum_coeff,
+                fillet_radius_coeff=m.fillet_radius_coeff,
+                rim_radius=bore_radius(pair, i),
+                youngs_modulus=E,
+                poisson_ratio=nu,
+                size=fe2d_size,
+                progress=None,
+            )
+            c = c + fe(rho[i], tooth_only=foundation[i] == "none")
+        # Weber's Hertzian approach, from weber_profile's own code path: 1/k_t − (tooth terms)
+        c_none = sum(_member_compliance(pair, i, rho[i], E, nu, "none") for i in (0, 1))
+        c_hertz = 1.0 / (cb * weber_profile(pair, s, E, nu, line_load, "none")) - c_none
+        k = 1.0 / (c + c_hertz) / cb
     else:
         raise ValueError(
-            f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336'"
+            f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336', 'fe2d'"
         )
     if not np.all(np.isfinite(k)) or np.any(k <= 0):
         raise ValueError(
@@ -333,7 +434,7 @@ def stiffness_table(
             + (
                 f" or the load (line load {line_load * 1e-3:.6g} N/mm: a Hertzian contact wider "
                 "than the teeth)"
-                if model == "weber"
+                if model in ("weber", "fe2d")
                 else ""
             )
         )

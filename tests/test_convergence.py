@@ -8,8 +8,10 @@ Observed rates (float64, exact contact), stated here and asserted below:
   The TE RMS itself converges at least as fast (|RMS_N − RMS_ref| ≤ e_N, RMS about the mean is
   a seminorm) but not monotonically: its error is a small difference of two O(e_N) quantities.
 * Positions per pitch P (8 slices, reference P = 2048): the TE RMS error falls with a log-log
-  slope ≈ 1.9 from P = 4 to 128 (mid-point rule on a periodic, piecewise-smooth TE(θ): second
-  order, with O(1/P) bumps from the small jumps of the sliced TE curve).
+  slope ≈ 2.5 from P = 4 to 128 (mid-point rule on a periodic, piecewise-smooth TE(θ): second
+  order, with O(1/P) bumps from the small jumps of the sliced TE curve; the errors are not
+  monotone, so the fitted slope moves with the stiffness table: 1.9 with the former
+  circular-arc fillet).
 """
 
 import functools
@@ -98,7 +100,7 @@ def test_position_refinement_converges():
     rms_ref = _rms(curves[-1])
     err = np.array([abs(_rms(c) - rms_ref) for c in curves[:-1]])
     order = _order(np.array(levels), err)
-    assert 1.5 < order < 2.5  # ≈ 1.9 measured: second order
+    assert 1.5 < order < 3.0  # ≈ 2.5 measured: second order (or better, by chance)
     # over two doublings the error always drops by more than 4 (first order would give 4)
     assert np.all(err[:-2] / err[2:] > 4.0)
     assert err[-1] < 1e-3 * rms_ref

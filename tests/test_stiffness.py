@@ -92,12 +92,13 @@ def test_iso6336_per_length_value_gives_c_gamma_alpha(name):
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_weber_mean_mesh_stiffness_in_iso_band(name):
     """README: "For the embedded cases Weber's mean mesh stiffness per unit face width is
-    1.28 ± 0.01 c_γα (1.277 accessory-spur, 1.284 power-helical), 2–3 % above ISO's theoretical
+    1.30 ± 0.01 c_γα (1.293 accessory-spur, 1.299 power-helical), 3–4 % above ISO's theoretical
     value c_γα/C_M = 1.25 c_γα" (Weber is theoretical: no measured-vs-theory factor C_M).
 
-    Measured at the cases' 40 slices × 64 positions: accessory-spur 30.04 N/(mm·µm) = 1.2766 c_γα;
-    power-helical 27.08 N/(mm·µm) = 1.2845 c_γα (1.331 without the cos²β_b of the per-width
-    convention). Coarser sampling shifts it (1.266 for the spur pair at 32 positions).
+    Measured at the cases' 40 slices × 64 positions: accessory-spur 30.43 N/(mm·µm) = 1.2933 c_γα;
+    power-helical 27.39 N/(mm·µm) = 1.2987 c_γα (1.346 without the cos²β_b of the per-width
+    convention). Coarser sampling shifts it (1.282 for the spur pair at 32 positions). With the
+    former circular-arc fillet: 1.2766 and 1.2845 (the exact trochoid is wider near the root).
     """
     case = jio.load_case(name)
     pair = case.pair
@@ -106,7 +107,7 @@ def test_weber_mean_mesh_stiffness_in_iso_band(name):
         float(jnp.mean(res.mesh_stiffness)) * math.cos(pair.base_helix_angle) ** 2 / pair.face_width
     )
     ratio = per_width / jg.iso6336_mesh_stiffness(pair)
-    assert ratio == pytest.approx(1.28, abs=0.01)
+    assert ratio == pytest.approx(1.30, abs=0.01)
     assert ratio > 1 / 0.8  # above the theoretical ISO value c_γα / C_M
 
 

@@ -23,12 +23,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "mesh_stiffness.png",
         "load_map.png",
         "harris_map.png",
-        "load_map_scene.png",
-        "load_map_scene_speed.png",
-        "scene_body_pinion.vtu",
-        "scene_body_gear.vtu",
-        "scene_contact.vtu",
     ),
+    # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
+    "scene": ("load_map.png", "load_map_speed.png", "body_pinion.vtu", "body_gear.vtu", "contact.vtu"),
     "sweep": ("sweep.json", "dynamic_factor.png", "campbell.png"),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
@@ -36,9 +33,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),
 }
-# ``jaxgear run`` also owns the sweep/ and optimise/ subfolders of its folder
-OUTPUT_FILES["run"] += tuple(f"sweep/{n}" for n in OUTPUT_FILES["sweep"]) + tuple(
-    f"optimise/{n}" for n in OUTPUT_FILES["optimise"]
+# ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
+OUTPUT_FILES["run"] += tuple(
+    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene") for n in OUTPUT_FILES[sub]
 )
 
 

@@ -101,6 +101,8 @@ def run_case(
         "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
         "mesh": {
             "stiffness": case.stiffness_model,
+            "foundation": case.foundation,
+            "fe2d_size_m": case.fe2d_size if case.stiffness_model == "fe2d" else None,
             "slices": case.slices,
             "positions_per_pitch": ppp,
             "smooth_width_m": case.smooth_width,
@@ -186,6 +188,19 @@ def run_case(
     return summary
 
 
+def _stiffness_line(mesh: dict) -> str:
+    """Which mesh stiffness model ran (``stiffness = ...`` and its foundation term)."""
+    model, found = mesh.get("stiffness", "?"), mesh.get("foundation")
+    if model == "weber" and found is not None:
+        return f"mesh stiffness model: weber (foundation {found})"
+    if model == "fe2d":
+        part = "tooth only" if found == "none" else "tooth + body to the bore"
+        h = mesh.get("fe2d_size_m")
+        size = "m_n/6" if h is None else f"{h * 1e6:g} µm"
+        return f"mesh stiffness model: fe2d (plane-strain FE, {part}, element size {size})"
+    return f"mesh stiffness model: {model}"
+
+
 def format_table(summary: dict) -> str:
     """A short plain-text table of the main figures."""
     g = summary["geometry"]
@@ -193,6 +208,7 @@ def format_table(summary: dict) -> str:
         f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
         f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
         f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m",
+        _stiffness_line(summary.get("mesh", {})),
         f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
     for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
@@ -229,7 +245,7 @@ def run_command(args) -> int:
     if case.scene is not None and case.scene.model == "lumped3d":
         from ._scene import scene_outputs
 
-        summary["quasi_static_scene"] = scene_outputs(case, out)
+        summary["quasi_static_scene"] = scene_outputs(case, os.path.join(out, "scene"))
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
         # the case has a dynamic scene: add the dynamic factor curve

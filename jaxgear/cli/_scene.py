@@ -40,7 +40,7 @@ def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
         ang = float(member.frame_angle(theta))
         centre = np.asarray(member.centre)
         pts = _rot(ang, np.asarray(body.recovery_coords)) + centre
-        name = f"scene_body_{('pinion', 'gear')[m]}.vtu"
+        name = f"body_{('pinion', 'gear')[m]}.vtu"
         write_vtu(
             os.path.join(out_dir, name),
             pts,
@@ -53,12 +53,12 @@ def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
     load = np.asarray(res.line_load[k]).reshape(-1)[on] / 1e3
     write_vtu(
-        os.path.join(out_dir, "scene_contact.vtu"),
+        os.path.join(out_dir, "contact.vtu"),
         P,
         [("vertex", np.arange(P.shape[0])[:, None])],
         {"line_load_N_per_mm": load},
     )
-    written.append("scene_contact.vtu")
+    written.append("contact.vtu")
     return written
 
 
@@ -67,8 +67,8 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
 
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
-    ``centrifugal`` (rim radial growth per body at the case's speed), the load-map files and
-    the VTU files.
+    ``centrifugal`` (rim radial growth per body at the case's speed), the load maps and the VTU
+    files (written to ``out_dir``, the run's ``scene/`` folder).
     """
     from .. import load_map
     from ..dynamics import bearing_forces, static_scene
@@ -105,7 +105,7 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
         },
     }
     files = []
-    maps = [("load_map_scene.png", res["exact"], "at rest" if case.speed == 0 else "")]
+    maps = [("load_map.png", res["exact"], "at rest" if case.speed == 0 else "")]
     if case.speed > 0:
         import equinox as eqx
 
@@ -117,8 +117,8 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
         )
         out["exact_at_rest"] = result_summary(rest)
         maps = [
-            ("load_map_scene.png", rest, "at rest"),
-            ("load_map_scene_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
+            ("load_map.png", rest, "at rest"),
+            ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
         ]
     for name, r, label in maps:
         s_edges, z, lmap = load_map(r, ppp, pair.base_pitch, pair.path_of_contact)
@@ -132,7 +132,7 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
         )
         files.append(name)
     files += write_scene_vtu(out_dir, scene, bodies, res["exact"])
-    out["files"] = files
+    out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
     return out
 
 

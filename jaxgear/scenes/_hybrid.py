@@ -258,7 +258,8 @@ class HybridPair(Scene):
             rotation, scaled to a unit base-plane approach (n, 1). f_torque: load per unit pinion
             torque (n,). f_centrifugal: load per unit (pinion speed)² (n,). x_torque, x_centrifugal:
             G f_torque, G f_centrifugal. speed: pinion speed Ω (rad/s) of the centrifugal load.
-            te: TE vector u (u·X, m) at the gear positions of the shafts. reaction: bearing force
+            te: TE vector u (u·X, m) at the gear positions of the shafts. te_compliance: G u.
+            reaction: bearing force
             rows (r, n). tangent_point, direction, normal, roll_start: the line of action.
     """
 
@@ -273,6 +274,7 @@ class HybridPair(Scene):
     x_centrifugal: Float[Array, " n"]
     speed: Float[Array, ""]
     te: Float[Array, " n"]
+    te_compliance: Float[Array, " n"]
     reaction: Float[Array, "r n"]
     tangent_point: Float[Array, " 3"]
     direction: Float[Array, " 3"]
@@ -390,7 +392,13 @@ class HybridPair(Scene):
     def recover(self, window, P, alpha):
         """X = G (F − Vᵀ P) + N α from the cell forces P (c,) and the rigid amplitudes α."""
         idx, Vw, x0 = window
-        return x0 - self.G[:, idx] @ (Vw.T @ P) + self.N @ alpha
+        z = jnp.zeros_like(x0).at[idx].add(Vw.T @ P)
+        return x0 - self.G @ z + self.N @ alpha
+
+    def te_recover(self, window, P, alpha):
+        """u·X (m) without recovering X: u·X0 − (G u)_W·(V_Wᵀ P) + (u·N) α."""
+        idx, Vw, x0 = window
+        return self.te @ x0 - self.te_compliance[idx] @ (Vw.T @ P) + (self.te @ self.N) @ alpha
 
 
 # ------------------------------------------------------------------------------------------
@@ -481,7 +489,7 @@ def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
     psi_f = _root_angle(pair, member)
     if n_window is None:
-        n_window = math.ceil(eps + 2 * psi_f / pitch) + 3
+        n_window = math.ceil(eps + 2 * psi_f / pitch) + 2
     fm = FlexibleMember(
         centre=centre,
         rim_dofs=rim_dofs,
@@ -675,6 +683,7 @@ def hybrid_pair(
         x_centrifugal=jnp.asarray(G @ fc),
         speed=jnp.asarray(float(speed)),
         te=jnp.asarray(te),
+        te_compliance=jnp.asarray(G @ te),
         reaction=jnp.asarray(pad(d["reaction"])),
         tangent_point=jnp.asarray(d["tangent_point"]),
         direction=jnp.asarray(d["direction"]),
@@ -699,12 +708,26 @@ def hybrid_pair(
                 _flexible_member(pair, m, body, gidxs[m], jnp.asarray(centres[m]), line, mesh)
             )
     scene = eqx.tree_at(lambda s: s.members, scene, tuple(members), is_leaf=lambda x: x is None)
-    _check_windows(scene)
-    return scene
+    # the window estimate (stations spanned by the contact zone and the root points) is checked
+    # over two mesh periods and widened if a cell reaches beyond it
+    for _ in range(4):
+        if not _windows_overflow(scene):
+            return scene
+        scene = eqx.tree_at(
+            lambda s: s.members,
+            scene,
+            tuple(
+                eqx.tree_at(lambda f: f.n_window, m, m.n_window + 1)
+                if isinstance(m, FlexibleMember)
+                else m
+                for m in scene.members
+            ),
+        )
+    raise ValueError("hybrid scene: the contact zone does not fit a rim window (internal error)")
 
 
-def _check_windows(scene: HybridPair, samples: int = 48) -> None:
-    """Every cell on the flanks stays inside its member's window over two mesh periods."""
+def _windows_overflow(scene: HybridPair, samples: int = 48) -> bool:
+    """Whether a cell on the flanks reaches beyond its member's window over two mesh periods."""
     import jax
 
     mesh = scene.mesh
@@ -712,7 +735,4 @@ def _check_windows(scene: HybridPair, samples: int = 48) -> None:
     over = jax.jit(jax.vmap(lambda th: scene.window_overflow(mesh.cells(th))))(
         jnp.asarray(thetas, scene.K.dtype)
     )
-    if bool(np.any(np.asarray(over))):
-        raise ValueError(
-            "hybrid scene: a contact cell reaches beyond the rim window (internal error)"
-        )
+    return bool(np.any(np.asarray(over)))
