@@ -226,8 +226,12 @@ def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
             raise ValueError(
                 f"shaft position {z * 1e3:.6g} mm is outside the shaft [0, {spec.length * 1e3:.6g}] mm"
             )
-    # refine every segment into about `elements` elements over the whole length
-    base = sorted(zs)
+    # refine every segment into about `elements` elements over the whole length; positions that
+    # differ by rounding only (60 + 10 mm vs 70 mm) are one node
+    base = []
+    for z in sorted(zs):
+        if not base or z - base[-1] > 1e-9 * max(spec.length, 1.0):
+            base.append(z)
     nodes = []
     for a, b in zip(base[:-1], base[1:], strict=True):
         k = max(1, round(spec.elements * (b - a) / spec.length))
