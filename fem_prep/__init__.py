@@ -48,6 +48,14 @@ from ._modal import (
 )
 from ._prepare import Prepared as Prepared, prepare as prepare
 from ._solver import factorize as factorize, shift_invert_modes as shift_invert_modes
+from ._tooth_fe import (
+    ToothCompliance as ToothCompliance,
+    ToothProfile as ToothProfile,
+    mesh_sector as mesh_sector,
+    plane_strain_point_loads as plane_strain_point_loads,
+    tooth_compliance as tooth_compliance,
+    tooth_profile as tooth_profile,
+)
 from .schema import SchemaError as SchemaError
 
 __version__ = "0.1.0"

@@ -147,7 +147,7 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         ({"pinion/bore_radius_mm": 0}, "[pinion] bore_radius_mm = 0: out of range, allowed > 0"),
         (
             {"mesh/stiffness": "fem"},
-            "[mesh] stiffness = 'fem': allowed 'weber', 'uniform', 'iso6336'",
+            "[mesh] stiffness = 'fem': allowed 'weber', 'uniform', 'iso6336', 'fe2d'",
         ),
         (
             {"material/poisson_ratio": 0.5},
