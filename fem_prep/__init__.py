@@ -32,6 +32,7 @@ from ._io import (
     CondensedBody as CondensedBody,
     build as build,
     cache_dir as cache_dir,
+    cache_key as cache_key,
     condensed as condensed,
     load_condensed as load_condensed,
     save_condensed as save_condensed,

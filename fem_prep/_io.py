@@ -28,6 +28,8 @@ __all__ = [
     "CondensedBody",
     "build",
     "cache_dir",
+    "cache_key",
+    "condensed",
     "load_condensed",
     "save_condensed",
     "summary_dict",
@@ -396,6 +398,12 @@ def cache_dir() -> Path:
     """Cache directory: ``$FEM_PREP_CACHE`` or ``~/.cache/jaxgear/fem_prep``."""
     env = os.environ.get("FEM_PREP_CACHE")
     return Path(env) if env else Path.home() / ".cache" / "jaxgear" / "fem_prep"
+
+
+def cache_key(body: Body) -> str:
+    """The cache entry name of a body: hash of the parsed body and the file-format version
+    (``cache_dir() / cache_key(body)`` holds its ``.npz``, ``.vtu`` and ``summary.json``)."""
+    return _cache_key(body)
 
 
 def _cache_key(body: Body) -> str:

@@ -12,7 +12,11 @@ from importlib.metadata import PackageNotFoundError, version as _version
 
 from ._baseplane import Cells as Cells, MeshModel as MeshModel
 from ._case import Case as Case
-from ._contact import ContactSolution as ContactSolution, solve_contact as solve_contact
+from ._contact import (
+    ContactSolution as ContactSolution,
+    solve_contact as solve_contact,
+    solve_contact_cells as solve_contact_cells,
+)
 from ._geometry import (
     GearPair as GearPair,
     Member as Member,
@@ -25,6 +29,7 @@ from ._quasi_static import (
     QuasiStaticResult as QuasiStaticResult,
     mesh_positions as mesh_positions,
     quasi_static as quasi_static,
+    separation as separation,
 )
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._stiffness import (

@@ -14,7 +14,7 @@ from ._results import ContactResult
 from ._util import rms_about_mean
 from .scenes import RigidMesh, Scene
 
-__all__ = ["QuasiStaticResult", "mesh_positions", "quasi_static"]
+__all__ = ["QuasiStaticResult", "mesh_positions", "quasi_static", "separation"]
 
 
 class QuasiStaticResult(eqx.Module):

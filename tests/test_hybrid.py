@@ -280,3 +280,20 @@ def test_quasi_static_scene_bearing_forces_balance_the_mesh_force(case, body):
     )
     assert np.linalg.norm(pin) == pytest.approx(Fn, rel=1e-3)
     np.testing.assert_allclose(gear, -pin, rtol=1e-3)
+
+
+def test_a_too_narrow_rim_window_is_widened(case, scene):
+    """The builder's window estimate is checked over two mesh periods and widened when a cell
+    reaches beyond it: from a 2-station window the scene recovers the same TE."""
+    from jaxgear.scenes._hybrid import _fit_windows
+
+    member = scene.members[1]
+    narrow = eqx.tree_at(
+        lambda s: s.members, scene, (scene.members[0], dataclasses.replace(member, n_window=2))
+    )
+    fitted = _fit_windows(narrow)
+    assert fitted.members[1].n_window > 2
+    theta = jg.mesh_positions(scene.mesh, 4)
+    a = jg.quasi_static(fitted, case.modifications, case.torque, theta)
+    b = jg.quasi_static(scene, case.modifications, case.torque, theta)
+    np.testing.assert_allclose(a.transmission_error, b.transmission_error, rtol=1e-10)

@@ -45,7 +45,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     sub.add_parser("cases", help="list the embedded cases")
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
-    b.add_argument("what", choices=["quasi-static", "optimise", "dynamics"], help="which benchmark")
+    b.add_argument(
+        "what", choices=["quasi-static", "optimise", "dynamics", "hybrid"], help="which benchmark"
+    )
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
     from fem_prep import add_build_arguments
@@ -80,6 +82,8 @@ def _bench(args) -> int:
         bench.bench_dynamics(args.out, quick=args.quick)
     elif args.what == "optimise":
         bench.bench_optimise(args.out, quick=args.quick)
+    elif args.what == "hybrid":
+        bench.bench_hybrid(args.out, quick=args.quick)
     else:
         bench.bench_quasi_static(args.out, quick=args.quick)
     return 0

@@ -32,6 +32,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),
+    "bench hybrid": ("bench_hybrid.json", "bench_hybrid.png"),
 }
 # ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

@@ -40,12 +40,12 @@ contact, C = V_W G_WW V_Wᵀ: an active-set pass costs cells², not masters³.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-import scipy.linalg as sla
 from jaxtyping import Array, Float, Int
 
 from .._baseplane import Cells, MeshModel
@@ -553,6 +553,8 @@ def hybrid_pair(
         ValueError: body/gear mismatch (teeth, root radius), a bearing node off the axis or
             outside its shaft, a structure with a rigid-body mode other than the drive rotation.
     """
+    import scipy.linalg as sla  # NumPy-side factorisation, once per scene
+
     shafts = (pinion_shaft, gear_shaft)
     extra = []
     for m, body in enumerate(bodies):
@@ -708,21 +710,20 @@ def hybrid_pair(
                 _flexible_member(pair, m, body, gidxs[m], jnp.asarray(centres[m]), line, mesh)
             )
     scene = eqx.tree_at(lambda s: s.members, scene, tuple(members), is_leaf=lambda x: x is None)
-    # the window estimate (stations spanned by the contact zone and the root points) is checked
-    # over two mesh periods and widened if a cell reaches beyond it
-    for _ in range(4):
+    return _fit_windows(scene)
+
+
+def _fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
+    """The window estimate (stations spanned by the contact zone and the root points) checked
+    over two mesh periods and widened while a cell reaches beyond it."""
+    for _ in range(tries):
         if not _windows_overflow(scene):
             return scene
-        scene = eqx.tree_at(
-            lambda s: s.members,
-            scene,
-            tuple(
-                eqx.tree_at(lambda f: f.n_window, m, m.n_window + 1)
-                if isinstance(m, FlexibleMember)
-                else m
-                for m in scene.members
-            ),
+        members = tuple(
+            dataclasses.replace(m, n_window=m.n_window + 1) if isinstance(m, FlexibleMember) else m
+            for m in scene.members
         )
+        scene = eqx.tree_at(lambda s: s.members, scene, members)
     raise ValueError("hybrid scene: the contact zone does not fit a rim window (internal error)")
 
 
