@@ -47,7 +47,7 @@ class Case:
     density: float = 7800.0
     torque: float = 100.0
     speed: float = 0.0
-    stiffness_model: str = "weber"
+    stiffness_model: str = "fe2d"
     uniform_k0: float | None = None
     slices: int = 40
     positions_per_pitch: int = 64

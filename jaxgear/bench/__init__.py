@@ -7,3 +7,4 @@ from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stabil
 from ._hybrid import bench_hybrid as bench_hybrid
 from ._optimise import bench_optimise as bench_optimise
 from ._quasi_static import bench_quasi_static as bench_quasi_static
+from ._stiffness import bench_stiffness as bench_stiffness

@@ -46,7 +46,9 @@ def _parser() -> argparse.ArgumentParser:
     sub.add_parser("cases", help="list the embedded cases")
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
     b.add_argument(
-        "what", choices=["quasi-static", "optimise", "dynamics", "hybrid"], help="which benchmark"
+        "what",
+        choices=["quasi-static", "optimise", "dynamics", "hybrid", "stiffness"],
+        help="which benchmark",
     )
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
@@ -84,6 +86,8 @@ def _bench(args) -> int:
         bench.bench_optimise(args.out, quick=args.quick)
     elif args.what == "hybrid":
         bench.bench_hybrid(args.out, quick=args.quick)
+    elif args.what == "stiffness":
+        bench.bench_stiffness(args.out, quick=args.quick)
     else:
         bench.bench_quasi_static(args.out, quick=args.quick)
     return 0

@@ -33,6 +33,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),
     "bench hybrid": ("bench_hybrid.json", "bench_hybrid.png"),
+    "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
 }
 # ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
