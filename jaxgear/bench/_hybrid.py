@@ -636,7 +636,7 @@ def _chart(out: dict, path: str) -> None:
     from matplotlib.figure import Figure
     from matplotlib.ticker import LogFormatter
 
-    from ..cli import savefig
+    from ..io import atomic_open
 
     fig = Figure(figsize=(13, 9), layout="constrained")
     FigureCanvasAgg(fig)
@@ -815,7 +815,8 @@ def _chart(out: dict, path: str) -> None:
         + (" — QUICK" if out["quick"] else ""),
         fontsize=10,
     )
-    savefig(fig, path)
+    with atomic_open(path, "wb") as f:  # as the other benchmarks' figures
+        fig.savefig(f, format="png", dpi=120)
 
 
 def _table(out: dict) -> str:

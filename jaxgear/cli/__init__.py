@@ -5,5 +5,4 @@ and :mod:`fem_prep`; none of them imports the CLI.
 """
 
 from ._main import entry as entry, main as main
-from ._plots import savefig as savefig
 from ._run import run_case as run_case

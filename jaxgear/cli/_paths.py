@@ -25,7 +25,13 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "harris_map.png",
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
-    "scene": ("load_map.png", "load_map_speed.png", "body_pinion.vtu", "body_gear.vtu", "contact.vtu"),
+    "scene": (
+        "load_map.png",
+        "load_map_speed.png",
+        "body_pinion.vtu",
+        "body_gear.vtu",
+        "contact.vtu",
+    ),
     "sweep": ("sweep.json", "dynamic_factor.png", "campbell.png"),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),

@@ -14,31 +14,15 @@ from tqdm.auto import tqdm
 from .. import (
     Case,
     Modifications,
-    QuasiStaticResult,
     __version__,
     harris_map,
     load_map,
     quasi_static,
 )
 from ..io import atomic_open, write_csv
+from ._summary import result_summary
 
 __all__ = ["format_table", "result_summary", "run_case"]
-
-
-def result_summary(r: QuasiStaticResult) -> dict:
-    """Scalar figures of a quasi-static result (SI units), JSON-ready."""
-    k = np.asarray(r.mesh_stiffness)
-    return {
-        "te_mean_m": float(r.te_mean),
-        "te_rms_m": float(r.te_rms),
-        "te_ptp_m": float(r.te_ptp),
-        "mesh_stiffness_mean_N_per_m": float(k.mean()),
-        "mesh_stiffness_min_N_per_m": float(k.min()),
-        "mesh_stiffness_max_N_per_m": float(k.max()),
-        "contact_length_mean_m": float(np.mean(r.contact_length)),
-        "max_line_load_N_per_m": float(r.max_line_load),
-        "max_contact_iterations": int(np.max(r.iterations)),
-    }
 
 
 def run_case(

@@ -14,7 +14,6 @@ from ..io import write_vtu
 __all__ = ["scene_lines", "scene_outputs"]
 
 
-
 def _rot(angle, v):
     c, s = np.cos(angle), np.sin(angle)
     out = np.array(v, dtype=float)
@@ -73,7 +72,7 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
     from .. import load_map
     from ..dynamics import bearing_forces, static_scene
     from . import _plots
-    from ._run import result_summary
+    from ._summary import result_summary
 
     slices = min(case.slices, 8)
     scene, bodies = static_scene(case, slices=slices)
@@ -100,7 +99,8 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
     out["centrifugal"] = {
         "speed_rad_s": case.speed,
         "rim_radial_growth_m": {
-            name: float(g) for name, g, b in zip(("pinion", "gear"), growth, bodies, strict=True)
+            name: float(g)
+            for name, g, b in zip(("pinion", "gear"), growth, bodies, strict=True)
             if b is not None
         },
     }
