@@ -297,3 +297,44 @@ def test_a_too_narrow_rim_window_is_widened(case, scene):
     a = jg.quasi_static(fitted, case.modifications, case.torque, theta)
     b = jg.quasi_static(scene, case.modifications, case.torque, theta)
     np.testing.assert_allclose(a.transmission_error, b.transmission_error, rtol=1e-10)
+
+
+def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
+    """The assembled mass is the body's condensed mass plus its teeth (not in the FE body, which
+    ends at the root circle) lumped on the rim master nodes [R]: over the rim x DOFs the added
+    mass is Z × the tooth mass (tooth area from the generated form × rim width × density)."""
+    from jaxgear.scenes._hybrid import _tooth_mass
+
+    member = scene.members[1]
+    bd = np.asarray(member.body_dofs)
+    rim_x = np.asarray(member.rim_dofs)[..., 0].ravel()  # global DOFs
+    local = np.flatnonzero(np.isin(bd, rim_x))  # the same DOFs in the body's order
+    added = float(np.asarray(scene.mass())[np.ix_(rim_x, rim_x)].sum()) - float(
+        np.asarray(body.M)[np.ix_(local, local)].sum()
+    )
+    mt, rt = _tooth_mass(case.pair, 1, case.density, 10e-3)
+    assert added == pytest.approx(30 * mt, rel=1e-9)
+    assert case.pair.root_radii[1] < rt < case.pair.tip_radii[1]
+    # the tooth area against the generated outline closed by the root arc (shoelace formula)
+    from fem_prep.tooth_form import generate_tooth
+
+    g, pair = case.pair.gear, case.pair
+    form = generate_tooth(
+        g.teeth,
+        pair.normal_module,
+        pair.normal_pressure_angle,
+        pair.helix_angle,
+        g.profile_shift,
+        g.addendum_coeff,
+        g.dedendum_coeff,
+        g.fillet_radius_coeff,
+    )
+    o = form.outline
+    a0, a1 = np.arctan2(o[-1, 1], o[-1, 0]), np.arctan2(o[0, 1], o[0, 0])
+    t = np.linspace(a0, a1, 200)[1:-1]
+    arc = form.root_radius * np.stack([np.cos(t), np.sin(t)], -1)
+    poly = np.concatenate([o, arc])
+    area = 0.5 * abs(
+        np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1])
+    )
+    assert mt == pytest.approx(case.density * area * 10e-3, rel=1e-2)

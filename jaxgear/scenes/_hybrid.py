@@ -253,7 +253,8 @@ class HybridPair(Scene):
 
     Attributes:
         mesh: the gear mesh. members: (pinion, gear) as :class:`RigidMember` or
-            :class:`FlexibleMember`. K: structure stiffness (n, n). G: compliance on the
+            :class:`FlexibleMember`. K, M: structure stiffness and mass (n, n) (bodies, shafts,
+            rigid gear nodes, the teeth lumped on the rim nodes). G: compliance on the
             complement of the drive rotation with the output rotation held (n, n). N: the drive
             rotation, scaled to a unit base-plane approach (n, 1). f_torque: load per unit pinion
             torque (n,). f_centrifugal: load per unit (pinion speed)² (n,). x_torque, x_centrifugal:
@@ -266,6 +267,7 @@ class HybridPair(Scene):
     mesh: MeshModel
     members: tuple
     K: Float[Array, "n n"]
+    M: Float[Array, "n n"]
     G: Float[Array, "n n"]
     N: Float[Array, "n 1"]
     f_torque: Float[Array, " n"]
@@ -287,6 +289,10 @@ class HybridPair(Scene):
     # -- the generic Scene interface (X space; for checks and small problems) --------------
     def stiffness(self):
         return self.K
+
+    def mass(self):
+        """Mass matrix (n, n) (kg, kg·m²), for the dynamics of the next step."""
+        return self.M
 
     def external_load(self, torque):
         return torque * self.f_torque + self.speed**2 * self.f_centrifugal
@@ -677,6 +683,7 @@ def hybrid_pair(
         mesh=mesh,
         members=(None, None),
         K=jnp.asarray(K),
+        M=jnp.asarray(M),
         G=jnp.asarray(G),
         N=jnp.asarray(Nv[:, None]),
         f_torque=jnp.asarray(f_t),
