@@ -206,6 +206,9 @@ def _bordered_solve(C, E, d, r1, r2):
     A = jnp.eye(C.shape[0], dtype=C.dtype) + s[:, None] * C * s[None, :]
     F = s[:, None] * E
     cf = jax.scipy.linalg.cho_factor(A)
+    if E.shape[1] == 0:  # no rigid-body mode (a dynamic step: the mass makes K_eff definite)
+        v = jax.scipy.linalg.cho_solve(cf, s * r1)
+        return r1 - C @ (s * v)
     Y = jax.scipy.linalg.cho_solve(cf, jnp.concatenate([(s * r1)[:, None], F], axis=1))
     y0, YF = Y[:, 0], Y[:, 1:]
     alpha = _solve(F.T @ YF, r2 - F.T @ y0)
@@ -241,7 +244,8 @@ def solve_contact_cells(
 
     Args:
         C: cell compliance (m/N), shape (c, c). a: free gaps (m), shape (c,).
-        E: rigid-body modes seen by the cells, shape (c, r). b: their loads, shape (r,).
+        E: rigid-body modes seen by the cells, shape (c, r) (r may be 0, e.g. a Newmark step
+            whose effective stiffness is definite). b: their loads, shape (r,).
         k, length, mask, mode, width, max_iterations: as :func:`solve_contact`.
 
     Returns:

@@ -20,6 +20,11 @@ from ._from_case import (
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,
 )
+from ._hybrid import (
+    HybridDynamics as HybridDynamics,
+    hybrid_speed_sweep as hybrid_speed_sweep,
+    simulate_hybrid as simulate_hybrid,
+)
 from ._modal import (
     Damping as Damping,
     ModalAnalysis as ModalAnalysis,

@@ -1,0 +1,275 @@
+"""Dynamics of the hybrid scene (condensed FE bodies on the cells): Newmark in the cell space.
+
+Equations of motion (seed (2.31)–(2.37), HYBRID.md §2), in the body frames of the members that
+carry condensed bodies (K, M and the centrifugal load are constant there; the rim stations pass
+under the fixed mesh as the bodies turn):
+
+    M Ẍ + C Ẋ + K X + Σ_c P_c(V_c·X − δ0_c) V_c = T f_T + Ω² f_c,
+
+with P_c = k_c l_c φ(Δ_c) the cell forces and Ω the pinion speed (each body at its own speed,
+f_c scaled accordingly; the centrifugal load is always on in dynamics). Damping: Rayleigh on the
+structure, C = α M + β K (seed (2.34) with the structure stiffness for K̄).
+
+Newmark average acceleration (β = 1/4, γ = 1/2). The effective stiffness K_eff = K + a₀M + a₁C
+is constant at one speed: it is inverted once, G_eff = K_eff⁻¹, and every step is a contact
+problem in the space of the cells (:func:`jaxgear.solve_contact_cells`, no rigid mode: M makes
+K_eff definite): X* = G_eff F_eff, Δ = V_W X*_W − δ0 − C_eff P with C_eff = V_W G_eff,WW V_Wᵀ on
+the window of master DOFs under the contact, then X = X* − G_eff Vᵀ P. A step costs the window
+compliance (cells × window²) and a matrix-vector product with G_eff (n²), not a factorisation.
+
+This is the first part of the hybrid dynamics: one speed (:func:`simulate_hybrid`) and a speed
+sweep (:func:`hybrid_speed_sweep`); the rotating-frame outputs (nodal diameters, Campbell
+diagram) and the optimisation at speed come next.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float, Int
+
+from .._contact import solve_contact_cells
+from .._modifications import Modifications
+from .._quasi_static import quasi_static, separation
+from ..scenes import HybridPair
+
+__all__ = ["HybridDynamics", "hybrid_speed_sweep", "simulate_hybrid"]
+
+
+class HybridDynamics(eqx.Module):
+    """Steady-state response of the hybrid scene at one speed (the kept steps).
+
+    Attributes:
+        speed: pinion speed Ω (rad/s). theta: pinion angles of the kept steps (rad), (S,).
+        mesh_force: Σ of the cell forces (N), (S,). transmission_error: dynamic TE (m), (S,).
+        static_force: the static mesh force F_n = T/(r_b1 cos β_b) (N).
+        x: coordinates at the last step (n,). result: 0, or 1 where a contact loop did not
+            converge, 2 for a non-finite state. iterations: most contact passes in a step.
+    """
+
+    speed: Float[Array, ""]
+    theta: Float[Array, " S"]
+    mesh_force: Float[Array, " S"]
+    transmission_error: Float[Array, " S"]
+    static_force: Float[Array, ""]
+    x: Float[Array, " n"]
+    result: Int[Array, ""]
+    iterations: Int[Array, ""]
+
+    @property
+    def dynamic_factor(self) -> Float[Array, ""]:
+        """Max dynamic mesh force / static mesh force over the kept steps."""
+        return jnp.max(self.mesh_force) / self.static_force
+
+
+def _run(
+    scene: HybridPair,
+    mods,
+    torque,
+    speed,
+    n_steps,
+    keep,
+    spp,
+    alpha,
+    beta,
+    mode,
+    width,
+    max_iterations,
+):
+    mesh = scene.mesh
+    dtype = scene.K.dtype
+    period = mesh.mesh_period_angle / speed  # time of one mesh period (s)
+    dt = period / spp
+    b, g = 0.25, 0.5
+    a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
+    M, K = scene.M, scene.K
+    C = alpha * M + beta * K
+    F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
+    G = jnp.linalg.inv(K + a0 * M + a1 * C)
+    G = 0.5 * (G + G.T)
+    u = scene.te
+    cb = jnp.cos(mesh.base_helix_angle)
+    theta0 = 0.5 * mesh.mesh_period_angle / spp
+    # start from the quasi-static state at θ0 and speed Ω (centrifugal load on), at rest
+    qs = quasi_static(
+        eqx.tree_at(lambda s: s.speed, scene, speed),
+        mods,
+        torque,
+        jnp.reshape(theta0, (1,)),
+        contact=mode,
+        width=width,
+        max_iterations=max_iterations,
+        throw=False,
+    )
+    X0 = qs.x[0]
+    zero = jnp.zeros_like(X0)
+
+    def body(carry, n):
+        X, Xd, Xdd, code, it = carry
+        th = theta0 + (n + 1) * mesh.mesh_period_angle / spp
+        cells, e_max, delta0 = separation(mesh, mods, th)
+        idx, Vw = scene.window(cells)
+        c = Vw.shape[0] * Vw.shape[1]
+        Vw = Vw.reshape(c, -1)
+        Feff = (
+            F
+            + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd)
+            + C @ (a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd)
+        )
+        xs = G @ Feff
+        Ceff = Vw @ G[idx[:, None], idx[None, :]] @ Vw.T
+        sol, P, _ = solve_contact_cells(
+            Ceff,
+            Vw @ xs[idx] - delta0.reshape(-1),
+            jnp.zeros((c, 0), dtype),
+            jnp.zeros((0,), dtype),
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            cells.mask.reshape(-1),
+            mode,
+            width,
+            max_iterations,
+        )
+        Xn = xs - G @ jnp.zeros_like(xs).at[idx].add(Vw.T @ P)
+        Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
+        Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
+        new = jnp.where(sol.result == 1, 1, 0)
+        new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
+        carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
+        te = (u @ Xn - e_max) / cb
+        return carry, (th, jnp.sum(P), te)
+
+    init = (X0, zero, zero, jnp.array(0), jnp.array(0))
+    (X, _, _, code, it), (th, fm, te) = jax.lax.scan(body, init, jnp.arange(n_steps))
+    return HybridDynamics(
+        speed=jnp.asarray(speed, dtype),
+        theta=th[-keep:],
+        mesh_force=fm[-keep:],
+        transmission_error=te[-keep:],
+        static_force=mesh.normal_load(torque),
+        x=X,
+        result=jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code),
+        iterations=it,
+    )
+
+
+def _check(speed, steps_per_period, periods, keep_periods):
+    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
+        raise ValueError(
+            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
+        )
+    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
+        raise ValueError(
+            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
+            "1 <= keep_periods <= periods, periods >= 2"
+        )
+
+
+def simulate_hybrid(
+    scene: HybridPair,
+    modifications: Modifications | None,
+    torque,
+    speed,
+    *,
+    steps_per_period: int = 64,
+    periods: int = 20,
+    keep_periods: int = 4,
+    rayleigh: tuple[float, float] = (25.0, 2.5e-6),
+    contact: str = "exact",
+    width=1e-7,
+    max_iterations: int = 50,
+) -> HybridDynamics:
+    """Integrate the hybrid scene at pinion speed Ω from the quasi-static state (Newmark with
+    the contact loop in the cell space, see the module docstring).
+
+    Args:
+        scene: a :class:`jaxgear.scenes.HybridPair` (its ``speed`` is ignored: Ω sets the
+            centrifugal load). modifications: flank modifications (``None``: none).
+        torque: pinion torque (N·m) > 0. speed: pinion speed Ω (rad/s) > 0.
+        steps_per_period: time steps per mesh period (the seed uses 64, IV-27).
+        periods, keep_periods: mesh periods integrated, and kept at the end.
+        rayleigh: (α (1/s), β (s)) of C = α M + β K; default the seed's D1 = (25, 2.5e-6).
+        contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
+
+    Returns:
+        :class:`HybridDynamics` (read ``result``: 0 converged).
+
+    Raises:
+        ValueError: step counts out of range (before any computation).
+    """
+    _check(speed, steps_per_period, periods, keep_periods)
+    mods = Modifications() if modifications is None else modifications
+    dtype = scene.K.dtype
+    return _simulate(
+        scene,
+        mods,
+        jnp.asarray(torque, dtype),
+        jnp.asarray(speed, dtype),
+        jnp.asarray(rayleigh[0], dtype),
+        jnp.asarray(rayleigh[1], dtype),
+        jnp.asarray(width, dtype),
+        int(steps_per_period),
+        int(periods),
+        int(keep_periods),
+        contact,
+        int(max_iterations),
+    )
+
+
+@eqx.filter_jit
+def _simulate(scene, mods, torque, speed, alpha, beta, width, spp, periods, keep, mode, max_it):
+    return _run(
+        scene, mods, torque, speed, spp * periods, spp * keep, spp, alpha, beta, mode, width, max_it
+    )
+
+
+def hybrid_speed_sweep(
+    scene: HybridPair,
+    modifications: Modifications | None,
+    torque,
+    speeds,
+    **kwargs,
+) -> HybridDynamics:
+    """:func:`simulate_hybrid` over pinion speeds (rad/s), shape (n,), one after the other
+    (``jax.lax.map``: one effective compliance of n² in memory at a time). Returns a
+    :class:`HybridDynamics` whose leaves have a leading speed axis."""
+    speeds = jnp.asarray(speeds, scene.K.dtype)
+    if speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0)):
+        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
+    steps = kwargs.pop("steps_per_period", 64)
+    periods = kwargs.pop("periods", 20)
+    keep = kwargs.pop("keep_periods", 4)
+    _check(speeds[0], steps, periods, keep)
+    rayleigh = kwargs.pop("rayleigh", (25.0, 2.5e-6))
+    contact = kwargs.pop("contact", "exact")
+    width = kwargs.pop("width", 1e-7)
+    max_it = kwargs.pop("max_iterations", 50)
+    if kwargs:
+        raise TypeError(f"unexpected arguments: {', '.join(kwargs)}")
+    mods = Modifications() if modifications is None else modifications
+    dtype = scene.K.dtype
+    return _sweep(
+        scene,
+        mods,
+        jnp.asarray(torque, dtype),
+        speeds,
+        jnp.asarray(rayleigh[0], dtype),
+        jnp.asarray(rayleigh[1], dtype),
+        jnp.asarray(width, dtype),
+        int(steps),
+        int(periods),
+        int(keep),
+        contact,
+        int(max_it),
+    )
+
+
+@eqx.filter_jit
+def _sweep(scene, mods, torque, speeds, alpha, beta, width, spp, periods, keep, mode, max_it):
+    return jax.lax.map(
+        lambda w: _run(
+            scene, mods, torque, w, spp * periods, spp * keep, spp, alpha, beta, mode, width, max_it
+        ),
+        speeds,
+    )
