@@ -7,8 +7,9 @@ under the fixed mesh as the bodies turn):
     M Ẍ + C Ẋ + K X + Σ_c P_c(V_c·X − δ0_c) V_c = T f_T + Ω² f_c,
 
 with P_c = k_c l_c φ(Δ_c) the cell forces and Ω the pinion speed (each body at its own speed,
-f_c scaled accordingly; the centrifugal load is always on in dynamics). Damping: Rayleigh on the
-structure, C = α M + β K (seed (2.34) with the structure stiffness for K̄).
+f_c scaled accordingly; the centrifugal load is always on in dynamics). Damping: Rayleigh,
+C = α M + β K̄ with K̄ = K + K̄_m, K̄_m the mesh stiffness matrix averaged over the quasi-static
+positions of one mesh period (seed (2.34); the lumped model's Rayleigh damping).
 
 Newmark average acceleration (β = 1/4, γ = 1/2). The effective stiffness K_eff = K + a₀M + a₁C
 is constant at one speed: it is inverted once, G_eff = K_eff⁻¹, and every step is a contact
@@ -59,8 +60,9 @@ class HybridDynamics(eqx.Module):
 
     @property
     def dynamic_factor(self) -> Float[Array, ""]:
-        """Max dynamic mesh force / static mesh force over the kept steps."""
-        return jnp.max(self.mesh_force) / self.static_force
+        """Max dynamic mesh force / static mesh force over the kept steps (per speed for a
+        sweep: shape (n_speeds,))."""
+        return jnp.max(self.mesh_force, axis=-1) / self.static_force
 
 
 def _run(
@@ -84,7 +86,8 @@ def _run(
     b, g = 0.25, 0.5
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     M, K = scene.M, scene.K
-    C = alpha * M + beta * K
+    at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
+    C = alpha * M + beta * (K + _mean_mesh_stiffness(at_speed, mods, torque, spp, mode, width))
     F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
     G = jnp.linalg.inv(K + a0 * M + a1 * C)
     G = 0.5 * (G + G.T)
@@ -93,7 +96,7 @@ def _run(
     theta0 = 0.5 * mesh.mesh_period_angle / spp
     # start from the quasi-static state at θ0 and speed Ω (centrifugal load on), at rest
     qs = quasi_static(
-        eqx.tree_at(lambda s: s.speed, scene, speed),
+        at_speed,
         mods,
         torque,
         jnp.reshape(theta0, (1,)),
@@ -154,6 +157,27 @@ def _run(
     )
 
 
+def _mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
+    """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the quasi-static positions of one mesh period
+    (n, n), w_c = dφ/dΔ of the loaded cells: the mesh part of K̄ in Rayleigh damping (2.34)."""
+    mesh = scene.mesh
+    theta = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
+    qs = quasi_static(scene, mods, torque, theta, contact=mode, width=width, throw=False)
+    n = scene.K.shape[0]
+
+    def add(Km, p):
+        cells = mesh.cells(theta[p])
+        idx, Vw = scene.window(cells)
+        Vw = Vw.reshape(-1, Vw.shape[-1])
+        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
+        w = (qs.line_load[p].reshape(-1) > 0).astype(Km.dtype)
+        block = Vw.T @ ((kl * w)[:, None] * Vw)
+        return Km.at[idx[:, None], idx[None, :]].add(block), None
+
+    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.K.dtype), jnp.arange(spp))
+    return Km / spp
+
+
 def _check(speed, steps_per_period, periods, keep_periods):
     if int(steps_per_period) != steps_per_period or steps_per_period < 4:
         raise ValueError(
@@ -189,7 +213,7 @@ def simulate_hybrid(
         torque: pinion torque (N·m) > 0. speed: pinion speed Ω (rad/s) > 0.
         steps_per_period: time steps per mesh period (the seed uses 64, IV-27).
         periods, keep_periods: mesh periods integrated, and kept at the end.
-        rayleigh: (α (1/s), β (s)) of C = α M + β K; default the seed's D1 = (25, 2.5e-6).
+        rayleigh: (α (1/s), β (s)) of C = α M + β K̄; default the seed's D1 = (25, 2.5e-6).
         contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
 
     Returns:
