@@ -61,7 +61,9 @@ class Problem(eqx.Module):
     """A tooth-modification optimisation problem on the quasi-static model.
 
     Attributes:
-        mesh: the mesh model. base: modifications the variables are written into.
+        mesh: the structure the quasi-static solve runs on: the rigid mesh model, or a scene
+            (e.g. the hybrid scene with condensed bodies at speed). base: modifications the
+            variables are written into.
         torques: torques of the objective (N·m), shape (T,) (one entry for single-load objectives).
         design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque.
         scale: unmodified objective value at the design torque (objective units).
@@ -71,7 +73,7 @@ class Problem(eqx.Module):
         reduce: "mean" | "max" over torques (static). positions_per_pitch: static.
     """
 
-    mesh: jg.MeshModel
+    mesh: jg.MeshModel | jg.Scene
     base: jg.Modifications
     torques: Float[Array, " T"]
     design_torque: Float[Array, ""]
@@ -181,6 +183,7 @@ def make_problem(
     positions_per_pitch: int | None = None,
     slices: int | None = None,
     relief_blend: float | None = None,
+    scene: jg.Scene | None = None,
 ) -> Problem:
     """Build a :class:`Problem` from a case.
 
@@ -195,6 +198,9 @@ def make_problem(
         relief_blend: rounding of the relief starts in roll-fraction units (see
             ``MemberModification.relief_blend``); default one position step, 1/(P ε_α), which
             makes the sampled objective smooth in the extents. 0 keeps sharp relief starts.
+        scene: the structure to optimise on (default the case's rigid mesh), e.g. the hybrid
+            scene of :func:`jaxgear.dynamics.static_scene` at a speed (centrifugal loads): its
+            mesh replaces ``slices``.
 
     Raises:
         ValueError: unknown variable or objective, duplicated variable, empty torque range,
@@ -237,7 +243,7 @@ def make_problem(
         hi.append(b)
     if bounds:
         raise ValueError(f"bounds given for variables not in --vars: {sorted(bounds)}")
-    mesh = case.mesh_model(slices=slices)
+    mesh = case.mesh_model(slices=slices) if scene is None else scene
     ppp = int(positions_per_pitch or case.positions_per_pitch)
     unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))

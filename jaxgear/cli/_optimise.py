@@ -43,6 +43,12 @@ def add_parsers(sub) -> None:
         f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)",
     )
     o.add_argument("--torques", help="START:STOP:N torque range (N·m) for robust_te_rms")
+    o.add_argument(
+        "--speed",
+        type=float,
+        help="pinion speed (rad/s): optimise on the hybrid scene at that speed, centrifugal loads "
+        "included (a case with [scene.gear_body] or [scene.pinion_body])",
+    )
     o.add_argument("--reduce", choices=["max", "mean"], help="robust objective: worst case or mean")
     o.add_argument("--method", choices=["lbfgs", "adam"], help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
@@ -80,6 +86,7 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         "method": get("method", "lbfgs"),
         "max_iterations": int(get("max_iterations", 100)),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
+        "speed": getattr(args, "speed", None) if args is not None else None,
     }
 
 
@@ -90,6 +97,11 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         if settings["torques"]
         else None
     )
+    scene = None
+    if settings.get("speed") is not None:  # the hybrid scene at that speed
+        from ..dynamics import static_scene
+
+        scene, _ = static_scene(case, speed=settings["speed"])
     problem = make_problem(
         case,
         settings["vars"],
@@ -97,6 +109,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         torques=torques,
         reduce=settings["reduce"],
         bounds=settings["bounds"],
+        scene=scene,
     )
     sharp = eqx.tree_at(
         lambda p: (p.base.pinion.relief_blend, p.base.gear.relief_blend),
@@ -148,6 +161,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "torques_Nm": np.asarray(problem.torques).tolist(),
         "reduce": problem.reduce,
         "method": settings["method"],
+        "model": "rigid mesh" if scene is None else "hybrid scene",
+        "speed_rad_s": settings.get("speed"),
         "mean_static_deflection_m": float(problem.delta_m),
         "initial": {
             "parameters": problem.to_physical(res.x0),
@@ -250,7 +265,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     return report
 
 
-def check_settings(settings: dict) -> dict:
+def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
     """Check optimisation settings that the option parser cannot: a ``torques`` range only with
     ``robust_te_rms``, and increasing; ``max_iterations >= 1``. Returns ``settings``.
 
@@ -266,6 +281,15 @@ def check_settings(settings: dict) -> dict:
         parse_range(settings["torques"], "--torques", positive=True)
     if int(settings["max_iterations"]) < 1:
         raise ValueError(f"max_iterations = {settings['max_iterations']}: must be >= 1")
+    speed = settings.get("speed")
+    if speed is not None:
+        if not 0 <= speed <= 1e5:
+            raise ValueError(f"--speed {speed:g}: out of range, allowed [0, 1e+05] rad/s")
+        if case is not None and (case.scene is None or not case.scene.hybrid):
+            raise ValueError(
+                f"--speed {speed:g}: needs a case with condensed bodies ([scene.gear_body] or "
+                "[scene.pinion_body]); the rigid mesh has no centrifugal load"
+            )
     return settings
 
 
@@ -273,13 +297,14 @@ def run_optimise(args) -> int:
     from ._paths import check_output_dir, clear_outputs
 
     case = load_case(args.case)
-    settings = check_settings(settings_from_case(case, args))
+    settings = check_settings(settings_from_case(case, args), case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep = optimise_case(case, settings, out, progress=not args.quiet)
     units = "m" if rep["objective"] != "max_line_load" else "N_per_m"
+    where = "" if rep["speed_rad_s"] is None else f" (hybrid scene at {rep['speed_rad_s']:g} rad/s)"
     print(
-        f"{rep['objective']}: {rep['initial'][f'objective_exact_{units}']:.4g} -> "
+        f"{rep['objective']}{where}: {rep['initial'][f'objective_exact_{units}']:.4g} -> "
         f"{rep['final'][f'objective_exact_{units}']:.4g} {units} (exact contact), "
         f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s"
     )
