@@ -23,6 +23,7 @@ from ._from_case import (
 from ._hybrid import (
     HybridDynamics as HybridDynamics,
     hybrid_speed_sweep as hybrid_speed_sweep,
+    rim_waves as rim_waves,
     simulate_hybrid as simulate_hybrid,
 )
 from ._modal import (

@@ -28,14 +28,15 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float, Int
 
 from .._contact import solve_contact_cells
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
-from ..scenes import HybridPair
+from ..scenes import FlexibleMember, HybridPair
 
-__all__ = ["HybridDynamics", "hybrid_speed_sweep", "simulate_hybrid"]
+__all__ = ["HybridDynamics", "hybrid_speed_sweep", "rim_waves", "simulate_hybrid"]
 
 
 class HybridDynamics(eqx.Module):
@@ -47,6 +48,10 @@ class HybridDynamics(eqx.Module):
         static_force: the static mesh force F_n = T/(r_b1 cos β_b) (N).
         x: coordinates at the last step (n,). result: 0, or 1 where a contact loop did not
             converge, 2 for a non-finite state. iterations: most contact passes in a step.
+        rim_radial, rim_axial: the wheel's rim displacement at its stations (body frame, the
+            axial master plane nearest mid-face), radial and axial (m), shape (S, Z); (S, 0)
+            when the wheel is rigid. Read them with :func:`rim_waves`.
+        time_step: Δt (s).
     """
 
     speed: Float[Array, ""]
@@ -57,6 +62,9 @@ class HybridDynamics(eqx.Module):
     x: Float[Array, " n"]
     result: Int[Array, ""]
     iterations: Int[Array, ""]
+    rim_radial: Float[Array, "S Z"]
+    rim_axial: Float[Array, "S Z"]
+    time_step: Float[Array, ""]
 
     @property
     def dynamic_factor(self) -> Float[Array, ""]:
@@ -141,10 +149,23 @@ def _run(
         new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
         carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
         te = (u @ Xn - e_max) / cb
-        return carry, (th, jnp.sum(P), te)
+        return carry, (th, jnp.sum(P), te, *rim_of(Xn))
+
+    wheel = scene.members[1]
+    if isinstance(wheel, FlexibleMember):
+        j_mid = jnp.argmin(jnp.abs(wheel.z_nodes))
+        rim = wheel.rim_dofs[:, j_mid, :]  # (Z, 3) global DOFs
+        ang = wheel.station0 + wheel.pitch_angle * jnp.arange(rim.shape[0])
+    else:
+        rim = jnp.zeros((0, 3), jnp.int32)
+        ang = jnp.zeros((0,), dtype)
+
+    def rim_of(X):
+        u = X[rim]
+        return u[:, 0] * jnp.cos(ang) + u[:, 1] * jnp.sin(ang), u[:, 2]
 
     init = (X0, zero, zero, jnp.array(0), jnp.array(0))
-    (X, _, _, code, it), (th, fm, te) = jax.lax.scan(body, init, jnp.arange(n_steps))
+    (X, _, _, code, it), (th, fm, te, ur, uz) = jax.lax.scan(body, init, jnp.arange(n_steps))
     return HybridDynamics(
         speed=jnp.asarray(speed, dtype),
         theta=th[-keep:],
@@ -154,6 +175,9 @@ def _run(
         x=X,
         result=jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code),
         iterations=it,
+        rim_radial=ur[-keep:],
+        rim_axial=uz[-keep:],
+        time_step=jnp.asarray(dt, dtype),
     )
 
 
@@ -297,3 +321,45 @@ def _sweep(scene, mods, torque, speeds, alpha, beta, width, spp, periods, keep, 
         ),
         speeds,
     )
+
+
+def rim_waves(u, time_step, spin: float = -1.0) -> dict:
+    """Nodal-diameter content of a rim field (the seed's (3.2) Fourier series in the angle, then
+    in time): which diameters vibrate, at what frequency, travelling which way.
+
+    Args:
+        u: rim displacement at Z equally spaced stations (body frame, station k at angle
+            2πk/Z), over equally spaced steps, shape (S, Z) (:class:`HybridDynamics` ``rim_radial``
+            or ``rim_axial``, NumPy).
+        time_step: Δt (s). spin: the body's rotation sense about z (−1 for the wheel, +1 for the
+            pinion): a wave travelling the same way is *forward*.
+
+    Returns:
+        dict of NumPy arrays over the nodal diameters n = 0 … Z/2: ``nodal_diameter``,
+        ``amplitude`` (m, the largest travelling-wave amplitude of that diameter),
+        ``frequency_hz`` (of that wave, in the body frame) and ``direction`` (+1 forward,
+        −1 backward, 0 for n = 0 or a standing pattern). The mean over time is removed.
+    """
+    u = np.asarray(u, dtype=float)
+    S, Z = u.shape
+    if S < 4 or Z < 3:
+        raise ValueError(f"rim field of shape {u.shape}: need >= 4 steps and >= 3 stations")
+    u = u - u.mean(axis=0, keepdims=True)
+    # spatial harmonics U_n(t) = (2/Z) Σ_k u_k e^{−i n φ_k}: a wave A cos(nφ − ωt) (towards +φ)
+    # gives U_n = A e^{−iωt}, one towards −φ gives A e^{+iωt}
+    U = np.fft.fft(u, axis=1)[:, : Z // 2 + 1] * (2.0 / Z)
+    spec = np.fft.fft(U, axis=0) / S  # (S, n): frequency bins ν_j, e^{+i 2π ν t} convention
+    freq = np.fft.fftfreq(S, time_step)
+    j = np.argmax(np.abs(spec), axis=0)
+    amp = np.abs(spec[j, np.arange(spec.shape[1])])
+    f = freq[j]
+    # e^{−iωt} (towards +φ) appears at negative ν: direction +φ when ν < 0
+    towards_plus = np.where(f < 0, 1.0, np.where(f > 0, -1.0, 0.0))
+    direction = towards_plus * np.sign(spin)
+    direction[0] = 0.0
+    return {
+        "nodal_diameter": np.arange(spec.shape[1]),
+        "amplitude": amp,
+        "frequency_hz": np.abs(f),
+        "direction": direction,
+    }
