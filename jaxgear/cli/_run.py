@@ -276,7 +276,10 @@ def run_command(args) -> int:
 
         print("\n".join(scene_lines(summary["quasi_static_scene"])))
     if case.scene is not None and case.scene.hybrid:
-        print("dynamics with condensed bodies: not available yet (quasi-static scene only)")
+        print(
+            "no speed sweep for condensed bodies in `jaxgear run` yet "
+            "(Python: jaxgear.dynamics.hybrid_speed_sweep)"
+        )
     if "dynamics" in summary:
         d = summary["dynamics"]
         print(

@@ -84,8 +84,9 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
     if spec.model == "lumped3d":
         if spec.hybrid:
             raise ValueError(
-                "dynamics with condensed FE bodies ([scene.pinion_body]/[scene.gear_body]) "
-                "is not available yet: use the quasi-static scene (quasi_static_scene)"
+                "the lumped dynamic model has no condensed FE bodies ([scene.pinion_body]/"
+                "[scene.gear_body]): use jaxgear.dynamics.hybrid_speed_sweep on "
+                "static_scene(case) (the command line sweep comes next)"
             )
         masses, inertias = _gear_bodies(case, spec, i1, i2)
         scene = lumped_pair(
