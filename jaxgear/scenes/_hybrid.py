@@ -479,7 +479,6 @@ def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None
             for k in range(Z)
         ]
     )
-    m = (pair.pinion, pair.gear)[member]
     at = pair.transverse_pressure_angle
     psi_b = pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + involute(at)
     sign = 1.0 if member == 0 else -1.0
@@ -518,7 +517,6 @@ def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None
     # frame offset: at θ = 0 the tooth in contact at the zone centre (mid-face) is on a station
     phi_c = float(fm.tooth_centre_angle(jnp.asarray(zone)))
     k = round((phi_c - float(ang[0])) / pitch)
-    del m
     return eqx.tree_at(lambda f: f.offset, fm, as_float(phi_c - float(ang[0]) - k * pitch))
 
 
