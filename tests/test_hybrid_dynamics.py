@@ -283,3 +283,40 @@ def test_simulation_records_the_wheel_rim(setup):
     assert r.rim_radial.shape == (32, Z) and r.rim_axial.shape == (32, Z)
     assert np.all(np.isfinite(np.asarray(r.rim_radial)))
     assert float(jnp.max(jnp.abs(r.rim_radial))) > 0  # the rim moves under the mesh load
+
+
+def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
+    """`jaxgear sweep` on a case with a condensed wheel: the hybrid Newmark per speed, sweep.json
+    with the dynamic factor and the modes of the mesh-averaged system, both plots."""
+    from jaxgear.cli import main
+
+    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
+    out = tmp_path / "sweep"
+    code = main(
+        [
+            "sweep",
+            str(DATA / "hybrid-test-case.toml"),
+            "--speeds",
+            "300:900:3",
+            "--periods",
+            "4",
+            "--keep-periods",
+            "2",
+            "--steps-per-period",
+            "16",
+            "--out",
+            str(out),
+            "--quiet",
+        ]
+    )
+    assert code == 0
+    import json
+
+    s = json.loads((out / "sweep.json").read_text())
+    assert s["model"] == "hybrid" and len(s["dynamic_factor"]) == 3
+    assert all(1.0 < v < 5.0 for v in s["dynamic_factor"]) and s["result"] == [0, 0, 0]
+    f = [v for v in s["natural_frequencies_Hz"] if v]
+    assert 1000 < f[0] < 1e5 and s["critical_speeds"] is not None
+    assert (out / "dynamic_factor.png").stat().st_size > 0 and (
+        out / "campbell.png"
+    ).stat().st_size > 0

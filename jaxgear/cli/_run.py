@@ -277,8 +277,8 @@ def run_command(args) -> int:
         print("\n".join(scene_lines(summary["quasi_static_scene"])))
     if case.scene is not None and case.scene.hybrid:
         print(
-            "no speed sweep for condensed bodies in `jaxgear run` yet "
-            "(Python: jaxgear.dynamics.hybrid_speed_sweep)"
+            f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
+            "(not run by jaxgear run: a few seconds per speed)"
         )
     if "dynamics" in summary:
         d = summary["dynamics"]

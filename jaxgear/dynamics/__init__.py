@@ -23,6 +23,7 @@ from ._from_case import (
 from ._hybrid import (
     HybridDynamics as HybridDynamics,
     hybrid_speed_sweep as hybrid_speed_sweep,
+    mean_mesh_stiffness as mean_mesh_stiffness,
     rim_waves as rim_waves,
     simulate_hybrid as simulate_hybrid,
 )

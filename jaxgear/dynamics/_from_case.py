@@ -86,7 +86,7 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
             raise ValueError(
                 "the lumped dynamic model has no condensed FE bodies ([scene.pinion_body]/"
                 "[scene.gear_body]): use jaxgear.dynamics.hybrid_speed_sweep on "
-                "static_scene(case) (the command line sweep comes next)"
+                "static_scene(case), or jaxgear sweep"
             )
         masses, inertias = _gear_bodies(case, spec, i1, i2)
         scene = lumped_pair(

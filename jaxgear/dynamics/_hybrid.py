@@ -36,7 +36,13 @@ from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from ..scenes import FlexibleMember, HybridPair
 
-__all__ = ["HybridDynamics", "hybrid_speed_sweep", "rim_waves", "simulate_hybrid"]
+__all__ = [
+    "HybridDynamics",
+    "hybrid_speed_sweep",
+    "mean_mesh_stiffness",
+    "rim_waves",
+    "simulate_hybrid",
+]
 
 
 class HybridDynamics(eqx.Module):
@@ -95,7 +101,7 @@ def _run(
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     M, K = scene.M, scene.K
     at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
-    C = alpha * M + beta * (K + _mean_mesh_stiffness(at_speed, mods, torque, spp, mode, width))
+    C = alpha * M + beta * (K + mean_mesh_stiffness(at_speed, mods, torque, spp, mode, width))
     F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
     G = jnp.linalg.inv(K + a0 * M + a1 * C)
     G = 0.5 * (G + G.T)
@@ -181,7 +187,7 @@ def _run(
     )
 
 
-def _mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
+def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
     """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the quasi-static positions of one mesh period
     (n, n), w_c = dφ/dΔ of the loaded cells: the mesh part of K̄ in Rayleigh damping (2.34)."""
     mesh = scene.mesh
