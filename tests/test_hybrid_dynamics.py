@@ -292,23 +292,9 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
 
     monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
     out = tmp_path / "sweep"
-    code = main(
-        [
-            "sweep",
-            str(DATA / "hybrid-test-case.toml"),
-            "--speeds",
-            "300:900:3",
-            "--periods",
-            "4",
-            "--keep-periods",
-            "2",
-            "--steps-per-period",
-            "16",
-            "--out",
-            str(out),
-            "--quiet",
-        ]
-    )
+    argv = "sweep CASE --speeds 300:900:3 --periods 4 --keep-periods 2 --steps-per-period 16"
+    argv = argv.split() + ["--out", str(out), "--quiet"]
+    code = main([str(DATA / "hybrid-test-case.toml") if a == "CASE" else a for a in argv])
     assert code == 0
     import json
 
