@@ -106,6 +106,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
     energy = np.einsum("ir,ij,jr->r", phi, Km, phi) / np.maximum(lam, 1e-300)
     rigid = omega < 1e-3 * omega.max()
     energy[rigid] = 0.0
+    omega[rigid] = 0.0  # the drive rotation (round-off leaves it at a few mHz)
     chunk = 4
     dfs, losses, results, te_rms = [], [], [], []
     bar.set_postfix_str("")
