@@ -228,7 +228,7 @@ def solve_contact_cells(
     mode: str = "exact",
     width: Float[Array, ""] | float = 1e-7,
     max_iterations: int = 100,
-) -> tuple[ContactSolution, Float[Array, c], Float[Array, r]]:
+) -> tuple[ContactSolution, Float[Array, " c"], Float[Array, " r"]]:
     """The contact problem in the space of the cells (compliance form; for large structures).
 
     With the structure's compliance G on the complement of its rigid-body modes N (K G b = b

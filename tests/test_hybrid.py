@@ -29,10 +29,8 @@ CASE = DATA / "hybrid-test-case.toml"
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("FEM_PREP_CACHE", str(tmp_path_factory.mktemp("fem_prep_cache")))
-        yield
+def cache(fem_prep_cache):
+    return fem_prep_cache
 
 
 @pytest.fixture(scope="module")
@@ -264,7 +262,7 @@ def test_case_errors_are_one_line(cache, tmp_path):
 def test_quasi_static_scene_bearing_forces_balance_the_mesh_force(case, body):
     """The mean bearing forces of each shaft balance the mesh force (fixed frame), so the
     rotation of the wheel's forces back from its body frame is right."""
-    res, forces = quasi_static_scene(case, bodies=(None, body))
+    _, forces = quasi_static_scene(case, bodies=(None, body))
     Fn = case.normal_load
     pin = np.array(
         [

@@ -22,12 +22,10 @@ DATA = pathlib.Path(__file__).parent / "data"
 
 
 @pytest.fixture(scope="module")
-def setup(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("FEM_PREP_CACHE", str(tmp_path_factory.mktemp("fem_prep_cache")))
-        case = jio.load_case(DATA / "hybrid-test-case.toml")
-        body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
-        yield case, static_scene(case, bodies=(None, body))[0]
+def setup(fem_prep_cache):
+    case = jio.load_case(DATA / "hybrid-test-case.toml")
+    body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+    return case, static_scene(case, bodies=(None, body))[0]
 
 
 def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta):
@@ -157,7 +155,7 @@ def _rigid_properties(scene, body):
     return out
 
 
-def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup, tmp_path_factory):
+def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
     """Issue 12 evidence: a body 1000× stiffer on the same shafts, against the rigid-node lumped
     model given its mass and inertias, with the same Rayleigh damping (seed D1, C = α M + β K̄,
     K̄ with the period-averaged mesh stiffness) and time step: the dynamic factor after 60 mesh
@@ -170,9 +168,7 @@ def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup, tmp_path_fa
     text = (DATA / "hybrid-test-wheel.toml").read_text()
     stiff = text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
     assert stiff != text
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("FEM_PREP_CACHE", str(tmp_path_factory.mktemp("rigid_cache")))
-        rigid = fem_prep.condensed(fem_prep.parse_body(stiff))
+    rigid = fem_prep.condensed(fem_prep.parse_body(stiff))  # into the module's cache
     uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
     hyb = static_scene(uni, bodies=(None, rigid))[0]
     m2, i_d2, i_p2 = _rigid_properties(hyb, rigid)

@@ -20,10 +20,8 @@ pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("FEM_PREP_CACHE", str(tmp_path_factory.mktemp("fem_prep_cache")))
-        yield
+def cache(fem_prep_cache):
+    return fem_prep_cache
 
 
 @pytest.fixture(scope="module")
@@ -42,7 +40,7 @@ def test_power_pinion_bearing_loads_sum_to_the_seed_values(power):
     ΣT = −3402 − 3427 = −6829 N across it. The sums depend only on the mesh force, so they are
     comparable whatever the shaft dimensions (the per-bearing split is not: the seed's shaft is
     undimensioned). Within 1 %."""
-    case, out = power
+    _, out = power
     sc, res = out[0.0]
     f = bearing_forces(sc, res)
     S = sum(v for k, v in f.items() if k.startswith("pinion") and k.endswith("Fx"))

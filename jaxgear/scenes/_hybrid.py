@@ -51,7 +51,7 @@ from jaxtyping import Array, Float, Int
 from .._baseplane import Cells, MeshModel
 from .._geometry import GearPair, involute
 from .._util import as_float
-from ._lumped3d import ShaftSpec, _lumped_arrays
+from ._lumped3d import ShaftSpec, _lumped_arrays, contact_points, rigid_node_vector
 from ._scene import Scene
 
 __all__ = ["FlexibleMember", "HybridPair", "RigidMember", "hybrid_pair", "mortar_weights"]
@@ -89,9 +89,7 @@ class RigidMember(eqx.Module):
 
     def window(self, points, mask, line, theta, mesh):
         """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow."""
-        normal = line["normal"]
-        nm = self.sign * jnp.broadcast_to(normal, points.shape)
-        v = jnp.concatenate([nm, jnp.cross(points - _lead(self.centre, points), nm)], axis=-1)
+        v = rigid_node_vector(points, self.centre, self.sign * line["normal"])
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
@@ -299,14 +297,7 @@ class HybridPair(Scene):
 
     def points(self, cells: Cells):
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
-        b = self.mesh.face_width
-        ez = jnp.array([0.0, 0.0, 1.0], self.K.dtype)
-        s = (self.roll_start + cells.s)[..., None]
-        return (
-            _lead(self.tangent_point, s)
-            + s * _lead(self.direction, s)
-            + (cells.z - 0.5 * b)[..., None] * _lead(ez, s)
-        )
+        return contact_points(self.tangent_point, self.direction, self.roll_start, self.mesh, cells)
 
     def line(self):
         """The line of action: ``normal`` n, ``direction`` t and the zone centre (fixed frame)."""

@@ -38,6 +38,27 @@ from ._scene import DynamicScene
 __all__ = ["Bearing", "LumpedPair", "ShaftSpec", "lumped_pair", "timoshenko_element"]
 
 
+def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells) -> Array:
+    """Fixed-frame contact points M = T1 + (ρ_A + s) t + (z − b/2) e_z of the cells (m),
+    shape (L, N, 3) (the frame of the module docstring)."""
+    lead = (1,) * cells.s.ndim
+    ez = jnp.array([0.0, 0.0, 1.0], cells.s.dtype).reshape(lead + (3,))
+    return (
+        tangent_point.reshape(lead + (3,))
+        + (roll_start + cells.s)[..., None] * direction.reshape(lead + (3,))
+        + (cells.z - 0.5 * mesh.face_width)[..., None] * ez
+    )
+
+
+def rigid_node_vector(points, centre, normal) -> Array:
+    """Structure vector of a rigid gear body at a 6-DOF node O: [n_m, (M − O) × n_m] (seed
+    (2.9)), shape (..., 6), for contact points M (..., 3) and the member's outward normal n_m
+    (n for the pinion, −n for the gear)."""
+    nm = jnp.broadcast_to(normal, points.shape)
+    arm = points - centre.reshape((1,) * (points.ndim - 1) + (3,))
+    return jnp.concatenate([nm, jnp.cross(arm, nm)], axis=-1)
+
+
 def timoshenko_element(
     E: float, G: float, rho: float, diameter: float, length: float, kappa: float = 0.9
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -184,24 +205,10 @@ class LumpedPair(DynamicScene):
         # input torque about +z on the pinion shaft; the load resists the gear's −z rotation
         return F.at[self.torque_dofs[0]].add(torque).at[self.torque_dofs[1]].add(torque * ratio)
 
-    def _points(self, cells):
-        b = self.mesh.face_width
-        lead = (1,) * cells.s.ndim
-        ez = jnp.array([0.0, 0.0, 1.0], self.M.dtype).reshape(lead + (3,))
-        return (
-            self.tangent_point.reshape(lead + (3,))
-            + (self.roll_start + cells.s)[..., None] * self.direction.reshape(lead + (3,))
-            + (cells.z - 0.5 * b)[..., None] * ez
-        )
-
     def cell_vectors(self, cells):
-        P = self._points(cells)
-        lead = (1,) * cells.s.ndim
-        nn = jnp.broadcast_to(self.normal, P.shape)
-        r1 = P - self.centres[0].reshape(lead + (3,))
-        r2 = P - self.centres[1].reshape(lead + (3,))
-        v1 = jnp.concatenate([nn, jnp.cross(r1, nn)], axis=-1)
-        v2 = -jnp.concatenate([nn, jnp.cross(r2, nn)], axis=-1)
+        P = contact_points(self.tangent_point, self.direction, self.roll_start, self.mesh, cells)
+        v1 = rigid_node_vector(P, self.centres[0], self.normal)
+        v2 = rigid_node_vector(P, self.centres[1], -self.normal)
         V = jnp.zeros(cells.s.shape + (self.M.shape[0],), self.M.dtype)
         i, j = self.gear_dofs
         return V.at[..., i : i + 6].set(v1).at[..., j : j + 6].set(v2)
