@@ -101,24 +101,16 @@ def _run(
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     M, K = scene.M, scene.K
     at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
-    C = alpha * M + beta * (K + mean_mesh_stiffness(at_speed, mods, torque, spp, mode, width))
+    # the quasi-static states at the step positions of the first period: the start (row 0, at
+    # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
+    qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
+    C = alpha * M + beta * (K + Km)
     F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
     G = jnp.linalg.inv(K + a0 * M + a1 * C)
     G = 0.5 * (G + G.T)
     u = scene.te
     cb = jnp.cos(mesh.base_helix_angle)
-    theta0 = 0.5 * mesh.mesh_period_angle / spp
-    # start from the quasi-static state at θ0 and speed Ω (centrifugal load on), at rest
-    qs = quasi_static(
-        at_speed,
-        mods,
-        torque,
-        jnp.reshape(theta0, (1,)),
-        contact=mode,
-        width=width,
-        max_iterations=max_iterations,
-        throw=False,
-    )
+    theta0 = qs.theta[0]  # half a step: contact-line ends off the edges
     X0 = qs.x[0]
     zero = jnp.zeros_like(X0)
 
@@ -188,11 +180,26 @@ def _run(
 
 
 def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
-    """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the quasi-static positions of one mesh period
-    (n, n), w_c = dφ/dΔ of the loaded cells: the mesh part of K̄ in Rayleigh damping (2.34)."""
+    """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the ``spp`` quasi-static positions of one mesh
+    period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
+    in Rayleigh damping (2.34)."""
+    return _period_statics(scene, mods, torque, spp, mode, width)[1]
+
+
+def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_iterations=100):
+    """Quasi-static result at the ``spp`` step positions of one mesh period, and K̄_m there."""
     mesh = scene.mesh
     theta = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
-    qs = quasi_static(scene, mods, torque, theta, contact=mode, width=width, throw=False)
+    qs = quasi_static(
+        scene,
+        mods,
+        torque,
+        theta,
+        contact=mode,
+        width=width,
+        max_iterations=max_iterations,
+        throw=False,
+    )
     n = scene.K.shape[0]
 
     def add(Km, p):
@@ -205,7 +212,7 @@ def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
         return Km.at[idx[:, None], idx[None, :]].add(block), None
 
     Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.K.dtype), jnp.arange(spp))
-    return Km / spp
+    return qs, Km / spp
 
 
 def _check(speed, steps_per_period, periods, keep_periods):
