@@ -742,23 +742,33 @@ def _chart(out: dict, path: str) -> None:
     ax2.legend(fontsize=7)
     ax2.grid(True, axis="y", which="both", alpha=0.3)
 
+    def scaling_line(ax, rows, x, label, note):
+        """Per-position time (µs) against ``rows[i][x]``, each point annotated ``note(row)``."""
+        ax.plot(
+            [r[x] for r in rows],
+            [r["per_position_s"] * 1e6 for r in rows],
+            "o-",
+            color="C3",
+            label=label,
+        )
+        for r in rows:
+            ax.annotate(
+                note(r),
+                (r[x], r["per_position_s"] * 1e6),
+                fontsize=7,
+                xytext=(3, -9),
+                textcoords="offset points",
+            )
+
     # (c) per position vs window DOFs
     sw = out["scaling"]["window"]
-    ax3.plot(
-        [r["window_dofs"] for r in sw],
-        [r["per_position_s"] * 1e6 for r in sw],
-        "o-",
-        color="C3",
-        label=f"{out['case']}: window widened ({sw[0]['cells_per_position']} cells)",
+    scaling_line(
+        ax3,
+        sw,
+        "window_dofs",
+        f"{out['case']}: window widened ({sw[0]['cells_per_position']} cells)",
+        lambda r: f"{r['window_stations']} st.",
     )
-    for r in sw:
-        ax3.annotate(
-            f"{r['window_stations']} st.",
-            (r["window_dofs"], r["per_position_s"] * 1e6),
-            fontsize=7,
-            xytext=(3, -9),
-            textcoords="offset points",
-        )
     ax3.set_xscale("log")
     ax3.set_yscale("log")
     ax3.set_xlabel("window DOFs (rim stations under the contact × axial nodes × 3, + pinion)")
@@ -767,21 +777,13 @@ def _chart(out: dict, path: str) -> None:
 
     # (d) per position vs cells, and the small body at equal cells and window
     sc_ = out["scaling"]["cells"]
-    ax4.plot(
-        [r["cells_per_position"] for r in sc_],
-        [r["per_position_s"] * 1e6 for r in sc_],
-        "o-",
-        color="C3",
-        label=f"{out['case']} (window {sc_[0]['window_dofs']} DOFs)",
+    scaling_line(
+        ax4,
+        sc_,
+        "cells_per_position",
+        f"{out['case']} (window {sc_[0]['window_dofs']} DOFs)",
+        lambda r: f"N={r['slices']}",
     )
-    for r in sc_:
-        ax4.annotate(
-            f"N={r['slices']}",
-            (r["cells_per_position"], r["per_position_s"] * 1e6),
-            fontsize=7,
-            xytext=(3, -9),
-            textcoords="offset points",
-        )
     bs = out["scaling"]["body_size"]
     if "rows" in bs:
         for r, mk, col in zip(bs["rows"], ("s", "D"), ("C1", "C2")):
