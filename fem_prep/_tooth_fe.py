@@ -50,6 +50,7 @@ import scipy.sparse as sp
 
 from ._solver import factorize
 from .schema import atomic_open
+from .tooth_form import generate_tooth
 
 __all__ = [
     "TOOTH_FE_VERSION",
@@ -193,15 +194,6 @@ def _form_table(form) -> dict:
     }
 
 
-def _generate_tooth():
-    """``fem_prep.tooth_form.generate_tooth`` if that module exists, else ``None``."""
-    try:
-        from .tooth_form import generate_tooth
-    except ImportError:
-        return None
-    return generate_tooth
-
-
 def tooth_profile(
     teeth: int,
     normal_module: float,
@@ -220,23 +212,20 @@ def tooth_profile(
         teeth: z. normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad).
         profile_shift: x. addendum_coeff, dedendum_coeff: h_a*, h_f*. fillet_radius_coeff:
             ρ_fP / m_n of the generating rack.
-        form: ``"tooth_form"`` (generated trochoid fillet, :mod:`fem_prep.tooth_form`),
-            ``"circular_fillet"`` (the approximation used by ``weber``) or ``"auto"`` (the
-            first when available).
+        form: ``"tooth_form"`` or ``"auto"`` (the generated trochoid fillet,
+            :mod:`fem_prep.tooth_form`), or ``"circular_fillet"`` (a circular arc tangent to the
+            root circle: the former ``weber`` approximation, kept for comparison).
 
     Returns:
         The :class:`ToothProfile`.
 
     Raises:
-        ValueError: unknown ``form``, or ``"tooth_form"`` when that module is not available.
+        ValueError: unknown ``form``.
     """
     if form not in ("auto", "tooth_form", "circular_fillet"):
         raise ValueError(f"form = {form!r}; use 'auto', 'tooth_form' or 'circular_fillet'")
-    gen = _generate_tooth() if form != "circular_fillet" else None
-    if form == "tooth_form" and gen is None:
-        raise ValueError("form = 'tooth_form' needs fem_prep.tooth_form (not available)")
-    if gen is not None:
-        tf = gen(
+    if form != "circular_fillet":
+        tf = generate_tooth(
             teeth,
             normal_module,
             normal_pressure_angle,
