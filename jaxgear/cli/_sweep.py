@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
 import os
 import platform
@@ -69,7 +68,6 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
     from tqdm.auto import tqdm
 
     from ..dynamics import hybrid_speed_sweep, mean_mesh_stiffness, static_scene
-    from ..io import atomic_open
 
     t0 = time.perf_counter()
     bar = tqdm(
@@ -131,8 +129,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
         dfs += (fm.max(axis=1) / fs).tolist()
         losses += (np.mean(fm < 1e-3 * fs, axis=1)).tolist()
         results += [int(v) for v in np.asarray(sw.result)[: part.size]]
-        te = np.asarray(sw.transmission_error)[: part.size]
-        te_rms += np.sqrt(np.mean((te - te.mean(axis=1, keepdims=True)) ** 2, axis=1)).tolist()
+        te_rms += np.asarray(sw.te_rms)[: part.size].tolist()
         bar.update(part.size)
     bar.close()
     z1 = case.pair.pinion.teeth
@@ -172,10 +169,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
         "(no automatic choice yet); no per-tooth dynamic factor yet",
         "platform": {"jax": jax.__version__, "python": platform.python_version()},
     }
-    os.makedirs(out_dir, exist_ok=True)
-    with atomic_open(os.path.join(out_dir, "sweep.json"), "w") as f:
-        json.dump(summary, f, indent=2)
-    _plots(summary, out_dir, z1=z1)
+    _write(summary, out_dir, z1)
     return summary
 
 
@@ -199,7 +193,6 @@ def sweep_case(
     from tqdm.auto import tqdm
 
     from ..dynamics import SceneSpec, build_dynamic_model, speed_sweep
-    from ..io import atomic_open
 
     spec = case.scene if case.scene is not None else SceneSpec()
     over = {
@@ -322,11 +315,16 @@ def sweep_case(
                 "result_down": [int(v) for v in np.asarray(d.result)],
             }
         )
-    os.makedirs(out_dir, exist_ok=True)
-    with atomic_open(os.path.join(out_dir, "sweep.json"), "w") as f:
-        json.dump(summary, f, indent=2)
-    _plots(summary, out_dir, z1=case.pair.pinion.teeth)
+    _write(summary, out_dir, case.pair.pinion.teeth)
     return summary
+
+
+def _write(summary: dict, out_dir: str, z1: int) -> None:
+    """``sweep.json`` (atomically), then the dynamic factor and Campbell plots."""
+    from ..io import write_json
+
+    write_json(os.path.join(out_dir, "sweep.json"), summary)
+    _plots(summary, out_dir, z1=z1)
 
 
 def _plots(summary: dict, out_dir: str, z1: int) -> None:

@@ -34,6 +34,7 @@ from jaxtyping import Array, Float, Int
 from .._contact import solve_contact_cells
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
+from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
 
 __all__ = [
@@ -71,6 +72,11 @@ class HybridDynamics(eqx.Module):
     rim_radial: Float[Array, "S Z"]
     rim_axial: Float[Array, "S Z"]
     time_step: Float[Array, ""]
+
+    @property
+    def te_rms(self) -> Float[Array, ""]:
+        """RMS of the dynamic TE about its mean over the kept steps (m; per speed for a sweep)."""
+        return rms_about_mean(self.transmission_error)
 
     @property
     def dynamic_factor(self) -> Float[Array, ""]:
