@@ -221,23 +221,26 @@ def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_itera
     return qs, Km / spp
 
 
-def _check(speed, steps_per_period, periods, keep_periods):
-    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
-        raise ValueError(
-            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
-        )
-    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
-        raise ValueError(
-            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
-            "1 <= keep_periods <= periods, periods >= 2"
-        )
-
-
 def simulate_hybrid(
+    scene: HybridPair, modifications: Modifications | None, torque, speed, **settings
+) -> HybridDynamics:
+    """Integrate the hybrid scene at one pinion speed Ω (rad/s) > 0 from the quasi-static state
+    (Newmark with the contact loop in the cell space, see the module docstring).
+
+    ``settings`` and the errors are those of :func:`hybrid_speed_sweep`; the result has no
+    speed axis."""
+    dtype = scene.K.dtype
+    res = hybrid_speed_sweep(
+        scene, modifications, torque, jnp.reshape(jnp.asarray(speed, dtype), (1,)), **settings
+    )
+    return jax.tree.map(lambda x: x[0], res)
+
+
+def hybrid_speed_sweep(
     scene: HybridPair,
     modifications: Modifications | None,
     torque,
-    speed,
+    speeds,
     *,
     steps_per_period: int = 64,
     periods: int = 20,
@@ -247,75 +250,39 @@ def simulate_hybrid(
     width=1e-7,
     max_iterations: int = 50,
 ) -> HybridDynamics:
-    """Integrate the hybrid scene at pinion speed Ω from the quasi-static state (Newmark with
-    the contact loop in the cell space, see the module docstring).
+    """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
+    after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
 
     Args:
-        scene: a :class:`jaxgear.scenes.HybridPair` (its ``speed`` is ignored: Ω sets the
+        scene: a :class:`jaxgear.scenes.HybridPair` (its ``speed`` is ignored: each Ω sets the
             centrifugal load). modifications: flank modifications (``None``: none).
-        torque: pinion torque (N·m) > 0. speed: pinion speed Ω (rad/s) > 0.
+        torque: pinion torque (N·m) > 0. speeds: pinion speeds Ω (rad/s) > 0, shape (S,).
         steps_per_period: time steps per mesh period (the seed uses 64, IV-27).
         periods, keep_periods: mesh periods integrated, and kept at the end.
         rayleigh: (α (1/s), β (s)) of C = α M + β K̄; default the seed's D1 = (25, 2.5e-6).
         contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
 
     Returns:
-        :class:`HybridDynamics` (read ``result``: 0 converged).
+        :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
+        converged).
 
     Raises:
-        ValueError: step counts out of range (before any computation).
+        ValueError: speeds or step counts out of range (before any computation).
     """
-    _check(speed, steps_per_period, periods, keep_periods)
-    mods = Modifications() if modifications is None else modifications
     dtype = scene.K.dtype
-    return _simulate(
-        scene,
-        mods,
-        jnp.asarray(torque, dtype),
-        jnp.asarray(speed, dtype),
-        jnp.asarray(rayleigh[0], dtype),
-        jnp.asarray(rayleigh[1], dtype),
-        jnp.asarray(width, dtype),
-        int(steps_per_period),
-        int(periods),
-        int(keep_periods),
-        contact,
-        int(max_iterations),
-    )
-
-
-@eqx.filter_jit
-def _simulate(scene, mods, torque, speed, alpha, beta, width, spp, periods, keep, mode, max_it):
-    return _run(
-        scene, mods, torque, speed, spp * periods, spp * keep, spp, alpha, beta, mode, width, max_it
-    )
-
-
-def hybrid_speed_sweep(
-    scene: HybridPair,
-    modifications: Modifications | None,
-    torque,
-    speeds,
-    **kwargs,
-) -> HybridDynamics:
-    """:func:`simulate_hybrid` over pinion speeds (rad/s), shape (n,), one after the other
-    (``jax.lax.map``: one effective compliance of n² in memory at a time). Returns a
-    :class:`HybridDynamics` whose leaves have a leading speed axis."""
-    speeds = jnp.asarray(speeds, scene.K.dtype)
+    speeds = jnp.asarray(speeds, dtype)
     if speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0)):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
-    steps = kwargs.pop("steps_per_period", 64)
-    periods = kwargs.pop("periods", 20)
-    keep = kwargs.pop("keep_periods", 4)
-    _check(speeds[0], steps, periods, keep)
-    rayleigh = kwargs.pop("rayleigh", (25.0, 2.5e-6))
-    contact = kwargs.pop("contact", "exact")
-    width = kwargs.pop("width", 1e-7)
-    max_it = kwargs.pop("max_iterations", 50)
-    if kwargs:
-        raise TypeError(f"unexpected arguments: {', '.join(kwargs)}")
+    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
+        raise ValueError(
+            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
+        )
+    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
+        raise ValueError(
+            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
+            "1 <= keep_periods <= periods, periods >= 2"
+        )
     mods = Modifications() if modifications is None else modifications
-    dtype = scene.K.dtype
     return _sweep(
         scene,
         mods,
@@ -324,11 +291,11 @@ def hybrid_speed_sweep(
         jnp.asarray(rayleigh[0], dtype),
         jnp.asarray(rayleigh[1], dtype),
         jnp.asarray(width, dtype),
-        int(steps),
+        int(steps_per_period),
         int(periods),
-        int(keep),
+        int(keep_periods),
         contact,
-        int(max_it),
+        int(max_iterations),
     )
 
 
