@@ -656,19 +656,25 @@ def _chart(out: dict, path: str) -> None:
     ri.append(rm["rigid"]["per_curve_s"] * ms)
     x = np.arange(len(labels))
     bw = 0.38
-    b1 = ax1.bar(x - bw / 2, hy, bw, color="C3", label="hybrid (FE wheel)")
-    b2 = ax1.bar(x + bw / 2, ri, bw, color="C0", label="rigid mesh")
-    for bars, vals in ((b1, hy), (b2, ri)):
-        for r, v in zip(bars, vals):
-            ax1.annotate(
-                f"{v:.3g}",
-                (r.get_x() + r.get_width() / 2, v),
-                ha="center",
-                va="bottom",
-                fontsize=7,
-                xytext=(0, 1),
-                textcoords="offset points",
-            )
+
+    def paired_bars(ax, x, hybrid, rigid, hybrid_label, fmt):
+        """Hybrid (red) and rigid (blue) bars side by side, each with its value on top."""
+        for vals, dx, color, label in (
+            (hybrid, -bw / 2, "C3", hybrid_label),
+            (rigid, bw / 2, "C0", "rigid mesh"),
+        ):
+            for r, v in zip(ax.bar(x + dx, vals, bw, color=color, label=label), vals):
+                ax.annotate(
+                    format(v, fmt),
+                    (r.get_x() + r.get_width() / 2, v),
+                    ha="center",
+                    va="bottom",
+                    fontsize=7,
+                    xytext=(0, 1),
+                    textcoords="offset points",
+                )
+
+    paired_bars(ax1, x, hy, ri, "hybrid (FE wheel)", ".3g")
     for xi, h, r in zip(x, hy, ri):
         ax1.annotate(
             f"×{h / r:.0f}",
@@ -711,19 +717,7 @@ def _chart(out: dict, path: str) -> None:
     hy2 += [rm["hybrid"]["compile_s"], rm["hybrid"]["total_s"]]
     ri2 += [rm["rigid"]["compile_s"], rm["rigid"]["total_s"]]
     x2 = np.arange(len(labels2))
-    c1 = ax2.bar(x2 - bw / 2, hy2, bw, color="C3", label="hybrid")
-    c2 = ax2.bar(x2 + bw / 2, ri2, bw, color="C0", label="rigid mesh")
-    for bars, vals in ((c1, hy2), (c2, ri2)):
-        for r, v in zip(bars, vals):
-            ax2.annotate(
-                f"{v:.2g}",
-                (r.get_x() + r.get_width() / 2, v),
-                ha="center",
-                va="bottom",
-                fontsize=7,
-                xytext=(0, 1),
-                textcoords="offset points",
-            )
+    paired_bars(ax2, x2, hy2, ri2, "hybrid", ".2g")
     ax2.set_yscale("log")
     ax2.set_xticks(x2, labels2, fontsize=7)
     ax2.set_ylabel("wall time (s)")
