@@ -41,11 +41,25 @@ def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta):
     qs = jg.quasi_static(
         eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed)), mods, torque, jnp.array([th0])
     )
-    X, Xd, Xdd = np.asarray(qs.x[0]), np.zeros(M.shape[0]), np.zeros(M.shape[0])
+    # the flank gaps against one time-constant reference e_ref = the largest flank deviation
+    # over the cells of the period's step positions: δ0 = e_ref − e (the quasi-static solve's
+    # reference max_M e(θ) moves with θ; the start state moves along the drive rotation to match)
+    period = th0 + np.arange(spp) * float(mesh.mesh_period_angle) / spp
+
+    def deviation(th):
+        cells = mesh.cells(th)
+        e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+        return cells, jnp.where(cells.mask, e, -jnp.inf)
+
+    e_ref = max(float(jnp.max(deviation(th)[1])) for th in period)
+    shift = e_ref - float(jnp.max(deviation(th0)[1]))
+    X = np.asarray(qs.x[0]) + shift * np.asarray(scene.N[:, 0])
+    Xd, Xdd = np.zeros(M.shape[0]), np.zeros(M.shape[0])
 
     @jax.jit
     def step(th, Feff):
-        cells, _, d0 = jg.separation(mesh, mods, th)
+        cells, e = deviation(th)
+        d0 = jnp.where(cells.mask, e_ref - e, 0.0)
         n = scene.K.shape[0]
         V = scene.cell_vectors(cells).reshape(-1, n)
         sol = jg.solve_contact(
@@ -155,16 +169,11 @@ def _rigid_properties(scene, body):
     return out
 
 
-def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
-    """Issue 12 evidence: a body 1000× stiffer on the same shafts, against the rigid-node lumped
-    model given its mass and inertias, with the same Rayleigh damping (seed D1, C = α M + β K̄,
-    K̄ with the period-averaged mesh stiffness) and time step: the dynamic factor after 60 mesh
-    periods agrees within 1 % at 150 and 800 rad/s (measured 0.2 % and 0.6 %). (At 1500 and
-    2500 rad/s, with tooth separation, the two differ by 4–8 %: left to the next step.)"""
-    from jaxgear.dynamics import Damping, dynamic_model, simulate
+def _rigidified_pair(case):
+    """The test wheel 1000× stiffer on the same shafts as a hybrid scene, and the rigid-node lumped
+    scene given its mass and inertias (uniform mesh stiffness in both)."""
     from jaxgear.scenes import disc_inertia, lumped_pair
 
-    case, _ = setup
     text = (DATA / "hybrid-test-wheel.toml").read_text()
     stiff = text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
     assert stiff != text
@@ -187,7 +196,16 @@ def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
         poisson_ratio=uni.poisson_ratio,
         density=rho,
     )
-    spp, periods, ray = 32, 60, (25.0, 2.5e-6)
+    return uni, hyb, lumped
+
+
+def _rigidified_vs_lumped(case, speeds, spp=32, periods=60):
+    """Dynamic factors of the two (same Rayleigh damping, seed D1 with the period-averaged mesh
+    stiffness, same time step), and the lumped model's minimum mesh force / F_s per speed."""
+    from jaxgear.dynamics import Damping, dynamic_model, simulate
+
+    uni, hyb, lumped = _rigidified_pair(case)
+    ray = (25.0, 2.5e-6)
     model = dynamic_model(
         lumped,
         uni.modifications,
@@ -195,7 +213,6 @@ def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
         Damping("rayleigh", alpha=ray[0], beta=ray[1]),
         positions_per_pitch=spp,
     )
-    speeds = [150.0, 800.0]
     sw = hybrid_speed_sweep(
         hyb,
         uni.modifications,
@@ -207,9 +224,41 @@ def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
         rayleigh=ray,
     )
     assert np.all(np.asarray(sw.result) == 0)
-    for i, speed in enumerate(speeds):
-        ref = simulate(model, speed, steps_per_period=spp, periods=periods, keep_periods=2)
-        assert float(sw.dynamic_factor[i]) == pytest.approx(float(ref.dynamic_factor), rel=1e-2)
+    refs = [
+        simulate(model, s, steps_per_period=spp, periods=periods, keep_periods=2) for s in speeds
+    ]
+    lumped_df = np.array([float(r.dynamic_factor) for r in refs])
+    lumped_min = np.array([float(r.mesh_force.min() / model.static_force) for r in refs])
+    return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
+
+
+def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
+    """Issue 12 evidence: a body 1000× stiffer on the same shafts, against the rigid-node lumped
+    model given its mass and inertias: the dynamic factor after 60 mesh periods agrees within
+    1 % at 150, 800 and 2100 rad/s (measured 0.1 %, 0.1 %, 0.01 %; with tooth separation down to
+    0.52 F_s at 2100). The flank gaps are measured from one time-constant reference in both."""
+    speeds = [150.0, 800.0, 2100.0]
+    hyb, lum, _ = _rigidified_vs_lumped(setup[0], speeds)
+    np.testing.assert_allclose(hyb, lum, rtol=1e-2)
+
+
+@pytest.mark.slow
+def test_rigidified_body_reproduces_the_lumped_sweep(setup):
+    """The same over 18 speeds from 150 to 3000 rad/s: 15 within 1 % (measured ≤ 0.8 %), and
+    all within 2 % but one at the contact-loss threshold. The hybrid model turns the body frame
+    under the mesh without the rotating frame's Coriolis and spin-softening inertia, while the
+    lumped model is written in the fixed frame: near the resonances of modes with a gear
+    translation (900 and 1500 rad/s) that moves the dynamic factor by 1.7 %. At 2700 rad/s the
+    lumped response touches 0.03 F_s and the hybrid one loses contact every period (a jump of
+    the response, not compared). With the body frame held still all 18 agree within 0.1 %
+    (measured while diagnosing; docs/hybrid.md)."""
+    speeds = np.r_[150.0, np.linspace(600.0, 3000.0, 17)]
+    hyb, lum, low = _rigidified_vs_lumped(setup[0], speeds)
+    err = np.abs(hyb / lum - 1.0)
+    threshold = (low > 1e-3) & (low < 0.05)  # the lumped response grazes contact loss
+    assert threshold.sum() <= 1
+    assert np.all(err[~threshold] < 2e-2), (speeds, err)
+    assert np.sum(err < 1e-2) >= 15, (speeds, err)
 
 
 def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):

@@ -117,13 +117,20 @@ def _run(
     u = scene.te
     cb = jnp.cos(mesh.base_helix_angle)
     theta0 = qs.theta[0]  # half a step: contact-line ends off the edges
-    X0 = qs.x[0]
+    # one time-constant reference δ0 = e_ref − e (as the lumped model's mesh table): the
+    # quasi-static δ0 = max_M e(t) − e moves its reference with the position, which in dynamics
+    # would be a spurious kinematic excitation of the drive rotation wherever max_M e varies
+    # (a tip relief); the start state moves along the drive rotation N (V·N = 1) to match
+    e_max = jax.vmap(lambda th: separation(mesh, mods, th)[1])(qs.theta)
+    e_ref = jnp.max(e_max)
+    X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
     zero = jnp.zeros_like(X0)
 
     def body(carry, n):
         X, Xd, Xdd, code, it = carry
         th = theta0 + (n + 1) * mesh.mesh_period_angle / spp
-        cells, e_max, delta0 = separation(mesh, mods, th)
+        cells, e_th, delta0 = separation(mesh, mods, th)
+        delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
         idx, Vw = scene.window(cells)
         c = Vw.shape[0] * Vw.shape[1]
         Vw = Vw.reshape(c, -1)
@@ -152,7 +159,7 @@ def _run(
         new = jnp.where(sol.result == 1, 1, 0)
         new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
         carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
-        te = (u @ Xn - e_max) / cb
+        te = (u @ Xn - e_ref) / cb
         return carry, (th, jnp.sum(P), te, *rim_of(Xn))
 
     wheel = scene.members[1]
