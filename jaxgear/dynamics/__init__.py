@@ -21,6 +21,8 @@ from ._from_case import (
     static_scene as static_scene,
 )
 from ._hybrid import (
+    FreeVibration as FreeVibration,
+    hybrid_free_vibration as hybrid_free_vibration,
     HybridDynamics as HybridDynamics,
     hybrid_speed_sweep as hybrid_speed_sweep,
     mean_mesh_stiffness as mean_mesh_stiffness,

@@ -36,9 +36,12 @@ from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
+from ._modal import Damping, damping_matrix, modal_analysis
 
 __all__ = [
+    "FreeVibration",
     "HybridDynamics",
+    "hybrid_free_vibration",
     "hybrid_speed_sweep",
     "mean_mesh_stiffness",
     "rim_waves",
@@ -47,30 +50,39 @@ __all__ = [
 
 
 class HybridDynamics(eqx.Module):
-    """Steady-state response of the hybrid scene at one speed (the kept steps).
+    """Steady-state response of the hybrid scene at one speed (the K kept steps; a sweep adds a
+    leading speed axis to every leaf).
 
     Attributes:
-        speed: pinion speed Ω (rad/s). theta: pinion angles of the kept steps (rad), (S,).
-        mesh_force: Σ of the cell forces (N), (S,). transmission_error: dynamic TE (m), (S,).
+        speed: pinion speed Ω (rad/s). theta: pinion angles of the kept steps (rad), (K,).
+        mesh_force: Σ of the cell forces (N), (K,). transmission_error: dynamic TE (m), (K,).
         static_force: the static mesh force F_n = T/(r_b1 cos β_b) (N).
+        line_force: force per contact line (one tooth pair) (N), (K, L).
+        static_line_force: the largest quasi-static force on one contact line over a mesh
+            period at the same speed (centrifugal load on) (N).
         x: coordinates at the last step (n,). result: 0, or 1 where a contact loop did not
             converge, 2 for a non-finite state. iterations: most contact passes in a step.
         rim_radial, rim_axial: the wheel's rim displacement at its stations (body frame, the
-            axial master plane nearest mid-face), radial and axial (m), shape (S, Z); (S, 0)
+            axial master plane nearest mid-face), radial and axial (m), shape (K, Z); (K, 0)
             when the wheel is rigid. Read them with :func:`rim_waves`.
+        states: the coordinates X at the kept steps (K, n) when asked for (``states=True``),
+            else None (VTU time series of the deformed body).
         time_step: Δt (s).
     """
 
     speed: Float[Array, ""]
-    theta: Float[Array, " S"]
-    mesh_force: Float[Array, " S"]
-    transmission_error: Float[Array, " S"]
+    theta: Float[Array, " K"]
+    mesh_force: Float[Array, " K"]
+    transmission_error: Float[Array, " K"]
     static_force: Float[Array, ""]
+    line_force: Float[Array, "K L"]
+    static_line_force: Float[Array, ""]
     x: Float[Array, " n"]
     result: Int[Array, ""]
     iterations: Int[Array, ""]
-    rim_radial: Float[Array, "S Z"]
-    rim_axial: Float[Array, "S Z"]
+    rim_radial: Float[Array, "K Z"]
+    rim_axial: Float[Array, "K Z"]
+    states: Float[Array, "K n"] | None
     time_step: Float[Array, ""]
 
     @property
@@ -84,51 +96,36 @@ class HybridDynamics(eqx.Module):
         sweep: shape (n_speeds,))."""
         return jnp.max(self.mesh_force, axis=-1) / self.static_force
 
+    @property
+    def dynamic_factor_tooth(self) -> Float[Array, ""]:
+        """Max dynamic force on one tooth pair / max quasi-static one (per speed for a sweep)."""
+        return jnp.max(self.line_force, axis=(-2, -1)) / self.static_line_force
 
-def _run(
-    scene: HybridPair,
-    mods,
-    torque,
-    speed,
-    n_steps,
-    keep,
-    spp,
-    alpha,
-    beta,
-    mode,
-    width,
-    max_iterations,
+    @property
+    def contact_loss(self) -> Float[Array, ""]:
+        """Fraction of the kept steps with total contact loss (mesh force < 1e-3 F_n)."""
+        lost = self.mesh_force < 1e-3 * self.static_force[..., None]
+        return jnp.mean(lost.astype(self.mesh_force.dtype), axis=-1)
+
+
+def _newmark_cells(
+    scene, mods, M, C, F, dt, e_ref, state, thetas, mode, width, max_iterations, record
 ):
+    """Newmark average acceleration (β = 1/4, γ = 1/2) with the contact loop in the cell space,
+    one step per pinion angle of ``thetas`` (S,), from ``state`` = (X, Ẋ, Ẍ).
+
+    Returns the final carry (X, Ẋ, Ẍ, result code, most contact passes) and per step: θ, the
+    cell forces P (c,), the TE and ``record(X, Ẋ)`` (what the caller keeps of the state)."""
     mesh = scene.mesh
     dtype = scene.K.dtype
-    period = mesh.mesh_period_angle / speed  # time of one mesh period (s)
-    dt = period / spp
     b, g = 0.25, 0.5
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
-    M, K = scene.M, scene.K
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
-    # the quasi-static states at the step positions of the first period: the start (row 0, at
-    # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
-    qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
-    C = alpha * M + beta * (K + Km)
-    F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
-    G = jnp.linalg.inv(K + a0 * M + a1 * C)
+    G = jnp.linalg.inv(scene.K + a0 * M + a1 * C)
     G = 0.5 * (G + G.T)
-    u = scene.te
     cb = jnp.cos(mesh.base_helix_angle)
-    theta0 = qs.theta[0]  # half a step: contact-line ends off the edges
-    # one time-constant reference δ0 = e_ref − e (as the lumped model's mesh table): the
-    # quasi-static δ0 = max_M e(t) − e moves its reference with the position, which in dynamics
-    # would be a spurious kinematic excitation of the drive rotation wherever max_M e varies
-    # (a tip relief); the start state moves along the drive rotation N (V·N = 1) to match
-    e_max = jax.vmap(lambda th: separation(mesh, mods, th)[1])(qs.theta)
-    e_ref = jnp.max(e_max)
-    X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
-    zero = jnp.zeros_like(X0)
 
-    def body(carry, n):
+    def body(carry, th):
         X, Xd, Xdd, code, it = carry
-        th = theta0 + (n + 1) * mesh.mesh_period_angle / spp
         cells, e_th, delta0 = separation(mesh, mods, th)
         delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
         idx, Vw = scene.window(cells)
@@ -159,9 +156,96 @@ def _run(
         new = jnp.where(sol.result == 1, 1, 0)
         new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
         carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
-        te = (u @ Xn - e_ref) / cb
-        return carry, (th, jnp.sum(P), te, *rim_of(Xn))
+        return carry, (th, P, (scene.te @ Xn - e_ref) / cb, record(Xn, Xdn))
 
+    init = (*state, jnp.array(0), jnp.array(0))
+    return jax.lax.scan(body, init, thetas)
+
+
+def _damping(scene: HybridPair, Km, damping: Damping):
+    """C of the assembled system with the period-averaged mesh stiffness (seed (2.34)–(2.36)),
+    plus the scene's bearing damping."""
+    if damping.model == "rayleigh":  # no modal analysis needed
+        M = scene.M
+        return damping.alpha * M + damping.beta * (scene.K + Km) + scene.bearing_damping()
+    return damping_matrix(scene, modal_analysis(scene, Km), damping)
+
+
+def _reference(mesh, mods, theta):
+    """e_ref: one time-constant reference of the flank gaps over the positions ``theta`` of a
+    mesh period (the largest max_M e), and max_M e at each position.
+
+    The quasi-static δ0 = max_M e(θ) − e moves its reference with the position: in dynamics that
+    would be a spurious kinematic excitation of the drive rotation wherever max_M e varies (a
+    tip relief), so the dynamics use δ0 = e_ref − e, as the lumped model's mesh table."""
+    e_max = jax.vmap(lambda th: separation(mesh, mods, th)[1])(theta)
+    return jnp.max(e_max), e_max
+
+
+def _run(
+    scene, mods, torque, speed, n_steps, keep, spp, damping, mode, width, max_iterations, states
+):
+    mesh = scene.mesh
+    dtype = scene.K.dtype
+    dt = mesh.mesh_period_angle / speed / spp
+    M = scene.M
+    at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
+    # the quasi-static states at the step positions of the first period: the start (row 0, at
+    # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
+    qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
+    C = _damping(scene, Km, damping)
+    F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
+    e_ref, e_max = _reference(mesh, mods, qs.theta)
+    # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
+    X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
+    zero = jnp.zeros_like(X0)
+    # qs.theta[0] is half a step: contact-line ends off the edges
+    thetas = qs.theta[0] + (jnp.arange(n_steps) + 1) * mesh.mesh_period_angle / spp
+    rim_of = _rim_of(scene)
+
+    def record(X, Xd):
+        return (*rim_of(X), X) if states else rim_of(X)
+
+    (X, _, _, code, it), (th, P, te, rec) = _newmark_cells(
+        scene,
+        mods,
+        M,
+        C,
+        F,
+        dt,
+        e_ref,
+        (X0, zero, zero),
+        thetas,
+        mode,
+        width,
+        max_iterations,
+        record,
+    )
+    L = mesh.n_lines
+    lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
+    length = mesh.cells(0.0).length
+    static_lines = jnp.sum(qs.line_load * length[None], axis=-1)  # (spp, L)
+    return HybridDynamics(
+        speed=jnp.asarray(speed, dtype),
+        theta=th[-keep:],
+        mesh_force=jnp.sum(P[-keep:], axis=-1),
+        transmission_error=te[-keep:],
+        static_force=mesh.normal_load(torque),
+        line_force=lines,
+        static_line_force=jnp.max(static_lines),
+        x=X,
+        result=jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code),
+        iterations=it,
+        rim_radial=rec[0][-keep:],
+        rim_axial=rec[1][-keep:],
+        states=rec[2][-keep:] if states else None,
+        time_step=jnp.asarray(dt, dtype),
+    )
+
+
+def _rim_of(scene: HybridPair):
+    """X ↦ (radial, axial) displacement of the wheel's rim stations (body frame) at the axial
+    master plane nearest mid-face, each (Z,); (0,) when the wheel is rigid."""
     wheel = scene.members[1]
     if isinstance(wheel, FlexibleMember):
         j_mid = jnp.argmin(jnp.abs(wheel.z_nodes))
@@ -169,27 +253,13 @@ def _run(
         ang = wheel.station0 + wheel.pitch_angle * jnp.arange(rim.shape[0])
     else:
         rim = jnp.zeros((0, 3), jnp.int32)
-        ang = jnp.zeros((0,), dtype)
+        ang = jnp.zeros((0,), scene.K.dtype)
 
     def rim_of(X):
         u = X[rim]
         return u[:, 0] * jnp.cos(ang) + u[:, 1] * jnp.sin(ang), u[:, 2]
 
-    init = (X0, zero, zero, jnp.array(0), jnp.array(0))
-    (X, _, _, code, it), (th, fm, te, ur, uz) = jax.lax.scan(body, init, jnp.arange(n_steps))
-    return HybridDynamics(
-        speed=jnp.asarray(speed, dtype),
-        theta=th[-keep:],
-        mesh_force=fm[-keep:],
-        transmission_error=te[-keep:],
-        static_force=mesh.normal_load(torque),
-        x=X,
-        result=jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code),
-        iterations=it,
-        rim_radial=ur[-keep:],
-        rim_axial=uz[-keep:],
-        time_step=jnp.asarray(dt, dtype),
-    )
+    return rim_of
 
 
 def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
@@ -253,9 +323,11 @@ def hybrid_speed_sweep(
     periods: int = 20,
     keep_periods: int = 4,
     rayleigh: tuple[float, float] = (25.0, 2.5e-6),
+    damping: Damping | None = None,
     contact: str = "exact",
     width=1e-7,
     max_iterations: int = 50,
+    states: bool = False,
 ) -> HybridDynamics:
     """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
     after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
@@ -267,7 +339,12 @@ def hybrid_speed_sweep(
         steps_per_period: time steps per mesh period (the seed uses 64, IV-27).
         periods, keep_periods: mesh periods integrated, and kept at the end.
         rayleigh: (α (1/s), β (s)) of C = α M + β K̄; default the seed's D1 = (25, 2.5e-6).
+        damping: a :class:`jaxgear.dynamics.Damping` instead: ``"composite"`` (ξ_i = 0.07 e_i +
+            0.01 (1 − e_i), e_i the mode's mesh strain-energy share, (2.36)), ``"modal"`` (one ξ,
+            (2.35)) on the modes of the mesh-averaged system at each speed, ``"rayleigh"`` or
+            ``"none"``. The scene's bearing damping is added in every case.
         contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
+        states: also return the coordinates at the kept steps (``HybridDynamics.states``).
 
     Returns:
         :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
@@ -280,43 +357,165 @@ def hybrid_speed_sweep(
     speeds = jnp.asarray(speeds, dtype)
     if speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0)):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
-    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
-        raise ValueError(
-            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
-        )
+    _check_steps(steps_per_period)
     if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
         raise ValueError(
             f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
             "1 <= keep_periods <= periods, periods >= 2"
         )
+    if damping is None:
+        damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
     return _sweep(
         scene,
         mods,
         jnp.asarray(torque, dtype),
         speeds,
-        jnp.asarray(rayleigh[0], dtype),
-        jnp.asarray(rayleigh[1], dtype),
+        damping,
         jnp.asarray(width, dtype),
         int(steps_per_period),
         int(periods),
         int(keep_periods),
         contact,
         int(max_iterations),
+        bool(states),
     )
 
 
+def _check_steps(steps_per_period):
+    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
+        raise ValueError(
+            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
+        )
+
+
 @eqx.filter_jit
-def _sweep(scene, mods, torque, speeds, alpha, beta, width, spp, periods, keep, mode, max_it):
+def _sweep(scene, mods, torque, speeds, damping, width, spp, periods, keep, mode, max_it, states):
     return jax.lax.map(
         lambda w: _run(
-            scene, mods, torque, w, spp * periods, spp * keep, spp, alpha, beta, mode, width, max_it
+            scene, mods, torque, w, spp * periods, spp * keep, spp, damping, mode, width, max_it,
+            states,
         ),
         speeds,
     )
 
 
-def rim_waves(u, time_step, spin: float = -1.0) -> dict:
+class FreeVibration(eqx.Module):
+    """Free vibration of the hybrid scene about its loaded equilibrium at a fixed mesh position.
+
+    Attributes:
+        time: (S,) (s). x: coordinates (S, n). mesh_force: Σ of the cell forces (N), (S,).
+        energy: kinetic + strain energy of the vibration about the static equilibrium, over
+            the cells in contact there, ½ẊᵀMẊ + ½(X − X_s)ᵀ(K + K_c)(X − X_s) (J), (S,).
+        contact_held: True while every cell loaded at equilibrium stays loaded and no other
+            cell closes (the system is then linear and the energy a constant of the motion).
+        result: as :class:`HybridDynamics`.
+    """
+
+    time: Float[Array, " S"]
+    x: Float[Array, "S n"]
+    mesh_force: Float[Array, " S"]
+    energy: Float[Array, " S"]
+    contact_held: Array
+    result: Int[Array, ""]
+
+
+def hybrid_free_vibration(
+    scene: HybridPair,
+    modifications: Modifications | None,
+    torque,
+    theta,
+    velocity,
+    time_step,
+    n_steps: int,
+    *,
+    steps_per_period: int = 64,
+) -> FreeVibration:
+    """Newmark of the undamped hybrid scene with the mesh held at pinion angle ``theta`` (rad):
+    the static equilibrium under ``torque`` (N·m) there, set moving with the initial
+    ``velocity`` Ẋ(0) (n,) (m/s, rad/s), integrated ``n_steps`` steps of ``time_step`` (s) by
+    the cell-space step of :func:`hybrid_speed_sweep` (same contact loop and flank reference,
+    from the quasi-static positions of ``steps_per_period`` steps; no centrifugal load, C = 0).
+
+    With the contact held (small ``velocity``) the system is linear and time-invariant and the
+    average-acceleration scheme conserves the vibration energy exactly: the energy check of the
+    hybrid Newmark (issue 12).
+
+    Raises:
+        ValueError: ``n_steps`` < 1, ``time_step`` <= 0 or a ``velocity`` of the wrong shape.
+    """
+    dtype = scene.K.dtype
+    n = scene.K.shape[0]
+    velocity = jnp.asarray(velocity, dtype)
+    if velocity.shape != (n,):
+        raise ValueError(f"velocity has shape {velocity.shape}: allowed ({n},)")
+    if int(n_steps) != n_steps or n_steps < 1:
+        raise ValueError(f"n_steps = {n_steps!r} is out of range: allowed an integer >= 1")
+    if not float(time_step) > 0:
+        raise ValueError(f"time_step = {time_step!r} s is out of range: allowed > 0")
+    _check_steps(steps_per_period)
+    mods = Modifications() if modifications is None else modifications
+    return _free(
+        scene,
+        mods,
+        jnp.asarray(torque, dtype),
+        jnp.asarray(theta, dtype),
+        velocity,
+        jnp.asarray(time_step, dtype),
+        int(n_steps),
+        int(steps_per_period),
+    )
+
+
+@eqx.filter_jit
+def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
+    mesh = scene.mesh
+    at_rest = eqx.tree_at(lambda s: s.speed, scene, jnp.zeros((), scene.K.dtype))
+    period = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
+    e_ref, _ = _reference(mesh, mods, period)
+    qs = quasi_static(at_rest, mods, torque, theta[None], throw=False)
+    e_th = separation(mesh, mods, theta)[1]
+    Xs = qs.x[0] + scene.N[:, 0] * (e_ref - e_th)
+    M = scene.M
+    C = jnp.zeros_like(M)
+    F = torque * scene.f_torque
+    # Ẍ(0) = 0: the start is the static equilibrium, where K X + Σ P V = F
+    (_, _, _, code, _), (_, P, _, rec) = _newmark_cells(
+        at_rest,
+        mods,
+        M,
+        C,
+        F,
+        dt,
+        e_ref,
+        (Xs, velocity, jnp.zeros_like(Xs)),
+        jnp.full((n_steps,), theta),
+        "exact",
+        jnp.asarray(1e-7, scene.K.dtype),
+        50,
+        lambda X, Xd: (X, Xd),
+    )
+    X, Xd = rec
+    cells = mesh.cells(theta)
+    idx, Vw = scene.window(cells)
+    Vw = Vw.reshape(-1, Vw.shape[-1])
+    loaded = qs.line_load[0].reshape(-1) > 0
+    kl = jnp.where(loaded, (cells.stiffness * cells.length).reshape(-1), 0.0)
+    Kc = jnp.zeros_like(M).at[idx[:, None], idx[None, :]].add(Vw.T @ (kl[:, None] * Vw))
+    K = scene.K + Kc
+    d = X - Xs[None, :]
+    energy = 0.5 * jnp.einsum("si,ij,sj->s", Xd, M, Xd) + 0.5 * jnp.einsum("si,ij,sj->s", d, K, d)
+    held = jnp.all((P > 0) == loaded[None, :])
+    time = (jnp.arange(n_steps) + 1) * dt
+    v0 = 0.5 * velocity @ M @ velocity
+    energy = jnp.concatenate([v0[None], energy])
+    time = jnp.concatenate([jnp.zeros((1,), time.dtype), time])
+    X = jnp.concatenate([Xs[None], X])
+    fm = jnp.concatenate([jnp.sum(qs.line_load[0] * cells.length)[None], jnp.sum(P, axis=-1)])
+    return FreeVibration(time, X, fm, energy, held, code)
+
+
+def rim_waves(u, time_step, spin: float = -1.0, band=None) -> dict:
     """Nodal-diameter content of a rim field (the seed's (3.2) Fourier series in the angle, then
     in time): which diameters vibrate, at what frequency, travelling which way.
 
@@ -326,6 +525,9 @@ def rim_waves(u, time_step, spin: float = -1.0) -> dict:
             or ``rim_axial``, NumPy).
         time_step: Δt (s). spin: the body's rotation sense about z (−1 for the wheel, +1 for the
             pinion): a wave travelling the same way is *forward*.
+        band: (f_min, f_max) (Hz): look for each diameter's largest wave in this band only
+            (e.g. above half the mesh frequency, to skip the quasi-static load pattern that
+            travels round the turning body at n times its rotation frequency). Default: all.
 
     Returns:
         dict of NumPy arrays over the nodal diameters n = 0 … Z/2: ``nodal_diameter``,
@@ -343,7 +545,12 @@ def rim_waves(u, time_step, spin: float = -1.0) -> dict:
     U = np.fft.fft(u, axis=1)[:, : Z // 2 + 1] * (2.0 / Z)
     spec = np.fft.fft(U, axis=0) / S  # (S, n): frequency bins ν_j, e^{+i 2π ν t} convention
     freq = np.fft.fftfreq(S, time_step)
-    j = np.argmax(np.abs(spec), axis=0)
+    inside = np.ones(S, bool)
+    if band is not None:
+        inside = (np.abs(freq) >= band[0]) & (np.abs(freq) <= band[1])
+        if not inside.any():
+            raise ValueError(f"band = {tuple(band)} Hz holds no frequency bin of the record")
+    j = np.argmax(np.where(inside[:, None], np.abs(spec), -1.0), axis=0)
     amp = np.abs(spec[j, np.arange(spec.shape[1])])
     f = freq[j]
     # e^{−iωt} (towards +φ) appears at negative ν: direction +φ when ν < 0
