@@ -26,6 +26,8 @@ from ._hybrid import (
     HybridDynamics as HybridDynamics,
     hybrid_speed_sweep as hybrid_speed_sweep,
     mean_mesh_stiffness as mean_mesh_stiffness,
+    nodal_diameter_modes as nodal_diameter_modes,
+    nodal_diameter_resonances as nodal_diameter_resonances,
     rim_waves as rim_waves,
     simulate_hybrid as simulate_hybrid,
 )
