@@ -110,17 +110,22 @@ def damping_matrix(
 
     Modal/composite: C = M Φ diag(2 ξ_i ω_i) Φᵀ M with mass-normalised Φ, i.e. c_i = 2 ξ_i
     √(k_i m_i) per mode (2.35); rigid-body modes are undamped. Rayleigh: a_R M + b_R K̄ (2.34).
+    A scene with bearing damping (``scene.bearing_damping()``, e.g. :class:`LumpedPair` with
+    6×6 bearing damping matrices) adds it to C whatever the model ("none" included): it is a
+    physical element of the structure, not part of the modal/Rayleigh model.
     """
     M = scene.mass()
+    bearing = getattr(scene, "bearing_damping", None)
+    Cb = jnp.zeros_like(M) if bearing is None else bearing()
     if damping.model == "none":
-        return jnp.zeros_like(M)
+        return Cb
     if damping.model == "rayleigh":
         K = modes.mesh_stiffness + scene.stiffness()
-        return damping.alpha * M + damping.beta * K
+        return damping.alpha * M + damping.beta * K + Cb
     if damping.model == "modal":
         xi = jnp.broadcast_to(damping.ratio, modes.omega.shape)
     else:
         e = modes.mesh_energy
         xi = damping.mesh_ratio * e + damping.structure_ratio * (1.0 - e)
     MP = M @ modes.shapes
-    return MP @ jnp.diag(2.0 * xi * modes.omega) @ MP.T
+    return MP @ jnp.diag(2.0 * xi * modes.omega) @ MP.T + Cb

@@ -147,7 +147,8 @@ class DynamicModel(eqx.Module):
         scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications (differentiable:
             δ0 is rebuilt from them in every simulation). torque: pinion torque T (N·m).
         damping: the (n, n) damping matrix C, built once from the modal analysis of the
-            time-averaged system (held fixed under differentiation wrt ``mods``).
+            time-averaged system, plus the scene's bearing damping if it has one
+            (:func:`damping_matrix`; held fixed under differentiation wrt ``mods``).
         modes: :class:`ModalAnalysis` of the time-averaged system.
         mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m).
     """

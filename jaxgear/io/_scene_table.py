@@ -28,14 +28,21 @@
     keep_periods = 4
     rtol = 1e-6                          # diffrax PID controller (scaled state)
     atol = 1e-6
+
+A ``lumped3d`` shaft's ``bearings`` are tables ``{ position_mm, radial_N_per_um, axial_N_per_um,
+tilt_Nm_per_rad }`` or ``{ position_mm, stiffness_matrix_SI }`` (6×6, not both), each with an
+optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx, ry, rz
+(docs/dynamics.md).
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from fem_prep import schema as sc
 
 from ..dynamics import DIFFRAX_SOLVERS, SceneSpec
-from ..scenes import Bearing, ShaftSpec
+from ..scenes import Bearing, ShaftSpec, bearing_matrix
 
 __all__ = ["parse_scene"]
 
@@ -66,7 +73,8 @@ _SHAFT_KEYS = {
     "elements",
     "bearings",
 }
-_BEARING_KEYS = {"position_mm", "radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad"}
+_DIAGONAL_BEARING_KEYS = ("radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad")
+_BEARING_KEYS = {"position_mm", *_DIAGONAL_BEARING_KEYS, "stiffness_matrix_SI", "damping_matrix_SI"}
 _DAMPING_KEYS = {"model", "ratio", "alpha_per_s", "beta_s", "mesh_ratio", "structure_ratio"}
 _INTEGRATION_KEYS = {
     "solver",
@@ -107,20 +115,36 @@ def _parse_shaft(table: dict, key: str):
         if not isinstance(b, dict):
             raise sc.fail(where, f"bearings[{i}]", "must be a table", b)
         sc.check_keys(b, _BEARING_KEYS, w)
-        out.append(
-            Bearing(
-                z=sc.number(b, "position_mm", w, allowed=within, note=note) * 1e-3,
-                radial=sc.number(b, "radial_N_per_um", w, 200.0, allowed="[0, 1e+09]") * 1e6,
-                axial=sc.number(b, "axial_N_per_um", w, 0.0, allowed="[0, 1e+09]") * 1e6,
-                tilt=sc.number(b, "tilt_Nm_per_rad", w, 0.0, allowed="[0, 1e+15]"),
+        z = sc.number(b, "position_mm", w, allowed=within, note=note) * 1e-3
+        K, C = (_bearing_matrix(b, key, w) for key in ("stiffness_matrix_SI", "damping_matrix_SI"))
+        if K is None:
+            out.append(
+                Bearing(
+                    z=z,
+                    radial=sc.number(b, "radial_N_per_um", w, 200.0, allowed="[0, 1e+09]") * 1e6,
+                    axial=sc.number(b, "axial_N_per_um", w, 0.0, allowed="[0, 1e+09]") * 1e6,
+                    tilt=sc.number(b, "tilt_Nm_per_rad", w, 0.0, allowed="[0, 1e+15]"),
+                    damping=C,
+                )
             )
-        )
-    if not any(b.axial > 0 for b in out):
+            continue
+        both = [key for key in _DIAGONAL_BEARING_KEYS if key in b]
+        if both:
+            raise sc.fail(
+                w,
+                "stiffness_matrix_SI",
+                f"give either {'/'.join(_DIAGONAL_BEARING_KEYS)} or stiffness_matrix_SI, not both "
+                f"(the matrix is the whole stiffness; remove {', '.join(both)})",
+            )
+        out.append(Bearing(z=z, stiffness=K, damping=C))
+    diag = [np.diag(b.stiffness_matrix()) for b in out]
+    if not any(d[2] > 0 for d in diag):
         raise sc.SchemaError(
             f"[{where}] bearings: needs an axial stiffness on at least one bearing "
-            "(axial_N_per_um > 0)"
+            "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)"
         )
-    if sum(b.radial > 0 for b in out) < 2 and not any(b.tilt > 0 for b in out):
+    radial = sum(d[0] > 0 and d[1] > 0 for d in diag)
+    if radial < 2 and not any(d[3] > 0 and d[4] > 0 for d in diag):
         raise sc.SchemaError(
             f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold the shaft"
         )
@@ -132,6 +156,21 @@ def _parse_shaft(table: dict, key: str):
         torque_z=torque_z,
         elements=elements,
     )
+
+
+def _bearing_matrix(b: dict, key: str, where: str):
+    """``stiffness_matrix_SI`` / ``damping_matrix_SI`` of a bearing table: 6 rows of 6 numbers,
+    SI per DOF pair (DOF order ux, uy, uz, rx, ry, rz), symmetric, positive semi-definite, row
+    and column rz zero (:func:`jaxgear.scenes.bearing_matrix`); ``None`` when absent."""
+    if key not in b:
+        return None
+    v = b[key]
+    try:
+        return bearing_matrix(v)
+    except ValueError as err:
+        # a malformed value is shown; the other errors name the offending entries themselves
+        shown = v if str(err).startswith("must be") else sc.MISSING
+        raise sc.fail(where, key, str(err), shown) from None
 
 
 def _parse_body(table: dict, key: str, base_dir: str | None) -> str:

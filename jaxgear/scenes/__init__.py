@@ -18,6 +18,7 @@ from ._lumped3d import (
     Bearing as Bearing,
     LumpedPair as LumpedPair,
     ShaftSpec as ShaftSpec,
+    bearing_matrix as bearing_matrix,
     lumped_pair as lumped_pair,
     timoshenko_element as timoshenko_element,
 )

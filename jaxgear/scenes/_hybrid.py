@@ -260,6 +260,8 @@ class HybridPair(Scene):
             te: TE vector u (u·X, m) at the gear positions of the shafts. te_compliance: G u.
             reaction: bearing force
             rows (r, n). tangent_point, direction, normal, roll_start: the line of action.
+            C_bearing: assembled bearing damping on the shaft DOFs (the first s coordinates),
+            shape (s, s) (:meth:`bearing_damping` pads it to (n, n)).
     """
 
     mesh: MeshModel
@@ -280,6 +282,7 @@ class HybridPair(Scene):
     direction: Float[Array, " 3"]
     normal: Float[Array, " 3"]
     roll_start: Float[Array, ""]
+    C_bearing: Float[Array, "s s"]
     reaction_names: tuple = eqx.field(static=True)
     reaction_member: tuple = eqx.field(static=True)
     torque_dofs: tuple = eqx.field(static=True)
@@ -289,8 +292,22 @@ class HybridPair(Scene):
         return self.K
 
     def mass(self):
-        """Mass matrix (n, n) (kg, kg·m²), for the dynamics of the next step."""
+        """Mass matrix (n, n) (kg, kg·m²) of the assembled structure (bodies, teeth, shafts)."""
         return self.M
+
+    def stiffness_parts(self):
+        """The structure stiffness as one part (the modal analysis's energy shares: mesh vs
+        structure, seed (2.36))."""
+        return {"structure": self.K}
+
+    def bearing_damping(self) -> Float[Array, "n n"]:
+        """Assembled bearing damping matrix (units of K·s), shape (n, n), zeros without bearing
+        damping; to be added to the damping matrix C of the dynamics. On the shaft of a flexible
+        member it acts in the body frame (the bearings there are axisymmetric, checked by
+        :func:`hybrid_pair`); the rotating-frame term Ω C J of a fixed damper is neglected, as the
+        seed neglects gyroscopic terms."""
+        n, s = self.K.shape[0], self.C_bearing.shape[0]
+        return jnp.zeros((n, n), self.K.dtype).at[:s, :s].set(self.C_bearing)
 
     def external_load(self, torque):
         return torque * self.f_torque + self.speed**2 * self.f_centrifugal
@@ -546,7 +563,9 @@ def hybrid_pair(
 
     Raises:
         ValueError: body/gear mismatch (teeth, root radius), a bearing node off the axis or
-            outside its shaft, a structure with a rigid-body mode other than the drive rotation.
+            outside its shaft, a structure with a rigid-body mode other than the drive rotation,
+            a bearing stiffness or damping matrix on a flexible body's shaft that is not
+            axisymmetric about z (that shaft turns with the body frame).
     """
     import scipy.linalg as sla  # NumPy-side factorisation, once per scene
 
@@ -556,6 +575,22 @@ def hybrid_pair(
         if body is None:
             extra.append(())
             continue
+        # the shaft of a flexible body is in the turning body frame: its bearings must look the
+        # same from every angle, i.e. commute with a quarter turn about z (K_xx = K_yy, ...)
+        q = np.zeros((6, 6))
+        q[0, 1] = q[3, 4] = -1.0
+        q[1, 0] = q[4, 3] = q[2, 2] = q[5, 5] = 1.0
+        for i, b in enumerate(shafts[m].bearings):
+            for what, a in (("stiffness", b.stiffness_matrix()), ("damping", b.damping_matrix())):
+                dg = np.abs(np.diag(a))
+                scale = np.maximum(np.sqrt(np.outer(dg, dg)), np.abs(a))
+                if np.any(np.abs(q @ a @ q.T - a) > 1e-6 * np.maximum(scale, scale.T)):
+                    raise ValueError(
+                        f"scene.{('pinion', 'gear')[m]}_shaft.bearings[{i}]: its {what} matrix "
+                        "is not axisymmetric about the shaft axis (allowed on the shaft of a "
+                        "flexible body, which turns with the body frame: e.g. K_xx = K_yy, "
+                        "K_xy = 0, K[3][3] = K[4][4], K[0][4] = -K[1][3], no x/y-z coupling)"
+                    )
         coords = np.asarray(body.master_coords, float)
         kind = np.asarray(body.master_kind)
         bz = coords[kind == 1]
@@ -687,6 +722,7 @@ def hybrid_pair(
         direction=jnp.asarray(d["direction"]),
         normal=jnp.asarray(d["normal"]),
         roll_start=jnp.asarray(pair.start_roll),
+        C_bearing=jnp.asarray(d["bearing_C"]),
         reaction_names=d["reaction_names"],
         reaction_member=react_member,
         torque_dofs=d["torque_dofs"],

@@ -19,6 +19,11 @@ consistent Euler-Bernoulli translational mass plus rotary inertia, axial and tor
 seed's annex (1.9) has typos; this follows the textbook (Przemieniecki, *Theory of Matrix
 Structural Analysis*, 1968, §5.6; Friedman & Kosmatka, Comput. Struct. 47, 1993 for the
 shear-deformable stiffness).
+
+Bearings (:class:`Bearing`) tie a shaft node to the ground through a 6×6 stiffness (diagonal
+radial/axial/tilt values or a full symmetric matrix, radial–tilt and cross couplings included) and
+an optional 6×6 viscous damping, both in the node's DOF order; the damping is assembled into
+:meth:`LumpedPair.bearing_damping`, which the dynamic model adds to its damping matrix.
 """
 
 from __future__ import annotations
@@ -35,7 +40,14 @@ from .._baseplane import MeshModel
 from .._geometry import GearPair
 from ._scene import DynamicScene
 
-__all__ = ["Bearing", "LumpedPair", "ShaftSpec", "lumped_pair", "timoshenko_element"]
+__all__ = [
+    "Bearing",
+    "LumpedPair",
+    "ShaftSpec",
+    "bearing_matrix",
+    "lumped_pair",
+    "timoshenko_element",
+]
 
 
 def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells) -> Array:
@@ -130,14 +142,156 @@ def timoshenko_element(
     return K, M
 
 
+BEARING_DOFS = ("ux", "uy", "uz", "rx", "ry", "rz")
+BEARING_RTOL = 1e-6  # relative tolerance of the symmetry and semi-definiteness checks
+
+
+def bearing_matrix(value) -> np.ndarray:
+    """A bearing's 6×6 stiffness or damping matrix, checked and symmetrised ((K + Kᵀ)/2).
+
+    DOF order u_x, u_y, u_z, φ_x, φ_y, φ_z of the shaft node (SI per DOF pair: N/m, N/rad,
+    N·m/rad for a stiffness; N·s/m, N·s/rad, N·m·s/rad for a damping).
+
+    Args:
+        value: 6 rows of 6 finite numbers (nested lists/tuples or an array).
+
+    Returns:
+        The symmetrised matrix, shape (6, 6), float64.
+
+    Raises:
+        ValueError: one line without a key path (the caller adds it): not 6×6 finite numbers;
+            not symmetric (|K_ij − K_ji| > 1e-6 max(|K_ij|, |K_ji|, √(K_ii K_jj))); row or column
+            φ_z (rz) not zero (a bearing carries no torque about the shaft axis: the drive
+            rotation must stay free); not positive semi-definite (a negative diagonal, a zero
+            diagonal with a non-zero entry in its row, or a smallest eigenvalue of the diagonally
+            scaled K_ij/√(K_ii K_jj) below −1e-6: a test independent of the mixed units).
+    """
+    shape = "must be 6 rows of 6 finite numbers (SI; DOF order ux, uy, uz, rx, ry, rz)"
+    if isinstance(value, (list, tuple)):
+        if len(value) != 6 or any(not isinstance(r, (list, tuple)) or len(r) != 6 for r in value):
+            sizes = [len(r) if isinstance(r, (list, tuple)) else "-" for r in value]
+            raise ValueError(f"{shape}, got {len(value)} rows of {sizes} entries")
+        if any(isinstance(x, bool) or not isinstance(x, (int, float)) for r in value for x in r):
+            raise ValueError(f"{shape}, got a non-number entry")
+        a = np.array(value, dtype=float)
+    else:
+        a = np.asarray(value)
+        if a.dtype.kind not in "iuf" or a.shape != (6, 6):
+            raise ValueError(f"{shape}, got shape {a.shape} of {a.dtype}")
+        a = a.astype(float)
+    if not np.all(np.isfinite(a)):
+        i, j = np.argwhere(~np.isfinite(a))[0]
+        raise ValueError(f"{shape}, got [{i}][{j}] = {a[i, j]}")
+    d = np.diag(a)
+    scale = np.maximum(np.maximum(np.abs(a), np.abs(a.T)), np.sqrt(np.abs(np.outer(d, d))))
+    excess = np.abs(a - a.T) - BEARING_RTOL * scale
+    if np.any(excess > 0):
+        i, j = np.unravel_index(np.argmax(excess), a.shape)
+        raise ValueError(
+            f"not symmetric: [{i}][{j}] = {a[i, j]:.6g} but [{j}][{i}] = {a[j, i]:.6g} (allowed "
+            f"|K_ij - K_ji| <= {BEARING_RTOL:g} max(|K_ij|, |K_ji|, sqrt(K_ii K_jj)))"
+        )
+    a = 0.5 * (a + a.T)
+    if np.any(a[5] != 0):
+        j = int(np.flatnonzero(a[5])[0])
+        raise ValueError(
+            f"row and column 5 (rz) must be 0, got [5][{j}] = {a[5, j]:.6g} (a bearing carries "
+            "no torque about the shaft axis: the drive rotation stays free)"
+        )
+    d = np.diag(a)
+    if np.any(d < 0):
+        i = int(np.flatnonzero(d < 0)[0])
+        raise ValueError(
+            f"not positive semi-definite: [{i}][{i}] = {d[i]:.6g} (allowed diagonal >= 0)"
+        )
+    for i in np.flatnonzero(d == 0):
+        if np.any(a[i] != 0):
+            j = int(np.flatnonzero(a[i])[0])
+            raise ValueError(
+                f"not positive semi-definite: [{i}][{i}] = 0 but [{i}][{j}] = {a[i, j]:.6g} "
+                "(allowed |K_ij| <= sqrt(K_ii K_jj))"
+            )
+    pos = d > 0
+    if np.any(pos):
+        s = 1.0 / np.sqrt(d[pos])
+        lam = float(np.linalg.eigvalsh(a[np.ix_(pos, pos)] * np.outer(s, s)).min())
+        if lam < -BEARING_RTOL:
+            raise ValueError(
+                "not positive semi-definite: smallest eigenvalue of K_ij/sqrt(K_ii K_jj) is "
+                f"{lam:.6g} (allowed >= {-BEARING_RTOL:g})"
+            )
+    return a
+
+
+def _as_tuple(a: np.ndarray) -> tuple:
+    return tuple(tuple(float(x) for x in row) for row in a)
+
+
 @dataclasses.dataclass(frozen=True)
 class Bearing:
-    """A bearing at axial position ``z`` (m): diagonal stiffness to the ground (N/m, N·m/rad)."""
+    """A bearing at axial position ``z`` (m): stiffness and damping from a shaft node to the ground.
+
+    The stiffness is either diagonal (``radial``, ``axial``, ``tilt``) or a full 6×6 matrix
+    (``stiffness``), never both: with ``stiffness`` given, ``radial``/``axial``/``tilt`` must be
+    left out (they stay ``None``). Matrices are in the shaft node's frame, DOF order u_x, u_y, u_z,
+    φ_x, φ_y, φ_z (φ_x, φ_y the tilts with du_y/dz = −φ_x, du_x/dz = φ_y), SI per DOF pair, and
+    are checked by :func:`bearing_matrix` (symmetric, positive semi-definite, row/column φ_z
+    zero) and stored symmetrised as nested tuples (the dataclass stays hashable).
+
+    Attributes:
+        z: position along the shaft (m).
+        radial: stiffness on u_x and u_y (N/m); default 2e8 without ``stiffness``.
+        axial: stiffness on u_z (N/m); default 1e8 without ``stiffness``.
+        tilt: stiffness on φ_x and φ_y (N·m/rad); default 0 without ``stiffness``.
+        stiffness: 6×6 stiffness matrix (N/m between translations, N/rad = N between a
+            translation and a rotation, N·m/rad between rotations), or ``None``.
+        damping: 6×6 viscous damping matrix (N·s/m, N·s/rad, N·m·s/rad), or ``None`` (none).
+
+    Raises:
+        ValueError: ``stiffness`` together with ``radial``/``axial``/``tilt``; a matrix that
+            fails :func:`bearing_matrix`.
+    """
 
     z: float
-    radial: float = 2e8
-    axial: float = 1e8
-    tilt: float = 0.0
+    radial: float | None = None
+    axial: float | None = None
+    tilt: float | None = None
+    stiffness: tuple | None = None
+    damping: tuple | None = None
+
+    def __post_init__(self):
+        where = f"Bearing at z = {self.z * 1e3:.6g} mm"
+        if self.stiffness is None:
+            for name, default in (("radial", 2e8), ("axial", 1e8), ("tilt", 0.0)):
+                if getattr(self, name) is None:
+                    object.__setattr__(self, name, default)
+        else:
+            given = [n for n in ("radial", "axial", "tilt") if getattr(self, n) is not None]
+            if given:
+                raise ValueError(
+                    f"{where}: give either radial/axial/tilt or a stiffness matrix, not both "
+                    f"(got {', '.join(given)} and stiffness)"
+                )
+        for name in ("stiffness", "damping"):
+            value = getattr(self, name)
+            if value is None:
+                continue
+            try:
+                a = bearing_matrix(value)
+            except ValueError as err:
+                raise ValueError(f"{where}: {name} {err}") from None
+            object.__setattr__(self, name, _as_tuple(a))
+
+    def stiffness_matrix(self) -> np.ndarray:
+        """The 6×6 stiffness (SI, node frame): ``stiffness`` or diag(radial, radial, axial,
+        tilt, tilt, 0)."""
+        if self.stiffness is not None:
+            return np.array(self.stiffness)
+        return np.diag([self.radial, self.radial, self.axial, self.tilt, self.tilt, 0.0])
+
+    def damping_matrix(self) -> np.ndarray:
+        """The 6×6 damping (SI, node frame); zeros without ``damping``."""
+        return np.zeros((6, 6)) if self.damping is None else np.array(self.damping)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -159,6 +313,8 @@ class LumpedPair(DynamicScene):
     Attributes:
         mesh: the gear mesh. M, K: assembled mass and structure stiffness (n, n).
         parts_K: the stiffness split by part, shape (n_parts, n, n) (names in ``part_names``).
+        C_bearing: assembled bearing damping (N·s/m, N·s/rad, N·m·s/rad per coordinate pair),
+            shape (n, n) (zeros without bearing damping).
         centres: O1, O2 (m), shape (2, 3). tangent_point: T1 (m). direction: t. normal: n.
         roll_start: ρ_A (m). rigid: the rigid-body rotation mode (n,).
         gear_dofs: first DOF index of the pinion and gear nodes (static).
@@ -177,6 +333,7 @@ class LumpedPair(DynamicScene):
     roll_start: Float[Array, ""]
     rigid: Float[Array, " n"]
     reaction: Float[Array, "r n"]
+    C_bearing: Float[Array, "n n"]
     gear_dofs: tuple = eqx.field(static=True)
     torque_dofs: tuple = eqx.field(static=True)
     part_names: tuple = eqx.field(static=True)
@@ -191,11 +348,17 @@ class LumpedPair(DynamicScene):
     def stiffness_parts(self):
         return {name: self.parts_K[i] for i, name in enumerate(self.part_names)}
 
+    def bearing_damping(self) -> Float[Array, "n n"]:
+        """Assembled bearing damping matrix (units of K·s), shape (n, n); zeros without bearing
+        damping. The dynamic model adds it to its damping matrix C."""
+        return self.C_bearing
+
     def rigid_modes(self):
         return self.rigid[:, None]
 
     def reaction_matrix(self):
-        """Bearing force components k u (N) (x, y, z at each bearing), names in ``reaction_names``."""
+        """Bearing force components k u (N) (x, y, z at each bearing: the translational rows of
+        its stiffness, elastic force only), names in ``reaction_names``."""
         return self.reaction
 
     def external_load(self, torque):
@@ -253,21 +416,23 @@ def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
         sl = slice(6 * e, 6 * e + 12)
         K[sl, sl] += ke
         M[sl, sl] += me
-    Kb = np.zeros((n, n))
-    for b in spec.bearings:
-        i = int(np.argmin(np.abs(nodes - b.z)))
-        for d, k in zip(range(5), (b.radial, b.radial, b.axial, b.tilt, b.tilt), strict=True):
-            Kb[6 * i + d, 6 * i + d] += k
     idx = lambda z: int(np.argmin(np.abs(nodes - z)))
+    # bearings: the 6×6 stiffness and damping on the node's DOFs; the force rows are the
+    # translational rows of the stiffness (elastic force k u, couplings to the tilts included)
+    Kb = np.zeros((n, n))
+    Cb = np.zeros((n, n))
     rows = []
     for b in spec.bearings:
-        i = idx(b.z)
-        for d, k in zip(range(3), (b.radial, b.radial, b.axial), strict=True):
-            if k > 0:
+        sl = slice(6 * idx(b.z), 6 * idx(b.z) + 6)
+        kb = b.stiffness_matrix()
+        Kb[sl, sl] += kb
+        Cb[sl, sl] += b.damping_matrix()
+        for d in range(3):
+            if np.any(kb[d] != 0):
                 r = np.zeros(n)
-                r[6 * i + d] = k
+                r[sl] = kb[d]
                 rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
-    return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows
+    return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows, Cb
 
 
 def _lumped_arrays(
@@ -296,9 +461,11 @@ def _lumped_arrays(
     Ksh1 = np.zeros((n, n))
     Ksh2 = np.zeros((n, n))
     Kb = np.zeros((n, n))
+    Cb = np.zeros((n, n))
     M[:n1, :n1], M[n1:, n1:] = s1[2], s2[2]
     Ksh1[:n1, :n1], Ksh2[n1:, n1:] = s1[1], s2[1]
     Kb[:n1, :n1], Kb[n1:, n1:] = s1[3], s2[3]
+    Cb[:n1, :n1], Cb[n1:, n1:] = s1[7], s2[7]
     g1, g2 = 6 * s1[4], n1 + 6 * s2[4]
     for g, m, inertia in ((g1, masses[0], inertias[0]), (g2, masses[1], inertias[1])):
         if m is None:
@@ -328,6 +495,7 @@ def _lumped_arrays(
     return dict(
         M=M,
         parts=np.stack([Ksh1, Ksh2, Kb]),
+        bearing_C=Cb,  # assembled bearing damping (n, n)
         centres=np.array([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
         tangent_point=T1,
         direction=t,
@@ -378,6 +546,7 @@ def lumped_pair(
         roll_start=jnp.asarray(pair.start_roll),
         rigid=jnp.asarray(d["rigid"]),
         reaction=jnp.asarray(d["reaction"]),
+        C_bearing=jnp.asarray(d["bearing_C"]),
         reaction_names=d["reaction_names"],
         gear_dofs=d["gear_dofs"],
         torque_dofs=d["torque_dofs"],
