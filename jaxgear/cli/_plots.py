@@ -457,6 +457,44 @@ def campbell_plot(
             ms=4,
             label="critical speed (sweep.json)",
         )
+    nd = [r for r in summary.get("nodal_diameter_resonances") or () if r["harmonic"] == 1]
+    for direction, marker, color in (("backward", "v", "C4"), ("forward", "^", "C2")):
+        rows = [r for r in nd if r["direction"] == direction and r["frequency_hz"] < f_top]
+        if not rows:
+            continue
+        # the excitation order h Z ± n of the wheel's rotation, in its frame (seed (3.9))
+        ratio = summary.get("pinion_teeth", z1) / summary.get("wheel_teeth", z1)
+        labelled = set()
+        for r in rows:
+            ax.plot(
+                s_line,
+                r["order"] * s_line * ratio / (2 * math.pi),
+                color=color,
+                ls=":",
+                lw=0.6,
+            )
+            if r["nodal_diameter"] in labelled:  # one label per family and direction
+                continue
+            labelled.add(r["nodal_diameter"])
+            sign = "−" if direction == "backward" else "+"
+            ax.annotate(
+                f"{sign}{r['nodal_diameter']}ND",
+                (r["pinion_speed_rad_s"], r["frequency_hz"]),
+                textcoords="offset points",
+                xytext=(-14, 6) if direction == "backward" else (4, -10),
+                fontsize=7,
+                color=color,
+            )
+        ax.plot(
+            [r["pinion_speed_rad_s"] for r in rows],
+            [r["frequency_hz"] for r in rows],
+            marker,
+            color=color,
+            ms=5,
+            ls="none",
+            label=f"{direction} ND resonance, order Z{'+' if direction == 'backward' else '−'}n "
+            "(body frame, (3.9))",
+        )
     ax.set_ylim(0, f_top)
     ax.set_xlim(0, s_max)
     top = ax.secondary_xaxis(
@@ -471,7 +509,7 @@ def campbell_plot(
         fontsize=10,
     )
     ax.grid(alpha=0.3)
-    fig.legend(loc="outside lower center", ncols=6, fontsize=8, frameon=False)
+    fig.legend(loc="outside lower center", ncols=3 if nd else 6, fontsize=8, frameon=False)
     savefig(fig, path)
     return cross
 

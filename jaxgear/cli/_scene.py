@@ -21,32 +21,42 @@ def _rot(angle, v):
     return out
 
 
+def _body_vtu(path, member, body, theta, x, extra=None) -> None:
+    """One flexible body deformed by the coordinates ``x`` at pinion angle ``theta`` (fixed
+    frame: the body turned to that position, centred on its axis)."""
+    q = x[np.asarray(member.body_dofs)]
+    u = (np.asarray(body.recovery, dtype=float) @ q).reshape(-1, 3)
+    ang = float(member.frame_angle(theta))
+    pts = _rot(ang, np.asarray(body.recovery_coords)) + np.asarray(member.centre)
+    write_vtu(
+        path,
+        pts,
+        [("hexahedron", np.asarray(body.recovery_cells))],
+        {"displacement_m": _rot(ang, u), **(extra or {})},
+    )
+
+
+def _flexible(scene, bodies):
+    from ..scenes import FlexibleMember
+
+    return [
+        (("pinion", "gear")[m], member, body)
+        for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True))
+        if isinstance(member, FlexibleMember) and body is not None
+    ]
+
+
 def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
     """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
     the body turned to that position, centred on its axis) and of the loaded contact cells with
     their line loads (N/mm)."""
-    from ..scenes import FlexibleMember
-
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
     theta = float(res.theta[k])
     x = np.asarray(res.x[k])
     written = []
-    for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True)):
-        if not isinstance(member, FlexibleMember) or body is None:
-            continue
-        q = x[np.asarray(member.body_dofs)]
-        u = (np.asarray(body.recovery, dtype=float) @ q).reshape(-1, 3)
-        ang = float(member.frame_angle(theta))
-        centre = np.asarray(member.centre)
-        pts = _rot(ang, np.asarray(body.recovery_coords)) + centre
-        name = f"body_{('pinion', 'gear')[m]}.vtu"
-        write_vtu(
-            os.path.join(out_dir, name),
-            pts,
-            [("hexahedron", np.asarray(body.recovery_cells))],
-            {"displacement_m": _rot(ang, u)},
-        )
-        written.append(name)
+    for name, member, body in _flexible(scene, bodies):
+        _body_vtu(os.path.join(out_dir, f"body_{name}.vtu"), member, body, theta, x)
+        written.append(f"body_{name}.vtu")
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
@@ -152,3 +162,30 @@ def scene_lines(q: dict) -> list[str]:
                 f"(pinion): {g * 1e6:.3f} µm"
             )
     return lines
+
+
+def write_body_series(out_dir, scene, bodies, dyn) -> list[str]:
+    """VTU time series of each flexible body over the kept steps of one speed
+    (:class:`jaxgear.dynamics.HybridDynamics` with ``states``): ``body_<member>_NNNN.vtu`` and a
+    ParaView collection ``body_<member>.pvd`` (time in s), written atomically."""
+    from ..io import atomic_open
+
+    states = np.asarray(dyn.states)
+    theta = np.asarray(dyn.theta)
+    dt = float(dyn.time_step)
+    written = []
+    for name, member, body in _flexible(scene, bodies):
+        rows = []
+        for k in range(states.shape[0]):
+            fname = f"body_{name}_{k:04d}.vtu"
+            _body_vtu(os.path.join(out_dir, fname), member, body, float(theta[k]), states[k])
+            rows.append(f'    <DataSet timestep="{k * dt:.9e}" part="0" file="{fname}"/>')
+            written.append(fname)
+        pvd = os.path.join(out_dir, f"body_{name}.pvd")
+        with atomic_open(pvd) as f:
+            f.write(
+                '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                "  <Collection>\n" + "\n".join(rows) + "\n  </Collection>\n</VTKFile>\n"
+            )
+        written.append(f"body_{name}.pvd")
+    return written

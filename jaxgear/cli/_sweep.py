@@ -59,15 +59,26 @@ def _critical_speeds(omega, rigid, energy, z1, s_max, n_modes=3, harmonics=(1, 2
     return out
 
 
-def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
+def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=None) -> dict:
     """Speed sweep of a case whose scene has condensed bodies (Newmark in the cell space,
-    :func:`jaxgear.dynamics.hybrid_speed_sweep`), in chunks of speeds for the progress bar."""
+    :func:`jaxgear.dynamics.hybrid_speed_sweep`), in chunks of speeds for the progress bar;
+    with ``vtu_speed``, a VTU time series of the deformed bodies at that speed."""
     import jax
     import jax.numpy as jnp
     import scipy.linalg as sla
     from tqdm.auto import tqdm
 
-    from ..dynamics import hybrid_speed_sweep, mean_mesh_stiffness, static_scene
+    from ..dynamics import (
+        Damping,
+        hybrid_speed_sweep,
+        mean_mesh_stiffness,
+        nodal_diameter_modes,
+        nodal_diameter_resonances,
+        rim_waves,
+        simulate_hybrid,
+        static_scene,
+    )
+    from ..scenes import FlexibleMember
 
     t0 = time.perf_counter()
     bar = tqdm(
@@ -77,15 +88,16 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
         disable=not show_progress,
     )
     bar.set_postfix_str("building the scene")
-    scene, _ = static_scene(case, slices=slices)
+    scene, bodies = static_scene(case, slices=slices)
     spp = spec.steps_per_period or 64  # the seed's 64 steps per mesh period (IV-27)
-    if spec.damping_model == "rayleigh":
-        rayleigh, damping = (spec.rayleigh_alpha, spec.rayleigh_beta), "rayleigh"
-    else:
-        rayleigh, damping = (
-            (25.0, 2.5e-6),
-            "rayleigh (the seed's D1: the hybrid model has no modal damping yet)",
-        )
+    damping = Damping(
+        spec.damping_model,
+        ratio=spec.damping_ratio,
+        alpha=spec.rayleigh_alpha,
+        beta=spec.rayleigh_beta,
+        mesh_ratio=spec.mesh_ratio,
+        structure_ratio=spec.structure_ratio,
+    )
     # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical speeds)
     bar.set_postfix_str("modes of the mesh-averaged system")
     Km = np.asarray(
@@ -105,34 +117,61 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
     rigid = omega < 1e-3 * omega.max()
     energy[rigid] = 0.0
     omega[rigid] = 0.0  # the drive rotation (round-off leaves it at a few mHz)
+    z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
+    flexible_wheel = isinstance(scene.members[1], FlexibleMember)
+    nd_res = []
+    if flexible_wheel:
+        # the wheel's nodal-diameter families (web modes: most of their kinetic energy in the
+        # body) and the speeds of (3.9) where the mesh excites them
+        nd = nodal_diameter_modes(scene, Km, n_modes=40)
+        web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
+        nd_res = [
+            r
+            for r in nodal_diameter_resonances(
+                nd["frequency_hz"][web], nd["nodal_diameter"][web], z2, z1, harmonics=(1, 2)
+            )
+            if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
+        ]
     chunk = 4
-    dfs, losses, results, te_rms = [], [], [], []
+    dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
+    kw = dict(
+        steps_per_period=spp,
+        periods=spec.periods,
+        keep_periods=spec.keep_periods,
+        damping=damping,
+        contact=spec.contact,
+        width=case.smooth_width,
+    )
     for k in range(0, speeds.size, chunk):
         part = speeds[k : k + chunk]
         padded = np.concatenate([part, np.full(chunk - part.size, part[-1])])
-        sw = hybrid_speed_sweep(
-            scene,
-            case.modifications,
-            case.torque,
-            padded,
-            steps_per_period=spp,
-            periods=spec.periods,
-            keep_periods=spec.keep_periods,
-            rayleigh=rayleigh,
-            contact=spec.contact,
-            width=case.smooth_width,
-        )
+        sw = hybrid_speed_sweep(scene, case.modifications, case.torque, padded, **kw)
         jax.block_until_ready(sw)
         fm = np.asarray(sw.mesh_force)[: part.size]
         fs = float(np.asarray(sw.static_force).reshape(-1)[0])
         dfs += (fm.max(axis=1) / fs).tolist()
-        losses += (np.mean(fm < 1e-3 * fs, axis=1)).tolist()
+        dft += np.asarray(sw.dynamic_factor_tooth)[: part.size].tolist()
+        losses += np.asarray(sw.contact_loss)[: part.size].tolist()
         results += [int(v) for v in np.asarray(sw.result)[: part.size]]
         te_rms += np.asarray(sw.te_rms)[: part.size].tolist()
+        for i, w in enumerate(part):
+            waves.append(_rim_content(sw, i, w * z1 / (2 * math.pi), rim_waves))
         bar.update(part.size)
     bar.close()
-    z1 = case.pair.pinion.teeth
+    vtu = []
+    if vtu_speed is not None:
+        from ._scene import write_body_series
+
+        one = simulate_hybrid(
+            scene, case.modifications, case.torque, float(vtu_speed), states=True, **kw
+        )
+        folder = os.path.join(out_dir, "vtu")
+        os.makedirs(folder, exist_ok=True)
+        for old in os.listdir(folder):  # a previous series may have had more frames
+            if old.startswith("body_") and old.endswith((".vtu", ".pvd")):
+                os.unlink(os.path.join(folder, old))
+        vtu = [os.path.join("vtu", f) for f in write_body_series(folder, scene, bodies, one)]
     summary = {
         "case": case.name,
         "model": "hybrid",
@@ -143,34 +182,60 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress) -> dict:
         "steps_per_period": spp,
         "periods": spec.periods,
         "keep_periods": spec.keep_periods,
-        "damping": damping,
-        "rayleigh_alpha_per_s": rayleigh[0],
-        "rayleigh_beta_s": rayleigh[1],
+        "damping": spec.damping_model,
+        "rayleigh_alpha_per_s": spec.rayleigh_alpha,
+        "rayleigh_beta_s": spec.rayleigh_beta,
+        "damping_ratio_mesh_structure": [spec.mesh_ratio, spec.structure_ratio],
         "torque_Nm": case.torque,
         "static_mesh_force_N": case.normal_load,
+        "pinion_teeth": z1,
+        "wheel_teeth": z2,
         "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
         "mesh_energy_share": _clean(energy),
         "critical_speeds": _critical_speeds(omega, rigid, energy, z1, float(speeds.max())),
+        "nodal_diameter_resonances": nd_res,
         "speeds_rad_s": _clean(speeds),
         "mesh_frequency_Hz": _clean(speeds * z1 / (2 * math.pi)),
         "dynamic_factor": _clean(dfs),
-        "dynamic_factor_tooth": [None] * speeds.size,
+        "dynamic_factor_tooth": _clean(dft),
         "te_rms_m": _clean(te_rms),
         "contact_loss": _clean(losses),
+        "rim_waves": waves,
         "result": results,
         "result_messages": {
             "0": "converged",
             "1": "contact loop not converged at some step",
             "2": "non-finite state",
         },
+        "vtu_series": {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None,
         "elapsed_s": time.perf_counter() - t0,
         "notes": "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads "
-        "on, Rayleigh damping with the period-averaged mesh stiffness; steps_per_period fixed "
-        "(no automatic choice yet); no per-tooth dynamic factor yet",
+        "on, damping on the mesh-averaged system ([scene.damping]); steps_per_period fixed "
+        "(64 unless [scene.integration] sets it); rim_waves: the wheel's largest rim wave "
+        "above half the mesh frequency per nodal diameter (body frame, direction +1 forward)",
         "platform": {"jax": jax.__version__, "python": platform.python_version()},
     }
     _write(summary, out_dir, z1)
     return summary
+
+
+def _rim_content(sw, i, f_mesh, rim_waves) -> dict | None:
+    """The largest rim wave n >= 1 of speed ``i`` above half the mesh frequency, axial and
+    radial (None for a rigid wheel)."""
+    out = {}
+    for comp in ("axial", "radial"):
+        u = np.asarray(getattr(sw, f"rim_{comp}")[i])
+        if u.shape[-1] == 0:
+            return None
+        w = rim_waves(u, float(sw.time_step[i]), -1.0, (0.5 * f_mesh, np.inf))
+        n = 1 + int(np.argmax(w["amplitude"][1:]))
+        out[comp] = {
+            "nodal_diameter": n,
+            "amplitude_m": float(w["amplitude"][n]),
+            "frequency_Hz": float(w["frequency_hz"][n]),
+            "direction": int(w["direction"][n]),
+        }
+    return out
 
 
 def sweep_case(
@@ -186,9 +251,11 @@ def sweep_case(
     keep_periods: int | None = None,
     slices: int | None = None,
     show_progress: bool = True,
+    vtu_speed: float | None = None,
 ) -> dict:
     """Speed sweep of a case's scene; writes ``sweep.json``, ``dynamic_factor.png`` and
-    ``campbell.png`` to ``out_dir`` (atomically) and returns the JSON dict."""
+    ``campbell.png`` to ``out_dir`` (atomically) and returns the JSON dict. ``vtu_speed``
+    (condensed bodies only): also a VTU time series of the bodies at that pinion speed."""
     import jax
     from tqdm.auto import tqdm
 
@@ -212,13 +279,20 @@ def sweep_case(
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
+    if vtu_speed is not None and not spec.hybrid:
+        raise ValueError(
+            f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
+            "to export ([scene.gear_body] or [scene.pinion_body])"
+        )
+    if vtu_speed is not None and not vtu_speed > 0:
+        raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
     if spec.hybrid:
         if direction != "independent" or spec.solver != "newmark":
             raise ValueError(
                 "a scene with condensed bodies sweeps independent speeds with Newmark only "
                 f"(got --direction {direction}, solver {spec.solver})"
             )
-        return _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress)
+        return _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed)
     t0 = time.perf_counter()
     n_dirs = 2 if direction == "both" else 1
     bar = tqdm(
@@ -379,6 +453,12 @@ def add_sweep_parser(subparsers) -> argparse.ArgumentParser:
         "period of the highest mode the mesh excites, at least 64 per mesh period)",
     )
     s.add_argument("--slices", type=int, help="override [mesh] slices")
+    s.add_argument(
+        "--vtu-speed",
+        type=float,
+        help="pinion speed (rad/s): VTU time series (vtu/body_<member>.pvd) of the condensed "
+        "bodies over the kept periods at that speed",
+    )
     s.add_argument("--out", help="output folder (default: jaxgear-out/<case>/sweep/)")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     return s
@@ -406,6 +486,7 @@ def run_sweep(args) -> int:
         keep_periods=args.keep_periods,
         slices=args.slices,
         show_progress=not args.quiet,
+        vtu_speed=args.vtu_speed,
     )
     df = np.asarray([np.nan if v is None else v for v in s["dynamic_factor"]])
     i = int(np.nanargmax(df)) if np.isfinite(df).any() else 0
