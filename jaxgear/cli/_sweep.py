@@ -69,6 +69,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     from tqdm.auto import tqdm
 
     from ..dynamics import (
+        MESH_ENERGY_MIN,
         Damping,
         hybrid_speed_sweep,
         mean_mesh_stiffness,
@@ -77,6 +78,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         rim_waves,
         simulate_hybrid,
         static_scene,
+        steps_for_mode,
     )
     from ..scenes import FlexibleMember
 
@@ -89,7 +91,8 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     )
     bar.set_postfix_str("building the scene")
     scene, bodies = static_scene(case, slices=slices)
-    spp = spec.steps_per_period or 64  # the seed's 64 steps per mesh period (IV-27)
+    # the period-averaged mesh stiffness is sampled at 64 positions unless the step is fixed
+    spp = spec.steps_per_period or 64
     damping = Damping(
         spec.damping_model,
         ratio=spec.damping_ratio,
@@ -132,21 +135,43 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             )
             if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
         ]
+    # steps per mesh period: fixed by [scene.integration], else automatic as the lumped sweep
+    # (>= 40 per period of the highest mode with >= 5 % mesh energy, >= 64 per mesh period)
+    excited = (~rigid) & (energy >= MESH_ENERGY_MIN)
+    w_max = omega[excited].max() if excited.any() else omega.max()
+    steps = (
+        np.full(speeds.size, spec.steps_per_period)
+        if spec.steps_per_period
+        else steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), speeds)
+    )
     chunk = 4
     dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
     kw = dict(
-        steps_per_period=spp,
         periods=spec.periods,
         keep_periods=spec.keep_periods,
         damping=damping,
         contact=spec.contact,
         width=case.smooth_width,
     )
-    for k in range(0, speeds.size, chunk):
-        part = speeds[k : k + chunk]
+    # chunks of equal step counts (one compiled sweep per count)
+    starts = [k for k in range(speeds.size) if k == 0 or steps[k] != steps[k - 1]]
+    bounds = [
+        (a, min(a + chunk, b))
+        for a0, b in zip(starts, [*starts[1:], speeds.size], strict=True)
+        for a in range(a0, b, chunk)
+    ]
+    for k, end in bounds:
+        part = speeds[k:end]
         padded = np.concatenate([part, np.full(chunk - part.size, part[-1])])
-        sw = hybrid_speed_sweep(scene, case.modifications, case.torque, padded, **kw)
+        sw = hybrid_speed_sweep(
+            scene,
+            case.modifications,
+            case.torque,
+            padded,
+            steps_per_period=int(steps[k]),
+            **kw,
+        )
         jax.block_until_ready(sw)
         fm = np.asarray(sw.mesh_force)[: part.size]
         fs = float(np.asarray(sw.static_force).reshape(-1)[0])
@@ -163,8 +188,18 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     if vtu_speed is not None:
         from ._scene import write_body_series
 
+        n_vtu = (
+            spec.steps_per_period
+            or steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), [vtu_speed])[0]
+        )
         one = simulate_hybrid(
-            scene, case.modifications, case.torque, float(vtu_speed), states=True, **kw
+            scene,
+            case.modifications,
+            case.torque,
+            float(vtu_speed),
+            states=True,
+            steps_per_period=int(n_vtu),
+            **kw,
         )
         folder = os.path.join(out_dir, "vtu")
         os.makedirs(folder, exist_ok=True)
@@ -179,7 +214,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "solver": "newmark",
         "contact": spec.contact,
         "direction": "independent",
-        "steps_per_period": spp,
+        "steps_per_period": [int(n) for n in steps],
         "periods": spec.periods,
         "keep_periods": spec.keep_periods,
         "damping": spec.damping_model,
@@ -210,8 +245,8 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "vtu_series": {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None,
         "elapsed_s": time.perf_counter() - t0,
         "notes": "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads "
-        "on, damping on the mesh-averaged system ([scene.damping]); steps_per_period fixed "
-        "(64 unless [scene.integration] sets it); rim_waves: the wheel's largest rim wave "
+        "on, damping on the mesh-averaged system ([scene.damping]); steps_per_period per speed "
+        "(automatic unless [scene.integration] sets it); rim_waves: the wheel's largest rim wave "
         "above half the mesh frequency per nodal diameter (body frame, direction +1 forward)",
         "platform": {"jax": jax.__version__, "python": platform.python_version()},
     }

@@ -8,6 +8,7 @@ the exact contact loop, or a diffrax solver); :func:`speed_sweep` vmaps (or cont
 
 from ._config import (
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
+    MESH_ENERGY_MIN as MESH_ENERGY_MIN,
     MIN_STEPS_PER_PERIOD as MIN_STEPS_PER_PERIOD,
     STEPS_PER_MODE as STEPS_PER_MODE,
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
@@ -49,5 +50,6 @@ from ._simulate import (
     auto_steps_per_period as auto_steps_per_period,
     simulate as simulate,
     static_start as static_start,
+    steps_for_mode as steps_for_mode,
 )
 from ._sweep import speed_sweep as speed_sweep

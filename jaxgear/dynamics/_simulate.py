@@ -217,9 +217,17 @@ def auto_steps_per_period(model: DynamicModel, speeds) -> np.ndarray:
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
             "jax.vmap or jax.grad pass an explicit integer steps_per_period"
         ) from err
+    return steps_for_mode(w, angle, sp)
+
+
+def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
+    """N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh) at each pinion speed
+    (rad/s, concrete): the rule of :func:`auto_steps_per_period` for the highest excited mode
+    ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m = ``mesh_period_angle`` = 2π/z1."""
+    sp = np.asarray(speeds, dtype=float)
     if np.any(~(sp > 0)):
         raise ValueError("speeds must be > 0 rad/s")
-    ratio = w * angle / (2 * np.pi * sp)  # f_max / f_mesh
+    ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
     n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
     return (2 ** np.ceil(np.log2(n))).astype(int)
 
