@@ -6,10 +6,13 @@ under the fixed mesh as the bodies turn):
 
     M Ẍ + C Ẋ + K X + Σ_c P_c(V_c·X − δ0_c) V_c = T f_T + Ω² f_c,
 
-with P_c = k_c l_c φ(Δ_c) the cell forces and Ω the pinion speed (each body at its own speed,
-f_c scaled accordingly; the centrifugal load is always on in dynamics). Damping: Rayleigh,
-C = α M + β K̄ with K̄ = K + K̄_m, K̄_m the mesh stiffness matrix averaged over the quasi-static
-positions of one mesh period (seed (2.34); the lumped model's Rayleigh damping).
+with P_c = k_c l_c φ(Δ_c) the cell forces, δ0_c = e_ref − e_c the flank gaps from one
+time-constant reference, and Ω the pinion speed (each body at its own speed, f_c scaled
+accordingly; the centrifugal load is always on in dynamics). The rotating frame's Coriolis and
+spin-softening inertia are not modelled (the seed uses the modes at rest too). Damping on the
+assembled system with K̄ = K + K̄_m, K̄_m the mesh stiffness matrix averaged over the
+quasi-static positions of one mesh period: Rayleigh α M + β K̄ (2.34), modal or composite (2.35)–(2.36) on the modes of
+(M, K̄) (:class:`jaxgear.dynamics.Damping`), plus the bearings' damping.
 
 Newmark average acceleration (β = 1/4, γ = 1/2). The effective stiffness K_eff = K + a₀M + a₁C
 is constant at one speed: it is inverted once, G_eff = K_eff⁻¹, and every step is a contact
@@ -18,9 +21,10 @@ K_eff definite): X* = G_eff F_eff, Δ = V_W X*_W − δ0 − C_eff P with C_eff 
 the window of master DOFs under the contact, then X = X* − G_eff Vᵀ P. A step costs the window
 compliance (cells × window²) and a matrix-vector product with G_eff (n²), not a factorisation.
 
-This is the first part of the hybrid dynamics: one speed (:func:`simulate_hybrid`) and a speed
-sweep (:func:`hybrid_speed_sweep`); the rotating-frame outputs (nodal diameters, Campbell
-diagram) and the optimisation at speed come next.
+Entry points: one speed (:func:`simulate_hybrid`), a speed sweep (:func:`hybrid_speed_sweep`),
+the free vibration at a fixed mesh position (:func:`hybrid_free_vibration`, the energy check),
+the rim's nodal-diameter waves (:func:`rim_waves`) and the wheel's nodal-diameter modes and
+resonance speeds of (3.9) (:func:`nodal_diameter_modes`, :func:`nodal_diameter_resonances`).
 """
 
 from __future__ import annotations
