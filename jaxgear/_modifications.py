@@ -27,6 +27,7 @@ from ._util import as_float
 __all__ = ["MemberModification", "Modifications"]
 
 _SHAPES = ("linear", "parabolic")
+_EDGES = ("both", "z0", "z1")
 
 
 def _ramp(x, shape: str, blend):
@@ -42,6 +43,19 @@ def _ramp(x, shape: str, blend):
     return x if shape == "linear" else x * x
 
 
+def _end_ramp(x, blend):
+    """Linear end relief ramp on x ∈ ℝ: 0 below 0, x, 1 above 1.
+
+    ``blend`` > 0 rounds the kink at the relief start (x = 0) with the parabola
+    (x + blend/2)²/(2 blend) on |x| <= blend/2 (C¹; unchanged outside that band, at most blend/8
+    above the sharp ramp); 0 keeps the sharp kink.
+    """
+    h = 0.5 * blend
+    safe = jnp.where(blend > 0, blend, 1.0)
+    rounded = jnp.where(x < -h, 0.0, jnp.where(x > h, x, (x + h) ** 2 / (2.0 * safe)))
+    return jnp.minimum(jnp.where(blend > 0, rounded, jnp.maximum(x, 0.0)), 1.0)
+
+
 class MemberModification(eqx.Module):
     """Modifications of one member's flank (SI units, depths in m, extents as fractions).
 
@@ -50,8 +64,13 @@ class MemberModification(eqx.Module):
         tip_relief_extent: Γ ∈ (0, 1], fraction of the path of contact g_α.
         root_relief_depth, root_relief_extent: likewise at the start of active profile.
         crowning_depth: lead crowning C_β (m), >= 0, parabolic, depth at each face edge.
-        end_relief_depth: linear lead end relief (m) at each face edge, >= 0.
-        end_relief_extent: its length at each end as a fraction of the face width, (0, 0.5].
+        end_relief_depth: linear lead end relief (m) at the relieved face edge(s), >= 0.
+        end_relief_extent: its length at each relieved end as a fraction of the face width,
+            (0, 0.5].
+        end_relief_blend: rounding width of the end relief start, in lead-fraction units (0:
+            sharp start): a parabola over that width centred on the start, C¹, the ramp unchanged
+            outside it. Optimisation sets it to one slice, 1/N, so that objectives sampled at
+            the slice centres are smooth in the end relief extent.
         helix_slope_deviation: f_Hβ (m), signed: material added at z = b, removed at z = 0
             (linear across the face, zero at mid-face); models a misalignment too.
         profile_deviation_roll: roll fractions u (ascending), shape (n,).
@@ -60,6 +79,10 @@ class MemberModification(eqx.Module):
             sharp start). Optimisation sets it to about one position step so that objectives
             sampled at discrete positions are smooth in the relief extent.
         tip_relief_shape, root_relief_shape: "linear" or "parabolic" (static).
+        end_relief_edge: which face edge(s) the end relief acts on (static): "both" (default,
+            symmetric), "z0" (the z = 0 edge only, ζ < extent) or "z1" (the z = b edge only,
+            ζ > 1 − extent); z is the base-plane face coordinate of DESIGN.md §2. A one-sided
+            relief is the seed's IV-33 lead modification of the overloaded edge.
     """
 
     tip_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
@@ -73,13 +96,20 @@ class MemberModification(eqx.Module):
     profile_deviation_roll: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 1.0))
     profile_deviation: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 0.0))
     relief_blend: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    end_relief_blend: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     tip_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
     root_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
+    end_relief_edge: Literal["both", "z0", "z1"] = eqx.field(static=True, default="both")
 
     def __check_init__(self):
         for name in ("tip_relief_shape", "root_relief_shape"):
             if getattr(self, name) not in _SHAPES:
                 raise ValueError(f"{name} = {getattr(self, name)!r}: allowed 'linear', 'parabolic'")
+        if self.end_relief_edge not in _EDGES:
+            raise ValueError(
+                f"end_relief_edge = {self.end_relief_edge!r}: allowed 'both', 'z0' (the z = 0 "
+                "edge), 'z1' (the z = b edge)"
+            )
         if (
             self.profile_deviation_roll.shape != self.profile_deviation.shape
             or self.profile_deviation.ndim != 1
@@ -105,9 +135,13 @@ class MemberModification(eqx.Module):
         xi = 2.0 * zeta - 1.0
         crown = self.crowning_depth * xi * xi
         le = self.end_relief_extent
-        end = self.end_relief_depth * (
-            jnp.clip((le - zeta) / le, 0.0, 1.0) + jnp.clip((zeta - (1.0 - le)) / le, 0.0, 1.0)
-        )
+        eb = self.end_relief_blend / le
+        ramp = 0.0
+        if self.end_relief_edge in ("both", "z0"):
+            ramp = ramp + _end_ramp((le - zeta) / le, eb)
+        if self.end_relief_edge in ("both", "z1"):
+            ramp = ramp + _end_ramp((zeta - (1.0 - le)) / le, eb)
+        end = self.end_relief_depth * ramp
         slope = self.helix_slope_deviation * (zeta - 0.5)
         if self.profile_deviation.shape[0] == 2:  # a straight line: no table search needed
             r, d = self.profile_deviation_roll, self.profile_deviation

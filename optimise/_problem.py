@@ -9,9 +9,14 @@ Normalisation: depths are E* = E/δ_m with δ_m = F_n / K̄ the mean static defl
 unmodified mesh at the design torque (K̄ its mean mesh stiffness); extents are Γ itself. Bounds are
 kept by the reparametrisation x = lo + (hi − lo)·sigmoid(u), u ∈ ℝ free.
 
-Objectives (all scaled by the unmodified value at the design torque, so O(1)):
+Objectives (scaled by the unmodified value at the design torque, so O(1); ``load_centroid`` by
+a fixed 0.01):
 ``te_rms``, ``te_ptp``, ``robust_te_rms`` (mean or max of TE RMS over a torque range, vmapped),
-``max_line_load`` (maximum line load over the mesh cycle).
+``max_line_load`` (maximum line load over the mesh cycle), ``load_centroid`` (the square c² of
+the load centroid's offset from mid-face, :func:`load_centroid`; 0 = centred load) and
+``line_load_lp`` (the L_p norm of the line load over the load map, :func:`line_load_lp`, a smooth
+surrogate of the maximum). Every objective works on the rigid mesh and on any scene, e.g. the
+hybrid scene at speed (centrifugal loads) of :func:`jaxgear.dynamics.static_scene`.
 """
 
 from __future__ import annotations
@@ -26,7 +31,15 @@ from jaxtyping import Array, Float
 
 import jaxgear as jg
 
-__all__ = ["VARIABLES", "OBJECTIVES", "Problem", "make_problem"]
+__all__ = [
+    "VARIABLES",
+    "OBJECTIVES",
+    "OBJECTIVE_UNITS",
+    "Problem",
+    "make_problem",
+    "load_centroid",
+    "line_load_lp",
+]
 
 # variable -> (MemberModification field, kind)
 VARIABLES = {
@@ -38,7 +51,27 @@ VARIABLES = {
     "end_relief.depth": ("end_relief_depth", "depth"),
     "end_relief.extent": ("end_relief_extent", "end_extent"),
 }
-OBJECTIVES = ("te_rms", "te_ptp", "robust_te_rms", "max_line_load")
+OBJECTIVES = (
+    "te_rms",
+    "te_ptp",
+    "robust_te_rms",
+    "max_line_load",
+    "load_centroid",
+    "line_load_lp",
+)
+# units of each (unscaled) objective, as used in report keys
+OBJECTIVE_UNITS = {
+    "te_rms": "m",
+    "te_ptp": "m",
+    "robust_te_rms": "m",
+    "max_line_load": "N_per_m",
+    "load_centroid": "face_fraction_squared",
+    "line_load_lp": "N_per_m",
+}
+# the load_centroid objective is c²/CENTROID_SCALE = (c / 0.1)²: 1 for a centroid 10 % of the
+# face width off centre (the unmodified pair is often centred, c = 0: no scale to take from it)
+CENTROID_SCALE = 0.01
+LP_ORDER_RANGE = (1.0, 64.0)
 DEFAULT_BOUNDS = {"depth": (0.0, 3.0), "extent": (0.02, 0.98), "end_extent": (0.02, 0.5)}
 
 
@@ -51,10 +84,55 @@ def _split(name: str) -> tuple[tuple[str, ...], str]:
     if base not in VARIABLES:
         allowed = ", ".join(sorted(VARIABLES))
         raise ValueError(
-            f"unknown design variable {name!r}: allowed {allowed}, optionally "
+            f"--vars {name!r}: unknown design variable, allowed {allowed}, optionally "
             "prefixed by 'pinion.' or 'gear.'"
         )
     return members, base
+
+
+def load_centroid(res: jg.QuasiStaticResult, face_width) -> Float[Array, ""]:
+    """Load centroid across the face over the mesh positions, as a fraction of the face width.
+
+    c = (z̄ − b/2)/b with z̄ = Σ q z / Σ q, the sums over every cell on the flanks at every
+    position of ``res`` (q the line load, N/m; the cells have equal lengths, so q weights like
+    the cell force). z is the base-plane face coordinate of DESIGN.md §2, z ∈ [0, b]: c > 0 means
+    the load sits towards the z = b edge, c < 0 towards the z = 0 edge, c = 0 centred; |c| <= 1/2.
+    On the hybrid scenes the body's axial coordinate is z − b/2 (for the power wheel
+    ``power-helical-wheel`` the web meets the rim at z = 8 mm and z = b is the cantilevered edge).
+
+    Args:
+        res: a quasi-static result (any scene; exact or smooth contact).
+        face_width: b (m).
+
+    Returns:
+        c, dimensionless, differentiable in the modifications (smooth contact everywhere, exact
+        contact away from changes of the contact set).
+    """
+    q = jnp.where(res.cell_mask, res.line_load, 0.0)
+    zbar = jnp.sum(q * res.cell_z) / jnp.sum(q)
+    return zbar / face_width - 0.5
+
+
+def line_load_lp(res: jg.QuasiStaticResult, p=8.0) -> Float[Array, ""]:
+    """L_p norm of the line load over the load map (N/m): a smooth surrogate of its maximum.
+
+    ‖q‖_p = (mean over the flank cells and positions of q^p)^(1/p), the mean taken over every
+    cell on the flanks at every position of ``res`` (loaded or not; a count fixed by the
+    geometry). It rises towards ``max q`` as p grows (‖q‖_p <= max q, and ‖q‖_∞ = max q) and,
+    unlike the maximum, has a gradient that sees every loaded cell.
+
+    Args:
+        res: a quasi-static result.
+        p: the order, >= 1 (default 8).
+
+    Returns:
+        ‖q‖_p in N/m.
+    """
+    q = jnp.maximum(jnp.where(res.cell_mask, res.line_load, 0.0), 0.0)
+    ref = jax.lax.stop_gradient(jnp.max(q))  # ‖q‖_p is 1-homogeneous: no gradient is lost
+    ref = jnp.where(ref > 0, ref, 1.0)
+    n = jnp.sum(res.cell_mask)
+    return ref * (jnp.sum((q / ref) ** p) / n) ** (1.0 / p)
 
 
 class Problem(eqx.Module):
@@ -66,9 +144,12 @@ class Problem(eqx.Module):
             variables are written into.
         torques: torques of the objective (N·m), shape (T,) (one entry for single-load objectives).
         design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque.
-        scale: unmodified objective value at the design torque (objective units).
+        scale: unmodified objective value at the design torque (objective units);
+            ``CENTROID_SCALE`` for ``load_centroid``.
         lower, upper: bounds in normalised units, shape (n,).
         width: smooth-law width (m).
+        face_width: b (m), of the load centroid.
+        lp_order: p of ``line_load_lp``.
         names: variable names (static). objective: objective name (static).
         reduce: "mean" | "max" over torques (static). positions_per_pitch: static.
     """
@@ -82,6 +163,8 @@ class Problem(eqx.Module):
     lower: Float[Array, " n"]
     upper: Float[Array, " n"]
     width: Float[Array, ""]
+    face_width: Float[Array, ""]
+    lp_order: Float[Array, ""]
     names: tuple[str, ...] = eqx.field(static=True)
     objective: str = eqx.field(static=True)
     reduce: str = eqx.field(static=True)
@@ -141,10 +224,15 @@ class Problem(eqx.Module):
             return r.te_rms
         if self.objective == "te_ptp":
             return r.te_ptp
+        if self.objective == "load_centroid":
+            return load_centroid(r, self.face_width) ** 2
+        if self.objective == "line_load_lp":
+            return line_load_lp(r, self.lp_order)
         return r.max_line_load
 
     def value(self, x: Float[Array, " n"], contact: str = "smooth") -> Float[Array, ""]:
-        """Scaled objective at normalised design values ``x`` (1 = unmodified at design load)."""
+        """Scaled objective at normalised design values ``x`` (1 = unmodified at design load;
+        ``load_centroid``: (c/0.1)²)."""
         mods = self.modifications(x)
         vals = jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
         v = jnp.max(vals) if self.reduce == "max" else jnp.mean(vals)
@@ -166,8 +254,44 @@ class Problem(eqx.Module):
             )
         )(jnp.asarray(torques))
 
+    def metrics(self, x, contact: str = "exact") -> dict:
+        """Every objective's quantity at the design torque for design ``x``, unscaled, as a dict:
+        ``te_rms_m``, ``te_ptp_m``, ``max_line_load_N_per_m``, ``line_load_lp_N_per_m`` (order
+        ``lp_order``) and the signed ``load_centroid`` (fraction of b, see :func:`load_centroid`).
+        """
+        r = jg.quasi_static(
+            self.mesh,
+            self.modifications(jnp.asarray(x)),
+            self.design_torque,
+            contact=contact,
+            width=self.width,
+            positions_per_pitch=self.positions_per_pitch,
+        )
+        return {
+            "te_rms_m": r.te_rms,
+            "te_ptp_m": r.te_ptp,
+            "max_line_load_N_per_m": r.max_line_load,
+            "line_load_lp_N_per_m": line_load_lp(r, self.lp_order),
+            "load_centroid": load_centroid(r, self.face_width),
+        }
+
+    def sharp(self) -> "Problem":
+        """The same problem with sharp relief starts (``relief_blend`` and ``end_relief_blend``
+        0): the design as the case file writes it, for evaluations in exact contact."""
+        zero = jnp.asarray(0.0)
+        return eqx.tree_at(
+            lambda p: (
+                p.base.pinion.relief_blend,
+                p.base.gear.relief_blend,
+                p.base.pinion.end_relief_blend,
+                p.base.gear.end_relief_blend,
+            ),
+            self,
+            (zero, zero, zero, zero),
+        )
+
     def per_torque(self, x, contact: str = "exact") -> Float[Array, " T"]:
-        """Unscaled objective at each torque (objective units: m or N/m)."""
+        """Unscaled objective at each torque (objective units, ``OBJECTIVE_UNITS``)."""
         mods = self.modifications(x)
         return jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
 
@@ -183,7 +307,9 @@ def make_problem(
     positions_per_pitch: int | None = None,
     slices: int | None = None,
     relief_blend: float | None = None,
+    end_relief_blend: float | None = None,
     scene: jg.Scene | None = None,
+    lp_order: float = 8.0,
 ) -> Problem:
     """Build a :class:`Problem` from a case.
 
@@ -198,13 +324,23 @@ def make_problem(
         relief_blend: rounding of the relief starts in roll-fraction units (see
             ``MemberModification.relief_blend``); default one position step, 1/(P ε_α), which
             makes the sampled objective smooth in the extents. 0 keeps sharp relief starts.
+        end_relief_blend: rounding of the end relief start in lead-fraction units (see
+            ``MemberModification.end_relief_blend``); default one slice, 1/N, when an end relief
+            extent is a design variable (it makes the objective sampled at the slice centres
+            smooth in the extent), else 0 (sharp: the design as written).
         scene: the structure to optimise on (default the case's rigid mesh), e.g. the hybrid
             scene of :func:`jaxgear.dynamics.static_scene` at a speed (centrifugal loads): its
             mesh replaces ``slices``.
+        lp_order: p of the ``line_load_lp`` objective, in [1, 64] (default 8).
+
+    The ``load_centroid`` objective is c² (:func:`load_centroid`) scaled by ``CENTROID_SCALE``
+    = 0.01: (c/0.1)², 1 for a centroid 10 % of the face width off centre (the unmodified pair,
+    the scale of the other objectives, is often centred).
 
     Raises:
         ValueError: unknown variable or objective, duplicated variable, empty torque range,
-            bounds crossed, extents outside (0, 1), negative depth bounds.
+            bounds crossed, extents outside (0, 1), negative depth bounds, ``lp_order`` outside
+            [1, 64].
     """
     if isinstance(variables, str):
         variables = [v for v in variables.split(",") if v.strip()]
@@ -217,6 +353,12 @@ def make_problem(
         _split(n)
     if objective not in OBJECTIVES:
         raise ValueError(f"--objective {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
+    lp_order = float(lp_order)
+    if not LP_ORDER_RANGE[0] <= lp_order <= LP_ORDER_RANGE[1]:
+        raise ValueError(
+            f"--lp-order {lp_order:g}: out of range, allowed [{LP_ORDER_RANGE[0]:g}, "
+            f"{LP_ORDER_RANGE[1]:g}]"
+        )
     if reduce not in ("mean", "max"):
         raise ValueError(f"reduce = {reduce!r}: allowed 'mean', 'max'")
     if torques is None or objective != "robust_te_rms":
@@ -248,21 +390,39 @@ def make_problem(
     unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
     delta_m = case.normal_load / k_mean
-    scale = {
-        "te_rms": unmod.te_rms,
-        "robust_te_rms": unmod.te_rms,
-        "te_ptp": unmod.te_ptp,
-        "max_line_load": unmod.max_line_load,
-    }[objective]
+    mesh_model = mesh if isinstance(mesh, jg.MeshModel) else mesh.mesh
+    face_width = float(mesh_model.face_width)
+    if objective == "load_centroid":
+        scale = CENTROID_SCALE
+    elif objective == "line_load_lp":
+        scale = float(line_load_lp(unmod, lp_order))
+    else:
+        scale = {
+            "te_rms": unmod.te_rms,
+            "robust_te_rms": unmod.te_rms,
+            "te_ptp": unmod.te_ptp,
+            "max_line_load": unmod.max_line_load,
+        }[objective]
     # round the relief starts over one position step so that the sampled objective is smooth in
     # the extents (a sharp start makes it kink each time the start crosses a sampled point)
     blend = (
         1.0 / (ppp * case.pair.transverse_contact_ratio) if relief_blend is None else relief_blend
     )
+    # likewise the end relief start over one slice when its extent is a variable (the sampled
+    # objective kinks each time the start crosses a slice centre)
+    end_blend = end_relief_blend
+    if end_blend is None:
+        extent_var = any(_split(n)[1] == "end_relief.extent" for n in names)
+        end_blend = 1.0 / mesh_model.n_slices if extent_var else 0.0
     base = eqx.tree_at(
-        lambda m: (m.pinion.relief_blend, m.gear.relief_blend),
+        lambda m: (
+            m.pinion.relief_blend,
+            m.gear.relief_blend,
+            m.pinion.end_relief_blend,
+            m.gear.end_relief_blend,
+        ),
         case.modifications,
-        (jnp.asarray(blend), jnp.asarray(blend)),
+        tuple(jnp.asarray(v) for v in (blend, blend, end_blend, end_blend)),
     )
     return Problem(
         mesh=mesh,
@@ -274,6 +434,8 @@ def make_problem(
         lower=jnp.asarray(lo),
         upper=jnp.asarray(hi),
         width=jnp.asarray(case.smooth_width),
+        face_width=jnp.asarray(face_width),
+        lp_order=jnp.asarray(lp_order),
         names=names,
         objective=objective,
         reduce=reduce,

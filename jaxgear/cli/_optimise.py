@@ -12,6 +12,7 @@ import numpy as np
 
 import jaxgear as jg
 from optimise import (
+    OBJECTIVE_UNITS,
     OBJECTIVES,
     VARIABLES,
     contour_map,
@@ -35,7 +36,9 @@ def add_parsers(sub) -> None:
     o.add_argument(
         "--objective",
         choices=OBJECTIVES,
-        help="objective (default te_rms, or the case's [optimise])",
+        help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
+        "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
+        "line load over the load map (a smooth maximum, see --lp-order)",
     )
     o.add_argument(
         "--vars",
@@ -48,6 +51,11 @@ def add_parsers(sub) -> None:
         type=float,
         help="pinion speed (rad/s): optimise on the hybrid scene at that speed, centrifugal loads "
         "included (a case with [scene.gear_body] or [scene.pinion_body])",
+    )
+    o.add_argument(
+        "--lp-order",
+        type=float,
+        help="p of the line_load_lp objective, in [1, 64] (default 8)",
     )
     o.add_argument("--reduce", choices=["max", "mean"], help="robust objective: worst case or mean")
     o.add_argument("--method", choices=["lbfgs", "adam"], help="optimiser (default lbfgs)")
@@ -87,6 +95,7 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         "max_iterations": int(get("max_iterations", 100)),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
         "speed": getattr(args, "speed", None) if args is not None else None,
+        "lp_order": get("lp_order", None),
     }
 
 
@@ -110,12 +119,9 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         reduce=settings["reduce"],
         bounds=settings["bounds"],
         scene=scene,
+        lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
     )
-    sharp = eqx.tree_at(
-        lambda p: (p.base.pinion.relief_blend, p.base.gear.relief_blend),
-        problem,
-        (jnp.asarray(0.0), jnp.asarray(0.0)),
-    )
+    sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
     start = {}
     for n in problem.names:
         members = (
@@ -129,11 +135,11 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         field, kind = VARIABLES[base]
         v = float(getattr(getattr(case.modifications, members[0]), field))
         start[n] = v * 1e6 if kind == "depth" else v
-    x0 = np.clip(
-        problem.from_physical(start),
-        np.asarray(problem.lower) + 1e-3,
-        np.asarray(problem.upper) - 1e-3,
-    )
+    _warn_idle_extents(case, problem.names)
+    # start 5 % of the interval inside the bounds: the reparametrisation's sigmoid is flat at a
+    # bound (a depth of 0, no modification yet, would leave the optimiser almost no gradient)
+    lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
+    x0 = np.clip(problem.from_physical(start), lo + 0.05 * (hi - lo), hi - 0.05 * (hi - lo))
     res = minimise(
         problem,
         x0,
@@ -153,7 +159,16 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         disable=not progress,
     )
     scale = float(problem.scale)
-    units = "m" if problem.objective != "max_line_load" else "N_per_m"
+    units = OBJECTIVE_UNITS[problem.objective]
+    # each evaluation compiled once and called for the start and the optimum (eager calls of the
+    # vmapped solve would trace it again each time)
+    metrics = eqx.filter_jit(lambda x: sharp.metrics(x, "exact"))
+    exact_value = eqx.filter_jit(lambda x: sharp.value(x, "exact"))
+
+    def exact_metrics(x):
+        m = {k: float(v) for k, v in metrics(jnp.asarray(x)).items()}
+        m["load_centroid_mm"] = m["load_centroid"] * float(problem.face_width) * 1e3
+        return m
     report = {
         "case": case.name,
         "objective": problem.objective,
@@ -164,15 +179,19 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "model": "rigid mesh" if scene is None else "hybrid scene",
         "speed_rad_s": settings.get("speed"),
         "mean_static_deflection_m": float(problem.delta_m),
+        "lp_order": float(problem.lp_order) if problem.objective == "line_load_lp" else None,
+        "case_start": start,
         "initial": {
             "parameters": problem.to_physical(res.x0),
-            f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x0), "exact")) * scale,
+            f"objective_exact_{units}": float(exact_value(jnp.asarray(res.x0))) * scale,
             f"objective_smooth_{units}": res.value0 * scale,
+            "exact": exact_metrics(res.x0),
         },
         "final": {
             "parameters": problem.to_physical(res.x),
-            f"objective_exact_{units}": float(sharp.value(jnp.asarray(res.x), "exact")) * scale,
+            f"objective_exact_{units}": float(exact_value(jnp.asarray(res.x))) * scale,
             f"objective_smooth_{units}": res.value * scale,
+            "exact": exact_metrics(res.x),
         },
         "unmodified_objective": scale,
         "iterations": res.iterations,
@@ -181,8 +200,12 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "wall_time_s": res.wall_time_s,
         "max_iterations": settings["max_iterations"],
         "notes": "parameters in case-file units (depth_um for depths, fractions for extents); "
+        "the optimiser starts from the case's values (case_start) moved at least 5 % of the "
+        "interval inside the bounds (initial); "
         "'exact' values use sharp relief starts, the smooth optimisation rounds them over "
-        "one position step (relief_blend)",
+        "one position step (relief_blend) and, when end_relief.extent is a variable, the end "
+        "relief start over one slice (end_relief_blend); 'exact' holds every objective's quantity at the design torque: "
+        "load_centroid is (z̄ − b/2)/b, positive towards the z = b edge of the face",
     }
     post.update()
     os.makedirs(out_dir, exist_ok=True)
@@ -199,7 +222,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         harris_t = np.linspace(0.25, 2.0, 15) * t_design
         harris_t[np.argmin(np.abs(harris_t - t_design))] = t_design  # the design torque a point
     lower = np.asarray(problem.lower, dtype=float)
-    te_of = lambda x: np.asarray(sharp.te_rms_vs_torque(jnp.asarray(x), harris_t))
+    te_jit = eqx.filter_jit(lambda x: sharp.te_rms_vs_torque(x, jnp.asarray(harris_t)))
+    te_of = lambda x: np.asarray(te_jit(jnp.asarray(x, dtype=float)))  # noqa: E731
     harris = {
         "torque_Nm": harris_t.tolist(),
         "te_rms_initial_m": te_of(res.x0).tolist(),
@@ -265,6 +289,39 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     return report
 
 
+def _warn_idle_extents(case: jg.Case, names) -> None:
+    """Warn about an extent variable whose relief has no depth in the case and no depth variable:
+    its gradient is zero and the optimiser leaves it where it starts."""
+    import warnings
+
+    def split(n):
+        who = n.split(".", 1)[0] if n.startswith(("pinion.", "gear.")) else "both"
+        return who, (n.split(".", 1)[1] if who != "both" else n)
+
+    scopes: dict[str, set] = {}  # variable base name -> members it acts on ("both" for both)
+    for n in names:
+        who, base = split(n)
+        scopes.setdefault(base, set()).add(who)
+    for n in names:
+        who, base = split(n)
+        if not base.endswith(".extent"):
+            continue
+        depth = base.replace(".extent", ".depth")
+        has = scopes.get(depth, set())
+        if has and (who == "both" or has & {who, "both"}):
+            continue  # the depth is a design variable too
+        members = ("pinion", "gear") if who == "both" else (who,)
+        field = VARIABLES[depth][0]
+        if all(float(getattr(getattr(case.modifications, m), field)) == 0 for m in members):
+            warnings.warn(
+                f"--vars {n}: the case's {depth} is 0 for the "
+                f"{' and '.join(members)}, so the extent has no effect; add {depth} to --vars "
+                "or give the case a depth",
+                UserWarning,
+                stacklevel=2,
+            )
+
+
 def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
     """Check optimisation settings that the option parser cannot: a ``torques`` range only with
     ``robust_te_rms``, and increasing; ``max_iterations >= 1``. Returns ``settings``.
@@ -281,6 +338,28 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
         parse_range(settings["torques"], "--torques", positive=True)
     if int(settings["max_iterations"]) < 1:
         raise ValueError(f"max_iterations = {settings['max_iterations']}: must be >= 1")
+    variables = settings.get("vars")
+    if variables is not None:
+        names = variables.split(",") if isinstance(variables, str) else list(variables)
+        names = [n.strip() for n in names]
+        allowed = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
+        if not names or not all(names):
+            raise ValueError(f"--vars {variables!r}: empty variable name, allowed {allowed}")
+        for n in names:
+            base = n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n
+            if base not in VARIABLES:
+                raise ValueError(f"--vars {n!r}: unknown design variable, allowed {allowed}")
+        if len(set(names)) != len(names):
+            raise ValueError(f"--vars {variables!r}: names a variable twice")
+    lp = settings.get("lp_order")
+    if lp is not None:
+        if settings["objective"] != "line_load_lp":
+            raise ValueError(
+                f"--lp-order {lp:g} applies to the objective line_load_lp only, "
+                f"not {settings['objective']}"
+            )
+        if not 1 <= lp <= 64:
+            raise ValueError(f"--lp-order {lp:g}: out of range, allowed [1, 64]")
     speed = settings.get("speed")
     if speed is not None:
         if not 0 <= speed <= 1e5:
@@ -301,11 +380,16 @@ def run_optimise(args) -> int:
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep = optimise_case(case, settings, out, progress=not args.quiet)
-    units = "m" if rep["objective"] != "max_line_load" else "N_per_m"
+    units = OBJECTIVE_UNITS[rep["objective"]]
     where = "" if rep["speed_rad_s"] is None else f" (hybrid scene at {rep['speed_rad_s']:g} rad/s)"
+    a, b = (rep[k][f"objective_exact_{units}"] for k in ("initial", "final"))
+    if rep["objective"] == "load_centroid":  # the signed centroid reads better than c²
+        a, b = (rep[k]["exact"]["load_centroid"] for k in ("initial", "final"))
+        value = f"centroid {a:+.4g} -> {b:+.4g} face widths from mid-face (+: towards z = b)"
+    else:
+        value = f"{a:.4g} -> {b:.4g} {units}"
     print(
-        f"{rep['objective']}{where}: {rep['initial'][f'objective_exact_{units}']:.4g} -> "
-        f"{rep['final'][f'objective_exact_{units}']:.4g} {units} (exact contact), "
+        f"{rep['objective']}{where}: {value} (exact contact), "
         f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s"
     )
     for k, v in rep["final"]["parameters"].items():

@@ -86,7 +86,7 @@ _MOD_KEYS = {
     "tip_relief": {"depth_um", "extent", "shape"},
     "root_relief": {"depth_um", "extent", "shape"},
     "crowning": {"depth_um"},
-    "end_relief": {"depth_um", "extent"},
+    "end_relief": {"depth_um", "extent", "edge"},
     "helix_slope": {"deviation_um"},
     "profile_deviation": {"roll_fraction", "deviation_um"},
 }
@@ -135,7 +135,8 @@ def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
                 allowed="(0, 0.5]",
                 note=" (fraction of the face width at each end)",
             )
-            kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent)
+            edge = sc.choice(spec, "edge", w, ("both", "z0", "z1"), "both")
+            kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
         elif name == "helix_slope":
             kw["helix_slope_deviation"] = sc.number(spec, "deviation_um", w, 0.0) * 1e-6
         elif name == "profile_deviation":
@@ -465,7 +466,16 @@ def plausibility(case: Case) -> list[str]:
 # --------------------------------------------------------------------------------------------
 # [optimise]
 
-_OPTIMISE_KEYS = {"objective", "vars", "torques", "reduce", "method", "max_iterations", "bounds"}
+_OPTIMISE_KEYS = {
+    "objective",
+    "vars",
+    "torques",
+    "reduce",
+    "method",
+    "max_iterations",
+    "bounds",
+    "lp_order",
+}
 _DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
 
 
@@ -476,7 +486,8 @@ def parse_optimise(table) -> dict:
 
     Raises:
         SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
-            with 0 < start < stop and an integer n >= 2; crossed bounds.
+            with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
+            [1, 64] or with an objective other than ``line_load_lp``.
     """
     from optimise import OBJECTIVES, VARIABLES
 
@@ -495,6 +506,16 @@ def parse_optimise(table) -> dict:
         out["max_iterations"] = sc.number(
             table, "max_iterations", w, allowed="[1, 1e+06]", integer=True
         )
+
+    if "lp_order" in table:
+        out["lp_order"] = float(sc.number(table, "lp_order", w, allowed="[1, 64]"))
+        if out.get("objective", "line_load_lp") != "line_load_lp":
+            raise sc.fail(
+                w,
+                "lp_order",
+                f"applies to objective = 'line_load_lp' only, not {out['objective']!r}",
+                table["lp_order"],
+            )
 
     def kind(name: str):
         parts = name.split(".")
