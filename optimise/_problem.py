@@ -58,6 +58,7 @@ OBJECTIVES = (
     "max_line_load",
     "load_centroid",
     "line_load_lp",
+    "dynamic_factor",
 )
 # units of each (unscaled) objective, as used in report keys
 OBJECTIVE_UNITS = {
@@ -67,6 +68,7 @@ OBJECTIVE_UNITS = {
     "max_line_load": "N_per_m",
     "load_centroid": "face_fraction_squared",
     "line_load_lp": "N_per_m",
+    "dynamic_factor": "dimensionless",
 }
 # the load_centroid objective is c²/CENTROID_SCALE = (c / 0.1)²: 1 for a centroid 10 % of the
 # face width off centre (the unmodified pair is often centred, c = 0: no scale to take from it)
@@ -169,6 +171,8 @@ class Problem(eqx.Module):
     objective: str = eqx.field(static=True)
     reduce: str = eqx.field(static=True)
     positions_per_pitch: int = eqx.field(static=True)
+    speeds: Float[Array, " S"] | None = None
+    dynamics: tuple = eqx.field(static=True, default=())
 
     # -- variables ---------------------------------------------------------------------------
     def modifications(self, x: Float[Array, " n"]) -> jg.Modifications:
@@ -212,6 +216,8 @@ class Problem(eqx.Module):
 
     # -- objectives --------------------------------------------------------------------------
     def _single(self, mods, torque, contact):
+        if self.objective == "dynamic_factor":
+            return self._dynamic(mods, torque, contact)
         r = jg.quasi_static(
             self.mesh,
             mods,
@@ -229,6 +235,23 @@ class Problem(eqx.Module):
         if self.objective == "line_load_lp":
             return line_load_lp(r, self.lp_order)
         return r.max_line_load
+
+    def _dynamic(self, mods, torque, contact):
+        """The smooth dynamic factor over the speed band (hybrid Newmark, p-means)."""
+        from jaxgear.dynamics import band_dynamic_factor
+
+        spp, periods, keep = self.dynamics
+        return band_dynamic_factor(
+            self.mesh,
+            mods,
+            torque,
+            self.speeds,
+            steps_per_period=spp,
+            periods=periods,
+            keep_periods=keep,
+            contact=contact,
+            width=self.width,
+        )
 
     def value(self, x: Float[Array, " n"], contact: str = "smooth") -> Float[Array, ""]:
         """Scaled objective at normalised design values ``x`` (1 = unmodified at design load;
@@ -310,6 +333,8 @@ def make_problem(
     end_relief_blend: float | None = None,
     scene: jg.Scene | None = None,
     lp_order: float = 8.0,
+    speeds=None,
+    dynamics: tuple[int, int, int] = (32, 20, 4),
 ) -> Problem:
     """Build a :class:`Problem` from a case.
 
@@ -332,6 +357,11 @@ def make_problem(
             scene of :func:`jaxgear.dynamics.static_scene` at a speed (centrifugal loads): its
             mesh replaces ``slices``.
         lp_order: p of the ``line_load_lp`` objective, in [1, 64] (default 8).
+        speeds: pinion speeds (rad/s) of the ``dynamic_factor`` objective, shape (S,): its speed
+            band (needs a ``scene`` with condensed bodies: the hybrid Newmark of
+            :func:`jaxgear.dynamics.band_dynamic_factor`, a smooth worst dynamic factor over the
+            band, centrifugal loads at each speed).
+        dynamics: (steps per mesh period, periods, kept periods) of that Newmark.
 
     The ``load_centroid`` objective is c² (:func:`load_centroid`) scaled by ``CENTROID_SCALE``
     = 0.01: (c/0.1)², 1 for a centroid 10 % of the face width off centre (the unmodified pair,
@@ -386,6 +416,20 @@ def make_problem(
     if bounds:
         raise ValueError(f"bounds given for variables not in --vars: {sorted(bounds)}")
     mesh = case.mesh_model(slices=slices) if scene is None else scene
+    if objective == "dynamic_factor":
+        speeds = np.asarray([] if speeds is None else speeds, dtype=float).reshape(-1)
+        if not hasattr(mesh, "cell_space") or not hasattr(mesh, "members"):
+            raise ValueError(
+                "--objective dynamic_factor needs a case with condensed bodies ([scene.gear_body] "
+                "or [scene.pinion_body]): the hybrid Newmark runs over the speed band"
+            )
+        if speeds.size == 0 or np.any(~(speeds > 0)) or np.any(speeds > 1e5):
+            raise ValueError(
+                f"--speeds {speeds.tolist()}: the dynamic_factor band needs pinion speeds in "
+                "(0, 1e+05] rad/s"
+            )
+        if len(dynamics) != 3 or any(int(v) != v or v < 1 for v in dynamics):
+            raise ValueError(f"dynamics = {dynamics!r}: allowed three integers >= 1")
     ppp = int(positions_per_pitch or case.positions_per_pitch)
     unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
@@ -396,6 +440,8 @@ def make_problem(
         scale = CENTROID_SCALE
     elif objective == "line_load_lp":
         scale = float(line_load_lp(unmod, lp_order))
+    elif objective == "dynamic_factor":
+        scale = 1.0  # a dynamic factor is already relative to the static mesh force
     else:
         scale = {
             "te_rms": unmod.te_rms,
@@ -440,6 +486,8 @@ def make_problem(
         objective=objective,
         reduce=reduce,
         positions_per_pitch=ppp,
+        speeds=jnp.asarray(speeds) if objective == "dynamic_factor" else None,
+        dynamics=tuple(int(v) for v in dynamics) if objective == "dynamic_factor" else (),
     )
 
 

@@ -57,6 +57,11 @@ def add_parsers(sub) -> None:
         type=float,
         help="p of the line_load_lp objective, in [1, 64] (default 8)",
     )
+    o.add_argument(
+        "--speeds",
+        help="START:STOP:N pinion speed band (rad/s) of the dynamic_factor objective (hybrid "
+        "Newmark on a case with condensed bodies)",
+    )
     o.add_argument("--reduce", choices=["max", "mean"], help="robust objective: worst case or mean")
     o.add_argument("--method", choices=["lbfgs", "adam"], help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
@@ -95,6 +100,7 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         "max_iterations": int(get("max_iterations", 100)),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
         "speed": getattr(args, "speed", None) if args is not None else None,
+        "speeds": getattr(args, "speeds", None) if args is not None else None,
         "lp_order": get("lp_order", None),
     }
 
@@ -107,10 +113,14 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         else None
     )
     scene = None
-    if settings.get("speed") is not None:  # the hybrid scene at that speed
+    speeds = None
+    if settings.get("speed") is not None or settings.get("speeds"):
         from ..dynamics import static_scene
 
-        scene, _ = static_scene(case, speed=settings["speed"])
+        # the hybrid scene at that speed (the dynamic_factor band sets its own speeds)
+        scene, _ = static_scene(case, speed=settings.get("speed") or 0.0)
+    if settings.get("speeds"):
+        speeds = range_values(settings["speeds"], "--speeds", positive=True)
     problem = make_problem(
         case,
         settings["vars"],
@@ -120,6 +130,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         bounds=settings["bounds"],
         scene=scene,
         lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
+        speeds=speeds,
     )
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
     start = {}
@@ -360,6 +371,17 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
             )
         if not 1 <= lp <= 64:
             raise ValueError(f"--lp-order {lp:g}: out of range, allowed [1, 64]")
+    band = settings.get("speeds")
+    if (settings["objective"] == "dynamic_factor") != bool(band):
+        raise ValueError(
+            "--objective dynamic_factor needs --speeds START:STOP:N (its speed band) and --speeds "
+            f"applies to it only (objective {settings['objective']}, --speeds {band})"
+        )
+    if band and case is not None and (case.scene is None or not case.scene.hybrid):
+        raise ValueError(
+            f"--speeds {band}: the dynamic_factor objective needs a case with condensed bodies "
+            "([scene.gear_body] or [scene.pinion_body])"
+        )
     speed = settings.get("speed")
     if speed is not None:
         if not 0 <= speed <= 1e5:

@@ -22,6 +22,7 @@ from ._from_case import (
     static_scene as static_scene,
 )
 from ._hybrid import (
+    band_dynamic_factor as band_dynamic_factor,
     FreeVibration as FreeVibration,
     hybrid_free_vibration as hybrid_free_vibration,
     HybridDynamics as HybridDynamics,

@@ -22,6 +22,7 @@ the window of master DOFs under the contact, then X = X* − G_eff Vᵀ P. A ste
 compliance (cells × window²) and a matrix-vector product with G_eff (n²), not a factorisation.
 
 Entry points: one speed (:func:`simulate_hybrid`), a speed sweep (:func:`hybrid_speed_sweep`),
+a differentiable dynamic factor over a speed band (:func:`band_dynamic_factor`),
 the free vibration at a fixed mesh position (:func:`hybrid_free_vibration`, the energy check),
 the rim's nodal-diameter waves (:func:`rim_waves`) and the wheel's nodal-diameter modes and
 resonance speeds of (3.9) (:func:`nodal_diameter_modes`, :func:`nodal_diameter_resonances`).
@@ -44,6 +45,7 @@ from ._modal import Damping, damping_matrix, modal_analysis
 
 __all__ = [
     "FreeVibration",
+    "band_dynamic_factor",
     "HybridDynamics",
     "hybrid_free_vibration",
     "hybrid_speed_sweep",
@@ -404,6 +406,74 @@ def _sweep(scene, mods, torque, speeds, damping, width, spp, periods, keep, mode
         ),
         speeds,
     )
+
+
+def band_dynamic_factor(
+    scene: HybridPair,
+    modifications: Modifications | None,
+    torque,
+    speeds,
+    *,
+    steps_per_period: int = 32,
+    periods: int = 20,
+    keep_periods: int = 4,
+    rayleigh: tuple[float, float] = (25.0, 2.5e-6),
+    damping: Damping | None = None,
+    contact: str = "smooth",
+    width=1e-7,
+    max_iterations: int = 50,
+    p: float = 16.0,
+) -> Float[Array, ""]:
+    """A smooth dynamic factor over a speed band, differentiable with respect to the
+    modifications (and the torque): the objective of an optimisation over speeds (issue 12 §4).
+
+    Per speed, the p-mean (mean of (F/F_n)^p)^(1/p) of the mesh force over the kept steps (a
+    smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
+    p-mean again (the worst speed, smoothly). The hybrid Newmark of :func:`hybrid_speed_sweep`
+    (its settings; smooth contact by default, for gradients).
+
+    Args:
+        scene, modifications, torque: as :func:`hybrid_speed_sweep`. speeds: the band's pinion
+            speeds (rad/s), shape (S,). p: the order of the p-means (>= 1).
+
+    Returns:
+        the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
+        integer settings are checked, the speeds only when concrete.
+    """
+    _check_steps(steps_per_period)
+    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
+        raise ValueError(
+            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
+            "1 <= keep_periods <= periods, periods >= 2"
+        )
+    if not p >= 1:
+        raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
+    dtype = scene.K.dtype
+    speeds = jnp.asarray(speeds, dtype)
+    if not isinstance(speeds, jax.core.Tracer) and (
+        speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0))
+    ):
+        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
+    if damping is None:
+        damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
+    mods = Modifications() if modifications is None else modifications
+    res = _sweep(
+        scene,
+        mods,
+        jnp.asarray(torque, dtype),
+        speeds,
+        damping,
+        jnp.asarray(width, dtype),
+        int(steps_per_period),
+        int(periods),
+        int(keep_periods),
+        contact,
+        int(max_iterations),
+        False,
+    )
+    ratio = res.mesh_force / res.static_force[:, None]
+    per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
+    return jnp.mean(per_speed**p) ** (1.0 / p)
 
 
 class FreeVibration(eqx.Module):

@@ -1,0 +1,83 @@
+"""Issue 12 §4: the dynamic factor over a speed band as an optimisation objective on the hybrid
+scene (condensed wheel, centrifugal loads at each speed, the cell-space Newmark). References:
+central finite differences of the same objective, a grid scan of the design variable, and the
+command line's one-line errors."""
+
+from __future__ import annotations
+
+import pathlib
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import fem_prep
+import optimise
+from jaxgear import io as jio
+from jaxgear.dynamics import static_scene
+
+DATA = pathlib.Path(__file__).parent / "data"
+SPEEDS = [1200.0, 1600.0]
+DYN = (16, 8, 2)  # steps per mesh period, periods, kept periods: small for the tests
+
+
+@pytest.fixture(scope="module")
+def problem(fem_prep_cache):
+    case = jio.load_case(DATA / "hybrid-test-case.toml")
+    body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+    scene = static_scene(case, bodies=(None, body))[0]
+    return optimise.make_problem(
+        case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=SPEEDS, dynamics=DYN
+    )
+
+
+def test_dynamic_factor_gradient_matches_finite_differences(problem):
+    """d(band dynamic factor)/d(tip relief depth) by reverse mode through the hybrid Newmark
+    (smooth contact, implicit differentiation of each step's contact problem) against central
+    differences of the same objective: within 1e-4 (measured 3e-7 on the raw function)."""
+    import jax
+
+    x = jnp.asarray([0.5])
+    g = float(jax.grad(lambda v: problem.value(v, "smooth"))(x)[0])
+    h = 1e-4
+    fd = (
+        float(problem.value(x + h, "smooth")) - float(problem.value(x - h, "smooth"))
+    ) / (2 * h)
+    assert g == pytest.approx(fd, rel=1e-4)
+    assert abs(g) > 1e-3  # the relief does move the dynamic factor
+
+
+def test_dynamic_factor_objective_needs_a_band_and_a_hybrid_scene(problem):
+    case = jio.load_case(DATA / "hybrid-test-case.toml")
+    with pytest.raises(ValueError, match="condensed bodies"):
+        optimise.make_problem(case, "tip_relief.depth", "dynamic_factor", speeds=SPEEDS)
+    with pytest.raises(ValueError, match="--speeds"):
+        optimise.make_problem(
+            case, "tip_relief.depth", "dynamic_factor", scene=problem.mesh, speeds=[]
+        )
+
+
+def test_cli_dynamic_factor_errors(tmp_path, capsys):
+    from jaxgear.cli import main
+
+    case = str(DATA / "hybrid-test-case.toml")
+    code = main(["optimise", case, "--objective", "dynamic_factor", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and "needs --speeds" in err and err.count("\n") == 1
+    code = main(["optimise", case, "--speeds", "100:200:2", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and "applies to it only" in err
+
+
+@pytest.mark.slow
+def test_dynamic_factor_optimum_matches_a_grid_scan(problem):
+    """The gradient optimum of the band's dynamic factor over the tip relief depth (from
+    0.5 δ_m, band value 1.17) comes within 1 % of the best of a 13-point grid scan of the same
+    objective (measured: 1.0038 at 2.5 δ_m against 0.9980 at 1.5 δ_m; beyond 1.4 δ_m the
+    landscape is flat within 1 % with a shallow second minimum, where L-BFGS stops)."""
+    res = optimise.minimise(problem, np.array([0.5]), max_iterations=30, progress=False)
+    grid = np.linspace(0.0, 3.0, 13)
+    vals = [float(problem.value(jnp.asarray([v]), "smooth")) for v in grid]
+    best = float(problem.value(jnp.asarray(res.x), "smooth"))
+    assert best <= 1.01 * min(vals)
+    assert best < 0.9 * float(res.value0)
