@@ -106,12 +106,30 @@ def plot(res: dict, path) -> None:
     z2 = res["wheel_teeth"]
     for name, color, order in (("backward", "C0", z2 + n), ("forward", "C3", z2 - n)):
         a = np.array([r["amplitude_m"] for r in res["response"][name]]) * 1e6
-        ax.plot(sp, a, "o-", color=color, ms=3.5, label=f"{name} wave, order Z{'+' if name == 'backward' else '−'}{n} = {order}")
+        ax.plot(
+            sp,
+            a,
+            "o-",
+            color=color,
+            ms=3.5,
+            label=f"{name} wave, order Z{'+' if name == 'backward' else '−'}{n} = {order}",
+        )
         pred = [p["pinion_speed_rad_s"] for p in res["predicted"] if p["direction"] == name]
         for k, x in enumerate(pred):
-            ax.axvline(x, color=color, ls="--", lw=0.9, label=f"(3.9) {name}, modes {', '.join(f'{f:.0f}' for f in res['modes_hz'])} Hz" if k == 0 else None)
+            ax.axvline(
+                x,
+                color=color,
+                ls="--",
+                lw=0.9,
+                label=f"(3.9) {name}, modes {', '.join(f'{f:.0f}' for f in res['modes_hz'])} Hz"
+                if k == 0
+                else None,
+            )
     ax.set_ylabel(f"{n}-nodal-diameter axial rim amplitude (µm)")
-    ax.set_title(f"{res['case']}: web ND resonances in a hybrid speed sweep (seed (3.9), Tab. III-11)", fontsize=9.5)
+    ax.set_title(
+        f"{res['case']}: web ND resonances in a hybrid speed sweep (seed (3.9), Tab. III-11)",
+        fontsize=9.5,
+    )
     ax.legend(fontsize=7.5)
     ax.grid(alpha=0.3)
     bx.plot(sp, res["dynamic_factor"], "k.-")
@@ -136,6 +154,14 @@ if __name__ == "__main__":
     for name in ("backward", "forward"):
         a = [x["amplitude_m"] for x in r["response"][name]]
         k = int(np.argmax(a))
-        print(name, "peak at", r["speeds_rad_s"][k], "rad/s,", f"{a[k] * 1e6:.2f} µm,",
-              r["response"][name][k]["frequency_hz"], "Hz, direction", r["response"][name][k]["direction"])
+        print(
+            name,
+            "peak at",
+            r["speeds_rad_s"][k],
+            "rad/s,",
+            f"{a[k] * 1e6:.2f} µm,",
+            r["response"][name][k]["frequency_hz"],
+            "Hz, direction",
+            r["response"][name][k]["direction"],
+        )
     print("predicted", [(p["direction"], round(p["pinion_speed_rad_s"])) for p in r["predicted"]])

@@ -429,9 +429,7 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
 
     uni, hyb, lumped = _rigidified_pair(setup[0])
     spp, periods, speeds = 32, 60, [800.0, 2100.0]
-    model = dynamic_model(
-        lumped, uni.modifications, uni.torque, Damping(), positions_per_pitch=spp
-    )
+    model = dynamic_model(lumped, uni.modifications, uni.torque, Damping(), positions_per_pitch=spp)
     sw = hybrid_speed_sweep(
         hyb,
         uni.modifications,
@@ -503,7 +501,9 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
         assert min(pred) - step <= sp[k] <= max(pred) + step, (name, sp[k], pred)
         assert res["response"][name][k]["direction"] == sign
         assert amp[k] > 3 * amp[0]
-    docs = json.loads((pathlib.Path(__file__).parents[1] / "docs" / "nd_resonance.json").read_text())
+    docs = json.loads(
+        (pathlib.Path(__file__).parents[1] / "docs" / "nd_resonance.json").read_text()
+    )
     np.testing.assert_allclose(
         [r["amplitude_m"] for r in docs["response"]["forward"]],
         [r["amplitude_m"] for r in res["response"]["forward"]],

@@ -40,9 +40,7 @@ def test_dynamic_factor_gradient_matches_finite_differences(problem):
     x = jnp.asarray([0.5])
     g = float(jax.grad(lambda v: problem.value(v, "smooth"))(x)[0])
     h = 1e-4
-    fd = (
-        float(problem.value(x + h, "smooth")) - float(problem.value(x - h, "smooth"))
-    ) / (2 * h)
+    fd = (float(problem.value(x + h, "smooth")) - float(problem.value(x - h, "smooth"))) / (2 * h)
     assert g == pytest.approx(fd, rel=1e-4)
     assert abs(g) > 1e-3  # the relief does move the dynamic factor
 

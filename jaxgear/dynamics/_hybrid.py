@@ -361,16 +361,8 @@ def hybrid_speed_sweep(
     Raises:
         ValueError: speeds or step counts out of range (before any computation).
     """
+    speeds = _check(scene, speeds, steps_per_period, periods, keep_periods)
     dtype = scene.K.dtype
-    speeds = jnp.asarray(speeds, dtype)
-    if speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0)):
-        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
-    _check_steps(steps_per_period)
-    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
-        raise ValueError(
-            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
-            "1 <= keep_periods <= periods, periods >= 2"
-        )
     if damping is None:
         damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
@@ -397,11 +389,38 @@ def _check_steps(steps_per_period):
         )
 
 
+def _check(scene, speeds, steps_per_period, periods, keep_periods):
+    """The sweep settings' checks (before any computation); the speeds as an array of the
+    scene's dtype, checked when concrete (a traced band passes through)."""
+    speeds = jnp.asarray(speeds, scene.K.dtype)
+    if not isinstance(speeds, jax.core.Tracer) and (
+        speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0))
+    ):
+        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
+    _check_steps(steps_per_period)
+    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
+        raise ValueError(
+            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
+            "1 <= keep_periods <= periods, periods >= 2"
+        )
+    return speeds
+
+
 @eqx.filter_jit
 def _sweep(scene, mods, torque, speeds, damping, width, spp, periods, keep, mode, max_it, states):
     return jax.lax.map(
         lambda w: _run(
-            scene, mods, torque, w, spp * periods, spp * keep, spp, damping, mode, width, max_it,
+            scene,
+            mods,
+            torque,
+            w,
+            spp * periods,
+            spp * keep,
+            spp,
+            damping,
+            mode,
+            width,
+            max_it,
             states,
         ),
         speeds,
@@ -440,20 +459,10 @@ def band_dynamic_factor(
         the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
         integer settings are checked, the speeds only when concrete.
     """
-    _check_steps(steps_per_period)
-    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
-        raise ValueError(
-            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
-            "1 <= keep_periods <= periods, periods >= 2"
-        )
+    speeds = _check(scene, speeds, steps_per_period, periods, keep_periods)
     if not p >= 1:
         raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
     dtype = scene.K.dtype
-    speeds = jnp.asarray(speeds, dtype)
-    if not isinstance(speeds, jax.core.Tracer) and (
-        speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0))
-    ):
-        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
     if damping is None:
         damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
