@@ -180,6 +180,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         m = {k: float(v) for k, v in metrics(jnp.asarray(x)).items()}
         m["load_centroid_mm"] = m["load_centroid"] * float(problem.face_width) * 1e3
         return m
+
     report = {
         "case": case.name,
         "objective": problem.objective,
