@@ -47,7 +47,7 @@ def _parser() -> argparse.ArgumentParser:
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
     b.add_argument(
         "what",
-        choices=["quasi-static", "optimise", "dynamics", "hybrid", "stiffness"],
+        choices=["quasi-static", "optimise", "dynamics", "hybrid", "hybrid-sweep", "stiffness"],
         help="which benchmark",
     )
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
@@ -86,6 +86,8 @@ def _bench(args) -> int:
         bench.bench_optimise(args.out, quick=args.quick)
     elif args.what == "hybrid":
         bench.bench_hybrid(args.out, quick=args.quick)
+    elif args.what == "hybrid-sweep":
+        bench.bench_hybrid_sweep(args.out, quick=args.quick)
     elif args.what == "stiffness":
         bench.bench_stiffness(args.out, quick=args.quick)
     else:

@@ -39,6 +39,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),
     "bench hybrid": ("bench_hybrid.json", "bench_hybrid.png"),
+    "bench hybrid-sweep": ("bench_hybrid_sweep.json", "bench_hybrid_sweep.png"),
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
 }
 # ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
