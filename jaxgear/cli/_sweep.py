@@ -70,13 +70,13 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
 
     from ..dynamics import (
         MESH_ENERGY_MIN,
-        Damping,
         hybrid_speed_sweep,
         mean_mesh_stiffness,
         nodal_diameter_modes,
         nodal_diameter_resonances,
         rim_waves,
         simulate_hybrid,
+        spec_damping,
         static_scene,
         steps_for_mode,
     )
@@ -93,14 +93,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     scene, bodies = static_scene(case, slices=slices)
     # the period-averaged mesh stiffness is sampled at 64 positions unless the step is fixed
     spp = spec.steps_per_period or 64
-    damping = Damping(
-        spec.damping_model,
-        ratio=spec.damping_ratio,
-        alpha=spec.rayleigh_alpha,
-        beta=spec.rayleigh_beta,
-        mesh_ratio=spec.mesh_ratio,
-        structure_ratio=spec.structure_ratio,
-    )
+    damping = spec_damping(spec)
     # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical speeds)
     bar.set_postfix_str("modes of the mesh-averaged system")
     Km = np.asarray(

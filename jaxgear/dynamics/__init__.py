@@ -19,6 +19,7 @@ from ._from_case import (
     build_dynamic_model as build_dynamic_model,
     load_bodies as load_bodies,
     quasi_static_scene as quasi_static_scene,
+    spec_damping as spec_damping,
     static_scene as static_scene,
 )
 from ._hybrid import (

@@ -18,6 +18,7 @@ __all__ = [
     "SceneSpec",
     "bearing_forces",
     "build_dynamic_model",
+    "spec_damping",
     "load_bodies",
     "quasi_static_scene",
     "static_scene",
@@ -65,6 +66,18 @@ class SceneSpec:
     @property
     def hybrid(self) -> bool:
         return any(b is not None for b in self.bodies)
+
+
+def spec_damping(spec: SceneSpec) -> Damping:
+    """The damping model of a case's ``[scene.damping]`` table (seed (2.34)–(2.36))."""
+    return Damping(
+        spec.damping_model,
+        ratio=spec.damping_ratio,
+        alpha=spec.rayleigh_alpha,
+        beta=spec.rayleigh_beta,
+        mesh_ratio=spec.mesh_ratio,
+        structure_ratio=spec.structure_ratio,
+    )
 
 
 def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: int | None = None):
@@ -115,14 +128,7 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
         )
         if spec.reduction == "relative":
             scene = scene.reduced()
-    damping = Damping(
-        spec.damping_model,
-        ratio=spec.damping_ratio,
-        alpha=spec.rayleigh_alpha,
-        beta=spec.rayleigh_beta,
-        mesh_ratio=spec.mesh_ratio,
-        structure_ratio=spec.structure_ratio,
-    )
+    damping = spec_damping(spec)
     # the time averages (modal analysis, damping) need a fixed grid: 64 positions per period
     # unless the scene fixes the step
     model = dynamic_model(
