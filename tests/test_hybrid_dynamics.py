@@ -199,20 +199,13 @@ def _rigidified_pair(case):
     return uni, hyb, lumped
 
 
-def _rigidified_vs_lumped(case, speeds, spp=32, periods=60):
-    """Dynamic factors of the two (same Rayleigh damping, seed D1 with the period-averaged mesh
-    stiffness, same time step), and the lumped model's minimum mesh force / F_s per speed."""
-    from jaxgear.dynamics import Damping, dynamic_model, simulate
+def _rigidified_runs(case, speeds, damping, spp=32, periods=60):
+    """The rigidified hybrid sweep and the lumped model's runs at ``speeds`` with the same
+    damping model (on the period-averaged mesh stiffness) and time step, 2 periods kept."""
+    from jaxgear.dynamics import dynamic_model, simulate
 
     uni, hyb, lumped = _rigidified_pair(case)
-    ray = (25.0, 2.5e-6)
-    model = dynamic_model(
-        lumped,
-        uni.modifications,
-        uni.torque,
-        Damping("rayleigh", alpha=ray[0], beta=ray[1]),
-        positions_per_pitch=spp,
-    )
+    model = dynamic_model(lumped, uni.modifications, uni.torque, damping, positions_per_pitch=spp)
     sw = hybrid_speed_sweep(
         hyb,
         uni.modifications,
@@ -221,12 +214,21 @@ def _rigidified_vs_lumped(case, speeds, spp=32, periods=60):
         steps_per_period=spp,
         periods=periods,
         keep_periods=2,
-        rayleigh=ray,
+        damping=damping,
     )
     assert np.all(np.asarray(sw.result) == 0)
     refs = [
         simulate(model, s, steps_per_period=spp, periods=periods, keep_periods=2) for s in speeds
     ]
+    return sw, refs, model
+
+
+def _rigidified_vs_lumped(case, speeds):
+    """Dynamic factors of the two with Rayleigh damping (seed D1), and the lumped model's
+    minimum mesh force / F_s per speed."""
+    from jaxgear.dynamics import Damping
+
+    sw, refs, model = _rigidified_runs(case, speeds, Damping("rayleigh", alpha=25.0, beta=2.5e-6))
     lumped_df = np.array([float(r.dynamic_factor) for r in refs])
     lumped_min = np.array([float(r.mesh_force.min() / model.static_force) for r in refs])
     return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
@@ -425,24 +427,10 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
     """Composite modal damping (seed (2.36): ξ_i = 0.07 e_i + 0.01 (1 − e_i) on the modes of the
     mesh-averaged system) in the hybrid Newmark against the lumped model's, on the rigidified
     body at 800 and 2100 rad/s: dynamic factor and per-tooth dynamic factor within 1 %."""
-    from jaxgear.dynamics import Damping, dynamic_model, simulate
+    from jaxgear.dynamics import Damping
 
-    uni, hyb, lumped = _rigidified_pair(setup[0])
-    spp, periods, speeds = 32, 60, [800.0, 2100.0]
-    model = dynamic_model(lumped, uni.modifications, uni.torque, Damping(), positions_per_pitch=spp)
-    sw = hybrid_speed_sweep(
-        hyb,
-        uni.modifications,
-        uni.torque,
-        speeds,
-        steps_per_period=spp,
-        periods=periods,
-        keep_periods=2,
-        damping=Damping(),
-    )
-    assert np.all(np.asarray(sw.result) == 0)
-    for i, s in enumerate(speeds):
-        ref = simulate(model, s, steps_per_period=spp, periods=periods, keep_periods=2)
+    sw, refs, _ = _rigidified_runs(setup[0], [800.0, 2100.0], Damping())
+    for i, ref in enumerate(refs):
         assert float(sw.dynamic_factor[i]) == pytest.approx(float(ref.dynamic_factor), rel=1e-2)
         assert float(sw.dynamic_factor_tooth[i]) == pytest.approx(
             float(ref.dynamic_factor_tooth), rel=1e-2
