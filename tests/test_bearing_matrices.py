@@ -19,6 +19,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _scene_solve import grounded_solve
 from _toml import ACCESSORY_PAIR
 
 import fem_prep
@@ -26,7 +27,6 @@ import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
     Damping,
-    build_dynamic_model,
     damping_matrix,
     dynamic_model,
     static_scene,
@@ -53,26 +53,14 @@ def _as_matrix_keys(bearing: dict) -> dict:
     return b
 
 
-def _solve(case, spec):
-    model, _ = build_dynamic_model(case, spec, slices=6)
-    sc = model.scene
-    r = jg.quasi_static(
-        jg.grounded(sc, (sc.torque_dofs[1],)),
-        case.modifications,
-        case.torque,
-        positions_per_pitch=16,
-    )
-    return model, r
-
-
 def test_diagonal_matrix_gives_the_same_K_and_quasi_static_solution(case):
     raw = copy.deepcopy(case.raw["scene"])
     for shaft in ("pinion_shaft", "gear_shaft"):
         raw[shaft]["bearings"] = [_as_matrix_keys(b) for b in raw[shaft]["bearings"]]
     spec_m = parse_scene(raw)
     assert all(b.stiffness is not None and b.radial is None for b in spec_m.pinion_shaft.bearings)
-    model_d, r_d = _solve(case, case.scene)
-    model_m, r_m = _solve(case, spec_m)
+    model_d, r_d = grounded_solve(case, case.scene)
+    model_m, r_m = grounded_solve(case, spec_m)
     sd, sm = model_d.scene, model_m.scene
     np.testing.assert_array_equal(np.asarray(sm.K), np.asarray(sd.K))  # bit for bit
     np.testing.assert_array_equal(np.asarray(sm.reaction), np.asarray(sd.reaction))

@@ -4,10 +4,10 @@ import dataclasses
 
 import numpy as np
 import pytest
+from _scene_solve import grounded_solve
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import build_dynamic_model
 from jaxgear.io import parse_scene
 
 
@@ -17,15 +17,8 @@ def case():
 
 
 def _solve(case, spec=None):
-    model, _ = build_dynamic_model(case, spec, slices=6)
-    sc = model.scene
-    r = jg.quasi_static(
-        jg.grounded(sc, (sc.torque_dofs[1],)),
-        case.modifications,
-        case.torque,
-        positions_per_pitch=16,
-    )
-    return sc, r
+    model, r = grounded_solve(case, spec)
+    return model.scene, r
 
 
 def test_bearing_loads_balance_the_mesh_force(case):
