@@ -170,6 +170,18 @@ def _jit_te(mods, P, mode, width):
 # the benchmark
 
 
+def hybrid_cases(c, case, compare_case, what: str):
+    """Check that the loaded case ``c`` has a condensed body, and resolve the comparison case of
+    the scaling runs: None when missing, ``None`` or the same file as ``case``."""
+    if c.scene is None or not c.scene.hybrid:
+        raise ValueError(f"{what}: case {c.name!r} has no condensed body ([scene.*_body])")
+    if compare_case is None:
+        return None
+    cp = pathlib.Path(compare_case)
+    same = cp.suffix == ".toml" and pathlib.Path(str(case)).resolve() == cp.resolve()
+    return None if (same or (cp.suffix == ".toml" and not cp.is_file())) else cp
+
+
 def bench_hybrid(
     out_dir,
     quick: bool = False,
@@ -208,8 +220,7 @@ def bench_hybrid(
     block = jax.block_until_ready
     env = environment()
     c = load_case(case)
-    if c.scene is None or not c.scene.hybrid:
-        raise ValueError(f"bench hybrid: case {c.name!r} has no condensed body ([scene.*_body])")
+    compare_case = hybrid_cases(c, case, compare_case, "bench hybrid")
     if quick:
         slices, P, n_grid = 8, 16, 5
         rep, rep_rigid, rep_map = 3, 10, 1
@@ -218,10 +229,6 @@ def bench_hybrid(
         slices, P, n_grid = 40, c.positions_per_pitch, 41
         rep, rep_rigid, rep_map = 20, 100, 2
         windows_extra, slices_list = (3, 7, 15), (8, 16, 24, 40, 80)
-    if compare_case is not None:
-        cp = pathlib.Path(compare_case)
-        same = cp.suffix == ".toml" and pathlib.Path(str(case)).resolve() == cp.resolve()
-        compare_case = None if (same or (cp.suffix == ".toml" and not cp.is_file())) else cp
     torque = c.torque
     T = jnp.asarray(torque)
     mods = c.modifications

@@ -47,7 +47,7 @@ import time
 
 import numpy as np
 
-from ._hybrid import _cells, _flex_index, _window_dofs, _with_window
+from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases
 from ._timing import environment, min_time
 
 __all__ = ["bench_hybrid_sweep"]
@@ -427,10 +427,7 @@ def bench_hybrid_sweep(
     block = jax.block_until_ready
     env = environment()
     c = load_case(case)
-    if c.scene is None or not c.scene.hybrid:
-        raise ValueError(
-            f"bench hybrid-sweep: case {c.name!r} has no condensed body ([scene.*_body])"
-        )
+    compare_case = hybrid_cases(c, case, compare_case, "bench hybrid-sweep")
     if quick:
         n_speeds, spp, periods, keep, chunk, n_base, rep = 4, 16, 4, 2, 2, 1, 1
         # the model's second length is the convergence run's, the woodbury's the DF check's (the
@@ -446,10 +443,6 @@ def bench_hybrid_sweep(
             "refactor": (4, 20),
         }
         slice_factors, scaling_modes = (1, 2, 5, 10), (10, 100, 250, 500, 1000)
-    if compare_case is not None:
-        cp = pathlib.Path(compare_case)
-        same = cp.suffix == ".toml" and pathlib.Path(str(case)).resolve() == cp.resolve()
-        compare_case = None if (same or (cp.suffix == ".toml" and not cp.is_file())) else cp
     if compare_case is None:
         scaling_modes = ()
     torque = c.torque
