@@ -200,15 +200,18 @@ def _bordered_solve(C, E, d, r1, r2):
 
     With S = diag(√d) and v = S u: (I + S C S) v − S E α = S r1 and (S E)ᵀ v = r2 — a symmetric
     positive definite matrix (one Cholesky factorisation) and an r × r Schur complement for α;
-    then u = r1 − C S v + E α. Returns [u; α].
+    then u = r1 − C S v + E α. Returns [u; α]. Without rigid-body modes (r = 0) C need not be
+    symmetric (an LU solve).
     """
     s = jnp.sqrt(d)
     A = jnp.eye(C.shape[0], dtype=C.dtype) + s[:, None] * C * s[None, :]
     F = s[:, None] * E
-    cf = jax.scipy.linalg.cho_factor(A)
-    if E.shape[1] == 0:  # no rigid-body mode (a dynamic step: the mass makes K_eff definite)
-        v = jax.scipy.linalg.cho_solve(cf, s * r1)
+    if E.shape[1] == 0:
+        # no rigid-body mode: a dynamic step, where the mass makes K_eff definite; C may be
+        # non-symmetric there (the Coriolis term of a turning body frame): an LU solve
+        v = jnp.linalg.solve(A, s * r1)
         return r1 - C @ (s * v)
+    cf = jax.scipy.linalg.cho_factor(A)
     Y = jax.scipy.linalg.cho_solve(cf, jnp.concatenate([(s * r1)[:, None], F], axis=1))
     y0, YF = Y[:, 0], Y[:, 1:]
     alpha = _solve(F.T @ YF, r2 - F.T @ y0)

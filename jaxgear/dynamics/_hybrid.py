@@ -8,8 +8,10 @@ under the fixed mesh as the bodies turn):
 
 with P_c = k_c l_c φ(Δ_c) the cell forces, δ0_c = e_ref − e_c the flank gaps from one
 time-constant reference, and Ω the pinion speed (each body at its own speed, f_c scaled
-accordingly; the centrifugal load is always on in dynamics). The rotating frame's Coriolis and
-spin-softening inertia are not modelled (the seed uses the modes at rest too). Damping on the
+accordingly; the centrifugal load is always on in dynamics). The turning frames add their
+inertia (``rotating_frame=True``, the default; the seed leaves it out): C += Ω Gy (Coriolis,
+skew) and K += Ω² (S + Kσ) (spin softening and centrifugal stress stiffening), so that a body's
+rigid motions in its turning frame are those of the fixed frame (the lumped model). Damping on the
 assembled system with K̄ = K + K̄_m, K̄_m the mesh stiffness matrix averaged over the
 quasi-static positions of one mesh period: Rayleigh α M + β K̄ (2.34), modal or composite (2.35)–(2.36) on the modes of
 (M, K̄) (:class:`jaxgear.dynamics.Damping`), plus the bearings' damping.
@@ -69,7 +71,8 @@ class HybridDynamics(eqx.Module):
         static_line_force: the largest quasi-static force on one contact line over a mesh
             period at the same speed (centrifugal load on) (N).
         x: coordinates at the last step (n,). result: 0, or 1 where a contact loop did not
-            converge, 2 for a non-finite state. iterations: most contact passes in a step.
+            converge, 2 for a non-finite state, 3 where a contact window left the window of
+            the mesh damping (an internal error). iterations: most contact passes in a step.
         rim_radial, rim_axial: the wheel's rim displacement at its stations (body frame, the
             axial master plane nearest mid-face), radial and axial (m), shape (K, Z); (K, 0)
             when the wheel is rigid. Read them with :func:`rim_waves`.
@@ -117,66 +120,121 @@ class HybridDynamics(eqx.Module):
 
 
 def _newmark_cells(
-    scene, mods, M, C, F, dt, e_ref, state, thetas, mode, width, max_iterations, record
+    scene,
+    mods,
+    K,
+    M,
+    C,
+    F,
+    dt,
+    e_ref,
+    state,
+    thetas,
+    mode,
+    width,
+    max_iterations,
+    record,
+    mesh_damping=None,
 ):
     """Newmark average acceleration (β = 1/4, γ = 1/2) with the contact loop in the cell space,
-    one step per pinion angle of ``thetas`` (S,), from ``state`` = (X, Ẋ, Ẍ).
+    one step per pinion angle of ``thetas`` (P, S) (P blocks of S steps, e.g. mesh periods),
+    from ``state`` = (X, Ẋ, Ẍ), for M Ẍ + C(t) Ẋ + K X + Vᵀ P = F (C may hold the skew
+    Coriolis term).
 
-    Returns the final carry (X, Ẋ, Ẍ, result code, most contact passes) and per step: θ, the
-    cell forces P (c,), the TE and ``record(X, Ẋ)`` (what the caller keeps of the state)."""
+    ``mesh_damping``: None, or (block, c_m) with ``block(p)`` → (U (w,), B (w, w), ok): the mesh
+    stiffness averaged over block p's positions on the window U of DOFs, so that block p's
+    damping is C + c_m U B Uᵀ (the mesh part that turns with the wheel). Its effective stiffness
+    is the constant one plus a rank-w term: G_p = G − G_{:U} Q G_{U:}, Q = (I + A G_UU)⁻¹ A,
+    A = a₁ c_m B (Woodbury, once per block), so a step still costs n², not a factorisation.
+
+    Returns the final carry (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
+    over the blocks): θ, the cell forces P (c,), the TE and ``record(X, Ẋ)``."""
     mesh = scene.mesh
-    dtype = scene.K.dtype
+    dtype = K.dtype
     b, g = 0.25, 0.5
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
-    G = jnp.linalg.inv(scene.K + a0 * M + a1 * C)
-    G = 0.5 * (G + G.T)
+    G = jnp.linalg.inv(K + a0 * M + a1 * C)
     cb = jnp.cos(mesh.base_helix_angle)
+    n = K.shape[0]
 
-    def body(carry, th):
-        X, Xd, Xdd, code, it = carry
-        cells, e_th, delta0 = separation(mesh, mods, th)
-        delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
-        idx, Vw = scene.window(cells)
-        c = Vw.shape[0] * Vw.shape[1]
-        Vw = Vw.reshape(c, -1)
-        Feff = (
-            F
-            + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd)
-            + C @ (a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd)
-        )
-        xs = G @ Feff
-        Ceff = Vw @ G[idx[:, None], idx[None, :]] @ Vw.T
-        sol, P, _ = solve_contact_cells(
-            Ceff,
-            Vw @ xs[idx] - delta0.reshape(-1),
-            jnp.zeros((c, 0), dtype),
-            jnp.zeros((0,), dtype),
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            cells.mask.reshape(-1),
-            mode,
-            width,
-            max_iterations,
-        )
-        Xn = xs - G @ jnp.zeros_like(xs).at[idx].add(Vw.T @ P)
-        Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
-        Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
-        new = jnp.where(sol.result == 1, 1, 0)
-        new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
-        carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
-        return carry, (th, P, (scene.te @ Xn - e_ref) / cb, record(Xn, Xdn))
+    def period(carry, p_th):
+        p, ths = p_th
+        if mesh_damping is None:
+            U, Q, GU, GUU, ok = None, None, None, None, jnp.array(True)
+        else:
+            block, c_m = mesh_damping
+            U, B, ok = block(p)
+            A = (a1 * c_m) * B
+            GUU = G[U[:, None], U[None, :]]
+            Q = jnp.linalg.solve(jnp.eye(U.shape[0], dtype=dtype) + A @ GUU, A)
+            GU = G[:, U]
+            GUU = GUU - GUU @ Q @ GUU  # G_p on the window
+            pos = jnp.full((n,), U.shape[0], jnp.int32)
+            pos = pos.at[U].set(jnp.arange(U.shape[0], dtype=jnp.int32))
+
+        def solve(v):  # G_p v
+            y = G @ v
+            return y if U is None else y - GU @ (Q @ y[U])
+
+        def step(carry, th):
+            X, Xd, Xdd, code, it = carry
+            cells, e_th, delta0 = separation(mesh, mods, th)
+            delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
+            idx, Vw = scene.window(cells)
+            c = Vw.shape[0] * Vw.shape[1]
+            Vw = Vw.reshape(c, -1)
+            v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
+            Feff = F + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd) + C @ v
+            inside = jnp.array(True)
+            if U is None:
+                Gw = G[idx[:, None], idx[None, :]]
+            else:
+                Feff = Feff.at[U].add(c_m * (B @ v[U]))
+                j = pos[idx]
+                inside = jnp.all(j < U.shape[0])
+                Gw = GUU[j[:, None], j[None, :]]
+            xs = solve(Feff)
+            Ceff = Vw @ Gw @ Vw.T
+            sol, P, _ = solve_contact_cells(
+                Ceff,
+                Vw @ xs[idx] - delta0.reshape(-1),
+                jnp.zeros((c, 0), dtype),
+                jnp.zeros((0,), dtype),
+                cells.stiffness.reshape(-1),
+                cells.length.reshape(-1),
+                cells.mask.reshape(-1),
+                mode,
+                width,
+                max_iterations,
+            )
+            Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(Vw.T @ P))
+            Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
+            Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
+            new = jnp.where(sol.result == 1, 1, 0)
+            new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
+            new = jnp.where(inside & ok, new, 3)
+            carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
+            return carry, (th, P, (scene.te @ Xn - e_ref) / cb, record(Xn, Xdn))
+
+        return jax.lax.scan(step, carry, ths)
 
     init = (*state, jnp.array(0), jnp.array(0))
-    return jax.lax.scan(body, init, thetas)
+    carry, out = jax.lax.scan(period, init, (jnp.arange(thetas.shape[0]), thetas))
+    return carry, jax.tree.map(lambda x: x.reshape((-1,) + x.shape[2:]), out)
 
 
 def _damping(scene: HybridPair, Km, damping: Damping):
-    """C of the assembled system with the period-averaged mesh stiffness (seed (2.34)–(2.36)),
-    plus the scene's bearing damping."""
+    """C of the assembled system with the period-averaged mesh stiffness K̄_m (seed
+    (2.34)–(2.36)), plus the scene's bearing damping; and c_m (s), the part c_m K̄_m of C that
+    follows the mesh as the wheel turns: β for Rayleigh (exact). The modal and composite models
+    have no such part (c_m = 0): their modes are those with the mesh on the stations under it in
+    the first period, and that damping stays there (docs/hybrid.md, "Not yet")."""
     if damping.model == "rayleigh":  # no modal analysis needed
         M = scene.M
-        return damping.alpha * M + damping.beta * (scene.K + Km) + scene.bearing_damping()
-    return damping_matrix(scene, modal_analysis(scene, Km), damping)
+        C = damping.alpha * M + damping.beta * (scene.K + Km) + scene.bearing_damping()
+        return C, damping.beta
+    zero = jnp.zeros((), scene.K.dtype)
+    return damping_matrix(scene, modal_analysis(scene, Km), damping), zero
 
 
 def _reference(mesh, mods, theta):
@@ -191,7 +249,19 @@ def _reference(mesh, mods, theta):
 
 
 def _run(
-    scene, mods, torque, speed, n_steps, keep, spp, damping, mode, width, max_iterations, states
+    scene,
+    mods,
+    torque,
+    speed,
+    n_steps,
+    keep,
+    spp,
+    damping,
+    mode,
+    width,
+    max_iterations,
+    states,
+    rotating,
 ):
     mesh = scene.mesh
     dtype = scene.K.dtype
@@ -201,7 +271,19 @@ def _run(
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
     qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
-    C = _damping(scene, Km, damping)
+    C, c_m = _damping(scene, Km, damping)
+    # the mesh part of C follows the mesh: c_m K̄_m on the stations under it in each period
+    C = C - c_m * Km
+    loaded = qs.line_load > 0
+    period = mesh.mesh_period_angle
+
+    def block(p):
+        return _mesh_block(scene, qs.theta + p * period, loaded)
+
+    K = scene.K
+    if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening
+        K = K + speed**2 * scene.spin_stiffness
+        C = C + speed * scene.gyroscopic
     F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
     e_ref, e_max = _reference(mesh, mods, qs.theta)
     # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
@@ -209,6 +291,7 @@ def _run(
     zero = jnp.zeros_like(X0)
     # qs.theta[0] is half a step: contact-line ends off the edges
     thetas = qs.theta[0] + (jnp.arange(n_steps) + 1) * mesh.mesh_period_angle / spp
+    thetas = thetas.reshape(-1, spp)  # one block per mesh period
     rim_of = _rim_of(scene)
 
     def record(X, Xd):
@@ -217,6 +300,7 @@ def _run(
     (X, _, _, code, it), (th, P, te, rec) = _newmark_cells(
         scene,
         mods,
+        K,
         M,
         C,
         F,
@@ -228,6 +312,7 @@ def _run(
         width,
         max_iterations,
         record,
+        (block, c_m),
     )
     L = mesh.n_lines
     lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
@@ -277,6 +362,29 @@ def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
     return _period_statics(scene, mods, torque, spp, mode, width)[1]
 
 
+def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
+    """The mesh stiffness averaged over the positions ``theta`` (S,) with the cells ``loaded``
+    (S, L, N) (weights 0/1) on the window U of the first position widened by ``pad`` stations
+    each side: (U (w,), B (w, w), whether every position's window lies inside U)."""
+    n = scene.K.shape[0]
+    U, _ = scene.window(scene.mesh.cells(theta[0]), pad=pad)
+    w = U.shape[0]
+    pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
+
+    def add(B, p):
+        cells = scene.mesh.cells(theta[p])
+        idx, Vw = scene.window(cells)
+        Vw = Vw.reshape(-1, Vw.shape[-1])
+        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
+        kl = kl * loaded[p].reshape(-1).astype(B.dtype)
+        j = pos[idx]
+        B = B.at[j[:, None], j[None, :]].add(Vw.T @ (kl[:, None] * Vw), mode="drop")
+        return B, jnp.all(j < w)
+
+    B, ok = jax.lax.scan(add, jnp.zeros((w, w), scene.K.dtype), jnp.arange(theta.shape[0]))
+    return U, B / theta.shape[0], jnp.all(ok)
+
+
 def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_iterations=100):
     """Quasi-static result at the ``spp`` step positions of one mesh period, and K̄_m there."""
     mesh = scene.mesh
@@ -292,18 +400,9 @@ def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_itera
         throw=False,
     )
     n = scene.K.shape[0]
-
-    def add(Km, p):
-        cells = mesh.cells(theta[p])
-        idx, Vw = scene.window(cells)
-        Vw = Vw.reshape(-1, Vw.shape[-1])
-        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
-        w = (qs.line_load[p].reshape(-1) > 0).astype(Km.dtype)
-        block = Vw.T @ ((kl * w)[:, None] * Vw)
-        return Km.at[idx[:, None], idx[None, :]].add(block), None
-
-    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.K.dtype), jnp.arange(spp))
-    return qs, Km / spp
+    U, B, _ = _mesh_block(scene, theta, qs.line_load > 0)
+    Km = jnp.zeros((n, n), scene.K.dtype).at[U[:, None], U[None, :]].add(B)
+    return qs, Km
 
 
 def simulate_hybrid(
@@ -336,6 +435,7 @@ def hybrid_speed_sweep(
     width=1e-7,
     max_iterations: int = 50,
     states: bool = False,
+    rotating_frame: bool = True,
 ) -> HybridDynamics:
     """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
     after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
@@ -353,6 +453,10 @@ def hybrid_speed_sweep(
             ``"none"``. The scene's bearing damping is added in every case.
         contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
         states: also return the coordinates at the kept steps (``HybridDynamics.states``).
+        rotating_frame: the inertia of the turning body frames (Coriolis Ω·gyroscopic, spin
+            softening and centrifugal stress stiffening Ω²·spin_stiffness of
+            :class:`jaxgear.scenes.HybridPair`); False drops them, as the seed does (its
+            bodies' frames are fixed).
 
     Returns:
         :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
@@ -379,6 +483,7 @@ def hybrid_speed_sweep(
         contact,
         int(max_iterations),
         bool(states),
+        bool(rotating_frame),
     )
 
 
@@ -407,7 +512,9 @@ def _check(scene, speeds, steps_per_period, periods, keep_periods):
 
 
 @eqx.filter_jit
-def _sweep(scene, mods, torque, speeds, damping, width, spp, periods, keep, mode, max_it, states):
+def _sweep(
+    scene, mods, torque, speeds, damping, width, spp, periods, keep, mode, max_it, states, rotating
+):
     return jax.lax.map(
         lambda w: _run(
             scene,
@@ -422,6 +529,7 @@ def _sweep(scene, mods, torque, speeds, damping, width, spp, periods, keep, mode
             width,
             max_it,
             states,
+            rotating,
         ),
         speeds,
     )
@@ -442,6 +550,7 @@ def band_dynamic_factor(
     width=1e-7,
     max_iterations: int = 50,
     p: float = 16.0,
+    rotating_frame: bool = True,
 ) -> Float[Array, ""]:
     """A smooth dynamic factor over a speed band, differentiable with respect to the
     modifications (and the torque): the objective of an optimisation over speeds (issue 12 §4).
@@ -454,6 +563,7 @@ def band_dynamic_factor(
     Args:
         scene, modifications, torque: as :func:`hybrid_speed_sweep`. speeds: the band's pinion
             speeds (rad/s), shape (S,). p: the order of the p-means (>= 1).
+            rotating_frame: as :func:`hybrid_speed_sweep`.
 
     Returns:
         the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
@@ -479,6 +589,7 @@ def band_dynamic_factor(
         contact,
         int(max_iterations),
         False,
+        bool(rotating_frame),
     )
     ratio = res.mesh_force / res.static_force[:, None]
     per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
@@ -568,13 +679,14 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     (_, _, _, code, _), (_, P, _, rec) = _newmark_cells(
         at_rest,
         mods,
+        scene.K,
         M,
         C,
         F,
         dt,
         e_ref,
         (Xs, velocity, jnp.zeros_like(Xs)),
-        jnp.full((n_steps,), theta),
+        jnp.full((1, n_steps), theta),
         "exact",
         jnp.asarray(1e-7, scene.K.dtype),
         50,

@@ -87,8 +87,9 @@ class RigidMember(eqx.Module):
     def width(self) -> int:
         return 6
 
-    def window(self, points, mask, line, theta, mesh):
-        """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow."""
+    def window(self, points, mask, line, theta, mesh, pad=0):
+        """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow (``pad``: unused,
+        the node's DOFs are the whole window)."""
         v = rigid_node_vector(points, self.centre, self.sign * line["normal"])
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
@@ -191,9 +192,11 @@ class FlexibleMember(eqx.Module):
         )
         return i.astype(jnp.int32), j, w, face
 
-    def window(self, points, mask, line, theta, mesh: MeshModel):
+    def window(self, points, mask, line, theta, mesh: MeshModel, pad: int = 0):
         """Global DOFs of the window (w,), the structure vectors on them (L, N, w) and whether a
         cell on the flanks reaches beyond the window (the builder checks that it never does).
+        ``pad``: stations added on each side of the window (the wider window that holds every
+        window of a mesh period, for the mesh damping that turns with the wheel).
 
         ``line``: the fixed-frame ``normal`` n and ``direction`` t of the line of action and the
         zone centre ``zone`` (3,) (a point where the window is centred).
@@ -226,20 +229,21 @@ class FlexibleMember(eqx.Module):
             (jnp.arctan2(zc[1], zc[0]) - rot - self.station0) / self.pitch_angle
         ).astype(jnp.int32)
         rel = jnp.mod(i - ref + Z // 2, Z) - Z // 2
-        start = ref + jnp.min(jnp.where(mask[..., None, None], rel, Z))
+        start = ref + jnp.min(jnp.where(mask[..., None, None], rel, Z)) - pad
         il = jnp.mod(i - start, Z)  # station in the window, (L, N, 2, 3)
         n_ax = self.z_nodes.shape[0]
         L, N = points.shape[:2]
-        V = jnp.zeros((L, N, self.n_window, n_ax, 3), points.dtype)
+        n_win = self.n_window + 2 * pad
+        V = jnp.zeros((L, N, n_win, n_ax, 3), points.dtype)
         li = jnp.arange(L)[:, None, None, None]
         ni = jnp.arange(N)[None, :, None, None]
         for a in (0, 1):  # station i, i + 1
             for b in (0, 1):  # axial node j, j + 1
                 coef = w[..., a, b, None] * cb[..., :, None, :]  # (L, N, 2, 3, xyz)
                 V = V.at[li, ni, il + a, j + b].add(coef, mode="drop")
-        stations = jnp.mod(start + jnp.arange(self.n_window), Z)
+        stations = jnp.mod(start + jnp.arange(n_win), Z)
         idx = self.rim_dofs[stations].reshape(-1)
-        overflow = jnp.any(mask[..., None, None] & (il + 1 >= self.n_window))
+        overflow = jnp.any(mask[..., None, None] & (il + 1 >= n_win))
         return idx, V.reshape(L, N, -1), overflow
 
 
@@ -262,6 +266,11 @@ class HybridPair(Scene):
             rows (r, n). tangent_point, direction, normal, roll_start: the line of action.
             C_bearing: assembled bearing damping on the shaft DOFs (the first s coordinates),
             shape (s, s) (:meth:`bearing_damping` pads it to (n, n)).
+            gyroscopic, spin_stiffness: the rotating-frame inertia of the members whose frames
+            turn (a flexible body and its shaft): the dynamics add Ω·gyroscopic·Ẋ (Coriolis,
+            skew) and Ω²·spin_stiffness·X (spin softening plus the centrifugal stress
+            stiffening) at pinion speed Ω, both (n, n) per unit pinion speed (squared)
+            (:func:`rotating_frame_matrices`).
     """
 
     mesh: MeshModel
@@ -283,6 +292,8 @@ class HybridPair(Scene):
     normal: Float[Array, " 3"]
     roll_start: Float[Array, ""]
     C_bearing: Float[Array, "s s"]
+    gyroscopic: Float[Array, "n n"]
+    spin_stiffness: Float[Array, "n n"]
     reaction_names: tuple = eqx.field(static=True)
     reaction_member: tuple = eqx.field(static=True)
     torque_dofs: tuple = eqx.field(static=True)
@@ -323,11 +334,12 @@ class HybridPair(Scene):
         )
         return {"normal": self.normal, "direction": self.direction, "zone": zone}
 
-    def window(self, cells: Cells):
-        """Window DOFs (w,) and structure vectors on them (L, N, w), masked cells zeroed."""
+    def window(self, cells: Cells, pad: int = 0):
+        """Window DOFs (w,) and structure vectors on them (L, N, w), masked cells zeroed;
+        ``pad`` rim stations more on each side of a flexible member's window."""
         P = self.points(cells)
         line = self.line()
-        parts = [m.window(P, cells.mask, line, cells.theta, self.mesh) for m in self.members]
+        parts = [m.window(P, cells.mask, line, cells.theta, self.mesh, pad) for m in self.members]
         idx = jnp.concatenate([p[0] for p in parts])
         V = jnp.concatenate([p[1] for p in parts], axis=-1)
         return idx, jnp.where(cells.mask[..., None], V, 0.0)
@@ -612,7 +624,7 @@ def hybrid_pair(
         extra_z=tuple(extra),
     )
     n_sh = d["M"].shape[0]
-    blocks_K, blocks_M, fc_parts, gidxs = [], [], [], []
+    blocks_K, blocks_M, fc_parts, gidxs, rot_parts = [], [], [], [], []
     n = n_sh
     ratio = pair.pinion.teeth / pair.gear.teeth
     for m, body in enumerate(bodies):
@@ -635,6 +647,7 @@ def hybrid_pair(
         K_b = np.array(body.K, float)
         M_b = np.array(body.M, float)
         f_b = np.array(body.f_centrifugal, float)
+        Mb0 = M_b.copy()
         if tooth_mass:
             mt, rt = _tooth_mass(pair, m, density, float(np.ptp(coords[body.rim_grid[0], 2])))
             zn = coords[body.rim_grid[0], 2]
@@ -653,6 +666,7 @@ def hybrid_pair(
                         f_b[dof[(mi, c)]] += mt * share[j] * rt * e[c]
         blocks_K.append((gidx, K_b))
         blocks_M.append((gidx, M_b))
+        rot_parts.append((m, gidx, _body_rotating(body, M_b - Mb0)))
         fc_parts.append((gidx, f_b * (1.0 if m == 0 else ratio) ** 2))
         gidxs.append(gidx)
     K = np.zeros((n, n))
@@ -664,6 +678,7 @@ def hybrid_pair(
         K[np.ix_(g, g)] += Kb
         M[np.ix_(g, g)] += Mb
         fc[g] += fb
+    gyro, spin_K = _rotating_frame(n, d, rot_parts, ratio)
     pad = lambda a: np.concatenate([a, np.zeros(a.shape[:-1] + (n - n_sh,))], axis=-1)
     rb1, rb2 = pair.base_radii
     cb = math.cos(pair.base_helix_angle)
@@ -723,6 +738,8 @@ def hybrid_pair(
         normal=jnp.asarray(d["normal"]),
         roll_start=jnp.asarray(pair.start_roll),
         C_bearing=jnp.asarray(d["bearing_C"]),
+        gyroscopic=jnp.asarray(gyro),
+        spin_stiffness=jnp.asarray(spin_K),
         reaction_names=d["reaction_names"],
         reaction_member=react_member,
         torque_dofs=d["torque_dofs"],
@@ -743,6 +760,64 @@ def hybrid_pair(
             )
     scene = eqx.tree_at(lambda s: s.members, scene, tuple(members), is_leaf=lambda x: x is None)
     return _fit_windows(scene)
+
+
+_J6 = np.zeros((6, 6))
+_J6[1, 0] = _J6[4, 3] = 1.0  # ez × (.) on the translations and on the rotation vector
+_J6[0, 1] = _J6[3, 4] = -1.0
+
+
+def _body_rotating(body, added_mass):
+    """The body's rotating-frame matrices per unit spin speed about +z (condensed DOFs):
+    (Coriolis Gy, spin softening + stress stiffening S + Kσ), from fem_prep, plus the lumped
+    tooth masses ``added_mass`` (n_c, n_c) on the rim nodes: Gy += m J, S −= m on x, y. A
+    duck-typed body without the fem_prep matrices contributes only its teeth."""
+    nc = np.asarray(body.K).shape[0]
+    gy = np.array(getattr(body, "gyroscopic", np.zeros((nc, nc))), float)
+    sk = np.zeros((nc, nc))
+    for key in ("spin_softening", "stress_stiffening"):
+        part = getattr(body, key, None)
+        if part is not None:
+            sk += np.asarray(part, float)
+    dof = _body_dof_index(body)
+    kind = np.asarray(body.master_kind)
+    for (mi, c), i in dof.items():
+        if c != 0 or kind[mi] != 0:
+            continue
+        j = dof[(mi, 1)]
+        mt = added_mass[i, i]
+        gy[j, i] += mt
+        gy[i, j] -= mt
+        sk[i, i] -= mt
+        sk[j, j] -= added_mass[j, j]
+    return gy, sk
+
+
+def _rotating_frame(n, d, parts, ratio):
+    """Gyroscopic (n, n) per unit pinion speed and spin stiffness (n, n) per unit pinion speed²
+    of the members whose frames turn: each flexible body at Ω_z = spin·ratio·Ω (the pinion +Ω,
+    the gear −Ω z1/z2) and the shaft that carries it.
+
+    The rotating-frame equations of a body turning at Ω_z about +z: M Ẍ + 2 Ω_z Gy Ẋ + (K +
+    Ω_z² (S + Kσ)) X = … (Coriolis, spin softening, centrifugal stress stiffening; fem_prep
+    condenses Gy, S, Kσ of the FE body). A shaft on the axis is axisymmetric: its fixed-frame
+    model seen from the turning frame gives Gy = M J and S = −M P (J = ez × on the translations
+    and the rotation vector, P = J ᵀJ), with no polar gyroscopic term (as the lumped model)."""
+    gyro = np.zeros((n, n))
+    spin_K = np.zeros((n, n))
+    offsets = (*d["shaft_offsets"], d["M"].shape[0])
+    for m, gidx, (gy, sk) in parts:
+        w = 1.0 if m == 0 else -ratio  # Ω_z per unit pinion speed
+        gyro[np.ix_(gidx, gidx)] += 2.0 * w * gy
+        spin_K[np.ix_(gidx, gidx)] += w * w * sk
+        a, b = offsets[m], offsets[m + 1]
+        Ms = d["M"][a:b, a:b]
+        J = np.kron(np.eye((b - a) // 6), _J6)
+        if np.abs(Ms @ J - J @ Ms).max() > 1e-9 * np.abs(Ms).max():
+            raise ValueError("hybrid scene: a flexible body's shaft mass is not axisymmetric")
+        gyro[a:b, a:b] += 2.0 * w * Ms @ J
+        spin_K[a:b, a:b] += w * w * (Ms @ J @ J)
+    return gyro, spin_K
 
 
 def _fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
