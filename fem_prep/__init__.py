@@ -2,7 +2,8 @@
 
 NumPy/SciPy/scikit-fem only (never imports JAX).  A body file (TOML, see ``docs/fem_prep.md``)
 describes a thin-rimmed/-webbed gear body; fem_prep meshes it with quadratic hexahedra, assembles
-K, M and the centrifugal load, condenses it on the rim nodes under the teeth and the bearing
+K, M, the centrifugal load and the rotating-frame matrices (gyroscopic, spin softening, stress
+stiffening of the centrifugal prestress), condenses it on the rim nodes under the teeth and the bearing
 nodes (Guyan, Craig-Bampton or Herting, seed (2.3)-(2.5)), analyses its modes (nodal diameters,
 seed (3.2), resonance orders (3.9)) and writes a versioned ``.npz``, a ``.vtu`` and a
 ``summary.json``.  Arrays are NumPy, SI units, node coordinates ``(n, 3)``.

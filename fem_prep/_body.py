@@ -164,7 +164,8 @@ class Body:
         mesh: mesh settings.
         condensation: condensation settings.
         speed: rotation speed for the centrifugal deflection (rad/s).
-        spin_softening: also assemble the spin-softening matrix.
+        spin_softening: the former switch of the spin-softening matrix, still accepted so
+            that older body files parse; the matrix is now always assembled and condensed.
         support: ``"bearings"`` (bearing nodes held) or ``"free"`` for the reported frequencies.
         n_frequencies: number of frequencies reported in ``summary.json``.
         vtu_modes: number of mode shapes written to the VTU file.

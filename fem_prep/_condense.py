@@ -160,20 +160,30 @@ class Coupled:
         T: ``(n_full, n_red)`` sparse transformation.
         K, M: reduced stiffness/mass ``(n_red, n_red)``.
         f: reduced centrifugal vector per unit speed squared ``(n_red,)``.
-        S: reduced spin-softening matrix or ``None``.
+        G: reduced gyroscopic matrix per unit spin speed ``(n_red, n_red)`` (skew, kg).
+        S: reduced spin-softening matrix per unit speed squared ``(n_red, n_red)`` (kg).
         bearing_dofs: reduced indices ``(n_bearings, 6)`` of the bearing DOFs
             (u_x, u_y, u_z, theta_x, theta_y, theta_z).
         full_to_red: ``(n_full,)`` reduced index of each full DOF kept as such, -1 if
             eliminated by a coupling.
+        Ksigma: reduced stress-stiffening matrix per unit speed squared ``(n_red, n_red)``,
+            or ``None``: it needs the prestress solve, so :func:`~fem_prep.prepare` fills it
+            in (``dataclasses.replace``) after that solve; :func:`couple_bearings` leaves it out.
     """
 
     T: sp.csr_matrix
     K: sp.csr_matrix
     M: sp.csr_matrix
     f: np.ndarray
-    S: sp.csr_matrix | None
+    G: sp.csr_matrix
+    S: sp.csr_matrix
     bearing_dofs: np.ndarray
     full_to_red: np.ndarray
+    Ksigma: sp.csr_matrix | None = None
+
+    def reduce(self, A: sp.spmatrix) -> sp.csr_matrix:
+        """A full-DOF operator on the coupled DOFs: ``T^T A T``."""
+        return (self.T.T @ A @ self.T).tocsr()
 
 
 def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
@@ -243,9 +253,10 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
     Tt = T.T.tocsr()
     K = (Tt @ ops.K @ T).tocsr()
     M = (Tt @ ops.M @ T).tocsr()
-    S = (Tt @ ops.spin_softening @ T).tocsr() if ops.spin_softening is not None else None
+    G = (Tt @ ops.gyroscopic @ T).tocsr()
+    S = (Tt @ ops.spin_softening @ T).tocsr()
     f = Tt @ ops.f_centrifugal
-    return Coupled(T=T, K=K, M=M, f=f, S=S, bearing_dofs=bearing_dofs, full_to_red=full_to_red)
+    return Coupled(T=T, K=K, M=M, f=f, G=G, S=S, bearing_dofs=bearing_dofs, full_to_red=full_to_red)
 
 
 # ------------------------------------------------------------------------------------------
@@ -260,7 +271,12 @@ class Condensed:
         method: ``"guyan"``, ``"craig-bampton"`` or ``"herting"``.
         K, M: condensed stiffness (N/m, N/rad, N m/rad) and mass ``(n_c, n_c)``.
         f_centrifugal: condensed centrifugal vector per unit speed squared ``(n_c,)``.
-        spin_softening: condensed spin-softening matrix per unit speed squared or ``None``.
+        spin_softening: condensed spin-softening matrix ``H^T S H`` per unit speed squared
+            (symmetric) or ``None`` (no ``S`` given).
+        gyroscopic: condensed gyroscopic matrix ``H^T G H`` per unit spin speed (skew) or
+            ``None``.
+        stress_stiffening: condensed stress-stiffening matrix ``H^T K_sigma H`` per unit speed
+            squared (symmetric) or ``None``.
         master_dofs: reduced indices ``(n_b,)`` of the boundary DOFs (condensed rows 0..n_b-1).
         n_modes: number of modal coordinates (condensed rows n_b..n_c-1).
         basis: reduced-space transformation ``(n_red, n_c)``: ``q_red = basis @ q_c`` (the
@@ -279,15 +295,18 @@ class Condensed:
     basis: np.ndarray
     timings: dict[str, float] = field(default_factory=dict)
     modes_hz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    gyroscopic: np.ndarray | None = None
+    stress_stiffening: np.ndarray | None = None
 
 
-def _project(A: sp.spmatrix, V: np.ndarray, block: int = 256) -> np.ndarray:
-    """``V^T A V`` by column blocks (bounded memory)."""
+def _project(A: sp.spmatrix, V: np.ndarray, block: int = 256, *, skew: bool = False) -> np.ndarray:
+    """``V^T A V`` by column blocks (bounded memory), symmetrised (``skew=False``: A symmetric)
+    or skew-symmetrised (``skew=True``: A skew-symmetric) to remove the rounding."""
     out = np.empty((V.shape[1], V.shape[1]))
     for c0 in range(0, V.shape[1], block):
         c1 = min(V.shape[1], c0 + block)
         out[:, c0:c1] = V.T @ (A @ V[:, c0:c1])
-    return 0.5 * (out + out.T)
+    return 0.5 * (out - out.T) if skew else 0.5 * (out + out.T)
 
 
 def _condense(
@@ -299,6 +318,8 @@ def _condense(
     n_modes: int = 50,
     f: np.ndarray | None = None,
     S: sp.spmatrix | None = None,
+    G: sp.spmatrix | None = None,
+    Ksigma: sp.spmatrix | None = None,
     progress: bool = False,
     interior_factor: CholmodFactor | SparseFactor | None = None,
     free_shift: float | None = None,
@@ -313,7 +334,11 @@ def _condense(
         method: ``"guyan"``, ``"craig-bampton"`` or ``"herting"``.
         n_modes: number of retained modes (ignored by Guyan).
         f: centrifugal vector per unit speed squared ``(n,)`` (condensed as ``H^T f``, (2.37)).
-        S: spin-softening matrix ``(n, n)`` or ``None``.
+        S: spin-softening matrix ``(n, n)`` per unit speed squared or ``None``.
+        G: gyroscopic matrix ``(n, n)`` per unit spin speed (skew-symmetric) or ``None``.
+        Ksigma: stress-stiffening matrix ``(n, n)`` per unit speed squared or ``None``.
+            ``S``, ``G``, ``Ksigma`` are projected on the basis (``H^T A H``) and do not
+            change it (the modes and ψ are those of ``K``, ``M`` and ``f``).
         progress: show tqdm progress bars.
         interior_factor: a factorisation of ``K_ii`` to reuse.
         free_shift: shift (rad/s)^2 (negative) for the free-interface eigen-solve of Herting;
@@ -431,6 +456,8 @@ def _condense(
         Kc[nb:, :nb] = 0.0
     fc = H.T @ f if f is not None else np.zeros(H.shape[1])
     Sc = _project(S, H) if S is not None else None
+    Gc = _project(G, H, skew=True) if G is not None else None
+    Ksc = _project(Ksigma, H) if Ksigma is not None else None
     timings["projection_s"] = time.perf_counter() - t0
     return Condensed(
         method=method,
@@ -443,6 +470,8 @@ def _condense(
         basis=H,
         timings=timings,
         modes_hz=modes_hz,
+        gyroscopic=Gc,
+        stress_stiffening=Ksc,
     )
 
 

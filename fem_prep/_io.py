@@ -37,7 +37,11 @@ __all__ = [
 ]
 
 FORMAT = "fem_prep.condensed"
-FORMAT_VERSION = 2  # 2: rim master planes exactly at linspace(-b/2, b/2, n) (grid lines)
+# 2: rim master planes exactly at linspace(-b/2, b/2, n) (grid lines).
+# 3: the rotating-frame matrices gyroscopic, spin_softening and stress_stiffening are required
+#    keys (always written; spin_softening was optional before): a version-2 file lacks what the
+#    rotating-frame dynamics needs, so it is rejected and rebuilt (the cache key holds the version).
+FORMAT_VERSION = 3
 
 
 # ------------------------------------------------------------------------------------------
@@ -68,12 +72,34 @@ class CondensedBody:
     bearing nodes (u_x, u_y, u_z, theta_x, theta_y, theta_z each), then ``n_modes`` modal
     coordinates.  Everything here is a constant for jaxgear (no gradient through the FE mesh).
 
+    Rotating frame: for the body spinning at the signed speed ``Omega`` (rad/s) about +z, the
+    condensed coordinates ``q`` measured in the body frame (x, y, z turn with the body) obey,
+    linearised about the centrifugal prestress,
+
+        M q'' + 2 Omega gyroscopic q' + (K + Omega**2 (spin_softening + stress_stiffening)) q
+            = Omega**2 f_centrifugal + f.
+
+    All three rotating-frame matrices are ``basis^T T^T A T basis`` of the full-model operator
+    ``A`` (``q_full = T basis q``), so they share the DOF order above.
+
     Attributes:
         K: condensed stiffness ``(n_c, n_c)``.
         M: condensed mass ``(n_c, n_c)``.
         f_centrifugal: centrifugal load per unit speed squared ``(n_c,)`` (N/(rad/s)^2,
             seed (2.37)); the load at wheel speed Omega is ``Omega**2 * f_centrifugal``.
-        spin_softening: ``(n_c, n_c)`` per unit speed squared, or ``None``.
+        spin_softening: ``(n_c, n_c)`` symmetric, negative semi-definite, per unit speed squared
+            (kg): ``-integral rho (u_x v_x + u_y v_y) dV``, the centripetal force of the
+            displacement itself; the stiffness at speed gains ``Omega**2 * spin_softening``.
+        gyroscopic: ``(n_c, n_c)`` skew-symmetric, per unit spin speed (kg):
+            ``integral rho v . (e_z x u) dV`` (full model ``kron(M_scalar, J)``,
+            ``J = [[0, -1, 0], [1, 0, 0], [0, 0, 0]]``); the Coriolis force is
+            ``2 Omega gyroscopic q'`` on the left-hand side: a rigid velocity ``v e_x`` of
+            the body of mass m gives the term ``2 Omega m v e_y`` there (the Coriolis inertia
+            ``m 2 Omega e_z x v``; the fictitious Coriolis force is its opposite).
+        stress_stiffening: ``(n_c, n_c)`` symmetric, per unit speed squared (N/m/(rad/s)^2):
+            the geometric stiffness ``integral sigma0_ij d_i u_k d_j v_k dV`` of the
+            linear-elastic centrifugal stress ``sigma0`` at 1 rad/s with the bearing nodes held
+            (positive for the tensile hoop/radial prestress of a spinning wheel).
         master_coords: master-node coordinates ``(n_masters, 3)`` (m), rim nodes then bearings.
         master_kind: ``(n_masters,)`` 0 = rim node (3 DOFs), 1 = bearing node (6 DOFs).
         rim_grid: ``(teeth, n_axial)`` master-node index of each rim station.
@@ -92,7 +118,9 @@ class CondensedBody:
     K: np.ndarray
     M: np.ndarray
     f_centrifugal: np.ndarray
-    spin_softening: np.ndarray | None
+    spin_softening: np.ndarray
+    gyroscopic: np.ndarray
+    stress_stiffening: np.ndarray
     master_coords: np.ndarray
     master_kind: np.ndarray
     rim_grid: np.ndarray
@@ -122,6 +150,9 @@ _REQUIRED = (
     "K",
     "M",
     "f_centrifugal",
+    "spin_softening",
+    "gyroscopic",
+    "stress_stiffening",
     "master_coords",
     "master_kind",
     "rim_grid",
@@ -179,6 +210,9 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
         "K": cond.K,
         "M": cond.M,
         "f_centrifugal": cond.f_centrifugal,
+        "spin_softening": cond.spin_softening,
+        "gyroscopic": cond.gyroscopic,
+        "stress_stiffening": cond.stress_stiffening,
         "master_coords": coords,
         "master_kind": kind,
         "rim_grid": np.arange(n_rim).reshape(teeth, nax),
@@ -191,8 +225,9 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
         "input_toml": np.array(body.source_text),
         "input_sha256": np.array(body.text_sha256),
     }
-    if cond.spin_softening is not None:
-        out["spin_softening"] = cond.spin_softening
+    missing = [k for k in ("spin_softening", "gyroscopic", "stress_stiffening") if out[k] is None]
+    if missing:
+        raise ValueError(f"the condensed model lacks {', '.join(missing)} (condense without them?)")
     return out
 
 
@@ -261,8 +296,8 @@ def load_condensed(path: str | Path) -> CondensedBody:
     if K.ndim != 2 or K.shape[0] != K.shape[1]:
         raise shape_err("K", "(n_c, n_c)")
     n = K.shape[0]
-    for key in ("M", "spin_softening"):
-        if key in data and data[key].shape != (n, n):
+    for key in ("M", "spin_softening", "gyroscopic", "stress_stiffening"):
+        if data[key].shape != (n, n):
             raise shape_err(key, f"({n}, {n})")
     if data["f_centrifugal"].shape != (n,):
         raise shape_err("f_centrifugal", f"({n},)")
@@ -288,8 +323,9 @@ def load_condensed(path: str | Path) -> CondensedBody:
     cells = data["recovery_cells"]
     if cells.ndim != 2 or cells.shape[1] != 8 or (cells.size and cells.max() >= rc.shape[0]):
         raise shape_err("recovery_cells", f"(n_cells, 8) with indices < {rc.shape[0]}")
-    if not (np.all(np.isfinite(K)) and np.all(np.isfinite(M))):
-        raise ValueError(f"{path}: K or M contains non-finite values")
+    for key in ("K", "M", "spin_softening", "gyroscopic", "stress_stiffening"):
+        if not np.all(np.isfinite(data[key])):
+            raise ValueError(f"{path}: {key} contains non-finite values")
     try:
         meta = json.loads(str(data["metadata"]))
     except json.JSONDecodeError as exc:
@@ -298,7 +334,9 @@ def load_condensed(path: str | Path) -> CondensedBody:
         K=K,
         M=M,
         f_centrifugal=data["f_centrifugal"],
-        spin_softening=data.get("spin_softening"),
+        spin_softening=data["spin_softening"],
+        gyroscopic=data["gyroscopic"],
+        stress_stiffening=data["stress_stiffening"],
         master_coords=mc,
         master_kind=kind,
         rim_grid=data["rim_grid"],

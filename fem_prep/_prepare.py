@@ -5,13 +5,14 @@ from __future__ import annotations
 import math
 import time
 import tracemalloc
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg as sla
+import scipy.sparse as sp
 from tqdm import tqdm
 
-from ._assemble import Operators, assemble_operators
+from ._assemble import Operators, assemble_operators, stress_stiffening_matrix
 from ._body import Body
 from ._condense import (
     Condensed,
@@ -35,9 +36,10 @@ class Prepared:
     Attributes:
         body: the input body.
         mesh: the :class:`BodyMesh`.
-        operators: full operators (K, M, centrifugal vector).
+        operators: full operators (K, M, centrifugal vector, gyroscopic, spin softening).
         masters: master nodes.
-        coupled: operators after the bearing couplings (``u_full = T q``).
+        coupled: operators after the bearing couplings (``u_full = T q``), with the stress
+            stiffening (``coupled.Ksigma``).
         condensed: the condensed model.
         master_dofs: reduced indices of the boundary DOFs: rim grid ``(teeth, n_axial, 3)``
             flattened, then bearings ``(n_bearings, 6)`` flattened.
@@ -47,6 +49,11 @@ class Prepared:
         families: nodal diameters/circles of the full-model modes.
         centrifugal_displacement: full-DOF static displacement ``(n_dofs,)`` (m) under the
             centrifugal load at ``body.speed`` with the bearings held.
+        prestress_displacement: the same at 1 rad/s ``(n_dofs,)`` (m/(rad/s)^2): the
+            prestress of the stress stiffening.
+        stress_stiffening: full-DOF stress-stiffening matrix ``(n_dofs, n_dofs)`` CSR per unit
+            speed squared, the geometric stiffness of ``prestress_displacement``'s stress
+            (:func:`~fem_prep._assemble.stress_stiffening_matrix`).
         rim_radial_displacement: mean radial displacement (m) at the rim outer radius, mid-face.
         rim_radial_displacement_condensed: the same from the condensed model (m).
         timings: wall time per step (s).
@@ -66,6 +73,8 @@ class Prepared:
     frequencies_condensed_hz: np.ndarray
     families: list[ModeFamily]
     centrifugal_displacement: np.ndarray
+    prestress_displacement: np.ndarray
+    stress_stiffening: sp.csr_matrix
     rim_radial_displacement: float
     rim_radial_displacement_condensed: float
     timings: dict[str, float] = field(default_factory=dict)
@@ -109,7 +118,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     tick("mesh_s", t0)
 
     t0 = time.perf_counter()
-    ops = assemble_operators(bm.basis, body.material, spin_softening=body.spin_softening)
+    ops = assemble_operators(bm.basis, body.material)
     tick("assembly_s", t0)
 
     t0 = time.perf_counter()
@@ -133,9 +142,11 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     Fff = factorize(Kff)
     solver = Fff.method
     t_fact = time.perf_counter() - t0
+    # centrifugal prestress at 1 rad/s, bearings held (it scales with speed^2)
     u_red = np.zeros(n_red)
-    u_red[free] = Fff.solve(body.speed**2 * cp.f[free])
-    u_cf = cp.T @ u_red
+    u_red[free] = Fff.solve(cp.f[free])
+    u_unit = cp.T @ u_red
+    u_cf = body.speed**2 * u_unit
     if body.support == "bearings":
         lam, phi_f = shift_invert_modes(Kff, cp.M[free][:, free], nf, sigma=0.0, factor=Fff)
         phi = np.zeros((n_red, nf))
@@ -149,6 +160,10 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     shapes = cp.T @ phi
     f_full = _hz(lam)
     timings["full_factorisation_s"] = t_fact
+    t1 = time.perf_counter()
+    k_sigma = stress_stiffening_matrix(bm.basis, body.material, u_unit)
+    cp = replace(cp, Ksigma=cp.reduce(k_sigma))
+    timings["stress_stiffening_s"] = time.perf_counter() - t1
     tick("full_modal_s", t0)
 
     # ---- condensation
@@ -161,6 +176,8 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
         n_modes=body.condensation.modes,
         f=cp.f,
         S=cp.S,
+        G=cp.G,
+        Ksigma=cp.Ksigma,
         progress=progress,
     )
     for k, v in cond.timings.items():
@@ -222,6 +239,8 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
         frequencies_condensed_hz=f_cond,
         families=fam,
         centrifugal_displacement=u_cf,
+        prestress_displacement=u_unit,
+        stress_stiffening=k_sigma,
         rim_radial_displacement=rim_ur,
         rim_radial_displacement_condensed=ur_c,
         timings=timings,
