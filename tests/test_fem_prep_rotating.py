@@ -40,6 +40,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
 from test_fem_prep_condense import wheel_text
+from test_fem_prep_io import _rewrite
 
 from fem_prep import FORMAT_VERSION, load_condensed, parse_body, prepare, save_condensed
 from fem_prep._assemble import scalar_basis
@@ -312,18 +313,6 @@ def test_coriolis_coefficients_of_nd_pairs_condensed_vs_full(prep_rigid):
 
 
 # ------------------------------------------------------------------------------ file
-
-
-def _rewrite(src, dst, **changes):
-    with np.load(src) as z:
-        d = {k: z[k] for k in z.files}
-    for k, v in changes.items():
-        if v is None:
-            d.pop(k)
-        else:
-            d[k] = v
-    with open(dst, "wb") as fh:
-        np.savez(fh, **d)
 
 
 def test_npz_holds_the_rotating_frame_matrices(prep_rigid, tmp_path):
