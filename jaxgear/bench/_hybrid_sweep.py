@@ -100,23 +100,20 @@ def _baseline_run(
         throw=False,
     )
 
-    def add(Km, p):
-        cells = mesh.cells(theta[p])
-        V = scene.cell_vectors(cells).reshape(-1, n)
-        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
-        w = (qs.line_load[p].reshape(-1) > 0).astype(dtype)
-        return Km + V.T @ ((kl * w)[:, None] * V), None
+    def mean_mesh(k):  # K̄_m of mesh period k: the wheel has turned k pitches under the mesh
+        def add(Km, p):
+            cells = mesh.cells(theta[p] + k * mesh.mesh_period_angle)
+            V = scene.cell_vectors(cells).reshape(-1, n)
+            kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
+            w = (qs.line_load[p].reshape(-1) > 0).astype(dtype)
+            return Km + V.T @ ((kl * w)[:, None] * V), None
 
-    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), dtype), jnp.arange(spp))
-    C = alpha * M + beta * (K + Km / spp)  # Rayleigh (2.34), plus the bearings' damping
+        return jax.lax.scan(add, jnp.zeros((n, n), dtype), jnp.arange(spp))[0] / spp
+
+    C0 = alpha * M + beta * K  # Rayleigh (2.34), plus the bearings' damping
     if hasattr(scene, "bearing_damping"):
-        C = C + scene.bearing_damping()
-    Keff = K + a0 * M + a1 * C
+        C0 = C0 + scene.bearing_damping()
     F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
-    L = jnp.linalg.cholesky(Keff) if variant == "woodbury" else None
-
-    def cho_solve(b):  # K_eff⁻¹ b = L⁻ᵀ L⁻¹ b: two LAPACK triangular solves (trsm) with L
-        return solve_triangular(L, solve_triangular(L, b, lower=True), trans="T", lower=True)
 
     # one time-constant flank reference δ0 = e_ref − e, the start state moved along the drive
     # rotation N to match (as the model)
@@ -124,8 +121,12 @@ def _baseline_run(
     e_ref = jnp.max(e_max)
     X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
 
-    def body(carry, i):
+    def body(carry, i, C, Keff, L):
         X, Xd, Xdd, code, it = carry
+
+        def cho_solve(b):  # K_eff⁻¹ b = L⁻ᵀ L⁻¹ b: two LAPACK triangular solves (trsm) with L
+            return solve_triangular(L, solve_triangular(L, b, lower=True), trans="T", lower=True)
+
         cells, e_th, d0 = separation(mesh, mods, theta[0] + (i + 1) * dth)
         d0 = jnp.where(cells.mask, d0 + (e_ref - e_th), 0.0)
         V = scene.cell_vectors(cells).reshape(-1, n)  # all c cells on all n coordinates
@@ -160,9 +161,18 @@ def _baseline_run(
         carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
         return carry, jnp.sum(P)
 
+    def period(carry, k):  # K_eff changes once per mesh period (the mesh damping's stations)
+        C = C0 + beta * mean_mesh(k)
+        Keff = K + a0 * M + a1 * C
+        L = jnp.linalg.cholesky(Keff) if variant == "woodbury" else None
+        steps = k * spp + jnp.arange(spp)
+        return jax.lax.scan(lambda c, i: body(c, i, C, Keff, L), carry, steps)
+
     zero = jnp.zeros((n,), dtype)
     init = (X0, zero, zero, jnp.array(0), jnp.array(0))
-    (_, _, _, code, it), fm = jax.lax.scan(body, init, jnp.arange(n_steps))
+    n_periods = -(-n_steps // spp)
+    (_, _, _, code, it), fm = jax.lax.scan(period, init, jnp.arange(n_periods))
+    fm = fm.reshape(-1)[:n_steps]
     code = jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code)
     return fm, code, it
 
