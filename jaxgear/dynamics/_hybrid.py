@@ -227,14 +227,13 @@ def _damping(scene: HybridPair, Km, damping: Damping):
     """C of the assembled system with the period-averaged mesh stiffness K̄_m (seed
     (2.34)–(2.36)), plus the scene's bearing damping; and c_m (s), the part c_m K̄_m of C that
     follows the mesh as the wheel turns: β for Rayleigh (exact). The modal and composite models
-    have no such part (c_m = 0): their modes are those with the mesh on the stations under it in
-    the first period, and that damping stays there (docs/hybrid.md, "Not yet")."""
+    have no such part (c_m = None): their modes are those with the mesh on the stations under
+    it in the first period, and that damping stays there (docs/hybrid.md, "Not yet")."""
     if damping.model == "rayleigh":  # no modal analysis needed
         M = scene.M
         C = damping.alpha * M + damping.beta * (scene.K + Km) + scene.bearing_damping()
         return C, damping.beta
-    zero = jnp.zeros((), scene.K.dtype)
-    return damping_matrix(scene, modal_analysis(scene, Km), damping), zero
+    return damping_matrix(scene, modal_analysis(scene, Km), damping), None
 
 
 def _reference(mesh, mods, theta):
@@ -272,13 +271,16 @@ def _run(
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
     qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
     C, c_m = _damping(scene, Km, damping)
-    # the mesh part of C follows the mesh: c_m K̄_m on the stations under it in each period
-    C = C - c_m * Km
-    loaded = qs.line_load > 0
-    period = mesh.mesh_period_angle
+    mesh_damping = None
+    if c_m is not None:
+        # the mesh part of C follows the mesh: c_m K̄_m on the stations under it in each period
+        C = C - c_m * Km
+        loaded = qs.line_load > 0
 
-    def block(p):
-        return _mesh_block(scene, qs.theta + p * period, loaded)
+        def block(p):
+            return _mesh_block(scene, qs.theta + p * mesh.mesh_period_angle, loaded)
+
+        mesh_damping = (block, c_m)
 
     K = scene.K
     if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening
@@ -312,7 +314,7 @@ def _run(
         width,
         max_iterations,
         record,
-        (block, c_m),
+        mesh_damping,
     )
     L = mesh.n_lines
     lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
