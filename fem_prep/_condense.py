@@ -45,6 +45,7 @@ __all__ = [
     "Coupled",
     "MasterSet",
     "condense",
+    "band_reaction_stiffness",
     "couple_bearings",
     "frequency_error_vs_modes",
     "select_masters",
@@ -257,6 +258,53 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
     S = (Tt @ ops.spin_softening @ T).tocsr()
     f = Tt @ ops.f_centrifugal
     return Coupled(T=T, K=K, M=M, f=f, G=G, S=S, bearing_dofs=bearing_dofs, full_to_red=full_to_red)
+
+
+def band_reaction_stiffness(
+    cp: Coupled, masters: MasterSet, nodes: np.ndarray, r: np.ndarray
+) -> sp.csr_matrix:
+    """Load stiffness of the bearing-band reactions of the prestress, carried by the shaft.
+
+    The centrifugal prestress is solved with the bearing nodes held, so the shaft (the rigid or
+    averaging coupling) pushes on the bore-band nodes with forces ``r = K u0 - f_c``,
+    self-equilibrated on an axisymmetric body but not zero.  The stress stiffening of that
+    prestress then obeys, for any rigid rotation ``u_R = w x x`` of the body,
+    ``(K_sigma + S) u_R = w x r`` node by node (S the spin softening): a rigid turn about the
+    axis would meet a spurious stiffness ``sum_i x_i . r_i`` (in-plane parts) unless the shaft,
+    which turns with the body and carries the opposite forces in its own stress, brings the
+    opposite term.  The reactions turn with their bearing node, ``delta r_i = theta_b x r_i``,
+    and do the work ``(theta_b x x_i) . (theta_b x r_i) = theta_b^T A_i theta_b`` on a rigid
+    rotation, ``A_i = (x_i . r_i) I - r_i x_i^T`` (``x_i`` from the body origin on the axis: the
+    bands' axial forces, an axial pair between two bearings, are included through it).  The
+    shaft's term is ``-sym(sum_i A_i)`` on each bearing node's rotations (the skew part of the
+    sum is the reactions' resultant moment, zero on an axisymmetric body): zero on rigid
+    translations, and with it ``K_sigma + S`` is neutral to the drive rotation and gives the
+    rigid body's tilt stiffness ``int rho (y^2 - z^2) dV`` about x (``I_p - I_d``) per unit
+    speed squared.
+
+    Args:
+        cp: the coupled operators (``bearing_dofs``, the size).
+        masters: the bearing bands (``bearing_rings``).
+        nodes: mesh node coordinates ``(n_nodes, 3)`` (m).
+        r: full-DOF reactions of the prestress per unit speed squared ``(n_full,)`` (N).
+
+    Returns:
+        ``(n_red, n_red)`` CSR, symmetric, non-zero on the bearing rotations only (N m per unit
+        speed squared).
+    """
+    rows, cols, vals = [], [], []
+    for ib, ring in enumerate(masters.bearing_rings):
+        x = nodes[ring]
+        rr = r.reshape(-1, 3)[ring]
+        A = np.sum(np.einsum("ij,ij->i", x, rr)) * np.eye(3) - rr.T @ x
+        rot = cp.bearing_dofs[ib, 3:]
+        rows.append(np.repeat(rot, 3))
+        cols.append(np.tile(rot, 3))
+        vals.append((-0.5 * (A + A.T)).ravel())
+    n_red = cp.K.shape[0]
+    return sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n_red, n_red)
+    )
 
 
 # ------------------------------------------------------------------------------------------

@@ -41,7 +41,7 @@ FORMAT = "fem_prep.condensed"
 # 3: the rotating-frame matrices gyroscopic, spin_softening and stress_stiffening are required
 #    keys (always written; spin_softening was optional before): a version-2 file lacks what the
 #    rotating-frame dynamics needs, so it is rejected and rebuilt (the cache key holds the version).
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 
 # ------------------------------------------------------------------------------------------

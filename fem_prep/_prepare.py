@@ -18,6 +18,7 @@ from ._condense import (
     Condensed,
     Coupled,
     MasterSet,
+    band_reaction_stiffness,
     condense,
     couple_bearings,
     select_masters,
@@ -39,7 +40,8 @@ class Prepared:
         operators: full operators (K, M, centrifugal vector, gyroscopic, spin softening).
         masters: master nodes.
         coupled: operators after the bearing couplings (``u_full = T q``), with the stress
-            stiffening (``coupled.Ksigma``).
+            stiffening (``coupled.Ksigma``: ``T^T K_sigma T`` plus the shaft's load stiffness of
+            the bore-band reactions, :func:`~fem_prep._condense.band_reaction_stiffness`).
         condensed: the condensed model.
         master_dofs: reduced indices of the boundary DOFs: rim grid ``(teeth, n_axial, 3)``
             flattened, then bearings ``(n_bearings, 6)`` flattened.
@@ -162,7 +164,10 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     timings["full_factorisation_s"] = t_fact
     t1 = time.perf_counter()
     k_sigma = stress_stiffening_matrix(bm.basis, body.material, u_unit)
-    cp = replace(cp, Ksigma=cp.reduce(k_sigma))
+    # the bore bands' reactions turn with the shaft that carries them: their load stiffness
+    # goes with the body's so that a rigid turn about the axis stays neutral
+    k_react = band_reaction_stiffness(cp, ms, bm.nodes, ops.K @ u_unit - ops.f_centrifugal)
+    cp = replace(cp, Ksigma=cp.reduce(k_sigma) + k_react)
     timings["stress_stiffening_s"] = time.perf_counter() - t1
     tick("full_modal_s", t0)
 

@@ -152,16 +152,26 @@ def test_spin_softening_and_stress_stiffening_are_symmetric(prep_rigid):
     p = prep_rigid
     c = p.condensed
     H, T = c.basis, p.coupled.T
+    # the coupled K_sigma is the body's T^T K_sigma T plus the shaft's share of the bore-band
+    # reactions, which lives on the bearing DOFs only (its values: the tilt and turn tests)
+    extra = (p.coupled.Ksigma - T.T @ p.stress_stiffening @ T).toarray()
+    bd = p.coupled.bearing_dofs.ravel()
+    off = np.ones(extra.shape[0], dtype=bool)
+    off[bd] = False
+    assert np.abs(extra[off]).max() <= 1e-12 * np.abs(extra).max()
+    assert np.abs(extra[:, off]).max() <= 1e-12 * np.abs(extra).max()
     for name, full in (
-        ("spin_softening", p.operators.spin_softening),
-        ("stress_stiffening", p.stress_stiffening),
+        ("spin_softening", T.T @ p.operators.spin_softening @ T),
+        ("stress_stiffening", p.coupled.Ksigma),
     ):
         A = getattr(c, name)
-        raw = H.T @ (T.T @ (full @ (T @ H)))
+        raw = H.T @ (full @ H)
         assert np.array_equal(A, A.T), name
         assert np.abs(raw - raw.T).max() <= 1e-12 * np.abs(raw).max(), name
         assert np.abs(A - raw).max() <= 1e-12 * np.abs(raw).max(), name
         assert abs(full - full.T).max() <= 1e-12 * abs(full).max(), name
+    full = p.stress_stiffening
+    assert abs(full - full.T).max() <= 1e-12 * abs(full).max()
     # spin softening is -kron(Ms, diag(1, 1, 0)): negative semi-definite
     ev = np.linalg.eigvalsh(c.spin_softening)
     assert ev.max() <= 1e-12 * abs(ev).max()
@@ -226,9 +236,13 @@ def test_rigid_tilt_virtual_work(prep):
     ref_spin = -int_rho_z2
 
     assert th @ c.spin_softening @ th == pytest.approx(ref_spin, rel=1e-10)
-    assert th @ c.stress_stiffening @ th == pytest.approx(ref_sigma, rel=1e-10)
+    # the body's own stress stiffening (full DOFs) does the reactions' work too ...
+    assert tilt @ (p.stress_stiffening @ tilt) == pytest.approx(ref_sigma, rel=1e-10)
+    # ... which the shaft that carries them takes back: the stored K_sigma gives the rigid
+    # body's tilt stiffness, int rho (y^2 - z^2) = I_p - I_d with S
+    assert th @ c.stress_stiffening @ th == pytest.approx(int_rho_y2, rel=1e-10)
     total = th @ (c.spin_softening + c.stress_stiffening) @ th
-    assert total == pytest.approx(ref_sigma + ref_spin, rel=1e-10)
+    assert total == pytest.approx(int_rho_y2 + ref_spin, rel=1e-10)
     # the reaction term matters, and only as the distributed band forces: paired with A x at
     # the bearing nodes instead (their 6-DOF resultants: no in-plane force, no moment, equal and
     # opposite axial forces) it would miss part of it, since A x is not a rigid motion of a band
@@ -245,6 +259,31 @@ def test_rigid_tilt_virtual_work(prep):
         resultant_work += F @ (np.array([0.0, 1.0, 1.0]) * xb)  # A x_b
     assert F_z[0] == pytest.approx(-F_z[1], rel=1e-9)
     assert abs(resultant_work - reaction_work) > 0.01 * int_rho_y2
+
+
+def test_drive_rotation_is_neutral(prep):
+    """A rigid turn about the axis changes nothing in the turning frame: (S + K_sigma) of the
+    condensed body (stress stiffening with the shaft's share of the bore-band reactions) maps it
+    to zero, every row, while the body's own K_sigma alone does not (the reactions' moment)."""
+    p = prep
+    c = p.condensed
+    th = _rigid_condensed(p, np.zeros(3), np.eye(3)[2])
+    A = c.spin_softening + c.stress_stiffening
+    scale = np.abs(c.spin_softening).max() * np.abs(th).max()
+    assert np.abs(A @ th).max() <= 1e-8 * scale
+    spin = _expand(p, th)
+    x = p.mesh.nodes
+    assert np.linalg.norm(spin - np.cross(np.eye(3)[2], x).ravel()) <= 1e-10 * np.linalg.norm(spin)
+    # without the shaft's share: the full-DOF K_sigma + S on the same turn is the reactions'
+    # moment r_i x (e_z x ...) -- not zero where a bearing band is clamped (rigid coupling)
+    raw = spin @ ((p.stress_stiffening + p.operators.spin_softening) @ spin)
+    _, r = _independent_prestress(p)
+    band = np.concatenate(p.masters.bearing_rings)
+    rr, xb = r.reshape(-1, 3)[band], x[band]
+    ref = np.sum(rr[:, :2] * xb[:, :2])  # (e_z x x) . (e_z x r) = x_perp . r_perp
+    assert abs(raw - ref) <= 1e-8 * np.abs(rr).sum() * np.abs(xb).max()
+    if p.masters.couplings[0] == "rigid":  # a clamped band: the moment is a real share
+        assert abs(ref) > 0.01 * abs(spin @ (p.operators.spin_softening @ spin))
 
 
 def test_stress_stiffening_on_linear_fields(prep_rigid):
@@ -319,7 +358,7 @@ def test_npz_holds_the_rotating_frame_matrices(prep_rigid, tmp_path):
     p = prep_rigid
     path = save_condensed(p, tmp_path / "w.npz")
     cb = load_condensed(path)
-    assert FORMAT_VERSION == 3
+    assert FORMAT_VERSION == 4
     for name in ("gyroscopic", "spin_softening", "stress_stiffening"):
         np.testing.assert_array_equal(getattr(cb, name), getattr(p.condensed, name))
     with np.load(path) as z:

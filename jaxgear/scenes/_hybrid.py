@@ -770,8 +770,11 @@ _J6[0, 1] = _J6[3, 4] = -1.0
 def _body_rotating(body, added_mass):
     """The body's rotating-frame matrices per unit spin speed about +z (condensed DOFs):
     (Coriolis Gy, spin softening + stress stiffening S + Kσ), from fem_prep, plus the lumped
-    tooth masses ``added_mass`` (n_c, n_c) on the rim nodes: Gy += m J, S −= m on x, y. A
-    duck-typed body without the fem_prep matrices contributes only its teeth."""
+    tooth masses ``added_mass`` (n_c, n_c) on the rim nodes: Gy += m J, and S −= m e eᵀ on the
+    radial direction e only. A tooth's centrifugal force turns with the rim that carries it
+    (the load stiffness of the rim's hoop prestress from the teeth, which the body's Kσ does not
+    hold), so a rigid turn about the axis stays neutral; the rest of that prestress's stiffening
+    is left out. A duck-typed body without the fem_prep matrices contributes only its teeth."""
     nc = np.asarray(body.K).shape[0]
     gy = np.array(getattr(body, "gyroscopic", np.zeros((nc, nc))), float)
     sk = np.zeros((nc, nc))
@@ -781,6 +784,7 @@ def _body_rotating(body, added_mass):
             sk += np.asarray(part, float)
     dof = _body_dof_index(body)
     kind = np.asarray(body.master_kind)
+    coords = np.asarray(body.master_coords, float)
     for (mi, c), i in dof.items():
         if c != 0 or kind[mi] != 0:
             continue
@@ -788,8 +792,8 @@ def _body_rotating(body, added_mass):
         mt = added_mass[i, i]
         gy[j, i] += mt
         gy[i, j] -= mt
-        sk[i, i] -= mt
-        sk[j, j] -= added_mass[j, j]
+        e = coords[mi, :2] / np.hypot(*coords[mi, :2])
+        sk[np.ix_([i, j], [i, j])] -= mt * np.outer(e, e)
     return gy, sk
 
 
