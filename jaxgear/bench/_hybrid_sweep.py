@@ -871,18 +871,16 @@ def _chart(out: dict, path: str) -> None:
             if not all(r.get(key) is not None for r in rows):
                 continue
             t = np.array([r[key] for r in rows]) * 1e3
-            ax.plot(xs, t, mk, color=col, label=label)
+            ok = t > 0  # a step time below the timer's resolution under load is measured as 0
+            if not ok.any():
+                continue
+            ax.plot(xs[ok], t[ok], mk, color=col, label=label)
             f = block["fits"].get(m)
             if f is not None and len(xs) > 1:
                 xx = np.geomspace(xs.min(), xs.max(), 50)
-                ax.plot(
-                    xx,
-                    (f["t0_s"] + f["a_s"] * xx ** f["power"]) * 1e3,
-                    ":",
-                    color=col,
-                    lw=1,
-                    label=f"fit t₀ + a·{fits}^{f['power']}",
-                )
+                tt = (f["t0_s"] + f["a_s"] * xx ** f["power"]) * 1e3
+                if np.all(tt > 0):
+                    ax.plot(xx, tt, ":", color=col, lw=1, label=f"fit t₀ + a·{fits}^{f['power']}")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ticks = []
@@ -899,6 +897,8 @@ def _chart(out: dict, path: str) -> None:
     md = out["scaling"]["master_dofs"]
     lines(ax4, md, "structure_dofs", "n")
     for r in md["rows"]:
+        if not r["model_per_step_s"] > 0:
+            continue
         ax4.annotate(
             f"{r['modes_in_body_file']} modes"
             if r["case"] != out["case"]
