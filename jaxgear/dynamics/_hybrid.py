@@ -11,10 +11,12 @@ time-constant reference, and Ω the pinion speed (each body at its own speed, f_
 accordingly; the centrifugal load is always on in dynamics). On request
 (``rotating_frame=True``; the seed leaves it out) the turning frames add their inertia:
 C += Ω Gy (Coriolis, skew) and K += Ω² (S + Kσ) (spin softening and centrifugal stress
-stiffening). Damping on the
-assembled system with K̄ = K + K̄_m, K̄_m the mesh stiffness matrix averaged over the
-quasi-static positions of one mesh period: Rayleigh α M + β K̄ (2.34), modal or composite (2.35)–(2.36) on the modes of
-(M, K̄) (:class:`jaxgear.dynamics.Damping`), plus the bearings' damping.
+stiffening). Damping (:class:`jaxgear.dynamics.Damping`, :func:`_damping`), with K̄_m(k) the
+mesh stiffness matrix averaged over the quasi-static positions of mesh period k on the stations
+under the mesh then (it turns with the wheel): Rayleigh α M + β (K + K̄_m(k)) (2.34); modal
+(2.35) on the modes of (M, K + K̄), K̄ the mean of K̄_m(k) round the revolution; composite
+(2.36) on the same modes in a form linear in K̄_m(k), whose mesh share follows the mesh:
+2 ξ_s M Φ Ω Φᵀ M + 2 (ξ_m − ξ_s) Rᵀ K̄_m(k) R, R = Φ Ω^(-1/2) Φᵀ M; plus the bearings' damping.
 
 Newmark average acceleration (β = 1/4, γ = 1/2). The effective stiffness K_eff = K + a₀M + a₁C
 is constant at one speed: it is inverted once, G_eff = K_eff⁻¹, and every step is a contact
@@ -32,6 +34,9 @@ resonance speeds of (3.9) (:func:`nodal_diameter_modes`, :func:`nodal_diameter_r
 
 from __future__ import annotations
 
+import math
+from typing import NamedTuple
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -43,7 +48,7 @@ from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
-from ._modal import Damping, damping_matrix, modal_analysis
+from ._modal import Damping, modal_analysis
 
 __all__ = [
     "FreeVibration",
@@ -141,11 +146,15 @@ def _newmark_cells(
     from ``state`` = (X, Ẋ, Ẍ), for M Ẍ + C(t) Ẋ + K X + Vᵀ P = F (C may hold the skew
     Coriolis term).
 
-    ``mesh_damping``: None, or (block, c_m) with ``block(p)`` → (U (w,), B (w, w), ok): the mesh
-    stiffness averaged over block p's positions on the window U of DOFs, so that block p's
-    damping is C + c_m U B Uᵀ (the mesh part that turns with the wheel). Its effective stiffness
-    is the constant one plus a rank-w term: G_p = G − G_{:U} Q G_{U:}, Q = (I + A G_UU)⁻¹ A,
-    A = a₁ c_m B (Woodbury, once per block), so a step still costs n², not a factorisation.
+    ``mesh_damping``: None, or (block, c_m, R) with ``block(p)`` → (U (w,), B (w, w), ok): the
+    mesh stiffness K̄_m(p) = E_Uᵀ B E_U averaged over block p's positions on the window U of
+    DOFs (E_U (w, n) picks them), c_m (s) and R (n, n) or None (the identity), so that block
+    p's damping is C + c_m Rᵀ K̄_m(p) R = C + c_m Wᵀ B W with W = E_U R (w, n): the window's
+    unit vectors (R = None: Rayleigh) or the rows U of R (dense: the composite's mesh share,
+    :class:`_HybridDamping`). Its effective stiffness is the constant one plus a rank-w term:
+    G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B (Woodbury, once per block;
+    G Rᵀ once per speed), so a step still costs n² (plus 4 w n for the dense W), not a
+    factorisation.
 
     Returns the final carry (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
     over the blocks): θ, the cell forces P (c,), the TE and ``record(X, Ẋ)``."""
@@ -156,25 +165,44 @@ def _newmark_cells(
     G = jnp.linalg.inv(K + a0 * M + a1 * C)
     cb = jnp.cos(mesh.base_helix_angle)
     n = K.shape[0]
+    if mesh_damping is not None:
+        block, c_m, R = mesh_damping
+        GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
 
     def period(carry, p_th):
         p, ths = p_th
         if mesh_damping is None:
-            U, Q, GU, GUU, ok = None, None, None, None, jnp.array(True)
+            U, Q, GW, GUU, ok = None, None, None, None, jnp.array(True)
         else:
-            block, c_m = mesh_damping
             U, B, ok = block(p)
+            w = U.shape[0]
+            if R is None:  # W = E_U
+
+                def project(x):  # W x, x (n,) or (n, m)
+                    return x[U]
+
+                def spread(z):  # Wᵀ z
+                    return jnp.zeros((n,), dtype).at[U].add(z)
+
+            else:
+                W = R[U]
+
+                def project(x):
+                    return W @ x
+
+                def spread(z):
+                    return W.T @ z
+
             A = (a1 * c_m) * B
-            GUU = G[U[:, None], U[None, :]]
-            Q = jnp.linalg.solve(jnp.eye(U.shape[0], dtype=dtype) + A @ GUU, A)
-            GU = G[:, U]
-            GUU = GUU - GUU @ Q @ GUU  # G_p on the window
-            pos = jnp.full((n,), U.shape[0], jnp.int32)
-            pos = pos.at[U].set(jnp.arange(U.shape[0], dtype=jnp.int32))
+            GW = GR[:, U]  # G Wᵀ (n, w)
+            Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
+            GUU = G[U[:, None], U[None, :]] - GW[U] @ Q @ project(G[:, U])  # G_p on the window
+            pos = jnp.full((n,), w, jnp.int32)
+            pos = pos.at[U].set(jnp.arange(w, dtype=jnp.int32))
 
         def solve(v):  # G_p v
             y = G @ v
-            return y if U is None else y - GU @ (Q @ y[U])
+            return y if U is None else y - GW @ (Q @ project(y))
 
         def step(carry, th):
             X, Xd, Xdd, code, it = carry
@@ -189,7 +217,7 @@ def _newmark_cells(
             if U is None:
                 Gw = G[idx[:, None], idx[None, :]]
             else:
-                Feff = Feff.at[U].add(c_m * (B @ v[U]))
+                Feff = Feff + spread(c_m * (B @ project(v)))  # the period's mesh damping
                 j = pos[idx]
                 inside = jnp.all(j < U.shape[0])
                 Gw = GUU[j[:, None], j[None, :]]
@@ -223,17 +251,79 @@ def _newmark_cells(
     return carry, jax.tree.map(lambda x: x.reshape((-1,) + x.shape[2:]), out)
 
 
-def _damping(scene: HybridPair, Km, damping: Damping):
-    """C of the assembled system with the period-averaged mesh stiffness K̄_m (seed
-    (2.34)–(2.36)), plus the scene's bearing damping; and c_m (s), the part c_m K̄_m of C that
-    follows the mesh as the wheel turns: β for Rayleigh (exact). The modal and composite models
-    have no such part (c_m = None): their modes are those with the mesh on the stations under
-    it in the first period, and that damping stays there (docs/hybrid.md, "Not yet")."""
+class _HybridDamping(NamedTuple):
+    """The damping of the hybrid Newmark, C(k) = C + c_m Rᵀ K̄_m(k) R in mesh period k, with
+    K̄_m(k) the mesh stiffness averaged over period k's quasi-static positions on the stations
+    under the mesh then (it turns with the wheel).
+
+    Attributes:
+        C: the constant part (units of K·s), (n, n), the bearings' damping included.
+        c_m: the factor of the mesh share (s for Rayleigh, - for the composite), or None when
+            the model has no mesh share (modal, "none"): C(k) = C.
+        R: the map of the mesh share (n, n) (-), or None: the identity (Rayleigh, C(k) = C +
+            β K̄_m(k), exact and sparse on the window).
+    """
+
+    C: Float[Array, "n n"]
+    c_m: Float[Array, ""] | None
+    R: Float[Array, "n n"] | None
+
+
+def _damping(scene: HybridPair, Km, damping: Damping) -> _HybridDamping:
+    """The damping of the hybrid scene (seed (2.34)–(2.36)) as its constant part and its mesh
+    share that follows the mesh as the wheel turns (:class:`_HybridDamping`), plus the scene's
+    bearing damping. ``Km``: the mesh stiffness averaged round the revolution, K̄ (n, n), whose
+    system (M, K + K̄) gives the modes (ω_i, φ_i) of the modal models (unused for Rayleigh).
+
+    - Rayleigh (2.34): C(k) = α M + β (K + K̄_m(k)): C = α M + β K, c_m = β, R = I (exact).
+    - Modal (2.35): C = M Φ diag(2 ξ ω_i) Φᵀ M, no mesh share (K̄ the revolution's average:
+      the same in every period).
+    - Composite (2.36), ξ_i = ξ_m e_i + ξ_s (1 − e_i), e_i = φ_iᵀ K̄_m φ_i / ω_i², in a form
+      linear in the mesh stiffness of the period: C(k) = 2 ξ_s M Φ Ω Φᵀ M + 2 (ξ_m − ξ_s)
+      Rᵀ K̄_m(k) R, R = Φ' Ω'^(-1/2) Φ'ᵀ M (Φ', Ω' the elastic modes; the rigid ones, which
+      the mesh does not strain, left out): c_m = 2 (ξ_m − ξ_s). In modal coordinates its
+      diagonal is (2.36)'s, 2 ω_i (ξ_s + (ξ_m − ξ_s) e_i(k)) with the mesh energy share e_i(k)
+      of period k; it keeps the modes' coupling 2 (ξ_m − ξ_s) φ_iᵀ K̄_m(k) φ_j / √(ω_i ω_j)
+      that (2.36) drops, and stays positive semi-definite in every period (ξ_m >= ξ_s), where
+      (2.36) on the modes of one period put the mesh share on the stations under the mesh
+      then, and subtracting it to re-add the period's ran away (negative damping on rim-local
+      modes).
+    """
+    M = scene.M
+    Cb = scene.bearing_damping()
+    if damping.model == "none":
+        return _HybridDamping(Cb, None, None)
     if damping.model == "rayleigh":  # no modal analysis needed
-        M = scene.M
-        C = damping.alpha * M + damping.beta * (scene.K + Km) + scene.bearing_damping()
-        return C, damping.beta
-    return damping_matrix(scene, modal_analysis(scene, Km), damping), None
+        return _HybridDamping(damping.alpha * M + damping.beta * scene.K + Cb, damping.beta, None)
+    modes = modal_analysis(scene, Km)
+    Phi, omega = modes.shapes, modes.omega
+    MP = M @ Phi
+    if damping.model == "modal":
+        return _HybridDamping(MP @ ((2.0 * damping.ratio * omega)[:, None] * MP.T) + Cb, None, None)
+    C = MP @ ((2.0 * damping.structure_ratio * omega)[:, None] * MP.T) + Cb
+    s = jnp.where(modes.rigid, 0.0, 1.0 / jnp.sqrt(jnp.where(modes.rigid, 1.0, omega)))
+    R = Phi @ (s[:, None] * MP.T)
+    return _HybridDamping(C, 2.0 * (damping.mesh_ratio - damping.structure_ratio), R)
+
+
+def _revolution_periods(scene: HybridPair) -> int:
+    """Mesh periods after which every flexible member's stations are again where they were:
+    the least common multiple of their tooth counts (the wheel's teeth for H1; 1 if none)."""
+    Z = [m.rim_dofs.shape[0] for m in scene.members if isinstance(m, FlexibleMember)]
+    return math.lcm(*Z) if Z else 1
+
+
+def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
+    """K̄ (n, n): the mean of the mesh stiffness ``block(p)`` (:func:`_mesh_block`) over the mesh
+    periods p = 0 … ``periods`` − 1 (a revolution, :func:`_revolution_periods`)."""
+    n = scene.K.shape[0]
+
+    def add(Km, p):
+        U, B, _ = block(p)
+        return Km.at[U[:, None], U[None, :]].add(B), None
+
+    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.K.dtype), jnp.arange(periods))
+    return Km / periods
 
 
 def _reference(mesh, mods, theta):
@@ -269,18 +359,19 @@ def _run(
     at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
-    qs, Km = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
-    C, c_m = _damping(scene, Km, damping)
-    mesh_damping = None
-    if c_m is not None:
-        # the mesh part of C follows the mesh: c_m K̄_m on the stations under it in each period
-        C = C - c_m * Km
-        loaded = qs.line_load > 0
+    qs, _ = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
+    loaded = qs.line_load > 0
 
-        def block(p):
-            return _mesh_block(scene, qs.theta + p * mesh.mesh_period_angle, loaded)
+    def block(p):  # K̄_m(p) on the stations under the mesh in period p
+        return _mesh_block(scene, qs.theta + p * mesh.mesh_period_angle, loaded)
 
-        mesh_damping = (block, c_m)
+    Km = None
+    if damping.model in ("modal", "composite"):  # their modes: K̄_m averaged round the wheel
+        Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
+    damp = _damping(scene, Km, damping)
+    C = damp.C
+    # the mesh share of C follows the mesh: c_m Rᵀ K̄_m(k) R in period k
+    mesh_damping = None if damp.c_m is None else (block, damp.c_m, damp.R)
 
     K = scene.K
     if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening
@@ -451,16 +542,19 @@ def hybrid_speed_sweep(
         rayleigh: (α (1/s), β (s)) of C = α M + β K̄; default the seed's D1 = (25, 2.5e-6).
         damping: a :class:`jaxgear.dynamics.Damping` instead: ``"composite"`` (ξ_i = 0.07 e_i +
             0.01 (1 − e_i), e_i the mode's mesh strain-energy share, (2.36)), ``"modal"`` (one ξ,
-            (2.35)) on the modes of the mesh-averaged system at each speed, ``"rayleigh"`` or
-            ``"none"``. The scene's bearing damping is added in every case.
+            (2.35)) on the modes of the system with the mesh stiffness averaged round the
+            wheel's revolution at each speed, ``"rayleigh"`` or ``"none"``. The mesh share of
+            the Rayleigh and composite damping follows the mesh period by period (the composite
+            in its form linear in the period's mesh stiffness, :func:`_damping`). The scene's
+            bearing damping is added in every case.
         contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
         states: also return the coordinates at the kept steps (``HybridDynamics.states``).
         rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic,
             spin softening and centrifugal stress stiffening Ω²·spin_stiffness of
-            :class:`jaxgear.scenes.HybridPair`). Off by default, as in the seed: fem_prep's
-            prestress holds the bore, and its reactions give the drive rotation a spurious
-            spin stiffness (a rigidified body then misses the lumped model by 2.9 % at
-            2100 rad/s, against 0.07 % without these terms; docs/hybrid.md, "Not yet").
+            :class:`jaxgear.scenes.HybridPair`; a rigid turn of a member stays neutral). Off
+            by default, as in the seed: on the test wheel they move the web modes by ≤ 0.2 %
+            at 3000 rad/s; with them a rigidified body matches the lumped model within 0.2 %
+            at every speed tested (without, within 1 %; docs/hybrid.md).
 
     Returns:
         :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
@@ -503,7 +597,7 @@ def _check(scene, speeds, steps_per_period, periods, keep_periods):
     scene's dtype, checked when concrete (a traced band passes through)."""
     speeds = jnp.asarray(speeds, scene.K.dtype)
     if not isinstance(speeds, jax.core.Tracer) and (
-        speeds.ndim != 1 or speeds.size == 0 or not bool(jnp.all(speeds > 0))
+        speeds.ndim != 1 or speeds.size == 0 or not bool(np.all(np.asarray(speeds) > 0))
     ):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
     _check_steps(steps_per_period)
