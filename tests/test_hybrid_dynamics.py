@@ -431,6 +431,60 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
     assert np.abs(m.point_data["displacement_m"]).max() > 0
 
 
+def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, monkeypatch, setup):
+    """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
+    gives the dynamic factors of ``hybrid_speed_sweep(..., rotating_frame=True)`` with the same
+    settings (and not those without it), and records the flag; on a rigid case the key is a
+    one-line error naming it."""
+    import json
+
+    from jaxgear.cli import main
+    from jaxgear.dynamics import spec_damping
+
+    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
+    text = (DATA / "hybrid-test-case.toml").read_text()
+    case_file = tmp_path / "hybrid-test-case.toml"
+    case_file.write_text(
+        text.replace(
+            "[scene.gear_body]",
+            "[scene.integration]\nrotating_frame = true\n\n[scene.gear_body]",
+            1,
+        )
+    )
+    (tmp_path / "hybrid-test-wheel.toml").write_text((DATA / "hybrid-test-wheel.toml").read_text())
+    out = tmp_path / "sweep"
+    argv = ["sweep", str(case_file), "--speeds", "1500:2100:2", "--periods", "3"]
+    argv += ["--keep-periods", "2", "--steps-per-period", "16", "--out", str(out), "--quiet"]
+    assert main(argv) == 0
+    s = json.loads((out / "sweep.json").read_text())
+    assert s["rotating_frame"] is True and s["result"] == [0, 0]
+    case = jio.load_case(case_file)
+    scene = static_scene(case)[0]
+    kw = dict(steps_per_period=16, periods=3, keep_periods=2, damping=spec_damping(case.scene))
+    kw.update(contact=case.scene.contact, width=case.smooth_width)
+    speeds = [1500.0, 2100.0]
+    on = hybrid_speed_sweep(
+        scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw
+    )
+    off = hybrid_speed_sweep(scene, case.modifications, case.torque, speeds, **kw)
+    fm = [
+        np.asarray(r.mesh_force).max() / float(np.asarray(r.static_force).reshape(-1)[0])
+        for r in (on, off)
+    ]
+    np.testing.assert_allclose(
+        s["dynamic_factor"],
+        np.asarray(on.mesh_force).max(axis=1) / float(np.asarray(on.static_force).reshape(-1)[0]),
+        rtol=1e-9,
+    )
+    assert abs(fm[0] / fm[1] - 1.0) > 1e-6  # the flag changes the response
+
+    rigid = (DATA / "hybrid-test-case.toml").read_text().split("[scene]")[0]
+    bad = tmp_path / "rigid.toml"
+    bad.write_text(rigid + "[scene]\n[scene.integration]\nrotating_frame = true\n")
+    with pytest.raises(ValueError, match=r"rotating_frame.*condensed body"):
+        jio.load_case(bad)
+
+
 def test_free_vibration_conserves_energy(setup):
     """Issue 12 evidence: undamped, the mesh held at one position and the contact held (an
     initial velocity about the loaded equilibrium carrying 1 % of the static mesh strain

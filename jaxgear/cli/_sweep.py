@@ -146,6 +146,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         damping=damping,
         contact=spec.contact,
         width=case.smooth_width,
+        rotating_frame=spec.rotating_frame,
     )
     # chunks of equal step counts (one compiled sweep per count)
     starts = [k for k in range(speeds.size) if k == 0 or steps[k] != steps[k - 1]]
@@ -214,6 +215,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "rayleigh_alpha_per_s": spec.rayleigh_alpha,
         "rayleigh_beta_s": spec.rayleigh_beta,
         "damping_ratio_mesh_structure": [spec.mesh_ratio, spec.structure_ratio],
+        "rotating_frame": spec.rotating_frame,
         "torque_Nm": case.torque,
         "static_mesh_force_N": case.normal_load,
         "pinion_teeth": z1,

@@ -50,6 +50,7 @@ class SceneSpec:
     keep_periods: int = 4
     rtol: float = 1e-6
     atol: float = 1e-6
+    rotating_frame: bool = False  # hybrid: the turning frames' inertia (hybrid_speed_sweep)
     pinion_mass: float | None = None
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d

@@ -28,6 +28,8 @@
     keep_periods = 4
     rtol = 1e-6                          # diffrax PID controller (scaled state)
     atol = 1e-6
+    rotating_frame = false               # hybrid scenes: the turning bodies' Coriolis, spin
+                                         # softening and stress stiffening (docs/hybrid.md)
 
 A ``lumped3d`` shaft's ``bearings`` are tables ``{ position_mm, radial_N_per_um, axial_N_per_um,
 tilt_Nm_per_rad }`` or ``{ position_mm, stiffness_matrix_SI }`` (6×6, not both), each with an
@@ -84,6 +86,7 @@ _INTEGRATION_KEYS = {
     "keep_periods",
     "rtol",
     "atol",
+    "rotating_frame",
 }
 
 
@@ -310,4 +313,14 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
     for key in ("rtol", "atol"):
         if key in g:
             kw[key] = sc.number(g, key, w, allowed="(0, 1)")
+    if "rotating_frame" in g:
+        kw["rotating_frame"] = sc.boolean(g, "rotating_frame", w)
+        if kw["rotating_frame"] and not any(f"{m}_body" in kw for m in ("pinion", "gear")):
+            raise sc.fail(
+                w,
+                "rotating_frame",
+                "allowed only with a condensed body ([scene] pinion_body or gear_body): the "
+                "rigid models are written in the fixed frame",
+                True,
+            )
     return SceneSpec(**kw)
