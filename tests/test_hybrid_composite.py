@@ -11,46 +11,19 @@ positive semi-definite with (2.36)'s modal diagonal in every period.
 
 from __future__ import annotations
 
-import functools
-
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg as sla
-from test_hybrid_dynamics import setup  # noqa: F401 (the module's scene fixture)
+from test_hybrid_dynamics import (
+    _newmark_all_coordinates,
+    _period_mesh_stiffness,
+    setup,  # noqa: F401 (the module's scene fixture)
+)
 
-import jaxgear as jg
 from jaxgear.dynamics import Damping, simulate_hybrid
-
-
-def _mesh_stiffness(scene, mods, torque, speed, spp):
-    """k ↦ K̄_m(k) (n, n): the mesh stiffness of mesh period k averaged over the period's
-    quasi-static positions θ_p + k T on the full cell vectors (the loaded cells of the
-    quasi-static solution at θ_p, centrifugal load on)."""
-    mesh = scene.mesh
-    n = scene.K.shape[0]
-    T = float(mesh.mesh_period_angle)
-    positions = (np.arange(spp) + 0.5) * T / spp
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
-    loaded = np.asarray(jg.quasi_static(at_speed, mods, torque, jnp.asarray(positions)).line_load)
-
-    @jax.jit
-    def period(k):  # Σ_p Σ_c w_c k_c l_c V_c V_cᵀ over the period's positions, on all coordinates
-        def one(th, load):
-            cells = mesh.cells(th + k * T)
-            kl = jnp.where(cells.mask & load, cells.stiffness * cells.length, 0.0).reshape(-1)
-            V = scene.cell_vectors(cells).reshape(-1, n)
-            return V.T @ (kl[:, None] * V)
-
-        return jnp.sum(jax.vmap(one)(jnp.asarray(positions), jnp.asarray(loaded > 0)), axis=0)
-
-    @functools.cache
-    def mesh_stiffness(k):
-        return np.asarray(period(k)) / spp
-
-    return mesh_stiffness
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):
@@ -77,73 +50,9 @@ def composite(setup):  # noqa: F811
     case, scene = setup
     Z = int(scene.members[1].rim_dofs.shape[0])  # mesh periods per wheel revolution
     assert Z == case.pair.gear.teeth == 30
-    Km = _mesh_stiffness(scene, case.modifications, case.torque, 900.0, 16)
+    Km = _period_mesh_stiffness(scene, case.modifications, case.torque, 900.0, 16)
     C_of, Phi, w = _composite(scene, Km, Z, 0.07, 0.01)
     return {"Km": Km, "C_of": C_of, "Phi": Phi, "w": w, "Z": Z}
-
-
-def _reference(scene, mods, torque, speed, spp, runs):
-    """Newmark average acceleration on all coordinates with the damping C_of(k) in mesh period
-    k (K_eff refactored each period), each step's contact problem solved by
-    :func:`jaxgear.solve_contact` (as tests/test_hybrid_dynamics.py's reference, with the
-    damping given). ``runs``: (C_of, rotating (the turning frame's Ω Gy and Ω² S), steps) each;
-    the mesh force per step of each."""
-    mesh = scene.mesh
-    T = float(mesh.mesh_period_angle)
-    dt = T / speed / spp
-    a0, a1 = 4.0 / dt**2, 2.0 / dt
-    F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.f_centrifugal)
-    th0 = 0.5 * T / spp
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
-    qs = jg.quasi_static(at_speed, mods, torque, jnp.array([th0]))
-
-    def deviation(th):
-        cells = mesh.cells(th)
-        e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
-        return cells, jnp.where(cells.mask, e, -jnp.inf)
-
-    # flank gaps from one time-constant reference, the start moved along the drive rotation
-    e_ref = max(float(jnp.max(deviation(th0 + p * T / spp)[1])) for p in range(spp))
-    shift = e_ref - float(jnp.max(deviation(th0)[1]))
-    start = np.asarray(qs.x[0]) + shift * np.asarray(scene.N[:, 0])
-
-    @jax.jit
-    def step(th, Feff, Keff):
-        cells, e = deviation(th)
-        d0 = jnp.where(cells.mask, e_ref - e, 0.0)
-        V = scene.cell_vectors(cells).reshape(-1, scene.K.shape[0])
-        sol = jg.solve_contact(
-            Keff,
-            Feff,
-            V,
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            d0.reshape(-1),
-            cells.mask.reshape(-1),
-        )
-        return sol.x, jnp.sum(sol.force_density * cells.length.reshape(-1))
-
-    out = []
-    for C_of, rotating, n_steps in runs:
-        M, K, Cr = np.asarray(scene.M), np.asarray(scene.K), 0.0
-        if rotating:
-            K = K + speed**2 * np.asarray(scene.spin_stiffness)
-            Cr = speed * np.asarray(scene.gyroscopic)
-        X, Xd, Xdd = start, np.zeros(M.shape[0]), np.zeros(M.shape[0])
-        forces = []
-        for i in range(n_steps):
-            if i % spp == 0:
-                C = C_of(i // spp) + Cr
-                Keff = jnp.asarray(K + a0 * M + a1 * C)
-            Feff = F + M @ (a0 * X + 4.0 / dt * Xd + Xdd) + C @ (a1 * X + Xd)
-            Xn, fm = step(jnp.asarray(th0 + (i + 1) * T / spp), jnp.asarray(Feff), Keff)
-            Xn = np.asarray(Xn)
-            Xddn = a0 * (Xn - X - dt * Xd - dt * dt * 0.25 * Xdd)
-            Xd = Xd + dt * 0.5 * (Xdd + Xddn)
-            X, Xdd = Xn, Xddn
-            forces.append(float(fm))
-        out.append(np.array(forces))
-    return out
 
 
 def test_composite_equals_the_mesh_following_reference(setup, composite):  # noqa: F811
@@ -174,7 +83,9 @@ def test_composite_equals_the_mesh_following_reference(setup, composite):  # noq
         for rotating in (False, True)
     ]
     runs = [(C_of, False, n), (C_of, True, n), (lambda k: C_of(0), False, 2 * spp)]
-    ref, ref_rot, frozen = _reference(scene, case.modifications, case.torque, speed, spp, runs)
+    ref, ref_rot, frozen = _newmark_all_coordinates(
+        scene, case.modifications, case.torque, speed, spp, runs
+    )
     for g, r in ((got[0], ref), (got[1], ref_rot)):
         np.testing.assert_allclose(g, r, rtol=1e-8, atol=1e-8 * r.max())
     diff = np.max(np.abs(got[0][: 2 * spp] - frozen))

@@ -5,6 +5,7 @@ limit at low speed."""
 
 from __future__ import annotations
 
+import functools
 import pathlib
 
 import equinox as eqx
@@ -28,59 +29,65 @@ def setup(fem_prep_cache):
     return case, static_scene(case, bodies=(None, body))[0]
 
 
-def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta, rotating=False):
-    """Newmark average acceleration on all coordinates, written out here: mesh force per step.
-
-    In the turning frame: C = α M + β (K + K̄_m(k)) + Ω Gy and K + Ω² S, with K̄_m(k) the mesh
-    stiffness of period k, averaged over the quasi-static positions θ_p + k T of the period on
-    the full cell vectors (the loaded cells of the quasi-static solution at θ_p)."""
+def _period_mesh_stiffness(scene, mods, torque, speed, spp):
+    """k ↦ K̄_m(k) (n, n): the mesh stiffness of mesh period k averaged over the period's
+    quasi-static positions θ_p + k T on the full cell vectors (the loaded cells of the
+    quasi-static solution at θ_p, centrifugal load on)."""
     mesh = scene.mesh
-    M, K = np.asarray(scene.M), np.asarray(scene.K)
-    C0 = alpha * M + beta * K
-    if rotating:
-        K = K + speed**2 * np.asarray(scene.spin_stiffness)
-        C0 = C0 + speed * np.asarray(scene.gyroscopic)
-    dt = float(mesh.mesh_period_angle) / speed / spp
-    a0, a1 = 4.0 / dt**2, 2.0 / dt
+    n = scene.K.shape[0]
     T = float(mesh.mesh_period_angle)
+    positions = (np.arange(spp) + 0.5) * T / spp
+    at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
+    loaded = np.asarray(jg.quasi_static(at_speed, mods, torque, jnp.asarray(positions)).line_load)
+
+    @jax.jit
+    def period(k):  # Σ_p Σ_c w_c k_c l_c V_c V_cᵀ over the period's positions, on all coordinates
+        def one(th, load):
+            cells = mesh.cells(th + k * T)
+            kl = jnp.where(cells.mask & load, cells.stiffness * cells.length, 0.0).reshape(-1)
+            V = scene.cell_vectors(cells).reshape(-1, n)
+            return V.T @ (kl[:, None] * V)
+
+        return jnp.sum(jax.vmap(one)(jnp.asarray(positions), jnp.asarray(loaded > 0)), axis=0)
+
+    @functools.cache
+    def mesh_stiffness(k):
+        return np.asarray(period(k)) / spp
+
+    return mesh_stiffness
+
+
+def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
+    """Newmark average acceleration on all coordinates, written out here, with the damping
+    C_of(k) in mesh period k (K_eff refactored each period) and each step's contact problem
+    K_eff X = F_eff − Σ P V solved by :func:`jaxgear.solve_contact`; the flank gaps from one
+    time-constant reference (the largest flank deviation over the period's step positions), the
+    start moved along the drive rotation to match. ``runs``: (C_of, rotating (the turning
+    frame's Ω Gy and Ω² S), steps) each; the mesh force per step of each."""
+    mesh = scene.mesh
+    T = float(mesh.mesh_period_angle)
+    dt = T / speed / spp
+    a0, a1 = 4.0 / dt**2, 2.0 / dt
     F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.f_centrifugal)
     th0 = 0.5 * T / spp
     at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
-    positions = th0 + np.arange(spp) * T / spp
-    loaded = np.asarray(jg.quasi_static(at_speed, mods, torque, jnp.asarray(positions)).line_load)
-
-    def mesh_stiffness(k):
-        Km = 0.0
-        for p, th in enumerate(positions):
-            cells = mesh.cells(th + k * T)
-            V = np.asarray(scene.cell_vectors(cells)).reshape(-1, K.shape[0])
-            kl = np.where(np.asarray(cells.mask), np.asarray(cells.stiffness * cells.length), 0.0)
-            kl = kl.reshape(-1) * (loaded[p].reshape(-1) > 0)
-            Km = Km + V.T @ (kl[:, None] * V)
-        return Km / spp
-
     qs = jg.quasi_static(at_speed, mods, torque, jnp.array([th0]))
-    # the flank gaps against one time-constant reference e_ref = the largest flank deviation
-    # over the cells of the period's step positions: δ0 = e_ref − e (the quasi-static solve's
-    # reference max_M e(θ) moves with θ; the start state moves along the drive rotation to match)
-    period = th0 + np.arange(spp) * float(mesh.mesh_period_angle) / spp
 
     def deviation(th):
         cells = mesh.cells(th)
         e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
         return cells, jnp.where(cells.mask, e, -jnp.inf)
 
-    e_ref = max(float(jnp.max(deviation(th)[1])) for th in period)
+    # flank gaps from one time-constant reference, the start moved along the drive rotation
+    e_ref = max(float(jnp.max(deviation(th0 + p * T / spp)[1])) for p in range(spp))
     shift = e_ref - float(jnp.max(deviation(th0)[1]))
-    X = np.asarray(qs.x[0]) + shift * np.asarray(scene.N[:, 0])
-    Xd, Xdd = np.zeros(M.shape[0]), np.zeros(M.shape[0])
+    start = np.asarray(qs.x[0]) + shift * np.asarray(scene.N[:, 0])
 
     @jax.jit
     def step(th, Feff, Keff):
         cells, e = deviation(th)
         d0 = jnp.where(cells.mask, e_ref - e, 0.0)
-        n = scene.K.shape[0]
-        V = scene.cell_vectors(cells).reshape(-1, n)
+        V = scene.cell_vectors(cells).reshape(-1, scene.K.shape[0])
         sol = jg.solve_contact(
             Keff,
             Feff,
@@ -92,19 +99,39 @@ def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta, ro
         )
         return sol.x, jnp.sum(sol.force_density * cells.length.reshape(-1))
 
-    forces = []
-    for i in range(n_steps):
-        if i % spp == 0:  # a new mesh period: the mesh damping on the stations under the mesh
-            C = C0 + (beta * mesh_stiffness(i // spp) if beta else 0.0)
-            Keff = jnp.asarray(K + a0 * M + a1 * C)
-        Feff = F + M @ (a0 * X + 4.0 / dt * Xd + Xdd) + C @ (a1 * X + Xd)
-        Xn, fm = step(jnp.asarray(th0 + (i + 1) * T / spp), jnp.asarray(Feff), Keff)
-        Xn = np.asarray(Xn)
-        Xddn = a0 * (Xn - X - dt * Xd - dt * dt * 0.25 * Xdd)
-        Xd = Xd + dt * 0.5 * (Xdd + Xddn)
-        X, Xdd = Xn, Xddn
-        forces.append(float(fm))
-    return np.array(forces)
+    out = []
+    for C_of, rotating, n_steps in runs:
+        M, K, Cr = np.asarray(scene.M), np.asarray(scene.K), 0.0
+        if rotating:
+            K = K + speed**2 * np.asarray(scene.spin_stiffness)
+            Cr = speed * np.asarray(scene.gyroscopic)
+        X, Xd, Xdd = start, np.zeros(M.shape[0]), np.zeros(M.shape[0])
+        forces = []
+        for i in range(n_steps):
+            if i % spp == 0:
+                C = C_of(i // spp) + Cr
+                Keff = jnp.asarray(K + a0 * M + a1 * C)
+            Feff = F + M @ (a0 * X + 4.0 / dt * Xd + Xdd) + C @ (a1 * X + Xd)
+            Xn, fm = step(jnp.asarray(th0 + (i + 1) * T / spp), jnp.asarray(Feff), Keff)
+            Xn = np.asarray(Xn)
+            Xddn = a0 * (Xn - X - dt * Xd - dt * dt * 0.25 * Xdd)
+            Xd = Xd + dt * 0.5 * (Xdd + Xddn)
+            X, Xdd = Xn, Xddn
+            forces.append(float(fm))
+        out.append(np.array(forces))
+    return out
+
+
+def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta, rotating=False):
+    """The all-coordinate Newmark with Rayleigh damping C(k) = α M + β (K + K̄_m(k)), K̄_m(k)
+    the mesh stiffness of period k (:func:`_period_mesh_stiffness`): mesh force per step."""
+    Km = _period_mesh_stiffness(scene, mods, torque, speed, spp)
+    M, K = np.asarray(scene.M), np.asarray(scene.K)
+
+    def C_of(k):
+        return alpha * M + beta * (K + Km(k))
+
+    return _newmark_all_coordinates(scene, mods, torque, speed, spp, [(C_of, rotating, n_steps)])[0]
 
 
 def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup):
