@@ -24,22 +24,28 @@ def load_map(
     and contact lines at a base-plane point is the maximum over one tooth's passage.
 
     Returns:
-        (s_edges (n_s+1,), z (N,), load (n_s, N)): bin edges along the line of action (m), slice
-        mid-points across the face (m), and the maximum line load per bin (N/m; NaN where no cell
-        passed).
+        (s_edges (n_s+1,), z (N,), load (n_s, N)): bin edges along the line of action (m), from
+        0 to the path of contact, slice mid-points across the face (m), and the maximum line load
+        per bin (N/m; NaN where no cell passed).
+
+    The n_s = floor(path / step) bins are equal and at least one position step wide, the step
+    of the contact lines along s (base pitch / positions per pitch): every slice's cells pass
+    through every bin, so no bin inside the path is left empty (bins of exactly one step with
+    a last, partial bin beyond the path left that bin empty on slices whose samples missed it).
     """
     ds = base_pitch / positions_per_pitch
-    n_s = int(math.ceil(path_of_contact / ds))
+    n_s = max(1, int(math.floor(path_of_contact / ds)))
+    width = path_of_contact / n_s
     s = np.asarray(r.cell_s).reshape(-1, r.cell_s.shape[-1])
     p = np.asarray(r.line_load).reshape(s.shape)
     mask = np.asarray(r.cell_mask).reshape(s.shape)
-    idx = np.clip(np.floor(s / ds).astype(int), 0, n_s - 1)
+    idx = np.clip(np.floor(s / width).astype(int), 0, n_s - 1)
     out = np.full((n_s, s.shape[1]), -np.inf)
     cols = np.broadcast_to(np.arange(s.shape[1]), s.shape)
     np.maximum.at(out, (idx[mask], cols[mask]), p[mask])
     out[~np.isfinite(out)] = np.nan
     z = np.asarray(r.cell_z)[0, 0]
-    return np.arange(n_s + 1) * ds, z, out
+    return np.linspace(0.0, path_of_contact, n_s + 1), z, out
 
 
 def harris_map(

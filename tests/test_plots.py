@@ -4,11 +4,23 @@ exact/smooth coincidence rule, the dynamic-factor peak names and the Campbell cr
 from __future__ import annotations
 
 import math
+import pathlib
+import re
+import shutil
+import types
 
 import numpy as np
 import pytest
+from matplotlib.text import Text
+from matplotlib.ticker import MaxNLocator
 
+from jaxgear import load_map
 from jaxgear.cli import _plots as plots
+from jaxgear.cli import _scene
+from jaxgear.dynamics import nodal_diameter_resonances
+from jaxgear.io import load_case
+
+DATA = pathlib.Path(__file__).parent / "data"
 
 Z1 = 20
 
@@ -194,3 +206,177 @@ def test_optimisation_maps_write_pngs(tmp_path):
     assert any("on a bound" in lab for lab in labels)
     for name in ("p", "m"):
         _png(tmp_path / f"{name}.png")
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """The figures the plot functions write, in order (plots.savefig still writes them)."""
+    out = []
+    save = plots.savefig
+
+    def keep(fig, path):
+        out.append(fig)
+        save(fig, path)
+
+    monkeypatch.setattr(plots, "savefig", keep)
+    return out
+
+
+def _few_speeds(summary: dict, n: int) -> dict:
+    idx = np.linspace(0, len(summary["speeds_rad_s"]) - 1, n).astype(int)
+    per_speed = ("speeds_rad_s", "mesh_frequency_Hz", "dynamic_factor", "dynamic_factor_tooth")
+    for k in (*per_speed, "contact_loss", "result"):
+        summary[k] = [summary[k][i] for i in idx]
+    return summary
+
+
+def test_load_map_has_no_empty_bin_inside_the_path_of_contact():
+    """Contact lines step by ds = base pitch / positions per pitch along s, each face slice at its
+    own offset (a helical pair); the path of contact is 10.3 ds. Bins of one ds with a partial
+    11th bin left that bin empty on the slices whose samples missed it (the column of unfilled
+    cells at the right edge of the power-helical map)."""
+    ds, path = 1e-4, 10.3e-4
+    offsets = np.linspace(0.05, 0.95, 8) * ds  # one per slice
+    s = offsets[None, :] + ds * np.arange(-2, 14)[:, None]  # (positions, slices)
+    mask = (s >= 0) & (s <= path)
+    r = types.SimpleNamespace(
+        cell_s=s[:, None, :],
+        line_load=np.where(mask, 1e5, 0.0)[:, None, :],
+        cell_mask=mask[:, None, :],
+        cell_z=np.broadcast_to(np.linspace(0.5e-3, 7.5e-3, 8), s.shape)[:, None, :],
+    )
+    s_edges, z, lmap = load_map(r, 64, 64 * ds, path)
+    assert s_edges[0] == 0.0 and s_edges[-1] == pytest.approx(path)
+    assert np.all(np.diff(s_edges) >= ds * (1 - 1e-12))  # every bin at least one step wide
+    assert lmap.shape == (s_edges.size - 1, 8)
+    assert not np.isnan(lmap).any()
+
+
+def test_load_maps_share_one_colour_scale(tmp_path):
+    s_edges, z_edges = np.linspace(0, 5e-3, 11), np.linspace(0, 1e-2, 5)
+    rest, speed = np.full((10, 4), 3.2e5), np.full((10, 4), 2.9e5)
+    own = plots.load_map_plot(tmp_path / "a.png", s_edges, z_edges, speed, title="t")
+    assert (own.norm.vmin, own.norm.vmax) == (0.0, pytest.approx(290.0))  # N/mm, from 0
+    a = plots.load_map_plot(tmp_path / "a.png", s_edges, z_edges, rest, title="t", vmax=3.2e5)
+    b = plots.load_map_plot(tmp_path / "b.png", s_edges, z_edges, speed, title="t", vmax=3.2e5)
+    assert (a.norm.vmin, a.norm.vmax) == (b.norm.vmin, b.norm.vmax) == (0.0, pytest.approx(320.0))
+
+
+@pytest.mark.slow
+def test_hybrid_load_maps_at_rest_and_at_speed_share_one_scale(
+    tmp_path, fem_prep_cache, monkeypatch
+):
+    """``jaxgear run`` of a hybrid case at speed: load_map.png (at rest) and load_map_speed.png
+    are drawn on one colour scale, 0 to the larger maximum of the two."""
+    for f in DATA.glob("hybrid-test-*.toml"):
+        shutil.copy(f, tmp_path)
+    toml = tmp_path / "hybrid-test-case.toml"
+    toml.write_text(toml.read_text().replace("speed_rad_s = 0.0", "speed_rad_s = 1500.0"))
+    drawn = {}
+    draw = plots.load_map_plot
+
+    def spy(path, s_edges, z_edges, lmap, **kw):
+        norm = draw(path, s_edges, z_edges, lmap, **kw).norm
+        drawn[pathlib.Path(path).name] = (np.nanmax(lmap), norm)
+
+    monkeypatch.setattr(plots, "load_map_plot", spy)
+    _scene.scene_outputs(load_case(toml), str(tmp_path / "out"))
+    assert set(drawn) == {"load_map.png", "load_map_speed.png"}
+    (m1, n1), (m2, n2) = drawn.values()
+    assert (n1.vmin, n1.vmax) == (n2.vmin, n2.vmax) == (0.0, pytest.approx(max(m1, m2) / 1e3))
+
+
+def test_sweep_of_few_speeds_marks_the_computed_points(tmp_path, figures):
+    """9 speeds around a resonance that peaks between two of them: every curve over the speeds
+    has a marker on each computed speed; a dense sweep (221 speeds) is drawn as plain lines."""
+    speed = 2 * math.pi * 2500.0 / Z1
+    plots.dynamic_factor_plot(
+        tmp_path / "df.png", _few_speeds(_sweep_summary(df_peak_speed=speed + 40.0), 9)
+    )
+    plots.dynamic_factor_plot(tmp_path / "dense.png", _sweep_summary(df_peak_speed=speed))
+    _png(tmp_path / "df.png")
+    few, dense = (fig.axes[0].get_lines() for fig in figures)
+    curves = [ln for ln in few if len(ln.get_xdata()) == 9]
+    assert len(curves) == 2  # dynamic factor and tooth factor
+    assert all(ln.get_marker() not in (None, "None", "") for ln in curves)
+    curves = [ln for ln in dense if len(ln.get_xdata()) == 221]
+    assert len(curves) == 2 and all(ln.get_marker() in (None, "None", "") for ln in curves)
+
+
+@pytest.mark.parametrize(
+    "objective, history, log",
+    [("dynamic_factor", [1.144, 1.12, 1.092], False), ("te_rms", [1.0, 0.3, 0.04], True)],
+)
+def test_convergence_axis(tmp_path, objective, history, log):
+    """dynamic_factor is plotted as itself (no "/ unmodified": its scale is a placeholder 1.0)
+    on a linear axis (its range is not a decade); a scaled objective spanning a decade reads on
+    a log axis. Iterations are integers: 3 points would otherwise get ticks 0, 0.25, ..."""
+    units = {"dynamic_factor": "dimensionless", "te_rms": "m"}[objective]
+    ylabel = plots.convergence_ylabel(objective, 1.0 if log is False else 5.2e-7, units)
+    ax = plots.convergence_plot(tmp_path / "c.png", history, ylabel=ylabel, title="t")
+    _png(tmp_path / "c.png")
+    assert ax.get_yscale() == ("log" if log else "linear")
+    if objective == "dynamic_factor":
+        assert "unmodified" not in ax.get_ylabel() and "dynamic factor" in ax.get_ylabel()
+    else:
+        assert ax.get_ylabel() == "te_rms / unmodified design (0.52 µm)"
+    loc = ax.xaxis.get_major_locator()
+    assert isinstance(loc, MaxNLocator) and loc._integer
+    ticks = [x for x in ax.get_xticks() if 0 <= x <= len(history) - 1]
+    assert ticks == [0, 1, 2]
+
+
+def test_master_curve_points_on_the_bound_are_inside_the_axes(tmp_path, figures):
+    """Points on the upper depth bound and at the end extents are drawn whole: the axes reach a
+    margin beyond the map on every side, and the legend is outside the axes."""
+    G, E = np.linspace(0.05, 0.6, 12), np.linspace(0, 30, 31)
+    grid = 0.2 + 10 * (G[:, None] - 0.3) ** 2 + (E[None, :] / 30 - 0.5) ** 2
+    depth = np.minimum(8 + 50 * G, 30.0)
+    plots.master_curve_plot(
+        tmp_path / "m.png", G, E, grid, G, depth, on_bound=depth >= 30, title="t"
+    )
+    (fig,) = figures
+    ax = fig.axes[0]
+    y0, y1 = ax.get_ylim()
+    x0, x1 = ax.get_xlim()
+    assert y0 < 0 and y1 > 30 and x0 < G[0] and x1 > G[-1]
+    fig.canvas.draw()
+    box = ax.get_window_extent()
+    for ln in ax.get_lines():
+        if ln.get_marker() == "X":  # the points on the bound, whole inside the axes
+            xy = ax.transData.transform(np.c_[ln.get_xdata(), ln.get_ydata()])
+            r = ln.get_markersize() / 2 * fig.dpi / 72
+            assert np.all(xy[:, 1] + r <= box.y1) and np.all(xy[:, 0] + r <= box.x1)
+    assert not ax.get_legend()  # the legend is the figure's, below the axes
+
+
+def test_campbell_nodal_diameter_labels_do_not_overlap(tmp_path, figures):
+    """A wheel with ND 1-8 web modes (two of each, 640-5 900 Hz) on the power pair (35/68
+    teeth): the resonances of the low families crowd below 250 rad/s. Every ND label lies inside
+    the axes, clear of the others and of the mode labels."""
+    n = np.repeat(np.arange(1, 9), 2)
+    f = np.repeat([700.0, 640.0, 1250.0, 1900.0, 2700.0, 3600.0, 4700.0, 5900.0], 2)
+    f[1::2] += 3.0
+    summary = _sweep_summary()
+    summary.update(
+        speeds_rad_s=np.linspace(150.0, 3000.0, 20).tolist(),
+        pinion_teeth=35,
+        wheel_teeth=68,
+        nodal_diameter_resonances=nodal_diameter_resonances(f, n, 68, 35, harmonics=(1, 2)),
+        critical_speeds=[],
+    )
+    plots.campbell_plot(tmp_path / "c.png", summary, 35)
+    _png(tmp_path / "c.png")
+    (fig,) = figures
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    nd = [t for t in ax.texts if t.get_text().endswith("ND")]
+    named = {int(k) for t in nd for k in re.findall(r"\d+", t.get_text())}
+    assert named <= set(range(1, 9)) and {1, 8} <= named
+    boxes = [Text.get_window_extent(t, renderer) for t in nd]
+    others = [t.get_window_extent(renderer) for t in ax.texts if t not in nd]
+    inside = ax.get_window_extent(renderer)
+    for i, b in enumerate(boxes):
+        assert inside.x0 <= b.x0 and b.x1 <= inside.x1 and inside.y0 <= b.y0 and b.y1 <= inside.y1
+        assert not any(b.overlaps(o) for o in boxes[i + 1 :] + others), nd[i].get_text()

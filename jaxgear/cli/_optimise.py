@@ -224,7 +224,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     _plots.convergence_plot(
         os.path.join(out_dir, "convergence.png"),
         res.history_value,
-        ylabel=f"{problem.objective} / unmodified",
+        ylabel=_plots.convergence_ylabel(problem.objective, scale, units),
         title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)",
     )
     t_design = float(problem.design_torque)

@@ -18,6 +18,7 @@ __all__ = [
     "campbell_plot",
     "coincidences",
     "convergence_plot",
+    "convergence_ylabel",
     "dynamic_factor_plot",
     "harmonic_crossings",
     "harris_plot",
@@ -39,6 +40,9 @@ DPI = 120
 TE_COINCIDE_SHARE = 0.01
 #: a dynamic-factor maximum is a visible peak above this value
 PEAK_MIN = 1.1
+#: a sweep of at most this many speeds has its computed points marked (between them the curve
+#: is a straight line, and a peak between two samples is not seen)
+FEW_SPEEDS = 60
 
 
 def new_figure(figsize=FIGSIZE):
@@ -141,15 +145,24 @@ def mesh_stiffness_plot(path, x, curves: dict, *, title: str) -> list[str]:
     )
 
 
-def load_map_plot(path, s_edges, z_edges, lmap, *, title: str) -> None:
-    """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs."""
+def load_map_plot(path, s_edges, z_edges, lmap, *, title: str, vmax: float | None = None):
+    """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs.
+
+    The colour scale runs from 0 to ``vmax`` (N/m; default: the map's maximum): maps that are
+    to be compared (a body at rest and at speed) pass the same ``vmax``. Returns the image's
+    :class:`~matplotlib.collections.QuadMesh` (its ``norm`` is the colour scale)."""
     fig, ax = new_figure()
+    data = np.asarray(lmap, dtype=float)
+    if vmax is None:
+        vmax = float(np.nanmax(data)) if np.isfinite(data).any() else 1.0
     pc = ax.pcolormesh(
         np.asarray(s_edges) * 1e3,
         np.asarray(z_edges) * 1e3,
-        np.asarray(lmap).T / 1e3,
+        data.T / 1e3,
         shading="flat",
         cmap="viridis",
+        vmin=0.0,
+        vmax=max(vmax, 1e-12) / 1e3,
     )
     fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
     _finish(
@@ -162,6 +175,7 @@ def load_map_plot(path, s_edges, z_edges, lmap, *, title: str) -> None:
         legend=False,
         grid=False,
     )
+    return pc
 
 
 def harris_plot(
@@ -282,7 +296,9 @@ def name_peaks(speeds, df, candidates, min_value: float = PEAK_MIN) -> list[dict
 def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     """Dynamic factor against pinion speed (rad/s below, rpm on top) from a sweep summary:
     critical speeds as labelled vertical lines above the curve, every visible peak named after
-    the nearest mode × harmonic coincidence. Returns the named peaks (:func:`name_peaks`)."""
+    the nearest mode × harmonic coincidence. A sweep of at most :data:`FEW_SPEEDS` speeds has
+    its computed speeds marked on the curves (the lines between them are no data). Returns the
+    named peaks (:func:`name_peaks`)."""
     from matplotlib.transforms import blended_transform_factory
 
     fig, ax = new_figure()
@@ -291,7 +307,10 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     how = {"independent": "", "up": ", sweep up", "down": ", sweep down", "both": ", sweep up"}[
         summary["direction"]
     ]
-    ax.plot(sp, df, "-", color="C0", lw=1.8, label=f"dynamic mesh force / static{how}")
+    few = sp.size <= FEW_SPEEDS
+    mk = {"marker": "o", "ms": 4, "clip_on": False} if few else {}  # end points unclipped
+    n_sp = f", {sp.size} speeds (marked)" if few else ""
+    ax.plot(sp, df, "-", color="C0", lw=1.8, label=f"dynamic mesh force / static{how}{n_sp}", **mk)
     if "dynamic_factor_down" in summary:
         ax.plot(
             sp,
@@ -299,6 +318,7 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
             "--",
             color="C3",
             label="dynamic mesh force / static, sweep down",
+            **({"marker": "s", "ms": 3.5, "mfc": "none", "clip_on": False} if few else {}),
         )
     ax.plot(
         sp,
@@ -307,6 +327,7 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         color="C0",
         lw=1,
         label="max tooth force / quasi-static",
+        **({"marker": ".", "ms": 4, "clip_on": False} if few else {}),
     )
     loss = _nan(summary["contact_loss"]) > 0
     if loss.any():
@@ -370,7 +391,7 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         fontsize=10,
     )
     ax.grid(alpha=0.3)
-    fig.legend(loc="outside lower center", ncols=3, fontsize=8, frameon=False)
+    fig.legend(loc="outside lower center", ncols=2 if few else 3, fontsize=8, frameon=False)
     savefig(fig, path)
     return peaks
 
@@ -423,10 +444,11 @@ def campbell_plot(
             groups[-1].append(m)
         else:
             groups.append([m])
+    mode_labels = []
     for g in groups:
         ids = ", ".join(str(i) for i, _, _ in g)
         hz = ", ".join(_hz(f) for _, f, _ in g)
-        ax.text(
+        t = ax.text(
             s_max * 0.995,
             g[-1][1] + 0.006 * f_top,
             f"mode{'s' if len(g) > 1 else ''} {ids}: {hz} Hz",
@@ -436,6 +458,7 @@ def campbell_plot(
             color="k" if max(e for _, _, e in g) >= 0.05 else "0.35",
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
         )
+        mode_labels.append(t)
     cross = harmonic_crossings([f for _, f, _ in modes], z1, s_max, harmonics)
     if cross:
         ax.plot(
@@ -458,6 +481,7 @@ def campbell_plot(
             label="critical speed (sweep.json)",
         )
     nd = [r for r in summary.get("nodal_diameter_resonances") or () if r["harmonic"] == 1]
+    nd_labels = {}  # direction: [(speed, frequency, nodal diameter)], placed once laid out
     for direction, marker, color in (("backward", "v", "C4"), ("forward", "^", "C2")):
         rows = [r for r in nd if r["direction"] == direction and r["frequency_hz"] < f_top]
         if not rows:
@@ -476,14 +500,8 @@ def campbell_plot(
             if r["nodal_diameter"] in labelled:  # one label per family and direction
                 continue
             labelled.add(r["nodal_diameter"])
-            sign = "−" if direction == "backward" else "+"
-            ax.annotate(
-                f"{sign}{r['nodal_diameter']}ND",
-                (r["pinion_speed_rad_s"], r["frequency_hz"]),
-                textcoords="offset points",
-                xytext=(-14, 6) if direction == "backward" else (4, -10),
-                fontsize=7,
-                color=color,
+            nd_labels.setdefault(direction, []).append(
+                (r["pinion_speed_rad_s"], r["frequency_hz"], r["nodal_diameter"])
             )
         ax.plot(
             [r["pinion_speed_rad_s"] for r in rows],
@@ -510,18 +528,155 @@ def campbell_plot(
     )
     ax.grid(alpha=0.3)
     fig.legend(loc="outside lower center", ncols=3 if nd else 6, fontsize=8, frameon=False)
+    if nd_labels:
+        fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
+        _place_nd_labels(ax, nd_labels, avoid=mode_labels)
     savefig(fig, path)
     return cross
+
+
+#: ND label offsets (points) from the resonance, tried in turn: backward labels above left of
+#: their point, forward ones below right (the two families lie either side of the H1 line)
+_ND_OFFSETS = {
+    "backward": (
+        "right",
+        "bottom",
+        [(-3, 3), (-3, 14), (-14, 3), (-14, 14), (-3, 26), (-26, 3), (30, 16), (30, 30)]
+        + [(-16, -14), (-30, -24)],  # below the point: near the top of the axes
+    ),
+    "forward": (
+        "left",
+        "top",
+        [(3, -3), (3, -14), (14, -3), (14, -14), (3, -26), (26, -3), (-30, -16), (-30, -30)]
+        + [(16, 14), (30, 24)],  # above the point: near the bottom of the axes
+    ),
+}
+_ND_STYLE = {"backward": ("−", "C4"), "forward": ("+", "C2")}
+
+
+def _nd_text(sign: str, ns: list[int]) -> str:
+    ns = sorted(set(ns))
+    if len(ns) == 1:
+        return f"{sign}{ns[0]}ND"
+    if ns == list(range(ns[0], ns[-1] + 1)):
+        return f"{sign}{ns[0]}…{sign}{ns[-1]}ND"
+    return ", ".join(f"{sign}{n}" for n in ns) + "ND"
+
+
+def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
+    """Label the nodal-diameter resonances ``{direction: [(speed, frequency, n)]}`` without
+    overlaps: each label takes the first offset of :data:`_ND_OFFSETS` where it lies inside the
+    axes and clear of every label placed before (and of ``avoid``); one that fits nowhere joins
+    the previous label of its direction ("−1…−4ND" at the first family's point). Needs a drawn
+    figure (fixed layout). Returns the annotations."""
+    from matplotlib.text import Text
+    from matplotlib.transforms import Bbox
+
+    renderer = ax.figure.canvas.get_renderer()
+    inside = ax.get_window_extent(renderer)
+    placed = [t.get_window_extent(renderer).padded(1.5) for t in avoid]
+    # and the markers (resonances, crossings, critical speeds): a label does not hide one
+    for line in ax.get_lines():
+        if line.get_marker() in (None, "None", "") or not len(line.get_xdata()):
+            continue
+        r = line.get_markersize() / 2 * ax.figure.dpi / 72
+        xy = ax.transData.transform(np.c_[line.get_xdata(), line.get_ydata()])
+        placed += [Bbox([[x - r, y - r], [x + r, y + r]]) for x, y in xy]
+    out = []
+
+    def label(anchor, ns, direction, k):
+        ha, va, offsets = _ND_OFFSETS[direction]
+        sign, color = _ND_STYLE[direction]
+        ann = ax.annotate(
+            _nd_text(sign, ns),
+            anchor,
+            textcoords="offset points",
+            xytext=offsets[k],
+            ha=ha,
+            va=va,
+            fontsize=7,
+            color=color,
+            gid="nd-label",
+            bbox={"boxstyle": "square,pad=0.05", "fc": "white", "ec": "none", "alpha": 0.7},
+            # a label moved off its point has a leader to it
+            arrowprops=None
+            if k == 0
+            else {"arrowstyle": "-", "lw": 0.5, "color": color, "shrinkA": 0, "shrinkB": 3},
+        )
+        ann.set_in_layout(False)
+        ann.update_positions(renderer)
+        return ann, Text.get_window_extent(ann, renderer).padded(1.5)  # the text, no leader
+
+    def put(anchor, ns, direction, force=False):
+        """The label at the first offset that fits, else None (``force``: at the offset with
+        the fewest overlaps, inside the axes if any is)."""
+        cost = []
+        for k in range(len(_ND_OFFSETS[direction][2])):
+            ann, box = label(anchor, ns, direction, k)
+            out_ = not (inside.contains(box.x0, box.y0) and inside.contains(box.x1, box.y1))
+            hits = sum(box.overlaps(p) for p in placed)
+            if not out_ and not hits:
+                return ann, box
+            ann.remove()
+            cost.append((out_, hits, k))
+        return label(anchor, ns, direction, min(cost)[2]) if force else (None, None)
+
+    for direction in ("backward", "forward"):
+        last = None  # (annotation, its families, anchor, box)
+        for x, y, n in sorted(labels.get(direction, ())):
+            ann, box = put((x, y), [n], direction)
+            if ann is not None:
+                last = (ann, [n], (x, y), box)
+            elif last is None:
+                ann, box = put((x, y), [n], direction, force=True)
+                last = (ann, [n], (x, y), box)
+            else:  # join the previous label of this direction
+                prev, ns, anchor, pbox = last
+                prev.remove()
+                out.remove(prev)
+                placed.remove(pbox)
+                ns = [*ns, n]
+                ann, box = put(anchor, ns, direction, force=True)
+                last = (ann, ns, anchor, box)
+            placed.append(box)
+            out.append(ann)
+    return out
 
 
 # ---------------------------------------------------------------- optimisation
 
 
-def convergence_plot(path, history, *, ylabel: str, title: str) -> None:
-    """Objective (relative to the unmodified design) per iteration, log scale."""
+def convergence_ylabel(objective: str, unmodified: float, units: str) -> str:
+    """The convergence plot's axis label for the optimiser's (scaled) objective history.
+
+    Objectives scaled by the unmodified design's value (``unmodified``, in ``units``: "m",
+    "N_per_m") read "<objective> / unmodified design (value unit)"; ``dynamic_factor`` (not
+    scaled: a dynamic factor is already relative to the static force) and ``load_centroid``
+    (scaled by a fixed 10 % of the face width, the unmodified pair is often centred) read as
+    what they are."""
+    if objective == "dynamic_factor":
+        return "dynamic factor (dynamic mesh force / static)"
+    if objective == "load_centroid":
+        return "load_centroid: ((z̄ − b/2) / 0.1 b)²"
+    unit, k = {"m": ("µm", 1e6), "N_per_m": ("N/mm", 1e-3)}.get(units, (units, 1.0))
+    return f"{objective} / unmodified design ({unmodified * k:.3g} {unit})"
+
+
+def convergence_plot(path, history, *, ylabel: str, title: str):
+    """Objective per iteration (the start is iteration 0), integer iteration ticks; a log axis
+    only where the values span a decade or more (on a narrower range a log axis reads
+    "1.14×10⁰"). Returns the axes."""
+    from matplotlib.ticker import MaxNLocator
+
     fig, ax = new_figure()
-    ax.semilogy(np.maximum(np.asarray(history, dtype=float), 1e-12), "o-")
+    v = np.asarray(history, dtype=float)
+    ok = v[np.isfinite(v)]
+    ax.plot(np.arange(v.size), v, "o-")
+    if ok.size and ok.min() > 0 and ok.max() / ok.min() >= 10:
+        ax.set_yscale("log")
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     _finish(fig, ax, path, xlabel="iteration", ylabel=ylabel, title=title, legend=False)
+    return ax
 
 
 def optimiser_path_plot(
@@ -582,10 +737,18 @@ def master_curve_plot(
         )
     if family is not None:
         ax.plot(*family, "w--", label="zero-fluctuation family")
-    ax.set_ylim(0, float(np.max(E_um)))
+    # a margin (grey, outside the map) round the map: points on a depth bound or at the end
+    # extents are drawn whole, inside the axes; the legend below the axes covers none of them
+    e0, e1 = float(np.min(E_um)), float(np.max(E_um))
+    g0, g1 = float(np.min(G)), float(np.max(G))
+    me, mg = 0.05 * (e1 - e0 or 1.0), 0.03 * (g1 - g0 or 1.0)
+    ax.set_facecolor("0.85")
+    ax.set_ylim(e0 - me, e1 + me)
+    ax.set_xlim(min(g0, float(np.min(extent))) - mg, max(g1, float(np.max(extent))) + mg)
     ax.set_xlabel("relief extent Γ")
     ax.set_ylabel("relief depth E (µm)")
     ax.set_title(title)
-    labels = [t.get_text() for t in ax.legend(loc="upper right", fontsize=8).get_texts()]
+    leg = fig.legend(loc="outside lower center", ncols=3, fontsize=8, frameon=False)
+    labels = [t.get_text() for t in leg.get_texts()]
     savefig(fig, path)
     return labels

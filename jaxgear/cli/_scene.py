@@ -130,8 +130,9 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
             ("load_map.png", rest, "at rest"),
             ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
         ]
-    for name, r, label in maps:
-        s_edges, z, lmap = load_map(r, ppp, pair.base_pitch, pair.path_of_contact)
+    lmaps = [load_map(r, ppp, pair.base_pitch, pair.path_of_contact) for _, r, _ in maps]
+    vmax = max(float(np.nanmax(m)) for _, _, m in lmaps)  # one colour scale: at rest vs at speed
+    for (name, _, label), (s_edges, z, lmap) in zip(maps, lmaps, strict=True):
         dz = pair.face_width / len(z)
         _plots.load_map_plot(
             os.path.join(out_dir, name),
@@ -139,6 +140,7 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
             np.concatenate([[0.0], z + dz / 2]),
             lmap,
             title=f"{case.name}: load map, hybrid scene {label}".rstrip(),
+            vmax=vmax,
         )
         files.append(name)
     files += write_scene_vtu(out_dir, scene, bodies, res["exact"])
