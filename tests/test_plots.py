@@ -3,6 +3,8 @@ exact/smooth coincidence rule, the dynamic-factor peak names and the Campbell cr
 
 from __future__ import annotations
 
+import itertools
+import json
 import math
 import pathlib
 import re
@@ -11,16 +13,21 @@ import types
 
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from matplotlib.text import Text
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import LogFormatter, MaxNLocator
 
 from jaxgear import load_map
+from jaxgear.bench import _hybrid, _hybrid_sweep
+from jaxgear.bench._charts import thin_tick_labels
 from jaxgear.cli import _plots as plots
 from jaxgear.cli import _scene
 from jaxgear.dynamics import nodal_diameter_resonances
 from jaxgear.io import load_case
 
 DATA = pathlib.Path(__file__).parent / "data"
+DOCS = pathlib.Path(__file__).parent.parent / "docs"
 
 Z1 = 20
 
@@ -380,3 +387,74 @@ def test_campbell_nodal_diameter_labels_do_not_overlap(tmp_path, figures):
     for i, b in enumerate(boxes):
         assert inside.x0 <= b.x0 and b.x1 <= inside.x1 and inside.y0 <= b.y0 and b.y1 <= inside.y1
         assert not any(b.overlaps(o) for o in boxes[i + 1 :] + others), nd[i].get_text()
+
+
+def _tick_label_overlaps(fig) -> list[tuple[str, str]]:
+    """Pairs of drawn tick labels (major and minor, in the view) that overlap on an axis."""
+    if not isinstance(fig.canvas, FigureCanvasAgg):
+        FigureCanvasAgg(fig)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    bad = []
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            lo, hi = sorted(axis.get_view_interval())
+            labels = []
+            for minor in (False, True):
+                locs = axis.get_minorticklocs() if minor else axis.get_majorticklocs()
+                n = len(locs)
+                ticks = axis.get_minor_ticks(n) if minor else axis.get_major_ticks(n)
+                labels += [
+                    t.label1
+                    for t, loc in zip(ticks, locs, strict=True)
+                    if lo - 1e-9 * abs(lo) <= loc <= hi + 1e-9 * abs(hi)
+                    and t.label1.get_visible()
+                    and t.label1.get_text()
+                ]
+            for a, b in itertools.combinations(labels, 2):
+                if a.get_window_extent(renderer).overlaps(b.get_window_extent(renderer)):
+                    bad.append((a.get_text(), b.get_text()))
+    return bad
+
+
+def test_thin_tick_labels_hides_overlapping_ones():
+    """Log axes over about a decade with every minor tick labelled (the hybrid benchmark's
+    formatter) on a small axes: 300 and 400 print over each other; thinned, none do, and the
+    decades keep their labels."""
+
+    def figure():
+        fig = Figure(figsize=(3.2, 2.4), layout="constrained")
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+        ax.loglog([110, 1900], [35, 3000], "o-")
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2, 1)))
+            axis.set_minor_formatter(LogFormatter(labelOnlyBase=False, minor_thresholds=(2, 1)))
+        return fig
+
+    assert _tick_label_overlaps(figure())
+    fig = figure()
+    assert thin_tick_labels(fig) > 0
+    assert _tick_label_overlaps(fig) == []
+    ax = fig.axes[0]
+    shown = {t.get_text() for t in ax.xaxis.get_ticklabels() if t.get_visible()}
+    assert {"100", "1000"} <= shown
+
+
+@pytest.mark.parametrize(
+    "module, name", [(_hybrid, "bench_hybrid"), (_hybrid_sweep, "bench_hybrid_sweep")]
+)
+def test_benchmark_charts_have_no_overlapping_tick_labels(tmp_path, module, name, monkeypatch):
+    """The benchmark charts of docs/ redrawn from their JSON: no tick label over another."""
+    figs = []
+    save = Figure.savefig
+
+    def keep(self, *args, **kw):
+        figs.append(self)
+        return save(self, *args, **kw)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    module._chart(json.loads((DOCS / f"{name}.json").read_text()), str(tmp_path / f"{name}.png"))
+    _png(tmp_path / f"{name}.png")
+    (fig,) = figs
+    assert _tick_label_overlaps(fig) == []

@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 
+from ._charts import thin_tick_labels
 from ._timing import environment, first_call, min_time
 
 __all__ = ["bench_dynamics", "stability_map"]
@@ -426,6 +427,7 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     ax.set_ylabel("relative error at the resonant speed")
     ax.grid(alpha=0.3, which="both")
     fig.tight_layout()
+    thin_tick_labels(fig)
     os.makedirs(out_dir, exist_ok=True)
     with atomic_open(os.path.join(out_dir, "stability_map.png"), "wb") as f:
         fig.savefig(f, format="png", dpi=110)

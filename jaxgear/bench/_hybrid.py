@@ -35,6 +35,7 @@ import time
 
 import numpy as np
 
+from ._charts import thin_tick_labels
 from ._timing import environment, min_time
 
 __all__ = ["bench_hybrid"]
@@ -818,6 +819,7 @@ def _chart(out: dict, path: str) -> None:
         + (" — QUICK" if out["quick"] else ""),
         fontsize=10,
     )
+    thin_tick_labels(fig)
     with atomic_open(path, "wb") as f:  # as the other benchmarks' figures
         fig.savefig(f, format="png", dpi=120)
 

@@ -29,6 +29,7 @@ import time
 
 import numpy as np
 
+from ._charts import thin_tick_labels
 from ._timing import cpu_model as _cpu_model, first_call as _first_call, min_time as _min_time
 
 __all__ = ["bench_quasi_static"]
@@ -673,6 +674,7 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
         fontsize=9,
     )
     fig.tight_layout()
+    thin_tick_labels(fig)
     with atomic_open(path, "wb") as f:
         fig.savefig(f, format="png", dpi=120)
     plt.close(fig)

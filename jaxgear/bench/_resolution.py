@@ -19,6 +19,8 @@ from pathlib import Path
 import jax
 import numpy as np
 
+from ._charts import thin_tick_labels
+
 RATIOS = (0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 3.0)
 STEPS = (16, 32, 64, 128, 256, 512, 1024, 2048)
 
@@ -109,6 +111,7 @@ def plot(data: dict, path: Path):
     axes[1].text(rule * 1.05, 2e-3, f"default ≥ {rule}", color="tab:red", fontsize=8)
     axes[1].text(flag * 0.97, 2e-3, f"flag < {flag}", color="tab:orange", fontsize=8, ha="right")
     fig.tight_layout()
+    thin_tick_labels(fig)
     fig.savefig(path, dpi=110)
 
 

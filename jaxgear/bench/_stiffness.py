@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+from ._charts import thin_tick_labels
 from ._timing import environment
 
 __all__ = ["bench_stiffness"]
@@ -214,6 +215,7 @@ def _chart(out: dict, path: str, atomic_open) -> None:
         fontsize=9,
     )
     fig.tight_layout()
+    thin_tick_labels(fig)
     with atomic_open(path, "wb") as f:
         fig.savefig(f, format="png", dpi=120)
     plt.close(fig)
