@@ -76,13 +76,20 @@ class Case:
             / (self.pair.transverse_contact_ratio * self.pair.face_width)
         )
 
+    def specific_load(self, torque: float | None = None) -> float:
+        """Nominal tangential load at the reference circle per unit face width, F_t / b =
+        T / (r_1 b) (N/m), K_A = 1: the load of the ISO 6336-1 low-load factor (``iso6336``)."""
+        t = self.torque if torque is None else torque
+        return t / self.pair.pitch_radii[0] / self.pair.face_width
+
     def mesh_model(
         self,
         slices: int | None = None,
         torque: float | None = None,
         flexible: tuple[bool, bool] = (False, False),
     ) -> MeshModel:
-        """Build the :class:`MeshModel` (stiffness table evaluated at the nominal line load).
+        """Build the :class:`MeshModel` (stiffness table evaluated at the nominal line load; the
+        ``iso6336`` table at the case's E and :meth:`specific_load` of ``torque``).
 
         ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
         leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
@@ -99,6 +106,7 @@ class Case:
             uniform_k0=self.uniform_k0,
             foundation=foundation,
             fe2d_size=self.fe2d_size,
+            specific_load=self.specific_load(torque),
         )
         return MeshModel.from_pair(self.pair, s, k, self.slices if slices is None else slices)
 

@@ -53,6 +53,9 @@ class Member:
         fillet_radius_coeff: tip radius of the generating rack ρ_fP / m_n (Tab. III-1: 0.25).
         bore_radius: radius r_int of the gear body's bore (m), used by the Sainsot foundation
             term; ``None`` for the default 0.5 × root radius (see ``_stiffness.bore_radius``).
+        web_thickness, rim_thickness: web thickness b_s and rim thickness s_R (m) of a webbed
+            blank, for the ISO 6336-1 gear blank factor C_R of the ``iso6336`` stiffness;
+            ``None`` (either) for a solid blank (C_R = 1).
     """
 
     teeth: int
@@ -62,6 +65,8 @@ class Member:
     face_width: float = 0.01
     fillet_radius_coeff: float = 0.25
     bore_radius: float | None = None
+    web_thickness: float | None = None
+    rim_thickness: float | None = None
 
 
 def _require(name: str, value: float, ok: bool, allowed: str) -> None:
@@ -126,6 +131,9 @@ class GearPair:
             _require(
                 f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)"
             )
+            for name in ("web_thickness", "rim_thickness"):
+                v = getattr(m, name)
+                _require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
         z1, z2 = self.pinion.teeth, self.gear.teeth
         x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
         mt = mn / math.cos(beta)

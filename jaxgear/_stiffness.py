@@ -3,9 +3,11 @@
 Three models (DESIGN.md §3):
 
 * ``uniform``: a given constant k0 (N/m per m of contact line).
-* ``iso6336``: ISO 6336-1:2006 method B single stiffness c' and mesh stiffness c_γα, turned into a
-  constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``, so that the mean mesh stiffness
-  (normal to the flanks, in the base plane) times cos² β_b equals c_γα b.
+* ``iso6336``: ISO 6336-1 method B single stiffness c' and mesh stiffness c_γα (virtual teeth
+  z/(cos² β_b cos β), gear blank factor C_R, modulus scaling E/206 GPa, low-load factor below
+  F_t/b = 100 N/mm), turned into a constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``,
+  so that the mean mesh stiffness (normal to the flanks, in the base plane) times cos² β_b equals
+  c_γα b.
 * ``weber``: Weber–Banaschek thin-slice model, seed (1.1)–(1.3): Hertzian approach, tooth bending
   and shear of a cantilever on the real tooth-thickness profile (the exact rack-generated tooth of
   :mod:`fem_prep.tooth_form`: involute and trochoidal fillet down to the root circle), elastic
@@ -34,10 +36,14 @@ import numpy as np
 from ._geometry import GearPair, involute
 
 __all__ = [
+    "E_STEEL_ISO",
     "FOUNDATIONS",
     "bore_radius",
+    "iso6336_blank_factor",
     "iso6336_mesh_stiffness",
+    "iso6336_pair_blank_factor",
     "iso6336_single_stiffness",
+    "iso6336_virtual_teeth",
     "member_foundations",
     "sainsot_coefficients",
     "sainsot_fit_check",
@@ -181,16 +187,82 @@ def sainsot_fit_check(pair: GearPair) -> list[dict]:
     return out
 
 
-def iso6336_single_stiffness(pair: GearPair) -> float:
-    """ISO 6336-1 method B single stiffness c' (N/m per m of face width), eq. (C.1)-(C.5).
+def iso6336_virtual_teeth(pair: GearPair) -> tuple[float, float]:
+    """Virtual numbers of teeth (z_n1, z_n2) of ISO 6336-1 method B (§9.3, the q' equation):
+    ``z_n = z / (cos² β_b cos β)`` (not the older z / cos³ β; the two differ by ≈ 1 % at
+    β = 15°, ≈ 0.16 % on c'_th of ISO/TR 6336-30 example 1)."""
+    beta, beta_b = pair.helix_angle, pair.base_helix_angle
+    f = math.cos(beta_b) ** 2 * math.cos(beta)
+    return pair.pinion.teeth / f, pair.gear.teeth / f
 
-    ``c' = c'_th C_M C_R C_B cos β`` with ``c'_th = 1/q'`` (q' in mm·µm/N), C_M = 0.8 (theoretical
-    to measured), C_R = 1 (solid discs), ``C_B = 0.5 Σ [1 + 0.5 (1.2 − h_fP/m_n)][1 − 0.02 (20° − α_n)]``
-    with h_fP/m_n = the member's dedendum coefficient. Valid for specific loads F_t/b >= 100 N/mm.
+
+def iso6336_blank_factor(member, normal_module: float) -> float:
+    """Gear blank factor C_R of one member, ISO 6336-1 method B (§9.3, "gear blank factor"):
+    ``C_R = 1 + ln(b_s/b) / (5 exp(s_R / (5 m_n)))``.
+
+    Args:
+        member: a :class:`Member`; its ``web_thickness`` b_s (m), ``rim_thickness`` s_R (m) and
+            ``face_width`` b (m). A solid blank (``web_thickness`` or ``rim_thickness`` None)
+            gives C_R = 1.
+        normal_module: m_n (m).
+
+    Returns:
+        C_R (-). As the standard prescribes, b_s/b is clamped to [0.2, 1.2] and s_R/m_n to >= 1
+        (b_s/b > 1 gives C_R slightly above 1, at most 1.0299).
     """
-    beta = pair.helix_angle
-    zn1 = pair.pinion.teeth / math.cos(beta) ** 3
-    zn2 = pair.gear.teeth / math.cos(beta) ** 3
+    bs, sr = member.web_thickness, member.rim_thickness
+    if bs is None or sr is None:
+        return 1.0
+    ratio = min(max(bs / member.face_width, 0.2), 1.2)
+    rim = max(sr / normal_module, 1.0)
+    return 1.0 + math.log(ratio) / (5.0 * math.exp(rim / 5.0))
+
+
+def iso6336_pair_blank_factor(pair: GearPair) -> float:
+    """C_R of the pair: the mean of the members' C_R (:func:`iso6336_blank_factor`).
+
+    The standard's curve holds for mating gears of similar blanks, where the mean is the curve's
+    value. For dissimilar blanks (a solid pinion against a webbed wheel) jaxgear takes the mean,
+    i.e. half the correction: the blank's extra compliance acts on one of the two teeth in series
+    (the formula's C_R < 1 is a compliance shared by both members).
+    """
+    return 0.5 * (
+        iso6336_blank_factor(pair.pinion, pair.normal_module)
+        + iso6336_blank_factor(pair.gear, pair.normal_module)
+    )
+
+
+E_STEEL_ISO = 206e9  # Pa: ISO 6336-1 steel modulus, the reference of c'_th (method B)
+LOW_LOAD_LIMIT = 1e5  # N/m = 100 N/mm: below it c' is reduced (ISO 6336-1 §9.3.1)
+
+
+def iso6336_single_stiffness(
+    pair: GearPair,
+    youngs_modulus: float = E_STEEL_ISO,
+    specific_load: float | None = None,
+) -> float:
+    """ISO 6336-1 method B single stiffness c' (N/m per m of face width), §9.3.
+
+    ``c' = c'_th C_M C_R C_B cos β · E/E_st [· (F_t K_A/b / 100 N/mm)^0.25 below 100 N/mm]`` with
+
+    * ``c'_th = 1/q'``, q' (mm·µm/N) = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2
+      + C7 x2/z_n2 + C8 x1² + C9 x2², z_n = z/(cos² β_b cos β) (:func:`iso6336_virtual_teeth`);
+    * C_M = 0.8 (theoretical to measured);
+    * C_R gear blank factor, :func:`iso6336_pair_blank_factor` (1 for solid blanks);
+    * ``C_B = 0.5 Σ [1 + 0.5 (1.2 − h_fP/m_n)][1 − 0.02 (20° − α_n)]``, h_fP/m_n = the member's
+      dedendum coefficient (the basic rack dedendum);
+    * E/E_st: other materials scale with E (for two materials E = 2E1E2/(E1+E2)), E_st = 206 GPa;
+    * the low-load factor (F_t K_A/b / 100)^0.25 when F_t K_A/b < 100 N/mm (1 above).
+
+    Args:
+        pair: the gear pair (member blanks: ``Member.web_thickness``/``rim_thickness``).
+        youngs_modulus: E (Pa), default steel (206 GPa, the standard's reference).
+        specific_load: F_t K_A / b (N/m): nominal tangential load at the reference circle per
+            unit face width; ``None``: at or above 100 N/mm (no low-load reduction).
+
+    Valid (ISO) for x1 >= x2, −0.5 <= x1 + x2 <= 2, β <= 30°; not checked.
+    """
+    zn1, zn2 = iso6336_virtual_teeth(pair)
     x1, x2 = pair.pinion.profile_shift, pair.gear.profile_shift
     c = _ISO_C
     q = (
@@ -210,13 +282,23 @@ def iso6336_single_stiffness(pair: GearPair) -> float:
         (1 + 0.5 * (1.2 - m.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg))
         for m in (pair.pinion, pair.gear)
     )
-    c_single = cth * 0.8 * 1.0 * cb * math.cos(beta)
+    cr = iso6336_pair_blank_factor(pair)
+    c_single = cth * 0.8 * cr * cb * math.cos(pair.helix_angle) * youngs_modulus / E_STEEL_ISO
+    if specific_load is not None and specific_load < LOW_LOAD_LIMIT:
+        c_single *= (specific_load / LOW_LOAD_LIMIT) ** 0.25
     return c_single * 1e9  # N/(mm·µm) -> N/m²
 
 
-def iso6336_mesh_stiffness(pair: GearPair) -> float:
-    """ISO 6336-1 mesh stiffness c_γα = c' (0.75 ε_α + 0.25) (N/m per m of face width)."""
-    return iso6336_single_stiffness(pair) * (0.75 * pair.transverse_contact_ratio + 0.25)
+def iso6336_mesh_stiffness(
+    pair: GearPair,
+    youngs_modulus: float = E_STEEL_ISO,
+    specific_load: float | None = None,
+) -> float:
+    """ISO 6336-1 mesh stiffness c_γα = c' (0.75 ε_α + 0.25) (N/m per m of face width), §9.3;
+    arguments as :func:`iso6336_single_stiffness`. (The standard's optional reduction of up to
+    10 % for spur gears with ε_α < 1.2 is not applied.)"""
+    c_single = iso6336_single_stiffness(pair, youngs_modulus, specific_load)
+    return c_single * (0.75 * pair.transverse_contact_ratio + 0.25)
 
 
 def _half_thickness_angle(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray:
@@ -363,8 +445,13 @@ def stiffness_table(
     n_points: int = 129,
     foundation: bool | str | tuple[str, str] = "weber",
     fe2d_size: float | None = None,
+    specific_load: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
+
+    ``iso6336``: c_γα of :func:`iso6336_mesh_stiffness` at ``youngs_modulus`` and
+    ``specific_load`` (F_t K_A / b, N/m, for the low-load factor below 100 N/mm; ``None``: no
+    reduction); :meth:`jaxgear.Case.mesh_model` passes the case's nominal F_t / b (K_A = 1).
 
     ``foundation`` ("weber" | "sainsot" | "none", or the old ``True``/``False``, for both
     members, or a ``(pinion, gear)`` pair of them, see :func:`member_foundations`) applies to the
@@ -390,7 +477,7 @@ def stiffness_table(
             )
         k = np.full_like(s, uniform_k0)
     elif model == "iso6336":
-        k0 = iso6336_mesh_stiffness(pair) / (
+        k0 = iso6336_mesh_stiffness(pair, youngs_modulus, specific_load) / (
             pair.transverse_contact_ratio * math.cos(pair.base_helix_angle)
         )
         k = np.full_like(s, k0)

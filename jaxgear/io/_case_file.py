@@ -56,6 +56,8 @@ _MEMBER_KEYS = {
     "face_width_mm",
     "fillet_radius_coeff",
     "bore_radius_mm",
+    "web_thickness_mm",
+    "rim_thickness_mm",
 }
 _SCHEMA: dict[str, Any] = {
     "name": None,
@@ -246,6 +248,17 @@ def _member(data: dict, tag: str) -> Member:
             t["fillet_radius_coeff"],
         )
     bore = sc.number(t, "bore_radius_mm", tag, None, allowed="> 0")
+    # webbed blank (ISO 6336-1 gear blank factor C_R of the iso6336 stiffness): both or neither
+    web = sc.number(t, "web_thickness_mm", tag, None, allowed="> 0")
+    rim = sc.number(t, "rim_thickness_mm", tag, None, allowed="> 0")
+    if (web is None) != (rim is None):
+        given, missing = ("web", "rim") if rim is None else ("rim", "web")
+        raise sc.fail(
+            tag,
+            f"{missing}_thickness_mm",
+            f"required with {given}_thickness_mm (the gear blank factor C_R needs both; "
+            "leave both out for a solid blank)",
+        )
     return Member(
         teeth=sc.number(t, "teeth", tag, allowed="[5, 10000]", integer=True),
         profile_shift=sc.number(t, "profile_shift", tag, 0.0, allowed="(-1.5, 1.5)"),
@@ -254,6 +267,8 @@ def _member(data: dict, tag: str) -> Member:
         face_width=sc.number(t, "face_width_mm", tag, allowed="> 0") * 1e-3,
         fillet_radius_coeff=fillet,
         bore_radius=None if bore is None else bore * 1e-3,
+        web_thickness=None if web is None else web * 1e-3,
+        rim_thickness=None if rim is None else rim * 1e-3,
     )
 
 
