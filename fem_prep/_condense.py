@@ -38,7 +38,15 @@ from tqdm import tqdm
 from ._assemble import Operators
 from ._body import Body
 from ._mesh import BodyMesh, rim_master_z
-from ._solver import CholmodFactor, SparseFactor, blas_threads, factorize, shift_invert_modes
+from ._solver import (
+    CholmodFactor,
+    SparseFactor,
+    blas_threads,
+    factorize,
+    phase_bar,
+    shift_invert_modes,
+    solve_bar,
+)
 
 __all__ = [
     "Condensed",
@@ -347,13 +355,18 @@ class Condensed:
     stress_stiffening: np.ndarray | None = None
 
 
-def _project(A: sp.spmatrix, V: np.ndarray, block: int = 256, *, skew: bool = False) -> np.ndarray:
+def _project(
+    A: sp.spmatrix, V: np.ndarray, block: int = 256, *, skew: bool = False, bar=None
+) -> np.ndarray:
     """``V^T A V`` by column blocks (bounded memory), symmetrised (``skew=False``: A symmetric)
-    or skew-symmetrised (``skew=True``: A skew-symmetric) to remove the rounding."""
+    or skew-symmetrised (``skew=True``: A skew-symmetric) to remove the rounding. ``bar``: a
+    tqdm bar advanced by one per column block."""
     out = np.empty((V.shape[1], V.shape[1]))
     for c0 in range(0, V.shape[1], block):
         c1 = min(V.shape[1], c0 + block)
         out[:, c0:c1] = V.T @ (A @ V[:, c0:c1])
+        if bar is not None:
+            bar.update()
     return 0.5 * (out - out.T) if skew else 0.5 * (out + out.T)
 
 
@@ -418,7 +431,11 @@ def _condense(
     t0 = time.perf_counter()
     Kii = K[i][:, i]
     Kib = K[i][:, b]
-    Fii = interior_factor or factorize(Kii)
+    if interior_factor is None:
+        with phase_bar(f"factorisation of K_ii (n = {len(i)})", progress):
+            Fii = factorize(Kii)
+    else:
+        Fii = interior_factor
     timings["factorisation_s"] = time.perf_counter() - t0
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks
@@ -427,7 +444,7 @@ def _condense(
     H[b, np.arange(len(b))] = 1.0
     blk = 128
     it = range(0, len(b), blk)
-    for c0 in tqdm(it, desc="constraint modes", disable=not progress, unit="block"):
+    for c0 in tqdm(it, desc="constraint modes", disable=not progress, unit="block", leave=False):
         c1 = min(len(b), c0 + blk)
         H[i, c0:c1] = -Fii.solve(Kib[:, c0:c1].toarray())
     timings["static_modes_s"] = time.perf_counter() - t0
@@ -437,20 +454,22 @@ def _condense(
     nb = len(b)
     if method == "craig-bampton" and n_modes > 0:
         Mii = M[i][:, i]
-        with tqdm(total=1, desc="fixed-interface modes", disable=not progress) as bar:
-            lam, phi = shift_invert_modes(Kii, Mii, n_modes, sigma=0.0, factor=Fii)
-            bar.update()
+        with solve_bar(f"fixed-interface modes ({n_modes})", progress) as bar:
+            lam, phi = shift_invert_modes(
+                Kii, Mii, n_modes, sigma=0.0, factor=Fii, on_solve=bar.update
+            )
         H[i, nb:] = phi
         modes_hz = np.sqrt(np.maximum(lam, 0)) / (2 * math.pi)
     elif method == "herting" and n_modes > 0:
         if free_shift is None:
             free_shift = -float(np.median(K.diagonal() / np.maximum(M.diagonal(), 1e-300))) * 1e-4
-        with tqdm(total=2, desc="free-interface modes", disable=not progress) as bar:
+        with phase_bar(f"factorisation of K - s M (n = {n})", progress):
             Ffree = factorize((K - free_shift * M).tocsr())
-            bar.update()
-            n_rigid = 6
-            lam, phi = shift_invert_modes(K, M, n_modes + n_rigid, sigma=free_shift, factor=Ffree)
-            bar.update()
+        n_rigid = 6
+        with solve_bar(f"free-interface modes ({n_modes + n_rigid})", progress) as bar:
+            lam, phi = shift_invert_modes(
+                K, M, n_modes + n_rigid, sigma=free_shift, factor=Ffree, on_solve=bar.update
+            )
         del Ffree
         # drop rigid-body modes (captured by the constraint modes)
         lam_ref = max(abs(lam[-1]), 1.0)
@@ -496,16 +515,24 @@ def _condense(
     timings["eigen_s"] = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    Kc = _project(K, H)
-    Mc = _project(M, H)
-    # exact structure (2.5): boundary/modal blocks statically uncoupled
-    if H.shape[1] > nb:
-        Kc[:nb, nb:] = 0.0
-        Kc[nb:, :nb] = 0.0
-    fc = H.T @ f if f is not None else np.zeros(H.shape[1])
-    Sc = _project(S, H) if S is not None else None
-    Gc = _project(G, H, skew=True) if G is not None else None
-    Ksc = _project(Ksigma, H) if Ksigma is not None else None
+    n_mat = 2 + sum(A is not None for A in (S, G, Ksigma))
+    with tqdm(
+        total=n_mat * -(-H.shape[1] // 256),
+        desc=f"projection H^T A H ({n_mat} matrices, {H.shape[1]} columns)",
+        disable=not progress,
+        unit="block",
+        leave=False,
+    ) as bar:
+        Kc = _project(K, H, bar=bar)
+        Mc = _project(M, H, bar=bar)
+        # exact structure (2.5): boundary/modal blocks statically uncoupled
+        if H.shape[1] > nb:
+            Kc[:nb, nb:] = 0.0
+            Kc[nb:, :nb] = 0.0
+        fc = H.T @ f if f is not None else np.zeros(H.shape[1])
+        Sc = _project(S, H, bar=bar) if S is not None else None
+        Gc = _project(G, H, skew=True, bar=bar) if G is not None else None
+        Ksc = _project(Ksigma, H, bar=bar) if Ksigma is not None else None
     timings["projection_s"] = time.perf_counter() - t0
     return Condensed(
         method=method,

@@ -25,7 +25,7 @@ from ._condense import (
 )
 from ._mesh import BodyMesh, mesh_body
 from ._modal import ModeFamily, identify_modes
-from ._solver import blas_threads, factorize, shift_invert_modes
+from ._solver import blas_threads, factorize, phase_bar, shift_invert_modes, solve_bar
 
 __all__ = ["Prepared", "prepare"]
 
@@ -108,21 +108,31 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     if trace_memory:
         tracemalloc.start()
     timings: dict[str, float] = {}
+    # six steps; the bar names the running one, its inner bars count the long calls
+    # (factorisations, the solves of each eigen-solve, column blocks) and vanish when done
     steps = tqdm(total=6, desc=f"fem-prep {body.name}", disable=not progress, unit="step")
 
-    def tick(name: str, t0: float) -> None:
-        timings[name] = time.perf_counter() - t0
-        steps.set_postfix_str(f"{name} {timings[name]:.1f}s")
+    def begin(what: str) -> None:
+        steps.set_postfix_str(f"{what}...")
+
+    def tick(name: str | None, t0: float) -> None:
+        dt = time.perf_counter() - t0
+        if name is not None:
+            timings[name] = dt
+        steps.set_postfix_str(f"{(name or 'condensed model').removesuffix('_s')} {dt:.1f}s")
         steps.update()
 
+    begin("mesh")
     t0 = time.perf_counter()
     bm = mesh_body(body)
     tick("mesh_s", t0)
 
+    begin(f"assembly ({bm.n_dofs} DOFs)")
     t0 = time.perf_counter()
     ops = assemble_operators(bm.basis, body.material)
     tick("assembly_s", t0)
 
+    begin("bearing couplings")
     t0 = time.perf_counter()
     ms = select_masters(bm, body)
     cp = couple_bearings(bm, ops, ms)
@@ -135,13 +145,15 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     tick("coupling_s", t0)
 
     # ---- full model: modes (support as the body says) and centrifugal deflection
+    begin("full model: factorisation, modes, prestress")
     t0 = time.perf_counter()
     nf = body.n_frequencies
     held = np.zeros(n_red, dtype=bool)
     held[cp.bearing_dofs.ravel()] = True
     free = np.nonzero(~held)[0]
     Kff = cp.K[free][:, free]
-    Fff = factorize(Kff)
+    with phase_bar(f"factorisation of the full model (n = {len(free)})", progress):
+        Fff = factorize(Kff)
     solver = Fff.method
     t_fact = time.perf_counter() - t0
     # centrifugal prestress at 1 rad/s, bearings held (it scales with speed^2)
@@ -150,28 +162,37 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     u_unit = cp.T @ u_red
     u_cf = body.speed**2 * u_unit
     if body.support == "bearings":
-        lam, phi_f = shift_invert_modes(Kff, cp.M[free][:, free], nf, sigma=0.0, factor=Fff)
+        with solve_bar(f"modes of the full model ({nf})", progress) as bar:
+            lam, phi_f = shift_invert_modes(
+                Kff, cp.M[free][:, free], nf, sigma=0.0, factor=Fff, on_solve=bar.update
+            )
         phi = np.zeros((n_red, nf))
         phi[free] = phi_f
     else:
         shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
-        lam, phi = shift_invert_modes(
-            cp.K, cp.M, nf, sigma=shift, factor=factorize((cp.K - shift * cp.M).tocsr())
-        )
+        with phase_bar(f"factorisation of K - s M (n = {n_red})", progress):
+            F_shift = factorize((cp.K - shift * cp.M).tocsr())
+        with solve_bar(f"modes of the full model ({nf}, free)", progress) as bar:
+            lam, phi = shift_invert_modes(
+                cp.K, cp.M, nf, sigma=shift, factor=F_shift, on_solve=bar.update
+            )
+        del F_shift
     del Fff
     shapes = cp.T @ phi
     f_full = _hz(lam)
     timings["full_factorisation_s"] = t_fact
     t1 = time.perf_counter()
-    k_sigma = stress_stiffening_matrix(bm.basis, body.material, u_unit)
-    # the bore bands' reactions turn with the shaft that carries them: their load stiffness
-    # goes with the body's so that a rigid turn about the axis stays neutral
-    k_react = band_reaction_stiffness(cp, ms, bm.nodes, ops.K @ u_unit - ops.f_centrifugal)
-    cp = replace(cp, Ksigma=cp.reduce(k_sigma) + k_react)
+    with phase_bar("stress stiffening of the prestress", progress):
+        k_sigma = stress_stiffening_matrix(bm.basis, body.material, u_unit)
+        # the bore bands' reactions turn with the shaft that carries them: their load
+        # stiffness goes with the body's so that a rigid turn about the axis stays neutral
+        k_react = band_reaction_stiffness(cp, ms, bm.nodes, ops.K @ u_unit - ops.f_centrifugal)
+        cp = replace(cp, Ksigma=cp.reduce(k_sigma) + k_react)
     timings["stress_stiffening_s"] = time.perf_counter() - t1
     tick("full_modal_s", t0)
 
     # ---- condensation
+    begin(f"condensation ({body.condensation.method}, {len(master_dofs)} master DOFs)")
     t0 = time.perf_counter()
     cond = condense(
         cp.K,
@@ -190,7 +211,8 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     tick("condensation_s", t0)
 
     # ---- condensed model: same support, frequencies and centrifugal deflection
-    t0 = time.perf_counter()
+    begin("condensed model: frequencies, deflection, mode identification")
+    t_step = t0 = time.perf_counter()
     n_c = cond.K.shape[0]
     keep = np.ones(n_c, dtype=bool)
     if body.support == "bearings":
@@ -226,6 +248,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     web_z = g.web_offset
     fam = identify_modes(bm, shapes, f_full, web_z=web_z)
     timings["identification_s"] = time.perf_counter() - t0
+    tick(None, t_step)
     steps.close()
     peak = 0
     if trace_memory:

@@ -15,13 +15,16 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import warnings
+from collections.abc import Callable, Iterator
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from tqdm import tqdm
 
 __all__ = [
     "CholmodFactor",
@@ -30,7 +33,9 @@ __all__ = [
     "SparseFactor",
     "blas_threads",
     "factorize",
+    "phase_bar",
     "shift_invert_modes",
+    "solve_bar",
 ]
 
 
@@ -157,6 +162,7 @@ def shift_invert_modes(
     factor: CholmodFactor | SparseFactor | None = None,
     tol: float = 1e-10,
     check: float = 1e-6,
+    on_solve: Callable[[], None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``k`` modes of ``K φ = λ M φ`` by shift-invert Lanczos (SciPy ``eigsh``).
 
@@ -171,6 +177,8 @@ def shift_invert_modes(
         factor: a factorisation of ``K − σ M`` to reuse.
         tol: ARPACK relative tolerance on the Ritz values.
         check: bound on the relative residual of every returned mode.
+        on_solve: called after each solve with the factorisation (one per Lanczos step: a
+            progress bar's hook; the solves are those without it).
 
     Returns:
         ``(lam, phi)``: eigenvalues ``(k,)`` ascending ((rad/s)²) and mass-normalised modes
@@ -188,10 +196,9 @@ def shift_invert_modes(
     if factor is None:
         factor = factorize((K - sigma * M).tocsr())
     ncv = min(n, max(2 * k + 1, k + 40))
+    op = _counted(factor.operator(), on_solve)
     try:
-        lam, phi = spla.eigsh(
-            K, k=k, M=M, sigma=sigma, OPinv=factor.operator(), which="LM", ncv=ncv, tol=tol
-        )
+        lam, phi = spla.eigsh(K, k=k, M=M, sigma=sigma, OPinv=op, which="LM", ncv=ncv, tol=tol)
     except spla.ArpackNoConvergence as exc:
         raise SolverError(
             f"eigsh did not converge: {len(exc.eigenvalues)} of {k} modes after the iteration "
@@ -213,7 +220,6 @@ def shift_invert_modes(
         # a free structure: Lanczos can miss a member of the six-fold zero eigenvalue (it sees a
         # multiple eigenvalue once; rounding brings the others back, usually); search again
         # M-orthogonally to the modes found and merge anything lower
-        op = factor.operator()
 
         def deflated(x: np.ndarray) -> np.ndarray:
             y = op @ x
@@ -235,6 +241,34 @@ def shift_invert_modes(
             order = np.argsort(lam)[:k]
             lam, phi = lam[order], phi[:, order]
     return lam, phi
+
+
+@contextlib.contextmanager
+def phase_bar(desc: str, progress: bool) -> Iterator[tqdm]:
+    """A one-step bar (removed when done) naming a long single call, a factorisation, while
+    it runs."""
+    with tqdm(total=1, desc=desc, disable=not progress, leave=False, unit="call") as bar:
+        yield bar
+        bar.update()
+
+
+def solve_bar(desc: str, progress: bool) -> tqdm:
+    """A bar (removed when done) counting the solves of an eigen-solve, whose number is not
+    known in advance: pass its ``update`` as :func:`shift_invert_modes`' ``on_solve``."""
+    return tqdm(desc=desc, disable=not progress, unit="solve", leave=False)
+
+
+def _counted(op: spla.LinearOperator, on_solve: Callable[[], None] | None):
+    """``op`` itself, or the same operator calling ``on_solve`` after each application."""
+    if on_solve is None:
+        return op
+
+    def apply(x: np.ndarray) -> np.ndarray:
+        y = op @ x
+        on_solve()
+        return y
+
+    return spla.LinearOperator(op.shape, matvec=apply, matmat=apply, dtype=op.dtype)
 
 
 class blas_threads:
