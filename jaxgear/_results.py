@@ -50,13 +50,15 @@ class DynamicsResult(_Result):
 _MESSAGES = {
     "ContactResult": {
         0: "converged",
-        1: "contact loop did not converge (active set still changing at max_iterations)",
+        1: "contact loop did not converge at max_iterations (exact: active set still changing;"
+        " smooth: Newton residual above its round-off tolerance)",
         2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
         3: "non-finite state in the contact solve",
     },
     "DynamicsResult": {
         0: "converged",
-        1: "contact loop did not converge at some time step (active set still changing)",
+        1: "contact loop did not converge at some time step (active set still changing, or"
+        " smooth Newton residual above its round-off tolerance, at max_iterations)",
         2: "non-finite state: the integration diverged",
         3: "energy blow-up: vibration energy or mesh force beyond the divergence bound",
         4: "ODE solver failed (max_steps reached or step size collapsed)",
