@@ -22,11 +22,14 @@ from optimise import (
     zero_fluctuation_depth,
 )
 
-from ..io import atomic_open, load_case
+from ..io import atomic_open, load_case, write_json
 from . import _plots
 from ._options import parse_range, range_values
 
-__all__ = ["add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
+__all__ = ["PARTIAL", "add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
+
+# the marker of an unfinished optimisation (see optimise_case)
+PARTIAL = "optimum.partial.json"
 
 
 def add_parsers(sub) -> None:
@@ -151,6 +154,19 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     # bound (a depth of 0, no modification yet, would leave the optimiser almost no gradient)
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
     x0 = np.clip(problem.from_physical(start), lo + 0.05 * (hi - lo), hi - 0.05 * (hi - lo))
+    # until optimum.json is written, a marker says the folder holds an unfinished run (plots
+    # are written before optimum.json): an interruption, a crash or a kill leaves it behind
+    partial = os.path.join(out_dir, PARTIAL)
+    marker = {
+        "complete": False,
+        "case": case.name,
+        "objective": problem.objective,
+        "variables": list(problem.names),
+        "stage": "optimiser running",
+        "notes": "an unfinished jaxgear optimise: no optimum.json; the plots beside this file, "
+        "if any, are not those of a finished run. Removed when optimum.json is written.",
+    }
+    write_json(partial, marker)
     res = minimise(
         problem,
         x0,
@@ -158,6 +174,14 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         max_iterations=settings["max_iterations"],
         progress=progress,
     )
+    marker.update(
+        stage="post-processing (exact values, plots)",
+        iterations=res.iterations,
+        evaluations=res.evaluations,
+        converged=res.converged,
+        parameters=problem.to_physical(res.x),
+    )
+    write_json(partial, marker)
     from tqdm.auto import tqdm
 
     two_d = sorted(
@@ -298,6 +322,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     post.close()
     with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
         json.dump(report, f, indent=2)
+    os.unlink(partial)
     return report
 
 

@@ -229,7 +229,9 @@ def run_command(args) -> int:
     if case.scene is not None and case.scene.model == "lumped3d":
         from ._scene import scene_outputs
 
-        summary["quasi_static_scene"] = scene_outputs(case, os.path.join(out, "scene"))
+        summary["quasi_static_scene"] = scene_outputs(
+            case, os.path.join(out, "scene"), progress=not args.quiet
+        )
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
         # the case has a dynamic scene: add the dynamic factor curve

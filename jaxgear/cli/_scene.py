@@ -71,26 +71,43 @@ def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
     return written
 
 
-def scene_outputs(case: Case, out_dir: str) -> dict:
+def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     """Quasi-static solve of the case's scene (exact and smooth contact), written to ``out_dir``.
 
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
     ``centrifugal`` (rim radial growth per body at the case's speed), the load maps and the VTU
     files (written to ``out_dir``, the run's ``scene/`` folder).
+
+    ``progress``: a bar over the steps (the condensed bodies, built by fem-prep with its own
+    bar on the first run and then read from its cache; the scene; each quasi-static solve; the
+    maps and VTU files).
     """
+    from tqdm.auto import tqdm
+
     from .. import load_map
-    from ..dynamics import bearing_forces, static_scene
+    from ..dynamics import bearing_forces, load_bodies, static_scene
     from . import _plots
     from ._summary import result_summary
 
+    hybrid = case.scene.hybrid
+    n_steps = (6 if case.speed > 0 else 5) if hybrid else 3
+    bar = tqdm(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
     # the case's [mesh] slices (it was capped at 8 without a word: issue 18 §2); a hybrid case's
     # slices must nest in its bodies' axial rim faces (static_scene says so otherwise)
     slices = case.slices
-    scene, bodies = static_scene(case, slices=slices)
+    bodies = None
+    if hybrid:
+        bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached)")
+        bodies = load_bodies(case.scene, progress=progress)
+        bar.update()
+    bar.set_postfix_str("building the scene")
+    scene, bodies = static_scene(case, slices=slices, bodies=bodies)
     out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
     res = {}
     for mode in ("exact", "smooth"):
+        bar.update()
+        bar.set_postfix_str(f"quasi-static, {mode} contact")
         res[mode] = quasi_static(
             scene,
             case.modifications,
@@ -101,7 +118,9 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
         )
         out[mode] = result_summary(res[mode])
         out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
+    bar.update()
     if not case.scene.hybrid:
+        bar.close()
         return out
     pair = case.pair
     ppp = case.positions_per_pitch
@@ -121,6 +140,7 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
     if case.speed > 0:
         import equinox as eqx
 
+        bar.set_postfix_str("quasi-static at rest")
         rest = quasi_static(
             eqx.tree_at(lambda s: s.speed, scene, scene.speed * 0),
             case.modifications,
@@ -132,6 +152,8 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
             ("load_map.png", rest, "at rest"),
             ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
         ]
+        bar.update()
+    bar.set_postfix_str("load maps, VTU files")
     lmaps = [load_map(r, ppp, pair.base_pitch, pair.path_of_contact) for _, r, _ in maps]
     vmax = max(float(np.nanmax(m)) for _, _, m in lmaps)  # one colour scale: at rest vs at speed
     for (name, _, label), (s_edges, z, lmap) in zip(maps, lmaps, strict=True):
@@ -147,6 +169,9 @@ def scene_outputs(case: Case, out_dir: str) -> dict:
         files.append(name)
     files += write_scene_vtu(out_dir, scene, bodies, res["exact"])
     out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
+    bar.set_postfix_str("")
+    bar.update()
+    bar.close()
     return out
 
 

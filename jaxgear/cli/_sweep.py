@@ -17,7 +17,7 @@ import numpy as np
 if TYPE_CHECKING:  # importing this module stays free of JAX (the CLI builds its parser early)
     from .. import Case
 
-__all__ = ["add_sweep_parser", "run_sweep", "sweep_case"]
+__all__ = ["add_sweep_parser", "default_sweep_dir", "run_sweep", "sweep_case"]
 
 
 def _clean(values) -> list:
@@ -71,6 +71,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     from ..dynamics import (
         MESH_ENERGY_MIN,
         hybrid_speed_sweep,
+        load_bodies,
         mean_mesh_stiffness,
         nodal_diameter_modes,
         nodal_diameter_resonances,
@@ -89,8 +90,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         unit="speed",
         disable=not show_progress,
     )
-    bar.set_postfix_str("building the scene")
-    scene, bodies = static_scene(case, slices=slices)
+    bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
+    bodies = load_bodies(spec, progress=show_progress)
+    scene, bodies = static_scene(case, slices=slices, bodies=bodies)
     # the period-averaged mesh stiffness is sampled at 64 positions unless the step is fixed
     spp = spec.steps_per_period or 64
     damping = spec_damping(spec)
@@ -137,7 +139,6 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         if spec.steps_per_period
         else steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), speeds)
     )
-    chunk = 4
     dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
     kw = dict(
@@ -148,22 +149,19 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         width=case.smooth_width,
         rotating_frame=spec.rotating_frame,
     )
-    # chunks of equal step counts (one compiled sweep per count)
+    # runs of equal step counts (one compiled sweep per count), one speed per call: the bar
+    # moves per speed and Ctrl-C stops the sweep after the speed in progress
     starts = [k for k in range(speeds.size) if k == 0 or steps[k] != steps[k - 1]]
-    bounds = [
-        (a, min(a + chunk, b))
-        for a0, b in zip(starts, [*starts[1:], speeds.size], strict=True)
-        for a in range(a0, b, chunk)
-    ]
-    for k, end in bounds:
+    for k, end in zip(starts, [*starts[1:], speeds.size], strict=True):
         part = speeds[k:end]
-        padded = np.concatenate([part, np.full(chunk - part.size, part[-1])])
         sw = hybrid_speed_sweep(
             scene,
             case.modifications,
             case.torque,
-            padded,
+            part,
             steps_per_period=int(steps[k]),
+            chunk_size=1,
+            progress=lambda n, k=k: bar.update(k + n - bar.n),
             **kw,
         )
         jax.block_until_ready(sw)
@@ -176,7 +174,6 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         te_rms += np.asarray(sw.te_rms)[: part.size].tolist()
         for i, w in enumerate(part):
             waves.append(_rim_content(sw, i, w * z1 / (2 * math.pi), rim_waves))
-        bar.update(part.size)
     bar.close()
     vtu = []
     if vtu_speed is not None:
@@ -489,9 +486,21 @@ def add_sweep_parser(subparsers) -> argparse.ArgumentParser:
         help="pinion speed (rad/s): VTU time series (vtu/body_<member>.pvd) of the condensed "
         "bodies over the kept periods at that speed",
     )
-    s.add_argument("--out", help="output folder (default: jaxgear-out/<case>/sweep/)")
+    s.add_argument(
+        "--out",
+        help="output folder (default: jaxgear-out/<case>/sweep-START-STOP-N/, apart from the "
+        "sweep/ of jaxgear run, which its summary.json describes)",
+    )
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     return s
+
+
+def default_sweep_dir(case_name: str, speeds) -> str:
+    """``jaxgear sweep``'s default folder, ``jaxgear-out/<case>/sweep-START-STOP-N``: its own,
+    so that it never replaces the ``sweep/`` of ``jaxgear run`` (which the run's
+    ``summary.json`` describes under ``dynamics``), and sweeps over other speeds stay."""
+    a, b = float(speeds[0]), float(speeds[-1])
+    return os.path.join("jaxgear-out", case_name, f"sweep-{a:g}-{b:g}-{len(speeds)}")
 
 
 def run_sweep(args) -> int:
@@ -502,7 +511,7 @@ def run_sweep(args) -> int:
 
     speeds = range_values(args.speeds, "--speeds", positive=True, min_points=2)
     case = load_case(args.case)
-    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "sweep"))
+    out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
     clear_outputs(out, "sweep")
     s = sweep_case(
         case,

@@ -35,6 +35,7 @@ resonance speeds of (3.9) (:func:`nodal_diameter_modes`, :func:`nodal_diameter_r
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import equinox as eqx
@@ -529,6 +530,8 @@ def hybrid_speed_sweep(
     max_iterations: int = 50,
     states: bool = False,
     rotating_frame: bool = False,
+    chunk_size: int | None = None,
+    progress: Callable[[int], None] | None = None,
 ) -> HybridDynamics:
     """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
     after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
@@ -555,6 +558,12 @@ def hybrid_speed_sweep(
             by default, as in the seed: on the test wheel they move the web modes by ≤ 0.2 %
             at 3000 rad/s; with them a rigidified body matches the lumped model within 0.2 %
             at every speed tested (without, within 1 %; docs/hybrid.md).
+        chunk_size: run the speeds in chunks of this many, one compiled call per chunk from a
+            Python loop (the last chunk padded with its last speed, so every chunk runs the same
+            compiled program; the padding is dropped): the same results as one call, with
+            ``progress`` called after each chunk and Ctrl-C honoured between chunks. ``None``:
+            one call for all speeds (also when the speeds are traced).
+        progress: with ``chunk_size``, called with the number of speeds done after each chunk.
 
     Returns:
         :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
@@ -568,21 +577,38 @@ def hybrid_speed_sweep(
     if damping is None:
         damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
-    return _sweep(
-        scene,
-        mods,
-        jnp.asarray(torque, dtype),
-        speeds,
-        damping,
-        jnp.asarray(width, dtype),
-        int(steps_per_period),
-        int(periods),
-        int(keep_periods),
-        contact,
-        int(max_iterations),
-        bool(states),
-        bool(rotating_frame),
-    )
+    if chunk_size is not None and (int(chunk_size) != chunk_size or chunk_size < 1):
+        raise ValueError(f"chunk_size = {chunk_size!r} is out of range: allowed an integer >= 1")
+
+    def run(w):
+        return _sweep(
+            scene,
+            mods,
+            jnp.asarray(torque, dtype),
+            w,
+            damping,
+            jnp.asarray(width, dtype),
+            int(steps_per_period),
+            int(periods),
+            int(keep_periods),
+            contact,
+            int(max_iterations),
+            bool(states),
+            bool(rotating_frame),
+        )
+
+    if chunk_size is None or isinstance(speeds, jax.core.Tracer):
+        return run(speeds)
+    chunk, n = int(chunk_size), speeds.shape[0]
+    parts = []
+    for k in range(0, n, chunk):
+        part = speeds[k : k + chunk]
+        padded = jnp.concatenate([part, jnp.full(chunk - part.shape[0], part[-1], dtype)])
+        parts.append(jax.tree.map(lambda x, m=part.shape[0]: x[:m], run(padded)))
+        jax.block_until_ready(parts[-1])  # Ctrl-C is honoured here, between chunks
+        if progress is not None:
+            progress(k + part.shape[0])
+    return jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts)
 
 
 def _check_steps(steps_per_period):

@@ -1,0 +1,197 @@
+"""Progress and outputs (issue 18 §4): fem-prep's bar reaches its total and names the long
+calls; the eigen-solve's progress hook changes nothing; the hybrid sweep in chunks gives the
+one-shot results; ``jaxgear sweep`` keeps clear of ``jaxgear run``'s ``sweep/``; an interrupted
+optimisation leaves a marker, removed when it finishes."""
+
+from __future__ import annotations
+
+import json
+import pathlib
+import re
+
+import jax
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import fem_prep
+import jaxgear.cli._optimise as cli_optimise
+import jaxgear.cli._sweep as cli_sweep
+from fem_prep._body import load_body
+from fem_prep._prepare import prepare
+from fem_prep._solver import shift_invert_modes
+from jaxgear import io as jio
+from jaxgear.cli import main
+from jaxgear.dynamics import hybrid_speed_sweep, static_scene
+
+DATA = pathlib.Path(__file__).parent / "data"
+
+
+def test_fem_prep_bar_reaches_its_total_and_names_the_long_calls(capsys):
+    body = load_body(DATA / "hybrid-test-wheel.toml")
+    shown = prepare(body, progress=True)
+    err = capsys.readouterr().err
+    states = re.findall(r"fem-prep hybrid-test-wheel:\s+\d+%\|[^|]*\|\s*(\d+)/(\d+)", err)
+    assert states and states[-1] == ("6", "6")  # it stopped at 5/6 before
+    for inner in (
+        "factorisation of the full model",
+        "modes of the full model (20)",
+        "factorisation of K_ii",
+        "constraint modes",
+        "fixed-interface modes (10)",
+        "projection H^T A H (5 matrices",
+    ):
+        assert inner in err, inner
+    # the bars change nothing: the same condensed model without them (its modal coordinates
+    # are defined up to sign and, for the degenerate nodal-diameter pairs, a rotation: ARPACK's
+    # start vector is random; compare what does not depend on them)
+    quiet = prepare(body, progress=False)
+    assert capsys.readouterr().err == ""
+    nb = len(quiet.master_dofs)
+    for a, b in ((shown.condensed.K, quiet.condensed.K), (shown.condensed.M, quiet.condensed.M)):
+        np.testing.assert_allclose(a[:nb, :nb], b[:nb, :nb], rtol=0, atol=1e-9 * np.abs(b).max())
+    for key in ("frequencies_full_hz", "frequencies_condensed_hz"):
+        np.testing.assert_allclose(getattr(shown, key), getattr(quiet, key), rtol=1e-9)
+    np.testing.assert_allclose(shown.condensed.modes_hz, quiet.condensed.modes_hz, rtol=1e-9)
+
+
+def test_eigen_solve_hook_counts_solves_and_leaves_the_modes():
+    # fixed-fixed chain of n unit masses and springs: λ_j = 4 sin²(jπ / (2 (n + 1)))
+    n, k = 600, 8
+    K = sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1]).tocsr()
+    M = sp.identity(n, format="csr")
+    calls = []
+    lam, phi = shift_invert_modes(K, M, k, on_solve=lambda: calls.append(1))
+    exact = 4 * np.sin(np.arange(1, k + 1) * np.pi / (2 * (n + 1))) ** 2
+    np.testing.assert_allclose(lam, exact, rtol=1e-9)
+    assert len(calls) >= k  # one call per Lanczos solve
+    lam0, phi0 = shift_invert_modes(K, M, k)  # without the hook (ARPACK's start is random)
+    np.testing.assert_allclose(lam, lam0, rtol=1e-12)
+    np.testing.assert_allclose(np.abs(np.sum(phi * phi0, axis=0)), 1.0, atol=1e-8)
+
+
+@pytest.fixture(scope="module")
+def hybrid_setup(fem_prep_cache):
+    case = jio.load_case(DATA / "hybrid-test-case.toml")
+    body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+    return case, static_scene(case, bodies=(None, body))[0]
+
+
+def test_hybrid_sweep_in_chunks_equals_one_call(hybrid_setup):
+    case, scene = hybrid_setup
+    kw = {"steps_per_period": 16, "periods": 3, "keep_periods": 1}
+    speeds = [300.0, 600.0, 900.0]
+    one = hybrid_speed_sweep(scene, case.modifications, case.torque, speeds, **kw)
+    done = []
+    # chunks of 2: the last one padded (same compiled program), the padding dropped
+    parts = hybrid_speed_sweep(
+        scene, case.modifications, case.torque, speeds, chunk_size=2, progress=done.append, **kw
+    )
+    assert done == [2, 3]
+    flat_one, tree_one = jax.tree.flatten(one)
+    flat_parts, tree_parts = jax.tree.flatten(parts)
+    assert tree_one == tree_parts
+    for a, b in zip(flat_one, flat_parts, strict=True):
+        a, b = np.asarray(a), np.asarray(b)
+        assert a.shape == b.shape and a.shape[0] == 3
+        np.testing.assert_allclose(b, a, rtol=1e-12, atol=1e-12 * max(np.abs(a).max(), 1e-300))
+    with pytest.raises(ValueError, match="chunk_size"):
+        hybrid_speed_sweep(scene, case.modifications, case.torque, speeds, chunk_size=0, **kw)
+
+
+def test_sweep_default_folder_leaves_the_run_sweep_alone(tmp_path, monkeypatch, capsys):
+    """``jaxgear sweep`` writes to ``jaxgear-out/<case>/sweep-START-STOP-N/``: the ``sweep/``
+    of an earlier ``jaxgear run``, which its ``summary.json`` describes, stays as it was."""
+    monkeypatch.chdir(tmp_path)
+    run_dir = tmp_path / "jaxgear-out" / "accessory-spur"
+    (run_dir / "sweep").mkdir(parents=True)
+    run_sweep = {"speeds_rad_s": [100.0, 3000.0], "dynamic_factor": [1.1, 1.2]}
+    (run_dir / "sweep" / "sweep.json").write_text(json.dumps(run_sweep))
+    (run_dir / "summary.json").write_text(json.dumps({"dynamics": run_sweep}))
+    seen = {}
+
+    def fake_sweep_case(case, speeds, out_dir, **kw):  # the folder is what is under test
+        seen["out"], seen["speeds"] = out_dir, np.asarray(speeds)
+        s = {
+            "speeds_rad_s": list(map(float, speeds)),
+            "dynamic_factor": [1.0] * len(speeds),
+            "natural_frequencies_Hz": [1000.0],
+            "result": [0] * len(speeds),
+            "elapsed_s": 0.0,
+        }
+        jio.write_json(pathlib.Path(out_dir) / "sweep.json", s)
+        return s
+
+    monkeypatch.setattr(cli_sweep, "sweep_case", fake_sweep_case)
+    assert main(["sweep", "accessory-spur", "--speeds", "250:1250.5:3", "--quiet"]) == 0
+    assert pathlib.Path(seen["out"]) == pathlib.Path(
+        "jaxgear-out/accessory-spur/sweep-250-1250.5-3"
+    )
+    np.testing.assert_allclose(seen["speeds"], [250.0, 750.25, 1250.5])
+    assert json.loads((run_dir / "sweep" / "sweep.json").read_text()) == run_sweep
+    assert json.loads((run_dir / "summary.json").read_text())["dynamics"] == run_sweep
+    new = json.loads((run_dir / "sweep-250-1250.5-3" / "sweep.json").read_text())
+    assert new["speeds_rad_s"] == [250.0, 750.25, 1250.5]
+    assert "sweep-250-1250.5-3" in capsys.readouterr().out
+
+
+def _settings(**kw):
+    case = jio.load_case("accessory-spur")
+    s = cli_optimise.check_settings(cli_optimise.settings_from_case(case), case)
+    s.update(kw)
+    return case, s
+
+
+def test_interrupted_optimiser_leaves_the_marker(tmp_path, monkeypatch):
+    def interrupted(*args, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli_optimise, "minimise", interrupted)
+    case, settings = _settings()
+    with pytest.raises(KeyboardInterrupt):
+        cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+    assert not (tmp_path / "optimum.json").exists()
+    marker = json.loads((tmp_path / cli_optimise.PARTIAL).read_text())
+    assert marker["complete"] is False and marker["stage"] == "optimiser running"
+    assert marker["variables"] == ["tip_relief.depth", "tip_relief.extent"]
+    assert "iterations" not in marker
+
+
+@pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
+def test_interrupted_plots_leave_the_marker_until_a_run_finishes(tmp_path, monkeypatch):
+    from jaxgear.cli import _plots
+
+    def interrupted(*args, **kw):
+        raise KeyboardInterrupt
+
+    case, settings = _settings(max_iterations=2)
+    with monkeypatch.context() as mp:  # after the convergence plot, before optimum.json
+        mp.setattr(_plots, "harris_plot", interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+    assert (tmp_path / "convergence.png").is_file()
+    assert not (tmp_path / "optimum.json").exists()
+    marker = json.loads((tmp_path / cli_optimise.PARTIAL).read_text())
+    assert marker["complete"] is False and marker["stage"].startswith("post-processing")
+    assert 1 <= marker["iterations"] <= 2 and marker["converged"] is False
+    assert set(marker["parameters"]) == {"tip_relief.depth", "tip_relief.extent"}
+    # the same run finished: optimum.json, no marker
+    rep = cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+    assert json.loads((tmp_path / "optimum.json").read_text())["iterations"] == rep["iterations"]
+    assert not (tmp_path / cli_optimise.PARTIAL).exists()
+
+
+def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup, tmp_path, capsys):
+    """``jaxgear run`` on a hybrid case: after its 7-step bar, a bar over the scene's steps
+    (the condensed bodies, the scene, exact and smooth solves, maps and VTU files) ends full."""
+    from jaxgear.cli._scene import scene_outputs
+
+    case, _ = hybrid_setup
+    out = scene_outputs(case, str(tmp_path / "scene"), progress=True)
+    err = capsys.readouterr().err
+    states = re.findall(r"jaxgear run hybrid-test: scene:\s+\d+%\|[^|]*\|\s*(\d+)/(\d+)", err)
+    assert states and states[-1] == ("5", "5")  # speed 0: no solve at rest
+    assert "quasi-static, exact contact" in err and "quasi-static, smooth contact" in err
+    assert sorted(out["files"]) == sorted(
+        f"scene/{f}" for f in ("load_map.png", "body_gear.vtu", "contact.vtu")
+    )
