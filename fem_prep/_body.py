@@ -264,7 +264,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
     """
     data = sc.load_toml(text, label)
     sc.check_keys(data, _SCHEMA, "")
-    name = sc.string(data, "name", "", default_name)
+    name = sc.name(data, "name", "", default_name)
 
     # ---- [body]
     b = sc.subtable(data, "body", "", _SCHEMA["body"], required=True)

@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import decimal
 import difflib
 import math
 import os
 import re
+import sys
 import tempfile
 import tomllib
 from collections.abc import Callable, Iterable, Iterator
@@ -39,10 +41,12 @@ __all__ = [
     "check_keys",
     "choice",
     "fail",
+    "finite",
     "fmt",
     "g6",
     "key_path",
     "load_toml",
+    "name",
     "number",
     "number_list",
     "string",
@@ -103,12 +107,34 @@ def _type_name(v: Any) -> str:
     return type(v).__name__
 
 
+def _fmt_int(v: int) -> str:
+    """An integer, beyond 10^6 with 6 significant digits (also beyond the float range)."""
+    if abs(v) < 10**6:
+        return str(v)
+    if abs(v) < 10**300:
+        return f"{v:.6g}"
+    mantissa, exponent = f"{decimal.Decimal(v):.5e}".split("e")  # no float, no str(int) limit
+    return f"{mantissa.rstrip('0').rstrip('.')}e{exponent}"
+
+
+def finite(v: Any) -> bool:
+    """``v`` is a finite number (``int`` or ``float``, not a boolean) that a float can hold."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return False
+    if isinstance(v, int):
+        return abs(v) <= _FLOAT_MAX
+    return math.isfinite(v)
+
+
+_FLOAT_MAX = int(sys.float_info.max)
+
+
 def fmt(v: Any, _depth: int = 0) -> str:
     """A value as it reads in a TOML file, numbers with at most 6 significant digits, short."""
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):
-        return str(v) if abs(v) < 10**6 else f"{v:.6g}"
+        return _fmt_int(v)
     if isinstance(v, float):
         return f"{v:.6g}"
     if isinstance(v, str):
@@ -270,18 +296,16 @@ def number(
     kind = "an integer" if integer else "a number"
     if isinstance(v, bool) or not isinstance(v, (int, float)):
         raise fail(where, key, f"must be {kind}, not {_type_name(v)}", v)
-    if not math.isfinite(v):
+    if isinstance(v, float) and not math.isfinite(v):
         raise fail(where, key, f"must be a finite {kind[2:] if integer else 'number'}", v)
-    if integer:
-        if isinstance(v, float) and not v.is_integer():
-            raise fail(where, key, "must be an integer", v)
-        v = int(v)
-    else:
-        v = float(v)
+    if integer and isinstance(v, float) and not v.is_integer():
+        raise fail(where, key, "must be an integer", v)
     rng = Interval.parse(allowed)
-    if v not in rng:
-        raise fail(where, key, f"out of range, allowed {rng}{note}", table[key])
-    return v
+    if v not in rng:  # exact for integers of any size (no float conversion yet)
+        raise fail(where, key, f"out of range, allowed {rng}{note}", v)
+    if not finite(v):  # an integer beyond the float range, in an unbounded range
+        raise fail(where, key, f"out of range (beyond ±1.79769e+308), allowed {rng}{note}", v)
+    return int(v) if integer else float(v)
 
 
 def number_list(
@@ -309,7 +333,7 @@ def number_list(
     rng = Interval.parse(allowed)
     out = []
     for x in v:
-        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+        if not finite(x):
             raise fail(where, key, "must be an array of finite numbers", v)
         if x not in rng:
             raise fail(where, key, f"element {fmt(x)} out of range, allowed {rng}", v)
@@ -354,6 +378,29 @@ def string(table: dict, key: str, where: str, default: Any = MISSING) -> str:
     return v
 
 
+_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}")
+
+
+def name(table: dict, key: str, where: str, default: Any = MISSING) -> str:
+    """A name that becomes a file or folder name (``jaxgear-out/<name>/``, ``<name>.npz``): 1 to
+    100 letters, digits, ``-``, ``_``, ``.``, not starting with ``.`` or ``-``, so never a path
+    (no separator, no ``..``, not absolute)."""
+    v = string(table, key, where, default)
+    if key not in table:  # the default (a file's stem): a path only in odd cases such as '..'
+        if isinstance(v, str) and (v in ("", ".", "..") or re.search(r"[/\\\x00]", v)):
+            raise fail(where, key, f"missing; the default {v!r} (from the file name) is not a name")
+        return v
+    if not _NAME.fullmatch(v):
+        raise fail(
+            where,
+            key,
+            "a name, not a path: 1 to 100 letters, digits, '-', '_', '.' allowed (not starting "
+            "with '.' or '-')",
+            v,
+        )
+    return v
+
+
 def load_toml(raw: bytes | str, label: str) -> dict:
     """Decode (UTF-8) and parse TOML text; errors are one-line :class:`SchemaError` naming
     ``label`` (e.g. ``"case file 'x.toml'"``)."""
@@ -369,12 +416,55 @@ def load_toml(raw: bytes | str, label: str) -> dict:
         return tomllib.loads(raw)
     except tomllib.TOMLDecodeError as err:
         raise SchemaError(f"{label} is not valid TOML: {err}") from None
+    except ValueError as err:  # e.g. an integer of more than 4300 digits
+        raise SchemaError(f"{label} is not valid TOML: {err}") from None
     except RecursionError:
         raise SchemaError(f"{label} is not valid TOML: nested too deeply") from None
 
 
 # --------------------------------------------------------------------------------------------
 # atomic writes
+
+
+OUTPUT_MANIFEST = ".jaxgear-outputs"
+"""The file, in an output folder, that lists what a command wrote there (one relative path a
+line): its next run deletes only those files (see ``jaxgear.cli._paths.clear_outputs``)."""
+_RECORDING: set[str] = set()  # absolute folders whose written files go to their manifest
+
+
+def record_outputs(folder) -> None:
+    """From now on, every file written under ``folder`` by :func:`atomic_open` /
+    :func:`atomic_write` is listed in ``folder/.jaxgear-outputs`` (created with the first file,
+    so that a run that writes nothing leaves no folder behind)."""
+    _RECORDING.add(os.path.abspath(os.fspath(folder)))
+
+
+def recorded_outputs(folder) -> list[str]:
+    """The relative paths listed in ``folder``'s manifest (none without one)."""
+    try:
+        text = (Path(os.fspath(folder)) / OUTPUT_MANIFEST).read_text("utf-8")
+    except (OSError, UnicodeDecodeError):
+        return []
+    return [line for line in text.splitlines() if line and not line.startswith("#")]
+
+
+def _record(path: Path) -> None:
+    """List a written file in the manifest of the innermost recording folder that holds it."""
+    target = os.path.abspath(path)
+    holders = [f for f in _RECORDING if target.startswith(f.rstrip(os.sep) + os.sep)]
+    if not holders:
+        return
+    folder = max(holders, key=len)
+    rel = os.path.relpath(target, folder)
+    if rel in recorded_outputs(folder):
+        return
+    manifest = os.path.join(folder, OUTPUT_MANIFEST)
+    with contextlib.suppress(OSError):
+        new = not os.path.exists(manifest)
+        with open(manifest, "a", encoding="utf-8") as f:
+            if new:
+                f.write("# files written here by jaxgear (its next run deletes them)\n")
+            f.write(rel + "\n")
 
 
 @contextlib.contextmanager
@@ -395,6 +485,7 @@ def _atomic_path(path) -> Iterator[Path]:
         finally:
             os.close(fd)
         os.replace(tmp, path)
+        _record(path)
     finally:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)

@@ -34,7 +34,6 @@ density_kg_m3 = 7800.0
 torque_Nm = 80.0
 [mesh]
 stiffness = "weber"
-stiffness_per_length_N_per_mm_per_um = 13.0
 slices = 40
 positions_per_pitch = 64
 [modifications]
@@ -76,7 +75,7 @@ def test_per_member_modifications_override_the_common_table():
 
 def test_uniform_stiffness_unit_conversion():
     d = _data()
-    d["mesh"]["stiffness"] = "uniform"
+    d["mesh"].update(stiffness="uniform", stiffness_per_length_N_per_mm_per_um=13.0)
     c = jio.parse_case(d)
     # 13 N/(mm·µm) = 13e3 N/m / 1e-6 m = 1.3e10 N/m²
     assert c.uniform_k0 == pytest.approx(1.3e10)
@@ -126,7 +125,7 @@ def test_range_errors_name_parameter_value_and_range():
     _expect(lambda d: d["modifications"]["tip_relief"].update(extent=0.0), "extent", "(0, 1]")
     _expect(lambda d: d["modifications"]["crowning"].update(depth_um=-1.0), "crowning", "depth_um")
     _expect(lambda d: d["pinion"].update(face_width_mm=0.0), "face_width_mm", "> 0")
-    _expect(lambda d: d["pair"].update(normal_module_mm=-1.5), "normal_module_mm", "> 0")
+    _expect(lambda d: d["pair"].update(normal_module_mm=-1.5), "normal_module_mm", "[0.01, 100]")
     _expect(lambda d: d["operating"].update(torque_Nm=-5.0), "torque_Nm", "> 0")
     _expect(lambda d: d["mesh"].update(stiffness="fem"), "stiffness", "fem")
     _expect(lambda d: d["mesh"].update(slices=0), "slices")

@@ -240,6 +240,7 @@ def test_interrupt_leaves_complete_files_and_an_incomplete_summary(
     out = tmp_path / "out"
     out.mkdir()
     (out / "harris_map.png").write_bytes(b"stale")  # from an earlier run: must not survive
+    (out / ".jaxgear-outputs").write_text("harris_map.png\n")  # (the earlier run's list)
     real = _run.write_csv
     calls = []
 
@@ -256,7 +257,8 @@ def test_interrupt_leaves_complete_files_and_an_incomplete_summary(
     assert json.loads((out / "summary.json").read_text()) == {"case": "khk-spur", "complete": False}
     rows = list(csv.reader((out / "te.csv").read_text().splitlines()))
     assert len(rows) == 1 + 2 * 16 and all(len(r) == len(rows[0]) for r in rows)
-    assert sorted(os.listdir(out)) == ["summary.json", "te.csv"]  # no stale, no temporary files
+    # no stale, no temporary files; the list of this run's files
+    assert sorted(os.listdir(out)) == [".jaxgear-outputs", "summary.json", "te.csv"]
 
 
 @pytest.mark.slow
@@ -348,12 +350,19 @@ def test_optimise_clears_stale_files_warns_at_the_cap_and_stores_values(khk, tmp
     out = tmp_path / "opt"
     out.mkdir()
     (out / "path.png").write_bytes(b"from a 2-variable run")
+    (out / ".jaxgear-outputs").write_text("path.png\noptimum.json\n")  # that run's list
     (out / "notes.txt").write_text("mine")
     argv = ["optimise", str(khk), "--vars", "crowning.depth", "--max-iterations", "1"]
     assert main([*argv, "--out", str(out), "--quiet"]) == 0
     assert not (out / "path.png").exists()  # not a file of this run
     assert (out / "notes.txt").read_text() == "mine"
-    assert sorted(os.listdir(out)) == ["convergence.png", "harris.png", "notes.txt", "optimum.json"]
+    assert sorted(os.listdir(out)) == [
+        ".jaxgear-outputs",
+        "convergence.png",
+        "harris.png",
+        "notes.txt",
+        "optimum.json",
+    ]
     rep = json.loads((out / "optimum.json").read_text())
     err = capsys.readouterr().err
     if not rep["converged"]:

@@ -324,7 +324,8 @@ def test_jaxgear_optimise_load_centroid_at_speed_on_the_small_case(tmp_path, cap
     assert c0 > 0.05 and abs(c1) < 0.05 * abs(c0)
     assert rep["final"]["objective_exact_face_fraction_squared"] == pytest.approx(c1**2, rel=1e-9)
     assert rep["final"]["exact"]["load_centroid_mm"] == pytest.approx(c1 * 10.0, rel=1e-12)
-    assert sorted(p.name for p in out.iterdir()) == ["convergence.png", "harris.png", "optimum.json"]
+    names = sorted(p.name for p in out.iterdir())
+    assert names == [".jaxgear-outputs", "convergence.png", "harris.png", "optimum.json"]
 
 
 # -- the seed's end relief on the power pair (slow) ---------------------------------------------------

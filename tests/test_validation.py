@@ -100,11 +100,11 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         ),
         (
             {"pair/normal_pressure_angle_deg": 50.0},
-            "[pair] normal_pressure_angle_deg = 50: out of range, allowed (0, 45)",
+            "[pair] normal_pressure_angle_deg = 50: out of range, allowed [10, 40]",
         ),
         (
             {"pair/normal_pressure_angle_deg": 45.123456789},
-            "[pair] normal_pressure_angle_deg = 45.1235: out of range, allowed (0, 45)",
+            "[pair] normal_pressure_angle_deg = 45.1235: out of range, allowed [10, 40]",
         ),
         (
             {"pair/helix_angle_deg": -5},
@@ -156,8 +156,8 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         (
             {"pair/center_distance_mm": 99.0},
             (
-                "[pair] center_distance_mm = 99: out of range, allowed >= 99.4503 mm (zero-backlash "
-                "distance; closer, the teeth jam)"
+                "[pair] center_distance_mm = 99: out of range, allowed >= 99.450 mm (the "
+                "zero-backlash distance, to 1 µm; closer, the teeth jam)"
             ),
         ),
         (

@@ -94,6 +94,9 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
     torques = get("torques", None)
     if isinstance(torques, list):
         torques = ":".join(str(t) for t in torques)
+    speeds = get("speeds", None)  # --speeds START:STOP:N or the case's speeds = [start, stop, n]
+    if isinstance(speeds, list):
+        speeds = ":".join(str(v) for v in speeds)
     return {
         "objective": get("objective", "te_rms"),
         "vars": variables,
@@ -103,7 +106,7 @@ def settings_from_case(case: jg.Case, args=None) -> dict:
         "max_iterations": int(get("max_iterations", 100)),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
         "speed": getattr(args, "speed", None) if args is not None else None,
-        "speeds": getattr(args, "speeds", None) if args is not None else None,
+        "speeds": speeds,
         "lp_order": get("lp_order", None),
     }
 
@@ -400,8 +403,9 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
     band = settings.get("speeds")
     if (settings["objective"] == "dynamic_factor") != bool(band):
         raise ValueError(
-            "--objective dynamic_factor needs --speeds START:STOP:N (its speed band) and --speeds "
-            f"applies to it only (objective {settings['objective']}, --speeds {band})"
+            "--objective dynamic_factor needs --speeds START:STOP:N (its speed band; in a case "
+            "file [optimise] speeds = [start, stop, n]) and --speeds applies to it only "
+            f"(objective {settings['objective']}, --speeds {band})"
         )
     if band and case is not None and (case.scene is None or not case.scene.hybrid):
         raise ValueError(

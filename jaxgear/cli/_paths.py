@@ -13,7 +13,8 @@ import tempfile
 __all__ = ["OUTPUT_FILES", "check_output_dir", "check_output_file", "clear_outputs"]
 
 # The files each command writes into its folder (subfolder/name for the nested ones). Only these
-# names are ever deleted by :func:`clear_outputs`: a user's own files in the folder stay.
+# names are ever deleted by :func:`clear_outputs`, and only when the folder's manifest says that
+# jaxgear wrote them: a user's own files in the folder stay.
 OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "run": (
         "summary.json",
@@ -94,19 +95,30 @@ def check_output_file(path, option: str = "--json") -> str:
 
 
 def clear_outputs(folder, command: str) -> list[str]:
-    """Delete the files a previous run of ``command`` left in ``folder`` (its known output names
-    only, and their leftover temporary files). Returns the paths removed."""
+    """Delete the files that an earlier run wrote into ``folder`` and start recording this run's.
+
+    Only files that the folder's manifest (``.jaxgear-outputs``, written as the files are
+    written: :func:`fem_prep.schema.record_outputs`) lists AND that bear one of ``command``'s
+    output names are deleted, with their leftover temporary files: a user's own files in the
+    folder stay, even those with an output name (a run overwrites those it writes itself).
+    Returns the paths removed."""
+    from fem_prep import schema as sc  # fem_prep imports scipy: not at this module's import
+
     removed = []
+    listed = set(sc.recorded_outputs(folder))
     for name in OUTPUT_FILES[command]:
         p = os.path.join(folder, name)
-        if os.path.isfile(p) or os.path.islink(p):
+        if name in listed and (os.path.isfile(p) or os.path.islink(p)):
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(p)
                 removed.append(p)
         d, base = os.path.split(p)
         if os.path.isdir(d):
             for other in os.listdir(d):
-                if other.startswith(f".tmp-{base}-"):
+                if other.startswith(f".tmp-{base}-") and other.endswith(".tmp"):
                     with contextlib.suppress(OSError):
                         os.unlink(os.path.join(d, other))
+    with contextlib.suppress(FileNotFoundError):  # this run starts a new list
+        os.unlink(os.path.join(folder, sc.OUTPUT_MANIFEST))
+    sc.record_outputs(folder)
     return removed

@@ -84,6 +84,12 @@ _SCHEMA: dict[str, Any] = {
     "scene": None,  # checked by parse_scene
     "optimise": None,  # checked by parse_optimise
 }
+# [mesh] keys read by some stiffness models only
+_MODEL_KEYS = {
+    "stiffness_per_length_N_per_mm_per_um": ("uniform",),
+    "fe2d_size_um": ("fe2d",),
+    "foundation": ("weber", "fe2d"),
+}
 _MOD_KEYS = {
     "tip_relief": {"depth_um", "extent", "shape"},
     "root_relief": {"depth_um", "extent", "shape"},
@@ -98,6 +104,16 @@ RELIEF_RATIO_WARN = 10.0  # a relief/crowning depth above 10 δ_m
 MIN_DEFLECTION_UM = 0.01  # δ_m below 0.01 µm: torque too small
 MAX_LINE_LOAD_N_PER_MM = 2000.0  # F_n / b above what case-hardened steel teeth carry
 MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
+
+# physical ranges of the pair (file units), checked before the geometry is computed
+MODULE_RANGE_MM = "[0.01, 100]"  # watch gears to mill gears
+PRESSURE_ANGLE_RANGE_DEG = "[10, 40]"  # below: undercut (z_min = 66 at 10°); above: pointed tips
+MIN_FACE_WIDTH_MODULE = 0.1  # face width >= 0.1 m_n
+CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-backlash one is it
+MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
+MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)
+SMOOTH_WIDTH_WARN = 1.0  # CaseWarning: w above δ_m
+MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh frequency
 
 
 # --------------------------------------------------------------------------------------------
@@ -241,6 +257,14 @@ def _member(data: dict, tag: str) -> Member:
     dedendum = sc.number(t, "dedendum_coeff", tag, 1.25, allowed="(0, 3]")
     fillet = sc.number(t, "fillet_radius_coeff", tag, 0.25, allowed=">= 0")
     if not fillet < dedendum:
+        if "fillet_radius_coeff" not in t:  # the default fillet: the dedendum is the culprit
+            raise sc.fail(
+                tag,
+                "dedendum_coeff",
+                f"out of range, allowed > {fillet:.6g} (above the default fillet_radius_coeff; "
+                "or give a smaller fillet_radius_coeff)",
+                t["dedendum_coeff"],
+            )
         raise sc.fail(
             tag,
             "fillet_radius_coeff",
@@ -283,37 +307,72 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     if not isinstance(data, dict):
         raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
     sc.check_keys(data, _SCHEMA, "")
-    name = sc.string(data, "name", "", default_name)
+    name = sc.name(data, "name", "", default_name)
     for section, allowed in _SCHEMA.items():
         if isinstance(allowed, set):
             sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
     p = data["pair"]
     pinion, gear = _member(data, "pinion"), _member(data, "gear")
-    module = sc.number(p, "normal_module_mm", "pair", allowed="> 0")
-    alpha = sc.number(p, "normal_pressure_angle_deg", "pair", allowed="(0, 45)")
+    # physical ranges checked before the geometry, so that its errors name the culprit: below
+    # 10° the involute undercuts all but very large gears (z_min = 2/sin²α = 66 at 10°), above
+    # 40° standard teeth are pointed; the module spans watch gears to mill gears
+    module = sc.number(p, "normal_module_mm", "pair", allowed=MODULE_RANGE_MM)
+    alpha = sc.number(p, "normal_pressure_angle_deg", "pair", allowed=PRESSURE_ANGLE_RANGE_DEG)
     beta = sc.number(p, "helix_angle_deg", "pair", 0.0, allowed="[0, 45)")
     cd = sc.number(p, "center_distance_mm", "pair", None, allowed="(0, 1e+06]")
+    for tag, member in (("pinion", pinion), ("gear", gear)):
+        b_min = MIN_FACE_WIDTH_MODULE * module
+        if member.face_width * 1e3 < b_min:
+            raise sc.fail(
+                tag,
+                "face_width_mm",
+                f"out of range, allowed >= {b_min:.6g} ({MIN_FACE_WIDTH_MODULE:g} × "
+                "normal_module_mm)",
+                data[tag]["face_width_mm"],
+            )
+    geometry = dict(
+        pinion=pinion,
+        gear=gear,
+        normal_module=module * 1e-3,
+        normal_pressure_angle=math.radians(alpha),
+        helix_angle=math.radians(beta),
+    )
     try:
-        pair = GearPair(
-            pinion=pinion,
-            gear=gear,
-            normal_module=module * 1e-3,
-            normal_pressure_angle=math.radians(alpha),
-            helix_angle=math.radians(beta),
-            center_distance=None if cd is None else cd * 1e-3,
-        )
+        pair = GearPair(**geometry)
+        a0_mm = pair.zero_backlash_center_distance * 1e3
+        if cd is not None and cd < a0_mm - CENTER_DISTANCE_TOL_MM:
+            raise sc.fail(
+                "pair",
+                "center_distance_mm",
+                f"out of range, allowed >= {a0_mm:.3f} mm (the zero-backlash distance, to "
+                f"{CENTER_DISTANCE_TOL_MM * 1e3:g} µm; closer, the teeth jam)",
+                p["center_distance_mm"],
+            )
+        if cd is not None and cd > a0_mm:  # within the tolerance: the zero-backlash distance
+            pair = GearPair(**geometry, center_distance=cd * 1e-3)
     except (ValueError, ArithmeticError) as err:
+        if isinstance(err, sc.SchemaError):
+            raise
         raise _geometry_error(err, data) from None
     mat = sc.subtable(data, "material", "")
-    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 10000]") * 1e9
+    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 10000]") * 1e9
     nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
-    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
+    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+05]")
     torque = sc.number(data["operating"], "torque_Nm", "operating", allowed="> 0")
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     m = sc.subtable(data, "mesh", "")
     # default fe2d: Weber's half-plane foundation is 16–52 % too stiff against it (README,
     # docs/stiffness.md); the embedded seed cases say "weber", the seed's model
     model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336", "fe2d"), "fe2d")
+    for key, models in _MODEL_KEYS.items():  # a key of another model would be silently ignored
+        if key in m and model not in models:
+            raise sc.fail(
+                "mesh",
+                key,
+                f"belongs to stiffness = {' or '.join(repr(x) for x in models)}, not {model!r} "
+                "(remove it or change the model)",
+                m[key],
+            )
     k0 = sc.number(
         m,
         "stiffness_per_length_N_per_mm_per_um",
@@ -324,8 +383,18 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     k0 = None if k0 is None else k0 * 1e9
     slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
     ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
-    width = sc.number(m, "smooth_width_um", "mesh", 0.1, allowed="(0, 1e+06]") * 1e-6
     mn_um = pair.normal_module * 1e6  # fe2d element size: 1 to 100 elements per module
+    width = (
+        sc.number(
+            m,
+            "smooth_width_um",
+            "mesh",
+            0.1,
+            allowed=f"[{MIN_SMOOTH_WIDTH_UM:g}, {MAX_SMOOTH_WIDTH_MODULE * mn_um:.6g}]",
+            note=f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)",
+        )
+        * 1e-6
+    )
     fe2d_size = sc.number(
         m,
         "fe2d_size_um",
@@ -348,6 +417,14 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     mods = parse_modifications(data.get("modifications", {}))
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
+    if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
+        raise sc.fail(
+            "optimise",
+            "speeds",
+            "the dynamic_factor objective needs a case with condensed bodies ([scene.gear_body] "
+            "or [scene.pinion_body])",
+            data["optimise"]["speeds"],
+        )
     case = Case(
         name=name,
         pair=pair,
@@ -450,6 +527,27 @@ def plausibility(case: Case) -> list[str]:
             f"({100 * ratio_m:.3g} % of the module) are beyond what steel teeth carry "
             f"(limits {MAX_LINE_LOAD_N_PER_MM:g} N/mm, {100 * MAX_DEFLECTION_MODULE:g} %)"
         )
+    if d_um >= MIN_DEFLECTION_UM and case.smooth_width > SMOOTH_WIDTH_WARN * delta:
+        out.append(
+            f"[mesh] smooth_width_um = {case.smooth_width * 1e6:.6g}: above the mean static "
+            f"deflection {d_um:.6g} µm; the smooth contact law blurs the contact (its TE is offset "
+            "by several widths)"
+        )
+    scene = case.scene
+    if scene is not None and scene.damping_model == "rayleigh":
+        # modal damping ratio of C = α M + β K at the mesh frequencies z1 Ω of the operating
+        # speed (or of jaxgear run's sweep, 100 to 3000 rad/s): ξ = α/(2ω) + β ω/2
+        speeds = (case.speed,) if case.speed > 0 else (100.0, 3000.0)
+        a, b = scene.rayleigh_alpha, scene.rayleigh_beta
+        xi = max(a / (2 * w_m) + b * w_m / 2 for w_m in (case.pair.pinion.teeth * v for v in speeds))
+        if xi > MAX_DAMPING_RATIO:
+            key = "beta_s" if b * min(speeds) > a / max(speeds) else "alpha_per_s"
+            value = b if key == "beta_s" else a
+            out.append(
+                f"[scene.damping] {key} = {value:.6g}: the Rayleigh damping ratio at the mesh "
+                f"frequency reaches ξ = {xi:.3g} (above critical, {MAX_DAMPING_RATIO:g}); "
+                "usual ξ are 0.01 to 0.1"
+            )
     if d_um >= MIN_DEFLECTION_UM:
         raw = case.raw.get("modifications", {}) if isinstance(case.raw, dict) else {}
         for tag in ("pinion", "gear"):
@@ -490,6 +588,7 @@ _OPTIMISE_KEYS = {
     "max_iterations",
     "bounds",
     "lp_order",
+    "speeds",
 }
 _DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
 
@@ -557,7 +656,7 @@ def parse_optimise(table) -> dict:
             isinstance(v, list)
             and len(v) == 3
             and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
-            and all(math.isfinite(x) for x in v)
+            and all(sc.finite(x) for x in v)
             and 0 < v[0] < v[1]
             and float(v[2]).is_integer()
             and 2 <= v[2] <= 10000
@@ -578,6 +677,43 @@ def parse_optimise(table) -> dict:
                 v,
             )
         out["torques"] = [float(v[0]), float(v[1]), int(v[2])]
+    # the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
+    if "speeds" in table:
+        v = table["speeds"]
+        ok = (
+            isinstance(v, list)
+            and len(v) == 3
+            and all(sc.finite(x) for x in v)
+            and 0 < v[0] <= v[1] <= 1e5
+            and float(v[2]).is_integer()
+            and 1 <= v[2] <= 1000
+            and (v[0] < v[1] or v[2] == 1)
+        )
+        if not ok:
+            raise sc.fail(
+                w,
+                "speeds",
+                "allowed [start, stop, n]: pinion speeds in rad/s with 0 < start < stop <= 1e+05 "
+                "and an integer n in [1, 1000] (start = stop when n = 1)",
+                v,
+            )
+        if out.get("objective") != "dynamic_factor":
+            raise sc.fail(
+                w,
+                "speeds",
+                "applies to objective = 'dynamic_factor' only, not "
+                f"{out.get('objective', 'te_rms')!r}",
+                v,
+            )
+        out["speeds"] = [float(v[0]), float(v[1]), int(v[2])]
+    elif out.get("objective") == "dynamic_factor":
+        raise sc.fail(
+            w,
+            "objective",
+            "'dynamic_factor' needs speeds = [start, stop, n] (its pinion speed band in rad/s, "
+            "e.g. [2800.0, 3200.0, 3])",
+            "dynamic_factor",
+        )
     if "bounds" in table:
         b = sc.subtable(table, "bounds", w)
         bounds = {}

@@ -93,9 +93,10 @@ _INTEGRATION_KEYS = {
 def _parse_shaft(table: dict, key: str):
     where = f"scene.{key}"
     t = sc.subtable(table, key, "scene", _SHAFT_KEYS, required=True)
-    length_mm = sc.number(t, "length_mm", where, allowed="(0, 1e+06]")
+    # physical lower bounds: a denormal size or stiffness passes "> 0" and fails in the solver
+    length_mm = sc.number(t, "length_mm", where, allowed="[1, 1e+05]")
     length = length_mm * 1e-3
-    diameter = sc.number(t, "diameter_mm", where, allowed="(0, 1e+06]") * 1e-3
+    diameter = sc.number(t, "diameter_mm", where, allowed="[1, 1e+04]") * 1e-3
     within = f"[0, {length_mm:.6g}]"
     note = " (not beyond the shaft length)"
     gear_z = sc.number(t, "gear_position_mm", where, allowed=within, note=note) * 1e-3
@@ -124,9 +125,9 @@ def _parse_shaft(table: dict, key: str):
             out.append(
                 Bearing(
                     z=z,
-                    radial=sc.number(b, "radial_N_per_um", w, 200.0, allowed="[0, 1e+09]") * 1e6,
-                    axial=sc.number(b, "axial_N_per_um", w, 0.0, allowed="[0, 1e+09]") * 1e6,
-                    tilt=sc.number(b, "tilt_Nm_per_rad", w, 0.0, allowed="[0, 1e+15]"),
+                    radial=_stiffness(b, "radial_N_per_um", w, 200.0, 1e-3, 1e9) * 1e6,
+                    axial=_stiffness(b, "axial_N_per_um", w, 0.0, 1e-3, 1e9) * 1e6,
+                    tilt=_stiffness(b, "tilt_Nm_per_rad", w, 0.0, 1.0, 1e15),
                     damping=C,
                 )
             )
@@ -161,6 +162,16 @@ def _parse_shaft(table: dict, key: str):
     )
 
 
+def _stiffness(b: dict, key: str, where: str, default: float, lo: float, hi: float) -> float:
+    """A bearing stiffness: 0 (free in that direction) or within [lo, hi] (file units)."""
+    v = sc.number(b, key, where, default, allowed=f"[0, {hi:g}]")
+    if 0 < v < lo:
+        raise sc.fail(
+            where, key, f"out of range, allowed 0 (free) or [{lo:g}, {hi:g}]", b.get(key, v)
+        )
+    return v
+
+
 def _bearing_matrix(b: dict, key: str, where: str):
     """``stiffness_matrix_SI`` / ``damping_matrix_SI`` of a bearing table: 6 rows of 6 numbers,
     SI per DOF pair (DOF order ux, uy, uz, rx, ry, rz), symmetric, positive semi-definite, row
@@ -189,6 +200,7 @@ def _parse_body(table: dict, key: str, base_dir: str | None) -> str:
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
         if not os.path.isfile(path):
             raise sc.fail(where, "body", f"no such file {path!r}", ref)
+        _check_body_file(path, ref, where)
         return path
     names = fem_prep.embedded_bodies()
     if ref not in names:
@@ -199,6 +211,31 @@ def _parse_body(table: dict, key: str, base_dir: str | None) -> str:
             ref,
         )
     return ref
+
+
+def _check_body_file(path: str, ref: str, where: str) -> None:
+    """A body file must be what its extension says, read now (before any work): a fem_prep body
+    file (``.toml``, checked against its schema) or a condensed body (``.npz``, format checked)."""
+    import fem_prep
+
+    if path.endswith(".toml"):
+        try:
+            with open(path, "rb") as f:
+                data = sc.load_toml(f.read(), f"body file {path!r}")
+            if "pair" in data and "body" not in data:
+                why = f"{path!r} is a jaxgear case file ([pair]), not a fem_prep body file"
+                raise sc.fail(where, "body", why, ref)
+            fem_prep.load_body(path)
+        except (sc.SchemaError, OSError) as err:
+            if getattr(err, "path", None) == f"[{where}] body":
+                raise
+            raise sc.fail(where, "body", f"not a fem_prep body file {path!r}: {err}", ref) from None
+        return
+    try:
+        fem_prep.load_condensed(path)
+    except (ValueError, OSError) as err:
+        why = str(err).removeprefix(f"{path}: ")
+        raise sc.fail(where, "body", f"not a condensed body file {path!r}: {why}", ref) from None
 
 
 def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
@@ -252,7 +289,7 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
                 raise sc.fail("scene", key, "is for model = 'lumped3d'")
     for key, field in (("pinion_mass_kg", "pinion_mass"), ("gear_mass_kg", "gear_mass")):
         if key in table:
-            kw[field] = sc.number(table, key, "scene", allowed="(0, 1e+09]")
+            kw[field] = sc.number(table, key, "scene", allowed="[1e-06, 1e+09]")
     kw.update(model=model, reduction=reduction)
     names = {
         "pinion_inertia_kg_m2": "pinion_inertia",
@@ -264,7 +301,8 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
     }
     for key, field in names.items():
         if key in table:
-            kw[field] = sc.number(table, key, "scene", allowed="(0, 1e+15]")
+            lo = "1e-09" if key.endswith("inertia_kg_m2") else "0.001"
+            kw[field] = sc.number(table, key, "scene", allowed=f"[{lo}, 1e+15]")
     for side in ("motor", "load"):
         if (f"{side}_inertia" in kw) != (f"{side}_shaft" in kw):
             raise sc.SchemaError(
