@@ -236,7 +236,7 @@ _SCHEMA: dict[str, set[str] | None] = {
     "modal": {"support", "n_frequencies", "vtu_modes"},
 }
 _HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
-_LENGTH = "> 0"  # mm
+_LENGTH = "[0.001, 1e+06]"  # mm: 1 µm to 1 km (a denormal passes "> 0" and fails the mesher)
 
 
 def _within(key: str, value: float, rng: str, note: str, where: str = "body") -> None:
@@ -304,7 +304,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
     hc = sc.number(h, "holes.center_radius_mm", w, 0.0, allowed=">= 0")
     hr = sc.number(h, "holes.radius_mm", w, 0.0, allowed=">= 0")
     if n_holes > 0:
-        _within("holes.radius_mm", hr, "> 0", "holes need a radius")
+        _within("holes.radius_mm", hr, ">= 0.001", "holes need a radius")
         if hub_r >= rim_i:
             raise sc.fail(
                 w, "holes.count", "needs a web (hub_outer_radius_mm < rim_inner)", n_holes
@@ -360,16 +360,16 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
                 raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
         seen[pos] = k
         coupling = sc.choice(t, "coupling", wb, COUPLINGS, "rigid")
-        width = sc.number(t, "width_mm", wb, None, allowed=f"(0, {2 * lim!r}]")
+        width = sc.number(t, "width_mm", wb, None, allowed=f"[0.001, {2 * lim!r}]")
         raw.append((pos, coupling, width))
     bearings = _bearing_bands(raw, geometry, hub_w)
 
     # ---- [material]
     m = sc.subtable(data, "material", "", _SCHEMA["material"])
     # up to 1e6 GPa: a rigidified body (the seed uses E = 4e14 Pa)
-    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="(0, 1e+06]")
+    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 1e+06]")
     nu = sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)")
-    rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="(0, 1e+06]")
+    rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+06]")
     material = Material(e * 1e9, nu, rho)
 
     # ---- [mesh]

@@ -76,7 +76,7 @@ def _replace(old: str, new: str) -> str:
         (
             "rim_width_mm = 10.0",
             "rim_width_mm = 0.0",
-            "rim_width_mm = 0: out of range, allowed > 0",
+            r"rim_width_mm = 0: out of range, allowed \[0.001, 1e\+06\]",
         ),
         ("modes = 50", "modes = -1", "modes = -1: out of range, allowed >= 0"),
         ('method = "craig-bampton"', 'method = "mcneal"', "method = 'mcneal'"),
@@ -103,7 +103,7 @@ def _replace(old: str, new: str) -> str:
             "teeth = 2",
             r"\[condensation\] teeth = 2: out of range, allowed \[3, 1000\]",
         ),
-        ("size_mm = 2.0", "size_mm = 0.0", "size_mm = 0: out of range, allowed > 0"),
+        ("size_mm = 2.0", "size_mm = 0.0", r"size_mm = 0: out of range, allowed \[0.001, 1e\+06\]"),
         ("modes = 50", "modes = 50.5", "modes = 50.5: must be an integer"),
         ("speed_rad_s = 1000.0", "speed_rad_s = 1000.0\nrpm = 3", "unknown key.*'rpm'"),
         ("[material]", "[material]\nyoung = 1", "unknown key.*'young'"),

@@ -9,6 +9,7 @@ import datetime
 import importlib.resources
 import json
 import math
+import os
 import random
 import re
 import tomllib
@@ -572,3 +573,236 @@ def test_cli_rejects_bad_files_before_any_work(tmp_path, capsys, edit, needle):
     # no output: the --out check creates nothing, validation runs before any work
     assert not out.exists()
     assert sorted(p.name for p in tmp_path.iterdir() if p.is_file()) == ["bad.toml"]
+
+
+# ---------------------------------------------------------------------------------------------
+# (e) issue 18 §1: extremes, names, culprits, late checks, centre distance, absurd physics
+
+FLEXIBLE = tomllib.loads(
+    (importlib.resources.files("jaxgear") / "cases" / "accessory-spur-flexible.toml").read_text(
+        "utf-8"
+    )
+)
+
+
+@pytest.mark.parametrize(
+    "changes,expected",
+    [
+        (
+            {"material/youngs_modulus_GPa": 5e-324},
+            "[material] youngs_modulus_GPa = 4.94066e-324: out of range, allowed [0.1, 10000]",
+        ),
+        ({"pinion/teeth": 10**400}, "[pinion] teeth = 1e+400: out of range, allowed [5, 10000]"),
+        (
+            {"operating/torque_Nm": -(10**400)},
+            "[operating] torque_Nm = -1e+400: out of range, allowed > 0",
+        ),
+        (
+            {"operating/torque_Nm": 10**400},
+            "[operating] torque_Nm = 1e+400: out of range (beyond ±1.79769e+308), allowed > 0",
+        ),
+        (
+            {"optimise/torques": [40.0, 10**400, 5]},
+            (
+                "[optimise] torques = [40, 1e+400, 5]: allowed [start, stop, n] in N·m with 0 < start "
+                "< stop and an integer n in [2, 10000]"
+            ),
+        ),
+        (
+            {"pinion/dedendum_coeff": 0.2, "pinion/fillet_radius_coeff": None},
+            (
+                "[pinion] dedendum_coeff = 0.2: out of range, allowed > 0.25 (above the default "
+                "fillet_radius_coeff; or give a smaller fillet_radius_coeff)"
+            ),
+        ),
+        # the culprit, not a downstream quantity
+        (
+            {"pinion/face_width_mm": 1e-9},
+            "[pinion] face_width_mm = 1e-09: out of range, allowed >= 0.15 (0.1 × normal_module_mm)",
+        ),
+        (
+            {"pair/normal_pressure_angle_deg": 1.0},
+            "[pair] normal_pressure_angle_deg = 1: out of range, allowed [10, 40]",
+        ),
+        (
+            {"pair/normal_module_mm": 1e308},
+            "[pair] normal_module_mm = 1e+308: out of range, allowed [0.01, 100]",
+        ),
+        (
+            {"mesh/smooth_width_um": 1e6},
+            (
+                "[mesh] smooth_width_um = 1e+06: out of range, allowed [0.0001, 15] (µm; up to 1 % of "
+                "the normal module)"
+            ),
+        ),
+        (
+            {"mesh/stiffness": "fe2d", "mesh/stiffness_per_length_N_per_mm_per_um": 13.0},
+            (
+                "[mesh] stiffness_per_length_N_per_mm_per_um = 13: belongs to stiffness = 'uniform', "
+                "not 'fe2d' (remove it or change the model)"
+            ),
+        ),
+        (
+            {
+                "mesh/stiffness": "uniform",
+                "mesh/stiffness_per_length_N_per_mm_per_um": 13.0,
+                "mesh/foundation": "sainsot",
+            },
+            (
+                "[mesh] foundation = 'sainsot': belongs to stiffness = 'weber' or 'fe2d', not "
+                "'uniform' (remove it or change the model)"
+            ),
+        ),
+        (
+            {"mesh/fe2d_size_um": 250.0},
+            (
+                "[mesh] fe2d_size_um = 250: belongs to stiffness = 'fe2d', not 'weber' (remove it or "
+                "change the model)"
+            ),
+        ),
+    ],
+)
+def test_extremes_and_culprits_give_one_line_naming_the_key(changes, expected):
+    assert _error(_case(**changes)) == expected
+
+
+def test_integers_beyond_the_toml_reader_and_float_range_in_files(tmp_path):
+    path = tmp_path / "huge.toml"
+    path.write_text(CASE_TEXT.replace("teeth = 45", "teeth = " + "9" * 5000))
+    with pytest.raises(SchemaError, match=r"^case file .* is not valid TOML: Exceeds the limit"):
+        jio.load_case(path)
+    path.write_text(CASE_TEXT.replace("teeth = 45", "teeth = " + "9" * 400))
+    with pytest.raises(SchemaError, match=r"^\[pinion\] teeth = 1e\+400: out of range"):
+        jio.load_case(path)
+
+
+@pytest.mark.parametrize("name", ["../x", "/tmp/x", "..", "a/b", "a b", "-x", ".hidden", ""])
+def test_a_name_is_a_name_not_a_path(name, tmp_path):
+    msg = _error({**_case(), "name": name})
+    assert msg.startswith(f"name = {name!r}: ")
+    if name.strip():
+        assert "a name, not a path: 1 to 100 letters, digits, '-', '_', '.' allowed" in msg
+    body = BODY_TEXT.replace('name = "accessory-wheel"', f"name = {json.dumps(name)}")
+    with pytest.raises(SchemaError, match=re.escape(f"name = {name!r}: ")):
+        parse_body(body)
+    assert jio.parse_case({**_case(), "name": "my-pair_2.v1"}).name == "my-pair_2.v1"
+
+
+def test_clear_outputs_deletes_only_what_a_run_wrote(tmp_path):
+    from fem_prep.schema import atomic_open
+    from jaxgear.cli._paths import clear_outputs
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "te.csv").write_text("the user's own file with an output name")
+    (out / "notes.txt").write_text("mine")
+    assert clear_outputs(out, "run") == []  # no list of an earlier run: nothing is deleted
+    assert (out / "te.csv").read_text().startswith("the user's")
+    for name in ("summary.json", "sweep/sweep.json"):  # this run writes two files
+        (out / name).parent.mkdir(exist_ok=True)
+        with atomic_open(out / name) as f:
+            f.write("{}")
+    assert (out / ".jaxgear-outputs").read_text().splitlines()[1:] == [
+        "summary.json",
+        "sweep/sweep.json",
+    ]
+    removed = clear_outputs(out, "run")  # the next run deletes those two only
+    assert sorted(os.path.relpath(p, out) for p in removed) == ["summary.json", "sweep/sweep.json"]
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "sweep", "te.csv"]
+    # a list naming something else than the command's outputs deletes nothing else
+    (out / ".jaxgear-outputs").write_text("notes.txt\n../x\n")
+    assert clear_outputs(out, "run") == [] and (out / "notes.txt").exists()
+
+
+def test_body_file_of_the_wrong_kind_is_an_error_at_load(tmp_path):
+    case_file = importlib.resources.files("jaxgear") / "cases" / "accessory-spur.toml"
+    for ref, why in (
+        (str(case_file), "is a jaxgear case file ([pair]), not a fem_prep body file"),
+        ("bad.npz", "not a condensed body file"),
+        ("notes.toml", "not a fem_prep body file"),
+    ):
+        (tmp_path / "bad.npz").write_bytes(b"not a zip")
+        (tmp_path / "notes.toml").write_text("colour = 'red'\n")
+        data = copy.deepcopy(FLEXIBLE)
+        data["scene"]["gear_body"]["body"] = ref
+        with pytest.raises(SchemaError) as info:
+            jio.parse_case(data, base_dir=str(tmp_path))
+        msg = str(info.value)
+        assert msg.startswith("[scene.gear_body] body = ") and why in msg and "\n" not in msg
+        assert os.path.basename(ref) in msg
+
+
+@pytest.mark.parametrize(
+    "where,key,value,expected",
+    [
+        ("pinion_shaft", "diameter_mm", 5e-324, "allowed [1, 10000]"),
+        ("gear_shaft", "length_mm", 1e-300, "allowed [1, 100000]"),
+        (
+            "pinion_shaft/bearings/0",
+            "radial_N_per_um",
+            5e-324,
+            "allowed 0 (free) or [0.001, 1e+09]",
+        ),
+        ("gear_shaft/bearings/1", "tilt_Nm_per_rad", 1e-9, "allowed 0 (free) or [1, 1e+15]"),
+    ],
+)
+def test_denormal_shafts_and_bearings_are_rejected(where, key, value, expected):
+    data = copy.deepcopy(FLEXIBLE)
+    t = data["scene"]
+    for part in where.split("/"):
+        t = t[int(part)] if part.isdigit() else t[part]
+    t[key] = value
+    msg = _error(data)
+    assert f"{key} = {value:.6g}: out of range, {expected}" in msg, msg
+
+
+def test_optimise_speed_band_from_the_case_file():
+    from jaxgear.cli._optimise import check_settings, settings_from_case
+
+    data = copy.deepcopy(FLEXIBLE)
+    data["optimise"] = {"objective": "dynamic_factor", "speeds": [2800.0, 3200.0, 3]}
+    case = jio.parse_case(data)
+    assert case.optimise["speeds"] == [2800.0, 3200.0, 3]
+    settings = check_settings(settings_from_case(case), case)
+    assert settings["speeds"] == "2800.0:3200.0:3" and settings["objective"] == "dynamic_factor"
+    del data["optimise"]["speeds"]
+    assert _error(data).startswith(
+        "[optimise] objective = 'dynamic_factor': 'dynamic_factor' needs speeds = [start, stop, n]"
+    )
+    data["optimise"] = {"objective": "te_rms", "speeds": [2800.0, 3200.0, 3]}
+    assert "applies to objective = 'dynamic_factor' only, not 'te_rms'" in _error(data)
+    rigid = _case(**{"optimise/objective": "dynamic_factor", "optimise/torques": None})
+    rigid["optimise"]["speeds"] = [100.0, 200.0, 2]
+    assert "needs a case with condensed bodies" in _error(rigid)
+
+
+def test_readme_case_block_is_a_valid_case():
+    text = (importlib.resources.files("jaxgear").joinpath("..", "README.md")).read_text("utf-8")
+    block = text.split("## Case file", 1)[1].split("```toml\n", 1)[1].split("```", 1)[0]
+    case = jio.parse_case(tomllib.loads(block))
+    assert case.stiffness_model == "fe2d" and case.uniform_k0 is None
+
+
+def test_centre_distance_at_the_printed_zero_backlash_distance_is_accepted():
+    a0 = jio.parse_case(_case()).pair.zero_backlash_center_distance * 1e3  # 99.450280 mm
+    for printed in (round(a0, 3), round(a0, 4), a0 - 0.9e-3):
+        case = jio.parse_case(_case(**{"pair/center_distance_mm": printed}))
+        assert case.pair.center_distance * 1e3 == pytest.approx(max(printed, a0), abs=1e-9)
+    msg = _error(_case(**{"pair/center_distance_mm": a0 - 2e-3}))
+    assert msg == (
+        "[pair] center_distance_mm = 99.4483: out of range, allowed >= 99.450 mm (the "
+        "zero-backlash distance, to 1 µm; closer, the teeth jam)"
+    )
+
+
+def test_absurd_damping_and_smooth_width_warn():
+    data = copy.deepcopy(FLEXIBLE)
+    data["scene"]["damping"] = {"model": "rayleigh", "beta_s": 1e6}
+    (msg,) = _warnings(data)
+    assert msg.startswith("[scene.damping] beta_s = 1e+06: the Rayleigh damping ratio at the mesh")
+    data["scene"]["damping"] = {"model": "rayleigh", "alpha_per_s": 20.0, "beta_s": 1e-6}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        jio.parse_case(data)  # the usual values: no warning
+    (msg,) = _warnings(_case(**{"mesh/smooth_width_um": 14.0}))  # δ_m = 11.7 µm
+    assert msg.startswith("[mesh] smooth_width_um = 14: above the mean static deflection 11.7")

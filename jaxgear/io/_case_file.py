@@ -330,13 +330,13 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                 "normal_module_mm)",
                 data[tag]["face_width_mm"],
             )
-    geometry = dict(
-        pinion=pinion,
-        gear=gear,
-        normal_module=module * 1e-3,
-        normal_pressure_angle=math.radians(alpha),
-        helix_angle=math.radians(beta),
-    )
+    geometry = {
+        "pinion": pinion,
+        "gear": gear,
+        "normal_module": module * 1e-3,
+        "normal_pressure_angle": math.radians(alpha),
+        "helix_angle": math.radians(beta),
+    }
     try:
         pair = GearPair(**geometry)
         a0_mm = pair.zero_backlash_center_distance * 1e3
@@ -539,7 +539,9 @@ def plausibility(case: Case) -> list[str]:
         # speed (or of jaxgear run's sweep, 100 to 3000 rad/s): ξ = α/(2ω) + β ω/2
         speeds = (case.speed,) if case.speed > 0 else (100.0, 3000.0)
         a, b = scene.rayleigh_alpha, scene.rayleigh_beta
-        xi = max(a / (2 * w_m) + b * w_m / 2 for w_m in (case.pair.pinion.teeth * v for v in speeds))
+        xi = max(
+            a / (2 * w_m) + b * w_m / 2 for w_m in (case.pair.pinion.teeth * v for v in speeds)
+        )
         if xi > MAX_DAMPING_RATIO:
             key = "beta_s" if b * min(speeds) > a / max(speeds) else "alpha_per_s"
             value = b if key == "beta_s" else a
