@@ -10,9 +10,10 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 
-__all__ = ["main"]
+__all__ = ["main", "runtime_message"]
 
 
 def _version() -> str:
@@ -127,6 +128,24 @@ def _dispatch(args) -> int:
     raise ValueError(f"unknown command {args.command!r}")  # pragma: no cover
 
 
+def runtime_message(err: BaseException) -> str:
+    """The message of a failure raised inside compiled code, as one line.
+
+    ``eqx.EquinoxRuntimeError`` wraps the message of ``eqx.error_if`` (or of a result code with
+    ``throw=True``) between a banner, the stack inside JIT and debugging advice; the line that
+    carries it reads ``equinox.EquinoxRuntimeError: <message>``. Without it (code compiled with
+    ``jax.jit`` instead of ``eqx.filter_jit``) the message is not available and this says so.
+    """
+    text = str(err)
+    found = re.findall(r"EquinoxRuntimeError:\s*(.+)", text)
+    if found:
+        return found[-1].strip()
+    first = text.strip().splitlines()[0] if text.strip() else ""
+    if first and not first.startswith(("Above is the stack", "An error occurred")):
+        return first
+    return "a compiled solver failed and gave no message (set EQX_ON_ERROR=breakpoint to debug)"
+
+
 def fail(msg: str) -> int:
     """Print ``jaxgear: error: msg`` (first line only) on stderr; return exit status 2."""
     first = str(msg).strip().splitlines()[0] if str(msg).strip() else "failed"
@@ -172,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
         except (ValueError, FileNotFoundError, NotADirectoryError, PermissionError) as err:
             return fail(str(err))
         except eqx.EquinoxRuntimeError as err:
-            return fail(str(err))
+            return fail(runtime_message(err))
     except KeyboardInterrupt:
         print("\njaxgear: interrupted", file=sys.stderr)
         return 130

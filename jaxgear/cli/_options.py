@@ -7,11 +7,23 @@ import math
 
 import numpy as np
 
-__all__ = ["EXTENT_BOUNDS", "check_options", "parse_range", "range_values"]
+__all__ = [
+    "EXTENT_BOUNDS",
+    "MAX_SPEED",
+    "MAX_SPEEDS",
+    "check_options",
+    "parse_range",
+    "range_values",
+]
 
 
 # the Γ interval ``master-curve`` searches (master_curve_case's extent bounds)
 EXTENT_BOUNDS = (0.02, 0.98)
+
+# ``jaxgear sweep --speeds``: at most this many speeds in one sweep, and pinion speeds up to this
+# (rad/s, about 955 000 rpm: beyond any gear; the time step count bounds the low end per case)
+MAX_SPEEDS = 10_000
+MAX_SPEED = 1e5
 
 
 def parse_range(
@@ -68,11 +80,37 @@ def check_options(args) -> None:
         if not (lo <= a and b <= hi):
             raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
     if cmd == "sweep":
-        parse_range(args.speeds, "--speeds", positive=True, min_points=2)
-        for opt in ("periods", "keep_periods", "steps_per_period", "slices"):
+        a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
+        if n > MAX_SPEEDS:
+            raise ValueError(
+                f"--speeds {args.speeds!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
+                "per speed: split the band into several sweeps)"
+            )
+        if b > MAX_SPEED:
+            raise ValueError(
+                f"--speeds {args.speeds!r}: STOP = {b:.6g} rad/s, allowed <= {MAX_SPEED:.0e} "
+                "rad/s (pinion speed)"
+            )
+        for opt, lo, hi in (
+            ("periods", 2, 10**6),
+            ("keep_periods", 2, 10**6),
+            ("steps_per_period", 4, 10**6),
+            ("slices", 1, 10**4),
+        ):
             v = getattr(args, opt)
-            if v is not None and v < 1:
-                raise ValueError(f"--{opt.replace('_', '-')} {v}: must be >= 1")
+            if v is not None and not lo <= v <= hi:
+                raise ValueError(
+                    f"--{opt.replace('_', '-')} {v}: out of range, allowed [{lo}, {hi:g}]"
+                )
+        p, k = args.periods, args.keep_periods
+        if p is not None and k is not None and k > p:
+            raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
+        v = args.vtu_speed
+        if v is not None and not (math.isfinite(v) and a <= v <= b):
+            raise ValueError(
+                f"--vtu-speed {v:.6g}: out of range, allowed a speed of the sweep, "
+                f"[{a:.6g}, {b:.6g}] rad/s"
+            )
     if getattr(args, "out", None) is not None:
         check_output_dir(args.out)
     if getattr(args, "json", None) is not None:

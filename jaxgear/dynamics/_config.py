@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import dataclasses
+import os
 
 import jax
 import jax.numpy as jnp
 
-__all__ = ["DIFFRAX_SOLVERS"]
+__all__ = ["DIFFRAX_SOLVERS", "MAX_STEPS_PER_SPEED", "check_run_size"]
+
+# time steps one speed may integrate (periods × steps per mesh period): 2^22 is hours of Newmark
+MAX_STEPS_PER_SPEED = 2**22
 
 DIFFRAX_SOLVERS = {
     "tsit5": "Tsit5",
@@ -23,6 +27,36 @@ DIFFRAX_SOLVERS = {
     "kvaerno5": "Kvaerno5",
     "implicit_euler": "ImplicitEuler",
 }
+
+
+def _memory_bytes() -> float:
+    """The machine's physical memory (bytes); inf where the platform does not tell."""
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return float("inf")
+
+
+def check_run_size(periods: int, steps_per_period: int, recorded_steps: int, values: int) -> None:
+    """Refuse, before any work, a run that cannot finish: more than
+    :data:`MAX_STEPS_PER_SPEED` time steps per speed, or records (``recorded_steps`` ×
+    ``values`` float64 per speed) above half the machine's memory. One-line ``ValueError`` that
+    names the settings to change."""
+    n = int(periods) * int(steps_per_period)
+    if n > MAX_STEPS_PER_SPEED:
+        raise ValueError(
+            f"periods = {int(periods)} × steps_per_period = {int(steps_per_period)} = {n:.3g} "
+            f"time steps per speed: allowed <= {MAX_STEPS_PER_SPEED:.3g} (fewer periods, or "
+            "fewer steps per period)"
+        )
+    need = 8.0 * int(recorded_steps) * int(values)
+    have = 0.5 * _memory_bytes()
+    if need > have:
+        raise ValueError(
+            f"periods = {int(periods)}: the records of one speed need about {need / 1e9:.3g} GB, "
+            f"allowed <= {have / 1e9:.3g} GB (half this machine's memory): fewer periods (or "
+            "keep_periods), steps per period or slices"
+        )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -103,6 +137,8 @@ def _config(
     if keep_periods > periods:
         raise ValueError(f"keep_periods = {keep_periods} must be <= periods = {periods}")
     n_total = int(periods) * int(steps_per_period)
+    # records: TE, mesh force, line forces and bearing reactions of the kept steps (~16 values)
+    check_run_size(periods, steps_per_period, int(keep_periods) * int(steps_per_period), 16)
     if max_steps is None:
         max_steps = 64 * n_total + 4096
     return _Config(

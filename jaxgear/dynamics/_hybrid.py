@@ -49,6 +49,7 @@ from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
+from ._config import check_run_size
 from ._modal import Damping, modal_analysis
 
 __all__ = [
@@ -632,6 +633,9 @@ def _check(scene, speeds, steps_per_period, periods, keep_periods):
             f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
             "1 <= keep_periods <= periods, periods >= 2"
         )
+    # the cell-space Newmark records every step's cell forces, TE and mesh force
+    cells = scene.mesh.n_lines * scene.mesh.n_slices
+    check_run_size(periods, steps_per_period, int(periods) * int(steps_per_period), cells + 2)
     return speeds
 
 

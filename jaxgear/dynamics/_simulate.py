@@ -11,6 +11,7 @@ from jaxtyping import Array, Bool, Float, Int
 from .._results import DynamicsResult
 from .._util import rms_about_mean
 from ._config import (
+    MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,
     MIN_STEPS_PER_PERIOD,
     STEPS_PER_MODE,
@@ -124,12 +125,13 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
     if cfg.solver == "newmark":
-        # one scan (one compiled step) over all steps; the kept periods are sliced off the end
+        # the transient unrecorded, then the kept periods recorded: n_trans is whole mesh
+        # periods, so the second scan meets the same table rows (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
+        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, width, record=False)
         carry, (fm, te, lines, reac) = _newmark(
-            model, table, dt, carry0, n_trans + n_keep, cfg, width, record=True
+            model, table, dt, carry, n_keep, cfg, width, record=True
         )
-        fm, te, lines, reac = fm[n_trans:], te[n_trans:], lines[n_trans:], reac[n_trans:]
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
@@ -229,6 +231,15 @@ def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
         raise ValueError("speeds must be > 0 rad/s")
     ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
     n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
+    if np.any(n > MAX_STEPS_PER_SPEED):
+        low = STEPS_PER_MODE * float(omega_max) * float(mesh_period_angle) / (
+            2 * np.pi * MAX_STEPS_PER_SPEED
+        )
+        raise ValueError(
+            f"speeds: {sp.min():.6g} rad/s would need {n.max():.3g} time steps per mesh period "
+            f"to resolve the highest mode the mesh excites ({omega_max / (2 * np.pi):.6g} Hz): "
+            f"allowed >= {low:.3g} rad/s (a slower pinion is quasi-static: jaxgear run)"
+        )
     return (2 ** np.ceil(np.log2(n))).astype(int)
 
 

@@ -1,0 +1,110 @@
+"""The CLI's edges (issue 18 §1): sweep settings that cannot run are refused before any work with
+one line naming the option, and a failure inside compiled code shows its own message."""
+
+import re
+from pathlib import Path
+
+import equinox as eqx
+import jax.numpy as jnp
+import pytest
+
+from jaxgear.cli import main
+from jaxgear.cli._main import runtime_message
+from jaxgear.io import list_cases
+
+
+def _run(argv, capsys):
+    status = main(argv)
+    err = capsys.readouterr().err.strip().splitlines()
+    return status, err
+
+
+@pytest.mark.parametrize(
+    ("speeds", "extra", "names"),
+    [
+        ("100:3000:100000000", [], "--speeds"),  # 1e8 speeds
+        ("1e9:2e9:2", [], "--speeds"),  # beyond any pinion
+        ("100:3000:3", ["--vtu-speed", "5000"], "--vtu-speed"),  # outside the swept band
+        ("100:3000:3", ["--vtu-speed", "nan"], "--vtu-speed"),
+        ("100:3000:3", ["--steps-per-period", "1"], "--steps-per-period"),
+        ("100:3000:3", ["--periods", "1"], "--periods"),
+        ("100:3000:3", ["--periods", "4", "--keep-periods", "8"], "--keep-periods"),
+        ("100:3000:3", ["--periods", "10000000"], "--periods"),
+    ],
+)
+def test_sweep_options_that_cannot_run(tmp_path, capsys, speeds, extra, names):
+    out = tmp_path / "out"
+    status, err = _run(
+        ["sweep", "accessory-spur", "--speeds", speeds, "--out", str(out), *extra], capsys
+    )
+    assert status == 2
+    assert len(err) == 1 and err[0].startswith("jaxgear: error: ")
+    assert names in err[0]
+    assert not out.exists()
+
+
+def test_case_periods_that_cannot_run(tmp_path, capsys):
+    """``[scene.integration] periods = 1e6`` is inside the key's range but 6.4e7 time steps per
+    speed: refused with one line naming periods, nothing written (it ran out of memory)."""
+    text = (Path(__file__).parent.parent / "jaxgear" / "cases" / "accessory-spur.toml").read_text()
+    text, n = re.subn(r"(?m)^periods = \d+", "periods = 1000000", text)
+    assert n == 1
+    path = tmp_path / "long.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    status, err = _run(
+        ["sweep", str(path), "--speeds", "500:1000:2", "--out", str(out), "--quiet"], capsys
+    )
+    assert status == 2 and len(err) == 1
+    assert "periods = 1000000" in err[0] and "allowed <=" in err[0]
+    assert not any(p.is_file() for p in out.rglob("*")) if out.exists() else True
+
+
+def test_near_zero_speed_names_the_speeds(tmp_path, capsys):
+    """A pinion speed so low that resolving the excited modes needs more than the allowed steps
+    per speed: one line naming the speeds and the lowest allowed speed (it printed
+    ``steps_per_period = -9223372036854775808``)."""
+    out = tmp_path / "out"
+    status, err = _run(
+        ["sweep", "accessory-spur", "--speeds", "1e-9:1e-8:2", "--out", str(out), "--quiet"], capsys
+    )
+    assert status == 2 and len(err) == 1
+    assert "speeds: 1e-09 rad/s" in err[0] and "allowed >=" in err[0]
+    assert "-9223372036854775808" not in err[0]
+
+
+def test_runtime_message_of_compiled_failure():
+    """The message of ``eqx.error_if`` inside ``eqx.filter_jit`` is what the user reads, not the
+    banner line ``Above is the stack outside of JIT…``."""
+
+    @eqx.filter_jit
+    def solve(x):
+        return eqx.error_if(x, x > 0, "the static contact solve failed")
+
+    with pytest.raises(eqx.EquinoxRuntimeError) as info:
+        solve(jnp.asarray(1.0))
+    assert str(info.value).startswith("Above is the stack")
+    assert runtime_message(info.value) == "the static contact solve failed"
+
+    # without the message line (code compiled with jax.jit): one line that says so
+    banner = RuntimeError("Above is the stack outside of JIT. Below is the stack inside:\n  x")
+    msg = runtime_message(banner)
+    assert "\n" not in msg and "no message" in msg
+    assert runtime_message(ValueError("one line")) == "one line"
+
+
+def test_main_prints_the_compiled_failure(monkeypatch, tmp_path, capsys):
+    """``jaxgear run`` whose compiled solve fails prints that solve's message in one line."""
+    import jaxgear.cli._run as run_module
+
+    @eqx.filter_jit
+    def failing(x):
+        return eqx.error_if(x, x > 0, "the static contact solve failed")
+
+    def boom(args):
+        failing(jnp.asarray(1.0))
+
+    monkeypatch.setattr(run_module, "run_command", boom)
+    status, err = _run(["run", list_cases()[0], "--out", str(tmp_path / "o")], capsys)
+    assert status == 2
+    assert err == ["jaxgear: error: the static contact solve failed"]
