@@ -108,3 +108,29 @@ def test_main_prints_the_compiled_failure(monkeypatch, tmp_path, capsys):
     status, err = _run(["run", list_cases()[0], "--out", str(tmp_path / "o")], capsys)
     assert status == 2
     assert err == ["jaxgear: error: the static contact solve failed"]
+
+
+def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
+    """``jaxgear run`` sweeps a lumped scene at no more than 8 slices per contact line (the
+    case asks 40): ``summary.json`` says so in ``dynamics.slices``."""
+    import json
+
+    import jaxgear.cli._run as run_module
+    import jaxgear.cli._scene as scene_module
+    import jaxgear.cli._sweep as sweep_module
+
+    seen = {}
+
+    def fake_sweep(case, speeds, out_dir, *, slices, **kw):
+        seen["slices"], seen["case_slices"] = slices, case.slices
+        return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}
+
+    monkeypatch.setattr(run_module, "run_case", lambda case, out, **kw: {"case": case.name})
+    monkeypatch.setattr(scene_module, "scene_outputs", lambda *a, **kw: {})
+    monkeypatch.setattr(run_module, "format_table", lambda summary: "")
+    monkeypatch.setattr(scene_module, "scene_lines", lambda s: [])
+    monkeypatch.setattr(sweep_module, "sweep_case", fake_sweep)
+    out = tmp_path / "o"
+    assert main(["run", "accessory-spur", "--out", str(out), "--quiet"]) == 0
+    assert seen == {"slices": 8, "case_slices": 40}
+    assert json.loads((out / "summary.json").read_text())["dynamics"]["slices"] == 8

@@ -5,8 +5,8 @@ random text, deleted and unknown keys, give a valid object or the project's own 
 :class:`~fem_prep.schema.SchemaError`, never anything else; so do the static pieces the CLI
 builds from a valid case before any work (geometry summary, mesh model, optimisation settings).
 
-The default suite runs a few hundred derandomised examples per test (reproducible); the slow
-suite runs 10 000 more with a fixed seed.
+The default suite runs 300 derandomised examples per test (reproducible; about 20 s in all); the
+slow suite runs 10 000 per schema with a fixed seed.
 """
 
 from __future__ import annotations
@@ -21,10 +21,10 @@ import warnings
 from pathlib import Path
 
 import pytest
-from hypothesis import HealthCheck, given, seed, settings, strategies as st
+from hypothesis import HealthCheck, example, given, seed, settings, strategies as st
 
 import jaxgear.io as jio
-from fem_prep import load_body, parse_body
+from fem_prep import load_body, parse_body, schema as sc
 from fem_prep.schema import SchemaError
 from jaxgear.cli._optimise import check_settings, settings_from_case
 
@@ -47,7 +47,7 @@ CASES["accessory-spur+optimise"] = {
 }
 
 DEFAULT = settings(
-    max_examples=150,
+    max_examples=300,
     deadline=None,
     derandomize=True,
     database=None,
@@ -250,10 +250,49 @@ def tmp(tmp_path_factory):
     return tmp_path_factory.mktemp("schema-property")
 
 
+def _with(base: str, *changes) -> tuple[dict, str]:
+    """An explicit example: ``base`` with ``(path, value)`` changes (``...`` deletes)."""
+    data = copy.deepcopy(CASES[base])
+    for path, v in changes:
+        node = data
+        for k in path[:-1]:
+            node = node[k]
+        if v is ...:
+            del node[path[-1]]
+        else:
+            node[path[-1]] = v
+    return data, f"{base}; {changes}"
+
+
 @DEFAULT
+@example(_with("accessory-spur", (("material", "youngs_modulus_GPa"), 5e-324)))  # ZeroDivision
+@example(_with("accessory-spur", (("pinion", "teeth"), 10**400)))  # OverflowError in a message
+@example(_with("accessory-spur", (("operating", "torque_Nm"), 10**400)))  # OverflowError
+@example(  # KeyError in the message about the default fillet
+    _with(
+        "accessory-spur",
+        (("pinion", "dedendum_coeff"), 0.2),
+        (("pinion", "fillet_radius_coeff"), ...),
+    )
+)
 @given(mutated(CASES))
 def test_mutated_cases_give_a_case_or_one_schema_error(tmp, example):
     _check_case(*example, tmp)
+
+
+def _numeric_places(data):
+    return [path for path, node, key in _places(data) if sc.finite(node[key])]
+
+
+@pytest.mark.parametrize("base", ["accessory-spur+optimise", "accessory-spur-flexible"])
+def test_every_numeric_key_at_the_extremes(tmp, base):
+    """Each numeric key of the base, one at a time, at each extreme (deterministic)."""
+    extremes = [5e-324, -5e-324, 1e308, -1e308, math.inf, math.nan, 0, 10**400, -(10**400)]
+    places = _numeric_places(CASES[base])
+    assert len(places) >= 30
+    for path in places:
+        for v in extremes:
+            _check_case(*_with(base, (path, v)), tmp)
 
 
 @DEFAULT

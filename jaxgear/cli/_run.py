@@ -22,7 +22,10 @@ from .. import (
 from ..io import atomic_open, write_csv
 from ._summary import result_summary
 
-__all__ = ["format_table", "result_summary", "run_case"]
+__all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case"]
+
+# slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
+RUN_SWEEP_SLICES = 8
 
 
 def run_case(
@@ -234,17 +237,21 @@ def run_command(args) -> int:
         )
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
-        # the case has a dynamic scene: add the dynamic factor curve
+        # the case has a dynamic scene: add the dynamic factor curve, at no more than
+        # RUN_SWEEP_SLICES slices per contact line (60 speeds; recorded in summary.json);
+        # `jaxgear sweep --slices` runs the case's own
+        sweep_slices = min(case.slices, RUN_SWEEP_SLICES)
         sw = sweep_case(
             case,
             np.linspace(100.0, 3000.0, 60),
             os.path.join(out, "sweep"),
-            slices=min(case.slices, 8),
+            slices=sweep_slices,
             show_progress=not args.quiet,
         )
         df = np.asarray(sw["dynamic_factor"], dtype=float)
         summary["dynamics"] = {
             "model": case.scene.model,
+            "slices": sweep_slices,
             "speeds_rad_s": sw["speeds_rad_s"],
             "dynamic_factor": sw["dynamic_factor"],
             "max_dynamic_factor": float(np.nanmax(df)),
