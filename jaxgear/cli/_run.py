@@ -192,9 +192,11 @@ def format_table(summary: dict) -> str:
     """A short plain-text table of the main figures."""
     g = summary["geometry"]
     lines = [
-        f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
-        f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
-        f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m",
+        (
+            f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
+            f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
+            f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m"
+        ),
         _stiffness_line(summary.get("mesh", {})),
         f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
