@@ -16,6 +16,7 @@ from ._assemble import Operators as Operators, assemble_operators as assemble_op
 from ._body import (
     Body as Body,
     embedded_bodies as embedded_bodies,
+    embedded_body_text as embedded_body_text,
     load_body as load_body,
     parse_body as parse_body,
 )

@@ -31,6 +31,7 @@ __all__ = [
     "Material",
     "MeshSettings",
     "embedded_bodies",
+    "embedded_body_text",
     "load_body",
     "parse_body",
 ]
@@ -473,6 +474,19 @@ def embedded_bodies() -> list[str]:
     return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
 
 
+def embedded_body_text(name: str) -> str:
+    """The TOML text of the embedded body ``name`` (``fem-prep bodies NAME``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not an embedded body (the message lists them).
+    """
+    if name not in embedded_bodies():
+        raise FileNotFoundError(
+            f"no embedded body {name!r} (embedded bodies: {', '.join(embedded_bodies())})"
+        )
+    return (resources.files("fem_prep") / "bodies" / f"{name}.toml").read_text("utf-8")
+
+
 def load_body(source: str | Path) -> Body:
     """Load a body from a file path or an embedded body name.
 
@@ -494,8 +508,9 @@ def load_body(source: str | Path) -> Body:
         return parse_body(_decode(path.read_bytes(), label), default_name=path.stem, label=label)
     name = str(source)
     if name in embedded_bodies():
-        text = (resources.files("fem_prep") / "bodies" / f"{name}.toml").read_text("utf-8")
-        return parse_body(text, default_name=name, label=f"embedded body {name!r}")
+        return parse_body(
+            embedded_body_text(name), default_name=name, label=f"embedded body {name!r}"
+        )
     raise FileNotFoundError(
         f"body file {str(source)!r} not found (and it is not an embedded body; embedded bodies: "
         f"{', '.join(embedded_bodies())})"

@@ -1,11 +1,24 @@
-"""Command line: ``fem-prep build BODY [--out DIR]``, ``fem-prep bodies``, ``fem-prep bench``."""
+"""Command line: ``fem-prep build BODY [--out DIR]``, ``fem-prep bodies [NAME [--write FILE]]``,
+``fem-prep bench``.
+
+As ``jaxgear``'s: the body file and the output folder are checked before any work; bad input
+gives one line ``fem-prep: error: …`` and exit status 2, Ctrl-C one line ``fem-prep:
+interrupted`` and exit status 130, a closed pipe (``fem-prep bodies | head -1``) a quiet exit.
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
+
+from ._bench import run_bench
+from ._body import embedded_bodies, embedded_body_text, load_body
+from ._io import build
+from .schema import check_output_dir, write_new_file
 
 __all__ = ["add_build_arguments", "main", "run_build"]
 
@@ -18,16 +31,21 @@ def add_build_arguments(b: argparse.ArgumentParser) -> None:
     b.add_argument("--quiet", action="store_true", help="no progress bars")
 
 
+def _fail(prog: str, exc: BaseException) -> int:
+    print(f"{prog}: error: {exc}", file=sys.stderr)
+    return 2
+
+
 def run_build(args, prog: str = "fem-prep") -> int:
     """Run ``build`` for parsed arguments (from :func:`add_build_arguments`); returns the exit
-    status (0 ok, 2 bad body file or missing file)."""
-    from ._io import build
-
+    status (0 ok, 2 bad body file, missing file or an output folder that cannot be written:
+    checked before the build starts)."""
     try:
-        summary = build(args.body, args.out, use_cache=not args.no_cache, progress=not args.quiet)
+        body = load_body(args.body)
+        out = Path(check_output_dir(args.out or Path("fem-prep-out") / body.name))
     except (FileNotFoundError, ValueError) as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return 2
+        return _fail(prog, exc)
+    summary = build(body, out, use_cache=not args.no_cache, progress=not args.quiet)
     keys = (
         "name",
         "n_nodes",
@@ -40,12 +58,35 @@ def run_build(args, prog: str = "fem-prep") -> int:
     )
     print(json.dumps({k: summary[k] for k in keys}, indent=1))
     print("first frequencies (Hz), full / condensed:")
-    for f1, f2 in list(zip(summary["frequencies_full_hz"], summary["frequencies_condensed_hz"]))[
-        :10
-    ]:
+    pairs = zip(summary["frequencies_full_hz"], summary["frequencies_condensed_hz"])
+    for f1, f2 in list(pairs)[:10]:
         print(f"  {f1:10.1f} {f2:10.1f}")
     for k, v in summary["files"].items():
         print(f"wrote {k}: {v}")
+    return 0
+
+
+def _bodies(args) -> int:
+    """``fem-prep bodies``: one line per embedded body; with NAME its body file (to stdout or,
+    with ``--write FILE``, to a new file to start from)."""
+    if args.name is None:
+        if args.write is not None:
+            raise ValueError("--write needs a body NAME (fem-prep bodies NAME --write FILE)")
+        for name in embedded_bodies():
+            b = load_body(name)
+            g = b.geometry
+            print(
+                f"{name:24s} teeth={b.condensation.teeth:<4d} rim r={g.rim_outer_radius * 1e3:.2f}"
+                f" mm b={g.rim_width * 1e3:.1f} mm web t={g.web_thickness * 1e3:.1f} mm "
+                f"method={b.condensation.method}"
+            )
+        return 0
+    text = embedded_body_text(args.name)
+    if args.write is None:
+        sys.stdout.write(text)
+        return 0
+    path = write_new_file(args.write, text, force=args.force)
+    print(f"wrote {path} (embedded body {args.name!r}; fem-prep build {path})")
     return 0
 
 
@@ -58,7 +99,10 @@ def _parser() -> argparse.ArgumentParser:
     add_build_arguments(
         sub.add_parser("build", help="build a condensed body (npz + vtu + summary.json)")
     )
-    sub.add_parser("bodies", help="list the embedded bodies")
+    bo = sub.add_parser("bodies", help="list the embedded bodies, or print / write one")
+    bo.add_argument("name", nargs="?", help="an embedded body: print its body file")
+    bo.add_argument("--write", metavar="FILE", help="write the body file to FILE instead")
+    bo.add_argument("--force", action="store_true", help="replace FILE if it exists")
     be = sub.add_parser("bench", help="timing/memory benchmark on three mesh sizes")
     be.add_argument("--out", default="fem-prep-out/bench", help="directory for bench.json/png")
     be.add_argument("--quick", action="store_true", help="small sizes only (smoke test)")
@@ -73,29 +117,33 @@ def main(argv: Sequence[str] | None = None) -> int:
         argv: arguments without the program name (default ``sys.argv[1:]``).
 
     Returns:
-        Exit status: 0 on success, 2 on a bad body file or a missing file.
+        Exit status: 0 on success, 2 on a bad body file, a missing file or an output path that
+        cannot be written, 130 when interrupted (Ctrl-C).
     """
-    args = _parser().parse_args(None if argv is None else list(argv))
-    if args.command == "bodies":
-        from ._body import embedded_bodies, load_body
-
-        for name in embedded_bodies():
-            b = load_body(name)
-            g = b.geometry
-            print(
-                f"{name:24s} teeth={b.condensation.teeth:<4d} rim r={g.rim_outer_radius * 1e3:.2f}"
-                f" mm b={g.rim_width * 1e3:.1f} mm web t={g.web_thickness * 1e3:.1f} mm "
-                f"method={b.condensation.method}"
-            )
+    try:
+        args = _parser().parse_args(None if argv is None else list(argv))
+    except SystemExit as err:  # --help or argparse's usage error (status 2)
+        return err.code if isinstance(err.code, int) else (0 if err.code is None else 2)
+    try:
+        if args.command == "bodies":
+            status = _bodies(args)
+        elif args.command == "build":
+            status = run_build(args)
+        else:
+            run_bench(check_output_dir(args.out), quick=args.quick, resume=args.resume)
+            status = 0
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+        return status
+    except (FileNotFoundError, ValueError) as exc:
+        return _fail("fem-prep", exc)
+    except KeyboardInterrupt:
+        print("\nfem-prep: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # the reader went away (``fem-prep bodies | head -1``): exit quietly, no traceback
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
         return 0
-    if args.command == "build":
-        return run_build(args)
-    if args.command == "bench":
-        from ._bench import run_bench
-
-        run_bench(args.out, quick=args.quick, resume=args.resume)
-        return 0
-    return 1  # pragma: no cover
 
 
 if __name__ == "__main__":  # pragma: no cover

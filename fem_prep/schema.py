@@ -39,6 +39,8 @@ __all__ = [
     "atomic_write",
     "boolean",
     "check_keys",
+    "check_output_dir",
+    "check_output_file",
     "choice",
     "fail",
     "finite",
@@ -51,6 +53,7 @@ __all__ = [
     "number_list",
     "string",
     "subtable",
+    "write_new_file",
 ]
 
 
@@ -506,4 +509,66 @@ def atomic_write(path, write: Callable[[Path], None]) -> Path:
     """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it onto ``path``."""
     with _atomic_path(path) as tmp:
         write(tmp)
+    return Path(path)
+
+
+def check_output_dir(path, option: str = "--out") -> str:
+    """Check that ``path`` can be the output folder of a command, without creating anything
+    (the writers create it when the first file is written: bad input leaves no folder behind).
+
+    Raises:
+        ValueError: one-line message ``{option} PATH: why`` when ``path`` is a file, lies under
+            a file, or its nearest existing folder is not writable.
+    """
+    path = os.fspath(path)
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise ValueError(f"{option} {path}: is a file, not a folder")
+    existing = os.path.abspath(path)
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise ValueError(f"{option} {path}: {existing} is a file, not a folder")
+    try:  # os.access alone misses read-only mounts (and root passes it everywhere)
+        fd, probe = tempfile.mkstemp(prefix=".tmp-probe-", dir=existing)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError:
+        where = "folder" if existing == os.path.abspath(path) else f"parent folder {existing}"
+        raise ValueError(f"{option} {path}: {where} is not writable") from None
+    return path
+
+
+def check_output_file(path, option: str = "--json") -> str:
+    """Check that a file can be written at ``path`` (a missing folder is created on writing).
+
+    Raises:
+        ValueError: ``path`` is a folder, or its folder cannot be created or written.
+    """
+    path = os.fspath(path)
+    if path.endswith(os.sep) or os.path.isdir(path):
+        raise ValueError(f"{option} {path}: is a folder, expected a file name")
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        check_output_dir(folder, option)
+    except ValueError as err:
+        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
+    if os.path.exists(path) and not os.access(path, os.W_OK):
+        raise ValueError(f"{option} {path}: file is not writable")
+    return path
+
+
+def write_new_file(path, text: str, *, force: bool = False, option: str = "--write") -> Path:
+    """Write ``text`` to ``path`` atomically, refusing to replace a file unless ``force``
+    (``jaxgear cases NAME --write FILE``, ``fem-prep bodies NAME --write FILE``).
+
+    Raises:
+        ValueError: one line ``{option} PATH: why``: a folder, an existing file without
+            ``force``, or a folder that cannot be written.
+    """
+    path = os.fspath(path)
+    if os.path.exists(path) and not os.path.isdir(path) and not force:
+        raise ValueError(f"{option} {path}: exists (add --force to replace it)")
+    check_output_file(path, option)
+    with atomic_open(path, "w", encoding="utf-8") as f:
+        f.write(text)
     return Path(path)

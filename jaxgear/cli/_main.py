@@ -44,7 +44,10 @@ def _parser() -> argparse.ArgumentParser:
         "--json", help="also write the summary to this file (its folder is created if missing)"
     )
     r.add_argument("--quiet", action="store_true", help="no progress bar")
-    sub.add_parser("cases", help="list the embedded cases")
+    c = sub.add_parser("cases", help="list the embedded cases, or print / write one")
+    c.add_argument("name", nargs="?", help="an embedded case: print its case file")
+    c.add_argument("--write", metavar="FILE", help="write the case file to FILE instead")
+    c.add_argument("--force", action="store_true", help="replace FILE if it exists")
     b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
     b.add_argument(
         "what",
@@ -62,17 +65,33 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
-def _cases() -> int:
-    from ..io import list_cases, load_case
+def _cases(args) -> int:
+    """``jaxgear cases``: one line per embedded case; with NAME its case file (to stdout or,
+    with ``--write FILE``, to a new file to start from: ``jaxgear run FILE`` runs it)."""
+    from fem_prep.schema import write_new_file
 
-    for name in list_cases():
-        c = load_case(name)
-        print(
-            f"{name:20s} z {c.pair.pinion.teeth}/{c.pair.gear.teeth}, "
-            f"m_n {c.pair.normal_module * 1e3:g} mm, "
-            f"β {c.raw['pair'].get('helix_angle_deg', 0)}°, "
-            f"T {c.torque:g} N·m, {c.stiffness_model} stiffness"
-        )
+    from ..io import embedded_case_text, list_cases, load_case
+
+    if args.name is None:
+        if args.write is not None:
+            raise ValueError("--write needs a case NAME (jaxgear cases NAME --write FILE)")
+        for name in list_cases():
+            c = load_case(name)
+            print(
+                f"{name:24s} z {c.pair.pinion.teeth}/{c.pair.gear.teeth}, "
+                f"m_n {c.pair.normal_module * 1e3:g} mm, "
+                f"β {c.raw['pair'].get('helix_angle_deg', 0)}°, "
+                f"T {c.torque:g} N·m, {c.stiffness_model} stiffness"
+                + (f", {c.scene.model} scene" if c.scene is not None else "")
+                + (" with condensed bodies" if c.scene is not None and c.scene.hybrid else "")
+            )
+        return 0
+    text = embedded_case_text(args.name)
+    if args.write is None:
+        sys.stdout.write(text)
+        return 0
+    path = write_new_file(args.write, text, force=args.force)
+    print(f"wrote {path} (embedded case {args.name!r}; jaxgear run {path})")
     return 0
 
 
@@ -106,7 +125,7 @@ def _dispatch(args) -> int:
 
     jax.config.update("jax_enable_x64", True)
     if args.command == "cases":
-        return _cases()
+        return _cases(args)
     if args.command == "run":
         from ._run import run_command
 

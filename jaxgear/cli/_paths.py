@@ -1,14 +1,16 @@
 """Output paths of the commands: checked before anything is computed, stale files cleared.
 
-Imports nothing heavy (no JAX), so the CLI can check ``--out``/``--json`` before it loads the
-model.
+Imports no JAX, so the CLI can check ``--out``/``--json`` before it loads the model; the folder
+and file checks are fem_prep's (:mod:`fem_prep.schema`), shared with ``fem-prep``.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
+
+from fem_prep import schema as sc
+from fem_prep.schema import check_output_dir, check_output_file
 
 __all__ = ["OUTPUT_FILES", "check_output_dir", "check_output_file", "clear_outputs"]
 
@@ -49,51 +51,6 @@ OUTPUT_FILES["run"] += tuple(
 )
 
 
-def check_output_dir(path, option: str = "--out") -> str:
-    """Check that ``path`` can be the output folder of a command, without creating anything
-    (the writers create it when the first file is written: bad input leaves no folder behind).
-
-    Raises:
-        ValueError: one-line message ``{option} PATH: why`` when ``path`` is a file, lies under
-            a file, or its nearest existing folder is not writable.
-    """
-    path = os.fspath(path)
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise ValueError(f"{option} {path}: is a file, not a folder")
-    existing = os.path.abspath(path)
-    while not os.path.exists(existing):
-        existing = os.path.dirname(existing)
-    if not os.path.isdir(existing):
-        raise ValueError(f"{option} {path}: {existing} is a file, not a folder")
-    try:  # os.access alone misses read-only mounts (and root passes it everywhere)
-        fd, probe = tempfile.mkstemp(prefix=".tmp-probe-", dir=existing)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError:
-        where = "folder" if existing == os.path.abspath(path) else f"parent folder {existing}"
-        raise ValueError(f"{option} {path}: {where} is not writable") from None
-    return path
-
-
-def check_output_file(path, option: str = "--json") -> str:
-    """Check that a file can be written at ``path`` (a missing folder is created on writing).
-
-    Raises:
-        ValueError: ``path`` is a folder, or its folder cannot be created or written.
-    """
-    path = os.fspath(path)
-    if path.endswith(os.sep) or os.path.isdir(path):
-        raise ValueError(f"{option} {path}: is a folder, expected a file name")
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        check_output_dir(folder, option)
-    except ValueError as err:
-        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
-    if os.path.exists(path) and not os.access(path, os.W_OK):
-        raise ValueError(f"{option} {path}: file is not writable")
-    return path
-
-
 def clear_outputs(folder, command: str) -> list[str]:
     """Delete the files that an earlier run wrote into ``folder`` and start recording this run's.
 
@@ -102,8 +59,6 @@ def clear_outputs(folder, command: str) -> list[str]:
     output names are deleted, with their leftover temporary files: a user's own files in the
     folder stay, even those with an output name (a run overwrites those it writes itself).
     Returns the paths removed."""
-    from fem_prep import schema as sc  # fem_prep imports scipy: not at this module's import
-
     removed = []
     listed = set(sc.recorded_outputs(folder))
     for name in OUTPUT_FILES[command]:

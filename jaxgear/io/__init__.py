@@ -4,6 +4,7 @@ embedded cases, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.c
 from ._case_file import (
     CaseWarning as CaseWarning,
     SchemaError as SchemaError,
+    embedded_case_text as embedded_case_text,
     list_cases as list_cases,
     load_case as load_case,
     parse_case as parse_case,

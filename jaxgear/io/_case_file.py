@@ -30,6 +30,7 @@ from ._scene_table import parse_scene
 
 __all__ = [
     "CaseWarning",
+    "embedded_case_text",
     "list_cases",
     "load_case",
     "mean_static_deflection",
@@ -755,6 +756,19 @@ def list_cases() -> list[str]:
     return sorted(p.name[:-5] for p in _embedded().iterdir() if p.name.endswith(".toml"))
 
 
+def embedded_case_text(name: str) -> str:
+    """The TOML text of the embedded case ``name`` (``jaxgear cases NAME``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not an embedded case (the message lists them).
+    """
+    if name not in list_cases():
+        raise FileNotFoundError(
+            f"no embedded case {name!r} (embedded cases: {', '.join(list_cases())})"
+        )
+    return (_embedded() / f"{name}.toml").read_text("utf-8")
+
+
 def load_case(name_or_path: str | os.PathLike) -> Case:
     """Load a case from a TOML path or an embedded case name.
 
@@ -770,7 +784,7 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
         default = os.path.splitext(os.path.basename(label))[0]
         base = os.path.dirname(os.path.abspath(name_or_path))
     elif str(name_or_path) in list_cases():
-        raw = (_embedded() / f"{name_or_path}.toml").read_bytes()
+        raw = embedded_case_text(str(name_or_path))
         default = str(name_or_path)
         base = None
     else:
