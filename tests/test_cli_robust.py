@@ -203,7 +203,7 @@ def test_library_warnings_reach_the_user_as_one_line(monkeypatch, capsys):
 
     from jaxgear.cli import _main
 
-    def warns():
+    def warns(*args):
         warnings.warn("something odd\n  happened", UserWarning, stacklevel=1)
         return 0
 
