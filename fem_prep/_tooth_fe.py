@@ -1,4 +1,4 @@
-"""Plane-strain 2-D finite-element tooth compliance (``stiffness = "fe2d"``), issue 10 §3.
+"""Plane-strain 2-D finite-element tooth compliance (``stiffness = "fe2d"``; docs/stiffness.md).
 
 A transverse section of one gear member, per unit face width, plane strain: ``n_teeth`` teeth
 (default 5) of the exact tooth form on the complete rim ring down to the bore (or a given rim
@@ -27,9 +27,10 @@ measuring point and projected on the load direction.
 
 The tooth form comes from :func:`fem_prep.tooth_form.generate_tooth` (the rack-generated
 trochoidal fillet); ``form="circular_fillet"`` selects the circular-arc fillet approximation that
-``weber`` used before issue 10 §1 (kept for comparison: 1.6 % more compliant on ROSS's gear).  Results are cached (``cache_dir()/tooth_fe``, key =
-sha256 of the inputs and :data:`TOOTH_FE_VERSION`), normalised by E (the compliance of a linear
-body clamped on part of its boundary is exactly proportional to 1/E).
+``weber`` used before the rack-generated form (kept for comparison: 1.6 % more compliant on ROSS's
+gear). Results are cached (``cache_dir()/tooth_fe``, key = sha256 of the inputs and
+:data:`TOOTH_FE_VERSION`), normalised by E (the compliance of a linear body clamped on part of its
+boundary is exactly proportional to 1/E).
 
 Everything here is NumPy/SciPy/scikit-fem (never JAX); a constant for jaxgear.
 """

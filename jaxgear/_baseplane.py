@@ -1,4 +1,6 @@
-"""Base-plane discretisation: contact lines cut into thin slices (cells), DESIGN.md §2.
+"""Base-plane discretisation: contact lines cut into thin slices (cells).
+
+Conventions: docs/design.md, "Base plane and sign conventions".
 
 The base plane is spanned by s ∈ [0, g_α] along the transverse line of action (s = 0 at the
 engagement point, where the gear tip meets the pinion's start of active profile; s = g_α at the

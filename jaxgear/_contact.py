@@ -1,7 +1,7 @@
 """Unilateral contact law on a linear structure: exact (active set) and smooth (penalised).
 
-Cell force per unit length ``p = k φ(Δ)``, ``Δ = V·X − δ0`` (seed (2.9)/(2.30), DESIGN.md §5), and
-equilibrium ``K_s X + Σ_c k_c l_c φ(Δ_c) V_c = F``.
+Cell force per unit length ``p = k φ(Δ)``, ``Δ = V·X − δ0`` (seed (2.9)/(2.30); docs/design.md,
+"Contact laws"), and equilibrium ``K_s X + Σ_c k_c l_c φ(Δ_c) V_c = F``.
 
 * ``exact``: φ(Δ) = max(0, Δ). Solved by the active-set iteration of the seed (II-25): solve with
   the current contact set, drop the cells in tension, add the cells that interfere, repeat until
@@ -285,7 +285,8 @@ def solve_contact_cells(
     with C = V G Vᵀ (cell compliance, m/N), a = V G F − δ0 (m), E = V N (m per unit α) and
     b = Nᵀ F (the load on the rigid-body modes, which the contact forces must balance). An
     active-set pass solves a (c + r)-square system whatever the size of the structure: the
-    structure is factored once, outside (seed (2.30)–(2.31) in the cell space; HYBRID.md §2).
+    structure is factored once, outside (seed (2.30)–(2.31) in the cell space; docs/hybrid.md,
+    "Statics in the cell space").
 
     Args:
         C: cell compliance (m/N), shape (c, c). a: free gaps (m), shape (c,).

@@ -4,8 +4,8 @@ Geometry fixes the shapes of everything downstream (number of contact lines, bas
 so it is evaluated eagerly in float64 NumPy and validated here, before anything is traced. The
 results are plain Python floats in SI units.
 
-Sources: ISO 21771:2007 (involute geometry, profile shift, form circle), DESIGN.md §2, the seed's
-Tab. III-1 / III-5 for the reference pairs.
+Sources: ISO 21771:2007 (involute geometry, profile shift, form circle), the seed's Tab. III-1 /
+III-5 for the reference pairs. Conventions: docs/design.md, "Base plane and sign conventions".
 """
 
 from __future__ import annotations
@@ -100,7 +100,8 @@ class GearPair:
     ``base_helix_angle`` β_b, ``path_of_contact`` g_α, ``transverse_contact_ratio`` ε_α,
     ``overlap_ratio`` ε_β, ``face_width`` b (overlap of the two face widths),
     ``start_roll`` (roll distance of the pinion's start of active profile from its tangent
-    point T1; the line-of-action coordinate s = 0 of DESIGN.md §2 sits there).
+    point T1; the line-of-action coordinate s = 0 of docs/design.md, "Base plane and sign
+    conventions" sits there).
     """
 
     pinion: Member

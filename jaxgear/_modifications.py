@@ -1,14 +1,16 @@
-"""Tooth modifications and deviations, differentiable in their parameters (DESIGN.md §4).
+"""Tooth modifications and deviations, differentiable in their parameters (docs/design.md,
+"Modifications, initial separation and TE").
 
 Sign convention: a deviation ``e`` is normal to the flank, in metres, positive where material is
 *added* (seed II-13). Reliefs and crowning remove material, so their depths (>= 0) enter with a
 minus sign. The pair's deviation at a cell is the sum of the pinion's and the gear's.
 
 Profile coordinate of a member: the roll fraction u ∈ [0, 1] along its *active* profile, 0 at its
-start of active profile and 1 at its tip. With the base-plane coordinate s ∈ [0, g_α] of
-DESIGN.md §2 (s = 0: engagement at the gear tip), the pinion has u = s/g_α and the gear
-u = 1 − s/g_α. Tip relief of extent Γ acts on u > 1 − Γ, root relief on u < Γ, where Γ is the
-relief length along the line of action over g_α = ε_α p_bt (seed (3.1)).
+start of active profile and 1 at its tip. With the base-plane coordinate s ∈ [0, g_α]
+(docs/design.md, "Base plane and sign conventions"; s = 0: engagement at the gear tip), the
+pinion has u = s/g_α and the gear u = 1 − s/g_α. Tip relief of extent Γ acts on u > 1 − Γ, root
+relief on u < Γ, where Γ is the relief length along the line of action over g_α = ε_α p_bt (seed
+(3.1)).
 
 Lead coordinate: ζ = z/b ∈ [0, 1] across the effective face width.
 """
@@ -81,7 +83,8 @@ class MemberModification(eqx.Module):
         tip_relief_shape, root_relief_shape: "linear" or "parabolic" (static).
         end_relief_edge: which face edge(s) the end relief acts on (static): "both" (default,
             symmetric), "z0" (the z = 0 edge only, ζ < extent) or "z1" (the z = b edge only,
-            ζ > 1 − extent); z is the base-plane face coordinate of DESIGN.md §2. A one-sided
+            ζ > 1 − extent); z is the base-plane face coordinate of docs/design.md, "Base plane
+            and sign conventions". A one-sided
             relief is the seed's IV-33 lead modification of the overloaded edge.
     """
 

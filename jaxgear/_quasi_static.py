@@ -24,7 +24,8 @@ class QuasiStaticResult(eqx.Module):
         theta: pinion angle (rad), shape (P,).
         transmission_error: transverse TE along the line of action (m), shape (P,), measured from
             the perfect rigid position, positive under load (the driven gear lags):
-            TE = (u·X − max_M e) / cos β_b (DESIGN.md §4).
+            TE = (u·X − max_M e) / cos β_b (docs/design.md, "Modifications, initial separation
+            and TE").
         mesh_stiffness: K(θ) = Σ k_ij l_ij over loaded cells (N/m), flank-normal in the base plane
             (smooth mode: the tangent stiffness Σ k l φ'(Δ)), shape (P,).
         contact_length: loaded contact length (m), shape (P,) (smooth mode weighted by φ').
@@ -216,7 +217,8 @@ def quasi_static(
         torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
         theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` over ``periods``
             mesh periods with ``positions_per_pitch`` positions each.
-        contact: "exact" (active set, seed II-25) or "smooth" (softplus ramp, DESIGN.md §5).
+        contact: "exact" (active set, seed II-25) or "smooth" (softplus ramp; docs/design.md,
+            "Contact laws").
         width: smoothing width w (m) in smooth mode.
         max_iterations: cap on active-set passes / Newton steps per position.
         throw: raise ``eqx.EquinoxRuntimeError`` when a position fails (contact loop not

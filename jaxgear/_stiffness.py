@@ -1,6 +1,6 @@
 """Mesh stiffness per unit contact length along the line of action (NumPy, evaluated once).
 
-Three models (DESIGN.md §3):
+Three models here and ``fe2d`` from :mod:`fem_prep` (docs/stiffness.md):
 
 * ``uniform``: a given constant k0 (N/m per m of contact line).
 * ``iso6336``: ISO 6336-1 method B single stiffness c' and mesh stiffness c_γα (virtual teeth

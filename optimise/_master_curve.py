@@ -1,4 +1,5 @@
-"""Contour map of the objective in the (Γ, E) plane and the Master Curve (DESIGN.md §8).
+"""Contour map of the objective in the (Γ, E) plane and the Master Curve (docs/design.md,
+"Optimisation").
 
 The Master Curve gives, for each relief extent Γ, the relief depth E minimising TE RMS at the
 design load (Velex, Bruyère & Houser, JMD 2011). Here each Γ is solved independently and in

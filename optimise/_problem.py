@@ -1,4 +1,5 @@
-"""Design variables and objectives for tooth-modification optimisation (DESIGN.md §8).
+"""Design variables and objectives for tooth-modification optimisation (docs/design.md,
+"Optimisation").
 
 Design variables are named like the case file: ``tip_relief.depth``, ``tip_relief.extent``,
 ``root_relief.depth``, ``root_relief.extent``, ``crowning.depth``, ``end_relief.depth``,
@@ -97,7 +98,8 @@ def load_centroid(res: jg.QuasiStaticResult, face_width) -> Float[Array, ""]:
 
     c = (z̄ − b/2)/b with z̄ = Σ q z / Σ q, the sums over every cell on the flanks at every
     position of ``res`` (q the line load, N/m; the cells have equal lengths, so q weights like
-    the cell force). z is the base-plane face coordinate of DESIGN.md §2, z ∈ [0, b]: c > 0 means
+    the cell force). z is the base-plane face coordinate (docs/design.md, "Base plane and sign
+    conventions"), z ∈ [0, b]: c > 0 means
     the load sits towards the z = b edge, c < 0 towards the z = 0 edge, c = 0 centred; |c| <= 1/2.
     On the hybrid scenes the body's axial coordinate is z − b/2 (for the power wheel
     ``power-helical-wheel`` the web meets the rim at z = 8 mm and z = b is the cantilevered edge).
@@ -492,7 +494,8 @@ def make_problem(
 
 
 def zero_fluctuation_depth(extent, contact_ratio):
-    """Zero-fluctuation tip relief family E*(Γ) of DESIGN.md §8 (spur, uniform stiffness, ε_α < 2).
+    """Zero-fluctuation tip relief family E*(Γ) (spur, uniform stiffness, ε_α < 2; docs/design.md,
+    "Optimisation").
 
     ``E* = Γ ε_α² / (2Γε_α − ε_α + 1)`` for ``(ε_α−1)/(2ε_α) < Γ <= (ε_α−1)/ε_α``; NaN outside.
     """

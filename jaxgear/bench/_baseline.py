@@ -5,7 +5,8 @@ compare jaxgear against. It is written the way a careful engineer would write it
 shares no numerical code with the JAX kernels: only the gear geometry and the stiffness table
 (both NumPy, evaluated once) come from :mod:`jaxgear._geometry` / :mod:`jaxgear._stiffness`.
 
-Model (DESIGN.md §2-§5, rigid 1-DOF mesh): at pinion angle θ, tooth pair ``i``'s contact line is
+Model (rigid 1-DOF mesh; docs/design.md, "Base plane and sign conventions" to "Contact laws"):
+at pinion angle θ, tooth pair ``i``'s contact line is
 ``s = (r_b1 θ mod p_bt) + i p_bt − z tan β_b``, cut into N slices of width b/N (cell mid-points,
 cell length l = (b/N)/cos β_b). A cell exists when 0 <= s <= g_α; its stiffness per unit length
 k(s) is interpolated linearly in the table. The pair deviation is e = e_pinion(u = s/g_α, ζ)
@@ -16,7 +17,7 @@ k(s) is interpolated linearly in the table. The pair deviation is e = e_pinion(u
 
 with φ(Δ) = max(0, Δ) (exact) or φ_w(Δ) = w log(1 + exp(Δ/w)) (smooth). It is solved per position
 by :func:`scipy.optimize.brentq` on a bracket where f changes sign. The transverse transmission
-error is TE = (δ − max e)/cos β_b (DESIGN.md §4).
+error is TE = (δ − max e)/cos β_b.
 
 Everything is plain NumPy: vectorised over the cells of one position, a Python loop over
 positions.

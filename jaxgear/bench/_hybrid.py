@@ -1,4 +1,4 @@
-"""Benchmark of the hybrid quasi-static model (issue 11 §5): condensed FE wheel vs rigid mesh.
+"""Benchmark of the hybrid quasi-static model: condensed FE wheel vs rigid mesh.
 
 ``bench_hybrid(out_dir)`` is the body of ``jaxgear bench hybrid``. In one run, on the
 ``accessory-spur-flexible`` case (the wheel a condensed fem_prep body: 1290 rim master DOFs, 12
@@ -40,7 +40,7 @@ from ._timing import environment, min_time
 
 __all__ = ["bench_hybrid"]
 
-_TARGET_RATIO = 20.0  # issue 11: hybrid curve <= 20x a rigid-mesh curve after compile
+_TARGET_RATIO = 20.0  # target: hybrid curve <= 20x a rigid-mesh curve after compile
 _CHUNK = {"hybrid": 4, "rigid": 8}  # grid points per vmap chunk (fastest of 1/4/16/64, 2 cores)
 _TEST_CASE = (
     pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "hybrid-test-case.toml"

@@ -1,4 +1,4 @@
-"""Benchmark of the hybrid speed sweep (issue 12 evidence): Newmark in the cell space on the
+"""Benchmark of the hybrid speed sweep: Newmark in the cell space on the
 accessory pair with its flexible wheel, against Newmark on all coordinates.
 
 ``bench_hybrid_sweep(out_dir)`` is the body of ``jaxgear bench hybrid-sweep``. In one run, on the
@@ -53,7 +53,7 @@ from ._timing import environment, min_time
 
 __all__ = ["bench_hybrid_sweep"]
 
-_TARGET_S = 600.0  # issue 12: 100 speeds on the 2-core CPU in < 10 min
+_TARGET_S = 600.0  # target: 100 speeds on the 2-core CPU in < 10 min
 _SPEED_RANGE = (100.0, 3000.0)  # the seed's pinion speed range (rad/s)
 _RAYLEIGH = (25.0, 2.5e-6)  # the seed's D1, hybrid_speed_sweep's default
 _TEST_CASE = (

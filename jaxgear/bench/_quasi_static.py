@@ -16,8 +16,8 @@ accessory spur pair (float64) it measures:
 and a break-down of where jaxgear's time per TE curve goes (Python preparation and dispatch, cell
 layout, deviations, contact solve), each stage jitted on its own.
 
-Benchmarks are not tests (STYLE.md): compile separately, warm up, ``block_until_ready``, min of
-repeats; device, dtype and versions are recorded.
+Benchmarks are not tests (timings are measured, never asserted): compile separately, warm up,
+``block_until_ready``, min of repeats; device, dtype and versions are recorded.
 """
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ def bench_quasi_static(
     """
     import jax
 
-    jax.config.update("jax_enable_x64", True)  # entry point: float64 (STYLE.md)
+    jax.config.update("jax_enable_x64", True)  # entry point: float64
     import jax.numpy as jnp
     import matplotlib
     import scipy

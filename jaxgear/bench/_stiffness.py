@@ -1,4 +1,4 @@
-"""Speed vs accuracy of the mesh stiffness models (issue 10 §4).
+"""Speed vs accuracy of the mesh stiffness models (docs/stiffness.md, "Speed vs accuracy").
 
 ``bench_stiffness(out_dir)`` builds the k(s) table of a case under ``iso6336`` (a uniform k0 from
 ISO 6336-1 c_γα), ``weber`` (Weber's half-plane foundation), ``weber+sainsot`` and ``fe2d`` at
@@ -8,8 +8,8 @@ a refined size (m_n/16). It writes ``bench_stiffness.json`` and ``speed_accuracy
 
 Timing: the table build only (``jaxgear.stiffness_table``), the min of 3 repeats for the analytic
 models, the min of 2 cold runs for ``fe2d`` (a fresh FE cache each, scikit-fem imported and
-warmed up first); the cached ``fe2d`` table is timed too (min of 2). Benchmarks are not tests
-(STYLE.md).
+warmed up first); the cached ``fe2d`` table is timed too (min of 2). Benchmarks are not tests:
+timings are measured here, never asserted.
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def bench_stiffness(
     """
     import jax
 
-    jax.config.update("jax_enable_x64", True)  # entry point: float64 (STYLE.md)
+    jax.config.update("jax_enable_x64", True)  # entry point: float64
     from tqdm.auto import tqdm
 
     from .. import MeshModel, quasi_static, stiffness_table

@@ -1,7 +1,7 @@
 """One timing helper and one environment record for every ``jaxgear bench`` benchmark.
 
-Timing rule (STYLE.md): one warm-up call (compile), then the minimum wall time over repeats, each
-call ended by ``jax.block_until_ready`` on its whole result.
+Timing rule of every benchmark: one warm-up call (compile), then the minimum wall time over
+repeats, each call ended by ``jax.block_until_ready`` on its whole result.
 """
 
 from __future__ import annotations

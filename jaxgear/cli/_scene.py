@@ -93,7 +93,7 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     hybrid = case.scene.hybrid
     n_steps = (6 if case.speed > 0 else 5) if hybrid else 3
     bar = tqdm(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
-    # the case's [mesh] slices (it was capped at 8 without a word: issue 18 §2); a hybrid case's
+    # the case's [mesh] slices as they are (not capped); a hybrid case's
     # slices must nest in its bodies' axial rim faces (static_scene says so otherwise)
     slices = case.slices
     bodies = None

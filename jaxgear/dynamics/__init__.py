@@ -1,4 +1,5 @@
-"""Gear dynamics with unilateral contact (DESIGN.md §6, seed (2.31)-(2.37)).
+"""Gear dynamics with unilateral contact (seed (2.31)-(2.37); docs/design.md, "Structure and
+dynamics").
 
 :func:`dynamic_model` builds a :class:`DynamicModel` (time-averaged mesh stiffness, modal analysis,
 damping) from a dynamic scene; :func:`simulate` integrates one speed to steady state (Newmark with

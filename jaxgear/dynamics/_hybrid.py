@@ -1,8 +1,8 @@
 """Dynamics of the hybrid scene (condensed FE bodies on the cells): Newmark in the cell space.
 
-Equations of motion (seed (2.31)–(2.37), HYBRID.md §2), in the body frames of the members that
-carry condensed bodies (K, M and the centrifugal load are constant there; the rim stations pass
-under the fixed mesh as the bodies turn):
+Equations of motion (seed (2.31)–(2.37); docs/hybrid.md, "Global system"), in the body frames of
+the members that carry condensed bodies (K, M and the centrifugal load are constant there; the rim
+stations pass under the fixed mesh as the bodies turn):
 
     M Ẍ + C Ẋ + K X + Σ_c P_c(V_c·X − δ0_c) V_c = T f_T + Ω² f_c,
 
@@ -681,7 +681,7 @@ def band_dynamic_factor(
     rotating_frame: bool = False,
 ) -> Float[Array, ""]:
     """A smooth dynamic factor over a speed band, differentiable with respect to the
-    modifications (and the torque): the objective of an optimisation over speeds (issue 12 §4).
+    modifications (and the torque): the objective of an optimisation over speeds.
 
     Per speed, the p-mean (mean of (F/F_n)^p)^(1/p) of the mesh force over the kept steps (a
     smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
@@ -763,7 +763,7 @@ def hybrid_free_vibration(
 
     With the contact held (small ``velocity``) the system is linear and time-invariant and the
     average-acceleration scheme conserves the vibration energy exactly: the energy check of the
-    hybrid Newmark (issue 12).
+    hybrid Newmark.
 
     Raises:
         ValueError: ``n_steps`` < 1, ``time_step`` <= 0 or a ``velocity`` of the wrong shape.

@@ -1,4 +1,5 @@
-"""Time integration of the gear dynamics with unilateral contact, and speed sweeps (DESIGN.md §6).
+"""Time integration of the gear dynamics with unilateral contact, and speed sweeps
+(docs/dynamics.md, "Model").
 
 Equations of motion (seed (2.37), :mod:`jaxgear._dyn_scene`):
 

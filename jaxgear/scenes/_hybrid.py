@@ -1,4 +1,4 @@
-"""Hybrid scene: condensed FE gear bodies coupled to the contact cells (seed II-2, HYBRID.md §1).
+"""Hybrid scene: condensed FE gear bodies coupled to the contact cells (seed II-2).
 
 A member of the lumped 3D scene (:mod:`._lumped3d`) is either a rigid gear node (seed (2.9)) or a
 *flexible body* condensed by :mod:`fem_prep` on its rim master nodes (the outer rim face under
@@ -6,7 +6,7 @@ the teeth, r = root radius, one station per tooth), its bearing nodes and modal 
 body's bearing master nodes are merged with the shaft nodes at the gear position plus their
 axial offset; its rigid gear node and inertia go.
 
-Interface of a cell M on a flexible member (HYBRID.md §1, seed (2.11)–(2.30)):
+Interface of a cell M on a flexible member (seed (2.11)–(2.30); docs/hybrid.md, "The interface"):
 
 * the tooth in contact at M is a rigid transverse slice rooted on the rim at two root points
   M_p1, M_p2 (where the tooth's fillets meet the root circle, at ±ψ_f about its centre line);
@@ -21,10 +21,11 @@ Interface of a cell M on a flexible member (HYBRID.md §1, seed (2.11)–(2.30))
 * u(N) is interpolated on the rim face that contains N. **Faces are bilinear** on the corner
   master nodes (the stations and the axial master planes), consistently for the displacement
   and, by the transposition of V, for the load: fem_prep keeps only the corner nodes of the hex20
-  rim faces as masters, and a serendipity face needs all eight (HYBRID.md §6). The natural
-  coordinate across the face is the orthogonal projection on the face's chord (the inverse of
-  its own bilinear map), along the axis the linear one. With the slices nested inside the axial
-  faces (slices a multiple of the faces), the mortar average of a bilinear field is exact.
+  rim faces as masters, and a serendipity face needs all eight (docs/hybrid.md, "Seed typos and
+  traps"). The natural coordinate across the face is the orthogonal projection on the face's
+  chord (the inverse of its own bilinear map), along the axis the linear one. With the slices
+  nested inside the axial faces (slices a multiple of the faces), the mortar average of a
+  bilinear field is exact.
 
 The body turns under the fixed mesh: its frame is at angle φ_rot = φ_0 ∓ θ_member from the
 fixed frame, and the cells' coefficients c_k are rotated into it, so the stations under each
@@ -61,7 +62,8 @@ MORTAR = (5.0 / 30.0, 20.0 / 30.0, 5.0 / 30.0)  # (2.26)-(2.27): Simpson on the 
 
 def mortar_weights() -> tuple[float, float, float]:
     """Weights of the slice-end, slice-centre and slice-end nodes of the mortar (2.26):
-    [5, 20, 5]/30 (the printed 1/L of (2.27) is a typo for 1/30, HYBRID.md §1.4)."""
+    [5, 20, 5]/30 (the printed 1/L of (2.27) is a typo for 1/30: docs/hybrid.md, "Seed typos and
+    traps")."""
     return MORTAR
 
 
@@ -95,7 +97,8 @@ class RigidMember(eqx.Module):
 
 
 class FlexibleMember(eqx.Module):
-    """A condensed FE body: the interface data of HYBRID.md §1 (build with :func:`hybrid_pair`).
+    """A condensed FE body: the interface data of docs/hybrid.md, "The interface" (build with
+    :func:`hybrid_pair`).
 
     Attributes:
         centre: the member's axis point O (m), shape (3,). rim_dofs: global DOF of each rim
@@ -488,7 +491,8 @@ def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None
     if inner.size and np.min(np.abs(inner[:, None] - edges[None, :]), axis=1).max() > 1e-9 * b:
         raise ValueError(
             f"mesh.slices = {mesh.n_slices}: the slices must nest in the {name} body's "
-            f"{n_ax - 1} axial rim faces (the mortar weights are exact only then, HYBRID.md §3): "
+            f"{n_ax - 1} axial rim faces (the mortar weights are exact only then; "
+            "docs/hybrid.md, 'Mortar patch test'): "
             "use a multiple of the face count with the body's rim width equal to the mesh face "
             f"width ({b * 1e3:.6g} mm)"
         )

@@ -7,7 +7,8 @@ the contact force p_c l_c on the cell acts on the structure as −p_c l_c V_c. E
 * ``external_load(torque)``: generalised external forces F, shape (n,), for pinion torque T;
 * ``cell_vectors(cells)``: V for every cell, shape (n_lines, n_slices, n);
 * ``te_vector()``: u with u·X the flank-normal rigid-body approach of the mesh (the transmission
-  error before the ``− max e`` and 1/cos β_b of DESIGN.md §4).
+  error before the ``− max e`` and 1/cos β_b of docs/design.md, "Modifications, initial
+  separation and TE").
 
 Later scenes (shafts, bearings, condensed bodies) plug into the same solver by providing these.
 """

@@ -1,5 +1,6 @@
 """Torsional scenes: rotations of the pinion and gear (and of a motor and a load), quasi-static
-and dynamic, and the 1-DOF relative-approach reduction (DESIGN.md §6, seed (2.31)).
+and dynamic, and the 1-DOF relative-approach reduction (seed (2.31); docs/design.md, "Structure
+and dynamics").
 """
 
 from __future__ import annotations
@@ -55,7 +56,8 @@ def disc_inertia(density: float, radius: float, width: float) -> float:
 
 
 class TorsionalDynamics(DynamicScene):
-    """Torsional model: (motor,) pinion, gear (, load) rotations (rad), seed I-3 / DESIGN.md §6.
+    """Torsional model: (motor,) pinion, gear (, load) rotations (rad), seed I-3; docs/dynamics.md,
+    "Scenes".
 
     Attributes:
         mesh: the gear mesh.
