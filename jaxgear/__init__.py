@@ -2,7 +2,7 @@
 
 The model API (everything else lives in private modules). Subpackages: :mod:`jaxgear.scenes`
 (structures), :mod:`jaxgear.dynamics` (time integration, sweeps), :mod:`jaxgear.io` (case files,
-atomic writers); the application (:mod:`jaxgear.cli`, :mod:`jaxgear.bench`) is not imported here.
+atomic writers); the application (:mod:`jaxgear.cli`) is not imported here.
 
 Float64 is not switched on here: the CLI, the tests and the examples do it
 (``jax.config.update("jax_enable_x64", True)``), or set ``JAX_ENABLE_X64=1``.

@@ -1,10 +1,10 @@
 """Continuous-time reference for the 1-DOF relative-approach model (NumPy/SciPy only).
 
-The code lives in :mod:`jaxgear.bench._baseline_dynamics` (shared with ``jaxgear bench dynamics``,
+The code lives in :mod:`benchmarks._baseline_dynamics` (shared with ``jaxgear bench dynamics``,
 which uses it as the fine reference of its accuracy columns); this module re-exports it for the
 tests.
 """
 
-from jaxgear.bench._baseline_dynamics import ReferenceModel, reference_response
+from benchmarks._baseline_dynamics import ReferenceModel, reference_response
 
 __all__ = ["ReferenceModel", "reference_response"]

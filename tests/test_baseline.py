@@ -1,4 +1,4 @@
-"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (jaxgear.bench._baseline).
+"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (benchmarks._baseline).
 
 Both compute the rigid-mesh TE curve of DESIGN.md §2-§5; they share only the geometry and the
 stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
@@ -14,7 +14,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.bench import _baseline as bl
+from benchmarks import _baseline as bl
 
 RTOL = 1e-9
 SLICES = 16
@@ -134,7 +134,7 @@ def test_baseline_rejects_bad_input():
 
 @pytest.mark.slow
 def test_bench_quick(tmp_path):
-    from jaxgear.bench import bench_quasi_static
+    from benchmarks import bench_quasi_static
 
     out = bench_quasi_static(tmp_path, quick=True, progress=False, verbose=False)
     assert (tmp_path / "speed_accuracy_quasi_static.png").stat().st_size > 1000

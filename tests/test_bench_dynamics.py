@@ -8,8 +8,8 @@ import json
 
 import pytest
 
-from jaxgear.bench import bench_dynamics
-from jaxgear.bench._baseline_dynamics import numba_available
+from benchmarks import bench_dynamics
+from benchmarks._baseline_dynamics import numba_available
 
 
 def _check(saved, numba):

@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import pathlib
 
-from jaxgear.bench import bench_hybrid_sweep
+from benchmarks import bench_hybrid_sweep
 from jaxgear.cli._paths import OUTPUT_FILES
 
 CASE = pathlib.Path(__file__).parent / "data" / "hybrid-test-case.toml"

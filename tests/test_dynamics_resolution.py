@@ -1,7 +1,7 @@
 """The default time step resolves the dynamics (issue 9 §3).
 
 Reference: an independent continuous-time solution of the 1-DOF relative-approach model
-(``jaxgear/bench/_baseline_dynamics.py``, re-exported by ``tests/_dynamics_reference.py``:
+(``benchmarks/_baseline_dynamics.py``, re-exported by ``tests/_dynamics_reference.py``:
 NumPy/SciPy, solve_ivp DOP853 rtol 1e-10, segmented at every stiffness discontinuity and contact
 event). The default ``steps_per_period=None`` must give the
 dynamic factor within 1 % of it from 0.05× to 3× the critical speed, for the unmodified and the

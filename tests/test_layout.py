@@ -3,26 +3,30 @@
 Two checks: importing the model and ``optimise`` in a fresh interpreter loads none of the
 application modules (CLI, plots, benchmarks, file writers) nor matplotlib; and a static scan of
 the source shows no import of another package's private module and no argparse/matplotlib in the
-model and ``optimise``.
+model and ``optimise``. The benchmarks live outside the installed packages, in ``benchmarks/``
+of the checkout: only the ``jaxgear bench`` command looks for them, and no installed module
+reads ``tests/``.
 """
 
 from __future__ import annotations
 
 import ast
+import fnmatch
 import pathlib
+import re
 import subprocess
 import sys
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-APP = ("jaxgear.cli", "jaxgear.bench", "jaxgear.io", "matplotlib")
+APP = ("jaxgear.cli", "jaxgear.io", "benchmarks", "matplotlib")
 MODEL_SUBPACKAGES = ("jaxgear.scenes", "jaxgear.dynamics", "jaxgear.io")
 FORBIDDEN_IN_MODEL = (
     "argparse",
     "matplotlib",
     "jaxgear.cli",
-    "jaxgear.bench",
+    "benchmarks",
     "jaxgear.io",
     "tqdm",
 )
@@ -95,7 +99,7 @@ def test_model_and_optimise_source_import_no_application_module():
     model = [
         p
         for p in _sources("jaxgear", "optimise")
-        if p.relative_to(ROOT).parts[1] not in ("cli", "bench", "io")
+        if p.relative_to(ROOT).parts[1] not in ("cli", "io")
     ]
     bad = []
     for path in model:
@@ -108,12 +112,12 @@ def test_model_and_optimise_source_import_no_application_module():
 
 
 def test_no_import_of_another_packages_private_module():
-    """``from jaxgear.dynamics._simulate import x`` inside jaxgear.bench is a private reach-in: a
+    """``from jaxgear.dynamics._simulate import x`` inside benchmarks is a private reach-in: a
     module may import private modules of its own package only; the model's subpackages (scenes,
-    dynamics, io) may also use the model's private modules; the application (cli, bench) uses
-    public names only (tests may reach in)."""
+    dynamics, io) may also use the model's private modules; the application (cli, benchmarks)
+    uses public names only (tests may reach in)."""
     bad = []
-    for path in _sources("jaxgear", "optimise", "fem_prep", "examples"):
+    for path in _sources("jaxgear", "optimise", "fem_prep", "examples", "benchmarks"):
         own = _package_of(".".join(path.relative_to(ROOT).with_suffix("").parts))
         for mod in _imports(path):
             parts = mod.split(".")
@@ -136,3 +140,33 @@ def test_public_api_is_the_model():
         assert app not in names, f"jaxgear.{app} belongs to the application, not the model API"
     for model in ("quasi_static", "GearPair", "MeshModel", "Modifications", "ContactResult"):
         assert model in names
+
+
+INSTALLED = ("jaxgear", "fem_prep", "optimise")
+LOCATOR = ROOT / "jaxgear" / "cli" / "_main.py"  # ``jaxgear bench`` finds benchmarks/ of a checkout
+
+
+def test_benchmarks_live_outside_the_installed_packages():
+    import tomllib
+
+    assert (ROOT / "benchmarks" / "__init__.py").is_file()
+    assert not list((ROOT / "jaxgear" / "bench").glob("*.py"))  # a stale __pycache__ may stay
+    find = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    include = find["tool"]["setuptools"]["packages"]["find"]["include"]
+    assert all(any(fnmatch.fnmatch(p, pat) for pat in include) for p in INSTALLED)
+    assert not any(fnmatch.fnmatch("benchmarks", pat) for pat in include), include
+
+
+def test_installed_modules_neither_name_benchmarks_nor_read_tests():
+    """The benchmarks and the test data belong to the checkout: no installed module names the
+    ``benchmarks`` folder (but the ``jaxgear bench`` locator) or reads a path under ``tests/``."""
+    names_benchmarks = re.compile(r"\bbenchmarks\b")
+    reads_tests = re.compile(r"""tests/|["']tests["']""")
+    bad = []
+    for path in _sources(*INSTALLED):
+        text = path.read_text(encoding="utf-8")
+        if path != LOCATOR and names_benchmarks.search(text):
+            bad.append(f"{path.relative_to(ROOT)}: benchmarks")
+        if reads_tests.search(text):
+            bad.append(f"{path.relative_to(ROOT)}: tests/")
+    assert not bad, bad

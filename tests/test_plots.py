@@ -18,11 +18,10 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 from matplotlib.ticker import LogFormatter, MaxNLocator
 
+from benchmarks import _hybrid, _hybrid_sweep
+from benchmarks._charts import thin_tick_labels
 from jaxgear import load_map
-from jaxgear.bench import _hybrid, _hybrid_sweep
-from jaxgear.bench._charts import thin_tick_labels
-from jaxgear.cli import _plots as plots
-from jaxgear.cli import _scene
+from jaxgear.cli import _plots as plots, _scene
 from jaxgear.dynamics import nodal_diameter_resonances
 from jaxgear.io import load_case
 

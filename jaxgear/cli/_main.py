@@ -48,7 +48,10 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("name", nargs="?", help="an embedded case: print its case file")
     c.add_argument("--write", metavar="FILE", help="write the case file to FILE instead")
     c.add_argument("--force", action="store_true", help="replace FILE if it exists")
-    b = sub.add_parser("bench", help="benchmarks (speed vs a baseline, speed-vs-accuracy charts)")
+    b = sub.add_parser(
+        "bench",
+        help="benchmarks (speed vs a baseline, speed-vs-accuracy charts; from a source checkout)",
+    )
     b.add_argument(
         "what",
         choices=["quasi-static", "optimise", "dynamics", "hybrid", "hybrid-sweep", "stiffness"],
@@ -95,10 +98,69 @@ def _cases(args) -> int:
     return 0
 
 
+_NO_BENCHMARKS = (
+    "jaxgear bench runs from a source checkout (no benchmarks/ folder next to the jaxgear "
+    "package or in the current folder)"
+)
+
+
+def _benchmarks_folder():
+    """The ``benchmarks/`` folder of a source checkout, or None.
+
+    The benchmarks are not installed with jaxgear: they live in the checkout, next to the
+    ``jaxgear`` package (an editable install: ``<checkout>/jaxgear/__init__.py``) or in the
+    current folder (a checkout's root). A candidate counts only with ``__init__.py`` in it and
+    ``jaxgear/`` and ``pyproject.toml`` beside it, so an unrelated ``benchmarks/`` is never taken.
+    """
+    from pathlib import Path
+
+    import jaxgear
+
+    for root in (Path(jaxgear.__file__).resolve().parents[1], Path.cwd()):
+        folder = root / "benchmarks"
+        if (
+            (folder / "__init__.py").is_file()
+            and (root / "jaxgear" / "__init__.py").is_file()
+            and (root / "pyproject.toml").is_file()
+        ):
+            return folder
+    return None
+
+
+def _load_benchmarks():
+    """Import the checkout's ``benchmarks`` package (the one already imported when it is the
+    same folder, as under pytest); ValueError when no checkout is found."""
+    import importlib.util
+    from pathlib import Path
+
+    folder = _benchmarks_folder()
+    if folder is None:
+        raise ValueError(_NO_BENCHMARKS)
+    init = (folder / "__init__.py").resolve()
+    loaded = sys.modules.get("benchmarks")
+    here = getattr(loaded, "__file__", None)
+    if here is not None and Path(here).resolve() == init:
+        return loaded
+    spec = importlib.util.spec_from_file_location(
+        "benchmarks", init, submodule_search_locations=[str(folder)]
+    )
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["benchmarks"] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        if loaded is None:
+            sys.modules.pop("benchmarks", None)
+        else:
+            sys.modules["benchmarks"] = loaded
+        raise
+    return module
+
+
 def _bench(args) -> int:
-    from .. import bench
     from ._paths import clear_outputs
 
+    bench = _load_benchmarks()  # before clearing: no checkout, no outputs touched
     clear_outputs(args.out, f"bench {args.what}")
     if args.what == "dynamics":
         bench.bench_dynamics(args.out, quick=args.quick)

@@ -1,6 +1,9 @@
 """Benchmarks (``jaxgear bench …``) and the NumPy/SciPy baselines they compare against.
 
-Not imported by the model; timing lives here, never in tests.
+A folder of the source checkout, not part of the installed package: nothing in ``jaxgear``,
+``fem_prep`` or ``optimise`` imports it except the ``jaxgear bench`` command, which finds it next
+to the ``jaxgear`` package (editable install) or in the current folder. The benchmarks use
+jaxgear's public API and read ``tests/data`` of the checkout. Timing lives here, never in tests.
 """
 
 from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stability_map

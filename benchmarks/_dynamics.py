@@ -6,15 +6,15 @@ composite damping), exact contact, every speed from the static equilibrium, 200 
 mesh period). Against:
 
 * Numba: the same Newmark and active-set contact loop on the same matrices and cell table
-  (:func:`~jaxgear.bench._baseline_dynamics.numba_newmark_sweep`; serial, and ``prange`` over
+  (:func:`~benchmarks._baseline_dynamics.numba_newmark_sweep`; serial, and ``prange`` over
   speeds), if Numba is installed (``pip install jaxgear[bench]``), else reported as skipped;
 * ``solve_ivp`` (LSODA, DOP853, Radau) segmented at the stiffness discontinuities with a vectorised
-  right-hand side (:func:`~jaxgear.bench._baseline_dynamics.segmented_response`), at the loosest
+  right-hand side (:func:`~benchmarks._baseline_dynamics.segmented_response`), at the loosest
   tolerance of a ladder whose dynamic-factor error is <= jaxgear's; run on a subset of the speeds
   and interpolated (time against speed) to all of them.
 
 Accuracy: the dynamic factor of every method against the fine continuous-time reference
-(:func:`~jaxgear.bench._baseline_dynamics.reference_response`, DOP853 rtol 1e-10 segmented at every
+(:func:`~benchmarks._baseline_dynamics.reference_response`, DOP853 rtol 1e-10 segmented at every
 discontinuity, kink and contact event) at the probe speeds, max absolute error reported.
 
 Benchmarks are not tests: compile time separated (first call − best run), warmed up,
@@ -38,9 +38,9 @@ RTOL_LADDER = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 
 
 def _bench_model():
-    from ..dynamics import dynamic_model
-    from ..io import load_case
-    from ..scenes import TorsionalDynamics, disc_inertia
+    from jaxgear.dynamics import dynamic_model
+    from jaxgear.io import load_case
+    from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
     case = load_case("accessory-spur").replace(slices=4)
     p = case.pair
@@ -66,8 +66,9 @@ def bench_dynamics(
     """
     from tqdm.auto import tqdm
 
-    from ..dynamics import auto_steps_per_period, speed_sweep
-    from ..io import atomic_open
+    from jaxgear.dynamics import auto_steps_per_period, speed_sweep
+    from jaxgear.io import atomic_open
+
     from . import _baseline_dynamics as bd
 
     env = environment()
@@ -320,9 +321,9 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..dynamics import Damping, dynamic_model, speed_sweep
-    from ..io import atomic_open, load_case
-    from ..scenes import TorsionalDynamics, disc_inertia
+    from jaxgear.dynamics import Damping, dynamic_model, speed_sweep
+    from jaxgear.io import atomic_open, load_case
+    from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
     case = load_case("accessory-spur").replace(slices=4)
     p = case.pair

@@ -47,8 +47,8 @@ import time
 
 import numpy as np
 
-from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases
 from ._charts import thin_tick_labels
+from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases
 from ._timing import environment, min_time
 
 __all__ = ["bench_hybrid_sweep"]
@@ -57,7 +57,7 @@ _TARGET_S = 600.0  # target: 100 speeds on the 2-core CPU in < 10 min
 _SPEED_RANGE = (100.0, 3000.0)  # the seed's pinion speed range (rad/s)
 _RAYLEIGH = (25.0, 2.5e-6)  # the seed's D1, hybrid_speed_sweep's default
 _TEST_CASE = (
-    pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "hybrid-test-case.toml"
+    pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "hybrid-test-case.toml"
 )
 _METHODS = ("model", "woodbury", "refactor")
 
@@ -77,7 +77,7 @@ def _baseline_run(
     import jax.numpy as jnp
     from jax.scipy.linalg import solve_triangular
 
-    from .. import quasi_static, separation, solve_contact, solve_contact_cells
+    from jaxgear import quasi_static, separation, solve_contact, solve_contact_cells
 
     mesh = scene.mesh
     n = scene.K.shape[0]
@@ -289,7 +289,7 @@ def _step_costs(scene, mods, torque, speed, spp, lengths, repeats, compare=False
     import jax
     import jax.numpy as jnp
 
-    from ..dynamics import hybrid_speed_sweep
+    from jaxgear.dynamics import hybrid_speed_sweep
 
     block = jax.block_until_ready
 
@@ -431,9 +431,8 @@ def bench_hybrid_sweep(
     from tqdm.auto import tqdm
 
     import fem_prep
-
-    from ..dynamics import hybrid_speed_sweep, static_scene
-    from ..io import load_case, write_json
+    from jaxgear.dynamics import hybrid_speed_sweep, static_scene
+    from jaxgear.io import load_case, write_json
 
     block = jax.block_until_ready
     env = environment()
@@ -778,7 +777,7 @@ def _chart(out: dict, path: str) -> None:
     from matplotlib.figure import Figure
     from matplotlib.ticker import NullFormatter
 
-    from ..io import atomic_open
+    from jaxgear.io import atomic_open
 
     fig = Figure(figsize=(16, 9.5), layout="constrained")
     FigureCanvasAgg(fig)

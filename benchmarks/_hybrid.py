@@ -43,7 +43,7 @@ __all__ = ["bench_hybrid"]
 _TARGET_RATIO = 20.0  # target: hybrid curve <= 20x a rigid-mesh curve after compile
 _CHUNK = {"hybrid": 4, "rigid": 8}  # grid points per vmap chunk (fastest of 1/4/16/64, 2 cores)
 _TEST_CASE = (
-    pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "hybrid-test-case.toml"
+    pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "hybrid-test-case.toml"
 )
 
 
@@ -137,7 +137,7 @@ def _with_window(scene, member: int, n_window: int):
 
 
 def _flex_index(scene) -> int:
-    from ..scenes import FlexibleMember
+    from jaxgear.scenes import FlexibleMember
 
     return next(i for i, m in enumerate(scene.members) if isinstance(m, FlexibleMember))
 
@@ -156,7 +156,7 @@ def _jit_te(mods, P, mode, width):
     """``jax.jit`` of the TE curve of a scene or mesh (scene and torque as arguments)."""
     import jax
 
-    from .. import quasi_static
+    from jaxgear import quasi_static
 
     return jax.jit(
         lambda s, T: (
@@ -214,9 +214,9 @@ def bench_hybrid(
     import jax.numpy as jnp
     from tqdm.auto import tqdm
 
-    from .. import MemberModification, Modifications, quasi_static
-    from ..dynamics import static_scene
-    from ..io import load_case, write_json
+    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear.dynamics import static_scene
+    from jaxgear.io import load_case, write_json
 
     block = jax.block_until_ready
     env = environment()
@@ -518,9 +518,9 @@ def _compare_bodies(c, sc, bodies_info, compare_case, slices, P, rep, T) -> dict
     import jax
     import jax.numpy as jnp
 
-    from .. import quasi_static
-    from ..dynamics import static_scene
-    from ..io import load_case
+    from jaxgear import quasi_static
+    from jaxgear.dynamics import static_scene
+    from jaxgear.io import load_case
 
     c2 = load_case(compare_case)
     info2, bodies2 = [], []
@@ -584,7 +584,7 @@ def _profile(sc, mods, T, P, repeats, hybrid_exact) -> dict:
     """Time the stages of one hybrid exact TE curve, each jitted on its own (s)."""
     import jax
 
-    from .. import mesh_positions, separation, solve_contact_cells
+    from jaxgear import mesh_positions, separation, solve_contact_cells
 
     block = jax.block_until_ready
     theta = mesh_positions(sc.mesh, P)
@@ -644,7 +644,7 @@ def _chart(out: dict, path: str) -> None:
     from matplotlib.figure import Figure
     from matplotlib.ticker import LogFormatter
 
-    from ..io import atomic_open
+    from jaxgear.io import atomic_open
 
     fig = Figure(figsize=(13, 9), layout="constrained")
     FigureCanvasAgg(fig)

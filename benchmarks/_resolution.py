@@ -5,7 +5,7 @@ relief) at speeds from 0.05× to 3× the critical speed, Newmark with N_s = 16 �
 mesh period, against the continuous-time reference of ``_baseline_dynamics.py``
 (solve_ivp DOP853, rtol 1e-10, segmented at every stiffness discontinuity and contact event).
 
-Run from the repository root: ``python -m jaxgear.bench._resolution [--out docs/...png]``.
+Run from the repository root: ``python -m benchmarks._resolution [--out docs/...png]``.
 """
 
 from __future__ import annotations

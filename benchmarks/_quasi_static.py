@@ -6,7 +6,7 @@ accessory spur pair (float64) it measures:
 (a) compile time of jaxgear exact and smooth modes (first call minus a steady call, caches
     cleared first);
 (b) time per TE curve after compile (``block_until_ready``, min of repeats) of jaxgear exact and
-    smooth against :mod:`jaxgear._baseline`, their ratio, and the largest relative difference of
+    smooth against :mod:`benchmarks._baseline`, their ratio, and the largest relative difference of
     the results (TE, mesh stiffness, contact length; must be <= 1e-9);
 (c) a 41×41 (Γ, E) grid of TE RMS (symmetric linear tip relief, exact mode) by ``jax.vmap``,
     time after compile, and the same grid by the baseline extrapolated from a few points;
@@ -80,8 +80,9 @@ def bench_quasi_static(
     import scipy
     from tqdm.auto import tqdm
 
-    from .. import MemberModification, Modifications, quasi_static
-    from ..io import atomic_open, load_case
+    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear.io import atomic_open, load_case
+
     from . import _baseline as bl
 
     c = load_case(case)
@@ -410,7 +411,7 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from .. import quasi_static
+    from jaxgear import quasi_static
 
     block = jax.block_until_ready
     t = jnp.asarray(torque)
@@ -460,7 +461,7 @@ def _batched(mesh, torque, P, quick, per_curve) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from .. import MemberModification, Modifications, quasi_static
+    from jaxgear import MemberModification, Modifications, quasi_static
 
     block = jax.block_until_ready
     n = 256 if quick else 4096
@@ -514,7 +515,7 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from .. import mesh_positions, quasi_static, solve_contact
+    from jaxgear import mesh_positions, quasi_static, solve_contact
 
     block = jax.block_until_ready
     theta = mesh_positions(mesh, P)

@@ -33,9 +33,8 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     import scipy.optimize
     from tqdm.auto import tqdm
 
+    from jaxgear.io import atomic_open, load_case
     from optimise import contour_map, make_problem, minimise
-
-    from ..io import atomic_open, load_case
 
     case = load_case("accessory-spur")
     ppp = 24 if quick else case.positions_per_pitch

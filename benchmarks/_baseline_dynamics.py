@@ -563,7 +563,7 @@ def _kernels():
 def numba_tables(model, steps_per_period: int, max_iterations: int = 100):
     """NumPy arrays of the model matrices, the cell table at ``steps_per_period`` positions and the
     static start (X, Ẋ, Ẍ) (the same as :func:`jaxgear.dynamics.simulate`, exact contact)."""
-    from ..dynamics import mesh_table, static_start
+    from jaxgear.dynamics import mesh_table, static_start
 
     scene = model.scene
     t = mesh_table(scene, model.mods, int(steps_per_period))

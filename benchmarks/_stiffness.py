@@ -68,8 +68,8 @@ def bench_stiffness(
     jax.config.update("jax_enable_x64", True)  # entry point: float64
     from tqdm.auto import tqdm
 
-    from .. import MeshModel, quasi_static, stiffness_table
-    from ..io import atomic_open, load_case
+    from jaxgear import MeshModel, quasi_static, stiffness_table
+    from jaxgear.io import atomic_open, load_case
 
     c = load_case(case)
     pair, mn = c.pair, c.pair.normal_module
