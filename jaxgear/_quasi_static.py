@@ -10,7 +10,7 @@ from jaxtyping import Array, Bool, Float, Int
 from ._baseplane import MeshModel
 from ._contact import solve_contact, solve_contact_cells
 from ._modifications import Modifications
-from ._results import ContactResult
+from ._results import ContactResult, error_if_failed
 from ._util import rms_about_mean
 from .scenes import RigidMesh, Scene
 
@@ -187,10 +187,7 @@ def _quasi_static(
     )(theta)
     res = QuasiStaticResult(**out)
     if throw:
-        te = res.transmission_error
-        for code in ContactResult:
-            if code:
-                te = eqx.error_if(te, jnp.any(res.result == code), f"quasi_static: {code.message}")
+        te = error_if_failed(res.transmission_error, res.result, ContactResult, "quasi_static")
         res = eqx.tree_at(lambda r: r.transmission_error, res, te)
     return res
 

@@ -12,7 +12,10 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["ContactResult", "DynamicsResult"]
+import equinox as eqx
+import jax.numpy as jnp
+
+__all__ = ["ContactResult", "DynamicsResult", "error_if_failed"]
 
 
 class _Result(enum.IntEnum):
@@ -38,13 +41,32 @@ class ContactResult(_Result):
 
 
 class DynamicsResult(_Result):
-    """Outcome of a dynamic simulation at one speed (:func:`jaxgear.dynamics.simulate`)."""
+    """Outcome of a dynamic simulation at one speed, lumped or hybrid
+    (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`,
+    :func:`jaxgear.dynamics.simulate_hybrid`, :func:`jaxgear.dynamics.hybrid_speed_sweep`)."""
 
     successful = 0
     contact_not_converged = 1
     non_finite = 2
     blow_up = 3
     ode_failed = 4
+    window_overflow = 5
+
+
+def error_if_failed(x, result, enum_cls: type[_Result], where: str):
+    """``x``, raising ``eqx.EquinoxRuntimeError`` ``"{where}: {message}"`` when any entry of
+    the integer array ``result`` holds a failure code of ``enum_cls`` (``eqx.error_if``: raises
+    eagerly and under jit, vmap and grad alike; the message names the first failing code).
+
+    Args:
+        x: an array to carry the check (returned unchanged in value).
+        result: result codes, any shape. enum_cls: :class:`ContactResult` or
+            :class:`DynamicsResult`. where: the function's name, for the message.
+    """
+    for code in enum_cls:
+        if code:
+            x = eqx.error_if(x, jnp.any(jnp.asarray(result) == code), f"{where}: {code.message}")
+    return x
 
 
 _MESSAGES = {
@@ -62,5 +84,7 @@ _MESSAGES = {
         2: "non-finite state: the integration diverged",
         3: "energy blow-up: vibration energy or mesh force beyond the divergence bound",
         4: "ODE solver failed (max_steps reached or step size collapsed)",
+        5: "a contact cell left the window of master DOFs that the mesh damping updates"
+        " (an internal error of the hybrid scene's window estimate)",
     },
 }

@@ -634,3 +634,36 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
         [r["amplitude_m"] for r in res["response"]["forward"]],
         rtol=1e-3,
     )
+
+
+def test_failures_use_the_one_result_enumeration(setup):
+    """The hybrid path reports with the lumped path's :class:`jaxgear.DynamicsResult` codes and,
+    as the lumped one, raises with ``throw`` (a sweep reports; one simulation raises by
+    default). One Newton step from the exact solution does not solve a smooth contact whose
+    ramp (50 µm) is wider than the deflection."""
+    case, scene = setup
+    kw = {
+        "steps_per_period": 16,
+        "periods": 2,
+        "keep_periods": 1,
+        "contact": "smooth",
+        "width": 5e-5,
+        "max_iterations": 1,
+    }
+    sw = hybrid_speed_sweep(scene, case.modifications, case.torque, [900.0], **kw)
+    assert int(sw.result[0]) == jg.DynamicsResult.contact_not_converged == 1
+    ok = hybrid_speed_sweep(
+        scene, case.modifications, case.torque, [900.0], **{**kw, "max_iterations": 50}
+    )
+    assert int(ok.result[0]) == jg.DynamicsResult.successful
+    message = "hybrid dynamics: contact loop did not converge"
+    with pytest.raises(eqx.EquinoxRuntimeError, match=message):
+        hybrid_speed_sweep(scene, case.modifications, case.torque, [900.0], throw=True, **kw)
+    with pytest.raises(eqx.EquinoxRuntimeError, match=message):
+        simulate_hybrid(scene, case.modifications, case.torque, 900.0, **kw)
+    r = simulate_hybrid(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
+    assert int(r.result) == 1
+    # the window-overflow code no longer shares 3 (energy blow-up) with the lumped path
+    codes = {c.name: int(c) for c in jg.DynamicsResult}
+    assert codes["window_overflow"] not in (codes["blow_up"], codes["non_finite"])
+    assert len(set(codes.values())) == len(codes)

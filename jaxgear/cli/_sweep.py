@@ -68,6 +68,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     import scipy.linalg as sla
     from tqdm.auto import tqdm
 
+    from .. import DynamicsResult
     from ..dynamics import (
         MESH_ENERGY_MIN,
         hybrid_speed_sweep,
@@ -229,11 +230,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "contact_loss": _clean(losses),
         "rim_waves": waves,
         "result": results,
-        "result_messages": {
-            "0": "converged",
-            "1": "contact loop not converged at some step",
-            "2": "non-finite state",
-        },
+        "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
         "vtu_series": {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None,
         "elapsed_s": time.perf_counter() - t0,
         "notes": "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads "

@@ -47,6 +47,7 @@ from jaxtyping import Array, Float, Int
 from .._contact import solve_contact_cells
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
+from .._results import ContactResult, DynamicsResult, error_if_failed
 from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
 from ._config import check_run_size
@@ -77,9 +78,10 @@ class HybridDynamics(eqx.Module):
         line_force: force per contact line (one tooth pair) (N), (K, L).
         static_line_force: the largest quasi-static force on one contact line over a mesh
             period at the same speed (centrifugal load on) (N).
-        x: coordinates at the last step (n,). result: 0, or 1 where a contact loop did not
-            converge, 2 for a non-finite state, 3 where a contact window left the window of
-            the mesh damping (an internal error). iterations: most contact passes in a step.
+        x: coordinates at the last step (n,). result: a :class:`jaxgear.DynamicsResult` code
+            (the lumped model's enumeration): 0 converged, 1 a contact loop did not converge,
+            2 a non-finite state, 5 a contact cell left the window of the mesh damping (an
+            internal error). iterations: most contact passes in a step.
         rim_radial, rim_axial: the wheel's rim displacement at its stations (body frame, the
             axial master plane nearest mid-face), radial and axial (m), shape (K, Z); (K, 0)
             when the wheel is rigid. Read them with :func:`rim_waves`.
@@ -240,9 +242,12 @@ def _newmark_cells(
             Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(Vw.T @ P))
             Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
             Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
-            new = jnp.where(sol.result == 1, 1, 0)
-            new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, 2)
-            new = jnp.where(inside & ok, new, 3)
+            not_converged = sol.result == ContactResult.max_iterations
+            new = jnp.where(
+                not_converged, DynamicsResult.contact_not_converged, DynamicsResult.successful
+            )
+            new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, DynamicsResult.non_finite)
+            new = jnp.where(inside & ok, new, DynamicsResult.window_overflow)
             carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
             return carry, (th, P, (scene.te @ Xn - e_ref) / cb, record(Xn, Xdn))
 
@@ -422,7 +427,9 @@ def _run(
         line_force=lines,
         static_line_force=jnp.max(static_lines),
         x=X,
-        result=jnp.where(qs.result[0] != 0, jnp.maximum(code, 1), code),
+        result=jnp.where(
+            qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
+        ),
         iterations=it,
         rim_radial=rec[0][-keep:],
         rim_axial=rec[1][-keep:],
@@ -501,16 +508,28 @@ def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_itera
 
 
 def simulate_hybrid(
-    scene: HybridPair, modifications: Modifications | None, torque, speed, **settings
+    scene: HybridPair,
+    modifications: Modifications | None,
+    torque,
+    speed,
+    *,
+    throw: bool = True,
+    **settings,
 ) -> HybridDynamics:
     """Integrate the hybrid scene at one pinion speed Ω (rad/s) > 0 from the quasi-static state
     (Newmark with the contact loop in the cell space, see the module docstring).
 
     ``settings`` and the errors are those of :func:`hybrid_speed_sweep`; the result has no
-    speed axis."""
+    speed axis. As :func:`jaxgear.dynamics.simulate`, a failure raises by default
+    (``throw=False``: read ``result``)."""
     dtype = scene.K.dtype
     res = hybrid_speed_sweep(
-        scene, modifications, torque, jnp.reshape(jnp.asarray(speed, dtype), (1,)), **settings
+        scene,
+        modifications,
+        torque,
+        jnp.reshape(jnp.asarray(speed, dtype), (1,)),
+        throw=throw,
+        **settings,
     )
     return jax.tree.map(lambda x: x[0], res)
 
@@ -533,6 +552,7 @@ def hybrid_speed_sweep(
     rotating_frame: bool = False,
     chunk_size: int | None = None,
     progress: Callable[[int], None] | None = None,
+    throw: bool = False,
 ) -> HybridDynamics:
     """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
     after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
@@ -565,13 +585,17 @@ def hybrid_speed_sweep(
             ``progress`` called after each chunk and Ctrl-C honoured between chunks. ``None``:
             one call for all speeds (also when the speeds are traced).
         progress: with ``chunk_size``, called with the number of speeds done after each chunk.
+        throw: raise when any speed fails (as :func:`jaxgear.dynamics.speed_sweep`, off by
+            default: a sweep reports each speed's ``result``).
 
     Returns:
-        :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``: 0
-        converged).
+        :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``, a
+        :class:`jaxgear.DynamicsResult` code per speed: 0 converged).
 
     Raises:
         ValueError: speeds or step counts out of range (before any computation).
+        eqx.EquinoxRuntimeError: with ``throw``, a failure code at some speed (the message
+            names it).
     """
     speeds = _check(scene, speeds, steps_per_period, periods, keep_periods)
     dtype = scene.K.dtype
@@ -599,7 +623,7 @@ def hybrid_speed_sweep(
         )
 
     if chunk_size is None or isinstance(speeds, jax.core.Tracer):
-        return run(speeds)
+        return _thrown(run(speeds), throw)
     chunk, n = int(chunk_size), speeds.shape[0]
     parts = []
     for k in range(0, n, chunk):
@@ -609,7 +633,14 @@ def hybrid_speed_sweep(
         jax.block_until_ready(parts[-1])  # Ctrl-C is honoured here, between chunks
         if progress is not None:
             progress(k + part.shape[0])
-    return jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts)
+    return _thrown(jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts), throw)
+
+
+def _thrown(res: HybridDynamics, throw: bool) -> HybridDynamics:
+    if not throw:
+        return res
+    te = error_if_failed(res.transmission_error, res.result, DynamicsResult, "hybrid dynamics")
+    return eqx.tree_at(lambda r: r.transmission_error, res, te)
 
 
 def _check_steps(steps_per_period):

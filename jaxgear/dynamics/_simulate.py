@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._results import DynamicsResult
+from .._results import DynamicsResult, error_if_failed
 from .._util import rms_about_mean
 from ._config import (
     MAX_STEPS_PER_SPEED,
@@ -232,8 +232,11 @@ def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
     ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
     n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
     if np.any(n > MAX_STEPS_PER_SPEED):
-        low = STEPS_PER_MODE * float(omega_max) * float(mesh_period_angle) / (
-            2 * np.pi * MAX_STEPS_PER_SPEED
+        low = (
+            STEPS_PER_MODE
+            * float(omega_max)
+            * float(mesh_period_angle)
+            / (2 * np.pi * MAX_STEPS_PER_SPEED)
         )
         raise ValueError(
             f"speeds: {sp.min():.6g} rad/s would need {n.max():.3g} time steps per mesh period "
@@ -306,10 +309,7 @@ def _run(
     if mode == "single":
         r = one(speeds, state0)
         if throw:  # eqx.error_if: raises under jit, vmap and grad alike
-            df = r.dynamic_factor
-            for code in DynamicsResult:
-                if code:
-                    df = eqx.error_if(df, r.result == code, f"simulate: {code.message}")
+            df = error_if_failed(r.dynamic_factor, r.result, DynamicsResult, "simulate")
             r = eqx.tree_at(lambda x: x.dynamic_factor, r, df)
         return r
     if mode == "vmap":
