@@ -1,4 +1,4 @@
-"""Mortar patch test (seed II-21/22, HYBRID.md §3): contact cells on a non-matching FE face.
+"""Mortar patch test (seed II-21/22, docs/hybrid.md, "Mortar patch test"): contact cells on a non-matching FE face.
 
 A 2-D plane-strain block (x across the face width, y the depth; lateral rollers u_x = 0 on the
 sides, u_y = 0 at the bottom; E = 210 GPa, ν = 0.3) is pressed on its top face by N_DE discrete
@@ -20,13 +20,13 @@ Faces: as jaxgear's rim faces, the face is interpolated *linearly* between the c
 the elements (the axial part of ``FlexibleMember.face_weights``, used here on a dummy member
 whose axial master planes are the element ends). ``Q4`` (bilinear elements) is the consistent
 case; ``Q8`` (serendipity) with the same corner-only interface is what fem_prep's hex20 rim
-faces condensed on their corner nodes give (HYBRID.md §6); ``Q8-quadratic`` interpolates the face
+faces condensed on their corner nodes give (docs/hybrid.md, "Seed typos and traps"); ``Q8-quadratic`` interpolates the face
 quadratically on all three nodes of each element edge (corner and mid-side) — the construction
-of HYBRID.md's 2-D reference table.
+of the 2-D reference table of docs/hybrid.md, "Mortar patch test".
 
 Run: ``python examples/mortar_patch.py [out_dir]`` (default ``docs``): writes
 ``mortar_patch.png`` (q / q_exact across the face for a nested and a non-nested layout) and
-``mortar_patch.json`` (max |q/q_exact − 1| for the HYBRID.md layouts).
+``mortar_patch.json`` (max |q/q_exact − 1| for the reference layouts of docs/hybrid.md).
 """
 
 from __future__ import annotations
@@ -49,12 +49,12 @@ jax.config.update("jax_enable_x64", True)
 E = 210e9  # Pa
 NU = 0.3
 WIDTH = 0.020  # m, the top face (x)
-DEPTH = 0.010  # m, the block depth h (y): h = width / 2 as HYBRID.md's reference
-N_DEPTH = 2  # elements in depth (HYBRID.md's reference)
+DEPTH = 0.010  # m, the block depth h (y): h = width / 2 as the reference of docs/hybrid.md
+N_DEPTH = 2  # elements in depth (the reference of docs/hybrid.md)
 LOAD = 1.0e8  # N/m²: the line force f per unit width of the face, per unit thickness
 ELEMENTS = ("Q4", "Q8", "Q8-quadratic")
 INTERFACES = ("collocation", "mortar", "split")
-LAYOUTS = ((4, 7), (3, 8), (4, 8))  # FE elements × DE cells across the face (HYBRID.md §3)
+LAYOUTS = ((4, 7), (3, 8), (4, 8))  # FE elements × DE cells across the face (docs/hybrid.md, "Mortar patch test")
 
 
 def exact_displacement(f=LOAD, h=DEPTH, E=E, nu=NU):
@@ -193,7 +193,7 @@ def max_error(n_el, n_cells, element="Q4", kind="mortar", depth=DEPTH, n_depth=N
 
 
 def table():
-    """{element: {"FExDE": {interface: max |q/q_exact − 1|}}} for the HYBRID.md layouts."""
+    """{element: {"FExDE": {interface: max |q/q_exact − 1|}}} for the reference layouts of docs/hybrid.md."""
     return {
         el: {f"{n}x{m}": {k: max_error(n, m, el, k) for k in INTERFACES} for n, m in LAYOUTS}
         for el in ELEMENTS
@@ -211,7 +211,7 @@ def main(out_dir="docs"):
     out.mkdir(parents=True, exist_ok=True)
     res = table()
     meta = {
-        "seed": "II-21/22, HYBRID.md section 3",
+        "seed": "II-21/22, docs/hybrid.md, Mortar patch test",
         "block": {
             "width_m": WIDTH,
             "depth_m": DEPTH,
@@ -227,7 +227,7 @@ def main(out_dir="docs"):
             "Q4": "bilinear elements, face linear between corner nodes (jaxgear's rim faces)",
             "Q8": "serendipity elements, interface on the corner nodes only (linear face)",
             "Q8-quadratic": "serendipity elements, face quadratic on all 3 edge nodes "
-            "(HYBRID.md's reference table)",
+            "(the reference table of docs/hybrid.md)",
         },
         "layouts": "FE elements x DE cells across the face",
     }
@@ -239,7 +239,7 @@ def main(out_dir="docs"):
         "mortar": {"color": "C0", "marker": "s", "ms": 6, "ls": "-"},
         "split": {"color": "C2", "marker": "^", "ms": 5, "ls": "--"},
     }
-    panels = (("Q4", "linear faces (jaxgear)"), ("Q8-quadratic", "quadratic faces (HYBRID.md)"))
+    panels = (("Q4", "linear faces (jaxgear)"), ("Q8-quadratic", "quadratic faces (reference)"))
     layouts = ((4, 8, "nested"), (4, 7, "non-nested"))
     fig, axes = plt.subplots(2, 2, figsize=(12, 8), sharex=True)
     for row, (el, el_title) in zip(axes, panels):
