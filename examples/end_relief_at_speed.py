@@ -1,6 +1,6 @@
 """Linear end relief against the centrifugal web deflection of the power pair (seed IV-33/34).
 
-The seed (HYBRID.md §4, Power): at 3000 rad/s (pinion) the flexible power wheel's cantilevered
+The seed (IV-33/34, the power pair): at 3000 rad/s (pinion) the flexible power wheel's cantilevered
 rim edge is overloaded; a linear lead relief of extent 0.4 b and depth E = 10 µm on that edge
 alone centres the pressure, and deeper reliefs concentrate it. This script puts that on our
 model: the case ``power-helical-flexible`` (the wheel a condensed FE body, centrifugal loads at

@@ -1,7 +1,7 @@
 """Mean mesh stiffness of six gear pairs under the stiffness models (docs/stiffness.md table).
 
 Models: ``weber`` (Weber's half-plane foundation), ``weber+sainsot`` (Sainsot et al. 2004 body
-term), ``weber`` without foundation, ``fe2d`` (plane-strain FE tooth + body, issue 10 §3),
+term), ``weber`` without foundation, ``fe2d`` (plane-strain FE tooth + body; docs/stiffness.md, "FE tooth model"),
 ``fe2d`` tooth only (root section held) and the ISO 6336-1 method B c_γα b.
 
 The mean mesh stiffness is the c_γα-equivalent ``K̄ = (b cos β_b / p_bt) ∫₀^{g_α} k(s) ds``
