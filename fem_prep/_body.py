@@ -470,8 +470,7 @@ def _bearing_bands(
 
 def embedded_bodies() -> list[str]:
     """Names of the body files shipped with fem_prep (``fem_prep/bodies/*.toml``)."""
-    root = resources.files("fem_prep") / "bodies"
-    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".toml"))
+    return sc.embedded_names(resources.files("fem_prep") / "bodies")
 
 
 def embedded_body_text(name: str) -> str:
@@ -480,11 +479,7 @@ def embedded_body_text(name: str) -> str:
     Raises:
         FileNotFoundError: ``name`` is not an embedded body (the message lists them).
     """
-    if name not in embedded_bodies():
-        raise FileNotFoundError(
-            f"no embedded body {name!r} (embedded bodies: {', '.join(embedded_bodies())})"
-        )
-    return (resources.files("fem_prep") / "bodies" / f"{name}.toml").read_text("utf-8")
+    return sc.embedded_text(resources.files("fem_prep") / "bodies", name, "body")
 
 
 def load_body(source: str | Path) -> Body:

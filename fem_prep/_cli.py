@@ -18,7 +18,7 @@ from pathlib import Path
 from ._bench import run_bench
 from ._body import embedded_bodies, embedded_body_text, load_body
 from ._io import build
-from .schema import check_output_dir, write_new_file
+from .schema import check_output_dir, print_or_write
 
 __all__ = ["add_build_arguments", "main", "run_build"]
 
@@ -82,11 +82,8 @@ def _bodies(args) -> int:
             )
         return 0
     text = embedded_body_text(args.name)
-    if args.write is None:
-        sys.stdout.write(text)
-        return 0
-    path = write_new_file(args.write, text, force=args.force)
-    print(f"wrote {path} (embedded body {args.name!r}; fem-prep build {path})")
+    what = f"embedded body {args.name!r}"
+    print_or_write(text, args.write, force=args.force, what=what, next_command="fem-prep build")
     return 0
 
 

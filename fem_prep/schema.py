@@ -42,6 +42,8 @@ __all__ = [
     "check_output_dir",
     "check_output_file",
     "choice",
+    "embedded_names",
+    "embedded_text",
     "fail",
     "finite",
     "fmt",
@@ -51,6 +53,7 @@ __all__ = [
     "name",
     "number",
     "number_list",
+    "print_or_write",
     "string",
     "subtable",
     "write_new_file",
@@ -572,3 +575,36 @@ def write_new_file(path, text: str, *, force: bool = False, option: str = "--wri
     with atomic_open(path, "w", encoding="utf-8") as f:
         f.write(text)
     return Path(path)
+
+
+# --------------------------------------------------------------------------------------------
+# embedded input files (jaxgear's cases, fem_prep's bodies)
+
+
+def embedded_names(folder) -> list[str]:
+    """Names of the ``*.toml`` files in a package folder (``importlib.resources`` traversable)."""
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def embedded_text(folder, name: str, kind: str) -> str:
+    """The text of the embedded ``kind`` file ``name`` (``folder/name.toml``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not one of them (the message lists them).
+    """
+    names = embedded_names(folder)
+    if name not in names:
+        raise FileNotFoundError(
+            f"no embedded {kind} {name!r} (embedded {kind}s: {', '.join(names)})"
+        )
+    return (folder / f"{name}.toml").read_text("utf-8")
+
+
+def print_or_write(text: str, write, *, force: bool, what: str, next_command: str) -> None:
+    """``text`` to stdout, or with ``write`` (a path) to a new file (:func:`write_new_file`),
+    saying ``wrote PATH (what; next_command PATH)``."""
+    if write is None:
+        sys.stdout.write(text)
+        return
+    path = write_new_file(write, text, force=force)
+    print(f"wrote {path} ({what}; {next_command} {path})")

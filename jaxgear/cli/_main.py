@@ -71,7 +71,7 @@ def _parser() -> argparse.ArgumentParser:
 def _cases(args) -> int:
     """``jaxgear cases``: one line per embedded case; with NAME its case file (to stdout or,
     with ``--write FILE``, to a new file to start from: ``jaxgear run FILE`` runs it)."""
-    from fem_prep.schema import write_new_file
+    from fem_prep.schema import print_or_write
 
     from ..io import embedded_case_text, list_cases, load_case
 
@@ -90,11 +90,8 @@ def _cases(args) -> int:
             )
         return 0
     text = embedded_case_text(args.name)
-    if args.write is None:
-        sys.stdout.write(text)
-        return 0
-    path = write_new_file(args.write, text, force=args.force)
-    print(f"wrote {path} (embedded case {args.name!r}; jaxgear run {path})")
+    what = f"embedded case {args.name!r}"
+    print_or_write(text, args.write, force=args.force, what=what, next_command="jaxgear run")
     return 0
 
 

@@ -753,7 +753,7 @@ def _embedded():
 
 def list_cases() -> list[str]:
     """Names of the embedded cases (``jaxgear cases``)."""
-    return sorted(p.name[:-5] for p in _embedded().iterdir() if p.name.endswith(".toml"))
+    return sc.embedded_names(_embedded())
 
 
 def embedded_case_text(name: str) -> str:
@@ -762,11 +762,7 @@ def embedded_case_text(name: str) -> str:
     Raises:
         FileNotFoundError: ``name`` is not an embedded case (the message lists them).
     """
-    if name not in list_cases():
-        raise FileNotFoundError(
-            f"no embedded case {name!r} (embedded cases: {', '.join(list_cases())})"
-        )
-    return (_embedded() / f"{name}.toml").read_text("utf-8")
+    return sc.embedded_text(_embedded(), name, "case")
 
 
 def load_case(name_or_path: str | os.PathLike) -> Case:
