@@ -279,7 +279,7 @@ def bench_hybrid(
     bodies = tuple(bodies)
     step("body")
     t0 = time.perf_counter()
-    sc, _ = static_scene(c, slices=slices, bodies=bodies, speed=0.0)
+    sc, _ = static_scene(c, slices=slices, bodies=bodies)
     t_scene = time.perf_counter() - t0
     mesh = c.mesh_model(slices=slices)
     fi = _flex_index(sc)

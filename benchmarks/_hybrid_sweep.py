@@ -72,7 +72,6 @@ def _baseline_run(
     """Newmark (average acceleration) of the hybrid scene on all n coordinates: the equations of
     :func:`jaxgear.dynamics.hybrid_speed_sweep` without the cell space. Returns the mesh force
     per step (N), the worst result code and the most contact passes in a step."""
-    import equinox as eqx
     import jax
     import jax.numpy as jnp
     from jax.scipy.linalg import solve_triangular
@@ -89,12 +88,12 @@ def _baseline_run(
     # start state and period-averaged mesh stiffness: the quasi-static states at the step
     # positions of one mesh period (centrifugal load at this speed), K̄_m on all coordinates
     theta = (jnp.arange(spp) + 0.5) * dth
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
     qs = quasi_static(
-        at_speed,
+        scene,
         mods,
         torque,
         theta,
+        speed=speed,
         contact=mode,
         width=width,
         max_iterations=max_it,

@@ -14,7 +14,6 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import equinox as eqx  # noqa: E402
 import jax.numpy as jnp  # noqa: E402
 import matplotlib  # noqa: E402
 
@@ -34,15 +33,16 @@ def main() -> dict:
     case = jio.load_case("power-helical-flexible")
     depths = np.arange(0.0, 20.01, 1.0)
     out = {"case": case.name, "crowning_depth_um": depths.tolist(), "speeds": {}}
+    scene, _ = static_scene(case)
     for speed in (0.0, 3000.0):
-        scene, _ = static_scene(case, speed=speed)
         problem = optimise.make_problem(
-            case, "crowning.depth", "max_line_load", scene=scene, relief_blend=0.0
+            case, "crowning.depth", "max_line_load", scene=scene, speed=speed, relief_blend=0.0
         )
         value = jax.jit(lambda x, p=problem: p.value(x, "exact") * p.scale)
         edge = jax.jit(
             lambda x, p=problem: jnp.max(
-                jg.quasi_static(p.mesh, p.modifications(x), case.torque).line_load, axis=(0, 1)
+                jg.quasi_static(p.mesh, p.modifications(x), case.torque, speed=p.speed).line_load,
+                axis=(0, 1),
             )
         )
         loads, edges = [], []
@@ -63,12 +63,25 @@ def main() -> dict:
     fig, ax = plt.subplots(figsize=(8, 4.8))
     for (label, d), col in zip(out["speeds"].items(), ("C0", "C3"), strict=True):
         name = "at rest" if label == "0" else f"{label} rad/s (pinion)"
-        ax.plot(depths, np.asarray(d["max_line_load_N_per_m"]) / 1e3, "o-", color=col, label=f"max line load, {name}")
+        ax.plot(
+            depths,
+            np.asarray(d["max_line_load_N_per_m"]) / 1e3,
+            "o-",
+            color=col,
+            label=f"max line load, {name}",
+        )
         e = np.asarray(d["edge_line_load_N_per_m"]) / 1e3
         ax.plot(depths, e[:, 0], ":", color=col, label=f"load at the web-side edge, {name}")
         ax.plot(depths, e[:, 1], "--", color=col, label=f"load at the cantilevered edge, {name}")
-        ax.plot(d["optimum_crowning_um"], d["optimum_max_line_load_N_per_m"] / 1e3, "*", ms=16,
-                color=col, mec="k", label=f"gradient optimum {d['optimum_crowning_um']:.1f} µm, {name}")
+        ax.plot(
+            d["optimum_crowning_um"],
+            d["optimum_max_line_load_N_per_m"] / 1e3,
+            "*",
+            ms=16,
+            color=col,
+            mec="k",
+            label=f"gradient optimum {d['optimum_crowning_um']:.1f} µm, {name}",
+        )
     ax.set_xlabel("lead crowning depth per member (µm)")
     ax.set_ylabel("line load (N/mm), exact contact")
     ax.set_title("power-helical-flexible: crowning against the centrifugal web deflection")

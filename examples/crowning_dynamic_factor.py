@@ -39,14 +39,16 @@ START_UM = 12.5  # optimiser start, crowning per member
 
 
 def setup():
-    """The power case, its hybrid scene at 3000 rad/s and the dynamic-factor problem."""
+    """The power case, its hybrid scene and the dynamic-factor problem (quasi-static scale at
+    3000 rad/s)."""
     case = jio.load_case("power-helical-flexible")
-    scene, _ = static_scene(case, speed=3000.0)
+    scene, _ = static_scene(case)
     problem = optimise.make_problem(
         case,
         "crowning.depth",
         "dynamic_factor",
         scene=scene,
+        speed=3000.0,
         relief_blend=0.0,
         speeds=list(SPEEDS),
         dynamics=DYNAMICS,

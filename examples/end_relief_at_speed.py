@@ -67,10 +67,11 @@ def design_case(edge: str, extent: float = EXTENT) -> jg.Case:
     return case.replace(modifications=jg.Modifications(pinion=pinion, gear=gear))
 
 
-def make(case, scene, objective, depth_um=(0.0, 20.0), extent=None) -> optimise.Problem:
-    """Problem over the pinion's end relief depth (µm bounds) and optionally its extent."""
+def make(case, scene, speed, objective, depth_um=(0.0, 20.0), extent=None) -> optimise.Problem:
+    """Problem over the pinion's end relief depth (µm bounds) and optionally its extent, at
+    pinion speed ``speed`` (rad/s)."""
     names = VAR if extent is None else f"{VAR},pinion.end_relief.extent"
-    p = optimise.make_problem(case, names, objective, scene=scene)
+    p = optimise.make_problem(case, names, objective, scene=scene, speed=speed)
     lo = [depth_um[0] * 1e-6 / float(p.delta_m)]
     hi = [depth_um[1] * 1e-6 / float(p.delta_m)]
     if extent is not None:
@@ -87,6 +88,7 @@ def _evaluate(problem: optimise.Problem, x):
         p.mesh,
         p.modifications(x),
         p.design_torque,
+        speed=p.speed,
         positions_per_pitch=p.positions_per_pitch,
     )
     return {
@@ -168,8 +170,8 @@ def compute() -> dict:
         s = out["speeds"][f"{speed:g}"] = {}
         for edge in EDGES:
             case = design_case(edge)
-            scene, _ = static_scene(case, speed=speed)
-            centroid = make(case, scene, "load_centroid", (0.0, 20.0))
+            scene, _ = static_scene(case)
+            centroid = make(case, scene, speed, "load_centroid", (0.0, 20.0))
             d = s[edge] = {"scan": scan(centroid, DEPTHS_UM)}
             d["face_profile"] = {
                 f"{e:g}": {
@@ -178,16 +180,18 @@ def compute() -> dict:
                 for e in (0.0, 10.0)
             }
             if edge == "z0":
-                wide = make(case, scene, "load_centroid", (0.0, 160.0))
+                wide = make(case, scene, speed, "load_centroid", (0.0, 160.0))
                 d["extended_scan"] = scan(wide, EXTENDED_UM)
                 d["optimum_load_centroid"] = gradient_optimum(wide, 20.0)
                 if speed > 0:
-                    both = make(case, scene, "load_centroid", (0.0, 160.0), extent=(0.05, 0.5))
+                    both = make(
+                        case, scene, speed, "load_centroid", (0.0, 160.0), extent=(0.05, 0.5)
+                    )
                     d["optimum_load_centroid_depth_extent"] = gradient_optimum(both, (20.0, 0.4))
             else:
                 d["optimum_load_centroid"] = gradient_optimum(centroid, 10.0)
             d["optimum_max_line_load"] = gradient_optimum(
-                make(case, scene, "max_line_load", (0.0, 20.0)), 5.0
+                make(case, scene, speed, "max_line_load", (0.0, 20.0)), 5.0
             )
         s["wall_time_s"] = time.perf_counter() - t0
     fast = out["speeds"]["3000"]
@@ -231,24 +235,59 @@ def plot(out: dict, path) -> None:
         for edge, d in ((e, s[e]) for e in EDGES):
             sc = d["scan"]
             lab = f"{'cantilevered' if edge == 'z1' else 'web'}-side relief, {names[sp]}"
-            ax_c.plot(sc["depth_um"], sc["load_centroid_mm"], styles[edge], color=colours[sp],
-                      marker="o", ms=3, label=lab)
-            ax_q.plot(sc["depth_um"], np.asarray(sc["max_line_load_N_per_m"]) / 1e3,
-                      styles[edge], color=colours[sp], marker="o", ms=3, label=lab)
+            ax_c.plot(
+                sc["depth_um"],
+                sc["load_centroid_mm"],
+                styles[edge],
+                color=colours[sp],
+                marker="o",
+                ms=3,
+                label=lab,
+            )
+            ax_q.plot(
+                sc["depth_um"],
+                np.asarray(sc["max_line_load_N_per_m"]) / 1e3,
+                styles[edge],
+                color=colours[sp],
+                marker="o",
+                ms=3,
+                label=lab,
+            )
             o = d["optimum_max_line_load"]
-            ax_q.plot(o["depth_um"], o["max_line_load_N_per_m"] / 1e3, "*", ms=15,
-                      color=colours[sp], mec="k")
+            ax_q.plot(
+                o["depth_um"],
+                o["max_line_load_N_per_m"] / 1e3,
+                "*",
+                ms=15,
+                color=colours[sp],
+                mec="k",
+            )
             if edge == "z1":
                 o = d["optimum_load_centroid"]
-                ax_c.plot(o["depth_um"], o["load_centroid_mm"], "*", ms=15, color=colours[sp],
-                          mec="k")
+                ax_c.plot(
+                    o["depth_um"], o["load_centroid_mm"], "*", ms=15, color=colours[sp], mec="k"
+                )
         ext = s["z0"]["extended_scan"]
-        ax_w.plot(ext["depth_um"], ext["load_centroid_mm"], "-", color=colours[sp], marker="o",
-                  ms=3, label=f"load centroid, {names[sp]}")
+        ax_w.plot(
+            ext["depth_um"],
+            ext["load_centroid_mm"],
+            "-",
+            color=colours[sp],
+            marker="o",
+            ms=3,
+            label=f"load centroid, {names[sp]}",
+        )
         o = s["z0"]["optimum_load_centroid"]
-        ax_w.plot(o["depth_um"], o["load_centroid_mm"], "*", ms=16, color=colours[sp], mec="k",
-                  label=f"gradient optimum {o['depth_um']:.1f} µm, max line load "
-                  f"{o['max_line_load_N_per_m'] / 1e3:.0f} N/mm, {names[sp]}")
+        ax_w.plot(
+            o["depth_um"],
+            o["load_centroid_mm"],
+            "*",
+            ms=16,
+            color=colours[sp],
+            mec="k",
+            label=f"gradient optimum {o['depth_um']:.1f} µm, max line load "
+            f"{o['max_line_load_N_per_m'] / 1e3:.0f} N/mm, {names[sp]}",
+        )
     ax_c.plot([10.0], [0.0], "kX", ms=11, label="seed IV-34: centred (cantilevered, 10 µm)")
     ax_c.axhline(0.0, color="k", lw=0.6)
     ax_c.set_xlabel("end relief depth E (µm), extent 0.4 b")
@@ -269,10 +308,16 @@ def plot(out: dict, path) -> None:
     s = out["speeds"]["3000"]
     for edge, e, st in (("z1", "0", ":"), ("z1", "10", "--"), ("z0", "10", "-")):
         prof = s[edge]["face_profile"][e]
-        lab = ("no end relief" if e == "0" else
-               f"E = 10 µm on the {EDGES[edge].split(' (')[0]}")
-        ax_p.plot(prof["slice_z_mm"], np.asarray(prof["slice_load_N_per_m"]) / 1e3,
-                  linestyle=st, color="k" if e == "0" else "C3", marker="o", ms=3, label=lab)
+        lab = "no end relief" if e == "0" else f"E = 10 µm on the {EDGES[edge].split(' (')[0]}"
+        ax_p.plot(
+            prof["slice_z_mm"],
+            np.asarray(prof["slice_load_N_per_m"]) / 1e3,
+            linestyle=st,
+            color="k" if e == "0" else "C3",
+            marker="o",
+            ms=3,
+            label=lab,
+        )
     ax_p.axvline(8.0, color="0.6", lw=0.8)
     ax_p.text(8.3, 5, "web", color="0.4", fontsize=8)
     ax_p.set_xlabel("face position z (mm): 0 web side, 40 cantilevered edge")
@@ -282,8 +327,10 @@ def plot(out: dict, path) -> None:
     ax_p.legend(fontsize=7)
     for ax in axes.flat:
         ax.grid(True, alpha=0.3)
-    fig.suptitle("power-helical-flexible: one-sided linear end relief (0.4 b) against the "
-                 "centrifugal web deflection, exact contact")
+    fig.suptitle(
+        "power-helical-flexible: one-sided linear end relief (0.4 b) against the "
+        "centrifugal web deflection, exact contact"
+    )
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -96,14 +96,22 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
 
 
 def _one_position(
-    scene: Scene, mesh: MeshModel, mods: Modifications, torque, theta, mode, width, max_iterations
+    scene: Scene,
+    mesh: MeshModel,
+    mods: Modifications,
+    torque,
+    speed,
+    theta,
+    mode,
+    width,
+    max_iterations,
 ):
     cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
     contact = (cells.stiffness.reshape(-1), cells.length.reshape(-1))
     if hasattr(scene, "cell_space"):
         # large structures (condensed bodies): solve in the space of the cells
-        C, a0, E, b, window = scene.cell_space(cells, torque)
+        C, a0, E, b, window = scene.cell_space(cells, torque, speed)
         sol, force, alpha = solve_contact_cells(
             C,
             a0 - delta0.reshape(-1),
@@ -160,6 +168,7 @@ def _quasi_static(
     mesh,
     mods,
     torque,
+    speed,
     theta,
     width,
     mode,
@@ -180,10 +189,11 @@ def _quasi_static(
         ~(torque > 0),
         "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
     )
+    speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
     if mode == "smooth":
         width = eqx.error_if(width, ~(width > 0), "smooth contact width must be > 0 (m)")
     out = jax.vmap(
-        lambda th: _one_position(scene, mesh, mods, torque, th, mode, width, max_iterations)
+        lambda th: _one_position(scene, mesh, mods, torque, speed, th, mode, width, max_iterations)
     )(theta)
     res = QuasiStaticResult(**out)
     if throw:
@@ -198,6 +208,7 @@ def quasi_static(
     torque,
     theta: Float[Array, " P"] | None = None,
     *,
+    speed=0.0,
     contact: str = "exact",
     width=1e-7,
     positions_per_pitch: int = 64,
@@ -214,6 +225,9 @@ def quasi_static(
         torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
         theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` over ``periods``
             mesh periods with ``positions_per_pitch`` positions each.
+        speed: pinion speed Ω (rad/s) >= 0 of the centrifugal loads of condensed bodies
+            (a hybrid scene: each body at its own speed, seed (2.37)); rigid gear bodies carry
+            none, so other scenes do not depend on it. Default 0: at rest.
         contact: "exact" (active set, seed II-25) or "smooth" (softplus ramp; docs/design.md,
             "Contact laws").
         width: smoothing width w (m) in smooth mode.
@@ -227,7 +241,8 @@ def quasi_static(
 
     Raises:
         ValueError: unknown ``contact`` mode, bad position counts (at trace time).
-        eqx.EquinoxRuntimeError: torque <= 0, width <= 0, solver failure (with ``throw``).
+        eqx.EquinoxRuntimeError: torque <= 0, width <= 0, a negative speed on a hybrid scene,
+            solver failure (with ``throw``).
     """
     if contact not in ("exact", "smooth"):
         raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
@@ -244,6 +259,7 @@ def quasi_static(
         mesh = scene.mesh
     dtype = mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
+    speed = jnp.asarray(speed, dtype=dtype)
     width = jnp.asarray(width, dtype=dtype)
     if theta is not None:
         theta = jnp.asarray(theta, dtype=dtype)
@@ -252,6 +268,7 @@ def quasi_static(
         mesh,
         modifications,
         torque,
+        speed,
         theta,
         width,
         contact,

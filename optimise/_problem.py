@@ -17,7 +17,7 @@ a fixed 0.01):
 the load centroid's offset from mid-face, :func:`load_centroid`; 0 = centred load) and
 ``line_load_lp`` (the L_p norm of the line load over the load map, :func:`line_load_lp`, a smooth
 surrogate of the maximum). Every objective works on the rigid mesh and on any scene, e.g. the
-hybrid scene at speed (centrifugal loads) of :func:`jaxgear.dynamics.static_scene`.
+hybrid scene of :func:`jaxgear.dynamics.static_scene` at a pinion speed (centrifugal loads).
 """
 
 from __future__ import annotations
@@ -144,8 +144,10 @@ class Problem(eqx.Module):
 
     Attributes:
         mesh: the structure the quasi-static solve runs on: the rigid mesh model, or a scene
-            (e.g. the hybrid scene with condensed bodies at speed). base: modifications the
+            (e.g. the hybrid scene with condensed bodies). base: modifications the
             variables are written into.
+        speed: pinion speed of the quasi-static objectives (rad/s; the centrifugal loads of
+            condensed bodies, 0 at rest).
         torques: torques of the objective (N·m), shape (T,) (one entry for single-load objectives).
         design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque.
         scale: unmodified objective value at the design torque (objective units);
@@ -169,6 +171,7 @@ class Problem(eqx.Module):
     width: Float[Array, ""]
     face_width: Float[Array, ""]
     lp_order: Float[Array, ""]
+    speed: Float[Array, ""]
     names: tuple[str, ...] = eqx.field(static=True)
     objective: str = eqx.field(static=True)
     reduce: str = eqx.field(static=True)
@@ -224,6 +227,7 @@ class Problem(eqx.Module):
             self.mesh,
             mods,
             torque,
+            speed=self.speed,
             contact=contact,
             width=self.width,
             positions_per_pitch=self.positions_per_pitch,
@@ -272,6 +276,7 @@ class Problem(eqx.Module):
                     self.mesh,
                     mods,
                     t,
+                    speed=self.speed,
                     contact=contact,
                     width=self.width,
                     positions_per_pitch=self.positions_per_pitch,
@@ -288,6 +293,7 @@ class Problem(eqx.Module):
             self.mesh,
             self.modifications(jnp.asarray(x)),
             self.design_torque,
+            speed=self.speed,
             contact=contact,
             width=self.width,
             positions_per_pitch=self.positions_per_pitch,
@@ -335,6 +341,7 @@ def make_problem(
     end_relief_blend: float | None = None,
     scene: jg.Scene | None = None,
     lp_order: float = 8.0,
+    speed: float = 0.0,
     speeds=None,
     dynamics: tuple[int, int, int] = (32, 20, 4),
 ) -> Problem:
@@ -356,9 +363,11 @@ def make_problem(
             extent is a design variable (it makes the objective sampled at the slice centres
             smooth in the extent), else 0 (sharp: the design as written).
         scene: the structure to optimise on (default the case's rigid mesh), e.g. the hybrid
-            scene of :func:`jaxgear.dynamics.static_scene` at a speed (centrifugal loads): its
-            mesh replaces ``slices``.
+            scene of :func:`jaxgear.dynamics.static_scene` (condensed bodies): its mesh
+            replaces ``slices``.
         lp_order: p of the ``line_load_lp`` objective, in [1, 64] (default 8).
+        speed: pinion speed (rad/s) >= 0 of the quasi-static objectives: the centrifugal loads
+            of the scene's condensed bodies (default 0, at rest).
         speeds: pinion speeds (rad/s) of the ``dynamic_factor`` objective, shape (S,): its speed
             band (needs a ``scene`` with condensed bodies: the hybrid Newmark of
             :func:`jaxgear.dynamics.band_dynamic_factor`, a smooth worst dynamic factor over the
@@ -433,7 +442,7 @@ def make_problem(
         if len(dynamics) != 3 or any(int(v) != v or v < 1 for v in dynamics):
             raise ValueError(f"dynamics = {dynamics!r}: allowed three integers >= 1")
     ppp = int(positions_per_pitch or case.positions_per_pitch)
-    unmod = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=ppp)
+    unmod = jg.quasi_static(mesh, None, case.torque, speed=speed, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
     delta_m = case.normal_load / k_mean
     mesh_model = mesh if isinstance(mesh, jg.MeshModel) else mesh.mesh
@@ -484,6 +493,7 @@ def make_problem(
         width=jnp.asarray(case.smooth_width),
         face_width=jnp.asarray(face_width),
         lp_order=jnp.asarray(lp_order),
+        speed=jnp.asarray(float(speed)),
         names=names,
         objective=objective,
         reduce=reduce,

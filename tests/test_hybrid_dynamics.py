@@ -37,8 +37,9 @@ def _period_mesh_stiffness(scene, mods, torque, speed, spp):
     n = scene.K.shape[0]
     T = float(mesh.mesh_period_angle)
     positions = (np.arange(spp) + 0.5) * T / spp
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
-    loaded = np.asarray(jg.quasi_static(at_speed, mods, torque, jnp.asarray(positions)).line_load)
+    loaded = np.asarray(
+        jg.quasi_static(scene, mods, torque, jnp.asarray(positions), speed=speed).line_load
+    )
 
     @jax.jit
     def period(k):  # Σ_p Σ_c w_c k_c l_c V_c V_cᵀ over the period's positions, on all coordinates
@@ -70,8 +71,7 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
     a0, a1 = 4.0 / dt**2, 2.0 / dt
     F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.f_centrifugal)
     th0 = 0.5 * T / spp
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed))
-    qs = jg.quasi_static(at_speed, mods, torque, jnp.array([th0]))
+    qs = jg.quasi_static(scene, mods, torque, jnp.array([th0]), speed=speed)
 
     def deviation(th):
         cells = mesh.cells(th)
@@ -173,12 +173,7 @@ def test_low_speed_is_the_quasi_static_response(setup):
         periods=3,
         keep_periods=1,
     )
-    qs = jg.quasi_static(
-        eqx.tree_at(lambda s: s.speed, scene, jnp.asarray(speed)),
-        case.modifications,
-        case.torque,
-        r.theta,
-    )
+    qs = jg.quasi_static(scene, case.modifications, case.torque, r.theta, speed=speed)
     f_qs = np.sum(
         np.asarray(qs.line_load) * np.asarray(scene.mesh.cells(0.0).length)[None], axis=(1, 2)
     )
@@ -351,9 +346,9 @@ def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):
         lambda m: m.pinion.helix_slope_deviation, case.modifications, jnp.asarray(10e-6)
     )
     case = case.replace(modifications=mods)
-    scene = static_scene(case, speed=3000.0)[0]
+    scene = static_scene(case)[0]
     problem = optimise.make_problem(
-        case, "crowning.depth", "max_line_load", scene=scene, positions_per_pitch=16
+        case, "crowning.depth", "max_line_load", scene=scene, speed=3000.0, positions_per_pitch=16
     )
     res = optimise.minimise(problem, np.array([0.5]), max_iterations=60, progress=False)
     sharp = eqx.tree_at(

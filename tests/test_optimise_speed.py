@@ -58,9 +58,7 @@ def test_end_relief_on_one_or_both_edges_is_the_linear_ramp(edge):
     np.testing.assert_allclose(got, _linear_end_relief(zeta, 7e-6, 0.4, edge), atol=1e-20)
     if edge == "both":  # the default is the symmetric relief
         default = jg.MemberModification(**kw)
-        np.testing.assert_array_equal(
-            np.asarray(default.deviation(0.5, jnp.asarray(zeta))), -got
-        )
+        np.testing.assert_array_equal(np.asarray(default.deviation(0.5, jnp.asarray(zeta))), -got)
 
 
 def test_end_relief_blend_rounds_only_the_start():
@@ -80,7 +78,9 @@ def test_end_relief_blend_rounds_only_the_start():
 
     def e(le, blend):
         mm = jg.MemberModification(
-            end_relief_depth=depth, end_relief_extent=le, end_relief_blend=blend,
+            end_relief_depth=depth,
+            end_relief_extent=le,
+            end_relief_blend=blend,
             end_relief_edge="z0",
         )
         return float(mm.deviation(0.5, 0.3))
@@ -179,7 +179,7 @@ def hybrid(fem_prep_cache):
         m.pinion, helix_slope_deviation=30e-6, end_relief_edge="z1", end_relief_extent=0.4
     )
     case = case.replace(modifications=jg.Modifications(pinion=pinion, gear=m.gear))
-    return case, static_scene(case, speed=3000.0)[0]
+    return case, static_scene(case)[0]
 
 
 VARS = (
@@ -203,7 +203,9 @@ def test_design_variable_gradients_match_central_differences_in_exact_contact(hy
     hybrid scene at 3000 rad/s: against central differences (h = 1e-6 in normalised units)."""
     case, scene = hybrid
     ppp = 8
-    pc = op.make_problem(case, VARS, "load_centroid", scene=scene, positions_per_pitch=ppp)
+    pc = op.make_problem(
+        case, VARS, "load_centroid", scene=scene, speed=3000.0, positions_per_pitch=ppp
+    )
     x0 = jnp.asarray(pc.from_physical(DESIGN_UM))
 
     def f(x):
@@ -239,7 +241,12 @@ def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
     (E* = E/δ_m in [0, 8], steps of 0.25)."""
     case, scene = hybrid
     p = op.make_problem(
-        case, "pinion.end_relief.depth", "load_centroid", scene=scene, positions_per_pitch=8
+        case,
+        "pinion.end_relief.depth",
+        "load_centroid",
+        scene=scene,
+        speed=3000.0,
+        positions_per_pitch=8,
     )
     p = eqx.tree_at(lambda q: q.upper, p, jnp.asarray([8.0]))
     res = op.minimise(p, np.array([0.5]), progress=False)
@@ -354,8 +361,8 @@ def test_power_pair_end_relief_at_speed(fem_prep_cache):
     got = {}
     for edge in ("z0", "z1"):
         case = ex.design_case(edge)
-        scene, _ = static_scene(case, speed=3000.0)
-        p = ex.make(case, scene, "load_centroid", (0.0, 20.0))
+        scene, _ = static_scene(case)
+        p = ex.make(case, scene, 3000.0, "load_centroid", (0.0, 20.0))
         got[edge] = ex.scan(p, depths)
         want = stored[edge]["scan"]
         idx = [want["depth_um"].index(d) for d in depths]
@@ -364,7 +371,7 @@ def test_power_pair_end_relief_at_speed(fem_prep_cache):
         if edge == "z0":
             c = np.asarray(got[edge]["load_centroid"])
             assert c[0] < -0.05 and np.all(np.diff(c) > 0)  # towards the centre
-            wide = ex.make(case, scene, "load_centroid", (0.0, 160.0))
+            wide = ex.make(case, scene, 3000.0, "load_centroid", (0.0, 160.0))
             grid = np.arange(0.0, 160.01, 2.0)
             cs = np.asarray(ex.scan(wide, grid)["load_centroid"])
             k = int(np.flatnonzero(np.sign(cs[:-1]) != np.sign(cs[1:]))[0])
@@ -375,7 +382,7 @@ def test_power_pair_end_relief_at_speed(fem_prep_cache):
             assert opt["depth_um"] == pytest.approx(
                 stored["z0"]["optimum_load_centroid"]["depth_um"], abs=0.05
             )
-            pm = ex.make(case, scene, "max_line_load", (0.0, 20.0))
+            pm = ex.make(case, scene, 3000.0, "max_line_load", (0.0, 20.0))
             best = ex.gradient_optimum(pm, 5.0)["max_line_load_N_per_m"]
             fine = ex.scan(pm, np.arange(0.0, 20.01, 1.0))["max_line_load_N_per_m"]
             assert best <= 1.01 * min(fine)

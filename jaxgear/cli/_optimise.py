@@ -123,8 +123,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     if settings.get("speed") is not None or settings.get("speeds"):
         from ..dynamics import static_scene
 
-        # the hybrid scene at that speed (the dynamic_factor band sets its own speeds)
-        scene, _ = static_scene(case, speed=settings.get("speed") or 0.0)
+        # the hybrid scene (loaded at --speed; the dynamic_factor band sets its own speeds)
+        scene, _ = static_scene(case)
     if settings.get("speeds"):
         speeds = range_values(settings["speeds"], "--speeds", positive=True)
     problem = make_problem(
@@ -136,6 +136,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         bounds=settings["bounds"],
         scene=scene,
         lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
+        speed=settings.get("speed") or 0.0,
         speeds=speeds,
     )
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it

@@ -112,6 +112,7 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             scene,
             case.modifications,
             case.torque,
+            speed=case.speed,
             contact=mode,
             width=case.smooth_width,
             positions_per_pitch=case.positions_per_pitch,
@@ -124,7 +125,7 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
         return out
     pair = case.pair
     ppp = case.positions_per_pitch
-    growth = scene.rim_radial_growth()
+    growth = scene.rim_radial_growth(case.speed)
     out["bodies"] = [b for b in case.scene.bodies]
     out["speed_rad_s"] = case.speed
     out["centrifugal"] = {
@@ -138,11 +139,9 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     files = []
     maps = [("load_map.png", res["exact"], "at rest" if case.speed == 0 else "")]
     if case.speed > 0:
-        import equinox as eqx
-
         bar.set_postfix_str("quasi-static at rest")
         rest = quasi_static(
-            eqx.tree_at(lambda s: s.speed, scene, scene.speed * 0),
+            scene,
             case.modifications,
             case.torque,
             positions_per_pitch=ppp,

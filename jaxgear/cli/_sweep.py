@@ -107,6 +107,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             spp,
             spec.contact,
             jnp.asarray(case.smooth_width),
+            speed=case.speed,
         )
     )
     K, M = np.asarray(scene.K), np.asarray(scene.M)

@@ -175,14 +175,14 @@ def static_scene(
     *,
     slices: int | None = None,
     bodies: tuple | None = None,
-    speed: float | None = None,
 ):
     """The scene of the case's quasi-static solve with shafts, bearings and condensed bodies.
 
     ``lumped3d`` without bodies: the lumped scene with the load rotation grounded. With
     ``[scene.pinion_body]``/``[scene.gear_body]``: the hybrid scene (:func:`jaxgear.scenes.hybrid_pair`),
-    its flexible members' tooth stiffness without the foundation term, the centrifugal load at
-    ``speed`` (pinion, rad/s; default the case's ``[operating] speed_rad_s``).
+    its flexible members' tooth stiffness without the foundation term. The scene holds no
+    operating point: pass the torque and the pinion speed (the case's ``torque``/``speed``) to
+    the solvers.
 
     Returns:
         (scene, bodies): the scene and the condensed bodies (pinion, gear) or ``None``.
@@ -219,7 +219,6 @@ def static_scene(
         youngs_modulus=case.youngs_modulus,
         poisson_ratio=case.poisson_ratio,
         density=case.density,
-        speed=case.speed if speed is None else speed,
     )
     return scene, bodies
 
@@ -260,11 +259,12 @@ def quasi_static_scene(
     Raises:
         ValueError: the case has no ``lumped3d`` scene.
     """
-    scene, _ = static_scene(case, slices=slices, bodies=bodies, speed=speed)
+    scene, _ = static_scene(case, slices=slices, bodies=bodies)
     res = quasi_static(
         scene,
         case.modifications,
         case.torque,
+        speed=case.speed if speed is None else speed,
         contact=contact,
         width=case.smooth_width,
         positions_per_pitch=case.positions_per_pitch,

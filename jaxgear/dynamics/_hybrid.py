@@ -363,10 +363,9 @@ def _run(
     dtype = scene.K.dtype
     dt = mesh.mesh_period_angle / speed / spp
     M = scene.M
-    at_speed = eqx.tree_at(lambda s: s.speed, scene, speed)
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
-    qs, _ = _period_statics(at_speed, mods, torque, spp, mode, width, max_iterations)
+    qs, _ = _period_statics(scene, mods, torque, speed, spp, mode, width, max_iterations)
     loaded = qs.line_load > 0
 
     def block(p):  # K̄_m(p) on the stations under the mesh in period p
@@ -384,7 +383,7 @@ def _run(
     if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening
         K = K + speed**2 * scene.spin_stiffness
         C = C + speed * scene.gyroscopic
-    F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
+    F = scene.external_load(torque, speed)
     e_ref, e_max = _reference(mesh, mods, qs.theta)
     # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
     X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
@@ -457,11 +456,12 @@ def _rim_of(scene: HybridPair):
     return rim_of
 
 
-def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width):
+def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width, *, speed=0.0):
     """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the ``spp`` quasi-static positions of one mesh
     period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
-    in Rayleigh damping (2.34)."""
-    return _period_statics(scene, mods, torque, spp, mode, width)[1]
+    in Rayleigh damping (2.34); at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal
+    loads; default at rest)."""
+    return _period_statics(scene, mods, torque, speed, spp, mode, width)[1]
 
 
 def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
@@ -487,8 +487,9 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     return U, B / theta.shape[0], jnp.all(ok)
 
 
-def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_iterations=100):
-    """Quasi-static result at the ``spp`` step positions of one mesh period, and K̄_m there."""
+def _period_statics(scene: HybridPair, mods, torque, speed, spp, mode, width, max_iterations=100):
+    """Quasi-static result at pinion speed Ω (centrifugal loads) at the ``spp`` step positions
+    of one mesh period, and K̄_m there."""
     mesh = scene.mesh
     theta = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
     qs = quasi_static(
@@ -496,6 +497,7 @@ def _period_statics(scene: HybridPair, mods, torque, spp, mode, width, max_itera
         mods,
         torque,
         theta,
+        speed=speed,
         contact=mode,
         width=width,
         max_iterations=max_iterations,
@@ -825,10 +827,9 @@ def hybrid_free_vibration(
 @eqx.filter_jit
 def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     mesh = scene.mesh
-    at_rest = eqx.tree_at(lambda s: s.speed, scene, jnp.zeros((), scene.K.dtype))
     period = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
     e_ref, _ = _reference(mesh, mods, period)
-    qs = quasi_static(at_rest, mods, torque, theta[None], throw=False)
+    qs = quasi_static(scene, mods, torque, theta[None], throw=False)  # at rest
     e_th = separation(mesh, mods, theta)[1]
     Xs = qs.x[0] + scene.N[:, 0] * (e_ref - e_th)
     M = scene.M
@@ -836,7 +837,7 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     F = torque * scene.f_torque
     # Ẍ(0) = 0: the start is the static equilibrium, where K X + Σ P V = F
     (_, _, _, code, _), (_, P, _, rec) = _newmark_cells(
-        at_rest,
+        scene,
         mods,
         scene.K,
         M,

@@ -263,8 +263,8 @@ class HybridPair(Scene):
             complement of the drive rotation with the output rotation held (n, n). N: the drive
             rotation, scaled to a unit base-plane approach (n, 1). f_torque: load per unit pinion
             torque (n,). f_centrifugal: load per unit (pinion speed)² (n,). x_torque, x_centrifugal:
-            G f_torque, G f_centrifugal. speed: pinion speed Ω (rad/s) of the centrifugal load.
-            te: TE vector u (u·X, m) at the gear positions of the shafts. te_compliance: G u.
+            G f_torque, G f_centrifugal (the pinion speed Ω is an argument of the methods
+            and solvers that load the scene, never a field of it). te: TE vector u (u·X, m) at the gear positions of the shafts. te_compliance: G u.
             reaction: bearing force
             rows (r, n). tangent_point, direction, normal, roll_start: the line of action.
             C_bearing: assembled bearing damping on the shaft DOFs (the first s coordinates),
@@ -286,7 +286,6 @@ class HybridPair(Scene):
     f_centrifugal: Float[Array, " n"]
     x_torque: Float[Array, " n"]
     x_centrifugal: Float[Array, " n"]
-    speed: Float[Array, ""]
     te: Float[Array, " n"]
     te_compliance: Float[Array, " n"]
     reaction: Float[Array, "r n"]
@@ -323,8 +322,10 @@ class HybridPair(Scene):
         n, s = self.K.shape[0], self.C_bearing.shape[0]
         return jnp.zeros((n, n), self.K.dtype).at[:s, :s].set(self.C_bearing)
 
-    def external_load(self, torque):
-        return torque * self.f_torque + self.speed**2 * self.f_centrifugal
+    def external_load(self, torque, speed=0.0):
+        """Generalised external forces (n,) at pinion torque T (N·m) and pinion speed Ω (rad/s):
+        T f_torque + Ω² f_centrifugal (each body at its own speed, (2.37))."""
+        return torque * self.f_torque + speed**2 * self.f_centrifugal
 
     def points(self, cells: Cells):
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
@@ -366,17 +367,18 @@ class HybridPair(Scene):
         return self.te
 
     # -- the cell space -----------------------------------------------------------------------
-    def cell_space(self, cells: Cells, torque):
-        """C, a0 = V G F, E = V N, b = Nᵀ F and the window (for the recovery of X)."""
+    def cell_space(self, cells: Cells, torque, speed=0.0):
+        """C, a0 = V G F, E = V N, b = Nᵀ F and the window (for the recovery of X), F the
+        external load at pinion torque T (N·m) and speed Ω (rad/s)."""
         idx, Vw = self.window(cells)
         c = Vw.shape[0] * Vw.shape[1]
         Vw = Vw.reshape(c, -1)
         Gw = self.G[idx[:, None], idx[None, :]]
-        x0 = torque * self.x_torque + self.speed**2 * self.x_centrifugal
+        x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
         C = Vw @ Gw @ Vw.T
         a0 = Vw @ x0[idx]
         E = Vw @ self.N[idx]
-        b = self.N.T @ self.external_load(torque)
+        b = self.N.T @ self.external_load(torque, speed)
         return C, a0, E, b, (idx, Vw, x0)
 
     def bearing_forces(self, theta, x):
@@ -400,12 +402,11 @@ class HybridPair(Scene):
                 F = F.at[:, i].set(c * fx - s_ * fy).at[:, j].set(s_ * fx + c * fy)
         return F
 
-    def rim_radial_growth(self, speed=None):
+    def rim_radial_growth(self, speed):
         """Mean radial displacement (m) of each flexible member's rim master nodes under the
-        centrifugal load alone at pinion speed ``speed`` (default the scene's); 0 for a rigid
-        member. Returns a tuple (pinion, gear)."""
-        w = self.speed if speed is None else speed
-        x = w**2 * self.x_centrifugal
+        centrifugal load alone at pinion speed ``speed`` (rad/s); 0 for a rigid member.
+        Returns a tuple (pinion, gear)."""
+        x = speed**2 * self.x_centrifugal
         out = []
         for member in self.members:
             if not isinstance(member, FlexibleMember):
@@ -556,7 +557,6 @@ def hybrid_pair(
     youngs_modulus: float = 210e9,
     poisson_ratio: float = 0.3,
     density: float = 7800.0,
-    speed: float = 0.0,
     tooth_mass: bool = True,
 ) -> HybridPair:
     """Assemble the hybrid scene: the lumped 3D scene with condensed bodies (H1, H2).
@@ -572,8 +572,6 @@ def hybrid_pair(
             merged with the shaft node at ``gear_z`` + its axial position.
         masses, inertias: rigid gear bodies (as :func:`lumped_pair`); ignored for a flexible one.
         youngs_modulus, poisson_ratio, density: shaft material (density also for the teeth).
-        speed: pinion speed Ω (rad/s) of the centrifugal load; each body turns at its own speed
-            (the gear at Ω z1/z2), load Ω_body² f_c (2.37).
         tooth_mass: add the mass and centrifugal load of the teeth (not in the FE body, which
             ends at the root circle) on the rim master nodes [R].
 
@@ -733,7 +731,6 @@ def hybrid_pair(
         f_centrifugal=jnp.asarray(fc),
         x_torque=jnp.asarray(G @ f_t),
         x_centrifugal=jnp.asarray(G @ fc),
-        speed=jnp.asarray(float(speed)),
         te=jnp.asarray(te),
         te_compliance=jnp.asarray(G @ te),
         reaction=jnp.asarray(pad(d["reaction"])),
