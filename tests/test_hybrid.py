@@ -335,3 +335,22 @@ def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
         np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1])
     )
     assert mt == pytest.approx(case.density * area * 10e-3, rel=1e-2)
+
+
+def test_the_speed_is_an_argument_of_the_solve(case, scene):
+    """The scene holds no operating point: the centrifugal load comes with quasi_static's
+    ``speed`` (default at rest, and 3000 rad/s changes the TE), a negative speed raises, and
+    the rigid mesh does not depend on it."""
+    theta = jnp.array([0.3 * float(scene.mesh.mesh_period_angle)])
+    rest = jg.quasi_static(scene, case.modifications, case.torque, theta)
+    assert float(
+        jg.quasi_static(scene, case.modifications, case.torque, theta, speed=0.0).te_mean
+    ) == float(rest.te_mean)
+    fast = jg.quasi_static(scene, case.modifications, case.torque, theta, speed=3000.0)
+    assert abs(float(fast.te_mean) - float(rest.te_mean)) > 1e-9  # the rim grows
+    with pytest.raises(eqx.EquinoxRuntimeError, match="speed must be >= 0"):
+        jg.quasi_static(scene, case.modifications, case.torque, theta, speed=-1.0)
+    mesh = case.mesh_model()
+    a = jg.quasi_static(mesh, case.modifications, case.torque, theta)
+    b = jg.quasi_static(mesh, case.modifications, case.torque, theta, speed=3000.0)
+    assert float(a.te_mean) == float(b.te_mean)
