@@ -6,8 +6,8 @@ A reshaping that leaves an algorithm unchanged must reproduce them to a relative
 largest magnitude in the same list: exact zeros and round-off-level entries compare on that
 scale); where an algorithm changes, the test that replaces this one states its tolerance.
 Left out: environment and timings, the result codes' messages, and the mode-by-mode energy
-shares, which are not unique
-where natural frequencies coincide (any basis of a repeated eigenvalue's space is valid).
+shares, which are not unique where natural frequencies coincide (any basis of a repeated
+eigenvalue's space is valid).
 
 The default suite checks a rigid case's whole run and a short lumped sweep (about 15 s); the
 slow suite checks every case, the main job's 60-speed sweep included, and a hybrid sweep.
