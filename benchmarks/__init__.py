@@ -6,6 +6,19 @@ to the ``jaxgear`` package (editable install) or in the current folder. The benc
 jaxgear's public API and read ``tests/data`` of the checkout. Timing lives here, never in tests.
 """
 
+from ._baseline import (
+    BaselineMesh as BaselineMesh,
+    baseline_mesh as baseline_mesh,
+    mods_params as mods_params,
+    te_curve_numpy as te_curve_numpy,
+    te_rms as te_rms,
+)
+from ._baseline_dynamics import (
+    ReferenceModel as ReferenceModel,
+    numba_available as numba_available,
+    reference_response as reference_response,
+)
+from ._charts import thin_tick_labels as thin_tick_labels
 from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stability_map
 from ._hybrid import bench_hybrid as bench_hybrid
 from ._hybrid_sweep import bench_hybrid_sweep as bench_hybrid_sweep

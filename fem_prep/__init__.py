@@ -15,12 +15,13 @@ jaxgear's case files.
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
 from ._body import (
     Body as Body,
+    Material as Material,
     embedded_bodies as embedded_bodies,
     embedded_body_text as embedded_body_text,
     load_body as load_body,
     parse_body as parse_body,
 )
-from ._cli import add_build_arguments as add_build_arguments, run_build as run_build
+from ._cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from ._condense import (
     Condensed as Condensed,
     MasterSet as MasterSet,
@@ -50,7 +51,12 @@ from ._modal import (
     resonance_orders as resonance_orders,
 )
 from ._prepare import Prepared as Prepared, prepare as prepare
-from ._solver import factorize as factorize, shift_invert_modes as shift_invert_modes
+from ._solver import (
+    SolverError as SolverError,
+    SolverWarning as SolverWarning,
+    factorize as factorize,
+    shift_invert_modes as shift_invert_modes,
+)
 from ._tooth_fe import (
     ToothCompliance as ToothCompliance,
     ToothProfile as ToothProfile,

@@ -33,8 +33,13 @@ from ._quasi_static import (
 )
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._stiffness import (
+    iso6336_blank_factor as iso6336_blank_factor,
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,
+    iso6336_pair_blank_factor as iso6336_pair_blank_factor,
     iso6336_single_stiffness as iso6336_single_stiffness,
+    iso6336_virtual_teeth as iso6336_virtual_teeth,
+    sainsot_coefficients as sainsot_coefficients,
+    sainsot_fit_check as sainsot_fit_check,
     stiffness_table as stiffness_table,
     weber_profile as weber_profile,
 )

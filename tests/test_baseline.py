@@ -1,4 +1,4 @@
-"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline (benchmarks._baseline).
+"""jaxgear's quasi-static solver against the independent NumPy/brentq baseline of benchmarks/.
 
 Both compute the rigid-mesh TE curve of DESIGN.md §2-§5; they share only the geometry and the
 stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
@@ -12,9 +12,9 @@ import math
 import numpy as np
 import pytest
 
+import benchmarks as bl
 import jaxgear as jg
 import jaxgear.io as jio
-from benchmarks import _baseline as bl
 
 RTOL = 1e-9
 SLICES = 16

@@ -33,7 +33,7 @@ from jaxgear.dynamics import (
 )
 from jaxgear.io import SchemaError, parse_scene
 from jaxgear.scenes import Bearing, ShaftSpec, bearing_matrix, lumped_pair
-from jaxgear.scenes._lumped3d import _shaft
+from jaxgear.scenes._lumped3d import _shaft  # a shaft's FE nodes (tests/test_layout.py)
 
 DATA = pathlib.Path(__file__).parent / "data"
 

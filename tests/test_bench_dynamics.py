@@ -8,8 +8,7 @@ import json
 
 import pytest
 
-from benchmarks import bench_dynamics
-from benchmarks._baseline_dynamics import numba_available
+from benchmarks import bench_dynamics, numba_available
 
 
 def _check(saved, numba):

@@ -10,7 +10,7 @@ import json
 import pathlib
 
 from benchmarks import bench_hybrid
-from jaxgear.cli._paths import OUTPUT_FILES
+from jaxgear.cli import OUTPUT_FILES
 
 CASE = pathlib.Path(__file__).parent / "data" / "hybrid-test-case.toml"
 

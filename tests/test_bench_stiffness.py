@@ -9,7 +9,7 @@ import itertools
 
 import pytest
 
-from benchmarks._stiffness import bench_stiffness
+from benchmarks import bench_stiffness
 
 # (TE mean error %, TE peak-to-peak error %) as stated, two significant figures
 STATED = {

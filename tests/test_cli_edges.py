@@ -8,8 +8,8 @@ import equinox as eqx
 import jax.numpy as jnp
 import pytest
 
-from jaxgear.cli import main
-from jaxgear.cli._main import runtime_message
+import jaxgear.io
+from jaxgear.cli import main, runtime_message
 from jaxgear.io import list_cases
 
 
@@ -94,17 +94,17 @@ def test_runtime_message_of_compiled_failure():
 
 
 def test_main_prints_the_compiled_failure(monkeypatch, tmp_path, capsys):
-    """``jaxgear run`` whose compiled solve fails prints that solve's message in one line."""
-    import jaxgear.cli._run as run_module
+    """``jaxgear run`` whose compiled solve fails prints that solve's message in one line (the
+    failure injected where the command loads its case, ``jaxgear.io.load_case``)."""
 
     @eqx.filter_jit
     def failing(x):
         return eqx.error_if(x, x > 0, "the static contact solve failed")
 
-    def boom(args):
+    def boom(name):
         failing(jnp.asarray(1.0))
 
-    monkeypatch.setattr(run_module, "run_command", boom)
+    monkeypatch.setattr(jaxgear.io, "load_case", boom)
     status, err = _run(["run", list_cases()[0], "--out", str(tmp_path / "o")], capsys)
     assert status == 2
     assert err == ["jaxgear: error: the static contact solve failed"]
@@ -115,6 +115,7 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
     case asks 40): ``summary.json`` says so in ``dynamics.slices``."""
     import json
 
+    # the steps before and after the sweep replaced (tests/test_layout.py)
     import jaxgear.cli._run as run_module
     import jaxgear.cli._scene as scene_module
     import jaxgear.cli._sweep as sweep_module

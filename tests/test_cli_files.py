@@ -12,7 +12,7 @@ import sys
 import pytest
 
 import fem_prep
-import fem_prep._cli as fem_cli
+import fem_prep._cli as fem_cli  # only to patch the build it calls (tests/test_layout.py)
 from jaxgear.cli import main
 from jaxgear.io import list_cases, load_case
 
@@ -75,11 +75,11 @@ def test_case_write_into_a_folder_or_under_a_file(tmp_path, capsys):
 def test_written_body_loads_as_the_embedded_one(tmp_path, capsys):
     name = fem_prep.embedded_bodies()[0]
     path = tmp_path / "wheel.toml"
-    assert fem_cli.main(["bodies", name, "--write", str(path)]) == 0
+    assert fem_prep.main(["bodies", name, "--write", str(path)]) == 0
     assert fem_prep.load_body(path) == fem_prep.load_body(name)
-    assert fem_cli.main(["bodies", name, "--write", str(path)]) == 2
+    assert fem_prep.main(["bodies", name, "--write", str(path)]) == 2
     assert _err_lines(capsys)[-1].endswith("exists (add --force to replace it)")
-    assert fem_cli.main(["bodies", "no-such-body"]) == 2
+    assert fem_prep.main(["bodies", "no-such-body"]) == 2
     assert "no embedded body 'no-such-body'" in _err_lines(capsys)[0]
 
 
@@ -90,10 +90,10 @@ def test_fem_prep_out_is_checked_before_the_build(tmp_path, capsys, monkeypatch,
     f = tmp_path / "f"
     f.write_text("")
     out = f / "sub" if under else f
-    assert fem_cli.main(["build", "accessory-wheel", "--out", str(out), "--quiet"]) == 2
+    assert fem_prep.main(["build", "accessory-wheel", "--out", str(out), "--quiet"]) == 2
     (line,) = _err_lines(capsys)
     assert line.startswith(f"fem-prep: error: --out {out}: ") and "is a file" in line
-    assert fem_cli.main(["bench", "--out", str(out), "--quick"]) == 2
+    assert fem_prep.main(["bench", "--out", str(out), "--quick"]) == 2
 
 
 def test_fem_prep_interrupted(tmp_path, capsys, monkeypatch):
@@ -101,14 +101,14 @@ def test_fem_prep_interrupted(tmp_path, capsys, monkeypatch):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(fem_cli, "build", interrupted)
-    status = fem_cli.main(["build", "accessory-wheel", "--out", str(tmp_path / "o"), "--quiet"])
+    status = fem_prep.main(["build", "accessory-wheel", "--out", str(tmp_path / "o"), "--quiet"])
     assert status == 130
     assert _err_lines(capsys) == ["fem-prep: interrupted"]
 
 
 def test_fem_prep_bodies_into_a_closed_pipe():
     """``fem-prep bodies | head -1`` when the reader has gone: no traceback, exit 0."""
-    code = "import sys; from fem_prep._cli import main; sys.exit(main(['bodies']))"
+    code = "import sys; from fem_prep import main; sys.exit(main(['bodies']))"
     writer = subprocess.Popen(
         [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE
     )

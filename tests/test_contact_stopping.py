@@ -24,9 +24,8 @@ from scipy.optimize import brentq
 import jaxgear as jg
 import jaxgear.dynamics
 import jaxgear.io as jio
-from jaxgear import ContactResult
-from jaxgear._quasi_static import separation
-from jaxgear.cli import _scene
+from jaxgear import ContactResult, separation
+from jaxgear.cli import scene_outputs
 from jaxgear.dynamics import static_scene
 
 WIDTH = 1e-7  # smoothing width (m)
@@ -202,6 +201,6 @@ def test_scene_outputs_run_at_the_case_slices(tmp_path, monkeypatch):
         return scene, bodies
 
     monkeypatch.setattr(jg.dynamics, "static_scene", spy)
-    out = _scene.scene_outputs(case, str(tmp_path))
+    out = scene_outputs(case, str(tmp_path))
     assert used == [12]
     assert out["slices"] == 12

@@ -18,10 +18,19 @@ import scipy.linalg
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import Damping, damping_matrix, dynamic_model, simulate, speed_sweep
+from jaxgear.dynamics import (
+    Damping,
+    damping_matrix,
+    dynamic_model,
+    mesh_table,
+    simulate,
+    speed_sweep,
+)
+
+# white-box checks of the integration rule on a constructed linear, time-invariant problem
+# (tests/test_layout.py lists them)
 from jaxgear.dynamics._config import _Config
 from jaxgear.dynamics._newmark import _newmark
-from jaxgear.dynamics._simulate import _prep
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 
@@ -148,8 +157,7 @@ def _linear_problem(case, scene, damping="none"):
         scene, jg.Modifications(), case.torque, Damping(damping), positions_per_pitch=16
     )
     cfg = _Config("newmark", "exact", 16, 2, 2, 100, 1e-6, 1e-6, True, 0, 1e3)
-    prep = _prep(model, jnp.asarray(1e-7), cfg)
-    t = prep.table
+    t = mesh_table(model.scene, model.mods, cfg.steps_per_period)
     row = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a[4], a.shape), t)
     table = eqx.tree_at(lambda x: x.delta0, row, jnp.zeros_like(row.delta0))
     return model, table, cfg

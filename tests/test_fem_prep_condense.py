@@ -238,13 +238,13 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
     """CHOLMOD (cholespy) and SuperLU give the same solves and modes; shift-invert eigsh returns
     both members of every degenerate nodal-diameter pair (the reason the hand-written block
     solver once existed: it does not reproduce); the free structure's six rigid-body modes."""
-    from fem_prep._solver import CholmodFactor, SparseFactor, shift_invert_modes
+    from fem_prep import factorize, shift_invert_modes
 
     body, bm, ms, cp, mdofs = coupled
     held = cp.bearing_dofs.ravel()
     free = np.setdiff1d(np.arange(cp.K.shape[0]), held)
     K, M = cp.K[free][:, free], cp.M[free][:, free]
-    cf, sf = CholmodFactor(K), SparseFactor(K)
+    cf, sf = factorize(K, method="cholmod"), factorize(K, method="superlu")
     B = np.random.default_rng(2).standard_normal((K.shape[0], 7))
     x1, x2 = cf.solve(B), sf.solve(B)
     assert np.linalg.norm(x1 - x2) < 1e-9 * np.linalg.norm(x2)
@@ -262,8 +262,8 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
     # free structure (rigid-body modes) with a negative shift, as the pipeline does
     sig = -1e-4 * float(np.median(cp.K.diagonal() / cp.M.diagonal()))
     A = (cp.K - sig * cp.M).tocsr()
-    l3, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=CholmodFactor(A))
-    l4, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=SparseFactor(A))
+    l3, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=factorize(A, method="cholmod"))
+    l4, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=factorize(A, method="superlu"))
     np.testing.assert_allclose(l3[6:], l4[6:], rtol=1e-8)
     assert np.all(np.abs(l3[:6]) < 1e-6 * l3[6])
 
@@ -275,7 +275,7 @@ def test_solvers_fail_loudly():
 
     import scipy.sparse as sp
 
-    from fem_prep._solver import SolverError, SolverWarning, factorize
+    from fem_prep import SolverError, SolverWarning, factorize
 
     n = 50
     A = sp.diags(np.r_[np.ones(n - 1), -1.0]).tocsr()

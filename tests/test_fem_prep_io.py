@@ -7,8 +7,7 @@ import meshio
 import numpy as np
 import pytest
 
-from fem_prep import build, load_condensed
-from fem_prep._cli import main
+from fem_prep import build, load_condensed, main
 
 BODY = """
 name = "io-wheel"
@@ -109,7 +108,7 @@ def test_cache_hit_avoids_recomputation(built, monkeypatch, tmp_path):
     def boom(*a, **k):
         raise AssertionError("prepare() called on a cache hit")
 
-    monkeypatch.setattr("fem_prep._prepare.prepare", boom)
+    monkeypatch.setattr("fem_prep._prepare.prepare", boom)  # where build looks it up
     s = build(body, tmp_path / "again")
     assert s["cache_hit"] is True
     assert (tmp_path / "again" / "io-wheel.npz").is_file()
@@ -197,9 +196,10 @@ def test_example_runs(tmp_path):
 def test_bench_quick_is_a_smoke_test(tmp_path):
     """`fem-prep bench --quick` runs the whole benchmark path on a 17-station wheel in seconds
     (no baseline, two-point error curve) and reports failures as data, not as `{'error': ''}`."""
-    from fem_prep._bench import QUICK_TEETH, run_bench
+    QUICK_TEETH = 17  # the wheel of --quick: 17 angular stations (docs/fem_prep.md)
 
-    rec = run_bench(str(tmp_path), quick=True)
+    assert main(["bench", "--quick", "--out", str(tmp_path)]) == 0
+    rec = json.loads((tmp_path / "bench.json").read_text())
     assert rec["quick"] and len(rec["cases"]) == 1
     case = rec["cases"][0]
     assert "error" not in case, case

@@ -22,8 +22,7 @@ import scipy.optimize as so
 import skfem
 from scipy import special
 
-from fem_prep import assemble_operators, parse_body, prepare, shift_invert_modes
-from fem_prep._body import Material
+from fem_prep import Material, assemble_operators, parse_body, prepare, shift_invert_modes
 
 E, NU, RHO = 210e9, 0.3, 7800.0
 

@@ -282,7 +282,7 @@ def test_quasi_static_scene_bearing_forces_balance_the_mesh_force(case, body):
 def test_a_too_narrow_rim_window_is_widened(case, scene):
     """The builder's window estimate is checked over two mesh periods and widened when a cell
     reaches beyond it: from a 2-station window the scene recovers the same TE."""
-    from jaxgear.scenes._hybrid import _fit_windows
+    from jaxgear.scenes._hybrid import _fit_windows  # tests/test_layout.py
 
     member = scene.members[1]
     narrow = eqx.tree_at(
@@ -300,7 +300,7 @@ def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
     """The assembled mass is the body's condensed mass plus its teeth (not in the FE body, which
     ends at the root circle) lumped on the rim master nodes [R]: over the rim x DOFs the added
     mass is Z × the tooth mass (tooth area from the generated form × rim width × density)."""
-    from jaxgear.scenes._hybrid import _tooth_mass
+    from jaxgear.scenes._hybrid import _tooth_mass  # tests/test_layout.py
 
     member = scene.members[1]
     bd = np.asarray(member.body_dofs)

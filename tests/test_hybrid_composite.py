@@ -127,7 +127,7 @@ def test_composite_damping_is_positive_semidefinite_every_period(setup, composit
     −1e-10 of the largest), equal to the reference's C(k) written here, and its modal diagonal
     (2.36)'s 2 ω_i (ξ_s + (ξ_m − ξ_s) e_i(k)) with the mesh energy share e_i(k) = φ_iᵀ K̄_m(k)
     φ_i / ω_i² of that period."""
-    from jaxgear.dynamics import _hybrid as H
+    from jaxgear.dynamics import _hybrid as H  # the integrator's C(k) (tests/test_layout.py)
 
     case, scene = setup
     spp, speed, xi_m, xi_s = 16, 900.0, 0.07, 0.01

@@ -25,8 +25,9 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 from fem_prep.schema import SchemaError
-from jaxgear._geometry import GearPair, Member
-from jaxgear._stiffness import (
+from jaxgear import (
+    GearPair,
+    Member,
     iso6336_blank_factor,
     iso6336_mesh_stiffness,
     iso6336_pair_blank_factor,

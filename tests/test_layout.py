@@ -1,11 +1,11 @@
 """Package layout: imports flow one way (model ← optimise ← application), the public API is small.
 
-Two checks: importing the model and ``optimise`` in a fresh interpreter loads none of the
+Checks: importing the model and ``optimise`` in a fresh interpreter loads none of the
 application modules (CLI, plots, benchmarks, file writers) nor matplotlib; and a static scan of
 the source shows no import of another package's private module and no argparse/matplotlib in the
 model and ``optimise``. The benchmarks live outside the installed packages, in ``benchmarks/``
 of the checkout: only the ``jaxgear bench`` command looks for them, and no installed module
-reads ``tests/``.
+reads ``tests/``. The tests use the public API too, but for a short, commented list.
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ def test_no_import_of_another_packages_private_module():
     """``from jaxgear.dynamics._simulate import x`` inside benchmarks is a private reach-in: a
     module may import private modules of its own package only; the model's subpackages (scenes,
     dynamics, io) may also use the model's private modules; the application (cli, benchmarks)
-    uses public names only (tests may reach in)."""
+    uses public names only (the tests too: :func:`test_tests_use_public_names_only`)."""
     bad = []
     for path in _sources("jaxgear", "optimise", "fem_prep", "examples", "benchmarks"):
         own = _package_of(".".join(path.relative_to(ROOT).with_suffix("").parts))
@@ -170,3 +170,124 @@ def test_installed_modules_neither_name_benchmarks_nor_read_tests():
         if reads_tests.search(text):
             bad.append(f"{path.relative_to(ROOT)}: tests/")
     assert not bad, bad
+
+
+# -- tests use the public API ---------------------------------------------------------------------
+
+PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
+# The private names tests still reach, as (test file, dotted name or the private module it is
+# reached through): each a white-box check with no public way to the same assertion, or a patch
+# of a name an application module binds at import (so patching the public name changes nothing).
+PRIVATE_IN_TESTS = {
+    # integrator checks on a constructed linear, time-invariant problem (energy to 1e-11, order
+    # 2): no public model is one; _newmark takes the integrator's configuration
+    ("test_dynamics.py", "jaxgear.dynamics._newmark._newmark"),
+    ("test_dynamics.py", "jaxgear.dynamics._config._Config"),
+    # a shaft's FE node positions and unassembled K, M, K_b: LumpedPair does not expose them
+    ("test_bearing_matrices.py", "jaxgear.scenes._lumped3d._shaft"),
+    ("test_dynamics_lumped.py", "jaxgear.scenes._lumped3d._shaft"),
+    # the hybrid integrator's per-period damping C(k) over a revolution: internal state
+    ("test_hybrid_composite.py", "jaxgear.dynamics._hybrid"),
+    # hybrid_pair takes no window size: a too narrow window is only reachable by hand
+    ("test_hybrid.py", "jaxgear.scenes._hybrid._fit_windows"),
+    # one tooth's mass and centroid radius to 1e-9 (the scene gives only their sum on the rim)
+    ("test_hybrid.py", "jaxgear.scenes._hybrid._tooth_mass"),
+    # one member's tooth/foundation compliance (weber_profile gives the pair's, Hertz included)
+    ("test_tooth_fe.py", "jaxgear._stiffness._member_compliance"),
+    # the exact tooth form, its fillet resolution and the old arc thickness patched in
+    ("test_tooth_form.py", "jaxgear._stiffness"),
+    # trace counts of the jitted inner functions (eqx.debug.assert_max_traces wraps those)
+    ("test_traces.py", "jaxgear._quasi_static._quasi_static"),
+    ("test_traces.py", "jaxgear.dynamics._simulate._run"),
+    ("test_traces.py", "optimise._minimise._solve"),
+    ("test_traces.py", "optimise._master_curve._grid"),
+    ("test_traces.py", "optimise._master_curve._refine"),
+    # the benchmark charts redrawn from their JSON (a benchmark run takes minutes)
+    ("test_plots.py", "benchmarks._hybrid"),
+    ("test_plots.py", "benchmarks._hybrid_sweep"),
+    # patches of names an application module bound at import: run_case/scene/sweep steps around
+    # ``jaxgear run``'s sweep, write_csv between two files, the sweep of ``jaxgear sweep``, the
+    # fem-prep build (whether it starts; Ctrl-C in it), prepare on a cache hit
+    ("test_cli_edges.py", "jaxgear.cli._run"),
+    ("test_cli_edges.py", "jaxgear.cli._scene"),
+    ("test_cli_edges.py", "jaxgear.cli._sweep"),
+    ("test_cli_robust.py", "jaxgear.cli._run"),
+    ("test_progress_outputs.py", "jaxgear.cli._sweep"),
+    ("test_cli_files.py", "fem_prep._cli"),
+    ("test_fem_prep_io.py", "fem_prep._prepare.prepare"),
+}
+
+
+def _private(dotted: str) -> bool:
+    parts = dotted.split(".")
+    return parts[0] in PROJECT and any(p.startswith("_") and not p.startswith("__") for p in parts)
+
+
+def _private_names(tree: ast.AST):
+    """Dotted private names of the project a test module reaches: imports (also in code strings
+    run by a subprocess or ``-c``), attributes of the modules it imported, ``setattr`` targets."""
+    bound: dict[str, str] = {}  # local name -> dotted name of the project
+    docstrings = {
+        id(n.value)
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant)
+    }
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.split(".")[0] in PROJECT:
+                    bound[a.asname or a.name.split(".")[0]] = (
+                        a.name if a.asname else a.name.split(".")[0]
+                    )
+                    yield a.name
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            if node.module.split(".")[0] in PROJECT:
+                for a in node.names:
+                    bound[a.asname or a.name] = f"{node.module}.{a.name}"
+                    yield f"{node.module}.{a.name}"
+        elif (
+            isinstance(node, ast.Constant)
+            and isinstance(node.value, str)
+            and id(node) not in docstrings
+            and "import" in node.value
+        ):
+            try:
+                code = ast.parse(node.value)
+            except SyntaxError:
+                continue
+            yield from _private_names(code)
+        elif isinstance(node, ast.Call) and node.args:
+            f, first = node.func, node.args[0]
+            name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+            if (
+                name == "setattr"
+                and isinstance(first, ast.Constant)
+                and isinstance(first.value, str)
+            ):
+                yield first.value
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr.startswith("_"):
+            chain, base = [node.attr], node.value
+            while isinstance(base, ast.Attribute):
+                chain.append(base.attr)
+                base = base.value
+            if isinstance(base, ast.Name) and base.id in bound:
+                yield ".".join([bound[base.id], *reversed(chain)])
+
+
+def test_tests_use_public_names_only():
+    """No test reaches a private module or name of the project (``jaxgear._stiffness``,
+    ``from jaxgear.cli._run import x``, ``fem_prep._tooth_fe._compute``) but those listed in
+    PRIVATE_IN_TESTS, each with its reason; an entry no test needs any more is an error too."""
+    found = set()
+    for path in sorted((ROOT / "tests").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        found |= {(path.name, d) for d in _private_names(tree) if _private(d)}
+
+    def covers(entry, hit):
+        return hit[0] == entry[0] and (hit[1] == entry[1] or hit[1].startswith(entry[1] + "."))
+
+    bad = sorted(h for h in found if not any(covers(e, h) for e in PRIVATE_IN_TESTS))
+    assert not bad, f"tests reach private names (use the public API): {bad}"
+    unused = sorted(e for e in PRIVATE_IN_TESTS if not any(covers(e, h) for h in found))
+    assert not unused, f"PRIVATE_IN_TESTS entries no test needs: {unused}"

@@ -156,7 +156,7 @@ def test_bad_inputs_give_clear_errors(case, kwargs, needle):
 
 
 def test_parse_range_errors():
-    from jaxgear.cli._options import range_values
+    from jaxgear.cli import range_values
 
     np.testing.assert_allclose(range_values("40:120:5", "--torques"), [40, 60, 80, 100, 120])
     for bad in ("40:120", "40:120:0", "a:b:c", "40:40:3", "120:40:5", "nan:1:3"):

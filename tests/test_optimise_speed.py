@@ -395,13 +395,17 @@ def test_power_pair_end_relief_at_speed(fem_prep_cache):
     assert math.isclose(seed["centroid_seed_relief"], got["z1"]["load_centroid"][5], rel_tol=1e-6)
 
 
-def test_an_extent_without_a_depth_warns():
+@pytest.mark.filterwarnings("always")
+def test_an_extent_without_a_depth_warns(monkeypatch, tmp_path, capsys):
     """An end relief extent as the only variable of a relief the case does not have does
-    nothing (zero gradient): the CLI says so."""
-    import warnings
+    nothing (zero gradient): the CLI says so, before the optimiser starts (stopped here where
+    ``jaxgear optimise`` turns the case's values into the optimiser's start)."""
+    from jaxgear.cli import main
 
-    from jaxgear.cli._optimise import _warn_idle_extents
+    def stop(self, values):
+        raise ValueError("stopped before the optimiser")
 
+    monkeypatch.setattr(op.Problem, "from_physical", stop)
     case = jio.load_case("accessory-spur")
     assert float(case.modifications.pinion.end_relief_depth) == 0.0
     for names, warns in [
@@ -411,9 +415,11 @@ def test_an_extent_without_a_depth_warns():
         (("pinion.end_relief.extent", "end_relief.depth"), False),
         (("end_relief.extent", "gear.end_relief.depth"), False),
     ]:
-        with warnings.catch_warnings(record=True) as w:
-            warnings.simplefilter("always")
-            _warn_idle_extents(case, names)
-        assert bool(w) == warns, names
+        argv = ["optimise", "accessory-spur", "--vars", ",".join(names), "--quiet"]
+        assert main([*argv, "--out", str(tmp_path / "o")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err[-1] == "jaxgear: error: stopped before the optimiser", err
+        w = [line for line in err if line.startswith("jaxgear: warning: ")]
+        assert bool(w) == warns, (names, w)
         if warns:
-            assert "end_relief.depth is 0" in str(w[0].message)
+            assert "end_relief.depth is 0" in w[0]

@@ -1,4 +1,4 @@
-"""The command line's figures (jaxgear.cli._plots) on small synthetic data: valid PNGs, the TE
+"""The command line's figures (jaxgear.cli.plots) on small synthetic data: valid PNGs, the TE
 exact/smooth coincidence rule, the dynamic-factor peak names and the Campbell crossings."""
 
 from __future__ import annotations
@@ -18,10 +18,9 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 from matplotlib.ticker import LogFormatter, MaxNLocator
 
-from benchmarks import _hybrid, _hybrid_sweep
-from benchmarks._charts import thin_tick_labels
+from benchmarks import _hybrid, _hybrid_sweep, thin_tick_labels  # _chart: tests/test_layout.py
 from jaxgear import load_map
-from jaxgear.cli import _plots as plots, _scene
+from jaxgear.cli import plots, scene_outputs
 from jaxgear.dynamics import nodal_diameter_resonances
 from jaxgear.io import load_case
 
@@ -286,7 +285,7 @@ def test_hybrid_load_maps_at_rest_and_at_speed_share_one_scale(
         drawn[pathlib.Path(path).name] = (np.nanmax(lmap), norm)
 
     monkeypatch.setattr(plots, "load_map_plot", spy)
-    _scene.scene_outputs(load_case(toml), str(tmp_path / "out"))
+    scene_outputs(load_case(toml), str(tmp_path / "out"))
     assert set(drawn) == {"load_map.png", "load_map_speed.png"}
     (m1, n1), (m2, n2) = drawn.values()
     assert (n1.vmin, n1.vmax) == (n2.vmin, n2.vmax) == (0.0, pytest.approx(max(m1, m2) / 1e3))

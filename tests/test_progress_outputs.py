@@ -15,14 +15,21 @@ import pytest
 import scipy.sparse as sp
 
 import fem_prep
-import jaxgear.cli._optimise as cli_optimise
-import jaxgear.cli._sweep as cli_sweep
-from fem_prep._body import load_body
-from fem_prep._prepare import prepare
-from fem_prep._solver import shift_invert_modes
+import jaxgear.cli._sweep as cli_sweep  # to replace the sweep computation (tests/test_layout.py)
+import optimise as op
+from fem_prep import load_body, prepare, shift_invert_modes
 from jaxgear import io as jio
-from jaxgear.cli import main
+from jaxgear.cli import (
+    check_settings,
+    main,
+    optimise_case,
+    plots,
+    scene_outputs,
+    settings_from_case,
+)
 from jaxgear.dynamics import hybrid_speed_sweep, static_scene
+
+PARTIAL = "optimum.partial.json"  # the marker of an unfinished jaxgear optimise
 
 DATA = pathlib.Path(__file__).parent / "data"
 
@@ -137,7 +144,7 @@ def test_sweep_default_folder_leaves_the_run_sweep_alone(tmp_path, monkeypatch, 
 
 def _settings(**kw):
     case = jio.load_case("accessory-spur")
-    s = cli_optimise.check_settings(cli_optimise.settings_from_case(case), case)
+    s = check_settings(settings_from_case(case), case)
     s.update(kw)
     return case, s
 
@@ -146,12 +153,13 @@ def test_interrupted_optimiser_leaves_the_marker(tmp_path, monkeypatch):
     def interrupted(*args, **kw):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli_optimise, "minimise", interrupted)
+    # Ctrl-C as the optimiser starts (optimise.minimise maps the start to the unbounded space)
+    monkeypatch.setattr(op.Problem, "unbounded", interrupted)
     case, settings = _settings()
     with pytest.raises(KeyboardInterrupt):
-        cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+        optimise_case(case, settings, str(tmp_path), progress=False)
     assert not (tmp_path / "optimum.json").exists()
-    marker = json.loads((tmp_path / cli_optimise.PARTIAL).read_text())
+    marker = json.loads((tmp_path / PARTIAL).read_text())
     assert marker["complete"] is False and marker["stage"] == "optimiser running"
     assert marker["variables"] == ["tip_relief.depth", "tip_relief.extent"]
     assert "iterations" not in marker
@@ -159,33 +167,29 @@ def test_interrupted_optimiser_leaves_the_marker(tmp_path, monkeypatch):
 
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_interrupted_plots_leave_the_marker_until_a_run_finishes(tmp_path, monkeypatch):
-    from jaxgear.cli import _plots
-
     def interrupted(*args, **kw):
         raise KeyboardInterrupt
 
     case, settings = _settings(max_iterations=2)
     with monkeypatch.context() as mp:  # after the convergence plot, before optimum.json
-        mp.setattr(_plots, "harris_plot", interrupted)
+        mp.setattr(plots, "harris_plot", interrupted)
         with pytest.raises(KeyboardInterrupt):
-            cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+            optimise_case(case, settings, str(tmp_path), progress=False)
     assert (tmp_path / "convergence.png").is_file()
     assert not (tmp_path / "optimum.json").exists()
-    marker = json.loads((tmp_path / cli_optimise.PARTIAL).read_text())
+    marker = json.loads((tmp_path / PARTIAL).read_text())
     assert marker["complete"] is False and marker["stage"].startswith("post-processing")
     assert 1 <= marker["iterations"] <= 2 and marker["converged"] is False
     assert set(marker["parameters"]) == {"tip_relief.depth", "tip_relief.extent"}
     # the same run finished: optimum.json, no marker
-    rep = cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+    rep = optimise_case(case, settings, str(tmp_path), progress=False)
     assert json.loads((tmp_path / "optimum.json").read_text())["iterations"] == rep["iterations"]
-    assert not (tmp_path / cli_optimise.PARTIAL).exists()
+    assert not (tmp_path / PARTIAL).exists()
 
 
 def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup, tmp_path, capsys):
     """``jaxgear run`` on a hybrid case: after its 7-step bar, a bar over the scene's steps
     (the condensed bodies, the scene, exact and smooth solves, maps and VTU files) ends full."""
-    from jaxgear.cli._scene import scene_outputs
-
     case, _ = hybrid_setup
     out = scene_outputs(case, str(tmp_path / "scene"), progress=True)
     err = capsys.readouterr().err
@@ -207,7 +211,7 @@ def test_readme_robust_example_converges_to_the_stated_optimum(tmp_path):
         reduce="mean",
         vars="tip_relief.depth,tip_relief.extent",
     )
-    rep = cli_optimise.optimise_case(case, settings, str(tmp_path), progress=False)
+    rep = optimise_case(case, settings, str(tmp_path), progress=False)
     assert rep["converged"] and rep["iterations"] < 20
     p = rep["final"]["parameters"]
     assert p["tip_relief.depth"] == pytest.approx(17.4, abs=0.05)

@@ -19,9 +19,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
-from jaxgear.cli import run_case
-from jaxgear.cli._paths import OUTPUT_FILES
-from jaxgear.cli._run import result_summary
+from jaxgear.cli import OUTPUT_FILES, result_summary, run_case
 from jaxgear.dynamics import build_dynamic_model, dynamic_model, quasi_static_scene, speed_sweep
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 

@@ -26,7 +26,7 @@ from hypothesis import HealthCheck, example, given, seed, settings, strategies a
 import jaxgear.io as jio
 from fem_prep import load_body, parse_body, schema as sc
 from fem_prep.schema import SchemaError
-from jaxgear.cli._optimise import check_settings, settings_from_case
+from jaxgear.cli import check_settings, settings_from_case
 
 CASE_FILES = sorted(Path(str(importlib.resources.files("jaxgear") / "cases")).glob("*.toml"))
 BODY_FILES = sorted(Path(str(importlib.resources.files("fem_prep") / "bodies")).glob("*.toml"))

@@ -194,7 +194,7 @@ def _sainsot_by_hand(h, th):
     ],
 )
 def test_sainsot_coefficients_reproduce_the_fit(h, theta, expected):
-    from jaxgear._stiffness import sainsot_coefficients
+    from jaxgear import sainsot_coefficients
 
     got = sainsot_coefficients(h, theta)
     hand = _sainsot_by_hand(h, theta)

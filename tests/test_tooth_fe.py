@@ -106,7 +106,7 @@ def test_solid_gear_against_sainsot_at_ross_pair(cache):
     _, k_sa = jg.stiffness_table(pair, "weber", foundation="sainsot", **kw)
     ratio = _mean_mesh_stiffness(pair, s, k_fe) / _mean_mesh_stiffness(pair, s, k_sa)
     assert 1.0 < ratio < 1.07, ratio
-    from jaxgear._stiffness import _member_compliance
+    from jaxgear._stiffness import _member_compliance  # one member's terms (test_layout.py)
 
     fe = fem_prep.tooth_compliance(
         62, 2e-3, math.radians(20), rim_radius=17.5e-3, youngs_modulus=206e9
@@ -120,7 +120,7 @@ def test_solid_gear_against_sainsot_at_ross_pair(cache):
 
 
 def _sainsot_outside(pair):
-    from jaxgear._stiffness import sainsot_fit_check
+    from jaxgear import sainsot_fit_check
 
     return [f["outside"] for f in sainsot_fit_check(pair) if f["outside"]]
 
@@ -145,11 +145,15 @@ def test_cache_is_reused_and_rebuilt_when_corrupt(cache, monkeypatch):
     pair = jg.GearPair(jg.Member(30), jg.Member(30), 1e-3, math.radians(20))
     k1 = jg.stiffness_table(pair, "fe2d", fe2d_size=1e-3 / 3)[1]
 
-    def no_solve(*a, **k):
-        raise AssertionError("the FE model ran again")
+    real, tables = fem_prep.tooth_compliance, []
 
-    monkeypatch.setattr(fem_prep._tooth_fe, "_compute", no_solve)
+    def spy(*a, **k):  # what jaxgear asks fem_prep for (cache_hit: read, the FE model not run)
+        tables.append(real(*a, **k))
+        return tables[-1]
+
+    monkeypatch.setattr(fem_prep, "tooth_compliance", spy)
     k2 = jg.stiffness_table(pair, "fe2d", fe2d_size=1e-3 / 3)[1]
+    assert tables and all(t.cache_hit for t in tables), "the FE model ran again"
     np.testing.assert_array_equal(k1, k2)
 
 
@@ -249,9 +253,34 @@ def test_docs_table_regenerates():
             ), (name, key)
 
 
-def test_run_summary_names_the_stiffness_model():
-    from jaxgear.cli._run import _stiffness_line
+def _stiffness_line(mesh: dict) -> str:
+    """The line of ``jaxgear run``'s table that names the mesh stiffness model (its second)."""
+    from jaxgear.cli import format_table
 
+    figures = dict.fromkeys(
+        (
+            "te_mean_m",
+            "te_rms_m",
+            "te_ptp_m",
+            "mesh_stiffness_mean_N_per_m",
+            "max_line_load_N_per_m",
+        ),
+        0.0,
+    )
+    summary = {
+        "case": "c",
+        "geometry": dict.fromkeys(
+            ("transverse_contact_ratio", "overlap_ratio", "center_distance_m", "base_pitch_m"), 1.0
+        ),
+        "operating": {"torque_Nm": 1.0},
+        "mesh": mesh,
+        "quasi_static": {"exact": figures, "smooth": figures},
+        "quasi_static_unmodified": {"exact": figures, "smooth": figures},
+    }
+    return format_table(summary).splitlines()[1]
+
+
+def test_run_summary_names_the_stiffness_model():
     line = _stiffness_line({"stiffness": "fe2d", "foundation": "weber", "fe2d_size_m": 5e-4})
     assert line == (
         "mesh stiffness model: fe2d (plane-strain FE, tooth + body to the bore, element size "

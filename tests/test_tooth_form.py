@@ -20,7 +20,7 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 import jaxgear as jg
-import jaxgear._stiffness as stf
+import jaxgear._stiffness as stf  # white-box: the tooth form and its terms (test_layout.py)
 import jaxgear.io as jio
 from fem_prep.tooth_form import ToothForm, generate_tooth
 

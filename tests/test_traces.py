@@ -13,7 +13,7 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 import jaxgear.scenes as js
-from jaxgear._quasi_static import _quasi_static
+from jaxgear._quasi_static import _quasi_static  # traces counted (tests/test_layout.py)
 from jaxgear.dynamics._simulate import _run
 
 

@@ -84,8 +84,7 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         "torques": [40.0, 120.0, 5],
         "bounds": {"tip_relief.depth": (0.0, 2.5)},
     }
-    from jaxgear.cli._optimise import settings_from_case
-    from jaxgear.cli._options import range_values
+    from jaxgear.cli import range_values, settings_from_case
 
     s = settings_from_case(case)
     assert list(range_values(s["torques"], "--torques")) == [40.0, 60.0, 80.0, 100.0, 120.0]
@@ -690,7 +689,7 @@ def test_a_name_is_a_name_not_a_path(name, tmp_path):
 
 def test_clear_outputs_deletes_only_what_a_run_wrote(tmp_path):
     from fem_prep.schema import atomic_open
-    from jaxgear.cli._paths import clear_outputs
+    from jaxgear.cli import clear_outputs
 
     out = tmp_path / "out"
     out.mkdir()
@@ -757,7 +756,7 @@ def test_denormal_shafts_and_bearings_are_rejected(where, key, value, expected):
 
 
 def test_optimise_speed_band_from_the_case_file():
-    from jaxgear.cli._optimise import check_settings, settings_from_case
+    from jaxgear.cli import check_settings, settings_from_case
 
     data = copy.deepcopy(FLEXIBLE)
     data["optimise"] = {"objective": "dynamic_factor", "speeds": [2800.0, 3200.0, 3]}
