@@ -477,7 +477,7 @@ def bench_hybrid(
         step(f"window {w0 + extra}")
     rows_c = []
     for n in slices_list:
-        s = sc if n == slices else static_scene(c, slices=n, bodies=bodies, speed=0.0)[0]
+        s = sc if n == slices else static_scene(c, slices=n, bodies=bodies)[0]
         t = min_time(lambda s=s: te_exact(s, T), max(3, rep // 4), block)
         rows_c.append(
             {
@@ -531,7 +531,7 @@ def _compare_bodies(c, sc, bodies_info, compare_case, slices, P, rep, T) -> dict
         info, cond = _body_build(ref)
         info2.append(info)
         bodies2.append(cond)
-    sc2 = static_scene(c2, slices=slices, bodies=tuple(bodies2), speed=0.0)[0]
+    sc2 = static_scene(c2, slices=slices, bodies=tuple(bodies2))[0]
     f1, f2 = _flex_index(sc), _flex_index(sc2)
     per1 = sc.members[f1].width // sc.members[f1].n_window  # DOFs per rim station
     per2 = sc2.members[f2].width // sc2.members[f2].n_window
