@@ -34,6 +34,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from jaxgear import ExactContact
+
 __all__ = [
     "ReferenceModel",
     "numba_available",
@@ -568,7 +570,7 @@ def numba_tables(model, steps_per_period: int, max_iterations: int = 100):
     scene = model.scene
     t = mesh_table(scene, model.mods, int(steps_per_period))
     start = static_start(
-        model, steps_per_period=int(steps_per_period), max_iterations=max_iterations
+        model, contact=ExactContact(max_iterations), steps_per_period=int(steps_per_period)
     )
     X0 = np.asarray(start[0], float)
     M = np.asarray(scene.mass(), float)

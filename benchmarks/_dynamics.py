@@ -29,6 +29,9 @@ import time
 
 import numpy as np
 
+from jaxgear import ExactContact, SmoothContact
+from jaxgear.dynamics import DiffraxIntegrator, Newmark, SteadyState
+
 from ._charts import thin_tick_labels
 from ._timing import environment, first_call, min_time
 
@@ -103,7 +106,7 @@ def bench_dynamics(
     bar.set_postfix_str("jaxgear")
 
     def sweep():
-        return speed_sweep(model, speeds, **kw).dynamic_factor
+        return speed_sweep(model, speeds, window=SteadyState(periods, keep)).dynamic_factor
 
     first = first_call(sweep)
     t_jax = min_time(sweep, 2, warmup=False)
@@ -340,8 +343,8 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     periods, keep = (12, 2) if quick else (30, 4)
     steps = (16, 64) if quick else (8, 16, 32, 64, 128)
     widths = (1e-7,) if quick else (1e-8, 1e-7, 1e-6)
-    base = dict(periods=periods, keep_periods=keep)
-    ref = speed_sweep(model, speeds, steps_per_period=512 if not quick else 256, **base)
+    base = dict(window=SteadyState(periods, keep))
+    ref = speed_sweep(model, speeds, integrator=Newmark(512 if not quick else 256), **base)
     df_ref = np.asarray(ref.dynamic_factor)
     methods = [
         ("newmark", "exact", (None,)),
@@ -354,11 +357,14 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
         for spp in steps:
             for w in ws:
                 kw = dict(
-                    solver=solver,
-                    contact=contact,
-                    steps_per_period=spp,
-                    width=1e-7 if w is None else w,
-                    adaptive=False,
+                    integrator=(
+                        Newmark(spp)
+                        if solver == "newmark"
+                        else DiffraxIntegrator(solver, spp, adaptive=False)
+                    ),
+                    contact=SmoothContact(1e-7 if w is None else w)
+                    if contact == "smooth"
+                    else ExactContact(),
                     **base,
                 )
                 try:

@@ -35,6 +35,8 @@ import time
 
 import numpy as np
 
+from jaxgear import ExactContact, SmoothContact
+
 from ._charts import thin_tick_labels
 from ._timing import environment, min_time
 
@@ -152,6 +154,11 @@ def _cells(mesh) -> int:
     return int(np.prod(mesh.cells(jnp.asarray(0.0, mesh.base_pitch.dtype)).s.shape))
 
 
+def _law(mode: str, width: float):
+    """The contact law of a mode name ("exact", or "smooth" of ``width`` m)."""
+    return SmoothContact(width) if mode == "smooth" else ExactContact()
+
+
 def _jit_te(mods, P, mode, width):
     """``jax.jit`` of the TE curve of a scene or mesh (scene and torque as arguments)."""
     import jax
@@ -161,7 +168,7 @@ def _jit_te(mods, P, mode, width):
     return jax.jit(
         lambda s, T: (
             quasi_static(
-                s, mods, T, contact=mode, width=width, positions_per_pitch=P
+                s, mods, T, contact=_law(mode, width), positions_per_pitch=P
             ).transmission_error
         )
     )
@@ -301,7 +308,7 @@ def bench_hybrid(
 
     def public(m, mode):
         return lambda: quasi_static(
-            models[m], mods, T, contact=mode, width=width, positions_per_pitch=P
+            models[m], mods, T, contact=_law(mode, width), positions_per_pitch=P
         )
 
     def inside(m, mode):
@@ -375,7 +382,7 @@ def bench_hybrid(
         return Modifications.symmetric(m)
 
     def curve(e, g, s, T):
-        return quasi_static(s, relief(e, g), T, contact="exact", positions_per_pitch=P)
+        return quasi_static(s, relief(e, g), T, positions_per_pitch=P)
 
     maps, te_map = {}, {}
     for name, s in (("rigid", mesh), ("hybrid", sc)):

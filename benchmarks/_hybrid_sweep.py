@@ -47,6 +47,9 @@ import time
 
 import numpy as np
 
+from jaxgear import ExactContact, SmoothContact
+from jaxgear.dynamics import Newmark, SteadyState
+
 from ._charts import thin_tick_labels
 from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases
 from ._timing import environment, min_time
@@ -78,6 +81,8 @@ def _baseline_run(
 
     from jaxgear import quasi_static, separation, solve_contact, solve_contact_cells
 
+    law = SmoothContact(width, max_it) if mode == "smooth" else ExactContact(max_it)
+
     mesh = scene.mesh
     n = scene.K.shape[0]
     dtype = scene.K.dtype
@@ -94,9 +99,7 @@ def _baseline_run(
         torque,
         theta,
         speed=speed,
-        contact=mode,
-        width=width,
-        max_iterations=max_it,
+        contact=law,
         throw=False,
     )
 
@@ -146,13 +149,11 @@ def _baseline_run(
                 k,
                 ln,
                 m,
-                mode,
-                width,
-                max_it,
+                law,
             )
             Xn = xs - Z @ P
         else:
-            sol = solve_contact(Keff, Feff, V, k, ln, d0.reshape(-1), m, mode, width, max_it)
+            sol = solve_contact(Keff, Feff, V, k, ln, d0.reshape(-1), m, law)
             Xn, P = sol.x, sol.force_density * ln
         Xddn = a0 * (Xn - X - dt * Xd - 0.25 * dt * dt * Xdd)
         Xdn = Xd + 0.5 * dt * (Xdd + Xddn)
@@ -300,9 +301,8 @@ def _step_costs(scene, mods, torque, speed, spp, lengths, repeats, compare=False
                 mods,
                 torque,
                 jnp.asarray([speed]),
-                steps_per_period=spp,
-                periods=p,
-                keep_periods=p,
+                integrator=Newmark(spp),
+                window=SteadyState(p, p),
             )
             return r.mesh_force[0], r.static_force[0]
         fm, fs, _, _ = baseline_sweep(
@@ -536,7 +536,7 @@ def bench_hybrid_sweep(
 
     def model(w, p, k):
         return hybrid_speed_sweep(
-            sc, mods, torque, jnp.asarray(w), steps_per_period=spp, periods=p, keep_periods=k
+            sc, mods, torque, jnp.asarray(w), integrator=Newmark(spp), window=SteadyState(p, k)
         )
 
     # (1) the sweep --------------------------------------------------------------------------

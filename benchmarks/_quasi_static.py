@@ -29,6 +29,8 @@ import time
 
 import numpy as np
 
+from jaxgear import ExactContact, SmoothContact
+
 from ._charts import thin_tick_labels
 from ._timing import cpu_model as _cpu_model, first_call as _first_call, min_time as _min_time
 
@@ -153,7 +155,11 @@ def bench_quasi_static(
     calls = {
         mode: (
             lambda mode=mode: quasi_static(
-                mesh, mods, torque, contact=mode, width=width, positions_per_pitch=P0
+                mesh,
+                mods,
+                torque,
+                contact=SmoothContact(width) if mode == "smooth" else ExactContact(),
+                positions_per_pitch=P0,
             )
         )
         for mode in ("exact", "smooth")
@@ -208,9 +214,7 @@ def bench_quasi_static(
 
     def grid_rms(g, e, mesh, torque):
         m = MemberModification(tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape="linear")
-        return quasi_static(
-            mesh, Modifications.symmetric(m), torque, contact="exact", positions_per_pitch=P0
-        ).te_rms
+        return quasi_static(mesh, Modifications.symmetric(m), torque, positions_per_pitch=P0).te_rms
 
     grid_fn = jax.jit(jax.vmap(grid_rms, in_axes=(0, 0, None, None)))
     gargs = (jnp.asarray(GG.ravel()), jnp.asarray(EE.ravel()), mesh, jnp.asarray(torque))
@@ -290,7 +294,7 @@ def bench_quasi_static(
 
     # (d) speed vs accuracy ---------------------------------------------------------------------
     ref_mesh = c.mesh_model(slices=ref_slices)
-    ref = quasi_static(ref_mesh, mods, torque, contact="exact", positions_per_pitch=ref_ppp)
+    ref = quasi_static(ref_mesh, mods, torque, positions_per_pitch=ref_ppp)
     ref_rms = float(ref.te_rms)
     ref_np = bl.te_curve_numpy(
         bl.baseline_mesh(c, slices=ref_slices), bmods, torque, "exact", positions_per_pitch=ref_ppp
@@ -301,9 +305,7 @@ def bench_quasi_static(
         m_n = c.mesh_model(slices=n)
         bm_n = bl.baseline_mesh(c, slices=n)
         for p in sweep_ppp:
-            fn = lambda m_n=m_n, p=p: quasi_static(
-                m_n, mods, torque, contact="exact", positions_per_pitch=p
-            )
+            fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, positions_per_pitch=p)
             t_j = _min_time(fn, max(3, rep_jax // 3), block)
             rj = _rms(fn().transmission_error)
             t_b = _min_time(
@@ -331,7 +333,7 @@ def bench_quasi_static(
     exact_same = _rms(calls["exact"]().transmission_error)
     for w in widths:
         fn = lambda w=w: quasi_static(
-            mesh, mods, torque, contact="smooth", width=w, positions_per_pitch=P0
+            mesh, mods, torque, contact=SmoothContact(w), positions_per_pitch=P0
         )
         t_j = _min_time(fn, max(3, rep_jax // 3), block)
         rj = _rms(fn().transmission_error)
@@ -422,7 +424,8 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
     ident1 = jax.jit(lambda t: t)
     t_dispatch1 = _min_time(lambda: ident1(t), repeats, block)
     for mode in ("exact", "smooth"):
-        qs = functools.partial(quasi_static, contact=mode, width=width, positions_per_pitch=P)
+        law = SmoothContact(width) if mode == "smooth" else ExactContact()
+        qs = functools.partial(quasi_static, contact=law, positions_per_pitch=P)
         full = jax.jit(qs)  # mesh and modifications as arguments
         te = jax.jit(lambda mesh, mods, t, qs=qs: qs(mesh, mods, t).transmission_error)
         closed = jax.jit(lambda t, qs=qs: qs(mesh, mods, t).transmission_error)  # constants
@@ -447,7 +450,7 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
     out["dispatch_identity_same_args_s"] = t_dispatch
     out["dispatch_identity_scalar_s"] = t_dispatch1
     out["how"] = (
-        "jax.jit(functools.partial(quasi_static, contact=..., width=..., positions_per_pitch=...)) "
+        "jax.jit(functools.partial(quasi_static, contact=..., positions_per_pitch=...)) "
         "built once and called with (mesh, mods, torque); te-only: the jitted function returns "
         "the TE array only; closure: mesh and mods closed over (constants), torque the only "
         "argument; compute per curve: 64 curves in one jitted lax.map, divided by 64"
@@ -546,7 +549,7 @@ def _profile(mesh, mods, torque, P, repeats, total_s) -> dict:
     @jax.jit
     def solve(k, l, d, m):
         def one(k, l, d, m):
-            return solve_contact(Ks, F, V, k, l, d, m, "exact").x
+            return solve_contact(Ks, F, V, k, l, d, m).x
 
         return jax.vmap(one)(k, l, d, m)
 

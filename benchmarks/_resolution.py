@@ -19,6 +19,8 @@ from pathlib import Path
 import jax
 import numpy as np
 
+from jaxgear.dynamics import Newmark, SteadyState
+
 from ._charts import thin_tick_labels
 
 RATIOS = (0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 3.0)
@@ -57,7 +59,7 @@ def run(periods: int = 60, keep: int = 2) -> dict:
         rows = []
         for n in STEPS:
             t0 = time.perf_counter()
-            r = speed_sweep(model, speeds, steps_per_period=n, periods=periods, keep_periods=keep)
+            r = speed_sweep(model, speeds, integrator=Newmark(n), window=SteadyState(periods, keep))
             df = np.asarray(r.results.dynamic_factor)
             rows.append(
                 {

@@ -29,7 +29,13 @@ import numpy as np  # noqa: E402
 
 import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import Damping, hybrid_speed_sweep, static_scene  # noqa: E402
+from jaxgear.dynamics import (  # noqa: E402
+    Damping,
+    Newmark,
+    SteadyState,
+    hybrid_speed_sweep,
+    static_scene,
+)
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 SPEEDS = (2800.0, 3000.0, 3200.0)  # pinion, rad/s
@@ -67,9 +73,8 @@ def scan(case, scene, problem, depths) -> np.ndarray:
             problem.modifications(x),
             case.torque,
             list(SPEEDS),
-            steps_per_period=spp,
-            periods=periods,
-            keep_periods=keep,
+            integrator=Newmark(spp),
+            window=SteadyState(periods, keep),
             damping=D1,
         )
         if np.any(np.asarray(sw.result) != 0):

@@ -54,7 +54,11 @@ N_DEPTH = 2  # elements in depth (the reference of docs/hybrid.md)
 LOAD = 1.0e8  # N/m²: the line force f per unit width of the face, per unit thickness
 ELEMENTS = ("Q4", "Q8", "Q8-quadratic")
 INTERFACES = ("collocation", "mortar", "split")
-LAYOUTS = ((4, 7), (3, 8), (4, 8))  # FE elements × DE cells across the face (docs/hybrid.md, "Mortar patch test")
+LAYOUTS = (
+    (4, 7),
+    (3, 8),
+    (4, 8),
+)  # FE elements × DE cells across the face (docs/hybrid.md, "Mortar patch test")
 
 
 def exact_displacement(f=LOAD, h=DEPTH, E=E, nu=NU):

@@ -30,6 +30,9 @@ import numpy as np  # noqa: E402
 import fem_prep  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.dynamics import (  # noqa: E402
+    Damping,
+    Newmark,
+    SteadyState,
     hybrid_speed_sweep,
     mean_mesh_stiffness,
     nodal_diameter_modes,
@@ -50,9 +53,7 @@ def compute(speeds=SPEEDS, n=2) -> dict:
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     scene = static_scene(case, bodies=(None, body))[0]
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
-    Km = mean_mesh_stiffness(
-        scene, case.modifications, jnp.asarray(case.torque), SPP, "exact", jnp.asarray(1e-7)
-    )
+    Km = mean_mesh_stiffness(scene, case.modifications, jnp.asarray(case.torque), SPP)
     modes = nodal_diameter_modes(scene, Km, n_modes=30)
     web = (modes["rim_share"] > 0.5) & (modes["nodal_diameter"] == n)
     predicted = nodal_diameter_resonances(
@@ -63,10 +64,9 @@ def compute(speeds=SPEEDS, n=2) -> dict:
         case.modifications,
         case.torque,
         speeds,
-        steps_per_period=SPP,
-        periods=PERIODS,
-        keep_periods=KEEP,
-        rayleigh=RAYLEIGH,
+        integrator=Newmark(SPP),
+        window=SteadyState(PERIODS, KEEP),
+        damping=Damping("rayleigh", alpha=RAYLEIGH[0], beta=RAYLEIGH[1]),
     )
     out = {"backward": [], "forward": []}
     for i, s in enumerate(speeds):

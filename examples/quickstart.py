@@ -35,8 +35,7 @@ def main(out_dir=None):
                 mesh,
                 jg.Modifications.symmetric(tip),
                 case.torque,
-                contact="smooth",
-                width=case.smooth_width,
+                contact=jg.SmoothContact(case.smooth_width),
             ).te_rms
             * 1e6
         )

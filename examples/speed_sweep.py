@@ -30,7 +30,7 @@ def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
         js.disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
         js.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
     )
-    kw = dict(steps_per_period=32, periods=periods)
+    kw = dict(integrator=jd.Newmark(32), window=jd.SteadyState(periods))
     models = {
         "tip relief 15 µm": jd.dynamic_model(
             scene, case.modifications, case.torque, positions_per_pitch=32
@@ -58,7 +58,7 @@ def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
     def df(depth):
         m = eqx.tree_at(lambda m: m.mods.pinion.tip_relief_depth, relieved, depth)
         return jd.simulate(
-            m, 0.8 * cs, contact="smooth", width=case.smooth_width, throw=False, **kw
+            m, 0.8 * cs, contact=jg.SmoothContact(case.smooth_width), throw=False, **kw
         ).dynamic_factor
 
     val, slope = jax.jvp(df, (jnp.asarray(15e-6),), (jnp.asarray(1e-6),))

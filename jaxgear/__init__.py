@@ -13,7 +13,10 @@ from importlib.metadata import PackageNotFoundError, version as _version
 from ._baseplane import Cells as Cells, MeshModel as MeshModel
 from ._case import Case as Case
 from ._contact import (
+    ContactLaw as ContactLaw,
     ContactSolution as ContactSolution,
+    ExactContact as ExactContact,
+    SmoothContact as SmoothContact,
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )

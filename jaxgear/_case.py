@@ -12,6 +12,7 @@ import math
 from typing import Any
 
 from ._baseplane import MeshModel
+from ._contact import ContactLaw, ExactContact, SmoothContact
 from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
@@ -57,6 +58,19 @@ class Case:
     scene: Any = None
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+
+    def contact_law(self, mode: str) -> ContactLaw:
+        """The contact law a case file names: ``"exact"`` → :class:`~jaxgear.ExactContact`,
+        ``"smooth"`` → :class:`~jaxgear.SmoothContact` of the case's ``smooth_width`` (m).
+
+        Raises:
+            ValueError: another name.
+        """
+        if mode == "exact":
+            return ExactContact()
+        if mode == "smooth":
+            return SmoothContact(self.smooth_width)
+        raise ValueError(f"contact = {mode!r}: allowed 'exact', 'smooth'")
 
     def __post_init__(self) -> None:
         if isinstance(self.foundation, bool):  # the old boolean

@@ -3,6 +3,9 @@
 Cell force per unit length ``p = k φ(Δ)``, ``Δ = V·X − δ0`` (seed (2.9)/(2.30); docs/design.md,
 "Contact laws"), and equilibrium ``K_s X + Σ_c k_c l_c φ(Δ_c) V_c = F``.
 
+The law is a settings object, passed as diffrax takes its solver: :class:`ExactContact` or
+:class:`SmoothContact` (:data:`ContactLaw`), each with its iteration cap.
+
 * ``exact``: φ(Δ) = max(0, Δ). Solved by the active-set iteration of the seed (II-25): solve with
   the current contact set, drop the cells in tension, add the cells that interfere, repeat until
   the set is unchanged. It is Newton's method on a piecewise-linear equation; starting from all
@@ -33,12 +36,99 @@ dx = −J⁻¹ ∂r/∂p of every order, forward and reverse (J the tangent stif
 
 from __future__ import annotations
 
+import math
+from typing import ClassVar, TypeAlias
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-__all__ = ["ContactSolution", "solve_contact", "solve_contact_cells"]
+__all__ = [
+    "ContactLaw",
+    "ContactSolution",
+    "ExactContact",
+    "SmoothContact",
+    "solve_contact",
+    "solve_contact_cells",
+]
+
+
+def _check_iterations(max_iterations) -> None:
+    if isinstance(max_iterations, bool) or int(max_iterations) != max_iterations:
+        raise ValueError(f"max_iterations = {max_iterations!r}: allowed an integer >= 1")
+    if max_iterations < 1:
+        raise ValueError(f"max_iterations = {max_iterations!r}: allowed an integer >= 1")
+
+
+class ExactContact(eqx.Module):
+    """The exact unilateral (Signorini) contact law φ(Δ) = max(0, Δ), solved by the active-set
+    iteration of the seed (II-25) (docs/design.md, "Contact laws").
+
+    Attributes:
+        max_iterations: cap on active-set passes per contact problem (an integer >= 1; result
+            code ``max_iterations`` when reached). Static: a new value recompiles.
+
+    Raises:
+        ValueError: ``max_iterations`` not an integer >= 1.
+    """
+
+    max_iterations: int = eqx.field(default=100, static=True)
+    mode: ClassVar[str] = "exact"
+
+    def __check_init__(self):
+        _check_iterations(self.max_iterations)
+
+    def astype(self, dtype) -> ExactContact:
+        return self
+
+
+class SmoothContact(eqx.Module):
+    """The smooth contact law φ_w(Δ) = w·softplus(Δ/w): C^∞, within w·ln 2 of the exact law,
+    solved by Newton's method started from the exact solution (docs/design.md, "Contact laws").
+    Use it for gradients and for the diffrax solvers.
+
+    Attributes:
+        width: smoothing width w (m) > 0, a scalar (a leaf: traced under ``jax.jit``, so a new
+            width does not recompile; differentiable).
+        max_iterations: cap on active-set passes and on Newton steps (an integer >= 1).
+
+    Raises:
+        ValueError: a concrete ``width`` that is not finite and > 0, or a bad ``max_iterations``.
+    """
+
+    width: Float[Array, ""] | float = 1e-7
+    max_iterations: int = eqx.field(default=100, static=True)
+    mode: ClassVar[str] = "smooth"
+
+    def __check_init__(self):
+        _check_iterations(self.max_iterations)
+        if isinstance(self.width, jax.core.Tracer):
+            return
+        try:
+            w = float(self.width)
+        except TypeError as err:
+            raise ValueError(f"width = {self.width!r}: allowed a scalar > 0 (m)") from err
+        if not (math.isfinite(w) and w > 0):
+            raise ValueError(f"width = {w!r} m: allowed a finite width > 0 (m)")
+
+    def astype(self, dtype) -> SmoothContact:
+        """The same law with its width as a ``dtype`` array (the leaf the solvers trace)."""
+        return SmoothContact(jnp.asarray(self.width, dtype), self.max_iterations)
+
+
+ContactLaw: TypeAlias = ExactContact | SmoothContact
+
+
+def contact_law(law, dtype, name: str = "contact") -> ContactLaw:
+    """``law`` checked to be a :data:`ContactLaw`, its width cast to ``dtype``; a one-line
+    ``ValueError`` naming ``name`` otherwise (a mode string of the former API included)."""
+    if not isinstance(law, ExactContact | SmoothContact):
+        raise ValueError(
+            f"{name} = {law!r}: allowed jaxgear.ExactContact(max_iterations=...) or "
+            "jaxgear.SmoothContact(width=..., max_iterations=...)"
+        )
+    return law.astype(dtype)
 
 
 class ContactSolution(eqx.Module):
@@ -67,10 +157,11 @@ def _solve(A, b):
     return jnp.linalg.solve(A, b)
 
 
-def _phi(gap, mode: str, width):
-    if mode == "exact":
+def _phi(gap, law: ContactLaw):
+    if isinstance(law, ExactContact):
         return jnp.maximum(gap, 0.0), (gap > 0).astype(gap.dtype)
-    return width * jax.nn.softplus(gap / width), jax.nn.sigmoid(gap / width)
+    w = law.width
+    return w * jax.nn.softplus(gap / w), jax.nn.sigmoid(gap / w)
 
 
 def _assemble(Ks, F, V, kl, delta0, weight):
@@ -150,8 +241,8 @@ def _implicit_root(residual, y_root):
     return jax.lax.custom_root(residual, y_root, lambda _, y0: y0, tangent_solve)
 
 
-def _finish(x, gap, k, kl, mask, mode, width, iterations, result):
-    phi, weight = _phi(gap, mode, width)
+def _finish(x, gap, k, kl, mask, law, iterations, result):
+    phi, weight = _phi(gap, law)
     phi = jnp.where(mask, phi, 0.0)
     weight = jnp.where(mask, weight, 0.0)
     result = jnp.where(jnp.sum(weight * kl) <= 0, 2, result)
@@ -169,9 +260,7 @@ def solve_contact(
     length: Float[Array, " c"],
     delta0: Float[Array, " c"],
     mask: Bool[Array, " c"],
-    mode: str = "exact",
-    width: Float[Array, ""] | float = 1e-7,
-    max_iterations: int = 100,
+    law: ContactLaw = ExactContact(),
 ) -> ContactSolution:
     """Solve the unilateral contact problem on a linear structure (unknowns: the coordinates X).
 
@@ -183,16 +272,15 @@ def solve_contact(
         length: cell length l_c along its contact line (m), shape (c,).
         delta0: initial separation δ0 (m), shape (c,), >= 0 (2.8).
         mask: cells that exist (on the flanks), shape (c,).
-        mode: "exact" (active set) or "smooth" (softplus ramp of ``width`` m).
-        width: smoothing width w (m), smooth mode only.
-        max_iterations: cap on active-set passes / Newton steps.
+        law: :class:`ExactContact` (active set) or :class:`SmoothContact` (softplus ramp of
+            its width), with the cap on active-set passes / Newton steps.
 
     Returns:
         :class:`ContactSolution`; ``result`` != 0 flags failure (never a silent NaN: callers turn
         it into an error with ``eqx.error_if`` or report it).
     """
-    if mode not in ("exact", "smooth"):
-        raise ValueError(f"contact mode = {mode!r}: allowed 'exact', 'smooth'")
+    law = contact_law(law, jnp.result_type(k), "law")
+    max_iterations = law.max_iterations
     kl = jnp.where(mask, k * length, 0.0)
     sg = jax.lax.stop_gradient
     Ks_, F_, V_, kl_, d0_ = sg(Ks), sg(F), sg(V), sg(kl), sg(delta0)
@@ -207,20 +295,20 @@ def solve_contact(
     )
     result = jnp.where(changed, 1, 0)
 
-    if mode == "exact":
+    if isinstance(law, ExactContact):
         Kt, Ft = _assemble(Ks, F, V, kl, delta0, sg(active))
         x = _solve(Kt, Ft)
         iterations = it_ex
     else:
 
         def residual(x):
-            phi, _ = _phi(V @ x - delta0, "smooth", width)
+            phi, _ = _phi(V @ x - delta0, law)
             return Ks @ x + V.T @ (kl * phi) - F
 
         aKs, aV, aF, ad0 = jnp.abs(Ks_), jnp.abs(V_), jnp.abs(F_), jnp.abs(d0_)
 
         def newton_of(x):
-            phi, dphi = _phi(V_ @ x - d0_, "smooth", sg(width))
+            phi, dphi = _phi(V_ @ x - d0_, sg(law))
             r = Ks_ @ x + V_.T @ (kl_ * phi) - F_
             # magnitude of the terms of r and of J|x| (the rounding of x and δ0 itself)
             ax = jnp.abs(x)
@@ -234,7 +322,7 @@ def solve_contact(
         # the smooth answer stands on its own: the active set only gives Newton its start
         result = jnp.where(ok, 0, 1)
         iterations = it_ex + it_sm
-    return _finish(x, V @ x - delta0, k, kl, mask, mode, width, iterations, result)
+    return _finish(x, V @ x - delta0, k, kl, mask, law, iterations, result)
 
 
 def _bordered_solve(C, E, d, r1, r2):
@@ -270,9 +358,7 @@ def solve_contact_cells(
     k: Float[Array, " c"],
     length: Float[Array, " c"],
     mask: Bool[Array, " c"],
-    mode: str = "exact",
-    width: Float[Array, ""] | float = 1e-7,
-    max_iterations: int = 100,
+    law: ContactLaw = ExactContact(),
 ) -> tuple[ContactSolution, Float[Array, " c"], Float[Array, " r"]]:
     """The contact problem in the space of the cells (compliance form; for large structures).
 
@@ -292,14 +378,14 @@ def solve_contact_cells(
         C: cell compliance (m/N), shape (c, c). a: free gaps (m), shape (c,).
         E: rigid-body modes seen by the cells, shape (c, r) (r may be 0, e.g. a Newmark step
             whose effective stiffness is definite). b: their loads, shape (r,).
-        k, length, mask, mode, width, max_iterations: as :func:`solve_contact`.
+        k, length, mask, law: as :func:`solve_contact`.
 
     Returns:
         (solution, P, α): ``solution.x`` holds the gaps Δ (the coordinates are recovered by the
         caller, X = G (F − Vᵀ P) + N α), P the cell forces (N), shape (c,), α shape (r,).
     """
-    if mode not in ("exact", "smooth"):
-        raise ValueError(f"contact mode = {mode!r}: allowed 'exact', 'smooth'")
+    law = contact_law(law, jnp.result_type(k), "law")
+    max_iterations = law.max_iterations
     c, r = E.shape
     kl = jnp.where(mask, k * length, 0.0)
     sg = jax.lax.stop_gradient
@@ -313,20 +399,20 @@ def solve_contact_cells(
         solve_with, lambda y: y[:c], maskf, jnp.zeros(c + r, a.dtype), max_iterations
     )
     result = jnp.where(changed, 1, 0)
-    if mode == "exact":
+    if isinstance(law, ExactContact):
         y = _bordered_solve(C, E, kl * sg(active), a, b)
         iterations = it_ex
     else:
 
         def residual(y):
-            p = kl * _phi(y[:c], "smooth", width)[0]
+            p = kl * _phi(y[:c], law)[0]
             return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], E.T @ p - b])
 
         aC, aa, aE, ab = jnp.abs(C_), jnp.abs(a_), jnp.abs(E_), jnp.abs(b_)
 
         def newton_of(y):
             gap, alpha = y[:c], y[c:]
-            phi, dphi = _phi(gap, "smooth", sg(width))
+            phi, dphi = _phi(gap, sg(law))
             p = kl_ * phi
             r1 = gap - a_ + C_ @ p - E_ @ alpha
             r2 = E_.T @ p - b_
@@ -346,5 +432,5 @@ def solve_contact_cells(
         result = jnp.where(ok, 0, 1)
         iterations = it_ex + it_sm
     gap, alpha = y[:c], y[c:]
-    sol = _finish(gap, gap, k, kl, mask, mode, width, iterations, result)
-    return sol, kl * jnp.where(mask, _phi(gap, mode, width)[0], 0.0), alpha
+    sol = _finish(gap, gap, k, kl, mask, law, iterations, result)
+    return sol, kl * jnp.where(mask, _phi(gap, law)[0], 0.0), alpha

@@ -9,6 +9,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
 from ._quasi_static import QuasiStaticResult, quasi_static
 
@@ -52,15 +53,15 @@ def harris_map(
     mesh,
     mods: Modifications,
     torques,
-    contact: str = "exact",
-    width=1e-7,
+    contact: ContactLaw = ExactContact(),
     positions_per_pitch: int = 64,
 ) -> np.ndarray:
-    """TE peak-to-peak (m) against pinion torque (N·m), vmapped over the torques, shape (T,)."""
+    """TE peak-to-peak (m) against pinion torque (N·m), vmapped over the torques, shape (T,);
+    ``contact``: the contact law of :func:`~jaxgear.quasi_static`."""
 
     def ptp(t):
         return quasi_static(
-            mesh, mods, t, contact=contact, width=width, positions_per_pitch=positions_per_pitch
+            mesh, mods, t, contact=contact, positions_per_pitch=positions_per_pitch
         ).te_ptp
 
     return np.asarray(jax.vmap(ptp)(jnp.asarray(torques)))

@@ -8,7 +8,14 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from ._baseplane import MeshModel
-from ._contact import solve_contact, solve_contact_cells
+from ._contact import (
+    ContactLaw,
+    ExactContact,
+    SmoothContact,
+    contact_law,
+    solve_contact,
+    solve_contact_cells,
+)
 from ._modifications import Modifications
 from ._results import ContactResult, error_if_failed
 from ._util import rms_about_mean
@@ -102,9 +109,7 @@ def _one_position(
     torque,
     speed,
     theta,
-    mode,
-    width,
-    max_iterations,
+    law: ContactLaw,
 ):
     cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
@@ -119,9 +124,7 @@ def _one_position(
             b,
             *contact,
             mask.reshape(-1),
-            mode,
-            width,
-            max_iterations,
+            law,
         )
         x = scene.recover(window, force, alpha)
         u_x = scene.te_recover(window, force, alpha)
@@ -135,9 +138,7 @@ def _one_position(
             *contact,
             delta0.reshape(-1),
             mask.reshape(-1),
-            mode,
-            width,
-            max_iterations,
+            law,
         )
         x = sol.x
         u_x = scene.te_vector() @ x
@@ -170,9 +171,7 @@ def _quasi_static(
     torque,
     speed,
     theta,
-    width,
-    mode,
-    max_iterations,
+    law,
     throw,
     positions_per_pitch,
     periods,
@@ -190,11 +189,10 @@ def _quasi_static(
         "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
     )
     speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
-    if mode == "smooth":
-        width = eqx.error_if(width, ~(width > 0), "smooth contact width must be > 0 (m)")
-    out = jax.vmap(
-        lambda th: _one_position(scene, mesh, mods, torque, speed, th, mode, width, max_iterations)
-    )(theta)
+    if isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
+        width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
+        law = SmoothContact(width, law.max_iterations)
+    out = jax.vmap(lambda th: _one_position(scene, mesh, mods, torque, speed, th, law))(theta)
     res = QuasiStaticResult(**out)
     if throw:
         te = error_if_failed(res.transmission_error, res.result, ContactResult, "quasi_static")
@@ -209,11 +207,9 @@ def quasi_static(
     theta: Float[Array, " P"] | None = None,
     *,
     speed=0.0,
-    contact: str = "exact",
-    width=1e-7,
+    contact: ContactLaw = ExactContact(),
     positions_per_pitch: int = 64,
     periods: int = 1,
-    max_iterations: int = 100,
     throw: bool = True,
 ) -> QuasiStaticResult:
     """Quasi-static (no inertia) loaded contact of the gear pair at a series of pinion angles.
@@ -228,10 +224,10 @@ def quasi_static(
         speed: pinion speed Ω (rad/s) >= 0 of the centrifugal loads of condensed bodies
             (a hybrid scene: each body at its own speed, seed (2.37)); rigid gear bodies carry
             none, so other scenes do not depend on it. Default 0: at rest.
-        contact: "exact" (active set, seed II-25) or "smooth" (softplus ramp; docs/design.md,
-            "Contact laws").
-        width: smoothing width w (m) in smooth mode.
-        max_iterations: cap on active-set passes / Newton steps per position.
+        contact: the contact law, :class:`~jaxgear.ExactContact` (active set, seed II-25;
+            default) or :class:`~jaxgear.SmoothContact` (softplus ramp of its width;
+            docs/design.md, "Contact laws"), with its cap on active-set passes / Newton steps
+            per position.
         throw: raise ``eqx.EquinoxRuntimeError`` when a position fails (contact loop not
             converged, no contact, non-finite state); with ``False`` read ``result`` instead
             (0 = converged; :class:`~jaxgear.ContactResult`).
@@ -240,12 +236,10 @@ def quasi_static(
         :class:`QuasiStaticResult`.
 
     Raises:
-        ValueError: unknown ``contact`` mode, bad position counts (at trace time).
+        ValueError: ``contact`` not a contact law, bad position counts (at trace time).
         eqx.EquinoxRuntimeError: torque <= 0, width <= 0, a negative speed on a hybrid scene,
             solver failure (with ``throw``).
     """
-    if contact not in ("exact", "smooth"):
-        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
     if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
         raise ValueError(
             f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
@@ -260,7 +254,7 @@ def quasi_static(
     dtype = mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     speed = jnp.asarray(speed, dtype=dtype)
-    width = jnp.asarray(width, dtype=dtype)
+    law = contact_law(contact, dtype)
     if theta is not None:
         theta = jnp.asarray(theta, dtype=dtype)
     return _quasi_static(
@@ -270,9 +264,7 @@ def quasi_static(
         torque,
         speed,
         theta,
-        width,
-        contact,
-        int(max_iterations),
+        law,
         bool(throw),
         int(positions_per_pitch),
         int(periods),

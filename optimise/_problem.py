@@ -31,6 +31,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 import jaxgear as jg
+from jaxgear.dynamics import Newmark, SteadyState, band_dynamic_factor
 
 __all__ = [
     "VARIABLES",
@@ -220,6 +221,15 @@ class Problem(eqx.Module):
         return jnp.log(t) - jnp.log1p(-t)
 
     # -- objectives --------------------------------------------------------------------------
+    def _law(self, contact: str, max_iterations: int = 100) -> jg.ContactLaw:
+        """The contact law of a mode name: "smooth" (the case's width, for gradients) or
+        "exact", with its iteration cap."""
+        if contact == "smooth":
+            return jg.SmoothContact(self.width, max_iterations)
+        if contact == "exact":
+            return jg.ExactContact(max_iterations)
+        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
+
     def _single(self, mods, torque, contact):
         if self.objective == "dynamic_factor":
             return self._dynamic(mods, torque, contact)
@@ -228,8 +238,7 @@ class Problem(eqx.Module):
             mods,
             torque,
             speed=self.speed,
-            contact=contact,
-            width=self.width,
+            contact=self._law(contact),
             positions_per_pitch=self.positions_per_pitch,
         )
         if self.objective in ("te_rms", "robust_te_rms"):
@@ -244,19 +253,15 @@ class Problem(eqx.Module):
 
     def _dynamic(self, mods, torque, contact):
         """The smooth dynamic factor over the speed band (hybrid Newmark, p-means)."""
-        from jaxgear.dynamics import band_dynamic_factor
-
         spp, periods, keep = self.dynamics
         return band_dynamic_factor(
             self.mesh,
             mods,
             torque,
             self.speeds,
-            steps_per_period=spp,
-            periods=periods,
-            keep_periods=keep,
-            contact=contact,
-            width=self.width,
+            integrator=Newmark(spp),
+            contact=self._law(contact, 50),  # the hybrid dynamics' cap
+            window=SteadyState(periods, keep),
         )
 
     def value(self, x: Float[Array, " n"], contact: str = "smooth") -> Float[Array, ""]:
@@ -277,8 +282,7 @@ class Problem(eqx.Module):
                     mods,
                     t,
                     speed=self.speed,
-                    contact=contact,
-                    width=self.width,
+                    contact=self._law(contact),
                     positions_per_pitch=self.positions_per_pitch,
                 ).te_rms
             )
@@ -294,8 +298,7 @@ class Problem(eqx.Module):
             self.modifications(jnp.asarray(x)),
             self.design_torque,
             speed=self.speed,
-            contact=contact,
-            width=self.width,
+            contact=self._law(contact),
             positions_per_pitch=self.positions_per_pitch,
         )
         return {

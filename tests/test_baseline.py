@@ -72,7 +72,11 @@ def _compare(name, mods, contact, width=1e-7, uniform=False):
     if mods == "case":
         mods = case.modifications
     r = jg.quasi_static(
-        mesh, mods, case.torque, contact=contact, width=width, positions_per_pitch=PPP
+        mesh,
+        mods,
+        case.torque,
+        contact=jg.SmoothContact(width) if contact == "smooth" else jg.ExactContact(),
+        positions_per_pitch=PPP,
     )
     b = bl.te_curve_numpy(
         bmesh, bl.mods_params(mods), case.torque, contact, width, positions_per_pitch=PPP

@@ -71,16 +71,16 @@ def test_smooth_quasi_static_at_its_cap_returns_the_failure_code(tmp_path):
     never 0; the active set (all cells in contact, unmodified flanks) converged in its one pass,
     so the code is the Newton's."""
     case, mesh = _big_helical(tmp_path, 40)
-    exact = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=8, max_iterations=1)
+    exact = jg.quasi_static(
+        mesh, None, case.torque, positions_per_pitch=8, contact=jg.ExactContact(1)
+    )
     assert np.all(np.asarray(exact.result) == 0)
     res = jg.quasi_static(
         mesh,
         None,
         case.torque,
-        contact="smooth",
-        width=WIDTH,
+        contact=jg.SmoothContact(WIDTH, max_iterations=1),
         positions_per_pitch=8,
-        max_iterations=1,
         throw=False,
     )
     assert np.all(np.asarray(res.result) == ContactResult.max_iterations)
@@ -89,10 +89,8 @@ def test_smooth_quasi_static_at_its_cap_returns_the_failure_code(tmp_path):
             mesh,
             None,
             case.torque,
-            contact="smooth",
-            width=WIDTH,
+            contact=jg.SmoothContact(WIDTH, max_iterations=1),
             positions_per_pitch=8,
-            max_iterations=1,
         )
 
 
@@ -104,7 +102,12 @@ def test_exact_quasi_static_at_its_cap_returns_the_failure_code():
     passes = np.asarray(full.iterations)
     assert np.any(passes >= 2)
     res = jg.quasi_static(
-        mesh, case.modifications, case.torque, positions_per_pitch=8, max_iterations=1, throw=False
+        mesh,
+        case.modifications,
+        case.torque,
+        positions_per_pitch=8,
+        contact=jg.ExactContact(1),
+        throw=False,
     )
     # capped where the set changed in its first pass, converged where one pass was enough
     expected = np.where(passes >= 2, int(ContactResult.max_iterations), 0)
@@ -139,13 +142,13 @@ def _cell_problem(dtype):
 @pytest.mark.parametrize("dtype, rtol", [(jnp.float64, 1e-12), (jnp.float32, 1e-5)])
 def test_cell_space_smooth_matches_brentq_and_flags_its_cap(dtype, rtol):
     args, ref = _cell_problem(dtype)
-    sol, force, alpha = jg.solve_contact_cells(*args, mode="smooth", width=WIDTH)
+    sol, force, alpha = jg.solve_contact_cells(*args, jg.SmoothContact(WIDTH))
     assert alpha.dtype == dtype
     assert int(sol.result) == 0
     assert int(sol.iterations) <= 20
     assert float(alpha[0]) == pytest.approx(ref, rel=rtol)
     assert float(jnp.sum(force)) == pytest.approx(2e3, rel=rtol)
-    capped, _, _ = jg.solve_contact_cells(*args, mode="smooth", width=WIDTH, max_iterations=1)
+    capped, _, _ = jg.solve_contact_cells(*args, jg.SmoothContact(WIDTH, 1))
     assert int(capped.result) == ContactResult.max_iterations
 
 
@@ -154,7 +157,7 @@ def test_400_slices_iso6336_converges_in_few_steps_and_matches_brentq(tmp_path):
     case, mesh = _big_helical(tmp_path, 400)
     theta = jg.mesh_positions(mesh, 16)
     res = jg.quasi_static(
-        mesh, None, case.torque, theta, contact="smooth", width=WIDTH, throw=False
+        mesh, None, case.torque, theta, contact=jg.SmoothContact(WIDTH), throw=False
     )
     assert np.all(np.asarray(res.result) == 0)
     # 1 active-set pass (all cells in contact) + Newton's 2-4 steps
@@ -179,8 +182,7 @@ def test_400_slices_float32_runs_and_converges(tmp_path):
         cells.length.reshape(-1).astype(f32),
         delta0.reshape(-1).astype(f32),
         cells.mask.reshape(-1),
-        "smooth",
-        jnp.asarray(WIDTH, f32),
+        jg.SmoothContact(jnp.asarray(WIDTH, f32)),
     )
     assert sol.x.dtype == f32
     assert int(sol.result) == 0

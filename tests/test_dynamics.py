@@ -20,17 +20,20 @@ import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
     Damping,
+    DiffraxIntegrator,
+    Newmark,
+    SteadyState,
     damping_matrix,
     dynamic_model,
     mesh_table,
     simulate,
     speed_sweep,
 )
+from jaxgear.dynamics._newmark import _newmark
 
 # white-box checks of the integration rule on a constructed linear, time-invariant problem
 # (tests/test_layout.py lists them)
-from jaxgear.dynamics._config import _Config
-from jaxgear.dynamics._newmark import _newmark
+from jaxgear.dynamics._settings import _Config
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 
@@ -139,7 +142,7 @@ def test_low_speed_limit_matches_quasi_static(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=32)
     # 2 rad/s: mesh frequency 14 Hz against a 6 kHz mode; Δt ≈ T_n / 10
-    r = simulate(model, 2.0, steps_per_period=2000, periods=3, keep_periods=2)
+    r = simulate(model, 2.0, integrator=Newmark(2000), window=SteadyState(3, 2))
     assert int(r.result) == 0
     assert abs(float(r.dynamic_factor) - 1.0) < 5e-3
     assert abs(float(r.dynamic_factor_tooth) - 1.0) < 5e-3
@@ -156,7 +159,9 @@ def _linear_problem(case, scene, damping="none"):
     model = dynamic_model(
         scene, jg.Modifications(), case.torque, Damping(damping), positions_per_pitch=16
     )
-    cfg = _Config("newmark", "exact", 16, 2, 2, 100, 1e-6, 1e-6, True, 0, 1e3)
+    cfg = _Config(
+        Newmark(16), steps_per_period=16, periods=2, keep_periods=2, max_steps=0, blowup=1e3
+    )
     t = mesh_table(model.scene, model.mods, cfg.steps_per_period)
     row = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a[4], a.shape), t)
     table = eqx.tree_at(lambda x: x.delta0, row, jnp.zeros_like(row.delta0))
@@ -191,7 +196,7 @@ def test_newmark_conserves_energy_undamped_linear(accessory):
         c0,
         3000,
         cfg,
-        jnp.asarray(1e-7),
+        jg.ExactContact(),
         record=True,
         record_states=True,
     )
@@ -225,7 +230,7 @@ def test_newmark_second_order(accessory):
             (X0, jnp.zeros(2), jnp.linalg.solve(M, F - K @ X0), jnp.array(0), jnp.array(0)),
             n_max,
             cfg,
-            jnp.asarray(1e-7),
+            jg.ExactContact(),
             record=True,
             record_states=True,
         )[1][-2]
@@ -246,7 +251,7 @@ def test_main_critical_speed_linear_case(linear_case):
     )
     cs = float(model.critical_speeds()[1])
     speeds = cs * np.linspace(0.85, 1.15, 16)
-    s = speed_sweep(model, speeds, steps_per_period=32, periods=40)
+    s = speed_sweep(model, speeds, integrator=Newmark(32), window=SteadyState(40))
     assert np.all(np.asarray(s.results.result) == 0)
     assert np.all(np.asarray(s.results.contact_loss) == 0)  # linear: no contact loss
     df = np.asarray(s.dynamic_factor)
@@ -262,7 +267,7 @@ def test_jump_and_hysteresis_with_contact_loss(accessory):
     )
     cs = float(model.critical_speeds()[1])
     speeds = cs * np.linspace(0.86, 1.0, 8)
-    s = speed_sweep(model, speeds, direction="both", steps_per_period=32, periods=40)
+    s = speed_sweep(model, speeds, direction="both", integrator=Newmark(32), window=SteadyState(40))
     up, down = np.asarray(s.results.dynamic_factor), np.asarray(s.down.dynamic_factor)
     assert np.all(np.asarray(s.results.result) == 0) and np.all(np.asarray(s.down.result) == 0)
     gap = down - up
@@ -277,7 +282,7 @@ def test_jump_and_hysteresis_with_contact_loss(accessory):
 def test_gradient_wrt_tip_relief_matches_finite_differences(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
-    kw = dict(contact="smooth", width=2e-7, steps_per_period=16, periods=6, keep_periods=2)
+    kw = dict(contact=jg.SmoothContact(2e-7), integrator=Newmark(16), window=SteadyState(6, 2))
 
     def df(depth_um):
         member = eqx.tree_at(lambda m: m.tip_relief_depth, model.mods.pinion, depth_um * 1e-6)
@@ -299,12 +304,9 @@ def test_divergence_is_reported_not_silent(accessory):
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
     # explicit Euler, constant steps far beyond its stability limit (ω Δt ≈ 7)
     kw = dict(
-        solver="euler",
-        contact="smooth",
-        adaptive=False,
-        steps_per_period=16,
-        periods=3,
-        keep_periods=2,
+        integrator=DiffraxIntegrator("euler", 16, adaptive=False),
+        contact=jg.SmoothContact(),
+        window=SteadyState(3, 2),
     )
     r = simulate(model, 30.0, throw=False, **kw)
     assert int(r.result) in (2, 3)
@@ -346,23 +348,20 @@ def test_forward_mode_through_the_dynamics_matches_finite_differences(solver):
         disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
         disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
     ).reduced()
-    kw = dict(
-        contact="smooth",
-        steps_per_period=16,
-        periods=4,
-        keep_periods=2,
-        rtol=1e-9,
-        atol=1e-9,
-        adjoint="forward" if solver != "newmark" else "reverse",
-        adaptive=False,  # constant steps: the finite difference sees the same discrete scheme
+    # constant steps: the finite difference sees the same discrete scheme
+    integrator = (
+        Newmark(16)
+        if solver == "newmark"
+        else DiffraxIntegrator(solver, 16, rtol=1e-9, atol=1e-9, adaptive=False, adjoint="forward")
     )
+    kw = dict(contact=jg.SmoothContact(), integrator=integrator, window=SteadyState(4, 2))
 
     def te_rms_um(depth_um):
         mm = jg.MemberModification(tip_relief_depth=depth_um * 1e-6, tip_relief_extent=0.25)
         model = dynamic_model(
             scene, jg.Modifications.symmetric(mm), case.torque, positions_per_pitch=16
         )
-        return simulate(model, 700.0, solver=solver, **kw).te_rms * 1e6
+        return simulate(model, 700.0, **kw).te_rms * 1e6
 
     f = eqx.filter_jit(te_rms_um)
     _, tangent = jax.jvp(te_rms_um, (15.0,), (1.0,))

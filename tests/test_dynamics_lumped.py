@@ -10,6 +10,7 @@ import scipy.linalg
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+from jaxgear.dynamics import Newmark, SteadyState
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair, timoshenko_element
 from jaxgear.scenes._lumped3d import _shaft  # a shaft's FE nodes and matrices (test_layout.py)
 
@@ -172,7 +173,7 @@ def test_lumped_modes_energy_and_simulation():
     e = np.asarray(modes.energy)[:, ~np.asarray(modes.rigid)]
     np.testing.assert_allclose(e.sum(axis=0), 1.0, rtol=1e-9)
     assert np.all(e > -1e-9)
-    r = jd.simulate(model, 800.0, steps_per_period=16, periods=6, keep_periods=2)
+    r = jd.simulate(model, 800.0, integrator=Newmark(16), window=SteadyState(6, 2))
     assert int(r.result) == 0
     assert 1.0 < float(r.dynamic_factor) < 3.0
     # bearing forces: statically, the radial bearing loads balance the mesh force

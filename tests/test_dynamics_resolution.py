@@ -17,7 +17,14 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import auto_steps_per_period, dynamic_model, simulate, speed_sweep
+from jaxgear.dynamics import (
+    Newmark,
+    SteadyState,
+    auto_steps_per_period,
+    dynamic_model,
+    simulate,
+    speed_sweep,
+)
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -44,7 +51,7 @@ def _compare(model, ratios, periods):
     """Default-step sweep vs the reference; returns (ratios, N_s, relative errors)."""
     wc = float(model.critical_speeds(1)[0])
     speeds = np.array(ratios) * wc
-    r = speed_sweep(model, speeds, periods=periods, keep_periods=2).results
+    r = speed_sweep(model, speeds, window=SteadyState(periods, 2)).results
     ns = np.asarray(r.steps_per_period)
     errs = []
     for i, (ratio, sp) in enumerate(zip(ratios, speeds, strict=True)):
@@ -88,11 +95,11 @@ def test_low_speed_limit_and_under_resolved_flag(models):
     sp = 0.05 * float(model.critical_speeds(1)[0])
     n = int(auto_steps_per_period(model, sp))
     assert n == 1024
-    kw = {"periods": 4, "keep_periods": 2}
+    kw = {"window": SteadyState(4, 2)}
     auto = simulate(model, sp, **kw)
     assert int(auto.steps_per_period) == 1024 and not bool(auto.under_resolved)
     assert float(auto.dynamic_factor) > 1.6
-    coarse = simulate(model, sp, steps_per_period=64, **kw)
+    coarse = simulate(model, sp, integrator=Newmark(64), **kw)
     assert bool(coarse.under_resolved)
     assert float(coarse.steps_per_mode_period) == pytest.approx(64 * 0.05, rel=1e-6)
     assert float(coarse.dynamic_factor) < 0.9 * float(auto.dynamic_factor)
@@ -104,8 +111,8 @@ def test_binned_continuation_sweep(models):
     model = models["relieved"]
     wc = float(model.critical_speeds(1)[0])
     speeds = np.array([0.3, 0.6, 1.0]) * wc
-    s = speed_sweep(model, speeds, direction="both", periods=16, keep_periods=2)
-    ind = speed_sweep(model, speeds, periods=16, keep_periods=2)
+    s = speed_sweep(model, speeds, direction="both", window=SteadyState(16, 2))
+    ind = speed_sweep(model, speeds, window=SteadyState(16, 2))
     assert list(np.asarray(s.results.steps_per_period)) == [256, 128, 64]
     assert s.down.mesh_force.shape == (3, 128)
     assert np.all(np.asarray(s.results.result) == 0) and np.all(np.asarray(s.down.result) == 0)

@@ -13,10 +13,17 @@ import numpy as np
 import pytest
 from _toml import ACCESSORY_PAIR
 
+import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import SceneSpec, build_dynamic_model
+from jaxgear.dynamics import (
+    DiffraxIntegrator,
+    Newmark,
+    SceneSpec,
+    SteadyState,
+    build_dynamic_model,
+)
 from jaxgear.io import parse_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -213,14 +220,14 @@ def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
         jax.config.update("jax_enable_x64", True)
         import jaxgear.dynamics as jd
         import jaxgear.io as jio
-        from jaxgear.dynamics import build_dynamic_model
+        from jaxgear.dynamics import Newmark, SteadyState, build_dynamic_model
         from jaxgear.io import parse_scene
         case = jio.load_case("accessory-spur").replace(slices=2)
         spec = parse_scene({"integration": {"steps_per_period": 16, "periods": 4,
                                             "keep_periods": 2}})
         model, _ = build_dynamic_model(case, spec)
         speeds = np.linspace(300.0, 1200.0, 6)   # 6 speeds on 4 devices: padded to 8
-        kw = dict(steps_per_period=16, periods=4, keep_periods=2)
+        kw = dict(integrator=Newmark(16), window=SteadyState(4, 2))
         a = jd.speed_sweep(model, speeds, shard=True, **kw)
         b = jd.speed_sweep(model, speeds, shard=False, **kw)
         assert len(jax.local_devices()) == 4
@@ -252,9 +259,10 @@ def small_model():
 
 
 def test_diffrax_explicit_agrees_with_newmark(small_model):
-    kw = dict(contact="smooth", width=1e-7, steps_per_period=32, periods=8, keep_periods=2)
-    nm = jd.simulate(small_model, 700.0, **kw)
-    ts = jd.simulate(small_model, 700.0, solver="tsit5", rtol=1e-7, atol=1e-7, **kw)
+    kw = dict(contact=jg.SmoothContact(1e-7), window=SteadyState(8, 2))
+    nm = jd.simulate(small_model, 700.0, integrator=Newmark(32), **kw)
+    tsit5 = DiffraxIntegrator("tsit5", 32, rtol=1e-7, atol=1e-7)
+    ts = jd.simulate(small_model, 700.0, integrator=tsit5, **kw)
     assert int(ts.result) == 0
     assert float(ts.dynamic_factor) == pytest.approx(float(nm.dynamic_factor), rel=5e-3)
     assert float(ts.te_rms) == pytest.approx(float(nm.te_rms), rel=2e-2)
@@ -262,9 +270,10 @@ def test_diffrax_explicit_agrees_with_newmark(small_model):
 
 @pytest.mark.slow
 def test_diffrax_implicit_agrees_with_newmark(small_model):
-    kw = dict(contact="smooth", width=1e-7, steps_per_period=32, periods=8, keep_periods=2)
-    nm = jd.simulate(small_model, 700.0, **kw)
-    kv = jd.simulate(small_model, 700.0, solver="kvaerno5", rtol=1e-7, atol=1e-7, **kw)
+    kw = dict(contact=jg.SmoothContact(1e-7), window=SteadyState(8, 2))
+    nm = jd.simulate(small_model, 700.0, integrator=Newmark(32), **kw)
+    kvaerno5 = DiffraxIntegrator("kvaerno5", 32, rtol=1e-7, atol=1e-7)
+    kv = jd.simulate(small_model, 700.0, integrator=kvaerno5, **kw)
     assert int(kv.result) == 0
     assert float(kv.dynamic_factor) == pytest.approx(float(nm.dynamic_factor), rel=5e-3)
 
@@ -272,7 +281,7 @@ def test_diffrax_implicit_agrees_with_newmark(small_model):
 @pytest.mark.slow
 def test_continuation_matches_independent_away_from_jumps(small_model):
     speeds = np.linspace(200.0, 500.0, 4)
-    kw = dict(steps_per_period=32, periods=30, keep_periods=2)
+    kw = dict(integrator=Newmark(32), window=SteadyState(30, 2))
     ind = jd.speed_sweep(small_model, speeds, **kw)
     up = jd.speed_sweep(small_model, speeds, direction="up", chunk_size=3, **kw)
     np.testing.assert_allclose(up.dynamic_factor, ind.dynamic_factor, rtol=2e-3)

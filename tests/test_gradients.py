@@ -39,8 +39,7 @@ def _te_rms_um(p, contact, setup):
         jg.Modifications.symmetric(mm),
         case.torque,
         theta,
-        contact=contact,
-        width=case.smooth_width,
+        contact=case.contact_law(contact),
     )
     return res.te_rms * 1e6
 
@@ -85,7 +84,7 @@ def test_grad_wrt_torque_smooth():
     def te_mean_um(torque):
         return (
             jg.quasi_static(
-                mesh, case.modifications, torque, theta, contact="smooth", width=case.smooth_width
+                mesh, case.modifications, torque, theta, contact=case.contact_law("smooth")
             ).te_mean
             * 1e6
         )
@@ -127,7 +126,11 @@ def test_te_rms_gradient_is_finite_at_zero_fluctuation():
     def rms(depth):
         mm = jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.2)
         return jg.quasi_static(
-            mesh, jg.Modifications.symmetric(mm), case.torque, jnp.zeros(1), contact="smooth"
+            mesh,
+            jg.Modifications.symmetric(mm),
+            case.torque,
+            jnp.zeros(1),
+            contact=jg.SmoothContact(),
         ).te_rms
 
     g = jax.grad(rms)(jnp.asarray(5e-6))

@@ -63,8 +63,9 @@ def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model
     full = grounded(scene, (scene.torque_dofs[1],), factor=1e8)
     theta = jg.mesh_positions(scene.mesh, 4, periods=2)
     for mode in ("exact", "smooth"):
-        a = jg.quasi_static(scene, case.modifications, case.torque, theta, contact=mode)
-        b = jg.quasi_static(full, case.modifications, case.torque, theta, contact=mode)
+        law = case.contact_law(mode)
+        a = jg.quasi_static(scene, case.modifications, case.torque, theta, contact=law)
+        b = jg.quasi_static(full, case.modifications, case.torque, theta, contact=law)
         assert np.all(np.asarray(a.result) == 0)
         ll = float(jnp.max(a.line_load))
         np.testing.assert_allclose(a.line_load, b.line_load, atol=1e-7 * ll)
@@ -225,8 +226,7 @@ def test_gradients_through_the_hybrid_solve_match_finite_differences(case, scene
             jg.Modifications.symmetric(mm),
             case.torque,
             theta,
-            contact="smooth",
-            width=case.smooth_width,
+            contact=case.contact_law("smooth"),
         )
         return jnp.stack([r.te_rms * 1e6, jnp.max(r.line_load) * 1e-6])
 

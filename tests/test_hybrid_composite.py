@@ -22,7 +22,8 @@ from test_hybrid_dynamics import (
     setup,  # noqa: F401 (the module's scene fixture)
 )
 
-from jaxgear.dynamics import Damping, simulate_hybrid
+import jaxgear as jg
+from jaxgear.dynamics import Damping, Newmark, SteadyState, simulate_hybrid
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):
@@ -72,9 +73,8 @@ def test_composite_equals_the_mesh_following_reference(setup, composite):  # noq
                 case.modifications,
                 case.torque,
                 speed,
-                steps_per_period=spp,
-                periods=periods,
-                keep_periods=periods,
+                integrator=Newmark(spp),
+                window=SteadyState(periods, periods),
                 damping=damping,
                 rotating_frame=rotating,
             ).mesh_force
@@ -111,9 +111,8 @@ def test_composite_dynamic_factor_is_mesh_periodic(setup):  # noqa: F811
             case.modifications,
             case.torque,
             900.0,
-            steps_per_period=spp,
-            periods=warm + Z,
-            keep_periods=Z,
+            integrator=Newmark(spp),
+            window=SteadyState(warm + Z, Z),
             damping=damping,
         )
         assert int(r.result) == 0
@@ -132,7 +131,7 @@ def test_composite_damping_is_positive_semidefinite_every_period(setup, composit
     case, scene = setup
     spp, speed, xi_m, xi_s = 16, 900.0, 0.07, 0.01
     mods, torque = case.modifications, jnp.asarray(case.torque)
-    qs, _ = H._period_statics(scene, mods, torque, speed, spp, "exact", jnp.asarray(1e-7))
+    qs, _ = H._period_statics(scene, mods, torque, speed, spp, jg.ExactContact())
     T = scene.mesh.mesh_period_angle
     Z = H._revolution_periods(scene)
     assert Z == composite["Z"]

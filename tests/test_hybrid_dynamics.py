@@ -17,7 +17,14 @@ import pytest
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
-from jaxgear.dynamics import hybrid_speed_sweep, simulate_hybrid, static_scene
+from jaxgear.dynamics import (
+    Damping,
+    Newmark,
+    SteadyState,
+    hybrid_speed_sweep,
+    simulate_hybrid,
+    static_scene,
+)
 
 DATA = pathlib.Path(__file__).parent / "data"
 
@@ -146,10 +153,9 @@ def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup):
             case.modifications,
             case.torque,
             speed,
-            steps_per_period=spp,
-            periods=periods,
-            keep_periods=periods,
-            rayleigh=ray,
+            integrator=Newmark(spp),
+            window=SteadyState(periods, periods),
+            damping=Damping("rayleigh", alpha=ray[0], beta=ray[1]),
             rotating_frame=rotating,
         )
         assert int(r.result) == 0
@@ -169,9 +175,8 @@ def test_low_speed_is_the_quasi_static_response(setup):
         case.modifications,
         case.torque,
         speed,
-        steps_per_period=spp,
-        periods=3,
-        keep_periods=1,
+        integrator=Newmark(spp),
+        window=SteadyState(3, 1),
     )
     qs = jg.quasi_static(scene, case.modifications, case.torque, r.theta, speed=speed)
     f_qs = np.sum(
@@ -182,12 +187,14 @@ def test_low_speed_is_the_quasi_static_response(setup):
 
 def test_speed_sweep_maps_single_speeds(setup):
     case, scene = setup
-    kw = dict(steps_per_period=16, periods=3, keep_periods=1)
+    kw = dict(integrator=Newmark(16), window=SteadyState(3, 1))
     sw = hybrid_speed_sweep(scene, case.modifications, case.torque, [300.0, 900.0], **kw)
     one = simulate_hybrid(scene, case.modifications, case.torque, 900.0, **kw)
     np.testing.assert_allclose(sw.mesh_force[1], one.mesh_force, rtol=1e-10)
     with pytest.raises(ValueError, match="steps_per_period"):
-        simulate_hybrid(scene, None, case.torque, 900.0, steps_per_period=2)
+        simulate_hybrid(scene, None, case.torque, 900.0, integrator=Newmark(2))
+    with pytest.raises(ValueError, match="integrator"):  # no automatic step in the cell space
+        simulate_hybrid(scene, None, case.torque, 900.0, integrator=Newmark())
 
 
 def _rigid_properties(scene, body):
@@ -280,15 +287,14 @@ def _rigidified_runs(case, speeds, damping, spp=32, periods=60, rotating_frame=F
         uni.modifications,
         uni.torque,
         speeds,
-        steps_per_period=spp,
-        periods=periods,
-        keep_periods=2,
+        integrator=Newmark(spp),
+        window=SteadyState(periods, 2),
         damping=damping,
         rotating_frame=rotating_frame,
     )
     assert np.all(np.asarray(sw.result) == 0)
     refs = [
-        simulate(model, s, steps_per_period=spp, periods=periods, keep_periods=2) for s in speeds
+        simulate(model, s, integrator=Newmark(spp), window=SteadyState(periods, 2)) for s in speeds
     ]
     return sw, refs, model
 
@@ -296,8 +302,6 @@ def _rigidified_runs(case, speeds, damping, spp=32, periods=60, rotating_frame=F
 def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
     """Dynamic factors of the two with Rayleigh damping (seed D1), and the lumped model's
     minimum mesh force / F_s per speed."""
-    from jaxgear.dynamics import Damping
-
     d1 = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     sw, refs, model = _rigidified_runs(case, speeds, d1, rotating_frame=rotating_frame)
     lumped_df = np.array([float(r.dynamic_factor) for r in refs])
@@ -398,9 +402,8 @@ def test_simulation_records_the_wheel_rim(setup):
         case.modifications,
         case.torque,
         900.0,
-        steps_per_period=16,
-        periods=3,
-        keep_periods=2,
+        integrator=Newmark(16),
+        window=SteadyState(3, 2),
     )
     Z = scene.members[1].rim_dofs.shape[0]
     assert r.rim_radial.shape == (32, Z) and r.rim_axial.shape == (32, Z)
@@ -482,8 +485,8 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, monkeypatch, 
     assert s["rotating_frame"] is True and s["result"] == [0, 0]
     case = jio.load_case(case_file)
     scene = static_scene(case)[0]
-    kw = dict(steps_per_period=16, periods=3, keep_periods=2, damping=spec_damping(case.scene))
-    kw.update(contact=case.scene.contact, width=case.smooth_width)
+    kw = dict(integrator=Newmark(16), window=SteadyState(3, 2), damping=spec_damping(case.scene))
+    kw.update(contact=case.contact_law(case.scene.contact))
     speeds = [1500.0, 2100.0]
     on = hybrid_speed_sweep(
         scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw
@@ -559,8 +562,6 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
     so that its mesh share can follow the mesh (tests/test_hybrid_composite.py). On the modes of
     the first period the two agreed within 0.25 %, but the damping then turned with the wheel
     (the dynamic factor of the flexible wheel at 900 rad/s swung by 6 % per revolution)."""
-    from jaxgear.dynamics import Damping
-
     sw, refs, _ = _rigidified_runs(setup[0], [800.0, 2100.0], Damping())
     for i, ref in enumerate(refs):
         assert float(sw.dynamic_factor[i]) == pytest.approx(float(ref.dynamic_factor), rel=1e-2)
@@ -578,9 +579,8 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
         case.modifications,
         case.torque,
         5.0,
-        steps_per_period=16,
-        periods=3,
-        keep_periods=1,
+        integrator=Newmark(16),
+        window=SteadyState(3, 1),
         states=True,
     )
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
@@ -638,17 +638,18 @@ def test_failures_use_the_one_result_enumeration(setup):
     ramp (50 µm) is wider than the deflection."""
     case, scene = setup
     kw = {
-        "steps_per_period": 16,
-        "periods": 2,
-        "keep_periods": 1,
-        "contact": "smooth",
-        "width": 5e-5,
-        "max_iterations": 1,
+        "integrator": Newmark(16),
+        "window": SteadyState(2, 1),
+        "contact": jg.SmoothContact(5e-5, max_iterations=1),
     }
     sw = hybrid_speed_sweep(scene, case.modifications, case.torque, [900.0], **kw)
     assert int(sw.result[0]) == jg.DynamicsResult.contact_not_converged == 1
     ok = hybrid_speed_sweep(
-        scene, case.modifications, case.torque, [900.0], **{**kw, "max_iterations": 50}
+        scene,
+        case.modifications,
+        case.torque,
+        [900.0],
+        **{**kw, "contact": jg.SmoothContact(5e-5, max_iterations=50)},
     )
     assert int(ok.result[0]) == jg.DynamicsResult.successful
     message = "hybrid dynamics: contact loop did not converge"

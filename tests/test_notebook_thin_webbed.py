@@ -107,4 +107,3 @@ def test_thin_webbed_gear_notebook_executes(tmp_path, fem_prep_cache):
     E, nu = body["material"]["youngs_modulus_GPa"] * 1e9, body["material"]["poisson_ratio"]
     ring = body["material"]["density_kg_m3"] * (got["high_speed"] * z1 / Z) ** 2 * b**3 / E
     assert (3 + nu) * (1 - nu) / 8 * ring < got["growth"] < ring
-

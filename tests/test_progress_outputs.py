@@ -27,7 +27,7 @@ from jaxgear.cli import (
     scene_outputs,
     settings_from_case,
 )
-from jaxgear.dynamics import hybrid_speed_sweep, static_scene
+from jaxgear.dynamics import Newmark, SteadyState, hybrid_speed_sweep, static_scene
 
 PARTIAL = "optimum.partial.json"  # the marker of an unfinished jaxgear optimise
 
@@ -86,7 +86,7 @@ def hybrid_setup(fem_prep_cache):
 
 def test_hybrid_sweep_in_chunks_equals_one_call(hybrid_setup):
     case, scene = hybrid_setup
-    kw = {"steps_per_period": 16, "periods": 3, "keep_periods": 1}
+    kw = {"integrator": Newmark(16), "window": SteadyState(3, 1)}
     speeds = [300.0, 600.0, 900.0]
     one = hybrid_speed_sweep(scene, case.modifications, case.torque, speeds, **kw)
     done = []

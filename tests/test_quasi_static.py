@@ -159,7 +159,7 @@ def test_smooth_contact_first_order_in_width_golden_ratio():
     widths = jnp.array([1e-9, 3e-9, 1e-8, 3e-8, 1e-7, 3e-7])
     te_s = jax.vmap(
         lambda w: jg.quasi_static(
-            mesh, mods, case.torque, theta, contact="smooth", width=w
+            mesh, mods, case.torque, theta, contact=jg.SmoothContact(w)
         ).transmission_error[0]
     )(widths)
     err = te_exact - np.asarray(te_s)
@@ -183,7 +183,7 @@ def test_smooth_converges_to_exact_at_least_first_order_real_case():
     te = jax.vmap(
         lambda w: (
             jg.quasi_static(
-                mesh, case.modifications, case.torque, theta, contact="smooth", width=w
+                mesh, case.modifications, case.torque, theta, contact=jg.SmoothContact(w)
             ).transmission_error
         )
     )(widths)
@@ -296,7 +296,9 @@ def test_solve_contact_active_set_on_random_problem():
 def test_load_conservation_every_position(name, contact):
     """Σ line_load · cell length = F_n at every position (smooth mode too: p = k φ_w(Δ))."""
     case, mesh, theta = _weber(name)
-    res = jg.quasi_static(mesh, case.modifications, case.torque, theta, contact=contact)
+    res = jg.quasi_static(
+        mesh, case.modifications, case.torque, theta, contact=case.contact_law(contact)
+    )
     pair = case.pair
     cell_len = pair.face_width / mesh.n_slices / math.cos(pair.base_helix_angle)
     total = np.sum(np.asarray(res.line_load), axis=(1, 2)) * cell_len
@@ -307,11 +309,19 @@ def test_torsional_pair_gives_rigid_mesh_te():
     case, mesh, theta = _weber("power-helical")
     for contact in ("exact", "smooth"):
         rigid = jg.quasi_static(
-            jg.RigidMesh(mesh), case.modifications, case.torque, theta, contact=contact
+            jg.RigidMesh(mesh),
+            case.modifications,
+            case.torque,
+            theta,
+            contact=case.contact_law(contact),
         )
         for ks in (1e3, 1e5, 1e9):
             tors = jg.quasi_static(
-                jg.TorsionalPair(mesh, ks), case.modifications, case.torque, theta, contact=contact
+                jg.TorsionalPair(mesh, ks),
+                case.modifications,
+                case.torque,
+                theta,
+                contact=case.contact_law(contact),
             )
             np.testing.assert_allclose(tors.transmission_error, rigid.transmission_error, rtol=1e-9)
             np.testing.assert_allclose(
@@ -375,14 +385,18 @@ def test_float32_runs_and_matches_float64(contact):
     case, mesh, theta = _weber("power-helical")
     te64 = np.asarray(
         jg.quasi_static(
-            mesh, case.modifications, case.torque, theta, contact=contact
+            mesh, case.modifications, case.torque, theta, contact=case.contact_law(contact)
         ).transmission_error
     )
     with jax.enable_x64(False):
         case32 = jio.load_case("power-helical")  # arrays built inside the context are float32
         mesh32 = case32.mesh_model(slices=mesh.n_slices)
         res = jg.quasi_static(
-            mesh32, case32.modifications, case32.torque, positions_per_pitch=16, contact=contact
+            mesh32,
+            case32.modifications,
+            case32.torque,
+            positions_per_pitch=16,
+            contact=case32.contact_law(contact),
         )
         te32 = np.asarray(res.transmission_error)
         assert te32.dtype == np.float32

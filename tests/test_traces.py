@@ -24,12 +24,13 @@ def _traces(fn):
 def test_quasi_static_traces_once_for_new_values():
     case = jio.load_case("accessory-spur")
     mesh = case.mesh_model(slices=3)
-    kw = dict(positions_per_pitch=8, contact="smooth")
-    jg.quasi_static(mesh, case.modifications, 80.0, **kw)
+    kw = dict(positions_per_pitch=8)
+    jg.quasi_static(mesh, case.modifications, 80.0, contact=jg.SmoothContact(), **kw)
     n = _traces(_quasi_static)
     for torque, depth in ((60.0, 5e-6), (95.5, 12e-6), (jnp.asarray(70.0), 20e-6)):
         mm = jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3)
-        jg.quasi_static(mesh, jg.Modifications.symmetric(mm), torque, width=2e-7, **kw)
+        law = jg.SmoothContact(2e-7)
+        jg.quasi_static(mesh, jg.Modifications.symmetric(mm), torque, contact=law, **kw)
     assert _traces(_quasi_static) == n
 
 
@@ -42,7 +43,7 @@ def test_simulate_traces_once_for_new_speeds():
         js.disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
     ).reduced()
     model = jd.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
-    kw = dict(steps_per_period=16, periods=3, keep_periods=2)
+    kw = dict(integrator=jd.Newmark(16), window=jd.SteadyState(3, 2))
     jd.simulate(model, 500.0, **kw)
     n = _traces(_run)
     for speed in (650.0, 900.25, jnp.asarray(1200.0)):

@@ -62,8 +62,7 @@ def run_case(
                 mesh,
                 mods,
                 case.torque,
-                contact=mode,
-                width=case.smooth_width,
+                contact=case.contact_law(mode),
                 positions_per_pitch=ppp,
                 periods=2,
             )

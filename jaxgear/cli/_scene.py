@@ -113,8 +113,7 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             case.modifications,
             case.torque,
             speed=case.speed,
-            contact=mode,
-            width=case.smooth_width,
+            contact=case.contact_law(mode),
             positions_per_pitch=case.positions_per_pitch,
         )
         out[mode] = result_summary(res[mode])

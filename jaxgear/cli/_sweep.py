@@ -71,6 +71,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     from .. import DynamicsResult
     from ..dynamics import (
         MESH_ENERGY_MIN,
+        Newmark,
         hybrid_speed_sweep,
         load_bodies,
         mean_mesh_stiffness,
@@ -79,6 +80,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         rim_waves,
         simulate_hybrid,
         spec_damping,
+        spec_window,
         static_scene,
         steps_for_mode,
     )
@@ -105,8 +107,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             case.modifications,
             jnp.asarray(case.torque),
             spp,
-            spec.contact,
-            jnp.asarray(case.smooth_width),
+            case.contact_law(spec.contact),
             speed=case.speed,
         )
     )
@@ -144,11 +145,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
     kw = dict(
-        periods=spec.periods,
-        keep_periods=spec.keep_periods,
+        window=spec_window(spec),
         damping=damping,
-        contact=spec.contact,
-        width=case.smooth_width,
+        contact=case.contact_law(spec.contact),
         rotating_frame=spec.rotating_frame,
     )
     # runs of equal step counts (one compiled sweep per count), one speed per call: the bar
@@ -161,7 +160,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             case.modifications,
             case.torque,
             part,
-            steps_per_period=int(steps[k]),
+            integrator=Newmark(int(steps[k])),
             chunk_size=1,
             progress=lambda n, k=k: bar.update(k + n - bar.n),
             **kw,
@@ -191,7 +190,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             case.torque,
             float(vtu_speed),
             states=True,
-            steps_per_period=int(n_vtu),
+            integrator=Newmark(int(n_vtu)),
             **kw,
         )
         folder = os.path.join(out_dir, "vtu")
@@ -284,7 +283,13 @@ def sweep_case(
     import jax
     from tqdm.auto import tqdm
 
-    from ..dynamics import SceneSpec, build_dynamic_model, speed_sweep
+    from ..dynamics import (
+        SceneSpec,
+        build_dynamic_model,
+        spec_integrator,
+        spec_window,
+        speed_sweep,
+    )
 
     spec = case.scene if case.scene is not None else SceneSpec()
     over = {
@@ -342,14 +347,9 @@ def sweep_case(
         direction=direction,
         chunk_size=chunk,
         progress=progress,
-        solver=spec.solver,
-        contact=spec.contact,
-        width=case.smooth_width,
-        steps_per_period=spec.steps_per_period,
-        periods=spec.periods,
-        keep_periods=spec.keep_periods,
-        rtol=spec.rtol,
-        atol=spec.atol,
+        integrator=spec_integrator(spec),
+        contact=case.contact_law(spec.contact),
+        window=spec_window(spec),
     )
     jax.block_until_ready(res)
     bar.close()

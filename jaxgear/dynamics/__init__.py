@@ -1,19 +1,17 @@
 """Gear dynamics with unilateral contact (seed (2.31)-(2.37); docs/design.md, "Structure and
 dynamics").
 
+Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
+:class:`DiffraxIntegrator`), the contact law (:class:`jaxgear.ExactContact`,
+:class:`jaxgear.SmoothContact`), the damping (:class:`Damping`) and the steady-state window
+(:class:`SteadyState`); the torque and the speed are arguments.
+
 :func:`dynamic_model` builds a :class:`DynamicModel` (time-averaged mesh stiffness, modal analysis,
 damping) from a dynamic scene; :func:`simulate` integrates one speed to steady state (Newmark with
 the exact contact loop, or a diffrax solver); :func:`speed_sweep` vmaps (or continues) over speeds.
 :func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
 """
 
-from ._config import (
-    DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
-    MESH_ENERGY_MIN as MESH_ENERGY_MIN,
-    MIN_STEPS_PER_PERIOD as MIN_STEPS_PER_PERIOD,
-    STEPS_PER_MODE as STEPS_PER_MODE,
-    UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
-)
 from ._from_case import (
     SceneSpec as SceneSpec,
     bearing_forces as bearing_forces,
@@ -21,13 +19,15 @@ from ._from_case import (
     load_bodies as load_bodies,
     quasi_static_scene as quasi_static_scene,
     spec_damping as spec_damping,
+    spec_integrator as spec_integrator,
+    spec_window as spec_window,
     static_scene as static_scene,
 )
 from ._hybrid import (
-    band_dynamic_factor as band_dynamic_factor,
     FreeVibration as FreeVibration,
-    hybrid_free_vibration as hybrid_free_vibration,
     HybridDynamics as HybridDynamics,
+    band_dynamic_factor as band_dynamic_factor,
+    hybrid_free_vibration as hybrid_free_vibration,
     hybrid_speed_sweep as hybrid_speed_sweep,
     mean_mesh_stiffness as mean_mesh_stiffness,
     nodal_diameter_modes as nodal_diameter_modes,
@@ -46,6 +46,16 @@ from ._model import (
     MeshTable as MeshTable,
     dynamic_model as dynamic_model,
     mesh_table as mesh_table,
+)
+from ._settings import (
+    DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
+    MESH_ENERGY_MIN as MESH_ENERGY_MIN,
+    MIN_STEPS_PER_PERIOD as MIN_STEPS_PER_PERIOD,
+    STEPS_PER_MODE as STEPS_PER_MODE,
+    UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
+    DiffraxIntegrator as DiffraxIntegrator,
+    Newmark as Newmark,
+    SteadyState as SteadyState,
 )
 from ._simulate import (
     DynamicResult as DynamicResult,

@@ -9,18 +9,22 @@ import math
 import numpy as np
 
 from .._case import Case
+from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from ..scenes import ShaftSpec, TorsionalDynamics, disc_inertia, grounded, lumped_pair
 from ._modal import Damping
 from ._model import dynamic_model
+from ._settings import DiffraxIntegrator, Newmark, SteadyState
 
 __all__ = [
     "SceneSpec",
     "bearing_forces",
     "build_dynamic_model",
-    "spec_damping",
     "load_bodies",
     "quasi_static_scene",
+    "spec_damping",
+    "spec_integrator",
+    "spec_window",
     "static_scene",
 ]
 
@@ -67,6 +71,22 @@ class SceneSpec:
     @property
     def hybrid(self) -> bool:
         return any(b is not None for b in self.bodies)
+
+
+def spec_integrator(spec: SceneSpec) -> Newmark | DiffraxIntegrator:
+    """The integrator of a case's ``[scene.integration]`` table: ``solver = "newmark"`` →
+    :class:`Newmark`, a diffrax solver name → :class:`DiffraxIntegrator` (with its
+    tolerances); ``steps_per_period`` (``None``: automatic)."""
+    if spec.solver == "newmark":
+        return Newmark(spec.steps_per_period)
+    return DiffraxIntegrator(
+        spec.solver, spec.steps_per_period, rtol=float(spec.rtol), atol=float(spec.atol)
+    )
+
+
+def spec_window(spec: SceneSpec) -> SteadyState:
+    """The steady-state window of a case's ``[scene.integration]`` table."""
+    return SteadyState(spec.periods, spec.keep_periods)
 
 
 def spec_damping(spec: SceneSpec) -> Damping:
@@ -239,7 +259,7 @@ def quasi_static_scene(
     case: Case,
     *,
     slices: int | None = None,
-    contact: str = "exact",
+    contact: ContactLaw = ExactContact(),
     speed: float | None = None,
     bodies: tuple | None = None,
 ) -> tuple[QuasiStaticResult, dict]:
@@ -248,7 +268,8 @@ def quasi_static_scene(
 
     Args:
         case: a case with ``[scene] model = "lumped3d"``.
-        slices: slices per contact line (default the case's). contact: "exact" | "smooth".
+        slices: slices per contact line (default the case's). contact: the contact law
+            (:class:`~jaxgear.ExactContact` by default).
         speed: pinion speed (rad/s) of the centrifugal load of the bodies (default the case's).
         bodies: condensed bodies (pinion, gear) already loaded (default: the scene's, built or
             read from the fem_prep cache).
@@ -266,7 +287,6 @@ def quasi_static_scene(
         case.torque,
         speed=case.speed if speed is None else speed,
         contact=contact,
-        width=case.smooth_width,
         positions_per_pitch=case.positions_per_pitch,
     )
     return res, bearing_forces(scene, res)

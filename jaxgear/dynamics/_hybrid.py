@@ -44,19 +44,26 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
-from .._contact import solve_contact_cells
+from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law, solve_contact_cells
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from .._results import ContactResult, DynamicsResult, error_if_failed
 from .._util import rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
-from ._config import check_run_size
 from ._modal import Damping, modal_analysis
+from ._settings import (
+    DiffraxIntegrator,
+    Newmark,
+    SteadyState,
+    check_integrator,
+    check_run_size,
+    check_window,
+)
 
 __all__ = [
     "FreeVibration",
-    "band_dynamic_factor",
     "HybridDynamics",
+    "band_dynamic_factor",
     "hybrid_free_vibration",
     "hybrid_speed_sweep",
     "mean_mesh_stiffness",
@@ -139,9 +146,7 @@ def _newmark_cells(
     e_ref,
     state,
     thetas,
-    mode,
-    width,
-    max_iterations,
+    law: ContactLaw,
     record,
     mesh_damping=None,
 ):
@@ -235,9 +240,7 @@ def _newmark_cells(
                 cells.stiffness.reshape(-1),
                 cells.length.reshape(-1),
                 cells.mask.reshape(-1),
-                mode,
-                width,
-                max_iterations,
+                law,
             )
             Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(Vw.T @ P))
             Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
@@ -353,9 +356,7 @@ def _run(
     keep,
     spp,
     damping,
-    mode,
-    width,
-    max_iterations,
+    law,
     states,
     rotating,
 ):
@@ -365,7 +366,7 @@ def _run(
     M = scene.M
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
-    qs, _ = _period_statics(scene, mods, torque, speed, spp, mode, width, max_iterations)
+    qs, _ = _period_statics(scene, mods, torque, speed, spp, law)
     loaded = qs.line_load > 0
 
     def block(p):  # K̄_m(p) on the stations under the mesh in period p
@@ -407,9 +408,7 @@ def _run(
         e_ref,
         (X0, zero, zero),
         thetas,
-        mode,
-        width,
-        max_iterations,
+        law,
         record,
         mesh_damping,
     )
@@ -456,12 +455,21 @@ def _rim_of(scene: HybridPair):
     return rim_of
 
 
-def mean_mesh_stiffness(scene: HybridPair, mods, torque, spp, mode, width, *, speed=0.0):
+def mean_mesh_stiffness(
+    scene: HybridPair,
+    mods,
+    torque,
+    spp: int,
+    contact: ContactLaw = ExactContact(),
+    *,
+    speed=0.0,
+):
     """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the ``spp`` quasi-static positions of one mesh
     period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
     in Rayleigh damping (2.34); at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal
-    loads; default at rest)."""
-    return _period_statics(scene, mods, torque, speed, spp, mode, width)[1]
+    loads; default at rest), with the ``contact`` law of the quasi-static solve."""
+    law = contact_law(contact, scene.K.dtype)
+    return _period_statics(scene, mods, torque, speed, spp, law)[1]
 
 
 def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
@@ -487,7 +495,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     return U, B / theta.shape[0], jnp.all(ok)
 
 
-def _period_statics(scene: HybridPair, mods, torque, speed, spp, mode, width, max_iterations=100):
+def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw):
     """Quasi-static result at pinion speed Ω (centrifugal loads) at the ``spp`` step positions
     of one mesh period, and K̄_m there."""
     mesh = scene.mesh
@@ -498,9 +506,7 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, mode, width, ma
         torque,
         theta,
         speed=speed,
-        contact=mode,
-        width=width,
-        max_iterations=max_iterations,
+        contact=law,
         throw=False,
     )
     n = scene.K.shape[0]
@@ -542,14 +548,10 @@ def hybrid_speed_sweep(
     torque,
     speeds,
     *,
-    steps_per_period: int = 64,
-    periods: int = 20,
-    keep_periods: int = 4,
-    rayleigh: tuple[float, float] = (25.0, 2.5e-6),
+    integrator: Newmark = Newmark(64),
+    contact: ContactLaw = ExactContact(50),
+    window: SteadyState = SteadyState(20, 4),
     damping: Damping | None = None,
-    contact: str = "exact",
-    width=1e-7,
-    max_iterations: int = 50,
     states: bool = False,
     rotating_frame: bool = False,
     chunk_size: int | None = None,
@@ -563,17 +565,20 @@ def hybrid_speed_sweep(
         scene: a :class:`jaxgear.scenes.HybridPair` (its ``speed`` is ignored: each Ω sets the
             centrifugal load). modifications: flank modifications (``None``: none).
         torque: pinion torque (N·m) > 0. speeds: pinion speeds Ω (rad/s) > 0, shape (S,).
-        steps_per_period: time steps per mesh period (the seed uses 64, IV-27).
-        periods, keep_periods: mesh periods integrated, and kept at the end.
-        rayleigh: (α (1/s), β (s)) of C = α M + β K̄; default the seed's D1 = (25, 2.5e-6).
-        damping: a :class:`jaxgear.dynamics.Damping` instead: ``"composite"`` (ξ_i = 0.07 e_i +
+        integrator: :class:`~jaxgear.dynamics.Newmark` with a fixed step count per mesh period
+            (default 64, the seed's, IV-27; the cell-space Newmark has no automatic step and no
+            diffrax form).
+        contact: the contact law (:class:`~jaxgear.ExactContact` with 50 passes by default).
+        window: :class:`~jaxgear.dynamics.SteadyState`, mesh periods integrated and kept at
+            the end (default 20 and 4).
+        damping: a :class:`jaxgear.dynamics.Damping`; default (``None``) the seed's D1, Rayleigh
+            C = α M + β K̄ with (α, β) = (25 1/s, 2.5e-6 s). ``"composite"`` (ξ_i = 0.07 e_i +
             0.01 (1 − e_i), e_i the mode's mesh strain-energy share, (2.36)), ``"modal"`` (one ξ,
-            (2.35)) on the modes of the system with the mesh stiffness averaged round the
-            wheel's revolution at each speed, ``"rayleigh"`` or ``"none"``. The mesh share of
+            (2.35)) act on the modes of the system with the mesh stiffness averaged round the
+            wheel's revolution at each speed; ``"rayleigh"`` or ``"none"``. The mesh share of
             the Rayleigh and composite damping follows the mesh period by period (the composite
             in its form linear in the period's mesh stiffness, :func:`_damping`). The scene's
             bearing damping is added in every case.
-        contact, width, max_iterations: as :func:`jaxgear.quasi_static`.
         states: also return the coordinates at the kept steps (``HybridDynamics.states``).
         rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic,
             spin softening and centrifugal stress stiffening Ω²·spin_stiffness of
@@ -595,34 +600,21 @@ def hybrid_speed_sweep(
         :class:`jaxgear.DynamicsResult` code per speed: 0 converged).
 
     Raises:
-        ValueError: speeds or step counts out of range (before any computation).
+        ValueError: settings that are not settings objects of the hybrid dynamics, speeds out
+            of range, a run too large (before any computation).
         eqx.EquinoxRuntimeError: with ``throw``, a failure code at some speed (the message
             names it).
     """
-    speeds = _check(scene, speeds, steps_per_period, periods, keep_periods)
+    speeds, spp, window, law, damping = _check(scene, speeds, integrator, window, contact, damping)
     dtype = scene.K.dtype
-    if damping is None:
-        damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
     if chunk_size is not None and (int(chunk_size) != chunk_size or chunk_size < 1):
         raise ValueError(f"chunk_size = {chunk_size!r} is out of range: allowed an integer >= 1")
 
     def run(w):
-        return _sweep(
-            scene,
-            mods,
-            jnp.asarray(torque, dtype),
-            w,
-            damping,
-            jnp.asarray(width, dtype),
-            int(steps_per_period),
-            int(periods),
-            int(keep_periods),
-            contact,
-            int(max_iterations),
-            bool(states),
-            bool(rotating_frame),
-        )
+        torque_ = jnp.asarray(torque, dtype)
+        flags = (bool(states), bool(rotating_frame))
+        return _sweep(scene, mods, torque_, w, damping, law, spp, window, flags)
 
     if chunk_size is None or isinstance(speeds, jax.core.Tracer):
         return _thrown(run(speeds), throw)
@@ -645,53 +637,39 @@ def _thrown(res: HybridDynamics, throw: bool) -> HybridDynamics:
     return eqx.tree_at(lambda r: r.transmission_error, res, te)
 
 
-def _check_steps(steps_per_period):
-    if int(steps_per_period) != steps_per_period or steps_per_period < 4:
-        raise ValueError(
-            f"steps_per_period = {steps_per_period!r} is out of range: allowed an integer >= 4"
-        )
-
-
-def _check(scene, speeds, steps_per_period, periods, keep_periods):
-    """The sweep settings' checks (before any computation); the speeds as an array of the
-    scene's dtype, checked when concrete (a traced band passes through)."""
+def _check(scene, speeds, integrator, window, contact, damping):
+    """The sweep settings' checks (before any computation): the speeds as an array of the
+    scene's dtype (checked when concrete; a traced band passes through), the step count, the
+    window, the contact law cast to the scene's dtype and the damping."""
     speeds = jnp.asarray(speeds, scene.K.dtype)
     if not isinstance(speeds, jax.core.Tracer) and (
         speeds.ndim != 1 or speeds.size == 0 or not bool(np.all(np.asarray(speeds) > 0))
     ):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
-    _check_steps(steps_per_period)
-    if int(periods) != periods or periods < 2 or not 1 <= keep_periods <= periods:
+    integrator = check_integrator(integrator)
+    if isinstance(integrator, DiffraxIntegrator) or integrator.steps_per_period is None:
         raise ValueError(
-            f"periods = {periods!r}, keep_periods = {keep_periods!r}: allowed integers with "
-            "1 <= keep_periods <= periods, periods >= 2"
+            f"integrator = {integrator!r}: the hybrid dynamics take Newmark(steps_per_period=N) "
+            "with an integer N >= 4 (the seed uses 64)"
         )
+    window = check_window(window)
+    if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)
+        damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
+    if not isinstance(damping, Damping):
+        raise ValueError(f"damping = {damping!r}: allowed a jaxgear.dynamics.Damping")
+    spp = int(integrator.steps_per_period)
     # the cell-space Newmark records every step's cell forces, TE and mesh force
     cells = scene.mesh.n_lines * scene.mesh.n_slices
-    check_run_size(periods, steps_per_period, int(periods) * int(steps_per_period), cells + 2)
-    return speeds
+    check_run_size(window.periods, spp, int(window.periods) * spp, cells + 2)
+    return speeds, spp, window, contact_law(contact, scene.K.dtype), damping
 
 
 @eqx.filter_jit
-def _sweep(
-    scene, mods, torque, speeds, damping, width, spp, periods, keep, mode, max_it, states, rotating
-):
+def _sweep(scene, mods, torque, speeds, damping, law, spp: int, window: SteadyState, flags):
+    states, rotating = flags
+    n_steps, keep = spp * window.periods, spp * window.keep_periods
     return jax.lax.map(
-        lambda w: _run(
-            scene,
-            mods,
-            torque,
-            w,
-            spp * periods,
-            spp * keep,
-            spp,
-            damping,
-            mode,
-            width,
-            max_it,
-            states,
-            rotating,
-        ),
+        lambda w: _run(scene, mods, torque, w, n_steps, keep, spp, damping, law, states, rotating),
         speeds,
     )
 
@@ -702,14 +680,10 @@ def band_dynamic_factor(
     torque,
     speeds,
     *,
-    steps_per_period: int = 32,
-    periods: int = 20,
-    keep_periods: int = 4,
-    rayleigh: tuple[float, float] = (25.0, 2.5e-6),
+    integrator: Newmark = Newmark(32),
+    contact: ContactLaw = SmoothContact(1e-7, 50),
+    window: SteadyState = SteadyState(20, 4),
     damping: Damping | None = None,
-    contact: str = "smooth",
-    width=1e-7,
-    max_iterations: int = 50,
     p: float = 16.0,
     rotating_frame: bool = False,
 ) -> Float[Array, ""]:
@@ -719,38 +693,25 @@ def band_dynamic_factor(
     Per speed, the p-mean (mean of (F/F_n)^p)^(1/p) of the mesh force over the kept steps (a
     smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
     p-mean again (the worst speed, smoothly). The hybrid Newmark of :func:`hybrid_speed_sweep`
-    (its settings; smooth contact by default, for gradients).
+    (its settings; 32 steps per period and smooth contact by default, for gradients).
 
     Args:
         scene, modifications, torque: as :func:`hybrid_speed_sweep`. speeds: the band's pinion
             speeds (rad/s), shape (S,). p: the order of the p-means (>= 1).
-            rotating_frame: as :func:`hybrid_speed_sweep`.
+            integrator, contact, window, damping, rotating_frame: as
+            :func:`hybrid_speed_sweep`.
 
     Returns:
         the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
         integer settings are checked, the speeds only when concrete.
     """
-    speeds = _check(scene, speeds, steps_per_period, periods, keep_periods)
+    speeds, spp, window, law, damping = _check(scene, speeds, integrator, window, contact, damping)
     if not p >= 1:
         raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
-    dtype = scene.K.dtype
-    if damping is None:
-        damping = Damping("rayleigh", alpha=rayleigh[0], beta=rayleigh[1])
     mods = Modifications() if modifications is None else modifications
+    torque = jnp.asarray(torque, scene.K.dtype)
     res = _sweep(
-        scene,
-        mods,
-        jnp.asarray(torque, dtype),
-        speeds,
-        damping,
-        jnp.asarray(width, dtype),
-        int(steps_per_period),
-        int(periods),
-        int(keep_periods),
-        contact,
-        int(max_iterations),
-        False,
-        bool(rotating_frame),
+        scene, mods, torque, speeds, damping, law, spp, window, (False, bool(rotating_frame))
     )
     ratio = res.mesh_force / res.static_force[:, None]
     per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
@@ -810,7 +771,7 @@ def hybrid_free_vibration(
         raise ValueError(f"n_steps = {n_steps!r} is out of range: allowed an integer >= 1")
     if not float(time_step) > 0:
         raise ValueError(f"time_step = {time_step!r} s is out of range: allowed > 0")
-    _check_steps(steps_per_period)
+    Newmark(steps_per_period)  # checks the step count
     mods = Modifications() if modifications is None else modifications
     return _free(
         scene,
@@ -847,9 +808,7 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
         e_ref,
         (Xs, velocity, jnp.zeros_like(Xs)),
         jnp.full((1, n_steps), theta),
-        "exact",
-        jnp.asarray(1e-7, scene.K.dtype),
-        50,
+        ExactContact(50),
         lambda X, Xd: (X, Xd),
     )
     X, Xd = rec

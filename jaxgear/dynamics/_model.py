@@ -38,7 +38,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import MeshModel
-from .._contact import solve_contact
+from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._quasi_static import mesh_positions, separation
 from ..scenes import DynamicScene
@@ -109,13 +109,13 @@ def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
     return mu * MR @ jnp.diag(1.0 / jnp.einsum("ir,ij,jr->r", R, M, R)) @ MR.T
 
 
-def _static_rows(scene: DynamicScene, table: MeshTable, torque, mode, width, max_iterations, k_ref):
+def _static_rows(scene: DynamicScene, table: MeshTable, torque, law: ContactLaw, k_ref):
     """Static contact solution at each table row (the quasi-static reference)."""
     K = scene.stiffness() + _rigid_penalty(scene, k_ref)
     F = scene.external_load(torque)
-    return jax.vmap(
-        lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, mode, width, max_iterations)
-    )(table.V, table.k, table.length, table.delta0, table.mask)
+    return jax.vmap(lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, law))(
+        table.V, table.k, table.length, table.delta0, table.mask
+    )
 
 
 def _k_ref(table: MeshTable):
@@ -133,11 +133,11 @@ class _Prepared(eqx.Module):
 
 @eqx.filter_jit
 @eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
-def _prepare(scene, mods, torque, width, steps_per_period: int, contact: str, max_iterations: int):
+def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int):
     """Cell table and static rows (compiled once per scene structure and N_s; shared by the model
     build, every solver, direction and period count)."""
     table = mesh_table(scene, mods, steps_per_period)
-    static = _static_rows(scene, table, torque, contact, width, max_iterations, _k_ref(table))
+    static = _static_rows(scene, table, torque, law, _k_ref(table))
     return _Prepared(table, static.x, static.force_density, static.weight, static.result)
 
 
@@ -183,9 +183,7 @@ def dynamic_model(
     damping: Damping | None = None,
     *,
     positions_per_pitch: int = 64,
-    contact: str = "exact",
-    width=1e-7,
-    max_iterations: int = 100,
+    contact: ContactLaw = ExactContact(),
 ) -> DynamicModel:
     """Build a :class:`DynamicModel`: time-averaged mesh stiffness, modal analysis, damping.
 
@@ -198,7 +196,8 @@ def dynamic_model(
         scene: dynamic scene. mods: modifications (``None``: none). torque: pinion torque (N·m).
         damping: :class:`Damping` (default: composite (2.36), 0.07 mesh / 0.01 structure).
         positions_per_pitch: positions per mesh period for the averages.
-        contact, width, max_iterations: contact law of the static solve (exact by default).
+        contact: the contact law of the static solve (:class:`~jaxgear.ExactContact` by
+            default).
 
     Raises:
         eqx.EquinoxRuntimeError: torque <= 0, or the static contact solve failed (jit/vmap-safe).
@@ -209,24 +208,15 @@ def dynamic_model(
         damping = Damping()
     dtype = scene.mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
-    return _build(
-        scene,
-        mods,
-        torque,
-        damping,
-        jnp.asarray(width, dtype),
-        positions_per_pitch,
-        contact,
-        max_iterations,
-    )
+    return _build(scene, mods, torque, damping, contact_law(contact, dtype), positions_per_pitch)
 
 
-def _build(scene, mods, torque, damping, width, positions_per_pitch, contact, max_iterations):
+def _build(scene, mods, torque, damping, law, positions_per_pitch):
     # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
     )
-    prep = _prepare(scene, mods, torque, width, positions_per_pitch, contact, max_iterations)
+    prep = _prepare(scene, mods, torque, law, positions_per_pitch)
     model = _averaged(scene, mods, torque, damping, prep)
     bad = jnp.any(prep.static_result != 0)
     kbar = eqx.error_if(

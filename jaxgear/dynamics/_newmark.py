@@ -5,9 +5,9 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-from .._contact import solve_contact
-from ._config import _code, _Config, _divergence_code
+from .._contact import ContactLaw, solve_contact
 from ._model import DynamicModel, MeshTable
+from ._settings import _code, _Config, _divergence_code
 
 
 def _newmark(
@@ -17,7 +17,7 @@ def _newmark(
     state,
     n_steps: int,
     cfg: _Config,
-    width,
+    law: ContactLaw,
     record: bool,
     record_states: bool = False,
 ):
@@ -51,9 +51,7 @@ def _newmark(
             table.length[j],
             table.delta0[j],
             table.mask[j],
-            cfg.contact,
-            width,
-            cfg.max_iterations,
+            law,
         )
         Xn = sol.x
         Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)

@@ -8,21 +8,26 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
+from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._results import DynamicsResult, error_if_failed
 from .._util import rms_about_mean
-from ._config import (
+from ._diffrax import _diffrax
+from ._model import DynamicModel, MeshTable, _prepare, _Prepared
+from ._newmark import _newmark
+from ._settings import (
     MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,
     MIN_STEPS_PER_PERIOD,
     STEPS_PER_MODE,
     UNDER_RESOLVED_STEPS,
+    DiffraxIntegrator,
+    Newmark,
+    SteadyState,
     _Config,
     _config,
-    _phi,
+    check_integrator,
+    check_window,
 )
-from ._diffrax import _diffrax
-from ._model import DynamicModel, MeshTable, _prepare, _Prepared
-from ._newmark import _newmark
 
 __all__ = ["DynamicResult", "SweepResult", "auto_steps_per_period", "simulate", "static_start"]
 
@@ -103,10 +108,10 @@ class SweepResult(eqx.Module):
 # integrators
 
 
-def _with_acceleration(model, table, X, Xd, cfg, width):
+def _with_acceleration(model, table, X, Xd, law):
     scene = model.scene
     gap = table.V[0] @ X - table.delta0[0]
-    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, cfg.contact, width), 0.0)
+    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, law)[0], 0.0)
     Xdd = jnp.linalg.solve(
         scene.mass(),
         scene.external_load(model.torque)
@@ -117,27 +122,25 @@ def _with_acceleration(model, table, X, Xd, cfg, width):
     return (X, Xd, Xdd)
 
 
-def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, width):
+def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
     P = cfg.steps_per_period
     mesh = model.mesh
     period = mesh.mesh_period_angle / speed
     dt = period / P
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
-    if cfg.solver == "newmark":
+    if cfg.newmark:
         # the transient unrecorded, then the kept periods recorded: n_trans is whole mesh
         # periods, so the second scan meets the same table rows (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, width, record=False)
+        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, law, record=False)
         carry, (fm, te, lines, reac) = _newmark(
-            model, table, dt, carry, n_keep, cfg, width, record=True
+            model, table, dt, carry, n_keep, cfg, law, record=True
         )
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
-        final, (fm, te, lines, reac), code, it = _diffrax(
-            model, table, speed, dt, state, cfg, width
-        )
+        final, (fm, te, lines, reac), code, it = _diffrax(model, table, speed, dt, state, cfg, law)
     fs = model.static_force
     j = (jnp.arange(n_keep) + 1) % P
     static_lines = jnp.sum(
@@ -246,16 +249,8 @@ def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
     return (2 ** np.ceil(np.log2(n))).astype(int)
 
 
-def _prep(model, width, cfg: _Config) -> _Prepared:
-    return _prepare(
-        model.scene,
-        model.mods,
-        model.torque,
-        width,
-        cfg.steps_per_period,
-        cfg.contact,
-        cfg.max_iterations,
-    )
+def _prep(model, law: ContactLaw, cfg: _Config) -> _Prepared:
+    return _prepare(model.scene, model.mods, model.torque, law, cfg.steps_per_period)
 
 
 def _static_start(prep: _Prepared):
@@ -266,22 +261,18 @@ def _static_start(prep: _Prepared):
 def static_start(
     model: DynamicModel,
     *,
-    contact: str = "exact",
-    width=1e-7,
+    contact: ContactLaw = ExactContact(),
     steps_per_period: int = 64,
-    max_iterations: int = 100,
 ):
     """The state every simulation starts from by default: the static equilibrium at the first
-    time step's mesh position and zero vibration velocity.
+    time step's mesh position and zero vibration velocity, with the ``contact`` law on a table
+    of ``steps_per_period`` positions per mesh period.
 
     Returns:
         (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
     """
-    cfg = _config(
-        "newmark", contact, steps_per_period, 2, 2, max_iterations, 1e-6, 1e-6, True, None, 100.0
-    )
-    dtype = model.mesh.base_pitch.dtype
-    return _static_start(_prep(model, jnp.asarray(width, dtype), cfg))
+    cfg = _config(Newmark(steps_per_period), SteadyState(2, 2), steps_per_period, 100.0)
+    return _static_start(_prep(model, contact_law(contact, model.mesh.base_pitch.dtype), cfg))
 
 
 @eqx.filter_jit
@@ -291,20 +282,20 @@ def _run(
     prep: _Prepared,
     speeds,
     state0,
-    width,
+    law: ContactLaw,
     cfg: _Config,
     mode: str,
     throw: bool = False,
 ):
     table = prep.table
     static = prep
-    state0 = _with_acceleration(model, table, state0[0], state0[1], cfg, width)
+    state0 = _with_acceleration(model, table, state0[0], state0[1], law)
     restart = _with_acceleration(
-        model, table, static.static_x[0], jnp.zeros_like(static.static_x[0]), cfg, width
+        model, table, static.static_x[0], jnp.zeros_like(static.static_x[0]), law
     )
 
     def one(speed, state):
-        return _one_speed(model, table, static, speed, state, cfg, width)
+        return _one_speed(model, table, static, speed, state, cfg, law)
 
     if mode == "single":
         r = one(speeds, state0)
@@ -338,46 +329,28 @@ def simulate(
     model: DynamicModel,
     speed,
     *,
-    solver: str = "newmark",
-    contact: str = "exact",
-    width=1e-7,
-    steps_per_period: int | None = None,
-    periods: int = 60,
-    keep_periods: int = 4,
+    integrator: Newmark | DiffraxIntegrator = Newmark(),
+    contact: ContactLaw = ExactContact(),
+    window: SteadyState = SteadyState(),
     state0=None,
-    max_iterations: int = 100,
-    rtol: float = 1e-6,
-    atol: float = 1e-6,
-    adaptive: bool = True,
-    max_steps: int | None = None,
     blowup: float = 100.0,
     throw: bool = True,
-    adjoint: str = "reverse",
 ) -> DynamicResult:
     """Steady-state dynamic response at one pinion speed.
 
     Args:
         model: :class:`DynamicModel` from :func:`dynamic_model`.
         speed: pinion speed Ω (rad/s), > 0, scalar (traced: no recompilation per speed).
-        solver: "newmark" or a diffrax solver name (:data:`DIFFRAX_SOLVERS`).
-        contact: "exact" (active set, II-25) or "smooth" (softplus of ``width`` m; use it for
-            gradients and for the diffrax solvers).
-        width: smoothing width w (m).
-        steps_per_period: N_s, time steps per mesh period (Newmark; the diffrax initial step and
-            the sampling of the kept periods). ``None`` (default): automatic,
-            :func:`auto_steps_per_period` (>= 40 steps per period of the highest mode the mesh
-            excites, >= 64 per mesh period, a power of two; needs a concrete speed). The result
-            reports ``steps_per_mode_period`` and flags ``under_resolved`` (< 20).
-        periods: mesh periods integrated; keep_periods: the last ones kept (>= 2).
+        integrator: :class:`~jaxgear.dynamics.Newmark` (default; automatic steps per period) or
+            :class:`~jaxgear.dynamics.DiffraxIntegrator`. With automatic steps
+            (``steps_per_period=None``: :func:`auto_steps_per_period`, needs a concrete speed)
+            the result reports ``steps_per_mode_period`` and flags ``under_resolved`` (< 20).
+        contact: :class:`~jaxgear.ExactContact` (active set, II-25; default) or
+            :class:`~jaxgear.SmoothContact` (for gradients and the diffrax solvers).
+        window: :class:`~jaxgear.dynamics.SteadyState`: mesh periods integrated and kept
+            (default 60 and 4; the lumped dynamics keep >= 2).
         state0: (X, Ẋ) to start from (default: static equilibrium, zero vibration velocity).
-        max_iterations: cap on contact passes per step.
-        rtol, atol: diffrax PID tolerances (scaled state: X/x_ref, Ẋ/(x_ref ω_max), x_ref the
-            static mesh deflection). adaptive: False for constant steps Δt = period/N_s.
-        max_steps: diffrax step cap (default 64 × the Newmark step count + 4096).
         blowup: divergence bound: mesh force > blowup·F_s or kinetic energy > blowup² · F_s²/2k̄.
-        adjoint: diffrax solvers only: "reverse" (checkpointed adjoint, for ``jax.grad``) or
-            "forward" (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``). Newmark supports
-            both modes as it is.
         throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result (``eqx.error_if``: works
             under ``jax.jit``, ``jax.vmap`` and ``jax.grad`` too).
 
@@ -385,31 +358,21 @@ def simulate(
         :class:`DynamicResult`.
 
     Raises:
-        ValueError: bad solver/contact names or step counts (trace time); automatic steps with a
-            traced speed.
+        ValueError: settings that are not settings objects, a window too short or a run too
+            large (before any work); automatic steps with a traced speed.
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
+    integrator = check_integrator(integrator)
+    window = check_window(window)
+    dtype = model.mesh.base_pitch.dtype
+    law = contact_law(contact, dtype)
+    steps_per_period = integrator.steps_per_period
     if steps_per_period is None:
         steps_per_period = int(auto_steps_per_period(model, speed))
-    cfg = _config(
-        solver,
-        contact,
-        steps_per_period,
-        periods,
-        keep_periods,
-        max_iterations,
-        rtol,
-        atol,
-        adaptive,
-        max_steps,
-        blowup,
-        adjoint,
-    )
-    dtype = model.mesh.base_pitch.dtype
+    cfg = _config(integrator, window, steps_per_period, blowup)
     speed = jnp.asarray(speed, dtype)
-    width = jnp.asarray(width, dtype)
-    prep = _prep(model, width, cfg)
+    prep = _prep(model, law, cfg)
     if state0 is None:
         state0 = _static_start(prep)
     state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
-    return _run(model, prep, speed, state0, width, cfg, "single", bool(throw))
+    return _run(model, prep, speed, state0, law, cfg, "single", bool(throw))

@@ -7,8 +7,17 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._config import _config
+from .._contact import ContactLaw, ExactContact, contact_law
 from ._model import DynamicModel
+from ._settings import (
+    DiffraxIntegrator,
+    Newmark,
+    SteadyState,
+    _Config,
+    _config,
+    check_integrator,
+    check_window,
+)
 from ._simulate import SweepResult, _prep, _run, _static_start, auto_steps_per_period
 
 __all__ = ["speed_sweep"]
@@ -36,21 +45,13 @@ def speed_sweep(
     model: DynamicModel,
     speeds,
     *,
+    integrator: Newmark | DiffraxIntegrator = Newmark(),
+    contact: ContactLaw = ExactContact(),
+    window: SteadyState = SteadyState(),
     direction: str = "independent",
     shard: bool = True,
     chunk_size: int | None = None,
     progress=None,
-    solver: str = "newmark",
-    contact: str = "exact",
-    width=1e-7,
-    steps_per_period: int | None = None,
-    periods: int = 60,
-    keep_periods: int = 4,
-    max_iterations: int = 100,
-    rtol: float = 1e-6,
-    atol: float = 1e-6,
-    adaptive: bool = True,
-    max_steps: int | None = None,
     blowup: float = 100.0,
 ) -> SweepResult:
     """Dynamic response over pinion speeds.
@@ -58,6 +59,12 @@ def speed_sweep(
     Args:
         model: :class:`DynamicModel`.
         speeds: pinion speeds (rad/s), shape (S,), ascending for continuation sweeps.
+        integrator, contact, window, blowup: as :func:`simulate`. With automatic steps
+            (``integrator.steps_per_period=None``, the default) each speed gets its own N_s
+            (:func:`~jaxgear.dynamics.auto_steps_per_period`, a power of two); speeds sharing an
+            N_s are run together (one compilation per distinct N_s); the kept histories of a
+            sweep with several N_s are subsampled to the smallest one (every speed's scalar
+            outputs use its own full resolution); continuation carries the state across them.
         direction: "independent" (every speed from the static equilibrium, ``jax.vmap``, sharded
             over the local devices with ``jax.sharding`` when there are several and ``shard``),
             "up" or "down" (continuation: each speed starts from the previous steady state,
@@ -66,15 +73,12 @@ def speed_sweep(
         chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
             chunk is padded), calling ``progress(n_done)`` after each (for a progress bar).
             Continuation carries the state across chunks.
-        steps_per_period: N_s per mesh period; ``None`` (default): automatic per speed
-            (:func:`~jaxgear.dynamics.auto_steps_per_period`, a power of two). Speeds sharing an
-            N_s are run together (one compilation per distinct N_s); the kept histories of a
-            sweep with several N_s are subsampled to the smallest one (every speed's scalar
-            outputs use its own full resolution); continuation carries the state across them.
-        Other arguments: as :func:`simulate`.
 
     Returns:
         :class:`SweepResult` (never raises on divergence: read ``result`` per speed).
+
+    Raises:
+        ValueError: bad settings or speeds (before any work).
     """
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
@@ -82,34 +86,24 @@ def speed_sweep(
     speeds = jnp.asarray(speeds, dtype)
     if speeds.ndim != 1 or speeds.shape[0] < 1:
         raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
-    kw = {
-        "shard": shard,
-        "chunk_size": chunk_size,
-        "solver": solver,
-        "contact": contact,
-        "width": width,
-        "periods": periods,
-        "keep_periods": keep_periods,
-        "max_iterations": max_iterations,
-        "rtol": rtol,
-        "atol": atol,
-        "adaptive": adaptive,
-        "max_steps": max_steps,
-        "blowup": blowup,
-    }
-    if steps_per_period is not None:
+    integrator = check_integrator(integrator)
+    window = check_window(window)
+    law = contact_law(contact, dtype)
+    common = {"shard": shard, "chunk_size": chunk_size}
+
+    def cfg_of(n):
+        return _config(integrator, window, int(n), blowup)
+
+    if integrator.steps_per_period is not None:
+        cfg = cfg_of(integrator.steps_per_period)
         return _fixed_sweep(
-            model,
-            speeds,
-            direction=direction,
-            progress=progress,
-            steps_per_period=steps_per_period,
-            **kw,
+            model, speeds, law, cfg, direction=direction, progress=progress, **common
         )
     ns = auto_steps_per_period(model, np.asarray(speeds))
     if np.all(ns == ns[0]):
+        cfg = cfg_of(ns[0])
         return _fixed_sweep(
-            model, speeds, direction=direction, progress=progress, steps_per_period=int(ns[0]), **kw
+            model, speeds, law, cfg, direction=direction, progress=progress, **common
         )
     n_min = int(ns.min())
     done = [0]
@@ -122,7 +116,7 @@ def speed_sweep(
                 progress(base + k)
 
         r = _fixed_sweep(
-            model, sp, direction=d, progress=tick, steps_per_period=int(n), start=start, **kw
+            model, sp, law, cfg_of(n), direction=d, progress=tick, start=start, **common
         ).results
         done[0] += int(sp.shape[0])
         return _subsample(r, int(n) // n_min)
@@ -173,68 +167,44 @@ def _subsample(r, m: int):
 def _fixed_sweep(
     model: DynamicModel,
     speeds,
+    law: ContactLaw,
+    cfg: _Config,
     *,
-    direction: str = "independent",
-    shard: bool = True,
-    chunk_size: int | None = None,
-    progress=None,
-    solver: str = "newmark",
-    contact: str = "exact",
-    width=1e-7,
-    steps_per_period: int = 64,
-    periods: int = 60,
-    keep_periods: int = 4,
-    max_iterations: int = 100,
-    rtol: float = 1e-6,
-    atol: float = 1e-6,
-    adaptive: bool = True,
-    max_steps: int | None = None,
-    blowup: float = 100.0,
+    direction: str,
+    shard: bool,
+    chunk_size: int | None,
+    progress,
     start=None,
 ) -> SweepResult:
-    if direction not in ("independent", "up", "down", "both"):
-        raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
-    cfg = _config(
-        solver,
-        contact,
-        steps_per_period,
-        periods,
-        keep_periods,
-        max_iterations,
-        rtol,
-        atol,
-        adaptive,
-        max_steps,
-        blowup,
-    )
+    """The sweep at one resolved step count (``cfg``), from ``start`` (default: the static
+    equilibrium)."""
     dtype = model.mesh.base_pitch.dtype
     speeds = jnp.asarray(speeds, dtype)
     if speeds.ndim != 1 or speeds.shape[0] < 1:
         raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
-    width = jnp.asarray(width, dtype)
     S = speeds.shape[0]
     n_dev = len(jax.local_devices()) if shard else 1
-    prep = _prep(model, width, cfg)
+    prep = _prep(model, law, cfg)
     if start is None:
         start = _static_start(prep)
 
     def independent(sp):
         if n_dev > 1:
             padded, _ = _shard(sp)
-            r = _run(model, prep, padded, start, width, cfg, "vmap")
+            r = _run(model, prep, padded, start, law, cfg, "vmap")
             return jax.tree_util.tree_map(lambda a: a[: sp.shape[0]], r)
-        return _run(model, prep, sp, start, width, cfg, "vmap")
+        return _run(model, prep, sp, start, law, cfg, "vmap")
 
     if chunk_size is None:
         if direction == "independent":
             return SweepResult(speeds, independent(speeds))
         if direction == "up":
-            return SweepResult(speeds, _run(model, prep, speeds, start, width, cfg, "continuation"))
+            return SweepResult(speeds, _run(model, prep, speeds, start, law, cfg, "continuation"))
         if direction == "down":
             return SweepResult(
-                speeds, _flip(_run(model, prep, speeds[::-1], start, width, cfg, "continuation"))
+                speeds, _flip(_run(model, prep, speeds[::-1], start, law, cfg, "continuation"))
             )
-        up, down = _run(model, prep, speeds, start, width, cfg, "both")
+        up, down = _run(model, prep, speeds, start, law, cfg, "both")
         return SweepResult(speeds, up, down)
 
     size = max(1, int(chunk_size))
@@ -255,7 +225,7 @@ def _fixed_sweep(
     def continuation(sp):
         parts, state = [], start
         for ch in chunks(sp):
-            r = _run(model, prep, ch, state, width, cfg, "continuation")
+            r = _run(model, prep, ch, state, law, cfg, "continuation")
             ok = bool(r.result[-1] == 0)
             state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
             parts.append(r)
