@@ -622,7 +622,7 @@ def _profile(sc, mods, T, P, repeats, hybrid_exact) -> dict:
 
     @jax.jit
     def solve(*a):
-        return jax.vmap(lambda *x: solve_contact_cells(*x, "exact")[1])(*a)
+        return jax.vmap(lambda *x: solve_contact_cells(*x, ExactContact())[1])(*a)
 
     t_cells = min_time(lambda: cells(sc, mods, theta), repeats, block)
     t_space = min_time(lambda: space(sc, mods, theta, T), repeats, block)

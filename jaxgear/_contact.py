@@ -55,9 +55,11 @@ __all__ = [
 
 
 def _check_iterations(max_iterations) -> None:
-    if isinstance(max_iterations, bool) or int(max_iterations) != max_iterations:
-        raise ValueError(f"max_iterations = {max_iterations!r}: allowed an integer >= 1")
-    if max_iterations < 1:
+    try:
+        ok = not isinstance(max_iterations, bool) and int(max_iterations) == max_iterations
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or max_iterations < 1:
         raise ValueError(f"max_iterations = {max_iterations!r}: allowed an integer >= 1")
 
 

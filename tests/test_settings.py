@@ -27,6 +27,8 @@ from jaxgear.scenes import TorsionalDynamics, disc_inertia
     [
         (lambda: jg.ExactContact(0), r"max_iterations = 0: allowed an integer >= 1"),
         (lambda: jg.ExactContact(2.5), r"max_iterations = 2.5"),
+        (lambda: jg.ExactContact("ten"), r"max_iterations = 'ten': allowed an integer >= 1"),
+        (lambda: jg.ExactContact(None), r"max_iterations = None: allowed an integer >= 1"),
         (lambda: jg.SmoothContact(0.0), r"width = 0.0 m: allowed a finite width > 0"),
         (lambda: jg.SmoothContact(float("nan")), r"width = nan m"),
         (lambda: jg.SmoothContact(1e-7, True), r"max_iterations = True"),
