@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from jaxgear import ExactContact, SmoothContact
+from jaxgear import contact_law_from_name
 from jaxgear.dynamics import DiffraxIntegrator, Newmark, SteadyState
 
 from ._charts import thin_tick_labels
@@ -362,9 +362,7 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
                         if solver == "newmark"
                         else DiffraxIntegrator(solver, spp, adaptive=False)
                     ),
-                    contact=SmoothContact(1e-7 if w is None else w)
-                    if contact == "smooth"
-                    else ExactContact(),
+                    contact=contact_law_from_name(contact, 1e-7 if w is None else w),
                     **base,
                 )
                 try:

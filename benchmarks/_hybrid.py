@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from jaxgear import ExactContact, SmoothContact
+from jaxgear import ExactContact, contact_law_from_name
 
 from ._charts import thin_tick_labels
 from ._timing import environment, min_time
@@ -154,11 +154,6 @@ def _cells(mesh) -> int:
     return int(np.prod(mesh.cells(jnp.asarray(0.0, mesh.base_pitch.dtype)).s.shape))
 
 
-def _law(mode: str, width: float):
-    """The contact law of a mode name ("exact", or "smooth" of ``width`` m)."""
-    return SmoothContact(width) if mode == "smooth" else ExactContact()
-
-
 def _jit_te(mods, P, mode, width):
     """``jax.jit`` of the TE curve of a scene or mesh (scene and torque as arguments)."""
     import jax
@@ -168,7 +163,7 @@ def _jit_te(mods, P, mode, width):
     return jax.jit(
         lambda s, T: (
             quasi_static(
-                s, mods, T, contact=_law(mode, width), positions_per_pitch=P
+                s, mods, T, contact=contact_law_from_name(mode, width), positions_per_pitch=P
             ).transmission_error
         )
     )
@@ -308,7 +303,7 @@ def bench_hybrid(
 
     def public(m, mode):
         return lambda: quasi_static(
-            models[m], mods, T, contact=_law(mode, width), positions_per_pitch=P
+            models[m], mods, T, contact=contact_law_from_name(mode, width), positions_per_pitch=P
         )
 
     def inside(m, mode):

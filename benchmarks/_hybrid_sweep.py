@@ -47,7 +47,7 @@ import time
 
 import numpy as np
 
-from jaxgear import ExactContact, SmoothContact
+from jaxgear import contact_law_from_name
 from jaxgear.dynamics import Newmark, SteadyState
 
 from ._charts import thin_tick_labels
@@ -81,7 +81,7 @@ def _baseline_run(
 
     from jaxgear import quasi_static, separation, solve_contact, solve_contact_cells
 
-    law = SmoothContact(width, max_it) if mode == "smooth" else ExactContact(max_it)
+    law = contact_law_from_name(mode, width, max_it)
 
     mesh = scene.mesh
     n = scene.K.shape[0]

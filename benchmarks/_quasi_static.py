@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from jaxgear import ExactContact, SmoothContact
+from jaxgear import SmoothContact, contact_law_from_name
 
 from ._charts import thin_tick_labels
 from ._timing import cpu_model as _cpu_model, first_call as _first_call, min_time as _min_time
@@ -158,7 +158,7 @@ def bench_quasi_static(
                 mesh,
                 mods,
                 torque,
-                contact=SmoothContact(width) if mode == "smooth" else ExactContact(),
+                contact=contact_law_from_name(mode, width),
                 positions_per_pitch=P0,
             )
         )
@@ -424,7 +424,7 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
     ident1 = jax.jit(lambda t: t)
     t_dispatch1 = _min_time(lambda: ident1(t), repeats, block)
     for mode in ("exact", "smooth"):
-        law = SmoothContact(width) if mode == "smooth" else ExactContact()
+        law = contact_law_from_name(mode, width)
         qs = functools.partial(quasi_static, contact=law, positions_per_pitch=P)
         full = jax.jit(qs)  # mesh and modifications as arguments
         te = jax.jit(lambda mesh, mods, t, qs=qs: qs(mesh, mods, t).transmission_error)

@@ -12,7 +12,7 @@ import math
 from typing import Any
 
 from ._baseplane import MeshModel
-from ._contact import ContactLaw, ExactContact, SmoothContact
+from ._contact import ContactLaw, contact_law_from_name
 from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
@@ -66,11 +66,7 @@ class Case:
         Raises:
             ValueError: another name.
         """
-        if mode == "exact":
-            return ExactContact()
-        if mode == "smooth":
-            return SmoothContact(self.smooth_width)
-        raise ValueError(f"contact = {mode!r}: allowed 'exact', 'smooth'")
+        return contact_law_from_name(mode, self.smooth_width)
 
     def __post_init__(self) -> None:
         if isinstance(self.foundation, bool):  # the old boolean

@@ -44,23 +44,17 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
+from ._util import check_integer
+
 __all__ = [
     "ContactLaw",
     "ContactSolution",
     "ExactContact",
     "SmoothContact",
+    "contact_law_from_name",
     "solve_contact",
     "solve_contact_cells",
 ]
-
-
-def _check_iterations(max_iterations) -> None:
-    try:
-        ok = not isinstance(max_iterations, bool) and int(max_iterations) == max_iterations
-    except (TypeError, ValueError):
-        ok = False
-    if not ok or max_iterations < 1:
-        raise ValueError(f"max_iterations = {max_iterations!r}: allowed an integer >= 1")
 
 
 class ExactContact(eqx.Module):
@@ -79,7 +73,7 @@ class ExactContact(eqx.Module):
     mode: ClassVar[str] = "exact"
 
     def __check_init__(self):
-        _check_iterations(self.max_iterations)
+        check_integer("max_iterations", self.max_iterations, 1)
 
     def astype(self, dtype) -> ExactContact:
         return self
@@ -104,7 +98,7 @@ class SmoothContact(eqx.Module):
     mode: ClassVar[str] = "smooth"
 
     def __check_init__(self):
-        _check_iterations(self.max_iterations)
+        check_integer("max_iterations", self.max_iterations, 1)
         if isinstance(self.width, jax.core.Tracer):
             return
         try:
@@ -120,6 +114,21 @@ class SmoothContact(eqx.Module):
 
 
 ContactLaw: TypeAlias = ExactContact | SmoothContact
+
+
+def contact_law_from_name(mode: str, width=1e-7, max_iterations: int = 100) -> ContactLaw:
+    """The contact law a case file or a command line names: ``"exact"`` →
+    :class:`ExactContact`, ``"smooth"`` → :class:`SmoothContact` of ``width`` (m), each with
+    ``max_iterations``.
+
+    Raises:
+        ValueError: another name (one line).
+    """
+    if mode == "exact":
+        return ExactContact(max_iterations)
+    if mode == "smooth":
+        return SmoothContact(width, max_iterations)
+    raise ValueError(f"contact = {mode!r}: allowed 'exact', 'smooth'")
 
 
 def contact_law(law, dtype, name: str = "contact") -> ContactLaw:

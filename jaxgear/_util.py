@@ -5,7 +5,18 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-__all__ = ["as_float", "rms_about_mean", "safe_sqrt"]
+__all__ = ["as_float", "check_integer", "rms_about_mean", "safe_sqrt"]
+
+
+def check_integer(name: str, value, lo: int) -> None:
+    """Refuse, with one line naming ``name``, its value and the range, a setting that is not an
+    integer >= ``lo`` (a bool, a string, ``None`` and 2.5 included)."""
+    try:
+        ok = not isinstance(value, bool) and int(value) == value and value >= lo
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} = {value!r} is out of range: allowed an integer >= {lo}")
 
 
 def as_float(v):

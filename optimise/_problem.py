@@ -224,11 +224,7 @@ class Problem(eqx.Module):
     def _law(self, contact: str, max_iterations: int = 100) -> jg.ContactLaw:
         """The contact law of a mode name: "smooth" (the case's width, for gradients) or
         "exact", with its iteration cap."""
-        if contact == "smooth":
-            return jg.SmoothContact(self.width, max_iterations)
-        if contact == "exact":
-            return jg.ExactContact(max_iterations)
-        raise ValueError(f"contact = {contact!r}: allowed 'exact', 'smooth'")
+        return jg.contact_law_from_name(contact, self.width, max_iterations)
 
     def _single(self, mods, torque, contact):
         if self.objective == "dynamic_factor":

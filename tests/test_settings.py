@@ -25,10 +25,19 @@ from jaxgear.scenes import TorsionalDynamics, disc_inertia
 @pytest.mark.parametrize(
     "make, match",
     [
-        (lambda: jg.ExactContact(0), r"max_iterations = 0: allowed an integer >= 1"),
+        (
+            lambda: jg.ExactContact(0),
+            r"max_iterations = 0 is out of range: allowed an integer >= 1",
+        ),
         (lambda: jg.ExactContact(2.5), r"max_iterations = 2.5"),
-        (lambda: jg.ExactContact("ten"), r"max_iterations = 'ten': allowed an integer >= 1"),
-        (lambda: jg.ExactContact(None), r"max_iterations = None: allowed an integer >= 1"),
+        (
+            lambda: jg.ExactContact("ten"),
+            r"max_iterations = 'ten' is out of range: allowed an integer >= 1",
+        ),
+        (
+            lambda: jg.ExactContact(None),
+            r"max_iterations = None is out of range: allowed an integer >= 1",
+        ),
         (lambda: jg.SmoothContact(0.0), r"width = 0.0 m: allowed a finite width > 0"),
         (lambda: jg.SmoothContact(float("nan")), r"width = nan m"),
         (lambda: jg.SmoothContact(1e-7, True), r"max_iterations = True"),

@@ -48,7 +48,7 @@ from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law, sol
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
 from .._results import ContactResult, DynamicsResult, error_if_failed
-from .._util import rms_about_mean
+from .._util import check_integer, rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
 from ._settings import (
@@ -771,7 +771,7 @@ def hybrid_free_vibration(
         raise ValueError(f"n_steps = {n_steps!r} is out of range: allowed an integer >= 1")
     if not float(time_step) > 0:
         raise ValueError(f"time_step = {time_step!r} s is out of range: allowed > 0")
-    Newmark(steps_per_period)  # checks the step count
+    check_integer("steps_per_period", steps_per_period, 4)
     mods = Modifications() if modifications is None else modifications
     return _free(
         scene,

@@ -14,6 +14,8 @@ import os
 import equinox as eqx
 import jax.numpy as jnp
 
+from .._util import check_integer
+
 __all__ = [
     "DIFFRAX_SOLVERS",
     "MAX_STEPS_PER_SPEED",
@@ -72,14 +74,9 @@ def check_run_size(periods: int, steps_per_period: int, recorded_steps: int, val
         )
 
 
-def _check_int(name: str, value, lo: int) -> None:
-    if isinstance(value, bool) or int(value) != value or value < lo:
-        raise ValueError(f"{name} = {value!r} is out of range: allowed an integer >= {lo}")
-
-
 def _check_steps(steps_per_period) -> None:
     if steps_per_period is not None:
-        _check_int("steps_per_period", steps_per_period, 4)
+        check_integer("steps_per_period", steps_per_period, 4)
 
 
 class Newmark(eqx.Module):
@@ -144,7 +141,7 @@ class DiffraxIntegrator(eqx.Module):
                 raise ValueError(f"{name} = {v!r}: allowed a tolerance > 0")
         _check_steps(self.steps_per_period)
         if self.max_steps is not None:
-            _check_int("max_steps", self.max_steps, 1)
+            check_integer("max_steps", self.max_steps, 1)
 
 
 Integrator = Newmark | DiffraxIntegrator
@@ -168,18 +165,18 @@ class SteadyState(eqx.Module):
     keep_periods: int = eqx.field(default=4, static=True)
 
     def __check_init__(self):
-        _check_int("periods", self.periods, 2)
-        _check_int("keep_periods", self.keep_periods, 1)
+        check_integer("periods", self.periods, 2)
+        check_integer("keep_periods", self.keep_periods, 1)
         if self.keep_periods > self.periods:
             raise ValueError(
                 f"keep_periods = {self.keep_periods} must be <= periods = {self.periods}"
             )
 
 
-def check_integrator(integrator, name: str = "integrator"):
+def check_integrator(integrator, name: str = "integrator") -> Integrator:
     """``integrator`` checked to be :class:`Newmark` or :class:`DiffraxIntegrator` (one line
     naming ``name`` otherwise)."""
-    if not isinstance(integrator, Newmark | DiffraxIntegrator):
+    if not isinstance(integrator, Integrator):
         raise ValueError(
             f"{name} = {integrator!r}: allowed jaxgear.dynamics.Newmark(...) or "
             "jaxgear.dynamics.DiffraxIntegrator(...)"
@@ -198,7 +195,7 @@ class _Config:
     """The resolved settings of one lumped run (static under jit): the integrator with its
     step count fixed, the window and the divergence bound."""
 
-    integrator: Newmark | DiffraxIntegrator
+    integrator: Integrator
     steps_per_period: int
     periods: int
     keep_periods: int
@@ -236,7 +233,7 @@ def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
 def _config(integrator, window: SteadyState, steps_per_period: int, blowup) -> _Config:
     """The settings of a lumped run with the integrator's step count resolved to
     ``steps_per_period``; checks the window and the run's size (before any work)."""
-    _check_int("steps_per_period", steps_per_period, 4)
+    check_integer("steps_per_period", steps_per_period, 4)
     if window.keep_periods < 2:
         raise ValueError(
             f"keep_periods = {window.keep_periods} is out of range: allowed an integer >= 2 "

@@ -10,7 +10,7 @@ from jaxtyping import Array, Bool, Float, Int
 
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._results import DynamicsResult, error_if_failed
-from .._util import rms_about_mean
+from .._util import check_integer, rms_about_mean
 from ._diffrax import _diffrax
 from ._model import DynamicModel, MeshTable, _prepare, _Prepared
 from ._newmark import _newmark
@@ -249,8 +249,8 @@ def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
     return (2 ** np.ceil(np.log2(n))).astype(int)
 
 
-def _prep(model, law: ContactLaw, cfg: _Config) -> _Prepared:
-    return _prepare(model.scene, model.mods, model.torque, law, cfg.steps_per_period)
+def _prep(model, law: ContactLaw, steps_per_period: int) -> _Prepared:
+    return _prepare(model.scene, model.mods, model.torque, law, steps_per_period)
 
 
 def _static_start(prep: _Prepared):
@@ -271,8 +271,9 @@ def static_start(
     Returns:
         (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
     """
-    cfg = _config(Newmark(steps_per_period), SteadyState(2, 2), steps_per_period, 100.0)
-    return _static_start(_prep(model, contact_law(contact, model.mesh.base_pitch.dtype), cfg))
+    check_integer("steps_per_period", steps_per_period, 4)
+    law = contact_law(contact, model.mesh.base_pitch.dtype)
+    return _static_start(_prep(model, law, int(steps_per_period)))
 
 
 @eqx.filter_jit
@@ -371,7 +372,7 @@ def simulate(
         steps_per_period = int(auto_steps_per_period(model, speed))
     cfg = _config(integrator, window, steps_per_period, blowup)
     speed = jnp.asarray(speed, dtype)
-    prep = _prep(model, law, cfg)
+    prep = _prep(model, law, cfg.steps_per_period)
     if state0 is None:
         state0 = _static_start(prep)
     state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))

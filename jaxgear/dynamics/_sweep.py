@@ -184,7 +184,7 @@ def _fixed_sweep(
         raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
     S = speeds.shape[0]
     n_dev = len(jax.local_devices()) if shard else 1
-    prep = _prep(model, law, cfg)
+    prep = _prep(model, law, cfg.steps_per_period)
     if start is None:
         start = _static_start(prep)
 
