@@ -29,7 +29,7 @@ from jaxgear.dynamics import (
     simulate,
     speed_sweep,
 )
-from jaxgear.dynamics._newmark import _newmark
+from jaxgear.dynamics._simulate import _newmark
 
 # white-box checks of the integration rule on a constructed linear, time-invariant problem
 # (tests/test_layout.py lists them)

@@ -181,7 +181,7 @@ PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 PRIVATE_IN_TESTS = {
     # integrator checks on a constructed linear, time-invariant problem (energy to 1e-11, order
     # 2): no public model is one; _newmark takes the integrator's configuration
-    ("test_dynamics.py", "jaxgear.dynamics._newmark._newmark"),
+    ("test_dynamics.py", "jaxgear.dynamics._simulate._newmark"),
     ("test_dynamics.py", "jaxgear.dynamics._settings._Config"),
     # a shaft's FE node positions and unassembled K, M, K_b: LumpedPair does not expose them
     ("test_bearing_matrices.py", "jaxgear.scenes._lumped3d._shaft"),

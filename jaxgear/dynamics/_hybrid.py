@@ -44,13 +44,14 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
-from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law, solve_contact_cells
+from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
-from .._results import ContactResult, DynamicsResult, error_if_failed
+from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer, rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
+from ._newmark import CellRow, MeshDamping, newmark
 from ._settings import (
     DiffraxIntegrator,
     Newmark,
@@ -148,117 +149,41 @@ def _newmark_cells(
     thetas,
     law: ContactLaw,
     record,
-    mesh_damping=None,
+    mesh_damping: MeshDamping | None = None,
 ):
-    """Newmark average acceleration (β = 1/4, γ = 1/2) with the contact loop in the cell space,
-    one step per pinion angle of ``thetas`` (P, S) (P blocks of S steps, e.g. mesh periods),
-    from ``state`` = (X, Ẋ, Ẍ), for M Ẍ + C(t) Ẋ + K X + Vᵀ P = F (C may hold the skew
-    Coriolis term).
+    """The Newmark loop (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in the cell
+    space) on the hybrid scene, one step per pinion angle of ``thetas`` (P, S) (P blocks of S
+    steps: the mesh periods of the mesh damping), from ``state`` = (X, Ẋ, Ẍ).
 
-    ``mesh_damping``: None, or (block, c_m, R) with ``block(p)`` → (U (w,), B (w, w), ok): the
-    mesh stiffness K̄_m(p) = E_Uᵀ B E_U averaged over block p's positions on the window U of
-    DOFs (E_U (w, n) picks them), c_m (s) and R (n, n) or None (the identity), so that block
-    p's damping is C + c_m Rᵀ K̄_m(p) R = C + c_m Wᵀ B W with W = E_U R (w, n): the window's
-    unit vectors (R = None: Rayleigh) or the rows U of R (dense: the composite's mesh share,
-    :class:`_HybridDamping`). Its effective stiffness is the constant one plus a rank-w term:
-    G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B (Woodbury, once per block;
-    G Rᵀ once per speed), so a step still costs n² (plus 4 w n for the dense W), not a
-    factorisation.
+    The cells at each step: the flanks' gaps at the pinion angle from the time-constant
+    reference ``e_ref`` (δ0 = e_ref − e) on the window of master DOFs under the contact.
 
-    Returns the final carry (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
+    Returns the final state (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
     over the blocks): θ, the cell forces P (c,), the TE and ``record(X, Ẋ)``."""
     mesh = scene.mesh
-    dtype = K.dtype
-    b, g = 0.25, 0.5
-    a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
-    G = jnp.linalg.inv(K + a0 * M + a1 * C)
     cb = jnp.cos(mesh.base_helix_angle)
-    n = K.shape[0]
-    if mesh_damping is not None:
-        block, c_m, R = mesh_damping
-        GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
 
-    def period(carry, p_th):
-        p, ths = p_th
-        if mesh_damping is None:
-            U, Q, GW, GUU, ok = None, None, None, None, jnp.array(True)
-        else:
-            U, B, ok = block(p)
-            w = U.shape[0]
-            if R is None:  # W = E_U
+    def cells_at(th):
+        cells, e_th, delta0 = separation(mesh, mods, th)
+        delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
+        idx, Vw = scene.window(cells)
+        return CellRow(
+            idx,
+            Vw.reshape(-1, Vw.shape[-1]),
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            delta0.reshape(-1),
+            cells.mask.reshape(-1),
+        )
 
-                def project(x):  # W x, x (n,) or (n, m)
-                    return x[U]
-
-                def spread(z):  # Wᵀ z
-                    return jnp.zeros((n,), dtype).at[U].add(z)
-
-            else:
-                W = R[U]
-
-                def project(x):
-                    return W @ x
-
-                def spread(z):
-                    return W.T @ z
-
-            A = (a1 * c_m) * B
-            GW = GR[:, U]  # G Wᵀ (n, w)
-            Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
-            GUU = G[U[:, None], U[None, :]] - GW[U] @ Q @ project(G[:, U])  # G_p on the window
-            pos = jnp.full((n,), w, jnp.int32)
-            pos = pos.at[U].set(jnp.arange(w, dtype=jnp.int32))
-
-        def solve(v):  # G_p v
-            y = G @ v
-            return y if U is None else y - GW @ (Q @ project(y))
-
-        def step(carry, th):
-            X, Xd, Xdd, code, it = carry
-            cells, e_th, delta0 = separation(mesh, mods, th)
-            delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
-            idx, Vw = scene.window(cells)
-            c = Vw.shape[0] * Vw.shape[1]
-            Vw = Vw.reshape(c, -1)
-            v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
-            Feff = F + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd) + C @ v
-            inside = jnp.array(True)
-            if U is None:
-                Gw = G[idx[:, None], idx[None, :]]
-            else:
-                Feff = Feff + spread(c_m * (B @ project(v)))  # the period's mesh damping
-                j = pos[idx]
-                inside = jnp.all(j < U.shape[0])
-                Gw = GUU[j[:, None], j[None, :]]
-            xs = solve(Feff)
-            Ceff = Vw @ Gw @ Vw.T
-            sol, P, _ = solve_contact_cells(
-                Ceff,
-                Vw @ xs[idx] - delta0.reshape(-1),
-                jnp.zeros((c, 0), dtype),
-                jnp.zeros((0,), dtype),
-                cells.stiffness.reshape(-1),
-                cells.length.reshape(-1),
-                cells.mask.reshape(-1),
-                law,
-            )
-            Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(Vw.T @ P))
-            Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
-            Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
-            not_converged = sol.result == ContactResult.max_iterations
-            new = jnp.where(
-                not_converged, DynamicsResult.contact_not_converged, DynamicsResult.successful
-            )
-            new = jnp.where(jnp.all(jnp.isfinite(Xn)), new, DynamicsResult.non_finite)
-            new = jnp.where(inside & ok, new, DynamicsResult.window_overflow)
-            carry = (Xn, Xdn, Xddn, jnp.maximum(code, new), jnp.maximum(it, sol.iterations))
-            return carry, (th, P, (scene.te @ Xn - e_ref) / cb, record(Xn, Xdn))
-
-        return jax.lax.scan(step, carry, ths)
+    def kept(X, Xd, P):
+        return P, (scene.te @ X - e_ref) / cb, record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
-    carry, out = jax.lax.scan(period, init, (jnp.arange(thetas.shape[0]), thetas))
-    return carry, jax.tree.map(lambda x: x.reshape((-1,) + x.shape[2:]), out)
+    carry, (P, te, rec) = newmark(
+        K, M, C, F, dt, init, thetas, cells_at, law, kept, mesh_damping=mesh_damping
+    )
+    return carry, (thetas.reshape(-1), P, te, rec)
 
 
 class _HybridDamping(NamedTuple):
@@ -378,7 +303,7 @@ def _run(
     damp = _damping(scene, Km, damping)
     C = damp.C
     # the mesh share of C follows the mesh: c_m Rᵀ K̄_m(k) R in period k
-    mesh_damping = None if damp.c_m is None else (block, damp.c_m, damp.R)
+    mesh_damping = None if damp.c_m is None else MeshDamping(block, damp.c_m, damp.R)
 
     K = scene.K
     if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening

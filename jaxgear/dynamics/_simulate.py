@@ -13,7 +13,7 @@ from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer, rms_about_mean
 from ._diffrax import _diffrax
 from ._model import DynamicModel, MeshTable, _prepare, _Prepared
-from ._newmark import _newmark
+from ._newmark import CellRow, newmark
 from ._settings import (
     MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,
@@ -25,6 +25,7 @@ from ._settings import (
     SteadyState,
     _Config,
     _config,
+    _divergence_code,
     check_integrator,
     check_window,
 )
@@ -120,6 +121,62 @@ def _with_acceleration(model, table, X, Xd, law):
         - table.V[0].T @ f,
     )
     return (X, Xd, Xdd)
+
+
+def _newmark(
+    model: DynamicModel,
+    table: MeshTable,
+    dt,
+    state,
+    n_steps: int,
+    cfg: _Config,
+    law: ContactLaw,
+    record: bool,
+    record_states: bool = False,
+):
+    """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
+    coordinates) on the rows of the mesh table from row 1 on (step n ends at row (n + 1) mod N_s).
+
+    ``state``: (X, Ẋ, Ẍ, result code, most contact passes). Records per step (``record``): the
+    mesh force Σ P (N), the TE (m), the force per contact line (N, (L,)), the bearing forces R X
+    (N, (r,)), and (X, Ẋ) with ``record_states``."""
+    scene = model.scene
+    M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
+    u = scene.te_vector()
+    R = scene.reaction_matrix()
+    cb = jnp.cos(model.mesh.base_helix_angle)
+    fs = model.static_force
+    e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
+    P = table.theta.shape[0]
+
+    def cells_at(j):
+        return CellRow(
+            None, table.V[j], table.k[j], table.length[j], table.delta0[j], table.mask[j]
+        )
+
+    def check(X, Xd, forces):
+        return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
+
+    def kept(X, Xd, forces):
+        te = (u @ X - table.e_max[0]) / cb
+        lines = jnp.sum(forces.reshape(table.n_lines, -1), axis=1)
+        out = (jnp.sum(forces), te, lines, R @ X)
+        return out + (X, Xd) if record_states else out
+
+    rows = ((jnp.arange(n_steps) + 1) % P)[None, :]
+    return newmark(
+        Ks,
+        M,
+        model.damping,
+        F,
+        dt,
+        state,
+        rows,
+        cells_at,
+        law,
+        kept if record else None,
+        check=check,
+    )
 
 
 def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
