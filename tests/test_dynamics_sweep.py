@@ -348,3 +348,21 @@ def test_cli_sweep_lumped3d_scene(tmp_path):
     assert len(data["natural_frequencies_Hz"]) == 6 * (3 + 3)  # 3 nodes per shaft
     assert len(data["bearing_names"]) == 10 and len(data["bearing_force_max_N"][0]) == 10
     assert max(data["bearing_force_static_N"]) > 0
+
+
+def test_chunked_sweep_is_the_whole_sweep_with_progress(small_model):
+    """Chunks (the last one padded) give the unchunked numbers, in both directions; progress
+    counts the speeds done, S per direction; a chunk size below 1 is refused before any work."""
+    speeds = np.array([300.0, 400.0, 500.0])
+    kw = dict(integrator=Newmark(16), window=SteadyState(4, 2))
+    whole = jd.speed_sweep(small_model, speeds, direction="both", **kw)
+    done = []
+    chunked = jd.speed_sweep(
+        small_model, speeds, direction="both", chunk_size=2, progress=done.append, **kw
+    )
+    assert done == [2, 3, 5, 6]
+    for a, b in ((whole.results, chunked.results), (whole.down, chunked.down)):
+        np.testing.assert_allclose(b.dynamic_factor, a.dynamic_factor, rtol=1e-12)
+        np.testing.assert_allclose(b.transmission_error, a.transmission_error, rtol=1e-12)
+    with pytest.raises(ValueError, match=r"chunk_size = 0 is out of range"):
+        jd.speed_sweep(small_model, speeds, chunk_size=0, **kw)

@@ -60,6 +60,7 @@ from ._settings import (
     check_run_size,
     check_window,
 )
+from ._sweep import in_chunks
 
 __all__ = [
     "FreeVibration",
@@ -533,8 +534,8 @@ def hybrid_speed_sweep(
     speeds, spp, window, law, damping = _check(scene, speeds, integrator, window, contact, damping)
     dtype = scene.K.dtype
     mods = Modifications() if modifications is None else modifications
-    if chunk_size is not None and (int(chunk_size) != chunk_size or chunk_size < 1):
-        raise ValueError(f"chunk_size = {chunk_size!r} is out of range: allowed an integer >= 1")
+    if chunk_size is not None:
+        check_integer("chunk_size", chunk_size, 1)
 
     def run(w):
         torque_ = jnp.asarray(torque, dtype)
@@ -543,16 +544,7 @@ def hybrid_speed_sweep(
 
     if chunk_size is None or isinstance(speeds, jax.core.Tracer):
         return _thrown(run(speeds), throw)
-    chunk, n = int(chunk_size), speeds.shape[0]
-    parts = []
-    for k in range(0, n, chunk):
-        part = speeds[k : k + chunk]
-        padded = jnp.concatenate([part, jnp.full(chunk - part.shape[0], part[-1], dtype)])
-        parts.append(jax.tree.map(lambda x, m=part.shape[0]: x[:m], run(padded)))
-        jax.block_until_ready(parts[-1])  # Ctrl-C is honoured here, between chunks
-        if progress is not None:
-            progress(k + part.shape[0])
-    return _thrown(jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts), throw)
+    return _thrown(in_chunks(run, speeds, int(chunk_size), progress), throw)
 
 
 def _thrown(res: HybridDynamics, throw: bool) -> HybridDynamics:

@@ -8,6 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._contact import ContactLaw, ExactContact, contact_law
+from .._util import check_integer
 from ._model import DynamicModel
 from ._settings import (
     DiffraxIntegrator,
@@ -33,8 +34,21 @@ def _shard(speeds):
     return jax.device_put(padded, sharding), pad
 
 
-def _concat(parts, n):
-    return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[:n], *parts)
+def in_chunks(run, speeds, chunk_size: int, progress=None):
+    """``run`` over ``speeds`` (S,) in chunks of ``chunk_size``, one call per chunk from a Python
+    loop: the last chunk is padded with its last speed (every chunk runs the same compiled
+    program) and the padding dropped; ``progress(n_done)`` after each chunk, and Ctrl-C is
+    honoured between chunks. Returns the results concatenated along the speed axis (S, ...)."""
+    n = speeds.shape[0]
+    parts = []
+    for k in range(0, n, chunk_size):
+        part = speeds[k : k + chunk_size]
+        padded = jnp.concatenate([part, jnp.full(chunk_size - part.shape[0], part[-1], part.dtype)])
+        parts.append(jax.tree.map(lambda x, m=part.shape[0]: x[:m], run(padded)))
+        jax.block_until_ready(parts[-1])
+        if progress is not None:
+            progress(k + part.shape[0])
+    return jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts)
 
 
 def _flip(r):
@@ -89,6 +103,8 @@ def speed_sweep(
     integrator = check_integrator(integrator)
     window = check_window(window)
     law = contact_law(contact, dtype)
+    if chunk_size is not None:
+        check_integer("chunk_size", chunk_size, 1)
     common = {"shard": shard, "chunk_size": chunk_size}
 
     def cfg_of(n):
@@ -207,39 +223,28 @@ def _fixed_sweep(
         up, down = _run(model, prep, speeds, start, law, cfg, "both")
         return SweepResult(speeds, up, down)
 
-    size = max(1, int(chunk_size))
+    size = int(chunk_size)
     if direction == "independent":
         size = -(-size // n_dev) * n_dev
-    n_chunks = -(-S // size)
-    done = [0]
 
-    def chunks(sp):
-        pad = n_chunks * size - S
-        return jnp.concatenate([sp, jnp.full((pad,), sp[-1], dtype)]).reshape(n_chunks, size)
+    def continuation(sp, base=0):
+        state = start
 
-    def tick(n):
-        done[0] += n
-        if progress is not None:
-            progress(done[0])
-
-    def continuation(sp):
-        parts, state = [], start
-        for ch in chunks(sp):
+        def run(ch):
+            nonlocal state
             r = _run(model, prep, ch, state, law, cfg, "continuation")
             ok = bool(r.result[-1] == 0)
             state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
-            parts.append(r)
-            tick(min(size, S - len(parts[:-1]) * size))
-        return _concat(parts, S)
+            return r
+
+        tick = None if progress is None else (lambda k: progress(base + k))
+        return in_chunks(run, sp, size, tick)
 
     if direction == "independent":
-        parts = []
-        for ch in chunks(speeds):
-            parts.append(independent(ch))
-            tick(min(size, S - (len(parts) - 1) * size))
-        return SweepResult(speeds, _concat(parts, S))
+        return SweepResult(speeds, in_chunks(independent, speeds, size, progress))
     if direction == "up":
         return SweepResult(speeds, continuation(speeds))
     if direction == "down":
         return SweepResult(speeds, _flip(continuation(speeds[::-1])))
-    return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1])))
+    # progress counts both passes: S + S
+    return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1], S)))
