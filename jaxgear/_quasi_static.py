@@ -13,8 +13,6 @@ from ._contact import (
     ExactContact,
     SmoothContact,
     contact_law,
-    solve_contact,
-    solve_contact_cells,
 )
 from ._modifications import Modifications
 from ._results import ContactResult, error_if_failed
@@ -113,35 +111,7 @@ def _one_position(
 ):
     cells, e_max, delta0 = separation(mesh, mods, theta)
     mask = cells.mask
-    contact = (cells.stiffness.reshape(-1), cells.length.reshape(-1))
-    if hasattr(scene, "cell_space"):
-        # large structures (condensed bodies): solve in the space of the cells
-        C, a0, E, b, window = scene.cell_space(cells, torque, speed)
-        sol, force, alpha = solve_contact_cells(
-            C,
-            a0 - delta0.reshape(-1),
-            E,
-            b,
-            *contact,
-            mask.reshape(-1),
-            law,
-        )
-        x = scene.recover(window, force, alpha)
-        u_x = scene.te_recover(window, force, alpha)
-    else:
-        V = scene.cell_vectors(cells)
-        n = V.shape[-1]
-        sol = solve_contact(
-            scene.stiffness(),
-            scene.external_load(torque),
-            V.reshape(-1, n),
-            *contact,
-            delta0.reshape(-1),
-            mask.reshape(-1),
-            law,
-        )
-        x = sol.x
-        u_x = scene.te_vector() @ x
+    sol, x, u_x = scene.static_contact(cells, delta0, torque, speed, law)
     cos_bb = jnp.cos(mesh.base_helix_angle)
     te = (u_x - e_max) / cos_bb
     kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)

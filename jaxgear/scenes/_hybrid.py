@@ -50,6 +50,7 @@ import numpy as np
 from jaxtyping import Array, Float, Int
 
 from .._baseplane import Cells, MeshModel
+from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair, involute
 from .._util import as_float
 from ._lumped3d import ShaftSpec, _lumped_arrays, contact_points, rigid_node_vector
@@ -380,6 +381,24 @@ class HybridPair(Scene):
         E = Vw @ self.N[idx]
         b = self.N.T @ self.external_load(torque, speed)
         return C, a0, E, b, (idx, Vw, x0)
+
+    def static_contact(self, cells: Cells, delta0, torque, speed, law: ContactLaw):
+        """The static contact at one mesh position in the space of the cells
+        (:func:`jaxgear.solve_contact_cells` on :meth:`cell_space`, the centrifugal load at
+        pinion speed ``speed``): (the contact solution, X (n,), u·X (m)); the arguments are
+        those of :meth:`jaxgear.scenes.Scene.static_contact`."""
+        C, a0, E, b, window = self.cell_space(cells, torque, speed)
+        sol, force, alpha = solve_contact_cells(
+            C,
+            a0 - delta0.reshape(-1),
+            E,
+            b,
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            cells.mask.reshape(-1),
+            law,
+        )
+        return sol, self.recover(window, force, alpha), self.te_recover(window, force, alpha)
 
     def bearing_forces(self, theta, x):
         """Bearing force components k u (N), fixed frame, shape (P, r), at pinion angles θ (P,)

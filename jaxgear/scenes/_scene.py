@@ -8,7 +8,10 @@ the contact force p_c l_c on the cell acts on the structure as −p_c l_c V_c. E
 * ``cell_vectors(cells)``: V for every cell, shape (n_lines, n_slices, n);
 * ``te_vector()``: u with u·X the flank-normal rigid-body approach of the mesh (the transmission
   error before the ``− max e`` and 1/cos β_b of docs/design.md, "Modifications, initial
-  separation and TE").
+  separation and TE");
+* ``static_contact(cells, delta0, torque, speed, law)``: the static contact at one mesh position.
+  Scenes of a few coordinates solve it in coordinates (the default here); a scene of condensed
+  bodies overrides it with the cell space (:class:`jaxgear.scenes.HybridPair`).
 
 Later scenes (shafts, bearings, condensed bodies) plug into the same solver by providing these.
 """
@@ -22,6 +25,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._baseplane import Cells
+from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 
 __all__ = ["DynamicScene", "Grounded", "Scene", "grounded"]
@@ -45,6 +49,34 @@ class Scene(eqx.Module):
     @abc.abstractmethod
     def te_vector(self) -> Float[Array, " n"]:
         """See the module docstring."""
+
+    def static_contact(
+        self, cells: Cells, delta0, torque, speed, law: ContactLaw
+    ) -> tuple[ContactSolution, Float[Array, " n"], Float[Array, ""]]:
+        """The static contact at one mesh position, in coordinates (:func:`jaxgear.solve_contact`
+        on K_s X + Σ P V = F).
+
+        Args:
+            cells: the cells at the position (n_lines, n_slices). delta0: their initial
+                separation δ0 (m), same shape. torque: pinion torque (N·m). speed: pinion
+                speed (rad/s), unused here (no member of this scene carries a centrifugal
+                load). law: the contact law.
+
+        Returns:
+            (the contact solution, X (n,), u·X (m)).
+        """
+        V = self.cell_vectors(cells)
+        sol = solve_contact(
+            self.stiffness(),
+            self.external_load(torque),
+            V.reshape(-1, V.shape[-1]),
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            delta0.reshape(-1),
+            cells.mask.reshape(-1),
+            law,
+        )
+        return sol, sol.x, self.te_vector() @ sol.x
 
 
 class DynamicScene(Scene):
