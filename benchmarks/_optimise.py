@@ -33,19 +33,19 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     import scipy.optimize
     from tqdm.auto import tqdm
 
-    from jaxgear.io import atomic_open, load_case
-    from optimise import contour_map, make_problem, minimise
+    from jaxgear.io import atomic_open, case_problem, load_case
+    from optimise import contour_map, minimise
 
     case = load_case("accessory-spur")
     ppp = 24 if quick else case.positions_per_pitch
     slices = 4 if quick else 10  # spur: every slice carries the same load, 10 is plenty
     n_grid = 11 if quick else 41
-    problem = make_problem(
+    problem = case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=ppp, slices=slices
     )
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
-    f = jax.jit(lambda x: problem.value(x, "smooth"))
-    vg = jax.jit(jax.value_and_grad(lambda x: problem.value(x, "smooth")))
+    f = jax.jit(lambda x: problem.value(x))
+    vg = jax.jit(jax.value_and_grad(lambda x: problem.value(x)))
     x0 = np.array([0.5, 0.12])
     steps = tqdm(total=4, desc="bench optimise")
     f(jnp.asarray(x0)).block_until_ready()
@@ -77,9 +77,9 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
 
     G = np.linspace(lo[1], hi[1], n_grid)
     E = np.linspace(lo[0], hi[0], n_grid)
-    contour_map(problem, G, E, "smooth")  # compile for these shapes
+    contour_map(problem, G, E, None)  # compile for these shapes
     t0 = time.perf_counter()
-    grid = contour_map(problem, G, E, "smooth")
+    grid = contour_map(problem, G, E, None)
     t_grid = time.perf_counter() - t0
     k = np.unravel_index(np.argmin(grid), grid.shape)
     steps.update()
@@ -124,10 +124,10 @@ def bench_optimise(out_dir: str, quick: bool = False) -> dict:
     )
     steps5 = tqdm(total=3, desc="bench optimise, 5 variables")
     hel = load_case("power-helical")
-    p5 = make_problem(hel, names5, "te_rms", positions_per_pitch=ppp, slices=8 if quick else 20)
+    p5 = case_problem(hel, names5, "te_rms", positions_per_pitch=ppp, slices=8 if quick else 20)
     lo5, hi5 = np.asarray(p5.lower), np.asarray(p5.upper)
     x05 = np.array([0.5, 0.15, 0.5, 0.15, 0.1])
-    f5 = jax.jit(lambda x: p5.value(x, "smooth"))
+    f5 = jax.jit(lambda x: p5.value(x))
     f5(jnp.asarray(x05)).block_until_ready()
     minimise(p5, x05, progress=False)  # compile
     t0 = time.perf_counter()

@@ -35,10 +35,10 @@ def main() -> dict:
     out = {"case": case.name, "crowning_depth_um": depths.tolist(), "speeds": {}}
     scene, _ = static_scene(case)
     for speed in (0.0, 3000.0):
-        problem = optimise.make_problem(
+        problem = jio.case_problem(
             case, "crowning.depth", "max_line_load", scene=scene, speed=speed, relief_blend=0.0
         )
-        value = jax.jit(lambda x, p=problem: p.value(x, "exact") * p.scale)
+        value = jax.jit(lambda x, p=problem: p.value(x, jg.ExactContact()) * p.scale)
         edge = jax.jit(
             lambda x, p=problem: jnp.max(
                 jg.quasi_static(p.mesh, p.modifications(x), case.torque, speed=p.speed).line_load,

@@ -49,7 +49,7 @@ def setup():
     3000 rad/s)."""
     case = jio.load_case("power-helical-flexible")
     scene, _ = static_scene(case)
-    problem = optimise.make_problem(
+    problem = jio.case_problem(
         case,
         "crowning.depth",
         "dynamic_factor",
@@ -57,7 +57,8 @@ def setup():
         speed=3000.0,
         relief_blend=0.0,
         speeds=list(SPEEDS),
-        dynamics=DYNAMICS,
+        integrator=Newmark(DYNAMICS[0]),
+        window=SteadyState(*DYNAMICS[1:]),
     )
     return case, scene, problem
 
@@ -90,7 +91,7 @@ def gradient_check(problem, depth_um: float, h_um: float = 0.05) -> dict:
     xp = jnp.asarray(problem.from_physical({"crowning.depth": depth_um + h_um}))
     xm = jnp.asarray(problem.from_physical({"crowning.depth": depth_um - h_um}))
     dx = float(xp[0] - xm[0]) / (2 * h_um)  # normalised units per µm
-    f = eqx.filter_jit(lambda p, v: p.value(v, "smooth"))
+    f = eqx.filter_jit(lambda p, v: p.value(v))
     g = float(eqx.filter_jit(jax.grad(f, argnums=1))(problem, x)[0]) * dx
     fd = (float(f(problem, xp)) - float(f(problem, xm))) / (2 * h_um)
     return {"depth_um": depth_um, "grad_per_um": g, "fd_per_um": fd, "h_um": h_um}

@@ -71,7 +71,7 @@ def make(case, scene, speed, objective, depth_um=(0.0, 20.0), extent=None) -> op
     """Problem over the pinion's end relief depth (µm bounds) and optionally its extent, at
     pinion speed ``speed`` (rad/s)."""
     names = VAR if extent is None else f"{VAR},pinion.end_relief.extent"
-    p = optimise.make_problem(case, names, objective, scene=scene, speed=speed)
+    p = jio.case_problem(case, names, objective, scene=scene, speed=speed)
     lo = [depth_um[0] * 1e-6 / float(p.delta_m)]
     hi = [depth_um[1] * 1e-6 / float(p.delta_m)]
     if extent is not None:

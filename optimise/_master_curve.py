@@ -16,7 +16,9 @@ import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 
-from ._problem import Problem
+import jaxgear as jg
+
+from ._problem import EXACT, Problem
 
 __all__ = ["contour_map", "master_curve"]
 
@@ -49,13 +51,15 @@ def _grid(problem, extents, depths, contact):
     return jax.vmap(lambda g: jax.vmap(lambda e: f(g, e))(depths))(extents)
 
 
-def contour_map(problem: Problem, extents, depths, contact: str = "exact") -> np.ndarray:
+def contour_map(
+    problem: Problem, extents, depths, contact: jg.ContactLaw | None = EXACT
+) -> np.ndarray:
     """Scaled objective on the (Γ, E*) grid by nested ``vmap``.
 
     Args:
         problem: a problem whose variables are tip_relief.depth and tip_relief.extent.
         extents: Γ values, shape (nG,). depths: E* values (E/δ_m), shape (nE,).
-        contact: "exact" or "smooth".
+        contact: the contact law (default exact; None: the problem's smooth law).
 
     Returns:
         objective / unmodified objective, shape (nG, nE).
@@ -76,7 +80,7 @@ def _refine(problem, extents, lo, hi, iterations):
     ``vmap``; an unbracketed interval (dJ/dE* of one sign) gives the end that is the minimum."""
 
     def dj(e, g):
-        return jax.grad(lambda ee: problem.value(_xy(problem, g, ee), "smooth"))(e)
+        return jax.grad(lambda ee: problem.value(_xy(problem, g, ee)))(e)
 
     # stops when the bracket is below 1e-10 (relative); ``iterations`` caps the bisections
     solver = optx.Bisection(rtol=1e-10, atol=1e-10, flip=False)
@@ -125,7 +129,7 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
         )
     lo_e, hi_e = float(problem.lower[i_d]), float(problem.upper[i_d])
     depths = np.linspace(lo_e, hi_e, 41) if coarse_depths is None else np.asarray(coarse_depths)
-    grid = contour_map(problem, extents, depths, "smooth")
+    grid = contour_map(problem, extents, depths, None)
     k = np.argmin(grid, axis=1)
     a = depths[np.maximum(k - 1, 0)]
     b = depths[np.minimum(k + 1, len(depths) - 1)]
@@ -134,8 +138,8 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
     )
     on_bound = (e_star <= lo_e + 1e-6 * (hi_e - lo_e)) | (e_star >= hi_e - 1e-6 * (hi_e - lo_e))
     scale = float(problem.scale)
-    exact = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "exact"))
-    smooth = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), "smooth"))
+    exact = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), EXACT))
+    smooth = np.asarray(_pairs(problem, jnp.asarray(extents), jnp.asarray(e_star), None))
     return {
         "extent": extents,
         "depth_star": e_star,

@@ -104,7 +104,7 @@ def _report(run, accepted, k, u, value):
 
 
 def _objective(u, problem: Problem):
-    return problem.value(problem.bounded(u), "smooth")
+    return problem.value(problem.bounded(u))
 
 
 @eqx.filter_jit

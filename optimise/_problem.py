@@ -32,6 +32,7 @@ from jaxtyping import Array, Float
 
 import jaxgear as jg
 from jaxgear.dynamics import Newmark, SteadyState, band_dynamic_factor
+from jaxgear.scenes import HybridPair
 
 __all__ = [
     "VARIABLES",
@@ -76,6 +77,7 @@ OBJECTIVE_UNITS = {
 # face width off centre (the unmodified pair is often centred, c = 0: no scale to take from it)
 CENTROID_SCALE = 0.01
 LP_ORDER_RANGE = (1.0, 64.0)
+EXACT = jg.ExactContact()  # the default law of the evaluations (a module without arrays)
 DEFAULT_BOUNDS = {"depth": (0.0, 3.0), "extent": (0.02, 0.98), "end_extent": (0.02, 0.5)}
 
 
@@ -154,11 +156,14 @@ class Problem(eqx.Module):
         scale: unmodified objective value at the design torque (objective units);
             ``CENTROID_SCALE`` for ``load_centroid``.
         lower, upper: bounds in normalised units, shape (n,).
-        width: smooth-law width (m).
+        contact: the smooth contact law of the objective and its gradients
+            (:class:`jaxgear.SmoothContact`).
         face_width: b (m), of the load centroid.
         lp_order: p of ``line_load_lp``.
         names: variable names (static). objective: objective name (static).
         reduce: "mean" | "max" over torques (static). positions_per_pitch: static.
+        speeds: the speed band of the ``dynamic_factor`` objective (rad/s), (S,), else None.
+        integrator, window: that objective's Newmark and steady-state window, else None.
     """
 
     mesh: jg.MeshModel | jg.Scene
@@ -169,7 +174,7 @@ class Problem(eqx.Module):
     scale: Float[Array, ""]
     lower: Float[Array, " n"]
     upper: Float[Array, " n"]
-    width: Float[Array, ""]
+    contact: jg.SmoothContact
     face_width: Float[Array, ""]
     lp_order: Float[Array, ""]
     speed: Float[Array, ""]
@@ -178,7 +183,8 @@ class Problem(eqx.Module):
     reduce: str = eqx.field(static=True)
     positions_per_pitch: int = eqx.field(static=True)
     speeds: Float[Array, " S"] | None = None
-    dynamics: tuple = eqx.field(static=True, default=())
+    integrator: Newmark | None = None
+    window: SteadyState | None = None
 
     # -- variables ---------------------------------------------------------------------------
     def modifications(self, x: Float[Array, " n"]) -> jg.Modifications:
@@ -221,10 +227,16 @@ class Problem(eqx.Module):
         return jnp.log(t) - jnp.log1p(-t)
 
     # -- objectives --------------------------------------------------------------------------
-    def _law(self, contact: str, max_iterations: int = 100) -> jg.ContactLaw:
-        """The contact law of a mode name: "smooth" (the case's width, for gradients) or
-        "exact", with its iteration cap."""
-        return jg.contact_law_from_name(contact, self.width, max_iterations)
+    def _law(self, contact: jg.ContactLaw | None) -> jg.ContactLaw:
+        """``contact``, or the problem's smooth law when None."""
+        if contact is None:
+            return self.contact
+        if not isinstance(contact, jg.ExactContact | jg.SmoothContact):
+            raise ValueError(
+                f"contact = {contact!r}: allowed jaxgear.ExactContact(...), "
+                "jaxgear.SmoothContact(...) or None (the problem's smooth law)"
+            )
+        return contact.astype(self.delta_m.dtype)
 
     def _single(self, mods, torque, contact):
         if self.objective == "dynamic_factor":
@@ -249,27 +261,33 @@ class Problem(eqx.Module):
 
     def _dynamic(self, mods, torque, contact):
         """The smooth dynamic factor over the speed band (hybrid Newmark, p-means)."""
-        spp, periods, keep = self.dynamics
         return band_dynamic_factor(
             self.mesh,
             mods,
             torque,
             self.speeds,
-            integrator=Newmark(spp),
-            contact=self._law(contact, 50),  # the hybrid dynamics' cap
-            window=SteadyState(periods, keep),
+            integrator=self.integrator,
+            contact=self._law(contact),
+            window=self.window,
         )
 
-    def value(self, x: Float[Array, " n"], contact: str = "smooth") -> Float[Array, ""]:
+    def value(
+        self, x: Float[Array, " n"], contact: jg.ContactLaw | None = None
+    ) -> Float[Array, ""]:
         """Scaled objective at normalised design values ``x`` (1 = unmodified at design load;
-        ``load_centroid``: (c/0.1)²)."""
+        ``load_centroid``: (c/0.1)²), in the ``contact`` law (default None: the problem's smooth
+        law, whose gradients the optimiser follows; :class:`jaxgear.ExactContact` for the
+        design as the exact law sees it)."""
         mods = self.modifications(x)
         vals = jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
         v = jnp.max(vals) if self.reduce == "max" else jnp.mean(vals)
         return v / self.scale
 
-    def te_rms_vs_torque(self, x, torques, contact: str = "exact") -> Float[Array, " T"]:
-        """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view."""
+    def te_rms_vs_torque(
+        self, x, torques, contact: jg.ContactLaw | None = EXACT
+    ) -> Float[Array, " T"]:
+        """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view
+        (``contact``: the exact law by default, None the problem's smooth law)."""
         mods = self.modifications(x)
         return jax.vmap(
             lambda t: (
@@ -284,10 +302,11 @@ class Problem(eqx.Module):
             )
         )(jnp.asarray(torques))
 
-    def metrics(self, x, contact: str = "exact") -> dict:
+    def metrics(self, x, contact: jg.ContactLaw | None = EXACT) -> dict:
         """Every objective's quantity at the design torque for design ``x``, unscaled, as a dict:
         ``te_rms_m``, ``te_ptp_m``, ``max_line_load_N_per_m``, ``line_load_lp_N_per_m`` (order
-        ``lp_order``) and the signed ``load_centroid`` (fraction of b, see :func:`load_centroid`).
+        ``lp_order``) and the signed ``load_centroid`` (fraction of b, see :func:`load_centroid`),
+        in the ``contact`` law (the exact law by default, None the problem's smooth law).
         """
         r = jg.quasi_static(
             self.mesh,
@@ -320,40 +339,49 @@ class Problem(eqx.Module):
             (zero, zero, zero, zero),
         )
 
-    def per_torque(self, x, contact: str = "exact") -> Float[Array, " T"]:
-        """Unscaled objective at each torque (objective units, ``OBJECTIVE_UNITS``)."""
+    def per_torque(self, x, contact: jg.ContactLaw | None = EXACT) -> Float[Array, " T"]:
+        """Unscaled objective at each torque (objective units, ``OBJECTIVE_UNITS``), in the
+        ``contact`` law (the exact law by default, None the problem's smooth law)."""
         mods = self.modifications(x)
         return jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
 
 
 def make_problem(
-    case: jg.Case,
+    scene: jg.MeshModel | jg.Scene,
+    modifications: jg.Modifications,
+    torque,
     variables,
     objective: str = "te_rms",
     *,
     torques=None,
     reduce: str = "max",
     bounds: dict | None = None,
-    positions_per_pitch: int | None = None,
-    slices: int | None = None,
+    positions_per_pitch: int = 64,
     relief_blend: float | None = None,
     end_relief_blend: float | None = None,
-    scene: jg.Scene | None = None,
     lp_order: float = 8.0,
     speed: float = 0.0,
     speeds=None,
-    dynamics: tuple[int, int, int] = (32, 20, 4),
+    contact: jg.SmoothContact | None = None,
+    integrator: Newmark | None = None,
+    window: SteadyState | None = None,
 ) -> Problem:
-    """Build a :class:`Problem` from a case.
+    """Build a :class:`Problem` on model objects (a case file's problem:
+    :func:`jaxgear.io.case_problem`).
 
     Args:
-        case: the case (its modifications are the starting design and hold the fixed values).
+        scene: the structure the quasi-static solve runs on: a :class:`jaxgear.MeshModel` (the
+            rigid mesh) or a scene, e.g. the hybrid scene of
+            :func:`jaxgear.dynamics.static_scene` (condensed bodies).
+        modifications: the starting design; it holds the values that are not variables.
+        torque: the design torque (N·m) > 0: the scale of the objective and of the depths
+            (δ_m, the mean static deflection there).
         variables: design-variable names (see module docstring), or a comma-separated string.
         objective: one of ``OBJECTIVES``.
-        torques: torques (N·m) of ``robust_te_rms``, shape (T,), T >= 1; default case torque.
+        torques: torques (N·m) of ``robust_te_rms``, shape (T,), T >= 1; default ``torque``.
         reduce: "max" (worst case) or "mean" over the torques (robust objective).
         bounds: optional ``{name: (lo, hi)}`` in normalised units (E* for depths, Γ for extents).
-        positions_per_pitch, slices: discretisation (default: the case's).
+        positions_per_pitch: mesh positions per base pitch of the quasi-static objectives.
         relief_blend: rounding of the relief starts in roll-fraction units (see
             ``MemberModification.relief_blend``); default one position step, 1/(P ε_α), which
             makes the sampled objective smooth in the extents. 0 keeps sharp relief starts.
@@ -361,9 +389,6 @@ def make_problem(
             ``MemberModification.end_relief_blend``); default one slice, 1/N, when an end relief
             extent is a design variable (it makes the objective sampled at the slice centres
             smooth in the extent), else 0 (sharp: the design as written).
-        scene: the structure to optimise on (default the case's rigid mesh), e.g. the hybrid
-            scene of :func:`jaxgear.dynamics.static_scene` (condensed bodies): its mesh
-            replaces ``slices``.
         lp_order: p of the ``line_load_lp`` objective, in [1, 64] (default 8).
         speed: pinion speed (rad/s) >= 0 of the quasi-static objectives: the centrifugal loads
             of the scene's condensed bodies (default 0, at rest).
@@ -371,7 +396,11 @@ def make_problem(
             band (needs a ``scene`` with condensed bodies: the hybrid Newmark of
             :func:`jaxgear.dynamics.band_dynamic_factor`, a smooth worst dynamic factor over the
             band, centrifugal loads at each speed).
-        dynamics: (steps per mesh period, periods, kept periods) of that Newmark.
+        contact: the smooth law of the objective and its gradients (default
+            ``SmoothContact(1e-7)``, with 50 Newton steps for ``dynamic_factor``, the hybrid
+            dynamics' cap).
+        integrator, window: the Newmark and the steady-state window of ``dynamic_factor``
+            (default ``Newmark(32)`` and ``SteadyState(20, 4)``).
 
     The ``load_centroid`` objective is c² (:func:`load_centroid`) scaled by ``CENTROID_SCALE``
     = 0.01: (c/0.1)², 1 for a centroid 10 % of the face width off centre (the unmodified pair,
@@ -380,7 +409,7 @@ def make_problem(
     Raises:
         ValueError: unknown variable or objective, duplicated variable, empty torque range,
             bounds crossed, extents outside (0, 1), negative depth bounds, ``lp_order`` outside
-            [1, 64].
+            [1, 64], a contact law that is not smooth, settings that are not settings objects.
     """
     if isinstance(variables, str):
         variables = [v for v in variables.split(",") if v.strip()]
@@ -401,10 +430,10 @@ def make_problem(
         )
     if reduce not in ("mean", "max"):
         raise ValueError(f"reduce = {reduce!r}: allowed 'mean', 'max'")
+    if not float(torque) > 0:
+        raise ValueError(f"torque = {torque!r} N·m is out of range: allowed > 0")
     if torques is None or objective != "robust_te_rms":
-        torques = (
-            np.array([case.torque]) if torques is None or objective != "robust_te_rms" else torques
-        )
+        torques = np.array([float(torque)])
     torques = np.asarray(torques, dtype=float).reshape(-1)
     if torques.size == 0:
         raise ValueError("--torques is empty: give START:STOP:N with N >= 1")
@@ -425,10 +454,22 @@ def make_problem(
         hi.append(b)
     if bounds:
         raise ValueError(f"bounds given for variables not in --vars: {sorted(bounds)}")
-    mesh = case.mesh_model(slices=slices) if scene is None else scene
-    if objective == "dynamic_factor":
+    mesh = scene
+    dynamic = objective == "dynamic_factor"
+    if contact is None:
+        contact = jg.SmoothContact(1e-7, 50 if dynamic else 100)
+    if not isinstance(contact, jg.SmoothContact):
+        raise ValueError(
+            f"contact = {contact!r}: allowed a jaxgear.SmoothContact (the optimiser follows "
+            "the smooth law's gradients)"
+        )
+    integrator = Newmark(32) if integrator is None else integrator
+    window = SteadyState(20, 4) if window is None else window
+    if not isinstance(window, SteadyState):
+        raise ValueError(f"window = {window!r}: allowed a jaxgear.dynamics.SteadyState")
+    if dynamic:
         speeds = np.asarray([] if speeds is None else speeds, dtype=float).reshape(-1)
-        if not hasattr(mesh, "cell_space") or not hasattr(mesh, "members"):
+        if not isinstance(mesh, HybridPair):
             raise ValueError(
                 "--objective dynamic_factor needs a case with condensed bodies ([scene.gear_body] "
                 "or [scene.pinion_body]): the hybrid Newmark runs over the speed band"
@@ -438,13 +479,16 @@ def make_problem(
                 f"--speeds {speeds.tolist()}: the dynamic_factor band needs pinion speeds in "
                 "(0, 1e+05] rad/s"
             )
-        if len(dynamics) != 3 or any(int(v) != v or v < 1 for v in dynamics):
-            raise ValueError(f"dynamics = {dynamics!r}: allowed three integers >= 1")
-    ppp = int(positions_per_pitch or case.positions_per_pitch)
-    unmod = jg.quasi_static(mesh, None, case.torque, speed=speed, positions_per_pitch=ppp)
+        if not isinstance(integrator, Newmark) or integrator.steps_per_period is None:
+            raise ValueError(
+                f"integrator = {integrator!r}: the dynamic_factor objective takes "
+                "Newmark(steps_per_period=N)"
+            )
+    ppp = int(positions_per_pitch)
+    unmod = jg.quasi_static(mesh, None, torque, speed=speed, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
-    delta_m = case.normal_load / k_mean
     mesh_model = mesh if isinstance(mesh, jg.MeshModel) else mesh.mesh
+    delta_m = float(mesh_model.normal_load(torque)) / k_mean
     face_width = float(mesh_model.face_width)
     if objective == "load_centroid":
         scale = CENTROID_SCALE
@@ -461,9 +505,7 @@ def make_problem(
         }[objective]
     # round the relief starts over one position step so that the sampled objective is smooth in
     # the extents (a sharp start makes it kink each time the start crosses a sampled point)
-    blend = (
-        1.0 / (ppp * case.pair.transverse_contact_ratio) if relief_blend is None else relief_blend
-    )
+    blend = 1.0 / (ppp * float(mesh_model.contact_ratio)) if relief_blend is None else relief_blend
     # likewise the end relief start over one slice when its extent is a variable (the sampled
     # objective kinks each time the start crosses a slice centre)
     end_blend = end_relief_blend
@@ -477,19 +519,19 @@ def make_problem(
             m.pinion.end_relief_blend,
             m.gear.end_relief_blend,
         ),
-        case.modifications,
+        jg.Modifications() if modifications is None else modifications,
         tuple(jnp.asarray(v) for v in (blend, blend, end_blend, end_blend)),
     )
     return Problem(
         mesh=mesh,
         base=base,
         torques=jnp.asarray(torques),
-        design_torque=jnp.asarray(case.torque),
+        design_torque=jnp.asarray(float(torque)),
         delta_m=jnp.asarray(delta_m),
         scale=jnp.asarray(float(scale)),
         lower=jnp.asarray(lo),
         upper=jnp.asarray(hi),
-        width=jnp.asarray(case.smooth_width),
+        contact=contact.astype(jnp.asarray(delta_m).dtype),
         face_width=jnp.asarray(face_width),
         lp_order=jnp.asarray(lp_order),
         speed=jnp.asarray(float(speed)),
@@ -497,8 +539,9 @@ def make_problem(
         objective=objective,
         reduce=reduce,
         positions_per_pitch=ppp,
-        speeds=jnp.asarray(speeds) if objective == "dynamic_factor" else None,
-        dynamics=tuple(int(v) for v in dynamics) if objective == "dynamic_factor" else (),
+        speeds=jnp.asarray(speeds) if dynamic else None,
+        integrator=integrator if dynamic else None,
+        window=window if dynamic else None,
     )
 
 

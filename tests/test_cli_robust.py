@@ -381,11 +381,11 @@ def test_optimise_clears_stale_files_warns_at_the_cap_and_stores_values(khk, tmp
 def test_iteration_cap_warns_in_the_library():
     import jaxgear as jg
     import optimise as op
-    from jaxgear.io import load_case
+    from jaxgear.io import case_problem, load_case
 
     del jg
     case = load_case("accessory-spur").replace(slices=4, positions_per_pitch=16)
-    problem = op.make_problem(case, "tip_relief.depth", "te_rms")
+    problem = case_problem(case, "tip_relief.depth", "te_rms")
     with pytest.warns(UserWarning, match=r"iteration cap \(1\) before convergence"):
         r = op.minimise(problem, [0.2], max_iterations=1, progress=False)
     assert r.converged is False and r.iterations == 1
@@ -393,11 +393,11 @@ def test_iteration_cap_warns_in_the_library():
 
 def test_master_curve_flags_points_on_a_bound():
     import optimise as op
-    from jaxgear.io import load_case
+    from jaxgear.io import case_problem, load_case
 
     case = load_case("accessory-spur").replace(slices=4, positions_per_pitch=16)
     # the depth interval stops well below the optimum depth (about one mean deflection)
-    problem = op.make_problem(
+    problem = case_problem(
         case,
         "tip_relief.depth,tip_relief.extent",
         "te_rms",

@@ -351,7 +351,7 @@ def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):
     )
     case = case.replace(modifications=mods)
     scene = static_scene(case)[0]
-    problem = optimise.make_problem(
+    problem = jio.case_problem(
         case, "crowning.depth", "max_line_load", scene=scene, speed=3000.0, positions_per_pitch=16
     )
     res = optimise.minimise(problem, np.array([0.5]), max_iterations=60, progress=False)
@@ -360,10 +360,14 @@ def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):
         problem,
         (jnp.asarray(0.0), jnp.asarray(0.0)),
     )
-    best = float(sharp.value(jnp.asarray(res.x), "exact"))
+    best = float(sharp.value(jnp.asarray(res.x), jg.ExactContact()))
     depths = np.arange(0.0, 6.01, 0.25)
     grid = [
-        float(sharp.value(jnp.asarray(problem.from_physical({"crowning.depth": d})), "exact"))
+        float(
+            sharp.value(
+                jnp.asarray(problem.from_physical({"crowning.depth": d})), jg.ExactContact()
+            )
+        )
         for d in depths
     ]
     assert best <= min(grid) * 1.01

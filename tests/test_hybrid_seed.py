@@ -125,7 +125,7 @@ def test_power_crowning_optimum_at_speed(cache):
 
     case = jio.load_case("power-helical-flexible")
     scene, _ = static_scene(case)
-    problem = optimise.make_problem(
+    problem = jio.case_problem(
         case, "crowning.depth", "max_line_load", scene=scene, speed=3000.0, relief_blend=0.0
     )
     res = optimise.minimise(problem, np.array([0.3]), progress=False)

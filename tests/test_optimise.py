@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from _toml import ACCESSORY_PAIR
 
+import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
 
@@ -19,7 +20,7 @@ def case():
 
 @pytest.fixture(scope="module")
 def problem(case):
-    return op.make_problem(
+    return jio.case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP
     )
 
@@ -43,7 +44,7 @@ def test_objective_gradients_match_central_differences(case, objective, variable
     c = case
     if objective == "max_line_load":
         c = jio.load_case("power-helical").replace(slices=8)
-    p = op.make_problem(
+    p = jio.case_problem(
         c,
         variables,
         objective,
@@ -52,8 +53,8 @@ def test_objective_gradients_match_central_differences(case, objective, variable
         reduce="mean",
     )
     x = np.asarray(x, dtype=float)
-    f = jax.jit(lambda v: p.value(v, "smooth"))
-    g = np.asarray(jax.grad(lambda v: p.value(v, "smooth"))(jnp.asarray(x)))
+    f = jax.jit(lambda v: p.value(v))
+    g = np.asarray(jax.grad(lambda v: p.value(v))(jnp.asarray(x)))
     for i in range(x.size):
         fd = _fd(f, x, i, 1e-5)
         assert g[i] == pytest.approx(fd, rel=1e-5, abs=1e-9), (objective, i, g[i], fd)
@@ -67,7 +68,7 @@ def test_master_curve_matches_zero_fluctuation_family(case):
     Measured: relative error in E* 2e-4 – 5e-4, TE RMS / unmodified 7e-7 – 1.9e-4 (64 positions).
     """
     c = case.replace(stiffness_model="uniform", uniform_k0=13e9)
-    p = op.make_problem(
+    p = jio.case_problem(
         c,
         "tip_relief.depth,tip_relief.extent",
         "te_rms",
@@ -84,15 +85,15 @@ def test_master_curve_matches_zero_fluctuation_family(case):
     assert np.all(mc["te_rms_exact_m"] < 3e-4 * float(p.scale))
     # and the zero-fluctuation point is a true minimum: E ± 5 % is worse
     for g, e in zip(extents[:2], mc["depth_star"][:2]):
-        v0 = float(p.value(jnp.array([e, g]), "exact"))
-        assert v0 < float(p.value(jnp.array([1.05 * e, g]), "exact"))
-        assert v0 < float(p.value(jnp.array([0.95 * e, g]), "exact"))
+        v0 = float(p.value(jnp.array([e, g]), jg.ExactContact()))
+        assert v0 < float(p.value(jnp.array([1.05 * e, g]), jg.ExactContact()))
+        assert v0 < float(p.value(jnp.array([0.95 * e, g]), jg.ExactContact()))
 
 
 def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
     E = np.linspace(0.5, 2.0, 41)
     G = np.linspace(0.15, 0.45, 41)
-    grid = op.contour_map(problem, G, E, "smooth")
+    grid = op.contour_map(problem, G, E, None)
     k = np.unravel_index(np.argmin(grid), grid.shape)
     best = np.array([E[k[1]], G[k[0]]])
     evals = []
@@ -108,10 +109,10 @@ def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     torques = np.linspace(40.0, 120.0, 5)
-    single = op.make_problem(
+    single = jio.case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=PPP
     )
-    robust = op.make_problem(
+    robust = jio.case_problem(
         case,
         "tip_relief.depth,tip_relief.extent",
         "robust_te_rms",
@@ -122,13 +123,11 @@ def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     rs = op.minimise(single, [1.0, 0.3], progress=False)
     rr = op.minimise(robust, [1.0, 0.3], progress=False, max_iterations=200)
     # compare both designs on the same torque range, exact contact
-    worst_single = float(np.max(robust.per_torque(jnp.asarray(rs.x), "exact")))
-    worst_robust = float(np.max(robust.per_torque(jnp.asarray(rr.x), "exact")))
+    worst_single = float(np.max(robust.per_torque(jnp.asarray(rs.x), jg.ExactContact())))
+    worst_robust = float(np.max(robust.per_torque(jnp.asarray(rr.x), jg.ExactContact())))
     assert worst_robust < worst_single
     # and the single-load optimum is better at its own design load
-    assert float(single.value(jnp.asarray(rs.x), "smooth")) <= float(
-        single.value(jnp.asarray(rr.x), "smooth")
-    )
+    assert float(single.value(jnp.asarray(rs.x))) <= float(single.value(jnp.asarray(rr.x)))
 
 
 @pytest.mark.parametrize(
@@ -152,7 +151,51 @@ def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
 def test_bad_inputs_give_clear_errors(case, kwargs, needle):
     variables = kwargs.pop("variables")
     with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
-        op.make_problem(case, variables, positions_per_pitch=PPP, **kwargs)
+        jio.case_problem(case, variables, positions_per_pitch=PPP, **kwargs)
+
+
+def test_problem_on_model_objects(case, problem):
+    """make_problem on the mesh, modifications and torque gives the case's problem: δ_m = F_n/K̄
+    from the scene's normal load, the same objective in the smooth and the exact law."""
+    mesh = case.mesh_model()
+    p = op.make_problem(
+        mesh,
+        case.modifications,
+        case.torque,
+        "tip_relief.depth,tip_relief.extent",
+        "te_rms",
+        positions_per_pitch=PPP,
+        contact=jg.SmoothContact(case.smooth_width),
+    )
+    k_mean = float(
+        jnp.mean(jg.quasi_static(mesh, None, case.torque, positions_per_pitch=PPP).mesh_stiffness)
+    )
+    assert float(p.delta_m) == pytest.approx(case.normal_load / k_mean, rel=1e-12)
+    x = jnp.asarray([1.0, 0.3])
+    for law in (None, jg.ExactContact()):
+        assert float(p.value(x, law)) == pytest.approx(float(problem.value(x, law)), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "settings,needle",
+    [
+        (dict(contact=jg.ExactContact()), "contact = ExactContact"),
+        (dict(contact="smooth"), "contact = 'smooth'"),
+        (dict(window=(20, 4)), "window = (20, 4)"),
+    ],
+)
+def test_problem_settings_are_objects(case, settings, needle):
+    mesh = case.mesh_model()
+    args = (mesh, case.modifications, case.torque, "tip_relief.depth")
+    with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
+        op.make_problem(*args, positions_per_pitch=8, **settings)
+    with pytest.raises(ValueError, match="torque = -1.0 N·m is out of range"):
+        op.make_problem(mesh, case.modifications, -1.0, "tip_relief.depth")
+
+
+def test_problem_evaluation_refuses_a_mode_string(problem):
+    with pytest.raises(ValueError, match="contact = 'exact': allowed jaxgear.ExactContact"):
+        problem.value(jnp.asarray([1.0, 0.3]), "exact")
 
 
 def test_parse_range_errors():

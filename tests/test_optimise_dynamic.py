@@ -14,11 +14,11 @@ import pytest
 import fem_prep
 import optimise
 from jaxgear import io as jio
-from jaxgear.dynamics import static_scene
+from jaxgear.dynamics import Newmark, SteadyState, static_scene
 
 DATA = pathlib.Path(__file__).parent / "data"
 SPEEDS = [1200.0, 1600.0]
-DYN = (16, 8, 2)  # steps per mesh period, periods, kept periods: small for the tests
+DYN = dict(integrator=Newmark(16), window=SteadyState(8, 2))  # small for the tests
 
 
 @pytest.fixture(scope="module")
@@ -26,8 +26,8 @@ def problem(fem_prep_cache):
     case = jio.load_case(DATA / "hybrid-test-case.toml")
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     scene = static_scene(case, bodies=(None, body))[0]
-    return optimise.make_problem(
-        case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=SPEEDS, dynamics=DYN
+    return jio.case_problem(
+        case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=SPEEDS, **DYN
     )
 
 
@@ -38,9 +38,9 @@ def test_dynamic_factor_gradient_matches_finite_differences(problem):
     import jax
 
     x = jnp.asarray([0.5])
-    g = float(jax.grad(lambda v: problem.value(v, "smooth"))(x)[0])
+    g = float(jax.grad(lambda v: problem.value(v))(x)[0])
     h = 1e-4
-    fd = (float(problem.value(x + h, "smooth")) - float(problem.value(x - h, "smooth"))) / (2 * h)
+    fd = (float(problem.value(x + h)) - float(problem.value(x - h))) / (2 * h)
     assert g == pytest.approx(fd, rel=1e-4)
     assert abs(g) > 1e-3  # the relief does move the dynamic factor
 
@@ -48,11 +48,9 @@ def test_dynamic_factor_gradient_matches_finite_differences(problem):
 def test_dynamic_factor_objective_needs_a_band_and_a_hybrid_scene(problem):
     case = jio.load_case(DATA / "hybrid-test-case.toml")
     with pytest.raises(ValueError, match="condensed bodies"):
-        optimise.make_problem(case, "tip_relief.depth", "dynamic_factor", speeds=SPEEDS)
+        jio.case_problem(case, "tip_relief.depth", "dynamic_factor", speeds=SPEEDS)
     with pytest.raises(ValueError, match="--speeds"):
-        optimise.make_problem(
-            case, "tip_relief.depth", "dynamic_factor", scene=problem.mesh, speeds=[]
-        )
+        jio.case_problem(case, "tip_relief.depth", "dynamic_factor", scene=problem.mesh, speeds=[])
 
 
 def test_cli_dynamic_factor_errors(tmp_path, capsys):
@@ -75,7 +73,7 @@ def test_dynamic_factor_optimum_matches_a_grid_scan(problem):
     landscape is flat within 1 % with a shallow second minimum, where L-BFGS stops)."""
     res = optimise.minimise(problem, np.array([0.5]), max_iterations=30, progress=False)
     grid = np.linspace(0.0, 3.0, 13)
-    vals = [float(problem.value(jnp.asarray([v]), "smooth")) for v in grid]
-    best = float(problem.value(jnp.asarray(res.x), "smooth"))
+    vals = [float(problem.value(jnp.asarray([v]))) for v in grid]
+    best = float(problem.value(jnp.asarray(res.x)))
     assert best <= 1.01 * min(vals)
     assert best < 0.9 * float(res.value0)

@@ -203,16 +203,16 @@ def test_design_variable_gradients_match_central_differences_in_exact_contact(hy
     hybrid scene at 3000 rad/s: against central differences (h = 1e-6 in normalised units)."""
     case, scene = hybrid
     ppp = 8
-    pc = op.make_problem(
+    pc = jio.case_problem(
         case, VARS, "load_centroid", scene=scene, speed=3000.0, positions_per_pitch=ppp
     )
     x0 = jnp.asarray(pc.from_physical(DESIGN_UM))
 
     def f(x):
-        m = pc.metrics(x, "exact")
+        m = pc.metrics(x, jg.ExactContact())
         return jnp.stack(
             [
-                pc.value(x, "exact"),
+                pc.value(x, jg.ExactContact()),
                 m["line_load_lp_N_per_m"] / 1e5,
                 m["load_centroid"] * 10.0,
                 m["max_line_load_N_per_m"] / 1e5,
@@ -231,7 +231,7 @@ def test_design_variable_gradients_match_central_differences_in_exact_contact(hy
     # none trivially zero: every variable moves the centroid and the L_p norm
     assert np.all(np.abs(J[1]) > 1e-4), J[1]
     assert np.all(np.abs(J[2]) > 1e-4), J[2]
-    assert float(pc.value(x0, "exact")) > 1.0  # the design's centroid is off centre
+    assert float(pc.value(x0, jg.ExactContact())) > 1.0  # the design's centroid is off centre
 
 
 def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
@@ -240,7 +240,7 @@ def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
     then exact) centres the load, at the zero crossing of c(E) from a grid scan in exact contact
     (E* = E/δ_m in [0, 8], steps of 0.25)."""
     case, scene = hybrid
-    p = op.make_problem(
+    p = jio.case_problem(
         case,
         "pinion.end_relief.depth",
         "load_centroid",

@@ -120,7 +120,7 @@ def test_quasi_static_failure_raises_or_returns_a_code():
 @pytest.fixture(scope="module")
 def accessory_problem():
     case = jio.load_case("accessory-spur").replace(slices=4)
-    return op.make_problem(
+    return jio.case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=64, relief_blend=0
     )
 
@@ -129,7 +129,7 @@ def test_objective_normalisation_and_default_bounds(accessory_problem):
     """README "Objectives": "Each is divided by its unmodified value at the design torque, so 1 =
     no improvement"; "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]"."""
     p = accessory_problem
-    assert float(p.value(jnp.array([0.0, 0.3]), "exact")) == pytest.approx(1.0, rel=1e-9)
+    assert float(p.value(jnp.array([0.0, 0.3]), jg.ExactContact())) == pytest.approx(1.0, rel=1e-9)
     np.testing.assert_array_equal(np.asarray(p.lower), [0.0, 0.02])
     np.testing.assert_array_equal(np.asarray(p.upper), [3.0, 0.98])
 
@@ -145,7 +145,7 @@ def test_te_rms_landscape_has_two_valleys(accessory_problem):
     dm = float(p.delta_m)
     G = np.round(np.arange(0.15, 0.851, 0.01), 2)
     E = np.arange(0.0, 40.01e-6, 0.5e-6)
-    grid = op.contour_map(p, G, E / dm, "exact")
+    grid = op.contour_map(p, G, E / dm, jg.ExactContact())
     valleys = []
     for m in (G < 0.5, G > 0.5):
         sub = grid[m]

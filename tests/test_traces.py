@@ -52,10 +52,9 @@ def test_simulate_traces_once_for_new_speeds():
 
 
 def _tip_relief_problem(variables):
-    import optimise as op
 
     case = jio.load_case("accessory-spur").replace(slices=3, positions_per_pitch=16)
-    return op.make_problem(case, variables, "te_rms", relief_blend=0.0)
+    return jio.case_problem(case, variables, "te_rms", relief_blend=0.0)
 
 
 def test_minimise_traces_once_for_new_starts_tolerances_and_caps():

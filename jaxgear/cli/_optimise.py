@@ -16,13 +16,12 @@ from optimise import (
     OBJECTIVES,
     VARIABLES,
     contour_map,
-    make_problem,
     master_curve,
     minimise,
     zero_fluctuation_depth,
 )
 
-from ..io import atomic_open, load_case, write_json
+from ..io import atomic_open, case_problem, load_case, write_json
 from . import _plots
 from ._options import parse_range, range_values
 
@@ -127,7 +126,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         scene, _ = static_scene(case)
     if settings.get("speeds"):
         speeds = range_values(settings["speeds"], "--speeds", positive=True)
-    problem = make_problem(
+    problem = case_problem(
         case,
         settings["vars"],
         settings["objective"],
@@ -201,8 +200,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     units = OBJECTIVE_UNITS[problem.objective]
     # each evaluation compiled once and called for the start and the optimum (eager calls of the
     # vmapped solve would trace it again each time)
-    metrics = eqx.filter_jit(lambda x: sharp.metrics(x, "exact"))
-    exact_value = eqx.filter_jit(lambda x: sharp.value(x, "exact"))
+    metrics = eqx.filter_jit(lambda x: sharp.metrics(x, jg.ExactContact()))
+    exact_value = eqx.filter_jit(lambda x: sharp.value(x, jg.ExactContact()))
 
     def exact_metrics(x):
         m = {k: float(v) for k, v in metrics(jnp.asarray(x)).items()}
@@ -302,7 +301,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         i_g = 1 - i_d
         G = np.linspace(float(problem.lower[i_g]), float(problem.upper[i_g]), 41)
         E = np.linspace(float(problem.lower[i_d]), float(problem.upper[i_d]), 41)
-        grid = contour_map(problem, G, E, "smooth")
+        grid = contour_map(problem, G, E, None)
         post.update()
         dm = float(problem.delta_m) * 1e6
         _plots.optimiser_path_plot(
@@ -456,7 +455,7 @@ def run_optimise(args) -> int:
 def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = True) -> dict:
     """Master Curve and contour map for a case; writes master_curve.json and master_curve.png."""
     t0 = time.perf_counter()
-    problem = make_problem(
+    problem = case_problem(
         case,
         "tip_relief.depth,tip_relief.extent",
         "te_rms",
@@ -478,7 +477,7 @@ def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = Tru
     )
     G = np.linspace(min(0.02, mc["extent"].min()), max(0.7, mc["extent"].max()), 41)
     E = np.linspace(0.0, 4.0, 41)
-    grid = contour_map(problem, G, E, "exact") * float(problem.scale)
+    grid = contour_map(problem, G, E, jg.ExactContact()) * float(problem.scale)
     bar.update()
     bar.close()
     report = {

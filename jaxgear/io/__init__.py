@@ -1,5 +1,5 @@
 """Case files and output files: loading and validating cases (TOML, units in key names), the
-embedded cases, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
+embedded cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
 
 from ._case_file import (
     CaseWarning as CaseWarning,
@@ -12,6 +12,7 @@ from ._case_file import (
     parse_optimise as parse_optimise,
     plausibility as plausibility,
 )
+from ._problem import case_problem as case_problem
 from ._scene_table import parse_scene as parse_scene
 from ._writers import (
     atomic_open as atomic_open,
