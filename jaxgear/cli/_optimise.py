@@ -5,10 +5,12 @@ from __future__ import annotations
 import json
 import os
 import time
+import warnings
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
+from tqdm.auto import tqdm
 
 import jaxgear as jg
 from optimise import (
@@ -21,9 +23,11 @@ from optimise import (
     zero_fluctuation_depth,
 )
 
+from ..dynamics import static_scene
 from ..io import atomic_open, case_problem, load_case, write_json
 from . import _plots
 from ._options import parse_range, range_values
+from ._paths import check_output_dir, clear_outputs
 
 __all__ = ["PARTIAL", "add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
 
@@ -120,8 +124,6 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     scene = None
     speeds = None
     if settings.get("speed") is not None or settings.get("speeds"):
-        from ..dynamics import static_scene
-
         # the hybrid scene (loaded at --speed; the dynamic_factor band sets its own speeds)
         scene, _ = static_scene(case)
     if settings.get("speeds"):
@@ -185,8 +187,6 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         parameters=problem.to_physical(res.x),
     )
     write_json(partial, marker)
-    from tqdm.auto import tqdm
-
     two_d = sorted(
         n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
     ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp")
@@ -332,7 +332,6 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
 def _warn_idle_extents(case: jg.Case, names) -> None:
     """Warn about an extent variable whose relief has no depth in the case and no depth variable:
     its gradient is zero and the optimiser leaves it where it starts."""
-    import warnings
 
     def split(n):
         who = n.split(".", 1)[0] if n.startswith(("pinion.", "gear.")) else "both"
@@ -425,8 +424,6 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
 
 
 def run_optimise(args) -> int:
-    from ._paths import check_output_dir, clear_outputs
-
     case = load_case(args.case)
     settings = check_settings(settings_from_case(case, args), case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
@@ -462,8 +459,6 @@ def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = Tru
         relief_blend=0.0,
         bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
     )
-    from tqdm.auto import tqdm
-
     bar = tqdm(total=2, desc="master curve: optimum per extent, 41×41 map", disable=not progress)
     mc = master_curve(problem, extents)
     bar.update()
@@ -533,8 +528,6 @@ def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = Tru
 
 
 def run_master_curve(args) -> int:
-    from ._paths import check_output_dir, clear_outputs
-
     extents = range_values(args.extents, "--extents")
     case = load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))
