@@ -23,7 +23,7 @@ from typing import Any
 from . import schema as sc
 
 __all__ = [
-    "Bearing",
+    "BearingSeat",
     "Body",
     "Condensation",
     "Geometry",
@@ -92,8 +92,10 @@ class Geometry:
 
 
 @dataclass(frozen=True)
-class Bearing:
-    """A 6-DOF bearing node on the axis at ``axial_position`` (m), coupled to the bore surface.
+class BearingSeat:
+    """Where a bearing holds the body: a 6-DOF bearing node on the axis at ``axial_position``
+    (m), coupled to the bore surface. The bearing's stiffness and damping are not part of the
+    body: the scene gives them (:class:`jaxgear.scenes.Bearing`, the case's ``[scene]``).
 
     Every bore node whose axial position lies in ``band`` (m, ``(z_min, z_max)``) is coupled to
     the bearing node (``coupling``: ``"rigid"`` or ``"averaging"``, see ``_condense``).  The band
@@ -175,7 +177,7 @@ class Body:
 
     name: str
     geometry: Geometry
-    bearings: tuple[Bearing, ...]
+    bearings: tuple[BearingSeat, ...]
     material: Material
     mesh: MeshSettings
     condensation: Condensation
@@ -426,7 +428,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
 
 def _bearing_bands(
     raw: list[tuple[float, str, float | None]], g: Geometry, hub_w: float
-) -> list[Bearing]:
+) -> list[BearingSeat]:
     """Resolve each bearing's coupled band (file units in, SI out; see ``docs/fem_prep.md``).
 
     The bore runs over the hub and the shaft stubs: from ``min(hub start, bearings)`` to
@@ -464,7 +466,8 @@ def _bearing_bands(
             )
     mm = 1e-3
     return [
-        Bearing(p * mm, c, w * mm, (b0 * mm, b1 * mm)) for (p, c, _), (w, b0, b1) in zip(raw, bands)
+        BearingSeat(p * mm, c, w * mm, (b0 * mm, b1 * mm))
+        for (p, c, _), (w, b0, b1) in zip(raw, bands)
     ]
 
 

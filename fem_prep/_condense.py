@@ -14,7 +14,7 @@ interior DOFs ``i``.
   needed because the rigid-body motion is exactly represented by the constraint modes.
 
 Bearings are 6-DOF nodes on the axis coupled to every bore node of an axial band (the bearing
-width, ``Bearing.z_band``) by a kinematic transformation ``u = T q``: rigid (every band node
+width, ``BearingSeat.z_band``) by a kinematic transformation ``u = T q``: rigid (every band node
 follows the rigid motion of the bearing node, a clamped bore over the bearing width) or
 averaging (RBE3-like: the bearing node moves as the least-squares rigid fit of the band; six
 band DOFs are eliminated).  Coupling a whole band rather than one node ring makes the support a
@@ -73,7 +73,7 @@ class MasterSet:
             angle ``2 pi k / teeth`` from the x axis, axial positions increasing.
         bearing_positions: bearing node coordinates ``(n_bearings, 3)`` (m), on the axis.
         bearing_rings: for each bearing, the bore node indices it is coupled to (every bore node
-            of its axial band, ``Bearing.z_band`` snapped to the nearest bore-node planes).
+            of its axial band, ``BearingSeat.z_band`` snapped to the nearest bore-node planes).
         couplings: ``"rigid"`` or ``"averaging"`` per bearing.
     """
 

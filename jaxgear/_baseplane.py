@@ -13,16 +13,17 @@ with a mask for the cells inside [0, g_α], so shapes never change under jit.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Bool, Float
+from jaxtyping import Array, Bool, Float, Int
 
 from ._geometry import GearPair
 from ._util import as_float
 
-__all__ = ["Cells", "MeshModel"]
+__all__ = ["CellRow", "Cells", "MeshModel"]
 
 
 def _interp_uniform(x, xp, fp):
@@ -57,6 +58,40 @@ class Cells(eqx.Module):
     mask: Bool[Array, "n_lines n_slices"]
     line: Float[Array, "n_lines n_slices"]
     theta: Float[Array, ""]
+
+
+class CellRow(NamedTuple):
+    """The cells of one mesh position flattened for the contact solvers (c = n_lines·n_slices
+    cells, in the order of :class:`Cells`' arrays read row by row).
+
+    Attributes:
+        idx: the window W of coordinates the cells see, (w,) int, or None: all coordinates.
+        V: structure vectors on the window (m per unit coordinate), (c, w) (w = n for None).
+        k: cell stiffness per unit length (N/m²), (c,). length: cell length (m), (c,).
+        delta0: initial separation δ0 (m), (c,).
+        mask: cells on the flanks, (c,).
+    """
+
+    idx: Int[Array, " w"] | None
+    V: Float[Array, "c w"]
+    k: Float[Array, " c"]
+    length: Float[Array, " c"]
+    delta0: Float[Array, " c"]
+    mask: Bool[Array, " c"]
+
+    @classmethod
+    def of(cls, cells: Cells, V, delta0, idx=None) -> CellRow:
+        """Flatten ``cells`` (n_lines, n_slices) with their structure vectors ``V``
+        (n_lines, n_slices, w) or (c, w) and initial separations ``delta0`` (n_lines, n_slices)
+        (m) on the window ``idx`` (None: all coordinates)."""
+        return cls(
+            idx,
+            V.reshape(-1, V.shape[-1]),
+            cells.stiffness.reshape(-1),
+            cells.length.reshape(-1),
+            delta0.reshape(-1),
+            cells.mask.reshape(-1),
+        )
 
 
 class MeshModel(eqx.Module):

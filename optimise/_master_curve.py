@@ -125,7 +125,7 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
     lo_g, hi_g = float(problem.lower[i_g]), float(problem.upper[i_g])
     if extents.size == 0 or np.any(extents < lo_g) or np.any(extents > hi_g):
         raise ValueError(
-            f"--extents {extents.tolist()} must be non-empty and inside ({lo_g}, {hi_g})"
+            f"extents = {extents.tolist()}: must be non-empty and inside ({lo_g}, {hi_g})"
         )
     lo_e, hi_e = float(problem.lower[i_d]), float(problem.upper[i_d])
     depths = np.linspace(lo_e, hi_e, 41) if coarse_depths is None else np.asarray(coarse_depths)

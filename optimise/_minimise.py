@@ -22,6 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import optimistix as optx
+from tqdm.auto import tqdm
 
 from ._problem import Problem
 
@@ -216,8 +217,6 @@ def minimise(
             f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}"
         )
     t0 = time.perf_counter()
-    from tqdm.auto import tqdm  # progress only; imported on use
-
     bar = tqdm(total=max_iterations, desc=f"optimise ({method})", disable=not progress)
     with _LOCK:
         run = next(_RUN_IDS)

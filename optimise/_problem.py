@@ -90,7 +90,7 @@ def _split(name: str) -> tuple[tuple[str, ...], str]:
     if base not in VARIABLES:
         allowed = ", ".join(sorted(VARIABLES))
         raise ValueError(
-            f"--vars {name!r}: unknown design variable, allowed {allowed}, optionally "
+            f"variables: {name!r} is an unknown design variable, allowed {allowed}, optionally "
             "prefixed by 'pinion.' or 'gear.'"
         )
     return members, base
@@ -415,17 +415,17 @@ def make_problem(
         variables = [v for v in variables.split(",") if v.strip()]
     names = tuple(v.strip() for v in variables)
     if not names:
-        raise ValueError("--vars is empty: give at least one design variable")
+        raise ValueError("variables is empty: give at least one design variable")
     if len(set(names)) != len(names):
-        raise ValueError(f"--vars {','.join(names)} names a variable twice")
+        raise ValueError(f"variables = {','.join(names)!r} names a variable twice")
     for n in names:
         _split(n)
     if objective not in OBJECTIVES:
-        raise ValueError(f"--objective {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
+        raise ValueError(f"objective = {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
     lp_order = float(lp_order)
     if not LP_ORDER_RANGE[0] <= lp_order <= LP_ORDER_RANGE[1]:
         raise ValueError(
-            f"--lp-order {lp_order:g}: out of range, allowed [{LP_ORDER_RANGE[0]:g}, "
+            f"lp_order = {lp_order:g}: out of range, allowed [{LP_ORDER_RANGE[0]:g}, "
             f"{LP_ORDER_RANGE[1]:g}]"
         )
     if reduce not in ("mean", "max"):
@@ -436,9 +436,9 @@ def make_problem(
         torques = np.array([float(torque)])
     torques = np.asarray(torques, dtype=float).reshape(-1)
     if torques.size == 0:
-        raise ValueError("--torques is empty: give START:STOP:N with N >= 1")
+        raise ValueError("torques is empty: give at least one torque (N·m)")
     if np.any(torques <= 0):
-        raise ValueError(f"--torques {torques.tolist()} must all be > 0 N·m")
+        raise ValueError(f"torques = {torques.tolist()} N·m: allowed > 0 N·m only")
     lo, hi = [], []
     bounds = dict(bounds or {})
     for n in names:
@@ -453,7 +453,7 @@ def make_problem(
         lo.append(a)
         hi.append(b)
     if bounds:
-        raise ValueError(f"bounds given for variables not in --vars: {sorted(bounds)}")
+        raise ValueError(f"bounds given for names not in variables: {sorted(bounds)}")
     mesh = scene
     dynamic = objective == "dynamic_factor"
     if contact is None:
@@ -471,12 +471,12 @@ def make_problem(
         speeds = np.asarray([] if speeds is None else speeds, dtype=float).reshape(-1)
         if not isinstance(mesh, HybridPair):
             raise ValueError(
-                "--objective dynamic_factor needs a case with condensed bodies ([scene.gear_body] "
-                "or [scene.pinion_body]): the hybrid Newmark runs over the speed band"
+                "objective = 'dynamic_factor' needs a scene with condensed bodies (a "
+                "jaxgear.scenes.HybridPair): the hybrid Newmark runs over the speed band"
             )
         if speeds.size == 0 or np.any(~(speeds > 0)) or np.any(speeds > 1e5):
             raise ValueError(
-                f"--speeds {speeds.tolist()}: the dynamic_factor band needs pinion speeds in "
+                f"speeds = {speeds.tolist()} rad/s: the dynamic_factor band needs pinion speeds in "
                 "(0, 1e+05] rad/s"
             )
         if not isinstance(integrator, Newmark) or integrator.steps_per_period is None:

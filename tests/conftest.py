@@ -1,9 +1,10 @@
-"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; a
-module-scoped fresh fem_prep cache for the tests that condense bodies; JAX's compiled
-executables released after each test module."""
+"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one fresh
+fem_prep cache for the session's condensed test bodies; JAX's compiled executables released
+between families of test modules."""
 
 import gc
 import os
+import re
 
 import pytest
 
@@ -15,23 +16,39 @@ jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def fem_prep_cache(tmp_path_factory):
-    """A fresh ``$FEM_PREP_CACHE`` for one test module: its bodies are condensed once there and
-    never go to (or come from) the user's cache."""
+    """A fresh ``$FEM_PREP_CACHE`` for the test session: the test bodies are condensed once
+    there (the first module that asks) and never go to (or come from) the user's cache. Tests
+    of the cache itself (a miss, a hit, a stale entry) set their own."""
     with pytest.MonkeyPatch.context() as mp:
         path = tmp_path_factory.mktemp("fem_prep_cache")
         mp.setenv("FEM_PREP_CACHE", str(path))
         yield path
 
 
+def _family(module) -> str:
+    """A module's family: ``test_hybrid_dynamics`` → ``hybrid`` (modules of one family compile
+    the same programs: the same cases, scenes and settings)."""
+    name = module.__name__.rsplit(".", 1)[-1]
+    return re.sub(r"^test_", "", name).split("_")[0]
+
+
+_last_family = [None]
+
+
 @pytest.fixture(scope="module", autouse=True)
-def _release_compiled_code():
-    """Drop JAX's compilation caches after each test module.
+def _release_compiled_code(request):
+    """Drop JAX's compilation caches when a new family of test modules starts.
 
     One process runs the whole suite: every compiled XLA executable keeps its code mapped, and
     after about 400 tests a compilation on the 2-core CI machine died with a segmentation fault
-    inside XLA (vm.max_map_count is 65530 there). Each module recompiles what it needs."""
+    inside XLA (vm.max_map_count is 65530 there). The modules of one family (pytest runs them
+    one after the other: ``test_hybrid``, ``test_hybrid_composite``, ``test_hybrid_dynamics``,
+    …) share their compiled programs; each family recompiles what it needs."""
+    family = _family(request.module)
+    if _last_family[0] is not None and family != _last_family[0]:
+        jax.clear_caches()
+        gc.collect()
+    _last_family[0] = family
     yield
-    jax.clear_caches()
-    gc.collect()

@@ -1,6 +1,6 @@
 """jaxgear's quasi-static solver against the independent NumPy/brentq baseline of benchmarks/.
 
-Both compute the rigid-mesh TE curve of DESIGN.md §2-§5; they share only the geometry and the
+Both compute the rigid-mesh TE curve of docs/design.md; they share only the geometry and the
 stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
 """
 

@@ -1,4 +1,4 @@
-"""6×6 bearing stiffness and damping matrices (issue 12): case-file keys, checks, assembly into
+"""6×6 bearing stiffness and damping matrices: case-file keys, checks, assembly into
 the lumped and hybrid scenes' K, and the bearing damping in the dynamic model's C.
 
 References: the diagonal radial/axial/tilt keys (the same K bit for bit, the same quasi-static

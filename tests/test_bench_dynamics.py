@@ -25,6 +25,7 @@ def _check(saved, numba):
         assert nb == [{"method": "Numba Newmark", "skipped": "numba not installed"}]
 
 
+@pytest.mark.slow
 def test_bench_dynamics_quick_without_numba(tmp_path):
     out = bench_dynamics(
         tmp_path, quick=True, progress=False, verbose=False, stability=False, numba=False

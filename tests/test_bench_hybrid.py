@@ -9,12 +9,15 @@ from __future__ import annotations
 import json
 import pathlib
 
+import pytest
+
 from benchmarks import bench_hybrid
 from jaxgear.cli import OUTPUT_FILES
 
 CASE = pathlib.Path(__file__).parent / "data" / "hybrid-test-case.toml"
 
 
+@pytest.mark.slow
 def test_bench_hybrid_quick(tmp_path, monkeypatch):
     monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "fem_prep_cache"))
     out_dir = tmp_path / "bench"

@@ -1,4 +1,4 @@
-"""The CLI's edges (issue 18 §1): sweep settings that cannot run are refused before any work with
+"""The CLI's edges: sweep settings that cannot run are refused before any work with
 one line naming the option, and a failure inside compiled code shows its own message."""
 
 import re

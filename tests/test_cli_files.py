@@ -1,4 +1,4 @@
-"""Starting from an embedded case or body, and fem-prep's edges (issue 18 §1 and §4).
+"""Starting from an embedded case or body, and fem-prep's edges.
 
 ``jaxgear cases NAME [--write FILE]`` and ``fem-prep bodies NAME [--write FILE]`` give the file a
 user starts from; the written file loads to the same case/body as the embedded one. fem-prep

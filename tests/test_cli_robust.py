@@ -1,4 +1,4 @@
-"""The CLI as a user expects it (issue 8 §3): bad output paths and options are one-line errors
+"""The CLI as a user expects it: bad output paths and options are one-line errors
 (exit 2, no traceback, no files), Ctrl-C and closed pipes are quiet, runs leave no stale files,
 library warnings are one line, and the stored values agree with independent figures."""
 

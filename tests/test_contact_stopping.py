@@ -1,4 +1,4 @@
-"""Stopping rules of the contact solvers (issue 18 §2: never a silent success at the cap).
+"""Stopping rules of the contact solvers: never a silent success at the cap.
 
 * A solve stopped by ``max_iterations`` before its criterion returns
   ``ContactResult.max_iterations`` (and raises with ``throw=True``), smooth and exact, direct and
@@ -33,7 +33,7 @@ WIDTH = 1e-7  # smoothing width (m)
 
 def _big_helical(tmp_path, slices: int):
     """power-helical scaled to a 14 mm normal module (face width 224 mm), iso6336 stiffness,
-    ``slices`` slices, no modification (the case of issue 18 §2)."""
+    ``slices`` slices, no modification."""
     text = (importlib.resources.files("jaxgear") / "cases" / "power-helical.toml").read_text()
     for old, new in (
         ("normal_module_mm = 2.5", "normal_module_mm = 14.0"),
@@ -153,7 +153,7 @@ def test_cell_space_smooth_matches_brentq_and_flags_its_cap(dtype, rtol):
 
 
 def test_400_slices_iso6336_converges_in_few_steps_and_matches_brentq(tmp_path):
-    """Issue 18 §2: 34 of 128 positions used to stop at 101 iterations with result 0 here."""
+    """34 of 128 positions used to stop at 101 iterations with result 0 here."""
     case, mesh = _big_helical(tmp_path, 400)
     theta = jg.mesh_positions(mesh, 16)
     res = jg.quasi_static(

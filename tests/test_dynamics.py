@@ -1,4 +1,4 @@
-"""Dynamic model: modal analysis, damping, Newmark + contact, diffrax, sweeps (issue 4).
+"""Dynamic model: modal analysis, damping, Newmark + contact, diffrax, sweeps.
 
 Each test has an independent reference: the closed-form torsional frequency sqrt(k̄/m_eq) and a
 SciPy generalised eigensolver, the quasi-static solver at low speed, exact energy conservation of
@@ -56,7 +56,7 @@ def accessory():
 @pytest.fixture(scope="module")
 def linear_case():
     """Uniform stiffness, long tip relief near the Master-Curve design load: small excitation,
-    no contact loss, a linear response (DESIGN.md §8)."""
+    no contact loss, a linear response (docs/design.md, "Optimisation")."""
     case = jio.load_case("accessory-spur").replace(
         stiffness_model="uniform", uniform_k0=14e9, slices=2
     )

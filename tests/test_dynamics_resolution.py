@@ -1,4 +1,4 @@
-"""The default time step resolves the dynamics (issue 9 §3).
+"""The default time step resolves the dynamics.
 
 Reference: an independent continuous-time solution of the 1-DOF relative-approach model
 (``benchmarks/_baseline_dynamics.py``, re-exported by ``tests/_dynamics_reference.py``:

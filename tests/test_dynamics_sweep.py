@@ -1,4 +1,4 @@
-"""Dynamic model: the [scene] table, `jaxgear sweep`, sharded sweeps, diffrax solvers (issue 4)."""
+"""Dynamic model: the [scene] table, `jaxgear sweep`, sharded sweeps, diffrax solvers."""
 
 import json
 import os

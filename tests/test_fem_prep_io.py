@@ -193,6 +193,7 @@ def test_example_runs(tmp_path):
     assert (tmp_path / "e.png").is_file()
 
 
+@pytest.mark.slow
 def test_bench_quick_is_a_smoke_test(tmp_path):
     """`fem-prep bench --quick` runs the whole benchmark path on a 17-station wheel in seconds
     (no baseline, two-point error curve) and reports failures as data, not as `{'error': ''}`."""

@@ -1,5 +1,6 @@
-"""Hybrid model, quasi-static (issue 11): condensed FE bodies on the contact cells (seed II-2,
-HYBRID.md §1), the cell-space contact solve, centrifugal loads, case files and outputs.
+"""Hybrid model, quasi-static: condensed FE bodies on the contact cells (seed II-2,
+docs/hybrid.md, "The interface"), the cell-space contact solve, centrifugal loads, case files
+and outputs.
 
 References: the same contact problem solved on the full coordinates (X space); the rigid-body
 vectors of the seed's (2.9); a rigid-node lumped scene; plane-stress rotating disc theory;
@@ -53,7 +54,15 @@ def scene(case, body):
     return static_scene(case, bodies=(None, body))[0]
 
 
-@pytest.mark.parametrize("model", ["H1", "H2", "pinion"])
+@pytest.mark.parametrize(
+    "model",
+    # both members flexible (H2) in the default run: it takes both paths of the one-member cases
+    [
+        pytest.param("H1", marks=pytest.mark.slow),
+        "H2",
+        pytest.param("pinion", marks=pytest.mark.slow),
+    ],
+)
 def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model):
     """The cell-space solve (structure factored once, C = V G Vᵀ) gives the solution of the
     contact problem on the full coordinates X (output rotation grounded), exact and smooth, with
@@ -96,11 +105,11 @@ def _rot_z(angle, v):
 def test_rigid_body_motion_gives_the_rigid_node_vector(
     case, body, pinion_body, helix, member_index
 ):
-    """HYBRID.md §1.6: a rigid motion of the body's master nodes gives the (2.9) vector of a
-    rigid gear node, [n_m, (M − O) × n_m]·(a, ω) in the fixed frame (n_m = −n for the wheel, n for
-    the pinion). Translations are exact; a
-    rotation about the axis to the chord/arc difference of the bilinear faces (measured 1e-4 on
-    30 stations); tilts exact for spur, within tilt·|M_pM|·sin β_b for helical."""
+    """A rigid motion of the body's master nodes gives the (2.9) vector of a rigid gear node
+    (docs/hybrid.md, "The interface"), [n_m, (M − O) × n_m]·(a, ω) in the fixed frame (n_m = −n
+    for the wheel, n for the pinion). Translations are exact; a rotation about the axis to the
+    chord/arc difference of the bilinear faces (measured 1e-4 on 30 stations); tilts exact for
+    spur, within tilt·|M_pM|·sin β_b for helical."""
     pair = case.pair
     if helix:
         pair = dataclasses.replace(pair, helix_angle=math.radians(helix), center_distance=None)
@@ -129,7 +138,9 @@ def test_rigid_body_motion_gives_the_rigid_node_vector(
             want = (n @ a) + np.cross(P - O2, n) @ w
             scale = np.max(np.abs(want[mask]))
             err = np.max(np.abs(got - want)[mask]) / scale
-            if tol is None:  # helical tilt: |ω| |M_pM| sin β_b bound (HYBRID.md §1.6)
+            if (
+                tol is None
+            ):  # helical tilt: |ω| |M_pM| sin β_b bound (docs/hybrid.md, "The interface")
                 arm = float(pair.tip_radii[1] - member.rim_radius) + 1e-3
                 bound = np.linalg.norm(w_b) * arm * math.sin(pair.base_helix_angle) / scale
                 assert err <= bound, (theta, err, bound)

@@ -1,4 +1,4 @@
-"""Hybrid dynamics, first part (issue 12 §1–2): Newmark with the contact loop in the cell space
+"""Hybrid dynamics, first part: Newmark with the contact loop in the cell space
 on the small test body. References: the same Newmark scheme on all coordinates (each step the
 contact problem K_eff X = F_eff − Σ P V solved with jaxgear.solve_contact), and the quasi-static
 limit at low speed."""
@@ -310,7 +310,7 @@ def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
 
 
 def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
-    """Issue 12 evidence: a body 1000× stiffer on the same shafts, against the rigid-node lumped
+    """a body 1000× stiffer on the same shafts, against the rigid-node lumped
     model given its mass and inertias: the dynamic factor after 60 mesh periods agrees within
     1 % at 150, 800 and 2100 rad/s (measured 0.01 %, 0.04 %, 0.07 %; with tooth separation down
     to 0.52 F_s at 2100). The flank gaps are measured from one time-constant reference in both.
@@ -339,7 +339,7 @@ def test_rigidified_body_reproduces_the_lumped_sweep(setup, rotating_frame):
 
 
 def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):
-    """Issue 12 §4 (first part): the optimiser runs on the hybrid scene at 3000 rad/s
+    """the optimiser runs on the hybrid scene at 3000 rad/s
     (centrifugal loads): with a 10 µm helix-slope deviation on the pinion, the crowning that
     minimises the maximum line load (gradient-based, smooth contact, then evaluated in exact
     contact) matches a 0.25 µm grid scan in exact contact within 1 %."""
@@ -399,6 +399,55 @@ def test_rim_waves_identify_nodal_diameters_and_direction():
         assert np.all(w["amplitude"][[1, 2, 4, 6]] < 1e-20)
 
 
+def test_modal_analysis_of_the_hybrid_scene_against_scipy(setup):
+    """The one modal analysis (:func:`jaxgear.dynamics.modal_analysis`, Cholesky and a dense
+    symmetric eigenproblem) on the condensed test wheel with a rank-one mesh stiffness k u uᵀ
+    (u the TE vector): the 20 lowest frequencies and mesh-energy shares equal SciPy's
+    generalized eigensolver (the CLI's former eigen-analysis) to 1e-9, and
+    :func:`jaxgear.dynamics.nodal_diameter_modes` reads the same elastic frequencies."""
+    import scipy.linalg as sla
+
+    from jaxgear.dynamics import modal_analysis, nodal_diameter_modes
+
+    _, scene = setup
+    u = np.asarray(scene.te, dtype=float)
+    Km = 1e8 * np.outer(u, u)
+    K, M = np.asarray(scene.K), np.asarray(scene.M)
+    lam, phi = sla.eigh(K + Km, M, subset_by_index=[0, 19])
+    share = 1e8 * (u @ phi) ** 2 / np.maximum(lam, 1e-300)
+    elastic = lam > 1e-9 * lam.max()  # the drive rotation
+    modes = modal_analysis(scene, jnp.asarray(Km))
+    assert list(np.asarray(modes.rigid)[:20]) == list(~elastic)
+    f = np.asarray(modes.omega)[:20]
+    np.testing.assert_allclose(f[elastic], np.sqrt(lam[elastic]), rtol=1e-9)
+    np.testing.assert_allclose(
+        np.asarray(modes.mesh_energy)[:20][elastic], share[elastic], atol=1e-9
+    )
+    nd = nodal_diameter_modes(scene, Km, n_modes=10)
+    np.testing.assert_allclose(
+        2 * np.pi * nd["frequency_hz"], np.sqrt(lam[elastic][:10]), rtol=1e-9
+    )
+
+
+def test_campbell_coincidences_by_hand():
+    """Ω = ω/(h z) for the modes the mesh excites (share >= 5 %), up to 1.05 × the top speed,
+    the largest shares first when ``n_modes`` is given; rigid modes (ω = 0) never count."""
+    from jaxgear.dynamics import campbell_coincidences
+
+    omega = [0.0, 100.0, 200.0, 300.0]
+    share = [0.0, 0.5, 0.01, 0.2]
+    got = campbell_coincidences(omega, share, 10, 15.0)
+    assert [(c["mode"], c["harmonic"]) for c in got] == [(1, 1), (1, 2), (1, 3), (3, 2), (3, 3)]
+    np.testing.assert_allclose(
+        [c["speed_rad_s"] for c in got], [10.0, 5.0, 100 / 30, 15.0, 10.0], rtol=1e-15
+    )
+    assert got[3]["frequency_Hz"] == pytest.approx(300 / (2 * np.pi), rel=1e-15)
+    assert got[3]["mesh_energy_share"] == 0.2
+    one = campbell_coincidences(omega, share, 10, 15.0, n_modes=1)
+    assert {c["mode"] for c in one} == {1}
+    assert len(campbell_coincidences(omega, share, 10, harmonics=(1,), min_share=0.0)) == 3
+
+
 def test_simulation_records_the_wheel_rim(setup):
     case, scene = setup
     r = simulate_hybrid(
@@ -415,7 +464,7 @@ def test_simulation_records_the_wheel_rim(setup):
     assert float(jnp.max(jnp.abs(r.rim_radial))) > 0  # the rim moves under the mesh load
 
 
-def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
+def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, fem_prep_cache):
     """`jaxgear sweep` on a case with a condensed wheel: the hybrid Newmark per speed (the
     case's composite damping), sweep.json with the dynamic factors (global and per tooth), the
     modes of the mesh-averaged system, the (3.9) nodal-diameter resonances of the wheel and its
@@ -427,7 +476,6 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
 
     from jaxgear.cli import main
 
-    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
     out = tmp_path / "sweep"
     argv = "sweep CASE --speeds 300:900:3 --periods 4 --keep-periods 2 --steps-per-period 16"
     argv = argv.split() + ["--out", str(out), "--quiet", "--vtu-speed", "600"]
@@ -460,17 +508,26 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, monkeypatch):
     assert np.abs(m.point_data["displacement_m"]).max() > 0
 
 
-def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, monkeypatch, setup):
+def test_rotating_frame_needs_a_condensed_body(tmp_path):
+    """On a rigid case ``[scene.integration] rotating_frame = true`` is a one-line error naming
+    it."""
+    rigid = (DATA / "hybrid-test-case.toml").read_text().split("[scene]")[0]
+    bad = tmp_path / "rigid.toml"
+    bad.write_text(rigid + "[scene]\n[scene.integration]\nrotating_frame = true\n")
+    with pytest.raises(ValueError, match=r"rotating_frame.*condensed body"):
+        jio.load_case(bad)
+
+
+@pytest.mark.slow
+def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
     gives the dynamic factors of ``hybrid_speed_sweep(..., rotating_frame=True)`` with the same
-    settings (and not those without it), and records the flag; on a rigid case the key is a
-    one-line error naming it."""
+    settings (and not those without it), and records the flag."""
     import json
 
     from jaxgear.cli import main
     from jaxgear.dynamics import spec_damping
 
-    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
     text = (DATA / "hybrid-test-case.toml").read_text()
     case_file = tmp_path / "hybrid-test-case.toml"
     case_file.write_text(
@@ -507,15 +564,9 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, monkeypatch, 
     )
     assert abs(fm[0] / fm[1] - 1.0) > 1e-6  # the flag changes the response
 
-    rigid = (DATA / "hybrid-test-case.toml").read_text().split("[scene]")[0]
-    bad = tmp_path / "rigid.toml"
-    bad.write_text(rigid + "[scene]\n[scene.integration]\nrotating_frame = true\n")
-    with pytest.raises(ValueError, match=r"rotating_frame.*condensed body"):
-        jio.load_case(bad)
-
 
 def test_free_vibration_conserves_energy(setup):
-    """Issue 12 evidence: undamped, the mesh held at one position and the contact held (an
+    """undamped, the mesh held at one position and the contact held (an
     initial velocity about the loaded equilibrium carrying 1 % of the static mesh strain
     energy), the cell-space Newmark conserves the vibration energy ½ẊᵀMẊ + ½ΔXᵀ(K + K_c)ΔX:
     its drift per mesh period stays below 1e-10 (measured 7e-13) over 20 periods of the
@@ -598,7 +649,7 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
 
 @pytest.mark.slow
 def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache):
-    """Issue 12 evidence (seed (3.9), Tab. III-11): on the helical test pair the wheel's
+    """(seed (3.9), Tab. III-11): on the helical test pair the wheel's
     2-nodal-diameter web modes of the assembled structure (6630 and 6985 Hz, split by the
     mesh) predict a backward resonance at order Z + 2 = 32 (pinion 1953–2057 rad/s) and a
     forward one at Z − 2 = 28 (2232–2351 rad/s). The hybrid sweep (25 rad/s steps, one wheel

@@ -1,7 +1,7 @@
-"""The hybrid model against the seed's flexible-body results (HYBRID.md §4), on the embedded
-bodies (documented approximations of the seed's undimensioned drawings): orders and magnitudes,
-and the quantities that do not depend on the missing dimensions. Slow: each body is condensed
-once (30–70 s) into a temporary fem_prep cache."""
+"""The hybrid model against the seed's flexible-body results (docs/hybrid.md, "Evidence"), on the
+embedded bodies (documented approximations of the seed's undimensioned drawings): orders and
+magnitudes, and the quantities that do not depend on the missing dimensions. Slow: each body is
+condensed once (30–70 s) into a temporary fem_prep cache."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def _slice_loads(res):
 def test_power_peak_load_over_the_web_rim_joint_and_the_rim_growth_at_speed(power):
     """Seed III-17: at rest the peak load sits over the web-rim joint (the web meets the rim
     12 mm off mid-face, 8 mm from the z = 0 edge of the face). Seed III-25/26: at 3000 rad/s
-    (pinion) the rim grows by ≈ 80 µm (free ring: 54 µm, HYBRID.md §2) and the load moves
+    (pinion) the rim grows by ≈ 80 µm (free ring: 54 µm) and the load moves
     towards the cantilevered edge (z = b). Measured: peak at 9.5 mm, growth 53.8 µm, load
     centroid +2.0 mm, load on the cantilevered quarter × 5.5."""
     case, out = power
@@ -78,7 +78,7 @@ def test_accessory_te_mean_order_rigidified_lumped_flexible(cache):
     lumped scene (Init) < H1 with the steel wheel. The rigidified wheel drops the Weber
     foundation term (the FE rim replaces it) and its rigid hub clamps the shaft between its two
     bearing nodes, both stiffer than Init; the web and rim add more compliance than the
-    foundation term they replace. Measured 31.2 < 35.2 < 46.9 µm. (HYBRID.md reads the seed's
+    foundation term they replace. Measured 31.2 < 35.2 < 46.9 µm. (We read the seed's
     III-8 as "Init < H1 rigid < H1 flexible", 19 → 41 µm; the seed's Init model keeps details
     we cannot reconstruct, so only the flexible wheel's increase is compared.)"""
     case = jio.load_case("accessory-spur-flexible").replace(speed=0.0)

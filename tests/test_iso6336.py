@@ -1,4 +1,4 @@
-"""ISO 6336-1 method B stiffness (issue 18 §3): virtual teeth, gear blank factor C_R, modulus
+"""ISO 6336-1 method B stiffness: virtual teeth, gear blank factor C_R, modulus
 scaling, low-load factor, c' and c_γα against worked examples, and the case-file keys.
 
 Data and their provenance:

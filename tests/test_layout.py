@@ -106,7 +106,7 @@ def test_model_and_optimise_source_import_no_application_module():
         for mod in _imports(path):
             if any(mod == f or mod.startswith(f + ".") for f in FORBIDDEN_IN_MODEL):
                 if mod.startswith("tqdm") and "optimise" in path.parts:
-                    continue  # progress bars, imported on use (no argparse at import time)
+                    continue  # the optimiser's progress bar
                 bad.append(f"{path.relative_to(ROOT)}: {mod}")
     assert not bad, bad
 
@@ -130,6 +130,73 @@ def test_no_import_of_another_packages_private_module():
             if target != own and not (target == "jaxgear" and own in MODEL_SUBPACKAGES):
                 bad.append(f"{path.relative_to(ROOT)}: {mod}")
     assert not bad, bad
+
+
+def _cycles(edges: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components with more than one module (Tarjan): the import
+    cycles of the graph ``edges`` (module → modules it imports)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    out = []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in edges.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(edges):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_import_cycle():
+    """No cycle among the modules of the installed packages and the benchmarks, counting every
+    import (at module top or inside a function): the model, ``optimise``, ``fem_prep`` and the
+    application can each be read from the bottom up."""
+    modules = {}
+    for path in _sources("jaxgear", "optimise", "fem_prep", "benchmarks"):
+        parts = path.relative_to(ROOT).with_suffix("").parts
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+
+    def known(name):
+        while name and name not in modules:
+            name = name.rpartition(".")[0]
+        return name
+
+    edges = {}
+    for name, path in modules.items():
+        # a package's relative imports start from the package itself
+        pkg = (name if path.name == "__init__.py" else name.rpartition(".")[0]).split(".")
+        imports = []
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imports += [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = pkg[: len(pkg) - node.level + 1] if node.level else []
+                mod = ".".join(base + ([node.module] if node.module else []))
+                # ``from pkg import submodule`` imports the submodule, not all of pkg
+                imports += [
+                    f"{mod}.{a.name}" if f"{mod}.{a.name}" in modules else mod for a in node.names
+                ]
+        edges[name] = {m for m in map(known, imports) if m and m != name}
+    assert _cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert not _cycles(edges), _cycles(edges)
 
 
 def test_public_api_is_the_model():

@@ -1,4 +1,5 @@
-"""Mortar patch test (seed II-21/22, HYBRID.md §3; issue 11): contact cells on a non-matching face.
+"""Mortar patch test (seed II-21/22; docs/hybrid.md, "Mortar patch test"): contact cells on a
+non-matching face.
 
 The construction lives in ``examples/mortar_patch.py`` (loaded here, it also draws
 ``docs/mortar_patch.png``): a 2-D plane-strain block in scikit-fem (x = the face width, y =
@@ -29,8 +30,8 @@ Elements:
   consistent 1/6, 2/3, 1/6 split: with nested cells all three interfaces coincide and the cells
   move uniformly (the rollers make the pattern periodic) but *not* by q_exact (the local
   compliance of the corner loads; 39 % on this coarse block — measured, not asserted).
-* ``Q8-quadratic``: the face quadratic on its three edge nodes — HYBRID.md's reference.
-  HYBRID.md gives neither the block's proportions nor the depth mesh; depth = width / 2 with
+* ``Q8-quadratic``: the face quadratic on its three edge nodes — the reference case.
+  The seed gives neither the block's proportions nor the depth mesh; depth = width / 2 with
   2 elements in depth reproduces all of its table to the printed digits (asserted below);
   e.g. depth = width with 4 elements in depth gives about half its errors.
 """

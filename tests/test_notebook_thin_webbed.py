@@ -1,4 +1,4 @@
-"""examples/thin_webbed_gear.ipynb (issue 12 §5) runs on the small helical test pair in a fresh
+"""examples/thin_webbed_gear.ipynb runs on the small helical test pair in a fresh
 kernel, in a scratch working directory, with a fresh fem_prep cache; the values it computes
 agree with references worked out here from the case file and the modes it reports."""
 
@@ -11,6 +11,7 @@ import re
 import tomllib
 
 import numpy as np
+import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 NOTEBOOK = ROOT / "examples" / "thin_webbed_gear.ipynb"
@@ -32,6 +33,7 @@ print("PROBE" + json.dumps({
     "lower_x": [float(v) for v in problem.lower], "upper_x": [float(v) for v in problem.upper]}))"""
 
 
+@pytest.mark.slow
 def test_thin_webbed_gear_notebook_executes(tmp_path, fem_prep_cache):
     import nbformat
     from nbclient import NotebookClient

@@ -1,4 +1,4 @@
-"""Issue 12 §4: tooth-modification optimisation on the hybrid scene at speed — the load-centroid
+"""tooth-modification optimisation on the hybrid scene at speed — the load-centroid
 and L_p objectives, one-sided end relief, the design variables' gradients in exact contact, the
 CLI, and the seed's end relief finding on the power pair (IV-33/34, slow).
 

@@ -1,4 +1,4 @@
-"""Progress and outputs (issue 18 §4): fem-prep's bar reaches its total and names the long
+"""Progress and outputs: fem-prep's bar reaches its total and names the long
 calls; the eigen-solve's progress hook changes nothing; the hybrid sweep in chunks gives the
 one-shot results; ``jaxgear sweep`` keeps clear of ``jaxgear run``'s ``sweep/``; an interrupted
 optimisation leaves a marker, removed when it finishes."""
@@ -84,6 +84,7 @@ def hybrid_setup(fem_prep_cache):
     return case, static_scene(case, bodies=(None, body))[0]
 
 
+@pytest.mark.slow
 def test_hybrid_sweep_in_chunks_equals_one_call(hybrid_setup):
     case, scene = hybrid_setup
     kw = {"integrator": Newmark(16), "window": SteadyState(3, 1)}

@@ -1,4 +1,4 @@
-"""Quasi-static TE against analytic references (DESIGN.md §2, §4, §5, §8).
+"""Quasi-static TE against analytic references (docs/design.md).
 
 * Uniform stiffness, no modification: TE = F_n / (k0 L(θ)) / cos β_b with the contact length L(θ)
   computed here from the base-plane picture (spur: lines in [0, g_α] times b; helical: the
@@ -8,8 +8,8 @@
 * Exact contact: the complementarity conditions, load conservation, and a bracketing root-finder
   (scipy brentq) on Σ k l max(0, δ − δ0) = F_n as an independent solver.
 * TorsionalPair (statically determinate) gives the rigid-mesh TE for any output stiffness.
-* Tip relief on the zero-fluctuation family of DESIGN.md §8 (derived independently, checked
-  below) removes the TE fluctuation in exact mode.
+* Tip relief on the zero-fluctuation family of docs/design.md, "Optimisation" (derived
+  independently, checked below) removes the TE fluctuation in exact mode.
 """
 
 import dataclasses
@@ -170,11 +170,12 @@ def test_smooth_contact_first_order_in_width_golden_ratio():
 
 def test_smooth_converges_to_exact_at_least_first_order_real_case():
     """power-helical (Weber, tip relief + crowning): max |TE_smooth − TE_exact| over the positions
-    decreases at least linearly in w (the O(w) bound of DESIGN.md §5 is attained only when a cell
-    sits at zero gap, as in the golden-ratio test). Measured (8 slices, 16 positions), w = 16…256
-    nm: local slopes 2.7, 1.8, 1.4, 1.7, log-log fit 1.85, error 0.073 w at 256 nm: between first
-    and second order (a spread of cells near zero gap gives ~w², each cell right at zero gap adds
-    ~w). Below ~10 nm the error falls exponentially: the discrete cells sit many w from zero gap."""
+    decreases at least linearly in w (the O(w) bound of docs/design.md, "Contact laws", is attained
+    only when a cell sits at zero gap, as in the golden-ratio test). Measured (8 slices, 16
+    positions), w = 16…256 nm: local slopes 2.7, 1.8, 1.4, 1.7, log-log fit 1.85, error 0.073 w at
+    256 nm: between first and second order (a spread of cells near zero gap gives ~w², each cell
+    right at zero gap adds ~w). Below ~10 nm the error falls exponentially: the discrete cells sit
+    many w from zero gap."""
     case, mesh, theta = _weber("power-helical")
     ex = np.asarray(
         jg.quasi_static(mesh, case.modifications, case.torque, theta).transmission_error
@@ -334,7 +335,7 @@ def test_torsional_pair_gives_rigid_mesh_te():
 
 
 def _zero_fluctuation_depth(eps, gamma):
-    """DESIGN.md §8: E* = Γ ε² / (2Γε − ε + 1) for (ε−1)/(2ε) < Γ ≤ (ε−1)/ε.
+    """(docs/design.md, "Optimisation") E* = Γ ε² / (2Γε − ε + 1) for (ε−1)/(2ε) < Γ ≤ (ε−1)/ε.
 
     Checked here by hand (uniform k0, spur, both tips relieved linearly over Γ g_α): single
     contact needs TE = ε δ_m with no relief on [g − p, p] (Γ ≤ (ε−1)/ε); in double contact the

@@ -1,4 +1,4 @@
-"""Property-based test of the whole input schema (issue 18 §1): case files (``jaxgear/cases``,
+"""Property-based test of the whole input schema: case files (``jaxgear/cases``,
 ``[scene]`` and ``[optimise]`` included) and fem_prep body files (``fem_prep/bodies``), mutated at
 any key path with numeric extremes (denormals, ±1e308, ±inf, NaN, huge integers), wrong types,
 random text, deleted and unknown keys, give a valid object or the project's own one-line

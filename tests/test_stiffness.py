@@ -1,7 +1,7 @@
 """Mesh stiffness: ISO 6336-1 method B by hand, and the Weber thin-slice model inside the ISO band.
 
 References: ISO 6336-1:2006 §9 / Annex C (method B: q', c'_th = 1/q', C_M = 0.8, C_R = 1, C_B,
-c' = c'_th C_M C_R C_B cos β, c_γα = c'(0.75 ε_α + 0.25)); DESIGN.md §3 sanity anchors.
+c' = c'_th C_M C_R C_B cos β, c_γα = c'(0.75 ε_α + 0.25)); docs/design.md, "Mesh stiffness".
 """
 
 import math
@@ -49,7 +49,7 @@ def test_iso6336_single_and_mesh_stiffness_by_hand_spur():
 def test_iso6336_single_stiffness_by_hand_helical():
     """Power helical pair (seed Tab. III-5): β 12°, α_n 25°, β_b = asin(sin β cos α_n) =
     10.861291°, z_n = z/(cos²β_b cos β) = 37.09919/72.07842 (ISO 6336-1's virtual teeth; this test
-    held z/cos³β = 37.39856/72.66006 and q' = 0.051250396, c' = 16.24953 before issue 18 §3)."""
+    held z/cos³β = 37.39856/72.66006 and q' = 0.051250396, c' = 16.24953)."""
     pair = jio.load_case("power-helical").pair
     q = (
         0.04723
@@ -78,7 +78,7 @@ def test_iso6336_per_length_value_gives_c_gamma_alpha(name):
     """The uniform per-length ISO stiffness reproduces c_γα·b as mean mesh stiffness (×cos²β_b)."""
     case = jio.load_case(name)
     pair = case.pair
-    # the table scales with E/206 GPa (ISO 6336-1, issue 18 §3): the same E on both sides
+    # the table scales with E/206 GPa (ISO 6336-1): the same E on both sides
     s, k = jg.stiffness_table(pair, "iso6336", youngs_modulus=case.youngs_modulus)
     mesh = jg.MeshModel.from_pair(pair, s, k, 40)
     n_pos = 400
@@ -294,7 +294,7 @@ def test_sainsot_foundation_matches_ross_physics_at_two_bores(bore, ross_mn_per_
     """ROSS's 62/62 pair at its own bore (17.5 mm) and at half the root radius: jaxgear's weber
     model with the Sainsot foundation within 5 % of ROSS's per-tooth physics."""
     ref = _ross_mean_mesh_stiffness(bore)
-    assert ref / 1e6 == pytest.approx(ross_mn_per_m, rel=5e-3)  # the figures of issue 10 §2
+    assert ref / 1e6 == pytest.approx(ross_mn_per_m, rel=5e-3)  # ROSS's figures
     ours = _mean_mesh_stiffness(_ross_pair(bore), "sainsot")
     assert ours == pytest.approx(ref, rel=0.05)
 

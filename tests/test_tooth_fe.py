@@ -1,4 +1,4 @@
-"""Plane-strain FE tooth compliance (``stiffness = "fe2d"``, issue 10 §3).
+"""Plane-strain FE tooth compliance (``stiffness = "fe2d"``).
 
 (a) a slender cantilever against Timoshenko's beam, converging; (b) the mean compliance of a
 real tooth converging at the rate O(h²); (c) a solid gear against Sainsot et al.'s (2004) body

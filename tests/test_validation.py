@@ -1,4 +1,4 @@
-"""Whole-file validation before any work (issue 8 §2): one schema mechanism (fem_prep.schema) for
+"""Whole-file validation before any work: one schema mechanism (fem_prep.schema) for
 case files ([scene], [optimise] included) and body files; one-line errors in file units; one
 integer rule; plausibility warnings; fuzzing; the CLI exits 2 without writing anything."""
 
@@ -575,7 +575,7 @@ def test_cli_rejects_bad_files_before_any_work(tmp_path, capsys, edit, needle):
 
 
 # ---------------------------------------------------------------------------------------------
-# (e) issue 18 §1: extremes, names, culprits, late checks, centre distance, absurd physics
+# (e) extremes, names, culprits, late checks, centre distance, absurd physics
 
 FLEXIBLE = tomllib.loads(
     (importlib.resources.files("jaxgear") / "cases" / "accessory-spur-flexible.toml").read_text(

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from ..dynamics import campbell_coincidences
 from ..io import atomic_open
 
 __all__ = [
@@ -226,10 +227,10 @@ def _nan(v) -> np.ndarray:
 
 
 def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05) -> list[dict]:
-    """Mode × mesh-harmonic coincidences of a sweep summary: the ``critical_speeds`` entries and,
-    for every elastic mode with at least ``min_share`` mesh energy, each harmonic's speed
-    Ω = 2π f / (h z1) (``z1`` from ``mesh_frequency_Hz`` / speed). Each: ``mode``, ``harmonic``,
-    ``speed_rad_s``, ``frequency_Hz``."""
+    """Mode × mesh-harmonic coincidences of a sweep summary, by speed: the ``critical_speeds``
+    entries and, for every elastic mode with at least ``min_share`` mesh energy, each harmonic's
+    :func:`jaxgear.dynamics.campbell_coincidences` (``z1`` from ``mesh_frequency_Hz`` / speed).
+    Each: ``mode``, ``harmonic``, ``speed_rad_s``, ``frequency_Hz``, ``mesh_energy_share``."""
     out = {(c["mode"], c["harmonic"]): dict(c) for c in summary.get("critical_speeds", [])}
     sp = _nan(summary.get("speeds_rad_s", []))
     fm = _nan(summary.get("mesh_frequency_Hz", []))
@@ -238,19 +239,12 @@ def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05)
         z1 = float(np.median(fm[ok] * 2 * math.pi / sp[ok]))
         freqs = _nan(summary.get("natural_frequencies_Hz", []))
         share = _nan(summary.get("mesh_energy_share", [np.nan] * freqs.size))
-        for i, (f, e) in enumerate(zip(freqs, share, strict=False)):
-            if f > 0 and e >= min_share:
-                for h in harmonics:
-                    out.setdefault(
-                        (i, h),
-                        {
-                            "mode": i,
-                            "harmonic": h,
-                            "speed_rad_s": 2 * math.pi * f / (h * z1),
-                            "frequency_Hz": float(f),
-                            "mesh_energy_share": float(e),
-                        },
-                    )
+        m = min(freqs.size, share.size)
+        found = campbell_coincidences(
+            2 * math.pi * freqs[:m], share[:m], z1, harmonics=harmonics, min_share=min_share
+        )
+        for c in found:
+            out.setdefault((c["mode"], c["harmonic"]), c)
     return sorted(out.values(), key=lambda c: c["speed_rad_s"])
 
 

@@ -24,57 +24,23 @@ def _clean(values) -> list:
     return [float(v) if np.isfinite(v) else None for v in np.asarray(values, dtype=float)]
 
 
-def _critical(model, s_max: float, n_modes: int = 3, harmonics=(1, 2, 3)) -> list[dict]:
-    z1 = 2 * math.pi / float(model.mesh.mesh_period_angle)
-    return _critical_speeds(
-        np.asarray(model.modes.omega),
-        np.asarray(model.modes.rigid),
-        np.asarray(model.modes.mesh_energy),
-        z1,
-        s_max,
-        n_modes,
-        harmonics,
-    )
-
-
-def _critical_speeds(omega, rigid, energy, z1, s_max, n_modes=3, harmonics=(1, 2, 3)) -> list:
-    """Mode × mesh-harmonic coincidences below ``s_max`` (rad/s) of the modes the mesh excites:
-    the largest strain-energy shares in the mesh (seed Tab. IV-8)."""
-    out = []
-    elastic = [i for i in range(omega.size) if not rigid[i] and energy[i] >= 0.05]
-    modes = sorted(sorted(elastic, key=lambda i: -energy[i])[:n_modes])
-    for i in modes:
-        for h in harmonics:
-            sp = omega[i] / (z1 * h)
-            if sp <= s_max * 1.05:
-                out.append(
-                    {
-                        "mode": int(i),
-                        "harmonic": int(h),
-                        "speed_rad_s": float(sp),
-                        "frequency_Hz": float(omega[i] / (2 * math.pi)),
-                        "mesh_energy_share": float(energy[i]),
-                    }
-                )
-    return out
-
-
 def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=None) -> dict:
     """Speed sweep of a case whose scene has condensed bodies (Newmark in the cell space,
     :func:`jaxgear.dynamics.hybrid_speed_sweep`), in chunks of speeds for the progress bar;
     with ``vtu_speed``, a VTU time series of the deformed bodies at that speed."""
     import jax
     import jax.numpy as jnp
-    import scipy.linalg as sla
     from tqdm.auto import tqdm
 
     from .. import DynamicsResult
     from ..dynamics import (
         MESH_ENERGY_MIN,
         Newmark,
+        campbell_coincidences,
         hybrid_speed_sweep,
         load_bodies,
         mean_mesh_stiffness,
+        modal_analysis,
         nodal_diameter_modes,
         nodal_diameter_resonances,
         rim_waves,
@@ -111,13 +77,10 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             speed=case.speed,
         )
     )
-    K, M = np.asarray(scene.K), np.asarray(scene.M)
-    lam, phi = sla.eigh(K + Km, M, subset_by_index=[0, 19])
-    omega = np.sqrt(np.maximum(lam, 0.0))
-    energy = np.einsum("ir,ij,jr->r", phi, Km, phi) / np.maximum(lam, 1e-300)
-    rigid = omega < 1e-3 * omega.max()
-    energy[rigid] = 0.0
-    omega[rigid] = 0.0  # the drive rotation (round-off leaves it at a few mHz)
+    modes = modal_analysis(scene, jnp.asarray(Km))  # the 20 lowest are reported
+    omega = np.asarray(modes.omega)[:20]  # 0 for the drive rotation
+    energy = np.asarray(modes.mesh_energy)[:20]
+    rigid = np.asarray(modes.rigid)[:20]
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
     flexible_wheel = isinstance(scene.members[1], FlexibleMember)
     nd_res = []
@@ -220,7 +183,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "wheel_teeth": z2,
         "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
         "mesh_energy_share": _clean(energy),
-        "critical_speeds": _critical_speeds(omega, rigid, energy, z1, float(speeds.max())),
+        "critical_speeds": campbell_coincidences(omega, energy, z1, float(speeds.max()), n_modes=3),
         "nodal_diameter_resonances": nd_res,
         "speeds_rad_s": _clean(speeds),
         "mesh_frequency_Hz": _clean(speeds * z1 / (2 * math.pi)),
@@ -286,6 +249,7 @@ def sweep_case(
     from ..dynamics import (
         SceneSpec,
         build_dynamic_model,
+        campbell_coincidences,
         spec_integrator,
         spec_window,
         speed_sweep,
@@ -376,7 +340,13 @@ def sweep_case(
         "mesh_energy_share": _clean(model.modes.mesh_energy),
         "modal_energy_parts": list(model.modes.parts),
         "modal_energy": [_clean(row) for row in np.asarray(model.modes.energy)],
-        "critical_speeds": _critical(model, float(speeds.max())),
+        "critical_speeds": campbell_coincidences(
+            model.modes.omega,
+            model.modes.mesh_energy,
+            2 * math.pi / float(model.mesh.mesh_period_angle),
+            float(speeds.max()),
+            n_modes=3,
+        ),
         "speeds_rad_s": _clean(speeds),
         "mesh_frequency_Hz": _clean(r.mesh_frequency),
         "dynamic_factor": _clean(r.dynamic_factor),

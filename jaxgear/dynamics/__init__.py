@@ -30,16 +30,17 @@ from ._hybrid import (
     hybrid_free_vibration as hybrid_free_vibration,
     hybrid_speed_sweep as hybrid_speed_sweep,
     mean_mesh_stiffness as mean_mesh_stiffness,
-    nodal_diameter_modes as nodal_diameter_modes,
-    nodal_diameter_resonances as nodal_diameter_resonances,
     rim_waves as rim_waves,
     simulate_hybrid as simulate_hybrid,
 )
 from ._modal import (
     Damping as Damping,
     ModalAnalysis as ModalAnalysis,
+    campbell_coincidences as campbell_coincidences,
     damping_matrix as damping_matrix,
     modal_analysis as modal_analysis,
+    nodal_diameter_modes as nodal_diameter_modes,
+    nodal_diameter_resonances as nodal_diameter_resonances,
 )
 from ._model import (
     DynamicModel as DynamicModel,

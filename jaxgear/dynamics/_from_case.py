@@ -11,7 +11,14 @@ import numpy as np
 from .._case import Case
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
-from ..scenes import ShaftSpec, TorsionalDynamics, disc_inertia, grounded, lumped_pair
+from ..scenes import (
+    ShaftSpec,
+    TorsionalDynamics,
+    disc_inertia,
+    grounded,
+    hybrid_pair,
+    lumped_pair,
+)
 from ._modal import Damping
 from ._model import dynamic_model
 from ._settings import DiffraxIntegrator, Newmark, SteadyState
@@ -217,8 +224,6 @@ def static_scene(
     if not spec.hybrid:
         model, _ = build_dynamic_model(case, slices=slices)
         return grounded(model.scene, (model.scene.torque_dofs[1],)), (None, None)
-    from ..scenes import hybrid_pair
-
     bodies = load_bodies(spec) if bodies is None else bodies
     flexible = tuple(b is not None for b in bodies)
     mesh = case.mesh_model(slices=slices, flexible=flexible)

@@ -28,8 +28,9 @@ compliance (cells × window²) and a matrix-vector product with G_eff (n²), not
 Entry points: one speed (:func:`simulate_hybrid`), a speed sweep (:func:`hybrid_speed_sweep`),
 a differentiable dynamic factor over a speed band (:func:`band_dynamic_factor`),
 the free vibration at a fixed mesh position (:func:`hybrid_free_vibration`, the energy check),
-the rim's nodal-diameter waves (:func:`rim_waves`) and the wheel's nodal-diameter modes and
-resonance speeds of (3.9) (:func:`nodal_diameter_modes`, :func:`nodal_diameter_resonances`).
+and the rim's nodal-diameter waves in a response (:func:`rim_waves`). The wheel's
+nodal-diameter modes and their (3.9) resonance speeds live with the modal analysis
+(:mod:`jaxgear.dynamics._modal`).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
+from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
@@ -51,7 +53,7 @@ from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer, rms_about_mean
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
-from ._newmark import CellRow, MeshDamping, newmark
+from ._newmark import MeshDamping, newmark
 from ._settings import (
     DiffraxIntegrator,
     Newmark,
@@ -69,8 +71,6 @@ __all__ = [
     "hybrid_free_vibration",
     "hybrid_speed_sweep",
     "mean_mesh_stiffness",
-    "nodal_diameter_modes",
-    "nodal_diameter_resonances",
     "rim_waves",
     "simulate_hybrid",
 ]
@@ -168,14 +168,7 @@ def _newmark_cells(
         cells, e_th, delta0 = separation(mesh, mods, th)
         delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
         idx, Vw = scene.window(cells)
-        return CellRow(
-            idx,
-            Vw.reshape(-1, Vw.shape[-1]),
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            delta0.reshape(-1),
-            cells.mask.reshape(-1),
-        )
+        return CellRow.of(cells, Vw, delta0, idx)
 
     def kept(X, Xd, P):
         return P, (scene.te @ X - e_ref) / cb, record(X, Xd)
@@ -796,105 +789,3 @@ def rim_waves(u, time_step, spin: float = -1.0, band=None) -> dict:
         "frequency_hz": np.abs(f),
         "direction": direction,
     }
-
-
-def nodal_diameter_modes(scene: HybridPair, mesh_stiffness=None, n_modes: int = 40) -> dict:
-    """The wheel's nodal-diameter families among the modes of the assembled hybrid structure
-    (its condensed body with the teeth lumped on the rim, on its shafts and bearings; with the
-    mesh-averaged stiffness K̄_m when given): the modal basis of the seed's (3.9) resonances.
-
-    Each mode's rim displacement at the wheel's stations (body frame, the axial master plane
-    nearest mid-face; radial, tangential and axial) is split into circumferential harmonics;
-    the mode's nodal diameter n is the harmonic with the most energy.
-
-    Args:
-        scene: a :class:`jaxgear.scenes.HybridPair` with a flexible wheel.
-        mesh_stiffness: K̄_m (n, n) (:func:`mean_mesh_stiffness`) or None (no mesh).
-        n_modes: the lowest modes examined (the drive rotation excluded).
-
-    Returns:
-        dict of NumPy arrays over the modes: ``frequency_hz``, ``nodal_diameter``, ``share``
-        (energy share of that harmonic, 0..1), ``axial_share`` (share of the rim motion that is
-        axial: out-of-plane modes near 1) and ``rim_share`` (share of the mode's kinetic energy
-        in the wheel's body DOFs).
-
-    Raises:
-        ValueError: the wheel is rigid.
-    """
-    import scipy.linalg as sla  # NumPy side, once per scene
-
-    wheel = scene.members[1]
-    if not isinstance(wheel, FlexibleMember):
-        raise ValueError("nodal_diameter_modes: the scene's wheel is rigid (no condensed body)")
-    K = np.asarray(scene.K, dtype=float)
-    M = np.asarray(scene.M, dtype=float)
-    if mesh_stiffness is not None:
-        K = K + np.asarray(mesh_stiffness, dtype=float)
-    n = K.shape[0]
-    lam, phi = sla.eigh(K, M, subset_by_index=[0, min(n_modes, n - 1)])
-    keep = lam > 1e-9 * lam.max()  # the drive rotation
-    lam, phi = lam[keep], phi[:, keep]
-    j_mid = int(np.argmin(np.abs(np.asarray(wheel.z_nodes))))
-    rim = np.asarray(wheel.rim_dofs)[:, j_mid, :]  # (Z, 3)
-    Z = rim.shape[0]
-    ang = float(wheel.station0) + float(wheel.pitch_angle) * np.arange(Z)
-    u = phi[rim]  # (Z, 3, modes)
-    c, s = np.cos(ang)[:, None], np.sin(ang)[:, None]
-    cyl = np.stack([c * u[:, 0] + s * u[:, 1], -s * u[:, 0] + c * u[:, 1], u[:, 2]], 1)
-    F = np.fft.rfft(cyl, axis=0)  # (Z//2 + 1, 3, modes)
-    e = np.sum(np.abs(F) ** 2, axis=1)
-    nd = np.argmax(e, axis=0)
-    body = np.asarray(wheel.body_dofs)
-    Mphi = M @ phi
-    return {
-        "frequency_hz": np.sqrt(lam) / (2 * np.pi),
-        "nodal_diameter": nd,
-        "share": e[nd, np.arange(nd.size)] / np.sum(e, axis=0),
-        "axial_share": np.sum(cyl[:, 2] ** 2, axis=0) / np.sum(cyl**2, axis=(0, 1)),
-        "rim_share": np.einsum("im,im->m", phi[body], Mphi[body]),
-    }
-
-
-def nodal_diameter_resonances(
-    frequency_hz, nodal_diameter, wheel_teeth: int, pinion_teeth: int, harmonics=(1,)
-) -> list[dict]:
-    """Pinion speeds at which the mesh excites n-nodal-diameter modes, seed (3.9) and Tab. III-11.
-
-    In the wheel's frame the mesh, fixed in space, runs round the rim against the rotation: its
-    h-th harmonic excites diameter n at the orders h Z + n (a *backward* wave, against the
-    rotation) and h Z − n (*forward*) of the wheel's rotation frequency. The mode of frequency
-    f_n resonates at wheel speed 2π f_n/(h Z ± n), i.e. pinion speed (Z/z1) times that.
-
-    Args:
-        frequency_hz, nodal_diameter: the modes (:func:`nodal_diameter_modes`), shape (m,).
-        wheel_teeth: Z. pinion_teeth: z1. harmonics: mesh harmonics h.
-
-    Returns:
-        One dict per (mode, harmonic, direction) with n >= 1: ``frequency_hz``,
-        ``nodal_diameter``, ``harmonic``, ``order`` (h Z ± n), ``direction`` ("backward" or
-        "forward"), ``wheel_speed_rad_s`` and ``pinion_speed_rad_s``.
-    """
-    from fem_prep import resonance_orders  # NumPy only
-
-    rows = []
-    for f, n in zip(np.asarray(frequency_hz), np.asarray(nodal_diameter), strict=True):
-        if n < 1:
-            continue
-        for h in harmonics:
-            back, fwd = resonance_orders(h * wheel_teeth, int(n))
-            for order, direction in ((back, "backward"), (fwd, "forward")):
-                if order <= 0:
-                    continue
-                w2 = 2 * np.pi * float(f) / int(order)
-                rows.append(
-                    {
-                        "frequency_hz": float(f),
-                        "nodal_diameter": int(n),
-                        "harmonic": int(h),
-                        "order": int(order),
-                        "direction": direction,
-                        "wheel_speed_rad_s": w2,
-                        "pinion_speed_rad_s": w2 * wheel_teeth / pinion_teeth,
-                    }
-                )
-    return rows

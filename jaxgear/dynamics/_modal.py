@@ -1,15 +1,33 @@
-"""Modal analysis of the time-averaged system and damping models (seed (2.34)-(2.36))."""
+"""Modal analysis of the time-averaged system, its Campbell coincidences with the mesh orders
+(critical speeds, seed Tab. IV-8), the nodal-diameter families of a condensed wheel and their
+(3.9) resonances, and the damping models built on the modes (seed (2.34)-(2.36)).
+
+Every scene (torsional, lumped 3D, hybrid) goes through :func:`modal_analysis`; the CLI's sweep
+summaries and Campbell diagrams read :func:`campbell_coincidences` and
+:func:`nodal_diameter_resonances`.
+"""
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from .._util import as_float
-from ..scenes import DynamicScene
+from ..scenes import DynamicScene, FlexibleMember, HybridPair
 
-__all__ = ["Damping", "ModalAnalysis", "damping_matrix", "modal_analysis"]
+__all__ = [
+    "Damping",
+    "ModalAnalysis",
+    "campbell_coincidences",
+    "damping_matrix",
+    "modal_analysis",
+    "nodal_diameter_modes",
+    "nodal_diameter_resonances",
+]
 
 
 class ModalAnalysis(eqx.Module):
@@ -76,6 +94,156 @@ def modal_analysis(scene: DynamicScene, mesh_stiffness: Float[Array, "n n"]) -> 
         mesh_stiffness=mesh_stiffness,
         parts=tuple(parts),
     )
+
+
+def campbell_coincidences(
+    omega,
+    mesh_energy,
+    mesh_order,
+    max_speed: float = math.inf,
+    *,
+    n_modes: int | None = None,
+    harmonics=(1, 2, 3),
+    min_share: float = 0.05,
+) -> list[dict]:
+    """Mode × mesh-harmonic coincidences of the Campbell diagram: the pinion speeds Ω = ω/(h z)
+    at which the h-th harmonic of a mesh of order z (teeth per pinion revolution: z1 for a pair)
+    meets a natural frequency ω (the critical speeds of seed Tab. IV-8).
+
+    Args:
+        omega: natural angular frequencies (rad/s), shape (m,), 0 for rigid-body modes
+            (:attr:`ModalAnalysis.omega`).
+        mesh_energy: the modes' shares of strain energy in the mesh (2.36), shape (m,).
+        mesh_order: z, mesh periods per pinion revolution.
+        max_speed: keep coincidences up to 1.05 × this pinion speed (rad/s).
+        n_modes: the elastic modes with the largest mesh-energy shares kept (None: all of
+            them); only modes with a share >= ``min_share`` count (the modes the mesh excites).
+        harmonics: mesh harmonics h.
+
+    Returns:
+        One dict per (mode, harmonic), by mode index then harmonic: ``mode`` (index into
+        ``omega``), ``harmonic``, ``speed_rad_s`` (pinion), ``frequency_Hz``,
+        ``mesh_energy_share``.
+    """
+    omega = np.asarray(omega, dtype=float)
+    energy = np.asarray(mesh_energy, dtype=float)
+    excited = [i for i in range(omega.size) if omega[i] > 0 and energy[i] >= min_share]
+    chosen = sorted(excited, key=lambda i: -energy[i])
+    modes = sorted(chosen if n_modes is None else chosen[:n_modes])
+    out = []
+    for i in modes:
+        for h in harmonics:
+            speed = omega[i] / (mesh_order * h)
+            if speed <= max_speed * 1.05:
+                out.append(
+                    {
+                        "mode": int(i),
+                        "harmonic": int(h),
+                        "speed_rad_s": float(speed),
+                        "frequency_Hz": float(omega[i] / (2 * math.pi)),
+                        "mesh_energy_share": float(energy[i]),
+                    }
+                )
+    return out
+
+
+def nodal_diameter_modes(scene: HybridPair, mesh_stiffness=None, n_modes: int = 40) -> dict:
+    """The wheel's nodal-diameter families among the modes of the assembled hybrid structure
+    (its condensed body with the teeth lumped on the rim, on its shafts and bearings; with the
+    mesh-averaged stiffness K̄_m when given): the modal basis of the seed's (3.9) resonances.
+
+    Each mode's rim displacement at the wheel's stations (body frame, the axial master plane
+    nearest mid-face; radial, tangential and axial) is split into circumferential harmonics;
+    the mode's nodal diameter n is the harmonic with the most energy.
+
+    Args:
+        scene: a :class:`jaxgear.scenes.HybridPair` with a flexible wheel.
+        mesh_stiffness: K̄_m (n, n) (:func:`mean_mesh_stiffness`) or None (no mesh).
+        n_modes: the lowest elastic modes examined (the drive rotation excluded), of
+            :func:`modal_analysis` of (M, K + K̄_m).
+
+    Returns:
+        dict of NumPy arrays over the modes: ``frequency_hz``, ``nodal_diameter``, ``share``
+        (energy share of that harmonic, 0..1), ``axial_share`` (share of the rim motion that is
+        axial: out-of-plane modes near 1) and ``rim_share`` (share of the mode's kinetic energy
+        in the wheel's body DOFs).
+
+    Raises:
+        ValueError: the wheel is rigid.
+    """
+    wheel = scene.members[1]
+    if not isinstance(wheel, FlexibleMember):
+        raise ValueError("nodal_diameter_modes: the scene's wheel is rigid (no condensed body)")
+    Km = jnp.zeros_like(scene.K) if mesh_stiffness is None else jnp.asarray(mesh_stiffness)
+    modes = modal_analysis(scene, Km)
+    elastic = np.flatnonzero(~np.asarray(modes.rigid))[:n_modes]  # the drive rotation out
+    omega = np.asarray(modes.omega)[elastic]
+    phi = np.asarray(modes.shapes)[:, elastic]
+    M = np.asarray(scene.M, dtype=float)
+    j_mid = int(np.argmin(np.abs(np.asarray(wheel.z_nodes))))
+    rim = np.asarray(wheel.rim_dofs)[:, j_mid, :]  # (Z, 3)
+    Z = rim.shape[0]
+    ang = float(wheel.station0) + float(wheel.pitch_angle) * np.arange(Z)
+    u = phi[rim]  # (Z, 3, modes)
+    c, s = np.cos(ang)[:, None], np.sin(ang)[:, None]
+    cyl = np.stack([c * u[:, 0] + s * u[:, 1], -s * u[:, 0] + c * u[:, 1], u[:, 2]], 1)
+    F = np.fft.rfft(cyl, axis=0)  # (Z//2 + 1, 3, modes)
+    e = np.sum(np.abs(F) ** 2, axis=1)
+    nd = np.argmax(e, axis=0)
+    body = np.asarray(wheel.body_dofs)
+    Mphi = M @ phi
+    return {
+        "frequency_hz": omega / (2 * np.pi),
+        "nodal_diameter": nd,
+        "share": e[nd, np.arange(nd.size)] / np.sum(e, axis=0),
+        "axial_share": np.sum(cyl[:, 2] ** 2, axis=0) / np.sum(cyl**2, axis=(0, 1)),
+        "rim_share": np.einsum("im,im->m", phi[body], Mphi[body]),
+    }
+
+
+def nodal_diameter_resonances(
+    frequency_hz, nodal_diameter, wheel_teeth: int, pinion_teeth: int, harmonics=(1,)
+) -> list[dict]:
+    """Pinion speeds at which the mesh excites n-nodal-diameter modes, seed (3.9) and Tab. III-11.
+
+    In the wheel's frame the mesh, fixed in space, runs round the rim against the rotation: its
+    h-th harmonic excites diameter n at the orders h Z + n (a *backward* wave, against the
+    rotation) and h Z − n (*forward*) of the wheel's rotation frequency. The mode of frequency
+    f_n resonates at wheel speed 2π f_n/(h Z ± n), i.e. pinion speed (Z/z1) times that.
+
+    Args:
+        frequency_hz, nodal_diameter: the modes (:func:`nodal_diameter_modes`), shape (m,).
+        wheel_teeth: Z. pinion_teeth: z1. harmonics: mesh harmonics h.
+
+    Returns:
+        One dict per (mode, harmonic, direction) with n >= 1: ``frequency_hz``,
+        ``nodal_diameter``, ``harmonic``, ``order`` (h Z ± n), ``direction`` ("backward" or
+        "forward"), ``wheel_speed_rad_s`` and ``pinion_speed_rad_s``.
+    """
+    from fem_prep import resonance_orders  # lazy: fem_prep's __init__ loads scikit-fem
+
+    rows = []
+    for f, n in zip(np.asarray(frequency_hz), np.asarray(nodal_diameter), strict=True):
+        if n < 1:
+            continue
+        for h in harmonics:
+            back, fwd = resonance_orders(h * wheel_teeth, int(n))
+            for order, direction in ((back, "backward"), (fwd, "forward")):
+                if order <= 0:
+                    continue
+                w2 = 2 * np.pi * float(f) / int(order)
+                rows.append(
+                    {
+                        "frequency_hz": float(f),
+                        "nodal_diameter": int(n),
+                        "harmonic": int(h),
+                        "order": int(order),
+                        "direction": direction,
+                        "wheel_speed_rad_s": w2,
+                        "pinion_speed_rad_s": w2 * wheel_teeth / pinion_teeth,
+                    }
+                )
+    return rows
 
 
 class Damping(eqx.Module):

@@ -37,7 +37,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import MeshModel
+from .._baseplane import CellRow, MeshModel
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._quasi_static import mesh_positions, separation
@@ -76,15 +76,8 @@ def mesh_table(scene: DynamicScene, mods: Modifications, steps_per_period: int) 
 
     def row(th):
         cells, e_max, d0 = separation(mesh, mods, th)
-        V = scene.cell_vectors(cells)
-        return (
-            V.reshape(-1, V.shape[-1]),
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            d0.reshape(-1),
-            cells.mask.reshape(-1),
-            e_max,
-        )
+        r = CellRow.of(cells, scene.cell_vectors(cells), d0)
+        return r.V, r.k, r.length, r.delta0, r.mask, e_max
 
     V, k, ln, d0, mask, e_max = jax.vmap(row)(theta)
     # one time-constant reference: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e moves its

@@ -27,32 +27,13 @@ from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, Bool, Float, Int
+from jaxtyping import Array, Float
 
+from .._baseplane import CellRow
 from .._contact import ContactLaw, solve_contact, solve_contact_cells
 from .._results import ContactResult, DynamicsResult
 
 BETA, GAMMA = 0.25, 0.5
-
-
-class CellRow(NamedTuple):
-    """The contact cells of one step (c cells).
-
-    Attributes:
-        idx: the window W of coordinates the cells see, (w,) int, or None: all coordinates
-            (the contact is then solved in coordinates).
-        V: structure vectors on the window (m per unit coordinate), (c, w) (w = n for None).
-        k: cell stiffness per unit length (N/m²), (c,). length: cell length (m), (c,).
-        delta0: flank gap from the time-constant reference δ0 = e_ref − e (m), (c,).
-        mask: cells on the flanks, (c,).
-    """
-
-    idx: Int[Array, " w"] | None
-    V: Float[Array, "c w"]
-    k: Float[Array, " c"]
-    length: Float[Array, " c"]
-    delta0: Float[Array, " c"]
-    mask: Bool[Array, " c"]
 
 
 class MeshDamping(NamedTuple):

@@ -8,12 +8,13 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
+from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer, rms_about_mean
 from ._diffrax import _diffrax
 from ._model import DynamicModel, MeshTable, _prepare, _Prepared
-from ._newmark import CellRow, newmark
+from ._newmark import newmark
 from ._settings import (
     MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,

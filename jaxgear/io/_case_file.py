@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from fem_prep import schema as sc
+from optimise import OBJECTIVES, VARIABLES
 
 from .._case import Case
 from .._geometry import GearPair, Member
@@ -606,8 +607,6 @@ def parse_optimise(table) -> dict:
             with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
             [1, 64] or with an objective other than ``line_load_lp``.
     """
-    from optimise import OBJECTIVES, VARIABLES
-
     w = "optimise"
     if not isinstance(table, dict):
         raise sc.fail("", "optimise", "must be a table", table)

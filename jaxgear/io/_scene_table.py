@@ -39,6 +39,8 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from fem_prep import schema as sc
@@ -189,8 +191,6 @@ def _bearing_matrix(b: dict, key: str, where: str):
 
 def _parse_body(table: dict, key: str, base_dir: str | None) -> str:
     """``[scene.<member>_body] body = ...``: an embedded fem_prep body, a body TOML or a .npz."""
-    import os
-
     import fem_prep
 
     t = sc.subtable(table, key, "scene", _BODY_KEYS, required=True)

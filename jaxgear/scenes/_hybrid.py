@@ -45,13 +45,16 @@ import dataclasses
 import math
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
+import scipy.linalg as sla
 from jaxtyping import Array, Float, Int
 
-from .._baseplane import Cells, MeshModel
+from .._baseplane import CellRow, Cells, MeshModel
 from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair, involute
+from .._stiffness import _chordal_thickness, _root_angle
 from .._util import as_float
 from ._lumped3d import ShaftSpec, _lumped_arrays, contact_points, rigid_node_vector
 from ._scene import Scene
@@ -388,16 +391,8 @@ class HybridPair(Scene):
         pinion speed ``speed``): (the contact solution, X (n,), u·X (m)); the arguments are
         those of :meth:`jaxgear.scenes.Scene.static_contact`."""
         C, a0, E, b, window = self.cell_space(cells, torque, speed)
-        sol, force, alpha = solve_contact_cells(
-            C,
-            a0 - delta0.reshape(-1),
-            E,
-            b,
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            cells.mask.reshape(-1),
-            law,
-        )
+        r = CellRow.of(cells, window[1], delta0, window[0])
+        sol, force, alpha = solve_contact_cells(C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law)
         return sol, self.recover(window, force, alpha), self.te_recover(window, force, alpha)
 
     def bearing_forces(self, theta, x):
@@ -463,8 +458,6 @@ def _body_dof_index(body) -> dict:
 def _tooth_mass(pair: GearPair, member: int, density: float, width: float):
     """Mass (kg) and centroid radius (m) of one tooth above the root circle (the part of the
     gear that the FE body, meshed up to the root circle, does not have) [R]."""
-    from .._stiffness import _chordal_thickness
-
     rf, ra = pair.root_radii[member], pair.tip_radii[member]
     x, w = np.polynomial.legendre.leggauss(64)
     r = rf + 0.5 * (x + 1) * (ra - rf)
@@ -475,8 +468,6 @@ def _tooth_mass(pair: GearPair, member: int, density: float, width: float):
 
 
 def _flexible_member(pair, member, body, gidx, centre, line, mesh, n_window=None):
-    from .._stiffness import _root_angle
-
     coords = np.asarray(body.master_coords, float)
     grid = np.asarray(body.rim_grid)
     Z, n_ax = grid.shape
@@ -600,8 +591,6 @@ def hybrid_pair(
             a bearing stiffness or damping matrix on a flexible body's shaft that is not
             axisymmetric about z (that shaft turns with the body frame).
     """
-    import scipy.linalg as sla  # NumPy-side factorisation, once per scene
-
     shafts = (pinion_shaft, gear_shaft)
     extra = []
     for m, body in enumerate(bodies):
@@ -860,8 +849,6 @@ def _fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
 
 def _windows_overflow(scene: HybridPair, samples: int = 48) -> bool:
     """Whether a cell on the flanks reaches beyond its member's window over two mesh periods."""
-    import jax
-
     mesh = scene.mesh
     thetas = (np.arange(2 * samples) + 0.5) * float(mesh.mesh_period_angle) / samples
     over = jax.jit(jax.vmap(lambda th: scene.window_overflow(mesh.cells(th))))(

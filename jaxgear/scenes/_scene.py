@@ -24,7 +24,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import Cells
+from .._baseplane import CellRow, Cells
 from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 
@@ -65,17 +65,9 @@ class Scene(eqx.Module):
         Returns:
             (the contact solution, X (n,), u·X (m)).
         """
-        V = self.cell_vectors(cells)
-        sol = solve_contact(
-            self.stiffness(),
-            self.external_load(torque),
-            V.reshape(-1, V.shape[-1]),
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            delta0.reshape(-1),
-            cells.mask.reshape(-1),
-            law,
-        )
+        r = CellRow.of(cells, self.cell_vectors(cells), delta0)
+        K, F = self.stiffness(), self.external_load(torque)
+        sol = solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law)
         return sol, sol.x, self.te_vector() @ sol.x
 
 
