@@ -201,6 +201,7 @@ def test_resonance_orders_table_III_11():
     assert list(fwd) == [122, 121, 120, 119, 118, 117, 116]
 
 
+@pytest.mark.slow
 def test_error_decreases_with_modes(coupled):
     body, bm, ms, cp, mdofs = coupled
     held = cp.bearing_dofs.ravel()

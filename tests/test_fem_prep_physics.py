@@ -244,6 +244,7 @@ def test_plane_stress_reference_satisfies_its_equations():
     assert u[-1] == pytest.approx(ub, rel=1e-5)
 
 
+@pytest.mark.slow
 def test_rotating_disc_through_the_bearing_within_1_percent_and_converges():
     """Thin rotating disc held by its rigid bearing (``prepare``, not fixed nodes): the rim
     radial displacement is the plane-stress value with a fixed inner edge, and the error

@@ -96,6 +96,7 @@ def _df_per_period(r, spp):
     return f / float(r.static_force)
 
 
+@pytest.mark.slow
 def test_composite_dynamic_factor_is_mesh_periodic(setup):  # noqa: F811
     """At 900 rad/s on the test pair (64 steps per period, the CLI's composite ratios 0.07 and
     0.01), after 80 mesh periods, the dynamic factor of each mesh period over a whole wheel
@@ -120,6 +121,7 @@ def test_composite_dynamic_factor_is_mesh_periodic(setup):  # noqa: F811
         assert np.ptp(df) / np.mean(df) < 5e-3, (damping.model, df)
 
 
+@pytest.mark.slow
 def test_composite_damping_is_positive_semidefinite_every_period(setup, composite):  # noqa: F811
     """The model's C(k) (its constant part and the mesh share on the window of period k) over a
     wheel revolution at 900 rad/s: symmetric positive semi-definite (smallest eigenvalue >=
