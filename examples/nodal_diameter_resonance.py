@@ -35,6 +35,7 @@ from jaxgear.dynamics import (  # noqa: E402
     SteadyState,
     hybrid_speed_sweep,
     mean_mesh_stiffness,
+    modal_analysis,
     nodal_diameter_modes,
     nodal_diameter_resonances,
     rim_waves,
@@ -54,7 +55,7 @@ def compute(speeds=SPEEDS, n=2) -> dict:
     scene = static_scene(case, bodies=(None, body))[0]
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
     Km = mean_mesh_stiffness(scene, case.modifications, jnp.asarray(case.torque), SPP)
-    modes = nodal_diameter_modes(scene, Km, n_modes=30)
+    modes = nodal_diameter_modes(scene, modal_analysis(scene, Km), n_modes=30)
     web = (modes["rim_share"] > 0.5) & (modes["nodal_diameter"] == n)
     predicted = nodal_diameter_resonances(
         modes["frequency_hz"][web], modes["nodal_diameter"][web], z2, z1

@@ -423,7 +423,7 @@ def test_modal_analysis_of_the_hybrid_scene_against_scipy(setup):
     np.testing.assert_allclose(
         np.asarray(modes.mesh_energy)[:20][elastic], share[elastic], atol=1e-9
     )
-    nd = nodal_diameter_modes(scene, Km, n_modes=10)
+    nd = nodal_diameter_modes(scene, modes, n_modes=10)
     np.testing.assert_allclose(
         2 * np.pi * nd["frequency_hz"], np.sqrt(lam[elastic][:10]), rtol=1e-9
     )

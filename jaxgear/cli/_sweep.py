@@ -87,7 +87,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     if flexible_wheel:
         # the wheel's nodal-diameter families (web modes: most of their kinetic energy in the
         # body) and the speeds of (3.9) where the mesh excites them
-        nd = nodal_diameter_modes(scene, Km, n_modes=40)
+        nd = nodal_diameter_modes(scene, modes, n_modes=40)
         web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
         nd_res = [
             r

@@ -147,10 +147,10 @@ def campbell_coincidences(
     return out
 
 
-def nodal_diameter_modes(scene: HybridPair, mesh_stiffness=None, n_modes: int = 40) -> dict:
+def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int = 40) -> dict:
     """The wheel's nodal-diameter families among the modes of the assembled hybrid structure
     (its condensed body with the teeth lumped on the rim, on its shafts and bearings; with the
-    mesh-averaged stiffness K̄_m when given): the modal basis of the seed's (3.9) resonances.
+    mesh-averaged stiffness K̄_m in ``modes``): the modal basis of the seed's (3.9) resonances.
 
     Each mode's rim displacement at the wheel's stations (body frame, the axial master plane
     nearest mid-face; radial, tangential and axial) is split into circumferential harmonics;
@@ -158,9 +158,9 @@ def nodal_diameter_modes(scene: HybridPair, mesh_stiffness=None, n_modes: int = 
 
     Args:
         scene: a :class:`jaxgear.scenes.HybridPair` with a flexible wheel.
-        mesh_stiffness: K̄_m (n, n) (:func:`mean_mesh_stiffness`) or None (no mesh).
-        n_modes: the lowest elastic modes examined (the drive rotation excluded), of
-            :func:`modal_analysis` of (M, K + K̄_m).
+        modes: the scene's :func:`modal_analysis` with K̄_m (:func:`mean_mesh_stiffness`; zeros
+            for the structure alone), the one a sweep summary reports too.
+        n_modes: the lowest elastic modes examined (the drive rotation excluded).
 
     Returns:
         dict of NumPy arrays over the modes: ``frequency_hz``, ``nodal_diameter``, ``share``
@@ -174,8 +174,6 @@ def nodal_diameter_modes(scene: HybridPair, mesh_stiffness=None, n_modes: int = 
     wheel = scene.members[1]
     if not isinstance(wheel, FlexibleMember):
         raise ValueError("nodal_diameter_modes: the scene's wheel is rigid (no condensed body)")
-    Km = jnp.zeros_like(scene.K) if mesh_stiffness is None else jnp.asarray(mesh_stiffness)
-    modes = modal_analysis(scene, Km)
     elastic = np.flatnonzero(~np.asarray(modes.rigid))[:n_modes]  # the drive rotation out
     omega = np.asarray(modes.omega)[elastic]
     phi = np.asarray(modes.shapes)[:, elastic]
