@@ -7,7 +7,7 @@ with the 50 fixed-interface modes its body file asks for, condensed by fem_prep 
 read from its cache), float64, exact contact, it measures:
 
 (1) the sweep: ``n_speeds`` pinion speeds over the seed's range (100–3000 rad/s) with
-    :func:`jaxgear.dynamics.hybrid_speed_sweep` in chunks of speeds (the chunking of
+    :func:`jaxgear.dynamics.speed_sweep` in chunks of speeds (the chunking of
     ``jaxgear sweep``, one progress step per chunk): total wall time (compile included) against
     the < 10 min target, compile time (first chunk − the same chunk again), per speed and per
     step;
@@ -58,7 +58,7 @@ __all__ = ["bench_hybrid_sweep"]
 
 _TARGET_S = 600.0  # target: 100 speeds on the 2-core CPU in < 10 min
 _SPEED_RANGE = (100.0, 3000.0)  # the seed's pinion speed range (rad/s)
-_RAYLEIGH = (25.0, 2.5e-6)  # the seed's D1, hybrid_speed_sweep's default
+_RAYLEIGH = (25.0, 2.5e-6)  # the seed's D1, dynamic_model's default for a hybrid scene
 _TEST_CASE = (
     pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "hybrid-test-case.toml"
 )
@@ -73,7 +73,7 @@ def _baseline_run(
     scene, mods, torque, speed, alpha, beta, width, spp, n_steps, mode, max_it, variant
 ):
     """Newmark (average acceleration) of the hybrid scene on all n coordinates: the equations of
-    :func:`jaxgear.dynamics.hybrid_speed_sweep` without the cell space. Returns the mesh force
+    :func:`jaxgear.dynamics.speed_sweep` without the cell space. Returns the mesh force
     per step (N), the worst result code and the most contact passes in a step."""
     import jax
     import jax.numpy as jnp
@@ -211,14 +211,14 @@ def baseline_sweep(
     max_iterations=50,
 ):
     """The full-coordinate baseline at each speed (``jax.lax.map``: one n×n factor in memory at
-    a time), from the same start state as :func:`jaxgear.dynamics.hybrid_speed_sweep`.
+    a time), from the same start state as :func:`jaxgear.dynamics.speed_sweep`.
 
     Args:
         scene: a hybrid scene. mods: flank modifications. torque: pinion torque (N·m).
         speeds: pinion speeds (rad/s), shape (S,). steps_per_period: time steps per mesh
             period. n_steps: steps integrated (all returned). variant: "woodbury" or
             "refactor" (see the module docstring). rayleigh, contact, width, max_iterations: as
-            ``hybrid_speed_sweep``.
+            ``speed_sweep``.
 
     Returns:
         (mesh force (S, n_steps) N, static mesh force N, result (S,), most passes (S,)).
@@ -289,21 +289,19 @@ def _step_costs(scene, mods, torque, speed, spp, lengths, repeats, compare=False
     import jax
     import jax.numpy as jnp
 
-    from jaxgear.dynamics import hybrid_speed_sweep
+    from jaxgear.dynamics import dynamic_model, speed_sweep
 
     block = jax.block_until_ready
 
     def run(method, steps):
         if method == "model":
             p = steps // spp
-            r = hybrid_speed_sweep(
-                scene,
-                mods,
-                torque,
+            r = speed_sweep(
+                dynamic_model(scene, mods, torque),
                 jnp.asarray([speed]),
                 integrator=Newmark(spp),
                 window=SteadyState(p, p),
-            )
+            ).results
             return r.mesh_force[0], r.static_force[0]
         fm, fs, _, _ = baseline_sweep(
             scene, mods, torque, [speed], steps_per_period=spp, n_steps=steps, variant=method
@@ -430,7 +428,7 @@ def bench_hybrid_sweep(
     from tqdm.auto import tqdm
 
     import fem_prep
-    from jaxgear.dynamics import hybrid_speed_sweep, static_scene
+    from jaxgear.dynamics import dynamic_model, speed_sweep, static_scene
     from jaxgear.io import load_case, write_json
 
     block = jax.block_until_ready
@@ -534,10 +532,12 @@ def bench_hybrid_sweep(
     }
     step("setup")
 
+    hybrid = dynamic_model(sc, mods, torque)  # the seed's D1 damping
+
     def model(w, p, k):
-        return hybrid_speed_sweep(
-            sc, mods, torque, jnp.asarray(w), integrator=Newmark(spp), window=SteadyState(p, k)
-        )
+        return speed_sweep(
+            hybrid, jnp.asarray(w), integrator=Newmark(spp), window=SteadyState(p, k)
+        ).results
 
     # (1) the sweep --------------------------------------------------------------------------
     jax.clear_caches()
@@ -562,7 +562,7 @@ def bench_hybrid_sweep(
     compile_s = max(chunk_s[0] - first_again, 0.0)
     run_s = total_wall - compile_s
     out["sweep"] = {
-        "what": f"jaxgear.dynamics.hybrid_speed_sweep in chunks of {chunk} speeds (the chunking "
+        "what": f"jaxgear.dynamics.speed_sweep in chunks of {chunk} speeds (the chunking "
         "of `jaxgear sweep`); compile = first chunk − the same chunk again",
         "speeds_rad_s": speeds.tolist(),
         "dynamic_factor": dfs,

@@ -33,7 +33,8 @@ from jaxgear.dynamics import (  # noqa: E402
     Damping,
     Newmark,
     SteadyState,
-    hybrid_speed_sweep,
+    dynamic_model,
+    speed_sweep,
     static_scene,
 )
 
@@ -69,15 +70,12 @@ def scan(case, scene, problem, depths) -> np.ndarray:
     out = []
     for d in depths:
         x = jnp.asarray(problem.from_physical({"crowning.depth": float(d)}))
-        sw = hybrid_speed_sweep(
-            scene,
-            problem.modifications(x),
-            case.torque,
+        sw = speed_sweep(
+            dynamic_model(scene, problem.modifications(x), case.torque, D1),
             list(SPEEDS),
             integrator=Newmark(spp),
             window=SteadyState(periods, keep),
-            damping=D1,
-        )
+        ).results
         if np.any(np.asarray(sw.result) != 0):
             raise RuntimeError(f"crowning {d} µm: hybrid sweep result {np.asarray(sw.result)}")
         out.append(np.asarray(sw.dynamic_factor, float))

@@ -20,7 +20,6 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import jax.numpy as jnp  # noqa: E402
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
@@ -33,12 +32,12 @@ from jaxgear.dynamics import (  # noqa: E402
     Damping,
     Newmark,
     SteadyState,
-    hybrid_speed_sweep,
-    mean_mesh_stiffness,
-    modal_analysis,
+    dynamic_model,
+    mesh_averaged_modes,
     nodal_diameter_modes,
     nodal_diameter_resonances,
     rim_waves,
+    speed_sweep,
     static_scene,
 )
 
@@ -54,21 +53,18 @@ def compute(speeds=SPEEDS, n=2) -> dict:
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     scene = static_scene(case, bodies=(None, body))[0]
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
-    Km = mean_mesh_stiffness(scene, case.modifications, jnp.asarray(case.torque), SPP)
-    modes = nodal_diameter_modes(scene, modal_analysis(scene, Km), n_modes=30)
+    damping = Damping("rayleigh", alpha=RAYLEIGH[0], beta=RAYLEIGH[1])
+    model = dynamic_model(scene, case.modifications, case.torque, damping)
+    modes = nodal_diameter_modes(
+        scene, mesh_averaged_modes(model, positions_per_pitch=SPP), n_modes=30
+    )
     web = (modes["rim_share"] > 0.5) & (modes["nodal_diameter"] == n)
     predicted = nodal_diameter_resonances(
         modes["frequency_hz"][web], modes["nodal_diameter"][web], z2, z1
     )
-    sw = hybrid_speed_sweep(
-        scene,
-        case.modifications,
-        case.torque,
-        speeds,
-        integrator=Newmark(SPP),
-        window=SteadyState(PERIODS, KEEP),
-        damping=Damping("rayleigh", alpha=RAYLEIGH[0], beta=RAYLEIGH[1]),
-    )
+    sw = speed_sweep(
+        model, speeds, integrator=Newmark(SPP), window=SteadyState(PERIODS, KEEP)
+    ).results
     out = {"backward": [], "forward": []}
     for i, s in enumerate(speeds):
         f_wheel = s * z1 / z2 / (2 * np.pi)

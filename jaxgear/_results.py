@@ -42,8 +42,7 @@ class ContactResult(_Result):
 
 class DynamicsResult(_Result):
     """Outcome of a dynamic simulation at one speed, lumped or hybrid
-    (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`,
-    :func:`jaxgear.dynamics.simulate_hybrid`, :func:`jaxgear.dynamics.hybrid_speed_sweep`)."""
+    (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`)."""
 
     successful = 0
     contact_not_converged = 1

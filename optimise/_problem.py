@@ -31,7 +31,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 import jaxgear as jg
-from jaxgear.dynamics import Newmark, SteadyState, band_dynamic_factor
+from jaxgear.dynamics import Newmark, SteadyState, band_dynamic_factor, dynamic_model
 from jaxgear.scenes import HybridPair
 
 __all__ = [
@@ -260,11 +260,10 @@ class Problem(eqx.Module):
         return r.max_line_load
 
     def _dynamic(self, mods, torque, contact):
-        """The smooth dynamic factor over the speed band (hybrid Newmark, p-means)."""
+        """The smooth dynamic factor over the speed band (hybrid Newmark, p-means; the seed's
+        Rayleigh damping D1)."""
         return band_dynamic_factor(
-            self.mesh,
-            mods,
-            torque,
+            dynamic_model(self.mesh, mods, torque),
             self.speeds,
             integrator=self.integrator,
             contact=self._law(contact),

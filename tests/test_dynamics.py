@@ -23,13 +23,14 @@ from jaxgear.dynamics import (
     DiffraxIntegrator,
     Newmark,
     SteadyState,
+    band_dynamic_factor,
     damping_matrix,
     dynamic_model,
     mesh_table,
     simulate,
     speed_sweep,
 )
-from jaxgear.dynamics._simulate import _newmark
+from jaxgear.dynamics._lumped import _newmark
 
 # white-box checks of the integration rule on a constructed linear, time-invariant problem
 # (tests/test_layout.py lists them)
@@ -151,6 +152,27 @@ def test_low_speed_limit_matches_quasi_static(accessory):
     err = np.max(np.abs(np.asarray(r.transmission_error) - te_qs))
     assert err < 5e-3 * np.mean(te_qs)
     assert float(r.te_rms) == pytest.approx(float(qs.te_rms), rel=0.05)
+
+
+def test_recorded_states_and_the_band_dynamic_factor_bounds(accessory):
+    """A lumped model records its coordinates with ``states=True`` (they end at the final
+    state), and :func:`band_dynamic_factor`, the p-mean over speeds of the p-mean over the K kept
+    steps, lies between the p-mean's bounds: max DF · (K S)^(-1/p) <= band <= max DF (the
+    dynamic factors of the same sweep)."""
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    kw = dict(contact=jg.SmoothContact(2e-7), integrator=Newmark(16), window=SteadyState(6, 2))
+    r = simulate(model, 900.0, states=True, **kw)
+    assert r.states.shape == (32, scene.mass().shape[0])
+    np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))
+    assert r.rim_radial.shape == (32, 0)
+    speeds = [700.0, 900.0]
+    df = np.asarray(speed_sweep(model, speeds, **kw).results.dynamic_factor)
+    p, K, S = 32.0, 32, 2
+    band = float(band_dynamic_factor(model, speeds, p=p, **kw))
+    assert df.max() * (K * S) ** (-1.0 / p) <= band <= df.max() * (1 + 1e-12)
+    with pytest.raises(ValueError, match="integrator"):  # a band needs a fixed step
+        band_dynamic_factor(model, speeds, integrator=Newmark())
 
 
 def _linear_problem(case, scene, damping="none"):

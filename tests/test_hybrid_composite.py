@@ -23,7 +23,13 @@ from test_hybrid_dynamics import (
 )
 
 import jaxgear as jg
-from jaxgear.dynamics import Damping, Newmark, SteadyState, simulate_hybrid
+from jaxgear.dynamics import Damping, Newmark, SteadyState, dynamic_model, simulate
+
+
+def _simulate(scene, mods, torque, speed, *, damping=None, rotating_frame=False, **settings):
+    """:func:`jaxgear.dynamics.simulate` on the hybrid model of ``scene``."""
+    model = dynamic_model(scene, mods, torque, damping, rotating_frame=rotating_frame)
+    return simulate(model, speed, **settings)
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):
@@ -68,7 +74,7 @@ def test_composite_equals_the_mesh_following_reference(setup, composite):  # noq
     C_of, n = composite["C_of"], spp * periods
     got = [
         np.asarray(
-            simulate_hybrid(
+            _simulate(
                 scene,
                 case.modifications,
                 case.torque,
@@ -107,7 +113,7 @@ def test_composite_dynamic_factor_is_mesh_periodic(setup):  # noqa: F811
     case, scene = setup
     spp, warm, Z = 64, 80, 30
     for damping in (Damping("composite"), Damping("modal", ratio=0.05)):
-        r = simulate_hybrid(
+        r = _simulate(
             scene,
             case.modifications,
             case.torque,

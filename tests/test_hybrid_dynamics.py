@@ -13,20 +13,41 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+import scipy.linalg
 
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import (
     Damping,
+    DiffraxIntegrator,
     Newmark,
     SteadyState,
-    hybrid_speed_sweep,
-    simulate_hybrid,
+    auto_steps_per_period,
+    dynamic_model,
+    mean_mesh_stiffness,
+    simulate,
+    speed_sweep,
     static_scene,
 )
 
 DATA = pathlib.Path(__file__).parent / "data"
+STATIC_TE_ATOL = 1e-2  # of the mean quasi-static TE, at 5 rad/s
+
+
+def _model(scene, mods, torque, damping=None, rotating_frame=False):
+    return dynamic_model(scene, mods, torque, damping, rotating_frame=rotating_frame)
+
+
+def _simulate(scene, mods, torque, speed, *, damping=None, rotating_frame=False, **settings):
+    """:func:`jaxgear.dynamics.simulate` on the hybrid model of ``scene``."""
+    return simulate(_model(scene, mods, torque, damping, rotating_frame), speed, **settings)
+
+
+def _sweep(scene, mods, torque, speeds, *, damping=None, rotating_frame=False, **settings):
+    """:func:`jaxgear.dynamics.speed_sweep` on the hybrid model of ``scene``: its results."""
+    model = _model(scene, mods, torque, damping, rotating_frame)
+    return speed_sweep(model, speeds, **settings).results
 
 
 @pytest.fixture(scope="module")
@@ -148,7 +169,7 @@ def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup):
     case, scene = setup
     spp, periods, speed, ray = 16, 3, 800.0, (25.0, 2.5e-6)  # seed D1
     for rotating in (False, True):
-        r = simulate_hybrid(
+        r = _simulate(
             scene,
             case.modifications,
             case.torque,
@@ -170,7 +191,7 @@ def test_low_speed_is_the_quasi_static_response(setup):
     quasi-static one at speed (centrifugal load included) within 0.5 % of the static force."""
     case, scene = setup
     spp, speed = 16, 5.0
-    r = simulate_hybrid(
+    r = _simulate(
         scene,
         case.modifications,
         case.torque,
@@ -183,18 +204,48 @@ def test_low_speed_is_the_quasi_static_response(setup):
         np.asarray(qs.line_load) * np.asarray(scene.mesh.cells(0.0).length)[None], axis=(1, 2)
     )
     np.testing.assert_allclose(np.asarray(r.mesh_force), f_qs, atol=5e-3 * float(r.static_force))
+    # the static TE (the quasi-static one at the same place in the first mesh period, whose
+    # stations differ from those under the mesh now) and the dynamic TE follow the quasi-static
+    te_qs = np.asarray(qs.transmission_error)
+    for te in (r.static_te, r.transmission_error):
+        np.testing.assert_allclose(np.asarray(te), te_qs, atol=STATIC_TE_ATOL * te_qs.mean())
+
+
+def test_automatic_step_of_a_hybrid_model(setup):
+    """``Newmark(None)`` on a hybrid model: the automatic step of the lumped models (the smallest
+    power of two >= max(64, 40 f_max / f_mesh), docs/dynamics.md "Time step and accuracy") from
+    the highest mode with >= 5 % of its strain energy in the mesh, here by SciPy's generalised
+    eigensolver on (K + K̄_m, M); the run reports N_s f_mesh / f_max."""
+    case, scene = setup
+    model = _model(scene, case.modifications, case.torque)
+    Km = np.asarray(mean_mesh_stiffness(scene, case.modifications, jnp.asarray(case.torque), 64))
+    lam, Phi = scipy.linalg.eigh(np.asarray(scene.K) + Km, np.asarray(scene.M))
+    elastic = lam > 1e-9 * lam.max()
+    share = np.einsum("ij,ik,kj->j", Phi, Km, Phi) / np.where(elastic, lam, 1.0)
+    w_max = np.sqrt(lam[elastic & (share >= 0.05)].max())
+    theta_m = float(scene.mesh.mesh_period_angle)
+    speeds = np.array([300.0, 3000.0])
+    need = np.maximum(64, np.ceil(40 * w_max * theta_m / (2 * np.pi * speeds)))
+    expected = 2 ** np.ceil(np.log2(need))
+    np.testing.assert_array_equal(auto_steps_per_period(model, speeds), expected)
+    r = simulate(model, 3000.0, integrator=Newmark(), window=SteadyState(2, 1))
+    assert int(r.result) == 0 and int(r.steps_per_period) == expected[1]
+    per_mode = expected[1] * 3000.0 / theta_m / (w_max / (2 * np.pi))
+    assert float(r.steps_per_mode_period) == pytest.approx(per_mode, rel=1e-6)
 
 
 def test_speed_sweep_maps_single_speeds(setup):
     case, scene = setup
     kw = dict(integrator=Newmark(16), window=SteadyState(3, 1))
-    sw = hybrid_speed_sweep(scene, case.modifications, case.torque, [300.0, 900.0], **kw)
-    one = simulate_hybrid(scene, case.modifications, case.torque, 900.0, **kw)
+    sw = _sweep(scene, case.modifications, case.torque, [300.0, 900.0], **kw)
+    one = _simulate(scene, case.modifications, case.torque, 900.0, **kw)
     np.testing.assert_allclose(sw.mesh_force[1], one.mesh_force, rtol=1e-10)
     with pytest.raises(ValueError, match="steps_per_period"):
-        simulate_hybrid(scene, None, case.torque, 900.0, integrator=Newmark(2))
-    with pytest.raises(ValueError, match="integrator"):  # no automatic step in the cell space
-        simulate_hybrid(scene, None, case.torque, 900.0, integrator=Newmark())
+        _simulate(scene, None, case.torque, 900.0, integrator=Newmark(2))
+    with pytest.raises(ValueError, match="integrator"):  # no diffrax form in the cell space
+        _simulate(scene, None, case.torque, 900.0, integrator=DiffraxIntegrator())
+    with pytest.raises(ValueError, match="direction"):  # no continuation
+        speed_sweep(_model(scene, None, case.torque), [900.0], direction="up")
 
 
 def _rigid_properties(scene, body):
@@ -282,7 +333,7 @@ def _rigidified_runs(case, speeds, damping, spp=32, periods=60, rotating_frame=F
 
     uni, hyb, lumped = _rigidified_pair(case)
     model = dynamic_model(lumped, uni.modifications, uni.torque, damping, positions_per_pitch=spp)
-    sw = hybrid_speed_sweep(
+    sw = _sweep(
         hyb,
         uni.modifications,
         uni.torque,
@@ -450,7 +501,7 @@ def test_campbell_coincidences_by_hand():
 
 def test_simulation_records_the_wheel_rim(setup):
     case, scene = setup
-    r = simulate_hybrid(
+    r = _simulate(
         scene,
         case.modifications,
         case.torque,
@@ -521,7 +572,7 @@ def test_rotating_frame_needs_a_condensed_body(tmp_path):
 @pytest.mark.slow
 def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
-    gives the dynamic factors of ``hybrid_speed_sweep(..., rotating_frame=True)`` with the same
+    gives the dynamic factors of ``_sweep(..., rotating_frame=True)`` with the same
     settings (and not those without it), and records the flag."""
     import json
 
@@ -549,10 +600,8 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     kw = dict(integrator=Newmark(16), window=SteadyState(3, 2), damping=spec_damping(case.scene))
     kw.update(contact=case.contact_law(case.scene.contact))
     speeds = [1500.0, 2100.0]
-    on = hybrid_speed_sweep(
-        scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw
-    )
-    off = hybrid_speed_sweep(scene, case.modifications, case.torque, speeds, **kw)
+    on = _sweep(scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw)
+    off = _sweep(scene, case.modifications, case.torque, speeds, **kw)
     fm = [
         np.asarray(r.mesh_force).max() / float(np.asarray(r.static_force).reshape(-1)[0])
         for r in (on, off)
@@ -629,7 +678,7 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
     """At 5 rad/s the largest tooth-pair force is the quasi-static one (per-tooth dynamic factor
     1 within 0.5 %), no contact is lost, and the recorded states end at the final state."""
     case, scene = setup
-    r = simulate_hybrid(
+    r = _simulate(
         scene,
         case.modifications,
         case.torque,
@@ -641,7 +690,7 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
     assert float(r.contact_loss) == 0.0
     assert r.states.shape == (16, scene.K.shape[0])
-    np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.x))
+    np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))
     np.testing.assert_allclose(
         np.asarray(r.line_force).sum(axis=1), np.asarray(r.mesh_force), rtol=1e-12
     )
@@ -697,9 +746,9 @@ def test_failures_use_the_one_result_enumeration(setup):
         "window": SteadyState(2, 1),
         "contact": jg.SmoothContact(5e-5, max_iterations=1),
     }
-    sw = hybrid_speed_sweep(scene, case.modifications, case.torque, [900.0], **kw)
+    sw = _sweep(scene, case.modifications, case.torque, [900.0], **kw)
     assert int(sw.result[0]) == jg.DynamicsResult.contact_not_converged == 1
-    ok = hybrid_speed_sweep(
+    ok = _sweep(
         scene,
         case.modifications,
         case.torque,
@@ -707,12 +756,12 @@ def test_failures_use_the_one_result_enumeration(setup):
         **{**kw, "contact": jg.SmoothContact(5e-5, max_iterations=50)},
     )
     assert int(ok.result[0]) == jg.DynamicsResult.successful
-    message = "hybrid dynamics: contact loop did not converge"
+    message = "contact loop did not converge"
     with pytest.raises(eqx.EquinoxRuntimeError, match=message):
-        hybrid_speed_sweep(scene, case.modifications, case.torque, [900.0], throw=True, **kw)
+        _sweep(scene, case.modifications, case.torque, [900.0], throw=True, **kw)
     with pytest.raises(eqx.EquinoxRuntimeError, match=message):
-        simulate_hybrid(scene, case.modifications, case.torque, 900.0, **kw)
-    r = simulate_hybrid(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
+        _simulate(scene, case.modifications, case.torque, 900.0, **kw)
+    r = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
     assert int(r.result) == 1
     # the window-overflow code no longer shares 3 (energy blow-up) with the lumped path
     codes = {c.name: int(c) for c in jg.DynamicsResult}

@@ -248,7 +248,7 @@ PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 PRIVATE_IN_TESTS = {
     # integrator checks on a constructed linear, time-invariant problem (energy to 1e-11, order
     # 2): no public model is one; _newmark takes the integrator's configuration
-    ("test_dynamics.py", "jaxgear.dynamics._simulate._newmark"),
+    ("test_dynamics.py", "jaxgear.dynamics._lumped._newmark"),
     ("test_dynamics.py", "jaxgear.dynamics._settings._Config"),
     # a shaft's FE node positions and unassembled K, M, K_b: LumpedPair does not expose them
     ("test_bearing_matrices.py", "jaxgear.scenes._lumped3d._shaft"),
@@ -265,7 +265,7 @@ PRIVATE_IN_TESTS = {
     ("test_tooth_form.py", "jaxgear._stiffness"),
     # trace counts of the jitted inner functions (eqx.debug.assert_max_traces wraps those)
     ("test_traces.py", "jaxgear._quasi_static._quasi_static"),
-    ("test_traces.py", "jaxgear.dynamics._simulate._run"),
+    ("test_traces.py", "jaxgear.dynamics._lumped._run"),
     ("test_traces.py", "optimise._minimise._solve"),
     ("test_traces.py", "optimise._master_curve._grid"),
     ("test_traces.py", "optimise._master_curve._refine"),

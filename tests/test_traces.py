@@ -14,7 +14,7 @@ import jaxgear.dynamics as jd
 import jaxgear.io as jio
 import jaxgear.scenes as js
 from jaxgear._quasi_static import _quasi_static  # traces counted (tests/test_layout.py)
-from jaxgear.dynamics._simulate import _run
+from jaxgear.dynamics._lumped import _run
 
 
 def _traces(fn):

@@ -193,7 +193,7 @@ def scene_lines(q: dict) -> list[str]:
 
 def write_body_series(out_dir, scene, bodies, dyn) -> list[str]:
     """VTU time series of each flexible body over the kept steps of one speed
-    (:class:`jaxgear.dynamics.HybridDynamics` with ``states``): ``body_<member>_NNNN.vtu`` and a
+    (:class:`jaxgear.dynamics.DynamicResult` with ``states``): ``body_<member>_NNNN.vtu`` and a
     ParaView collection ``body_<member>.pvd`` (time in s), written atomically."""
     from ..io import atomic_open
 

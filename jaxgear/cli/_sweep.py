@@ -25,29 +25,27 @@ def _clean(values) -> list:
 
 
 def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=None) -> dict:
-    """Speed sweep of a case whose scene has condensed bodies (Newmark in the cell space,
-    :func:`jaxgear.dynamics.hybrid_speed_sweep`), in chunks of speeds for the progress bar;
-    with ``vtu_speed``, a VTU time series of the deformed bodies at that speed."""
+    """Speed sweep of a case whose scene has condensed bodies (its
+    :class:`jaxgear.dynamics.HybridModel`: Newmark in the cell space), one speed per call for
+    the progress bar; with ``vtu_speed``, a VTU time series of the deformed bodies at that
+    speed."""
     import jax
-    import jax.numpy as jnp
     from tqdm.auto import tqdm
 
     from .. import DynamicsResult
     from ..dynamics import (
-        MESH_ENERGY_MIN,
         Newmark,
+        build_dynamic_model,
         campbell_coincidences,
-        hybrid_speed_sweep,
+        excited_omega,
         load_bodies,
-        mean_mesh_stiffness,
-        modal_analysis,
+        mesh_averaged_modes,
         nodal_diameter_modes,
         nodal_diameter_resonances,
         rim_waves,
-        simulate_hybrid,
-        spec_damping,
+        simulate,
         spec_window,
-        static_scene,
+        speed_sweep,
         steps_for_mode,
     )
     from ..scenes import FlexibleMember
@@ -61,26 +59,20 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     )
     bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
     bodies = load_bodies(spec, progress=show_progress)
-    scene, bodies = static_scene(case, slices=slices, bodies=bodies)
-    # the period-averaged mesh stiffness is sampled at 64 positions unless the step is fixed
-    spp = spec.steps_per_period or 64
-    damping = spec_damping(spec)
-    # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical speeds)
+    model, spec = build_dynamic_model(case, spec, slices=slices, bodies=bodies)
+    scene = model.scene
+    law = case.contact_law(spec.contact)
+    # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical speeds):
+    # the mesh stiffness averaged over 64 positions unless the step is fixed
     bar.set_postfix_str("modes of the mesh-averaged system")
-    Km = np.asarray(
-        mean_mesh_stiffness(
-            scene,
-            case.modifications,
-            jnp.asarray(case.torque),
-            spp,
-            case.contact_law(spec.contact),
-            speed=case.speed,
-        )
-    )
-    modes = modal_analysis(scene, jnp.asarray(Km))  # the 20 lowest are reported
+    modes = mesh_averaged_modes(
+        model,
+        speed=case.speed,
+        positions_per_pitch=spec.steps_per_period or 64,
+        contact=law,
+    )  # the 20 lowest are reported
     omega = np.asarray(modes.omega)[:20]  # 0 for the drive rotation
     energy = np.asarray(modes.mesh_energy)[:20]
-    rigid = np.asarray(modes.rigid)[:20]
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
     flexible_wheel = isinstance(scene.members[1], FlexibleMember)
     nd_res = []
@@ -98,8 +90,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         ]
     # steps per mesh period: fixed by [scene.integration], else automatic as the lumped sweep
     # (>= 40 per period of the highest mode with >= 5 % mesh energy, >= 64 per mesh period)
-    excited = (~rigid) & (energy >= MESH_ENERGY_MIN)
-    w_max = omega[excited].max() if excited.any() else omega.max()
+    w_max = float(excited_omega(modes))
     steps = (
         np.full(speeds.size, spec.steps_per_period)
         if spec.steps_per_period
@@ -107,31 +98,22 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     )
     dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
-    kw = dict(
-        window=spec_window(spec),
-        damping=damping,
-        contact=case.contact_law(spec.contact),
-        rotating_frame=spec.rotating_frame,
-    )
+    kw = dict(window=spec_window(spec), contact=law)
     # runs of equal step counts (one compiled sweep per count), one speed per call: the bar
     # moves per speed and Ctrl-C stops the sweep after the speed in progress
     starts = [k for k in range(speeds.size) if k == 0 or steps[k] != steps[k - 1]]
     for k, end in zip(starts, [*starts[1:], speeds.size], strict=True):
         part = speeds[k:end]
-        sw = hybrid_speed_sweep(
-            scene,
-            case.modifications,
-            case.torque,
+        sw = speed_sweep(
+            model,
             part,
             integrator=Newmark(int(steps[k])),
             chunk_size=1,
             progress=lambda n, k=k: bar.update(k + n - bar.n),
             **kw,
-        )
+        ).results
         jax.block_until_ready(sw)
-        fm = np.asarray(sw.mesh_force)[: part.size]
-        fs = float(np.asarray(sw.static_force).reshape(-1)[0])
-        dfs += (fm.max(axis=1) / fs).tolist()
+        dfs += np.asarray(sw.dynamic_factor)[: part.size].tolist()
         dft += np.asarray(sw.dynamic_factor_tooth)[: part.size].tolist()
         losses += np.asarray(sw.contact_loss)[: part.size].tolist()
         results += [int(v) for v in np.asarray(sw.result)[: part.size]]
@@ -147,10 +129,8 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
             spec.steps_per_period
             or steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), [vtu_speed])[0]
         )
-        one = simulate_hybrid(
-            scene,
-            case.modifications,
-            case.torque,
+        one = simulate(
+            model,
             float(vtu_speed),
             states=True,
             integrator=Newmark(int(n_vtu)),

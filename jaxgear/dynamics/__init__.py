@@ -4,11 +4,15 @@ dynamics").
 Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
 :class:`DiffraxIntegrator`), the contact law (:class:`jaxgear.ExactContact`,
 :class:`jaxgear.SmoothContact`), the damping (:class:`Damping`) and the steady-state window
-(:class:`SteadyState`); the torque and the speed are arguments.
+(:class:`SteadyState`); the speed is an argument.
 
-:func:`dynamic_model` builds a :class:`DynamicModel` (time-averaged mesh stiffness, modal analysis,
-damping) from a dynamic scene; :func:`simulate` integrates one speed to steady state (Newmark with
-the exact contact loop, or a diffrax solver); :func:`speed_sweep` vmaps (or continues) over speeds.
+:func:`dynamic_model` builds the model of a dynamic scene at a torque: a :class:`DynamicModel`
+(lumped scenes: time-averaged mesh stiffness, modal analysis, damping) or a :class:`HybridModel`
+(condensed bodies: damping built per speed). The same entries integrate both:
+:func:`simulate` (one speed to steady state: Newmark with the exact contact loop, or a diffrax
+solver for lumped models), :func:`speed_sweep` (vmapped, sharded or continued over speeds) and
+:func:`band_dynamic_factor` (a smooth worst dynamic factor over a band, for gradients); they
+return one result type, :class:`DynamicResult` (in a :class:`SweepResult` for a sweep).
 :func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
 """
 
@@ -25,29 +29,31 @@ from ._from_case import (
 )
 from ._hybrid import (
     FreeVibration as FreeVibration,
-    HybridDynamics as HybridDynamics,
-    band_dynamic_factor as band_dynamic_factor,
     hybrid_free_vibration as hybrid_free_vibration,
-    hybrid_speed_sweep as hybrid_speed_sweep,
     mean_mesh_stiffness as mean_mesh_stiffness,
     rim_waves as rim_waves,
-    simulate_hybrid as simulate_hybrid,
 )
+from ._lumped import static_start as static_start
 from ._modal import (
     Damping as Damping,
     ModalAnalysis as ModalAnalysis,
     campbell_coincidences as campbell_coincidences,
     damping_matrix as damping_matrix,
+    excited_omega as excited_omega,
     modal_analysis as modal_analysis,
     nodal_diameter_modes as nodal_diameter_modes,
     nodal_diameter_resonances as nodal_diameter_resonances,
+    steps_for_mode as steps_for_mode,
 )
 from ._model import (
+    AbstractDynamicModel as AbstractDynamicModel,
     DynamicModel as DynamicModel,
+    HybridModel as HybridModel,
     MeshTable as MeshTable,
     dynamic_model as dynamic_model,
     mesh_table as mesh_table,
 )
+from ._result import DynamicResult as DynamicResult, SweepResult as SweepResult
 from ._settings import (
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
     MESH_ENERGY_MIN as MESH_ENERGY_MIN,
@@ -58,12 +64,10 @@ from ._settings import (
     Newmark as Newmark,
     SteadyState as SteadyState,
 )
-from ._simulate import (
-    DynamicResult as DynamicResult,
-    SweepResult as SweepResult,
+from ._simulate import simulate as simulate
+from ._sweep import (
     auto_steps_per_period as auto_steps_per_period,
-    simulate as simulate,
-    static_start as static_start,
-    steps_for_mode as steps_for_mode,
+    band_dynamic_factor as band_dynamic_factor,
+    mesh_averaged_modes as mesh_averaged_modes,
+    speed_sweep as speed_sweep,
 )
-from ._sweep import speed_sweep as speed_sweep

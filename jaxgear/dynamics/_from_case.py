@@ -61,7 +61,7 @@ class SceneSpec:
     keep_periods: int = 4
     rtol: float = 1e-6
     atol: float = 1e-6
-    rotating_frame: bool = False  # hybrid: the turning frames' inertia (hybrid_speed_sweep)
+    rotating_frame: bool = False  # hybrid: the turning frames' inertia (HybridModel)
     pinion_mass: float | None = None
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d
@@ -108,14 +108,33 @@ def spec_damping(spec: SceneSpec) -> Damping:
     )
 
 
-def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: int | None = None):
-    """The :class:`~jaxgear.DynamicModel` of a case and its scene (default: ``[scene]``).
+def build_dynamic_model(
+    case: Case,
+    spec: SceneSpec | None = None,
+    *,
+    slices: int | None = None,
+    bodies: tuple | None = None,
+):
+    """The dynamic model of a case and its scene (default: ``[scene]``): a
+    :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
+    the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
-    density. Returns (model, spec).
+    density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
+    scene's, built or read from the fem_prep cache). Returns (model, spec).
     """
     if spec is None:
         spec = case.scene if case.scene is not None else SceneSpec()
+    if spec.hybrid:
+        scene, _ = static_scene(case, slices=slices, bodies=bodies)
+        model = dynamic_model(
+            scene,
+            case.modifications,
+            case.torque,
+            spec_damping(spec),
+            rotating_frame=spec.rotating_frame,
+        )
+        return model, spec
     pair = case.pair
     mesh = case.mesh_model(slices=slices)
     i1 = spec.pinion_inertia or disc_inertia(
@@ -123,12 +142,6 @@ def build_dynamic_model(case: Case, spec: SceneSpec | None = None, *, slices: in
     )
     i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
     if spec.model == "lumped3d":
-        if spec.hybrid:
-            raise ValueError(
-                "the lumped dynamic model has no condensed FE bodies ([scene.pinion_body]/"
-                "[scene.gear_body]): use jaxgear.dynamics.hybrid_speed_sweep on "
-                "static_scene(case), or jaxgear sweep"
-            )
         masses, inertias = _gear_bodies(case, spec, i1, i2)
         scene = lumped_pair(
             pair,

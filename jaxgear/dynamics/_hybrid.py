@@ -25,18 +25,18 @@ K_eff definite): X* = G_eff F_eff, Δ = V_W X*_W − δ0 − C_eff P with C_eff 
 the window of master DOFs under the contact, then X = X* − G_eff Vᵀ P. A step costs the window
 compliance (cells × window²) and a matrix-vector product with G_eff (n²), not a factorisation.
 
-Entry points: one speed (:func:`simulate_hybrid`), a speed sweep (:func:`hybrid_speed_sweep`),
-a differentiable dynamic factor over a speed band (:func:`band_dynamic_factor`),
-the free vibration at a fixed mesh position (:func:`hybrid_free_vibration`, the energy check),
-and the rim's nodal-diameter waves in a response (:func:`rim_waves`). The wheel's
-nodal-diameter modes and their (3.9) resonance speeds live with the modal analysis
-(:mod:`jaxgear.dynamics._modal`).
+A :class:`~jaxgear.dynamics.HybridModel` is integrated by the same entries as a lumped one
+(:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`,
+:func:`jaxgear.dynamics.band_dynamic_factor`), which call :func:`sweep` here. Also here: the
+mesh stiffness averaged over a mesh period (:func:`mean_mesh_stiffness`), the free vibration at
+a fixed mesh position (:func:`hybrid_free_vibration`, the energy check) and the rim's
+nodal-diameter waves in a response (:func:`rim_waves`). The wheel's nodal-diameter modes and
+their (3.9) resonance speeds live with the modal analysis (:mod:`jaxgear.dynamics._modal`).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import NamedTuple
 
 import equinox as eqx
@@ -46,95 +46,24 @@ import numpy as np
 from jaxtyping import Array, Float, Int
 
 from .._baseplane import CellRow
-from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
+from .._contact import ContactLaw, ExactContact, contact_law
 from .._modifications import Modifications
 from .._quasi_static import quasi_static, separation
-from .._results import DynamicsResult, error_if_failed
-from .._util import check_integer, rms_about_mean
+from .._results import DynamicsResult
+from .._util import check_integer
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
+from ._model import HybridModel
 from ._newmark import MeshDamping, newmark
-from ._settings import (
-    DiffraxIntegrator,
-    Newmark,
-    SteadyState,
-    check_integrator,
-    check_run_size,
-    check_window,
-)
-from ._sweep import in_chunks
+from ._result import steady_state
+from ._settings import DiffraxIntegrator, SteadyState, check_run_size
 
 __all__ = [
     "FreeVibration",
-    "HybridDynamics",
-    "band_dynamic_factor",
     "hybrid_free_vibration",
-    "hybrid_speed_sweep",
     "mean_mesh_stiffness",
     "rim_waves",
-    "simulate_hybrid",
 ]
-
-
-class HybridDynamics(eqx.Module):
-    """Steady-state response of the hybrid scene at one speed (the K kept steps; a sweep adds a
-    leading speed axis to every leaf).
-
-    Attributes:
-        speed: pinion speed Ω (rad/s). theta: pinion angles of the kept steps (rad), (K,).
-        mesh_force: Σ of the cell forces (N), (K,). transmission_error: dynamic TE (m), (K,).
-        static_force: the static mesh force F_n = T/(r_b1 cos β_b) (N).
-        line_force: force per contact line (one tooth pair) (N), (K, L).
-        static_line_force: the largest quasi-static force on one contact line over a mesh
-            period at the same speed (centrifugal load on) (N).
-        x: coordinates at the last step (n,). result: a :class:`jaxgear.DynamicsResult` code
-            (the lumped model's enumeration): 0 converged, 1 a contact loop did not converge,
-            2 a non-finite state, 5 a contact cell left the window of the mesh damping (an
-            internal error). iterations: most contact passes in a step.
-        rim_radial, rim_axial: the wheel's rim displacement at its stations (body frame, the
-            axial master plane nearest mid-face), radial and axial (m), shape (K, Z); (K, 0)
-            when the wheel is rigid. Read them with :func:`rim_waves`.
-        states: the coordinates X at the kept steps (K, n) when asked for (``states=True``),
-            else None (VTU time series of the deformed body).
-        time_step: Δt (s).
-    """
-
-    speed: Float[Array, ""]
-    theta: Float[Array, " K"]
-    mesh_force: Float[Array, " K"]
-    transmission_error: Float[Array, " K"]
-    static_force: Float[Array, ""]
-    line_force: Float[Array, "K L"]
-    static_line_force: Float[Array, ""]
-    x: Float[Array, " n"]
-    result: Int[Array, ""]
-    iterations: Int[Array, ""]
-    rim_radial: Float[Array, "K Z"]
-    rim_axial: Float[Array, "K Z"]
-    states: Float[Array, "K n"] | None
-    time_step: Float[Array, ""]
-
-    @property
-    def te_rms(self) -> Float[Array, ""]:
-        """RMS of the dynamic TE about its mean over the kept steps (m; per speed for a sweep)."""
-        return rms_about_mean(self.transmission_error)
-
-    @property
-    def dynamic_factor(self) -> Float[Array, ""]:
-        """Max dynamic mesh force / static mesh force over the kept steps (per speed for a
-        sweep: shape (n_speeds,))."""
-        return jnp.max(self.mesh_force, axis=-1) / self.static_force
-
-    @property
-    def dynamic_factor_tooth(self) -> Float[Array, ""]:
-        """Max dynamic force on one tooth pair / max quasi-static one (per speed for a sweep)."""
-        return jnp.max(self.line_force, axis=(-2, -1)) / self.static_line_force
-
-    @property
-    def contact_loss(self) -> Float[Array, ""]:
-        """Fraction of the kept steps with total contact loss (mesh force < 1e-3 F_n)."""
-        lost = self.mesh_force < 1e-3 * self.static_force[..., None]
-        return jnp.mean(lost.astype(self.mesh_force.dtype), axis=-1)
 
 
 def _newmark_cells(
@@ -266,19 +195,8 @@ def _reference(mesh, mods, theta):
     return jnp.max(e_max), e_max
 
 
-def _run(
-    scene,
-    mods,
-    torque,
-    speed,
-    n_steps,
-    keep,
-    spp,
-    damping,
-    law,
-    states,
-    rotating,
-):
+def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited):
+    scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
     mesh = scene.mesh
     dtype = scene.K.dtype
     dt = mesh.mesh_period_angle / speed / spp
@@ -300,7 +218,7 @@ def _run(
     mesh_damping = None if damp.c_m is None else MeshDamping(block, damp.c_m, damp.R)
 
     K = scene.K
-    if rotating:  # the turning frames' Coriolis, spin softening and stress stiffening
+    if model.rotating_frame:  # the turning frames' Coriolis, spin softening and stress stiffening
         K = K + speed**2 * scene.spin_stiffness
         C = C + speed * scene.gyroscopic
     F = scene.external_load(torque, speed)
@@ -316,7 +234,7 @@ def _run(
     def record(X, Xd):
         return (*rim_of(X), X) if states else rim_of(X)
 
-    (X, _, _, code, it), (th, P, te, rec) = _newmark_cells(
+    (X, Xd, Xdd, code, it), (th, P, te, rec) = _newmark_cells(
         scene,
         mods,
         K,
@@ -335,23 +253,34 @@ def _run(
     lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
     length = mesh.cells(0.0).length
     static_lines = jnp.sum(qs.line_load * length[None], axis=-1)  # (spp, L)
-    return HybridDynamics(
+    # the kept steps end at the positions (k + 1) mod N_s of the first period (whole periods)
+    j = (jnp.arange(keep) + 1) % spp
+    cb = jnp.cos(mesh.base_helix_angle)
+    static_te = (qs.x @ scene.te - e_max) / cb
+    code = jnp.where(
+        qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
+    )
+    return steady_state(
         speed=jnp.asarray(speed, dtype),
+        time_step=dt,
+        mesh_period_angle=mesh.mesh_period_angle,
+        steps_per_period=spp,
+        transient_steps=n_steps - keep,
         theta=th[-keep:],
         mesh_force=jnp.sum(P[-keep:], axis=-1),
-        transmission_error=te[-keep:],
         static_force=mesh.normal_load(torque),
+        transmission_error=te[-keep:],
         line_force=lines,
         static_line_force=jnp.max(static_lines),
-        x=X,
-        result=jnp.where(
-            qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
-        ),
+        static_te=static_te[j],
+        bearing_force=jnp.zeros((keep, 0), dtype),
+        bearing_force_static=jnp.zeros((spp, 0), dtype),
+        omega_excited=omega_excited,
+        final_state=(X, Xd, Xdd),
         iterations=it,
-        rim_radial=rec[0][-keep:],
-        rim_axial=rec[1][-keep:],
+        code=code,
+        rim=(rec[0][-keep:], rec[1][-keep:]),
         states=rec[2][-keep:] if states else None,
-        time_step=jnp.asarray(dt, dtype),
     )
 
 
@@ -434,198 +363,36 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw
     return qs, Km
 
 
-def simulate_hybrid(
-    scene: HybridPair,
-    modifications: Modifications | None,
-    torque,
-    speed,
-    *,
-    throw: bool = True,
-    **settings,
-) -> HybridDynamics:
-    """Integrate the hybrid scene at one pinion speed Ω (rad/s) > 0 from the quasi-static state
-    (Newmark with the contact loop in the cell space, see the module docstring).
-
-    ``settings`` and the errors are those of :func:`hybrid_speed_sweep`; the result has no
-    speed axis. As :func:`jaxgear.dynamics.simulate`, a failure raises by default
-    (``throw=False``: read ``result``)."""
-    dtype = scene.K.dtype
-    res = hybrid_speed_sweep(
-        scene,
-        modifications,
-        torque,
-        jnp.reshape(jnp.asarray(speed, dtype), (1,)),
-        throw=throw,
-        **settings,
-    )
-    return jax.tree.map(lambda x: x[0], res)
-
-
-def hybrid_speed_sweep(
-    scene: HybridPair,
-    modifications: Modifications | None,
-    torque,
-    speeds,
-    *,
-    integrator: Newmark = Newmark(64),
-    contact: ContactLaw = ExactContact(50),
-    window: SteadyState = SteadyState(20, 4),
-    damping: Damping | None = None,
-    states: bool = False,
-    rotating_frame: bool = False,
-    chunk_size: int | None = None,
-    progress: Callable[[int], None] | None = None,
-    throw: bool = False,
-) -> HybridDynamics:
-    """Integrate the hybrid scene at each pinion speed from the quasi-static state, one speed
-    after the other (``jax.lax.map``: one effective compliance of n² in memory at a time).
-
-    Args:
-        scene: a :class:`jaxgear.scenes.HybridPair` (its ``speed`` is ignored: each Ω sets the
-            centrifugal load). modifications: flank modifications (``None``: none).
-        torque: pinion torque (N·m) > 0. speeds: pinion speeds Ω (rad/s) > 0, shape (S,).
-        integrator: :class:`~jaxgear.dynamics.Newmark` with a fixed step count per mesh period
-            (default 64, the seed's, IV-27; the cell-space Newmark has no automatic step and no
-            diffrax form).
-        contact: the contact law (:class:`~jaxgear.ExactContact` with 50 passes by default).
-        window: :class:`~jaxgear.dynamics.SteadyState`, mesh periods integrated and kept at
-            the end (default 20 and 4).
-        damping: a :class:`jaxgear.dynamics.Damping`; default (``None``) the seed's D1, Rayleigh
-            C = α M + β K̄ with (α, β) = (25 1/s, 2.5e-6 s). ``"composite"`` (ξ_i = 0.07 e_i +
-            0.01 (1 − e_i), e_i the mode's mesh strain-energy share, (2.36)), ``"modal"`` (one ξ,
-            (2.35)) act on the modes of the system with the mesh stiffness averaged round the
-            wheel's revolution at each speed; ``"rayleigh"`` or ``"none"``. The mesh share of
-            the Rayleigh and composite damping follows the mesh period by period (the composite
-            in its form linear in the period's mesh stiffness, :func:`_damping`). The scene's
-            bearing damping is added in every case.
-        states: also return the coordinates at the kept steps (``HybridDynamics.states``).
-        rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic,
-            spin softening and centrifugal stress stiffening Ω²·spin_stiffness of
-            :class:`jaxgear.scenes.HybridPair`; a rigid turn of a member stays neutral). Off
-            by default, as in the seed: on the test wheel they move the web modes by ≤ 0.2 %
-            at 3000 rad/s; with them a rigidified body matches the lumped model within 0.2 %
-            at every speed tested (without, within 1 %; docs/hybrid.md).
-        chunk_size: run the speeds in chunks of this many, one compiled call per chunk from a
-            Python loop (the last chunk padded with its last speed, so every chunk runs the same
-            compiled program; the padding is dropped): the same results as one call, with
-            ``progress`` called after each chunk and Ctrl-C honoured between chunks. ``None``:
-            one call for all speeds (also when the speeds are traced).
-        progress: with ``chunk_size``, called with the number of speeds done after each chunk.
-        throw: raise when any speed fails (as :func:`jaxgear.dynamics.speed_sweep`, off by
-            default: a sweep reports each speed's ``result``).
-
-    Returns:
-        :class:`HybridDynamics` whose leaves have a leading speed axis (read ``result``, a
-        :class:`jaxgear.DynamicsResult` code per speed: 0 converged).
-
-    Raises:
-        ValueError: settings that are not settings objects of the hybrid dynamics, speeds out
-            of range, a run too large (before any computation).
-        eqx.EquinoxRuntimeError: with ``throw``, a failure code at some speed (the message
-            names it).
-    """
-    speeds, spp, window, law, damping = _check(scene, speeds, integrator, window, contact, damping)
-    dtype = scene.K.dtype
-    mods = Modifications() if modifications is None else modifications
-    if chunk_size is not None:
-        check_integer("chunk_size", chunk_size, 1)
-
-    def run(w):
-        torque_ = jnp.asarray(torque, dtype)
-        flags = (bool(states), bool(rotating_frame))
-        return _sweep(scene, mods, torque_, w, damping, law, spp, window, flags)
-
-    if chunk_size is None or isinstance(speeds, jax.core.Tracer):
-        return _thrown(run(speeds), throw)
-    return _thrown(in_chunks(run, speeds, int(chunk_size), progress), throw)
-
-
-def _thrown(res: HybridDynamics, throw: bool) -> HybridDynamics:
-    if not throw:
-        return res
-    te = error_if_failed(res.transmission_error, res.result, DynamicsResult, "hybrid dynamics")
-    return eqx.tree_at(lambda r: r.transmission_error, res, te)
-
-
-def _check(scene, speeds, integrator, window, contact, damping):
-    """The sweep settings' checks (before any computation): the speeds as an array of the
-    scene's dtype (checked when concrete; a traced band passes through), the step count, the
-    window, the contact law cast to the scene's dtype and the damping."""
-    speeds = jnp.asarray(speeds, scene.K.dtype)
-    if not isinstance(speeds, jax.core.Tracer) and (
-        speeds.ndim != 1 or speeds.size == 0 or not bool(np.all(np.asarray(speeds) > 0))
-    ):
-        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
-    integrator = check_integrator(integrator)
-    if isinstance(integrator, DiffraxIntegrator) or integrator.steps_per_period is None:
+def check_settings(model: HybridModel, integrator, window: SteadyState, steps: int) -> None:
+    """The hybrid run's own checks (before any computation): a Newmark integrator (the
+    cell-space Newmark has no diffrax form) and a run that fits (``steps`` per mesh period)."""
+    if isinstance(integrator, DiffraxIntegrator):
         raise ValueError(
-            f"integrator = {integrator!r}: the hybrid dynamics take Newmark(steps_per_period=N) "
-            "with an integer N >= 4 (the seed uses 64)"
+            f"integrator = {integrator!r}: a hybrid model takes jaxgear.dynamics.Newmark (the "
+            "contact loop in the cell space has no diffrax form)"
         )
-    window = check_window(window)
-    if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)
-        damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
-    if not isinstance(damping, Damping):
-        raise ValueError(f"damping = {damping!r}: allowed a jaxgear.dynamics.Damping")
-    spp = int(integrator.steps_per_period)
     # the cell-space Newmark records every step's cell forces, TE and mesh force
-    cells = scene.mesh.n_lines * scene.mesh.n_slices
-    check_run_size(window.periods, spp, int(window.periods) * spp, cells + 2)
-    return speeds, spp, window, contact_law(contact, scene.K.dtype), damping
+    cells = model.mesh.n_lines * model.mesh.n_slices
+    check_run_size(window.periods, steps, int(window.periods) * steps, cells + 2)
 
 
 @eqx.filter_jit
-def _sweep(scene, mods, torque, speeds, damping, law, spp: int, window: SteadyState, flags):
-    states, rotating = flags
+def sweep(
+    model: HybridModel,
+    speeds,
+    law: ContactLaw,
+    spp: int,
+    window: SteadyState,
+    states: bool,
+    omega_excited,
+):
+    """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
+    one effective compliance of n² in memory at a time), ``spp`` steps per mesh period:
+    :class:`~jaxgear.dynamics.DynamicResult` with a leading speed axis."""
     n_steps, keep = spp * window.periods, spp * window.keep_periods
     return jax.lax.map(
-        lambda w: _run(scene, mods, torque, w, n_steps, keep, spp, damping, law, states, rotating),
-        speeds,
+        lambda w: _run(model, w, n_steps, keep, spp, law, states, omega_excited), speeds
     )
-
-
-def band_dynamic_factor(
-    scene: HybridPair,
-    modifications: Modifications | None,
-    torque,
-    speeds,
-    *,
-    integrator: Newmark = Newmark(32),
-    contact: ContactLaw = SmoothContact(1e-7, 50),
-    window: SteadyState = SteadyState(20, 4),
-    damping: Damping | None = None,
-    p: float = 16.0,
-    rotating_frame: bool = False,
-) -> Float[Array, ""]:
-    """A smooth dynamic factor over a speed band, differentiable with respect to the
-    modifications (and the torque): the objective of an optimisation over speeds.
-
-    Per speed, the p-mean (mean of (F/F_n)^p)^(1/p) of the mesh force over the kept steps (a
-    smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
-    p-mean again (the worst speed, smoothly). The hybrid Newmark of :func:`hybrid_speed_sweep`
-    (its settings; 32 steps per period and smooth contact by default, for gradients).
-
-    Args:
-        scene, modifications, torque: as :func:`hybrid_speed_sweep`. speeds: the band's pinion
-            speeds (rad/s), shape (S,). p: the order of the p-means (>= 1).
-            integrator, contact, window, damping, rotating_frame: as
-            :func:`hybrid_speed_sweep`.
-
-    Returns:
-        the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
-        integer settings are checked, the speeds only when concrete.
-    """
-    speeds, spp, window, law, damping = _check(scene, speeds, integrator, window, contact, damping)
-    if not p >= 1:
-        raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
-    mods = Modifications() if modifications is None else modifications
-    torque = jnp.asarray(torque, scene.K.dtype)
-    res = _sweep(
-        scene, mods, torque, speeds, damping, law, spp, window, (False, bool(rotating_frame))
-    )
-    ratio = res.mesh_force / res.static_force[:, None]
-    per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
-    return jnp.mean(per_speed**p) ** (1.0 / p)
 
 
 class FreeVibration(eqx.Module):
@@ -637,7 +404,7 @@ class FreeVibration(eqx.Module):
             the cells in contact there, ½ẊᵀMẊ + ½(X − X_s)ᵀ(K + K_c)(X − X_s) (J), (S,).
         contact_held: True while every cell loaded at equilibrium stays loaded and no other
             cell closes (the system is then linear and the energy a constant of the motion).
-        result: as :class:`HybridDynamics`.
+        result: as :class:`~jaxgear.dynamics.DynamicResult`.
     """
 
     time: Float[Array, " S"]
@@ -662,7 +429,7 @@ def hybrid_free_vibration(
     """Newmark of the undamped hybrid scene with the mesh held at pinion angle ``theta`` (rad):
     the static equilibrium under ``torque`` (N·m) there, set moving with the initial
     ``velocity`` Ẋ(0) (n,) (m/s, rad/s), integrated ``n_steps`` steps of ``time_step`` (s) by
-    the cell-space step of :func:`hybrid_speed_sweep` (same contact loop and flank reference,
+    the cell-space step of the hybrid sweep (:func:`jaxgear.dynamics.speed_sweep`) (same contact loop and flank reference,
     from the quasi-static positions of ``steps_per_period`` steps; no centrifugal load, C = 0).
 
     With the contact held (small ``velocity``) the system is linear and time-invariant and the
@@ -747,7 +514,7 @@ def rim_waves(u, time_step, spin: float = -1.0, band=None) -> dict:
 
     Args:
         u: rim displacement at Z equally spaced stations (body frame, station k at angle
-            2πk/Z), over equally spaced steps, shape (S, Z) (:class:`HybridDynamics` ``rim_radial``
+            2πk/Z), over equally spaced steps, shape (S, Z) (:class:`~jaxgear.dynamics.DynamicResult` ``rim_radial``
             or ``rim_axial``, NumPy).
         time_step: Δt (s). spin: the body's rotation sense about z (−1 for the wheel, +1 for the
             pinion): a wave travelling the same way is *forward*.

@@ -18,15 +18,18 @@ from jaxtyping import Array, Float
 
 from .._util import as_float
 from ..scenes import DynamicScene, FlexibleMember, HybridPair
+from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, MIN_STEPS_PER_PERIOD, STEPS_PER_MODE
 
 __all__ = [
     "Damping",
     "ModalAnalysis",
     "campbell_coincidences",
     "damping_matrix",
+    "excited_omega",
     "modal_analysis",
     "nodal_diameter_modes",
     "nodal_diameter_resonances",
+    "steps_for_mode",
 ]
 
 
@@ -295,3 +298,37 @@ def damping_matrix(
         xi = damping.mesh_ratio * e + damping.structure_ratio * (1.0 - e)
     MP = M @ modes.shapes
     return MP @ jnp.diag(2.0 * xi * modes.omega) @ MP.T + Cb
+
+
+def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:
+    """Highest natural frequency (rad/s) among the modes the mesh excites: elastic modes with a
+    mesh strain-energy share >= ``MESH_ENERGY_MIN`` (5 %; the highest elastic one if none): the
+    mode the automatic time step resolves (docs/dynamics.md, "Time step and accuracy")."""
+    elastic = ~modes.rigid
+    excited = elastic & (modes.mesh_energy >= MESH_ENERGY_MIN)
+    excited = jnp.where(jnp.any(excited), excited, elastic)
+    return jnp.max(jnp.where(excited, modes.omega, 0.0))
+
+
+def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
+    """N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh) at each pinion speed
+    (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for the highest excited mode
+    ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m = ``mesh_period_angle`` = 2π/z1."""
+    sp = np.asarray(speeds, dtype=float)
+    if np.any(~(sp > 0)):
+        raise ValueError("speeds must be > 0 rad/s")
+    ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
+    n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
+    if np.any(n > MAX_STEPS_PER_SPEED):
+        low = (
+            STEPS_PER_MODE
+            * float(omega_max)
+            * float(mesh_period_angle)
+            / (2 * np.pi * MAX_STEPS_PER_SPEED)
+        )
+        raise ValueError(
+            f"speeds: {sp.min():.6g} rad/s would need {n.max():.3g} time steps per mesh period "
+            f"to resolve the highest mode the mesh excites ({omega_max / (2 * np.pi):.6g} Hz): "
+            f"allowed >= {low:.3g} rad/s (a slower pinion is quasi-static: jaxgear run)"
+        )
+    return (2 ** np.ceil(np.log2(n))).astype(int)

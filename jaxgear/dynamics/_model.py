@@ -41,10 +41,17 @@ from .._baseplane import CellRow, MeshModel
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._quasi_static import mesh_positions, separation
-from ..scenes import DynamicScene
+from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
 
-__all__ = ["DynamicModel", "MeshTable", "dynamic_model", "mesh_table"]
+__all__ = [
+    "AbstractDynamicModel",
+    "DynamicModel",
+    "HybridModel",
+    "MeshTable",
+    "dynamic_model",
+    "mesh_table",
+]
 
 
 class MeshTable(eqx.Module):
@@ -134,7 +141,26 @@ def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int):
     return _Prepared(table, static.x, static.force_density, static.weight, static.result)
 
 
-class DynamicModel(eqx.Module):
+class AbstractDynamicModel(eqx.Module):
+    """What every dynamic model is (:class:`DynamicModel`, :class:`HybridModel`): a scene with its
+    mesh at a pinion torque T (N·m), ready for :func:`~jaxgear.dynamics.simulate` and
+    :func:`~jaxgear.dynamics.speed_sweep` (the pattern of diffrax's abstract solvers)."""
+
+    scene: eqx.AbstractVar[DynamicScene | HybridPair]
+    mods: eqx.AbstractVar[Modifications]
+    torque: eqx.AbstractVar[Float[Array, ""]]
+
+    @property
+    def mesh(self) -> MeshModel:
+        return self.scene.mesh
+
+    @property
+    def static_force(self) -> Float[Array, ""]:
+        """Static flank-normal mesh force F_s = T/(r_b1 cos β_b) (N)."""
+        return self.mesh.normal_load(self.torque)
+
+
+class DynamicModel(AbstractDynamicModel):
     """A dynamic scene at an operating torque, with its damping (build with :func:`dynamic_model`).
 
     Attributes:
@@ -154,53 +180,92 @@ class DynamicModel(eqx.Module):
     modes: ModalAnalysis
     mesh_stiffness_mean: Float[Array, ""]
 
-    @property
-    def mesh(self) -> MeshModel:
-        return self.scene.mesh
-
-    @property
-    def static_force(self) -> Float[Array, ""]:
-        """Static flank-normal mesh force F_s = T/(r_b1 cos β_b) (N)."""
-        return self.mesh.normal_load(self.torque)
-
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
         frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
         return self.modes.omega * self.mesh.mesh_period_angle / (2 * jnp.pi * harmonic)
 
 
+class HybridModel(AbstractDynamicModel):
+    """A hybrid scene (condensed FE bodies on the cells) at an operating torque, with its damping
+    settings (build with :func:`dynamic_model`). Its damping matrices depend on the speed (the
+    centrifugal load moves the loaded cells; the composite and modal models take the modes of
+    the mesh stiffness averaged round the wheel's revolution at each speed): the sweeps build
+    them per speed (docs/hybrid.md, "Global system").
+
+    Attributes:
+        scene: the :class:`jaxgear.scenes.HybridPair` (its ``speed`` is not used: each
+            simulated speed sets the centrifugal load). mods: flank modifications
+            (differentiable). torque: pinion torque T (N·m).
+        damping: the :class:`Damping` settings (Rayleigh (2.34), modal (2.35) or composite
+            (2.36)); the scene's bearing damping is always added.
+        rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic, spin
+            softening and centrifugal stress stiffening Ω²·spin_stiffness; off in the seed).
+            Static.
+    """
+
+    scene: HybridPair
+    mods: Modifications
+    torque: Float[Array, ""]
+    damping: Damping
+    rotating_frame: bool = eqx.field(default=False, static=True)
+
+
 def dynamic_model(
-    scene: DynamicScene,
+    scene: DynamicScene | HybridPair,
     mods: Modifications | None,
     torque,
     damping: Damping | None = None,
     *,
     positions_per_pitch: int = 64,
     contact: ContactLaw = ExactContact(),
-) -> DynamicModel:
-    """Build a :class:`DynamicModel`: time-averaged mesh stiffness, modal analysis, damping.
+    rotating_frame: bool = False,
+) -> DynamicModel | HybridModel:
+    """The dynamic model of a scene at an operating torque: what :func:`simulate` and
+    :func:`speed_sweep` integrate.
 
-    The time-averaged mesh stiffness matrix is K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over one mesh
-    period, w_c the static contact weights at ``torque`` (loaded cells only, so a tip relief that
-    is not in contact does not count); the modal analysis of (M, K_s + K̄_m) gives the damping
-    (2.34)-(2.36).
+    A lumped scene (torsional or 3D, :class:`DynamicScene`) gives a :class:`DynamicModel`: the
+    time-averaged mesh stiffness matrix K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over one mesh period,
+    w_c the static contact weights at ``torque`` (loaded cells only, so a tip relief that is not
+    in contact does not count); the modal analysis of (M, K_s + K̄_m) gives the damping
+    (2.34)-(2.36). A hybrid scene (:class:`jaxgear.scenes.HybridPair`) gives a
+    :class:`HybridModel`, whose damping the sweeps build at each speed.
 
     Args:
         scene: dynamic scene. mods: modifications (``None``: none). torque: pinion torque (N·m).
-        damping: :class:`Damping` (default: composite (2.36), 0.07 mesh / 0.01 structure).
-        positions_per_pitch: positions per mesh period for the averages.
+        damping: :class:`Damping`. Default: composite (2.36), 0.07 mesh / 0.01 structure, for a
+            lumped scene; the seed's D1, Rayleigh (α, β) = (25 1/s, 2.5e-6 s), for a hybrid one.
+        positions_per_pitch: positions per mesh period for the averages (lumped scenes).
         contact: the contact law of the static solve (:class:`~jaxgear.ExactContact` by
-            default).
+            default; lumped scenes).
+        rotating_frame: hybrid scenes only: add the turning frames' inertia
+            (:class:`HybridModel`).
 
     Raises:
-        eqx.EquinoxRuntimeError: torque <= 0, or the static contact solve failed (jit/vmap-safe).
+        ValueError: a ``damping`` that is not a :class:`Damping`; ``rotating_frame`` on a
+            lumped scene; a concrete torque <= 0 for a hybrid scene.
+        eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
+            (jit/vmap-safe).
     """
     if mods is None:
         mods = Modifications()
-    if damping is None:
-        damping = Damping()
+    if damping is not None and not isinstance(damping, Damping):
+        raise ValueError(f"damping = {damping!r}: allowed a jaxgear.dynamics.Damping")
     dtype = scene.mesh.base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
+    if isinstance(scene, HybridPair):
+        if not isinstance(torque, jax.core.Tracer) and not bool(torque > 0):
+            raise ValueError(f"torque = {float(torque)!r} N·m: allowed > 0 (the pinion drives)")
+        if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)
+            damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
+        return HybridModel(scene, mods, torque, damping, bool(rotating_frame))
+    if rotating_frame:
+        raise ValueError(
+            "rotating_frame = True: only a hybrid scene (condensed bodies) has turning body "
+            "frames; a lumped scene's gears are rigid"
+        )
+    if damping is None:
+        damping = Damping()
     return _build(scene, mods, torque, damping, contact_law(contact, dtype), positions_per_pitch)
 
 

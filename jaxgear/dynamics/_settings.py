@@ -193,7 +193,7 @@ def check_window(window, name: str = "window") -> SteadyState:
 @dataclasses.dataclass(frozen=True)
 class _Config:
     """The resolved settings of one lumped run (static under jit): the integrator with its
-    step count fixed, the window and the divergence bound."""
+    step count fixed, the window, the divergence bound and whether the states are recorded."""
 
     integrator: Integrator
     steps_per_period: int
@@ -201,6 +201,7 @@ class _Config:
     keep_periods: int
     max_steps: int
     blowup: float
+    states: bool = False
 
     @property
     def newmark(self) -> bool:
@@ -230,7 +231,9 @@ def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
     return jnp.where(~finite, 2, jnp.where(blown, 3, 0))
 
 
-def _config(integrator, window: SteadyState, steps_per_period: int, blowup) -> _Config:
+def _config(
+    integrator, window: SteadyState, steps_per_period: int, blowup, states: bool = False
+) -> _Config:
     """The settings of a lumped run with the integrator's step count resolved to
     ``steps_per_period``; checks the window and the run's size (before any work)."""
     check_integer("steps_per_period", steps_per_period, 4)
@@ -256,4 +259,5 @@ def _config(integrator, window: SteadyState, steps_per_period: int, blowup) -> _
         int(window.keep_periods),
         int(max_steps),
         float(blowup),
+        bool(states),
     )

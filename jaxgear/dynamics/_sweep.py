@@ -1,4 +1,8 @@
-"""Speed sweeps: vmapped (and device-sharded) independent speeds, continuation up and down."""
+"""The entries of every dynamic model (:class:`~jaxgear.dynamics.DynamicModel` and
+:class:`~jaxgear.dynamics.HybridModel`): speed sweeps (:func:`speed_sweep`: vmapped and
+device-sharded independent speeds, continuation up and down), the smooth dynamic factor of a
+speed band (:func:`band_dynamic_factor`), the automatic time step (:func:`auto_steps_per_period`)
+and the modes it resolves (:func:`mesh_averaged_modes`). One speed: :func:`simulate`."""
 
 from __future__ import annotations
 
@@ -6,10 +10,16 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Float
 
-from .._contact import ContactLaw, ExactContact, contact_law
+from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
+from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer
-from ._model import DynamicModel
+from . import _hybrid
+from ._lumped import _prep, _run, _static_start
+from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
+from ._model import AbstractDynamicModel, DynamicModel, HybridModel
+from ._result import SweepResult
 from ._settings import (
     DiffraxIntegrator,
     Newmark,
@@ -19,9 +29,94 @@ from ._settings import (
     check_integrator,
     check_window,
 )
-from ._simulate import SweepResult, _prep, _run, _static_start, auto_steps_per_period
 
-__all__ = ["speed_sweep"]
+__all__ = ["auto_steps_per_period", "band_dynamic_factor", "mesh_averaged_modes", "speed_sweep"]
+
+Model = AbstractDynamicModel
+
+
+def settings(model, integrator, contact, window):
+    """The settings of a run on ``model``, checked, with each kind's defaults for ``None``: a
+    lumped model Newmark with automatic steps, the exact law (100 passes) and 60 periods with 4
+    kept; a hybrid model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law
+    (50 passes) and 20 periods with 4 kept. Returns (integrator, contact law in the model's
+    dtype, window)."""
+    if not isinstance(model, AbstractDynamicModel):
+        raise ValueError(
+            f"model = {type(model).__name__}: allowed a jaxgear.dynamics.DynamicModel or "
+            "HybridModel (jaxgear.dynamics.dynamic_model)"
+        )
+    hybrid = isinstance(model, HybridModel)
+    if integrator is None:
+        integrator = Newmark(64) if hybrid else Newmark()
+    if contact is None:
+        contact = ExactContact(50) if hybrid else ExactContact()
+    if window is None:
+        window = SteadyState(20, 4) if hybrid else SteadyState()
+    integrator = check_integrator(integrator)
+    window = check_window(window)
+    if hybrid:
+        _hybrid.check_settings(model, integrator, window, integrator.steps_per_period or 4)
+    return integrator, contact_law(contact, model.mesh.base_pitch.dtype), window
+
+
+def mesh_averaged_modes(
+    model: Model,
+    *,
+    speed=0.0,
+    positions_per_pitch: int = 64,
+    contact: ContactLaw = ExactContact(),
+) -> ModalAnalysis:
+    """The modes of (M, K + K̄_m), K̄_m the loaded mesh stiffness averaged over one mesh period
+    at the model's torque: the critical speeds, the Campbell diagram and the automatic time step
+    read them.
+
+    A lumped model's are its own (:attr:`DynamicModel.modes`, built by
+    :func:`~jaxgear.dynamics.dynamic_model`; the arguments are not used). A hybrid model's are
+    computed here (a dense eigen-analysis of the n structure coordinates): K̄_m over
+    ``positions_per_pitch`` quasi-static positions at pinion ``speed`` (rad/s, the centrifugal
+    load) with the ``contact`` law (:func:`~jaxgear.dynamics.mean_mesh_stiffness`).
+    """
+    if isinstance(model, DynamicModel):
+        return model.modes
+    check_integer("positions_per_pitch", positions_per_pitch, 4)
+    Km = _hybrid.mean_mesh_stiffness(
+        model.scene, model.mods, model.torque, int(positions_per_pitch), contact, speed=speed
+    )
+    return modal_analysis(model.scene, Km)
+
+
+def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = None) -> np.ndarray:
+    """Automatic time steps per mesh period at each pinion speed (the default of
+    :func:`~jaxgear.dynamics.simulate` and :func:`speed_sweep` for a lumped model, and with
+    ``Newmark(None)`` for a hybrid one).
+
+    N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh): at least 40 steps per period
+    of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
+    :func:`~jaxgear.dynamics.excited_omega`) and 64 per mesh period (f_mesh = Ω z1 / 2π). Powers
+    of two keep the number of compiled programs small.
+
+    Args:
+        model: a dynamic model (concrete values: not under ``jax.jit``).
+        speeds: pinion speed(s) Ω (rad/s), concrete.
+        modes: the modes to resolve (default :func:`mesh_averaged_modes` of the model).
+
+    Returns:
+        int array of N_s, the shape of ``speeds``.
+
+    Raises:
+        ValueError: traced speeds or model (pass an explicit ``steps_per_period`` under jit).
+    """
+    try:
+        sp = np.asarray(speeds, dtype=float)
+        w = float(excited_omega(mesh_averaged_modes(model) if modes is None else modes))
+        angle = float(model.mesh.mesh_period_angle)
+    except (jax.errors.TracerArrayConversionError, jax.errors.ConcretizationTypeError) as err:
+        raise ValueError(
+            "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
+            "jax.vmap or jax.grad pass an explicit integer steps_per_period"
+        ) from err
+    return steps_for_mode(w, angle, sp)
 
 
 def _shard(speeds):
@@ -56,71 +151,112 @@ def _flip(r):
 
 
 def speed_sweep(
-    model: DynamicModel,
+    model: Model,
     speeds,
     *,
-    integrator: Newmark | DiffraxIntegrator = Newmark(),
-    contact: ContactLaw = ExactContact(),
-    window: SteadyState = SteadyState(),
+    integrator: Newmark | DiffraxIntegrator | None = None,
+    contact: ContactLaw | None = None,
+    window: SteadyState | None = None,
     direction: str = "independent",
+    states: bool = False,
     shard: bool = True,
     chunk_size: int | None = None,
     progress=None,
     blowup: float = 100.0,
+    throw: bool = False,
 ) -> SweepResult:
-    """Dynamic response over pinion speeds.
+    """Dynamic response over pinion speeds, for every model.
 
     Args:
-        model: :class:`DynamicModel`.
-        speeds: pinion speeds (rad/s), shape (S,), ascending for continuation sweeps.
-        integrator, contact, window, blowup: as :func:`simulate`. With automatic steps
-            (``integrator.steps_per_period=None``, the default) each speed gets its own N_s
-            (:func:`~jaxgear.dynamics.auto_steps_per_period`, a power of two); speeds sharing an
-            N_s are run together (one compilation per distinct N_s); the kept histories of a
-            sweep with several N_s are subsampled to the smallest one (every speed's scalar
-            outputs use its own full resolution); continuation carries the state across them.
-        direction: "independent" (every speed from the static equilibrium, ``jax.vmap``, sharded
-            over the local devices with ``jax.sharding`` when there are several and ``shard``),
-            "up" or "down" (continuation: each speed starts from the previous steady state,
+        model: a :class:`DynamicModel` or :class:`HybridModel`
+            (:func:`~jaxgear.dynamics.dynamic_model`).
+        speeds: pinion speeds (rad/s) > 0, shape (S,), ascending for continuation sweeps.
+        integrator, contact, window, blowup: as :func:`~jaxgear.dynamics.simulate` (``None``:
+            the model kind's default, :func:`settings`). With automatic steps
+            (``steps_per_period=None``) each speed gets its own N_s
+            (:func:`auto_steps_per_period`, a power of two); speeds sharing an N_s are run
+            together (one compilation per distinct N_s); the kept histories of a sweep with
+            several N_s are subsampled to the smallest one (every speed's scalar outputs use its
+            own full resolution); continuation carries the state across them.
+        direction: "independent" (every speed from the static equilibrium: ``jax.vmap`` sharded
+            over the local devices with ``jax.sharding`` when there are several and ``shard``
+            for a lumped model, ``jax.lax.map`` for a hybrid one), or, lumped models only, "up"
+            or "down" (continuation: each speed starts from the previous steady state,
             ``lax.scan``), or "both" (up and down; ``SweepResult.down`` in the order of
             ``speeds``; one vmap over the two scans when not chunked).
+        states: also record the coordinates at the kept steps (``DynamicResult.states``;
+            Newmark only).
         chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
-            chunk is padded), calling ``progress(n_done)`` after each (for a progress bar).
-            Continuation carries the state across chunks.
+            chunk is padded), calling ``progress(n_done)`` after each (for a progress bar;
+            Ctrl-C is honoured between chunks). Continuation carries the state across chunks.
+        throw: raise when any speed fails (off by default: read ``results.result``).
 
     Returns:
-        :class:`SweepResult` (never raises on divergence: read ``result`` per speed).
+        :class:`SweepResult`.
 
     Raises:
         ValueError: bad settings or speeds (before any work).
+        eqx.EquinoxRuntimeError: with ``throw``, a failure code at some speed (the message
+            names it).
     """
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
+    integrator, law, window = settings(model, integrator, contact, window)
+    hybrid = isinstance(model, HybridModel)
+    if hybrid and direction != "independent":
+        raise ValueError(
+            f"direction = {direction!r}: a hybrid model sweeps independent speeds only "
+            "(allowed 'independent')"
+        )
+    if states and isinstance(integrator, DiffraxIntegrator):
+        raise ValueError("states = True: only Newmark records the states (integrator)")
     dtype = model.mesh.base_pitch.dtype
     speeds = jnp.asarray(speeds, dtype)
-    if speeds.ndim != 1 or speeds.shape[0] < 1:
-        raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
-    integrator = check_integrator(integrator)
-    window = check_window(window)
-    law = contact_law(contact, dtype)
+    traced = isinstance(speeds, jax.core.Tracer)
+    if (
+        speeds.ndim != 1
+        or speeds.shape[0] < 1
+        or (not traced and not bool(np.all(np.asarray(speeds) > 0)))
+    ):
+        raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
     if chunk_size is not None:
         check_integer("chunk_size", chunk_size, 1)
-    common = {"shard": shard, "chunk_size": chunk_size}
+    omega = jnp.asarray(jnp.nan, dtype)  # a hybrid run's excited mode: unknown unless automatic
 
-    def cfg_of(n):
-        return _config(integrator, window, int(n), blowup)
+    def fixed(sp, n, d, tick, start=None):
+        n = int(n)
+        if not hybrid:
+            cfg = _config(integrator, window, n, blowup, states)
+            return _fixed_sweep(
+                model,
+                sp,
+                law,
+                cfg,
+                direction=d,
+                shard=shard,
+                chunk_size=chunk_size,
+                progress=tick,
+                start=start,
+            )
+        _hybrid.check_settings(model, integrator, window, n)
+
+        def run(w):
+            return _hybrid.sweep(model, w, law, n, window, bool(states), omega)
+
+        if chunk_size is None or isinstance(sp, jax.core.Tracer):
+            return SweepResult(sp, run(sp))
+        return SweepResult(sp, in_chunks(run, sp, int(chunk_size), tick))
 
     if integrator.steps_per_period is not None:
-        cfg = cfg_of(integrator.steps_per_period)
-        return _fixed_sweep(
-            model, speeds, law, cfg, direction=direction, progress=progress, **common
-        )
-    ns = auto_steps_per_period(model, np.asarray(speeds))
+        return _thrown(fixed(speeds, integrator.steps_per_period, direction, progress), throw)
+    if hybrid:
+        modes = mesh_averaged_modes(model)
+        omega = excited_omega(modes)
+        ns = auto_steps_per_period(model, np.asarray(speeds), modes)
+    else:
+        ns = auto_steps_per_period(model, np.asarray(speeds))
     if np.all(ns == ns[0]):
-        cfg = cfg_of(ns[0])
-        return _fixed_sweep(
-            model, speeds, law, cfg, direction=direction, progress=progress, **common
-        )
+        return _thrown(fixed(speeds, ns[0], direction, progress), throw)
     n_min = int(ns.min())
     done = [0]
 
@@ -131,9 +267,7 @@ def speed_sweep(
             if progress is not None:
                 progress(base + k)
 
-        r = _fixed_sweep(
-            model, sp, law, cfg_of(n), direction=d, progress=tick, start=start, **common
-        ).results
+        r = fixed(sp, n, d, tick, start).results
         done[0] += int(sp.shape[0])
         return _subsample(r, int(n) // n_min)
 
@@ -144,8 +278,9 @@ def speed_sweep(
             parts.append(run(speeds[idx], n, "independent"))
             order.append(idx)
         inv = np.argsort(np.concatenate(order))
-        return SweepResult(
-            speeds, jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)
+        return _thrown(
+            SweepResult(speeds, jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)),
+            throw,
         )
 
     def continuation(sp, n_s):
@@ -160,11 +295,69 @@ def speed_sweep(
         return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a), *parts)
 
     if direction == "up":
-        return SweepResult(speeds, continuation(speeds, ns))
+        return _thrown(SweepResult(speeds, continuation(speeds, ns)), throw)
     down = _flip(continuation(speeds[::-1], ns[::-1]))
     if direction == "down":
-        return SweepResult(speeds, down)
-    return SweepResult(speeds, continuation(speeds, ns), down)
+        return _thrown(SweepResult(speeds, down), throw)
+    return _thrown(SweepResult(speeds, continuation(speeds, ns), down), throw)
+
+
+def _thrown(res: SweepResult, throw: bool) -> SweepResult:
+    """``res``, raising (``eqx.error_if``, also under ``jax.jit``: the check rides on the
+    dynamic factors returned) when ``throw`` and a speed failed."""
+    if not throw:
+        return res
+
+    def checked(r):
+        df = error_if_failed(r.dynamic_factor, r.result, DynamicsResult, "speed_sweep")
+        return eqx.tree_at(lambda x: x.dynamic_factor, r, df)
+
+    down = None if res.down is None else checked(res.down)
+    return SweepResult(res.speeds, checked(res.results), down)
+
+
+def band_dynamic_factor(
+    model: Model,
+    speeds,
+    *,
+    integrator: Newmark = Newmark(32),
+    contact: ContactLaw = SmoothContact(1e-7, 50),
+    window: SteadyState = SteadyState(20, 4),
+    p: float = 16.0,
+) -> Float[Array, ""]:
+    """A smooth dynamic factor over a speed band, differentiable with respect to the
+    modifications (and the torque) of the model: the objective of an optimisation over speeds.
+
+    Per speed, the p-mean (mean of (F/F_s)^p)^(1/p) of the mesh force over the kept steps (a
+    smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
+    p-mean again (the worst speed, smoothly). The sweep of :func:`speed_sweep` with 32 fixed
+    steps per period and the smooth contact law by default, for gradients.
+
+    Args:
+        model: a :class:`DynamicModel` or :class:`HybridModel`. speeds: the band's pinion
+            speeds (rad/s), shape (S,). integrator: Newmark with a fixed ``steps_per_period``.
+            contact, window: as :func:`speed_sweep`. p: the order of the p-means (>= 1).
+
+    Returns:
+        the band's dynamic factor (-), a scalar. Trace-safe (``jax.grad``, ``jax.jit``): the
+        integer settings are checked, the speeds only when concrete.
+
+    Raises:
+        ValueError: automatic steps, p < 1, bad settings (before any computation).
+    """
+    if not p >= 1:
+        raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
+    if not isinstance(integrator, Newmark) or integrator.steps_per_period is None:
+        raise ValueError(
+            f"integrator = {integrator!r}: allowed Newmark(steps_per_period=N), N an integer "
+            ">= 4 (a fixed step count: the band is differentiated)"
+        )
+    r = speed_sweep(
+        model, speeds, integrator=integrator, contact=contact, window=window, shard=False
+    ).results
+    ratio = r.mesh_force / r.static_force[:, None]
+    per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
+    return jnp.mean(per_speed**p) ** (1.0 / p)
 
 
 def _subsample(r, m: int):
@@ -172,7 +365,9 @@ def _subsample(r, m: int):
     if m == 1:
         return r
     hist = ("time", "theta", "mesh_force", "transmission_error", "line_force", "static_te")
-    hist += ("bearing_force",)
+    hist += ("bearing_force", "rim_radial", "rim_axial")
+    if r.states is not None:
+        hist += ("states",)
     return eqx.tree_at(
         lambda x: [getattr(x, h) for h in hist],
         r,

@@ -1,0 +1,229 @@
+"""The lumped models' dynamics (:class:`~jaxgear.dynamics.DynamicModel`): Newmark on the mesh
+table (the contact in coordinates) or a diffrax solver, one speed to steady state
+(:func:`_one_speed`), vmapped or continued over speeds (:func:`_run`). The public entries are
+:func:`jaxgear.dynamics.simulate` and :func:`jaxgear.dynamics.speed_sweep`."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+from .._baseplane import CellRow
+from .._contact import ContactLaw, ExactContact, _phi, contact_law
+from .._results import DynamicsResult, error_if_failed
+from .._util import check_integer
+from ._diffrax import _diffrax
+from ._modal import excited_omega
+from ._model import DynamicModel, MeshTable, _prepare, _Prepared
+from ._newmark import newmark
+from ._result import steady_state
+from ._settings import _Config, _divergence_code
+
+__all__ = ["static_start"]
+
+
+# --------------------------------------------------------------------------------------------
+# integrators
+
+
+def _with_acceleration(model, table, X, Xd, law):
+    scene = model.scene
+    gap = table.V[0] @ X - table.delta0[0]
+    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, law)[0], 0.0)
+    Xdd = jnp.linalg.solve(
+        scene.mass(),
+        scene.external_load(model.torque)
+        - model.damping @ Xd
+        - scene.stiffness() @ X
+        - table.V[0].T @ f,
+    )
+    return (X, Xd, Xdd)
+
+
+def _newmark(
+    model: DynamicModel,
+    table: MeshTable,
+    dt,
+    state,
+    n_steps: int,
+    cfg: _Config,
+    law: ContactLaw,
+    record: bool,
+    record_states: bool = False,
+):
+    """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
+    coordinates) on the rows of the mesh table from row 1 on (step n ends at row (n + 1) mod N_s).
+
+    ``state``: (X, Ẋ, Ẍ, result code, most contact passes). Records per step (``record``): the
+    mesh force Σ P (N), the TE (m), the force per contact line (N, (L,)), the bearing forces R X
+    (N, (r,)), and (X, Ẋ) with ``record_states``."""
+    scene = model.scene
+    M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
+    u = scene.te_vector()
+    R = scene.reaction_matrix()
+    cb = jnp.cos(model.mesh.base_helix_angle)
+    fs = model.static_force
+    e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
+    P = table.theta.shape[0]
+
+    def cells_at(j):
+        return CellRow(
+            None, table.V[j], table.k[j], table.length[j], table.delta0[j], table.mask[j]
+        )
+
+    def check(X, Xd, forces):
+        return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
+
+    def kept(X, Xd, forces):
+        te = (u @ X - table.e_max[0]) / cb
+        lines = jnp.sum(forces.reshape(table.n_lines, -1), axis=1)
+        out = (jnp.sum(forces), te, lines, R @ X)
+        return out + (X, Xd) if record_states else out
+
+    rows = ((jnp.arange(n_steps) + 1) % P)[None, :]
+    return newmark(
+        Ks,
+        M,
+        model.damping,
+        F,
+        dt,
+        state,
+        rows,
+        cells_at,
+        law,
+        kept if record else None,
+        check=check,
+    )
+
+
+def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
+    P = cfg.steps_per_period
+    mesh = model.mesh
+    period = mesh.mesh_period_angle / speed
+    dt = period / P
+    n_keep = cfg.keep_periods * P
+    n_trans = (cfg.periods - cfg.keep_periods) * P
+    states = None
+    if cfg.newmark:
+        # the transient unrecorded, then the kept periods recorded: n_trans is whole mesh
+        # periods, so the second scan meets the same table rows (memory ∝ keep_periods only)
+        carry0 = (*state, jnp.array(0), jnp.array(0))
+        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, law, record=False)
+        carry, rec = _newmark(
+            model, table, dt, carry, n_keep, cfg, law, record=True, record_states=cfg.states
+        )
+        fm, te, lines, reac = rec[:4]
+        if cfg.states:
+            states = rec[4]
+        X, Xd, Xdd, code, it = carry
+        final = (X, Xd, Xdd)
+    else:
+        final, (fm, te, lines, reac), code, it = _diffrax(model, table, speed, dt, state, cfg, law)
+    j = (jnp.arange(n_keep) + 1) % P
+    static_lines = jnp.sum(
+        (static.static_force_density * table.length).reshape(P, table.n_lines, -1), axis=2
+    )
+    u = model.scene.te_vector()
+    cb = jnp.cos(mesh.base_helix_angle)
+    static_te = (static.static_x @ u - table.e_max) / cb
+    none = jnp.zeros((n_keep, 0), fm.dtype)
+    return steady_state(
+        speed=speed,
+        time_step=dt,
+        mesh_period_angle=mesh.mesh_period_angle,
+        steps_per_period=P,
+        transient_steps=n_trans,
+        theta=table.theta[j],
+        mesh_force=fm,
+        static_force=model.static_force,
+        transmission_error=te,
+        line_force=lines,
+        static_line_force=jnp.max(static_lines),
+        static_te=static_te[j],
+        bearing_force=reac,
+        bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
+        omega_excited=excited_omega(model.modes),
+        final_state=final,
+        iterations=it,
+        code=code,
+        rim=(none, none),
+        states=states,
+    )
+
+
+def _prep(model, law: ContactLaw, steps_per_period: int) -> _Prepared:
+    return _prepare(model.scene, model.mods, model.torque, law, steps_per_period)
+
+
+def _static_start(prep: _Prepared):
+    """(X, Ẋ) of the static equilibrium at the first mesh position, zero vibration velocity."""
+    return prep.static_x[0], jnp.zeros_like(prep.static_x[0])
+
+
+def static_start(
+    model: DynamicModel,
+    *,
+    contact: ContactLaw = ExactContact(),
+    steps_per_period: int = 64,
+):
+    """The state every simulation starts from by default: the static equilibrium at the first
+    time step's mesh position and zero vibration velocity, with the ``contact`` law on a table
+    of ``steps_per_period`` positions per mesh period.
+
+    Returns:
+        (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
+    """
+    check_integer("steps_per_period", steps_per_period, 4)
+    law = contact_law(contact, model.mesh.base_pitch.dtype)
+    return _static_start(_prep(model, law, int(steps_per_period)))
+
+
+@eqx.filter_jit
+@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
+def _run(
+    model: DynamicModel,
+    prep: _Prepared,
+    speeds,
+    state0,
+    law: ContactLaw,
+    cfg: _Config,
+    mode: str,
+    throw: bool = False,
+):
+    table = prep.table
+    static = prep
+    state0 = _with_acceleration(model, table, state0[0], state0[1], law)
+    restart = _with_acceleration(
+        model, table, static.static_x[0], jnp.zeros_like(static.static_x[0]), law
+    )
+
+    def one(speed, state):
+        return _one_speed(model, table, static, speed, state, cfg, law)
+
+    if mode == "single":
+        r = one(speeds, state0)
+        if throw:  # eqx.error_if: raises under jit, vmap and grad alike
+            df = error_if_failed(r.dynamic_factor, r.result, DynamicsResult, "simulate")
+            r = eqx.tree_at(lambda x: x.dynamic_factor, r, df)
+        return r
+    if mode == "vmap":
+        return jax.vmap(lambda s: one(s, state0))(speeds)
+
+    def scan_dir(sp):
+        def body(state, s):
+            r = one(s, state)
+            # a diverged point restarts the next one from the static equilibrium
+            ok = r.result == 0
+            nxt = jax.tree_util.tree_map(lambda a, b: jnp.where(ok, a, b), r.final_state, restart)
+            return nxt, r
+
+        return jax.lax.scan(body, state0, sp)[1]
+
+    if mode == "continuation":
+        return scan_dir(speeds)
+    # both directions at once: vmap over (up, reversed)
+    both = jax.vmap(scan_dir)(jnp.stack([speeds, speeds[::-1]]))
+    up = jax.tree_util.tree_map(lambda a: a[0], both)
+    down = jax.tree_util.tree_map(lambda a: a[1][::-1], both)
+    return up, down

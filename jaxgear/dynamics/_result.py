@@ -1,0 +1,188 @@
+"""The steady-state response of every dynamic model at one speed (:class:`DynamicResult`), a
+speed sweep's results (:class:`SweepResult`), and the one place where a run's records become
+them (:func:`steady_state`): lumped and hybrid models fill the same fields the same way
+(docs/dynamics.md, "Time integration": the outputs per speed)."""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Bool, Float, Int
+
+from .._util import rms_about_mean
+from ._settings import UNDER_RESOLVED_STEPS
+
+__all__ = ["DynamicResult", "SweepResult"]
+
+
+class DynamicResult(eqx.Module):
+    """Steady-state response at one speed (K = keep_periods · N_s recorded steps; a sweep adds a
+    leading speed axis to every leaf), for every model (:func:`jaxgear.dynamics.dynamic_model`).
+
+    Attributes:
+        speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
+        time: recorded times from the start (s), shape (K,). time_step: Δt (s).
+        theta: pinion angle at the recorded steps (rad), (K,): modulo one mesh period for a
+            lumped model (the positions of its cell table), the angle turned from the start for
+            a hybrid model (where the bodies' stations are).
+        mesh_force: dynamic flank-normal mesh force Σ p l (N), shape (K,).
+        static_force: the static mesh force F_s = T/(r_b1 cos β_b) (N).
+        transmission_error: dynamic TE (u·X − e_ref)/cos β_b (m), shape (K,).
+        line_force: force per contact line (one tooth pair) (N), shape (K, n_lines).
+        static_te: quasi-static TE at the same positions (m), shape (K,) (a hybrid model's at
+            the same place in the first mesh period, the body stations then under the mesh,
+            with the centrifugal load at the speed).
+        bearing_force: support force components R X (N), shape (K, r) (r = 0 for torsional and
+            hybrid scenes; :meth:`DynamicScene.reaction_matrix`). bearing_force_max: max |R X|
+            over the kept periods, shape (r,). bearing_force_static: max over positions of the
+            static one.
+        dynamic_factor: max mesh force / static mesh force F_s (-).
+        dynamic_factor_tooth: max tooth force / max quasi-static tooth force (-).
+        te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
+        contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
+        periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-); NaN with one kept
+            period.
+        steps_per_period: time steps per mesh period N_s actually used (automatic or given).
+        steps_per_mode_period: N_s f_mesh / f_max, time steps per period of the highest mode the
+            mesh excites (mesh-energy share >= 5 %; docs/dynamics.md "Time step and accuracy");
+            NaN where the run had no modal analysis (a hybrid model with a fixed step count).
+        under_resolved: steps_per_mode_period < 20: the dynamic factor may be off by more than
+            1 % (underestimated by 3-30 % below ~13 at low speed with a stepwise stiffness).
+        final_state: (X, Ẋ, Ẍ) at the end (continuation start), each shape (n,).
+        iterations: max contact passes per step (Newmark) or ODE steps taken (diffrax).
+        result: 0 ok, else a :class:`~jaxgear.DynamicsResult` code.
+        rim_radial, rim_axial: a hybrid model's wheel rim displacement at its stations (body
+            frame, the axial master plane nearest mid-face), radial and axial (m), shape (K, Z);
+            (K, 0) for a rigid wheel and for lumped models. Read them with
+            :func:`jaxgear.dynamics.rim_waves`.
+        states: the coordinates X at the recorded steps (K, n) when asked for (``states=True``
+            of :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep`),
+            else None.
+    """
+
+    speed: Float[Array, ""]
+    mesh_frequency: Float[Array, ""]
+    time: Float[Array, " K"]
+    time_step: Float[Array, ""]
+    theta: Float[Array, " K"]
+    mesh_force: Float[Array, " K"]
+    static_force: Float[Array, ""]
+    transmission_error: Float[Array, " K"]
+    line_force: Float[Array, "K L"]
+    static_te: Float[Array, " K"]
+    bearing_force: Float[Array, "K r"]
+    bearing_force_max: Float[Array, " r"]
+    bearing_force_static: Float[Array, " r"]
+    dynamic_factor: Float[Array, ""]
+    dynamic_factor_tooth: Float[Array, ""]
+    te_rms: Float[Array, ""]
+    te_mean: Float[Array, ""]
+    contact_loss: Float[Array, ""]
+    periodicity: Float[Array, ""]
+    steps_per_period: Int[Array, ""]
+    steps_per_mode_period: Float[Array, ""]
+    under_resolved: Bool[Array, ""]
+    final_state: tuple
+    iterations: Int[Array, ""]
+    result: Int[Array, ""]
+    rim_radial: Float[Array, "K Z"]
+    rim_axial: Float[Array, "K Z"]
+    states: Float[Array, "K n"] | None = None
+
+
+class SweepResult(eqx.Module):
+    """Speed sweep over S speeds.
+
+    Attributes:
+        speeds: pinion speeds (rad/s), shape (S,).
+        results: :class:`DynamicResult` per speed (leaves with a leading S axis), in the order of
+            ``speeds``: the independent, up or down sweep.
+        down: with ``direction="both"``, the down sweep (same order as ``speeds``); else None.
+    """
+
+    speeds: Float[Array, " S"]
+    results: DynamicResult
+    down: DynamicResult | None = None
+
+    @property
+    def dynamic_factor(self) -> Float[Array, " S"]:
+        return self.results.dynamic_factor
+
+
+def steady_state(
+    *,
+    speed,
+    time_step,
+    mesh_period_angle,
+    steps_per_period: int,
+    transient_steps: int,
+    theta,
+    mesh_force,
+    static_force,
+    transmission_error,
+    line_force,
+    static_line_force,
+    static_te,
+    bearing_force,
+    bearing_force_static,
+    omega_excited,
+    final_state,
+    iterations,
+    code,
+    rim,
+    states=None,
+) -> DynamicResult:
+    """The :class:`DynamicResult` of one speed's records over its K kept steps.
+
+    Args:
+        speed (rad/s), time_step (s), mesh_period_angle 2π/z1 (rad): scalars.
+        steps_per_period: N_s. transient_steps: steps run before the kept ones (whole periods).
+        theta (K,), mesh_force (K,), transmission_error (K,), line_force (K, L), static_te (K,),
+            bearing_force (K, r): the records. static_force: F_s (N).
+        static_line_force: the largest quasi-static force on one contact line (N).
+        bearing_force_static: the static support forces at the table positions (P, r).
+        omega_excited: the highest natural frequency the mesh excites (rad/s; NaN: unknown).
+        final_state: (X, Ẋ, Ẍ). iterations, code: the run's most contact passes and result code.
+        rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
+    """
+    P = steps_per_period
+    K = mesh_force.shape[0]
+    fm, te, fs = mesh_force, transmission_error, static_force
+    if K >= 2 * P:
+        periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
+    else:
+        periodicity = jnp.asarray(jnp.nan, fm.dtype)
+    finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
+    code = jnp.where((code == 0) & ~finite, 2, code)
+    # f_mesh / f_max = Ω (2π/z1)^-1 / (ω_max / 2π)
+    per_mode = P * 2 * jnp.pi * speed / (mesh_period_angle * omega_excited)
+    return DynamicResult(
+        speed=speed,
+        mesh_frequency=speed / mesh_period_angle,
+        time=(transient_steps + 1 + jnp.arange(K)) * time_step,
+        time_step=jnp.asarray(time_step, fm.dtype),
+        theta=theta,
+        mesh_force=fm,
+        static_force=jnp.asarray(fs, fm.dtype),
+        transmission_error=te,
+        line_force=line_force,
+        static_te=static_te,
+        bearing_force=bearing_force,
+        bearing_force_max=jnp.max(jnp.abs(bearing_force), axis=0),
+        bearing_force_static=jnp.max(jnp.abs(bearing_force_static), axis=0),
+        dynamic_factor=jnp.max(fm) / fs,
+        dynamic_factor_tooth=jnp.max(line_force) / static_line_force,
+        te_rms=rms_about_mean(te),
+        te_mean=jnp.mean(te),
+        contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
+        periodicity=periodicity,
+        steps_per_period=jnp.asarray(P),
+        steps_per_mode_period=per_mode,
+        under_resolved=per_mode < UNDER_RESOLVED_STEPS,
+        final_state=final_state,
+        iterations=jnp.asarray(iterations),
+        result=jnp.asarray(code),
+        rim_radial=rim[0],
+        rim_axial=rim[1],
+        states=states,
+    )
