@@ -159,6 +159,30 @@ def test_same_numbers_as_recorded(tmp_path, name):
     assert not diff, f"{len(diff)} differences, first: " + "; ".join(diff[:5])
 
 
+# ``jaxgear sweep`` on a case with condensed bodies chose its automatic step from the 20 lowest
+# modes until 7bff366; it now takes the library's rule (jaxgear.dynamics.excited_omega over every
+# mode). On accessory-spur-flexible a mode above the 20 lowest stores >= 5 % of its strain energy
+# in the mesh, so 1000 rad/s runs 128 steps per mesh period instead of 64 (2000 and 3000 rad/s keep
+# 64). The dynamic factors recorded before, at 1000, 2000 and 3000 rad/s:
+HYBRID_SWEEP_BEFORE = {
+    "steps": [64, 64, 64],
+    "dynamic_factor": [1.2063271397, 1.1235160336, 1.1109919009],
+}
+HYBRID_SWEEP_CHANGE = 5e-3  # relative, at the speed whose step changed
+
+
+def test_hybrid_sweep_record_against_the_one_before_the_step_rule():
+    """The hybrid sweep's record (which the slow regression test compares with the code to 1e-9)
+    against the record before the step rule changed: equal (1e-9) where the step did not change,
+    within 0.5 % where it doubled."""
+    rec = _recorded("sweep-accessory-spur-flexible")
+    steps, df = rec["steps_per_period"], rec["dynamic_factor"]
+    assert steps == [128, 64, 64]
+    for n, new, old in zip(steps, df, HYBRID_SWEEP_BEFORE["dynamic_factor"], strict=True):
+        tol = 1e-9 if n == 64 else HYBRID_SWEEP_CHANGE
+        assert new == pytest.approx(old, rel=tol)
+
+
 def _record(names) -> None:  # pragma: no cover - run by hand
     jax.config.update("jax_enable_x64", True)
     commit = subprocess.run(
