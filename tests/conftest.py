@@ -34,6 +34,24 @@ def _family(module) -> str:
     return re.sub(r"^test_", "", name).split("_")[0]
 
 
+# Families by their cost on the 2-core CI machine (``pytest --durations``, heaviest first): the
+# suite runs them first, so that the xdist workers (``-n 2 --dist worksteal``) share out the long
+# tests early and end together on short ones; the families not named follow in name order.
+HEAVY_FIRST = ("hybrid", "fem", "optimise", "dynamics", "progress", "regression", "readme")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Run the heavy families first (:data:`HEAVY_FIRST`); a stable sort keeps each module's
+    tests together and in their order (module fixtures are built once per module)."""
+    rank = {f: k for k, f in enumerate(HEAVY_FIRST)}
+
+    def key(item):
+        module = getattr(item, "module", None)
+        return len(rank) if module is None else rank.get(_family(module), len(rank))
+
+    items.sort(key=key)
+
+
 _last_family = [None]
 
 

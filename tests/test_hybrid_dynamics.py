@@ -25,7 +25,9 @@ from jaxgear.dynamics import (
     SteadyState,
     auto_steps_per_period,
     dynamic_model,
+    excited_omega,
     mean_mesh_stiffness,
+    mesh_averaged_modes,
     simulate,
     speed_sweep,
     static_scene,
@@ -162,28 +164,32 @@ def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta, ro
     return _newmark_all_coordinates(scene, mods, torque, speed, spp, [(C_of, rotating, n_steps)])[0]
 
 
-def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup):
+@pytest.mark.parametrize(
+    "rotating", [False, pytest.param(True, marks=pytest.mark.slow)], ids=["fixed", "rotating"]
+)
+def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup, rotating):
     """The cell-space Newmark (window compliance, the mesh damping's window update once per
     period by Woodbury, the turning frame's Coriolis and spin stiffness) against the same
-    scheme on all coordinates, over 3 mesh periods (the mesh damping moves on twice)."""
+    scheme on all coordinates, over 3 mesh periods (the mesh damping moves on twice). The
+    turning frame's case is slow: the composite test (tests/test_hybrid_composite.py) runs it
+    in the default suite."""
     case, scene = setup
     spp, periods, speed, ray = 16, 3, 800.0, (25.0, 2.5e-6)  # seed D1
-    for rotating in (False, True):
-        r = _simulate(
-            scene,
-            case.modifications,
-            case.torque,
-            speed,
-            integrator=Newmark(spp),
-            window=SteadyState(periods, periods),
-            damping=Damping("rayleigh", alpha=ray[0], beta=ray[1]),
-            rotating_frame=rotating,
-        )
-        assert int(r.result) == 0
-        ref = _reference_newmark(
-            scene, case.modifications, case.torque, speed, spp, spp * periods, *ray, rotating
-        )
-        np.testing.assert_allclose(np.asarray(r.mesh_force), ref, rtol=1e-8, atol=1e-8 * ref.max())
+    r = _simulate(
+        scene,
+        case.modifications,
+        case.torque,
+        speed,
+        integrator=Newmark(spp),
+        window=SteadyState(periods, periods),
+        damping=Damping("rayleigh", alpha=ray[0], beta=ray[1]),
+        rotating_frame=rotating,
+    )
+    assert int(r.result) == 0
+    ref = _reference_newmark(
+        scene, case.modifications, case.torque, speed, spp, spp * periods, *ray, rotating
+    )
+    np.testing.assert_allclose(np.asarray(r.mesh_force), ref, rtol=1e-8, atol=1e-8 * ref.max())
 
 
 def test_low_speed_is_the_quasi_static_response(setup):
@@ -228,10 +234,21 @@ def test_automatic_step_of_a_hybrid_model(setup):
     need = np.maximum(64, np.ceil(40 * w_max * theta_m / (2 * np.pi * speeds)))
     expected = 2 ** np.ceil(np.log2(need))
     np.testing.assert_array_equal(auto_steps_per_period(model, speeds), expected)
+
+
+@pytest.mark.slow
+def test_a_hybrid_run_with_the_automatic_step_reports_it(setup):
+    """``simulate`` with ``Newmark(None)`` on a hybrid model runs the automatic N_s and reports
+    N_s f_mesh / f_max with the f_max of :func:`jaxgear.dynamics.mesh_averaged_modes` (whose rule
+    the test above checks against SciPy)."""
+    case, scene = setup
+    model = _model(scene, case.modifications, case.torque)
+    w_max = float(excited_omega(mesh_averaged_modes(model)))
+    n = int(auto_steps_per_period(model, [3000.0])[0])
     r = simulate(model, 3000.0, integrator=Newmark(), window=SteadyState(2, 1))
-    assert int(r.result) == 0 and int(r.steps_per_period) == expected[1]
-    per_mode = expected[1] * 3000.0 / theta_m / (w_max / (2 * np.pi))
-    assert float(r.steps_per_mode_period) == pytest.approx(per_mode, rel=1e-6)
+    assert int(r.result) == 0 and int(r.steps_per_period) == n
+    per_mode = n * 3000.0 / float(scene.mesh.mesh_period_angle) / (w_max / (2 * np.pi))
+    assert float(r.steps_per_mode_period) == pytest.approx(per_mode, rel=1e-12)
 
 
 def test_speed_sweep_maps_single_speeds(setup):
@@ -360,8 +377,9 @@ def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
     return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
 
 
+@pytest.mark.slow
 def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
-    """a body 1000× stiffer on the same shafts, against the rigid-node lumped
+    """(Slow: the composite-damping comparison below stays in the default run.) A body 1000× stiffer on the same shafts, against the rigid-node lumped
     model given its mass and inertias: the dynamic factor after 60 mesh periods agrees within
     1 % at 150, 800 and 2100 rad/s (measured 0.01 %, 0.04 %, 0.07 %; with tooth separation down
     to 0.52 F_s at 2100). The flank gaps are measured from one time-constant reference in both.

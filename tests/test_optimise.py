@@ -239,7 +239,7 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     path.write_text(SMALL_CASE)
     out = tmp_path / "o"
     assert (
-        main(["optimise", str(path), "--out", str(out), "--quiet", "--max-iterations", "40"]) == 0
+        main(["optimise", str(path), "--out", str(out), "--quiet", "--max-iterations", "15"]) == 0
     )
     rep = json.loads((out / "optimum.json").read_text())
     assert rep["final"]["objective_exact_m"] < rep["initial"]["objective_exact_m"]

@@ -429,8 +429,9 @@ def hybrid_free_vibration(
     """Newmark of the undamped hybrid scene with the mesh held at pinion angle ``theta`` (rad):
     the static equilibrium under ``torque`` (N·m) there, set moving with the initial
     ``velocity`` Ẋ(0) (n,) (m/s, rad/s), integrated ``n_steps`` steps of ``time_step`` (s) by
-    the cell-space step of the hybrid sweep (:func:`jaxgear.dynamics.speed_sweep`) (same contact loop and flank reference,
-    from the quasi-static positions of ``steps_per_period`` steps; no centrifugal load, C = 0).
+    the cell-space step of a hybrid model's :func:`jaxgear.dynamics.speed_sweep` (same contact
+    loop and flank reference, from the quasi-static positions of ``steps_per_period`` steps; no
+    centrifugal load, C = 0).
 
     With the contact held (small ``velocity``) the system is linear and time-invariant and the
     average-acceleration scheme conserves the vibration energy exactly: the energy check of the
@@ -514,8 +515,8 @@ def rim_waves(u, time_step, spin: float = -1.0, band=None) -> dict:
 
     Args:
         u: rim displacement at Z equally spaced stations (body frame, station k at angle
-            2πk/Z), over equally spaced steps, shape (S, Z) (:class:`~jaxgear.dynamics.DynamicResult` ``rim_radial``
-            or ``rim_axial``, NumPy).
+            2πk/Z), over equally spaced steps, shape (S, Z)
+            (:class:`~jaxgear.dynamics.DynamicResult` ``rim_radial`` or ``rim_axial``, NumPy).
         time_step: Δt (s). spin: the body's rotation sense about z (−1 for the wheel, +1 for the
             pinion): a wave travelling the same way is *forward*.
         band: (f_min, f_max) (Hz): look for each diameter's largest wave in this band only

@@ -312,8 +312,9 @@ def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:
 
 def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
     """N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh) at each pinion speed
-    (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for the highest excited mode
-    ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m = ``mesh_period_angle`` = 2π/z1."""
+    (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for the
+    highest excited mode ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m =
+    ``mesh_period_angle`` = 2π/z1."""
     sp = np.asarray(speeds, dtype=float)
     if np.any(~(sp > 0)):
         raise ValueError("speeds must be > 0 rad/s")

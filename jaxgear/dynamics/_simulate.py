@@ -10,7 +10,7 @@ from ._lumped import _prep, _run, _static_start
 from ._model import AbstractDynamicModel, HybridModel
 from ._result import DynamicResult
 from ._settings import DiffraxIntegrator, Newmark, SteadyState, _config
-from ._sweep import auto_steps_per_period, settings, speed_sweep
+from ._sweep import auto_steps_per_period, resolve_settings, speed_sweep
 
 __all__ = ["simulate"]
 
@@ -76,7 +76,7 @@ def simulate(
             throw=throw,
         ).results
         return jax.tree.map(lambda x: x[0], res)
-    integrator, law, window = settings(model, integrator, contact, window)
+    integrator, law, window = resolve_settings(model, integrator, contact, window)
     if states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
     dtype = model.mesh.base_pitch.dtype

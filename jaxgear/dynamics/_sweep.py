@@ -35,7 +35,7 @@ __all__ = ["auto_steps_per_period", "band_dynamic_factor", "mesh_averaged_modes"
 Model = AbstractDynamicModel
 
 
-def settings(model, integrator, contact, window):
+def resolve_settings(model, integrator, contact, window):
     """The settings of a run on ``model``, checked, with each kind's defaults for ``None``: a
     lumped model Newmark with automatic steps, the exact law (100 passes) and 60 periods with 4
     kept; a hybrid model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law
@@ -172,7 +172,7 @@ def speed_sweep(
             (:func:`~jaxgear.dynamics.dynamic_model`).
         speeds: pinion speeds (rad/s) > 0, shape (S,), ascending for continuation sweeps.
         integrator, contact, window, blowup: as :func:`~jaxgear.dynamics.simulate` (``None``:
-            the model kind's default, :func:`settings`). With automatic steps
+            the model kind's default, :func:`resolve_settings`). With automatic steps
             (``steps_per_period=None``) each speed gets its own N_s
             (:func:`auto_steps_per_period`, a power of two); speeds sharing an N_s are run
             together (one compilation per distinct N_s); the kept histories of a sweep with
@@ -201,7 +201,7 @@ def speed_sweep(
     """
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
-    integrator, law, window = settings(model, integrator, contact, window)
+    integrator, law, window = resolve_settings(model, integrator, contact, window)
     hybrid = isinstance(model, HybridModel)
     if hybrid and direction != "independent":
         raise ValueError(
