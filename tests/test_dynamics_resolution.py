@@ -47,12 +47,23 @@ def models():
     }
 
 
+def z1_of(model):
+    """The pinion's tooth count, 2π over the mesh period angle."""
+    return round(2 * np.pi / float(model.mesh.mesh_period_angle))
+
+
 def _compare(model, ratios, periods):
     """Default-step sweep vs the reference; returns (ratios, N_s, relative errors)."""
     wc = float(model.critical_speeds(1)[0])
     speeds = np.array(ratios) * wc
     r = speed_sweep(model, speeds, window=SteadyState(periods, 2)).results
     ns = np.asarray(r.steps_per_period)
+    # the records of the speeds with more steps are subsampled to the coarsest N_s: time_step
+    # is their spacing (the period of the coarsest grid over its N_s)
+    dt = np.diff(np.asarray(r.time), axis=1)
+    np.testing.assert_allclose(dt, np.asarray(r.time_step)[:, None] + 0 * dt, rtol=1e-9)
+    period = 2 * np.pi / (speeds * z1_of(model))
+    np.testing.assert_allclose(np.asarray(r.time_step), period / ns.min(), rtol=1e-12)
     errs = []
     for i, (ratio, sp) in enumerate(zip(ratios, speeds, strict=True)):
         # the same initial value problem as simulate: static start at θ0 = Δθ/2; at low speed

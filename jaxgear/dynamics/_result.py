@@ -21,7 +21,9 @@ class DynamicResult(eqx.Module):
 
     Attributes:
         speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
-        time: recorded times from the start (s), shape (K,). time_step: Δt (s).
+        time: recorded times from the start (s), shape (K,). time_step: their spacing (s): the
+            run's Δt, or a multiple of it where a sweep with several N_s subsampled the records
+            (:func:`~jaxgear.dynamics.speed_sweep`).
         theta: pinion angle at the recorded steps (rad), (K,): modulo one mesh period for a
             lumped model (the positions of its cell table), the angle turned from the start for
             a hybrid model (where the bodies' stations are).

@@ -361,18 +361,20 @@ def band_dynamic_factor(
 
 
 def _subsample(r, m: int):
-    """Keep every m-th recorded step (ending on each period's last step) of a batched result."""
+    """Keep every m-th recorded step (ending on each period's last step) of a batched result;
+    ``time_step`` becomes the spacing of the kept records, m Δt."""
     if m == 1:
         return r
     hist = ("time", "theta", "mesh_force", "transmission_error", "line_force", "static_te")
     hist += ("bearing_force", "rim_radial", "rim_axial")
     if r.states is not None:
         hist += ("states",)
-    return eqx.tree_at(
+    r = eqx.tree_at(
         lambda x: [getattr(x, h) for h in hist],
         r,
         [getattr(r, h)[:, m - 1 :: m] for h in hist],
     )
+    return eqx.tree_at(lambda x: x.time_step, r, r.time_step * m)
 
 
 def _fixed_sweep(
