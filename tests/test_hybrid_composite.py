@@ -19,17 +19,12 @@ import scipy.linalg as sla
 from test_hybrid_dynamics import (
     _newmark_all_coordinates,
     _period_mesh_stiffness,
+    _simulate,
     setup,  # noqa: F401 (the module's scene fixture)
 )
 
 import jaxgear as jg
-from jaxgear.dynamics import Damping, Newmark, SteadyState, dynamic_model, simulate
-
-
-def _simulate(scene, mods, torque, speed, *, damping=None, rotating_frame=False, **settings):
-    """:func:`jaxgear.dynamics.simulate` on the hybrid model of ``scene``."""
-    model = dynamic_model(scene, mods, torque, damping, rotating_frame=rotating_frame)
-    return simulate(model, speed, **settings)
+from jaxgear.dynamics import Damping, Newmark, SteadyState
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):

@@ -35,9 +35,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     from .. import DynamicsResult
     from ..dynamics import (
         Newmark,
+        auto_steps_per_period,
         build_dynamic_model,
         campbell_coincidences,
-        excited_omega,
         load_bodies,
         mesh_averaged_modes,
         nodal_diameter_modes,
@@ -46,7 +46,6 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         simulate,
         spec_window,
         speed_sweep,
-        steps_for_mode,
     )
     from ..scenes import FlexibleMember
 
@@ -90,11 +89,10 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         ]
     # steps per mesh period: fixed by [scene.integration], else automatic as the lumped sweep
     # (>= 40 per period of the highest mode with >= 5 % mesh energy, >= 64 per mesh period)
-    w_max = float(excited_omega(modes))
     steps = (
         np.full(speeds.size, spec.steps_per_period)
         if spec.steps_per_period
-        else steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), speeds)
+        else auto_steps_per_period(model, speeds, modes)
     )
     dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
     bar.set_postfix_str("")
@@ -125,10 +123,7 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
     if vtu_speed is not None:
         from ._scene import write_body_series
 
-        n_vtu = (
-            spec.steps_per_period
-            or steps_for_mode(w_max, float(scene.mesh.mesh_period_angle), [vtu_speed])[0]
-        )
+        n_vtu = spec.steps_per_period or auto_steps_per_period(model, [vtu_speed], modes)[0]
         one = simulate(
             model,
             float(vtu_speed),

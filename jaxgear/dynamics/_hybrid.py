@@ -363,15 +363,19 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw
     return qs, Km
 
 
-def check_settings(model: HybridModel, integrator, window: SteadyState, steps: int) -> None:
-    """The hybrid run's own checks (before any computation): a Newmark integrator (the
-    cell-space Newmark has no diffrax form) and a run that fits (``steps`` per mesh period)."""
+def check_newmark(integrator) -> None:
+    """A hybrid model is integrated by Newmark: the contact loop in the cell space has no
+    diffrax form (one-line ``ValueError`` otherwise, before any computation)."""
     if isinstance(integrator, DiffraxIntegrator):
         raise ValueError(
             f"integrator = {integrator!r}: a hybrid model takes jaxgear.dynamics.Newmark (the "
             "contact loop in the cell space has no diffrax form)"
         )
-    # the cell-space Newmark records every step's cell forces, TE and mesh force
+
+
+def check_records(model: HybridModel, window: SteadyState, steps: int) -> None:
+    """A hybrid run of ``steps`` per mesh period fits (:func:`check_run_size`): the cell-space
+    Newmark records every step's cell forces, TE and mesh force."""
     cells = model.mesh.n_lines * model.mesh.n_slices
     check_run_size(window.periods, steps, int(window.periods) * steps, cells + 2)
 

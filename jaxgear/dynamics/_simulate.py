@@ -76,9 +76,7 @@ def simulate(
             throw=throw,
         ).results
         return jax.tree.map(lambda x: x[0], res)
-    integrator, law, window = resolve_settings(model, integrator, contact, window)
-    if states and isinstance(integrator, DiffraxIntegrator):
-        raise ValueError("states = True: only Newmark records the states (integrator)")
+    integrator, law, window = resolve_settings(model, integrator, contact, window, states)
     dtype = model.mesh.base_pitch.dtype
     steps_per_period = integrator.steps_per_period
     if steps_per_period is None:

@@ -35,12 +35,12 @@ __all__ = ["auto_steps_per_period", "band_dynamic_factor", "mesh_averaged_modes"
 Model = AbstractDynamicModel
 
 
-def resolve_settings(model, integrator, contact, window):
+def resolve_settings(model, integrator, contact, window, states: bool = False):
     """The settings of a run on ``model``, checked, with each kind's defaults for ``None``: a
     lumped model Newmark with automatic steps, the exact law (100 passes) and 60 periods with 4
     kept; a hybrid model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law
-    (50 passes) and 20 periods with 4 kept. Returns (integrator, contact law in the model's
-    dtype, window)."""
+    (50 passes) and 20 periods with 4 kept. ``states``: the states are to be recorded (Newmark
+    only). Returns (integrator, contact law in the model's dtype, window)."""
     if not isinstance(model, AbstractDynamicModel):
         raise ValueError(
             f"model = {type(model).__name__}: allowed a jaxgear.dynamics.DynamicModel or "
@@ -56,7 +56,9 @@ def resolve_settings(model, integrator, contact, window):
     integrator = check_integrator(integrator)
     window = check_window(window)
     if hybrid:
-        _hybrid.check_settings(model, integrator, window, integrator.steps_per_period or 4)
+        _hybrid.check_newmark(integrator)
+    if states and isinstance(integrator, DiffraxIntegrator):
+        raise ValueError("states = True: only Newmark records the states (integrator)")
     return integrator, contact_law(contact, model.mesh.base_pitch.dtype), window
 
 
@@ -201,15 +203,13 @@ def speed_sweep(
     """
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
-    integrator, law, window = resolve_settings(model, integrator, contact, window)
+    integrator, law, window = resolve_settings(model, integrator, contact, window, states)
     hybrid = isinstance(model, HybridModel)
     if hybrid and direction != "independent":
         raise ValueError(
             f"direction = {direction!r}: a hybrid model sweeps independent speeds only "
             "(allowed 'independent')"
         )
-    if states and isinstance(integrator, DiffraxIntegrator):
-        raise ValueError("states = True: only Newmark records the states (integrator)")
     dtype = model.mesh.base_pitch.dtype
     speeds = jnp.asarray(speeds, dtype)
     traced = isinstance(speeds, jax.core.Tracer)
@@ -238,7 +238,7 @@ def speed_sweep(
                 progress=tick,
                 start=start,
             )
-        _hybrid.check_settings(model, integrator, window, n)
+        _hybrid.check_records(model, window, n)
 
         def run(w):
             return _hybrid.sweep(model, w, law, n, window, bool(states), omega)
