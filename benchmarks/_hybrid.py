@@ -135,7 +135,7 @@ def _with_window(scene, member: int, n_window: int):
 
     members = list(scene.members)
     members[member] = dataclasses.replace(members[member], n_window=int(n_window))
-    return eqx.tree_at(lambda s: s.members, scene, tuple(members))
+    return eqx.tree_at(lambda s: s.meshes[0].members, scene, tuple(members))
 
 
 def _flex_index(scene) -> int:

@@ -117,7 +117,7 @@ def test_rigid_body_motion_gives_the_rigid_node_vector(
     sc = static_scene(case, bodies=(pinion_body, body))[0]
     member = sc.members[member_index]
     assert isinstance(member, FlexibleMember)
-    n = np.asarray(sc.normal) * member.sign  # the member's outward normal n_m
+    n = np.asarray(sc.meshes[0].normal) * member.sign  # the member's outward normal n_m
     O2 = np.asarray(member.centre)
     vectors = jax.jit(lambda th: sc.cell_vectors(sc.mesh.cells(th)))
     for theta in (0.013, 0.2, 1.7):
@@ -297,7 +297,9 @@ def test_a_too_narrow_rim_window_is_widened(case, scene):
 
     member = scene.members[1]
     narrow = eqx.tree_at(
-        lambda s: s.members, scene, (scene.members[0], dataclasses.replace(member, n_window=2))
+        lambda s: s.meshes[0].members,
+        scene,
+        (scene.members[0], dataclasses.replace(member, n_window=2)),
     )
     fitted = _fit_windows(narrow)
     assert fitted.members[1].n_window > 2

@@ -5,13 +5,18 @@ Quasi-static: :class:`RigidMesh` (both bodies rigid, 1 DOF), :class:`TorsionalPa
 :class:`TorsionalDynamics`, :class:`RelativeApproach`, :class:`LumpedPair` (rigid 6-DOF gear nodes
 on Timoshenko shafts and bearings). Hybrid: :class:`HybridPair` (the lumped scene with condensed FE
 bodies coupled to the cells, seed II-2).
+
+The 3D scenes hold their gear meshes as a tuple of :class:`GearMesh` (the base-plane mesh model on
+its line of action between two gear members); a member is a :class:`RigidMember` (a 6-DOF gear
+node, seed (2.9)) or a :class:`FlexibleMember` (a condensed body through the interface, seed
+(2.11)–(2.30)).
 """
 
-from ._hybrid import (
+from ._gear_mesh import GearMesh as GearMesh, line_of_action as line_of_action
+from ._hybrid import HybridPair as HybridPair, hybrid_pair as hybrid_pair
+from ._interface import (
     FlexibleMember as FlexibleMember,
-    HybridPair as HybridPair,
     RigidMember as RigidMember,
-    hybrid_pair as hybrid_pair,
     mortar_weights as mortar_weights,
 )
 from ._lumped3d import (

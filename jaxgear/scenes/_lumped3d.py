@@ -1,15 +1,12 @@
 """3D lumped-parameter scene: rigid gear nodes on Timoshenko shafts with bearings (seed I-3, (2.9)).
 
-Frame: z along the (parallel) axes, pinion axis through the origin, gear axis through (a_w, 0).
-The line of action is t = (sin α_wt, cos α_wt, 0), tangent to the pinion base circle at
-T1 = r_b1 (cos α_wt, −sin α_wt, 0) (the pinion turns about +z and drives, the gear turns about
-−z). A cell at base-plane coordinates (s, z) sits at M = T1 + (ρ_A + s) t + (z − b/2) e_z, ρ_A
-the pinion roll distance of the engagement point, and its flank normal is
-n = cos β_b t + sin β_b e_z (the helix-hand convention: a positive β gives a +z axial force on the
-gear). Each shaft node has 6 DOF (u_x, u_y, u_z, φ_x, φ_y, φ_z). The approach of cell M is
-(d1(M) − d2(M))·n with d_i(M) = u_i + φ_i × (M − O_i) at the gear nodes, i.e. the structure vector
+Frame: z along the (parallel) axes, pinion axis through the origin, gear axis through (a_w, 0);
+the line of action and the contact points are those of :mod:`._gear_mesh`. Each shaft node has 6
+DOF (u_x, u_y, u_z, φ_x, φ_y, φ_z). The approach of cell M is (d1(M) − d2(M))·n with
+d_i(M) = u_i + φ_i × (M − O_i) at the gear nodes, i.e. the structure vector
 
-    V(M) = [n, (M − O1) × n, −n, −(M − O2) × n]      (seed (2.9), at the two gear nodes),
+    V(M) = [n, (M − O1) × n, −n, −(M − O2) × n]      (seed (2.9), at the two gear nodes:
+                                                      :class:`~jaxgear.scenes.RigidMember`),
 
 and for a pure rotation it reduces to the torsional V = cos β_b (r_b1, −r_b2) with θ1 = φ_z1 and
 θ2 = −φ_z2.
@@ -38,6 +35,8 @@ from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel
 from .._geometry import GearPair
+from ._gear_mesh import line_of_action, only_mesh, pair_mesh
+from ._interface import RigidMember
 from ._scene import DynamicScene
 
 __all__ = [
@@ -48,27 +47,6 @@ __all__ = [
     "lumped_pair",
     "timoshenko_element",
 ]
-
-
-def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells) -> Array:
-    """Fixed-frame contact points M = T1 + (ρ_A + s) t + (z − b/2) e_z of the cells (m),
-    shape (L, N, 3) (the frame of the module docstring)."""
-    lead = (1,) * cells.s.ndim
-    ez = jnp.array([0.0, 0.0, 1.0], cells.s.dtype).reshape(lead + (3,))
-    return (
-        tangent_point.reshape(lead + (3,))
-        + (roll_start + cells.s)[..., None] * direction.reshape(lead + (3,))
-        + (cells.z - 0.5 * mesh.face_width)[..., None] * ez
-    )
-
-
-def rigid_node_vector(points, centre, normal) -> Array:
-    """Structure vector of a rigid gear body at a 6-DOF node O: [n_m, (M − O) × n_m] (seed
-    (2.9)), shape (..., 6), for contact points M (..., 3) and the member's outward normal n_m
-    (n for the pinion, −n for the gear)."""
-    nm = jnp.broadcast_to(normal, points.shape)
-    arm = points - centre.reshape((1,) * (points.ndim - 1) + (3,))
-    return jnp.concatenate([nm, jnp.cross(arm, nm)], axis=-1)
 
 
 def timoshenko_element(
@@ -311,33 +289,31 @@ class LumpedPair(DynamicScene):
     """Two shafts with rigid gear nodes and bearings (build with :func:`lumped_pair`).
 
     Attributes:
-        mesh: the gear mesh. M, K: assembled mass and structure stiffness (n, n).
-        parts_K: the stiffness split by part, shape (n_parts, n, n) (names in ``part_names``).
-        C_bearing: assembled bearing damping (N·s/m, N·s/rad, N·m·s/rad per coordinate pair),
-            shape (n, n) (zeros without bearing damping).
-        centres: O1, O2 (m), shape (2, 3). tangent_point: T1 (m). direction: t. normal: n.
-        roll_start: ρ_A (m). rigid: the rigid-body rotation mode (n,).
-        gear_dofs: first DOF index of the pinion and gear nodes (static).
+        meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`, members
+            :class:`~jaxgear.scenes.RigidMember`). M, K: assembled mass and structure stiffness
+            (n, n). parts_K: the stiffness split by part, shape (n_parts, n, n) (names in
+            ``part_names``). C_bearing: assembled bearing damping (N·s/m, N·s/rad, N·m·s/rad per
+            coordinate pair), shape (n, n) (zeros without bearing damping). rigid: the rigid-body
+            rotation mode (n,). reaction: bearing force rows (r, n).
         torque_dofs: φ_z DOF of the input and output torque nodes (static).
         part_names: static names of ``parts_K``.
     """
 
-    mesh: MeshModel
+    meshes: tuple
     M: Float[Array, "n n"]
     K: Float[Array, "n n"]
     parts_K: Float[Array, "p n n"]
-    centres: Float[Array, "2 3"]
-    tangent_point: Float[Array, " 3"]
-    direction: Float[Array, " 3"]
-    normal: Float[Array, " 3"]
-    roll_start: Float[Array, ""]
     rigid: Float[Array, " n"]
     reaction: Float[Array, "r n"]
     C_bearing: Float[Array, "n n"]
-    gear_dofs: tuple = eqx.field(static=True)
     torque_dofs: tuple = eqx.field(static=True)
     part_names: tuple = eqx.field(static=True)
     reaction_names: tuple = eqx.field(static=True, default=())
+
+    @property
+    def mesh(self) -> MeshModel:
+        """The base-plane model of the scene's one mesh."""
+        return only_mesh(self.meshes).base_plane
 
     def mass(self):
         return self.M
@@ -369,22 +345,17 @@ class LumpedPair(DynamicScene):
         return F.at[self.torque_dofs[0]].add(torque).at[self.torque_dofs[1]].add(torque * ratio)
 
     def cell_vectors(self, cells):
-        P = contact_points(self.tangent_point, self.direction, self.roll_start, self.mesh, cells)
-        v1 = rigid_node_vector(P, self.centres[0], self.normal)
-        v2 = rigid_node_vector(P, self.centres[1], -self.normal)
-        V = jnp.zeros(cells.s.shape + (self.M.shape[0],), self.M.dtype)
-        i, j = self.gear_dofs
-        return V.at[..., i : i + 6].set(v1).at[..., j : j + 6].set(v2)
+        return only_mesh(self.meshes).cell_vectors(cells, self.M.shape[0])
 
     def te_vector(self):
         """Angular transmission error at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2)."""
         cb = jnp.cos(self.mesh.base_helix_angle)
         u = jnp.zeros(self.M.shape[0], self.M.dtype)
-        i, j = self.gear_dofs
+        pinion, gear = only_mesh(self.meshes).members
         return (
-            u.at[i + 5]
+            u.at[pinion.dofs[5]]
             .set(cb * self.mesh.base_radius_pinion)
-            .at[j + 5]
+            .at[gear.dofs[5]]
             .set(cb * self.mesh.base_radius_gear)
         )
 
@@ -475,13 +446,7 @@ def _lumped_arrays(
         M[g + 3, g + 3] += idia
         M[g + 4, g + 4] += idia
         M[g + 5, g + 5] += ipol
-    a = pair.center_distance
-    alpha = pair.operating_pressure_angle
     rb1 = pair.base_radii[0]
-    bb = pair.base_helix_angle
-    t = np.array([math.sin(alpha), math.cos(alpha), 0.0])
-    T1 = rb1 * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
-    normal = math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0])
     rigid = np.zeros(n)
     rigid[5:n1:6] = 1.0 / rb1
     rigid[n1 + 5 :: 6] = -1.0 / pair.base_radii[1]
@@ -496,14 +461,10 @@ def _lumped_arrays(
         M=M,
         parts=np.stack([Ksh1, Ksh2, Kb]),
         bearing_C=Cb,  # assembled bearing damping (n, n)
-        centres=np.array([[0.0, 0.0, 0.0], [a, 0.0, 0.0]]),
-        tangent_point=T1,
-        direction=t,
-        normal=normal,
         rigid=rigid,
         reaction=np.array(reaction).reshape(-1, n),
         reaction_names=tuple(names),
-        gear_dofs=(g1, g2),
+        gear_dofs=(g1, g2),  # first DOF of each gear node
         torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
         shaft_z=(s1[0], s2[0]),  # node positions (m) along each shaft
         shaft_offsets=(0, n1),  # first DOF of each shaft
@@ -534,21 +495,20 @@ def lumped_pair(
     d = _lumped_arrays(
         pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
     )
+    line = line_of_action(pair)
+    members = tuple(
+        RigidMember(line["centres"][m], 1.0 if m == 0 else -1.0, tuple(range(g, g + 6)))
+        for m, g in enumerate(d["gear_dofs"])
+    )
     return LumpedPair(
-        mesh=mesh,
+        meshes=(pair_mesh(mesh, line, members),),
         M=jnp.asarray(d["M"]),
         K=jnp.asarray(d["parts"].sum(axis=0)),
         parts_K=jnp.asarray(d["parts"]),
-        centres=jnp.asarray(d["centres"]),
-        tangent_point=jnp.asarray(d["tangent_point"]),
-        direction=jnp.asarray(d["direction"]),
-        normal=jnp.asarray(d["normal"]),
-        roll_start=jnp.asarray(pair.start_roll),
         rigid=jnp.asarray(d["rigid"]),
         reaction=jnp.asarray(d["reaction"]),
         C_bearing=jnp.asarray(d["bearing_C"]),
         reaction_names=d["reaction_names"],
-        gear_dofs=d["gear_dofs"],
         torque_dofs=d["torque_dofs"],
         part_names=("pinion_shaft", "gear_shaft", "bearings"),
     )

@@ -1,0 +1,141 @@
+"""A gear mesh placed in a structure: the base-plane mesh model on its line of action, between two
+gear members (seed (2.9), (2.30); docs/design.md, "Structure and dynamics").
+
+A scene holds a tuple of meshes; each mesh gives the structure vectors of its cells from its
+members (:mod:`._interface`), so that a structure with several meshes (a gear train) is the same
+code with a longer tuple.
+
+Frame: z along the (parallel) axes. The line of action is the unit vector t, tangent to the
+driving gear's base circle at T1; a cell at base-plane coordinates (s, z) sits at
+
+    M = T1 + (ρ_A + s) t + (z − b/2) e_z,
+
+ρ_A the driving gear's roll distance of the engagement point, and its flank normal is
+n = cos β_b t + sin β_b e_z (the helix-hand convention: a positive β gives a +z axial force on
+the driven gear). For a pair with the pinion axis through the origin and the gear axis through
+(a_w, 0) (:func:`line_of_action`): t = (sin α_wt, cos α_wt, 0) and T1 = r_b1 (cos α_wt,
+−sin α_wt, 0); the pinion turns about +z and drives, the gear turns about −z.
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Bool, Float, Int
+
+from .._baseplane import Cells, MeshModel
+from .._geometry import GearPair
+from .._util import as_float
+
+__all__ = ["GearMesh", "contact_points", "line_of_action", "only_mesh", "pair_mesh"]
+
+
+def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells: Cells) -> Array:
+    """Fixed-frame contact points M = T1 + (ρ_A + s) t + (z − b/2) e_z of the cells (m),
+    shape (L, N, 3) (the frame of the module docstring)."""
+    lead = (1,) * cells.s.ndim
+    ez = jnp.array([0.0, 0.0, 1.0], cells.s.dtype).reshape(lead + (3,))
+    return (
+        tangent_point.reshape(lead + (3,))
+        + (roll_start + cells.s)[..., None] * direction.reshape(lead + (3,))
+        + (cells.z - 0.5 * mesh.face_width)[..., None] * ez
+    )
+
+
+def line_of_action(pair: GearPair) -> dict:
+    """The line of action of ``pair`` with the pinion axis through the origin and the gear axis
+    through (a_w, 0, 0) (NumPy, SI): ``centres`` (2, 3), ``tangent_point`` T1 (3,),
+    ``direction`` t (3,), ``normal`` n (3,) and ``roll_start`` ρ_A (the module docstring)."""
+    alpha = pair.operating_pressure_angle
+    bb = pair.base_helix_angle
+    t = np.array([math.sin(alpha), math.cos(alpha), 0.0])
+    return {
+        "centres": np.array([[0.0, 0.0, 0.0], [pair.center_distance, 0.0, 0.0]]),
+        "tangent_point": pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0]),
+        "direction": t,
+        "normal": math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0]),
+        "roll_start": pair.start_roll,
+    }
+
+
+class GearMesh(eqx.Module):
+    """One gear mesh of a scene: the base-plane mesh model on its line of action between two gear
+    members.
+
+    Attributes:
+        base_plane: the mesh model (geometry, stiffness table, cell layout).
+        members: (driving, driven), each a :class:`~jaxgear.scenes.RigidMember` or
+            :class:`~jaxgear.scenes.FlexibleMember`.
+        tangent_point: T1 (m), (3,). direction: t, (3,). normal: n, (3,). roll_start: ρ_A (m).
+    """
+
+    base_plane: MeshModel
+    members: tuple
+    tangent_point: Float[Array, " 3"] = eqx.field(converter=as_float)
+    direction: Float[Array, " 3"] = eqx.field(converter=as_float)
+    normal: Float[Array, " 3"] = eqx.field(converter=as_float)
+    roll_start: Float[Array, ""] = eqx.field(converter=as_float)
+
+    def points(self, cells: Cells) -> Float[Array, "L N 3"]:
+        """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
+        return contact_points(
+            self.tangent_point, self.direction, self.roll_start, self.base_plane, cells
+        )
+
+    def line(self) -> dict:
+        """The line of action: ``normal`` n, ``direction`` t and the zone centre ``zone``
+        (fixed frame, (3,) each)."""
+        zone = self.tangent_point + (self.roll_start + 0.5 * self.base_plane.path_of_contact) * (
+            self.direction
+        )
+        return {"normal": self.normal, "direction": self.direction, "zone": zone}
+
+    def _parts(self, cells: Cells, pad: int):
+        P = self.points(cells)
+        line = self.line()
+        return [
+            m.window(P, cells.mask, line, cells.theta, self.base_plane, pad) for m in self.members
+        ]
+
+    def window(self, cells: Cells, pad: int = 0) -> tuple[Int[Array, " w"], Float[Array, "L N w"]]:
+        """The members' window DOFs (w,) and the structure vectors on them (L, N, w), cells off
+        the flanks zeroed; ``pad`` rim stations more on each side of a flexible member's
+        window."""
+        parts = self._parts(cells, pad)
+        idx = jnp.concatenate([p[0] for p in parts])
+        V = jnp.concatenate([p[1] for p in parts], axis=-1)
+        return idx, jnp.where(cells.mask[..., None], V, 0.0)
+
+    def window_overflow(self, cells: Cells) -> Bool[Array, ""]:
+        """True if a cell on the flanks reaches a rim station beyond its member's window."""
+        return jnp.any(jnp.stack([p[2] for p in self._parts(cells, 0)]))
+
+    def cell_vectors(self, cells: Cells, n: int) -> Float[Array, "L N n"]:
+        """The structure vectors V (seed (2.9), (2.30)) of the cells over all n coordinates."""
+        idx, Vw = self.window(cells)
+        V = jnp.zeros(cells.s.shape + (n,), Vw.dtype)
+        return V.at[..., idx].add(Vw)
+
+
+def pair_mesh(base_plane: MeshModel, line: dict, members: tuple) -> GearMesh:
+    """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`)."""
+    return GearMesh(
+        base_plane,
+        members,
+        line["tangent_point"],
+        line["direction"],
+        line["normal"],
+        line["roll_start"],
+    )
+
+
+def only_mesh(meshes: tuple) -> GearMesh:
+    """The one mesh of a scene, for the entries that handle a single mesh."""
+    if len(meshes) != 1:
+        raise ValueError(
+            f"the scene has {len(meshes)} gear meshes; this entry handles a scene with one mesh"
+        )
+    return meshes[0]
