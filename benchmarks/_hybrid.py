@@ -291,7 +291,7 @@ def bench_hybrid(
         "static_scene_s": t_scene,
         "static_scene_note": "jaxgear.dynamics.static_scene with the condensed body given (body "
         "already loaded): shafts, hybrid_pair (structure factored once, G), window check",
-        "structure_dofs": int(sc.K.shape[0]),
+        "structure_dofs": int(sc.structure.K.shape[0]),
         "cells_per_position": _cells(sc.mesh),
         "window_stations": int(sc.members[fi].n_window),
         "window_dofs": _window_dofs(sc),

@@ -84,12 +84,12 @@ def _baseline_run(
     law = contact_law_from_name(mode, width, max_it)
 
     mesh = scene.mesh
-    n = scene.K.shape[0]
-    dtype = scene.K.dtype
+    n = scene.structure.K.shape[0]
+    dtype = scene.structure.K.dtype
     dth = mesh.mesh_period_angle / spp
     dt = dth / speed
     a0, a1 = 4.0 / (dt * dt), 2.0 / dt
-    M, K = scene.M, scene.K
+    M, K = scene.structure.M, scene.structure.K
     # start state and period-averaged mesh stiffness: the quasi-static states at the step
     # positions of one mesh period (centrifugal load at this speed), K̄_m on all coordinates
     theta = (jnp.arange(spp) + 0.5) * dth
@@ -116,7 +116,7 @@ def _baseline_run(
     C0 = alpha * M + beta * K  # Rayleigh (2.34), plus the bearings' damping
     if hasattr(scene, "bearing_damping"):
         C0 = C0 + scene.bearing_damping()
-    F = torque * scene.f_torque + speed**2 * scene.f_centrifugal
+    F = torque * scene.f_torque + speed**2 * scene.structure.f_centrifugal
 
     # one time-constant flank reference δ0 = e_ref − e, the start state moved along the drive
     # rotation N to match (as the model)
@@ -227,7 +227,7 @@ def baseline_sweep(
 
     if variant not in ("woodbury", "refactor"):
         raise ValueError(f"variant = {variant!r}: allowed 'woodbury', 'refactor'")
-    dtype = scene.K.dtype
+    dtype = scene.structure.K.dtype
     return _baseline_jit()(
         scene,
         mods,
@@ -523,7 +523,7 @@ def bench_hybrid_sweep(
     out["setup"] = {
         "bodies": bodies_info,
         "static_scene_s": t_scene,
-        "structure_dofs": int(sc.K.shape[0]),
+        "structure_dofs": int(sc.structure.K.shape[0]),
         "slices": slices,
         "cells_per_position": _cells(sc.mesh),
         "window_stations": int(sc.members[fi].n_window),

@@ -62,8 +62,12 @@ def test_diagonal_matrix_gives_the_same_K_and_quasi_static_solution(case):
     model_d, r_d = grounded_solve(case, case.scene)
     model_m, r_m = grounded_solve(case, spec_m)
     sd, sm = model_d.scene, model_m.scene
-    np.testing.assert_array_equal(np.asarray(sm.K), np.asarray(sd.K))  # bit for bit
-    np.testing.assert_array_equal(np.asarray(sm.reaction), np.asarray(sd.reaction))
+    np.testing.assert_array_equal(
+        np.asarray(sm.structure.K), np.asarray(sd.structure.K)
+    )  # bit for bit
+    np.testing.assert_array_equal(
+        np.asarray(sm.structure.reaction), np.asarray(sd.structure.reaction)
+    )
     assert sm.reaction_names == sd.reaction_names
     np.testing.assert_array_equal(np.asarray(sm.bearing_damping()), 0.0)
     np.testing.assert_allclose(r_m.transmission_error, r_d.transmission_error, rtol=1e-12)
@@ -126,7 +130,7 @@ def _shaft_on_coupled_bearings(case, stiffening):
     )
     nodes = _shaft(shaft, E, E / 2.6, 7800.0)[0]
     n1 = 6 * nodes.size
-    K = np.asarray(scene.K)[:n1, :n1]
+    K = np.asarray(scene.structure.K)[:n1, :n1]
     f = np.zeros(n1)
     g = scene.meshes[0].members[0].dofs[0]  # the pinion's gear node
     f[g : g + 6] = LOAD
@@ -227,10 +231,10 @@ def test_bearing_damping_gives_the_one_dof_damping_ratio_of_the_axial_mode(case)
     scene, pinion, _, m_axial = _axial_scene(case, k, c)
     assert m_axial == m
     model = dynamic_model(scene, None, case.torque, Damping("none"), positions_per_pitch=16)
-    M = np.asarray(scene.M)
+    M = np.asarray(scene.structure.M)
     C = np.asarray(model.damping)
     np.testing.assert_array_equal(C, np.asarray(scene.bearing_damping()))
-    K = np.asarray(scene.K) + np.asarray(model.modes.mesh_stiffness)
+    K = np.asarray(scene.structure.K) + np.asarray(model.modes.mesh_stiffness)
     n = M.shape[0]
     Minv = np.linalg.inv(M)
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
@@ -474,7 +478,7 @@ def test_hybrid_scene_assembles_matrices_and_exposes_bearing_damping(hybrid):
         case.replace(scene=_hybrid_spec(case, [_as_matrix_keys(b) for b in gear_b])),
         bodies=(None, body),
     )[0]
-    np.testing.assert_array_equal(np.asarray(same.K), np.asarray(base.K))
+    np.testing.assert_array_equal(np.asarray(same.structure.K), np.asarray(base.structure.K))
     np.testing.assert_array_equal(np.asarray(same.bearing_damping()), 0.0)
     k, c = 3e8, 1e8
     K0 = np.diag([k, k, c, 0.0, 0.0, 0.0])
@@ -488,13 +492,13 @@ def test_hybrid_scene_assembles_matrices_and_exposes_bearing_damping(hybrid):
     ]
     spec = _hybrid_spec(case, bearings)
     sc = static_scene(case.replace(scene=spec), bodies=(None, body))[0]
-    n = base.K.shape[0]
+    n = base.structure.K.shape[0]
     # the bearing at 0 mm is node 0 of the gear shaft, whose DOFs follow the pinion shaft's
     i = 6 * _shaft(spec.pinion_shaft, 210e9, 80e9, 7800.0)[0].size
-    dK = np.asarray(sc.K) - np.asarray(base.K)
+    dK = np.asarray(sc.structure.K) - np.asarray(base.structure.K)
     np.testing.assert_allclose(dK[i : i + 6, i : i + 6], Kc - K0, rtol=1e-12, atol=1e-3)
     dK[i : i + 6, i : i + 6] = 0.0
-    assert np.abs(dK).max() <= 1e-6 * np.abs(np.asarray(base.K)).max()
+    assert np.abs(dK).max() <= 1e-6 * np.abs(np.asarray(base.structure.K)).max()
     Cb = np.asarray(sc.bearing_damping())
     assert Cb.shape == (n, n)
     ref = np.zeros((n, n))
@@ -521,4 +525,4 @@ def test_hybrid_refuses_a_non_axisymmetric_bearing_on_a_flexible_shaft(hybrid):
     raw["pinion_shaft"]["bearings"][0] = {"position_mm": 0.0, "stiffness_matrix_SI": K.tolist()}
     spec = parse_scene(raw, base_dir=str(DATA))
     sc = static_scene(case.replace(scene=spec), bodies=(None, body))[0]
-    assert sc.bearing_damping().shape == sc.K.shape
+    assert sc.bearing_damping().shape == sc.structure.K.shape

@@ -84,7 +84,7 @@ def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model
 def _rigid_motion(scene, member, a_body, w_body):
     """Coordinates X with the flexible member's rim master nodes in the rigid motion
     u = a + ω × x (body frame); everything else at rest."""
-    X = np.zeros(scene.K.shape[0])
+    X = np.zeros(scene.structure.K.shape[0])
     dofs = np.asarray(member.rim_dofs)  # (Z, n_ax, 3)
     Z, n_ax, _ = dofs.shape
     ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)

@@ -30,7 +30,7 @@ from jaxgear.dynamics import Damping, Newmark, SteadyState
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):
     """k ↦ C(k) (n, n) of the composite in the mesh-following form, on the modes of
     (M, K + K̄), K̄ the mean of K̄_m over ``periods`` mesh periods (a revolution)."""
-    M, K = np.asarray(scene.M), np.asarray(scene.K)
+    M, K = np.asarray(scene.structure.M), np.asarray(scene.structure.K)
     Kbar = sum(mesh_stiffness(k) for k in range(periods)) / periods
     lam, Phi = sla.eigh(K + Kbar, M)
     elastic = lam > 1e-9 * lam.max()

@@ -64,7 +64,7 @@ def _period_mesh_stiffness(scene, mods, torque, speed, spp):
     quasi-static positions θ_p + k T on the full cell vectors (the loaded cells of the
     quasi-static solution at θ_p, centrifugal load on)."""
     mesh = scene.mesh
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
     T = float(mesh.mesh_period_angle)
     positions = (np.arange(spp) + 0.5) * T / spp
     loaded = np.asarray(
@@ -99,7 +99,7 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
     T = float(mesh.mesh_period_angle)
     dt = T / speed / spp
     a0, a1 = 4.0 / dt**2, 2.0 / dt
-    F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.f_centrifugal)
+    F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.structure.f_centrifugal)
     th0 = 0.5 * T / spp
     qs = jg.quasi_static(scene, mods, torque, jnp.array([th0]), speed=speed)
 
@@ -117,7 +117,7 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
     def step(th, Feff, Keff):
         cells, e = deviation(th)
         d0 = jnp.where(cells.mask, e_ref - e, 0.0)
-        V = scene.cell_vectors(cells).reshape(-1, scene.K.shape[0])
+        V = scene.cell_vectors(cells).reshape(-1, scene.structure.K.shape[0])
         sol = jg.solve_contact(
             Keff,
             Feff,
@@ -131,10 +131,10 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
 
     out = []
     for C_of, rotating, n_steps in runs:
-        M, K, Cr = np.asarray(scene.M), np.asarray(scene.K), 0.0
+        M, K, Cr = np.asarray(scene.structure.M), np.asarray(scene.structure.K), 0.0
         if rotating:
-            K = K + speed**2 * np.asarray(scene.spin_stiffness)
-            Cr = speed * np.asarray(scene.gyroscopic)
+            K = K + speed**2 * np.asarray(scene.structure.spin_stiffness)
+            Cr = speed * np.asarray(scene.structure.gyroscopic)
         X, Xd, Xdd = start, np.zeros(M.shape[0]), np.zeros(M.shape[0])
         forces = []
         for i in range(n_steps):
@@ -156,7 +156,7 @@ def _reference_newmark(scene, mods, torque, speed, spp, n_steps, alpha, beta, ro
     """The all-coordinate Newmark with Rayleigh damping C(k) = α M + β (K + K̄_m(k)), K̄_m(k)
     the mesh stiffness of period k (:func:`_period_mesh_stiffness`): mesh force per step."""
     Km = _period_mesh_stiffness(scene, mods, torque, speed, spp)
-    M, K = np.asarray(scene.M), np.asarray(scene.K)
+    M, K = np.asarray(scene.structure.M), np.asarray(scene.structure.K)
 
     def C_of(k):
         return alpha * M + beta * (K + Km(k))
@@ -225,7 +225,7 @@ def test_automatic_step_of_a_hybrid_model(setup):
     case, scene = setup
     model = _model(scene, case.modifications, case.torque)
     Km = np.asarray(mean_mesh_stiffness(scene, case.modifications, jnp.asarray(case.torque), 64))
-    lam, Phi = scipy.linalg.eigh(np.asarray(scene.K) + Km, np.asarray(scene.M))
+    lam, Phi = scipy.linalg.eigh(np.asarray(scene.structure.K) + Km, np.asarray(scene.structure.M))
     elastic = lam > 1e-9 * lam.max()
     share = np.einsum("ij,ik,kj->j", Phi, Km, Phi) / np.where(elastic, lam, 1.0)
     w_max = np.sqrt(lam[elastic & (share >= 0.05)].max())
@@ -275,7 +275,7 @@ def _rigid_properties(scene, body):
     xyz = np.asarray(body.master_coords)
     M = np.array(body.M, dtype=float)
     rim = np.flatnonzero(np.isin(bd, np.asarray(member.rim_dofs).ravel()))
-    M[rim, rim] = np.asarray(scene.M)[bd[rim], bd[rim]]
+    M[rim, rim] = np.asarray(scene.structure.M)[bd[rim], bd[rim]]
     out = []
     for mode in ("tx", "rx", "rz"):
         r = np.zeros(bd.size)
@@ -300,7 +300,7 @@ def test_rotating_frame_leaves_the_drive_rotations_neutral(setup):
     (tests/test_fem_prep_rotating.py), and the teeth's spin softening on both in-plane
     directions would add −Σ m r² per unit speed²."""
     scene = setup[1]
-    K, S = np.asarray(scene.K), np.asarray(scene.spin_stiffness)
+    K, S = np.asarray(scene.structure.K), np.asarray(scene.structure.spin_stiffness)
     d = np.sqrt(np.diag(K))
     w, v = np.linalg.eigh(K / np.outer(d, d))
     assert np.all(np.abs(w[:2]) < 1e-12 * w.max()) and w[2] > 1e-6 * w.max()
@@ -308,7 +308,7 @@ def test_rotating_frame_leaves_the_drive_rotations_neutral(setup):
     null /= np.linalg.norm(null, axis=0)
     assert np.linalg.norm(S @ null) <= 1e-10 * np.linalg.norm(S, 2)
     # the null space holds the wheel's turn: its rim nodes' Coriolis force (centripetal) is there
-    gy, M = np.asarray(scene.gyroscopic), np.asarray(scene.M)
+    gy, M = np.asarray(scene.structure.gyroscopic), np.asarray(scene.structure.M)
     ratio = np.linalg.norm(gy @ null, axis=0) / np.linalg.norm(M @ null, axis=0)
     assert ratio.max() > 0.1
 
@@ -481,7 +481,7 @@ def test_modal_analysis_of_the_hybrid_scene_against_scipy(setup):
     _, scene = setup
     u = np.asarray(scene.te, dtype=float)
     Km = 1e8 * np.outer(u, u)
-    K, M = np.asarray(scene.K), np.asarray(scene.M)
+    K, M = np.asarray(scene.structure.K), np.asarray(scene.structure.M)
     lam, phi = sla.eigh(K + Km, M, subset_by_index=[0, 19])
     share = 1e8 * (u @ phi) ** 2 / np.maximum(lam, 1e-300)
     elastic = lam > 1e-9 * lam.max()  # the drive rotation
@@ -641,9 +641,9 @@ def test_free_vibration_conserves_energy(setup):
     from jaxgear.dynamics import hybrid_free_vibration
 
     case, scene = setup
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
     v = np.random.default_rng(0).standard_normal(n)
-    M = np.asarray(scene.M)
+    M = np.asarray(scene.structure.M)
     theta = 0.3 * float(scene.mesh.mesh_period_angle)
     spp, speed, periods = 16, 800.0, 20
     dt = float(scene.mesh.mesh_period_angle) / speed / spp
@@ -664,7 +664,7 @@ def test_free_vibration_flags_contact_loss(setup):
     from jaxgear.dynamics import hybrid_free_vibration
 
     case, scene = setup
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
     v = np.zeros(n)
     v[np.asarray(scene.members[1].rim_dofs)[:, :, 0].ravel()] = 50.0  # rim stations, 50 m/s in x
     dt = float(scene.mesh.mesh_period_angle) / 800.0 / 16
@@ -707,7 +707,7 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
     )
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
     assert float(r.contact_loss) == 0.0
-    assert r.states.shape == (16, scene.K.shape[0])
+    assert r.states.shape == (16, scene.structure.K.shape[0])
     np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))
     np.testing.assert_allclose(
         np.asarray(r.line_force).sum(axis=1), np.asarray(r.mesh_force), rtol=1e-12

@@ -147,12 +147,12 @@ def _damping(scene: HybridPair, Km, damping: Damping) -> _HybridDamping:
       then, and subtracting it to re-add the period's ran away (negative damping on rim-local
       modes).
     """
-    M = scene.M
+    M = scene.structure.M
     Cb = scene.bearing_damping()
     if damping.model == "none":
         return _HybridDamping(Cb, None, None)
     if damping.model == "rayleigh":  # no modal analysis needed
-        return _HybridDamping(damping.alpha * M + damping.beta * scene.K + Cb, damping.beta, None)
+        return _HybridDamping(damping.alpha * M + damping.beta * scene.structure.K + Cb, damping.beta, None)
     modes = modal_analysis(scene, Km)
     Phi, omega = modes.shapes, modes.omega
     MP = M @ Phi
@@ -174,13 +174,13 @@ def _revolution_periods(scene: HybridPair) -> int:
 def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
     """K̄ (n, n): the mean of the mesh stiffness ``block(p)`` (:func:`_mesh_block`) over the mesh
     periods p = 0 … ``periods`` − 1 (a revolution, :func:`_revolution_periods`)."""
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
 
     def add(Km, p):
         U, B, _ = block(p)
         return Km.at[U[:, None], U[None, :]].add(B), None
 
-    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.K.dtype), jnp.arange(periods))
+    Km, _ = jax.lax.scan(add, jnp.zeros((n, n), scene.structure.K.dtype), jnp.arange(periods))
     return Km / periods
 
 
@@ -198,9 +198,9 @@ def _reference(mesh, mods, theta):
 def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited):
     scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
     mesh = scene.mesh
-    dtype = scene.K.dtype
+    dtype = scene.structure.K.dtype
     dt = mesh.mesh_period_angle / speed / spp
-    M = scene.M
+    M = scene.structure.M
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
     qs, _ = _period_statics(scene, mods, torque, speed, spp, law)
@@ -217,10 +217,10 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
     # the mesh share of C follows the mesh: c_m Rᵀ K̄_m(k) R in period k
     mesh_damping = None if damp.c_m is None else MeshDamping(block, damp.c_m, damp.R)
 
-    K = scene.K
+    K = scene.structure.K
     if model.rotating_frame:  # the turning frames' Coriolis, spin softening and stress stiffening
-        K = K + speed**2 * scene.spin_stiffness
-        C = C + speed * scene.gyroscopic
+        K = K + speed**2 * scene.structure.spin_stiffness
+        C = C + speed * scene.structure.gyroscopic
     F = scene.external_load(torque, speed)
     e_ref, e_max = _reference(mesh, mods, qs.theta)
     # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
@@ -294,7 +294,7 @@ def _rim_of(scene: HybridPair):
         ang = wheel.station0 + wheel.pitch_angle * jnp.arange(rim.shape[0])
     else:
         rim = jnp.zeros((0, 3), jnp.int32)
-        ang = jnp.zeros((0,), scene.K.dtype)
+        ang = jnp.zeros((0,), scene.structure.K.dtype)
 
     def rim_of(X):
         u = X[rim]
@@ -316,7 +316,7 @@ def mean_mesh_stiffness(
     period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
     in Rayleigh damping (2.34); at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal
     loads; default at rest), with the ``contact`` law of the quasi-static solve."""
-    law = contact_law(contact, scene.K.dtype)
+    law = contact_law(contact, scene.structure.K.dtype)
     return _period_statics(scene, mods, torque, speed, spp, law)[1]
 
 
@@ -324,7 +324,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     """The mesh stiffness averaged over the positions ``theta`` (S,) with the cells ``loaded``
     (S, L, N) (weights 0/1) on the window U of the first position widened by ``pad`` stations
     each side: (U (w,), B (w, w), whether every position's window lies inside U)."""
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
     U, _ = scene.window(scene.mesh.cells(theta[0]), pad=pad)
     w = U.shape[0]
     pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
@@ -339,7 +339,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
         B = B.at[j[:, None], j[None, :]].add(Vw.T @ (kl[:, None] * Vw), mode="drop")
         return B, jnp.all(j < w)
 
-    B, ok = jax.lax.scan(add, jnp.zeros((w, w), scene.K.dtype), jnp.arange(theta.shape[0]))
+    B, ok = jax.lax.scan(add, jnp.zeros((w, w), scene.structure.K.dtype), jnp.arange(theta.shape[0]))
     return U, B / theta.shape[0], jnp.all(ok)
 
 
@@ -357,9 +357,9 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw
         contact=law,
         throw=False,
     )
-    n = scene.K.shape[0]
+    n = scene.structure.K.shape[0]
     U, B, _ = _mesh_block(scene, theta, qs.line_load > 0)
-    Km = jnp.zeros((n, n), scene.K.dtype).at[U[:, None], U[None, :]].add(B)
+    Km = jnp.zeros((n, n), scene.structure.K.dtype).at[U[:, None], U[None, :]].add(B)
     return qs, Km
 
 
@@ -444,8 +444,8 @@ def hybrid_free_vibration(
     Raises:
         ValueError: ``n_steps`` < 1, ``time_step`` <= 0 or a ``velocity`` of the wrong shape.
     """
-    dtype = scene.K.dtype
-    n = scene.K.shape[0]
+    dtype = scene.structure.K.dtype
+    n = scene.structure.K.shape[0]
     velocity = jnp.asarray(velocity, dtype)
     if velocity.shape != (n,):
         raise ValueError(f"velocity has shape {velocity.shape}: allowed ({n},)")
@@ -475,14 +475,14 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     qs = quasi_static(scene, mods, torque, theta[None], throw=False)  # at rest
     e_th = separation(mesh, mods, theta)[1]
     Xs = qs.x[0] + scene.N[:, 0] * (e_ref - e_th)
-    M = scene.M
+    M = scene.structure.M
     C = jnp.zeros_like(M)
     F = torque * scene.f_torque
     # Ẍ(0) = 0: the start is the static equilibrium, where K X + Σ P V = F
     (_, _, _, code, _), (_, P, _, rec) = _newmark_cells(
         scene,
         mods,
-        scene.K,
+        scene.structure.K,
         M,
         C,
         F,
@@ -500,7 +500,7 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     loaded = qs.line_load[0].reshape(-1) > 0
     kl = jnp.where(loaded, (cells.stiffness * cells.length).reshape(-1), 0.0)
     Kc = jnp.zeros_like(M).at[idx[:, None], idx[None, :]].add(Vw.T @ (kl[:, None] * Vw))
-    K = scene.K + Kc
+    K = scene.structure.K + Kc
     d = X - Xs[None, :]
     energy = 0.5 * jnp.einsum("si,ij,sj->s", Xd, M, Xd) + 0.5 * jnp.einsum("si,ij,sj->s", d, K, d)
     held = jnp.all((P > 0) == loaded[None, :])

@@ -180,7 +180,7 @@ def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int =
     elastic = np.flatnonzero(~np.asarray(modes.rigid))[:n_modes]  # the drive rotation out
     omega = np.asarray(modes.omega)[elastic]
     phi = np.asarray(modes.shapes)[:, elastic]
-    M = np.asarray(scene.M, dtype=float)
+    M = np.asarray(scene.structure.M, dtype=float)
     j_mid = int(np.argmin(np.abs(np.asarray(wheel.z_nodes))))
     rim = np.asarray(wheel.rim_dofs)[:, j_mid, :]  # (Z, 3)
     Z = rim.shape[0]

@@ -34,6 +34,7 @@ from ._scene import (
     Scene as Scene,
     grounded as grounded,
 )
+from ._structure import AssembledScene as AssembledScene, Structure as Structure
 from ._torsional import (
     RelativeApproach as RelativeApproach,
     TorsionalDynamics as TorsionalDynamics,

@@ -38,92 +38,48 @@ from .._stiffness import _chordal_thickness
 from ._gear_mesh import line_of_action, only_mesh, pair_mesh
 from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member
 from ._lumped3d import ShaftSpec, _lumped_arrays
-from ._scene import Scene
+from ._structure import AssembledScene, Structure
 
 __all__ = ["HybridPair", "hybrid_pair"]
 
 
-class HybridPair(Scene):
+class HybridPair(AssembledScene):
     """The lumped 3D scene with condensed FE bodies (H1: flexible wheel; H2: both flexible).
 
     Build with :func:`hybrid_pair`. Generalised coordinates: pinion shaft, gear shaft (6 per
     node), then each body's rim master and modal DOFs (its bearing nodes are shaft nodes).
 
     Attributes:
+        structure: the assembled shafts, bearings, rigid gear nodes and condensed bodies with
+            their teeth lumped on the rim nodes (:class:`~jaxgear.scenes.Structure`, one stiffness
+            part ``structure``). Its bearing damping acts on a flexible member's shaft in the
+            body frame (the bearings there are axisymmetric, checked by :func:`hybrid_pair`; the
+            rotating-frame term Ω C J of a fixed damper is neglected, as the seed neglects
+            gyroscopic terms). Its rotating-frame matrices are those of the members whose frames
+            turn (a flexible body and its shaft): the dynamics add Ω·gyroscopic·Ẋ (Coriolis, skew)
+            and Ω²·spin_stiffness·X at pinion speed Ω.
         meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`; their members
-            :class:`~jaxgear.scenes.RigidMember` or :class:`~jaxgear.scenes.FlexibleMember`). K, M: structure stiffness and mass (n, n) (bodies, shafts,
-            rigid gear nodes, the teeth lumped on the rim nodes). G: compliance on the
-            complement of the drive rotation with the output rotation held (n, n). N: the drive
-            rotation, scaled to a unit base-plane approach (n, 1). f_torque: load per unit pinion
-            torque (n,). f_centrifugal: load per unit (pinion speed)² (n,). x_torque, x_centrifugal:
-            G f_torque, G f_centrifugal (the pinion speed Ω is an argument of the methods
-            and solvers that load the scene, never a field of it). te: TE vector u (u·X, m) at
-            the gear positions of the shafts. te_compliance: G u. reaction: bearing force rows
-            (r, n).
-            C_bearing: assembled bearing damping on the shaft DOFs (the first s coordinates),
-            shape (s, s) (:meth:`bearing_damping` pads it to (n, n)).
-            gyroscopic, spin_stiffness: the rotating-frame inertia of the members whose frames
-            turn (a flexible body and its shaft): the dynamics add Ω·gyroscopic·Ẋ (Coriolis,
-            skew) and Ω²·spin_stiffness·X (spin softening plus the centrifugal stress
-            stiffening) at pinion speed Ω, both (n, n) per unit pinion speed (squared)
-            (:func:`rotating_frame_matrices`).
+            :class:`~jaxgear.scenes.RigidMember` or :class:`~jaxgear.scenes.FlexibleMember`).
+        G: compliance on the complement of the drive rotation with the output rotation held
+            (n, n). N: the drive rotation, scaled to a unit base-plane approach (n, 1).
+        f_torque: load per unit pinion torque (n,). x_torque, x_centrifugal: G f_torque,
+            G f_centrifugal (the pinion speed Ω is an argument of the methods and solvers that
+            load the scene, never a field of it). te: TE vector u (u·X, m) at the gear positions
+            of the shafts. te_compliance: G u.
     """
 
-    meshes: tuple
-    K: Float[Array, "n n"]
-    M: Float[Array, "n n"]
     G: Float[Array, "n n"]
     N: Float[Array, "n 1"]
     f_torque: Float[Array, " n"]
-    f_centrifugal: Float[Array, " n"]
     x_torque: Float[Array, " n"]
     x_centrifugal: Float[Array, " n"]
     te: Float[Array, " n"]
     te_compliance: Float[Array, " n"]
-    reaction: Float[Array, "r n"]
-    C_bearing: Float[Array, "s s"]
-    gyroscopic: Float[Array, "n n"]
-    spin_stiffness: Float[Array, "n n"]
-    reaction_names: tuple = eqx.field(static=True)
-    reaction_member: tuple = eqx.field(static=True)
-    torque_dofs: tuple = eqx.field(static=True)
-
-    # -- the generic Scene interface (X space; for checks and small problems) --------------
-    def stiffness(self):
-        return self.K
-
-    def mass(self):
-        """Mass matrix (n, n) (kg, kg·m²) of the assembled structure (bodies, teeth, shafts)."""
-        return self.M
-
-    def stiffness_parts(self):
-        """The structure stiffness as one part (the modal analysis's energy shares: mesh vs
-        structure, seed (2.36))."""
-        return {"structure": self.K}
-
-    def bearing_damping(self) -> Float[Array, "n n"]:
-        """Assembled bearing damping matrix (units of K·s), shape (n, n), zeros without bearing
-        damping; to be added to the damping matrix C of the dynamics. On the shaft of a flexible
-        member it acts in the body frame (the bearings there are axisymmetric, checked by
-        :func:`hybrid_pair`); the rotating-frame term Ω C J of a fixed damper is neglected, as the
-        seed neglects gyroscopic terms."""
-        n, s = self.K.shape[0], self.C_bearing.shape[0]
-        return jnp.zeros((n, n), self.K.dtype).at[:s, :s].set(self.C_bearing)
 
     def external_load(self, torque, speed=0.0):
         """Generalised external forces (n,) at pinion torque T (N·m) and pinion speed Ω (rad/s):
         T f_torque + Ω² f_centrifugal (each body at its own speed, (2.37))."""
-        return torque * self.f_torque + speed**2 * self.f_centrifugal
-
-    @property
-    def mesh(self) -> MeshModel:
-        """The base-plane model of the scene's one mesh."""
-        return only_mesh(self.meshes).base_plane
-
-    @property
-    def members(self) -> tuple:
-        """The (pinion, gear) members of the scene's one mesh."""
-        return only_mesh(self.meshes).members
+        return torque * self.f_torque + speed**2 * self.structure.f_centrifugal
 
     def points(self, cells: Cells):
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
@@ -137,9 +93,6 @@ class HybridPair(Scene):
     def window_overflow(self, cells: Cells):
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
         return only_mesh(self.meshes).window_overflow(cells)
-
-    def cell_vectors(self, cells):
-        return only_mesh(self.meshes).cell_vectors(cells, self.K.shape[0])
 
     def te_vector(self):
         return self.te
@@ -173,14 +126,14 @@ class HybridPair(Scene):
         """Bearing force components k u (N), fixed frame, shape (P, r), at pinion angles θ (P,)
         and coordinates x (P, n): a flexible member's shaft turns with its body, so its in-plane
         forces are rotated back by the body frame angle."""
-        F = x @ self.reaction.T
+        F = x @ self.structure.reaction.T
         names = self.reaction_names
         for m, member in enumerate(self.members):
             if not isinstance(member, FlexibleMember):
                 continue
             ang = member.frame_angle(theta)
             for i, name in enumerate(names):
-                if self.reaction_member[i] != m or not name.endswith("Fx"):
+                if self.structure.reaction_member[i] != m or not name.endswith("Fx"):
                     continue
                 j = names.index(name[:-1] + "y") if name[:-1] + "y" in names else None
                 if j is None:
@@ -373,7 +326,7 @@ def hybrid_pair(
     rb1, rb2 = pair.base_radii
     cb = math.cos(pair.base_helix_angle)
     g1, g2 = d["gear_dofs"]
-    t_in, t_out = d["torque_dofs"]
+    t_in, t_out = (dict(d["nodes"])[k] + 5 for k in ("input", "output"))
     f_t = np.zeros(n)
     f_t[t_in] += 1.0
     f_t[t_out] += rb2 / rb1
@@ -406,7 +359,6 @@ def hybrid_pair(
     G = np.zeros((n, n))
     G[np.ix_(keep, keep)] = sla.cho_solve(factor, np.eye(keep.size))
     G = 0.5 * (G + G.T)
-    react_member = tuple(0 if nm.startswith("pinion") else 1 for nm in d["reaction_names"])
     line = line_of_action(pair)
     zone = {k: np.asarray(v) for k, v in pair_mesh(mesh, line, ()).line().items()}
     members = []
@@ -417,25 +369,30 @@ def hybrid_pair(
             members.append(RigidMember(centre, 1.0 if m == 0 else -1.0, tuple(range(g, g + 6))))
         else:
             members.append(flexible_member(pair, m, body, gidxs[m], centre, zone, mesh))
-    scene = HybridPair(
-        meshes=(pair_mesh(mesh, line, tuple(members)),),
+    structure = Structure(
         K=jnp.asarray(K),
         M=jnp.asarray(M),
+        parts_K=None,
+        C_bearing=jnp.asarray(d["bearing_C"]),
+        reaction=jnp.asarray(pad(d["reaction"])),
+        gyroscopic=jnp.asarray(gyro),
+        spin_stiffness=jnp.asarray(spin_K),
+        f_centrifugal=jnp.asarray(fc),
+        part_names=("structure",),
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=d["nodes"],
+    )
+    scene = HybridPair(
+        structure=structure,
+        meshes=(pair_mesh(mesh, line, tuple(members)),),
         G=jnp.asarray(G),
         N=jnp.asarray(Nv[:, None]),
         f_torque=jnp.asarray(f_t),
-        f_centrifugal=jnp.asarray(fc),
         x_torque=jnp.asarray(G @ f_t),
         x_centrifugal=jnp.asarray(G @ fc),
         te=jnp.asarray(te),
         te_compliance=jnp.asarray(G @ te),
-        reaction=jnp.asarray(pad(d["reaction"])),
-        C_bearing=jnp.asarray(d["bearing_C"]),
-        gyroscopic=jnp.asarray(gyro),
-        spin_stiffness=jnp.asarray(spin_K),
-        reaction_names=d["reaction_names"],
-        reaction_member=react_member,
-        torque_dofs=d["torque_dofs"],
     )
     return _fit_windows(scene)
 
@@ -521,6 +478,6 @@ def _windows_overflow(scene: HybridPair, samples: int = 48) -> bool:
     mesh = scene.mesh
     thetas = (np.arange(2 * samples) + 0.5) * float(mesh.mesh_period_angle) / samples
     over = jax.jit(jax.vmap(lambda th: scene.window_overflow(mesh.cells(th))))(
-        jnp.asarray(thetas, scene.K.dtype)
+        jnp.asarray(thetas, scene.structure.K.dtype)
     )
     return bool(np.any(np.asarray(over)))

@@ -28,16 +28,16 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel
 from .._geometry import GearPair
-from ._gear_mesh import line_of_action, only_mesh, pair_mesh
+from ._gear_mesh import line_of_action, pair_mesh
 from ._interface import RigidMember
 from ._scene import DynamicScene
+from ._structure import AssembledScene, Structure
 
 __all__ = [
     "Bearing",
@@ -285,73 +285,35 @@ class ShaftSpec:
     elements: int = 4
 
 
-class LumpedPair(DynamicScene):
+class LumpedPair(AssembledScene, DynamicScene):
     """Two shafts with rigid gear nodes and bearings (build with :func:`lumped_pair`).
 
     Attributes:
+        structure: the assembled shafts, bearings and gear bodies
+            (:class:`~jaxgear.scenes.Structure`; its parts ``pinion_shaft``, ``gear_shaft``,
+            ``bearings``).
         meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`, members
-            :class:`~jaxgear.scenes.RigidMember`). M, K: assembled mass and structure stiffness
-            (n, n). parts_K: the stiffness split by part, shape (n_parts, n, n) (names in
-            ``part_names``). C_bearing: assembled bearing damping (N·s/m, N·s/rad, N·m·s/rad per
-            coordinate pair), shape (n, n) (zeros without bearing damping). rigid: the rigid-body
-            rotation mode (n,). reaction: bearing force rows (r, n).
-        torque_dofs: φ_z DOF of the input and output torque nodes (static).
-        part_names: static names of ``parts_K``.
+            :class:`~jaxgear.scenes.RigidMember`).
+        rigid: the rigid-body rotation mode (n,) (V·r = 0, F·r = 0).
     """
 
-    meshes: tuple
-    M: Float[Array, "n n"]
-    K: Float[Array, "n n"]
-    parts_K: Float[Array, "p n n"]
     rigid: Float[Array, " n"]
-    reaction: Float[Array, "r n"]
-    C_bearing: Float[Array, "n n"]
-    torque_dofs: tuple = eqx.field(static=True)
-    part_names: tuple = eqx.field(static=True)
-    reaction_names: tuple = eqx.field(static=True, default=())
-
-    @property
-    def mesh(self) -> MeshModel:
-        """The base-plane model of the scene's one mesh."""
-        return only_mesh(self.meshes).base_plane
-
-    def mass(self):
-        return self.M
-
-    def stiffness(self):
-        return self.K
-
-    def stiffness_parts(self):
-        return {name: self.parts_K[i] for i, name in enumerate(self.part_names)}
-
-    def bearing_damping(self) -> Float[Array, "n n"]:
-        """Assembled bearing damping matrix (units of K·s), shape (n, n); zeros without bearing
-        damping. The dynamic model adds it to its damping matrix C."""
-        return self.C_bearing
 
     def rigid_modes(self):
         return self.rigid[:, None]
 
-    def reaction_matrix(self):
-        """Bearing force components k u (N) (x, y, z at each bearing: the translational rows of
-        its stiffness, elastic force only), names in ``reaction_names``."""
-        return self.reaction
-
     def external_load(self, torque):
-        n = self.M.shape[0]
+        n = self.structure.size
         ratio = self.mesh.base_radius_gear / self.mesh.base_radius_pinion
-        F = jnp.zeros(n, dtype=self.M.dtype)
+        F = jnp.zeros(n, dtype=self.structure.K.dtype)
         # input torque about +z on the pinion shaft; the load resists the gear's −z rotation
         return F.at[self.torque_dofs[0]].add(torque).at[self.torque_dofs[1]].add(torque * ratio)
-
-    def cell_vectors(self, cells):
-        return only_mesh(self.meshes).cell_vectors(cells, self.M.shape[0])
 
     def te_vector(self):
         """Angular transmission error at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2)."""
         cb = jnp.cos(self.mesh.base_helix_angle)
-        u = jnp.zeros(self.M.shape[0], self.M.dtype)
-        pinion, gear = only_mesh(self.meshes).members
+        u = jnp.zeros(self.structure.size, self.structure.K.dtype)
+        pinion, gear = self.members
         return (
             u.at[pinion.dofs[5]]
             .set(cb * self.mesh.base_radius_pinion)
@@ -464,8 +426,9 @@ def _lumped_arrays(
         rigid=rigid,
         reaction=np.array(reaction).reshape(-1, n),
         reaction_names=tuple(names),
+        reaction_member=tuple(0 if nm.startswith("pinion") else 1 for nm in names),
         gear_dofs=(g1, g2),  # first DOF of each gear node
-        torque_dofs=(6 * s1[5] + 5, n1 + 6 * s2[5] + 5),
+        nodes=(("pinion", g1), ("gear", g2), ("input", 6 * s1[5]), ("output", n1 + 6 * s2[5])),
         shaft_z=(s1[0], s2[0]),  # node positions (m) along each shaft
         shaft_offsets=(0, n1),  # first DOF of each shaft
     )
@@ -500,15 +463,24 @@ def lumped_pair(
         RigidMember(line["centres"][m], 1.0 if m == 0 else -1.0, tuple(range(g, g + 6)))
         for m, g in enumerate(d["gear_dofs"])
     )
-    return LumpedPair(
-        meshes=(pair_mesh(mesh, line, members),),
-        M=jnp.asarray(d["M"]),
+    n = d["M"].shape[0]
+    zeros = jnp.zeros((n, n))
+    structure = Structure(
         K=jnp.asarray(d["parts"].sum(axis=0)),
+        M=jnp.asarray(d["M"]),
         parts_K=jnp.asarray(d["parts"]),
-        rigid=jnp.asarray(d["rigid"]),
-        reaction=jnp.asarray(d["reaction"]),
         C_bearing=jnp.asarray(d["bearing_C"]),
-        reaction_names=d["reaction_names"],
-        torque_dofs=d["torque_dofs"],
+        reaction=jnp.asarray(d["reaction"]),
+        gyroscopic=zeros,
+        spin_stiffness=zeros,
+        f_centrifugal=jnp.zeros(n),
         part_names=("pinion_shaft", "gear_shaft", "bearings"),
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=d["nodes"],
+    )
+    return LumpedPair(
+        structure=structure,
+        meshes=(pair_mesh(mesh, line, members),),
+        rigid=jnp.asarray(d["rigid"]),
     )

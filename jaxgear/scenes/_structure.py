@@ -1,0 +1,142 @@
+"""An assembled linear structure: the shafts, bearings, rigid gear bodies and condensed FE bodies
+that a scene's gear meshes act on (docs/design.md, "Structure and dynamics").
+
+The members are assembled once, in NumPy, into n generalised coordinates: 6 per shaft node
+(u_x, u_y, u_z, φ_x, φ_y, φ_z; :mod:`._lumped3d`), then each condensed body's rim master and modal
+coordinates (:mod:`._hybrid`). A :class:`Structure` holds the assembled matrices and the names of
+its nodes; the meshes (:mod:`._gear_mesh`) attach to its gear nodes through their members, and the
+operating point (torques, speed) stays an argument of the methods that load it.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from .._baseplane import Cells, MeshModel
+from ._gear_mesh import only_mesh
+from ._scene import Scene
+
+__all__ = ["AssembledScene", "Structure"]
+
+
+class Structure(eqx.Module):
+    """Assembled stiffness, mass, bearing damping and rotating-frame matrices of a structure.
+
+    Attributes:
+        K: stiffness (n, n) (N/m, N/rad, N·m/rad per coordinate pair).
+        M: mass (n, n) (kg, kg·m²).
+        parts_K: K split by part, (p, n, n) summing to K (names in ``part_names``), or None for
+            one part named ``part_names[0]``.
+        C_bearing: bearing damping (units of K·s) on the first s coordinates (the shafts), (s, s).
+        reaction: bearing force rows (r, n): R X the elastic force components k u (N), names in
+            ``reaction_names``, each on shaft ``reaction_member`` (0 pinion, 1 gear).
+        gyroscopic: Coriolis matrix per unit pinion speed (n, n) of the members whose frames turn
+            (zeros for a structure in the fixed frame).
+        spin_stiffness: spin softening plus centrifugal stress stiffening per unit pinion speed²
+            (n, n) (zeros likewise).
+        f_centrifugal: centrifugal load per unit pinion speed² (n,) (zeros likewise).
+        nodes: static ((name, first DOF of its 6), ...): the gear nodes ``pinion`` and ``gear``
+            and the torque nodes ``input`` and ``output``.
+    """
+
+    K: Float[Array, "n n"]
+    M: Float[Array, "n n"]
+    parts_K: Float[Array, "p n n"] | None
+    C_bearing: Float[Array, "s s"]
+    reaction: Float[Array, "r n"]
+    gyroscopic: Float[Array, "n n"]
+    spin_stiffness: Float[Array, "n n"]
+    f_centrifugal: Float[Array, " n"]
+    part_names: tuple = eqx.field(static=True)
+    reaction_names: tuple = eqx.field(static=True)
+    reaction_member: tuple = eqx.field(static=True)
+    nodes: tuple = eqx.field(static=True)
+
+    @property
+    def size(self) -> int:
+        """The number n of generalised coordinates."""
+        return self.K.shape[0]
+
+    def node(self, name: str) -> int:
+        """First DOF of the 6-DOF node ``name``.
+
+        Raises:
+            ValueError: no node of that name (the message lists the names).
+        """
+        for key, first in self.nodes:
+            if key == name:
+                return first
+        names = ", ".join(k for k, _ in self.nodes)
+        raise ValueError(f"structure node {name!r} does not exist: allowed {names}")
+
+    def stiffness_parts(self) -> dict[str, Float[Array, "n n"]]:
+        """The named parts of K (the modal analysis's strain-energy shares, seed (2.36))."""
+        if self.parts_K is None:
+            return {self.part_names[0]: self.K}
+        return {name: self.parts_K[i] for i, name in enumerate(self.part_names)}
+
+    def bearing_damping(self) -> Float[Array, "n n"]:
+        """The bearing damping padded to (n, n) (zeros without bearing damping)."""
+        n, s = self.size, self.C_bearing.shape[0]
+        if s == n:
+            return self.C_bearing
+        return jnp.zeros((n, n), self.K.dtype).at[:s, :s].set(self.C_bearing)
+
+
+class AssembledScene(Scene):
+    """A scene made of an assembled :class:`Structure` and a tuple of gear meshes
+    (:class:`~jaxgear.scenes.GearMesh`) attached to its gear nodes.
+
+    Attributes:
+        structure: the assembled structure (n coordinates).
+        meshes: the gear meshes.
+    """
+
+    structure: Structure
+    meshes: tuple
+
+    @property
+    def mesh(self) -> MeshModel:
+        """The base-plane model of the scene's one mesh."""
+        return only_mesh(self.meshes).base_plane
+
+    @property
+    def members(self) -> tuple:
+        """The (pinion, gear) members of the scene's one mesh."""
+        return only_mesh(self.meshes).members
+
+    @property
+    def torque_dofs(self) -> tuple[int, int]:
+        """φ_z DOF of the input and output torque nodes."""
+        return self.structure.node("input") + 5, self.structure.node("output") + 5
+
+    @property
+    def reaction_names(self) -> tuple:
+        """Names of the bearing force components of :meth:`reaction_matrix`."""
+        return self.structure.reaction_names
+
+    def stiffness(self):
+        return self.structure.K
+
+    def mass(self) -> Float[Array, "n n"]:
+        """Mass matrix M (n, n) (kg, kg·m²) of the assembled structure."""
+        return self.structure.M
+
+    def stiffness_parts(self) -> dict[str, Float[Array, "n n"]]:
+        """The named parts of the structure stiffness (:meth:`Structure.stiffness_parts`)."""
+        return self.structure.stiffness_parts()
+
+    def bearing_damping(self) -> Float[Array, "n n"]:
+        """Assembled bearing damping matrix (units of K·s), shape (n, n), zeros without bearing
+        damping; the dynamic model adds it to its damping matrix C."""
+        return self.structure.bearing_damping()
+
+    def reaction_matrix(self) -> Float[Array, "r n"]:
+        """Bearing force components k u (N) (x, y, z at each bearing: the translational rows of
+        its stiffness, elastic force only), names in :attr:`reaction_names`."""
+        return self.structure.reaction
+
+    def cell_vectors(self, cells: Cells) -> Float[Array, "L N n"]:
+        return only_mesh(self.meshes).cell_vectors(cells, self.structure.size)
