@@ -692,9 +692,10 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
         )
 
 
-def test_low_speed_tooth_factor_and_recorded_states(setup):
+def test_low_speed_tooth_factor_states_and_bearing_forces(setup):
     """At 5 rad/s the largest tooth-pair force is the quasi-static one (per-tooth dynamic factor
-    1 within 0.5 %), no contact is lost, and the recorded states end at the final state."""
+    1 within 0.5 %), no contact is lost, the recorded states end at the final state, and the
+    bearing forces balance the mesh force on each shaft (their maxima the static ones)."""
     case, scene = setup
     r = _simulate(
         scene,
@@ -708,6 +709,33 @@ def test_low_speed_tooth_factor_and_recorded_states(setup):
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
     assert float(r.contact_loss) == 0.0
     assert r.states.shape == (16, scene.structure.K.shape[0])
+    # each shaft's bearings carry the mesh force: the driving pinion pushes the gear along the
+    # line of action, the force on the gear is P n (n_xy = cos β_b t in the plane), and the
+    # bearing forces k u of a shaft sum to the in-plane load it carries (the centrifugal loads of
+    # the full ring of rim stations cancel); quasi-static at 5 rad/s, so within 0.5 % of F_s
+    n_xy = np.asarray(scene.meshes[0].normal)[:2]
+    names = scene.reaction_names
+    for shaft, sign in (("pinion", -1.0), ("gear", 1.0)):
+        xy = [
+            [i for i, nm in enumerate(names) if nm.startswith(shaft) and nm.endswith(c)]
+            for c in ("Fx", "Fy")
+        ]
+        for forces, mesh_force in (
+            (np.asarray(r.bearing_force), np.asarray(r.mesh_force)),
+            (np.asarray(scene.bearing_forces(r.theta, r.states)), np.asarray(r.mesh_force)),
+        ):
+            total = np.stack([forces[:, xy[0]].sum(axis=1), forces[:, xy[1]].sum(axis=1)], 1)
+            np.testing.assert_allclose(
+                total,
+                sign * mesh_force[:, None] * n_xy[None, :],
+                atol=5e-3 * float(r.static_force),
+            )
+    assert r.bearing_force_static.shape == r.bearing_force_max.shape == (len(names),)
+    np.testing.assert_allclose(
+        np.asarray(r.bearing_force_max),
+        np.asarray(r.bearing_force_static),
+        atol=5e-3 * float(r.static_force),
+    )
     np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))
     np.testing.assert_allclose(
         np.asarray(r.line_force).sum(axis=1), np.asarray(r.mesh_force), rtol=1e-12

@@ -94,7 +94,8 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         if spec.steps_per_period
         else auto_steps_per_period(model, speeds, modes)
     )
-    dfs, dft, losses, results, te_rms, waves = [], [], [], [], [], []
+    dfs, dft, losses, results, te_rms, waves, bearing_max = [], [], [], [], [], [], []
+    bearing_static = None
     bar.set_postfix_str("")
     kw = dict(window=spec_window(spec), contact=law)
     # runs of equal step counts (one compiled sweep per count), one speed per call: the bar
@@ -116,6 +117,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         losses += np.asarray(sw.contact_loss)[: part.size].tolist()
         results += [int(v) for v in np.asarray(sw.result)[: part.size]]
         te_rms += np.asarray(sw.te_rms)[: part.size].tolist()
+        bearing_max += [_clean(row) for row in np.asarray(sw.bearing_force_max)[: part.size]]
+        if bearing_static is None:  # at the first speed (its centrifugal load)
+            bearing_static = _clean(np.asarray(sw.bearing_force_static)[0])
         for i, w in enumerate(part):
             waves.append(_rim_content(sw, i, w * z1 / (2 * math.pi), rim_waves))
     bar.close()
@@ -167,6 +171,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "te_rms_m": _clean(te_rms),
         "contact_loss": _clean(losses),
         "rim_waves": waves,
+        "bearing_names": list(scene.reaction_names),
+        "bearing_force_max_N": bearing_max,
+        "bearing_force_static_N": bearing_static,
         "result": results,
         "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
         "vtu_series": {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None,
@@ -174,7 +181,9 @@ def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=
         "notes": "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads "
         "on, damping on the mesh-averaged system ([scene.damping]); steps_per_period per speed "
         "(automatic unless [scene.integration] sets it); rim_waves: the wheel's largest rim wave "
-        "above half the mesh frequency per nodal diameter (body frame, direction +1 forward)",
+        "above half the mesh frequency per nodal diameter (body frame, direction +1 forward); "
+        "bearing forces in the fixed frame, the static ones at the first speed (its centrifugal "
+        "load)",
         "platform": {"jax": jax.__version__, "python": platform.python_version()},
     }
     _write(summary, out_dir, z1)

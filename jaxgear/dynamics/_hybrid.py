@@ -231,8 +231,10 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
     thetas = thetas.reshape(-1, spp)  # one block per mesh period
     rim_of = _rim_of(scene)
 
+    R = scene.reaction_matrix()
+
     def record(X, Xd):
-        return (*rim_of(X), X) if states else rim_of(X)
+        return (*rim_of(X), R @ X, X) if states else (*rim_of(X), R @ X)
 
     (X, Xd, Xdd, code, it), (th, P, te, rec) = _newmark_cells(
         scene,
@@ -273,14 +275,14 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         line_force=lines,
         static_line_force=jnp.max(static_lines),
         static_te=static_te[j],
-        bearing_force=jnp.zeros((keep, 0), dtype),
-        bearing_force_static=jnp.zeros((spp, 0), dtype),
+        bearing_force=scene.bearing_forces_fixed_frame(th[-keep:], rec[2][-keep:]),
+        bearing_force_static=scene.bearing_forces(qs.theta, qs.x),
         omega_excited=omega_excited,
         final_state=(X, Xd, Xdd),
         iterations=it,
         code=code,
         rim=(rec[0][-keep:], rec[1][-keep:]),
-        states=rec[2][-keep:] if states else None,
+        states=rec[3][-keep:] if states else None,
     )
 
 

@@ -34,8 +34,9 @@ class DynamicResult(eqx.Module):
         static_te: quasi-static TE at the same positions (m), shape (K,) (a hybrid model's at
             the same place in the first mesh period, the body stations then under the mesh,
             with the centrifugal load at the speed).
-        bearing_force: support force components R X (N), shape (K, r) (r = 0 for torsional and
-            hybrid scenes; :meth:`DynamicScene.reaction_matrix`). bearing_force_max: max |R X|
+        bearing_force: support force components R X (N), fixed frame, shape (K, r) (r = 0 for
+            torsional scenes; :meth:`DynamicScene.reaction_matrix`, a hybrid scene's
+            :meth:`~jaxgear.scenes.HybridPair.bearing_forces`). bearing_force_max: max |R X|
             over the kept periods, shape (r,). bearing_force_static: max over positions of the
             static one.
         dynamic_factor: max mesh force / static mesh force F_s (-).

@@ -126,7 +126,12 @@ class HybridPair(AssembledScene):
         """Bearing force components k u (N), fixed frame, shape (P, r), at pinion angles θ (P,)
         and coordinates x (P, n): a flexible member's shaft turns with its body, so its in-plane
         forces are rotated back by the body frame angle."""
-        F = x @ self.structure.reaction.T
+        return self.bearing_forces_fixed_frame(theta, x @ self.structure.reaction.T)
+
+    def bearing_forces_fixed_frame(self, theta, F):
+        """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
+        fixed frame: the in-plane pair of a bearing on a flexible member's shaft (taken in the
+        turning body frame) rotated back by the body frame angle; the others unchanged."""
         names = self.reaction_names
         for m, member in enumerate(self.members):
             if not isinstance(member, FlexibleMember):
