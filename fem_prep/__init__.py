@@ -66,5 +66,10 @@ from ._tooth_fe import (
     tooth_profile as tooth_profile,
 )
 from .schema import SchemaError as SchemaError
+from .tooth_form import (
+    ToothForm as ToothForm,
+    ToothGeometry as ToothGeometry,
+    generate_tooth as generate_tooth,
+)
 
 __version__ = "0.1.0"

@@ -51,7 +51,7 @@ import scipy.sparse as sp
 
 from ._solver import factorize
 from .schema import atomic_open
-from .tooth_form import generate_tooth
+from .tooth_form import ToothGeometry, generate_tooth
 
 __all__ = [
     "TOOTH_FE_VERSION",
@@ -195,24 +195,11 @@ def _form_table(form) -> dict:
     }
 
 
-def tooth_profile(
-    teeth: int,
-    normal_module: float,
-    normal_pressure_angle: float,
-    *,
-    helix_angle: float = 0.0,
-    profile_shift: float = 0.0,
-    addendum_coeff: float = 1.0,
-    dedendum_coeff: float = 1.25,
-    fillet_radius_coeff: float = 0.25,
-    form: str = "auto",
-) -> ToothProfile:
+def tooth_profile(geometry: ToothGeometry, *, form: str = "auto") -> ToothProfile:
     """The transverse tooth form of one member (ISO 21771 notation).
 
     Args:
-        teeth: z. normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad).
-        profile_shift: x. addendum_coeff, dedendum_coeff: h_a*, h_f*. fillet_radius_coeff:
-            ρ_fP / m_n of the generating rack.
+        geometry: the member's :class:`fem_prep.ToothGeometry`.
         form: ``"tooth_form"`` or ``"auto"`` (the generated trochoid fillet,
             :mod:`fem_prep.tooth_form`), or ``"circular_fillet"`` (a circular arc tangent to the
             root circle: the former ``weber`` approximation, kept for comparison).
@@ -225,33 +212,23 @@ def tooth_profile(
     """
     if form not in ("auto", "tooth_form", "circular_fillet"):
         raise ValueError(f"form = {form!r}; use 'auto', 'tooth_form' or 'circular_fillet'")
+    g = geometry
     if form != "circular_fillet":
-        tf = generate_tooth(
-            teeth,
-            normal_module,
-            normal_pressure_angle,
-            helix_angle,
-            profile_shift,
-            addendum_coeff,
-            dedendum_coeff,
-            fillet_radius_coeff,
-            n_fillet=200,
-        )
-        tab, source = _form_table(tf), "tooth_form"
+        tab, source = _form_table(generate_tooth(g, n_fillet=200)), "tooth_form"
     else:
         tab = _circular_fillet_table(
-            teeth,
-            normal_module,
-            normal_pressure_angle,
-            helix_angle,
-            profile_shift,
-            addendum_coeff,
-            dedendum_coeff,
-            fillet_radius_coeff,
+            g.teeth,
+            g.normal_module,
+            g.normal_pressure_angle,
+            g.helix_angle,
+            g.profile_shift,
+            g.addendum_coeff,
+            g.dedendum_coeff,
+            g.fillet_radius_coeff,
         )
         source = "circular_fillet"
     return ToothProfile(
-        teeth=int(teeth),
+        teeth=g.teeth,
         root_half_angle=float(tab["psi_tab"][0]),
         source=source,
         **tab,
@@ -732,15 +709,8 @@ def _load_cached(path: Path, key: str):
 
 
 def tooth_compliance(
-    teeth: int,
-    normal_module: float,
-    normal_pressure_angle: float,
+    geometry: ToothGeometry,
     *,
-    helix_angle: float = 0.0,
-    profile_shift: float = 0.0,
-    addendum_coeff: float = 1.0,
-    dedendum_coeff: float = 1.25,
-    fillet_radius_coeff: float = 0.25,
     rim_radius: float | None = None,
     youngs_modulus: float = 210e9,
     poisson_ratio: float = 0.3,
@@ -757,9 +727,8 @@ def tooth_compliance(
     centre line where the line of action crosses it, along the line of action).
 
     Args:
-        teeth, normal_module (m), normal_pressure_angle (rad), helix_angle (rad), profile_shift,
-            addendum_coeff, dedendum_coeff, fillet_radius_coeff: the member (ISO 21771); the
-            model is the transverse section.
+        geometry: the member (:class:`fem_prep.ToothGeometry`); the model is the transverse
+            section.
         rim_radius: clamped inner radius r_int (m): the bore of a solid gear or the rim inner
             radius; default 0.5 × root radius.
         youngs_modulus: E (Pa). poisson_ratio: ν.
@@ -777,19 +746,10 @@ def tooth_compliance(
         ValueError: a rim radius outside (0, r_f), a non-positive size, fewer than 4 roll
             positions.
     """
-    prof = tooth_profile(
-        teeth,
-        normal_module,
-        normal_pressure_angle,
-        helix_angle=helix_angle,
-        profile_shift=profile_shift,
-        addendum_coeff=addendum_coeff,
-        dedendum_coeff=dedendum_coeff,
-        fillet_radius_coeff=fillet_radius_coeff,
-        form=form,
-    )
+    g = geometry
+    prof = tooth_profile(g, form=form)
     rim = 0.5 * prof.root_radius if rim_radius is None else float(rim_radius)
-    h = normal_module / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
+    h = g.normal_module / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
     if not 0 < rim < prof.root_radius:
         raise ValueError(
             f"rim_radius = {rim!r} m must lie in (0, {prof.root_radius:.6g}) (the root radius)"
@@ -800,18 +760,18 @@ def tooth_compliance(
         raise ValueError(f"n_roll = {n_roll!r} must be >= 4")
     inputs = {
         "version": TOOTH_FE_VERSION,
-        "teeth": int(teeth),
-        "normal_module": float(normal_module),
-        "normal_pressure_angle": float(normal_pressure_angle),
-        "helix_angle": float(helix_angle),
-        "profile_shift": float(profile_shift),
-        "addendum_coeff": float(addendum_coeff),
-        "dedendum_coeff": float(dedendum_coeff),
-        "fillet_radius_coeff": float(fillet_radius_coeff),
+        "teeth": g.teeth,
+        "normal_module": g.normal_module,
+        "normal_pressure_angle": g.normal_pressure_angle,
+        "helix_angle": g.helix_angle,
+        "profile_shift": g.profile_shift,
+        "addendum_coeff": g.addendum_coeff,
+        "dedendum_coeff": g.dedendum_coeff,
+        "fillet_radius_coeff": g.fillet_radius_coeff,
         "rim_radius": rim,
         "poisson_ratio": float(poisson_ratio),
         "size": h,
-        "n_teeth": int(min(n_teeth, teeth)),
+        "n_teeth": int(min(n_teeth, g.teeth)),
         "n_roll": int(n_roll),
         "form": prof.source,
     }

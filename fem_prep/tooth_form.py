@@ -34,13 +34,67 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ToothForm", "generate_tooth"]
+__all__ = ["ToothForm", "ToothGeometry", "generate_tooth"]
 
 SEGMENT_ROOT, SEGMENT_FILLET, SEGMENT_INVOLUTE, SEGMENT_TIP = 0, 1, 2, 3
 
 
 def _inv(a):
     return np.tan(a) - a
+
+
+@dataclass(frozen=True)
+class ToothGeometry:
+    """One member's tooth geometry: the gear and its ISO 53 generating rack (ISO 21771 notation,
+    SI units, angles in rad). Every tooth-form computation (:func:`generate_tooth`,
+    :func:`fem_prep.tooth_profile`, :func:`fem_prep.tooth_compliance`) takes this one object.
+
+    Attributes:
+        teeth: z (integer >= 5).
+        normal_module: m_n (m), > 0.
+        normal_pressure_angle: α_n (rad), in (0, 45°).
+        helix_angle: β (rad), in [0, 45°); the transverse rack is used (exact, see module doc).
+        profile_shift: x (multiplies m_n), in (-1.5, 1.5).
+        addendum_coeff: h_a* > 0 (tip radius r_a = r + m_n (h_a* + x)).
+        dedendum_coeff: h_f* = rack addendum h_fP / m_n > 0 (root radius r_f = r − m_n (h_f* − x)).
+        fillet_radius_coeff: ρ_fP / m_n, the rack tip radius (0: sharp rack corner, whose own
+            path is then the fillet).
+
+    Raises:
+        ValueError: a parameter out of range, naming it, its value and the allowed range.
+    """
+
+    teeth: int
+    normal_module: float
+    normal_pressure_angle: float
+    helix_angle: float = 0.0
+    profile_shift: float = 0.0
+    addendum_coeff: float = 1.0
+    dedendum_coeff: float = 1.25
+    fillet_radius_coeff: float = 0.25
+
+    def __post_init__(self):
+        z = self.teeth
+        _check("teeth", z, isinstance(z, (int, np.integer)) and z >= 5, "an integer >= 5")
+        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
+        _check("normal_module", mn, mn > 0, "> 0")
+        _check("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg in rad")
+        _check("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg in rad")
+        x = self.profile_shift
+        _check("profile_shift", x, -1.5 < x < 1.5, "(-1.5, 1.5)")
+        _check("addendum_coeff", self.addendum_coeff, self.addendum_coeff > 0, "> 0")
+        _check("dedendum_coeff", self.dedendum_coeff, self.dedendum_coeff > 0, "> 0")
+        for name in (
+            "normal_module",
+            "normal_pressure_angle",
+            "helix_angle",
+            "profile_shift",
+            "addendum_coeff",
+            "dedendum_coeff",
+            "fillet_radius_coeff",
+        ):
+            object.__setattr__(self, name, float(getattr(self, name)))
+        object.__setattr__(self, "teeth", int(z))
 
 
 @dataclass(frozen=True, eq=False)
@@ -138,14 +192,7 @@ def _check(name: str, value, ok: bool, allowed: str) -> None:
 
 
 def generate_tooth(
-    teeth: int,
-    normal_module: float,
-    normal_pressure_angle: float,
-    helix_angle: float,
-    profile_shift: float,
-    addendum_coeff: float,
-    dedendum_coeff: float,
-    fillet_radius_coeff: float,
+    geometry: ToothGeometry,
     *,
     n_fillet: int = 40,
     n_involute: int = 60,
@@ -154,15 +201,7 @@ def generate_tooth(
     """Generate one tooth of an external gear by its ISO 53 basic rack (transverse plane).
 
     Args:
-        teeth: z (integer >= 5).
-        normal_module: m_n (m).
-        normal_pressure_angle: α_n (rad), in (0, 45°).
-        helix_angle: β (rad), in [0, 45°); the transverse rack is used (exact, see module doc).
-        profile_shift: x (multiplies m_n).
-        addendum_coeff: h_a* (tip radius r_a = r + m_n (h_a* + x)).
-        dedendum_coeff: h_f* = rack addendum h_fP / m_n (root radius r_f = r − m_n (h_f* − x)).
-        fillet_radius_coeff: ρ_fP / m_n, the rack tip radius (0: sharp rack corner, whose own
-            path is then the fillet).
+        geometry: the member's :class:`ToothGeometry` (validated when built).
         n_fillet: points per fillet (root junction included, form point excluded), >= 2,
             uniform in the angle of the rack rounding's normal.
         n_involute: points per involute (form point and tip corner included), >= 2, uniform in
@@ -178,21 +217,14 @@ def generate_tooth(
             trochoid would cut the involute: the form circle falls below the base circle;
             increase ``profile_shift``), a pointed tooth or a tip below the form circle.
     """
-    z = teeth
-    _check("teeth", z, isinstance(z, (int, np.integer)) and z >= 5, "an integer >= 5")
-    mn, an, beta = float(normal_module), float(normal_pressure_angle), float(helix_angle)
-    _check("normal_module", mn, mn > 0, "> 0")
-    _check("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg in rad")
-    _check("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg in rad")
-    x, ha, hf, rho_c = (
-        float(profile_shift),
-        float(addendum_coeff),
-        float(dedendum_coeff),
-        float(fillet_radius_coeff),
-    )
-    _check("profile_shift", x, -1.5 < x < 1.5, "(-1.5, 1.5)")
-    _check("addendum_coeff", ha, ha > 0, "> 0")
-    _check("dedendum_coeff", hf, hf > 0, "> 0")
+    g = geometry
+    if not isinstance(g, ToothGeometry):
+        raise ValueError(
+            f"geometry = {g!r}: allowed a fem_prep.ToothGeometry (teeth, normal_module, ...)"
+        )
+    z = g.teeth
+    mn, an, beta = g.normal_module, g.normal_pressure_angle, g.helix_angle
+    x, ha, hf, rho_c = g.profile_shift, g.addendum_coeff, g.dedendum_coeff, g.fillet_radius_coeff
     for name, n, lo in (
         ("n_fillet", n_fillet, 2),
         ("n_involute", n_involute, 2),

@@ -45,6 +45,7 @@ from ._stiffness import (
     sainsot_coefficients as sainsot_coefficients,
     sainsot_fit_check as sainsot_fit_check,
     stiffness_table as stiffness_table,
+    tooth_geometry as tooth_geometry,
     weber_profile as weber_profile,
 )
 from .scenes import (

@@ -48,6 +48,7 @@ __all__ = [
     "sainsot_coefficients",
     "sainsot_fit_check",
     "stiffness_table",
+    "tooth_geometry",
     "weber_profile",
 ]
 
@@ -135,15 +136,35 @@ _N_FILLET = 200
 
 
 @functools.lru_cache(maxsize=64)
-def _generated_tooth(teeth, mn, an, beta, x, ha, hf, rho_coeff, tag):
+def _generated_tooth(geometry, tag):
     from fem_prep.tooth_form import generate_tooth  # lazy: fem_prep's __init__ imports SciPy
 
+    return generate_tooth(geometry, n_fillet=_N_FILLET, n_involute=2, n_tip=0)
+
+
+def tooth_geometry(pair: GearPair, member: int):
+    """The :class:`fem_prep.ToothGeometry` of member 0 (pinion) or 1 (gear) of ``pair``: the one
+    object the tooth form, the FE tooth and the condensed bodies take.
+
+    Raises:
+        ValueError: a parameter out of range, named ``pinion.<name>`` or ``gear.<name>``.
+    """
+    from fem_prep.tooth_form import ToothGeometry  # lazy: fem_prep's __init__ imports SciPy
+
+    m = (pair.pinion, pair.gear)[member]
     try:
-        return generate_tooth(
-            teeth, mn, an, beta, x, ha, hf, rho_coeff, n_fillet=_N_FILLET, n_involute=2, n_tip=0
+        return ToothGeometry(
+            int(m.teeth),
+            float(pair.normal_module),
+            float(pair.normal_pressure_angle),
+            float(pair.helix_angle),
+            float(m.profile_shift),
+            float(m.addendum_coeff),
+            float(m.dedendum_coeff),
+            float(m.fillet_radius_coeff),
         )
     except ValueError as err:
-        raise ValueError(f"{tag}.{err}") from None
+        raise ValueError(f"{('pinion', 'gear')[member]}.{err}") from None
 
 
 def _tooth_form(pair: GearPair, member: int):
@@ -152,18 +173,12 @@ def _tooth_form(pair: GearPair, member: int):
     Its outline carries only the fillet at full resolution (200 points per flank) and the two
     ends of the involute; call :func:`fem_prep.tooth_form.generate_tooth` for a drawing/mesh.
     """
-    m = (pair.pinion, pair.gear)[member]
-    return _generated_tooth(
-        int(m.teeth),
-        float(pair.normal_module),
-        float(pair.normal_pressure_angle),
-        float(pair.helix_angle),
-        float(m.profile_shift),
-        float(m.addendum_coeff),
-        float(m.dedendum_coeff),
-        float(m.fillet_radius_coeff),
-        ("pinion", "gear")[member],
-    )
+    tag = ("pinion", "gear")[member]
+    try:
+        return _generated_tooth(tooth_geometry(pair, member), tag)
+    except ValueError as err:
+        msg = str(err)
+        raise ValueError(msg if msg.startswith(f"{tag}.") else f"{tag}.{msg}") from None
 
 
 def _root_angle(pair: GearPair, member: int) -> float:
@@ -491,14 +506,7 @@ def stiffness_table(
         c = np.zeros_like(s)
         for i, m in enumerate((pair.pinion, pair.gear)):
             fe = fem_prep.tooth_compliance(
-                m.teeth,
-                pair.normal_module,
-                pair.normal_pressure_angle,
-                helix_angle=pair.helix_angle,
-                profile_shift=m.profile_shift,
-                addendum_coeff=m.addendum_coeff,
-                dedendum_coeff=m.dedendum_coeff,
-                fillet_radius_coeff=m.fillet_radius_coeff,
+                tooth_geometry(pair, i),
                 rim_radius=bore_radius(pair, i),
                 youngs_modulus=E,
                 poisson_ratio=nu,

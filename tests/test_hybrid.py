@@ -326,18 +326,20 @@ def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
     assert added == pytest.approx(30 * mt, rel=1e-9)
     assert case.pair.root_radii[1] < rt < case.pair.tip_radii[1]
     # the tooth area against the generated outline closed by the root arc (shoelace formula)
-    from fem_prep.tooth_form import generate_tooth
+    from fem_prep import ToothGeometry, generate_tooth
 
     g, pair = case.pair.gear, case.pair
     form = generate_tooth(
-        g.teeth,
-        pair.normal_module,
-        pair.normal_pressure_angle,
-        pair.helix_angle,
-        g.profile_shift,
-        g.addendum_coeff,
-        g.dedendum_coeff,
-        g.fillet_radius_coeff,
+        ToothGeometry(
+            g.teeth,
+            pair.normal_module,
+            pair.normal_pressure_angle,
+            pair.helix_angle,
+            g.profile_shift,
+            g.addendum_coeff,
+            g.dedendum_coeff,
+            g.fillet_radius_coeff,
+        )
     )
     o = form.outline
     a0, a1 = np.arctan2(o[-1, 1], o[-1, 0]), np.arctan2(o[0, 1], o[0, 0])

@@ -26,6 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 E, NU = 210e9, 0.3
 
 
+def _geometry(teeth, module, pressure_angle):
+    """A standard member (x = 0, h_a* = 1, h_f* = 1.25, ρ_fP* = 0.25) as a ToothGeometry."""
+    return fem_prep.ToothGeometry(teeth, module, pressure_angle)
+
+
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
     monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
@@ -70,7 +75,7 @@ def test_mean_compliance_converges_at_second_order():
     means = np.array(
         [
             fem_prep.tooth_compliance(
-                20, 1e-3, math.radians(20), size=1e-3 / k, use_cache=False
+                _geometry(20, 1e-3, math.radians(20)), size=1e-3 / k, use_cache=False
             ).compliance.mean()
             for k in (4, 8, 16)
         ]
@@ -81,7 +86,7 @@ def test_mean_compliance_converges_at_second_order():
     assert 1.7 < rate < 2.4, rate
     # Richardson: the default m/6 is within 1 % of the limit
     limit = means[-1] + d[1] / (2**rate - 1)
-    default = fem_prep.tooth_compliance(20, 1e-3, math.radians(20), use_cache=False)
+    default = fem_prep.tooth_compliance(_geometry(20, 1e-3, math.radians(20)), use_cache=False)
     assert abs(default.compliance.mean() / limit - 1) < 0.01
 
 
@@ -109,7 +114,7 @@ def test_solid_gear_against_sainsot_at_ross_pair(cache):
     from jaxgear._stiffness import _member_compliance  # one member's terms (test_layout.py)
 
     fe = fem_prep.tooth_compliance(
-        62, 2e-3, math.radians(20), rim_radius=17.5e-3, youngs_modulus=206e9
+        _geometry(62, 2e-3, math.radians(20)), rim_radius=17.5e-3, youngs_modulus=206e9
     )
     body_fe = fe.compliance - fe.compliance_tooth
     c = {f: _member_compliance(pair, 0, fe.roll, 206e9, NU, f) for f in ("sainsot", "none")}
@@ -126,7 +131,7 @@ def _sainsot_outside(pair):
 
 
 def test_cache_is_reused_and_rebuilt_when_corrupt(cache, monkeypatch):
-    args = (30, 1e-3, math.radians(20))
+    args = (_geometry(30, 1e-3, math.radians(20)),)
     first = fem_prep.tooth_compliance(*args, size=1e-3 / 3)
     assert not first.cache_hit and len(list(cache.glob("*.npz"))) == 1
     t0 = time.perf_counter()
@@ -201,14 +206,18 @@ def test_case_file_fe2d_keys():
 
 
 def test_profile_sources_agree_and_inputs_are_checked():
-    gen = fem_prep.tooth_profile(30, 1e-3, math.radians(20), form="tooth_form")
-    arc = fem_prep.tooth_profile(30, 1e-3, math.radians(20), form="circular_fillet")
+    gen = fem_prep.tooth_profile(_geometry(30, 1e-3, math.radians(20)), form="tooth_form")
+    arc = fem_prep.tooth_profile(_geometry(30, 1e-3, math.radians(20)), form="circular_fillet")
     assert gen.source == "tooth_form" and arc.source == "circular_fillet"
     r = np.linspace(gen.form_radius, gen.tip_radius, 50)
     np.testing.assert_allclose(gen.psi(r), arc.psi(r), atol=1e-9)  # the same involute
     with pytest.raises(ValueError, match="rim_radius"):
-        fem_prep.tooth_compliance(30, 1e-3, math.radians(20), rim_radius=0.02, use_cache=False)
-    tc = fem_prep.tooth_compliance(30, 1e-3, math.radians(20), size=1e-3 / 2, use_cache=False)
+        fem_prep.tooth_compliance(
+            _geometry(30, 1e-3, math.radians(20)), rim_radius=0.02, use_cache=False
+        )
+    tc = fem_prep.tooth_compliance(
+        _geometry(30, 1e-3, math.radians(20)), size=1e-3 / 2, use_cache=False
+    )
     with pytest.raises(ValueError, match="outside the involute"):
         tc(np.array([tc.roll[-1] * 1.01]))
 
@@ -297,7 +306,7 @@ def test_independent_of_the_number_of_modelled_teeth():
     the same compliance within 0.3 % (the tooth-only part within 0.1 %)."""
     fe = [
         fem_prep.tooth_compliance(
-            30, 1e-3, math.radians(20), size=1e-3 / 3, n_teeth=n, use_cache=False
+            _geometry(30, 1e-3, math.radians(20)), size=1e-3 / 3, n_teeth=n, use_cache=False
         )
         for n in (3, 7)
     ]

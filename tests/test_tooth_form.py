@@ -22,7 +22,7 @@ from scipy.optimize import brentq, minimize_scalar
 import jaxgear as jg
 import jaxgear._stiffness as stf  # white-box: the tooth form and its terms (test_layout.py)
 import jaxgear.io as jio
-from fem_prep.tooth_form import ToothForm, generate_tooth
+from fem_prep.tooth_form import ToothForm, ToothGeometry, generate_tooth
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEG = math.pi / 180
@@ -43,7 +43,7 @@ def _inv(a):
 
 
 def _spur(z, x, hf, rc, an_deg, m=2e-3, **kw):
-    return generate_tooth(z, m, an_deg * DEG, 0.0, x, 1.0, hf, rc, **kw)
+    return generate_tooth(ToothGeometry(z, m, an_deg * DEG, 0.0, x, 1.0, hf, rc), **kw)
 
 
 def _iso_e_g(x, hf, rc, an):
@@ -152,7 +152,8 @@ def test_helical_fillet_is_the_envelope_of_the_transverse_rack_rounding(name):
             member.dedendum_coeff,
             member.fillet_radius_coeff,
         )
-        form = generate_tooth(*args[:5], member.addendum_coeff, *args[5:], n_fillet=12)
+        geometry = ToothGeometry(*args[:5], member.addendum_coeff, *args[5:])
+        form = generate_tooth(geometry, n_fillet=12)
         gaps = [_rack_ellipse_gap(y, *args) for y in form.fillet]
         np.testing.assert_allclose(gaps, 0.0, atol=1e-9)
 
@@ -184,7 +185,7 @@ def test_radii_and_form_circle_agree_with_gear_pair(name):
     ],
 )
 def test_involute_points_and_reference_thickness(z, mn, an, beta, x, ha):
-    form = generate_tooth(z, mn, an * DEG, beta * DEG, x, ha, 1.25, 0.25)
+    form = generate_tooth(ToothGeometry(z, mn, an * DEG, beta * DEG, x, ha, 1.25, 0.25))
     s_t = mn * (math.pi / 2 + 2 * x * math.tan(an * DEG)) / math.cos(beta * DEG)
     at = math.atan(math.tan(an * DEG) / math.cos(beta * DEG))
     r = z * mn / math.cos(beta * DEG) / 2
@@ -362,8 +363,9 @@ def test_validation_messages(kwargs, match):
         "fillet_radius_coeff": 0.38,
     }
     args.update(kwargs)
+    n_fillet = args.pop("n_fillet", 40)
     with pytest.raises(ValueError, match=match) as info:
-        generate_tooth(**args)
+        generate_tooth(ToothGeometry(**args), n_fillet=n_fillet)
     assert "\n" not in str(info.value)
 
 
