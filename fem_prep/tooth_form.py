@@ -84,6 +84,8 @@ class ToothGeometry:
         _check("profile_shift", x, -1.5 < x < 1.5, "(-1.5, 1.5)")
         _check("addendum_coeff", self.addendum_coeff, self.addendum_coeff > 0, "> 0")
         _check("dedendum_coeff", self.dedendum_coeff, self.dedendum_coeff > 0, "> 0")
+        rho = self.fillet_radius_coeff
+        _check("fillet_radius_coeff", rho, rho >= 0, ">= 0")
         for name in (
             "normal_module",
             "normal_pressure_angle",
