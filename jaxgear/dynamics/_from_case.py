@@ -263,14 +263,9 @@ def static_scene(
 
 def bearing_forces(scene, res: QuasiStaticResult) -> dict:
     """Mean bearing force (N) per component name over the positions of ``res`` (fixed frame)."""
-    if hasattr(scene, "bearing_forces"):
-        F = np.asarray(scene.bearing_forces(res.theta, res.x))  # (P, r), rotated back
-        names = scene.reaction_names
-    else:
-        base = getattr(scene, "base", scene)
-        F = (np.asarray(base.reaction_matrix()) @ np.asarray(res.x).T).T
-        names = base.reaction_names
-    return dict(zip(names, F.mean(axis=0).tolist()))
+    base = getattr(scene, "base", scene)  # a Grounded scene's own
+    F = np.asarray(base.bearing_forces(res.theta, res.x))  # (P, r)
+    return dict(zip(base.reaction_names, F.mean(axis=0).tolist()))
 
 
 def quasi_static_scene(

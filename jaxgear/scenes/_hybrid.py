@@ -122,16 +122,11 @@ class HybridPair(AssembledScene):
         sol, force, alpha = solve_contact_cells(C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law)
         return sol, self.recover(window, force, alpha), self.te_recover(window, force, alpha)
 
-    def bearing_forces(self, theta, x):
-        """Bearing force components k u (N), fixed frame, shape (P, r), at pinion angles θ (P,)
-        and coordinates x (P, n): a flexible member's shaft turns with its body, so its in-plane
-        forces are rotated back by the body frame angle."""
-        return self.bearing_forces_fixed_frame(theta, x @ self.structure.reaction.T)
-
     def bearing_forces_fixed_frame(self, theta, F):
         """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
-        fixed frame: the in-plane pair of a bearing on a flexible member's shaft (taken in the
-        turning body frame) rotated back by the body frame angle; the others unchanged."""
+        fixed frame: a flexible member's shaft turns with its body, so the in-plane pair of a
+        bearing on it (taken in the turning body frame) is rotated back by the body frame
+        angle; the others are unchanged."""
         names = self.reaction_names
         for m, member in enumerate(self.members):
             if not isinstance(member, FlexibleMember):

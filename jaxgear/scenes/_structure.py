@@ -138,5 +138,16 @@ class AssembledScene(Scene):
         its stiffness, elastic force only), names in :attr:`reaction_names`."""
         return self.structure.reaction
 
+    def bearing_forces_fixed_frame(self, theta, F) -> Float[Array, "P r"]:
+        """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
+        fixed frame: unchanged here (every bearing in the fixed frame); a scene whose members
+        turn their shafts' frames rotates them back."""
+        return F
+
+    def bearing_forces(self, theta, x) -> Float[Array, "P r"]:
+        """Bearing force components k u (N), fixed frame, shape (P, r), at pinion angles θ (P,)
+        and coordinates x (P, n); names in :attr:`reaction_names`."""
+        return self.bearing_forces_fixed_frame(theta, x @ self.structure.reaction.T)
+
     def cell_vectors(self, cells: Cells) -> Float[Array, "L N n"]:
         return only_mesh(self.meshes).cell_vectors(cells, self.structure.size)
