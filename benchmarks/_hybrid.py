@@ -559,7 +559,7 @@ def _compare_bodies(c, sc, bodies_info, compare_case, slices, P, rep, T) -> dict
                 "condensed_body_dofs": info[0]["condensed_dofs"] if info else None,
                 "rim_master_dofs": info[0]["rim_master_dofs"] if info else None,
                 "modes": info[0]["modes"] if info else None,
-                "structure_dofs": int(s.K.shape[0]),
+                "structure_dofs": int(s.structure.size),
                 "cells_per_position": _cells(s.mesh),
                 "window_stations": int(s.members[_flex_index(s)].n_window),
                 "window_dofs": _window_dofs(s),

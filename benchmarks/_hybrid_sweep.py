@@ -696,7 +696,7 @@ def bench_hybrid_sweep(
                 "modes": info["modes"],
                 "modes_in_body_file": info["modes_in_body_file"],
                 "body_cache_hit": info["cache_hit"],
-                "structure_dofs": int(s.K.shape[0]),
+                "structure_dofs": int(s.structure.size),
                 "cells_per_position": _cells(s.mesh),
                 "window_dofs": _window_dofs(s),
                 **{f"{m}_per_step_s": costs[m]["per_step_s"] for m in _METHODS if m in costs},
@@ -734,7 +734,7 @@ def bench_hybrid_sweep(
                 "slices": int(ns),
                 "cells_per_position": _cells(s.mesh),
                 "window_dofs": _window_dofs(s),
-                "structure_dofs": int(s.K.shape[0]),
+                "structure_dofs": int(s.structure.size),
                 **{
                     f"{m}_per_step_s": costs[m]["per_step_s"]
                     for m in ("model", "woodbury")
