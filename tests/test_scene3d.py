@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import equinox as eqx
 import numpy as np
 import pytest
 from _scene_solve import grounded_solve
@@ -49,3 +50,25 @@ def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(cas
     np.testing.assert_allclose(
         np.asarray(r_stiff.transmission_error), np.asarray(rigid.transmission_error), rtol=5e-3
     )
+
+
+def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case):
+    """The structure names its nodes (the torque nodes are the scene's torque DOFs, the gear nodes
+    its members'); an unknown node and a scene with two meshes give one-line errors naming what
+    is allowed, before any computation."""
+    sc, _ = _solve(case)
+    sc = getattr(sc, "base", sc)
+    st = sc.structure
+    assert sc.torque_dofs == (st.node("input") + 5, st.node("output") + 5)
+    pinion, gear = sc.meshes[0].members
+    assert (pinion.dofs[0], gear.dofs[0]) == (st.node("pinion"), st.node("gear"))
+    with pytest.raises(
+        ValueError,
+        match=r"^structure node 'idler' does not exist: allowed pinion, gear, input, output$",
+    ):
+        st.node("idler")
+    two = eqx.tree_at(lambda s: s.meshes, sc, (sc.meshes[0], sc.meshes[0]))
+    with pytest.raises(
+        ValueError, match=r"^the scene has 2 gear meshes; this entry handles a scene with one mesh$"
+    ):
+        jg.quasi_static(two, case.modifications, case.torque, positions_per_pitch=4)
