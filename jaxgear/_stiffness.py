@@ -136,7 +136,7 @@ _N_FILLET = 200
 
 
 @functools.lru_cache(maxsize=64)
-def _generated_tooth(geometry, tag):
+def _generated_tooth(geometry):
     from fem_prep.tooth_form import generate_tooth  # lazy: fem_prep's __init__ imports SciPy
 
     return generate_tooth(geometry, n_fillet=_N_FILLET, n_involute=2, n_tip=0)
@@ -173,12 +173,11 @@ def _tooth_form(pair: GearPair, member: int):
     Its outline carries only the fillet at full resolution (200 points per flank) and the two
     ends of the involute; call :func:`fem_prep.tooth_form.generate_tooth` for a drawing/mesh.
     """
-    tag = ("pinion", "gear")[member]
+    geometry = tooth_geometry(pair, member)  # its errors name pinion./gear. already
     try:
-        return _generated_tooth(tooth_geometry(pair, member), tag)
+        return _generated_tooth(geometry)
     except ValueError as err:
-        msg = str(err)
-        raise ValueError(msg if msg.startswith(f"{tag}.") else f"{tag}.{msg}") from None
+        raise ValueError(f"{('pinion', 'gear')[member]}.{err}") from None
 
 
 def _root_angle(pair: GearPair, member: int) -> float:

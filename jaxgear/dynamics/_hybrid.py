@@ -152,7 +152,9 @@ def _damping(scene: HybridPair, Km, damping: Damping) -> _HybridDamping:
     if damping.model == "none":
         return _HybridDamping(Cb, None, None)
     if damping.model == "rayleigh":  # no modal analysis needed
-        return _HybridDamping(damping.alpha * M + damping.beta * scene.structure.K + Cb, damping.beta, None)
+        return _HybridDamping(
+            damping.alpha * M + damping.beta * scene.structure.K + Cb, damping.beta, None
+        )
     modes = modal_analysis(scene, Km)
     Phi, omega = modes.shapes, modes.omega
     MP = M @ Phi
@@ -341,7 +343,9 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
         B = B.at[j[:, None], j[None, :]].add(Vw.T @ (kl[:, None] * Vw), mode="drop")
         return B, jnp.all(j < w)
 
-    B, ok = jax.lax.scan(add, jnp.zeros((w, w), scene.structure.K.dtype), jnp.arange(theta.shape[0]))
+    B, ok = jax.lax.scan(
+        add, jnp.zeros((w, w), scene.structure.K.dtype), jnp.arange(theta.shape[0])
+    )
     return U, B / theta.shape[0], jnp.all(ok)
 
 
