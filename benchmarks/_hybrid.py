@@ -599,7 +599,7 @@ def _profile(sc, mods, T, P, repeats, hybrid_exact) -> dict:
     def space(sc, mods, theta, T):
         def one(th):
             cl, _, d0 = separation(sc.mesh, mods, th)
-            C, a0, E, b, _ = sc.cell_space(cl, T)
+            C, a0, E, b, _ = sc.cell_space(sc.window_row((cl,), (d0,)), T)
             n = cl.stiffness.size
             return (
                 C,

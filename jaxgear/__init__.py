@@ -30,6 +30,7 @@ from ._geometry import (
 from ._maps import harris_map as harris_map, load_map as load_map
 from ._modifications import MemberModification as MemberModification, Modifications as Modifications
 from ._quasi_static import (
+    MeshResult as MeshResult,
     QuasiStaticResult as QuasiStaticResult,
     mesh_positions as mesh_positions,
     quasi_static as quasi_static,

@@ -13,11 +13,13 @@ with a mask for the cells inside [0, g_α], so shapes never change under jit.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
+from jax.scipy.linalg import block_diag
 from jaxtyping import Array, Bool, Float, Int
 
 from ._geometry import GearPair
@@ -91,6 +93,39 @@ class CellRow(NamedTuple):
             cells.length.reshape(-1),
             delta0.reshape(-1),
             cells.mask.reshape(-1),
+        )
+
+    @classmethod
+    def concat(cls, rows: Sequence[CellRow]) -> CellRow:
+        """The cells of several meshes in one row, mesh after mesh.
+
+        On all coordinates (every ``idx`` None) the vectors stack. On windows the window is the
+        meshes' windows one after the other (a coordinate that two meshes see, such as a gear
+        meshing twice, appears once per mesh) and V is block diagonal, (Σc, Σw): V_W G_WW V_Wᵀ
+        then holds the cross-compliance between the meshes, and scatters back by adding.
+
+        Raises:
+            ValueError: no rows, or rows on all coordinates mixed with rows on windows.
+        """
+        if not rows:
+            raise ValueError("a scene needs at least one gear mesh")
+        if len(rows) == 1:
+            return rows[0]
+        windowed = {r.idx is not None for r in rows}
+        if len(windowed) != 1:
+            raise ValueError("cell rows on all coordinates cannot be joined with rows on windows")
+        if windowed == {True}:
+            idx = jnp.concatenate([r.idx for r in rows])
+            V = block_diag(*(r.V for r in rows))
+        else:
+            idx, V = None, jnp.concatenate([r.V for r in rows])
+        return cls(
+            idx,
+            V,
+            *(
+                jnp.concatenate([getattr(r, f) for r in rows])
+                for f in ("k", "length", "delta0", "mask")
+            ),
         )
 
 

@@ -19,14 +19,14 @@ from ._results import ContactResult, error_if_failed
 from ._util import rms_about_mean
 from .scenes import RigidMesh, Scene
 
-__all__ = ["QuasiStaticResult", "mesh_positions", "quasi_static", "separation"]
+__all__ = ["MeshResult", "QuasiStaticResult", "mesh_positions", "quasi_static", "separation"]
 
 
-class QuasiStaticResult(eqx.Module):
-    """Quasi-static response at P pinion positions (cell arrays: (P, n_lines, n_slices)).
+class MeshResult(eqx.Module):
+    """Quasi-static response of one gear mesh at P positions (cell arrays: (P, n_lines,
+    n_slices) of this mesh).
 
     Attributes:
-        theta: pinion angle (rad), shape (P,).
         transmission_error: transverse TE along the line of action (m), shape (P,), measured from
             the perfect rigid position, positive under load (the driven gear lags):
             TE = (u·X − max_M e) / cos β_b (docs/design.md, "Modifications, initial separation
@@ -37,11 +37,8 @@ class QuasiStaticResult(eqx.Module):
         line_load: load per unit contact length per cell (N/m), shape (P, L, N).
         cell_s, cell_z: cell coordinates in the base plane (m), shape (P, L, N).
         cell_mask: cells on the flanks, shape (P, L, N).
-        x: generalised coordinates of the scene, shape (P, n).
-        iterations, result: contact-solver passes and result code per position, shape (P,).
     """
 
-    theta: Float[Array, " P"]
     transmission_error: Float[Array, " P"]
     mesh_stiffness: Float[Array, " P"]
     contact_length: Float[Array, " P"]
@@ -49,12 +46,10 @@ class QuasiStaticResult(eqx.Module):
     cell_s: Float[Array, "P L N"]
     cell_z: Float[Array, "P L N"]
     cell_mask: Bool[Array, "P L N"]
-    x: Float[Array, "P n"]
-    iterations: Int[Array, " P"]
-    result: Int[Array, " P"]
 
     @property
     def te_mean(self):
+        """Mean TE (m)."""
         return jnp.mean(self.transmission_error)
 
     @property
@@ -64,11 +59,65 @@ class QuasiStaticResult(eqx.Module):
 
     @property
     def te_ptp(self):
+        """Peak-to-peak TE (m)."""
         return jnp.max(self.transmission_error) - jnp.min(self.transmission_error)
 
     @property
     def max_line_load(self):
+        """Largest load per unit contact length (N/m)."""
         return jnp.max(self.line_load)
+
+
+def _of_the_mesh(name: str) -> property:
+    """A property of :class:`QuasiStaticResult` that reads the scene's one mesh."""
+    return property(
+        lambda self: getattr(self.mesh, name),
+        doc=f"``{name}`` of the scene's one mesh (:class:`MeshResult`).",
+    )
+
+
+class QuasiStaticResult(eqx.Module):
+    """Quasi-static response at P pinion positions: the structure's coordinates and, per gear
+    mesh, a :class:`MeshResult`.
+
+    A scene of one gear mesh reads that mesh's results directly on this object
+    (``transmission_error``, ``mesh_stiffness``, ``contact_length``, ``line_load``, ``cell_s``,
+    ``cell_z``, ``cell_mask``, ``te_mean``, ``te_rms``, ``te_ptp``, ``max_line_load``: see
+    :class:`MeshResult`); a scene of several meshes reads them from ``meshes[k]``.
+
+    Attributes:
+        theta: pinion angle (rad), shape (P,).
+        x: generalised coordinates of the scene, shape (P, n).
+        iterations, result: contact-solver passes and result code per position, shape (P,).
+        meshes: one :class:`MeshResult` per gear mesh, in the scene's mesh order.
+    """
+
+    theta: Float[Array, " P"]
+    x: Float[Array, "P n"]
+    iterations: Int[Array, " P"]
+    result: Int[Array, " P"]
+    meshes: tuple[MeshResult, ...]
+
+    @property
+    def mesh(self) -> MeshResult:
+        """The results of the scene's one gear mesh."""
+        if len(self.meshes) != 1:
+            raise ValueError(
+                f"the scene has {len(self.meshes)} gear meshes; read their results from meshes[k]"
+            )
+        return self.meshes[0]
+
+    transmission_error = _of_the_mesh("transmission_error")
+    mesh_stiffness = _of_the_mesh("mesh_stiffness")
+    contact_length = _of_the_mesh("contact_length")
+    line_load = _of_the_mesh("line_load")
+    cell_s = _of_the_mesh("cell_s")
+    cell_z = _of_the_mesh("cell_z")
+    cell_mask = _of_the_mesh("cell_mask")
+    te_mean = _of_the_mesh("te_mean")
+    te_rms = _of_the_mesh("te_rms")
+    te_ptp = _of_the_mesh("te_ptp")
+    max_line_load = _of_the_mesh("max_line_load")
 
 
 def mesh_positions(
@@ -100,35 +149,35 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
 
 
-def _one_position(
-    scene: Scene,
-    mesh: MeshModel,
-    mods: Modifications,
-    torque,
-    speed,
-    theta,
-    law: ContactLaw,
-):
-    cells, e_max, delta0 = separation(mesh, mods, theta)
-    mask = cells.mask
-    sol, x, u_x = scene.static_contact(cells, delta0, torque, speed, law)
-    cos_bb = jnp.cos(mesh.base_helix_angle)
-    te = (u_x - e_max) / cos_bb
-    kl = jnp.where(mask, cells.stiffness * cells.length, 0.0).reshape(-1)
-    stiff = jnp.sum(kl * sol.weight)
-    length = jnp.sum(cells.length.reshape(-1) * sol.weight)
-    return dict(
+def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactLaw):
+    planes = scene.base_planes
+    parts = [separation(mesh, m, theta) for mesh, m in zip(planes, mods, strict=True)]
+    cells = tuple(p[0] for p in parts)
+    sol, x, u_x = scene.static_contact(cells, tuple(p[2] for p in parts), torque, speed, law)
+    meshes, start = [], 0
+    for k, (mesh, (c, e_max, _)) in enumerate(zip(planes, parts, strict=True)):
+        size = c.s.size
+        sl = slice(start, start + size)
+        start += size
+        weight = sol.weight[sl]
+        kl = jnp.where(c.mask, c.stiffness * c.length, 0.0).reshape(-1)
+        meshes.append(
+            MeshResult(
+                transmission_error=(u_x[k] - e_max) / jnp.cos(mesh.base_helix_angle),
+                mesh_stiffness=jnp.sum(kl * weight),
+                contact_length=jnp.sum(c.length.reshape(-1) * weight),
+                line_load=sol.force_density[sl].reshape(c.mask.shape),
+                cell_s=c.s,
+                cell_z=c.z,
+                cell_mask=c.mask,
+            )
+        )
+    return QuasiStaticResult(
         theta=theta,
-        transmission_error=te,
-        mesh_stiffness=stiff,
-        contact_length=length,
-        line_load=sol.force_density.reshape(mask.shape),
-        cell_s=cells.s,
-        cell_z=cells.z,
-        cell_mask=mask,
         x=x,
         iterations=sol.iterations,
         result=sol.result,
+        meshes=tuple(meshes),
     )
 
 
@@ -149,10 +198,13 @@ def _quasi_static(
     # defaults are made here, under jit: building them eagerly costs more than the solve
     if scene is None:
         scene = RigidMesh(mesh)
+    n_meshes = len(scene.base_planes)
     if mods is None:
         mods = Modifications()
+    if not isinstance(mods, tuple):
+        mods = (mods,) * n_meshes
     if theta is None:
-        theta = mesh_positions(mesh, positions_per_pitch, periods)
+        theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
     torque = eqx.error_if(
         torque,
         ~(torque > 0),
@@ -162,11 +214,10 @@ def _quasi_static(
     if isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
         width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
         law = SmoothContact(width, law.max_iterations)
-    out = jax.vmap(lambda th: _one_position(scene, mesh, mods, torque, speed, th, law))(theta)
-    res = QuasiStaticResult(**out)
+    res = jax.vmap(lambda th: _one_position(scene, mods, torque, speed, th, law))(theta)
     if throw:
-        te = error_if_failed(res.transmission_error, res.result, ContactResult, "quasi_static")
-        res = eqx.tree_at(lambda r: r.transmission_error, res, te)
+        x = error_if_failed(res.x, res.result, ContactResult, "quasi_static")
+        res = eqx.tree_at(lambda r: r.x, res, x)
     return res
 
 
@@ -187,10 +238,13 @@ def quasi_static(
     Args:
         scene: a :class:`Scene` (e.g. :class:`RigidMesh`, :class:`TorsionalPair`), or a
             :class:`MeshModel` for the rigid 1-DOF mesh.
-        modifications: flank modifications (``None``: perfect involutes).
+        modifications: flank modifications (``None``: perfect involutes): one
+            :class:`Modifications` for every mesh of the scene, or a tuple of one per mesh.
         torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
-        theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` over ``periods``
-            mesh periods with ``positions_per_pitch`` positions each.
+        theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` of the first
+            mesh over ``periods`` mesh periods with ``positions_per_pitch`` positions each.
+            Every mesh of the scene takes its cells at this pinion angle (the meshes of one
+            gear pair, such as the two halves of a double-helical pair).
         speed: pinion speed Ω (rad/s) >= 0 of the centrifugal loads of condensed bodies
             (a hybrid scene: each body at its own speed, seed (2.37)); rigid gear bodies carry
             none, so other scenes do not depend on it. Default 0: at rest.
@@ -203,7 +257,8 @@ def quasi_static(
             (0 = converged; :class:`~jaxgear.ContactResult`).
 
     Returns:
-        :class:`QuasiStaticResult`.
+        :class:`QuasiStaticResult` (one :class:`MeshResult` per mesh; the contact of all meshes
+        is solved at once, so that they share the structure's compliance).
 
     Raises:
         ValueError: ``contact`` not a contact law, bad position counts (at trace time).
@@ -219,9 +274,18 @@ def quasi_static(
         raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
     if isinstance(scene, MeshModel):
         mesh, scene = scene, None
+        n_meshes = 1
     else:
-        mesh = scene.mesh
-    dtype = mesh.base_pitch.dtype
+        mesh = None
+        n_meshes = len(scene.base_planes)
+    if isinstance(modifications, tuple | list):
+        if len(modifications) != n_meshes:
+            raise ValueError(
+                f"modifications: {len(modifications)} given for a scene of {n_meshes} gear "
+                "meshes (allowed: one Modifications for every mesh, or one per mesh)"
+            )
+        modifications = tuple(modifications)
+    dtype = (mesh if mesh is not None else scene.base_planes[0]).base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     speed = jnp.asarray(speed, dtype=dtype)
     law = contact_law(contact, dtype)

@@ -479,7 +479,7 @@ def test_modal_analysis_of_the_hybrid_scene_against_scipy(setup):
     from jaxgear.dynamics import modal_analysis, nodal_diameter_modes
 
     _, scene = setup
-    u = np.asarray(scene.te, dtype=float)
+    u = np.asarray(scene.te_vector(), dtype=float)
     Km = 1e8 * np.outer(u, u)
     K, M = np.asarray(scene.structure.K), np.asarray(scene.structure.M)
     lam, phi = sla.eigh(K + Km, M, subset_by_index=[0, 19])

@@ -123,8 +123,7 @@ def test_end_relief_edge_in_the_case_file(tmp_path):
 def _result(line_load, z, mask):
     P, L, N = line_load.shape
     zeros = jnp.zeros(P)
-    return jg.QuasiStaticResult(
-        theta=zeros,
+    mesh = jg.MeshResult(
         transmission_error=zeros,
         mesh_stiffness=zeros,
         contact_length=zeros,
@@ -132,9 +131,13 @@ def _result(line_load, z, mask):
         cell_s=jnp.zeros((P, L, N)),
         cell_z=jnp.broadcast_to(jnp.asarray(z), (P, L, N)),
         cell_mask=jnp.asarray(mask),
+    )
+    return jg.QuasiStaticResult(
+        theta=zeros,
         x=jnp.zeros((P, 1)),
         iterations=jnp.zeros(P, int),
         result=jnp.zeros(P, int),
+        meshes=(mesh,),
     )
 
 

@@ -5,10 +5,11 @@ import dataclasses
 import equinox as eqx
 import numpy as np
 import pytest
-from _scene_solve import grounded_solve
+from _scene_solve import assert_split_equals_whole, grounded_solve, half_face_meshes
 
 import jaxgear as jg
 import jaxgear.io as jio
+from jaxgear.dynamics import dynamic_model
 from jaxgear.io import parse_scene
 
 
@@ -54,8 +55,9 @@ def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(cas
 
 def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case):
     """The structure names its nodes (the torque nodes are the scene's torque DOFs, the gear nodes
-    its members'); an unknown node and a scene with two meshes give one-line errors naming what
-    is allowed, before any computation."""
+    its members'); an unknown node and a scene with two meshes given to an entry that handles
+    one mesh (the dynamic model) give one-line errors naming what is allowed, before any
+    computation; the quasi-static result of two meshes refuses a one-mesh read."""
     sc, _ = _solve(case)
     sc = getattr(sc, "base", sc)
     st = sc.structure
@@ -71,4 +73,36 @@ def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case)
     with pytest.raises(
         ValueError, match=r"^the scene has 2 gear meshes; this entry handles a scene with one mesh$"
     ):
-        jg.quasi_static(two, case.modifications, case.torque, positions_per_pitch=4)
+        dynamic_model(two, case.modifications, case.torque)
+    res = jg.quasi_static(
+        jg.grounded(two, (two.torque_dofs[1],)),
+        case.modifications,
+        case.torque,
+        positions_per_pitch=4,
+    )
+    assert len(res.meshes) == 2
+    with pytest.raises(
+        ValueError, match=r"^the scene has 2 gear meshes; read their results from meshes\[k\]$"
+    ):
+        _ = res.transmission_error
+    with pytest.raises(ValueError, match=r"^modifications: 3 given for a scene of 2 gear meshes"):
+        jg.quasi_static(two, (case.modifications,) * 3, case.torque)
+
+
+def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case):
+    """A scene of two meshes: the spur pair cut across the face into two half-face meshes on the
+    same rigid gear nodes (each at its place along the axes) is the same contact problem, solved
+    over both meshes at once. Reference: the one-mesh scene's result (coordinates, TE of each
+    half equal to the pair's, mesh stiffness and contact length summing to the pair's, line
+    loads side by side), to 1e-9. The tilting moments of the halves' loads on the shafts must
+    sit at the right axial places for the coordinates to agree."""
+    model, whole = grounded_solve(case)
+    sc = model.scene
+    two = eqx.tree_at(lambda s: s.meshes, sc, half_face_meshes(sc.meshes[0]))
+    split = jg.quasi_static(
+        jg.grounded(two, (two.torque_dofs[1],)),
+        case.modifications,
+        case.torque,
+        positions_per_pitch=16,
+    )
+    assert_split_equals_whole(whole, split, 1e-9)

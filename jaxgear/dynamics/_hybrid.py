@@ -100,7 +100,7 @@ def _newmark_cells(
         return CellRow.of(cells, Vw, delta0, idx)
 
     def kept(X, Xd, P):
-        return P, (scene.te @ X - e_ref) / cb, record(X, Xd)
+        return P, (scene.te_vector() @ X - e_ref) / cb, record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
     carry, (P, te, rec) = newmark(
@@ -260,7 +260,7 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
     # the kept steps end at the positions (k + 1) mod N_s of the first period (whole periods)
     j = (jnp.arange(keep) + 1) % spp
     cb = jnp.cos(mesh.base_helix_angle)
-    static_te = (qs.x @ scene.te - e_max) / cb
+    static_te = (qs.x @ scene.te_vector() - e_max) / cb
     code = jnp.where(
         qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
     )

@@ -194,8 +194,8 @@ class HybridModel(AbstractDynamicModel):
     them per speed (docs/hybrid.md, "Global system").
 
     Attributes:
-        scene: the :class:`jaxgear.scenes.HybridPair` (its ``speed`` is not used: each
-            simulated speed sets the centrifugal load). mods: flank modifications
+        scene: the :class:`jaxgear.scenes.HybridPair` (each simulated speed sets its
+            centrifugal load). mods: flank modifications
             (differentiable). torque: pinion torque T (N·m).
         damping: the :class:`Damping` settings (Rayleigh (2.34), modal (2.35) or composite
             (2.36)); the scene's bearing damping is always added.

@@ -30,7 +30,14 @@ from .._baseplane import Cells, MeshModel
 from .._geometry import GearPair
 from .._util import as_float
 
-__all__ = ["GearMesh", "contact_points", "line_of_action", "only_mesh", "pair_mesh"]
+__all__ = [
+    "GearMesh",
+    "contact_points",
+    "line_of_action",
+    "mesh_line",
+    "only_mesh",
+    "pair_mesh",
+]
 
 
 def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells: Cells) -> Array:
@@ -43,6 +50,13 @@ def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells:
         + (roll_start + cells.s)[..., None] * direction.reshape(lead + (3,))
         + (cells.z - 0.5 * mesh.face_width)[..., None] * ez
     )
+
+
+def mesh_line(tangent_point, direction, normal, roll_start, base_plane: MeshModel) -> dict:
+    """The line of action as the members see it: ``normal`` n, ``direction`` t and the centre of
+    the contact zone ``zone`` = T1 + (ρ_A + g_α/2) t (fixed frame, (3,) each)."""
+    zone = tangent_point + (roll_start + 0.5 * base_plane.path_of_contact) * direction
+    return {"normal": normal, "direction": direction, "zone": zone}
 
 
 def line_of_action(pair: GearPair) -> dict:
@@ -70,6 +84,9 @@ class GearMesh(eqx.Module):
         members: (driving, driven), each a :class:`~jaxgear.scenes.RigidMember` or
             :class:`~jaxgear.scenes.FlexibleMember`.
         tangent_point: T1 (m), (3,). direction: t, (3,). normal: n, (3,). roll_start: ρ_A (m).
+        te: the TE vector u of this mesh (n,): u·X is the flank-normal approach of the two gears'
+            rigid rotations, cos β_b (r_b1 φ_1 + r_b2 φ_2) with each φ positive in its gear's
+            direction of motion (docs/design.md, "Modifications, initial separation and TE").
     """
 
     base_plane: MeshModel
@@ -78,6 +95,7 @@ class GearMesh(eqx.Module):
     direction: Float[Array, " 3"] = eqx.field(converter=as_float)
     normal: Float[Array, " 3"] = eqx.field(converter=as_float)
     roll_start: Float[Array, ""] = eqx.field(converter=as_float)
+    te: Float[Array, " n"] = eqx.field(converter=as_float)
 
     def points(self, cells: Cells) -> Float[Array, "L N 3"]:
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
@@ -88,10 +106,9 @@ class GearMesh(eqx.Module):
     def line(self) -> dict:
         """The line of action: ``normal`` n, ``direction`` t and the zone centre ``zone``
         (fixed frame, (3,) each)."""
-        zone = self.tangent_point + (self.roll_start + 0.5 * self.base_plane.path_of_contact) * (
-            self.direction
+        return mesh_line(
+            self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
-        return {"normal": self.normal, "direction": self.direction, "zone": zone}
 
     def _parts(self, cells: Cells, pad: int):
         P = self.points(cells)
@@ -120,8 +137,9 @@ class GearMesh(eqx.Module):
         return V.at[..., idx].add(Vw)
 
 
-def pair_mesh(base_plane: MeshModel, line: dict, members: tuple) -> GearMesh:
-    """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`)."""
+def pair_mesh(base_plane: MeshModel, line: dict, members: tuple, te) -> GearMesh:
+    """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`) with TE vector
+    ``te`` (n,)."""
     return GearMesh(
         base_plane,
         members,
@@ -129,6 +147,7 @@ def pair_mesh(base_plane: MeshModel, line: dict, members: tuple) -> GearMesh:
         line["direction"],
         line["normal"],
         line["roll_start"],
+        te,
     )
 
 

@@ -35,7 +35,7 @@ from .._baseplane import CellRow, Cells, MeshModel
 from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import _chordal_thickness
-from ._gear_mesh import line_of_action, only_mesh, pair_mesh
+from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
 from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member
 from ._lumped3d import ShaftSpec, _lumped_arrays
 from ._structure import AssembledScene, Structure
@@ -62,19 +62,17 @@ class HybridPair(AssembledScene):
             :class:`~jaxgear.scenes.RigidMember` or :class:`~jaxgear.scenes.FlexibleMember`).
         G: compliance on the complement of the drive rotation with the output rotation held
             (n, n). N: the drive rotation, scaled to a unit base-plane approach (n, 1).
-        f_torque: load per unit pinion torque (n,). x_torque, x_centrifugal: G f_torque,
+        f_torque: load per unit pinion torque (n,) (:class:`AssembledScene`).
+        x_torque, x_centrifugal: G f_torque,
             G f_centrifugal (the pinion speed Ω is an argument of the methods and solvers that
-            load the scene, never a field of it). te: TE vector u (u·X, m) at the gear positions
-            of the shafts. te_compliance: G u.
+            load the scene, never a field of it). Each mesh's TE vector u is its
+            :attr:`GearMesh.te` (at the gear positions of the shafts).
     """
 
     G: Float[Array, "n n"]
     N: Float[Array, "n 1"]
-    f_torque: Float[Array, " n"]
     x_torque: Float[Array, " n"]
     x_centrifugal: Float[Array, " n"]
-    te: Float[Array, " n"]
-    te_compliance: Float[Array, " n"]
 
     def external_load(self, torque, speed=0.0):
         """Generalised external forces (n,) at pinion torque T (N·m) and pinion speed Ω (rad/s):
@@ -94,33 +92,29 @@ class HybridPair(AssembledScene):
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
         return only_mesh(self.meshes).window_overflow(cells)
 
-    def te_vector(self):
-        return self.te
-
     # -- the cell space -----------------------------------------------------------------------
-    def cell_space(self, cells: Cells, torque, speed=0.0):
-        """C, a0 = V G F, E = V N, b = Nᵀ F and the window (for the recovery of X), F the
-        external load at pinion torque T (N·m) and speed Ω (rad/s)."""
-        idx, Vw = self.window(cells)
-        c = Vw.shape[0] * Vw.shape[1]
-        Vw = Vw.reshape(c, -1)
+    def cell_space(self, row: CellRow, torque, speed=0.0):
+        """C = V_W G_WW V_Wᵀ, a0 = V_W x0_W, E = V_W N_W, b = Nᵀ F and x0 = G F on the window
+        of ``row`` (:meth:`window_row`; the cells of all meshes), F the external load at pinion
+        torque T (N·m) and speed Ω (rad/s)."""
+        idx, Vw = row.idx, row.V
         Gw = self.G[idx[:, None], idx[None, :]]
         x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
         C = Vw @ Gw @ Vw.T
         a0 = Vw @ x0[idx]
         E = Vw @ self.N[idx]
         b = self.N.T @ self.external_load(torque, speed)
-        return C, a0, E, b, (idx, Vw, x0)
+        return C, a0, E, b, x0
 
-    def static_contact(self, cells: Cells, delta0, torque, speed, law: ContactLaw):
-        """The static contact at one mesh position in the space of the cells
+    def static_contact(self, cells: tuple, delta0: tuple, torque, speed, law: ContactLaw):
+        """The static contact of all meshes at one position in the space of the cells
         (:func:`jaxgear.solve_contact_cells` on :meth:`cell_space`, the centrifugal load at
-        pinion speed ``speed``): (the contact solution, X (n,), u·X (m)); the arguments are
-        those of :meth:`jaxgear.scenes.Scene.static_contact`."""
-        C, a0, E, b, window = self.cell_space(cells, torque, speed)
-        r = CellRow.of(cells, window[1], delta0, window[0])
+        pinion speed ``speed``): (the contact solution, X (n,), u·X of each mesh (m),
+        (meshes,)); the arguments are those of :meth:`jaxgear.scenes.Scene.static_contact`."""
+        r = self.window_row(cells, delta0)
+        C, a0, E, b, x0 = self.cell_space(r, torque, speed)
         sol, force, alpha = solve_contact_cells(C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law)
-        return sol, self.recover(window, force, alpha), self.te_recover(window, force, alpha)
+        return sol, self.recover(r, x0, force, alpha), self.te_recover(r, x0, force, alpha)
 
     def bearing_forces_fixed_frame(self, theta, F):
         """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
@@ -160,16 +154,18 @@ class HybridPair(AssembledScene):
             out.append(jnp.mean(ur))
         return tuple(out)
 
-    def recover(self, window, P, alpha):
-        """X = G (F − Vᵀ P) + N α from the cell forces P (c,) and the rigid amplitudes α."""
-        idx, Vw, x0 = window
-        z = jnp.zeros_like(x0).at[idx].add(Vw.T @ P)
+    def recover(self, row: CellRow, x0, P, alpha):
+        """X = G (F − V_Wᵀ P) + N α from the cell forces P (c,) on the window of ``row`` and the
+        rigid amplitudes α (x0 = G F)."""
+        z = jnp.zeros_like(x0).at[row.idx].add(row.V.T @ P)
         return x0 - self.G @ z + self.N @ alpha
 
-    def te_recover(self, window, P, alpha):
-        """u·X (m) without recovering X: u·X0 − (G u)_W·(V_Wᵀ P) + (u·N) α."""
-        idx, Vw, x0 = window
-        return self.te @ x0 - self.te_compliance[idx] @ (Vw.T @ P) + (self.te @ self.N) @ alpha
+    def te_recover(self, row: CellRow, x0, P, alpha):
+        """u·X (m) of each mesh, (meshes,), without recovering X:
+        u·x0 − (G u)_W·(V_Wᵀ P) + (u·N) α."""
+        u = self.te_vectors()
+        Gu_w = u @ self.G[:, row.idx]  # (G u)_W (G symmetric)
+        return u @ x0 - Gu_w @ (row.V.T @ P) + (u @ self.N) @ alpha
 
 
 # ------------------------------------------------------------------------------------------
@@ -360,7 +356,10 @@ def hybrid_pair(
     G[np.ix_(keep, keep)] = sla.cho_solve(factor, np.eye(keep.size))
     G = 0.5 * (G + G.T)
     line = line_of_action(pair)
-    zone = {k: np.asarray(v) for k, v in pair_mesh(mesh, line, ()).line().items()}
+    zone = mesh_line(
+        line["tangent_point"], line["direction"], line["normal"], line["roll_start"], mesh
+    )
+    zone = {k: np.asarray(v) for k, v in zone.items()}
     members = []
     for m, body in enumerate(bodies):
         centre = jnp.asarray(line["centres"][m])
@@ -385,14 +384,12 @@ def hybrid_pair(
     )
     scene = HybridPair(
         structure=structure,
-        meshes=(pair_mesh(mesh, line, tuple(members)),),
+        meshes=(pair_mesh(mesh, line, tuple(members), te),),
         G=jnp.asarray(G),
         N=jnp.asarray(Nv[:, None]),
         f_torque=jnp.asarray(f_t),
         x_torque=jnp.asarray(G @ f_t),
         x_centrifugal=jnp.asarray(G @ fc),
-        te=jnp.asarray(te),
-        te_compliance=jnp.asarray(G @ te),
     )
     return _fit_windows(scene)
 

@@ -302,25 +302,6 @@ class LumpedPair(AssembledScene, DynamicScene):
     def rigid_modes(self):
         return self.rigid[:, None]
 
-    def external_load(self, torque):
-        n = self.structure.size
-        ratio = self.mesh.base_radius_gear / self.mesh.base_radius_pinion
-        F = jnp.zeros(n, dtype=self.structure.K.dtype)
-        # input torque about +z on the pinion shaft; the load resists the gear's −z rotation
-        return F.at[self.torque_dofs[0]].add(torque).at[self.torque_dofs[1]].add(torque * ratio)
-
-    def te_vector(self):
-        """Angular transmission error at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2)."""
-        cb = jnp.cos(self.mesh.base_helix_angle)
-        u = jnp.zeros(self.structure.size, self.structure.K.dtype)
-        pinion, gear = self.members
-        return (
-            u.at[pinion.dofs[5]]
-            .set(cb * self.mesh.base_radius_pinion)
-            .at[gear.dofs[5]]
-            .set(cb * self.mesh.base_radius_gear)
-        )
-
 
 def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
     zs = {0.0, spec.length, spec.gear_z, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
@@ -465,6 +446,18 @@ def lumped_pair(
     )
     n = d["M"].shape[0]
     zeros = jnp.zeros((n, n))
+    # angular TE at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2) (the gear turns about −z)
+    te = np.zeros(n)
+    cb = math.cos(pair.base_helix_angle)
+    te[members[0].dofs[5]], te[members[1].dofs[5]] = (
+        cb * pair.base_radii[0],
+        cb * pair.base_radii[1],
+    )
+    # input torque about +z on the pinion shaft; the load resists the gear's −z rotation
+    t_in, t_out = (dict(d["nodes"])[k] + 5 for k in ("input", "output"))
+    f_torque = np.zeros(n)
+    f_torque[t_in] += 1.0
+    f_torque[t_out] += pair.base_radii[1] / pair.base_radii[0]
     structure = Structure(
         K=jnp.asarray(d["parts"].sum(axis=0)),
         M=jnp.asarray(d["M"]),
@@ -481,6 +474,7 @@ def lumped_pair(
     )
     return LumpedPair(
         structure=structure,
-        meshes=(pair_mesh(mesh, line, members),),
+        meshes=(pair_mesh(mesh, line, members, te),),
+        f_torque=jnp.asarray(f_torque),
         rigid=jnp.asarray(d["rigid"]),
     )

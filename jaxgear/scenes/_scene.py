@@ -13,7 +13,11 @@ the contact force p_c l_c on the cell acts on the structure as −p_c l_c V_c. E
   Scenes of a few coordinates solve it in coordinates (the default here); a scene of condensed
   bodies overrides it with the cell space (:class:`jaxgear.scenes.HybridPair`).
 
-Later scenes (shafts, bearings, condensed bodies) plug into the same solver by providing these.
+A scene may hold several gear meshes (:class:`jaxgear.scenes.AssembledScene`). The entries that
+serve every scene take the cells of all meshes as tuples, one entry per mesh in the order of
+``base_planes``: ``cell_row`` joins them into one row of cells (:meth:`CellRow.concat`),
+``te_vectors()`` gives one TE vector per mesh, and ``static_contact`` solves the contact of all
+meshes at once. The scenes of one mesh below give these from their one mesh.
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, Cells
+from .._baseplane import CellRow, Cells, MeshModel
 from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 
@@ -50,25 +54,42 @@ class Scene(eqx.Module):
     def te_vector(self) -> Float[Array, " n"]:
         """See the module docstring."""
 
+    @property
+    def base_planes(self) -> tuple[MeshModel, ...]:
+        """The base-plane model of each gear mesh (a scene of one mesh: its ``mesh``)."""
+        return (self.mesh,)
+
+    def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
+        """The cells of every mesh (one :class:`Cells` per mesh, with their initial separations
+        δ0 (m)) in one row on all coordinates (:meth:`CellRow.concat`)."""
+        _check_meshes(self, cells)
+        return CellRow.of(cells[0], self.cell_vectors(cells[0]), delta0[0])
+
+    def te_vectors(self) -> Float[Array, "m n"]:
+        """The TE vector of each mesh, shape (meshes, n)."""
+        return self.te_vector()[None, :]
+
     def static_contact(
-        self, cells: Cells, delta0, torque, speed, law: ContactLaw
-    ) -> tuple[ContactSolution, Float[Array, " n"], Float[Array, ""]]:
-        """The static contact at one mesh position, in coordinates (:func:`jaxgear.solve_contact`
-        on K_s X + Σ P V = F).
+        self, cells: tuple[Cells, ...], delta0: tuple, torque, speed, law: ContactLaw
+    ) -> tuple[ContactSolution, Float[Array, " n"], Float[Array, " m"]]:
+        """The static contact of all meshes at one position, in coordinates
+        (:func:`jaxgear.solve_contact` on K_s X + Σ P V = F).
 
         Args:
-            cells: the cells at the position (n_lines, n_slices). delta0: their initial
-                separation δ0 (m), same shape. torque: pinion torque (N·m). speed: pinion
-                speed (rad/s), unused here (no member of this scene carries a centrifugal
-                load). law: the contact law.
+            cells: the cells of each mesh at the position, a tuple (one :class:`Cells` of
+                shape (n_lines, n_slices) per mesh). delta0: their initial separations δ0 (m),
+                a tuple of the same shapes. torque: pinion torque (N·m). speed: pinion speed
+                (rad/s), unused here (no member of this scene carries a centrifugal load).
+                law: the contact law.
 
         Returns:
-            (the contact solution, X (n,), u·X (m)).
+            (the contact solution over the cells of all meshes in mesh order, X (n,), u·X of
+            each mesh (m), shape (meshes,)).
         """
-        r = CellRow.of(cells, self.cell_vectors(cells), delta0)
+        r = self.cell_row(cells, delta0)
         K, F = self.stiffness(), self.external_load(torque)
         sol = solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law)
-        return sol, sol.x, self.te_vector() @ sol.x
+        return sol, sol.x, self.te_vectors() @ sol.x
 
 
 class DynamicScene(Scene):
@@ -115,6 +136,16 @@ class Grounded(Scene):
     def mesh(self):
         return self.base.mesh
 
+    @property
+    def base_planes(self):
+        return self.base.base_planes
+
+    def cell_row(self, cells, delta0):
+        return self.base.cell_row(cells, delta0)
+
+    def te_vectors(self):
+        return self.base.te_vectors()
+
     def stiffness(self):
         K = self.base.stiffness()
         idx = jnp.asarray(self.dofs)
@@ -128,6 +159,14 @@ class Grounded(Scene):
 
     def te_vector(self):
         return self.base.te_vector()
+
+
+def _check_meshes(scene: Scene, cells: tuple) -> None:
+    """One :class:`Cells` per mesh of ``scene`` (a one-line error otherwise)."""
+    n = len(scene.base_planes)
+    if not isinstance(cells, tuple) or len(cells) != n:
+        got = f"{len(cells)} meshes" if isinstance(cells, tuple) else type(cells).__name__
+        raise ValueError(f"the scene has {n} gear meshes; cells given for {got} (one per mesh)")
 
 
 def grounded(scene: Scene, dofs, factor: float = 1e3) -> Grounded:

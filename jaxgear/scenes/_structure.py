@@ -14,9 +14,9 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import Cells, MeshModel
+from .._baseplane import CellRow, Cells, MeshModel
 from ._gear_mesh import only_mesh
-from ._scene import Scene
+from ._scene import Scene, _check_meshes
 
 __all__ = ["AssembledScene", "Structure"]
 
@@ -92,10 +92,18 @@ class AssembledScene(Scene):
     Attributes:
         structure: the assembled structure (n coordinates).
         meshes: the gear meshes.
+        f_torque: the external load per unit pinion torque (n,): +1 on the input node's φ_z,
+            and the output torque that balances it through the gear ratio (the load resists the
+            driven gear's rotation).
     """
 
     structure: Structure
     meshes: tuple
+    f_torque: Float[Array, " n"]
+
+    def external_load(self, torque) -> Float[Array, " n"]:
+        """Generalised external forces T f_torque (n,) at pinion torque T (N·m)."""
+        return torque * self.f_torque
 
     @property
     def mesh(self) -> MeshModel:
@@ -151,3 +159,39 @@ class AssembledScene(Scene):
 
     def cell_vectors(self, cells: Cells) -> Float[Array, "L N n"]:
         return only_mesh(self.meshes).cell_vectors(cells, self.structure.size)
+
+    @property
+    def base_planes(self) -> tuple[MeshModel, ...]:
+        """The base-plane model of each gear mesh."""
+        return tuple(m.base_plane for m in self.meshes)
+
+    def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
+        """The cells of every mesh in one row on all n coordinates, mesh after mesh."""
+        _check_meshes(self, cells)
+        n = self.structure.size
+        return CellRow.concat(
+            [
+                CellRow.of(c, m.cell_vectors(c, n), d)
+                for m, c, d in zip(self.meshes, cells, delta0, strict=True)
+            ]
+        )
+
+    def window_row(self, cells: tuple[Cells, ...], delta0: tuple, pad: int = 0) -> CellRow:
+        """The cells of every mesh in one row on the meshes' windows (:meth:`GearMesh.window`,
+        ``pad`` rim stations more on each side of a flexible member's window), mesh after
+        mesh: the window is the meshes' windows joined, V block diagonal
+        (:meth:`CellRow.concat`)."""
+        _check_meshes(self, cells)
+        rows = []
+        for m, c, d in zip(self.meshes, cells, delta0, strict=True):
+            idx, Vw = m.window(c, pad)
+            rows.append(CellRow.of(c, Vw, d, idx))
+        return CellRow.concat(rows)
+
+    def te_vector(self) -> Float[Array, " n"]:
+        """The TE vector u of the scene's one mesh (:attr:`GearMesh.te`)."""
+        return only_mesh(self.meshes).te
+
+    def te_vectors(self) -> Float[Array, "m n"]:
+        """The TE vector of each mesh, shape (meshes, n)."""
+        return jnp.stack([m.te for m in self.meshes])
