@@ -164,8 +164,10 @@ class HybridPair(AssembledScene):
         """u·X (m) of each mesh, (meshes,), without recovering X:
         u·x0 − (G u)_W·(V_Wᵀ P) + (u·N) α."""
         u = self.te_vectors()
-        Gu_w = u @ self.G[:, row.idx]  # (G u)_W (G symmetric)
-        return u @ x0 - Gu_w @ (row.V.T @ P) + (u @ self.N) @ alpha
+        # (G u)ᵀ from the scene alone (G symmetric): under a vmap over positions it is not
+        # batched, so it is formed once per call; only its window is gathered per position
+        Gu = u @ self.G
+        return u @ x0 - Gu[:, row.idx] @ (row.V.T @ P) + (u @ self.N) @ alpha
 
 
 # ------------------------------------------------------------------------------------------
