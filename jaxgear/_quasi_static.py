@@ -138,6 +138,25 @@ def mesh_positions(
     return k * mesh.mesh_period_angle / positions_per_pitch
 
 
+def per_mesh_modifications(mods, n_meshes: int) -> tuple[Modifications, ...]:
+    """One :class:`Modifications` per mesh from ``mods``: None (perfect involutes), one for
+    every mesh, or a tuple/list of one per mesh.
+
+    Raises:
+        ValueError: a tuple of another length than ``n_meshes``.
+    """
+    if mods is None:
+        mods = Modifications()
+    if not isinstance(mods, tuple | list):
+        return (mods,) * n_meshes
+    if len(mods) != n_meshes:
+        raise ValueError(
+            f"modifications: {len(mods)} given for a scene of {n_meshes} gear meshes (allowed: "
+            "one Modifications for every mesh, or one per mesh)"
+        )
+    return tuple(mods)
+
+
 def separation(mesh: MeshModel, mods: Modifications, theta):
     """Cells at pinion angle ``theta`` (rad), max_M e (m) and δ0 = max e − e per cell (m, (2.8)).
 
@@ -198,11 +217,7 @@ def _quasi_static(
     # defaults are made here, under jit: building them eagerly costs more than the solve
     if scene is None:
         scene = RigidMesh(mesh)
-    n_meshes = len(scene.base_planes)
-    if mods is None:
-        mods = Modifications()
-    if not isinstance(mods, tuple):
-        mods = (mods,) * n_meshes
+    mods = per_mesh_modifications(mods, len(scene.base_planes))
     if theta is None:
         theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
     torque = eqx.error_if(
@@ -215,9 +230,16 @@ def _quasi_static(
         width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
         law = SmoothContact(width, law.max_iterations)
     res = jax.vmap(lambda th: _one_position(scene, mods, torque, speed, th, law))(theta)
-    if throw:
-        x = error_if_failed(res.x, res.result, ContactResult, "quasi_static")
-        res = eqx.tree_at(lambda r: r.x, res, x)
+    if throw:  # the check rides on what a caller reads (each mesh's TE, the coordinates)
+
+        def guarded(r):
+            return [m.transmission_error for m in r.meshes] + [r.x]
+
+        res = eqx.tree_at(
+            guarded,
+            res,
+            [error_if_failed(v, res.result, ContactResult, "quasi_static") for v in guarded(res)],
+        )
     return res
 
 
@@ -278,13 +300,8 @@ def quasi_static(
     else:
         mesh = None
         n_meshes = len(scene.base_planes)
-    if isinstance(modifications, tuple | list):
-        if len(modifications) != n_meshes:
-            raise ValueError(
-                f"modifications: {len(modifications)} given for a scene of {n_meshes} gear "
-                "meshes (allowed: one Modifications for every mesh, or one per mesh)"
-            )
-        modifications = tuple(modifications)
+    if isinstance(modifications, tuple | list):  # the count, before any computation
+        modifications = per_mesh_modifications(modifications, n_meshes)
     dtype = (mesh if mesh is not None else scene.base_planes[0]).base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     speed = jnp.asarray(speed, dtype=dtype)

@@ -53,7 +53,11 @@ from ._model import (
     dynamic_model as dynamic_model,
     mesh_table as mesh_table,
 )
-from ._result import DynamicResult as DynamicResult, SweepResult as SweepResult
+from ._result import (
+    DynamicResult as DynamicResult,
+    MeshDynamics as MeshDynamics,
+    SweepResult as SweepResult,
+)
 from ._settings import (
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
     MESH_ENERGY_MIN as MESH_ENERGY_MIN,

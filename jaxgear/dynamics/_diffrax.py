@@ -8,45 +8,50 @@ import jax.numpy as jnp
 import optimistix
 
 from .._contact import ContactLaw, _phi
-from .._quasi_static import separation
-from ._model import DynamicModel, MeshTable
+from .._quasi_static import per_mesh_modifications, separation
+from ._model import DynamicModel, MeshTable, mesh_te
 from ._settings import DIFFRAX_SOLVERS, _Config, _divergence_code
 
 
-def _observe(model: DynamicModel, table: MeshTable, X, j, law: ContactLaw):
-    """Mesh force, TE and line forces at state X (n,) and table row j."""
-    u = model.scene.te_vector()
-    cb = jnp.cos(model.mesh.base_helix_angle)
+def _cell_forces(table: MeshTable, X, j, law: ContactLaw):
+    """The cell forces k l φ(V X − δ0) (N), (c,), at state X (n,) and table row j."""
     gap = table.V[j] @ X - table.delta0[j]
-    f = jnp.where(table.mask[j], table.k[j] * table.length[j] * _phi(gap, law)[0], 0.0)
-    return jnp.sum(f), (u @ X - table.e_max[j]) / cb, jnp.sum(f.reshape(table.n_lines, -1), axis=1)
+    return jnp.where(table.mask[j], table.k[j] * table.length[j] * _phi(gap, law)[0], 0.0)
 
 
-def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Config, law):
+def _diffrax(
+    model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Config, law, static_force
+):
+    """The run of :func:`~jaxgear.dynamics._lumped._one_speed` by a diffrax solver: the cells of
+    every mesh at θ(t) (not the table's rows); ``static_force`` (m,) scales the checks."""
     scene = model.scene
-    mesh = model.mesh
+    planes = scene.base_planes
     M, C, Ks, F = scene.mass(), model.damping, scene.stiffness(), scene.external_load(model.torque)
     Minv = jnp.linalg.inv(M)
-    fs = model.static_force
+    fs = jnp.sum(static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
-    vmax = jnp.max(jnp.abs(scene.te_vector()))
+    vmax = jnp.max(jnp.abs(scene.te_vectors()))
     x_ref = fs / model.mesh_stiffness_mean / vmax
     w_ref = jnp.max(model.modes.omega)
     v_ref = x_ref * w_ref
     P = cfg.steps_per_period
     n_total = cfg.periods * P
     n_keep = cfg.keep_periods * P
-    dtheta = mesh.mesh_period_angle / P
+    dtheta = planes[0].mesh_period_angle / P
+    te_of = mesh_te(scene, table)
+    e_refs = table.e_max[0]  # (m,)
 
     def rhs(t, y, args):
         speed, law, mods = args
+        mods = per_mesh_modifications(mods, len(planes))
         X, Xd = y[0] * x_ref, y[1] * v_ref
-        cells, e_max, d0 = separation(mesh, mods, speed * t + 0.5 * dtheta)
-        d0 = jnp.where(cells.mask, d0 + (table.e_max[0] - e_max), 0.0)
-        V = scene.cell_vectors(cells).reshape(-1, X.shape[0])
-        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
-        f = kl * _phi(V @ X - d0.reshape(-1), law)[0]
-        A = Minv @ (F - C @ Xd - Ks @ X - V.T @ f)
+        theta = speed * t + 0.5 * dtheta
+        parts = [separation(p, m, theta) for p, m in zip(planes, mods, strict=True)]
+        # δ0 from each mesh's time-constant reference, as the table's
+        d0 = tuple(jnp.where(c.mask, d + (e_refs[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
+        r = scene.cell_row(tuple(p[0] for p in parts), d0)
+        f = jnp.where(r.mask, r.k * r.length, 0.0) * _phi(r.V @ X - r.delta0, law)[0]
+        A = Minv @ (F - C @ Xd - Ks @ X - r.V.T @ f)
         return (Xd / x_ref, A / v_ref)
 
     opts = cfg.integrator
@@ -83,19 +88,19 @@ def _diffrax(model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Conf
     )
     Xs, Xds = sol.ys[0] * x_ref, sol.ys[1] * v_ref
     j = (jnp.arange(n_keep) + 1) % P
-    fm, te, lines = jax.vmap(lambda X, jj: _observe(model, table, X, jj, law))(Xs, j)
+    forces = jax.vmap(lambda X, jj: _cell_forces(table, X, jj, law))(Xs, j)  # (K, c)
+    fm, lines = table.mesh_forces(forces)
+    te = jax.vmap(te_of)(Xs)
     code = jnp.where(sol.result == diffrax.RESULTS.successful, 0, 4)
     div = jax.vmap(lambda xd, X, f: _divergence_code(xd, X, f, M, fs, e_ref, cfg.blowup))(
-        Xds, Xs, fm
+        Xds, Xs, jnp.sum(fm, axis=1)
     )
     # a failed solve leaves inf in the unreached outputs: report the failure, not the inf
     code = jnp.where(
         code != 0, code, jnp.where(jnp.any(div == 2), 2, jnp.where(jnp.any(div == 3), 3, 0))
     )
     Xl, Xdl = Xs[-1], Xds[-1]
-    gap = table.V[0] @ Xl - table.delta0[0]
-    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, law)[0], 0.0)
-    Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - table.V[0].T @ f)
+    Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - table.V[0].T @ _cell_forces(table, Xl, 0, law))
     nsteps = jnp.asarray(sol.stats["num_steps"])
     reac = Xs @ scene.reaction_matrix().T
     return (Xl, Xdl, Xddl), (fm, te, lines, reac), code, nsteps

@@ -11,13 +11,12 @@ import jax.numpy as jnp
 
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
-from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer
 from ._diffrax import _diffrax
 from ._modal import excited_omega
-from ._model import DynamicModel, MeshTable, _prepare, _Prepared
+from ._model import DynamicModel, MeshTable, _prepare, _Prepared, mesh_te
 from ._newmark import newmark
-from ._result import steady_state
+from ._result import checked, steady_state
 from ._settings import _Config, _divergence_code
 
 __all__ = ["static_start"]
@@ -51,21 +50,23 @@ def _newmark(
     law: ContactLaw,
     record: bool,
     record_states: bool = False,
+    static_force=None,
 ):
     """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
     coordinates) on the rows of the mesh table from row 1 on (step n ends at row (n + 1) mod N_s).
 
-    ``state``: (X, Ẋ, Ẍ, result code, most contact passes). Records per step (``record``): the
-    mesh force Σ P (N), the TE (m), the force per contact line (N, (L,)), the bearing forces R X
-    (N, (r,)), and (X, Ẋ) with ``record_states``."""
+    ``state``: (X, Ẋ, Ẍ, result code, most contact passes). ``static_force``: the static mesh
+    forces (N), (m,), the scale of the divergence check (default: the model's F_s). Records per
+    step (``record``): each mesh's force Σ P (N, (m,)) and TE (m, (m,)), the forces per contact
+    line of each mesh (N, a tuple of (L_k,)), the bearing forces R X (N, (r,)), and (X, Ẋ) with
+    ``record_states``."""
     scene = model.scene
     M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
-    u = scene.te_vector()
     R = scene.reaction_matrix()
-    cb = jnp.cos(model.mesh.base_helix_angle)
-    fs = model.static_force
+    fs = jnp.sum(model.static_force if static_force is None else static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
     P = table.theta.shape[0]
+    te_of = mesh_te(scene, table)
 
     def cells_at(j):
         return CellRow(
@@ -76,9 +77,8 @@ def _newmark(
         return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
 
     def kept(X, Xd, forces):
-        te = (u @ X - table.e_max[0]) / cb
-        lines = jnp.sum(forces.reshape(table.n_lines, -1), axis=1)
-        out = (jnp.sum(forces), te, lines, R @ X)
+        fm, lines = table.mesh_forces(forces)
+        out = (fm, te_of(X), lines, R @ X)
         return out + (X, Xd) if record_states else out
 
     rows = ((jnp.arange(n_steps) + 1) % P)[None, :]
@@ -97,21 +97,35 @@ def _newmark(
     )
 
 
+def _static_forces(model: DynamicModel, table: MeshTable, static):
+    """Each mesh's static force F_s (N), (m,), and its largest quasi-static force on one contact
+    line (N), (m,): F_s = T/(r_b1 cos β_b) for the one mesh of a pair; with several meshes the
+    mean over the period of each mesh's quasi-static force (for one mesh the two agree by the
+    pinion's torque balance)."""
+    fm, lines = table.mesh_forces(static.static_force_density * table.length)  # (P, m), (P, L_k)
+    max_lines = jnp.stack([jnp.max(f) for f in lines])
+    if fm.shape[1] == 1:
+        return model.static_force[None], max_lines
+    return jnp.mean(fm, axis=0), max_lines
+
+
 def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
     P = cfg.steps_per_period
-    mesh = model.mesh
-    period = mesh.mesh_period_angle / speed
+    period_angle = model.scene.base_planes[0].mesh_period_angle
+    period = period_angle / speed
     dt = period / P
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
+    fs, static_lines = _static_forces(model, table, static)
     states = None
     if cfg.newmark:
         # the transient unrecorded, then the kept periods recorded: n_trans is whole mesh
         # periods, so the second scan meets the same table rows (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        carry, _ = _newmark(model, table, dt, carry0, n_trans, cfg, law, record=False)
+        run = {"cfg": cfg, "law": law, "static_force": fs}
+        carry, _ = _newmark(model, table, dt, carry0, n_trans, record=False, **run)
         carry, rec = _newmark(
-            model, table, dt, carry, n_keep, cfg, law, record=True, record_states=cfg.states
+            model, table, dt, carry, n_keep, record=True, record_states=cfg.states, **run
         )
         fm, te, lines, reac = rec[:4]
         if cfg.states:
@@ -119,27 +133,24 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
-        final, (fm, te, lines, reac), code, it = _diffrax(model, table, speed, dt, state, cfg, law)
+        final, (fm, te, lines, reac), code, it = _diffrax(
+            model, table, speed, dt, state, cfg, law, fs
+        )
     j = (jnp.arange(n_keep) + 1) % P
-    static_lines = jnp.sum(
-        (static.static_force_density * table.length).reshape(P, table.n_lines, -1), axis=2
-    )
-    u = model.scene.te_vector()
-    cb = jnp.cos(mesh.base_helix_angle)
-    static_te = (static.static_x @ u - table.e_max) / cb
+    static_te = jax.vmap(mesh_te(model.scene, table))(static.static_x)  # (P, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
         speed=speed,
         time_step=dt,
-        mesh_period_angle=mesh.mesh_period_angle,
+        mesh_period_angle=period_angle,
         steps_per_period=P,
         transient_steps=n_trans,
         theta=table.theta[j],
         mesh_force=fm,
-        static_force=model.static_force,
+        static_force=fs,
         transmission_error=te,
         line_force=lines,
-        static_line_force=jnp.max(static_lines),
+        static_line_force=static_lines,
         static_te=static_te[j],
         bearing_force=reac,
         bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
@@ -175,7 +186,7 @@ def static_start(
         (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
     """
     check_integer("steps_per_period", steps_per_period, 4)
-    law = contact_law(contact, model.mesh.base_pitch.dtype)
+    law = contact_law(contact, model.scene.base_planes[0].base_pitch.dtype)
     return _static_start(_prep(model, law, int(steps_per_period)))
 
 
@@ -204,8 +215,7 @@ def _run(
     if mode == "single":
         r = one(speeds, state0)
         if throw:  # eqx.error_if: raises under jit, vmap and grad alike
-            df = error_if_failed(r.dynamic_factor, r.result, DynamicsResult, "simulate")
-            r = eqx.tree_at(lambda x: x.dynamic_factor, r, df)
+            r = checked(r, "simulate")
         return r
     if mode == "vmap":
         return jax.vmap(lambda s: one(s, state0))(speeds)

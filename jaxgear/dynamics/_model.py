@@ -35,12 +35,13 @@ from __future__ import annotations
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import CellRow, MeshModel
+from .._baseplane import MeshModel
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
-from .._quasi_static import mesh_positions, separation
+from .._quasi_static import mesh_positions, per_mesh_modifications, separation
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
 
@@ -55,15 +56,17 @@ __all__ = [
 
 
 class MeshTable(eqx.Module):
-    """Contact cells at the N_s positions of one mesh period (c = n_lines·n_slices cells).
+    """Contact cells of every mesh at the N_s positions of one mesh period (c = Σ_k
+    n_lines_k·n_slices_k cells, mesh after mesh as :meth:`jaxgear.CellRow.concat` joins them).
 
     Attributes:
         theta: pinion angles (rad), shape (P,). V: structure vectors, shape (P, c, n).
         k: cell stiffness per unit length (N/m²), length: cell length (m), delta0: δ0 (m),
         mask: cells on the flanks; all shape (P, c).
-        e_max: the reference e_ref = max over the period of max_M e (m), broadcast to (P,):
-            δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant reference.
-        n_lines: static number of contact lines (cells are line-major).
+        e_max: each mesh's reference e_ref = max over the period of its max_M e (m), broadcast
+            to (P, m): δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant
+            reference per mesh.
+        sizes: static (n_lines, n_slices) of each mesh (each mesh's cells are line-major).
     """
 
     theta: Float[Array, " P"]
@@ -72,28 +75,55 @@ class MeshTable(eqx.Module):
     length: Float[Array, "P c"]
     delta0: Float[Array, "P c"]
     mask: Bool[Array, "P c"]
-    e_max: Float[Array, " P"]
-    n_lines: int = eqx.field(static=True)
+    e_max: Float[Array, "P m"]
+    sizes: tuple = eqx.field(static=True)
+
+    def split(self, cell_values) -> tuple:
+        """``cell_values`` (..., c) cut into each mesh's (..., n_lines, n_slices)."""
+        out, start = [], 0
+        for L, N in self.sizes:
+            part = cell_values[..., start : start + L * N]
+            out.append(part.reshape(part.shape[:-1] + (L, N)))
+            start += L * N
+        return tuple(out)
+
+    def mesh_forces(self, cell_forces) -> tuple[Array, tuple]:
+        """The mesh force Σ P of each mesh (..., m) and its force per contact line, a tuple of
+        (..., n_lines) (N), from the cell forces ``cell_forces`` (..., c) (N)."""
+        lines = tuple(jnp.sum(f, axis=-1) for f in self.split(cell_forces))
+        return jnp.stack([jnp.sum(f, axis=-1) for f in lines], axis=-1), lines
 
 
-def mesh_table(scene: DynamicScene, mods: Modifications, steps_per_period: int) -> MeshTable:
-    """Cells, δ0 (2.8) and structure vectors at the mid-points of ``steps_per_period`` steps."""
-    mesh = scene.mesh
-    theta = mesh_positions(mesh, steps_per_period)
+def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
+    """Cells of every mesh, δ0 (2.8) and structure vectors at the mid-points of
+    ``steps_per_period`` steps (``mods``: one :class:`Modifications` for every mesh, or one per
+    mesh)."""
+    planes = scene.base_planes
+    mods = per_mesh_modifications(mods, len(planes))
+    theta = mesh_positions(planes[0], steps_per_period)
 
     def row(th):
-        cells, e_max, d0 = separation(mesh, mods, th)
-        r = CellRow.of(cells, scene.cell_vectors(cells), d0)
-        return r.V, r.k, r.length, r.delta0, r.mask, e_max
+        parts = [separation(p, m, th) for p, m in zip(planes, mods, strict=True)]
+        r = scene.cell_row(tuple(p[0] for p in parts), tuple(p[2] for p in parts))
+        return r.V, r.k, r.length, r.delta0, r.mask, jnp.stack([p[1] for p in parts])
 
     V, k, ln, d0, mask, e_max = jax.vmap(row)(theta)
-    # one time-constant reference: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e moves its
-    # reference with time, which would be a spurious inertial excitation in dynamics.
-    e_ref = jnp.max(e_max)
-    d0 = jnp.where(mask, d0 + (e_ref - e_max)[:, None], 0.0)
-    return MeshTable(
-        theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape), n_lines=mesh.n_lines
-    )
+    # one time-constant reference per mesh: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e
+    # moves its reference with time, which would be a spurious inertial excitation in dynamics.
+    e_ref = jnp.max(e_max, axis=0)  # (m,)
+    sizes = tuple((p.n_lines, p.n_slices) for p in planes)
+    of_cell = np.repeat(np.arange(len(planes)), [L * N for L, N in sizes])
+    d0 = jnp.where(mask, d0 + (e_ref[None, :] - e_max)[:, of_cell], 0.0)
+    return MeshTable(theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape), sizes=sizes)
+
+
+def mesh_te(scene, table: MeshTable):
+    """X ↦ each mesh's TE (u_k·X − e_ref,k)/cos β_b,k (m), (m,), with the time-constant
+    references of ``table``."""
+    U = scene.te_vectors()
+    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
+    e_ref = table.e_max[0]
+    return lambda X: (U @ X - e_ref) / cb
 
 
 def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
@@ -164,17 +194,20 @@ class DynamicModel(AbstractDynamicModel):
     """A dynamic scene at an operating torque, with its damping (build with :func:`dynamic_model`).
 
     Attributes:
-        scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications (differentiable:
-            δ0 is rebuilt from them in every simulation). torque: pinion torque T (N·m).
+        scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications, one
+            :class:`~jaxgear.Modifications` for every mesh or a tuple of one per mesh
+            (differentiable: δ0 is rebuilt from them in every simulation). torque: pinion
+            torque T (N·m).
         damping: the (n, n) damping matrix C, built once from the modal analysis of the
             time-averaged system, plus the scene's bearing damping if it has one
             (:func:`damping_matrix`; held fixed under differentiation wrt ``mods``).
         modes: :class:`ModalAnalysis` of the time-averaged system.
-        mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m).
+        mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m) over the
+            cells of every mesh.
     """
 
     scene: DynamicScene
-    mods: Modifications
+    mods: Modifications | tuple
     torque: Float[Array, ""]
     damping: Float[Array, "n n"]
     modes: ModalAnalysis
@@ -183,7 +216,9 @@ class DynamicModel(AbstractDynamicModel):
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
         frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
-        return self.modes.omega * self.mesh.mesh_period_angle / (2 * jnp.pi * harmonic)
+        return (
+            self.modes.omega * self.scene.base_planes[0].mesh_period_angle / (2 * jnp.pi * harmonic)
+        )
 
 
 class HybridModel(AbstractDynamicModel):
@@ -213,7 +248,7 @@ class HybridModel(AbstractDynamicModel):
 
 def dynamic_model(
     scene: DynamicScene | HybridPair,
-    mods: Modifications | None,
+    mods: Modifications | tuple | None,
     torque,
     damping: Damping | None = None,
     *,
@@ -232,7 +267,9 @@ def dynamic_model(
     :class:`HybridModel`, whose damping the sweeps build at each speed.
 
     Args:
-        scene: dynamic scene. mods: modifications (``None``: none). torque: pinion torque (N·m).
+        scene: dynamic scene. mods: modifications (``None``: none; one for every mesh, or a
+            tuple of one per mesh: a lumped scene runs every mesh of the scene, a hybrid scene
+            one). torque: pinion torque (N·m).
         damping: :class:`Damping`. Default: composite (2.36), 0.07 mesh / 0.01 structure, for a
             lumped scene; the seed's D1, Rayleigh (α, β) = (25 1/s, 2.5e-6 s), for a hybrid one.
         positions_per_pitch: positions per mesh period for the averages (lumped scenes).
@@ -243,17 +280,21 @@ def dynamic_model(
 
     Raises:
         ValueError: a ``damping`` that is not a :class:`Damping`; ``rotating_frame`` on a
-            lumped scene; a concrete torque <= 0 for a hybrid scene.
+            lumped scene; a concrete torque <= 0 for a hybrid scene; a hybrid scene with
+            several meshes; a tuple of modifications of another length than the meshes.
         eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
             (jit/vmap-safe).
     """
     if mods is None:
         mods = Modifications()
+    if isinstance(mods, tuple | list):  # one per mesh: the count, before any computation
+        mods = per_mesh_modifications(mods, len(scene.base_planes))
     if damping is not None and not isinstance(damping, Damping):
         raise ValueError(f"damping = {damping!r}: allowed a jaxgear.dynamics.Damping")
-    dtype = scene.mesh.base_pitch.dtype
+    dtype = scene.base_planes[0].base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     if isinstance(scene, HybridPair):
+        scene.mesh  # noqa: B018  (the hybrid dynamics handle one mesh: a one-line error else)
         if not isinstance(torque, jax.core.Tracer) and not bool(torque > 0):
             raise ValueError(f"torque = {float(torque)!r} N·m: allowed > 0 (the pinion drives)")
         if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)

@@ -9,15 +9,65 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
+from .._results import DynamicsResult, error_if_failed
 from .._util import rms_about_mean
 from ._settings import UNDER_RESOLVED_STEPS
 
-__all__ = ["DynamicResult", "SweepResult"]
+__all__ = ["DynamicResult", "MeshDynamics", "SweepResult"]
+
+
+class MeshDynamics(eqx.Module):
+    """Steady-state response of one gear mesh at one speed (K recorded steps; a sweep adds a
+    leading speed axis to every leaf).
+
+    Attributes:
+        mesh_force: dynamic flank-normal mesh force Σ p l over the mesh's cells (N), shape (K,).
+        static_force: the static mesh force F_s (N): T/(r_b1 cos β_b) for the mesh of a pair
+            (the mean quasi-static force of the mesh over a mesh period, which equals it).
+        transmission_error: dynamic TE (u·X − e_ref)/cos β_b (m), shape (K,).
+        line_force: force per contact line (one tooth pair) (N), shape (K, n_lines).
+        static_te: quasi-static TE at the same positions (m), shape (K,) (a hybrid model's at
+            the same place in the first mesh period, the body stations then under the mesh,
+            with the centrifugal load at the speed).
+        dynamic_factor: max mesh force / static mesh force F_s (-).
+        dynamic_factor_tooth: max tooth force / max quasi-static tooth force (-).
+        te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
+        contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
+        periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-); NaN with one kept
+            period.
+    """
+
+    mesh_force: Float[Array, " K"]
+    static_force: Float[Array, ""]
+    transmission_error: Float[Array, " K"]
+    line_force: Float[Array, "K L"]
+    static_te: Float[Array, " K"]
+    dynamic_factor: Float[Array, ""]
+    dynamic_factor_tooth: Float[Array, ""]
+    te_rms: Float[Array, ""]
+    te_mean: Float[Array, ""]
+    contact_loss: Float[Array, ""]
+    periodicity: Float[Array, ""]
+
+
+def _of_the_mesh(name: str) -> property:
+    """A property of :class:`DynamicResult` that reads the scene's one mesh."""
+    return property(
+        lambda self: getattr(self.mesh, name),
+        doc=f"``{name}`` of the scene's one mesh (:class:`MeshDynamics`).",
+    )
 
 
 class DynamicResult(eqx.Module):
     """Steady-state response at one speed (K = keep_periods · N_s recorded steps; a sweep adds a
-    leading speed axis to every leaf), for every model (:func:`jaxgear.dynamics.dynamic_model`).
+    leading speed axis to every leaf), for every model (:func:`jaxgear.dynamics.dynamic_model`):
+    the structure's records and, per gear mesh, a :class:`MeshDynamics`.
+
+    A scene of one gear mesh reads that mesh's response directly on this object
+    (``mesh_force``, ``static_force``, ``transmission_error``, ``line_force``, ``static_te``,
+    ``dynamic_factor``, ``dynamic_factor_tooth``, ``te_rms``, ``te_mean``, ``contact_loss``,
+    ``periodicity``: see :class:`MeshDynamics`); a scene of several meshes reads them from
+    ``meshes[k]``.
 
     Attributes:
         speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
@@ -27,24 +77,11 @@ class DynamicResult(eqx.Module):
         theta: pinion angle at the recorded steps (rad), (K,): modulo one mesh period for a
             lumped model (the positions of its cell table), the angle turned from the start for
             a hybrid model (where the bodies' stations are).
-        mesh_force: dynamic flank-normal mesh force Σ p l (N), shape (K,).
-        static_force: the static mesh force F_s = T/(r_b1 cos β_b) (N).
-        transmission_error: dynamic TE (u·X − e_ref)/cos β_b (m), shape (K,).
-        line_force: force per contact line (one tooth pair) (N), shape (K, n_lines).
-        static_te: quasi-static TE at the same positions (m), shape (K,) (a hybrid model's at
-            the same place in the first mesh period, the body stations then under the mesh,
-            with the centrifugal load at the speed).
         bearing_force: support force components R X (N), fixed frame, shape (K, r) (r = 0 for
             torsional scenes; :meth:`DynamicScene.reaction_matrix`, a hybrid scene's
             :meth:`~jaxgear.scenes.HybridPair.bearing_forces`). bearing_force_max: max |R X|
             over the kept periods, shape (r,). bearing_force_static: max over positions of the
             static one.
-        dynamic_factor: max mesh force / static mesh force F_s (-).
-        dynamic_factor_tooth: max tooth force / max quasi-static tooth force (-).
-        te_rms: RMS of the dynamic TE about its mean (m). te_mean: its mean (m).
-        contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
-        periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-); NaN with one kept
-            period.
         steps_per_period: time steps per mesh period N_s actually used (automatic or given).
         steps_per_mode_period: N_s f_mesh / f_max, time steps per period of the highest mode the
             mesh excites (mesh-energy share >= 5 %; docs/dynamics.md "Time step and accuracy");
@@ -58,6 +95,7 @@ class DynamicResult(eqx.Module):
             frame, the axial master plane nearest mid-face), radial and axial (m), shape (K, Z);
             (K, 0) for a rigid wheel and for lumped models. Read them with
             :func:`jaxgear.dynamics.rim_waves`.
+        meshes: one :class:`MeshDynamics` per gear mesh, in the scene's mesh order.
         states: the coordinates X at the recorded steps (K, n) when asked for (``states=True``
             of :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep`),
             else None.
@@ -68,20 +106,9 @@ class DynamicResult(eqx.Module):
     time: Float[Array, " K"]
     time_step: Float[Array, ""]
     theta: Float[Array, " K"]
-    mesh_force: Float[Array, " K"]
-    static_force: Float[Array, ""]
-    transmission_error: Float[Array, " K"]
-    line_force: Float[Array, "K L"]
-    static_te: Float[Array, " K"]
     bearing_force: Float[Array, "K r"]
     bearing_force_max: Float[Array, " r"]
     bearing_force_static: Float[Array, " r"]
-    dynamic_factor: Float[Array, ""]
-    dynamic_factor_tooth: Float[Array, ""]
-    te_rms: Float[Array, ""]
-    te_mean: Float[Array, ""]
-    contact_loss: Float[Array, ""]
-    periodicity: Float[Array, ""]
     steps_per_period: Int[Array, ""]
     steps_per_mode_period: Float[Array, ""]
     under_resolved: Bool[Array, ""]
@@ -90,7 +117,29 @@ class DynamicResult(eqx.Module):
     result: Int[Array, ""]
     rim_radial: Float[Array, "K Z"]
     rim_axial: Float[Array, "K Z"]
+    meshes: tuple[MeshDynamics, ...]
     states: Float[Array, "K n"] | None = None
+
+    @property
+    def mesh(self) -> MeshDynamics:
+        """The response of the scene's one gear mesh."""
+        if len(self.meshes) != 1:
+            raise ValueError(
+                f"the scene has {len(self.meshes)} gear meshes; read their responses from meshes[k]"
+            )
+        return self.meshes[0]
+
+    mesh_force = _of_the_mesh("mesh_force")
+    static_force = _of_the_mesh("static_force")
+    transmission_error = _of_the_mesh("transmission_error")
+    line_force = _of_the_mesh("line_force")
+    static_te = _of_the_mesh("static_te")
+    dynamic_factor = _of_the_mesh("dynamic_factor")
+    dynamic_factor_tooth = _of_the_mesh("dynamic_factor_tooth")
+    te_rms = _of_the_mesh("te_rms")
+    te_mean = _of_the_mesh("te_mean")
+    contact_loss = _of_the_mesh("contact_loss")
+    periodicity = _of_the_mesh("periodicity")
 
 
 class SweepResult(eqx.Module):
@@ -110,6 +159,41 @@ class SweepResult(eqx.Module):
     @property
     def dynamic_factor(self) -> Float[Array, " S"]:
         return self.results.dynamic_factor
+
+
+def checked(r: DynamicResult, name: str) -> DynamicResult:
+    """``r`` raising ``eqx.EquinoxRuntimeError`` where its result code is not 0, the check
+    riding on every mesh's dynamic factor and on the code (what a caller reads: under a
+    caller's ``jax.jit`` a check on an output nobody reads would be dropped)."""
+
+    def guarded(x):
+        return [m.dynamic_factor for m in x.meshes] + [x.result]
+
+    return eqx.tree_at(
+        guarded, r, [error_if_failed(v, r.result, DynamicsResult, name) for v in guarded(r)]
+    )
+
+
+def _mesh_dynamics(fm, fs, te, lines, static_line_force, static_te, P: int) -> MeshDynamics:
+    """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`)."""
+    K = fm.shape[0]
+    if K >= 2 * P:
+        periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
+    else:
+        periodicity = jnp.asarray(jnp.nan, fm.dtype)
+    return MeshDynamics(
+        mesh_force=fm,
+        static_force=jnp.asarray(fs, fm.dtype),
+        transmission_error=te,
+        line_force=lines,
+        static_te=static_te,
+        dynamic_factor=jnp.max(fm) / fs,
+        dynamic_factor_tooth=jnp.max(lines) / static_line_force,
+        te_rms=rms_about_mean(te),
+        te_mean=jnp.mean(te),
+        contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
+        periodicity=periodicity,
+    )
 
 
 def steady_state(
@@ -135,28 +219,37 @@ def steady_state(
     rim,
     states=None,
 ) -> DynamicResult:
-    """The :class:`DynamicResult` of one speed's records over its K kept steps.
+    """The :class:`DynamicResult` of one speed's records over its K kept steps, m meshes.
 
     Args:
         speed (rad/s), time_step (s), mesh_period_angle 2π/z1 (rad): scalars.
         steps_per_period: N_s. transient_steps: steps run before the kept ones (whole periods).
-        theta (K,), mesh_force (K,), transmission_error (K,), line_force (K, L), static_te (K,),
-            bearing_force (K, r): the records. static_force: F_s (N).
-        static_line_force: the largest quasi-static force on one contact line (N).
+        theta (K,), bearing_force (K, r): the records. Per mesh: mesh_force (K, m),
+            transmission_error (K, m), line_force (a tuple of (K, L_k), one per mesh),
+            static_te (K, m); static_force: F_s (N), (m,); static_line_force: the largest
+            quasi-static force on one contact line (N), (m,).
         bearing_force_static: the static support forces at the table positions (P, r).
         omega_excited: the highest natural frequency the mesh excites (rad/s; NaN: unknown).
         final_state: (X, Ẋ, Ẍ). iterations, code: the run's most contact passes and result code.
         rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
     """
     P = steps_per_period
-    K = mesh_force.shape[0]
-    fm, te, fs = mesh_force, transmission_error, static_force
-    if K >= 2 * P:
-        periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
-    else:
-        periodicity = jnp.asarray(jnp.nan, fm.dtype)
+    fm, te = mesh_force, transmission_error
+    K = fm.shape[0]
     finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
     code = jnp.where((code == 0) & ~finite, 2, code)
+    meshes = tuple(
+        _mesh_dynamics(
+            fm[:, k],
+            static_force[k],
+            te[:, k],
+            line_force[k],
+            static_line_force[k],
+            static_te[:, k],
+            P,
+        )
+        for k in range(fm.shape[1])
+    )
     # f_mesh / f_max = Ω (2π/z1)^-1 / (ω_max / 2π)
     per_mode = P * 2 * jnp.pi * speed / (mesh_period_angle * omega_excited)
     return DynamicResult(
@@ -165,20 +258,9 @@ def steady_state(
         time=(transient_steps + 1 + jnp.arange(K)) * time_step,
         time_step=jnp.asarray(time_step, fm.dtype),
         theta=theta,
-        mesh_force=fm,
-        static_force=jnp.asarray(fs, fm.dtype),
-        transmission_error=te,
-        line_force=line_force,
-        static_te=static_te,
         bearing_force=bearing_force,
         bearing_force_max=jnp.max(jnp.abs(bearing_force), axis=0),
         bearing_force_static=jnp.max(jnp.abs(bearing_force_static), axis=0),
-        dynamic_factor=jnp.max(fm) / fs,
-        dynamic_factor_tooth=jnp.max(line_force) / static_line_force,
-        te_rms=rms_about_mean(te),
-        te_mean=jnp.mean(te),
-        contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
-        periodicity=periodicity,
         steps_per_period=jnp.asarray(P),
         steps_per_mode_period=per_mode,
         under_resolved=per_mode < UNDER_RESOLVED_STEPS,
@@ -187,5 +269,6 @@ def steady_state(
         result=jnp.asarray(code),
         rim_radial=rim[0],
         rim_axial=rim[1],
+        meshes=meshes,
         states=states,
     )

@@ -65,7 +65,7 @@ def simulate(
             raise ValueError(
                 "state0: a hybrid model starts from its quasi-static state (allowed None)"
             )
-        dtype = model.mesh.base_pitch.dtype
+        dtype = model.scene.base_planes[0].base_pitch.dtype
         res = speed_sweep(
             model,
             jnp.reshape(jnp.asarray(speed, dtype), (1,)),
@@ -77,7 +77,7 @@ def simulate(
         ).results
         return jax.tree.map(lambda x: x[0], res)
     integrator, law, window = resolve_settings(model, integrator, contact, window, states)
-    dtype = model.mesh.base_pitch.dtype
+    dtype = model.scene.base_planes[0].base_pitch.dtype
     steps_per_period = integrator.steps_per_period
     if steps_per_period is None:
         steps_per_period = int(auto_steps_per_period(model, speed))

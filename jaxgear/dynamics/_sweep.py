@@ -13,13 +13,12 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
-from .._results import DynamicsResult, error_if_failed
 from .._util import check_integer
 from . import _hybrid
 from ._lumped import _prep, _run, _static_start
 from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
 from ._model import AbstractDynamicModel, DynamicModel, HybridModel
-from ._result import SweepResult
+from ._result import SweepResult, checked
 from ._settings import (
     DiffraxIntegrator,
     Newmark,
@@ -59,7 +58,7 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
         _hybrid.check_newmark(integrator)
     if states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
-    return integrator, contact_law(contact, model.mesh.base_pitch.dtype), window
+    return integrator, contact_law(contact, model.scene.base_planes[0].base_pitch.dtype), window
 
 
 def mesh_averaged_modes(
@@ -112,7 +111,7 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     try:
         sp = np.asarray(speeds, dtype=float)
         w = float(excited_omega(mesh_averaged_modes(model) if modes is None else modes))
-        angle = float(model.mesh.mesh_period_angle)
+        angle = float(model.scene.base_planes[0].mesh_period_angle)
     except (jax.errors.TracerArrayConversionError, jax.errors.ConcretizationTypeError) as err:
         raise ValueError(
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
@@ -210,7 +209,7 @@ def speed_sweep(
             f"direction = {direction!r}: a hybrid model sweeps independent speeds only "
             "(allowed 'independent')"
         )
-    dtype = model.mesh.base_pitch.dtype
+    dtype = model.scene.base_planes[0].base_pitch.dtype
     speeds = jnp.asarray(speeds, dtype)
     traced = isinstance(speeds, jax.core.Tracer)
     if (
@@ -308,12 +307,8 @@ def _thrown(res: SweepResult, throw: bool) -> SweepResult:
     if not throw:
         return res
 
-    def checked(r):
-        df = error_if_failed(r.dynamic_factor, r.result, DynamicsResult, "speed_sweep")
-        return eqx.tree_at(lambda x: x.dynamic_factor, r, df)
-
-    down = None if res.down is None else checked(res.down)
-    return SweepResult(res.speeds, checked(res.results), down)
+    down = None if res.down is None else checked(res.down, "speed_sweep")
+    return SweepResult(res.speeds, checked(res.results, "speed_sweep"), down)
 
 
 def band_dynamic_factor(
@@ -329,8 +324,8 @@ def band_dynamic_factor(
     modifications (and the torque) of the model: the objective of an optimisation over speeds.
 
     Per speed, the p-mean (mean of (F/F_s)^p)^(1/p) of the mesh force over the kept steps (a
-    smooth lower bound of the dynamic factor that tends to it as p grows); over the speeds, the
-    p-mean again (the worst speed, smoothly). The sweep of :func:`speed_sweep` with 32 fixed
+    smooth lower bound of the dynamic factor that tends to it as p grows), for each mesh; over the
+    speeds and meshes, the p-mean again (the worst speed and mesh, smoothly). The sweep of :func:`speed_sweep` with 32 fixed
     steps per period and the smooth contact law by default, for gradients.
 
     Args:
@@ -355,8 +350,14 @@ def band_dynamic_factor(
     r = speed_sweep(
         model, speeds, integrator=integrator, contact=contact, window=window, shard=False
     ).results
-    ratio = r.mesh_force / r.static_force[:, None]
-    per_speed = jnp.mean(ratio**p, axis=1) ** (1.0 / p)
+    # per speed and mesh, then over both (the worst mesh at the worst speed, smoothly)
+    per_speed = jnp.stack(
+        [
+            jnp.mean((m.mesh_force / m.static_force[:, None]) ** p, axis=1) ** (1.0 / p)
+            for m in r.meshes
+        ],
+        axis=1,
+    )
     return jnp.mean(per_speed**p) ** (1.0 / p)
 
 
@@ -365,15 +366,16 @@ def _subsample(r, m: int):
     ``time_step`` becomes the spacing of the kept records, m Δt."""
     if m == 1:
         return r
-    hist = ("time", "theta", "mesh_force", "transmission_error", "line_force", "static_te")
-    hist += ("bearing_force", "rim_radial", "rim_axial")
+    hist = ("time", "theta", "bearing_force", "rim_radial", "rim_axial")
     if r.states is not None:
         hist += ("states",)
-    r = eqx.tree_at(
-        lambda x: [getattr(x, h) for h in hist],
-        r,
-        [getattr(r, h)[:, m - 1 :: m] for h in hist],
-    )
+    per_mesh = ("mesh_force", "transmission_error", "line_force", "static_te")
+
+    def records(x):
+        leaves = [getattr(x, h) for h in hist]
+        return leaves + [getattr(mesh, h) for mesh in x.meshes for h in per_mesh]
+
+    r = eqx.tree_at(records, r, [a[:, m - 1 :: m] for a in records(r)])
     return eqx.tree_at(lambda x: x.time_step, r, r.time_step * m)
 
 
@@ -391,7 +393,7 @@ def _fixed_sweep(
 ) -> SweepResult:
     """The sweep at one resolved step count (``cfg``), from ``start`` (default: the static
     equilibrium)."""
-    dtype = model.mesh.base_pitch.dtype
+    dtype = model.scene.base_planes[0].base_pitch.dtype
     speeds = jnp.asarray(speeds, dtype)
     if speeds.ndim != 1 or speeds.shape[0] < 1:
         raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
