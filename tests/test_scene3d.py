@@ -9,7 +9,7 @@ from _scene_solve import assert_split_equals_whole, grounded_solve, half_face_me
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import Newmark, SteadyState, build_dynamic_model, dynamic_model, simulate
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, simulate
 from jaxgear.io import parse_scene
 
 
@@ -18,13 +18,19 @@ def case():
     return jio.load_case("accessory-spur").replace(slices=6)
 
 
+@pytest.fixture(scope="module")
+def solved(case):
+    """The case's model and grounded quasi-static solve (built once for the module)."""
+    return grounded_solve(case)
+
+
 def _solve(case, spec=None):
     model, r = grounded_solve(case, spec)
     return model.scene, r
 
 
-def test_bearing_loads_balance_the_mesh_force(case):
-    sc, r = _solve(case)
+def test_bearing_loads_balance_the_mesh_force(case, solved):
+    sc, r = solved[0].scene, solved[1]
     forces = np.asarray(sc.reaction_matrix()) @ np.asarray(r.x).T  # (n_reactions, P)
     names = sc.reaction_names
     for shaft in ("pinion", "gear"):
@@ -34,8 +40,8 @@ def test_bearing_loads_balance_the_mesh_force(case):
         np.testing.assert_allclose(np.hypot(fx, fy), case.normal_load, rtol=1e-6)
 
 
-def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(case):
-    _, r3 = _solve(case)
+def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(case, solved):
+    r3 = solved[1]
     rigid = jg.quasi_static(
         case.mesh_model(slices=6), case.modifications, case.torque, positions_per_pitch=16
     )
@@ -53,13 +59,12 @@ def test_compliant_shafts_add_to_the_rigid_mesh_te_and_stiff_ones_recover_it(cas
     )
 
 
-def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case):
+def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case, solved):
     """The structure names its nodes (the torque nodes are the scene's torque DOFs, the gear nodes
     its members'); an unknown node and the one-mesh reads of a scene with two meshes (its
     ``mesh``, its quasi-static result's TE) give one-line errors naming what is allowed; a
     wrong count of per-mesh modifications is refused before any computation."""
-    sc, _ = _solve(case)
-    sc = getattr(sc, "base", sc)
+    sc = solved[0].scene
     st = sc.structure
     assert sc.torque_dofs == (st.node("input") + 5, st.node("output") + 5)
     pinion, gear = sc.meshes[0].members
@@ -89,14 +94,14 @@ def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case)
         jg.quasi_static(two, (case.modifications,) * 3, case.torque)
 
 
-def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case):
+def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case, solved):
     """A scene of two meshes: the spur pair cut across the face into two half-face meshes on the
     same rigid gear nodes (each at its place along the axes) is the same contact problem, solved
     over both meshes at once. Reference: the one-mesh scene's result (coordinates, TE of each
     half equal to the pair's, mesh stiffness and contact length summing to the pair's, line
     loads side by side), to 1e-9. The tilting moments of the halves' loads on the shafts must
     sit at the right axial places for the coordinates to agree."""
-    model, whole = grounded_solve(case)
+    model, whole = solved
     sc = model.scene
     two = eqx.tree_at(lambda s: s.meshes, sc, half_face_meshes(sc.meshes[0]))
     split = jg.quasi_static(
@@ -108,14 +113,14 @@ def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case):
     assert_split_equals_whole(whole, split, 1e-9)
 
 
-def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response(case):
+def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response(case, solved):
     """The lumped dynamics over every mesh of a scene: the spur pair as two half-face meshes
     on the same gear nodes has the pair's modes, mean mesh stiffness (summed over the meshes)
     and steady-state response at 2000 rad/s. Reference: the one-mesh model's (Newmark, 32
     steps per mesh period, 8 periods): each half's dynamic factor, tooth dynamic factor and TE
     RMS equal the pair's, its static force is half of T/(r_b1 cos β_b), the bearing forces
     agree, to 1e-9."""
-    model, _ = build_dynamic_model(case, None, slices=6)
+    model = solved[0]
     two = eqx.tree_at(lambda s: s.meshes, model.scene, half_face_meshes(model.scene.meshes[0]))
     split = dynamic_model(two, case.modifications, case.torque)
     np.testing.assert_allclose(
@@ -123,7 +128,7 @@ def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response
     )
     w1, w2 = np.asarray(model.modes.omega), np.asarray(split.modes.omega)
     np.testing.assert_allclose(w2[1:], w1[1:], rtol=1e-9)
-    run = {"integrator": Newmark(32), "window": SteadyState(8, 2)}
+    run = {"integrator": Newmark(32), "window": SteadyState(4, 2)}
     whole = simulate(model, 2000.0, **run)
     parts = simulate(split, 2000.0, **run)
     assert len(parts.meshes) == 2
