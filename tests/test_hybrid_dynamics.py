@@ -785,7 +785,8 @@ def test_failures_use_the_one_result_enumeration(setup):
     """The hybrid path reports with the lumped path's :class:`jaxgear.DynamicsResult` codes and,
     as the lumped one, raises with ``throw`` (a sweep reports; one simulation raises by
     default). One Newton step from the exact solution does not solve a smooth contact whose
-    ramp (50 µm) is wider than the deflection."""
+    ramp (50 µm) is wider than the deflection. The energy check (code 3) bounds the mesh force
+    by ``blowup`` F_s: a bound of half the static force stops a converged run."""
     case, scene = setup
     kw = {
         "integrator": Newmark(16),
@@ -809,6 +810,13 @@ def test_failures_use_the_one_result_enumeration(setup):
         _simulate(scene, case.modifications, case.torque, 900.0, **kw)
     r = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
     assert int(r.result) == 1
+    # the energy check (code 3) of the lumped models: a bound below the static mesh force
+    # (blowup 0.5: mesh force > F_s / 2 at the first step) stops a converged run
+    ok_kw = {**kw, "contact": jg.SmoothContact(5e-5, max_iterations=50)}
+    low = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, blowup=0.5, **ok_kw)
+    assert int(low.result) == jg.DynamicsResult.blow_up == 3
+    with pytest.raises(ValueError, match=r"blowup = 0\.0: allowed > 0"):
+        _simulate(scene, case.modifications, case.torque, 900.0, blowup=0.0, **ok_kw)
     # the window-overflow code no longer shares 3 (energy blow-up) with the lumped path
     codes = {c.name: int(c) for c in jg.DynamicsResult}
     assert codes["window_overflow"] not in (codes["blow_up"], codes["non_finite"])

@@ -56,7 +56,7 @@ from ._modal import Damping, modal_analysis
 from ._model import HybridModel
 from ._newmark import MeshDamping, newmark
 from ._result import steady_state
-from ._settings import DiffraxIntegrator, SteadyState, check_run_size
+from ._settings import DiffraxIntegrator, SteadyState, _divergence_code, check_run_size
 
 __all__ = [
     "FreeVibration",
@@ -80,10 +80,12 @@ def _newmark_cells(
     law: ContactLaw,
     record,
     mesh_damping: MeshDamping | None = None,
+    check=None,
 ):
     """The Newmark loop (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in the cell
     space) on the hybrid scene, one step per pinion angle of ``thetas`` (P, S) (P blocks of S
-    steps: the mesh periods of the mesh damping), from ``state`` = (X, Ẋ, Ẍ).
+    steps: the mesh periods of the mesh damping), from ``state`` = (X, Ẋ, Ẍ); ``check``: the
+    divergence check of each step (:func:`~jaxgear.dynamics._newmark.newmark`), or None.
 
     The cells at each step: the flanks' gaps at the pinion angle from the time-constant
     reference ``e_ref`` (δ0 = e_ref − e) on the window of master DOFs under the contact.
@@ -104,7 +106,7 @@ def _newmark_cells(
 
     init = (*state, jnp.array(0), jnp.array(0))
     carry, (P, te, rec) = newmark(
-        K, M, C, F, dt, init, thetas, cells_at, law, kept, mesh_damping=mesh_damping
+        K, M, C, F, dt, init, thetas, cells_at, law, kept, check=check, mesh_damping=mesh_damping
     )
     return carry, (thetas.reshape(-1), P, te, rec)
 
@@ -197,7 +199,7 @@ def _reference(mesh, mods, theta):
     return jnp.max(e_max), e_max
 
 
-def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited):
+def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited, blowup):
     scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
     mesh = scene.mesh
     dtype = scene.structure.K.dtype
@@ -234,6 +236,13 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
     rim_of = _rim_of(scene)
 
     R = scene.reaction_matrix()
+    # divergence, as the lumped models: mesh force > blowup F_s or kinetic energy >
+    # blowup² F_s²/2k̄ (k̄ the mean quasi-static mesh stiffness at the speed)
+    fs = mesh.normal_load(torque)
+    e_scale = 0.5 * fs**2 / jnp.mean(qs.mesh_stiffness)
+
+    def check(X, Xd, P):
+        return _divergence_code(Xd, X, jnp.sum(P), M, fs, e_scale, blowup)
 
     def record(X, Xd):
         return (*rim_of(X), R @ X, X) if states else (*rim_of(X), R @ X)
@@ -252,6 +261,7 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         law,
         record,
         mesh_damping,
+        check,
     )
     L = mesh.n_lines
     lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
@@ -273,7 +283,7 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         theta=th[-keep:],
         # the one mesh of a hybrid scene (dynamic_model refuses several)
         mesh_force=jnp.sum(P[-keep:], axis=-1)[:, None],
-        static_force=mesh.normal_load(torque)[None],
+        static_force=fs[None],
         transmission_error=te[-keep:, None],
         line_force=(lines,),
         static_line_force=jnp.max(static_lines)[None],
@@ -396,13 +406,15 @@ def sweep(
     window: SteadyState,
     states: bool,
     omega_excited,
+    blowup: float,
 ):
     """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
-    one effective compliance of n² in memory at a time), ``spp`` steps per mesh period:
-    :class:`~jaxgear.dynamics.DynamicResult` with a leading speed axis."""
+    one effective compliance of n² in memory at a time), ``spp`` steps per mesh period, the
+    divergence bound ``blowup``: :class:`~jaxgear.dynamics.DynamicResult` with a leading speed
+    axis."""
     n_steps, keep = spp * window.periods, spp * window.keep_periods
     return jax.lax.map(
-        lambda w: _run(model, w, n_steps, keep, spp, law, states, omega_excited), speeds
+        lambda w: _run(model, w, n_steps, keep, spp, law, states, omega_excited, blowup), speeds
     )
 
 

@@ -46,8 +46,9 @@ def simulate(
             vibration velocity; a hybrid model starts from the quasi-static state at the speed).
         states: also record the coordinates at the kept steps (``DynamicResult.states``;
             Newmark only).
-        blowup: divergence bound of a lumped model: mesh force > blowup·F_s or kinetic energy >
-            blowup² · F_s²/2k̄.
+        blowup: divergence bound (> 0), result code 3: mesh force > blowup·F_s or kinetic
+            energy > blowup² · F_s²/2k̄ (k̄ the mean mesh stiffness: of the model for a lumped
+            one, of the quasi-static positions at the speed for a hybrid one).
         throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result (``eqx.error_if``: works
             under ``jax.jit``, ``jax.vmap`` and ``jax.grad`` too).
 
@@ -73,6 +74,7 @@ def simulate(
             contact=contact,
             window=window,
             states=states,
+            blowup=blowup,
             throw=throw,
         ).results
         return jax.tree.map(lambda x: x[0], res)

@@ -220,6 +220,8 @@ def speed_sweep(
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
     if chunk_size is not None:
         check_integer("chunk_size", chunk_size, 1)
+    if not blowup > 0:
+        raise ValueError(f"blowup = {blowup!r}: allowed > 0")
     omega = jnp.asarray(jnp.nan, dtype)  # a hybrid run's excited mode: unknown unless automatic
 
     def fixed(sp, n, d, tick, start=None):
@@ -240,7 +242,7 @@ def speed_sweep(
         _hybrid.check_records(model, window, n)
 
         def run(w):
-            return _hybrid.sweep(model, w, law, n, window, bool(states), omega)
+            return _hybrid.sweep(model, w, law, n, window, bool(states), omega, float(blowup))
 
         if chunk_size is None or isinstance(sp, jax.core.Tracer):
             return SweepResult(sp, run(sp))
