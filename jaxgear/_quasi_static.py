@@ -16,7 +16,7 @@ from ._contact import (
 )
 from ._modifications import Modifications
 from ._results import ContactResult, error_if_failed
-from ._util import rms_about_mean
+from ._util import of_the_one_mesh, only_one_mesh, rms_about_mean
 from .scenes import RigidMesh, Scene
 
 __all__ = ["MeshResult", "QuasiStaticResult", "mesh_positions", "quasi_static", "separation"]
@@ -68,14 +68,6 @@ class MeshResult(eqx.Module):
         return jnp.max(self.line_load)
 
 
-def _of_the_mesh(name: str) -> property:
-    """A property of :class:`QuasiStaticResult` that reads the scene's one mesh."""
-    return property(
-        lambda self: getattr(self.mesh, name),
-        doc=f"``{name}`` of the scene's one mesh (:class:`MeshResult`).",
-    )
-
-
 class QuasiStaticResult(eqx.Module):
     """Quasi-static response at P pinion positions: the structure's coordinates and, per gear
     mesh, a :class:`MeshResult`.
@@ -101,23 +93,19 @@ class QuasiStaticResult(eqx.Module):
     @property
     def mesh(self) -> MeshResult:
         """The results of the scene's one gear mesh."""
-        if len(self.meshes) != 1:
-            raise ValueError(
-                f"the scene has {len(self.meshes)} gear meshes; read their results from meshes[k]"
-            )
-        return self.meshes[0]
+        return only_one_mesh(self.meshes, "results")
 
-    transmission_error = _of_the_mesh("transmission_error")
-    mesh_stiffness = _of_the_mesh("mesh_stiffness")
-    contact_length = _of_the_mesh("contact_length")
-    line_load = _of_the_mesh("line_load")
-    cell_s = _of_the_mesh("cell_s")
-    cell_z = _of_the_mesh("cell_z")
-    cell_mask = _of_the_mesh("cell_mask")
-    te_mean = _of_the_mesh("te_mean")
-    te_rms = _of_the_mesh("te_rms")
-    te_ptp = _of_the_mesh("te_ptp")
-    max_line_load = _of_the_mesh("max_line_load")
+    transmission_error = of_the_one_mesh("transmission_error")
+    mesh_stiffness = of_the_one_mesh("mesh_stiffness")
+    contact_length = of_the_one_mesh("contact_length")
+    line_load = of_the_one_mesh("line_load")
+    cell_s = of_the_one_mesh("cell_s")
+    cell_z = of_the_one_mesh("cell_z")
+    cell_mask = of_the_one_mesh("cell_mask")
+    te_mean = of_the_one_mesh("te_mean")
+    te_rms = of_the_one_mesh("te_rms")
+    te_ptp = of_the_one_mesh("te_ptp")
+    max_line_load = of_the_one_mesh("max_line_load")
 
 
 def mesh_positions(

@@ -5,7 +5,14 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-__all__ = ["as_float", "check_integer", "rms_about_mean", "safe_sqrt"]
+__all__ = [
+    "as_float",
+    "check_integer",
+    "of_the_one_mesh",
+    "only_one_mesh",
+    "rms_about_mean",
+    "safe_sqrt",
+]
 
 
 def check_integer(name: str, value, lo: int) -> None:
@@ -44,3 +51,22 @@ def rms_about_mean(x, axis=-1):
     finite gradient when ``x`` is constant (e.g. a perfect relief: zero TE fluctuation)."""
     d = x - jnp.mean(x, axis=axis, keepdims=True)
     return safe_sqrt(jnp.mean(d * d, axis=axis))
+
+
+def only_one_mesh(meshes: tuple, what: str):
+    """The one entry of a result's per-mesh tuple ``meshes``; a one-line error naming
+    ``meshes[k]`` when the scene has several meshes (``what``: "results", "responses")."""
+    if len(meshes) != 1:
+        raise ValueError(
+            f"the scene has {len(meshes)} gear meshes; read their {what} from meshes[k]"
+        )
+    return meshes[0]
+
+
+def of_the_one_mesh(name: str) -> property:
+    """A result's property that reads ``name`` on its ``mesh`` (the scene's one mesh), so that a
+    one-mesh scene reads its per-mesh results on the result itself."""
+    return property(
+        lambda self: getattr(self.mesh, name),
+        doc=f"``{name}`` of the scene's one mesh (see ``meshes``).",
+    )

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from .._results import DynamicsResult, error_if_failed
-from .._util import rms_about_mean
+from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean
 from ._settings import UNDER_RESOLVED_STEPS
 
 __all__ = ["DynamicResult", "MeshDynamics", "SweepResult"]
@@ -48,14 +48,6 @@ class MeshDynamics(eqx.Module):
     te_mean: Float[Array, ""]
     contact_loss: Float[Array, ""]
     periodicity: Float[Array, ""]
-
-
-def _of_the_mesh(name: str) -> property:
-    """A property of :class:`DynamicResult` that reads the scene's one mesh."""
-    return property(
-        lambda self: getattr(self.mesh, name),
-        doc=f"``{name}`` of the scene's one mesh (:class:`MeshDynamics`).",
-    )
 
 
 class DynamicResult(eqx.Module):
@@ -123,23 +115,19 @@ class DynamicResult(eqx.Module):
     @property
     def mesh(self) -> MeshDynamics:
         """The response of the scene's one gear mesh."""
-        if len(self.meshes) != 1:
-            raise ValueError(
-                f"the scene has {len(self.meshes)} gear meshes; read their responses from meshes[k]"
-            )
-        return self.meshes[0]
+        return only_one_mesh(self.meshes, "responses")
 
-    mesh_force = _of_the_mesh("mesh_force")
-    static_force = _of_the_mesh("static_force")
-    transmission_error = _of_the_mesh("transmission_error")
-    line_force = _of_the_mesh("line_force")
-    static_te = _of_the_mesh("static_te")
-    dynamic_factor = _of_the_mesh("dynamic_factor")
-    dynamic_factor_tooth = _of_the_mesh("dynamic_factor_tooth")
-    te_rms = _of_the_mesh("te_rms")
-    te_mean = _of_the_mesh("te_mean")
-    contact_loss = _of_the_mesh("contact_loss")
-    periodicity = _of_the_mesh("periodicity")
+    mesh_force = of_the_one_mesh("mesh_force")
+    static_force = of_the_one_mesh("static_force")
+    transmission_error = of_the_one_mesh("transmission_error")
+    line_force = of_the_one_mesh("line_force")
+    static_te = of_the_one_mesh("static_te")
+    dynamic_factor = of_the_one_mesh("dynamic_factor")
+    dynamic_factor_tooth = of_the_one_mesh("dynamic_factor_tooth")
+    te_rms = of_the_one_mesh("te_rms")
+    te_mean = of_the_one_mesh("te_mean")
+    contact_loss = of_the_one_mesh("contact_loss")
+    periodicity = of_the_one_mesh("periodicity")
 
 
 class SweepResult(eqx.Module):
