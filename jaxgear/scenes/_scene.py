@@ -5,13 +5,14 @@ the contact force p_c l_c on the cell acts on the structure as −p_c l_c V_c. E
 
 * ``stiffness()``: the structure's own stiffness K_s, shape (n, n);
 * ``external_load(torque)``: generalised external forces F, shape (n,), for pinion torque T;
-* ``cell_vectors(cells)``: V for every cell, shape (n_lines, n_slices, n);
+* ``cell_vectors(cells)``: V for every cell of its one mesh, shape (n_lines, n_slices, n);
 * ``te_vector()``: u with u·X the flank-normal rigid-body approach of the mesh (the transmission
   error before the ``− max e`` and 1/cos β_b of docs/design.md, "Modifications, initial
   separation and TE");
-* ``static_contact(cells, delta0, torque, speed, law)``: the static contact at one mesh position.
-  Scenes of a few coordinates solve it in coordinates (the default here); a scene of condensed
-  bodies overrides it with the cell space (:class:`jaxgear.scenes.HybridPair`).
+* ``static_contact(cells, delta0, torque, speed, law)``: the static contact at one position,
+  ``cells`` and ``delta0`` tuples of one entry per mesh. Scenes of a few coordinates solve it in
+  coordinates (the default here); a scene of condensed bodies overrides it with the cell space
+  (:class:`jaxgear.scenes.HybridPair`).
 
 A scene may hold several gear meshes (:class:`jaxgear.scenes.AssembledScene`). The entries that
 serve every scene take the cells of all meshes as tuples, one entry per mesh in the order of
