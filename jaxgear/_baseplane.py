@@ -25,7 +25,7 @@ from jaxtyping import Array, Bool, Float, Int
 from ._geometry import GearPair
 from ._util import as_float
 
-__all__ = ["CellRow", "Cells", "MeshModel"]
+__all__ = ["CellRow", "Cells", "MeshModel", "split_by_mesh"]
 
 
 def _interp_uniform(x, xp, fp):
@@ -127,6 +127,18 @@ class CellRow(NamedTuple):
                 for f in ("k", "length", "delta0", "mask")
             ),
         )
+
+
+def split_by_mesh(values, shapes) -> tuple:
+    """``values`` (..., c) over the cells of several meshes, mesh after mesh (as
+    :meth:`CellRow.concat` joins them), cut into each mesh's (..., n_lines, n_slices) for the
+    ``shapes`` (n_lines, n_slices) of the meshes."""
+    out, start = [], 0
+    for L, N in shapes:
+        part = values[..., start : start + L * N]
+        out.append(part.reshape(part.shape[:-1] + (L, N)))
+        start += L * N
+    return tuple(out)
 
 
 class MeshModel(eqx.Module):

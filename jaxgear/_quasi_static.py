@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._baseplane import MeshModel
+from ._baseplane import MeshModel, split_by_mesh
 from ._contact import (
     ContactLaw,
     ExactContact,
@@ -161,19 +161,18 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
     parts = [separation(mesh, m, theta) for mesh, m in zip(planes, mods, strict=True)]
     cells = tuple(p[0] for p in parts)
     sol, x, u_x = scene.static_contact(cells, tuple(p[2] for p in parts), torque, speed, law)
-    meshes, start = [], 0
+    shapes = [c.mask.shape for c in cells]
+    weights = split_by_mesh(sol.weight, shapes)
+    loads = split_by_mesh(sol.force_density, shapes)
+    meshes = []
     for k, (mesh, (c, e_max, _)) in enumerate(zip(planes, parts, strict=True)):
-        size = c.s.size
-        sl = slice(start, start + size)
-        start += size
-        weight = sol.weight[sl]
-        kl = jnp.where(c.mask, c.stiffness * c.length, 0.0).reshape(-1)
+        kl = jnp.where(c.mask, c.stiffness * c.length, 0.0)
         meshes.append(
             MeshResult(
                 transmission_error=(u_x[k] - e_max) / jnp.cos(mesh.base_helix_angle),
-                mesh_stiffness=jnp.sum(kl * weight),
-                contact_length=jnp.sum(c.length.reshape(-1) * weight),
-                line_load=sol.force_density[sl].reshape(c.mask.shape),
+                mesh_stiffness=jnp.sum(kl * weights[k]),
+                contact_length=jnp.sum(c.length * weights[k]),
+                line_load=loads[k],
                 cell_s=c.s,
                 cell_z=c.z,
                 cell_mask=c.mask,

@@ -8,8 +8,8 @@ import jax.numpy as jnp
 import optimistix
 
 from .._contact import ContactLaw, _phi
-from .._quasi_static import per_mesh_modifications, separation
-from ._model import DynamicModel, MeshTable, mesh_te
+from .._quasi_static import per_mesh_modifications
+from ._model import DynamicModel, MeshTable, cells_from_reference, mesh_te
 from ._settings import DIFFRAX_SOLVERS, _Config, _divergence_code
 
 
@@ -45,11 +45,8 @@ def _diffrax(
         speed, law, mods = args
         mods = per_mesh_modifications(mods, len(planes))
         X, Xd = y[0] * x_ref, y[1] * v_ref
-        theta = speed * t + 0.5 * dtheta
-        parts = [separation(p, m, theta) for p, m in zip(planes, mods, strict=True)]
         # δ0 from each mesh's time-constant reference, as the table's
-        d0 = tuple(jnp.where(c.mask, d + (e_refs[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
-        r = scene.cell_row(tuple(p[0] for p in parts), d0)
+        r = scene.cell_row(*cells_from_reference(scene, mods, speed * t + 0.5 * dtheta, e_refs))
         f = jnp.where(r.mask, r.k * r.length, 0.0) * _phi(r.V @ X - r.delta0, law)[0]
         A = Minv @ (F - C @ Xd - Ks @ X - r.V.T @ f)
         return (Xd / x_ref, A / v_ref)

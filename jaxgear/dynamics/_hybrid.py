@@ -45,15 +45,14 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
-from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._modifications import Modifications
-from .._quasi_static import quasi_static, separation
+from .._quasi_static import per_mesh_modifications, quasi_static, separation
 from .._results import DynamicsResult
 from .._util import check_integer
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
-from ._model import HybridModel
+from ._model import HybridModel, cells_from_reference
 from ._newmark import MeshDamping, newmark
 from ._result import steady_state
 from ._settings import DiffraxIntegrator, SteadyState, _divergence_code, check_run_size
@@ -95,11 +94,11 @@ def _newmark_cells(
     mesh = scene.mesh
     cb = jnp.cos(mesh.base_helix_angle)
 
+    refs = jnp.reshape(e_ref, (1,))  # the one mesh of a hybrid scene
+    per_mesh = per_mesh_modifications(mods, 1)
+
     def cells_at(th):
-        cells, e_th, delta0 = separation(mesh, mods, th)
-        delta0 = jnp.where(cells.mask, delta0 + (e_ref - e_th), 0.0)
-        idx, Vw = scene.window(cells)
-        return CellRow.of(cells, Vw, delta0, idx)
+        return scene.window_row(*cells_from_reference(scene, per_mesh, th, refs))
 
     def kept(X, Xd, P):
         return P, (scene.te_vector() @ X - e_ref) / cb, record(X, Xd)

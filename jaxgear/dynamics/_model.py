@@ -38,7 +38,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import MeshModel
+from .._baseplane import MeshModel, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._quasi_static import mesh_positions, per_mesh_modifications, separation
@@ -50,6 +50,7 @@ __all__ = [
     "DynamicModel",
     "HybridModel",
     "MeshTable",
+    "cells_from_reference",
     "dynamic_model",
     "mesh_table",
 ]
@@ -80,12 +81,7 @@ class MeshTable(eqx.Module):
 
     def split(self, cell_values) -> tuple:
         """``cell_values`` (..., c) cut into each mesh's (..., n_lines, n_slices)."""
-        out, start = [], 0
-        for L, N in self.sizes:
-            part = cell_values[..., start : start + L * N]
-            out.append(part.reshape(part.shape[:-1] + (L, N)))
-            start += L * N
-        return tuple(out)
+        return split_by_mesh(cell_values, self.sizes)
 
     def mesh_forces(self, cell_forces) -> tuple[Array, tuple]:
         """The mesh force Σ P of each mesh (..., m) and its force per contact line, a tuple of
@@ -115,6 +111,15 @@ def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
     of_cell = np.repeat(np.arange(len(planes)), [L * N for L, N in sizes])
     d0 = jnp.where(mask, d0 + (e_ref[None, :] - e_max)[:, of_cell], 0.0)
     return MeshTable(theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape), sizes=sizes)
+
+
+def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple]:
+    """Each mesh's cells at pinion angle θ and their δ0 = e_ref,k − e (m) from the meshes'
+    time-constant references ``e_ref`` (m,) (:class:`MeshTable`; 0 off the flanks), for the
+    solvers that take the cells at θ(t) instead of the table's rows. ``mods``: one per mesh."""
+    parts = [separation(p, m, theta) for p, m in zip(scene.base_planes, mods, strict=True)]
+    delta0 = tuple(jnp.where(c.mask, d + (e_ref[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
+    return tuple(p[0] for p in parts), delta0
 
 
 def mesh_te(scene, table: MeshTable):
