@@ -13,17 +13,21 @@ import jaxgear as jg
 from jaxgear.dynamics import build_dynamic_model
 
 
+def solve_grounded(scene, case, positions_per_pitch: int = 16):
+    """The quasi-static solve of a 3D ``scene`` at ``case``'s modifications and torque, its
+    load rotation grounded."""
+    return jg.quasi_static(
+        jg.grounded(scene, (scene.torque_dofs[1],)),
+        case.modifications,
+        case.torque,
+        positions_per_pitch=positions_per_pitch,
+    )
+
+
 def grounded_solve(case, spec=None):
     """(DynamicModel, QuasiStaticResult) of ``case`` with scene ``spec`` (default the case's)."""
     model, _ = build_dynamic_model(case, spec, slices=6)
-    sc = model.scene
-    r = jg.quasi_static(
-        jg.grounded(sc, (sc.torque_dofs[1],)),
-        case.modifications,
-        case.torque,
-        positions_per_pitch=16,
-    )
-    return model, r
+    return model, solve_grounded(model.scene, case)
 
 
 def half_face_meshes(mesh):

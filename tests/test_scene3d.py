@@ -5,7 +5,12 @@ import dataclasses
 import equinox as eqx
 import numpy as np
 import pytest
-from _scene_solve import assert_split_equals_whole, grounded_solve, half_face_meshes
+from _scene_solve import (
+    assert_split_equals_whole,
+    grounded_solve,
+    half_face_meshes,
+    solve_grounded,
+)
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -79,12 +84,7 @@ def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case,
         ValueError, match=r"^the scene has 2 gear meshes; this entry handles a scene with one mesh$"
     ):
         _ = two.mesh
-    res = jg.quasi_static(
-        jg.grounded(two, (two.torque_dofs[1],)),
-        case.modifications,
-        case.torque,
-        positions_per_pitch=4,
-    )
+    res = solve_grounded(two, case, positions_per_pitch=4)
     assert len(res.meshes) == 2
     with pytest.raises(
         ValueError, match=r"^the scene has 2 gear meshes; read their results from meshes\[k\]$"
@@ -104,12 +104,7 @@ def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case, solved
     model, whole = solved
     sc = model.scene
     two = eqx.tree_at(lambda s: s.meshes, sc, half_face_meshes(sc.meshes[0]))
-    split = jg.quasi_static(
-        jg.grounded(two, (two.torque_dofs[1],)),
-        case.modifications,
-        case.torque,
-        positions_per_pitch=16,
-    )
+    split = solve_grounded(two, case)
     assert_split_equals_whole(whole, split, 1e-9)
 
 
