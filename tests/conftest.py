@@ -4,6 +4,7 @@ between families of test modules."""
 
 import gc
 import os
+import pathlib
 import re
 
 import pytest
@@ -14,6 +15,23 @@ import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
+
+
+def pytest_configure(config):
+    """Under xdist, share JAX's persistent compilation cache between the worker processes and
+    the ``jaxgear`` subprocesses the CLI tests start (the environment carries it), in the test
+    run's temporary folder (pytest removes old ones): a program compiled once in the run (a
+    case's quasi-static solve, a sweep) is read back instead of compiled again by the other
+    worker, by a later family after :func:`_release_compiled_code`, or by a CLI run. Set before
+    the first compilation (JAX checks the cache once per process)."""
+    base = getattr(config, "workerinput", None) and config.option.basetemp
+    if not base:
+        return
+    path = str(pathlib.Path(base).parent / "xla-cache")
+    os.environ["JAX_COMPILATION_CACHE_DIR"] = path
+    os.environ["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0.2"
+    jax.config.update("jax_compilation_cache_dir", path)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.2)
 
 
 @pytest.fixture(scope="session")
