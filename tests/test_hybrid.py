@@ -23,7 +23,7 @@ from _scene_solve import assert_split_equals_whole, half_face_meshes
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
-from jaxgear.dynamics import dynamic_model, quasi_static_scene, static_scene
+from jaxgear.dynamics import quasi_static_scene, static_scene
 from jaxgear.scenes import FlexibleMember, grounded, hybrid_pair
 
 DATA = pathlib.Path(__file__).parent / "data"
@@ -359,18 +359,12 @@ def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case, scene)
     space, whose window is the two meshes' windows joined (V block diagonal, so V_W G V_Wᵀ
     holds the cross-compliance of the halves through the body). Reference: the one-mesh
     scene's result (coordinates, TE of each half, summed mesh stiffness and contact length,
-    line loads side by side), to 1e-9. The hybrid dynamics, which handle one mesh, refuse the
-    scene in one line."""
+    line loads side by side), to 1e-9."""
     theta = (jnp.arange(4) + 0.5) * float(scene.mesh.mesh_period_angle) / 4
     whole = jg.quasi_static(scene, case.modifications, case.torque, theta)
     two = eqx.tree_at(lambda s: s.meshes, scene, half_face_meshes(scene.meshes[0]))
     split = jg.quasi_static(two, case.modifications, case.torque, theta)
     assert_split_equals_whole(whole, split, 1e-9)
-    # the hybrid dynamics handle one mesh: refused in one line, before any computation
-    with pytest.raises(
-        ValueError, match=r"^the scene has 2 gear meshes; this entry handles a scene with one mesh$"
-    ):
-        dynamic_model(two, case.modifications, case.torque)
 
 
 def test_the_speed_is_an_argument_of_the_solve(case, scene):

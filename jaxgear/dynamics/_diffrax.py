@@ -38,7 +38,7 @@ def _diffrax(
     n_total = cfg.periods * P
     n_keep = cfg.keep_periods * P
     dtheta = planes[0].mesh_period_angle / P
-    te_of = mesh_te(scene, table)
+    te_of = mesh_te(scene, table.e_max[0])
     e_refs = table.e_max[0]  # (m,)
 
     def rhs(t, y, args):

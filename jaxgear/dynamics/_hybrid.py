@@ -52,7 +52,13 @@ from .._results import DynamicsResult
 from .._util import check_integer
 from ..scenes import FlexibleMember, HybridPair
 from ._modal import Damping, modal_analysis
-from ._model import HybridModel, cells_from_reference
+from ._model import (
+    HybridModel,
+    cells_from_reference,
+    mesh_forces,
+    mesh_te,
+    static_mesh_forces,
+)
 from ._newmark import MeshDamping, newmark
 from ._result import steady_state
 from ._settings import DiffraxIntegrator, SteadyState, _divergence_code, check_run_size
@@ -86,22 +92,21 @@ def _newmark_cells(
     steps: the mesh periods of the mesh damping), from ``state`` = (X, Ẋ, Ẍ); ``check``: the
     divergence check of each step (:func:`~jaxgear.dynamics._newmark.newmark`), or None.
 
-    The cells at each step: the flanks' gaps at the pinion angle from the time-constant
-    reference ``e_ref`` (δ0 = e_ref − e) on the window of master DOFs under the contact.
+    The cells at each step: every mesh's cells at the pinion angle, their flank gaps from the
+    mesh's time-constant reference ``e_ref`` (m,) (δ0 = e_ref,k − e), on the meshes' windows
+    of master DOFs under the contact (:meth:`~jaxgear.scenes.HybridPair.window_row`).
 
     Returns the final state (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
-    over the blocks): θ, the cell forces P (c,), the TE and ``record(X, Ẋ)``."""
-    mesh = scene.mesh
-    cb = jnp.cos(mesh.base_helix_angle)
-
-    refs = jnp.reshape(e_ref, (1,))  # the one mesh of a hybrid scene
-    per_mesh = per_mesh_modifications(mods, 1)
+    over the blocks): θ, the cell forces P (c,) of all meshes, each mesh's TE (m,) and
+    ``record(X, Ẋ)``."""
+    per_mesh = per_mesh_modifications(mods, len(scene.base_planes))
+    te_of = mesh_te(scene, e_ref)
 
     def cells_at(th):
-        return scene.window_row(*cells_from_reference(scene, per_mesh, th, refs))
+        return scene.window_row(*cells_from_reference(scene, per_mesh, th, e_ref))
 
     def kept(X, Xd, P):
-        return P, (scene.te_vector() @ X - e_ref) / cb, record(X, Xd)
+        return P, te_of(X), record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
     carry, (P, te, rec) = newmark(
@@ -174,6 +179,11 @@ def _revolution_periods(scene: HybridPair) -> int:
     return math.lcm(*Z) if Z else 1
 
 
+def _cells(scene: HybridPair, theta) -> tuple:
+    """Every mesh's cells at pinion angle θ (rad), unmodified (layout, stiffness, mask)."""
+    return tuple(p.cells(theta) for p in scene.base_planes)
+
+
 def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
     """K̄ (n, n): the mean of the mesh stiffness ``block(p)`` (:func:`_mesh_block`) over the mesh
     periods p = 0 … ``periods`` − 1 (a revolution, :func:`_revolution_periods`)."""
@@ -187,30 +197,37 @@ def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
     return Km / periods
 
 
-def _reference(mesh, mods, theta):
-    """e_ref: one time-constant reference of the flank gaps over the positions ``theta`` of a
-    mesh period (the largest max_M e), and max_M e at each position.
+def _references(scene: HybridPair, mods, theta):
+    """e_ref (m,): each mesh's time-constant reference of the flank gaps over the positions
+    ``theta`` (S,) of a mesh period (the largest max_M e), and max_M e at each position (S, m).
 
     The quasi-static δ0 = max_M e(θ) − e moves its reference with the position: in dynamics that
     would be a spurious kinematic excitation of the drive rotation wherever max_M e varies (a
     tip relief), so the dynamics use δ0 = e_ref − e, as the lumped model's mesh table."""
-    e_max = jax.vmap(lambda th: separation(mesh, mods, th)[1])(theta)
-    return jnp.max(e_max), e_max
+    planes = scene.base_planes
+    mods = per_mesh_modifications(mods, len(planes))
+
+    def at(th):
+        return jnp.stack([separation(p, m, th)[1] for p, m in zip(planes, mods, strict=True)])
+
+    e_max = jax.vmap(at)(theta)
+    return jnp.max(e_max, axis=0), e_max
 
 
 def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited, blowup):
     scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
-    mesh = scene.mesh
+    planes = scene.base_planes
+    period_angle = planes[0].mesh_period_angle
     dtype = scene.structure.K.dtype
-    dt = mesh.mesh_period_angle / speed / spp
+    dt = period_angle / speed / spp
     M = scene.structure.M
     # the quasi-static states at the step positions of the first period: the start (row 0, at
     # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
     qs, _ = _period_statics(scene, mods, torque, speed, spp, law)
-    loaded = qs.line_load > 0
+    loaded = _loaded(qs)
 
-    def block(p):  # K̄_m(p) on the stations under the mesh in period p
-        return _mesh_block(scene, qs.theta + p * mesh.mesh_period_angle, loaded)
+    def block(p):  # K̄_m(p) on the stations under the meshes in period p
+        return _mesh_block(scene, qs.theta + p * period_angle, loaded)
 
     Km = None
     if damping.model in ("modal", "composite"):  # their modes: K̄_m averaged round the wheel
@@ -225,23 +242,31 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         K = K + speed**2 * scene.structure.spin_stiffness
         C = C + speed * scene.structure.gyroscopic
     F = scene.external_load(torque, speed)
-    e_ref, e_max = _reference(mesh, mods, qs.theta)
+    e_ref, e_max = _references(scene, mods, qs.theta)
     # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
-    X0 = qs.x[0] + scene.N[:, 0] * (e_ref - e_max[0])
+    # of the first mesh (for the meshes of one pair, every mesh's: their references move alike)
+    X0 = qs.x[0] + scene.N[:, 0] * (e_ref[0] - e_max[0, 0])
     zero = jnp.zeros_like(X0)
     # qs.theta[0] is half a step: contact-line ends off the edges
-    thetas = qs.theta[0] + (jnp.arange(n_steps) + 1) * mesh.mesh_period_angle / spp
+    thetas = qs.theta[0] + (jnp.arange(n_steps) + 1) * period_angle / spp
     thetas = thetas.reshape(-1, spp)  # one block per mesh period
     rim_of = _rim_of(scene)
 
     R = scene.reaction_matrix()
+    # each mesh's static force and largest quasi-static force on one contact line
+    sizes = tuple((p.n_lines, p.n_slices) for p in planes)
+    length = jnp.concatenate([p.cells(0.0).length.reshape(-1) for p in planes])
+    static_fm, static_lines = mesh_forces(_joined(qs, "line_load") * length[None], sizes)
+    fs = static_mesh_forces(scene, torque, static_fm)
     # divergence, as the lumped models: mesh force > blowup F_s or kinetic energy >
-    # blowup² F_s²/2k̄ (k̄ the mean quasi-static mesh stiffness at the speed)
-    fs = mesh.normal_load(torque)
-    e_scale = 0.5 * fs**2 / jnp.mean(qs.mesh_stiffness)
+    # blowup² F_s²/2k̄ (F_s and k̄ over all meshes, k̄ the mean quasi-static mesh stiffness at
+    # the speed)
+    fs_all = jnp.sum(fs)
+    k_mean = jnp.mean(sum(m.mesh_stiffness for m in qs.meshes))
+    e_scale = 0.5 * fs_all**2 / k_mean
 
     def check(X, Xd, P):
-        return _divergence_code(Xd, X, jnp.sum(P), M, fs, e_scale, blowup)
+        return _divergence_code(Xd, X, jnp.sum(P), M, fs_all, e_scale, blowup)
 
     def record(X, Xd):
         return (*rim_of(X), R @ X, X) if states else (*rim_of(X), R @ X)
@@ -262,31 +287,27 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         mesh_damping,
         check,
     )
-    L = mesh.n_lines
-    lines = P[-keep:].reshape(keep, L, -1).sum(axis=-1)
-    length = mesh.cells(0.0).length
-    static_lines = jnp.sum(qs.line_load * length[None], axis=-1)  # (spp, L)
+    fm, lines = mesh_forces(P[-keep:], sizes)
     # the kept steps end at the positions (k + 1) mod N_s of the first period (whole periods)
     j = (jnp.arange(keep) + 1) % spp
-    cb = jnp.cos(mesh.base_helix_angle)
-    static_te = (qs.x @ scene.te_vector() - e_max) / cb
+    # (spp, m), each position with its own reference max_M e, as the quasi-static solve
+    static_te = jax.vmap(lambda x, e: mesh_te(scene, e)(x))(qs.x, e_max)
     code = jnp.where(
         qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
     )
     return steady_state(
         speed=jnp.asarray(speed, dtype),
         time_step=dt,
-        mesh_period_angle=mesh.mesh_period_angle,
+        mesh_period_angle=period_angle,
         steps_per_period=spp,
         transient_steps=n_steps - keep,
         theta=th[-keep:],
-        # the one mesh of a hybrid scene (dynamic_model refuses several)
-        mesh_force=jnp.sum(P[-keep:], axis=-1)[:, None],
-        static_force=fs[None],
-        transmission_error=te[-keep:, None],
-        line_force=(lines,),
-        static_line_force=jnp.max(static_lines)[None],
-        static_te=static_te[j, None],
+        mesh_force=fm,
+        static_force=fs,
+        transmission_error=te[-keep:],
+        line_force=lines,
+        static_line_force=jnp.stack([jnp.max(f) for f in static_lines]),
+        static_te=static_te[j],
         bearing_force=scene.bearing_forces_fixed_frame(th[-keep:], rec[2][-keep:]),
         bearing_force_static=scene.bearing_forces(qs.theta, qs.x),
         omega_excited=omega_excited,
@@ -296,6 +317,18 @@ def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excit
         rim=(rec[0][-keep:], rec[1][-keep:]),
         states=rec[3][-keep:] if states else None,
     )
+
+
+def _joined(qs, name: str):
+    """The per-cell field ``name`` of every mesh of a quasi-static result, joined mesh after
+    mesh as the contact row joins the cells: (P, c)."""
+    P = qs.theta.shape[0]
+    return jnp.concatenate([getattr(m, name).reshape(P, -1) for m in qs.meshes], axis=-1)
+
+
+def _loaded(qs):
+    """The loaded cells (line load > 0) of every mesh at each position, joined: (P, c)."""
+    return _joined(qs, "line_load") > 0
 
 
 def _rim_of(scene: HybridPair):
@@ -335,22 +368,26 @@ def mean_mesh_stiffness(
 
 
 def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
-    """The mesh stiffness averaged over the positions ``theta`` (S,) with the cells ``loaded``
-    (S, L, N) (weights 0/1) on the window U of the first position widened by ``pad`` stations
-    each side: (U (w,), B (w, w), whether every position's window lies inside U)."""
-    n = scene.structure.K.shape[0]
-    U, _ = scene.window(scene.mesh.cells(theta[0]), pad=pad)
+    """The mesh stiffness of every mesh averaged over the positions ``theta`` (S,) with the
+    cells ``loaded`` (S, c) (weights 0/1, joined mesh after mesh) on the window U of the first
+    position widened by ``pad`` stations each side: (U (w,), B (w, w), whether every position's
+    window lies inside U). A coordinate that two meshes see appears in U once per mesh; B holds
+    its stiffness at one of them (the others' rows and columns are zero)."""
+    n = scene.structure.size
+
+    def row(th, pad=0):
+        cells = _cells(scene, th)
+        return scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells), pad)
+
+    U = row(theta[0], pad).idx
     w = U.shape[0]
     pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
 
     def add(B, p):
-        cells = scene.mesh.cells(theta[p])
-        idx, Vw = scene.window(cells)
-        Vw = Vw.reshape(-1, Vw.shape[-1])
-        kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
-        kl = kl * loaded[p].reshape(-1).astype(B.dtype)
-        j = pos[idx]
-        B = B.at[j[:, None], j[None, :]].add(Vw.T @ (kl[:, None] * Vw), mode="drop")
+        r = row(theta[p])
+        kl = jnp.where(r.mask, r.k * r.length, 0.0) * loaded[p].astype(B.dtype)
+        j = pos[r.idx]
+        B = B.at[j[:, None], j[None, :]].add(r.V.T @ (kl[:, None] * r.V), mode="drop")
         return B, jnp.all(j < w)
 
     B, ok = jax.lax.scan(
@@ -361,9 +398,8 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
 
 def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw):
     """Quasi-static result at pinion speed Ω (centrifugal loads) at the ``spp`` step positions
-    of one mesh period, and K̄_m there."""
-    mesh = scene.mesh
-    theta = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
+    of one mesh period, and K̄_m there (all meshes)."""
+    theta = (jnp.arange(spp) + 0.5) * scene.base_planes[0].mesh_period_angle / spp
     qs = quasi_static(
         scene,
         mods,
@@ -373,8 +409,8 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw
         contact=law,
         throw=False,
     )
-    n = scene.structure.K.shape[0]
-    U, B, _ = _mesh_block(scene, theta, qs.line_load > 0)
+    n = scene.structure.size
+    U, B, _ = _mesh_block(scene, theta, _loaded(qs))
     Km = jnp.zeros((n, n), scene.structure.K.dtype).at[U[:, None], U[None, :]].add(B)
     return qs, Km
 
@@ -391,8 +427,8 @@ def check_newmark(integrator) -> None:
 
 def check_records(model: HybridModel, window: SteadyState, steps: int) -> None:
     """A hybrid run of ``steps`` per mesh period fits (:func:`check_run_size`): the cell-space
-    Newmark records every step's cell forces, TE and mesh force."""
-    cells = model.mesh.n_lines * model.mesh.n_slices
+    Newmark records every step's cell forces (all meshes), TE and mesh force."""
+    cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
     check_run_size(window.periods, steps, int(window.periods) * steps, cells + 2)
 
 
@@ -487,12 +523,12 @@ def hybrid_free_vibration(
 
 @eqx.filter_jit
 def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
-    mesh = scene.mesh
+    mesh = scene.mesh  # the free vibration handles one mesh (a one-line error else)
     period = (jnp.arange(spp) + 0.5) * mesh.mesh_period_angle / spp
-    e_ref, _ = _reference(mesh, mods, period)
+    e_ref, _ = _references(scene, mods, period)
     qs = quasi_static(scene, mods, torque, theta[None], throw=False)  # at rest
     e_th = separation(mesh, mods, theta)[1]
-    Xs = qs.x[0] + scene.N[:, 0] * (e_ref - e_th)
+    Xs = qs.x[0] + scene.N[:, 0] * (e_ref[0] - e_th)
     M = scene.structure.M
     C = jnp.zeros_like(M)
     F = torque * scene.f_torque

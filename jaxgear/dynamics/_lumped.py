@@ -14,7 +14,7 @@ from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._util import check_integer
 from ._diffrax import _diffrax
 from ._modal import excited_omega
-from ._model import DynamicModel, MeshTable, _prepare, _Prepared, mesh_te
+from ._model import DynamicModel, MeshTable, _prepare, _Prepared, mesh_te, static_mesh_forces
 from ._newmark import newmark
 from ._result import checked, steady_state
 from ._settings import _Config, _divergence_code
@@ -66,7 +66,7 @@ def _newmark(
     fs = jnp.sum(model.static_force if static_force is None else static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
     P = table.theta.shape[0]
-    te_of = mesh_te(scene, table)
+    te_of = mesh_te(scene, table.e_max[0])
 
     def cells_at(j):
         return CellRow(
@@ -98,15 +98,11 @@ def _newmark(
 
 
 def _static_forces(model: DynamicModel, table: MeshTable, static):
-    """Each mesh's static force F_s (N), (m,), and its largest quasi-static force on one contact
-    line (N), (m,): F_s = T/(r_b1 cos β_b) for the one mesh of a pair; with several meshes the
-    mean over the period of each mesh's quasi-static force (for one mesh the two agree by the
-    pinion's torque balance)."""
+    """Each mesh's static force F_s (N), (m,) (:func:`static_mesh_forces`), and its largest
+    quasi-static force on one contact line (N), (m,)."""
     fm, lines = table.mesh_forces(static.static_force_density * table.length)  # (P, m), (P, L_k)
     max_lines = jnp.stack([jnp.max(f) for f in lines])
-    if fm.shape[1] == 1:
-        return model.static_force[None], max_lines
-    return jnp.mean(fm, axis=0), max_lines
+    return static_mesh_forces(model.scene, model.torque, fm), max_lines
 
 
 def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
@@ -137,7 +133,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
             model, table, speed, dt, state, cfg, law, fs
         )
     j = (jnp.arange(n_keep) + 1) % P
-    static_te = jax.vmap(mesh_te(model.scene, table))(static.static_x)  # (P, m)
+    static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (P, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
         speed=speed,

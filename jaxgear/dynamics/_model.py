@@ -52,7 +52,10 @@ __all__ = [
     "MeshTable",
     "cells_from_reference",
     "dynamic_model",
+    "mesh_forces",
     "mesh_table",
+    "mesh_te",
+    "static_mesh_forces",
 ]
 
 
@@ -84,10 +87,16 @@ class MeshTable(eqx.Module):
         return split_by_mesh(cell_values, self.sizes)
 
     def mesh_forces(self, cell_forces) -> tuple[Array, tuple]:
-        """The mesh force Σ P of each mesh (..., m) and its force per contact line, a tuple of
-        (..., n_lines) (N), from the cell forces ``cell_forces`` (..., c) (N)."""
-        lines = tuple(jnp.sum(f, axis=-1) for f in self.split(cell_forces))
-        return jnp.stack([jnp.sum(f, axis=-1) for f in lines], axis=-1), lines
+        """Each mesh's force and its forces per contact line (:func:`mesh_forces`)."""
+        return mesh_forces(cell_forces, self.sizes)
+
+
+def mesh_forces(cell_forces, sizes) -> tuple[Array, tuple]:
+    """The mesh force Σ P of each mesh (..., m) and its force per contact line, a tuple of
+    (..., n_lines) (N), from the cell forces ``cell_forces`` (..., c) (N) of meshes of
+    ``sizes`` (n_lines, n_slices), mesh after mesh."""
+    lines = tuple(jnp.sum(f, axis=-1) for f in split_by_mesh(cell_forces, sizes))
+    return jnp.stack([jnp.sum(f, axis=-1) for f in lines], axis=-1), lines
 
 
 def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
@@ -122,13 +131,22 @@ def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple
     return tuple(p[0] for p in parts), delta0
 
 
-def mesh_te(scene, table: MeshTable):
-    """X ↦ each mesh's TE (u_k·X − e_ref,k)/cos β_b,k (m), (m,), with the time-constant
-    references of ``table``."""
+def mesh_te(scene, e_ref):
+    """X ↦ each mesh's TE (u_k·X − e_ref,k)/cos β_b,k (m), (m,), from its reference
+    ``e_ref`` (m,) (the time-constant references of the dynamics, :class:`MeshTable`)."""
     U = scene.te_vectors()
     cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
-    e_ref = table.e_max[0]
     return lambda X: (U @ X - e_ref) / cb
+
+
+def static_mesh_forces(scene, torque, quasi_static_forces) -> Float[Array, " m"]:
+    """Each mesh's static force F_s (N), (m,), the scale of its dynamic factor: T/(r_b1 cos β_b)
+    at pinion torque T (N·m) for the one mesh of a pair; with several meshes the mean over the
+    period of each mesh's ``quasi_static_forces`` (P, m) (N) (for one mesh the two agree by the
+    pinion's torque balance)."""
+    if quasi_static_forces.shape[1] == 1:
+        return scene.base_planes[0].normal_load(torque)[None]
+    return jnp.mean(quasi_static_forces, axis=0)
 
 
 def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
@@ -235,8 +253,8 @@ class HybridModel(AbstractDynamicModel):
 
     Attributes:
         scene: the :class:`jaxgear.scenes.HybridPair` (each simulated speed sets its
-            centrifugal load). mods: flank modifications
-            (differentiable). torque: pinion torque T (N·m).
+            centrifugal load). mods: flank modifications, one for every mesh or a tuple of one
+            per mesh (differentiable). torque: pinion torque T (N·m).
         damping: the :class:`Damping` settings (Rayleigh (2.34), modal (2.35) or composite
             (2.36)); the scene's bearing damping is always added.
         rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic, spin
@@ -245,7 +263,7 @@ class HybridModel(AbstractDynamicModel):
     """
 
     scene: HybridPair
-    mods: Modifications
+    mods: Modifications | tuple
     torque: Float[Array, ""]
     damping: Damping
     rotating_frame: bool = eqx.field(default=False, static=True)
@@ -273,8 +291,7 @@ def dynamic_model(
 
     Args:
         scene: dynamic scene. mods: modifications (``None``: none; one for every mesh, or a
-            tuple of one per mesh: a lumped scene runs every mesh of the scene, a hybrid scene
-            one). torque: pinion torque (N·m).
+            tuple of one per mesh). torque: pinion torque (N·m).
         damping: :class:`Damping`. Default: composite (2.36), 0.07 mesh / 0.01 structure, for a
             lumped scene; the seed's D1, Rayleigh (α, β) = (25 1/s, 2.5e-6 s), for a hybrid one.
         positions_per_pitch: positions per mesh period for the averages (lumped scenes).
@@ -285,8 +302,8 @@ def dynamic_model(
 
     Raises:
         ValueError: a ``damping`` that is not a :class:`Damping`; ``rotating_frame`` on a
-            lumped scene; a concrete torque <= 0 for a hybrid scene; a hybrid scene with
-            several meshes; a tuple of modifications of another length than the meshes.
+            lumped scene; a concrete torque <= 0 for a hybrid scene; a tuple of modifications of
+            another length than the meshes.
         eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
             (jit/vmap-safe).
     """
@@ -299,7 +316,6 @@ def dynamic_model(
     dtype = scene.base_planes[0].base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     if isinstance(scene, HybridPair):
-        scene.mesh  # noqa: B018  (the hybrid dynamics handle one mesh: a one-line error else)
         if not isinstance(torque, jax.core.Tracer) and not bool(torque > 0):
             raise ValueError(f"torque = {float(torque)!r} N·m: allowed > 0 (the pinion drives)")
         if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)

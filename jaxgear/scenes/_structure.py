@@ -112,8 +112,9 @@ class AssembledScene(Scene):
 
     @property
     def members(self) -> tuple:
-        """The (pinion, gear) members of the scene's one mesh."""
-        return only_mesh(self.meshes).members
+        """The gear members of the structure, (pinion, gear): those of its first mesh (every
+        mesh of a pair's structure, such as the halves of a split face, acts between them)."""
+        return self.meshes[0].members
 
     @property
     def torque_dofs(self) -> tuple[int, int]:
