@@ -176,7 +176,7 @@ def test_hybrid_sweep_record_against_the_one_before_the_step_rule():
     against the record before the step rule changed: equal (1e-9) where the step did not change,
     within 0.5 % where it doubled."""
     rec = _recorded("sweep-accessory-spur-flexible")
-    steps, df = rec["steps_per_period"], rec["dynamic_factor"]
+    steps, df = rec["steps_per_period_used"], rec["dynamic_factor"]
     assert steps == [128, 64, 64]
     for n, new, old in zip(steps, df, HYBRID_SWEEP_BEFORE["dynamic_factor"], strict=True):
         tol = 1e-9 if n == 64 else HYBRID_SWEEP_CHANGE

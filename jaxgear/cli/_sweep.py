@@ -24,175 +24,11 @@ def _clean(values) -> list:
     return [float(v) if np.isfinite(v) else None for v in np.asarray(values, dtype=float)]
 
 
-def _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed=None) -> dict:
-    """Speed sweep of a case whose scene has condensed bodies (its
-    :class:`jaxgear.dynamics.HybridModel`: Newmark in the cell space), one speed per call for
-    the progress bar; with ``vtu_speed``, a VTU time series of the deformed bodies at that
-    speed."""
-    import jax
-    from tqdm.auto import tqdm
+def _rim_content(sw, i, f_mesh) -> dict | None:
+    """The largest rim wave n >= 1 of speed ``i`` above half the mesh frequency ``f_mesh``
+    (Hz), axial and radial (None for a rigid wheel)."""
+    from ..dynamics import rim_waves
 
-    from .. import DynamicsResult
-    from ..dynamics import (
-        Newmark,
-        auto_steps_per_period,
-        build_dynamic_model,
-        campbell_coincidences,
-        load_bodies,
-        mesh_averaged_modes,
-        nodal_diameter_modes,
-        nodal_diameter_resonances,
-        rim_waves,
-        simulate,
-        spec_window,
-        speed_sweep,
-    )
-    from ..scenes import FlexibleMember
-
-    t0 = time.perf_counter()
-    bar = tqdm(
-        total=speeds.size,
-        desc=f"jaxgear sweep {case.name} (hybrid)",
-        unit="speed",
-        disable=not show_progress,
-    )
-    bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
-    bodies = load_bodies(spec, progress=show_progress)
-    model, spec = build_dynamic_model(case, spec, slices=slices, bodies=bodies)
-    scene = model.scene
-    law = case.contact_law(spec.contact)
-    # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical speeds):
-    # the mesh stiffness averaged over 64 positions unless the step is fixed
-    bar.set_postfix_str("modes of the mesh-averaged system")
-    modes = mesh_averaged_modes(
-        model,
-        speed=case.speed,
-        positions_per_pitch=spec.steps_per_period or 64,
-        contact=law,
-    )  # the 20 lowest are reported
-    omega = np.asarray(modes.omega)[:20]  # 0 for the drive rotation
-    energy = np.asarray(modes.mesh_energy)[:20]
-    z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
-    flexible_wheel = isinstance(scene.members[1], FlexibleMember)
-    nd_res = []
-    if flexible_wheel:
-        # the wheel's nodal-diameter families (web modes: most of their kinetic energy in the
-        # body) and the speeds of (3.9) where the mesh excites them
-        nd = nodal_diameter_modes(scene, modes, n_modes=40)
-        web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
-        nd_res = [
-            r
-            for r in nodal_diameter_resonances(
-                nd["frequency_hz"][web], nd["nodal_diameter"][web], z2, z1, harmonics=(1, 2)
-            )
-            if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
-        ]
-    # steps per mesh period: fixed by [scene.integration], else automatic as the lumped sweep
-    # (>= 40 per period of the highest mode with >= 5 % mesh energy, >= 64 per mesh period)
-    steps = (
-        np.full(speeds.size, spec.steps_per_period)
-        if spec.steps_per_period
-        else auto_steps_per_period(model, speeds, modes)
-    )
-    dfs, dft, losses, results, te_rms, waves, bearing_max = [], [], [], [], [], [], []
-    bearing_static = None
-    bar.set_postfix_str("")
-    kw = dict(window=spec_window(spec), contact=law)
-    # runs of equal step counts (one compiled sweep per count), one speed per call: the bar
-    # moves per speed and Ctrl-C stops the sweep after the speed in progress
-    starts = [k for k in range(speeds.size) if k == 0 or steps[k] != steps[k - 1]]
-    for k, end in zip(starts, [*starts[1:], speeds.size], strict=True):
-        part = speeds[k:end]
-        sw = speed_sweep(
-            model,
-            part,
-            integrator=Newmark(int(steps[k])),
-            chunk_size=1,
-            progress=lambda n, k=k: bar.update(k + n - bar.n),
-            **kw,
-        ).results
-        jax.block_until_ready(sw)
-        dfs += np.asarray(sw.dynamic_factor)[: part.size].tolist()
-        dft += np.asarray(sw.dynamic_factor_tooth)[: part.size].tolist()
-        losses += np.asarray(sw.contact_loss)[: part.size].tolist()
-        results += [int(v) for v in np.asarray(sw.result)[: part.size]]
-        te_rms += np.asarray(sw.te_rms)[: part.size].tolist()
-        bearing_max += [_clean(row) for row in np.asarray(sw.bearing_force_max)[: part.size]]
-        if bearing_static is None:  # at the first speed (its centrifugal load)
-            bearing_static = _clean(np.asarray(sw.bearing_force_static)[0])
-        for i, w in enumerate(part):
-            waves.append(_rim_content(sw, i, w * z1 / (2 * math.pi), rim_waves))
-    bar.close()
-    vtu = []
-    if vtu_speed is not None:
-        from ._scene import write_body_series
-
-        n_vtu = spec.steps_per_period or auto_steps_per_period(model, [vtu_speed], modes)[0]
-        one = simulate(
-            model,
-            float(vtu_speed),
-            states=True,
-            integrator=Newmark(int(n_vtu)),
-            **kw,
-        )
-        folder = os.path.join(out_dir, "vtu")
-        os.makedirs(folder, exist_ok=True)
-        for old in os.listdir(folder):  # a previous series may have had more frames
-            if old.startswith("body_") and old.endswith((".vtu", ".pvd")):
-                os.unlink(os.path.join(folder, old))
-        vtu = [os.path.join("vtu", f) for f in write_body_series(folder, scene, bodies, one)]
-    summary = {
-        "case": case.name,
-        "model": "hybrid",
-        "reduction": "none",
-        "solver": "newmark",
-        "contact": spec.contact,
-        "direction": "independent",
-        "steps_per_period": [int(n) for n in steps],
-        "periods": spec.periods,
-        "keep_periods": spec.keep_periods,
-        "damping": spec.damping_model,
-        "rayleigh_alpha_per_s": spec.rayleigh_alpha,
-        "rayleigh_beta_s": spec.rayleigh_beta,
-        "damping_ratio_mesh_structure": [spec.mesh_ratio, spec.structure_ratio],
-        "rotating_frame": spec.rotating_frame,
-        "torque_Nm": case.torque,
-        "static_mesh_force_N": case.normal_load,
-        "pinion_teeth": z1,
-        "wheel_teeth": z2,
-        "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
-        "mesh_energy_share": _clean(energy),
-        "critical_speeds": campbell_coincidences(omega, energy, z1, float(speeds.max()), n_modes=3),
-        "nodal_diameter_resonances": nd_res,
-        "speeds_rad_s": _clean(speeds),
-        "mesh_frequency_Hz": _clean(speeds * z1 / (2 * math.pi)),
-        "dynamic_factor": _clean(dfs),
-        "dynamic_factor_tooth": _clean(dft),
-        "te_rms_m": _clean(te_rms),
-        "contact_loss": _clean(losses),
-        "rim_waves": waves,
-        "bearing_names": list(scene.reaction_names),
-        "bearing_force_max_N": bearing_max,
-        "bearing_force_static_N": bearing_static,
-        "result": results,
-        "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
-        "vtu_series": {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None,
-        "elapsed_s": time.perf_counter() - t0,
-        "notes": "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads "
-        "on, damping on the mesh-averaged system ([scene.damping]); steps_per_period per speed "
-        "(automatic unless [scene.integration] sets it); rim_waves: the wheel's largest rim wave "
-        "above half the mesh frequency per nodal diameter (body frame, direction +1 forward); "
-        "bearing forces in the fixed frame, the static ones at the first speed (its centrifugal "
-        "load)",
-        "platform": {"jax": jax.__version__, "python": platform.python_version()},
-    }
-    _write(summary, out_dir, z1)
-    return summary
-
-
-def _rim_content(sw, i, f_mesh, rim_waves) -> dict | None:
-    """The largest rim wave n >= 1 of speed ``i`` above half the mesh frequency, axial and
-    radial (None for a rigid wheel)."""
     out = {}
     for comp in ("axial", "radial"):
         u = np.asarray(getattr(sw, f"rim_{comp}")[i])
@@ -224,16 +60,22 @@ def sweep_case(
     show_progress: bool = True,
     vtu_speed: float | None = None,
 ) -> dict:
-    """Speed sweep of a case's scene; writes ``sweep.json``, ``dynamic_factor.png`` and
-    ``campbell.png`` to ``out_dir`` (atomically) and returns the JSON dict. ``vtu_speed``
-    (condensed bodies only): also a VTU time series of the bodies at that pinion speed."""
+    """Speed sweep of a case's scene, lumped or with condensed bodies (one
+    :func:`jaxgear.dynamics.speed_sweep` for both); writes ``sweep.json``,
+    ``dynamic_factor.png`` and ``campbell.png`` to ``out_dir`` (atomically) and returns the
+    JSON dict. A scene with condensed bodies adds the wheel's nodal-diameter resonances (3.9)
+    and rim waves per speed; ``vtu_speed`` (condensed bodies only): a VTU time series of the
+    bodies at that pinion speed."""
     import jax
     from tqdm.auto import tqdm
 
+    from .. import DynamicsResult
     from ..dynamics import (
         SceneSpec,
         build_dynamic_model,
         campbell_coincidences,
+        load_bodies,
+        mesh_averaged_modes,
         spec_integrator,
         spec_window,
         speed_sweep,
@@ -257,30 +99,42 @@ def sweep_case(
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
-    if vtu_speed is not None and not spec.hybrid:
+    hybrid = spec.hybrid
+    if vtu_speed is not None and not hybrid:
         raise ValueError(
             f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
             "to export ([scene.gear_body] or [scene.pinion_body])"
         )
     if vtu_speed is not None and not vtu_speed > 0:
         raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
-    if spec.hybrid:
-        if direction != "independent" or spec.solver != "newmark":
-            raise ValueError(
-                "a scene with condensed bodies sweeps independent speeds with Newmark only "
-                f"(got --direction {direction}, solver {spec.solver})"
-            )
-        return _hybrid_sweep(case, spec, speeds, out_dir, slices, show_progress, vtu_speed)
+    if hybrid and (direction != "independent" or spec.solver != "newmark"):
+        raise ValueError(
+            "a scene with condensed bodies sweeps independent speeds with Newmark only "
+            f"(got --direction {direction}, solver {spec.solver})"
+        )
     t0 = time.perf_counter()
     n_dirs = 2 if direction == "both" else 1
     bar = tqdm(
         total=n_dirs * speeds.size,
-        desc=f"jaxgear sweep {case.name}",
+        desc=f"jaxgear sweep {case.name}" + (" (hybrid)" if hybrid else ""),
         unit="speed",
         disable=not show_progress,
     )
-    bar.set_postfix_str("building the model (modes, damping)")
-    model, spec = build_dynamic_model(case, spec, slices=slices)
+    bodies = None
+    if hybrid:
+        bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
+        bodies = load_bodies(spec, progress=show_progress)
+    else:
+        bar.set_postfix_str("building the model (modes, damping)")
+    model, spec = build_dynamic_model(case, spec, slices=slices, bodies=bodies)
+    law = case.contact_law(spec.contact)
+    # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical
+    # speeds): a lumped model's own; a hybrid model's at the case's speed, the mesh stiffness
+    # averaged over 64 positions unless the step is fixed
+    bar.set_postfix_str("modes of the mesh-averaged system")
+    modes = mesh_averaged_modes(
+        model, speed=case.speed, positions_per_pitch=spec.steps_per_period or 64, contact=law
+    )
     bar.set_postfix_str("")
     last = [0]
 
@@ -288,7 +142,9 @@ def sweep_case(
         bar.update(n - last[0] if n >= last[0] else n)
         last[0] = n
 
-    chunk = max(1, min(32, -(-speeds.size // 10)))
+    # a hybrid model one speed per call (a speed takes seconds: the bar moves per speed and
+    # Ctrl-C stops the sweep after the speed in progress); a lumped one in about ten chunks
+    chunk = 1 if hybrid else max(1, min(32, -(-speeds.size // 10)))
     res = speed_sweep(
         model,
         speeds,
@@ -296,19 +152,21 @@ def sweep_case(
         chunk_size=chunk,
         progress=progress,
         integrator=spec_integrator(spec),
-        contact=case.contact_law(spec.contact),
+        contact=law,
         window=spec_window(spec),
     )
     jax.block_until_ready(res)
     bar.close()
-    elapsed = time.perf_counter() - t0
-    from .. import DynamicsResult
-
     r = res.results
-    omega = np.asarray(model.modes.omega)
+    # the lowest modes reported: every mode of a lumped model, the 20 lowest of a hybrid one
+    # (thousands of coordinates); 0 Hz for the drive rotation
+    n_modes = 20 if hybrid else None
+    omega = np.asarray(modes.omega)[:n_modes]
+    energy = np.asarray(modes.mesh_energy)[:n_modes]
+    z1 = 2 * math.pi / float(model.scene.base_planes[0].mesh_period_angle)
     summary = {
         "case": case.name,
-        "model": spec.model,
+        "model": "hybrid" if hybrid else spec.model,
         "reduction": spec.reduction,
         "solver": spec.solver,
         "contact": spec.contact,
@@ -319,44 +177,67 @@ def sweep_case(
         "damping": spec.damping_model,
         "torque_Nm": case.torque,
         "static_mesh_force_N": float(model.static_force),
-        "mesh_stiffness_mean_N_per_m": float(model.mesh_stiffness_mean),
-        "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
-        "mesh_energy_share": _clean(model.modes.mesh_energy),
-        "modal_energy_parts": list(model.modes.parts),
-        "modal_energy": [_clean(row) for row in np.asarray(model.modes.energy)],
-        "critical_speeds": campbell_coincidences(
-            model.modes.omega,
-            model.modes.mesh_energy,
-            2 * math.pi / float(model.mesh.mesh_period_angle),
-            float(speeds.max()),
-            n_modes=3,
-        ),
-        "speeds_rad_s": _clean(speeds),
-        "mesh_frequency_Hz": _clean(r.mesh_frequency),
-        "dynamic_factor": _clean(r.dynamic_factor),
-        "dynamic_factor_tooth": _clean(r.dynamic_factor_tooth),
-        "te_rms_m": _clean(r.te_rms),
-        "te_mean_m": _clean(r.te_mean),
-        "contact_loss": _clean(r.contact_loss),
-        "periodicity": _clean(r.periodicity),
-        "steps_per_period_used": [int(v) for v in np.asarray(r.steps_per_period)],
-        "steps_per_mode_period": _clean(r.steps_per_mode_period),
-        "under_resolved": [bool(v) for v in np.asarray(r.under_resolved)],
-        "result": [int(v) for v in np.asarray(r.result)],
-        "bearing_names": list(getattr(model.scene, "reaction_names", ())),
-        "bearing_force_max_N": [_clean(row) for row in np.asarray(r.bearing_force_max)],
-        "bearing_force_static_N": _clean(np.asarray(r.bearing_force_static)[0])
-        if np.asarray(r.bearing_force_static).size
-        else [],
-        "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
-        "elapsed_s": elapsed,
-        "platform": {
-            "jax": jax.__version__,
-            "device": str(jax.devices()[0].platform),
-            "devices": len(jax.local_devices()),
-            "python": platform.python_version(),
-        },
     }
+    if hybrid:
+        summary.update(
+            {
+                "rayleigh_alpha_per_s": spec.rayleigh_alpha,
+                "rayleigh_beta_s": spec.rayleigh_beta,
+                "damping_ratio_mesh_structure": [spec.mesh_ratio, spec.structure_ratio],
+                "rotating_frame": spec.rotating_frame,
+                "pinion_teeth": case.pair.pinion.teeth,
+                "wheel_teeth": case.pair.gear.teeth,
+            }
+        )
+    else:
+        summary["mesh_stiffness_mean_N_per_m"] = float(model.mesh_stiffness_mean)
+    summary.update(
+        {
+            "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
+            "mesh_energy_share": _clean(energy),
+        }
+    )
+    if not hybrid:
+        summary["modal_energy_parts"] = list(modes.parts)
+        summary["modal_energy"] = [_clean(row) for row in np.asarray(modes.energy)]
+    summary["critical_speeds"] = campbell_coincidences(
+        omega, energy, z1, float(speeds.max()), n_modes=3
+    )
+    if hybrid:
+        summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
+            model.scene, modes, speeds, case.pair.pinion.teeth, case.pair.gear.teeth
+        )
+    summary.update(
+        {
+            "speeds_rad_s": _clean(speeds),
+            "mesh_frequency_Hz": _clean(r.mesh_frequency),
+            "dynamic_factor": _clean(r.dynamic_factor),
+            "dynamic_factor_tooth": _clean(r.dynamic_factor_tooth),
+            "te_rms_m": _clean(r.te_rms),
+            "te_mean_m": _clean(r.te_mean),
+            "contact_loss": _clean(r.contact_loss),
+            "periodicity": _clean(r.periodicity),
+            "steps_per_period_used": [int(v) for v in np.asarray(r.steps_per_period)],
+            "steps_per_mode_period": _clean(r.steps_per_mode_period),
+            "under_resolved": [bool(v) for v in np.asarray(r.under_resolved)],
+            "result": [int(v) for v in np.asarray(r.result)],
+        }
+    )
+    if hybrid:
+        summary["rim_waves"] = [
+            _rim_content(r, i, float(f)) for i, f in enumerate(np.asarray(r.mesh_frequency))
+        ]
+    summary.update(
+        {
+            "bearing_names": list(getattr(model.scene, "reaction_names", ())),
+            "bearing_force_max_N": [_clean(row) for row in np.asarray(r.bearing_force_max)],
+            # at the first speed (a hybrid model's: its centrifugal load)
+            "bearing_force_static_N": _clean(np.asarray(r.bearing_force_static)[0])
+            if np.asarray(r.bearing_force_static).size
+            else [],
+            "result_messages": {str(k): v for k, v in DynamicsResult.messages().items()},
+        }
+    )
     if res.down is not None:
         d = res.down
         summary.update(
@@ -368,8 +249,73 @@ def sweep_case(
                 "result_down": [int(v) for v in np.asarray(d.result)],
             }
         )
+    if hybrid:
+        vtu = _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir)
+        summary["vtu_series"] = {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None
+        summary["notes"] = (
+            "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads on, "
+            "damping on the mesh-averaged system ([scene.damping]); steps_per_period_used per "
+            "speed (automatic unless [scene.integration] sets it; with several, the kept records "
+            "are subsampled to the smallest); rim_waves: the wheel's largest rim wave above half "
+            "the mesh frequency per nodal diameter (body frame, direction +1 forward); bearing "
+            "forces in the fixed frame, the static ones at the first speed (its centrifugal load)"
+        )
+    summary["elapsed_s"] = time.perf_counter() - t0
+    summary["platform"] = {
+        "jax": jax.__version__,
+        "device": str(jax.devices()[0].platform),
+        "devices": len(jax.local_devices()),
+        "python": platform.python_version(),
+    }
     _write(summary, out_dir, case.pair.pinion.teeth)
     return summary
+
+
+def _nodal_diameter_resonances(scene, modes, speeds, z1: int, z2: int) -> list:
+    """The (3.9) speeds, up to 1.05 × the top speed, where the mesh excites the wheel's
+    nodal-diameter families (web modes: most of their kinetic energy in the body), first and
+    second mesh harmonics, for a pinion of ``z1`` and a wheel of ``z2`` teeth; [] for a rigid
+    wheel."""
+    from ..dynamics import nodal_diameter_modes, nodal_diameter_resonances
+    from ..scenes import FlexibleMember
+
+    if not isinstance(scene.members[1], FlexibleMember):
+        return []
+    nd = nodal_diameter_modes(scene, modes, n_modes=40)
+    web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
+    return [
+        r
+        for r in nodal_diameter_resonances(
+            nd["frequency_hz"][web], nd["nodal_diameter"][web], z2, z1, harmonics=(1, 2)
+        )
+        if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
+    ]
+
+
+def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir) -> list:
+    """With ``vtu_speed``, the run at that speed with its states recorded, written as a VTU
+    time series of the deformed bodies in ``out_dir``/vtu (a previous series removed): the
+    files, relative to ``out_dir``; [] without."""
+    if vtu_speed is None:
+        return []
+    from ..dynamics import Newmark, auto_steps_per_period, simulate, spec_window
+    from ._scene import write_body_series
+
+    n_vtu = spec.steps_per_period or auto_steps_per_period(model, [vtu_speed], modes)[0]
+    one = simulate(
+        model,
+        float(vtu_speed),
+        states=True,
+        integrator=Newmark(int(n_vtu)),
+        window=spec_window(spec),
+        contact=law,
+    )
+    folder = os.path.join(out_dir, "vtu")
+    os.makedirs(folder, exist_ok=True)
+    for old in os.listdir(folder):  # a previous series may have had more frames
+        if old.startswith("body_") and old.endswith((".vtu", ".pvd")):
+            os.unlink(os.path.join(folder, old))
+    return [os.path.join("vtu", f) for f in write_body_series(folder, model.scene, bodies, one)]
 
 
 def _write(summary: dict, out_dir: str, z1: int) -> None:
