@@ -61,7 +61,7 @@ from ._model import (
 )
 from ._newmark import MeshDamping, newmark
 from ._result import steady_state
-from ._settings import DiffraxIntegrator, SteadyState, _divergence_code, check_run_size
+from ._settings import DiffraxIntegrator, SteadyState, _Config, _config, _divergence_code
 
 __all__ = [
     "FreeVibration",
@@ -214,8 +214,10 @@ def _references(scene: HybridPair, mods, theta):
     return jnp.max(e_max, axis=0), e_max
 
 
-def _run(model: HybridModel, speed, n_steps, keep, spp, law, states, omega_excited, blowup):
+def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited):
     scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
+    spp, states, blowup = cfg.steps_per_period, cfg.states, cfg.blowup
+    n_steps, keep = spp * cfg.periods, spp * cfg.keep_periods
     planes = scene.base_planes
     period_angle = planes[0].mesh_period_angle
     dtype = scene.structure.K.dtype
@@ -425,32 +427,32 @@ def check_newmark(integrator) -> None:
         )
 
 
-def check_records(model: HybridModel, window: SteadyState, steps: int) -> None:
-    """A hybrid run of ``steps`` per mesh period fits (:func:`check_run_size`): the cell-space
-    Newmark records every step's cell forces (all meshes), TE and mesh force."""
+def run_config(
+    model: HybridModel, integrator, window: SteadyState, steps: int, blowup, states: bool
+) -> _Config:
+    """The settings of a hybrid run of ``steps`` per mesh period (:func:`_config`: one kept
+    period is enough), checked to fit: the cell-space Newmark records every step's cell forces
+    (all meshes), TE and mesh force, transient included."""
     cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
-    check_run_size(window.periods, steps, int(window.periods) * steps, cells + 2)
+    return _config(
+        integrator,
+        window,
+        steps,
+        blowup,
+        states,
+        min_keep=1,
+        values_per_step=cells + 2,
+        record_all=True,
+    )
 
 
 @eqx.filter_jit
-def sweep(
-    model: HybridModel,
-    speeds,
-    law: ContactLaw,
-    spp: int,
-    window: SteadyState,
-    states: bool,
-    omega_excited,
-    blowup: float,
-):
+def sweep(model: HybridModel, speeds, law: ContactLaw, cfg: _Config, omega_excited):
     """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
-    one effective compliance of n² in memory at a time), ``spp`` steps per mesh period, the
-    divergence bound ``blowup``: :class:`~jaxgear.dynamics.DynamicResult` with a leading speed
-    axis."""
-    n_steps, keep = spp * window.periods, spp * window.keep_periods
-    return jax.lax.map(
-        lambda w: _run(model, w, n_steps, keep, spp, law, states, omega_excited, blowup), speeds
-    )
+    one effective compliance of n² in memory at a time), with the run's settings ``cfg``
+    (:func:`run_config`) and the highest excited mode ``omega_excited`` (rad/s; NaN: unknown):
+    :class:`~jaxgear.dynamics.DynamicResult` with a leading speed axis."""
+    return jax.lax.map(lambda w: _run(model, w, law, cfg, omega_excited), speeds)
 
 
 class FreeVibration(eqx.Module):

@@ -192,8 +192,8 @@ def check_window(window, name: str = "window") -> SteadyState:
 
 @dataclasses.dataclass(frozen=True)
 class _Config:
-    """The resolved settings of one lumped run (static under jit): the integrator with its
-    step count fixed, the window, the divergence bound and whether the states are recorded."""
+    """The resolved settings of one run (static under jit): the integrator with its step count
+    fixed, the window, the divergence bound and whether the states are recorded."""
 
     integrator: Integrator
     steps_per_period: int
@@ -232,22 +232,37 @@ def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
 
 
 def _config(
-    integrator, window: SteadyState, steps_per_period: int, blowup, states: bool = False
+    integrator,
+    window: SteadyState,
+    steps_per_period: int,
+    blowup,
+    states: bool = False,
+    *,
+    min_keep: int = 2,
+    values_per_step: int = 16,
+    record_all: bool = False,
 ) -> _Config:
-    """The settings of a lumped run with the integrator's step count resolved to
-    ``steps_per_period``; checks the window and the run's size (before any work)."""
+    """The settings of a run with the integrator's step count resolved to
+    ``steps_per_period``; checks the window (at least ``min_keep`` kept periods: 2 for a
+    lumped model, which compares the last two) and the run's size, ``values_per_step`` recorded
+    per kept step (per step of the whole run with ``record_all``) (before any work)."""
     check_integer("steps_per_period", steps_per_period, 4)
-    if window.keep_periods < 2:
+    if window.keep_periods < min_keep:
+        why = " (the lumped dynamics compare the last two periods)" if min_keep == 2 else ""
         raise ValueError(
-            f"keep_periods = {window.keep_periods} is out of range: allowed an integer >= 2 "
-            "(the lumped dynamics compare the last two periods)"
+            f"keep_periods = {window.keep_periods} is out of range: allowed an integer >= "
+            f"{min_keep}{why}"
         )
     if not blowup > 0:
         raise ValueError(f"blowup = {blowup!r}: allowed > 0")
     n_total = int(window.periods) * int(steps_per_period)
-    # records: TE, mesh force, line forces and bearing reactions of the kept steps (~16 values)
+    # records of the kept steps (a lumped run: TE, mesh force, line forces and bearing
+    # reactions, ~16 values)
     check_run_size(
-        window.periods, steps_per_period, int(window.keep_periods) * int(steps_per_period), 16
+        window.periods,
+        steps_per_period,
+        int(window.periods if record_all else window.keep_periods) * int(steps_per_period),
+        values_per_step,
     )
     max_steps = getattr(integrator, "max_steps", None)
     if max_steps is None:

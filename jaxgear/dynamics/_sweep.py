@@ -239,10 +239,10 @@ def speed_sweep(
                 progress=tick,
                 start=start,
             )
-        _hybrid.check_records(model, window, n)
+        cfg = _hybrid.run_config(model, integrator, window, n, blowup, states)
 
         def run(w):
-            return _hybrid.sweep(model, w, law, n, window, bool(states), omega, float(blowup))
+            return _hybrid.sweep(model, w, law, cfg, omega)
 
         if chunk_size is None or isinstance(sp, jax.core.Tracer):
             return SweepResult(sp, run(sp))
