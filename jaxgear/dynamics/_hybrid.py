@@ -498,8 +498,10 @@ def hybrid_free_vibration(
     hybrid Newmark.
 
     Raises:
-        ValueError: ``n_steps`` < 1, ``time_step`` <= 0 or a ``velocity`` of the wrong shape.
+        ValueError: ``n_steps`` < 1, ``time_step`` <= 0, a ``velocity`` of the wrong shape, or
+            a scene of several meshes (this check handles one).
     """
+    _ = scene.mesh  # one mesh: a one-line error else, before any computation
     dtype = scene.structure.K.dtype
     n = scene.structure.K.shape[0]
     velocity = jnp.asarray(velocity, dtype)
