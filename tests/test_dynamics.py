@@ -95,6 +95,39 @@ def test_disc_inertia_and_torsional_frequency(accessory):
     assert float(model.critical_speeds()[1]) == pytest.approx(2 * math.pi * f_ref / p.pinion.teeth)
 
 
+def test_torsional_model_is_a_structure_of_rotations_with_one_mesh(accessory):
+    """The torsional model is a structure plus its mesh, like the 3D scenes: one-rotation nodes
+    (motor, pinion, gear, load), the torque on the first and last, the mesh's members giving
+    V = cos β_b (r_b1, −r_b2) on the pinion and gear rotations for every cell on the flanks
+    (none off them); M and K as written out by hand (diagonal inertias, shafts e eᵀ k)."""
+    case, scene = accessory
+    s4 = TorsionalDynamics(
+        scene.mesh, 1e-3, 2e-3, 5e-3, 4e-2, 2e4, 6e4, has_motor=True, has_load=True
+    )
+    st = s4.structure
+    assert [st.node(k) for k in ("input", "pinion", "gear", "output")] == [0, 1, 2, 3]
+    assert s4.torque_dofs == (0, 3)
+    m = scene.mesh
+    cb, r1, r2 = (
+        float(v) for v in (jnp.cos(m.base_helix_angle), m.base_radius_pinion, m.base_radius_gear)
+    )
+    cells = m.cells(0.3 * float(m.mesh_period_angle))
+    V = np.asarray(s4.cell_vectors(cells))
+    on = np.asarray(cells.mask)
+    np.testing.assert_allclose(
+        V[on], np.broadcast_to([0.0, cb * r1, -cb * r2, 0.0], V[on].shape), rtol=1e-15
+    )
+    assert not V[~on].any()
+    np.testing.assert_allclose(np.asarray(s4.mass()), np.diag([5e-3, 1e-3, 2e-3, 4e-2]), rtol=1e-15)
+    K = np.zeros((4, 4))
+    K[np.ix_([0, 1], [0, 1])] += 2e4 * np.array([[1, -1], [-1, 1]])
+    K[np.ix_([2, 3], [2, 3])] += 6e4 * np.array([[1, -1], [-1, 1]])
+    np.testing.assert_allclose(np.asarray(s4.stiffness()), K, rtol=1e-15)
+    np.testing.assert_allclose(
+        np.asarray(s4.external_load(2.0)), [2.0, 0.0, 0.0, -2.0 * r2 / r1], rtol=1e-15
+    )
+
+
 def test_four_dof_modes_energy_and_damping(accessory):
     case, scene = accessory
     s4 = TorsionalDynamics(

@@ -8,8 +8,10 @@ bodies coupled to the cells, seed II-2).
 
 The 3D scenes hold their gear meshes as a tuple of :class:`GearMesh` (the base-plane mesh model on
 its line of action between two gear members); a member is a :class:`RigidMember` (a 6-DOF gear
-node, seed (2.9)) or a :class:`FlexibleMember` (a condensed body through the interface, seed
-(2.11)–(2.30)).
+node, seed (2.9)), a :class:`TorsionalMember` (a gear's rotation alone: the torsional model) or a
+:class:`FlexibleMember` (a condensed body through the interface, seed (2.11)–(2.30)). The
+torsional model, the lumped 3D and the hybrid scenes are structures with their meshes
+(:class:`AssembledScene`).
 """
 
 from ._gear_mesh import GearMesh as GearMesh, line_of_action as line_of_action
@@ -17,6 +19,7 @@ from ._hybrid import HybridPair as HybridPair, hybrid_pair as hybrid_pair
 from ._interface import (
     FlexibleMember as FlexibleMember,
     RigidMember as RigidMember,
+    TorsionalMember as TorsionalMember,
     mortar_weights as mortar_weights,
 )
 from ._lumped3d import (

@@ -53,6 +53,7 @@ from .._util import as_float
 __all__ = [
     "FlexibleMember",
     "RigidMember",
+    "TorsionalMember",
     "body_dof_index",
     "flexible_member",
     "mortar_weights",
@@ -105,6 +106,26 @@ class RigidMember(eqx.Module):
         the node's DOFs are the whole window)."""
         v = rigid_node_vector(points, self.centre, self.sign * line["normal"])
         return jnp.asarray(self.dofs), v, jnp.array(False)
+
+
+class TorsionalMember(eqx.Module):
+    """A rigid gear body that only turns, one coordinate φ (rad, positive in the gear's direction
+    of motion): V = ±cos β_b r_b on it (seed (2.9) reduced to the rotation: the pinion advancing
+    closes the flanks, the gear advancing opens them)."""
+
+    dof: int = eqx.field(static=True)  # the rotation's global DOF
+    sign: float = eqx.field(static=True)  # +1 pinion (its base radius r_b1), -1 gear (r_b2)
+
+    @property
+    def width(self) -> int:
+        return 1
+
+    def window(self, points, mask, line, theta, mesh, pad=0):
+        """Global DOF (1,), structure vectors on it (L, N, 1), no overflow (``points``, ``line``
+        and ``pad`` unused: the vector is the same for every cell)."""
+        r = mesh.base_radius_pinion if self.sign > 0 else mesh.base_radius_gear
+        v = self.sign * jnp.cos(mesh.base_helix_angle) * r
+        return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
 
 
 class FlexibleMember(eqx.Module):

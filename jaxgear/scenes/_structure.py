@@ -37,8 +37,10 @@ class Structure(eqx.Module):
         spin_stiffness: spin softening plus centrifugal stress stiffening per unit pinion speed²
             (n, n) (zeros likewise).
         f_centrifugal: centrifugal load per unit pinion speed² (n,) (zeros likewise).
-        nodes: static ((name, first DOF of its 6), ...): the gear nodes ``pinion`` and ``gear``
-            and the torque nodes ``input`` and ``output``.
+        nodes: static ((name, first DOF), ...): the gear nodes ``pinion`` and ``gear`` and the
+            torque nodes ``input`` and ``output``.
+        node_dofs: static, the DOFs of each node: 6 for shaft nodes (u_x, u_y, u_z, φ_x, φ_y,
+            φ_z), 1 for a torsional structure (the rotation φ_z alone).
     """
 
     K: Float[Array, "n n"]
@@ -53,6 +55,7 @@ class Structure(eqx.Module):
     reaction_names: tuple = eqx.field(static=True)
     reaction_member: tuple = eqx.field(static=True)
     nodes: tuple = eqx.field(static=True)
+    node_dofs: int = eqx.field(static=True, default=6)
 
     @property
     def size(self) -> int:
@@ -60,7 +63,7 @@ class Structure(eqx.Module):
         return self.K.shape[0]
 
     def node(self, name: str) -> int:
-        """First DOF of the 6-DOF node ``name``.
+        """First DOF of the node ``name`` (its :attr:`node_dofs` follow).
 
         Raises:
             ValueError: no node of that name (the message lists the names).
@@ -118,8 +121,9 @@ class AssembledScene(Scene):
 
     @property
     def torque_dofs(self) -> tuple[int, int]:
-        """φ_z DOF of the input and output torque nodes."""
-        return self.structure.node("input") + 5, self.structure.node("output") + 5
+        """φ_z DOF of the input and output torque nodes (the last DOF of each node)."""
+        last = self.structure.node_dofs - 1
+        return self.structure.node("input") + last, self.structure.node("output") + last
 
     @property
     def reaction_names(self) -> tuple:

@@ -13,8 +13,11 @@ from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel
 from .._util import as_float
+from ._gear_mesh import pair_mesh
+from ._interface import TorsionalMember
 from ._rigid import RigidMesh
 from ._scene import DynamicScene, Scene
+from ._structure import AssembledScene, Structure
 
 __all__ = ["RelativeApproach", "TorsionalDynamics", "TorsionalPair", "disc_inertia"]
 
@@ -55,33 +58,94 @@ def disc_inertia(density: float, radius: float, width: float) -> float:
     return density * math.pi * width * radius**4 / 2.0
 
 
-class TorsionalDynamics(DynamicScene):
-    """Torsional model: (motor,) pinion, gear (, load) rotations (rad), seed I-3; docs/dynamics.md,
-    "Scenes".
+class TorsionalDynamics(AssembledScene, DynamicScene):
+    """Torsional model: (motor,) pinion, gear (, load) rotations (rad, each positive in its
+    direction of motion), seed I-3; docs/dynamics.md, "Scenes". A structure of one-rotation
+    nodes (:class:`~jaxgear.scenes.Structure` with ``node_dofs = 1``) with one gear mesh between
+    two :class:`~jaxgear.scenes.TorsionalMember` (V = cos β_b (r_b1, −r_b2) on the pinion and
+    gear rotations).
 
-    Attributes:
-        mesh: the gear mesh.
+    Args:
+        mesh: the gear mesh (:class:`jaxgear.MeshModel`).
         inertia_pinion, inertia_gear: polar inertias I1, I2 (kg·m²).
-        inertia_motor, inertia_load: motor and load inertias (kg·m²), used when ``has_motor`` /
+        inertia_motor, inertia_load: motor and load inertias (kg·m²), used with ``has_motor`` /
             ``has_load``.
         shaft_motor, shaft_load: torsional stiffnesses of the motor-pinion and gear-load shafts
-            (N·m/rad).
-        has_motor, has_load: static flags (DOF count 2 + has_motor + has_load).
+            (N·m/rad), used likewise.
+        has_motor, has_load: static flags (DOF count 2 + has_motor + has_load; the input torque
+            acts on the first rotation, the balancing output torque on the last).
+
+    The structure's stiffness parts are ``motor_shaft`` and ``load_shaft`` (those present); it
+    has no bearing.
     """
 
-    mesh: MeshModel
-    inertia_pinion: Float[Array, ""] = eqx.field(converter=as_float)
-    inertia_gear: Float[Array, ""] = eqx.field(converter=as_float)
-    inertia_motor: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
-    inertia_load: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
-    shaft_motor: Float[Array, ""] = eqx.field(converter=as_float, default=1e5)
-    shaft_load: Float[Array, ""] = eqx.field(converter=as_float, default=1e5)
-    has_motor: bool = eqx.field(static=True, default=False)
-    has_load: bool = eqx.field(static=True, default=False)
+    has_motor: bool = eqx.field(static=True)
+    has_load: bool = eqx.field(static=True)
+
+    def __init__(
+        self,
+        mesh: MeshModel,
+        inertia_pinion,
+        inertia_gear,
+        inertia_motor=1.0,
+        inertia_load=1.0,
+        shaft_motor=1e5,
+        shaft_load=1e5,
+        *,
+        has_motor: bool = False,
+        has_load: bool = False,
+    ):
+        n = 2 + int(has_motor) + int(has_load)
+        p, g = int(has_motor), int(has_motor) + 1
+        dtype = jnp.result_type(float)
+        eye = jnp.eye(n, dtype=dtype)
+        inertias = [as_float(inertia_pinion), as_float(inertia_gear)]
+        if has_motor:
+            inertias = [as_float(inertia_motor)] + inertias
+        if has_load:
+            inertias = inertias + [as_float(inertia_load)]
+        names, parts = [], []
+        if has_motor:
+            e = eye[0] - eye[p]
+            names.append("motor_shaft")
+            parts.append(as_float(shaft_motor) * jnp.outer(e, e))
+        if has_load:
+            e = eye[g] - eye[g + 1]
+            names.append("load_shaft")
+            parts.append(as_float(shaft_load) * jnp.outer(e, e))
+        parts_K = jnp.stack(parts) if parts else jnp.zeros((0, n, n), dtype)
+        zeros = jnp.zeros((n, n), dtype)
+        self.structure = Structure(
+            K=jnp.sum(parts_K, axis=0),
+            M=jnp.diag(jnp.stack(inertias)),
+            parts_K=parts_K,
+            C_bearing=jnp.zeros((0, 0), dtype),
+            reaction=jnp.zeros((0, n), dtype),
+            gyroscopic=zeros,
+            spin_stiffness=zeros,
+            f_centrifugal=jnp.zeros((n,), dtype),
+            part_names=tuple(names),
+            reaction_names=(),
+            reaction_member=(),
+            nodes=(("pinion", p), ("gear", g), ("input", 0), ("output", n - 1)),
+            node_dofs=1,
+        )
+        cb = jnp.cos(mesh.base_helix_angle)
+        te = cb * mesh.base_radius_pinion * eye[p] - cb * mesh.base_radius_gear * eye[g]
+        origin = jnp.zeros((3,), dtype)
+        # a torsional mesh has no place in space: its line of action stays at the origin (the
+        # members' vectors do not depend on it)
+        line = {"tangent_point": origin, "direction": origin, "normal": origin, "roll_start": 0.0}
+        members = (TorsionalMember(p, 1.0), TorsionalMember(g, -1.0))
+        self.meshes = (pair_mesh(mesh, line, members, te),)
+        ratio = mesh.base_radius_gear / mesh.base_radius_pinion
+        self.f_torque = eye[0] - ratio * eye[n - 1]
+        self.has_motor = bool(has_motor)
+        self.has_load = bool(has_load)
 
     @property
     def n_dof(self) -> int:
-        return 2 + int(self.has_motor) + int(self.has_load)
+        return self.structure.size
 
     @property
     def pinion_index(self) -> int:
@@ -91,49 +155,15 @@ class TorsionalDynamics(DynamicScene):
     def gear_index(self) -> int:
         return int(self.has_motor) + 1
 
-    def _unit(self, i):
-        return jnp.zeros(self.n_dof, dtype=self.mesh.face_width.dtype).at[i].set(1.0)
+    @property
+    def inertia_pinion(self) -> Float[Array, ""]:
+        """I1 (kg·m²)."""
+        return self.structure.M[self.pinion_index, self.pinion_index]
 
-    def _v(self):
-        cb = jnp.cos(self.mesh.base_helix_angle)
-        return cb * self.mesh.base_radius_pinion * self._unit(
-            self.pinion_index
-        ) - cb * self.mesh.base_radius_gear * self._unit(self.gear_index)
-
-    def mass(self):
-        d = [self.inertia_pinion, self.inertia_gear]
-        if self.has_motor:
-            d = [self.inertia_motor] + d
-        if self.has_load:
-            d = d + [self.inertia_load]
-        return jnp.diag(jnp.stack(d))
-
-    def stiffness_parts(self):
-        out = {}
-        if self.has_motor:
-            e = self._unit(0) - self._unit(1)
-            out["motor_shaft"] = self.shaft_motor * jnp.outer(e, e)
-        if self.has_load:
-            g = self.gear_index
-            e = self._unit(g) - self._unit(g + 1)
-            out["load_shaft"] = self.shaft_load * jnp.outer(e, e)
-        return out
-
-    def stiffness(self):
-        K = jnp.zeros((self.n_dof, self.n_dof), dtype=self.mesh.face_width.dtype)
-        for part in self.stiffness_parts().values():
-            K = K + part
-        return K
-
-    def external_load(self, torque):
-        ratio = self.mesh.base_radius_gear / self.mesh.base_radius_pinion
-        return torque * self._unit(0) - torque * ratio * self._unit(self.n_dof - 1)
-
-    def cell_vectors(self, cells):
-        return jnp.broadcast_to(self._v(), cells.s.shape + (self.n_dof,))
-
-    def te_vector(self):
-        return self._v()
+    @property
+    def inertia_gear(self) -> Float[Array, ""]:
+        """I2 (kg·m²)."""
+        return self.structure.M[self.gear_index, self.gear_index]
 
     def rigid_modes(self):
         rp, rg = 1.0 / self.mesh.base_radius_pinion, 1.0 / self.mesh.base_radius_gear
