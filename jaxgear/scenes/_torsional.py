@@ -166,7 +166,10 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         return self.structure.M[self.gear_index, self.gear_index]
 
     def rigid_modes(self):
-        rp, rg = 1.0 / self.mesh.base_radius_pinion, 1.0 / self.mesh.base_radius_gear
+        # the pair's rigid rotation: its gear ratio (every mesh of the pair's structure, such as
+        # the halves of a split face, has the same base radii)
+        pair = self.meshes[0].base_plane
+        rp, rg = 1.0 / pair.base_radius_pinion, 1.0 / pair.base_radius_gear
         r = jnp.where(jnp.arange(self.n_dof) <= self.pinion_index, rp, rg)
         return r[:, None]
 
