@@ -101,7 +101,7 @@ def test_torsional_model_is_a_structure_of_rotations_with_one_mesh(accessory):
     (motor, pinion, gear, load), the torque on the first and last, the mesh's members giving
     V = cos β_b (r_b1, −r_b2) on the pinion and gear rotations for every cell on the flanks
     (none off them); M and K as written out by hand (diagonal inertias, shafts e eᵀ k)."""
-    case, scene = accessory
+    scene = accessory[1]
     s4 = TorsionalDynamics(
         scene.mesh, 1e-3, 2e-3, 5e-3, 4e-2, 2e4, 6e4, has_motor=True, has_load=True
     )
