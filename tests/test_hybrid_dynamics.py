@@ -6,7 +6,11 @@ limit at low speed."""
 from __future__ import annotations
 
 import functools
+import os
 import pathlib
+import subprocess
+import sys
+import textwrap
 
 import equinox as eqx
 import jax
@@ -319,6 +323,41 @@ def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response
         np.testing.assert_allclose(
             np.asarray(getattr(parts, name)), ref, rtol=0, atol=1e-9 * scale, err_msg=name
         )
+
+
+def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(fem_prep_cache):
+    """With several devices a hybrid sweep runs one row of speeds per device (each row one
+    speed after the other): on 4 CPU devices (a separate process), 6 speeds (padded to 8) give
+    the one-device sweep's dynamic factors, TE RMS and result codes to 1e-10."""
+    script = textwrap.dedent(f"""
+        import jax, numpy as np
+        jax.config.update("jax_enable_x64", True)
+        import fem_prep
+        from jaxgear import io as jio
+        from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+        from jaxgear.dynamics import static_scene
+        case = jio.load_case({str(DATA / "hybrid-test-case.toml")!r})
+        body = fem_prep.condensed({str(DATA / "hybrid-test-wheel.toml")!r})
+        model = dynamic_model(static_scene(case, bodies=(None, body))[0], case.modifications,
+                              case.torque)
+        kw = dict(integrator=Newmark(16), window=SteadyState(3, 1))
+        speeds = np.linspace(300.0, 1800.0, 6)
+        a = speed_sweep(model, speeds, shard=True, **kw).results
+        b = speed_sweep(model, speeds, shard=False, **kw).results
+        assert len(jax.local_devices()) == 4
+        np.testing.assert_allclose(a.dynamic_factor, b.dynamic_factor, rtol=1e-10)
+        np.testing.assert_allclose(a.te_rms, b.te_rms, rtol=1e-10)
+        assert list(np.asarray(a.result)) == list(np.asarray(b.result)) == [0] * 6
+        print("OK", len(jax.local_devices()))
+    """)
+    env = dict(
+        os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=900
+    )
+    assert r.returncode == 0, r.stderr[-3000:]
+    assert "OK 4" in r.stdout
 
 
 def _rigid_properties(scene, body):

@@ -120,11 +120,16 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     return steps_for_mode(w, angle, sp)
 
 
-def _shard(speeds):
+def _shard(speeds, rows: bool = False):
+    """``speeds`` (S,) padded with its last speed to a multiple of the local devices and placed
+    across them (``jax.sharding``): (S',) split along its axis, or with ``rows`` (devices,
+    S'/devices), one row per device. Returns (the placed array, the padding)."""
     devices = jax.local_devices()
     n = len(devices)
     pad = (-speeds.shape[0]) % n
     padded = jnp.concatenate([speeds, jnp.full((pad,), speeds[-1], speeds.dtype)])
+    if rows:
+        padded = padded.reshape(n, -1)
     mesh = jax.sharding.Mesh(np.array(devices), ("speed",))
     sharding = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("speed"))
     return jax.device_put(padded, sharding), pad
@@ -179,9 +184,11 @@ def speed_sweep(
             together (one compilation per distinct N_s); the kept histories of a sweep with
             several N_s are subsampled to the smallest one (every speed's scalar outputs use its
             own full resolution); continuation carries the state across them.
-        direction: "independent" (every speed from the static equilibrium: ``jax.vmap`` sharded
-            over the local devices with ``jax.sharding`` when there are several and ``shard``
-            for a lumped model, ``jax.lax.map`` for a hybrid one), or, lumped models only, "up"
+        direction: "independent" (every speed from the static equilibrium: ``jax.vmap`` for a
+            lumped model, ``jax.lax.map`` for a hybrid one (one n² effective compliance at a
+            time); with several local devices and ``shard``, the speeds are placed across them
+            with ``jax.sharding``: a lumped model's vmap is split, a hybrid model runs one row of
+            speeds per device), or, lumped models only, "up"
             or "down" (continuation: each speed starts from the previous steady state,
             ``lax.scan``), or "both" (up and down; ``SweepResult.down`` in the order of
             ``speeds``; one vmap over the two scans when not chunked).
@@ -240,9 +247,15 @@ def speed_sweep(
                 start=start,
             )
         cfg = _hybrid.run_config(model, integrator, window, n, blowup, states)
+        n_dev = len(jax.local_devices()) if shard else 1
 
         def run(w):
-            return _hybrid.sweep(model, w, law, cfg, omega)
+            if n_dev == 1 or isinstance(w, jax.core.Tracer):
+                return _hybrid.sweep(model, w, law, cfg, omega)
+            # one row of speeds per device, each row one speed after the other
+            rows, _ = _shard(w, rows=True)
+            r = _hybrid.sweep(model, rows, law, cfg, omega)
+            return jax.tree.map(lambda a: a.reshape((-1,) + a.shape[2:])[: w.shape[0]], r)
 
         if chunk_size is None or isinstance(sp, jax.core.Tracer):
             return SweepResult(sp, run(sp))
