@@ -317,9 +317,9 @@ def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response
         )
     # the rims to 1e-9 of the rim's motion (a spur wheel's axial motion is round-off, 1e-17 m)
     rim = np.max(np.abs(np.asarray(whole.rim_radial)))
-    for name, scale in (("bearing_force", None), ("rim_radial", rim), ("rim_axial", rim)):
+    for name, rim_scale in (("bearing_force", None), ("rim_radial", rim), ("rim_axial", rim)):
         ref = np.asarray(getattr(whole, name))
-        scale = np.max(np.abs(ref)) if scale is None else scale
+        scale = np.max(np.abs(ref)) if rim_scale is None else rim_scale
         np.testing.assert_allclose(
             np.asarray(getattr(parts, name)), ref, rtol=0, atol=1e-9 * scale, err_msg=name
         )
