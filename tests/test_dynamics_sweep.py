@@ -1,16 +1,14 @@
 """Dynamic model: the [scene] table, `jaxgear sweep`, sharded sweeps, diffrax solvers."""
 
 import json
-import os
 import pathlib
 import re
-import subprocess
-import sys
 import textwrap
 import warnings
 
 import numpy as np
 import pytest
+from _devices import run_on_cpu_devices
 from _toml import ACCESSORY_PAIR
 
 import jaxgear as jg
@@ -234,19 +232,7 @@ def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
         np.testing.assert_allclose(a.dynamic_factor, b.dynamic_factor, rtol=1e-10)
         print("OK", len(jax.local_devices()))
     """)
-    env = dict(
-        os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu"
-    )
-    r = subprocess.run(
-        [sys.executable, "-c", script],
-        cwd=ROOT,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert r.returncode == 0, r.stderr[-3000:]
-    assert "OK 4" in r.stdout
+    assert "OK 4" in run_on_cpu_devices(script)
 
 
 @pytest.fixture(scope="module")

@@ -6,10 +6,7 @@ limit at low speed."""
 from __future__ import annotations
 
 import functools
-import os
 import pathlib
-import subprocess
-import sys
 import textwrap
 
 import equinox as eqx
@@ -18,6 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _devices import run_on_cpu_devices
 from _scene_solve import half_face_meshes
 
 import fem_prep
@@ -350,19 +348,7 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(fem_prep_
         assert list(np.asarray(a.result)) == list(np.asarray(b.result)) == [0] * 6
         print("OK", len(jax.local_devices()))
     """)
-    env = dict(
-        os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=4", JAX_PLATFORMS="cpu"
-    )
-    r = subprocess.run(
-        [sys.executable, "-c", script],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=900,
-        check=False,
-    )
-    assert r.returncode == 0, r.stderr[-3000:]
-    assert "OK 4" in r.stdout
+    assert "OK 4" in run_on_cpu_devices(script, timeout=900)
 
 
 def _rigid_properties(scene, body):
