@@ -79,9 +79,6 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
     has no bearing.
     """
 
-    has_motor: bool = eqx.field(static=True)
-    has_load: bool = eqx.field(static=True)
-
     def __init__(
         self,
         mesh: MeshModel,
@@ -140,20 +137,28 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         self.meshes = (pair_mesh(mesh, line, members, te),)
         ratio = mesh.base_radius_gear / mesh.base_radius_pinion
         self.f_torque = eye[0] - ratio * eye[n - 1]
-        self.has_motor = bool(has_motor)
-        self.has_load = bool(has_load)
 
     @property
     def n_dof(self) -> int:
         return self.structure.size
 
     @property
+    def has_motor(self) -> bool:
+        """A motor rotation drives the pinion through the motor shaft."""
+        return "motor_shaft" in self.structure.part_names
+
+    @property
+    def has_load(self) -> bool:
+        """The gear drives a load rotation through the load shaft."""
+        return "load_shaft" in self.structure.part_names
+
+    @property
     def pinion_index(self) -> int:
-        return int(self.has_motor)
+        return self.structure.node("pinion")
 
     @property
     def gear_index(self) -> int:
-        return int(self.has_motor) + 1
+        return self.structure.node("gear")
 
     @property
     def inertia_pinion(self) -> Float[Array, ""]:
