@@ -132,7 +132,7 @@ def _shaft_on_coupled_bearings(case, stiffening):
     n1 = 6 * nodes.size
     K = np.asarray(scene.structure.K)[:n1, :n1]
     f = np.zeros(n1)
-    g = scene.meshes[0].members[0].dofs[0]  # the pinion's gear node
+    g = scene.members[0].dofs[0]  # the pinion's gear node
     f[g : g + 6] = LOAD
     keep = np.setdiff1d(np.arange(n1), [5])  # rz of node 0 pinned (the free drive rotation)
     x = np.zeros(n1)

@@ -118,7 +118,8 @@ def test_rigid_body_motion_gives_the_rigid_node_vector(
     sc = static_scene(case, bodies=(pinion_body, body))[0]
     member = sc.members[member_index]
     assert isinstance(member, FlexibleMember)
-    n = np.asarray(sc.meshes[0].normal) * member.sign  # the member's outward normal n_m
+    side = 1.0 if member_index == 0 else -1.0  # the pinion drives (n_m = n), the gear n_m = −n
+    n = np.asarray(sc.meshes[0].normal) * side  # the member's outward normal n_m
     O2 = np.asarray(member.centre)
     vectors = jax.jit(lambda th: sc.cell_vectors(sc.mesh.cells(th)))
     for theta in (0.013, 0.2, 1.7):
@@ -298,7 +299,7 @@ def test_a_too_narrow_rim_window_is_widened(case, scene):
 
     member = scene.members[1]
     narrow = eqx.tree_at(
-        lambda s: s.meshes[0].members,
+        lambda s: s.members,
         scene,
         (scene.members[0], dataclasses.replace(member, n_window=2)),
     )

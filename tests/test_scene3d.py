@@ -72,8 +72,14 @@ def test_structure_nodes_and_a_second_mesh_are_refused_by_one_mesh_entries(case,
     sc = solved[0].scene
     st = sc.structure
     assert sc.torque_dofs == (st.node("input") + 5, st.node("output") + 5)
-    pinion, gear = sc.meshes[0].members
+    pinion, gear = (sc.members[g] for g in sc.meshes[0].gears)  # (driving, driven)
     assert (pinion.dofs[0], gear.dofs[0]) == (st.node("pinion"), st.node("gear"))
+    with pytest.raises(
+        ValueError,
+        match=r"^mesh 0: gears = \(0, 2\) must be two different indices of the scene's 2 gear "
+        r"members \(0 to 1\)$",
+    ):
+        dataclasses.replace(sc, meshes=(dataclasses.replace(sc.meshes[0], gears=(0, 2)),))
     with pytest.raises(
         ValueError,
         match=r"^structure node 'idler' does not exist: allowed pinion, gear, input, output$",

@@ -1,9 +1,12 @@
 """A gear mesh placed in a structure: the base-plane mesh model on its line of action, between two
 gear members (seed (2.9), (2.30); docs/design.md, "Structure and dynamics").
 
-A scene holds a tuple of meshes; each mesh gives the structure vectors of its cells from its
-members (:mod:`._interface`), so that a structure with several meshes (a gear train) is the same
-code with a longer tuple.
+A scene holds its gear members (the gear bodies of its structure) and a tuple of meshes; each
+mesh names its driving and driven gear among the scene's members and gives the structure vectors
+of its cells from them (:mod:`._interface`), so that a structure with several meshes (a gear
+train, an idler driven in one mesh and driving in the next) is the same code with a longer
+tuple. The role of a gear in a mesh (driving or driven, hence its outward normal and the flank
+loaded) belongs to the mesh, not to the gear.
 
 Frame: z along the (parallel) axes. The line of action is the unit vector t, tangent to the
 driving gear's base circle at T1; a cell at base-plane coordinates (s, z) sits at
@@ -76,13 +79,16 @@ def line_of_action(pair: GearPair) -> dict:
 
 
 class GearMesh(eqx.Module):
-    """One gear mesh of a scene: the base-plane mesh model on its line of action between two gear
-    members.
+    """One gear mesh of a scene: the base-plane mesh model on its line of action between two of
+    the scene's gear members.
 
     Attributes:
-        base_plane: the mesh model (geometry, stiffness table, cell layout).
-        members: (driving, driven), each a :class:`~jaxgear.scenes.RigidMember` or
-            :class:`~jaxgear.scenes.FlexibleMember`.
+        base_plane: the mesh model (geometry, stiffness table, cell layout; its "pinion" is this
+            mesh's driving gear).
+        gears: static (driving, driven): the indices of the two gears in the scene's
+            ``members`` (each a :class:`~jaxgear.scenes.RigidMember`,
+            :class:`~jaxgear.scenes.TorsionalMember` or :class:`~jaxgear.scenes.FlexibleMember`).
+            The driving gear's outward flank normal is n, the driven gear's −n.
         tangent_point: T1 (m), (3,). direction: t, (3,). normal: n, (3,). roll_start: ρ_A (m).
         te: the TE vector u of this mesh (n,): u·X is the flank-normal approach of the two gears'
             rigid rotations, cos β_b (r_b1 φ_1 + r_b2 φ_2) with each φ positive in its gear's
@@ -90,12 +96,12 @@ class GearMesh(eqx.Module):
     """
 
     base_plane: MeshModel
-    members: tuple
     tangent_point: Float[Array, " 3"] = eqx.field(converter=as_float)
     direction: Float[Array, " 3"] = eqx.field(converter=as_float)
     normal: Float[Array, " 3"] = eqx.field(converter=as_float)
     roll_start: Float[Array, ""] = eqx.field(converter=as_float)
     te: Float[Array, " n"] = eqx.field(converter=as_float)
+    gears: tuple = eqx.field(static=True, default=(0, 1))
 
     def points(self, cells: Cells) -> Float[Array, "L N 3"]:
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
@@ -110,44 +116,47 @@ class GearMesh(eqx.Module):
             self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
 
-    def _parts(self, cells: Cells, pad: int):
+    def _parts(self, members: tuple, cells: Cells, pad: int):
         P = self.points(cells)
         line = self.line()
         return [
-            m.window(P, cells.mask, line, cells.theta, self.base_plane, pad) for m in self.members
+            members[g].window(P, cells.mask, line, cells.theta, self.base_plane, side, pad)
+            for g, side in zip(self.gears, (1.0, -1.0), strict=True)
         ]
 
-    def window(self, cells: Cells, pad: int = 0) -> tuple[Int[Array, " w"], Float[Array, "L N w"]]:
-        """The members' window DOFs (w,) and the structure vectors on them (L, N, w), cells off
-        the flanks zeroed; ``pad`` rim stations more on each side of a flexible member's
-        window."""
-        parts = self._parts(cells, pad)
+    def window(
+        self, members: tuple, cells: Cells, pad: int = 0
+    ) -> tuple[Int[Array, " w"], Float[Array, "L N w"]]:
+        """The window DOFs (w,) of the mesh's two gears (taken from the scene's ``members``) and
+        the structure vectors on them (L, N, w), cells off the flanks zeroed; ``pad`` rim
+        stations more on each side of a flexible member's window."""
+        parts = self._parts(members, cells, pad)
         idx = jnp.concatenate([p[0] for p in parts])
         V = jnp.concatenate([p[1] for p in parts], axis=-1)
         return idx, jnp.where(cells.mask[..., None], V, 0.0)
 
-    def window_overflow(self, cells: Cells) -> Bool[Array, ""]:
+    def window_overflow(self, members: tuple, cells: Cells) -> Bool[Array, ""]:
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
-        return jnp.any(jnp.stack([p[2] for p in self._parts(cells, 0)]))
+        return jnp.any(jnp.stack([p[2] for p in self._parts(members, cells, 0)]))
 
-    def cell_vectors(self, cells: Cells, n: int) -> Float[Array, "L N n"]:
+    def cell_vectors(self, members: tuple, cells: Cells, n: int) -> Float[Array, "L N n"]:
         """The structure vectors V (seed (2.9), (2.30)) of the cells over all n coordinates."""
-        idx, Vw = self.window(cells)
+        idx, Vw = self.window(members, cells)
         V = jnp.zeros(cells.s.shape + (n,), Vw.dtype)
         return V.at[..., idx].add(Vw)
 
 
-def pair_mesh(base_plane: MeshModel, line: dict, members: tuple, te) -> GearMesh:
+def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
     """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`) with TE vector
-    ``te`` (n,)."""
+    ``te`` (n,), between the scene's members 0 (the pinion, driving) and 1 (the gear)."""
     return GearMesh(
         base_plane,
-        members,
         line["tangent_point"],
         line["direction"],
         line["normal"],
         line["roll_start"],
         te,
+        gears=(0, 1),
     )
 
 

@@ -58,8 +58,9 @@ class HybridPair(AssembledScene):
             gyroscopic terms). Its rotating-frame matrices are those of the members whose frames
             turn (a flexible body and its shaft): the dynamics add Ω·gyroscopic·Ẋ (Coriolis, skew)
             and Ω²·spin_stiffness·X at pinion speed Ω.
-        meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`; their members
-            :class:`~jaxgear.scenes.RigidMember` or :class:`~jaxgear.scenes.FlexibleMember`).
+        meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`).
+        members: the gear members (pinion, gear), each a
+            :class:`~jaxgear.scenes.RigidMember` or a :class:`~jaxgear.scenes.FlexibleMember`.
         G: compliance on the complement of the drive rotation with the output rotation held
             (n, n). N: the drive rotation, scaled to a unit base-plane approach (n, 1).
         f_torque: load per unit pinion torque (n,) (:class:`AssembledScene`).
@@ -86,11 +87,11 @@ class HybridPair(AssembledScene):
     def window(self, cells: Cells, pad: int = 0):
         """Window DOFs (w,) and structure vectors on them (L, N, w), masked cells zeroed;
         ``pad`` rim stations more on each side of a flexible member's window."""
-        return only_mesh(self.meshes).window(cells, pad)
+        return only_mesh(self.meshes).window(self.members, cells, pad)
 
     def window_overflow(self, cells: Cells):
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
-        return only_mesh(self.meshes).window_overflow(cells)
+        return only_mesh(self.meshes).window_overflow(self.members, cells)
 
     # -- the cell space -----------------------------------------------------------------------
     def cell_space(self, row: CellRow, torque, speed=0.0):
@@ -367,7 +368,7 @@ def hybrid_pair(
         centre = jnp.asarray(line["centres"][m])
         if body is None:
             g = d["gear_dofs"][m]
-            members.append(RigidMember(centre, 1.0 if m == 0 else -1.0, tuple(range(g, g + 6))))
+            members.append(RigidMember(centre, tuple(range(g, g + 6))))
         else:
             members.append(flexible_member(pair, m, body, gidxs[m], centre, zone, mesh))
     structure = Structure(
@@ -386,7 +387,8 @@ def hybrid_pair(
     )
     scene = HybridPair(
         structure=structure,
-        meshes=(pair_mesh(mesh, line, tuple(members), te),),
+        meshes=(pair_mesh(mesh, line, te),),
+        members=tuple(members),
         G=jnp.asarray(G),
         N=jnp.asarray(Nv[:, None]),
         f_torque=jnp.asarray(f_t),
@@ -468,7 +470,7 @@ def _fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
             dataclasses.replace(m, n_window=m.n_window + 1) if isinstance(m, FlexibleMember) else m
             for m in scene.members
         )
-        scene = eqx.tree_at(lambda s: s.meshes[0].members, scene, members)
+        scene = eqx.tree_at(lambda s: s.members, scene, members)
     raise ValueError("hybrid scene: the contact zone does not fit a rim window (internal error)")
 
 

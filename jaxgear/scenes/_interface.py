@@ -56,6 +56,7 @@ __all__ = [
     "TorsionalMember",
     "body_dof_index",
     "flexible_member",
+    "loaded_flank",
     "mortar_weights",
     "rigid_node_vector",
 ]
@@ -94,37 +95,37 @@ class RigidMember(eqx.Module):
     """A rigid gear body at a 6-DOF shaft node: V = [n_m, (M − O) × n_m] (seed (2.9))."""
 
     centre: Float[Array, " 3"] = eqx.field(converter=as_float)
-    sign: float = eqx.field(static=True)  # +1 pinion (n_m = n), -1 gear (n_m = -n)
     dofs: tuple = eqx.field(static=True)  # the node's 6 global DOFs
 
     @property
     def width(self) -> int:
         return 6
 
-    def window(self, points, mask, line, theta, mesh, pad=0):
-        """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow (``pad``: unused,
-        the node's DOFs are the whole window)."""
-        v = rigid_node_vector(points, self.centre, self.sign * line["normal"])
+    def window(self, points, mask, line, theta, mesh, side, pad=0):
+        """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow. ``side``: +1 the
+        mesh's driving gear (n_m = n), −1 its driven gear (n_m = −n); ``pad``: unused, the
+        node's DOFs are the whole window."""
+        v = rigid_node_vector(points, self.centre, side * line["normal"])
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
 class TorsionalMember(eqx.Module):
     """A rigid gear body that only turns, one coordinate φ (rad, positive in the gear's direction
-    of motion): V = ±cos β_b r_b on it (seed (2.9) reduced to the rotation: the pinion advancing
-    closes the flanks, the gear advancing opens them)."""
+    of motion): V = ±cos β_b r_b on it (seed (2.9) reduced to the rotation: the driving gear
+    advancing closes the flanks, the driven gear advancing opens them)."""
 
     dof: int = eqx.field(static=True)  # the rotation's global DOF
-    sign: float = eqx.field(static=True)  # +1 pinion (its base radius r_b1), -1 gear (r_b2)
 
     @property
     def width(self) -> int:
         return 1
 
-    def window(self, points, mask, line, theta, mesh, pad=0):
-        """Global DOF (1,), structure vectors on it (L, N, 1), no overflow (``points``, ``line``
-        and ``pad`` unused: the vector is the same for every cell)."""
-        r = mesh.base_radius_pinion if self.sign > 0 else mesh.base_radius_gear
-        v = self.sign * jnp.cos(mesh.base_helix_angle) * r
+    def window(self, points, mask, line, theta, mesh, side, pad=0):
+        """Global DOF (1,), structure vectors on it (L, N, 1), no overflow. ``side``: +1 the
+        mesh's driving gear (its base radius r_b1), −1 its driven gear (r_b2); ``points``,
+        ``line`` and ``pad`` unused: the vector is the same for every cell."""
+        r = mesh.base_radius_pinion if side > 0 else mesh.base_radius_gear
+        v = side * jnp.cos(mesh.base_helix_angle) * r
         return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
 
 
@@ -140,11 +141,13 @@ class FlexibleMember(eqx.Module):
         station0: body angle of station 0 (rad). pitch_angle: 2π/Z. rim_radius: R of the master
             nodes (m). (the root points lie on the rim faces; the gear's r_f is checked to lie within 2 % of R). root_half_angle: ψ_f (rad).
         base_radius: r_b (m). base_half_angle: half the angular tooth thickness at the base
-            circle, ψ(r) = ψ_b − inv(arccos(r_b/r)) (rad). offset: φ_0 (rad). z_offset: body z
-            of the mesh face centre (m).
-        sign: +1 pinion, −1 gear. flank: ±1, the side of the contact point where the tooth
-            centre line lies (angle φ_c = φ_M + flank ψ(r_M)). spin: ±1 and ratio: θ_member =
-            ratio θ turned in the ``spin`` sense about z. n_window: stations in the window.
+            circle, ψ(r) = ψ_b − inv(arccos(r_b/r)) (rad). offset: φ_0 (rad), the body frame's
+            angle at θ = 0. spin: ±1 and ratio: θ_member = ratio θ turned in the ``spin`` sense
+            about z. n_window: stations in the window.
+
+    The member is the body; its role in a mesh (driving or driven, the flank loaded) is the
+    mesh's (:func:`loaded_flank`), passed to :meth:`window` as ``side``. A point's body z is its
+    fixed-frame z less the centre's (z = 0 at mid-rim).
     """
 
     centre: Float[Array, " 3"] = eqx.field(converter=as_float)
@@ -158,10 +161,7 @@ class FlexibleMember(eqx.Module):
     base_radius: Float[Array, ""] = eqx.field(converter=as_float)
     base_half_angle: Float[Array, ""] = eqx.field(converter=as_float)
     offset: Float[Array, ""] = eqx.field(converter=as_float)
-    z_offset: Float[Array, ""] = eqx.field(converter=as_float)
     ratio: Float[Array, ""] = eqx.field(converter=as_float)
-    sign: float = eqx.field(static=True)
-    flank: float = eqx.field(static=True)
     spin: float = eqx.field(static=True)
     n_window: int = eqx.field(static=True)
 
@@ -173,22 +173,24 @@ class FlexibleMember(eqx.Module):
         """φ_rot: angle of the body frame in the fixed frame at pinion angle θ (rad)."""
         return self.offset + self.spin * self.ratio * theta
 
-    def tooth_centre_angle(self, points):
-        """Fixed-frame polar angle of the centre line of the tooth in contact at ``points``."""
+    def tooth_centre_angle(self, points, flank):
+        """Fixed-frame polar angle of the centre line of the tooth in contact at ``points`` on the
+        flank ``flank`` (±1, :func:`loaded_flank`): φ_c = φ_M + flank ψ(r_M)."""
         m = points - _lead(self.centre, points)
         r = jnp.maximum(jnp.hypot(m[..., 0], m[..., 1]), self.base_radius)
         a = jnp.arccos(self.base_radius / r)
         psi = self.base_half_angle - (jnp.tan(a) - a)
-        return jnp.arctan2(m[..., 1], m[..., 0]) + self.flank * psi
+        return jnp.arctan2(m[..., 1], m[..., 0]) + flank * psi
 
-    def coefficients(self, points, normal, p1, p2):
-        """c_1, c_2 (fixed frame, (..., 3) each) of (2.19)-(2.20) for contact points M (..., 3)
-        and root points M_p1, M_p2 (fixed frame, in-plane, (..., 2))."""
+    def coefficients(self, points, outward, p1, p2):
+        """c_1, c_2 (fixed frame, (..., 3) each) of (2.19)-(2.20) for contact points M (..., 3),
+        the member's outward flank normal n_m (3,) (n for the mesh's driving gear, −n for its
+        driven gear) and root points M_p1, M_p2 (fixed frame, in-plane, (..., 2))."""
         mp = 0.5 * (p1 + p2)  # chord midpoint [R]: exact for a rigid rotation
         d = p2 - p1
         kappa = jnp.stack([d[..., 1], -d[..., 0], jnp.zeros_like(d[..., 0])], -1)
         kappa = kappa / jnp.sum(d * d, axis=-1, keepdims=True)  # (M_p1M_p2 × Z)/|M_p1M_p2|²
-        nm = self.sign * jnp.broadcast_to(normal, points.shape)
+        nm = jnp.broadcast_to(outward, points.shape)
         arm = points[..., :2] - mp
         lam = arm[..., 0] * nm[..., 1] - arm[..., 1] * nm[..., 0]  # Z·(M_pM × n_m)
         c1 = 0.5 * nm + lam[..., None] * kappa
@@ -227,11 +229,12 @@ class FlexibleMember(eqx.Module):
         )
         return i.astype(jnp.int32), j, w, face
 
-    def window(self, points, mask, line, theta, mesh: MeshModel, pad: int = 0):
+    def window(self, points, mask, line, theta, mesh: MeshModel, side, pad: int = 0):
         """Global DOFs of the window (w,), the structure vectors on them (L, N, w) and whether a
         cell on the flanks reaches beyond the window (the builder checks that it never does).
-        ``pad``: stations added on each side of the window (the wider window that holds every
-        window of a mesh period, for the mesh damping that turns with the wheel).
+        ``side``: +1 the mesh's driving gear, −1 its driven gear. ``pad``: stations added on
+        each side of the window (the wider window that holds every window of a mesh period, for
+        the mesh damping that turns with the wheel).
 
         ``line``: the fixed-frame ``normal`` n and ``direction`` t of the line of action and the
         zone centre ``zone`` (3,) (a point where the window is centred).
@@ -245,15 +248,16 @@ class FlexibleMember(eqx.Module):
         offsets = jnp.array([-0.5, 0.0, 0.5], points.dtype) * dz
         step = offsets[:, None] * (ez - tb * line["direction"])[None, :]  # (3 nodes, xyz)
         pts = points[..., None, :] + step.reshape((1,) * (points.ndim - 1) + step.shape)
-        phi_c = self.tooth_centre_angle(pts) - rot  # body frame, (L, N, 3)
+        flank = loaded_flank(self.centre, line, side)
+        phi_c = self.tooth_centre_angle(pts, flank) - rot  # body frame, (L, N, 3)
         psi = self.root_half_angle
         phi = jnp.stack([phi_c - psi, phi_c + psi], axis=-2)  # (L, N, 2 points, 3 nodes)
-        zb = jnp.broadcast_to((pts[..., 2] + self.z_offset)[..., None, :], phi.shape)
+        zb = jnp.broadcast_to((pts[..., 2] - self.centre[2])[..., None, :], phi.shape)
         i, j, w, face = self.face_weights(phi, zb)
         # root points M_p1, M_p2 on the face at the slice centre, in the fixed frame
         pk = _rot(rot, jnp.concatenate([face[..., 1, :], jnp.zeros_like(face[..., 1, :1])], -1))
         pk = pk[..., :2] + _lead(self.centre[:2], pk[..., :2])  # (L, N, 2, 2)
-        c1, c2 = self.coefficients(points, line["normal"], pk[..., 0, :], pk[..., 1, :])
+        c1, c2 = self.coefficients(points, side * line["normal"], pk[..., 0, :], pk[..., 1, :])
         # coefficients in the body frame: c·u_fixed = (R(−φ_rot) c)·u_body
         cb = jnp.stack([_rot(-rot, c1), _rot(-rot, c2)], axis=-2)  # (L, N, 2, 3)
         w = w * jnp.asarray(MORTAR, points.dtype).reshape((1,) * (w.ndim - 3) + (3, 1, 1))
@@ -280,6 +284,18 @@ class FlexibleMember(eqx.Module):
         idx = self.rim_dofs[stations].reshape(-1)
         overflow = jnp.any(mask[..., None, None] & (il + 1 >= n_win))
         return idx, V.reshape(L, N, -1), overflow
+
+
+def loaded_flank(centre, line, side):
+    """The flank of a gear loaded in a mesh: ±1, the side of the contact point on which the
+    centre line of the tooth in contact lies, seen about the gear's axis through ``centre`` (3,)
+    (φ_c = φ_M + flank ψ(r_M)). The tooth material is on the side −side·n of the contact (−n for
+    the mesh's driving gear, ``side`` = +1; +n for its driven gear, ``side`` = −1), taken at the
+    zone centre of ``line`` (:meth:`jaxgear.scenes.GearMesh.line`); an idler is driven on one
+    flank in one mesh and drives on the other in the next."""
+    rz = jnp.asarray(line["zone"]) - jnp.asarray(centre)
+    e_phi = jnp.stack([-rz[1], rz[0]])
+    return jnp.sign(-side * (e_phi @ jnp.asarray(line["normal"])[:2]))
 
 
 def body_dof_index(body) -> dict:
@@ -354,14 +370,6 @@ def flexible_member(
     )
     at = pair.transverse_pressure_angle
     psi_b = pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + involute(at)
-    sign = 1.0 if member == 0 else -1.0
-    normal = np.asarray(line["normal"])
-    zone = np.asarray(line["zone"])
-    # tooth material side of the contact: -n for the driving pinion, +n for the gear
-    side = -sign * normal
-    rz = zone - centre
-    e_phi = np.array([-rz[1], rz[0], 0.0]) / math.hypot(rz[0], rz[1])
-    flank = float(np.sign(e_phi @ side))
     ratio = 1.0 if member == 0 else pair.pinion.teeth / pair.gear.teeth
     spin = 1.0 if member == 0 else -1.0
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
@@ -380,14 +388,12 @@ def flexible_member(
         base_radius=pair.base_radii[member],
         base_half_angle=psi_b,
         offset=0.0,
-        z_offset=0.0,
         ratio=ratio,
-        sign=sign,
-        flank=flank,
         spin=spin,
         n_window=n_window,
     )
     # frame offset: at θ = 0 the tooth in contact at the zone centre (mid-face) is on a station
-    phi_c = float(fm.tooth_centre_angle(jnp.asarray(zone)))
+    flank = loaded_flank(centre, line, 1.0 if member == 0 else -1.0)
+    phi_c = float(fm.tooth_centre_angle(jnp.asarray(line["zone"]), flank))
     k = round((phi_c - float(ang[0])) / pitch)
     return eqx.tree_at(lambda f: f.offset, fm, as_float(phi_c - float(ang[0]) - k * pitch))

@@ -292,8 +292,8 @@ class LumpedPair(AssembledScene, DynamicScene):
         structure: the assembled shafts, bearings and gear bodies
             (:class:`~jaxgear.scenes.Structure`; its parts ``pinion_shaft``, ``gear_shaft``,
             ``bearings``).
-        meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`, members
-            :class:`~jaxgear.scenes.RigidMember`).
+        meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`).
+        members: the gear members (pinion, gear), :class:`~jaxgear.scenes.RigidMember`.
         rigid: the rigid-body rotation mode (n,) (V·r = 0, F·r = 0).
     """
 
@@ -441,7 +441,7 @@ def lumped_pair(
     )
     line = line_of_action(pair)
     members = tuple(
-        RigidMember(line["centres"][m], 1.0 if m == 0 else -1.0, tuple(range(g, g + 6)))
+        RigidMember(line["centres"][m], tuple(range(g, g + 6)))
         for m, g in enumerate(d["gear_dofs"])
     )
     n = d["M"].shape[0]
@@ -474,7 +474,8 @@ def lumped_pair(
     )
     return LumpedPair(
         structure=structure,
-        meshes=(pair_mesh(mesh, line, members, te),),
+        meshes=(pair_mesh(mesh, line, te),),
+        members=members,
         f_torque=jnp.asarray(f_torque),
         rigid=jnp.asarray(d["rigid"]),
     )

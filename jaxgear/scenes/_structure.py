@@ -4,8 +4,8 @@ that a scene's gear meshes act on (docs/design.md, "Structure and dynamics").
 The members are assembled once, in NumPy, into n generalised coordinates: 6 per shaft node
 (u_x, u_y, u_z, φ_x, φ_y, φ_z; :mod:`._lumped3d`), then each condensed body's rim master and modal
 coordinates (:mod:`._hybrid`). A :class:`Structure` holds the assembled matrices and the names of
-its nodes; the meshes (:mod:`._gear_mesh`) attach to its gear nodes through their members, and the
-operating point (torques, speed) stays an argument of the methods that load it.
+its nodes; the scene holds its gear members (the gear bodies on those nodes) and the meshes
+(:mod:`._gear_mesh`) act between two of them each, and the operating point (torques, speed) stays an argument of the methods that load it.
 """
 
 from __future__ import annotations
@@ -89,12 +89,15 @@ class Structure(eqx.Module):
 
 
 class AssembledScene(Scene):
-    """A scene made of an assembled :class:`Structure` and a tuple of gear meshes
-    (:class:`~jaxgear.scenes.GearMesh`) attached to its gear nodes.
+    """A scene made of an assembled :class:`Structure`, its gear members and a tuple of gear
+    meshes (:class:`~jaxgear.scenes.GearMesh`) between them.
 
     Attributes:
         structure: the assembled structure (n coordinates).
-        meshes: the gear meshes.
+        meshes: the gear meshes, each naming its (driving, driven) gears among ``members``.
+        members: the gear members of the structure (:class:`~jaxgear.scenes.RigidMember`,
+            :class:`~jaxgear.scenes.TorsionalMember`, :class:`~jaxgear.scenes.FlexibleMember`),
+            for a pair (pinion, gear). A gear that meshes twice (an idler) is one member.
         f_torque: the external load per unit pinion torque (n,): +1 on the input node's φ_z,
             and the output torque that balances it through the gear ratio (the load resists the
             driven gear's rotation).
@@ -102,7 +105,17 @@ class AssembledScene(Scene):
 
     structure: Structure
     meshes: tuple
+    members: tuple
     f_torque: Float[Array, " n"]
+
+    def __check_init__(self):
+        for k, mesh in enumerate(self.meshes):
+            a, b = mesh.gears
+            if a == b or not (0 <= a < len(self.members) and 0 <= b < len(self.members)):
+                raise ValueError(
+                    f"mesh {k}: gears = {mesh.gears} must be two different indices of the "
+                    f"scene's {len(self.members)} gear members (0 to {len(self.members) - 1})"
+                )
 
     def external_load(self, torque) -> Float[Array, " n"]:
         """Generalised external forces T f_torque (n,) at pinion torque T (N·m)."""
@@ -112,12 +125,6 @@ class AssembledScene(Scene):
     def mesh(self) -> MeshModel:
         """The base-plane model of the scene's one mesh."""
         return only_mesh(self.meshes).base_plane
-
-    @property
-    def members(self) -> tuple:
-        """The gear members of the structure, (pinion, gear): those of its first mesh (every
-        mesh of a pair's structure, such as the halves of a split face, acts between them)."""
-        return self.meshes[0].members
 
     @property
     def torque_dofs(self) -> tuple[int, int]:
@@ -163,7 +170,7 @@ class AssembledScene(Scene):
         return self.bearing_forces_fixed_frame(theta, x @ self.structure.reaction.T)
 
     def cell_vectors(self, cells: Cells) -> Float[Array, "L N n"]:
-        return only_mesh(self.meshes).cell_vectors(cells, self.structure.size)
+        return only_mesh(self.meshes).cell_vectors(self.members, cells, self.structure.size)
 
     @property
     def base_planes(self) -> tuple[MeshModel, ...]:
@@ -176,7 +183,7 @@ class AssembledScene(Scene):
         n = self.structure.size
         return CellRow.concat(
             [
-                CellRow.of(c, m.cell_vectors(c, n), d)
+                CellRow.of(c, m.cell_vectors(self.members, c, n), d)
                 for m, c, d in zip(self.meshes, cells, delta0, strict=True)
             ]
         )
@@ -189,7 +196,7 @@ class AssembledScene(Scene):
         _check_meshes(self, cells)
         rows = []
         for m, c, d in zip(self.meshes, cells, delta0, strict=True):
-            idx, Vw = m.window(c, pad)
+            idx, Vw = m.window(self.members, c, pad)
             rows.append(CellRow.of(c, Vw, d, idx))
         return CellRow.concat(rows)
 

@@ -133,8 +133,8 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         # a torsional mesh has no place in space: its line of action stays at the origin (the
         # members' vectors do not depend on it)
         line = {"tangent_point": origin, "direction": origin, "normal": origin, "roll_start": 0.0}
-        members = (TorsionalMember(p, 1.0), TorsionalMember(g, -1.0))
-        self.meshes = (pair_mesh(mesh, line, members, te),)
+        self.members = (TorsionalMember(p), TorsionalMember(g))
+        self.meshes = (pair_mesh(mesh, line, te),)
         ratio = mesh.base_radius_gear / mesh.base_radius_pinion
         self.f_torque = eye[0] - ratio * eye[n - 1]
 
