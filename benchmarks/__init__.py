@@ -20,8 +20,11 @@ from ._baseline_dynamics import (
 )
 from ._charts import thin_tick_labels as thin_tick_labels
 from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stability_map
-from ._hybrid import bench_hybrid as bench_hybrid
-from ._hybrid_sweep import bench_hybrid_sweep as bench_hybrid_sweep
+from ._hybrid import bench_hybrid as bench_hybrid, hybrid_chart as hybrid_chart
+from ._hybrid_sweep import (
+    bench_hybrid_sweep as bench_hybrid_sweep,
+    hybrid_sweep_chart as hybrid_sweep_chart,
+)
 from ._optimise import bench_optimise as bench_optimise
 from ._quasi_static import bench_quasi_static as bench_quasi_static
 from ._stiffness import bench_stiffness as bench_stiffness

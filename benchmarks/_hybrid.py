@@ -135,7 +135,7 @@ def _with_window(scene, member: int, n_window: int):
 
     members = list(scene.members)
     members[member] = dataclasses.replace(members[member], n_window=int(n_window))
-    return eqx.tree_at(lambda s: s.meshes[0].members, scene, tuple(members))
+    return eqx.tree_at(lambda s: s.members, scene, tuple(members))
 
 
 def _flex_index(scene) -> int:
@@ -507,7 +507,7 @@ def bench_hybrid(
 
     os.makedirs(out_dir, exist_ok=True)
     write_json(os.path.join(out_dir, "bench_hybrid.json"), out)
-    _chart(out, os.path.join(out_dir, "bench_hybrid.png"))
+    hybrid_chart(out, os.path.join(out_dir, "bench_hybrid.png"))
     if verbose:
         print(_table(out))
     return out
@@ -641,7 +641,9 @@ def _profile(sc, mods, T, P, repeats, hybrid_exact) -> dict:
 # report
 
 
-def _chart(out: dict, path: str) -> None:
+def hybrid_chart(out: dict, path: str) -> None:
+    """Draw the chart of the hybrid benchmark (bench_hybrid.json: speed against accuracy of the hybrid curves and maps) from its JSON record ``out`` into
+    the PNG ``path`` (written atomically); ``jaxgear bench`` calls it after a run."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.ticker import LogFormatter

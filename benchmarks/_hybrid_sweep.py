@@ -755,7 +755,7 @@ def bench_hybrid_sweep(
 
     os.makedirs(out_dir, exist_ok=True)
     write_json(os.path.join(out_dir, "bench_hybrid_sweep.json"), out)
-    _chart(out, os.path.join(out_dir, "bench_hybrid_sweep.png"))
+    hybrid_sweep_chart(out, os.path.join(out_dir, "bench_hybrid_sweep.png"))
     if verbose:
         print(_table(out))
     return out
@@ -771,7 +771,9 @@ _STYLE = {
 }
 
 
-def _chart(out: dict, path: str) -> None:
+def hybrid_sweep_chart(out: dict, path: str) -> None:
+    """Draw the chart of the hybrid sweep benchmark (bench_hybrid_sweep.json) from its JSON record ``out`` into
+    the PNG ``path`` (written atomically); ``jaxgear bench`` calls it after a run."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
     from matplotlib.ticker import NullFormatter

@@ -43,10 +43,12 @@ from ._stiffness import (
     iso6336_pair_blank_factor as iso6336_pair_blank_factor,
     iso6336_single_stiffness as iso6336_single_stiffness,
     iso6336_virtual_teeth as iso6336_virtual_teeth,
+    member_compliance as member_compliance,
     sainsot_coefficients as sainsot_coefficients,
     sainsot_fit_check as sainsot_fit_check,
     stiffness_table as stiffness_table,
     tooth_geometry as tooth_geometry,
+    tooth_mass as tooth_mass,
     weber_profile as weber_profile,
 )
 from .scenes import (

@@ -44,11 +44,13 @@ __all__ = [
     "iso6336_pair_blank_factor",
     "iso6336_single_stiffness",
     "iso6336_virtual_teeth",
+    "member_compliance",
     "member_foundations",
     "sainsot_coefficients",
     "sainsot_fit_check",
     "stiffness_table",
     "tooth_geometry",
+    "tooth_mass",
     "weber_profile",
 ]
 
@@ -347,7 +349,7 @@ def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.polynomial.legendre.leggauss(n)
 
 
-def _member_compliance(
+def member_compliance(
     pair: GearPair,
     member: int,
     rho: np.ndarray,
@@ -356,7 +358,9 @@ def _member_compliance(
     foundation: str,
     n_quad: int = 400,
 ) -> np.ndarray:
-    """Bending + shear + compression (1.2) and foundation (1.3) compliance of one tooth.
+    """Bending + shear + compression (seed (1.2)) and foundation (seed (1.3)) compliance of one
+    tooth of the pair (``member`` 0 pinion, 1 gear), Hertz not included (the pair's Weber
+    profile :func:`weber_profile` adds it).
 
     ``foundation``: "weber" (constants of (1.3)), "sainsot" (Sainsot et al. 2004 fit at
     h_f = r_f / r_int, θ_f = S_f / (2 r_f)), "none".
@@ -430,7 +434,7 @@ def weber_profile(
     rho2 = pair.roll_distance(s, 1)
     E, nu = youngs_modulus, poisson_ratio
     f1, f2 = member_foundations(foundation)
-    c = _member_compliance(pair, 0, rho1, E, nu, f1) + _member_compliance(pair, 1, rho2, E, nu, f2)
+    c = member_compliance(pair, 0, rho1, E, nu, f1) + member_compliance(pair, 1, rho2, E, nu, f2)
     # Hertzian approach (1.1): d_i = distance from the contact point to the tooth centre line
     d_i = [
         np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
@@ -514,7 +518,7 @@ def stiffness_table(
             )
             c = c + fe(rho[i], tooth_only=foundation[i] == "none")
         # Weber's Hertzian approach, from weber_profile's own code path: 1/k_t − (tooth terms)
-        c_none = sum(_member_compliance(pair, i, rho[i], E, nu, "none") for i in (0, 1))
+        c_none = sum(member_compliance(pair, i, rho[i], E, nu, "none") for i in (0, 1))
         c_hertz = 1.0 / (cb * weber_profile(pair, s, E, nu, line_load, "none")) - c_none
         k = 1.0 / (c + c_hertz) / cb
     else:
@@ -533,3 +537,17 @@ def stiffness_table(
             )
         )
     return s, k
+
+
+def tooth_mass(pair: GearPair, member: int, density: float, width: float) -> tuple[float, float]:
+    """Mass (kg) and centroid radius (m) of one tooth of ``member`` (0 pinion, 1 gear) above the
+    root circle, over the face width ``width`` (m) at density ``density`` (kg/m³): the chordal
+    thickness of the tooth form integrated from r_f to r_a (64-point Gauss–Legendre). It is the
+    part of the gear that a condensed FE body meshed up to the root circle does not have."""
+    rf, ra = pair.root_radii[member], pair.tip_radii[member]
+    x, w = np.polynomial.legendre.leggauss(64)
+    r = rf + 0.5 * (x + 1) * (ra - rf)
+    w = 0.5 * w * (ra - rf)
+    d = _chordal_thickness(pair, member, r)
+    area = float(np.sum(w * d))
+    return density * area * width, float(np.sum(w * d * r)) / area

@@ -32,8 +32,7 @@ from jaxgear.dynamics import (
     static_scene,
 )
 from jaxgear.io import SchemaError, parse_scene
-from jaxgear.scenes import Bearing, ShaftSpec, bearing_matrix, lumped_pair
-from jaxgear.scenes._lumped3d import _shaft  # a shaft's FE nodes (tests/test_layout.py)
+from jaxgear.scenes import Bearing, ShaftSpec, bearing_matrix, lumped_pair, shaft_matrices
 
 DATA = pathlib.Path(__file__).parent / "data"
 
@@ -128,7 +127,7 @@ def _shaft_on_coupled_bearings(case, stiffening):
         inertias=((1e-3, 2e-3), (1e-3, 2e-3)),
         youngs_modulus=E,
     )
-    nodes = _shaft(shaft, E, E / 2.6, 7800.0)[0]
+    nodes = shaft_matrices(shaft, E, E / 2.6, 7800.0).nodes
     n1 = 6 * nodes.size
     K = np.asarray(scene.structure.K)[:n1, :n1]
     f = np.zeros(n1)
@@ -239,7 +238,7 @@ def test_bearing_damping_gives_the_one_dof_damping_ratio_of_the_axial_mode(case)
     Minv = np.linalg.inv(M)
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ C]])
     lam, vec = scipy.linalg.eig(A)
-    n1 = 6 * _shaft(pinion, 210e9, 210e9 / 2.6, 7800.0)[0].size
+    n1 = 6 * shaft_matrices(pinion, 210e9, 210e9 / 2.6, 7800.0).nodes.size
     uz = np.zeros(n, dtype=bool)
     uz[2:n1:6] = True
     amplitude = np.linalg.norm(vec[:n], axis=0)
@@ -261,8 +260,8 @@ def test_bearing_damping_is_assembled_at_the_bearing_nodes(case):
     Cd[0, 4] = Cd[4, 0] = 30.0
     scene, pinion, gear, _ = _axial_scene(case, 1e8, 0.0, extra_damping=Cd)
     E, G = 210e9, 210e9 / 2.6
-    nodes1 = _shaft(pinion, E, G, 7800.0)[0]
-    nodes2 = _shaft(gear, E, G, 7800.0)[0]
+    nodes1 = shaft_matrices(pinion, E, G, 7800.0).nodes
+    nodes2 = shaft_matrices(gear, E, G, 7800.0).nodes
     n1 = 6 * nodes1.size
     n = n1 + 6 * nodes2.size
     ref = np.zeros((n, n))
@@ -494,7 +493,7 @@ def test_hybrid_scene_assembles_matrices_and_exposes_bearing_damping(hybrid):
     sc = static_scene(case.replace(scene=spec), bodies=(None, body))[0]
     n = base.structure.K.shape[0]
     # the bearing at 0 mm is node 0 of the gear shaft, whose DOFs follow the pinion shaft's
-    i = 6 * _shaft(spec.pinion_shaft, 210e9, 80e9, 7800.0)[0].size
+    i = 6 * shaft_matrices(spec.pinion_shaft, 210e9, 80e9, 7800.0).nodes.size
     dK = np.asarray(sc.structure.K) - np.asarray(base.structure.K)
     np.testing.assert_allclose(dK[i : i + 6, i : i + 6], Kc - K0, rtol=1e-12, atol=1e-3)
     dK[i : i + 6, i : i + 6] = 0.0

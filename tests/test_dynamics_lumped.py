@@ -11,8 +11,7 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.dynamics import Newmark, SteadyState
-from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair, timoshenko_element
-from jaxgear.scenes._lumped3d import _shaft  # a shaft's FE nodes and matrices (test_layout.py)
+from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair, shaft_matrices, timoshenko_element
 
 
 def _timoshenko_ss(E, G, rho, d, L, kappa, mode=1):
@@ -67,7 +66,8 @@ def test_timoshenko_shaft_matches_simply_supported_beam(d):
         bearings=(Bearing(0.0, pinned, pinned, 0.0), Bearing(L, pinned, 0.0, 0.0)),
         elements=24,
     )
-    nodes, K, M, Kb, *_ = _shaft(spec, E, G, rho)
+    shaft = shaft_matrices(spec, E, G, rho)
+    nodes, K, M, Kb = shaft.nodes, shaft.K, shaft.M, shaft.K_bearing
     bending = _first_bending_pair(nodes, K + Kb, M, L)  # x–z and y–z planes
     w_ref = _timoshenko_ss(E, G, rho, d, L, kappa)
     np.testing.assert_allclose(bending, w_ref, rtol=2e-3)
@@ -134,7 +134,7 @@ def test_structure_vectors_reduce_to_torsional_and_rigid_mode_is_free():
     V = V[np.asarray(cells.mask)]  # (cells on the flanks, n)
     p = case.pair
     cb, sb = math.cos(p.base_helix_angle), math.sin(p.base_helix_angle)
-    i, j = (member.dofs[0] for member in scene.meshes[0].members)  # the gear nodes
+    i, j = (member.dofs[0] for member in scene.members)  # the gear nodes
     # torsional part: cos β_b (r_b1 φ_z1 + r_b2 φ_z2), i.e. cos β_b (r_b1 θ1 − r_b2 θ2)
     np.testing.assert_allclose(V[..., i + 5], cb * p.base_radii[0], rtol=1e-12)
     np.testing.assert_allclose(V[..., j + 5], cb * p.base_radii[1], rtol=1e-12)

@@ -315,8 +315,6 @@ def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
     """The assembled mass is the body's condensed mass plus its teeth (not in the FE body, which
     ends at the root circle) lumped on the rim master nodes [R]: over the rim x DOFs the added
     mass is Z × the tooth mass (tooth area from the generated form × rim width × density)."""
-    from jaxgear.scenes._hybrid import _tooth_mass  # tests/test_layout.py
-
     member = scene.members[1]
     bd = np.asarray(member.body_dofs)
     rim_x = np.asarray(member.rim_dofs)[..., 0].ravel()  # global DOFs
@@ -324,7 +322,7 @@ def test_scene_mass_adds_the_teeth_on_the_rim(case, body, scene):
     added = float(np.asarray(scene.mass())[np.ix_(rim_x, rim_x)].sum()) - float(
         np.asarray(body.M)[np.ix_(local, local)].sum()
     )
-    mt, rt = _tooth_mass(case.pair, 1, case.density, 10e-3)
+    mt, rt = jg.tooth_mass(case.pair, 1, case.density, 10e-3)
     assert added == pytest.approx(30 * mt, rel=1e-9)
     assert case.pair.root_radii[1] < rt < case.pair.tip_radii[1]
     # the tooth area against the generated outline closed by the root arc (shoelace formula)

@@ -250,17 +250,10 @@ PRIVATE_IN_TESTS = {
     # 2): no public model is one; _newmark takes the integrator's configuration
     ("test_dynamics.py", "jaxgear.dynamics._lumped._newmark"),
     ("test_dynamics.py", "jaxgear.dynamics._settings._Config"),
-    # a shaft's FE node positions and unassembled K, M, K_b: LumpedPair does not expose them
-    ("test_bearing_matrices.py", "jaxgear.scenes._lumped3d._shaft"),
-    ("test_dynamics_lumped.py", "jaxgear.scenes._lumped3d._shaft"),
     # the hybrid integrator's per-period damping C(k) over a revolution: internal state
     ("test_hybrid_composite.py", "jaxgear.dynamics._hybrid"),
     # hybrid_pair takes no window size: a too narrow window is only reachable by hand
     ("test_hybrid.py", "jaxgear.scenes._hybrid._fit_windows"),
-    # one tooth's mass and centroid radius to 1e-9 (the scene gives only their sum on the rim)
-    ("test_hybrid.py", "jaxgear.scenes._hybrid._tooth_mass"),
-    # one member's tooth/foundation compliance (weber_profile gives the pair's, Hertz included)
-    ("test_tooth_fe.py", "jaxgear._stiffness._member_compliance"),
     # the exact tooth form, its fillet resolution and the old arc thickness patched in
     ("test_tooth_form.py", "jaxgear._stiffness"),
     # trace counts of the jitted inner functions (eqx.debug.assert_max_traces wraps those)
@@ -269,9 +262,6 @@ PRIVATE_IN_TESTS = {
     ("test_traces.py", "optimise._minimise._solve"),
     ("test_traces.py", "optimise._master_curve._grid"),
     ("test_traces.py", "optimise._master_curve._refine"),
-    # the benchmark charts redrawn from their JSON (a benchmark run takes minutes)
-    ("test_plots.py", "benchmarks._hybrid"),
-    ("test_plots.py", "benchmarks._hybrid_sweep"),
     # patches of names an application module bound at import: run_case/scene/sweep steps around
     # ``jaxgear run``'s sweep, write_csv between two files, the sweep of ``jaxgear sweep``, the
     # fem-prep build (whether it starts; Ctrl-C in it), prepare on a cache hit

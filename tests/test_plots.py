@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 from matplotlib.ticker import LogFormatter, MaxNLocator
 
-from benchmarks import _hybrid, _hybrid_sweep, thin_tick_labels  # _chart: tests/test_layout.py
+from benchmarks import hybrid_chart, hybrid_sweep_chart, thin_tick_labels
 from jaxgear import load_map
 from jaxgear.cli import plots, scene_outputs
 from jaxgear.dynamics import nodal_diameter_resonances
@@ -440,9 +440,9 @@ def test_thin_tick_labels_hides_overlapping_ones():
 
 
 @pytest.mark.parametrize(
-    "module, name", [(_hybrid, "bench_hybrid"), (_hybrid_sweep, "bench_hybrid_sweep")]
+    "chart, name", [(hybrid_chart, "bench_hybrid"), (hybrid_sweep_chart, "bench_hybrid_sweep")]
 )
-def test_benchmark_charts_have_no_overlapping_tick_labels(tmp_path, module, name, monkeypatch):
+def test_benchmark_charts_have_no_overlapping_tick_labels(tmp_path, chart, name, monkeypatch):
     """The benchmark charts of docs/ redrawn from their JSON: no tick label over another."""
     figs = []
     save = Figure.savefig
@@ -452,7 +452,7 @@ def test_benchmark_charts_have_no_overlapping_tick_labels(tmp_path, module, name
         return save(self, *args, **kw)
 
     monkeypatch.setattr(Figure, "savefig", keep)
-    module._chart(json.loads((DOCS / f"{name}.json").read_text()), str(tmp_path / f"{name}.png"))
+    chart(json.loads((DOCS / f"{name}.json").read_text()), str(tmp_path / f"{name}.png"))
     _png(tmp_path / f"{name}.png")
     (fig,) = figs
     assert _tick_label_overlaps(fig) == []

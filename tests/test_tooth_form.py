@@ -446,7 +446,7 @@ def test_per_member_foundation_is_the_series_combination():
     assert np.all(k["weber"] < mixed) and np.all(mixed < k["none"])
     # series: 1/k = cos β_b (c_Hertz + c_1 + c_2); adding the pinion's foundation compliance only
     rho1 = pair.roll_distance(s, 0)
-    dc1 = stf._member_compliance(pair, 0, rho1, E, nu, "weber") - stf._member_compliance(
+    dc1 = stf.member_compliance(pair, 0, rho1, E, nu, "weber") - stf.member_compliance(
         pair, 0, rho1, E, nu, "none"
     )
     expected = 1 / (1 / k["none"] + math.cos(pair.base_helix_angle) * dc1)

@@ -25,9 +25,11 @@ from ._interface import (
 from ._lumped3d import (
     Bearing as Bearing,
     LumpedPair as LumpedPair,
+    ShaftMatrices as ShaftMatrices,
     ShaftSpec as ShaftSpec,
     bearing_matrix as bearing_matrix,
     lumped_pair as lumped_pair,
+    shaft_matrices as shaft_matrices,
     timoshenko_element as timoshenko_element,
 )
 from ._rigid import RigidMesh as RigidMesh

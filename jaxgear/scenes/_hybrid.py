@@ -34,7 +34,7 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow, Cells, MeshModel
 from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair
-from .._stiffness import _chordal_thickness
+from .._stiffness import tooth_mass as one_tooth_mass
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
 from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member
 from ._lumped3d import ShaftSpec, _lumped_arrays
@@ -175,18 +175,6 @@ class HybridPair(AssembledScene):
 # builder (NumPy, once per scene)
 
 
-def _tooth_mass(pair: GearPair, member: int, density: float, width: float):
-    """Mass (kg) and centroid radius (m) of one tooth above the root circle (the part of the
-    gear that the FE body, meshed up to the root circle, does not have) [R]."""
-    rf, ra = pair.root_radii[member], pair.tip_radii[member]
-    x, w = np.polynomial.legendre.leggauss(64)
-    r = rf + 0.5 * (x + 1) * (ra - rf)
-    w = 0.5 * w * (ra - rf)
-    d = _chordal_thickness(pair, member, r)
-    area = float(np.sum(w * d))
-    return density * area * width, float(np.sum(w * d * r)) / area
-
-
 def hybrid_pair(
     pair: GearPair,
     mesh: MeshModel,
@@ -291,7 +279,7 @@ def hybrid_pair(
         f_b = np.array(body.f_centrifugal, float)
         Mb0 = M_b.copy()
         if tooth_mass:
-            mt, rt = _tooth_mass(pair, m, density, float(np.ptp(coords[body.rim_grid[0], 2])))
+            mt, rt = one_tooth_mass(pair, m, density, float(np.ptp(coords[body.rim_grid[0], 2])))
             zn = coords[body.rim_grid[0], 2]
             share = np.zeros(zn.size)  # trapezoid weights across the face
             share[:-1] += 0.5 * np.diff(zn)

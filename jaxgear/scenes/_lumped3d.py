@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -42,9 +43,11 @@ from ._structure import AssembledScene, Structure
 __all__ = [
     "Bearing",
     "LumpedPair",
+    "ShaftMatrices",
     "ShaftSpec",
     "bearing_matrix",
     "lumped_pair",
+    "shaft_matrices",
     "timoshenko_element",
 ]
 
@@ -303,7 +306,43 @@ class LumpedPair(AssembledScene, DynamicScene):
         return self.rigid[:, None]
 
 
-def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
+class ShaftMatrices(NamedTuple):
+    """One shaft's FE model on its own 6 DOFs per node (u_x, u_y, u_z, φ_x, φ_y, φ_z), before
+    assembly (:func:`shaft_matrices`).
+
+    Attributes:
+        nodes: node positions along the shaft (m from its start), (k,).
+        K, M: Timoshenko stiffness and consistent mass, (6k, 6k) (N/m, N, N·m/rad; kg, kg·m).
+        K_bearing, C_bearing: the bearings' 6×6 stiffness and damping at their nodes, (6k, 6k).
+        gear_node, torque_node: node index of the gear and of the external torque.
+        reactions: ((name, row (6k,)), ...): the bearing force components k u (N), the
+            translational rows of each bearing's stiffness.
+    """
+
+    nodes: np.ndarray
+    K: np.ndarray
+    M: np.ndarray
+    K_bearing: np.ndarray
+    gear_node: int
+    torque_node: int
+    reactions: list
+    C_bearing: np.ndarray
+
+
+def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
+    """The FE model of one shaft: Timoshenko elements (:func:`timoshenko_element`) between nodes
+    at the shaft ends, the gear, the torque, each bearing and ``extra_z`` (m from the shaft
+    start), each segment refined to about ``spec.elements`` elements over the length, plus its
+    bearings.
+
+    Args:
+        spec: the shaft. E, G: Young's and shear moduli (Pa). rho: density (kg/m³).
+        extra_z: more node positions (m), for example where a condensed body's bearing nodes
+            attach.
+
+    Raises:
+        ValueError: a position outside the shaft (mm in the message).
+    """
     zs = {0.0, spec.length, spec.gear_z, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
     for z in zs:
         if not -1e-12 <= z <= spec.length + 1e-12:
@@ -346,7 +385,7 @@ def _shaft(spec: ShaftSpec, E, G, rho, extra_z=()):
                 r = np.zeros(n)
                 r[sl] = kb[d]
                 rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
-    return nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows, Cb
+    return ShaftMatrices(nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows, Cb)
 
 
 def _lumped_arrays(
@@ -367,8 +406,8 @@ def _lumped_arrays(
     body at its gear node (a condensed body replaces it).
     """
     G = E / (2 * (1 + nu))
-    s1 = _shaft(pinion_shaft, E, G, rho, extra_z[0])
-    s2 = _shaft(gear_shaft, E, G, rho, extra_z[1])
+    s1 = shaft_matrices(pinion_shaft, E, G, rho, extra_z[0])
+    s2 = shaft_matrices(gear_shaft, E, G, rho, extra_z[1])
     n1, n2 = 6 * s1[0].size, 6 * s2[0].size
     n = n1 + n2
     M = np.zeros((n, n))
