@@ -156,9 +156,19 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
 
 
+def mesh_separations(scene: Scene, mods: tuple, theta) -> list:
+    """:func:`separation` of every mesh of ``scene`` at the scene angle θ (rad), each at its mesh
+    angle (:meth:`jaxgear.scenes.Scene.mesh_angles`; θ for a pair's meshes) with its
+    modifications (``mods``: one per mesh): a list of (cells, max e, δ0), one per mesh."""
+    angles = scene.mesh_angles(theta)
+    return [
+        separation(p, m, a) for p, m, a in zip(scene.base_planes, mods, angles, strict=True)
+    ]
+
+
 def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactLaw):
     planes = scene.base_planes
-    parts = [separation(mesh, m, theta) for mesh, m in zip(planes, mods, strict=True)]
+    parts = mesh_separations(scene, mods, theta)
     cells = tuple(p[0] for p in parts)
     sol, x, u_x = scene.static_contact(cells, tuple(p[2] for p in parts), torque, speed, law)
     shapes = [c.mask.shape for c in cells]

@@ -47,7 +47,7 @@ from jaxtyping import Array, Float, Int
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._modifications import Modifications
-from .._quasi_static import per_mesh_modifications, quasi_static, separation
+from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static, separation
 from .._results import DynamicsResult
 from .._util import check_integer
 from ..scenes import FlexibleMember, HybridPair
@@ -180,8 +180,10 @@ def _revolution_periods(scene: HybridPair) -> int:
 
 
 def _cells(scene: HybridPair, theta) -> tuple:
-    """Every mesh's cells at pinion angle θ (rad), unmodified (layout, stiffness, mask)."""
-    return tuple(p.cells(theta) for p in scene.base_planes)
+    """Every mesh's cells at the scene angle θ (rad), each at its mesh angle, unmodified
+    (layout, stiffness, mask)."""
+    angles = scene.mesh_angles(theta)
+    return tuple(p.cells(a) for p, a in zip(scene.base_planes, angles, strict=True))
 
 
 def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
@@ -208,7 +210,7 @@ def _references(scene: HybridPair, mods, theta):
     mods = per_mesh_modifications(mods, len(planes))
 
     def at(th):
-        return jnp.stack([separation(p, m, th)[1] for p, m in zip(planes, mods, strict=True)])
+        return jnp.stack([part[1] for part in mesh_separations(scene, mods, th)])
 
     e_max = jax.vmap(at)(theta)
     return jnp.max(e_max, axis=0), e_max

@@ -41,7 +41,7 @@ from jaxtyping import Array, Bool, Float, Int
 from .._baseplane import MeshModel, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
-from .._quasi_static import mesh_positions, per_mesh_modifications, separation
+from .._quasi_static import mesh_positions, mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
 
@@ -108,7 +108,7 @@ def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
     theta = mesh_positions(planes[0], steps_per_period)
 
     def row(th):
-        parts = [separation(p, m, th) for p, m in zip(planes, mods, strict=True)]
+        parts = mesh_separations(scene, mods, th)
         r = scene.cell_row(tuple(p[0] for p in parts), tuple(p[2] for p in parts))
         return r.V, r.k, r.length, r.delta0, r.mask, jnp.stack([p[1] for p in parts])
 
@@ -126,7 +126,7 @@ def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple
     """Each mesh's cells at pinion angle θ and their δ0 = e_ref,k − e (m) from the meshes'
     time-constant references ``e_ref`` (m,) (:class:`MeshTable`; 0 off the flanks), for the
     solvers that take the cells at θ(t) instead of the table's rows. ``mods``: one per mesh."""
-    parts = [separation(p, m, theta) for p, m in zip(scene.base_planes, mods, strict=True)]
+    parts = mesh_separations(scene, mods, theta)
     delta0 = tuple(jnp.where(c.mask, d + (e_ref[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
     return tuple(p[0] for p in parts), delta0
 

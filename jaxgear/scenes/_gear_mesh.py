@@ -93,6 +93,12 @@ class GearMesh(eqx.Module):
         te: the TE vector u of this mesh (n,): u·X is the flank-normal approach of the two gears'
             rigid rotations, cos β_b (r_b1 φ_1 + r_b2 φ_2) with each φ positive in its gear's
             direction of motion (docs/design.md, "Modifications, initial separation and TE").
+        ratio, phase: the mesh angle θ_k = ratio θ + phase (rad): the angle of this mesh's
+            driving gear, in its own direction of motion, at the scene angle θ (the pinion's, or
+            the input gear's in a train), where the mesh takes its cells
+            (:meth:`MeshModel.cells`). 1 and 0 for the meshes of one pair; in a train, ratio is
+            the input's teeth over the driving gear's (with the idlers between) and phase the
+            mesh phasing of the layout.
     """
 
     base_plane: MeshModel
@@ -102,6 +108,12 @@ class GearMesh(eqx.Module):
     roll_start: Float[Array, ""] = eqx.field(converter=as_float)
     te: Float[Array, " n"] = eqx.field(converter=as_float)
     gears: tuple = eqx.field(static=True, default=(0, 1))
+    ratio: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
+    phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+
+    def angle(self, theta):
+        """The mesh angle θ_k = ratio θ + phase (rad) at the scene angle θ (rad)."""
+        return self.ratio * theta + self.phase
 
     def points(self, cells: Cells) -> Float[Array, "L N 3"]:
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
@@ -119,8 +131,9 @@ class GearMesh(eqx.Module):
     def _parts(self, members: tuple, cells: Cells, pad: int):
         P = self.points(cells)
         line = self.line()
+        theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         return [
-            members[g].window(P, cells.mask, line, cells.theta, self.base_plane, side, pad)
+            members[g].window(P, cells.mask, line, theta, self.base_plane, side, pad)
             for g, side in zip(self.gears, (1.0, -1.0), strict=True)
         ]
 

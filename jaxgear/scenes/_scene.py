@@ -60,6 +60,11 @@ class Scene(eqx.Module):
         """The base-plane model of each gear mesh (a scene of one mesh: its ``mesh``)."""
         return (self.mesh,)
 
+    def mesh_angles(self, theta) -> tuple:
+        """The angle at which each mesh takes its cells at the scene angle θ (rad): θ itself for
+        every mesh of a pair (a train's meshes: :meth:`GearMesh.angle`)."""
+        return (theta,) * len(self.base_planes)
+
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
         """The cells of every mesh (one :class:`Cells` per mesh, with their initial separations
         δ0 (m)) in one row on all coordinates (:meth:`CellRow.concat`)."""
@@ -140,6 +145,9 @@ class Grounded(Scene):
     @property
     def base_planes(self):
         return self.base.base_planes
+
+    def mesh_angles(self, theta):
+        return self.base.mesh_angles(theta)
 
     def cell_row(self, cells, delta0):
         return self.base.cell_row(cells, delta0)

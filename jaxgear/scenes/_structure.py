@@ -177,6 +177,11 @@ class AssembledScene(Scene):
         """The base-plane model of each gear mesh."""
         return tuple(m.base_plane for m in self.meshes)
 
+    def mesh_angles(self, theta) -> tuple:
+        """Each mesh's angle θ_k = ratio_k θ + phase_k at the scene angle θ (rad)
+        (:meth:`GearMesh.angle`)."""
+        return tuple(m.angle(theta) for m in self.meshes)
+
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
         """The cells of every mesh in one row on all n coordinates, mesh after mesh."""
         _check_meshes(self, cells)

@@ -1,0 +1,125 @@
+"""A gear train as a scene: several meshes on one structure, each at its own mesh angle.
+
+An idler train (input → idler → output) on a torsional structure is statically determinate: each
+mesh carries the same normal force and its transmission error is that of its pair alone at the
+same force and at the mesh's own angle θ_k = ratio_k θ + phase_k (the idler turns at z_in/z_idler
+of the input). The reference solves each pair on its own (:class:`jaxgear.TorsionalPair`).
+"""
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxgear as jg
+from jaxgear.scenes import AssembledScene, GearMesh, Structure, TorsionalMember
+
+jax.config.update("jax_enable_x64", True)
+
+MODULE = 2e-3
+ALPHA = math.radians(20.0)
+TEETH = (23, 37, 29)  # input, idler, output
+FACE = 15e-3
+SLICES = 4
+TORQUE = 120.0  # N·m on the input
+K_OUT = 1e5  # N·m/rad: the output shaft to the fixed load
+
+
+def _mesh(z_driving: int, z_driven: int) -> jg.MeshModel:
+    pair = jg.GearPair(
+        jg.Member(z_driving, face_width=FACE), jg.Member(z_driven, face_width=FACE), MODULE, ALPHA
+    )
+    s, k = jg.stiffness_table(pair, "weber")
+    return jg.MeshModel.from_pair(pair, s, k, SLICES)
+
+
+def _te_vector(mesh: jg.MeshModel, driving: int, driven: int, n: int):
+    """u·X = cos β_b (r_b1 φ_driving − r_b2 φ_driven), each rotation positive in its gear's
+    direction of motion."""
+    cb = jnp.cos(mesh.base_helix_angle)
+    eye = jnp.eye(n)
+    return cb * mesh.base_radius_pinion * eye[driving] - cb * mesh.base_radius_gear * eye[driven]
+
+
+def _idler_train(mesh_a, mesh_b, phase_b):
+    """Three rotations (input, idler, output), the output held by a shaft to a fixed load; mesh A
+    input → idler at the input angle, mesh B idler → output at the idler's angle
+    (z_in/z_idler) θ + ``phase_b``."""
+    n = 3
+    zeros = jnp.zeros((n, n))
+    K = zeros.at[2, 2].set(K_OUT)
+    structure = Structure(
+        K=K,
+        M=jnp.eye(n),
+        parts_K=None,
+        C_bearing=jnp.zeros((0, 0)),
+        reaction=jnp.zeros((0, n)),
+        gyroscopic=zeros,
+        spin_stiffness=zeros,
+        f_centrifugal=jnp.zeros(n),
+        part_names=("load_shaft",),
+        reaction_names=(),
+        reaction_member=(),
+        nodes=(("pinion", 0), ("idler", 1), ("gear", 2), ("input", 0), ("output", 2)),
+        node_dofs=1,
+    )
+    origin = jnp.zeros(3)  # a torsional mesh has no place in space
+    meshes = tuple(
+        GearMesh(
+            plane,
+            origin,
+            origin,
+            origin,
+            0.0,
+            _te_vector(plane, a, b, n),
+            gears=(a, b),
+            ratio=ratio,
+            phase=phase,
+        )
+        for plane, (a, b), ratio, phase in (
+            (mesh_a, (0, 1), 1.0, 0.0),
+            (mesh_b, (1, 2), TEETH[0] / TEETH[1], phase_b),
+        )
+    )
+    members = tuple(TorsionalMember(d) for d in range(n))
+    return AssembledScene(structure, meshes, members, jnp.eye(n)[0])
+
+
+@pytest.mark.parametrize("contact", ["exact", "smooth"])
+def test_idler_train_meshes_equal_their_pairs_at_their_own_angles(contact):
+    """Each mesh of the idler train has its pair's TE, mesh stiffness and line loads at the
+    mesh's own angle and the force the train passes on (the idler's torque T r_b,idler/r_b,in),
+    to 1e-9; the output shaft carries T z_out/z_in."""
+    mesh_a, mesh_b = _mesh(TEETH[0], TEETH[1]), _mesh(TEETH[1], TEETH[2])
+    phase_b = 0.37 * float(mesh_b.mesh_period_angle)
+    train = _idler_train(mesh_a, mesh_b, phase_b)
+    tip = jg.MemberModification(tip_relief_depth=12e-6, tip_relief_extent=0.3)
+    mods = jg.Modifications.symmetric(tip)
+    law = jg.ExactContact() if contact == "exact" else jg.SmoothContact(2e-7)
+    theta = jg.mesh_positions(mesh_a, 12)
+    res = jg.quasi_static(train, mods, TORQUE, theta, contact=law)
+    assert len(res.meshes) == 2
+
+    t_idler = TORQUE * float(mesh_a.base_radius_gear) / float(mesh_a.base_radius_pinion)
+    ratio = TEETH[0] / TEETH[1]
+    refs = (
+        jg.quasi_static(jg.TorsionalPair(mesh_a, K_OUT), mods, TORQUE, theta, contact=law),
+        jg.quasi_static(
+            jg.TorsionalPair(mesh_b, K_OUT), mods, t_idler, ratio * theta + phase_b, contact=law
+        ),
+    )
+    for got, ref in zip(res.meshes, refs, strict=True):
+        te = np.asarray(ref.transmission_error)
+        assert np.ptp(te) > 0.05 * np.mean(np.abs(te))  # the TE varies: the angles matter
+        np.testing.assert_allclose(got.transmission_error, te, rtol=1e-9)
+        np.testing.assert_allclose(got.mesh_stiffness, ref.mesh_stiffness, rtol=1e-9)
+        scale = float(np.max(np.asarray(ref.line_load)))
+        np.testing.assert_allclose(got.line_load, ref.line_load, rtol=0, atol=1e-9 * scale)
+    # the output shaft carries the output torque T z_out/z_in
+    np.testing.assert_allclose(
+        np.asarray(res.x[:, 2]) * K_OUT,
+        TORQUE * float(mesh_b.base_radius_gear) / float(mesh_a.base_radius_pinion),
+        rtol=1e-9,
+    )
