@@ -161,9 +161,7 @@ def mesh_separations(scene: Scene, mods: tuple, theta) -> list:
     angle (:meth:`jaxgear.scenes.Scene.mesh_angles`; θ for a pair's meshes) with its
     modifications (``mods``: one per mesh): a list of (cells, max e, δ0), one per mesh."""
     angles = scene.mesh_angles(theta)
-    return [
-        separation(p, m, a) for p, m, a in zip(scene.base_planes, mods, angles, strict=True)
-    ]
+    return [separation(p, m, a) for p, m, a in zip(scene.base_planes, mods, angles, strict=True)]
 
 
 def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactLaw):
