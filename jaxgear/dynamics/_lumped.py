@@ -12,7 +12,6 @@ import jax.numpy as jnp
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._util import check_integer
-from ._diffrax import _diffrax
 from ._modal import excited_omega
 from ._model import DynamicModel, MeshTable, _prepare, _Prepared, mesh_te, static_mesh_forces
 from ._newmark import newmark
@@ -129,6 +128,10 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
+        # diffrax is imported only when a diffrax solver is asked for (about 0.5 s of import
+        # that a Newmark run, the default, does not pay)
+        from ._diffrax import _diffrax
+
         final, (fm, te, lines, reac), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )

@@ -6,8 +6,6 @@ import csv
 import io
 import json
 
-import meshio
-
 from fem_prep.schema import atomic_open, atomic_write  # one implementation for both packages
 
 __all__ = ["atomic_open", "write_csv", "write_json", "write_vtu"]
@@ -49,5 +47,7 @@ def write_vtu(path, points, cells, point_data) -> None:
         points: (n, 3) coordinates (m). cells: meshio cell blocks, e.g.
             ``[("hexahedron", (n_cells, 8) indices)]``. point_data: name → (n, ...) arrays.
     """
+    import meshio  # only where a VTU is written (0.1 s of import otherwise not paid)
+
     mesh = meshio.Mesh(points, cells, point_data=point_data)
     atomic_write(path, lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
