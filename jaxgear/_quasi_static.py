@@ -258,10 +258,11 @@ def quasi_static(
         modifications: flank modifications (``None``: perfect involutes): one
             :class:`Modifications` for every mesh of the scene, or a tuple of one per mesh.
         torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
-        theta: pinion angles (rad), shape (P,); default :func:`mesh_positions` of the first
-            mesh over ``periods`` mesh periods with ``positions_per_pitch`` positions each.
-            Every mesh of the scene takes its cells at this pinion angle (the meshes of one
-            gear pair, such as the two halves of a double-helical pair).
+        theta: scene angles θ (rad, the pinion's), shape (P,); default :func:`mesh_positions`
+            of the first mesh over ``periods`` mesh periods with ``positions_per_pitch``
+            positions each. Each mesh takes its cells at its own mesh angle
+            (:meth:`~jaxgear.scenes.Scene.mesh_angles`: θ itself for the meshes of one pair,
+            such as the two halves of a double-helical pair; ratio θ + phase in a train).
         speed: pinion speed Ω (rad/s) >= 0 of the centrifugal loads of condensed bodies
             (a hybrid scene: each body at its own speed, seed (2.37)); rigid gear bodies carry
             none, so other scenes do not depend on it. Default 0: at rest.

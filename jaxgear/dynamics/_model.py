@@ -123,9 +123,10 @@ def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
 
 
 def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple]:
-    """Each mesh's cells at pinion angle θ and their δ0 = e_ref,k − e (m) from the meshes'
-    time-constant references ``e_ref`` (m,) (:class:`MeshTable`; 0 off the flanks), for the
-    solvers that take the cells at θ(t) instead of the table's rows. ``mods``: one per mesh."""
+    """Each mesh's cells at the scene angle θ (each at its mesh angle) and their δ0 = e_ref,k − e
+    (m) from the meshes' time-constant references ``e_ref`` (m,) (:class:`MeshTable`; 0 off the
+    flanks), for the solvers that take the cells at θ(t) instead of the table's rows. ``mods``:
+    one per mesh."""
     parts = mesh_separations(scene, mods, theta)
     delta0 = tuple(jnp.where(c.mask, d + (e_ref[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
     return tuple(p[0] for p in parts), delta0
