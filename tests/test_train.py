@@ -6,6 +6,7 @@ same force and at the mesh's own angle θ_k = ratio_k θ + phase_k (the idler tu
 of the input). The reference solves each pair on its own (:class:`jaxgear.TorsionalPair`).
 """
 
+import functools
 import math
 
 import jax
@@ -27,6 +28,7 @@ TORQUE = 120.0  # N·m on the input
 K_OUT = 1e5  # N·m/rad: the output shaft to the fixed load
 
 
+@functools.cache
 def _mesh(z_driving: int, z_driven: int) -> jg.MeshModel:
     pair = jg.GearPair(
         jg.Member(z_driving, face_width=FACE), jg.Member(z_driven, face_width=FACE), MODULE, ALPHA
