@@ -14,7 +14,13 @@ torsional model, the lumped 3D and the hybrid scenes are structures with their m
 (:class:`AssembledScene`).
 """
 
-from ._gear_mesh import GearMesh as GearMesh, line_of_action as line_of_action
+from ._gear_mesh import (
+    GearMesh as GearMesh,
+    half_base_angle as half_base_angle,
+    line_of_action as line_of_action,
+    pair_mesh as pair_mesh,
+    train_phases as train_phases,
+)
 from ._hybrid import HybridPair as HybridPair, hybrid_pair as hybrid_pair
 from ._interface import (
     FlexibleMember as FlexibleMember,

@@ -36,10 +36,12 @@ from .._util import as_float
 __all__ = [
     "GearMesh",
     "contact_points",
+    "half_base_angle",
     "line_of_action",
     "mesh_line",
     "only_mesh",
     "pair_mesh",
+    "train_phases",
 ]
 
 
@@ -62,20 +64,107 @@ def mesh_line(tangent_point, direction, normal, roll_start, base_plane: MeshMode
     return {"normal": normal, "direction": direction, "zone": zone}
 
 
-def line_of_action(pair: GearPair) -> dict:
-    """The line of action of ``pair`` with the pinion axis through the origin and the gear axis
-    through (a_w, 0, 0) (NumPy, SI): ``centres`` (2, 3), ``tangent_point`` T1 (3,),
-    ``direction`` t (3,), ``normal`` n (3,) and ``roll_start`` ρ_A (the module docstring)."""
+def line_of_action(pair: GearPair, driving_centre=(0.0, 0.0, 0.0), angle=0.0, spin=1.0) -> dict:
+    """The line of action of ``pair`` placed in the fixed frame (NumPy, SI): ``centres`` (2, 3)
+    of the driving and driven gears, ``tangent_point`` T1 (3,) on the driving gear's base circle,
+    ``direction`` t (3,), ``normal`` n (3,) and ``roll_start`` ρ_A (the module docstring).
+
+    By default the pair's own frame: the driving gear (the pair's pinion) at the origin turning
+    about +z, the driven gear at (a_w, 0, 0): t = (sin α_wt, cos α_wt, 0), T1 = r_b1 (cos α_wt,
+    −sin α_wt, 0). ``driving_centre`` (m), ``angle`` (rad: the direction of the driven gear's
+    centre seen from the driving one) and ``spin`` (+1: the driving gear turns about +z, −1 about
+    −z, the mirror image) place it in a train. The axial part of n keeps its sign (spur trains;
+    the helix hands of a helical train are not set here).
+    """
     alpha = pair.operating_pressure_angle
     bb = pair.base_helix_angle
-    t = np.array([math.sin(alpha), math.cos(alpha), 0.0])
+    sign = 1.0 if spin > 0 else -1.0
+    c, s_ = math.cos(angle), math.sin(angle)
+
+    def place(v, point=True):  # mirror y for spin −1, turn by ``angle``, move to the centre
+        x, y = v[0], sign * v[1]
+        out = np.array([c * x - s_ * y, s_ * x + c * y, v[2]])
+        return out + np.asarray(driving_centre, float) if point else out
+
+    t = place(np.array([math.sin(alpha), math.cos(alpha), 0.0]), point=False)
     return {
-        "centres": np.array([[0.0, 0.0, 0.0], [pair.center_distance, 0.0, 0.0]]),
-        "tangent_point": pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0]),
+        "centres": np.array([place(np.zeros(3)), place(np.array([pair.center_distance, 0, 0]))]),
+        "tangent_point": place(
+            pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
+        ),
         "direction": t,
         "normal": math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0]),
         "roll_start": pair.start_roll,
     }
+
+
+def half_base_angle(pair: GearPair, member: int) -> float:
+    """ψ_b: half the angular tooth thickness of ``member`` (0 the pair's pinion, 1 its gear) at
+    its base circle (rad), s_t/(2 r) + inv α_t (ISO 21771: the involute function carries the
+    reference thickness s_t at radius r down to the base circle)."""
+    at = pair.transverse_pressure_angle
+    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (
+        math.tan(at) - at
+    )
+
+
+def train_phases(pairs, lines, gears, spins, n_gears: int):
+    """Mesh phasing of a gear train from its layout and tooth counts (NumPy): the phase of each
+    mesh's angle θ_k = ratio_k θ + phase_k (:attr:`GearMesh.phase`) and the angle of a tooth
+    centre of each gear at θ = 0.
+
+    Angles about a gear's axis are measured in its direction of motion. A gear's tooth has its
+    centre line at c, its leading flank's involute starting on the base circle at c + ψ_b and its
+    trailing flank's at c − ψ_b (:func:`half_base_angle`). A contact point at roll distance ρ from
+    a base-circle tangent point at angle τ lies on a driving gear's leading flank when
+    c + ψ_b = τ + ρ/r_b and on a driven gear's trailing flank when c − ψ_b = τ − ρ/r_b (the
+    involute's origin is ρ/r_b behind or ahead of the tangent point). A mesh's angle is 0 when a
+    contact line, at the face end z = 0, is at its engagement point (ρ_1 = ρ_A, as
+    :meth:`MeshModel.cells`), and the first mesh's driving gear (the input) sets θ: its phase
+    is 0. Each later mesh's driving gear must already be placed by an earlier mesh; its phase
+    then follows from that gear's teeth (Parker & Lin, J. Mech. Des. 126 (2004), for planetary
+    stages, read here in the base plane), and its driven gear's teeth from the contact.
+
+    Args:
+        pairs: the :class:`~jaxgear.GearPair` of each mesh (its pinion the driving gear).
+        lines: each mesh's :func:`line_of_action` as placed in the train.
+        gears: each mesh's (driving, driven) gear indices. spins: each gear's sense of rotation
+            about z (+1 or −1), (n_gears,). n_gears: the number of gears.
+
+    Returns:
+        (phases (m,) in rad of each mesh's driving gear, in [0, 2π/z_driving); tooth angles
+        (n_gears,) in rad, each in its gear's direction of motion from the fixed +x axis).
+
+    Raises:
+        ValueError: a mesh whose driving gear no earlier mesh places (one line).
+    """
+    centre = [None] * n_gears
+    c0 = [None] * n_gears
+    phases = []
+    for k, (pair, line, (g, h)) in enumerate(zip(pairs, lines, gears, strict=True)):
+        T1 = np.asarray(line["tangent_point"], float)
+        T2 = T1 + (pair.center_distance * math.sin(pair.operating_pressure_angle)) * np.asarray(
+            line["direction"], float
+        )
+        centre[g], centre[h] = line["centres"][0], line["centres"][1]
+        rb1, rb2 = pair.base_radii
+        z1 = pair.pinion.teeth
+        tau1 = spins[g] * math.atan2(T1[1] - centre[g][1], T1[0] - centre[g][0])
+        tau2 = spins[h] * math.atan2(T2[1] - centre[h][1], T2[0] - centre[h][0])
+        rho_a = pair.start_roll
+        if c0[g] is None:
+            if k:
+                raise ValueError(
+                    f"mesh {k}: its driving gear {g} is not placed by an earlier mesh (list the "
+                    "meshes from the input outwards)"
+                )
+            c0[g] = tau1 + rho_a / rb1 - half_base_angle(pair, 0)
+        phase = (c0[g] + half_base_angle(pair, 0) - tau1 - rho_a / rb1) % (2 * math.pi / z1)
+        phases.append(phase)
+        if c0[h] is None:
+            length = pair.center_distance * math.sin(pair.operating_pressure_angle)
+            c0[h] = tau2 + half_base_angle(pair, 1) - (length - rho_a - rb1 * phase) / rb2
+    return np.array(phases), np.array([np.nan if c is None else c for c in c0])
 
 
 class GearMesh(eqx.Module):
