@@ -50,5 +50,7 @@ from ._torsional import (
     RelativeApproach as RelativeApproach,
     TorsionalDynamics as TorsionalDynamics,
     TorsionalPair as TorsionalPair,
+    TorsionalTrain as TorsionalTrain,
     disc_inertia as disc_inertia,
+    torsional_train as torsional_train,
 )

@@ -13,7 +13,7 @@ from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel
 from .._util import as_float
-from ._gear_mesh import pair_mesh
+from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
 from ._rigid import RigidMesh
 from ._scene import DynamicScene, Scene
@@ -194,6 +194,107 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
             )
         )
         return RelativeApproach(self.mesh, m_eq)
+
+
+class TorsionalTrain(AssembledScene, DynamicScene):
+    """A torsional gear train: one rotation per gear (rad, each positive in its gear's direction
+    of motion), no shaft, one mesh per pair of gears in contact (build with
+    :func:`torsional_train`). The input torque T acts on gear 0, the balancing torque
+    T ω_0/ω_out on the output gear (the one that drives no other); the chain turns freely
+    (its rigid rotation :attr:`rigid`, each gear at its speed ratio).
+
+    Attributes:
+        rigid: the rigid rotation (n,): ω_g / r_b,0 (a unit base-plane advance of the input).
+    """
+
+    rigid: Float[Array, " n"]
+
+    def rigid_modes(self):
+        return self.rigid[:, None]
+
+
+def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
+    """A torsional gear train from its meshes (seed I-3 with several meshes).
+
+    Args:
+        meshes: ((mesh model, (driving, driven)), ...), the gears numbered 0 … n−1, gear 0 the
+            input, each mesh's model with the driving gear as its pinion, listed from the input
+            outwards (a mesh's driving gear is the input or driven by an earlier mesh).
+        inertias: polar inertias (kg·m²) of the gears, (n,).
+        phases: each mesh's phase (rad, :attr:`GearMesh.phase`; default 0; from the layout:
+            :func:`train_phases`).
+
+    Returns:
+        the :class:`TorsionalTrain`; its mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the
+        driving gear's angle per unit input angle (r_b,0 / r_b,g through the train).
+
+    Raises:
+        ValueError: a mesh whose driving gear is not yet turning, a gear driven twice, more or
+            less than one output gear, or meshes with different tooth-passing periods (a
+            two-stage train is not periodic in one mesh period).
+    """
+    n = len(inertias)
+    omega = [None] * n
+    omega[0] = 1.0
+    dtype = jnp.result_type(float)
+    eye = jnp.eye(n, dtype=dtype)
+    phases = [0.0] * len(meshes) if phases is None else list(phases)
+    out, period = [], None
+    for k, (plane, (g, h)) in enumerate(meshes):
+        if omega[g] is None:
+            raise ValueError(
+                f"meshes[{k}]: driving gear {g} does not turn yet (list the meshes from the input "
+                "gear 0 outwards)"
+            )
+        if omega[h] is not None:
+            raise ValueError(f"meshes[{k}]: gear {h} is driven twice (allowed: once)")
+        omega[h] = omega[g] * float(plane.base_radius_pinion) / float(plane.base_radius_gear)
+        p = float(plane.mesh_period_angle) / omega[g]
+        if period is not None and abs(p - period) > 1e-9 * period:
+            raise ValueError(
+                f"meshes[{k}]: its tooth-passing period is {p:.6g} rad of the input, mesh 0's "
+                f"{period:.6g} rad (allowed: equal, as in idler trains)"
+            )
+        period = p
+        cb = jnp.cos(plane.base_helix_angle)
+        te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
+        origin = jnp.zeros((3,), dtype)
+        out.append(
+            GearMesh(
+                plane, origin, origin, origin, 0.0, te, gears=(g, h), ratio=omega[g], phase=phases[k]
+            )
+        )
+    if any(w is None for w in omega):
+        raise ValueError(f"gears {[i for i, w in enumerate(omega) if w is None]} mesh with none")
+    driving = {g for _, (g, _) in meshes}
+    outputs = [i for i in range(n) if i not in driving]
+    if len(outputs) != 1:
+        raise ValueError(f"the train has output gears {outputs} (allowed: exactly one)")
+    o = outputs[0]
+    zeros = jnp.zeros((n, n), dtype)
+    structure = Structure(
+        K=zeros,
+        M=jnp.diag(jnp.stack([as_float(i) for i in inertias])),
+        parts_K=jnp.zeros((0, n, n), dtype),
+        C_bearing=jnp.zeros((0, 0), dtype),
+        reaction=jnp.zeros((0, n), dtype),
+        gyroscopic=zeros,
+        spin_stiffness=zeros,
+        f_centrifugal=jnp.zeros((n,), dtype),
+        part_names=(),
+        reaction_names=(),
+        reaction_member=(),
+        nodes=(("input", 0), ("output", o), *((f"gear{i}", i) for i in range(n))),
+        node_dofs=1,
+    )
+    rb0 = float(meshes[0][0].base_radius_pinion)
+    return TorsionalTrain(
+        structure=structure,
+        meshes=tuple(out),
+        members=tuple(TorsionalMember(i) for i in range(n)),
+        f_torque=eye[0] - eye[o] / omega[o],
+        rigid=jnp.asarray([w / rb0 for w in omega], dtype),
+    )
 
 
 class RelativeApproach(DynamicScene):
