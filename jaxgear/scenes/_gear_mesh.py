@@ -103,9 +103,7 @@ def half_base_angle(pair: GearPair, member: int) -> float:
     its base circle (rad), s_t/(2 r) + inv α_t (ISO 21771: the involute function carries the
     reference thickness s_t at radius r down to the base circle)."""
     at = pair.transverse_pressure_angle
-    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (
-        math.tan(at) - at
-    )
+    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (math.tan(at) - at)
 
 
 def train_phases(pairs, lines, gears, spins, n_gears: int):

@@ -261,7 +261,15 @@ def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
         origin = jnp.zeros((3,), dtype)
         out.append(
             GearMesh(
-                plane, origin, origin, origin, 0.0, te, gears=(g, h), ratio=omega[g], phase=phases[k]
+                plane,
+                origin,
+                origin,
+                origin,
+                0.0,
+                te,
+                gears=(g, h),
+                ratio=omega[g],
+                phase=phases[k],
             )
         )
     if any(w is None for w in omega):
