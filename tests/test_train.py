@@ -254,8 +254,9 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
     mesh's dynamic TE over the last two mesh periods agrees with the train written out and
     integrated by RK4 (2048 steps per period, exact mesh stiffness at each stage) within 1.5 % of
     its peak-to-peak at 256 Newmark steps per period, and closer at 512 (Newmark samples the
-    stiffness at each step's mid-point, first order through its jumps). The records are read at
-    their angle θ = Ω t + Δθ/2 (``theta``: the mid-point of the step whose cells they used)."""
+    stiffness at a table row, first order through its jumps). The records are read at their
+    angle θ = Ω t + Δθ/2 (``theta``: the table row whose cells the step used, half a step after
+    its end; docs/design.md)."""
     planes = (_mesh(TEETH[0], TEETH[1]), _mesh(TEETH[1], TEETH[2]))
     pairs = (_pair(TEETH[0], TEETH[1]), _pair(TEETH[1], TEETH[2]))
     radii = (pairs[0].tip_radii[0], pairs[0].tip_radii[1], pairs[1].tip_radii[1])
