@@ -21,7 +21,7 @@ from ._body import (
     load_body as load_body,
     parse_body as parse_body,
 )
-from ._cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
+from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from ._condense import (
     Condensed as Condensed,
     MasterSet as MasterSet,

@@ -196,7 +196,6 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _quasi_static(
     scene,
     mesh,

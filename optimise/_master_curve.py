@@ -45,7 +45,6 @@ def _check(problem: Problem):
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _grid(problem, extents, depths, contact):
     f = lambda g, e: problem.value(_xy(problem, g, e), contact)  # noqa: E731
     return jax.vmap(lambda g: jax.vmap(lambda e: f(g, e))(depths))(extents)
@@ -74,7 +73,6 @@ def _pairs(problem, extents, depths, contact):
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _refine(problem, extents, lo, hi, iterations):
     """Root of dJ/dE* in [lo, hi] for each extent: ``optimistix.root_find`` (Bisection) under
     ``vmap``; an unbracketed interval (dJ/dE* of one sign) gives the end that is the minimum."""

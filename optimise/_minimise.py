@@ -109,7 +109,6 @@ def _objective(u, problem: Problem):
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _solve(problem, method, u0, tol, learning_rate, max_iterations, run):
     """One optimistix solve; ``method`` is static, every other argument is traced."""
     if method == "lbfgs":

@@ -116,9 +116,9 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
     import json
 
     # the steps before and after the sweep replaced (tests/test_layout.py)
-    import jaxgear.cli._run as run_module
-    import jaxgear.cli._scene as scene_module
-    import jaxgear.cli._sweep as sweep_module
+    import jaxgear.cli.run as run_module
+    import jaxgear.cli.scene as scene_module
+    import jaxgear.cli.sweep as sweep_module
 
     seen = {}
 

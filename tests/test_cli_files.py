@@ -12,7 +12,7 @@ import sys
 import pytest
 
 import fem_prep
-import fem_prep._cli as fem_cli  # only to patch the build it calls (tests/test_layout.py)
+import fem_prep.cli as fem_cli  # only to patch the build it calls (tests/test_layout.py)
 from jaxgear.cli import main
 from jaxgear.io import list_cases, load_case
 

@@ -28,14 +28,10 @@ from jaxgear.dynamics import (
     damping_matrix,
     dynamic_model,
     mesh_table,
+    newmark,
     simulate,
     speed_sweep,
 )
-from jaxgear.dynamics._lumped import _newmark
-
-# white-box checks of the integration rule on a constructed linear, time-invariant problem
-# (tests/test_layout.py lists them)
-from jaxgear.dynamics._settings import _Config
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 
@@ -235,33 +231,50 @@ def test_recorded_states_and_the_band_dynamic_factor_bounds(accessory):
         band_dynamic_factor(model, speeds, integrator=Newmark())
 
 
-def _linear_problem(case, scene, damping="none"):
-    """The time-averaged system as a linear, time-invariant contact problem (all cells in
-    contact, constant cells), for the integrator checks."""
+def _linear_problem(case, scene):
+    """The time-averaged system as a linear, time-invariant contact problem: one row of the
+    mesh table (all its cells in contact) held for every step, δ0 = 0, for the checks of the
+    integration rule by :func:`jaxgear.dynamics.newmark`."""
     model = dynamic_model(
-        scene, jg.Modifications(), case.torque, Damping(damping), positions_per_pitch=16
+        scene, jg.Modifications(), case.torque, Damping("none"), positions_per_pitch=16
     )
-    cfg = _Config(
-        Newmark(16), steps_per_period=16, periods=2, keep_periods=2, max_steps=0, blowup=1e3
-    )
-    t = mesh_table(model.scene, model.mods, cfg.steps_per_period)
-    row = jax.tree_util.tree_map(lambda a: jnp.broadcast_to(a[4], a.shape), t)
-    table = eqx.tree_at(lambda x: x.delta0, row, jnp.zeros_like(row.delta0))
-    return model, table, cfg
+    t = mesh_table(model.scene, model.mods, 16)
+    row = jg.CellRow(None, t.V[4], t.k[4], t.length[4], jnp.zeros_like(t.delta0[4]), t.mask[4])
+    return model, row
 
 
-def _linear_energy(model, table, X, Xd):
+def _linear_energy(model, row, X, Xd):
     M = model.scene.mass()
-    kl = jnp.where(table.mask[0], table.k[0] * table.length[0], 0.0)
-    K = model.scene.stiffness() + jnp.einsum("c,ci,cj->ij", kl, table.V[0], table.V[0])
+    kl = jnp.where(row.mask, row.k * row.length, 0.0)
+    K = model.scene.stiffness() + jnp.einsum("c,ci,cj->ij", kl, row.V, row.V)
     F = model.scene.external_load(model.torque)
     return 0.5 * Xd @ M @ Xd + 0.5 * X @ K @ X - F @ X, K
 
 
+def _integrate(model, row, dt, X0, A0, n_steps):
+    """``n_steps`` Newmark steps of Δt from (X0, 0, A0) with the row's cells: the states
+    (n_steps, n) and velocities (n_steps, n)."""
+    scene = model.scene
+    state = (X0, jnp.zeros_like(X0), A0, jnp.array(0), jnp.array(0))
+    _, (X, Xd) = newmark(
+        scene.stiffness(),
+        scene.mass(),
+        jnp.zeros_like(scene.mass()),
+        scene.external_load(model.torque),
+        dt,
+        state,
+        jnp.zeros((1, n_steps), jnp.int32),
+        lambda _: row,
+        jg.ExactContact(),
+        lambda X, Xd, P: (X, Xd),
+    )
+    return X, Xd
+
+
 def test_newmark_conserves_energy_undamped_linear(accessory):
     case, scene = accessory
-    model, table, cfg = _linear_problem(case, scene)
-    _, K = _linear_energy(model, table, jnp.zeros(2), jnp.zeros(2))
+    model, row = _linear_problem(case, scene)
+    _, K = _linear_energy(model, row, jnp.zeros(2), jnp.zeros(2))
     M = model.scene.mass()
     F = model.scene.external_load(model.torque)
     Xs = jnp.linalg.lstsq(K, F)[0]
@@ -270,20 +283,9 @@ def test_newmark_conserves_energy_undamped_linear(accessory):
     w = float(model.modes.omega[1])
     dt = 2 * math.pi / w / 7.3  # coarse on purpose
 
-    c0 = (X0, jnp.zeros(2), A0, jnp.array(0), jnp.array(0))
-    _, (*_, X, Xd) = _newmark(
-        model,
-        table,
-        jnp.asarray(dt),
-        c0,
-        3000,
-        cfg,
-        jg.ExactContact(),
-        record=True,
-        record_states=True,
-    )
-    e = np.asarray(jax.vmap(lambda x, v: _linear_energy(model, table, x, v)[0])(X, Xd))
-    e0 = float(_linear_energy(model, table, X0, jnp.zeros(2))[0])
+    X, Xd = _integrate(model, row, jnp.asarray(dt), X0, A0, 3000)
+    e = np.asarray(jax.vmap(lambda x, v: _linear_energy(model, row, x, v)[0])(X, Xd))
+    e0 = float(_linear_energy(model, row, X0, jnp.zeros(2))[0])
     amp = 0.5 * float((X0 - Xs) @ K @ (X0 - Xs))  # vibration energy scale
     # docs/dynamics.md: "keeps the energy to 1e-11 of the vibration energy" (measured 1.6e-13)
     assert np.max(np.abs(e - e0)) < 1e-11 * amp
@@ -291,8 +293,8 @@ def test_newmark_conserves_energy_undamped_linear(accessory):
 
 def test_newmark_second_order(accessory):
     case, scene = accessory
-    model, table, cfg = _linear_problem(case, scene)
-    _, K = _linear_energy(model, table, jnp.zeros(2), jnp.zeros(2))
+    model, row = _linear_problem(case, scene)
+    _, K = _linear_energy(model, row, jnp.zeros(2), jnp.zeros(2))
     M = model.scene.mass()
     F = model.scene.external_load(model.torque)
     Xs = jnp.linalg.lstsq(K, F)[0]
@@ -303,20 +305,8 @@ def test_newmark_second_order(accessory):
     # closed form: the approach u·X oscillates about its static value at ω, from rest
     x_exact = float(u @ Xs) + float(u @ (X0 - Xs)) * math.cos(w * T)
 
-    n_max = 240
-    run = jax.jit(
-        lambda dt: _newmark(
-            model,
-            table,
-            dt,
-            (X0, jnp.zeros(2), jnp.linalg.solve(M, F - K @ X0), jnp.array(0), jnp.array(0)),
-            n_max,
-            cfg,
-            jg.ExactContact(),
-            record=True,
-            record_states=True,
-        )[1][-2]
-    )
+    A0 = jnp.linalg.solve(M, F - K @ X0)
+    run = jax.jit(lambda dt: _integrate(model, row, dt, X0, A0, 240)[0])
 
     def approach(n):  # state after n steps of T/n (one compilation: Δt is traced)
         return float(u @ run(jnp.asarray(T / n))[n - 1])

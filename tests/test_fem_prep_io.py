@@ -7,7 +7,7 @@ import meshio
 import numpy as np
 import pytest
 
-from fem_prep import build, load_condensed, main
+from fem_prep import build, cache_dir, cache_key, load_body, load_condensed, main
 
 BODY = """
 name = "io-wheel"
@@ -105,12 +105,13 @@ def test_cache_hit_avoids_recomputation(built, monkeypatch, tmp_path):
     root, body, out, _ = built
     monkeypatch.setenv("FEM_PREP_CACHE", str(root / "cache"))
 
-    def boom(*a, **k):
-        raise AssertionError("prepare() called on a cache hit")
-
-    monkeypatch.setattr("fem_prep._prepare.prepare", boom)  # where build looks it up
+    # a mark in the cache entry's summary: a hit hands it on, a recomputation would rewrite it
+    entry = cache_dir() / cache_key(load_body(body))
+    summary = json.loads((entry / "summary.json").read_text())
+    (entry / "summary.json").write_text(json.dumps({**summary, "mark": "from the cache"}))
     s = build(body, tmp_path / "again")
-    assert s["cache_hit"] is True
+    assert s["cache_hit"] is True and s["mark"] == "from the cache"
+    assert json.loads((tmp_path / "again" / "summary.json").read_text())["mark"] == "from the cache"
     assert (tmp_path / "again" / "io-wheel.npz").is_file()
     # same body with other comments/whitespace hits the same cache entry
     body2 = tmp_path / "io-wheel.toml"

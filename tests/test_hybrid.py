@@ -24,7 +24,7 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import quasi_static_scene, static_scene
-from jaxgear.scenes import FlexibleMember, grounded, hybrid_pair
+from jaxgear.scenes import FlexibleMember, fit_windows, grounded, hybrid_pair
 
 DATA = pathlib.Path(__file__).parent / "data"
 CASE = DATA / "hybrid-test-case.toml"
@@ -295,15 +295,13 @@ def test_quasi_static_scene_bearing_forces_balance_the_mesh_force(case, body):
 def test_a_too_narrow_rim_window_is_widened(case, scene):
     """The builder's window estimate is checked over two mesh periods and widened when a cell
     reaches beyond it: from a 2-station window the scene recovers the same TE."""
-    from jaxgear.scenes._hybrid import _fit_windows  # tests/test_layout.py
-
     member = scene.members[1]
     narrow = eqx.tree_at(
         lambda s: s.members,
         scene,
         (scene.members[0], dataclasses.replace(member, n_window=2)),
     )
-    fitted = _fit_windows(narrow)
+    fitted = fit_windows(narrow)
     assert fitted.members[1].n_window > 2
     theta = jg.mesh_positions(scene.mesh, 4)
     a = jg.quasi_static(fitted, case.modifications, case.torque, theta)

@@ -24,7 +24,7 @@ from test_hybrid_dynamics import (
 )
 
 import jaxgear as jg
-from jaxgear.dynamics import Damping, Newmark, SteadyState
+from jaxgear.dynamics import Damping, Newmark, SteadyState, dynamic_model, revolution_damping
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):
@@ -129,30 +129,24 @@ def test_composite_damping_is_positive_semidefinite_every_period(setup, composit
     −1e-10 of the largest), equal to the reference's C(k) written here, and its modal diagonal
     (2.36)'s 2 ω_i (ξ_s + (ξ_m − ξ_s) e_i(k)) with the mesh energy share e_i(k) = φ_iᵀ K̄_m(k)
     φ_i / ω_i² of that period."""
-    from jaxgear.dynamics import _hybrid as H  # the integrator's C(k) (tests/test_layout.py)
-
     case, scene = setup
     spp, speed, xi_m, xi_s = 16, 900.0, 0.07, 0.01
-    mods, torque = case.modifications, jnp.asarray(case.torque)
-    qs, _ = H._period_statics(scene, mods, torque, speed, spp, jg.ExactContact())
-    T = scene.mesh.mesh_period_angle
-    Z = H._revolution_periods(scene)
+    model = dynamic_model(
+        scene,
+        case.modifications,
+        case.torque,
+        Damping("composite", mesh_ratio=xi_m, structure_ratio=xi_s),
+    )
+    damp = revolution_damping(model, speed, steps_per_period=spp)
+    Z = damp.periods
     assert Z == composite["Z"]
-
-    @jax.jit
-    def block(p):
-        return H._mesh_block(scene, qs.theta + p * T, qs.line_load > 0)
-
-    Kbar = H._revolution_mesh_stiffness(scene, block, Z)
-    damp = H._damping(scene, Kbar, Damping("composite", mesh_ratio=xi_m, structure_ratio=xi_s))
-    assert float(damp.c_m) == pytest.approx(2 * (xi_m - xi_s))
+    assert float(damp.mesh_factor) == pytest.approx(2 * (xi_m - xi_s))
     Km, C_of, Phi, w = (composite[k] for k in ("Km", "C_of", "Phi", "w"))
-    C0, R = np.asarray(damp.C), np.asarray(damp.R)
+    at = jax.jit(damp.at)
     for k in range(Z):
-        U, B, ok = block(k)
+        C, ok = at(k)
         assert bool(ok)
-        W = R[np.asarray(U)]
-        C = C0 + float(damp.c_m) * W.T @ np.asarray(B) @ W
+        C = np.asarray(C)
         np.testing.assert_allclose(C, C.T, atol=1e-12 * np.abs(C).max())
         ev = np.linalg.eigvalsh(C)
         assert ev.min() >= -1e-10 * ev.max(), (k, ev.min(), ev.max())

@@ -243,35 +243,10 @@ def test_installed_modules_neither_name_benchmarks_nor_read_tests():
 
 PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
-# reached through): each a white-box check with no public way to the same assertion, or a patch
-# of a name an application module binds at import (so patching the public name changes nothing).
+# reached through): each a white-box check with no public way to the same assertion.
 PRIVATE_IN_TESTS = {
-    # integrator checks on a constructed linear, time-invariant problem (energy to 1e-11, order
-    # 2): no public model is one; _newmark takes the integrator's configuration
-    ("test_dynamics.py", "jaxgear.dynamics._lumped._newmark"),
-    ("test_dynamics.py", "jaxgear.dynamics._settings._Config"),
-    # the hybrid integrator's per-period damping C(k) over a revolution: internal state
-    ("test_hybrid_composite.py", "jaxgear.dynamics._hybrid"),
-    # hybrid_pair takes no window size: a too narrow window is only reachable by hand
-    ("test_hybrid.py", "jaxgear.scenes._hybrid._fit_windows"),
     # the exact tooth form, its fillet resolution and the old arc thickness patched in
     ("test_tooth_form.py", "jaxgear._stiffness"),
-    # trace counts of the jitted inner functions (eqx.debug.assert_max_traces wraps those)
-    ("test_traces.py", "jaxgear._quasi_static._quasi_static"),
-    ("test_traces.py", "jaxgear.dynamics._lumped._run"),
-    ("test_traces.py", "optimise._minimise._solve"),
-    ("test_traces.py", "optimise._master_curve._grid"),
-    ("test_traces.py", "optimise._master_curve._refine"),
-    # patches of names an application module bound at import: run_case/scene/sweep steps around
-    # ``jaxgear run``'s sweep, write_csv between two files, the sweep of ``jaxgear sweep``, the
-    # fem-prep build (whether it starts; Ctrl-C in it), prepare on a cache hit
-    ("test_cli_edges.py", "jaxgear.cli._run"),
-    ("test_cli_edges.py", "jaxgear.cli._scene"),
-    ("test_cli_edges.py", "jaxgear.cli._sweep"),
-    ("test_cli_robust.py", "jaxgear.cli._run"),
-    ("test_progress_outputs.py", "jaxgear.cli._sweep"),
-    ("test_cli_files.py", "fem_prep._cli"),
-    ("test_fem_prep_io.py", "fem_prep._prepare.prepare"),
 }
 
 
@@ -334,7 +309,7 @@ def _private_names(tree: ast.AST):
 
 def test_tests_use_public_names_only():
     """No test reaches a private module or name of the project (``jaxgear._stiffness``,
-    ``from jaxgear.cli._run import x``, ``fem_prep._tooth_fe._compute``) but those listed in
+    ``from jaxgear.cli.run import x``, ``fem_prep._tooth_fe._compute``) but those listed in
     PRIVATE_IN_TESTS, each with its reason; an entry no test needs any more is an error too."""
     found = set()
     for path in sorted((ROOT / "tests").glob("*.py")):

@@ -15,7 +15,7 @@ import pytest
 import scipy.sparse as sp
 
 import fem_prep
-import jaxgear.cli._sweep as cli_sweep  # to replace the sweep computation (tests/test_layout.py)
+import jaxgear.cli.sweep as cli_sweep  # to replace the sweep computation (tests/test_layout.py)
 import optimise as op
 from fem_prep import load_body, prepare, shift_invert_modes
 from jaxgear import io as jio

@@ -27,7 +27,7 @@ def _version() -> str:
 
 def _parser() -> argparse.ArgumentParser:
     from ._optimise import add_parsers as add_optimise_parsers
-    from ._sweep import add_sweep_parser
+    from .sweep import add_sweep_parser
 
     p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
@@ -186,7 +186,7 @@ def _dispatch(args) -> int:
     if args.command == "cases":
         return _cases(args)
     if args.command == "run":
-        from ._run import run_command
+        from .run import run_command
 
         return run_command(args)
     if args.command == "optimise":
@@ -198,7 +198,7 @@ def _dispatch(args) -> int:
 
         return run_master_curve(args)
     if args.command == "sweep":
-        from ._sweep import run_sweep
+        from .sweep import run_sweep
 
         return run_sweep(args)
     if args.command == "bench":

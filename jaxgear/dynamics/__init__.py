@@ -12,7 +12,9 @@ Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
 :func:`simulate` (one speed to steady state: Newmark with the exact contact loop, or a diffrax
 solver for lumped models), :func:`speed_sweep` (vmapped, sharded or continued over speeds) and
 :func:`band_dynamic_factor` (a smooth worst dynamic factor over a band, for gradients); they
-return one result type, :class:`DynamicResult` (in a :class:`SweepResult` for a sweep).
+return one result type, :class:`DynamicResult` (in a :class:`SweepResult` for a sweep). All
+of them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
+integrates any M, C, K, F and cells given by hand.
 :func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
 """
 
@@ -29,8 +31,10 @@ from ._from_case import (
 )
 from ._hybrid import (
     FreeVibration as FreeVibration,
+    RevolutionDamping as RevolutionDamping,
     hybrid_free_vibration as hybrid_free_vibration,
     mean_mesh_stiffness as mean_mesh_stiffness,
+    revolution_damping as revolution_damping,
     rim_waves as rim_waves,
 )
 from ._lumped import static_start as static_start
@@ -53,6 +57,7 @@ from ._model import (
     dynamic_model as dynamic_model,
     mesh_table as mesh_table,
 )
+from ._newmark import MeshDamping as MeshDamping, newmark as newmark
 from ._result import (
     DynamicResult as DynamicResult,
     MeshDynamics as MeshDynamics,

@@ -37,6 +37,7 @@ their (3.9) resonance speeds live with the modal analysis (:mod:`jaxgear.dynamic
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import equinox as eqx
@@ -216,6 +217,71 @@ def _references(scene: HybridPair, mods, theta):
     return jnp.max(e_max, axis=0), e_max
 
 
+def _speed_damping(model: HybridModel, speed, law: ContactLaw, spp: int):
+    """The quasi-static result at the ``spp`` step positions of the first mesh period at speed
+    Ω (:func:`_period_statics`), the mesh stiffness of period p, ``block(p)``
+    (:func:`_mesh_block` on the cells loaded there), and the damping (:func:`_damping`; the modal
+    models' modes with K̄_m averaged round the wheel)."""
+    scene = model.scene
+    period_angle = scene.base_planes[0].mesh_period_angle
+    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law)
+    loaded = _loaded(qs)
+
+    def block(p):  # K̄_m(p) on the stations under the meshes in period p
+        return _mesh_block(scene, qs.theta + p * period_angle, loaded)
+
+    Km = None
+    if model.damping.model in ("modal", "composite"):
+        Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
+    return qs, block, _damping(scene, Km, model.damping)
+
+
+class RevolutionDamping(NamedTuple):
+    """The damping of a hybrid model at one speed over a wheel revolution (seed (2.34)–(2.36)),
+    C(k) = C + c_m Wᵀ K̄_m(k) W in mesh period k, with K̄_m(k) the mesh stiffness averaged over
+    the period's quasi-static positions on the rim stations under the meshes then (U) and W the
+    rows U of R (of the identity when R is None).
+
+    Attributes:
+        constant: C, the part that does not follow the mesh, bearings included (N·s/m per
+            coordinate), (n, n).
+        mesh_factor: c_m (s for Rayleigh, - for the composite), or None: no mesh share.
+        mesh_map: R (n, n), or None: the identity.
+        periods: mesh periods of a revolution (the least common multiple of the condensed
+            members' tooth counts).
+        block: k ↦ (U (w,), K̄_m(k) on U (w, w), whether every window of period k lies in U).
+    """
+
+    constant: Float[Array, "n n"]
+    mesh_factor: Float[Array, ""] | None
+    mesh_map: Float[Array, "n n"] | None
+    periods: int
+    block: Callable
+
+    def at(self, k) -> tuple[Float[Array, "n n"], Array]:
+        """C(k) (n, n) in mesh period ``k`` and whether the period's windows lie inside U."""
+        if self.mesh_factor is None:
+            return self.constant, jnp.array(True)
+        U, B, ok = self.block(k)
+        n = self.constant.shape[0]
+        W = jnp.eye(n, dtype=B.dtype)[U] if self.mesh_map is None else self.mesh_map[U]
+        return self.constant + self.mesh_factor * (W.T @ B @ W), ok
+
+
+def revolution_damping(
+    model: HybridModel, speed, *, steps_per_period: int = 16, contact: ContactLaw | None = None
+) -> RevolutionDamping:
+    """The damping a hybrid model's Newmark run uses at pinion ``speed`` Ω (rad/s) with
+    ``steps_per_period`` steps per mesh period and the contact law ``contact`` (default:
+    exact), period by period over a wheel revolution (:class:`RevolutionDamping`): to check
+    its symmetry and positive semi-definiteness, or its modal diagonal against (2.36)."""
+    dtype = model.scene.structure.K.dtype
+    law = contact_law(ExactContact() if contact is None else contact, dtype)
+    check_integer("steps_per_period", steps_per_period, 1)
+    _, block, damp = _speed_damping(model, jnp.asarray(speed, dtype), law, steps_per_period)
+    return RevolutionDamping(damp.C, damp.c_m, damp.R, _revolution_periods(model.scene), block)
+
+
 def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited):
     scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
     spp, states, blowup = cfg.steps_per_period, cfg.states, cfg.blowup
@@ -225,18 +291,9 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
     dtype = scene.structure.K.dtype
     dt = period_angle / speed / spp
     M = scene.structure.M
-    # the quasi-static states at the step positions of the first period: the start (row 0, at
-    # speed Ω: centrifugal load on, at rest) and the loaded cells of the averaged mesh stiffness
-    qs, _ = _period_statics(scene, mods, torque, speed, spp, law)
-    loaded = _loaded(qs)
-
-    def block(p):  # K̄_m(p) on the stations under the meshes in period p
-        return _mesh_block(scene, qs.theta + p * period_angle, loaded)
-
-    Km = None
-    if damping.model in ("modal", "composite"):  # their modes: K̄_m averaged round the wheel
-        Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
-    damp = _damping(scene, Km, damping)
+    # the quasi-static states at the step positions of the first period (the start: row 0, at
+    # speed Ω, centrifugal load on, at rest) and the damping with its mesh share per period
+    qs, block, damp = _speed_damping(model, speed, law, spp)
     C = damp.C
     # the mesh share of C follows the mesh: c_m Rᵀ K̄_m(k) R in period k
     mesh_damping = None if damp.c_m is None else MeshDamping(block, damp.c_m, damp.R)

@@ -190,7 +190,6 @@ def static_start(
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _run(
     model: DynamicModel,
     prep: _Prepared,

@@ -186,7 +186,6 @@ class _Prepared(eqx.Module):
 
 
 @eqx.filter_jit
-@eqx.debug.assert_max_traces(max_traces=None)  # counted (tests: no retracing)
 def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int):
     """Cell table and static rows (compiled once per scene structure and N_s; shared by the model
     build, every solver, direction and period count)."""

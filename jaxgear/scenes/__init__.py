@@ -21,7 +21,11 @@ from ._gear_mesh import (
     pair_mesh as pair_mesh,
     train_phases as train_phases,
 )
-from ._hybrid import HybridPair as HybridPair, hybrid_pair as hybrid_pair
+from ._hybrid import (
+    HybridPair as HybridPair,
+    fit_windows as fit_windows,
+    hybrid_pair as hybrid_pair,
+)
 from ._interface import (
     FlexibleMember as FlexibleMember,
     RigidMember as RigidMember,

@@ -383,7 +383,7 @@ def hybrid_pair(
         x_torque=jnp.asarray(G @ f_t),
         x_centrifugal=jnp.asarray(G @ fc),
     )
-    return _fit_windows(scene)
+    return fit_windows(scene)
 
 
 _J6 = np.zeros((6, 6))
@@ -448,9 +448,15 @@ def _rotating_frame(n, d, parts, ratio):
     return gyro, spin_K
 
 
-def _fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
-    """The window estimate (stations spanned by the contact zone and the root points) checked
-    over two mesh periods and widened while a cell reaches beyond it."""
+def fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
+    """``scene`` with rim windows that hold its contact zone: each condensed member's window
+    (``n_window`` rim stations spanned by the contact zone and the root points) is checked over
+    two mesh periods (96 positions) and widened by one station while a cell reaches beyond it.
+    :func:`hybrid_pair` calls it; call it again after changing a member by hand.
+
+    Raises:
+        ValueError: the zone does not fit after ``tries`` widenings.
+    """
     for _ in range(tries):
         if not _windows_overflow(scene):
             return scene

@@ -216,7 +216,7 @@ def run_command(args) -> int:
 
     from ..io import load_case, write_json
     from ._paths import check_output_dir, clear_outputs
-    from ._sweep import sweep_case
+    from .sweep import sweep_case
 
     case = load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
@@ -231,7 +231,7 @@ def run_command(args) -> int:
         settings = check_settings(settings_from_case(case))
     summary = run_case(case, out, show_progress=not args.quiet, complete=last)
     if case.scene is not None and case.scene.model == "lumped3d":
-        from ._scene import scene_outputs
+        from .scene import scene_outputs
 
         summary["quasi_static_scene"] = scene_outputs(
             case, os.path.join(out, "scene"), progress=not args.quiet
@@ -282,7 +282,7 @@ def run_command(args) -> int:
         write_json(args.json, summary)
     print(format_table(summary))
     if "quasi_static_scene" in summary:
-        from ._scene import scene_lines
+        from .scene import scene_lines
 
         print("\n".join(scene_lines(summary["quasi_static_scene"])))
     if case.scene is not None and case.scene.hybrid:

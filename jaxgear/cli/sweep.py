@@ -299,7 +299,7 @@ def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir) -> list:
     if vtu_speed is None:
         return []
     from ..dynamics import Newmark, auto_steps_per_period, simulate, spec_window
-    from ._scene import write_body_series
+    from .scene import write_body_series
 
     n_vtu = spec.steps_per_period or auto_steps_per_period(model, [vtu_speed], modes)[0]
     one = simulate(
