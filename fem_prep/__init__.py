@@ -21,7 +21,6 @@ from ._body import (
     load_body as load_body,
     parse_body as parse_body,
 )
-from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from ._condense import (
     Condensed as Condensed,
     MasterSet as MasterSet,
@@ -65,6 +64,7 @@ from ._tooth_fe import (
     tooth_compliance as tooth_compliance,
     tooth_profile as tooth_profile,
 )
+from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .schema import SchemaError as SchemaError
 from .tooth_form import (
     ToothForm as ToothForm,

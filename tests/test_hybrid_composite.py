@@ -12,7 +12,6 @@ positive semi-definite with (2.36)'s modal diagonal in every period.
 from __future__ import annotations
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -23,7 +22,6 @@ from test_hybrid_dynamics import (
     setup,  # noqa: F401 (the module's scene fixture)
 )
 
-import jaxgear as jg
 from jaxgear.dynamics import Damping, Newmark, SteadyState, dynamic_model, revolution_damping
 
 

@@ -13,6 +13,6 @@ from ._optimise import (
 )
 from ._options import range_values as range_values
 from ._paths import OUTPUT_FILES as OUTPUT_FILES, clear_outputs as clear_outputs
+from ._summary import result_summary as result_summary
 from .run import format_table as format_table, run_case as run_case
 from .scene import scene_outputs as scene_outputs
-from ._summary import result_summary as result_summary

@@ -283,7 +283,7 @@ def revolution_damping(
 
 
 def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited):
-    scene, mods, torque, damping = model.scene, model.mods, model.torque, model.damping
+    scene, mods, torque = model.scene, model.mods, model.torque
     spp, states, blowup = cfg.steps_per_period, cfg.states, cfg.blowup
     n_steps, keep = spp * cfg.periods, spp * cfg.keep_periods
     planes = scene.base_planes
