@@ -16,8 +16,9 @@ from ._contact import ContactLaw, contact_law_from_name
 from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
+from .scenes import disc_inertia, grounded, torsional_train, train_layout
 
-__all__ = ["Case"]
+__all__ = ["Case", "TrainCase"]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -121,4 +122,162 @@ class Case:
         return MeshModel.from_pair(self.pair, s, k, self.slices if slices is None else slices)
 
     def replace(self, **changes) -> Case:
+        return dataclasses.replace(self, **changes)
+
+
+@dataclasses.dataclass(frozen=True)
+class TrainCase:
+    """A validated gear-train case (SI units): gears, the meshes between them and their layout,
+    with the mesh settings, material and operating point of a pair case.
+
+    Attributes:
+        name: case name. gear_names: each gear's name, (n,), gear 0 the input.
+        pairs: the :class:`GearPair` of each mesh, (m,), its pinion the mesh's driving gear.
+        gears: each mesh's (driving, driven) gear indices, listed from the input outwards.
+        angles: each mesh's direction of the driven gear's centre seen from the driving one
+            (rad, fixed frame).
+        modifications: each gear's :class:`MemberModification`, (n,) (every flank it loads).
+        youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
+        torque: the input gear's torque (N·m); the one output gear takes the balancing torque.
+        speed: the input gear's speed (rad/s).
+        stiffness_model, uniform_k0, slices, positions_per_pitch, smooth_width, foundation,
+            fe2d_size: as :class:`Case`, for every mesh.
+        inertias: each gear's polar inertia (kg·m²), (n,); None: a solid disc of its tip radius
+            and face width.
+        scene: the validated ``[scene]`` (:class:`jaxgear.dynamics.SceneSpec`, torsional) or
+            None.
+        raw: the parsed TOML, as read.
+    """
+
+    name: str
+    gear_names: tuple
+    pairs: tuple
+    gears: tuple
+    angles: tuple
+    modifications: tuple
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.3
+    density: float = 7800.0
+    torque: float = 100.0
+    speed: float = 0.0
+    stiffness_model: str = "fe2d"
+    uniform_k0: float | None = None
+    slices: int = 40
+    positions_per_pitch: int = 64
+    smooth_width: float = 1e-7
+    foundation: str = "weber"
+    fe2d_size: float | None = None
+    inertias: tuple = ()
+    scene: Any = None
+    raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+
+    optimise = None  # a train case has no [optimise] table
+
+    def contact_law(self, mode: str) -> ContactLaw:
+        """As :meth:`Case.contact_law`."""
+        return contact_law_from_name(mode, self.smooth_width)
+
+    @property
+    def n_gears(self) -> int:
+        return len(self.gear_names)
+
+    def mesh_name(self, k: int) -> str:
+        """``"driving-driven"``, the names of mesh ``k``'s gears."""
+        g, h = self.gears[k]
+        return f"{self.gear_names[g]}-{self.gear_names[h]}"
+
+    @property
+    def mesh_torques(self) -> tuple:
+        """Each mesh's torque on its driving gear (N·m): the input's torque, passed on through
+        the train (a gear driven by a mesh and driving the next, with no load of its own, turns
+        the same normal force, T_h = T_g r_b,h / r_b,g)."""
+        torque = {0: self.torque}
+        out = []
+        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
+            out.append(torque[g])
+            torque[h] = torque[g] * pair.base_radii[1] / pair.base_radii[0]
+        return tuple(out)
+
+    def mesh_case(self, k: int) -> Case:
+        """Mesh ``k`` as a pair case: its pair (the driving gear as pinion), its driving gear's
+        torque (:attr:`mesh_torques`) and speed, and the train's mesh settings."""
+        g, h = self.gears[k]
+        pair = self.pairs[k]
+        speed = self.speed * self.layout().ratios[g]
+        return Case(
+            name=f"{self.name}-{self.mesh_name(k)}",
+            pair=pair,
+            modifications=Modifications(self.modifications[g], self.modifications[h]),
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            density=self.density,
+            torque=self.mesh_torques[k],
+            speed=speed,
+            stiffness_model=self.stiffness_model,
+            uniform_k0=self.uniform_k0,
+            slices=self.slices,
+            positions_per_pitch=self.positions_per_pitch,
+            smooth_width=self.smooth_width,
+            foundation=self.foundation,
+            fe2d_size=self.fe2d_size,
+        )
+
+    def mesh_modifications(self) -> tuple:
+        """Each mesh's :class:`Modifications` (its driving gear's, its driven gear's)."""
+        return tuple(
+            Modifications(self.modifications[g], self.modifications[h]) for g, h in self.gears
+        )
+
+    def layout(self):
+        """The train laid out in the plane (:func:`jaxgear.scenes.train_layout`)."""
+        return train_layout(self.pairs, self.gears, self.angles, self.n_gears)
+
+    def members(self) -> tuple:
+        """Each gear's :class:`Member` (from the first mesh it takes part in)."""
+        out = [None] * self.n_gears
+        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
+            out[g] = out[g] or pair.pinion
+            out[h] = out[h] or pair.gear
+        return tuple(out)
+
+    def tip_radii(self) -> tuple:
+        """Each gear's tip radius (m)."""
+        out = [None] * self.n_gears
+        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
+            out[g] = out[g] or pair.tip_radii[0]
+            out[h] = out[h] or pair.tip_radii[1]
+        return tuple(out)
+
+    def gear_inertias(self) -> tuple:
+        """Each gear's polar inertia (kg·m²): the case's, or a solid disc of the tip radius and
+        face width at the case's density."""
+        members, radii = self.members(), self.tip_radii()
+        return tuple(
+            disc_inertia(self.density, radii[i], members[i].face_width) if j is None else j
+            for i, j in enumerate(self.inertias or (None,) * self.n_gears)
+        )
+
+    def mesh_models(self, slices: int | None = None) -> tuple:
+        """Each mesh's :class:`MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`)."""
+        return tuple(self.mesh_case(k).mesh_model(slices) for k in range(len(self.pairs)))
+
+    def torsional_train(self, slices: int | None = None):
+        """The train's torsional scene (:func:`jaxgear.scenes.torsional_train`): each mesh at
+        its layout's phase, each gear's :meth:`gear_inertias`."""
+        planes = self.mesh_models(slices)
+        return torsional_train(
+            tuple(zip(planes, self.gears, strict=True)),
+            self.gear_inertias(),
+            tuple(float(p) for p in self.layout().phases),
+        )
+
+    def static_train(self, slices: int | None = None):
+        """The scene of the train's quasi-static solve: :meth:`torsional_train` with the output
+        gear's rotation held by a spring (the output torque's reaction; the meshes' TE and
+        loads do not depend on it)."""
+        train = self.torsional_train(slices)
+        output = dict(train.structure.nodes)["output"]
+        return grounded(train, (output,), factor=1e9)
+
+    def replace(self, **changes) -> TrainCase:
         return dataclasses.replace(self, **changes)

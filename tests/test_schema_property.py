@@ -23,6 +23,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, example, given, seed, settings, strategies as st
 
+import jaxgear as jg
 import jaxgear.io as jio
 from fem_prep import load_body, parse_body, schema as sc
 from fem_prep.schema import SchemaError
@@ -216,11 +217,17 @@ def _static_pieces(case, what: str) -> None:
     with warnings.catch_warnings(record=True):
         warnings.simplefilter("always")
         try:
-            case.pair.summary()
+            for pair in getattr(case, "pairs", None) or (case.pair,):  # a train's, a pair's
+                pair.summary()
             if case.optimise is not None:
                 check_settings(settings_from_case(case), case)
             if case.stiffness_model != "fe2d":
-                case.replace(slices=2, positions_per_pitch=8).mesh_model()
+                small = case.replace(slices=2, positions_per_pitch=8)
+                if isinstance(small, jg.TrainCase):
+                    small.mesh_models()
+                    small.layout()
+                else:
+                    small.mesh_model()
         except ValueError as err:
             assert "\n" not in str(err).strip(), (what, str(err))
         except BaseException as err:
@@ -229,7 +236,8 @@ def _static_pieces(case, what: str) -> None:
 
 def _check_case(data, what: str, tmp: Path) -> None:
     text = _dumps(data)
-    case = _one_line(lambda: jio.parse_case(copy.deepcopy(data)), what)
+    parse = jio.parse_train if "gears" in data or "meshes" in data else jio.parse_case
+    case = _one_line(lambda: parse(copy.deepcopy(data)), what)
     path = tmp / "case.toml"
     path.write_text(text, "utf-8")
     from_file = _one_line(lambda: jio.load_case(path), f"{what} (from a file)")

@@ -12,7 +12,12 @@ from ._optimise import (
     settings_from_case as settings_from_case,
 )
 from ._options import range_values as range_values
-from ._paths import OUTPUT_FILES as OUTPUT_FILES, clear_outputs as clear_outputs
+from ._paths import (
+    OUTPUT_FILES as OUTPUT_FILES,
+    TRAIN_FILES as TRAIN_FILES,
+    clear_outputs as clear_outputs,
+)
 from ._summary import result_summary as result_summary
 from .run import format_table as format_table, run_case as run_case
 from .scene import scene_outputs as scene_outputs
+from .train import format_train_table as format_train_table, run_train as run_train

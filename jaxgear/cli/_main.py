@@ -80,6 +80,14 @@ def _cases(args) -> int:
             raise ValueError("--write needs a case NAME (jaxgear cases NAME --write FILE)")
         for name in list_cases():
             c = load_case(name)
+            if hasattr(c, "gear_names"):  # a train: its gears' teeth, input first
+                teeth = "/".join(str(m.teeth) for m in c.members())
+                print(
+                    f"{name:24s} train z {teeth}, m_n {c.pairs[0].normal_module * 1e3:g} mm, "
+                    f"T {c.torque:g} N·m (input), {c.stiffness_model} stiffness"
+                    + (f", {c.scene.model} scene" if c.scene is not None else "")
+                )
+                continue
             print(
                 f"{name:24s} z {c.pair.pinion.teeth}/{c.pair.gear.teeth}, "
                 f"m_n {c.pair.normal_module * 1e3:g} mm, "

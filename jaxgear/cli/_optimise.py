@@ -423,8 +423,19 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
     return settings
 
 
+def _pair_case(name_or_path: str, command: str):
+    """The pair case a command optimises; a train case is refused in one line."""
+    case = load_case(name_or_path)
+    if isinstance(case, jg.TrainCase):
+        raise ValueError(
+            f"jaxgear {command} optimises a gear pair; {case.name!r} is a train case: run "
+            "it with jaxgear run or jaxgear sweep, or optimise one of its meshes as a pair case"
+        )
+    return case
+
+
 def run_optimise(args) -> int:
-    case = load_case(args.case)
+    case = _pair_case(args.case, "optimise")
     settings = check_settings(settings_from_case(case, args), case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
@@ -529,7 +540,7 @@ def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = Tru
 
 def run_master_curve(args) -> int:
     extents = range_values(args.extents, "--extents")
-    case = load_case(args.case)
+    case = _pair_case(args.case, "master-curve")
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))
     clear_outputs(out, "master-curve")
     rep = master_curve_case(case, extents, out, progress=not args.quiet)

@@ -7,15 +7,16 @@ and file checks are fem_prep's (:mod:`fem_prep.schema`), shared with ``fem-prep`
 from __future__ import annotations
 
 import contextlib
+import fnmatch
 import os
 
 from fem_prep import schema as sc
 from fem_prep.schema import check_output_dir, check_output_file
 
-__all__ = ["OUTPUT_FILES", "check_output_dir", "check_output_file", "clear_outputs"]
+__all__ = ["OUTPUT_FILES", "TRAIN_FILES", "check_output_dir", "check_output_file", "clear_outputs"]
 
-# The files each command writes into its folder (subfolder/name for the nested ones). Only these
-# names are ever deleted by :func:`clear_outputs`, and only when the folder's manifest says that
+# The files each command writes into its folder (subfolder/name for the nested ones; a name may
+# hold a * wildcard, as fnmatch reads it). Only these names are ever deleted by :func:`clear_outputs`, and only when the folder's manifest says that
 # jaxgear wrote them: a user's own files in the folder stay.
 OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "run": (
@@ -45,6 +46,10 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench hybrid-sweep": ("bench_hybrid_sweep.json", "bench_hybrid_sweep.png"),
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
 }
+# what ``jaxgear run`` writes for a train case besides a pair's names: a load map per mesh (named
+# after its gears) and the layout with its phasing
+TRAIN_FILES = ("load_map_*.png", "phasing.png")
+OUTPUT_FILES["run"] += TRAIN_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
     f"{sub}/{n}" for sub in ("sweep", "optimise", "scene") for n in OUTPUT_FILES[sub]
@@ -61,16 +66,17 @@ def clear_outputs(folder, command: str) -> list[str]:
     Returns the paths removed."""
     removed = []
     listed = set(sc.recorded_outputs(folder))
-    for name in OUTPUT_FILES[command]:
-        p = os.path.join(folder, name)
-        if name in listed and (os.path.isfile(p) or os.path.islink(p)):
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(p)
-                removed.append(p)
-        d, base = os.path.split(p)
+    for pattern in OUTPUT_FILES[command]:
+        for name in sorted(n for n in listed if fnmatch.fnmatchcase(n, pattern)):
+            p = os.path.join(folder, name)
+            if os.path.isfile(p) or os.path.islink(p):
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(p)
+                    removed.append(p)
+        d, base = os.path.split(os.path.join(folder, pattern))
         if os.path.isdir(d):
             for other in os.listdir(d):
-                if other.startswith(f".tmp-{base}-") and other.endswith(".tmp"):
+                if fnmatch.fnmatchcase(other, f".tmp-{base}-*.tmp"):
                     with contextlib.suppress(OSError):
                         os.unlink(os.path.join(d, other))
     with contextlib.suppress(FileNotFoundError):  # this run starts a new list

@@ -103,8 +103,11 @@ def te_coincide(exact, smooth, span: float, share: float = TE_COINCIDE_SHARE) ->
     return d <= share * span, d
 
 
-def transmission_error_plot(path, x, curves: dict, *, title: str) -> list[str]:
-    """Quasi-static TE (µm) against pinion position (mesh periods).
+def transmission_error_plot(
+    path, x, curves: dict, *, title: str, driver: str = "pinion"
+) -> list[str]:
+    """Quasi-static TE (µm) against the ``driver``'s position (mesh periods): the pinion's, a
+    train's input's.
 
     ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}``. A design whose exact and
     smooth curves coincide (:func:`te_coincide`) is drawn once, its legend entry says so;
@@ -122,7 +125,7 @@ def transmission_error_plot(path, x, curves: dict, *, title: str) -> list[str]:
         else:
             ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
             ax.plot(x, v["smooth"], "--", color=color, label=f"{lab}, smooth contact")
-    ax.set_xlabel("pinion position (mesh periods)")
+    ax.set_xlabel(f"{driver} position (mesh periods)")
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
@@ -131,8 +134,9 @@ def transmission_error_plot(path, x, curves: dict, *, title: str) -> list[str]:
     return [t.get_text() for t in leg.get_texts()]
 
 
-def mesh_stiffness_plot(path, x, curves: dict, *, title: str) -> list[str]:
-    """Mesh stiffness (N/µm) against pinion position; ``curves``: ``{label: K (N/m)}``."""
+def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pinion") -> list[str]:
+    """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
+    input's); ``curves``: ``{label: K (N/m)}``."""
     fig, ax = new_figure()
     for (lab, k), color in zip(curves.items(), ("C0", "C3", "C2", "C1"), strict=False):
         ax.plot(x, np.asarray(k) / 1e6, color=color, label=lab)
@@ -140,7 +144,7 @@ def mesh_stiffness_plot(path, x, curves: dict, *, title: str) -> list[str]:
         fig,
         ax,
         path,
-        xlabel="pinion position (mesh periods)",
+        xlabel=f"{driver} position (mesh periods)",
         ylabel="mesh stiffness K(θ) (N/µm)",
         title=title,
     )
@@ -177,6 +181,68 @@ def load_map_plot(path, s_edges, z_edges, lmap, *, title: str, vmax: float | Non
         grid=False,
     )
     return pc
+
+
+def train_phasing_plot(
+    path, layout, pairs, names, tip_radii, base_radii, x, stiffness, *, title: str
+):
+    """A gear train's layout and mesh phasing in one figure (two panels).
+
+    Left: the gears in the plane (tip and base circles, centres, each gear's sense of rotation,
+    each mesh's line of action between its base-circle tangent points, thick along its path of
+    contact, in mm). Right: each
+    mesh's stiffness K_k(θ) (N/µm) against the input's position (its mesh periods), each curve
+    marked where its mesh angle is a whole number of mesh periods: the marks of mesh k sit at
+    −phase_k / (ratio_k · mesh period angle) modulo one period (the layout's phasing).
+
+    Args:
+        layout: :class:`jaxgear.scenes.TrainLayout`. pairs: each mesh's
+            :class:`~jaxgear.GearPair`. names: the gears' names. tip_radii,
+            base_radii: each gear's (m). x: the input's position (mesh periods), (P,).
+        stiffness: ``{mesh label: (K (N/m) (P,), phase marks (mesh periods of the input))}``.
+    """
+    import matplotlib.patches as mpatches
+
+    fig, ax = new_figure(figsize=(11.0, 4.8))
+    fig.delaxes(ax)
+    lay, curves = fig.subplots(1, 2, width_ratios=(1.0, 1.4))
+    mm = 1e3
+    for i, name in enumerate(names):
+        c = np.asarray(layout.centres[i]) * mm
+        color = f"C{i % 10}"
+        lay.add_patch(mpatches.Circle(c[:2], tip_radii[i] * mm, fill=False, color=color, lw=1.5))
+        lay.add_patch(
+            mpatches.Circle(c[:2], base_radii[i] * mm, fill=False, color=color, lw=0.8, ls=":")
+        )
+        spin = "↺" if layout.spins[i] > 0 else "↻"
+        lay.annotate(f"{name} {spin}", c[:2], ha="center", va="center", fontsize=9, color=color)
+    for k, (line, pair) in enumerate(zip(layout.lines, pairs, strict=True)):
+        t1, t = np.asarray(line["tangent_point"]) * mm, np.asarray(line["direction"])
+        t2 = t1 + pair.center_distance * np.sin(pair.operating_pressure_angle) * mm * t
+        a = t1 + pair.start_roll * mm * t  # the path of contact, engagement to recess
+        b = a + pair.path_of_contact * mm * t
+        lay.plot([t1[0], t2[0]], [t1[1], t2[1]], "k-", lw=0.6)
+        lay.plot([a[0], b[0]], [a[1], b[1]], "k-", lw=2.5)
+        lay.annotate(f"mesh {k + 1}", b[:2], fontsize=8, xytext=(4, 4), textcoords="offset points")
+    lay.set_aspect("equal")
+    lay.autoscale_view()
+    lay.set_xlabel("x (mm)")
+    lay.set_ylabel("y (mm)")
+    lay.set_title("layout: tip and base circles, lines of action", fontsize=10)
+    lay.grid(alpha=0.3)
+    for (lab, (k, marks)), color in zip(
+        stiffness.items(), ("C0", "C3", "C2", "C1", "C4"), strict=False
+    ):
+        curves.plot(x, np.asarray(k) / 1e6, color=color, label=lab)
+        for m in np.atleast_1d(marks):
+            curves.axvline(m, color=color, ls="--", lw=0.8)
+    curves.set_xlabel("input position (mesh periods)")
+    curves.set_ylabel("mesh stiffness K(θ) (N/µm)")
+    curves.set_title("mesh phasing: dashed, each mesh's angle at a whole period", fontsize=10)
+    curves.grid(alpha=0.3)
+    curves.legend(fontsize=8)
+    fig.suptitle(title)
+    savefig(fig, path)
 
 
 def harris_plot(
@@ -376,8 +442,9 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     top = ax.secondary_xaxis(
         "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
     )
-    top.set_xlabel("pinion speed (rpm)")
-    ax.set_xlabel("pinion speed (rad/s)")
+    driver = summary.get("speed_of", "pinion")  # a train's: its input gear's
+    top.set_xlabel(f"{driver} speed (rpm)")
+    ax.set_xlabel(f"{driver} speed (rad/s)")
     ax.set_ylabel("dynamic mesh force / static")
     ax.set_title(
         f"{summary['case']}: dynamic factor ({summary['model']} model, {summary['solver']}, "
@@ -512,8 +579,9 @@ def campbell_plot(
     top = ax.secondary_xaxis(
         "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
     )
-    top.set_xlabel("pinion speed (rpm)")
-    ax.set_xlabel("pinion speed (rad/s)")
+    driver = summary.get("speed_of", "pinion")  # a train's: its input gear's
+    top.set_xlabel(f"{driver} speed (rpm)")
+    ax.set_xlabel(f"{driver} speed (rad/s)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(
         f"{summary['case']}: Campbell diagram, modes with ≥ {min_share:.0%} mesh strain energy "

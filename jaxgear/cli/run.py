@@ -14,6 +14,7 @@ from tqdm.auto import tqdm
 from .. import (
     Case,
     Modifications,
+    TrainCase,
     __version__,
     harris_map,
     load_map,
@@ -212,7 +213,6 @@ def format_table(summary: dict) -> str:
 
 def run_command(args) -> int:
     """``jaxgear run``: quasi-static files, then the sweep and optimisation the case asks for."""
-    import numpy as np
 
     from ..io import load_case, write_json
     from ._paths import check_output_dir, clear_outputs
@@ -224,6 +224,8 @@ def run_command(args) -> int:
     summary_path = os.path.join(out, "summary.json")
     # an interrupted run leaves complete files and a summary saying it is not complete
     write_json(summary_path, {"case": case.name, "complete": False})
+    if isinstance(case, TrainCase):
+        return _run_train_command(case, out, args)
     last = case.scene is None and case.optimise is None
     if case.optimise is not None:  # check the optimisation settings before computing anything
         from ._optimise import check_settings, optimise_case, settings_from_case
@@ -249,16 +251,7 @@ def run_command(args) -> int:
             slices=sweep_slices,
             show_progress=not args.quiet,
         )
-        df = np.asarray(sw["dynamic_factor"], dtype=float)
-        summary["dynamics"] = {
-            "model": case.scene.model,
-            "slices": sweep_slices,
-            "speeds_rad_s": sw["speeds_rad_s"],
-            "dynamic_factor": sw["dynamic_factor"],
-            "max_dynamic_factor": float(np.nanmax(df)),
-            "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
-            "files": "sweep/sweep.json, sweep/dynamic_factor.png, sweep/campbell.png",
-        }
+        summary["dynamics"] = _dynamics_section(case, sw, sweep_slices)
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
@@ -297,6 +290,67 @@ def run_command(args) -> int:
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
             f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
+        )
+    print(f"written to {out}/")
+    return 0
+
+
+def _dynamics_section(case, sw: dict, slices: int) -> dict:
+    """``summary.json``'s ``dynamics``: the sweep's dynamic factor curve and its maximum (a
+    train's: the worst mesh per speed, with each mesh's under ``dynamic_factor_mesh``)."""
+    df = np.asarray(sw["dynamic_factor"], dtype=float)
+    out = {
+        "model": case.scene.model,
+        "slices": slices,
+        "speeds_rad_s": sw["speeds_rad_s"],
+        "dynamic_factor": sw["dynamic_factor"],
+        "max_dynamic_factor": float(np.nanmax(df)),
+        "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
+        "files": "sweep/sweep.json, sweep/dynamic_factor.png, sweep/campbell.png",
+    }
+    if "dynamic_factor_mesh" in sw:
+        per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
+        out["mesh_names"] = sw["mesh_names"]
+        out["dynamic_factor_mesh"] = sw["dynamic_factor_mesh"]
+        out["max_dynamic_factor_mesh"] = [float(v) for v in np.nanmax(per, axis=0)]
+    return out
+
+
+def _run_train_command(case, out: str, args) -> int:
+    """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
+    ``[scene]``, the dynamic factor sweep of the torsional train (per mesh)."""
+    from ..io import write_json
+    from .sweep import sweep_case
+    from .train import format_train_table, run_train
+
+    summary_path = os.path.join(out, "summary.json")
+    last = case.scene is None
+    summary = run_train(case, out, show_progress=not args.quiet, complete=last)
+    if case.scene is not None:
+        sweep_slices = min(case.slices, RUN_SWEEP_SLICES)
+        sw = sweep_case(
+            case,
+            np.linspace(100.0, 3000.0, 60),
+            os.path.join(out, "sweep"),
+            slices=sweep_slices,
+            show_progress=not args.quiet,
+        )
+        summary["dynamics"] = _dynamics_section(case, sw, sweep_slices)
+        summary["complete"] = True
+        write_json(summary_path, summary)
+    if args.json:
+        write_json(args.json, summary)
+    print(format_train_table(summary))
+    if "dynamics" in summary:
+        d = summary["dynamics"]
+        per = ", ".join(
+            f"{n} {v:.3f}"
+            for n, v in zip(d["mesh_names"], d["max_dynamic_factor_mesh"], strict=True)
+        )
+        print(
+            f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
+            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
+            f"{d['speeds_rad_s'][-1]:g} rad/s"
         )
     print(f"written to {out}/")
     return 0

@@ -176,8 +176,14 @@ def sweep_case(
         "keep_periods": spec.keep_periods,
         "damping": spec.damping_model,
         "torque_Nm": case.torque,
-        "static_mesh_force_N": float(model.static_force),
     }
+    n_meshes = len(model.scene.meshes)
+    if n_meshes == 1:
+        summary["static_mesh_force_N"] = float(model.static_force)
+    else:  # a train: each mesh's, from its first speed
+        summary["speed_of"] = "input"  # speeds of the input gear
+        summary["mesh_names"] = [case.mesh_name(k) for k in range(n_meshes)]
+        summary["static_mesh_force_N"] = [float(m.static_force[0]) for m in r.meshes]
     if hybrid:
         summary.update(
             {
@@ -189,8 +195,10 @@ def sweep_case(
                 "wheel_teeth": case.pair.gear.teeth,
             }
         )
-    else:
+    elif n_meshes == 1:
         summary["mesh_stiffness_mean_N_per_m"] = float(model.mesh_stiffness_mean)
+    else:  # each mesh's time-averaged loaded stiffness
+        summary["mesh_stiffness_mean_N_per_m"] = [float(k) for k in _mesh_stiffness_means(model)]
     summary.update(
         {
             "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
@@ -207,16 +215,10 @@ def sweep_case(
         summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
             model.scene, modes, speeds, case.pair.pinion.teeth, case.pair.gear.teeth
         )
+    summary.update({"speeds_rad_s": _clean(speeds), "mesh_frequency_Hz": _clean(r.mesh_frequency)})
+    summary.update(_mesh_responses(model, r, speeds))
     summary.update(
         {
-            "speeds_rad_s": _clean(speeds),
-            "mesh_frequency_Hz": _clean(r.mesh_frequency),
-            "dynamic_factor": _clean(r.dynamic_factor),
-            "dynamic_factor_tooth": _clean(r.dynamic_factor_tooth),
-            "te_rms_m": _clean(r.te_rms),
-            "te_mean_m": _clean(r.te_mean),
-            "contact_loss": _clean(r.contact_loss),
-            "periodicity": _clean(r.periodicity),
             "steps_per_period_used": [int(v) for v in np.asarray(r.steps_per_period)],
             "steps_per_mode_period": _clean(r.steps_per_mode_period),
             "under_resolved": [bool(v) for v in np.asarray(r.under_resolved)],
@@ -242,10 +244,10 @@ def sweep_case(
         d = res.down
         summary.update(
             {
-                "dynamic_factor_down": _clean(d.dynamic_factor),
-                "dynamic_factor_tooth_down": _clean(d.dynamic_factor_tooth),
-                "te_rms_m_down": _clean(d.te_rms),
-                "contact_loss_down": _clean(d.contact_loss),
+                "dynamic_factor_down": _clean(_worst(d, "dynamic_factor")),
+                "dynamic_factor_tooth_down": _clean(_worst(d, "dynamic_factor_tooth")),
+                "te_rms_m_down": _clean(_worst(d, "te_rms")),
+                "contact_loss_down": _clean(_worst(d, "contact_loss")),
                 "result_down": [int(v) for v in np.asarray(d.result)],
             }
         )
@@ -267,8 +269,64 @@ def sweep_case(
         "devices": len(jax.local_devices()),
         "python": platform.python_version(),
     }
-    _write(summary, out_dir, case.pair.pinion.teeth)
+    _write(summary, out_dir, z1)
     return summary
+
+
+def _mesh_stiffness_means(model) -> np.ndarray:
+    """Each mesh's time-averaged loaded stiffness (N/m), (m,): the quasi-static loaded cells
+    over one period of the first mesh (what the model's modal analysis averages, per mesh)."""
+    from .. import quasi_static
+
+    res = quasi_static(model.scene, model.mods, model.torque, positions_per_pitch=64)
+    return np.array([float(np.mean(np.asarray(m.mesh_stiffness))) for m in res.meshes])
+
+
+def _worst(r, field: str) -> np.ndarray:
+    """``field`` of the results ``r`` per speed, the largest over the meshes (S,)."""
+    return np.max(np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], -1), -1)
+
+
+def _mesh_responses(model, r, speeds) -> dict:
+    """The per-speed responses of ``sweep.json``: a pair's as they were; a train's scene-level
+    keys take its worst mesh (dynamic factors, TE RMS of the mesh of the highest dynamic
+    factor, contact loss and periodicity the largest) beside each mesh's (speeds × meshes):
+    ``dynamic_factor_mesh``, ``dynamic_factor_tooth_mesh``, ``te_rms_mesh_m``,
+    ``te_mean_mesh_m``, ``contact_loss_mesh`` and ``mesh_frequency_mesh_Hz`` (each mesh's
+    tooth-passing frequency, from its driving gear's speed)."""
+    keys = (
+        ("dynamic_factor", "dynamic_factor"),
+        ("dynamic_factor_tooth", "dynamic_factor_tooth"),
+        ("te_rms", "te_rms_m"),
+        ("te_mean", "te_mean_m"),
+        ("contact_loss", "contact_loss"),
+        ("periodicity", "periodicity"),
+    )
+    if len(r.meshes) == 1:
+        return {name: _clean(getattr(r, field)) for field, name in keys}
+    per = {
+        field: np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], axis=-1)
+        for field, _ in keys
+    }  # (S, m)
+    worst = np.argmax(per["dynamic_factor"], axis=-1)
+    rows = np.arange(worst.size)
+    out = {
+        "dynamic_factor": _clean(per["dynamic_factor"].max(-1)),
+        "dynamic_factor_tooth": _clean(per["dynamic_factor_tooth"].max(-1)),
+        "te_rms_m": _clean(per["te_rms"][rows, worst]),
+        "te_mean_m": _clean(per["te_mean"][rows, worst]),
+        "contact_loss": _clean(per["contact_loss"].max(-1)),
+        "periodicity": _clean(per["periodicity"].max(-1)),
+    }
+    for field, name in keys[:5]:
+        out[name.removesuffix("_m") + "_mesh" + ("_m" if name.endswith("_m") else "")] = [
+            _clean(row) for row in per[field]
+        ]
+    freq = [
+        float(mesh.ratio) / float(mesh.base_plane.mesh_period_angle) for mesh in model.scene.meshes
+    ]  # cycles per radian of the input
+    out["mesh_frequency_mesh_Hz"] = [_clean(w * np.asarray(freq)) for w in np.asarray(speeds)]
+    return out
 
 
 def _nodal_diameter_resonances(scene, modes, speeds, z1: int, z2: int) -> list:

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .._case import Case
+from .._case import Case, TrainCase
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from ..scenes import (
@@ -109,7 +109,7 @@ def spec_damping(spec: SceneSpec) -> Damping:
 
 
 def build_dynamic_model(
-    case: Case,
+    case: Case | TrainCase,
     spec: SceneSpec | None = None,
     *,
     slices: int | None = None,
@@ -118,6 +118,8 @@ def build_dynamic_model(
     """The dynamic model of a case and its scene (default: ``[scene]``): a
     :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
     the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
+    A train case (:class:`~jaxgear.TrainCase`) gives its torsional train
+    (:meth:`~jaxgear.TrainCase.torsional_train`), the input torque on its input gear.
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
     density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
@@ -125,6 +127,15 @@ def build_dynamic_model(
     """
     if spec is None:
         spec = case.scene if case.scene is not None else SceneSpec()
+    if isinstance(case, TrainCase):  # a torsional train: one rotation per gear
+        model = dynamic_model(
+            case.torsional_train(slices),
+            case.mesh_modifications(),
+            case.torque,
+            spec_damping(spec),
+            positions_per_pitch=spec.steps_per_period or 64,
+        )
+        return model, spec
     if spec.hybrid:
         scene, _ = static_scene(case, slices=slices, bodies=bodies)
         model = dynamic_model(

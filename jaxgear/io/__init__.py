@@ -4,16 +4,19 @@ embedded cases, a case's optimisation problem, and atomic writers. JSON/CSV only
 from ._case_file import (
     CaseWarning as CaseWarning,
     SchemaError as SchemaError,
-    embedded_case_text as embedded_case_text,
-    list_cases as list_cases,
-    load_case as load_case,
     parse_case as parse_case,
     parse_modifications as parse_modifications,
     parse_optimise as parse_optimise,
     plausibility as plausibility,
 )
+from ._load import (
+    embedded_case_text as embedded_case_text,
+    list_cases as list_cases,
+    load_case as load_case,
+)
 from ._problem import case_problem as case_problem
 from ._scene_table import parse_scene as parse_scene
+from ._train_file import parse_train as parse_train
 from ._writers import (
     atomic_open as atomic_open,
     write_csv as write_csv,

@@ -10,10 +10,8 @@ for the schema.
 
 from __future__ import annotations
 
-import importlib.resources
 import itertools
 import math
-import os
 import re
 import warnings
 from typing import Any
@@ -31,9 +29,6 @@ from ._scene_table import parse_scene
 
 __all__ = [
     "CaseWarning",
-    "embedded_case_text",
-    "list_cases",
-    "load_case",
     "mean_static_deflection",
     "parse_case",
     "parse_modifications",
@@ -298,6 +293,84 @@ def _member(data: dict, tag: str) -> Member:
     )
 
 
+def parse_material(data: dict) -> tuple[float, float, float]:
+    """``[material]``: Young's modulus (Pa), Poisson's ratio, density (kg/m³)."""
+    mat = sc.subtable(data, "material", "")
+    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 10000]") * 1e9
+    nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
+    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+05]")
+    return E, nu, rho
+
+
+def parse_mesh_settings(data: dict, normal_module: float) -> dict:
+    """``[mesh]``: the :class:`Case` fields of the mesh model (stiffness model and its
+    settings, slices, positions per pitch, smooth width); ``normal_module`` (m) scales the
+    ranges of the widths (the smallest module of a train)."""
+    m = sc.subtable(data, "mesh", "")
+    # default fe2d: Weber's half-plane foundation is 16–52 % too stiff against it (README,
+    # docs/stiffness.md); the embedded seed cases say "weber", the seed's model
+    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336", "fe2d"), "fe2d")
+    for key, models in _MODEL_KEYS.items():  # a key of another model would be silently ignored
+        if key in m and model not in models:
+            raise sc.fail(
+                "mesh",
+                key,
+                f"belongs to stiffness = {' or '.join(repr(x) for x in models)}, not {model!r} "
+                "(remove it or change the model)",
+                m[key],
+            )
+    k0 = sc.number(
+        m,
+        "stiffness_per_length_N_per_mm_per_um",
+        "mesh",
+        sc.MISSING if model == "uniform" else None,
+        allowed="(0, 1e+06]",
+    )
+    k0 = None if k0 is None else k0 * 1e9
+    slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
+    ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
+    mn_um = normal_module * 1e6  # fe2d element size: 1 to 100 elements per module
+    width = (
+        sc.number(
+            m,
+            "smooth_width_um",
+            "mesh",
+            0.1,
+            allowed=f"[{MIN_SMOOTH_WIDTH_UM:g}, {MAX_SMOOTH_WIDTH_MODULE * mn_um:.6g}]",
+            note=f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)",
+        )
+        * 1e-6
+    )
+    fe2d_size = sc.number(
+        m,
+        "fe2d_size_um",
+        "mesh",
+        None,
+        allowed=f"[{mn_um / 100:.6g}, {mn_um:.6g}]",
+        note=" (m_n/100 to m_n; default m_n/6)",
+    )
+    fe2d_size = None if fe2d_size is None else fe2d_size * 1e-6
+    foundation = m.get("foundation", "weber")
+    if isinstance(foundation, bool):  # the old boolean: true = "weber", false = "none"
+        foundation = "weber" if foundation else "none"
+    elif foundation not in FOUNDATIONS:
+        raise sc.fail(
+            "mesh",
+            "foundation",
+            "allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')",
+            foundation,
+        )
+    return {
+        "stiffness_model": model,
+        "uniform_k0": k0,
+        "slices": slices,
+        "positions_per_pitch": ppp,
+        "smooth_width": width,
+        "foundation": foundation,
+        "fe2d_size": fe2d_size,
+    }
+
+
 def parse_case(data: dict, default_name: str = "case", base_dir: str | None = None) -> Case:
     """Validate a parsed case TOML (a dict), ``[scene]`` and ``[optimise]`` included, and build a
     :class:`Case`; then warn (:class:`CaseWarning`) about absurd but valid inputs.
@@ -356,66 +429,10 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         if isinstance(err, sc.SchemaError):
             raise
         raise _geometry_error(err, data) from None
-    mat = sc.subtable(data, "material", "")
-    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 10000]") * 1e9
-    nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
-    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+05]")
+    E, nu, rho = parse_material(data)
     torque = sc.number(data["operating"], "torque_Nm", "operating", allowed="> 0")
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    m = sc.subtable(data, "mesh", "")
-    # default fe2d: Weber's half-plane foundation is 16–52 % too stiff against it (README,
-    # docs/stiffness.md); the embedded seed cases say "weber", the seed's model
-    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336", "fe2d"), "fe2d")
-    for key, models in _MODEL_KEYS.items():  # a key of another model would be silently ignored
-        if key in m and model not in models:
-            raise sc.fail(
-                "mesh",
-                key,
-                f"belongs to stiffness = {' or '.join(repr(x) for x in models)}, not {model!r} "
-                "(remove it or change the model)",
-                m[key],
-            )
-    k0 = sc.number(
-        m,
-        "stiffness_per_length_N_per_mm_per_um",
-        "mesh",
-        sc.MISSING if model == "uniform" else None,
-        allowed="(0, 1e+06]",
-    )
-    k0 = None if k0 is None else k0 * 1e9
-    slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
-    ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
-    mn_um = pair.normal_module * 1e6  # fe2d element size: 1 to 100 elements per module
-    width = (
-        sc.number(
-            m,
-            "smooth_width_um",
-            "mesh",
-            0.1,
-            allowed=f"[{MIN_SMOOTH_WIDTH_UM:g}, {MAX_SMOOTH_WIDTH_MODULE * mn_um:.6g}]",
-            note=f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)",
-        )
-        * 1e-6
-    )
-    fe2d_size = sc.number(
-        m,
-        "fe2d_size_um",
-        "mesh",
-        None,
-        allowed=f"[{mn_um / 100:.6g}, {mn_um:.6g}]",
-        note=" (m_n/100 to m_n; default m_n/6)",
-    )
-    fe2d_size = None if fe2d_size is None else fe2d_size * 1e-6
-    foundation = m.get("foundation", "weber")
-    if isinstance(foundation, bool):  # the old boolean: true = "weber", false = "none"
-        foundation = "weber" if foundation else "none"
-    elif foundation not in FOUNDATIONS:
-        raise sc.fail(
-            "mesh",
-            "foundation",
-            "allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')",
-            foundation,
-        )
+    mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}))
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
@@ -436,13 +453,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         density=rho,
         torque=torque,
         speed=speed,
-        stiffness_model=model,
-        uniform_k0=k0,
-        slices=slices,
-        positions_per_pitch=ppp,
-        smooth_width=width,
-        foundation=foundation,
-        fe2d_size=fe2d_size,
+        **mesh,
         scene=scene,
         optimise=optimise,
         raw=data,
@@ -744,47 +755,3 @@ def parse_optimise(table) -> dict:
             bounds[name] = (lo, hi)
         out["bounds"] = bounds
     return out
-
-
-def _embedded():
-    return importlib.resources.files("jaxgear") / "cases"
-
-
-def list_cases() -> list[str]:
-    """Names of the embedded cases (``jaxgear cases``)."""
-    return sc.embedded_names(_embedded())
-
-
-def embedded_case_text(name: str) -> str:
-    """The TOML text of the embedded case ``name`` (``jaxgear cases NAME``).
-
-    Raises:
-        FileNotFoundError: ``name`` is not an embedded case (the message lists them).
-    """
-    return sc.embedded_text(_embedded(), name, "case")
-
-
-def load_case(name_or_path: str | os.PathLike) -> Case:
-    """Load a case from a TOML path or an embedded case name.
-
-    Raises:
-        FileNotFoundError: neither a file nor an embedded case name.
-        SchemaError (a ``ValueError``): non-UTF-8 bytes or TOML syntax errors (naming the
-            file), schema/range errors (see :func:`parse_case`); one line each.
-    """
-    label = str(name_or_path)
-    if os.path.isfile(name_or_path):
-        with open(name_or_path, "rb") as f:
-            raw = f.read()
-        default = os.path.splitext(os.path.basename(label))[0]
-        base = os.path.dirname(os.path.abspath(name_or_path))
-    elif str(name_or_path) in list_cases():
-        raw = embedded_case_text(str(name_or_path))
-        default = str(name_or_path)
-        base = None
-    else:
-        raise FileNotFoundError(
-            f"case {label!r} is neither a file nor an embedded case "
-            f"(embedded: {', '.join(list_cases())})"
-        )
-    return parse_case(sc.load_toml(raw, f"case file {label!r}"), default, base)

@@ -238,6 +238,50 @@ def _check_body_file(path: str, ref: str, where: str) -> None:
         raise sc.fail(where, "body", f"not a condensed body file {path!r}: {why}", ref) from None
 
 
+def parse_dynamics_settings(table: dict) -> dict:
+    """The ``[scene.damping]`` and ``[scene.integration]`` tables of a pair's or a train's
+    ``[scene]`` (``rotating_frame`` aside): :class:`~jaxgear.dynamics.SceneSpec` fields."""
+    kw: dict = {}
+    d = sc.subtable(table, "damping", "scene", _DAMPING_KEYS)
+    w = "scene.damping"
+    kw["damping_model"] = sc.choice(
+        d, "model", w, ("composite", "modal", "rayleigh", "none"), "composite"
+    )
+    for key, field in (
+        ("ratio", "damping_ratio"),
+        ("mesh_ratio", "mesh_ratio"),
+        ("structure_ratio", "structure_ratio"),
+    ):
+        if key in d:
+            kw[field] = sc.number(d, key, w, allowed="[0, 1]")
+    for key, field in (("alpha_per_s", "rayleigh_alpha"), ("beta_s", "rayleigh_beta")):
+        if key in d:
+            kw[field] = sc.number(d, key, w, allowed=">= 0")
+    g = sc.subtable(table, "integration", "scene", _INTEGRATION_KEYS)
+    w = "scene.integration"
+    kw["solver"] = sc.choice(g, "solver", w, ("newmark", *DIFFRAX_SOLVERS), "newmark")
+    kw["contact"] = sc.choice(g, "contact", w, ("exact", "smooth"), "exact")
+    spp = g.get("steps_per_period", "auto")
+    if isinstance(spp, str):  # "auto": resolve the highest excited mode (the default)
+        if spp != "auto":
+            raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
+        kw["steps_per_period"] = None
+    for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
+        if key in g and key not in kw:
+            kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)
+    if kw.get("keep_periods", 4) > kw.get("periods", 60):
+        raise sc.fail(
+            w,
+            "keep_periods",
+            f"out of range, allowed <= periods = {kw.get('periods', 60)}",
+            kw.get("keep_periods", 4),
+        )
+    for key in ("rtol", "atol"):
+        if key in g:
+            kw[key] = sc.number(g, key, w, allowed="(0, 1)")
+    return kw
+
+
 def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
     """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults). Body paths are resolved
     against ``base_dir`` (the case file's folder).
@@ -314,43 +358,9 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
                 f"[scene] reduction = 'relative' is for a rigid pinion-gear pair: "
                 f"remove {side}_inertia_kg_m2 or set reduction = 'none'"
             )
-    d = sc.subtable(table, "damping", "scene", _DAMPING_KEYS)
-    w = "scene.damping"
-    kw["damping_model"] = sc.choice(
-        d, "model", w, ("composite", "modal", "rayleigh", "none"), "composite"
-    )
-    for key, field in (
-        ("ratio", "damping_ratio"),
-        ("mesh_ratio", "mesh_ratio"),
-        ("structure_ratio", "structure_ratio"),
-    ):
-        if key in d:
-            kw[field] = sc.number(d, key, w, allowed="[0, 1]")
-    for key, field in (("alpha_per_s", "rayleigh_alpha"), ("beta_s", "rayleigh_beta")):
-        if key in d:
-            kw[field] = sc.number(d, key, w, allowed=">= 0")
-    g = sc.subtable(table, "integration", "scene", _INTEGRATION_KEYS)
+    kw.update(parse_dynamics_settings(table))
+    g = table.get("integration", {})
     w = "scene.integration"
-    kw["solver"] = sc.choice(g, "solver", w, ("newmark", *DIFFRAX_SOLVERS), "newmark")
-    kw["contact"] = sc.choice(g, "contact", w, ("exact", "smooth"), "exact")
-    spp = g.get("steps_per_period", "auto")
-    if isinstance(spp, str):  # "auto": resolve the highest excited mode (the default)
-        if spp != "auto":
-            raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
-        kw["steps_per_period"] = None
-    for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
-        if key in g and key not in kw:
-            kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)
-    if kw.get("keep_periods", 4) > kw.get("periods", 60):
-        raise sc.fail(
-            w,
-            "keep_periods",
-            f"out of range, allowed <= periods = {kw.get('periods', 60)}",
-            kw.get("keep_periods", 4),
-        )
-    for key in ("rtol", "atol"):
-        if key in g:
-            kw[key] = sc.number(g, key, w, allowed="(0, 1)")
     if "rotating_frame" in g:
         kw["rotating_frame"] = sc.boolean(g, "rotating_frame", w)
         if kw["rotating_frame"] and not any(f"{m}_body" in kw for m in ("pinion", "gear")):

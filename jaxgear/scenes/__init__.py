@@ -19,6 +19,8 @@ from ._gear_mesh import (
     half_base_angle as half_base_angle,
     line_of_action as line_of_action,
     pair_mesh as pair_mesh,
+    TrainLayout as TrainLayout,
+    train_layout as train_layout,
     train_phases as train_phases,
 )
 from ._hybrid import (

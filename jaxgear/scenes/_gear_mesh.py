@@ -23,6 +23,7 @@ the driven gear). For a pair with the pinion axis through the origin and the gea
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -41,6 +42,8 @@ __all__ = [
     "mesh_line",
     "only_mesh",
     "pair_mesh",
+    "TrainLayout",
+    "train_layout",
     "train_phases",
 ]
 
@@ -163,6 +166,73 @@ def train_phases(pairs, lines, gears, spins, n_gears: int):
             length = pair.center_distance * math.sin(pair.operating_pressure_angle)
             c0[h] = tau2 + half_base_angle(pair, 1) - (length - rho_a - rb1 * phase) / rb2
     return np.array(phases), np.array([np.nan if c is None else c for c in c0])
+
+
+class TrainLayout(NamedTuple):
+    """A train of external gears laid out in the plane (:func:`train_layout`; NumPy, SI).
+
+    Attributes:
+        centres: each gear's centre (m), (n, 3), the input at the origin.
+        spins: each gear's sense of rotation about +z (+1 or −1), (n,).
+        lines: each mesh's :func:`line_of_action` as placed in the train.
+        phases: each mesh's phase (rad of its driving gear), (m,) (:func:`train_phases`).
+        tooth_angles: a tooth centre of each gear at θ = 0 (rad, in its direction of motion
+            from the fixed +x axis), (n,).
+        ratios: each gear's angle per unit input angle (z_in / z_g through the train), (n,).
+    """
+
+    centres: np.ndarray
+    spins: np.ndarray
+    lines: tuple
+    phases: np.ndarray
+    tooth_angles: np.ndarray
+    ratios: np.ndarray
+
+
+def train_layout(pairs, gears, angles, n_gears: int) -> TrainLayout:
+    """Lay out a train of external gears from its meshes (NumPy, SI).
+
+    The input (gear 0, the driving gear of mesh 0) sits at the origin turning about +z; each
+    mesh's driven gear sits at its driving gear's centre plus the pair's operating centre
+    distance a_w in the direction ``angles[k]`` and turns the other way (an external mesh);
+    then each mesh's line of action (:func:`line_of_action`) and the phasing
+    (:func:`train_phases`).
+
+    Args:
+        pairs: the :class:`~jaxgear.GearPair` of each mesh, its pinion the driving gear.
+        gears: each mesh's (driving, driven) gear indices, listed from the input outwards.
+        angles: each mesh's direction of the driven gear's centre seen from the driving one (rad,
+            fixed frame), (m,).
+        n_gears: the number of gears.
+
+    Raises:
+        ValueError: a mesh whose driving gear no earlier mesh places, or a gear placed twice
+            (a closed loop of meshes), in one line.
+    """
+    centres = [None] * n_gears
+    spins = [None] * n_gears
+    ratios = [None] * n_gears
+    centres[0], spins[0], ratios[0] = np.zeros(3), 1.0, 1.0
+    lines = []
+    for k, (pair, (g, h), angle) in enumerate(zip(pairs, gears, angles, strict=True)):
+        if centres[g] is None:
+            raise ValueError(
+                f"meshes[{k}]: its driving gear {g} is not placed by an earlier mesh (list the "
+                "meshes from the input outwards)"
+            )
+        if centres[h] is not None:
+            raise ValueError(f"meshes[{k}]: gear {h} is placed twice (allowed: once)")
+        line = line_of_action(pair, centres[g], angle, spins[g])
+        centres[h], spins[h] = line["centres"][1], -spins[g]
+        ratios[h] = ratios[g] * pair.pinion.teeth / pair.gear.teeth
+        lines.append(line)
+    if any(c is None for c in centres):
+        missing = [i for i, c in enumerate(centres) if c is None]
+        raise ValueError(f"gears {missing} mesh with none")
+    phases, tooth = train_phases(pairs, lines, gears, spins, n_gears)
+    return TrainLayout(
+        np.array(centres), np.array(spins), tuple(lines), phases, tooth, np.array(ratios)
+    )
 
 
 class GearMesh(eqx.Module):

@@ -1,0 +1,258 @@
+"""``jaxgear run`` on a gear-train case: the quasi-static contact of every mesh at once, per-mesh
+TE, mesh stiffness and load maps, and the layout with its mesh phasing (JSON, CSV, PNG)."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+
+import jax
+import numpy as np
+from tqdm.auto import tqdm
+
+from .. import Modifications, TrainCase, __version__, load_map, quasi_static
+from ..io import atomic_open, write_csv
+
+__all__ = ["format_train_table", "run_train"]
+
+
+def _mesh_summary(res, k: int) -> dict:
+    """Scalar figures of mesh ``k`` of a quasi-static result (SI units), JSON-ready (the keys
+    of a pair's ``quasi_static`` section)."""
+    m = res.meshes[k]
+    stiffness = np.asarray(m.mesh_stiffness)
+    return {
+        "te_mean_m": float(m.te_mean),
+        "te_rms_m": float(m.te_rms),
+        "te_ptp_m": float(m.te_ptp),
+        "mesh_stiffness_mean_N_per_m": float(stiffness.mean()),
+        "mesh_stiffness_min_N_per_m": float(stiffness.min()),
+        "mesh_stiffness_max_N_per_m": float(stiffness.max()),
+        "contact_length_mean_m": float(np.mean(m.contact_length)),
+        "max_line_load_N_per_m": float(m.max_line_load),
+        "max_contact_iterations": int(np.max(res.iterations)),
+    }
+
+
+def run_train(
+    case: TrainCase, out_dir: str, *, show_progress: bool = True, complete: bool = True
+) -> dict:
+    """The quasi-static analysis of a train case, written to ``out_dir``.
+
+    The contact of every mesh is solved at once on the train's torsional structure (the output
+    held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh, exact
+    and smooth, with and without the case's modifications. Files (atomically): ``summary.json``
+    (``gears``, ``meshes``: per mesh its gears, geometry, phase, torque and the ``quasi_static``
+    figures of a pair case), ``te.csv`` and ``mesh_stiffness.csv`` (a column per mesh, design
+    and contact law, against the input angle), ``transmission_error.png``,
+    ``mesh_stiffness.png``, ``load_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
+    (layout and mesh phasing).
+
+    Returns:
+        The summary dict (also in ``summary.json``).
+    """
+    from . import _plots
+
+    os.makedirs(out_dir, exist_ok=True)
+    steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    steps.set_postfix_str("meshes and layout")
+    scene = case.static_train()
+    layout = case.layout()
+    steps.update()
+    ppp = case.positions_per_pitch
+    res = {}
+    for label, mods in (("unmodified", Modifications()), ("modified", case.mesh_modifications())):
+        for mode in ("exact", "smooth"):
+            steps.set_postfix_str(f"quasi-static, {label}, {mode} contact")
+            res[label, mode] = quasi_static(
+                scene,
+                mods,
+                case.torque,
+                contact=case.contact_law(mode),
+                positions_per_pitch=ppp,
+                periods=2,
+            )
+            steps.update()
+    n_meshes = len(case.pairs)
+    names = [case.mesh_name(k) for k in range(n_meshes)]
+    members = case.members()
+    base_radii = [None] * case.n_gears
+    for pair, (g, h) in zip(case.pairs, case.gears, strict=True):
+        base_radii[g], base_radii[h] = pair.base_radii
+    inertias = case.gear_inertias()
+    torques = case.mesh_torques
+    period = float(scene.base_planes[0].mesh_period_angle)  # the first mesh's, input angle
+    meshes = []
+    for k, (pair, (g, h)) in enumerate(zip(case.pairs, case.gears, strict=True)):
+        ratio = float(layout.ratios[g])
+        meshes.append(
+            {
+                "name": names[k],
+                "driving": case.gear_names[g],
+                "driven": case.gear_names[h],
+                "angle_deg": float(np.degrees(case.angles[k])),
+                "ratio": ratio,
+                "phase_rad": float(layout.phases[k]),
+                "phase_mesh_periods": float(layout.phases[k] * pair.pinion.teeth / (2 * np.pi)),
+                "torque_driving_Nm": float(torques[k]),
+                "normal_load_N": float(
+                    torques[k] / (pair.base_radii[0] * np.cos(pair.base_helix_angle))
+                ),
+                "geometry": pair.summary(),
+                "quasi_static": {
+                    m: _mesh_summary(res["modified", m], k) for m in ("exact", "smooth")
+                },
+                "quasi_static_unmodified": {
+                    m: _mesh_summary(res["unmodified", m], k) for m in ("exact", "smooth")
+                },
+            }
+        )
+    summary = {
+        "case": case.name,
+        "kind": "train",
+        "complete": bool(complete),
+        "gears": [
+            {
+                "name": case.gear_names[i],
+                "teeth": members[i].teeth,
+                "centre_m": [float(v) for v in layout.centres[i][:2]],
+                "spin": int(layout.spins[i]),
+                "speed_ratio": float(layout.ratios[i]),
+                "tooth_angle_rad": float(layout.tooth_angles[i]),
+                "base_radius_m": float(base_radii[i]),
+                "inertia_kg_m2": float(inertias[i]),
+            }
+            for i in range(case.n_gears)
+        ],
+        "meshes": meshes,
+        "operating": {
+            "torque_Nm": case.torque,
+            "output_torque_Nm": float(
+                case.torque
+                * layout.ratios[0]
+                / layout.ratios[dict(scene.base.structure.nodes)["output"]]
+            ),
+        },
+        "mesh": {
+            "stiffness": case.stiffness_model,
+            "foundation": case.foundation,
+            "fe2d_size_m": case.fe2d_size if case.stiffness_model == "fe2d" else None,
+            "slices": case.slices,
+            "positions_per_pitch": ppp,
+            "smooth_width_m": case.smooth_width,
+        },
+        "environment": {
+            "jaxgear": __version__,
+            "jax": jax.__version__,
+            "backend": jax.default_backend(),
+            "dtype": str(np.asarray(res["modified", "exact"].theta).dtype),
+            "python": platform.python_version(),
+        },
+    }
+    steps.set_postfix_str("files and plots")
+    theta = np.asarray(res["modified", "exact"].theta)
+    designs = ("unmodified", "modified")
+    laws = ("exact", "smooth")
+
+    def columns(field: str, unit: str) -> dict:
+        return {
+            f"{field}_{m}_{lab}_{names[k]}_{unit}": np.asarray(
+                getattr(res[lab, m].meshes[k], field)
+            )
+            for k in range(n_meshes)
+            for lab in designs
+            for m in laws
+        }
+
+    te_cols = columns("transmission_error", "m")
+    write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *te_cols], [theta, *te_cols.values()])
+    k_cols = columns("mesh_stiffness", "N_per_m")
+    write_csv(
+        os.path.join(out_dir, "mesh_stiffness.csv"),
+        ["theta_rad", *k_cols],
+        [theta, *k_cols.values()],
+    )
+    x = theta / period
+    _plots.transmission_error_plot(
+        os.path.join(out_dir, "transmission_error.png"),
+        x,
+        {
+            f"{names[k]}": {
+                m: np.asarray(res["modified", m].meshes[k].transmission_error) for m in laws
+            }
+            for k in range(n_meshes)
+        },
+        title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), modified",
+        driver="input",
+    )
+    _plots.mesh_stiffness_plot(
+        os.path.join(out_dir, "mesh_stiffness.png"),
+        x,
+        {
+            f"{names[k]} ({lab})": np.asarray(res[lab, "exact"].meshes[k].mesh_stiffness)
+            for k in range(n_meshes)
+            for lab in designs
+        },
+        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)",
+        driver="input",
+    )
+    for k, pair in enumerate(case.pairs):
+        s_edges, z, lmap = load_map(
+            res["modified", "exact"].meshes[k], ppp, pair.base_pitch, pair.path_of_contact
+        )
+        dz = pair.face_width / len(z)
+        _plots.load_map_plot(
+            os.path.join(out_dir, f"load_map_{names[k]}.png"),
+            s_edges,
+            np.concatenate([[0.0], z + dz / 2]),
+            lmap,
+            title=f"{case.name}: load map of {names[k]} (exact, modified)",
+        )
+    marks = {}
+    for k, pair in enumerate(case.pairs):
+        g = case.gears[k][0]
+        # the input positions where mesh k's angle ratio θ + phase is a whole mesh period
+        per_mesh = 2 * np.pi / pair.pinion.teeth / layout.ratios[g]  # input rad per period
+        first = (-layout.phases[k] / layout.ratios[g]) % per_mesh
+        marks[names[k]] = (
+            np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness),
+            first / period + np.arange(2),
+        )
+    _plots.train_phasing_plot(
+        os.path.join(out_dir, "phasing.png"),
+        layout,
+        case.pairs,
+        case.gear_names,
+        case.tip_radii(),
+        base_radii,
+        x,
+        marks,
+        title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact)",
+    )
+    steps.update()
+    steps.close()
+    with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def format_train_table(summary: dict) -> str:
+    """A short plain-text table of a train's main figures, a line per mesh and design."""
+    lines = [
+        f"train {summary['case']}: {len(summary['gears'])} gears, {len(summary['meshes'])} "
+        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, output "
+        f"{summary['operating']['output_torque_Nm']:.4g} N·m",
+        f"{'':30s}{'ε_α':>7s}{'phase':>8s}{'TE mean µm':>12s}{'TE ptp µm':>11s}"
+        f"{'K mean N/µm':>13s}{'max N/mm':>10s}",
+    ]
+    for m in summary["meshes"]:
+        for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
+            q = m[key]["exact"]
+            lines.append(
+                f"{m['name'] + ' ' + lab:30s}{m['geometry']['transverse_contact_ratio']:7.3f}"
+                f"{m['phase_mesh_periods']:8.3f}{q['te_mean_m'] * 1e6:12.4f}"
+                f"{q['te_ptp_m'] * 1e6:11.4f}{q['mesh_stiffness_mean_N_per_m'] / 1e6:13.2f}"
+                f"{q['max_line_load_N_per_m'] / 1e3:10.1f}"
+            )
+    return "\n".join(lines)

@@ -1,0 +1,63 @@
+"""Loading a case: a file or an embedded case name, a pair case or a train case."""
+
+from __future__ import annotations
+
+import importlib.resources
+import os
+
+from fem_prep import schema as sc
+
+from .._case import Case, TrainCase
+from ._case_file import parse_case
+from ._train_file import is_train, parse_train
+
+__all__ = ["embedded_case_text", "list_cases", "load_case"]
+
+
+def _embedded():
+    return importlib.resources.files("jaxgear") / "cases"
+
+
+def list_cases() -> list[str]:
+    """Names of the embedded cases (``jaxgear cases``)."""
+    return sc.embedded_names(_embedded())
+
+
+def embedded_case_text(name: str) -> str:
+    """The TOML text of the embedded case ``name`` (``jaxgear cases NAME``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not an embedded case (the message lists them).
+    """
+    return sc.embedded_text(_embedded(), name, "case")
+
+
+def load_case(name_or_path: str | os.PathLike) -> Case | TrainCase:
+    """Load a case from a TOML path or an embedded case name: a pair case (:class:`Case`) or,
+    with ``[[gears]]`` and ``[[meshes]]``, a train case (:class:`~jaxgear.TrainCase`,
+    :func:`parse_train`).
+
+    Raises:
+        FileNotFoundError: neither a file nor an embedded case name.
+        SchemaError (a ``ValueError``): non-UTF-8 bytes or TOML syntax errors (naming the
+            file), schema/range errors (see :func:`parse_case`); one line each.
+    """
+    label = str(name_or_path)
+    if os.path.isfile(name_or_path):
+        with open(name_or_path, "rb") as f:
+            raw = f.read()
+        default = os.path.splitext(os.path.basename(label))[0]
+        base = os.path.dirname(os.path.abspath(name_or_path))
+    elif str(name_or_path) in list_cases():
+        raw = embedded_case_text(str(name_or_path))
+        default = str(name_or_path)
+        base = None
+    else:
+        raise FileNotFoundError(
+            f"case {label!r} is neither a file nor an embedded case "
+            f"(embedded: {', '.join(list_cases())})"
+        )
+    data = sc.load_toml(raw, f"case file {label!r}")
+    if is_train(data):
+        return parse_train(data, default)
+    return parse_case(data, default, base)

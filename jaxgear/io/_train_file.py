@@ -1,0 +1,320 @@
+"""Gear-train case files: ``[[gears]]`` and ``[[meshes]]`` instead of a pair's ``[pair]``,
+``[pinion]`` and ``[gear]`` (docs/trains.md).
+
+.. code-block:: toml
+
+    name = "idler-train"
+    [material]                       # as a pair case
+    [[gears]]
+    name = "input"                   # unique; meshes and [scene.inertias_kg_m2] refer to it
+    teeth = 45
+    normal_module_mm = 1.5
+    normal_pressure_angle_deg = 25.0
+    helix_angle_deg = 0.0            # magnitude; external mates have opposite hands
+    profile_shift = 0.341            # and the other member keys of a pair case
+    face_width_mm = 11.5
+    [[meshes]]
+    driving = "input"                # the gear that drives in this mesh
+    driven = "idler"
+    angle_deg = 0.0                  # direction of the driven gear's centre seen from the
+                                     # driving one (fixed frame, degrees counter-clockwise)
+    center_distance_mm = 98.5        # optional: default the zero-backlash distance
+    [mesh]                           # as a pair case, for every mesh
+    [modifications]                  # as a pair case, on every gear; [modifications.<gear>]
+                                     # replaces entries for that gear
+    [operating]
+    torque_Nm = 80.0                 # on the input: the first mesh's driving gear
+    speed_rad_s = 0.0
+    [scene]
+    model = "torsional"
+    [scene.inertias_kg_m2]           # per gear name (default: solid disc)
+    input = 2.4e-4
+    [scene.damping]                  # as a pair case
+    [scene.integration]              # as a pair case
+
+A train is checked as a whole before any computation, in the file's units: every gear and mesh
+key, gears referred to by name, meshes listed from the input outwards (a mesh's driving gear is
+the input or a gear an earlier mesh drives), each gear driven once, one output gear, the module,
+pressure angle and helix angle of the two gears of a mesh equal, and no two gears that do not
+mesh with each other overlapping (tip circles apart).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Any
+
+from fem_prep import schema as sc
+
+from .._case import TrainCase
+from .._geometry import GearPair
+from ..dynamics import SceneSpec
+from ._case_file import (
+    _MEMBER_KEYS,
+    _MOD_KEYS,
+    _SCHEMA,
+    CENTER_DISTANCE_TOL_MM,
+    MIN_FACE_WIDTH_MODULE,
+    MODULE_RANGE_MM,
+    PRESSURE_ANGLE_RANGE_DEG,
+    CaseWarning,
+    _member,
+    _member_mods,
+    parse_material,
+    parse_mesh_settings,
+    plausibility,
+)
+from ._scene_table import parse_dynamics_settings
+
+__all__ = ["is_train", "parse_train"]
+
+_TOP_KEYS = {"name", "material", "gears", "meshes", "mesh", "modifications", "operating", "scene"}
+_GEAR_KEYS = {
+    "name",
+    "normal_module_mm",
+    "normal_pressure_angle_deg",
+    "helix_angle_deg",
+    *_MEMBER_KEYS,
+}
+_MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
+_SCENE_KEYS = {"model", "inertias_kg_m2", "damping", "integration"}
+
+
+def is_train(data: Any) -> bool:
+    """Whether a parsed case file is a train (``[[gears]]`` or ``[[meshes]]``)."""
+    return isinstance(data, dict) and ("gears" in data or "meshes" in data)
+
+
+def _array_of_tables(data: dict, key: str, minimum: int) -> list:
+    v = data.get(key)
+    if v is None:
+        raise sc.SchemaError(f"[[{key}]]: missing; a train case needs at least {minimum}")
+    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+        raise sc.fail("", key, f"must be an array of tables ([[{key}]])", v)
+    if len(v) < minimum:
+        raise sc.SchemaError(f"[[{key}]]: {len(v)} given, allowed at least {minimum}")
+    return v
+
+
+def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
+    """One ``[[gears]]`` entry: its name and its geometry (member, module, angles) in SI."""
+    sc.check_keys(table, _GEAR_KEYS, f"gears[{index}]")
+    name = sc.name(table, "name", f"gears[{index}]")
+    if name in names:
+        raise sc.fail(f"gears[{index}]", "name", f"is taken by gears[{names[name]}]", name)
+    where = f"gears.{name}"
+    module = sc.number(table, "normal_module_mm", where, allowed=MODULE_RANGE_MM)
+    alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
+    beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
+    member = _member({where: {k: v for k, v in table.items() if k in _MEMBER_KEYS}}, where)
+    b_min = MIN_FACE_WIDTH_MODULE * module
+    if member.face_width * 1e3 < b_min:
+        raise sc.fail(
+            where,
+            "face_width_mm",
+            f"out of range, allowed >= {b_min:.6g} ({MIN_FACE_WIDTH_MODULE:g} × normal_module_mm)",
+            table["face_width_mm"],
+        )
+    return name, {
+        "member": member,
+        "module_mm": module,
+        "alpha_deg": alpha,
+        "beta_deg": beta,
+        "where": where,
+    }
+
+
+def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPair:
+    """The pair of a mesh (driving gear as pinion), its geometry checked in file units."""
+    a, b = gears[driving], gears[driven]
+    for key, label in (
+        ("module_mm", "normal_module_mm"),
+        ("alpha_deg", "normal_pressure_angle_deg"),
+        ("beta_deg", "helix_angle_deg"),
+    ):
+        if a[key] != b[key]:
+            raise sc.SchemaError(
+                f"[{where}] {driving} → {driven}: [{a['where']}] {label} = {sc.fmt(a[key])} and "
+                f"[{b['where']}] {label} = {sc.fmt(b[key])} differ (gears in mesh share them)"
+            )
+    geometry = {
+        "pinion": a["member"],
+        "gear": b["member"],
+        "normal_module": a["module_mm"] * 1e-3,
+        "normal_pressure_angle": math.radians(a["alpha_deg"]),
+        "helix_angle": math.radians(a["beta_deg"]),
+    }
+    try:
+        pair = GearPair(**geometry)
+        a0_mm = pair.zero_backlash_center_distance * 1e3
+        if cd is not None and cd < a0_mm - CENTER_DISTANCE_TOL_MM:
+            raise sc.fail(
+                where,
+                "center_distance_mm",
+                f"out of range, allowed >= {a0_mm:.3f} mm (the zero-backlash distance of "
+                f"{driving} → {driven}, to {CENTER_DISTANCE_TOL_MM * 1e3:g} µm; closer, the "
+                "teeth jam)",
+                cd,
+            )
+        if cd is not None and cd > a0_mm:
+            pair = GearPair(**geometry, center_distance=cd * 1e-3)
+    except (ValueError, ArithmeticError) as err:
+        if isinstance(err, sc.SchemaError):
+            raise
+        raise sc.SchemaError(f"[{where}] {driving} → {driven}: {sc.g6(str(err))}") from None
+    return pair
+
+
+def _modifications(table: Any, names: list[str]) -> tuple:
+    """``[modifications]``: the common entries on every gear, ``[modifications.<gear>]``
+    replacing them for that gear; one :class:`MemberModification` per gear."""
+    if not isinstance(table, dict):
+        raise sc.fail("", "modifications", "must be a table", table)
+    sc.check_keys(table, {*_MOD_KEYS, *names}, "modifications")
+    common = {k: (v, "modifications") for k, v in table.items() if k in _MOD_KEYS}
+    out = []
+    for name in names:
+        own = sc.subtable(table, name, "modifications", _MOD_KEYS)
+        where = f"modifications.{name}"
+        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
+    return tuple(out)
+
+
+def _scene(table: Any, names: list[str]) -> tuple[SceneSpec, tuple]:
+    """``[scene]`` of a train: the torsional model, per-gear inertias, damping, integration."""
+    if not isinstance(table, dict):
+        raise sc.fail("", "scene", "must be a table", table)
+    sc.check_keys(table, _SCENE_KEYS, "scene")
+    model = sc.choice(table, "model", "scene", ("torsional",), "torsional")
+    given = sc.subtable(table, "inertias_kg_m2", "scene", names)
+    inertias = tuple(
+        sc.number(given, n, "scene.inertias_kg_m2", None, allowed="[1e-09, 1e+15]") for n in names
+    )
+    integration = table.get("integration", {})
+    if isinstance(integration, dict) and "rotating_frame" in integration:
+        raise sc.fail(
+            "scene.integration",
+            "rotating_frame",
+            "applies to condensed bodies, not to a torsional train",
+            integration["rotating_frame"],
+        )
+    return SceneSpec(model=model, **parse_dynamics_settings(table)), inertias
+
+
+def _check_overlap(case: TrainCase) -> None:
+    """Two gears that do not mesh with each other must not overlap: their centres at least the
+    sum of their tip radii apart (mm in the message)."""
+    layout = case.layout()
+    radii = case.tip_radii()
+    meshing = {frozenset(g) for g in case.gears}
+    n = case.n_gears
+    for i in range(n):
+        for j in range(i + 1, n):
+            if frozenset((i, j)) in meshing:
+                continue
+            d = math.dist(layout.centres[i][:2], layout.centres[j][:2])
+            if d < radii[i] + radii[j]:
+                a, b = case.gear_names[i], case.gear_names[j]
+                raise sc.SchemaError(
+                    f"[[meshes]] angle_deg: gears {a!r} and {b!r} overlap (centres "
+                    f"{d * 1e3:.6g} mm apart, tip radii {radii[i] * 1e3:.6g} + "
+                    f"{radii[j] * 1e3:.6g} mm); turn a mesh's angle_deg"
+                )
+
+
+def parse_train(data: dict, default_name: str = "train") -> TrainCase:
+    """Validate a parsed train case (a dict with ``[[gears]]`` and ``[[meshes]]``) and build a
+    :class:`~jaxgear.TrainCase` (SI units).
+
+    Raises:
+        SchemaError (a ``ValueError``): unknown keys, missing or wrong values, gears named
+            twice or not at all, meshes out of order, a gear driven twice, several or no output
+            gears, gears in mesh of different modules or angles, overlapping gears, invalid
+            geometry; one line, in the file's units.
+    """
+    sc.check_keys(data, _TOP_KEYS, "")
+    name = sc.name(data, "name", "", default_name)
+    for key in ("material", "mesh", "operating"):
+        sc.subtable(data, key, "", _SCHEMA[key], required=key == "operating")
+    gears: dict[str, dict] = {}
+    index: dict[str, int] = {}
+    for i, table in enumerate(_array_of_tables(data, "gears", 2)):
+        gear_name, gear = _gear(table, i, index)
+        gears[gear_name], index[gear_name] = gear, i
+    names = list(gears)
+    pairs, links, angles = [], [], []
+    driven_by: dict[int, int] = {}
+    turning = {0}
+    for k, table in enumerate(_array_of_tables(data, "meshes", 1)):
+        where = f"meshes[{k}]"
+        sc.check_keys(table, _MESH_KEYS, where)
+        ends = []
+        for key in ("driving", "driven"):
+            v = sc.string(table, key, where)
+            if v not in gears:
+                raise sc.fail(where, key, f"no such gear, allowed {', '.join(names)}", v)
+            ends.append(v)
+        driving, driven = ends
+        g, h = index[driving], index[driven]
+        if g == h:
+            raise sc.fail(where, "driven", "is the driving gear (allowed: another gear)", driven)
+        if g not in turning:
+            raise sc.fail(
+                where,
+                "driving",
+                f"does not turn yet: list the meshes from the input ({names[0]!r}, the first "
+                "gear) outwards",
+                driving,
+            )
+        if h == 0 or h in driven_by:
+            by = "is the input" if h == 0 else f"is driven by meshes[{driven_by[h]}] already"
+            raise sc.fail(where, "driven", f"{by} (allowed: a gear driven once)", driven)
+        driven_by[h] = k
+        turning.add(h)
+        angle = sc.number(table, "angle_deg", where, allowed="[-360, 360]")
+        cd = sc.number(table, "center_distance_mm", where, None, allowed="(0, 1e+06]")
+        pairs.append(_mesh_pair(gears, driving, driven, cd, where))
+        links.append((g, h))
+        angles.append(math.radians(angle))
+    idle = [n for i, n in enumerate(names) if i not in turning]
+    if idle:
+        raise sc.SchemaError(
+            f"[[gears]] {', '.join(idle)}: in no mesh (allowed: every gear meshes)"
+        )
+    drivers = {g for g, _ in links}
+    outputs = [n for i, n in enumerate(names) if i not in drivers]
+    if len(outputs) != 1:
+        raise sc.SchemaError(
+            f"[[meshes]]: the train has output gears {', '.join(outputs)} (gears that drive no "
+            "other); allowed exactly one (it takes the balancing torque)"
+        )
+    E, nu, rho = parse_material(data)
+    op = data["operating"]
+    torque = sc.number(op, "torque_Nm", "operating", allowed="> 0")
+    speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
+    mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
+    mods = _modifications(data.get("modifications", {}), names)
+    scene, inertias = (None, ()) if "scene" not in data else _scene(data["scene"], names)
+    case = TrainCase(
+        name=name,
+        gear_names=tuple(names),
+        pairs=tuple(pairs),
+        gears=tuple(links),
+        angles=tuple(angles),
+        modifications=mods,
+        youngs_modulus=E,
+        poisson_ratio=nu,
+        density=rho,
+        torque=torque,
+        speed=speed,
+        **mesh,
+        inertias=inertias,
+        scene=scene,
+        raw=data,
+    )
+    _check_overlap(case)
+    for k in range(len(pairs)):  # absurd but valid: as a pair case, per mesh
+        for text in plausibility(case.mesh_case(k)):
+            warnings.warn(f"meshes[{k}] {case.mesh_name(k)}: {text}", CaseWarning, stacklevel=2)
+    return case
