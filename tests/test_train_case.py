@@ -1,0 +1,349 @@
+"""Gear-train case files (``[[gears]]``, ``[[meshes]]``) and ``jaxgear run`` on a train.
+
+References, each written here apart from the model: the two pairs of the idler train written as
+pair case files of their own (each alone at the torque the idler passes on), the torsional chain
+of three inertias with each pair's mean mesh stiffness on its base radii (its eigenvalues by
+SciPy), and the mesh phase of an idler's two meshes derived by hand from the layout (tangent
+points of the lines of action on the idler's base circle, the tooth thickness at the base
+circle), read against the engagement jumps of the quasi-static stiffness curves.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import tomllib
+
+import jax
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+import jaxgear.io as jio
+from jaxgear.cli import main
+from jaxgear.dynamics import build_dynamic_model
+
+jax.config.update("jax_enable_x64", True)
+
+SLICES = 4
+PPP = 48
+
+
+def _train_data(**mesh_angles) -> dict:
+    """The embedded idler train as parsed TOML, small settings; ``mesh_angles``: ``{"m1": deg}``
+    replaces meshes[1].angle_deg."""
+    data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
+    data["mesh"].update(slices=SLICES, positions_per_pitch=PPP)
+    if "m1" in mesh_angles:
+        data["meshes"][1]["angle_deg"] = mesh_angles["m1"]
+    return data
+
+
+def _gear_table(data: dict, name: str) -> dict:
+    return next(g for g in data["gears"] if g["name"] == name)
+
+
+def _pair_case(data: dict, driving: str, driven: str, torque: float) -> jg.Case:
+    """The mesh driving → driven written as a pair case file of its own (``[pair]``,
+    ``[pinion]``, ``[gear]``) at ``torque`` on its driving gear."""
+    a, b = _gear_table(data, driving), _gear_table(data, driven)
+    pair_keys = ("normal_module_mm", "normal_pressure_angle_deg", "helix_angle_deg")
+    member = lambda g: {k: v for k, v in g.items() if k not in (*pair_keys, "name")}  # noqa: E731
+    return jio.parse_case(
+        {
+            "name": f"{driving}-{driven}",
+            "pair": {k: a[k] for k in pair_keys if k in a},
+            "pinion": member(a),
+            "gear": member(b),
+            "material": data["material"],
+            "operating": {"torque_Nm": torque},
+            "mesh": data["mesh"],
+            "modifications": data["modifications"],
+        }
+    )
+
+
+def _pairs_alone(data: dict):
+    """The two pairs as pair cases; the idler's torque T r_b,idler / r_b,input (the same normal
+    force on both meshes: the idler carries no load of its own)."""
+    torque = data["operating"]["torque_Nm"]
+    first = _pair_case(data, "input", "idler", torque)
+    rb_in, rb_idler = first.pair.base_radii
+    return first, _pair_case(data, "idler", "output", torque * rb_idler / rb_in)
+
+
+@pytest.fixture(scope="module")
+def train():
+    data = _train_data()
+    return data, jio.parse_train(copy.deepcopy(data), "accessory-idler-train")
+
+
+def test_each_mesh_equals_its_pair_alone(train):
+    """Quasi-static contact of both meshes at once on the torsional train against each pair
+    solved alone at its own angle (the pair case files written above): TE and mesh stiffness
+    over a mesh period to 1e-9 (the issue asks 0.5 % of the means)."""
+    data, case = train
+    scene = case.static_train()
+    res = jg.quasi_static(scene, case.mesh_modifications(), case.torque, positions_per_pitch=PPP)
+    theta = np.asarray(res.theta)
+    z = [g["teeth"] for g in data["gears"]]
+    angles = (theta, z[0] / z[1] * theta + case.layout().phases[1])
+    for k, alone in enumerate(_pairs_alone(data)):
+        ref = jg.quasi_static(
+            jg.TorsionalPair(alone.mesh_model(), 1e5),
+            alone.modifications,
+            alone.torque,
+            angles[k],
+        )
+        got = res.meshes[k]
+        np.testing.assert_allclose(got.transmission_error, ref.transmission_error, rtol=1e-9)
+        np.testing.assert_allclose(got.mesh_stiffness, ref.mesh_stiffness, rtol=1e-9)
+        assert float(got.te_mean) == pytest.approx(float(ref.te_mean), rel=1e-9)
+
+
+def test_natural_frequencies_equal_a_three_inertia_chain(train):
+    """The train's modes (time-averaged mesh stiffness) against the chain written out: three
+    solid-disc inertias ½ ρ π b r_a⁴, two mesh springs of each pair's mean stiffness (alone,
+    quasi-static over a period) acting on the approaches r_b φ_driving − r_b φ_driven; SciPy's
+    generalised eigenvalues. Within 0.5 % (the time averages sample the two meshes at positions
+    a phase apart)."""
+    data, case = train
+    model, _ = build_dynamic_model(case, slices=SLICES)
+    first, second = _pairs_alone(data)
+    k = [
+        float(
+            np.mean(
+                jg.quasi_static(
+                    jg.TorsionalPair(c.mesh_model(), 1e5),
+                    c.modifications,
+                    c.torque,
+                    positions_per_pitch=64,
+                ).mesh_stiffness
+            )
+        )
+        for c in (first, second)
+    ]
+    rb = (first.pair.base_radii[0], first.pair.base_radii[1], second.pair.base_radii[1])
+    ra = (first.pair.tip_radii[0], first.pair.tip_radii[1], second.pair.tip_radii[1])
+    widths = [_gear_table(data, n)["face_width_mm"] * 1e-3 for n in ("input", "idler", "output")]
+    rho = data["material"]["density_kg_m3"]
+    M = np.diag([0.5 * rho * math.pi * b * r**4 for b, r in zip(widths, ra, strict=True)])
+    a = np.array([rb[0], -rb[1], 0.0])
+    b = np.array([0.0, rb[1], -rb[2]])
+    K = k[0] * np.outer(a, a) + k[1] * np.outer(b, b)
+    ref = np.sqrt(np.clip(scipy.linalg.eigh(K, M, eigvals_only=True), 0.0, None))
+    got = np.sort(np.asarray(model.modes.omega))
+    assert got[0] == pytest.approx(0.0, abs=1e-6 * got[-1])  # the free rotation of the chain
+    np.testing.assert_allclose(got[1:], ref[1:], rtol=5e-3)
+
+
+def _idler_delay(case) -> float:
+    """Mesh 2's engagement after mesh 1's, in idler pitches (mod 1), derived by hand.
+
+    Angles on the idler (gear 1) are measured in its direction of motion, φ its rotation. The
+    idler is driven in mesh 1 on its trailing flank and drives in mesh 2 on its leading flank;
+    a tooth with centre line at c has those flanks' involutes starting on the base circle at
+    c − ψ_b and c + ψ_b, ψ_b = s/(2r) + inv α_t. A mesh is at its engagement when a contact
+    line sits at roll distance ρ_A from its driving gear's tangent point: in mesh 1 the idler's
+    contact point is L_1 − ρ_A,1 from its own tangent point T2 (L = T1T2), in mesh 2 it is
+    ρ_A,2 from T1. Involute: a flank starting at angle c' meets the line of action at roll
+    distance ρ from the tangent point at angle τ when c' = τ ∓ ρ / r_b (− trailing, + leading).
+    So a tooth of the idler engages in mesh 1 at c − ψ_b = τ2 − (L_1 − ρ_A,1)/r_b and in mesh 2
+    at c + ψ_b = τ1 + ρ_A,2 / r_b: the idler turns φ_2 − φ_1 = τ1 − τ2 + (ρ_A,2 + L_1 − ρ_A,1)
+    / r_b − 2 ψ_b between them, modulo a pitch."""
+    p1, p2 = case.pairs
+    a1, a2 = (p.operating_pressure_angle for p in case.pairs)
+    phi1, phi2 = case.angles
+    o_in = np.zeros(2)
+    o_id = o_in + p1.center_distance * np.array([math.cos(phi1), math.sin(phi1)])
+    o_out = o_id + p2.center_distance * np.array([math.cos(phi2), math.sin(phi2)])
+    spin_in, spin_id = 1.0, -1.0  # external meshes: the idler turns against the input
+
+    def tangent_points(o_g, o_h, spin_g, rb_g, rb_h, alpha):
+        """Where the line of action touches the driving (g) and driven (h) base circles: the
+        pair frame's T1 = r_b1 (cos α, −sin α) and T2 = O2 + r_b2 (−cos α, sin α) turned onto
+        the centre line e, mirrored for a driving gear turning about −z."""
+        e = (o_h - o_g) / np.linalg.norm(o_h - o_g)
+        n = np.array([-e[1], e[0]])  # e rotated +90°
+        u = math.cos(alpha) * e - spin_g * math.sin(alpha) * n
+        return o_g + rb_g * u, o_h - rb_h * u
+
+    _, t2 = tangent_points(o_in, o_id, spin_in, *p1.base_radii, a1)
+    t1, _ = tangent_points(o_id, o_out, spin_id, *p2.base_radii, a2)
+
+    def tau(point):  # angle of a point about the idler, in its direction of motion
+        d = point - o_id
+        return spin_id * math.atan2(d[1], d[0])
+
+    rb = p1.base_radii[1]
+    assert rb == pytest.approx(p2.base_radii[0], rel=1e-14)
+    at = p2.transverse_pressure_angle
+    psi = p2.reference_thickness[0] / (2 * p2.pitch_radii[0]) + math.tan(at) - at
+    length1 = p1.center_distance * math.sin(a1)
+    turn = tau(t1) - tau(t2) + (p2.start_roll + length1 - p1.start_roll) / rb - 2 * psi
+    pitch = 2 * math.pi / p2.pinion.teeth
+    return (turn % pitch) / pitch
+
+
+def _engagements(stiffness) -> float:
+    """The position (in positions, mod the period) of the largest upward jump of a stiffness
+    curve over one period: a tooth pair entering."""
+    k = np.asarray(stiffness)
+    jumps = np.diff(np.concatenate([k, k[:1]]))
+    return (int(np.argmax(jumps)) + 1) % k.size
+
+
+@pytest.mark.parametrize("angle_deg", [90.0, 30.0, -60.0])
+def test_mesh_phase_read_from_the_stiffness_curves_matches_the_layout(angle_deg):
+    """The idler train with its output at three angles about the idler: the second mesh's
+    engagement jump in the quasi-static stiffness follows the first's by the delay derived by
+    hand from the layout (:func:`_idler_delay`), to one position step; and the delays differ
+    between the layouts (the layout matters)."""
+    case = jio.parse_train(_train_data(m1=angle_deg))
+    res = jg.quasi_static(case.static_train(), None, case.torque, positions_per_pitch=PPP)
+    first, second = (_engagements(m.mesh_stiffness) for m in res.meshes)
+    measured = ((second - first) % PPP) / PPP
+    expected = _idler_delay(case)
+    off = abs((measured - expected + 0.5) % 1.0 - 0.5)
+    assert off <= 1.0 / PPP + 1e-12, (angle_deg, measured, expected)
+
+
+def test_idler_delays_differ_between_layouts():
+    delays = [_idler_delay(jio.parse_train(_train_data(m1=a))) for a in (90.0, 30.0, -60.0)]
+    assert min(abs(a - b) for i, a in enumerate(delays) for b in delays[i + 1 :]) > 2.0 / PPP
+
+
+def _refused(change, message: str):
+    data = _train_data()
+    change(data)
+    with pytest.raises(jio.SchemaError, match=message) as err:
+        jio.parse_train(data)
+    assert "\n" not in str(err.value)
+
+
+def test_train_case_refusals_are_one_line_in_file_units():
+    def drive_twice(d):
+        d["meshes"].append({"driving": "input", "driven": "output", "angle_deg": 200.0})
+
+    def reverse(d):
+        d["meshes"].reverse()
+
+    def two_outputs(d):
+        d["gears"].append(dict(_gear_table(d, "output"), name="accessory"))
+        d["meshes"].append({"driving": "idler", "driven": "accessory", "angle_deg": -60.0})
+
+    def other_module(d):
+        _gear_table(d, "output")["normal_module_mm"] = 2.0
+
+    def overlap(d):
+        d["meshes"][1]["angle_deg"] = 150.0
+
+    def unknown_gear(d):
+        d["meshes"][1]["driven"] = "outptu"
+
+    def lonely(d):
+        d["gears"].append(dict(_gear_table(d, "output"), name="spare"))
+
+    def thin(d):
+        _gear_table(d, "idler")["face_width_mm"] = -3.0
+
+    def close(d):
+        d["meshes"][0]["center_distance_mm"] = 70.0
+
+    def same_name(d):
+        d["gears"][2]["name"] = "idler"
+
+    cases = [
+        (drive_twice, r"^\[meshes\[2\]\] driven = 'output': is driven by meshes\[1\] already"),
+        (reverse, r"^\[meshes\[0\]\] driving = 'idler': does not turn yet"),
+        (two_outputs, r"^\[\[meshes\]\]: the train has output gears output, accessory"),
+        (other_module, r"normal_module_mm = 1\.5 and \[gears\.output\] normal_module_mm = 2"),
+        (overlap, r"^\[\[meshes\]\] angle_deg: gears 'input' and 'output' overlap"),
+        (unknown_gear, r"^\[meshes\[1\]\] driven = 'outptu': no such gear, allowed input"),
+        (lonely, r"^\[\[gears\]\] spare: in no mesh"),
+        (thin, r"^\[gears\.idler\] face_width_mm = -3: out of range, allowed > 0"),
+        (close, r"^\[meshes\[0\]\] center_distance_mm = 70: out of range, allowed >= 80\.5"),
+        (same_name, r"^\[gears\[2\]\] name = 'idler': is taken by gears\[1\]"),
+    ]
+    for change, message in cases:
+        _refused(change, message)
+
+
+def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys):
+    """``jaxgear run`` on a small train case file (2 slices, 8 positions per period, a short
+    sweep): summary.json holds a ``meshes`` entry per mesh with the pair keys of
+    ``quasi_static``, te.csv a column per mesh, a load map per mesh and the phasing figure; the
+    sweep has a dynamic factor per mesh whose worst is the scene's."""
+    data = _train_data()
+    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
+    text = _toml(data)
+    path = tmp_path / "idler.toml"
+    path.write_text(text, "utf-8")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["complete"] is True
+    assert [m["name"] for m in summary["meshes"]] == ["input-idler", "idler-output"]
+    for m in summary["meshes"]:
+        assert set(m["quasi_static"]["exact"]) >= {
+            "te_mean_m",
+            "te_rms_m",
+            "mesh_stiffness_mean_N_per_m",
+            "max_line_load_N_per_m",
+        }
+        assert (out / f"load_map_{m['name']}.png").stat().st_size > 0
+    # the idler passes the normal force on: equal normal loads
+    loads = [m["normal_load_N"] for m in summary["meshes"]]
+    assert loads[1] == pytest.approx(loads[0], rel=1e-12)
+    z = [g["teeth"] for g in summary["gears"]]
+    assert summary["operating"]["output_torque_Nm"] == pytest.approx(80.0 * z[2] / z[0])
+    header = (out / "te.csv").read_text().splitlines()[0].split(",")
+    assert "transmission_error_exact_modified_idler-output_m" in header
+    assert (out / "phasing.png").stat().st_size > 0
+    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
+    per = np.asarray(sweep["dynamic_factor_mesh"])
+    assert per.shape == (60, 2)
+    np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
+    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 2
+    assert "input-idler" in capsys.readouterr().out
+
+
+def _toml(data: dict) -> str:
+    """A small TOML writer for the case tables used here (tables, arrays of tables, inline
+    tables of numbers and strings)."""
+
+    def value(v):
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + " }"
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = []
+    scalars = {k: v for k, v in data.items() if not isinstance(v, dict | list)}
+    lines += [f"{k} = {value(v)}" for k, v in scalars.items()]
+
+    def table(name, t):
+        lines.append(f"[{name}]")
+        subs = {k: v for k, v in t.items() if isinstance(v, dict) and name != "modifications"}
+        for k, v in t.items():
+            if k not in subs:
+                lines.append(f"{k} = {value(v)}")
+        for k, v in subs.items():
+            table(f"{name}.{k}", v)
+
+    for key, v in data.items():
+        if isinstance(v, list):
+            for t in v:
+                lines.append(f"[[{key}]]")
+                lines += [f"{k} = {value(x)}" for k, x in t.items()]
+        elif isinstance(v, dict):
+            table(key, v)
+    return "\n".join(lines) + "\n"
