@@ -50,7 +50,7 @@ def _pair_case(data: dict, driving: str, driven: str, torque: float) -> jg.Case:
     ``[pinion]``, ``[gear]``) at ``torque`` on its driving gear."""
     a, b = _gear_table(data, driving), _gear_table(data, driven)
     pair_keys = ("normal_module_mm", "normal_pressure_angle_deg", "helix_angle_deg")
-    member = lambda g: {k: v for k, v in g.items() if k not in (*pair_keys, "name")}  # noqa: E731
+    member = lambda g: {k: v for k, v in g.items() if k not in (*pair_keys, "name")}
     return jio.parse_case(
         {
             "name": f"{driving}-{driven}",
