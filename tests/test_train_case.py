@@ -347,3 +347,15 @@ def _toml(data: dict) -> str:
         elif isinstance(v, dict):
             table(key, v)
     return "\n".join(lines) + "\n"
+
+
+def test_an_implausible_train_warns_per_mesh():
+    """Absurd but valid: a tip relief 40 times the mean static deflection warns once per mesh,
+    naming the mesh and the key as a pair case does."""
+    data = _train_data()
+    data["modifications"]["tip_relief"] = {"depth_um": 500.0, "extent": 0.25}
+    with pytest.warns(jio.CaseWarning) as caught:
+        jio.parse_train(data)
+    messages = [str(w.message) for w in caught]
+    assert any(m.startswith("meshes[0] input-idler: [modifications] tip_relief") for m in messages)
+    assert any(m.startswith("meshes[1] idler-output: [modifications] tip_relief") for m in messages)

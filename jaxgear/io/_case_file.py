@@ -21,7 +21,7 @@ import numpy as np
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
-from .._case import Case
+from .._case import Case, TrainCase
 from .._geometry import GearPair, Member
 from .._modifications import MemberModification, Modifications
 from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
@@ -508,8 +508,9 @@ def mean_static_deflection(case: Case) -> float:
     return case.normal_load / k_mean
 
 
-def plausibility(case: Case) -> list[str]:
-    """One-line warnings about absurd but valid inputs (thresholds in README.md):
+def plausibility(case: Case | TrainCase) -> list[str]:
+    """One-line warnings about absurd but valid inputs (thresholds in README.md); a train's,
+    those of each mesh as a pair case, named by mesh (``meshes[k] driving-driven: ...``):
 
     * a relief or crowning depth above ``RELIEF_RATIO_WARN`` (10) × δ_m;
     * δ_m below ``MIN_DEFLECTION_UM`` (0.01 µm): the torque is too small to deflect the teeth;
@@ -521,6 +522,12 @@ def plausibility(case: Case) -> list[str]:
     Raises:
         SchemaError: see :func:`mean_static_deflection`.
     """
+    if isinstance(case, TrainCase):
+        return [
+            f"meshes[{k}] {case.mesh_name(k)}: {text}"
+            for k in range(len(case.pairs))
+            for text in plausibility(case.mesh_case(k))
+        ]
     out = []
     delta = mean_static_deflection(case)
     d_um = delta * 1e6

@@ -314,7 +314,6 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         raw=data,
     )
     _check_overlap(case)
-    for k in range(len(pairs)):  # absurd but valid: as a pair case, per mesh
-        for text in plausibility(case.mesh_case(k)):
-            warnings.warn(f"meshes[{k}] {case.mesh_name(k)}: {text}", CaseWarning, stacklevel=2)
+    for text in plausibility(case):  # absurd but valid: as a pair case, per mesh
+        warnings.warn(text, CaseWarning, stacklevel=2)
     return case
