@@ -138,7 +138,12 @@ class TrainCase:
             (rad, fixed frame).
         modifications: each gear's :class:`MemberModification`, (n,) (every flank it loads).
         youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
-        torque: the input gear's torque (N·m); the one output gear takes the balancing torque.
+        torque: the input gear's torque (N·m); the balancing output takes what the loads
+            leave.
+        loads: ((gear, torque (N·m)), ...): the torques of the loaded gears other than the
+            balancing output, each in its gear's direction of motion (< 0: it takes power), at
+            the case's input torque; the model keeps their shares of the input power
+            (:meth:`shares`), so another input torque scales them all.
         speed: the input gear's speed (rad/s).
         stiffness_model, uniform_k0, slices, positions_per_pitch, smooth_width, foundation,
             fe2d_size: as :class:`Case`, for every mesh.
@@ -159,6 +164,7 @@ class TrainCase:
     poisson_ratio: float = 0.3
     density: float = 7800.0
     torque: float = 100.0
+    loads: tuple = ()
     speed: float = 0.0
     stiffness_model: str = "fe2d"
     uniform_k0: float | None = None
@@ -186,17 +192,32 @@ class TrainCase:
         g, h = self.gears[k]
         return f"{self.gear_names[g]}-{self.gear_names[h]}"
 
+    def shares(self) -> dict:
+        """``{gear: share}``: the share of the input power each loaded gear takes, −T_j ω_j /
+        (T ω_0) (:func:`jaxgear.scenes.torsional_train`); the balancing output takes the rest."""
+        ratios = self.layout().ratios
+        return {g: -t * ratios[g] / (self.torque * ratios[0]) for g, t in self.loads}
+
     @property
     def mesh_torques(self) -> tuple:
-        """Each mesh's torque on its driving gear (N·m): the input's torque, passed on through
-        the train (a gear driven by a mesh and driving the next, with no load of its own, turns
-        the same normal force, T_h = T_g r_b,h / r_b,g)."""
-        torque = {0: self.torque}
-        out = []
-        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
-            out.append(torque[g])
-            torque[h] = torque[g] * pair.base_radii[1] / pair.base_radii[0]
-        return tuple(out)
+        """Each mesh's torque on its driving gear (N·m): the power the gears beyond the mesh take
+        (their shares; the balancing output the rest) over the driving gear's speed, T S_k ω_0 /
+        ω_g (S_k: the shares of the driven gear and every gear it drives, directly or not). In a
+        chain with no load on its way the force is passed on: T_h = T_g r_b,h / r_b,g."""
+        ratios = self.layout().ratios
+        shares = self.shares()
+        drivers = {g for g, _ in self.gears}
+        outputs = [i for i in range(self.n_gears) if i not in drivers and i not in shares]
+        share = dict(shares)
+        share[outputs[0]] = 1.0 - sum(shares.values())
+        children = {}
+        for g, h in self.gears:
+            children.setdefault(g, []).append(h)
+
+        def beyond(h):  # the share taken at h and beyond it
+            return share.get(h, 0.0) + sum(beyond(c) for c in children.get(h, ()))
+
+        return tuple(self.torque * beyond(h) * ratios[0] / ratios[g] for g, h in self.gears)
 
     def mesh_case(self, k: int) -> Case:
         """Mesh ``k`` as a pair case: its pair (the driving gear as pinion), its driving gear's
@@ -263,12 +284,13 @@ class TrainCase:
 
     def torsional_train(self, slices: int | None = None):
         """The train's torsional scene (:func:`jaxgear.scenes.torsional_train`): each mesh at
-        its layout's phase, each gear's :meth:`gear_inertias`."""
+        its layout's phase, each gear's :meth:`gear_inertias`, the loads' :meth:`shares`."""
         planes = self.mesh_models(slices)
         return torsional_train(
             tuple(zip(planes, self.gears, strict=True)),
             self.gear_inertias(),
             tuple(float(p) for p in self.layout().phases),
+            self.shares(),
         )
 
     def static_train(self, slices: int | None = None):

@@ -23,7 +23,7 @@ import scipy.linalg
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import build_dynamic_model
+from jaxgear.dynamics import Newmark, SteadyState, build_dynamic_model, speed_sweep
 
 jax.config.update("jax_enable_x64", True)
 
@@ -359,3 +359,73 @@ def test_an_implausible_train_warns_per_mesh():
     messages = [str(w.message) for w in caught]
     assert any(m.startswith("meshes[0] input-idler: [modifications] tip_relief") for m in messages)
     assert any(m.startswith("meshes[1] idler-output: [modifications] tip_relief") for m in messages)
+
+
+def test_a_branching_train_shares_the_power_by_statics():
+    """The idler also drives an accessory gear (50 teeth) loaded with −20 N·m; the output takes
+    the balance. Each mesh equals its pair alone at the torque the statics written here give
+    (the idler passes F_in = T/r_b,in on and splits it, F_in = F_acc + F_out, F_acc =
+    20 N·m / r_b,acc): TE to 1e-9 over a period; the train's dynamic model builds and runs."""
+    data = _train_data()
+    acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
+    data["gears"].append(acc)
+    data["meshes"].append({"driving": "idler", "driven": "accessory", "angle_deg": -90.0})
+    data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -20.0}]
+    case = jio.parse_train(copy.deepcopy(data))
+    res = jg.quasi_static(
+        case.static_train(), case.mesh_modifications(), case.torque, positions_per_pitch=PPP
+    )
+    first = _pair_case(data, "input", "idler", data["operating"]["torque_Nm"])
+    rb_in, rb_id = first.pair.base_radii
+    f_in = first.torque / rb_in  # spur: cos β_b = 1
+    to_acc = _pair_case(data, "idler", "accessory", 20.0)  # (its geometry only)
+    f_acc = 20.0 / to_acc.pair.base_radii[1]
+    torques = {"input-idler": first.torque, "idler-accessory": f_acc * rb_id}
+    torques["idler-output"] = (f_in - f_acc) * rb_id
+    theta = np.asarray(res.theta)
+    layout = case.layout()
+    for k, (g, h) in enumerate(case.gears):
+        name = case.mesh_name(k)
+        alone = _pair_case(data, case.gear_names[g], case.gear_names[h], torques[name])
+        ref = jg.quasi_static(
+            jg.TorsionalPair(alone.mesh_model(), 1e5),
+            alone.modifications,
+            alone.torque,
+            layout.ratios[g] * theta + layout.phases[k],
+        )
+        np.testing.assert_allclose(
+            res.meshes[k].transmission_error, ref.transmission_error, rtol=1e-9, err_msg=name
+        )
+        assert case.mesh_torques[k] == pytest.approx(torques[name], rel=1e-12)
+    model, _ = build_dynamic_model(case, slices=2)
+    sw = speed_sweep(model, [300.0, 900.0], integrator=Newmark(32), window=SteadyState(4, 2))
+    assert len(sw.results.meshes) == 3
+    assert np.all(np.asarray(sw.results.result) == 0)
+    for k, m in enumerate(sw.results.meshes):  # each mesh's static force: the statics above
+        rb = case.pairs[k].base_radii[0]
+        assert float(m.static_force[0]) == pytest.approx(case.mesh_torques[k] / rb, rel=1e-6)
+
+
+def test_loads_are_refused_in_one_line():
+    def load(entries):
+        def change(d):
+            d["operating"]["loads"] = entries
+
+        return change
+
+    _refused(
+        load([{"gear": "input", "torque_Nm": -5.0}]),
+        r"^\[operating\.loads\[0\]\] gear = 'input': is the input",
+    )
+    _refused(
+        load([{"gear": "idler", "torque_Nm": 5.0}]),
+        r"^\[operating\.loads\[0\]\] torque_Nm = 5: out of range",
+    )
+    _refused(
+        load([{"gear": "idler", "torque_Nm": -500.0}]),
+        r"^\[\[operating\.loads\]\]: the loads take 461\.1 % of the input power",
+    )
+    _refused(
+        load([{"gear": "output", "torque_Nm": -5.0}]),
+        r"^\[\[meshes\]\]: the train has output gears none without",
+    )

@@ -25,6 +25,9 @@
     [operating]
     torque_Nm = 80.0                 # on the input: the first mesh's driving gear
     speed_rad_s = 0.0
+    [[operating.loads]]              # a loaded gear other than the balancing output
+    gear = "accessory"
+    torque_Nm = -5.0                 # in its direction of motion: < 0, it takes power
     [scene]
     model = "torsional"
     [scene.inertias_kg_m2]           # per gear name (default: solid disc)
@@ -34,7 +37,8 @@
 
 A train is checked as a whole before any computation, in the file's units: every gear and mesh
 key, gears referred to by name, meshes listed from the input outwards (a mesh's driving gear is
-the input or a gear an earlier mesh drives), each gear driven once, one output gear, the module,
+the input or a gear an earlier mesh drives), each gear driven once, one output gear without a
+load (the balancing output), the loads leaving it some power, the module,
 pressure angle and helix angle of the two gears of a mesh equal, and no two gears that do not
 mesh with each other overlapping (tip circles apart).
 """
@@ -202,6 +206,41 @@ def _scene(table: Any, names: list[str]) -> tuple[SceneSpec, tuple]:
     return SceneSpec(model=model, **parse_dynamics_settings(table)), inertias
 
 
+def _loads(op: dict, index: dict) -> tuple:
+    """``[[operating.loads]]``: ((gear index, torque N·m), ...), each a gear other than the input
+    named once, its torque < 0 (it takes power, in its direction of motion)."""
+    v = op.get("loads", [])
+    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+        raise sc.fail("operating", "loads", "must be an array of tables ([[operating.loads]])", v)
+    out = {}
+    names = list(index)
+    for i, t in enumerate(v):
+        where = f"operating.loads[{i}]"
+        sc.check_keys(t, {"gear", "torque_Nm"}, where)
+        gear = sc.string(t, "gear", where)
+        if gear not in index:
+            raise sc.fail(where, "gear", f"no such gear, allowed {', '.join(names)}", gear)
+        if index[gear] == 0:
+            raise sc.fail(where, "gear", "is the input (its torque is [operating] torque_Nm)", gear)
+        if index[gear] in out:
+            raise sc.fail(where, "gear", "has a load already (allowed: one per gear)", gear)
+        out[index[gear]] = sc.number(
+            t, "torque_Nm", where, allowed="< 0", note=" (a load takes power: negative)"
+        )
+    return tuple(out.items())
+
+
+def _check_power(case: TrainCase) -> None:
+    """The loads must leave the balancing output some of the input power."""
+    taken = sum(case.shares().values())
+    if taken >= 1.0:
+        raise sc.SchemaError(
+            f"[[operating.loads]]: the loads take {100 * taken:.4g} % of the input power "
+            f"([operating] torque_Nm = {sc.fmt(case.torque)}); allowed below 100 %, the "
+            "balancing output takes the rest"
+        )
+
+
 def _check_overlap(case: TrainCase) -> None:
     """Two gears that do not mesh with each other must not overlap: their centres at least the
     sum of their tip radii apart (mm in the message)."""
@@ -235,8 +274,9 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     """
     sc.check_keys(data, _TOP_KEYS, "")
     name = sc.name(data, "name", "", default_name)
-    for key in ("material", "mesh", "operating"):
-        sc.subtable(data, key, "", _SCHEMA[key], required=key == "operating")
+    for key in ("material", "mesh"):
+        sc.subtable(data, key, "", _SCHEMA[key])
+    sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads"}, required=True)
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     for i, table in enumerate(_array_of_tables(data, "gears", 2)):
@@ -282,17 +322,19 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         raise sc.SchemaError(
             f"[[gears]] {', '.join(idle)}: in no mesh (allowed: every gear meshes)"
         )
-    drivers = {g for g, _ in links}
-    outputs = [n for i, n in enumerate(names) if i not in drivers]
-    if len(outputs) != 1:
-        raise sc.SchemaError(
-            f"[[meshes]]: the train has output gears {', '.join(outputs)} (gears that drive no "
-            "other); allowed exactly one (it takes the balancing torque)"
-        )
     E, nu, rho = parse_material(data)
     op = data["operating"]
     torque = sc.number(op, "torque_Nm", "operating", allowed="> 0")
     speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
+    loads = _loads(op, index)
+    drivers = {g for g, _ in links}
+    free = [n for i, n in enumerate(names) if i not in drivers and i not in dict(loads)]
+    if len(free) != 1:
+        raise sc.SchemaError(
+            f"[[meshes]]: the train has output gears {', '.join(free) or 'none'} without a "
+            "[[operating.loads]] entry (gears that drive no other); allowed exactly one, the "
+            "balancing output"
+        )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
     mods = _modifications(data.get("modifications", {}), names)
     scene, inertias = (None, ()) if "scene" not in data else _scene(data["scene"], names)
@@ -307,6 +349,7 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         poisson_ratio=nu,
         density=rho,
         torque=torque,
+        loads=loads,
         speed=speed,
         **mesh,
         inertias=inertias,
@@ -314,6 +357,7 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         raw=data,
     )
     _check_overlap(case)
+    _check_power(case)
     for text in plausibility(case):  # absurd but valid: as a pair case, per mesh
         warnings.warn(text, CaseWarning, stacklevel=2)
     return case

@@ -199,9 +199,10 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
 class TorsionalTrain(AssembledScene, DynamicScene):
     """A torsional gear train: one rotation per gear (rad, each positive in its gear's direction
     of motion), no shaft, one mesh per pair of gears in contact (build with
-    :func:`torsional_train`). The input torque T acts on gear 0, the balancing torque
-    T ω_0/ω_out on the output gear (the one that drives no other); the chain turns freely
-    (its rigid rotation :attr:`rigid`, each gear at its speed ratio).
+    :func:`torsional_train`). The input torque T acts on gear 0, each loaded gear takes its share
+    of the input power and the balancing output gear the rest (with one output: the torque
+    T ω_0/ω_out); the chain turns freely (its rigid rotation :attr:`rigid`, each gear at its
+    speed ratio).
 
     Attributes:
         rigid: the rigid rotation (n,): ω_g / r_b,0 (a unit base-plane advance of the input).
@@ -213,7 +214,7 @@ class TorsionalTrain(AssembledScene, DynamicScene):
         return self.rigid[:, None]
 
 
-def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
+def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrain:
     """A torsional gear train from its meshes (seed I-3 with several meshes).
 
     Args:
@@ -223,15 +224,20 @@ def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
         inertias: polar inertias (kg·m²) of the gears, (n,).
         phases: each mesh's phase (rad, :attr:`GearMesh.phase`; default 0; from the layout:
             :func:`train_phases`).
+        shares: ``{gear: share}``, the share of the input power each loaded gear takes (0 <
+            share, their sum < 1), every gear but the input and one output, the balancing
+            output, which takes the rest (default: none; then the train has one output).
+            The load pattern per unit input torque: gear j's torque is −share_j T ω_0/ω_j.
 
     Returns:
         the :class:`TorsionalTrain`; its mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the
         driving gear's angle per unit input angle (r_b,0 / r_b,g through the train).
 
     Raises:
-        ValueError: a mesh whose driving gear is not yet turning, a gear driven twice, more or
-            less than one output gear, or meshes with different tooth-passing periods (a
-            two-stage train is not periodic in one mesh period).
+        ValueError: a mesh whose driving gear is not yet turning, a gear driven twice, an
+            output gear with no share but the balancing one (or none left for it), shares out
+            of range, or meshes with different tooth-passing periods (a two-stage train is not
+            periodic in one mesh period).
     """
     n = len(inertias)
     omega = [None] * n
@@ -274,11 +280,20 @@ def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
         )
     if any(w is None for w in omega):
         raise ValueError(f"gears {[i for i, w in enumerate(omega) if w is None]} mesh with none")
+    shares = {} if shares is None else {int(g): float(v) for g, v in shares.items()}
     driving = {g for _, (g, _) in meshes}
-    outputs = [i for i in range(n) if i not in driving]
-    if len(outputs) != 1:
-        raise ValueError(f"the train has output gears {outputs} (allowed: exactly one)")
-    o = outputs[0]
+    free = [i for i in range(n) if i not in driving and i not in shares]
+    if len(free) != 1:
+        raise ValueError(
+            f"the train has output gears {free} without a share of the input power (allowed: "
+            "exactly one, the balancing output)"
+        )
+    o = free[0]
+    if 0 in shares or any(not 0.0 < v < 1.0 for v in shares.values()):
+        raise ValueError(f"shares = {shares}: allowed gears other than the input, each in (0, 1)")
+    rest = 1.0 - sum(shares.values())
+    if not rest > 0.0:
+        raise ValueError(f"shares = {shares}: their sum {1.0 - rest:.6g} leaves the output none")
     zeros = jnp.zeros((n, n), dtype)
     structure = Structure(
         K=zeros,
@@ -300,7 +315,9 @@ def torsional_train(meshes, inertias, phases=None) -> TorsionalTrain:
         structure=structure,
         meshes=tuple(out),
         members=tuple(TorsionalMember(i) for i in range(n)),
-        f_torque=eye[0] - eye[o] / omega[o],
+        f_torque=eye[0]
+        - rest * eye[o] / omega[o]
+        - sum((v * eye[g] / omega[g] for g, v in shares.items()), jnp.zeros((n,), dtype)),
         rigid=jnp.asarray([w / rb0 for w in omega], dtype),
     )
 
