@@ -23,7 +23,13 @@ import scipy.linalg
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import Newmark, SteadyState, build_dynamic_model, speed_sweep
+from jaxgear.dynamics import (
+    Newmark,
+    SteadyState,
+    build_dynamic_model,
+    mesh_energy_shares,
+    speed_sweep,
+)
 
 jax.config.update("jax_enable_x64", True)
 
@@ -137,6 +143,17 @@ def test_natural_frequencies_equal_a_three_inertia_chain(train):
     got = np.sort(np.asarray(model.modes.omega))
     assert got[0] == pytest.approx(0.0, abs=1e-6 * got[-1])  # the free rotation of the chain
     np.testing.assert_allclose(got[1:], ref[1:], rtol=5e-3)
+    # each mesh's share of each elastic mode's strain energy, k_k (u_k·φ)² / ω² in the chain
+    w2, phi = scipy.linalg.eigh(K, M)
+    chain = np.array(
+        [
+            [kk * (u @ phi[:, i]) ** 2 / w2[i] for i in (1, 2)]
+            for kk, u in zip(k, (a, b), strict=True)
+        ]
+    )
+    shares = np.asarray(mesh_energy_shares(model))[:, 1:]
+    np.testing.assert_allclose(shares, chain, atol=5e-3)
+    assert 0.2 < shares[0, 0] < 0.3  # the first mode strains the second mesh most
 
 
 def _idler_delay(case) -> float:

@@ -205,6 +205,13 @@ def sweep_case(
             "mesh_energy_share": _clean(energy),
         }
     )
+    if n_meshes > 1 and not hybrid:  # each mesh's share of each mode's strain energy
+        from ..dynamics import mesh_energy_shares
+
+        shares = np.asarray(
+            mesh_energy_shares(model, positions_per_pitch=spec.steps_per_period or 64)
+        )
+        summary["mesh_energy_share_mesh"] = [_clean(row) for row in shares.T[:n_modes]]
     if not hybrid:
         summary["modal_energy_parts"] = list(modes.parts)
         summary["modal_energy"] = [_clean(row) for row in np.asarray(modes.energy)]

@@ -55,6 +55,7 @@ from ._model import (
     HybridModel as HybridModel,
     MeshTable as MeshTable,
     dynamic_model as dynamic_model,
+    mesh_energy_shares as mesh_energy_shares,
     mesh_table as mesh_table,
 )
 from ._newmark import MeshDamping as MeshDamping, newmark as newmark

@@ -41,6 +41,7 @@ from jaxtyping import Array, Bool, Float, Int
 from .._baseplane import MeshModel, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
+from .._util import check_integer
 from .._quasi_static import mesh_positions, mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
@@ -360,6 +361,32 @@ def _averaged(scene, mods, torque, damping, prep):
     return DynamicModel(
         scene=scene, mods=mods, torque=torque, damping=C, modes=modes, mesh_stiffness_mean=kbar
     )
+
+
+def mesh_energy_shares(
+    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+) -> Float[Array, "m n"]:
+    """Each mesh's share of each mode's strain energy, e_ik = φ_iᵀ K̄_k φ_i / ω_i² (-), shape
+    (meshes, modes): K̄_k the loaded stiffness of mesh k averaged over ``positions_per_pitch``
+    positions of a mesh period at the model's torque (the split of the model's K̄_m, which its
+    modes diagonalise); the meshes' rows sum to the mode's mesh share (:attr:`ModalAnalysis.
+    mesh_energy`, (2.36)) up to the averaging grid. 0 for the rigid modes."""
+    check_integer("positions_per_pitch", positions_per_pitch, 4)
+    law = contact_law(contact, model.damping.dtype)
+    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
+    table = prep.table
+    kl = jnp.where(table.mask, table.k * table.length, 0.0) * prep.static_weight  # (P, c)
+    modes = model.modes
+    sizes = np.array([L * N for L, N in table.sizes])
+    of_mesh = np.repeat(np.arange(sizes.size), sizes)
+    out = []
+    for k in range(sizes.size):
+        kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
+        Kk = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kk, table.V, table.V), axis=0)
+        strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
+        w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
+        out.append(jnp.where(modes.rigid, 0.0, strain / w2))
+    return jnp.stack(out)
 
 
 # --------------------------------------------------------------------------------------------
