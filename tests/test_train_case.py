@@ -444,5 +444,31 @@ def test_loads_are_refused_in_one_line():
     )
     _refused(
         load([{"gear": "output", "torque_Nm": -5.0}]),
-        r"^\[\[meshes\]\]: the train has output gears none without",
+        r"^\[\[operating\.loads\]\]: every output gear \(one that drives no other\) has a load",
     )
+
+
+def test_jaxgear_run_on_an_input_driving_two_meshes(tmp_path):
+    """The input drives the idler and an accessory (at 180°, loaded with −30 N·m): ``jaxgear
+    run`` with its sweep completes, and the balancing output's torque is what the power balance
+    written here leaves, T_out = −(T ω_0 + T_acc ω_acc)/ω_out."""
+    data = _train_data()
+    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
+    acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
+    data["gears"].append(acc)
+    data["meshes"].append({"driving": "input", "driven": "accessory", "angle_deg": 180.0})
+    data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -30.0}]
+    path = tmp_path / "branch.toml"
+    path.write_text(_toml(data), "utf-8")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    z = {g["name"]: g["teeth"] for g in data["gears"]}
+    w_acc, w_out = z["input"] / z["accessory"], z["input"] / z["output"]  # per unit ω_0
+    expected = (80.0 - 30.0 * w_acc) / w_out
+    assert summary["operating"]["output"] == "output"
+    assert summary["operating"]["output_torque_Nm"] == pytest.approx(expected, rel=1e-12)
+    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
+    assert np.asarray(sweep["dynamic_factor_mesh"]).shape == (60, 3)
+    assert all(v == 0 for v in sweep["result"])

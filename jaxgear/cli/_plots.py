@@ -184,7 +184,7 @@ def load_map_plot(path, s_edges, z_edges, lmap, *, title: str, vmax: float | Non
 
 
 def train_phasing_plot(
-    path, layout, pairs, names, tip_radii, base_radii, x, stiffness, *, title: str
+    path, layout, pairs, names, mesh_names, tip_radii, base_radii, x, stiffness, *, title: str
 ):
     """A gear train's layout and mesh phasing in one figure (two panels).
 
@@ -197,7 +197,8 @@ def train_phasing_plot(
 
     Args:
         layout: :class:`jaxgear.scenes.TrainLayout`. pairs: each mesh's
-            :class:`~jaxgear.GearPair`. names: the gears' names. tip_radii,
+            :class:`~jaxgear.GearPair`. names: the gears' names. mesh_names: the meshes'.
+            tip_radii,
             base_radii: each gear's (m). x: the input's position (mesh periods), (P,).
         stiffness: ``{mesh label: (K (N/m) (P,), phase marks (mesh periods of the input))}``.
     """
@@ -223,7 +224,7 @@ def train_phasing_plot(
         b = a + pair.path_of_contact * mm * t
         lay.plot([t1[0], t2[0]], [t1[1], t2[1]], "k-", lw=0.6)
         lay.plot([a[0], b[0]], [a[1], b[1]], "k-", lw=2.5)
-        lay.annotate(f"mesh {k + 1}", b[:2], fontsize=8, xytext=(4, 4), textcoords="offset points")
+        lay.annotate(mesh_names[k], b[:2], fontsize=8, xytext=(4, 4), textcoords="offset points")
     lay.set_aspect("equal")
     lay.autoscale_view()
     lay.set_xlabel("x (mm)")

@@ -198,7 +198,12 @@ def sweep_case(
     elif n_meshes == 1:
         summary["mesh_stiffness_mean_N_per_m"] = float(model.mesh_stiffness_mean)
     else:  # each mesh's time-averaged loaded stiffness
-        summary["mesh_stiffness_mean_N_per_m"] = [float(k) for k in _mesh_stiffness_means(model)]
+        from ..dynamics import mesh_stiffness_means
+
+        ppp = spec.steps_per_period or 64
+        summary["mesh_stiffness_mean_N_per_m"] = [
+            float(k) for k in np.asarray(mesh_stiffness_means(model, positions_per_pitch=ppp))
+        ]
     summary.update(
         {
             "natural_frequencies_Hz": _clean(omega / (2 * math.pi)),
@@ -253,7 +258,7 @@ def sweep_case(
             {
                 "dynamic_factor_down": _clean(_worst(d, "dynamic_factor")),
                 "dynamic_factor_tooth_down": _clean(_worst(d, "dynamic_factor_tooth")),
-                "te_rms_m_down": _clean(_worst(d, "te_rms")),
+                "te_rms_m_down": _clean(_of_worst(d, "te_rms")),
                 "contact_loss_down": _clean(_worst(d, "contact_loss")),
                 "result_down": [int(v) for v in np.asarray(d.result)],
             }
@@ -280,18 +285,16 @@ def sweep_case(
     return summary
 
 
-def _mesh_stiffness_means(model) -> np.ndarray:
-    """Each mesh's time-averaged loaded stiffness (N/m), (m,): the quasi-static loaded cells
-    over one period of the first mesh (what the model's modal analysis averages, per mesh)."""
-    from .. import quasi_static
-
-    res = quasi_static(model.scene, model.mods, model.torque, positions_per_pitch=64)
-    return np.array([float(np.mean(np.asarray(m.mesh_stiffness))) for m in res.meshes])
-
-
 def _worst(r, field: str) -> np.ndarray:
     """``field`` of the results ``r`` per speed, the largest over the meshes (S,)."""
     return np.max(np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], -1), -1)
+
+
+def _of_worst(r, field: str) -> np.ndarray:
+    """``field`` of the results ``r`` per speed, of the mesh of the highest dynamic factor (S,)."""
+    per = np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], -1)
+    df = np.stack([np.asarray(m.dynamic_factor, float) for m in r.meshes], -1)
+    return per[np.arange(per.shape[0]), np.argmax(df, -1)]
 
 
 def _mesh_responses(model, r, speeds) -> dict:
@@ -311,23 +314,18 @@ def _mesh_responses(model, r, speeds) -> dict:
     )
     if len(r.meshes) == 1:
         return {name: _clean(getattr(r, field)) for field, name in keys}
-    per = {
-        field: np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], axis=-1)
-        for field, _ in keys
-    }  # (S, m)
-    worst = np.argmax(per["dynamic_factor"], axis=-1)
-    rows = np.arange(worst.size)
     out = {
-        "dynamic_factor": _clean(per["dynamic_factor"].max(-1)),
-        "dynamic_factor_tooth": _clean(per["dynamic_factor_tooth"].max(-1)),
-        "te_rms_m": _clean(per["te_rms"][rows, worst]),
-        "te_mean_m": _clean(per["te_mean"][rows, worst]),
-        "contact_loss": _clean(per["contact_loss"].max(-1)),
-        "periodicity": _clean(per["periodicity"].max(-1)),
+        "dynamic_factor": _clean(_worst(r, "dynamic_factor")),
+        "dynamic_factor_tooth": _clean(_worst(r, "dynamic_factor_tooth")),
+        "te_rms_m": _clean(_of_worst(r, "te_rms")),
+        "te_mean_m": _clean(_of_worst(r, "te_mean")),
+        "contact_loss": _clean(_worst(r, "contact_loss")),
+        "periodicity": _clean(_worst(r, "periodicity")),
     }
-    for field, name in keys[:5]:
+    for field, name in keys[:5]:  # (S, m)
+        per = np.stack([np.asarray(getattr(m, field), float) for m in r.meshes], axis=-1)
         out[name.removesuffix("_m") + "_mesh" + ("_m" if name.endswith("_m") else "")] = [
-            _clean(row) for row in per[field]
+            _clean(row) for row in per
         ]
     freq = [
         float(mesh.ratio) / float(mesh.base_plane.mesh_period_angle) for mesh in model.scene.meshes

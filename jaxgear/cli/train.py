@@ -82,6 +82,7 @@ def run_train(
         base_radii[g], base_radii[h] = pair.base_radii
     inertias = case.gear_inertias()
     torques = case.mesh_torques
+    output = dict(scene.base.structure.nodes)["output"]  # the balancing output
     period = float(scene.base_planes[0].mesh_period_angle)  # the first mesh's, input angle
     meshes = []
     for k, (pair, (g, h)) in enumerate(zip(case.pairs, case.gears, strict=True)):
@@ -119,7 +120,7 @@ def run_train(
                 "centre_m": [float(v) for v in layout.centres[i][:2]],
                 "spin": int(layout.spins[i]),
                 "speed_ratio": float(layout.ratios[i]),
-                "tooth_angle_rad": float(layout.tooth_angles[i]),
+                "tooth_angle_rad": float(layout.tooth_angles[i] % (2 * np.pi)),
                 "base_radius_m": float(base_radii[i]),
                 "inertia_kg_m2": float(inertias[i]),
             }
@@ -128,10 +129,13 @@ def run_train(
         "meshes": meshes,
         "operating": {
             "torque_Nm": case.torque,
+            "loads_Nm": {case.gear_names[g]: float(t) for g, t in case.loads},
+            "output": case.gear_names[output],
             "output_torque_Nm": float(
                 case.torque
+                * (1.0 - sum(case.shares().values()))
                 * layout.ratios[0]
-                / layout.ratios[dict(scene.base.structure.nodes)["output"]]
+                / layout.ratios[output]
             ),
         },
         "mesh": {
@@ -224,6 +228,7 @@ def run_train(
         layout,
         case.pairs,
         case.gear_names,
+        names,
         case.tip_radii(),
         base_radii,
         x,
@@ -241,8 +246,8 @@ def format_train_table(summary: dict) -> str:
     """A short plain-text table of a train's main figures, a line per mesh and design."""
     lines = [
         f"train {summary['case']}: {len(summary['gears'])} gears, {len(summary['meshes'])} "
-        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, output "
-        f"{summary['operating']['output_torque_Nm']:.4g} N·m",
+        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, balancing output "
+        f"{summary['operating']['output']} {summary['operating']['output_torque_Nm']:.4g} N·m",
         f"{'':30s}{'ε_α':>7s}{'phase':>8s}{'TE mean µm':>12s}{'TE ptp µm':>11s}"
         f"{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]

@@ -56,6 +56,7 @@ from ._model import (
     MeshTable as MeshTable,
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,
+    mesh_stiffness_means as mesh_stiffness_means,
     mesh_table as mesh_table,
 )
 from ._newmark import MeshDamping as MeshDamping, newmark as newmark

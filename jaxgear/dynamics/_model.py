@@ -363,6 +363,33 @@ def _averaged(scene, mods, torque, damping, prep):
     )
 
 
+def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactLaw):
+    """The loaded cells' k l w (N/m), (P, c), over ``positions_per_pitch`` positions of a mesh
+    period at the model's torque, the table, and each cell's mesh index (c,)."""
+    check_integer("positions_per_pitch", positions_per_pitch, 4)
+    law = contact_law(contact, model.damping.dtype)
+    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
+    table = prep.table
+    kl = jnp.where(table.mask, table.k * table.length, 0.0) * prep.static_weight
+    sizes = np.array([L * N for L, N in table.sizes])
+    return kl, table, np.repeat(np.arange(sizes.size), sizes)
+
+
+def mesh_stiffness_means(
+    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+) -> Float[Array, " m"]:
+    """Each mesh's time-averaged loaded stiffness k̄_k = ⟨Σ w k l⟩ over its cells (N/m), shape
+    (meshes,), over ``positions_per_pitch`` positions of a mesh period at the model's torque
+    (the split of :attr:`DynamicModel.mesh_stiffness_mean`)."""
+    kl, _, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
+    return jnp.stack(
+        [
+            jnp.mean(jnp.sum(jnp.where(jnp.asarray(of_mesh == k), kl, 0.0), axis=1))
+            for k in range(int(of_mesh.max()) + 1)
+        ]
+    )
+
+
 def mesh_energy_shares(
     model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
 ) -> Float[Array, "m n"]:
@@ -371,20 +398,14 @@ def mesh_energy_shares(
     positions of a mesh period at the model's torque (the split of the model's K̄_m, which its
     modes diagonalise); the meshes' rows sum to the mode's mesh share (:attr:`ModalAnalysis.
     mesh_energy`, (2.36)) up to the averaging grid. 0 for the rigid modes."""
-    check_integer("positions_per_pitch", positions_per_pitch, 4)
-    law = contact_law(contact, model.damping.dtype)
-    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
-    table = prep.table
-    kl = jnp.where(table.mask, table.k * table.length, 0.0) * prep.static_weight  # (P, c)
+    kl, table, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
     modes = model.modes
-    sizes = np.array([L * N for L, N in table.sizes])
-    of_mesh = np.repeat(np.arange(sizes.size), sizes)
+    w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
     out = []
-    for k in range(sizes.size):
+    for k in range(int(of_mesh.max()) + 1):
         kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
         Kk = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kk, table.V, table.V), axis=0)
         strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
-        w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
         out.append(jnp.where(modes.rigid, 0.0, strain / w2))
     return jnp.stack(out)
 

@@ -329,9 +329,14 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     loads = _loads(op, index)
     drivers = {g for g, _ in links}
     free = [n for i, n in enumerate(names) if i not in drivers and i not in dict(loads)]
-    if len(free) != 1:
+    if not free:
         raise sc.SchemaError(
-            f"[[meshes]]: the train has output gears {', '.join(free) or 'none'} without a "
+            "[[operating.loads]]: every output gear (one that drives no other) has a load; "
+            "leave one without, the balancing output"
+        )
+    if len(free) > 1:
+        raise sc.SchemaError(
+            f"[[meshes]]: the train has output gears {', '.join(free)} without a "
             "[[operating.loads]] entry (gears that drive no other); allowed exactly one, the "
             "balancing output"
         )
