@@ -50,9 +50,11 @@ def _newmark(
     record: bool,
     record_states: bool = False,
     static_force=None,
+    start: int = 0,
 ):
     """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
-    coordinates) on the rows of the mesh table from row 1 on (step n ends at row (n + 1) mod N_s).
+    coordinates) on the rows of the mesh table from row ``start`` + 1 on (step n ends at row
+    (start + n + 1) mod the table's rows).
 
     ``state``: (X, Ẋ, Ẍ, result code, most contact passes). ``static_force``: the static mesh
     forces (N), (m,), the scale of the divergence check (default: the model's F_s). Records per
@@ -80,7 +82,7 @@ def _newmark(
         out = (fm, te_of(X), lines, R @ X)
         return out + (X, Xd) if record_states else out
 
-    rows = ((jnp.arange(n_steps) + 1) % P)[None, :]
+    rows = ((jnp.arange(n_steps) + 1 + start) % P)[None, :]
     return newmark(
         Ks,
         M,
@@ -114,13 +116,21 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     fs, static_lines = _static_forces(model, table, static)
     states = None
     if cfg.newmark:
-        # the transient unrecorded, then the kept periods recorded: n_trans is whole mesh
-        # periods, so the second scan meets the same table rows (memory ∝ keep_periods only)
+        # the transient unrecorded, then the kept periods recorded from the row where the
+        # transient ended (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
         run = {"cfg": cfg, "law": law, "static_force": fs}
         carry, _ = _newmark(model, table, dt, carry0, n_trans, record=False, **run)
         carry, rec = _newmark(
-            model, table, dt, carry, n_keep, record=True, record_states=cfg.states, **run
+            model,
+            table,
+            dt,
+            carry,
+            n_keep,
+            record=True,
+            record_states=cfg.states,
+            start=n_trans,
+            **run,
         )
         fm, te, lines, reac = rec[:4]
         if cfg.states:
@@ -135,7 +145,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final, (fm, te, lines, reac), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
-    j = (jnp.arange(n_keep) + 1) % P
+    j = (jnp.arange(n_keep) + 1 + n_trans) % table.theta.shape[0]
     static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (P, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
@@ -159,6 +169,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         code=code,
         rim=(none, none),
         states=states,
+        scene_steps=table.theta.shape[0],
     )
 
 

@@ -102,11 +102,14 @@ def mesh_forces(cell_forces, sizes) -> tuple[Array, tuple]:
 
 def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
     """Cells of every mesh, δ0 (2.8) and structure vectors at the mid-points of
-    ``steps_per_period`` steps (``mods``: one :class:`Modifications` for every mesh, or one per
-    mesh)."""
+    ``steps_per_period`` steps per period of the first mesh, over the scene's period
+    (:meth:`~jaxgear.scenes.Scene.scene_periods` periods of the first mesh; one but for a
+    two-stage train) (``mods``: one :class:`Modifications` for every mesh, or one per mesh)."""
     planes = scene.base_planes
     mods = per_mesh_modifications(mods, len(planes))
-    theta = mesh_positions(planes[0], steps_per_period)
+    # one scene period: the first mesh's periods after which every mesh repeats (1 but for a
+    # train whose meshes pass teeth at different rates)
+    theta = mesh_positions(planes[0], steps_per_period, scene.scene_periods())
 
     def row(th):
         parts = mesh_separations(scene, mods, th)

@@ -163,7 +163,8 @@ def checked(r: DynamicResult, name: str) -> DynamicResult:
 
 
 def _mesh_dynamics(fm, fs, te, lines, static_line_force, static_te, P: int) -> MeshDynamics:
-    """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`)."""
+    """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`); P: the
+    steps of the period the periodicity compares."""
     K = fm.shape[0]
     if K >= 2 * P:
         periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
@@ -206,6 +207,7 @@ def steady_state(
     code,
     rim,
     states=None,
+    scene_steps: int | None = None,
 ) -> DynamicResult:
     """The :class:`DynamicResult` of one speed's records over its K kept steps, m meshes.
 
@@ -220,6 +222,8 @@ def steady_state(
         omega_excited: the highest natural frequency the mesh excites (rad/s; NaN: unknown).
         final_state: (X, Ẋ, Ẍ). iterations, code: the run's most contact passes and result code.
         rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
+        scene_steps: the steps of one scene period (default N_s; a two-stage train's span):
+            the periodicity compares the last two of them.
     """
     P = steps_per_period
     fm, te = mesh_force, transmission_error
@@ -234,7 +238,7 @@ def steady_state(
             line_force[k],
             static_line_force[k],
             static_te[:, k],
-            P,
+            P if scene_steps is None else scene_steps,
         )
         for k in range(fm.shape[1])
     )

@@ -56,6 +56,13 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
     window = check_window(window)
     if hybrid:
         _hybrid.check_newmark(integrator)
+    q = model.scene.scene_periods()
+    if window.keep_periods < q:
+        raise ValueError(
+            f"window keep_periods = {window.keep_periods}: the meshes repeat together every {q} "
+            f"periods of the first mesh (a two-stage train); allowed keep_periods >= {q}, so "
+            "that the kept steps hold every mesh position"
+        )
     if states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
     return integrator, contact_law(contact, model.scene.base_planes[0].base_pitch.dtype), window

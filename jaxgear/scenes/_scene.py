@@ -65,6 +65,11 @@ class Scene(eqx.Module):
         every mesh of a pair (a train's meshes: :meth:`GearMesh.angle`)."""
         return (theta,) * len(self.base_planes)
 
+    def scene_periods(self) -> int:
+        """Periods of the first mesh after which the cells of every mesh repeat together: 1 for
+        a pair or an idler train; a two-stage train's span (:func:`torsional_train`)."""
+        return 1
+
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
         """The cells of every mesh (one :class:`Cells` per mesh, with their initial separations
         δ0 (m)) in one row on all coordinates (:meth:`CellRow.concat`)."""
@@ -148,6 +153,9 @@ class Grounded(Scene):
 
     def mesh_angles(self, theta):
         return self.base.mesh_angles(theta)
+
+    def scene_periods(self):
+        return self.base.scene_periods()
 
     def cell_row(self, cells, delta0):
         return self.base.cell_row(cells, delta0)

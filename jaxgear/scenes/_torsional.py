@@ -5,6 +5,7 @@ and dynamics").
 
 from __future__ import annotations
 
+import fractions
 import math
 
 import equinox as eqx
@@ -206,12 +207,21 @@ class TorsionalTrain(AssembledScene, DynamicScene):
 
     Attributes:
         rigid: the rigid rotation (n,): ω_g / r_b,0 (a unit base-plane advance of the input).
+        periods: static, the periods of the first mesh after which the cells of every mesh
+            repeat together: 1 when every mesh has the first mesh's tooth-passing period (an
+            idler train); for a two-stage train the least q with q T_0 a whole number of each
+            mesh's period T_k (23-37 then 29-41 on the 37's shaft: 37, one turn of that shaft).
     """
 
     rigid: Float[Array, " n"]
+    periods: int = eqx.field(static=True, default=1)
 
     def rigid_modes(self):
         return self.rigid[:, None]
+
+    def scene_periods(self) -> int:
+        """:attr:`periods`: first-mesh periods after which every mesh's cells repeat."""
+        return self.periods
 
 
 def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrain:
@@ -236,8 +246,13 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
     Raises:
         ValueError: a mesh whose driving gear is not yet turning, a gear driven twice, an
             output gear with no share but the balancing one (or none left for it), shares out
-            of range, or meshes with different tooth-passing periods (a two-stage train is not
-            periodic in one mesh period).
+            of range, or meshes that repeat together only after more than
+            ``MAX_SCENE_PERIODS`` periods of the first.
+
+    A gear index is a rotation: a compound gear (two gears on one rigid shaft, the wheel of one
+    stage and the pinion of the next) is one index, driven in one mesh and driving the next,
+    with the inertia of both; its meshes' phases then depend on how the two are clocked on the
+    shaft, which the caller gives.
     """
     n = len(inertias)
     omega = [None] * n
@@ -245,7 +260,7 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
     dtype = jnp.result_type(float)
     eye = jnp.eye(n, dtype=dtype)
     phases = [0.0] * len(meshes) if phases is None else list(phases)
-    out, period = [], None
+    out, ratios = [], []
     for k, (plane, (g, h)) in enumerate(meshes):
         if omega[g] is None:
             raise ValueError(
@@ -255,13 +270,7 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
         if omega[h] is not None:
             raise ValueError(f"meshes[{k}]: gear {h} is driven twice (allowed: once)")
         omega[h] = omega[g] * float(plane.base_radius_pinion) / float(plane.base_radius_gear)
-        p = float(plane.mesh_period_angle) / omega[g]
-        if period is not None and abs(p - period) > 1e-9 * period:
-            raise ValueError(
-                f"meshes[{k}]: its tooth-passing period is {p:.6g} rad of the input, mesh 0's "
-                f"{period:.6g} rad (allowed: equal, as in idler trains)"
-            )
-        period = p
+        ratios.append(float(plane.mesh_period_angle) / omega[g])  # the period T_k (input rad)
         cb = jnp.cos(plane.base_helix_angle)
         te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
         origin = jnp.zeros((3,), dtype)
@@ -310,6 +319,7 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
         nodes=(("input", 0), ("output", o), *((f"gear{i}", i) for i in range(n))),
         node_dofs=1,
     )
+    periods = _scene_periods(ratios)
     rb0 = float(meshes[0][0].base_radius_pinion)
     return TorsionalTrain(
         structure=structure,
@@ -319,7 +329,36 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
         - rest * eye[o] / omega[o]
         - sum((v * eye[g] / omega[g] for g, v in shares.items()), jnp.zeros((n,), dtype)),
         rigid=jnp.asarray([w / rb0 for w in omega], dtype),
+        periods=periods,
     )
+
+
+#: the longest span of first-mesh periods a train may repeat over (a table row per step of it)
+MAX_SCENE_PERIODS = 1000
+
+
+def _scene_periods(periods) -> int:
+    """The least q such that q T_0 is a whole number of every period T_k (input rad), from the
+    exact ratios T_k / T_0 of tooth counts (a fraction of denominator <= 10⁶, to 1e-9).
+
+    Raises:
+        ValueError: a ratio that is no such fraction, or q above MAX_SCENE_PERIODS."""
+    q = 1
+    for k, t in enumerate(periods):
+        r = t / periods[0]
+        f = fractions.Fraction(r).limit_denominator(10**6)
+        if abs(float(f) - r) > 1e-9 * r:
+            raise ValueError(
+                f"meshes[{k}]: its period is {r:.12g} periods of mesh 0, not a ratio of tooth "
+                "counts (allowed: the meshes repeat together)"
+            )
+        q = math.lcm(q, f.numerator)
+    if q > MAX_SCENE_PERIODS:
+        raise ValueError(
+            f"the meshes repeat together every {q} periods of mesh 0 (allowed: at most "
+            f"{MAX_SCENE_PERIODS}; choose tooth counts with common factors)"
+        )
+    return q
 
 
 class RelativeApproach(DynamicScene):
