@@ -8,6 +8,7 @@ validates the whole file first; this module holds only the validated, SI-unit re
 from __future__ import annotations
 
 import dataclasses
+import fractions
 import math
 from typing import Any
 
@@ -149,6 +150,11 @@ class TrainCase:
             fe2d_size: as :class:`Case`, for every mesh.
         inertias: each gear's polar inertia (kg·m²), (n,); None: a solid disc of its tip radius
             and face width.
+        shafts: each gear's shaft (n,) (default: a shaft each, numbered in gear order): gears
+            on one shaft turn together (a compound gear: the wheel of one stage and the pinion
+            of the next), one rotation of the torsional train, shaft 0 the input's.
+        clockings: each gear's tooth angle on its shaft less that of the shaft's first gear
+            (rad, in the direction of motion; default 0).
         scene: the validated ``[scene]`` (:class:`jaxgear.dynamics.SceneSpec`, torsional) or
             None.
         raw: the parsed TOML, as read.
@@ -174,6 +180,8 @@ class TrainCase:
     foundation: str = "weber"
     fe2d_size: float | None = None
     inertias: tuple = ()
+    shafts: tuple = ()
+    clockings: tuple = ()
     scene: Any = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
@@ -192,32 +200,67 @@ class TrainCase:
         g, h = self.gears[k]
         return f"{self.gear_names[g]}-{self.gear_names[h]}"
 
+    @property
+    def shaft_of(self) -> tuple:
+        """Each gear's shaft index (n,): the rotation of the torsional train it turns with."""
+        return tuple(self.shafts) if self.shafts else tuple(range(self.n_gears))
+
+    @property
+    def n_shafts(self) -> int:
+        return max(self.shaft_of) + 1
+
     def shares(self) -> dict:
-        """``{gear: share}``: the share of the input power each loaded gear takes, −T_j ω_j /
+        """``{shaft: share}``: the share of the input power each loaded shaft takes, −T_j ω_j /
         (T ω_0) (:func:`jaxgear.scenes.torsional_train`); the balancing output takes the rest."""
         ratios = self.layout().ratios
-        return {g: -t * ratios[g] / (self.torque * ratios[0]) for g, t in self.loads}
+        out = {}
+        for g, t in self.loads:
+            s = self.shaft_of[g]
+            out[s] = out.get(s, 0.0) - t * ratios[g] / (self.torque * ratios[0])
+        return out
+
+    @property
+    def span_periods(self) -> int:
+        """Periods of the first mesh after which every mesh's cells repeat together (exact,
+        from the tooth counts): 1 when every mesh passes teeth at the first's rate (an idler
+        train); a two-stage train's span (:meth:`jaxgear.scenes.Scene.scene_periods`)."""
+        shaft_ratio = {self.shaft_of[0]: fractions.Fraction(1)}
+        q = 1
+        z0 = self.pairs[0].pinion.teeth
+        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
+            rg = shaft_ratio[self.shaft_of[g]]
+            shaft_ratio[self.shaft_of[h]] = rg * pair.pinion.teeth / pair.gear.teeth
+            q = math.lcm(q, (z0 / (pair.pinion.teeth * rg)).numerator)
+        return q
+
+    @property
+    def output(self) -> int:
+        """The balancing output's shaft: the one shaft that drives no other and has no load."""
+        drivers = {self.shaft_of[g] for g, _ in self.gears}
+        shares = self.shares()
+        free = [s for s in range(self.n_shafts) if s not in drivers and s not in shares]
+        return free[0]
 
     @property
     def mesh_torques(self) -> tuple:
-        """Each mesh's torque on its driving gear (N·m): the power the gears beyond the mesh take
-        (their shares; the balancing output the rest) over the driving gear's speed, T S_k ω_0 /
-        ω_g (S_k: the shares of the driven gear and every gear it drives, directly or not). In a
-        chain with no load on its way the force is passed on: T_h = T_g r_b,h / r_b,g."""
+        """Each mesh's torque on its driving gear (N·m): the power the shafts beyond the mesh
+        take (their shares; the balancing output the rest) over the driving gear's speed,
+        T S_k ω_0 / ω_g (S_k: the shares of the driven gear's shaft and every shaft it drives,
+        directly or not). In a chain with no load on its way the force is passed on: T_h =
+        T_g r_b,h / r_b,g."""
         ratios = self.layout().ratios
-        shares = self.shares()
-        drivers = {g for g, _ in self.gears}
-        outputs = [i for i in range(self.n_gears) if i not in drivers and i not in shares]
-        share = dict(shares)
-        share[outputs[0]] = 1.0 - sum(shares.values())
+        share = dict(self.shares())
+        share[self.output] = 1.0 - sum(share.values())
         children = {}
         for g, h in self.gears:
-            children.setdefault(g, []).append(h)
+            children.setdefault(self.shaft_of[g], []).append(self.shaft_of[h])
 
-        def beyond(h):  # the share taken at h and beyond it
-            return share.get(h, 0.0) + sum(beyond(c) for c in children.get(h, ()))
+        def beyond(s):  # the share taken at shaft s and beyond it
+            return share.get(s, 0.0) + sum(beyond(c) for c in children.get(s, ()))
 
-        return tuple(self.torque * beyond(h) * ratios[0] / ratios[g] for g, h in self.gears)
+        return tuple(
+            self.torque * beyond(self.shaft_of[h]) * ratios[0] / ratios[g] for g, h in self.gears
+        )
 
     def mesh_case(self, k: int) -> Case:
         """Mesh ``k`` as a pair case: its pair (the driving gear as pinion), its driving gear's
@@ -251,7 +294,14 @@ class TrainCase:
 
     def layout(self):
         """The train laid out in the plane (:func:`jaxgear.scenes.train_layout`)."""
-        return train_layout(self.pairs, self.gears, self.angles, self.n_gears)
+        return train_layout(
+            self.pairs,
+            self.gears,
+            self.angles,
+            self.n_gears,
+            self.shaft_of,
+            self.clockings or None,
+        )
 
     def members(self) -> tuple:
         """Each gear's :class:`Member` (from the first mesh it takes part in)."""
@@ -283,12 +333,17 @@ class TrainCase:
         return tuple(self.mesh_case(k).mesh_model(slices) for k in range(len(self.pairs)))
 
     def torsional_train(self, slices: int | None = None):
-        """The train's torsional scene (:func:`jaxgear.scenes.torsional_train`): each mesh at
-        its layout's phase, each gear's :meth:`gear_inertias`, the loads' :meth:`shares`."""
+        """The train's torsional scene (:func:`jaxgear.scenes.torsional_train`): one rotation
+        per shaft (:attr:`shaft_of`) with the inertia of its gears (:meth:`gear_inertias`), each
+        mesh at its layout's phase, the loads' :meth:`shares`."""
         planes = self.mesh_models(slices)
+        inertias = [0.0] * self.n_shafts
+        for g, j in enumerate(self.gear_inertias()):
+            inertias[self.shaft_of[g]] += j
+        links = tuple((self.shaft_of[g], self.shaft_of[h]) for g, h in self.gears)
         return torsional_train(
-            tuple(zip(planes, self.gears, strict=True)),
-            self.gear_inertias(),
+            tuple(zip(planes, links, strict=True)),
+            inertias,
             tuple(float(p) for p in self.layout().phases),
             self.shares(),
         )

@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import pathlib
 import tomllib
 
 import jax
@@ -56,7 +57,8 @@ def _pair_case(data: dict, driving: str, driven: str, torque: float) -> jg.Case:
     ``[pinion]``, ``[gear]``) at ``torque`` on its driving gear."""
     a, b = _gear_table(data, driving), _gear_table(data, driven)
     pair_keys = ("normal_module_mm", "normal_pressure_angle_deg", "helix_angle_deg")
-    member = lambda g: {k: v for k, v in g.items() if k not in (*pair_keys, "name")}
+    train_keys = (*pair_keys, "name", "shaft", "clocking_deg")
+    member = lambda g: {k: v for k, v in g.items() if k not in train_keys}
     return jio.parse_case(
         {
             "name": f"{driving}-{driven}",
@@ -472,3 +474,92 @@ def test_jaxgear_run_on_an_input_driving_two_meshes(tmp_path):
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     assert np.asarray(sweep["dynamic_factor_mesh"]).shape == (60, 3)
     assert all(v == 0 for v in sweep["result"])
+
+
+EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "two-stage-torsional.toml"
+
+
+def _two_stage_data() -> dict:
+    data = tomllib.loads(EXAMPLE.read_text("utf-8"))
+    data["mesh"].update(slices=SLICES, positions_per_pitch=16)
+    return data
+
+
+def test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span():
+    """The example two-stage case (20 → 40, a 30-tooth pinion on the 40's shaft → 45): its
+    meshes repeat together every 4 periods of the first (20 Ω against 15 Ω); over that span each
+    mesh equals its pair written as a pair case of its own, the second at the torque the shaft
+    passes on, T r_b,40 / r_b,20 (TE to 1e-9); the clocking of the pinion on its shaft shifts the
+    second mesh's phase by the same angle."""
+    data = _two_stage_data()
+    case = jio.parse_train(copy.deepcopy(data))
+    assert case.span_periods == 4
+    res = jg.quasi_static(
+        case.static_train(),
+        case.mesh_modifications(),
+        case.torque,
+        positions_per_pitch=16,
+        periods=4,
+    )
+    theta = np.asarray(res.theta)
+    first = _pair_case(data, "input", "wheel-1", 120.0)
+    rb_in, rb_wheel = first.pair.base_radii
+    second = _pair_case(data, "pinion-2", "output", 120.0 * rb_wheel / rb_in)
+    phase = case.layout().phases[1]
+    for k, (alone, angles) in enumerate(((first, theta), (second, 0.5 * theta + phase))):
+        ref = jg.quasi_static(
+            jg.TorsionalPair(alone.mesh_model(), 1e5), alone.modifications, alone.torque, angles
+        )
+        np.testing.assert_allclose(
+            res.meshes[k].transmission_error, ref.transmission_error, rtol=1e-9
+        )
+    clocked = copy.deepcopy(data)
+    _gear_table(clocked, "pinion-2")["clocking_deg"] = 3.0
+    shifted = jio.parse_train(clocked).layout().phases[1]
+    pitch = 2 * math.pi / 30
+    assert (shifted - phase) % pitch == pytest.approx(math.radians(3.0), abs=1e-12)
+
+
+def test_two_stage_refusals():
+    def on_shaft(d):
+        d["meshes"][1]["driven"] = "wheel-1"
+
+    def first_clocked(d):
+        _gear_table(d, "wheel-1")["clocking_deg"] = 5.0
+
+    def short_window(d):
+        d["scene"]["integration"]["keep_periods"] = 3
+
+    def driven_twice(d):
+        d["gears"].append(dict(_gear_table(d, "output"), name="extra", teeth=25))
+        d["meshes"].append({"driving": "extra", "driven": "pinion-2", "angle_deg": 200.0})
+
+    for change, message in (
+        (on_shaft, r"^\[meshes\[1\]\] driven = 'wheel-1': is on the driving gear's shaft"),
+        (first_clocked, r"^\[gears\.wheel-1\] clocking_deg = 5: the first gear on shaft"),
+        (short_window, r"^\[scene\.integration\] keep_periods = 3: out of range, allowed >= 4"),
+        (driven_twice, r"^\[meshes\[2\]\] driving = 'extra': does not turn yet"),
+    ):
+        data = _two_stage_data()
+        change(data)
+        with pytest.raises(jio.SchemaError, match=message):
+            jio.parse_train(data)
+
+
+def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
+    data = _two_stage_data()
+    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["scene"]["integration"] = {"steps_per_period": 16, "periods": 12, "keep_periods": 8}
+    path = tmp_path / "two.toml"
+    path.write_text(_toml(data), "utf-8")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["span_periods"] == 4
+    assert len((out / "te.csv").read_text().splitlines()) == 1 + 4 * 8
+    shafts = {g["name"]: g["shaft"] for g in summary["gears"]}
+    assert shafts["pinion-2"] == shafts["wheel-1"] == "wheel-1"
+    assert summary["operating"]["output_torque_Nm"] == pytest.approx(120.0 * 40 / 20 * 45 / 30)
+    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
+    f = np.asarray(sweep["mesh_frequency_mesh_Hz"])
+    np.testing.assert_allclose(f[:, 1] / f[:, 0], 0.75, rtol=1e-12)

@@ -216,7 +216,20 @@ def train_phasing_plot(
             mpatches.Circle(c[:2], base_radii[i] * mm, fill=False, color=color, lw=0.8, ls=":")
         )
         spin = "↺" if layout.spins[i] > 0 else "↻"
-        lay.annotate(f"{name} {spin}", c[:2], ha="center", va="center", fontsize=9, color=color)
+        mates = [j for j in range(i) if np.allclose(layout.centres[j], layout.centres[i])]
+        if mates:  # a compound gear: one label for the shaft, under the first gear's
+            continue
+        together = [
+            n for j, n in enumerate(names) if np.allclose(layout.centres[j], layout.centres[i])
+        ]
+        lay.annotate(
+            f"{' + '.join(together)} {spin}",
+            c[:2],
+            ha="center",
+            va="center",
+            fontsize=9,
+            color=color,
+        )
     for k, (line, pair) in enumerate(zip(layout.lines, pairs, strict=True)):
         t1, t = np.asarray(line["tangent_point"]) * mm, np.asarray(line["direction"])
         t2 = t1 + pair.center_distance * np.sin(pair.operating_pressure_angle) * mm * t

@@ -41,7 +41,9 @@ def run_train(
     """The quasi-static analysis of a train case, written to ``out_dir``.
 
     The contact of every mesh is solved at once on the train's torsional structure (the output
-    held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh, exact
+    held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
+    two-stage train: over its span, :attr:`~jaxgear.TrainCase.span_periods` periods of the
+    first mesh, after which every mesh repeats), exact
     and smooth, with and without the case's modifications. Files (atomically): ``summary.json``
     (``gears``, ``meshes``: per mesh its gears, geometry, phase, torque and the ``quasi_static``
     figures of a pair case), ``te.csv`` and ``mesh_stiffness.csv`` (a column per mesh, design
@@ -61,6 +63,7 @@ def run_train(
     layout = case.layout()
     steps.update()
     ppp = case.positions_per_pitch
+    span = case.span_periods
     res = {}
     for label, mods in (("unmodified", Modifications()), ("modified", case.mesh_modifications())):
         for mode in ("exact", "smooth"):
@@ -71,7 +74,7 @@ def run_train(
                 case.torque,
                 contact=case.contact_law(mode),
                 positions_per_pitch=ppp,
-                periods=2,
+                periods=2 if span == 1 else span,
             )
             steps.update()
     n_meshes = len(case.pairs)
@@ -82,7 +85,7 @@ def run_train(
         base_radii[g], base_radii[h] = pair.base_radii
     inertias = case.gear_inertias()
     torques = case.mesh_torques
-    output = dict(scene.base.structure.nodes)["output"]  # the balancing output
+    output = case.shaft_of.index(case.output)  # a gear of the balancing output's shaft
     period = float(scene.base_planes[0].mesh_period_angle)  # the first mesh's, input angle
     meshes = []
     for k, (pair, (g, h)) in enumerate(zip(case.pairs, case.gears, strict=True)):
@@ -116,6 +119,7 @@ def run_train(
         "gears": [
             {
                 "name": case.gear_names[i],
+                "shaft": case.gear_names[case.shaft_of.index(case.shaft_of[i])],
                 "teeth": members[i].teeth,
                 "centre_m": [float(v) for v in layout.centres[i][:2]],
                 "spin": int(layout.spins[i]),
@@ -127,6 +131,7 @@ def run_train(
             for i in range(case.n_gears)
         ],
         "meshes": meshes,
+        "span_periods": span,
         "operating": {
             "torque_Nm": case.torque,
             "loads_Nm": {case.gear_names[g]: float(t) for g, t in case.loads},
@@ -221,7 +226,7 @@ def run_train(
         first = (-layout.phases[k] / layout.ratios[g]) % per_mesh
         marks[names[k]] = (
             np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness),
-            first / period + np.arange(2),
+            np.arange(first, x[-1] * period, per_mesh) / period,
         )
     _plots.train_phasing_plot(
         os.path.join(out_dir, "phasing.png"),

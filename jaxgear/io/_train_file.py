@@ -7,6 +7,9 @@
     [material]                       # as a pair case
     [[gears]]
     name = "input"                   # unique; meshes and [scene.inertias_kg_m2] refer to it
+    # shaft = "intermediate"         # gears naming one shaft turn together (a compound gear)
+    # clocking_deg = 0.0             # on a later gear of a shaft: its teeth's angle from the
+                                     # first gear's (in the direction of motion)
     teeth = 45
     normal_module_mm = 1.5
     normal_pressure_angle_deg = 25.0
@@ -76,6 +79,8 @@ __all__ = ["is_train", "parse_train"]
 _TOP_KEYS = {"name", "material", "gears", "meshes", "mesh", "modifications", "operating", "scene"}
 _GEAR_KEYS = {
     "name",
+    "shaft",
+    "clocking_deg",
     "normal_module_mm",
     "normal_pressure_angle_deg",
     "helix_angle_deg",
@@ -206,9 +211,9 @@ def _scene(table: Any, names: list[str]) -> tuple[SceneSpec, tuple]:
     return SceneSpec(model=model, **parse_dynamics_settings(table)), inertias
 
 
-def _loads(op: dict, index: dict) -> tuple:
-    """``[[operating.loads]]``: ((gear index, torque N·m), ...), each a gear other than the input
-    named once, its torque < 0 (it takes power, in its direction of motion)."""
+def _loads(op: dict, index: dict, shafts: list) -> tuple:
+    """``[[operating.loads]]``: ((gear index, torque N·m), ...), each a gear off the input's
+    shaft, one per shaft, its torque < 0 (it takes power, in its direction of motion)."""
     v = op.get("loads", [])
     if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
         raise sc.fail("operating", "loads", "must be an array of tables ([[operating.loads]])", v)
@@ -220,10 +225,14 @@ def _loads(op: dict, index: dict) -> tuple:
         gear = sc.string(t, "gear", where)
         if gear not in index:
             raise sc.fail(where, "gear", f"no such gear, allowed {', '.join(names)}", gear)
-        if index[gear] == 0:
-            raise sc.fail(where, "gear", "is the input (its torque is [operating] torque_Nm)", gear)
-        if index[gear] in out:
-            raise sc.fail(where, "gear", "has a load already (allowed: one per gear)", gear)
+        if shafts[index[gear]] == 0:
+            raise sc.fail(
+                where, "gear", "is on the input's shaft (its torque is [operating] torque_Nm)", gear
+            )
+        if any(shafts[g] == shafts[index[gear]] for g in out):
+            raise sc.fail(
+                where, "gear", "turns with a loaded gear (allowed: one load per shaft)", gear
+            )
         out[index[gear]] = sc.number(
             t, "torque_Nm", where, allowed="< 0", note=" (a load takes power: negative)"
         )
@@ -242,15 +251,26 @@ def _check_power(case: TrainCase) -> None:
 
 
 def _check_overlap(case: TrainCase) -> None:
-    """Two gears that do not mesh with each other must not overlap: their centres at least the
-    sum of their tip radii apart (mm in the message)."""
+    """Two gears in one plane (joined by meshes) that do not mesh with each other must not
+    overlap: their centres at least the sum of their tip radii apart (mm in the message)."""
     layout = case.layout()
     radii = case.tip_radii()
     meshing = {frozenset(g) for g in case.gears}
     n = case.n_gears
+    # gears in one plane: those joined by meshes (a compound gear's two gears sit in two planes,
+    # so a second stage may pass over the first's wheel)
+    plane = list(range(n))
+
+    def root(i):
+        while plane[i] != i:
+            i = plane[i]
+        return i
+
+    for g, h in case.gears:
+        plane[root(h)] = root(g)
     for i in range(n):
         for j in range(i + 1, n):
-            if frozenset((i, j)) in meshing:
+            if frozenset((i, j)) in meshing or root(i) != root(j):
                 continue
             d = math.dist(layout.centres[i][:2], layout.centres[j][:2])
             if d < radii[i] + radii[j]:
@@ -279,13 +299,31 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads"}, required=True)
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
+    shaft_names: dict[str, int] = {}
+    shafts, clockings = [], []
     for i, table in enumerate(_array_of_tables(data, "gears", 2)):
         gear_name, gear = _gear(table, i, index)
         gears[gear_name], index[gear_name] = gear, i
+        where = f"gears.{gear_name}"
+        shaft = sc.name(table, "shaft", where, gear_name)
+        clocking = sc.number(table, "clocking_deg", where, 0.0, allowed="[-360, 360]")
+        if shaft not in shaft_names:
+            if "clocking_deg" in table:
+                raise sc.fail(
+                    where,
+                    "clocking_deg",
+                    f"the first gear on shaft {shaft!r} sets its reference (allowed: on a later "
+                    "gear of the shaft, the angle of its teeth from this gear's)",
+                    table["clocking_deg"],
+                )
+            shaft_names[shaft] = len(shaft_names)
+        shafts.append(shaft_names[shaft])
+        clockings.append(math.radians(clocking))
     names = list(gears)
     pairs, links, angles = [], [], []
-    driven_by: dict[int, int] = {}
-    turning = {0}
+    driven_by: dict[int, int] = {}  # shaft -> the mesh that drives it
+    turning = {0}  # shafts
+    meshing: set[int] = set()
     for k, table in enumerate(_array_of_tables(data, "meshes", 1)):
         where = f"meshes[{k}]"
         sc.check_keys(table, _MESH_KEYS, where)
@@ -297,9 +335,11 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
             ends.append(v)
         driving, driven = ends
         g, h = index[driving], index[driven]
-        if g == h:
-            raise sc.fail(where, "driven", "is the driving gear (allowed: another gear)", driven)
-        if g not in turning:
+        if shafts[g] == shafts[h]:
+            raise sc.fail(
+                where, "driven", "is on the driving gear's shaft (allowed: another shaft)", driven
+            )
+        if shafts[g] not in turning:
             raise sc.fail(
                 where,
                 "driving",
@@ -307,17 +347,22 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
                 "gear) outwards",
                 driving,
             )
-        if h == 0 or h in driven_by:
-            by = "is the input" if h == 0 else f"is driven by meshes[{driven_by[h]}] already"
-            raise sc.fail(where, "driven", f"{by} (allowed: a gear driven once)", driven)
-        driven_by[h] = k
-        turning.add(h)
+        if shafts[h] == 0 or shafts[h] in driven_by:
+            by = (
+                "is on the input's shaft"
+                if shafts[h] == 0
+                else f"turns with a gear driven by meshes[{driven_by[shafts[h]]}] already"
+            )
+            raise sc.fail(where, "driven", f"{by} (allowed: a shaft driven once)", driven)
+        driven_by[shafts[h]] = k
+        turning.add(shafts[h])
+        meshing.update((g, h))
         angle = sc.number(table, "angle_deg", where, allowed="[-360, 360]")
         cd = sc.number(table, "center_distance_mm", where, None, allowed="(0, 1e+06]")
         pairs.append(_mesh_pair(gears, driving, driven, cd, where))
         links.append((g, h))
         angles.append(math.radians(angle))
-    idle = [n for i, n in enumerate(names) if i not in turning]
+    idle = [n for i, n in enumerate(names) if i not in meshing]
     if idle:
         raise sc.SchemaError(
             f"[[gears]] {', '.join(idle)}: in no mesh (allowed: every gear meshes)"
@@ -326,9 +371,13 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     op = data["operating"]
     torque = sc.number(op, "torque_Nm", "operating", allowed="> 0")
     speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    loads = _loads(op, index)
-    drivers = {g for g, _ in links}
-    free = [n for i, n in enumerate(names) if i not in drivers and i not in dict(loads)]
+    loads = _loads(op, index, shafts)
+    drivers = {shafts[g] for g, _ in links}
+    loaded = {shafts[g] for g, _ in loads}
+    first_on = {}
+    for i, s_ in enumerate(shafts):
+        first_on.setdefault(s_, names[i])
+    free = [first_on[s_] for s_ in sorted(first_on) if s_ not in drivers and s_ not in loaded]
     if not free:
         raise sc.SchemaError(
             "[[operating.loads]]: every output gear (one that drives no other) has a load; "
@@ -358,11 +407,22 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         speed=speed,
         **mesh,
         inertias=inertias,
+        shafts=tuple(shafts),
+        clockings=tuple(clockings),
         scene=scene,
         raw=data,
     )
     _check_overlap(case)
     _check_power(case)
+    q = case.span_periods
+    if scene is not None and scene.keep_periods < q:
+        raise sc.fail(
+            "scene.integration",
+            "keep_periods",
+            f"out of range, allowed >= {q} (the meshes repeat together every {q} periods of "
+            "the first mesh: the kept periods must hold them all)",
+            scene.keep_periods,
+        )
     for text in plausibility(case):  # absurd but valid: as a pair case, per mesh
         warnings.warn(text, CaseWarning, stacklevel=2)
     return case

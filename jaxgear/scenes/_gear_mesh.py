@@ -109,7 +109,7 @@ def half_base_angle(pair: GearPair, member: int) -> float:
     return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (math.tan(at) - at)
 
 
-def train_phases(pairs, lines, gears, spins, n_gears: int):
+def train_phases(pairs, lines, gears, spins, n_gears: int, shafts=None, clockings=None):
     """Mesh phasing of a gear train from its layout and tooth counts (NumPy): the phase of each
     mesh's angle θ_k = ratio_k θ + phase_k (:attr:`GearMesh.phase`) and the angle of a tooth
     centre of each gear at θ = 0.
@@ -131,6 +131,10 @@ def train_phases(pairs, lines, gears, spins, n_gears: int):
         lines: each mesh's :func:`line_of_action` as placed in the train.
         gears: each mesh's (driving, driven) gear indices. spins: each gear's sense of rotation
             about z (+1 or −1), (n_gears,). n_gears: the number of gears.
+        shafts: each gear's shaft (n_gears,) (default: a shaft each): gears on one shaft turn
+            together (a compound gear), their teeth set by ``clockings``: each gear's tooth
+            angle less its shaft's reference (rad, in the direction of motion; default 0: a
+            tooth centre of every gear of a shaft on one radial line at θ = 0).
 
     Returns:
         (phases (m,) in rad of each mesh's driving gear, in [0, 2π/z_driving); tooth angles
@@ -139,10 +143,15 @@ def train_phases(pairs, lines, gears, spins, n_gears: int):
     Raises:
         ValueError: a mesh whose driving gear no earlier mesh places (one line).
     """
+    shafts = list(range(n_gears)) if shafts is None else list(shafts)
+    clockings = [0.0] * n_gears if clockings is None else [float(c) for c in clockings]
     centre = [None] * n_gears
     c0 = [None] * n_gears
+    ref = {}  # each placed shaft's reference angle: c0 = ref + clocking
     phases = []
     for k, (pair, line, (g, h)) in enumerate(zip(pairs, lines, gears, strict=True)):
+        if c0[g] is None and shafts[g] in ref:  # a shaft-mate's teeth place the shaft
+            c0[g] = ref[shafts[g]] + clockings[g]
         T1 = np.asarray(line["tangent_point"], float)
         T2 = T1 + (pair.center_distance * math.sin(pair.operating_pressure_angle)) * np.asarray(
             line["direction"], float
@@ -160,11 +169,17 @@ def train_phases(pairs, lines, gears, spins, n_gears: int):
                     "meshes from the input outwards)"
                 )
             c0[g] = tau1 + rho_a / rb1 - half_base_angle(pair, 0)
+            ref[shafts[g]] = c0[g] - clockings[g]
         phase = (c0[g] + half_base_angle(pair, 0) - tau1 - rho_a / rb1) % (2 * math.pi / z1)
         phases.append(phase)
         if c0[h] is None:
             length = pair.center_distance * math.sin(pair.operating_pressure_angle)
             c0[h] = tau2 + half_base_angle(pair, 1) - (length - rho_a - rb1 * phase) / rb2
+            ref[shafts[h]] = c0[h] - clockings[h]
+    c0 = [
+        ref[shafts[i]] + clockings[i] if c is None and shafts[i] in ref else c
+        for i, c in enumerate(c0)
+    ]
     return np.array(phases), np.array([np.nan if c is None else c for c in c0])
 
 
@@ -189,7 +204,7 @@ class TrainLayout(NamedTuple):
     ratios: np.ndarray
 
 
-def train_layout(pairs, gears, angles, n_gears: int) -> TrainLayout:
+def train_layout(pairs, gears, angles, n_gears: int, shafts=None, clockings=None) -> TrainLayout:
     """Lay out a train of external gears from its meshes (NumPy, SI).
 
     The input (gear 0, the driving gear of mesh 0) sits at the origin turning about +z; each
@@ -204,15 +219,24 @@ def train_layout(pairs, gears, angles, n_gears: int) -> TrainLayout:
         angles: each mesh's direction of the driven gear's centre seen from the driving one (rad,
             fixed frame), (m,).
         n_gears: the number of gears.
+        shafts, clockings: gears on one shaft (a compound gear: one centre, one rotation) and
+            their teeth's angles on it (:func:`train_phases`); default a shaft each.
 
     Raises:
         ValueError: a mesh whose driving gear no earlier mesh places, or a gear placed twice
             (a closed loop of meshes), in one line.
     """
+    shafts = list(range(n_gears)) if shafts is None else list(shafts)
     centres = [None] * n_gears
     spins = [None] * n_gears
     ratios = [None] * n_gears
-    centres[0], spins[0], ratios[0] = np.zeros(3), 1.0, 1.0
+
+    def place(gear, centre, spin, ratio):  # the gear and its shaft-mates
+        for i in range(n_gears):
+            if shafts[i] == shafts[gear]:
+                centres[i], spins[i], ratios[i] = centre, spin, ratio
+
+    place(0, np.zeros(3), 1.0, 1.0)
     lines = []
     for k, (pair, (g, h), angle) in enumerate(zip(pairs, gears, angles, strict=True)):
         if centres[g] is None:
@@ -223,13 +247,12 @@ def train_layout(pairs, gears, angles, n_gears: int) -> TrainLayout:
         if centres[h] is not None:
             raise ValueError(f"meshes[{k}]: gear {h} is placed twice (allowed: once)")
         line = line_of_action(pair, centres[g], angle, spins[g])
-        centres[h], spins[h] = line["centres"][1], -spins[g]
-        ratios[h] = ratios[g] * pair.pinion.teeth / pair.gear.teeth
+        place(h, line["centres"][1], -spins[g], ratios[g] * pair.pinion.teeth / pair.gear.teeth)
         lines.append(line)
     if any(c is None for c in centres):
         missing = [i for i, c in enumerate(centres) if c is None]
         raise ValueError(f"gears {missing} mesh with none")
-    phases, tooth = train_phases(pairs, lines, gears, spins, n_gears)
+    phases, tooth = train_phases(pairs, lines, gears, spins, n_gears, shafts, clockings)
     return TrainLayout(
         np.array(centres), np.array(spins), tuple(lines), phases, tooth, np.array(ratios)
     )
