@@ -563,3 +563,9 @@ def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     f = np.asarray(sweep["mesh_frequency_mesh_Hz"])
     np.testing.assert_allclose(f[:, 1] / f[:, 0], 0.75, rtol=1e-12)
+    # the Campbell diagram's orders: 20 and 15 teeth per input turn, each mesh's coincidences
+    np.testing.assert_allclose(sweep["mesh_orders"], [20.0, 15.0], rtol=1e-12)
+    for z, row in zip((20.0, 15.0), sweep["critical_speeds_mesh"], strict=True):
+        for c in row:
+            w = 2 * math.pi * c["frequency_Hz"]
+            assert c["speed_rad_s"] == pytest.approx(w / (c["harmonic"] * z), rel=1e-12)

@@ -325,11 +325,20 @@ def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05)
         )
         for c in found:
             out.setdefault((c["mode"], c["harmonic"]), c)
+    # a train's other mesh orders (a second stage), named by their mesh
+    names = summary.get("mesh_names", [])
+    z0 = (summary.get("mesh_orders") or [None])[0]
+    for k, row in enumerate(summary.get("critical_speeds_mesh") or ()):
+        if k == 0 or z0 is None or abs(summary["mesh_orders"][k] - z0) < 1e-9 * z0:
+            continue  # the first mesh's, or an order the first mesh shares (an idler's)
+        for c in row:
+            out.setdefault((c["mode"], c["harmonic"], k), {**c, "mesh": names[k]})
     return sorted(out.values(), key=lambda c: c["speed_rad_s"])
 
 
 def coincidence_name(c: dict) -> str:
-    return f"mode {c['mode']} ({_hz(c['frequency_Hz'])} Hz) × H{c['harmonic']}"
+    mesh = f" of {c['mesh']}" if "mesh" in c else ""
+    return f"mode {c['mode']} ({_hz(c['frequency_Hz'])} Hz) × H{c['harmonic']}{mesh}"
 
 
 def _distance(c: dict, speed: float) -> float:
@@ -486,7 +495,8 @@ def harmonic_crossings(freqs_Hz, z1: int, s_max: float, harmonics=(1, 2, 3, 4)) 
 def campbell_plot(
     path, summary: dict, z1: int, harmonics=(1, 2, 3, 4), min_share: float = 0.01
 ) -> list[dict]:
-    """Campbell diagram: mesh harmonics f = h z1 Ω / 2π against the modes with at least
+    """Campbell diagram: mesh harmonics f = h z1 Ω / 2π (and a train's other mesh orders,
+    ``mesh_orders``, dash-dotted) against the modes with at least
     ``min_share`` of their strain energy in the mesh (black: ≥ 5 %, grey: weaker), each mode
     labelled with its frequency at the right end, every crossing in the plotted range marked.
     Returns the crossings (:func:`harmonic_crossings`)."""
@@ -508,8 +518,27 @@ def campbell_plot(
     strong = [f for _, f, e in modes if e >= 0.05]
     f_top = max([*strong, s_max * z1 / (2 * math.pi)]) * 1.12
     modes = [m for m in modes if m[1] < f_top]
+    first = (summary.get("mesh_names") or ["mesh"])[0]
     for h in harmonics:
-        ax.plot(s_line, h * s_line * z1 / (2 * math.pi), color=f"C{h - 1}", label=f"mesh H{h}")
+        ax.plot(s_line, h * s_line * z1 / (2 * math.pi), color=f"C{h - 1}", label=f"{first} H{h}")
+    # a train's other mesh orders (a second stage): their first two harmonics, dash-dotted
+    others = [
+        (name, z)
+        for name, z in zip(
+            summary.get("mesh_names", []), summary.get("mesh_orders", []), strict=False
+        )
+        if abs(z - z1) > 1e-9 * z1
+    ]
+    for j, (name, z) in enumerate(others):
+        for h in (1, 2):
+            ax.plot(
+                s_line,
+                h * s_line * z / (2 * math.pi),
+                color=f"C{h - 1}",
+                ls="-.",
+                lw=1.0 + 0.5 * j,
+                label=f"{name} H{h}",
+            )
     for _, f, e in modes:
         ax.axhline(f, color="k" if e >= 0.05 else "0.6", ls="--", lw=0.9 if e >= 0.05 else 0.7)
     # one label per group of modes closer than 3 % of the axis (they would print over each other)
@@ -535,6 +564,8 @@ def campbell_plot(
         )
         mode_labels.append(t)
     cross = harmonic_crossings([f for _, f, _ in modes], z1, s_max, harmonics)
+    for _, z in others:
+        cross += harmonic_crossings([f for _, f, _ in modes], z, s_max, (1, 2))
     if cross:
         ax.plot(
             [c["speed_rad_s"] for c in cross],
@@ -603,7 +634,9 @@ def campbell_plot(
         fontsize=10,
     )
     ax.grid(alpha=0.3)
-    fig.legend(loc="outside lower center", ncols=3 if nd else 6, fontsize=8, frameon=False)
+    fig.legend(
+        loc="outside lower center", ncols=3 if nd else 4 if others else 6, fontsize=8, frameon=False
+    )
     if nd_labels:
         fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
         _place_nd_labels(ax, nd_labels, avoid=mode_labels)

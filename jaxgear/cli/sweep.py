@@ -223,6 +223,15 @@ def sweep_case(
     summary["critical_speeds"] = campbell_coincidences(
         omega, energy, z1, float(speeds.max()), n_modes=3
     )
+    if n_meshes > 1:  # each mesh's order (its teeth per input turn) and its coincidences
+        orders = [
+            2 * math.pi * float(m.ratio) / float(m.base_plane.mesh_period_angle)
+            for m in model.scene.meshes
+        ]
+        summary["mesh_orders"] = orders
+        summary["critical_speeds_mesh"] = [
+            campbell_coincidences(omega, energy, z, float(speeds.max()), n_modes=3) for z in orders
+        ]
     if hybrid:
         summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
             model.scene, modes, speeds, case.pair.pinion.teeth, case.pair.gear.teeth
