@@ -226,9 +226,8 @@ def _loads(op: dict, index: dict, shafts: list) -> tuple:
         if gear not in index:
             raise sc.fail(where, "gear", f"no such gear, allowed {', '.join(names)}", gear)
         if shafts[index[gear]] == 0:
-            raise sc.fail(
-                where, "gear", "is on the input's shaft (its torque is [operating] torque_Nm)", gear
-            )
+            what = "is the input" if index[gear] == 0 else "is on the input's shaft"
+            raise sc.fail(where, "gear", f"{what} (its torque is [operating] torque_Nm)", gear)
         if any(shafts[g] == shafts[index[gear]] for g in out):
             raise sc.fail(
                 where, "gear", "turns with a loaded gear (allowed: one load per shaft)", gear
@@ -348,11 +347,14 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
                 driving,
             )
         if shafts[h] == 0 or shafts[h] in driven_by:
-            by = (
-                "is on the input's shaft"
-                if shafts[h] == 0
-                else f"turns with a gear driven by meshes[{driven_by[shafts[h]]}] already"
-            )
+            if h == 0:
+                by = "is the input"
+            elif shafts[h] == 0:
+                by = "is on the input's shaft"
+            elif links[driven_by[shafts[h]]][1] == h:
+                by = f"is driven by meshes[{driven_by[shafts[h]]}] already"
+            else:
+                by = f"turns with a gear driven by meshes[{driven_by[shafts[h]]}] already"
             raise sc.fail(where, "driven", f"{by} (allowed: a shaft driven once)", driven)
         driven_by[shafts[h]] = k
         turning.add(shafts[h])
