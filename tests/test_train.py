@@ -188,7 +188,7 @@ def test_train_phases_put_every_contact_point_on_the_generated_flanks():
 
     def misses(phase_error):
         worst = 0.0
-        for k, (pair, line, (g, h)) in enumerate(zip(pairs, (line_a, line_b), gears, strict=True)):
+        for k, (line, (g, h)) in enumerate(zip((line_a, line_b), gears, strict=True)):
             plane = _mesh(*(TEETH[i] for i in (g, h)))
             mesh = pair_mesh(plane, line, jnp.zeros(3))
             for theta in (0.0, 0.031, 0.117, 0.25):
