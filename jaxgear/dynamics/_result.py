@@ -67,8 +67,9 @@ class DynamicResult(eqx.Module):
             run's Δt, or a multiple of it where a sweep with several N_s subsampled the records
             (:func:`~jaxgear.dynamics.speed_sweep`).
         theta: pinion angle at the recorded steps (rad), (K,): modulo one mesh period for a
-            lumped model (the positions of its cell table), the angle turned from the start for
-            a hybrid model (where the bodies' stations are).
+            lumped model (the positions of its cell table; modulo the span of a two-stage
+            train, :meth:`~jaxgear.scenes.Scene.scene_periods` periods), the angle turned from
+            the start for a hybrid model (where the bodies' stations are).
         bearing_force: support force components R X (N), fixed frame, shape (K, r) (r = 0 for
             torsional scenes; :meth:`DynamicScene.reaction_matrix`, a hybrid scene's
             :meth:`~jaxgear.scenes.HybridPair.bearing_forces`). bearing_force_max: max |R X|
