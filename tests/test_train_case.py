@@ -227,10 +227,17 @@ def test_mesh_phase_read_from_the_stiffness_curves_matches_the_layout(angle_deg)
     expected = _idler_delay(case)
     off = abs((measured - expected + 0.5) % 1.0 - 0.5)
     assert off <= 1.0 / PPP + 1e-12, (angle_deg, measured, expected)
+    # the layout's phase (train_phases) against the hand derivation, exactly: mesh 2 reaches a
+    # whole period when the input has turned the rest of the idler's pitch beyond its phase
+    fraction = case.layout().phases[1] * case.pairs[1].pinion.teeth / (2 * math.pi)
+    assert (1.0 - fraction) % 1.0 == pytest.approx(expected, abs=1e-9)
 
 
 def test_idler_delays_differ_between_layouts():
+    """The delays differ by more than two position steps between the three layouts; 0.739 of a
+    pitch for the embedded case (docs/trains.md)."""
     delays = [_idler_delay(jio.parse_train(_train_data(m1=a))) for a in (90.0, 30.0, -60.0)]
+    assert delays[0] == pytest.approx(0.739, abs=5e-4)
     assert min(abs(a - b) for i, a in enumerate(delays) for b in delays[i + 1 :]) > 2.0 / PPP
 
 
