@@ -54,7 +54,15 @@ def _parser() -> argparse.ArgumentParser:
     )
     b.add_argument(
         "what",
-        choices=["quasi-static", "optimise", "dynamics", "hybrid", "hybrid-sweep", "stiffness"],
+        choices=[
+            "quasi-static",
+            "optimise",
+            "dynamics",
+            "hybrid",
+            "hybrid-sweep",
+            "stiffness",
+            "trains",
+        ],
         help="which benchmark",
     )
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
@@ -177,6 +185,8 @@ def _bench(args) -> int:
         bench.bench_hybrid_sweep(args.out, quick=args.quick)
     elif args.what == "stiffness":
         bench.bench_stiffness(args.out, quick=args.quick)
+    elif args.what == "trains":
+        bench.bench_trains(args.out, quick=args.quick)
     else:
         bench.bench_quasi_static(args.out, quick=args.quick)
     return 0

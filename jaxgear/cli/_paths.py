@@ -45,6 +45,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench hybrid": ("bench_hybrid.json", "bench_hybrid.png"),
     "bench hybrid-sweep": ("bench_hybrid_sweep.json", "bench_hybrid_sweep.png"),
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
+    "bench trains": ("bench_trains.json", "bench_trains.png"),
 }
 # what ``jaxgear run`` writes for a train case besides a pair's names: a load map per mesh (named
 # after its gears) and the layout with its phasing

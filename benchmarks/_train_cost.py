@@ -1,0 +1,165 @@
+"""``jaxgear bench trains``: the model's cost against the number of meshes of a gear train.
+
+Chains of external spur gears of one tooth system (m = 2 mm, 20°, b = 15 mm): one mesh (23-37),
+two (23-37-29) and three (23-37-29-41), each gear driving the next, solid-disc inertias, the
+torsional train of one rotation per gear. Measured in one run, per chain: the quasi-static solve
+per position (the output held, cached jit) and the Newmark step of one speed (compiled once),
+and their ratios to the one-mesh chain. There is no baseline: the figure is how the one
+contact solver and the one Newmark loop scale with the cells of several meshes.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from tqdm.auto import tqdm
+
+import jaxgear as jg
+import jaxgear.dynamics as jd
+from jaxgear.io import atomic_open
+from jaxgear.scenes import disc_inertia, grounded, torsional_train
+
+from ._timing import environment, min_time
+
+__all__ = ["bench_trains", "train_cost_chart"]
+
+TEETH = (23, 37, 29, 41)
+MODULE, ALPHA, FACE, TORQUE = 2e-3, math.radians(20.0), 15e-3, 120.0
+
+
+def _chain(n_meshes: int, slices: int):
+    """The torsional chain of ``n_meshes`` meshes: (train, its held static scene, cells)."""
+    teeth = TEETH[: n_meshes + 1]
+    pairs = [
+        jg.GearPair(jg.Member(a, face_width=FACE), jg.Member(b, face_width=FACE), MODULE, ALPHA)
+        for a, b in zip(teeth[:-1], teeth[1:], strict=True)
+    ]
+    planes = [jg.MeshModel.from_pair(p, *jg.stiffness_table(p, "weber"), slices) for p in pairs]
+    radii = [pairs[0].tip_radii[0], *(p.tip_radii[1] for p in pairs)]
+    train = torsional_train(
+        tuple((plane, (k, k + 1)) for k, plane in enumerate(planes)),
+        [disc_inertia(7800.0, r, FACE) for r in radii],
+    )
+    held = grounded(train, (dict(train.structure.nodes)["output"],), factor=1e9)
+    cells = sum(p.n_lines * p.n_slices for p in planes)
+    return train, held, cells
+
+
+def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
+    """Time the quasi-static position and the Newmark step against 1, 2, 3 meshes; write
+    ``bench_trains.json`` and ``bench_trains.png`` to ``out_dir``. Returns the JSON dict."""
+    os.makedirs(out_dir, exist_ok=True)
+    slices = 4 if quick else 8
+    positions = 16 if quick else 64
+    steps, periods = (32, 4) if quick else (64, 20)
+    repeats = 2 if quick else 5
+    rows = []
+    bar = tqdm(total=3, desc="jaxgear bench trains", unit="chain")
+    for n in (1, 2, 3):
+        bar.set_postfix_str(f"{n} mesh{'es' if n > 1 else ''}: model")
+        train, held, cells = _chain(n, slices)
+        mods = jg.Modifications()
+
+        def solve(held=held):
+            return jg.quasi_static(held, mods, TORQUE, positions_per_pitch=positions).x
+
+        bar.set_postfix_str(f"{n} mesh{'es' if n > 1 else ''}: quasi-static")
+        t_qs = min_time(solve, repeats)
+        model = jd.dynamic_model(train, mods, TORQUE)
+        speed = 0.5 * float(model.modes.omega[1]) / TEETH[0]
+        kw = {"integrator": jd.Newmark(steps), "window": jd.SteadyState(periods, 2)}
+
+        def run(model=model, speed=speed, kw=kw):
+            return jd.simulate(model, jnp.asarray(speed), **kw).meshes[0].mesh_force
+
+        bar.set_postfix_str(f"{n} mesh{'es' if n > 1 else ''}: Newmark")
+        t_dyn = min_time(run, repeats)
+        rows.append(
+            {
+                "meshes": n,
+                "gears": n + 1,
+                "cells": int(cells),
+                "quasi_static_per_position_s": t_qs / positions,
+                "newmark_per_step_s": t_dyn / (steps * periods),
+            }
+        )
+        bar.update()
+    bar.close()
+    for r in rows:
+        r["quasi_static_ratio"] = (
+            r["quasi_static_per_position_s"] / rows[0]["quasi_static_per_position_s"]
+        )
+        r["newmark_ratio"] = r["newmark_per_step_s"] / rows[0]["newmark_per_step_s"]
+    out = {
+        "benchmark": "trains",
+        "quick": bool(quick),
+        "settings": {
+            "teeth": list(TEETH),
+            "slices": slices,
+            "positions_per_pitch": positions,
+            "steps_per_period": steps,
+            "periods": periods,
+            "repeats": repeats,
+            "timing": "min over repeats after a warm-up call, block_until_ready",
+        },
+        "rows": rows,
+        "environment": environment(),
+    }
+    with atomic_open(os.path.join(out_dir, "bench_trains.json"), "w") as f:
+        json.dump(out, f, indent=2)
+    train_cost_chart(out, os.path.join(out_dir, "bench_trains.png"))
+    for r in rows:
+        print(
+            f"{r['meshes']} mesh(es), {r['cells']} cells: quasi-static "
+            f"{r['quasi_static_per_position_s'] * 1e6:.1f} µs/position (× {r['quasi_static_ratio']:.2f}), "
+            f"Newmark {r['newmark_per_step_s'] * 1e6:.2f} µs/step (× {r['newmark_ratio']:.2f})"
+        )
+    return out
+
+
+def train_cost_chart(result: dict, path: str) -> None:
+    """Cost per quasi-static position and per Newmark step against the number of meshes."""
+    from jaxgear.cli import plots
+
+    fig, ax = plots.new_figure()
+    rows = result["rows"]
+    n = [r["meshes"] for r in rows]
+    ax.plot(
+        n,
+        [r["quasi_static_per_position_s"] * 1e6 for r in rows],
+        "o-",
+        label="quasi-static, per position",
+    )
+    ax.plot(n, [r["newmark_per_step_s"] * 1e6 for r in rows], "s-", label="Newmark, per time step")
+    for r in rows:
+        ax.annotate(
+            f"× {r['quasi_static_ratio']:.2f}",
+            (r["meshes"], r["quasi_static_per_position_s"] * 1e6),
+            xytext=(6, -10),
+            textcoords="offset points",
+            fontsize=8,
+        )
+        ax.annotate(
+            f"× {r['newmark_ratio']:.2f}",
+            (r["meshes"], r["newmark_per_step_s"] * 1e6),
+            xytext=(6, 4),
+            textcoords="offset points",
+            fontsize=8,
+        )
+    env = result["environment"]
+    ax.set_ylim(bottom=0.0)
+    ax.set_xticks(n)
+    ax.set_xlabel("meshes of the torsional chain (23-37, 23-37-29, 23-37-29-41)")
+    ax.set_ylabel("wall time (µs)")
+    ax.set_title(
+        f"cost against the number of meshes ({env['platform']}, {env['dtype']}, JAX {env['jax']})",
+        fontsize=10,
+    )
+    ax.grid(alpha=0.3)
+    ax.legend()
+    plots.savefig(fig, path)

@@ -1,0 +1,29 @@
+"""``jaxgear bench trains --quick`` runs and writes its JSON and chart (a smoke test: no timing
+asserted; timing lives in the benchmark): a row per chain of 1, 2, 3 meshes with the cells of
+each (8 per mesh at 4 slices: two contact lines of 4 slices each) and the ratios to the first."""
+
+from __future__ import annotations
+
+import json
+
+import jax
+import pytest
+
+from benchmarks import bench_trains
+from jaxgear.cli import OUTPUT_FILES
+
+jax.config.update("jax_enable_x64", True)
+
+
+@pytest.mark.slow
+def test_bench_trains_quick(tmp_path):
+    out_dir = tmp_path / "bench"
+    bench_trains(str(out_dir), quick=True)
+    assert sorted(p.name for p in out_dir.iterdir()) == sorted(OUTPUT_FILES["bench trains"])
+    saved = json.loads((out_dir / "bench_trains.json").read_text())
+    assert saved["quick"] is True and saved["environment"]["dtype"] == "float64"
+    rows = saved["rows"]
+    assert [r["meshes"] for r in rows] == [1, 2, 3]
+    assert [r["cells"] for r in rows] == [8, 16, 24]
+    assert rows[0]["quasi_static_ratio"] == rows[0]["newmark_ratio"] == 1.0
+    assert all(r["quasi_static_per_position_s"] > 0 and r["newmark_per_step_s"] > 0 for r in rows)
