@@ -310,16 +310,17 @@ def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:
     return jnp.max(jnp.where(excited, modes.omega, 0.0))
 
 
-def steps_for_mode(omega_max, mesh_period_angle, speeds) -> np.ndarray:
-    """N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh) at each pinion speed
+def steps_for_mode(omega_max, mesh_period_angle, speeds, mesh_rate: float = 1.0) -> np.ndarray:
+    """N_s = the smallest power of two >= max(64 r, 40 · f_max / f_mesh) at each pinion speed
     (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for the
     highest excited mode ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m =
-    ``mesh_period_angle`` = 2π/z1."""
+    ``mesh_period_angle`` = 2π/z1, and r = ``mesh_rate`` the periods of the fastest mesh per
+    period of the first (1 for a pair; a train's later stage may pass teeth faster)."""
     sp = np.asarray(speeds, dtype=float)
     if np.any(~(sp > 0)):
         raise ValueError("speeds must be > 0 rad/s")
     ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
-    n = np.maximum(MIN_STEPS_PER_PERIOD, np.ceil(STEPS_PER_MODE * ratio))
+    n = np.maximum(MIN_STEPS_PER_PERIOD * float(mesh_rate), np.ceil(STEPS_PER_MODE * ratio))
     if np.any(n > MAX_STEPS_PER_SPEED):
         low = (
             STEPS_PER_MODE

@@ -99,10 +99,11 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     :func:`~jaxgear.dynamics.simulate` and :func:`speed_sweep` for a lumped model, and with
     ``Newmark(None)`` for a hybrid one).
 
-    N_s = the smallest power of two >= max(64, 40 · f_max / f_mesh): at least 40 steps per period
-    of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
-    :func:`~jaxgear.dynamics.excited_omega`) and 64 per mesh period (f_mesh = Ω z1 / 2π). Powers
-    of two keep the number of compiled programs small.
+    N_s = the smallest power of two >= max(64 r, 40 · f_max / f_mesh): at least 40 steps per
+    period of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
+    :func:`~jaxgear.dynamics.excited_omega`) and 64 per period of the fastest mesh (f_mesh = Ω
+    z1 / 2π, the first mesh's; r its periods per period of the first, 1 for a pair). Powers of
+    two keep the number of compiled programs small.
 
     Args:
         model: a dynamic model (concrete values: not under ``jax.jit``).
@@ -118,13 +119,21 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     try:
         sp = np.asarray(speeds, dtype=float)
         w = float(excited_omega(mesh_averaged_modes(model) if modes is None else modes))
-        angle = float(model.scene.base_planes[0].mesh_period_angle)
+        planes = model.scene.base_planes
+        angle = float(planes[0].mesh_period_angle)
+        # each mesh's periods per period of the first: its angle's rate over its period
+        rates = [
+            (float(b) - float(a)) * angle / float(p.mesh_period_angle)
+            for a, b, p in zip(
+                model.scene.mesh_angles(0.0), model.scene.mesh_angles(1.0), planes, strict=True
+            )
+        ]
     except (jax.errors.TracerArrayConversionError, jax.errors.ConcretizationTypeError) as err:
         raise ValueError(
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
             "jax.vmap or jax.grad pass an explicit integer steps_per_period"
         ) from err
-    return steps_for_mode(w, angle, sp)
+    return steps_for_mode(w, angle, sp, max(rates))
 
 
 def _shard(speeds, rows: bool = False):
