@@ -126,6 +126,21 @@ class Case:
         return dataclasses.replace(self, **changes)
 
 
+#: the fields a train case holds for every mesh, as a pair case does (:meth:`TrainCase.mesh_case`)
+_SHARED_SETTINGS = (
+    "youngs_modulus",
+    "poisson_ratio",
+    "density",
+    "stiffness_model",
+    "uniform_k0",
+    "slices",
+    "positions_per_pitch",
+    "smooth_width",
+    "foundation",
+    "fe2d_size",
+)
+
+
 @dataclasses.dataclass(frozen=True)
 class TrainCase:
     """A validated gear-train case (SI units): gears, the meshes between them and their layout,
@@ -272,18 +287,9 @@ class TrainCase:
             name=f"{self.name}-{self.mesh_name(k)}",
             pair=pair,
             modifications=Modifications(self.modifications[g], self.modifications[h]),
-            youngs_modulus=self.youngs_modulus,
-            poisson_ratio=self.poisson_ratio,
-            density=self.density,
             torque=self.mesh_torques[k],
             speed=speed,
-            stiffness_model=self.stiffness_model,
-            uniform_k0=self.uniform_k0,
-            slices=self.slices,
-            positions_per_pitch=self.positions_per_pitch,
-            smooth_width=self.smooth_width,
-            foundation=self.foundation,
-            fe2d_size=self.fe2d_size,
+            **{key: getattr(self, key) for key in _SHARED_SETTINGS},
         )
 
     def mesh_modifications(self) -> tuple:

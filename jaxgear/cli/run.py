@@ -5,9 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
-import platform
 
-import jax
 import numpy as np
 from tqdm.auto import tqdm
 
@@ -15,13 +13,12 @@ from .. import (
     Case,
     Modifications,
     TrainCase,
-    __version__,
     harris_map,
     load_map,
     quasi_static,
 )
 from ..io import atomic_open, write_csv
-from ._summary import result_summary
+from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case"]
 
@@ -86,14 +83,7 @@ def run_case(
         "complete": bool(complete),
         "geometry": pair.summary(),
         "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
-        "mesh": {
-            "stiffness": case.stiffness_model,
-            "foundation": case.foundation,
-            "fe2d_size_m": case.fe2d_size if case.stiffness_model == "fe2d" else None,
-            "slices": case.slices,
-            "positions_per_pitch": ppp,
-            "smooth_width_m": case.smooth_width,
-        },
+        "mesh": mesh_settings_summary(case),
         "quasi_static": {m: result_summary(res["modified", m]) for m in ("exact", "smooth")},
         "quasi_static_unmodified": {
             m: result_summary(res["unmodified", m]) for m in ("exact", "smooth")
@@ -103,13 +93,7 @@ def run_case(
             "te_ptp_unmodified_m": harris["unmodified"].tolist(),
             "te_ptp_modified_m": harris["modified"].tolist(),
         },
-        "environment": {
-            "jaxgear": __version__,
-            "jax": jax.__version__,
-            "backend": jax.default_backend(),
-            "dtype": str(mesh.base_pitch.dtype),
-            "python": platform.python_version(),
-        },
+        "environment": environment_summary(mesh.base_pitch.dtype),
     }
     theta = np.asarray(res["modified", "exact"].theta)
     cols = {
@@ -216,7 +200,6 @@ def run_command(args) -> int:
 
     from ..io import load_case, write_json
     from ._paths import check_output_dir, clear_outputs
-    from .sweep import sweep_case
 
     case = load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
@@ -240,18 +223,8 @@ def run_command(args) -> int:
         )
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
-        # the case has a dynamic scene: add the dynamic factor curve, at no more than
-        # RUN_SWEEP_SLICES slices per contact line (60 speeds; recorded in summary.json);
-        # `jaxgear sweep --slices` runs the case's own
-        sweep_slices = min(case.slices, RUN_SWEEP_SLICES)
-        sw = sweep_case(
-            case,
-            np.linspace(100.0, 3000.0, 60),
-            os.path.join(out, "sweep"),
-            slices=sweep_slices,
-            show_progress=not args.quiet,
-        )
-        summary["dynamics"] = _dynamics_section(case, sw, sweep_slices)
+        # the case has a dynamic scene: add its dynamic factor curve
+        summary["dynamics"] = _sweep_section(case, out, args.quiet)
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
@@ -295,9 +268,22 @@ def run_command(args) -> int:
     return 0
 
 
-def _dynamics_section(case, sw: dict, slices: int) -> dict:
-    """``summary.json``'s ``dynamics``: the sweep's dynamic factor curve and its maximum (a
-    train's: the worst mesh per speed, with each mesh's under ``dynamic_factor_mesh``)."""
+def _sweep_section(case, out: str, quiet: bool) -> dict:
+    """The dynamic factor sweep ``jaxgear run`` adds for a case's scene (60 speeds from 100 to
+    3000 rad/s into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per contact line;
+    ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s ``dynamics``: the
+    dynamic factor curve and its maximum (a train's: the worst mesh per speed, with each mesh's
+    under ``dynamic_factor_mesh``)."""
+    from .sweep import sweep_case
+
+    slices = min(case.slices, RUN_SWEEP_SLICES)
+    sw = sweep_case(
+        case,
+        np.linspace(100.0, 3000.0, 60),
+        os.path.join(out, "sweep"),
+        slices=slices,
+        show_progress=not quiet,
+    )
     df = np.asarray(sw["dynamic_factor"], dtype=float)
     out = {
         "model": case.scene.model,
@@ -320,22 +306,13 @@ def _run_train_command(case, out: str, args) -> int:
     """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
     ``[scene]``, the dynamic factor sweep of the torsional train (per mesh)."""
     from ..io import write_json
-    from .sweep import sweep_case
     from .train import format_train_table, run_train
 
     summary_path = os.path.join(out, "summary.json")
     last = case.scene is None
     summary = run_train(case, out, show_progress=not args.quiet, complete=last)
     if case.scene is not None:
-        sweep_slices = min(case.slices, RUN_SWEEP_SLICES)
-        sw = sweep_case(
-            case,
-            np.linspace(100.0, 3000.0, 60),
-            os.path.join(out, "sweep"),
-            slices=sweep_slices,
-            show_progress=not args.quiet,
-        )
-        summary["dynamics"] = _dynamics_section(case, sw, sweep_slices)
+        summary["dynamics"] = _sweep_section(case, out, args.quiet)
         summary["complete"] = True
         write_json(summary_path, summary)
     if args.json:

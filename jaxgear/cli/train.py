@@ -5,34 +5,15 @@ from __future__ import annotations
 
 import json
 import os
-import platform
 
-import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Modifications, TrainCase, __version__, load_map, quasi_static
+from .. import Modifications, TrainCase, load_map, quasi_static
 from ..io import atomic_open, write_csv
+from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = ["format_train_table", "run_train"]
-
-
-def _mesh_summary(res, k: int) -> dict:
-    """Scalar figures of mesh ``k`` of a quasi-static result (SI units), JSON-ready (the keys
-    of a pair's ``quasi_static`` section)."""
-    m = res.meshes[k]
-    stiffness = np.asarray(m.mesh_stiffness)
-    return {
-        "te_mean_m": float(m.te_mean),
-        "te_rms_m": float(m.te_rms),
-        "te_ptp_m": float(m.te_ptp),
-        "mesh_stiffness_mean_N_per_m": float(stiffness.mean()),
-        "mesh_stiffness_min_N_per_m": float(stiffness.min()),
-        "mesh_stiffness_max_N_per_m": float(stiffness.max()),
-        "contact_length_mean_m": float(np.mean(m.contact_length)),
-        "max_line_load_N_per_m": float(m.max_line_load),
-        "max_contact_iterations": int(np.max(res.iterations)),
-    }
 
 
 def run_train(
@@ -105,10 +86,10 @@ def run_train(
                 ),
                 "geometry": pair.summary(),
                 "quasi_static": {
-                    m: _mesh_summary(res["modified", m], k) for m in ("exact", "smooth")
+                    m: result_summary(res["modified", m], k) for m in ("exact", "smooth")
                 },
                 "quasi_static_unmodified": {
-                    m: _mesh_summary(res["unmodified", m], k) for m in ("exact", "smooth")
+                    m: result_summary(res["unmodified", m], k) for m in ("exact", "smooth")
                 },
             }
         )
@@ -143,21 +124,8 @@ def run_train(
                 / layout.ratios[output]
             ),
         },
-        "mesh": {
-            "stiffness": case.stiffness_model,
-            "foundation": case.foundation,
-            "fe2d_size_m": case.fe2d_size if case.stiffness_model == "fe2d" else None,
-            "slices": case.slices,
-            "positions_per_pitch": ppp,
-            "smooth_width_m": case.smooth_width,
-        },
-        "environment": {
-            "jaxgear": __version__,
-            "jax": jax.__version__,
-            "backend": jax.default_backend(),
-            "dtype": str(np.asarray(res["modified", "exact"].theta).dtype),
-            "python": platform.python_version(),
-        },
+        "mesh": mesh_settings_summary(case),
+        "environment": environment_summary(np.asarray(res["modified", "exact"].theta).dtype),
     }
     steps.set_postfix_str("files and plots")
     theta = np.asarray(res["modified", "exact"].theta)
