@@ -17,7 +17,7 @@ from ._contact import ContactLaw, contact_law_from_name
 from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
-from .scenes import disc_inertia, grounded, torsional_train, train_layout
+from .scenes import Wrench, disc_inertia, grounded, lumped_train, torsional_train, train_layout
 
 __all__ = ["Case", "TrainCase"]
 
@@ -170,8 +170,17 @@ class TrainCase:
             of the next), one rotation of the torsional train, shaft 0 the input's.
         clockings: each gear's tooth angle on its shaft less that of the shaft's first gear
             (rad, in the direction of motion; default 0).
-        scene: the validated ``[scene]`` (:class:`jaxgear.dynamics.SceneSpec`, torsional) or
-            None.
+        hands: each gear's given helix hand, +1 right, −1 left, 0 by default (n,)
+            (:func:`jaxgear.scenes.train_hands`).
+        masses: each gear body's mass (kg), (n,), the lumped 3D scene's; None: a solid disc of
+            its tip radius and face width.
+        wrenches: ((shaft, z (m), force (N) (3,), moment (N·m) (3,)), ...): forces and tilting
+            moments on shaft nodes at the case's input torque (lumped 3D; fixed frame), scaled
+            with the input torque as the loads are.
+        shaft_names: each shaft's name (a gear's ``shaft`` in the case file; default the name of
+            its first gear), (shafts,).
+        scene: the validated ``[scene]`` (:class:`jaxgear.dynamics.SceneSpec`: torsional, or
+            lumped 3D with its ``shafts``) or None.
         raw: the parsed TOML, as read.
     """
 
@@ -197,6 +206,10 @@ class TrainCase:
     inertias: tuple = ()
     shafts: tuple = ()
     clockings: tuple = ()
+    hands: tuple = ()
+    masses: tuple = ()
+    wrenches: tuple = ()
+    shaft_names: tuple = ()
     scene: Any = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
@@ -307,6 +320,7 @@ class TrainCase:
             self.n_gears,
             self.shaft_of,
             self.clockings or None,
+            self.hands or None,
         )
 
     def members(self) -> tuple:
@@ -334,6 +348,14 @@ class TrainCase:
             for i, j in enumerate(self.inertias or (None,) * self.n_gears)
         )
 
+    def gear_masses(self) -> tuple:
+        """Each gear body's mass (kg): the case's, or a solid disc ρ π r_a² b."""
+        members, radii = self.members(), self.tip_radii()
+        return tuple(
+            self.density * math.pi * radii[i] ** 2 * members[i].face_width if m is None else m
+            for i, m in enumerate(self.masses or (None,) * self.n_gears)
+        )
+
     def mesh_models(self, slices: int | None = None) -> tuple:
         """Each mesh's :class:`MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`)."""
         return tuple(self.mesh_case(k).mesh_model(slices) for k in range(len(self.pairs)))
@@ -354,13 +376,57 @@ class TrainCase:
             self.shares(),
         )
 
+    @property
+    def lumped(self) -> bool:
+        """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings)."""
+        return self.scene is not None and self.scene.model == "lumped3d"
+
+    def lumped_train(self, slices: int | None = None):
+        """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
+        ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
+        :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
+        mesh on its line of action with the layout's hands and phase, the loads' shares and the
+        wrenches per unit input torque.
+
+        Raises:
+            ValueError: the case has no lumped 3D scene.
+        """
+        if not self.lumped:
+            raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
+        members = self.members()
+        bodies = [
+            (m, (j / 2 + m * members[i].face_width ** 2 / 12, j))
+            for i, (m, j) in enumerate(zip(self.gear_masses(), self.gear_inertias(), strict=True))
+        ]
+        return lumped_train(
+            tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
+            self.layout(),
+            self.scene.shafts,
+            self.shaft_of,
+            masses=[b[0] for b in bodies],
+            inertias=[b[1] for b in bodies],
+            shares=self.shares(),
+            wrenches=tuple(
+                Wrench(s, z, tuple(f / self.torque for f in F), tuple(m / self.torque for m in M))
+                for s, z, F, M in self.wrenches
+            ),
+            shaft_names=self.shaft_names or None,
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            density=self.density,
+        )
+
+    def dynamic_train(self, slices: int | None = None):
+        """The train's scene: :meth:`lumped_train` for a lumped 3D scene, else
+        :meth:`torsional_train`."""
+        return self.lumped_train(slices) if self.lumped else self.torsional_train(slices)
+
     def static_train(self, slices: int | None = None):
-        """The scene of the train's quasi-static solve: :meth:`torsional_train` with the output
-        gear's rotation held by a spring (the output torque's reaction; the meshes' TE and
+        """The scene of the train's quasi-static solve: :meth:`dynamic_train` with the output
+        shaft's rotation held by a spring (the output torque's reaction; the meshes' TE and
         loads do not depend on it)."""
-        train = self.torsional_train(slices)
-        output = dict(train.structure.nodes)["output"]
-        return grounded(train, (output,), factor=1e9)
+        train = self.dynamic_train(slices)
+        return grounded(train, (train.torque_dofs[1],), factor=1e9)
 
     def replace(self, **changes) -> TrainCase:
         return dataclasses.replace(self, **changes)

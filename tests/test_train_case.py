@@ -20,6 +20,7 @@ import jax
 import numpy as np
 import pytest
 import scipy.linalg
+from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -305,7 +306,7 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys
     data = _train_data()
     data["mesh"].update(slices=2, positions_per_pitch=8)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
-    text = _toml(data)
+    text = case_toml(data)
     path = tmp_path / "idler.toml"
     path.write_text(text, "utf-8")
     out = tmp_path / "out"
@@ -335,44 +336,6 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys
     np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
     assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 2
     assert "input-idler" in capsys.readouterr().out
-
-
-def _toml(data: dict) -> str:
-    """A small TOML writer for the case tables used here (tables, arrays of tables, inline
-    tables of numbers and strings)."""
-
-    def value(v):
-        if isinstance(v, str):
-            return json.dumps(v)
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, dict):
-            return "{ " + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + " }"
-        if isinstance(v, list):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
-
-    lines = []
-    scalars = {k: v for k, v in data.items() if not isinstance(v, dict | list)}
-    lines += [f"{k} = {value(v)}" for k, v in scalars.items()]
-
-    def table(name, t):
-        lines.append(f"[{name}]")
-        subs = {k: v for k, v in t.items() if isinstance(v, dict) and name != "modifications"}
-        for k, v in t.items():
-            if k not in subs:
-                lines.append(f"{k} = {value(v)}")
-        for k, v in subs.items():
-            table(f"{name}.{k}", v)
-
-    for key, v in data.items():
-        if isinstance(v, list):
-            for t in v:
-                lines.append(f"[[{key}]]")
-                lines += [f"{k} = {value(x)}" for k, x in t.items()]
-        elif isinstance(v, dict):
-            table(key, v)
-    return "\n".join(lines) + "\n"
 
 
 def test_an_implausible_train_warns_per_mesh():
@@ -469,7 +432,7 @@ def test_jaxgear_run_on_an_input_driving_two_meshes(tmp_path):
     data["meshes"].append({"driving": "input", "driven": "accessory", "angle_deg": 180.0})
     data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -30.0}]
     path = tmp_path / "branch.toml"
-    path.write_text(_toml(data), "utf-8")
+    path.write_text(case_toml(data), "utf-8")
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
@@ -558,7 +521,7 @@ def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
     data["mesh"].update(slices=2, positions_per_pitch=8)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 12, "keep_periods": 8}
     path = tmp_path / "two.toml"
-    path.write_text(_toml(data), "utf-8")
+    path.write_text(case_toml(data), "utf-8")
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())

@@ -10,6 +10,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from .. import Modifications, TrainCase, load_map, quasi_static
+from ..dynamics import bearing_forces
 from ..io import atomic_open, write_csv
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
@@ -21,13 +22,14 @@ def run_train(
 ) -> dict:
     """The quasi-static analysis of a train case, written to ``out_dir``.
 
-    The contact of every mesh is solved at once on the train's torsional structure (the output
-    held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
+    The contact of every mesh is solved at once on the train's structure (torsional, or lumped
+    3D with shafts and bearings; the output held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
     two-stage train: over its span, :attr:`~jaxgear.TrainCase.span_periods` periods of the
     first mesh, after which every mesh repeats), exact
     and smooth, with and without the case's modifications. Files (atomically): ``summary.json``
     (``gears``, ``meshes``: per mesh its gears, geometry, phase, torque and the ``quasi_static``
-    figures of a pair case), ``te.csv`` and ``mesh_stiffness.csv`` (a column per mesh, design
+    figures of a pair case; a lumped 3D train: ``bearing_forces_mean_N`` per contact law, fixed
+    frame), ``te.csv`` and ``mesh_stiffness.csv`` (a column per mesh, design
     and contact law, against the input angle), ``transmission_error.png``,
     ``mesh_stiffness.png``, ``load_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
     (layout and mesh phasing).
@@ -125,6 +127,15 @@ def run_train(
             ),
         },
         "mesh": mesh_settings_summary(case),
+        **(
+            {
+                "bearing_forces_mean_N": {
+                    m: bearing_forces(scene, res["modified", m]) for m in ("exact", "smooth")
+                }
+            }
+            if case.lumped
+            else {}
+        ),
         "environment": environment_summary(np.asarray(res["modified", "exact"].theta).dtype),
     }
     steps.set_postfix_str("files and plots")

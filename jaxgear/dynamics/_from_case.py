@@ -66,6 +66,7 @@ class SceneSpec:
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d
     gear_shaft: ShaftSpec | None = None
+    shafts: tuple | None = None  # a lumped3d train: each shaft's ShaftSpec (TrainCase.shaft_of)
     # lumped3d with condensed FE bodies (hybrid H1/H2): an embedded fem_prep body name, a body
     # TOML path or a condensed .npz path (resolved against the case file's folder)
     pinion_body: str | None = None
@@ -118,8 +119,9 @@ def build_dynamic_model(
     """The dynamic model of a case and its scene (default: ``[scene]``): a
     :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
     the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
-    A train case (:class:`~jaxgear.TrainCase`) gives its torsional train
-    (:meth:`~jaxgear.TrainCase.torsional_train`), the input torque on its input gear.
+    A train case (:class:`~jaxgear.TrainCase`) gives its train
+    (:meth:`~jaxgear.TrainCase.dynamic_train`: torsional or lumped 3D), the input torque on its
+    input gear.
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
     density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
@@ -127,9 +129,9 @@ def build_dynamic_model(
     """
     if spec is None:
         spec = case.scene if case.scene is not None else SceneSpec()
-    if isinstance(case, TrainCase):  # a torsional train: one rotation per gear
+    if isinstance(case, TrainCase):  # a torsional or lumped 3D train
         model = dynamic_model(
-            case.torsional_train(slices),
+            case.dynamic_train(slices),
             case.mesh_modifications(),
             case.torque,
             spec_damping(spec),

@@ -92,16 +92,22 @@ _INTEGRATION_KEYS = {
 }
 
 
-def _parse_shaft(table: dict, key: str):
-    where = f"scene.{key}"
-    t = sc.subtable(table, key, "scene", _SHAFT_KEYS, required=True)
+def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
+    """A shaft table (its keys checked by the caller) at ``[where]``: a pair's shaft
+    (``gear_position_mm``) or, with ``gears`` (the names of the gears it carries, in gear
+    order), a train's (``gear_positions_mm = { <gear> = mm, ... }``, one per gear)."""
     # physical lower bounds: a denormal size or stiffness passes "> 0" and fails in the solver
     length_mm = sc.number(t, "length_mm", where, allowed="[1, 1e+05]")
     length = length_mm * 1e-3
     diameter = sc.number(t, "diameter_mm", where, allowed="[1, 1e+04]") * 1e-3
     within = f"[0, {length_mm:.6g}]"
     note = " (not beyond the shaft length)"
-    gear_z = sc.number(t, "gear_position_mm", where, allowed=within, note=note) * 1e-3
+    if gears is None:
+        gear_z = sc.number(t, "gear_position_mm", where, allowed=within, note=note) * 1e-3
+    else:
+        given = sc.subtable(t, "gear_positions_mm", where, gears, required=True)
+        w = f"{where}.gear_positions_mm"
+        gear_z = tuple(sc.number(given, g, w, allowed=within, note=note) * 1e-3 for g in gears)
     torque_z = sc.number(t, "torque_position_mm", where, 0.0, allowed=within, note=note) * 1e-3
     elements = sc.number(t, "elements", where, 4, allowed="[1, 1000]", integer=True)
     if "bearings" not in t:
@@ -301,7 +307,8 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
         for key in ("pinion_shaft", "gear_shaft"):
             if key not in table:
                 raise sc.SchemaError(f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
-            kw[key] = _parse_shaft(table, key)
+            t = sc.subtable(table, key, "scene", _SHAFT_KEYS, required=True)
+            kw[key] = _parse_shaft(t, f"scene.{key}")
         for key in (
             "motor_inertia_kg_m2",
             "load_inertia_kg_m2",

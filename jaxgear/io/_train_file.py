@@ -32,11 +32,29 @@
     gear = "accessory"
     torque_Nm = -5.0                 # in its direction of motion: < 0, it takes power
     [scene]
-    model = "torsional"
+    model = "torsional"              # or "lumped3d": shafts on bearings, [[scene.shafts]]
     [scene.inertias_kg_m2]           # per gear name (default: solid disc)
     input = 2.4e-4
+    [scene.masses_kg]                # lumped3d, per gear name (default: solid disc)
+    [[scene.shafts]]                 # lumped3d: one per shaft
+    shaft = "input"                  # a shaft name (a gear's `shaft`, by default its own name)
+    length_mm = 60.0
+    diameter_mm = 30.0
+    gear_positions_mm = { input = 30.0 }   # each gear the shaft carries
+    torque_position_mm = 0.0         # input, loaded and balancing output shafts' torque
+    bearings = [{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 },
+                { position_mm = 60.0, radial_N_per_um = 200.0 }]
+    [[operating.wrenches]]           # lumped3d: a force and tilting moment on a shaft node
+    shaft = "intermediate"
+    position_mm = 80.0
+    force_N = [0.0, -1200.0, 300.0]  # fixed frame, at [operating] torque_Nm (they scale with it)
+    moment_Nm = [10.0, 0.0, 0.0]     # z must be 0: a torque about the axis is a load
     [scene.damping]                  # as a pair case
     [scene.integration]              # as a pair case
+
+A helical gear may state its ``hand = "right"`` or ``"left"``; by default the input is
+left-handed (a pair case's pinion), a driven gear takes its mate's other hand and a later gear on
+a shaft its shaft's first gear's hand (the axial forces of a compound gear then oppose).
 
 A train is checked as a whole before any computation, in the file's units: every gear and mesh
 key, gears referred to by name, meshes listed from the input outwards (a mesh's driving gear is
@@ -57,6 +75,7 @@ from fem_prep import schema as sc
 from .._case import TrainCase
 from .._geometry import GearPair
 from ..dynamics import SceneSpec
+from ..scenes import train_hands
 from ._case_file import (
     _MEMBER_KEYS,
     _MOD_KEYS,
@@ -72,7 +91,7 @@ from ._case_file import (
     parse_mesh_settings,
     plausibility,
 )
-from ._scene_table import parse_dynamics_settings
+from ._scene_table import _parse_shaft, parse_dynamics_settings
 
 __all__ = ["is_train", "parse_train"]
 
@@ -80,6 +99,7 @@ _TOP_KEYS = {"name", "material", "gears", "meshes", "mesh", "modifications", "op
 _GEAR_KEYS = {
     "name",
     "shaft",
+    "hand",
     "clocking_deg",
     "normal_module_mm",
     "normal_pressure_angle_deg",
@@ -87,7 +107,22 @@ _GEAR_KEYS = {
     *_MEMBER_KEYS,
 }
 _MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
-_SCENE_KEYS = {"model", "inertias_kg_m2", "damping", "integration"}
+_SCENE_KEYS = {"model", "inertias_kg_m2", "masses_kg", "shafts", "damping", "integration"}
+_TRAIN_SHAFT_KEYS = {
+    "shaft",
+    "length_mm",
+    "diameter_mm",
+    "gear_positions_mm",
+    "torque_position_mm",
+    "elements",
+    "bearings",
+}
+_WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
+
+
+def table_hand(h: int) -> str:
+    """The case-file word of a helix hand (+1 right, −1 left)."""
+    return "right" if h > 0 else "left"
 
 
 def is_train(data: Any) -> bool:
@@ -190,25 +225,114 @@ def _modifications(table: Any, names: list[str]) -> tuple:
     return tuple(out)
 
 
-def _scene(table: Any, names: list[str]) -> tuple[SceneSpec, tuple]:
-    """``[scene]`` of a train: the torsional model, per-gear inertias, damping, integration."""
+def _scene(table: Any, names: list[str], shafts: list, shaft_names: list) -> tuple:
+    """``[scene]`` of a train: the torsional or lumped 3D model, per-gear inertias (and masses),
+    the shafts (lumped 3D), damping, integration. Returns (spec, inertias, masses)."""
     if not isinstance(table, dict):
         raise sc.fail("", "scene", "must be a table", table)
     sc.check_keys(table, _SCENE_KEYS, "scene")
-    model = sc.choice(table, "model", "scene", ("torsional",), "torsional")
+    model = sc.choice(table, "model", "scene", ("torsional", "lumped3d"), "torsional")
     given = sc.subtable(table, "inertias_kg_m2", "scene", names)
     inertias = tuple(
         sc.number(given, n, "scene.inertias_kg_m2", None, allowed="[1e-09, 1e+15]") for n in names
+    )
+    given = sc.subtable(table, "masses_kg", "scene", names)
+    masses = tuple(
+        sc.number(given, n, "scene.masses_kg", None, allowed="[1e-06, 1e+09]") for n in names
     )
     integration = table.get("integration", {})
     if isinstance(integration, dict) and "rotating_frame" in integration:
         raise sc.fail(
             "scene.integration",
             "rotating_frame",
-            "applies to condensed bodies, not to a torsional train",
+            "applies to condensed bodies, not to a rigid train",
             integration["rotating_frame"],
         )
-    return SceneSpec(model=model, **parse_dynamics_settings(table)), inertias
+    specs = None
+    if model == "lumped3d":
+        specs = _train_shafts(table, names, shafts, shaft_names)
+    else:
+        for key in ("masses_kg", "shafts"):
+            if key in table:
+                raise sc.fail("scene", key, "is for model = 'lumped3d'")
+    spec = SceneSpec(model=model, shafts=specs, **parse_dynamics_settings(table))
+    return spec, inertias, masses
+
+
+def _train_shafts(table: dict, names: list, shafts: list, shaft_names: list) -> tuple:
+    """``[[scene.shafts]]``: one :class:`~jaxgear.scenes.ShaftSpec` per shaft, in shaft order,
+    each with the positions of the gears it carries."""
+    v = table.get("shafts")
+    if v is None:
+        raise sc.SchemaError(
+            "[scene] model = 'lumped3d' needs [[scene.shafts]], one per shaft: "
+            + ", ".join(shaft_names)
+        )
+    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+        raise sc.fail("scene", "shafts", "must be an array of tables ([[scene.shafts]])", v)
+    out: list = [None] * len(shaft_names)
+    for i, t in enumerate(v):
+        where = f"scene.shafts[{i}]"
+        sc.check_keys(t, _TRAIN_SHAFT_KEYS, where)
+        name = sc.string(t, "shaft", where)
+        if name not in shaft_names:
+            raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
+        s = shaft_names.index(name)
+        if out[s] is not None:
+            raise sc.fail(where, "shaft", "has a [[scene.shafts]] entry already", name)
+        carried = [g for g, sh in zip(names, shafts, strict=True) if sh == s]
+        out[s] = _parse_shaft(t, f"scene.shafts.{name}", carried)
+    missing = [shaft_names[s] for s, spec in enumerate(out) if spec is None]
+    if missing:
+        raise sc.SchemaError(
+            f"[[scene.shafts]]: no entry for shaft {', '.join(missing)} (allowed: one per shaft)"
+        )
+    return tuple(out)
+
+
+def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
+    """``[[operating.wrenches]]``: ((shaft, z m, force N (3,), moment N·m (3,)), ...) at the
+    case's input torque; lumped 3D only, the moment about the shaft axis 0."""
+    v = op.get("wrenches", [])
+    if not v:
+        return ()
+    if specs is None:
+        raise sc.fail(
+            "operating", "wrenches", "needs [scene] model = 'lumped3d' (forces on shaft nodes)"
+        )
+    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+        raise sc.fail("operating", "wrenches", "must be an array of tables", v)
+    out = []
+    for i, t in enumerate(v):
+        where = f"operating.wrenches[{i}]"
+        sc.check_keys(t, _WRENCH_KEYS, where)
+        name = sc.string(t, "shaft", where)
+        if name not in shaft_names:
+            raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
+        s = shaft_names.index(name)
+        length_mm = specs[s].length * 1e3
+        z = sc.number(t, "position_mm", where, allowed=f"[0, {length_mm:.6g}]") * 1e-3
+        vecs = []
+        for key in ("force_N", "moment_Nm"):
+            x = t.get(key, [0.0, 0.0, 0.0])
+            if (
+                not isinstance(x, list)
+                or len(x) != 3
+                or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in x)
+                or not all(math.isfinite(c) and abs(c) <= 1e9 for c in x)
+            ):
+                raise sc.fail(where, key, "must be 3 numbers (x, y, z; fixed frame), |.| <= 1e9", x)
+            vecs.append(tuple(float(c) for c in x))
+        if vecs[1][2] != 0.0:
+            raise sc.fail(
+                where,
+                "moment_Nm",
+                "z must be 0 (a torque about the shaft axis is a load: [[operating.loads]] or "
+                "the balancing output)",
+                t["moment_Nm"],
+            )
+        out.append((s, z, vecs[0], vecs[1]))
+    return tuple(out)
 
 
 def _loads(op: dict, index: dict, shafts: list) -> tuple:
@@ -295,11 +419,11 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     name = sc.name(data, "name", "", default_name)
     for key in ("material", "mesh"):
         sc.subtable(data, key, "", _SCHEMA[key])
-    sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads"}, required=True)
+    sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads", "wrenches"}, required=True)
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}
-    shafts, clockings = [], []
+    shafts, clockings, hands = [], [], []
     for i, table in enumerate(_array_of_tables(data, "gears", 2)):
         gear_name, gear = _gear(table, i, index)
         gears[gear_name], index[gear_name] = gear, i
@@ -318,6 +442,8 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
             shaft_names[shaft] = len(shaft_names)
         shafts.append(shaft_names[shaft])
         clockings.append(math.radians(clocking))
+        hand = sc.choice(table, "hand", where, ("right", "left"), None)
+        hands.append({"right": 1, "left": -1, None: 0}[hand])
     names = list(gears)
     pairs, links, angles = [], [], []
     driven_by: dict[int, int] = {}  # shaft -> the mesh that drives it
@@ -364,6 +490,15 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         pairs.append(_mesh_pair(gears, driving, driven, cd, where))
         links.append((g, h))
         angles.append(math.radians(angle))
+    effective, clash = train_hands(links, shafts, hands)
+    if clash is not None:
+        g, h = links[clash]
+        how = {i: "" if hands[i] else " (by default)" for i in (g, h)}
+        raise sc.SchemaError(
+            f"[meshes[{clash}]] {names[g]} → {names[h]}: both hands are "
+            f"{table_hand(effective[g])!r}: {names[g]}{how[g]}, {names[h]}{how[h]} (external "
+            "gears in mesh have opposite hands; set [[gears]] hand)"
+        )
     idle = [n for i, n in enumerate(names) if i not in meshing]
     if idle:
         raise sc.SchemaError(
@@ -393,7 +528,11 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
     mods = _modifications(data.get("modifications", {}), names)
-    scene, inertias = (None, ()) if "scene" not in data else _scene(data["scene"], names)
+    shaft_list = list(shaft_names)
+    scene, inertias, masses = (
+        (None, (), ()) if "scene" not in data else _scene(data["scene"], names, shafts, shaft_list)
+    )
+    wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
     case = TrainCase(
         name=name,
         gear_names=tuple(names),
@@ -411,6 +550,10 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
         inertias=inertias,
         shafts=tuple(shafts),
         clockings=tuple(clockings),
+        hands=tuple(hands),
+        masses=masses,
+        wrenches=wrenches,
+        shaft_names=tuple(shaft_list),
         scene=scene,
         raw=data,
     )

@@ -11,7 +11,9 @@ its line of action between two gear members); a member is a :class:`RigidMember`
 node, seed (2.9)), a :class:`TorsionalMember` (a gear's rotation alone: the torsional model) or a
 :class:`FlexibleMember` (a condensed body through the interface, seed (2.11)–(2.30)). The
 torsional model, the lumped 3D and the hybrid scenes are structures with their meshes
-(:class:`AssembledScene`).
+(:class:`AssembledScene`). A gear train (:class:`GearTrain`) is one of them with several meshes:
+torsional (:func:`torsional_train`) or lumped 3D (:func:`lumped_train`), laid out by
+:func:`train_layout`.
 """
 
 from ._gear_mesh import (
@@ -20,6 +22,7 @@ from ._gear_mesh import (
     line_of_action as line_of_action,
     pair_mesh as pair_mesh,
     TrainLayout as TrainLayout,
+    train_hands as train_hands,
     train_layout as train_layout,
     train_phases as train_phases,
 )
@@ -40,7 +43,10 @@ from ._lumped3d import (
     ShaftMatrices as ShaftMatrices,
     ShaftSpec as ShaftSpec,
     bearing_matrix as bearing_matrix,
+    Wrench as Wrench,
     lumped_pair as lumped_pair,
+    lumped_train as lumped_train,
+    mesh_wrench as mesh_wrench,
     shaft_matrices as shaft_matrices,
     timoshenko_element as timoshenko_element,
 )
@@ -59,4 +65,10 @@ from ._torsional import (
     TorsionalTrain as TorsionalTrain,
     disc_inertia as disc_inertia,
     torsional_train as torsional_train,
+)
+from ._train import (
+    GearTrain as GearTrain,
+    scene_span as scene_span,
+    shaft_speeds as shaft_speeds,
+    shaft_torques as shaft_torques,
 )

@@ -15,7 +15,13 @@ driving gear's base circle at T1; a cell at base-plane coordinates (s, z) sits a
 
 ρ_A the driving gear's roll distance of the engagement point, and its flank normal is
 n = cos β_b t + sin β_b e_z (the helix-hand convention: a positive β gives a +z axial force on
-the driven gear). For a pair with the pinion axis through the origin and the gear axis through
+the driven gear). In a pair's own frame the contact lines run s = r_b1 θ + i p_bt − z tan β_b
+(:mod:`jaxgear._baseplane`): the driving pinion, turning about +z, is left-handed and the gear
+right-handed (a right-handed pinion turning about +z would push its gear along −z, as a
+right-handed screw advances along +z in a fixed nut). A mesh whose driving gear has the other
+hand for its sense of rotation is the mirror image through the mid-face plane: its axial sense
+a = −h ω_z/|ω_z| (h = +1 right-handed, −1 left-handed) is −1, its cells sit at
+M = T1 + (ρ_A + s) t + a (z − b/2) e_z and n = cos β_b t + a sin β_b e_z. For a pair with the pinion axis through the origin and the gear axis through
 (a_w, 0) (:func:`line_of_action`): t = (sin α_wt, cos α_wt, 0) and T1 = r_b1 (cos α_wt,
 −sin α_wt, 0); the pinion turns about +z and drives, the gear turns about −z.
 """
@@ -43,16 +49,20 @@ __all__ = [
     "only_mesh",
     "pair_mesh",
     "TrainLayout",
+    "train_hands",
     "train_layout",
     "train_phases",
 ]
 
 
-def contact_points(tangent_point, direction, roll_start, mesh: MeshModel, cells: Cells) -> Array:
-    """Fixed-frame contact points M = T1 + (ρ_A + s) t + (z − b/2) e_z of the cells (m),
-    shape (L, N, 3) (the frame of the module docstring)."""
+def contact_points(
+    tangent_point, direction, roll_start, mesh: MeshModel, cells: Cells, axial=1.0
+) -> Array:
+    """Fixed-frame contact points M = T1 + (ρ_A + s) t + a (z − b/2) e_z of the cells (m),
+    shape (L, N, 3) (the frame of the module docstring; ``axial`` a = ±1 the mesh's axial
+    sense)."""
     lead = (1,) * cells.s.ndim
-    ez = jnp.array([0.0, 0.0, 1.0], cells.s.dtype).reshape(lead + (3,))
+    ez = axial * jnp.array([0.0, 0.0, 1.0], cells.s.dtype).reshape(lead + (3,))
     return (
         tangent_point.reshape(lead + (3,))
         + (roll_start + cells.s)[..., None] * direction.reshape(lead + (3,))
@@ -67,21 +77,27 @@ def mesh_line(tangent_point, direction, normal, roll_start, base_plane: MeshMode
     return {"normal": normal, "direction": direction, "zone": zone}
 
 
-def line_of_action(pair: GearPair, driving_centre=(0.0, 0.0, 0.0), angle=0.0, spin=1.0) -> dict:
+def line_of_action(
+    pair: GearPair, driving_centre=(0.0, 0.0, 0.0), angle=0.0, spin=1.0, hand=None
+) -> dict:
     """The line of action of ``pair`` placed in the fixed frame (NumPy, SI): ``centres`` (2, 3)
     of the driving and driven gears, ``tangent_point`` T1 (3,) on the driving gear's base circle,
-    ``direction`` t (3,), ``normal`` n (3,) and ``roll_start`` ρ_A (the module docstring).
+    ``direction`` t (3,), ``normal`` n (3,), ``roll_start`` ρ_A and ``axial`` a (±1, the
+    mesh's axial sense) (the module docstring).
 
     By default the pair's own frame: the driving gear (the pair's pinion) at the origin turning
     about +z, the driven gear at (a_w, 0, 0): t = (sin α_wt, cos α_wt, 0), T1 = r_b1 (cos α_wt,
     −sin α_wt, 0). ``driving_centre`` (m), ``angle`` (rad: the direction of the driven gear's
     centre seen from the driving one) and ``spin`` (+1: the driving gear turns about +z, −1 about
-    −z, the mirror image) place it in a train. The axial part of n keeps its sign (spur trains;
-    the helix hands of a helical train are not set here).
+    −z, the mirror image) place it in a train. ``hand``: the driving gear's helix hand (+1
+    right, −1 left; default: left turning about +z, right turning about −z, the hands the
+    mirror image keeps: a = +1); the other hand mirrors the mesh through its mid-face plane
+    (a = −1). Spur gears take any hand alike.
     """
     alpha = pair.operating_pressure_angle
     bb = pair.base_helix_angle
     sign = 1.0 if spin > 0 else -1.0
+    axial = 1.0 if hand is None else -float(np.sign(hand)) * sign
     c, s_ = math.cos(angle), math.sin(angle)
 
     def place(v, point=True):  # mirror y for spin −1, turn by ``angle``, move to the centre
@@ -96,8 +112,9 @@ def line_of_action(pair: GearPair, driving_centre=(0.0, 0.0, 0.0), angle=0.0, sp
             pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
         ),
         "direction": t,
-        "normal": math.cos(bb) * t + math.sin(bb) * np.array([0.0, 0.0, 1.0]),
+        "normal": math.cos(bb) * t + axial * math.sin(bb) * np.array([0.0, 0.0, 1.0]),
         "roll_start": pair.start_roll,
+        "axial": axial,
     }
 
 
@@ -183,6 +200,38 @@ def train_phases(pairs, lines, gears, spins, n_gears: int, shafts=None, clocking
     return np.array(phases), np.array([np.nan if c is None else c for c in c0])
 
 
+def train_hands(gears, shafts, hands=None) -> tuple[list, int | None]:
+    """Each gear's helix hand (+1 right, −1 left) in a train: as given (``hands``, 0 for none),
+    else the input left-handed (a pair's pinion), a driven gear the other hand than its mate
+    (external gears) and a later gear of a shaft its shaft's first placed gear's hand.
+
+    Args:
+        gears: each mesh's (driving, driven) gear indices, from the input outwards.
+        shafts: each gear's shaft. hands: each gear's given hand or 0, (n,) (default none).
+
+    Returns:
+        (hands (n,), the first mesh whose two gears have the same hand, or None).
+    """
+    n = len(shafts)
+    given = [0] * n if hands is None else [int(np.sign(h)) for h in hands]
+    hand = [0] * n
+
+    def place(gear, h):  # the gear and its shaft-mates without a hand yet
+        hand[gear] = given[gear] or h
+        for i in range(n):
+            if shafts[i] == shafts[gear] and not hand[i]:
+                hand[i] = given[i] or hand[gear]
+
+    place(0, -1)
+    clash = None
+    for k, (g, h) in enumerate(gears):
+        if not hand[h]:
+            place(h, -hand[g])
+        if hand[h] == hand[g] and clash is None:
+            clash = k
+    return hand, clash
+
+
 class TrainLayout(NamedTuple):
     """A train of external gears laid out in the plane (:func:`train_layout`; NumPy, SI).
 
@@ -194,6 +243,7 @@ class TrainLayout(NamedTuple):
         tooth_angles: a tooth centre of each gear at θ = 0 (rad, in its direction of motion
             from the fixed +x axis), (n,).
         ratios: each gear's angle per unit input angle (z_in / z_g through the train), (n,).
+        hands: each gear's helix hand (+1 right, −1 left), (n,).
     """
 
     centres: np.ndarray
@@ -202,16 +252,19 @@ class TrainLayout(NamedTuple):
     phases: np.ndarray
     tooth_angles: np.ndarray
     ratios: np.ndarray
+    hands: np.ndarray
 
 
-def train_layout(pairs, gears, angles, n_gears: int, shafts=None, clockings=None) -> TrainLayout:
+def train_layout(
+    pairs, gears, angles, n_gears: int, shafts=None, clockings=None, hands=None
+) -> TrainLayout:
     """Lay out a train of external gears from its meshes (NumPy, SI).
 
     The input (gear 0, the driving gear of mesh 0) sits at the origin turning about +z; each
     mesh's driven gear sits at its driving gear's centre plus the pair's operating centre
     distance a_w in the direction ``angles[k]`` and turns the other way (an external mesh);
-    then each mesh's line of action (:func:`line_of_action`) and the phasing
-    (:func:`train_phases`).
+    then each mesh's line of action (:func:`line_of_action`, with its driving gear's hand) and
+    the phasing (:func:`train_phases`).
 
     Args:
         pairs: the :class:`~jaxgear.GearPair` of each mesh, its pinion the driving gear.
@@ -221,12 +274,23 @@ def train_layout(pairs, gears, angles, n_gears: int, shafts=None, clockings=None
         n_gears: the number of gears.
         shafts, clockings: gears on one shaft (a compound gear: one centre, one rotation) and
             their teeth's angles on it (:func:`train_phases`); default a shaft each.
+        hands: each gear's helix hand, +1 right, −1 left or 0 (default), (n,): by default the
+            input is left-handed (a pair's pinion), a driven gear takes the other hand than its
+            mate (external gears) and a later gear of a shaft its shaft's first gear's hand (a
+            compound gear's two axial forces then oppose).
 
     Raises:
-        ValueError: a mesh whose driving gear no earlier mesh places, or a gear placed twice
-            (a closed loop of meshes), in one line.
+        ValueError: a mesh whose driving gear no earlier mesh places, a gear placed twice
+            (a closed loop of meshes), or two gears in mesh given the same hand, in one line.
     """
     shafts = list(range(n_gears)) if shafts is None else list(shafts)
+    hand, clash = train_hands(gears, shafts, hands)
+    if clash is not None:
+        g, h = gears[clash]
+        raise ValueError(
+            f"meshes[{clash}]: gears {g} and {h} have the same helix hand (allowed: external "
+            "gears in mesh have opposite hands)"
+        )
     centres = [None] * n_gears
     spins = [None] * n_gears
     ratios = [None] * n_gears
@@ -246,7 +310,7 @@ def train_layout(pairs, gears, angles, n_gears: int, shafts=None, clockings=None
             )
         if centres[h] is not None:
             raise ValueError(f"meshes[{k}]: gear {h} is placed twice (allowed: once)")
-        line = line_of_action(pair, centres[g], angle, spins[g])
+        line = line_of_action(pair, centres[g], angle, spins[g], hand[g])
         place(h, line["centres"][1], -spins[g], ratios[g] * pair.pinion.teeth / pair.gear.teeth)
         lines.append(line)
     if any(c is None for c in centres):
@@ -254,7 +318,13 @@ def train_layout(pairs, gears, angles, n_gears: int, shafts=None, clockings=None
         raise ValueError(f"gears {missing} mesh with none")
     phases, tooth = train_phases(pairs, lines, gears, spins, n_gears, shafts, clockings)
     return TrainLayout(
-        np.array(centres), np.array(spins), tuple(lines), phases, tooth, np.array(ratios)
+        np.array(centres),
+        np.array(spins),
+        tuple(lines),
+        phases,
+        tooth,
+        np.array(ratios),
+        np.array(hand, dtype=float),
     )
 
 
@@ -279,6 +349,8 @@ class GearMesh(eqx.Module):
             (:meth:`MeshModel.cells`). 1 and 0 for the meshes of one pair; in a train, ratio is
             the input's teeth over the driving gear's (with the idlers between) and phase the
             mesh phasing of the layout.
+        axial: a = ±1, the mesh's axial sense (the module docstring): −1 for a mesh mirrored
+            through its mid-face plane (a driving gear of the other helix hand).
     """
 
     base_plane: MeshModel
@@ -290,6 +362,7 @@ class GearMesh(eqx.Module):
     gears: tuple = eqx.field(static=True, default=(0, 1))
     ratio: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
     phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    axial: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
 
     def angle(self, theta):
         """The mesh angle θ_k = ratio θ + phase (rad) at the scene angle θ (rad)."""
@@ -298,7 +371,7 @@ class GearMesh(eqx.Module):
     def points(self, cells: Cells) -> Float[Array, "L N 3"]:
         """Fixed-frame contact points M of the cells (m), shape (L, N, 3)."""
         return contact_points(
-            self.tangent_point, self.direction, self.roll_start, self.base_plane, cells
+            self.tangent_point, self.direction, self.roll_start, self.base_plane, cells, self.axial
         )
 
     def line(self) -> dict:
@@ -350,6 +423,7 @@ def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
         line["roll_start"],
         te,
         gears=(0, 1),
+        axial=line.get("axial", 1.0),
     )
 
 

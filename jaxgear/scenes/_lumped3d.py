@@ -35,10 +35,11 @@ from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel
 from .._geometry import GearPair
-from ._gear_mesh import line_of_action, pair_mesh
+from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._structure import AssembledScene, Structure
+from ._train import GearTrain, scene_span, shaft_torques
 
 __all__ = [
     "Bearing",
@@ -46,7 +47,10 @@ __all__ = [
     "ShaftMatrices",
     "ShaftSpec",
     "bearing_matrix",
+    "Wrench",
     "lumped_pair",
+    "lumped_train",
+    "mesh_wrench",
     "shaft_matrices",
     "timoshenko_element",
 ]
@@ -277,15 +281,21 @@ class Bearing:
 
 @dataclasses.dataclass(frozen=True)
 class ShaftSpec:
-    """A solid shaft along z from 0 to ``length`` (m), diameter (m), gear centre at ``gear_z``,
+    """A solid shaft along z from 0 to ``length`` (m), diameter (m), gear centre at ``gear_z``
+    (m; a train's shaft carrying several gears: a tuple of their centres, in gear order),
     bearings, and the torque node (input for the pinion, output for the gear) at ``torque_z``."""
 
     length: float
     diameter: float
-    gear_z: float
+    gear_z: float | tuple
     bearings: tuple[Bearing, ...]
     torque_z: float = 0.0
     elements: int = 4
+
+    @property
+    def gear_positions(self) -> tuple:
+        """The centres of the shaft's gears (m from the shaft start), in gear order."""
+        return tuple(self.gear_z) if isinstance(self.gear_z, tuple) else (self.gear_z,)
 
 
 class LumpedPair(AssembledScene, DynamicScene):
@@ -314,9 +324,10 @@ class ShaftMatrices(NamedTuple):
         nodes: node positions along the shaft (m from its start), (k,).
         K, M: Timoshenko stiffness and consistent mass, (6k, 6k) (N/m, N, N·m/rad; kg, kg·m).
         K_bearing, C_bearing: the bearings' 6×6 stiffness and damping at their nodes, (6k, 6k).
-        gear_node, torque_node: node index of the gear and of the external torque.
+        gear_node, torque_node: node index of the (first) gear and of the external torque.
         reactions: ((name, row (6k,)), ...): the bearing force components k u (N), the
             translational rows of each bearing's stiffness.
+        gear_nodes: node index of each gear (:attr:`ShaftSpec.gear_positions`).
     """
 
     nodes: np.ndarray
@@ -327,6 +338,7 @@ class ShaftMatrices(NamedTuple):
     torque_node: int
     reactions: list
     C_bearing: np.ndarray
+    gear_nodes: tuple = ()
 
 
 def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
@@ -343,7 +355,8 @@ def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
     Raises:
         ValueError: a position outside the shaft (mm in the message).
     """
-    zs = {0.0, spec.length, spec.gear_z, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
+    gears = spec.gear_positions
+    zs = {0.0, spec.length, *gears, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
     for z in zs:
         if not -1e-12 <= z <= spec.length + 1e-12:
             raise ValueError(
@@ -385,7 +398,68 @@ def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
                 r = np.zeros(n)
                 r[sl] = kb[d]
                 rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
-    return ShaftMatrices(nodes, K, M, Kb, idx(spec.gear_z), idx(spec.torque_z), rows, Cb)
+    gear_nodes = tuple(idx(z) for z in gears)
+    return ShaftMatrices(nodes, K, M, Kb, gear_nodes[0], idx(spec.torque_z), rows, Cb, gear_nodes)
+
+
+def _shaft_arrays(shafts, names, E: float, nu: float, rho: float, extra_z=None) -> dict:
+    """The shafts of a scene assembled block-diagonally, shaft after shaft (NumPy): their FE
+    models (:func:`shaft_matrices`), the bearings and the bearing force rows.
+
+    Args:
+        shafts: the :class:`ShaftSpec` of each shaft. names: each shaft's name (the stiffness
+            part ``<name>_shaft`` and the prefix of its bearing force names).
+        E, nu, rho: shaft material (Pa, -, kg/m³). extra_z: more node positions per shaft (m).
+
+    Returns:
+        dict of ``M`` (n, n); ``parts`` (shafts + 1, n, n): each shaft's stiffness, then the
+        bearings'; ``bearing_C`` (n, n); ``reaction`` (r, n), ``reaction_names``,
+        ``reaction_member`` (each row's shaft); ``mats`` (each shaft's :class:`ShaftMatrices`);
+        ``shaft_offsets`` (each shaft's first DOF); ``shaft_z`` (each shaft's node positions).
+    """
+    G = E / (2 * (1 + nu))
+    extra_z = extra_z or ((),) * len(shafts)
+    mats = [shaft_matrices(s, E, G, rho, z) for s, z in zip(shafts, extra_z, strict=True)]
+    sizes = [6 * m.nodes.size for m in mats]
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+    n = int(offsets[-1])
+    M = np.zeros((n, n))
+    parts = np.zeros((len(shafts) + 1, n, n))
+    Cb = np.zeros((n, n))
+    reaction, reaction_names, member = [], [], []
+    for i, (m, name) in enumerate(zip(mats, names, strict=True)):
+        sl = slice(offsets[i], offsets[i + 1])
+        M[sl, sl] = m.M
+        parts[i][sl, sl] = m.K
+        parts[-1][sl, sl] = m.K_bearing
+        Cb[sl, sl] = m.C_bearing
+        for label, r in m.reactions:
+            full = np.zeros(n)
+            full[sl] = r
+            reaction.append(full)
+            reaction_names.append(f"{name} {label}")
+            member.append(i)
+    return dict(
+        M=M,
+        parts=parts,
+        bearing_C=Cb,
+        reaction=np.array(reaction).reshape(-1, n),
+        reaction_names=tuple(reaction_names),
+        reaction_member=tuple(member),
+        mats=mats,
+        shaft_offsets=tuple(int(o) for o in offsets[:-1]),
+        shaft_z=tuple(m.nodes for m in mats),
+    )
+
+
+def _add_gear_body(M: np.ndarray, first: int, mass, inertia) -> None:
+    """A rigid gear body (mass (kg), (I_diametral, I_polar) (kg·m²)) on the 6-DOF node whose
+    first DOF is ``first`` (in place)."""
+    idia, ipol = inertia
+    M[first : first + 3, first : first + 3] += mass * np.eye(3)
+    M[first + 3, first + 3] += idia
+    M[first + 4, first + 4] += idia
+    M[first + 5, first + 5] += ipol
 
 
 def _lumped_arrays(
@@ -399,58 +473,35 @@ def _lumped_arrays(
     rho: float,
     extra_z=((), ()),
 ) -> dict:
-    """NumPy parts of the lumped scene (shared by :func:`lumped_pair` and the hybrid scene).
+    """NumPy parts of the lumped pair (shared by :func:`lumped_pair` and the hybrid scene):
+    :func:`_shaft_arrays` of the two shafts ``pinion`` and ``gear``, the gear bodies and the
+    pair's rigid rotation.
 
     ``extra_z``: additional shaft node positions per shaft (m from the shaft start), e.g. where a
     condensed body's bearing nodes attach. A member whose mass is ``None`` gets no rigid gear
     body at its gear node (a condensed body replaces it).
     """
-    G = E / (2 * (1 + nu))
-    s1 = shaft_matrices(pinion_shaft, E, G, rho, extra_z[0])
-    s2 = shaft_matrices(gear_shaft, E, G, rho, extra_z[1])
-    n1, n2 = 6 * s1[0].size, 6 * s2[0].size
-    n = n1 + n2
-    M = np.zeros((n, n))
-    Ksh1 = np.zeros((n, n))
-    Ksh2 = np.zeros((n, n))
-    Kb = np.zeros((n, n))
-    Cb = np.zeros((n, n))
-    M[:n1, :n1], M[n1:, n1:] = s1[2], s2[2]
-    Ksh1[:n1, :n1], Ksh2[n1:, n1:] = s1[1], s2[1]
-    Kb[:n1, :n1], Kb[n1:, n1:] = s1[3], s2[3]
-    Cb[:n1, :n1], Cb[n1:, n1:] = s1[7], s2[7]
-    g1, g2 = 6 * s1[4], n1 + 6 * s2[4]
+    d = _shaft_arrays((pinion_shaft, gear_shaft), ("pinion", "gear"), E, nu, rho, extra_z)
+    s1, s2 = d["mats"]
+    n1 = d["shaft_offsets"][1]
+    n = d["M"].shape[0]
+    g1, g2 = 6 * s1.gear_node, n1 + 6 * s2.gear_node
     for g, m, inertia in ((g1, masses[0], inertias[0]), (g2, masses[1], inertias[1])):
-        if m is None:
-            continue
-        idia, ipol = inertia
-        M[g : g + 3, g : g + 3] += m * np.eye(3)
-        M[g + 3, g + 3] += idia
-        M[g + 4, g + 4] += idia
-        M[g + 5, g + 5] += ipol
-    rb1 = pair.base_radii[0]
+        if m is not None:
+            _add_gear_body(d["M"], g, m, inertia)
     rigid = np.zeros(n)
-    rigid[5:n1:6] = 1.0 / rb1
+    rigid[5:n1:6] = 1.0 / pair.base_radii[0]
     rigid[n1 + 5 :: 6] = -1.0 / pair.base_radii[1]
-    names, reaction = [], []
-    for tag, rows, offset in (("pinion", s1[6], 0), ("gear", s2[6], n1)):
-        for name, r in rows:
-            full = np.zeros(n)
-            full[offset : offset + r.size] = r
-            names.append(f"{tag} {name}")
-            reaction.append(full)
     return dict(
-        M=M,
-        parts=np.stack([Ksh1, Ksh2, Kb]),
-        bearing_C=Cb,  # assembled bearing damping (n, n)
+        d,
         rigid=rigid,
-        reaction=np.array(reaction).reshape(-1, n),
-        reaction_names=tuple(names),
-        reaction_member=tuple(0 if nm.startswith("pinion") else 1 for nm in names),
         gear_dofs=(g1, g2),  # first DOF of each gear node
-        nodes=(("pinion", g1), ("gear", g2), ("input", 6 * s1[5]), ("output", n1 + 6 * s2[5])),
-        shaft_z=(s1[0], s2[0]),  # node positions (m) along each shaft
-        shaft_offsets=(0, n1),  # first DOF of each shaft
+        nodes=(
+            ("pinion", g1),
+            ("gear", g2),
+            ("input", 6 * s1.torque_node),
+            ("output", n1 + 6 * s2.torque_node),
+        ),
     )
 
 
@@ -517,4 +568,208 @@ def lumped_pair(
         members=members,
         f_torque=jnp.asarray(f_torque),
         rigid=jnp.asarray(d["rigid"]),
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class Wrench:
+    """An external force and moment on a shaft node, per unit input torque (the loads of a
+    train scale with its input torque, as its output torques do).
+
+    Attributes:
+        shaft: the shaft's index. z: the node's position along the shaft (m from its start).
+        force: (F_x, F_y, F_z) per unit input torque (N per N·m), fixed frame.
+        moment: (M_x, M_y, 0) per unit input torque (N·m per N·m), fixed frame. A torque about
+            the shaft axis is an output torque (a share of the input power), not a wrench.
+
+    Raises:
+        ValueError: a moment about the shaft axis, or a non-finite component.
+    """
+
+    shaft: int
+    z: float
+    force: tuple = (0.0, 0.0, 0.0)
+    moment: tuple = (0.0, 0.0, 0.0)
+
+    def __post_init__(self):
+        f, m = (tuple(float(v) for v in x) for x in (self.force, self.moment))
+        if len(f) != 3 or len(m) != 3 or not all(math.isfinite(v) for v in f + m):
+            raise ValueError(f"Wrench: force {f} and moment {m} must be 3 finite numbers each")
+        if m[2] != 0.0:
+            raise ValueError(
+                f"Wrench: moment z = {m[2]:.6g} must be 0 (a torque about the shaft axis is an "
+                "output torque: a share of the input power)"
+            )
+        object.__setattr__(self, "force", f)
+        object.__setattr__(self, "moment", m)
+
+
+def mesh_wrench(line: dict, base_plane: MeshModel, normal_force: float, centre) -> tuple:
+    """The mean mesh force on a mesh's driving gear as a wrench at its centre (NumPy): the force
+    −F_n n acting at the centre of the contact zone (:func:`~jaxgear.scenes.mesh_line`), which
+    an engineer puts in place of a stage left out of a model (the seed, III-3.1: the low-speed
+    stage as external forces and couples on the intermediate shaft).
+
+    Args:
+        line: the mesh's :func:`line_of_action` (as placed). base_plane: its mesh model.
+        normal_force: F_n (N). centre: the driving gear's centre (m), (3,).
+
+    Returns:
+        (force (3,) in N, moment (3,) in N·m about ``centre``, its z component the torque
+        −F_n cos β_b r_b1 (the driving gear's input torque reacted), fixed frame).
+    """
+    zone = np.asarray(
+        mesh_line(
+            line["tangent_point"],
+            line["direction"],
+            line["normal"],
+            line["roll_start"],
+            base_plane,
+        )["zone"]
+    )
+    force = -normal_force * np.asarray(line["normal"], float)
+    return force, np.cross(zone - np.asarray(centre, float), force)
+
+
+def lumped_train(
+    meshes,
+    layout,
+    shafts: tuple,
+    gear_shafts: tuple,
+    *,
+    masses,
+    inertias,
+    shares=None,
+    wrenches: tuple = (),
+    shaft_names: tuple | None = None,
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+    density: float = 7800.0,
+):
+    """A lumped 3D gear train: parallel shafts on bearings carrying rigid gear nodes, one mesh
+    per pair of gears in contact (seed I-3 and (2.9) with several meshes).
+
+    Each shaft is a Timoshenko beam (:func:`shaft_matrices`) on its bearings, along +z through
+    its gears' centre in the layout; its gears sit at their positions along it
+    (:attr:`ShaftSpec.gear_positions`) and each mesh's cells act on the two gear nodes through
+    V = [n, (M − O) × n] (:class:`~jaxgear.scenes.RigidMember`) on the mesh's line of action
+    with its helix hands (:func:`~jaxgear.scenes.train_layout`). The input torque acts at the
+    input shaft's torque node, each loaded shaft's and the balancing output's at theirs
+    (:func:`~jaxgear.scenes.shaft_torques`), each about the shaft's sense of rotation; wrenches
+    add forces and tilting moments at shaft nodes.
+
+    Args:
+        meshes: ((mesh model, (driving gear, driven gear)), ...), gear indices 0 … n−1 (gear 0
+            the input), listed from the input outwards, each model with its driving gear as
+            pinion.
+        layout: the train's :class:`~jaxgear.scenes.TrainLayout` (centres, spins, lines with
+            their hands, phases, speed ratios).
+        shafts: each shaft's :class:`ShaftSpec` (shaft 0 the input's), its ``gear_z`` the
+            positions of its gears in gear order.
+        gear_shafts: each gear's shaft, (n,).
+        masses: each gear body's mass (kg), (n,). inertias: each gear body's (I_diametral,
+            I_polar) (kg·m²), (n,).
+        shares: ``{shaft: share of the input power}`` (:func:`shaft_torques`).
+        wrenches: :class:`Wrench` loads (per unit input torque).
+        shaft_names: each shaft's name (bearing force names, stiffness parts); default
+            ``shaft<i>``.
+        youngs_modulus, poisson_ratio, density: shaft material.
+
+    Returns:
+        a :class:`~jaxgear.scenes.GearTrain` of 6 DOFs per shaft node.
+
+    Raises:
+        ValueError: gears and shafts that do not match (a shaft's ``gear_z`` count against its
+            gears), a wrench on no shaft, or what :func:`shaft_speeds`, :func:`shaft_torques`
+            and :func:`scene_span` refuse.
+    """
+    n_shafts = len(shafts)
+    names = shaft_names or tuple(f"shaft{i}" for i in range(n_shafts))
+    on = [[g for g, s in enumerate(gear_shafts) if s == i] for i in range(n_shafts)]
+    for i, spec in enumerate(shafts):
+        if len(spec.gear_positions) != len(on[i]):
+            raise ValueError(
+                f"shaft {names[i]!r}: {len(spec.gear_positions)} gear positions for its "
+                f"{len(on[i])} gears {on[i]}"
+            )
+    for w in wrenches:
+        if not 0 <= w.shaft < n_shafts:
+            raise ValueError(f"Wrench: shaft {w.shaft} does not exist (0 to {n_shafts - 1})")
+    extra = tuple(tuple(w.z for w in wrenches if w.shaft == i) for i in range(n_shafts))
+    d = _shaft_arrays(shafts, names, youngs_modulus, poisson_ratio, density, extra)
+    offsets, mats = d["shaft_offsets"], d["mats"]
+    first = [None] * len(gear_shafts)  # each gear node's first DOF
+    for i, gears in enumerate(on):
+        for g, node in zip(gears, mats[i].gear_nodes, strict=True):
+            first[g] = offsets[i] + 6 * node
+            _add_gear_body(d["M"], first[g], masses[g], inertias[g])
+    links = [(gear_shafts[g], gear_shafts[h]) for _, (g, h) in meshes]
+    omega = [float(layout.ratios[on[i][0]]) for i in range(n_shafts)]
+    spin = [float(layout.spins[on[i][0]]) for i in range(n_shafts)]
+    torques, out = shaft_torques(links, omega, shares)
+    n = d["M"].shape[0]
+    f_torque = np.zeros(n)
+    for i, t in torques.items():
+        f_torque[offsets[i] + 6 * mats[i].torque_node + 5] += spin[i] * t
+    for w in wrenches:
+        node = offsets[w.shaft] + 6 * int(np.argmin(np.abs(mats[w.shaft].nodes - w.z)))
+        f_torque[node : node + 3] += w.force
+        f_torque[node + 3 : node + 6] += w.moment
+    rb0 = float(meshes[0][0].base_radius_pinion)
+    rigid = np.zeros(n)
+    for i in range(n_shafts):
+        rigid[offsets[i] + 5 : offsets[i] + 6 * mats[i].nodes.size : 6] = spin[i] * omega[i] / rb0
+    members = tuple(
+        RigidMember(layout.centres[g], tuple(range(first[g], first[g] + 6)))
+        for g in range(len(gear_shafts))
+    )
+    out_meshes, periods = [], []
+    for k, (plane, (g, h)) in enumerate(meshes):
+        line = layout.lines[k]
+        cb = math.cos(float(plane.base_helix_angle))
+        te = np.zeros(n)  # cos β_b (r_b1 θ_g − r_b2 θ_h), θ = spin φ_z
+        te[first[g] + 5] = cb * float(plane.base_radius_pinion) * layout.spins[g]
+        te[first[h] + 5] = -cb * float(plane.base_radius_gear) * layout.spins[h]
+        ratio = float(layout.ratios[g])
+        periods.append(float(plane.mesh_period_angle) / ratio)
+        out_meshes.append(
+            GearMesh(
+                plane,
+                line["tangent_point"],
+                line["direction"],
+                line["normal"],
+                line["roll_start"],
+                te,
+                gears=(g, h),
+                ratio=ratio,
+                phase=float(layout.phases[k]),
+                axial=line["axial"],
+            )
+        )
+    zeros = jnp.zeros((n, n))
+    structure = Structure(
+        K=jnp.asarray(d["parts"].sum(axis=0)),
+        M=jnp.asarray(d["M"]),
+        parts_K=jnp.asarray(d["parts"]),
+        C_bearing=jnp.asarray(d["bearing_C"]),
+        reaction=jnp.asarray(d["reaction"]),
+        gyroscopic=zeros,
+        spin_stiffness=zeros,
+        f_centrifugal=jnp.zeros(n),
+        part_names=(*(f"{name}_shaft" for name in names), "bearings"),
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=(
+            ("input", offsets[0] + 6 * mats[0].torque_node),
+            ("output", offsets[out] + 6 * mats[out].torque_node),
+            *((f"gear{g}", first[g]) for g in range(len(gear_shafts))),
+        ),
+    )
+    return GearTrain(
+        structure=structure,
+        meshes=tuple(out_meshes),
+        members=members,
+        f_torque=jnp.asarray(f_torque),
+        rigid=jnp.asarray(rigid),
+        periods=scene_span(periods),
     )

@@ -5,7 +5,6 @@ and dynamics").
 
 from __future__ import annotations
 
-import fractions
 import math
 
 import equinox as eqx
@@ -19,6 +18,7 @@ from ._interface import TorsionalMember
 from ._rigid import RigidMesh
 from ._scene import DynamicScene, Scene
 from ._structure import AssembledScene, Structure
+from ._train import GearTrain, scene_span, shaft_speeds, shaft_torques
 
 __all__ = ["RelativeApproach", "TorsionalDynamics", "TorsionalPair", "disc_inertia"]
 
@@ -197,35 +197,13 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         return RelativeApproach(self.mesh, m_eq)
 
 
-class TorsionalTrain(AssembledScene, DynamicScene):
-    """A torsional gear train: one rotation per gear (rad, each positive in its gear's direction
-    of motion), no shaft, one mesh per pair of gears in contact (build with
-    :func:`torsional_train`). The input torque T acts on gear 0, each loaded gear takes its share
-    of the input power and the balancing output gear the rest (with one output: the torque
-    T ω_0/ω_out); the chain turns freely (its rigid rotation :attr:`rigid`, each gear at its
-    speed ratio).
-
-    Attributes:
-        rigid: the rigid rotation (n,): ω_g / r_b,0 (a unit base-plane advance of the input).
-        periods: static, the periods of the first mesh after which the cells of every mesh
-            repeat together: 1 when every mesh has the first mesh's tooth-passing period (an
-            idler train); for a two-stage train the least q with q T_0 a whole number of each
-            mesh's period T_k (23-37 then 29-41 on the 37's shaft: 37, one turn of that shaft).
-    """
-
-    rigid: Float[Array, " n"]
-    periods: int = eqx.field(static=True, default=1)
-
-    def rigid_modes(self):
-        return self.rigid[:, None]
-
-    def scene_periods(self) -> int:
-        """:attr:`periods`: first-mesh periods after which every mesh's cells repeat."""
-        return self.periods
+#: the torsional train is a :class:`GearTrain` (the name of earlier releases)
+TorsionalTrain = GearTrain
 
 
-def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrain:
-    """A torsional gear train from its meshes (seed I-3 with several meshes).
+def torsional_train(meshes, inertias, phases=None, shares=None) -> GearTrain:
+    """A torsional gear train from its meshes (seed I-3 with several meshes): one rotation per
+    gear (rad, each positive in its gear's direction of motion), no shaft.
 
     Args:
         meshes: ((mesh model, (driving, driven)), ...), the gears numbered 0 … n−1, gear 0 the
@@ -237,10 +215,11 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
         shares: ``{gear: share}``, the share of the input power each loaded gear takes (0 <
             share, their sum < 1), every gear but the input and one output, the balancing
             output, which takes the rest (default: none; then the train has one output).
-            The load pattern per unit input torque: gear j's torque is −share_j T ω_0/ω_j.
+            The load pattern per unit input torque: gear j's torque is −share_j T ω_0/ω_j
+            (:func:`shaft_torques`).
 
     Returns:
-        the :class:`TorsionalTrain`; its mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the
+        the :class:`GearTrain`; its mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the
         driving gear's angle per unit input angle (r_b,0 / r_b,g through the train).
 
     Raises:
@@ -255,22 +234,14 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
     shaft, which the caller gives.
     """
     n = len(inertias)
-    omega = [None] * n
-    omega[0] = 1.0
+    links = [link for _, link in meshes]
+    omega = shaft_speeds(links, [(p.base_radius_pinion, p.base_radius_gear) for p, _ in meshes], n)
     dtype = jnp.result_type(float)
     eye = jnp.eye(n, dtype=dtype)
     phases = [0.0] * len(meshes) if phases is None else list(phases)
-    out, ratios = [], []
+    out, periods = [], []
     for k, (plane, (g, h)) in enumerate(meshes):
-        if omega[g] is None:
-            raise ValueError(
-                f"meshes[{k}]: driving gear {g} does not turn yet (list the meshes from the input "
-                "gear 0 outwards)"
-            )
-        if omega[h] is not None:
-            raise ValueError(f"meshes[{k}]: gear {h} is driven twice (allowed: once)")
-        omega[h] = omega[g] * float(plane.base_radius_pinion) / float(plane.base_radius_gear)
-        ratios.append(float(plane.mesh_period_angle) / omega[g])  # the period T_k (input rad)
+        periods.append(float(plane.mesh_period_angle) / omega[g])  # the period T_k (input rad)
         cb = jnp.cos(plane.base_helix_angle)
         te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
         origin = jnp.zeros((3,), dtype)
@@ -287,22 +258,7 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
                 phase=phases[k],
             )
         )
-    if any(w is None for w in omega):
-        raise ValueError(f"gears {[i for i, w in enumerate(omega) if w is None]} mesh with none")
-    shares = {} if shares is None else {int(g): float(v) for g, v in shares.items()}
-    driving = {g for _, (g, _) in meshes}
-    free = [i for i in range(n) if i not in driving and i not in shares]
-    if len(free) != 1:
-        raise ValueError(
-            f"the train has output gears {free} without a share of the input power (allowed: "
-            "exactly one, the balancing output)"
-        )
-    o = free[0]
-    if 0 in shares or any(not 0.0 < v < 1.0 for v in shares.values()):
-        raise ValueError(f"shares = {shares}: allowed gears other than the input, each in (0, 1)")
-    rest = 1.0 - sum(shares.values())
-    if not rest > 0.0:
-        raise ValueError(f"shares = {shares}: their sum {1.0 - rest:.6g} leaves the output none")
+    torques, o = shaft_torques(links, omega, shares)
     zeros = jnp.zeros((n, n), dtype)
     structure = Structure(
         K=zeros,
@@ -319,46 +275,15 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrai
         nodes=(("input", 0), ("output", o), *((f"gear{i}", i) for i in range(n))),
         node_dofs=1,
     )
-    periods = _scene_periods(ratios)
     rb0 = float(meshes[0][0].base_radius_pinion)
-    return TorsionalTrain(
+    return GearTrain(
         structure=structure,
         meshes=tuple(out),
         members=tuple(TorsionalMember(i) for i in range(n)),
-        f_torque=eye[0]
-        - rest * eye[o] / omega[o]
-        - sum((v * eye[g] / omega[g] for g, v in shares.items()), jnp.zeros((n,), dtype)),
+        f_torque=sum((t * eye[g] for g, t in torques.items()), jnp.zeros((n,), dtype)),
         rigid=jnp.asarray([w / rb0 for w in omega], dtype),
-        periods=periods,
+        periods=scene_span(periods),
     )
-
-
-#: the longest span of first-mesh periods a train may repeat over (a table row per step of it)
-MAX_SCENE_PERIODS = 1000
-
-
-def _scene_periods(periods) -> int:
-    """The least q such that q T_0 is a whole number of every period T_k (input rad), from the
-    exact ratios T_k / T_0 of tooth counts (a fraction of denominator <= 10⁶, to 1e-9).
-
-    Raises:
-        ValueError: a ratio that is no such fraction, or q above MAX_SCENE_PERIODS."""
-    q = 1
-    for k, t in enumerate(periods):
-        r = t / periods[0]
-        f = fractions.Fraction(r).limit_denominator(10**6)
-        if abs(float(f) - r) > 1e-9 * r:
-            raise ValueError(
-                f"meshes[{k}]: its period is {r:.12g} periods of mesh 0, not a ratio of tooth "
-                "counts (allowed: the meshes repeat together)"
-            )
-        q = math.lcm(q, f.numerator)
-    if q > MAX_SCENE_PERIODS:
-        raise ValueError(
-            f"the meshes repeat together every {q} periods of mesh 0 (allowed: at most "
-            f"{MAX_SCENE_PERIODS}; choose tooth counts with common factors)"
-        )
-    return q
 
 
 class RelativeApproach(DynamicScene):
