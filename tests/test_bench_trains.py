@@ -1,6 +1,7 @@
 """``jaxgear bench trains --quick`` runs and writes its JSON and chart (a smoke test: no timing
-asserted; timing lives in the benchmark): a row per chain of 1, 2, 3 meshes with the cells of
-each (8 per mesh at 4 slices: two contact lines of 4 slices each) and the ratios to the first."""
+asserted; timing lives in the benchmark): a row per model (torsional, lumped 3D) and chain of 1,
+2, 3 meshes with the cells of each (8 per mesh at 4 slices: two contact lines of 4 slices each)
+and the ratios to the model's first."""
 
 from __future__ import annotations
 
@@ -23,7 +24,12 @@ def test_bench_trains_quick(tmp_path):
     saved = json.loads((out_dir / "bench_trains.json").read_text())
     assert saved["quick"] is True and saved["environment"]["dtype"] == "float64"
     rows = saved["rows"]
-    assert [r["meshes"] for r in rows] == [1, 2, 3]
-    assert [r["cells"] for r in rows] == [8, 16, 24]
+    assert [(r["model"], r["meshes"]) for r in rows] == [
+        (m, n) for m in ("torsional", "lumped3d") for n in (1, 2, 3)
+    ]
+    assert [r["cells"] for r in rows] == [8, 16, 24] * 2
+    assert [r["dofs"] for r in rows[:3]] == [2, 3, 4]
+    assert all(r["dofs"] > 6 * r["gears"] for r in rows[3:])  # shaft nodes, 6 DOFs each
     assert rows[0]["quasi_static_ratio"] == rows[0]["newmark_ratio"] == 1.0
+    assert rows[3]["quasi_static_ratio"] == rows[3]["newmark_ratio"] == 1.0
     assert all(r["quasi_static_per_position_s"] > 0 and r["newmark_per_step_s"] > 0 for r in rows)

@@ -31,14 +31,15 @@ class Structure(eqx.Module):
             one part named ``part_names[0]``.
         C_bearing: bearing damping (units of K·s) on the first s coordinates (the shafts), (s, s).
         reaction: bearing force rows (r, n): R X the elastic force components k u (N), names in
-            ``reaction_names``, each on shaft ``reaction_member`` (0 pinion, 1 gear).
+            ``reaction_names``, each on shaft ``reaction_member`` (the shaft's index: 0 pinion,
+            1 gear for a pair).
         gyroscopic: Coriolis matrix per unit pinion speed (n, n) of the members whose frames turn
             (zeros for a structure in the fixed frame).
         spin_stiffness: spin softening plus centrifugal stress stiffening per unit pinion speed²
             (n, n) (zeros likewise).
         f_centrifugal: centrifugal load per unit pinion speed² (n,) (zeros likewise).
-        nodes: static ((name, first DOF), ...): the gear nodes ``pinion`` and ``gear`` and the
-            torque nodes ``input`` and ``output``.
+        nodes: static ((name, first DOF), ...): the torque nodes ``input`` and ``output`` and
+            the gear nodes (``pinion`` and ``gear`` for a pair, ``gear<i>`` for a train).
         node_dofs: static, the DOFs of each node: 6 for shaft nodes (u_x, u_y, u_z, φ_x, φ_y,
             φ_z), 1 for a torsional structure (the rotation φ_z alone).
     """
