@@ -304,7 +304,7 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
 
 def _run_train_command(case, out: str, args) -> int:
     """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
-    ``[scene]``, the dynamic factor sweep of the torsional train (per mesh)."""
+    ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh)."""
     from ..io import write_json
     from .train import format_train_table, run_train
 
