@@ -259,6 +259,14 @@ def _scene(table: Any, names: list[str], shafts: list, shaft_names: list) -> tup
     return spec, inertias, masses
 
 
+def _shaft(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
+    """A table's ``shaft`` key: (its name, its index), a shaft of the train."""
+    name = sc.string(table, "shaft", where)
+    if name not in shaft_names:
+        raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
+    return name, shaft_names.index(name)
+
+
 def _train_shafts(table: dict, names: list, shafts: list, shaft_names: list) -> tuple:
     """``[[scene.shafts]]``: one :class:`~jaxgear.scenes.ShaftSpec` per shaft, in shaft order,
     each with the positions of the gears it carries."""
@@ -274,10 +282,7 @@ def _train_shafts(table: dict, names: list, shafts: list, shaft_names: list) -> 
     for i, t in enumerate(v):
         where = f"scene.shafts[{i}]"
         sc.check_keys(t, _TRAIN_SHAFT_KEYS, where)
-        name = sc.string(t, "shaft", where)
-        if name not in shaft_names:
-            raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
-        s = shaft_names.index(name)
+        name, s = _shaft(t, where, shaft_names)
         if out[s] is not None:
             raise sc.fail(where, "shaft", "has a [[scene.shafts]] entry already", name)
         carried = [g for g, sh in zip(names, shafts, strict=True) if sh == s]
@@ -306,10 +311,7 @@ def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
     for i, t in enumerate(v):
         where = f"operating.wrenches[{i}]"
         sc.check_keys(t, _WRENCH_KEYS, where)
-        name = sc.string(t, "shaft", where)
-        if name not in shaft_names:
-            raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
-        s = shaft_names.index(name)
+        _, s = _shaft(t, where, shaft_names)
         length_mm = specs[s].length * 1e3
         z = sc.number(t, "position_mm", where, allowed=f"[0, {length_mm:.6g}]") * 1e-3
         vecs = []

@@ -452,6 +452,27 @@ def _shaft_arrays(shafts, names, E: float, nu: float, rho: float, extra_z=None) 
     )
 
 
+def _shaft_structure(d: dict, part_names: tuple, nodes: tuple) -> Structure:
+    """The :class:`Structure` of :func:`_shaft_arrays`' parts (rigid-node scenes in the fixed
+    frame: no rotating-frame terms)."""
+    n = d["M"].shape[0]
+    zeros = jnp.zeros((n, n))
+    return Structure(
+        K=jnp.asarray(d["parts"].sum(axis=0)),
+        M=jnp.asarray(d["M"]),
+        parts_K=jnp.asarray(d["parts"]),
+        C_bearing=jnp.asarray(d["bearing_C"]),
+        reaction=jnp.asarray(d["reaction"]),
+        gyroscopic=zeros,
+        spin_stiffness=zeros,
+        f_centrifugal=jnp.zeros(n),
+        part_names=part_names,
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=nodes,
+    )
+
+
 def _add_gear_body(M: np.ndarray, first: int, mass, inertia) -> None:
     """A rigid gear body (mass (kg), (I_diametral, I_polar) (kg·m²)) on the 6-DOF node whose
     first DOF is ``first`` (in place)."""
@@ -535,7 +556,6 @@ def lumped_pair(
         for m, g in enumerate(d["gear_dofs"])
     )
     n = d["M"].shape[0]
-    zeros = jnp.zeros((n, n))
     # angular TE at the gear bodies, cos β_b (r_b1 φ_z1 + r_b2 φ_z2) (the gear turns about −z)
     te = np.zeros(n)
     cb = math.cos(pair.base_helix_angle)
@@ -548,20 +568,7 @@ def lumped_pair(
     f_torque = np.zeros(n)
     f_torque[t_in] += 1.0
     f_torque[t_out] += pair.base_radii[1] / pair.base_radii[0]
-    structure = Structure(
-        K=jnp.asarray(d["parts"].sum(axis=0)),
-        M=jnp.asarray(d["M"]),
-        parts_K=jnp.asarray(d["parts"]),
-        C_bearing=jnp.asarray(d["bearing_C"]),
-        reaction=jnp.asarray(d["reaction"]),
-        gyroscopic=zeros,
-        spin_stiffness=zeros,
-        f_centrifugal=jnp.zeros(n),
-        part_names=("pinion_shaft", "gear_shaft", "bearings"),
-        reaction_names=d["reaction_names"],
-        reaction_member=d["reaction_member"],
-        nodes=d["nodes"],
-    )
+    structure = _shaft_structure(d, ("pinion_shaft", "gear_shaft", "bearings"), d["nodes"])
     return LumpedPair(
         structure=structure,
         meshes=(pair_mesh(mesh, line, te),),
@@ -746,20 +753,10 @@ def lumped_train(
                 axial=line["axial"],
             )
         )
-    zeros = jnp.zeros((n, n))
-    structure = Structure(
-        K=jnp.asarray(d["parts"].sum(axis=0)),
-        M=jnp.asarray(d["M"]),
-        parts_K=jnp.asarray(d["parts"]),
-        C_bearing=jnp.asarray(d["bearing_C"]),
-        reaction=jnp.asarray(d["reaction"]),
-        gyroscopic=zeros,
-        spin_stiffness=zeros,
-        f_centrifugal=jnp.zeros(n),
-        part_names=(*(f"{name}_shaft" for name in names), "bearings"),
-        reaction_names=d["reaction_names"],
-        reaction_member=d["reaction_member"],
-        nodes=(
+    structure = _shaft_structure(
+        d,
+        (*(f"{name}_shaft" for name in names), "bearings"),
+        (
             ("input", offsets[0] + 6 * mats[0].torque_node),
             ("output", offsets[out] + 6 * mats[out].torque_node),
             *((f"gear{g}", first[g]) for g in range(len(gear_shafts))),
