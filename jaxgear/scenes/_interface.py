@@ -305,7 +305,18 @@ def body_dof_index(body) -> dict:
 
 
 def flexible_member(
-    pair: GearPair, member: int, body, gidx, centre, line: dict, mesh: MeshModel, n_window=None
+    pair: GearPair,
+    member: int,
+    body,
+    gidx,
+    centre,
+    line: dict,
+    mesh: MeshModel,
+    n_window=None,
+    *,
+    spin: float | None = None,
+    ratio: float | None = None,
+    mesh_angle: float = 0.0,
 ) -> FlexibleMember:
     """The interface of a condensed body: its rim master DOFs, root points and window.
 
@@ -316,6 +327,15 @@ def flexible_member(
             (:meth:`jaxgear.scenes.GearMesh.line`). mesh: the base-plane mesh model.
         n_window: rim stations in the window (default: the contact ratio plus the root
             points' span, plus 2).
+        spin, ratio: the body turns by ratio·θ in the ``spin`` sense about z at the scene angle
+            θ (default: a pair's, +1 and 1 for the pinion, −1 and z1/z2 for the gear; in a
+            train, the layout's sense and speed ratio of the gear).
+        mesh_angle: the angle of ``mesh`` at θ = 0 (a train's mesh phase; 0 for a pair).
+
+    The body frame is set so that at θ = 0 the centre line of a tooth in contact, at mid-face
+    (body z = 0), lies on a rim station: the contact lines of ``mesh`` run
+    s = r_b1 θ_mesh + i p_bt − z tan β_b (:meth:`MeshModel.cells`), so at mid-face a flank
+    passes through s* = r_b1 θ_mesh − (b/2) tan β_b + i p_bt (i chosen nearest the zone centre).
 
     Raises:
         ValueError: the body's rim stations do not match the gear's teeth or are not at 2πk/Z,
@@ -370,8 +390,10 @@ def flexible_member(
     )
     at = pair.transverse_pressure_angle
     psi_b = pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + involute(at)
-    ratio = 1.0 if member == 0 else pair.pinion.teeth / pair.gear.teeth
-    spin = 1.0 if member == 0 else -1.0
+    if ratio is None:
+        ratio = 1.0 if member == 0 else pair.pinion.teeth / pair.gear.teeth
+    if spin is None:
+        spin = 1.0 if member == 0 else -1.0
     eps = pair.transverse_contact_ratio + pair.overlap_ratio
     psi_f = _root_angle(pair, member)
     if n_window is None:
@@ -388,12 +410,20 @@ def flexible_member(
         base_radius=pair.base_radii[member],
         base_half_angle=psi_b,
         offset=0.0,
-        ratio=ratio,
-        spin=spin,
+        ratio=float(ratio),
+        spin=float(spin),
         n_window=n_window,
     )
-    # frame offset: at θ = 0 the tooth in contact at the zone centre (mid-face) is on a station
+    # frame offset: at θ = 0 the tooth whose flank carries a contact line at mid-face is on a
+    # station (a point of the line of action is on a flank only where a contact line is)
+    pb = float(mesh.base_pitch)
+    s_mid = float(mesh.base_radius_pinion) * mesh_angle - 0.5 * b * math.tan(
+        float(mesh.base_helix_angle)
+    )
+    s_mid += pb * round((0.5 * float(mesh.path_of_contact) - s_mid) / pb)
+    t = np.asarray(line["direction"], float)
+    point = np.asarray(line["zone"], float) + (s_mid - 0.5 * float(mesh.path_of_contact)) * t
     flank = loaded_flank(centre, line, 1.0 if member == 0 else -1.0)
-    phi_c = float(fm.tooth_centre_angle(jnp.asarray(line["zone"]), flank))
+    phi_c = float(fm.tooth_centre_angle(jnp.asarray(point), flank))
     k = round((phi_c - float(ang[0])) / pitch)
     return eqx.tree_at(lambda f: f.offset, fm, as_float(phi_c - float(ang[0]) - k * pitch))
