@@ -169,17 +169,22 @@ HYBRID_SWEEP_BEFORE = {
     "dynamic_factor": [1.2063271397, 1.1235160336, 1.1109919009],
 }
 HYBRID_SWEEP_CHANGE = 5e-3  # relative, at the speed whose step changed
+# Since session 19 a condensed body's frame puts the tooth in contact on its rim station (it sat
+# 0.197 of a pitch off on the accessory wheel): the record moved by +0.94, +0.68, +0.30 % at
+# 1000, 2000, 3000 rad/s (quasi-static TE mean -0.65 %, RMS +3.8 %), on top of the step change
+STATION_CHANGE = 1.2e-2
 
 
 def test_hybrid_sweep_record_against_the_one_before_the_step_rule():
     """The hybrid sweep's record (which the slow regression test compares with the code to 1e-9)
-    against the record before the step rule changed: equal (1e-9) where the step did not change,
-    within 0.5 % where it doubled."""
+    against the record before the step rule changed and the teeth were put on their rim
+    stations: within 1.2 % where the step did not change (the station fix alone), within
+    1.7 % where it doubled."""
     rec = _recorded("sweep-accessory-spur-flexible")
     steps, df = rec["steps_per_period_used"], rec["dynamic_factor"]
     assert steps == [128, 64, 64]
     for n, new, old in zip(steps, df, HYBRID_SWEEP_BEFORE["dynamic_factor"], strict=True):
-        tol = 1e-9 if n == 64 else HYBRID_SWEEP_CHANGE
+        tol = STATION_CHANGE + (0.0 if n == 64 else HYBRID_SWEEP_CHANGE)
         assert new == pytest.approx(old, rel=tol)
 
 
