@@ -17,7 +17,15 @@ from ._contact import ContactLaw, contact_law_from_name
 from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
-from .scenes import Wrench, disc_inertia, grounded, lumped_train, torsional_train, train_layout
+from .scenes import (
+    Wrench,
+    disc_inertia,
+    grounded,
+    hybrid_train,
+    lumped_train,
+    torsional_train,
+    train_layout,
+)
 
 __all__ = ["Case", "TrainCase"]
 
@@ -356,9 +364,15 @@ class TrainCase:
             for i, m in enumerate(self.masses or (None,) * self.n_gears)
         )
 
-    def mesh_models(self, slices: int | None = None) -> tuple:
-        """Each mesh's :class:`MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`)."""
-        return tuple(self.mesh_case(k).mesh_model(slices) for k in range(len(self.pairs)))
+    def mesh_models(self, slices: int | None = None, flexible: tuple = ()) -> tuple:
+        """Each mesh's :class:`MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`);
+        ``flexible``: which gears are condensed FE bodies (their tooth stiffness leaves out the
+        foundation term), (n,) (default none)."""
+        flex = tuple(flexible) or (False,) * self.n_gears
+        return tuple(
+            self.mesh_case(k).mesh_model(slices, flexible=(flex[g], flex[h]))
+            for k, (g, h) in enumerate(self.gears)
+        )
 
     def torsional_train(self, slices: int | None = None):
         """The train's torsional scene (:func:`jaxgear.scenes.torsional_train`): one rotation
@@ -381,28 +395,20 @@ class TrainCase:
         """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings)."""
         return self.scene is not None and self.scene.model == "lumped3d"
 
-    def lumped_train(self, slices: int | None = None):
-        """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
-        ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
-        :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
-        mesh on its line of action with the layout's hands and phase, the loads' shares and the
-        wrenches per unit input torque.
+    @property
+    def flexible(self) -> bool:
+        """The lumped 3D scene has condensed FE bodies (``[scene.bodies]``)."""
+        return self.lumped and self.scene.hybrid
 
-        Raises:
-            ValueError: the case has no lumped 3D scene.
-        """
-        if not self.lumped:
-            raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
+    def _lumped_args(self) -> dict:
+        """The keyword arguments of :func:`~jaxgear.scenes.lumped_train` and
+        :func:`~jaxgear.scenes.hybrid_train` from the case."""
         members = self.members()
         bodies = [
             (m, (j / 2 + m * members[i].face_width ** 2 / 12, j))
             for i, (m, j) in enumerate(zip(self.gear_masses(), self.gear_inertias(), strict=True))
         ]
-        return lumped_train(
-            tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
-            self.layout(),
-            self.scene.shafts,
-            self.shaft_of,
+        return dict(
             masses=[b[0] for b in bodies],
             inertias=[b[1] for b in bodies],
             shares=self.shares(),
@@ -416,15 +422,85 @@ class TrainCase:
             density=self.density,
         )
 
+    def lumped_train(self, slices: int | None = None):
+        """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
+        ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
+        :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
+        mesh on its line of action with the layout's hands and phase, the loads' shares and the
+        wrenches per unit input torque.
+
+        Raises:
+            ValueError: the case has no lumped 3D scene.
+        """
+        if not self.lumped:
+            raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
+        return lumped_train(
+            tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
+            self.layout(),
+            self.scene.shafts,
+            self.shaft_of,
+            **self._lumped_args(),
+        )
+
+    def hybrid_train(self, bodies: tuple, slices: int | None = None, *, tooth_mass: bool = True):
+        """The train's lumped 3D scene with its flexible gears as condensed FE bodies
+        (:func:`jaxgear.scenes.hybrid_train`; ``[scene.bodies]``), the output held; its meshes'
+        tooth stiffness leaves out a flexible gear's foundation term.
+
+        Args:
+            bodies: each gear's condensed body or ``None`` (rigid), (n,)
+                (:func:`jaxgear.dynamics.load_bodies` of the case's scene).
+            tooth_mass: lump the teeth's mass on the rim masters (default).
+
+        Raises:
+            ValueError: the case has no lumped 3D scene, or what
+                :func:`~jaxgear.scenes.hybrid_train` refuses.
+        """
+        if not self.lumped:
+            raise ValueError("a hybrid train needs [scene] model = 'lumped3d'")
+        flexible = tuple(b is not None for b in bodies)
+        return hybrid_train(
+            self.pairs,
+            tuple(zip(self.mesh_models(slices, flexible), self.gears, strict=True)),
+            self.layout(),
+            self.scene.shafts,
+            self.shaft_of,
+            bodies=tuple(bodies),
+            tooth_mass=tooth_mass,
+            **self._lumped_args(),
+        )
+
     def dynamic_train(self, slices: int | None = None):
-        """The train's scene: :meth:`lumped_train` for a lumped 3D scene, else
-        :meth:`torsional_train`."""
+        """The train's rigid-gear scene: :meth:`lumped_train` for a lumped 3D scene, else
+        :meth:`torsional_train` (a train with flexible gears: :meth:`hybrid_train`, which needs
+        their bodies; :func:`jaxgear.dynamics.build_dynamic_model` loads them).
+
+        Raises:
+            ValueError: a train with flexible gears.
+        """
+        if self.flexible:
+            raise ValueError(
+                "[scene.bodies]: a train with flexible gears is a hybrid scene: "
+                "case.hybrid_train(bodies) or jaxgear.dynamics.build_dynamic_model(case)"
+            )
         return self.lumped_train(slices) if self.lumped else self.torsional_train(slices)
 
-    def static_train(self, slices: int | None = None):
+    def static_train(self, slices: int | None = None, bodies: tuple | None = None):
         """The scene of the train's quasi-static solve: :meth:`dynamic_train` with the output
         shaft's rotation held by a spring (the output torque's reaction; the meshes' TE and
-        loads do not depend on it)."""
+        loads do not depend on it); with flexible gears, :meth:`hybrid_train` of ``bodies``
+        (which holds the output itself).
+
+        Raises:
+            ValueError: flexible gears without their ``bodies``.
+        """
+        if self.flexible:
+            if bodies is None:
+                raise ValueError(
+                    "static_train: the case has flexible gears ([scene.bodies]); pass their "
+                    "condensed bodies (jaxgear.dynamics.load_bodies(case.scene))"
+                )
+            return self.hybrid_train(bodies, slices)
         train = self.dynamic_train(slices)
         return grounded(train, (train.torque_dofs[1],), factor=1e9)
 

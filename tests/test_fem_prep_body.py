@@ -59,6 +59,11 @@ def test_embedded_bodies_load():
     )
     assert acc.condensation.teeth == 86
     assert acc.geometry.rim_width == pytest.approx(9.5e-3)
+    idler = load_body("accessory-idler")  # the flexible-idler case's 61-tooth idler
+    assert idler.geometry.rim_outer_radius == pytest.approx(
+        1.5e-3 * (61 / 2 + 0.4 - 1.1933), rel=1e-4
+    )
+    assert idler.condensation.teeth == 61
 
 
 def _replace(old: str, new: str) -> str:

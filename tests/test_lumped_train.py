@@ -23,6 +23,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _trains import line_direction, shaft_sum, spins
 from _toml import case_toml
 
 import jaxgear as jg
@@ -54,16 +55,6 @@ def _solve(case):
         periods=case.span_periods,
     )
     return res, bearing_forces(scene, res)
-
-
-def _shaft_sum(forces: dict, shaft: str) -> np.ndarray:
-    """The sum (F_x, F_y, F_z) of a shaft's bearing force components (N)."""
-    return np.array(
-        [
-            sum(v for k, v in forces.items() if k.startswith(shaft + " ") and k.endswith(f"F{c}"))
-            for c in "xyz"
-        ]
-    )
 
 
 def test_stiff_lumped_idler_train_equals_the_torsional_train():
@@ -99,32 +90,8 @@ def test_stiff_lumped_idler_train_equals_the_torsional_train():
     # the idler's bearings carry its two mesh forces: F_n along the first line of action (it
     # is driven) and −F_n along the second (it drives), spur gears
     fn = lumped.torque / lumped.pairs[0].base_radii[0]
-    expected = fn * (_line_direction(lumped, 0) - _line_direction(lumped, 1))
-    np.testing.assert_allclose(_shaft_sum(forces, "idler")[:2], expected, atol=1e-6 * fn)
-
-
-def _line_direction(case, k: int) -> np.ndarray:
-    """The in-plane direction (2,) of the force mesh k's driving gear exerts on its driven gear,
-    from the gear data alone: the centre line (angle_deg of the mesh) turned by 90° − α_wt
-    towards the driving gear's motion (counter-clockwise for a gear turning about +z)."""
-    spin = _spins(case)[case.gears[k][0]]
-    turn = spin * (math.pi / 2 - case.pairs[k].operating_pressure_angle)
-    phi = case.angles[k] + turn
-    return np.array([math.cos(phi), math.sin(phi)])
-
-
-def _spins(case) -> list:
-    """Each gear's sense of rotation about +z: the input +1, a driven gear the other sense
-    than its mate, shaft-mates alike."""
-    spin = [None] * case.n_gears
-    for i in range(case.n_gears):
-        if case.shaft_of[i] == case.shaft_of[0]:
-            spin[i] = 1
-    for g, h in case.gears:
-        for i in range(case.n_gears):
-            if case.shaft_of[i] == case.shaft_of[h]:
-                spin[i] = -spin[g]
-    return spin
+    expected = fn * (line_direction(lumped, 0) - line_direction(lumped, 1))
+    np.testing.assert_allclose(shaft_sum(forces, "idler")[:2], expected, atol=1e-6 * fn)
 
 
 def _nominal_force(case, k: int, hands: dict) -> np.ndarray:
@@ -134,8 +101,8 @@ def _nominal_force(case, k: int, hands: dict) -> np.ndarray:
     g, _ = case.gears[k]
     pair = case.pairs[k]
     ft = case.mesh_torques[k] / pair.base_radii[0]
-    sign = -hands[case.gear_names[g]] * _spins(case)[g]
-    return np.array([*(ft * _line_direction(case, k)), sign * ft * math.tan(pair.base_helix_angle)])
+    sign = -hands[case.gear_names[g]] * spins(case)[g]
+    return np.array([*(ft * line_direction(case, k)), sign * ft * math.tan(pair.base_helix_angle)])
 
 
 @pytest.mark.parametrize("lst_hand", ["right", "left"])
@@ -157,8 +124,8 @@ def test_each_shaft_bearings_balance_the_nominal_mesh_forces(lst_hand):
     scale = max(np.abs(f0).max(), np.abs(f1).max())
     # a bearing's k u is the force the shaft puts on it: the mesh forces on the shaft's gears
     for shaft, load in (("input", -f0), ("intermediate", f0 - f1), ("output", f1)):
-        np.testing.assert_allclose(_shaft_sum(forces, shaft), load, atol=1e-6 * scale)
-    axial = abs(_shaft_sum(forces, "intermediate")[2])
+        np.testing.assert_allclose(shaft_sum(forces, shaft), load, atol=1e-6 * scale)
+    axial = abs(shaft_sum(forces, "intermediate")[2])
     fa0, fa1 = abs(f0[2]), abs(f1[2])
     expected = abs(fa0 - fa1) if lst_hand == "right" else fa0 + fa1
     assert axial == pytest.approx(expected, rel=1e-6)
@@ -316,7 +283,7 @@ def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path):
     case = jio.parse_train(data)
     hands = {n: int(h) for n, h in zip(case.gear_names, case.layout().hands, strict=True)}
     np.testing.assert_allclose(
-        _shaft_sum(forces, "output"), _nominal_force(case, 1, hands), rtol=1e-6, atol=1e-6
+        shaft_sum(forces, "output"), _nominal_force(case, 1, hands), rtol=1e-6, atol=1e-6
     )
     # the Campbell diagram's orders: 28 teeth per input turn, and 35 × 28/127 for the second
     # stage on the intermediate shaft

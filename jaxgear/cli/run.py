@@ -304,14 +304,15 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
 
 def _run_train_command(case, out: str, args) -> int:
     """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
-    ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh)."""
+    ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh; with
+    flexible gears, the ``jaxgear sweep`` command to run instead)."""
     from ..io import write_json
     from .train import format_train_table, run_train
 
     summary_path = os.path.join(out, "summary.json")
-    last = case.scene is None
-    summary = run_train(case, out, show_progress=not args.quiet, complete=last)
-    if case.scene is not None:
+    sweep = case.scene is not None and not case.flexible
+    summary = run_train(case, out, show_progress=not args.quiet, complete=not sweep)
+    if sweep:
         summary["dynamics"] = _sweep_section(case, out, args.quiet)
         summary["complete"] = True
         write_json(summary_path, summary)
@@ -328,6 +329,12 @@ def _run_train_command(case, out: str, args) -> int:
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
             f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
             f"{d['speeds_rad_s'][-1]:g} rad/s"
+        )
+    if case.flexible:
+        print(
+            f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
+            "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
+            f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
         )
     print(f"written to {out}/")
     return 0

@@ -100,10 +100,10 @@ def sweep_case(
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
     hybrid = spec.hybrid
-    if vtu_speed is not None and not hybrid:
+    if vtu_speed is not None and not (hybrid and len(spec.bodies) == 2):
         raise ValueError(
             f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
-            "to export ([scene.gear_body] or [scene.pinion_body])"
+            "to export ([scene.gear_body] or [scene.pinion_body] of a pair)"
         )
     if vtu_speed is not None and not vtu_speed > 0:
         raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
@@ -184,6 +184,9 @@ def sweep_case(
         summary["speed_of"] = "input"  # speeds of the input gear
         summary["mesh_names"] = [case.mesh_name(k) for k in range(n_meshes)]
         summary["static_mesh_force_N"] = [float(m.static_force[0]) for m in r.meshes]
+    # the condensed gear whose nodal diameters and rim waves are reported (member 1: a pair's
+    # wheel, an idler train's idler), its teeth and the input's per its turn
+    z_wheel = z_input = None
     if hybrid:
         summary.update(
             {
@@ -191,10 +194,17 @@ def sweep_case(
                 "rayleigh_beta_s": spec.rayleigh_beta,
                 "damping_ratio_mesh_structure": [spec.mesh_ratio, spec.structure_ratio],
                 "rotating_frame": spec.rotating_frame,
-                "pinion_teeth": case.pair.pinion.teeth,
-                "wheel_teeth": case.pair.gear.teeth,
             }
         )
+        if n_meshes == 1:
+            z_input, z_wheel = case.pair.pinion.teeth, case.pair.gear.teeth
+            summary.update(pinion_teeth=z_input, wheel_teeth=z_wheel)
+        else:
+            flexible = [i for i, b in enumerate(bodies) if b is not None]
+            summary["flexible_gears"] = [case.gear_names[i] for i in flexible]
+            if 1 in flexible:
+                z_wheel = case.members()[1].teeth
+                z_input = z_wheel * float(case.layout().ratios[1])
     elif n_meshes == 1:
         summary["mesh_stiffness_mean_N_per_m"] = float(model.mesh_stiffness_mean)
     else:  # each mesh's time-averaged loaded stiffness
@@ -232,9 +242,9 @@ def sweep_case(
         summary["critical_speeds_mesh"] = [
             campbell_coincidences(omega, energy, z, float(speeds.max()), n_modes=3) for z in orders
         ]
-    if hybrid:
+    if z_wheel is not None:
         summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
-            model.scene, modes, speeds, case.pair.pinion.teeth, case.pair.gear.teeth
+            model.scene, modes, speeds, z_input, z_wheel
         )
     summary.update({"speeds_rad_s": _clean(speeds), "mesh_frequency_Hz": _clean(r.mesh_frequency)})
     summary.update(_mesh_responses(model, r, speeds))
@@ -343,11 +353,11 @@ def _mesh_responses(model, r, speeds) -> dict:
     return out
 
 
-def _nodal_diameter_resonances(scene, modes, speeds, z1: int, z2: int) -> list:
+def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int) -> list:
     """The (3.9) speeds, up to 1.05 × the top speed, where the mesh excites the wheel's
     nodal-diameter families (web modes: most of their kinetic energy in the body), first and
-    second mesh harmonics, for a pinion of ``z1`` and a wheel of ``z2`` teeth; [] for a rigid
-    wheel."""
+    second mesh harmonics, for a wheel (member 1) of ``z2`` teeth and ``z1`` = z2 times its
+    turns per input turn (a pair's pinion teeth); [] for a rigid wheel."""
     from ..dynamics import nodal_diameter_modes, nodal_diameter_resonances
     from ..scenes import FlexibleMember
 

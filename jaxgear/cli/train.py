@@ -10,7 +10,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from .. import Modifications, TrainCase, load_map, quasi_static
-from ..dynamics import bearing_forces
+from ..dynamics import bearing_forces, load_bodies
 from ..io import atomic_open, write_csv
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
@@ -23,7 +23,8 @@ def run_train(
     """The quasi-static analysis of a train case, written to ``out_dir``.
 
     The contact of every mesh is solved at once on the train's structure (torsional, or lumped
-    3D with shafts and bearings; the output held; :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
+    3D with shafts and bearings, its flexible gears condensed FE bodies; the output held;
+    :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
     two-stage train: over its span, :attr:`~jaxgear.TrainCase.span_periods` periods of the
     first mesh, after which every mesh repeats), exact
     and smooth, with and without the case's modifications. Files (atomically): ``summary.json``
@@ -42,7 +43,8 @@ def run_train(
     os.makedirs(out_dir, exist_ok=True)
     steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
     steps.set_postfix_str("meshes and layout")
-    scene = case.static_train()
+    bodies = load_bodies(case.scene, progress=show_progress) if case.flexible else None
+    scene = case.static_train(bodies=bodies)
     layout = case.layout()
     steps.update()
     ppp = case.positions_per_pitch
@@ -134,6 +136,11 @@ def run_train(
                 }
             }
             if case.lumped
+            else {}
+        ),
+        **(
+            {"flexible_gears": [n for n, b in zip(case.gear_names, bodies) if b is not None]}
+            if case.flexible
             else {}
         ),
         "environment": environment_summary(np.asarray(res["modified", "exact"].theta).dtype),

@@ -71,10 +71,13 @@ class SceneSpec:
     # TOML path or a condensed .npz path (resolved against the case file's folder)
     pinion_body: str | None = None
     gear_body: str | None = None
+    gear_bodies: tuple = ()  # a lumped3d train: each gear's body reference or None
 
     @property
-    def bodies(self) -> tuple[str | None, str | None]:
-        return (self.pinion_body, self.gear_body)
+    def bodies(self) -> tuple:
+        """Each member's body reference or ``None``: (pinion, gear) for a pair, one per gear
+        for a train."""
+        return self.gear_bodies or (self.pinion_body, self.gear_body)
 
     @property
     def hybrid(self) -> bool:
@@ -120,16 +123,27 @@ def build_dynamic_model(
     :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
     the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
     A train case (:class:`~jaxgear.TrainCase`) gives its train
-    (:meth:`~jaxgear.TrainCase.dynamic_train`: torsional or lumped 3D), the input torque on its
-    input gear.
+    (:meth:`~jaxgear.TrainCase.dynamic_train`: torsional or lumped 3D; with flexible gears
+    :meth:`~jaxgear.TrainCase.hybrid_train`, a hybrid model), the input torque on its input
+    gear.
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
     density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
-    scene's, built or read from the fem_prep cache). Returns (model, spec).
+    scene's, built or read from the fem_prep cache; a train's: one per gear). Returns (model,
+    spec).
     """
     if spec is None:
         spec = case.scene if case.scene is not None else SceneSpec()
     if isinstance(case, TrainCase):  # a torsional or lumped 3D train
+        if case.flexible:  # its flexible gears condensed: a hybrid model
+            bodies = load_bodies(spec) if bodies is None else bodies
+            model = dynamic_model(
+                case.hybrid_train(bodies, slices),
+                case.mesh_modifications(),
+                case.torque,
+                spec_damping(spec),
+            )
+            return model, spec
         model = dynamic_model(
             case.dynamic_train(slices),
             case.mesh_modifications(),
@@ -196,13 +210,14 @@ def build_dynamic_model(
 
 
 def load_bodies(spec: SceneSpec, *, progress: bool = False) -> tuple:
-    """The condensed bodies of a scene (pinion, gear), ``None`` for a rigid member.
+    """The condensed bodies of a scene (pinion, gear; a train's: one per gear), ``None`` for a
+    rigid member.
 
     Bodies are built by :mod:`fem_prep` once and then read from its cache
     (:func:`fem_prep.condensed`).
     """
     if not spec.hybrid:
-        return (None, None)
+        return (None,) * len(spec.bodies)
     import fem_prep  # NumPy/scikit-fem only; loaded when a case has flexible bodies
 
     return tuple(

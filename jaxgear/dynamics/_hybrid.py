@@ -51,7 +51,7 @@ from .._modifications import Modifications
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static, separation
 from .._results import DynamicsResult
 from .._util import check_integer
-from ..scenes import FlexibleMember, HybridPair
+from ..scenes import FlexibleMember, HybridPair, HybridScene
 from ._modal import Damping, modal_analysis
 from ._model import (
     HybridModel,
@@ -304,9 +304,7 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
         C = C + speed * scene.structure.gyroscopic
     F = scene.external_load(torque, speed)
     e_ref, e_max = _references(scene, mods, qs.theta)
-    # the start state moves along the drive rotation N (V·N = 1) to the time-constant reference
-    # of the first mesh (for the meshes of one pair, every mesh's: their references move alike)
-    X0 = qs.x[0] + scene.N[:, 0] * (e_ref[0] - e_max[0, 0])
+    X0 = qs.x[0] + _reference_shift(scene, e_ref - e_max[0])
     zero = jnp.zeros_like(X0)
     # qs.theta[0] is half a step: contact-line ends off the edges
     thetas = qs.theta[0] + (jnp.arange(n_steps) + 1) * period_angle / spp
@@ -385,6 +383,17 @@ def _joined(qs, name: str):
     mesh as the contact row joins the cells: (P, c)."""
     P = qs.theta.shape[0]
     return jnp.concatenate([getattr(m, name).reshape(P, -1) for m in qs.meshes], axis=-1)
+
+
+def _reference_shift(scene: HybridScene, d):
+    """The move N α of the free rotations that brings each mesh's flank-normal approach u_k·X
+    forward by d_k (m), (meshes,): the start state's move from the quasi-static gaps (reference
+    max_M e at the position) to the dynamics' time-constant reference e_ref. α solves
+    (U N) α = d in the least-squares sense (U the meshes' TE vectors): one rotation per free
+    shaft; a pair's meshes all move with its one drive rotation (u·N = cos β_b)."""
+    A = scene.te_vectors() @ scene.N
+    alpha = jnp.linalg.lstsq(A, d)[0]
+    return scene.N @ alpha
 
 
 def _loaded(qs):
@@ -599,7 +608,7 @@ def _free(scene, mods, torque, theta, velocity, dt, n_steps, spp):
     e_ref, _ = _references(scene, mods, period)
     qs = quasi_static(scene, mods, torque, theta[None], throw=False)  # at rest
     e_th = separation(mesh, mods, theta)[1]
-    Xs = qs.x[0] + scene.N[:, 0] * (e_ref[0] - e_th)
+    Xs = qs.x[0] + _reference_shift(scene, e_ref - e_th)
     M = scene.structure.M
     C = jnp.zeros_like(M)
     F = torque * scene.f_torque

@@ -59,5 +59,5 @@ def load_case(name_or_path: str | os.PathLike) -> Case | TrainCase:
         )
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_train(data):
-        return parse_train(data, default)
+        return parse_train(data, default, base)
     return parse_case(data, default, base)

@@ -195,12 +195,14 @@ def _bearing_matrix(b: dict, key: str, where: str):
         raise sc.fail(where, key, str(err), shown) from None
 
 
-def _parse_body(table: dict, key: str, base_dir: str | None) -> str:
-    """``[scene.<member>_body] body = ...``: an embedded fem_prep body, a body TOML or a .npz."""
+def parse_body(table: dict, key: str, base_dir: str | None, parent: str = "scene") -> str:
+    """``[scene.<member>_body] body = ...`` (a train's ``[scene.bodies.<gear>]``, ``parent``
+    ``scene.bodies``): an embedded fem_prep body, a body TOML or a .npz, resolved against the
+    case file's folder ``base_dir``."""
     import fem_prep
 
-    t = sc.subtable(table, key, "scene", _BODY_KEYS, required=True)
-    where = f"scene.{key}"
+    t = sc.subtable(table, key, parent, _BODY_KEYS, required=True)
+    where = f"{parent}.{key}"
     ref = sc.string(t, "body", where, sc.MISSING)
     if ref.endswith((".toml", ".npz")):
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
@@ -326,7 +328,7 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
             raise sc.fail("scene", "reduction", "applies to model = 'torsional' only", reduction)
         for key in ("pinion_body", "gear_body"):
             if key in table:
-                kw[key] = _parse_body(table, key, base_dir)
+                kw[key] = parse_body(table, key, base_dir)
     else:
         for key in (
             "pinion_shaft",

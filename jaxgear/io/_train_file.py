@@ -44,6 +44,8 @@
     torque_position_mm = 0.0         # input, loaded and balancing output shafts' torque
     bearings = [{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 },
                 { position_mm = 60.0, radial_N_per_um = 200.0 }]
+    [scene.bodies.idler]             # lumped3d: a flexible gear, alone on its shaft (quasi-static)
+    body = "accessory-idler"         # a fem_prep body: embedded name, body .toml or .npz
     [[operating.wrenches]]           # lumped3d: a force and tilting moment on a shaft node
     shaft = "intermediate"
     position_mm = 80.0
@@ -91,7 +93,7 @@ from ._case_file import (
     parse_mesh_settings,
     plausibility,
 )
-from ._scene_table import _parse_shaft, parse_dynamics_settings
+from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
 
 __all__ = ["is_train", "parse_train"]
 
@@ -107,7 +109,15 @@ _GEAR_KEYS = {
     *_MEMBER_KEYS,
 }
 _MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
-_SCENE_KEYS = {"model", "inertias_kg_m2", "masses_kg", "shafts", "damping", "integration"}
+_SCENE_KEYS = {
+    "model",
+    "inertias_kg_m2",
+    "masses_kg",
+    "shafts",
+    "bodies",
+    "damping",
+    "integration",
+}
 _TRAIN_SHAFT_KEYS = {
     "shaft",
     "length_mm",
@@ -225,9 +235,12 @@ def _modifications(table: Any, names: list[str]) -> tuple:
     return tuple(out)
 
 
-def _scene(table: Any, names: list[str], shafts: list, shaft_names: list) -> tuple:
+def _scene(
+    table: Any, names: list[str], shafts: list, shaft_names: list, base_dir: str | None = None
+) -> tuple:
     """``[scene]`` of a train: the torsional or lumped 3D model, per-gear inertias (and masses),
-    the shafts (lumped 3D), damping, integration. Returns (spec, inertias, masses)."""
+    the shafts and flexible gears (lumped 3D), damping, integration. Returns (spec, inertias,
+    masses)."""
     if not isinstance(table, dict):
         raise sc.fail("", "scene", "must be a table", table)
     sc.check_keys(table, _SCENE_KEYS, "scene")
@@ -245,17 +258,34 @@ def _scene(table: Any, names: list[str], shafts: list, shaft_names: list) -> tup
         raise sc.fail(
             "scene.integration",
             "rotating_frame",
-            "applies to condensed bodies, not to a rigid train",
+            "is not available for a train yet (a hybrid pair only)",
             integration["rotating_frame"],
         )
-    specs = None
+    specs, bodies = None, ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
+        given = sc.subtable(table, "bodies", "scene", names)
+        if given:
+            bodies = tuple(
+                parse_body(given, n, base_dir, "scene.bodies") if n in given else None
+                for n in names
+            )
+            for n, b in zip(names, bodies, strict=True):
+                if b is not None and sum(s_ == shafts[names.index(n)] for s_ in shafts) > 1:
+                    raise sc.fail(
+                        f"scene.bodies.{n}",
+                        "body",
+                        "its gear shares a shaft with another gear (allowed: a flexible gear "
+                        "alone on its shaft, which turns with its body frame)",
+                        b,
+                    )
     else:
-        for key in ("masses_kg", "shafts"):
+        for key in ("masses_kg", "shafts", "bodies"):
             if key in table:
                 raise sc.fail("scene", key, "is for model = 'lumped3d'")
-    spec = SceneSpec(model=model, shafts=specs, **parse_dynamics_settings(table))
+    spec = SceneSpec(
+        model=model, shafts=specs, gear_bodies=bodies, **parse_dynamics_settings(table)
+    )
     return spec, inertias, masses
 
 
@@ -407,9 +437,10 @@ def _check_overlap(case: TrainCase) -> None:
                 )
 
 
-def parse_train(data: dict, default_name: str = "train") -> TrainCase:
+def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> TrainCase:
     """Validate a parsed train case (a dict with ``[[gears]]`` and ``[[meshes]]``) and build a
-    :class:`~jaxgear.TrainCase` (SI units).
+    :class:`~jaxgear.TrainCase` (SI units); ``base_dir``: the case file's folder (body files of
+    ``[scene.bodies]`` are resolved against it).
 
     Raises:
         SchemaError (a ``ValueError``): unknown keys, missing or wrong values, gears named
@@ -532,7 +563,9 @@ def parse_train(data: dict, default_name: str = "train") -> TrainCase:
     mods = _modifications(data.get("modifications", {}), names)
     shaft_list = list(shaft_names)
     scene, inertias, masses = (
-        (None, (), ()) if "scene" not in data else _scene(data["scene"], names, shafts, shaft_list)
+        (None, (), ())
+        if "scene" not in data
+        else _scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
     case = TrainCase(

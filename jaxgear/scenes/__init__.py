@@ -28,8 +28,10 @@ from ._gear_mesh import (
 )
 from ._hybrid import (
     HybridPair as HybridPair,
+    HybridScene as HybridScene,
     fit_windows as fit_windows,
     hybrid_pair as hybrid_pair,
+    hybrid_train as hybrid_train,
 )
 from ._interface import (
     FlexibleMember as FlexibleMember,

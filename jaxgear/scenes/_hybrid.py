@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import NamedTuple
 
 import equinox as eqx
 import jax
@@ -37,17 +38,19 @@ from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
 from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member
-from ._lumped3d import ShaftSpec, _lumped_arrays
+from ._lumped3d import ShaftSpec, _lumped_arrays, _train_arrays, train_meshes
 from ._structure import AssembledScene, Structure
 
-__all__ = ["HybridPair", "hybrid_pair"]
+__all__ = ["HybridPair", "HybridScene", "hybrid_pair", "hybrid_train"]
 
 
-class HybridPair(AssembledScene):
-    """The lumped 3D scene with condensed FE bodies (H1: flexible wheel; H2: both flexible).
+class HybridScene(AssembledScene):
+    """The lumped 3D scene with condensed FE bodies: a pair (H1: flexible wheel; H2: both
+    flexible) or a gear train with flexible gears (a flexible idler meshing twice).
 
-    Build with :func:`hybrid_pair`. Generalised coordinates: pinion shaft, gear shaft (6 per
-    node), then each body's rim master and modal DOFs (its bearing nodes are shaft nodes).
+    Build with :func:`hybrid_pair` or :func:`hybrid_train`. Generalised coordinates: the shafts
+    (6 per node), then each body's rim master and modal DOFs (its bearing nodes are shaft
+    nodes). The scene speed Ω is the pinion's (a train's input's).
 
     Attributes:
         structure: the assembled shafts, bearings, rigid gear nodes and condensed bodies with
@@ -61,8 +64,13 @@ class HybridPair(AssembledScene):
         meshes: the gear meshes (:class:`~jaxgear.scenes.GearMesh`).
         members: the gear members (pinion, gear), each a
             :class:`~jaxgear.scenes.RigidMember` or a :class:`~jaxgear.scenes.FlexibleMember`.
-        G: compliance on the complement of the drive rotation with the output rotation held
-            (n, n). N: the drive rotation, scaled to a unit base-plane approach (n, 1).
+        G: compliance on the complement of the free rotations with the output rotation held
+            (n, n). N: the free rotations (n, r): a pair's drive rotation (the pinion chain),
+            scaled to a unit base-plane approach (r = 1); a train's every shaft but the output
+            (per unit base-plane advance of the input).
+        member_shafts: static, each member's shaft (its bearings turn with a flexible body).
+        periods: static, first-mesh periods after which every mesh's cells repeat
+            (:meth:`scene_periods`; 1 for a pair or an idler train).
         f_torque: load per unit pinion torque (n,) (:class:`AssembledScene`).
         x_torque, x_centrifugal: G f_torque,
             G f_centrifugal (the pinion speed Ω is an argument of the methods and solvers that
@@ -71,9 +79,15 @@ class HybridPair(AssembledScene):
     """
 
     G: Float[Array, "n n"]
-    N: Float[Array, "n 1"]
+    N: Float[Array, "n r"]
     x_torque: Float[Array, " n"]
     x_centrifugal: Float[Array, " n"]
+    member_shafts: tuple = eqx.field(static=True, default=(0, 1))
+    periods: int = eqx.field(static=True, default=1)
+
+    def scene_periods(self) -> int:
+        """:attr:`periods`."""
+        return self.periods
 
     def external_load(self, torque, speed=0.0):
         """Generalised external forces (n,) at pinion torque T (N·m) and pinion speed Ω (rad/s):
@@ -128,7 +142,9 @@ class HybridPair(AssembledScene):
                 continue
             ang = member.frame_angle(theta)
             for i, name in enumerate(names):
-                if self.structure.reaction_member[i] != m or not name.endswith("Fx"):
+                if self.structure.reaction_member[i] != self.member_shafts[m] or not name.endswith(
+                    "Fx"
+                ):
                     continue
                 j = names.index(name[:-1] + "y") if name[:-1] + "y" in names else None
                 if j is None:
@@ -141,7 +157,7 @@ class HybridPair(AssembledScene):
     def rim_radial_growth(self, speed):
         """Mean radial displacement (m) of each flexible member's rim master nodes under the
         centrifugal load alone at pinion speed ``speed`` (rad/s); 0 for a rigid member.
-        Returns a tuple (pinion, gear)."""
+        Returns a tuple, one per member."""
         x = speed**2 * self.x_centrifugal
         out = []
         for member in self.members:
@@ -175,6 +191,161 @@ class HybridPair(AssembledScene):
 # builder (NumPy, once per scene)
 
 
+class _BodyPlace(NamedTuple):
+    """A condensed body placed on a shaft: its shaft (index), its gear position along it (m),
+    its spin speed per unit scene speed (signed Ω_z/Ω: the pinion's +1, a pair's gear −z1/z2),
+    and a gear pair with its member index there (its tooth data for the tooth masses)."""
+
+    body: object
+    shaft: int
+    gear_z: float
+    speed: float
+    pair: GearPair
+    member: int
+
+
+def _body_bearing_z(body, shaft: ShaftSpec, where: str) -> tuple:
+    """The shaft positions (m) where ``body``'s bearing nodes attach (its gear position plus
+    their axial positions), after checking that the shaft's bearings are axisymmetric (the
+    shaft of a flexible body turns with the body frame: they must look the same from every
+    angle, i.e. commute with a quarter turn about z: K_xx = K_yy, ...)."""
+    q = np.zeros((6, 6))
+    q[0, 1] = q[3, 4] = -1.0
+    q[1, 0] = q[4, 3] = q[2, 2] = q[5, 5] = 1.0
+    for i, b in enumerate(shaft.bearings):
+        for what, a in (("stiffness", b.stiffness_matrix()), ("damping", b.damping_matrix())):
+            dg = np.abs(np.diag(a))
+            scale = np.maximum(np.sqrt(np.outer(dg, dg)), np.abs(a))
+            if np.any(np.abs(q @ a @ q.T - a) > 1e-6 * np.maximum(scale, scale.T)):
+                raise ValueError(
+                    f"{where}.bearings[{i}]: its {what} matrix is not axisymmetric about the "
+                    "shaft axis (allowed on the shaft of a flexible body, which turns with the "
+                    "body frame: e.g. K_xx = K_yy, K_xy = 0, K[3][3] = K[4][4], "
+                    "K[0][4] = -K[1][3], no x/y-z coupling)"
+                )
+    coords = np.asarray(body.master_coords, float)
+    bz = coords[np.asarray(body.master_kind) == 1]
+    if bz.size == 0 or np.any(np.hypot(bz[:, 0], bz[:, 1]) > 1e-9):
+        raise ValueError(f"{where}: the body on it needs bearing nodes on its axis")
+    return tuple(shaft.gear_z + bz[:, 2])
+
+
+def _place_bodies(d: dict, places: list, tooth_density: float | None) -> dict:
+    """The shafts of ``d`` (:func:`_shaft_arrays`) with condensed bodies: each body's bearing
+    master DOFs merged with its shaft's nodes, its other condensed DOFs appended (NumPy).
+
+    Args:
+        d: the shaft arrays. places: a :class:`_BodyPlace` or ``None`` per member.
+        tooth_density: add the mass and centrifugal load of the teeth (not in the FE body, which
+            ends at the root circle) on the rim master nodes at this density [R]; ``None``: no.
+
+    Returns:
+        dict of ``K``, ``M`` (n, n), ``fc`` (n,) per unit scene speed², ``gyroscopic`` and
+        ``spin_stiffness`` (:func:`_rotating_frame`), ``gidx`` (each member's global DOF of each
+        condensed DOF, or ``None``), ``n``.
+    """
+    n_sh = d["M"].shape[0]
+    n = n_sh
+    blocks, rot_parts, gidxs = [], [], []
+    for place in places:
+        if place is None:
+            gidxs.append(None)
+            continue
+        body = place.body
+        coords = np.asarray(body.master_coords, float)
+        kind = np.asarray(body.master_kind)
+        dm = np.asarray(body.dof_map)
+        gidx = np.full(dm.shape[0], -1)
+        zs, off = d["shaft_z"][place.shaft], d["shaft_offsets"][place.shaft]
+        for i, (mi, c) in enumerate(dm):
+            if mi >= 0 and kind[mi] == 1:
+                node = int(np.argmin(np.abs(zs - (place.gear_z + coords[mi, 2]))))
+                gidx[i] = off + 6 * node + int(c)
+        free = np.flatnonzero(gidx < 0)
+        gidx[free] = n + np.arange(free.size)
+        n += free.size
+        K_b = np.array(body.K, float)
+        M_b = np.array(body.M, float)
+        f_b = np.array(body.f_centrifugal, float)
+        Mb0 = M_b.copy()
+        if tooth_density is not None:
+            width = float(np.ptp(coords[body.rim_grid[0], 2]))
+            mt, rt = one_tooth_mass(place.pair, place.member, tooth_density, width)
+            zn = coords[body.rim_grid[0], 2]
+            share = np.zeros(zn.size)  # trapezoid weights across the face
+            share[:-1] += 0.5 * np.diff(zn)
+            share[1:] += 0.5 * np.diff(zn)
+            share /= share.sum()
+            dof = body_dof_index(body)
+            for k in range(body.rim_grid.shape[0]):
+                for j in range(zn.size):
+                    mi = int(body.rim_grid[k, j])
+                    e = coords[mi, :2] / np.hypot(*coords[mi, :2])
+                    for c in range(3):
+                        M_b[dof[(mi, c)], dof[(mi, c)]] += mt * share[j]
+                    for c in range(2):
+                        f_b[dof[(mi, c)]] += mt * share[j] * rt * e[c]
+        blocks.append((gidx, K_b, M_b, f_b * place.speed**2))
+        rot_parts.append((place.shaft, place.speed, gidx, _body_rotating(body, M_b - Mb0)))
+        gidxs.append(gidx)
+    K = np.zeros((n, n))
+    M = np.zeros((n, n))
+    K[:n_sh, :n_sh] = d["parts"].sum(axis=0)
+    M[:n_sh, :n_sh] = d["M"]
+    fc = np.zeros(n)
+    for g, Kb, Mb, fb in blocks:
+        K[np.ix_(g, g)] += Kb
+        M[np.ix_(g, g)] += Mb
+        fc[g] += fb
+    gyro, spin_K = _rotating_frame(n, d, rot_parts)
+    return dict(K=K, M=M, fc=fc, gyroscopic=gyro, spin_stiffness=spin_K, gidx=gidxs, n=n)
+
+
+def _shaft_rotation(d: dict, shaft: int, n: int, body=None, gidx=None) -> np.ndarray:
+    """The rigid rotation about +z of shaft ``shaft`` and the condensed body on it (n,): 1 on
+    each rotation φ_z of its nodes, (−y, x) on the in-plane DOFs of the body's rim masters
+    (its bearing masters are shaft DOFs; its modal coordinates do not move)."""
+    v = np.zeros(n)
+    a = d["shaft_offsets"][shaft]
+    v[a + 5 : a + 6 * d["shaft_z"][shaft].size : 6] = 1.0
+    if body is not None:
+        coords = np.asarray(body.master_coords, float)
+        for i, (mi, c) in enumerate(np.asarray(body.dof_map)):
+            if mi >= 0 and body.master_kind[mi] == 0 and c < 2:
+                x, y = coords[mi, :2]
+                v[gidx[i]] = -y if c == 0 else x
+    return v
+
+
+def _drive_compliance(K: np.ndarray, N: np.ndarray, held: int) -> np.ndarray:
+    """G (n, n): the compliance on the complement of the free rotations N (n, r) with the
+    output rotation ``held`` held (its row and column zero), K G b = b for every load b with
+    Nᵀ b = 0 (the columns of N have disjoint supports).
+
+    Raises:
+        ValueError: a column of N that is not a free rotation of K (internal error), or a
+            rigid-body mode of the structure besides them (its supports).
+    """
+    n = K.shape[0]
+    scale = np.max(np.abs(np.diag(K)))
+    for j in range(N.shape[1]):
+        if np.linalg.norm(K @ N[:, j]) > 1e-7 * scale * np.linalg.norm(N[:, j]):
+            raise ValueError("hybrid scene: a shaft does not turn freely (internal error)")
+    keep = np.setdiff1d(np.arange(n), [held])
+    Nh = N[keep] / np.linalg.norm(N[keep], axis=0)
+    A = K[np.ix_(keep, keep)] + np.mean(np.diag(K)) * Nh @ Nh.T
+    try:
+        factor = sla.cho_factor(A)
+    except np.linalg.LinAlgError:
+        raise ValueError(
+            "hybrid scene: the structure has a rigid-body mode besides the shafts' rotations "
+            "(check the bearings: radial and axial support of every shaft)"
+        ) from None
+    G = np.zeros((n, n))
+    G[np.ix_(keep, keep)] = sla.cho_solve(factor, np.eye(keep.size))
+    return 0.5 * (G + G.T)
+
+
 def hybrid_pair(
     pair: GearPair,
     mesh: MeshModel,
@@ -188,7 +359,7 @@ def hybrid_pair(
     poisson_ratio: float = 0.3,
     density: float = 7800.0,
     tooth_mass: bool = True,
-) -> HybridPair:
+) -> HybridScene:
     """Assemble the hybrid scene: the lumped 3D scene with condensed bodies (H1, H2).
 
     Args:
@@ -212,35 +383,11 @@ def hybrid_pair(
             axisymmetric about z (that shaft turns with the body frame).
     """
     shafts = (pinion_shaft, gear_shaft)
-    extra = []
-    for m, body in enumerate(bodies):
-        if body is None:
-            extra.append(())
-            continue
-        # the shaft of a flexible body is in the turning body frame: its bearings must look the
-        # same from every angle, i.e. commute with a quarter turn about z (K_xx = K_yy, ...)
-        q = np.zeros((6, 6))
-        q[0, 1] = q[3, 4] = -1.0
-        q[1, 0] = q[4, 3] = q[2, 2] = q[5, 5] = 1.0
-        for i, b in enumerate(shafts[m].bearings):
-            for what, a in (("stiffness", b.stiffness_matrix()), ("damping", b.damping_matrix())):
-                dg = np.abs(np.diag(a))
-                scale = np.maximum(np.sqrt(np.outer(dg, dg)), np.abs(a))
-                if np.any(np.abs(q @ a @ q.T - a) > 1e-6 * np.maximum(scale, scale.T)):
-                    raise ValueError(
-                        f"scene.{('pinion', 'gear')[m]}_shaft.bearings[{i}]: its {what} matrix "
-                        "is not axisymmetric about the shaft axis (allowed on the shaft of a "
-                        "flexible body, which turns with the body frame: e.g. K_xx = K_yy, "
-                        "K_xy = 0, K[3][3] = K[4][4], K[0][4] = -K[1][3], no x/y-z coupling)"
-                    )
-        coords = np.asarray(body.master_coords, float)
-        kind = np.asarray(body.master_kind)
-        bz = coords[kind == 1]
-        if bz.size == 0 or np.any(np.hypot(bz[:, 0], bz[:, 1]) > 1e-9):
-            raise ValueError(
-                f"scene.{('pinion', 'gear')[m]}_body: the body needs bearing nodes on its axis"
-            )
-        extra.append(tuple(shafts[m].gear_z + bz[:, 2]))
+    where = ("scene.pinion_shaft", "scene.gear_shaft")
+    extra = tuple(
+        () if body is None else _body_bearing_z(body, shafts[m], where[m])
+        for m, body in enumerate(bodies)
+    )
     masses = tuple(None if b is not None else ms for b, ms in zip(bodies, masses, strict=True))
     d = _lumped_arrays(
         pair,
@@ -251,64 +398,19 @@ def hybrid_pair(
         youngs_modulus,
         poisson_ratio,
         density,
-        extra_z=tuple(extra),
+        extra_z=extra,
     )
     n_sh = d["M"].shape[0]
-    blocks_K, blocks_M, fc_parts, gidxs, rot_parts = [], [], [], [], []
-    n = n_sh
     ratio = pair.pinion.teeth / pair.gear.teeth
-    for m, body in enumerate(bodies):
-        if body is None:
-            gidxs.append(None)
-            continue
-        coords = np.asarray(body.master_coords, float)
-        kind = np.asarray(body.master_kind)
-        dm = np.asarray(body.dof_map)
-        nc = dm.shape[0]
-        gidx = np.full(nc, -1)
-        zs, off = d["shaft_z"][m], d["shaft_offsets"][m]
-        for i, (mi, c) in enumerate(dm):
-            if mi >= 0 and kind[mi] == 1:
-                node = int(np.argmin(np.abs(zs - (shafts[m].gear_z + coords[mi, 2]))))
-                gidx[i] = off + 6 * node + int(c)
-        free = np.flatnonzero(gidx < 0)
-        gidx[free] = n + np.arange(free.size)
-        n += free.size
-        K_b = np.array(body.K, float)
-        M_b = np.array(body.M, float)
-        f_b = np.array(body.f_centrifugal, float)
-        Mb0 = M_b.copy()
-        if tooth_mass:
-            mt, rt = one_tooth_mass(pair, m, density, float(np.ptp(coords[body.rim_grid[0], 2])))
-            zn = coords[body.rim_grid[0], 2]
-            share = np.zeros(zn.size)  # trapezoid weights across the face
-            share[:-1] += 0.5 * np.diff(zn)
-            share[1:] += 0.5 * np.diff(zn)
-            share /= share.sum()
-            dof = body_dof_index(body)
-            for k in range(body.rim_grid.shape[0]):
-                for j in range(zn.size):
-                    mi = int(body.rim_grid[k, j])
-                    e = coords[mi, :2] / np.hypot(*coords[mi, :2])
-                    for c in range(3):
-                        M_b[dof[(mi, c)], dof[(mi, c)]] += mt * share[j]
-                    for c in range(2):
-                        f_b[dof[(mi, c)]] += mt * share[j] * rt * e[c]
-        blocks_K.append((gidx, K_b))
-        blocks_M.append((gidx, M_b))
-        rot_parts.append((m, gidx, _body_rotating(body, M_b - Mb0)))
-        fc_parts.append((gidx, f_b * (1.0 if m == 0 else ratio) ** 2))
-        gidxs.append(gidx)
-    K = np.zeros((n, n))
-    M = np.zeros((n, n))
-    K[:n_sh, :n_sh] = d["parts"].sum(axis=0)
-    M[:n_sh, :n_sh] = d["M"]
-    fc = np.zeros(n)
-    for (g, Kb), (_, Mb), (_, fb) in zip(blocks_K, blocks_M, fc_parts, strict=True):
-        K[np.ix_(g, g)] += Kb
-        M[np.ix_(g, g)] += Mb
-        fc[g] += fb
-    gyro, spin_K = _rotating_frame(n, d, rot_parts, ratio)
+    placed = _place_bodies(
+        d,
+        [
+            None if body is None else _BodyPlace(body, m, shafts[m].gear_z, w, pair, m)
+            for m, (body, w) in enumerate(zip(bodies, (1.0, -ratio), strict=True))
+        ],
+        density if tooth_mass else None,
+    )
+    n, gidxs = placed["n"], placed["gidx"]
     pad = lambda a: np.concatenate([a, np.zeros(a.shape[:-1] + (n - n_sh,))], axis=-1)
     rb1, rb2 = pair.base_radii
     cb = math.cos(pair.base_helix_angle)
@@ -320,32 +422,8 @@ def hybrid_pair(
     te = np.zeros(n)
     te[g1 + 5], te[g2 + 5] = cb * rb1, cb * rb2
     # the drive rotation (pinion chain), scaled to a unit base-plane approach
-    Nv = np.zeros(n)
-    n1 = d["shaft_offsets"][1]
-    Nv[5:n1:6] = 1.0 / rb1
-    if bodies[0] is not None:
-        body, g = bodies[0], gidxs[0]
-        coords = np.asarray(body.master_coords, float)
-        for i, (mi, c) in enumerate(np.asarray(body.dof_map)):
-            if mi >= 0 and body.master_kind[mi] == 0 and c < 2:
-                x, y = coords[mi, :2]
-                Nv[g[i]] = (-y if c == 0 else x) / rb1
-    scale = np.max(np.abs(np.diag(K)))
-    if np.linalg.norm(K @ Nv) > 1e-7 * scale * np.linalg.norm(Nv):
-        raise ValueError("hybrid scene: the pinion chain does not turn freely (internal error)")
-    keep = np.setdiff1d(np.arange(n), [t_out])
-    Nh = Nv[keep] / np.linalg.norm(Nv)
-    A = K[np.ix_(keep, keep)] + np.mean(np.diag(K)) * np.outer(Nh, Nh)
-    try:
-        factor = sla.cho_factor(A)
-    except np.linalg.LinAlgError:
-        raise ValueError(
-            "hybrid scene: the structure has a rigid-body mode besides the drive rotation "
-            "(check the bearings: radial and axial support of both shafts)"
-        ) from None
-    G = np.zeros((n, n))
-    G[np.ix_(keep, keep)] = sla.cho_solve(factor, np.eye(keep.size))
-    G = 0.5 * (G + G.T)
+    Nv = _shaft_rotation(d, 0, n, bodies[0], gidxs[0]) / rb1
+    G = _drive_compliance(placed["K"], Nv[:, None], t_out)
     line = line_of_action(pair)
     zone = mesh_line(
         line["tangent_point"], line["direction"], line["normal"], line["roll_start"], mesh
@@ -360,20 +438,20 @@ def hybrid_pair(
         else:
             members.append(flexible_member(pair, m, body, gidxs[m], centre, zone, mesh))
     structure = Structure(
-        K=jnp.asarray(K),
-        M=jnp.asarray(M),
+        K=jnp.asarray(placed["K"]),
+        M=jnp.asarray(placed["M"]),
         parts_K=None,
         C_bearing=jnp.asarray(d["bearing_C"]),
         reaction=jnp.asarray(pad(d["reaction"])),
-        gyroscopic=jnp.asarray(gyro),
-        spin_stiffness=jnp.asarray(spin_K),
-        f_centrifugal=jnp.asarray(fc),
+        gyroscopic=jnp.asarray(placed["gyroscopic"]),
+        spin_stiffness=jnp.asarray(placed["spin_stiffness"]),
+        f_centrifugal=jnp.asarray(placed["fc"]),
         part_names=("structure",),
         reaction_names=d["reaction_names"],
         reaction_member=d["reaction_member"],
         nodes=d["nodes"],
     )
-    scene = HybridPair(
+    scene = HybridScene(
         structure=structure,
         meshes=(pair_mesh(mesh, line, te),),
         members=tuple(members),
@@ -381,9 +459,179 @@ def hybrid_pair(
         N=jnp.asarray(Nv[:, None]),
         f_torque=jnp.asarray(f_t),
         x_torque=jnp.asarray(G @ f_t),
-        x_centrifugal=jnp.asarray(G @ fc),
+        x_centrifugal=jnp.asarray(G @ placed["fc"]),
     )
     return fit_windows(scene)
+
+
+def hybrid_train(
+    pairs,
+    meshes,
+    layout,
+    shafts: tuple,
+    gear_shafts: tuple,
+    *,
+    bodies: tuple,
+    masses,
+    inertias,
+    shares=None,
+    wrenches: tuple = (),
+    shaft_names: tuple | None = None,
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+    density: float = 7800.0,
+    tooth_mass: bool = True,
+) -> HybridScene:
+    """A lumped 3D gear train (:func:`~jaxgear.scenes.lumped_train`) whose flexible gears are
+    condensed FE bodies: a flexible idler meshes twice, its two contact zones on one rim, both
+    through the interface of :mod:`._interface` (docs/trains.md, "Flexible gears in a train").
+
+    Each flexible gear's body is placed on its shaft as in :func:`hybrid_pair` (bearing masters
+    merged with the shaft nodes at its gear position plus their axial positions); its frame
+    turns at the gear's speed ratio and sense (the layout's), and a tooth centre of the gear
+    sits on a rim station (its first mesh's phase). The statics run in the cell space with one
+    free rotation per shaft but the output's, which is held (:class:`HybridScene`).
+
+    Args:
+        pairs: each mesh's :class:`~jaxgear.GearPair` (its pinion the driving gear).
+        meshes, layout, shafts, gear_shafts, masses, inertias, shares, wrenches, shaft_names,
+            youngs_modulus, poisson_ratio, density: as :func:`~jaxgear.scenes.lumped_train`
+            (masses and inertias are ignored for a flexible gear).
+        bodies: each gear's condensed body or ``None`` (a rigid gear node), (n,); its mesh
+            models must leave out the foundation term of a flexible gear (as
+            :func:`hybrid_pair`).
+        tooth_mass: add the teeth's mass and centrifugal load on the rim masters.
+
+    Raises:
+        ValueError: a flexible gear whose shaft carries another gear (the shaft turns with the
+            body frame), what :func:`hybrid_pair` and :func:`lumped_train` refuse.
+    """
+    n_shafts = len(shafts)
+    names = shaft_names or tuple(f"shaft{i}" for i in range(n_shafts))
+    bodies_z = [[] for _ in range(n_shafts)]
+    for g, body in enumerate(bodies):
+        if body is None:
+            continue
+        s_ = gear_shafts[g]
+        if sum(sh == s_ for sh in gear_shafts) > 1:
+            raise ValueError(
+                f"shaft {names[s_]!r}: carries the flexible gear {g} and other gears "
+                "(allowed: a flexible gear alone on its shaft, which turns with its body frame)"
+            )
+        bodies_z[s_].extend(_body_bearing_z(body, shafts[s_], f"shaft {names[s_]!r}"))
+    t = _train_arrays(
+        meshes,
+        layout,
+        shafts,
+        gear_shafts,
+        [None if b is not None else m for b, m in zip(bodies, masses, strict=True)],
+        inertias,
+        shares,
+        wrenches,
+        names,
+        (youngs_modulus, poisson_ratio, density),
+        tuple(map(tuple, bodies_z)),
+    )
+    d, first = t["d"], t["first"]
+    n_sh = d["M"].shape[0]
+    spin = np.asarray(layout.spins, float)
+    ratio = np.asarray(layout.ratios, float)
+    role = {}  # each gear's first mesh and its member index there (0 driving, 1 driven)
+    for k, (_, (g, h)) in enumerate(meshes):
+        role.setdefault(g, (k, 0))
+        role.setdefault(h, (k, 1))
+    places = []
+    for g, body in enumerate(bodies):
+        if body is None:
+            places.append(None)
+            continue
+        k, member = role[g]
+        z = shafts[gear_shafts[g]].gear_positions[t["on"][gear_shafts[g]].index(g)]
+        places.append(_BodyPlace(body, gear_shafts[g], z, spin[g] * ratio[g], pairs[k], member))
+    placed = _place_bodies(d, places, density if tooth_mass else None)
+    n, gidxs = placed["n"], placed["gidx"]
+    f_t = np.concatenate([t["f_torque"], np.zeros(n - n_sh)])
+    rb0 = float(meshes[0][0].base_radius_pinion)
+    body_of = {gear_shafts[g]: g for g, b in enumerate(bodies) if b is not None}
+    Nv = np.stack(
+        [
+            _shaft_rotation(
+                d,
+                i,
+                n,
+                bodies[body_of[i]] if i in body_of else None,
+                gidxs[body_of[i]] if i in body_of else None,
+            )
+            / rb0
+            for i in range(n_shafts)
+            if i != t["out"]
+        ],
+        axis=1,
+    )
+    G = _drive_compliance(placed["K"], Nv, dict(t["nodes"])["output"] + 5)
+    out_meshes = train_meshes(meshes, layout, first, n)
+    members = []
+    for g, body in enumerate(bodies):
+        centre = jnp.asarray(layout.centres[g])
+        if body is None:
+            members.append(RigidMember(centre, tuple(range(first[g], first[g] + 6))))
+            continue
+        k, member = role[g]
+        zone = {key: np.asarray(v) for key, v in out_meshes[k].line().items()}
+        window = 0
+        for j, (_, (a, b)) in enumerate(meshes):  # the widest window of the meshes it is in
+            if g in (a, b):
+                fm = flexible_member(
+                    pairs[j], 0 if g == a else 1, body, gidxs[g], centre, zone, meshes[j][0]
+                )
+                window = max(window, fm.n_window)
+        members.append(
+            flexible_member(
+                pairs[k],
+                member,
+                body,
+                gidxs[g],
+                centre,
+                zone,
+                meshes[k][0],
+                window,
+                spin=float(spin[g]),
+                ratio=float(ratio[g]),
+                mesh_angle=float(layout.phases[k]),
+            )
+        )
+    structure = Structure(
+        K=jnp.asarray(placed["K"]),
+        M=jnp.asarray(placed["M"]),
+        parts_K=None,
+        C_bearing=jnp.asarray(d["bearing_C"]),
+        reaction=jnp.asarray(
+            np.concatenate([d["reaction"], np.zeros((d["reaction"].shape[0], n - n_sh))], 1)
+        ),
+        gyroscopic=jnp.asarray(placed["gyroscopic"]),
+        spin_stiffness=jnp.asarray(placed["spin_stiffness"]),
+        f_centrifugal=jnp.asarray(placed["fc"]),
+        part_names=("structure",),
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=t["nodes"],
+    )
+    scene = HybridScene(
+        structure=structure,
+        meshes=out_meshes,
+        members=tuple(members),
+        G=jnp.asarray(G),
+        N=jnp.asarray(Nv),
+        f_torque=jnp.asarray(f_t),
+        x_torque=jnp.asarray(G @ f_t),
+        x_centrifugal=jnp.asarray(G @ placed["fc"]),
+        member_shafts=tuple(int(s_) for s_ in gear_shafts),
+        periods=t["periods"],
+    )
+    return fit_windows(scene)
+
+
+HybridPair = HybridScene  # the name of the pair's scene (a hybrid train is the same class)
 
 
 _J6 = np.zeros((6, 6))
@@ -421,10 +669,11 @@ def _body_rotating(body, added_mass):
     return gy, sk
 
 
-def _rotating_frame(n, d, parts, ratio):
-    """Gyroscopic (n, n) per unit pinion speed and spin stiffness (n, n) per unit pinion speed²
-    of the members whose frames turn: each flexible body at Ω_z = spin·ratio·Ω (the pinion +Ω,
-    the gear −Ω z1/z2) and the shaft that carries it.
+def _rotating_frame(n, d, parts):
+    """Gyroscopic (n, n) per unit scene speed and spin stiffness (n, n) per unit scene speed² of
+    the members whose frames turn: each flexible body at Ω_z = w Ω (``parts``: (shaft, w,
+    global DOFs, (Gy, S)) per body; a pair's pinion w = +1, its gear −z1/z2) and the shaft that
+    carries it.
 
     The rotating-frame equations of a body turning at Ω_z about +z: M Ẍ + 2 Ω_z Gy Ẋ + (K +
     Ω_z² (S + Kσ)) X = … (Coriolis, spin softening, centrifugal stress stiffening; fem_prep
@@ -434,11 +683,10 @@ def _rotating_frame(n, d, parts, ratio):
     gyro = np.zeros((n, n))
     spin_K = np.zeros((n, n))
     offsets = (*d["shaft_offsets"], d["M"].shape[0])
-    for m, gidx, (gy, sk) in parts:
-        w = 1.0 if m == 0 else -ratio  # Ω_z per unit pinion speed
+    for shaft, w, gidx, (gy, sk) in parts:
         gyro[np.ix_(gidx, gidx)] += 2.0 * w * gy
         spin_K[np.ix_(gidx, gidx)] += w * w * sk
-        a, b = offsets[m], offsets[m + 1]
+        a, b = offsets[shaft], offsets[shaft + 1]
         Ms = d["M"][a:b, a:b]
         J = np.kron(np.eye((b - a) // 6), _J6)
         if np.abs(Ms @ J - J @ Ms).max() > 1e-9 * np.abs(Ms).max():
@@ -448,14 +696,15 @@ def _rotating_frame(n, d, parts, ratio):
     return gyro, spin_K
 
 
-def fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
-    """``scene`` with rim windows that hold its contact zone: each condensed member's window
-    (``n_window`` rim stations spanned by the contact zone and the root points) is checked over
-    two mesh periods (96 positions) and widened by one station while a cell reaches beyond it.
-    :func:`hybrid_pair` calls it; call it again after changing a member by hand.
+def fit_windows(scene: HybridScene, tries: int = 4) -> HybridScene:
+    """``scene`` with rim windows that hold its contact zones: each condensed member's window
+    (``n_window`` rim stations spanned by a contact zone and the root points) is checked over
+    two periods of every mesh (96 positions each) and widened by one station while a cell
+    reaches beyond it. :func:`hybrid_pair` and :func:`hybrid_train` call it; call it again
+    after changing a member by hand.
 
     Raises:
-        ValueError: the zone does not fit after ``tries`` widenings.
+        ValueError: the zones do not fit after ``tries`` widenings.
     """
     for _ in range(tries):
         if not _windows_overflow(scene):
@@ -468,11 +717,17 @@ def fit_windows(scene: HybridPair, tries: int = 4) -> HybridPair:
     raise ValueError("hybrid scene: the contact zone does not fit a rim window (internal error)")
 
 
-def _windows_overflow(scene: HybridPair, samples: int = 48) -> bool:
-    """Whether a cell on the flanks reaches beyond its member's window over two mesh periods."""
-    mesh = scene.mesh
-    thetas = (np.arange(2 * samples) + 0.5) * float(mesh.mesh_period_angle) / samples
-    over = jax.jit(jax.vmap(lambda th: scene.window_overflow(mesh.cells(th))))(
-        jnp.asarray(thetas, scene.structure.K.dtype)
-    )
-    return bool(np.any(np.asarray(over)))
+def _windows_overflow(scene: HybridScene, samples: int = 48) -> bool:
+    """Whether a cell on the flanks of any mesh reaches beyond its member's window over two of
+    that mesh's periods."""
+    for mesh in scene.meshes:
+        plane = mesh.base_plane
+        angles = (np.arange(2 * samples) + 0.5) * float(plane.mesh_period_angle) / samples
+        over = jax.jit(
+            jax.vmap(
+                lambda a, mesh=mesh: mesh.window_overflow(scene.members, mesh.base_plane.cells(a))
+            )
+        )(jnp.asarray(angles + float(mesh.phase), scene.structure.K.dtype))
+        if bool(np.any(np.asarray(over))):
+            return True
+    return False

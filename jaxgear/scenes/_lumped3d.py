@@ -690,6 +690,72 @@ def lumped_train(
             gears), a wrench on no shaft, or what :func:`shaft_speeds`, :func:`shaft_torques`
             and :func:`scene_span` refuse.
     """
+    t = _train_arrays(
+        meshes,
+        layout,
+        shafts,
+        gear_shafts,
+        masses,
+        inertias,
+        shares,
+        wrenches,
+        shaft_names,
+        (youngs_modulus, poisson_ratio, density),
+    )
+    d, first, n = t["d"], t["first"], t["d"]["M"].shape[0]
+    offsets, mats = d["shaft_offsets"], d["mats"]
+    rb0 = float(meshes[0][0].base_radius_pinion)
+    rigid = np.zeros(n)
+    for i in range(len(shafts)):
+        rigid[offsets[i] + 5 : offsets[i] + 6 * mats[i].nodes.size : 6] = (
+            t["spins"][i] * t["omega"][i] / rb0
+        )
+    members = tuple(
+        RigidMember(layout.centres[g], tuple(range(first[g], first[g] + 6)))
+        for g in range(len(gear_shafts))
+    )
+    structure = _shaft_structure(
+        d, (*(f"{name}_shaft" for name in t["names"]), "bearings"), t["nodes"]
+    )
+    return GearTrain(
+        structure=structure,
+        meshes=train_meshes(meshes, layout, first, n),
+        members=members,
+        f_torque=jnp.asarray(t["f_torque"]),
+        rigid=jnp.asarray(rigid),
+        periods=t["periods"],
+    )
+
+
+def _train_arrays(
+    meshes,
+    layout,
+    shafts,
+    gear_shafts,
+    masses,
+    inertias,
+    shares,
+    wrenches,
+    shaft_names,
+    material,
+    bodies_z=None,
+) -> dict:
+    """The NumPy parts of a lumped 3D train shared by :func:`lumped_train` and the hybrid train
+    (:func:`~jaxgear.scenes.hybrid_train`): the shafts with a node at each wrench and each
+    condensed body's bearing node (``bodies_z``: more positions per shaft), a rigid disc at each
+    gear whose mass is not ``None``, each gear node's first DOF, the loads per unit input torque
+    (shaft torques and wrenches), the structure's named nodes and the scene span.
+
+    Returns:
+        dict of ``d`` (:func:`_shaft_arrays`), ``names``, ``on`` (each shaft's gears),
+        ``first``, ``f_torque`` (shaft DOFs), ``out`` (the balancing output's shaft),
+        ``spins`` and ``omega`` (each shaft's sense and speed per unit input speed),
+        ``nodes``, ``periods``.
+
+    Raises:
+        ValueError: gears and shafts that do not match, a wrench on no shaft, or what
+            :func:`shaft_torques` and :func:`scene_span` refuse.
+    """
     n_shafts = len(shafts)
     names = shaft_names or tuple(f"shaft{i}" for i in range(n_shafts))
     on = [[g for g, s in enumerate(gear_shafts) if s == i] for i in range(n_shafts)]
@@ -702,44 +768,60 @@ def lumped_train(
     for w in wrenches:
         if not 0 <= w.shaft < n_shafts:
             raise ValueError(f"Wrench: shaft {w.shaft} does not exist (0 to {n_shafts - 1})")
-    extra = tuple(tuple(w.z for w in wrenches if w.shaft == i) for i in range(n_shafts))
-    d = _shaft_arrays(shafts, names, youngs_modulus, poisson_ratio, density, extra)
+    bodies_z = bodies_z or ((),) * n_shafts
+    extra = tuple((*(w.z for w in wrenches if w.shaft == i), *bodies_z[i]) for i in range(n_shafts))
+    d = _shaft_arrays(shafts, names, *material, extra)
     offsets, mats = d["shaft_offsets"], d["mats"]
     first = [None] * len(gear_shafts)  # each gear node's first DOF
     for i, gears in enumerate(on):
         for g, node in zip(gears, mats[i].gear_nodes, strict=True):
             first[g] = offsets[i] + 6 * node
-            _add_gear_body(d["M"], first[g], masses[g], inertias[g])
+            if masses[g] is not None:
+                _add_gear_body(d["M"], first[g], masses[g], inertias[g])
     links = [(gear_shafts[g], gear_shafts[h]) for _, (g, h) in meshes]
     omega = [float(layout.ratios[on[i][0]]) for i in range(n_shafts)]
-    spin = [float(layout.spins[on[i][0]]) for i in range(n_shafts)]
+    spins = [float(layout.spins[on[i][0]]) for i in range(n_shafts)]
     torques, out = shaft_torques(links, omega, shares)
     n = d["M"].shape[0]
     f_torque = np.zeros(n)
     for i, t in torques.items():
-        f_torque[offsets[i] + 6 * mats[i].torque_node + 5] += spin[i] * t
+        f_torque[offsets[i] + 6 * mats[i].torque_node + 5] += spins[i] * t
     for w in wrenches:
         node = offsets[w.shaft] + 6 * int(np.argmin(np.abs(mats[w.shaft].nodes - w.z)))
         f_torque[node : node + 3] += w.force
         f_torque[node + 3 : node + 6] += w.moment
-    rb0 = float(meshes[0][0].base_radius_pinion)
-    rigid = np.zeros(n)
-    for i in range(n_shafts):
-        rigid[offsets[i] + 5 : offsets[i] + 6 * mats[i].nodes.size : 6] = spin[i] * omega[i] / rb0
-    members = tuple(
-        RigidMember(layout.centres[g], tuple(range(first[g], first[g] + 6)))
-        for g in range(len(gear_shafts))
+    periods = [float(plane.mesh_period_angle) / float(layout.ratios[g]) for plane, (g, _) in meshes]
+    nodes = (
+        ("input", offsets[0] + 6 * mats[0].torque_node),
+        ("output", offsets[out] + 6 * mats[out].torque_node),
+        *((f"gear{g}", first[g]) for g in range(len(gear_shafts))),
     )
-    out_meshes, periods = [], []
+    return dict(
+        d=d,
+        names=names,
+        on=on,
+        first=first,
+        f_torque=f_torque,
+        out=out,
+        spins=spins,
+        omega=omega,
+        nodes=nodes,
+        periods=scene_span(periods),
+    )
+
+
+def train_meshes(meshes, layout, first, n: int) -> tuple:
+    """Each mesh of a train as a :class:`~jaxgear.scenes.GearMesh` on its line of action, with
+    its phase, speed ratio, axial sense and TE vector cos β_b (r_b1 θ_g − r_b2 θ_h) (n,) at the
+    gear nodes (``first``: each gear node's first DOF; θ = spin φ_z)."""
+    out = []
     for k, (plane, (g, h)) in enumerate(meshes):
         line = layout.lines[k]
         cb = math.cos(float(plane.base_helix_angle))
-        te = np.zeros(n)  # cos β_b (r_b1 θ_g − r_b2 θ_h), θ = spin φ_z
+        te = np.zeros(n)
         te[first[g] + 5] = cb * float(plane.base_radius_pinion) * layout.spins[g]
         te[first[h] + 5] = -cb * float(plane.base_radius_gear) * layout.spins[h]
-        ratio = float(layout.ratios[g])
-        periods.append(float(plane.mesh_period_angle) / ratio)
-        out_meshes.append(
+        out.append(
             GearMesh(
                 plane,
                 line["tangent_point"],
@@ -748,25 +830,9 @@ def lumped_train(
                 line["roll_start"],
                 te,
                 gears=(g, h),
-                ratio=ratio,
+                ratio=float(layout.ratios[g]),
                 phase=float(layout.phases[k]),
                 axial=line["axial"],
             )
         )
-    structure = _shaft_structure(
-        d,
-        (*(f"{name}_shaft" for name in names), "bearings"),
-        (
-            ("input", offsets[0] + 6 * mats[0].torque_node),
-            ("output", offsets[out] + 6 * mats[out].torque_node),
-            *((f"gear{g}", first[g]) for g in range(len(gear_shafts))),
-        ),
-    )
-    return GearTrain(
-        structure=structure,
-        meshes=tuple(out_meshes),
-        members=members,
-        f_torque=jnp.asarray(f_torque),
-        rigid=jnp.asarray(rigid),
-        periods=scene_span(periods),
-    )
+    return tuple(out)
