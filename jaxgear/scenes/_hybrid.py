@@ -301,6 +301,28 @@ def _place_bodies(d: dict, places: list, tooth_density: float | None) -> dict:
     return dict(K=K, M=M, fc=fc, gyroscopic=gyro, spin_stiffness=spin_K, gidx=gidxs, n=n)
 
 
+def _body_structure(d: dict, placed: dict, nodes: tuple) -> Structure:
+    """The :class:`Structure` of shafts ``d`` with their condensed bodies ``placed``
+    (:func:`_place_bodies`): one stiffness part, the bearing rows padded over the bodies'
+    coordinates, the rotating-frame matrices of the turning bodies."""
+    n = placed["n"]
+    R = d["reaction"]
+    return Structure(
+        K=jnp.asarray(placed["K"]),
+        M=jnp.asarray(placed["M"]),
+        parts_K=None,
+        C_bearing=jnp.asarray(d["bearing_C"]),
+        reaction=jnp.asarray(np.concatenate([R, np.zeros((R.shape[0], n - R.shape[1]))], 1)),
+        gyroscopic=jnp.asarray(placed["gyroscopic"]),
+        spin_stiffness=jnp.asarray(placed["spin_stiffness"]),
+        f_centrifugal=jnp.asarray(placed["fc"]),
+        part_names=("structure",),
+        reaction_names=d["reaction_names"],
+        reaction_member=d["reaction_member"],
+        nodes=nodes,
+    )
+
+
 def _shaft_rotation(d: dict, shaft: int, n: int, body=None, gidx=None) -> np.ndarray:
     """The rigid rotation about +z of shaft ``shaft`` and the condensed body on it (n,): 1 on
     each rotation φ_z of its nodes, (−y, x) on the in-plane DOFs of the body's rim masters
@@ -400,7 +422,6 @@ def hybrid_pair(
         density,
         extra_z=extra,
     )
-    n_sh = d["M"].shape[0]
     ratio = pair.pinion.teeth / pair.gear.teeth
     placed = _place_bodies(
         d,
@@ -411,7 +432,6 @@ def hybrid_pair(
         density if tooth_mass else None,
     )
     n, gidxs = placed["n"], placed["gidx"]
-    pad = lambda a: np.concatenate([a, np.zeros(a.shape[:-1] + (n - n_sh,))], axis=-1)
     rb1, rb2 = pair.base_radii
     cb = math.cos(pair.base_helix_angle)
     g1, g2 = d["gear_dofs"]
@@ -437,20 +457,7 @@ def hybrid_pair(
             members.append(RigidMember(centre, tuple(range(g, g + 6))))
         else:
             members.append(flexible_member(pair, m, body, gidxs[m], centre, zone, mesh))
-    structure = Structure(
-        K=jnp.asarray(placed["K"]),
-        M=jnp.asarray(placed["M"]),
-        parts_K=None,
-        C_bearing=jnp.asarray(d["bearing_C"]),
-        reaction=jnp.asarray(pad(d["reaction"])),
-        gyroscopic=jnp.asarray(placed["gyroscopic"]),
-        spin_stiffness=jnp.asarray(placed["spin_stiffness"]),
-        f_centrifugal=jnp.asarray(placed["fc"]),
-        part_names=("structure",),
-        reaction_names=d["reaction_names"],
-        reaction_member=d["reaction_member"],
-        nodes=d["nodes"],
-    )
+    structure = _body_structure(d, placed, d["nodes"])
     scene = HybridScene(
         structure=structure,
         meshes=(pair_mesh(mesh, line, te),),
@@ -600,22 +607,7 @@ def hybrid_train(
                 mesh_angle=float(layout.phases[k]),
             )
         )
-    structure = Structure(
-        K=jnp.asarray(placed["K"]),
-        M=jnp.asarray(placed["M"]),
-        parts_K=None,
-        C_bearing=jnp.asarray(d["bearing_C"]),
-        reaction=jnp.asarray(
-            np.concatenate([d["reaction"], np.zeros((d["reaction"].shape[0], n - n_sh))], 1)
-        ),
-        gyroscopic=jnp.asarray(placed["gyroscopic"]),
-        spin_stiffness=jnp.asarray(placed["spin_stiffness"]),
-        f_centrifugal=jnp.asarray(placed["fc"]),
-        part_names=("structure",),
-        reaction_names=d["reaction_names"],
-        reaction_member=d["reaction_member"],
-        nodes=t["nodes"],
-    )
+    structure = _body_structure(d, placed, t["nodes"])
     scene = HybridScene(
         structure=structure,
         meshes=out_meshes,
