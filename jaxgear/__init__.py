@@ -29,6 +29,12 @@ from ._geometry import (
 )
 from ._maps import harris_map as harris_map, load_map as load_map
 from ._modifications import MemberModification as MemberModification, Modifications as Modifications
+from ._pressure import (
+    ContactPressure as ContactPressure,
+    contact_modulus as contact_modulus,
+    contact_pressure as contact_pressure,
+    relative_radius as relative_radius,
+)
 from ._quasi_static import (
     MeshResult as MeshResult,
     QuasiStaticResult as QuasiStaticResult,

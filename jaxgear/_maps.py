@@ -17,9 +17,15 @@ __all__ = ["harris_map", "load_map"]
 
 
 def load_map(
-    r: QuasiStaticResult, positions_per_pitch: int, base_pitch: float, path_of_contact: float
+    r: QuasiStaticResult,
+    positions_per_pitch: int,
+    base_pitch: float,
+    path_of_contact: float,
+    field=None,
 ):
-    """Maximum line load (N/m) over a tooth's passage on a grid of the base plane.
+    """Maximum line load (N/m) over a tooth's passage on a grid of the base plane; ``field``: a
+    cell field of the shape of ``r.line_load`` mapped instead (the contact pressure of
+    :func:`~jaxgear.contact_pressure`, Pa).
 
     Every tooth pair meets the same cells (no pitch deviations), so the maximum over all positions
     and contact lines at a base-plane point is the maximum over one tooth's passage.
@@ -38,7 +44,7 @@ def load_map(
     n_s = max(1, int(math.floor(path_of_contact / ds)))
     width = path_of_contact / n_s
     s = np.asarray(r.cell_s).reshape(-1, r.cell_s.shape[-1])
-    p = np.asarray(r.line_load).reshape(s.shape)
+    p = np.asarray(r.line_load if field is None else field).reshape(s.shape)
     mask = np.asarray(r.cell_mask).reshape(s.shape)
     idx = np.clip(np.floor(s / width).astype(int), 0, n_s - 1)
     out = np.full((n_s, s.shape[1]), -np.inf)

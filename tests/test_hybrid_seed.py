@@ -58,8 +58,8 @@ def test_power_peak_load_over_the_web_rim_joint_and_the_rim_growth_at_speed(powe
     """Seed III-17: at rest the peak load sits over the web-rim joint (the web meets the rim
     12 mm off mid-face, 8 mm from the z = 0 edge of the face). Seed III-25/26: at 3000 rad/s
     (pinion) the rim grows by ≈ 80 µm (free ring: 54 µm) and the load moves
-    towards the cantilevered edge (z = b). Measured: peak at 9.5 mm, growth 53.8 µm, load
-    centroid +2.0 mm, load on the cantilevered quarter × 5.5."""
+    towards the cantilevered edge (z = b). Measured: peak at 10.5 mm, growth 53.8 µm, load
+    centroid +2.0 mm, load on the cantilevered quarter × 6.5."""
     case, out = power
     load0, z = _slice_loads(out[0.0][1])
     load1, _ = _slice_loads(out[3000.0][1])

@@ -26,12 +26,15 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "transmission_error.png",
         "mesh_stiffness.png",
         "load_map.png",
+        "pressure_map.png",
         "harris_map.png",
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
     "scene": (
         "load_map.png",
         "load_map_speed.png",
+        "pressure_map.png",
+        "pressure_map_speed.png",
         "body_pinion.vtu",
         "body_gear.vtu",
         "contact.vtu",
@@ -47,9 +50,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
     "bench trains": ("bench_trains.json", "bench_trains.png"),
 }
-# what ``jaxgear run`` writes for a train case besides a pair's names: a load map per mesh (named
-# after its gears) and the layout with its phasing
-TRAIN_FILES = ("load_map_*.png", "phasing.png")
+# what ``jaxgear run`` writes for a train case besides a pair's names: a load map and a pressure
+# map per mesh (named after its gears) and the layout with its phasing
+TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png")
 OUTPUT_FILES["run"] += TRAIN_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

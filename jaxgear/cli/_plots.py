@@ -150,10 +150,22 @@ def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pin
     )
 
 
-def load_map_plot(path, s_edges, z_edges, lmap, *, title: str, vmax: float | None = None):
-    """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs.
+def load_map_plot(
+    path,
+    s_edges,
+    z_edges,
+    lmap,
+    *,
+    title: str,
+    vmax: float | None = None,
+    label: str = "max line load (N/mm)",
+    unit: float = 1e3,
+):
+    """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs
+    (``label`` and ``unit``, the SI value of one displayed unit, for another field: the contact
+    pressure in MPa, 1e6).
 
-    The colour scale runs from 0 to ``vmax`` (N/m; default: the map's maximum): maps that are
+    The colour scale runs from 0 to ``vmax`` (SI; default: the map's maximum): maps that are
     to be compared (a body at rest and at speed) pass the same ``vmax``. Returns the image's
     :class:`~matplotlib.collections.QuadMesh` (its ``norm`` is the colour scale)."""
     fig, ax = new_figure()
@@ -163,13 +175,13 @@ def load_map_plot(path, s_edges, z_edges, lmap, *, title: str, vmax: float | Non
     pc = ax.pcolormesh(
         np.asarray(s_edges) * 1e3,
         np.asarray(z_edges) * 1e3,
-        data.T / 1e3,
+        data.T / unit,
         shading="flat",
         cmap="viridis",
         vmin=0.0,
-        vmax=max(vmax, 1e-12) / 1e3,
+        vmax=max(vmax, 1e-12) / unit,
     )
-    fig.colorbar(pc, ax=ax, label="max line load (N/mm)")
+    fig.colorbar(pc, ax=ax, label=label)
     _finish(
         fig,
         ax,

@@ -13,11 +13,21 @@ from .. import QuasiStaticResult, __version__
 __all__ = ["environment_summary", "mesh_settings_summary", "result_summary"]
 
 
-def result_summary(r: QuasiStaticResult, mesh: int | None = None) -> dict:
+def result_summary(r: QuasiStaticResult, mesh: int | None = None, pressure=None) -> dict:
     """Scalar figures of a quasi-static result (SI units), JSON-ready: of its one mesh, or of
-    mesh ``mesh`` of a scene with several (a train)."""
+    mesh ``mesh`` of a scene with several (a train); with that mesh's
+    :class:`~jaxgear.ContactPressure`, its largest Hertzian pressure ``max_contact_pressure_Pa``
+    and the half-width there ``contact_half_width_at_max_m``."""
     m = r if mesh is None else r.meshes[mesh]
     k = np.asarray(m.mesh_stiffness)
+    extra = {}
+    if pressure is not None:
+        p = np.asarray(pressure.max_pressure)
+        i = np.unravel_index(int(np.argmax(p)), p.shape)
+        extra = {
+            "max_contact_pressure_Pa": float(p[i]),
+            "contact_half_width_at_max_m": float(np.asarray(pressure.half_width)[i]),
+        }
     return {
         "te_mean_m": float(m.te_mean),
         "te_rms_m": float(m.te_rms),
@@ -28,6 +38,7 @@ def result_summary(r: QuasiStaticResult, mesh: int | None = None) -> dict:
         "contact_length_mean_m": float(np.mean(m.contact_length)),
         "max_line_load_N_per_m": float(m.max_line_load),
         "max_contact_iterations": int(np.max(r.iterations)),
+        **extra,
     }
 
 

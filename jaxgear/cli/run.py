@@ -13,6 +13,7 @@ from .. import (
     Case,
     Modifications,
     TrainCase,
+    contact_pressure,
     harris_map,
     load_map,
     quasi_static,
@@ -38,7 +39,8 @@ def run_case(
     case's modifications), the load map and the Harris map, and write them to ``out_dir``.
 
     Files (written atomically): ``summary.json``, ``te.csv``, ``mesh_stiffness.csv``,
-    ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``harris_map.png``.
+    ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``pressure_map.png``
+    (the Hertzian contact pressure, :func:`~jaxgear.contact_pressure`), ``harris_map.png``.
 
     ``summary.json`` says ``"complete": complete`` (``jaxgear run`` passes False when a sweep or
     an optimisation follows, and rewrites it at the end).
@@ -76,6 +78,17 @@ def run_case(
     s_edges, z, lmap = load_map(
         res["modified", "exact"], ppp, pair.base_pitch, pair.path_of_contact
     )
+    pressure = {
+        key: contact_pressure(pair, r, case.youngs_modulus, case.poisson_ratio)
+        for key, r in res.items()
+    }
+    _, _, pmap = load_map(
+        res["modified", "exact"],
+        ppp,
+        pair.base_pitch,
+        pair.path_of_contact,
+        field=pressure["modified", "exact"].max_pressure,
+    )
     steps.update()
 
     summary = {
@@ -84,9 +97,13 @@ def run_case(
         "geometry": pair.summary(),
         "operating": {"torque_Nm": case.torque, "normal_load_N": case.normal_load},
         "mesh": mesh_settings_summary(case),
-        "quasi_static": {m: result_summary(res["modified", m]) for m in ("exact", "smooth")},
+        "quasi_static": {
+            m: result_summary(res["modified", m], None, pressure["modified", m])
+            for m in ("exact", "smooth")
+        },
         "quasi_static_unmodified": {
-            m: result_summary(res["unmodified", m]) for m in ("exact", "smooth")
+            m: result_summary(res["unmodified", m], None, pressure["unmodified", m])
+            for m in ("exact", "smooth")
         },
         "harris_map": {
             "torque_Nm": torques.tolist(),
@@ -107,7 +124,13 @@ def run_case(
         for lab in ("unmodified", "modified")
         for m in ("exact", "smooth")
     }
-    lcols = {"contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length)}
+    lcols = {
+        "contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length),
+        # the largest Hertzian pressure on the flanks at each position (seed IV-44)
+        "max_contact_pressure_exact_modified_Pa": np.asarray(
+            pressure["modified", "exact"].max_pressure
+        ).max(axis=(1, 2)),
+    }
     write_csv(
         os.path.join(out_dir, "mesh_stiffness.csv"),
         ["theta_rad", *kcols, *lcols],
@@ -139,6 +162,15 @@ def run_case(
         np.concatenate([[0.0], z + dz / 2]),
         lmap,
         title=f"{case.name}: load map over a tooth passage (exact, modified)",
+    )
+    _plots.load_map_plot(
+        os.path.join(out_dir, "pressure_map.png"),
+        s_edges,
+        np.concatenate([[0.0], z + dz / 2]),
+        pmap,
+        title=f"{case.name}: Hertzian contact pressure over a tooth passage (exact, modified)",
+        label="max contact pressure (MPa)",
+        unit=1e6,
     )
     _plots.harris_plot(
         os.path.join(out_dir, "harris_map.png"),

@@ -46,10 +46,11 @@ def _flexible(scene, bodies):
     ]
 
 
-def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
+def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
     the body turned to that position, centred on its axis) and of the loaded contact cells with
-    their line loads (N/mm)."""
+    their line loads (N/mm), Hertzian pressures (MPa) and contact half-widths (mm) (``pressure``:
+    the result's :class:`~jaxgear.ContactPressure`)."""
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
     theta = float(res.theta[k])
     x = np.asarray(res.x[k])
@@ -61,11 +62,13 @@ def write_scene_vtu(out_dir, scene, bodies, res) -> list[str]:
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
     load = np.asarray(res.line_load[k]).reshape(-1)[on] / 1e3
+    p0 = np.asarray(pressure.max_pressure[k]).reshape(-1)[on] / 1e6
+    half = np.asarray(pressure.half_width[k]).reshape(-1)[on] * 1e3
     write_vtu(
         os.path.join(out_dir, "contact.vtu"),
         P,
         [("vertex", np.arange(P.shape[0])[:, None])],
-        {"line_load_N_per_mm": load},
+        {"line_load_N_per_mm": load, "contact_pressure_MPa": p0, "contact_half_width_mm": half},
     )
     written.append("contact.vtu")
     return written
@@ -85,7 +88,7 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     """
     from tqdm.auto import tqdm
 
-    from .. import load_map
+    from .. import contact_pressure, load_map
     from ..dynamics import bearing_forces, load_bodies, static_scene
     from . import _plots
     from ._summary import result_summary
@@ -104,7 +107,11 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     bar.set_postfix_str("building the scene")
     scene, bodies = static_scene(case, slices=slices, bodies=bodies)
     out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
-    res = {}
+    res, pressure = {}, {}
+
+    def hertz(r):
+        return contact_pressure(case.pair, r, case.youngs_modulus, case.poisson_ratio)
+
     for mode in ("exact", "smooth"):
         bar.update()
         bar.set_postfix_str(f"quasi-static, {mode} contact")
@@ -116,7 +123,8 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             contact=case.contact_law(mode),
             positions_per_pitch=case.positions_per_pitch,
         )
-        out[mode] = result_summary(res[mode])
+        pressure[mode] = hertz(res[mode])
+        out[mode] = result_summary(res[mode], None, pressure[mode])
         out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
     bar.update()
     if not case.scene.hybrid:
@@ -145,27 +153,37 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             case.torque,
             positions_per_pitch=ppp,
         )
-        out["exact_at_rest"] = result_summary(rest)
+        out["exact_at_rest"] = result_summary(rest, None, hertz(rest))
         maps = [
             ("load_map.png", rest, "at rest"),
             ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
         ]
         bar.update()
-    bar.set_postfix_str("load maps, VTU files")
-    lmaps = [load_map(r, ppp, pair.base_pitch, pair.path_of_contact) for _, r, _ in maps]
-    vmax = max(float(np.nanmax(m)) for _, _, m in lmaps)  # one colour scale: at rest vs at speed
-    for (name, _, label), (s_edges, z, lmap) in zip(maps, lmaps, strict=True):
-        dz = pair.face_width / len(z)
-        _plots.load_map_plot(
-            os.path.join(out_dir, name),
-            s_edges,
-            np.concatenate([[0.0], z + dz / 2]),
-            lmap,
-            title=f"{case.name}: load map, hybrid scene {label}".rstrip(),
-            vmax=vmax,
-        )
-        files.append(name)
-    files += write_scene_vtu(out_dir, scene, bodies, res["exact"])
+    bar.set_postfix_str("load and pressure maps, VTU files")
+    for kind, field, label, unit in (
+        ("load", lambda r: None, "max line load (N/mm)", 1e3),
+        ("pressure", lambda r: hertz(r).max_pressure, "max contact pressure (MPa)", 1e6),
+    ):
+        grids = [
+            load_map(r, ppp, pair.base_pitch, pair.path_of_contact, field=field(r))
+            for _, r, _ in maps
+        ]
+        vmax = max(float(np.nanmax(m)) for _, _, m in grids)  # one scale: at rest vs at speed
+        for (name, _, when), (s_edges, z, grid) in zip(maps, grids, strict=True):
+            name = name.replace("load_map", f"{kind}_map")
+            dz = pair.face_width / len(z)
+            _plots.load_map_plot(
+                os.path.join(out_dir, name),
+                s_edges,
+                np.concatenate([[0.0], z + dz / 2]),
+                grid,
+                title=f"{case.name}: {kind} map, hybrid scene {when}".rstrip(),
+                vmax=vmax,
+                label=label,
+                unit=unit,
+            )
+            files.append(name)
+    files += write_scene_vtu(out_dir, scene, bodies, res["exact"], pressure["exact"])
     out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
     bar.set_postfix_str("")
     bar.update()

@@ -9,7 +9,7 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Modifications, TrainCase, load_map, quasi_static
+from .. import Modifications, TrainCase, contact_pressure, load_map, quasi_static
 from ..dynamics import bearing_forces, load_bodies
 from ..io import atomic_open, write_csv
 from ._summary import environment_summary, mesh_settings_summary, result_summary
@@ -32,7 +32,8 @@ def run_train(
     figures of a pair case; a lumped 3D train: ``bearing_forces_mean_N`` per contact law, fixed
     frame), ``te.csv`` and ``mesh_stiffness.csv`` (a column per mesh, design
     and contact law, against the input angle), ``transmission_error.png``,
-    ``mesh_stiffness.png``, ``load_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
+    ``mesh_stiffness.png``, ``load_map_<driving>-<driven>.png`` and
+    ``pressure_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
     (layout and mesh phasing).
 
     Returns:
@@ -64,6 +65,11 @@ def run_train(
             steps.update()
     n_meshes = len(case.pairs)
     names = [case.mesh_name(k) for k in range(n_meshes)]
+    pressure = {  # each mesh's Hertzian contact pressure
+        (key, k): contact_pressure(pair, r.meshes[k], case.youngs_modulus, case.poisson_ratio)
+        for key, r in res.items()
+        for k, pair in enumerate(case.pairs)
+    }
     members = case.members()
     base_radii = [None] * case.n_gears
     for pair, (g, h) in zip(case.pairs, case.gears, strict=True):
@@ -90,10 +96,12 @@ def run_train(
                 ),
                 "geometry": pair.summary(),
                 "quasi_static": {
-                    m: result_summary(res["modified", m], k) for m in ("exact", "smooth")
+                    m: result_summary(res["modified", m], k, pressure[("modified", m), k])
+                    for m in ("exact", "smooth")
                 },
                 "quasi_static_unmodified": {
-                    m: result_summary(res["unmodified", m], k) for m in ("exact", "smooth")
+                    m: result_summary(res["unmodified", m], k, pressure[("unmodified", m), k])
+                    for m in ("exact", "smooth")
                 },
             }
         )
@@ -203,6 +211,22 @@ def run_train(
             np.concatenate([[0.0], z + dz / 2]),
             lmap,
             title=f"{case.name}: load map of {names[k]} (exact, modified)",
+        )
+        _, _, pmap = load_map(
+            res["modified", "exact"].meshes[k],
+            ppp,
+            pair.base_pitch,
+            pair.path_of_contact,
+            field=pressure[("modified", "exact"), k].max_pressure,
+        )
+        _plots.load_map_plot(
+            os.path.join(out_dir, f"pressure_map_{names[k]}.png"),
+            s_edges,
+            np.concatenate([[0.0], z + dz / 2]),
+            pmap,
+            title=f"{case.name}: Hertzian contact pressure of {names[k]} (exact, modified)",
+            label="max contact pressure (MPa)",
+            unit=1e6,
         )
     marks = {}
     for k, pair in enumerate(case.pairs):
