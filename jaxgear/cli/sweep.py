@@ -69,7 +69,7 @@ def sweep_case(
     import jax
     from tqdm.auto import tqdm
 
-    from .. import DynamicsResult
+    from .. import DynamicsResult, TrainCase
     from ..dynamics import (
         SceneSpec,
         build_dynamic_model,
@@ -100,7 +100,7 @@ def sweep_case(
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
     hybrid = spec.hybrid
-    if vtu_speed is not None and not (hybrid and len(spec.bodies) == 2):
+    if vtu_speed is not None and not (hybrid and not isinstance(case, TrainCase)):
         raise ValueError(
             f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
             "to export ([scene.gear_body] or [scene.pinion_body] of a pair)"
@@ -196,7 +196,7 @@ def sweep_case(
                 "rotating_frame": spec.rotating_frame,
             }
         )
-        if n_meshes == 1:
+        if not isinstance(case, TrainCase):
             z_input, z_wheel = case.pair.pinion.teeth, case.pair.gear.teeth
             summary.update(pinion_teeth=z_input, wheel_teeth=z_wheel)
         else:
