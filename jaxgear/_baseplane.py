@@ -25,7 +25,7 @@ from jaxtyping import Array, Bool, Float, Int
 from ._geometry import GearPair
 from ._util import as_float
 
-__all__ = ["CellRow", "Cells", "MeshModel", "split_by_mesh"]
+__all__ = ["CellRow", "Cells", "MeshModel", "mesh_positions", "split_by_mesh"]
 
 
 def _interp_uniform(x, xp, fp):
@@ -244,3 +244,21 @@ class MeshModel(eqx.Module):
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))
+
+
+def mesh_positions(
+    mesh: MeshModel, positions_per_pitch: int, periods: int = 1
+) -> Float[Array, " P"]:
+    """Pinion angles (rad) at the mid-points of ``positions_per_pitch`` steps per mesh period.
+
+    Mid-points keep contact-line ends off the exact edges s = 0 and s = g_α.
+    """
+    if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
+        raise ValueError(
+            f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
+            "allowed an integer >= 2"
+        )
+    if int(periods) != periods or periods < 1:
+        raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
+    k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
+    return k * mesh.mesh_period_angle / positions_per_pitch

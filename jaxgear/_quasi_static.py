@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._baseplane import MeshModel, split_by_mesh
+from ._baseplane import MeshModel, mesh_positions, split_by_mesh
 from ._contact import (
     ContactLaw,
     ExactContact,
@@ -106,24 +106,6 @@ class QuasiStaticResult(eqx.Module):
     te_rms = of_the_one_mesh("te_rms")
     te_ptp = of_the_one_mesh("te_ptp")
     max_line_load = of_the_one_mesh("max_line_load")
-
-
-def mesh_positions(
-    mesh: MeshModel, positions_per_pitch: int, periods: int = 1
-) -> Float[Array, " P"]:
-    """Pinion angles (rad) at the mid-points of ``positions_per_pitch`` steps per mesh period.
-
-    Mid-points keep contact-line ends off the exact edges s = 0 and s = g_α.
-    """
-    if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
-        raise ValueError(
-            f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
-            "allowed an integer >= 2"
-        )
-    if int(periods) != periods or periods < 1:
-        raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
-    k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
-    return k * mesh.mesh_period_angle / positions_per_pitch
 
 
 def per_mesh_modifications(mods, n_meshes: int) -> tuple[Modifications, ...]:

@@ -381,3 +381,37 @@ def test_the_speed_is_an_argument_of_the_solve(case, scene):
     a = jg.quasi_static(mesh, case.modifications, case.torque, theta)
     b = jg.quasi_static(mesh, case.modifications, case.torque, theta, speed=3000.0)
     assert float(a.te_mean) == float(b.te_mean)
+
+
+def test_cached_window_compliance_gives_the_same_solve(case, scene):
+    """The window compliance cached per position (it depends on the scene and the position
+    only) gives the quasi-static result formed at each position: TE, line loads and coordinates
+    to 1e-12 (relative), at two torques and another tip relief, and the same gradient with
+    respect to the relief depth; a position that is not cached raises."""
+    from jaxgear.scenes import cache_window_compliance
+
+    theta = jg.mesh_positions(case.mesh_model(), 16, 1)
+    cached = cache_window_compliance(scene, theta)
+    assert cached.compliance.C.shape[0] == 16
+    mods = case.modifications
+    deeper = dataclasses.replace(
+        mods, gear=dataclasses.replace(mods.gear, tip_relief_depth=2 * mods.gear.tip_relief_depth)
+    )
+    for torque, m in ((case.torque, mods), (2.5 * case.torque, deeper)):
+        a = jg.quasi_static(scene, m, torque, theta)
+        b = jg.quasi_static(cached, m, torque, theta)
+        for f in ("transmission_error", "line_load"):
+            x, y = np.asarray(getattr(a, f)), np.asarray(getattr(b, f))
+            np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
+        np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-12 * np.abs(np.asarray(a.x)).max())
+
+    def rms(s, depth):
+        g = dataclasses.replace(mods.gear, tip_relief_depth=depth)
+        return jg.quasi_static(s, dataclasses.replace(mods, gear=g), case.torque, theta).te_rms
+
+    d0 = mods.gear.tip_relief_depth
+    assert float(jax.grad(lambda d: rms(cached, d))(d0)) == pytest.approx(
+        float(jax.grad(lambda d: rms(scene, d))(d0)), rel=1e-9
+    )
+    with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
+        jg.quasi_static(cached, mods, case.torque, theta + 1e-4)

@@ -117,7 +117,7 @@ def test_accessory_te_rms_order_init_h1_h2(cache):
 def test_power_crowning_optimum_at_speed(cache):
     """Seed IV-47/48: at 3000 rad/s a light crowning minimises the maximum line load of the power
     pair (the seed's compromise ≈ 10 µm, with edge contact lost at 20 µm). Ours (the case's
-    10 µm tip relief, crowning per member): gradient optimum 4.1 µm, the web-side edge unloaded
+    10 µm tip relief, crowning per member): gradient optimum 3.7 µm, the web-side edge unloaded
     from 16 µm (docs/crowning_at_speed.png): optimum in 2–10 µm, the edge unloaded by 20 µm."""
     import jax.numpy as jnp
 

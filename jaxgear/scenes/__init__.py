@@ -29,9 +29,12 @@ from ._gear_mesh import (
 from ._hybrid import (
     HybridPair as HybridPair,
     HybridScene as HybridScene,
+    WindowCompliance as WindowCompliance,
+    cache_window_compliance as cache_window_compliance,
     fit_windows as fit_windows,
     hybrid_pair as hybrid_pair,
     hybrid_train as hybrid_train,
+    window_compliance as window_compliance,
 )
 from ._interface import (
     FlexibleMember as FlexibleMember,

@@ -30,9 +30,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import scipy.linalg as sla
-from jaxtyping import Array, Float
+from jaxtyping import Array, Float, Int
 
-from .._baseplane import CellRow, Cells, MeshModel
+from .._baseplane import CellRow, Cells, MeshModel, mesh_positions
 from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
@@ -41,7 +41,37 @@ from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_me
 from ._lumped3d import ShaftSpec, _lumped_arrays, _train_arrays, train_meshes
 from ._structure import AssembledScene, Structure
 
-__all__ = ["HybridPair", "HybridScene", "hybrid_pair", "hybrid_train"]
+__all__ = [
+    "HybridPair",
+    "HybridScene",
+    "WindowCompliance",
+    "cache_window_compliance",
+    "hybrid_pair",
+    "hybrid_train",
+    "window_compliance",
+]
+
+
+class WindowCompliance(eqx.Module):
+    """The parts of the cell-space contact problem that depend on the scene and the position
+    only, at P positions (:func:`window_compliance`): not on the modifications, the torque or the
+    contact law, so a map, a torque sweep or an optimisation reuses them (docs/hybrid.md,
+    "Statics in the cell space").
+
+    Attributes:
+        theta: the scene angles (rad), (P,). idx: each position's window W (P, w).
+        V: the structure vectors on it (P, c, w). C: V_W G_WW V_Wᵀ (m/N), (P, c, c).
+        E: V_W N_W, (P, c, r). a_torque, a_centrifugal: V_W x_W of the unit torque and of the
+            unit speed² centrifugal load (m), (P, c).
+    """
+
+    theta: Float[Array, " P"]
+    idx: Int[Array, "P w"]
+    V: Float[Array, "P c w"]
+    C: Float[Array, "P c c"]
+    E: Float[Array, "P c r"]
+    a_torque: Float[Array, "P c"]
+    a_centrifugal: Float[Array, "P c"]
 
 
 class HybridScene(AssembledScene):
@@ -71,6 +101,8 @@ class HybridScene(AssembledScene):
         member_shafts: static, each member's shaft (its bearings turn with a flexible body).
         periods: static, first-mesh periods after which every mesh's cells repeat
             (:meth:`scene_periods`; 1 for a pair or an idler train).
+        compliance: the window compliance at a set of positions
+            (:func:`cache_window_compliance`), or None: formed at each position.
         f_torque: load per unit pinion torque (n,) (:class:`AssembledScene`).
         x_torque, x_centrifugal: G f_torque,
             G f_centrifugal (the pinion speed Ω is an argument of the methods and solvers that
@@ -84,6 +116,7 @@ class HybridScene(AssembledScene):
     x_centrifugal: Float[Array, " n"]
     member_shafts: tuple = eqx.field(static=True, default=(0, 1))
     periods: int = eqx.field(static=True, default=1)
+    compliance: WindowCompliance | None = None
 
     def scene_periods(self) -> int:
         """:attr:`periods`."""
@@ -126,10 +159,42 @@ class HybridScene(AssembledScene):
         (:func:`jaxgear.solve_contact_cells` on :meth:`cell_space`, the centrifugal load at
         pinion speed ``speed``): (the contact solution, X (n,), u·X of each mesh (m),
         (meshes,)); the arguments are those of :meth:`jaxgear.scenes.Scene.static_contact`."""
-        r = self.window_row(cells, delta0)
-        C, a0, E, b, x0 = self.cell_space(r, torque, speed)
+        if self.compliance is None:
+            r = self.window_row(cells, delta0)
+            C, a0, E, b, x0 = self.cell_space(r, torque, speed)
+        else:
+            r, C, a0, E, b, x0 = self._cached(cells, delta0, torque, speed)
         sol, force, alpha = solve_contact_cells(C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law)
         return sol, self.recover(r, x0, force, alpha), self.te_recover(r, x0, force, alpha)
+
+    def _cached(self, cells: tuple, delta0: tuple, torque, speed):
+        """:meth:`cell_space` read from :attr:`compliance` at the cached position of the cells'
+        scene angle (an error if there is none within 1e-9 of a mesh period)."""
+        cache = self.compliance
+        mesh = self.meshes[0]
+        theta = (cells[0].theta - mesh.phase) / mesh.ratio
+        i = jnp.argmin(jnp.abs(cache.theta - theta))
+        tol = 1e-9 * mesh.base_plane.mesh_period_angle / mesh.ratio
+        i = eqx.error_if(
+            i,
+            jnp.abs(cache.theta[i] - theta) > tol,
+            "HybridScene.compliance: the position is not one of the cached positions (cache "
+            "the positions the solve takes: cache_window_compliance(scene, theta))",
+        )
+        flat = [
+            jnp.concatenate([f(c, d).reshape(-1) for c, d in zip(cells, delta0, strict=True)])
+            for f in (
+                lambda c, d: c.stiffness,
+                lambda c, d: c.length,
+                lambda c, d: d,
+                lambda c, d: c.mask,
+            )
+        ]
+        r = CellRow(cache.idx[i], cache.V[i], *flat)
+        x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
+        a0 = torque * cache.a_torque[i] + speed**2 * cache.a_centrifugal[i]
+        b = self.N.T @ self.external_load(torque, speed)
+        return r, cache.C[i], a0, cache.E[i], b, x0
 
     def bearing_forces_fixed_frame(self, theta, F):
         """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
@@ -686,6 +751,52 @@ def _rotating_frame(n, d, parts):
         gyro[a:b, a:b] += 2.0 * w * Ms @ J
         spin_K[a:b, a:b] += w * w * (Ms @ J @ J)
     return gyro, spin_K
+
+
+def window_compliance(scene: HybridScene, theta) -> WindowCompliance:
+    """The position-only parts of the cell-space contact problem of ``scene`` at the scene
+    angles ``theta`` (rad), (P,): the windows, structure vectors, C = V_W G_WW V_Wᵀ, E = V_W N_W
+    and the free gaps of the unit loads (:class:`WindowCompliance`), vmapped over the
+    positions. Memory: P (c² + c w + c r) floats."""
+    theta = jnp.asarray(theta, scene.structure.K.dtype)
+
+    def one(th):
+        cells = tuple(
+            p.cells(a) for p, a in zip(scene.base_planes, scene.mesh_angles(th), strict=True)
+        )
+        r = scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells))
+        Gw = scene.G[r.idx[:, None], r.idx[None, :]]
+        return (
+            r.idx,
+            r.V,
+            r.V @ Gw @ r.V.T,
+            r.V @ scene.N[r.idx],
+            r.V @ scene.x_torque[r.idx],
+            r.V @ scene.x_centrifugal[r.idx],
+        )
+
+    return WindowCompliance(theta, *jax.vmap(one)(theta))
+
+
+def cache_window_compliance(
+    scene: HybridScene, theta=None, *, positions_per_pitch: int = 64, periods: int = 1
+) -> HybridScene:
+    """``scene`` holding its :func:`window_compliance` at the positions ``theta`` (rad; default
+    the positions :func:`jaxgear.quasi_static` takes for ``positions_per_pitch`` and
+    ``periods``): a quasi-static solve at those positions then skips forming the windows and
+    their compliance (the half of a hybrid TE curve's cost that does not depend on the
+    modifications, the torque or the speed), with the same result. A solve at another position
+    raises (:class:`equinox.EquinoxRuntimeError`)."""
+    if theta is None:
+        theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
+    return eqx.tree_at(
+        lambda s: s.compliance,
+        scene,
+        window_compliance(
+            eqx.tree_at(lambda s: s.compliance, scene, None, is_leaf=lambda x: x is None), theta
+        ),
+        is_leaf=lambda x: x is None,
+    )
 
 
 def fit_windows(scene: HybridScene, tries: int = 4) -> HybridScene:
