@@ -44,6 +44,8 @@ def test_bench_hybrid_quick(tmp_path, monkeypatch):
     for mode in ("exact", "smooth"):
         assert tc["ratio_hybrid_over_rigid"][mode]["jit"] > 0
     assert tc["hybrid_te_rms_m"] > 0 and tc["rigid_te_rms_m"] > 0
+    cached = tc["hybrid_cached_compliance"]  # the same curve from the cached compliance
+    assert cached["te_max_rel_diff"] <= 1e-12 and cached["per_curve_s"] > 0
 
     rm = saved["relief_map"]
     assert rm["shape"] == [5, 5] and rm["slices"] == 8 and rm["positions_per_pitch"] == 16
