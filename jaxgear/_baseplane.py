@@ -25,7 +25,14 @@ from jaxtyping import Array, Bool, Float, Int
 from ._geometry import GearPair
 from ._util import as_float
 
-__all__ = ["CellRow", "Cells", "MeshModel", "mesh_positions", "split_by_mesh"]
+__all__ = [
+    "CellRow",
+    "Cells",
+    "MeshModel",
+    "check_positions",
+    "mesh_positions",
+    "split_by_mesh",
+]
 
 
 def _interp_uniform(x, xp, fp):
@@ -253,6 +260,18 @@ def mesh_positions(
 
     Mid-points keep contact-line ends off the exact edges s = 0 and s = g_α.
     """
+    check_positions(positions_per_pitch, periods)
+    k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
+    return k * mesh.mesh_period_angle / positions_per_pitch
+
+
+def check_positions(positions_per_pitch, periods) -> None:
+    """One-line errors for position counts: ``positions_per_pitch`` an integer >= 2, ``periods``
+    an integer >= 1.
+
+    Raises:
+        ValueError: either out of range (naming the setting and the allowed range).
+    """
     if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
         raise ValueError(
             f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
@@ -260,5 +279,3 @@ def mesh_positions(
         )
     if int(periods) != periods or periods < 1:
         raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
-    k = jnp.arange(positions_per_pitch * periods, dtype=mesh.base_pitch.dtype) + 0.5
-    return k * mesh.mesh_period_angle / positions_per_pitch

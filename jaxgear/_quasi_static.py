@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._baseplane import MeshModel, mesh_positions, split_by_mesh
+from ._baseplane import MeshModel, check_positions, mesh_positions, split_by_mesh
 from ._contact import (
     ContactLaw,
     ExactContact,
@@ -264,13 +264,7 @@ def quasi_static(
         eqx.EquinoxRuntimeError: torque <= 0, width <= 0, a negative speed on a hybrid scene,
             solver failure (with ``throw``).
     """
-    if int(positions_per_pitch) != positions_per_pitch or positions_per_pitch < 2:
-        raise ValueError(
-            f"mesh.positions_per_pitch = {positions_per_pitch!r} is out of range: "
-            "allowed an integer >= 2"
-        )
-    if int(periods) != periods or periods < 1:
-        raise ValueError(f"periods = {periods!r} is out of range: allowed an integer >= 1")
+    check_positions(positions_per_pitch, periods)
     if isinstance(scene, MeshModel):
         mesh, scene = scene, None
         n_meshes = 1

@@ -272,7 +272,8 @@ def test_hybrid_load_maps_at_rest_and_at_speed_share_one_scale(
     tmp_path, fem_prep_cache, monkeypatch
 ):
     """``jaxgear run`` of a hybrid case at speed: load_map.png (at rest) and load_map_speed.png
-    are drawn on one colour scale, 0 to the larger maximum of the two."""
+    are drawn on one colour scale, 0 to the larger maximum of the two; so are the pressure
+    maps (MPa)."""
     for f in DATA.glob("hybrid-test-*.toml"):
         shutil.copy(f, tmp_path)
     toml = tmp_path / "hybrid-test-case.toml"
@@ -282,13 +283,19 @@ def test_hybrid_load_maps_at_rest_and_at_speed_share_one_scale(
 
     def spy(path, s_edges, z_edges, lmap, **kw):
         norm = draw(path, s_edges, z_edges, lmap, **kw).norm
-        drawn[pathlib.Path(path).name] = (np.nanmax(lmap), norm)
+        drawn[pathlib.Path(path).name] = (np.nanmax(lmap) / kw.get("unit", 1e3), norm)
 
     monkeypatch.setattr(plots, "load_map_plot", spy)
     scene_outputs(load_case(toml), str(tmp_path / "out"))
-    assert set(drawn) == {"load_map.png", "load_map_speed.png"}
-    (m1, n1), (m2, n2) = drawn.values()
-    assert (n1.vmin, n1.vmax) == (n2.vmin, n2.vmax) == (0.0, pytest.approx(max(m1, m2) / 1e3))
+    assert set(drawn) == {
+        "load_map.png",
+        "load_map_speed.png",
+        "pressure_map.png",
+        "pressure_map_speed.png",
+    }
+    for kind in ("load", "pressure"):
+        (m1, n1), (m2, n2) = drawn[f"{kind}_map.png"], drawn[f"{kind}_map_speed.png"]
+        assert (n1.vmin, n1.vmax) == (n2.vmin, n2.vmax) == (0.0, pytest.approx(max(m1, m2)))
 
 
 def test_sweep_of_few_speeds_marks_the_computed_points(tmp_path, figures):

@@ -9,9 +9,11 @@ plotting never changes the process's pyplot backend (a notebook keeps its inline
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
+from .. import load_map
 from ..dynamics import campbell_coincidences
 from ..io import atomic_open
 
@@ -23,6 +25,7 @@ __all__ = [
     "dynamic_factor_plot",
     "harmonic_crossings",
     "harris_plot",
+    "face_maps",
     "load_map_plot",
     "master_curve_plot",
     "mesh_stiffness_plot",
@@ -193,6 +196,29 @@ def load_map_plot(
         grid=False,
     )
     return pc
+
+
+def face_maps(out_dir, names, result, max_pressure, pair, positions_per_pitch, title: str):
+    """The load map and the Hertzian pressure map of one mesh's result over a tooth's passage
+    (:func:`~jaxgear.load_map` of the line load and of ``max_pressure``, (P, L, N) Pa), written
+    to ``out_dir`` as ``names`` (load map, pressure map); ``title``: what the maps are of."""
+    for name, field, what, label, unit in (
+        (names[0], None, "load map", "max line load (N/mm)", 1e3),
+        (names[1], max_pressure, "Hertzian contact pressure", "max contact pressure (MPa)", 1e6),
+    ):
+        s_edges, z, grid = load_map(
+            result, positions_per_pitch, pair.base_pitch, pair.path_of_contact, field=field
+        )
+        dz = pair.face_width / len(z)
+        load_map_plot(
+            os.path.join(out_dir, name),
+            s_edges,
+            np.concatenate([[0.0], z + dz / 2]),
+            grid,
+            title=f"{what} {title}",
+            label=label,
+            unit=unit,
+        )
 
 
 def train_phasing_plot(

@@ -15,7 +15,6 @@ from .. import (
     TrainCase,
     contact_pressure,
     harris_map,
-    load_map,
     quasi_static,
 )
 from ..io import atomic_open, write_csv
@@ -75,20 +74,10 @@ def run_case(
     }
     steps.update()
     pair = case.pair
-    s_edges, z, lmap = load_map(
-        res["modified", "exact"], ppp, pair.base_pitch, pair.path_of_contact
-    )
     pressure = {
         key: contact_pressure(pair, r, case.youngs_modulus, case.poisson_ratio)
         for key, r in res.items()
     }
-    _, _, pmap = load_map(
-        res["modified", "exact"],
-        ppp,
-        pair.base_pitch,
-        pair.path_of_contact,
-        field=pressure["modified", "exact"].max_pressure,
-    )
     steps.update()
 
     summary = {
@@ -155,22 +144,14 @@ def run_case(
         {f"{lab} (loaded cells)": np.asarray(res[lab, "exact"].mesh_stiffness) for lab in designs},
         title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})",
     )
-    dz = pair.face_width / len(z)
-    _plots.load_map_plot(
-        os.path.join(out_dir, "load_map.png"),
-        s_edges,
-        np.concatenate([[0.0], z + dz / 2]),
-        lmap,
-        title=f"{case.name}: load map over a tooth passage (exact, modified)",
-    )
-    _plots.load_map_plot(
-        os.path.join(out_dir, "pressure_map.png"),
-        s_edges,
-        np.concatenate([[0.0], z + dz / 2]),
-        pmap,
-        title=f"{case.name}: Hertzian contact pressure over a tooth passage (exact, modified)",
-        label="max contact pressure (MPa)",
-        unit=1e6,
+    _plots.face_maps(
+        out_dir,
+        ("load_map.png", "pressure_map.png"),
+        res["modified", "exact"],
+        pressure["modified", "exact"].max_pressure,
+        pair,
+        ppp,
+        f"of {case.name} over a tooth passage (exact, modified)",
     )
     _plots.harris_plot(
         os.path.join(out_dir, "harris_map.png"),

@@ -9,7 +9,7 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Modifications, TrainCase, contact_pressure, load_map, quasi_static
+from .. import Modifications, TrainCase, contact_pressure, quasi_static
 from ..dynamics import bearing_forces, load_bodies
 from ..io import atomic_open, write_csv
 from ._summary import environment_summary, mesh_settings_summary, result_summary
@@ -201,32 +201,14 @@ def run_train(
         driver="input",
     )
     for k, pair in enumerate(case.pairs):
-        s_edges, z, lmap = load_map(
-            res["modified", "exact"].meshes[k], ppp, pair.base_pitch, pair.path_of_contact
-        )
-        dz = pair.face_width / len(z)
-        _plots.load_map_plot(
-            os.path.join(out_dir, f"load_map_{names[k]}.png"),
-            s_edges,
-            np.concatenate([[0.0], z + dz / 2]),
-            lmap,
-            title=f"{case.name}: load map of {names[k]} (exact, modified)",
-        )
-        _, _, pmap = load_map(
+        _plots.face_maps(
+            out_dir,
+            (f"load_map_{names[k]}.png", f"pressure_map_{names[k]}.png"),
             res["modified", "exact"].meshes[k],
+            pressure[("modified", "exact"), k].max_pressure,
+            pair,
             ppp,
-            pair.base_pitch,
-            pair.path_of_contact,
-            field=pressure[("modified", "exact"), k].max_pressure,
-        )
-        _plots.load_map_plot(
-            os.path.join(out_dir, f"pressure_map_{names[k]}.png"),
-            s_edges,
-            np.concatenate([[0.0], z + dz / 2]),
-            pmap,
-            title=f"{case.name}: Hertzian contact pressure of {names[k]} (exact, modified)",
-            label="max contact pressure (MPa)",
-            unit=1e6,
+            f"of {case.name}'s {names[k]} (exact, modified)",
         )
     marks = {}
     for k, pair in enumerate(case.pairs):
