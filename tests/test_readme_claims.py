@@ -60,7 +60,10 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     for key in ("transverse_contact_ratio", "overlap_ratio", "base_pitch_m", "center_distance_m"):
         assert key in summary["geometry"]
     q = summary["quasi_static"]["exact"]
-    assert set(q) == set(result_summary(jg.quasi_static(case.mesh_model(), None, case.torque)))
+    res = jg.quasi_static(case.mesh_model(), None, case.torque)
+    pressure = jg.contact_pressure(case.pair, res, case.youngs_modulus, case.poisson_ratio)
+    assert set(q) == set(result_summary(res, None, pressure))
+    assert {"max_contact_pressure_Pa", "contact_half_width_at_max_m"} <= set(q)
     ref = jg.quasi_static(case.mesh_model(), case.modifications, case.torque, positions_per_pitch=8)
     assert q["te_rms_m"] == pytest.approx(float(ref.te_rms), rel=1e-9)
     t = summary["harris_map"]["torque_Nm"]
