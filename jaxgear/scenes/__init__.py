@@ -3,8 +3,10 @@
 Quasi-static: :class:`RigidMesh` (both bodies rigid, 1 DOF), :class:`TorsionalPair`,
 :class:`Grounded` (pins DOFs of another scene). Dynamic (with a mass matrix):
 :class:`TorsionalDynamics`, :class:`RelativeApproach`, :class:`LumpedPair` (rigid 6-DOF gear nodes
-on Timoshenko shafts and bearings). Hybrid: :class:`HybridPair` (the lumped scene with condensed FE
-bodies coupled to the cells, seed II-2).
+on Timoshenko shafts and bearings). Hybrid: :class:`HybridScene` (the lumped scene with condensed
+FE bodies coupled to the cells, seed II-2): a pair (:func:`hybrid_pair`, :class:`HybridPair`) or a
+train with flexible gears (:func:`hybrid_train`), its window compliance cacheable per scene
+(:func:`cache_window_compliance`).
 
 The 3D scenes hold their gear meshes as a tuple of :class:`GearMesh` (the base-plane mesh model on
 its line of action between two gear members); a member is a :class:`RigidMember` (a 6-DOF gear
