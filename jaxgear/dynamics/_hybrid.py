@@ -180,13 +180,6 @@ def _revolution_periods(scene: HybridPair) -> int:
     return math.lcm(*Z) if Z else 1
 
 
-def _cells(scene: HybridPair, theta) -> tuple:
-    """Every mesh's cells at the scene angle θ (rad), each at its mesh angle, unmodified
-    (layout, stiffness, mask)."""
-    angles = scene.mesh_angles(theta)
-    return tuple(p.cells(a) for p, a in zip(scene.base_planes, angles, strict=True))
-
-
 def _revolution_mesh_stiffness(scene: HybridPair, block, periods: int):
     """K̄ (n, n): the mean of the mesh stiffness ``block(p)`` (:func:`_mesh_block`) over the mesh
     periods p = 0 … ``periods`` − 1 (a revolution, :func:`_revolution_periods`)."""
@@ -446,7 +439,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     n = scene.structure.size
 
     def row(th, pad=0):
-        cells = _cells(scene, th)
+        cells = scene.mesh_cells(th)
         return scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells), pad)
 
     U = row(theta[0], pad).idx

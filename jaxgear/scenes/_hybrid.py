@@ -37,7 +37,7 @@ from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
-from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member
+from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member, rim_window
 from ._lumped3d import ShaftSpec, _lumped_arrays, _train_arrays, train_meshes
 from ._structure import AssembledScene, Structure
 
@@ -181,16 +181,18 @@ class HybridScene(AssembledScene):
             "HybridScene.compliance: the position is not one of the cached positions (cache "
             "the positions the solve takes: cache_window_compliance(scene, theta))",
         )
-        flat = [
-            jnp.concatenate([f(c, d).reshape(-1) for c, d in zip(cells, delta0, strict=True)])
-            for f in (
-                lambda c, d: c.stiffness,
-                lambda c, d: c.length,
-                lambda c, d: d,
-                lambda c, d: c.mask,
-            )
-        ]
-        r = CellRow(cache.idx[i], cache.V[i], *flat)
+
+        def flat(parts):  # every mesh's cell array, mesh after mesh (CellRow.concat's order)
+            return jnp.concatenate([x.reshape(-1) for x in parts])
+
+        r = CellRow(
+            cache.idx[i],
+            cache.V[i],
+            flat(c.stiffness for c in cells),
+            flat(c.length for c in cells),
+            flat(delta0),
+            flat(c.mask for c in cells),
+        )
         x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
         a0 = torque * cache.a_torque[i] + speed**2 * cache.a_centrifugal[i]
         b = self.N.T @ self.external_load(torque, speed)
@@ -650,13 +652,11 @@ def hybrid_train(
             continue
         k, member = role[g]
         zone = {key: np.asarray(v) for key, v in out_meshes[k].line().items()}
-        window = 0
-        for j, (_, (a, b)) in enumerate(meshes):  # the widest window of the meshes it is in
-            if g in (a, b):
-                fm = flexible_member(
-                    pairs[j], 0 if g == a else 1, body, gidxs[g], centre, zone, meshes[j][0]
-                )
-                window = max(window, fm.n_window)
+        window = max(  # the widest window of the meshes it is in
+            rim_window(pairs[j], 0 if g == a else 1)
+            for j, (_, (a, b)) in enumerate(meshes)
+            if g in (a, b)
+        )
         members.append(
             flexible_member(
                 pairs[k],
@@ -761,9 +761,7 @@ def window_compliance(scene: HybridScene, theta) -> WindowCompliance:
     theta = jnp.asarray(theta, scene.structure.K.dtype)
 
     def one(th):
-        cells = tuple(
-            p.cells(a) for p, a in zip(scene.base_planes, scene.mesh_angles(th), strict=True)
-        )
+        cells = scene.mesh_cells(th)
         r = scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells))
         Gw = scene.G[r.idx[:, None], r.idx[None, :]]
         return (

@@ -304,6 +304,15 @@ def body_dof_index(body) -> dict:
     return {(int(m), int(c)): i for i, (m, c) in enumerate(dm) if m >= 0}
 
 
+def rim_window(pair: GearPair, member: int) -> int:
+    """The default number of rim stations in a condensed member's window for one mesh: the
+    total contact ratio ε_α + ε_β plus the root points' span 2ψ_f in pitches, plus 2 (member 0
+    the mesh's driving gear, 1 its driven gear)."""
+    eps = pair.transverse_contact_ratio + pair.overlap_ratio
+    pitch = 2 * math.pi / (pair.pinion, pair.gear)[member].teeth
+    return math.ceil(eps + 2 * _root_angle(pair, member) / pitch) + 2
+
+
 def flexible_member(
     pair: GearPair,
     member: int,
@@ -394,10 +403,9 @@ def flexible_member(
         ratio = 1.0 if member == 0 else pair.pinion.teeth / pair.gear.teeth
     if spin is None:
         spin = 1.0 if member == 0 else -1.0
-    eps = pair.transverse_contact_ratio + pair.overlap_ratio
     psi_f = _root_angle(pair, member)
     if n_window is None:
-        n_window = math.ceil(eps + 2 * psi_f / pitch) + 2
+        n_window = rim_window(pair, member)
     fm = FlexibleMember(
         centre=centre,
         rim_dofs=rim_dofs,

@@ -65,6 +65,13 @@ class Scene(eqx.Module):
         every mesh of a pair (a train's meshes: :meth:`GearMesh.angle`)."""
         return (theta,) * len(self.base_planes)
 
+    def mesh_cells(self, theta) -> tuple:
+        """Every mesh's cells at the scene angle θ (rad), each at its mesh angle
+        (:meth:`mesh_angles`), unmodified (layout, stiffness, mask): one :class:`Cells` per
+        mesh."""
+        angles = self.mesh_angles(theta)
+        return tuple(p.cells(a) for p, a in zip(self.base_planes, angles, strict=True))
+
     def scene_periods(self) -> int:
         """Periods of the first mesh after which the cells of every mesh repeat together: 1 for
         a pair or an idler train; a two-stage train's span (:func:`torsional_train`)."""
