@@ -25,7 +25,7 @@ from ._condense import (
     Condensed as Condensed,
     MasterSet as MasterSet,
     condense as condense,
-    couple_bearings as couple_bearings,
+    couple_masters as couple_masters,
     frequency_error_vs_modes as frequency_error_vs_modes,
     select_masters as select_masters,
 )

@@ -63,7 +63,7 @@ def _body(
 
 def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -> dict:
     from ._assemble import assemble_operators
-    from ._condense import condense, couple_bearings, select_masters
+    from ._condense import condense, couple_masters, select_masters
     from ._mesh import mesh_body
 
     body = _body(size_mm, circ_mm, quick=quick)
@@ -77,8 +77,8 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
     ops = assemble_operators(bm.basis, body.material)
     out["assembly_s"] = time.perf_counter() - t0
     ms = select_masters(bm, body)
-    cp = couple_bearings(bm, ops, ms)
-    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    cp = couple_masters(bm, ops, ms)
+    rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
     out["n_master_dofs"] = len(mdofs)
     from ._solver import factorize

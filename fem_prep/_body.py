@@ -39,6 +39,7 @@ __all__ = [
 METHODS = ("guyan", "craig-bampton", "herting")
 ELEMENTS = ("hex20", "hex27")
 COUPLINGS = ("rigid", "averaging")
+RIM_COUPLINGS = ("distributing", "nodal")  # fem_prep._rim
 SUPPORTS = ("bearings", "free")
 
 
@@ -147,12 +148,15 @@ class MeshSettings:
 
 @dataclass(frozen=True)
 class Condensation:
-    """Condensation settings (seed (2.3)-(2.5))."""
+    """Condensation settings (seed (2.3)-(2.5)); ``rim_coupling``: how the rim masters hold the
+    outer rim face, ``"distributing"`` (a least-squares fit of the whole face, the tooth loads
+    spread as a traction) or ``"nodal"`` (the FE nodes at the stations), see ``_rim``."""
 
     method: str = "craig-bampton"
     modes: int = 50
     teeth: int = 0
     axial_master_nodes: int = 5
+    rim_coupling: str = "nodal"
 
 
 @dataclass(frozen=True)
@@ -234,7 +238,7 @@ _SCHEMA: dict[str, set[str] | None] = {
         "rim_size_mm",
         "circumferential_size_mm",
     },
-    "condensation": {"method", "modes", "teeth", "axial_master_nodes"},
+    "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
     "centrifugal": {"speed_rad_s", "spin_softening"},
     "modal": {"support", "n_frequencies", "vtu_modes"},
 }
@@ -395,6 +399,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
         sc.number(c, "modes", w, 50, allowed=">= 0", integer=True),
         sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
         sc.number(c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True),
+        sc.choice(c, "rim_coupling", w, RIM_COUPLINGS, "nodal"),
     )
 
     # ---- [centrifugal]

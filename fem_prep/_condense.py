@@ -20,7 +20,8 @@ averaging (RBE3-like: the bearing node moves as the least-squares rigid fit of t
 band DOFs are eliminated).  Coupling a whole band rather than one node ring makes the support a
 surface constraint, whose result converges under mesh refinement (a ring is a line constraint:
 its stresses are singular and the deflection it allows grows logarithmically as the mesh is
-refined).
+refined).  The rim masters are the FE nodes at the tooth stations (``"nodal"``) or, by the same
+kind of transformation, the least-squares fit of the rim face (``"distributing"``, :mod:`._rim`).
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ from tqdm import tqdm
 from ._assemble import Operators
 from ._body import Body
 from ._mesh import BodyMesh, rim_master_z
+from ._rim import rim_fit
 from ._solver import (
     CholmodFactor,
     SparseFactor,
@@ -54,7 +56,7 @@ __all__ = [
     "MasterSet",
     "band_reaction_stiffness",
     "condense",
-    "couple_bearings",
+    "couple_masters",
     "frequency_error_vs_modes",
     "select_masters",
 ]
@@ -70,17 +72,22 @@ class MasterSet:
 
     Attributes:
         rim_nodes: node indices ``(teeth, n_axial)`` on the rim outer radius, tooth ``k`` at
-            angle ``2 pi k / teeth`` from the x axis, axial positions increasing.
+            angle ``2 pi k / teeth`` from the x axis, axial positions increasing (the rim
+            masters' FE nodes; with the distributing coupling the nodes it eliminates).
         bearing_positions: bearing node coordinates ``(n_bearings, 3)`` (m), on the axis.
         bearing_rings: for each bearing, the bore node indices it is coupled to (every bore node
             of its axial band, ``BearingSeat.z_band`` snapped to the nearest bore-node planes).
         couplings: ``"rigid"`` or ``"averaging"`` per bearing.
+        rim_coupling: ``"distributing"`` or ``"nodal"`` (:mod:`._rim`).
+        rim_radius: the outer rim radius (m).
     """
 
     rim_nodes: np.ndarray
     bearing_positions: np.ndarray
     bearing_rings: tuple[np.ndarray, ...]
     couplings: tuple[str, ...]
+    rim_coupling: str = "nodal"
+    rim_radius: float = 0.0
 
 
 def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
@@ -145,6 +152,8 @@ def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
         bearing_positions=np.array(pos),
         bearing_rings=tuple(rings),
         couplings=tuple(b.coupling for b in body.bearings),
+        rim_coupling=body.condensation.rim_coupling,
+        rim_radius=g.rim_outer_radius,
     )
 
 
@@ -163,7 +172,7 @@ def _skew(d: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Coupled:
-    """Operators after the bearing couplings, ``u_full = T q``.
+    """Operators after the master couplings (bearings and rim), ``u_full = T q``.
 
     Attributes:
         T: ``(n_full, n_red)`` sparse transformation.
@@ -173,11 +182,14 @@ class Coupled:
         S: reduced spin-softening matrix per unit speed squared ``(n_red, n_red)`` (kg).
         bearing_dofs: reduced indices ``(n_bearings, 6)`` of the bearing DOFs
             (u_x, u_y, u_z, theta_x, theta_y, theta_z).
+        rim_dofs: reduced indices ``(teeth, n_axial, 3)`` of the rim master DOFs (x, y, z).
+        rim_positions: the rim masters' positions ``(teeth, n_axial, 3)`` (m): their FE nodes
+            (nodal coupling) or the fitted positions (distributing, :mod:`._rim`).
         full_to_red: ``(n_full,)`` reduced index of each full DOF kept as such, -1 if
             eliminated by a coupling.
         Ksigma: reduced stress-stiffening matrix per unit speed squared ``(n_red, n_red)``,
             or ``None``: it needs the prestress solve, so :func:`~fem_prep.prepare` fills it
-            in (``dataclasses.replace``) after that solve; :func:`couple_bearings` leaves it out.
+            in (``dataclasses.replace``) after that solve; :func:`couple_masters` leaves it out.
     """
 
     T: sp.csr_matrix
@@ -187,6 +199,8 @@ class Coupled:
     G: sp.csr_matrix
     S: sp.csr_matrix
     bearing_dofs: np.ndarray
+    rim_dofs: np.ndarray
+    rim_positions: np.ndarray
     full_to_red: np.ndarray
     Ksigma: sp.csr_matrix | None = None
 
@@ -195,20 +209,48 @@ class Coupled:
         return (self.T.T @ A @ self.T).tocsr()
 
 
-def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
-    """Add the 6-DOF bearing nodes by a kinematic transformation (rigid or averaging).
+def _rim_rows(bm: BodyMesh, masters: MasterSet, first_column: int):
+    """Eliminated rows of the distributing rim coupling (:mod:`._rim`): ``(full rows, column
+    keys, values)`` in :func:`couple_masters`' key convention (rim master ``c`` component ``a``
+    is the column key ``first_column + 3 c + a``), and the fitted master positions."""
+    fit = rim_fit(bm, masters.rim_nodes, masters.rim_radius)
+    m_nodes = masters.rim_nodes.ravel()
+    is_master = np.isin(fit.nodes, m_nodes)
+    a_m = fit.areas[np.searchsorted(fit.nodes, m_nodes)]
+    # u_c = [(G q)_c - sum_{n not a master} N_c(x_n) a_n u_n] / a_c, per component
+    Gc = fit.G.tocoo()
+    Nc = (sp.diags(np.where(is_master, 0.0, fit.areas)) @ fit.N).tocoo()
+    Nc.eliminate_zeros()
+    rows, keys, vals = [], [], []
+    for a in range(3):
+        rows.append(3 * m_nodes[Gc.row] + a)
+        keys.append(first_column + 3 * Gc.col + a)
+        vals.append(Gc.data / a_m[Gc.row])
+        rows.append(3 * m_nodes[Nc.col] + a)
+        keys.append(-1 - (3 * fit.nodes[Nc.row] + a))
+        vals.append(-Nc.data / a_m[Nc.col])
+    return np.concatenate(rows), np.concatenate(keys), np.concatenate(vals), fit.positions
+
+
+def couple_masters(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
+    """Add the 6-DOF bearing nodes (rigid or averaging) and the rim masters (nodal or
+    distributing, :mod:`._rim`) by a kinematic transformation ``u_full = T q``.
 
     Args:
         bm: the mesh (node coordinates).
         ops: full operators.
-        masters: the master set (bearing bands, couplings).
+        masters: the master set (rim nodes and coupling, bearing bands and couplings).
 
     Returns:
         The :class:`Coupled` operators.
+
+    Raises:
+        ValueError: two bearings share bore nodes, or a rim master node is a bore-band node.
     """
     n = bm.n_dofs
     # rows of T for the eliminated DOFs: (full row, column key, value); column key >= 0 is a
-    # bearing column 6 ib + c, key < 0 is the kept full DOF -1 - key
+    # new column (bearing 6 ib + c, then the distributing rim masters 3 c + a), key < 0 is the
+    # kept full DOF -1 - key
     elim_rows, elim_keys, elim_vals = [], [], []
     eliminated = np.zeros(n, dtype=bool)
     n_b = len(masters.bearing_rings)
@@ -247,16 +289,37 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
             elim_keys.append(-1 - ring_dofs[ind[j]])
             elim_vals.append(A[a_loc, j])
             eliminated[ring_dofs[dep]] = True
+    rim = masters.rim_nodes
+    rim_full = 3 * rim[..., None] + np.arange(3)
+    if eliminated[rim_full].any():
+        raise ValueError("a rim master node is also a bearing-ring node")
+    distributing = masters.rim_coupling == "distributing"
+    rim_positions = bm.nodes[rim]
+    if distributing:
+        rows, keys, vals, rim_positions = _rim_rows(bm, masters, 6 * n_b)
+        touched = np.unique(-1 - keys[keys < 0])
+        if eliminated[touched].any():
+            raise ValueError("a rim master node is also a bearing-ring node")
+        elim_rows.append(rows)
+        elim_keys.append(keys)
+        elim_vals.append(vals)
+        eliminated[rim_full.ravel()] = True
     kept = np.nonzero(~eliminated)[0]
     full_to_red = -np.ones(n, dtype=np.int64)
     full_to_red[kept] = np.arange(len(kept))
-    n_red = len(kept) + 6 * n_b
-    bearing_dofs = len(kept) + np.arange(6 * n_b).reshape(n_b, 6)
+    n_new = 6 * n_b + (rim.size * 3 if distributing else 0)
+    n_red = len(kept) + n_new
+    new_cols = len(kept) + np.arange(n_new)
+    bearing_dofs = new_cols[: 6 * n_b].reshape(n_b, 6)
+    if distributing:
+        rim_dofs = new_cols[6 * n_b :].reshape(*rim.shape, 3)
+    else:
+        rim_dofs = full_to_red[rim_full]
     keys = np.concatenate(elim_keys) if elim_keys else np.zeros(0, dtype=np.int64)
-    bcols = bearing_dofs.ravel()[np.maximum(keys, 0)]
+    ncols = new_cols[np.clip(keys, 0, max(n_new - 1, 0))] if n_new else keys
     fcols = full_to_red[np.maximum(-1 - keys, 0)]
     rows = np.concatenate([kept, *elim_rows])
-    cols = np.concatenate([np.arange(len(kept)), np.where(keys >= 0, bcols, fcols)])
+    cols = np.concatenate([np.arange(len(kept)), np.where(keys >= 0, ncols, fcols)])
     vals = np.concatenate([np.ones(len(kept)), *elim_vals])
     T = sp.csr_matrix((vals, (rows, cols)), shape=(n, n_red))
     Tt = T.T.tocsr()
@@ -265,7 +328,18 @@ def couple_bearings(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled
     G = (Tt @ ops.gyroscopic @ T).tocsr()
     S = (Tt @ ops.spin_softening @ T).tocsr()
     f = Tt @ ops.f_centrifugal
-    return Coupled(T=T, K=K, M=M, f=f, G=G, S=S, bearing_dofs=bearing_dofs, full_to_red=full_to_red)
+    return Coupled(
+        T=T,
+        K=K,
+        M=M,
+        f=f,
+        G=G,
+        S=S,
+        bearing_dofs=bearing_dofs,
+        rim_dofs=rim_dofs,
+        rim_positions=rim_positions,
+        full_to_red=full_to_red,
+    )
 
 
 def band_reaction_stiffness(

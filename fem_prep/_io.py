@@ -173,7 +173,7 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
     teeth, nax = ms.rim_nodes.shape
     nb = len(ms.bearing_rings)
     n_rim = teeth * nax
-    coords = np.concatenate([bm.nodes[ms.rim_nodes.ravel()], ms.bearing_positions])
+    coords = np.concatenate([cp.rim_positions.reshape(-1, 3), ms.bearing_positions])
     kind = np.concatenate([np.zeros(n_rim, np.int8), np.ones(nb, np.int8)])
     dof_map = np.concatenate(
         [

@@ -20,7 +20,7 @@ from ._condense import (
     MasterSet,
     band_reaction_stiffness,
     condense,
-    couple_bearings,
+    couple_masters,
     select_masters,
 )
 from ._mesh import BodyMesh, mesh_body
@@ -135,10 +135,8 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     begin("bearing couplings")
     t0 = time.perf_counter()
     ms = select_masters(bm, body)
-    cp = couple_bearings(bm, ops, ms)
-    rim_dofs = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
-    if np.any(rim_dofs < 0):
-        raise ValueError("a rim master node is also a bearing-ring node")
+    cp = couple_masters(bm, ops, ms)
+    rim_dofs = cp.rim_dofs.ravel()
     master_dofs = np.concatenate([rim_dofs, cp.bearing_dofs.ravel()])
     bearing_c = len(rim_dofs) + np.arange(cp.bearing_dofs.size)
     n_red = cp.K.shape[0]
@@ -239,7 +237,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     rim_nodes = ms.rim_nodes
     jmid = int(np.argmin(np.abs(x[rim_nodes[0], 2])))
     qr = qc[: rim_nodes.size * 3].reshape(rim_nodes.shape[0], rim_nodes.shape[1], 3)[:, jmid]
-    xr = x[rim_nodes[:, jmid]]
+    xr = cp.rim_positions[:, jmid]
     ur_c = float(
         np.mean((qr[:, 0] * xr[:, 0] + qr[:, 1] * xr[:, 1]) / np.hypot(xr[:, 0], xr[:, 1]))
     )

@@ -7,7 +7,7 @@ import scipy.linalg as sla
 from fem_prep import (
     assemble_operators,
     condense,
-    couple_bearings,
+    couple_masters,
     factorize,
     mesh_body,
     nodal_diameter_spectrum,
@@ -18,7 +18,15 @@ from fem_prep import (
 )
 
 
-def wheel_text(holes=0, method="craig-bampton", modes=50, coupling="rigid", plain=False, teeth=12):
+def wheel_text(
+    holes=0,
+    method="craig-bampton",
+    modes=50,
+    coupling="rigid",
+    plain=False,
+    teeth=12,
+    rim_coupling="nodal",
+):
     web = 10.0 if plain else 1.5
     hub_r = 26.0 if plain else 12.0
     return f"""
@@ -46,6 +54,7 @@ method = "{method}"
 modes = {modes}
 teeth = {teeth}
 axial_master_nodes = 3
+rim_coupling = "{rim_coupling}"
 [centrifugal]
 speed_rad_s = 2000.0
 """
@@ -57,8 +66,8 @@ def coupled():
     bm = mesh_body(body)
     ops = assemble_operators(bm.basis, body.material)
     ms = select_masters(bm, body)
-    cp = couple_bearings(bm, ops, ms)
-    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    cp = couple_masters(bm, ops, ms)
+    rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
     return body, bm, ms, cp, mdofs
 
@@ -118,18 +127,21 @@ def test_centrifugal_field_is_recovered_with_the_static_correction_vector(couple
     assert errors[False] > 0.05, errors  # measured 38 % on this wheel without ψ
 
 
-@pytest.mark.parametrize("coupling", ["rigid", "averaging"])
-def test_condensed_stiffness_has_rigid_body_modes(coupling):
-    """Rigid motions built from the master coordinates cost no strain energy (free body)."""
-    body = parse_body(wheel_text(coupling=coupling))
+@pytest.mark.parametrize(
+    "coupling, rim", [("rigid", "distributing"), ("averaging", "distributing"), ("rigid", "nodal")]
+)
+def test_condensed_stiffness_has_rigid_body_modes(coupling, rim):
+    """Rigid motions built from the master coordinates cost no strain energy (free body); with
+    the distributing rim coupling the masters sit at their fitted positions (``_rim``)."""
+    body = parse_body(wheel_text(coupling=coupling, rim_coupling=rim))
     bm = mesh_body(body)
     ops = assemble_operators(bm.basis, body.material)
     ms = select_masters(bm, body)
-    cp = couple_bearings(bm, ops, ms)
-    rim = cp.full_to_red[(3 * ms.rim_nodes[..., None] + np.arange(3)).ravel()]
+    cp = couple_masters(bm, ops, ms)
+    rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
     c = condense(cp.K, cp.M, mdofs, method="guyan")
-    x = bm.nodes[ms.rim_nodes.ravel()]
+    x = cp.rim_positions.reshape(-1, 3)
     rb = []
     for k in range(6):
         v = np.zeros(c.K.shape[0])
@@ -155,9 +167,15 @@ def prepared_cb():
 
 
 def test_first_20_frequencies_within_1_percent(prepared_cb):
+    """Craig-Bampton with 50 modes on the nodal rim masters; the distributing masters hold the
+    rim face only in its fitted field, and on this 12-station rim (30 degrees between stations)
+    the face keeps more freedom: 100 modes for the same 1 % (the 86-station accessory wheel is
+    within 0.27 % with 50, docs/fem_prep.md)."""
+    distributing = prepare(parse_body(wheel_text(modes=100, rim_coupling="distributing")))
+    for p in (prepared_cb, distributing):
+        assert len(p.frequencies_full_hz) == 20
+        assert np.all(np.abs(p.frequencies_condensed_hz / p.frequencies_full_hz - 1) < 0.01)
     p = prepared_cb
-    assert len(p.frequencies_full_hz) == 20
-    assert np.all(np.abs(p.frequencies_condensed_hz / p.frequencies_full_hz - 1) < 0.01)
     # centrifugal: the condensed rim displacement is close to the full one
     assert p.rim_radial_displacement > 0
     assert p.rim_radial_displacement_condensed == pytest.approx(p.rim_radial_displacement, rel=0.05)

@@ -74,7 +74,7 @@ def _rigid_condensed(p, t, w) -> np.ndarray:
     """Condensed vector of the rigid motion ``t + w x x``: rim masters ``t + w x x``, bearing
     nodes ``(t + w x x_b, w)``, modal coordinates 0."""
     ms = p.masters
-    x = p.mesh.nodes[ms.rim_nodes.ravel()]
+    x = p.coupled.rim_positions.reshape(-1, 3)
     v = np.zeros(p.condensed.K.shape[0])
     n = 3 * len(x)
     v[:n] = (t + np.cross(w, x)).ravel()

@@ -102,6 +102,16 @@ def _rot_z(angle, v):
     return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]])
 
 
+@pytest.fixture(scope="module")
+def distributing_body(cache, tmp_path_factory):
+    """The test wheel with distributing rim masters (fem_prep ``_rim``)."""
+    text = (DATA / "hybrid-test-wheel.toml").read_text()
+    text = text.replace("[condensation]", '[condensation]\nrim_coupling = "distributing"')
+    path = tmp_path_factory.mktemp("rim") / "hybrid-test-wheel-distributing.toml"
+    path.write_text(text)
+    return fem_prep.condensed(path)
+
+
 @pytest.mark.parametrize(("helix", "member_index"), [(0.0, 1), (8.0, 1), (0.0, 0)])
 def test_rigid_body_motion_gives_the_rigid_node_vector(
     case, body, pinion_body, helix, member_index
@@ -111,6 +121,16 @@ def test_rigid_body_motion_gives_the_rigid_node_vector(
     for the wheel, n for the pinion). Translations are exact; a rotation about the axis to the
     chord/arc difference of the bilinear faces (measured 1e-4 on 30 stations); tilts exact for
     spur, within tilt·|M_pM|·sin β_b for helical."""
+    _check_rigid_motion(case, body, pinion_body, helix, member_index)
+
+
+def test_rigid_body_motion_with_distributing_rim_masters(case, pinion_body, distributing_body):
+    """The same with the wheel's rim masters distributing over the rim face: at their fitted
+    positions (outside the arc) a rigid motion is again the (2.9) vector."""
+    _check_rigid_motion(case, distributing_body, pinion_body, 0.0, 1)
+
+
+def _check_rigid_motion(case, body, pinion_body, helix, member_index):
     pair = case.pair
     if helix:
         pair = dataclasses.replace(pair, helix_angle=math.radians(helix), center_distance=None)
