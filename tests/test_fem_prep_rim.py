@@ -1,4 +1,4 @@
-"""The rim master coupling (``fem_prep._rim``): how the tooth roots load the rim.
+"""The rim master coupling (``fem_prep.rim_fit``, the coupling of ``fem_prep.couple_masters``): how the tooth roots load the rim.
 
 References, independent of the code under test:
 
@@ -23,9 +23,15 @@ from test_fem_prep_condense import wheel_text
 from test_fem_prep_physics import NU, E, _disc_text
 
 import fem_prep
-from fem_prep import assemble_operators, mesh_body, parse_body, prepare, select_masters
-from fem_prep._condense import couple_masters
-from fem_prep._rim import rim_fit
+from fem_prep import (
+    assemble_operators,
+    couple_masters,
+    mesh_body,
+    parse_body,
+    prepare,
+    rim_fit,
+    select_masters,
+)
 from jaxgear import io as jio
 
 
