@@ -18,11 +18,12 @@ weights, so the master DOFs must be *what the interface interpolates*.  Two coup
     indentation grows without bound as the elements under it shrink: the compliance at the
     masters depends on the mesh (kept for comparison).
 
-``"distributing"`` (default)
-    ``q`` is the weighted least-squares fit of the master field to the FE displacement of the
-    whole outer rim face,
+``"distributing"`` (opt-in)
+    ``q`` is the projection of the FE displacement of the whole outer rim face on the master
+    field, the normal equations of a weighted least-squares fit
+    ``sum_n a_n |v(x_n) - u_n|^2``,
 
-        q = argmin sum_n a_n |v(x_n) - u_n|^2,    G q = N^T A u_S,    G = N^T A N,
+        G q = N^T A u_S,    G = N^T A N,
 
     over the face nodes ``n`` with their consistent nodal areas ``a_n = int phi_n dS`` (the
     nodal loads of a unit uniform traction: negative at the corners of serendipity faces) and
@@ -45,8 +46,9 @@ so row ``c`` of ``G q = N^T A u_S`` reads ``a_c u_c + sum_{n not a master} N_c(x
 a sparse row (``G`` couples neighbouring masters only).  Rigid motions: the fit reproduces a
 field affine in ``x`` exactly only if each master sits at its fitted position ``x_hat = G^-1 N^T
 A x_S`` (outside the arc by a fraction of the faces' sagitta, so that the chords between
-them best fit it; on the axial master planes exactly): ``u = a + w x x`` then gives ``q_c = a + w x x_hat_c``, so the condensed body is free of
-rigid motions with the masters at ``x_hat`` (stored as the master coordinates).
+them best fit it; on the axial master planes exactly): ``u = a + w x x`` then gives
+``q_c = a + w x x_hat_c``, so the condensed body is free of rigid motions with the masters at
+``x_hat`` (stored as the master coordinates).
 """
 
 from __future__ import annotations
