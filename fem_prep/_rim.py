@@ -18,7 +18,7 @@ weights, so the master DOFs must be *what the interface interpolates*.  Two coup
     indentation grows without bound as the elements under it shrink: the compliance at the
     masters depends on the mesh (kept for comparison).
 
-``"distributing"`` (opt-in)
+``"distributing"`` (the default)
     ``q`` is the projection of the FE displacement of the whole outer rim face on the master
     field, the normal equations of a weighted least-squares fit
     ``sum_n a_n |v(x_n) - u_n|^2``,
