@@ -643,6 +643,13 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, fem_prep_cache):
     assert all(0.9 < v < 5.0 for v in s["dynamic_factor_tooth"]) and s["contact_loss"] == [0] * 3
     f = [v for v in s["natural_frequencies_Hz"] if v]  # the drive rotation is reported as 0
     assert 1000 < f[0] < 1e5 and s["critical_speeds"] is not None
+    # the modes at speed are reported (the run leaves the rotating-frame terms out, so the
+    # critical speeds use the modes at rest)
+    assert s["campbell_at_speed"] is False and s["modes_at_speed_error"] < 1e-3
+    assert len(s["natural_frequencies_at_speed_Hz"]) == len(s["campbell_speeds_rad_s"])
+    assert s["natural_frequencies_at_speed_Hz"][0] == pytest.approx(
+        s["natural_frequencies_Hz"], rel=1e-9
+    )
     # (3.9): every listed resonance is the wheel speed 2π f/(Z ± n) in pinion terms
     for r in s["nodal_diameter_resonances"]:
         sign = 1 if r["direction"] == "backward" else -1
@@ -699,6 +706,13 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     assert main(argv) == 0
     s = json.loads((out / "sweep.json").read_text())
     assert s["rotating_frame"] is True and s["result"] == [0, 0]
+    # the critical speeds follow the modes at speed: each lies on its mode's curve
+    assert s["campbell_at_speed"] is True
+    grid = np.asarray(s["campbell_speeds_rad_s"])
+    curves = np.asarray(s["natural_frequencies_at_speed_Hz"])
+    for c in s["critical_speeds"]:
+        f = np.interp(c["speed_rad_s"], grid, curves[:, c["mode"]])
+        assert c["frequency_Hz"] == pytest.approx(f, rel=1e-9)
     case = jio.load_case(case_file)
     scene = static_scene(case)[0]
     kw = dict(integrator=Newmark(16), window=SteadyState(3, 2), damping=spec_damping(case.scene))

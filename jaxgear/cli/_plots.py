@@ -23,9 +23,9 @@ __all__ = [
     "convergence_plot",
     "convergence_ylabel",
     "dynamic_factor_plot",
+    "face_maps",
     "harmonic_crossings",
     "harris_plot",
-    "face_maps",
     "load_map_plot",
     "master_curve_plot",
     "mesh_stiffness_plot",
@@ -344,6 +344,15 @@ def _nan(v) -> np.ndarray:
     return np.asarray([np.nan if x is None else x for x in v], dtype=float)
 
 
+def _at_speed(summary: dict, freqs):
+    """The modes' frequencies (Hz) as the sweep's critical speeds take them: at speed, (g, m)
+    on the grid ``campbell_speeds_rad_s``, where ``campbell_at_speed``; else ``freqs`` and None."""
+    if not summary.get("campbell_at_speed"):
+        return np.asarray(freqs, dtype=float), None
+    curves = np.array([_nan(row) for row in summary["natural_frequencies_at_speed_Hz"]])
+    return curves, _nan(summary["campbell_speeds_rad_s"])
+
+
 def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05) -> list[dict]:
     """Mode × mesh-harmonic coincidences of a sweep summary, by speed: the ``critical_speeds``
     entries and, for every elastic mode with at least ``min_share`` mesh energy, each harmonic's
@@ -358,8 +367,14 @@ def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05)
         freqs = _nan(summary.get("natural_frequencies_Hz", []))
         share = _nan(summary.get("mesh_energy_share", [np.nan] * freqs.size))
         m = min(freqs.size, share.size)
+        curves, grid = _at_speed(summary, freqs)
         found = campbell_coincidences(
-            2 * math.pi * freqs[:m], share[:m], z1, harmonics=harmonics, min_share=min_share
+            2 * math.pi * curves[..., :m],
+            share[:m],
+            z1,
+            harmonics=harmonics,
+            min_share=min_share,
+            speeds=grid,
         )
         for c in found:
             out.setdefault((c["mode"], c["harmonic"]), c)
@@ -518,16 +533,27 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     return peaks
 
 
-def harmonic_crossings(freqs_Hz, z1: int, s_max: float, harmonics=(1, 2, 3, 4)) -> list[dict]:
+def harmonic_crossings(
+    freqs_Hz, z1: int, s_max: float, harmonics=(1, 2, 3, 4), speeds=None
+) -> list[dict]:
     """Where mesh harmonic h (f = h z1 Ω / 2π) crosses each mode frequency, for pinion speeds
-    0 < Ω <= ``s_max`` (rad/s). Returns ``[{frequency_Hz, harmonic, speed_rad_s}]``."""
-    out = []
-    for f in freqs_Hz:
-        for h in harmonics:
-            s = 2 * math.pi * float(f) / (h * z1)
-            if 0 < s <= s_max:
-                out.append({"frequency_Hz": float(f), "harmonic": int(h), "speed_rad_s": s})
-    return out
+    0 < Ω <= ``s_max`` (rad/s); with ``speeds`` (a grid), ``freqs_Hz`` has shape (g, m): the
+    modes at those speeds. Returns ``[{frequency_Hz, harmonic, speed_rad_s}]``."""
+    f = np.asarray(freqs_Hz, dtype=float)
+    rows = campbell_coincidences(
+        2 * math.pi * f,
+        np.ones(f.shape[-1]),
+        z1,
+        s_max / 1.05,
+        harmonics=harmonics,
+        min_share=0.0,
+        speeds=speeds,
+    )
+    return [
+        {k: c[k] for k in ("frequency_Hz", "harmonic", "speed_rad_s")}
+        for c in rows
+        if c["speed_rad_s"] <= s_max
+    ]
 
 
 def campbell_plot(
@@ -542,18 +568,21 @@ def campbell_plot(
     sp = _nan(summary["speeds_rad_s"])
     s_max = float(np.nanmax(sp)) * 1.05
     s_line = np.linspace(0, s_max, 50)
+    freqs = _nan(summary["natural_frequencies_Hz"])
+    # the modes at speed where the run has the rotating-frame terms (else constant)
+    curves, grid = _at_speed(summary, freqs)
+    if grid is None:
+        grid, curves = np.array([0.0, s_max]), np.vstack([freqs, freqs])
+
+    def at(i, speed):
+        return np.interp(speed, grid, curves[:, i])
+
     modes = [
         (i, f, e)
-        for i, (f, e) in enumerate(
-            zip(
-                _nan(summary["natural_frequencies_Hz"]),
-                _nan(summary["mesh_energy_share"]),
-                strict=True,
-            )
-        )
+        for i, (f, e) in enumerate(zip(freqs, _nan(summary["mesh_energy_share"]), strict=True))
         if f > 0 and e >= min_share
     ]
-    strong = [f for _, f, e in modes if e >= 0.05]
+    strong = [float(np.max(curves[:, i])) for i, f, e in modes if e >= 0.05]
     f_top = max([*strong, s_max * z1 / (2 * math.pi)]) * 1.12
     modes = [m for m in modes if m[1] < f_top]
     first = (summary.get("mesh_names") or ["mesh"])[0]
@@ -577,9 +606,17 @@ def campbell_plot(
                 lw=1.0 + 0.5 * j,
                 label=f"{name} H{h}",
             )
-    for _, f, e in modes:
-        ax.axhline(f, color="k" if e >= 0.05 else "0.6", ls="--", lw=0.9 if e >= 0.05 else 0.7)
-    # one label per group of modes closer than 3 % of the axis (they would print over each other)
+    for i, _, e in modes:
+        ax.plot(
+            s_line,
+            at(i, s_line),
+            color="k" if e >= 0.05 else "0.6",
+            ls="--",
+            lw=0.9 if e >= 0.05 else 0.7,
+        )
+    # one label per group of modes closer than 3 % of the axis (they would print over each
+    # other), at the right end, with their frequency there
+    modes = [(i, float(at(i, s_max * 0.995)), e) for i, _, e in modes]
     groups: list[list] = []
     for m in sorted(modes, key=lambda m: m[1]):
         if groups and m[1] - groups[-1][-1][1] < 0.03 * f_top:
@@ -601,9 +638,10 @@ def campbell_plot(
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
         )
         mode_labels.append(t)
-    cross = harmonic_crossings([f for _, f, _ in modes], z1, s_max, harmonics)
+    drawn = curves[:, [i for i, _, _ in modes]]
+    cross = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
     for _, z in others:
-        cross += harmonic_crossings([f for _, f, _ in modes], z, s_max, (1, 2))
+        cross += harmonic_crossings(drawn, z, s_max, (1, 2), grid)
     if cross:
         ax.plot(
             [c["speed_rad_s"] for c in cross],
@@ -668,7 +706,7 @@ def campbell_plot(
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(
         f"{summary['case']}: Campbell diagram, modes with ≥ {min_share:.0%} mesh strain energy "
-        "(black ≥ 5 %)",
+        "(black ≥ 5 %)" + (", at speed (Southwell)" if summary.get("campbell_at_speed") else ""),
         fontsize=10,
     )
     ax.grid(alpha=0.3)

@@ -10,6 +10,7 @@ import math
 import os
 import platform
 import time
+import warnings
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -18,6 +19,12 @@ if TYPE_CHECKING:  # importing this module stays free of JAX (the CLI builds its
     from .. import Case
 
 __all__ = ["add_sweep_parser", "default_sweep_dir", "run_sweep", "sweep_case"]
+
+# a hybrid run without the rotating-frame terms warns when the modes move more than this by the
+# top speed (the critical speeds at rest are then off by about as much)
+STIFFENING_WARN = 0.05
+# pinion speeds (0 to 1.05 x the top speed) at which a hybrid sweep follows the modes
+CAMPBELL_GRID = 43
 
 
 def _clean(values) -> list:
@@ -76,6 +83,7 @@ def sweep_case(
         campbell_coincidences,
         load_bodies,
         mesh_averaged_modes,
+        modes_at_speed,
         spec_integrator,
         spec_window,
         speed_sweep,
@@ -230,8 +238,29 @@ def sweep_case(
     if not hybrid:
         summary["modal_energy_parts"] = list(modes.parts)
         summary["modal_energy"] = [_clean(row) for row in np.asarray(modes.energy)]
+    # a hybrid scene's modes at speed (spin softening and stress stiffening, checked at the top
+    # speed): the Campbell diagram and the critical speeds follow them when the run has the
+    # rotating-frame terms
+    grid = None
+    if hybrid:
+        at = modes_at_speed(
+            model.scene, modes, np.linspace(0.0, 1.05 * speeds.max(), CAMPBELL_GRID)
+        )
+        summary.update(_at_speed_keys(at, n_modes, model.rotating_frame))
+        if model.rotating_frame:
+            grid = np.asarray(at.speeds)
+            omega = np.asarray(at.omega)[:, :n_modes]
+        elif at.shift > STIFFENING_WARN:
+            warnings.warn(
+                f"the structure's modes move by up to {at.shift:.1%} at "
+                f"{float(at.speeds[-1]):.6g} rad/s (spin softening, stress stiffening), which "
+                "this run leaves out: [scene."
+                "integration] rotating_frame = true adds them (the critical speeds and the "
+                "Campbell diagram then follow the modes at speed)",
+                stacklevel=2,
+            )
     summary["critical_speeds"] = campbell_coincidences(
-        omega, energy, z1, float(speeds.max()), n_modes=3
+        omega, energy, z1, float(speeds.max()), n_modes=3, speeds=grid
     )
     if n_meshes > 1:  # each mesh's order (its teeth per input turn) and its coincidences
         orders = [
@@ -240,11 +269,12 @@ def sweep_case(
         ]
         summary["mesh_orders"] = orders
         summary["critical_speeds_mesh"] = [
-            campbell_coincidences(omega, energy, z, float(speeds.max()), n_modes=3) for z in orders
+            campbell_coincidences(omega, energy, z, float(speeds.max()), n_modes=3, speeds=grid)
+            for z in orders
         ]
     if z_wheel is not None:
         summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
-            model.scene, modes, speeds, z_input, z_wheel
+            model.scene, modes, speeds, z_input, z_wheel, at if grid is not None else None
         )
     summary.update({"speeds_rad_s": _clean(speeds), "mesh_frequency_Hz": _clean(r.mesh_frequency)})
     summary.update(_mesh_responses(model, r, speeds))
@@ -353,11 +383,25 @@ def _mesh_responses(model, r, speeds) -> dict:
     return out
 
 
-def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int) -> list:
+def _at_speed_keys(at, n_modes: int, used: bool) -> dict:
+    """sweep.json's keys of the modes at speed (:func:`jaxgear.dynamics.modes_at_speed`)."""
+    return {
+        "campbell_at_speed": bool(used),
+        "campbell_speeds_rad_s": _clean(at.speeds),
+        "natural_frequencies_at_speed_Hz": [
+            _clean(row) for row in np.asarray(at.omega)[:, :n_modes] / (2 * math.pi)
+        ],
+        "modes_at_speed_error": at.error,
+        "modes_at_speed_shift": at.shift,
+    }
+
+
+def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int, at=None) -> list:
     """The (3.9) speeds, up to 1.05 × the top speed, where the mesh excites the wheel's
     nodal-diameter families (web modes: most of their kinetic energy in the body), first and
     second mesh harmonics, for a wheel (member 1) of ``z2`` teeth and ``z1`` = z2 times its
-    turns per input turn (a pair's pinion teeth); [] for a rigid wheel."""
+    turns per input turn (a pair's pinion teeth); [] for a rigid wheel. ``at``: the modes at
+    speed (:func:`jaxgear.dynamics.modes_at_speed`), or None (the frequencies at rest)."""
     from ..dynamics import nodal_diameter_modes, nodal_diameter_resonances
     from ..scenes import FlexibleMember
 
@@ -365,10 +409,15 @@ def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int) -> list
         return []
     nd = nodal_diameter_modes(scene, modes, n_modes=40)
     web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
+    if at is None:
+        freqs, grid = nd["frequency_hz"][web], None
+    else:
+        freqs = np.asarray(at.omega)[:, nd["mode"][web]] / (2 * np.pi)
+        grid = np.asarray(at.speeds)
     return [
         r
         for r in nodal_diameter_resonances(
-            nd["frequency_hz"][web], nd["nodal_diameter"][web], z2, z1, harmonics=(1, 2)
+            freqs, nd["nodal_diameter"][web], z2, z1, (1, 2), speeds=grid
         )
         if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
     ]

@@ -41,10 +41,12 @@ from ._lumped import static_start as static_start
 from ._modal import (
     Damping as Damping,
     ModalAnalysis as ModalAnalysis,
+    ModesAtSpeed as ModesAtSpeed,
     campbell_coincidences as campbell_coincidences,
     damping_matrix as damping_matrix,
     excited_omega as excited_omega,
     modal_analysis as modal_analysis,
+    modes_at_speed as modes_at_speed,
     nodal_diameter_modes as nodal_diameter_modes,
     nodal_diameter_resonances as nodal_diameter_resonances,
     steps_for_mode as steps_for_mode,

@@ -1,6 +1,7 @@
 """Modal analysis of the time-averaged system, its Campbell coincidences with the mesh orders
 (critical speeds, seed Tab. IV-8), the nodal-diameter families of a condensed wheel and their
-(3.9) resonances, and the damping models built on the modes (seed (2.34)-(2.36)).
+(3.9) resonances, the modes' stiffening with speed (Southwell), and the damping models built on
+the modes (seed (2.34)-(2.36)).
 
 Every scene (torsional, lumped 3D, hybrid) goes through :func:`modal_analysis`; the CLI's sweep
 summaries and Campbell diagrams read :func:`campbell_coincidences` and
@@ -23,10 +24,12 @@ from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, MIN_STEPS_PER_PERIO
 __all__ = [
     "Damping",
     "ModalAnalysis",
+    "ModesAtSpeed",
     "campbell_coincidences",
     "damping_matrix",
     "excited_omega",
     "modal_analysis",
+    "modes_at_speed",
     "nodal_diameter_modes",
     "nodal_diameter_resonances",
     "steps_for_mode",
@@ -99,6 +102,107 @@ def modal_analysis(scene: DynamicScene, mesh_stiffness: Float[Array, "n n"]) -> 
     )
 
 
+class ModesAtSpeed(eqx.Module):
+    """The modes of a spinning structure against speed (:func:`modes_at_speed`): each mode at
+    rest followed as the speed rises, for the Campbell diagram at speed.
+
+    Attributes:
+        speeds: pinion speeds Ω of the grid (rad/s), shape (g,), from 0.
+        omega: natural angular frequency of each mode at each speed (rad/s), shape (g, n),
+            column i the mode i of the analysis at rest (constant for the modes outside the
+            Ritz basis, 0 for rigid-body modes).
+        mesh_energy: each mode's mesh strain-energy share at each speed, shape (g, n).
+        error: max over the ``n_check`` lowest elastic modes of |ω_Ritz / ω_exact − 1| at the
+            top speed, both in ascending order, ω_exact from the full eigen-solution (-).
+        shift: max over them of |ω(top) / ω(0) − 1| in ascending order (-): how far the modes
+            move by the top speed.
+    """
+
+    speeds: Float[Array, " g"]
+    omega: Float[Array, "g n"]
+    mesh_energy: Float[Array, "g n"]
+    error: float = eqx.field(static=True)
+    shift: float = eqx.field(static=True)
+
+
+def modes_at_speed(
+    scene, modes: ModalAnalysis, speeds, *, n_basis: int = 60, n_check: int = 20
+) -> ModesAtSpeed:
+    """The modes of a hybrid structure at pinion speeds Ω: K̄ + Ω² S with S the condensed
+    bodies' spin softening plus centrifugal stress stiffening per unit pinion speed²
+    (``scene.structure.spin_stiffness``, fem_prep; a thin web's out-of-plane modes stiffen,
+    Southwell's rule ω² ≈ ω₀² + s Ω², R. V. Southwell, Proc. R. Soc. A 101, 1922).
+
+    Rayleigh-Ritz in the basis Φ of the ``n_basis`` lowest elastic modes at rest (mass-
+    normalised): at each speed the eigenpairs of diag(ω₀²) + Ω² Φᵀ S Φ; each mode is followed
+    from speed to speed by the largest overlap of the Ritz vectors (an assignment, SciPy's
+    ``linear_sum_assignment``), so that modes of different nodal diameters cross rather than
+    swap. The Coriolis coupling is left out (it splits forward and backward waves in the
+    body frame; docs/hybrid.md, "Campbell diagram at speed"). Checked at the top speed against
+    the eigen-solution of the full (M, K̄ + Ω² S): ``error``.
+
+    Args:
+        scene: a :class:`jaxgear.scenes.HybridPair` (anything with ``structure``).
+        modes: its :func:`modal_analysis` at rest, with K̄_m.
+        speeds: the grid of pinion speeds (rad/s), ascending, >= 0, concrete, shape (g,).
+        n_basis: the Ritz basis size (the lowest elastic modes). n_check: modes in ``error``.
+
+    Returns:
+        :class:`ModesAtSpeed`.
+    """
+    from scipy.optimize import linear_sum_assignment  # lazy: SciPy's optimize loads slowly
+
+    sp = np.asarray(speeds, dtype=float)
+    if sp.ndim != 1 or sp.size < 2 or np.any(np.diff(sp) <= 0) or sp[0] < 0:
+        raise ValueError(f"speeds: {sp!r}: allowed an ascending grid of >= 2 speeds >= 0 rad/s")
+    S = np.asarray(scene.structure.spin_stiffness, dtype=float)
+    omega0 = np.asarray(modes.omega, dtype=float)
+    elastic = np.flatnonzero(~np.asarray(modes.rigid))
+    basis = elastic[: int(n_basis)]
+    Phi = np.asarray(modes.shapes, dtype=float)[:, basis]
+    Sr = Phi.T @ S @ Phi
+    Sr = 0.5 * (Sr + Sr.T)
+    Kmr = Phi.T @ np.asarray(modes.mesh_stiffness, dtype=float) @ Phi
+    lam0 = omega0[basis] ** 2
+    omega = np.tile(omega0, (sp.size, 1))
+    energy = np.tile(np.asarray(modes.mesh_energy, dtype=float), (sp.size, 1))
+    Y_prev = np.eye(basis.size)
+    for k, w in enumerate(sp):
+        lam, Y = np.linalg.eigh(np.diag(lam0) + w**2 * Sr)
+        # column j of the result follows mode j: the Ritz vector with the largest overlap
+        _, col = linear_sum_assignment(-np.abs(Y_prev.T @ Y))
+        lam, Y = lam[col], Y[:, col]
+        Y = Y * np.sign(np.sum(Y * Y_prev, axis=0) + 1e-300)
+        Y_prev = Y
+        lam = np.maximum(lam, 0.0)
+        omega[k, basis] = np.sqrt(lam)
+        energy[k, basis] = np.einsum("ij,ik,kj->j", Y, Kmr, Y) / np.maximum(lam, 1e-300)
+    top = float(sp[-1])
+    exact = np.asarray(modal_analysis(scene, modes.mesh_stiffness + top**2 * S).omega)
+    m = min(int(n_check), basis.size)
+    ritz = np.sort(omega[-1, basis])[:m]
+    ex = np.sort(exact[~np.asarray(modes.rigid)])[:m]
+    return ModesAtSpeed(
+        speeds=jnp.asarray(sp),
+        omega=jnp.asarray(omega),
+        mesh_energy=jnp.asarray(energy),
+        error=float(np.max(np.abs(ritz / ex - 1))) if m else 0.0,
+        shift=float(np.max(np.abs(ex / np.sort(lam0)[:m] ** 0.5 - 1))) if m else 0.0,
+    )
+
+
+def _first_crossing(speeds, omega, rate) -> float:
+    """The lowest speed Ω > 0 where a mode's ω(Ω) (rad/s, sampled on ``speeds``, linear
+    between) meets the excitation ``rate`` · Ω; inf if it does not on the grid."""
+    d = np.asarray(omega, dtype=float) - rate * np.asarray(speeds, dtype=float)
+    k = np.flatnonzero((d[:-1] > 0) & (d[1:] <= 0))
+    if not k.size:
+        return math.inf
+    k = int(k[0])
+    t = d[k] / (d[k] - d[k + 1])
+    return float(speeds[k] + t * (speeds[k + 1] - speeds[k]))
+
+
 def campbell_coincidences(
     omega,
     mesh_energy,
@@ -108,42 +212,51 @@ def campbell_coincidences(
     n_modes: int | None = None,
     harmonics=(1, 2, 3),
     min_share: float = 0.05,
+    speeds=None,
 ) -> list[dict]:
     """Mode × mesh-harmonic coincidences of the Campbell diagram: the pinion speeds Ω = ω/(h z)
     at which the h-th harmonic of a mesh of order z (teeth per pinion revolution: z1 for a pair)
-    meets a natural frequency ω (the critical speeds of seed Tab. IV-8).
+    meets a natural frequency ω (the critical speeds of seed Tab. IV-8); with ``speeds``, the
+    frequencies at speed ω(Ω) (:func:`modes_at_speed`) and Ω the first crossing of ω(Ω) with
+    h z Ω (linear between the grid's speeds).
 
     Args:
         omega: natural angular frequencies (rad/s), shape (m,), 0 for rigid-body modes
-            (:attr:`ModalAnalysis.omega`).
-        mesh_energy: the modes' shares of strain energy in the mesh (2.36), shape (m,).
+            (:attr:`ModalAnalysis.omega`); with ``speeds``, shape (g, m) (each column a mode
+            on the grid, :attr:`ModesAtSpeed.omega`).
+        mesh_energy: the modes' shares of strain energy in the mesh (2.36) at rest, shape (m,).
         mesh_order: z, mesh periods per pinion revolution.
         max_speed: keep coincidences up to 1.05 × this pinion speed (rad/s).
         n_modes: the elastic modes with the largest mesh-energy shares kept (None: all of
             them); only modes with a share >= ``min_share`` count (the modes the mesh excites).
         harmonics: mesh harmonics h.
+        speeds: the pinion speeds (rad/s) of ``omega``'s rows, shape (g,), or None.
 
     Returns:
         One dict per (mode, harmonic), by mode index then harmonic: ``mode`` (index into
-        ``omega``), ``harmonic``, ``speed_rad_s`` (pinion), ``frequency_Hz``,
+        ``omega``), ``harmonic``, ``speed_rad_s`` (pinion), ``frequency_Hz`` (at that speed),
         ``mesh_energy_share``.
     """
-    omega = np.asarray(omega, dtype=float)
+    curves = np.asarray(omega, dtype=float)
+    rest = curves[0] if speeds is not None else curves
     energy = np.asarray(mesh_energy, dtype=float)
-    excited = [i for i in range(omega.size) if omega[i] > 0 and energy[i] >= min_share]
+    excited = [i for i in range(rest.size) if rest[i] > 0 and energy[i] >= min_share]
     chosen = sorted(excited, key=lambda i: -energy[i])
     modes = sorted(chosen if n_modes is None else chosen[:n_modes])
     out = []
     for i in modes:
         for h in harmonics:
-            speed = omega[i] / (mesh_order * h)
+            if speeds is None:
+                speed = rest[i] / (mesh_order * h)
+            else:
+                speed = _first_crossing(speeds, curves[:, i], mesh_order * h)
             if speed <= max_speed * 1.05:
                 out.append(
                     {
                         "mode": int(i),
                         "harmonic": int(h),
                         "speed_rad_s": float(speed),
-                        "frequency_Hz": float(omega[i] / (2 * math.pi)),
+                        "frequency_Hz": float(mesh_order * h * speed / (2 * math.pi)),
                         "mesh_energy_share": float(energy[i]),
                     }
                 )
@@ -166,7 +279,8 @@ def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int =
         n_modes: the lowest elastic modes examined (the drive rotation excluded).
 
     Returns:
-        dict of NumPy arrays over the modes: ``frequency_hz``, ``nodal_diameter``, ``share``
+        dict of NumPy arrays over the modes: ``mode`` (index into ``modes``),
+        ``frequency_hz``, ``nodal_diameter``, ``share``
         (energy share of that harmonic, 0..1), ``axial_share`` (share of the rim motion that is
         axial: out-of-plane modes near 1) and ``rim_share`` (share of the mode's kinetic energy
         in the wheel's body DOFs).
@@ -194,6 +308,7 @@ def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int =
     body = np.asarray(wheel.body_dofs)
     Mphi = M @ phi
     return {
+        "mode": elastic,
         "frequency_hz": omega / (2 * np.pi),
         "nodal_diameter": nd,
         "share": e[nd, np.arange(nd.size)] / np.sum(e, axis=0),
@@ -203,28 +318,42 @@ def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int =
 
 
 def nodal_diameter_resonances(
-    frequency_hz, nodal_diameter, wheel_teeth: int, pinion_teeth: int, harmonics=(1,)
+    frequency_hz,
+    nodal_diameter,
+    wheel_teeth: int,
+    pinion_teeth: int,
+    harmonics=(1,),
+    speeds=None,
 ) -> list[dict]:
     """Pinion speeds at which the mesh excites n-nodal-diameter modes, seed (3.9) and Tab. III-11.
 
     In the wheel's frame the mesh, fixed in space, runs round the rim against the rotation: its
     h-th harmonic excites diameter n at the orders h Z + n (a *backward* wave, against the
     rotation) and h Z − n (*forward*) of the wheel's rotation frequency. The mode of frequency
-    f_n resonates at wheel speed 2π f_n/(h Z ± n), i.e. pinion speed (Z/z1) times that.
+    f_n resonates at wheel speed 2π f_n/(h Z ± n), i.e. pinion speed (Z/z1) times that. With
+    the frequencies at speed f_n(Ω) (``speeds``, :func:`modes_at_speed`) the resonance is the
+    first pinion speed where 2π f_n(Ω) = (h Z ± n) (z1/Z) Ω.
 
     Args:
-        frequency_hz, nodal_diameter: the modes (:func:`nodal_diameter_modes`), shape (m,).
+        frequency_hz: the modes' frequencies (Hz), shape (m,) (:func:`nodal_diameter_modes`),
+            or with ``speeds`` shape (g, m) (each column a mode on the grid).
+        nodal_diameter: their nodal diameters, shape (m,).
         wheel_teeth: Z. pinion_teeth: z1. harmonics: mesh harmonics h.
+        speeds: the pinion speeds (rad/s) of ``frequency_hz``'s rows, shape (g,), or None.
 
     Returns:
-        One dict per (mode, harmonic, direction) with n >= 1: ``frequency_hz``,
-        ``nodal_diameter``, ``harmonic``, ``order`` (h Z ± n), ``direction`` ("backward" or
-        "forward"), ``wheel_speed_rad_s`` and ``pinion_speed_rad_s``.
+        One dict per (mode, harmonic, direction) with n >= 1 that resonates at a finite speed:
+        ``frequency_hz`` (at that speed), ``frequency_rest_hz``, ``nodal_diameter``,
+        ``harmonic``, ``order`` (h Z ± n), ``direction`` ("backward" or "forward"),
+        ``wheel_speed_rad_s`` and ``pinion_speed_rad_s``.
     """
     from fem_prep import resonance_orders  # lazy: fem_prep's __init__ loads scikit-fem
 
+    curves = 2 * np.pi * np.asarray(frequency_hz, dtype=float)
+    rest = curves[0] if speeds is not None else curves
+    ratio = pinion_teeth / wheel_teeth  # wheel turns per pinion turn
     rows = []
-    for f, n in zip(np.asarray(frequency_hz), np.asarray(nodal_diameter), strict=True):
+    for i, n in enumerate(np.asarray(nodal_diameter)):
         if n < 1:
             continue
         for h in harmonics:
@@ -232,16 +361,24 @@ def nodal_diameter_resonances(
             for order, direction in ((back, "backward"), (fwd, "forward")):
                 if order <= 0:
                     continue
-                w2 = 2 * np.pi * float(f) / int(order)
+                rate = int(order) * ratio
+                if speeds is None:
+                    w1 = rest[i] / rate
+                else:
+                    w1 = _first_crossing(speeds, curves[:, i], rate)
+                if not math.isfinite(w1):
+                    continue
+                w2 = w1 * ratio
                 rows.append(
                     {
-                        "frequency_hz": float(f),
+                        "frequency_hz": int(order) * w2 / (2 * np.pi),
+                        "frequency_rest_hz": float(rest[i] / (2 * np.pi)),
                         "nodal_diameter": int(n),
                         "harmonic": int(h),
                         "order": int(order),
                         "direction": direction,
                         "wheel_speed_rad_s": w2,
-                        "pinion_speed_rad_s": w2 * wheel_teeth / pinion_teeth,
+                        "pinion_speed_rad_s": w1,
                     }
                 )
     return rows
