@@ -24,7 +24,13 @@ from jaxtyping import Array, Float
 
 from ._geometry import GearPair
 
-__all__ = ["ContactPressure", "contact_modulus", "contact_pressure", "relative_radius"]
+__all__ = [
+    "ContactPressure",
+    "contact_modulus",
+    "contact_pressure",
+    "pressure_factor",
+    "relative_radius",
+]
 
 
 class ContactPressure(NamedTuple):
@@ -59,6 +65,17 @@ def relative_radius(pair: GearPair, s) -> Float[Array, "..."]:
     return rho1 * rho2 / (rho1 + rho2)
 
 
+def pressure_factor(pair: GearPair, s, mask, youngs_modulus: float, poisson_ratio: float) -> Array:
+    """E*/(π R) (Pa per N/m) at base-plane coordinates ``s`` (m), 0 where ``mask`` is False: the
+    factor that turns a line load w (N/m) into the squared maximum pressure, p₀² = w E*/(π R)
+    (the module docstring). A run that only needs the largest pressure over many cells takes
+    the largest w E*/(π R) and one square root (the dynamics' in-loop maximum)."""
+    R = jnp.where(mask, relative_radius(pair, s), 1.0)
+    R = jnp.maximum(R, 1e-12)  # a cell exactly at a base circle: no load there anyway
+    e_star = contact_modulus(youngs_modulus, poisson_ratio)
+    return jnp.where(mask, e_star / (jnp.pi * R), 0.0)
+
+
 def contact_pressure(
     pair: GearPair, result, youngs_modulus: float, poisson_ratio: float
 ) -> ContactPressure:
@@ -69,7 +86,10 @@ def contact_pressure(
         pair: the mesh's gear pair (its pinion the driving gear).
         result: a result with ``line_load`` (N/m), ``cell_s`` (m) and ``cell_mask`` of equal
             shapes, (P, L, N) (:class:`~jaxgear.MeshResult`, or a
-            :class:`~jaxgear.QuasiStaticResult` of one mesh).
+            :class:`~jaxgear.QuasiStaticResult` of one mesh), or (K, L, N) at the K kept
+            steps of a dynamic run recorded with ``cell_loads=True``
+            (:class:`~jaxgear.dynamics.MeshDynamics`, or a
+            :class:`~jaxgear.dynamics.DynamicResult` of one mesh).
         youngs_modulus, poisson_ratio: the material of both gears (Pa, -).
 
     Returns:

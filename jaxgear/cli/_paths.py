@@ -39,7 +39,15 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "body_gear.vtu",
         "contact.vtu",
     ),
-    "sweep": ("sweep.json", "dynamic_factor.png", "campbell.png"),
+    "sweep": (
+        "sweep.json",
+        "dynamic_factor.png",
+        "campbell.png",
+        "contact_pressure.png",
+        "pressure_map_dynamic.png",
+        # a train's, one per mesh (named after its gears)
+        "pressure_map_dynamic_*.png",
+    ),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),

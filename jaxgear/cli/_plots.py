@@ -23,6 +23,7 @@ __all__ = [
     "convergence_plot",
     "convergence_ylabel",
     "dynamic_factor_plot",
+    "face_map",
     "face_maps",
     "harmonic_crossings",
     "harris_plot",
@@ -32,6 +33,7 @@ __all__ = [
     "name_peaks",
     "new_figure",
     "optimiser_path_plot",
+    "pressure_speed_plot",
     "savefig",
     "te_coincide",
     "transmission_error_plot",
@@ -198,27 +200,123 @@ def load_map_plot(
     return pc
 
 
+def face_map(
+    path,
+    result,
+    field,
+    pair,
+    positions_per_pitch,
+    *,
+    title: str,
+    label: str = "max line load (N/mm)",
+    unit: float = 1e3,
+):
+    """One field of one mesh over a tooth's passage (roll position along the line of action ×
+    face width), as :func:`~jaxgear.load_map` bins it: the line load (``field`` None, N/m) or a
+    cell field of the shape of ``result.line_load`` (the Hertzian pressure of
+    :func:`~jaxgear.contact_pressure`, Pa). ``result``: a quasi-static mesh result (P, L, N),
+    or a dynamic one recorded with ``cell_loads`` (K, L, N); ``positions_per_pitch``: the
+    result's steps per period of that mesh (the step of its contact lines along s).
+    ``label``/``unit`` as :func:`load_map_plot`. The one plot of the quasi-static and the
+    dynamic pressure maps."""
+    s_edges, z, grid = load_map(
+        result, positions_per_pitch, pair.base_pitch, pair.path_of_contact, field=field
+    )
+    dz = pair.face_width / len(z)
+    return load_map_plot(
+        path,
+        s_edges,
+        np.concatenate([[0.0], z + dz / 2]),
+        grid,
+        title=title,
+        label=label,
+        unit=unit,
+    )
+
+
 def face_maps(out_dir, names, result, max_pressure, pair, positions_per_pitch, title: str):
     """The load map and the Hertzian pressure map of one mesh's result over a tooth's passage
-    (:func:`~jaxgear.load_map` of the line load and of ``max_pressure``, (P, L, N) Pa), written
+    (:func:`face_map` of the line load and of ``max_pressure``, (P, L, N) Pa), written
     to ``out_dir`` as ``names`` (load map, pressure map); ``title``: what the maps are of."""
     for name, field, what, label, unit in (
         (names[0], None, "load map", "max line load (N/mm)", 1e3),
         (names[1], max_pressure, "Hertzian contact pressure", "max contact pressure (MPa)", 1e6),
     ):
-        s_edges, z, grid = load_map(
-            result, positions_per_pitch, pair.base_pitch, pair.path_of_contact, field=field
-        )
-        dz = pair.face_width / len(z)
-        load_map_plot(
+        face_map(
             os.path.join(out_dir, name),
-            s_edges,
-            np.concatenate([[0.0], z + dz / 2]),
-            grid,
+            result,
+            field,
+            pair,
+            positions_per_pitch,
             title=f"{what} {title}",
             label=label,
             unit=unit,
         )
+
+
+def pressure_speed_plot(path, summary: dict) -> None:
+    """The largest Hertzian contact pressure (MPa) against speed from a sweep summary: per
+    speed the largest over the kept steps and the cells (``max_contact_pressure_Pa``; a
+    train's per mesh, ``max_contact_pressure_mesh_Pa``), the quasi-static maximum at rest as a
+    dashed line of the same colour (``max_contact_pressure_static_Pa``), the down sweep dashed,
+    the speed of the dynamic pressure map marked."""
+    fig, ax = new_figure()
+    sp = _nan(summary["speeds_rad_s"])
+    few = sp.size <= FEW_SPEEDS
+    mk = {"marker": "o", "ms": 4, "clip_on": False} if few else {}
+    if "max_contact_pressure_mesh_Pa" in summary:  # a train: one curve per mesh
+        per = np.asarray(summary["max_contact_pressure_mesh_Pa"], dtype=float)  # (S, m)
+        curves = [
+            (name, per[:, k], summary["max_contact_pressure_static_mesh_Pa"][k])
+            for k, name in enumerate(summary["mesh_names"])
+        ]
+    else:
+        curves = [
+            (
+                "",
+                _nan(summary["max_contact_pressure_Pa"]),
+                summary["max_contact_pressure_static_Pa"],
+            )
+        ]
+    up = {"independent": "", "up": ", sweep up", "down": ", sweep down", "both": ", sweep up"}[
+        summary["direction"]
+    ]
+    for k, (name, p, p0) in enumerate(curves):
+        color = f"C{k % 10}"
+        who = f"{name}: " if name else ""
+        ax.plot(sp, p / 1e6, "-", color=color, lw=1.8, label=f"{who}dynamic{up}", **mk)
+        if p0 is not None:
+            ax.axhline(p0 / 1e6, color=color, ls="--", lw=0.9, label=f"{who}quasi-static, at rest")
+    if "max_contact_pressure_Pa_down" in summary:
+        ax.plot(
+            sp,
+            _nan(summary["max_contact_pressure_Pa_down"]) / 1e6,
+            "--",
+            color="C3",
+            label=("worst mesh: " if len(curves) > 1 else "") + "dynamic, sweep down",
+        )
+    m = summary.get("pressure_map_dynamic")
+    if m:
+        ax.plot(
+            [m["speed_rad_s"]],
+            [m["max_contact_pressure_Pa"] / 1e6],
+            "*",
+            ms=11,
+            color="k",
+            zorder=6,
+            label="speed of the dynamic pressure map",
+        )
+    driver = summary.get("speed_of", "pinion")
+    ax.set_xlim(sp.min(), sp.max())
+    _finish(
+        fig,
+        ax,
+        path,
+        xlabel=f"{driver} speed (rad/s)",
+        ylabel="max Hertzian contact pressure (MPa)",
+        title=f"{summary['case']}: largest Hertzian pressure p₀ = √(w E*/(π R)) over the kept "
+        "steps",
+    )
 
 
 def train_phasing_plot(

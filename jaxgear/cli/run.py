@@ -305,7 +305,7 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         "dynamic_factor": sw["dynamic_factor"],
         "max_dynamic_factor": float(np.nanmax(df)),
         "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
-        "files": "sweep/sweep.json, sweep/dynamic_factor.png, sweep/campbell.png",
+        "files": ", ".join(f"sweep/{name}" for name in _sweep_files(sw)),
     }
     if "dynamic_factor_mesh" in sw:
         per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
@@ -313,6 +313,12 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         out["dynamic_factor_mesh"] = sw["dynamic_factor_mesh"]
         out["max_dynamic_factor_mesh"] = [float(v) for v in np.nanmax(per, axis=0)]
     return out
+
+
+def _sweep_files(sw: dict) -> list[str]:
+    """The files a sweep wrote, by its summary (:func:`jaxgear.cli.sweep.sweep_case`)."""
+    files = ["sweep.json", "dynamic_factor.png", "campbell.png", "contact_pressure.png"]
+    return files + list((sw.get("pressure_map_dynamic") or {}).get("files", ()))
 
 
 def _run_train_command(case, out: str, args) -> int:

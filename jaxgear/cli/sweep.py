@@ -1,6 +1,8 @@
 """``jaxgear sweep``: dynamic factor against pinion speed for a case's ``[scene]`` (its schema:
 :func:`jaxgear.io.parse_scene` and docs/dynamics.md), written as ``sweep.json``,
-``dynamic_factor.png`` and ``campbell.png``."""
+``dynamic_factor.png``, ``campbell.png``, ``contact_pressure.png`` (the largest Hertzian
+pressure per speed) and ``pressure_map_dynamic.png`` (the pressure over a tooth's passage at
+the speed of the largest dynamic factor; a train: ``pressure_map_dynamic_<mesh>.png``)."""
 
 from __future__ import annotations
 
@@ -68,9 +70,10 @@ def sweep_case(
     vtu_speed: float | None = None,
 ) -> dict:
     """Speed sweep of a case's scene, lumped or with condensed bodies (one
-    :func:`jaxgear.dynamics.speed_sweep` for both); writes ``sweep.json``,
-    ``dynamic_factor.png`` and ``campbell.png`` to ``out_dir`` (atomically) and returns the
-    JSON dict. A scene with condensed bodies adds the wheel's nodal-diameter resonances (3.9)
+    :func:`jaxgear.dynamics.speed_sweep` for both, tracking the largest Hertzian pressure per
+    speed); writes ``sweep.json``, ``dynamic_factor.png``, ``campbell.png``,
+    ``contact_pressure.png`` and the dynamic pressure map(s) (:func:`_dynamic_pressure_map`) to
+    ``out_dir`` (atomically) and returns the JSON dict. A scene with condensed bodies adds the wheel's nodal-diameter resonances (3.9)
     and rim waves per speed; ``vtu_speed`` (condensed bodies only): a VTU time series of the
     bodies at that pinion speed."""
     import jax
@@ -78,6 +81,7 @@ def sweep_case(
 
     from .. import DynamicsResult, TrainCase
     from ..dynamics import (
+        HertzPressure,
         SceneSpec,
         build_dynamic_model,
         campbell_coincidences,
@@ -153,6 +157,8 @@ def sweep_case(
     # a hybrid model one speed per call (a speed takes seconds: the bar moves per speed and
     # Ctrl-C stops the sweep after the speed in progress); a lumped one in about ten chunks
     chunk = 1 if hybrid else max(1, min(32, -(-speeds.size // 10)))
+    pairs = tuple(case.pairs) if isinstance(case, TrainCase) else (case.pair,)
+    hertz = HertzPressure(pairs, case.youngs_modulus, case.poisson_ratio)
     res = speed_sweep(
         model,
         speeds,
@@ -162,6 +168,7 @@ def sweep_case(
         integrator=spec_integrator(spec),
         contact=law,
         window=spec_window(spec),
+        pressure=hertz,
     )
     jax.block_until_ready(res)
     bar.close()
@@ -278,6 +285,7 @@ def sweep_case(
         )
     summary.update({"speeds_rad_s": _clean(speeds), "mesh_frequency_Hz": _clean(r.mesh_frequency)})
     summary.update(_mesh_responses(model, r, speeds))
+    summary.update(_pressure_responses(model, r, law, hybrid, hertz))
     summary.update(
         {
             "steps_per_period_used": [int(v) for v in np.asarray(r.steps_per_period)],
@@ -309,9 +317,12 @@ def sweep_case(
                 "dynamic_factor_tooth_down": _clean(_worst(d, "dynamic_factor_tooth")),
                 "te_rms_m_down": _clean(_of_worst(d, "te_rms")),
                 "contact_loss_down": _clean(_worst(d, "contact_loss")),
+                "max_contact_pressure_Pa_down": _clean(_worst(d, "max_pressure")),
                 "result_down": [int(v) for v in np.asarray(d.result)],
             }
         )
+    # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
+    dyn_map = _dynamic_pressure_map(case, model, spec, law, r, speeds, hertz)
     if hybrid:
         vtu = _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir)
         summary["vtu_series"] = {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None
@@ -330,7 +341,9 @@ def sweep_case(
         "devices": len(jax.local_devices()),
         "python": platform.python_version(),
     }
-    _write(summary, out_dir, z1)
+    if dyn_map is not None:
+        summary["pressure_map_dynamic"] = dyn_map["summary"]
+    _write(summary, out_dir, z1, dyn_map)
     return summary
 
 
@@ -396,6 +409,104 @@ def _at_speed_keys(at, n_modes: int, used: bool) -> dict:
     }
 
 
+def _pressure_responses(model, r, law, hybrid: bool, hertz) -> dict:
+    """The Hertzian pressures of ``sweep.json`` (Pa): per speed the largest over the kept steps
+    and the cells (``max_contact_pressure_Pa``; a train's worst mesh, with each mesh's under
+    ``max_contact_pressure_mesh_Pa``, speeds × meshes), and the quasi-static maximum at rest
+    for reference (``max_contact_pressure_static_Pa``; a train's per mesh under
+    ``max_contact_pressure_static_mesh_Pa``): a lumped model's from its own static solution at
+    the table positions (the largest over the speeds' tables), a hybrid model's from
+    :func:`jaxgear.quasi_static` of its scene at rest (64 positions per mesh period)."""
+    if hybrid:
+        from .. import contact_pressure, quasi_static
+
+        qs = quasi_static(model.scene, model.mods, model.torque, contact=law, throw=False)
+        static = [
+            float(
+                np.max(
+                    np.asarray(
+                        contact_pressure(
+                            pair, m, hertz.youngs_modulus, hertz.poisson_ratio
+                        ).max_pressure
+                    )
+                )
+            )
+            for pair, m in zip(hertz.pairs, qs.meshes, strict=True)
+        ]
+    else:
+        static = [float(np.nanmax(np.asarray(m.max_pressure_static))) for m in r.meshes]
+    out = {
+        "max_contact_pressure_Pa": _clean(_worst(r, "max_pressure")),
+        "max_contact_pressure_static_Pa": max(static),
+    }
+    if len(r.meshes) > 1:
+        per = np.stack([np.asarray(m.max_pressure, float) for m in r.meshes], axis=-1)
+        out["max_contact_pressure_mesh_Pa"] = [_clean(row) for row in per]
+        out["max_contact_pressure_static_mesh_Pa"] = static
+    return out
+
+
+def _dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | None:
+    """The run at the speed of the largest dynamic factor (of the worst mesh, among the speeds
+    that ran to the end), from the static equilibrium with the sweep's settings and its cell
+    loads recorded (:func:`jaxgear.dynamics.simulate` with ``cell_loads=True``), and each
+    mesh's Hertzian pressure over the kept steps (:func:`jaxgear.contact_pressure`). Returns
+    ``{"summary": ..., "maps": [(file name, mesh result, pressure (K, L, N), pair,
+    positions per its pitch, title)]}``, or None when no speed ran to the end."""
+    from .. import TrainCase, contact_pressure
+    from ..dynamics import simulate, spec_integrator, spec_window
+
+    df = _worst(r, "dynamic_factor")
+    ok = (np.asarray(r.result) == 0) & np.isfinite(df)
+    if not ok.any():
+        return None
+    i = int(np.argmax(np.where(ok, df, -np.inf)))
+    speed = float(speeds[i])
+    one = simulate(
+        model,
+        speed,
+        integrator=spec_integrator(spec),
+        contact=law,
+        window=spec_window(spec),
+        cell_loads=True,
+        throw=False,
+    )
+    n_s = int(one.steps_per_period)
+    scene = model.scene
+    angle0 = float(scene.base_planes[0].mesh_period_angle)
+    maps, files, p_max = [], [], []
+    train = isinstance(case, TrainCase)
+    for k, (pair, m) in enumerate(zip(hertz.pairs, one.meshes, strict=True)):
+        p = contact_pressure(pair, m, hertz.youngs_modulus, hertz.poisson_ratio).max_pressure
+        p_max.append(float(np.max(np.asarray(p))))
+        # mesh k's periods per period of the first mesh: its steps per own period N_s / rate
+        a0, a1 = scene.mesh_angles(0.0)[k], scene.mesh_angles(1.0)[k]
+        rate = (float(a1) - float(a0)) * angle0 / float(scene.base_planes[k].mesh_period_angle)
+        name = (
+            f"pressure_map_dynamic_{case.mesh_name(k)}.png"
+            if train
+            else ("pressure_map_dynamic.png")
+        )
+        what = f"{case.name}'s {case.mesh_name(k)}" if train else case.name
+        title = (
+            f"dynamic Hertzian contact pressure at {speed:.4g} rad/s over a tooth passage\n"
+            f"{what}, largest dynamic factor; max over {m.line_load.shape[0]} kept steps"
+        )
+        maps.append((name, m, p, pair, n_s / rate, title))
+        files.append(name)
+    summary = {
+        "speed_rad_s": speed,
+        "dynamic_factor": float(df[i]),
+        "steps_per_period": n_s,
+        "result": int(one.result),
+        "max_contact_pressure_Pa": max(p_max),
+        "files": files,
+    }
+    if train:
+        summary["max_contact_pressure_mesh_Pa"] = p_max
+    return {"summary": summary, "maps": maps}
+
+
 def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int, at=None) -> list:
     """The (3.9) speeds, up to 1.05 × the top speed, where the mesh excites the wheel's
     nodal-diameter families (web modes: most of their kinetic energy in the body), first and
@@ -449,19 +560,33 @@ def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir) -> list:
     return [os.path.join("vtu", f) for f in write_body_series(folder, model.scene, bodies, one)]
 
 
-def _write(summary: dict, out_dir: str, z1: int) -> None:
-    """``sweep.json`` (atomically), then the dynamic factor and Campbell plots."""
+def _write(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:
+    """``sweep.json`` (atomically), then the dynamic factor, Campbell and contact pressure
+    plots and the dynamic pressure maps of ``dyn_map`` (:func:`_dynamic_pressure_map`)."""
     from ..io import write_json
 
     write_json(os.path.join(out_dir, "sweep.json"), summary)
-    _plots(summary, out_dir, z1=z1)
+    _plots(summary, out_dir, z1=z1, dyn_map=dyn_map)
 
 
-def _plots(summary: dict, out_dir: str, z1: int) -> None:
+def _plots(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:
     from . import _plots as plots
 
     plots.dynamic_factor_plot(os.path.join(out_dir, "dynamic_factor.png"), summary)
     plots.campbell_plot(os.path.join(out_dir, "campbell.png"), summary, z1)
+    if "max_contact_pressure_Pa" in summary:
+        plots.pressure_speed_plot(os.path.join(out_dir, "contact_pressure.png"), summary)
+    for name, mesh, pressure, pair, ppp, title in (dyn_map or {}).get("maps", ()):
+        plots.face_map(
+            os.path.join(out_dir, name),
+            mesh,
+            pressure,
+            pair,
+            ppp,
+            title=title,
+            label="max contact pressure (MPa)",
+            unit=1e6,
+        )
 
 
 _SOLVER_NAMES = [

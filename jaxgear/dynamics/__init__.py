@@ -74,6 +74,7 @@ from ._settings import (
     STEPS_PER_MODE as STEPS_PER_MODE,
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
     DiffraxIntegrator as DiffraxIntegrator,
+    HertzPressure as HertzPressure,
     Newmark as Newmark,
     SteadyState as SteadyState,
 )

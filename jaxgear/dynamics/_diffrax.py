@@ -100,4 +100,6 @@ def _diffrax(
     Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - table.V[0].T @ _cell_forces(table, Xl, 0, law))
     nsteps = jnp.asarray(sol.stats["num_steps"])
     reac = Xs @ scene.reaction_matrix().T
-    return (Xl, Xdl, Xddl), (fm, te, lines, reac), code, nsteps
+    # the cell forces of the kept samples (K, c) when the run records or reduces them
+    kept_forces = forces if (cfg.cell_loads or cfg.pressure is not None) else None
+    return (Xl, Xdl, Xddl), (fm, te, lines, reac, kept_forces), code, nsteps

@@ -55,9 +55,13 @@ from ..scenes import FlexibleMember, HybridPair, HybridScene
 from ._modal import Damping, modal_analysis
 from ._model import (
     HybridModel,
+    cell_geometry,
     cells_from_reference,
     mesh_forces,
+    mesh_max,
     mesh_te,
+    pressure_factors,
+    split_cells,
     static_mesh_forces,
 )
 from ._newmark import MeshDamping, newmark
@@ -347,6 +351,18 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
     code = jnp.where(
         qs.result[0] != 0, jnp.maximum(code, DynamicsResult.contact_not_converged), code
     )
+    pressure = cells = None
+    if cfg.pressure is not None or cfg.cell_loads:
+        # the kept steps' cells (every step's forces are recorded: reduced here, not in the loop)
+        cell_s, cell_z, mask = cell_geometry(scene, th[-keep:])
+        line_load = jnp.where(mask, P[-keep:] / length[None], 0.0)  # (K, c) (N/m)
+        if cfg.pressure is not None:
+            p2 = mesh_max(line_load * pressure_factors(cfg.pressure, sizes, cell_s, mask), sizes)
+            w0, s0, m0 = (_joined(qs, f) for f in ("line_load", "cell_s", "cell_mask"))
+            w0 = jnp.where(m0, w0, 0.0)
+            pressure = (p2, mesh_max(w0 * pressure_factors(cfg.pressure, sizes, s0, m0), sizes))
+        if cfg.cell_loads:
+            cells = split_cells(line_load, cell_s, cell_z, mask, sizes)
     return steady_state(
         speed=jnp.asarray(speed, dtype),
         time_step=dt,
@@ -368,6 +384,8 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
         code=code,
         rim=(rec[0][-keep:], rec[1][-keep:]),
         states=rec[3][-keep:] if states else None,
+        pressure=pressure,
+        cells=cells,
     )
 
 
@@ -489,11 +507,19 @@ def check_newmark(integrator) -> None:
 
 
 def run_config(
-    model: HybridModel, integrator, window: SteadyState, steps: int, blowup, states: bool
+    model: HybridModel,
+    integrator,
+    window: SteadyState,
+    steps: int,
+    blowup,
+    states: bool,
+    cell_loads: bool = False,
+    pressure=None,
 ) -> _Config:
     """The settings of a hybrid run of ``steps`` per mesh period (:func:`_config`: one kept
     period is enough), checked to fit: the cell-space Newmark records every step's cell forces
-    (all meshes), TE and mesh force, transient included."""
+    (all meshes), TE and mesh force, transient included (and with ``cell_loads`` the kept
+    steps' cell loads and coordinates); ``pressure``: the Hertz pressure tracked."""
     cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
     return _config(
         integrator,
@@ -504,6 +530,9 @@ def run_config(
         min_keep=1,
         values_per_step=cells + 2,
         record_all=True,
+        cell_loads=cell_loads,
+        pressure=pressure,
+        cells=cells,
     )
 
 

@@ -13,7 +13,18 @@ from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._util import check_integer
 from ._modal import excited_omega
-from ._model import DynamicModel, MeshTable, _prepare, _Prepared, mesh_te, static_mesh_forces
+from ._model import (
+    DynamicModel,
+    MeshTable,
+    _prepare,
+    _Prepared,
+    cell_geometry,
+    mesh_max,
+    mesh_te,
+    pressure_factors,
+    split_cells,
+    static_mesh_forces,
+)
 from ._newmark import newmark
 from ._result import checked, steady_state
 from ._settings import _Config, _divergence_code
@@ -51,6 +62,8 @@ def _newmark(
     record_states: bool = False,
     static_force=None,
     start: int = 0,
+    record_cells: bool = False,
+    factors=None,
 ):
     """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
     coordinates) on the rows of the mesh table from row ``start`` + 1 on (step n ends at row
@@ -58,9 +71,12 @@ def _newmark(
 
     ``state``: (X, Ẋ, Ẍ, result code, most contact passes). ``static_force``: the static mesh
     forces (N), (m,), the scale of the divergence check (default: the model's F_s). Records per
-    step (``record``): each mesh's force Σ P (N, (m,)) and TE (m, (m,)), the forces per contact
-    line of each mesh (N, a tuple of (L_k,)), the bearing forces R X (N, (r,)), and (X, Ẋ) with
-    ``record_states``."""
+    step (``record``), a dict: each mesh's force Σ P (N, (m,)) ``fm`` and TE (m, (m,)) ``te``,
+    the forces per contact line of each mesh (N, a tuple of (L_k,)) ``lines``, the bearing
+    forces R X (N, (r,)) ``reac``; (X, Ẋ) ``states`` with ``record_states``; the cell forces P
+    (N, (c,)) ``cells`` with ``record_cells``; with ``factors`` (the table's E*/(π R) per row
+    and cell, (P, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa², (m,)) ``p2``,
+    reduced here in the loop."""
     scene = model.scene
     M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
     R = scene.reaction_matrix()
@@ -77,10 +93,17 @@ def _newmark(
     def check(X, Xd, forces):
         return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
 
-    def kept(X, Xd, forces):
+    def kept(X, Xd, forces, j):
         fm, lines = table.mesh_forces(forces)
-        out = (fm, te_of(X), lines, R @ X)
-        return out + (X, Xd) if record_states else out
+        out = {"fm": fm, "te": te_of(X), "lines": lines, "reac": R @ X}
+        if record_states:
+            out["states"] = (X, Xd)
+        if record_cells:
+            out["cells"] = forces
+        if factors is not None:  # line load w = P / l on the flanks
+            w = jnp.where(table.mask[j], forces / table.length[j], 0.0)
+            out["p2"] = mesh_max(w * factors[j], table.sizes)
+        return out
 
     rows = ((jnp.arange(n_steps) + 1 + start) % P)[None, :]
     return newmark(
@@ -95,6 +118,7 @@ def _newmark(
         law,
         kept if record else None,
         check=check,
+        record_entry=True,
     )
 
 
@@ -114,7 +138,13 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
     fs, static_lines = _static_forces(model, table, static)
-    states = None
+    # the cells' base-plane coordinates at the table's rows (the same cells as the table's)
+    track = cfg.cell_loads or cfg.pressure is not None
+    geometry = cell_geometry(model.scene, table.theta) if track else None
+    factors = None
+    if cfg.pressure is not None:  # E*/(π R) per row and cell
+        factors = pressure_factors(cfg.pressure, table.sizes, geometry[0], table.mask)
+    states = forces = p2 = None
     if cfg.newmark:
         # the transient unrecorded, then the kept periods recorded from the row where the
         # transient ended (memory ∝ keep_periods only)
@@ -130,11 +160,14 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
             record=True,
             record_states=cfg.states,
             start=n_trans,
+            record_cells=cfg.cell_loads,
+            factors=factors,
             **run,
         )
-        fm, te, lines, reac = rec[:4]
+        fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
         if cfg.states:
-            states = rec[4]
+            states = rec["states"][0]
+        forces, p2 = rec.get("cells"), rec.get("p2")
         X, Xd, Xdd, code, it = carry
         final = (X, Xd, Xdd)
     else:
@@ -142,10 +175,21 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         # that a Newmark run, the default, does not pay)
         from ._diffrax import _diffrax
 
-        final, (fm, te, lines, reac), code, it = _diffrax(
+        final, (fm, te, lines, reac, forces), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
     j = (jnp.arange(n_keep) + 1 + n_trans) % table.theta.shape[0]
+    line_load = None
+    if forces is not None:  # the line loads of the kept steps (N/m), (K, c)
+        line_load = jnp.where(table.mask[j], forces / table.length[j], 0.0)
+    pressure = cells = None
+    if factors is not None:
+        if p2 is None:  # diffrax: from the cell forces at the kept samples
+            p2 = mesh_max(line_load * factors[j], table.sizes)
+        w_static = jnp.where(table.mask, static.static_force_density, 0.0)
+        pressure = (p2, mesh_max(w_static * factors, table.sizes))
+    if cfg.cell_loads:
+        cells = split_cells(line_load, geometry[0][j], geometry[1][j], table.mask[j], table.sizes)
     static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (P, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
@@ -170,6 +214,8 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         rim=(none, none),
         states=states,
         scene_steps=table.theta.shape[0],
+        pressure=pressure,
+        cells=cells,
     )
 
 

@@ -41,6 +41,7 @@ from jaxtyping import Array, Bool, Float, Int
 from .._baseplane import MeshModel, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
+from .._pressure import pressure_factor
 from .._util import check_integer
 from .._quasi_static import mesh_positions, mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
@@ -51,6 +52,7 @@ __all__ = [
     "DynamicModel",
     "HybridModel",
     "MeshTable",
+    "cell_geometry",
     "cells_from_reference",
     "dynamic_model",
     "mesh_forces",
@@ -134,6 +136,55 @@ def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple
     parts = mesh_separations(scene, mods, theta)
     delta0 = tuple(jnp.where(c.mask, d + (e_ref[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
     return tuple(p[0] for p in parts), delta0
+
+
+def cell_geometry(scene, theta) -> tuple[Array, Array, Array]:
+    """Every mesh's cells at the scene angles ``theta`` (K,), each at its mesh angle
+    (:meth:`~jaxgear.scenes.Scene.mesh_cells`), joined mesh after mesh as the contact row joins
+    them: base-plane s (m), z (m) and the flank mask, each (K, c)."""
+
+    def at(th):
+        cells = scene.mesh_cells(th)
+        return tuple(
+            jnp.concatenate([getattr(c, f).reshape(-1) for c in cells]) for f in ("s", "z", "mask")
+        )
+
+    return jax.vmap(at)(theta)
+
+
+def pressure_factors(pressure, sizes, s, mask) -> Float[Array, "... c"]:
+    """E*/(π R) of every cell (Pa per N/m; 0 off the flanks) at base-plane coordinates ``s``
+    (..., c) of meshes of ``sizes`` (n_lines, n_slices), mesh after mesh, with each mesh's pair
+    and the material of ``pressure`` (:class:`~jaxgear.dynamics.HertzPressure`): a line load w
+    gives p₀² = w × this (:func:`jaxgear.pressure_factor`)."""
+    E, nu = pressure.youngs_modulus, pressure.poisson_ratio
+    parts = zip(pressure.pairs, split_by_mesh(s, sizes), split_by_mesh(mask, sizes), strict=True)
+    return jnp.concatenate(
+        [
+            pressure_factor(pair, ss, mm, E, nu).reshape(s.shape[:-1] + (-1,))
+            for pair, ss, mm in parts
+        ],
+        axis=-1,
+    )
+
+
+def mesh_max(cell_values, sizes) -> Float[Array, "... m"]:
+    """The largest of ``cell_values`` (..., c) over each mesh's cells (meshes of ``sizes``, mesh
+    after mesh): (..., m)."""
+    return jnp.stack(
+        [
+            jnp.max(v.reshape(v.shape[:-2] + (-1,)), axis=-1)
+            for v in split_by_mesh(cell_values, sizes)
+        ],
+        axis=-1,
+    )
+
+
+def split_cells(line_load, s, z, mask, sizes) -> tuple:
+    """Per mesh (line load, s, z, mask), each (..., n_lines, n_slices), from the joined (..., c)
+    records of meshes of ``sizes``."""
+    parts = [split_by_mesh(v, sizes) for v in (line_load, s, z, mask)]
+    return tuple(zip(*parts, strict=True))
 
 
 def mesh_te(scene, e_ref):

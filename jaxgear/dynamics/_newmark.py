@@ -65,6 +65,7 @@ def newmark(
     *,
     check: Callable[[Array, Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
+    record_entry: bool = False,
 ):
     """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
 
@@ -84,6 +85,8 @@ def newmark(
             blow-up), 0 if none; the loop itself flags contact loops that did not converge,
             non-finite states and cells outside the mesh damping's window.
         mesh_damping: :class:`MeshDamping` or None (needs a window: the cell space).
+        record_entry: call ``record(X, Ẋ, P, entry)`` with the step's entry of ``inputs`` (to
+            reduce per-cell values that depend on the position inside the loop).
 
     Returns:
         (the final state, the records flattened over the blocks, leading axis B·S, or None).
@@ -185,7 +188,9 @@ def newmark(
                 new = _first(new, check(Xn, Xdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             carry = (Xn, Xdn, Xddn, _first(code, new), jnp.maximum(it, sol.iterations))
-            return carry, (None if record is None else record(Xn, Xdn, P))
+            if record is None:
+                return carry, None
+            return carry, (record(Xn, Xdn, P, entry) if record_entry else record(Xn, Xdn, P))
 
         return jax.lax.scan(step, carry, entries)
 

@@ -35,6 +35,23 @@ class MeshDynamics(eqx.Module):
         contact_loss: fraction of recorded steps with total contact loss (mesh force < 1e-3 F_s).
         periodicity: max |F_m(last period) − F_m(previous period)| / F_s (-); NaN with one kept
             period.
+        max_pressure: the largest Hertzian contact pressure p₀ = √(w E*/(π R)) over the
+            mesh's cells and the kept steps (Pa), reduced inside the time loop; None unless the
+            run tracks it (``pressure=`` :class:`~jaxgear.dynamics.HertzPressure` of
+            :func:`~jaxgear.dynamics.simulate` or :func:`~jaxgear.dynamics.speed_sweep`; K. L.
+            Johnson, *Contact Mechanics*, §4.3; the seed's Fig. IV-44 is its quasi-static
+            counterpart per position).
+        max_pressure_static: the largest quasi-static one over the run's positions of a mesh
+            period (Pa), from the loads of ``static_te``'s solution (a lumped model's at rest,
+            a hybrid model's with the centrifugal load at the speed); None likewise.
+        line_load: the line load of every cell at the kept steps (N per metre of contact line,
+            flank-normal), shape (K, L, N) (L contact lines of N slices; 0 off the flanks and
+            out of contact); None unless recorded (``cell_loads=True``). Σ over a line's cells
+            of ``line_load`` × the cell length is ``line_force``.
+        cell_s: the cells' base-plane coordinate along the line of action at those steps (m),
+            (K, L, N). cell_z: across the face (m), (K, L, N). cell_mask: on the flanks, (K, L,
+            N). None unless recorded. With them :func:`jaxgear.contact_pressure` and
+            :func:`jaxgear.load_map` take a dynamic mesh as they take a quasi-static one.
     """
 
     mesh_force: Float[Array, " K"]
@@ -48,6 +65,12 @@ class MeshDynamics(eqx.Module):
     te_mean: Float[Array, ""]
     contact_loss: Float[Array, ""]
     periodicity: Float[Array, ""]
+    max_pressure: Float[Array, ""] | None = None
+    max_pressure_static: Float[Array, ""] | None = None
+    line_load: Float[Array, "K L N"] | None = None
+    cell_s: Float[Array, "K L N"] | None = None
+    cell_z: Float[Array, "K L N"] | None = None
+    cell_mask: Bool[Array, "K L N"] | None = None
 
 
 class DynamicResult(eqx.Module):
@@ -58,8 +81,9 @@ class DynamicResult(eqx.Module):
     A scene of one gear mesh reads that mesh's response directly on this object
     (``mesh_force``, ``static_force``, ``transmission_error``, ``line_force``, ``static_te``,
     ``dynamic_factor``, ``dynamic_factor_tooth``, ``te_rms``, ``te_mean``, ``contact_loss``,
-    ``periodicity``: see :class:`MeshDynamics`); a scene of several meshes reads them from
-    ``meshes[k]``.
+    ``periodicity``, ``max_pressure``, ``max_pressure_static``, ``line_load``, ``cell_s``,
+    ``cell_z``, ``cell_mask``: see :class:`MeshDynamics`); a scene of several meshes reads them
+    from ``meshes[k]``.
 
     Attributes:
         speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
@@ -129,6 +153,12 @@ class DynamicResult(eqx.Module):
     te_mean = of_the_one_mesh("te_mean")
     contact_loss = of_the_one_mesh("contact_loss")
     periodicity = of_the_one_mesh("periodicity")
+    max_pressure = of_the_one_mesh("max_pressure")
+    max_pressure_static = of_the_one_mesh("max_pressure_static")
+    line_load = of_the_one_mesh("line_load")
+    cell_s = of_the_one_mesh("cell_s")
+    cell_z = of_the_one_mesh("cell_z")
+    cell_mask = of_the_one_mesh("cell_mask")
 
 
 class SweepResult(eqx.Module):
@@ -163,9 +193,17 @@ def checked(r: DynamicResult, name: str) -> DynamicResult:
     )
 
 
-def _mesh_dynamics(fm, fs, te, lines, static_line_force, static_te, P: int) -> MeshDynamics:
+def _mesh_dynamics(
+    fm, fs, te, lines, static_line_force, static_te, P: int, pressure=None, cells=None
+) -> MeshDynamics:
     """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`); P: the
-    steps of the period the periodicity compares."""
+    steps of the period the periodicity compares; ``pressure``: (the largest p₀² per kept step
+    (K,), the largest quasi-static one) (Pa²) or None; ``cells``: (line load, s, z, mask), each
+    (K, L, N), or None."""
+    p_max = p_static = None
+    if pressure is not None:
+        p_max, p_static = (jnp.sqrt(jnp.max(v)) for v in pressure)
+    cells = (None,) * 4 if cells is None else cells
     K = fm.shape[0]
     if K >= 2 * P:
         periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
@@ -183,6 +221,12 @@ def _mesh_dynamics(fm, fs, te, lines, static_line_force, static_te, P: int) -> M
         te_mean=jnp.mean(te),
         contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
         periodicity=periodicity,
+        max_pressure=p_max,
+        max_pressure_static=p_static,
+        line_load=cells[0],
+        cell_s=cells[1],
+        cell_z=cells[2],
+        cell_mask=cells[3],
     )
 
 
@@ -209,6 +253,8 @@ def steady_state(
     rim,
     states=None,
     scene_steps: int | None = None,
+    pressure=None,
+    cells=None,
 ) -> DynamicResult:
     """The :class:`DynamicResult` of one speed's records over its K kept steps, m meshes.
 
@@ -225,6 +271,10 @@ def steady_state(
         rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
         scene_steps: the steps of one scene period (default N_s; a two-stage train's span):
             the periodicity compares the last two of them.
+        pressure: None, or (the largest p₀² over each mesh's cells per kept step (K, m), the
+            largest quasi-static one per position (P, m)) (Pa²): each mesh's
+            ``max_pressure`` and ``max_pressure_static``.
+        cells: None, or per mesh (line load (N/m), s (m), z (m), mask), each (K, L_k, N_k).
     """
     P = steps_per_period
     fm, te = mesh_force, transmission_error
@@ -240,6 +290,8 @@ def steady_state(
             static_line_force[k],
             static_te[:, k],
             P if scene_steps is None else scene_steps,
+            None if pressure is None else (pressure[0][:, k], pressure[1][:, k]),
+            None if cells is None else cells[k],
         )
         for k in range(fm.shape[1])
     )

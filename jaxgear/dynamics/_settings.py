@@ -14,12 +14,14 @@ import os
 import equinox as eqx
 import jax.numpy as jnp
 
+from .._geometry import GearPair
 from .._util import check_integer
 
 __all__ = [
     "DIFFRAX_SOLVERS",
     "MAX_STEPS_PER_SPEED",
     "DiffraxIntegrator",
+    "HertzPressure",
     "Newmark",
     "SteadyState",
     "check_run_size",
@@ -173,6 +175,65 @@ class SteadyState(eqx.Module):
             )
 
 
+def _pairs(pairs) -> tuple:
+    return (pairs,) if isinstance(pairs, GearPair) else tuple(pairs)
+
+
+class HertzPressure(eqx.Module):
+    """Track the largest Hertzian contact pressure of every mesh during a dynamic run: at each
+    kept step the largest p₀ = √(w E*/(π R(s))) over the mesh's cells (Hertz line contact,
+    K. L. Johnson, *Contact Mechanics*, 1985, §4.3; :func:`jaxgear.contact_pressure`), reduced
+    over the kept steps inside the time loop (no per-cell records); the largest over the
+    model's quasi-static positions beside it. Pass it as ``pressure=`` to
+    :func:`~jaxgear.dynamics.simulate` or :func:`~jaxgear.dynamics.speed_sweep`; the result's
+    :attr:`MeshDynamics.max_pressure` and ``max_pressure_static`` hold them.
+
+    Attributes:
+        pairs: the :class:`~jaxgear.GearPair` of each gear mesh, in the scene's mesh order (its
+            pinion the mesh's driving gear; one pair for a one-mesh scene, given alone or in a
+            tuple): the flanks' radii of curvature.
+        youngs_modulus: E of both gears (Pa), > 0. poisson_ratio: ν, in [0, 0.5).
+
+    Raises:
+        ValueError: a pair that is not a :class:`~jaxgear.GearPair`, no pair, or a material out
+            of range (one line naming the attribute); a run whose scene has another number of
+            meshes than ``pairs`` (when the run starts).
+    """
+
+    pairs: tuple = eqx.field(static=True, converter=_pairs)
+    youngs_modulus: float = eqx.field(static=True)
+    poisson_ratio: float = eqx.field(static=True)
+
+    def __check_init__(self):
+        if not self.pairs or not all(isinstance(p, GearPair) for p in self.pairs):
+            raise ValueError(
+                f"pairs = {self.pairs!r}: allowed a jaxgear.GearPair or a tuple of them, one "
+                "per gear mesh"
+            )
+        E, nu = self.youngs_modulus, self.poisson_ratio
+        if not (isinstance(E, int | float) and E > 0):
+            raise ValueError(f"youngs_modulus = {E!r} Pa: allowed > 0")
+        if not (isinstance(nu, int | float) and 0 <= nu < 0.5):
+            raise ValueError(f"poisson_ratio = {nu!r}: allowed in [0, 0.5)")
+
+
+def check_pressure(pressure, meshes: int) -> HertzPressure | None:
+    """``pressure`` checked to be None or a :class:`HertzPressure` of ``meshes`` pairs (one line
+    naming ``pressure`` otherwise)."""
+    if pressure is None:
+        return None
+    if not isinstance(pressure, HertzPressure):
+        raise ValueError(
+            f"pressure = {pressure!r}: allowed None or jaxgear.dynamics.HertzPressure(...)"
+        )
+    if len(pressure.pairs) != meshes:
+        raise ValueError(
+            f"pressure: {len(pressure.pairs)} gear pairs for a scene of {meshes} gear meshes "
+            "(allowed one pair per mesh, in the scene's mesh order)"
+        )
+    return pressure
+
+
 def check_integrator(integrator, name: str = "integrator") -> Integrator:
     """``integrator`` checked to be :class:`Newmark` or :class:`DiffraxIntegrator` (one line
     naming ``name`` otherwise)."""
@@ -193,7 +254,8 @@ def check_window(window, name: str = "window") -> SteadyState:
 @dataclasses.dataclass(frozen=True)
 class _Config:
     """The resolved settings of one run (static under jit): the integrator with its step count
-    fixed, the window, the divergence bound and whether the states are recorded."""
+    fixed, the window, the divergence bound, whether the states and the cell loads are
+    recorded, and the Hertz pressure tracked (or None)."""
 
     integrator: Integrator
     steps_per_period: int
@@ -202,6 +264,8 @@ class _Config:
     max_steps: int
     blowup: float
     states: bool = False
+    cell_loads: bool = False
+    pressure: HertzPressure | None = None
 
     @property
     def newmark(self) -> bool:
@@ -241,11 +305,16 @@ def _config(
     min_keep: int = 2,
     values_per_step: int = 16,
     record_all: bool = False,
+    cell_loads: bool = False,
+    pressure: HertzPressure | None = None,
+    cells: int = 0,
 ) -> _Config:
     """The settings of a run with the integrator's step count resolved to
     ``steps_per_period``; checks the window (at least ``min_keep`` kept periods: 2 for a
     lumped model, which compares the last two) and the run's size, ``values_per_step`` recorded
-    per kept step (per step of the whole run with ``record_all``) (before any work)."""
+    per kept step (per step of the whole run with ``record_all``) (before any work);
+    ``cell_loads``: the ``cells`` cells' loads, coordinates and mask are recorded at every kept
+    step too; ``pressure``: the Hertz pressure tracked (:class:`HertzPressure`)."""
     check_integer("steps_per_period", steps_per_period, 4)
     if window.keep_periods < min_keep:
         why = " (the lumped dynamics compare the last two periods)" if min_keep == 2 else ""
@@ -264,6 +333,13 @@ def _config(
         int(window.periods if record_all else window.keep_periods) * int(steps_per_period),
         values_per_step,
     )
+    if cell_loads:  # line load, s, z and mask of every cell at every kept step
+        check_run_size(
+            window.periods,
+            steps_per_period,
+            int(window.keep_periods) * int(steps_per_period),
+            values_per_step + 4 * int(cells),
+        )
     max_steps = getattr(integrator, "max_steps", None)
     if max_steps is None:
         max_steps = 64 * n_total + 4096
@@ -275,4 +351,6 @@ def _config(
         int(max_steps),
         float(blowup),
         bool(states),
+        bool(cell_loads),
+        pressure,
     )

@@ -9,7 +9,14 @@ from .._contact import ContactLaw
 from ._lumped import _prep, _run, _static_start
 from ._model import AbstractDynamicModel, HybridModel
 from ._result import DynamicResult
-from ._settings import DiffraxIntegrator, Newmark, SteadyState, _config
+from ._settings import (
+    DiffraxIntegrator,
+    HertzPressure,
+    Newmark,
+    SteadyState,
+    _config,
+    check_pressure,
+)
 from ._sweep import auto_steps_per_period, resolve_settings, speed_sweep
 
 __all__ = ["simulate"]
@@ -24,6 +31,8 @@ def simulate(
     window: SteadyState | None = None,
     state0=None,
     states: bool = False,
+    cell_loads: bool = False,
+    pressure: HertzPressure | None = None,
     blowup: float = 100.0,
     throw: bool = True,
 ) -> DynamicResult:
@@ -46,6 +55,15 @@ def simulate(
             vibration velocity; a hybrid model starts from the quasi-static state at the speed).
         states: also record the coordinates at the kept steps (``DynamicResult.states``;
             Newmark only).
+        cell_loads: also record every mesh's cell loads at the kept steps: the line load
+            (N/m), base-plane s and z (m) and flank mask of every cell, (K, L, N) each
+            (:class:`MeshDynamics` ``line_load``, ``cell_s``, ``cell_z``, ``cell_mask``; the
+            input of :func:`jaxgear.contact_pressure` and :func:`jaxgear.load_map`). Memory
+            ∝ K × cells.
+        pressure: :class:`~jaxgear.dynamics.HertzPressure` (the pairs and the material): track
+            each mesh's largest Hertzian contact pressure over the kept steps inside the time
+            loop (:class:`MeshDynamics` ``max_pressure``, ``max_pressure_static``); None: not
+            tracked.
         blowup: divergence bound (> 0), result code 3: mesh force > blowup·F_s or kinetic
             energy > blowup² · F_s²/2k̄ (k̄ the mean mesh stiffness: of the model for a lumped
             one, of the quasi-static positions at the speed for a hybrid one).
@@ -58,7 +76,7 @@ def simulate(
     Raises:
         ValueError: settings that are not settings objects, a window too short or a run too
             large (before any work); automatic steps with a traced speed; ``state0`` for a
-            hybrid model.
+            hybrid model; a ``pressure`` of another number of pairs than the scene's meshes.
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
     if isinstance(model, HybridModel):
@@ -74,16 +92,29 @@ def simulate(
             contact=contact,
             window=window,
             states=states,
+            cell_loads=cell_loads,
+            pressure=pressure,
             blowup=blowup,
             throw=throw,
         ).results
         return jax.tree.map(lambda x: x[0], res)
     integrator, law, window = resolve_settings(model, integrator, contact, window, states)
+    pressure = check_pressure(pressure, len(model.scene.base_planes))
     dtype = model.scene.base_planes[0].base_pitch.dtype
     steps_per_period = integrator.steps_per_period
     if steps_per_period is None:
         steps_per_period = int(auto_steps_per_period(model, speed))
-    cfg = _config(integrator, window, steps_per_period, blowup, states)
+    cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
+    cfg = _config(
+        integrator,
+        window,
+        steps_per_period,
+        blowup,
+        states,
+        cell_loads=bool(cell_loads),
+        pressure=pressure,
+        cells=cells,
+    )
     speed = jnp.asarray(speed, dtype)
     prep = _prep(model, law, cfg.steps_per_period)
     if state0 is None:

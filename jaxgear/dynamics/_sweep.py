@@ -21,11 +21,13 @@ from ._model import AbstractDynamicModel, DynamicModel, HybridModel
 from ._result import SweepResult, checked
 from ._settings import (
     DiffraxIntegrator,
+    HertzPressure,
     Newmark,
     SteadyState,
     _Config,
     _config,
     check_integrator,
+    check_pressure,
     check_window,
 )
 
@@ -181,6 +183,8 @@ def speed_sweep(
     window: SteadyState | None = None,
     direction: str = "independent",
     states: bool = False,
+    cell_loads: bool = False,
+    pressure: HertzPressure | None = None,
     shard: bool = True,
     chunk_size: int | None = None,
     progress=None,
@@ -210,6 +214,10 @@ def speed_sweep(
             ``speeds``; one vmap over the two scans when not chunked).
         states: also record the coordinates at the kept steps (``DynamicResult.states``;
             Newmark only).
+        cell_loads, pressure: per-cell loads at the kept steps, the largest Hertzian
+            pressure per speed, as :func:`~jaxgear.dynamics.simulate` (each speed's, with a
+            leading speed axis; the pressure reduced inside the time loop, so a sweep with
+            ``pressure`` and without ``cell_loads`` keeps no per-cell record).
         chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
             chunk is padded), calling ``progress(n_done)`` after each (for a progress bar;
             Ctrl-C is honoured between chunks). Continuation carries the state across chunks.
@@ -226,6 +234,9 @@ def speed_sweep(
     if direction not in ("independent", "up", "down", "both"):
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
     integrator, law, window = resolve_settings(model, integrator, contact, window, states)
+    pressure = check_pressure(pressure, len(model.scene.base_planes))
+    cell_loads = bool(cell_loads)
+    cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
     hybrid = isinstance(model, HybridModel)
     if hybrid and direction != "independent":
         raise ValueError(
@@ -250,7 +261,16 @@ def speed_sweep(
     def fixed(sp, n, d, tick, start=None):
         n = int(n)
         if not hybrid:
-            cfg = _config(integrator, window, n, blowup, states)
+            cfg = _config(
+                integrator,
+                window,
+                n,
+                blowup,
+                states,
+                cell_loads=cell_loads,
+                pressure=pressure,
+                cells=cells,
+            )
             return _fixed_sweep(
                 model,
                 sp,
@@ -262,7 +282,7 @@ def speed_sweep(
                 progress=tick,
                 start=start,
             )
-        cfg = _hybrid.run_config(model, integrator, window, n, blowup, states)
+        cfg = _hybrid.run_config(model, integrator, window, n, blowup, states, cell_loads, pressure)
         n_dev = len(jax.local_devices()) if shard else 1
 
         def run(w):
@@ -401,6 +421,8 @@ def _subsample(r, m: int):
     if r.states is not None:
         hist += ("states",)
     per_mesh = ("mesh_force", "transmission_error", "line_force", "static_te")
+    if r.meshes[0].line_load is not None:
+        per_mesh += ("line_load", "cell_s", "cell_z", "cell_mask")
 
     def records(x):
         leaves = [getattr(x, h) for h in hist]
