@@ -648,7 +648,11 @@ def harmonic_crossings(
         speeds=speeds,
     )
     return [
-        {k: c[k] for k in ("frequency_Hz", "harmonic", "speed_rad_s")}
+        {
+            "frequency_Hz": c["frequency_Hz"] if speeds is not None else float(f[c["mode"]]),
+            "harmonic": c["harmonic"],
+            "speed_rad_s": c["speed_rad_s"],
+        }
         for c in rows
         if c["speed_rad_s"] <= s_max
     ]
@@ -668,12 +672,12 @@ def campbell_plot(
     s_line = np.linspace(0, s_max, 50)
     freqs = _nan(summary["natural_frequencies_Hz"])
     # the modes at speed where the run has the rotating-frame terms (else constant)
-    curves, grid = _at_speed(summary, freqs)
-    if grid is None:
-        grid, curves = np.array([0.0, s_max]), np.vstack([freqs, freqs])
+    at_speed, grid = _at_speed(summary, freqs)
+    curves = at_speed if grid is not None else np.vstack([freqs, freqs])
+    line_grid = grid if grid is not None else np.array([0.0, s_max])
 
     def at(i, speed):
-        return np.interp(speed, grid, curves[:, i])
+        return np.interp(speed, line_grid, curves[:, i])
 
     modes = [
         (i, f, e)
@@ -736,7 +740,7 @@ def campbell_plot(
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
         )
         mode_labels.append(t)
-    drawn = curves[:, [i for i, _, _ in modes]]
+    drawn = at_speed[..., [i for i, _, _ in modes]]
     cross = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
     for _, z in others:
         cross += harmonic_crossings(drawn, z, s_max, (1, 2), grid)

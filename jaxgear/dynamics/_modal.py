@@ -247,16 +247,17 @@ def campbell_coincidences(
     for i in modes:
         for h in harmonics:
             if speeds is None:
-                speed = rest[i] / (mesh_order * h)
+                speed, omega_at = rest[i] / (mesh_order * h), rest[i]
             else:
                 speed = _first_crossing(speeds, curves[:, i], mesh_order * h)
+                omega_at = mesh_order * h * speed
             if speed <= max_speed * 1.05:
                 out.append(
                     {
                         "mode": int(i),
                         "harmonic": int(h),
                         "speed_rad_s": float(speed),
-                        "frequency_Hz": float(mesh_order * h * speed / (2 * math.pi)),
+                        "frequency_Hz": float(omega_at / (2 * math.pi)),
                         "mesh_energy_share": float(energy[i]),
                     }
                 )
@@ -363,15 +364,16 @@ def nodal_diameter_resonances(
                     continue
                 rate = int(order) * ratio
                 if speeds is None:
-                    w1 = rest[i] / rate
+                    w1, omega_at = rest[i] / rate, rest[i]
                 else:
                     w1 = _first_crossing(speeds, curves[:, i], rate)
+                    omega_at = rate * w1
                 if not math.isfinite(w1):
                     continue
                 w2 = w1 * ratio
                 rows.append(
                     {
-                        "frequency_hz": int(order) * w2 / (2 * np.pi),
+                        "frequency_hz": float(omega_at / (2 * np.pi)),
                         "frequency_rest_hz": float(rest[i] / (2 * np.pi)),
                         "nodal_diameter": int(n),
                         "harmonic": int(h),
