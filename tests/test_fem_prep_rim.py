@@ -24,6 +24,7 @@ from test_fem_prep_physics import NU, E, _disc_text
 
 import fem_prep
 from fem_prep import (
+    RimCouplingWarning,
     assemble_operators,
     couple_masters,
     mesh_body,
@@ -41,6 +42,28 @@ def wheel():
     bm = mesh_body(body)
     ms = select_masters(bm, body)
     return body, bm, ms
+
+
+def test_an_indefinite_rim_gram_is_reported(wheel):
+    """With consistent areas (negative at serendipity corners) ``G = N^T A N`` can be
+    indefinite, the defect that gives spurious soft modes in dynamics (fem_prep._rim): rim_fit
+    warns exactly when G has an eigenvalue <= 0, naming the count. The small test wheel's G is
+    positive definite (no warning); the embedded accessory wheel's is not (70 of 430)."""
+    import warnings
+
+    _, bm, ms = wheel
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RimCouplingWarning)
+        fit = rim_fit(bm, ms.rim_nodes, ms.rim_radius)
+    assert np.linalg.eigvalsh(fit.G.toarray())[0] > 0
+    body = parse_body(fem_prep.embedded_body_text("accessory-wheel"))
+    bm = mesh_body(body)
+    ms = select_masters(bm, body)
+    with pytest.warns(RimCouplingWarning, match=r"indefinite") as rec:
+        fit = rim_fit(bm, ms.rim_nodes, ms.rim_radius)
+    lam = np.linalg.eigvalsh(fit.G.toarray())
+    assert lam[0] < 0
+    assert f"({int(np.sum(lam <= 0))} of {lam.size} eigenvalues" in str(rec[0].message)
 
 
 def test_fit_reproduces_affine_fields_at_the_fitted_positions(wheel):

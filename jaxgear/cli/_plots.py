@@ -808,7 +808,7 @@ def campbell_plot(
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(
         f"{summary['case']}: Campbell diagram, modes with ≥ {min_share:.0%} mesh strain energy "
-        "(black ≥ 5 %)" + (", at speed (Southwell)" if summary.get("campbell_at_speed") else ""),
+        "(black ≥ 5 %)" + (", modes at speed" if summary.get("campbell_at_speed") else ""),
         fontsize=10,
     )
     ax.grid(alpha=0.3)
