@@ -425,3 +425,31 @@ def test_grade_draw_is_reproducible_in_a_case():
         np.asarray(a.deviations.gear.helix_form), np.asarray(b.deviations.gear.helix_form)
     )
     assert a.deviation_settings["revolutions_count"] == 86
+
+
+def test_sinusoidal_cumulative_pitch_gives_the_sidebands_of_the_load_share(spur):
+    """A per-tooth cumulative pitch F_p,n = A sin(2π n/z1 + φ) (the spacing that eccentric
+    cutting leaves) does give sidebands: while every pair in contact stays loaded the TE change
+    is linear, ΔTE(θ) = −Σ_j w(θ − jT) F_p,j (w the load share K_j/K of one pair over its
+    passage, T = 2π/z1), so its line at pinion order q = 1 + h z1 (and −1 + h z1) has the
+    amplitude A |Ŵ(q)|, Ŵ(q) = (1/T) ∫ w(u) e^{−i q u} du, the Fourier coefficient of the
+    share window (a window of one period, ε_α = 1, gives A |sinc(q/z1)|). The sum over the
+    sampled window is computed here from the pair stiffnesses, independently of the solver."""
+    case, mesh = spur
+    z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
+    a, phi, ppp = 3e-6, 0.3, 16
+    fp = a * np.sin(2 * np.pi * np.arange(z1) / z1 + phi)
+    fpt = fp - np.roll(fp, 1)  # f_pt,n = F_p,n − F_p,n−1: closes
+    g = jg.GearDeviations(fpt)
+    np.testing.assert_allclose(np.asarray(g.cumulative_pitch), fp - fp[0], atol=1e-18)
+    theta = jg.mesh_positions(mesh, ppp, z1)
+    d = _te(mesh, case.torque, jg.Deviations(pinion=g), theta) - _te(mesh, case.torque, None, theta)
+    spec = jg.te_spectrum(d, ppp, (z1, z2))
+    window = np.asarray(theta[: 2 * ppp])  # pair 0 enters at θ = 0 and leaves before 2T
+    kn, km = _pair_stiffness(mesh, window, 0)
+    w = kn / (kn + km)
+    for q in (1, z1 - 1, z1 + 1, 2 * z1 - 1, 2 * z1 + 1):
+        hand = a * abs(np.sum(w * np.exp(-1j * q * window))) / ppp
+        assert spec.at(q) == pytest.approx(hand, rel=1e-6), q
+    sinc = abs(np.sinc((z1 + 1) / z1))
+    assert 0.05 * a * sinc < spec.at(z1 + 1) < a * sinc  # the overlap (ε_α = 1.42) lowers them
