@@ -267,6 +267,15 @@ def run_command(args) -> int:
     if args.json:
         write_json(args.json, summary)
     print(format_table(summary))
+    if "deviations" in summary:
+        d = summary["deviations"]
+        grade = f"grade {d['grade']}, seed {d['seed']}" if d["grade"] is not None else "given"
+        mesh = next(ln for ln in d["spectrum_lines"] if ln["label"] == "mesh")
+        print(
+            f"deviations ({grade}): TE over {d['revolutions_count']} pinion revolutions, "
+            f"ptp {d['te_ptp_m'] * 1e6:.4f} µm, mesh order {mesh['amplitude_m'] * 1e6:.4f} µm "
+            "(spectrum: deviations/te_spectrum.png)"
+        )
     if "quasi_static_scene" in summary:
         from .scene import scene_lines
 
