@@ -197,7 +197,8 @@ class GearDeviations(eqx.Module):
     docstring for the conventions). Arrays have one entry per tooth, shape (z,), tooth 0 first.
 
     Attributes:
-        single_pitch: f_pt,n (m) on the reference circle, closing around the gear (Σ = 0).
+        single_pitch: f_pt,n (m) on the reference circle, closing around the gear (Σ = 0; not
+            checked here, where the values may be traced: the case file checks it).
         runout: radial runout F_r = 2 e_r (m), >= 0; runout_phase: φ (rad).
         profile_slope: f_Hα,n (m): e = f_Hα (u − ½) along the active profile (u the roll fraction,
             0 at the start of active profile, 1 at the tip): + adds material at the tip.
