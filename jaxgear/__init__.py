@@ -21,6 +21,15 @@ from ._contact import (
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )
+from ._deviations import (
+    Deviations as Deviations,
+    GearDeviations as GearDeviations,
+    ISO1328Tolerances as ISO1328Tolerances,
+    hunting_revolutions as hunting_revolutions,
+    iso1328_round as iso1328_round,
+    iso1328_tolerances as iso1328_tolerances,
+    sample_gear_deviations as sample_gear_deviations,
+)
 from ._geometry import (
     GearPair as GearPair,
     Member as Member,
@@ -43,6 +52,7 @@ from ._quasi_static import (
     separation as separation,
 )
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
+from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
     iso6336_blank_factor as iso6336_blank_factor,
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,

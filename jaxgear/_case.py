@@ -48,11 +48,16 @@ class Case:
         scene: the validated ``[scene]`` table (:class:`jaxgear.dynamics.SceneSpec`) or None.
         optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
         raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
+        deviations: manufacturing deviations per tooth (:class:`~jaxgear.Deviations`, ISO
+            1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade, seed,
+            revolutions, positions per pitch; docs/deviations.md) or None.
     """
 
     name: str
     pair: GearPair
     modifications: Modifications
+    deviations: Any = None
+    deviation_settings: dict | None = None
     youngs_modulus: float = 210e9
     poisson_ratio: float = 0.3
     density: float = 7800.0

@@ -24,6 +24,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from ._deviations import Deviations
 from ._util import as_float
 
 __all__ = ["MemberModification", "Modifications"]
@@ -156,10 +157,14 @@ class MemberModification(eqx.Module):
 
 
 class Modifications(eqx.Module):
-    """Flank modifications of both members.
+    """Flank modifications of both members, and optionally their manufacturing deviations.
 
     Attributes:
         pinion, gear: :class:`MemberModification` of each member.
+        deviations: per-tooth manufacturing deviations (:class:`~jaxgear.Deviations`, ISO
+            1328-1) or None (perfect teeth). They depend on the tooth pair and the absolute angle,
+            so :meth:`deviation` leaves them out: :func:`~jaxgear.separation` adds them per cell
+            (docs/deviations.md).
 
     Example:
         >>> tip = MemberModification(tip_relief_depth=15e-6, tip_relief_extent=0.25)
@@ -168,6 +173,7 @@ class Modifications(eqx.Module):
 
     pinion: MemberModification = eqx.field(default_factory=MemberModification)
     gear: MemberModification = eqx.field(default_factory=MemberModification)
+    deviations: Deviations | None = None
 
     @classmethod
     def symmetric(cls, member: MemberModification) -> "Modifications":

@@ -130,10 +130,15 @@ def per_mesh_modifications(mods, n_meshes: int) -> tuple[Modifications, ...]:
 def separation(mesh: MeshModel, mods: Modifications, theta):
     """Cells at pinion angle ``theta`` (rad), max_M e (m) and δ0 = max e − e per cell (m, (2.8)).
 
-    Shared by the quasi-static and the dynamic solvers. δ0 is 0 outside the mask.
+    Shared by the quasi-static and the dynamic solvers. δ0 is 0 outside the mask. The
+    manufacturing deviations that ``mods`` carries (``mods.deviations``, per tooth, at the absolute
+    angle ``theta``) add to e (docs/deviations.md, "Initial separation").
     """
     cells = mesh.cells(theta)
     e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+    deviations = getattr(mods, "deviations", None)
+    if deviations is not None:
+        e = e + deviations.deviation(mesh, cells)
     e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
     return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
 
@@ -237,7 +242,10 @@ def quasi_static(
         scene: a :class:`Scene` (e.g. :class:`RigidMesh`, :class:`TorsionalPair`), or a
             :class:`MeshModel` for the rigid 1-DOF mesh.
         modifications: flank modifications (``None``: perfect involutes): one
-            :class:`Modifications` for every mesh of the scene, or a tuple of one per mesh.
+            :class:`Modifications` for every mesh of the scene, or a tuple of one per mesh; with
+            ``deviations`` (per-tooth ISO 1328-1 deviations) the result depends on the absolute
+            angle: cover whole revolutions with ``periods = z1 × revolutions``
+            (:func:`~jaxgear.hunting_revolutions`; docs/deviations.md).
         torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
         theta: scene angles θ (rad, the pinion's), shape (P,); default :func:`mesh_positions`
             of the first mesh over ``periods`` mesh periods with ``positions_per_pitch``
@@ -260,7 +268,8 @@ def quasi_static(
         is solved at once, so that they share the structure's compliance).
 
     Raises:
-        ValueError: ``contact`` not a contact law, bad position counts (at trace time).
+        ValueError: ``contact`` not a contact law, bad position counts (at trace time),
+            deviations whose per-tooth arrays do not have the mesh's tooth counts.
         eqx.EquinoxRuntimeError: torque <= 0, width <= 0, a negative speed on a hybrid scene,
             solver failure (with ``throw``).
     """
@@ -273,6 +282,10 @@ def quasi_static(
         n_meshes = len(scene.base_planes)
     if isinstance(modifications, tuple | list):  # the count, before any computation
         modifications = per_mesh_modifications(modifications, n_meshes)
+    planes = (mesh,) if mesh is not None else scene.base_planes
+    for plane, mods in zip(planes, per_mesh_modifications(modifications, n_meshes), strict=True):
+        if getattr(mods, "deviations", None) is not None:  # tooth counts, eagerly
+            mods.deviations.check(plane)
     dtype = (mesh if mesh is not None else scene.base_planes[0]).base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     speed = jnp.asarray(speed, dtype=dtype)

@@ -49,6 +49,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map_dynamic_*.png",
     ),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
+    # jaxgear run on a case with [deviations] (subfolder deviations/)
+    "deviations": ("te_span.csv", "spectrum.csv", "spectrum.json", "te_spectrum.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
     "bench optimise": ("bench_optimise.json",),
@@ -62,9 +64,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
 # map per mesh (named after its gears) and the layout with its phasing
 TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png")
 OUTPUT_FILES["run"] += TRAIN_FILES
-# ``jaxgear run`` also owns the sweep/, optimise/ and scene/ subfolders of its folder
+# ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
-    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene") for n in OUTPUT_FILES[sub]
+    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations") for n in OUTPUT_FILES[sub]
 )
 
 

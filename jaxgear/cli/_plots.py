@@ -1039,3 +1039,44 @@ def master_curve_plot(
     labels = [t.get_text() for t in leg.get_texts()]
     savefig(fig, path)
     return labels
+
+
+def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonics: int = 3):
+    """The TE over the deviation span (µm against pinion revolutions) above its order spectrum
+    (µm against pinion orders up to (``mesh_harmonics`` + ½) z1), the mesh orders and the
+    shaft-order sidebands around them marked and labelled (:meth:`jaxgear.TESpectrum.lines`)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.0, 7.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax0, ax1 = fig.subplots(2, 1)
+    ax0.plot(theta_rev, np.asarray(te) * 1e6, lw=0.6)
+    ax0.set_xlabel("pinion position (revolutions)")
+    ax0.set_ylabel("quasi-static TE (µm)")
+    ax0.set_title(title)
+    ax0.grid(alpha=0.3)
+    z1 = spectrum.teeth[0]
+    keep = (spectrum.orders > 0) & (spectrum.orders <= (mesh_harmonics + 0.5) * z1)
+    ax1.vlines(spectrum.orders[keep], 0.0, spectrum.amplitude[keep] * 1e6, lw=0.7, color="0.4")
+    top = float(spectrum.amplitude[keep].max() * 1e6) if keep.any() else 1.0
+    for line in spectrum.lines(mesh_harmonics):
+        a = line["amplitude_m"] * 1e6
+        sideband = any(c in line["label"] for c in "−+") or "shaft" in line["label"]
+        color = "C0" if sideband else "C3"  # mesh orders red, shaft orders and sidebands blue
+        ax1.plot(line["bin_order"], a, "o", ms=3.5, color=color)
+        if a > 0.02 * top:
+            ax1.annotate(
+                line["label"],
+                (line["bin_order"], a),
+                textcoords="offset points",
+                xytext=(2, 4),
+                rotation=90,
+                fontsize=7,
+                color=color,
+            )
+    ax1.set_xlabel(f"pinion order (events per revolution; mesh order = z1 = {z1})")
+    ax1.set_ylabel("TE amplitude (µm)")
+    ax1.set_ylim(0.0, top * 1.35 or 1.0)
+    ax1.grid(alpha=0.3)
+    savefig(fig, path)

@@ -39,7 +39,10 @@ def run_case(
 
     Files (written atomically): ``summary.json``, ``te.csv``, ``mesh_stiffness.csv``,
     ``transmission_error.png``, ``mesh_stiffness.png``, ``load_map.png``, ``pressure_map.png``
-    (the Hertzian contact pressure, :func:`~jaxgear.contact_pressure`), ``harris_map.png``.
+    (the Hertzian contact pressure, :func:`~jaxgear.contact_pressure`), ``harris_map.png``; with
+    ``[deviations]`` also ``deviations/`` (the TE over whole revolutions with the deviations per
+    tooth and its order spectrum, :func:`~jaxgear.cli._deviation_run.deviation_outputs`) and
+    ``summary.json``'s ``deviations``. The other files are for the perfect gears (no deviations).
 
     ``summary.json`` says ``"complete": complete`` (``jaxgear run`` passes False when a sweep or
     an optimisation follows, and rewrites it at the end).
@@ -165,6 +168,10 @@ def run_case(
         title=f"{case.name}: Harris map",
     )
     steps.update()  # the four plots
+    if case.deviations is not None:  # the span with the manufacturing deviations per tooth
+        from ._deviation_run import deviation_outputs
+
+        summary["deviations"] = deviation_outputs(case, mesh, os.path.join(out_dir, "deviations"))
     steps.close()
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
@@ -260,6 +267,15 @@ def run_command(args) -> int:
     if args.json:
         write_json(args.json, summary)
     print(format_table(summary))
+    if "deviations" in summary:
+        d = summary["deviations"]
+        grade = f"grade {d['grade']}, seed {d['seed']}" if d["grade"] is not None else "given"
+        mesh = next(ln for ln in d["spectrum_lines"] if ln["label"] == "mesh")
+        print(
+            f"deviations ({grade}): TE over {d['revolutions_count']} pinion revolutions, "
+            f"ptp {d['te_ptp_m'] * 1e6:.4f} µm, mesh order {mesh['amplitude_m'] * 1e6:.4f} µm "
+            "(spectrum: deviations/te_spectrum.png)"
+        )
     if "quasi_static_scene" in summary:
         from .scene import scene_lines
 

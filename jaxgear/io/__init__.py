@@ -5,6 +5,7 @@ from ._case_file import (
     CaseWarning as CaseWarning,
     SchemaError as SchemaError,
     parse_case as parse_case,
+    parse_deviations as parse_deviations,
     parse_modifications as parse_modifications,
     parse_optimise as parse_optimise,
     plausibility as plausibility,

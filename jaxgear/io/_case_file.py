@@ -22,6 +22,7 @@ from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
 from .._case import Case, TrainCase
+from .._deviations import Deviations, GearDeviations, iso1328_tolerances, sample_gear_deviations
 from .._geometry import GearPair, Member
 from .._modifications import MemberModification, Modifications
 from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
@@ -31,6 +32,7 @@ __all__ = [
     "CaseWarning",
     "mean_static_deflection",
     "parse_case",
+    "parse_deviations",
     "parse_modifications",
     "parse_optimise",
     "plausibility",
@@ -78,6 +80,7 @@ _SCHEMA: dict[str, Any] = {
         "fe2d_size_um",
     },
     "modifications": None,  # checked by parse_modifications
+    "deviations": None,  # checked by parse_deviations
     "scene": None,  # checked by parse_scene
     "optimise": None,  # checked by parse_optimise
 }
@@ -185,6 +188,134 @@ def parse_modifications(table: dict) -> Modifications:
         where = f"modifications.{tag}"
         members.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
     return Modifications(pinion=members[0], gear=members[1])
+
+
+# --------------------------------------------------------------------------------------------
+# manufacturing deviations (ISO 1328-1)
+
+_DEV_KEYS = {"grade", "seed", "revolutions", "positions_per_pitch", "pinion", "gear"}
+_DEV_MEMBER_KEYS = {
+    "pitch_um",
+    "runout_um",
+    "runout_phase_deg",
+    "profile_slope_um",
+    "profile_form_um",
+    "helix_slope_um",
+    "helix_form_um",
+}
+_PER_TOOTH = ("profile_slope", "profile_form", "helix_slope", "helix_form")
+#: tolerance on the closure Σ f_pt = 0 of given single pitch deviations (µm)
+PITCH_CLOSURE_UM = 1e-6
+#: the most positions a deviation span may ask for (revolutions × z1 × positions_per_pitch)
+MAX_SPAN_POSITIONS = 2_000_000
+
+
+def _per_tooth(spec: dict, key: str, where: str, z: int):
+    """A number (every tooth) or an array of one number per tooth, µm → m (None: absent)."""
+    if key not in spec:
+        return None
+    v = spec[key]
+    if isinstance(v, list):
+        return np.asarray(sc.number_list(spec, key, where, length=z)) * 1e-6
+    return sc.number(spec, key, where) * 1e-6
+
+
+def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
+    """``[deviations]`` → (:class:`Deviations`, the run settings).
+
+    ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every deviation of both gears
+    (:func:`~jaxgear.sample_gear_deviations`, NumPy ``default_rng(seed)``: pinion first, then
+    gear); ``[deviations.pinion]`` / ``[deviations.gear]`` give values (µm) that replace the drawn
+    ones key by key, or, without a grade, are the only deviations (the others 0).
+
+    Settings returned (case-file units): ``grade`` (or None), ``seed``, ``revolutions`` (pinion
+    revolutions of the quasi-static span, an integer or ``"hunting"``), ``revolutions_count`` (the
+    integer), ``positions_per_pitch``, ``tolerances_um`` per gear (with a grade).
+
+    Raises:
+        SchemaError: unknown keys, wrong types, values out of range, arrays of another length
+            than the gear's teeth, given single pitch deviations that do not close (Σ ≠ 0).
+    """
+    if not isinstance(table, dict):
+        raise sc.fail("", "deviations", "must be a table", table)
+    sc.check_keys(table, _DEV_KEYS, "deviations")
+    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
+    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
+    rev = table.get("revolutions", "hunting")
+    z1, z2 = pair.pinion.teeth, pair.gear.teeth
+    if rev == "hunting":
+        count = z2 // math.gcd(z1, z2)
+    else:
+        if isinstance(rev, str):
+            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
+        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
+        rev = count
+    ppp = sc.number(table, "positions_per_pitch", "deviations", 16, allowed=">= 2", integer=True)
+    if count * z1 * ppp > MAX_SPAN_POSITIONS:
+        raise sc.fail(
+            "deviations",
+            "revolutions",
+            f"out of range: {count} pinion revolutions × {z1} teeth × {ppp} positions per pitch "
+            f"is {count * z1 * ppp} positions, allowed <= {MAX_SPAN_POSITIONS} (lower "
+            "positions_per_pitch or give a number of revolutions)",
+            rev,
+        )
+    rng = np.random.default_rng(seed)
+    members, tolerances = [], {}
+    for tag, member, z in (("pinion", pair.pinion, z1), ("gear", pair.gear, z2)):
+        spec = sc.subtable(table, tag, "deviations", _DEV_MEMBER_KEYS)
+        where = f"deviations.{tag}"
+        kw: dict[str, Any] = {}
+        if grade is not None:
+            d = z * pair.normal_module / math.cos(pair.helix_angle)
+            try:  # the gear's own reference diameter and face width (tolerances are per gear)
+                tol = iso1328_tolerances(pair.normal_module, d, member.face_width, grade)
+            except ValueError as err:
+                raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
+            tolerances[tag] = tol.as_um()
+            drawn = sample_gear_deviations(rng, z, tol, pair.transverse_pressure_angle)
+            kw = {
+                f: np.asarray(getattr(drawn, f))
+                for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
+            }
+        if "pitch_um" in spec:
+            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z)) * 1e-6
+            if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
+                raise sc.fail(
+                    where,
+                    "pitch_um",
+                    f"out of range: the single pitch deviations sum to {fpt.sum() * 1e6:.6g} µm, "
+                    "allowed a sum of 0 (they close around the gear)",
+                    spec["pitch_um"],
+                )
+            kw["single_pitch"] = fpt
+        if "runout_um" in spec:
+            kw["runout"] = sc.number(spec, "runout_um", where, allowed=">= 0") * 1e-6
+        if "runout_phase_deg" in spec:
+            kw["runout_phase"] = math.radians(
+                sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
+            )
+        for f in _PER_TOOTH:
+            v = _per_tooth(spec, f"{f}_um", where, z)
+            if v is not None:
+                kw[f] = v
+        if not kw and grade is None:
+            members.append(None)
+            continue
+        kw.setdefault("single_pitch", np.zeros(z))
+        members.append(
+            GearDeviations(**kw, reference_pressure_angle=pair.transverse_pressure_angle)
+        )
+    settings = {
+        "grade": grade,
+        "seed": seed,
+        "revolutions": rev,
+        "revolutions_count": int(count),
+        "positions_per_pitch": ppp,
+    }
+    if tolerances:
+        settings["tolerances_um"] = tolerances
+    return Deviations(pinion=members[0], gear=members[1]), settings
 
 
 # --------------------------------------------------------------------------------------------
@@ -434,6 +565,9 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}))
+    deviations, deviation_settings = (
+        parse_deviations(data["deviations"], pair) if "deviations" in data else (None, None)
+    )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
@@ -448,6 +582,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         name=name,
         pair=pair,
         modifications=mods,
+        deviations=deviations,
+        deviation_settings=deviation_settings,
         youngs_modulus=E,
         poisson_ratio=nu,
         density=rho,
