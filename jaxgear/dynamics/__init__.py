@@ -75,6 +75,7 @@ from ._settings import (
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
     DiffraxIntegrator as DiffraxIntegrator,
     HertzPressure as HertzPressure,
+    ModalBasis as ModalBasis,
     Newmark as Newmark,
     SteadyState as SteadyState,
 )
