@@ -346,19 +346,20 @@ class ModalSpace(NamedTuple):
 
 def _split(Phi, m: int, K, r: int):
     """The kept directions T and the others Q (:class:`ModalSpace`) of the modes ``Phi`` (n, n)
-    (M-orthonormal, ascending) for the stiffness K (n, n): T = [Φ_:m, Φ_t W_:r], Q = Φ_t W_r:,
-    with Φ_t the other modes and W the eigenvectors of Φ_tᵀ K Φ_t, ascending (the r softest
+    (M-orthonormal, ascending) for the stiffness K (n, n), and Qᵀ K Q (diagonal: σ, (n − m'),):
+    T = [Φ_:m, Φ_t W_:r], Q = Φ_t W_r:, with Φ_t the other modes and (σ, W) the eigenpairs of
+    Φ_tᵀ K Φ_t, ascending (the r softest
     directions of the structure without the mesh among the other modes: a member's free
     rotation that the mesh held in K + K̄ must keep its inertia, not enter the static
     correction with an unbounded flexibility)."""
     n = Phi.shape[0]
     if m + r >= n:
-        return Phi, Phi[:, n:]
+        return Phi, Phi[:, n:], Phi[0, n:]
     Pt = Phi[:, m:]
     A = Pt.T @ K @ Pt
-    _, W = jnp.linalg.eigh(0.5 * (A + A.T))
+    sigma, W = jnp.linalg.eigh(0.5 * (A + A.T))
     Pt = Pt @ W
-    return jnp.concatenate([Phi[:, :m], Pt[:, :r]], axis=1), Pt[:, r:]
+    return jnp.concatenate([Phi[:, :m], Pt[:, :r]], axis=1), Pt[:, r:], sigma[r:]
 
 
 def _reduce(T, Q, K, correction: bool = True):
@@ -419,12 +420,20 @@ def _modal_space(model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasi
         return _mesh_block(scene, qs.theta + p * period_angle, loaded)
 
     Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
-    Phi = modal_analysis(scene, Km).shapes
-    K = scene.structure.K
-    T, Q = _split(Phi, basis.modes, K, len(scene.members))
+    K, M = scene.structure.K, scene.structure.M
+    L = jnp.linalg.cholesky(M)  # the modes of (M, K + K̄), M-orthonormal, ascending
+    A = jax.scipy.linalg.solve_triangular(L, K + Km, lower=True)
+    A = jax.scipy.linalg.solve_triangular(L, A.T, lower=True)
+    _, Y = jnp.linalg.eigh(0.5 * (A + A.T))
+    Phi = jax.scipy.linalg.solve_triangular(L, Y, lower=True, trans="T")
+    T, Q, sigma = _split(Phi, basis.modes, K, len(scene.members))
     if model.rotating_frame:
         return ModalSpace(T, Q, None, None)
-    return ModalSpace(T, Q, *_reduce(T, Q, K, basis.static_correction))
+    if Q.shape[1] == 0 or not basis.static_correction:
+        return ModalSpace(T, Q, *_reduce(T, Q, K, False))
+    G = Q @ (Q.T / sigma[:, None])  # (_reduce's, Qᵀ K Q = diag σ here)
+    G = 0.5 * (G + G.T)
+    return ModalSpace(T, Q, T - G @ (K @ T), G)
 
 
 def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited, space=None):
