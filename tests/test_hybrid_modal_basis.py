@@ -143,3 +143,35 @@ def test_bad_settings(setup):
     assert not isinstance(lumped, HybridModel)
     with pytest.raises(ValueError, match="modal basis is for a hybrid model"):
         speed_sweep(lumped, jnp.asarray([100.0]), integrator=Newmark(16, basis=ModalBasis(4)))
+
+
+def test_case_key():
+    """``[scene.integration] modal_basis = m`` reaches the integrator; bad values are one-line
+    errors naming the key and the allowed range."""
+    from jaxgear.dynamics import spec_integrator
+    from jaxgear.io._scene_table import parse_scene
+
+    shaft = {
+        "length_mm": 80.0,
+        "diameter_mm": 25.0,
+        "gear_position_mm": 40.0,
+        "torque_position_mm": 0.0,
+        "bearings": [
+            {"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0},
+            {"position_mm": 80.0, "radial_N_per_um": 200.0},
+        ],
+    }
+    base = {"model": "lumped3d", "pinion_shaft": shaft, "gear_shaft": shaft}
+    hybrid = {**base, "gear_body": {"body": "accessory-wheel"}}
+    it = spec_integrator(parse_scene({**hybrid, "integration": {"modal_basis": 60}}))
+    assert it == Newmark(None, basis=ModalBasis(60))
+    assert spec_integrator(parse_scene({**hybrid, "integration": {"modal_basis": False}})) == (
+        Newmark(None)
+    )
+    for bad, why in ((0, r"allowed \[1, 1e\+06\]"), (2.5, "integer"), (True, "integer")):
+        with pytest.raises(ValueError, match=rf"\[scene.integration\] modal_basis = .*{why}"):
+            parse_scene({**hybrid, "integration": {"modal_basis": bad}})
+    with pytest.raises(ValueError, match="modal_basis .* condensed body"):
+        parse_scene({**base, "integration": {"modal_basis": 60}})
+    with pytest.raises(ValueError, match="modal_basis .* solver = 'newmark'"):
+        parse_scene({**hybrid, "integration": {"modal_basis": 60, "solver": "tsit5"}})
