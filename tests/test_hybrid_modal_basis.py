@@ -38,10 +38,12 @@ def setup(fem_prep_cache):
     return case, static_scene(case, bodies=(None, body))[0]
 
 
-def _sweep(setup, speeds, basis, *, damping=None, spp=16, window=None):
+def _sweep(setup, speeds, basis, *, damping=None, spp=16, window=None, rotating_frame=False):
     case, scene = setup
     window = SteadyState(6, 2) if window is None else window
-    model = dynamic_model(scene, case.modifications, case.torque, damping)
+    model = dynamic_model(
+        scene, case.modifications, case.torque, damping, rotating_frame=rotating_frame
+    )
     return speed_sweep(
         model, jnp.asarray(speeds), integrator=Newmark(spp, basis=basis), window=window
     ).results
@@ -53,18 +55,21 @@ def _sweep(setup, speeds, basis, *, damping=None, spp=16, window=None):
         pytest.param(None, id="rayleigh"),
         pytest.param(Damping("modal", ratio=0.05), id="modal", marks=pytest.mark.slow),
         pytest.param(Damping("composite"), id="composite", marks=pytest.mark.slow),
+        pytest.param("rotating", id="rayleigh-rotating-frame", marks=pytest.mark.slow),
     ],
 )
 def test_all_modes_is_the_cell_space_result(setup, damping):
     """With every mode kept (D = Φ, no residual) the modal-basis Newmark is the cell-space one
     written in modal coordinates: the same mesh forces, TE and bearing forces to round-off, for
     the three damping models (Rayleigh's mesh share on the window's coordinates, the
-    composite's through its map on the modal coordinates, modal without a mesh share). An
-    independent check of the transformation, the start state and the damping's mapping."""
+    composite's through its map on the modal coordinates, modal without a mesh share), and with
+    the turning frames' terms (the reduction per speed). An independent check of the transformation, the start state and the damping's mapping."""
     n = setup[1].structure.K.shape[0]
     speeds = [700.0, 2500.0]
-    ref = _sweep(setup, speeds, None, damping=damping)
-    r = _sweep(setup, speeds, ModalBasis(n), damping=damping)
+    rot = isinstance(damping, str)  # the turning frames' terms: the reduction per speed
+    damping = None if rot else damping
+    ref = _sweep(setup, speeds, None, damping=damping, rotating_frame=rot)
+    r = _sweep(setup, speeds, ModalBasis(n), damping=damping, rotating_frame=rot)
     assert np.all(np.asarray(r.result) == 0)
     fm = np.asarray(ref.mesh_force)
     np.testing.assert_allclose(np.asarray(r.mesh_force), fm, rtol=0, atol=1e-9 * fm.max())

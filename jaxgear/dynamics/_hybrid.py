@@ -489,10 +489,11 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
         basis = cfg.integrator.basis
         D, G = space.D, space.G
         if D is None:  # K at the speed (rotating frame)
-            D, G = _reduce(space.T, space.Q, K, basis.static_correction)
+            # (on K's symmetric part: G stays symmetric; exact with every mode kept)
+            D, G = _reduce(space.T, space.Q, 0.5 * (K + K.T), basis.static_correction)
         Mr, Kr, Cr = (0.5 * (A + A.T) for A in (D.T @ M @ D, D.T @ K @ D, D.T @ C @ D))
-        if model.rotating_frame:  # the skew Coriolis part is not symmetrised away
-            Cr = D.T @ C @ D
+        if model.rotating_frame:  # the skew Coriolis part and K's (load stiffness) are kept
+            Kr, Cr = D.T @ K @ D, D.T @ C @ D
         # Rayleigh's β K on the static correction (the residual's Kelvin–Voigt lag)
         beta_r = model.damping.beta if model.damping.model == "rayleigh" else 0.0
         modal = (Kr, Mr, Cr, D.T @ F, ModalStructure(D, G, G @ F), beta_r)

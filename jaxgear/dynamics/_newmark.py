@@ -299,8 +299,7 @@ def newmark_modal(
             if local:  # c_m B on X_U: H'_UU = (I + a₁ c_m H_UU B)⁻¹ H_UU
                 HUU = DU @ Gr @ DU.T + rho * G[U[:, None], U[None, :]]
                 S = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + (a1 * c_m) * (HUU @ B), jnp.eye(w))
-                H2 = S @ HUU
-                H2 = 0.5 * (H2 + H2.T)
+                H2 = S @ HUU  # (not symmetrised: a Coriolis term makes G_r unsymmetric)
             else:  # mapped: c_m W_rᵀ B W_r on the modal coordinates
                 WD = Wmap[U]
                 Cm = c_m * (WD.T @ B @ WD)
