@@ -25,6 +25,10 @@ from ._hybrid_sweep import (
     bench_hybrid_sweep as bench_hybrid_sweep,
     hybrid_sweep_chart as hybrid_sweep_chart,
 )
+from ._modal_basis import (
+    bench_modal_basis as bench_modal_basis,
+    modal_basis_chart as modal_basis_chart,
+)
 from ._optimise import bench_optimise as bench_optimise
 from ._quasi_static import bench_quasi_static as bench_quasi_static
 from ._stiffness import bench_stiffness as bench_stiffness

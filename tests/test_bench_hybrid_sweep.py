@@ -37,6 +37,12 @@ def test_bench_hybrid_sweep_quick(tmp_path, fem_prep_cache):
     assert sw["result"] == [0, 0, 0, 0] and all(1.0 < v < 5.0 for v in sw["dynamic_factor"])
     assert sw["total_wall_s"] > 0 and sw["compile_s"] >= 0
 
+    # the modal-basis sweep of the same speeds (ratios against the cell space of this run)
+    mb = saved["sweep_modal_basis"]
+    assert mb["result"] == [0, 0, 0, 0] and len(mb["dynamic_factor"]) == 4
+    assert mb["total_wall_s"] > 0 and mb["ratio_total_wall_vs_cell_space"] > 0
+    assert 0 <= mb["max_abs_df_error_vs_cell_space"] < 0.5
+
     # the baselines integrate the same equations
     bl = saved["baseline"]
     assert bl["result_woodbury"] == [0] * len(bl["speeds_rad_s"])
@@ -59,3 +65,22 @@ def test_bench_hybrid_sweep_quick(tmp_path, fem_prep_cache):
     for m in ("model", "woodbury", "refactor"):
         assert rows[0][f"{m}_per_step_s"] >= 0
     assert not list(out_dir.glob(".tmp-*"))
+
+
+@pytest.mark.slow
+def test_bench_modal_basis_quick(tmp_path, fem_prep_cache):
+    """``jaxgear bench modal-basis --quick`` on the small hybrid test case: its JSON and chart,
+    the cell-space and modal-basis sweeps of the same speeds."""
+    from benchmarks import bench_modal_basis
+
+    out_dir = tmp_path / "bench"
+    out = bench_modal_basis(out_dir, quick=True, case=str(CASE), verbose=False)
+    assert sorted(p.name for p in out_dir.iterdir()) == sorted(OUTPUT_FILES["bench modal-basis"])
+    saved = json.loads((out_dir / "modal_basis.json").read_text())
+    assert saved["case"] == out["case"] == "hybrid-test" and saved["dtype"] == "float64"
+    n = len(saved["settings"]["speeds_rad_s"])
+    assert saved["cell_space"]["result"] == [0] * n
+    assert [r["modes"] for r in saved["modal"]] == [20, 80]
+    for r in saved["modal"]:
+        assert r["result"] == [0] * n and 0 <= r["max_abs_df_error"] < 0.5
+        assert r["basis_s"] > 0 and r["extrapolated_100_speeds_s"] > 0

@@ -60,6 +60,7 @@ def _parser() -> argparse.ArgumentParser:
             "dynamics",
             "hybrid",
             "hybrid-sweep",
+            "modal-basis",
             "stiffness",
             "trains",
         ],
@@ -183,6 +184,8 @@ def _bench(args) -> int:
         bench.bench_hybrid(args.out, quick=args.quick)
     elif args.what == "hybrid-sweep":
         bench.bench_hybrid_sweep(args.out, quick=args.quick)
+    elif args.what == "modal-basis":
+        bench.bench_modal_basis(args.out, quick=args.quick)
     elif args.what == "stiffness":
         bench.bench_stiffness(args.out, quick=args.quick)
     elif args.what == "trains":

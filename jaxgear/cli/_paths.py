@@ -57,6 +57,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),
     "bench hybrid": ("bench_hybrid.json", "bench_hybrid.png"),
     "bench hybrid-sweep": ("bench_hybrid_sweep.json", "bench_hybrid_sweep.png"),
+    "bench modal-basis": ("modal_basis.json", "modal_basis.png"),
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
     "bench trains": ("bench_trains.json", "bench_trains.png"),
 }

@@ -2,7 +2,8 @@
 dynamics").
 
 Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
-:class:`DiffraxIntegrator`), the contact law (:class:`jaxgear.ExactContact`,
+:class:`DiffraxIntegrator`; a hybrid model's Newmark can take a :class:`ModalBasis`), the
+contact law (:class:`jaxgear.ExactContact`,
 :class:`jaxgear.SmoothContact`), the damping (:class:`Damping`) and the steady-state window
 (:class:`SteadyState`); the speed is an argument.
 
@@ -75,6 +76,7 @@ from ._settings import (
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
     DiffraxIntegrator as DiffraxIntegrator,
     HertzPressure as HertzPressure,
+    ModalBasis as ModalBasis,
     Newmark as Newmark,
     SteadyState as SteadyState,
 )

@@ -21,7 +21,7 @@ from ..scenes import (
 )
 from ._modal import Damping
 from ._model import dynamic_model
-from ._settings import DiffraxIntegrator, Newmark, SteadyState
+from ._settings import DiffraxIntegrator, ModalBasis, Newmark, SteadyState
 
 __all__ = [
     "SceneSpec",
@@ -62,6 +62,7 @@ class SceneSpec:
     rtol: float = 1e-6
     atol: float = 1e-6
     rotating_frame: bool = False  # hybrid: the turning frames' inertia (HybridModel)
+    modal_basis: int | None = None  # hybrid: Newmark in a modal basis of this many modes
     pinion_mass: float | None = None
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d
@@ -87,9 +88,11 @@ class SceneSpec:
 def spec_integrator(spec: SceneSpec) -> Newmark | DiffraxIntegrator:
     """The integrator of a case's ``[scene.integration]`` table: ``solver = "newmark"`` →
     :class:`Newmark`, a diffrax solver name → :class:`DiffraxIntegrator` (with its
-    tolerances); ``steps_per_period`` (``None``: automatic)."""
+    tolerances); ``steps_per_period`` (``None``: automatic); ``modal_basis`` = m →
+    ``Newmark(..., basis=ModalBasis(m))`` (hybrid models)."""
     if spec.solver == "newmark":
-        return Newmark(spec.steps_per_period)
+        basis = None if spec.modal_basis is None else ModalBasis(int(spec.modal_basis))
+        return Newmark(spec.steps_per_period, basis=basis)
     return DiffraxIntegrator(
         spec.solver, spec.steps_per_period, rtol=float(spec.rtol), atol=float(spec.atol)
     )

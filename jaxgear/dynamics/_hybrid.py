@@ -64,9 +64,16 @@ from ._model import (
     split_cells,
     static_mesh_forces,
 )
-from ._newmark import MeshDamping, newmark
+from ._newmark import MeshDamping, ModalStructure, newmark, newmark_modal
 from ._result import steady_state
-from ._settings import DiffraxIntegrator, SteadyState, _Config, _config, _divergence_code
+from ._settings import (
+    DiffraxIntegrator,
+    ModalBasis,
+    SteadyState,
+    _Config,
+    _config,
+    _divergence_code,
+)
 
 __all__ = [
     "FreeVibration",
@@ -91,6 +98,7 @@ def _newmark_cells(
     record,
     mesh_damping: MeshDamping | None = None,
     check=None,
+    modal=None,
 ):
     """The Newmark loop (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in the cell
     space) on the hybrid scene, one step per pinion angle of ``thetas`` (P, S) (P blocks of S
@@ -100,6 +108,11 @@ def _newmark_cells(
     The cells at each step: every mesh's cells at the pinion angle, their flank gaps from the
     mesh's time-constant reference ``e_ref`` (m,) (δ0 = e_ref,k − e), on the meshes' windows
     of master DOFs under the contact (:meth:`~jaxgear.scenes.HybridPair.window_row`).
+
+    ``modal``: None (the cell space), or (K_r, M_r, C_r, F_r, :class:`ModalStructure`, β_r): the
+    model in a modal basis (:func:`~jaxgear.dynamics._newmark.newmark_modal`; ``state`` then
+    (q, q̇, q̈, r, ṙ, r̈), ``check`` gets (q, q̇, P); the final state is returned on the
+    coordinates).
 
     Returns the final state (X, Ẋ, Ẍ, result code, most contact passes) and per step (flattened
     over the blocks): θ, the cell forces P (c,) of all meshes, each mesh's TE (m,) and
@@ -114,9 +127,42 @@ def _newmark_cells(
         return P, te_of(X), record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
-    carry, (P, te, rec) = newmark(
-        K, M, C, F, dt, init, thetas, cells_at, law, kept, check=check, mesh_damping=mesh_damping
-    )
+    if modal is None:
+        carry, (P, te, rec) = newmark(
+            K,
+            M,
+            C,
+            F,
+            dt,
+            init,
+            thetas,
+            cells_at,
+            law,
+            kept,
+            check=check,
+            mesh_damping=mesh_damping,
+        )
+    else:
+        Kr, Mr, Cr, Fr, space, beta_r = modal
+        carry, (P, te, rec) = newmark_modal(
+            Kr,
+            Mr,
+            Cr,
+            Fr,
+            space,
+            dt,
+            init,
+            thetas,
+            cells_at,
+            law,
+            kept,
+            check=check,
+            mesh_damping=mesh_damping,
+            residual_damping=beta_r,
+        )
+        q, qd, qdd, r, rd, rdd, code, it = carry  # the state on the coordinates
+        D = space.D
+        carry = (D @ q + r, D @ qd + rd, D @ qdd + rdd, code, it)
     return carry, (thetas.reshape(-1), P, te, rec)
 
 
@@ -279,7 +325,118 @@ def revolution_damping(
     return RevolutionDamping(damp.C, damp.c_m, damp.R, _revolution_periods(model.scene), block)
 
 
-def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited):
+class ModalSpace(NamedTuple):
+    """The modal basis of a hybrid sweep (:func:`modal_space`), computed once per sweep.
+
+    Attributes:
+        T: (n, m') the kept directions, M-orthonormal: the m lowest modes of (M, K + K̄) and
+            the r softest directions of K on the other modes (r = the scene's members: their
+            free rotations, which K alone does not hold); m' = min(m + r, n).
+        Q: (n, n − m') the other directions (M-orthonormal, M-orthogonal to T).
+        D: (n, m') T with its static residual (:func:`_reduce`), or None when the structure's
+            stiffness depends on the speed (``rotating_frame``: reduced per speed).
+        G: (n, n) the residual flexibility, or None (as D).
+    """
+
+    T: Float[Array, "n m"]
+    Q: Float[Array, "n k"]
+    D: Float[Array, "n m"] | None
+    G: Float[Array, "n n"] | None
+
+
+def _split(Phi, m: int, K, r: int):
+    """The kept directions T and the others Q (:class:`ModalSpace`) of the modes ``Phi`` (n, n)
+    (M-orthonormal, ascending) for the stiffness K (n, n), and Qᵀ K Q (diagonal: σ, (n − m'),):
+    T = [Φ_:m, Φ_t W_:r], Q = Φ_t W_r:, with Φ_t the other modes and (σ, W) the eigenpairs of
+    Φ_tᵀ K Φ_t, ascending (the r softest
+    directions of the structure without the mesh among the other modes: a member's free
+    rotation that the mesh held in K + K̄ must keep its inertia, not enter the static
+    correction with an unbounded flexibility)."""
+    n = Phi.shape[0]
+    if m + r >= n:
+        return Phi, Phi[:, n:], Phi[0, n:]
+    Pt = Phi[:, m:]
+    A = Pt.T @ K @ Pt
+    sigma, W = jnp.linalg.eigh(0.5 * (A + A.T))
+    Pt = Pt @ W
+    return jnp.concatenate([Phi[:, :m], Pt[:, :r]], axis=1), Pt[:, r:], sigma[r:]
+
+
+def _reduce(T, Q, K, correction: bool = True):
+    """The static correction of the kept directions T (n, m') for the stiffness K (n, n), Q
+    (n, n − m') the other directions (:func:`_split`; together M-orthonormal): (D (n, m'),
+    G (n, n)).
+
+    G = Q (Qᵀ K Q)⁻¹ Qᵀ: the structure's flexibility on the M-orthogonal complement of the
+    kept directions (the residual flexibility; R. R. Craig & A. J. Kurdila, *Fundamentals of
+    Structural Dynamics*, 2006, §14.5), and D = T − G K T. Then X = D q + G f solves the static
+    K X = f exactly (block elimination of the complement: Dᵀ K D q = Dᵀ f, Dᵀ K G = 0 as
+    G K G = G), and with every mode kept D = T, G = 0: the full model in modal coordinates.
+    Tᵀ M D = I and Tᵀ M G = 0 (q = Tᵀ M X recovers the modal coordinates). Without
+    ``correction``: D = T, G = 0 (the truncated modal model)."""
+    n = T.shape[0]
+    if Q.shape[1] == 0 or not correction:
+        return T, jnp.zeros((n, n), T.dtype)
+    A = Q.T @ K @ Q
+    G = Q @ jnp.linalg.solve(0.5 * (A + A.T), Q.T)
+    G = 0.5 * (G + G.T)
+    return T - G @ (K @ T), G
+
+
+def modal_space(model: HybridModel, law: ContactLaw, cfg: _Config) -> ModalSpace | None:
+    """The modal basis of a run with settings ``cfg`` (None when its integrator has none):
+    the modes of (M, K + K̄), K̄ the loaded mesh stiffness averaged round a wheel revolution
+    at the basis's speed (the quasi-static cells of the run's step positions there, the
+    model's torque and ``law``; :func:`_revolution_mesh_stiffness`), with the members' free
+    rotations (:func:`_split`), and their static correction for the structure's K
+    (:func:`_reduce`; per speed with ``rotating_frame``). Dense eigen-analyses of the n
+    coordinates, once per sweep.
+
+    Raises:
+        ValueError: more modes than the structure's coordinates (one line, before any work).
+    """
+    basis = getattr(cfg.integrator, "basis", None)
+    if basis is None:
+        return None
+    n = model.scene.structure.K.shape[0]
+    if basis.modes > n:
+        raise ValueError(
+            f"modal basis modes = {basis.modes} is out of range: allowed 1 … {n} (the "
+            "structure's coordinates)"
+        )
+    return _modal_space(model, law, cfg.steps_per_period, basis)
+
+
+@eqx.filter_jit
+def _modal_space(model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasis) -> ModalSpace:
+    scene = model.scene
+    dtype = scene.structure.K.dtype
+    speed = jnp.asarray(basis.speed, dtype)
+    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law)
+    loaded = _loaded(qs)
+    period_angle = scene.base_planes[0].mesh_period_angle
+
+    def block(p):
+        return _mesh_block(scene, qs.theta + p * period_angle, loaded)
+
+    Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
+    K, M = scene.structure.K, scene.structure.M
+    L = jnp.linalg.cholesky(M)  # the modes of (M, K + K̄), M-orthonormal, ascending
+    A = jax.scipy.linalg.solve_triangular(L, K + Km, lower=True)
+    A = jax.scipy.linalg.solve_triangular(L, A.T, lower=True)
+    _, Y = jnp.linalg.eigh(0.5 * (A + A.T))
+    Phi = jax.scipy.linalg.solve_triangular(L, Y, lower=True, trans="T")
+    T, Q, sigma = _split(Phi, basis.modes, K, len(scene.members))
+    if model.rotating_frame:
+        return ModalSpace(T, Q, None, None)
+    if Q.shape[1] == 0 or not basis.static_correction:
+        return ModalSpace(T, Q, *_reduce(T, Q, K, False))
+    G = Q @ (Q.T / sigma[:, None])  # (_reduce's, Qᵀ K Q = diag σ here)
+    G = 0.5 * (G + G.T)
+    return ModalSpace(T, Q, T - G @ (K @ T), G)
+
+
+def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited, space=None):
     scene, mods, torque = model.scene, model.mods, model.torque
     spp, states, blowup = cfg.steps_per_period, cfg.states, cfg.blowup
     n_steps, keep = spp * cfg.periods, spp * cfg.keep_periods
@@ -327,6 +484,29 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
     def record(X, Xd):
         return (*rim_of(X), R @ X, X) if states else (*rim_of(X), R @ X)
 
+    modal, start = None, (X0, zero, zero)
+    if space is not None:  # the modal basis with the static correction (docs/hybrid.md)
+        basis = cfg.integrator.basis
+        D, G = space.D, space.G
+        if D is None:  # K at the speed (rotating frame)
+            # (on K's symmetric part: G stays symmetric; exact with every mode kept)
+            D, G = _reduce(space.T, space.Q, 0.5 * (K + K.T), basis.static_correction)
+        Mr, Kr, Cr = (0.5 * (A + A.T) for A in (D.T @ M @ D, D.T @ K @ D, D.T @ C @ D))
+        if model.rotating_frame:  # the skew Coriolis part and K's (load stiffness) are kept
+            Kr, Cr = D.T @ K @ D, D.T @ C @ D
+        # Rayleigh's β K on the static correction (the residual's Kelvin–Voigt lag)
+        beta_r = model.damping.beta if model.damping.model == "rayleigh" else 0.0
+        modal = (Kr, Mr, Cr, D.T @ F, ModalStructure(D, G, G @ F), beta_r)
+        if mesh_damping is not None:  # its map on the reduced coordinates: R D (None: D)
+            Rm = mesh_damping.R
+            mesh_damping = mesh_damping._replace(R=None if Rm is None else Rm @ D)
+        q0 = space.T.T @ (M @ X0)  # Tᵀ M D = I, Tᵀ M G = 0
+        r0 = X0 - D @ q0  # the static correction at the start (G f there)
+        start = (q0, jnp.zeros_like(q0), jnp.zeros_like(q0), r0, zero, zero)
+
+        def check(q, qd, P):
+            return _divergence_code(qd, q, jnp.sum(P), Mr, fs_all, e_scale, blowup)
+
     (X, Xd, Xdd, code, it), (th, P, te, rec) = _newmark_cells(
         scene,
         mods,
@@ -336,13 +516,15 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
         F,
         dt,
         e_ref,
-        (X0, zero, zero),
+        start,
         thetas,
         law,
         record,
         mesh_damping,
         check,
+        modal,
     )
+
     fm, lines = mesh_forces(P[-keep:], sizes)
     # the kept steps end at the positions (k + 1) mod N_s of the first period (whole periods)
     j = (jnp.arange(keep) + 1) % spp
@@ -537,16 +719,17 @@ def run_config(
 
 
 @eqx.filter_jit
-def sweep(model: HybridModel, speeds, law: ContactLaw, cfg: _Config, omega_excited):
+def sweep(model: HybridModel, speeds, law: ContactLaw, cfg: _Config, omega_excited, space=None):
     """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
     one effective compliance of n² in memory at a time), with the run's settings ``cfg``
     (:func:`run_config`) and the highest excited mode ``omega_excited`` (rad/s; NaN: unknown):
     :class:`~jaxgear.dynamics.DynamicResult` with a leading speed axis. ``speeds`` (D, S) runs
     the D rows side by side (``jax.vmap``; rows placed one per device run there in parallel),
-    each row's speeds one after the other: leading axes (D, S)."""
+    each row's speeds one after the other: leading axes (D, S). ``space``: the modal basis
+    (:func:`modal_space`) when the integrator has one, else None."""
 
     def one_after_another(row):
-        return jax.lax.map(lambda w: _run(model, w, law, cfg, omega_excited), row)
+        return jax.lax.map(lambda w: _run(model, w, law, cfg, omega_excited, space), row)
 
     if speeds.ndim == 2:
         return jax.vmap(one_after_another)(speeds)

@@ -14,7 +14,9 @@ a₁ = γ/(βΔt), solved in whichever space is smaller (docs/design.md, "Contac
 * **cells** (condensed bodies: thousands of DOFs, the cells on a small window W of them):
   G = K_eff⁻¹ once per speed, X* = G F_eff, the gaps Δ = V X*_W − δ0 − C_eff P with the window's
   compliance C_eff = V G_WW Vᵀ (:func:`jaxgear.solve_contact_cells`), then X = X* − G_{:W} Vᵀ P: a
-  step costs n² and the window's compliance, not a factorisation (docs/hybrid.md, "Dynamics").
+  step costs n² and the window's compliance, not a factorisation (docs/hybrid.md, "Dynamics");
+  or, with a modal basis (:func:`newmark_modal`), m modes of the assembled structure plus the
+  static correction of the cells: m² + n (m + w) per step (docs/hybrid.md, "Modal basis").
 
 A mesh damping that follows the mesh (the hybrid scene's Rayleigh and composite models) is a
 rank-w change of C per block of steps, taken by Woodbury in the cell space (:class:`MeshDamping`).
@@ -191,6 +193,181 @@ def newmark(
             if record is None:
                 return carry, None
             return carry, (record(Xn, Xdn, P, entry) if record_entry else record(Xn, Xdn, P))
+
+        return jax.lax.scan(step, carry, entries)
+
+    n_blocks = jax.tree.leaves(inputs)[0].shape[0]
+    carry, out = jax.lax.scan(run_block, state, (jnp.arange(n_blocks), inputs))
+    if record is None:
+        return carry, None
+    return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
+
+
+class ModalStructure(NamedTuple):
+    """The structure of :func:`newmark_modal`: m modal coordinates q plus the static correction
+    of the forces, X = D q + G (F − Vᵀ P) (docs/hybrid.md, "Modal basis").
+
+    Attributes:
+        D: (n, m) the modes with their static residual, D = Φ_m − G K Φ_m (-).
+        G: (n, n) the residual flexibility (m/N per coordinate): the part of the structure's
+            flexibility outside the m modes; zero with all modes.
+        xF: (n,) G F, the static correction of the constant load F (m).
+    """
+
+    D: Float[Array, "n m"]
+    G: Float[Array, "n n"]
+    xF: Float[Array, " n"]
+
+
+def newmark_modal(
+    Kr: Float[Array, "m m"],
+    Mr: Float[Array, "m m"],
+    Cr: Float[Array, "m m"],
+    Fr: Float[Array, " m"],
+    space: ModalStructure,
+    dt,
+    state,
+    inputs,
+    cells_at: Callable[[Any], CellRow],
+    law: ContactLaw,
+    record: Callable[[Array, Array, Array], Any] | None,
+    *,
+    check: Callable[[Array, Array, Array], Array] | None = None,
+    mesh_damping: MeshDamping | None = None,
+    residual_damping=0.0,
+):
+    """:func:`newmark` in a modal basis with the static correction of the cells: the same
+    average-acceleration scheme and contact loop (the cells of each step solved exactly on their
+    window by :func:`jaxgear.solve_contact_cells`) for M_r q̈ + C_r q̇ + K_r q = Dᵀ f,
+    X = D q + r, r + β_r ṙ = G f, f = F − Vᵀ P (+ the mesh damping's forces): the static
+    correction r has no inertia; with ``residual_damping`` β_r (Rayleigh's β K on the
+    residual, exact for it: Qᵀ K D = 0) it is a Kelvin–Voigt element, by Newmark's relations
+    r_{n+1} = ρ (G f_{n+1} + β_r v_r), ρ = 1/(1 + a₁ β_r), v_r the known part of its velocity
+    (docs/hybrid.md, "Modal basis").
+
+    Each step: q* = G_r F_eff,r (G_r = (K_r + a₀ M_r + a₁ C_r)⁻¹, m × m, once per speed), the
+    window's gaps from X*_W = D_W q* + (G F)_W, the contact problem on the window compliance
+    H_WW = D_W G_r D_Wᵀ + ρ G_WW (the modes' effective flexibility plus the residual one), then
+    q = q* − G_r D_Wᵀ Vᵀ P and X = D q + r: m² + n (m + w) per step instead of n². The
+    residual r, ṙ, r̈ is carried on every coordinate, so that a mesh damping on the window's coordinates (Rayleigh's c_m K̄_m(p), ``R`` None)
+    acts on the whole approach of the cells, static correction included: its force
+    c_m B (v_U − a₁ X_U) on the block's window U (v the known part of Newmark's velocity) is
+    solved with X_U, H'_UU = (H_UU⁻¹ + a₁ c_m B)⁻¹ (w³ per block). A mapped mesh damping
+    (the composite's R) acts on the modal coordinates only: c_m (R D)_Uᵀ B (R D)_U in C_r.
+
+    Args:
+        Kr, Mr, Cr: the reduced stiffness, mass and damping Dᵀ K D, Dᵀ M D, Dᵀ C D, (m, m)
+            (C without the mesh share). Fr: Dᵀ F (m,). space: :class:`ModalStructure`.
+        dt, inputs, cells_at, law: as :func:`newmark` (cells_at must give a window).
+        state: (q, q̇, q̈, r, ṙ, r̈, result code, most contact passes): q's (m,), r's (n,).
+        record: (X, Ẋ, P) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ), or
+            None.
+        check: (q, q̇, P) ↦ a result code of the step (on the reduced state: the kinetic
+            energy is ½ q̇ᵀ M_r q̇), or None.
+        mesh_damping: :class:`MeshDamping` with ``R`` None (on the coordinates of U, as the
+            cell space's) or the reduced map (n, m) (W_r = R[U]: c_m W_rᵀ B W_r on q), or None.
+        residual_damping: β_r (s), >= 0.
+
+    Returns:
+        As :func:`newmark`; the state as ``state``.
+    """
+    dtype = Kr.dtype
+    D, G, xF = space
+    n = D.shape[0]
+    b, g = BETA, GAMMA
+    a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
+    Keff = Kr + a0 * Mr + a1 * Cr
+    first = jax.tree.map(lambda x: x[0, 0], inputs)
+    if jax.eval_shape(cells_at, first).idx is None:
+        raise ValueError("the modal basis needs the cell space (a window of coordinates)")
+    Gr = jnp.linalg.inv(Keff)
+    rho = 1.0 / (1.0 + a1 * residual_damping)  # the residual's flexibility over the step
+    xFr = rho * xF
+    local = mesh_damping is not None and mesh_damping.R is None
+    if mesh_damping is None:
+        H = D @ Gr @ D.T + rho * G  # the effective compliance on every coordinate (n, n)
+
+    def run_block(carry, p_in):
+        p, entries = p_in
+        ok = jnp.array(True)
+        U, Gp, Cp = None, Gr, Cr
+        if mesh_damping is not None:
+            block, c_m, Wmap = mesh_damping
+            U, B, ok = block(p)
+            w = U.shape[0]
+            DU = D[U]
+            if local:  # c_m B on X_U: H'_UU = (I + a₁ c_m H_UU B)⁻¹ H_UU
+                HUU = DU @ Gr @ DU.T + rho * G[U[:, None], U[None, :]]
+                S = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + (a1 * c_m) * (HUU @ B), jnp.eye(w))
+                H2 = S @ HUU  # (not symmetrised: a Coriolis term makes G_r unsymmetric)
+            else:  # mapped: c_m W_rᵀ B W_r on the modal coordinates
+                WD = Wmap[U]
+                Cm = c_m * (WD.T @ B @ WD)
+                Cp = Cr + Cm
+                Gp = jnp.linalg.inv(Keff + a1 * Cm)
+                H2 = DU @ Gp @ DU.T + rho * G[U[:, None], U[None, :]]
+            pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
+
+        def step(carry, entry):
+            q, qd, qdd, r, rd, rdd, code, it = carry
+            row = cells_at(entry)
+            v = a1 * q + (g / b - 1.0) * qd + dt * (0.5 * g / b - 1.0) * qdd
+            vr = a1 * r + (g / b - 1.0) * rd + dt * (0.5 * g / b - 1.0) * rdd
+            r0 = xFr + (rho * residual_damping) * vr  # the residual before the step's forces
+            Feff = Fr + Mr @ (a0 * q + qd / (b * dt) + (0.5 / b - 1.0) * qdd) + Cp @ v
+            qs = Gp @ Feff
+            idx = row.idx
+            c = row.V.shape[0]
+            inside = jnp.array(True)
+            if U is None:  # the window's coordinates
+                Hw = H[idx[:, None], idx[None, :]]
+                Dr, j = D[idx], jnp.arange(idx.shape[0])
+                x0 = Dr @ qs + r0[idx]
+            else:  # the block's coordinates U, the window's at positions j
+                j = pos[idx]
+                inside = jnp.all(j < U.shape[0])
+                Hw = H2[j[:, None], j[None, :]]
+                Dr = DU
+                x0 = Dr @ qs + r0[U]
+                if local:  # with the mesh damping's force on U (v_X = D v_q + v_r)
+                    vU = DU @ v + vr[U]
+                    x0 = S @ (x0 + HUU @ (c_m * (B @ vU)))
+            sol, P, _ = solve_contact_cells(
+                row.V @ Hw @ row.V.T,
+                row.V @ x0[j] - row.delta0,
+                jnp.zeros((c, 0), dtype),
+                jnp.zeros((0,), dtype),
+                row.k,
+                row.length,
+                row.mask,
+                law,
+            )
+            # the forces on U (the window's when U is None): −Vᵀ P and the mesh damping's
+            fU = -jnp.zeros(x0.shape, dtype).at[j].add(row.V.T @ P, mode="drop")
+            if local:
+                fU = fU + c_m * (B @ (vU - a1 * (x0 + H2 @ fU)))
+            rows = idx if U is None else U
+            qn = qs + Gp @ (Dr.T @ fU)
+            rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
+            Xn = D @ qn + rn
+            qddn = a0 * (qn - q - dt * qd - dt * dt * (0.5 - b) * qdd)
+            qdn = qd + dt * ((1.0 - g) * qdd + g * qddn)
+            rddn = a0 * (rn - r - dt * rd - dt * dt * (0.5 - b) * rdd)
+            rdn = rd + dt * ((1.0 - g) * rdd + g * rddn)
+            new = jnp.where(
+                sol.result == ContactResult.max_iterations,
+                DynamicsResult.contact_not_converged,
+                DynamicsResult.successful,
+            )
+            finite = jnp.all(jnp.isfinite(Xn)) & jnp.all(jnp.isfinite(qdn))
+            finite = finite & (sol.result != ContactResult.non_finite)
+            new = _first(new, jnp.where(finite, 0, DynamicsResult.non_finite))
+            if check is not None:
+                new = _first(new, check(qn, qdn, P))
+            new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
+            code = _first(code, new)
+            carry = (qn, qdn, qddn, rn, rdn, rddn, code, jnp.maximum(it, sol.iterations))
+            return carry, (None if record is None else record(Xn, D @ qdn + rdn, P))
 
         return jax.lax.scan(step, carry, entries)
 

@@ -22,6 +22,7 @@ __all__ = [
     "MAX_STEPS_PER_SPEED",
     "DiffraxIntegrator",
     "HertzPressure",
+    "ModalBasis",
     "Newmark",
     "SteadyState",
     "check_run_size",
@@ -81,6 +82,47 @@ def _check_steps(steps_per_period) -> None:
         check_integer("steps_per_period", steps_per_period, 4)
 
 
+class ModalBasis(eqx.Module):
+    """Integrate a hybrid model in the modal basis of its assembled structure: the ``modes``
+    lowest modes of (M, K + K̄), K̄ the loaded mesh stiffness averaged round a wheel revolution
+    (at pinion ``speed``, the model's torque), plus the static correction of the cells (the
+    residual flexibility of the forces on the structure: the part of K⁻¹ not in the modes, so
+    that the quasi-static limit stays exact and the contact sees the full compliance). The
+    contact is solved exactly on the cells in the window at every step, as in the cell space;
+    only the structural solve shrinks from n² to ~m² plus window products per step
+    (docs/hybrid.md, "Modal basis"; R. R. Craig & A. J. Kurdila, *Fundamentals of Structural
+    Dynamics*, 2nd ed., Wiley 2006, §14.5, the mode-acceleration method and residual
+    flexibility). Pass it as ``Newmark(steps, basis=ModalBasis(m))``.
+
+    Attributes:
+        modes: m, the number of modes kept, an integer >= 1 (<= the structure's n coordinates,
+            checked when the run starts; m = n is the cell-space result to round-off).
+        speed: the pinion speed (rad/s, >= 0) of the quasi-static solve that loads the cells of
+            K̄ (centrifugal loads); the basis is computed once per sweep at that speed. Default
+            at rest.
+        static_correction: add the residual flexibility (default). ``False`` keeps the m modes
+            alone (a truncated modal model: the contact then sees too stiff a structure; for
+            comparison only).
+
+    Raises:
+        ValueError: ``modes`` not an integer >= 1, ``speed`` not a number >= 0.
+    """
+
+    modes: int = eqx.field(static=True)
+    speed: float = eqx.field(default=0.0, static=True)
+    static_correction: bool = eqx.field(default=True, static=True)
+
+    def __check_init__(self):
+        check_integer("modes", self.modes, 1)
+        v = self.speed
+        if isinstance(v, bool) or not (isinstance(v, int | float) and v >= 0):
+            raise ValueError(f"speed = {v!r} rad/s is out of range: allowed a number >= 0")
+        if type(self.static_correction) is not bool:
+            raise ValueError(
+                f"static_correction = {self.static_correction!r}: allowed True or False"
+            )
+
+
 class Newmark(eqx.Module):
     """Newmark's average-acceleration method (β = 1/4, γ = 1/2: unconditionally stable, second
     order, no numerical damping; seed annex 2) with the contact loop inside each step (II-25).
@@ -90,15 +132,24 @@ class Newmark(eqx.Module):
             (lumped scenes: :func:`~jaxgear.dynamics.auto_steps_per_period`, >= 40 steps per
             period of the highest mode the mesh excites, >= 64 per mesh period, a power of two;
             needs concrete speeds). Static: a new value recompiles.
+        basis: ``None`` (the cell space: every coordinate, one n² effective compliance per
+            speed) or :class:`ModalBasis` (hybrid models only: the modes of the assembled
+            structure plus the static correction of the cells).
 
     Raises:
-        ValueError: ``steps_per_period`` not ``None`` or an integer >= 4.
+        ValueError: ``steps_per_period`` not ``None`` or an integer >= 4; ``basis`` neither
+            ``None`` nor a :class:`ModalBasis`.
     """
 
     steps_per_period: int | None = eqx.field(default=None, static=True)
+    basis: ModalBasis | None = eqx.field(default=None, static=True)
 
     def __check_init__(self):
         _check_steps(self.steps_per_period)
+        if self.basis is not None and not isinstance(self.basis, ModalBasis):
+            raise ValueError(
+                f"basis = {self.basis!r}: allowed None or jaxgear.dynamics.ModalBasis(modes)"
+            )
 
 
 class DiffraxIntegrator(eqx.Module):

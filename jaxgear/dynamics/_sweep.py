@@ -58,6 +58,11 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
     window = check_window(window)
     if hybrid:
         _hybrid.check_newmark(integrator)
+    elif getattr(integrator, "basis", None) is not None:
+        raise ValueError(
+            f"integrator = {integrator!r}: a modal basis is for a hybrid model (allowed "
+            "basis=None for a lumped one)"
+        )
     q = model.scene.scene_periods()
     if window.keep_periods < q:
         raise ValueError(
@@ -284,13 +289,15 @@ def speed_sweep(
             )
         cfg = _hybrid.run_config(model, integrator, window, n, blowup, states, cell_loads, pressure)
         n_dev = len(jax.local_devices()) if shard else 1
+        # the modal basis (if any) once for the whole sweep, not per chunk
+        basis = _hybrid.modal_space(model, law, cfg)
 
         def run(w):
             if n_dev == 1 or isinstance(w, jax.core.Tracer):
-                return _hybrid.sweep(model, w, law, cfg, omega)
+                return _hybrid.sweep(model, w, law, cfg, omega, basis)
             # one row of speeds per device, each row one speed after the other
             rows, _ = _shard(w, rows=True)
-            r = _hybrid.sweep(model, rows, law, cfg, omega)
+            r = _hybrid.sweep(model, rows, law, cfg, omega, basis)
             return jax.tree.map(lambda a: a.reshape((-1,) + a.shape[2:])[: w.shape[0]], r)
 
         if chunk_size is None or isinstance(sp, jax.core.Tracer):

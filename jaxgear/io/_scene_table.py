@@ -30,6 +30,8 @@
     atol = 1e-6
     rotating_frame = false               # hybrid scenes: the turning bodies' Coriolis, spin
                                          # softening and stress stiffening (docs/hybrid.md)
+    modal_basis = false                  # hybrid scenes: an integer m integrates Newmark in the
+                                         # modal basis, m modes + static correction (docs/hybrid.md)
 
 A ``lumped3d`` shaft's ``bearings`` are tables ``{ position_mm, radial_N_per_um, axial_N_per_um,
 tilt_Nm_per_rad }`` or ``{ position_mm, stiffness_matrix_SI }`` (6×6, not both), each with an
@@ -89,6 +91,7 @@ _INTEGRATION_KEYS = {
     "rtol",
     "atol",
     "rotating_frame",
+    "modal_basis",
 }
 
 
@@ -287,6 +290,14 @@ def parse_dynamics_settings(table: dict) -> dict:
     for key in ("rtol", "atol"):
         if key in g:
             kw[key] = sc.number(g, key, w, allowed="(0, 1)")
+    if "modal_basis" in g and g["modal_basis"] is not False:  # false: the cell space
+        kw["modal_basis"] = sc.number(
+            g, "modal_basis", w, allowed="[1, 1e+06]", integer=True, note=" (modes), or false"
+        )
+        if kw["solver"] != "newmark":
+            raise sc.fail(
+                w, "modal_basis", "allowed only with solver = 'newmark'", g["modal_basis"]
+            )
     return kw
 
 
@@ -380,4 +391,12 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
                 "rigid models are written in the fixed frame",
                 True,
             )
+    if "modal_basis" in kw and not any(f"{m}_body" in kw for m in ("pinion", "gear")):
+        raise sc.fail(
+            w,
+            "modal_basis",
+            "allowed only with a condensed body ([scene] pinion_body or gear_body): the "
+            "modal basis is for the hybrid models",
+            kw["modal_basis"],
+        )
     return SceneSpec(**kw)
