@@ -154,7 +154,7 @@ def test_case_key():
     """``[scene.integration] modal_basis = m`` reaches the integrator; bad values are one-line
     errors naming the key and the allowed range."""
     from jaxgear.dynamics import spec_integrator
-    from jaxgear.io._scene_table import parse_scene
+    from jaxgear.io import parse_scene
 
     shaft = {
         "length_mm": 80.0,

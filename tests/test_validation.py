@@ -164,7 +164,7 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
             {"scene/integration": {"step_per_period": 16}},
             (
                 "[scene.integration] unknown key 'step_per_period' (did you mean 'steps_per_period'?), "
-                "allowed: atol, contact, keep_periods, periods, rotating_frame, rtol, solver, steps_per_period"
+                "allowed: atol, contact, keep_periods, modal_basis, periods, rotating_frame, rtol, solver, steps_per_period"
             ),
         ),
         (
