@@ -176,18 +176,8 @@ def newmark(
                     law,
                 )
                 Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(row.V.T @ P))
-            Xddn = a0 * (Xn - X - dt * Xd - dt * dt * (0.5 - b) * Xdd)
-            Xdn = Xd + dt * ((1.0 - g) * Xdd + g * Xddn)
-            new = jnp.where(
-                sol.result == ContactResult.max_iterations,
-                DynamicsResult.contact_not_converged,
-                DynamicsResult.successful,
-            )
-            finite = jnp.all(jnp.isfinite(Xn)) & jnp.all(jnp.isfinite(Xdn))
-            finite = finite & (sol.result != ContactResult.non_finite)
-            new = _first(new, jnp.where(finite, 0, DynamicsResult.non_finite))
-            if check is not None:
-                new = _first(new, check(Xn, Xdn, P))
+            Xdn, Xddn = _update(Xn, X, Xd, Xdd, a0, dt)
+            new = _step_result(sol, (Xn, Xdn), None if check is None else check(Xn, Xdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             carry = (Xn, Xdn, Xddn, _first(code, new), jnp.maximum(it, sol.iterations))
             if record is None:
@@ -350,20 +340,9 @@ def newmark_modal(
             qn = qs + Gp @ (Dr.T @ fU)
             rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
             Xn = D @ qn + rn
-            qddn = a0 * (qn - q - dt * qd - dt * dt * (0.5 - b) * qdd)
-            qdn = qd + dt * ((1.0 - g) * qdd + g * qddn)
-            rddn = a0 * (rn - r - dt * rd - dt * dt * (0.5 - b) * rdd)
-            rdn = rd + dt * ((1.0 - g) * rdd + g * rddn)
-            new = jnp.where(
-                sol.result == ContactResult.max_iterations,
-                DynamicsResult.contact_not_converged,
-                DynamicsResult.successful,
-            )
-            finite = jnp.all(jnp.isfinite(Xn)) & jnp.all(jnp.isfinite(qdn))
-            finite = finite & (sol.result != ContactResult.non_finite)
-            new = _first(new, jnp.where(finite, 0, DynamicsResult.non_finite))
-            if check is not None:
-                new = _first(new, check(qn, qdn, P))
+            qdn, qddn = _update(qn, q, qd, qdd, a0, dt)
+            rdn, rddn = _update(rn, r, rd, rdd, a0, dt)
+            new = _step_result(sol, (Xn, qdn), None if check is None else check(qn, qdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             code = _first(code, new)
             carry = (qn, qdn, qddn, rn, rdn, rddn, code, jnp.maximum(it, sol.iterations))
@@ -376,6 +355,27 @@ def newmark_modal(
     if record is None:
         return carry, None
     return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
+
+
+def _update(xn, x, xd, xdd, a0, dt):
+    """Newmark average acceleration (β, γ = BETA, GAMMA): the velocity and acceleration at the
+    step's end from its displacement ``xn`` and the state (x, ẋ, ẍ) at its start, a0 = 1/(β Δt²)."""
+    xddn = a0 * (xn - x - dt * xd - dt * dt * (0.5 - BETA) * xdd)
+    return xd + dt * ((1.0 - GAMMA) * xdd + GAMMA * xddn), xddn
+
+
+def _step_result(sol, states, checked):
+    """A step's result code, the first failure of: the contact loop not converged, non-finite
+    ``states`` or contact solution, the caller's ``checked`` code (or None)."""
+    new = jnp.where(
+        sol.result == ContactResult.max_iterations,
+        DynamicsResult.contact_not_converged,
+        DynamicsResult.successful,
+    )
+    finite = jnp.all(jnp.stack([jnp.all(jnp.isfinite(x)) for x in states]))
+    finite = finite & (sol.result != ContactResult.non_finite)
+    new = _first(new, jnp.where(finite, 0, DynamicsResult.non_finite))
+    return new if checked is None else _first(new, checked)
 
 
 def _first(code, new):
