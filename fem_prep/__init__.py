@@ -50,7 +50,7 @@ from ._modal import (
     resonance_orders as resonance_orders,
 )
 from ._prepare import Prepared as Prepared, prepare as prepare
-from ._rim import RimCouplingWarning as RimCouplingWarning, RimFit as RimFit, rim_fit as rim_fit
+from ._rim import RimFit as RimFit, rim_fit as rim_fit
 from ._solver import (
     SolverError as SolverError,
     SolverWarning as SolverWarning,

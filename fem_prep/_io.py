@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from ._body import Body, load_body, parse_body
+from ._rim import RIM_FIT_REVISION
 from .schema import atomic_write
 
 __all__ = [
@@ -441,13 +442,15 @@ def cache_dir() -> Path:
 
 
 def cache_key(body: Body) -> str:
-    """The cache entry name of a body: hash of the parsed body and the file-format version
-    (``cache_dir() / cache_key(body)`` holds its ``.npz``, ``.vtu`` and ``summary.json``)."""
+    """The cache entry name of a body: hash of the parsed body, the file-format version and,
+    for distributing rim masters, the coupling's revision (``cache_dir() / cache_key(body)`` holds its ``.npz``, ``.vtu`` and ``summary.json``)."""
     return _cache_key(body)
 
 
 def _cache_key(body: Body) -> str:
-    return hashlib.sha256(f"{body.sha256}:v{FORMAT_VERSION}".encode()).hexdigest()[:32]
+    rim = body.condensation.rim_coupling
+    rev = f":rim{RIM_FIT_REVISION}" if rim == "distributing" else ""
+    return hashlib.sha256(f"{body.sha256}:v{FORMAT_VERSION}{rev}".encode()).hexdigest()[:32]
 
 
 def _json_default(o: Any) -> Any:

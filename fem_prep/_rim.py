@@ -18,35 +18,45 @@ weights, so the master DOFs must be *what the interface interpolates*.  Two coup
     indentation grows without bound as the elements under it shrink: the compliance at the
     masters depends on the mesh (kept for comparison).
 
-``"distributing"`` (opt-in; quasi-static work only, see below)
-    ``q`` is the projection of the FE displacement of the whole outer rim face on the master
-    field, the normal equations of a weighted least-squares fit
-    ``sum_n a_n |v(x_n) - u_n|^2``,
+``"distributing"`` (opt-in)
+    ``q`` is a weighted least-squares fit of the FE displacement of the whole outer rim face,
+    station by station: the masters ``(k, j)`` of station ``k`` minimise
 
-        G q = N^T A u_S,    G = N^T A N,
+        sum_n a_n N_k(theta_n) |sum_j N_j(z_n) q_kj - u_n|^2,
 
-    over the face nodes ``n`` with their consistent nodal areas ``a_n = int phi_n dS`` (the
+    the face nodes ``n`` weighted by their consistent nodal areas ``a_n = int phi_n dS`` (the
     nodal loads of a unit uniform traction: negative at the corners of serendipity faces) and
-    ``N_nc = N_c(x_n)``.  By virtual work a master force vector ``F`` loads the face with the
-    nodal forces ``A N G^-1 F``: the traction field ``t = N G^-1 F`` (bilinear over the master
-    grid) as ``t(x_n) int phi_n dS``, the consistent load of ``t`` up to its variation over an
-    element, so that the result converges as the mesh is refined (an RBE3-like distributing
-    coupling; the averaging bearing coupling is its rigid-body analogue).  Positive lumped
-    areas (the face mass diagonal scaled to each face, Hinton-Rock-Zienkiewicz) were measured
-    too: on serendipity faces they load corners against the consistent pattern, and the master
-    displacement of a disc under rim pressure then converges only as h^0.8 (+4.9, +2.8, +1.5 %
-    off Lamé on three meshes, against +0.42, +0.49, +0.53 % with the consistent areas).
+    by the station's circumferential hat ``N_k(theta)`` (1 at the station, 0 at its
+    neighbours).  Circumferentially each station is the hat-weighted *average* of the face
+    over its two neighbouring pitches; along the axis it is a least-squares fit on the axial
+    master planes.  The normal equations are
 
-**Defect (measured, session 21): the Gram is indefinite.**  With negative corner areas
-``G = N^T A N`` is not positive definite: on the accessory wheel 70 of its 430 eigenvalues are
-negative and the smallest in magnitude is 2e-3 of the largest, so ``q = G^-1 N^T A u`` amplifies
-checkerboard patterns of the masters (the "fit" is no least-squares fit) and the teeth lumped on
-the masters get spurious soft modes: the hybrid `accessory-spur-flexible` gains modes at 2.7 and
-4.2 kHz with 40 and 55 % mesh strain energy and its dynamic factor at 2000 rad/s goes from 1.13
-to 2.02, while its quasi-static TE moves by 0.4 %.  :func:`rim_fit` warns
-(:class:`RimCouplingWarning`).  The cure is a positive definite projection (the L2 Gram
-``int N_c N_d dS`` with the consistent coupling ``int N_c phi_n dS``, whose station block is
-banded so that eliminating the station nodes fills T's rim rows; or positive lumped areas).
+        G q = N^T A u_S,    G_(kj),(kj') = sum_n N_k(theta_n) N_j(z_n) N_j'(z_n) a_n,
+
+    with ``N_nc = N_c(x_n) = N_k(theta_n) N_j(z_n)``: ``G`` is block diagonal, one
+    ``n_ax x n_ax`` block per station (the consistent Gram ``N^T A N`` summed over the
+    stations, which ``sum_k N_k = 1`` allows).  By virtual work a master force vector ``F``
+    loads the face with the nodal forces ``A N G^-1 F``: station ``k``'s forces as the
+    traction ``N_k(theta) sum_j N_j(z) (G^-1 F)_kj`` (a hat over the two pitches, linear
+    between the axial planes) put on the nodes as ``t(x_n) a_n``, the consistent load of ``t``
+    up to its variation over an element.  The tooth's load is thus spread over a band one
+    pitch wide at half height, about the root patch a tooth occupies on the rim (root and
+    fillets span a pitch at the root circle), and the result converges as the mesh is refined
+    (an RBE3-like distributing coupling; the averaging bearing coupling is its rigid-body
+    analogue).
+
+    ``G`` is positive definite: along a line of constant ``z`` the weights ``N_k(theta_n) a_n``
+    of a face row sum to a positive number (for a serendipity face ``-1/12 - 1/12 + 1/3`` per
+    edge row, ``2/3`` on its middle row: Simpson's weights), so each block is a 1-D Gram of
+    the axial hats under a positive rule.  :func:`rim_fit` checks it.
+
+    Two other projections were measured (docs/fem_prep.md, "Rim masters") and rejected: the
+    full consistent Gram ``N^T A N`` (exact for bilinear master fields, but indefinite with
+    negative corner areas: on the accessory wheel 70 of its 430 eigenvalues were negative, the
+    masters' checkerboard patterns nearly free, spurious soft mesh modes at 2.7 and 4.2 kHz),
+    and positive lumped areas (Hinton-Rock-Zienkiewicz: corners loaded against the consistent
+    pattern, the disc's rim displacement converging only as h^0.8, +4.9, +2.8, +1.5 % off
+    Lamé).
 
 Elimination: the FE node at master ``c`` has ``N_c = 1`` and ``N_d = 0`` for every other master,
 so row ``c`` of ``G q = N^T A u_S`` reads ``a_c u_c + sum_{n not a master} N_c(x_n) a_n u_n =
@@ -54,18 +64,17 @@ so row ``c`` of ``G q = N^T A u_S`` reads ``a_c u_c + sum_{n not a master} N_c(x
 
     u_c = [(G q)_c - sum_n N_c(x_n) a_n u_n] / a_c,
 
-a sparse row (``G`` couples neighbouring masters only).  Rigid motions: the fit reproduces a
-field affine in ``x`` exactly only if each master sits at its fitted position ``x_hat = G^-1 N^T
-A x_S`` (outside the arc by a fraction of the faces' sagitta, so that the chords between
-them best fit it; on the axial master planes exactly): ``u = a + w x x`` then gives
-``q_c = a + w x x_hat_c``, so the condensed body is free of rigid motions with the masters at
-``x_hat`` (stored as the master coordinates).
+a sparse row (``G`` couples the masters of one station only).  Rigid motions: ``G 1 = N^T A 1``
+(the axial hats sum to one), so the fit reproduces a field affine in ``x`` exactly with each
+master at its fitted position ``x_hat = G^-1 N^T A x_S``: on its axial plane exactly, and
+radially the hat-weighted mean of the arc (inside it by about ``R p^2 / 12`` for the pitch
+angle ``p``).  ``u = a + w x x`` then gives ``q_c = a + w x x_hat_c``, so the condensed body is
+free of rigid motions with the masters at ``x_hat`` (stored as the master coordinates).
 """
 
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,12 +84,11 @@ import skfem
 
 from ._mesh import BodyMesh
 
-__all__ = ["RimCouplingWarning", "RimFit", "rim_fit"]
+__all__ = ["RIM_FIT_REVISION", "RimFit", "rim_fit"]
 
-
-class RimCouplingWarning(UserWarning):
-    """A distributing rim coupling whose Gram ``G = N^T A N`` is not positive definite: the
-    masters' checkerboard patterns are nearly free (spurious soft modes in dynamics)."""
+# the distributing coupling's revision, part of fem_prep's cache key for bodies that use it
+# (1: the consistent Gram N^T A N, indefinite, withdrawn; 2: the station Gram)
+RIM_FIT_REVISION = 2
 
 
 @dataclass(frozen=True)
@@ -93,7 +101,8 @@ class RimFit:
             face area (negative at serendipity corners, never zero).
         N: master weights ``N_c(x_n)``, sparse ``(n_S, Z n_ax)`` (masters in station-major
             order, ``c = k n_ax + j``).
-        G: ``N^T A N``, sparse ``(Z n_ax, Z n_ax)`` (m^2).
+        G: the station Gram (block diagonal, one ``n_ax x n_ax`` block per station, positive
+            definite), sparse ``(Z n_ax, Z n_ax)`` (m^2).
         positions: fitted master positions ``x_hat`` (m), shape ``(Z, n_ax, 3)``.
     """
 
@@ -179,7 +188,8 @@ def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float) -> RimFit:
 
     Raises:
         ValueError: a master node is not on the outer rim face, or carries the weight of
-            another master (the mesh's stations or axial planes do not match the masters).
+            another master (the mesh's stations or axial planes do not match the masters), or
+            the station Gram is not positive definite.
     """
     teeth, n_ax = rim_nodes.shape
     nodes, areas = _nodal_areas(bm, _face_facets(bm, radius))
@@ -198,19 +208,20 @@ def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float) -> RimFit:
     if np.any(areas[pos] == 0):
         raise ValueError("a rim master node has no area on the outer rim face")
     AN = sp.diags(areas) @ N
-    G = (N.T @ AN).tocsr()
+    full = (N.T @ AN).tocoo()  # the consistent Gram N^T A N, summed over the stations:
+    station = full.row // n_ax  # entry ((k, j), (k', j')) goes to ((k, j), (k, j'))
+    G = sp.csr_matrix((full.data, (full.row, station * n_ax + full.col % n_ax)), shape=full.shape)
     rhs = AN.T @ bm.nodes[nodes]
     positions = np.column_stack([spla.spsolve(G.tocsc(), rhs[:, c]) for c in range(3)])
-    lam = np.linalg.eigvalsh(G.toarray())  # Z n_ax <= a few thousand: dense is fine
-    if lam[0] <= 0.0:
-        warnings.warn(
-            f"rim_coupling = 'distributing': the rim fit's Gram matrix is indefinite "
-            f"({int(np.sum(lam <= 0))} of {lam.size} eigenvalues <= 0, smallest magnitude "
-            f"{np.min(np.abs(lam)) / lam[-1]:.1e} of the largest): checkerboard patterns of the "
-            "rim masters are nearly free, which gives spurious soft modes in dynamics; use it "
-            "for quasi-static work only, or rim_coupling = 'nodal' (docs/fem_prep.md)",
-            RimCouplingWarning,
-            stacklevel=2,
+    g = G.tocoo()
+    blocks = np.zeros((teeth, n_ax, n_ax))
+    np.add.at(blocks, (g.row // n_ax, g.row % n_ax, g.col % n_ax), g.data)
+    lam = np.linalg.eigvalsh(blocks)  # (Z, n_ax)
+    if not np.all(lam > 0):
+        raise ValueError(
+            f"the rim fit's station Gram is not positive definite (smallest eigenvalue "
+            f"{lam.min():.3e} m^2): the outer rim face's mesh does not resolve the axial master "
+            "planes; use rim_coupling = 'nodal' (fem_prep._rim)"
         )
     return RimFit(
         nodes=nodes,
