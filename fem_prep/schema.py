@@ -594,8 +594,9 @@ def embedded_text(folder, name: str, kind: str) -> str:
     """
     names = embedded_names(folder)
     if name not in names:
+        kinds = kind[:-1] + "ies" if kind.endswith("y") else kind + "s"
         raise FileNotFoundError(
-            f"no embedded {kind} {name!r} (embedded {kind}s: {', '.join(names)})"
+            f"no embedded {kind} {name!r} (embedded {kinds}: {', '.join(names)})"
         )
     return (folder / f"{name}.toml").read_text("utf-8")
 

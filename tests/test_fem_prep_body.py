@@ -2,7 +2,7 @@
 
 import pytest
 
-from fem_prep import embedded_bodies, load_body, parse_body
+from fem_prep import embedded_bodies, embedded_body_text, load_body, parse_body
 
 ISSUE_EXAMPLE = """
 name = "my-wheel"
@@ -181,3 +181,8 @@ def test_bearing_width_explicit_and_errors():
     # an explicit width next to a default one: the explicit one is named
     with pytest.raises(ValueError, match=r"^\[bearings\[0\]\] width_mm = 30: its band"):
         parse_body(_two_bearings("width_mm = 30.0", ""))
+
+
+def test_unknown_embedded_body_lists_the_embedded_bodies():
+    with pytest.raises(FileNotFoundError, match=r"no embedded body 'nope' \(embedded bodies: "):
+        embedded_body_text("nope")

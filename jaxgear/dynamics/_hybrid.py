@@ -53,6 +53,7 @@ from .._results import DynamicsResult
 from .._util import check_integer
 from ..scenes import FlexibleMember, HybridPair, HybridScene
 from ._modal import Damping, modal_analysis
+from ._modal_basis import ModalSpace, modal_space_of, reduced_structure
 from ._model import (
     HybridModel,
     cell_geometry,
@@ -64,7 +65,7 @@ from ._model import (
     split_cells,
     static_mesh_forces,
 )
-from ._newmark import MeshDamping, ModalStructure, newmark, newmark_modal
+from ._newmark import MeshDamping, newmark, newmark_modal
 from ._result import steady_state
 from ._settings import (
     DiffraxIntegrator,
@@ -325,72 +326,14 @@ def revolution_damping(
     return RevolutionDamping(damp.C, damp.c_m, damp.R, _revolution_periods(model.scene), block)
 
 
-class ModalSpace(NamedTuple):
-    """The modal basis of a hybrid sweep (:func:`modal_space`), computed once per sweep.
-
-    Attributes:
-        T: (n, m') the kept directions, M-orthonormal: the m lowest modes of (M, K + K̄) and
-            the r softest directions of K on the other modes (r = the scene's members: their
-            free rotations, which K alone does not hold); m' = min(m + r, n).
-        Q: (n, n − m') the other directions (M-orthonormal, M-orthogonal to T).
-        D: (n, m') T with its static residual (:func:`_reduce`), or None when the structure's
-            stiffness depends on the speed (``rotating_frame``: reduced per speed).
-        G: (n, n) the residual flexibility, or None (as D).
-    """
-
-    T: Float[Array, "n m"]
-    Q: Float[Array, "n k"]
-    D: Float[Array, "n m"] | None
-    G: Float[Array, "n n"] | None
-
-
-def _split(Phi, m: int, K, r: int):
-    """The kept directions T and the others Q (:class:`ModalSpace`) of the modes ``Phi`` (n, n)
-    (M-orthonormal, ascending) for the stiffness K (n, n), and Qᵀ K Q (diagonal: σ, (n − m'),):
-    T = [Φ_:m, Φ_t W_:r], Q = Φ_t W_r:, with Φ_t the other modes and (σ, W) the eigenpairs of
-    Φ_tᵀ K Φ_t, ascending (the r softest
-    directions of the structure without the mesh among the other modes: a member's free
-    rotation that the mesh held in K + K̄ must keep its inertia, not enter the static
-    correction with an unbounded flexibility)."""
-    n = Phi.shape[0]
-    if m + r >= n:
-        return Phi, Phi[:, n:], Phi[0, n:]
-    Pt = Phi[:, m:]
-    A = Pt.T @ K @ Pt
-    sigma, W = jnp.linalg.eigh(0.5 * (A + A.T))
-    Pt = Pt @ W
-    return jnp.concatenate([Phi[:, :m], Pt[:, :r]], axis=1), Pt[:, r:], sigma[r:]
-
-
-def _reduce(T, Q, K, correction: bool = True):
-    """The static correction of the kept directions T (n, m') for the stiffness K (n, n), Q
-    (n, n − m') the other directions (:func:`_split`; together M-orthonormal): (D (n, m'),
-    G (n, n)).
-
-    G = Q (Qᵀ K Q)⁻¹ Qᵀ: the structure's flexibility on the M-orthogonal complement of the
-    kept directions (the residual flexibility; R. R. Craig & A. J. Kurdila, *Fundamentals of
-    Structural Dynamics*, 2006, §14.5), and D = T − G K T. Then X = D q + G f solves the static
-    K X = f exactly (block elimination of the complement: Dᵀ K D q = Dᵀ f, Dᵀ K G = 0 as
-    G K G = G), and with every mode kept D = T, G = 0: the full model in modal coordinates.
-    Tᵀ M D = I and Tᵀ M G = 0 (q = Tᵀ M X recovers the modal coordinates). Without
-    ``correction``: D = T, G = 0 (the truncated modal model)."""
-    n = T.shape[0]
-    if Q.shape[1] == 0 or not correction:
-        return T, jnp.zeros((n, n), T.dtype)
-    A = Q.T @ K @ Q
-    G = Q @ jnp.linalg.solve(0.5 * (A + A.T), Q.T)
-    G = 0.5 * (G + G.T)
-    return T - G @ (K @ T), G
-
-
 def modal_space(model: HybridModel, law: ContactLaw, cfg: _Config) -> ModalSpace | None:
     """The modal basis of a run with settings ``cfg`` (None when its integrator has none):
     the modes of (M, K + K̄), K̄ the loaded mesh stiffness averaged round a wheel revolution
     at the basis's speed (the quasi-static cells of the run's step positions there, the
     model's torque and ``law``; :func:`_revolution_mesh_stiffness`), with the members' free
-    rotations (:func:`_split`), and their static correction for the structure's K
-    (:func:`_reduce`; per speed with ``rotating_frame``). Dense eigen-analyses of the n
-    coordinates, once per sweep.
+    rotations, and their static correction for the structure's K (per speed with
+    ``rotating_frame``): :func:`jaxgear.dynamics._modal_basis.modal_space_of`, dense
+    eigen-analyses of the n coordinates, once per sweep.
 
     Raises:
         ValueError: more modes than the structure's coordinates (one line, before any work).
@@ -421,19 +364,15 @@ def _modal_space(model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasi
 
     Km = _revolution_mesh_stiffness(scene, block, _revolution_periods(scene))
     K, M = scene.structure.K, scene.structure.M
-    L = jnp.linalg.cholesky(M)  # the modes of (M, K + K̄), M-orthonormal, ascending
-    A = jax.scipy.linalg.solve_triangular(L, K + Km, lower=True)
-    A = jax.scipy.linalg.solve_triangular(L, A.T, lower=True)
-    _, Y = jnp.linalg.eigh(0.5 * (A + A.T))
-    Phi = jax.scipy.linalg.solve_triangular(L, Y, lower=True, trans="T")
-    T, Q, sigma = _split(Phi, basis.modes, K, len(scene.members))
-    if model.rotating_frame:
-        return ModalSpace(T, Q, None, None)
-    if Q.shape[1] == 0 or not basis.static_correction:
-        return ModalSpace(T, Q, *_reduce(T, Q, K, False))
-    G = Q @ (Q.T / sigma[:, None])  # (_reduce's, Qᵀ K Q = diag σ here)
-    G = 0.5 * (G + G.T)
-    return ModalSpace(T, Q, T - G @ (K @ T), G)
+    return modal_space_of(
+        K,
+        M,
+        Km,
+        basis.modes,
+        len(scene.members),
+        static=basis.static_correction,
+        per_speed=model.rotating_frame,
+    )
 
 
 def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited, space=None):
@@ -486,17 +425,13 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
 
     modal, start = None, (X0, zero, zero)
     if space is not None:  # the modal basis with the static correction (docs/hybrid.md)
-        basis = cfg.integrator.basis
-        D, G = space.D, space.G
-        if D is None:  # K at the speed (rotating frame)
-            # (on K's symmetric part: G stays symmetric; exact with every mode kept)
-            D, G = _reduce(space.T, space.Q, 0.5 * (K + K.T), basis.static_correction)
-        Mr, Kr, Cr = (0.5 * (A + A.T) for A in (D.T @ M @ D, D.T @ K @ D, D.T @ C @ D))
-        if model.rotating_frame:  # the skew Coriolis part and K's (load stiffness) are kept
-            Kr, Cr = D.T @ K @ D, D.T @ C @ D
+        Kr, Mr, Cr, structure = reduced_structure(
+            space, K, M, C, F, cfg.integrator.basis.static_correction, model.rotating_frame
+        )
+        D = structure.D
         # Rayleigh's β K on the static correction (the residual's Kelvin–Voigt lag)
         beta_r = model.damping.beta if model.damping.model == "rayleigh" else 0.0
-        modal = (Kr, Mr, Cr, D.T @ F, ModalStructure(D, G, G @ F), beta_r)
+        modal = (Kr, Mr, Cr, D.T @ F, structure, beta_r)
         if mesh_damping is not None:  # its map on the reduced coordinates: R D (None: D)
             Rm = mesh_damping.R
             mesh_damping = mesh_damping._replace(R=None if Rm is None else Rm @ D)
