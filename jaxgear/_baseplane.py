@@ -29,7 +29,9 @@ __all__ = [
     "CellRow",
     "Cells",
     "MeshModel",
+    "cell_flank",
     "check_positions",
+    "coast_phase",
     "mesh_positions",
     "split_by_mesh",
 ]
@@ -58,6 +60,10 @@ class Cells(eqx.Module):
         line: tooth-pair index of each cell's contact line (integer-valued floats).
         theta: the pinion angle (rad) these cells belong to, a scalar (bodies that rotate under
             the mesh, such as condensed FE bodies, need the absolute angle, not only the roll).
+        flank: +1 on the drive flanks, −1 on the coast flanks (the second base plane of a
+            :class:`MeshModel` with ``coast``; docs/backlash.md). The coast cells' s and z are
+            in their own base plane (s from its engagement point, z mirrored: the π-rotation
+            about the centre line that maps one flank of a symmetric tooth onto the other).
     """
 
     s: Float[Array, "n_lines n_slices"]
@@ -67,6 +73,14 @@ class Cells(eqx.Module):
     mask: Bool[Array, "n_lines n_slices"]
     line: Float[Array, "n_lines n_slices"]
     theta: Float[Array, ""]
+    flank: Float[Array, "n_lines n_slices"] | None = None
+
+
+def cell_flank(cells: Cells) -> Float[Array, "n_lines n_slices"]:
+    """``cells.flank`` (+1 drive, −1 coast), ones for cells built without it."""
+    if cells.flank is None:
+        return jnp.ones(cells.s.shape, cells.s.dtype)
+    return cells.flank
 
 
 class CellRow(NamedTuple):
@@ -160,6 +174,13 @@ class MeshModel(eqx.Module):
         base_helix_angle: β_b (rad).
         contact_ratio: ε_α (-).
         stiffness_s, stiffness_k: the table k(s) (m, N/m²), shape (n_table,).
+        backlash: normal backlash j_bn (m) between the coast flanks when the drive flanks touch
+            (:class:`~jaxgear.GearPair` ``normal_backlash``); used with ``coast``.
+        coast_angle: θ_c (rad): the coast cells at pinion angle θ are the layout's cells at
+            θ_c − θ (docs/backlash.md, "Coast flank").
+        coast: static; True: the cells hold the coast flanks too (rows ``n_drive_lines`` on,
+            ``flank`` −1), whose contact closes when the motion takes up the backlash.
+        n_lines: static, the rows of the cell arrays (drive and coast lines with ``coast``).
     """
 
     path_of_contact: Float[Array, ""] = eqx.field(converter=as_float)
@@ -174,6 +195,9 @@ class MeshModel(eqx.Module):
     n_slices: int = eqx.field(static=True)
     n_lines: int = eqx.field(static=True)
     first_line: int = eqx.field(static=True)
+    backlash: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    coast_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    coast: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
         if self.n_slices < 1:
@@ -181,14 +205,22 @@ class MeshModel(eqx.Module):
 
     @classmethod
     def from_pair(
-        cls, pair: GearPair, stiffness_s: np.ndarray, stiffness_k: np.ndarray, n_slices: int
+        cls,
+        pair: GearPair,
+        stiffness_s: np.ndarray,
+        stiffness_k: np.ndarray,
+        n_slices: int,
+        coast: bool = False,
     ) -> MeshModel:
         """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
 
         Args:
             pair: validated gear pair.
-            stiffness_s, stiffness_k: k(s) table from :func:`jaxgear.stiffness_table`.
+            stiffness_s, stiffness_k: k(s) table from :func:`jaxgear.stiffness_table` (the
+                coast flanks of symmetric teeth take the same table in their base plane).
             n_slices: slices N per contact line (>= 1).
+            coast: also lay out the coast flanks (the second base plane) with the pair's
+                backlash (docs/backlash.md); default False: the drive flanks alone.
         """
         if int(n_slices) != n_slices or n_slices < 1:
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
@@ -203,6 +235,11 @@ class MeshModel(eqx.Module):
         # 0 <= i <= (g_α + b tan β_b)/p_bt (the smallest s of line i is i p_bt − b tan β_b)
         first = 0
         last = int(math.floor((pair.path_of_contact + lead) / pair.base_pitch * (1 + 1e-12)))
+        n_lines = last - first + 1
+        backlash = coast_angle = 0.0
+        if coast:
+            backlash = pair.normal_backlash
+            coast_angle = coast_phase(pair)
         return cls(
             pair.path_of_contact,
             pair.base_pitch,
@@ -214,9 +251,17 @@ class MeshModel(eqx.Module):
             stiffness_s,
             stiffness_k,
             n_slices=int(n_slices),
-            n_lines=last - first + 1,
+            n_lines=n_lines * (2 if coast else 1),
             first_line=first,
+            backlash=backlash,
+            coast_angle=coast_angle,
+            coast=bool(coast),
         )
+
+    @property
+    def n_drive_lines(self) -> int:
+        """Contact lines of the drive flanks (the first rows of the cell arrays)."""
+        return self.n_lines // 2 if self.coast else self.n_lines
 
     @property
     def mesh_period_angle(self) -> Float[Array, ""]:
@@ -226,13 +271,27 @@ class MeshModel(eqx.Module):
     def cells(self, theta: Float[Array, ""]) -> Cells:
         """Cells at pinion angle ``theta`` (rad, from a position where a contact line is at s=0).
 
-        Only the angle modulo one mesh period matters (no pitch deviations are modelled).
+        Only the angle modulo one mesh period matters (no pitch deviations are modelled). With
+        ``coast`` the coast lines follow the drive lines: rows ``n_drive_lines`` on, at the
+        layout's angle θ_c − θ in the second base plane (``flank`` −1; docs/backlash.md).
         """
         dz = self.face_width / self.n_slices
         z = (jnp.arange(self.n_slices) + 0.5) * dz
-        line = jnp.arange(self.n_lines, dtype=float) + self.first_line
-        roll = jnp.mod(self.base_radius_pinion * theta, self.base_pitch)
-        s = roll + line[:, None] * self.base_pitch - z[None, :] * jnp.tan(self.base_helix_angle)
+        L = self.n_drive_lines
+        line = jnp.arange(L, dtype=float) + self.first_line
+
+        def layout(angle):
+            roll = jnp.mod(self.base_radius_pinion * angle, self.base_pitch)
+            return (
+                roll + line[:, None] * self.base_pitch - z[None, :] * jnp.tan(self.base_helix_angle)
+            )
+
+        s = layout(theta)
+        flank = jnp.ones(s.shape, s.dtype)
+        if self.coast:
+            s = jnp.concatenate([s, layout(self.coast_angle - theta)])
+            flank = jnp.concatenate([flank, -flank])
+            line = jnp.concatenate([line, line])
         mask = (s >= 0.0) & (s <= self.path_of_contact)
         k = _interp_uniform(s, self.stiffness_s, self.stiffness_k)
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
@@ -246,11 +305,28 @@ class MeshModel(eqx.Module):
             mask=mask,
             line=ll,
             theta=jnp.asarray(theta, s.dtype),
+            flank=flank,
         )
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))
+
+
+def coast_phase(pair: GearPair) -> float:
+    """θ_c (rad): the coast cells at pinion angle θ are the layout's cells at θ_c − θ.
+
+    Tooth i's drive contact sits at roll ρ_1 = ρ_A + r_b1 θ + i p_bt from T1 (s = 0 at the
+    engagement point at θ = 0). The same tooth's coast flank (the trailing one, an involute of
+    the second base circle tangent) meets the second line of action at ρ'_1 = 2 r_b1 (ψ_b1 +
+    α_wt) − ρ_1 from T1' (the tangent points lie at ∓α_wt about the centre line, ψ_b1 = s_b1 /
+    (2 r_b1) the half base thickness of the thinned tooth), and the gear's coast flank a
+    transverse backlash j_bt further on; the cell sits midway, s' = ρ'_1 + j_bt/2 − ρ_A.
+    """
+    rb1 = pair.base_radii[0]
+    psi = pair.base_thickness[0] / (2 * rb1)
+    c = 2 * rb1 * (psi + pair.operating_pressure_angle) - 2 * pair.start_roll
+    return (c + 0.5 * pair.transverse_backlash) / rb1
 
 
 def mesh_positions(

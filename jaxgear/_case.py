@@ -51,6 +51,8 @@ class Case:
         deviations: manufacturing deviations per tooth (:class:`~jaxgear.Deviations`, ISO
             1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade, seed,
             revolutions, positions per pitch; docs/deviations.md) or None.
+        coast: model the coast flanks with the pair's backlash (:meth:`mesh_model`; the case
+            file sets it when a ``tooth_thickness_allowance_um`` is given; docs/backlash.md).
     """
 
     name: str
@@ -73,6 +75,7 @@ class Case:
     scene: Any = None
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+    coast: bool = False
 
     def contact_law(self, mode: str) -> ContactLaw:
         """The contact law a case file names: ``"exact"`` → :class:`~jaxgear.ExactContact`,
@@ -118,6 +121,7 @@ class Case:
 
         ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
         leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
+        With :attr:`coast` the model holds the coast flanks too (docs/backlash.md).
         """
         foundation = self.foundation
         if any(flexible):
@@ -133,7 +137,9 @@ class Case:
             fe2d_size=self.fe2d_size,
             specific_load=self.specific_load(torque),
         )
-        return MeshModel.from_pair(self.pair, s, k, self.slices if slices is None else slices)
+        return MeshModel.from_pair(
+            self.pair, s, k, self.slices if slices is None else slices, coast=self.coast
+        )
 
     def replace(self, **changes) -> Case:
         return dataclasses.replace(self, **changes)

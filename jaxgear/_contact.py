@@ -183,12 +183,16 @@ def _assemble(Ks, F, V, kl, delta0, weight):
     return Kt, Ft
 
 
-def _active_set(solve, gap, maskf, y0, max_iterations):
-    """Active-set iteration of the seed (II-25) on stopped values, from all cells in contact.
+def _active_set(solve, gap, maskf, y0, max_iterations, start=None):
+    """Active-set iteration of the seed (II-25) on stopped values, from all cells in contact
+    (or from the cells of ``start``, a warm start, (c,)).
 
     ``solve(weight) -> y`` solves the linear problem with cell weights (1 in contact, 0 out);
     ``gap(y)`` gives Δ per cell. Returns (y, active weights, passes, still changing).
     """
+    active0 = maskf
+    if start is not None:
+        active0 = maskf * jax.lax.stop_gradient(start).astype(maskf.dtype)
 
     def cond(state):
         _, _, it, changed = state
@@ -200,7 +204,7 @@ def _active_set(solve, gap, maskf, y0, max_iterations):
         new = maskf * (gap(y) > 0).astype(maskf.dtype)
         return y, new, it + 1, jnp.any(new != active)
 
-    return jax.lax.while_loop(cond, body, (y0, maskf, jnp.array(0), jnp.array(True)))
+    return jax.lax.while_loop(cond, body, (y0, active0, jnp.array(0), jnp.array(True)))
 
 
 def _newton(newton_of, y0, max_iterations, terms):
@@ -272,6 +276,7 @@ def solve_contact(
     delta0: Float[Array, " c"],
     mask: Bool[Array, " c"],
     law: ContactLaw = ExactContact(),
+    start: Bool[Array, " c"] | None = None,
 ) -> ContactSolution:
     """Solve the unilateral contact problem on a linear structure (unknowns: the coordinates X).
 
@@ -285,6 +290,10 @@ def solve_contact(
         mask: cells that exist (on the flanks), shape (c,).
         law: :class:`ExactContact` (active set) or :class:`SmoothContact` (softplus ramp of
             its width), with the cap on active-set passes / Newton steps.
+        start: the active set's first contact set, shape (c,) (a warm start; no gradient), or
+            None: every cell on the flanks (the seed's start). With coast flanks and a
+            structure held only by the contact, start from the loaded flank's cells
+            (docs/backlash.md): both flanks at once pull the gears through the backlash.
 
     Returns:
         :class:`ContactSolution`; ``result`` != 0 flags failure (never a silent NaN: callers turn
@@ -302,7 +311,12 @@ def solve_contact(
         return _solve(Kt, Ft)
 
     x_ex, active, it_ex, changed = _active_set(
-        solve_with, lambda x: V_ @ x - d0_, maskf, jnp.zeros(F.shape, F.dtype), max_iterations
+        solve_with,
+        lambda x: V_ @ x - d0_,
+        maskf,
+        jnp.zeros(F.shape, F.dtype),
+        max_iterations,
+        start,
     )
     result = jnp.where(changed, 1, 0)
 

@@ -56,6 +56,11 @@ class Member:
         web_thickness, rim_thickness: web thickness b_s and rim thickness s_R (m) of a webbed
             blank, for the ISO 6336-1 gear blank factor C_R of the ``iso6336`` stiffness;
             ``None`` (either) for a solid blank (C_R = 1).
+        tooth_thickness_allowance: A_sn, the normal tooth-thickness allowance (m) at the
+            reference circle (ISO 21771 / DIN 3967 sign: negative thins the tooth, s_n = s_n,0 +
+            A_sn). It gives the backlash (:class:`GearPair` ``normal_backlash``); the stiffness
+            models keep the nominal tooth (tens of µm change a tooth's compliance by well
+            under 1 %).
     """
 
     teeth: int
@@ -67,6 +72,7 @@ class Member:
     bore_radius: float | None = None
     web_thickness: float | None = None
     rim_thickness: float | None = None
+    tooth_thickness_allowance: float = 0.0
 
 
 def _require(name: str, value: float, ok: bool, allowed: str) -> None:
@@ -102,6 +108,16 @@ class GearPair:
     ``start_roll`` (roll distance of the pinion's start of active profile from its tangent
     point T1; the line-of-action coordinate s = 0 of docs/design.md, "Base plane and sign
     conventions" sits there).
+
+    Backlash (ISO 21771 / DIN 3967; docs/backlash.md) from the operating centre distance and the
+    members' ``tooth_thickness_allowance`` A_sn (m, negative thins): ``transverse_backlash``
+    j_bt = p_bt − s_b1 − s_b2 + 2 (r_b1 + r_b2) inv α_wt, the gap between the coast flanks
+    along the transverse line of action (s_bi = m_t cos α_t (π/2 + 2 x_i tan α_n + A_sni/m_n +
+    z_i inv α_t), the base-circle tooth thicknesses), ``circumferential_backlash`` j_wt =
+    j_bt / cos α_wt (on the operating pitch circle), ``normal_backlash`` j_bn = j_bt cos β_b
+    (normal to the flanks, what a feeler gauge reads); all 0 for zero allowances at the
+    zero-backlash centre distance. ``backlash_center_distance``: the zero-backlash distance of
+    the thinned teeth (ISO 21771 (40) with 2 x tan α_n + A_sn/m_n per member).
     """
 
     pinion: Member
@@ -135,6 +151,13 @@ class GearPair:
             for name in ("web_thickness", "rim_thickness"):
                 v = getattr(m, name)
                 _require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
+            A = m.tooth_thickness_allowance
+            _require(
+                f"{tag}.tooth_thickness_allowance",
+                A,
+                math.isfinite(A) and -0.25 * mn <= A <= 0.25 * mn,
+                f"[{-0.25 * mn:.6g}, {0.25 * mn:.6g}] m (a quarter of the normal module)",
+            )
         z1, z2 = self.pinion.teeth, self.gear.teeth
         x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
         mt = mn / math.cos(beta)
@@ -150,6 +173,16 @@ class GearPair:
         )
         awt0 = inverse_involute(inv_awt0)
         a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
+        # zero backlash with the thinned teeth: ISO 21771 (40) with 2 x tan α_n + A_sn / m_n
+        allowances = self.pinion.tooth_thickness_allowance + self.gear.tooth_thickness_allowance
+        inv_awtA = inv_awt0 + allowances / mn / (z1 + z2)
+        _require(
+            "tooth_thickness_allowance (pinion + gear)",
+            allowances,
+            inv_awtA > 0,
+            f"> {-(inv_awt0 * (z1 + z2) * mn):.6g} m",
+        )
+        aA = (r[0] + r[1]) * math.cos(at) / math.cos(inverse_involute(inv_awtA))
         if self.center_distance is None:
             a, awt = a0, awt0
         else:
@@ -157,10 +190,10 @@ class GearPair:
             _require(
                 "center_distance",
                 a,
-                a >= a0 * (1 - 1e-9),
-                f">= {a0 * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)",
+                a >= aA * (1 - 1e-9),
+                f">= {aA * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)",
             )
-            awt = math.acos((rb[0] + rb[1]) / a)
+            awt = math.acos(min(1.0, (rb[0] + rb[1]) / a))
         members = (self.pinion, self.gear)
         ra = tuple(r[i] + mn * (m.addendum_coeff + m.profile_shift) for i, m in enumerate(members))
         rf = tuple(r[i] - mn * (m.dedendum_coeff - m.profile_shift) for i, m in enumerate(members))
@@ -236,6 +269,26 @@ class GearPair:
         set_("operating_pressure_angle", awt)
         set_("center_distance", a)
         set_("zero_backlash_center_distance", a0)
+        set_("backlash_center_distance", aA)
+        # backlash along the transverse line of action: the base pitch less the base-circle
+        # thicknesses, carried to the operating pressure angle (docs/backlash.md)
+        sb = tuple(
+            mt
+            * math.cos(at)
+            * (
+                math.pi / 2
+                + 2 * m.profile_shift * math.tan(an)
+                + m.tooth_thickness_allowance / mn
+                + m.teeth * involute(at)
+            )
+            for m in members
+        )
+        jbt = math.pi * mt * math.cos(at) - sb[0] - sb[1] + 2 * (rb[0] + rb[1]) * involute(awt)
+        jbt = max(jbt, 0.0)  # round-off at the zero-backlash distance
+        set_("base_thickness", sb)
+        set_("transverse_backlash", jbt)
+        set_("circumferential_backlash", jbt / math.cos(awt))
+        set_("normal_backlash", jbt * math.cos(math.atan(math.tan(beta) * math.cos(at))))
         set_("pitch_radii", r)
         set_("base_radii", rb)
         set_("tip_radii", ra)

@@ -7,7 +7,13 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._baseplane import MeshModel, check_positions, mesh_positions, split_by_mesh
+from ._baseplane import (
+    MeshModel,
+    cell_flank as cells_flank,
+    check_positions,
+    mesh_positions,
+    split_by_mesh,
+)
 from ._contact import (
     ContactLaw,
     ExactContact,
@@ -138,9 +144,27 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
     deviations = getattr(mods, "deviations", None)
     if deviations is not None:
+        check_no_coast(mesh, "deviations (per-tooth ISO 1328-1)")
         e = e + deviations.deviation(mesh, cells)
-    e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
-    return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
+    if not mesh.coast:
+        e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
+        return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
+    # coast flanks (docs/backlash.md): the same modifications in their own base plane; their
+    # gap is the backlash less the drive flanks' reference e_max and their own e
+    drive = cells_flank(cells) > 0
+    e_max = jnp.max(jnp.where(cells.mask & drive, e, -jnp.inf))
+    delta0 = jnp.where(drive, e_max - e, mesh.backlash - e_max - e)
+    return cells, e_max, jnp.where(cells.mask, delta0, 0.0)
+
+
+def check_no_coast(mesh: MeshModel, what: str) -> None:
+    """A one-line ``ValueError`` where ``what`` meets a mesh with coast flanks (not modelled
+    together; docs/backlash.md, "Not modelled")."""
+    if getattr(mesh, "coast", False):
+        raise ValueError(
+            f"{what} with backlash (coast flanks, tooth_thickness_allowance) are not modelled "
+            "together: drop one of them"
+        )
 
 
 def mesh_separations(scene: Scene, mods: tuple, theta) -> list:
@@ -201,11 +225,18 @@ def _quasi_static(
     mods = per_mesh_modifications(mods, len(scene.base_planes))
     if theta is None:
         theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
-    torque = eqx.error_if(
-        torque,
-        ~(torque > 0),
-        "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
-    )
+    if any(p.coast for p in scene.base_planes):  # a negative torque loads the coast flanks
+        torque = eqx.error_if(
+            torque,
+            ~(torque != 0),
+            "operating.torque_Nm must be != 0 (with coast flanks: > 0 drive, < 0 coast)",
+        )
+    else:
+        torque = eqx.error_if(
+            torque,
+            ~(torque > 0),
+            "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
+        )
     speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
     if isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
         width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
@@ -246,7 +277,9 @@ def quasi_static(
             ``deviations`` (per-tooth ISO 1328-1 deviations) the result depends on the absolute
             angle: cover whole revolutions with ``periods = z1 × revolutions``
             (:func:`~jaxgear.hunting_revolutions`; docs/deviations.md).
-        torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable).
+        torque: pinion torque T (N·m), > 0, scalar array (a traced value is fine: differentiable);
+            with coast flanks (a mesh built with ``coast``: backlash) any T != 0, T < 0 loading
+            the coast flanks (the TE then sits a backlash j_bn/cos β_b below the drive side).
         theta: scene angles θ (rad, the pinion's), shape (P,); default :func:`mesh_positions`
             of the first mesh over ``periods`` mesh periods with ``positions_per_pitch``
             positions each. Each mesh takes its cells at its own mesh angle
@@ -270,7 +303,7 @@ def quasi_static(
     Raises:
         ValueError: ``contact`` not a contact law, bad position counts (at trace time),
             deviations whose per-tooth arrays do not have the mesh's tooth counts.
-        eqx.EquinoxRuntimeError: torque <= 0, width <= 0, a negative speed on a hybrid scene,
+        eqx.EquinoxRuntimeError: torque <= 0 (== 0 with coast flanks), width <= 0, a negative speed on a hybrid scene,
             solver failure (with ``throw``).
     """
     check_positions(positions_per_pitch, periods)

@@ -96,6 +96,10 @@ def _newmark(
     def kept(X, Xd, forces, j):
         fm, lines = table.mesh_forces(forces)
         out = {"fm": fm, "te": te_of(X), "lines": lines, "reac": R @ X}
+        if table.flank is not None:  # coast flanks: their force counts negative in F_m
+            coast, _ = table.mesh_forces(jnp.where(table.flank[j] < 0, forces, 0.0))
+            out["fm"] = fm - 2.0 * coast
+            out["coast"] = coast
         if record_states:
             out["states"] = (X, Xd)
         if record_cells:
@@ -165,6 +169,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
             **run,
         )
         fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
+        coast = rec.get("coast")
         if cfg.states:
             states = rec["states"][0]
         forces, p2 = rec.get("cells"), rec.get("p2")
@@ -216,6 +221,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         scene_steps=table.theta.shape[0],
         pressure=pressure,
         cells=cells,
+        coast_force=coast if cfg.newmark else None,
     )
 
 

@@ -38,7 +38,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import MeshModel, split_by_mesh
+from .._baseplane import MeshModel, cell_flank, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._pressure import pressure_factor
@@ -74,6 +74,7 @@ class MeshTable(eqx.Module):
             to (P, m): δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant
             reference per mesh.
         sizes: static (n_lines, n_slices) of each mesh (each mesh's cells are line-major).
+        flank: +1 drive, −1 coast cells (:attr:`jaxgear.Cells.flank`), shape (P, c).
     """
 
     theta: Float[Array, " P"]
@@ -84,6 +85,7 @@ class MeshTable(eqx.Module):
     mask: Bool[Array, "P c"]
     e_max: Float[Array, "P m"]
     sizes: tuple = eqx.field(static=True)
+    flank: Float[Array, "P c"] | None = None
 
     def split(self, cell_values) -> tuple:
         """``cell_values`` (..., c) cut into each mesh's (..., n_lines, n_slices)."""
@@ -115,17 +117,30 @@ def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
 
     def row(th):
         parts = mesh_separations(scene, mods, th)
-        r = scene.cell_row(tuple(p[0] for p in parts), tuple(p[2] for p in parts))
-        return r.V, r.k, r.length, r.delta0, r.mask, jnp.stack([p[1] for p in parts])
+        cells = tuple(p[0] for p in parts)
+        r = scene.cell_row(cells, tuple(p[2] for p in parts))
+        flank = jnp.concatenate([cell_flank(c).reshape(-1) for c in cells])
+        return r.V, r.k, r.length, r.delta0, r.mask, jnp.stack([p[1] for p in parts]), flank
 
-    V, k, ln, d0, mask, e_max = jax.vmap(row)(theta)
+    V, k, ln, d0, mask, e_max, flank = jax.vmap(row)(theta)
     # one time-constant reference per mesh: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e
     # moves its reference with time, which would be a spurious inertial excitation in dynamics.
+    # (A coast cell's δ0 = j_bn − e_ref − e: the shift has the other sign.)
     e_ref = jnp.max(e_max, axis=0)  # (m,)
     sizes = tuple((p.n_lines, p.n_slices) for p in planes)
     of_cell = np.repeat(np.arange(len(planes)), [L * N for L, N in sizes])
-    d0 = jnp.where(mask, d0 + (e_ref[None, :] - e_max)[:, of_cell], 0.0)
-    return MeshTable(theta, V, k, ln, d0, mask, jnp.broadcast_to(e_ref, e_max.shape), sizes=sizes)
+    d0 = jnp.where(mask, d0 + flank * (e_ref[None, :] - e_max)[:, of_cell], 0.0)
+    return MeshTable(
+        theta,
+        V,
+        k,
+        ln,
+        d0,
+        mask,
+        jnp.broadcast_to(e_ref, e_max.shape),
+        sizes=sizes,
+        flank=flank if any(p.coast for p in planes) else None,
+    )
 
 
 def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple]:
@@ -134,7 +149,10 @@ def cells_from_reference(scene, mods: tuple, theta, e_ref) -> tuple[tuple, tuple
     flanks), for the solvers that take the cells at θ(t) instead of the table's rows. ``mods``:
     one per mesh."""
     parts = mesh_separations(scene, mods, theta)
-    delta0 = tuple(jnp.where(c.mask, d + (e_ref[k] - e), 0.0) for k, (c, e, d) in enumerate(parts))
+    delta0 = tuple(
+        jnp.where(c.mask, d + cell_flank(c) * (e_ref[k] - e), 0.0)
+        for k, (c, e, d) in enumerate(parts)
+    )
     return tuple(p[0] for p in parts), delta0
 
 
@@ -222,8 +240,13 @@ def _static_rows(scene: DynamicScene, table: MeshTable, torque, law: ContactLaw,
     """Static contact solution at each table row (the quasi-static reference)."""
     K = scene.stiffness() + _rigid_penalty(scene, k_ref)
     F = scene.external_load(torque)
-    return jax.vmap(lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, law))(
-        table.V, table.k, table.length, table.delta0, table.mask
+    if table.flank is None:
+        return jax.vmap(lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, law))(
+            table.V, table.k, table.length, table.delta0, table.mask
+        )
+    # coast flanks: start from the loaded (drive) flank (docs/backlash.md)
+    return jax.vmap(lambda V, k, ln, d0, m, f: solve_contact(K, F, V, k, ln, d0, m, law, f > 0))(
+        table.V, table.k, table.length, table.delta0, table.mask, table.flank
     )
 
 

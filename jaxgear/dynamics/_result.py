@@ -48,6 +48,13 @@ class MeshDynamics(eqx.Module):
             flank-normal), shape (K, L, N) (L contact lines of N slices; 0 off the flanks and
             out of contact); None unless recorded (``cell_loads=True``). Σ over a line's cells
             of ``line_load`` × the cell length is ``line_force``.
+        coast_share: with coast flanks (backlash; docs/backlash.md), the fraction of recorded
+            steps with the coast flanks in contact (coast force > 1e-3 F_s); None without.
+            ``mesh_force`` is then the drive flanks' force less the coast flanks' (negative on
+            the coast side) and ``contact_loss`` the steps with neither flank in contact.
+        impacts_drive, impacts_coast: re-contacts over the recorded steps (a flank's force
+            rising through 1e-3 F_s after a loss of its contact), each flank; None without
+            coast flanks.
         cell_s: the cells' base-plane coordinate along the line of action at those steps (m),
             (K, L, N). cell_z: across the face (m), (K, L, N). cell_mask: on the flanks, (K, L,
             N). None unless recorded. With them :func:`jaxgear.contact_pressure` and
@@ -71,6 +78,9 @@ class MeshDynamics(eqx.Module):
     cell_s: Float[Array, "K L N"] | None = None
     cell_z: Float[Array, "K L N"] | None = None
     cell_mask: Bool[Array, "K L N"] | None = None
+    coast_share: Float[Array, ""] | None = None
+    impacts_drive: Int[Array, ""] | None = None
+    impacts_coast: Int[Array, ""] | None = None
 
 
 class DynamicResult(eqx.Module):
@@ -159,6 +169,9 @@ class DynamicResult(eqx.Module):
     cell_s = of_the_one_mesh("cell_s")
     cell_z = of_the_one_mesh("cell_z")
     cell_mask = of_the_one_mesh("cell_mask")
+    coast_share = of_the_one_mesh("coast_share")
+    impacts_drive = of_the_one_mesh("impacts_drive")
+    impacts_coast = of_the_one_mesh("impacts_coast")
 
 
 class SweepResult(eqx.Module):
@@ -193,8 +206,13 @@ def checked(r: DynamicResult, name: str) -> DynamicResult:
     )
 
 
+def _impacts(in_contact) -> Int[Array, ""]:
+    """Re-contacts: steps in contact after a step out of contact, (K,) booleans."""
+    return jnp.sum(in_contact[1:] & ~in_contact[:-1])
+
+
 def _mesh_dynamics(
-    fm, fs, te, lines, static_line_force, static_te, P: int, pressure=None, cells=None
+    fm, fs, te, lines, static_line_force, static_te, P: int, pressure=None, cells=None, coast=None
 ) -> MeshDynamics:
     """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`); P: the
     steps of the period the periodicity compares; ``pressure``: (the largest p₀² per kept step
@@ -209,6 +227,14 @@ def _mesh_dynamics(
         periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
     else:
         periodicity = jnp.asarray(jnp.nan, fm.dtype)
+    thr = 1e-3 * fs
+    loss = fm < thr
+    share = imp_d = imp_c = None
+    if coast is not None:  # fm = drive − coast: the flanks' own forces
+        on_coast, on_drive = coast > thr, fm + coast > thr
+        loss = ~on_coast & ~on_drive
+        share = jnp.mean(on_coast.astype(fm.dtype))
+        imp_d, imp_c = _impacts(on_drive), _impacts(on_coast)
     return MeshDynamics(
         mesh_force=fm,
         static_force=jnp.asarray(fs, fm.dtype),
@@ -219,7 +245,7 @@ def _mesh_dynamics(
         dynamic_factor_tooth=jnp.max(lines) / static_line_force,
         te_rms=rms_about_mean(te),
         te_mean=jnp.mean(te),
-        contact_loss=jnp.mean((fm < 1e-3 * fs).astype(fm.dtype)),
+        contact_loss=jnp.mean(loss.astype(fm.dtype)),
         periodicity=periodicity,
         max_pressure=p_max,
         max_pressure_static=p_static,
@@ -227,6 +253,9 @@ def _mesh_dynamics(
         cell_s=cells[1],
         cell_z=cells[2],
         cell_mask=cells[3],
+        coast_share=share,
+        impacts_drive=imp_d,
+        impacts_coast=imp_c,
     )
 
 
@@ -255,6 +284,7 @@ def steady_state(
     scene_steps: int | None = None,
     pressure=None,
     cells=None,
+    coast_force=None,
 ) -> DynamicResult:
     """The :class:`DynamicResult` of one speed's records over its K kept steps, m meshes.
 
@@ -275,6 +305,8 @@ def steady_state(
             largest quasi-static one per position (P, m)) (Pa²): each mesh's
             ``max_pressure`` and ``max_pressure_static``.
         cells: None, or per mesh (line load (N/m), s (m), z (m), mask), each (K, L_k, N_k).
+        coast_force: None, or each mesh's coast flanks' force (N), (K, m) (``mesh_force`` then
+            the drive force less it): the coast share and the impact counts.
     """
     P = steps_per_period
     fm, te = mesh_force, transmission_error
@@ -292,6 +324,7 @@ def steady_state(
             P if scene_steps is None else scene_steps,
             None if pressure is None else (pressure[0][:, k], pressure[1][:, k]),
             None if cells is None else cells[k],
+            None if coast_force is None else coast_force[:, k],
         )
         for k in range(fm.shape[1])
     )

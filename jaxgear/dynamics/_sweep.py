@@ -70,6 +70,11 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
             f"periods of the first mesh (a two-stage train); allowed keep_periods >= {q}, so "
             "that the kept steps hold every mesh position"
         )
+    if isinstance(integrator, DiffraxIntegrator) and any(p.coast for p in model.scene.base_planes):
+        raise ValueError(
+            "integrator: a diffrax solver with backlash (coast flanks) is not modelled: use "
+            "jaxgear.dynamics.Newmark"
+        )
     if states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
     return integrator, contact_law(contact, model.scene.base_planes[0].base_pitch.dtype), window

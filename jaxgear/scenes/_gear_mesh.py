@@ -32,6 +32,7 @@ import math
 from typing import NamedTuple
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
@@ -83,7 +84,9 @@ def line_of_action(
     """The line of action of ``pair`` placed in the fixed frame (NumPy, SI): ``centres`` (2, 3)
     of the driving and driven gears, ``tangent_point`` T1 (3,) on the driving gear's base circle,
     ``direction`` t (3,), ``normal`` n (3,), ``roll_start`` ρ_A and ``axial`` a (±1, the
-    mesh's axial sense) (the module docstring).
+    mesh's axial sense) (the module docstring), and the coast flanks' ``coast_tangent_point``
+    T1', ``coast_direction`` t' and ``coast_normal`` n' (3,) each: the π-rotation R v =
+    2 (v·d) d − v about the centre line d through the driving centre (docs/backlash.md).
 
     By default the pair's own frame: the driving gear (the pair's pinion) at the origin turning
     about +z, the driven gear at (a_w, 0, 0): t = (sin α_wt, cos α_wt, 0), T1 = r_b1 (cos α_wt,
@@ -106,15 +109,26 @@ def line_of_action(
         return out + np.asarray(driving_centre, float) if point else out
 
     t = place(np.array([math.sin(alpha), math.cos(alpha), 0.0]), point=False)
+    centres = np.array([place(np.zeros(3)), place(np.array([pair.center_distance, 0, 0]))])
+    tangent = place(pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0]))
+    normal = math.cos(bb) * t + axial * math.sin(bb) * np.array([0.0, 0.0, 1.0])
+    # the coast flanks: the π-rotation R about the centre line (through the driving centre,
+    # mid-face) maps each flank of a symmetric tooth onto the other (docs/backlash.md)
+    d = (centres[1] - centres[0]) / np.linalg.norm(centres[1] - centres[0])
+
+    def turn(v):  # R v = 2 (v·d) d − v
+        return 2.0 * np.dot(v, d) * d - v
+
     return {
-        "centres": np.array([place(np.zeros(3)), place(np.array([pair.center_distance, 0, 0]))]),
-        "tangent_point": place(
-            pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0])
-        ),
+        "centres": centres,
+        "tangent_point": tangent,
         "direction": t,
-        "normal": math.cos(bb) * t + axial * math.sin(bb) * np.array([0.0, 0.0, 1.0]),
+        "normal": normal,
         "roll_start": pair.start_roll,
         "axial": axial,
+        "coast_tangent_point": centres[0] + turn(tangent - centres[0]),
+        "coast_direction": turn(t),
+        "coast_normal": turn(normal),
     }
 
 
@@ -351,6 +365,10 @@ class GearMesh(eqx.Module):
             mesh phasing of the layout.
         axial: a = ±1, the mesh's axial sense (the module docstring): −1 for a mesh mirrored
             through its mid-face plane (a driving gear of the other helix hand).
+        coast_tangent_point, coast_direction, coast_normal: T1', t', n' of the coast flanks
+            (:func:`line_of_action`), (3,) each, or None; used when the base plane has coast
+            flanks (``MeshModel.coast``): their cells sit at T1' + (ρ_A + s') t' − a (z' −
+            b/2) e_z with outward normal n' on the driving gear (docs/backlash.md).
     """
 
     base_plane: MeshModel
@@ -363,6 +381,9 @@ class GearMesh(eqx.Module):
     ratio: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
     phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     axial: Float[Array, ""] = eqx.field(converter=as_float, default=1.0)
+    coast_tangent_point: Float[Array, " 3"] | None = None
+    coast_direction: Float[Array, " 3"] | None = None
+    coast_normal: Float[Array, " 3"] | None = None
 
     def angle(self, theta):
         """The mesh angle θ_k = ratio θ + phase (rad) at the scene angle θ (rad)."""
@@ -382,13 +403,59 @@ class GearMesh(eqx.Module):
         )
 
     def _parts(self, members: tuple, cells: Cells, pad: int):
-        P = self.points(cells)
-        line = self.line()
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
-        return [
-            members[g].window(P, cells.mask, line, theta, self.base_plane, side, pad)
-            for g, side in zip(self.gears, (1.0, -1.0), strict=True)
+        if not self.base_plane.coast:
+            P, line = self.points(cells), self.line()
+            return [
+                members[g].window(P, cells.mask, line, theta, self.base_plane, side, pad)
+                for g, side in zip(self.gears, (1.0, -1.0), strict=True)
+            ]
+        return self._flank_parts(members, cells, theta, pad)
+
+    def _flank_parts(self, members: tuple, cells: Cells, theta, pad: int):
+        """The drive rows' and the coast rows' windows (:meth:`_parts`) joined along the lines:
+        the coast rows on the coast line of action (rigid members) or with the sign of the
+        flank (torsional members); a condensed body is refused (not modelled)."""
+        kinds = {type(members[g]).__name__ for g in self.gears}
+        if not kinds <= {"RigidMember", "TorsionalMember"}:
+            raise ValueError(
+                "backlash (coast flanks, tooth_thickness_allowance) with condensed FE bodies is "
+                "not modelled: use a torsional or lumped 3D scene, or drop the allowances"
+            )
+        if "RigidMember" in kinds and self.coast_normal is None:
+            raise ValueError(
+                "backlash (coast flanks) in this scene is not modelled: its mesh has no coast "
+                "line of action (build the pair's mesh with pair_mesh)"
+            )
+        L = self.base_plane.n_drive_lines
+        plane = self.base_plane
+        halves = [
+            jax.tree.map(lambda a, sl=sl: a[sl] if a.ndim >= 2 else a, cells)
+            for sl in (slice(0, L), slice(L, None))
         ]
+        zero = jnp.zeros((3,), plane.face_width.dtype)
+        geometry = [
+            (self.tangent_point, self.direction, self.normal, self.axial, 1.0),
+            (
+                zero if self.coast_tangent_point is None else self.coast_tangent_point,
+                zero if self.coast_direction is None else self.coast_direction,
+                zero if self.coast_normal is None else self.coast_normal,
+                -self.axial,
+                -1.0,
+            ),
+        ]
+        out = []
+        for g, side in zip(self.gears, (1.0, -1.0), strict=True):
+            idx, Vs, over = None, [], []
+            for half, (T, t, n, axial, flank) in zip(halves, geometry, strict=True):
+                P = contact_points(T, t, self.roll_start, plane, half, axial)
+                line = {**mesh_line(T, t, n, self.roll_start, plane), "flank": flank}
+                i, V, o = members[g].window(P, half.mask, line, theta, plane, side, pad)
+                idx = i
+                Vs.append(V)
+                over.append(o)
+            out.append((idx, jnp.concatenate(Vs, axis=-3), over[0] | over[1]))
+        return out
 
     def window(
         self, members: tuple, cells: Cells, pad: int = 0
@@ -414,7 +481,13 @@ class GearMesh(eqx.Module):
 
 def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
     """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`) with TE vector
-    ``te`` (n,), between the scene's members 0 (the pinion, driving) and 1 (the gear)."""
+    ``te`` (n,), between the scene's members 0 (the pinion, driving) and 1 (the gear); its
+    coast line of action where ``line`` has one and the base plane has coast flanks."""
+    coast = {}
+    if base_plane.coast and "coast_normal" in line:
+        coast = {
+            k: as_float(line[k]) for k in ("coast_tangent_point", "coast_direction", "coast_normal")
+        }
     return GearMesh(
         base_plane,
         line["tangent_point"],
@@ -424,6 +497,7 @@ def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
         te,
         gears=(0, 1),
         axial=line.get("axial", 1.0),
+        **coast,
     )
 
 

@@ -122,10 +122,11 @@ class TorsionalMember(eqx.Module):
 
     def window(self, points, mask, line, theta, mesh, side, pad=0):
         """Global DOF (1,), structure vectors on it (L, N, 1), no overflow. ``side``: +1 the
-        mesh's driving gear (its base radius r_b1), −1 its driven gear (r_b2); ``points``,
-        ``line`` and ``pad`` unused: the vector is the same for every cell."""
+        mesh's driving gear (its base radius r_b1), −1 its driven gear (r_b2); ``line``'s
+        ``flank`` (−1: coast cells, whose gap the driving gear's advance opens; default +1)
+        flips it; ``points`` and ``pad`` unused: the vector is the same for every cell."""
         r = mesh.base_radius_pinion if side > 0 else mesh.base_radius_gear
-        v = side * jnp.cos(mesh.base_helix_angle) * r
+        v = side * line.get("flank", 1.0) * jnp.cos(mesh.base_helix_angle) * r
         return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
 
 

@@ -4,14 +4,15 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from .._baseplane import MeshModel
+from .._baseplane import MeshModel, cell_flank
 from ._scene import Scene
 
 __all__ = ["RigidMesh"]
 
 
 class RigidMesh(Scene):
-    """Both bodies rigid: one coordinate, the flank-normal approach δ (m), V = 1 for every cell."""
+    """Both bodies rigid: one coordinate, the flank-normal approach δ (m), V = 1 for every drive
+    cell and −1 for every coast cell (the approach opens the coast flanks)."""
 
     mesh: MeshModel
 
@@ -22,7 +23,7 @@ class RigidMesh(Scene):
         return jnp.reshape(self.mesh.normal_load(torque), (1,))
 
     def cell_vectors(self, cells):
-        return jnp.ones(cells.s.shape + (1,), dtype=cells.s.dtype)
+        return cell_flank(cells)[..., None]
 
     def te_vector(self):
         return jnp.ones((1,), dtype=self.mesh.face_width.dtype)

@@ -29,7 +29,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, Cells, MeshModel
+from .._baseplane import CellRow, Cells, MeshModel, cell_flank
 from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 
@@ -106,7 +106,9 @@ class Scene(eqx.Module):
         """
         r = self.cell_row(cells, delta0)
         K, F = self.stiffness(), self.external_load(torque)
-        sol = solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law)
+        sol = solve_contact(
+            K, F, r.V, r.k, r.length, r.delta0, r.mask, law, loaded_flank(cells, torque)
+        )
         return sol, sol.x, self.te_vectors() @ sol.x
 
 
@@ -183,6 +185,16 @@ class Grounded(Scene):
 
     def te_vector(self):
         return self.base.te_vector()
+
+
+def loaded_flank(cells: tuple, torque):
+    """The cells of the flank that the pinion torque T loads, (c,) over the cells of every mesh
+    (drive for T > 0, coast for T < 0): the active set's start of a static solve with coast
+    flanks (:func:`jaxgear.solve_contact` ``start``); None (every cell) without coast cells."""
+    if all(c.flank is None for c in cells):
+        return None
+    flank = jnp.concatenate([cell_flank(c).reshape(-1) for c in cells])
+    return flank * jnp.sign(torque) > 0
 
 
 def _check_meshes(scene: Scene, cells: tuple) -> None:

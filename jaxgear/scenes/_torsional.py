@@ -11,7 +11,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import MeshModel
+from .._baseplane import MeshModel, cell_flank
 from .._util import as_float
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
@@ -27,7 +27,8 @@ class TorsionalPair(Scene):
     """Two rotations X = (θ1, θ2) (rad, each positive in its direction of motion).
 
     The pinion carries the input torque T; the gear is held by an output shaft of torsional
-    stiffness ``output_stiffness`` (N·m/rad) to a fixed load. Approach: V = cos β_b (r_b1, −r_b2).
+    stiffness ``output_stiffness`` (N·m/rad) to a fixed load. Approach: V = cos β_b (r_b1, −r_b2)
+    on the drive flanks, its negative on the coast flanks.
     The transmission error is independent of the shaft stiffness (statically determinate chain),
     which the tests use as a check of the structure-vector plumbing.
     """
@@ -47,7 +48,7 @@ class TorsionalPair(Scene):
         return jnp.stack([torque, jnp.zeros_like(torque)])
 
     def cell_vectors(self, cells):
-        return jnp.broadcast_to(self._v(), cells.s.shape + (2,))
+        return cell_flank(cells)[..., None] * self._v()[None, None, :]
 
     def te_vector(self):
         return self._v()
