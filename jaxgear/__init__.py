@@ -51,6 +51,16 @@ from ._quasi_static import (
     quasi_static as quasi_static,
     separation as separation,
 )
+from ._robust import (
+    DeviationSampler as DeviationSampler,
+    GearSampler as GearSampler,
+    QuasiStaticMetrics as QuasiStaticMetrics,
+    RobustMetrics as RobustMetrics,
+    robust_samples as robust_samples,
+    sample_mesh as sample_mesh,
+    sample_metrics as sample_metrics,
+    sample_statistics as sample_statistics,
+)
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
