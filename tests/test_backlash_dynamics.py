@@ -6,7 +6,15 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from benchmarks._backlash import REGIMES, STEPS, SWEEP, WINDOW, jaxgear_model, reference
+from benchmarks._backlash import (
+    REGIMES,
+    STEPS,
+    SWEEP,
+    SWEEP_STEPS,
+    WINDOW,
+    jaxgear_model,
+    reference,
+)
 from benchmarks._backlash_reference import response, sweep
 from jaxgear.dynamics import DiffraxIntegrator, simulate, speed_sweep
 
@@ -76,7 +84,7 @@ def jump(rms, rel=0.3):
 def test_sweeps_up_and_down_match_the_reference_with_their_jumps(setup):
     p, speed_n, model = setup
     speeds = SWEEP * speed_n
-    res = speed_sweep(model, speeds, integrator=STEPS, window=WINDOW, direction="both")
+    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction="both")
     x0 = [p.force / (p.pair_stiffness * p.contact_ratio), 0.0]
     up = sweep(p, speeds, x0, 100, 8)
     down = sweep(p, speeds[::-1], x0, 100, 8)[::-1]
