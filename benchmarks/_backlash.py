@@ -152,7 +152,7 @@ def _plot(data, path):
     axes[0].set_ylabel("RMS DTE (µm)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in colours.values()]
     h, l = axes[0].get_legend_handles_labels()
-    axes[0].legend(h + handles, l + list(colours), fontsize=8, loc="upper left")
+    axes[1].legend(h + handles, l + list(colours), fontsize=8, loc="upper right")
     fig.suptitle(
         f"1-DOF spur pair with backlash j_bn = {data['backlash_normal_m'] * 1e6:.2f} µm: "
         "no-impact, single- and double-sided regimes"
