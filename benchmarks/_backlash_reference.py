@@ -31,6 +31,7 @@ every piece. A sweep continues each speed from the previous speed's end state.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -106,8 +107,10 @@ def dead_zone_pair(
     a = r[0] + r[1]
     # operating angle = α at the standard distance; contact ratio from the tip rolls
     pb = math.pi * module * math.cos(pressure_angle)
-    g = math.sqrt(ra[0] ** 2 - rb[0] ** 2) + math.sqrt(ra[1] ** 2 - rb[1] ** 2) - a * math.sin(
-        pressure_angle
+    g = (
+        math.sqrt(ra[0] ** 2 - rb[0] ** 2)
+        + math.sqrt(ra[1] ** 2 - rb[1] ** 2)
+        - a * math.sin(pressure_angle)
     )
     eps = g / pb
     # backlash on the pitch circle: p − s1 − s2, s_i = m π/2 + A_i (spur, no shift, α_w = α)
@@ -160,17 +163,17 @@ def _segment(p: DeadZonePair, t0, t1, y0, kd, kc, out_t):
 
         events = []
         if state == 1:
-            ev = lambda _, yy: yy[0]  # noqa: E731
+            ev = lambda _, yy: yy[0]
             ev.direction = -1
             events = [ev]
         elif state == -1:
-            ev = lambda _, yy: yy[0] + j  # noqa: E731
+            ev = lambda _, yy: yy[0] + j
             ev.direction = 1
             events = [ev]
         else:
-            e1 = lambda _, yy: yy[0]  # noqa: E731
+            e1 = lambda _, yy: yy[0]
             e1.direction = 1
-            e2 = lambda _, yy: yy[0] + j  # noqa: E731
+            e2 = lambda _, yy: yy[0] + j
             e2.direction = -1
             events = [e1, e2]
         for e in events:
@@ -206,8 +209,9 @@ def _segment(p: DeadZonePair, t0, t1, y0, kd, kc, out_t):
     raise RuntimeError("too many contact changes in one segment")
 
 
-def response(p: DeadZonePair, speed: float, y0, periods: int = 150, keep: int = 10,
-             samples: int = 256):
+def response(
+    p: DeadZonePair, speed: float, y0, periods: int = 150, keep: int = 10, samples: int = 256
+):
     """Steady-state response at pinion speed Ω (rad/s) from state ``y0`` = (x, ẋ): ``periods``
     mesh periods, the last ``keep`` sampled at ``samples`` points each.
 
@@ -225,7 +229,7 @@ def response(p: DeadZonePair, speed: float, y0, periods: int = 150, keep: int = 
         out_t = n * T + (np.arange(samples) / samples) * T if record else np.empty(0)
         xs_all = []
         edges = list(u_bp) + [1.0]
-        for a, b in zip(edges[:-1], edges[1:], strict=True):
+        for a, b in itertools.pairwise(edges):
             if b <= a:
                 continue
             d, c = p.pairs(0.5 * (a + b))

@@ -162,3 +162,93 @@ def test_deviations_with_backlash_are_refused():
     dev = jg.Deviations(pinion=jg.GearDeviations(np.zeros(20)))
     with pytest.raises(ValueError, match="deviations .* with backlash .* not modelled"):
         jg.quasi_static(mesh, jg.Modifications(deviations=dev), 100.0, periods=1)
+
+
+SMALL = """
+name = "small-backlash"
+[pair]
+normal_module_mm = 2.0
+normal_pressure_angle_deg = 20.0
+helix_angle_deg = 15.0
+[pinion]
+teeth = 23
+face_width_mm = 20.0
+tooth_thickness_allowance_um = -40.0
+[gear]
+teeth = 41
+face_width_mm = 22.0
+tooth_thickness_allowance_um = -30.0
+[operating]
+torque_Nm = 120.0
+[mesh]
+stiffness = "iso6336"
+slices = 6
+positions_per_pitch = 8
+"""
+
+
+def _parse(text):
+    import tomllib
+
+    return jio.parse_case(tomllib.loads(text))
+
+
+def test_case_keys_give_the_allowances_and_the_coast_flanks():
+    case = _parse(SMALL)
+    assert case.coast
+    assert case.pair.pinion.tooth_thickness_allowance == pytest.approx(-40e-6, rel=1e-15)
+    assert case.pair.gear.tooth_thickness_allowance == pytest.approx(-30e-6, rel=1e-15)
+    mesh = case.mesh_model()
+    assert mesh.coast and float(mesh.backlash) == pytest.approx(case.pair.normal_backlash)
+    plain = _parse(
+        SMALL.replace("tooth_thickness_allowance_um = -40.0\n", "").replace(
+            "tooth_thickness_allowance_um = -30.0\n", ""
+        )
+    )
+    assert not plain.coast and not plain.mesh_model().coast
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            "",
+            r"\[pinion\] tooth_thickness_allowance_um = -600: out of range, allowed \[-500, 500\]",
+        ),
+        (
+            "[deviations]\ngrade = 6\n",
+            r"\[pinion\] tooth_thickness_allowance_um = -40: backlash "
+            r"\(coast flanks\) with \[deviations\] is not modelled",
+        ),
+    ],
+)
+def test_bad_allowance_keys_are_one_line_errors(extra, message):
+    text = SMALL + extra
+    if not extra:
+        text = text.replace("= -40.0", "= -600.0")
+    with pytest.raises(ValueError, match=message) as err:
+        _parse(text)
+    assert "\n" not in str(err.value)
+
+
+def test_a_train_gear_has_no_allowance_key():
+    case = jio.load_case("accessory-idler-train")
+    raw = {**case.raw}
+    raw["gears"] = [dict(g) for g in raw["gears"]]
+    raw["gears"][0]["tooth_thickness_allowance_um"] = -20.0
+    with pytest.raises(ValueError, match="tooth_thickness_allowance_um") as err:
+        jio.parse_train(raw)
+    assert "\n" not in str(err.value)
+
+
+def test_run_summary_has_the_backlash(tmp_path):
+    import json
+
+    from jaxgear.cli import main
+
+    path = tmp_path / "c.toml"
+    path.write_text(SMALL)
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    pair = _parse(SMALL).pair
+    assert s["backlash"]["backlash_normal_m"] == pytest.approx(pair.normal_backlash, rel=1e-12)

@@ -104,6 +104,17 @@ def run_case(
         },
         "environment": environment_summary(mesh.base_pitch.dtype),
     }
+    if case.coast:  # backlash and the coast flanks (docs/backlash.md)
+        summary["backlash"] = {
+            "backlash_normal_m": pair.normal_backlash,
+            "backlash_transverse_m": pair.transverse_backlash,
+            "backlash_circumferential_m": pair.circumferential_backlash,
+            "tooth_thickness_allowance_m": [
+                pair.pinion.tooth_thickness_allowance,
+                pair.gear.tooth_thickness_allowance,
+            ],
+            "coast_angle_rad": float(mesh.coast_angle),
+        }
     theta = np.asarray(res["modified", "exact"].theta)
     cols = {
         f"te_{m}_{lab}_m": np.asarray(res[lab, m].transmission_error)

@@ -319,6 +319,7 @@ def sweep_case(
                 "contact_loss_down": _clean(_worst(d, "contact_loss")),
                 "max_contact_pressure_Pa_down": _clean(_worst(d, "max_pressure")),
                 "result_down": [int(v) for v in np.asarray(d.result)],
+                **(_backlash_responses(d, "_down") if len(d.meshes) == 1 else {}),
             }
         )
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
@@ -375,7 +376,7 @@ def _mesh_responses(model, r, speeds) -> dict:
         ("periodicity", "periodicity"),
     )
     if len(r.meshes) == 1:
-        return {name: _clean(getattr(r, field)) for field, name in keys}
+        return {name: _clean(getattr(r, field)) for field, name in keys} | _backlash_responses(r)
     out = {
         "dynamic_factor": _clean(_worst(r, "dynamic_factor")),
         "dynamic_factor_tooth": _clean(_worst(r, "dynamic_factor_tooth")),
@@ -394,6 +395,18 @@ def _mesh_responses(model, r, speeds) -> dict:
     ]  # cycles per radian of the input
     out["mesh_frequency_mesh_Hz"] = [_clean(w * np.asarray(freq)) for w in np.asarray(speeds)]
     return out
+
+
+def _backlash_responses(r, suffix: str = "") -> dict:
+    """With coast flanks (backlash; docs/backlash.md): the share of the kept steps on the coast
+    flank and the re-contacts (impacts) on the drive and the coast flank per speed; {} without."""
+    if r.meshes[0].coast_share is None:
+        return {}
+    return {
+        f"coast_share{suffix}": _clean(r.coast_share),
+        f"impacts_drive{suffix}": [int(v) for v in np.asarray(r.impacts_drive)],
+        f"impacts_coast{suffix}": [int(v) for v in np.asarray(r.impacts_coast)],
+    }
 
 
 def _at_speed_keys(at, n_modes: int, used: bool) -> dict:

@@ -58,6 +58,9 @@ _MEMBER_KEYS = {
     "web_thickness_mm",
     "rim_thickness_mm",
 }
+#: a pair case's member keys: the train's and the tooth thickness allowance (backlash; a train
+#: has no coast flanks: docs/backlash.md)
+_PAIR_MEMBER_KEYS = _MEMBER_KEYS | {"tooth_thickness_allowance_um"}
 _SCHEMA: dict[str, Any] = {
     "name": None,
     "pair": {
@@ -66,8 +69,8 @@ _SCHEMA: dict[str, Any] = {
         "helix_angle_deg",
         "center_distance_mm",
     },
-    "pinion": _MEMBER_KEYS,
-    "gear": _MEMBER_KEYS,
+    "pinion": _PAIR_MEMBER_KEYS,
+    "gear": _PAIR_MEMBER_KEYS,
     "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
     "operating": {"torque_Nm", "speed_rad_s"},
     "mesh": {
@@ -380,8 +383,8 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
     return sc.SchemaError(f"[pair] geometry: {sc.g6(msg)}")
 
 
-def _member(data: dict, tag: str) -> Member:
-    t = sc.subtable(data, tag, "", _MEMBER_KEYS, required=True)
+def _member(data: dict, tag: str, keys=_MEMBER_KEYS) -> Member:
+    t = sc.subtable(data, tag, "", keys, required=True)
     dedendum = sc.number(t, "dedendum_coeff", tag, 1.25, allowed="(0, 3]")
     fillet = sc.number(t, "fillet_radius_coeff", tag, 0.25, allowed=">= 0")
     if not fillet < dedendum:
@@ -421,6 +424,10 @@ def _member(data: dict, tag: str) -> Member:
         bore_radius=None if bore is None else bore * 1e-3,
         web_thickness=None if web is None else web * 1e-3,
         rim_thickness=None if rim is None else rim * 1e-3,
+        tooth_thickness_allowance=sc.number(
+            t, "tooth_thickness_allowance_um", tag, 0.0, allowed="[-1e+04, 1e+04]"
+        )
+        * 1e-6,
     )
 
 
@@ -518,7 +525,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         if isinstance(allowed, set):
             sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
     p = data["pair"]
-    pinion, gear = _member(data, "pinion"), _member(data, "gear")
+    pinion = _member(data, "pinion", _PAIR_MEMBER_KEYS)
+    gear = _member(data, "gear", _PAIR_MEMBER_KEYS)
     # physical ranges checked before the geometry, so that its errors name the culprit: below
     # 10° the involute undercuts all but very large gears (z_min = 2/sin²α = 66 at 10°), above
     # 40° standard teeth are pointed; the module spans watch gears to mill gears
@@ -527,6 +535,15 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     beta = sc.number(p, "helix_angle_deg", "pair", 0.0, allowed="[0, 45)")
     cd = sc.number(p, "center_distance_mm", "pair", None, allowed="(0, 1e+06]")
     for tag, member in (("pinion", pinion), ("gear", gear)):
+        limit = 0.25 * module * 1e3  # µm: a quarter of the module (GearPair's range)
+        if abs(member.tooth_thickness_allowance) * 1e6 > limit:
+            raise sc.fail(
+                tag,
+                "tooth_thickness_allowance_um",
+                f"out of range, allowed [{-limit:.6g}, {limit:.6g}] (a quarter of "
+                "normal_module_mm; negative thins the tooth)",
+                data[tag]["tooth_thickness_allowance_um"],
+            )
         b_min = MIN_FACE_WIDTH_MODULE * module
         if member.face_width * 1e3 < b_min:
             raise sc.fail(
@@ -578,7 +595,11 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
             "or [scene.pinion_body])",
             data["optimise"]["speeds"],
         )
+    coast = any("tooth_thickness_allowance_um" in data[tag] for tag in ("pinion", "gear"))
+    if coast:
+        _refuse_with_backlash(data, deviations is not None, scene)
     case = Case(
+        coast=coast,
         name=name,
         pair=pair,
         modifications=mods,
@@ -597,6 +618,26 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     for text in plausibility(case):
         warnings.warn(text, CaseWarning, stacklevel=2)
     return case
+
+
+def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:
+    """One-line errors for what is not modelled with the coast flanks (docs/backlash.md)."""
+    tag = "pinion" if "tooth_thickness_allowance_um" in data["pinion"] else "gear"
+    value = data[tag]["tooth_thickness_allowance_um"]
+    what = None
+    if deviations:
+        what = "[deviations]"
+    elif scene is not None and scene.hybrid:
+        what = "condensed bodies ([scene.pinion_body]/[scene.gear_body])"
+    elif scene is not None and scene.solver != "newmark":
+        what = f"[scene.integration] solver = {scene.solver!r} (use 'newmark')"
+    if what is not None:
+        raise sc.fail(
+            tag,
+            "tooth_thickness_allowance_um",
+            f"backlash (coast flanks) with {what} is not modelled: drop one of them",
+            value,
+        )
 
 
 # --------------------------------------------------------------------------------------------
