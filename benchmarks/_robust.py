@@ -24,7 +24,7 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.scenes import TorsionalDynamics
-from jaxgear.scenes._torsional import disc_inertia
+from jaxgear.scenes import disc_inertia
 
 from ._timing import environment, min_time
 

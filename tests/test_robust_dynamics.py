@@ -15,7 +15,7 @@ import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, simulate
 from jaxgear.scenes import TorsionalDynamics
-from jaxgear.scenes._torsional import disc_inertia
+from jaxgear.scenes import disc_inertia
 
 
 @pytest.fixture(scope="module")

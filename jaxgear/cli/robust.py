@@ -72,7 +72,7 @@ def check_robust_options(args) -> None:
 
 def _settings(case, args) -> dict:
     from ..io import parse_robust
-    from ..io._case_file import SchemaError
+    from ..io import SchemaError
 
     grade = None if case.deviation_settings is None else case.deviation_settings.get("grade")
     teeth = (case.pair.pinion.teeth, case.pair.gear.teeth)
@@ -104,7 +104,7 @@ def _dynamic_problem(case, st, mesh):
         dynamic_model,
     )
     from ..scenes import TorsionalDynamics
-    from ..scenes._torsional import disc_inertia
+    from ..scenes import disc_inertia
 
     if case.scene is not None:
         if case.scene.hybrid:
