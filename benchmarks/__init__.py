@@ -31,5 +31,6 @@ from ._modal_basis import (
 )
 from ._optimise import bench_optimise as bench_optimise
 from ._quasi_static import bench_quasi_static as bench_quasi_static
+from ._robust import bench_robust as bench_robust
 from ._stiffness import bench_stiffness as bench_stiffness
 from ._train_cost import bench_trains as bench_trains, train_cost_chart as train_cost_chart

@@ -7,6 +7,7 @@ optimistix solves (L-BFGS, Adam), the Master Curve and the (Γ, E) contour map o
 """
 
 from ._master_curve import contour_map as contour_map, master_curve as master_curve
+from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
 from ._minimise import OptimisationResult as OptimisationResult, minimise as minimise
 from ._problem import (
     CENTROID_SCALE as CENTROID_SCALE,

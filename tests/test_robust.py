@@ -22,7 +22,6 @@ from scipy import stats
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear._robust import binomial_quantile
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -194,7 +193,7 @@ def test_sampled_mean_and_percentiles_converge_as_one_over_root_n(spur):
 def test_percentile_intervals_cover_and_binomial_quantile():
     """Order-statistic intervals (distribution-free): over 1000 samples of N = 200 standard
     normal values the 5/50/95 % intervals hold the true percentile in >= 93 % (nominal >= 95 %),
-    the mean's in 93-97 %; the binomial quantile equals scipy.stats.binom.ppf."""
+    the mean's in 93-97 %; the interval's ranks are scipy.stats.binom.ppf's quantiles."""
     rng = np.random.default_rng(0)
     hits = {"5": 0, "50": 0, "95": 0, "mean": 0}
     truth = {k: stats.norm.ppf(float(k) / 100) for k in ("5", "50", "95")}
@@ -208,8 +207,14 @@ def test_percentile_intervals_cover_and_binomial_quantile():
     for k in truth:
         assert hits[k] / runs >= 0.93, hits
     assert 0.93 <= hits["mean"] / runs <= 0.97, hits
-    for n, p, q in ((200, 0.05, 0.025), (200, 0.95, 0.975), (1000, 0.5, 0.025), (17, 0.3, 0.9)):
-        assert binomial_quantile(q, n, p) == int(stats.binom.ppf(q, n, p))
+    for n in (17, 200, 1000):  # the interval's ranks are scipy's binomial quantiles
+        x = np.sort(rng.standard_normal(n))
+        st = jg.sample_statistics(x, (5.0, 30.0, 50.0, 95.0))
+        for p in (5.0, 30.0, 50.0, 95.0):
+            lo = int(stats.binom.ppf(0.025, n, p / 100))
+            hi = int(stats.binom.ppf(0.975, n, p / 100)) + 1
+            expect = [x[lo - 1] if lo >= 1 else None, x[hi - 1] if hi <= n else None]
+            assert st["percentiles"][f"{p:g}"]["ci"] == expect
 
 
 # -- devices and processes -----------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | bench | prep``.
+"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | robust | bench | prep``.
 
 The CLI is an entry point, so it switches float64 on (library modules never do). Every command
 validates its whole input (case file, options, output folder) before it computes; bad input gives
@@ -27,6 +27,7 @@ def _version() -> str:
 
 def _parser() -> argparse.ArgumentParser:
     from ._optimise import add_parsers as add_optimise_parsers
+    from .robust import add_robust_parser
     from .sweep import add_sweep_parser
 
     p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
@@ -63,6 +64,7 @@ def _parser() -> argparse.ArgumentParser:
             "modal-basis",
             "stiffness",
             "trains",
+            "robust",
         ],
         help="which benchmark",
     )
@@ -73,6 +75,7 @@ def _parser() -> argparse.ArgumentParser:
     pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (= fem-prep build)")
     add_build_arguments(pr)
     add_sweep_parser(sub)
+    add_robust_parser(sub)
     add_optimise_parsers(sub)
     return p
 
@@ -190,6 +193,8 @@ def _bench(args) -> int:
         bench.bench_stiffness(args.out, quick=args.quick)
     elif args.what == "trains":
         bench.bench_trains(args.out, quick=args.quick)
+    elif args.what == "robust":
+        bench.bench_robust(args.out, quick=args.quick)
     else:
         bench.bench_quasi_static(args.out, quick=args.quick)
     return 0
@@ -222,6 +227,10 @@ def _dispatch(args) -> int:
         from .sweep import run_sweep
 
         return run_sweep(args)
+    if args.command == "robust":
+        from .robust import run_robust
+
+        return run_robust(args)
     if args.command == "bench":
         return _bench(args)
     raise ValueError(f"unknown command {args.command!r}")  # pragma: no cover

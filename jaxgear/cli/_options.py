@@ -65,6 +65,12 @@ def check_options(args) -> None:
     from ._paths import check_output_dir, check_output_file
 
     cmd = args.command
+    if cmd == "robust":
+        from .robust import check_robust_options
+
+        check_robust_options(args)
+        if args.out is not None:
+            check_output_dir(args.out)
     if cmd == "optimise":
         if args.max_iterations is not None and args.max_iterations < 1:
             raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")

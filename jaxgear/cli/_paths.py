@@ -60,6 +60,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench modal-basis": ("modal_basis.json", "modal_basis.png"),
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
     "bench trains": ("bench_trains.json", "bench_trains.png"),
+    "bench robust": ("bench_robust.json",),
 }
 # what ``jaxgear run`` writes for a train case besides a pair's names: a load map and a pressure
 # map per mesh (named after its gears) and the layout with its phasing

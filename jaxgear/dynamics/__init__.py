@@ -57,10 +57,12 @@ from ._model import (
     DynamicModel as DynamicModel,
     HybridModel as HybridModel,
     MeshTable as MeshTable,
+    deviation_periods as deviation_periods,
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,
     mesh_stiffness_means as mesh_stiffness_means,
     mesh_table as mesh_table,
+    span_periods as span_periods,
 )
 from ._newmark import MeshDamping as MeshDamping, newmark as newmark
 from ._result import (
@@ -80,6 +82,7 @@ from ._settings import (
     Newmark as Newmark,
     SteadyState as SteadyState,
 )
+from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._simulate import simulate as simulate
 from ._sweep import (
     auto_steps_per_period as auto_steps_per_period,

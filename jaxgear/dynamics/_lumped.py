@@ -22,6 +22,7 @@ from ._model import (
     mesh_max,
     mesh_te,
     pressure_factors,
+    span_periods,
     split_cells,
     static_mesh_forces,
 )
@@ -226,7 +227,9 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
 
 
 def _prep(model, law: ContactLaw, steps_per_period: int) -> _Prepared:
-    return _prepare(model.scene, model.mods, model.torque, law, steps_per_period)
+    """The model's cell table and static rows over its span (:func:`span_periods`)."""
+    periods = span_periods(model)
+    return _prepare(model.scene, model.mods, model.torque, law, steps_per_period, periods)
 
 
 def _static_start(prep: _Prepared):

@@ -32,6 +32,8 @@ Divergence is reported through ``result`` (:class:`~jaxgear.DynamicsResult`), ne
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -54,10 +56,12 @@ __all__ = [
     "MeshTable",
     "cell_geometry",
     "cells_from_reference",
+    "deviation_periods",
     "dynamic_model",
     "mesh_forces",
     "mesh_table",
     "mesh_te",
+    "span_periods",
     "static_mesh_forces",
 ]
 
@@ -104,16 +108,38 @@ def mesh_forces(cell_forces, sizes) -> tuple[Array, tuple]:
     return jnp.stack([jnp.sum(f, axis=-1) for f in lines], axis=-1), lines
 
 
-def mesh_table(scene: DynamicScene, mods, steps_per_period: int) -> MeshTable:
+def deviation_periods(mods) -> int:
+    """Mesh periods after which the per-tooth deviations that ``mods`` carry repeat (static:
+    from the tooth counts, the lengths of their arrays): the least common multiple of the
+    deviating members' tooth counts (tooth pair j meets pinion tooth j mod z1 and gear tooth
+    j mod z2; a pinion runout repeats every z1 periods, a gear runout every z2); 1 without
+    deviations. ``mods``: one :class:`Modifications` or a tuple of one per mesh."""
+    out = 1
+    for m in mods if isinstance(mods, tuple | list) else (mods,):
+        d = getattr(m, "deviations", None)
+        for g in () if d is None else (d.pinion, d.gear):
+            if g is not None:
+                out = math.lcm(out, g.teeth)
+    return out
+
+
+def mesh_table(
+    scene: DynamicScene, mods, steps_per_period: int, periods: int | None = None
+) -> MeshTable:
     """Cells of every mesh, δ0 (2.8) and structure vectors at the mid-points of
-    ``steps_per_period`` steps per period of the first mesh, over the scene's period
-    (:meth:`~jaxgear.scenes.Scene.scene_periods` periods of the first mesh; one but for a
-    two-stage train) (``mods``: one :class:`Modifications` for every mesh, or one per mesh)."""
+    ``steps_per_period`` steps per period of the first mesh, over ``periods`` periods of the
+    first mesh (default: the scene's period, :meth:`~jaxgear.scenes.Scene.scene_periods`; one
+    but for a two-stage train; with manufacturing deviations, the span over which they repeat,
+    :func:`span_periods`) (``mods``: one :class:`Modifications` for every mesh, or one per
+    mesh). The reference e_ref of each mesh is the largest e over the whole table, so that
+    δ0 = e_ref − e >= 0 over the span (docs/robust.md, "Dynamics with deviations")."""
     planes = scene.base_planes
     mods = per_mesh_modifications(mods, len(planes))
     # one scene period: the first mesh's periods after which every mesh repeats (1 but for a
     # train whose meshes pass teeth at different rates)
-    theta = mesh_positions(planes[0], steps_per_period, scene.scene_periods())
+    if periods is None:
+        periods = scene.scene_periods()
+    theta = mesh_positions(planes[0], steps_per_period, int(periods))
 
     def row(th):
         parts = mesh_separations(scene, mods, th)
@@ -264,10 +290,11 @@ class _Prepared(eqx.Module):
 
 
 @eqx.filter_jit
-def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int):
-    """Cell table and static rows (compiled once per scene structure and N_s; shared by the model
-    build, every solver, direction and period count)."""
-    table = mesh_table(scene, mods, steps_per_period)
+def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int, periods=None):
+    """Cell table and static rows over ``periods`` mesh periods (default the scene's;
+    compiled once per scene structure, N_s and span; shared by the model build, every solver,
+    direction and period count)."""
+    table = mesh_table(scene, mods, steps_per_period, periods)
     static = _static_rows(scene, table, torque, law, _k_ref(table))
     return _Prepared(table, static.x, static.force_density, static.weight, static.result)
 
@@ -305,6 +332,9 @@ class DynamicModel(AbstractDynamicModel):
         modes: :class:`ModalAnalysis` of the time-averaged system.
         mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m) over the
             cells of every mesh.
+        deviation_span: mesh periods of the span a run covers when ``mods`` carry manufacturing
+            deviations (static; None: the period over which they repeat,
+            :func:`deviation_periods`). See :func:`span_periods`.
     """
 
     scene: DynamicScene
@@ -313,6 +343,7 @@ class DynamicModel(AbstractDynamicModel):
     damping: Float[Array, "n n"]
     modes: ModalAnalysis
     mesh_stiffness_mean: Float[Array, ""]
+    deviation_span: int | None = eqx.field(static=True, default=None)
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
@@ -347,6 +378,21 @@ class HybridModel(AbstractDynamicModel):
     rotating_frame: bool = eqx.field(default=False, static=True)
 
 
+def span_periods(model) -> int:
+    """Periods of the first mesh that the mesh table of ``model`` spans, and that the kept
+    window of a run must cover (static): the scene's period
+    (:meth:`~jaxgear.scenes.Scene.scene_periods`) times, with manufacturing deviations on a
+    :class:`DynamicModel`, its ``deviation_span`` or else :func:`deviation_periods` (the
+    hunting period of the deviating members: z1 for the pinion's alone, lcm(z1, z2) for both)."""
+    q = model.scene.scene_periods()
+    if not isinstance(model, DynamicModel):
+        return q
+    dev = deviation_periods(model.mods)
+    if dev == 1:
+        return q
+    return q * (model.deviation_span if model.deviation_span is not None else dev)
+
+
 def dynamic_model(
     scene: DynamicScene | HybridPair,
     mods: Modifications | tuple | None,
@@ -356,6 +402,7 @@ def dynamic_model(
     positions_per_pitch: int = 64,
     contact: ContactLaw = ExactContact(),
     rotating_frame: bool = False,
+    revolutions: int | None = None,
 ) -> DynamicModel | HybridModel:
     """The dynamic model of a scene at an operating torque: what :func:`simulate` and
     :func:`speed_sweep` integrate.
@@ -377,6 +424,13 @@ def dynamic_model(
             default; lumped scenes).
         rotating_frame: hybrid scenes only: add the turning frames' inertia
             (:class:`HybridModel`).
+        revolutions: lumped scenes with manufacturing deviations (``mods.deviations``): pinion
+            revolutions of the span the runs cover (an integer >= 1; the table of δ0 over
+            ``revolutions`` × z1 mesh periods repeats after it). Default None: the period of
+            the deviations (:func:`deviation_periods`: z1 periods for the pinion's alone,
+            lcm(z1, z2) for both, the hunting period). A span shorter than that period joins
+            its end to its start (the gear's teeth jump): the steady state of a gear pair that
+            repeats after the span, an approximation stated in docs/robust.md.
 
     Raises:
         ValueError: a ``damping`` that is not a :class:`Damping`; ``rotating_frame`` on a
@@ -406,16 +460,35 @@ def dynamic_model(
         )
     if damping is None:
         damping = Damping()
-    return _build(scene, mods, torque, damping, contact_law(contact, dtype), positions_per_pitch)
+    span = None
+    if revolutions is not None:
+        check_integer("revolutions", revolutions, 1)
+        z1 = [d.pinion.teeth for d in _deviations_of(mods) if d.pinion is not None]
+        if not z1:
+            z1 = [
+                round(2 * math.pi * float(p.base_radius_pinion) / float(p.base_pitch))
+                for p in scene.base_planes[:1]
+            ]
+        span = int(revolutions) * z1[0]
+    law = contact_law(contact, dtype)
+    return _build(scene, mods, torque, damping, law, positions_per_pitch, span)
 
 
-def _build(scene, mods, torque, damping, law, positions_per_pitch):
+def _deviations_of(mods) -> list:
+    return [
+        m.deviations
+        for m in (mods if isinstance(mods, tuple | list) else (mods,))
+        if getattr(m, "deviations", None) is not None
+    ]
+
+
+def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
     # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
     )
     prep = _prepare(scene, mods, torque, law, positions_per_pitch)
-    model = _averaged(scene, mods, torque, damping, prep)
+    model = _averaged(scene, mods, torque, damping, prep, span)
     bad = jnp.any(prep.static_result != 0)
     kbar = eqx.error_if(
         model.mesh_stiffness_mean,
@@ -427,7 +500,7 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch):
 
 
 @eqx.filter_jit
-def _averaged(scene, mods, torque, damping, prep):
+def _averaged(scene, mods, torque, damping, prep, span=None):
     table = prep.table
     w = prep.static_weight
     kl = jnp.where(table.mask, table.k * table.length, 0.0) * w
@@ -436,7 +509,13 @@ def _averaged(scene, mods, torque, damping, prep):
     modes = modal_analysis(scene, Km)
     C = damping_matrix(scene, modes, damping)
     return DynamicModel(
-        scene=scene, mods=mods, torque=torque, damping=C, modes=modes, mesh_stiffness_mean=kbar
+        scene=scene,
+        mods=mods,
+        torque=torque,
+        damping=C,
+        modes=modes,
+        mesh_stiffness_mean=kbar,
+        deviation_span=span,
     )
 
 

@@ -17,7 +17,7 @@ from .._util import check_integer
 from . import _hybrid
 from ._lumped import _prep, _run, _static_start
 from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
-from ._model import AbstractDynamicModel, DynamicModel, HybridModel
+from ._model import AbstractDynamicModel, DynamicModel, HybridModel, span_periods
 from ._result import SweepResult, checked
 from ._settings import (
     DiffraxIntegrator,
@@ -63,12 +63,17 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
             f"integrator = {integrator!r}: a modal basis is for a hybrid model (allowed "
             "basis=None for a lumped one)"
         )
-    q = model.scene.scene_periods()
+    q = span_periods(model)
     if window.keep_periods < q:
+        why = (
+            f"the meshes repeat together every {q} periods of the first mesh (a two-stage train)"
+            if q == model.scene.scene_periods()
+            else f"the manufacturing deviations span {q} mesh periods (dynamic_model's "
+            "revolutions, or the hunting period of the deviating gears)"
+        )
         raise ValueError(
-            f"window keep_periods = {window.keep_periods}: the meshes repeat together every {q} "
-            f"periods of the first mesh (a two-stage train); allowed keep_periods >= {q}, so "
-            "that the kept steps hold every mesh position"
+            f"window keep_periods = {window.keep_periods}: {why}; allowed keep_periods >= {q}, "
+            "so that the kept steps hold every mesh position"
         )
     if isinstance(integrator, DiffraxIntegrator) and any(p.coast for p in model.scene.base_planes):
         raise ValueError(

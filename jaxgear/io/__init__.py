@@ -16,6 +16,7 @@ from ._load import (
     load_case as load_case,
 )
 from ._problem import case_problem as case_problem
+from ._robust_table import parse_robust as parse_robust
 from ._scene_table import parse_scene as parse_scene
 from ._train_file import parse_train as parse_train
 from ._writers import (

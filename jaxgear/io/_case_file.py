@@ -84,6 +84,7 @@ _SCHEMA: dict[str, Any] = {
     },
     "modifications": None,  # checked by parse_modifications
     "deviations": None,  # checked by parse_deviations
+    "robust": None,  # checked by parse_robust (jaxgear robust)
     "scene": None,  # checked by parse_scene
     "optimise": None,  # checked by parse_optimise
 }

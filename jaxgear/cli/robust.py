@@ -1,0 +1,300 @@
+"""``jaxgear robust CASE --grade 6 --samples 1000``: Monte Carlo over ISO 1328-1 deviation
+realisations (docs/robust.md): the distributions of the quasi-static TE RMS, peak-to-peak TE and
+largest line load over the span, and of the dynamic factor per speed, with percentiles and their
+confidence intervals; ``robust.json``, ``samples.csv``, ``robust_distributions.png``,
+``robust_speed_bands.png``. With ``--num-processes N`` it runs as process ``--process-id`` of N
+joined by ``jax.distributed`` (one per host), the realisations sharded over every process's
+devices; process 0 writes the files."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import time
+
+from ._paths import OUTPUT_FILES, check_output_dir, clear_outputs
+
+__all__ = ["ROBUST_FILES", "add_robust_parser", "run_robust"]
+
+ROBUST_FILES = ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png")
+OUTPUT_FILES["robust"] = ROBUST_FILES
+
+
+def add_robust_parser(sub) -> None:
+    r = sub.add_parser(
+        "robust",
+        help="Monte Carlo over ISO 1328-1 deviations: TE, line load and dynamic-factor "
+        "distributions with percentiles ([robust] table)",
+    )
+    r.add_argument("case", help="TOML case file or embedded case name")
+    r.add_argument("--grade", type=int, help="ISO 1328-1 flank tolerance class 1-11")
+    r.add_argument("--samples", type=int, help="number of realisations (>= 2)")
+    r.add_argument("--seed", type=int, help="random seed (>= 0)")
+    r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/robust/)")
+    r.add_argument(
+        "--coordinator-address",
+        help="jax.distributed coordinator HOST:PORT (process 0's host), with --num-processes",
+    )
+    r.add_argument("--num-processes", type=int, help="jax.distributed: processes (one per host)")
+    r.add_argument("--process-id", type=int, help="jax.distributed: this process, 0 … N-1")
+    r.add_argument("--quiet", action="store_true", help="no summary line")
+
+
+def check_robust_options(args) -> None:
+    """One-line errors for the options, before JAX or the case is touched."""
+    for name, lo, hi in (("grade", 1, 11), ("samples", 2, None), ("seed", 0, None)):
+        v = getattr(args, name)
+        if v is not None and (v < lo or (hi is not None and v > hi)):
+            allowed = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
+            raise ValueError(f"--{name} = {v}: out of range, allowed {allowed}")
+    dist = (args.coordinator_address, args.num_processes, args.process_id)
+    if any(v is not None for v in dist):
+        if any(v is None for v in dist):
+            raise ValueError(
+                "--coordinator-address, --num-processes and --process-id go together "
+                f"(given {args.coordinator_address!r}, {args.num_processes!r}, "
+                f"{args.process_id!r})"
+            )
+        host, _, port = args.coordinator_address.rpartition(":")
+        if not host or not port.isdigit() or not 0 < int(port) < 65536:
+            raise ValueError(
+                f"--coordinator-address = {args.coordinator_address!r}: allowed HOST:PORT "
+                "(port 1-65535)"
+            )
+        if args.num_processes < 1:
+            raise ValueError(f"--num-processes = {args.num_processes}: out of range, allowed >= 1")
+        if not 0 <= args.process_id < args.num_processes:
+            raise ValueError(
+                f"--process-id = {args.process_id}: out of range, allowed [0, "
+                f"{args.num_processes - 1}]"
+            )
+
+
+def _settings(case, args) -> dict:
+    from ..io import parse_robust
+    from ..io import SchemaError
+
+    grade = None if case.deviation_settings is None else case.deviation_settings.get("grade")
+    teeth = (case.pair.pinion.teeth, case.pair.gear.teeth)
+    try:
+        st = parse_robust(case.raw.get("robust", {}), teeth, grade_from_deviations=grade)
+    except SchemaError as err:
+        raise ValueError(str(err)) from None
+    for name in ("grade", "samples", "seed"):
+        if getattr(args, name) is not None:
+            st[name] = getattr(args, name)
+    if st["grade"] is None:
+        raise ValueError(
+            "grade: missing, allowed an ISO 1328-1 flank tolerance class 1-11 (--grade, "
+            "[robust] grade or [deviations] grade)"
+        )
+    return st
+
+
+def _dynamic_problem(case, st, mesh):
+    """The dynamic problem of the case at the [robust] speeds: its lumped [scene] (else a
+    torsional pair on solid-disc inertias), the span ``revolutions`` × z1 mesh periods."""
+    import jax.numpy as jnp
+
+    from ..dynamics import (
+        DynamicMetrics,
+        Newmark,
+        SteadyState,
+        build_dynamic_model,
+        dynamic_model,
+    )
+    from ..scenes import TorsionalDynamics
+    from ..scenes import disc_inertia
+
+    if case.scene is not None:
+        if case.scene.hybrid:
+            raise ValueError(
+                "[robust] speeds_rad_s: the dynamic factor of condensed bodies is not sampled "
+                "(allowed a lumped [scene] or none)"
+            )
+        model, _ = build_dynamic_model(case)
+    else:
+        p = case.pair
+        inertia = [
+            disc_inertia(case.density, r, m.face_width)
+            for r, m in zip(p.tip_radii, (p.pinion, p.gear), strict=True)
+        ]
+        model = dynamic_model(TorsionalDynamics(mesh, *inertia), case.modifications, case.torque)
+    span = st["revolutions"] * case.pair.pinion.teeth
+    model = dataclasses.replace(model, deviation_span=span)
+    speeds = jnp.asarray(st["speeds_rad_s"], model.damping.dtype)
+    window = SteadyState(st["transient_periods"] + span, span)
+    return DynamicMetrics(model, speeds, Newmark(st["steps_per_period"]), window)
+
+
+def run_robust(args) -> int:
+    import jax
+
+    if args.num_processes is not None and args.num_processes > 1:
+        jax.distributed.initialize(
+            coordinator_address=args.coordinator_address,
+            num_processes=args.num_processes,
+            process_id=args.process_id,
+        )
+    import jax.numpy as jnp
+    import numpy as np
+
+    from .. import (
+        DeviationSampler,
+        Modifications,
+        QuasiStaticMetrics,
+        mesh_positions,
+        robust_samples,
+        sample_statistics,
+    )
+    from ..io import load_case, write_csv, write_json
+
+    case = load_case(args.case)
+    st = _settings(case, args)
+    out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")
+    writer = jax.process_index() == 0
+    if writer:
+        check_output_dir(out_dir)
+        os.makedirs(out_dir, exist_ok=True)
+        clear_outputs(out_dir, "robust")
+    try:
+        sampler = DeviationSampler.for_grade(
+            case.pair, st["grade"], members=tuple(st["members"]), kinds=tuple(st["kinds"])
+        )
+    except ValueError as err:
+        raise ValueError(f"[robust] grade = {st['grade']}: {err}") from None
+    mesh = case.mesh_model()
+    z1 = case.pair.pinion.teeth
+    theta = mesh_positions(mesh, st["positions_per_pitch"], st["revolutions"] * z1)
+    mods = Modifications(case.modifications.pinion, case.modifications.gear)
+    problem = QuasiStaticMetrics(
+        mesh, mods, jnp.asarray(case.torque), theta, case.contact_law("exact")
+    )
+    key = jax.random.key(st["seed"])
+    t0 = time.perf_counter()
+    qs = robust_samples(problem, sampler, key, st["samples"], batch_size=st["batch_size"])
+    t_qs = time.perf_counter() - t0
+    dyn = None
+    t_dyn = 0.0
+    if st["speeds_rad_s"]:
+        t0 = time.perf_counter()
+        dyn = robust_samples(
+            _dynamic_problem(case, st, mesh),
+            sampler,
+            key,
+            st["samples"],
+            batch_size=max(1, st["batch_size"] // len(st["speeds_rad_s"])),
+        )
+        t_dyn = time.perf_counter() - t0
+    if not writer:
+        return 0
+    pc, conf = st["percentiles"], st["confidence"]
+    ok = qs.result == 0
+    if not ok.any():
+        raise ValueError("every realisation failed its quasi-static contact solve")
+    scale = {"te_rms_um": 1e6, "te_ptp_um": 1e6, "max_line_load_N_per_mm": 1e-3}
+    fields = {
+        "te_rms_um": "te_rms",
+        "te_ptp_um": "te_ptp",
+        "max_line_load_N_per_mm": "max_line_load",
+    }
+    values = {k: np.asarray(getattr(qs, f))[ok] * scale[k] for k, f in fields.items()}
+    summary = {
+        "case": case.name,
+        "settings": st,
+        "tolerances_um": {
+            tag: (None if g is None else _tolerances_um(g))
+            for tag, g in (("pinion", sampler.pinion), ("gear", sampler.gear))
+        },
+        "realisation": "i-th realisation drawn from jax.random.fold_in(jax.random.key(seed), i)",
+        "quasi_static": {
+            "failed": int((~ok).sum()),
+            **{k: sample_statistics(v, pc, conf) for k, v in values.items()},
+        },
+        "processes": jax.process_count(),
+        "devices": jax.device_count(),
+        "seconds": {"quasi_static": round(t_qs, 3), "dynamics": round(t_dyn, 3)},
+        "confidence_intervals": "mean: normal approximation; percentiles: order statistics "
+        "of binomial ranks (distribution-free), docs/robust.md",
+    }
+    cols = [np.arange(st["samples"]), qs.te_rms, qs.te_ptp, qs.max_line_load, qs.result]
+    names = ["sample", "te_rms_m", "te_ptp_m", "max_line_load_N_per_m", "qs_result"]
+    bands = None
+    if dyn is not None:
+        per_speed = []
+        for j, w in enumerate(st["speeds_rad_s"]):
+            good = np.asarray(dyn.result[:, j]) == 0
+            entry = {"speed_rad_s": w, "failed": int((~good).sum())}
+            if good.sum() >= 2:
+                entry["dynamic_factor"] = sample_statistics(dyn.dynamic_factor[good, j], pc, conf)
+                entry["dte_rms_um"] = sample_statistics(dyn.te_rms[good, j] * 1e6, pc, conf)
+            per_speed.append(entry)
+            cols.append(dyn.dynamic_factor[:, j])
+            names.append(f"dynamic_factor_{w:g}")
+        summary["dynamics"] = per_speed
+        bands = per_speed
+    write_json(os.path.join(out_dir, "robust.json"), summary)
+    write_csv(os.path.join(out_dir, "samples.csv"), names, [np.asarray(c) for c in cols])
+    _plots(out_dir, case.name, st, values, summary["quasi_static"], bands)
+    if not getattr(args, "quiet", False):
+        q = summary["quasi_static"]["te_rms_um"]
+        print(
+            f"{case.name}: {st['samples']} realisations of grade {st['grade']}: TE RMS mean "
+            f"{q['mean']:.3f} µm, P95 {q['percentiles'][f'{pc[-1]:g}']['value']:.3f} µm "
+            f"→ {out_dir}"
+        )
+    return 0
+
+
+def _tolerances_um(g) -> dict:
+    names = ("f_pT", "F_pT", "f_HaT", "f_faT", "F_aT", "f_HbT", "f_fbT", "F_bT", "F_rT")
+    return {n: round(float(v) * 1e6, 6) for n, v in zip(names, g.tolerances, strict=True)}
+
+
+def _plots(out_dir, name, st, values, stats, bands) -> None:
+    import numpy as np
+
+    from ._plots import new_figure, savefig
+
+    labels = {
+        "te_rms_um": "TE RMS (µm)",
+        "te_ptp_um": "TE peak-to-peak (µm)",
+        "max_line_load_N_per_mm": "max line load (N/mm)",
+    }
+    fig, _ = new_figure((11, 3.8))
+    fig.clear()
+    axes = fig.subplots(1, 3)
+    for ax, (k, v) in zip(axes, values.items(), strict=True):
+        ax.hist(v, bins=max(10, min(60, int(np.sqrt(v.size)))), color="0.7")
+        for p, e in stats[k]["percentiles"].items():
+            ax.axvline(e["value"], color="C3", lw=1)
+            lo, hi = e["ci"]
+            if lo is not None and hi is not None:
+                ax.axvspan(lo, hi, color="C3", alpha=0.15)
+            ax.text(e["value"], ax.get_ylim()[1] * 0.95, f"P{p}", color="C3", fontsize=8)
+        ax.set_xlabel(labels[k])
+    axes[0].set_ylabel("realisations")
+    fig.suptitle(
+        f"{name}: {values['te_rms_um'].size} realisations, ISO 1328-1 grade {st['grade']} "
+        f"({st['revolutions']} pinion revolution(s)); percentiles with "
+        f"{st['confidence']:.0%} intervals"
+    )
+    savefig(fig, os.path.join(out_dir, "robust_distributions.png"))
+    if not bands:
+        return
+    fig, ax = new_figure()
+    w = np.array([b["speed_rad_s"] for b in bands if "dynamic_factor" in b])
+    if w.size:
+        d = [b["dynamic_factor"] for b in bands if "dynamic_factor" in b]
+        pcs = list(d[0]["percentiles"])
+        lo = np.array([x["percentiles"][pcs[0]]["value"] for x in d])
+        hi = np.array([x["percentiles"][pcs[-1]]["value"] for x in d])
+        ax.fill_between(w, lo, hi, color="C0", alpha=0.25, label=f"P{pcs[0]}–P{pcs[-1]}")
+        for p in pcs[1:-1]:
+            ax.plot(w, [x["percentiles"][p]["value"] for x in d], "C0-o", ms=3, label=f"P{p}")
+        ax.plot(w, [x["mean"] for x in d], "k--", lw=1, label="mean")
+    ax.set_xlabel("pinion speed (rad/s)")
+    ax.set_ylabel("dynamic factor")
+    ax.set_title(f"{name}: dynamic factor over realisations, grade {st['grade']}")
+    ax.legend()
+    savefig(fig, os.path.join(out_dir, "robust_speed_bands.png"))
