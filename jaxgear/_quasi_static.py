@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
@@ -241,7 +240,7 @@ def _quasi_static(
     if isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
         width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
         law = SmoothContact(width, law.max_iterations)
-    res = jax.vmap(lambda th: _one_position(scene, mods, torque, speed, th, law))(theta)
+    res = scene.map_positions(lambda sc, th: _one_position(sc, mods, torque, speed, th, law), theta)
     if throw:  # the check rides on what a caller reads (each mesh's TE, the coordinates)
 
         def guarded(r):

@@ -30,10 +30,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import scipy.linalg as sla
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import CellRow, Cells, MeshModel, mesh_positions
-from .._contact import ContactLaw, solve_contact_cells
+from .._cell_factor import solve_factored_cells
+from .._contact import ContactLaw, ExactContact, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
@@ -54,15 +55,23 @@ __all__ = [
 
 class WindowCompliance(eqx.Module):
     """The parts of the cell-space contact problem that depend on the scene and the position
-    only, at P positions (:func:`window_compliance`): not on the modifications, the torque or the
-    contact law, so a map, a torque sweep or an optimisation reuses them (docs/hybrid.md,
-    "Statics in the cell space").
+    only, at P positions (:func:`window_compliance`): not on the modifications, the torque, the
+    speed or the contact law, so a map, a torque sweep or an optimisation reuses them
+    (docs/hybrid.md, "Statics in the cell space"). A quasi-static solve at these positions
+    reads one slice per position (the leading axis P; a slice has ``theta`` of shape ()).
 
     Attributes:
         theta: the scene angles (rad), (P,). idx: each position's window W (P, w).
         V: the structure vectors on it (P, c, w). C: V_W G_WW V_Wᵀ (m/N), (P, c, c).
         E: V_W N_W, (P, c, r). a_torque, a_centrifugal: V_W x_W of the unit torque and of the
             unit speed² centrifugal load (m), (P, c).
+        kl: k l of each cell (N/m), zero off the flanks, (P, c). mask: cells on the flanks,
+            (P, c).
+        B: (I + S C S)⁻¹ with S = diag √(k l) (every cell on the flanks in contact; identity
+            off them), (P, c, c): the exact law's first active-set pass is a product with it and
+            a later one a Schur complement on it (:mod:`jaxgear._cell_factor`).
+        te_rows: V_W (G u)_W of each mesh's TE vector u (m/N), (P, meshes, c): u·X =
+            u·G F − te_rows·P + (u·N) α without recovering X.
     """
 
     theta: Float[Array, " P"]
@@ -72,6 +81,10 @@ class WindowCompliance(eqx.Module):
     E: Float[Array, "P c r"]
     a_torque: Float[Array, "P c"]
     a_centrifugal: Float[Array, "P c"]
+    kl: Float[Array, "P c"]
+    mask: Bool[Array, "P c"]
+    B: Float[Array, "P c c"]
+    te_rows: Float[Array, "P m c"]
 
 
 class HybridScene(AssembledScene):
@@ -158,45 +171,71 @@ class HybridScene(AssembledScene):
         """The static contact of all meshes at one position in the space of the cells
         (:func:`jaxgear.solve_contact_cells` on :meth:`cell_space`, the centrifugal load at
         pinion speed ``speed``): (the contact solution, X (n,), u·X of each mesh (m),
-        (meshes,)); the arguments are those of :meth:`jaxgear.scenes.Scene.static_contact`."""
+        (meshes,)); the arguments are those of :meth:`jaxgear.scenes.Scene.static_contact`.
+        With :attr:`compliance` the position's cached slice is read instead, and the exact law
+        is solved on its factor (:mod:`jaxgear._cell_factor`)."""
         if self.compliance is None:
             r = self.window_row(cells, delta0)
             C, a0, E, b, x0 = self.cell_space(r, torque, speed)
+            sol, force, alpha = solve_contact_cells(
+                C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law
+            )
+            return sol, self.recover(r, x0, force, alpha), self.te_recover(r, x0, force, alpha)
+        cs = self._position_slice(cells)
+        r = CellRow(
+            cs.idx,
+            cs.V,
+            *(_flat(x) for x in ([c.stiffness for c in cells], [c.length for c in cells])),
+            _flat(delta0),
+            cs.mask,
+        )
+        x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
+        a = torque * cs.a_torque + speed**2 * cs.a_centrifugal - r.delta0
+        b = self.N.T @ self.external_load(torque, speed)
+        if isinstance(law, ExactContact):
+            sol, force, alpha = solve_factored_cells(
+                cs.B, cs.C, cs.E, cs.kl, cs.mask, a, b, r.k, law.max_iterations
+            )
         else:
-            r, C, a0, E, b, x0 = self._cached(cells, delta0, torque, speed)
-        sol, force, alpha = solve_contact_cells(C, a0 - r.delta0, E, b, r.k, r.length, r.mask, law)
-        return sol, self.recover(r, x0, force, alpha), self.te_recover(r, x0, force, alpha)
+            sol, force, alpha = solve_contact_cells(cs.C, a, cs.E, b, r.k, r.length, r.mask, law)
+        u = self.te_vectors()
+        te = u @ x0 - cs.te_rows @ force + (u @ self.N) @ alpha
+        return sol, self.recover(r, x0, force, alpha), te
 
-    def _cached(self, cells: tuple, delta0: tuple, torque, speed):
-        """:meth:`cell_space` read from :attr:`compliance` at the cached position of the cells'
-        scene angle (an error if there is none within 1e-9 of a mesh period)."""
+    def map_positions(self, fn, theta):
+        """``fn(scene, θ)`` vmapped over the positions θ (P,); with :attr:`compliance` at P
+        positions, each call gets the scene holding its position's slice (no gather)."""
+        cache = self.compliance
+        if cache is None or cache.theta.shape != theta.shape:
+            return super().map_positions(fn, theta)
+
+        def one(th, cs):
+            return fn(eqx.tree_at(lambda s: s.compliance, self, cs), th)
+
+        return jax.vmap(one)(theta, cache)
+
+    def _position_slice(self, cells: tuple) -> WindowCompliance:
+        """The slice of :attr:`compliance` at the cells' scene angle: the slice itself (checked)
+        or the nearest cached position (gathered); an error if it is not within 1e-9 of a mesh
+        period."""
         cache = self.compliance
         mesh = self.meshes[0]
         theta = (cells[0].theta - mesh.phase) / mesh.ratio
-        i = jnp.argmin(jnp.abs(cache.theta - theta))
         tol = 1e-9 * mesh.base_plane.mesh_period_angle / mesh.ratio
-        i = eqx.error_if(
-            i,
-            jnp.abs(cache.theta[i] - theta) > tol,
+        msg = (
             "HybridScene.compliance: the position is not one of the cached positions (cache "
-            "the positions the solve takes: cache_window_compliance(scene, theta))",
+            "the positions the solve takes: cache_window_compliance(scene, theta))"
         )
-
-        def flat(parts):  # every mesh's cell array, mesh after mesh (CellRow.concat's order)
-            return jnp.concatenate([x.reshape(-1) for x in parts])
-
-        r = CellRow(
-            cache.idx[i],
-            cache.V[i],
-            flat(c.stiffness for c in cells),
-            flat(c.length for c in cells),
-            flat(delta0),
-            flat(c.mask for c in cells),
-        )
-        x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
-        a0 = torque * cache.a_torque[i] + speed**2 * cache.a_centrifugal[i]
-        b = self.N.T @ self.external_load(torque, speed)
-        return r, cache.C[i], a0, cache.E[i], b, x0
+        if cache.theta.ndim == 0:
+            # the check rides on k l, which every solve reads
+            return eqx.tree_at(
+                lambda c: c.kl,
+                cache,
+                eqx.error_if(cache.kl, jnp.abs(cache.theta - theta) > tol, msg),
+            )
+        i = jnp.argmin(jnp.abs(cache.theta - theta))
+        i = eqx.error_if(i, jnp.abs(cache.theta[i] - theta) > tol, msg)
+        return jax.tree_util.tree_map(lambda x: x[i], cache)
 
     def bearing_forces_fixed_frame(self, theta, F):
         """The bearing force components R X (N), shape (P, r), at pinion angles θ (P,) in the
@@ -753,24 +792,40 @@ def _rotating_frame(n, d, parts):
     return gyro, spin_K
 
 
+def _flat(parts):
+    """Every mesh's cell array, mesh after mesh (:meth:`CellRow.concat`'s order)."""
+    return jnp.concatenate([x.reshape(-1) for x in parts])
+
+
 def window_compliance(scene: HybridScene, theta) -> WindowCompliance:
     """The position-only parts of the cell-space contact problem of ``scene`` at the scene
-    angles ``theta`` (rad), (P,): the windows, structure vectors, C = V_W G_WW V_Wᵀ, E = V_W N_W
-    and the free gaps of the unit loads (:class:`WindowCompliance`), vmapped over the
-    positions. Memory: P (c² + c w + c r) floats."""
+    angles ``theta`` (rad), (P,): the windows, structure vectors, C = V_W G_WW V_Wᵀ, E = V_W N_W,
+    the free gaps of the unit loads, k l and the mask, the inverse B of the full contact set and
+    the TE rows (:class:`WindowCompliance`), vmapped over the positions. Memory:
+    P (2 c² + c w + c r + (4 + meshes) c) floats."""
     theta = jnp.asarray(theta, scene.structure.K.dtype)
+    Gu = scene.te_vectors() @ scene.G  # (meshes, n): G symmetric, (G u)ᵀ
 
     def one(th):
         cells = scene.mesh_cells(th)
         r = scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells))
         Gw = scene.G[r.idx[:, None], r.idx[None, :]]
+        C = r.V @ Gw @ r.V.T
+        kl = jnp.where(r.mask, r.k * r.length, 0.0)
+        s = jnp.sqrt(kl)
+        A = jnp.eye(C.shape[0], dtype=C.dtype) + s[:, None] * C * s[None, :]
+        B = jax.scipy.linalg.cho_solve(jax.scipy.linalg.cho_factor(A), jnp.eye(A.shape[0]))
         return (
             r.idx,
             r.V,
-            r.V @ Gw @ r.V.T,
+            C,
             r.V @ scene.N[r.idx],
             r.V @ scene.x_torque[r.idx],
             r.V @ scene.x_centrifugal[r.idx],
+            kl,
+            r.mask,
+            0.5 * (B + B.T),
+            Gu[:, r.idx] @ r.V.T,
         )
 
     return WindowCompliance(theta, *jax.vmap(one)(theta))

@@ -26,6 +26,7 @@ from __future__ import annotations
 import abc
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
@@ -86,6 +87,12 @@ class Scene(eqx.Module):
     def te_vectors(self) -> Float[Array, "m n"]:
         """The TE vector of each mesh, shape (meshes, n)."""
         return self.te_vector()[None, :]
+
+    def map_positions(self, fn, theta):
+        """``fn(scene, θ)`` vmapped over the scene angles θ (rad), (P,) (a scene that caches
+        per-position data hands each call its position's slice:
+        :meth:`jaxgear.scenes.HybridScene.map_positions`)."""
+        return jax.vmap(lambda th: fn(self, th))(theta)
 
     def static_contact(
         self, cells: tuple[Cells, ...], delta0: tuple, torque, speed, law: ContactLaw
