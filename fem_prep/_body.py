@@ -156,7 +156,7 @@ class Condensation:
     modes: int = 50
     teeth: int = 0
     axial_master_nodes: int = 5
-    rim_coupling: str = "nodal"
+    rim_coupling: str = "distributing"
 
 
 @dataclass(frozen=True)
@@ -399,7 +399,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
         sc.number(c, "modes", w, 50, allowed=">= 0", integer=True),
         sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
         sc.number(c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True),
-        sc.choice(c, "rim_coupling", w, RIM_COUPLINGS, "nodal"),
+        sc.choice(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
     )
 
     # ---- [centrifugal]

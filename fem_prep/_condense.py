@@ -86,7 +86,7 @@ class MasterSet:
     bearing_positions: np.ndarray
     bearing_rings: tuple[np.ndarray, ...]
     couplings: tuple[str, ...]
-    rim_coupling: str = "nodal"
+    rim_coupling: str = "distributing"
     rim_radius: float = 0.0
 
 

@@ -18,7 +18,7 @@ weights, so the master DOFs must be *what the interface interpolates*.  Two coup
     indentation grows without bound as the elements under it shrink: the compliance at the
     masters depends on the mesh (kept for comparison).
 
-``"distributing"`` (opt-in)
+``"distributing"`` (the default)
     ``q`` is a weighted least-squares fit of the FE displacement of the whole outer rim face,
     station by station: the masters ``(k, j)`` of station ``k`` minimise
 

@@ -69,7 +69,7 @@ def test_cli_build_writes_outputs(built):
     ):
         assert key in summary
     assert summary["n_dofs"] == 3 * summary["n_nodes"]
-    assert summary["rim_coupling"] == "nodal"  # the default
+    assert summary["rim_coupling"] == "distributing"  # the default
     assert summary["n_master_dofs"] == 10 * 2 * 3 + 2 * 6
     assert len(summary["frequencies_full_hz"]) == 8
     # mass against the analytic volume of the three annuli
