@@ -424,6 +424,11 @@ def test_cached_window_compliance_gives_the_same_solve(case, scene):
             x, y = np.asarray(getattr(a, f)), np.asarray(getattr(b, f))
             np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
         np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-12 * np.abs(np.asarray(a.x)).max())
+    smooth = jg.SmoothContact(1e-7)  # the smooth law reads the cached C (not the factor)
+    a = jg.quasi_static(scene, deeper, case.torque, theta, contact=smooth)
+    b = jg.quasi_static(cached, deeper, case.torque, theta, contact=smooth)
+    x, y = np.asarray(a.transmission_error), np.asarray(b.transmission_error)
+    np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
 
     def rms(s, depth):
         g = dataclasses.replace(mods.gear, tip_relief_depth=depth)
