@@ -11,10 +11,16 @@ bearing DOFs, 51 modes), float64, it measures:
     the cost split: body load (fem_prep cache) or condensation (fem_prep's own timings, never
     forced), scene build (``static_scene`` with the body given), and the stages of one hybrid
     curve (cells and deviations, window compliance C = V G Vᵀ, contact solve), each jitted alone;
+    and the same curves on the scene with its window compliance cached
+    (:func:`jaxgear.scenes.cache_window_compliance`: exact law on the factored full contact
+    set), alternated with the uncached ones; ``jax.jit(jax.value_and_grad)`` of the TE RMS
+    with respect to a tip relief depth (an optimisation iteration), rigid, cached, uncached;
 (2) the 41×41 (tip-relief depth 0–30 µm × extent 0.05–0.6, linear, both members) map of TE RMS
     with the flexible wheel, ``jax.lax.map(..., batch_size=B)`` (vmap within chunks of B): total
-    time, curves/s, compile time, peak RSS; the same for the rigid mesh; and the vmappability
-    check: the map's TE (RMS and curve) at one grid point against single public calls;
+    time, curves/s, compile time, peak RSS, on the cached scene and on the uncached one (before
+    and after, the ratio); the same for the rigid mesh; and the vmappability check: the cached
+    map's TE (RMS and curve) at one grid point against single public calls on the uncached
+    scene;
 (3) the cell-space scaling: cost per position against the window width (the wheel's
     ``n_window`` forced larger) and against the number of cells (slices), and the same curve with
     the small ``hybrid-test-wheel`` body (30 teeth, ~4× fewer structure DOFs) at equal cells and
@@ -43,7 +49,10 @@ from ._timing import environment, min_time
 __all__ = ["bench_hybrid"]
 
 _TARGET_RATIO = 20.0  # target: hybrid curve <= 20x a rigid-mesh curve after compile
-_CHUNK = {"hybrid": 4, "rigid": 8}  # grid points per vmap chunk (fastest of 1/4/16/64, 2 cores)
+# grid points per vmap chunk, the fastest of each on 2 cores: uncached 4 (of 1/4/16/64), rigid 8;
+# the cached scene 1 (of 1/2/4/8: the active-set loop of a vmapped batch runs until its slowest
+# position is done, and a smaller batch waits less)
+_CHUNK = {"hybrid": 1, "hybrid_uncached": 4, "rigid": 8}
 _TEST_CASE = (
     pathlib.Path(__file__).resolve().parents[1] / "tests" / "data" / "hybrid-test-case.toml"
 )
@@ -237,7 +246,7 @@ def bench_hybrid(
     mods = c.modifications
     width = c.smooth_width
     modes = ("exact", "smooth")
-    n_steps = 2 + 8 + 1 + 1 + 2 + 2 + len(windows_extra) + 1 + len(slices_list) + 1
+    n_steps = 2 + 8 + 1 + 1 + 1 + 3 + 2 + len(windows_extra) + 1 + len(slices_list) + 1
     bar = tqdm(total=n_steps, desc="bench hybrid", disable=not progress, leave=False)
 
     wall: dict = {}
@@ -363,33 +372,47 @@ def bench_hybrid(
         "rigid_te_mean_m": float(res_r.te_mean),
         "hybrid_mean_contact_passes": float(jnp.mean(res_h.iterations)),
     }
-    # the window compliance cached once per scene (it depends on the scene and the positions
-    # only): the same exact TE curve inside jit, measured alternately with the uncached one
+    # the window compliance cached once per scene (it depends on the scene and the position
+    # only) with the exact law's full-contact-set inverse: the same TE curves inside jit, each
+    # measured alternately with the uncached one (one run: the ratios are robust to the load)
     from jaxgear.scenes import cache_window_compliance
 
-    cached = cache_window_compliance(sc, positions_per_pitch=P)
-    fn_c, fn_u = jitted["hybrid", "exact"], jitted["hybrid", "exact"]
-    te_c = block(fn_c(cached, T))
-    te_u = block(fn_u(sc, T))
-    t_c = min_time(lambda: fn_c(cached, T), rep, block, warmup=False)
-    t_u = min_time(lambda: fn_u(sc, T), rep, block, warmup=False)
+    t0 = time.perf_counter()
+    cached = block(cache_window_compliance(sc, positions_per_pitch=P))
+    t_cache = time.perf_counter() - t0
+    cached_rows = {}
+    for mode in modes:
+        fn = jitted["hybrid", mode]
+        te_c = block(fn(cached, T))
+        te_u = block(fn(sc, T))
+        t_c, t_u = _alternate(lambda fn=fn: fn(cached, T), lambda fn=fn: fn(sc, T), rep, block)
+        rigid_t = curves["rigid"][mode]["jit"]["per_curve_s"]
+        cached_rows[mode] = {
+            "per_curve_s": t_c,
+            "uncached_per_curve_s": t_u,
+            "speedup": t_u / t_c,
+            "ratio_over_rigid_jit": t_c / rigid_t,
+            "uncached_ratio_over_rigid_jit": t_u / rigid_t,
+            "meets_target": t_c / rigid_t <= _TARGET_RATIO,
+            "te_max_rel_diff": float(np.max(np.abs(np.asarray(te_c) - np.asarray(te_u))))
+            / float(np.max(np.abs(np.asarray(te_u)))),
+        }
+    cc = cached.compliance
     out["te_curve"]["hybrid_cached_compliance"] = {
         "what": "jaxgear.scenes.cache_window_compliance(scene, positions_per_pitch=P): the "
-        "windows, structure vectors and C = V_W G V_W^T formed once per scene, the exact TE "
-        "curve inside jit as 'jit' (for a relief map, an optimisation iteration, a torque)",
-        "per_curve_s": t_c,
-        "uncached_per_curve_s": t_u,
-        "speedup": t_u / t_c,
-        "ratio_over_rigid_jit": t_c / curves["rigid"]["exact"]["jit"]["per_curve_s"],
-        "te_max_rel_diff": float(np.max(np.abs(np.asarray(te_c) - np.asarray(te_u))))
-        / float(np.max(np.abs(np.asarray(te_u)))),
-        "cache_mib": sum(
-            np.asarray(x).nbytes
-            for x in (cached.compliance.C, cached.compliance.V, cached.compliance.E)
-        )
-        / 2**20,
+        "windows, structure vectors, C = V_W G V_W^T, the inverse of each position's full "
+        "contact set and the TE rows formed once per scene; the TE curve inside jit as 'jit' "
+        "(a relief map, a torque sweep, an optimisation iteration). Exact: first active-set "
+        "pass a product, later passes a Schur complement; smooth: Newton on the cached C. "
+        "Cached and uncached calls alternated, min of each",
+        **cached_rows["exact"],
+        "smooth": cached_rows["smooth"],
+        "cache_build_s": t_cache,
+        "cache_mib": sum(np.asarray(x).nbytes for x in jax.tree_util.tree_leaves(cc)) / 2**20,
     }
     step("hybrid exact jit, cached compliance")
+    out["gradient"] = _gradients(sc, cached, mesh, mods, T, P, rep, width)
+    step("gradients")
     out["cost_split"] = _profile(sc, mods, T, P, rep, curves["hybrid"]["exact"])
     step("profile")
 
@@ -407,7 +430,7 @@ def bench_hybrid(
         return quasi_static(s, relief(e, g), T, positions_per_pitch=P)
 
     maps, te_map = {}, {}
-    for name, s in (("rigid", mesh), ("hybrid", sc)):
+    for name, s in (("rigid", mesh), ("hybrid_uncached", sc), ("hybrid", cached)):
         B = _CHUNK[name]
         fn = jax.jit(
             lambda E, G, s, T, B=B: jax.lax.map(
@@ -472,8 +495,23 @@ def bench_hybrid(
         "slices": slices,
         "positions_per_pitch": P,
         "hybrid": maps["hybrid"],
+        "hybrid_uncached": maps["hybrid_uncached"],
         "rigid": maps["rigid"],
+        "hybrid_what": "'hybrid': the scene with its window compliance cached "
+        "(cache_window_compliance, built once, outside the timing: cache_build_s); "
+        "'hybrid_uncached': the same map on the scene without the cache (before)",
+        "cache_build_s": t_cache,
+        "speedup_cached_over_uncached": maps["hybrid_uncached"]["total_s"]
+        / maps["hybrid"]["total_s"],
+        "te_rms_max_rel_diff_cached_uncached": float(
+            np.max(
+                np.abs(np.asarray(maps["hybrid"]["te_rms_m"]) - maps["hybrid_uncached"]["te_rms_m"])
+            )
+            / np.max(np.abs(maps["hybrid_uncached"]["te_rms_m"]))
+        ),
         "ratio_hybrid_over_rigid_per_curve": maps["hybrid"]["per_curve_s"]
+        / maps["rigid"]["per_curve_s"],
+        "ratio_hybrid_uncached_over_rigid_per_curve": maps["hybrid_uncached"]["per_curve_s"]
         / maps["rigid"]["per_curve_s"],
         "per_curve_note": "the map's time per curve can be below a single curve's: the cells "
         "and the window compliance C = V G Vᵀ do not depend on the relief, so XLA evaluates them "
@@ -609,6 +647,75 @@ def _compare_bodies(c, sc, bodies_info, compare_case, slices, P, rep, T) -> dict
     }
 
 
+def _alternate(fa, fb, repeats: int, block) -> tuple[float, float]:
+    """Min times (s) of ``fa`` and ``fb`` (both warmed up), called alternately ``repeats``
+    times each: a load that comes and goes on a shared machine falls on both alike."""
+    block(fa())
+    block(fb())
+    ta, tb = [], []
+    for _ in range(repeats):
+        for fn, ts in ((fa, ta), (fb, tb)):
+            t0 = time.perf_counter()
+            block(fn())
+            ts.append(time.perf_counter() - t0)
+    return min(ta), min(tb)
+
+
+def _gradients(sc, cached, mesh, mods, T, P, repeats, width) -> dict:
+    """``jax.jit(jax.value_and_grad)`` of the TE RMS (µm) with respect to the gear's tip relief
+    depth, as an optimisation iteration evaluates it: the rigid mesh, the hybrid scene with its
+    window compliance cached and without, exact and smooth contact (s per evaluation, min of
+    alternated repeats), and the cached gradient against the uncached one."""
+    import dataclasses
+
+    import jax
+    import jax.numpy as jnp
+
+    from jaxgear import quasi_static
+
+    block = jax.block_until_ready
+    d0 = jnp.asarray(max(float(mods.gear.tip_relief_depth), 5e-6))
+
+    def make(mode):
+        law = contact_law_from_name(mode, width)
+
+        def rms_um(s, d):
+            g = dataclasses.replace(mods.gear, tip_relief_depth=d)
+            m = dataclasses.replace(mods, gear=g)
+            return quasi_static(s, m, T, contact=law, positions_per_pitch=P).te_rms / 1e-6
+
+        return jax.jit(jax.value_and_grad(rms_um, argnums=1))
+
+    rows = {}
+    for mode in ("exact", "smooth"):
+        fn = make(mode)
+        block(fn(mesh, d0))
+        vc, gc = block(fn(cached, d0))
+        vu, gu = block(fn(sc, d0))
+        t_c, t_u = _alternate(
+            lambda fn=fn: fn(cached, d0), lambda fn=fn: fn(sc, d0), repeats, block
+        )
+        t_r = min_time(lambda fn=fn: fn(mesh, d0), 5 * repeats, block, warmup=False)
+        rows[mode] = {
+            "rigid_s": t_r,
+            "hybrid_cached_s": t_c,
+            "hybrid_uncached_s": t_u,
+            "speedup": t_u / t_c,
+            "ratio_cached_over_rigid": t_c / t_r,
+            "ratio_uncached_over_rigid": t_u / t_r,
+            "grad_cached_um_per_m": float(gc),
+            "grad_uncached_um_per_m": float(gu),
+            "grad_rel_diff": abs(float(gc) - float(gu)) / abs(float(gu)),
+            "value_rel_diff": abs(float(vc) - float(vu)) / abs(float(vu)),
+        }
+    return {
+        "what": "jax.jit(jax.value_and_grad(TE RMS wrt the gear's tip relief depth)) at the "
+        f"case's design ({float(d0) * 1e6:.2f} um), one evaluation of an optimisation "
+        "iteration: rigid mesh, hybrid cached, hybrid uncached",
+        **rows,
+    }
+
+
 def _profile(sc, mods, T, P, repeats, hybrid_exact) -> dict:
     """Time the stages of one hybrid exact TE curve, each jitted on its own (s)."""
     import jax
@@ -687,15 +794,23 @@ def hybrid_chart(out: dict, path: str) -> None:
     labels, hy, ri = [], [], []
     for mode in ("exact", "smooth"):
         for how in ("jit", "public"):
-            labels.append(f"{mode}\n{'jax.jit (TE)' if how == 'jit' else 'quasi_static()'}")
+            labels.append(f"{mode}\n{'jit' if how == 'jit' else 'public'}")
             hy.append(tc["hybrid"][mode][how]["per_curve_s"] * ms)
             ri.append(tc["rigid"][mode][how]["per_curve_s"] * ms)
     cached = tc.get("hybrid_cached_compliance")
-    if cached:  # the exact jit curve with the window compliance cached per scene
-        labels.insert(1, "exact jax.jit,\ncached C")
+    if cached:  # the jit curves with the window compliance cached per scene
+        labels.insert(1, "exact jit\ncached")
         hy.insert(1, cached["per_curve_s"] * ms)
         ri.insert(1, tc["rigid"]["exact"]["jit"]["per_curve_s"] * ms)
-    labels.append(f"{rm['shape'][0]}×{rm['shape'][1]} map\n(per curve)")
+        if "smooth" in cached:
+            labels.insert(4, "smooth jit\ncached")
+            hy.insert(4, cached["smooth"]["per_curve_s"] * ms)
+            ri.insert(4, tc["rigid"]["smooth"]["jit"]["per_curve_s"] * ms)
+    if "hybrid_uncached" in rm:
+        labels.append("map\nuncached")
+        hy.append(rm["hybrid_uncached"]["per_curve_s"] * ms)
+        ri.append(rm["rigid"]["per_curve_s"] * ms)
+    labels.append("map\ncached")
     hy.append(rm["hybrid"]["per_curve_s"] * ms)
     ri.append(rm["rigid"]["per_curve_s"] * ms)
     x = np.arange(len(labels))
@@ -744,7 +859,8 @@ def hybrid_chart(out: dict, path: str) -> None:
     s = out["settings"]
     ax1.set_title(
         f"per TE curve: {s['slices']} slices × {s['positions_per_pitch']} positions "
-        "(bold: hybrid / rigid)",
+        "(bold: hybrid / rigid);\njit: TE in jax.jit; public: quasi_static(); cached: the "
+        "scene cached; map: per curve",
         fontsize=9,
     )
     ax1.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, 0.9))
@@ -757,9 +873,13 @@ def hybrid_chart(out: dict, path: str) -> None:
             labels2.append(f"compile\n{mode} {how}")
             hy2.append(tc["hybrid"][mode][how]["compile_s"])
             ri2.append(tc["rigid"][mode][how]["compile_s"])
-    labels2 += ["compile\nmap", "map total\n(after compile)"]
+    labels2 += ["compile\nmap", "map total\n(cached)"]
     hy2 += [rm["hybrid"]["compile_s"], rm["hybrid"]["total_s"]]
     ri2 += [rm["rigid"]["compile_s"], rm["rigid"]["total_s"]]
+    if "hybrid_uncached" in rm:
+        labels2.append("map total\n(uncached)")
+        hy2.append(rm["hybrid_uncached"]["total_s"])
+        ri2.append(rm["rigid"]["total_s"])
     x2 = np.arange(len(labels2))
     paired_bars(ax2, x2, hy2, ri2, "hybrid", ".2g")
     ax2.set_yscale("log")
@@ -773,8 +893,15 @@ def hybrid_chart(out: dict, path: str) -> None:
 
     ax2.set_title(
         f"compile, and the {rm['shape'][0]}×{rm['shape'][1]} relief map after compile:\n"
-        f"hybrid {rm['hybrid']['curves_per_s']:.0f} curves/s (peak RSS {_mib(hmem)}), "
-        f"rigid {rm['rigid']['curves_per_s']:.0f} curves/s ({_mib(rmem)})",
+        f"hybrid {rm['hybrid']['curves_per_s']:.0f} curves/s cached"
+        + (
+            f" ({rm['hybrid_uncached']['curves_per_s']:.0f} uncached, "
+            f"×{rm['speedup_cached_over_uncached']:.1f})"
+            if "hybrid_uncached" in rm
+            else ""
+        )
+        + f",\npeak RSS {_mib(hmem)}; rigid {rm['rigid']['curves_per_s']:.0f} curves/s "
+        f"({_mib(rmem)})",
         fontsize=9,
     )
     ax2.legend(fontsize=7)
@@ -884,19 +1011,42 @@ def _table(out: dict) -> str:
             )
     cc = tc.get("hybrid_cached_compliance")
     if cc:
+        for mode, row in (("exact", cc), ("smooth", cc.get("smooth"))):
+            if row is None:
+                continue
+            lines.append(
+                f"{mode + ' jit, cached scene':28s}{row['per_curve_s'] * ms:10.3f}"
+                f"{tc['rigid'][mode]['jit']['per_curve_s'] * ms:10.3f}"
+                f"{row['ratio_over_rigid_jit']:8.1f}   (x{row['speedup']:.2f} over uncached "
+                f"{row['uncached_per_curve_s'] * ms:.3f} ms, TE diff {row['te_max_rel_diff']:.0e})"
+            )
         lines.append(
-            f"{'exact jit, cached C':28s}{cc['per_curve_s'] * ms:10.3f}"
-            f"{tc['rigid']['exact']['jit']['per_curve_s'] * ms:10.3f}"
-            f"{cc['ratio_over_rigid_jit']:8.1f}   (x{cc['speedup']:.2f} over uncached "
-            f"{cc['uncached_per_curve_s'] * ms:.3f} ms, cache {cc['cache_mib']:.1f} MiB)"
+            f"cache: {cc['cache_mib']:.1f} MiB, built in {cc.get('cache_build_s', 0):.2f} s"
         )
-    for name in ("hybrid", "rigid"):
+    gr = out.get("gradient")
+    if gr:
+        for mode in ("exact", "smooth"):
+            g = gr[mode]
+            lines.append(
+                f"value_and_grad TE RMS {mode}: rigid {g['rigid_s'] * ms:.3f} ms, hybrid cached "
+                f"{g['hybrid_cached_s'] * ms:.3f} ms (x{g['ratio_cached_over_rigid']:.1f} rigid), "
+                f"uncached {g['hybrid_uncached_s'] * ms:.3f} ms (x{g['ratio_uncached_over_rigid']:.1f});"
+                f" gradient diff {g['grad_rel_diff']:.0e}"
+            )
+    for name in ("hybrid", "hybrid_uncached", "rigid"):
+        if name not in rm:
+            continue
         g = rm[name]
         mem = g["memory"]
         lines.append(
-            f"map {rm['shape'][0]}×{rm['shape'][1]} {name:6s}: {g['total_s']:.3f} s, "
+            f"map {rm['shape'][0]}×{rm['shape'][1]} {name:15s}: {g['total_s']:.3f} s, "
             f"{g['curves_per_s']:.0f} curves/s, compile {g['compile_s']:.1f} s, peak RSS "
             f"{mem.get('peak_rss_mib') or float('nan'):.0f} MiB (process {mem['ru_maxrss_process_mib']:.0f})"
+        )
+    if "hybrid_uncached" in rm:
+        lines.append(
+            f"map cached / uncached: x{rm['speedup_cached_over_uncached']:.1f} faster, TE RMS "
+            f"diff {rm['te_rms_max_rel_diff_cached_uncached']:.0e}"
         )
     vc = rm["hybrid"]["vmap_check"]
     lines.append(

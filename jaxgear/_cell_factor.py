@@ -7,10 +7,13 @@ full contact set F (every cell on the flanks, w = 1) is formed once per scene, a
 
 * the first pass (all cells of F in contact: where the active-set iteration of the seed (II-25)
   starts) as products: v = B S (a + E α), with α from the r × r balance Eᵀ P = b;
-* a later pass with the cells D = F ∖ A out of contact by a Schur complement on the smaller of
-  D and A (at most ⌈c/2⌉ cells, gathered to that fixed size with identity padding): on D,
-  (A_AA)⁻¹ = B_AA − B_AD (B_DD)⁻¹ B_DA (one Cholesky factorisation of B_DD), or on A, a
-  factorisation of (I + S C S)_AA itself when the active set is the smaller.
+* a later pass with the cells D = F ∖ A out of contact by a Schur complement on D:
+  (A_AA)⁻¹ = B_AA − B_AD (B_DD)⁻¹ B_DA. When D is one whole contact line (a spur pair's tip or
+  root relief lifts lines whole), B_:D (B_DD)⁻¹ is cached too, and the pass is products only;
+  otherwise one Cholesky factorisation on the smaller of D and A (at most ⌈c/2⌉ cells,
+  gathered to that fixed size with identity padding): of B_DD, or of (I + S C S)_AA itself
+  when the active set is the smaller. Under ``jax.vmap`` that factorisation runs only when a
+  position of the batch needs it (a while loop of at most one trip).
 
 Exact contact only: the smooth law's Newton matrices (weights φ' in (0, 1)) are not subsets of
 F. Gradients: the iteration runs on stopped values; the answer with the final active set held
@@ -21,12 +24,42 @@ C, E, k, l are constants of the scene: no gradient flows into them.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import jax
 import jax.numpy as jnp
 
 from ._contact import ContactSolution, ExactContact, _finish
 
 __all__ = ["solve_factored_cells"]
+
+_EXACT = ExactContact()  # the law _finish reads (φ = max(0, Δ))
+
+
+class _Consts(NamedTuple):
+    """The constant parts of one position: B (c, c), C (c, c), E (c, r), s = √(k l) (c,), the
+    mask (c,) as 0/1, the contact lines' cells ``lines`` (G, g) (padding c), ``K_line`` (G, c, g): B_:D (B_DD)⁻¹ for D each line's masked cells, and
+    ``YF`` (1 + G, c, r): R(S E) on the full set and with each line out."""
+
+    B: jax.Array
+    C: jax.Array
+    E: jax.Array
+    s: jax.Array
+    maskf: jax.Array
+    lines: jax.Array
+    K_line: jax.Array
+    YF: jax.Array
+
+
+class _Factor(NamedTuple):
+    """How a pass with a given active set is solved: ``line`` the contact line that is out of
+    contact whole (−1: none), else the Schur factor on J (the dropped cells when ``use_d``,
+    else the active ones; padding c) with Cholesky factor L."""
+
+    line: jax.Array
+    J: jax.Array
+    use_d: jax.Array
+    L: jax.Array
 
 
 def _rigid_amplitudes(F, y0, YF, r2):
@@ -40,18 +73,34 @@ def _rigid_amplitudes(F, y0, YF, r2):
     return jnp.linalg.solve(Z, rhs)
 
 
-def _factor(B, C, s, w, maskf, half):
-    """The Schur factor of the pass with weights ``w`` (0/1, inside the mask): (J, use_D, L).
+def _one_hot(idx, c: int, dtype):
+    """(len(idx), c) rows e_idx (a zero row for the padding index c)."""
+    return (idx[:, None] == jnp.arange(c)[None, :]).astype(dtype)
 
-    J: the dropped cells D = F ∖ A if |D| <= half, else the active ones A, gathered to
-    ``half`` entries (padding index c); L: the Cholesky factor of B_JJ (on D) or of
-    (I + S C S)_JJ (on A), identity on the padding."""
+
+def _no_factor(k: _Consts) -> _Factor:
+    c = k.B.shape[0]
+    half = (c + 1) // 2
+    return _Factor(
+        jnp.array(-1, jnp.int32),
+        jnp.full((half,), c, jnp.int32),
+        jnp.array(True),
+        jnp.eye(half, dtype=k.B.dtype),
+    )
+
+
+def _generic(k: _Consts, w):
+    """The Schur factor on the smaller of D and A: (J, use_d, L)."""
+    B, C, s = k.B, k.C, k.s
     c = B.shape[0]
-    dropped = maskf - w
+    half = (c + 1) // 2
+    dropped = k.maskf - w
     use_d = jnp.sum(dropped) <= half
     pick = jnp.where(use_d, dropped, w)
-    J = jnp.nonzero(pick > 0, size=half, fill_value=c)[0].astype(jnp.int32)
-    valid = J < c
+    # the picked cells first, in order (a stable sort: XLA's scatter on CPU is slow)
+    order = jnp.argsort(pick <= 0, stable=True)[:half].astype(jnp.int32)
+    valid = jnp.arange(half) < jnp.sum(pick > 0)
+    J = jnp.where(valid, order, c)
     Jc = jnp.minimum(J, c - 1)
     eye = jnp.eye(half, dtype=B.dtype)
     QD = B[Jc[:, None], Jc[None, :]]
@@ -61,45 +110,116 @@ def _factor(B, C, s, w, maskf, half):
     return J, use_d, jnp.linalg.cholesky(Q)
 
 
-def _restricted(B, w, H, fac):
-    """R = (A_w)⁻¹ W H on the active cells (zero elsewhere), A_w = I + W S C S W: H (c, m).
+def _factor(k: _Consts, w) -> _Factor:
+    """The factor of the pass with weights ``w`` (0/1, inside the mask)."""
+    dropped = k.maskf - w
+    line = jnp.array(-1, jnp.int32)
+    if k.lines.shape[0]:
+        # D = line l's cells on the flanks: all of them dropped, and no other cell
+        c = k.B.shape[0]
+        idx = jnp.minimum(k.lines, c - 1)
+        on = jnp.where(k.lines < c, k.maskf[idx], 0.0)  # (G, g)
+        n_on = jnp.sum(on, axis=1)
+        match = (jnp.sum(on * dropped[idx], axis=1) == n_on) & (jnp.sum(dropped) == n_on)
+        match = match & (n_on > 0)
+        line = jnp.where(jnp.any(match), jnp.argmax(match), -1).astype(jnp.int32)
+    need = jnp.any(dropped > 0) & (line < 0)
+    none = _no_factor(k)
+
+    def run(state):  # at most one trip: under vmap only when a position of the batch needs it
+        # w through the loop flag: a body of loop-invariant values would be hoisted out of
+        # the loop by XLA and run every time
+        return (jnp.array(False), *_generic(k, w * state[0].astype(w.dtype)))
+
+    _, J, use_d, L = jax.lax.while_loop(lambda st: st[0], run, (need, none.J, none.use_d, none.L))
+    return _Factor(line, J, use_d, L)
+
+
+def _generic_mu(k: _Consts, Hw, Z, fac: _Factor):
+    """μ of the Schur factor on J (on D: B_DD μ_D = −Z_D; on A: the solution on A itself)."""
+    c = k.B.shape[0]
+    valid = (fac.J < c)[:, None]
+    Jc = jnp.minimum(fac.J, c - 1)
+    rhs = jnp.where(valid, jnp.where(fac.use_d, -Z[Jc], Hw[Jc]), 0.0)
+    sol = jax.scipy.linalg.cho_solve((fac.L, True), rhs)
+    return _one_hot(fac.J, c, Hw.dtype).T @ sol
+
+
+def _generic_R(k: _Consts, Hw, Z, fac: _Factor):
+    """R on the Schur factor on J: on D, B (W H + μ) = Z + B μ; on A, μ itself."""
+    mu = _generic_mu(k, Hw, Z, fac)
+    return jnp.where(fac.use_d, Z + k.B @ mu, mu)
+
+
+def _line_part(k: _Consts, Z, fac: _Factor):
+    """(on a cached line, Z − B_:D (B_DD)⁻¹ Z_D): one whole line D out of contact."""
+    c = k.B.shape[0]
+    cells = jnp.minimum(k.lines, c - 1)  # padding: a zero column of K_line
+    # every line's product, then the one out (a gather of K_line copies (c, g) per pass)
+    parts = jnp.einsum("gcj,gjm->gcm", k.K_line, Z[cells])
+    return fac.line >= 0, Z - parts[jnp.maximum(fac.line, 0)]
+
+
+def _restricted(k: _Consts, w, H, fac: _Factor | None):
+    """R = (A_w)⁻¹ W H on the active cells (zero elsewhere), A_w = I + W S C S W: H (c, m);
+    the tangent map's form (no while loop: it must transpose).
 
     On D: R = B (W H + μ) with B_DD μ_D = −(B W H)_D (μ zero off D); on A: R_A = (A_AA)⁻¹ H_A."""
     Hw = w[:, None] * H
-    Z = B @ Hw
+    Z = k.B @ Hw
     if fac is None:  # the full contact set: a product
         return Z
-    J, use_d, L = fac
-    c = B.shape[0]
-    valid = (J < c)[:, None]
-    Jc = jnp.minimum(J, c - 1)
-    rhs = jnp.where(valid, jnp.where(use_d, -Z[Jc], Hw[Jc]), 0.0)
-    mu = (
-        jnp.zeros(Hw.shape, Hw.dtype)
-        .at[J]
-        .add(jax.scipy.linalg.cho_solve((L, True), rhs), mode="drop")
-    )
-    return w[:, None] * jnp.where(use_d, B @ (Hw + mu), mu)
+    R = _generic_R(k, Hw, Z, fac)
+    if k.lines.shape[0]:
+        on_line, by_line = _line_part(k, Z, fac)
+        R = jnp.where(on_line, by_line, R)
+    return w[:, None] * R
 
 
-def _pass(B, C, E, s, w, r1, r2, fac, linear: bool = False):
+def _solve_pass(k: _Consts, w, g, fac: _Factor | None):
+    """(y0, YF) = (R(S r1), R(S E)) of a pass on stopped values: S E's columns from the cache
+    on the full set and with a cached line out; the Schur factor on J only when a position
+    of the batch needs it (a while loop of at most one trip)."""
+    Z = k.B @ (w * g)
+    if fac is None:
+        return Z, k.YF[0]
+    y0, YF = Z, k.YF[0]
+    on_line = jnp.array(False)
+    if k.lines.shape[0]:
+        on_line, by_line = _line_part(k, Z[:, None], fac)
+        y0 = jnp.where(on_line, by_line[:, 0], y0)
+        YF = jnp.where(on_line, k.YF[1 + jnp.maximum(fac.line, 0)], YF)
+    c = k.B.shape[0]
+    need = ~on_line & jnp.any(fac.J < c)
+    F = k.s[:, None] * k.E
+
+    def run(state):  # the inputs through the loop flag: XLA would hoist an invariant body
+        on = state[0].astype(g.dtype)
+        Hw = (w * on)[:, None] * jnp.concatenate([g[:, None], F], axis=1)
+        R = _generic_R(k, Hw, k.B @ Hw, fac)
+        return jnp.array(False), R[:, 0], R[:, 1:]
+
+    _, y0, YF = jax.lax.while_loop(lambda st: st[0], run, (need, y0, YF))
+    return w * y0, w[:, None] * YF
+
+
+def _pass(k: _Consts, w, r1, r2, fac, linear: bool = False):
     """One linear solve with the cell weights ``w``: (gap Δ (c,), α (r,), cell forces P (c,)).
     ``linear``: the tangent map (the columns of E solved apart, so that it stays linear in
     r1, r2)."""
-    F = s[:, None] * E
+    F = k.s[:, None] * k.E
     if linear:
-        YF = _restricted(B, w, F, fac)
-        y0 = _restricted(B, w, (s * r1)[:, None], fac)[:, 0]
+        YF = _restricted(k, w, F, fac)
+        y0 = _restricted(k, w, (k.s * r1)[:, None], fac)[:, 0]
     else:
-        R = _restricted(B, w, jnp.concatenate([(s * r1)[:, None], F], axis=1), fac)
-        y0, YF = R[:, 0], R[:, 1:]
+        y0, YF = _solve_pass(k, w, k.s * r1, fac)
     alpha = _rigid_amplitudes(w[:, None] * F, y0, YF, r2)
-    P = s * (y0 + YF @ alpha)
-    return r1 - C @ P + E @ alpha, alpha, P
+    P = k.s * (y0 + YF @ alpha)
+    return r1 - k.C @ P + k.E @ alpha, alpha, P
 
 
 @jax.custom_jvp
-def _held(B, C, E, s, w, fac, gap, alpha, force, r1, r2):
+def _held(k, w, fac, gap, alpha, force, r1, r2):
     """(gap, α, P) of the final pass, found on stopped values; its JVP is the linear solve with
     the final active set held (:func:`_pass` with the final factor on the tangents)."""
     return gap, alpha, force
@@ -107,13 +227,41 @@ def _held(B, C, E, s, w, fac, gap, alpha, force, r1, r2):
 
 @_held.defjvp
 def _held_jvp(primals, tangents):
-    B, C, E, s, w, fac, gap, alpha, force, _, _ = primals
+    k, w, fac, gap, alpha, force, _, _ = primals
     dr1, dr2 = tangents[-2], tangents[-1]
-    return (gap, alpha, force), _pass(B, C, E, s, w, dr1, dr2, fac, linear=True)
+    return (gap, alpha, force), _pass(k, w, dr1, dr2, fac, linear=True)
+
+
+def line_factors(B, E, kl, mask, lines):
+    """The cached parts of a pass with one whole contact line out of contact: K_line
+    (G, c, g), B_:D (B_DD)⁻¹ for D each line's cells on the flanks (zero columns off the flanks
+    and on the padding), and YF (1 + G, c, r), R(S E) on the full set and with each line out.
+
+    Args:
+        B: (c, c). E: (c, r). kl: k l (N/m), zero off the flanks (c,). mask: cells on the
+            flanks (c,). lines: each line's cells (G, g) (padding c).
+    """
+    B, E, kl, mask, lines = (jnp.asarray(x) for x in (B, E, kl, mask, lines))
+    c = B.shape[0]
+    idx = jnp.minimum(lines, c - 1)
+    valid = (lines < c) & mask[idx]
+    YF0 = B @ (jnp.where(mask, jnp.sqrt(kl), 0.0)[:, None] * E)
+
+    def one(i, v, line):
+        eye = jnp.eye(i.shape[0], dtype=B.dtype)
+        Q = jnp.where(v[:, None] & v[None, :], B[i[:, None], i[None, :]], eye)
+        Qi = jax.scipy.linalg.cho_solve(jax.scipy.linalg.cho_factor(Q), eye)
+        K = jnp.where(v[None, :], B[:, i], 0.0) @ (0.5 * (Qi + Qi.T))
+        out = jnp.any(line[:, None] == jnp.arange(c)[None, :], axis=0)
+        w = (mask & ~out).astype(B.dtype)
+        return K, w[:, None] * (YF0 - K @ YF0[i])
+
+    K, YF = jax.vmap(one)(idx, valid, lines)
+    return K, jnp.concatenate([YF0[None], YF], axis=0)
 
 
 def solve_factored_cells(
-    B, C, E, kl, mask, a, b, k, max_iterations: int
+    B, C, E, kl, mask, a, b, k, max_iterations: int, lines=None, K_line=None, YF=None
 ) -> tuple[ContactSolution, jax.Array, jax.Array]:
     """The exact contact problem of :func:`jaxgear.solve_contact_cells`
     (Δ − a + C P(Δ) − E α = 0, Eᵀ P(Δ) = b, P = k l max(Δ, 0)) with B = (I + S_F C S_F)⁻¹
@@ -125,6 +273,8 @@ def solve_factored_cells(
         a: free gaps (m), (c,). b: loads on the rigid-body modes, (r,).
         k: cell stiffness per unit length (N/m²), (c,) (for the force density).
         max_iterations: cap on active-set passes (>= 1).
+        lines, K_line, YF: the contact lines' cells (G, g) (padding c) and
+            :func:`line_factors` (None: no line is cached; every later pass is factored).
 
     Returns:
         (solution, P (N), α), as :func:`jaxgear.solve_contact_cells`.
@@ -133,18 +283,19 @@ def solve_factored_cells(
     B, C, E, kl = (sg(jnp.asarray(x)) for x in (B, C, E, kl))
     mask = jnp.asarray(mask)
     maskf = mask.astype(kl.dtype)
-    s = jnp.sqrt(kl)
-    half = (B.shape[0] + 1) // 2
+    c = B.shape[0]
+    if lines is None:
+        lines = jnp.zeros((0, 1), jnp.int32)
+        K_line = jnp.zeros((0, c, 1), B.dtype)
+        YF = (B @ (jnp.sqrt(kl)[:, None] * E))[None]
+    lines = jnp.asarray(lines, jnp.int32)
+    consts = _Consts(
+        B, C, E, jnp.sqrt(kl), maskf, lines, sg(jnp.asarray(K_line)), sg(jnp.asarray(YF))
+    )
     a_, b_ = sg(a), sg(b)
 
-    gap, alpha, force = _pass(B, C, E, s, maskf, a_, b_, None)
+    gap, alpha, force = _pass(consts, maskf, a_, b_, None)
     new = maskf * (gap > 0).astype(maskf.dtype)
-    c = B.shape[0]
-    fac0 = (
-        jnp.full((half,), c, jnp.int32),
-        jnp.array(True),
-        jnp.eye(half, dtype=B.dtype),
-    )
 
     def cond(state):
         *_, it, changed = state
@@ -152,16 +303,22 @@ def solve_factored_cells(
 
     def body(state):
         _, _, _, _, _, new, it, _ = state
-        fac = _factor(B, C, s, new, maskf, half)
-        gap, alpha, force = _pass(B, C, E, s, new, a_, b_, fac)
+        fac = _factor(consts, new)
+        gap, alpha, force = _pass(consts, new, a_, b_, fac)
         nxt = maskf * (gap > 0).astype(maskf.dtype)
         return new, fac, gap, alpha, force, nxt, it + 1, jnp.any(nxt != new)
 
-    init = (maskf, fac0, gap, alpha, force, new, jnp.array(1), jnp.any(new != maskf))
+    init = (
+        maskf,
+        _no_factor(consts),
+        gap,
+        alpha,
+        force,
+        new,
+        jnp.array(1),
+        jnp.any(new != maskf),
+    )
     w, fac, gap, alpha, force, _, it, changed = jax.lax.while_loop(cond, body, init)
-    gap, alpha, force = _held(B, C, E, s, w, fac, gap, alpha, force, a, b)
+    gap, alpha, force = _held(consts, w, fac, gap, alpha, force, a, b)
     sol = _finish(gap, gap, k, kl, mask, _EXACT, it, jnp.where(changed, 1, 0))
     return sol, force, alpha
-
-
-_EXACT = ExactContact()  # the law _finish reads (φ = max(0, Δ))

@@ -12,6 +12,7 @@ import numpy as np
 from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
 from ._quasi_static import QuasiStaticResult, quasi_static
+from .scenes import cache_window_compliance
 
 __all__ = ["harris_map", "load_map"]
 
@@ -63,7 +64,10 @@ def harris_map(
     positions_per_pitch: int = 64,
 ) -> np.ndarray:
     """TE peak-to-peak (m) against pinion torque (N·m), vmapped over the torques, shape (T,);
-    ``contact``: the contact law of :func:`~jaxgear.quasi_static`."""
+    ``contact``: the contact law of :func:`~jaxgear.quasi_static`. A hybrid scene's window
+    compliance is cached once for the sweep (:func:`~jaxgear.scenes.cache_window_compliance`;
+    the same values)."""
+    mesh = cache_window_compliance(mesh, positions_per_pitch=positions_per_pitch)
 
     def ptp(t):
         return quasi_static(

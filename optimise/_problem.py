@@ -32,7 +32,7 @@ from jaxtyping import Array, Float
 
 import jaxgear as jg
 from jaxgear.dynamics import Newmark, SteadyState, band_dynamic_factor, dynamic_model
-from jaxgear.scenes import HybridPair
+from jaxgear.scenes import HybridPair, cache_window_compliance
 
 __all__ = [
     "VARIABLES",
@@ -371,7 +371,8 @@ def make_problem(
     Args:
         scene: the structure the quasi-static solve runs on: a :class:`jaxgear.MeshModel` (the
             rigid mesh) or a scene, e.g. the hybrid scene of
-            :func:`jaxgear.dynamics.static_scene` (condensed bodies).
+            :func:`jaxgear.dynamics.static_scene` (condensed bodies; its window compliance is
+            cached here once for every evaluation, :func:`jaxgear.scenes.cache_window_compliance`).
         modifications: the starting design; it holds the values that are not variables.
         torque: the design torque (N·m) > 0: the scale of the objective and of the depths
             (δ_m, the mean static deflection there).
@@ -484,6 +485,8 @@ def make_problem(
                 "Newmark(steps_per_period=N)"
             )
     ppp = int(positions_per_pitch)
+    if not dynamic:  # a hybrid scene's window compliance, once for every iteration
+        mesh = cache_window_compliance(mesh, positions_per_pitch=ppp)
     unmod = jg.quasi_static(mesh, None, torque, speed=speed, positions_per_pitch=ppp)
     k_mean = float(jnp.mean(unmod.mesh_stiffness))
     mesh_model = mesh if isinstance(mesh, jg.MeshModel) else mesh.mesh

@@ -46,11 +46,18 @@ def test_bench_hybrid_quick(tmp_path, monkeypatch):
     assert tc["hybrid_te_rms_m"] > 0 and tc["rigid_te_rms_m"] > 0
     cached = tc["hybrid_cached_compliance"]  # the same curve from the cached compliance
     assert cached["te_max_rel_diff"] <= 1e-12 and cached["per_curve_s"] > 0
+    assert cached["smooth"]["te_max_rel_diff"] <= 1e-12 and cached["uncached_per_curve_s"] > 0
+    for mode in ("exact", "smooth"):  # an optimisation iteration: the same value and gradient
+        g = saved["gradient"][mode]
+        assert g["grad_rel_diff"] <= 1e-9 and g["value_rel_diff"] <= 1e-12
+        assert g["rigid_s"] > 0 and g["hybrid_cached_s"] > 0 and g["hybrid_uncached_s"] > 0
 
     rm = saved["relief_map"]
     assert rm["shape"] == [5, 5] and rm["slices"] == 8 and rm["positions_per_pitch"] == 16
     assert rm["tip_relief_depth_m"][0] == 0.0 and abs(rm["tip_relief_depth_m"][-1] - 30e-6) < 1e-15
-    for model in ("hybrid", "rigid"):
+    assert rm["speedup_cached_over_uncached"] > 0  # before (uncached) and after, one run
+    assert rm["te_rms_max_rel_diff_cached_uncached"] <= 1e-12
+    for model in ("hybrid", "hybrid_uncached", "rigid"):
         m = rm[model]
         assert m["curves"] == 25 and m["curves_per_s"] > 0
         assert m["memory"]["ru_maxrss_process_mib"] > 0

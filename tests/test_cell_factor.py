@@ -2,7 +2,8 @@
 against the independent solve that factors every active-set pass
 (:func:`jaxgear.solve_contact_cells`), on synthetic problems: every cell in contact, a few
 cells out (Schur complement on the dropped cells), most cells out (factorisation of the active
-ones), zero, one and two rigid-body amplitudes; derivatives against central differences."""
+ones), one whole contact line out (its cached inverse), with and without the lines cached;
+zero, one and two rigid-body amplitudes; derivatives against central differences."""
 
 import jax
 import jax.numpy as jnp
@@ -10,14 +11,16 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._cell_factor import solve_factored_cells
+from jaxgear._cell_factor import line_factors, solve_factored_cells
 
 C_CELLS = 14
+LINES = np.arange(C_CELLS).reshape(2, C_CELLS // 2)  # two contact lines of 7 cells
 
 
 def _problem(r: int, seed: int = 0):
-    """A cell compliance C (SPD, m/N), k, l, a mask with two cells off the flanks, E (c, r) > 0
-    (the rigid approach of every cell) and B = (I + S C S)⁻¹, S = diag √(k l) on the mask."""
+    """A cell compliance C (SPD, m/N), k, l, a mask with two cells off the flanks, E (c, r)
+    (the rigid approach of the cells: a translation and a tilt) and B = (I + S C S)⁻¹,
+    S = diag √(k l) on the mask."""
     rng = np.random.default_rng(seed)
     X = rng.normal(size=(C_CELLS, C_CELLS))
     C = 2e-9 * (X @ X.T / C_CELLS + 0.5 * np.eye(C_CELLS))
@@ -25,7 +28,6 @@ def _problem(r: int, seed: int = 0):
     length = np.full(C_CELLS, 1e-3)
     mask = np.ones(C_CELLS, bool)
     mask[[3, 9]] = False
-    # the rigid approach of the cells: a translation and a tilt (a lever arm across the cells)
     lever = np.linspace(-0.5, 0.5, C_CELLS)
     E = np.stack([np.ones(C_CELLS), lever], 1)[:, :r] + 0.01 * rng.uniform(-1, 1, (C_CELLS, r))
     kl = np.where(mask, k * length, 0.0)
@@ -35,35 +37,44 @@ def _problem(r: int, seed: int = 0):
 
 
 def _gaps(kind: str, r: int):
-    """Free gaps a (m) and loads b: all cells in contact, a few out, most out."""
+    """Free gaps a (m) and loads b: all cells in contact, a few out, most out, one line out."""
     z = np.linspace(0.0, 1.0, C_CELLS)
-    base = {"all": 5e-6 + 1e-8 * z, "few": 5e-6 - 8e-6 * z**4, "most": -4e-6 + 6e-6 * z**12}[kind]
+    base = {
+        "all": 5e-6 + 1e-8 * z,
+        "few": 5e-6 - 8e-6 * z**4,
+        "most": -4e-6 + 6e-6 * z**12,
+        "line": np.where(np.arange(C_CELLS) < C_CELLS // 2, 5e-6, -3e-6),
+    }[kind]
     b = np.array([60.0, 3.0])[:r]  # N and N·(unit lever) on the rigid modes (r = 0: none)
     return base, b
 
 
+@pytest.mark.parametrize("lines", [False, True])
 @pytest.mark.parametrize("r", [0, 1, 2])
-@pytest.mark.parametrize("kind", ["all", "few", "most"])
-def test_factored_solve_equals_the_per_pass_factorisation(r, kind):
+@pytest.mark.parametrize("kind", ["all", "few", "most", "line"])
+def test_factored_solve_equals_the_per_pass_factorisation(r, kind, lines):
     C, k, length, mask, E, kl, B = _problem(r)
     a, b = _gaps(kind, r)
     ref, p_ref, al_ref = jg.solve_contact_cells(
         jnp.asarray(C), jnp.asarray(a), jnp.asarray(E), jnp.asarray(b), jnp.asarray(k),
         jnp.asarray(length), jnp.asarray(mask), jg.ExactContact(),
     )  # fmt: skip
+    extra = (LINES, *line_factors(B, E, kl, mask, LINES)) if lines else (None, None, None)
     sol, p, al = jax.jit(solve_factored_cells, static_argnums=8)(
-        B, C, E, kl, mask, jnp.asarray(a), jnp.asarray(b), jnp.asarray(k), 100
+        B, C, E, kl, mask, jnp.asarray(a), jnp.asarray(b), jnp.asarray(k), 100, *extra
     )
     assert int(ref.result) == 0 and int(sol.result) == 0
-    active = int(np.sum(np.asarray(ref.weight)))
-    n_on = int(mask.sum())
+    weight = np.asarray(ref.weight)
+    n_on, active = int(mask.sum()), int(weight.sum())
     if kind == "all":
         assert active == n_on
     elif kind == "few":
         assert 0 < n_on - active <= (C_CELLS + 1) // 2  # the Schur complement on D
-    else:
+    elif kind == "most":
         assert n_on - active > (C_CELLS + 1) // 2  # the factorisation of A
-    np.testing.assert_array_equal(np.asarray(sol.weight), np.asarray(ref.weight))
+    elif r < 2:  # the second line whole (its cached inverse when lines are given)
+        np.testing.assert_array_equal(weight, mask & (np.arange(C_CELLS) < C_CELLS // 2))
+    np.testing.assert_array_equal(np.asarray(sol.weight), weight)
     assert int(sol.iterations) == int(ref.iterations)
     scale = np.abs(np.asarray(p_ref)).max()
     np.testing.assert_allclose(np.asarray(p), np.asarray(p_ref), rtol=0, atol=1e-12 * scale)
@@ -74,17 +85,20 @@ def test_factored_solve_equals_the_per_pass_factorisation(r, kind):
         np.testing.assert_allclose(np.asarray(al), np.asarray(al_ref), rtol=1e-12, atol=0)
 
 
-@pytest.mark.parametrize("kind", ["few", "most"])
+@pytest.mark.parametrize("kind", ["few", "most", "line"])
 def test_factored_solve_derivatives_equal_central_differences(kind):
     """d(Σ P_c² + α²)/d(gap shift) and d/d(load), forward and reverse, against central
     differences (the active set does not change within the step)."""
     C, k, _, mask, E, kl, B = _problem(1, seed=3)
     a0, b0 = _gaps(kind, 1)
     tilt = np.linspace(-1.0, 1.0, C_CELLS)
+    K_line, YF = line_factors(B, E, kl, mask, LINES)
 
     def f(t, q):
         a = jnp.asarray(a0) + 1e-6 * t * tilt
-        _, p, al = solve_factored_cells(B, C, E, kl, mask, a, q * jnp.asarray(b0), k, 100)
+        _, p, al = solve_factored_cells(
+            B, C, E, kl, mask, a, q * jnp.asarray(b0), k, 100, LINES, K_line, YF
+        )
         return (jnp.sum((p / 100.0) ** 2) + jnp.sum(al**2) * 1e10) / 1e3
 
     x = (0.3, 1.1)

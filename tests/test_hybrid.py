@@ -406,8 +406,9 @@ def test_the_speed_is_an_argument_of_the_solve(case, scene):
 def test_cached_window_compliance_gives_the_same_solve(case, scene):
     """The window compliance cached per position (it depends on the scene and the position
     only) gives the quasi-static result formed at each position: TE, line loads and coordinates
-    to 1e-12 (relative), at two torques and another tip relief, and the same gradient with
-    respect to the relief depth; a position that is not cached raises."""
+    to 1e-12 (relative), at two torques and another tip relief (the exact law on the factored
+    full contact set, the smooth law on the cached C), and the same gradient with respect to
+    the relief depth, equal to a central difference; a position that is not cached raises."""
     from jaxgear.scenes import cache_window_compliance
 
     theta = jg.mesh_positions(case.mesh_model(), 16, 1)
@@ -424,14 +425,21 @@ def test_cached_window_compliance_gives_the_same_solve(case, scene):
             x, y = np.asarray(getattr(a, f)), np.asarray(getattr(b, f))
             np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
         np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-12 * np.abs(np.asarray(a.x)).max())
+    smooth = jg.SmoothContact(1e-7)  # the smooth law reads the cached C (not the factor)
+    a = jg.quasi_static(scene, deeper, case.torque, theta, contact=smooth)
+    b = jg.quasi_static(cached, deeper, case.torque, theta, contact=smooth)
+    x, y = np.asarray(a.transmission_error), np.asarray(b.transmission_error)
+    np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
 
     def rms(s, depth):
         g = dataclasses.replace(mods.gear, tip_relief_depth=depth)
         return jg.quasi_static(s, dataclasses.replace(mods, gear=g), case.torque, theta).te_rms
 
     d0 = mods.gear.tip_relief_depth
-    assert float(jax.grad(lambda d: rms(cached, d))(d0)) == pytest.approx(
-        float(jax.grad(lambda d: rms(scene, d))(d0)), rel=1e-9
-    )
+    g_cached = float(jax.grad(lambda d: rms(cached, d))(d0))
+    assert g_cached == pytest.approx(float(jax.grad(lambda d: rms(scene, d))(d0)), rel=1e-9)
+    h = 1e-3 * float(d0)  # the active sets hold within the step: a central difference
+    fd = (float(rms(cached, d0 + h)) - float(rms(cached, d0 - h))) / (2 * h)
+    assert g_cached == pytest.approx(fd, rel=1e-6)
     with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
         jg.quasi_static(cached, mods, case.torque, theta + 1e-4)

@@ -33,7 +33,7 @@ import scipy.linalg as sla
 from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import CellRow, Cells, MeshModel, mesh_positions
-from .._cell_factor import solve_factored_cells
+from .._cell_factor import line_factors, solve_factored_cells
 from .._contact import ContactLaw, ExactContact, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
@@ -72,6 +72,11 @@ class WindowCompliance(eqx.Module):
             a later one a Schur complement on it (:mod:`jaxgear._cell_factor`).
         te_rows: V_W (G u)_W of each mesh's TE vector u (m/N), (P, meshes, c): u·X =
             u·G F − te_rows·P + (u·N) α without recovering X.
+        lines: each contact line's cells (P, G, g) (G lines of all meshes, g the most slices;
+            padding c). K_line: B_:D (B_DD)⁻¹ for D each line's cells on the flanks
+            (P, G, c, g): a pass with one whole line out of contact is then products only.
+            YF: the solution for the rigid-body columns S E on the full set and with each line
+            out, (P, 1 + G, c, r).
     """
 
     theta: Float[Array, " P"]
@@ -85,6 +90,9 @@ class WindowCompliance(eqx.Module):
     mask: Bool[Array, "P c"]
     B: Float[Array, "P c c"]
     te_rows: Float[Array, "P m c"]
+    lines: Int[Array, "P G g"]
+    K_line: Float[Array, "P G c g"]
+    YF: Float[Array, "P G1 c r"]
 
 
 class HybridScene(AssembledScene):
@@ -194,7 +202,18 @@ class HybridScene(AssembledScene):
         b = self.N.T @ self.external_load(torque, speed)
         if isinstance(law, ExactContact):
             sol, force, alpha = solve_factored_cells(
-                cs.B, cs.C, cs.E, cs.kl, cs.mask, a, b, r.k, law.max_iterations
+                cs.B,
+                cs.C,
+                cs.E,
+                cs.kl,
+                cs.mask,
+                a,
+                b,
+                r.k,
+                law.max_iterations,
+                cs.lines,
+                cs.K_line,
+                cs.YF,
             )
         else:
             sol, force, alpha = solve_contact_cells(cs.C, a, cs.E, b, r.k, r.length, r.mask, law)
@@ -802,7 +821,7 @@ def window_compliance(scene: HybridScene, theta) -> WindowCompliance:
     angles ``theta`` (rad), (P,): the windows, structure vectors, C = V_W G_WW V_Wᵀ, E = V_W N_W,
     the free gaps of the unit loads, k l and the mask, the inverse B of the full contact set and
     the TE rows (:class:`WindowCompliance`), vmapped over the positions. Memory:
-    P (2 c² + c w + c r + (4 + meshes) c) floats."""
+    P (2 c² + G c g + c w + (2 + G) c r + (4 + meshes) c) floats."""
     theta = jnp.asarray(theta, scene.structure.K.dtype)
     Gu = scene.te_vectors() @ scene.G  # (meshes, n): G symmetric, (G u)ᵀ
 
@@ -828,20 +847,48 @@ def window_compliance(scene: HybridScene, theta) -> WindowCompliance:
             Gu[:, r.idx] @ r.V.T,
         )
 
-    return WindowCompliance(theta, *jax.vmap(one)(theta))
+    parts = jax.vmap(one)(theta)
+    # the contact lines: each mesh's (n_lines, n_slices) cells, flattened mesh after mesh
+    shapes = [c.mask.shape for c in jax.eval_shape(scene.mesh_cells, theta[0])]
+    c_all = sum(n * m for n, m in shapes)
+    g = max(m for _, m in shapes)
+    rows, start = [], 0
+    for n, m in shapes:
+        for j in range(n):
+            rows.append(list(range(start + j * m, start + (j + 1) * m)) + [c_all] * (g - m))
+        start += n * m
+    lines = jnp.broadcast_to(jnp.asarray(rows, jnp.int32), (theta.shape[0], len(rows), g))
+    K_line, YF = jax.vmap(line_factors)(parts[8], parts[3], parts[6], parts[7], lines)
+    return WindowCompliance(theta, *parts, lines, K_line, YF)
 
 
-def cache_window_compliance(
-    scene: HybridScene, theta=None, *, positions_per_pitch: int = 64, periods: int = 1
-) -> HybridScene:
-    """``scene`` holding its :func:`window_compliance` at the positions ``theta`` (rad; default
-    the positions :func:`jaxgear.quasi_static` takes for ``positions_per_pitch`` and
-    ``periods``): a quasi-static solve at those positions then skips forming the windows and
-    their compliance (the half of a hybrid TE curve's cost that does not depend on the
-    modifications, the torque or the speed), with the same result. A solve at another position
-    raises (:class:`equinox.EquinoxRuntimeError`)."""
+def cache_window_compliance(scene, theta=None, *, positions_per_pitch: int = 64, periods: int = 1):
+    """``scene`` holding its :func:`window_compliance` at the positions ``theta`` (rad, (P,);
+    default the positions :func:`jaxgear.quasi_static` takes for ``positions_per_pitch`` and
+    ``periods``), built once per scene and reused by every solve at those positions: a relief
+    map, a torque sweep (:func:`jaxgear.harris_map`), an optimisation (``optimise``).
+
+    A solve then reads the windows and their compliance instead of forming them, and in exact
+    contact it solves the first active-set pass as a product with the cached inverse of the full
+    contact set and a later pass by a Schur complement (docs/hybrid.md, "Statics in the cell
+    space"): the same result as the uncached scene (tested to 1e-12), the same gradients with
+    respect to the modifications, the torque and the speed (none flows into the cache itself).
+    A solve at another position raises (:class:`equinox.EquinoxRuntimeError`).
+
+    Any other scene (and a :class:`jaxgear.MeshModel`), and a hybrid scene already cached at
+    these positions, is returned as it is, so callers may apply it to whatever they are given.
+    Cost: one contact solve's linear algebra per position, once; memory
+    P (2 c² + c w + (c + meshes + 4) c) floats (6 + 3 MiB for accessory-spur-flexible at 64
+    positions).
+    """
+    if not isinstance(scene, HybridScene):
+        return scene
     if theta is None:
         theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
+    theta = jnp.asarray(theta, scene.structure.K.dtype)
+    held = scene.compliance
+    if held is not None and held.theta.shape == theta.shape and bool(jnp.all(held.theta == theta)):
+        return scene
     return eqx.tree_at(
         lambda s: s.compliance,
         scene,
