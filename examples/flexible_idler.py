@@ -42,7 +42,8 @@ def zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
     return V[:, first:].T @ (w / w.sum())
 
 
-def main() -> dict:
+def main(out_dir: pathlib.Path = DOCS) -> dict:
+    """Compute, draw and write flexible_idler.{png,json} into ``out_dir`` (default docs/)."""
     case = jio.load_case("flexible-idler")
     bodies = load_bodies(case.scene, progress=True)
     rigid = case.replace(scene=dataclasses.replace(case.scene, gear_bodies=()))
@@ -117,8 +118,8 @@ def main() -> dict:
     )
     ax[1].legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(DOCS / "flexible_idler.png", dpi=110)
-    (DOCS / "flexible_idler.json").write_text(json.dumps(out, indent=1) + "\n")
+    fig.savefig(out_dir / "flexible_idler.png", dpi=110)
+    (out_dir / "flexible_idler.json").write_text(json.dumps(out, indent=1) + "\n")
     return out
 
 
