@@ -13,6 +13,16 @@ from ._baseline import (
     te_curve_numpy as te_curve_numpy,
     te_rms as te_rms,
 )
+from ._backlash import (
+    REGIMES as BACKLASH_REGIMES,
+    STEPS as BACKLASH_STEPS,
+    SWEEP as BACKLASH_SWEEP,
+    SWEEP_STEPS as BACKLASH_SWEEP_STEPS,
+    WINDOW as BACKLASH_WINDOW,
+    jaxgear_model as backlash_model,
+    reference as backlash_reference,
+)
+from ._backlash_reference import response as dead_zone_response, sweep as dead_zone_sweep
 from ._baseline_dynamics import (
     ReferenceModel as ReferenceModel,
     numba_available as numba_available,

@@ -9,9 +9,6 @@ import math
 from pathlib import Path
 
 import jax
-
-jax.config.update("jax_enable_x64", True)
-
 import numpy as np
 
 import jaxgear as jg
@@ -22,7 +19,7 @@ from jaxgear.dynamics import (
     dynamic_model,
     speed_sweep,
 )
-from jaxgear.io._writers import write_json
+from jaxgear.io import write_json
 from jaxgear.scenes import TorsionalDynamics
 
 from ._backlash_reference import dead_zone_pair, sweep
@@ -165,4 +162,5 @@ def _plot(data, path):
 
 
 if __name__ == "__main__":
+    jax.config.update("jax_enable_x64", True)
     main()

@@ -6,16 +6,17 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from benchmarks._backlash import (
-    REGIMES,
-    STEPS,
-    SWEEP,
-    SWEEP_STEPS,
-    WINDOW,
-    jaxgear_model,
-    reference,
+from benchmarks import (
+    BACKLASH_REGIMES as REGIMES,
+    BACKLASH_STEPS as STEPS,
+    BACKLASH_SWEEP as SWEEP,
+    BACKLASH_SWEEP_STEPS as SWEEP_STEPS,
+    BACKLASH_WINDOW as WINDOW,
+    backlash_model as jaxgear_model,
+    backlash_reference as reference,
+    dead_zone_response as response,
+    dead_zone_sweep as sweep,
 )
-from benchmarks._backlash_reference import response, sweep
 from jaxgear.dynamics import DiffraxIntegrator, simulate, speed_sweep
 
 
