@@ -18,7 +18,7 @@ finest about 5 minutes each).
 (embedded body ``power-helical-wheel``, case ``power-helical-flexible``, 310 N·m at 3000 rad/s)
 with distributing masters only, refined as ``POWER_REFINEMENTS`` (the rim section halved, then
 the circumference: 2 → 4 elements per pitch); writes docs/rim_convergence_power.json (about
-30 minutes on 2 cores: the finest body has about 300 000 DOFs).
+30 minutes on 2 cores: the finest body has about 333 000 DOFs).
 """
 
 from __future__ import annotations
