@@ -11,40 +11,27 @@ import math
 import jax
 import numpy as np
 import pytest
+from _toml import ACCESSORY_PAIR
 
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
 
-CASE = """
-name = "robust-spur"
-[pair]
-normal_module_mm = 1.5
-normal_pressure_angle_deg = 25.0
-[pinion]
-teeth = 45
-profile_shift = 0.341
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 11.5
-[gear]
-teeth = 86
-profile_shift = 0.481
-addendum_coeff = 0.9447
-dedendum_coeff = 1.1933
-face_width_mm = 9.5
+CASE = (
+    'name = "robust-spur"\n'
+    + ACCESSORY_PAIR
+    + """
 [material]
 youngs_modulus_GPa = 210.0
 poisson_ratio = 0.3
 density_kg_m3 = 7800.0
-[operating]
-torque_Nm = 80.0
 [mesh]
 stiffness = "weber"
 slices = 4
 [modifications]
 tip_relief = { depth_um = 15.0, extent = 0.25, shape = "linear" }
 """
+)
 
 
 def test_robust_command_writes_the_statistics_of_its_realisations(tmp_path):
