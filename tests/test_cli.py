@@ -1,12 +1,12 @@
 """The main job (`jaxgear run`), its files, the quickstart example, and atomic output."""
 
 import csv
-import importlib.util
 import json
 import os
 import pathlib
 
 import pytest
+from _examples import load_example
 
 from jaxgear.cli import main
 from jaxgear.io import atomic_open
@@ -125,9 +125,7 @@ def test_atomic_open_keeps_the_old_file_when_interrupted(tmp_path):
 
 
 def test_quickstart_example_runs(tmp_path):
-    spec = importlib.util.spec_from_file_location("quickstart", ROOT / "examples" / "quickstart.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("quickstart")
     res = mod.main(str(tmp_path))
     # tip relief near the seed's optimum (E ≈ 15 µm, Γ ≈ 0.25, IV-3) must cut the TE fluctuation
     assert float(res["relieved"].te_rms) < 0.5 * float(res["plain"].te_rms)

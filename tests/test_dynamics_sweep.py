@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 import pytest
 from _devices import run_on_cpu_devices
+from _examples import load_example
 from _toml import ACCESSORY_PAIR
 
 import jaxgear as jg
@@ -275,13 +276,8 @@ def test_continuation_matches_independent_away_from_jumps(small_model):
 
 @pytest.mark.slow
 def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
-    import importlib.util
 
-    spec = importlib.util.spec_from_file_location(
-        "speed_sweep", ROOT / "examples" / "speed_sweep.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("speed_sweep")
     out = mod.main(str(tmp_path), n_speeds=16, periods=30)
     (up_r, down_r), (up_u, down_u) = out["curves"]["tip relief 15 µm"], out["curves"]["unmodified"]
     assert max(up_r.max(), down_r.max()) < 0.6 * max(up_u.max(), down_u.max())  # Fig. IV-4

@@ -6,6 +6,7 @@ import json
 import meshio
 import numpy as np
 import pytest
+from _examples import load_example
 
 from fem_prep import build, cache_dir, cache_key, load_body, load_condensed, main
 
@@ -191,13 +192,8 @@ def test_atomic_write_leaves_no_temp_files(built):
 
 @pytest.mark.slow
 def test_example_runs(tmp_path):
-    import importlib.util
-    from pathlib import Path
 
-    path = Path(__file__).parents[1] / "examples" / "fem_prep_modes_error.py"
-    spec = importlib.util.spec_from_file_location("fem_prep_example", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("fem_prep_modes_error")
     curves = mod.main(str(tmp_path / "e.png"))
     assert curves["craig-bampton"][-1] < curves["craig-bampton"][0]
     assert (tmp_path / "e.png").is_file()

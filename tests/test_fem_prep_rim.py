@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from _examples import load_example
 from test_fem_prep_condense import wheel_text
 from test_fem_prep_physics import NU, E, _disc_text
 
@@ -224,27 +225,28 @@ def test_accessory_wheel_station_compliance_with_distributing_masters():
     assert np.all(np.abs(dist - dist[0]) < 0.5 * (nodal[2] - nodal[0])), (dist, nodal)
 
 
+def _te_with_bodies(ex, case_name: str, texts) -> tuple[np.ndarray, np.ndarray]:
+    """TE mean and RMS (µm) of the embedded case with its gear body replaced by each body-file
+    text in turn (examples/rim_convergence.py's ``te_of``)."""
+    case = jio.load_case(case_name)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, text in enumerate(texts):
+            body = pathlib.Path(tmp) / f"gear-body-{k}.toml"
+            body.write_text(text)
+            rows.append(ex.te_of(case, str(body)))
+    return np.array([r["te_mean_um"] for r in rows]), np.array([r["te_rms_um"] for r in rows])
+
+
 @pytest.mark.slow
 def test_accessory_spur_flexible_te_settles_under_body_refinement(fem_prep_cache):
     """TE of ``accessory-spur-flexible`` (80 N·m, 3000 rad/s) with the distributing wheel refined
     twice (examples/rim_convergence.py, docs/rim_convergence.json): mean 43.36, 43.38, 43.38 µm,
     RMS 0.912, 0.909, 0.910 µm: 0.02 % and 0.2 % between the two finest (nodal masters: mean 44.00,
     44.40, 44.98, RMS 0.869, 0.846, 0.819 µm, 1.3 % and 3.1 %)."""
-    import importlib.util
-
-    path = pathlib.Path(__file__).parents[1] / "examples" / "rim_convergence.py"
-    spec = importlib.util.spec_from_file_location("rim_convergence", path)
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
-    case = jio.load_case("accessory-spur-flexible")
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for k, (_, rim_mm, circ_mm) in enumerate(ex.REFINEMENTS):
-            body = pathlib.Path(tmp) / f"wheel-{k}.toml"
-            body.write_text(ex.body_text("distributing", rim_mm, circ_mm))
-            rows.append(ex.te_of(case, str(body)))
-    mean = np.array([r["te_mean_um"] for r in rows])
-    rms = np.array([r["te_rms_um"] for r in rows])
+    ex = load_example("rim_convergence")
+    texts = [ex.body_text("distributing", rim, circ) for _, rim, circ in ex.REFINEMENTS]
+    mean, rms = _te_with_bodies(ex, "accessory-spur-flexible", texts)
     assert abs(mean[2] / mean[1] - 1) < 0.01 and abs(rms[2] / rms[1] - 1) < 0.01, (mean, rms)
     assert mean[1] == pytest.approx(43.38, rel=0.01) and rms[1] == pytest.approx(0.909, rel=0.02)
 
@@ -282,20 +284,8 @@ def test_power_helical_flexible_te_settles_under_body_refinement(fem_prep_cache)
     91.72, 92.35, 92.35 µm, RMS 0.397, 0.400, 0.401 µm, below 1 % between the two finest
     (measured 0.002 % and 0.04 %; about 35 minutes on 2 cores: the finest body has 333 000
     DOFs)."""
-    import importlib.util
-
-    path = pathlib.Path(__file__).parents[1] / "examples" / "rim_convergence.py"
-    spec = importlib.util.spec_from_file_location("rim_convergence", path)
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
-    case = jio.load_case("power-helical-flexible")
-    rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for k, (_, rim_mm, circ_mm) in enumerate(ex.POWER_REFINEMENTS[1:]):
-            body = pathlib.Path(tmp) / f"power-wheel-{k}.toml"
-            body.write_text(ex.power_body_text(rim_mm, circ_mm))
-            rows.append(ex.te_of(case, str(body)))
-    mean = np.array([r["te_mean_um"] for r in rows])
-    rms = np.array([r["te_rms_um"] for r in rows])
+    ex = load_example("rim_convergence")
+    texts = [ex.power_body_text(rim, circ) for _, rim, circ in ex.POWER_REFINEMENTS[1:]]
+    mean, rms = _te_with_bodies(ex, "power-helical-flexible", texts)
     assert abs(mean[1] / mean[0] - 1) < 0.01 and abs(rms[1] / rms[0] - 1) < 0.01, (mean, rms)
     assert mean[1] == pytest.approx(92.35, rel=0.01) and rms[1] == pytest.approx(0.401, rel=0.02)

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 from _devices import run_on_cpu_devices
+from _examples import load_example
 from _scene_solve import half_face_meshes
 
 import fem_prep
@@ -852,13 +853,9 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
     backward, and that of order 28 peaking at 2300 rad/s travelling forward, each within the
     predicted span ± one step and at least 3 times its level at 1850 rad/s (measured 4.6×,
     16×). docs/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
-    import importlib.util
     import json
 
-    path = pathlib.Path(__file__).parents[1] / "examples" / "nodal_diameter_resonance.py"
-    spec = importlib.util.spec_from_file_location("nd_example", path)
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("nodal_diameter_resonance")
     res = ex.compute()
     assert all(r == 0 for r in res["result"])
     sp = np.asarray(res["speeds_rad_s"])

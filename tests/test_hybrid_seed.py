@@ -10,6 +10,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _examples import load_example
 
 import fem_prep
 import jaxgear as jg
@@ -148,15 +149,10 @@ def test_power_crowning_against_the_dynamic_factor_at_speed(cache):
     factor lies in the seed's 5–10 µm with its exact band maximum within 1 % of the scan's
     minimum;
     the gradient at 12.5 µm is recomputed against central differences (rtol 1e-3)."""
-    import importlib.util
     import json
 
     root = pathlib.Path(__file__).parents[1]
-    spec = importlib.util.spec_from_file_location(
-        "crowning_df", root / "examples" / "crowning_dynamic_factor.py"
-    )
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("crowning_dynamic_factor")
     stored = json.loads((root / "docs" / "crowning_dynamic_factor.json").read_text())
     depths = np.asarray(stored["crowning_depth_um"])
     df = np.asarray(stored["dynamic_factor"])

@@ -16,6 +16,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _examples import load_example
 from _trains import line_direction, shaft_sum
 
 import fem_prep
@@ -211,15 +212,10 @@ def test_flexible_idler_case_gives_the_documented_figures(tmp_path):
     on 2 cores): examples/flexible_idler.py recomputed against docs/flexible_idler.json (rtol
     1e-6) and docs/trains.md's table (TE mean 31.39 / 28.81 and 25.47 / 22.88 µm, flexible /
     rigid idler; the cross term −0.55 of the own)."""
-    import importlib.util
     import json
 
     root = pathlib.Path(__file__).parents[1]
-    spec = importlib.util.spec_from_file_location(
-        "flexible_idler", root / "examples" / "flexible_idler.py"
-    )
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("flexible_idler")
     stored = json.loads((root / "docs" / "flexible_idler.json").read_text())
     got = ex.main(tmp_path)
     for a, b in zip(got["meshes"], stored["meshes"], strict=True):

@@ -23,8 +23,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from _trains import line_direction, shaft_sum, spins
 from _toml import case_toml
+from _trains import line_direction, shaft_sum, spins
 
 import jaxgear as jg
 import jaxgear.io as jio

@@ -36,13 +36,13 @@ Elements:
   e.g. depth = width with 4 elements in depth gives about half its errors.
 """
 
-import importlib.util
 import json
 from pathlib import Path
 
 import jax
 import numpy as np
 import pytest
+from _examples import load_example
 from skfem.models.elasticity import lame_parameters
 
 from jaxgear.scenes import mortar_weights
@@ -55,11 +55,7 @@ EXACT = 1e-10  # solver precision (relative)
 
 @pytest.fixture(scope="module")
 def mp():
-    spec = importlib.util.spec_from_file_location(
-        "mortar_patch", ROOT / "examples" / "mortar_patch.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("mortar_patch")
     return mod
 
 

@@ -8,7 +8,6 @@ contact."""
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import json
 import math
 import pathlib
@@ -18,6 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _examples import load_example
 
 import jaxgear as jg
 import optimise as op
@@ -342,11 +342,7 @@ def test_jaxgear_optimise_load_centroid_at_speed_on_the_small_case(tmp_path, cap
 
 
 def _example():
-    spec = importlib.util.spec_from_file_location(
-        "end_relief_at_speed", ROOT / "examples" / "end_relief_at_speed.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("end_relief_at_speed")
     return mod
 
 

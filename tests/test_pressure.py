@@ -14,6 +14,7 @@ import math
 import jax
 import numpy as np
 import pytest
+from _examples import load_example
 
 import jaxgear as jg
 from jaxgear import io as jio
@@ -145,15 +146,10 @@ def test_pressure_across_the_face_against_crowning_at_speed():
     1071, 947, 987, 1039, 1085 MPa (the lowest at 5 µm, the dynamic load adding 4 % without
     crowning), the dynamic factor lowest at 10 µm (1.061; 1.131 without crowning), the seed's
     IV-47/48 choice."""
-    import importlib.util
     import pathlib
 
     root = pathlib.Path(__file__).parents[1]
-    spec = importlib.util.spec_from_file_location(
-        "pressure_crowning", root / "examples" / "pressure_crowning.py"
-    )
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("pressure_crowning")
     stored = json.loads((root / "docs" / "pressure_crowning.json").read_text())
     case = jio.load_case("power-helical-flexible")
     from jaxgear.dynamics import static_scene
@@ -174,4 +170,6 @@ def test_pressure_across_the_face_against_crowning_at_speed():
     dyn = [max(p) for p in stored["pressure_dynamic_Pa"]]
     np.testing.assert_allclose(np.array(dyn) / 1e6, [1071, 947, 987, 1039, 1085], atol=1)
     assert int(np.argmin(stored["dynamic_factor"])) == 2
-    np.testing.assert_allclose(np.array(stored["dynamic_factor"])[[0, 2]], [1.131, 1.061], atol=5e-4)
+    np.testing.assert_allclose(
+        np.array(stored["dynamic_factor"])[[0, 2]], [1.131, 1.061], atol=5e-4
+    )

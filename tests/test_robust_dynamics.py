@@ -14,8 +14,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, simulate
-from jaxgear.scenes import TorsionalDynamics
-from jaxgear.scenes import disc_inertia
+from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 
 @pytest.fixture(scope="module")

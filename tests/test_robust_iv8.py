@@ -4,12 +4,12 @@ recomputed for a few realisations and speeds."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import pathlib
 
 import numpy as np
 import pytest
+from _examples import load_example
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 STORED = json.loads((ROOT / "docs" / "robust_iv8.json").read_text())
@@ -42,9 +42,7 @@ def test_the_documented_statements_hold_on_the_committed_figure():
 def test_the_figure_is_reproduced():
     """Realisations 0-3 of class 8 with tip relief at the first, the 12th and the last speed,
     recomputed with examples/robust_iv8.py's setup, equal the stored dynamic factors (1e-6)."""
-    spec = importlib.util.spec_from_file_location("robust_iv8", ROOT / "examples" / "robust_iv8.py")
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("robust_iv8")
     case, scene, crit = ex.setup()
     assert crit == pytest.approx(STORED["critical_speed_rad_s"], rel=1e-9)
     pick = [0, 11, 24]
@@ -69,9 +67,7 @@ def test_profile_slopes_drive_the_class_4_peak():
     import jaxgear as jg
     import jaxgear.dynamics as jd
 
-    spec = importlib.util.spec_from_file_location("robust_iv8", ROOT / "examples" / "robust_iv8.py")
-    ex = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(ex)
+    ex = load_example("robust_iv8")
     case, scene, crit = ex.setup()
     speed = jnp.asarray([0.85 * crit])
     z1 = case.pair.pinion.teeth

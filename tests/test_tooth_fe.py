@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _examples import load_example
 
 import fem_prep
 import jaxgear as jg
@@ -244,13 +245,8 @@ def test_docs_table_matches_its_json():
 def test_docs_table_regenerates():
     """Run examples/stiffness_table.py again: every mean mesh stiffness within 0.1 % (the FE
     tables are deterministic up to the sparse solver's rounding)."""
-    import importlib.util
 
-    spec = importlib.util.spec_from_file_location(
-        "stiffness_table", ROOT / "examples" / "stiffness_table.py"
-    )
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_example("stiffness_table")
     new = mod.table()
     old = json.loads((ROOT / "docs" / "stiffness_table.json").read_text(encoding="utf-8"))
     for name, r in old["pairs"].items():
