@@ -203,7 +203,8 @@ def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
         assert r["order"] == 30 * r["harmonic"] + sign * r["nodal_diameter"]
         # the idler turns at 20/30 of the input: input speed = idler speed × 30/20
         assert r["pinion_speed_rad_s"] == pytest.approx(r["wheel_speed_rad_s"] * 1.5)
-    assert all(r is not None for r in w["rim_waves"])
+    assert all(r["gear"] == "idler" and r["teeth"] == 30 for r in w["nodal_diameter_resonances"])
+    assert list(w["rim_waves"]) == ["idler"] and len(w["rim_waves"]["idler"]) == 2
 
 
 @pytest.mark.slow
