@@ -807,8 +807,10 @@ def campbell_plot(
                 color=color,
                 ms=5,
                 ls="none",
-                label=f"{tag}{direction} ND resonance, order "
-                f"Z{'+' if direction == 'backward' else '−'}n (body frame, (3.9))",
+                label=f"{tag}{direction} ND resonance, Z{'+' if direction == 'backward' else '−'}n"
+                if tag  # several gears: shorter, the legend holds one per gear
+                else f"{direction} ND resonance, order Z{'+' if direction == 'backward' else '−'}n "
+                "(body frame, (3.9))",
             )
     ax.set_ylim(0, f_top)
     ax.set_xlim(0, s_max)
