@@ -48,18 +48,27 @@ def _flexible(scene, bodies, names=None):
     ]
 
 
+def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[str]:
+    """``body_<name>.vtu`` of each condensed body deformed by the quasi-static result ``res``
+    at its position ``k`` (fixed frame: each body turned to its own angle there, centred on its
+    axis); ``names``: {member index: name} (a train's gear names; default a pair's "pinion"
+    and "gear"). Returns the file names."""
+    theta = float(res.theta[k])
+    x = np.asarray(res.x[k])
+    written = []
+    for name, member, body in _flexible(scene, bodies, names):
+        _body_vtu(os.path.join(out_dir, f"body_{name}.vtu"), member, body, theta, x)
+        written.append(f"body_{name}.vtu")
+    return written
+
+
 def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
     the body turned to that position, centred on its axis) and of the loaded contact cells with
     their line loads (N/mm), Hertzian pressures (MPa) and contact half-widths (mm) (``pressure``:
     the result's :class:`~jaxgear.ContactPressure`)."""
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
-    theta = float(res.theta[k])
-    x = np.asarray(res.x[k])
-    written = []
-    for name, member, body in _flexible(scene, bodies):
-        _body_vtu(os.path.join(out_dir, f"body_{name}.vtu"), member, body, theta, x)
-        written.append(f"body_{name}.vtu")
+    written = write_bodies_vtu(out_dir, scene, bodies, res, k)
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
