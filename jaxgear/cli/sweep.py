@@ -88,6 +88,14 @@ def _flexible_gears(case, scene) -> list[dict]:
     return out
 
 
+def _passing_rate(gear: dict, z1: float) -> float:
+    """The condensed ``gear``'s tooth-passing frequency over the first mesh's (z1 the first
+    mesh's order): Z × its speed ratio / z1; exactly 1 where they agree to 1e-9 (a pair's
+    wheel, an idler train's gears)."""
+    rate = gear["teeth"] * gear["speed_ratio"] / z1
+    return 1.0 if abs(rate - 1.0) < 1e-9 else rate
+
+
 def sweep_case(
     case: Case,
     speeds,
@@ -331,10 +339,10 @@ def sweep_case(
             "result": [int(v) for v in np.asarray(r.result)],
         }
     )
-    if hybrid:  # each condensed gear's, per speed
+    if hybrid:  # each condensed gear's, per speed, above half its own tooth-passing frequency
         summary["rim_waves"] = {
             g["name"]: [
-                _rim_content(r, i, float(f), g["stations"], g["spin"])
+                _rim_content(r, i, float(f) * _passing_rate(g, z1), g["stations"], g["spin"])
                 for i, f in enumerate(np.asarray(r.mesh_frequency))
             ]
             for g in flexible
