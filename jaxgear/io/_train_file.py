@@ -261,32 +261,74 @@ def _scene(
             "is not available for a train yet (a hybrid pair only)",
             integration["rotating_frame"],
         )
-    specs, bodies = None, ()
+    specs, bodies, rims = None, (), ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
-        given = sc.subtable(table, "bodies", "scene", names)
-        if given:
-            bodies = tuple(
-                parse_body(given, n, base_dir, "scene.bodies") if n in given else None
-                for n in names
-            )
-            for n, b in zip(names, bodies, strict=True):
-                if b is not None and sum(s_ == shafts[names.index(n)] for s_ in shafts) > 1:
-                    raise sc.fail(
-                        f"scene.bodies.{n}",
-                        "body",
-                        "its gear shares a shaft with another gear (allowed: a flexible gear "
-                        "alone on its shaft, which turns with its body frame)",
-                        b,
-                    )
+        bodies, rims = _bodies(table, names, shafts, shaft_names, base_dir)
     else:
         for key in ("masses_kg", "shafts", "bodies"):
             if key in table:
                 raise sc.fail("scene", key, "is for model = 'lumped3d'")
     spec = SceneSpec(
-        model=model, shafts=specs, gear_bodies=bodies, **parse_dynamics_settings(table)
+        model=model,
+        shafts=specs,
+        gear_bodies=bodies,
+        gear_rims=rims,
+        **parse_dynamics_settings(table),
     )
     return spec, inertias, masses
+
+
+def _bodies(table: dict, names: list, shafts: list, shaft_names: list, base_dir) -> tuple:
+    """``[scene.bodies.<gear or shaft>]``: the condensed body that carries a shaft's gears
+    (a flexible gear alone on its shaft, named by the gear or the shaft; or the gears of a
+    shaft on a body with a ``[pinion_rim]``, named by the shaft, ``gears`` listing the gear on
+    each rim). Returns each gear's body reference or ``None`` and each gear's rim (0 the
+    webbed wheel's, 1 the pinion rim), () without bodies."""
+    allowed = [*shaft_names, *(n for n in names if n not in shaft_names)]
+    given = sc.subtable(table, "bodies", "scene", allowed)
+    if not given:
+        return (), ()
+    refs: list = [None] * len(names)
+    rims = [0] * len(names)
+    for key in given:
+        where = f"scene.bodies.{key}"
+        s_ = shaft_names.index(key) if key in shaft_names else shafts[names.index(key)]
+        carried = [names[g] for g in range(len(names)) if shafts[g] == s_]
+        t = given[key]
+        if not isinstance(t, dict):
+            raise sc.fail("scene.bodies", key, "must be a table ([scene.bodies.<name>])", t)
+        sc.check_keys(t, {"body", "gears"}, where)
+        ref = parse_body(
+            {key: {"body": t["body"]} if "body" in t else {}}, key, base_dir, "scene.bodies"
+        )
+        order = carried
+        if "gears" in t:
+            order = t["gears"]
+            if (
+                not isinstance(order, list)
+                or not all(isinstance(x, str) for x in order)
+                or sorted(order) != sorted(carried)
+            ):
+                raise sc.fail(
+                    where,
+                    "gears",
+                    "must list the gears of shaft "
+                    f"{shaft_names[s_]!r} ({', '.join(carried)}), one per rim of the body: "
+                    "the webbed wheel's rim, then the [pinion_rim]",
+                    order,
+                )
+        for r, gear in enumerate(order):
+            g = names.index(gear)
+            if refs[g] is not None:
+                raise sc.fail(
+                    where,
+                    "body",
+                    f"gear {gear!r} (shaft {shaft_names[s_]!r}) has a body already",
+                    ref,
+                )
+            refs[g], rims[g] = ref, r
+    return tuple(refs), tuple(rims)
 
 
 def _shaft(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
