@@ -44,8 +44,9 @@
     torque_position_mm = 0.0         # input, loaded and balancing output shafts' torque
     bearings = [{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 },
                 { position_mm = 60.0, radial_N_per_um = 200.0 }]
-    [scene.bodies.idler]             # lumped3d: a flexible gear, alone on its shaft (quasi-static)
+    [scene.bodies.idler]             # lumped3d: a flexible gear alone on its shaft, or a shaft
     body = "accessory-idler"         # a fem_prep body: embedded name, body .toml or .npz
+    # gears = ["wheel", "pinion"]    # a body with a [pinion_rim]: the gear on each rim
     [[operating.wrenches]]           # lumped3d: a force and tilting moment on a shaft node
     shaft = "intermediate"
     position_mm = 80.0
