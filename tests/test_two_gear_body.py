@@ -225,12 +225,14 @@ def test_one_body_frame_puts_both_gears_teeth_on_their_stations(scene):
             assert off.size and np.abs(off).max() < 1e-9, (k, theta, off)
 
 
+@pytest.mark.slow
 def test_rigidified_body_reproduces_the_rigid_node_train(case, bodies):
     """The two-gear body a thousand times stiffer (E × 1000), the shafts too (the body bridges
     its shaft between the two gears, which the rigid-node train's shaft does not), uniform mesh
     stiffness: each mesh's TE equals the rigid-node lumped train's, mean within 0.5 % and RMS
     within 3 % (measured 0.06 % and 0.008 %, 0.005 %); the steel body adds 67 % and 14 % to
-    the TE mean (its 3 mm web under the wheel; docs/trains.md)."""
+    the TE mean (its 3 mm web under the wheel; docs/trains.md). Slow: about 40 s on 2 cores,
+    half of it fem_prep building the stiffened body."""
     stiff = _stiff_body()
     uni = case.replace(
         stiffness_model="uniform", uniform_k0=1.4e10, youngs_modulus=1e3 * case.youngs_modulus
