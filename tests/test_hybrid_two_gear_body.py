@@ -298,7 +298,7 @@ def test_the_two_rims_share_the_body(scene):
             assert round(C[0, 1] / np.sqrt(C[0, 0] * C[1, 1]), 2) == -0.26
 
 
-def test_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
+def test_hybrid_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
     """Mismatches between the body and its gears, in one line each: the ``gears`` list, a
     one-rim body on a two-gear shaft, a gear position that is not where the body puts its rim,
     a rim width that is not the mesh's face width, a clocking that puts the pinion's teeth off
@@ -387,7 +387,7 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
 
 
 @pytest.mark.slow
-def test_two_gear_body_example_gives_the_documented_figures(tmp_path):
+def test_hybrid_two_gear_body_example_gives_the_documented_figures(tmp_path):
     """examples/two_gear_body.py (fem_prep builds the embedded ``intermediate-shaft`` and its
     stiffened copy once, one to two minutes each on 2 cores) recomputed against
     docs/two_gear_body.json (rtol 1e-6) and docs/trains.md's figures: TE mean 28.46 / 16.10 /
