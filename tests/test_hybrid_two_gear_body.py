@@ -387,6 +387,8 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
     w = json.loads((sweep / "sweep.json").read_text())
     assert w["model"] == "hybrid" and w["flexible_gears"] == ["wheel", "pinion"]
     assert w["result"] == [0, 0]
+    elastic = [f for f in w["natural_frequencies_Hz"] if f > 1.0]  # the rigid rotation is 0
+    assert round(elastic[0] / 1e3, 1) == 2.2  # the first elastic mode, kHz
     for k, m in enumerate(s["meshes"]):
         static = m["quasi_static"]["exact"]["te_mean_m"]
         for i in range(2):
