@@ -306,12 +306,14 @@ def test_the_two_rims_share_the_body(scene):
             assert round(C[0, 1] / np.sqrt(C[0, 0] * C[1, 1]), 2) == -0.26
 
 
-def test_hybrid_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
-    """Mismatches between the body and its gears, in one line each: the ``gears`` list, a
-    one-rim body on a two-gear shaft, a gear position that is not where the body puts its rim,
-    a rim width that is not the mesh's face width, a clocking that puts the pinion's teeth off
-    its stations (7°: the wheel's 30 stations allow body frames 12° apart, the nearest puts the
-    pinion's teeth 5° = 5/24 of its pitch off), a two-rim body in a pair case."""
+def test_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
+    """Mismatches between the body and its gears, in one line each: when the file is read, the
+    ``gears`` list, a one-rim body on a two-gear shaft and a gear position that is not where
+    the body puts its pinion rim; when the scene is built (the same two for a body given to the
+    API), a rim width that is not the mesh's face width, a clocking that puts the pinion's
+    teeth off its stations (7°: the wheel's 30 stations allow body frames 12° apart, the
+    nearest puts the pinion's teeth 5° = 5/24 of its pitch off), a two-rim body in a pair
+    case."""
     text = CASE.read_text()
 
     def load(new_text):
@@ -333,12 +335,18 @@ def test_hybrid_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
         (
             'body = "hybrid-test-shaft.toml"',
             'body = "hybrid-test-wheel.toml"',
-            r"^shaft 'intermediate': its body has 1 rim\(s\) and the shaft 2 gear\(s\)",
+            (
+                r"^\[scene\.bodies\.intermediate\] body = .*: has 1 rim\(s\) \(30 stations\) and "
+                r"shaft 'intermediate' 2 gear\(s\) \(wheel, pinion\)"
+            ),
         ),
         (
             "pinion = 52.0",
             "pinion = 50.0",
-            r"^shaft 'intermediate': gear_positions_mm pinion = 50, but its body puts rim 1 at 52 mm",
+            (
+                r"^\[scene\.shafts\.intermediate\] gear_positions_mm = .*: puts 'pinion' 20 mm from "
+                r"'wheel', the body .* its pinion rim 22 mm from its wheel rim"
+            ),
         ),
         (
             "profile_shift = 0.3\nface_width_mm = 12.0",
@@ -356,6 +364,18 @@ def test_hybrid_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
         with pytest.raises(ValueError, match=match) as err:
             load(text.replace(old, new))
         assert "\n" not in str(err.value)
+    wheel_only = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+    with pytest.raises(ValueError, match=r"^shaft 'intermediate': its body has 1 rim\(s\) and"):
+        case.static_train(bodies=(None, wheel_only, wheel_only, None))
+    shafts = list(case.scene.shafts)
+    shafts[1] = dataclasses.replace(shafts[1], gear_z=(0.030, 0.050))
+    moved = case.replace(scene=dataclasses.replace(case.scene, shafts=tuple(shafts)))
+    with pytest.raises(
+        ValueError,
+        match=r"^shaft 'intermediate': gear_positions_mm pinion = 50, but its body puts rim 1 at "
+        r"52 mm",
+    ):
+        moved.static_train(bodies=bodies)
     with pytest.raises(ValueError, match=r"^scene\.gear_body: the body has 2 rims"):
         jg.scenes.hybrid_pair(
             case.pairs[0],

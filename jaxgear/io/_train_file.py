@@ -265,7 +265,7 @@ def _scene(
     specs, bodies, rims = None, (), ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
-        bodies, rims = _bodies(table, names, shafts, shaft_names, base_dir)
+        bodies, rims = _bodies(table, names, shafts, shaft_names, base_dir, specs)
     else:
         for key in ("masses_kg", "shafts", "bodies"):
             if key in table:
@@ -280,12 +280,16 @@ def _scene(
     return spec, inertias, masses
 
 
-def _bodies(table: dict, names: list, shafts: list, shaft_names: list, base_dir) -> tuple:
+def _bodies(
+    table: dict, names: list, shafts: list, shaft_names: list, base_dir, specs=None
+) -> tuple:
     """``[scene.bodies.<gear or shaft>]``: the condensed body that carries a shaft's gears
     (a flexible gear alone on its shaft, named by the gear or the shaft; or the gears of a
     shaft on a body with a ``[pinion_rim]``, named by the shaft, ``gears`` listing the gear on
     each rim). Returns each gear's body reference or ``None`` and each gear's rim (0 the
-    webbed wheel's, 1 the pinion rim), () without bodies."""
+    webbed wheel's, 1 the pinion rim), () without bodies. A body file (not a condensed .npz)
+    is read now: its rim count against the shaft's gears and its pinion rim's position against
+    their ``gear_positions_mm`` (``specs``: the shafts), before any work."""
     allowed = [*shaft_names, *(n for n in names if n not in shaft_names)]
     given = sc.subtable(table, "bodies", "scene", allowed)
     if not given:
@@ -319,6 +323,9 @@ def _bodies(table: dict, names: list, shafts: list, shaft_names: list, base_dir)
                     "the webbed wheel's rim, then the [pinion_rim]",
                     order,
                 )
+        _check_rims(
+            ref, where, order, shaft_names[s_], None if specs is None else specs[s_], carried
+        )
         for r, gear in enumerate(order):
             g = names.index(gear)
             if refs[g] is not None:
@@ -330,6 +337,40 @@ def _bodies(table: dict, names: list, shafts: list, shaft_names: list, base_dir)
                 )
             refs[g], rims[g] = ref, r
     return tuple(refs), tuple(rims)
+
+
+def _check_rims(ref: str, where: str, order: list, shaft: str, spec, carried: list) -> None:
+    """A fem_prep body file's rims against the gears it carries (one line, mm): as many rims
+    as gears, and a pinion rim where ``gear_positions_mm`` puts the second gear (a condensed
+    .npz is checked when the scene is built)."""
+    import fem_prep
+
+    if ref.endswith(".npz"):
+        return
+    body = fem_prep.load_body(ref)
+    teeth = body.rim_teeth
+    if len(teeth) != len(order):
+        raise sc.fail(
+            where,
+            "body",
+            f"has {len(teeth)} rim(s) ({', '.join(map(str, teeth))} stations) and shaft "
+            f"{shaft!r} {len(order)} gear(s) ({', '.join(order)}) (allowed: one gear per rim; a "
+            "second gear needs a fem_prep body with a [pinion_rim])",
+            ref,
+        )
+    if spec is None or body.pinion_rim is None:
+        return
+    z = dict(zip(carried, spec.gear_positions, strict=True))
+    got = (z[order[1]] - z[order[0]]) * 1e3
+    want = body.pinion_rim.axial_position * 1e3
+    if abs(got - want) > 1e-3:
+        raise sc.fail(
+            f"scene.shafts.{shaft}",
+            "gear_positions_mm",
+            f"puts {order[1]!r} {got:.6g} mm from {order[0]!r}, the body {ref!r} its pinion rim "
+            f"{want:.6g} mm from its wheel rim (allowed: equal, to 1 µm)",
+            {k: round(v * 1e3, 6) for k, v in z.items()},
+        )
 
 
 def _shaft(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
