@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
+import meshio
 import numpy as np
 import pytest
 from _examples import load_example
@@ -179,7 +180,8 @@ def test_flexible_train_refusals_are_one_line(case, tmp_path):
 @pytest.mark.slow
 def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
     """``jaxgear run`` on the test train: per-mesh quasi-static figures, bearing forces, the
-    flexible gear named, no sweep (the ``jaxgear sweep`` command printed instead); then
+    flexible gear named, its body's VTU, no sweep (the ``jaxgear sweep`` command printed
+    instead); then
     ``jaxgear sweep`` on it: a hybrid sweep per mesh with the idler's nodal-diameter
     resonances (seed (3.9) at its 30 teeth) and rim waves."""
     import json
@@ -192,6 +194,12 @@ def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
     for m in s["meshes"]:
         assert m["quasi_static"]["exact"]["te_mean_m"] > 0
     assert any(k.startswith("idler ") for k in s["bearing_forces_mean_N"]["exact"])
+    # the idler body deformed at the largest line load, named by its gear, on its own axis
+    assert s["body_vtu"] == ["body_idler.vtu"]
+    body = meshio.read(out / "body_idler.vtu")
+    assert np.abs(body.point_data["displacement_m"]).max() > 0
+    centre = s["gears"][1]["centre_m"]
+    np.testing.assert_allclose(body.points.mean(axis=0)[:2], centre, atol=1e-6)
     sweep = tmp_path / "sweep"
     argv = ["sweep", str(CASE), "--speeds", "500:1000:2", "--out", str(sweep), "--quiet"]
     assert main([*argv, "--steps-per-period", "64", "--periods", "20"]) == 0
@@ -203,7 +211,8 @@ def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
         assert r["order"] == 30 * r["harmonic"] + sign * r["nodal_diameter"]
         # the idler turns at 20/30 of the input: input speed = idler speed × 30/20
         assert r["pinion_speed_rad_s"] == pytest.approx(r["wheel_speed_rad_s"] * 1.5)
-    assert all(r is not None for r in w["rim_waves"])
+    assert all(r["gear"] == "idler" and r["teeth"] == 30 for r in w["nodal_diameter_resonances"])
+    assert list(w["rim_waves"]) == ["idler"] and len(w["rim_waves"]["idler"]) == 2
 
 
 @pytest.mark.slow

@@ -765,38 +765,53 @@ def campbell_plot(
             label="critical speed (sweep.json)",
         )
     nd = [r for r in summary.get("nodal_diameter_resonances") or () if r["harmonic"] == 1]
-    nd_labels = {}  # direction: [(speed, frequency, nodal diameter)], placed once laid out
-    for direction, marker, color in (("backward", "v", "C4"), ("forward", "^", "C2")):
-        rows = [r for r in nd if r["direction"] == direction and r["frequency_hz"] < f_top]
-        if not rows:
-            continue
-        # the excitation order h Z ± n of the wheel's rotation, in its frame (seed (3.9))
-        ratio = summary.get("pinion_teeth", z1) / summary.get("wheel_teeth", z1)
-        labelled = set()
-        for r in rows:
-            ax.plot(
-                s_line,
-                r["order"] * s_line * ratio / (2 * math.pi),
-                color=color,
-                ls=":",
-                lw=0.6,
-            )
-            if r["nodal_diameter"] in labelled:  # one label per family and direction
+    # one family of markers per condensed gear (a pair's wheel, a train's idler, ...)
+    gears = list(dict.fromkeys(r.get("gear", "wheel") for r in nd))
+    nd_labels = {}  # (direction, gear tag, colour): [(speed, frequency, n)], placed once laid out
+    for j, gear in enumerate(gears):
+        tag = f"{gear} " if len(gears) > 1 else ""
+        for direction, marker, color in _ND_MARKERS[j % len(_ND_MARKERS)]:
+            rows = [
+                r
+                for r in nd
+                if r.get("gear", "wheel") == gear
+                and r["direction"] == direction
+                and r["frequency_hz"] < f_top
+            ]
+            if not rows:
                 continue
-            labelled.add(r["nodal_diameter"])
-            nd_labels.setdefault(direction, []).append(
-                (r["pinion_speed_rad_s"], r["frequency_hz"], r["nodal_diameter"])
+            labelled = set()
+            for r in rows:
+                # the excitation order h Z ± n of the gear's rotation, in its frame (seed
+                # (3.9)), at its speed: its turns per input turn
+                ratio = r.get("speed_ratio") or summary.get("pinion_teeth", z1) / summary.get(
+                    "wheel_teeth", z1
+                )
+                ax.plot(
+                    s_line,
+                    r["order"] * s_line * ratio / (2 * math.pi),
+                    color=color,
+                    ls=":",
+                    lw=0.6,
+                )
+                if r["nodal_diameter"] in labelled:  # one label per family and direction
+                    continue
+                labelled.add(r["nodal_diameter"])
+                nd_labels.setdefault((direction, tag, color), []).append(
+                    (r["pinion_speed_rad_s"], r["frequency_hz"], r["nodal_diameter"])
+                )
+            ax.plot(
+                [r["pinion_speed_rad_s"] for r in rows],
+                [r["frequency_hz"] for r in rows],
+                marker,
+                color=color,
+                ms=5,
+                ls="none",
+                label=f"{tag}{direction} ND resonance, Z{'+' if direction == 'backward' else '−'}n"
+                if tag  # several gears: shorter, the legend holds one per gear
+                else f"{direction} ND resonance, order Z{'+' if direction == 'backward' else '−'}n "
+                "(body frame, (3.9))",
             )
-        ax.plot(
-            [r["pinion_speed_rad_s"] for r in rows],
-            [r["frequency_hz"] for r in rows],
-            marker,
-            color=color,
-            ms=5,
-            ls="none",
-            label=f"{direction} ND resonance, order Z{'+' if direction == 'backward' else '−'}n "
-            "(body frame, (3.9))",
-        )
     ax.set_ylim(0, f_top)
     ax.set_xlim(0, s_max)
     top = ax.secondary_xaxis(
@@ -839,6 +854,11 @@ _ND_OFFSETS = {
     ),
 }
 _ND_STYLE = {"backward": ("−", "C4"), "forward": ("+", "C2")}
+#: the ND resonance markers (direction, marker, colour) of the first and second condensed gear
+_ND_MARKERS = (
+    (("backward", "v", "C4"), ("forward", "^", "C2")),
+    (("backward", "<", "C5"), ("forward", ">", "C8")),
+)
 
 
 def _nd_text(sign: str, ns: list[int]) -> str:
@@ -855,7 +875,8 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
     overlaps: each label takes the first offset of :data:`_ND_OFFSETS` where it lies inside the
     axes and clear of every label placed before (and of ``avoid``); one that fits nowhere joins
     the previous label of its direction ("−1…−4ND" at the first family's point). Needs a drawn
-    figure (fixed layout). Returns the annotations."""
+    figure (fixed layout). A key may also be (direction, text prefix, colour): the families of
+    one of several condensed gears ("idler −2ND"). Returns the annotations."""
     from matplotlib.text import Text
     from matplotlib.transforms import Bbox
 
@@ -871,11 +892,13 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
         placed += [Bbox([[x - r, y - r], [x + r, y + r]]) for x, y in xy]
     out = []
 
-    def label(anchor, ns, direction, k):
+    def label(anchor, ns, key, k):
+        direction, prefix, color = key if isinstance(key, tuple) else (key, "", None)
         ha, va, offsets = _ND_OFFSETS[direction]
-        sign, color = _ND_STYLE[direction]
+        sign, default = _ND_STYLE[direction]
+        color = color or default
         ann = ax.annotate(
-            _nd_text(sign, ns),
+            prefix + _nd_text(sign, ns),
             anchor,
             textcoords="offset points",
             xytext=offsets[k],
@@ -894,28 +917,29 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
         ann.update_positions(renderer)
         return ann, Text.get_window_extent(ann, renderer).padded(1.5)  # the text, no leader
 
-    def put(anchor, ns, direction, force=False):
+    def put(anchor, ns, key, force=False):
         """The label at the first offset that fits, else None (``force``: at the offset with
         the fewest overlaps, inside the axes if any is)."""
         cost = []
+        direction = key[0] if isinstance(key, tuple) else key
         for k in range(len(_ND_OFFSETS[direction][2])):
-            ann, box = label(anchor, ns, direction, k)
+            ann, box = label(anchor, ns, key, k)
             out_ = not (inside.contains(box.x0, box.y0) and inside.contains(box.x1, box.y1))
             hits = sum(box.overlaps(p) for p in placed)
             if not out_ and not hits:
                 return ann, box
             ann.remove()
             cost.append((out_, hits, k))
-        return label(anchor, ns, direction, min(cost)[2]) if force else (None, None)
+        return label(anchor, ns, key, min(cost)[2]) if force else (None, None)
 
-    for direction in ("backward", "forward"):
+    for key, families in labels.items():
         last = None  # (annotation, its families, anchor, box)
-        for x, y, n in sorted(labels.get(direction, ())):
-            ann, box = put((x, y), [n], direction)
+        for x, y, n in sorted(families):
+            ann, box = put((x, y), [n], key)
             if ann is not None:
                 last = (ann, [n], (x, y), box)
             elif last is None:
-                ann, box = put((x, y), [n], direction, force=True)
+                ann, box = put((x, y), [n], key, force=True)
                 last = (ann, [n], (x, y), box)
             else:  # join the previous label of this direction
                 prev, ns, anchor, pbox = last
@@ -923,7 +947,7 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
                 out.remove(prev)
                 placed.remove(pbox)
                 ns = [*ns, n]
-                ann, box = put(anchor, ns, direction, force=True)
+                ann, box = put(anchor, ns, key, force=True)
                 last = (ann, ns, anchor, box)
             placed.append(box)
             out.append(ann)

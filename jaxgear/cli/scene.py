@@ -36,14 +36,30 @@ def _body_vtu(path, member, body, theta, x, extra=None) -> None:
     )
 
 
-def _flexible(scene, bodies):
+def _flexible(scene, bodies, names=None):
+    """(name, member, body) of each condensed member; ``names``: {member index: name}
+    (default a pair's "pinion" and "gear")."""
     from ..scenes import FlexibleMember
 
     return [
-        (("pinion", "gear")[m], member, body)
+        ((names or {0: "pinion", 1: "gear"})[m], member, body)
         for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True))
         if isinstance(member, FlexibleMember) and body is not None
     ]
+
+
+def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[str]:
+    """``body_<name>.vtu`` of each condensed body deformed by the quasi-static result ``res``
+    at its position ``k`` (fixed frame: each body turned to its own angle there, centred on its
+    axis); ``names``: {member index: name} (a train's gear names; default a pair's "pinion"
+    and "gear"). Returns the file names."""
+    theta = float(res.theta[k])
+    x = np.asarray(res.x[k])
+    written = []
+    for name, member, body in _flexible(scene, bodies, names):
+        _body_vtu(os.path.join(out_dir, f"body_{name}.vtu"), member, body, theta, x)
+        written.append(f"body_{name}.vtu")
+    return written
 
 
 def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
@@ -52,12 +68,7 @@ def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     their line loads (N/mm), Hertzian pressures (MPa) and contact half-widths (mm) (``pressure``:
     the result's :class:`~jaxgear.ContactPressure`)."""
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
-    theta = float(res.theta[k])
-    x = np.asarray(res.x[k])
-    written = []
-    for name, member, body in _flexible(scene, bodies):
-        _body_vtu(os.path.join(out_dir, f"body_{name}.vtu"), member, body, theta, x)
-        written.append(f"body_{name}.vtu")
+    written = write_bodies_vtu(out_dir, scene, bodies, res, k)
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
@@ -209,17 +220,20 @@ def scene_lines(q: dict) -> list[str]:
     return lines
 
 
-def write_body_series(out_dir, scene, bodies, dyn) -> list[str]:
+def write_body_series(out_dir, scene, bodies, dyn, names=None) -> list[str]:
     """VTU time series of each flexible body over the kept steps of one speed
-    (:class:`jaxgear.dynamics.DynamicResult` with ``states``): ``body_<member>_NNNN.vtu`` and a
-    ParaView collection ``body_<member>.pvd`` (time in s), written atomically."""
+    (:class:`jaxgear.dynamics.DynamicResult` with ``states``): ``body_<name>_NNNN.vtu`` and a
+    ParaView collection ``body_<name>.pvd`` (time in s), written atomically; ``names``:
+    {member index: name} (a train's gear names; default a pair's "pinion" and "gear"). Each
+    body is drawn in the fixed frame, turned to its own angle at each step (its speed ratio
+    and sense)."""
     from ..io import atomic_open
 
     states = np.asarray(dyn.states)
     theta = np.asarray(dyn.theta)
     dt = float(dyn.time_step)
     written = []
-    for name, member, body in _flexible(scene, bodies):
+    for name, member, body in _flexible(scene, bodies, names):
         rows = []
         for k in range(states.shape[0]):
             fname = f"body_{name}_{k:04d}.vtu"

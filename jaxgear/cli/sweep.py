@@ -27,23 +27,25 @@ __all__ = ["add_sweep_parser", "default_sweep_dir", "run_sweep", "sweep_case"]
 STIFFENING_WARN = 0.05
 # pinion speeds (0 to 1.05 x the top speed) at which a hybrid sweep follows the modes
 CAMPBELL_GRID = 43
+# the lowest elastic modes of a hybrid structure searched for each condensed gear's
+# nodal-diameter families (seed (3.9))
+ND_MODES = 40
 
 
 def _clean(values) -> list:
     return [float(v) if np.isfinite(v) else None for v in np.asarray(values, dtype=float)]
 
 
-def _rim_content(sw, i, f_mesh) -> dict | None:
+def _rim_content(sw, i, f_mesh, stations: slice, spin: float) -> dict:
     """The largest rim wave n >= 1 of speed ``i`` above half the mesh frequency ``f_mesh``
-    (Hz), axial and radial (None for a rigid wheel)."""
+    (Hz), axial and radial, of the condensed gear whose stations are ``stations`` of the rim
+    records, turning in the ``spin`` sense (direction +1: forward, with its rotation)."""
     from ..dynamics import rim_waves
 
     out = {}
     for comp in ("axial", "radial"):
-        u = np.asarray(getattr(sw, f"rim_{comp}")[i])
-        if u.shape[-1] == 0:
-            return None
-        w = rim_waves(u, float(sw.time_step[i]), -1.0, (0.5 * f_mesh, np.inf))
+        u = np.asarray(getattr(sw, f"rim_{comp}")[i])[:, stations]
+        w = rim_waves(u, float(sw.time_step[i]), spin, (0.5 * f_mesh, np.inf))
         n = 1 + int(np.argmax(w["amplitude"][1:]))
         out[comp] = {
             "nodal_diameter": n,
@@ -52,6 +54,46 @@ def _rim_content(sw, i, f_mesh) -> dict | None:
             "direction": int(w["direction"][n]),
         }
     return out
+
+
+def _flexible_gears(case, scene) -> list[dict]:
+    """Every condensed gear of a hybrid scene, in member order: ``name`` (a pair's "pinion" or
+    "gear", a train's gear name), ``member`` (its index in ``scene.members``), ``teeth`` Z,
+    ``speed_ratio`` (its turns per turn of the pinion or input, > 0), ``spin`` (its sense about
+    z, ±1), ``stations`` (the slice of its stations in the rim records) and ``meshes`` (the
+    names of the meshes it is in)."""
+    from .. import TrainCase
+    from ..dynamics import rim_stations
+
+    train = isinstance(case, TrainCase)
+    names = case.gear_names if train else ("pinion", "gear")
+    out = []
+    for m, stations in rim_stations(scene):
+        member = scene.members[m]
+        if train:
+            meshes = [case.mesh_name(k) for k, gears in enumerate(case.gears) if m in gears]
+        else:
+            meshes = [case.name]
+        out.append(
+            {
+                "name": names[m],
+                "member": m,
+                "teeth": int(member.rim_dofs.shape[0]),
+                "speed_ratio": float(member.ratio),
+                "spin": float(member.spin),
+                "stations": stations,
+                "meshes": meshes,
+            }
+        )
+    return out
+
+
+def _passing_rate(gear: dict, z1: float) -> float:
+    """The condensed ``gear``'s tooth-passing frequency over the first mesh's (z1 the first
+    mesh's order): Z × its speed ratio / z1; exactly 1 where they agree to 1e-9 (a pair's
+    wheel, an idler train's gears)."""
+    rate = gear["teeth"] * gear["speed_ratio"] / z1
+    return 1.0 if abs(rate - 1.0) < 1e-9 else rate
 
 
 def sweep_case(
@@ -73,9 +115,11 @@ def sweep_case(
     :func:`jaxgear.dynamics.speed_sweep` for both, tracking the largest Hertzian pressure per
     speed); writes ``sweep.json``, ``dynamic_factor.png``, ``campbell.png``,
     ``contact_pressure.png`` and the dynamic pressure map(s) (:func:`_dynamic_pressure_map`) to
-    ``out_dir`` (atomically) and returns the JSON dict. A scene with condensed bodies adds the wheel's nodal-diameter resonances (3.9)
-    and rim waves per speed; ``vtu_speed`` (condensed bodies only): a VTU time series of the
-    bodies at that pinion speed."""
+    ``out_dir`` (atomically) and returns the JSON dict. A scene with condensed bodies adds, for
+    each condensed gear (a pair's pinion and/or wheel, a train's flexible gears), its
+    nodal-diameter resonances (3.9) at its teeth and speed and its rim waves per speed;
+    ``vtu_speed`` (condensed bodies only): a VTU time series of every body at that pinion
+    (input) speed, one file set per body named by its gear."""
     import jax
     from tqdm.auto import tqdm
 
@@ -112,10 +156,11 @@ def sweep_case(
         raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
     speeds = np.asarray(speeds, dtype=float)
     hybrid = spec.hybrid
-    if vtu_speed is not None and not (hybrid and not isinstance(case, TrainCase)):
+    if vtu_speed is not None and not hybrid:
         raise ValueError(
             f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
-            "to export ([scene.gear_body] or [scene.pinion_body] of a pair)"
+            "to export ([scene.gear_body] or [scene.pinion_body] of a pair, [scene.bodies.<gear>] "
+            "of a train)"
         )
     if vtu_speed is not None and not vtu_speed > 0:
         raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
@@ -199,9 +244,8 @@ def sweep_case(
         summary["speed_of"] = "input"  # speeds of the input gear
         summary["mesh_names"] = [case.mesh_name(k) for k in range(n_meshes)]
         summary["static_mesh_force_N"] = [float(m.static_force[0]) for m in r.meshes]
-    # the condensed gear whose nodal diameters and rim waves are reported (member 1: a pair's
-    # wheel, an idler train's idler), its teeth and the input's per its turn
-    z_wheel = z_input = None
+    # the condensed gears whose nodal diameters and rim waves are reported: every one
+    flexible = _flexible_gears(case, model.scene) if hybrid else []
     if hybrid:
         summary.update(
             {
@@ -212,14 +256,11 @@ def sweep_case(
             }
         )
         if not isinstance(case, TrainCase):
-            z_input, z_wheel = case.pair.pinion.teeth, case.pair.gear.teeth
-            summary.update(pinion_teeth=z_input, wheel_teeth=z_wheel)
-        else:
-            flexible = [i for i, b in enumerate(bodies) if b is not None]
-            summary["flexible_gears"] = [case.gear_names[i] for i in flexible]
-            if 1 in flexible:
-                z_wheel = case.members()[1].teeth
-                z_input = z_wheel * float(case.layout().ratios[1])
+            summary.update(pinion_teeth=case.pair.pinion.teeth, wheel_teeth=case.pair.gear.teeth)
+        summary["flexible_gears"] = [g["name"] for g in flexible]
+        summary["flexible_gear_teeth"] = [g["teeth"] for g in flexible]
+        summary["flexible_gear_speed_ratio"] = [g["speed_ratio"] for g in flexible]
+        summary["flexible_gear_meshes"] = [g["meshes"] for g in flexible]
     elif n_meshes == 1:
         summary["mesh_stiffness_mean_N_per_m"] = float(model.mesh_stiffness_mean)
     else:  # each mesh's time-averaged loaded stiffness
@@ -279,10 +320,14 @@ def sweep_case(
             campbell_coincidences(omega, energy, z, float(speeds.max()), n_modes=3, speeds=grid)
             for z in orders
         ]
-    if z_wheel is not None:
-        summary["nodal_diameter_resonances"] = _nodal_diameter_resonances(
-            model.scene, modes, speeds, z_input, z_wheel, at if grid is not None else None
-        )
+    if hybrid:
+        summary["nodal_diameter_resonances"] = [
+            row
+            for g in flexible
+            for row in _nodal_diameter_resonances(
+                model.scene, modes, speeds, g, at if grid is not None else None
+            )
+        ]
     summary.update({"speeds_rad_s": _clean(speeds), "mesh_frequency_Hz": _clean(r.mesh_frequency)})
     summary.update(_mesh_responses(model, r, speeds))
     summary.update(_pressure_responses(model, r, law, hybrid, hertz))
@@ -294,10 +339,14 @@ def sweep_case(
             "result": [int(v) for v in np.asarray(r.result)],
         }
     )
-    if hybrid:
-        summary["rim_waves"] = [
-            _rim_content(r, i, float(f)) for i, f in enumerate(np.asarray(r.mesh_frequency))
-        ]
+    if hybrid:  # each condensed gear's, per speed, above half its own tooth-passing frequency
+        summary["rim_waves"] = {
+            g["name"]: [
+                _rim_content(r, i, float(f) * _passing_rate(g, z1), g["stations"], g["spin"])
+                for i, f in enumerate(np.asarray(r.mesh_frequency))
+            ]
+            for g in flexible
+        }
     summary.update(
         {
             "bearing_names": list(getattr(model.scene, "reaction_names", ())),
@@ -325,14 +374,16 @@ def sweep_case(
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
     dyn_map = _dynamic_pressure_map(case, model, spec, law, r, speeds, hertz)
     if hybrid:
-        vtu = _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir)
+        vtu = _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible)
         summary["vtu_series"] = {"speed_rad_s": vtu_speed, "files": vtu} if vtu else None
         summary["notes"] = (
             "hybrid model (condensed bodies): Newmark in the cell space, centrifugal loads on, "
             "damping on the mesh-averaged system ([scene.damping]); steps_per_period_used per "
             "speed (automatic unless [scene.integration] sets it; with several, the kept records "
-            "are subsampled to the smallest); rim_waves: the wheel's largest rim wave above half "
-            "the mesh frequency per nodal diameter (body frame, direction +1 forward); bearing "
+            "are subsampled to the smallest); rim_waves: each condensed gear's largest rim wave "
+            "above half the mesh frequency per nodal diameter (its body frame, direction +1 "
+            "forward, with its rotation); nodal_diameter_resonances: (3.9) for each condensed "
+            "gear at its teeth and speed (gear, teeth, speed_ratio); bearing "
             "forces in the fixed frame, the static ones at the first speed (its centrifugal load)"
         )
     summary["elapsed_s"] = time.perf_counter() - t0
@@ -520,37 +571,42 @@ def _dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | No
     return {"summary": summary, "maps": maps}
 
 
-def _nodal_diameter_resonances(scene, modes, speeds, z1: float, z2: int, at=None) -> list:
-    """The (3.9) speeds, up to 1.05 × the top speed, where the mesh excites the wheel's
-    nodal-diameter families (web modes: most of their kinetic energy in the body), first and
-    second mesh harmonics, for a wheel (member 1) of ``z2`` teeth and ``z1`` = z2 times its
-    turns per input turn (a pair's pinion teeth); [] for a rigid wheel. ``at``: the modes at
-    speed (:func:`jaxgear.dynamics.modes_at_speed`), or None (the frequencies at rest)."""
+def _nodal_diameter_resonances(
+    scene, modes, speeds, gear: dict, at=None, n_modes: int = ND_MODES
+) -> list:
+    """The (3.9) speeds, up to 1.05 × the top speed, where the meshes excite the
+    nodal-diameter families of the condensed ``gear`` (:func:`_flexible_gears`; web modes: most
+    of their kinetic energy in its body), first and second mesh harmonics, at its teeth Z and
+    its speed (``speed_ratio`` times the pinion's or input's): every mesh it is in passes Z of
+    its teeth per turn, so they share the orders h Z ± n. Each row names the gear (``gear``,
+    ``teeth``, ``speed_ratio``). ``at``: the modes at speed
+    (:func:`jaxgear.dynamics.modes_at_speed`), or None (the frequencies at rest); ``n_modes``:
+    the lowest elastic modes of the structure examined."""
     from ..dynamics import nodal_diameter_modes, nodal_diameter_resonances
-    from ..scenes import FlexibleMember
 
-    if not isinstance(scene.members[1], FlexibleMember):
-        return []
-    nd = nodal_diameter_modes(scene, modes, n_modes=40)
+    nd = nodal_diameter_modes(scene, modes, n_modes=n_modes, member=gear["member"])
     web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
     if at is None:
         freqs, grid = nd["frequency_hz"][web], None
     else:
         freqs = np.asarray(at.omega)[:, nd["mode"][web]] / (2 * np.pi)
         grid = np.asarray(at.speeds)
+    Z, ratio = gear["teeth"], gear["speed_ratio"]
+    tag = {"gear": gear["name"], "teeth": Z, "speed_ratio": ratio}
     return [
-        r
+        tag | r
         for r in nodal_diameter_resonances(
-            freqs, nd["nodal_diameter"][web], z2, z1, (1, 2), speeds=grid
+            freqs, nd["nodal_diameter"][web], Z, Z * ratio, (1, 2), speeds=grid
         )
         if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
     ]
 
 
-def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir) -> list:
+def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible) -> list:
     """With ``vtu_speed``, the run at that speed with its states recorded, written as a VTU
-    time series of the deformed bodies in ``out_dir``/vtu (a previous series removed): the
-    files, relative to ``out_dir``; [] without."""
+    time series of every deformed body in ``out_dir``/vtu (a previous series removed), one
+    file set per body named by its gear (``flexible``: :func:`_flexible_gears`): the files,
+    relative to ``out_dir``; [] without."""
     if vtu_speed is None:
         return []
     from ..dynamics import Newmark, auto_steps_per_period, simulate, spec_window
@@ -570,7 +626,9 @@ def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir) -> list:
     for old in os.listdir(folder):  # a previous series may have had more frames
         if old.startswith("body_") and old.endswith((".vtu", ".pvd")):
             os.unlink(os.path.join(folder, old))
-    return [os.path.join("vtu", f) for f in write_body_series(folder, model.scene, bodies, one)]
+    names = {g["member"]: g["name"] for g in flexible}
+    files = write_body_series(folder, model.scene, bodies, one, names)
+    return [os.path.join("vtu", f) for f in files]
 
 
 def _write(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:

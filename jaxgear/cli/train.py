@@ -13,6 +13,7 @@ from .. import Modifications, TrainCase, contact_pressure, quasi_static
 from ..dynamics import bearing_forces, load_bodies
 from ..io import atomic_open, write_csv
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from .scene import write_bodies_vtu
 
 __all__ = ["format_train_table", "run_train"]
 
@@ -34,7 +35,8 @@ def run_train(
     and contact law, against the input angle), ``transmission_error.png``,
     ``mesh_stiffness.png``, ``load_map_<driving>-<driven>.png`` and
     ``pressure_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
-    (layout and mesh phasing).
+    (layout and mesh phasing); with flexible gears ``body_<gear>.vtu`` per body, deformed at the
+    position of the largest line load (``body_vtu`` in the summary).
 
     Returns:
         The summary dict (also in ``summary.json``).
@@ -209,6 +211,15 @@ def run_train(
             pair,
             ppp,
             f"of {case.name}'s {names[k]} (exact, modified)",
+        )
+    if case.flexible:  # each body deformed where the largest line load of any mesh is
+        qs = res["modified", "exact"]
+        peak = np.max(
+            [np.asarray(m.line_load).reshape(theta.size, -1).max(axis=1) for m in qs.meshes], 0
+        )
+        names_of = {g: n for g, n in enumerate(case.gear_names)}
+        summary["body_vtu"] = write_bodies_vtu(
+            out_dir, scene, bodies, qs, int(np.argmax(peak)), names_of
         )
     marks = {}
     for k, pair in enumerate(case.pairs):

@@ -36,6 +36,7 @@ from ._hybrid import (
     hybrid_free_vibration as hybrid_free_vibration,
     mean_mesh_stiffness as mean_mesh_stiffness,
     revolution_damping as revolution_damping,
+    rim_stations as rim_stations,
     rim_waves as rim_waves,
 )
 from ._lumped import static_start as static_start

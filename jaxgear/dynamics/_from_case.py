@@ -146,6 +146,7 @@ def build_dynamic_model(
                 case.mesh_modifications(),
                 case.torque,
                 spec_damping(spec),
+                rotating_frame=spec.rotating_frame,
             )
             return model, spec
         model = dynamic_model(

@@ -80,6 +80,7 @@ __all__ = [
     "FreeVibration",
     "hybrid_free_vibration",
     "mean_mesh_stiffness",
+    "rim_stations",
     "rim_waves",
 ]
 
@@ -530,22 +531,38 @@ def _loaded(qs):
 
 
 def _rim_of(scene: HybridPair):
-    """X ↦ (radial, axial) displacement of the wheel's rim stations (body frame) at the axial
-    master plane nearest mid-face, each (Z,); (0,) when the wheel is rigid."""
-    wheel = scene.members[1]
-    if isinstance(wheel, FlexibleMember):
-        j_mid = jnp.argmin(jnp.abs(wheel.z_nodes))
-        rim = wheel.rim_dofs[:, j_mid, :]  # (Z, 3) global DOFs
-        ang = wheel.station0 + wheel.pitch_angle * jnp.arange(rim.shape[0])
-    else:
-        rim = jnp.zeros((0, 3), jnp.int32)
-        ang = jnp.zeros((0,), scene.structure.K.dtype)
+    """X ↦ (radial, axial) displacement of the rim stations of every condensed member, member
+    after member (each in its own body frame, at the axial master plane nearest mid-face), each
+    (Σ Z,); (0,) when every member is rigid. A pair with a flexible wheel: the wheel's Z
+    stations; both members flexible: the pinion's z1 stations, then the wheel's
+    (:func:`rim_stations` splits them)."""
+    dofs, angles = [jnp.zeros((0, 3), jnp.int32)], [jnp.zeros((0,), scene.structure.K.dtype)]
+    for member in scene.members:
+        if isinstance(member, FlexibleMember):
+            j_mid = jnp.argmin(jnp.abs(member.z_nodes))
+            dofs.append(member.rim_dofs[:, j_mid, :])  # (Z, 3) global DOFs
+            Z = member.rim_dofs.shape[0]
+            angles.append(member.station0 + member.pitch_angle * jnp.arange(Z))
+    rim, ang = jnp.concatenate(dofs), jnp.concatenate(angles)
 
     def rim_of(X):
         u = X[rim]
         return u[:, 0] * jnp.cos(ang) + u[:, 1] * jnp.sin(ang), u[:, 2]
 
     return rim_of
+
+
+def rim_stations(scene) -> list[tuple[int, slice]]:
+    """Where each condensed member's stations sit in a hybrid run's rim records
+    (:attr:`~jaxgear.dynamics.DynamicResult.rim_radial`, ``rim_axial``): (member index, the
+    slice of its Z stations) per condensed member, in member order; [] for a rigid scene."""
+    out, start = [], 0
+    for i, member in enumerate(getattr(scene, "members", ())):
+        if isinstance(member, FlexibleMember):
+            Z = int(member.rim_dofs.shape[0])
+            out.append((i, slice(start, start + Z)))
+            start += Z
+    return out
 
 
 def mean_mesh_stiffness(

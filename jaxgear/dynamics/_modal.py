@@ -264,20 +264,26 @@ def campbell_coincidences(
     return out
 
 
-def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int = 40) -> dict:
-    """The wheel's nodal-diameter families among the modes of the assembled hybrid structure
-    (its condensed body with the teeth lumped on the rim, on its shafts and bearings; with the
-    mesh-averaged stiffness K̄_m in ``modes``): the modal basis of the seed's (3.9) resonances.
+def nodal_diameter_modes(
+    scene: HybridPair, modes: ModalAnalysis, n_modes: int = 40, member: int | None = None
+) -> dict:
+    """A condensed gear's nodal-diameter families among the modes of the assembled hybrid
+    structure (its condensed body with the teeth lumped on the rim, on its shafts and bearings;
+    with the mesh-averaged stiffness K̄_m in ``modes``): the modal basis of the seed's (3.9)
+    resonances.
 
-    Each mode's rim displacement at the wheel's stations (body frame, the axial master plane
+    Each mode's rim displacement at the gear's stations (body frame, the axial master plane
     nearest mid-face; radial, tangential and axial) is split into circumferential harmonics;
     the mode's nodal diameter n is the harmonic with the most energy.
 
     Args:
-        scene: a :class:`jaxgear.scenes.HybridPair` with a flexible wheel.
+        scene: a :class:`jaxgear.scenes.HybridPair` (or a hybrid train) with a condensed body.
         modes: the scene's :func:`modal_analysis` with K̄_m (:func:`mean_mesh_stiffness`; zeros
             for the structure alone), the one a sweep summary reports too.
         n_modes: the lowest elastic modes examined (the drive rotation excluded).
+        member: the index of the condensed gear in ``scene.members`` (a pair: 0 the pinion,
+            1 the wheel; a train: the gear's index). Default: the wheel (member 1) when it is
+            condensed, else the first condensed member.
 
     Returns:
         dict of NumPy arrays over the modes: ``mode`` (index into ``modes``),
@@ -287,11 +293,19 @@ def nodal_diameter_modes(scene: HybridPair, modes: ModalAnalysis, n_modes: int =
         in the wheel's body DOFs).
 
     Raises:
-        ValueError: the wheel is rigid.
+        ValueError: the chosen member is rigid, or no member is condensed.
     """
-    wheel = scene.members[1]
-    if not isinstance(wheel, FlexibleMember):
-        raise ValueError("nodal_diameter_modes: the scene's wheel is rigid (no condensed body)")
+    flexible = [i for i, m in enumerate(scene.members) if isinstance(m, FlexibleMember)]
+    if member is None:
+        if not flexible:
+            raise ValueError("nodal_diameter_modes: the scene has no condensed body")
+        member = 1 if 1 in flexible else flexible[0]
+    if member not in flexible:
+        raise ValueError(
+            f"nodal_diameter_modes: member = {member!r} is not a condensed body: allowed "
+            f"{', '.join(map(str, flexible)) or 'none (every member is rigid)'}"
+        )
+    wheel = scene.members[member]
     elastic = np.flatnonzero(~np.asarray(modes.rigid))[:n_modes]  # the drive rotation out
     omega = np.asarray(modes.omega)[elastic]
     phi = np.asarray(modes.shapes)[:, elastic]
@@ -334,6 +348,11 @@ def nodal_diameter_resonances(
     f_n resonates at wheel speed 2π f_n/(h Z ± n), i.e. pinion speed (Z/z1) times that. With
     the frequencies at speed f_n(Ω) (``speeds``, :func:`modes_at_speed`) the resonance is the
     first pinion speed where 2π f_n(Ω) = (h Z ± n) (z1/Z) Ω.
+
+    Any condensed gear is a "wheel" here: Z its teeth (every mesh it is in passes Z teeth per
+    turn of it, so each of its meshes excites the same orders) and z1 = Z times its turns per
+    turn of the scene's pinion (a train's input): a flexible pinion z1 = Z; an idler of Z
+    teeth driven by a z-tooth input z1 = z.
 
     Args:
         frequency_hz: the modes' frequencies (Hz), shape (m,) (:func:`nodal_diameter_modes`),

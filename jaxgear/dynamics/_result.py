@@ -118,9 +118,11 @@ class DynamicResult(eqx.Module):
         final_state: (X, Ẋ, Ẍ) at the end (continuation start), each shape (n,).
         iterations: max contact passes per step (Newmark) or ODE steps taken (diffrax).
         result: 0 ok, else a :class:`~jaxgear.DynamicsResult` code.
-        rim_radial, rim_axial: a hybrid model's wheel rim displacement at its stations (body
-            frame, the axial master plane nearest mid-face), radial and axial (m), shape (K, Z);
-            (K, 0) for a rigid wheel and for lumped models. Read them with
+        rim_radial, rim_axial: a hybrid model's rim displacement at the stations of every
+            condensed member, member after member (each in its body frame, the axial master
+            plane nearest mid-face), radial and axial (m), shape (K, Σ Z): a flexible wheel's
+            (K, Z); (K, 0) with every member rigid and for lumped models. Split them per member
+            with :func:`jaxgear.dynamics.rim_stations`, read them with
             :func:`jaxgear.dynamics.rim_waves`.
         meshes: one :class:`MeshDynamics` per gear mesh, in the scene's mesh order.
         states: the coordinates X at the recorded steps (K, n) when asked for (``states=True``

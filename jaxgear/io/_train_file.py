@@ -255,13 +255,9 @@ def _scene(
         sc.number(given, n, "scene.masses_kg", None, allowed="[1e-06, 1e+09]") for n in names
     )
     integration = table.get("integration", {})
+    rotating = False
     if isinstance(integration, dict) and "rotating_frame" in integration:
-        raise sc.fail(
-            "scene.integration",
-            "rotating_frame",
-            "is not available for a train yet (a hybrid pair only)",
-            integration["rotating_frame"],
-        )
+        rotating = sc.boolean(integration, "rotating_frame", "scene.integration")
     specs, bodies, rims = None, (), ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
@@ -270,11 +266,20 @@ def _scene(
         for key in ("masses_kg", "shafts", "bodies"):
             if key in table:
                 raise sc.fail("scene", key, "is for model = 'lumped3d'")
+    if rotating and not any(b is not None for b in bodies):
+        raise sc.fail(
+            "scene.integration",
+            "rotating_frame",
+            "allowed only with a condensed body ([scene.bodies.<gear>]): the rigid models are "
+            "written in the fixed frame",
+            True,
+        )
     spec = SceneSpec(
         model=model,
         shafts=specs,
         gear_bodies=bodies,
         gear_rims=rims,
+        rotating_frame=rotating,
         **parse_dynamics_settings(table),
     )
     return spec, inertias, masses
