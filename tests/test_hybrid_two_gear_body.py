@@ -391,10 +391,13 @@ def test_two_gear_body_refusals_are_one_line(case, bodies, tmp_path):
 @pytest.mark.slow
 def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
     """``jaxgear run`` on the test train (about a minute): per-mesh quasi-static figures, both
-    gears of the body named flexible, the body's shaft's bearing forces, no sweep; then
+    gears of the body named flexible (a VTU of the body per gear), the body's shaft's bearing
+    forces, no sweep; then
     ``jaxgear sweep`` at 20 and 25 rad/s, far below the first elastic mode (2.2 kHz): the
     hybrid Newmark gives each mesh's quasi-static TE mean (within 1 %; measured at 20 rad/s
-    0.01 % and 0.17 %) and a dynamic factor of 1 (within 3 %; measured 1.025 and 1.023)."""
+    0.01 % and 0.17 %) and a dynamic factor of 1 (within 3 %; measured 1.025 and 1.023); each
+    gear of the body is a flexible gear of its own in sweep.json (teeth 30 and 15, the shaft's
+    speed ratio 20/30, its mesh)."""
     out = tmp_path / "out"
     assert main(["run", str(CASE), "--out", str(out), "--quiet"]) == 0
     s = json.loads((out / "summary.json").read_text())
@@ -408,6 +411,11 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
     assert w["model"] == "hybrid" and w["flexible_gears"] == ["wheel", "pinion"]
     assert w["result"] == [0, 0]
     elastic = [f for f in w["natural_frequencies_Hz"] if f > 1.0]  # the rigid rotation is 0
+    # each gear of the body is a flexible gear of its own: teeth, speed (the shaft's), meshes
+    assert w["flexible_gear_teeth"] == [30, 15]
+    assert w["flexible_gear_speed_ratio"] == pytest.approx([20 / 30, 20 / 30], rel=1e-12)
+    assert w["flexible_gear_meshes"] == [["input-wheel"], ["pinion-output"]]
+    assert s["body_vtu"] == ["body_wheel.vtu", "body_pinion.vtu"]
     assert round(elastic[0] / 1e3, 1) == 2.2  # the first elastic mode, kHz
     for k, m in enumerate(s["meshes"]):
         static = m["quasi_static"]["exact"]["te_mean_m"]
