@@ -30,6 +30,7 @@ __all__ = [
     "Holes",
     "Material",
     "MeshSettings",
+    "PinionRim",
     "embedded_bodies",
     "embedded_body_text",
     "load_body",
@@ -90,6 +91,34 @@ class Geometry:
     def hub_center(self) -> float:
         """Axial position of the hub centre (m)."""
         return self.web_offset + self.hub_shift
+
+
+@dataclass(frozen=True)
+class PinionRim:
+    """A second rim on the body: a pinion cut on the shaft beside the wheel's hub (the seed's
+    intermediate shaft, III-3, carries the high-speed wheel and the low-speed pinion, condensed
+    together). The pinion is the solid ring from the bore to its root circle over its face
+    width, joined to the hub through the shaft stubs; its teeth load its outer face through
+    their own rim masters, as the wheel's do (``_rim``). All lengths in m.
+
+    Attributes:
+        axial_position: z of the middle of its face (body frame: z = 0 at the wheel's mid-rim).
+        outer_radius: its root circle (the outer face of the ring).
+        width: its face width.
+        teeth: one rim master station per tooth (tooth k at 2 pi k / teeth from +x).
+        axial_master_nodes: master planes across its face (linspace over the face width).
+    """
+
+    axial_position: float
+    outer_radius: float
+    width: float
+    teeth: int
+    axial_master_nodes: int
+
+    @property
+    def band(self) -> tuple[float, float]:
+        """The face's axial extent (m)."""
+        return (self.axial_position - self.width / 2, self.axial_position + self.width / 2)
 
 
 @dataclass(frozen=True)
@@ -176,6 +205,9 @@ class Body:
         support: ``"bearings"`` (bearing nodes held) or ``"free"`` for the reported frequencies.
         n_frequencies: number of frequencies reported in ``summary.json``.
         vtu_modes: number of mode shapes written to the VTU file.
+        pinion_rim: a second rim (:class:`PinionRim`, ``[pinion_rim]``) or ``None``: the
+            body then carries two gears, the wheel on the webbed rim (rim 0) and the pinion
+            (rim 1).
         source_text: the TOML text the body was parsed from.
     """
 
@@ -190,13 +222,23 @@ class Body:
     support: str = "bearings"
     n_frequencies: int = 20
     vtu_modes: int = 10
+    pinion_rim: PinionRim | None = None
     source_text: str = field(default="", compare=False, repr=False)
 
     def canonical(self) -> dict[str, Any]:
-        """Plain-dict form of the parsed body (without the source text)."""
+        """Plain-dict form of the parsed body (without the source text; without
+        ``pinion_rim`` when there is none, so that a one-rim body keeps its cache key)."""
         d = asdict(self)
         d.pop("source_text")
+        if d["pinion_rim"] is None:
+            d.pop("pinion_rim")
         return d
+
+    @property
+    def rim_teeth(self) -> tuple[int, ...]:
+        """The stations of each rim: the wheel's, then the pinion's if there is one."""
+        t = (self.condensation.teeth,)
+        return t if self.pinion_rim is None else (*t, self.pinion_rim.teeth)
 
     @property
     def sha256(self) -> str:
@@ -241,6 +283,13 @@ _SCHEMA: dict[str, set[str] | None] = {
     "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
     "centrifugal": {"speed_rad_s", "spin_softening"},
     "modal": {"support", "n_frequencies", "vtu_modes"},
+    "pinion_rim": {
+        "axial_position_mm",
+        "outer_radius_mm",
+        "width_mm",
+        "teeth",
+        "axial_master_nodes",
+    },
 }
 _HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
 _LENGTH = "[0.001, 1e+06]"  # mm: 1 µm to 1 km (a denormal passes "> 0" and fails the mesher)
@@ -415,6 +464,8 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
         md, "vtu_modes", "modal", 10, allowed=f"[0, {nf}]", integer=True, note=" (<= n_frequencies)"
     )
 
+    pinion = _pinion_rim(data, geometry, bearings, condensation)
+
     return Body(
         name=name,
         geometry=geometry,
@@ -427,8 +478,70 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
         support=support,
         n_frequencies=nf,
         vtu_modes=nv,
+        pinion_rim=pinion,
         source_text=text,
     )
+
+
+def _pinion_rim(
+    data: dict, g: Geometry, bearings: list[BearingSeat], cond: Condensation
+) -> PinionRim | None:
+    """The optional ``[pinion_rim]`` (file units in, SI out): a pinion ring from the bore to
+    ``outer_radius_mm`` over ``width_mm`` at ``axial_position_mm``, beside the wheel's hub and
+    rim and on the shaft (within the bore's extent: hub and stubs to the bearings)."""
+    if "pinion_rim" not in data:
+        return None
+    p = sc.subtable(data, "pinion_rim", "", _SCHEMA["pinion_rim"])
+    w = "pinion_rim"
+    mm = 1e-3
+    if g.web_inclination != 0.0:
+        raise sc.fail(
+            "body",
+            "web_inclination_deg",
+            "must be 0 on a body with a [pinion_rim] (the pinion sits on the unsheared shaft)",
+            math.degrees(g.web_inclination),
+        )
+    pos = sc.number(p, "axial_position_mm", w)
+    width = sc.number(p, "width_mm", w, allowed=_LENGTH)
+    shaft = g.shaft_outer_radius / mm
+    radius = sc.number(p, "outer_radius_mm", w, allowed=_LENGTH)
+    _within(
+        "outer_radius_mm",
+        radius,
+        f"({shaft!r}, {g.rim_outer_radius / mm!r})",
+        "above shaft_outer_radius_mm, its face free, and below the wheel's rim_outer_radius_mm",
+        w,
+    )
+    teeth = sc.number(p, "teeth", w, allowed="[3, 1000]", integer=True)
+    nax = sc.number(
+        p, "axial_master_nodes", w, cond.axial_master_nodes, allowed="[1, 50]", integer=True
+    )
+    # beside the wheel: its face clear of the hub and the rim (file units)
+    hub = (g.web_offset / mm - g.hub_width / mm / 2, g.web_offset / mm + g.hub_width / mm / 2)
+    rim = (-g.rim_width / mm / 2, g.rim_width / mm / 2)
+    lo_w, hi_w = min(hub[0], rim[0]), max(hub[1], rim[1])
+    if pos + width / 2 > lo_w + 1e-9 and pos - width / 2 < hi_w - 1e-9:
+        raise sc.fail(
+            w,
+            "axial_position_mm",
+            f"out of range, allowed <= {lo_w - width / 2:.6g} or >= {hi_w + width / 2:.6g} "
+            f"(its {width:.6g} mm face beside the wheel's hub and rim, z from {lo_w:.6g} to "
+            f"{hi_w:.6g} mm)",
+            pos,
+        )
+    # on the shaft: within the bore's extent (hub and shaft stubs to the bearings)
+    zb = [b.axial_position / mm for b in bearings]
+    lo_s, hi_s = min(hub[0], *zb), max(hub[1], *zb)
+    if pos - width / 2 < lo_s - 1e-9 or pos + width / 2 > hi_s + 1e-9:
+        raise sc.fail(
+            w,
+            "axial_position_mm",
+            f"out of range, allowed [{lo_s + width / 2:.6g}, {hi_s - width / 2:.6g}] (its face "
+            f"on the shaft, which runs from {lo_s:.6g} to {hi_s:.6g} mm: hub and stubs to the "
+            "bearings)",
+            pos,
+        )
+    return PinionRim(pos * mm, radius * mm, width * mm, teeth, nax)
 
 
 def _bearing_bands(

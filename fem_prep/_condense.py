@@ -38,7 +38,7 @@ from tqdm import tqdm
 
 from ._assemble import Operators
 from ._body import Body
-from ._mesh import BodyMesh, rim_master_z
+from ._mesh import BodyMesh, pinion_master_z, rim_master_z
 from ._rim import rim_fit
 from ._solver import (
     CholmodFactor,
@@ -54,6 +54,7 @@ __all__ = [
     "Condensed",
     "Coupled",
     "MasterSet",
+    "RimMasters",
     "band_reaction_stiffness",
     "condense",
     "couple_masters",
@@ -64,6 +65,17 @@ __all__ = [
 
 # ------------------------------------------------------------------------------------------
 # master nodes
+
+
+@dataclass(frozen=True)
+class RimMasters:
+    """The masters of one rim: FE node at each station and axial master plane ``(teeth,
+    n_axial)`` (station k at 2 pi k / teeth), the outer face's radius (m) and axial extent
+    ``band`` (m): the face the distributing coupling fits (:mod:`._rim`)."""
+
+    nodes: np.ndarray
+    radius: float
+    band: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -78,8 +90,11 @@ class MasterSet:
         bearing_rings: for each bearing, the bore node indices it is coupled to (every bore node
             of its axial band, ``BearingSeat.z_band`` snapped to the nearest bore-node planes).
         couplings: ``"rigid"`` or ``"averaging"`` per bearing.
-        rim_coupling: ``"distributing"`` or ``"nodal"`` (:mod:`._rim`).
+        rim_coupling: ``"distributing"`` or ``"nodal"`` (:mod:`._rim`), for every rim.
         rim_radius: the outer rim radius (m).
+        rim_band: the rim's outer face's axial extent (m), or ``None``: all of that radius.
+        more_rims: the body's other rims (:class:`RimMasters`: a ``[pinion_rim]``), whose
+            masters follow the wheel rim's.
     """
 
     rim_nodes: np.ndarray
@@ -88,6 +103,13 @@ class MasterSet:
     couplings: tuple[str, ...]
     rim_coupling: str = "distributing"
     rim_radius: float = 0.0
+    rim_band: tuple[float, float] | None = None
+    more_rims: tuple[RimMasters, ...] = ()
+
+    @property
+    def rims(self) -> tuple[RimMasters, ...]:
+        """Every rim's masters, the wheel rim first."""
+        return (RimMasters(self.rim_nodes, self.rim_radius, self.rim_band), *self.more_rims)
 
 
 def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
@@ -104,27 +126,15 @@ def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
         ValueError: a tooth station has no mesh node, or a bearing band has fewer than 3.
     """
     g = body.geometry
-    teeth = body.condensation.teeth
     zm = rim_master_z(bm, g, body.condensation.axial_master_nodes)
     x = bm.nodes
     rho = np.hypot(x[:, 0], x[:, 1])
-    tol = 1e-7 * g.rim_outer_radius
-    on_rim = np.nonzero(np.abs(rho - g.rim_outer_radius) < tol)[0]
-    ang = np.arctan2(x[on_rim, 1], x[on_rim, 0])
-    rim = np.empty((teeth, len(zm)), dtype=np.int64)
-    lookup = {}
-    kk = np.round(np.mod(ang, 2 * math.pi) / (2 * math.pi / teeth)).astype(int) % teeth
-    exact = np.abs(np.mod(ang, 2 * math.pi) - kk * 2 * math.pi / teeth)
-    exact = np.minimum(exact, 2 * math.pi - exact) < 1e-9
-    for node, k, ok in zip(on_rim, kk, exact):
-        if ok:
-            lookup[(k, round(float(x[node, 2]), 10))] = node
-    for k in range(teeth):
-        for j, z in enumerate(zm):
-            key = (k, round(float(z), 10))
-            if key not in lookup:
-                raise ValueError(f"no rim node at tooth {k}, z = {z * 1e3:g} mm")
-            rim[k, j] = lookup[key]
+    rim = _station_nodes(x, g.rim_outer_radius, body.condensation.teeth, zm)
+    more = ()
+    pin = body.pinion_rim
+    if pin is not None:
+        nodes = _station_nodes(x, pin.outer_radius, pin.teeth, pinion_master_z(bm, pin))
+        more = (RimMasters(nodes, pin.outer_radius, pin.band),)
 
     on_bore = np.nonzero(np.abs(rho - g.bore_radius) < 1e-7 * g.rim_outer_radius)[0]
     zb = x[on_bore, 2]
@@ -154,7 +164,38 @@ def select_masters(bm: BodyMesh, body: Body) -> MasterSet:
         couplings=tuple(b.coupling for b in body.bearings),
         rim_coupling=body.condensation.rim_coupling,
         rim_radius=g.rim_outer_radius,
+        rim_band=(-g.rim_width / 2, g.rim_width / 2),
+        more_rims=more,
     )
+
+
+def _station_nodes(x: np.ndarray, radius: float, teeth: int, zm: np.ndarray) -> np.ndarray:
+    """The FE node at each station (angle 2 pi k / teeth) and master plane ``zm`` of the outer
+    face r = ``radius``, ``(teeth, len(zm))``.
+
+    Raises:
+        ValueError: a station without a node.
+    """
+    rho = np.hypot(x[:, 0], x[:, 1])
+    on_rim = np.nonzero(np.abs(rho - radius) < 1e-7 * radius)[0]
+    ang = np.arctan2(x[on_rim, 1], x[on_rim, 0])
+    rim = np.empty((teeth, len(zm)), dtype=np.int64)
+    lookup = {}
+    kk = np.round(np.mod(ang, 2 * math.pi) / (2 * math.pi / teeth)).astype(int) % teeth
+    exact = np.abs(np.mod(ang, 2 * math.pi) - kk * 2 * math.pi / teeth)
+    exact = np.minimum(exact, 2 * math.pi - exact) < 1e-9
+    for node, k, ok in zip(on_rim, kk, exact):
+        if ok:
+            lookup[(k, round(float(x[node, 2]), 10))] = node
+    for k in range(teeth):
+        for j, z in enumerate(zm):
+            key = (k, round(float(z), 10))
+            if key not in lookup:
+                raise ValueError(
+                    f"no rim node at tooth {k}, z = {z * 1e3:g} mm (r = {radius * 1e3:g} mm)"
+                )
+            rim[k, j] = lookup[key]
+    return rim
 
 
 def _skew(d: np.ndarray) -> np.ndarray:
@@ -190,6 +231,8 @@ class Coupled:
         Ksigma: reduced stress-stiffening matrix per unit speed squared ``(n_red, n_red)``,
             or ``None``: it needs the prestress solve, so :func:`~fem_prep.prepare` fills it
             in (``dataclasses.replace``) after that solve; :func:`couple_masters` leaves it out.
+        more_rims: for each of the body's other rims (``MasterSet.more_rims``), its
+            ``(rim_dofs, rim_positions)`` as above.
     """
 
     T: sp.csr_matrix
@@ -203,18 +246,25 @@ class Coupled:
     rim_positions: np.ndarray
     full_to_red: np.ndarray
     Ksigma: sp.csr_matrix | None = None
+    more_rims: tuple = ()
+
+    @property
+    def all_rim_dofs(self) -> np.ndarray:
+        """The reduced indices of every rim's master DOFs, the wheel rim first, flattened."""
+        return np.concatenate([self.rim_dofs.ravel(), *(d.ravel() for d, _ in self.more_rims)])
 
     def reduce(self, A: sp.spmatrix) -> sp.csr_matrix:
         """A full-DOF operator on the coupled DOFs: ``T^T A T``."""
         return (self.T.T @ A @ self.T).tocsr()
 
 
-def _rim_rows(bm: BodyMesh, masters: MasterSet, first_column: int):
-    """Eliminated rows of the distributing rim coupling (:mod:`._rim`): ``(full rows, column
-    keys, values)`` in :func:`couple_masters`' key convention (rim master ``c`` component ``a``
-    is the column key ``first_column + 3 c + a``), and the fitted master positions."""
-    fit = rim_fit(bm, masters.rim_nodes, masters.rim_radius)
-    m_nodes = masters.rim_nodes.ravel()
+def _rim_rows(bm: BodyMesh, rim: RimMasters, first_column: int):
+    """Eliminated rows of the distributing rim coupling (:mod:`._rim`) of one rim: ``(full
+    rows, column keys, values)`` in :func:`couple_masters`' key convention (rim master ``c``
+    component ``a`` is the column key ``first_column + 3 c + a``), and the fitted master
+    positions."""
+    fit = rim_fit(bm, rim.nodes, rim.radius, rim.band)
+    m_nodes = rim.nodes.ravel()
     is_master = np.isin(fit.nodes, m_nodes)
     a_m = fit.areas[np.searchsorted(fit.nodes, m_nodes)]
     # u_c = [(G q)_c - sum_{n not a master} N_c(x_n) a_n u_n] / a_c, per component
@@ -289,32 +339,42 @@ def couple_masters(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
             elim_keys.append(-1 - ring_dofs[ind[j]])
             elim_vals.append(A[a_loc, j])
             eliminated[ring_dofs[dep]] = True
-    rim = masters.rim_nodes
-    rim_full = 3 * rim[..., None] + np.arange(3)
-    if eliminated[rim_full].any():
-        raise ValueError("a rim master node is also a bearing-ring node")
+    rims = masters.rims
     distributing = masters.rim_coupling == "distributing"
-    rim_positions = bm.nodes[rim]
-    if distributing:
-        rows, keys, vals, rim_positions = _rim_rows(bm, masters, 6 * n_b)
-        touched = np.unique(-1 - keys[keys < 0])
-        if eliminated[touched].any():
-            raise ValueError("a rim master node is also a bearing-ring node")
-        elim_rows.append(rows)
-        elim_keys.append(keys)
-        elim_vals.append(vals)
-        eliminated[rim_full.ravel()] = True
+    positions = []
+    column = 6 * n_b  # the first column key of the next rim's distributing masters
+    for rim in rims:
+        rim_full = 3 * rim.nodes[..., None] + np.arange(3)
+        if eliminated[rim_full].any():
+            raise ValueError("a rim master node is also a bearing-ring or another rim's node")
+        positions.append(bm.nodes[rim.nodes])
+        if distributing:
+            rows, keys, vals, positions[-1] = _rim_rows(bm, rim, column)
+            column += 3 * rim.nodes.size
+            touched = np.unique(-1 - keys[keys < 0])
+            if eliminated[touched].any():
+                raise ValueError("a rim master node is also a bearing-ring or another rim's node")
+            elim_rows.append(rows)
+            elim_keys.append(keys)
+            elim_vals.append(vals)
+            eliminated[rim_full.ravel()] = True
     kept = np.nonzero(~eliminated)[0]
     full_to_red = -np.ones(n, dtype=np.int64)
     full_to_red[kept] = np.arange(len(kept))
-    n_new = 6 * n_b + (rim.size * 3 if distributing else 0)
+    n_new = column if distributing else 6 * n_b
     n_red = len(kept) + n_new
     new_cols = len(kept) + np.arange(n_new)
     bearing_dofs = new_cols[: 6 * n_b].reshape(n_b, 6)
-    if distributing:
-        rim_dofs = new_cols[6 * n_b :].reshape(*rim.shape, 3)
-    else:
-        rim_dofs = full_to_red[rim_full]
+    rim_dofs = []
+    start = 6 * n_b
+    for rim in rims:
+        if distributing:
+            rim_dofs.append(
+                new_cols[start : start + 3 * rim.nodes.size].reshape(*rim.nodes.shape, 3)
+            )
+            start += 3 * rim.nodes.size
+        else:
+            rim_dofs.append(full_to_red[3 * rim.nodes[..., None] + np.arange(3)])
     keys = np.concatenate(elim_keys) if elim_keys else np.zeros(0, dtype=np.int64)
     ncols = new_cols[np.clip(keys, 0, max(n_new - 1, 0))] if n_new else keys
     fcols = full_to_red[np.maximum(-1 - keys, 0)]
@@ -336,9 +396,10 @@ def couple_masters(bm: BodyMesh, ops: Operators, masters: MasterSet) -> Coupled:
         G=G,
         S=S,
         bearing_dofs=bearing_dofs,
-        rim_dofs=rim_dofs,
-        rim_positions=rim_positions,
+        rim_dofs=rim_dofs[0],
+        rim_positions=positions[0],
         full_to_red=full_to_red,
+        more_rims=tuple(zip(rim_dofs[1:], positions[1:])),
     )
 
 

@@ -103,7 +103,10 @@ class CondensedBody:
             (positive for the tensile hoop/radial prestress of a spinning wheel).
         master_coords: master-node coordinates ``(n_masters, 3)`` (m), rim nodes then bearings.
         master_kind: ``(n_masters,)`` 0 = rim node (3 DOFs), 1 = bearing node (6 DOFs).
-        rim_grid: ``(teeth, n_axial)`` master-node index of each rim station.
+        rim_grid: ``(teeth, n_axial)`` master-node index of each rim station (the wheel's rim).
+        rim_shapes: ``(n_rims, 2)`` (stations, axial masters) of each rim, or ``None``: one
+            rim. A body with a ``[pinion_rim]`` has two, whose masters follow each other (the
+            wheel's, then the pinion's); :attr:`rim_grids` gives each rim's grid.
         dof_map: ``(n_c, 2)``: master-node index and component (0-5) per DOF; ``(-1, m)`` for
             modal coordinate ``m``.
         modes_hz: frequencies of the retained component modes ``(n_modes,)`` (Hz).
@@ -133,6 +136,18 @@ class CondensedBody:
     metadata: dict[str, Any]
     input_toml: str
     input_sha256: str
+    rim_shapes: np.ndarray | None = None
+
+    @property
+    def rim_grids(self) -> tuple[np.ndarray, ...]:
+        """Each rim's ``(stations, n_axial)`` master-node indices, the wheel's rim first."""
+        if self.rim_shapes is None:
+            return (self.rim_grid,)
+        out, start = [], 0
+        for z, nax in np.asarray(self.rim_shapes):
+            out.append(start + np.arange(z * nax).reshape(z, nax))
+            start += z * nax
+        return tuple(out)
 
     @property
     def n_dofs(self) -> int:
@@ -173,8 +188,15 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
     body, bm, ms, cp, cond = prep.body, prep.mesh, prep.masters, prep.coupled, prep.condensed
     teeth, nax = ms.rim_nodes.shape
     nb = len(ms.bearing_rings)
-    n_rim = teeth * nax
-    coords = np.concatenate([cp.rim_positions.reshape(-1, 3), ms.bearing_positions])
+    shapes = [r.nodes.shape for r in ms.rims]
+    n_rim = sum(a * b for a, b in shapes)
+    coords = np.concatenate(
+        [
+            cp.rim_positions.reshape(-1, 3),
+            *(pos.reshape(-1, 3) for _, pos in cp.more_rims),
+            ms.bearing_positions,
+        ]
+    )
     kind = np.concatenate([np.zeros(n_rim, np.int8), np.ones(nb, np.int8)])
     dof_map = np.concatenate(
         [
@@ -217,7 +239,7 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
         "stress_stiffening": cond.stress_stiffening,
         "master_coords": coords,
         "master_kind": kind,
-        "rim_grid": np.arange(n_rim).reshape(teeth, nax),
+        "rim_grid": np.arange(teeth * nax).reshape(teeth, nax),
         "dof_map": dof_map,
         "modes_hz": np.asarray(cond.modes_hz, dtype=float),
         "recovery_coords": bm.nodes[:nv],
@@ -227,6 +249,10 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
         "input_toml": np.array(body.source_text),
         "input_sha256": np.array(body.text_sha256),
     }
+    if len(shapes) > 1:  # a body with a pinion rim: each rim's (stations, axial masters)
+        out["rim_shapes"] = np.array(shapes, dtype=np.int64)
+        meta["rim_teeth"] = [int(a) for a, _ in shapes]
+        out["metadata"] = np.array(json.dumps(meta))
     missing = [k for k in ("spin_softening", "gyroscopic", "stress_stiffening") if out[k] is None]
     if missing:
         raise ValueError(f"the condensed model lacks {', '.join(missing)} (condense without them?)")
@@ -315,7 +341,14 @@ def load_condensed(path: str | Path) -> CondensedBody:
     n_modes = n - n_b
     if n_modes < 0 or data["modes_hz"].shape != (n_modes,):
         raise shape_err("modes_hz", f"({n_modes},) (n_c minus master DOFs)")
-    if data["rim_grid"].ndim != 2 or data["rim_grid"].size != int(np.sum(kind == 0)):
+    shapes = data.get("rim_shapes")
+    n_rim = int(np.sum(kind == 0))
+    if shapes is not None and (
+        shapes.ndim != 2 or shapes.shape[1] != 2 or int(np.sum(np.prod(shapes, 1))) != n_rim
+    ):
+        raise shape_err("rim_shapes", f"(n_rims, 2) of stations x axial masters summing to {n_rim}")
+    first = n_rim if shapes is None else int(np.prod(shapes[0]))
+    if data["rim_grid"].ndim != 2 or data["rim_grid"].size != first:
         raise shape_err("rim_grid", "(teeth, n_axial)")
     rc = data["recovery_coords"]
     if rc.ndim != 2 or rc.shape[1] != 3:
@@ -350,6 +383,7 @@ def load_condensed(path: str | Path) -> CondensedBody:
         metadata=meta,
         input_toml=text,
         input_sha256=sha,
+        rim_shapes=shapes,
     )
 
 

@@ -21,9 +21,16 @@ import skfem
 
 from ._body import Body, Geometry, MeshSettings
 
-__all__ = ["BodyMesh", "mesh_body", "mesh_from_section", "rim_master_z"]
+__all__ = [
+    "BodyMesh",
+    "mesh_body",
+    "mesh_from_section",
+    "pinion_master_targets",
+    "pinion_master_z",
+    "rim_master_z",
+]
 
-HUB, WEB, RIM = 0, 1, 2
+HUB, WEB, RIM, PINION = 0, 1, 2, 3
 
 
 @dataclass(frozen=True)
@@ -37,8 +44,9 @@ class BodyMesh:
             face and centre nodes in scikit-fem's numbering).
         n_vertices: number of element corner nodes (the first ``n_vertices`` rows of ``nodes``).
         cells: corner connectivity ``(n_elements, 8)`` in VTK hexahedron order.
-        region: element region ``(n_elements,)``: 0 hub/stub, 1 web, 2 rim.
-        n_theta: number of circumferential element divisions (a multiple of the tooth count).
+        region: element region ``(n_elements,)``: 0 hub/stub, 1 web, 2 rim, 3 pinion rim.
+        n_theta: number of circumferential element divisions (a multiple of each rim's tooth
+            count).
         r_grid: meridian radial grid (m), ``(nr + 1,)``.
         z_grid: meridian axial grid in the unsheared frame (m), ``(nz + 1,)``.
         element: ``"hex20"`` or ``"hex27"``.
@@ -121,9 +129,16 @@ def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
     z_edges = [min(max(z - s_hub, lo), hi) for b in body.bearings for z in b.z_band]
     z_bear = z_pos + z_edges
     targets = _master_targets(g, nax)
-    bm = mesh_from_section(g, body.mesh, teeth=teeth, z_rim_lines=targets, z_hub_lines=z_bear)
+    pin = body.pinion_rim
+    if pin is not None:
+        targets = targets + list(pinion_master_targets(pin)) + list(pin.band)
+    bm = mesh_from_section(
+        g, body.mesh, teeth=teeth, z_rim_lines=targets, z_hub_lines=z_bear, pinion=pin
+    )
     try:
         rim_master_z(bm, g, nax)
+        if pin is not None:
+            pinion_master_z(bm, pin)
     except ValueError:
         # not enough rim nodes across the face width: add grid lines at the master positions
         bm = mesh_from_section(
@@ -133,8 +148,27 @@ def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
             z_rim_lines=targets,
             z_tol_factor=0.05,
             z_hub_lines=z_bear,
+            pinion=pin,
         )
     return bm
+
+
+def pinion_master_targets(pin) -> np.ndarray:
+    """Axial positions (m, body frame) of a pinion rim's master planes: linspace over its face
+    (its middle for one plane)."""
+    if pin.axial_master_nodes == 1:
+        return np.array([pin.axial_position])
+    return np.linspace(*pin.band, pin.axial_master_nodes)
+
+
+def pinion_master_z(bm: BodyMesh, pin) -> np.ndarray:
+    """Axial positions (m) of the pinion rim's master planes: the node planes of its outer face
+    nearest :func:`pinion_master_targets` (:func:`rim_master_z` for the wheel's rim).
+
+    Raises:
+        ValueError: two targets snap to the same plane.
+    """
+    return _snap_planes(bm, pin.outer_radius, pin.band, pinion_master_targets(pin))
 
 
 def _master_targets(g: Geometry, nax: int) -> list[float]:
@@ -152,10 +186,17 @@ def rim_master_z(bm: BodyMesh, g: Geometry, nax: int) -> np.ndarray:
     Raises:
         ValueError: two targets snap to the same plane (the caller then refines the grid).
     """
+    band = (-g.rim_width / 2, g.rim_width / 2)
+    return _snap_planes(bm, g.rim_outer_radius, band, _master_targets(g, nax))
+
+
+def _snap_planes(bm: BodyMesh, radius: float, band, targets) -> np.ndarray:
+    """The node planes of the outer face r = ``radius``, z in ``band``, nearest ``targets``."""
     n = bm.nodes
-    on = np.abs(np.hypot(n[:, 0], n[:, 1]) - g.rim_outer_radius) < 1e-9 * g.rim_outer_radius
+    on = np.abs(np.hypot(n[:, 0], n[:, 1]) - radius) < 1e-9 * radius
+    on &= (n[:, 2] > band[0] - 1e-9) & (n[:, 2] < band[1] + 1e-9)
     zs = np.unique(np.round(n[on, 2], 12))
-    picked = np.array([zs[np.argmin(np.abs(zs - t))] for t in _master_targets(g, nax)])
+    picked = np.array([zs[np.argmin(np.abs(zs - t))] for t in targets])
     if len(np.unique(picked)) != len(picked):
         raise ValueError("not enough rim node planes for the axial master nodes")
     return picked
@@ -169,6 +210,7 @@ def mesh_from_section(
     z_rim_lines: list[float] = (),  # type: ignore[assignment]
     z_hub_lines: list[float] = (),  # type: ignore[assignment]
     z_tol_factor: float = 0.3,
+    pinion=None,
 ) -> BodyMesh:
     """Mesh a meridian section swept around the z axis.
 
@@ -180,6 +222,9 @@ def mesh_from_section(
             (exactly: the rim master planes).
         z_hub_lines: same, in the unsheared hub frame (bearing planes; they extend shaft stubs).
         z_tol_factor: snapping tolerance of the soft lines (``z_hub_lines``), in element sizes.
+        pinion: a :class:`~fem_prep._body.PinionRim` (a ring from the bore to its outer radius
+            over its face) or ``None``; the circumferential divisions are then a multiple of
+            both tooth counts.
 
     Returns:
         The :class:`BodyMesh`.
@@ -203,6 +248,10 @@ def mesh_from_section(
         rs.append(s_web)
     rb.append(g.rim_outer_radius)
     rs.append(s_rim)
+    if pinion is not None and min(abs(pinion.outer_radius - r) for r in rb) > 1e-9:
+        i = int(np.searchsorted(rb, pinion.outer_radius))
+        rb.insert(i, pinion.outer_radius)
+        rs.insert(i - 1, rs[i - 1])
     r_grid = _subdivide(rb, rs)
 
     # ---- axial breakpoints (unsheared frame: hub centred on the web mid-plane at z = offset)
@@ -226,6 +275,8 @@ def mesh_from_section(
             out.append((zw, WEB, s_web))
         else:
             out.append((zr, RIM, s_rim))
+        if pinion is not None and rmid < pinion.outer_radius:
+            out.append((pinion.band, PINION, s_rim))
         return out
 
     zsizes = []
@@ -251,8 +302,9 @@ def mesh_from_section(
             cell_region[i, inside & (cell_region[i] < 0)] = reg
 
     # ---- circumferential divisions: multiple of teeth
-    q = max(1, int(math.ceil(2 * math.pi * g.rim_outer_radius / (teeth * s_circ) - 0.25)))
-    nt = teeth * q
+    base = teeth if pinion is None else math.lcm(teeth, pinion.teeth)
+    q = max(1, int(math.ceil(2 * math.pi * g.rim_outer_radius / (base * s_circ) - 0.25)))
+    nt = base * q
     dth = 2 * math.pi / nt
 
     # ---- shear of z with r (web inclination); hub shifted by the full amount

@@ -44,7 +44,8 @@ class Prepared:
             the bore-band reactions, :func:`~fem_prep._condense.band_reaction_stiffness`).
         condensed: the condensed model.
         master_dofs: reduced indices of the boundary DOFs: rim grid ``(teeth, n_axial, 3)``
-            flattened, then bearings ``(n_bearings, 6)`` flattened.
+            flattened (then a pinion rim's likewise), then bearings ``(n_bearings, 6)``
+            flattened.
         frequencies_full_hz: first ``body.n_frequencies`` frequencies of the full model (Hz).
         mode_shapes: full-DOF mode shapes ``(n_dofs, n_frequencies)`` (mass-normalised).
         frequencies_condensed_hz: same modes from the condensed model (Hz).
@@ -136,7 +137,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     t0 = time.perf_counter()
     ms = select_masters(bm, body)
     cp = couple_masters(bm, ops, ms)
-    rim_dofs = cp.rim_dofs.ravel()
+    rim_dofs = cp.all_rim_dofs
     master_dofs = np.concatenate([rim_dofs, cp.bearing_dofs.ravel()])
     bearing_c = len(rim_dofs) + np.arange(cp.bearing_dofs.size)
     n_red = cp.K.shape[0]

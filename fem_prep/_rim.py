@@ -113,12 +113,17 @@ class RimFit:
     positions: np.ndarray
 
 
-def _face_facets(bm: BodyMesh, radius: float) -> np.ndarray:
-    """Boundary facets whose corners all lie on the cylinder ``r = radius``."""
+def _face_facets(bm: BodyMesh, radius: float, band=None) -> np.ndarray:
+    """Boundary facets whose corners all lie on the cylinder ``r = radius`` (and, with
+    ``band``, within that axial extent (m): one rim's face of a body with two)."""
     facets = bm.mesh.boundary_facets()
     corners = bm.mesh.facets[:, facets]  # (4, n_f) vertex indices
     rho = np.hypot(bm.nodes[corners, 0], bm.nodes[corners, 1])
     on = np.all(np.abs(rho - radius) < 1e-7 * radius, axis=0)
+    if band is not None:
+        z = bm.nodes[corners, 2]
+        tol = 1e-9 + 1e-9 * radius
+        on &= np.all((z > band[0] - tol) & (z < band[1] + tol), axis=0)
     return facets[on]
 
 
@@ -174,7 +179,7 @@ def _weights(
     return W
 
 
-def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float) -> RimFit:
+def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float, band=None) -> RimFit:
     """The distributing rim coupling of a body mesh (module docstring).
 
     Args:
@@ -182,6 +187,8 @@ def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float) -> RimFit:
         rim_nodes: FE node at each master ``(Z, n_ax)`` (stations at ``2 pi k / Z`` from the
             first, axial master planes increasing): the nodes the coupling eliminates.
         radius: the outer rim radius R (m).
+        band: the face's axial extent (m), or ``None``: every boundary face at ``radius``
+            (a body with a pinion rim has two faces to tell apart).
 
     Returns:
         The :class:`RimFit`.
@@ -192,7 +199,7 @@ def rim_fit(bm: BodyMesh, rim_nodes: np.ndarray, radius: float) -> RimFit:
             the station Gram is not positive definite.
     """
     teeth, n_ax = rim_nodes.shape
-    nodes, areas = _nodal_areas(bm, _face_facets(bm, radius))
+    nodes, areas = _nodal_areas(bm, _face_facets(bm, radius, band))
     x_m = bm.nodes[rim_nodes]
     station0 = float(np.arctan2(x_m[0, 0, 1], x_m[0, 0, 0]))
     z_nodes = x_m[0, :, 2]

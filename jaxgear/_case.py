@@ -478,6 +478,8 @@ class TrainCase:
             self.shaft_of,
             bodies=tuple(bodies),
             tooth_mass=tooth_mass,
+            rims=self.scene.gear_rims or None,
+            gear_names=self.gear_names,
             **self._lumped_args(),
         )
 

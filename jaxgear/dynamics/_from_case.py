@@ -73,6 +73,7 @@ class SceneSpec:
     pinion_body: str | None = None
     gear_body: str | None = None
     gear_bodies: tuple = ()  # a lumped3d train: each gear's body reference or None
+    gear_rims: tuple = ()  # a lumped3d train: each gear's rim on its body (0 the wheel's)
 
     @property
     def bodies(self) -> tuple:
@@ -214,8 +215,8 @@ def build_dynamic_model(
 
 
 def load_bodies(spec: SceneSpec, *, progress: bool = False) -> tuple:
-    """The condensed bodies of a scene (pinion, gear; a train's: one per gear), ``None`` for a
-    rigid member.
+    """The condensed bodies of a scene (pinion, gear; a train's: one per gear, the gears of a
+    body with two rims sharing the one object), ``None`` for a rigid member.
 
     Bodies are built by :mod:`fem_prep` once and then read from its cache
     (:func:`fem_prep.condensed`).
@@ -224,9 +225,11 @@ def load_bodies(spec: SceneSpec, *, progress: bool = False) -> tuple:
         return (None,) * len(spec.bodies)
     import fem_prep  # NumPy/scikit-fem only; loaded when a case has flexible bodies
 
-    return tuple(
-        None if ref is None else fem_prep.condensed(ref, progress=progress) for ref in spec.bodies
-    )
+    loaded = {}  # one object per reference: the gears of a two-rim body share it
+    for ref in spec.bodies:
+        if ref is not None and ref not in loaded:
+            loaded[ref] = fem_prep.condensed(ref, progress=progress)
+    return tuple(None if ref is None else loaded[ref] for ref in spec.bodies)
 
 
 def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):

@@ -44,8 +44,9 @@
     torque_position_mm = 0.0         # input, loaded and balancing output shafts' torque
     bearings = [{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 },
                 { position_mm = 60.0, radial_N_per_um = 200.0 }]
-    [scene.bodies.idler]             # lumped3d: a flexible gear, alone on its shaft (quasi-static)
+    [scene.bodies.idler]             # lumped3d: a flexible gear alone on its shaft, or a shaft
     body = "accessory-idler"         # a fem_prep body: embedded name, body .toml or .npz
+    # gears = ["wheel", "pinion"]    # a body with a [pinion_rim]: the gear on each rim
     [[operating.wrenches]]           # lumped3d: a force and tilting moment on a shaft node
     shaft = "intermediate"
     position_mm = 80.0
@@ -257,24 +258,10 @@ def _scene(
     rotating = False
     if isinstance(integration, dict) and "rotating_frame" in integration:
         rotating = sc.boolean(integration, "rotating_frame", "scene.integration")
-    specs, bodies = None, ()
+    specs, bodies, rims = None, (), ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
-        given = sc.subtable(table, "bodies", "scene", names)
-        if given:
-            bodies = tuple(
-                parse_body(given, n, base_dir, "scene.bodies") if n in given else None
-                for n in names
-            )
-            for n, b in zip(names, bodies, strict=True):
-                if b is not None and sum(s_ == shafts[names.index(n)] for s_ in shafts) > 1:
-                    raise sc.fail(
-                        f"scene.bodies.{n}",
-                        "body",
-                        "its gear shares a shaft with another gear (allowed: a flexible gear "
-                        "alone on its shaft, which turns with its body frame)",
-                        b,
-                    )
+        bodies, rims = _bodies(table, names, shafts, shaft_names, base_dir, specs)
     else:
         for key in ("masses_kg", "shafts", "bodies"):
             if key in table:
@@ -291,10 +278,104 @@ def _scene(
         model=model,
         shafts=specs,
         gear_bodies=bodies,
+        gear_rims=rims,
         rotating_frame=rotating,
         **parse_dynamics_settings(table),
     )
     return spec, inertias, masses
+
+
+def _bodies(
+    table: dict, names: list, shafts: list, shaft_names: list, base_dir, specs=None
+) -> tuple:
+    """``[scene.bodies.<gear or shaft>]``: the condensed body that carries a shaft's gears
+    (a flexible gear alone on its shaft, named by the gear or the shaft; or the gears of a
+    shaft on a body with a ``[pinion_rim]``, named by the shaft, ``gears`` listing the gear on
+    each rim). Returns each gear's body reference or ``None`` and each gear's rim (0 the
+    webbed wheel's, 1 the pinion rim), () without bodies. A body file (not a condensed .npz)
+    is read now: its rim count against the shaft's gears and its pinion rim's position against
+    their ``gear_positions_mm`` (``specs``: the shafts), before any work."""
+    allowed = [*shaft_names, *(n for n in names if n not in shaft_names)]
+    given = sc.subtable(table, "bodies", "scene", allowed)
+    if not given:
+        return (), ()
+    refs: list = [None] * len(names)
+    rims = [0] * len(names)
+    for key in given:
+        where = f"scene.bodies.{key}"
+        s_ = shaft_names.index(key) if key in shaft_names else shafts[names.index(key)]
+        carried = [names[g] for g in range(len(names)) if shafts[g] == s_]
+        t = given[key]
+        if not isinstance(t, dict):
+            raise sc.fail("scene.bodies", key, "must be a table ([scene.bodies.<name>])", t)
+        sc.check_keys(t, {"body", "gears"}, where)
+        ref = parse_body(
+            {key: {"body": t["body"]} if "body" in t else {}}, key, base_dir, "scene.bodies"
+        )
+        order = carried
+        if "gears" in t:
+            order = t["gears"]
+            if (
+                not isinstance(order, list)
+                or not all(isinstance(x, str) for x in order)
+                or sorted(order) != sorted(carried)
+            ):
+                raise sc.fail(
+                    where,
+                    "gears",
+                    "must list the gears of shaft "
+                    f"{shaft_names[s_]!r} ({', '.join(carried)}), one per rim of the body: "
+                    "the webbed wheel's rim, then the [pinion_rim]",
+                    order,
+                )
+        _check_rims(
+            ref, where, order, shaft_names[s_], None if specs is None else specs[s_], carried
+        )
+        for r, gear in enumerate(order):
+            g = names.index(gear)
+            if refs[g] is not None:
+                raise sc.fail(
+                    where,
+                    "body",
+                    f"gear {gear!r} (shaft {shaft_names[s_]!r}) has a body already",
+                    ref,
+                )
+            refs[g], rims[g] = ref, r
+    return tuple(refs), tuple(rims)
+
+
+def _check_rims(ref: str, where: str, order: list, shaft: str, spec, carried: list) -> None:
+    """A fem_prep body file's rims against the gears it carries (one line, mm): as many rims
+    as gears, and a pinion rim where ``gear_positions_mm`` puts the second gear (a condensed
+    .npz is checked when the scene is built)."""
+    import fem_prep
+
+    if ref.endswith(".npz"):
+        return
+    body = fem_prep.load_body(ref)
+    teeth = body.rim_teeth
+    if len(teeth) != len(order):
+        raise sc.fail(
+            where,
+            "body",
+            f"has {len(teeth)} rim(s) ({', '.join(map(str, teeth))} stations) and shaft "
+            f"{shaft!r} {len(order)} gear(s) ({', '.join(order)}) (allowed: one gear per rim; a "
+            "second gear needs a fem_prep body with a [pinion_rim])",
+            ref,
+        )
+    if spec is None or body.pinion_rim is None:
+        return
+    z = dict(zip(carried, spec.gear_positions, strict=True))
+    got = (z[order[1]] - z[order[0]]) * 1e3
+    want = body.pinion_rim.axial_position * 1e3
+    if abs(got - want) > 1e-3:
+        raise sc.fail(
+            f"scene.shafts.{shaft}",
+            "gear_positions_mm",
+            f"puts {order[1]!r} {got:.6g} mm from {order[0]!r}, the body {ref!r} its pinion rim "
+            f"{want:.6g} mm from its wheel rim (allowed: equal, to 1 µm)",
+            {k: round(v * 1e3, 6) for k, v in z.items()},
+        )
 
 
 def _shaft(table: dict, where: str, shaft_names: list) -> tuple[str, int]:

@@ -38,7 +38,15 @@ from .._contact import ContactLaw, ExactContact, solve_contact_cells
 from .._geometry import GearPair
 from .._stiffness import tooth_mass as one_tooth_mass
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
-from ._interface import FlexibleMember, RigidMember, body_dof_index, flexible_member, rim_window
+from ._interface import (
+    FlexibleMember,
+    RigidMember,
+    body_dof_index,
+    body_rims,
+    flexible_member,
+    rim_mid_z,
+    rim_window,
+)
 from ._lumped3d import ShaftSpec, _lumped_arrays, _train_arrays, train_meshes
 from ._structure import AssembledScene, Structure
 
@@ -262,9 +270,11 @@ class HybridScene(AssembledScene):
         bearing on it (taken in the turning body frame) is rotated back by the body frame
         angle; the others are unchanged."""
         names = self.reaction_names
+        turned = set()  # a body carrying two gears turns its shaft once
         for m, member in enumerate(self.members):
-            if not isinstance(member, FlexibleMember):
+            if not isinstance(member, FlexibleMember) or self.member_shafts[m] in turned:
                 continue
+            turned.add(self.member_shafts[m])
             ang = member.frame_angle(theta)
             for i, name in enumerate(names):
                 if self.structure.reaction_member[i] != self.member_shafts[m] or not name.endswith(
@@ -317,21 +327,23 @@ class HybridScene(AssembledScene):
 
 
 class _BodyPlace(NamedTuple):
-    """A condensed body placed on a shaft: its shaft (index), its gear position along it (m),
-    its spin speed per unit scene speed (signed Ω_z/Ω: the pinion's +1, a pair's gear −z1/z2),
-    and a gear pair with its member index there (its tooth data for the tooth masses)."""
+    """A condensed body placed on a shaft: its shaft (index), the position along it of the
+    body frame's origin (m; the wheel rim's mid-face, a single-rim body's gear position), its
+    spin speed per unit scene speed (signed Ω_z/Ω: the pinion's +1, a pair's gear −z1/z2), and
+    for each of its rims a gear pair with its member index there (its tooth data for the tooth
+    masses)."""
 
     body: object
     shaft: int
     gear_z: float
     speed: float
-    pair: GearPair
-    member: int
+    rims: tuple  # ((GearPair, member), ...) per rim of the body
 
 
-def _body_bearing_z(body, shaft: ShaftSpec, where: str) -> tuple:
-    """The shaft positions (m) where ``body``'s bearing nodes attach (its gear position plus
-    their axial positions), after checking that the shaft's bearings are axisymmetric (the
+def _body_bearing_z(body, shaft: ShaftSpec, where: str, origin: float | None = None) -> tuple:
+    """The shaft positions (m) where ``body``'s bearing nodes attach (the body origin's
+    position ``origin``, default the shaft's gear position, plus their axial positions), after
+    checking that the shaft's bearings are axisymmetric (the
     shaft of a flexible body turns with the body frame: they must look the same from every
     angle, i.e. commute with a quarter turn about z: K_xx = K_yy, ...)."""
     q = np.zeros((6, 6))
@@ -352,7 +364,7 @@ def _body_bearing_z(body, shaft: ShaftSpec, where: str) -> tuple:
     bz = coords[np.asarray(body.master_kind) == 1]
     if bz.size == 0 or np.any(np.hypot(bz[:, 0], bz[:, 1]) > 1e-9):
         raise ValueError(f"{where}: the body on it needs bearing nodes on its axis")
-    return tuple(shaft.gear_z + bz[:, 2])
+    return tuple((shaft.gear_z if origin is None else origin) + bz[:, 2])
 
 
 def _place_bodies(d: dict, places: list, tooth_density: float | None) -> dict:
@@ -393,18 +405,20 @@ def _place_bodies(d: dict, places: list, tooth_density: float | None) -> dict:
         M_b = np.array(body.M, float)
         f_b = np.array(body.f_centrifugal, float)
         Mb0 = M_b.copy()
-        if tooth_density is not None:
-            width = float(np.ptp(coords[body.rim_grid[0], 2]))
-            mt, rt = one_tooth_mass(place.pair, place.member, tooth_density, width)
-            zn = coords[body.rim_grid[0], 2]
+        for grid, (pair, member) in zip(body_rims(body), place.rims, strict=True):
+            if tooth_density is None:
+                break
+            width = float(np.ptp(coords[grid[0], 2]))
+            mt, rt = one_tooth_mass(pair, member, tooth_density, width)
+            zn = coords[grid[0], 2]
             share = np.zeros(zn.size)  # trapezoid weights across the face
             share[:-1] += 0.5 * np.diff(zn)
             share[1:] += 0.5 * np.diff(zn)
             share /= share.sum()
             dof = body_dof_index(body)
-            for k in range(body.rim_grid.shape[0]):
+            for k in range(grid.shape[0]):
                 for j in range(zn.size):
-                    mi = int(body.rim_grid[k, j])
+                    mi = int(grid[k, j])
                     e = coords[mi, :2] / np.hypot(*coords[mi, :2])
                     for c in range(3):
                         M_b[dof[(mi, c)], dof[(mi, c)]] += mt * share[j]
@@ -531,6 +545,13 @@ def hybrid_pair(
     """
     shafts = (pinion_shaft, gear_shaft)
     where = ("scene.pinion_shaft", "scene.gear_shaft")
+    for m, body in enumerate(bodies):
+        if body is not None and len(body_rims(body)) > 1:
+            raise ValueError(
+                f"scene.{('pinion', 'gear')[m]}_body: the body has {len(body_rims(body))} rims "
+                "(a [pinion_rim]): a body carrying two gears belongs in a train case "
+                "([scene.bodies.<shaft>])"
+            )
     extra = tuple(
         () if body is None else _body_bearing_z(body, shafts[m], where[m])
         for m, body in enumerate(bodies)
@@ -551,7 +572,7 @@ def hybrid_pair(
     placed = _place_bodies(
         d,
         [
-            None if body is None else _BodyPlace(body, m, shafts[m].gear_z, w, pair, m)
+            None if body is None else _BodyPlace(body, m, shafts[m].gear_z, w, ((pair, m),))
             for m, (body, w) in enumerate(zip(bodies, (1.0, -ratio), strict=True))
         ],
         density if tooth_mass else None,
@@ -613,44 +634,91 @@ def hybrid_train(
     poisson_ratio: float = 0.3,
     density: float = 7800.0,
     tooth_mass: bool = True,
+    rims: tuple | None = None,
+    gear_names: tuple | None = None,
 ) -> HybridScene:
     """A lumped 3D gear train (:func:`~jaxgear.scenes.lumped_train`) whose flexible gears are
     condensed FE bodies: a flexible idler meshes twice, its two contact zones on one rim, both
-    through the interface of :mod:`._interface` (docs/trains.md, "Flexible gears in a train").
+    through the interface of :mod:`._interface`; a body with two rims (a fem_prep
+    ``[pinion_rim]``) carries the two gears of its shaft, each mesh on its gear's rim
+    (docs/trains.md, "Flexible gears in a train", "A body carrying two gears").
 
-    Each flexible gear's body is placed on its shaft as in :func:`hybrid_pair` (bearing masters
-    merged with the shaft nodes at its gear position plus their axial positions); its frame
-    turns at the gear's speed ratio and sense (the layout's), and a tooth centre of the gear
-    sits on a rim station (its first mesh's phase). The statics run in the cell space with one
-    free rotation per shaft but the output's, which is held (:class:`HybridScene`).
+    Each body is placed on its shaft as in :func:`hybrid_pair` (bearing masters merged with the
+    shaft nodes at the body origin's position plus their axial positions; the origin is the
+    mid-face of its wheel rim, rim 0, at that gear's position); its frame turns at the shaft's
+    speed ratio and sense (the layout's), and a tooth centre of each of its gears sits on a
+    station of that gear's rim (the gear's first mesh's phase). The statics run in the cell
+    space with one free rotation per shaft but the output's, which is held
+    (:class:`HybridScene`).
 
     Args:
         pairs: each mesh's :class:`~jaxgear.GearPair` (its pinion the driving gear).
         meshes, layout, shafts, gear_shafts, masses, inertias, shares, wrenches, shaft_names,
             youngs_modulus, poisson_ratio, density: as :func:`~jaxgear.scenes.lumped_train`
             (masses and inertias are ignored for a flexible gear).
-        bodies: each gear's condensed body or ``None`` (a rigid gear node), (n,); its mesh
-            models must leave out the foundation term of a flexible gear (as
-            :func:`hybrid_pair`).
+        bodies: each gear's condensed body or ``None`` (a rigid gear node), (n,); the gears of
+            one shaft are all rigid or all on one body (the same object); its mesh models must
+            leave out the foundation term of a flexible gear (as :func:`hybrid_pair`).
         tooth_mass: add the teeth's mass and centrifugal load on the rim masters.
+        rims: each gear's rim on its body (0 the wheel's rim, 1 the ``[pinion_rim]``), (n,);
+            default 0 for every gear. The gears of a body take distinct rims, every rim one.
+        gear_names: each gear's name, for the messages (default ``gear<g>``).
 
     Raises:
-        ValueError: a flexible gear whose shaft carries another gear (the shaft turns with the
-            body frame), what :func:`hybrid_pair` and :func:`lumped_train` refuse.
+        ValueError (one line, lengths in mm): a shaft carrying a flexible gear and a rigid one or
+            two bodies (the shaft turns with the body frame); a body's rims not matching its
+            gears (count, rim taken twice), a gear position that is not where the body puts its
+            rim, a rim width that is not the face width of the gear's meshes; what
+            :func:`hybrid_pair` and :func:`lumped_train` refuse.
     """
     n_shafts = len(shafts)
     names = shaft_names or tuple(f"shaft{i}" for i in range(n_shafts))
+    gname = gear_names or tuple(f"gear{g}" for g in range(len(bodies)))
+    rims = tuple(rims) if rims is not None else (0,) * len(bodies)
+    on = [[g for g, sh in enumerate(gear_shafts) if sh == i] for i in range(n_shafts)]
+    # one body per shaft: its gears, each on its rim; the body origin along the shaft
+    shaft_body: dict = {}  # shaft -> (body, origin z (m))
     bodies_z = [[] for _ in range(n_shafts)]
-    for g, body in enumerate(bodies):
-        if body is None:
+    for s_ in range(n_shafts):
+        flex = [g for g in on[s_] if bodies[g] is not None]
+        if not flex:
             continue
-        s_ = gear_shafts[g]
-        if sum(sh == s_ for sh in gear_shafts) > 1:
+        where = f"shaft {names[s_]!r}"
+        rigid = [g for g in on[s_] if bodies[g] is None]
+        if rigid:
             raise ValueError(
-                f"shaft {names[s_]!r}: carries the flexible gear {g} and other gears "
-                "(allowed: a flexible gear alone on its shaft, which turns with its body frame)"
+                f"{where}: carries the flexible gear {gname[flex[0]]!r} and the rigid gear "
+                f"{gname[rigid[0]]!r} (allowed: a shaft's gears all on one condensed body, "
+                "which turns with the shaft)"
             )
-        bodies_z[s_].extend(_body_bearing_z(body, shafts[s_], f"shaft {names[s_]!r}"))
+        body = bodies[flex[0]]
+        if any(bodies[g] is not body for g in flex):
+            raise ValueError(
+                f"{where}: its gears {', '.join(repr(gname[g]) for g in flex)} name different "
+                "bodies (allowed: one condensed body per shaft, carrying all its gears)"
+            )
+        n_rims = len(body_rims(body))
+        used = [rims[g] for g in flex]
+        if len(flex) != n_rims or sorted(used) != list(range(n_rims)):
+            raise ValueError(
+                f"{where}: its body has {n_rims} rim(s) and the shaft {len(flex)} gear(s) on "
+                f"rims {used} (allowed: one gear on each rim, rim 0 the webbed wheel's, rim 1 "
+                "the [pinion_rim])"
+            )
+        pos = shafts[s_].gear_positions
+        g0 = next(g for g in flex if rims[g] == 0)
+        origin = pos[on[s_].index(g0)]
+        for g in flex:
+            want = origin + rim_mid_z(body, rims[g])
+            got = pos[on[s_].index(g)]
+            if abs(got - want) > 1e-6:
+                raise ValueError(
+                    f"{where}: gear_positions_mm {gname[g]} = {got * 1e3:.6g}, but its body puts "
+                    f"rim {rims[g]} at {want * 1e3:.6g} mm ({gname[g0]} at {origin * 1e3:.6g} mm "
+                    f"+ {rim_mid_z(body, rims[g]) * 1e3:.6g} mm in the body frame)"
+                )
+        shaft_body[s_] = (body, origin)
+        bodies_z[s_].extend(_body_bearing_z(body, shafts[s_], where, origin))
     t = _train_arrays(
         meshes,
         layout,
@@ -672,27 +740,40 @@ def hybrid_train(
     for k, (_, (g, h)) in enumerate(meshes):
         role.setdefault(g, (k, 0))
         role.setdefault(h, (k, 1))
-    places = []
-    for g, body in enumerate(bodies):
+    for g, body in enumerate(bodies):  # each rim as wide as the faces of its gear's meshes
         if body is None:
-            places.append(None)
             continue
-        k, member = role[g]
-        z = shafts[gear_shafts[g]].gear_positions[t["on"][gear_shafts[g]].index(g)]
-        places.append(_BodyPlace(body, gear_shafts[g], z, spin[g] * ratio[g], pairs[k], member))
+        z = np.asarray(body.master_coords, float)[body_rims(body)[rims[g]][0], 2]
+        for k, (plane, (a, b)) in enumerate(meshes):
+            face = float(plane.face_width)
+            if g in (a, b) and abs(np.ptp(z) - face) > 1e-6 * face:
+                raise ValueError(
+                    f"{gname[g]!r}: its body's rim {rims[g]} is {np.ptp(z) * 1e3:.6g} mm wide, "
+                    f"the face of mesh {gname[a]}-{gname[b]} {face * 1e3:.6g} mm (allowed: equal; "
+                    "fem_prep rim_width_mm or [pinion_rim] width_mm)"
+                )
+    places, body_shafts = [], []
+    for s_, (body, origin) in shaft_body.items():
+        per_rim = [None] * len(body_rims(body))
+        for g in on[s_]:
+            k, member = role[g]
+            per_rim[rims[g]] = (pairs[k], member)
+        g0 = on[s_][0]
+        places.append(_BodyPlace(body, s_, origin, spin[g0] * ratio[g0], tuple(per_rim)))
+        body_shafts.append(s_)
     placed = _place_bodies(d, places, density if tooth_mass else None)
-    n, gidxs = placed["n"], placed["gidx"]
+    n = placed["n"]
+    gidx_of = dict(zip(body_shafts, placed["gidx"], strict=True))  # shaft -> body DOFs
     f_t = np.concatenate([t["f_torque"], np.zeros(n - n_sh)])
     rb0 = float(meshes[0][0].base_radius_pinion)
-    body_of = {gear_shafts[g]: g for g, b in enumerate(bodies) if b is not None}
     Nv = np.stack(
         [
             _shaft_rotation(
                 d,
                 i,
                 n,
-                bodies[body_of[i]] if i in body_of else None,
-                gidxs[body_of[i]] if i in body_of else None,
+                shaft_body[i][0] if i in shaft_body else None,
+                gidx_of.get(i),
             )
             / rb0
             for i in range(n_shafts)
@@ -720,7 +801,7 @@ def hybrid_train(
                 pairs[k],
                 member,
                 body,
-                gidxs[g],
+                gidx_of[gear_shafts[g]],
                 centre,
                 zone,
                 meshes[k][0],
@@ -728,8 +809,15 @@ def hybrid_train(
                 spin=float(spin[g]),
                 ratio=float(ratio[g]),
                 mesh_angle=float(layout.phases[k]),
+                rim=rims[g],
             )
         )
+    for s_ in shaft_body:  # a body carrying two gears has one frame
+        flex = [g for g in on[s_] if bodies[g] is not None]
+        if len(flex) > 1:
+            offset = _common_offset([members[g] for g in flex], [gname[g] for g in flex])
+            for g in flex:
+                members[g] = eqx.tree_at(lambda m: m.offset, members[g], jnp.asarray(offset))
     structure = _body_structure(d, placed, t["nodes"])
     scene = HybridScene(
         structure=structure,
@@ -744,6 +832,39 @@ def hybrid_train(
         periods=t["periods"],
     )
     return fit_windows(scene)
+
+
+def _common_offset(members: list, names: list) -> float:
+    """The one frame angle φ_0 (rad, at θ = 0) of a body carrying several gears: each member's
+    :func:`flexible_member` offset puts its gear's teeth on its rim's stations, modulo that
+    rim's pitch 2π/Z_r; the body's frame must satisfy every rim at once, φ_0 ≡ φ_r (mod 2π/Z_r),
+    which has a solution when the gears' clocking on the shaft agrees with the rims' stations.
+
+    Raises:
+        ValueError: no common angle: the teeth of a later gear would sit off its stations
+            (its ``clocking_deg`` against the body's stations, one line).
+    """
+    phis = [float(m.offset) for m in members]
+    pitches = [float(m.pitch_angle) for m in members]
+    Z0 = int(round(2 * math.pi / pitches[0]))
+    for a in range(Z0):
+        phi = phis[0] + a * pitches[0]
+        off = [((phi - p) / q + 0.5) % 1.0 - 0.5 for p, q in zip(phis, pitches, strict=True)]
+        if max(abs(o) for o in off) < 1e-6:
+            return phi
+    Zs = [int(round(2 * math.pi / q)) for q in pitches]
+    best = min(
+        range(Z0),
+        key=lambda a: abs(((phis[0] + a * pitches[0] - phis[1]) / pitches[1] + 0.5) % 1.0 - 0.5),
+    )
+    frac = ((phis[0] + best * pitches[0] - phis[1]) / pitches[1] + 0.5) % 1.0 - 0.5
+    step = 360.0 / math.lcm(*Zs)
+    raise ValueError(
+        f"gears {names[0]!r} and {names[1]!r} on one body: with the teeth of {names[0]!r} on "
+        f"their rim stations, those of {names[1]!r} sit {abs(frac):.3g} of a pitch off theirs "
+        f"(allowed: a clocking_deg of {names[1]!r} at which both sit on their stations, which "
+        f"moves by multiples of {step:.6g} deg = 360/lcm({', '.join(map(str, Zs))}))"
+    )
 
 
 HybridPair = HybridScene  # the name of the pair's scene (a hybrid train is the same class)

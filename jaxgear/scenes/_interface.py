@@ -55,6 +55,7 @@ __all__ = [
     "RigidMember",
     "TorsionalMember",
     "body_dof_index",
+    "body_rims",
     "flexible_member",
     "loaded_flank",
     "mortar_weights",
@@ -299,6 +300,21 @@ def loaded_flank(centre, line, side):
     return jnp.sign(-side * (e_phi @ jnp.asarray(line["normal"])[:2]))
 
 
+def body_rims(body) -> tuple:
+    """Each rim's ``(stations, n_axial)`` master-node grid of a condensed body, the wheel's rim
+    first (a fem_prep body with a ``[pinion_rim]`` has two: ``CondensedBody.rim_grids``; a
+    duck-typed body with only ``rim_grid`` has one)."""
+    grids = getattr(body, "rim_grids", None)
+    return tuple(grids) if grids is not None else (np.asarray(body.rim_grid),)
+
+
+def rim_mid_z(body, rim: int = 0) -> float:
+    """The body-frame z (m) of the middle of rim ``rim``'s face (0 for the wheel's rim, whose
+    mid-face is the body frame's origin)."""
+    z = np.asarray(body.master_coords, float)[body_rims(body)[rim][0], 2]
+    return 0.5 * float(z.min() + z.max())
+
+
 def body_dof_index(body) -> dict:
     """(master, component) → condensed DOF index of a fem_prep body."""
     dm = np.asarray(body.dof_map)
@@ -327,6 +343,7 @@ def flexible_member(
     spin: float | None = None,
     ratio: float | None = None,
     mesh_angle: float = 0.0,
+    rim: int = 0,
 ) -> FlexibleMember:
     """The interface of a condensed body: its rim master DOFs, root points and window.
 
@@ -341,6 +358,8 @@ def flexible_member(
             θ (default: a pair's, +1 and 1 for the pinion, −1 and z1/z2 for the gear; in a
             train, the layout's sense and speed ratio of the gear).
         mesh_angle: the angle of ``mesh`` at θ = 0 (a train's mesh phase; 0 for a pair).
+        rim: which rim of the body carries the gear (:func:`body_rims`: 0 the wheel's, 1 a
+            ``[pinion_rim]``); its axial positions are taken from the middle of its face.
 
     The body frame is set so that at θ = 0 the centre line of a tooth in contact, at mid-face
     (body z = 0), lies on a rim station: the contact lines of ``mesh`` run
@@ -353,14 +372,18 @@ def flexible_member(
             or the mesh's slices do not nest in the body's axial rim faces.
     """
     coords = np.asarray(body.master_coords, float)
-    grid = np.asarray(body.rim_grid)
+    rims = body_rims(body)
+    if not 0 <= rim < len(rims):
+        raise ValueError(f"flexible_member: rim {rim}, the body has {len(rims)} rim(s)")
+    grid = np.asarray(rims[rim])
     Z, n_ax = grid.shape
     teeth = (pair.pinion, pair.gear)[member].teeth
     name = ("pinion", "gear")[member]
     if Z != teeth:
+        which = ("[condensation] teeth", "[pinion_rim] teeth")[min(rim, 1)]
         raise ValueError(
-            f"scene.{name}_body: the body has {Z} rim stations, the {name} {teeth} teeth "
-            "(fem_prep [condensation] teeth must equal the gear's teeth)"
+            f"scene.{name}_body: the body's rim {rim} has {Z} rim stations, the {name} "
+            f"{teeth} teeth (fem_prep {which} must equal the gear's teeth)"
         )
     xy = coords[grid[:, 0], :2]
     ang = np.unwrap(np.arctan2(xy[:, 1], xy[:, 0]))
@@ -374,7 +397,7 @@ def flexible_member(
             f"scene.{name}_body: rim outer radius {radius * 1e3:.6g} mm is not the {name}'s root "
             f"radius {rf * 1e3:.6g} mm (allowed within 2 %)"
         )
-    z_nodes = coords[grid[0], 2]
+    z_nodes = coords[grid[0], 2] - rim_mid_z(body, rim)  # from the rim's mid-face
     if n_ax < 2 or np.any(np.diff(z_nodes) <= 0):
         raise ValueError(
             f"scene.{name}_body: needs >= 2 axial rim master nodes in increasing z "
