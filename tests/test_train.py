@@ -496,12 +496,16 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
 def test_automatic_steps_resolve_the_fastest_mesh():
     """A speed-increasing two-stage train (40 → 24, then 36 → 20 on the 24's shaft): the second
     mesh passes teeth 1.5 times as fast as the first (60 Ω against 40 Ω), so the automatic step
-    gives at least 64 steps per period of that mesh: 128 per period of the first at a speed where
-    the modes alone ask for fewer; the two meshes repeat together every 2 periods of the first."""
+    gives at least 64 steps per period of that mesh at a speed where the modes alone ask for
+    fewer; the two meshes repeat together every 2 periods of the first, the second's period is
+    2/3 of the first's, so the step count is a multiple of 3 (3 × 2^j: 96, which gives the
+    second mesh exactly 64 steps per period and the table each mesh's own period: 96 and 64
+    rows, not the span's 192)."""
     planes = (_mesh(40, 24), _mesh(36, 20))
     train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), (1e-3, 1e-3, 1e-3))
     assert train.scene_periods() == 2
     model = jd.dynamic_model(train, jg.Modifications(), TORQUE)
     f_max = float(jd.excited_omega(model.modes))
     speed = 4.0 * f_max / 40  # the first mesh at 4 times the highest excited mode: 64 would do
-    assert int(jd.auto_steps_per_period(model, [speed])[0]) == 128
+    assert int(jd.auto_steps_per_period(model, [speed])[0]) == 96
+    assert jd.mesh_table(train, None, 96).rows == (96, 64)
