@@ -257,8 +257,8 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
     integrated by RK4 (2048 steps per period, exact mesh stiffness at each stage) within 1.5 % of
     its peak-to-peak at 256 Newmark steps per period, and closer at 512 (Newmark samples the
     stiffness at a table row, first order through its jumps). The records are read at their
-    angle θ = Ω t + Δθ/2 (``theta``: the table row whose cells the step used, half a step after
-    its end; docs/design.md)."""
+    time, on the nominal motion's clock θ = Ω t (``theta`` = Ω ``time``: the table row whose
+    cells the step used; docs/design.md)."""
     planes = (_mesh(TEETH[0], TEETH[1]), _mesh(TEETH[1], TEETH[2]))
     pairs = (_pair(TEETH[0], TEETH[1]), _pair(TEETH[1], TEETH[2]))
     radii = (pairs[0].tip_radii[0], pairs[0].tip_radii[1], pairs[1].tip_radii[1])
@@ -274,7 +274,7 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
         r = jd.simulate(
             model, speed, integrator=jd.Newmark(n_steps), window=jd.SteadyState(periods, 2)
         )
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)
+        t = np.asarray(r.time)  # θ = Ω t
         X = np.stack([np.interp(t, t_ref, x_ref[:, i]) for i in range(x_ref.shape[1])], -1)
         for k, mesh in enumerate(r.meshes):
             assert float(mesh.contact_loss) == 0.0
@@ -340,7 +340,7 @@ def test_two_stage_train_dynamics_converge_to_an_independent_reference():
             model, speed, integrator=jd.Newmark(n_steps), window=jd.SteadyState(periods, keep)
         )
         assert int(r.result) == 0
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)  # the records' angle (docs/design.md)
+        t = np.asarray(r.time)  # θ = Ω t: the records' angle (docs/design.md)
         X = np.stack([np.interp(t, t_ref, x_ref[:, i]) for i in range(x_ref.shape[1])], -1)
         for k, mesh in enumerate(r.meshes):
             assert float(mesh.contact_loss) == 0.0
@@ -476,7 +476,7 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
         assert int(r.result) == 0
         t_end = periods * float(planes[0].mesh_period_angle) / speed
         x_at, n_pairs, meshes = _segmented_reference(model, train, planes, speed, t_end, k0)
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)  # the records' angle (design.md)
+        t = np.asarray(r.time)  # θ = Ω t: the records' angle (design.md)
         X = x_at(t)
         U = np.asarray(train.te_vectors())
         for k, mesh in enumerate(r.meshes):

@@ -5,9 +5,11 @@ Equations of motion (seed (2.37), :mod:`jaxgear._dyn_scene`):
 
     M Ẍ + C Ẋ + K_s X + Σ_c k_c l_c φ(V_c·X − δ0_c(t)) V_c = F,
 
-with the cells and δ0 at the nominal mesh position θ(t) = Ω t + Δθ/2 (Ω: pinion speed, rad/s;
-Δθ = 2π/(z1 N_s) the pinion rotation of one time step, N_s steps per mesh period; the half-step
-offset keeps contact-line ends off the edges of the base plane, as in the quasi-static positions).
+with the cells and δ0 at the nominal mesh position θ(t) = Ω t (Ω: pinion speed, rad/s), sampled
+at the mid-points of the steps, θ = (i + ½)Δθ (Δθ = 2π/(z1 N_s) the pinion rotation of one time
+step, N_s steps per mesh period; the mid-points keep contact-line ends off the edges of the base
+plane, as in the quasi-static positions): a run starts at t = Δt/2 from the equilibrium at Δθ/2
+and its step i ends at t = (i + 3/2)Δt (docs/design.md, "The clock of the records").
 The excitation comes only through δ0(t) and the time-varying cell set (seed III §3.3).
 
 Solvers:
