@@ -23,6 +23,7 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.dynamics._simulate import simulate_on_table
+from jaxgear.dynamics._sweep import steps_multiple
 from jaxgear.scenes import disc_inertia, torsional_train
 
 jax.config.update("jax_enable_x64", True)
@@ -146,5 +147,8 @@ def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
     own, p_own = simulate_on_table(model, speed, steps, window)
     long, p_long = simulate_on_table(model, speed, steps, window, own_periods=False)
     assert p_own.table.rows == rows and p_long.table.theta.shape == (q * steps,)
+    if case == "two-stage":  # the case's own 140 steps (docs/trains.md): 140 and 508 rows
+        assert steps_multiple(model) == 35
+        assert jd.mesh_rows(model.scene, model.mods, 140, q) == (140, 508)
     assert int(own.result) == 0 and int(long.result) == 0
     _assert_same_run(own, long)
