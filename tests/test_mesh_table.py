@@ -152,3 +152,35 @@ def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
         assert jd.mesh_rows(model.scene, model.mods, 140, q) == (140, 508)
     assert int(own.result) == 0 and int(long.result) == 0
     _assert_same_run(own, long)
+
+
+def test_diffrax_records_take_each_mesh_at_its_own_row():
+    """A diffrax solver evaluates the cells at θ(t) and records the cell forces from the table
+    at the kept samples: over a transient of 5 periods (not a whole span of 4) each mesh's
+    recorded force follows its own row. Tsit5 (adaptive, rtol 1e-8, 24 samples per period) and
+    Newmark at 384 steps per period, both with the smooth law, agree at the samples on every
+    mesh's dynamic factor within 0.5 % (measured 0.06 %, 0.19 %) and on its mesh force within 1 %
+    of the static force at 95 % of the samples (before the rows were fixed, the second mesh's
+    cells were read a first-mesh period, 3/4 of its own, away)."""
+    train, mods = _two_stage()
+    model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
+    speed = 0.6 * float(model.modes.omega[1]) / 20
+    window = jd.SteadyState(13, 8)
+    law = jg.SmoothContact(1e-7)
+    steps = 24
+    ode = jd.simulate(
+        model,
+        speed,
+        integrator=jd.DiffraxIntegrator("tsit5", rtol=1e-8, atol=1e-8, steps_per_period=steps),
+        contact=law,
+        window=window,
+    )
+    ref = jd.simulate(model, speed, integrator=jd.Newmark(16 * steps), contact=law, window=window)
+    for a, b in zip(ode.meshes, ref.meshes, strict=True):
+        fs = float(b.static_force)
+        # the Newmark records at the ODE's samples (both stamped on θ = Ω t)
+        fb = np.interp(np.asarray(ode.time), np.asarray(ref.time), np.asarray(b.mesh_force))
+        assert float(a.dynamic_factor) == pytest.approx(fb.max() / fs, rel=5e-3)
+        # a sample next to a tooth pair's entry may differ more (the interpolated Newmark force)
+        diff = np.abs(np.asarray(a.mesh_force) - fb) / fs
+        assert np.percentile(diff, 95) < 1e-2, np.percentile(diff, 95)
