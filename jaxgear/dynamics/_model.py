@@ -19,7 +19,8 @@ Solvers:
   :func:`jaxgear.solve_contact`: exact law by the active set of seed II-25 (cells in tension dropped,
   interference outside the contact set checked, repeated), or the smooth softplus law by Newton.
   Because N_s is fixed per mesh period, the cell table (δ0, k, l, V at N_s positions) does not
-  depend on the speed: it is built once and indexed by step mod N_s.
+  depend on the speed: it is built once and indexed by step mod N_s; a train's meshes of other
+  periods each by step mod their own period's steps (:class:`MeshTable`).
 * a diffrax solver name (``"tsit5"``, ``"dopri5"``, ``"dopri8"``, ``"kvaerno3"``, ``"kvaerno5"``,
   ...): the first-order form in scaled variables (X/x_ref, Ẋ/(x_ref ω_ref)), adaptive steps with a
   ``PIDController`` (or constant steps with ``adaptive=False``), cells evaluated at θ(t).
@@ -139,7 +140,7 @@ class MeshTable(eqx.Module):
         """:attr:`flank` at the steps ``steps`` (..., c), or None without coast cells."""
         return None if self.flank is None else self.take(self.flank, steps)
 
-    def angle(self, steps) -> Float[Array, "..."]:
+    def angle(self, steps) -> Array:
         """The scene angle of the steps ``steps`` (rad): ((j mod span) + ½) Δθ, the angle of
         the rows the steps take."""
         j = (jnp.asarray(steps) % self.span).astype(self.theta.dtype) + 0.5
