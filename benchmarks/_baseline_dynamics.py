@@ -221,7 +221,8 @@ def reference_response(
         dict: ``dynamic_factor`` (max mesh force over the last ``keep_periods`` / F_s, the max of
         the continuous solution on a dense grid), ``min_force`` (/F_s), ``periodicity`` (max
         |F(last period) − F(previous)| / F_s on the dense grid), ``pieces`` (solve_ivp calls),
-        ``contact_events``, ``time``/``force`` (the kept dense samples).
+        ``contact_events``, ``time``/``force`` (the kept dense samples: s, /F_s) and
+        ``approach`` (the relative approach x (m) there), on the clock of θ = θ0 + Ω t.
     """
     R = ReferenceModel(model)
     Om = float(speed)
@@ -257,7 +258,7 @@ def reference_response(
 
     t_keep = (periods - keep_periods) * T
     h_mode = 2 * math.pi / w
-    dense_t, dense_f = [], []
+    dense_t, dense_f, dense_x = [], [], []
     n_piece = n_ev = 0
     for a, b in itertools.pairwise(edges):
         wrap_roll, mask = piece(a, b)
@@ -310,6 +311,7 @@ def reference_response(
                 ts = np.linspace(max(t, t_keep), t_end, n)
                 xs = sol.sol(ts)[0] * x_ref
                 dense_t.append(ts)
+                dense_x.append(xs)
                 dense_f.append(force(xs[:, None], (ts - a)[:, None]))
             y = sol.y[:, -1]
             t = t_end
@@ -328,6 +330,7 @@ def reference_response(
         "contact_events": n_ev,
         "time": tk,
         "force": fk,
+        "approach": np.concatenate(dense_x),
     }
 
 

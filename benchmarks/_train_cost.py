@@ -10,6 +10,14 @@ once; the difference of runs of 20 and 60 periods over the 40 periods' steps, so
 start and the records, a fixed cost per call, drop out), and their ratios to the one-mesh
 chain. There is no baseline: the figure is how the one
 contact solver and the one Newmark loop scale with the cells of several meshes.
+
+A long span (``span`` in the JSON): the embedded ``two-stage`` case (lumped 3D; its second mesh's
+period is 127/35 of the first's, so the meshes repeat together after 127 first-mesh periods) at
+one speed, ``steps_per_period`` a multiple of 35, the table of each mesh's own period (rows
+N_s and N_s × 127/35) against the long table of the span (127 N_s rows, every mesh at every
+step, as before the own-period tables), in one run: the table's rows and bytes, the time to
+build the table and the static rows (first call and best of repeats; compile = their
+difference), and the Newmark run over the kept span likewise, and the ratios long / own.
 """
 
 from __future__ import annotations
@@ -24,7 +32,10 @@ from tqdm.auto import tqdm
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
-from jaxgear.io import atomic_open
+from jaxgear.dynamics._lumped import _prep, _run, _static_start
+from jaxgear.dynamics._settings import _config
+from jaxgear.dynamics._sweep import resolve_settings
+from jaxgear.io import atomic_open, load_case
 from jaxgear.scenes import (
     Bearing,
     ShaftSpec,
@@ -35,7 +46,7 @@ from jaxgear.scenes import (
     train_layout,
 )
 
-from ._timing import environment, min_time
+from ._timing import environment, first_call, min_time
 
 __all__ = ["bench_trains", "train_cost_chart"]
 
@@ -79,6 +90,78 @@ def _chain(n_meshes: int, slices: int, model: str = "torsional"):
     return train, held, cells
 
 
+def bench_span(quick: bool = False) -> dict:
+    """The long span of the embedded ``two-stage`` case: the own-period table against the long
+    table of the span at one speed (see the module docstring). Returns the JSON's ``span``."""
+    slices, steps, repeats = (4, 35, 1) if quick else (8, 140, 2)
+    case = load_case("two-stage")
+    model, _ = jd.build_dynamic_model(case, slices=slices)
+    q = case.span_periods
+    window = jd.SteadyState(q + 1, q)
+    integrator, law, window = resolve_settings(model, jd.Newmark(steps), jg.ExactContact(), window)
+    cfg = _config(integrator, window, steps, 100.0, False)
+    speed = jnp.asarray(0.5 * float(model.modes.omega[1]) / case.pairs[0].pinion.teeth)
+    out = {
+        "case": "two-stage",
+        "model": "lumped3d",
+        "dofs": int(model.scene.structure.size),
+        "slices": slices,
+        "steps_per_period": steps,
+        "span_periods": q,
+        "periods": int(window.periods),
+        "keep_periods": int(window.keep_periods),
+        "speed_rad_s": float(speed),
+        "repeats": repeats,
+    }
+    for name, own in (("long", False), ("own", True)):
+
+        def prepare(own=own):
+            return _prep(model, law, steps, own)
+
+        t_first = first_call(prepare)
+        t_prep = min_time(prepare, repeats, warmup=False)
+        prep = prepare()
+        table = prep.table
+        start = _static_start(prep)
+
+        def run(prep=prep, start=start):
+            return _run(model, prep, speed, start, law, cfg, "single").meshes[0].mesh_force
+
+        r_first = first_call(run)
+        t_run = min_time(run, repeats, warmup=False)
+        out[name] = {
+            "rows": [int(r) for r in table.rows],
+            "table_rows": int(table.theta.shape[0]),
+            "table_bytes": int(sum(x.nbytes for x in jax.tree.leaves(table))),
+            "prepare_first_s": t_first,
+            "prepare_s": t_prep,
+            "prepare_compile_s": max(0.0, t_first - t_prep),
+            "run_first_s": r_first,
+            "run_s": t_run,
+            "run_compile_s": max(0.0, r_first - t_run),
+            "dynamic_factor_mesh": [
+                float(m.dynamic_factor)
+                for m in _run(model, prep, speed, start, law, cfg, "single").meshes
+            ],
+        }
+    long, own = out["long"], out["own"]
+    out["ratios_long_over_own"] = {
+        k: long[k] / own[k]
+        for k in (
+            "table_rows",
+            "table_bytes",
+            "prepare_first_s",
+            "prepare_s",
+            "run_first_s",
+            "run_s",
+        )
+    }
+    out["dynamic_factor_rel_diff"] = max(
+        abs(a / b - 1) for a, b in zip(own["dynamic_factor_mesh"], long["dynamic_factor_mesh"])
+    )
+    return out
+
+
 def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
     """Time the quasi-static position and the Newmark step against 1, 2, 3 meshes; write
     ``bench_trains.json`` and ``bench_trains.png`` to ``out_dir``. Returns the JSON dict."""
@@ -92,7 +175,7 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
     repeats = 2 if quick else 5
     qs_repeats = 3 if quick else 30
     rows = []
-    bar = tqdm(total=3 * len(MODELS), desc="jaxgear bench trains", unit="chain")
+    bar = tqdm(total=3 * len(MODELS) + 1, desc="jaxgear bench trains", unit="chain")
     for kind, n in ((kind, n) for kind in MODELS for n in (1, 2, 3)):
         bar.set_postfix_str(f"{kind}, {n} mesh{'es' if n > 1 else ''}: model")
         train, held, cells = _chain(n, slices, kind)
@@ -128,6 +211,9 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
             }
         )
         bar.update()
+    bar.set_postfix_str("two-stage span: own-period and long tables")
+    span = bench_span(quick)
+    bar.update()
     bar.close()
     for r in rows:  # ratios to the one-mesh chain of the same model
         first = next(q for q in rows if q["model"] == r["model"] and q["meshes"] == 1)
@@ -150,6 +236,7 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
             "step from the difference of the runs of the two period counts",
         },
         "rows": rows,
+        "span": span,
         "environment": environment(),
     }
     with atomic_open(os.path.join(out_dir, "bench_trains.json"), "w") as f:
@@ -162,6 +249,14 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
             f"{r['quasi_static_per_position_s'] * 1e6:.1f} µs/position (× {r['quasi_static_ratio']:.2f}), "
             f"Newmark {r['newmark_per_step_s'] * 1e6:.2f} µs/step (× {r['newmark_ratio']:.2f})"
         )
+    for name in ("long", "own"):
+        t = span[name]
+        print(
+            f"two-stage span, {name} table: {t['table_rows']} rows ({t['table_bytes'] / 1e6:.1f} "
+            f"MB), table + static rows {t['prepare_first_s']:.2f} s first / {t['prepare_s']:.2f} s, "
+            f"Newmark {t['run_first_s']:.2f} s first / {t['run_s']:.2f} s"
+        )
+    print(f"long / own: {span['ratios_long_over_own']}")
     return out
 
 

@@ -1,7 +1,9 @@
 """``jaxgear bench trains --quick`` runs and writes its JSON and chart (a smoke test: no timing
 asserted; timing lives in the benchmark): a row per model (torsional, lumped 3D) and chain of 1,
 2, 3 meshes with the cells of each (8 per mesh at 4 slices: two contact lines of 4 slices each)
-and the ratios to the model's first."""
+and the ratios to the model's first; the long span of the ``two-stage`` case at 35 steps per
+period on its own-period table (rows 35 and 127: the LST period is 127/35 HST periods) and on
+the long table of the span (4445 rows), with the same dynamic factors."""
 
 from __future__ import annotations
 
@@ -33,3 +35,7 @@ def test_bench_trains_quick(tmp_path):
     assert rows[0]["quasi_static_ratio"] == rows[0]["newmark_ratio"] == 1.0
     assert rows[3]["quasi_static_ratio"] == rows[3]["newmark_ratio"] == 1.0
     assert all(r["quasi_static_per_position_s"] > 0 and r["newmark_per_step_s"] > 0 for r in rows)
+    span = saved["span"]
+    assert span["own"]["rows"] == [35, 127] and span["long"]["table_rows"] == 127 * 35
+    assert span["ratios_long_over_own"]["table_rows"] == 35.0
+    assert span["dynamic_factor_rel_diff"] < 1e-10

@@ -257,8 +257,8 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
     integrated by RK4 (2048 steps per period, exact mesh stiffness at each stage) within 1.5 % of
     its peak-to-peak at 256 Newmark steps per period, and closer at 512 (Newmark samples the
     stiffness at a table row, first order through its jumps). The records are read at their
-    angle θ = Ω t + Δθ/2 (``theta``: the table row whose cells the step used, half a step after
-    its end; docs/design.md)."""
+    time, on the nominal motion's clock θ = Ω t (``theta`` = Ω ``time``: the table row whose
+    cells the step used; docs/design.md)."""
     planes = (_mesh(TEETH[0], TEETH[1]), _mesh(TEETH[1], TEETH[2]))
     pairs = (_pair(TEETH[0], TEETH[1]), _pair(TEETH[1], TEETH[2]))
     radii = (pairs[0].tip_radii[0], pairs[0].tip_radii[1], pairs[1].tip_radii[1])
@@ -274,7 +274,7 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
         r = jd.simulate(
             model, speed, integrator=jd.Newmark(n_steps), window=jd.SteadyState(periods, 2)
         )
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)
+        t = np.asarray(r.time)  # θ = Ω t
         X = np.stack([np.interp(t, t_ref, x_ref[:, i]) for i in range(x_ref.shape[1])], -1)
         for k, mesh in enumerate(r.meshes):
             assert float(mesh.contact_loss) == 0.0
@@ -340,7 +340,7 @@ def test_two_stage_train_dynamics_converge_to_an_independent_reference():
             model, speed, integrator=jd.Newmark(n_steps), window=jd.SteadyState(periods, keep)
         )
         assert int(r.result) == 0
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)  # the records' angle (docs/design.md)
+        t = np.asarray(r.time)  # θ = Ω t: the records' angle (docs/design.md)
         X = np.stack([np.interp(t, t_ref, x_ref[:, i]) for i in range(x_ref.shape[1])], -1)
         for k, mesh in enumerate(r.meshes):
             assert float(mesh.contact_loss) == 0.0
@@ -476,7 +476,7 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
         assert int(r.result) == 0
         t_end = periods * float(planes[0].mesh_period_angle) / speed
         x_at, n_pairs, meshes = _segmented_reference(model, train, planes, speed, t_end, k0)
-        t = np.asarray(r.time) + 0.5 * float(r.time_step)  # the records' angle (design.md)
+        t = np.asarray(r.time)  # θ = Ω t: the records' angle (design.md)
         X = x_at(t)
         U = np.asarray(train.te_vectors())
         for k, mesh in enumerate(r.meshes):
@@ -496,12 +496,16 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
 def test_automatic_steps_resolve_the_fastest_mesh():
     """A speed-increasing two-stage train (40 → 24, then 36 → 20 on the 24's shaft): the second
     mesh passes teeth 1.5 times as fast as the first (60 Ω against 40 Ω), so the automatic step
-    gives at least 64 steps per period of that mesh: 128 per period of the first at a speed where
-    the modes alone ask for fewer; the two meshes repeat together every 2 periods of the first."""
+    gives at least 64 steps per period of that mesh at a speed where the modes alone ask for
+    fewer; the two meshes repeat together every 2 periods of the first, the second's period is
+    2/3 of the first's, so the step count is a multiple of 3 (3 × 2^j: 96, which gives the
+    second mesh exactly 64 steps per period and the table each mesh's own period: 96 and 64
+    rows, not the span's 192)."""
     planes = (_mesh(40, 24), _mesh(36, 20))
     train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), (1e-3, 1e-3, 1e-3))
     assert train.scene_periods() == 2
     model = jd.dynamic_model(train, jg.Modifications(), TORQUE)
     f_max = float(jd.excited_omega(model.modes))
     speed = 4.0 * f_max / 40  # the first mesh at 4 times the highest excited mode: 64 would do
-    assert int(jd.auto_steps_per_period(model, [speed])[0]) == 128
+    assert int(jd.auto_steps_per_period(model, [speed])[0]) == 96
+    assert jd.mesh_table(train, None, 96).rows == (96, 64)

@@ -61,6 +61,7 @@ from ._model import (
     deviation_periods as deviation_periods,
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,
+    mesh_rows as mesh_rows,
     mesh_stiffness_means as mesh_stiffness_means,
     mesh_table as mesh_table,
     span_periods as span_periods,

@@ -14,9 +14,10 @@ from ._settings import DIFFRAX_SOLVERS, _Config, _divergence_code
 
 
 def _cell_forces(table: MeshTable, X, j, law: ContactLaw):
-    """The cell forces k l φ(V X − δ0) (N), (c,), at state X (n,) and table row j."""
-    gap = table.V[j] @ X - table.delta0[j]
-    return jnp.where(table.mask[j], table.k[j] * table.length[j] * _phi(gap, law)[0], 0.0)
+    """The cell forces k l φ(V X − δ0) (N), (c,), at state X (n,) and step j (each mesh at its
+    own row of the table)."""
+    r = table.at(j)
+    return jnp.where(r.mask, r.k * r.length * _phi(r.V @ X - r.delta0, law)[0], 0.0)
 
 
 def _diffrax(
@@ -84,7 +85,7 @@ def _diffrax(
         else diffrax.RecursiveCheckpointAdjoint(),
     )
     Xs, Xds = sol.ys[0] * x_ref, sol.ys[1] * v_ref
-    j = (jnp.arange(n_keep) + 1) % P
+    j = n_total - n_keep + 1 + jnp.arange(n_keep)  # the kept samples' steps
     forces = jax.vmap(lambda X, jj: _cell_forces(table, X, jj, law))(Xs, j)  # (K, c)
     fm, lines = table.mesh_forces(forces)
     te = jax.vmap(te_of)(Xs)
@@ -97,7 +98,8 @@ def _diffrax(
         code != 0, code, jnp.where(jnp.any(div == 2), 2, jnp.where(jnp.any(div == 3), 3, 0))
     )
     Xl, Xdl = Xs[-1], Xds[-1]
-    Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - table.V[0].T @ _cell_forces(table, Xl, 0, law))
+    Vl = table.at(n_total).V  # the last sample's cells
+    Xddl = Minv @ (F - C @ Xdl - Ks @ Xl - Vl.T @ _cell_forces(table, Xl, n_total, law))
     nsteps = jnp.asarray(sol.stats["num_steps"])
     reac = Xs @ scene.reaction_matrix().T
     # the cell forces of the kept samples (K, c) when the run records or reduces them

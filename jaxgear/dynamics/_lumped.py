@@ -9,7 +9,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._util import check_integer
 from ._modal import excited_omega
@@ -39,14 +38,11 @@ __all__ = ["static_start"]
 
 def _with_acceleration(model, table, X, Xd, law):
     scene = model.scene
-    gap = table.V[0] @ X - table.delta0[0]
-    f = jnp.where(table.mask[0], table.k[0] * table.length[0] * _phi(gap, law)[0], 0.0)
+    r = table.at(0)
+    f = jnp.where(r.mask, r.k * r.length * _phi(r.V @ X - r.delta0, law)[0], 0.0)
     Xdd = jnp.linalg.solve(
         scene.mass(),
-        scene.external_load(model.torque)
-        - model.damping @ Xd
-        - scene.stiffness() @ X
-        - table.V[0].T @ f,
+        scene.external_load(model.torque) - model.damping @ Xd - scene.stiffness() @ X - r.V.T @ f,
     )
     return (X, Xd, Xdd)
 
@@ -67,8 +63,8 @@ def _newmark(
     factors=None,
 ):
     """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
-    coordinates) on the rows of the mesh table from row ``start`` + 1 on (step n ends at row
-    (start + n + 1) mod the table's rows).
+    coordinates) from step ``start`` + 1 on: step n ends at step start + n + 1, whose cells
+    each mesh takes from its own rows of the table (:meth:`MeshTable.at`).
 
     ``state``: (X, Ẋ, Ẍ, result code, most contact passes). ``static_force``: the static mesh
     forces (N), (m,), the scale of the divergence check (default: the model's F_s). Records per
@@ -76,20 +72,15 @@ def _newmark(
     the forces per contact line of each mesh (N, a tuple of (L_k,)) ``lines``, the bearing
     forces R X (N, (r,)) ``reac``; (X, Ẋ) ``states`` with ``record_states``; the cell forces P
     (N, (c,)) ``cells`` with ``record_cells``; with ``factors`` (the table's E*/(π R) per row
-    and cell, (P, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa², (m,)) ``p2``,
+    and cell, (R, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa², (m,)) ``p2``,
     reduced here in the loop."""
     scene = model.scene
     M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
     R = scene.reaction_matrix()
     fs = jnp.sum(model.static_force if static_force is None else static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
-    P = table.theta.shape[0]
     te_of = mesh_te(scene, table.e_max[0])
-
-    def cells_at(j):
-        return CellRow(
-            None, table.V[j], table.k[j], table.length[j], table.delta0[j], table.mask[j]
-        )
+    cells_at = table.at
 
     def check(X, Xd, forces):
         return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
@@ -98,7 +89,7 @@ def _newmark(
         fm, lines = table.mesh_forces(forces)
         out = {"fm": fm, "te": te_of(X), "lines": lines, "reac": R @ X}
         if table.flank is not None:  # coast flanks: their force counts negative in F_m
-            coast, _ = table.mesh_forces(jnp.where(table.flank[j] < 0, forces, 0.0))
+            coast, _ = table.mesh_forces(jnp.where(table.flank_at(j) < 0, forces, 0.0))
             out["fm"] = fm - 2.0 * coast
             out["coast"] = coast
         if record_states:
@@ -106,11 +97,11 @@ def _newmark(
         if record_cells:
             out["cells"] = forces
         if factors is not None:  # line load w = P / l on the flanks
-            w = jnp.where(table.mask[j], forces / table.length[j], 0.0)
-            out["p2"] = mesh_max(w * factors[j], table.sizes)
+            w = jnp.where(table.take(table.mask, j), forces / table.take(table.length, j), 0.0)
+            out["p2"] = mesh_max(w * table.take(factors, j), table.sizes)
         return out
 
-    rows = ((jnp.arange(n_steps) + 1 + start) % P)[None, :]
+    rows = (jnp.arange(n_steps) + 1 + start)[None, :]
     return newmark(
         Ks,
         M,
@@ -129,8 +120,9 @@ def _newmark(
 
 def _static_forces(model: DynamicModel, table: MeshTable, static):
     """Each mesh's static force F_s (N), (m,) (:func:`static_mesh_forces`), and its largest
-    quasi-static force on one contact line (N), (m,)."""
-    fm, lines = table.mesh_forces(static.static_force_density * table.length)  # (P, m), (P, L_k)
+    quasi-static force on one contact line (N), (m,), over the span's steps."""
+    length = table.take(table.length, jnp.arange(table.span))  # (S, c)
+    fm, lines = table.mesh_forces(static.static_force_density * length)  # (S, m), (S, L_k)
     max_lines = jnp.stack([jnp.max(f) for f in lines])
     return static_mesh_forces(model.scene, model.torque, fm), max_lines
 
@@ -184,19 +176,22 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final, (fm, te, lines, reac, forces), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
-    j = (jnp.arange(n_keep) + 1 + n_trans) % table.theta.shape[0]
+    j = jnp.arange(n_keep) + 1 + n_trans  # the kept steps
+    mask = table.take(table.mask, j)  # (K, c)
     line_load = None
     if forces is not None:  # the line loads of the kept steps (N/m), (K, c)
-        line_load = jnp.where(table.mask[j], forces / table.length[j], 0.0)
+        line_load = jnp.where(mask, forces / table.take(table.length, j), 0.0)
     pressure = cells = None
     if factors is not None:
         if p2 is None:  # diffrax: from the cell forces at the kept samples
-            p2 = mesh_max(line_load * factors[j], table.sizes)
-        w_static = jnp.where(table.mask, static.static_force_density, 0.0)
-        pressure = (p2, mesh_max(w_static * factors, table.sizes))
+            p2 = mesh_max(line_load * table.take(factors, j), table.sizes)
+        span = jnp.arange(table.span)
+        w_static = jnp.where(table.take(table.mask, span), static.static_force_density, 0.0)
+        pressure = (p2, mesh_max(w_static * table.take(factors, span), table.sizes))
     if cfg.cell_loads:
-        cells = split_cells(line_load, geometry[0][j], geometry[1][j], table.mask[j], table.sizes)
-    static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (P, m)
+        s, z = (table.take(g, j) for g in geometry[:2])
+        cells = split_cells(line_load, s, z, mask, table.sizes)
+    static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (S, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
         speed=speed,
@@ -204,13 +199,13 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         mesh_period_angle=period_angle,
         steps_per_period=P,
         transient_steps=n_trans,
-        theta=table.theta[j],
+        theta=table.angle(j),
         mesh_force=fm,
         static_force=fs,
         transmission_error=te,
         line_force=lines,
         static_line_force=static_lines,
-        static_te=static_te[j],
+        static_te=static_te[j % table.span],
         bearing_force=reac,
         bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
         omega_excited=excited_omega(model.modes),
@@ -219,17 +214,20 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         code=code,
         rim=(none, none),
         states=states,
-        scene_steps=table.theta.shape[0],
+        scene_steps=table.span,
         pressure=pressure,
         cells=cells,
         coast_force=coast if cfg.newmark else None,
     )
 
 
-def _prep(model, law: ContactLaw, steps_per_period: int) -> _Prepared:
-    """The model's cell table and static rows over its span (:func:`span_periods`)."""
+def _prep(model, law: ContactLaw, steps_per_period: int, own_periods: bool = True) -> _Prepared:
+    """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
+    tabulated over its own period (``own_periods=False``: over the span, the long table)."""
     periods = span_periods(model)
-    return _prepare(model.scene, model.mods, model.torque, law, steps_per_period, periods)
+    return _prepare(
+        model.scene, model.mods, model.torque, law, steps_per_period, periods, own_periods
+    )
 
 
 def _static_start(prep: _Prepared):

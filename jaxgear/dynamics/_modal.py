@@ -468,12 +468,15 @@ def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:
     return jnp.max(jnp.where(excited, modes.omega, 0.0))
 
 
-def steps_for_mode(omega_max, mesh_period_angle, speeds, mesh_rate: float = 1.0) -> np.ndarray:
-    """N_s = the smallest power of two >= max(64 r, 40 · f_max / f_mesh) at each pinion speed
-    (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for the
-    highest excited mode ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m =
-    ``mesh_period_angle`` = 2π/z1, and r = ``mesh_rate`` the periods of the fastest mesh per
-    period of the first (1 for a pair; a train's later stage may pass teeth faster)."""
+def steps_for_mode(
+    omega_max, mesh_period_angle, speeds, mesh_rate: float = 1.0, multiple: int = 1
+) -> np.ndarray:
+    """N_s = the smallest ``multiple`` × 2^j >= max(64 r, 40 · f_max / f_mesh) at each pinion
+    speed (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for
+    the highest excited mode ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m =
+    ``mesh_period_angle`` = 2π/z1, r = ``mesh_rate`` the periods of the fastest mesh per
+    period of the first (1 for a pair; a train's later stage may pass teeth faster) and
+    ``multiple`` D (1: powers of two; a train: the steps that divide every mesh's period)."""
     sp = np.asarray(speeds, dtype=float)
     if np.any(~(sp > 0)):
         raise ValueError("speeds must be > 0 rad/s")
@@ -491,4 +494,5 @@ def steps_for_mode(omega_max, mesh_period_angle, speeds, mesh_rate: float = 1.0)
             f"to resolve the highest mode the mesh excites ({omega_max / (2 * np.pi):.6g} Hz): "
             f"allowed >= {low:.3g} rad/s (a slower pinion is quasi-static: jaxgear run)"
         )
-    return (2 ** np.ceil(np.log2(n))).astype(int)
+    doublings = np.maximum(0.0, np.ceil(np.log2(n / int(multiple))))
+    return (int(multiple) * 2**doublings).astype(int)

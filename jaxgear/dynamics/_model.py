@@ -5,9 +5,11 @@ Equations of motion (seed (2.37), :mod:`jaxgear._dyn_scene`):
 
     M Ẍ + C Ẋ + K_s X + Σ_c k_c l_c φ(V_c·X − δ0_c(t)) V_c = F,
 
-with the cells and δ0 at the nominal mesh position θ(t) = Ω t + Δθ/2 (Ω: pinion speed, rad/s;
-Δθ = 2π/(z1 N_s) the pinion rotation of one time step, N_s steps per mesh period; the half-step
-offset keeps contact-line ends off the edges of the base plane, as in the quasi-static positions).
+with the cells and δ0 at the nominal mesh position θ(t) = Ω t (Ω: pinion speed, rad/s), sampled
+at the mid-points of the steps, θ = (i + ½)Δθ (Δθ = 2π/(z1 N_s) the pinion rotation of one time
+step, N_s steps per mesh period; the mid-points keep contact-line ends off the edges of the base
+plane, as in the quasi-static positions): a run starts at t = Δt/2 from the equilibrium at Δθ/2
+and its step i ends at t = (i + 3/2)Δt (docs/design.md, "The clock of the records").
 The excitation comes only through δ0(t) and the time-varying cell set (seed III §3.3).
 
 Solvers:
@@ -17,7 +19,8 @@ Solvers:
   :func:`jaxgear.solve_contact`: exact law by the active set of seed II-25 (cells in tension dropped,
   interference outside the contact set checked, repeated), or the smooth softplus law by Newton.
   Because N_s is fixed per mesh period, the cell table (δ0, k, l, V at N_s positions) does not
-  depend on the speed: it is built once and indexed by step mod N_s.
+  depend on the speed: it is built once and indexed by step mod N_s; a train's meshes of other
+  periods each by step mod their own period's steps (:class:`MeshTable`).
 * a diffrax solver name (``"tsit5"``, ``"dopri5"``, ``"dopri8"``, ``"kvaerno3"``, ``"kvaerno5"``,
   ...): the first-order form in scaled variables (X/x_ref, Ẋ/(x_ref ω_ref)), adaptive steps with a
   ``PIDController`` (or constant steps with ``adaptive=False``), cells evaluated at θ(t).
@@ -40,12 +43,12 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import MeshModel, cell_flank, split_by_mesh
+from .._baseplane import CellRow, MeshModel, cell_flank, check_positions, split_by_mesh
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._pressure import pressure_factor
 from .._util import check_integer
-from .._quasi_static import mesh_positions, mesh_separations, per_mesh_modifications
+from .._quasi_static import mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
 
@@ -59,6 +62,7 @@ __all__ = [
     "deviation_periods",
     "dynamic_model",
     "mesh_forces",
+    "mesh_rows",
     "mesh_table",
     "mesh_te",
     "span_periods",
@@ -67,29 +71,92 @@ __all__ = [
 
 
 class MeshTable(eqx.Module):
-    """Contact cells of every mesh at the N_s positions of one mesh period (c = Σ_k
-    n_lines_k·n_slices_k cells, mesh after mesh as :meth:`jaxgear.CellRow.concat` joins them).
+    """Contact cells of every mesh tabulated over its own period at the steps of the first mesh
+    (c = Σ_k n_lines_k·n_slices_k cells, mesh after mesh as :meth:`jaxgear.CellRow.concat` joins
+    them; docs/trains.md, "Long spans").
+
+    Row r of the table holds every mesh's cells at the scene angle θ_r = (r + ½) Δθ (Δθ = 2π/(z1
+    N_s), the first mesh's pinion rotation of one step, N_s :attr:`steps_per_period`). Mesh k
+    uses its first ``rows[k]`` rows: at step j it takes row j mod ``rows[k]``. ``rows[k]`` is
+    the steps of its own period, N_s T_k/T_0, where that is a whole number and the mesh repeats
+    after it (no manufacturing deviations); otherwise the steps of the whole span (one scene
+    period, or the deviations' span). The table has max(rows) rows; every mesh repeats after
+    :attr:`span` = lcm(rows) steps. A pair (and an idler train) has rows = (N_s, ...), a
+    two-stage train of period ratio 127/35 at N_s = 140 has (140, 508) against 127 × 140 =
+    17 780 rows of the span. Read rows with :meth:`at` and :meth:`take`, never by indexing the
+    fields with a step.
 
     Attributes:
-        theta: pinion angles (rad), shape (P,). V: structure vectors, shape (P, c, n).
-        k: cell stiffness per unit length (N/m²), length: cell length (m), delta0: δ0 (m),
-        mask: cells on the flanks; all shape (P, c).
-        e_max: each mesh's reference e_ref = max over the period of its max_M e (m), broadcast
-            to (P, m): δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant
+        theta: scene angles of the rows (rad), shape (R,). V: structure vectors, shape (R, c,
+        n). k: cell stiffness per unit length (N/m²), length: cell length (m), delta0: δ0 (m),
+        mask: cells on the flanks; all shape (R, c).
+        e_max: each mesh's reference e_ref = max over its period of its max_M e (m), broadcast
+            to (R, m): δ0 = e_ref − e ≥ 0 and TE = (u·X − e_ref)/cos β_b use one time-constant
             reference per mesh.
+        period_angle: the first mesh's period 2π/z1 (rad).
         sizes: static (n_lines, n_slices) of each mesh (each mesh's cells are line-major).
-        flank: +1 drive, −1 coast cells (:attr:`jaxgear.Cells.flank`), shape (P, c).
+        rows: static, the rows each mesh uses (its period in steps), a tuple of m ints.
+        steps_per_period: static N_s.
+        flank: +1 drive, −1 coast cells (:attr:`jaxgear.Cells.flank`), shape (R, c).
     """
 
-    theta: Float[Array, " P"]
-    V: Float[Array, "P c n"]
-    k: Float[Array, "P c"]
-    length: Float[Array, "P c"]
-    delta0: Float[Array, "P c"]
-    mask: Bool[Array, "P c"]
-    e_max: Float[Array, "P m"]
+    theta: Float[Array, " R"]
+    V: Float[Array, "R c n"]
+    k: Float[Array, "R c"]
+    length: Float[Array, "R c"]
+    delta0: Float[Array, "R c"]
+    mask: Bool[Array, "R c"]
+    e_max: Float[Array, "R m"]
+    period_angle: Float[Array, ""]
     sizes: tuple = eqx.field(static=True)
-    flank: Float[Array, "P c"] | None = None
+    rows: tuple = eqx.field(static=True, default=())
+    steps_per_period: int = eqx.field(static=True, default=0)
+    flank: Float[Array, "R c"] | None = None
+
+    @property
+    def span(self) -> int:
+        """Steps after which every mesh repeats together: lcm of :attr:`rows` (static)."""
+        return math.lcm(*self.rows)
+
+    def cell_rows(self, steps) -> Int[Array, "... c"]:
+        """The table row each cell takes at the steps ``steps`` (int, shape (...)), (..., c):
+        step mod the rows of its mesh."""
+        steps = jnp.asarray(steps)
+        per_cell = np.repeat(np.asarray(self.rows), [L * N for L, N in self.sizes])
+        return steps[..., None] % jnp.asarray(per_cell).reshape((1,) * steps.ndim + (-1,))
+
+    def take(self, field, steps):
+        """A per-cell field of the table (R, c, ...) at the steps ``steps`` (shape (...)):
+        (..., c, ...), each cell from the row of its mesh (:meth:`cell_rows`)."""
+        r = self.cell_rows(steps)
+        return field[r, jnp.broadcast_to(jnp.arange(field.shape[1]), r.shape)]
+
+    def at(self, step) -> CellRow:
+        """Every cell at one step (int): a :class:`jaxgear.CellRow` on all coordinates."""
+        V, k, ln, d0, mask = (self.take(f, step) for f in self._cell_fields())
+        return CellRow(None, V, k, ln, d0, mask)
+
+    def flank_at(self, steps):
+        """:attr:`flank` at the steps ``steps`` (..., c), or None without coast cells."""
+        return None if self.flank is None else self.take(self.flank, steps)
+
+    def angle(self, steps) -> Array:
+        """The scene angle of the steps ``steps`` (rad): ((j mod span) + ½) Δθ, the angle of
+        the rows the steps take."""
+        j = (jnp.asarray(steps) % self.span).astype(self.theta.dtype) + 0.5
+        return j * self.period_angle / self.steps_per_period  # as the rows' θ
+
+    def _cell_fields(self):
+        return (self.V, self.k, self.length, self.delta0, self.mask)
+
+    def fold(self, weights) -> Float[Array, "R c"]:
+        """Per-cell ``weights`` over the span's steps (span, c) summed onto the rows each cell
+        takes (R, c): Σ_j w_jc f(row_c(j)) = Σ_r W_rc f(r, c)."""
+        r = self.cell_rows(jnp.arange(weights.shape[0]))
+        c = jnp.broadcast_to(jnp.arange(weights.shape[1]), r.shape)
+        return (
+            jnp.zeros((self.theta.shape[0], weights.shape[1]), weights.dtype).at[r, c].add(weights)
+        )
 
     def split(self, cell_values) -> tuple:
         """``cell_values`` (..., c) cut into each mesh's (..., n_lines, n_slices)."""
@@ -123,23 +190,56 @@ def deviation_periods(mods) -> int:
     return out
 
 
+def mesh_rows(scene, mods, steps_per_period: int, periods: int) -> tuple[int, ...]:
+    """The rows of each mesh in the table of ``steps_per_period`` steps per first-mesh period
+    over a span of ``periods`` first-mesh periods (static; :class:`MeshTable`): N_s T_k/T_0,
+    the steps of mesh k's own period (:meth:`~jaxgear.scenes.Scene.mesh_periods`), where that
+    is a whole number dividing the span's steps and ``mods`` carry no manufacturing deviations;
+    else the span's steps N_s × ``periods``. A train whose period ratios have denominators q_k
+    tabulates each mesh over its own period when N_s is a multiple of lcm(q_k) (35 for the
+    embedded ``two-stage``: 127/35)."""
+    span = steps_per_period * periods
+    if deviation_periods(mods) > 1:
+        return (span,) * len(scene.base_planes)
+    out = []
+    for f in scene.mesh_periods():
+        own = steps_per_period * f
+        whole = own.denominator == 1 and span % own.numerator == 0
+        out.append(int(own) if whole else span)
+    return tuple(out)
+
+
 def mesh_table(
-    scene: DynamicScene, mods, steps_per_period: int, periods: int | None = None
+    scene: DynamicScene,
+    mods,
+    steps_per_period: int,
+    periods: int | None = None,
+    *,
+    own_periods: bool = True,
 ) -> MeshTable:
     """Cells of every mesh, δ0 (2.8) and structure vectors at the mid-points of
-    ``steps_per_period`` steps per period of the first mesh, over ``periods`` periods of the
-    first mesh (default: the scene's period, :meth:`~jaxgear.scenes.Scene.scene_periods`; one
-    but for a two-stage train; with manufacturing deviations, the span over which they repeat,
-    :func:`span_periods`) (``mods``: one :class:`Modifications` for every mesh, or one per
-    mesh). The reference e_ref of each mesh is the largest e over the whole table, so that
-    δ0 = e_ref − e >= 0 over the span (docs/robust.md, "Dynamics with deviations")."""
+    ``steps_per_period`` steps per period of the first mesh, each mesh over its own period
+    (:func:`mesh_rows`) within a span of ``periods`` periods of the first mesh (default: the
+    scene's period, :meth:`~jaxgear.scenes.Scene.scene_periods`; one but for a two-stage train;
+    with manufacturing deviations, the span over which they repeat, :func:`span_periods`)
+    (``mods``: one :class:`Modifications` for every mesh, or one per mesh). The reference e_ref
+    of each mesh is the largest e over its rows, so that δ0 = e_ref − e >= 0 over the span
+    (docs/robust.md, "Dynamics with deviations"). ``own_periods=False`` tabulates every mesh
+    over the whole span (the long table: the same cells at every step, for comparisons)."""
     planes = scene.base_planes
     mods = per_mesh_modifications(mods, len(planes))
     # one scene period: the first mesh's periods after which every mesh repeats (1 but for a
     # train whose meshes pass teeth at different rates)
     if periods is None:
         periods = scene.scene_periods()
-    theta = mesh_positions(planes[0], steps_per_period, int(periods))
+    check_positions(steps_per_period, periods)
+    rows = mesh_rows(scene, mods, int(steps_per_period), int(periods))
+    if not own_periods:
+        rows = (int(steps_per_period) * int(periods),) * len(planes)
+    n_rows = max(rows)
+    dtype = planes[0].base_pitch.dtype
+    # the angles of mesh_positions, (r + ½) Δθ
+    theta = (jnp.arange(n_rows, dtype=dtype) + 0.5) * planes[0].mesh_period_angle / steps_per_period
 
     def row(th):
         parts = mesh_separations(scene, mods, th)
@@ -149,10 +249,12 @@ def mesh_table(
         return r.V, r.k, r.length, r.delta0, r.mask, jnp.stack([p[1] for p in parts]), flank
 
     V, k, ln, d0, mask, e_max, flank = jax.vmap(row)(theta)
-    # one time-constant reference per mesh: δ0 = e_ref − e. The quasi-static δ0 = max e(t) − e
-    # moves its reference with time, which would be a spurious inertial excitation in dynamics.
-    # (A coast cell's δ0 = j_bn − e_ref − e: the shift has the other sign.)
-    e_ref = jnp.max(e_max, axis=0)  # (m,)
+    # one time-constant reference per mesh, the largest over its own rows: δ0 = e_ref − e. The
+    # quasi-static δ0 = max e(t) − e moves its reference with time, which would be a spurious
+    # inertial excitation in dynamics. (A coast cell's δ0 = j_bn − e_ref − e: the shift has the
+    # other sign.)
+    own = jnp.arange(n_rows)[:, None] < jnp.asarray(rows)[None, :]  # (R, m)
+    e_ref = jnp.max(jnp.where(own, e_max, -jnp.inf), axis=0)  # (m,)
     sizes = tuple((p.n_lines, p.n_slices) for p in planes)
     of_cell = np.repeat(np.arange(len(planes)), [L * N for L, N in sizes])
     d0 = jnp.where(mask, d0 + flank * (e_ref[None, :] - e_max)[:, of_cell], 0.0)
@@ -164,7 +266,10 @@ def mesh_table(
         d0,
         mask,
         jnp.broadcast_to(e_ref, e_max.shape),
+        planes[0].mesh_period_angle,
         sizes=sizes,
+        rows=rows,
+        steps_per_period=int(steps_per_period),
         flank=flank if any(p.coast for p in planes) else None,
     )
 
@@ -262,39 +367,67 @@ def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
     return mu * MR @ jnp.diag(1.0 / jnp.einsum("ir,ij,jr->r", R, M, R)) @ MR.T
 
 
+#: static rows solved together (vmapped) per batch of a long span: bounds the memory of a
+#: span of thousands of steps (lax.map over the batches)
+STATIC_BATCH = 1024
+
+
 def _static_rows(scene: DynamicScene, table: MeshTable, torque, law: ContactLaw, k_ref):
-    """Static contact solution at each table row (the quasi-static reference)."""
+    """Static contact solution at each step of the table's span (:attr:`MeshTable.span`: the
+    quasi-static reference), each mesh at its own row."""
     K = scene.stiffness() + _rigid_penalty(scene, k_ref)
     F = scene.external_load(torque)
-    if table.flank is None:
-        return jax.vmap(lambda V, k, ln, d0, m: solve_contact(K, F, V, k, ln, d0, m, law))(
-            table.V, table.k, table.length, table.delta0, table.mask
-        )
-    # coast flanks: start from the loaded (drive) flank (docs/backlash.md)
-    return jax.vmap(lambda V, k, ln, d0, m, f: solve_contact(K, F, V, k, ln, d0, m, law, f > 0))(
-        table.V, table.k, table.length, table.delta0, table.mask, table.flank
-    )
+
+    def solve(j):
+        r = table.at(j)
+        f = table.flank_at(j)
+        # coast flanks: start from the loaded (drive) flank (docs/backlash.md)
+        start = None if f is None else f > 0
+        return solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law, start)
+
+    steps = jnp.arange(table.span)
+    if table.span <= STATIC_BATCH:
+        return jax.vmap(solve)(steps)
+    return jax.lax.map(solve, steps, batch_size=STATIC_BATCH)
 
 
 def _k_ref(table: MeshTable):
-    kl = jnp.where(table.mask[0], table.k[0] * table.length[0], 0.0)
-    return jnp.einsum("c,ci,ci->", kl, table.V[0], table.V[0])
+    r = table.at(0)
+    kl = jnp.where(r.mask, r.k * r.length, 0.0)
+    return jnp.einsum("c,ci,ci->", kl, r.V, r.V)
+
+
+def _mean_mesh_matrix(table: MeshTable, kl) -> Float[Array, "n n"]:
+    """⟨Σ_c kl_c V_c V_cᵀ⟩ over the span's steps, from the cells' k l w (N/m) at every step
+    (span, c): folded onto the table's rows (:meth:`MeshTable.fold`)."""
+    W = table.fold(kl)
+    return jnp.einsum("rc,rci,rcj->ij", W, table.V, table.V) / kl.shape[0]
 
 
 class _Prepared(eqx.Module):
+    """The table and the static solution at every step of its span S (:attr:`MeshTable.span`)."""
+
     table: MeshTable
-    static_x: Float[Array, "P n"]
-    static_force_density: Float[Array, "P c"]
-    static_weight: Float[Array, "P c"]
-    static_result: Int[Array, " P"]
+    static_x: Float[Array, "S n"]
+    static_force_density: Float[Array, "S c"]
+    static_weight: Float[Array, "S c"]
+    static_result: Int[Array, " S"]
 
 
 @eqx.filter_jit
-def _prepare(scene, mods, torque, law: ContactLaw, steps_per_period: int, periods=None):
+def _prepare(
+    scene,
+    mods,
+    torque,
+    law: ContactLaw,
+    steps_per_period: int,
+    periods=None,
+    own_periods: bool = True,
+):
     """Cell table and static rows over ``periods`` mesh periods (default the scene's;
     compiled once per scene structure, N_s and span; shared by the model build, every solver,
-    direction and period count)."""
-    table = mesh_table(scene, mods, steps_per_period, periods)
+    direction and period count); ``own_periods``: :func:`mesh_table`'s."""
+    table = mesh_table(scene, mods, steps_per_period, periods, own_periods=own_periods)
     static = _static_rows(scene, table, torque, law, _k_ref(table))
     return _Prepared(table, static.x, static.force_density, static.weight, static.result)
 
@@ -501,10 +634,8 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
 
 @eqx.filter_jit
 def _averaged(scene, mods, torque, damping, prep, span=None):
-    table = prep.table
-    w = prep.static_weight
-    kl = jnp.where(table.mask, table.k * table.length, 0.0) * w
-    Km = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kl, table.V, table.V), axis=0)
+    kl = _loaded_kl(prep)
+    Km = _mean_mesh_matrix(prep.table, kl)
     kbar = jnp.mean(jnp.sum(kl, axis=1))
     modes = modal_analysis(scene, Km)
     C = damping_matrix(scene, modes, damping)
@@ -519,16 +650,22 @@ def _averaged(scene, mods, torque, damping, prep, span=None):
     )
 
 
+def _loaded_kl(prep: _Prepared) -> Float[Array, "S c"]:
+    """The loaded cells' k l w (N/m) at every step of the span, (S, c)."""
+    t, steps = prep.table, jnp.arange(prep.static_weight.shape[0])
+    kl = jnp.where(t.take(t.mask, steps), t.take(t.k, steps) * t.take(t.length, steps), 0.0)
+    return kl * prep.static_weight
+
+
 def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactLaw):
-    """The loaded cells' k l w (N/m), (P, c), over ``positions_per_pitch`` positions of a mesh
+    """The loaded cells' k l w (N/m), (S, c), over ``positions_per_pitch`` positions of a mesh
     period at the model's torque, the table, and each cell's mesh index (c,)."""
     check_integer("positions_per_pitch", positions_per_pitch, 4)
     law = contact_law(contact, model.damping.dtype)
     prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
     table = prep.table
-    kl = jnp.where(table.mask, table.k * table.length, 0.0) * prep.static_weight
     sizes = np.array([L * N for L, N in table.sizes])
-    return kl, table, np.repeat(np.arange(sizes.size), sizes)
+    return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
 
 
 def mesh_stiffness_means(
@@ -560,7 +697,7 @@ def mesh_energy_shares(
     out = []
     for k in range(int(of_mesh.max()) + 1):
         kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
-        Kk = jnp.mean(jnp.einsum("pc,pci,pcj->pij", kk, table.V, table.V), axis=0)
+        Kk = _mean_mesh_matrix(table, kk)
         strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
         out.append(jnp.where(modes.rigid, 0.0, strain / w2))
     return jnp.stack(out)

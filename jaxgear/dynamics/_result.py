@@ -97,8 +97,14 @@ class DynamicResult(eqx.Module):
 
     Attributes:
         speed: pinion speed Ω (rad/s). mesh_frequency: Ω z1 / 2π (Hz).
-        time: recorded times from the start (s), shape (K,). time_step: their spacing (s): the
-            run's Δt, or a multiple of it where a sweep with several N_s subsampled the records
+        time: the recorded times (s), shape (K,), on the clock of the nominal motion θ = Ω t:
+            a run starts at t = Δt/2 from its first position θ = Δθ/2 (the mid-point of the
+            first step, where the cells are tabulated: contact-line ends off the edges of the
+            base plane), so step n ends at t = (n + 3/2) Δt, at the angle whose cells it took
+            (``theta`` = Ω ``time``, modulo the table's period for a lumped model). The records
+            are in phase with a continuous-time solution read at ``time`` (docs/design.md,
+            "Gear trains: layout and mesh phasing"). time_step: their spacing (s): the run's
+            Δt, or a multiple of it where a sweep with several N_s subsampled the records
             (:func:`~jaxgear.dynamics.speed_sweep`).
         theta: pinion angle at the recorded steps (rad), (K,): modulo one mesh period for a
             lumped model (the positions of its cell table; modulo the span of a two-stage
@@ -335,7 +341,8 @@ def steady_state(
     return DynamicResult(
         speed=speed,
         mesh_frequency=speed / mesh_period_angle,
-        time=(transient_steps + 1 + jnp.arange(K)) * time_step,
+        # step n ends at θ = (n + 3/2) Δθ (the table's mid-points), t = θ/Ω
+        time=(transient_steps + 1.5 + jnp.arange(K)) * time_step,
         time_step=jnp.asarray(time_step, fm.dtype),
         theta=theta,
         bearing_force=bearing_force,

@@ -5,9 +5,9 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-from .._contact import ContactLaw
+from .._contact import ContactLaw, ExactContact
 from ._lumped import _prep, _run, _static_start
-from ._model import AbstractDynamicModel, HybridModel
+from ._model import AbstractDynamicModel, DynamicModel, HybridModel
 from ._result import DynamicResult
 from ._settings import (
     DiffraxIntegrator,
@@ -121,3 +121,24 @@ def simulate(
         state0 = _static_start(prep)
     state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
     return _run(model, prep, speed, state0, law, cfg, "single", bool(throw))
+
+
+def simulate_on_table(
+    model: DynamicModel,
+    speed,
+    steps_per_period: int,
+    window: SteadyState,
+    *,
+    own_periods: bool = True,
+    contact: ContactLaw = ExactContact(),
+):
+    """:func:`simulate` of a lumped model at one speed with Newmark and ``steps_per_period``
+    steps, on the table of each mesh's own period (what :func:`simulate` does) or, with
+    ``own_periods=False``, on the long table of the span (every mesh at every step of it, as
+    before the own-period tables): for comparisons and ``jaxgear bench trains``. Returns
+    (:class:`DynamicResult`, the prepared table and static rows)."""
+    integrator, law, window = resolve_settings(model, Newmark(steps_per_period), contact, window)
+    cfg = _config(integrator, window, int(steps_per_period), 100.0, False)
+    prep = _prep(model, law, int(steps_per_period), own_periods)
+    speed = jnp.asarray(speed, model.damping.dtype)
+    return _run(model, prep, speed, _static_start(prep), law, cfg, "single", True), prep

@@ -6,6 +6,8 @@ and the modes it resolves (:func:`mesh_averaged_modes`). One speed: :func:`simul
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -17,7 +19,13 @@ from .._util import check_integer
 from . import _hybrid
 from ._lumped import _prep, _run, _static_start
 from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
-from ._model import AbstractDynamicModel, DynamicModel, HybridModel, span_periods
+from ._model import (
+    AbstractDynamicModel,
+    DynamicModel,
+    HybridModel,
+    deviation_periods,
+    span_periods,
+)
 from ._result import SweepResult, checked
 from ._settings import (
     DiffraxIntegrator,
@@ -116,11 +124,16 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     :func:`~jaxgear.dynamics.simulate` and :func:`speed_sweep` for a lumped model, and with
     ``Newmark(None)`` for a hybrid one).
 
-    N_s = the smallest power of two >= max(64 r, 40 · f_max / f_mesh): at least 40 steps per
+    N_s = the smallest D × 2^j >= max(64 r, 40 · f_max / f_mesh): at least 40 steps per
     period of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
     :func:`~jaxgear.dynamics.excited_omega`) and 64 per period of the fastest mesh (f_mesh = Ω
-    z1 / 2π, the first mesh's; r its periods per period of the first, 1 for a pair). Powers of
-    two keep the number of compiled programs small.
+    z1 / 2π, the first mesh's; r its periods per period of the first, 1 for a pair). D is 1
+    (powers of two) but for a lumped train whose meshes have other periods than the first's
+    (T_k/T_0 = p_k/q_k, :meth:`~jaxgear.scenes.Scene.mesh_periods`): D = lcm(q_k) (35 for
+    the embedded ``two-stage``, 127/35), so that every mesh's period is a whole number of steps
+    and the table holds each mesh over its own period instead of the span
+    (:class:`~jaxgear.dynamics.MeshTable`; docs/trains.md, "Long spans"). The doublings keep
+    the number of compiled programs small.
 
     Args:
         model: a dynamic model (concrete values: not under ``jax.jit``).
@@ -150,7 +163,16 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
             "jax.vmap or jax.grad pass an explicit integer steps_per_period"
         ) from err
-    return steps_for_mode(w, angle, sp, max(rates))
+    return steps_for_mode(w, angle, sp, max(rates), steps_multiple(model))
+
+
+def steps_multiple(model: Model) -> int:
+    """D of :func:`auto_steps_per_period`: the least N_s dividing every mesh's period into
+    whole steps, lcm of the denominators of T_k/T_0 (static); 1 for a hybrid model, a pair and
+    a model with manufacturing deviations (tabulated over the span whatever N_s)."""
+    if not isinstance(model, DynamicModel) or deviation_periods(model.mods) > 1:
+        return 1
+    return math.lcm(*(f.denominator for f in model.scene.mesh_periods()))
 
 
 def _shard(speeds, rows: bool = False):

@@ -75,6 +75,7 @@ from ._torsional import (
 )
 from ._train import (
     GearTrain as GearTrain,
+    mesh_period_ratios as mesh_period_ratios,
     scene_span as scene_span,
     shaft_speeds as shaft_speeds,
     shaft_torques as shaft_torques,

@@ -39,7 +39,7 @@ from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._structure import AssembledScene, Structure
-from ._train import GearTrain, scene_span, shaft_torques
+from ._train import GearTrain, mesh_period_ratios, scene_span, shaft_torques
 
 __all__ = [
     "Bearing",
@@ -724,6 +724,7 @@ def lumped_train(
         f_torque=jnp.asarray(t["f_torque"]),
         rigid=jnp.asarray(rigid),
         periods=t["periods"],
+        period_ratios=t["period_ratios"],
     )
 
 
@@ -750,7 +751,7 @@ def _train_arrays(
         dict of ``d`` (:func:`_shaft_arrays`), ``names``, ``on`` (each shaft's gears),
         ``first``, ``f_torque`` (shaft DOFs), ``out`` (the balancing output's shaft),
         ``spins`` and ``omega`` (each shaft's sense and speed per unit input speed),
-        ``nodes``, ``periods``.
+        ``nodes``, ``periods``, ``period_ratios``.
 
     Raises:
         ValueError: gears and shafts that do not match, a wrench on no shaft, or what
@@ -807,6 +808,7 @@ def _train_arrays(
         omega=omega,
         nodes=nodes,
         periods=scene_span(periods),
+        period_ratios=mesh_period_ratios(periods),
     )
 
 

@@ -24,6 +24,7 @@ meshes at once. The scenes of one mesh below give these from their one mesh.
 from __future__ import annotations
 
 import abc
+import fractions
 
 import equinox as eqx
 import jax
@@ -77,6 +78,12 @@ class Scene(eqx.Module):
         """Periods of the first mesh after which the cells of every mesh repeat together: 1 for
         a pair or an idler train; a two-stage train's span (:func:`torsional_train`)."""
         return 1
+
+    def mesh_periods(self) -> tuple[fractions.Fraction, ...]:
+        """Each mesh's period in periods of the first mesh, exact (static): 1 for every mesh of
+        a pair; a train's from its tooth counts (:func:`~jaxgear.scenes.mesh_period_ratios`).
+        The dynamics tabulate each mesh over its own period (docs/trains.md, "Long spans")."""
+        return (fractions.Fraction(1),) * len(self.base_planes)
 
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
         """The cells of every mesh (one :class:`Cells` per mesh, with their initial separations
@@ -172,6 +179,9 @@ class Grounded(Scene):
 
     def scene_periods(self):
         return self.base.scene_periods()
+
+    def mesh_periods(self):
+        return self.base.mesh_periods()
 
     def cell_row(self, cells, delta0):
         return self.base.cell_row(cells, delta0)

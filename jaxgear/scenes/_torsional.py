@@ -18,7 +18,7 @@ from ._interface import TorsionalMember
 from ._rigid import RigidMesh
 from ._scene import DynamicScene, Scene
 from ._structure import AssembledScene, Structure
-from ._train import GearTrain, scene_span, shaft_speeds, shaft_torques
+from ._train import GearTrain, mesh_period_ratios, scene_span, shaft_speeds, shaft_torques
 
 __all__ = ["RelativeApproach", "TorsionalDynamics", "TorsionalPair", "disc_inertia"]
 
@@ -284,6 +284,7 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> GearTrain:
         f_torque=sum((t * eye[g] for g, t in torques.items()), jnp.zeros((n,), dtype)),
         rigid=jnp.asarray([w / rb0 for w in omega], dtype),
         periods=scene_span(periods),
+        period_ratios=mesh_period_ratios(periods),
     )
 
 

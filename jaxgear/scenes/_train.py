@@ -16,7 +16,14 @@ from jaxtyping import Array, Float
 from ._scene import DynamicScene
 from ._structure import AssembledScene
 
-__all__ = ["GearTrain", "MAX_SCENE_PERIODS", "shaft_speeds", "shaft_torques", "scene_span"]
+__all__ = [
+    "MAX_SCENE_PERIODS",
+    "GearTrain",
+    "mesh_period_ratios",
+    "scene_span",
+    "shaft_speeds",
+    "shaft_torques",
+]
 
 
 class GearTrain(AssembledScene, DynamicScene):
@@ -32,10 +39,14 @@ class GearTrain(AssembledScene, DynamicScene):
         periods: static, the periods of the first mesh after which the cells of every mesh
             repeat together (:func:`scene_span`): 1 for an idler train; 37 for 23-37 then 29-41
             on the 37's shaft (one turn of that shaft).
+        period_ratios: static, each mesh's period in periods of the first, exact
+            (:func:`mesh_period_ratios`; 37/29 for the second mesh there); None: 1 for every
+            mesh.
     """
 
     rigid: Float[Array, " n"]
     periods: int = eqx.field(static=True, default=1)
+    period_ratios: tuple | None = eqx.field(static=True, default=None)
 
     def rigid_modes(self):
         return self.rigid[:, None]
@@ -43,6 +54,12 @@ class GearTrain(AssembledScene, DynamicScene):
     def scene_periods(self) -> int:
         """:attr:`periods`: first-mesh periods after which every mesh's cells repeat."""
         return self.periods
+
+    def mesh_periods(self):
+        """:attr:`period_ratios` (each mesh's period in periods of the first)."""
+        if self.period_ratios is None:
+            return super().mesh_periods()
+        return self.period_ratios
 
 
 def shaft_speeds(links, base_radii, n: int) -> list:
@@ -113,13 +130,15 @@ def shaft_torques(links, omega, shares) -> tuple[dict, int]:
 MAX_SCENE_PERIODS = 1000
 
 
-def scene_span(periods) -> int:
-    """The least q such that q T_0 is a whole number of every mesh period T_k (input rad), from
-    the exact ratios T_k / T_0 of tooth counts (a fraction of denominator <= 10⁶, to 1e-9).
+def mesh_period_ratios(periods) -> tuple[fractions.Fraction, ...]:
+    """Each mesh's period T_k / T_0 in periods of the first mesh, exact, from the periods T_k
+    (input rad, floats): the fraction of tooth counts of denominator <= 10⁶ within 1e-9 (127/35
+    for the second stage of the embedded ``two-stage`` case: a 35-tooth pinion on the 127-tooth
+    wheel's shaft).
 
     Raises:
-        ValueError: a ratio that is no such fraction, or q above MAX_SCENE_PERIODS."""
-    q = 1
+        ValueError: a ratio that is no such fraction."""
+    out = []
     for k, t in enumerate(periods):
         r = t / periods[0]
         f = fractions.Fraction(r).limit_denominator(10**6)
@@ -128,6 +147,19 @@ def scene_span(periods) -> int:
                 f"meshes[{k}]: its period is {r:.12g} periods of mesh 0, not a ratio of tooth "
                 "counts (allowed: the meshes repeat together)"
             )
+        out.append(f)
+    return tuple(out)
+
+
+def scene_span(periods) -> int:
+    """The least q such that q T_0 is a whole number of every mesh period T_k (input rad), from
+    the exact ratios T_k / T_0 of tooth counts (:func:`mesh_period_ratios`): the least common
+    multiple of their numerators.
+
+    Raises:
+        ValueError: a ratio that is no such fraction, or q above MAX_SCENE_PERIODS."""
+    q = 1
+    for f in mesh_period_ratios(periods):
         q = math.lcm(q, f.numerator)
     if q > MAX_SCENE_PERIODS:
         raise ValueError(
