@@ -184,3 +184,33 @@ def test_diffrax_records_take_each_mesh_at_its_own_row():
         # a sample next to a tooth pair's entry may differ more (the interpolated Newmark force)
         diff = np.abs(np.asarray(a.mesh_force) - fb) / fs
         assert np.percentile(diff, 95) < 1e-2, np.percentile(diff, 95)
+
+
+@pytest.mark.parametrize("model", ["torsional", "lumped3d"])
+def test_two_stage_train_builds_in_float32(model):
+    """float32 must run: the span and the period ratios of ``two-stage`` come from the tooth
+    counts, not from float32 base radii (127/35 there was refused as 'not a ratio of tooth
+    counts'), and its quasi-static TE per mesh stays within 1e-3 of float64's."""
+    import fractions
+
+    def build():
+        case = jio.load_case("two-stage")
+        if model == "torsional":
+            return case, case.torsional_train(slices=2)
+        return case, case.static_train(slices=2)
+
+    def te(case, scene):
+        res = jg.quasi_static(scene, case.mesh_modifications(), case.torque, positions_per_pitch=8)
+        return [np.asarray(m.transmission_error) for m in res.meshes]
+
+    case64, scene64 = build()
+    with jax.enable_x64(False):
+        case32, scene32 = build()
+        te32 = te(case32, scene32)
+        assert te32[0].dtype == np.float32
+    # the second stage's 35-tooth pinion on the 127-tooth wheel's shaft (docs/trains.md)
+    train32, train64 = (getattr(s, "base", s) for s in (scene32, scene64))  # lumped: Grounded
+    assert train32.period_ratios == (1, fractions.Fraction(127, 35))
+    assert train32.periods == train64.periods == 127
+    for a, b in zip(te32, te(case64, scene64), strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-3)

@@ -39,7 +39,7 @@ from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._structure import AssembledScene, Structure
-from ._train import GearTrain, mesh_period_ratios, scene_span, shaft_torques
+from ._train import GearTrain, mesh_period_ratios, mesh_teeth, scene_span, shaft_torques
 
 __all__ = [
     "Bearing",
@@ -791,7 +791,10 @@ def _train_arrays(
         node = offsets[w.shaft] + 6 * int(np.argmin(np.abs(mats[w.shaft].nodes - w.z)))
         f_torque[node : node + 3] += w.force
         f_torque[node + 3 : node + 6] += w.moment
-    periods = [float(plane.mesh_period_angle) / float(layout.ratios[g]) for plane, (g, _) in meshes]
+    # from the tooth counts (layout.ratios are ratios of them): exact in float32 too
+    periods = [
+        2.0 * math.pi / mesh_teeth(plane)[0] / float(layout.ratios[g]) for plane, (g, _) in meshes
+    ]
     nodes = (
         ("input", offsets[0] + 6 * mats[0].torque_node),
         ("output", offsets[out] + 6 * mats[out].torque_node),

@@ -18,7 +18,14 @@ from ._interface import TorsionalMember
 from ._rigid import RigidMesh
 from ._scene import DynamicScene, Scene
 from ._structure import AssembledScene, Structure
-from ._train import GearTrain, mesh_period_ratios, scene_span, shaft_speeds, shaft_torques
+from ._train import (
+    GearTrain,
+    mesh_period_ratios,
+    mesh_teeth,
+    scene_span,
+    shaft_speeds,
+    shaft_torques,
+)
 
 __all__ = ["RelativeApproach", "TorsionalDynamics", "TorsionalPair", "disc_inertia"]
 
@@ -236,13 +243,15 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> GearTrain:
     """
     n = len(inertias)
     links = [link for _, link in meshes]
-    omega = shaft_speeds(links, [(p.base_radius_pinion, p.base_radius_gear) for p, _ in meshes], n)
+    # speed ratios and periods from the tooth counts: exact in float32 too
+    teeth = [mesh_teeth(p) for p, _ in meshes]
+    omega = shaft_speeds(links, teeth, n)
     dtype = jnp.result_type(float)
     eye = jnp.eye(n, dtype=dtype)
     phases = [0.0] * len(meshes) if phases is None else list(phases)
     out, periods = [], []
     for k, (plane, (g, h)) in enumerate(meshes):
-        periods.append(float(plane.mesh_period_angle) / omega[g])  # the period T_k (input rad)
+        periods.append(2.0 * math.pi / teeth[k][0] / omega[g])  # the period T_k (input rad)
         cb = jnp.cos(plane.base_helix_angle)
         te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
         origin = jnp.zeros((3,), dtype)

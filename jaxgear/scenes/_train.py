@@ -20,6 +20,7 @@ __all__ = [
     "MAX_SCENE_PERIODS",
     "GearTrain",
     "mesh_period_ratios",
+    "mesh_teeth",
     "scene_span",
     "shaft_speeds",
     "shaft_torques",
@@ -60,6 +61,16 @@ class GearTrain(AssembledScene, DynamicScene):
         if self.period_ratios is None:
             return super().mesh_periods()
         return self.period_ratios
+
+
+def mesh_teeth(plane) -> tuple[int, int]:
+    """A mesh's (driving, driven) tooth counts, 2π r_b / p_bt rounded (exact whatever the float
+    width of the base plane: the spans and speed ratios of a train are ratios of these)."""
+    p = float(plane.base_pitch)
+    return tuple(
+        round(2.0 * math.pi * float(r) / p)
+        for r in (plane.base_radius_pinion, plane.base_radius_gear)
+    )
 
 
 def shaft_speeds(links, base_radii, n: int) -> list:
