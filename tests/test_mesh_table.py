@@ -22,8 +22,6 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from jaxgear.dynamics._simulate import simulate_on_table
-from jaxgear.dynamics._sweep import steps_multiple
 from jaxgear.scenes import disc_inertia, torsional_train
 
 jax.config.update("jax_enable_x64", True)
@@ -100,8 +98,8 @@ def test_own_period_tables_run_the_long_table_dynamics():
     model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
     speed = 0.6 * float(model.modes.omega[1]) / 20
     window = jd.SteadyState(16, 8)
-    own, p_own = simulate_on_table(model, speed, 24, window)
-    long, p_long = simulate_on_table(model, speed, 24, window, own_periods=False)
+    own, p_own = jd.simulate_on_table(model, speed, 24, window)
+    long, p_long = jd.simulate_on_table(model, speed, 24, window, own_periods=False)
     assert p_own.table.theta.shape == (32,) and p_long.table.theta.shape == (96,)
     assert int(own.result) == 0 and int(long.result) == 0
     _assert_same_run(own, long)
@@ -144,11 +142,11 @@ def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
     q = train.span_periods
     window = jd.SteadyState(q + 2, max(q, 2))
     speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
-    own, p_own = simulate_on_table(model, speed, steps, window)
-    long, p_long = simulate_on_table(model, speed, steps, window, own_periods=False)
+    own, p_own = jd.simulate_on_table(model, speed, steps, window)
+    long, p_long = jd.simulate_on_table(model, speed, steps, window, own_periods=False)
     assert p_own.table.rows == rows and p_long.table.theta.shape == (q * steps,)
     if case == "two-stage":  # the case's own 140 steps (docs/trains.md): 140 and 508 rows
-        assert steps_multiple(model) == 35
+        assert jd.steps_multiple(model) == 35
         assert jd.mesh_rows(model.scene, model.mods, 140, q) == (140, 508)
     assert int(own.result) == 0 and int(long.result) == 0
     _assert_same_run(own, long)

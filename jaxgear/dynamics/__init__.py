@@ -85,10 +85,11 @@ from ._settings import (
     SteadyState as SteadyState,
 )
 from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
-from ._simulate import simulate as simulate
+from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
 from ._sweep import (
     auto_steps_per_period as auto_steps_per_period,
     band_dynamic_factor as band_dynamic_factor,
     mesh_averaged_modes as mesh_averaged_modes,
     speed_sweep as speed_sweep,
+    steps_multiple as steps_multiple,
 )

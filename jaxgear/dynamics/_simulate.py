@@ -19,7 +19,7 @@ from ._settings import (
 )
 from ._sweep import auto_steps_per_period, resolve_settings, speed_sweep
 
-__all__ = ["simulate"]
+__all__ = ["simulate", "simulate_on_table"]
 
 
 def simulate(

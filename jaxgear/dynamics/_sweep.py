@@ -39,7 +39,13 @@ from ._settings import (
     check_window,
 )
 
-__all__ = ["auto_steps_per_period", "band_dynamic_factor", "mesh_averaged_modes", "speed_sweep"]
+__all__ = [
+    "auto_steps_per_period",
+    "band_dynamic_factor",
+    "mesh_averaged_modes",
+    "speed_sweep",
+    "steps_multiple",
+]
 
 Model = AbstractDynamicModel
 
