@@ -78,7 +78,8 @@ def shaft_speeds(links, base_radii, n: int) -> list:
 
     Args:
         links: each mesh's (driving, driven) shafts, listed from the input (shaft 0) outwards.
-        base_radii: each mesh's (driving, driven) base radii (m).
+        base_radii: each mesh's (driving, driven) base radii (m), or anything in their ratio:
+            the trains pass the tooth counts (:func:`mesh_teeth`), exact in float32 too.
         n: the number of shafts.
 
     Raises:
