@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._cell_factor import line_factors, solve_factored_cells
+from jaxgear._cell_factor import _only_where_needed, line_factors, solve_factored_cells
 
 C_CELLS = 14
 LINES = np.arange(C_CELLS).reshape(2, C_CELLS // 2)  # two contact lines of 7 cells
@@ -110,3 +110,69 @@ def test_factored_solve_derivatives_equal_central_differences(kind):
     for g, d in zip(rev, fd, strict=True):
         assert float(g) == pytest.approx(float(d), rel=1e-6)
     assert float(fwd) == pytest.approx(float(fd[0]), rel=1e-6)
+
+
+def test_vmapped_batch_factors_only_where_needed_and_equals_each_solve():
+    """A batch mixing every kind (16 problems, 12 of them factored: two chunks of the gather
+    under ``jax.vmap``), nested in an outer vmap over two loads: each answer equals its own
+    reference solve, and the batched gradient each problem's own."""
+    C, k, length, mask, E, kl, B = _problem(1, seed=5)
+    K_line, YF = line_factors(B, E, kl, mask, LINES)
+    z = np.linspace(0.0, 1.0, C_CELLS)
+    gaps = [_gaps(kind, 1)[0] for kind in ("all", "line", "all", "line")]
+    gaps += [5e-6 - (6e-6 + 0.4e-6 * i) * z**4 for i in range(8)]  # a few cells out
+    gaps += [-4e-6 + (6e-6 + 0.5e-6 * i) * z**12 for i in range(4)]  # most cells out
+    A = jnp.asarray(np.stack(gaps))
+    loads = jnp.asarray([[60.0], [45.0]])
+
+    def solve(a, b):
+        _, p, al = solve_factored_cells(B, C, E, kl, mask, a, b, k, 100, LINES, K_line, YF)
+        return p, al
+
+    p, al = jax.jit(jax.vmap(jax.vmap(solve, (0, None)), (None, 0)))(A, loads)
+    for j, b in enumerate(loads):
+        for i, a in enumerate(A):
+            _, p_ref, al_ref = jg.solve_contact_cells(
+                jnp.asarray(C), a, jnp.asarray(E), b, jnp.asarray(k), jnp.asarray(length),
+                jnp.asarray(mask), jg.ExactContact(),
+            )  # fmt: skip
+            scale = np.abs(np.asarray(p_ref)).max()
+            np.testing.assert_allclose(p[j, i], p_ref, rtol=0, atol=1e-12 * scale)
+            np.testing.assert_allclose(al[j, i], al_ref, rtol=1e-12, atol=0)
+
+    def energy(t, a):
+        p, al = solve(a + 1e-6 * t * z, loads[0])
+        return jnp.sum((p / 100.0) ** 2) / 1e3 + jnp.sum(al**2) * 1e7
+
+    batched = jax.jit(jax.vmap(jax.grad(energy), (None, 0)))(0.2, A)
+    single = [float(jax.grad(energy)(0.2, a)) for a in A]
+    np.testing.assert_allclose(np.asarray(batched), single, rtol=1e-10)
+
+
+@pytest.mark.parametrize("n_need", [0, 3, 8, 13, 20])
+def test_only_where_needed_under_vmap_equals_the_select(n_need):
+    """The gathered evaluation under vmap (chunks of 8) gives fn where needed and the default
+    elsewhere, for none, some, one chunk exactly, two chunks and every position, also nested in
+    an outer vmap; unbatched it is the cond."""
+    g = _only_where_needed(lambda x, y: (2.0 * x + y, jnp.sum(x) * y))
+    rng = np.random.default_rng(n_need)
+    need = np.zeros(20, bool)
+    need[rng.permutation(20)[:n_need]] = True
+    x = jnp.asarray(rng.normal(size=(20, 3)))
+    y = jnp.asarray(rng.normal(size=(20, 3)))
+    default = (jnp.full(3, -1.0), jnp.zeros(3))
+    out = jax.jit(jax.vmap(g, (0, None, 0, 0)))(jnp.asarray(need), default, x, y)
+    expect = (
+        np.where(need[:, None], 2.0 * x + y, -1.0),
+        np.where(need[:, None], np.sum(np.asarray(x), 1, keepdims=True) * np.asarray(y), 0.0),
+    )
+    for o, e in zip(out, expect, strict=True):
+        np.testing.assert_array_equal(np.asarray(o), e)
+    outer = jax.vmap(jax.vmap(g, (0, None, 0, None)), (None, None, None, 0))
+    both = outer(jnp.asarray(need), default, x, y[:2, :])
+    for j in range(2):
+        one = jax.vmap(g, (0, None, 0, None))(jnp.asarray(need), default, x, y[j])
+        for o, e in zip(both, one, strict=True):
+            np.testing.assert_array_equal(np.asarray(o[j]), np.asarray(e))
+    single = g(jnp.asarray(need[0]), default, x[0], y[0])
+    np.testing.assert_array_equal(np.asarray(single[0]), expect[0][0])
