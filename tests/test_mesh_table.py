@@ -212,3 +212,87 @@ def test_two_stage_train_builds_in_float32(model):
     assert train32.periods == train64.periods == 127
     for a, b in zip(te32, te(case64, scene64), strict=True):
         np.testing.assert_allclose(a, b, rtol=1e-3)
+
+
+def _lumped_case(case: str):
+    """The lumped 3D ``two-stage`` case (2 slices, 35 steps per HST period: a span of 4445
+    steps) or the lumped idler train of examples/ (16 steps), at half their first elastic
+    mode's coincidence, the span kept: (model, speed, steps, window)."""
+    if case == "two-stage":
+        data = tomllib.loads(jio.embedded_case_text("two-stage"))
+        steps = 35
+    else:
+        data = tomllib.loads(IDLER.read_text("utf-8"))
+        steps = 16
+    data["mesh"].update(slices=2, positions_per_pitch=4)
+    train = jio.parse_train(data)
+    spec = dataclasses.replace(train.scene, steps_per_period=steps)
+    model, _ = jd.build_dynamic_model(train, spec, slices=2)
+    q = train.span_periods
+    speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
+    return model, speed, steps, jd.SteadyState(q + 2, max(q, 2))
+
+
+def _static_reference(model, steps: int, periods: int):
+    """The static contact at every step of the span, solved here on every coordinate with the
+    public ``jaxgear.solve_contact``, each step's cells read from the long table (every mesh at
+    that step): K_s X + Σ P V = F with the rigid-body modes r pinned by a penalty
+    (M r)(M r)ᵀ k_ref / (rᵀ M r) of this test's own (any weight gives the X with rᵀ M X = 0).
+    Returns (X, cell force densities), (S, n) and (S, c)."""
+    scene = model.scene
+    long = jd.mesh_table(scene, model.mods, steps, periods, own_periods=False)
+    K, M, R = scene.stiffness(), scene.mass(), scene.rigid_modes()
+    if R.shape[1]:
+        MR = M @ R
+        scale = jnp.max(jnp.abs(jnp.diag(K))) + jnp.max(long.k * long.length) * 1e-3
+        K = K + scale * MR @ jnp.diag(1.0 / jnp.einsum("ir,ij,jr->r", R, M, R)) @ MR.T
+    F = scene.external_load(model.torque)
+
+    def one(j):
+        r = long.at(j)
+        return jg.solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask)
+
+    sol = jax.vmap(one)(jnp.arange(long.span))
+    assert np.all(np.asarray(sol.result) == 0)
+    return np.asarray(sol.x), np.asarray(sol.force_density)
+
+
+@pytest.mark.parametrize(
+    "case", ["torsional", "idler", pytest.param("two-stage", marks=pytest.mark.slow)]
+)
+def test_static_rows_are_each_steps_static_solve(case):
+    """The static rows (the quasi-static reference at every step of the span: static forces,
+    static TE, bearing loads, the start state) are solved on the structure condensed onto the
+    coordinates the cells reach (the gear nodes' 6 DOFs: 18 of 90 for the idler train, 24 of
+    102 for ``two-stage``; a torsional train's cells reach all 3). At every step of the span they equal this test's own solve of that step on
+    every coordinate (1e-10 of the largest; a row taken one step off differs by far more), and
+    (lumped) the dynamic factors, static forces, static TE, TE and bearing loads equal those of
+    the static rows solved on every coordinate (``condensed=False``, the solve before: to
+    1e-10; measured 1e-12).
+    The lumped ``two-stage`` at 35 steps (a span of 4445 steps) is slow (about a minute)."""
+    if case == "torsional":
+        train, mods = _two_stage()
+        model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
+        speed, steps, window = 0.6 * float(model.modes.omega[1]) / 20, 24, jd.SteadyState(6, 4)
+        assert model.scene.contact_dofs() == (0, 1, 2)
+    else:
+        model, speed, steps, window = _lumped_case(case)
+        # the 6 DOFs of each gear node: 18 of 90 (idler), 24 of 102 (two-stage)
+        nodes = model.scene.structure.nodes
+        gears = [first + k for name, first in nodes if name.startswith("gear") for k in range(6)]
+        assert model.scene.contact_dofs() == tuple(sorted(gears))
+    res, prep = jd.simulate_on_table(model, speed, steps, window)
+    span = prep.table.span
+    x_ref, p_ref = _static_reference(model, steps, span // steps)
+    x, p = np.asarray(prep.static_x), np.asarray(prep.static_force_density)
+    assert x.shape == x_ref.shape and p.shape == p_ref.shape
+    for got, ref in ((x, x_ref), (p, p_ref)):
+        scale = np.max(np.abs(ref))
+        np.testing.assert_allclose(got, ref, rtol=0, atol=1e-10 * scale)
+        # the rows differ from step to step: a shifted row would fail
+        assert np.max(np.abs(np.roll(got, 1, axis=0) - ref)) > 1e-6 * scale
+    if case == "torsional":  # every coordinate is a contact coordinate: nothing condensed
+        return
+    full, _ = jd.simulate_on_table(model, speed, steps, window, condensed=False)
+    assert int(res.result) == 0 and int(full.result) == 0
+    _assert_same_run(res, full)

@@ -221,12 +221,22 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     )
 
 
-def _prep(model, law: ContactLaw, steps_per_period: int, own_periods: bool = True) -> _Prepared:
+def _prep(
+    model, law: ContactLaw, steps_per_period: int, own_periods: bool = True, condensed: bool = True
+) -> _Prepared:
     """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
-    tabulated over its own period (``own_periods=False``: over the span, the long table)."""
+    tabulated over its own period (``own_periods=False``: over the span, the long table), the
+    static rows solved on the condensed structure (``condensed=False``: on every coordinate)."""
     periods = span_periods(model)
     return _prepare(
-        model.scene, model.mods, model.torque, law, steps_per_period, periods, own_periods
+        model.scene,
+        model.mods,
+        model.torque,
+        law,
+        steps_per_period,
+        periods,
+        own_periods,
+        condensed,
     )
 
 

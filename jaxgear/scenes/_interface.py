@@ -102,6 +102,11 @@ class RigidMember(eqx.Module):
     def width(self) -> int:
         return 6
 
+    @property
+    def contact_dofs(self) -> tuple:
+        """The global DOFs its cells' structure vectors reach (static): its node's 6."""
+        return self.dofs
+
     def window(self, points, mask, line, theta, mesh, side, pad=0):
         """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow. ``side``: +1 the
         mesh's driving gear (n_m = n), −1 its driven gear (n_m = −n); ``pad``: unused, the
@@ -120,6 +125,11 @@ class TorsionalMember(eqx.Module):
     @property
     def width(self) -> int:
         return 1
+
+    @property
+    def contact_dofs(self) -> tuple:
+        """The global DOFs its cells' structure vectors reach (static): its rotation."""
+        return (self.dof,)
 
     def window(self, points, mask, line, theta, mesh, side, pad=0):
         """Global DOF (1,), structure vectors on it (L, N, 1), no overflow. ``side``: +1 the

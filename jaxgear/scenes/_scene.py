@@ -57,6 +57,12 @@ class Scene(eqx.Module):
     def te_vector(self) -> Float[Array, " n"]:
         """See the module docstring."""
 
+    def contact_dofs(self) -> tuple[int, ...] | None:
+        """The coordinates the structure vectors of every cell can reach, sorted (static), or
+        None: not known before the cells (every coordinate). A static solve over many
+        positions condenses the structure onto them once (:mod:`jaxgear.dynamics`)."""
+        return None
+
     @property
     def base_planes(self) -> tuple[MeshModel, ...]:
         """The base-plane model of each gear mesh (a scene of one mesh: its ``mesh``)."""

@@ -206,6 +206,19 @@ class AssembledScene(Scene):
             rows.append(CellRow.of(c, Vw, d, idx))
         return CellRow.concat(rows)
 
+    def contact_dofs(self) -> tuple[int, ...] | None:
+        """The coordinates of the members in a mesh, sorted (static: each rigid member's 6 node
+        DOFs, each torsional member's rotation), or None if a member's window follows the
+        contact (a condensed body's rim stations)."""
+        out = set()
+        for mesh in self.meshes:
+            for g in mesh.gears:
+                dofs = getattr(self.members[g], "contact_dofs", None)
+                if dofs is None:
+                    return None
+                out.update(dofs)
+        return tuple(sorted(out))
+
     def te_vector(self) -> Float[Array, " n"]:
         """The TE vector u of the scene's one mesh (:attr:`GearMesh.te`)."""
         return only_mesh(self.meshes).te
