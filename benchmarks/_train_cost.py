@@ -18,7 +18,12 @@ N_s and N_s × 127/35) against the long table of the span (127 N_s rows, every m
 step, as before the own-period tables), in one run: the table's rows and bytes, the time to
 build the table (``jaxgear.dynamics.mesh_table``) and to simulate one speed on it
 (``jaxgear.dynamics.simulate_on_table``: the table, the static rows over the span and the
-Newmark run; first call and best of repeats), and the ratios long / own.
+Newmark run; first call and best of repeats), and the ratios long / own. The static rows (the
+quasi-static reference at each of the span's 127 N_s steps) are solved on the structure
+condensed onto the coordinates the cells reach; ``own_full`` solves them on every coordinate
+(``condensed=False``, as before), on the own-period table: ``ratios_full_over_condensed``.
+The span section can run alone on an idle machine, replacing ``span`` in a written JSON:
+``python -c "from benchmarks._train_cost import bench_span_only; bench_span_only('docs')"``.
 """
 
 from __future__ import annotations
@@ -112,13 +117,19 @@ def bench_span(quick: bool = False) -> dict:
         "simulate: jaxgear.dynamics.simulate_on_table at one speed, the table, the static rows "
         "over the span and the Newmark run together; first call and best of the repeats",
     }
-    for name, own in (("long", False), ("own", True)):
+    for name, own, condensed in (
+        ("long", False, True),
+        ("own", True, True),
+        ("own_full", True, False),
+    ):
 
         def table(own=own):
             return jd.mesh_table(model.scene, model.mods, steps, q, own_periods=own)
 
-        def simulate(own=own):
-            return jd.simulate_on_table(model, speed, steps, window, own_periods=own)[0]
+        def simulate(own=own, condensed=condensed):
+            return jd.simulate_on_table(
+                model, speed, steps, window, own_periods=own, condensed=condensed
+            )[0]
 
         t_first = first_call(table)
         t_table = min_time(table, repeats, warmup=False)
@@ -126,6 +137,8 @@ def bench_span(quick: bool = False) -> dict:
         s_first = first_call(simulate)
         t_sim = min_time(simulate, repeats, warmup=False)
         out[name] = {
+            "static_rows": "condensed" if condensed else "every coordinate",
+            "load_average": list(os.getloadavg()),
             "rows": [int(r) for r in tab.rows],
             "table_rows": int(tab.theta.shape[0]),
             "table_bytes": int(sum(x.nbytes for x in jax.tree.leaves(tab))),
@@ -149,6 +162,13 @@ def bench_span(quick: bool = False) -> dict:
     }
     out["dynamic_factor_rel_diff"] = max(
         abs(a / b - 1) for a, b in zip(own["dynamic_factor_mesh"], long["dynamic_factor_mesh"])
+    )
+    full = out["own_full"]
+    out["ratios_full_over_condensed"] = {
+        k: full[k] / own[k] for k in ("simulate_first_s", "simulate_s")
+    }
+    out["dynamic_factor_rel_diff_condensed"] = max(
+        abs(a / b - 1) for a, b in zip(own["dynamic_factor_mesh"], full["dynamic_factor_mesh"])
     )
     return out
 
@@ -240,15 +260,37 @@ def bench_trains(out_dir: str, *, quick: bool = False) -> dict:
             f"{r['quasi_static_per_position_s'] * 1e6:.1f} µs/position (× {r['quasi_static_ratio']:.2f}), "
             f"Newmark {r['newmark_per_step_s'] * 1e6:.2f} µs/step (× {r['newmark_ratio']:.2f})"
         )
-    for name in ("long", "own"):
+    _print_span(span)
+    return out
+
+
+def _print_span(span: dict) -> None:
+    for name in ("long", "own", "own_full"):
         t = span[name]
         print(
-            f"two-stage span, {name} table: {t['table_rows']} rows ({t['table_bytes'] / 1e6:.1f} "
-            f"MB), table {t['table_first_s']:.2f} s first / {t['table_s']:.2f} s, "
-            f"simulate {t['simulate_first_s']:.2f} s first / {t['simulate_s']:.2f} s"
+            f"two-stage span, {name} table ({t['static_rows']} static rows): {t['table_rows']} "
+            f"rows ({t['table_bytes'] / 1e6:.1f} MB), table {t['table_first_s']:.2f} s first / "
+            f"{t['table_s']:.2f} s, simulate {t['simulate_first_s']:.2f} s first / "
+            f"{t['simulate_s']:.2f} s (load {t['load_average'][0]:.1f})"
         )
     print(f"long / own: {span['ratios_long_over_own']}")
-    return out
+    print(f"static rows on every coordinate / condensed: {span['ratios_full_over_condensed']}")
+
+
+def bench_span_only(out_dir: str, *, quick: bool = False) -> dict:
+    """Re-run the span section alone and replace ``span`` in ``out_dir``'s existing
+    ``bench_trains.json`` (written by :func:`bench_trains`). Returns the JSON's ``span``."""
+    jax.config.update("jax_enable_x64", True)
+    path = os.path.join(out_dir, "bench_trains.json")
+    with open(path, encoding="utf-8") as f:
+        out = json.load(f)
+    span = bench_span(quick)
+    span["machine"] = environment()
+    out["span"] = span
+    with atomic_open(path, "w") as f:
+        json.dump(out, f, indent=2)
+    _print_span(span)
+    return span
 
 
 def train_cost_chart(result: dict, path: str) -> None:

@@ -3,7 +3,8 @@ asserted; timing lives in the benchmark): a row per model (torsional, lumped 3D)
 2, 3 meshes with the cells of each (8 per mesh at 4 slices: two contact lines of 4 slices each)
 and the ratios to the model's first; the long span of the ``two-stage`` case at 35 steps per
 period on its own-period table (rows 35 and 127: the LST period is 127/35 HST periods) and on
-the long table of the span (4445 rows), with the same dynamic factors."""
+the long table of the span (4445 rows), with the same dynamic factors, and with the static rows
+solved on every coordinate (as before the condensed structure), with the same dynamic factors."""
 
 from __future__ import annotations
 
@@ -45,3 +46,9 @@ def test_bench_trains_quick(tmp_path):
     assert span["own"]["rows"] == [35, 127] and span["long"]["table_rows"] == 127 * 35
     assert span["ratios_long_over_own"]["table_rows"] == 35.0
     assert span["dynamic_factor_rel_diff"] < 1e-10
+    # the static rows on every coordinate (as before) against the condensed structure's
+    assert (
+        span["own_full"]["rows"] == [35, 127]
+        and span["own_full"]["static_rows"] != (span["own"]["static_rows"])
+    )
+    assert span["dynamic_factor_rel_diff_condensed"] < 1e-10
