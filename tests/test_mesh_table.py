@@ -281,6 +281,8 @@ def test_static_rows_are_each_steps_static_solve(case):
         nodes = model.scene.structure.nodes
         gears = [first + k for name, first in nodes if name.startswith("gear") for k in range(6)]
         assert model.scene.contact_dofs() == tuple(sorted(gears))
+        sizes = {"idler": (18, 90), "two-stage": (24, 102)}[case]
+        assert (len(gears), model.scene.structure.size) == sizes
     res, prep = jd.simulate_on_table(model, speed, steps, window)
     span = prep.table.span
     x_ref, p_ref = _static_reference(model, steps, span // steps)
