@@ -61,6 +61,7 @@ def _newmark(
     start: int = 0,
     record_cells: bool = False,
     factors=None,
+    dofs: tuple | None = None,
 ):
     """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
     coordinates) from step ``start`` + 1 on: step n ends at step start + n + 1, whose cells
@@ -73,7 +74,8 @@ def _newmark(
     forces R X (N, (r,)) ``reac``; (X, Ẋ) ``states`` with ``record_states``; the cell forces P
     (N, (c,)) ``cells`` with ``record_cells``; with ``factors`` (the table's E*/(π R) per row
     and cell, (R, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa², (m,)) ``p2``,
-    reduced here in the loop."""
+    reduced here in the loop. ``dofs``: the coordinates each step's contact is condensed onto
+    (:attr:`_Prepared.dofs`; None: every coordinate)."""
     scene = model.scene
     M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
     R = scene.reaction_matrix()
@@ -115,6 +117,7 @@ def _newmark(
         kept if record else None,
         check=check,
         record_entry=True,
+        dofs=dofs,
     )
 
 
@@ -146,7 +149,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         # the transient unrecorded, then the kept periods recorded from the row where the
         # transient ended (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        run = {"cfg": cfg, "law": law, "static_force": fs}
+        run = {"cfg": cfg, "law": law, "static_force": fs, "dofs": static.dofs}
         carry, _ = _newmark(model, table, dt, carry0, n_trans, record=False, **run)
         carry, rec = _newmark(
             model,

@@ -51,6 +51,8 @@ from .._util import check_integer
 from .._quasi_static import mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
+from ._newmark import condensed as condensed_system
+from ._newmark import contact_coordinates
 
 __all__ = [
     "AbstractDynamicModel",
@@ -372,32 +374,6 @@ def _rigid_penalty(scene: DynamicScene, k_ref) -> Float[Array, "n n"]:
 STATIC_BATCH = 1024
 
 
-def _condensed(K, F, dofs):
-    """The static problem K X = F condensed once onto the coordinates ``dofs`` J (static) that
-    the cells reach (:meth:`~jaxgear.scenes.Scene.contact_dofs`), the others I eliminated
-    (Guyan: exact for a static load, nothing acts on I but F): S = K_JJ − K_JI K_II⁻¹ K_IJ,
-    F_J − K_JI K_II⁻¹ F_I, and X = x_f + B X_J with x_f = K_II⁻¹ F_I on I, B = [1; −K_II⁻¹ K_IJ].
-    Returns (S, F̃, x_f, B)."""
-    n = K.shape[0]
-    J = jnp.asarray(dofs)
-    I = jnp.asarray([i for i in range(n) if i not in set(dofs)], dtype=J.dtype)
-    KII = K[I[:, None], I[None, :]]
-    KIJ = K[I[:, None], J[None, :]]
-    Y = jnp.linalg.solve(KII, jnp.concatenate([F[I][:, None], KIJ], axis=1))
-    yF, H = Y[:, 0], Y[:, 1:]
-    S = K[J[:, None], J[None, :]] - KIJ.T @ H
-    Ft = F[J] - KIJ.T @ yF
-    x_f = jnp.zeros(n, K.dtype).at[I].set(yF)
-    B = (
-        jnp.zeros((n, len(dofs)), K.dtype)
-        .at[J]
-        .set(jnp.eye(len(dofs), dtype=K.dtype))
-        .at[I]
-        .set(-H)
-    )
-    return S, Ft, x_f, B
-
-
 def _static_rows(
     scene: DynamicScene, table: MeshTable, torque, law: ContactLaw, k_ref, condensed: bool = True
 ):
@@ -405,19 +381,19 @@ def _static_rows(
     quasi-static reference), each mesh at its own row.
 
     The structure is the same at every step: it is condensed once onto the coordinates the
-    cells reach (:func:`_condensed`; 24 of 102 for the lumped ``two-stage`` case), and each
+    cells reach (:func:`~jaxgear.dynamics._newmark.condensed`; 24 of 102 for the lumped
+    ``two-stage`` case), and each
     step's active set (II-25) is solved on those alone, then X recovered. A scene whose cells
     reach every coordinate (a torsional train), or that does not know them, is solved on all,
     as is every scene with ``condensed=False`` (for comparisons)."""
     K = scene.stiffness() + _rigid_penalty(scene, k_ref)
     F = scene.external_load(torque)
-    dofs = scene.contact_dofs() if condensed else None
-    if dofs is not None and len(dofs) == K.shape[0]:
-        dofs = None
+    dofs = contact_coordinates(scene, K.shape[0], condensed)
     if dofs is not None:
-        K, F, x_f, B = _condensed(K, F, dofs)
+        reduced = condensed_system(K, dofs)
+        K, (F, y) = reduced.S, reduced.load(F)
         # the structure vectors on those coordinates only (the others are zero)
-        table = eqx.tree_at(lambda t: t.V, table, table.V[:, :, jnp.asarray(dofs)])
+        table = eqx.tree_at(lambda t: t.V, table, table.V[:, :, reduced.J])
 
     def solve(j):
         r = table.at(j)
@@ -427,7 +403,7 @@ def _static_rows(
         sol = solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law, start)
         if dofs is None:
             return sol
-        return eqx.tree_at(lambda s: s.x, sol, x_f + B @ sol.x)
+        return eqx.tree_at(lambda s: s.x, sol, reduced.expand(sol.x, y))
 
     steps = jnp.arange(table.span)
     if table.span <= STATIC_BATCH:
@@ -456,6 +432,9 @@ class _Prepared(eqx.Module):
     static_force_density: Float[Array, "S c"]
     static_weight: Float[Array, "S c"]
     static_result: Int[Array, " S"]
+    #: the coordinates the contact problems are condensed onto (:func:`contact_coordinates`),
+    #: static; None: solved on every coordinate
+    dofs: tuple | None = eqx.field(static=True, default=None)
 
 
 @eqx.filter_jit
@@ -475,7 +454,8 @@ def _prepare(
     :func:`_static_rows`'."""
     table = mesh_table(scene, mods, steps_per_period, periods, own_periods=own_periods)
     static = _static_rows(scene, table, torque, law, _k_ref(table), condensed)
-    return _Prepared(table, static.x, static.force_density, static.weight, static.result)
+    dofs = contact_coordinates(scene, table.V.shape[-1], condensed)
+    return _Prepared(table, static.x, static.force_density, static.weight, static.result, dofs)
 
 
 class AbstractDynamicModel(eqx.Module):

@@ -53,6 +53,57 @@ class MeshDamping(NamedTuple):
     R: Float[Array, "n n"] | None
 
 
+class Condensed(NamedTuple):
+    """A linear system K X = F condensed onto the coordinates J that the cells reach (static
+    condensation: exact where nothing but F acts on the others, I), for solving many contact
+    problems of one K (:func:`condensed`): S X_J = F_J − K_JI K_II⁻¹ F_I with
+    S = K_JJ − K_JI K_II⁻¹ K_IJ, then X_I = K_II⁻¹ (F_I − K_IJ X_J).
+
+    Attributes:
+        J, I: the kept and the eliminated coordinates (j,) and (n − j,).
+        S: the condensed matrix (j, j). KJI: K_JI (j, n − j). H: K_II⁻¹ K_IJ (n − j, j).
+        lu: the LU factors of K_II (:func:`jax.scipy.linalg.lu_factor`).
+    """
+
+    J: Array
+    I: Array
+    S: Array
+    KJI: Array
+    H: Array
+    lu: tuple
+
+    def load(self, F) -> tuple[Array, Array]:
+        """(F_J − K_JI K_II⁻¹ F_I (j,), K_II⁻¹ F_I (n − j,)) for a load F (n,)."""
+        y = jax.scipy.linalg.lu_solve(self.lu, F[self.I])
+        return F[self.J] - self.KJI @ y, y
+
+    def expand(self, XJ, y) -> Array:
+        """X (n,) from X_J (j,) and y = K_II⁻¹ F_I (:meth:`load`)."""
+        n = self.J.shape[0] + self.I.shape[0]
+        return jnp.zeros((n,), XJ.dtype).at[self.J].set(XJ).at[self.I].set(y - self.H @ XJ)
+
+
+def condensed(K: Float[Array, "n n"], dofs: tuple) -> Condensed:
+    """``K`` (n, n; any square K with K_II invertible) condensed onto the coordinates ``dofs``
+    (a static, sorted tuple; :meth:`~jaxgear.scenes.Scene.contact_dofs`), :class:`Condensed`."""
+    n = K.shape[0]
+    kept = set(dofs)
+    J = jnp.asarray(dofs)
+    I = jnp.asarray([i for i in range(n) if i not in kept], dtype=J.dtype)
+    lu = jax.scipy.linalg.lu_factor(K[I[:, None], I[None, :]])
+    H = jax.scipy.linalg.lu_solve(lu, K[I[:, None], J[None, :]])
+    KJI = K[J[:, None], I[None, :]]
+    return Condensed(J, I, K[J[:, None], J[None, :]] - KJI @ H, KJI, H, lu)
+
+
+def contact_coordinates(scene, n: int, condense: bool = True) -> tuple | None:
+    """The coordinates to condense a scene's contact problems onto (static): its
+    :meth:`~jaxgear.scenes.Scene.contact_dofs`, or None (solve on all ``n``) where it does not
+    name them, where they are all of them, or with ``condense=False``."""
+    dofs = scene.contact_dofs() if condense else None
+    return None if dofs is None or len(dofs) == n else tuple(dofs)
+
+
 def newmark(
     K: Float[Array, "n n"],
     M: Float[Array, "n n"],
@@ -68,6 +119,7 @@ def newmark(
     check: Callable[[Array, Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
     record_entry: bool = False,
+    dofs: tuple | None = None,
 ):
     """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
 
@@ -89,6 +141,9 @@ def newmark(
         mesh_damping: :class:`MeshDamping` or None (needs a window: the cell space).
         record_entry: call ``record(X, Ẋ, P, entry)`` with the step's entry of ``inputs`` (to
             reduce per-cell values that depend on the position inside the loop).
+        dofs: rows on all coordinates only: the coordinates the cells reach (static, sorted;
+            :func:`contact_coordinates`); K_eff is condensed onto them once
+            (:func:`condensed`) and each step's contact solved on them alone. None: on all.
 
     Returns:
         (the final state, the records flattened over the blocks, leading axis B·S, or None).
@@ -104,6 +159,7 @@ def newmark(
     if coordinates and mesh_damping is not None:
         raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
     G = None if coordinates else jnp.linalg.inv(Keff)
+    reduced = condensed(Keff, dofs) if coordinates and dofs is not None else None
     if mesh_damping is not None:
         block, c_m, R = mesh_damping
         GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
@@ -150,7 +206,13 @@ def newmark(
             v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
             Feff = F + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd) + C @ v
             inside = jnp.array(True)
-            if coordinates:
+            if coordinates and reduced is not None:
+                Fj, y = reduced.load(Feff)
+                Vj = row.V[:, reduced.J]
+                sol = solve_contact(reduced.S, Fj, Vj, row.k, row.length, row.delta0, row.mask, law)
+                Xn = reduced.expand(sol.x, y)
+                P = sol.force_density * row.length
+            elif coordinates:
                 sol = solve_contact(Keff, Feff, row.V, row.k, row.length, row.delta0, row.mask, law)
                 Xn = sol.x
                 P = sol.force_density * row.length

@@ -136,11 +136,11 @@ def simulate_on_table(
     """:func:`simulate` of a lumped model at one speed with Newmark and ``steps_per_period``
     steps, on the table of each mesh's own period (what :func:`simulate` does) or, with
     ``own_periods=False``, on the long table of the span (every mesh at every step of it, as
-    before the own-period tables); the static rows (the quasi-static reference at every step
-    of the span) solved on the structure condensed onto the coordinates the cells reach (what
-    :func:`simulate` does) or, with ``condensed=False``, on every coordinate (as before):
-    for comparisons and ``jaxgear bench trains``. Returns (:class:`DynamicResult`, the
-    prepared table and static rows)."""
+    before the own-period tables); the contact problems (the static rows, the quasi-static
+    reference at every step of the span, and each Newmark step's) solved on the structure
+    condensed onto the coordinates the cells reach (what :func:`simulate` does) or, with
+    ``condensed=False``, on every coordinate (as before): for comparisons and ``jaxgear bench
+    trains``. Returns (:class:`DynamicResult`, the prepared table and static rows)."""
     integrator, law, window = resolve_settings(model, Newmark(steps_per_period), contact, window)
     cfg = _config(integrator, window, int(steps_per_period), 100.0, False)
     prep = _prep(model, law, int(steps_per_period), own_periods, condensed)
