@@ -51,8 +51,7 @@ from .._util import check_integer
 from .._quasi_static import mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
-from ._newmark import condensed as condensed_system
-from ._newmark import contact_coordinates
+from ._newmark import condensed as condensed_system, contact_coordinates
 
 __all__ = [
     "AbstractDynamicModel",
@@ -382,10 +381,10 @@ def _static_rows(
 
     The structure is the same at every step: it is condensed once onto the coordinates the
     cells reach (:func:`~jaxgear.dynamics._newmark.condensed`; 24 of 102 for the lumped
-    ``two-stage`` case), and each
-    step's active set (II-25) is solved on those alone, then X recovered. A scene whose cells
-    reach every coordinate (a torsional train), or that does not know them, is solved on all,
-    as is every scene with ``condensed=False`` (for comparisons)."""
+    ``two-stage`` case), each step's active set (II-25) is solved on those alone, and X is
+    recovered. A scene whose cells reach every coordinate (a torsional train), or that does
+    not name them, is solved on all, as is every scene with ``condensed=False`` (for
+    comparisons)."""
     K = scene.stiffness() + _rigid_penalty(scene, k_ref)
     F = scene.external_load(torque)
     dofs = contact_coordinates(scene, K.shape[0], condensed)
