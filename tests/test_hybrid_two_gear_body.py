@@ -19,6 +19,7 @@ import json
 import math
 import pathlib
 
+import meshio
 import numpy as np
 import pytest
 from _examples import load_example
@@ -415,7 +416,11 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
     assert w["flexible_gear_teeth"] == [30, 15]
     assert w["flexible_gear_speed_ratio"] == pytest.approx([20 / 30, 20 / 30], rel=1e-12)
     assert w["flexible_gear_meshes"] == [["input-wheel"], ["pinion-output"]]
-    assert s["body_vtu"] == ["body_wheel.vtu", "body_pinion.vtu"]
+    assert s["body_vtu"] == ["body_wheel+pinion.vtu"]  # one body, written once
+    assert not list(out.glob("body_wheel.vtu")) and not list(out.glob("body_pinion.vtu"))
+    vtu = meshio.read(out / "body_wheel+pinion.vtu")
+    assert np.isfinite(vtu.point_data["displacement_m"]).all()
+    assert np.abs(vtu.point_data["displacement_m"]).max() > 0
     assert round(elastic[0] / 1e3, 1) == 2.2  # the first elastic mode, kHz
     for k, m in enumerate(s["meshes"]):
         static = m["quasi_static"]["exact"]["te_mean_m"]
