@@ -33,7 +33,7 @@ from jaxgear.dynamics import (
     load_bodies,
     speed_sweep,
 )
-from jaxgear.scenes import FlexibleMember
+from jaxgear.scenes import FlexibleMember, mesh_zone_load
 
 DATA = pathlib.Path(__file__).parent / "data"
 CASE = DATA / "hybrid-test-train.toml"
@@ -130,17 +130,6 @@ def test_idler_bearings_carry_its_two_mesh_forces(case, scene):
     np.testing.assert_allclose(shaft_sum(forces, "output")[:2], fn * d1, atol=1e-6 * fn)
 
 
-def _zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length) as a load on
-    the body coordinates (those from ``first`` on: the shafts held), (n − first,)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
-
-
 def test_the_two_contact_zones_share_the_idler_body(scene):
     """Cross-compliance between the meshes through the idler body (its hub held): a unit force
     over one contact zone moves the other zone by 65 % of what it moves its own (asserted:
@@ -150,7 +139,7 @@ def test_the_two_contact_zones_share_the_idler_body(scene):
     first = scene.structure.C_bearing.shape[0]  # the shafts' coordinates come first
     K = np.asarray(scene.structure.K)[first:, first:]
     for theta in (0.0, 0.05, 0.1):
-        f = np.stack([_zone_load(scene, k, theta, first) for k in range(2)], 1)
+        f = np.stack([mesh_zone_load(scene, k, theta, first) for k in range(2)], 1)
         C = f.T @ np.linalg.solve(K, f)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)
         assert np.all(np.linalg.eigvalsh(0.5 * (C + C.T)) > 0)

@@ -38,7 +38,7 @@ from jaxgear.dynamics import (
     load_bodies,
     speed_sweep,
 )
-from jaxgear.scenes import FlexibleMember
+from jaxgear.scenes import FlexibleMember, mesh_zone_load
 
 ROOT = pathlib.Path(__file__).parents[1]
 DATA = pathlib.Path(__file__).parent / "data"
@@ -276,18 +276,6 @@ def test_the_body_bearings_carry_both_mesh_forces(case, scene):
     np.testing.assert_allclose(shaft_sum(forces, "output")[:2], f2 * d1, atol=1e-6 * f2)
 
 
-def _zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length) as a load on
-    the body coordinates (those from ``first`` on: the shafts, and so the body's bearing nodes,
-    held), (n − first,)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
-
-
 def test_the_two_rims_share_the_body(scene):
     """The 2 × 2 zone compliance between the wheel's contact zone and the pinion's, on the body
     alone (its bearing nodes held): reciprocal (Maxwell–Betti, 1e-9), positive definite, and
@@ -296,7 +284,7 @@ def test_the_two_rims_share_the_body(scene):
     first = scene.structure.C_bearing.shape[0]  # the shafts' coordinates come first
     K = np.asarray(scene.structure.K)[first:, first:]
     for theta in (0.0, 0.05, 0.1):
-        f = np.stack([_zone_load(scene, k, theta, first) for k in range(2)], 1)
+        f = np.stack([mesh_zone_load(scene, k, theta, first) for k in range(2)], 1)
         C = f.T @ np.linalg.solve(K, f)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)
         assert np.all(np.linalg.eigvalsh(0.5 * (C + C.T)) > 0)
