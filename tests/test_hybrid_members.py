@@ -26,14 +26,15 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.cli import main
-from jaxgear.cli.sweep import _flexible_gears, _nodal_diameter_resonances
 from jaxgear.dynamics import (
     Damping,
     Newmark,
     SteadyState,
     dynamic_model,
+    gear_nodal_diameter_resonances,
     load_bodies,
     modal_analysis,
+    rim_stations,
     simulate,
     speed_sweep,
     static_scene,
@@ -160,11 +161,11 @@ def test_a_flexible_pinion_mirrors_the_flexible_wheel(pairs):
     # (3.9) on the body, wherever it is
     speeds = np.array([1e3, 1e5])
     rows = []
-    for (c, s), m in zip(pairs, modes, strict=True):
-        (gear,) = _flexible_gears(c, s)
-        rows.append(_nodal_diameter_resonances(s, m, speeds, gear))
-    assert [r["gear"] for r in rows[0]] == ["gear"] * len(rows[0]) and len(rows[0]) >= 4
-    assert {r["gear"] for r in rows[1]} == {"pinion"} and len(rows[1]) == len(rows[0])
+    for (_, s), m in zip(pairs, modes, strict=True):
+        ((member, _),) = rim_stations(s)
+        rows.append(gear_nodal_diameter_resonances(s, m, member, max_speed=1.05 * speeds.max()))
+    assert [r["member"] for r in rows[0]] == [1] * len(rows[0]) and len(rows[0]) >= 4
+    assert {r["member"] for r in rows[1]} == {0} and len(rows[1]) == len(rows[0])
     for a, b in zip(rows[0], rows[1], strict=True):
         for key in ("nodal_diameter", "order", "direction", "harmonic"):
             assert a[key] == b[key]
@@ -261,26 +262,31 @@ def test_train_lists_the_nodal_diameter_resonances_of_each_flexible_gear(train):
     case, bodies = train
     scene = case.hybrid_train(bodies)
     modes = modal_analysis(scene, jnp.zeros_like(scene.structure.K))  # the structure's own
-    gears = _flexible_gears(case, scene)
-    assert [(g["name"], g["teeth"], g["meshes"]) for g in gears] == [
-        ("input", 20, ["input-idler"]),
-        ("idler", 30, ["input-idler", "idler-output"]),
-    ]
+    members = [m for m, _ in rim_stations(scene)]
+    assert [case.gear_names[m] for m in members] == ["input", "idler"]
     teeth = {"input": (20, 1.0), "idler": (30, 20 / 30)}
     speeds = np.array([1e3, 1e5])
     seen = set()
-    for g in gears:
-        Z, ratio = teeth[g["name"]]
-        assert g["speed_ratio"] == pytest.approx(ratio, rel=1e-12)
-        rows = _nodal_diameter_resonances(scene, modes, speeds, g, n_modes=200)
+    for m in members:
+        name = case.gear_names[m]
+        Z, ratio = teeth[name]
+        rows = gear_nodal_diameter_resonances(
+            scene, modes, m, max_speed=1.05 * speeds.max(), n_modes=200
+        )
         assert len(rows) >= 2
         for r in rows:
             sign = 1 if r["direction"] == "backward" else -1
             order = r["harmonic"] * Z + sign * r["nodal_diameter"]
-            assert r["gear"] == g["name"] and r["teeth"] == Z and r["order"] == order
+            assert r["member"] == m and r["teeth"] == Z and r["order"] == order
+            assert r["speed_ratio"] == pytest.approx(ratio, rel=1e-12)
             w_in = 2 * np.pi * r["frequency_hz"] / (order * ratio)
             assert r["pinion_speed_rad_s"] == pytest.approx(w_in, rel=1e-12)
-            seen.add((g["name"], round(r["frequency_hz"])))
+            assert r["pinion_speed_rad_s"] <= 1.05e5
+            seen.add((name, round(r["frequency_hz"])))
+    # the output gear is rigid: one line naming the condensed members
+    match = r"^gear_nodal_diameter_resonances: member = 2 is not a condensed body: allowed 0, 1$"
+    with pytest.raises(ValueError, match=match):
+        gear_nodal_diameter_resonances(scene, modes, 2)
     # the two bodies' web modes are different modes
     assert {n for n, _ in seen} == {"input", "idler"}
 
