@@ -66,8 +66,10 @@ def newmark(
     record: Callable[[Array, Array, Array], Any] | None,
     *,
     check: Callable[[Array, Array, Array], Array] | None = None,
+    block_check: Callable[[Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
     record_entry: bool = False,
+    keep_blocks: int | None = None,
 ):
     """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
 
@@ -86,13 +88,19 @@ def newmark(
         check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. energy
             blow-up), 0 if none; the loop itself flags contact loops that did not converge,
             non-finite states and cells outside the mesh damping's window.
+        block_check: (X, Ẋ) ↦ a result code of the state at the end of each block, or None:
+            the place for a check that costs a product with an n × n matrix (the kinetic
+            energy ½ ẊᵀMẊ), paid once per block (e.g. mesh period) instead of every step; it
+            fires at the end of the block in which the state crossed its bound.
         mesh_damping: :class:`MeshDamping` or None (needs a window: the cell space).
         record_entry: call ``record(X, Ẋ, P, entry)`` with the step's entry of ``inputs`` (to
             reduce per-cell values that depend on the position inside the loop).
+        keep_blocks: record only the last ``keep_blocks`` blocks (the steady-state window: the
+            blocks before integrate without records), or None: every block.
 
     Returns:
-        (the final state, the records flattened over the blocks, leading axis B·S, or None).
-        The result code keeps the first failure of the run.
+        (the final state, the records flattened over the recorded blocks, leading axis
+        min(B, keep_blocks)·S, or None). The result code keeps the first failure of the run.
     """
     dtype = K.dtype
     n = K.shape[0]
@@ -108,7 +116,7 @@ def newmark(
         block, c_m, R = mesh_damping
         GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
 
-    def run_block(carry, p_in):
+    def run_block(carry, p_in, keep):
         p, entries = p_in
         U = None
         ok = jnp.array(True)
@@ -139,10 +147,17 @@ def newmark(
             Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
             GUU = G[U[:, None], U[None, :]] - GW[U] @ Q @ project(G[:, U])  # G_p on U
             pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
+            GU = GW if R is None else G[:, U]  # G E_Uᵀ (n, w)
 
         def solve(v):  # G_p v
             y = G @ v
             return y if U is None else y - GW @ (Q @ project(y))
+
+        def solve_at(idx, j, z):  # G_p[:, idx] z: the columns of the window, not an n² product
+            if U is None:
+                return G[:, idx] @ z
+            y = GU @ jnp.zeros((U.shape[0],), dtype).at[j].add(z, mode="drop")
+            return y - GW @ (Q @ project(y))
 
         def step(carry, entry):
             X, Xd, Xdd, code, it = carry
@@ -157,6 +172,7 @@ def newmark(
             else:
                 idx = row.idx
                 c = row.V.shape[0]
+                j = None
                 if U is None:
                     Gw = G[idx[:, None], idx[None, :]]
                 else:
@@ -175,22 +191,22 @@ def newmark(
                     row.mask,
                     law,
                 )
-                Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(row.V.T @ P))
+                Xn = xs - solve_at(idx, j, row.V.T @ P)
             Xdn, Xddn = _update(Xn, X, Xd, Xdd, a0, dt)
             new = _step_result(sol, (Xn, Xdn), None if check is None else check(Xn, Xdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             carry = (Xn, Xdn, Xddn, _first(code, new), jnp.maximum(it, sol.iterations))
-            if record is None:
+            if keep is None:
                 return carry, None
-            return carry, (record(Xn, Xdn, P, entry) if record_entry else record(Xn, Xdn, P))
+            return carry, (keep(Xn, Xdn, P, entry) if record_entry else keep(Xn, Xdn, P))
 
-        return jax.lax.scan(step, carry, entries)
+        carry, out = jax.lax.scan(step, carry, entries)
+        if block_check is not None:
+            X, Xd, Xdd, code, it = carry
+            carry = (X, Xd, Xdd, _first(code, block_check(X, Xd)), it)
+        return carry, out
 
-    n_blocks = jax.tree.leaves(inputs)[0].shape[0]
-    carry, out = jax.lax.scan(run_block, state, (jnp.arange(n_blocks), inputs))
-    if record is None:
-        return carry, None
-    return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
+    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
 
 
 class ModalStructure(NamedTuple):
@@ -223,8 +239,10 @@ def newmark_modal(
     record: Callable[[Array, Array, Array], Any] | None,
     *,
     check: Callable[[Array, Array, Array], Array] | None = None,
+    block_check: Callable[[Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
     residual_damping=0.0,
+    keep_blocks: int | None = None,
 ):
     """:func:`newmark` in a modal basis with the static correction of the cells: the same
     average-acceleration scheme and contact loop (the cells of each step solved exactly on their
@@ -252,8 +270,9 @@ def newmark_modal(
         state: (q, q̇, q̈, r, ṙ, r̈, result code, most contact passes): q's (m,), r's (n,).
         record: (X, Ẋ, P) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ), or
             None.
-        check: (q, q̇, P) ↦ a result code of the step (on the reduced state: the kinetic
-            energy is ½ q̇ᵀ M_r q̇), or None.
+        check: (q, q̇, P) ↦ a result code of the step, or None. block_check: (q, q̇) ↦ a
+            result code at the end of each block (on the reduced state: the kinetic energy is
+            ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
         mesh_damping: :class:`MeshDamping` with ``R`` None (on the coordinates of U, as the
             cell space's) or the reduced map (n, m) (W_r = R[U]: c_m W_rᵀ B W_r on q), or None.
         residual_damping: β_r (s), >= 0.
@@ -277,7 +296,7 @@ def newmark_modal(
     if mesh_damping is None:
         H = D @ Gr @ D.T + rho * G  # the effective compliance on every coordinate (n, n)
 
-    def run_block(carry, p_in):
+    def run_block(carry, p_in, keep):
         p, entries = p_in
         ok = jnp.array(True)
         U, Gp, Cp = None, Gr, Cr
@@ -339,19 +358,38 @@ def newmark_modal(
             rows = idx if U is None else U
             qn = qs + Gp @ (Dr.T @ fU)
             rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
-            Xn = D @ qn + rn
             qdn, qddn = _update(qn, q, qd, qdd, a0, dt)
             rdn, rddn = _update(rn, r, rd, rdd, a0, dt)
-            new = _step_result(sol, (Xn, qdn), None if check is None else check(qn, qdn, P))
+            # X = D q + r is finite where q and r are (D @ q only at the recorded steps)
+            new = _step_result(sol, (qn, rn, qdn), None if check is None else check(qn, qdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             code = _first(code, new)
             carry = (qn, qdn, qddn, rn, rdn, rddn, code, jnp.maximum(it, sol.iterations))
-            return carry, (None if record is None else record(Xn, D @ qdn + rdn, P))
+            return carry, (None if keep is None else keep(D @ qn + rn, D @ qdn + rdn, P))
 
-        return jax.lax.scan(step, carry, entries)
+        carry, out = jax.lax.scan(step, carry, entries)
+        if block_check is not None:
+            q, qd, *rest, code, it = carry
+            carry = (q, qd, *rest, _first(code, block_check(q, qd)), it)
+        return carry, out
 
+    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
+
+
+def _scan_blocks(run_block, state, inputs, record, keep_blocks):
+    """Scan ``run_block(carry, (p, entries), keep)`` over the B blocks of ``inputs``: the first
+    B − keep_blocks without records (``keep`` None), the last ``keep_blocks`` (all with None)
+    with ``record``; returns the final carry and the records flattened over the recorded blocks
+    (or None)."""
     n_blocks = jax.tree.leaves(inputs)[0].shape[0]
-    carry, out = jax.lax.scan(run_block, state, (jnp.arange(n_blocks), inputs))
+    kept = n_blocks if keep_blocks is None or record is None else min(int(keep_blocks), n_blocks)
+    blocks = (jnp.arange(n_blocks), inputs)
+    carry = state
+    if kept < n_blocks:  # the transient: no records
+        head = jax.tree.map(lambda x: x[: n_blocks - kept], blocks)
+        carry, _ = jax.lax.scan(lambda c, b: run_block(c, b, None), carry, head)
+    tail = jax.tree.map(lambda x: x[n_blocks - kept :], blocks)
+    carry, out = jax.lax.scan(lambda c, b: run_block(c, b, record), carry, tail)
     if record is None:
         return carry, None
     return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
