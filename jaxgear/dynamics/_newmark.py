@@ -12,9 +12,11 @@ a₁ = γ/(βΔt), solved in whichever space is smaller (docs/design.md, "Contac
   cells see every coordinate; :func:`jaxgear.solve_contact` factors K_eff + Vᵀ diag(k l) V at each
   active-set pass (seed II-25);
 * **cells** (condensed bodies: thousands of DOFs, the cells on a small window W of them):
-  G = K_eff⁻¹ once per speed, X* = G F_eff, the gaps Δ = V X*_W − δ0 − C_eff P with the window's
-  compliance C_eff = V G_WW Vᵀ (:func:`jaxgear.solve_contact_cells`), then X = X* − G_{:W} Vᵀ P: a
-  step costs n² and the window's compliance, not a factorisation (docs/hybrid.md, "Dynamics");
+  G = K_eff⁻¹ and the products G F, G M, G C once per speed, X* = G F_eff = G F + (G M) u +
+  (G C) v (u, v the known parts of Newmark's M and C terms), the gaps Δ = V X*_W − δ0 − C_eff P
+  with the window's compliance C_eff = V G_WW Vᵀ (:func:`jaxgear.solve_contact_cells`), then
+  X = X* − G_{:W} Vᵀ P on the window's columns: a step costs two n² products and the window's
+  compliance, not a factorisation (docs/hybrid.md, "Dynamics");
   or, with a modal basis (:func:`newmark_modal`), m modes of the assembled structure plus the
   static correction of the cells: m² + n (m + w) per step (docs/hybrid.md, "Modal basis").
 
@@ -112,6 +114,8 @@ def newmark(
     if coordinates and mesh_damping is not None:
         raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
     G = None if coordinates else jnp.linalg.inv(Keff)
+    if not coordinates:  # G F_eff = G F + (G M) u + (G C) v: two n² reads a step, not three
+        GF, GM, GC = G @ F, G @ M, G @ C
     if mesh_damping is not None:
         block, c_m, R = mesh_damping
         GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
@@ -128,30 +132,20 @@ def newmark(
                 def project(x):  # W x, x (n,) or (n, m)
                     return x[U]
 
-                def spread(z):  # Wᵀ z
-                    return jnp.zeros((n,), dtype).at[U].add(z)
-
             else:
                 W = R[U]
 
                 def project(x):
                     return W @ x
 
-                def spread(z):
-                    return W.T @ z
-
             # the block's effective stiffness is K_eff + a₁ c_m Wᵀ B W: Woodbury on G,
             # G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B
             A = (a1 * c_m) * B
             GW = GR[:, U]  # G Wᵀ (n, w)
-            Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
-            GUU = G[U[:, None], U[None, :]] - GW[U] @ Q @ project(G[:, U])  # G_p on U
-            pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
             GU = GW if R is None else G[:, U]  # G E_Uᵀ (n, w)
-
-        def solve(v):  # G_p v
-            y = G @ v
-            return y if U is None else y - GW @ (Q @ project(y))
+            Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
+            GUU = GU[U] - GW[U] @ Q @ project(GU)  # G_p on U
+            pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
 
         def solve_at(idx, j, z):  # G_p[:, idx] z: the columns of the window, not an n² product
             if U is None:
@@ -163,9 +157,10 @@ def newmark(
             X, Xd, Xdd, code, it = carry
             row = cells_at(entry)
             v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
-            Feff = F + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd) + C @ v
+            u = a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd
             inside = jnp.array(True)
             if coordinates:
+                Feff = F + M @ u + C @ v
                 sol = solve_contact(Keff, Feff, row.V, row.k, row.length, row.delta0, row.mask, law)
                 Xn = sol.x
                 P = sol.force_density * row.length
@@ -173,14 +168,17 @@ def newmark(
                 idx = row.idx
                 c = row.V.shape[0]
                 j = None
+                y = GF + GM @ u + GC @ v  # G F_eff
                 if U is None:
                     Gw = G[idx[:, None], idx[None, :]]
+                    xs = y
                 else:
-                    Feff = Feff + spread(c_m * (B @ project(v)))  # the block's mesh damping
+                    # the block's mesh damping's force Wᵀ c_m B W v: G Wᵀ = GW
+                    y = y + GW @ (c_m * (B @ project(v)))
+                    xs = y - GW @ (Q @ project(y))  # G_p F_eff (Woodbury)
                     j = pos[idx]
                     inside = jnp.all(j < U.shape[0])
                     Gw = GUU[j[:, None], j[None, :]]
-                xs = solve(Feff)
                 sol, P, _ = solve_contact_cells(
                     row.V @ Gw @ row.V.T,
                     row.V @ xs[idx] - row.delta0,
