@@ -85,10 +85,10 @@ def newmark(
             ``cells_at`` takes (a table row index, a pinion angle).
         cells_at: entry ↦ :class:`CellRow`; all steps use the same window kind (None or not).
         law: the contact law.
-        record: (X, Ẋ, P) ↦ a pytree kept for every step, P the cell forces (N), (c,); None
-            keeps nothing (a transient).
-        check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. energy
-            blow-up), 0 if none; the loop itself flags contact loops that did not converge,
+        record: (X, Ẋ, P) ↦ a pytree kept for every recorded step, P the cell forces (N),
+            (c,); None keeps nothing (a transient).
+        check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. the mesh
+            force beyond its bound: code 3), 0 if none; the loop itself flags contact loops that did not converge,
             non-finite states and cells outside the mesh damping's window.
         block_check: (X, Ẋ) ↦ a result code of the state at the end of each block, or None:
             the place for a check that costs a product with an n × n matrix (the kinetic
