@@ -844,3 +844,23 @@ def test_failures_use_the_one_result_enumeration(setup):
     codes = {c.name: int(c) for c in jg.DynamicsResult}
     assert codes["window_overflow"] not in (codes["blow_up"], codes["non_finite"])
     assert len(set(codes.values())) == len(codes)
+
+
+def test_a_run_that_blows_up_away_from_the_mesh_is_flagged_by_the_energy_check(setup):
+    """Negative mass-proportional damping (Rayleigh α = −20000 /s) makes every mode of the
+    hybrid scene grow: the gears separate (no mesh force in the kept period: the mesh-force
+    bound never trips), while the kinetic energy, checked once per mesh period in the cell space,
+    leaves its bound: the loud blow-up code, not a silent result. (Measured when the check was
+    moved to the period ends: with the energy check switched off the same run returns 0.)"""
+    case, scene = setup
+    r = _sweep(
+        scene,
+        case.modifications,
+        case.torque,
+        [900.0],
+        damping=Damping("rayleigh", alpha=-2e4, beta=0.0),
+        integrator=Newmark(16),
+        window=SteadyState(4, 1),
+    )
+    assert int(r.result[0]) == jg.DynamicsResult.blow_up
+    assert float(r.dynamic_factor[0]) == 0.0  # the mesh force did not flag it
