@@ -6,13 +6,6 @@ to the ``jaxgear`` package (editable install) or in the current folder. The benc
 jaxgear's public API and read ``tests/data`` of the checkout. Timing lives here, never in tests.
 """
 
-from ._baseline import (
-    BaselineMesh as BaselineMesh,
-    baseline_mesh as baseline_mesh,
-    mods_params as mods_params,
-    te_curve_numpy as te_curve_numpy,
-    te_rms as te_rms,
-)
 from ._backlash import (
     REGIMES as BACKLASH_REGIMES,
     STEPS as BACKLASH_STEPS,
@@ -23,6 +16,13 @@ from ._backlash import (
     reference as backlash_reference,
 )
 from ._backlash_reference import response as dead_zone_response, sweep as dead_zone_sweep
+from ._baseline import (
+    BaselineMesh as BaselineMesh,
+    baseline_mesh as baseline_mesh,
+    mods_params as mods_params,
+    te_curve_numpy as te_curve_numpy,
+    te_rms as te_rms,
+)
 from ._baseline_dynamics import (
     ReferenceModel as ReferenceModel,
     numba_available as numba_available,
@@ -40,6 +40,7 @@ from ._modal_basis import (
     modal_basis_chart as modal_basis_chart,
 )
 from ._optimise import bench_optimise as bench_optimise
+from ._processes import free_port as free_port, run_processes as run_processes
 from ._quasi_static import bench_quasi_static as bench_quasi_static
 from ._robust import bench_robust as bench_robust
 from ._stiffness import bench_stiffness as bench_stiffness

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import os
-import socket
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -23,9 +21,9 @@ import numpy as np
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from jaxgear.scenes import TorsionalDynamics
-from jaxgear.scenes import disc_inertia
+from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
+from ._processes import free_port, run_processes
 from ._timing import environment, min_time
 
 __all__ = ["bench_robust"]
@@ -102,28 +100,20 @@ def _sizes(quick):
 
 
 def _two_processes(quick: bool) -> dict:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
+    port = free_port()
     out = Path(os.environ.get("TMPDIR", "/tmp")) / f"jaxgear-bench-robust-{os.getpid()}.json"
     env = dict(os.environ, JAX_PLATFORMS="cpu", PYTHONPATH=str(ROOT))
     env.pop("XLA_FLAGS", None)
-    procs = [
-        subprocess.Popen(
-            [sys.executable, "-m", "benchmarks._robust", str(i), "2", str(port), str(out)]
-            + ["1" if quick else "0"],
-            cwd=ROOT,
+    argv = [sys.executable, "-m", "benchmarks._robust"]
+    try:
+        run_processes(
+            [argv + [str(i), "2", str(port), str(out), "1" if quick else "0"] for i in range(2)],
             env=env,
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE,
-            text=True,
+            cwd=ROOT,
+            timeout=3600,
         )
-        for i in range(2)
-    ]
-    for p in procs:
-        _, err = p.communicate(timeout=3600)
-        if p.returncode != 0:
-            raise RuntimeError(f"bench robust: a process failed: {err.strip().splitlines()[-1]}")
+    except RuntimeError as err:
+        raise RuntimeError(f"bench robust: {err}") from None
     data = json.loads(out.read_text())
     out.unlink()
     return data

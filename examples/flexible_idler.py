@@ -27,19 +27,9 @@ import numpy as np  # noqa: E402
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.dynamics import load_bodies  # noqa: E402
+from jaxgear.scenes import mesh_zone_load  # noqa: E402
 
 DOCS = pathlib.Path(__file__).parents[1] / "docs"
-
-
-def zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length), as a load on
-    the body coordinates (from ``first`` on; the shafts held)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
 
 
 def main(out_dir: pathlib.Path = DOCS) -> dict:
@@ -72,13 +62,13 @@ def main(out_dir: pathlib.Path = DOCS) -> dict:
     period = float(scene.meshes[0].base_plane.mesh_period_angle)
     Cs = []
     for th in np.linspace(0.0, period, 8, endpoint=False):
-        F = np.stack([zone_load(scene, k, th, first) for k in range(2)], 1)
+        F = np.stack([mesh_zone_load(scene, k, th, first) for k in range(2)], 1)
         Cs.append(F.T @ np.linalg.solve(K, F))
     C = np.mean(Cs, axis=0)
     out["zone_compliance_nm_per_N"] = (C * 1e9).tolist()
     out["cross_over_own"] = float(C[0, 1] / np.sqrt(C[0, 0] * C[1, 1]))
     # rim radial and tangential displacement (mid-face) under each zone's load at θ = 0
-    X = np.linalg.solve(K, np.stack([zone_load(scene, k, 0.0, first) for k in range(2)], 1))
+    X = np.linalg.solve(K, np.stack([mesh_zone_load(scene, k, 0.0, first) for k in range(2)], 1))
     j = int(np.argmin(np.abs(np.asarray(idler.z_nodes))))
     rim = np.asarray(idler.rim_dofs)[:, j, :] - first
     Z = rim.shape[0]

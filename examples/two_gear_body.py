@@ -30,21 +30,11 @@ import fem_prep  # noqa: E402
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.dynamics import load_bodies  # noqa: E402
+from jaxgear.scenes import mesh_zone_load  # noqa: E402
 
 ROOT = pathlib.Path(__file__).parents[1]
 DOCS = ROOT / "docs"
 CASE = ROOT / "examples" / "two-gear-body.toml"
-
-
-def zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length), as a load on
-    the body coordinates (from ``first`` on: the shafts, so the body's bearing nodes, held)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
 
 
 def main(out_dir: pathlib.Path = DOCS) -> dict:
@@ -92,7 +82,7 @@ def main(out_dir: pathlib.Path = DOCS) -> dict:
     span = case.span_periods * period
     Cs = []
     for th in np.linspace(0.0, span, 12, endpoint=False):
-        F = np.stack([zone_load(scene, k, th, first) for k in range(2)], 1)
+        F = np.stack([mesh_zone_load(scene, k, th, first) for k in range(2)], 1)
         Cs.append(F.T @ np.linalg.solve(K, F))
     Cs = np.array(Cs)
     C = Cs.mean(axis=0)

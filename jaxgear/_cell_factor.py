@@ -13,7 +13,7 @@ full contact set F (every cell on the flanks, w = 1) is formed once per scene, a
   otherwise one Cholesky factorisation on the smaller of D and A (at most ⌈c/2⌉ cells,
   gathered to that fixed size with identity padding): of B_DD, or of (I + S C S)_AA itself
   when the active set is the smaller. Under ``jax.vmap`` that factorisation runs only on the
-  positions that need it, gathered in chunks (:func:`_only_where_needed`): a vmapped ``cond``
+  positions that need it, gathered in chunks (:func:`jaxgear._util.only_where_needed`): a vmapped ``cond``
   or while loop would factor the whole batch whenever one position needs it (in a 41 × 41
   relief map that was 0.76 s of 1.85 s).
 
@@ -32,6 +32,7 @@ import jax
 import jax.numpy as jnp
 
 from ._contact import ContactSolution, ExactContact, _finish
+from ._util import only_where_needed
 
 __all__ = ["solve_factored_cells"]
 
@@ -62,53 +63,6 @@ class _Factor(NamedTuple):
     J: jax.Array
     use_d: jax.Array
     L: jax.Array
-
-
-_CHUNK = 8  # positions factored together when only some positions of a batch need it
-
-
-def _only_where_needed(fn):
-    """``g(need, default, *args)``: ``fn(*args)`` where ``need``, else ``default`` (a pytree of
-    the output's shapes). Unbatched it is a ``lax.cond``. Under ``jax.vmap`` the positions that
-    need it are gathered and ``fn`` runs on them only, :data:`_CHUNK` at a time (a while loop
-    over the chunks): a vmapped ``cond`` or while loop would run ``fn`` on the whole batch
-    whenever one position needs it (a relief map's later passes factor a few positions of 64).
-    ``fn``'s inputs are stopped values: no tangent reaches it."""
-
-    @jax.custom_batching.custom_vmap
-    def g(need, default, *args):
-        return jax.lax.cond(need, lambda: fn(*args), lambda: default)
-
-    @g.def_vmap
-    def rule(axis_size, in_batched, need, default, *args):
-        def full(x, batched):
-            return x if batched else jnp.broadcast_to(x, (axis_size, *jnp.shape(x)))
-
-        need = full(need, in_batched[0])
-        default = jax.tree_util.tree_map(full, default, in_batched[1])
-        args = jax.tree_util.tree_map(full, args, tuple(in_batched[2:]))
-        m = min(_CHUNK, axis_size)
-        count = jnp.sum(need)
-        # the needing positions first, in order (padded for the last chunk's slice)
-        order = jnp.argsort(~need, stable=True).astype(jnp.int32)
-        order = jnp.concatenate([order, jnp.full((m,), axis_size, jnp.int32)])
-
-        def body(state):
-            q, out = state
-            idx = jax.lax.dynamic_slice(order, (q * m,), (m,))
-            idx = jnp.where(q * m + jnp.arange(m) < count, idx, axis_size)
-            take = jnp.minimum(idx, axis_size - 1)
-            part = jax.vmap(fn)(*jax.tree_util.tree_map(lambda x: x[take], args))
-            # positions past the count carry the index axis_size: dropped by the scatter
-            out = jax.tree_util.tree_map(lambda o, p: o.at[idx].set(p, mode="drop"), out, part)
-            return q + 1, out
-
-        _, out = jax.lax.while_loop(
-            lambda st: st[0] * m < count, body, (jnp.array(0, jnp.int32), default)
-        )
-        return out, jax.tree_util.tree_map(lambda _: True, out)
-
-    return g
 
 
 def _rigid_amplitudes(F, y0, YF, r2):
@@ -158,7 +112,7 @@ def _generic(B, C, s, maskf, w):
     return J, use_d, jnp.linalg.cholesky(Q)
 
 
-_generic_where_needed = _only_where_needed(_generic)
+_generic_where_needed = only_where_needed(_generic)
 
 
 def _factor(k: _Consts, w) -> _Factor:
@@ -204,7 +158,7 @@ def _generic_pass(B, Hw, J, use_d, L):
     return R[:, 0], R[:, 1:]
 
 
-_generic_pass_where_needed = _only_where_needed(_generic_pass)
+_generic_pass_where_needed = only_where_needed(_generic_pass)
 
 
 def _line_part(k: _Consts, Z, fac: _Factor):
@@ -235,7 +189,7 @@ def _restricted(k: _Consts, w, H, fac: _Factor | None):
 def _solve_pass(k: _Consts, w, g, fac: _Factor | None):
     """(y0, YF) = (R(S r1), R(S E)) of a pass on stopped values: S E's columns from the cache
     on the full set and with a cached line out; the Schur factor on J only at the positions
-    that need it (:func:`_only_where_needed`)."""
+    that need it (:func:`jaxgear._util.only_where_needed`)."""
     Z = k.B @ (w * g)
     if fac is None:
         return Z, k.YF[0]

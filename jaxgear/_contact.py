@@ -44,7 +44,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._util import check_integer
+from ._util import check_integer, only_where_needed
 
 __all__ = [
     "ContactLaw",
@@ -207,6 +207,14 @@ def _active_set(solve, gap, maskf, y0, max_iterations, start=None):
     return jax.lax.while_loop(cond, body, (y0, active0, jnp.array(0), jnp.array(True)))
 
 
+def _newton_tolerances(dtype, terms):
+    """(tol, floor) of :func:`_newton`'s stopping rule for residual components of m terms."""
+    eps = jnp.finfo(dtype).eps
+    terms = jnp.asarray(terms, dtype)
+    tol = 2 * eps * jnp.sqrt(terms)
+    return tol, jnp.maximum(eps * terms, tol)
+
+
 def _newton(newton_of, y0, max_iterations, terms):
     """Newton iteration on stopped values with the stopping rule of the module docstring.
 
@@ -216,10 +224,7 @@ def _newton(newton_of, y0, max_iterations, terms):
     ρ <= 2 √m ε, or when a step no longer halves ρ while ρ <= m ε (the round-off floor: γ_m,
     the worst-case rounding of a sum of m terms). Returns (y, steps, converged).
     """
-    eps = jnp.finfo(y0.dtype).eps
-    terms = jnp.asarray(terms, y0.dtype)
-    tol = 2 * eps * jnp.sqrt(terms)
-    floor = jnp.maximum(eps * terms, tol)
+    tol, floor = _newton_tolerances(y0.dtype, terms)
 
     def converged(rho, rho_prev):
         return (rho <= tol) | ((rho <= floor) & (rho > 0.5 * rho_prev))
@@ -245,12 +250,15 @@ def _scaled_residual(r, s):
     return jnp.max(jnp.abs(r) / jnp.maximum(s, jnp.finfo(s.dtype).tiny))
 
 
-def _implicit_root(residual, y_root):
+def _implicit_root(residual, y_root, solve_jacobian=None):
     """``y_root`` (a root of ``residual`` found on stopped values) with derivatives of every
     order, forward and reverse, by the implicit-function theorem dy = −J⁻¹ ∂r/∂p
-    (``jax.lax.custom_root``; J the Jacobian of the residual at the root)."""
+    (``jax.lax.custom_root``; J the Jacobian of the residual at the root, formed by forward
+    differentiation unless ``solve_jacobian(rhs)`` = J⁻¹ rhs is given, linear in rhs)."""
 
     def tangent_solve(g, y):
+        if solve_jacobian is not None:
+            return solve_jacobian(y)
         return _solve(jax.jacfwd(g)(y), y)
 
     return jax.lax.custom_root(residual, y_root, lambda _, y0: y0, tangent_solve)
@@ -350,13 +358,14 @@ def solve_contact(
     return _finish(x, V @ x - delta0, k, kl, mask, law, iterations, result)
 
 
-def _bordered_solve(C, E, d, r1, r2):
+def _bordered_solve(C, E, d, r1, r2, linear: bool = False):
     """Solve [I + C diag(d), −E; Eᵀ diag(d), 0] [u; α] = [r1; r2] for d >= 0.
 
     With S = diag(√d) and v = S u: (I + S C S) v − S E α = S r1 and (S E)ᵀ v = r2 — a symmetric
     positive definite matrix (one Cholesky factorisation) and an r × r Schur complement for α;
     then u = r1 − C S v + E α. Returns [u; α]. Without rigid-body modes (r = 0) C need not be
-    symmetric (an LU solve).
+    symmetric (an LU solve). ``linear``: the columns of S E solved apart from S r1, so that the
+    map (r1, r2) ↦ [u; α] transposes (a tangent solve in reverse mode).
     """
     s = jnp.sqrt(d)
     A = jnp.eye(C.shape[0], dtype=C.dtype) + s[:, None] * C * s[None, :]
@@ -367,12 +376,51 @@ def _bordered_solve(C, E, d, r1, r2):
         v = jnp.linalg.solve(A, s * r1)
         return r1 - C @ (s * v)
     cf = jax.scipy.linalg.cho_factor(A)
-    Y = jax.scipy.linalg.cho_solve(cf, jnp.concatenate([(s * r1)[:, None], F], axis=1))
-    y0, YF = Y[:, 0], Y[:, 1:]
+    if linear:
+        y0, YF = jax.scipy.linalg.cho_solve(cf, s * r1), jax.scipy.linalg.cho_solve(cf, F)
+    else:
+        Y = jax.scipy.linalg.cho_solve(cf, jnp.concatenate([(s * r1)[:, None], F], axis=1))
+        y0, YF = Y[:, 0], Y[:, 1:]
     alpha = _solve(F.T @ YF, r2 - F.T @ y0)
     v = y0 + YF @ alpha
     u = r1 - C @ (s * v) + E @ alpha
     return jnp.concatenate([u, alpha])
+
+
+def _smooth_scaled_residual(y, consts, law_static):
+    """((r1, r2, d = k l φ'), ρ) of the cell-space smooth problem at y = [Δ; α]: the residual,
+    the Newton matrix's weights and the scaled residual ρ of :func:`_newton`'s rule;
+    ``consts`` = (C, a, E, b, k l, terms, the law's arrays)."""
+    C, a, E, b, kl, _, law_arrays = consts
+    c = C.shape[0]
+    gap, alpha = y[:c], y[c:]
+    phi, dphi = _phi(gap, eqx.combine(law_arrays, law_static))
+    p = kl * phi
+    r1 = gap - a + C @ p - E @ alpha
+    r2 = E.T @ p - b
+    # magnitude of the terms of r and of J|y| (the rounding of y itself)
+    ag = jnp.abs(gap)
+    q = p + kl * dphi * ag
+    s1 = 2 * ag + jnp.abs(a) + jnp.abs(C) @ q + 2 * jnp.abs(E) @ jnp.abs(alpha)
+    s2 = jnp.abs(E).T @ q + jnp.abs(b)
+    res, s = jnp.concatenate([r1, r2]), jnp.concatenate([s1, s2])
+    return (r1, r2, kl * dphi), _scaled_residual(res, s)
+
+
+def _smooth_newton(law_static, max_iterations: int):
+    """``fn(y0, consts) -> (y, steps, converged)``: :func:`_newton` on the cell-space smooth
+    problem from y0 (the per-position function of :func:`jaxgear._util.only_where_needed`)."""
+
+    def fn(y0, consts):
+        C, _, E = consts[:3]
+
+        def newton_of(y):
+            (r1, r2, d), rho = _smooth_scaled_residual(y, consts, law_static)
+            return _bordered_solve(C, E, d, r1, r2), rho
+
+        return _newton(newton_of, y0, max_iterations, consts[5])
+
+    return fn
 
 
 def solve_contact_cells(
@@ -384,6 +432,7 @@ def solve_contact_cells(
     length: Float[Array, " c"],
     mask: Bool[Array, " c"],
     law: ContactLaw = ExactContact(),
+    start: tuple | None = None,
 ) -> tuple[ContactSolution, Float[Array, " c"], Float[Array, " r"]]:
     """The contact problem in the space of the cells (compliance form; for large structures).
 
@@ -404,6 +453,9 @@ def solve_contact_cells(
         E: rigid-body modes seen by the cells, shape (c, r) (r may be 0, e.g. a Newmark step
             whose effective stiffness is definite). b: their loads, shape (r,).
         k, length, mask, law: as :func:`solve_contact`.
+        start: the smooth law only: the exact answer (gaps (c,), α (r,), its active-set passes)
+            found elsewhere (a cached scene's factored solve), from which Newton starts instead
+            of the active set run here.
 
     Returns:
         (solution, P, α): ``solution.x`` holds the gaps Δ (the coordinates are recovered by the
@@ -420,10 +472,15 @@ def solve_contact_cells(
     def solve_with(weight):
         return _bordered_solve(C_, E_, kl_ * weight, a_, b_)
 
-    y_ex, active, it_ex, changed = _active_set(
-        solve_with, lambda y: y[:c], maskf, jnp.zeros(c + r, a.dtype), max_iterations
-    )
-    result = jnp.where(changed, 1, 0)
+    if start is None:
+        y_ex, active, it_ex, changed = _active_set(
+            solve_with, lambda y: y[:c], maskf, jnp.zeros(c + r, a.dtype), max_iterations
+        )
+        result = jnp.where(changed, 1, 0)
+    elif isinstance(law, ExactContact):
+        raise ValueError("solve_contact_cells: start is for the smooth law (its exact answer)")
+    else:
+        y_ex, it_ex = sg(jnp.concatenate([start[0], start[1]])), start[2]
     if isinstance(law, ExactContact):
         y = _bordered_solve(C, E, kl * sg(active), a, b)
         iterations = it_ex
@@ -433,26 +490,22 @@ def solve_contact_cells(
             p = kl * _phi(y[:c], law)[0]
             return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], E.T @ p - b])
 
-        aC, aa, aE, ab = jnp.abs(C_), jnp.abs(a_), jnp.abs(E_), jnp.abs(b_)
-
-        def newton_of(y):
-            gap, alpha = y[:c], y[c:]
-            phi, dphi = _phi(gap, sg(law))
-            p = kl_ * phi
-            r1 = gap - a_ + C_ @ p - E_ @ alpha
-            r2 = E_.T @ p - b_
-            # magnitude of the terms of r and of J|y| (the rounding of y itself)
-            ag = jnp.abs(gap)
-            q = p + kl_ * dphi * ag
-            s1 = 2 * ag + aa + aC @ q + 2 * aE @ jnp.abs(alpha)
-            s2 = aE.T @ q + ab
-            res, s = jnp.concatenate([r1, r2]), jnp.concatenate([s1, s2])
-            dy = _bordered_solve(C_, E_, kl_ * dphi, r1, r2)
-            return dy, _scaled_residual(res, s)
-
         terms = jnp.sum(maskf) + r + 2
-        y_sm, it_sm, ok = _newton(newton_of, sg(y_ex), max_iterations, terms)
-        y = _implicit_root(residual, sg(y_sm))
+        law_arrays, law_static = eqx.partition(sg(law), eqx.is_array)
+        consts = (C_, a_, E_, b_, kl_, terms, law_arrays)
+        # Newton from the exact answer, only at the positions whose start is not yet a root
+        # (under vmap a while loop factors the whole batch while one position iterates)
+        tol = _newton_tolerances(a.dtype, terms)[0]
+        need = _smooth_scaled_residual(y_ex, consts, law_static)[1] > tol
+        newton = only_where_needed(_smooth_newton(law_static, max_iterations))
+        y_sm, it_sm, ok = newton(need, (y_ex, jnp.array(0), jnp.array(True)), y_ex, consts)
+        d_root = kl_ * _phi(y_sm[:c], eqx.combine(law_arrays, law_static))[1]
+        # the tangent system is Newton's at the root: [I + C diag(d), −E; Eᵀ diag(d), 0]
+        y = _implicit_root(
+            residual,
+            sg(y_sm),
+            lambda rhs: _bordered_solve(C_, E_, d_root, rhs[:c], rhs[c:], linear=True),
+        )
         # the smooth answer stands on its own: the active set only gives Newton its start
         result = jnp.where(ok, 0, 1)
         iterations = it_ex + it_sm

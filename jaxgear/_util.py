@@ -10,6 +10,7 @@ __all__ = [
     "check_integer",
     "of_the_one_mesh",
     "only_one_mesh",
+    "only_where_needed",
     "rms_about_mean",
     "safe_sqrt",
 ]
@@ -70,3 +71,50 @@ def of_the_one_mesh(name: str) -> property:
         lambda self: getattr(self.mesh, name),
         doc=f"``{name}`` of the scene's one mesh (see ``meshes``).",
     )
+
+
+_CHUNK = 8  # positions computed together when only some positions of a batch need it
+
+
+def only_where_needed(fn):
+    """``g(need, default, *args)``: ``fn(*args)`` where ``need``, else ``default`` (a pytree of
+    the output's shapes). Unbatched it is a ``lax.cond``. Under ``jax.vmap`` the positions that
+    need it are gathered and ``fn`` runs on them only, :data:`_CHUNK` at a time (a while loop
+    over the chunks): a vmapped ``cond`` or while loop would run ``fn`` on the whole batch
+    whenever one position needs it (a relief map's later passes factor a few positions of 64).
+    ``fn``'s inputs are stopped values: no tangent reaches it."""
+
+    @jax.custom_batching.custom_vmap
+    def g(need, default, *args):
+        return jax.lax.cond(need, lambda: fn(*args), lambda: default)
+
+    @g.def_vmap
+    def rule(axis_size, in_batched, need, default, *args):
+        def full(x, batched):
+            return x if batched else jnp.broadcast_to(x, (axis_size, *jnp.shape(x)))
+
+        need = full(need, in_batched[0])
+        default = jax.tree_util.tree_map(full, default, in_batched[1])
+        args = jax.tree_util.tree_map(full, args, tuple(in_batched[2:]))
+        m = min(_CHUNK, axis_size)
+        count = jnp.sum(need)
+        # the needing positions first, in order (padded for the last chunk's slice)
+        order = jnp.argsort(~need, stable=True).astype(jnp.int32)
+        order = jnp.concatenate([order, jnp.full((m,), axis_size, jnp.int32)])
+
+        def body(state):
+            q, out = state
+            idx = jax.lax.dynamic_slice(order, (q * m,), (m,))
+            idx = jnp.where(q * m + jnp.arange(m) < count, idx, axis_size)
+            take = jnp.minimum(idx, axis_size - 1)
+            part = jax.vmap(fn)(*jax.tree_util.tree_map(lambda x: x[take], args))
+            # positions past the count carry the index axis_size: dropped by the scatter
+            out = jax.tree_util.tree_map(lambda o, p: o.at[idx].set(p, mode="drop"), out, part)
+            return q + 1, out
+
+        _, out = jax.lax.while_loop(
+            lambda st: st[0] * m < count, body, (jnp.array(0, jnp.int32), default)
+        )
+        return out, jax.tree_util.tree_map(lambda _: True, out)
+
+    return g

@@ -24,6 +24,34 @@ torque_Nm = 80.0
 """
 
 
+def small_helical_pair(
+    name: str, *, pinion: str = "", gear: str = "", slices: int = 12, positions_per_pitch: int = 16
+) -> str:
+    """A small 15° helical pair (m_n 2 mm, α_n 20°, 23/41 teeth, faces 20/22 mm, ISO 6336
+    stiffness, 120 N·m) as case TOML named ``name``: [pair], [pinion] and [gear] (``pinion``,
+    ``gear``: more lines of those tables), [operating] and [mesh] (``slices``,
+    ``positions_per_pitch``); tables after it may follow."""
+    return f"""
+name = "{name}"
+[pair]
+normal_module_mm = 2.0
+normal_pressure_angle_deg = 20.0
+helix_angle_deg = 15.0
+[pinion]
+teeth = 23
+face_width_mm = 20.0
+{pinion}[gear]
+teeth = 41
+face_width_mm = 22.0
+{gear}[operating]
+torque_Nm = 120.0
+[mesh]
+stiffness = "iso6336"
+slices = {slices}
+positions_per_pitch = {positions_per_pitch}
+"""
+
+
 def case_toml(data: dict) -> str:
     """A small TOML writer for the case tables used here (tables, arrays of tables, inline
     tables of numbers and strings)."""

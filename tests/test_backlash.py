@@ -7,6 +7,7 @@ import math
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _toml import small_helical_pair
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -164,27 +165,13 @@ def test_deviations_with_backlash_are_refused():
         jg.quasi_static(mesh, jg.Modifications(deviations=dev), 100.0, periods=1)
 
 
-SMALL = """
-name = "small-backlash"
-[pair]
-normal_module_mm = 2.0
-normal_pressure_angle_deg = 20.0
-helix_angle_deg = 15.0
-[pinion]
-teeth = 23
-face_width_mm = 20.0
-tooth_thickness_allowance_um = -40.0
-[gear]
-teeth = 41
-face_width_mm = 22.0
-tooth_thickness_allowance_um = -30.0
-[operating]
-torque_Nm = 120.0
-[mesh]
-stiffness = "iso6336"
-slices = 6
-positions_per_pitch = 8
-"""
+SMALL = small_helical_pair(
+    "small-backlash",
+    pinion="tooth_thickness_allowance_um = -40.0\n",
+    gear="tooth_thickness_allowance_um = -30.0\n",
+    slices=6,
+    positions_per_pitch=8,
+)
 
 
 def _parse(text):

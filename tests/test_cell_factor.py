@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._cell_factor import _only_where_needed, line_factors, solve_factored_cells
+from jaxgear._cell_factor import line_factors, solve_factored_cells
+from jaxgear._util import only_where_needed
 
 C_CELLS = 14
 LINES = np.arange(C_CELLS).reshape(2, C_CELLS // 2)  # two contact lines of 7 cells
@@ -154,7 +155,7 @@ def test_only_where_needed_under_vmap_equals_the_select(n_need):
     """The gathered evaluation under vmap (chunks of 8) gives fn where needed and the default
     elsewhere, for none, some, one chunk exactly, two chunks and every position, also nested in
     an outer vmap; unbatched it is the cond."""
-    g = _only_where_needed(lambda x, y: (2.0 * x + y, jnp.sum(x) * y))
+    g = only_where_needed(lambda x, y: (2.0 * x + y, jnp.sum(x) * y))
     rng = np.random.default_rng(n_need)
     need = np.zeros(20, bool)
     need[rng.permutation(20)[:n_need]] = True

@@ -7,34 +7,20 @@ import pathlib
 
 import pytest
 from _examples import load_example
+from _toml import small_helical_pair
 
 from jaxgear.cli import main
 from jaxgear.io import atomic_open
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-SMALL = """
-name = "small-helical"
-[pair]
-normal_module_mm = 2.0
-normal_pressure_angle_deg = 20.0
-helix_angle_deg = 15.0
-[pinion]
-teeth = 23
-face_width_mm = 20.0
-[gear]
-teeth = 41
-face_width_mm = 22.0
-[operating]
-torque_Nm = 120.0
-[mesh]
-stiffness = "iso6336"
-slices = 12
-positions_per_pitch = 16
-[modifications]
+SMALL = (
+    small_helical_pair("small-helical")
+    + """[modifications]
 tip_relief = { depth_um = 8.0, extent = 0.3, shape = "parabolic" }
 [modifications.gear]
 crowning = { depth_um = 4.0 }
 """
+)
 PNGS = ["transmission_error.png", "mesh_stiffness.png", "load_map.png", "harris_map.png"]
 
 

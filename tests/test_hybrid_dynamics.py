@@ -17,6 +17,7 @@ import pytest
 import scipy.linalg
 from _devices import run_on_cpu_devices
 from _examples import load_example
+from _hybrid_util import drive_rotations, rigidified_pair, rigidified_runs
 from _scene_solve import half_face_meshes
 
 import fem_prep
@@ -352,32 +353,6 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(fem_prep_
     assert "OK 4" in run_on_cpu_devices(script, timeout=900)
 
 
-def _rigid_properties(scene, body):
-    """Mass, diametral and polar inertia (about the body's centre) of the body and its teeth:
-    the rigid motions of the body's master DOFs through its condensed mass (plus the teeth the
-    scene lumps on the rim DOFs; the scene's bearing-node entries also hold the shaft's)."""
-    member = scene.members[1]
-    bd = np.asarray(member.body_dofs)
-    dm = np.asarray(body.dof_map)
-    xyz = np.asarray(body.master_coords)
-    M = np.array(body.M, dtype=float)
-    rim = np.flatnonzero(np.isin(bd, np.asarray(member.rim_dofs).ravel()))
-    M[rim, rim] = np.asarray(scene.structure.M)[bd[rim], bd[rim]]
-    out = []
-    for mode in ("tx", "rx", "rz"):
-        r = np.zeros(bd.size)
-        for i, (m, c) in enumerate(dm):
-            if m < 0:
-                continue
-            if body.master_kind[m] == 1 and c >= 3:  # bearing node rotations
-                r[i] = {"tx": 0.0, "rx": float(c == 3), "rz": float(c == 5)}[mode]
-                continue
-            x, y, z = xyz[m]
-            r[i] = {"tx": (1.0, 0.0, 0.0), "rx": (0.0, -z, y), "rz": (-y, x, 0.0)}[mode][c]
-        out.append(float(r @ M @ r))
-    return out
-
-
 def test_rotating_frame_leaves_the_drive_rotations_neutral(setup):
     """A rigid turn of a member about its axis must cost nothing in its turning frame: the
     scene's spin stiffness (the body's spin softening and stress stiffening with the shaft's
@@ -387,12 +362,8 @@ def test_rotating_frame_leaves_the_drive_rotations_neutral(setup):
     (tests/test_fem_prep_rotating.py), and the teeth's spin softening on both in-plane
     directions would add −Σ m r² per unit speed²."""
     scene = setup[1]
-    K, S = np.asarray(scene.structure.K), np.asarray(scene.structure.spin_stiffness)
-    d = np.sqrt(np.diag(K))
-    w, v = np.linalg.eigh(K / np.outer(d, d))
-    assert np.all(np.abs(w[:2]) < 1e-12 * w.max()) and w[2] > 1e-6 * w.max()
-    null = v[:, :2] / d[:, None]
-    null /= np.linalg.norm(null, axis=0)
+    S = np.asarray(scene.structure.spin_stiffness)
+    null = drive_rotations(scene)
     assert np.linalg.norm(S @ null) <= 1e-10 * np.linalg.norm(S, 2)
     # the null space holds the wheel's turn: its rim nodes' Coriolis force (centripetal) is there
     gy, M = np.asarray(scene.structure.gyroscopic), np.asarray(scene.structure.M)
@@ -401,64 +372,18 @@ def test_rotating_frame_leaves_the_drive_rotations_neutral(setup):
 
 
 def _rigidified_pair(case):
-    """The test wheel 1000× stiffer on the same shafts as a hybrid scene, and the rigid-node lumped
-    scene given its mass and inertias (uniform mesh stiffness in both)."""
-    from jaxgear.scenes import disc_inertia, lumped_pair
-
-    text = (DATA / "hybrid-test-wheel.toml").read_text()
-    stiff = text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
-    assert stiff != text
-    rigid = fem_prep.condensed(fem_prep.parse_body(stiff))  # into the module's cache
-    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
-    hyb = static_scene(uni, bodies=(None, rigid))[0]
-    m2, i_d2, i_p2 = _rigid_properties(hyb, rigid)
-    pair, rho = uni.pair, uni.density
-    r1, b1 = pair.tip_radii[0], pair.pinion.face_width
-    m1, i_p1 = rho * np.pi * r1**2 * b1, disc_inertia(rho, r1, b1)
-    spec = uni.scene
-    lumped = lumped_pair(
-        pair,
-        hyb.mesh,
-        spec.pinion_shaft,
-        spec.gear_shaft,
-        masses=(m1, m2),
-        inertias=((i_p1 / 2 + m1 * b1**2 / 12, i_p1), (i_d2, i_p2)),
-        youngs_modulus=uni.youngs_modulus,
-        poisson_ratio=uni.poisson_ratio,
-        density=rho,
-    )
-    return uni, hyb, lumped
-
-
-def _rigidified_runs(case, speeds, damping, spp=32, periods=60, rotating_frame=False):
-    """The rigidified hybrid sweep and the lumped model's runs at ``speeds`` with the same
-    damping model (on the period-averaged mesh stiffness) and time step, 2 periods kept."""
-    from jaxgear.dynamics import dynamic_model, simulate
-
-    uni, hyb, lumped = _rigidified_pair(case)
-    model = dynamic_model(lumped, uni.modifications, uni.torque, damping, positions_per_pitch=spp)
-    sw = _sweep(
-        hyb,
-        uni.modifications,
-        uni.torque,
-        speeds,
-        integrator=Newmark(spp),
-        window=SteadyState(periods, 2),
-        damping=damping,
-        rotating_frame=rotating_frame,
-    )
-    assert np.all(np.asarray(sw.result) == 0)
-    refs = [
-        simulate(model, s, integrator=Newmark(spp), window=SteadyState(periods, 2)) for s in speeds
-    ]
-    return sw, refs, model
+    """The test wheel 1000× stiffer on the same shafts as a hybrid scene, and the rigid-node
+    lumped scene given its mass and inertias (uniform mesh stiffness in both)."""
+    return rigidified_pair(case, 1, DATA / "hybrid-test-wheel.toml", 1000.0)
 
 
 def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
     """Dynamic factors of the two with Rayleigh damping (seed D1), and the lumped model's
     minimum mesh force / F_s per speed."""
     d1 = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
-    sw, refs, model = _rigidified_runs(case, speeds, d1, rotating_frame=rotating_frame)
+    sw, refs, model = rigidified_runs(
+        _rigidified_pair(case), speeds, d1, rotating_frame=rotating_frame
+    )
     lumped_df = np.array([float(r.dynamic_factor) for r in refs])
     lumped_min = np.array([float(r.mesh_force.min() / model.static_force) for r in refs])
     return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
@@ -786,7 +711,7 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
     so that its mesh share can follow the mesh (tests/test_hybrid_composite.py). On the modes of
     the first period the two agreed within 0.25 %, but the damping then turned with the wheel
     (the dynamic factor of the flexible wheel at 900 rad/s swung by 6 % per revolution)."""
-    sw, refs, _ = _rigidified_runs(setup[0], [800.0, 2100.0], Damping())
+    sw, refs, _ = rigidified_runs(_rigidified_pair(setup[0]), [800.0, 2100.0], Damping())
     for i, ref in enumerate(refs):
         assert float(sw.dynamic_factor[i]) == pytest.approx(float(ref.dynamic_factor), rel=1e-2)
         assert float(sw.dynamic_factor_tooth[i]) == pytest.approx(
@@ -919,3 +844,23 @@ def test_failures_use_the_one_result_enumeration(setup):
     codes = {c.name: int(c) for c in jg.DynamicsResult}
     assert codes["window_overflow"] not in (codes["blow_up"], codes["non_finite"])
     assert len(set(codes.values())) == len(codes)
+
+
+def test_a_run_that_blows_up_away_from_the_mesh_is_flagged_by_the_energy_check(setup):
+    """Negative mass-proportional damping (Rayleigh α = −20000 /s) makes every mode of the
+    hybrid scene grow: the gears separate (no mesh force in the kept period: the mesh-force
+    bound never trips), while the kinetic energy, checked once per mesh period in the cell space,
+    leaves its bound: the loud blow-up code, not a silent result. (Measured when the check was
+    moved to the period ends: with the energy check switched off the same run returns 0.)"""
+    case, scene = setup
+    r = _sweep(
+        scene,
+        case.modifications,
+        case.torque,
+        [900.0],
+        damping=Damping("rayleigh", alpha=-2e4, beta=0.0),
+        integrator=Newmark(16),
+        window=SteadyState(4, 1),
+    )
+    assert int(r.result[0]) == jg.DynamicsResult.blow_up
+    assert float(r.dynamic_factor[0]) == 0.0  # the mesh force did not flag it

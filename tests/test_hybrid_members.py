@@ -21,24 +21,21 @@ import meshio
 import numpy as np
 import pytest
 import scipy.linalg
+from _hybrid_util import drive_rotations, rigidified_pair, rigidified_runs
 
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.cli import main
-from jaxgear.cli.sweep import _flexible_gears, _nodal_diameter_resonances
 from jaxgear.dynamics import (
     Damping,
-    Newmark,
-    SteadyState,
-    dynamic_model,
+    gear_nodal_diameter_resonances,
     load_bodies,
     modal_analysis,
-    simulate,
-    speed_sweep,
+    rim_stations,
     static_scene,
 )
-from jaxgear.scenes import FlexibleMember, disc_inertia, lumped_pair
+from jaxgear.scenes import FlexibleMember
 
 DATA = pathlib.Path(__file__).parent / "data"
 CASE = DATA / "hybrid-test-case.toml"
@@ -160,11 +157,11 @@ def test_a_flexible_pinion_mirrors_the_flexible_wheel(pairs):
     # (3.9) on the body, wherever it is
     speeds = np.array([1e3, 1e5])
     rows = []
-    for (c, s), m in zip(pairs, modes, strict=True):
-        (gear,) = _flexible_gears(c, s)
-        rows.append(_nodal_diameter_resonances(s, m, speeds, gear))
-    assert [r["gear"] for r in rows[0]] == ["gear"] * len(rows[0]) and len(rows[0]) >= 4
-    assert {r["gear"] for r in rows[1]} == {"pinion"} and len(rows[1]) == len(rows[0])
+    for (_, s), m in zip(pairs, modes, strict=True):
+        ((member, _),) = rim_stations(s)
+        rows.append(gear_nodal_diameter_resonances(s, m, member, max_speed=1.05 * speeds.max()))
+    assert [r["member"] for r in rows[0]] == [1] * len(rows[0]) and len(rows[0]) >= 4
+    assert {r["member"] for r in rows[1]} == {0} and len(rows[1]) == len(rows[0])
     for a, b in zip(rows[0], rows[1], strict=True):
         for key in ("nodal_diameter", "order", "direction", "harmonic"):
             assert a[key] == b[key]
@@ -261,26 +258,31 @@ def test_train_lists_the_nodal_diameter_resonances_of_each_flexible_gear(train):
     case, bodies = train
     scene = case.hybrid_train(bodies)
     modes = modal_analysis(scene, jnp.zeros_like(scene.structure.K))  # the structure's own
-    gears = _flexible_gears(case, scene)
-    assert [(g["name"], g["teeth"], g["meshes"]) for g in gears] == [
-        ("input", 20, ["input-idler"]),
-        ("idler", 30, ["input-idler", "idler-output"]),
-    ]
+    members = [m for m, _ in rim_stations(scene)]
+    assert [case.gear_names[m] for m in members] == ["input", "idler"]
     teeth = {"input": (20, 1.0), "idler": (30, 20 / 30)}
     speeds = np.array([1e3, 1e5])
     seen = set()
-    for g in gears:
-        Z, ratio = teeth[g["name"]]
-        assert g["speed_ratio"] == pytest.approx(ratio, rel=1e-12)
-        rows = _nodal_diameter_resonances(scene, modes, speeds, g, n_modes=200)
+    for m in members:
+        name = case.gear_names[m]
+        Z, ratio = teeth[name]
+        rows = gear_nodal_diameter_resonances(
+            scene, modes, m, max_speed=1.05 * speeds.max(), n_modes=200
+        )
         assert len(rows) >= 2
         for r in rows:
             sign = 1 if r["direction"] == "backward" else -1
             order = r["harmonic"] * Z + sign * r["nodal_diameter"]
-            assert r["gear"] == g["name"] and r["teeth"] == Z and r["order"] == order
+            assert r["member"] == m and r["teeth"] == Z and r["order"] == order
+            assert r["speed_ratio"] == pytest.approx(ratio, rel=1e-12)
             w_in = 2 * np.pi * r["frequency_hz"] / (order * ratio)
             assert r["pinion_speed_rad_s"] == pytest.approx(w_in, rel=1e-12)
-            seen.add((g["name"], round(r["frequency_hz"])))
+            assert r["pinion_speed_rad_s"] <= 1.05e5
+            seen.add((name, round(r["frequency_hz"])))
+    # the output gear is rigid: one line naming the condensed members
+    match = r"^gear_nodal_diameter_resonances: member = 2 is not a condensed body: allowed 0, 1$"
+    with pytest.raises(ValueError, match=match):
+        gear_nodal_diameter_resonances(scene, modes, 2)
     # the two bodies' web modes are different modes
     assert {n for n, _ in seen} == {"input", "idler"}
 
@@ -385,12 +387,8 @@ def test_both_members_flexible_spin_terms_leave_the_drive_rotations_neutral(fem_
         fem_prep.condensed(DATA / "hybrid-test-wheel.toml"),
     )
     scene = static_scene(case, bodies=bodies)[0]
-    K, S = np.asarray(scene.structure.K), np.asarray(scene.structure.spin_stiffness)
-    d = np.sqrt(np.diag(K))
-    w, v = np.linalg.eigh(K / np.outer(d, d))
-    assert np.all(np.abs(w[:2]) < 1e-12 * w.max()) and w[2] > 1e-6 * w.max()
-    null = v[:, :2] / d[:, None]
-    null /= np.linalg.norm(null, axis=0)
+    S = np.asarray(scene.structure.spin_stiffness)
+    null = drive_rotations(scene)
     assert np.linalg.norm(S @ null) <= 1e-10 * np.linalg.norm(S, 2)
     for body, member, ratio in zip(bodies, scene.members, (1.0, 20 / 30), strict=True):
         modal = np.flatnonzero(np.asarray(body.dof_map)[:, 0] < 0)
@@ -404,31 +402,6 @@ def test_both_members_flexible_spin_terms_leave_the_drive_rotations_neutral(fem_
         )
 
 
-def _rigid_pinion_properties(scene, body):
-    """Mass, diametral and polar inertia (about the body's centre) of the pinion body and its
-    teeth: the rigid motions of its master DOFs through its condensed mass (the teeth the
-    scene lumps on its rim DOFs added)."""
-    member = scene.members[0]
-    bd = np.asarray(member.body_dofs)
-    xyz = np.asarray(body.master_coords)
-    M = np.array(body.M, dtype=float)
-    rim = np.flatnonzero(np.isin(bd, np.asarray(member.rim_dofs).ravel()))
-    M[rim, rim] = np.asarray(scene.structure.M)[bd[rim], bd[rim]]
-    out = []
-    for mode in ("tx", "rx", "rz"):
-        r = np.zeros(bd.size)
-        for i, (m, c) in enumerate(np.asarray(body.dof_map)):
-            if m < 0:
-                continue
-            if body.master_kind[m] == 1 and c >= 3:  # bearing node rotations
-                r[i] = {"tx": 0.0, "rx": float(c == 3), "rz": float(c == 5)}[mode]
-                continue
-            x, y, z = xyz[m]
-            r[i] = {"tx": (1.0, 0.0, 0.0), "rx": (0.0, -z, y), "rz": (-y, x, 0.0)}[mode][c]
-        out.append(float(r @ M @ r))
-    return out
-
-
 @pytest.mark.slow
 def test_rigidified_pinion_body_in_its_turning_frame_is_the_lumped_pinion(fem_prep_cache):
     """The dynamics with a condensed pinion: the test pinion body 100× stiffer (1000×:
@@ -439,36 +412,11 @@ def test_rigidified_pinion_body_in_its_turning_frame_is_the_lumped_pinion(fem_pr
     factor within 0.5 % at 800, 1500 and 2100 rad/s (measured −0.18, +0.31, −0.10 %; without
     the rotating-frame terms −0.16, −0.26, −0.21 %: this stiff pinion's spin terms are small,
     and the rest is the body's remaining flexibility)."""
-    text = (DATA / "hybrid-test-pinion.toml").read_text()
-    stiff = text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 21000.0")
-    assert stiff != text
-    rigid = fem_prep.condensed(fem_prep.parse_body(stiff))
-    uni = jio.load_case(CASE).replace(stiffness_model="uniform", uniform_k0=1.4e10)
-    hyb = static_scene(uni, bodies=(rigid, None))[0]
-    m1, i_d1, i_p1 = _rigid_pinion_properties(hyb, rigid)
-    pair, rho = uni.pair, uni.density
-    r2, b2 = pair.tip_radii[1], pair.gear.face_width
-    m2, i_p2 = rho * np.pi * r2**2 * b2, disc_inertia(rho, r2, b2)
-    spec = uni.scene
-    lumped = lumped_pair(
-        pair,
-        hyb.mesh,
-        spec.pinion_shaft,
-        spec.gear_shaft,
-        masses=(m1, m2),
-        inertias=((i_d1, i_p1), (i_p2 / 2 + m2 * b2**2 / 12, i_p2)),
-        youngs_modulus=uni.youngs_modulus,
-        poisson_ratio=uni.poisson_ratio,
-        density=rho,
-    )
+    pair = rigidified_pair(jio.load_case(CASE), 0, DATA / "hybrid-test-pinion.toml", 100.0)
     d1 = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     speeds = [800.0, 1500.0, 2100.0]
-    kw = {"integrator": Newmark(32), "window": SteadyState(60, 2)}
-    model = dynamic_model(hyb, uni.modifications, uni.torque, d1, rotating_frame=True)
-    got = speed_sweep(model, speeds, **kw).results
-    assert np.all(np.asarray(got.result) == 0)
-    ref_model = dynamic_model(lumped, uni.modifications, uni.torque, d1, positions_per_pitch=32)
-    ref = [float(simulate(ref_model, s, **kw).dynamic_factor) for s in speeds]
+    got, refs, _ = rigidified_runs(pair, speeds, d1, spp=32, periods=60, rotating_frame=True)
+    ref = [float(r.dynamic_factor) for r in refs]
     np.testing.assert_allclose(np.asarray(got.dynamic_factor), ref, rtol=5e-3)
 
 

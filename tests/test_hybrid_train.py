@@ -18,6 +18,13 @@ import meshio
 import numpy as np
 import pytest
 from _examples import load_example
+from _hybrid_util import (
+    rigid_mass_matrix,
+    stiffened_body,
+    tooth_offsets,
+    train_fixtures,
+    zone_compliance,
+)
 from _trains import line_direction, shaft_sum
 
 import fem_prep
@@ -30,7 +37,6 @@ from jaxgear.dynamics import (
     SteadyState,
     bearing_forces,
     dynamic_model,
-    load_bodies,
     speed_sweep,
 )
 from jaxgear.scenes import FlexibleMember
@@ -39,41 +45,7 @@ DATA = pathlib.Path(__file__).parent / "data"
 CASE = DATA / "hybrid-test-train.toml"
 
 
-@pytest.fixture(scope="module")
-def case(fem_prep_cache):
-    return jio.load_case(CASE)
-
-
-@pytest.fixture(scope="module")
-def bodies(case):
-    return load_bodies(case.scene)
-
-
-@pytest.fixture(scope="module")
-def scene(case, bodies):
-    return case.static_train(bodies=bodies)
-
-
-def _tooth_offsets(member: FlexibleMember, mesh, side: float, theta: float) -> np.ndarray:
-    """(φ_c − φ_station)/pitch of every cell on the flanks at scene angle θ, in (−½, ½]: the
-    tooth centre line of each contact point by the involute (ψ(r) = ψ_b − inv α(r)) against
-    the nearest rim station of the turning body frame."""
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    p = np.asarray(mesh.points(cells))[np.asarray(cells.mask)]
-    rel = p - np.asarray(member.centre)
-    r = np.hypot(rel[:, 0], rel[:, 1])
-    rb = float(member.base_radius)
-    a = np.arccos(rb / r)
-    psi = float(member.base_half_angle) - (np.tan(a) - a)
-    # the tooth lies on the side −side·n of its flank (the mesh's driving gear: −n)
-    n = np.asarray(mesh.normal)[:2]
-    e_phi = np.stack([-rel[:, 1], rel[:, 0]], -1) / r[:, None]
-    flank = np.sign(-side * (e_phi @ n))
-    phi_c = np.arctan2(rel[:, 1], rel[:, 0]) + flank * psi
-    t = (phi_c - float(member.frame_angle(theta)) - float(member.station0)) / float(
-        member.pitch_angle
-    )
-    return (t + 0.5) % 1.0 - 0.5
+case, bodies, scene = train_fixtures(CASE)
 
 
 def test_each_tooth_in_contact_sits_on_a_rim_station_in_both_meshes(scene):
@@ -86,7 +58,7 @@ def test_each_tooth_in_contact_sits_on_a_rim_station_in_both_meshes(scene):
     for k, side in ((0, -1.0), (1, 1.0)):  # driven in the first mesh, driving in the second
         mesh = scene.meshes[k]
         for theta in np.linspace(0.0, 0.5, 7):
-            off = _tooth_offsets(idler, mesh, side, theta)
+            off = tooth_offsets(idler, mesh, side, theta)
             assert off.size and np.abs(off).max() < 1e-9, (k, theta, off)
 
 
@@ -95,12 +67,7 @@ def test_rigidified_idler_reproduces_the_rigid_node_train(case):
     TE of the rigid-node lumped train (uniform mesh stiffness: no foundation term): mean within
     0.5 % (measured 0.012 % and 0.013 %), RMS within 3 % (0.007 %); the steel body adds more
     than 5 % to each mesh's TE (measured 12 % and 13 %)."""
-    text = (DATA / "hybrid-test-wheel.toml").read_text()
-    stiff = fem_prep.condensed(
-        fem_prep.parse_body(
-            text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
-        )
-    )
+    stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
     steel = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
     mods = uni.mesh_modifications()
@@ -130,28 +97,14 @@ def test_idler_bearings_carry_its_two_mesh_forces(case, scene):
     np.testing.assert_allclose(shaft_sum(forces, "output")[:2], fn * d1, atol=1e-6 * fn)
 
 
-def _zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length) as a load on
-    the body coordinates (those from ``first`` on: the shafts held), (n − first,)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
-
-
 def test_the_two_contact_zones_share_the_idler_body(scene):
     """Cross-compliance between the meshes through the idler body (its hub held): a unit force
     over one contact zone moves the other zone by 65 % of what it moves its own (asserted:
     more than 10 %), reciprocally (Maxwell–Betti, 1e-9) and with a positive definite 2 × 2
     zone compliance. docs/trains.md states 4.2 nm/N own and −2.8 nm/N across: the web twists
     under either zone's torque alone (an idler's two mesh torques cancel on the rim)."""
-    first = scene.structure.C_bearing.shape[0]  # the shafts' coordinates come first
-    K = np.asarray(scene.structure.K)[first:, first:]
     for theta in (0.0, 0.05, 0.1):
-        f = np.stack([_zone_load(scene, k, theta, first) for k in range(2)], 1)
-        C = f.T @ np.linalg.solve(K, f)
+        C = zone_compliance(scene, theta)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)
         assert np.all(np.linalg.eigvalsh(0.5 * (C + C.T)) > 0)
         cross = abs(C[0, 1]) / np.sqrt(C[0, 0] * C[1, 1])
@@ -238,27 +191,6 @@ def test_flexible_idler_case_gives_the_documented_figures(tmp_path):
     assert round(got["cross_over_own"], 2) == -0.55
 
 
-def _rigid_body_inertia(body) -> tuple[float, float]:
-    """The mass (kg) and polar inertia (kg·m²) of a condensed body from its own mass matrix: its
-    masters moved as one rigid body (a translation along x; a turn about z: (−y, x) at a rim
-    master, φ_z = 1 at a bearing master on the axis), its modal coordinates still (exact for
-    Craig–Bampton: the constraint modes carry the interior rigidly)."""
-    coords = np.asarray(body.master_coords)
-    kind = np.asarray(body.master_kind)
-    tx, rz = np.zeros(body.M.shape[0]), np.zeros(body.M.shape[0])
-    for i, (m, c) in enumerate(np.asarray(body.dof_map)):
-        if m < 0:
-            continue
-        x, y, _ = coords[m]
-        tx[i] = 1.0 if c == 0 else 0.0
-        if kind[m] == 1:
-            rz[i] = 1.0 if c == 5 else 0.0
-        else:
-            rz[i] = (-y, x, 0.0)[c]
-    M = np.asarray(body.M)
-    return float(tx @ M @ tx), float(rz @ M @ rz)
-
-
 def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     """The idler body a thousand times stiffer (teeth not lumped on its rim) in the hybrid
     Newmark against the lumped train's Newmark with a rigid idler disc of the body's mass and
@@ -266,16 +198,12 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     2.5e-6 s) in both, uniform mesh stiffness, 64 steps per period, 30 periods: each mesh's
     dynamic factor within 2 % at 1000 rad/s (near a coincidence, DF 1.85 and 1.64) and
     2000 rad/s (measured 0.05 to 0.7 %)."""
-    text = (DATA / "hybrid-test-wheel.toml").read_text()
-    stiff = fem_prep.condensed(
-        fem_prep.parse_body(
-            text.replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
-        )
-    )
+    stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
     uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
     mods = uni.mesh_modifications()
     damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
-    mass, polar = _rigid_body_inertia(stiff)
+    Mr = rigid_mass_matrix(stiff)
+    mass, polar = Mr[0, 0], Mr[5, 5]
     rigid = uni.replace(
         scene=dataclasses.replace(uni.scene, gear_bodies=()),
         masses=(None, mass, None),

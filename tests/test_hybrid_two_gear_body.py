@@ -19,9 +19,17 @@ import json
 import math
 import pathlib
 
+import meshio
 import numpy as np
 import pytest
 from _examples import load_example
+from _hybrid_util import (
+    rigid_mass_matrix,
+    stiffened_body,
+    tooth_offsets,
+    train_fixtures,
+    zone_compliance,
+)
 from _trains import line_direction, shaft_sum
 
 import fem_prep
@@ -46,24 +54,11 @@ CASE = DATA / "hybrid-test-two-stage.toml"
 BODY = DATA / "hybrid-test-shaft.toml"
 
 
-@pytest.fixture(scope="module")
-def case(fem_prep_cache):
-    return jio.load_case(CASE)
-
-
-@pytest.fixture(scope="module")
-def bodies(case):
-    return load_bodies(case.scene)
-
-
-@pytest.fixture(scope="module")
-def scene(case, bodies):
-    return case.static_train(bodies=bodies)
+case, bodies, scene = train_fixtures(CASE)
 
 
 def _stiff_body():
-    text = BODY.read_text().replace("youngs_modulus_GPa = 210.0", "youngs_modulus_GPa = 210000.0")
-    return fem_prep.condensed(fem_prep.parse_body(text, default_name="stiff-shaft"))
+    return stiffened_body(BODY, 1000.0, name="stiff-shaft")
 
 
 # -- fem_prep ---------------------------------------------------------------------------------
@@ -194,27 +189,6 @@ def test_the_embedded_body_fits_the_example_case():
 # -- the scene --------------------------------------------------------------------------------
 
 
-def _tooth_offsets(member: FlexibleMember, mesh, side: float, theta: float) -> np.ndarray:
-    """(φ_c − φ_station)/pitch of every cell on the flanks at scene angle θ, in (−½, ½]: the
-    tooth centre line of each contact point by the involute (ψ(r) = ψ_b − inv α(r)) against
-    the nearest station of the member's rim in the turning body frame."""
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    p = np.asarray(mesh.points(cells))[np.asarray(cells.mask)]
-    rel = p - np.asarray(member.centre)
-    r = np.hypot(rel[:, 0], rel[:, 1])
-    rb = float(member.base_radius)
-    a = np.arccos(rb / r)
-    psi = float(member.base_half_angle) - (np.tan(a) - a)
-    n = np.asarray(mesh.normal)[:2]
-    e_phi = np.stack([-rel[:, 1], rel[:, 0]], -1) / r[:, None]
-    flank = np.sign(-side * (e_phi @ n))
-    phi_c = np.arctan2(rel[:, 1], rel[:, 0]) + flank * psi
-    t = (phi_c - float(member.frame_angle(theta)) - float(member.station0)) / float(
-        member.pitch_angle
-    )
-    return (t + 0.5) % 1.0 - 0.5
-
-
 def test_one_body_frame_puts_both_gears_teeth_on_their_stations(scene):
     """The wheel (driven in the first mesh) and the pinion (driving in the second) are two
     members of one body with one frame; with it, every tooth in contact sits on a station of
@@ -229,7 +203,7 @@ def test_one_body_frame_puts_both_gears_teeth_on_their_stations(scene):
     for k, member, side in ((0, wheel, -1.0), (1, pinion, 1.0)):
         mesh = scene.meshes[k]
         for theta in np.linspace(0.0, 0.5, 7):
-            off = _tooth_offsets(member, mesh, side, theta)
+            off = tooth_offsets(member, mesh, side, theta)
             assert off.size and np.abs(off).max() < 1e-9, (k, theta, off)
 
 
@@ -276,28 +250,13 @@ def test_the_body_bearings_carry_both_mesh_forces(case, scene):
     np.testing.assert_allclose(shaft_sum(forces, "output")[:2], f2 * d1, atol=1e-6 * f2)
 
 
-def _zone_load(scene, k: int, theta: float, first: int) -> np.ndarray:
-    """A unit total force spread over mesh k's cells on the flanks (by cell length) as a load on
-    the body coordinates (those from ``first`` on: the shafts, and so the body's bearing nodes,
-    held), (n − first,)."""
-    mesh = scene.meshes[k]
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    mask = np.asarray(cells.mask)
-    V = np.asarray(mesh.cell_vectors(scene.members, cells, scene.structure.size))[mask]
-    w = np.asarray(cells.length)[mask]
-    return V[:, first:].T @ (w / w.sum())
-
-
 def test_the_two_rims_share_the_body(scene):
     """The 2 × 2 zone compliance between the wheel's contact zone and the pinion's, on the body
     alone (its bearing nodes held): reciprocal (Maxwell–Betti, 1e-9), positive definite, and
     its cross term not zero (more than 1 % of the own terms' geometric mean; at θ = 0, 7.77 and
     1.62 nm/N own, −0.92 nm/N across, −0.26 of the own: docs/trains.md)."""
-    first = scene.structure.C_bearing.shape[0]  # the shafts' coordinates come first
-    K = np.asarray(scene.structure.K)[first:, first:]
     for theta in (0.0, 0.05, 0.1):
-        f = np.stack([_zone_load(scene, k, theta, first) for k in range(2)], 1)
-        C = f.T @ np.linalg.solve(K, f)
+        C = zone_compliance(scene, theta)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)
         assert np.all(np.linalg.eigvalsh(0.5 * (C + C.T)) > 0)
         assert abs(C[0, 1]) / np.sqrt(C[0, 0] * C[1, 1]) > 0.01, C
@@ -415,7 +374,11 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
     assert w["flexible_gear_teeth"] == [30, 15]
     assert w["flexible_gear_speed_ratio"] == pytest.approx([20 / 30, 20 / 30], rel=1e-12)
     assert w["flexible_gear_meshes"] == [["input-wheel"], ["pinion-output"]]
-    assert s["body_vtu"] == ["body_wheel.vtu", "body_pinion.vtu"]
+    assert s["body_vtu"] == ["body_wheel+pinion.vtu"]  # one body, written once
+    assert not list(out.glob("body_wheel.vtu")) and not list(out.glob("body_pinion.vtu"))
+    vtu = meshio.read(out / "body_wheel+pinion.vtu")
+    assert np.isfinite(vtu.point_data["displacement_m"]).all()
+    assert np.abs(vtu.point_data["displacement_m"]).max() > 0
     assert round(elastic[0] / 1e3, 1) == 2.2  # the first elastic mode, kHz
     for k, m in enumerate(s["meshes"]):
         static = m["quasi_static"]["exact"]["te_mean_m"]
@@ -451,24 +414,6 @@ def test_hybrid_two_gear_body_example_gives_the_documented_figures(tmp_path):
     assert got["reciprocity_error"] < 1e-12
 
 
-def _rigid_mass_matrix(body) -> np.ndarray:
-    """The 6 × 6 mass matrix of a condensed body moved as one rigid body about its frame's
-    origin (translations x, y, z, then rotations about x, y, z: w × x at a rim master, the
-    rotation itself at a bearing master on the axis), its modal coordinates still (exact for
-    Craig–Bampton: the constraint modes carry the interior rigidly)."""
-    coords = np.asarray(body.master_coords)
-    kind = np.asarray(body.master_kind)
-    R = np.zeros((body.M.shape[0], 6))
-    for i, (m, c) in enumerate(np.asarray(body.dof_map)):
-        if m < 0:
-            continue
-        for a in range(3):
-            w = np.eye(3)[a]
-            R[i, a] = float(c == a)
-            R[i, 3 + a] = w[c - 3] if (kind[m] == 1 and c >= 3) else np.cross(w, coords[m])[c]
-    return R.T @ np.asarray(body.M) @ R
-
-
 @pytest.mark.slow
 def test_rigidified_body_dynamics_equal_the_rigid_node_train(case):
     """The body and the shafts a thousand times stiffer (teeth not lumped on the rims) in the
@@ -479,7 +424,7 @@ def test_rigidified_body_dynamics_equal_the_rigid_node_train(case):
     periods: each mesh's dynamic factor within 2.5 % at 1000 and 2000 rad/s (DF 1.45 to 1.80;
     measured 1.3, 0.09, 0.7 and 2.0 %). About a minute on 2 cores."""
     stiff = _stiff_body()
-    Mr = _rigid_mass_matrix(stiff)
+    Mr = rigid_mass_matrix(stiff)
     mass, polar, dia = Mr[0, 0], Mr[5, 5], Mr[3, 3]
     zc = Mr[0, 4] / mass  # the centre of mass from the wheel's mid-rim
     uni = case.replace(

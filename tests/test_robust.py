@@ -9,8 +9,6 @@ from __future__ import annotations
 import itertools
 import math
 import os
-import socket
-import subprocess
 import sys
 from pathlib import Path
 
@@ -22,6 +20,7 @@ from scipy import stats
 
 import jaxgear as jg
 import jaxgear.io as jio
+from benchmarks import free_port, run_processes
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -220,10 +219,27 @@ def test_percentile_intervals_cover_and_binomial_quantile():
 # -- devices and processes -----------------------------------------------------------------------
 
 
-def _free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+def test_process_runner_waits_for_all_and_names_the_one_that_failed(tmp_path):
+    """benchmarks.run_processes (the two-process runs' launcher): both processes run at once
+    (each waits for the other's file), a failure names the process, its exit status and the
+    end of its stderr, and a process past the timeout is stopped with a one-line error."""
+    py = [sys.executable, "-c"]
+    meet = (
+        "import pathlib, sys, time; d = pathlib.Path(sys.argv[1]); i = sys.argv[2]; "
+        "(d / i).write_text(i); t = time.time()\n"
+        "while len(list(d.iterdir())) < 2 and time.time() - t < 30: time.sleep(0.01)\n"
+        "sys.exit(0 if len(list(d.iterdir())) == 2 else 3)"
+    )
+    run_processes(
+        [py + [meet, str(tmp_path), str(i)] for i in range(2)], env=None, cwd=tmp_path, timeout=60
+    )
+    fail = "import sys; print('first', file=sys.stderr); sys.exit('broken: rank 1')"
+    with pytest.raises(
+        RuntimeError, match=r"(?s)^process 1 of 2 failed \(exit status 1\): first\nbroken: rank 1$"
+    ):
+        run_processes([py + ["pass"], py + [fail]], env=None, cwd=tmp_path, timeout=60)
+    with pytest.raises(RuntimeError, match=r"^process 0 of 1 ran past 0.5 s: stopped$"):
+        run_processes([py + ["import time; time.sleep(30)"]], env=None, cwd=tmp_path, timeout=0.5)
 
 
 @pytest.mark.slow
@@ -238,23 +254,15 @@ def test_two_processes_on_loopback_give_the_one_process_result(spur, tmp_path):
         JAX_PLATFORMS="cpu",
         PYTHONPATH=str(ROOT),
     )
-    port = _free_port()
+    port = free_port()
     outs = [tmp_path / f"p{i}.npz" for i in range(2)]
-    procs = [
-        subprocess.Popen(
-            [sys.executable, str(ROOT / "tests" / "_robust_worker.py"), str(i), "2", str(port)]
-            + [str(outs[i]), "13"],
-            cwd=ROOT,
-            env=env,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        for i in range(2)
-    ]
-    for p in procs:
-        _, err = p.communicate(timeout=300)
-        assert p.returncode == 0, err[-3000:]
+    worker = [sys.executable, str(ROOT / "tests" / "_robust_worker.py")]
+    run_processes(
+        [worker + [str(i), "2", str(port), str(outs[i]), "13"] for i in range(2)],
+        env=env,
+        cwd=ROOT,
+        timeout=300,
+    )
     case, mesh = spur
     theta = jg.mesh_positions(mesh, 4, case.pair.pinion.teeth)
     sampler = jg.DeviationSampler.for_grade(case.pair, 6)

@@ -37,22 +37,30 @@ def _body_vtu(path, member, body, theta, x, extra=None) -> None:
 
 
 def _flexible(scene, bodies, names=None):
-    """(name, member, body) of each condensed member; ``names``: {member index: name}
-    (default a pair's "pinion" and "gear")."""
+    """(name, member, body) of each condensed body; ``names``: {member index: name} (default a
+    pair's "pinion" and "gear"). A body carrying two gears (members on the same body
+    coordinates) comes once, named by its gears joined with "+" (``wheel+pinion``)."""
     from ..scenes import FlexibleMember
 
-    return [
-        ((names or {0: "pinion", 1: "gear"})[m], member, body)
-        for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True))
-        if isinstance(member, FlexibleMember) and body is not None
-    ]
+    names = names or {0: "pinion", 1: "gear"}
+    out: dict[int, list] = {}  # first body coordinate -> [names, member, body]
+    for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True)):
+        if not isinstance(member, FlexibleMember) or body is None:
+            continue
+        key = int(np.asarray(member.body_dofs)[0])
+        if key in out:
+            out[key][0].append(names[m])
+        else:
+            out[key] = [[names[m]], member, body]
+    return [("+".join(n), member, body) for n, member, body in out.values()]
 
 
 def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[str]:
     """``body_<name>.vtu`` of each condensed body deformed by the quasi-static result ``res``
     at its position ``k`` (fixed frame: each body turned to its own angle there, centred on its
     axis); ``names``: {member index: name} (a train's gear names; default a pair's "pinion"
-    and "gear"). Returns the file names."""
+    and "gear"; a body carrying two gears is written once, ``body_<gear>+<gear>.vtu``).
+    Returns the file names."""
     theta = float(res.theta[k])
     x = np.asarray(res.x[k])
     written = []

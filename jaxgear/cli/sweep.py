@@ -571,35 +571,18 @@ def _dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | No
     return {"summary": summary, "maps": maps}
 
 
-def _nodal_diameter_resonances(
-    scene, modes, speeds, gear: dict, at=None, n_modes: int = ND_MODES
-) -> list:
-    """The (3.9) speeds, up to 1.05 × the top speed, where the meshes excite the
-    nodal-diameter families of the condensed ``gear`` (:func:`_flexible_gears`; web modes: most
-    of their kinetic energy in its body), first and second mesh harmonics, at its teeth Z and
-    its speed (``speed_ratio`` times the pinion's or input's): every mesh it is in passes Z of
-    its teeth per turn, so they share the orders h Z ± n. Each row names the gear (``gear``,
-    ``teeth``, ``speed_ratio``). ``at``: the modes at speed
-    (:func:`jaxgear.dynamics.modes_at_speed`), or None (the frequencies at rest); ``n_modes``:
-    the lowest elastic modes of the structure examined."""
-    from ..dynamics import nodal_diameter_modes, nodal_diameter_resonances
+def _nodal_diameter_resonances(scene, modes, speeds, gear: dict, at=None) -> list:
+    """The (3.9) resonances of the condensed ``gear`` (:func:`_flexible_gears`), up to 1.05 ×
+    the top speed, first and second mesh harmonics
+    (:func:`jaxgear.dynamics.gear_nodal_diameter_resonances` on the lowest ``ND_MODES``
+    modes), each row named by the gear (``gear``, ``teeth``, ``speed_ratio``). ``at``: the
+    modes at speed, or None (the frequencies at rest)."""
+    from ..dynamics import gear_nodal_diameter_resonances
 
-    nd = nodal_diameter_modes(scene, modes, n_modes=n_modes, member=gear["member"])
-    web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
-    if at is None:
-        freqs, grid = nd["frequency_hz"][web], None
-    else:
-        freqs = np.asarray(at.omega)[:, nd["mode"][web]] / (2 * np.pi)
-        grid = np.asarray(at.speeds)
-    Z, ratio = gear["teeth"], gear["speed_ratio"]
-    tag = {"gear": gear["name"], "teeth": Z, "speed_ratio": ratio}
-    return [
-        tag | r
-        for r in nodal_diameter_resonances(
-            freqs, nd["nodal_diameter"][web], Z, Z * ratio, (1, 2), speeds=grid
-        )
-        if r["pinion_speed_rad_s"] <= 1.05 * float(speeds.max())
-    ]
+    rows = gear_nodal_diameter_resonances(
+        scene, modes, gear["member"], at=at, max_speed=1.05 * float(speeds.max()), n_modes=ND_MODES
+    )
+    return [{"gear": gear["name"]} | {k: v for k, v in r.items() if k != "member"} for r in rows]
 
 
 def _vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible) -> list:

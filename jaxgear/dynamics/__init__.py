@@ -47,6 +47,7 @@ from ._modal import (
     campbell_coincidences as campbell_coincidences,
     damping_matrix as damping_matrix,
     excited_omega as excited_omega,
+    gear_nodal_diameter_resonances as gear_nodal_diameter_resonances,
     modal_analysis as modal_analysis,
     modes_at_speed as modes_at_speed,
     nodal_diameter_modes as nodal_diameter_modes,

@@ -30,6 +30,7 @@ __all__ = [
     "excited_omega",
     "modal_analysis",
     "modes_at_speed",
+    "gear_nodal_diameter_resonances",
     "nodal_diameter_modes",
     "nodal_diameter_resonances",
     "steps_for_mode",
@@ -264,6 +265,22 @@ def campbell_coincidences(
     return out
 
 
+def _condensed_member(scene, member: int | None, who: str) -> int:
+    """``member`` checked to be a condensed body of ``scene`` (None: the wheel, member 1, when
+    it is condensed, else the first condensed member); a one-line error naming ``who``."""
+    flexible = [i for i, m in enumerate(scene.members) if isinstance(m, FlexibleMember)]
+    if member is None:
+        if not flexible:
+            raise ValueError(f"{who}: the scene has no condensed body")
+        member = 1 if 1 in flexible else flexible[0]
+    if member not in flexible:
+        raise ValueError(
+            f"{who}: member = {member!r} is not a condensed body: allowed "
+            f"{', '.join(map(str, flexible)) or 'none (every member is rigid)'}"
+        )
+    return member
+
+
 def nodal_diameter_modes(
     scene: HybridPair, modes: ModalAnalysis, n_modes: int = 40, member: int | None = None
 ) -> dict:
@@ -295,16 +312,7 @@ def nodal_diameter_modes(
     Raises:
         ValueError: the chosen member is rigid, or no member is condensed.
     """
-    flexible = [i for i, m in enumerate(scene.members) if isinstance(m, FlexibleMember)]
-    if member is None:
-        if not flexible:
-            raise ValueError("nodal_diameter_modes: the scene has no condensed body")
-        member = 1 if 1 in flexible else flexible[0]
-    if member not in flexible:
-        raise ValueError(
-            f"nodal_diameter_modes: member = {member!r} is not a condensed body: allowed "
-            f"{', '.join(map(str, flexible)) or 'none (every member is rigid)'}"
-        )
+    member = _condensed_member(scene, member, "nodal_diameter_modes")
     wheel = scene.members[member]
     elastic = np.flatnonzero(~np.asarray(modes.rigid))[:n_modes]  # the drive rotation out
     omega = np.asarray(modes.omega)[elastic]
@@ -403,6 +411,65 @@ def nodal_diameter_resonances(
                     }
                 )
     return rows
+
+
+def gear_nodal_diameter_resonances(
+    scene,
+    modes: ModalAnalysis,
+    member: int,
+    *,
+    at: ModesAtSpeed | None = None,
+    max_speed: float | None = None,
+    harmonics=(1, 2),
+    n_modes: int = 40,
+) -> list[dict]:
+    """The seed's (3.9) resonances of one condensed gear of a hybrid scene: the pinion (or
+    input) speeds at which the gear's meshes excite its nodal-diameter web modes.
+
+    The gear's web modes are those of :func:`nodal_diameter_modes` (``member``) with n >= 1 and
+    more than half of their kinetic energy in its body. The gear has Z teeth (its rim
+    stations) and turns ``member.ratio`` times per turn of the scene's pinion or input (its
+    ``speed_ratio``, > 0, from the tooth counts); every mesh it is in passes Z teeth per turn
+    of it, so all of them excite the orders h Z ± n (:func:`nodal_diameter_resonances` with
+    wheel teeth Z and pinion teeth z1 = Z × speed_ratio): a pair's wheel, a flexible pinion
+    (z1 = Z), an idler or a two-gear body's gears alike.
+
+    Args:
+        scene: a hybrid scene (:class:`~jaxgear.scenes.HybridPair`, a hybrid train).
+        modes: its :func:`modal_analysis` (with K̄_m, or zeros for the structure alone).
+        member: the condensed gear's index in ``scene.members``.
+        at: the modes at speed (:func:`modes_at_speed`): each resonance is then the first
+            speed where the mode's frequency at speed meets the order; None: the frequencies at
+            rest.
+        max_speed: keep the resonances at pinion (input) speeds up to this (rad/s); None: all.
+        harmonics: the mesh harmonics h (default the first two).
+        n_modes: the lowest elastic modes of the structure examined.
+
+    Returns:
+        One dict per resonance, ``member``, ``teeth`` (Z), ``speed_ratio`` and the keys of
+        :func:`nodal_diameter_resonances` (``frequency_hz``, ``nodal_diameter``, ``harmonic``,
+        ``order``, ``direction``, ``wheel_speed_rad_s``: the gear's speed,
+        ``pinion_speed_rad_s``: the pinion's or input's).
+
+    Raises:
+        ValueError: ``member`` is not a condensed body of the scene (one line, naming the
+            allowed members).
+    """
+    member = _condensed_member(scene, member, "gear_nodal_diameter_resonances")
+    nd = nodal_diameter_modes(scene, modes, n_modes=n_modes, member=member)
+    gear = scene.members[member]
+    web = (nd["rim_share"] > 0.5) & (nd["nodal_diameter"] >= 1)
+    if at is None:
+        freqs, grid = nd["frequency_hz"][web], None
+    else:
+        freqs = np.asarray(at.omega)[:, nd["mode"][web]] / (2 * np.pi)
+        grid = np.asarray(at.speeds)
+    Z, ratio = int(gear.rim_dofs.shape[0]), float(gear.ratio)
+    tag = {"member": member, "teeth": Z, "speed_ratio": ratio}
+    rows = nodal_diameter_resonances(
+        freqs, nd["nodal_diameter"][web], Z, Z * ratio, tuple(harmonics), speeds=grid
+    )
+    return [tag | r for r in rows if max_speed is None or r["pinion_speed_rad_s"] <= max_speed]
 
 
 class Damping(eqx.Module):

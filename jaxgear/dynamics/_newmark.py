@@ -12,9 +12,11 @@ a₁ = γ/(βΔt), solved in whichever space is smaller (docs/design.md, "Contac
   cells see every coordinate; :func:`jaxgear.solve_contact` factors K_eff + Vᵀ diag(k l) V at each
   active-set pass (seed II-25);
 * **cells** (condensed bodies: thousands of DOFs, the cells on a small window W of them):
-  G = K_eff⁻¹ once per speed, X* = G F_eff, the gaps Δ = V X*_W − δ0 − C_eff P with the window's
-  compliance C_eff = V G_WW Vᵀ (:func:`jaxgear.solve_contact_cells`), then X = X* − G_{:W} Vᵀ P: a
-  step costs n² and the window's compliance, not a factorisation (docs/hybrid.md, "Dynamics");
+  G = K_eff⁻¹ and the products G F, G M, G C once per speed, X* = G F_eff = G F + (G M) u +
+  (G C) v (u, v the known parts of Newmark's M and C terms), the gaps Δ = V X*_W − δ0 − C_eff P
+  with the window's compliance C_eff = V G_WW Vᵀ (:func:`jaxgear.solve_contact_cells`), then
+  X = X* − G_{:W} Vᵀ P on the window's columns: a step costs two n² products and the window's
+  compliance, not a factorisation (docs/hybrid.md, "Dynamics");
   or, with a modal basis (:func:`newmark_modal`), m modes of the assembled structure plus the
   static correction of the cells: m² + n (m + w) per step (docs/hybrid.md, "Modal basis").
 
@@ -117,8 +119,10 @@ def newmark(
     record: Callable[[Array, Array, Array], Any] | None,
     *,
     check: Callable[[Array, Array, Array], Array] | None = None,
+    block_check: Callable[[Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
     record_entry: bool = False,
+    keep_blocks: int | None = None,
     dofs: tuple | None = None,
 ):
     """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
@@ -133,21 +137,27 @@ def newmark(
             ``cells_at`` takes (a table row index, a pinion angle).
         cells_at: entry ↦ :class:`CellRow`; all steps use the same window kind (None or not).
         law: the contact law.
-        record: (X, Ẋ, P) ↦ a pytree kept for every step, P the cell forces (N), (c,); None
-            keeps nothing (a transient).
-        check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. energy
-            blow-up), 0 if none; the loop itself flags contact loops that did not converge,
+        record: (X, Ẋ, P) ↦ a pytree kept for every recorded step, P the cell forces (N),
+            (c,); None keeps nothing (a transient).
+        check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. the mesh
+            force beyond its bound: code 3), 0 if none; the loop itself flags contact loops that did not converge,
             non-finite states and cells outside the mesh damping's window.
+        block_check: (X, Ẋ) ↦ a result code of the state at the end of each block, or None:
+            the place for a check that costs a product with an n × n matrix (the kinetic
+            energy ½ ẊᵀMẊ), paid once per block (e.g. mesh period) instead of every step; it
+            fires at the end of the block in which the state crossed its bound.
         mesh_damping: :class:`MeshDamping` or None (needs a window: the cell space).
         record_entry: call ``record(X, Ẋ, P, entry)`` with the step's entry of ``inputs`` (to
             reduce per-cell values that depend on the position inside the loop).
+        keep_blocks: record only the last ``keep_blocks`` blocks (the steady-state window: the
+            blocks before integrate without records), or None: every block.
         dofs: rows on all coordinates only: the coordinates the cells reach (static, sorted;
             :func:`contact_coordinates`); K_eff is condensed onto them once
             (:func:`condensed`) and each step's contact solved on them alone. None: on all.
 
     Returns:
-        (the final state, the records flattened over the blocks, leading axis B·S, or None).
-        The result code keeps the first failure of the run.
+        (the final state, the records flattened over the recorded blocks, leading axis
+        min(B, keep_blocks)·S, or None). The result code keeps the first failure of the run.
     """
     dtype = K.dtype
     n = K.shape[0]
@@ -160,11 +170,13 @@ def newmark(
         raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
     G = None if coordinates else jnp.linalg.inv(Keff)
     reduced = condensed(Keff, dofs) if coordinates and dofs is not None else None
+    if not coordinates:  # G F_eff = G F + (G M) u + (G C) v: two n² reads a step, not three
+        GF, GM, GC = G @ F, G @ M, G @ C
     if mesh_damping is not None:
         block, c_m, R = mesh_damping
         GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
 
-    def run_block(carry, p_in):
+    def run_block(carry, p_in, keep):
         p, entries = p_in
         U = None
         ok = jnp.array(True)
@@ -176,57 +188,59 @@ def newmark(
                 def project(x):  # W x, x (n,) or (n, m)
                     return x[U]
 
-                def spread(z):  # Wᵀ z
-                    return jnp.zeros((n,), dtype).at[U].add(z)
-
             else:
                 W = R[U]
 
                 def project(x):
                     return W @ x
 
-                def spread(z):
-                    return W.T @ z
-
             # the block's effective stiffness is K_eff + a₁ c_m Wᵀ B W: Woodbury on G,
             # G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B
             A = (a1 * c_m) * B
             GW = GR[:, U]  # G Wᵀ (n, w)
+            GU = GW if R is None else G[:, U]  # G E_Uᵀ (n, w)
             Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
-            GUU = G[U[:, None], U[None, :]] - GW[U] @ Q @ project(G[:, U])  # G_p on U
+            GUU = GU[U] - GW[U] @ Q @ project(GU)  # G_p on U
             pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
 
-        def solve(v):  # G_p v
-            y = G @ v
-            return y if U is None else y - GW @ (Q @ project(y))
+        def solve_at(idx, j, z):  # G_p[:, idx] z: the columns of the window, not an n² product
+            if U is None:
+                return G[:, idx] @ z
+            y = GU @ jnp.zeros((U.shape[0],), dtype).at[j].add(z, mode="drop")
+            return y - GW @ (Q @ project(y))
 
         def step(carry, entry):
             X, Xd, Xdd, code, it = carry
             row = cells_at(entry)
             v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
-            Feff = F + M @ (a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd) + C @ v
+            u = a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd
             inside = jnp.array(True)
             if coordinates and reduced is not None:
-                Fj, y = reduced.load(Feff)
+                Fj, y = reduced.load(F + M @ u + C @ v)
                 Vj = row.V[:, reduced.J]
                 sol = solve_contact(reduced.S, Fj, Vj, row.k, row.length, row.delta0, row.mask, law)
                 Xn = reduced.expand(sol.x, y)
                 P = sol.force_density * row.length
             elif coordinates:
+                Feff = F + M @ u + C @ v
                 sol = solve_contact(Keff, Feff, row.V, row.k, row.length, row.delta0, row.mask, law)
                 Xn = sol.x
                 P = sol.force_density * row.length
             else:
                 idx = row.idx
                 c = row.V.shape[0]
+                j = None
+                y = GF + GM @ u + GC @ v  # G F_eff
                 if U is None:
                     Gw = G[idx[:, None], idx[None, :]]
+                    xs = y
                 else:
-                    Feff = Feff + spread(c_m * (B @ project(v)))  # the block's mesh damping
+                    # the block's mesh damping's force Wᵀ c_m B W v: G Wᵀ = GW
+                    y = y + GW @ (c_m * (B @ project(v)))
+                    xs = y - GW @ (Q @ project(y))  # G_p F_eff (Woodbury)
                     j = pos[idx]
                     inside = jnp.all(j < U.shape[0])
                     Gw = GUU[j[:, None], j[None, :]]
-                xs = solve(Feff)
                 sol, P, _ = solve_contact_cells(
                     row.V @ Gw @ row.V.T,
                     row.V @ xs[idx] - row.delta0,
@@ -237,22 +251,22 @@ def newmark(
                     row.mask,
                     law,
                 )
-                Xn = xs - solve(jnp.zeros_like(xs).at[idx].add(row.V.T @ P))
+                Xn = xs - solve_at(idx, j, row.V.T @ P)
             Xdn, Xddn = _update(Xn, X, Xd, Xdd, a0, dt)
             new = _step_result(sol, (Xn, Xdn), None if check is None else check(Xn, Xdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             carry = (Xn, Xdn, Xddn, _first(code, new), jnp.maximum(it, sol.iterations))
-            if record is None:
+            if keep is None:
                 return carry, None
-            return carry, (record(Xn, Xdn, P, entry) if record_entry else record(Xn, Xdn, P))
+            return carry, (keep(Xn, Xdn, P, entry) if record_entry else keep(Xn, Xdn, P))
 
-        return jax.lax.scan(step, carry, entries)
+        carry, out = jax.lax.scan(step, carry, entries)
+        if block_check is not None:
+            X, Xd, Xdd, code, it = carry
+            carry = (X, Xd, Xdd, _first(code, block_check(X, Xd)), it)
+        return carry, out
 
-    n_blocks = jax.tree.leaves(inputs)[0].shape[0]
-    carry, out = jax.lax.scan(run_block, state, (jnp.arange(n_blocks), inputs))
-    if record is None:
-        return carry, None
-    return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
+    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
 
 
 class ModalStructure(NamedTuple):
@@ -285,8 +299,10 @@ def newmark_modal(
     record: Callable[[Array, Array, Array], Any] | None,
     *,
     check: Callable[[Array, Array, Array], Array] | None = None,
+    block_check: Callable[[Array, Array], Array] | None = None,
     mesh_damping: MeshDamping | None = None,
     residual_damping=0.0,
+    keep_blocks: int | None = None,
 ):
     """:func:`newmark` in a modal basis with the static correction of the cells: the same
     average-acceleration scheme and contact loop (the cells of each step solved exactly on their
@@ -314,8 +330,9 @@ def newmark_modal(
         state: (q, q̇, q̈, r, ṙ, r̈, result code, most contact passes): q's (m,), r's (n,).
         record: (X, Ẋ, P) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ), or
             None.
-        check: (q, q̇, P) ↦ a result code of the step (on the reduced state: the kinetic
-            energy is ½ q̇ᵀ M_r q̇), or None.
+        check: (q, q̇, P) ↦ a result code of the step, or None. block_check: (q, q̇) ↦ a
+            result code at the end of each block (on the reduced state: the kinetic energy is
+            ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
         mesh_damping: :class:`MeshDamping` with ``R`` None (on the coordinates of U, as the
             cell space's) or the reduced map (n, m) (W_r = R[U]: c_m W_rᵀ B W_r on q), or None.
         residual_damping: β_r (s), >= 0.
@@ -339,7 +356,7 @@ def newmark_modal(
     if mesh_damping is None:
         H = D @ Gr @ D.T + rho * G  # the effective compliance on every coordinate (n, n)
 
-    def run_block(carry, p_in):
+    def run_block(carry, p_in, keep):
         p, entries = p_in
         ok = jnp.array(True)
         U, Gp, Cp = None, Gr, Cr
@@ -401,19 +418,38 @@ def newmark_modal(
             rows = idx if U is None else U
             qn = qs + Gp @ (Dr.T @ fU)
             rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
-            Xn = D @ qn + rn
             qdn, qddn = _update(qn, q, qd, qdd, a0, dt)
             rdn, rddn = _update(rn, r, rd, rdd, a0, dt)
-            new = _step_result(sol, (Xn, qdn), None if check is None else check(qn, qdn, P))
+            # X = D q + r is finite where q and r are (D @ q only at the recorded steps)
+            new = _step_result(sol, (qn, rn, qdn), None if check is None else check(qn, qdn, P))
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
             code = _first(code, new)
             carry = (qn, qdn, qddn, rn, rdn, rddn, code, jnp.maximum(it, sol.iterations))
-            return carry, (None if record is None else record(Xn, D @ qdn + rdn, P))
+            return carry, (None if keep is None else keep(D @ qn + rn, D @ qdn + rdn, P))
 
-        return jax.lax.scan(step, carry, entries)
+        carry, out = jax.lax.scan(step, carry, entries)
+        if block_check is not None:
+            q, qd, *rest, code, it = carry
+            carry = (q, qd, *rest, _first(code, block_check(q, qd)), it)
+        return carry, out
 
+    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
+
+
+def _scan_blocks(run_block, state, inputs, record, keep_blocks):
+    """Scan ``run_block(carry, (p, entries), keep)`` over the B blocks of ``inputs``: the first
+    B − keep_blocks without records (``keep`` None), the last ``keep_blocks`` (all with None)
+    with ``record``; returns the final carry and the records flattened over the recorded blocks
+    (or None)."""
     n_blocks = jax.tree.leaves(inputs)[0].shape[0]
-    carry, out = jax.lax.scan(run_block, state, (jnp.arange(n_blocks), inputs))
+    kept = n_blocks if keep_blocks is None or record is None else min(int(keep_blocks), n_blocks)
+    blocks = (jnp.arange(n_blocks), inputs)
+    carry = state
+    if kept < n_blocks:  # the transient: no records
+        head = jax.tree.map(lambda x: x[: n_blocks - kept], blocks)
+        carry, _ = jax.lax.scan(lambda c, b: run_block(c, b, None), carry, head)
+    tail = jax.tree.map(lambda x: x[n_blocks - kept :], blocks)
+    carry, out = jax.lax.scan(lambda c, b: run_block(c, b, record), carry, tail)
     if record is None:
         return carry, None
     return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)

@@ -340,10 +340,24 @@ def _code(code, new):
 
 
 def _divergence_code(xd, X, fm, M, fs, e_ref, blowup):
+    """The divergence check of a state: 2 (non-finite) or 3 (blow-up: mesh force ``fm`` >
+    blowup F_s or kinetic energy ½ ẊᵀMẊ > blowup² ``e_ref``), else 0: :func:`_force_code`
+    then :func:`_energy_code`."""
+    return _code(_force_code(xd, X, fm, fs, blowup), _energy_code(xd, M, e_ref, blowup))
+
+
+def _force_code(xd, X, fm, fs, blowup):
+    """The step's part of the divergence check (no product with an n × n matrix): 2 where X, Ẋ
+    or the mesh force ``fm`` is not finite, 3 where fm > blowup F_s, else 0."""
     finite = jnp.all(jnp.isfinite(X)) & jnp.all(jnp.isfinite(xd)) & jnp.isfinite(fm)
-    ke = 0.5 * xd @ M @ xd
-    blown = (fm > blowup * fs) | (ke > blowup**2 * e_ref)
-    return jnp.where(~finite, 2, jnp.where(blown, 3, 0))
+    return jnp.where(~finite, 2, jnp.where(fm > blowup * fs, 3, 0))
+
+
+def _energy_code(xd, M, e_ref, blowup):
+    """The kinetic-energy part of the divergence check (one product with M, n²): 2 where
+    ½ ẊᵀMẊ is not finite, 3 where it exceeds blowup² ``e_ref``, else 0."""
+    ke = 0.5 * xd @ (M @ xd)  # M Ẋ first: a row-major matrix read by rows
+    return jnp.where(jnp.isfinite(ke), jnp.where(ke > blowup**2 * e_ref, 3, 0), 2)
 
 
 def _config(

@@ -15,13 +15,15 @@ node, seed (2.9)), a :class:`TorsionalMember` (a gear's rotation alone: the tors
 torsional model, the lumped 3D and the hybrid scenes are structures with their meshes
 (:class:`AssembledScene`). A gear train (:class:`GearTrain`) is one of them with several meshes:
 torsional (:func:`torsional_train`) or lumped 3D (:func:`lumped_train`), laid out by
-:func:`train_layout`.
+:func:`train_layout`. :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
+as a load on the structure (zone compliances fᵀ K⁻¹ f).
 """
 
 from ._gear_mesh import (
     GearMesh as GearMesh,
     half_base_angle as half_base_angle,
     line_of_action as line_of_action,
+    mesh_zone_load as mesh_zone_load,
     pair_mesh as pair_mesh,
     TrainLayout as TrainLayout,
     train_hands as train_hands,

@@ -37,19 +37,21 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import Cells, MeshModel
+from .._baseplane import Cells, MeshModel, cell_flank
 from .._geometry import GearPair
 from .._util import as_float
+from ._scene import Grounded
 
 __all__ = [
     "GearMesh",
+    "TrainLayout",
     "contact_points",
     "half_base_angle",
     "line_of_action",
     "mesh_line",
+    "mesh_zone_load",
     "only_mesh",
     "pair_mesh",
-    "TrainLayout",
     "train_hands",
     "train_layout",
     "train_phases",
@@ -508,3 +510,56 @@ def only_mesh(meshes: tuple) -> GearMesh:
             f"the scene has {len(meshes)} gear meshes; this entry handles a scene with one mesh"
         )
     return meshes[0]
+
+
+def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
+    """A unit normal force spread over mesh ``k``'s contact zone, as a load on the structure.
+
+    The zone is the mesh's cells on the drive flanks at the scene angle ``theta``
+    (:meth:`GearMesh.angle`, :meth:`MeshModel.cells`); the unit force is shared among them in
+    proportion to their contact lengths l_c (uniform line load), and each cell's share acts
+    through its structure vector V_c (seed (2.9) for a rigid or torsional gear, (2.30) through
+    the interface of a condensed body): f = Σ_c w_c V_c with w_c = l_c / Σ l. Its work on the
+    coordinates X is the zone's mean flank-normal approach, f · X = Σ_c w_c V_c · X; the
+    forces it puts on the two gears are the ones that press their flanks together (+n on the
+    driving gear, −n on the driven gear: the reaction of a unit contact force). fᵀ K⁻¹ f is
+    the zone's compliance (m/N) and f_iᵀ K⁻¹ f_j the cross-compliance between two zones.
+
+    On a rigid 6-DOF gear node O (:class:`~jaxgear.scenes.RigidMember`) the load is the
+    resultant [±n, Σ_c w_c (M_c − O) × (±n)]: a unit force along the line of action whose
+    moment about the gear axis is its base radius times cos β_b; on a torsional member
+    ±r_b cos β_b.
+
+    Args:
+        scene: a scene with gear meshes (:class:`~jaxgear.scenes.AssembledScene`: a lumped or
+            hybrid pair or train, a torsional train; or a :class:`~jaxgear.scenes.Grounded`
+            one, whose base's coordinates are loaded), n coordinates.
+        k: the mesh, an index into ``scene.meshes`` (0 to len(meshes) − 1).
+        theta: the scene angle θ (rad): the pinion's, or the input gear's in a train.
+        first: the first coordinate kept: the load on coordinates ``first`` to n − 1 (0: all
+            of them). A hybrid train's shaft coordinates come first
+            (``scene.structure.C_bearing.shape[0]`` of them): ``first`` set to that count gives
+            the load on the condensed bodies' coordinates alone, the shafts (and so the
+            bodies' bearing nodes) held.
+
+    Returns:
+        f, shape (n − first,): generalised forces (N on translations, N·m on rotations) per
+        newton of total normal force.
+
+    Raises:
+        ValueError: ``k`` not a mesh of the scene or ``first`` outside [0, n].
+    """
+    while isinstance(scene, Grounded):
+        scene = scene.base
+    meshes, n = scene.meshes, scene.structure.size
+    if not 0 <= k < len(meshes):
+        raise ValueError(
+            f"mesh_zone_load: k = {k}: not a mesh of the scene, allowed 0 to {len(meshes) - 1}"
+        )
+    if not 0 <= first <= n:
+        raise ValueError(f"mesh_zone_load: first = {first}: out of range, allowed [0, {n}]")
+    mesh = meshes[k]
+    cells = mesh.base_plane.cells(mesh.angle(theta))
+    V = mesh.cell_vectors(scene.members, cells, n)[..., first:]
+    w = jnp.where(cells.mask & (cell_flank(cells) > 0), cells.length, 0.0)
+    return jnp.einsum("ij,ijm->m", w / jnp.sum(w), V)

@@ -189,7 +189,8 @@ class HybridScene(AssembledScene):
         pinion speed ``speed``): (the contact solution, X (n,), u·X of each mesh (m),
         (meshes,)); the arguments are those of :meth:`jaxgear.scenes.Scene.static_contact`.
         With :attr:`compliance` the position's cached slice is read instead, and the exact law
-        is solved on its factor (:mod:`jaxgear._cell_factor`)."""
+        is solved on its factor (:mod:`jaxgear._cell_factor`); the smooth law starts its
+        Newton iteration from that exact answer."""
         if self.compliance is None:
             r = self.window_row(cells, delta0)
             C, a0, E, b, x0 = self.cell_space(r, torque, speed)
@@ -208,23 +209,27 @@ class HybridScene(AssembledScene):
         x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
         a = torque * cs.a_torque + speed**2 * cs.a_centrifugal - r.delta0
         b = self.N.T @ self.external_load(torque, speed)
-        if isinstance(law, ExactContact):
-            sol, force, alpha = solve_factored_cells(
-                cs.B,
-                cs.C,
-                cs.E,
-                cs.kl,
-                cs.mask,
-                a,
-                b,
-                r.k,
-                law.max_iterations,
-                cs.lines,
-                cs.K_line,
-                cs.YF,
+        exact = isinstance(law, ExactContact)
+        sg = jax.lax.stop_gradient
+        sol, force, alpha = solve_factored_cells(
+            cs.B,
+            cs.C,
+            cs.E,
+            cs.kl,
+            cs.mask,
+            a if exact else sg(a),
+            b if exact else sg(b),
+            r.k,
+            law.max_iterations,
+            cs.lines,
+            cs.K_line,
+            cs.YF,
+        )
+        if not exact:  # Newton from the factored exact answer
+            start = (sol.gap, alpha, sol.iterations)
+            sol, force, alpha = solve_contact_cells(
+                cs.C, a, cs.E, b, r.k, r.length, r.mask, law, start
             )
-        else:
-            sol, force, alpha = solve_contact_cells(cs.C, a, cs.E, b, r.k, r.length, r.mask, law)
         u = self.te_vectors()
         te = u @ x0 - cs.te_rows @ force + (u @ self.N) @ alpha
         return sol, self.recover(r, x0, force, alpha), te
