@@ -441,3 +441,20 @@ def test_forward_mode_through_the_dynamics_matches_finite_differences(solver):
     fd = (float(f(15.0 + h)) - float(f(15.0 - h))) / (2 * h)
     assert abs(float(tangent)) > 1e-3
     assert float(tangent) == pytest.approx(fd, rel=1e-4)
+
+
+def test_a_window_that_keeps_every_period_runs_without_a_transient(accessory):
+    """``SteadyState(p, keep_periods=p)`` (the docstring allows keep_periods = periods) records
+    from the first step: no transient run before it (it failed with an IndexError on the empty
+    transient); its last two periods are the records of ``SteadyState(p, 2)``, the same steps."""
+    case, scene = accessory
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=32)
+    run = {"integrator": Newmark(32)}
+    whole = simulate(model, 500.0, window=SteadyState(3, 3), **run)
+    tail = simulate(model, 500.0, window=SteadyState(3, 2), **run)
+    assert int(whole.result) == 0 and int(tail.result) == 0
+    te_whole, te_tail = np.asarray(whole.transmission_error), np.asarray(tail.transmission_error)
+    assert te_whole.shape[-1] == 3 * 32 and te_tail.shape[-1] == 2 * 32
+    np.testing.assert_allclose(
+        te_whole[..., 32:], te_tail, rtol=0, atol=1e-12 * np.abs(te_tail).max()
+    )

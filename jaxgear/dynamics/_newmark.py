@@ -106,6 +106,17 @@ def contact_coordinates(scene, n: int, condense: bool = True) -> tuple | None:
     return None if dofs is None or len(dofs) == n else tuple(dofs)
 
 
+def _no_steps(inputs, record) -> bool:
+    """True when ``inputs`` hold no step (B · S = 0): an unrecorded transient of zero periods
+    (``SteadyState(periods, keep_periods=periods)``); a recorded run must have steps."""
+    shape = jax.tree.leaves(inputs)[0].shape
+    if shape[0] * shape[1]:
+        return False
+    if record is not None:
+        raise ValueError("newmark: no step to record (the kept window is empty)")
+    return True
+
+
 def newmark(
     K: Float[Array, "n n"],
     M: Float[Array, "n n"],
@@ -164,6 +175,8 @@ def newmark(
     b, g = BETA, GAMMA
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     Keff = K + a0 * M + a1 * C
+    if _no_steps(inputs, record):  # a steady-state window with no transient before it
+        return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     coordinates = jax.eval_shape(cells_at, first).idx is None
     if coordinates and mesh_damping is not None:
@@ -346,6 +359,8 @@ def newmark_modal(
     b, g = BETA, GAMMA
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     Keff = Kr + a0 * Mr + a1 * Cr
+    if _no_steps(inputs, record):  # a steady-state window with no transient before it
+        return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     if jax.eval_shape(cells_at, first).idx is None:
         raise ValueError("the modal basis needs the cell space (a window of coordinates)")
