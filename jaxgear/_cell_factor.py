@@ -13,9 +13,9 @@ full contact set F (every cell on the flanks, w = 1) is formed once per scene, a
   otherwise one Cholesky factorisation on the smaller of D and A (at most ⌈c/2⌉ cells,
   gathered to that fixed size with identity padding): of B_DD, or of (I + S C S)_AA itself
   when the active set is the smaller. Under ``jax.vmap`` that factorisation runs only on the
-  positions that need it, gathered in chunks (:func:`jaxgear._util.only_where_needed`): a vmapped ``cond``
-  or while loop would factor the whole batch whenever one position needs it (in a 41 × 41
-  relief map that was 0.76 s of 1.85 s).
+  positions that need it, gathered in chunks (:func:`jaxgear._util.only_where_needed`): a
+  vmapped ``cond`` or while loop would factor the whole batch whenever one position needs it
+  (in a 41 × 41 relief map that was 0.76 s of 1.85 s).
 
 Exact contact only: the smooth law's Newton matrices (weights φ' in (0, 1)) are not subsets of
 F. Gradients: the iteration runs on stopped values; the answer with the final active set held

@@ -151,8 +151,9 @@ def newmark(
         record: (X, Ẋ, P) ↦ a pytree kept for every recorded step, P the cell forces (N),
             (c,); None keeps nothing (a transient).
         check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. the mesh
-            force beyond its bound: code 3), 0 if none; the loop itself flags contact loops that did not converge,
-            non-finite states and cells outside the mesh damping's window.
+            force beyond its bound: code 3), 0 if none; the loop itself flags contact loops
+            that did not converge, non-finite states and cells outside the mesh damping's
+            window.
         block_check: (X, Ẋ) ↦ a result code of the state at the end of each block, or None:
             the place for a check that costs a product with an n × n matrix (the kinetic
             energy ½ ẊᵀMẊ), paid once per block (e.g. mesh period) instead of every step; it
@@ -170,13 +171,13 @@ def newmark(
         (the final state, the records flattened over the recorded blocks, leading axis
         min(B, keep_blocks)·S, or None). The result code keeps the first failure of the run.
     """
+    if _no_steps(inputs, record):  # a steady-state window with no transient before it
+        return state, None
     dtype = K.dtype
     n = K.shape[0]
     b, g = BETA, GAMMA
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     Keff = K + a0 * M + a1 * C
-    if _no_steps(inputs, record):  # a steady-state window with no transient before it
-        return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     coordinates = jax.eval_shape(cells_at, first).idx is None
     if coordinates and mesh_damping is not None:
@@ -228,16 +229,14 @@ def newmark(
             v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
             u = a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd
             inside = jnp.array(True)
-            if coordinates and reduced is not None:
-                Fj, y = reduced.load(F + M @ u + C @ v)
-                Vj = row.V[:, reduced.J]
-                sol = solve_contact(reduced.S, Fj, Vj, row.k, row.length, row.delta0, row.mask, law)
-                Xn = reduced.expand(sol.x, y)
-                P = sol.force_density * row.length
-            elif coordinates:
+            if coordinates:
                 Feff = F + M @ u + C @ v
-                sol = solve_contact(Keff, Feff, row.V, row.k, row.length, row.delta0, row.mask, law)
-                Xn = sol.x
+                if reduced is None:
+                    Ks, Fs, Vs = Keff, Feff, row.V
+                else:  # on the coordinates the cells reach
+                    (Fs, y), Ks, Vs = reduced.load(Feff), reduced.S, row.V[:, reduced.J]
+                sol = solve_contact(Ks, Fs, Vs, row.k, row.length, row.delta0, row.mask, law)
+                Xn = sol.x if reduced is None else reduced.expand(sol.x, y)
                 P = sol.force_density * row.length
             else:
                 idx = row.idx
@@ -353,14 +352,14 @@ def newmark_modal(
     Returns:
         As :func:`newmark`; the state as ``state``.
     """
+    if _no_steps(inputs, record):  # a steady-state window with no transient before it
+        return state, None
     dtype = Kr.dtype
     D, G, xF = space
     n = D.shape[0]
     b, g = BETA, GAMMA
     a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
     Keff = Kr + a0 * Mr + a1 * Cr
-    if _no_steps(inputs, record):  # a steady-state window with no transient before it
-        return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     if jax.eval_shape(cells_at, first).idx is None:
         raise ValueError("the modal basis needs the cell space (a window of coordinates)")
