@@ -90,7 +90,8 @@ def parse_robust(table, teeth: tuple[int, int], *, grade_from_deviations=None) -
             f"allowed <= {MAX_ROBUST_POSITIONS}",
             rev,
         )
-    out["speeds_rad_s"] = sc.number_list(table, "speeds_rad_s", where, [], allowed="> 0")
+    # as [operating] speed_rad_s: up to 1e5 rad/s (a mesh frequency beyond any gear's)
+    out["speeds_rad_s"] = sc.number_list(table, "speeds_rad_s", where, [], allowed="(0, 1e+05]")
     out["steps_per_period"] = sc.number(
         table, "steps_per_period", where, 32, allowed=">= 8", integer=True
     )

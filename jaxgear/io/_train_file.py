@@ -84,14 +84,15 @@ from ._case_file import (
     _MOD_KEYS,
     _SCHEMA,
     CENTER_DISTANCE_TOL_MM,
-    MIN_FACE_WIDTH_MODULE,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
     CaseWarning,
     _member,
     _member_mods,
+    check_member_size,
     parse_material,
     parse_mesh_settings,
+    parse_torque,
     plausibility,
 )
 from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
@@ -163,14 +164,7 @@ def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
     alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
     beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
     member = _member({where: {k: v for k, v in table.items() if k in _MEMBER_KEYS}}, where)
-    b_min = MIN_FACE_WIDTH_MODULE * module
-    if member.face_width * 1e3 < b_min:
-        raise sc.fail(
-            where,
-            "face_width_mm",
-            f"out of range, allowed >= {b_min:.6g} ({MIN_FACE_WIDTH_MODULE:g} × normal_module_mm)",
-            table["face_width_mm"],
-        )
+    check_member_size(table, where, member, module, alpha)
     return name, {
         "member": member,
         "module_mm": module,
@@ -221,7 +215,7 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
     return pair
 
 
-def _modifications(table: Any, names: list[str]) -> tuple:
+def _modifications(table: Any, names: list[str], modules: list[float]) -> tuple:
     """``[modifications]``: the common entries on every gear, ``[modifications.<gear>]``
     replacing them for that gear; one :class:`MemberModification` per gear."""
     if not isinstance(table, dict):
@@ -229,10 +223,10 @@ def _modifications(table: Any, names: list[str]) -> tuple:
     sc.check_keys(table, {*_MOD_KEYS, *names}, "modifications")
     common = {k: (v, "modifications") for k, v in table.items() if k in _MOD_KEYS}
     out = []
-    for name in names:
+    for name, module in zip(names, modules, strict=True):
         own = sc.subtable(table, name, "modifications", _MOD_KEYS)
         where = f"modifications.{name}"
-        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
+        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module))
     return tuple(out)
 
 
@@ -628,7 +622,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         )
     E, nu, rho = parse_material(data)
     op = data["operating"]
-    torque = sc.number(op, "torque_Nm", "operating", allowed="> 0")
+    torque = parse_torque(op, pairs[0])  # on the input, the first mesh's driving gear
     speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     loads = _loads(op, index, shafts)
     drivers = {shafts[g] for g, _ in links}
@@ -649,7 +643,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             "balancing output"
         )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
-    mods = _modifications(data.get("modifications", {}), names)
+    mods = _modifications(
+        data.get("modifications", {}), names, [gears[n]["module_mm"] for n in names]
+    )
     shaft_list = list(shaft_names)
     scene, inertias, masses = (
         (None, (), ())
