@@ -112,8 +112,8 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         ),
         (
             {"modifications/tip_relief": {"depth_um": -2.5}},
-            "[modifications.tip_relief] depth_um = -2.5: out of range, allowed [0, 1500] (µm; up to 1 × "
-            "normal_module_mm)",
+            "[modifications.tip_relief] depth_um = -2.5: out of range, allowed [0, 1500] (µm; "
+            "up to 1 × normal_module_mm)",
         ),
         (
             {"modifications/crowning": {"depth_um": "3"}},
@@ -595,7 +595,8 @@ FLEXIBLE = tomllib.loads(
         ({"pinion/teeth": 10**400}, "[pinion] teeth = 1e+400: out of range, allowed [5, 10000]"),
         (
             {"operating/torque_Nm": -(10**400)},
-            "[operating] torque_Nm = -1e+400: out of range, allowed >= 2.91e-07 (a line load F_n/b of 1e-06 N/mm on this pair)",
+            "[operating] torque_Nm = -1e+400: out of range, allowed >= 2.91e-07 (a line load "
+            "F_n/b of 1e-06 N/mm on this pair)",
         ),
         (
             {"operating/torque_Nm": 10**400},

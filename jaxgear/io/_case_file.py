@@ -386,7 +386,9 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
         return sc.SchemaError(f"[pair] center_distance_mm = {v}: out of range, allowed {allowed}")
     if name == JAM:
         a = re.search(r"center_distance >= (\S+) mm", allowed)
-        total = sum(data.get(t, {}).get("tooth_thickness_allowance_um", 0.0) for t in ("pinion", "gear"))
+        total = sum(
+            data.get(t, {}).get("tooth_thickness_allowance_um", 0.0) for t in ("pinion", "gear")
+        )
         return sc.SchemaError(
             f"[pinion] tooth_thickness_allowance_um + [gear] tooth_thickness_allowance_um = "
             f"{sc.fmt(total)}: out of range without [pair] center_distance_mm, allowed <= 0 (the "
@@ -703,7 +705,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         parse_robust(
             data["robust"],
             (pair.pinion.teeth, pair.gear.teeth),
-            grade_from_deviations=None if deviation_settings is None else deviation_settings["grade"],
+            grade_from_deviations=(deviation_settings or {}).get("grade"),
         )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
