@@ -2,13 +2,16 @@
 value as written and the allowed range, before any computation or file (round 4 of the edges)."""
 
 import importlib.resources
+import re
 import tomllib
 
 import pytest
 
+import fem_prep
 import jaxgear.io as jio
 from _toml import ACCESSORY_PAIR
 from fem_prep import schema as sc
+from fem_prep.cli import main as fem_main
 from jaxgear.cli import main
 
 
@@ -216,3 +219,70 @@ def test_run_refuses_before_writing(tmp_path, capsys, subs, key):
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and len(err) == 1 and key in err[0] and "allowed" in err[0]
     assert not out.exists()
+
+
+# --------------------------------------------------------------------------------------------
+# fem-prep body files
+
+
+def _body_text(name: str, *subs) -> str:
+    text = (importlib.resources.files("fem_prep") / "bodies" / f"{name}.toml").read_text()
+    for old, new in subs:
+        assert re.search(rf"(?m)^{re.escape(old)}", text), old
+        text = re.sub(rf"(?m)^{re.escape(old)}", new, text, count=1)
+    return text
+
+
+@pytest.mark.parametrize(
+    ("subs", "needles"),
+    [
+        # a 4 GiB NumPy allocation in the mesher
+        (
+            (("size_mm = 3.5", "size_mm = 0.06"),),
+            ("[mesh] size_mm = 0.06:", "DOFs", "allowed <= 2e+06", "raise size_mm"),
+        ),
+        # at the printed floor exactly: not refused by the floor (it said "allowed >= 0.052")
+        (
+            (("rim_outer_radius_mm = 32.47", "rim_outer_radius_mm = 52.0"),
+             ("size_mm = 3.5", "size_mm = 0.052")),
+            ("[mesh] size_mm = 0.052: out of range: the mesh would have about",),
+        ),
+        (
+            (("modes = 50", "modes = 1e9"),),
+            ("[condensation] modes = 1e+09:", "allowed [0, 2000]"),
+        ),
+        (
+            (("speed_rad_s = ", "speed_rad_s = 1e300 #"),),
+            ("[centrifugal] speed_rad_s = 1e+300:", "allowed [0, 100000]"),
+        ),
+    ],
+    ids=["size-4GiB", "size-at-floor", "modes-1e9", "speed-1e300"],
+)
+def test_body_refused_before_meshing(tmp_path, capsys, subs, needles):
+    text = _body_text("accessory-pinion", *subs)
+    with pytest.raises(sc.SchemaError) as info:
+        fem_prep.parse_body(text)
+    msg = str(info.value)
+    for n in needles:
+        assert n in msg, msg
+    assert "allowed >= 0.052" not in msg
+    path = tmp_path / "body.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    assert fem_main(["build", str(path), "--out", str(out), "--quiet", "--no-cache"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and needles[0] in err[0]
+    assert not out.exists()
+
+
+def test_mesh_estimate_is_close_to_the_embedded_meshes():
+    """The DOF estimate that refuses a mesh is within 35 % of the mesher's count."""
+    from fem_prep._body import estimate_mesh_dofs
+    from fem_prep._mesh import mesh_body
+
+    body = fem_prep.load_body("accessory-pinion")
+    z = [b.axial_position for b in body.bearings]
+    est = estimate_mesh_dofs(
+        body.geometry, body.mesh, body.condensation.teeth, max(z) - min(z), body.pinion_rim
+    )
+    assert abs(est / mesh_body(body).n_dofs - 1) < 0.35
