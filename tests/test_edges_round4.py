@@ -275,14 +275,6 @@ def test_body_refused_before_meshing(tmp_path, capsys, subs, needles):
     assert not out.exists()
 
 
-def test_mesh_estimate_is_close_to_the_embedded_meshes():
-    """The DOF estimate that refuses a mesh is within 35 % of the mesher's count."""
-    from fem_prep._body import estimate_mesh_dofs
-    from fem_prep._mesh import mesh_body
-
-    body = fem_prep.load_body("accessory-pinion")
-    z = [b.axial_position for b in body.bearings]
-    est = estimate_mesh_dofs(
-        body.geometry, body.mesh, body.condensation.teeth, max(z) - min(z), body.pinion_rim
-    )
-    assert abs(est / mesh_body(body).n_dofs - 1) < 0.35
+def test_robust_grade_outside_iso1328_scope():
+    data = _pair("[robust]\ngrade = 6\n", ("teeth = 86", "teeth = 1200"))
+    _refused(data, "[gear] teeth = 1200:", "[robust] grade = 6", "allowed [5, 1000]")
