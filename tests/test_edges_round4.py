@@ -278,3 +278,18 @@ def test_body_refused_before_meshing(tmp_path, capsys, subs, needles):
 def test_robust_grade_outside_iso1328_scope():
     data = _pair("[robust]\ngrade = 6\n", ("teeth = 86", "teeth = 1200"))
     _refused(data, "[gear] teeth = 1200:", "[robust] grade = 6", "allowed [5, 1000]")
+
+
+def test_train_table_too_large_for_memory(tmp_path):
+    """A two-stage train with a 3500-tooth LST pinion: its mesh period, 127/3500 HST periods, is
+    no whole number of the 140 steps, so the table spans 17 780 rows (it ended in
+    'JaxRuntimeError: YNNPACK operation failed' after 108 s); refused naming steps_per_period."""
+    text = _embedded("two-stage")
+    text = re.sub(r'(name = "lst-pinion"[^\[]*?teeth = )\d+', r"\g<1>3500", text, count=1)
+    path = tmp_path / "big.toml"
+    path.write_text(text)
+    with pytest.raises(sc.SchemaError) as info:
+        jio.load_case(path)
+    msg = str(info.value)
+    assert msg.startswith("[scene.integration] steps_per_period = 140: out of range"), msg
+    assert "17780 rows" in msg and "allowed <= 1 GB" in msg and "a multiple of 3500" in msg
