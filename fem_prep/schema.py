@@ -429,7 +429,7 @@ def load_toml(raw: bytes | str, label: str) -> dict:
 
 
 _AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
-_HEADER = re.compile(r"\s*(\[\[?)\s*([^\]#]*?)\s*\]\]?\s*(?:#.*)?$")
+_HEADER = re.compile(r"\s*(\[\[?)\s*([^\]#,\[{=]+?)\s*\]\]?\s*(?:#.*)?$")
 _PART = r"""(?:[A-Za-z0-9_-]+|"[^"]*"|'[^']*')"""  # a bare or quoted key
 _KEY_AT = re.compile(rf"\s*({_PART}(?:\s*\.\s*{_PART})*)\s*=")
 
