@@ -477,7 +477,9 @@ def _toml_error(message: str, text: str) -> str:
         if what == "Cannot overwrite a value":
             return f"duplicate key {k!r}{inside} ({where})"
         return f"{what} at key {k!r}{inside} ({where})"
-    return f"{what}{f' in {table}' if table else ''} ({where})"
+    text = line.strip()
+    near = f" near {text if len(text) <= 30 else text[:27] + '...'!r}" if text else ""
+    return f"{what}{near}{f' in {table}' if table else ''} ({where})"
 
 
 # --------------------------------------------------------------------------------------------
