@@ -293,3 +293,30 @@ def test_train_table_too_large_for_memory(tmp_path):
     msg = str(info.value)
     assert msg.startswith("[scene.integration] steps_per_period = 140: out of range"), msg
     assert "17780 rows" in msg and "allowed <= 1 GB" in msg and "a multiple of 3500" in msg
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "needles"),
+    [
+        ("torque_Nm = 70.0", "torque_Nm = 5e-324", ("[operating] torque_Nm = 4.94066e-324:",)),
+        (
+            "face_width_mm = 25.0",
+            "face_width_mm = 1e308",
+            ("[gears.input] face_width_mm = 1e+308:", "allowed [0.15, 150]"),
+        ),
+        (
+            "dedendum_coeff = 1.25",
+            "dedendum_coeff = 2.0",
+            ("[gears.input] dedendum_coeff = 2:", "allowed <= 1.34274"),
+        ),
+    ],
+)
+def test_train_gear_and_torque_bounds(tmp_path, old, new, needles):
+    text = _embedded("two-stage")
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(sc.SchemaError) as info:
+        jio.load_case(path)
+    for n in needles:
+        assert n in str(info.value), str(info.value)
