@@ -295,6 +295,69 @@ _HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
 _LENGTH = "[0.001, 1e+06]"  # mm: 1 µm to 1 km (a denormal passes "> 0" and fails the mesher)
 
 
+#: the most DOFs a body's mesh may have (the embedded bodies: 17 k to 104 k): its assembly
+#: alone takes about 10 kB a DOF (20 GB here), the factorisation more
+MAX_MESH_DOFS = 2_000_000
+#: the most component modes of a condensation (the seed retains 50)
+MAX_MODES = 2000
+
+
+def estimate_mesh_dofs(
+    g: Geometry, ms: MeshSettings, teeth: int, z_span: float = 0.0, pinion=None
+) -> int:
+    """The DOFs of :func:`fem_prep.mesh_body`'s mesh, estimated from the body's section and the
+    element sizes without meshing it: structured hub (with its shaft stubs over ``z_span``, m, the
+    bearings' extent), web, rim and pinion rim columns, each of ``nr × nz`` cells with the finest
+    axial size (the axial grid is shared), × the circumferential divisions, nodes of the
+    serendipity (hex20) or Lagrange (hex27) element counted on that grid (within about 30 % of
+    the embedded bodies' meshes)."""
+    size = ms.size
+    s_hub, s_web, s_rim = (ms.hub_size or size), (ms.web_size or size), (ms.rim_size or size)
+    s_circ = ms.circumferential_size or size
+    s_z = min(s_hub, s_web, s_rim)
+    n = lambda length, s: max(1.0, round(length / s))  # noqa: E731 - divisions of a length
+    columns = [
+        (g.hub_outer_radius - g.bore_radius, s_hub, max(g.hub_width, z_span)),
+        (g.rim_inner_radius - g.hub_outer_radius, s_web, g.web_thickness),
+        (g.rim_outer_radius - g.rim_inner_radius, s_rim, g.rim_width),
+    ]
+    base = teeth
+    if pinion is not None:
+        columns.append((pinion.outer_radius - g.shaft_outer_radius, s_rim, pinion.width))
+        base = math.lcm(teeth, pinion.teeth)
+    nt = base * max(1, math.ceil(2 * math.pi * g.rim_outer_radius / (base * s_circ) - 0.25))
+    nodes = 0.0
+    for dr, s_r, dz in columns:
+        if dr <= 0 or dz <= 0:
+            continue
+        nr, nz = n(dr, s_r), n(dz, s_z)
+        corners = (nr + 1) * (nz + 1)
+        edges = nr * (nz + 1) + (nr + 1) * nz + corners  # radial, axial, circumferential
+        faces = nr * nz + nr * (nz + 1) + (nr + 1) * nz  # hex27: face and centre nodes
+        nodes += nt * (corners + edges + (faces + nr * nz if ms.element == "hex27" else 0))
+    return int(3 * nodes)
+
+
+def _check_mesh_size(ms: dict, mesh: MeshSettings, g: Geometry, bearings, teeth, pinion) -> None:
+    """Refuse, before meshing, a mesh of more than :data:`MAX_MESH_DOFS` (estimated), naming the
+    smallest element size given (``size_mm`` by default)."""
+    zb = [b.axial_position for b in bearings]
+    span = max(zb) - min(zb) if zb else 0.0
+    dofs = estimate_mesh_dofs(g, mesh, teeth, span, pinion)
+    if dofs <= MAX_MESH_DOFS:
+        return
+    given = {k: v for k, v in ms.items() if k.endswith("size_mm")} or {"size_mm": 2.0}
+    key = min(given, key=lambda k: given[k])
+    raise sc.fail(
+        "mesh",
+        key,
+        f"out of range: the mesh would have about {dofs:.3g} DOFs ({mesh.element}), allowed <= "
+        f"{MAX_MESH_DOFS:.3g} (about {MAX_MESH_DOFS * 1e4 / 1e9:.3g} GB to assemble): raise "
+        f"{key}",
+        given[key],
+    )
+
+
 def _within(key: str, value: float, rng: str, note: str, where: str = "body") -> None:
     """Raise ``[where] key = value: out of range, allowed rng (note)`` unless value in rng."""
     r = sc.Interval.parse(rng)
@@ -431,7 +494,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
     # ---- [mesh]
     ms = sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
     element = sc.choice(ms, "element", "mesh", ELEMENTS, "hex20")
-    floor = 1e-3 * rim_o
+    floor = float(f"{1e-3 * rim_o:.6g}")  # the bound as printed (0.052 for a 52 mm rim)
     sizes = {}
     for key in ("size_mm", "hub_size_mm", "web_size_mm", "rim_size_mm", "circumferential_size_mm"):
         v = sc.number(ms, key, "mesh", 2.0 if key == "size_mm" else None, allowed=_LENGTH)
@@ -445,7 +508,9 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
     w = "condensation"
     condensation = Condensation(
         sc.choice(c, "method", w, METHODS, "craig-bampton"),
-        sc.number(c, "modes", w, 50, allowed=">= 0", integer=True),
+        sc.number(
+            c, "modes", w, 50, allowed=f"[0, {MAX_MODES}]", integer=True, note=" (the seed: 50)"
+        ),
         sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
         sc.number(c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True),
         sc.choice(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
@@ -453,7 +518,8 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
 
     # ---- [centrifugal]
     cf = sc.subtable(data, "centrifugal", "", _SCHEMA["centrifugal"])
-    speed = sc.number(cf, "speed_rad_s", "centrifugal", 0.0, allowed=">= 0")
+    # up to 1e5 rad/s (as jaxgear's [operating] speed_rad_s): a rim speed beyond any steel's
+    speed = sc.number(cf, "speed_rad_s", "centrifugal", 0.0, allowed="[0, 1e+05]")
     spin = sc.boolean(cf, "spin_softening", "centrifugal", False)
 
     # ---- [modal] (optional extension)
@@ -465,6 +531,7 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
     )
 
     pinion = _pinion_rim(data, geometry, bearings, condensation)
+    _check_mesh_size(ms, mesh, geometry, bearings, condensation.teeth, pinion)
 
     return Body(
         name=name,

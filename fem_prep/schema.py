@@ -421,11 +421,65 @@ def load_toml(raw: bytes | str, label: str) -> dict:
     try:
         return tomllib.loads(raw)
     except tomllib.TOMLDecodeError as err:
-        raise SchemaError(f"{label} is not valid TOML: {err}") from None
+        raise SchemaError(f"{label} is not valid TOML: {_toml_error(str(err), raw)}") from None
     except ValueError as err:  # e.g. an integer of more than 4300 digits
         raise SchemaError(f"{label} is not valid TOML: {err}") from None
     except RecursionError:
         raise SchemaError(f"{label} is not valid TOML: nested too deeply") from None
+
+
+_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
+_HEADER = re.compile(r"\s*(\[\[?)\s*([^\]#,\[{=]+?)\s*\]\]?\s*(?:#.*)?$")
+_PART = r"""(?:[A-Za-z0-9_-]+|"[^"]*"|'[^']*')"""  # a bare or quoted key
+_KEY_AT = re.compile(rf"\s*({_PART}(?:\s*\.\s*{_PART})*)\s*=")
+
+
+def _toml_error(message: str, text: str) -> str:
+    """tomllib's message with the key path it stops at, read from the line it names (and the
+    table header above it): ``Cannot overwrite a value (at line 14, column 20)`` becomes
+    ``duplicate key 'face_width_mm' in [[gears]] #2 (line 14, column 20)``."""
+    m = _AT.search(message)
+    lines = text.splitlines()
+    if m:
+        line_no, col = int(m.group(1)), int(m.group(2))
+    else:  # "(at end of document)": the last line that holds something
+        m = re.search(r"\s*\(at end of document\)$", message)
+        filled = [i for i, line in enumerate(lines, 1) if line.strip()]
+        if not m or not filled:
+            return message
+        line_no = filled[-1]
+        col = len(lines[line_no - 1]) + 1
+    if not 1 <= line_no <= len(lines):
+        return message
+    table, counts = "", {}
+    for line in lines[: line_no - 1]:  # the table the line lies in (its header above it)
+        h = _HEADER.match(line)
+        if h:
+            name = re.sub(r"\s*\.\s*", ".", h.group(2))
+            if h.group(1) == "[[":
+                counts[name] = counts.get(name, 0) + 1
+                table = f"[[{name}]] #{counts[name]}"
+            else:
+                table = f"[{name}]"
+    line = lines[line_no - 1]
+    header = _HEADER.match(line)
+    key = _KEY_AT.match(line)
+    where = f"line {line_no}, column {col}"
+    what = message[: m.start()]
+    if header:
+        name = re.sub(r"\s*\.\s*", ".", header.group(2))
+        if what.startswith("Cannot declare"):
+            return f"table [{name}] declared twice ({where})"
+        return f"{what} in the header [{name}] ({where})"
+    if key:
+        k = re.sub(r"\s*\.\s*", ".", key.group(1))
+        inside = f" in {table}" if table else ""
+        if what == "Cannot overwrite a value":
+            return f"duplicate key {k!r}{inside} ({where})"
+        return f"{what} at key {k!r}{inside} ({where})"
+    text = line.strip()
+    near = f" near {text if len(text) <= 30 else text[:27] + '...'!r}" if text else ""
+    return f"{what}{near}{f' in {table}' if table else ''} ({where})"
 
 
 # --------------------------------------------------------------------------------------------

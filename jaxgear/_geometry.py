@@ -75,6 +75,11 @@ class Member:
     tooth_thickness_allowance: float = 0.0
 
 
+#: the name in :class:`GearPair`'s error when teeth thickened by positive allowances jam at the
+#: default centre distance (the zero-backlash distance of the nominal teeth)
+JAM = "tooth_thickness_allowance (pinion + gear) without a center_distance"
+
+
 def _require(name: str, value: float, ok: bool, allowed: str) -> None:
     if not ok:
         raise ValueError(f"{name} = {value!r} is out of range: allowed {allowed}")
@@ -185,6 +190,14 @@ class GearPair:
         aA = (r[0] + r[1]) * math.cos(at) / math.cos(inverse_involute(inv_awtA))
         if self.center_distance is None:
             a, awt = a0, awt0
+            # thickened teeth (A_sn1 + A_sn2 > 0) do not fit at a0: no backlash to clamp to 0
+            _require(
+                JAM,
+                allowances,
+                aA <= a0 * (1 + 1e-9),
+                f"<= 0 m (the teeth jam at the zero-backlash distance {a0 * 1e3:.6f} mm of the "
+                f"nominal teeth); or give center_distance >= {aA * 1e3:.6f} mm",
+            )
         else:
             a = float(self.center_distance)
             _require(

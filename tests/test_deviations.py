@@ -365,7 +365,7 @@ def _raw():
         ({"pinion": {"pitch_um": [0.5] + [0.0] * 44}}, "sum to 0.5 µm, allowed a sum of 0"),
         (
             {"gear": {"runout_um": -2.0}},
-            "[deviations.gear] runout_um = -2: out of range, allowed >= 0",
+            "[deviations.gear] runout_um = -2: out of range, allowed [0, 1500]",
         ),
         (
             {"gear": {"profile_slope_um": "big"}},

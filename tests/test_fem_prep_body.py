@@ -83,7 +83,7 @@ def _replace(old: str, new: str) -> str:
             "rim_width_mm = 0.0",
             r"rim_width_mm = 0: out of range, allowed \[0.001, 1e\+06\]",
         ),
-        ("modes = 50", "modes = -1", "modes = -1: out of range, allowed >= 0"),
+        ("modes = 50", "modes = -1", r"modes = -1: out of range, allowed \[0, 2000\]"),
         ('method = "craig-bampton"', 'method = "mcneal"', "method = 'mcneal'"),
         ('element = "hex20"', 'element = "tet10"', "element = 'tet10'"),
         ('coupling = "rigid"', 'coupling = "glue"', "coupling = 'glue'"),

@@ -112,7 +112,8 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
         ),
         (
             {"modifications/tip_relief": {"depth_um": -2.5}},
-            "[modifications.tip_relief] depth_um = -2.5: out of range, allowed >= 0",
+            "[modifications.tip_relief] depth_um = -2.5: out of range, allowed [0, 1500] (µm; "
+            "up to 1 × normal_module_mm)",
         ),
         (
             {"modifications/crowning": {"depth_um": "3"}},
@@ -594,11 +595,13 @@ FLEXIBLE = tomllib.loads(
         ({"pinion/teeth": 10**400}, "[pinion] teeth = 1e+400: out of range, allowed [5, 10000]"),
         (
             {"operating/torque_Nm": -(10**400)},
-            "[operating] torque_Nm = -1e+400: out of range, allowed > 0",
+            "[operating] torque_Nm = -1e+400: out of range, allowed >= 2.91e-07 (a line load "
+            "F_n/b of 1e-06 N/mm on this pair)",
         ),
         (
             {"operating/torque_Nm": 10**400},
-            "[operating] torque_Nm = 1e+400: out of range (beyond ±1.79769e+308), allowed > 0",
+            "[operating] torque_Nm = 1e+400: out of range (beyond ±1.79769e+308), "
+            "allowed >= 2.91e-07 (a line load F_n/b of 1e-06 N/mm on this pair)",
         ),
         (
             {"optimise/torques": [40.0, 10**400, 5]},
@@ -617,7 +620,8 @@ FLEXIBLE = tomllib.loads(
         # the culprit, not a downstream quantity
         (
             {"pinion/face_width_mm": 1e-9},
-            "[pinion] face_width_mm = 1e-09: out of range, allowed >= 0.15 (0.1 × normal_module_mm)",
+            "[pinion] face_width_mm = 1e-09: out of range, allowed [0.15, 150] (0.1 to 100 × "
+            "normal_module_mm)",
         ),
         (
             {"pair/normal_pressure_angle_deg": 1.0},

@@ -22,10 +22,17 @@ from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
 from .._case import Case, TrainCase
-from .._deviations import Deviations, GearDeviations, iso1328_tolerances, sample_gear_deviations
-from .._geometry import GearPair, Member
+from .._deviations import (
+    ISO1328_SCOPE,
+    Deviations,
+    GearDeviations,
+    iso1328_tolerances,
+    sample_gear_deviations,
+)
+from .._geometry import JAM, GearPair, Member
 from .._modifications import MemberModification, Modifications
 from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
+from ._robust_table import parse_robust
 from ._scene_table import parse_scene
 
 __all__ = [
@@ -112,7 +119,10 @@ MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
 # physical ranges of the pair (file units), checked before the geometry is computed
 MODULE_RANGE_MM = "[0.01, 100]"  # watch gears to mill gears
 PRESSURE_ANGLE_RANGE_DEG = "[10, 40]"  # below: undercut (z_min = 66 at 10°); above: pointed tips
-MIN_FACE_WIDTH_MODULE = 0.1  # face width >= 0.1 m_n
+MIN_FACE_WIDTH_MODULE = 0.1  # face width >= 0.1 m_n ...
+MAX_FACE_WIDTH_MODULE = 100.0  # ... and <= 100 m_n (usual b/m_n: 6 to 40)
+MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal module
+MIN_LINE_LOAD_N_PER_MM = 1e-6  # torque: F_n/b >= 1e-6 N/mm (δ_m ~ 1e-7 µm; below, round-off)
 CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-backlash one is it
 MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
 MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)
@@ -124,16 +134,31 @@ MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh fre
 # modifications
 
 
-def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
-    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m)."""
+def _depth_range(module_mm: float | None, signed: bool = False) -> tuple[str, str]:
+    """The allowed range (file units, µm) of a modification or deviation depth and its note:
+    up to ``MAX_DEPTH_MODULE`` normal modules (deeper, the flank is no longer a tooth's)."""
+    if module_mm is None:
+        return (">= 0" if not signed else "any"), ""
+    hi = MAX_DEPTH_MODULE * module_mm * 1e3
+    rng = f"[{-hi:.6g}, {hi:.6g}]" if signed else f"[0, {hi:.6g}]"
+    return rng, f" (µm; up to {MAX_DEPTH_MODULE:g} × normal_module_mm)"
+
+
+def _member_mods(
+    entries: dict[str, tuple[Any, str]], module_mm: float | None = None
+) -> MemberModification:
+    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m), each depth
+    within one normal module ``module_mm`` (mm) of the member."""
     kw: dict[str, Any] = {}
+    depth_rng, depth_note = _depth_range(module_mm)
+    signed_rng, _ = _depth_range(module_mm, signed=True)
     for name, (spec, where) in entries.items():
         if not isinstance(spec, dict):
             raise sc.fail(where, name, "must be a table, e.g. { depth_um = 10.0 }", spec)
         w = f"{where}.{name}"
         sc.check_keys(spec, _MOD_KEYS[name], w)
         if name in ("tip_relief", "root_relief"):
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0")
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
             extent = sc.number(
                 spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
             )
@@ -146,9 +171,11 @@ def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
                 }
             )
         elif name == "crowning":
-            kw["crowning_depth"] = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0") * 1e-6
+            kw["crowning_depth"] = (
+                sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note) * 1e-6
+            )
         elif name == "end_relief":
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=">= 0")
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
             extent = sc.number(
                 spec,
                 "extent",
@@ -160,10 +187,12 @@ def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
             edge = sc.choice(spec, "edge", w, ("both", "z0", "z1"), "both")
             kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
         elif name == "helix_slope":
-            kw["helix_slope_deviation"] = sc.number(spec, "deviation_um", w, 0.0) * 1e-6
+            kw["helix_slope_deviation"] = (
+                sc.number(spec, "deviation_um", w, 0.0, allowed=signed_rng, note=depth_note) * 1e-6
+            )
         elif name == "profile_deviation":
             u = sc.number_list(spec, "roll_fraction", w, min_length=2, allowed="[0, 1]")
-            d = sc.number_list(spec, "deviation_um", w, min_length=2)
+            d = sc.number_list(spec, "deviation_um", w, min_length=2, allowed=signed_rng)
             if len(u) != len(d):
                 raise sc.fail(w, "deviation_um", f"needs one value per roll_fraction ({len(u)})", d)
             if any(b <= a for a, b in itertools.pairwise(u)):
@@ -172,7 +201,7 @@ def _member_mods(entries: dict[str, tuple[Any, str]]) -> MemberModification:
     return MemberModification(**kw)
 
 
-def parse_modifications(table: dict) -> Modifications:
+def parse_modifications(table: dict, module_mm: float | None = None) -> Modifications:
     """``[modifications]`` → :class:`Modifications`.
 
     Entries directly under ``[modifications]`` apply to each member; entries under
@@ -190,7 +219,9 @@ def parse_modifications(table: dict) -> Modifications:
     for tag in ("pinion", "gear"):
         own = sc.subtable(table, tag, "modifications", _MOD_KEYS)
         where = f"modifications.{tag}"
-        members.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
+        members.append(
+            _member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module_mm)
+        )
     return Modifications(pinion=members[0], gear=members[1])
 
 
@@ -214,14 +245,14 @@ PITCH_CLOSURE_UM = 1e-6
 MAX_SPAN_POSITIONS = 2_000_000
 
 
-def _per_tooth(spec: dict, key: str, where: str, z: int):
+def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", note: str = ""):
     """A number (every tooth) or an array of one number per tooth, µm → m (None: absent)."""
     if key not in spec:
         return None
     v = spec[key]
     if isinstance(v, list):
-        return np.asarray(sc.number_list(spec, key, where, length=z)) * 1e-6
-    return sc.number(spec, key, where) * 1e-6
+        return np.asarray(sc.number_list(spec, key, where, length=z, allowed=allowed)) * 1e-6
+    return sc.number(spec, key, where, allowed=allowed, note=note) * 1e-6
 
 
 def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
@@ -266,6 +297,20 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
         )
     rng = np.random.default_rng(seed)
     members, tolerances = [], {}
+    # deviations up to one normal module (µm): beyond, the flank is no longer a tooth's
+    signed, note = _depth_range(pair.normal_module * 1e3, signed=True)
+    positive, _ = _depth_range(pair.normal_module * 1e3)
+    lo_z, hi_z = ISO1328_SCOPE["teeth"]
+    for tag, z in (("pinion", z1), ("gear", z2)):
+        if grade is not None and not lo_z <= z <= hi_z:
+            raise sc.fail(
+                tag,
+                "teeth",
+                f"out of range with [deviations] grade = {grade}, allowed [{lo_z}, {hi_z}] (the "
+                "scope of ISO 1328-1, which the grade's tolerances come from; give the "
+                f"deviations in [deviations.{tag}] without a grade instead)",
+                z,
+            )
     for tag, member, z in (("pinion", pair.pinion, z1), ("gear", pair.gear, z2)):
         spec = sc.subtable(table, tag, "deviations", _DEV_MEMBER_KEYS)
         where = f"deviations.{tag}"
@@ -283,7 +328,8 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
                 for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
             }
         if "pitch_um" in spec:
-            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z)) * 1e-6
+            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z, allowed=signed))
+            fpt = fpt * 1e-6
             if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
                 raise sc.fail(
                     where,
@@ -294,13 +340,13 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
                 )
             kw["single_pitch"] = fpt
         if "runout_um" in spec:
-            kw["runout"] = sc.number(spec, "runout_um", where, allowed=">= 0") * 1e-6
+            kw["runout"] = sc.number(spec, "runout_um", where, allowed=positive, note=note) * 1e-6
         if "runout_phase_deg" in spec:
             kw["runout_phase"] = math.radians(
                 sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
             )
         for f in _PER_TOOTH:
-            v = _per_tooth(spec, f"{f}_um", where, z)
+            v = _per_tooth(spec, f"{f}_um", where, z, signed, note)
             if v is not None:
                 kw[f] = v
         if not kw and grade is None:
@@ -338,6 +384,17 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
     if name == "center_distance":
         v = sc.fmt(file_value("pair", "center_distance_mm"))
         return sc.SchemaError(f"[pair] center_distance_mm = {v}: out of range, allowed {allowed}")
+    if name == JAM:
+        a = re.search(r"center_distance >= (\S+) mm", allowed)
+        total = sum(
+            data.get(t, {}).get("tooth_thickness_allowance_um", 0.0) for t in ("pinion", "gear")
+        )
+        return sc.SchemaError(
+            f"[pinion] tooth_thickness_allowance_um + [gear] tooth_thickness_allowance_um = "
+            f"{sc.fmt(total)}: out of range without [pair] center_distance_mm, allowed <= 0 (the "
+            "thickened teeth jam at the zero-backlash distance of the nominal teeth); or give "
+            f"[pair] center_distance_mm >= {a.group(1) if a else '?'}"
+        )
     if name.startswith("profile_shift (x1 + x2)"):
         return sc.SchemaError(
             f"[pinion] profile_shift + [gear] profile_shift = {sc.g6(value)}: out of range, "
@@ -382,6 +439,48 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
         v = sc.fmt(file_value("pair", keys[name]))
         return sc.SchemaError(f"[pair] {keys[name]} = {v}: out of range, allowed {allowed}")
     return sc.SchemaError(f"[pair] geometry: {sc.g6(msg)}")
+
+
+def check_member_size(t: dict, where: str, member: Member, module_mm: float, alpha_deg: float):
+    """A member's face width within [0.1, 100] normal modules and its generating rack a tooth:
+    the two tip roundings (ρ_fP = fillet_radius_coeff m_n) fit on the rack tooth's tip, whose
+    half-width is π/4 − h_fP tan α_n modules (ISO 53; fem_prep.tooth_form), i.e.
+    ρ_fP* <= (π/4 − h_fP* tan α_n) cos α_n / (1 − sin α_n). ``t``: the member's table as
+    written, ``where`` its key path."""
+    b_min, b_max = MIN_FACE_WIDTH_MODULE * module_mm, MAX_FACE_WIDTH_MODULE * module_mm
+    if not b_min <= member.face_width * 1e3 <= b_max:
+        raise sc.fail(
+            where,
+            "face_width_mm",
+            f"out of range, allowed [{b_min:.6g}, {b_max:.6g}] ({MIN_FACE_WIDTH_MODULE:g} to "
+            f"{MAX_FACE_WIDTH_MODULE:g} × normal_module_mm)",
+            t["face_width_mm"],
+        )
+    an = math.radians(alpha_deg)
+    hf, rho = member.dedendum_coeff, member.fillet_radius_coeff
+    shape = (1 - math.sin(an)) / math.cos(an)
+    rho_max = (math.pi / 4 - hf * math.tan(an)) / shape
+    if rho <= rho_max * (1 + 1e-12):
+        return
+    why = (
+        f"at normal_pressure_angle_deg = {alpha_deg:.6g} (the generating rack's tooth tip must "
+        "hold its two tip roundings of radius fillet_radius_coeff × m_n)"
+    )
+    if "fillet_radius_coeff" in t and rho_max > 0:
+        raise sc.fail(
+            where,
+            "fillet_radius_coeff",
+            f"out of range, allowed [0, {rho_max:.6g}] with dedendum_coeff = {hf:.6g} {why}",
+            t["fillet_radius_coeff"],
+        )
+    hf_max = (math.pi / 4 - rho * shape) / math.tan(an)
+    given = "" if "fillet_radius_coeff" in t else " (the default)"
+    raise sc.fail(
+        where,
+        "dedendum_coeff",
+        f"out of range, allowed <= {hf_max:.6g} with fillet_radius_coeff = {rho:.6g}{given} {why}",
+        t.get("dedendum_coeff", member.dedendum_coeff),
+    )
 
 
 def _member(data: dict, tag: str, keys=_MEMBER_KEYS) -> Member:
@@ -429,6 +528,25 @@ def _member(data: dict, tag: str, keys=_MEMBER_KEYS) -> Member:
             t, "tooth_thickness_allowance_um", tag, 0.0, allowed="[-1e+04, 1e+04]"
         )
         * 1e-6,
+    )
+
+
+def parse_torque(op: dict, pair: GearPair) -> float:
+    """``[operating] torque_Nm`` (N·m): positive and at least the torque of a line load
+    F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on ``pair`` (below, the deflections are round-off)."""
+    t_min = (
+        MIN_LINE_LOAD_N_PER_MM
+        * 1e3
+        * pair.face_width
+        * pair.base_radii[0]
+        * math.cos(pair.base_helix_angle)
+    )
+    return sc.number(
+        op,
+        "torque_Nm",
+        "operating",
+        allowed=f">= {float(f'{t_min:.3g}'):.3g}",
+        note=f" (a line load F_n/b of {MIN_LINE_LOAD_N_PER_MM:g} N/mm on this pair)",
     )
 
 
@@ -545,15 +663,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                 "normal_module_mm; negative thins the tooth)",
                 data[tag]["tooth_thickness_allowance_um"],
             )
-        b_min = MIN_FACE_WIDTH_MODULE * module
-        if member.face_width * 1e3 < b_min:
-            raise sc.fail(
-                tag,
-                "face_width_mm",
-                f"out of range, allowed >= {b_min:.6g} ({MIN_FACE_WIDTH_MODULE:g} × "
-                "normal_module_mm)",
-                data[tag]["face_width_mm"],
-            )
+        check_member_size(data[tag], tag, member, module, alpha)
     geometry = {
         "pinion": pinion,
         "gear": gear,
@@ -562,7 +672,12 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         "helix_angle": math.radians(beta),
     }
     try:
-        pair = GearPair(**geometry)
+        try:
+            pair = GearPair(**geometry)
+        except ValueError as err:  # thickened teeth jam at the nominal zero-backlash distance
+            if cd is None or not str(err).startswith(JAM):
+                raise
+            pair = GearPair(**geometry, center_distance=cd * 1e-3)
         a0_mm = pair.zero_backlash_center_distance * 1e3
         if cd is not None and cd < a0_mm - CENTER_DISTANCE_TOL_MM:
             raise sc.fail(
@@ -579,13 +694,19 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
             raise
         raise _geometry_error(err, data) from None
     E, nu, rho = parse_material(data)
-    torque = sc.number(data["operating"], "torque_Nm", "operating", allowed="> 0")
+    torque = parse_torque(data["operating"], pair)
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     mesh = parse_mesh_settings(data, pair.normal_module)
-    mods = parse_modifications(data.get("modifications", {}))
+    mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (
         parse_deviations(data["deviations"], pair) if "deviations" in data else (None, None)
     )
+    if "robust" in data:  # jaxgear robust's table, checked by every command (run, sweep)
+        parse_robust(
+            data["robust"],
+            (pair.pinion.teeth, pair.gear.teeth),
+            grade_from_deviations=(deviation_settings or {}).get("grade"),
+        )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):

@@ -7,6 +7,8 @@ from typing import Any
 
 from fem_prep import schema as sc
 
+from .._deviations import ISO1328_SCOPE
+
 __all__ = ["ROBUST_DEFAULTS", "parse_robust"]
 
 #: the settings of ``jaxgear robust`` when neither ``[robust]`` nor an option gives them
@@ -65,6 +67,17 @@ def parse_robust(table, teeth: tuple[int, int], *, grade_from_deviations=None) -
     out["grade"] = sc.number(
         table, "grade", where, grade_from_deviations, allowed="[1, 11]", integer=True
     )
+    if out["grade"] is not None:  # the tolerances of ISO 1328-1 hold within its scope only
+        lo, hi = ISO1328_SCOPE["teeth"]
+        for tag, z in zip(("pinion", "gear"), teeth, strict=True):
+            if not lo <= z <= hi:
+                raise sc.fail(
+                    tag,
+                    "teeth",
+                    f"out of range with [robust] grade = {out['grade']}, allowed [{lo}, {hi}] "
+                    "(the scope of ISO 1328-1, which the grade's tolerances come from)",
+                    z,
+                )
     out["samples"] = sc.number(table, "samples", where, 200, allowed=">= 2", integer=True)
     out["seed"] = sc.number(table, "seed", where, 0, allowed=">= 0", integer=True)
     out["members"] = _names(table, "members", ("pinion", "gear"), where)
@@ -90,7 +103,8 @@ def parse_robust(table, teeth: tuple[int, int], *, grade_from_deviations=None) -
             f"allowed <= {MAX_ROBUST_POSITIONS}",
             rev,
         )
-    out["speeds_rad_s"] = sc.number_list(table, "speeds_rad_s", where, [], allowed="> 0")
+    # as [operating] speed_rad_s: up to 1e5 rad/s (a mesh frequency beyond any gear's)
+    out["speeds_rad_s"] = sc.number_list(table, "speeds_rad_s", where, [], allowed="(0, 1e+05]")
     out["steps_per_period"] = sc.number(
         table, "steps_per_period", where, 32, allowed=">= 8", integer=True
     )

@@ -79,6 +79,8 @@ _SHAFT_KEYS = {
     "elements",
     "bearings",
 }
+#: two radial bearings without tilt stiffness: at least 1 % of the shaft length apart
+MIN_BEARING_SPAN = 0.01
 _DIAGONAL_BEARING_KEYS = ("radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad")
 _BEARING_KEYS = {"position_mm", *_DIAGONAL_BEARING_KEYS, "stiffness_matrix_SI", "damping_matrix_SI"}
 _DAMPING_KEYS = {"model", "ratio", "alpha_per_s", "beta_s", "mesh_ratio", "structure_ratio"}
@@ -158,11 +160,25 @@ def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
             f"[{where}] bearings: needs an axial stiffness on at least one bearing "
             "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)"
         )
-    radial = sum(d[0] > 0 and d[1] > 0 for d in diag)
-    if radial < 2 and not any(d[3] > 0 and d[4] > 0 for d in diag):
-        raise sc.SchemaError(
-            f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold the shaft"
-        )
+    radial = [b.z for b, d in zip(out, diag, strict=True) if d[0] > 0 and d[1] > 0]
+    if not any(d[3] > 0 and d[4] > 0 for d in diag):
+        if len(radial) < 2:
+            raise sc.SchemaError(
+                f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold "
+                "the shaft"
+            )
+        # two radial bearings at one position hold the shaft like one: it tilts freely
+        span_mm = (max(radial) - min(radial)) * 1e3
+        min_span = MIN_BEARING_SPAN * length_mm
+        if span_mm < min_span:
+            raise sc.fail(
+                where,
+                "bearings",
+                f"radial bearings at position_mm = {min(radial) * 1e3:.6g} to "
+                f"{max(radial) * 1e3:.6g}, allowed at least {min_span:.6g} mm apart "
+                f"({100 * MIN_BEARING_SPAN:g} % of length_mm; closer, they do not stop the shaft "
+                "tilting) or a tilt stiffness (tilt_Nm_per_rad)",
+            )
     return ShaftSpec(
         length=length,
         diameter=diameter,
@@ -210,7 +226,7 @@ def parse_body(table: dict, key: str, base_dir: str | None, parent: str = "scene
     if ref.endswith((".toml", ".npz")):
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
         if not os.path.isfile(path):
-            raise sc.fail(where, "body", f"no such file {path!r}", ref)
+            raise _body_error(where, f"no such file {path!r}", ref)
         _check_body_file(path, ref, where)
         return path
     names = fem_prep.embedded_bodies()
@@ -224,6 +240,13 @@ def parse_body(table: dict, key: str, base_dir: str | None, parent: str = "scene
     return ref
 
 
+def _body_error(where: str, why: str, ref: str) -> sc.SchemaError:
+    """``[where] body = 'ref': why`` with the whole path (``sc.fail`` shortens long strings to
+    40 characters, which cut a path before its file's name)."""
+    p = sc.key_path(where, "body")
+    return sc.SchemaError(f"{p} = {ref!r}: {why}", p)
+
+
 def _check_body_file(path: str, ref: str, where: str) -> None:
     """A body file must be what its extension says, read now (before any work): a fem_prep body
     file (``.toml``, checked against its schema) or a condensed body (``.npz``, format checked)."""
@@ -234,19 +257,20 @@ def _check_body_file(path: str, ref: str, where: str) -> None:
             with open(path, "rb") as f:
                 data = sc.load_toml(f.read(), f"body file {path!r}")
             if "pair" in data and "body" not in data:
-                why = f"{path!r} is a jaxgear case file ([pair]), not a fem_prep body file"
-                raise sc.fail(where, "body", why, ref)
+                what = "it" if path == ref else repr(path)
+                why = f"{what} is a jaxgear case file ([pair]), not a fem_prep body file"
+                raise _body_error(where, why, ref)
             fem_prep.load_body(path)
         except (sc.SchemaError, OSError) as err:
             if getattr(err, "path", None) == f"[{where}] body":
                 raise
-            raise sc.fail(where, "body", f"not a fem_prep body file {path!r}: {err}", ref) from None
+            raise _body_error(where, f"not a fem_prep body file {path!r}: {err}", ref) from None
         return
     try:
         fem_prep.load_condensed(path)
     except (ValueError, OSError) as err:
         why = str(err).removeprefix(f"{path}: ")
-        raise sc.fail(where, "body", f"not a condensed body file {path!r}: {why}", ref) from None
+        raise _body_error(where, f"not a condensed body file {path!r}: {why}", ref) from None
 
 
 def parse_dynamics_settings(table: dict) -> dict:

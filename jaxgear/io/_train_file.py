@@ -69,6 +69,7 @@ mesh with each other overlapping (tip circles apart).
 
 from __future__ import annotations
 
+import fractions
 import math
 import warnings
 from typing import Any
@@ -84,14 +85,15 @@ from ._case_file import (
     _MOD_KEYS,
     _SCHEMA,
     CENTER_DISTANCE_TOL_MM,
-    MIN_FACE_WIDTH_MODULE,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
     CaseWarning,
     _member,
     _member_mods,
+    check_member_size,
     parse_material,
     parse_mesh_settings,
+    parse_torque,
     plausibility,
 )
 from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
@@ -163,14 +165,7 @@ def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
     alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
     beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
     member = _member({where: {k: v for k, v in table.items() if k in _MEMBER_KEYS}}, where)
-    b_min = MIN_FACE_WIDTH_MODULE * module
-    if member.face_width * 1e3 < b_min:
-        raise sc.fail(
-            where,
-            "face_width_mm",
-            f"out of range, allowed >= {b_min:.6g} ({MIN_FACE_WIDTH_MODULE:g} × normal_module_mm)",
-            table["face_width_mm"],
-        )
+    check_member_size(table, where, member, module, alpha)
     return name, {
         "member": member,
         "module_mm": module,
@@ -221,7 +216,7 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
     return pair
 
 
-def _modifications(table: Any, names: list[str]) -> tuple:
+def _modifications(table: Any, names: list[str], modules: list[float]) -> tuple:
     """``[modifications]``: the common entries on every gear, ``[modifications.<gear>]``
     replacing them for that gear; one :class:`MemberModification` per gear."""
     if not isinstance(table, dict):
@@ -229,10 +224,10 @@ def _modifications(table: Any, names: list[str]) -> tuple:
     sc.check_keys(table, {*_MOD_KEYS, *names}, "modifications")
     common = {k: (v, "modifications") for k, v in table.items() if k in _MOD_KEYS}
     out = []
-    for name in names:
+    for name, module in zip(names, modules, strict=True):
         own = sc.subtable(table, name, "modifications", _MOD_KEYS)
         where = f"modifications.{name}"
-        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}))
+        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module))
     return tuple(out)
 
 
@@ -628,7 +623,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         )
     E, nu, rho = parse_material(data)
     op = data["operating"]
-    torque = sc.number(op, "torque_Nm", "operating", allowed="> 0")
+    torque = parse_torque(op, pairs[0])  # on the input, the first mesh's driving gear
     speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     loads = _loads(op, index, shafts)
     drivers = {shafts[g] for g, _ in links}
@@ -649,7 +644,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             "balancing output"
         )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
-    mods = _modifications(data.get("modifications", {}), names)
+    mods = _modifications(
+        data.get("modifications", {}), names, [gears[n]["module_mm"] for n in names]
+    )
     shaft_list = list(shaft_names)
     scene, inertias, masses = (
         (None, (), ())
@@ -692,6 +689,56 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             "the first mesh: the kept periods must hold them all)",
             scene.keep_periods,
         )
+    if scene is not None:
+        _check_table_size(case, scene, mesh["slices"])
     for text in plausibility(case):  # absurd but valid: as a pair case, per mesh
         warnings.warn(text, CaseWarning, stacklevel=2)
     return case
+
+
+#: the most bytes the dynamics' mesh table may take (1 GB: building it takes several times as
+#: much; the 17 780-row table of a 3500-tooth LST pinion at 20 slices ran out of memory)
+MAX_TABLE_BYTES = 1e9
+
+
+def _check_table_size(case: TrainCase, scene: SceneSpec, slices: int) -> None:
+    """Refuse, before any work, a dynamics mesh table above :data:`MAX_TABLE_BYTES`: with
+    ``steps_per_period`` N_s given, mesh k is tabulated over its own period T_k/T_0 (periods of
+    the first mesh) when N_s T_k is whole, else over the whole span of q periods (N_s q rows); a
+    row holds each cell's vector on every coordinate (8 bytes each) and a few scalars. The
+    message says which multiple of steps makes every mesh's own period whole."""
+    spp = scene.steps_per_period
+    if spp is None or any(b is not None for b in scene.gear_bodies or ()):
+        return  # "auto" steps are multiples of those periods' denominators; bodies: own tables
+    q = case.span_periods
+    ratio = {case.shaft_of[0]: fractions.Fraction(1)}
+    z0 = case.pairs[0].pinion.teeth
+    periods, cells = [], 0
+    for pair, (g, h) in zip(case.pairs, case.gears, strict=True):
+        rg = ratio[case.shaft_of[g]]
+        ratio[case.shaft_of[h]] = rg * pair.pinion.teeth / pair.gear.teeth
+        periods.append(fractions.Fraction(z0) / (pair.pinion.teeth * rg))
+        lead = pair.face_width * math.tan(pair.base_helix_angle)
+        lines = math.floor((pair.path_of_contact + lead) / pair.base_pitch * (1 + 1e-12)) + 1
+        cells += lines * slices
+    rows = max(
+        int(spp * t) if (spp * t).denominator == 1 and (spp * q) % (spp * t) == 0 else spp * q
+        for t in periods
+    )
+    if scene.model == "lumped3d" and scene.shafts:
+        coords = sum(6 * (s.elements + 1 + len(s.gear_positions)) for s in scene.shafts)
+    else:
+        coords = case.n_shafts
+    need = 8.0 * rows * cells * (coords + 8)
+    if need <= MAX_TABLE_BYTES:
+        return
+    multiple = math.lcm(*(t.denominator for t in periods))
+    raise sc.fail(
+        "scene.integration",
+        "steps_per_period",
+        f"out of range: the dynamics' mesh table of the {q}-period span needs {rows} rows × "
+        f"{cells} cells × {coords} coordinates, about {need / 1e9:.3g} GB, allowed <= "
+        f"{MAX_TABLE_BYTES / 1e9:.3g} GB: a multiple of {multiple} (each mesh tabulated over its "
+        "own period), 'auto', or fewer [mesh] slices",
+        spp,
+    )
