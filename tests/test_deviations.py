@@ -1,4 +1,4 @@
-"""Manufacturing deviations per tooth (issue 22 §1, docs/deviations.md): ISO 1328-1:2013
+"""Manufacturing deviations per tooth (docs/deviations.md): ISO 1328-1:2013
 tolerances against the standard's formulas written out here, the stated statistics of the draws
 for a grade, the quasi-static TE step of a single pitch deviation (single- and double-pair
 contact), the TE and order spectrum of a runout, the case keys and the `jaxgear run` outputs."""
