@@ -271,7 +271,9 @@ class MeshModel(eqx.Module):
     def cells(self, theta: Float[Array, ""]) -> Cells:
         """Cells at pinion angle ``theta`` (rad, from a position where a contact line is at s=0).
 
-        Only the angle modulo one mesh period matters (no pitch deviations are modelled). With
+        Only the angle modulo one mesh period matters: the cells (layout, stiffness, mask)
+        repeat every period; per-tooth deviations enter through the initial separation, at the
+        absolute angle (:func:`jaxgear.separation`, ``Modifications.deviations``). With
         ``coast`` the coast lines follow the drive lines: rows ``n_drive_lines`` on, at the
         layout's angle θ_c − θ in the second base plane (``flank`` −1; docs/backlash.md).
         """

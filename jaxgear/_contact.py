@@ -289,7 +289,10 @@ def solve_contact(
     """Solve the unilateral contact problem on a linear structure (unknowns: the coordinates X).
 
     Args:
-        Ks: structure stiffness (units of F per unit X), shape (n, n).
+        Ks: structure stiffness (units of F per unit X), shape (n, n). K_s plus the stiffness
+            of the cells in contact must be regular: pin a free structure's rigid-body modes
+            first (:func:`jaxgear.scenes.rigid_mode_penalty`); a singular matrix is factored
+            with a last pivot of rounding noise, exactly 0 on some CPUs (result 3).
         F: external generalised load, shape (n,).
         V: structure vector of each cell (m per unit X), shape (c, n).
         k: cell stiffness per unit contact length k_c (N/m²), shape (c,).

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from decimal import ROUND_HALF_UP, Decimal
+from decimal import ROUND_HALF_UP, Decimal, localcontext
 
 import equinox as eqx
 import jax
@@ -68,13 +68,35 @@ RUNOUT_FACTOR = 0.9
 def iso1328_round(value_um: float) -> float:
     """ISO 1328-1:2013, 5.2.3: a tolerance (µm) above 10 µm is rounded to the nearest integer
     micrometre, from 5 µm to 10 µm to the nearest 0.5 µm, below 5 µm to the nearest 0.1 µm
-    (halves up)."""
-    d = Decimal(repr(float(value_um)))
-    if value_um > 10.0:
-        return float(d.quantize(Decimal(1), rounding=ROUND_HALF_UP))
-    if value_um >= 5.0:
-        return float((2 * d).quantize(Decimal(1), rounding=ROUND_HALF_UP) / 2)
-    return float(d.quantize(Decimal("0.1"), rounding=ROUND_HALF_UP))
+    (halves up). The value is read as the decimal its float prints as (``repr``)."""
+    return float(_round_5_2_3(Decimal(repr(float(value_um)))))
+
+
+def _round_5_2_3(d: Decimal) -> Decimal:
+    """:func:`iso1328_round` of an exact decimal (µm)."""
+    if d > 10:
+        return d.quantize(Decimal(1), rounding=ROUND_HALF_UP)
+    if d >= 5:
+        return (2 * d).quantize(Decimal(1), rounding=ROUND_HALF_UP) / 2
+    return d.quantize(Decimal("0.1"), rounding=ROUND_HALF_UP)
+
+
+#: significant digits to which a length in mm is read (a drawing's decimal; removes the binary
+#: noise of m → mm and of d = z m_n / cos β)
+_MM_DIGITS = 12
+
+
+def _mm(value_m: float) -> Decimal:
+    """A length in metres as a decimal in mm, to :data:`_MM_DIGITS` significant digits."""
+    return Decimal(f"{float(value_m) * 1e3:.{_MM_DIGITS}g}")
+
+
+def _class_step(grade: int) -> Decimal:
+    """The step factor (√2)^(A − 5) between classes (5.2.2): an exact power of 2 for an even
+    A − 5 (the classes 1, 3, 5, 7, 9, 11), 2^k √2 otherwise (irrational: no rounding tie)."""
+    e = grade - 5
+    two = Decimal(2)
+    return two ** (e // 2) * (two.sqrt() if e % 2 else 1)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -148,7 +170,10 @@ def iso1328_tolerances(
     * F_rT = 0.9 F_pT (runout annex)
 
     The totals (9), (12) and F_rT are computed from the unrounded values, then each value is
-    rounded by 5.2.3 (:func:`iso1328_round`) unless ``rounded`` is False.
+    rounded by 5.2.3 (:func:`iso1328_round`) unless ``rounded`` is False. The arithmetic is
+    decimal, m_n, d and b read in mm to 12 significant digits: an exact tie such as
+    f_fαT = 9.4 · 0.25 = 2.35 µm (m_n 8 mm, class 1) rounds up to 2.4, as the standard's
+    arithmetic gives (binary floats made it 2.3499… → 2.3 in classes 1, 3, …).
 
     Args:
         normal_module: m_n (m). reference_diameter: d = z m_n / cos β (m). face_width: b (m).
@@ -170,20 +195,29 @@ def iso1328_tolerances(
     _check_scope("normal_module_mm", m, " mm")
     _check_scope("reference_diameter_mm", d, " mm")
     _check_scope("face_width_mm", b, " mm")
-    step = math.sqrt(2.0) ** (grade - 5)
-    raw = {
-        "single_pitch": (0.001 * d + 0.4 * m + 5.0) * step,
-        "cumulative_pitch": (0.002 * d + 0.55 * math.sqrt(d) + 0.7 * m + 12.0) * step,
-        "profile_slope": (0.4 * m + 0.001 * d + 4.0) * step,
-        "profile_form": (0.55 * m + 5.0) * step,
-        "helix_slope": (0.05 * math.sqrt(d) + 0.35 * math.sqrt(b) + 4.0) * step,
-        "helix_form": (0.07 * math.sqrt(d) + 0.45 * math.sqrt(b) + 4.0) * step,
-    }
-    raw["profile_total"] = math.hypot(raw["profile_slope"], raw["profile_form"])
-    raw["helix_total"] = math.hypot(raw["helix_slope"], raw["helix_form"])
-    raw["runout"] = RUNOUT_FACTOR * raw["cumulative_pitch"]
-    rnd = iso1328_round if rounded else float
-    return ISO1328Tolerances(**{k: rnd(v) * 1e-6 for k, v in raw.items()}, grade=grade)
+    # in decimal arithmetic (50 digits; exact but for square roots of non-squares and odd
+    # steps): a value that is a rounding tie of 5.2.3 is one exactly, rounded half up (binary
+    # floats put (√2)^(A−5) a bit below a power of 2 and 0.001 d off its decimal)
+    with localcontext() as ctx:
+        ctx.prec = 50
+        m, d, b = _mm(normal_module), _mm(reference_diameter), _mm(face_width)
+        step, D = _class_step(grade), Decimal
+        raw = {
+            "single_pitch": (D("0.001") * d + D("0.4") * m + 5) * step,
+            "cumulative_pitch": (D("0.002") * d + D("0.55") * d.sqrt() + D("0.7") * m + 12)
+            * step,
+            "profile_slope": (D("0.4") * m + D("0.001") * d + 4) * step,
+            "profile_form": (D("0.55") * m + 5) * step,
+            "helix_slope": (D("0.05") * d.sqrt() + D("0.35") * b.sqrt() + 4) * step,
+            "helix_form": (D("0.07") * d.sqrt() + D("0.45") * b.sqrt() + 4) * step,
+        }
+        raw["profile_total"] = (raw["profile_slope"] ** 2 + raw["profile_form"] ** 2).sqrt()
+        raw["helix_total"] = (raw["helix_slope"] ** 2 + raw["helix_form"] ** 2).sqrt()
+        raw["runout"] = Decimal(repr(RUNOUT_FACTOR)) * raw["cumulative_pitch"]
+        rnd = _round_5_2_3 if rounded else (lambda v: v)
+        return ISO1328Tolerances(
+            **{k: float(rnd(v)) * 1e-6 for k, v in raw.items()}, grade=grade
+        )
 
 
 def hunting_revolutions(teeth_pinion: int, teeth_gear: int) -> int:

@@ -1,6 +1,6 @@
 """Robust design at scale: Monte Carlo over ISO 1328-1 deviation realisations, vmapped, sharded
 over the global device mesh and, across processes, run with ``jax.distributed``
-(docs/robust.md; issue 22 §3).
+(docs/robust.md, the Monte Carlo over deviation realisations).
 
 * :class:`DeviationSampler` draws a :class:`~jaxgear.Deviations` (both gears, every tooth) of an
   ISO 1328-1 flank tolerance class from a ``jax.random`` key: the distributions of

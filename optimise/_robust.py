@@ -1,5 +1,5 @@
 """Robust tooth-modification design against sampled manufacturing deviations (docs/robust.md,
-"Robust optimisation"; issue 22 §3).
+"Robust optimisation").
 
 The objective is a statistic (the mean, or a quantile) over N fixed deviation realisations
 (common random numbers: drawn once from a :class:`jaxgear.DeviationSampler`, so the objective is

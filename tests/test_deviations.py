@@ -1,10 +1,11 @@
-"""Manufacturing deviations per tooth (issue 22 §1, docs/deviations.md): ISO 1328-1:2013
+"""Manufacturing deviations per tooth (docs/deviations.md): ISO 1328-1:2013
 tolerances against the standard's formulas written out here, the stated statistics of the draws
 for a grade, the quasi-static TE step of a single pitch deviation (single- and double-pair
 contact), the TE and order spectrum of a runout, the case keys and the `jaxgear run` outputs."""
 
 from __future__ import annotations
 
+import fractions
 import math
 import tomllib
 
@@ -106,6 +107,56 @@ def test_iso1328_values_worked_by_hand():
 )
 def test_iso1328_rounding_rules(value, rounded):
     assert jg.iso1328_round(value) == rounded
+
+
+#: ISO 54 modules (mm) within ISO 1328-1's scope, for the scan of exact rounding ties
+MODULES_MM = "0.5 0.6 0.8 1 1.25 1.5 2 2.5 3 4 5 6 8 10 12 16 20 25 32 40 50 60 70".split()
+
+
+def _half_up(v: fractions.Fraction) -> fractions.Fraction:
+    """5.2.3 on an exact value (µm): > 10 to 1, 5 to 10 to 0.5, < 5 to 0.1, halves up."""
+    q = fractions.Fraction(1) if v > 10 else fractions.Fraction(1, 2 if v >= 5 else 10)
+    return math.floor(v / q + fractions.Fraction(1, 2)) * q
+
+
+def _exact_um(m: fractions.Fraction, d: fractions.Fraction, grade: int) -> dict:
+    """f_pT (5), f_HαT (7), f_fαT (8) in µm as exact fractions (mm in; an even A − 5, whose
+    step (√2)^(A−5) is a power of 2): the values whose ties a scan can find."""
+    step = fractions.Fraction(2) ** ((grade - 5) // 2)
+    F = fractions.Fraction
+    return {
+        "f_pT": (F("0.001") * d + F("0.4") * m + 5) * step,
+        "f_HaT": (F("0.4") * m + F("0.001") * d + 4) * step,
+        "f_faT": (F("0.55") * m + 5) * step,
+    }
+
+
+def test_iso1328_rounding_ties_round_half_up():
+    """Exact ties of 5.2.3 round up in every class of an exact step (even A − 5): the audit's
+    m_n 8 mm, z 97, class 1: f_fαT = 9.4 / 4 = 2.35 → 2.4 µm, and m_n 1 mm, z 100, class 3:
+    f_pT = 5.5 / 2 = 2.75 → 2.8 µm; and every value of a scan of 23 modules × z 5-200 (spur,
+    d = z m_n, passed in metres as floats) equals its exact rational value rounded half up
+    (computed here with fractions): 3 392 ties of f_pT, f_HαT, f_fαT, 1 597 of them in classes
+    1 and 3, where the binary (√2)^(A−5), a bit below 1/4 or 1/2, rounded 1 588 down."""
+    t = jg.iso1328_tolerances(8e-3, 97 * 8e-3, 20e-3, 1).as_um()
+    assert t["f_faT"] == 2.4
+    t = jg.iso1328_tolerances(1e-3, 100 * 1e-3, 20e-3, 3).as_um()
+    assert t["f_pT"] == 2.8
+    ties = 0
+    for grade in (1, 3, 5, 7, 9, 11):
+        for text in MODULES_MM:
+            m = fractions.Fraction(text)
+            for z in range(5, 201):
+                d = z * m
+                if d < 5:
+                    continue
+                got = jg.iso1328_tolerances(float(m) * 1e-3, z * float(m) * 1e-3, 20e-3, grade)
+                um = got.as_um()
+                for key, exact in _exact_um(m, d, grade).items():
+                    jump = _half_up(exact) - _half_up(exact - fractions.Fraction(1, 10**9))
+                    ties += jump != 0  # a tie: the rounding jumps at the value
+                    assert um[key] == float(_half_up(exact)), (text, z, grade, key, exact)
+    assert ties == 3392
 
 
 @pytest.mark.parametrize(

@@ -32,6 +32,7 @@ from .._deviations import (
 from .._geometry import JAM, GearPair, Member
 from .._modifications import MemberModification, Modifications
 from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
+from ..scenes import disc_inertia
 from ._robust_table import parse_robust
 from ._scene_table import parse_scene
 
@@ -127,7 +128,7 @@ CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-ba
 MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
 MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)
 SMOOTH_WIDTH_WARN = 1.0  # CaseWarning: w above δ_m
-MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh frequency
+MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh mode's frequency
 
 
 # --------------------------------------------------------------------------------------------
@@ -807,6 +808,41 @@ def mean_static_deflection(case: Case) -> float:
     return case.normal_load / k_mean
 
 
+def _mesh_mode_frequencies(case: Case, k_mean: float) -> list[float]:
+    """The natural frequencies ω (rad/s) of the torsional modes the mesh excites (a mesh strain
+    energy share >= 5 %, as the sweep's critical speeds count them), a cheap estimate without the
+    dynamic model: the pinion and gear rotations (the scene's inertias, solid discs by default)
+    coupled by the mean mesh stiffness ``k_mean`` (N/m) along V = cos β_b (r_b1, −r_b2), with the
+    motor and load rotations on their shafts where a torsional scene has them. For a lumped 3D
+    scene, the bearings lower the mesh mode somewhat below this torsional one."""
+    spec, pair = case.scene, case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    motor = spec.model != "lumped3d" and spec.motor_inertia is not None
+    load = spec.model != "lumped3d" and spec.load_inertia is not None
+    inertias = [spec.motor_inertia] * motor + [i1, i2] + [spec.load_inertia] * load
+    n, p = len(inertias), int(motor)
+    cb = math.cos(pair.base_helix_angle)
+    v = np.zeros(n)
+    v[p], v[p + 1] = cb * pair.base_radii[0], -cb * pair.base_radii[1]
+    K = k_mean * np.outer(v, v)
+    # the shafts motor-pinion and gear-load (stiffness 1 N·m/rad unless given, as the model's)
+    for i, k, has in ((0, spec.motor_shaft, motor), (p + 1, spec.load_shaft, load)):
+        if has:
+            e = np.zeros(n)
+            e[i], e[i + 1] = 1.0, -1.0
+            K += (k or 1.0) * np.outer(e, e)
+    s = 1.0 / np.sqrt(np.asarray(inertias, float))
+    w2, U = np.linalg.eigh(s[:, None] * K * s[None, :])
+    phi = s[:, None] * U
+    elastic = w2 > 1e-9 * w2.max()
+    share = k_mean * (v @ phi) ** 2 / np.maximum(np.einsum("ij,ik,kj->j", phi, K, phi), 1e-300)
+    keep = elastic & (share >= 0.05)
+    return [math.sqrt(w) for w in w2[keep]] or [math.sqrt(w2.max())]
+
+
 def plausibility(case: Case | TrainCase) -> list[str]:
     """One-line warnings about absurd but valid inputs (thresholds in README.md); a train's,
     those of each mesh as a pair case, named by mesh (``meshes[k] driving-driven: ...``):
@@ -816,7 +852,9 @@ def plausibility(case: Case | TrainCase) -> list[str]:
     * the line load F_n/b above ``MAX_LINE_LOAD_N_PER_MM`` (2000 N/mm) or δ_m above
       ``MAX_DEFLECTION_MODULE`` (5 %) of the normal module: beyond what steel teeth carry;
     * ``foundation = "sainsot"`` on a member whose h_f = r_f/r_int, θ_f give Sainsot coefficients
-      outside the span of the published fit (extrapolation).
+      outside the span of the published fit (extrapolation);
+    * a Rayleigh damping whose ratio ξ = α/(2ω) + β ω/2 exceeds ``MAX_DAMPING_RATIO`` (1) at the
+      natural frequency ω of a mode the mesh excites (:func:`_mesh_mode_frequencies`).
 
     Raises:
         SchemaError: see :func:`mean_static_deflection`.
@@ -854,20 +892,18 @@ def plausibility(case: Case | TrainCase) -> list[str]:
         )
     scene = case.scene
     if scene is not None and scene.damping_model == "rayleigh":
-        # modal damping ratio of C = α M + β K at the mesh frequencies z1 Ω of the operating
-        # speed (or of jaxgear run's sweep, 100 to 3000 rad/s): ξ = α/(2ω) + β ω/2
-        speeds = (case.speed,) if case.speed > 0 else (100.0, 3000.0)
+        # the modal damping ratio of C = α M + β K, ξ = α/(2ω) + β ω/2, of each mode the mesh
+        # excites, at its natural frequency ω (not at an excitation frequency)
         a, b = scene.rayleigh_alpha, scene.rayleigh_beta
-        xi = max(
-            a / (2 * w_m) + b * w_m / 2 for w_m in (case.pair.pinion.teeth * v for v in speeds)
-        )
+        omegas = _mesh_mode_frequencies(case, case.normal_load / delta)
+        xi, w_n = max((a / (2 * w) + b * w / 2, w) for w in omegas)
         if xi > MAX_DAMPING_RATIO:
-            key = "beta_s" if b * min(speeds) > a / max(speeds) else "alpha_per_s"
+            key = "beta_s" if b * w_n > a / w_n else "alpha_per_s"
             value = b if key == "beta_s" else a
             out.append(
                 f"[scene.damping] {key} = {value:.6g}: the Rayleigh damping ratio at the mesh "
-                f"frequency reaches ξ = {xi:.3g} (above critical, {MAX_DAMPING_RATIO:g}); "
-                "usual ξ are 0.01 to 0.1"
+                f"mode's natural frequency ({w_n:.4g} rad/s) is ξ = {xi:.3g} (above critical, "
+                f"{MAX_DAMPING_RATIO:g}); usual ξ are 0.01 to 0.1"
             )
     if d_um >= MIN_DEFLECTION_UM:
         raw = case.raw.get("modifications", {}) if isinstance(case.raw, dict) else {}

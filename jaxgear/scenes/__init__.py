@@ -65,6 +65,7 @@ from ._scene import (
     Grounded as Grounded,
     Scene as Scene,
     grounded as grounded,
+    rigid_mode_penalty as rigid_mode_penalty,
 )
 from ._structure import AssembledScene as AssembledScene, Structure as Structure
 from ._torsional import (

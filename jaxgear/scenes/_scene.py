@@ -35,7 +35,7 @@ from .._baseplane import CellRow, Cells, MeshModel, cell_flank
 from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 
-__all__ = ["DynamicScene", "Grounded", "Scene", "grounded"]
+__all__ = ["DynamicScene", "Grounded", "Scene", "grounded", "rigid_mode_penalty"]
 
 
 class Scene(eqx.Module):
@@ -122,10 +122,14 @@ class Scene(eqx.Module):
 
         Returns:
             (the contact solution over the cells of all meshes in mesh order, X (n,), u·X of
-            each mesh (m), shape (meshes,)).
+            each mesh (m), shape (meshes,)). A scene with rigid-body modes r (a
+            :class:`DynamicScene` that turns freely, such as an ungrounded gear train) has them
+            pinned (:func:`rigid_mode_penalty`): X is the solution with rᵀ M X = 0.
         """
         r = self.cell_row(cells, delta0)
         K, F = self.stiffness(), self.external_load(torque)
+        if isinstance(self, DynamicScene):  # a free chain: pin its rigid-body modes
+            K = K + rigid_mode_penalty(self, K, r)
         sol = solve_contact(
             K, F, r.V, r.k, r.length, r.delta0, r.mask, law, loaded_flank(cells, torque)
         )
@@ -218,6 +222,47 @@ def loaded_flank(cells: tuple, torque):
         return None
     flank = jnp.concatenate([cell_flank(c).reshape(-1) for c in cells])
     return flank * jnp.sign(torque) > 0
+
+
+def rigid_mode_penalty(scene: DynamicScene, K, row: CellRow) -> Float[Array, "n n"]:
+    """The stiffness Σ_j k_j m̂_j m̂_jᵀ that pins the rigid-body modes r_j of ``scene`` in a
+    static solve, m̂_j = M r_j / |M r_j| (r_j itself where M r_j = 0), so that the solution X
+    has rᵀ M X = 0 (as the dynamics' static reference) and is otherwise unchanged (V·r = F·r = 0).
+
+    Without it the tangent stiffness K_s + Σ k l V Vᵀ of a free chain (a torsional train has
+    K_s = 0) is singular: its LU factorisation's last pivot is rounding noise (float32,
+    ``two-stage``: 4e-12 … 2e-8 of the largest entry over 20 000 positions, X then carrying a
+    rigid rotation up to 2.6 rad beside elastic ones of 5e-4 rad), and exactly 0 where the
+    rounding cancels: a non-finite X. Which positions cancel depends on the elimination and
+    summation order, so on the CPU's kernels: ``two-stage`` in float32 failed on one CPU and
+    not on another, and with its shafts numbered in another order at 4 of 8 positions on
+    any, in float64 too; an idler train of equal gears cancels exactly.
+    Each k_j is the stiffness of the coordinates the mode moves, Σ_i D_ii m̂_ji² with D the
+    diagonal of K plus the contact stiffness of every cell on the flanks (N/m or N·m/rad as the
+    coordinates are): the pinned system is as well conditioned as the contact's own (no
+    gradient flows through this scale; the solution does not depend on it).
+
+    Args:
+        scene: the scene (its :meth:`~DynamicScene.mass` and
+            :meth:`~DynamicScene.rigid_modes`, (n, r), r may be 0).
+        K: its structure stiffness, (n, n). row: the position's cells (:class:`CellRow`).
+
+    Returns:
+        the penalty stiffness, (n, n) (zeros without rigid-body modes).
+    """
+    R = scene.rigid_modes()
+    n = K.shape[0]
+    if R.shape[1] == 0:
+        return jnp.zeros((n, n), K.dtype)
+    sg = jax.lax.stop_gradient
+    R, M = sg(R).astype(K.dtype), sg(scene.mass()).astype(K.dtype)
+    kl = sg(jnp.where(row.mask, row.k * row.length, 0.0))
+    D = jnp.abs(jnp.diag(sg(K))) + jnp.einsum("c,ci->i", kl, sg(row.V) ** 2)
+    MR = M @ R
+    W = jnp.where(jnp.sum(MR**2, axis=0, keepdims=True) > 0, MR, R)
+    W = W / jnp.sqrt(jnp.sum(W**2, axis=0, keepdims=True))
+    k = jnp.einsum("i,ir->r", D, W**2)
+    return (W * k[None, :]) @ W.T
 
 
 def _check_meshes(scene: Scene, cells: tuple) -> None:
