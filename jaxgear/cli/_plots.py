@@ -28,6 +28,7 @@ __all__ = [
     "harmonic_crossings",
     "harris_plot",
     "load_map_plot",
+    "map_difference_plot",
     "master_curve_plot",
     "mesh_stiffness_plot",
     "name_peaks",
@@ -114,15 +115,20 @@ def transmission_error_plot(
     """Quasi-static TE (µm) against the ``driver``'s position (mesh periods): the pinion's, a
     train's input's.
 
-    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}``. A design whose exact and
-    smooth curves coincide (:func:`te_coincide`) is drawn once, its legend entry says so;
-    otherwise exact is solid, smooth dashed. Returns the legend labels.
+    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}`` (a design may have
+    "exact" only). A design whose exact and smooth curves coincide (:func:`te_coincide`) is
+    drawn once, its legend entry says so; otherwise exact is solid, smooth dashed. Returns the
+    legend labels.
     """
     fig, ax = new_figure()
-    um = {k: {m: np.asarray(v[m]) * 1e6 for m in ("exact", "smooth")} for k, v in curves.items()}
+    um = {k: {m: np.asarray(a) * 1e6 for m, a in v.items()} for k, v in curves.items()}
     allv = np.concatenate([a for v in um.values() for a in v.values()])
     span = float(np.ptp(allv)) or 1.0
-    for (lab, v), color in zip(um.items(), ("C0", "C3", "C2", "C1"), strict=False):
+    colors = ("C0", "C3", "C2", "C1", "C4", "C5")
+    for (lab, v), color in zip(um.items(), colors, strict=False):
+        if "smooth" not in v:
+            ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
+            continue
         same, d = te_coincide(v["exact"], v["smooth"], span)
         if same:
             within = f"within {d:.2g} µm" if d >= 1e-3 else "within 0.001 µm"
@@ -134,25 +140,33 @@ def transmission_error_plot(
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    leg = fig.legend(loc="outside lower center", ncols=2, fontsize=9, frameon=False)
+    leg = fig.legend(loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False)
     savefig(fig, path)
     return [t.get_text() for t in leg.get_texts()]
+
+
+def _ncols(ax, width: int = 48) -> int:
+    """Legend columns below a FIGSIZE figure: two unless a label is too long for half of it."""
+    labels = ax.get_legend_handles_labels()[1]
+    return 1 if any(len(t) > width for t in labels) else 2
 
 
 def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pinion") -> list[str]:
     """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
     input's); ``curves``: ``{label: K (N/m)}``."""
     fig, ax = new_figure()
-    for (lab, k), color in zip(curves.items(), ("C0", "C3", "C2", "C1"), strict=False):
-        ax.plot(x, np.asarray(k) / 1e6, color=color, label=lab)
-    return _finish(
-        fig,
-        ax,
-        path,
-        xlabel=f"{driver} position (mesh periods)",
-        ylabel="mesh stiffness K(θ) (N/µm)",
-        title=title,
-    )
+    colors = ("C0", "C3", "C2", "C1", "C4", "C5")
+    styles = ("-", "-", "--", ":", "-.", "--")  # a curve on top of another one still shows
+    for (lab, k), color, ls in zip(curves.items(), colors, styles, strict=False):
+        ax.plot(x, np.asarray(k) / 1e6, ls, color=color, label=lab)
+    ax.set_xlabel(f"{driver} position (mesh periods)")
+    ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    # below the axes, never on the curves
+    leg = fig.legend(loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False)
+    savefig(fig, path)
+    return [t.get_text() for t in leg.get_texts()]
 
 
 def load_map_plot(
@@ -194,6 +208,39 @@ def load_map_plot(
         xlabel="s along the line of action (mm): 0 = engagement (gear tip)",
         ylabel="z across the face (mm)",
         title=title,
+        legend=False,
+        grid=False,
+    )
+    return pc
+
+
+def map_difference_plot(path, s_edges, z_edges, dmap, *, title: str, label: str, unit: float):
+    """A signed difference of two maps of :func:`load_map_plot`'s kind (SI; ``unit``: the SI
+    value of one displayed unit) on a diverging scale symmetric about 0 (red: the first map is
+    higher), its largest magnitude in the title (a difference of 0.1 % of a map is invisible
+    on the maps' own scale)."""
+    fig, ax = new_figure()
+    data = np.asarray(dmap, dtype=float) / unit
+    big = float(np.nanmax(np.abs(data))) if np.isfinite(data).any() else 0.0
+    lim = big or 1.0
+    pc = ax.pcolormesh(
+        np.asarray(s_edges) * 1e3,
+        np.asarray(z_edges) * 1e3,
+        data.T,
+        shading="flat",
+        cmap="RdBu_r",
+        vmin=-lim,
+        vmax=lim,
+    )
+    fig.colorbar(pc, ax=ax, label=label)
+    unit_name = label[label.rfind("(") + 1 : label.rfind(")")] if "(" in label else ""
+    _finish(
+        fig,
+        ax,
+        path,
+        xlabel="s along the line of action (mm): 0 = engagement (gear tip)",
+        ylabel="z across the face (mm)",
+        title=f"{title}\nlargest |Δ| {big:.3g} {unit_name}".rstrip(),
         legend=False,
         grid=False,
     )

@@ -93,8 +93,19 @@ def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     return written
 
 
-def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
-    """Quasi-static solve of the case's scene (exact and smooth contact), written to ``out_dir``.
+#: what each scene model is, as a legend says it (the rigid mesh: both bodies rigid, no shafts)
+SCENE_LABELS = {
+    "rigid": "rigid mesh (rigid bodies)",
+    "lumped3d": "lumped 3D scene (shafts, bearings)",
+    "hybrid": "hybrid scene (condensed FE bodies, shafts, bearings)",
+}
+
+
+def scene_outputs(
+    case: Case, out_dir: str, *, progress: bool = False, curves: dict | None = None
+) -> dict:
+    """Quasi-static solve of the case's scene (exact and smooth contact, two mesh periods as
+    ``jaxgear run``'s rigid mesh), written to ``out_dir``.
 
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
@@ -104,6 +115,11 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     ``progress``: a bar over the steps (the condensed bodies, built by fem-prep with its own
     bar on the first run and then read from its cache; the scene; each quasi-static solve; the
     maps and VTU files).
+
+    ``curves``: a dict to fill with the scene's results, for ``te.csv``, ``mesh_stiffness.csv``
+    and their plots beside the rigid mesh's: ``model`` ("lumped3d" or "hybrid") and
+    ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
+    is not 0).
     """
     from tqdm.auto import tqdm
 
@@ -141,11 +157,15 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             speed=case.speed,
             contact=case.contact_law(mode),
             positions_per_pitch=case.positions_per_pitch,
+            periods=2,
         )
         pressure[mode] = hertz(res[mode])
         out[mode] = result_summary(res[mode], None, pressure[mode])
         out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
     bar.update()
+    if curves is not None:
+        curves["model"] = out["model"]
+        curves["results"] = dict(res)
     if not case.scene.hybrid:
         bar.close()
         return out
@@ -171,8 +191,11 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             case.modifications,
             case.torque,
             positions_per_pitch=ppp,
+            periods=2,
         )
         out["exact_at_rest"] = result_summary(rest, None, hertz(rest))
+        if curves is not None:
+            curves["results"]["exact_at_rest"] = rest
         maps = [
             ("load_map.png", rest, "at rest"),
             ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
@@ -199,6 +222,20 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
                 title=f"{case.name}: {kind} map, hybrid scene {when}".rstrip(),
                 vmax=vmax,
                 label=label,
+                unit=unit,
+            )
+            files.append(name)
+        if len(grids) == 2:  # the change the speed makes, on a scale of its own
+            name = f"{kind}_map_speed_minus_rest.png"
+            s_edges, z, _ = grids[1]
+            dz = pair.face_width / len(z)
+            _plots.map_difference_plot(
+                os.path.join(out_dir, name),
+                s_edges,
+                np.concatenate([[0.0], z + dz / 2]),
+                grids[1][2] - grids[0][2],
+                title=f"{case.name}: {kind} map {maps[1][2]} minus at rest, hybrid scene",
+                label=label.replace("max ", "Δ max "),
                 unit=unit,
             )
             files.append(name)
