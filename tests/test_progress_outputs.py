@@ -207,6 +207,15 @@ def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup,
     assert sorted(out["files"]) == sorted(
         f"scene/{f}" for f in ("load_map.png", "pressure_map.png", "body_gear.vtu", "contact.vtu")
     )
+    # contact.vtu in SI as the body VTUs: at the position of the largest line load
+    import meshio
+
+    data = meshio.read(tmp_path / "scene" / "contact.vtu").point_data
+    assert set(data) == {"line_load_N_per_m", "contact_pressure_Pa", "contact_half_width_m"}
+    e = out["exact"]
+    assert data["line_load_N_per_m"].max() == pytest.approx(e["max_line_load_N_per_m"], rel=1e-9)
+    assert 1e8 < data["contact_pressure_Pa"].max() <= e["max_contact_pressure_Pa"] * (1 + 1e-9)
+    assert 0 < data["contact_half_width_m"].max() < 1e-3
 
 
 def test_readme_robust_example_converges_to_the_stated_optimum(tmp_path):

@@ -73,21 +73,21 @@ def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[st
 def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
     the body turned to that position, centred on its axis) and of the loaded contact cells with
-    their line loads (N/mm), Hertzian pressures (MPa) and contact half-widths (mm) (``pressure``:
-    the result's :class:`~jaxgear.ContactPressure`)."""
+    their line loads (N/m), Hertzian pressures (Pa) and contact half-widths (m), SI as the body
+    VTUs (``pressure``: the result's :class:`~jaxgear.ContactPressure`)."""
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
     written = write_bodies_vtu(out_dir, scene, bodies, res, k)
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
-    load = np.asarray(res.line_load[k]).reshape(-1)[on] / 1e3
-    p0 = np.asarray(pressure.max_pressure[k]).reshape(-1)[on] / 1e6
-    half = np.asarray(pressure.half_width[k]).reshape(-1)[on] * 1e3
+    load = np.asarray(res.line_load[k]).reshape(-1)[on]
+    p0 = np.asarray(pressure.max_pressure[k]).reshape(-1)[on]
+    half = np.asarray(pressure.half_width[k]).reshape(-1)[on]
     write_vtu(
         os.path.join(out_dir, "contact.vtu"),
         P,
         [("vertex", np.arange(P.shape[0])[:, None])],
-        {"line_load_N_per_mm": load, "contact_pressure_MPa": p0, "contact_half_width_mm": half},
+        {"line_load_N_per_m": load, "contact_pressure_Pa": p0, "contact_half_width_m": half},
     )
     written.append("contact.vtu")
     return written

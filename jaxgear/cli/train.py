@@ -254,8 +254,8 @@ def format_train_table(summary: dict) -> str:
     """A short plain-text table of a train's main figures, a line per mesh and design."""
     lines = [
         f"train {summary['case']}: {len(summary['gears'])} gears, {len(summary['meshes'])} "
-        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, balancing output "
-        f"{summary['operating']['output']} {summary['operating']['output_torque_Nm']:.4g} N·m",
+        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, balancing torque on gear "
+        f"{summary['operating']['output']!r} {summary['operating']['output_torque_Nm']:.4g} N·m",
         f"{'':30s}{'ε_α':>7s}{'phase':>8s}{'TE mean µm':>12s}{'TE ptp µm':>11s}"
         f"{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
