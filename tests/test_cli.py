@@ -95,7 +95,10 @@ def test_cases_lists_embedded_cases(capsys):
     out = capsys.readouterr().out
     assert "accessory-spur" in out and "power-helical" in out
     # a train with two modules lists both (two-stage: 1.5 mm, then 2.5 mm)
-    assert "m_n 1.5/2.5 mm" in next(ln for ln in out.splitlines() if ln.startswith("two-stage"))
+    line = next(ln for ln in out.splitlines() if ln.startswith("two-stage"))
+    assert "m_n 1.5/2.5 mm" in line
+    # its gear names' abbreviations explained
+    assert "hst = high-speed train, stage 1, lst = low-speed train, stage 2" in line
 
 
 def test_atomic_open_keeps_the_old_file_when_interrupted(tmp_path):

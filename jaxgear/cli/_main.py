@@ -90,6 +90,7 @@ def _cases(args) -> int:
     from fem_prep.schema import print_or_write
 
     from ..io import embedded_case_text, list_cases, load_case
+    from .train import gear_glossary
 
     if args.name is None:
         if args.write is not None:
@@ -99,10 +100,12 @@ def _cases(args) -> int:
             if hasattr(c, "gear_names"):  # a train: its gears' teeth, input first
                 teeth = "/".join(str(m.teeth) for m in c.members())
                 modules = dict.fromkeys(f"{p.normal_module * 1e3:g}" for p in c.pairs)
+                glossary = gear_glossary(c.gear_names)
                 print(
                     f"{name:24s} train z {teeth}, m_n {'/'.join(modules)} mm, "
                     f"T {c.torque:g} N·m (input), {c.stiffness_model} stiffness"
                     + (f", {c.scene.model} scene" if c.scene is not None else "")
+                    + (f" ({glossary})" if glossary else "")
                 )
                 continue
             print(

@@ -34,6 +34,9 @@ __all__ = ["PARTIAL", "add_parsers", "run_optimise", "run_master_curve", "settin
 # the marker of an unfinished optimisation (see optimise_case)
 PARTIAL = "optimum.partial.json"
 
+#: the objectives in words, for plot labels (the code names stay in optimum.json)
+_OBJECTIVE_WORDS = {"te_rms": "TE RMS", "te_ptp": "TE peak-to-peak"}
+
 
 def add_parsers(sub) -> None:
     """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object."""
@@ -312,9 +315,9 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
             res.history_x[:, i_g],
             res.history_x[:, i_d] * dm,
             (float(res.x[i_g]), float(res.x[i_d]) * dm),
-            label=f"{problem.objective} (µm), smooth contact",
-            title=f"{case.name}: {problem.objective} over tip relief extent and depth, "
-            f"{settings['method']} path",
+            label=f"{_OBJECTIVE_WORDS[problem.objective]} (µm), smooth contact",
+            title=f"{case.name}: {_OBJECTIVE_WORDS[problem.objective]} over tip relief "
+            f"extent and depth, {settings['method']} path",
         )
         k = np.unravel_index(np.argmin(grid), grid.shape)
         report["grid_41x41_best"] = {
@@ -545,8 +548,16 @@ def run_master_curve(args) -> int:
     clear_outputs(out, "master-curve")
     rep = master_curve_case(case, extents, out, progress=not args.quiet)
     for row in rep["master_curve"]:
+        flag = "  on a bound of the depth interval: not a true optimum" if row["on_bound"] else ""
         print(
-            f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, TE RMS = {row['te_rms_m'] * 1e6:.4f} µm"
+            f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, "
+            f"TE RMS = {row['te_rms_m'] * 1e6:.4f} µm{flag}"
+        )
+    n_bound = sum(bool(r["on_bound"]) for r in rep["master_curve"])
+    if n_bound:
+        print(
+            f"  {n_bound} of {len(rep['master_curve'])} points on a bound of the depth interval "
+            "(crosses on master_curve.png): their optimum lies beyond the depths searched"
         )
     print(f"written to {out}/")
     return 0

@@ -110,14 +110,15 @@ def te_coincide(exact, smooth, span: float, share: float = TE_COINCIDE_SHARE) ->
 
 
 def transmission_error_plot(
-    path, x, curves: dict, *, title: str, driver: str = "pinion"
+    path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
 ) -> list[str]:
     """Quasi-static TE (µm) against the ``driver``'s position (mesh periods): the pinion's, a
     train's input's.
 
     ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}`` (a design may have
     "exact" only). A design whose exact and smooth curves coincide (:func:`te_coincide`) is
-    drawn once, its legend entry says so; otherwise exact is solid, smooth dashed. Returns the
+    drawn once, its legend entry says so; otherwise exact is solid, smooth dashed. ``note``:
+    a line under the plot (what a reader would otherwise take for an error). Returns the
     legend labels.
     """
     fig, ax = new_figure()
@@ -140,7 +141,10 @@ def transmission_error_plot(
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    leg = fig.legend(loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False)
+    leg = fig.legend(
+        loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False, title=note,
+        title_fontsize=8,
+    )
     savefig(fig, path)
     return [t.get_text() for t in leg.get_texts()]
 
@@ -151,9 +155,23 @@ def _ncols(ax, width: int = 48) -> int:
     return 1 if any(len(t) > width for t in labels) else 2
 
 
-def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pinion") -> list[str]:
+def _fit_ncols(fig, ax, fontsize: float, most: int) -> int:
+    """As many legend columns (at most ``most``) as fit the figure's width with its longest
+    label: a legend below the axes never runs off either side."""
+    labels = ax.get_legend_handles_labels()[1]
+    if not labels:
+        return 1
+    char = 0.6 * fontsize  # points per character, a generous mean for DejaVu Sans
+    entry = char * max(len(t) for t in labels) + 3.5 * fontsize  # handle and spacing
+    width = fig.get_figwidth() * 72 * 0.97
+    return int(max(1, min(most, len(labels), width // entry)))
+
+
+def mesh_stiffness_plot(
+    path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
+) -> list[str]:
     """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
-    input's); ``curves``: ``{label: K (N/m)}``."""
+    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot."""
     fig, ax = new_figure()
     colors = ("C0", "C3", "C2", "C1", "C4", "C5")
     styles = ("-", "-", "--", ":", "-.", "--")  # a curve on top of another one still shows
@@ -164,7 +182,10 @@ def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pin
     ax.set_title(title)
     ax.grid(alpha=0.3)
     # below the axes, never on the curves
-    leg = fig.legend(loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False)
+    leg = fig.legend(
+        loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False, title=note,
+        title_fontsize=8,
+    )
     savefig(fig, path)
     return [t.get_text() for t in leg.get_texts()]
 
@@ -626,14 +647,27 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     cands = coincidences(summary, min_share=0.01)  # small shares still make visible peaks
     shown = [c for c in summary["critical_speeds"] if sp.min() <= c["speed_rad_s"] <= sp.max()]
     peaks = name_peaks(sp, df, cands)
+    top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]  # the peaks named
     named = {
-        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in peaks if p["coincidence"]
+        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
     }
+    rest = [p for p in peaks if p not in top]
+    if rest:
+        ax.plot(
+            [p["speed_rad_s"] for p in rest],
+            [p["value"] for p in rest],
+            "v",
+            color="C3",
+            ms=5,
+            mfc="none",
+            label=f"smaller peak (the {PEAKS_NAMED} highest are named)",
+        )
+    crit_texts = []
     for c in shown:
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
         if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
             continue
-        ax.text(
+        crit_texts.append(ax.text(
             c["speed_rad_s"],
             0.985,
             f"mode {c['mode']} × H{c['harmonic']}",
@@ -644,22 +678,10 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
             va="top",
             ha="center",
             bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
-        )
+        ))
     if shown:
         ax.plot([], [], "--", color="0.55", lw=0.8, label="critical speed (mode × mesh harmonic)")
-    for k, p in enumerate(peaks):
-        ax.annotate(
-            f"{p['name']}\nDF {p['value']:.2f}",
-            (p["speed_rad_s"], p["value"]),
-            xytext=(0, 12 + 22 * (k % 2)),
-            textcoords="offset points",
-            ha="center",
-            va="bottom",
-            fontsize=7.5,
-            color="C3",
-            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
-            arrowprops={"arrowstyle": "->", "color": "C3", "lw": 0.8},
-        )
+
     top = ax.secondary_xaxis(
         "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
     )
@@ -673,9 +695,72 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         fontsize=10,
     )
     ax.grid(alpha=0.3)
-    fig.legend(loc="outside lower center", ncols=2 if few else 3, fontsize=8, frameon=False)
+    fig.legend(
+        loc="outside lower center", ncols=_fit_ncols(fig, ax, 8, 2 if few else 3), fontsize=8,
+        frameon=False,
+    )
+    _label_peaks(ax, peaks, sp.min(), sp.max(), avoid=crit_texts)
     savefig(fig, path)
     return peaks
+
+
+#: the highest peaks of a dynamic factor curve that are named on the plot
+PEAKS_NAMED = 3
+
+
+def _label_peaks(ax, peaks: list[dict], s_lo: float, s_hi: float, avoid=()) -> None:
+    """Name the :data:`PEAKS_NAMED` highest ``peaks`` (:func:`name_peaks`) above the curve (the
+    others are marked by the caller). Each label takes the first offset, going up, where it lies inside the
+    axes and clear of the labels placed before and of ``avoid`` (texts), aligned inward near
+    either end of the axis; the figure must be drawn (its layout fixed)."""
+    top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]
+    if not top:
+        return
+    from matplotlib.text import Text
+
+    fig = ax.figure
+    fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
+    renderer = fig.canvas.get_renderer()
+    inside = ax.get_window_extent(renderer)
+    placed = [t.get_window_extent(renderer).padded(2) for t in avoid]
+    for p in top:  # the highest first: it gets the place nearest its peak
+        f = (p["speed_rad_s"] - s_lo) / ((s_hi - s_lo) or 1.0)
+        has = ["left", "center", "right"] if f < 0.25 else ["right", "center", "left"]
+        if 0.25 <= f <= 0.75:
+            has = ["center", "left", "right"]
+        def label(dy, ha):
+            dx = {"left": -6, "right": 6, "center": 0}[ha]
+            ann = ax.annotate(
+                f"{p['name']}\nDF {p['value']:.2f}",
+                (p["speed_rad_s"], p["value"]),
+                xytext=(dx, dy),
+                textcoords="offset points",
+                ha=ha,
+                va="bottom",
+                fontsize=7.5,
+                color="C3",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.9},
+                arrowprops={"arrowstyle": "->", "color": "C3", "lw": 0.8},
+            )
+            ann.set_in_layout(False)
+            ann.update_positions(renderer)
+            return ann, Text.get_window_extent(ann, renderer).padded(3)  # the text, no arrow
+
+        box = None
+        for dy, ha in [(dy, ha) for dy in (10, 34, 58, 82, 106) for ha in has]:
+            ann, box = label(dy, ha)
+            if (
+                inside.x0 <= box.x0
+                and box.x1 <= inside.x1
+                and box.y1 <= inside.y1
+                and not any(box.overlaps(b) for b in placed)
+            ):
+                break
+            ann.remove()
+            box = None
+        if box is None:  # nowhere clear: the nearest place inside the figure
+            ann, box = label(10, has[0])
+        placed.append(box)
 
 
 def harmonic_crossings(
@@ -765,20 +850,24 @@ def campbell_plot(
         )
     # one label per group of modes closer than 3 % of the axis (they would print over each
     # other), at the right end, with their frequency there
+    # (a label is about 5 % of the axis high: closer groups are moved up, never stacked)
     modes = [(i, float(at(i, s_max * 0.995)), e) for i, _, e in modes]
     groups: list[list] = []
     for m in sorted(modes, key=lambda m: m[1]):
-        if groups and m[1] - groups[-1][-1][1] < 0.03 * f_top:
+        if groups and m[1] - groups[-1][-1][1] < 0.04 * f_top:
             groups[-1].append(m)
         else:
             groups.append([m])
     mode_labels = []
+    y_free = -np.inf  # the lowest place for the next label
     for g in groups:
         ids = ", ".join(str(i) for i, _, _ in g)
         hz = ", ".join(_hz(f) for _, f, _ in g)
+        y = max(g[-1][1] + 0.006 * f_top, y_free)
+        y_free = y + 0.055 * f_top
         t = ax.text(
             s_max * 0.995,
-            g[-1][1] + 0.006 * f_top,
+            y,
             f"mode{'s' if len(g) > 1 else ''} {ids}: {hz} Hz",
             ha="right",
             va="bottom",
@@ -875,7 +964,10 @@ def campbell_plot(
     )
     ax.grid(alpha=0.3)
     fig.legend(
-        loc="outside lower center", ncols=3 if nd else 4 if others else 6, fontsize=8, frameon=False
+        loc="outside lower center",
+        ncols=_fit_ncols(fig, ax, 8, 3 if nd else 4 if others else 6),
+        fontsize=8,
+        frameon=False,
     )
     if nd_labels:
         fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
@@ -1048,15 +1140,13 @@ def optimiser_path_plot(
     ax.plot(path_g, path_e_um, "w.-", label="optimiser path")
     ax.plot(path_g[0], path_e_um[0], "wo", mfc="none", ms=9, label="start")
     ax.plot(*opt, "r*", ms=14, label=f"optimum Γ = {opt[0]:.3f}, E = {opt[1]:.2f} µm")
-    _finish(
-        fig,
-        ax,
-        path,
-        xlabel="relief extent Γ",
-        ylabel="relief depth E (µm)",
-        title=title,
-        grid=False,
-    )
+    ax.set_xlabel("relief extent Γ")
+    ax.set_ylabel("relief depth E (µm)")
+    ax.set_title(title)
+    # below the axes: the map stays visible (white markers on a dark ground outside it)
+    leg = fig.legend(loc="outside lower center", ncols=3, fontsize=9, frameon=True)
+    leg.get_frame().set_facecolor("0.55")
+    savefig(fig, path)
 
 
 def master_curve_plot(

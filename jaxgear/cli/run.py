@@ -184,17 +184,29 @@ def run_case(
                 r["exact_at_rest"].mesh_stiffness
             )
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
+    k_note = te_note = None
+    if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
+        k_note = (
+            f"helical: K steps each time one of the {case.slices} slices of a contact line "
+            "enters or leaves the path of contact (finer with more [mesh] slices)"
+        )
+        te_note = (
+            f"helical: the unmodified TE's corners are its {case.slices} slices entering and "
+            "leaving contact one at a time (finer with more [mesh] slices)"
+        )
     _plots.transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
         x,
         te_curves,
         title=f"{case.name}: transmission error at {case.torque:g} N·m{what}",
+        note=te_note,
     )
     _plots.mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
         x,
         k_curves,
         title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model}){what}",
+        note=k_note,
     )
     _plots.face_maps(
         out_dir,

@@ -179,27 +179,41 @@ def run_train(
         [theta, *k_cols.values()],
     )
     x = theta / period
+    # a long span (two-stage: 127 periods) drawn whole is a solid band: the plots show two
+    # periods of the slowest mesh (at least 3 of the input's), te.csv keeps the span
+    slowest = max(
+        1.0 / (pair.pinion.teeth * float(layout.ratios[g])) for pair, (g, _) in
+        zip(case.pairs, case.gears, strict=True)
+    ) * case.pairs[0].pinion.teeth  # the slowest mesh's period, in input mesh periods
+    n_shown = min(float(x[-1]) + 0.5 / ppp, max(3.0, 2.0 * slowest))
+    win = x < n_shown
+    shown = "" if win.all() else (
+        f"\nfirst {n_shown:.3g} of {span} input mesh periods (te.csv and mesh_stiffness.csv: all)"
+    )
+    glossary = _gear_glossary(case)
     _plots.transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
-        x,
+        x[win],
         {
             f"{names[k]}": {
-                m: np.asarray(res["modified", m].meshes[k].transmission_error) for m in laws
+                m: np.asarray(res["modified", m].meshes[k].transmission_error)[win] for m in laws
             }
             for k in range(n_meshes)
         },
-        title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), modified",
+        title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), "
+        f"modified{shown}{glossary}",
         driver="input",
     )
     _plots.mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
-        x,
+        x[win],
         {
-            f"{names[k]} ({lab})": np.asarray(res[lab, "exact"].meshes[k].mesh_stiffness)
+            f"{names[k]} ({lab})": np.asarray(res[lab, "exact"].meshes[k].mesh_stiffness)[win]
             for k in range(n_meshes)
             for lab in designs
         },
-        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)",
+        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)"
+        f"{shown}{glossary}",
         driver="input",
     )
     for k, pair in enumerate(case.pairs):
@@ -228,8 +242,8 @@ def run_train(
         per_mesh = 2 * np.pi / pair.pinion.teeth / layout.ratios[g]  # input rad per period
         first = (-layout.phases[k] / layout.ratios[g]) % per_mesh
         marks[names[k]] = (
-            np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness),
-            np.arange(first, x[-1] * period, per_mesh) / period,
+            np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness)[win],
+            np.arange(first, x[win][-1] * period, per_mesh) / period,
         )
     _plots.train_phasing_plot(
         os.path.join(out_dir, "phasing.png"),
@@ -239,15 +253,36 @@ def run_train(
         names,
         case.tip_radii(),
         base_radii,
-        x,
+        x[win],
         marks,
-        title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact)",
+        title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact){shown}"
+        f"{glossary}",
     )
     steps.update()
     steps.close()
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+#: what the short gear names of the embedded trains stand for (in titles)
+GEAR_NAME_GLOSSARY = {"hst": "high-speed train, stage 1", "lst": "low-speed train, stage 2"}
+
+
+def gear_glossary(gear_names) -> str:
+    """What the abbreviations in the gear names mean, "hst = ..., lst = ..." ("" if none)."""
+    used = [
+        f"{k} = {v}"
+        for k, v in GEAR_NAME_GLOSSARY.items()
+        if any(n == k or n.startswith(k + "-") for n in gear_names)
+    ]
+    return ", ".join(used)
+
+
+def _gear_glossary(case) -> str:
+    """:func:`gear_glossary` as a title's last line ("" if none)."""
+    text = gear_glossary(case.gear_names)
+    return "\n" + text if text else ""
 
 
 def format_train_table(summary: dict) -> str:
