@@ -458,7 +458,10 @@ def train_phasing_plot(
     curves.set_ylabel("mesh stiffness K(θ) (N/µm)")
     curves.set_title("mesh phasing: dashed, each mesh's angle at a whole period", fontsize=10)
     curves.grid(alpha=0.3)
-    curves.legend(fontsize=8)
+    # below the panel, never on the curves
+    curves.legend(
+        fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=3, frameon=False
+    )
     fig.suptitle(title)
     savefig(fig, path)
 
@@ -695,9 +698,21 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         fontsize=10,
     )
     ax.grid(alpha=0.3)
+    note = None
+    if few:  # a coarse sweep's straight segments may cross a resonance: say so
+        between = [
+            c for c in shown if np.min(np.abs(sp - c["speed_rad_s"])) > 0.02 * c["speed_rad_s"]
+        ]
+        if between:
+            n = len(between)
+            note = (
+                f"straight lines join the {sp.size} computed speeds: {n} critical "
+                f"speed{'s lie' if n > 1 else ' lies'} between them, "
+                f"{'their peaks' if n > 1 else 'its peak'} not computed"
+            )
     fig.legend(
         loc="outside lower center", ncols=_fit_ncols(fig, ax, 8, 2 if few else 3), fontsize=8,
-        frameon=False,
+        frameon=False, title=note, title_fontsize=8,
     )
     _label_peaks(ax, peaks, sp.min(), sp.max(), avoid=crit_texts)
     savefig(fig, path)

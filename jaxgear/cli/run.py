@@ -187,8 +187,9 @@ def run_case(
     k_note = te_note = None
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
         k_note = (
-            f"helical: K steps each time one of the {case.slices} slices of a contact line "
-            "enters or leaves the path of contact (finer with more [mesh] slices)"
+            f"helical: K jumps by one slice's stiffness when one of the {case.slices} slices of "
+            "a contact line enters or leaves contact\n(the path's ends; with relief, its start: "
+            "one-position spikes); smaller with more [mesh] slices"
         )
         te_note = (
             f"helical: the unmodified TE's corners are its {case.slices} slices entering and "
