@@ -82,3 +82,17 @@ def test_te_plot_labels_each_model(tmp_path):
     assert labels[0].startswith("rigid mesh modified (exact = smooth")
     assert labels[1].startswith("hybrid scene, modified (exact = smooth")
     assert labels[2] == "hybrid scene at rest, modified, exact contact"
+
+
+def test_two_stage_plots_show_two_periods_of_its_slow_mesh_not_the_span():
+    """docs/trains.md: the two-stage span (127 input mesh periods) is drawn over two periods of
+    its slowest mesh (the second stage's: 127/35 input periods each), a pair's two periods whole;
+    the CSV files keep the span."""
+    from jaxgear.cli.train import plotted_periods
+    from jaxgear.io import load_case
+
+    case = load_case("two-stage")
+    assert case.span_periods == 127
+    assert plotted_periods(case, case.layout(), 127.0) == pytest.approx(2 * 127 / 35, rel=1e-12)
+    idler = load_case("accessory-idler-train")
+    assert plotted_periods(idler, idler.layout(), 2.0) == 2.0

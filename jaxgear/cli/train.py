@@ -181,11 +181,7 @@ def run_train(
     x = theta / period
     # a long span (two-stage: 127 periods) drawn whole is a solid band: the plots show two
     # periods of the slowest mesh (at least 3 of the input's), te.csv keeps the span
-    slowest = max(
-        1.0 / (pair.pinion.teeth * float(layout.ratios[g])) for pair, (g, _) in
-        zip(case.pairs, case.gears, strict=True)
-    ) * case.pairs[0].pinion.teeth  # the slowest mesh's period, in input mesh periods
-    n_shown = min(float(x[-1]) + 0.5 / ppp, max(3.0, 2.0 * slowest))
+    n_shown = plotted_periods(case, layout, float(x[-1]) + 0.5 / ppp)
     win = x < n_shown
     shown = "" if win.all() else (
         f"\nfirst {n_shown:.3g} of {span} input mesh periods (te.csv and mesh_stiffness.csv: all)"
@@ -263,6 +259,17 @@ def run_train(
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+def plotted_periods(case, layout, computed: float) -> float:
+    """How many of the input's mesh periods the TE, stiffness and phasing plots show: two
+    periods of the slowest mesh, at least three of the input's, at most the ``computed`` ones
+    (the CSV files keep them all)."""
+    slowest = max(  # the slowest mesh's period, in input mesh periods
+        case.pairs[0].pinion.teeth / (pair.pinion.teeth * float(layout.ratios[g]))
+        for pair, (g, _) in zip(case.pairs, case.gears, strict=True)
+    )
+    return min(computed, max(3.0, 2.0 * slowest))
 
 
 #: what the short gear names of the embedded trains stand for (in titles)
