@@ -811,7 +811,9 @@ def campbell_plot(
     """Campbell diagram: mesh harmonics f = h z1 Ω / 2π (and a train's other mesh orders,
     ``mesh_orders``, dash-dotted) against the modes with at least
     ``min_share`` of their strain energy in the mesh (black: ≥ 5 %, grey: weaker), each mode
-    labelled with its frequency at the right end, every crossing in the plotted range marked.
+    labelled with its frequency at the right end, every crossing in the swept speed range
+    marked (those of the weaker modes small and grey; below the first speed of the sweep none:
+    the low modes' crossings crowd there and no speed was computed).
     Returns the crossings (:func:`harmonic_crossings`)."""
     fig, ax = new_figure()
     sp = _nan(summary["speeds_rad_s"])
@@ -891,20 +893,28 @@ def campbell_plot(
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
         )
         mode_labels.append(t)
-    drawn = at_speed[..., [i for i, _, _ in modes]]
-    cross = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
-    for _, z in others:
-        cross += harmonic_crossings(drawn, z, s_max, (1, 2), grid)
-    if cross:
-        ax.plot(
-            [c["speed_rad_s"] for c in cross],
-            [c["frequency_Hz"] for c in cross],
-            "o",
-            mfc="none",
-            mec="k",
-            ms=6,
-            label="harmonic crossing",
-        )
+    s_min = float(np.nanmin(sp)) * (1 - 1e-9)
+    cross = []
+    for faint in (False, True):
+        cols = [i for i, _, e in modes if (e < 0.05) == faint]
+        if not cols:
+            continue
+        drawn = at_speed[..., cols]
+        group = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
+        for _, z in others:
+            group += harmonic_crossings(drawn, z, s_max, (1, 2), grid)
+        group = [c for c in group if c["speed_rad_s"] >= s_min]
+        if group:
+            ax.plot(
+                [c["speed_rad_s"] for c in group],
+                [c["frequency_Hz"] for c in group],
+                "o",
+                mfc="none",
+                mec="0.55" if faint else "k",
+                ms=3.5 if faint else 6,
+                label="harmonic crossing, weak mode" if faint else "harmonic crossing",
+            )
+        cross += group
     crit = [c for c in summary["critical_speeds"] if c["speed_rad_s"] <= s_max]
     if crit:
         ax.plot(
