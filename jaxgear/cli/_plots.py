@@ -1216,6 +1216,7 @@ def master_curve_plot(
     g0, g1 = float(np.min(G)), float(np.max(G))
     me, mg = 0.05 * (e1 - e0 or 1.0), 0.03 * (g1 - g0 or 1.0)
     ax.set_facecolor("0.85")
+    ax.fill([], [], color="0.85", label="outside the computed map (margin)")
     ax.set_ylim(e0 - me, e1 + me)
     ax.set_xlim(min(g0, float(np.min(extent))) - mg, max(g1, float(np.max(extent))) + mg)
     ax.set_xlabel("relief extent Γ")
