@@ -332,7 +332,7 @@ def test_convergence_axis(tmp_path, objective, history, log):
     if objective == "dynamic_factor":
         assert "unmodified" not in ax.get_ylabel() and "dynamic factor" in ax.get_ylabel()
     else:
-        assert ax.get_ylabel() == "te_rms / unmodified design (0.52 µm)"
+        assert ax.get_ylabel() == "TE RMS / unmodified design (0.52 µm)"  # words, not code
     loc = ax.xaxis.get_major_locator()
     assert isinstance(loc, MaxNLocator) and loc._integer
     ticks = [x for x in ax.get_xticks() if 0 <= x <= len(history) - 1]

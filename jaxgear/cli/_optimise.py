@@ -34,9 +34,6 @@ __all__ = ["PARTIAL", "add_parsers", "run_optimise", "run_master_curve", "settin
 # the marker of an unfinished optimisation (see optimise_case)
 PARTIAL = "optimum.partial.json"
 
-#: the objectives in words, for plot labels (the code names stay in optimum.json)
-_OBJECTIVE_WORDS = {"te_rms": "TE RMS", "te_ptp": "TE peak-to-peak"}
-
 
 def add_parsers(sub) -> None:
     """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object."""
@@ -315,8 +312,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
             res.history_x[:, i_g],
             res.history_x[:, i_d] * dm,
             (float(res.x[i_g]), float(res.x[i_d]) * dm),
-            label=f"{_OBJECTIVE_WORDS[problem.objective]} (µm), smooth contact",
-            title=f"{case.name}: {_OBJECTIVE_WORDS[problem.objective]} over tip relief "
+            label=f"{_plots.OBJECTIVE_WORDS[problem.objective]} (µm), smooth contact",
+            title=f"{case.name}: {_plots.OBJECTIVE_WORDS[problem.objective]} over tip relief "
             f"extent and depth, {settings['method']} path",
         )
         k = np.unravel_index(np.argmin(grid), grid.shape)

@@ -1121,6 +1121,16 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
 # ---------------------------------------------------------------- optimisation
 
 
+#: the optimisation objectives in words, for plot labels (the code names stay in the JSON files)
+OBJECTIVE_WORDS = {
+    "te_rms": "TE RMS",
+    "te_ptp": "TE peak-to-peak",
+    "robust_te_rms": "TE RMS over the torques",
+    "max_line_load": "max line load",
+    "line_load_lp": "line load Lp norm",
+}
+
+
 def convergence_ylabel(objective: str, unmodified: float, units: str) -> str:
     """The convergence plot's axis label for the optimiser's (scaled) objective history.
 
@@ -1134,7 +1144,8 @@ def convergence_ylabel(objective: str, unmodified: float, units: str) -> str:
     if objective == "load_centroid":
         return "load_centroid: ((z̄ − b/2) / 0.1 b)²"
     unit, k = {"m": ("µm", 1e6), "N_per_m": ("N/mm", 1e-3)}.get(units, (units, 1.0))
-    return f"{objective} / unmodified design ({unmodified * k:.3g} {unit})"
+    name = OBJECTIVE_WORDS.get(objective, objective)
+    return f"{name} / unmodified design ({unmodified * k:.3g} {unit})"
 
 
 def convergence_plot(path, history, *, ylabel: str, title: str):
