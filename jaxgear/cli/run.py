@@ -49,7 +49,8 @@ def run_case(
     an optimisation follows, and rewrites it at the end).
 
     ``scene``: the case's scene results (:func:`jaxgear.cli.scene.scene_outputs`' ``curves``:
-    ``model`` and ``results``, two mesh periods at the same positions): their TE and mesh
+    ``model`` and ``results``, one mesh period at the rigid mesh's first positions, repeated
+    over the second: the quasi-static scene is periodic in the mesh period): their TE and mesh
     stiffness are added to the CSV files (``te_<model>_<contact>_modified[_at_rest]_m``,
     ``mesh_stiffness_<model>_...``) and drawn beside the rigid mesh's, each labelled with its
     model. Every other file is the rigid mesh's (both bodies rigid), and says so.
@@ -135,9 +136,9 @@ def run_case(
     }
     # the scene's own curves (shafts, bearings, condensed bodies) beside the rigid mesh's
     scene_res = _scene_columns(scene, theta)
-    for key, r in scene_res.items():
-        cols[f"te_{key}_m"] = np.asarray(r.transmission_error)
-        kcols[f"mesh_stiffness_{key}_N_per_m"] = np.asarray(r.mesh_stiffness)
+    for key, (te, k) in scene_res.items():
+        cols[f"te_{key}_m"] = te
+        kcols[f"mesh_stiffness_{key}_N_per_m"] = k
     write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *cols], [theta, *cols.values()])
     lcols = {
         "contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length),
@@ -172,17 +173,14 @@ def run_case(
 
         model = scene["model"]
         name = SCENE_LABELS[model].split(" (")[0]
-        r = scene["results"]
-        te_curves[f"{name}, modified"] = {m: np.asarray(r[m].transmission_error) for m in r}
-        te_curves[f"{name}, modified"].pop("exact_at_rest", None)
-        k_curves[f"{name} modified (loaded cells)"] = np.asarray(r["exact"].mesh_stiffness)
-        if "exact_at_rest" in r:
-            te_curves[f"{name} at rest, modified"] = {
-                "exact": np.asarray(r["exact_at_rest"].transmission_error)
-            }
-            k_curves[f"{name} at rest, modified (loaded cells)"] = np.asarray(
-                r["exact_at_rest"].mesh_stiffness
-            )
+        c = {key.split("_", 1)[1]: v for key, v in scene_res.items()}  # exact_modified, ...
+        te_curves[f"{name}, modified"] = {
+            m: c[f"{m}_modified"][0] for m in ("exact", "smooth")
+        }
+        k_curves[f"{name} modified (loaded cells)"] = c["exact_modified"][1]
+        if "exact_modified_at_rest" in c:
+            te_curves[f"{name} at rest, modified"] = {"exact": c["exact_modified_at_rest"][0]}
+            k_curves[f"{name} at rest, modified (loaded cells)"] = c["exact_modified_at_rest"][1]
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
     k_note = te_note = None
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
@@ -242,16 +240,23 @@ def run_case(
 
 
 def _scene_columns(scene: dict | None, theta) -> dict:
-    """{column key: result} of the scene's curves for the CSV files (``<model>_<contact>_modified``
-    and ``<model>_exact_modified_at_rest``), checked to be at the rigid mesh's positions."""
+    """{column key: (TE (m), K (N/m))} of the scene's curves at the rigid mesh's positions
+    ``theta`` (``<model>_<contact>_modified`` and ``<model>_exact_modified_at_rest``): a scene
+    result over the first of ``theta``'s mesh periods is repeated over the others (the
+    quasi-static scene is periodic in the mesh period)."""
     if not scene:
         return {}
     out = {}
     for key, r in scene["results"].items():
-        if not np.allclose(np.asarray(r.theta), theta, rtol=0, atol=1e-12):
+        t = np.asarray(r.theta)
+        reps = theta.size // max(t.size, 1)
+        if reps * t.size != theta.size or not np.allclose(t, theta[: t.size], rtol=0, atol=1e-12):
             raise ValueError("the scene's results are not at the rigid mesh's positions")
         contact, _, rest = key.partition("_")
-        out[f"{scene['model']}_{contact}_modified{'_' + rest if rest else ''}"] = r
+        out[f"{scene['model']}_{contact}_modified{'_' + rest if rest else ''}"] = (
+            np.tile(np.asarray(r.transmission_error), reps),
+            np.tile(np.asarray(r.mesh_stiffness), reps),
+        )
     return out
 
 

@@ -104,8 +104,8 @@ SCENE_LABELS = {
 def scene_outputs(
     case: Case, out_dir: str, *, progress: bool = False, curves: dict | None = None
 ) -> dict:
-    """Quasi-static solve of the case's scene (exact and smooth contact, two mesh periods as
-    ``jaxgear run``'s rigid mesh), written to ``out_dir``.
+    """Quasi-static solve of the case's scene (exact and smooth contact, one mesh period),
+    written to ``out_dir``.
 
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
@@ -157,7 +157,6 @@ def scene_outputs(
             speed=case.speed,
             contact=case.contact_law(mode),
             positions_per_pitch=case.positions_per_pitch,
-            periods=2,
         )
         pressure[mode] = hertz(res[mode])
         out[mode] = result_summary(res[mode], None, pressure[mode])
@@ -191,7 +190,6 @@ def scene_outputs(
             case.modifications,
             case.torque,
             positions_per_pitch=ppp,
-            periods=2,
         )
         out["exact_at_rest"] = result_summary(rest, None, hertz(rest))
         if curves is not None:
