@@ -82,14 +82,25 @@ def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
             # where the two coincide both still show
             ax.plot(speeds, up, "-o", ms=3.5, color=f"C{k}", label=f"{name}, sweep up")
             ax.plot(
-                speeds, down, "--s", ms=5, mfc="none", color=f"C{k}", zorder=3,
+                speeds,
+                down,
+                "--s",
+                ms=5,
+                mfc="none",
+                color=f"C{k}",
+                zorder=3,
                 label=f"{name}, sweep down",
             )
         for h in (1, 2):
             ax.axvline(cs / h, color="0.5", ls=":", lw=0.8)
             ax.text(
-                cs / h, 0.98, f" critical speed / {h}" if h > 1 else " critical speed",
-                transform=ax.get_xaxis_transform(), fontsize=7, color="0.4", va="top",
+                cs / h,
+                0.98,
+                f" critical speed / {h}" if h > 1 else " critical speed",
+                transform=ax.get_xaxis_transform(),
+                fontsize=7,
+                color="0.4",
+                va="top",
             )
         ax.set_xlabel("pinion speed (rad/s)")
         ax.set_ylabel("dynamic mesh force / static")

@@ -74,7 +74,10 @@ def test_te_plot_labels_each_model(tmp_path):
         x,
         {
             "rigid mesh modified": {"exact": 1e-6 * np.sin(x), "smooth": 1e-6 * np.sin(x)},
-            "hybrid scene, modified": {"exact": 3e-6 + 1e-6 * np.cos(x), "smooth": 3e-6 + np.cos(x) * 1e-6},
+            "hybrid scene, modified": {
+                "exact": 3e-6 + 1e-6 * np.cos(x),
+                "smooth": 3e-6 + np.cos(x) * 1e-6,
+            },
             "hybrid scene at rest, modified": {"exact": 2e-6 + 1e-6 * np.cos(x)},
         },
         title="t",

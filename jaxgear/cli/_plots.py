@@ -142,7 +142,11 @@ def transmission_error_plot(
     ax.set_title(title)
     ax.grid(alpha=0.3)
     leg = fig.legend(
-        loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False, title=note,
+        loc="outside lower center",
+        ncols=_ncols(ax),
+        fontsize=9,
+        frameon=False,
+        title=note,
         title_fontsize=8,
     )
     savefig(fig, path)
@@ -183,7 +187,11 @@ def mesh_stiffness_plot(
     ax.grid(alpha=0.3)
     # below the axes, never on the curves
     leg = fig.legend(
-        loc="outside lower center", ncols=_ncols(ax), fontsize=9, frameon=False, title=note,
+        loc="outside lower center",
+        ncols=_ncols(ax),
+        fontsize=9,
+        frameon=False,
+        title=note,
         title_fontsize=8,
     )
     savefig(fig, path)
@@ -670,18 +678,20 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
         if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
             continue
-        crit_texts.append(ax.text(
-            c["speed_rad_s"],
-            0.985,
-            f"mode {c['mode']} × H{c['harmonic']}",
-            transform=trans,
-            rotation=90,
-            fontsize=7,
-            color="0.35",
-            va="top",
-            ha="center",
-            bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
-        ))
+        crit_texts.append(
+            ax.text(
+                c["speed_rad_s"],
+                0.985,
+                f"mode {c['mode']} × H{c['harmonic']}",
+                transform=trans,
+                rotation=90,
+                fontsize=7,
+                color="0.35",
+                va="top",
+                ha="center",
+                bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
+            )
+        )
     if shown:
         ax.plot([], [], "--", color="0.55", lw=0.8, label="critical speed (mode × mesh harmonic)")
 
@@ -711,8 +721,12 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
                 f"{'their peaks' if n > 1 else 'its peak'} not computed"
             )
     fig.legend(
-        loc="outside lower center", ncols=_fit_ncols(fig, ax, 8, 2 if few else 3), fontsize=8,
-        frameon=False, title=note, title_fontsize=8,
+        loc="outside lower center",
+        ncols=_fit_ncols(fig, ax, 8, 2 if few else 3),
+        fontsize=8,
+        frameon=False,
+        title=note,
+        title_fontsize=8,
     )
     _label_peaks(ax, peaks, sp.min(), sp.max(), avoid=crit_texts)
     savefig(fig, path)
@@ -743,7 +757,8 @@ def _label_peaks(ax, peaks: list[dict], s_lo: float, s_hi: float, avoid=()) -> N
         has = ["left", "center", "right"] if f < 0.25 else ["right", "center", "left"]
         if 0.25 <= f <= 0.75:
             has = ["center", "left", "right"]
-        def label(dy, ha):
+
+        def label(dy, ha, p=p):
             dx = {"left": -6, "right": 6, "center": 0}[ha]
             ann = ax.annotate(
                 f"{p['name']}\nDF {p['value']:.2f}",

@@ -174,9 +174,7 @@ def run_case(
         model = scene["model"]
         name = SCENE_LABELS[model].split(" (")[0]
         c = {key.split("_", 1)[1]: v for key, v in scene_res.items()}  # exact_modified, ...
-        te_curves[f"{name}, modified"] = {
-            m: c[f"{m}_modified"][0] for m in ("exact", "smooth")
-        }
+        te_curves[f"{name}, modified"] = {m: c[f"{m}_modified"][0] for m in ("exact", "smooth")}
         k_curves[f"{name} modified (loaded cells)"] = c["exact_modified"][1]
         if "exact_modified_at_rest" in c:
             te_curves[f"{name} at rest, modified"] = {"exact": c["exact_modified_at_rest"][0]}
@@ -323,9 +321,7 @@ def run_command(args) -> int:
         scene_section = scene_outputs(
             case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
         )
-    summary = run_case(
-        case, out, show_progress=not args.quiet, complete=last, scene=curves or None
-    )
+    summary = run_case(case, out, show_progress=not args.quiet, complete=last, scene=curves or None)
     if scene_section is not None:
         summary["quasi_static_scene"] = scene_section
         write_json(summary_path, summary)

@@ -183,8 +183,12 @@ def run_train(
     # periods of the slowest mesh (at least 3 of the input's), te.csv keeps the span
     n_shown = plotted_periods(case, layout, float(x[-1]) + 0.5 / ppp)
     win = x < n_shown
-    shown = "" if win.all() else (
-        f"\nfirst {n_shown:.3g} of {span} input mesh periods (te.csv and mesh_stiffness.csv: all)"
+    shown = (
+        ""
+        if win.all()
+        else (
+            f"\nfirst {n_shown:.3g} of {span} input mesh periods (te.csv and mesh_stiffness.csv: all)"
+        )
     )
     glossary = _gear_glossary(case)
     _plots.transmission_error_plot(
