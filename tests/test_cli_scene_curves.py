@@ -99,3 +99,19 @@ def test_two_stage_plots_show_two_periods_of_its_slow_mesh_not_the_span():
     assert plotted_periods(case, case.layout(), 127.0) == pytest.approx(2 * 127 / 35, rel=1e-12)
     idler = load_case("accessory-idler-train")
     assert plotted_periods(idler, idler.layout(), 2.0) == 2.0
+
+
+def test_train_table_names_the_balancing_gear_once():
+    """The idler train's table said "balancing output output -171.2 N·m" (its output gear is
+    named "output"): the gear's name is quoted after what it is."""
+    from jaxgear.cli.train import format_train_table
+
+    summary = {
+        "case": "t",
+        "gears": [{}, {}, {}],
+        "meshes": [],
+        "operating": {"torque_Nm": 80.0, "output": "output", "output_torque_Nm": -171.2},
+    }
+    head = format_train_table(summary).splitlines()[0]
+    assert "balancing torque on gear 'output' -171.2 N·m" in head
+    assert "output output" not in head
