@@ -94,6 +94,11 @@ def test_cases_lists_embedded_cases(capsys):
     assert main(["cases"]) == 0
     out = capsys.readouterr().out
     assert "accessory-spur" in out and "power-helical" in out
+    # a train with two modules lists both (two-stage: 1.5 mm, then 2.5 mm)
+    line = next(ln for ln in out.splitlines() if ln.startswith("two-stage"))
+    assert "m_n 1.5/2.5 mm" in line
+    # its gear names' abbreviations explained
+    assert "hst = high-speed train, stage 1, lst = low-speed train, stage 2" in line
 
 
 def test_atomic_open_keeps_the_old_file_when_interrupted(tmp_path):
@@ -118,3 +123,8 @@ def test_quickstart_example_runs(tmp_path):
     assert res["summary"]["case"] == "accessory-spur"
     for name in PNGS:
         assert (tmp_path / name).exists()
+    # README: "the two CSV files and the five plots" (no sweep, scene or optimisation folder)
+    files = sorted(p.name for p in tmp_path.iterdir() if not p.name.startswith("."))
+    assert [f for f in files if f.endswith(".png")] == sorted([*PNGS, "pressure_map.png"])
+    assert [f for f in files if f.endswith(".csv")] == ["mesh_stiffness.csv", "te.csv"]
+    assert not [p for p in tmp_path.iterdir() if p.is_dir()]

@@ -65,6 +65,11 @@ def test_robust_command_writes_the_statistics_of_its_realisations(tmp_path):
         rows = list(csv.DictReader(f))
     assert [float(r["te_rms_m"]) * 1e6 for r in rows] == pytest.approx(rms, rel=1e-9)
     assert summary["settings"]["grade"] == 7 and summary["devices"] == jax.device_count()
+    # the nominal gears (no deviation) over the same positions: the histograms' dashed line
+    nom = jg.quasi_static(mesh, case.modifications, case.torque, theta)
+    te = np.asarray(nom.transmission_error)
+    nominal = summary["quasi_static"]["nominal"]
+    assert nominal["te_rms_um"] == pytest.approx(np.std(te) * 1e6, rel=1e-9)
 
 
 @pytest.mark.parametrize(

@@ -204,6 +204,12 @@ def test_cli_sweep_writes_json_and_plots(tmp_path, capsys):
     assert data["critical_speeds"][0]["harmonic"] == 1
     for png in ("dynamic_factor.png", "campbell.png"):
         assert (out / png).read_bytes()[:4] == b"\x89PNG"
+    # sweep.csv beside sweep.json: a row per speed, the same numbers (12 significant digits)
+    table = np.genfromtxt(out / "sweep.csv", delimiter=",", names=True)
+    assert len(table) == 5
+    for key in ("speed_rad_s", "dynamic_factor", "dynamic_factor_down", "te_rms_m"):
+        ref = data["speeds_rad_s" if key == "speed_rad_s" else key]
+        np.testing.assert_allclose(table[key], ref, rtol=1e-11)
     assert "max dynamic factor" in captured.out
     # bad input: exit status 2 with the offending key named
     bad = tmp_path / "bad.toml"

@@ -146,7 +146,8 @@ def test_campbell_crossings_at_f_equals_h_z1_omega_over_2pi(tmp_path):
     assert len(got) == 8
     assert got[2500.0, 1] == pytest.approx(2 * math.pi * 2500 / Z1)
     assert plots.harmonic_crossings([2500.0], Z1, s_max=700.0, harmonics=(1,)) == []
-    # the plot marks every crossing of the plotted modes (≥ 1 % mesh energy) in its speed range
+    # the plot marks every crossing of the plotted modes (≥ 1 % mesh energy) in its speed
+    # range from the sweep's first speed (below it the low modes' crossings crowd unswept)
     marked = plots.campbell_plot(tmp_path / "c.png", _sweep_summary(), Z1)
     _png(tmp_path / "c.png")
     s_max = 1200.0 * 1.05
@@ -154,7 +155,7 @@ def test_campbell_crossings_at_f_equals_h_z1_omega_over_2pi(tmp_path):
         (f, h)
         for f in (1000.0, 2500.0)
         for h in (1, 2, 3, 4)
-        if 2 * math.pi * f / (h * Z1) <= s_max
+        if 100.0 <= 2 * math.pi * f / (h * Z1) <= s_max
     }
 
 
@@ -331,7 +332,7 @@ def test_convergence_axis(tmp_path, objective, history, log):
     if objective == "dynamic_factor":
         assert "unmodified" not in ax.get_ylabel() and "dynamic factor" in ax.get_ylabel()
     else:
-        assert ax.get_ylabel() == "te_rms / unmodified design (0.52 µm)"
+        assert ax.get_ylabel() == "TE RMS / unmodified design (0.52 µm)"  # words, not code
     loc = ax.xaxis.get_major_locator()
     assert isinstance(loc, MaxNLocator) and loc._integer
     ticks = [x for x in ax.get_xticks() if 0 <= x <= len(history) - 1]
@@ -463,3 +464,43 @@ def test_benchmark_charts_have_no_overlapping_tick_labels(tmp_path, chart, name,
     _png(tmp_path / f"{name}.png")
     (fig,) = figs
     assert _tick_label_overlaps(fig) == []
+
+
+def test_sweep_of_three_speeds_says_its_lines_cross_critical_speeds(tmp_path, figures):
+    """A 3-speed sweep joins its points straight across the critical speeds between them: the
+    legend says so; a dense sweep, whose samples sit on every critical speed, says nothing."""
+    plots.dynamic_factor_plot(tmp_path / "df.png", _few_speeds(_sweep_summary(), 3))
+    plots.dynamic_factor_plot(tmp_path / "dense.png", _sweep_summary())
+    few, dense = (fig.legends[0].get_title().get_text() for fig in figures)
+    assert few.startswith("straight lines join the 3 computed speeds: ")
+    assert "critical speeds lie between them" in few
+    assert dense == ""
+
+
+def test_dynamic_factor_names_at_most_three_peaks_without_overlap(tmp_path, figures):
+    """Five resonance peaks: the three highest are named, each label inside the axes and clear
+    of the others; the two others are marked only."""
+    summary = _sweep_summary()
+    sp = np.asarray(summary["speeds_rad_s"])
+    df = np.asarray(summary["dynamic_factor"])
+    for c, h in zip((200.0, 380.0, 560.0, 800.0, 1050.0), (0.9, 0.5, 0.7, 0.3, 0.6), strict=True):
+        df = df + h / (1 + ((sp - c) / 12.0) ** 2)
+    summary["dynamic_factor"] = df.tolist()
+    peaks = plots.dynamic_factor_plot(tmp_path / "df.png", summary)
+    _png(tmp_path / "df.png")
+    assert len(peaks) == 5
+    (fig,) = figures
+    ax = fig.axes[0]
+    labels = [t for t in ax.texts if "\nDF " in t.get_text()]
+    assert sorted(float(t.get_text().rsplit(" ", 1)[1]) for t in labels) == pytest.approx(
+        sorted(p["value"] for p in peaks)[-3:], abs=0.006
+    )
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(r) for t in labels]
+    inside = ax.get_window_extent(r)
+    for i, b in enumerate(boxes):
+        assert inside.x0 <= b.x0 and b.x1 <= inside.x1 and b.y1 <= inside.y1
+        assert not any(b.overlaps(o) for o in boxes[i + 1 :])
+    marked = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    assert len(marked) == 1 and len(marked[0].get_xdata()) == 2

@@ -15,6 +15,7 @@ import pytest
 import scipy.sparse as sp
 
 import fem_prep
+import jaxgear as jg
 import jaxgear.cli.sweep as cli_sweep  # to replace the sweep computation (tests/test_layout.py)
 import optimise as op
 from fem_prep import load_body, prepare, shift_invert_modes
@@ -199,7 +200,8 @@ def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup,
     """``jaxgear run`` on a hybrid case: after its 7-step bar, a bar over the scene's steps
     (the condensed bodies, the scene, exact and smooth solves, maps and VTU files) ends full."""
     case, _ = hybrid_setup
-    out = scene_outputs(case, str(tmp_path / "scene"), progress=True)
+    curves = {}
+    out = scene_outputs(case, str(tmp_path / "scene"), progress=True, curves=curves)
     err = capsys.readouterr().err
     states = re.findall(r"jaxgear run hybrid-test: scene:\s+\d+%\|[^|]*\|\s*(\d+)/(\d+)", err)
     assert states and states[-1] == ("5", "5")  # speed 0: no solve at rest
@@ -207,6 +209,46 @@ def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup,
     assert sorted(out["files"]) == sorted(
         f"scene/{f}" for f in ("load_map.png", "pressure_map.png", "body_gear.vtu", "contact.vtu")
     )
+    # the hybrid curves for te.csv (jaxgear run): one period at the rigid mesh's first
+    # positions, repeated over the second: equal to a two-period solve (the scene is periodic)
+    assert curves["model"] == "hybrid" and set(curves["results"]) == {"exact", "smooth"}
+    ex = curves["results"]["exact"]
+    rigid = jg.quasi_static(
+        case.mesh_model(),
+        case.modifications,
+        case.torque,
+        positions_per_pitch=case.positions_per_pitch,
+        periods=2,
+    )
+    n = ex.theta.shape[0]
+    assert rigid.theta.shape[0] == 2 * n
+    np.testing.assert_allclose(np.asarray(ex.theta), np.asarray(rigid.theta)[:n], atol=1e-15)
+    two = jg.quasi_static(
+        hybrid_setup[1],
+        case.modifications,
+        case.torque,
+        speed=case.speed,
+        contact=case.contact_law("exact"),
+        positions_per_pitch=case.positions_per_pitch,
+        periods=2,
+    )
+    np.testing.assert_allclose(
+        np.tile(np.asarray(ex.transmission_error), 2), two.transmission_error, rtol=0, atol=1e-12
+    )
+    np.testing.assert_allclose(
+        np.tile(np.asarray(ex.mesh_stiffness), 2), two.mesh_stiffness, rtol=1e-9
+    )
+    assert float(ex.te_mean) == pytest.approx(out["exact"]["te_mean_m"], rel=1e-12)
+    assert float(ex.te_mean) > float(rigid.te_mean)  # the condensed wheel's compliance
+    # contact.vtu in SI as the body VTUs: at the position of the largest line load
+    import meshio
+
+    data = meshio.read(tmp_path / "scene" / "contact.vtu").point_data
+    assert set(data) == {"line_load_N_per_m", "contact_pressure_Pa", "contact_half_width_m"}
+    e = out["exact"]
+    assert data["line_load_N_per_m"].max() == pytest.approx(e["max_line_load_N_per_m"], rel=1e-9)
+    assert 1e8 < data["contact_pressure_Pa"].max() <= e["max_contact_pressure_Pa"] * (1 + 1e-9)
+    assert 0 < data["contact_half_width_m"].max() < 1e-3
 
 
 def test_readme_robust_example_converges_to_the_stated_optimum(tmp_path):

@@ -208,3 +208,25 @@ def test_lumped3d_example_peak_and_mode():
     assert np.all(np.asarray(s.results.result) == 0)
     assert speeds[1] == pytest.approx(938, abs=0.5)
     assert df[1] == pytest.approx(1.74, abs=0.005) and df[1] > df[0] and df[1] > df[2]
+
+
+def test_license_and_thesis_citation():
+    """pyproject.toml's licence is MIT and LICENSE says so; the README cites the thesis in full
+    and calls it "the thesis" (no "the seed"); its set-up commands stay at the top."""
+    import tomllib
+
+    meta = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert meta["project"]["license"] == "MIT"
+    lic = (ROOT / "LICENSE").read_text(encoding="utf-8")
+    assert lic.startswith("MIT License") and "jaxgear developers" in lic
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    assert text.startswith(
+        "# jaxgear\n\n```bash\npip install -e . && jaxgear run\n"
+        'pip install -e ".[test]" && python -m pytest -q -m "not slow" -n 2 --dist worksteal\n```'
+    )
+    flat = " ".join(text.split())
+    assert (
+        "B. Guilbert, *Hybrid modular models for the dynamic study of high-speed "
+        "thin-rimmed/-webbed gears*, PhD thesis, INSA Lyon, 2017" in flat
+    )
+    assert "the seed" not in flat.lower() and "FEM_PREP_CACHE" in flat

@@ -33,7 +33,11 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
     sub = p.add_subparsers(dest="command", required=True)
-    r = sub.add_parser("run", help="quasi-static analysis of a case (the main job)")
+    r = sub.add_parser(
+        "run",
+        help="the main job: quasi-static analysis of a case, and the speed sweep and "
+        "optimisation its [scene] and [optimise] ask for",
+    )
     r.add_argument(
         "case",
         nargs="?",
@@ -86,6 +90,7 @@ def _cases(args) -> int:
     from fem_prep.schema import print_or_write
 
     from ..io import embedded_case_text, list_cases, load_case
+    from .train import gear_glossary
 
     if args.name is None:
         if args.write is not None:
@@ -94,10 +99,13 @@ def _cases(args) -> int:
             c = load_case(name)
             if hasattr(c, "gear_names"):  # a train: its gears' teeth, input first
                 teeth = "/".join(str(m.teeth) for m in c.members())
+                modules = dict.fromkeys(f"{p.normal_module * 1e3:g}" for p in c.pairs)
+                glossary = gear_glossary(c.gear_names)
                 print(
-                    f"{name:24s} train z {teeth}, m_n {c.pairs[0].normal_module * 1e3:g} mm, "
+                    f"{name:24s} train z {teeth}, m_n {'/'.join(modules)} mm, "
                     f"T {c.torque:g} N·m (input), {c.stiffness_model} stiffness"
                     + (f", {c.scene.model} scene" if c.scene is not None else "")
+                    + (f" ({glossary})" if glossary else "")
                 )
                 continue
             print(

@@ -312,9 +312,9 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
             res.history_x[:, i_g],
             res.history_x[:, i_d] * dm,
             (float(res.x[i_g]), float(res.x[i_d]) * dm),
-            label=f"{problem.objective} (µm), smooth contact",
-            title=f"{case.name}: {problem.objective} over tip relief extent and depth, "
-            f"{settings['method']} path",
+            label=f"{_plots.OBJECTIVE_WORDS[problem.objective]} (µm), smooth contact",
+            title=f"{case.name}: {_plots.OBJECTIVE_WORDS[problem.objective]} over tip relief "
+            f"extent and depth, {settings['method']} path",
         )
         k = np.unravel_index(np.argmin(grid), grid.shape)
         report["grid_41x41_best"] = {
@@ -545,8 +545,16 @@ def run_master_curve(args) -> int:
     clear_outputs(out, "master-curve")
     rep = master_curve_case(case, extents, out, progress=not args.quiet)
     for row in rep["master_curve"]:
+        flag = "  on a bound of the depth interval: not a true optimum" if row["on_bound"] else ""
         print(
-            f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, TE RMS = {row['te_rms_m'] * 1e6:.4f} µm"
+            f"  Γ = {row['extent']:.3f}: E = {row['depth_um']:.3f} µm, "
+            f"TE RMS = {row['te_rms_m'] * 1e6:.4f} µm{flag}"
+        )
+    n_bound = sum(bool(r["on_bound"]) for r in rep["master_curve"])
+    if n_bound:
+        print(
+            f"  {n_bound} of {len(rep['master_curve'])} points on a bound of the depth interval "
+            "(crosses on master_curve.png): their optimum lies beyond the depths searched"
         )
     print(f"written to {out}/")
     return 0

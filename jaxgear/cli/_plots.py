@@ -28,6 +28,7 @@ __all__ = [
     "harmonic_crossings",
     "harris_plot",
     "load_map_plot",
+    "map_difference_plot",
     "master_curve_plot",
     "mesh_stiffness_plot",
     "name_peaks",
@@ -109,20 +110,26 @@ def te_coincide(exact, smooth, span: float, share: float = TE_COINCIDE_SHARE) ->
 
 
 def transmission_error_plot(
-    path, x, curves: dict, *, title: str, driver: str = "pinion"
+    path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
 ) -> list[str]:
     """Quasi-static TE (µm) against the ``driver``'s position (mesh periods): the pinion's, a
     train's input's.
 
-    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}``. A design whose exact and
-    smooth curves coincide (:func:`te_coincide`) is drawn once, its legend entry says so;
-    otherwise exact is solid, smooth dashed. Returns the legend labels.
+    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}`` (a design may have
+    "exact" only). A design whose exact and smooth curves coincide (:func:`te_coincide`) is
+    drawn once, its legend entry says so; otherwise exact is solid, smooth dashed. ``note``:
+    a line under the plot (what a reader would otherwise take for an error). Returns the
+    legend labels.
     """
     fig, ax = new_figure()
-    um = {k: {m: np.asarray(v[m]) * 1e6 for m in ("exact", "smooth")} for k, v in curves.items()}
+    um = {k: {m: np.asarray(a) * 1e6 for m, a in v.items()} for k, v in curves.items()}
     allv = np.concatenate([a for v in um.values() for a in v.values()])
     span = float(np.ptp(allv)) or 1.0
-    for (lab, v), color in zip(um.items(), ("C0", "C3", "C2", "C1"), strict=False):
+    colors = ("C0", "C3", "C2", "C1", "C4", "C5")
+    for (lab, v), color in zip(um.items(), colors, strict=False):
+        if "smooth" not in v:
+            ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
+            continue
         same, d = te_coincide(v["exact"], v["smooth"], span)
         if same:
             within = f"within {d:.2g} µm" if d >= 1e-3 else "within 0.001 µm"
@@ -134,25 +141,61 @@ def transmission_error_plot(
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    leg = fig.legend(loc="outside lower center", ncols=2, fontsize=9, frameon=False)
+    leg = fig.legend(
+        loc="outside lower center",
+        ncols=_ncols(ax),
+        fontsize=9,
+        frameon=False,
+        title=note,
+        title_fontsize=8,
+    )
     savefig(fig, path)
     return [t.get_text() for t in leg.get_texts()]
 
 
-def mesh_stiffness_plot(path, x, curves: dict, *, title: str, driver: str = "pinion") -> list[str]:
+def _ncols(ax, width: int = 48) -> int:
+    """Legend columns below a FIGSIZE figure: two unless a label is too long for half of it."""
+    labels = ax.get_legend_handles_labels()[1]
+    return 1 if any(len(t) > width for t in labels) else 2
+
+
+def _fit_ncols(fig, ax, fontsize: float, most: int) -> int:
+    """As many legend columns (at most ``most``) as fit the figure's width with its longest
+    label: a legend below the axes never runs off either side."""
+    labels = ax.get_legend_handles_labels()[1]
+    if not labels:
+        return 1
+    char = 0.6 * fontsize  # points per character, a generous mean for DejaVu Sans
+    entry = char * max(len(t) for t in labels) + 3.5 * fontsize  # handle and spacing
+    width = fig.get_figwidth() * 72 * 0.97
+    return int(max(1, min(most, len(labels), width // entry)))
+
+
+def mesh_stiffness_plot(
+    path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
+) -> list[str]:
     """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
-    input's); ``curves``: ``{label: K (N/m)}``."""
+    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot."""
     fig, ax = new_figure()
-    for (lab, k), color in zip(curves.items(), ("C0", "C3", "C2", "C1"), strict=False):
-        ax.plot(x, np.asarray(k) / 1e6, color=color, label=lab)
-    return _finish(
-        fig,
-        ax,
-        path,
-        xlabel=f"{driver} position (mesh periods)",
-        ylabel="mesh stiffness K(θ) (N/µm)",
-        title=title,
+    colors = ("C0", "C3", "C2", "C1", "C4", "C5")
+    styles = ("-", "-", "--", ":", "-.", "--")  # a curve on top of another one still shows
+    for (lab, k), color, ls in zip(curves.items(), colors, styles, strict=False):
+        ax.plot(x, np.asarray(k) / 1e6, ls, color=color, label=lab)
+    ax.set_xlabel(f"{driver} position (mesh periods)")
+    ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    # below the axes, never on the curves
+    leg = fig.legend(
+        loc="outside lower center",
+        ncols=_ncols(ax),
+        fontsize=9,
+        frameon=False,
+        title=note,
+        title_fontsize=8,
     )
+    savefig(fig, path)
+    return [t.get_text() for t in leg.get_texts()]
 
 
 def load_map_plot(
@@ -194,6 +237,39 @@ def load_map_plot(
         xlabel="s along the line of action (mm): 0 = engagement (gear tip)",
         ylabel="z across the face (mm)",
         title=title,
+        legend=False,
+        grid=False,
+    )
+    return pc
+
+
+def map_difference_plot(path, s_edges, z_edges, dmap, *, title: str, label: str, unit: float):
+    """A signed difference of two maps of :func:`load_map_plot`'s kind (SI; ``unit``: the SI
+    value of one displayed unit) on a diverging scale symmetric about 0 (red: the first map is
+    higher), its largest magnitude in the title (a difference of 0.1 % of a map is invisible
+    on the maps' own scale)."""
+    fig, ax = new_figure()
+    data = np.asarray(dmap, dtype=float) / unit
+    big = float(np.nanmax(np.abs(data))) if np.isfinite(data).any() else 0.0
+    lim = big or 1.0
+    pc = ax.pcolormesh(
+        np.asarray(s_edges) * 1e3,
+        np.asarray(z_edges) * 1e3,
+        data.T,
+        shading="flat",
+        cmap="RdBu_r",
+        vmin=-lim,
+        vmax=lim,
+    )
+    fig.colorbar(pc, ax=ax, label=label)
+    unit_name = label[label.rfind("(") + 1 : label.rfind(")")] if "(" in label else ""
+    _finish(
+        fig,
+        ax,
+        path,
+        xlabel="s along the line of action (mm): 0 = engagement (gear tip)",
+        ylabel="z across the face (mm)",
+        title=f"{title}\nlargest |Δ| {big:.3g} {unit_name}".rstrip(),
         legend=False,
         grid=False,
     )
@@ -390,7 +466,10 @@ def train_phasing_plot(
     curves.set_ylabel("mesh stiffness K(θ) (N/µm)")
     curves.set_title("mesh phasing: dashed, each mesh's angle at a whole period", fontsize=10)
     curves.grid(alpha=0.3)
-    curves.legend(fontsize=8)
+    # below the panel, never on the curves
+    curves.legend(
+        fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncols=3, frameon=False
+    )
     fig.suptitle(title)
     savefig(fig, path)
 
@@ -579,40 +658,43 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     cands = coincidences(summary, min_share=0.01)  # small shares still make visible peaks
     shown = [c for c in summary["critical_speeds"] if sp.min() <= c["speed_rad_s"] <= sp.max()]
     peaks = name_peaks(sp, df, cands)
+    top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]  # the peaks named
     named = {
-        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in peaks if p["coincidence"]
+        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
     }
+    rest = [p for p in peaks if p not in top]
+    if rest:
+        ax.plot(
+            [p["speed_rad_s"] for p in rest],
+            [p["value"] for p in rest],
+            "v",
+            color="C3",
+            ms=5,
+            mfc="none",
+            label=f"smaller peak (the {PEAKS_NAMED} highest are named)",
+        )
+    crit_texts = []
     for c in shown:
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
         if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
             continue
-        ax.text(
-            c["speed_rad_s"],
-            0.985,
-            f"mode {c['mode']} × H{c['harmonic']}",
-            transform=trans,
-            rotation=90,
-            fontsize=7,
-            color="0.35",
-            va="top",
-            ha="center",
-            bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
+        crit_texts.append(
+            ax.text(
+                c["speed_rad_s"],
+                0.985,
+                f"mode {c['mode']} × H{c['harmonic']}",
+                transform=trans,
+                rotation=90,
+                fontsize=7,
+                color="0.35",
+                va="top",
+                ha="center",
+                bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"},
+            )
         )
     if shown:
         ax.plot([], [], "--", color="0.55", lw=0.8, label="critical speed (mode × mesh harmonic)")
-    for k, p in enumerate(peaks):
-        ax.annotate(
-            f"{p['name']}\nDF {p['value']:.2f}",
-            (p["speed_rad_s"], p["value"]),
-            xytext=(0, 12 + 22 * (k % 2)),
-            textcoords="offset points",
-            ha="center",
-            va="bottom",
-            fontsize=7.5,
-            color="C3",
-            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
-            arrowprops={"arrowstyle": "->", "color": "C3", "lw": 0.8},
-        )
+
     top = ax.secondary_xaxis(
         "top", functions=(lambda w: w * 30 / math.pi, lambda n: n * math.pi / 30)
     )
@@ -626,9 +708,89 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         fontsize=10,
     )
     ax.grid(alpha=0.3)
-    fig.legend(loc="outside lower center", ncols=2 if few else 3, fontsize=8, frameon=False)
+    note = None
+    if few:  # a coarse sweep's straight segments may cross a resonance: say so
+        between = [
+            c for c in shown if np.min(np.abs(sp - c["speed_rad_s"])) > 0.02 * c["speed_rad_s"]
+        ]
+        if between:
+            n = len(between)
+            note = (
+                f"straight lines join the {sp.size} computed speeds: {n} critical "
+                f"speed{'s lie' if n > 1 else ' lies'} between them, "
+                f"{'their peaks' if n > 1 else 'its peak'} not computed"
+            )
+    fig.legend(
+        loc="outside lower center",
+        ncols=_fit_ncols(fig, ax, 8, 2 if few else 3),
+        fontsize=8,
+        frameon=False,
+        title=note,
+        title_fontsize=8,
+    )
+    _label_peaks(ax, peaks, sp.min(), sp.max(), avoid=crit_texts)
     savefig(fig, path)
     return peaks
+
+
+#: the highest peaks of a dynamic factor curve that are named on the plot
+PEAKS_NAMED = 3
+
+
+def _label_peaks(ax, peaks: list[dict], s_lo: float, s_hi: float, avoid=()) -> None:
+    """Name the :data:`PEAKS_NAMED` highest ``peaks`` (:func:`name_peaks`) above the curve (the
+    others are marked by the caller). Each label takes the first offset, going up, where it lies inside the
+    axes and clear of the labels placed before and of ``avoid`` (texts), aligned inward near
+    either end of the axis; the figure must be drawn (its layout fixed)."""
+    top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]
+    if not top:
+        return
+    from matplotlib.text import Text
+
+    fig = ax.figure
+    fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
+    renderer = fig.canvas.get_renderer()
+    inside = ax.get_window_extent(renderer)
+    placed = [t.get_window_extent(renderer).padded(2) for t in avoid]
+    for p in top:  # the highest first: it gets the place nearest its peak
+        f = (p["speed_rad_s"] - s_lo) / ((s_hi - s_lo) or 1.0)
+        has = ["left", "center", "right"] if f < 0.25 else ["right", "center", "left"]
+        if 0.25 <= f <= 0.75:
+            has = ["center", "left", "right"]
+
+        def label(dy, ha, p=p):
+            dx = {"left": -6, "right": 6, "center": 0}[ha]
+            ann = ax.annotate(
+                f"{p['name']}\nDF {p['value']:.2f}",
+                (p["speed_rad_s"], p["value"]),
+                xytext=(dx, dy),
+                textcoords="offset points",
+                ha=ha,
+                va="bottom",
+                fontsize=7.5,
+                color="C3",
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.9},
+                arrowprops={"arrowstyle": "->", "color": "C3", "lw": 0.8},
+            )
+            ann.set_in_layout(False)
+            ann.update_positions(renderer)
+            return ann, Text.get_window_extent(ann, renderer).padded(3)  # the text, no arrow
+
+        box = None
+        for dy, ha in [(dy, ha) for dy in (10, 34, 58, 82, 106) for ha in has]:
+            ann, box = label(dy, ha)
+            if (
+                inside.x0 <= box.x0
+                and box.x1 <= inside.x1
+                and box.y1 <= inside.y1
+                and not any(box.overlaps(b) for b in placed)
+            ):
+                break
+            ann.remove()
+            box = None
+        if box is None:  # nowhere clear: the nearest place inside the figure
+            ann, box = label(10, has[0])
+        placed.append(box)
 
 
 def harmonic_crossings(
@@ -664,7 +826,9 @@ def campbell_plot(
     """Campbell diagram: mesh harmonics f = h z1 Ω / 2π (and a train's other mesh orders,
     ``mesh_orders``, dash-dotted) against the modes with at least
     ``min_share`` of their strain energy in the mesh (black: ≥ 5 %, grey: weaker), each mode
-    labelled with its frequency at the right end, every crossing in the plotted range marked.
+    labelled with its frequency at the right end, every crossing in the swept speed range
+    marked (those of the weaker modes small and grey; below the first speed of the sweep none:
+    the low modes' crossings crowd there and no speed was computed).
     Returns the crossings (:func:`harmonic_crossings`)."""
     fig, ax = new_figure()
     sp = _nan(summary["speeds_rad_s"])
@@ -718,20 +882,24 @@ def campbell_plot(
         )
     # one label per group of modes closer than 3 % of the axis (they would print over each
     # other), at the right end, with their frequency there
+    # (a label is about 5 % of the axis high: closer groups are moved up, never stacked)
     modes = [(i, float(at(i, s_max * 0.995)), e) for i, _, e in modes]
     groups: list[list] = []
     for m in sorted(modes, key=lambda m: m[1]):
-        if groups and m[1] - groups[-1][-1][1] < 0.03 * f_top:
+        if groups and m[1] - groups[-1][-1][1] < 0.04 * f_top:
             groups[-1].append(m)
         else:
             groups.append([m])
     mode_labels = []
+    y_free = -np.inf  # the lowest place for the next label
     for g in groups:
         ids = ", ".join(str(i) for i, _, _ in g)
         hz = ", ".join(_hz(f) for _, f, _ in g)
+        y = max(g[-1][1] + 0.006 * f_top, y_free)
+        y_free = y + 0.055 * f_top
         t = ax.text(
             s_max * 0.995,
-            g[-1][1] + 0.006 * f_top,
+            y,
             f"mode{'s' if len(g) > 1 else ''} {ids}: {hz} Hz",
             ha="right",
             va="bottom",
@@ -740,20 +908,28 @@ def campbell_plot(
             bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
         )
         mode_labels.append(t)
-    drawn = at_speed[..., [i for i, _, _ in modes]]
-    cross = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
-    for _, z in others:
-        cross += harmonic_crossings(drawn, z, s_max, (1, 2), grid)
-    if cross:
-        ax.plot(
-            [c["speed_rad_s"] for c in cross],
-            [c["frequency_Hz"] for c in cross],
-            "o",
-            mfc="none",
-            mec="k",
-            ms=6,
-            label="harmonic crossing",
-        )
+    s_min = float(np.nanmin(sp)) * (1 - 1e-9)
+    cross = []
+    for faint in (False, True):
+        cols = [i for i, _, e in modes if (e < 0.05) == faint]
+        if not cols:
+            continue
+        drawn = at_speed[..., cols]
+        group = harmonic_crossings(drawn, z1, s_max, harmonics, grid)
+        for _, z in others:
+            group += harmonic_crossings(drawn, z, s_max, (1, 2), grid)
+        group = [c for c in group if c["speed_rad_s"] >= s_min]
+        if group:
+            ax.plot(
+                [c["speed_rad_s"] for c in group],
+                [c["frequency_Hz"] for c in group],
+                "o",
+                mfc="none",
+                mec="0.55" if faint else "k",
+                ms=3.5 if faint else 6,
+                label="harmonic crossing, weak mode" if faint else "harmonic crossing",
+            )
+        cross += group
     crit = [c for c in summary["critical_speeds"] if c["speed_rad_s"] <= s_max]
     if crit:
         ax.plot(
@@ -828,7 +1004,10 @@ def campbell_plot(
     )
     ax.grid(alpha=0.3)
     fig.legend(
-        loc="outside lower center", ncols=3 if nd else 4 if others else 6, fontsize=8, frameon=False
+        loc="outside lower center",
+        ncols=_fit_ncols(fig, ax, 8, 3 if nd else 4 if others else 6),
+        fontsize=8,
+        frameon=False,
     )
     if nd_labels:
         fig.canvas.draw()  # the layout fixes the axes: labels are placed in pixels
@@ -957,6 +1136,16 @@ def _place_nd_labels(ax, labels: dict, avoid=()) -> list:
 # ---------------------------------------------------------------- optimisation
 
 
+#: the optimisation objectives in words, for plot labels (the code names stay in the JSON files)
+OBJECTIVE_WORDS = {
+    "te_rms": "TE RMS",
+    "te_ptp": "TE peak-to-peak",
+    "robust_te_rms": "TE RMS over the torques",
+    "max_line_load": "max line load",
+    "line_load_lp": "line load Lp norm",
+}
+
+
 def convergence_ylabel(objective: str, unmodified: float, units: str) -> str:
     """The convergence plot's axis label for the optimiser's (scaled) objective history.
 
@@ -970,7 +1159,8 @@ def convergence_ylabel(objective: str, unmodified: float, units: str) -> str:
     if objective == "load_centroid":
         return "load_centroid: ((z̄ − b/2) / 0.1 b)²"
     unit, k = {"m": ("µm", 1e6), "N_per_m": ("N/mm", 1e-3)}.get(units, (units, 1.0))
-    return f"{objective} / unmodified design ({unmodified * k:.3g} {unit})"
+    name = OBJECTIVE_WORDS.get(objective, objective)
+    return f"{name} / unmodified design ({unmodified * k:.3g} {unit})"
 
 
 def convergence_plot(path, history, *, ylabel: str, title: str):
@@ -1001,15 +1191,13 @@ def optimiser_path_plot(
     ax.plot(path_g, path_e_um, "w.-", label="optimiser path")
     ax.plot(path_g[0], path_e_um[0], "wo", mfc="none", ms=9, label="start")
     ax.plot(*opt, "r*", ms=14, label=f"optimum Γ = {opt[0]:.3f}, E = {opt[1]:.2f} µm")
-    _finish(
-        fig,
-        ax,
-        path,
-        xlabel="relief extent Γ",
-        ylabel="relief depth E (µm)",
-        title=title,
-        grid=False,
-    )
+    ax.set_xlabel("relief extent Γ")
+    ax.set_ylabel("relief depth E (µm)")
+    ax.set_title(title)
+    # below the axes: the map stays visible (white markers on a dark ground outside it)
+    leg = fig.legend(loc="outside lower center", ncols=3, fontsize=9, frameon=True)
+    leg.get_frame().set_facecolor("0.55")
+    savefig(fig, path)
 
 
 def master_curve_plot(
@@ -1054,6 +1242,7 @@ def master_curve_plot(
     g0, g1 = float(np.min(G)), float(np.max(G))
     me, mg = 0.05 * (e1 - e0 or 1.0), 0.03 * (g1 - g0 or 1.0)
     ax.set_facecolor("0.85")
+    ax.fill([], [], color="0.85", label="outside the computed map (margin)")
     ax.set_ylim(e0 - me, e1 + me)
     ax.set_xlim(min(g0, float(np.min(extent))) - mg, max(g1, float(np.max(extent))) + mg)
     ax.set_xlabel("relief extent Γ")

@@ -199,6 +199,15 @@ def run_robust(args) -> int:
         "max_line_load_N_per_mm": "max_line_load",
     }
     values = {k: np.asarray(getattr(qs, f))[ok] * scale[k] for k, f in fields.items()}
+    # the nominal gears (no deviation) over the same positions: a line on each histogram
+    from .. import quasi_static
+
+    nom = quasi_static(mesh, mods, case.torque, theta=theta, contact=case.contact_law("exact"))
+    nominal = {
+        "te_rms_um": float(nom.te_rms) * 1e6,
+        "te_ptp_um": float(nom.te_ptp) * 1e6,
+        "max_line_load_N_per_mm": float(np.max(np.asarray(nom.line_load))) * 1e-3,
+    }
     summary = {
         "case": case.name,
         "settings": st,
@@ -210,6 +219,7 @@ def run_robust(args) -> int:
         "quasi_static": {
             "failed": int((~ok).sum()),
             **{k: sample_statistics(v, pc, conf) for k, v in values.items()},
+            "nominal": nominal,
         },
         "processes": jax.process_count(),
         "devices": jax.device_count(),
@@ -235,7 +245,7 @@ def run_robust(args) -> int:
         bands = per_speed
     write_json(os.path.join(out_dir, "robust.json"), summary)
     write_csv(os.path.join(out_dir, "samples.csv"), names, [np.asarray(c) for c in cols])
-    _plots(out_dir, case.name, st, values, summary["quasi_static"], bands)
+    _plots(out_dir, case.name, st, values, summary["quasi_static"], bands, nominal)
     if not getattr(args, "quiet", False):
         q = summary["quasi_static"]["te_rms_um"]
         print(
@@ -251,8 +261,9 @@ def _tolerances_um(g) -> dict:
     return {n: round(float(v) * 1e6, 6) for n, v in zip(names, g.tolerances, strict=True)}
 
 
-def _plots(out_dir, name, st, values, stats, bands) -> None:
+def _plots(out_dir, name, st, values, stats, bands, nominal=None) -> None:
     import numpy as np
+    from matplotlib.ticker import MaxNLocator
 
     from ._plots import new_figure, savefig
 
@@ -264,20 +275,44 @@ def _plots(out_dir, name, st, values, stats, bands) -> None:
     fig, _ = new_figure((11, 3.8))
     fig.clear()
     axes = fig.subplots(1, 3)
+    no_interval = False
     for ax, (k, v) in zip(axes, values.items(), strict=True):
         ax.hist(v, bins=max(10, min(60, int(np.sqrt(v.size)))), color="0.7")
-        for p, e in stats[k]["percentiles"].items():
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # counts are whole
+        pcs = list(stats[k]["percentiles"].items())
+        for j, (p, e) in enumerate(pcs):
             ax.axvline(e["value"], color="C3", lw=1)
             lo, hi = e["ci"]
+            star = ""
             if lo is not None and hi is not None:
                 ax.axvspan(lo, hi, color="C3", alpha=0.15)
-            ax.text(e["value"], ax.get_ylim()[1] * 0.95, f"P{p}", color="C3", fontsize=8)
+            else:  # too few realisations for a distribution-free interval of this percentile
+                star, no_interval = "*", True
+            # tags inside the axes, the lower percentiles left of their line, the upper right
+            left = j < len(pcs) / 2
+            ax.text(
+                e["value"],
+                0.97 - 0.09 * (j % 2),
+                f"P{p}{star}",
+                transform=ax.get_xaxis_transform(),
+                ha="right" if left else "left",
+                va="top",
+                color="C3",
+                fontsize=9,
+                bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
+            )
+        if nominal is not None:
+            ax.axvline(nominal[k], color="k", ls="--", lw=1.2, label="nominal gears")
         ax.set_xlabel(labels[k])
     axes[0].set_ylabel("realisations")
+    if nominal is not None:
+        axes[0].legend(fontsize=8, loc="center right")
+    revs = st["revolutions"]
     fig.suptitle(
         f"{name}: {values['te_rms_um'].size} realisations, ISO 1328-1 grade {st['grade']} "
-        f"({st['revolutions']} pinion revolution(s)); percentiles with "
-        f"{st['confidence']:.0%} intervals"
+        f"({revs} pinion revolution{'' if revs == 1 else 's'}); percentiles with "
+        f"{st['confidence']:.0%} intervals (shaded)"
+        + ("\n* too few realisations for this percentile's interval" if no_interval else "")
     )
     savefig(fig, os.path.join(out_dir, "robust_distributions.png"))
     if not bands:

@@ -33,6 +33,7 @@ def run_case(
     harris_points: int = 16,
     show_progress: bool = True,
     complete: bool = True,
+    scene: dict | None = None,
 ) -> dict:
     """Compute geometry, mesh stiffness, quasi-static TE (exact and smooth, with and without the
     case's modifications), the load map and the Harris map, and write them to ``out_dir``.
@@ -46,6 +47,13 @@ def run_case(
 
     ``summary.json`` says ``"complete": complete`` (``jaxgear run`` passes False when a sweep or
     an optimisation follows, and rewrites it at the end).
+
+    ``scene``: the case's scene results (:func:`jaxgear.cli.scene.scene_outputs`' ``curves``:
+    ``model`` and ``results``, one mesh period at the rigid mesh's first positions, repeated
+    over the second: the quasi-static scene is periodic in the mesh period): their TE and mesh
+    stiffness are added to the CSV files (``te_<model>_<contact>_modified[_at_rest]_m``,
+    ``mesh_stiffness_<model>_...``) and drawn beside the rigid mesh's, each labelled with its
+    model. Every other file is the rigid mesh's (both bodies rigid), and says so.
 
     Returns:
         The summary dict (also in ``summary.json``).
@@ -121,12 +129,17 @@ def run_case(
         for lab in ("unmodified", "modified")
         for m in ("exact", "smooth")
     }
-    write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *cols], [theta, *cols.values()])
     kcols = {
         f"mesh_stiffness_{m}_{lab}_N_per_m": np.asarray(res[lab, m].mesh_stiffness)
         for lab in ("unmodified", "modified")
         for m in ("exact", "smooth")
     }
+    # the scene's own curves (shafts, bearings, condensed bodies) beside the rigid mesh's
+    scene_res = _scene_columns(scene, theta)
+    for key, (te, k) in scene_res.items():
+        cols[f"te_{key}_m"] = te
+        kcols[f"mesh_stiffness_{key}_N_per_m"] = k
+    write_csv(os.path.join(out_dir, "te.csv"), ["theta_rad", *cols], [theta, *cols.values()])
     lcols = {
         "contact_length_exact_modified_m": np.asarray(res["modified", "exact"].contact_length),
         # the largest Hertzian pressure on the flanks at each position (seed IV-44)
@@ -143,20 +156,54 @@ def run_case(
     period = 2 * math.pi / pair.pinion.teeth
     x = theta / period
     designs = ("unmodified", "modified")
+    rigid = "rigid mesh" if scene_res else ""  # a case with a scene: say which model
+    te_curves = {
+        f"{rigid} {lab}".strip(): {
+            m: np.asarray(res[lab, m].transmission_error) for m in ("exact", "smooth")
+        }
+        for lab in designs
+    }
+    k_curves = {
+        f"{rigid} {lab} (loaded cells)".strip(): np.asarray(res[lab, "exact"].mesh_stiffness)
+        for lab in designs
+    }
+    what = ""
+    if scene_res:
+        from .scene import SCENE_LABELS
+
+        model = scene["model"]
+        name = SCENE_LABELS[model].split(" (")[0]
+        c = {key.split("_", 1)[1]: v for key, v in scene_res.items()}  # exact_modified, ...
+        te_curves[f"{name}, modified"] = {m: c[f"{m}_modified"][0] for m in ("exact", "smooth")}
+        k_curves[f"{name} modified (loaded cells)"] = c["exact_modified"][1]
+        if "exact_modified_at_rest" in c:
+            te_curves[f"{name} at rest, modified"] = {"exact": c["exact_modified_at_rest"][0]}
+            k_curves[f"{name} at rest, modified (loaded cells)"] = c["exact_modified_at_rest"][1]
+        what = f"\nrigid mesh and {SCENE_LABELS[model]}"
+    k_note = te_note = None
+    if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
+        k_note = (
+            f"helical: K jumps by one slice's stiffness when one of the {case.slices} slices of "
+            "a contact line enters or leaves contact\n(the path's ends; with relief, its start: "
+            "one-position spikes); smaller with more [mesh] slices"
+        )
+        te_note = (
+            f"helical: the unmodified TE's corners are its {case.slices} slices entering and "
+            "leaving contact one at a time (finer with more [mesh] slices)"
+        )
     _plots.transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
         x,
-        {
-            lab: {m: np.asarray(res[lab, m].transmission_error) for m in ("exact", "smooth")}
-            for lab in designs
-        },
-        title=f"{case.name}: transmission error at {case.torque:g} N·m",
+        te_curves,
+        title=f"{case.name}: transmission error at {case.torque:g} N·m{what}",
+        note=te_note,
     )
     _plots.mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
         x,
-        {f"{lab} (loaded cells)": np.asarray(res[lab, "exact"].mesh_stiffness) for lab in designs},
-        title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model})",
+        k_curves,
+        title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model}){what}",
+        note=k_note,
     )
     _plots.face_maps(
         out_dir,
@@ -165,7 +212,7 @@ def run_case(
         pressure["modified", "exact"].max_pressure,
         pair,
         ppp,
-        f"of {case.name} over a tooth passage (exact, modified)",
+        f"of {case.name} over a tooth passage (rigid mesh, exact, modified)",
     )
     _plots.harris_plot(
         os.path.join(out_dir, "harris_map.png"),
@@ -176,7 +223,7 @@ def run_case(
         ],
         design_torque=case.torque,
         ylabel="TE peak-to-peak (µm), exact contact",
-        title=f"{case.name}: Harris map",
+        title=f"{case.name}: Harris map (rigid mesh)",
     )
     steps.update()  # the four plots
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
@@ -188,6 +235,27 @@ def run_case(
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+def _scene_columns(scene: dict | None, theta) -> dict:
+    """{column key: (TE (m), K (N/m))} of the scene's curves at the rigid mesh's positions
+    ``theta`` (``<model>_<contact>_modified`` and ``<model>_exact_modified_at_rest``): a scene
+    result over the first of ``theta``'s mesh periods is repeated over the others (the
+    quasi-static scene is periodic in the mesh period)."""
+    if not scene:
+        return {}
+    out = {}
+    for key, r in scene["results"].items():
+        t = np.asarray(r.theta)
+        reps = theta.size // max(t.size, 1)
+        if reps * t.size != theta.size or not np.allclose(t, theta[: t.size], rtol=0, atol=1e-12):
+            raise ValueError("the scene's results are not at the rigid mesh's positions")
+        contact, _, rest = key.partition("_")
+        out[f"{scene['model']}_{contact}_modified{'_' + rest if rest else ''}"] = (
+            np.tile(np.asarray(r.transmission_error), reps),
+            np.tile(np.asarray(r.mesh_stiffness), reps),
+        )
+    return out
 
 
 def _stiffness_line(mesh: dict) -> str:
@@ -245,13 +313,17 @@ def run_command(args) -> int:
         from ._optimise import check_settings, optimise_case, settings_from_case
 
         settings = check_settings(settings_from_case(case))
-    summary = run_case(case, out, show_progress=not args.quiet, complete=last)
+    scene_section, curves = None, {}
     if case.scene is not None and case.scene.model == "lumped3d":
         from .scene import scene_outputs
 
-        summary["quasi_static_scene"] = scene_outputs(
-            case, os.path.join(out, "scene"), progress=not args.quiet
+        # first, so that te.csv and its plots have the scene's curves beside the rigid mesh's
+        scene_section = scene_outputs(
+            case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
         )
+    summary = run_case(case, out, show_progress=not args.quiet, complete=last, scene=curves or None)
+    if scene_section is not None:
+        summary["quasi_static_scene"] = scene_section
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
         # the case has a dynamic scene: add its dynamic factor curve

@@ -73,28 +73,39 @@ def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[st
 def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
     """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
     the body turned to that position, centred on its axis) and of the loaded contact cells with
-    their line loads (N/mm), Hertzian pressures (MPa) and contact half-widths (mm) (``pressure``:
-    the result's :class:`~jaxgear.ContactPressure`)."""
+    their line loads (N/m), Hertzian pressures (Pa) and contact half-widths (m), SI as the body
+    VTUs (``pressure``: the result's :class:`~jaxgear.ContactPressure`)."""
     k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
     written = write_bodies_vtu(out_dir, scene, bodies, res, k)
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
-    load = np.asarray(res.line_load[k]).reshape(-1)[on] / 1e3
-    p0 = np.asarray(pressure.max_pressure[k]).reshape(-1)[on] / 1e6
-    half = np.asarray(pressure.half_width[k]).reshape(-1)[on] * 1e3
+    load = np.asarray(res.line_load[k]).reshape(-1)[on]
+    p0 = np.asarray(pressure.max_pressure[k]).reshape(-1)[on]
+    half = np.asarray(pressure.half_width[k]).reshape(-1)[on]
     write_vtu(
         os.path.join(out_dir, "contact.vtu"),
         P,
         [("vertex", np.arange(P.shape[0])[:, None])],
-        {"line_load_N_per_mm": load, "contact_pressure_MPa": p0, "contact_half_width_mm": half},
+        {"line_load_N_per_m": load, "contact_pressure_Pa": p0, "contact_half_width_m": half},
     )
     written.append("contact.vtu")
     return written
 
 
-def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
-    """Quasi-static solve of the case's scene (exact and smooth contact), written to ``out_dir``.
+#: what each scene model is, as a legend says it (the rigid mesh: both bodies rigid, no shafts)
+SCENE_LABELS = {
+    "rigid": "rigid mesh (rigid bodies)",
+    "lumped3d": "lumped 3D scene (shafts, bearings)",
+    "hybrid": "hybrid scene (condensed FE bodies, shafts, bearings)",
+}
+
+
+def scene_outputs(
+    case: Case, out_dir: str, *, progress: bool = False, curves: dict | None = None
+) -> dict:
+    """Quasi-static solve of the case's scene (exact and smooth contact, one mesh period),
+    written to ``out_dir``.
 
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
@@ -104,6 +115,11 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
     ``progress``: a bar over the steps (the condensed bodies, built by fem-prep with its own
     bar on the first run and then read from its cache; the scene; each quasi-static solve; the
     maps and VTU files).
+
+    ``curves``: a dict to fill with the scene's results, for ``te.csv``, ``mesh_stiffness.csv``
+    and their plots beside the rigid mesh's: ``model`` ("lumped3d" or "hybrid") and
+    ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
+    is not 0).
     """
     from tqdm.auto import tqdm
 
@@ -146,6 +162,9 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
         out[mode] = result_summary(res[mode], None, pressure[mode])
         out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
     bar.update()
+    if curves is not None:
+        curves["model"] = out["model"]
+        curves["results"] = dict(res)
     if not case.scene.hybrid:
         bar.close()
         return out
@@ -173,6 +192,8 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
             positions_per_pitch=ppp,
         )
         out["exact_at_rest"] = result_summary(rest, None, hertz(rest))
+        if curves is not None:
+            curves["results"]["exact_at_rest"] = rest
         maps = [
             ("load_map.png", rest, "at rest"),
             ("load_map_speed.png", res["exact"], f"at {case.speed:g} rad/s (pinion)"),
@@ -199,6 +220,20 @@ def scene_outputs(case: Case, out_dir: str, *, progress: bool = False) -> dict:
                 title=f"{case.name}: {kind} map, hybrid scene {when}".rstrip(),
                 vmax=vmax,
                 label=label,
+                unit=unit,
+            )
+            files.append(name)
+        if len(grids) == 2:  # the change the speed makes, on a scale of its own
+            name = f"{kind}_map_speed_minus_rest.png"
+            s_edges, z, _ = grids[1]
+            dz = pair.face_width / len(z)
+            _plots.map_difference_plot(
+                os.path.join(out_dir, name),
+                s_edges,
+                np.concatenate([[0.0], z + dz / 2]),
+                grids[1][2] - grids[0][2],
+                title=f"{case.name}: {kind} map {maps[1][2]} minus at rest, hybrid scene",
+                label=label.replace("max ", "Δ max "),
                 unit=unit,
             )
             files.append(name)

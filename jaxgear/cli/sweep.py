@@ -620,7 +620,41 @@ def _write(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) ->
     from ..io import write_json
 
     write_json(os.path.join(out_dir, "sweep.json"), summary)
+    write_sweep_csv(os.path.join(out_dir, "sweep.csv"), summary)
     _plots(summary, out_dir, z1=z1, dyn_map=dyn_map)
+
+
+def write_sweep_csv(path: str, summary: dict) -> list[str]:
+    """``sweep.csv`` beside ``sweep.json``: a row per speed, a column per per-speed number of the
+    summary (its key, SI units as the key says; a per-mesh or per-gear list gives a column per
+    entry, ``<key>_<mesh name>`` or ``<key>_<index>``); empty values (NaN) where a speed has
+    none. Returns the header."""
+    from ..io import write_csv
+
+    speeds = summary["speeds_rad_s"]
+    n = len(speeds)
+    names = summary.get("mesh_names")
+
+    def number(v) -> float:
+        return float("nan") if v is None else float(v)
+
+    header, cols = ["speed_rad_s"], [[float(v) for v in speeds]]
+    for key, v in summary.items():
+        if key == "speeds_rad_s" or not isinstance(v, list) or len(v) != n:
+            continue
+        if all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
+            header.append(key)
+            cols.append([number(e) for e in v])
+        elif all(isinstance(e, list) for e in v) and len({len(e) for e in v}) == 1:
+            width = len(v[0])
+            if not all(isinstance(x, int | float) or x is None for e in v for x in e):
+                continue
+            tags = names if names and len(names) == width else [str(j) for j in range(width)]
+            for j in range(width):
+                header.append(f"{key}_{tags[j]}")
+                cols.append([number(e[j]) for e in v])
+    write_csv(path, header, cols)
+    return header
 
 
 def _plots(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:

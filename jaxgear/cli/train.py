@@ -179,27 +179,41 @@ def run_train(
         [theta, *k_cols.values()],
     )
     x = theta / period
+    # a long span (two-stage: 127 periods) drawn whole is a solid band: the plots show two
+    # periods of the slowest mesh (at least 3 of the input's), te.csv keeps the span
+    n_shown = plotted_periods(case, layout, float(x[-1]) + 0.5 / ppp)
+    win = x < n_shown
+    shown = (
+        ""
+        if win.all()
+        else (
+            f"\nfirst {n_shown:.3g} of {span} input mesh periods (te.csv and mesh_stiffness.csv: all)"
+        )
+    )
+    glossary = _gear_glossary(case)
     _plots.transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
-        x,
+        x[win],
         {
             f"{names[k]}": {
-                m: np.asarray(res["modified", m].meshes[k].transmission_error) for m in laws
+                m: np.asarray(res["modified", m].meshes[k].transmission_error)[win] for m in laws
             }
             for k in range(n_meshes)
         },
-        title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), modified",
+        title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), "
+        f"modified{shown}{glossary}",
         driver="input",
     )
     _plots.mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
-        x,
+        x[win],
         {
-            f"{names[k]} ({lab})": np.asarray(res[lab, "exact"].meshes[k].mesh_stiffness)
+            f"{names[k]} ({lab})": np.asarray(res[lab, "exact"].meshes[k].mesh_stiffness)[win]
             for k in range(n_meshes)
             for lab in designs
         },
-        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)",
+        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)"
+        f"{shown}{glossary}",
         driver="input",
     )
     for k, pair in enumerate(case.pairs):
@@ -228,8 +242,8 @@ def run_train(
         per_mesh = 2 * np.pi / pair.pinion.teeth / layout.ratios[g]  # input rad per period
         first = (-layout.phases[k] / layout.ratios[g]) % per_mesh
         marks[names[k]] = (
-            np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness),
-            np.arange(first, x[-1] * period, per_mesh) / period,
+            np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness)[win],
+            np.arange(first, x[win][-1] * period, per_mesh) / period,
         )
     _plots.train_phasing_plot(
         os.path.join(out_dir, "phasing.png"),
@@ -239,9 +253,10 @@ def run_train(
         names,
         case.tip_radii(),
         base_radii,
-        x,
+        x[win],
         marks,
-        title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact)",
+        title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact){shown}"
+        f"{glossary}",
     )
     steps.update()
     steps.close()
@@ -250,12 +265,43 @@ def run_train(
     return summary
 
 
+def plotted_periods(case, layout, computed: float) -> float:
+    """How many of the input's mesh periods the TE, stiffness and phasing plots show: two
+    periods of the slowest mesh, at least three of the input's, at most the ``computed`` ones
+    (the CSV files keep them all)."""
+    slowest = max(  # the slowest mesh's period, in input mesh periods
+        case.pairs[0].pinion.teeth / (pair.pinion.teeth * float(layout.ratios[g]))
+        for pair, (g, _) in zip(case.pairs, case.gears, strict=True)
+    )
+    return min(computed, max(3.0, 2.0 * slowest))
+
+
+#: what the short gear names of the embedded trains stand for (in titles)
+GEAR_NAME_GLOSSARY = {"hst": "high-speed train, stage 1", "lst": "low-speed train, stage 2"}
+
+
+def gear_glossary(gear_names) -> str:
+    """What the abbreviations in the gear names mean, "hst = ..., lst = ..." ("" if none)."""
+    used = [
+        f"{k} = {v}"
+        for k, v in GEAR_NAME_GLOSSARY.items()
+        if any(n == k or n.startswith(k + "-") for n in gear_names)
+    ]
+    return ", ".join(used)
+
+
+def _gear_glossary(case) -> str:
+    """:func:`gear_glossary` as a title's last line ("" if none)."""
+    text = gear_glossary(case.gear_names)
+    return "\n" + text if text else ""
+
+
 def format_train_table(summary: dict) -> str:
     """A short plain-text table of a train's main figures, a line per mesh and design."""
     lines = [
         f"train {summary['case']}: {len(summary['gears'])} gears, {len(summary['meshes'])} "
-        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, balancing output "
-        f"{summary['operating']['output']} {summary['operating']['output_torque_Nm']:.4g} N·m",
+        f"meshes, input torque {summary['operating']['torque_Nm']:g} N·m, balancing torque on gear "
+        f"{summary['operating']['output']!r} {summary['operating']['output_torque_Nm']:.4g} N·m",
         f"{'':30s}{'ε_α':>7s}{'phase':>8s}{'TE mean µm':>12s}{'TE ptp µm':>11s}"
         f"{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
