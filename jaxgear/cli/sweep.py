@@ -237,7 +237,7 @@ def sweep_case(
         "damping": spec.damping_model,
         "torque_Nm": case.torque,
     }
-    n_meshes = len(model.scene.meshes)
+    n_meshes = len(r.meshes)  # the results' (a 1-DOF relative scene has no .meshes)
     if n_meshes == 1:
         summary["static_mesh_force_N"] = float(model.static_force)
     else:  # a train: each mesh's, from its first speed
