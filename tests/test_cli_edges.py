@@ -135,3 +135,95 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
     assert main(["run", "accessory-spur", "--out", str(out), "--quiet"]) == 0
     assert seen == {"slices": 8, "case_slices": 40}
     assert json.loads((out / "summary.json").read_text())["dynamics"]["slices"] == 8
+
+
+TINY_SCENE = """
+name = "tiny-scene"
+[pair]
+normal_module_mm = 2.0
+normal_pressure_angle_deg = 20.0
+[pinion]
+teeth = 20
+face_width_mm = 10.0
+[gear]
+teeth = 30
+face_width_mm = 10.0
+[operating]
+torque_Nm = 60.0
+[mesh]
+stiffness = "weber"
+slices = 2
+positions_per_pitch = 8
+[scene]
+model = "torsional"
+[scene.integration]
+steps_per_period = 16
+periods = {periods}
+keep_periods = 2
+"""
+
+
+def test_run_refuses_case_periods_before_any_file(tmp_path, capsys):
+    """``jaxgear run`` on ``[scene.integration] periods = 900000``: one line naming the key, its
+    value and the allowed range before the quasi-static part (it ran it, then ended with exit 2,
+    the message glued to the sweep's bar, and 9 files)."""
+    path = tmp_path / "long.toml"
+    path.write_text(TINY_SCENE.format(periods=900000))
+    out = tmp_path / "out"
+    status, err = _run(["run", str(path), "--out", str(out)], capsys)
+    assert status == 2 and len(err) == 1, err
+    assert err[0].startswith("jaxgear: error: [scene.integration] periods = 900000: out of range")
+    assert "allowed <= 262144" in err[0]
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "needles"),
+    [
+        # a two-stage train repeats every 127 periods of its first mesh (it failed after 8 s)
+        (
+            ["sweep", "two-stage", "--speeds", "100:200:2", "--keep-periods", "2"],
+            ["--keep-periods = 2: out of range, allowed >= 127"],
+        ),
+        (
+            ["sweep", "two-stage", "--speeds", "100:200:2", "--periods", "200000"],
+            ["--periods = 200000: out of range, allowed <= 29959", "steps_per_period"],
+        ),
+        # a train (AttributeError: 'TrainCase' object has no attribute 'deviation_settings')
+        (["robust", "accessory-idler-train", "--grade", "6"], ["a gear train", "pair case"]),
+        # 1e9 realisations (RESOURCE_EXHAUSTED after 12 s)
+        (
+            ["robust", "accessory-spur", "--grade", "6", "--samples", "1000000000"],
+            ["--samples = 1000000000: out of range, allowed <=", "fewer samples"],
+        ),
+    ],
+)
+def test_late_refusals_come_first_in_one_line(tmp_path, capsys, argv, needles):
+    out = tmp_path / "out"
+    status, err = _run([*argv, "--out", str(out)], capsys)
+    assert status == 2 and len(err) == 1, err
+    assert err[0].startswith("jaxgear: error: ")
+    for needle in needles:
+        assert needle in err[0], err[0]
+    assert not out.exists()
+
+
+def test_a_failure_inside_the_bar_starts_a_fresh_line(tmp_path, capsys, monkeypatch):
+    """A sweep failing while its bar is drawn: the message is a line of its own on stderr (it
+    was glued to the bar's line, after its carriage return), and the folder stays empty."""
+    import jaxgear.dynamics
+
+    def late(*args, **kw):
+        raise ValueError("a late failure (injected)")
+
+    monkeypatch.setattr(jaxgear.dynamics, "speed_sweep", late)
+    path = tmp_path / "tiny.toml"
+    path.write_text(TINY_SCENE.format(periods=6))
+    out = tmp_path / "out"
+    status = main(["sweep", str(path), "--speeds", "100:200:2", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert "jaxgear sweep tiny-scene" in err  # the bar was drawn
+    assert "\njaxgear: error: a late failure (injected)\n" in err
+    assert err.count("jaxgear: error:") == 1
+    assert not out.exists()

@@ -232,14 +232,15 @@ def test_broken_pipe_exits_quietly():
 # -- interrupt ------------------------------------------------------------------------------------
 
 
-def test_interrupt_leaves_complete_files_and_an_incomplete_summary(
-    khk, tmp_path, monkeypatch, capsys
+@pytest.mark.parametrize("keep_partial", [False, True])
+def test_interrupt_leaves_the_earlier_files_or_with_keep_partial_an_incomplete_summary(
+    khk, tmp_path, monkeypatch, capsys, keep_partial
 ):
     import jaxgear.cli.run as _run  # to interrupt run_case between two files
 
     out = tmp_path / "out"
     out.mkdir()
-    (out / "harris_map.png").write_bytes(b"stale")  # from an earlier run: must not survive
+    (out / "harris_map.png").write_bytes(b"earlier")  # from an earlier run
     (out / ".jaxgear-outputs").write_text("harris_map.png\n")  # (the earlier run's list)
     real = _run.write_csv
     calls = []
@@ -251,35 +252,50 @@ def test_interrupt_leaves_complete_files_and_an_incomplete_summary(
         real(path, header, columns)
 
     monkeypatch.setattr(_run, "write_csv", write_then_interrupt)
-    assert main(["run", str(khk), "--out", str(out), "--quiet"]) == 130
+    extra = ["--keep-partial"] if keep_partial else []
+    assert main(["run", str(khk), "--out", str(out), "--quiet", *extra]) == 130
     captured = capsys.readouterr()
     assert captured.err.strip() == "jaxgear: interrupted" and "Traceback" not in captured.err
+    if not keep_partial:  # the earlier run's files as they were, none of this run's
+        assert sorted(os.listdir(out)) == [".jaxgear-outputs", "harris_map.png"]
+        assert (out / "harris_map.png").read_bytes() == b"earlier"
+        assert (out / ".jaxgear-outputs").read_text() == "harris_map.png\n"
+        return
     assert json.loads((out / "summary.json").read_text()) == {"case": "khk-spur", "complete": False}
     rows = list(csv.reader((out / "te.csv").read_text().splitlines()))
     assert len(rows) == 1 + 2 * 16 and all(len(r) == len(rows[0]) for r in rows)
-    # no stale, no temporary files; the list of this run's files
+    # no earlier, no temporary files; the list of this run's files
     assert sorted(os.listdir(out)) == [".jaxgear-outputs", "summary.json", "te.csv"]
 
 
 @pytest.mark.slow
-def test_sigint_gives_one_line_and_exit_130(khk, tmp_path):
+@pytest.mark.parametrize("keep_partial", [False, True])
+def test_sigint_gives_one_line_and_exit_130(khk, tmp_path, keep_partial):
     out = tmp_path / "out"
+    extra = ["--keep-partial"] if keep_partial else []
     p = subprocess.Popen(
-        [sys.executable, "-c", ENTRY, "run", str(khk), "--out", str(out), "--quiet"],
+        [sys.executable, "-c", ENTRY, "run", str(khk), "--out", str(out), "--quiet", *extra],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         cwd=ROOT,
     )
+
+    def started():  # the first file written (a staging folder's without --keep-partial)
+        return any(p.name == "summary.json" for p in out.rglob("*")) if out.exists() else False
+
     deadline = time.time() + 120
-    while not (out / "summary.json").exists() and time.time() < deadline and p.poll() is None:
+    while not started() and time.time() < deadline and p.poll() is None:
         time.sleep(0.2)
     time.sleep(1.0)  # inside the computation
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=120)
     assert p.returncode == 130, err
     assert "Traceback" not in err and "jaxgear: interrupted" in err
-    assert json.loads((out / "summary.json").read_text())["complete"] is False
+    if keep_partial:
+        assert json.loads((out / "summary.json").read_text())["complete"] is False
+    else:  # no earlier run: no file, no folder
+        assert not out.exists()
 
 
 # -- a complete run: stored values against independent figures -----------------------------------

@@ -49,6 +49,13 @@ def _parser() -> argparse.ArgumentParser:
         "--json", help="also write the summary to this file (its folder is created if missing)"
     )
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument(
+        "--keep-partial",
+        action="store_true",
+        help="write into the output folder as the run goes and keep what a failed or "
+        "interrupted run wrote, summary.json saying \"complete\": false (default: the files "
+        "appear when the run completes; a failed run leaves the earlier results)",
+    )
     c = sub.add_parser("cases", help="list the embedded cases, or print / write one")
     c.add_argument("name", nargs="?", help="an embedded case: print its case file")
     c.add_argument("--write", metavar="FILE", help="write the case file to FILE instead")
@@ -263,10 +270,26 @@ def runtime_message(err: BaseException) -> str:
 
 
 def fail(msg: str) -> int:
-    """Print ``jaxgear: error: msg`` (first line only) on stderr; return exit status 2."""
+    """Print ``jaxgear: error: msg`` (first line only) on stderr, on a line of its own (the
+    progress bars a failed command left open closed first); return exit status 2."""
     first = str(msg).strip().splitlines()[0] if str(msg).strip() else "failed"
+    _close_bars()
     print(f"jaxgear: error: {first}", file=sys.stderr)
     return 2
+
+
+def _close_bars() -> None:
+    """Close every progress bar still open (a command that failed inside a bar's loop leaves
+    it open, its line unfinished): each ends its line, so that what follows starts on a fresh
+    line instead of being glued to the bar's (and overwritten by its last refresh)."""
+    module = sys.modules.get("tqdm")
+    if module is None:
+        return
+    for bar in list(getattr(module.tqdm, "_instances", ())):
+        try:
+            bar.close()
+        except Exception:  # noqa: BLE001 - a broken bar must not hide the message
+            pass
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -309,6 +332,7 @@ def main(argv: list[str] | None = None) -> int:
         except eqx.EquinoxRuntimeError as err:
             return fail(runtime_message(err))
     except KeyboardInterrupt:
+        _close_bars()
         print("\njaxgear: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:

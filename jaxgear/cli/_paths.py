@@ -7,17 +7,27 @@ and file checks are fem_prep's (:mod:`fem_prep.schema`), shared with ``fem-prep`
 from __future__ import annotations
 
 import contextlib
-import fnmatch
 import os
+import re
+import shutil
+import tempfile
 
 from fem_prep import schema as sc
 from fem_prep.schema import check_output_dir, check_output_file
 
-__all__ = ["OUTPUT_FILES", "TRAIN_FILES", "check_output_dir", "check_output_file", "clear_outputs"]
+__all__ = [
+    "OUTPUT_FILES",
+    "TRAIN_FILES",
+    "check_output_dir",
+    "check_output_file",
+    "clear_outputs",
+    "staged_outputs",
+]
 
 # The files each command writes into its folder (subfolder/name for the nested ones; a name may
-# hold a * wildcard, as fnmatch reads it). Only these names are ever deleted by :func:`clear_outputs`, and only when the folder's manifest says that
-# jaxgear wrote them: a user's own files in the folder stay.
+# hold a * wildcard, which matches within one name, never across a "/": :func:`_matches`). Only
+# these names are ever deleted by :func:`clear_outputs`, and only when the folder's manifest says
+# that jaxgear wrote them and they lie inside the folder: a user's own files in the folder stay.
 OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "run": (
         "summary.json",
@@ -50,6 +60,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map_dynamic.png",
         # a train's, one per mesh (named after its gears)
         "pressure_map_dynamic_*.png",
+        # --vtu-speed: the deformed bodies' time series
+        "vtu/body_*.vtu",
+        "vtu/body_*.pvd",
     ),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
     # jaxgear run on a case with [deviations] (subfolder deviations/)
@@ -66,8 +79,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench robust": ("bench_robust.json",),
 }
 # what ``jaxgear run`` writes for a train case besides a pair's names: a load map and a pressure
-# map per mesh (named after its gears) and the layout with its phasing
-TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png")
+# map per mesh (named after its gears), the layout with its phasing, its flexible gears' bodies
+TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vtu")
 OUTPUT_FILES["run"] += TRAIN_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
@@ -75,30 +88,131 @@ OUTPUT_FILES["run"] += tuple(
 )
 
 
+def _matches(name: str, pattern: str) -> bool:
+    """Whether the manifest ``name`` is the output name ``pattern``: the same "/"-separated
+    parts, a ``*`` matching any characters of one part but "/"; never a name with an empty,
+    "." or ".." part or a leading "/" (a manifest is input: ``load_map_/../../x.png`` is no
+    output name)."""
+    parts = name.split("/")
+    if any(part in ("", ".", "..") for part in parts) or "\0" in name:
+        return False
+    rx = "[^/]*".join(re.escape(piece) for piece in pattern.split("*"))
+    return re.fullmatch(rx, name) is not None
+
+
+def _inside(folder: str, name: str) -> str | None:
+    """``folder``/``name`` when the folder that holds it resolves (symbolic links followed)
+    inside ``folder``; None otherwise. The file itself may be a link: unlinking removes the
+    link, never its target."""
+    root = os.path.realpath(folder)
+    path = os.path.join(folder, name)
+    parent = os.path.realpath(os.path.dirname(path))
+    if parent != root and not parent.startswith(root.rstrip(os.sep) + os.sep):
+        return None
+    return path
+
+
+def _remove_outputs(folder, patterns, keep=()) -> list[str]:
+    """Delete the files the manifest of ``folder`` lists under one of ``patterns`` (but the
+    names in ``keep``), and their leftover temporary files; returns the paths removed."""
+    removed = []
+    listed = set(sc.recorded_outputs(folder)) - set(keep)
+    for pattern in patterns:
+        for name in sorted(n for n in listed if _matches(n, pattern)):
+            p = _inside(folder, name)
+            if p is not None and (os.path.isfile(p) or os.path.islink(p)):
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(p)
+                    removed.append(p)
+        sub, base = os.path.split(pattern)
+        d = os.path.join(folder, sub)
+        if os.path.isdir(d) and _inside(folder, os.path.join(sub, "x")) is not None:
+            for other in os.listdir(d):
+                if _matches(other, f".tmp-{base}-*.tmp"):
+                    with contextlib.suppress(OSError):
+                        os.unlink(os.path.join(d, other))
+    return removed
+
+
 def clear_outputs(folder, command: str) -> list[str]:
     """Delete the files that an earlier run wrote into ``folder`` and start recording this run's.
 
     Only files that the folder's manifest (``.jaxgear-outputs``, written as the files are
     written: :func:`fem_prep.schema.record_outputs`) lists AND that bear one of ``command``'s
-    output names are deleted, with their leftover temporary files: a user's own files in the
-    folder stay, even those with an output name (a run overwrites those it writes itself).
-    Returns the paths removed."""
-    removed = []
-    listed = set(sc.recorded_outputs(folder))
-    for pattern in OUTPUT_FILES[command]:
-        for name in sorted(n for n in listed if fnmatch.fnmatchcase(n, pattern)):
-            p = os.path.join(folder, name)
-            if os.path.isfile(p) or os.path.islink(p):
-                with contextlib.suppress(FileNotFoundError):
-                    os.unlink(p)
-                    removed.append(p)
-        d, base = os.path.split(os.path.join(folder, pattern))
-        if os.path.isdir(d):
-            for other in os.listdir(d):
-                if fnmatch.fnmatchcase(other, f".tmp-{base}-*.tmp"):
-                    with contextlib.suppress(OSError):
-                        os.unlink(os.path.join(d, other))
+    output names (:func:`_matches`) AND that lie inside the folder (no link out of it followed)
+    are deleted, with their leftover temporary files: a user's own files in the folder stay,
+    even those with an output name (a run overwrites those it writes itself). Returns the paths
+    removed."""
+    removed = _remove_outputs(folder, OUTPUT_FILES[command])
     with contextlib.suppress(FileNotFoundError):  # this run starts a new list
         os.unlink(os.path.join(folder, sc.OUTPUT_MANIFEST))
     sc.record_outputs(folder)
     return removed
+
+
+STAGING_PREFIX = ".jaxgear-staging-"
+
+
+@contextlib.contextmanager
+def staged_outputs(folder, command: str, *, keep_partial: bool = False):
+    """The folder a command writes its files into: a hidden staging folder inside ``folder``,
+    moved in place only when the block ends without an error (the earlier run's files of
+    ``command`` then deleted, :func:`clear_outputs`' rules); a failed or interrupted run
+    leaves the earlier results as they were and no file of its own (``folder`` removed again
+    when this made it and it is empty). With ``keep_partial``, ``folder`` itself: its earlier
+    files are deleted first and a failed run leaves what it wrote (``jaxgear run
+    --keep-partial``: with its incomplete ``summary.json``)."""
+    folder = os.fspath(folder)
+    if keep_partial:
+        clear_outputs(folder, command)
+        yield folder
+        return
+    made = not os.path.isdir(folder)
+    os.makedirs(folder, exist_ok=True)
+    work = tempfile.mkdtemp(prefix=STAGING_PREFIX, dir=folder)
+    sc.record_outputs(work)  # its files listed in its own manifest, not in the folder's
+    try:
+        yield work
+        _commit(work, folder, command)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+        if made:
+            with contextlib.suppress(OSError):
+                os.rmdir(folder)  # only when empty: the run failed before any file
+
+
+def _commit(work: str, folder: str, command: str) -> None:
+    """Move the files of the staging folder ``work`` into ``folder``, delete the earlier run's
+    files of ``command`` that this run did not write again, and list this run's files in the
+    folder's manifest."""
+    new = []
+    for root, dirs, files in os.walk(work):
+        dirs.sort()
+        for f in sorted(files):
+            if f == sc.OUTPUT_MANIFEST or f.startswith(".tmp-"):
+                continue
+            new.append(os.path.relpath(os.path.join(root, f), work).replace(os.sep, "/"))
+    manifest = os.path.join(folder, sc.OUTPUT_MANIFEST)
+    old = sc.recorded_outputs(folder)
+    # while the files move, the manifest lists both runs' (an interruption leaves none unlisted)
+    _write_manifest(manifest, list(dict.fromkeys(old + new)))
+    for name in new:
+        dest = os.path.join(folder, name)
+        os.makedirs(os.path.dirname(dest), exist_ok=True)
+        os.replace(os.path.join(work, name), dest)
+    _remove_outputs(folder, OUTPUT_FILES[command], keep=new)
+    _write_manifest(manifest, new)
+
+
+def _write_manifest(path: str, names: list[str]) -> None:
+    """Replace the manifest at ``path`` (atomically; not itself listed in a manifest)."""
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-manifest-", suffix=".tmp", dir=os.path.dirname(path))
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write("# files written here by jaxgear (its next run deletes them)\n")
+            f.write("".join(n + "\n" for n in names))
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)

@@ -12,7 +12,7 @@ import dataclasses
 import os
 import time
 
-from ._paths import OUTPUT_FILES, check_output_dir, clear_outputs
+from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs
 
 __all__ = ["ROBUST_FILES", "add_robust_parser", "run_robust"]
 
@@ -71,9 +71,14 @@ def check_robust_options(args) -> None:
 
 
 def _settings(case, args) -> dict:
-    from ..io import parse_robust
-    from ..io import SchemaError
+    from .. import TrainCase
+    from ..io import SchemaError, parse_robust
 
+    if isinstance(case, TrainCase):
+        raise ValueError(
+            f"case {case.name!r}: a gear train ([[gears]], [[meshes]]); jaxgear robust samples "
+            "the deviations of one pair: allowed a pair case ([pair], [pinion], [gear])"
+        )
     grade = None if case.deviation_settings is None else case.deviation_settings.get("grade")
     teeth = (case.pair.pinion.teeth, case.pair.gear.teeth)
     try:
@@ -88,7 +93,49 @@ def _settings(case, args) -> dict:
             "grade: missing, allowed an ISO 1328-1 flank tolerance class 1-11 (--grade, "
             "[robust] grade or [deviations] grade)"
         )
+    if st["speeds_rad_s"] and case.scene is not None and case.scene.hybrid:
+        raise ValueError(
+            "[robust] speeds_rad_s: the dynamic factor of condensed bodies is not sampled "
+            "(allowed a lumped [scene] or none)"
+        )
+    check_robust_size(st, "--samples" if args.samples is not None else "[robust] samples")
     return st
+
+
+def robust_bytes_per_sample(speeds: int) -> int:
+    """About the memory one realisation takes at its peak (bytes), ``speeds`` the
+    dynamic-factor speeds: 4 quasi-static figures and 3 per speed in float64, held about 4
+    times (on the device, on the host, masked, scaled), ``samples.csv``'s text (about 40
+    characters a value, twice while written) and the order-statistic confidence intervals
+    (:func:`jaxgear.sample_statistics`: a few float64 arrays and a Python float per
+    realisation, about 120 bytes)."""
+    values = 4 + 3 * speeds
+    columns = 5 + speeds
+    return 8 * 4 * values + 40 * columns + 120
+
+
+def _memory_bytes() -> float:
+    """The machine's physical memory (bytes); inf where the platform does not tell."""
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return float("inf")
+
+
+def check_robust_size(st: dict, name: str) -> None:
+    """Refuse, before any work, a run whose realisations need more than half this machine's
+    memory (:func:`robust_bytes_per_sample`): one line naming ``name`` (``--samples`` or
+    ``[robust] samples``), its value and the most realisations allowed."""
+    per = robust_bytes_per_sample(len(st["speeds_rad_s"]))
+    have = 0.5 * _memory_bytes()
+    need = float(st["samples"]) * per
+    if need > have:
+        most = int(have // per)
+        raise ValueError(
+            f"{name} = {st['samples']}: out of range, allowed <= {most} on this machine (about "
+            f"{per} bytes per realisation: {need / 1e9:.3g} GB, allowed <= {have / 1e9:.3g} GB, "
+            "half its memory): fewer samples"
+        )
 
 
 def _dynamic_problem(case, st, mesh):
@@ -106,12 +153,7 @@ def _dynamic_problem(case, st, mesh):
     from ..scenes import TorsionalDynamics
     from ..scenes import disc_inertia
 
-    if case.scene is not None:
-        if case.scene.hybrid:
-            raise ValueError(
-                "[robust] speeds_rad_s: the dynamic factor of condensed bodies is not sampled "
-                "(allowed a lumped [scene] or none)"
-            )
+    if case.scene is not None:  # a lumped one (_settings refuses condensed bodies)
         model, _ = build_dynamic_model(case)
     else:
         p = case.pair
@@ -155,8 +197,6 @@ def run_robust(args) -> int:
     writer = jax.process_index() == 0
     if writer:
         check_output_dir(out_dir)
-        os.makedirs(out_dir, exist_ok=True)
-        clear_outputs(out_dir, "robust")
     try:
         sampler = DeviationSampler.for_grade(
             case.pair, st["grade"], members=tuple(st["members"]), kinds=tuple(st["kinds"])
@@ -243,9 +283,11 @@ def run_robust(args) -> int:
             names.append(f"dynamic_factor_{w:g}")
         summary["dynamics"] = per_speed
         bands = per_speed
-    write_json(os.path.join(out_dir, "robust.json"), summary)
-    write_csv(os.path.join(out_dir, "samples.csv"), names, [np.asarray(c) for c in cols])
-    _plots(out_dir, case.name, st, values, summary["quasi_static"], bands, nominal)
+    # the files appear together when they are all written; the earlier ones are left until then
+    with staged_outputs(out_dir, "robust") as work:
+        write_json(os.path.join(work, "robust.json"), summary)
+        write_csv(os.path.join(work, "samples.csv"), names, [np.asarray(c) for c in cols])
+        _plots(work, case.name, st, values, summary["quasi_static"], bands, nominal)
     if not getattr(args, "quiet", False):
         q = summary["quasi_static"]["te_rms_um"]
         print(

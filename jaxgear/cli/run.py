@@ -295,24 +295,59 @@ def format_table(summary: dict) -> str:
 
 
 def run_command(args) -> int:
-    """``jaxgear run``: quasi-static files, then the sweep and optimisation the case asks for."""
+    """``jaxgear run``: quasi-static files, then the sweep and optimisation the case asks for.
+
+    The files are written into a staging folder and moved into the output folder only when the
+    run completes (:func:`~jaxgear.cli._paths.staged_outputs`): a failed or interrupted run
+    leaves the earlier results; ``--keep-partial`` writes into the folder itself and leaves
+    what a failed run wrote, with ``summary.json`` saying ``"complete": false``."""
 
     from ..io import load_case, write_json
-    from ._paths import check_output_dir, clear_outputs
+    from ._paths import check_output_dir, staged_outputs
 
     case = load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
-    clear_outputs(out, "run")  # no file of an earlier run survives next to this run's files
-    summary_path = os.path.join(out, "summary.json")
-    # an interrupted run leaves complete files and a summary saying it is not complete
-    write_json(summary_path, {"case": case.name, "complete": False})
-    if isinstance(case, TrainCase):
-        return _run_train_command(case, out, args)
-    last = case.scene is None and case.optimise is None
-    if case.optimise is not None:  # check the optimisation settings before computing anything
-        from ._optimise import check_settings, optimise_case, settings_from_case
+    settings = None
+    if not isinstance(case, TrainCase) and case.optimise is not None:
+        # check the optimisation settings before computing anything
+        from ._optimise import check_settings, settings_from_case
 
         settings = check_settings(settings_from_case(case))
+    check_run_case(case)
+    with staged_outputs(out, "run", keep_partial=getattr(args, "keep_partial", False)) as work:
+        # an interrupted --keep-partial run leaves complete files and a summary saying it is
+        # not complete
+        write_json(os.path.join(work, "summary.json"), {"case": case.name, "complete": False})
+        if isinstance(case, TrainCase):
+            summary = _run_train_command(case, work, args)
+        else:
+            summary = _run_pair_command(case, work, args, settings)
+    if args.json:
+        write_json(args.json, summary)
+    print(f"written to {out}/")
+    return 0
+
+
+def check_run_case(case) -> None:
+    """Refuse, before any work, a case whose dynamic sweep (``jaxgear run`` sweeps a lumped
+    scene) cannot run (:func:`~jaxgear.cli.sweep.sweep_spec`: e.g. ``[scene.integration]
+    periods`` × steps per period above what one speed may integrate; one line naming the key,
+    its value and the allowed range)."""
+    scene = case.scene
+    if scene is None or getattr(scene, "hybrid", False) or getattr(case, "flexible", False):
+        return
+    from .sweep import sweep_spec
+
+    sweep_spec(case)
+
+
+def _run_pair_command(case, out: str, args, settings) -> dict:
+    """``jaxgear run`` on a pair case, into ``out``: the quasi-static files, then the scene,
+    sweep and optimisation the case asks for; prints the tables; returns the summary."""
+    from ..io import write_json
+
+    summary_path = os.path.join(out, "summary.json")
+    last = case.scene is None and case.optimise is None
     scene_section, curves = None, {}
     if case.scene is not None and case.scene.model == "lumped3d":
         from .scene import scene_outputs
@@ -330,6 +365,8 @@ def run_command(args) -> int:
         summary["dynamics"] = _sweep_section(case, out, args.quiet)
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
+        from ._optimise import optimise_case
+
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
         summary["optimise"] = {
             k: rep[k]
@@ -347,8 +384,6 @@ def run_command(args) -> int:
     if not last:
         summary["complete"] = True
         write_json(summary_path, summary)
-    if args.json:
-        write_json(args.json, summary)
     print(format_table(summary))
     if "deviations" in summary:
         d = summary["deviations"]
@@ -376,8 +411,7 @@ def run_command(args) -> int:
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
             f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
         )
-    print(f"written to {out}/")
-    return 0
+    return summary
 
 
 def _sweep_section(case, out: str, quiet: bool) -> dict:
@@ -420,7 +454,7 @@ def _sweep_files(sw: dict) -> list[str]:
     return files + list((sw.get("pressure_map_dynamic") or {}).get("files", ()))
 
 
-def _run_train_command(case, out: str, args) -> int:
+def _run_train_command(case, out: str, args) -> dict:
     """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
     ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh; with
     flexible gears, the ``jaxgear sweep`` command to run instead)."""
@@ -434,8 +468,6 @@ def _run_train_command(case, out: str, args) -> int:
         summary["dynamics"] = _sweep_section(case, out, args.quiet)
         summary["complete"] = True
         write_json(summary_path, summary)
-    if args.json:
-        write_json(args.json, summary)
     print(format_train_table(summary))
     if "dynamics" in summary:
         d = summary["dynamics"]
@@ -454,5 +486,4 @@ def _run_train_command(case, out: str, args) -> int:
             "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
             f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
         )
-    print(f"written to {out}/")
-    return 0
+    return summary

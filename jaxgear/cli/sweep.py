@@ -96,6 +96,88 @@ def _passing_rate(gear: dict, z1: float) -> float:
     return 1.0 if abs(rate - 1.0) < 1e-9 else rate
 
 
+# time steps one speed may integrate: jaxgear.dynamics' bound (its runs refuse more, but only
+# once the model is built); checked here before any work
+MAX_STEPS_PER_SPEED = 2**22
+
+
+def sweep_spec(
+    case,
+    *,
+    direction: str = "independent",
+    solver: str | None = None,
+    contact: str | None = None,
+    periods: int | None = None,
+    steps_per_period: int | None = None,
+    keep_periods: int | None = None,
+    vtu_speed: float | None = None,
+):
+    """The :class:`~jaxgear.dynamics.SceneSpec` a sweep of ``case`` runs (its ``[scene]``, the
+    options given replacing its settings), checked before any work: one-line ``ValueError``
+    naming the option (``--periods``) or the case-file key (``[scene.integration] periods``),
+    its value and the allowed range."""
+    from .. import TrainCase
+    from ..dynamics import MIN_STEPS_PER_PERIOD, SceneSpec
+
+    spec = case.scene if case.scene is not None else SceneSpec()
+    given = dict(
+        solver=solver,
+        contact=contact,
+        periods=periods,
+        steps_per_period=steps_per_period,
+        keep_periods=keep_periods,
+    )
+    over = {k: v for k, v in given.items() if v is not None}
+    spec = dataclasses.replace(spec, **over)
+
+    def name(key: str) -> str:
+        if key in over:
+            return "--" + key.replace("_", "-")
+        return f"[scene.integration] {key}"
+
+    if spec.keep_periods > spec.periods:
+        raise ValueError(
+            f"{name('keep_periods')} = {spec.keep_periods}: out of range, allowed <= "
+            f"{name('periods')} = {spec.periods}"
+        )
+    if isinstance(case, TrainCase) and spec.keep_periods < case.span_periods:
+        q = case.span_periods
+        raise ValueError(
+            f"{name('keep_periods')} = {spec.keep_periods}: out of range, allowed >= {q} (the "
+            f"meshes of {case.name} repeat together every {q} periods of the first mesh: the "
+            "kept periods must hold every mesh position)"
+        )
+    steps = spec.steps_per_period or MIN_STEPS_PER_PERIOD
+    if spec.periods * steps > MAX_STEPS_PER_SPEED:
+        at = (
+            f"{steps} time steps per mesh period ({name('steps_per_period')})"
+            if spec.steps_per_period
+            else f"at least {steps} time steps per mesh period (automatic)"
+        )
+        raise ValueError(
+            f"{name('periods')} = {spec.periods}: out of range, allowed <= "
+            f"{MAX_STEPS_PER_SPEED // steps} at {at}: {spec.periods * steps:.3g} time steps "
+            f"per speed, allowed <= {MAX_STEPS_PER_SPEED:.3g} (fewer periods or steps per period)"
+        )
+    if direction not in ("independent", "up", "down", "both"):
+        raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
+    hybrid = spec.hybrid
+    if vtu_speed is not None and not hybrid:
+        raise ValueError(
+            f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
+            "to export ([scene.gear_body] or [scene.pinion_body] of a pair, [scene.bodies.<gear>] "
+            "of a train)"
+        )
+    if vtu_speed is not None and not vtu_speed > 0:
+        raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
+    if hybrid and (direction != "independent" or spec.solver != "newmark"):
+        raise ValueError(
+            "a scene with condensed bodies sweeps independent speeds with Newmark only "
+            f"(got --direction {direction}, solver {spec.solver})"
+        )
+    return spec
+
+
 def sweep_case(
     case: Case,
     speeds,
@@ -126,7 +208,6 @@ def sweep_case(
     from .. import DynamicsResult, TrainCase
     from ..dynamics import (
         HertzPressure,
-        SceneSpec,
         build_dynamic_model,
         campbell_coincidences,
         load_bodies,
@@ -137,38 +218,18 @@ def sweep_case(
         speed_sweep,
     )
 
-    spec = case.scene if case.scene is not None else SceneSpec()
-    over = {
-        k: v
-        for k, v in dict(
-            solver=solver,
-            contact=contact,
-            periods=periods,
-            steps_per_period=steps_per_period,
-            keep_periods=keep_periods,
-        ).items()
-        if v is not None
-    }
-    spec = dataclasses.replace(spec, **over)
-    if spec.keep_periods > spec.periods:
-        raise ValueError(f"keep_periods = {spec.keep_periods} must be <= periods = {spec.periods}")
-    if direction not in ("independent", "up", "down", "both"):
-        raise ValueError(f"--direction {direction!r}: allowed independent, up, down, both")
+    spec = sweep_spec(
+        case,
+        direction=direction,
+        solver=solver,
+        contact=contact,
+        periods=periods,
+        steps_per_period=steps_per_period,
+        keep_periods=keep_periods,
+        vtu_speed=vtu_speed,
+    )
     speeds = np.asarray(speeds, dtype=float)
     hybrid = spec.hybrid
-    if vtu_speed is not None and not hybrid:
-        raise ValueError(
-            f"--vtu-speed {vtu_speed}: only a scene with condensed bodies has a deformed body "
-            "to export ([scene.gear_body] or [scene.pinion_body] of a pair, [scene.bodies.<gear>] "
-            "of a train)"
-        )
-    if vtu_speed is not None and not vtu_speed > 0:
-        raise ValueError(f"--vtu-speed {vtu_speed}: out of range, allowed > 0 rad/s")
-    if hybrid and (direction != "independent" or spec.solver != "newmark"):
-        raise ValueError(
-            "a scene with condensed bodies sweeps independent speeds with Newmark only "
-            f"(got --direction {direction}, solver {spec.solver})"
-        )
     t0 = time.perf_counter()
     n_dirs = 2 if direction == "both" else 1
     bar = tqdm(
@@ -237,7 +298,7 @@ def sweep_case(
         "damping": spec.damping_model,
         "torque_Nm": case.torque,
     }
-    n_meshes = len(model.scene.meshes)
+    n_meshes = len(r.meshes)  # the results' (a 1-DOF relative scene has no .meshes)
     if n_meshes == 1:
         summary["static_mesh_force_N"] = float(model.static_force)
     else:  # a train: each mesh's, from its first speed
@@ -749,26 +810,31 @@ def run_sweep(args) -> int:
     """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it). Returns 0."""
     from ..io import load_case
     from ._options import range_values
-    from ._paths import check_output_dir, clear_outputs
+    from ._paths import check_output_dir, staged_outputs
 
     speeds = range_values(args.speeds, "--speeds", positive=True, min_points=2)
     case = load_case(args.case)
     out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
-    clear_outputs(out, "sweep")
-    s = sweep_case(
-        case,
-        speeds,
-        out,
+    options = dict(
         direction=args.direction,
         solver=args.solver,
         contact=args.contact,
         periods=args.periods,
         steps_per_period=args.steps_per_period,
         keep_periods=args.keep_periods,
-        slices=args.slices,
-        show_progress=not args.quiet,
         vtu_speed=args.vtu_speed,
     )
+    sweep_spec(case, **options)  # every check before any file is touched
+    # written into a staging folder, moved in place when the sweep completes
+    with staged_outputs(out, "sweep") as work:
+        s = sweep_case(
+            case,
+            speeds,
+            work,
+            slices=args.slices,
+            show_progress=not args.quiet,
+            **options,
+        )
     df = np.asarray([np.nan if v is None else v for v in s["dynamic_factor"]])
     i = int(np.nanargmax(df)) if np.isfinite(df).any() else 0
     n_bad = sum(1 for v in s["result"] if v)
