@@ -37,7 +37,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._util import as_float
+from ._util import as_float, check_real
 
 __all__ = [
     "Deviations",
@@ -256,6 +256,12 @@ class GearDeviations(eqx.Module):
                     f"{name}: shape {getattr(self, name).shape} is out of range: allowed one value "
                     f"per tooth, {z} (or a scalar for every tooth)"
                 )
+        # finite values, runout >= 0, on concrete values (a traced draw is not known here)
+        for name in ("runout_phase", "reference_pressure_angle"):
+            check_real(name, getattr(self, name), "rad", shape=(), where="GearDeviations")
+        check_real("runout", self.runout, "m", lo=0.0, shape=(), where="GearDeviations")
+        for name in ("single_pitch", "profile_slope", "profile_form", "helix_slope", "helix_form"):
+            check_real(name, getattr(self, name), "m", where="GearDeviations")
 
     @property
     def teeth(self) -> int:
