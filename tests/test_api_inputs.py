@@ -81,6 +81,18 @@ def test_quasi_static_scene():
     _refused(lambda: jg.quasi_static(case.pair, None, 80.0), "scene = ", "MeshModel")
 
 
+def test_scene_constructors():
+    _, mesh = _mesh()
+    _refused(lambda: jg.RigidMesh("mesh"), "RigidMesh: mesh = 'mesh'", "MeshModel")
+    _refused(lambda: jg.TorsionalPair(None), "TorsionalPair: mesh = None", "MeshModel")
+    _refused(
+        lambda: jg.TorsionalPair(mesh, -1.0),
+        "TorsionalPair: output_stiffness = -1 N·m/rad is out of range",
+        "allowed > 0",
+    )
+    _refused(lambda: jg.TorsionalPair(mesh, NAN), "output_stiffness = nan")
+
+
 def _pair(p1=None, p2=None, **kw):
     args = dict(normal_module=2e-3, normal_pressure_angle=math.radians(20))
     args.update(kw)

@@ -14,7 +14,6 @@ from __future__ import annotations
 import copy
 import datetime
 import importlib.resources
-import json
 import math
 import tomllib
 import warnings
@@ -239,6 +238,20 @@ def mutated(draw, bases: dict, kinds=ANY_MUTATION, factors=ANY_FACTOR, most: int
     return data, "; ".join(done)
 
 
+def _toml_str(text: str) -> str:
+    """A TOML basic string: quotes, backslashes and control characters escaped, the rest as is
+    (``json.dumps`` writes a character beyond the BMP as a surrogate pair, which TOML refuses)."""
+    out = []
+    for c in text:
+        if c in '"\\':
+            out.append("\\" + c)
+        elif ord(c) < 0x20 or c == "\x7f":
+            out.append(f"\\u{ord(c):04x}")
+        else:
+            out.append(c)
+    return '"' + "".join(out) + '"'
+
+
 def _dump(v) -> str:
     """A TOML value in inline form."""
     if isinstance(v, bool):
@@ -250,16 +263,16 @@ def _dump(v) -> str:
             return "nan"
         return ("inf" if v > 0 else "-inf") if math.isinf(v) else repr(v)
     if isinstance(v, str):
-        return json.dumps(v)
+        return _toml_str(v)
     if isinstance(v, list):
         return "[" + ", ".join(_dump(x) for x in v) + "]"
     if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(str(k))} = {_dump(x)}" for k, x in v.items()) + "}"
+        return "{" + ", ".join(f"{_toml_str(str(k))} = {_dump(x)}" for k, x in v.items()) + "}"
     return v.isoformat()
 
 
 def _dumps(data: dict) -> str:
-    return "".join(f"{json.dumps(str(k))} = {_dump(v)}\n" for k, v in data.items())
+    return "".join(f"{_toml_str(str(k))} = {_dump(v)}\n" for k, v in data.items())
 
 
 def _one_line(fn, what: str):

@@ -12,7 +12,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel, cell_flank
-from .._util import as_float
+from .._util import as_float, check_instance, check_real
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
 from ._rigid import RigidMesh
@@ -42,6 +42,13 @@ class TorsionalPair(Scene):
 
     mesh: MeshModel
     output_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=1e5)
+
+    def __check_init__(self):
+        where = "TorsionalPair"
+        check_instance("mesh", self.mesh, MeshModel, "a jaxgear.MeshModel", where)
+        check_real(
+            "output_stiffness", self.output_stiffness, "N·m/rad", lo=0.0, lo_open=True, where=where
+        )
 
     def _v(self):
         cb = jnp.cos(self.mesh.base_helix_angle)
