@@ -1,12 +1,19 @@
-"""Property-based test of the whole input schema: case files (``jaxgear/cases``,
-``[scene]`` and ``[optimise]`` included) and fem_prep body files (``fem_prep/bodies``), mutated at
-any key path with numeric extremes (denormals, ±1e308, ±inf, NaN, huge integers), wrong types,
-random text, deleted and unknown keys, give a valid object or the project's own one-line
-:class:`~fem_prep.schema.SchemaError`, never anything else; so do the static pieces the CLI
-builds from a valid case before any work (geometry summary, mesh model, optimisation settings).
+"""Property-based test of the whole input schema: case files (``jaxgear/cases``, the trains,
+``[scene]`` and ``[optimise]`` included, and bases with ``[deviations]`` (a grade, given
+per-tooth values), backlash (tooth thickness allowances, a centre distance) and ``[robust]``)
+and fem_prep body files (``fem_prep/bodies``), mutated at any key path with numeric extremes
+(denormals, ±1e308, ±inf, NaN, huge integers), wrong types, random text, deleted and unknown
+keys, give a valid object or the project's own one-line :class:`~fem_prep.schema.SchemaError`,
+never anything else; so do the static pieces the CLI builds from a valid case before any work
+(geometry summary, mesh model, optimisation settings, the ``[robust]`` settings).
 
-The default suite runs 300 derandomised examples per test (reproducible; about 20 s in all); the
-slow suite runs 10 000 per schema with a fixed seed.
+The stage after loading: mildly mutated train, deviation, backlash and ``[robust]`` cases that
+load are built (2 slices) and solved quasi-statically at 3 positions; only a one-line
+``ValueError``, finite results or the solver's own result codes may come out.
+
+The default suite runs 300 derandomised examples per schema test and 10 of the model stage
+(reproducible; about a minute in all on a shared machine); the slow suite runs 10 000 per
+schema and 300 of the model stage with a fixed seed.
 """
 
 from __future__ import annotations
@@ -216,7 +223,8 @@ def mutated(draw, bases: dict, kinds=ANY_MUTATION, factors=ANY_FACTOR, most: int
             done.append(f"add {path + (key,)} = {table[key]!r:.60}")
             continue
         places = list(_places(data))
-        if kind == "extreme":  # a number at a numeric key: the extremes most of the time
+        numeric = kind == "extreme" or (kind == "scale" and kinds == MILD_MUTATION)
+        if numeric:  # a number at a numeric key: the extremes most of the time
             places = [x for x in places if isinstance(x[1][x[2]], (int, float))] or places
         if not places:
             break
