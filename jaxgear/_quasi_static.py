@@ -261,24 +261,36 @@ def _quasi_static(
     return res
 
 
-def _check_inputs(scene, modifications, torque, theta, speed) -> None:
-    """The public inputs of :func:`quasi_static`, before any tracing: types and shapes always,
-    values where they are concrete (a traced torque, under ``jax.grad`` or ``jax.vmap``, is
-    checked by ``eqx.error_if`` inside)."""
-    where = "quasi_static"
+def check_operating(
+    where: str,
+    scene,
+    modifications,
+    torque,
+    theta=None,
+    speed=None,
+    *,
+    coast_torque: bool = True,
+    mods_name: str = "modifications",
+) -> None:
+    """The public inputs of :func:`quasi_static` (and of the dynamic model's builder, ``where``
+    naming the entry), before any tracing: types and shapes always, values where they are
+    concrete (a traced torque, under ``jax.grad`` or ``jax.vmap``, is checked by
+    ``eqx.error_if`` inside). ``coast_torque``: with coast flanks any torque != 0 (quasi-statics),
+    else > 0. ``mods_name``: the modifications' argument name. One-line ``ValueError`` naming the argument, its value and the allowed range."""
     check_instance(
         "scene", scene, (Scene, MeshModel), "a jaxgear Scene (RigidMesh, ...) or MeshModel", where
     )
     allowed = "None, a jaxgear.Modifications, or a tuple of one per gear mesh"
     if isinstance(modifications, tuple | list):
         for k, m in enumerate(modifications):
-            check_instance(f"modifications[{k}]", m, Modifications, allowed, where)
+            check_instance(f"{mods_name}[{k}]", m, Modifications, allowed, where)
     elif modifications is not None:
-        check_instance("modifications", modifications, Modifications, allowed, where)
+        check_instance(mods_name, modifications, Modifications, allowed, where)
     planes = (scene,) if isinstance(scene, MeshModel) else scene.base_planes
-    coast = any(getattr(p, "coast", False) for p in planes)
-    check_real("torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(),
-               where=where)
+    coast = coast_torque and any(getattr(p, "coast", False) for p in planes)
+    check_real(
+        "torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(), where=where
+    )
     if coast and not is_traced(torque) and float(torque) == 0.0:
         raise ValueError(
             f"{where}: torque = 0 N·m is out of range: allowed != 0 with coast flanks (> 0 "
@@ -288,7 +300,8 @@ def _check_inputs(scene, modifications, torque, theta, speed) -> None:
         check_real("theta", theta, "rad", shape=(None,), shape_text="(n,)", where=where)
         if jnp.shape(theta)[0] < 1:
             raise ValueError(f"{where}: theta must have shape (n,) [rad] with n >= 1, got (0,)")
-    check_real("speed", speed, "rad/s", lo=0.0, shape=(), where=where)
+    if speed is not None:
+        check_real("speed", speed, "rad/s", lo=0.0, shape=(), where=where)
 
 
 def quasi_static(
@@ -348,7 +361,7 @@ def quasi_static(
             traced negative speed, solver failure (with ``throw``).
     """
     check_positions(positions_per_pitch, periods)
-    _check_inputs(scene, modifications, torque, theta, speed)
+    check_operating("quasi_static", scene, modifications, torque, theta, speed)
     if isinstance(scene, MeshModel):
         mesh, scene = scene, None
         n_meshes = 1

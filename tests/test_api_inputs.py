@@ -91,6 +91,11 @@ def test_scene_constructors():
         "allowed > 0",
     )
     _refused(lambda: jg.TorsionalPair(mesh, NAN), "output_stiffness = nan")
+    dyn = jg.scenes.TorsionalDynamics
+    _refused(lambda: dyn(mesh, -1e-3, 4e-3), "TorsionalDynamics: inertia_pinion = -0.001 kg·m²")
+    _refused(lambda: dyn(mesh, 1e-3, INF), "TorsionalDynamics: inertia_gear = inf kg·m²")
+    _refused(lambda: dyn(mesh, 1e-3, 1e-3, shaft_load=0.0), "shaft_load = 0 N·m/rad")
+    _refused(lambda: dyn("mesh", 1e-3, 1e-3), "TorsionalDynamics: mesh = 'mesh'")
 
 
 def _pair(p1=None, p2=None, **kw):
@@ -211,6 +216,31 @@ def test_hertz_pressure_inputs():
     case, _ = _mesh()
     _refused(lambda: jd.HertzPressure(case.pair, INF, 0.3), "youngs_modulus = inf Pa")
     _refused(lambda: jd.HertzPressure(case.pair, 210e9, NAN), "poisson_ratio = nan")
+
+
+@functools.cache
+def _dynamic():
+    """A small lumped model of the accessory pair (torsional, 2 slices, 8 positions)."""
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    scene = jg.scenes.TorsionalDynamics(case.mesh_model(), 1e-3, 4e-3)
+    model = jd.dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=8)
+    return case, scene, model
+
+
+def test_dynamics_entries():
+    case, scene, model = _dynamic()
+    kw = dict(integrator=jd.Newmark(16), window=jd.SteadyState(4, 2))
+    _refused(lambda: jd.simulate(model, -1.0, **kw), "simulate: speed = -1 rad/s", "> 0")
+    _refused(lambda: jd.simulate(model, NAN, **kw), "simulate: speed = nan rad/s")
+    _refused(
+        lambda: jd.simulate(model, jnp.array([1.0, 2.0]), **kw),
+        "simulate: speed must have shape () [rad/s], got (2,)",
+    )
+    _refused(lambda: jd.speed_sweep(model, [100.0, INF], **kw), "speeds[1] = inf rad/s")
+    mods = case.modifications
+    _refused(lambda: jd.dynamic_model(scene, mods, -5.0), "dynamic_model: torque = -5 N·m")
+    _refused(lambda: jd.dynamic_model(scene, "tip", 80.0), "dynamic_model: mods = 'tip'")
+    _refused(lambda: jd.dynamic_model(scene.mesh, mods, 80.0), "dynamic_model: scene = ")
 
 
 # ---------------------------------------------------------------------------------------------

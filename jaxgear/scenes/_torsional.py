@@ -108,6 +108,17 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         has_motor: bool = False,
         has_load: bool = False,
     ):
+        where = "TorsionalDynamics"
+        check_instance("mesh", mesh, MeshModel, "a jaxgear.MeshModel", where)
+        for name, v in (
+            ("inertia_pinion", inertia_pinion),
+            ("inertia_gear", inertia_gear),
+            ("inertia_motor", inertia_motor),
+            ("inertia_load", inertia_load),
+        ):
+            check_real(name, v, "kg·m²", lo=0.0, lo_open=True, where=where)
+        for name, v in (("shaft_motor", shaft_motor), ("shaft_load", shaft_load)):
+            check_real(name, v, "N·m/rad", lo=0.0, lo_open=True, where=where)
         n = 2 + int(has_motor) + int(has_load)
         p, g = int(has_motor), int(has_motor) + 1
         dtype = jnp.result_type(float)
