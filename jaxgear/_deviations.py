@@ -208,6 +208,11 @@ class GearDeviations(eqx.Module):
         helix_form: c_β,n (m), signed: e = c_β (2ζ − 1)², a helix form deviation |c_β|.
         reference_pressure_angle: α_t (rad) of the reference circle the pitch deviations are
             measured on: the line of action sees f_pt cos α_t (0: given on the line of action).
+
+    Raises:
+        ValueError: (one line) per-tooth arrays of another shape than (z,), and, on concrete
+            values (a traced draw is not known here), a value that is not finite or a runout
+            < 0.
     """
 
     single_pitch: Float[Array, " z"]

@@ -103,6 +103,13 @@ class MemberModification(eqx.Module):
             ζ > 1 − extent); z is the base-plane face coordinate of docs/design.md, "Base plane
             and sign conventions". A one-sided
             relief is the seed's IV-33 lead modification of the overloaded edge.
+
+    Raises:
+        ValueError: (one line naming the attribute, its value and the allowed range) an unknown
+            shape or edge, profile arrays of other shapes, and, on concrete values (traced ones,
+            under jit/vmap/grad, are not known here), a value that is not finite or outside
+            its range above: depths and blends >= 0, extents in (0, 1] ((0, 0.5] for the end
+            relief), roll fractions strictly ascending.
     """
 
     tip_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
@@ -142,8 +149,15 @@ class MemberModification(eqx.Module):
         # the documented ranges, on concrete values (any shape: a batch of modifications for
         # jax.vmap is checked entry by entry)
         for name, (unit, lo, hi, lo_open) in _RANGES.items():
-            check_real(name, getattr(self, name), unit, lo=lo, hi=hi, lo_open=lo_open,
-                       where="MemberModification")
+            check_real(
+                name,
+                getattr(self, name),
+                unit,
+                lo=lo,
+                hi=hi,
+                lo_open=lo_open,
+                where="MemberModification",
+            )
         roll = self.profile_deviation_roll
         if not is_traced(roll) and not bool(jnp.all(jnp.diff(roll) > 0)):
             raise ValueError(
@@ -203,16 +217,12 @@ class Modifications(eqx.Module):
     deviations: Deviations | None = None
 
     def __check_init__(self):
+        allowed = "a jaxgear.MemberModification"
         for tag in ("pinion", "gear"):
-            check_instance(
-                tag, getattr(self, tag), MemberModification, "a jaxgear.MemberModification",
-                "Modifications",
-            )
+            check_instance(tag, getattr(self, tag), MemberModification, allowed, "Modifications")
         if self.deviations is not None:
-            check_instance(
-                "deviations", self.deviations, Deviations, "a jaxgear.Deviations or None",
-                "Modifications",
-            )
+            allowed = "a jaxgear.Deviations or None"
+            check_instance("deviations", self.deviations, Deviations, allowed, "Modifications")
 
     @classmethod
     def symmetric(cls, member: MemberModification) -> "Modifications":

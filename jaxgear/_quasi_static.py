@@ -275,8 +275,9 @@ def check_operating(
     """The public inputs of :func:`quasi_static` (and of the dynamic model's builder, ``where``
     naming the entry), before any tracing: types and shapes always, values where they are
     concrete (a traced torque, under ``jax.grad`` or ``jax.vmap``, is checked by
-    ``eqx.error_if`` inside). ``coast_torque``: with coast flanks any torque != 0 (quasi-statics),
-    else > 0. ``mods_name``: the modifications' argument name. One-line ``ValueError`` naming the argument, its value and the allowed range."""
+    ``eqx.error_if`` inside). ``coast_torque``: with coast flanks any torque != 0
+    (quasi-statics), else > 0. ``mods_name``: the modifications' argument name. One-line
+    ``ValueError`` naming the argument, its value and the allowed range."""
     check_instance(
         "scene", scene, (Scene, MeshModel), "a jaxgear Scene (RigidMesh, ...) or MeshModel", where
     )

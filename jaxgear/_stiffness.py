@@ -496,8 +496,8 @@ def stiffness_table(
     check_integer("n_points", n_points, 2)
     for name, v in (("fe2d_size", fe2d_size), ("specific_load", specific_load)):
         if v is not None:
-            check_real(name, v, "m" if name == "fe2d_size" else "N/m", lo=0.0, lo_open=True,
-                       shape=(), where=where)
+            unit = "m" if name == "fe2d_size" else "N/m"
+            check_real(name, v, unit, lo=0.0, lo_open=True, shape=(), where=where)
     foundation = member_foundations(foundation)
     s = np.linspace(0.0, pair.path_of_contact, n_points)
     if model == "uniform":

@@ -74,9 +74,9 @@ def check_real(
     the bound excluded): ``where: name = value unit is out of range: allowed > 0 unit``, the
     entry of an array that fails, and its index. ``shape``: the shape required (``None``: any;
     an entry ``None``: any length on that axis), ``shape_text`` how the message states it
-    (``"(n,)"``). A traced value (under ``jit``, ``vmap``, ``grad``) has only its shape checked: its value is not known here (the
-    differentiable paths stay open; traced values are guarded by ``eqx.error_if`` where they
-    are used). Float32 and float64 alike."""
+    (``"(n,)"``). A traced value (under ``jit``, ``vmap``, ``grad``) has only its shape
+    checked: its value is not known here (the differentiable paths stay open; traced values
+    are guarded by ``eqx.error_if`` where they are used). Float32 and float64 alike."""
     head = f"{where}: " if where else ""
     u = f" {unit}" if unit else ""
     if value is None or isinstance(value, bool | str | bytes):
@@ -102,7 +102,8 @@ def check_real(
             )
         got = arr.shape
     if shape is not None and (
-        len(got) != len(shape) or any(w is not None and g != w for g, w in zip(got, shape, strict=True))
+        len(got) != len(shape)
+        or any(w is not None and g != w for g, w in zip(got, shape, strict=True))
     ):
         want = shape_text or str(tuple(shape))
         units = f" [{unit}]" if unit else ""

@@ -275,7 +275,8 @@ def test_grad_jit_vmap_through_checked_constructors():
 
 def test_float32_inputs_pass():
     """Float32 values in range pass the checks (and float32 negatives are refused above)."""
-    tip = jg.MemberModification(tip_relief_depth=np.float32(1e-5), tip_relief_extent=np.float32(0.25))
+    f32 = np.float32
+    tip = jg.MemberModification(tip_relief_depth=f32(1e-5), tip_relief_extent=f32(0.25))
     assert float(tip.tip_relief_depth) == pytest.approx(1e-5)
     jg.GearDeviations(single_pitch=np.zeros(45, np.float32), runout=np.float32(1e-6))
     case, mesh = _mesh()
