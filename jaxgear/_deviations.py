@@ -37,7 +37,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._util import as_float, check_real
+from ._util import as_float, check_instance, check_real
 
 __all__ = [
     "Deviations",
@@ -320,6 +320,13 @@ class Deviations(eqx.Module):
 
     pinion: GearDeviations | None = None
     gear: GearDeviations | None = None
+
+    def __check_init__(self):
+        for tag in ("pinion", "gear"):
+            g = getattr(self, tag)
+            if g is not None:
+                allowed = "a jaxgear.GearDeviations or None"
+                check_instance(tag, g, GearDeviations, allowed, "Deviations")
 
     def teeth(self) -> tuple[int | None, int | None]:
         """(z1, z2) of the members that have deviations."""

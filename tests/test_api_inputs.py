@@ -181,6 +181,10 @@ def test_gear_deviations_inputs(kw, words):
     _refused(lambda: jg.GearDeviations(**kw), "GearDeviations", *words)
 
 
+def test_deviations_member_types():
+    _refused(lambda: jg.Deviations(pinion=np.zeros(45)), "Deviations: pinion = ", "GearDeviations")
+
+
 def test_stiffness_table_inputs():
     case, _ = _mesh()
     _refused(
