@@ -37,7 +37,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._util import as_float
+from ._util import as_float, check_instance, check_real
 
 __all__ = [
     "Deviations",
@@ -242,6 +242,11 @@ class GearDeviations(eqx.Module):
         helix_form: c_β,n (m), signed: e = c_β (2ζ − 1)², a helix form deviation |c_β|.
         reference_pressure_angle: α_t (rad) of the reference circle the pitch deviations are
             measured on: the line of action sees f_pt cos α_t (0: given on the line of action).
+
+    Raises:
+        ValueError: (one line) per-tooth arrays of another shape than (z,), and, on concrete
+            values (a traced draw is not known here), a value that is not finite or a runout
+            < 0.
     """
 
     single_pitch: Float[Array, " z"]
@@ -290,6 +295,12 @@ class GearDeviations(eqx.Module):
                     f"{name}: shape {getattr(self, name).shape} is out of range: allowed one value "
                     f"per tooth, {z} (or a scalar for every tooth)"
                 )
+        # finite values, runout >= 0, on concrete values (a traced draw is not known here)
+        for name in ("runout_phase", "reference_pressure_angle"):
+            check_real(name, getattr(self, name), "rad", shape=(), where="GearDeviations")
+        check_real("runout", self.runout, "m", lo=0.0, shape=(), where="GearDeviations")
+        for name in ("single_pitch", "profile_slope", "profile_form", "helix_slope", "helix_form"):
+            check_real(name, getattr(self, name), "m", where="GearDeviations")
 
     @property
     def teeth(self) -> int:
@@ -343,6 +354,13 @@ class Deviations(eqx.Module):
 
     pinion: GearDeviations | None = None
     gear: GearDeviations | None = None
+
+    def __check_init__(self):
+        for tag in ("pinion", "gear"):
+            g = getattr(self, tag)
+            if g is not None:
+                allowed = "a jaxgear.GearDeviations or None"
+                check_instance(tag, g, GearDeviations, allowed, "Deviations")
 
     def teeth(self) -> tuple[int | None, int | None]:
         """(z1, z2) of the members that have deviations."""

@@ -13,6 +13,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ._util import check_instance, check_integer, check_real
+
 __all__ = ["Member", "GearPair", "involute", "inverse_involute"]
 
 
@@ -79,6 +81,19 @@ class Member:
 #: default centre distance (the zero-backlash distance of the nominal teeth)
 JAM = "tooth_thickness_allowance (pinion + gear) without a center_distance"
 
+# units of the inputs, for the messages
+_UNITS = {
+    "face_width": "m",
+    "bore_radius": "m",
+    "web_thickness": "m",
+    "rim_thickness": "m",
+    "tooth_thickness_allowance": "m",
+    "normal_module": "m",
+    "normal_pressure_angle": "rad",
+    "helix_angle": "rad",
+    "center_distance": "m",
+}
+
 
 def _require(name: str, value: float, ok: bool, allowed: str) -> None:
     if not ok:
@@ -133,6 +148,19 @@ class GearPair:
     center_distance: float | None = None
 
     def __post_init__(self) -> None:  # noqa: C901 - a flat list of checks reads best
+        # types and finite numbers first (a NaN, an infinity or a string would pass or break
+        # the range checks below), one line naming the attribute
+        for tag in ("pinion", "gear"):
+            check_instance(tag, getattr(self, tag), Member, "a jaxgear.Member", "GearPair")
+            m = getattr(self, tag)
+            check_integer(f"{tag}.teeth", m.teeth, 5)
+            for f in dataclasses.fields(Member):
+                v = getattr(m, f.name)
+                if f.name != "teeth" and v is not None:
+                    check_real(f"{tag}.{f.name}", v, _UNITS.get(f.name, ""), shape=())
+        for name in ("normal_module", "normal_pressure_angle", "helix_angle", "center_distance"):
+            if getattr(self, name) is not None:
+                check_real(name, getattr(self, name), _UNITS[name], shape=())
         mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
         _require("normal_module", mn, mn > 0, "> 0")
         _require("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg")

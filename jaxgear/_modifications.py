@@ -25,12 +25,28 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._deviations import Deviations
-from ._util import as_float
+from ._util import as_float, check_instance, check_real, is_traced
 
 __all__ = ["MemberModification", "Modifications"]
 
 _SHAPES = ("linear", "parabolic")
 _EDGES = ("both", "z0", "z1")
+# the documented range of each parameter (name: unit, lo, hi, lo_open): checked on concrete
+# values when a MemberModification is built (traced ones, under jit/vmap/grad, are not known)
+_RANGES = {
+    "tip_relief_depth": ("m", 0.0, None, False),
+    "tip_relief_extent": ("", 0.0, 1.0, True),
+    "root_relief_depth": ("m", 0.0, None, False),
+    "root_relief_extent": ("", 0.0, 1.0, True),
+    "crowning_depth": ("m", 0.0, None, False),
+    "end_relief_depth": ("m", 0.0, None, False),
+    "end_relief_extent": ("", 0.0, 0.5, True),
+    "helix_slope_deviation": ("m", None, None, False),
+    "relief_blend": ("", 0.0, None, False),
+    "end_relief_blend": ("", 0.0, None, False),
+    "profile_deviation_roll": ("", None, None, False),
+    "profile_deviation": ("m", None, None, False),
+}
 
 
 def _ramp(x, shape: str, blend):
@@ -87,6 +103,13 @@ class MemberModification(eqx.Module):
             ζ > 1 − extent); z is the base-plane face coordinate of docs/design.md, "Base plane
             and sign conventions". A one-sided
             relief is the seed's IV-33 lead modification of the overloaded edge.
+
+    Raises:
+        ValueError: (one line naming the attribute, its value and the allowed range) an unknown
+            shape or edge, profile arrays of other shapes, and, on concrete values (traced ones,
+            under jit/vmap/grad, are not known here), a value that is not finite or outside
+            its range above: depths and blends >= 0, extents in (0, 1] ((0, 0.5] for the end
+            relief), roll fractions strictly ascending.
     """
 
     tip_relief_depth: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
@@ -122,6 +145,24 @@ class MemberModification(eqx.Module):
             raise ValueError(
                 "profile_deviation: roll_fraction and deviation_um must be 1-D lists "
                 "of the same length >= 2"
+            )
+        # the documented ranges, on concrete values (any shape: a batch of modifications for
+        # jax.vmap is checked entry by entry)
+        for name, (unit, lo, hi, lo_open) in _RANGES.items():
+            check_real(
+                name,
+                getattr(self, name),
+                unit,
+                lo=lo,
+                hi=hi,
+                lo_open=lo_open,
+                where="MemberModification",
+            )
+        roll = self.profile_deviation_roll
+        if not is_traced(roll) and not bool(jnp.all(jnp.diff(roll) > 0)):
+            raise ValueError(
+                f"MemberModification: profile_deviation_roll = {roll.tolist()} is out of range: "
+                "allowed strictly ascending roll fractions"
             )
 
     def deviation(self, u: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
@@ -174,6 +215,14 @@ class Modifications(eqx.Module):
     pinion: MemberModification = eqx.field(default_factory=MemberModification)
     gear: MemberModification = eqx.field(default_factory=MemberModification)
     deviations: Deviations | None = None
+
+    def __check_init__(self):
+        allowed = "a jaxgear.MemberModification"
+        for tag in ("pinion", "gear"):
+            check_instance(tag, getattr(self, tag), MemberModification, allowed, "Modifications")
+        if self.deviations is not None:
+            allowed = "a jaxgear.Deviations or None"
+            check_instance("deviations", self.deviations, Deviations, allowed, "Modifications")
 
     @classmethod
     def symmetric(cls, member: MemberModification) -> "Modifications":

@@ -21,7 +21,14 @@ from ._contact import (
 )
 from ._modifications import Modifications
 from ._results import ContactResult, error_if_failed
-from ._util import of_the_one_mesh, only_one_mesh, rms_about_mean
+from ._util import (
+    check_instance,
+    check_real,
+    is_traced,
+    of_the_one_mesh,
+    only_one_mesh,
+    rms_about_mean,
+)
 from .scenes import RigidMesh, Scene
 
 __all__ = ["MeshResult", "QuasiStaticResult", "mesh_positions", "quasi_static", "separation"]
@@ -254,6 +261,50 @@ def _quasi_static(
     return res
 
 
+def check_operating(
+    where: str,
+    scene,
+    modifications,
+    torque,
+    theta=None,
+    speed=None,
+    *,
+    coast_torque: bool = True,
+    mods_name: str = "modifications",
+) -> None:
+    """The public inputs of :func:`quasi_static` (and of the dynamic model's builder, ``where``
+    naming the entry), before any tracing: types and shapes always, values where they are
+    concrete (a traced torque, under ``jax.grad`` or ``jax.vmap``, is checked by
+    ``eqx.error_if`` inside). ``coast_torque``: with coast flanks any torque != 0
+    (quasi-statics), else > 0. ``mods_name``: the modifications' argument name. One-line
+    ``ValueError`` naming the argument, its value and the allowed range."""
+    check_instance(
+        "scene", scene, (Scene, MeshModel), "a jaxgear Scene (RigidMesh, ...) or MeshModel", where
+    )
+    allowed = "None, a jaxgear.Modifications, or a tuple of one per gear mesh"
+    if isinstance(modifications, tuple | list):
+        for k, m in enumerate(modifications):
+            check_instance(f"{mods_name}[{k}]", m, Modifications, allowed, where)
+    elif modifications is not None:
+        check_instance(mods_name, modifications, Modifications, allowed, where)
+    planes = (scene,) if isinstance(scene, MeshModel) else scene.base_planes
+    coast = coast_torque and any(getattr(p, "coast", False) for p in planes)
+    check_real(
+        "torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(), where=where
+    )
+    if coast and not is_traced(torque) and float(torque) == 0.0:
+        raise ValueError(
+            f"{where}: torque = 0 N·m is out of range: allowed != 0 with coast flanks (> 0 "
+            "drive, < 0 coast)"
+        )
+    if theta is not None:
+        check_real("theta", theta, "rad", shape=(None,), shape_text="(n,)", where=where)
+        if jnp.shape(theta)[0] < 1:
+            raise ValueError(f"{where}: theta must have shape (n,) [rad] with n >= 1, got (0,)")
+    if speed is not None:
+        check_real("speed", speed, "rad/s", lo=0.0, shape=(), where=where)
+
+
 def quasi_static(
     scene: Scene | MeshModel,
     modifications: Modifications | None,
@@ -301,11 +352,17 @@ def quasi_static(
 
     Raises:
         ValueError: ``contact`` not a contact law, bad position counts (at trace time),
-            deviations whose per-tooth arrays do not have the mesh's tooth counts.
-        eqx.EquinoxRuntimeError: torque <= 0 (== 0 with coast flanks), width <= 0, a negative speed on a hybrid scene,
-            solver failure (with ``throw``).
+            deviations whose per-tooth arrays do not have the mesh's tooth counts; before any
+            tracing, one line naming the argument, its value and the allowed range: a
+            ``scene`` that is neither a scene nor a :class:`MeshModel`, ``modifications`` that
+            are not :class:`Modifications`, a torque that is not a scalar or (concrete) not
+            finite and > 0 (!= 0 with coast flanks), ``theta`` not of shape (P,) or not
+            finite, a speed not a finite scalar >= 0.
+        eqx.EquinoxRuntimeError: a traced torque <= 0 (== 0 with coast flanks), width <= 0, a
+            traced negative speed, solver failure (with ``throw``).
     """
     check_positions(positions_per_pitch, periods)
+    check_operating("quasi_static", scene, modifications, torque, theta, speed)
     if isinstance(scene, MeshModel):
         mesh, scene = scene, None
         n_meshes = 1

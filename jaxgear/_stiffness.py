@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ._geometry import GearPair, involute
+from ._util import check_instance, check_integer, check_real
 
 __all__ = [
     "E_STEEL_ISO",
@@ -483,12 +484,24 @@ def stiffness_table(
 
     Raises:
         ValueError: unknown ``model`` or ``foundation``, or ``uniform`` without a positive
-            ``uniform_k0``.
+            ``uniform_k0``; a ``pair`` that is not a :class:`GearPair`, a material, load or
+            size that is not a finite number in range, ``n_points`` not an integer >= 2 (one
+            line naming the argument).
     """
+    where = "stiffness_table"
+    check_instance("pair", pair, GearPair, "a jaxgear.GearPair", where)
+    check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, shape=(), where=where)
+    check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, shape=(), where=where)
+    check_real("line_load", line_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where)
+    check_integer("n_points", n_points, 2)
+    for name, v in (("fe2d_size", fe2d_size), ("specific_load", specific_load)):
+        if v is not None:
+            unit = "m" if name == "fe2d_size" else "N/m"
+            check_real(name, v, unit, lo=0.0, lo_open=True, shape=(), where=where)
     foundation = member_foundations(foundation)
     s = np.linspace(0.0, pair.path_of_contact, n_points)
     if model == "uniform":
-        if uniform_k0 is None or not uniform_k0 > 0:
+        if uniform_k0 is None or not 0 < uniform_k0 < math.inf:
             raise ValueError(
                 f"stiffness_per_length_N_per_mm_per_um = {uniform_k0 if uniform_k0 is None else uniform_k0 / 1e9!r} "
                 "is required with stiffness = 'uniform' and must be > 0"

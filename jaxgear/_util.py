@@ -4,10 +4,14 @@ from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 __all__ = [
     "as_float",
+    "check_instance",
     "check_integer",
+    "check_real",
+    "is_traced",
     "of_the_one_mesh",
     "only_one_mesh",
     "only_where_needed",
@@ -25,6 +29,110 @@ def check_integer(name: str, value, lo: int) -> None:
         ok = False
     if not ok:
         raise ValueError(f"{name} = {value!r} is out of range: allowed an integer >= {lo}")
+
+
+def is_traced(value) -> bool:
+    """Whether ``value`` (or a leaf of it) is a JAX tracer (under ``jit``, ``vmap``, ``grad``):
+    its concrete value cannot be checked, only its shape."""
+    return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(value))
+
+
+def _show(v) -> str:
+    """A value for a one-line message: a number as ``%g``, an array by its offending entry."""
+    if isinstance(v, float | np.floating):
+        return f"{float(v):g}"
+    text = str(v) if isinstance(v, int | np.integer) else repr(v)
+    text = " ".join(text.split())  # one line
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _bound(lo, hi, lo_open: bool, hi_open: bool) -> str:
+    if lo is not None and hi is not None:
+        return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+    if lo is not None:
+        return f"{'>' if lo_open else '>='} {lo:g}"
+    if hi is not None:
+        return f"{'<' if hi_open else '<='} {hi:g}"
+    return "a finite value"
+
+
+def check_real(
+    name: str,
+    value,
+    unit: str = "",
+    *,
+    lo: float | None = None,
+    hi: float | None = None,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    shape: tuple | None = None,
+    shape_text: str | None = None,
+    where: str = "",
+) -> None:
+    """Refuse, with one ``ValueError`` line, a public input that is not a real number (or array
+    of real numbers) that is finite and in the range ``lo``/``hi`` (``lo_open``, ``hi_open``:
+    the bound excluded): ``where: name = value unit is out of range: allowed > 0 unit``, the
+    entry of an array that fails, and its index. ``shape``: the shape required (``None``: any;
+    an entry ``None``: any length on that axis), ``shape_text`` how the message states it
+    (``"(n,)"``). A traced value (under ``jit``, ``vmap``, ``grad``) has only its shape
+    checked: its value is not known here (the differentiable paths stay open; traced values
+    are guarded by ``eqx.error_if`` where they are used). Float32 and float64 alike."""
+    head = f"{where}: " if where else ""
+    u = f" {unit}" if unit else ""
+    if value is None or isinstance(value, bool | str | bytes):
+        raise ValueError(
+            f"{head}{name} = {value!r} is not a number: allowed {_bound(lo, hi, lo_open, hi_open)}"
+            f"{u if (lo, hi) != (None, None) else ''}"
+        )
+    if is_traced(value):
+        got = jnp.shape(value)
+        arr = None
+    else:
+        try:
+            arr = np.asarray(value)
+        except Exception:  # noqa: BLE001 - any object numpy cannot take
+            arr = None
+        real = arr is not None and (
+            np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)
+        )
+        if not real:
+            raise ValueError(
+                f"{head}{name} = {_show(value)} is not a real number: allowed "
+                f"{_bound(lo, hi, lo_open, hi_open)}{u if (lo, hi) != (None, None) else ''}"
+            )
+        got = arr.shape
+    if shape is not None and (
+        len(got) != len(shape)
+        or any(w is not None and g != w for g, w in zip(got, shape, strict=True))
+    ):
+        want = shape_text or str(tuple(shape))
+        units = f" [{unit}]" if unit else ""
+        raise ValueError(f"{head}{name} must have shape {want}{units}, got {tuple(got)}")
+    if arr is None:
+        return
+    a = arr.astype(np.float64) if arr.size else arr
+    bad = ~np.isfinite(a)
+    if lo is not None:
+        bad |= (a <= lo) if lo_open else (a < lo)
+    if hi is not None:
+        bad |= (a >= hi) if hi_open else (a > hi)
+    if np.any(bad):
+        idx = tuple(int(i) for i in np.argwhere(bad)[0])
+        v = a[idx] if a.ndim else a.item()
+        at = f"[{', '.join(map(str, idx))}]" if a.ndim else ""
+        allowed = _bound(lo, hi, lo_open, hi_open) + (u if (lo, hi) != (None, None) else "")
+        raise ValueError(f"{head}{name}{at} = {float(v):g}{u} is out of range: allowed {allowed}")
+
+
+def check_instance(name: str, value, types, allowed: str, where: str = "") -> None:
+    """Refuse, in one ``ValueError`` line, ``value`` that is not an instance of ``types``
+    (``allowed`` says what is, e.g. ``"jaxgear.Modifications or None"``)."""
+    if not isinstance(value, types):
+        head = f"{where}: " if where else ""
+        raise ValueError(
+            f"{head}{name} = {_show(value)} ({type(value).__name__}) is out of range: allowed "
+            f"{allowed}"
+        )
 
 
 def as_float(v):

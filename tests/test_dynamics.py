@@ -404,8 +404,10 @@ def test_dynamic_model_checks_are_jittable(accessory):
     )
     m = build(case.torque)
     assert float(m.mesh_stiffness_mean) > 0
-    with pytest.raises(eqx.EquinoxRuntimeError, match="torque must be > 0"):
-        jax.block_until_ready(build(-1.0).mesh_stiffness_mean)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="torque must be > 0"):  # traced
+        jax.block_until_ready(build(jnp.asarray(-1.0)).mesh_stiffness_mean)
+    with pytest.raises(ValueError, match="dynamic_model: torque = -1 N·m is out of range"):
+        build(-1.0)  # a Python float is static under filter_jit: refused before tracing
 
 
 @pytest.mark.parametrize("solver", ["newmark", "tsit5"])

@@ -47,8 +47,8 @@ from .._baseplane import CellRow, MeshModel, cell_flank, check_positions, split_
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
 from .._modifications import Modifications
 from .._pressure import pressure_factor
-from .._util import check_integer
-from .._quasi_static import mesh_separations, per_mesh_modifications
+from .._util import check_instance, check_integer
+from .._quasi_static import check_operating, mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
 from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
 from ._newmark import condensed as condensed_system, contact_coordinates
@@ -597,6 +597,14 @@ def dynamic_model(
         eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
             (jit/vmap-safe).
     """
+    check_instance(
+        "scene",
+        scene,
+        (DynamicScene, HybridPair),
+        "a jaxgear dynamic scene (TorsionalDynamics, a lumped or hybrid scene)",
+        "dynamic_model",
+    )
+    check_operating("dynamic_model", scene, mods, torque, coast_torque=False, mods_name="mods")
     if mods is None:
         mods = Modifications()
     if isinstance(mods, tuple | list):  # one per mesh: the count, before any computation

@@ -9,6 +9,7 @@ solvers. Also the run-size guard and the divergence checks the integrators share
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 
 import equinox as eqx
@@ -115,8 +116,8 @@ class ModalBasis(eqx.Module):
     def __check_init__(self):
         check_integer("modes", self.modes, 1)
         v = self.speed
-        if isinstance(v, bool) or not (isinstance(v, int | float) and v >= 0):
-            raise ValueError(f"speed = {v!r} rad/s is out of range: allowed a number >= 0")
+        if isinstance(v, bool) or not (isinstance(v, int | float) and 0 <= v < math.inf):
+            raise ValueError(f"speed = {v!r} rad/s is out of range: allowed a finite number >= 0")
         if type(self.static_correction) is not bool:
             raise ValueError(
                 f"static_correction = {self.static_correction!r}: allowed True or False"
@@ -190,8 +191,8 @@ class DiffraxIntegrator(eqx.Module):
             raise ValueError(f"adjoint = {self.adjoint!r}: allowed 'reverse', 'forward'")
         for name in ("rtol", "atol"):
             v = getattr(self, name)
-            if not (isinstance(v, int | float) and v > 0):
-                raise ValueError(f"{name} = {v!r}: allowed a tolerance > 0")
+            if isinstance(v, bool) or not (isinstance(v, int | float) and 0 < v < math.inf):
+                raise ValueError(f"{name} = {v!r}: allowed a tolerance > 0, finite")
         _check_steps(self.steps_per_period)
         if self.max_steps is not None:
             check_integer("max_steps", self.max_steps, 1)
@@ -262,10 +263,10 @@ class HertzPressure(eqx.Module):
                 "per gear mesh"
             )
         E, nu = self.youngs_modulus, self.poisson_ratio
-        if not (isinstance(E, int | float) and E > 0):
-            raise ValueError(f"youngs_modulus = {E!r} Pa: allowed > 0")
-        if not (isinstance(nu, int | float) and 0 <= nu < 0.5):
-            raise ValueError(f"poisson_ratio = {nu!r}: allowed in [0, 0.5)")
+        if isinstance(E, bool) or not (isinstance(E, int | float) and 0 < E < math.inf):
+            raise ValueError(f"youngs_modulus = {E!r} Pa is out of range: allowed finite > 0 Pa")
+        if isinstance(nu, bool) or not (isinstance(nu, int | float) and 0 <= nu < 0.5):
+            raise ValueError(f"poisson_ratio = {nu!r} is out of range: allowed [0, 0.5)")
 
 
 def check_pressure(pressure, meshes: int) -> HertzPressure | None:
@@ -387,7 +388,7 @@ def _config(
             f"keep_periods = {window.keep_periods} is out of range: allowed an integer >= "
             f"{min_keep}{why}"
         )
-    if not blowup > 0:
+    if isinstance(blowup, bool | str) or not blowup > 0:
         raise ValueError(f"blowup = {blowup!r}: allowed > 0")
     n_total = int(window.periods) * int(steps_per_period)
     # records of the kept steps (a lumped run: TE, mesh force, line forces and bearing

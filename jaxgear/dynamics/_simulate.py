@@ -6,6 +6,7 @@ import jax
 import jax.numpy as jnp
 
 from .._contact import ContactLaw, ExactContact
+from .._util import check_real
 from ._lumped import _prep, _run, _static_start
 from ._model import AbstractDynamicModel, DynamicModel, HybridModel
 from ._result import DynamicResult
@@ -79,6 +80,7 @@ def simulate(
             hybrid model; a ``pressure`` of another number of pairs than the scene's meshes.
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
+    check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, shape=(), where="simulate")
     if isinstance(model, HybridModel):
         if state0 is not None:
             raise ValueError(

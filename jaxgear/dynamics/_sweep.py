@@ -15,7 +15,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
-from .._util import check_integer
+from .._util import check_integer, check_real
 from . import _hybrid
 from ._lumped import _prep, _run, _static_start
 from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
@@ -295,6 +295,7 @@ def speed_sweep(
         or (not traced and not bool(np.all(np.asarray(speeds) > 0)))
     ):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
+    check_real("speeds", speeds, "rad/s", lo=0.0, lo_open=True, where="speed_sweep")  # finite
     if chunk_size is not None:
         check_integer("chunk_size", chunk_size, 1)
     if not blowup > 0:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 
 from .._baseplane import MeshModel, cell_flank
+from .._util import check_instance
 from ._scene import Scene
 
 __all__ = ["RigidMesh"]
@@ -15,6 +16,9 @@ class RigidMesh(Scene):
     cell and −1 for every coast cell (the approach opens the coast flanks)."""
 
     mesh: MeshModel
+
+    def __check_init__(self):
+        check_instance("mesh", self.mesh, MeshModel, "a jaxgear.MeshModel", "RigidMesh")
 
     def stiffness(self):
         return jnp.zeros((1, 1), dtype=self.mesh.face_width.dtype)

@@ -12,7 +12,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._baseplane import MeshModel, cell_flank
-from .._util import as_float
+from .._util import as_float, check_instance, check_real
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
 from ._rigid import RigidMesh
@@ -42,6 +42,13 @@ class TorsionalPair(Scene):
 
     mesh: MeshModel
     output_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=1e5)
+
+    def __check_init__(self):
+        where = "TorsionalPair"
+        check_instance("mesh", self.mesh, MeshModel, "a jaxgear.MeshModel", where)
+        check_real(
+            "output_stiffness", self.output_stiffness, "N·m/rad", lo=0.0, lo_open=True, where=where
+        )
 
     def _v(self):
         cb = jnp.cos(self.mesh.base_helix_angle)
@@ -101,6 +108,17 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         has_motor: bool = False,
         has_load: bool = False,
     ):
+        where = "TorsionalDynamics"
+        check_instance("mesh", mesh, MeshModel, "a jaxgear.MeshModel", where)
+        for name, v in (
+            ("inertia_pinion", inertia_pinion),
+            ("inertia_gear", inertia_gear),
+            ("inertia_motor", inertia_motor),
+            ("inertia_load", inertia_load),
+        ):
+            check_real(name, v, "kg·m²", lo=0.0, lo_open=True, where=where)
+        for name, v in (("shaft_motor", shaft_motor), ("shaft_load", shaft_load)):
+            check_real(name, v, "N·m/rad", lo=0.0, lo_open=True, where=where)
         n = 2 + int(has_motor) + int(has_load)
         p, g = int(has_motor), int(has_motor) + 1
         dtype = jnp.result_type(float)
