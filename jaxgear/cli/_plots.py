@@ -141,6 +141,12 @@ def transmission_error_plot(
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
+    return _legend_below_and_save(fig, ax, path, note)
+
+
+def _legend_below_and_save(fig, ax, path, note: str | None) -> list[str]:
+    """The legend below the axes (never on the curves; ``note`` as its title), the figure saved
+    to ``path``; returns the legend's labels."""
     leg = fig.legend(
         loc="outside lower center",
         ncols=_ncols(ax),
@@ -185,17 +191,7 @@ def mesh_stiffness_plot(
     ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    # below the axes, never on the curves
-    leg = fig.legend(
-        loc="outside lower center",
-        ncols=_ncols(ax),
-        fontsize=9,
-        frameon=False,
-        title=note,
-        title_fontsize=8,
-    )
-    savefig(fig, path)
-    return [t.get_text() for t in leg.get_texts()]
+    return _legend_below_and_save(fig, ax, path, note)
 
 
 def load_map_plot(

@@ -96,11 +96,6 @@ def _passing_rate(gear: dict, z1: float) -> float:
     return 1.0 if abs(rate - 1.0) < 1e-9 else rate
 
 
-# time steps one speed may integrate: jaxgear.dynamics' bound (its runs refuse more, but only
-# once the model is built); checked here before any work
-MAX_STEPS_PER_SPEED = 2**22
-
-
 def sweep_spec(
     case,
     *,
@@ -117,7 +112,9 @@ def sweep_spec(
     naming the option (``--periods``) or the case-file key (``[scene.integration] periods``),
     its value and the allowed range."""
     from .. import TrainCase
-    from ..dynamics import MIN_STEPS_PER_PERIOD, SceneSpec
+    # MAX_STEPS_PER_SPEED: jaxgear.dynamics' bound (its runs refuse more, but only once the
+    # model is built); checked here before any work
+    from ..dynamics import MAX_STEPS_PER_SPEED, MIN_STEPS_PER_PERIOD, SceneSpec
 
     spec = case.scene if case.scene is not None else SceneSpec()
     given = dict(
