@@ -107,6 +107,13 @@ class Scene(eqx.Module):
         :meth:`jaxgear.scenes.HybridScene.map_positions`)."""
         return jax.vmap(lambda th: fn(self, th))(theta)
 
+    def pinned_stiffness(self, K: Float[Array, "n n"], row: CellRow) -> Float[Array, "n n"]:
+        """The structure stiffness K of a static solve with the scene's rigid-body modes pinned
+        (:meth:`static_contact`): K itself for a scene without them (grounded, or a rigid pair);
+        a :class:`DynamicScene` adds :func:`rigid_mode_penalty`."""
+        del row
+        return K
+
     def static_contact(
         self, cells: tuple[Cells, ...], delta0: tuple, torque, speed, law: ContactLaw
     ) -> tuple[ContactSolution, Float[Array, " n"], Float[Array, " m"]]:
@@ -128,8 +135,7 @@ class Scene(eqx.Module):
         """
         r = self.cell_row(cells, delta0)
         K, F = self.stiffness(), self.external_load(torque)
-        if isinstance(self, DynamicScene):  # a free chain: pin its rigid-body modes
-            K = K + rigid_mode_penalty(self, K, r)
+        K = self.pinned_stiffness(K, r)
         sol = solve_contact(
             K, F, r.V, r.k, r.length, r.delta0, r.mask, law, loaded_flank(cells, torque)
         )
@@ -156,6 +162,11 @@ class DynamicScene(Scene):
     @abc.abstractmethod
     def stiffness_parts(self) -> dict[str, Float[Array, "n n"]]:
         """Named structure stiffness matrices summing to :meth:`stiffness`."""
+
+    def pinned_stiffness(self, K, row):
+        """K plus :func:`rigid_mode_penalty`: a free chain's rigid-body modes pinned, so that
+        the static solution has rᵀ M X = 0 (zeros added when the scene has no such mode)."""
+        return K + rigid_mode_penalty(self, K, row)
 
 
 class Grounded(Scene):
