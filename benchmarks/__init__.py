@@ -45,3 +45,7 @@ from ._quasi_static import bench_quasi_static as bench_quasi_static
 from ._robust import bench_robust as bench_robust
 from ._stiffness import bench_stiffness as bench_stiffness
 from ._train_cost import bench_trains as bench_trains, train_cost_chart as train_cost_chart
+from ._xla_cache import (
+    bench_xla_cache as bench_xla_cache,
+    xla_cache_chart as xla_cache_chart,
+)

@@ -1,6 +1,6 @@
-"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one fresh
-fem_prep cache for the session's condensed test bodies; JAX's compiled executables released
-between families of test modules."""
+"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one JAX
+persistent compilation cache for the test run; one fresh fem_prep cache for the session's
+condensed test bodies; JAX's compiled executables released between families of test modules."""
 
 import gc
 import os
@@ -17,19 +17,30 @@ jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
 
+@pytest.hookimpl(trylast=True)  # after pytest's tmp_path plugin made its factory
 def pytest_configure(config):
-    """Under xdist, share JAX's persistent compilation cache between the worker processes and
-    the ``jaxgear`` subprocesses the CLI tests start (the environment carries it), in the test
-    run's temporary folder (pytest removes old ones): a program compiled once in the run (a
-    case's quasi-static solve, a sweep) is read back instead of compiled again by the other
-    worker, by a later family after :func:`_release_compiled_code`, or by a CLI run. Set before
-    the first compilation (JAX checks the cache once per process)."""
-    base = getattr(config, "workerinput", None) and config.option.basetemp
-    if not base:
-        return
-    path = str(pathlib.Path(base).parent / "xla-cache")
+    """One JAX persistent compilation cache for the whole test run, in the run's temporary
+    folder (pytest removes old ones), shared by the xdist workers (their base folders lie in
+    the run's), a run without xdist, and the ``jaxgear`` subprocesses the CLI tests start (the
+    environment carries it): a program compiled once in the run (a case's quasi-static solve, a
+    sweep) is read back instead of compiled again by the other worker, by a later family after
+    :func:`_release_compiled_code`, or by a CLI run. ``JAXGEAR_XLA_CACHE`` names the same
+    folder, so that the CLI's own default (``~/.cache/jaxgear/xla``) or a user's setting is
+    never used by the tests. Set before the first compilation (JAX checks the cache once per
+    process)."""
+    if getattr(config, "workerinput", None) and config.option.basetemp:
+        base = pathlib.Path(config.option.basetemp).parent  # the controller's base folder
+    else:
+        factory = getattr(config, "_tmp_path_factory", None)
+        if factory is None:  # pragma: no cover - pytest without its tmp_path plugin
+            return
+        base = factory.getbasetemp()
+    path = str(base / "xla-cache")
     os.environ["JAX_COMPILATION_CACHE_DIR"] = path
+    os.environ["JAXGEAR_XLA_CACHE"] = path
+    os.environ.pop("JAXGEAR_XLA_CACHE_MAX_MB", None)
     os.environ["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0.2"
+    jax.config.update("jax_enable_compilation_cache", True)
     jax.config.update("jax_compilation_cache_dir", path)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.2)
 

@@ -1,6 +1,8 @@
 """Command line: ``jaxgear run | cases | optimise | master-curve | sweep | robust | bench | prep``.
 
-The CLI is an entry point, so it switches float64 on (library modules never do). Every command
+The CLI is an entry point, so it switches float64 on (library modules never do) and JAX's
+persistent compilation cache (:mod:`.xla_cache`: ``~/.cache/jaxgear/xla``, ``$JAXGEAR_XLA_CACHE``
+to move it or ``off``). Every command
 validates its whole input (case file, options, output folder) before it computes; bad input gives
 one line ``jaxgear: error: …`` and exit status 2, Ctrl-C one line ``jaxgear: interrupted`` and
 exit status 130, a closed pipe (``jaxgear run | head``) a quiet exit.
@@ -76,11 +78,17 @@ def _parser() -> argparse.ArgumentParser:
             "stiffness",
             "trains",
             "robust",
+            "xla-cache",
         ],
         help="which benchmark",
     )
     b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
+    b.add_argument(
+        "--cases",
+        metavar="NAME[,NAME…]",
+        help="xla-cache: the embedded cases to run twice (default: all; --quick: accessory-spur)",
+    )
     from fem_prep import add_build_arguments
 
     pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (= fem-prep build)")
@@ -192,6 +200,8 @@ def _load_benchmarks():
 def _bench(args) -> int:
     from ._paths import clear_outputs
 
+    if args.cases is not None and args.what != "xla-cache":
+        raise ValueError(f"--cases is an option of bench xla-cache, not of bench {args.what}")
     bench = _load_benchmarks()  # before clearing: no checkout, no outputs touched
     clear_outputs(args.out, f"bench {args.what}")
     if args.what == "dynamics":
@@ -210,6 +220,9 @@ def _bench(args) -> int:
         bench.bench_trains(args.out, quick=args.quick)
     elif args.what == "robust":
         bench.bench_robust(args.out, quick=args.quick)
+    elif args.what == "xla-cache":
+        cases = None if args.cases is None else [c.strip() for c in args.cases.split(",")]
+        bench.bench_xla_cache(args.out, quick=args.quick, cases=cases)
     else:
         bench.bench_quasi_static(args.out, quick=args.quick)
     return 0
@@ -223,7 +236,10 @@ def _dispatch(args) -> int:
 
     import jax
 
+    from .xla_cache import enable as enable_xla_cache
+
     jax.config.update("jax_enable_x64", True)
+    enable_xla_cache()  # before the first compilation: a second run compiles nothing again
     if args.command == "cases":
         return _cases(args)
     if args.command == "run":

@@ -1,0 +1,124 @@
+"""The CLI's persistent XLA compilation cache (jaxgear/cli/xla_cache.py): a second identical
+``jaxgear run`` reads back every program the first one wrote (JAX's monitoring events: no cache
+miss, as many hits as the first run's cached compilations) and gives the same results; where
+the folder is, how it is switched off, and its size bound."""
+
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+from jaxgear.cli import xla_cache as xc
+
+# A CLI run that counts JAX's compilation events (jax.monitoring) and writes them to argv[1].
+PROBE = """
+import collections, json, sys
+from jax import monitoring
+events = collections.Counter()
+compile_s = []
+monitoring.register_event_listener(lambda name, **kw: events.update([name]))
+def _duration(name, secs, **kw):
+    if name == "/jax/core/compile/backend_compile_duration":
+        compile_s.append(secs)
+monitoring.register_event_duration_secs_listener(_duration)
+from jaxgear.cli import main
+status = main(sys.argv[2:])
+with open(sys.argv[1], "w") as f:
+    json.dump({"status": status, "events": events, "backend_compile_s": compile_s}, f)
+"""
+HITS = "/jax/compilation_cache/cache_hits"
+MISSES = "/jax/compilation_cache/cache_misses"  # a program compiled and written to the cache
+USING = "/jax/compilation_cache/tasks_using_cache"
+
+
+def _run(tmp_path, cache, name):
+    env = dict(os.environ)
+    for key in ("JAX_COMPILATION_CACHE_DIR", "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"):
+        env.pop(key, None)  # the CLI's own settings, not the test run's
+    env["JAXGEAR_XLA_CACHE"] = str(cache)
+    out = tmp_path / name
+    events = tmp_path / f"{name}.json"
+    args = ["run", "accessory-spur", "--out", str(out), "--quiet"]
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE, str(events), *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    record = json.loads(events.read_text())
+    assert record["status"] == 0
+    return out, record["events"]
+
+
+@pytest.mark.slow
+def test_second_run_compiles_nothing_again(tmp_path):
+    cache = tmp_path / "xla"
+    out1, first = _run(tmp_path, cache, "first")
+    assert first.get(USING) == 1
+    written = first.get(MISSES, 0)
+    assert written > 0  # the case's large programs (its sweep, its scene) went to the cache
+    assert len(list(cache.glob("*-cache"))) == written
+    out2, second = _run(tmp_path, cache, "second")
+    assert second.get(USING) == 1
+    assert second.get(MISSES, 0) == 0  # nothing the first run cached was compiled again
+    assert second.get(HITS, 0) == written + first.get(HITS, 0)
+    # read-back programs give the same numbers as freshly compiled ones
+    assert json.loads((out2 / "summary.json").read_text()) == json.loads(
+        (out1 / "summary.json").read_text()
+    )
+    for name in ("te.csv", "mesh_stiffness.csv"):
+        assert (out2 / name).read_bytes() == (out1 / name).read_bytes()
+
+
+def test_folder_option_and_default(monkeypatch, tmp_path):
+    monkeypatch.setenv("JAXGEAR_XLA_CACHE", str(tmp_path / "mine"))
+    assert xc.cache_folder() == tmp_path / "mine"
+    for off in ("off", "OFF", "", "0", "none"):
+        monkeypatch.setenv("JAXGEAR_XLA_CACHE", off)
+        assert xc.cache_folder() is None
+    # unset: JAX's own setting (here the test run's folder, conftest.py) is kept
+    monkeypatch.delenv("JAXGEAR_XLA_CACHE")
+    assert xc.cache_folder() == pathlib.Path(os.environ["JAX_COMPILATION_CACHE_DIR"])
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert xc.default_folder() == tmp_path / "xdg" / "jaxgear" / "xla"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert xc.default_folder() == tmp_path / "home" / ".cache" / "jaxgear" / "xla"
+
+
+def test_size_bound(monkeypatch, tmp_path):
+    monkeypatch.delenv("JAXGEAR_XLA_CACHE_MAX_MB", raising=False)
+    assert xc.max_bytes() == xc.DEFAULT_MAX_MB * 2**20
+    monkeypatch.setenv("JAXGEAR_XLA_CACHE_MAX_MB", "0.5")
+    assert xc.max_bytes() == 2**19
+    for bad in ("0", "-1", "lots", "inf", "nan"):
+        monkeypatch.setenv("JAXGEAR_XLA_CACHE_MAX_MB", bad)
+        with pytest.raises(ValueError, match="JAXGEAR_XLA_CACHE_MAX_MB"):
+            xc.max_bytes()
+    # least recently used first, down to 3/4 of the bound; other files untouched
+    for k in range(8):
+        entry = tmp_path / f"k{k}-cache"
+        entry.write_bytes(b"x" * 100)
+        os.utime(entry, (1000 + k, 1000 + k))
+    (tmp_path / ".lockfile").write_bytes(b"")
+    assert xc.trim(tmp_path, 800) == 0
+    assert xc.trim(tmp_path, 500) == 500  # 800 B over 500: down to 375 B, the 5 oldest go
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        ".lockfile",
+        "k5-cache",
+        "k6-cache",
+        "k7-cache",
+    ]
+
+
+def test_bad_bound_is_an_input_error(monkeypatch, capsys):
+    from jaxgear.cli import main
+
+    monkeypatch.setenv("JAXGEAR_XLA_CACHE_MAX_MB", "lots")
+    assert main(["cases"]) == 2
+    assert "JAXGEAR_XLA_CACHE_MAX_MB" in capsys.readouterr().err
