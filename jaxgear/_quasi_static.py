@@ -20,7 +20,7 @@ from ._contact import (
     contact_law,
 )
 from ._modifications import Modifications
-from ._results import ContactResult, error_if_failed
+from ._results import ContactResult, error_if_failed, raise_if_failed
 from ._util import (
     check_instance,
     check_real,
@@ -224,6 +224,7 @@ def _quasi_static(
     throw,
     positions_per_pitch,
     periods,
+    traced_checks=True,
 ):
     # defaults are made here, under jit: building them eagerly costs more than the solve
     if scene is None:
@@ -231,7 +232,9 @@ def _quasi_static(
     mods = per_mesh_modifications(mods, len(scene.base_planes))
     if theta is None:
         theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
-    if any(p.coast for p in scene.base_planes):  # a negative torque loads the coast flanks
+    if not traced_checks:  # concrete inputs, checked eagerly (check_operating, contact_law)
+        pass
+    elif any(p.coast for p in scene.base_planes):  # a negative torque loads the coast flanks
         torque = eqx.error_if(
             torque,
             ~(torque != 0),
@@ -243,8 +246,9 @@ def _quasi_static(
             ~(torque > 0),
             "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
         )
-    speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
-    if isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
+    if traced_checks:
+        speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
+    if traced_checks and isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
         width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
         law = SmoothContact(width, law.max_iterations)
     res = scene.map_positions(lambda sc, th: _one_position(sc, mods, torque, speed, th, law), theta)
@@ -381,7 +385,11 @@ def quasi_static(
     law = contact_law(contact, dtype)
     if theta is not None:
         theta = jnp.asarray(theta, dtype=dtype)
-    return _quasi_static(
+    # Concrete inputs (no outer jit, vmap or grad): checked eagerly above, and the result codes
+    # read here, so that the compiled solve holds no eqx.error_if callback (JAX's persistent
+    # compilation cache stores no program with one: a second CLI run reads the solve back).
+    concrete = not is_traced((scene, mesh, modifications, torque, speed, theta, law))
+    res = _quasi_static(
         scene,
         mesh,
         modifications,
@@ -389,7 +397,11 @@ def quasi_static(
         speed,
         theta,
         law,
-        bool(throw),
+        bool(throw) and not concrete,
         int(positions_per_pitch),
         int(periods),
+        not concrete,
     )
+    if concrete and throw:
+        raise_if_failed(res.result, ContactResult, "quasi_static")
+    return res

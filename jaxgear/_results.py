@@ -14,8 +14,9 @@ import enum
 
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 
-__all__ = ["ContactResult", "DynamicsResult", "error_if_failed"]
+__all__ = ["ContactResult", "DynamicsResult", "error_if_failed", "raise_if_failed"]
 
 
 class _Result(enum.IntEnum):
@@ -66,6 +67,17 @@ def error_if_failed(x, result, enum_cls: type[_Result], where: str):
         if code:
             x = eqx.error_if(x, jnp.any(jnp.asarray(result) == code), f"{where}: {code.message}")
     return x
+
+
+def raise_if_failed(result, enum_cls: type[_Result], where: str) -> None:
+    """The host-side twin of :func:`error_if_failed` for a concrete ``result`` (outside any
+    trace): raise ``eqx.EquinoxRuntimeError`` ``"{where}: {message}"`` of the first failing
+    code. A compiled program that holds ``eqx.error_if`` carries a Python callback, which JAX's
+    persistent compilation cache does not store; a check made here keeps it out."""
+    codes = np.asarray(result)
+    for code in enum_cls:
+        if code and np.any(codes == code):
+            raise eqx.EquinoxRuntimeError(f"{where}: {code.message}")
 
 
 _MESSAGES = {

@@ -36,9 +36,11 @@ USING = "/jax/compilation_cache/tasks_using_cache"
 
 def _run(tmp_path, cache, name):
     env = dict(os.environ)
-    for key in ("JAX_COMPILATION_CACHE_DIR", "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"):
-        env.pop(key, None)  # the CLI's own settings, not the test run's
+    env.pop("JAX_COMPILATION_CACHE_DIR", None)  # the CLI switches the cache on, not JAX's env
     env["JAXGEAR_XLA_CACHE"] = str(cache)
+    # every program, however short its compilation: with the CLI's 0.2 s a program compiled in
+    # about 0.2 s can fall under it in the first run and over it in the second (a miss)
+    env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
     out = tmp_path / name
     events = tmp_path / f"{name}.json"
     args = ["run", "accessory-spur", "--out", str(out), "--quiet"]
@@ -122,3 +124,13 @@ def test_bad_bound_is_an_input_error(monkeypatch, capsys):
     monkeypatch.setenv("JAXGEAR_XLA_CACHE_MAX_MB", "lots")
     assert main(["cases"]) == 2
     assert "JAXGEAR_XLA_CACHE_MAX_MB" in capsys.readouterr().err
+
+
+def test_bench_cases_option(tmp_path, capsys):
+    from jaxgear.cli import main
+
+    out = str(tmp_path / "bench")
+    assert main(["bench", "xla-cache", "--cases", "no-such-case", "--out", out]) == 2
+    assert "unknown case 'no-such-case'" in capsys.readouterr().err
+    assert main(["bench", "stiffness", "--cases", "accessory-spur", "--out", out]) == 2
+    assert "--cases is an option of bench xla-cache" in capsys.readouterr().err

@@ -77,6 +77,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench stiffness": ("bench_stiffness.json", "speed_accuracy_stiffness.png"),
     "bench trains": ("bench_trains.json", "bench_trains.png"),
     "bench robust": ("bench_robust.json",),
+    "bench xla-cache": ("bench_xla_cache.json", "bench_xla_cache.png"),
 }
 # what ``jaxgear run`` writes for a train case besides a pair's names: a load map and a pressure
 # map per mesh (named after its gears), the layout with its phasing, its flexible gears' bodies
