@@ -134,3 +134,19 @@ def test_bench_cases_option(tmp_path, capsys):
     assert "unknown case 'no-such-case'" in capsys.readouterr().err
     assert main(["bench", "stiffness", "--cases", "accessory-spur", "--out", out]) == 2
     assert "--cases is an option of bench xla-cache" in capsys.readouterr().err
+
+
+def test_cli_default_folder_and_off(tmp_path):
+    """With no setting, a CLI command makes the default folder under the home's cache (here a
+    temporary home); ``JAXGEAR_XLA_CACHE=off`` makes none."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("JAX_", "JAXGEAR_XLA"))}
+    env.pop("XDG_CACHE_HOME", None)
+    entry = "from jaxgear.cli import entry; entry()"
+    for home, extra in (("home", {}), ("home-off", {"JAXGEAR_XLA_CACHE": "off"})):
+        env_k = dict(env, HOME=str(tmp_path / home), **extra)
+        proc = subprocess.run(
+            [sys.executable, "-c", entry, "cases"], env=env_k, capture_output=True, text=True
+        )
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        made = (tmp_path / home / ".cache" / "jaxgear" / "xla").is_dir()
+        assert made == (not extra)
