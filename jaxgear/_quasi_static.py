@@ -232,25 +232,21 @@ def _quasi_static(
     mods = per_mesh_modifications(mods, len(scene.base_planes))
     if theta is None:
         theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
-    if not traced_checks:  # concrete inputs, checked eagerly (check_operating, contact_law)
-        pass
-    elif any(p.coast for p in scene.base_planes):  # a negative torque loads the coast flanks
+    if traced_checks:  # traced inputs (concrete ones are checked eagerly: check_operating)
+        coast = any(p.coast for p in scene.base_planes)  # a negative torque loads the coast
         torque = eqx.error_if(
             torque,
-            ~(torque != 0),
-            "operating.torque_Nm must be != 0 (with coast flanks: > 0 drive, < 0 coast)",
+            ~(torque != 0) if coast else ~(torque > 0),
+            "operating.torque_Nm must be != 0 (with coast flanks: > 0 drive, < 0 coast)"
+            if coast
+            else "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
         )
-    else:
-        torque = eqx.error_if(
-            torque,
-            ~(torque > 0),
-            "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
-        )
-    if traced_checks:
         speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
-    if traced_checks and isinstance(law, SmoothContact):  # a traced width (a concrete one is checked eagerly)
-        width = eqx.error_if(law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)")
-        law = SmoothContact(width, law.max_iterations)
+        if isinstance(law, SmoothContact):  # a traced width
+            width = eqx.error_if(
+                law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)"
+            )
+            law = SmoothContact(width, law.max_iterations)
     res = scene.map_positions(lambda sc, th: _one_position(sc, mods, torque, speed, th, law), theta)
     if throw:  # the check rides on what a caller reads (each mesh's TE, the coordinates)
 
