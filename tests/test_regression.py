@@ -1,6 +1,10 @@
 """Regression data for the reshaping of the model into one stack: the numbers ``jaxgear run``
-writes for every embedded case, and ``jaxgear sweep``'s dynamic factors on a lumped and a hybrid
-case, recorded before the move (``tests/data/regression/``, with the commit they came from).
+writes for every embedded case and every example case file (examples/*.toml), for a small case
+of every other scene kind a case file accepts (tests/_kinds.py: the 1-DOF relative approach, a
+torsional pair, a rigid, torsional, lumped 3D, lumped two-stage and hybrid train), and
+``jaxgear sweep``'s on a lumped, a hybrid, a relative, a torsional pair and a torsional train
+case, recorded before the move (``tests/data/regression/``, each with the commit it came from).
+A ``jaxgear run`` of a dynamic scene is compared on its summary.json and its sweep/sweep.json.
 
 A reshaping that leaves an algorithm unchanged must reproduce them to a relative 1e-9 (of the
 largest magnitude in the same list: exact zeros and round-off-level entries compare on that
@@ -9,30 +13,38 @@ Left out: environment and timings, the result codes' messages, and the mode-by-m
 shares, which are not unique where natural frequencies coincide (any basis of a repeated
 eigenvalue's space is valid).
 
-The default suite checks a rigid case's whole run and a short lumped sweep (about 15 s); the
-slow suite checks every case, the main job's 60-speed sweep included, and a hybrid sweep.
+The default suite checks a rigid case's whole run, a short lumped sweep, the relative scene's run
+and sweep and a two-speed sweep of a torsional train; the slow suite checks every record,
+the main job's 60-speed sweep, a hybrid sweep, the embedded trains and the examples included.
 
-Recording (only when a change of the numbers is intended and explained in the commit)::
+Recording (only when a change of the numbers is intended and explained in the commit; the
+records not named are left as they are)::
 
-    python tests/test_regression.py --record
+    python tests/test_regression.py --record NAME ...    # these records (RUNS' names)
+    python tests/test_regression.py --record --missing   # the commands not yet recorded
+    python tests/test_regression.py --record --all       # every record
 """
 
 from __future__ import annotations
 
 import json
 import math
+import os
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import jax
 import numpy as np
 import pytest
+from _kinds import KINDS
 
 from jaxgear.cli import main
 
 DATA = Path(__file__).parent / "data" / "regression"
+ROOT = Path(__file__).resolve().parents[1]  # the checkout (examples/)
 RTOL = 1e-9
 # summary/sweep keys that are not results of the model (or not unique, see the module doc)
 SKIPPED = {
@@ -60,7 +72,15 @@ SCALES = {
     "modes_at_speed_error": 1.0,
 }
 
-RUNS = {  # name: (argv after the command, output file to compare, in the default suite)
+# Where a command names its case: an embedded case by its name, ``examples/NAME.toml`` (the
+# checkout's example case files) or ``kind:NAME`` (the small case of that scene kind,
+# tests/_kinds.py, written into the test's folder).
+SWEEP_SMALL = ["--periods", "6", "--keep-periods", "2", "--steps-per-period", "16"]
+SUMMARY = ("summary.json",)
+# jaxgear run on a dynamic scene also sweeps it (sweep/sweep.json, 60 speeds)
+SUMMARY_AND_SWEEP = ("summary.json", "sweep/sweep.json")
+
+RUNS = {  # name: (argv after the command, output file(s) to compare, in the default suite)
     "run-power-helical": (["run", "power-helical"], "summary.json", True),
     "run-accessory-spur": (["run", "accessory-spur"], "summary.json", False),
     "run-accessory-spur-flexible": (["run", "accessory-spur-flexible"], "summary.json", False),
@@ -73,6 +93,52 @@ RUNS = {  # name: (argv after the command, output file to compare, in the defaul
     "sweep-accessory-spur-flexible": (
         ["sweep", "accessory-spur-flexible", "--speeds", "1000:3000:3"],
         "sweep.json",
+        False,
+    ),
+    # every other scene kind a case file accepts, small (tests/_kinds.py): the 1-DOF relative
+    # approach (modal damping) and a torsional pair; a rigid, torsional, lumped 3D, lumped
+    # two-stage and hybrid train
+    "run-pair-relative": (["run", "kind:pair-relative"], SUMMARY_AND_SWEEP, True),
+    "sweep-pair-relative": (
+        ["sweep", "kind:pair-relative", "--speeds", "300:600:2", *SWEEP_SMALL],
+        "sweep.json",
+        True,
+    ),
+    "run-pair-torsional": (["run", "kind:pair-torsional"], SUMMARY_AND_SWEEP, False),
+    "sweep-pair-torsional": (
+        ["sweep", "kind:pair-torsional", "--speeds", "300:600:2", *SWEEP_SMALL],
+        "sweep.json",
+        False,
+    ),
+    "run-train-rigid": (["run", "kind:train-rigid"], SUMMARY, False),
+    "run-train-torsional": (["run", "kind:train-torsional"], SUMMARY_AND_SWEEP, False),
+    "sweep-train-torsional": (
+        ["sweep", "kind:train-torsional", "--speeds", "300:600:2", *SWEEP_SMALL],
+        "sweep.json",
+        True,
+    ),
+    "run-train-lumped3d": (["run", "kind:train-lumped3d"], SUMMARY_AND_SWEEP, False),
+    "run-train-two-stage": (["run", "kind:train-two-stage"], SUMMARY_AND_SWEEP, False),
+    "run-train-hybrid": (["run", "kind:train-hybrid"], SUMMARY, False),
+    # the embedded trains: torsional, lumped 3D (two stages), hybrid (a condensed idler)
+    "run-accessory-idler-train": (["run", "accessory-idler-train"], SUMMARY_AND_SWEEP, False),
+    "run-two-stage": (["run", "two-stage"], SUMMARY_AND_SWEEP, False),
+    "run-flexible-idler": (["run", "flexible-idler"], SUMMARY, False),
+    # the example case files
+    "run-example-accessory-lumped3d": (
+        ["run", "examples/accessory-lumped3d.toml"],
+        SUMMARY_AND_SWEEP,
+        False,
+    ),
+    "run-example-idler-train-lumped3d": (
+        ["run", "examples/idler-train-lumped3d.toml"],
+        SUMMARY_AND_SWEEP,
+        False,
+    ),
+    "run-example-two-gear-body": (["run", "examples/two-gear-body.toml"], SUMMARY, False),
+    "run-example-two-stage-torsional": (
+        ["run", "examples/two-stage-torsional.toml"],
+        SUMMARY_AND_SWEEP,
         False,
     ),
 }
@@ -133,14 +199,59 @@ def differences(got, ref, path: str = "", scale: float | None = None) -> list[st
     return [f"{path}: {got!r} != {ref!r} (relative {abs(got - ref) / max(s, 1e-300):.2e})"]
 
 
+def _files(name: str) -> tuple[str, ...]:
+    file = RUNS[name][1]
+    return (file,) if isinstance(file, str) else tuple(file)
+
+
+def _case_argument(ref: str, folder: Path) -> str:
+    """The case a recorded command names, as the CLI takes it (see :data:`RUNS`)."""
+    if ref.startswith("kind:"):
+        kind = ref.removeprefix("kind:")
+        path = folder / f"{kind}.toml"
+        path.write_text(KINDS[kind], encoding="utf-8")
+        return str(path)
+    if ref.startswith("examples/"):
+        return str(ROOT / ref)
+    return ref
+
+
+def _needs_test_bodies(name: str) -> bool:
+    """Whether the command's case names the small test bodies (the hybrid kinds)."""
+    return any(a.startswith("kind:") and "hybrid" in a for a in RUNS[name][0])
+
+
 def _run(name: str, out: Path) -> dict:
-    argv, file, _ = RUNS[name]
-    assert main([*argv, "--out", str(out), "--quiet"]) == 0
-    return json.loads((out / file).read_text(encoding="utf-8"))
+    """The command's output files, parsed: ``{file: content}``."""
+    argv = list(RUNS[name][0])
+    out.mkdir(parents=True, exist_ok=True)
+    argv[1] = _case_argument(argv[1], out)
+    assert main([*argv, "--out", str(out / "out"), "--quiet"]) == 0
+    return {f: json.loads((out / "out" / f).read_text(encoding="utf-8")) for f in _files(name)}
+
+
+def _record_data(name: str) -> dict:
+    return json.loads((DATA / f"{name}.json").read_text(encoding="utf-8"))
+
+
+def _recorded_files(name: str) -> dict:
+    """The recorded output files, ``{file: content}``: a record of one file holds it as
+    ``result``, one of several as ``results`` (by file)."""
+    data = _record_data(name)
+    return data["results"] if "results" in data else {_files(name)[0]: data["result"]}
 
 
 def _recorded(name: str) -> dict:
-    return json.loads((DATA / f"{name}.json").read_text(encoding="utf-8"))["result"]
+    return _recorded_files(name)[_files(name)[0]]
+
+
+def _compare(got: dict, ref: dict) -> list[str]:
+    """:func:`differences` file by file (``{file: content}``), each line led by its file."""
+    out = [f"{f}: not written" for f in ref if f not in got]
+    for f in ref:
+        if f in got:
+            out += [f"{f}{d}" for d in differences(got[f], ref[f])]
+    return out
 
 
 def test_differences_sees_a_change():
@@ -156,13 +267,63 @@ def test_differences_sees_a_change():
     assert differences({**ref, "n_iterations": 5}, ref) != []
 
 
+def test_a_changed_recorded_number_is_reported(tmp_path):
+    """On a real record (copied): a number moved by 1e-8 of itself is reported, at its place and
+    in its file; one moved by 1e-12 is not; a file left unwritten is reported.
+
+    Not seen (a gap of the scale rule, see the report of this change): a number in a table of
+    numbers of several units compares on the table's largest magnitude, so the quasi-static
+    tables' TE (µm, next to contact pressures of GPa) are not checked by these records."""
+    ref = _recorded_files("run-pair-relative")
+    copy = tmp_path / "record.json"
+    copy.write_text(json.dumps(ref), encoding="utf-8")
+    assert _compare(json.loads(copy.read_text(encoding="utf-8")), ref) == []
+    for factor, seen in ((1 + 1e-8, True), (1 + 1e-12, False)):
+        got = json.loads(copy.read_text(encoding="utf-8"))
+        got["sweep/sweep.json"]["dynamic_factor"][7] *= factor
+        got["summary.json"]["geometry"]["transverse_contact_ratio"] *= factor
+        got["summary.json"]["quasi_static"]["exact"]["max_contact_pressure_Pa"] *= factor
+        diff = _compare(got, ref)
+        if seen:
+            assert [d.split(":")[0] for d in diff] == [
+                "summary.json.geometry.transverse_contact_ratio",
+                "summary.json.quasi_static.exact.max_contact_pressure_Pa",
+                "sweep/sweep.json.dynamic_factor[7]",
+            ], diff
+        else:
+            assert diff == []
+    got = json.loads(copy.read_text(encoding="utf-8"))
+    del got["sweep/sweep.json"]
+    assert _compare(got, ref) == ["sweep/sweep.json: not written"]
+
+
+def test_every_record_is_compared():
+    """Each command of :data:`RUNS` has its record, made by that command, and each record in
+    tests/data/regression/ is one of them; every scene kind of tests/_kinds.py but the lumped and
+    hybrid pairs (the embedded accessory-spur and its flexible twin) is recorded."""
+    assert {p.stem for p in DATA.glob("*.json")} == set(RUNS)
+    for name, (argv, _, _) in RUNS.items():
+        data = _record_data(name)
+        assert data["command"] == argv, name
+        assert len(data["recorded_at_commit"]) == 40, name
+        assert set(_recorded_files(name)) == set(_files(name)), name
+    kinds = {a.removeprefix("kind:") for argv, _, _ in RUNS.values() for a in argv}
+    assert set(KINDS) - kinds == {"pair-rigid", "pair-lumped3d", "pair-hybrid"}
+    examples = {f"examples/{p.name}" for p in (ROOT / "examples").glob("*.toml")}
+    assert examples <= {argv[1] for argv, _, _ in RUNS.values()}
+
+
+@pytest.mark.filterwarnings("ignore:.*under-resolved")
+@pytest.mark.filterwarnings("ignore:the structure's modes move")
 @pytest.mark.parametrize(
     "name",
     [pytest.param(n, marks=() if fast else pytest.mark.slow) for n, (_, _, fast) in RUNS.items()],
 )
-def test_same_numbers_as_recorded(tmp_path, name):
-    got = _run(name, tmp_path / "out")
-    diff = differences(got, _recorded(name))
+def test_same_numbers_as_recorded(tmp_path, name, request):
+    if _needs_test_bodies(name):
+        request.getfixturevalue("fem_prep_cache")  # the test bodies condensed once per session
+    got = _run(name, tmp_path)
+    diff = _compare(got, _recorded_files(name))
     assert not diff, f"{len(diff)} differences, first: " + "; ".join(diff[:5])
 
 
@@ -194,13 +355,37 @@ def _record(names) -> None:  # pragma: no cover - run by hand
     DATA.mkdir(parents=True, exist_ok=True)
     for name in names:
         with tempfile.TemporaryDirectory() as tmp:
-            result = _run(name, Path(tmp) / "out")
-        record = {"recorded_at_commit": commit, "command": RUNS[name][0], "result": result}
+            own_cache = _needs_test_bodies(name) and "FEM_PREP_CACHE" not in os.environ
+            if own_cache:  # the test bodies condensed in a fresh cache, as in the tests
+                os.environ["FEM_PREP_CACHE"] = str(Path(tmp) / "fem_prep_cache")
+            start = time.perf_counter()
+            try:
+                results = _run(name, Path(tmp))
+            finally:
+                if own_cache:
+                    del os.environ["FEM_PREP_CACHE"]
+        record = {"recorded_at_commit": commit, "command": RUNS[name][0]}
+        if len(results) == 1:
+            record["result"] = next(iter(results.values()))
+        else:
+            record["results"] = results
         (DATA / f"{name}.json").write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
-        print(f"recorded {name}")
+        print(f"recorded {name} ({time.perf_counter() - start:.0f} s)", flush=True)
 
+
+USAGE = "usage: python tests/test_regression.py --record (--all | --missing | NAME ...)"
 
 if __name__ == "__main__":  # pragma: no cover
-    if sys.argv[1:2] != ["--record"]:
-        sys.exit("usage: python tests/test_regression.py --record [NAME ...]")
-    _record(sys.argv[2:] or list(RUNS))
+    args = sys.argv[1:]
+    if args[:1] != ["--record"] or len(args) < 2:
+        sys.exit(USAGE)
+    if args[1:] == ["--all"]:
+        chosen = list(RUNS)
+    elif args[1:] == ["--missing"]:
+        chosen = [n for n in RUNS if not (DATA / f"{n}.json").exists()]
+    else:
+        chosen = args[1:]
+        unknown = [n for n in chosen if n not in RUNS]
+        if unknown:
+            sys.exit(f"no such record: {', '.join(unknown)} ({USAGE})")
+    _record(chosen)
