@@ -22,14 +22,17 @@ periods = 6
 keep_periods = {keep}
 """
 
-PAIR = """
+def small_pair(name: str, *, pinion_face_mm: float = 10.0, ppp: int = 8) -> str:
+    """The small spur pair the CLI tests run (m_n 2 mm, 20/30 teeth, Weber, 2 slices): the
+    TOML text without modifications or ``[scene]``."""
+    return f"""
 name = "{name}"
 [pair]
 normal_module_mm = 2.0
 normal_pressure_angle_deg = 20.0
 [pinion]
 teeth = 20
-face_width_mm = 12.0
+face_width_mm = {float(pinion_face_mm)!r}
 [gear]
 teeth = 30
 face_width_mm = 10.0
@@ -39,9 +42,17 @@ torque_Nm = 60.0
 stiffness = "weber"
 slices = 2
 positions_per_pitch = {ppp}
-[modifications]
-tip_relief = {{ depth_um = 8.0, extent = 0.3, shape = "linear" }}
 """
+
+
+TIP_RELIEF = """[modifications]
+tip_relief = { depth_um = 8.0, extent = 0.3, shape = "linear" }
+"""
+
+
+def _pair(name: str) -> str:
+    """The pair of every pair kind: :func:`small_pair` with a 12 mm pinion and tip relief."""
+    return small_pair(name, pinion_face_mm=12.0) + TIP_RELIEF
 
 PAIR_SHAFTS = """
 [scene.pinion_shaft]
@@ -162,19 +173,19 @@ WHEEL = (DATA / "hybrid-test-wheel.toml").as_posix()
 
 # kind → case file text; the hybrid kinds are marked (they need the condensed test bodies)
 KINDS = {
-    "pair-rigid": PAIR.format(name="pair-rigid", ppp=8),
-    "pair-torsional": PAIR.format(name="pair-torsional", ppp=8)
+    "pair-rigid": _pair("pair-rigid"),
+    "pair-torsional": _pair("pair-torsional")
     + '\n[scene]\nmodel = "torsional"\n'
     + INTEGRATION.format(steps=16, keep=2),
-    "pair-relative": PAIR.format(name="pair-relative", ppp=8)
+    "pair-relative": _pair("pair-relative")
     + '\n[scene]\nmodel = "torsional"\nreduction = "relative"\n'
     + '[scene.damping]\nmodel = "modal"\nratio = 0.05\n'
     + INTEGRATION.format(steps=16, keep=2),
-    "pair-lumped3d": PAIR.format(name="pair-lumped3d", ppp=8)
+    "pair-lumped3d": _pair("pair-lumped3d")
     + '\n[scene]\nmodel = "lumped3d"\n'
     + PAIR_SHAFTS
     + INTEGRATION.format(steps=32, keep=2),
-    "pair-hybrid": PAIR.format(name="pair-hybrid", ppp=8)
+    "pair-hybrid": _pair("pair-hybrid")
     + '\n[scene]\nmodel = "lumped3d"\n'
     + f'[scene.gear_body]\nbody = "{WHEEL}"\n'
     + PAIR_SHAFTS

@@ -12,6 +12,8 @@ import jaxgear.io
 from jaxgear.cli import main, runtime_message
 from jaxgear.io import list_cases
 
+from _kinds import small_pair
+
 
 def _run(argv, capsys):
     status = main(argv)
@@ -137,24 +139,7 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
     assert json.loads((out / "summary.json").read_text())["dynamics"]["slices"] == 8
 
 
-TINY_SCENE = """
-name = "tiny-scene"
-[pair]
-normal_module_mm = 2.0
-normal_pressure_angle_deg = 20.0
-[pinion]
-teeth = 20
-face_width_mm = 10.0
-[gear]
-teeth = 30
-face_width_mm = 10.0
-[operating]
-torque_Nm = 60.0
-[mesh]
-stiffness = "weber"
-slices = 2
-positions_per_pitch = 8
-[scene]
+TINY_SCENE = small_pair("tiny-scene") + """[scene]
 model = "torsional"
 [scene.integration]
 steps_per_period = 16

@@ -12,29 +12,12 @@ import jaxgear.cli.run as run_module  # its steps replaced by quick fakes (tests
 from jaxgear.cli import main
 from jaxgear.io import write_json
 
-TINY = """
-name = "tiny"
-[pair]
-normal_module_mm = 2.0
-normal_pressure_angle_deg = 20.0
-[pinion]
-teeth = 20
-face_width_mm = {face}
-[gear]
-teeth = 30
-face_width_mm = 10.0
-[operating]
-torque_Nm = 60.0
-[mesh]
-stiffness = "weber"
-slices = 2
-positions_per_pitch = 8
-"""
+from _kinds import small_pair
 
 
 def _case(tmp_path, face: float = 10.0, extra: str = "") -> str:
     path = tmp_path / "tiny.toml"
-    path.write_text(TINY.format(face=face) + extra)
+    path.write_text(small_pair("tiny", pinion_face_mm=face) + extra)
     return str(path)
 
 
