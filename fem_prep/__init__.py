@@ -8,27 +8,35 @@ nodes (Guyan, Craig-Bampton or Herting, seed (2.3)-(2.5)), analyses its modes (n
 seed (3.2), resonance orders (3.9)) and writes a versioned ``.npz``, a ``.vtu`` and a
 ``summary.json``.  Arrays are NumPy, SI units, node coordinates ``(n, 3)``.
 
-:mod:`fem_prep.schema` (public, JAX-free) holds the input-file checks and atomic writers shared with
-jaxgear's case files.
+:mod:`fem_prep.checks` and :mod:`fem_prep.files` (public, JAX-free) hold the input-file checks and
+the atomic writers shared with jaxgear's case files; :mod:`fem_prep.schema` is the body-file reader,
+the one place where the names in a body file become objects: the element (:class:`Hex20`,
+:class:`Hex27`), the bearing coupling (:class:`Rigid`, :class:`Averaging`), the rim coupling
+(:class:`Distributing`, :class:`Nodal`), the condensation method (:class:`Guyan`,
+:class:`CraigBampton`, :class:`Herting`) and the support (:class:`Bearings`, :class:`Free`).
 """
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
-from ._body import (
-    Body as Body,
-    Material as Material,
-    embedded_bodies as embedded_bodies,
-    embedded_body_text as embedded_body_text,
-    load_body as load_body,
-    parse_body as parse_body,
-)
+from ._body import Body as Body, Material as Material
 from ._condense import (
     Condensed as Condensed,
-    MasterSet as MasterSet,
+    CraigBampton as CraigBampton,
+    Guyan as Guyan,
+    Herting as Herting,
+    RotatingOperators as RotatingOperators,
     condense as condense,
-    couple_masters as couple_masters,
     frequency_error_vs_modes as frequency_error_vs_modes,
+)
+from ._couplings import (
+    Averaging as Averaging,
+    Distributing as Distributing,
+    MasterSet as MasterSet,
+    Nodal as Nodal,
+    Rigid as Rigid,
+    couple_masters as couple_masters,
     select_masters as select_masters,
 )
+from ._elements import Hex20 as Hex20, Hex27 as Hex27
 from ._io import (
     FORMAT_VERSION as FORMAT_VERSION,
     CondensedBody as CondensedBody,
@@ -49,24 +57,37 @@ from ._modal import (
     nodal_diameter_spectrum as nodal_diameter_spectrum,
     resonance_orders as resonance_orders,
 )
-from ._prepare import Prepared as Prepared, prepare as prepare
+from ._prepare import Bearings as Bearings, Free as Free, Prepared as Prepared, prepare as prepare
 from ._rim import RimFit as RimFit, rim_fit as rim_fit
 from ._solver import (
+    CholmodFactor as CholmodFactor,
+    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )
 from ._tooth_fe import (
+    SectorModel as SectorModel,
     ToothCompliance as ToothCompliance,
-    ToothProfile as ToothProfile,
     mesh_sector as mesh_sector,
     plane_strain_point_loads as plane_strain_point_loads,
     tooth_compliance as tooth_compliance,
+)
+from ._tooth_profile import (
+    CircularFillet as CircularFillet,
+    ToothProfile as ToothProfile,
+    TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
 )
 from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
-from .schema import SchemaError as SchemaError
+from .checks import SchemaError as SchemaError
+from .schema import (
+    embedded_bodies as embedded_bodies,
+    embedded_body_text as embedded_body_text,
+    load_body as load_body,
+    parse_body as parse_body,
+)
 from .tooth_form import (
     ToothForm as ToothForm,
     ToothGeometry as ToothGeometry,

@@ -142,10 +142,9 @@ def stress_stiffening_matrix(
 
 
 def scalar_basis(basis: skfem.Basis) -> skfem.Basis:
-    """The scalar basis (same mesh, element and quadrature) behind a vector basis."""
-    el = basis.elem
-    scalar = getattr(el, "elem", el)
-    return skfem.Basis(basis.mesh, scalar, quadrature=basis.quadrature)
+    """The scalar basis (same mesh, element and quadrature) behind a vector basis (an
+    ``ElementVector``'s, as every basis of the body mesh)."""
+    return skfem.Basis(basis.mesh, basis.elem.elem, quadrature=basis.quadrature)
 
 
 def _scalar_mass(sbasis: skfem.Basis, rho: float) -> sp.csr_matrix:

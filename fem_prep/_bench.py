@@ -9,19 +9,39 @@ against the number of retained modes for Craig-Bampton and Herting (Fig. III-13'
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import json
 import os
 import platform
 import resource
+import signal
 import subprocess
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import scipy
+import skfem
+from tqdm import tqdm
 
-from .schema import atomic_open
+from ._assemble import assemble_operators
+from ._condense import (
+    CraigBampton,
+    Guyan,
+    RotatingOperators,
+    condense,
+    frequency_error_vs_modes,
+)
+from ._couplings import couple_masters, select_masters
+from ._kinds import CondensationMethod
+from ._mesh import mesh_body
+from ._prepare import prepare
+from ._solver import SparseFactor, factorize
+from .files import atomic_open
+from .schema import load_body
 
 SIZES_MM = ((16.0, 8.0), (8.0, 3.0), (7.0, 2.0))  # (meridian, circumferential) mm
 QUICK_SIZES_MM = (
@@ -39,12 +59,10 @@ QUICK_TEETH = 17  # --quick: the wheel with 17 angular stations instead of 68 (a
 def _body(
     size_mm: float,
     circ_mm: float,
-    method: str = "craig-bampton",
+    method: CondensationMethod | None = None,
     modes: int = 50,
     quick: bool = False,
 ):
-    from ._body import load_body
-
     b = load_body("power-helical-wheel")
     s = size_mm * 1e-3
     mesh = dataclasses.replace(
@@ -56,16 +74,15 @@ def _body(
         circumferential_size=circ_mm * 1e-3,
     )
     cond = dataclasses.replace(
-        b.condensation, method=method, modes=modes, **({"teeth": QUICK_TEETH} if quick else {})
+        b.condensation,
+        method=method or CraigBampton(),
+        modes=modes,
+        **({"teeth": QUICK_TEETH} if quick else {}),
     )
     return dataclasses.replace(b, mesh=mesh, condensation=cond)
 
 
 def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -> dict:
-    from ._assemble import assemble_operators
-    from ._condense import condense, couple_masters, select_masters
-    from ._mesh import mesh_body
-
     body = _body(size_mm, circ_mm, quick=quick)
     out: dict = {"size_mm": size_mm, "circumferential_size_mm": circ_mm}
     t0 = time.perf_counter()
@@ -81,20 +98,18 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
     rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
     out["n_master_dofs"] = len(mdofs)
-    from ._solver import factorize
-
     t0 = time.perf_counter()
     interior = np.setdiff1d(np.arange(cp.K.shape[0]), mdofs)
     # the baseline: the same Craig-Bampton with SciPy's SuperLU instead of CHOLMOD (the
     # pure-SciPy fallback; everything else identical)
-    factor = factorize(cp.K[interior][:, interior], method="superlu" if baseline else "auto")
+    factor = factorize(cp.K[interior][:, interior], method=SparseFactor if baseline else None)
     cond = condense(
         cp.K,
         cp.M,
         mdofs,
-        method="craig-bampton",
+        method=CraigBampton(),
         n_modes=50,
-        f=cp.f,
+        rotating=RotatingOperators(f=cp.f),
         interior_factor=factor,
     )
     out["condensation_s"] = time.perf_counter() - t0
@@ -107,6 +122,7 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
     out["n_condensed_dofs"] = int(cond.K.shape[0])
     out["solver"] = factor.method
     out["method"] = f"sparse Craig-Bampton ({'SuperLU baseline' if baseline else factor.method})"
+    out["baseline"] = bool(baseline)
     out["peak_rss_mib"] = _peak_mib()
     out["load_average_1min"] = os.getloadavg()[0]
     return out
@@ -114,10 +130,7 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
 
 def _error_curve(size_mm: float, circ_mm: float, quick: bool = False) -> dict:
     """Max relative error of the first 20 frequencies (bearings held) vs number of modes."""
-    from ._condense import frequency_error_vs_modes
-    from ._prepare import prepare
-
-    base = prepare(_body(size_mm, circ_mm, "guyan", 0, quick=quick))
+    base = prepare(_body(size_mm, circ_mm, Guyan(), 0, quick=quick))
     curves: dict = {
         "modes": [0, 10] if quick else [0, 5, 10, 20, 30, 50, 80],
         "f_full_hz": list(map(float, base.frequencies_full_hz)),
@@ -132,20 +145,16 @@ def _failure(returncode: int, stdout: str, stderr: str) -> str:
     reported, else the signal that killed it, else the last line of its stderr."""
     for line in reversed(stdout.strip().splitlines()):
         try:
-            rec = json.loads(line)
-        except ValueError:
+            return str(json.loads(line)["error"])
+        except (ValueError, TypeError, KeyError, IndexError):  # not an error record
             continue
-        if isinstance(rec, dict) and rec.get("error"):
-            return str(rec["error"])
     if returncode < 0:
-        import signal
-
         try:
-            name = signal.Signals(-returncode).name
+            sig = signal.Signals(-returncode)
         except ValueError:
-            name = f"signal {-returncode}"
-        hint = " (out of memory?)" if name == "SIGKILL" else ""
-        return f"killed by {name}{hint}"
+            return f"killed by signal {-returncode}"
+        hint = " (out of memory?)" if sig == signal.SIGKILL else ""
+        return f"killed by {sig.name}{hint}"
     tail = [ln for ln in stderr.strip().splitlines() if ln.strip()]
     return f"exit status {returncode}: {tail[-1] if tail else 'no message'}"
 
@@ -162,6 +171,39 @@ def _sub(args: list[str]) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+@dataclass(frozen=True)
+class _CaseJob:
+    """One timing case: the wheel at ``sizes`` (meridian, circumferential mm), CHOLMOD or the
+    SuperLU ``baseline``; a successful case of an interrupted run (``old``) is reused."""
+
+    sizes: tuple[float, float]
+    baseline: bool
+
+    def run(self, rec: dict, old: list, quick: bool) -> None:
+        s, cs = self.sizes
+        done = [
+            c
+            for c in old
+            if c["size_mm"] == s
+            and c["circumferential_size_mm"] == cs
+            and bool(c.get("baseline")) == self.baseline
+        ]
+        args = ["case", str(s), str(cs), *(["--superlu"] * self.baseline), *(["--quick"] * quick)]
+        rec["cases"].append(done[0] if done else _sub(args))
+
+
+@dataclass(frozen=True)
+class _CurveJob:
+    """The error curve against the number of retained modes (once: kept on resume)."""
+
+    sizes: tuple[float, float]
+
+    def run(self, rec: dict, old: list, quick: bool) -> None:
+        s, cs = self.sizes
+        if rec.get("error_curve") is None:
+            rec["error_curve"] = _sub(["curve", str(s), str(cs), *(["--quick"] * quick)])
+
+
 def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dict:
     """Run the benchmark, write ``bench.json``, ``bench.png`` and ``modes_error.png``.
 
@@ -174,10 +216,6 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
     Returns:
         The benchmark record.
     """
-    import scipy
-    import skfem
-    from tqdm import tqdm
-
     sizes = QUICK_SIZES_MM if quick else SIZES_MM
     rec: dict = {
         "machine": f"{platform.machine()} {platform.processor()}".strip(),
@@ -190,41 +228,20 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
         "cases": [],
     }
     # the SuperLU baseline (smallest size) only in the full benchmark
-    jobs = [("case", s, False) for s in sizes] + [
-        *([] if quick else [("case", sizes[0], True)]),
-        ("curve", sizes[0], False),
+    jobs = [_CaseJob(s, False) for s in sizes] + [
+        *([] if quick else [_CaseJob(sizes[0], True)]),
+        _CurveJob(sizes[0]),
     ]
     rec["quick"] = bool(quick)
     old: list = []
     part = Path(out_dir) / "partial.json"
     if resume and part.is_file():
         prev = json.loads(part.read_text())
-        old = [c for c in prev.get("cases", []) if "error" not in c]
-        if "modes" in prev.get("error_curve", {}):
+        old = [c for c in prev.get("cases", []) if not _failed(c)]
+        if _done(prev.get("error_curve", {})):
             rec["error_curve"] = prev["error_curve"]
-    for kind, (s, cs), baseline in tqdm(jobs, desc="fem-prep bench"):
-        if kind == "case":
-            done = [
-                c
-                for c in old
-                if c["size_mm"] == s
-                and c["circumferential_size_mm"] == cs
-                and ("SuperLU" in c["method"]) == baseline
-            ]
-            r = (
-                done[0]
-                if done
-                else _sub(
-                    ["case", str(s), str(cs)]
-                    + (["--superlu"] if baseline else [])
-                    + (["--quick"] if quick else [])
-                )
-            )
-            rec["cases"].append(r)
-        elif "error_curve" in rec:
-            continue
-        else:
-            rec["error_curve"] = _sub(["curve", str(s), str(cs)] + (["--quick"] if quick else []))
+    for job in tqdm(jobs, desc="fem-prep bench"):
+        job.run(rec, old, quick)
         (Path(out_dir) / "partial.json").parent.mkdir(parents=True, exist_ok=True)
         with atomic_open(Path(out_dir) / "partial.json") as f:
             f.write(json.dumps(rec, indent=2))
@@ -233,10 +250,10 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
     with atomic_open(out / "bench.json") as f:
         f.write(json.dumps(rec, indent=2))
     _plots(rec, out)
-    if "error" in rec.get("error_curve", {}):
+    if _failed(rec.get("error_curve", {})):
         print(f"error curve failed: {rec['error_curve']['error']}")
     for c in rec["cases"]:
-        if "error" in c:
+        if _failed(c):
             print(f"case {' '.join(c['args'])} failed: {c['error']}")
             continue
         print(
@@ -249,13 +266,24 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
     return rec
 
 
+def _failed(record: dict) -> bool:
+    """A benchmark job's record says it failed (``_sub``: it carries the error)."""
+    return bool(record.get("error"))
+
+
+def _done(curve: dict) -> bool:
+    """The error-curve record holds a computed curve."""
+    return bool(curve.get("modes"))
+
+
 def _plots(rec: dict, out: Path) -> None:
+    # lazy: matplotlib (heavy) only when the benchmark draws its figures, not on `import fem_prep`
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    ok = [c for c in rec["cases"] if "error" not in c and "SuperLU" not in c.get("method", "")]
+    ok = [c for c in rec["cases"] if not _failed(c) and not c.get("baseline")]
     if ok:
         fig, ax = plt.subplots(figsize=(5, 3.5))
         n = [c["n_dofs"] for c in ok]
@@ -270,7 +298,7 @@ def _plots(rec: dict, out: Path) -> None:
             fig.savefig(f, format="png", dpi=120)
         plt.close(fig)
     cur = rec.get("error_curve", {})
-    if "modes" in cur:
+    if _done(cur):
         fig, ax = plt.subplots(figsize=(5, 3.5))
         for method in ("craig-bampton", "herting"):
             ax.semilogy(cur["modes"], np.maximum(cur[method], 1e-12), "o-", label=method)
@@ -285,23 +313,27 @@ def _plots(rec: dict, out: Path) -> None:
         plt.close(fig)
 
 
+def _main(argv: list[str]) -> None:
+    """``python -m fem_prep._bench case SIZE CIRC [--superlu] [--quick]`` or ``... curve SIZE
+    CIRC [--quick]``: one benchmark job, its record printed as one JSON line."""
+    parser = argparse.ArgumentParser(prog="python -m fem_prep._bench")
+    sub = parser.add_subparsers(required=True)
+    case = sub.add_parser("case")
+    case.set_defaults(run=lambda a: _case(a.size, a.circ, a.superlu, a.quick))
+    case.add_argument("--superlu", action="store_true")
+    curve = sub.add_parser("curve")
+    curve.set_defaults(run=lambda a: _error_curve(a.size, a.circ, a.quick))
+    for p in (case, curve):
+        p.add_argument("size", type=float)
+        p.add_argument("circ", type=float)
+        p.add_argument("--quick", action="store_true")
+    args = parser.parse_args(argv)
+    print(json.dumps(args.run(args)))
+
+
 if __name__ == "__main__":
-    what = sys.argv[1]
     try:
-        if what == "case":
-            print(
-                json.dumps(
-                    _case(
-                        float(sys.argv[2]),
-                        float(sys.argv[3]),
-                        "--superlu" in sys.argv,
-                        "--quick" in sys.argv,
-                    )
-                )
-            )
-        elif what == "curve":
-            curve = _error_curve(float(sys.argv[2]), float(sys.argv[3]), "--quick" in sys.argv)
-            print(json.dumps(curve))
+        _main(sys.argv[1:])
     except Exception as exc:  # noqa: BLE001 - reported to the parent as data: type and message
         print(json.dumps({"error": f"{type(exc).__name__}: {exc}"}), flush=True)
         sys.exit(1)

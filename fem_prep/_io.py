@@ -6,6 +6,7 @@ temporary file in the same directory, then ``os.replace``).
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -19,10 +20,14 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import scipy
+import skfem
 
-from ._body import Body, load_body, parse_body
-from ._rim import RIM_FIT_REVISION
-from .schema import atomic_write
+from ._body import Body
+from ._modal import critical_speeds
+from ._prepare import prepare
+from .files import atomic_write, fem_prep_cache_dir
+from .schema import load_body, parse_body
 
 __all__ = [
     "FORMAT_VERSION",
@@ -210,19 +215,19 @@ def _arrays(prep: Any) -> dict[str, np.ndarray]:
     rec = (cp.T[vdofs] @ cond.basis).astype(np.float32)
     meta = {
         "name": body.name,
-        "method": cond.method,
-        "element": bm.element,
+        "method": str(cond.method),
+        "element": str(bm.element),
         "n_nodes": bm.n_nodes,
         "n_dofs": bm.n_dofs,
         "n_elements": int(bm.mesh.nelements),
         "n_theta": bm.n_theta,
         "teeth": teeth,
         "axial_master_nodes": nax,
-        "bearing_couplings": list(ms.couplings),
-        "rim_coupling": ms.rim_coupling,
+        "bearing_couplings": [str(c) for c in ms.couplings],
+        "rim_coupling": str(ms.rim_coupling),
         "mass_kg": prep.operators.mass,
         "speed_rad_s": body.speed,
-        "support": body.support,
+        "support": str(body.support),
         "frequencies_full_hz": [float(x) for x in prep.frequencies_full_hz],
         "frequencies_condensed_hz": [float(x) for x in prep.frequencies_condensed_hz],
         "body_sha256": body.sha256,
@@ -399,7 +404,7 @@ def write_vtu(prep: Any, path: str | Path) -> Path:
     held) and ``mode_XX_<f>Hz_ND<n>`` (mass-normalised shapes) for the first ``vtu_modes``
     modes; cell data: ``region`` (0 hub/stub, 1 web, 2 rim).
     """
-    import meshio
+    import meshio  # lazy: the one module that imports meshio, only when a .vtu is written
 
     bm = prep.mesh
     nv = bm.n_vertices
@@ -419,14 +424,11 @@ def write_vtu(prep: Any, path: str | Path) -> Path:
 
 
 def _versions() -> dict[str, str]:
-    import scipy
-    import skfem
-
     return {
         "python": platform.python_version(),
         "numpy": np.__version__,
         "scipy": scipy.__version__,
-        "scikit-fem": getattr(skfem, "__version__", "?"),
+        "scikit-fem": skfem.__version__,
         "machine": f"{platform.machine()} {platform.processor() or ''}".strip(),
         "cpus": str(os.cpu_count()),
     }
@@ -434,22 +436,20 @@ def _versions() -> dict[str, str]:
 
 def summary_dict(prep: Any) -> dict[str, Any]:
     """The ``summary.json`` content of a pipeline result (see ``docs/fem_prep.md``)."""
-    from ._modal import critical_speeds
-
     body = prep.body
     return {
         "name": body.name,
         "n_nodes": prep.mesh.n_nodes,
         "n_dofs": prep.mesh.n_dofs,
         "n_elements": int(prep.mesh.mesh.nelements),
-        "element": prep.mesh.element,
+        "element": str(prep.mesh.element),
         "mass_kg": prep.operators.mass,
-        "method": prep.condensed.method,
+        "method": str(prep.condensed.method),
         "n_master_dofs": int(len(prep.master_dofs)),
-        "rim_coupling": prep.masters.rim_coupling,
+        "rim_coupling": str(prep.masters.rim_coupling),
         "n_modes": int(prep.condensed.n_modes),
         "n_condensed_dofs": int(prep.condensed.K.shape[0]),
-        "support": body.support,
+        "support": str(body.support),
         "frequencies_full_hz": [float(x) for x in prep.frequencies_full_hz],
         "frequencies_condensed_hz": [float(x) for x in prep.frequencies_condensed_hz],
         "speed_rad_s": body.speed,
@@ -471,8 +471,7 @@ def summary_dict(prep: Any) -> dict[str, Any]:
 
 def cache_dir() -> Path:
     """Cache directory: ``$FEM_PREP_CACHE`` or ``~/.cache/jaxgear/fem_prep``."""
-    env = os.environ.get("FEM_PREP_CACHE")
-    return Path(env) if env else Path.home() / ".cache" / "jaxgear" / "fem_prep"
+    return fem_prep_cache_dir()
 
 
 def cache_key(body: Body) -> str:
@@ -482,24 +481,31 @@ def cache_key(body: Body) -> str:
 
 
 def _cache_key(body: Body) -> str:
-    rim = body.condensation.rim_coupling
-    rev = f":rim{RIM_FIT_REVISION}" if rim == "distributing" else ""
+    rev = body.condensation.rim_coupling.cache_revision()
     return hashlib.sha256(f"{body.sha256}:v{FORMAT_VERSION}{rev}".encode()).hexdigest()[:32]
 
 
+@functools.singledispatch
 def _json_default(o: Any) -> Any:
-    if isinstance(o, float) and not math.isfinite(o):
-        return None
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
+    """What ``json.dumps`` writes for a value it does not know: NumPy scalars as Python numbers,
+    a non-finite float as ``null``; anything else is a ``TypeError``."""
     raise TypeError(str(type(o)))
+
+
+@_json_default.register
+def _(o: float) -> Any:
+    return o if math.isfinite(o) else None
+
+
+@_json_default.register(np.floating)
+@_json_default.register(np.integer)
+def _(o) -> Any:
+    return o.item()
 
 
 def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[Path, bool]:
     """Directory holding the body's three output files (the cache entry, or ``out`` without the
     cache) and whether they came from the cache."""
-    from ._prepare import prepare
-
     names = _names(body)
     cdir = cache_dir() / _cache_key(body)
     if use_cache and all((cdir / n).is_file() for n in names.values()):
@@ -529,11 +535,32 @@ def condensed(source: str | Path | Body, *, progress: bool = False) -> Condensed
     Raises:
         FileNotFoundError, SchemaError, ValueError: as :func:`load_body` / :func:`load_condensed`.
     """
-    if isinstance(source, (str, Path)) and str(source).endswith(".npz"):
+    return _condensed(source, progress)
+
+
+@functools.singledispatch
+def _condensed(source: str | Path, progress: bool) -> CondensedBody:
+    """:func:`condensed` of a path or a name: a ``.npz`` read as is, else a body file."""
+    if str(source).endswith(".npz"):
         return load_condensed(source)
-    body = source if isinstance(source, Body) else load_body(source)
-    where, _ = _cached(body, use_cache=True, progress=progress, out=cache_dir())
-    return load_condensed(where / _names(body)["npz"])
+    return _condensed(load_body(source), progress)
+
+
+@_condensed.register
+def _(source: Body, progress: bool) -> CondensedBody:
+    where, _ = _cached(source, use_cache=True, progress=progress, out=cache_dir())
+    return load_condensed(where / _names(source)["npz"])
+
+
+@functools.singledispatch
+def _as_body(source: str | Path) -> Body:
+    """A body: the one given, or the one a body file or an embedded body's name describes."""
+    return load_body(source)
+
+
+@_as_body.register
+def _(source: Body) -> Body:
+    return source
 
 
 def build(
@@ -558,7 +585,7 @@ def build(
     Returns:
         The summary dict, plus ``"cache_hit"`` and ``"files"`` (paths written).
     """
-    body = source if isinstance(source, Body) else load_body(source)
+    body = _as_body(source)
     out = Path(out_dir) if out_dir is not None else Path("fem-prep-out") / body.name
     names = _names(body)
     where, hit = _cached(body, use_cache=use_cache, progress=progress, out=out)

@@ -20,6 +20,7 @@ import numpy as np
 import skfem
 
 from ._body import Body, Geometry, MeshSettings
+from ._kinds import Element
 
 __all__ = [
     "BodyMesh",
@@ -49,7 +50,7 @@ class BodyMesh:
             count).
         r_grid: meridian radial grid (m), ``(nr + 1,)``.
         z_grid: meridian axial grid in the unsheared frame (m), ``(nz + 1,)``.
-        element: ``"hex20"`` or ``"hex27"``.
+        element: the element (:class:`~fem_prep.Hex20` or :class:`~fem_prep.Hex27`).
         vertex_ijk: structured indices ``(n_vertices, 3)`` of the corner nodes: radial grid
             index, axial grid index, circumferential index (0..n_theta-1, angle k 2 pi/n_theta).
     """
@@ -63,7 +64,7 @@ class BodyMesh:
     n_theta: int
     r_grid: np.ndarray
     z_grid: np.ndarray
-    element: str
+    element: Element
     vertex_ijk: np.ndarray
 
     @property
@@ -371,9 +372,8 @@ def mesh_from_section(
     loc[1] *= scale
     mesh = skfem.MeshHex2(loc, t, validate=False)
 
-    el = skfem.ElementHexS2() if ms.element == "hex20" else skfem.ElementHex2()
-    intorder = 4 if ms.element == "hex20" else 5
-    basis = skfem.Basis(mesh, skfem.ElementVector(el), intorder=intorder)
+    el = ms.element.skfem_element()
+    basis = skfem.Basis(mesh, skfem.ElementVector(el), intorder=ms.element.intorder)
     # scikit-fem's reference hexahedron is left-handed: its own unit cube has det(DF) = -1, so
     # a valid (non-inverted) element has det(DF) < 0 at every quadrature point.
     det = -mesh._mapping().detDF(basis.quadrature[0])

@@ -6,6 +6,7 @@ import math
 import time
 import tracemalloc
 from dataclasses import dataclass, field, replace
+from typing import ClassVar, final
 
 import numpy as np
 import scipy.linalg as sla
@@ -14,20 +15,62 @@ from tqdm import tqdm
 
 from ._assemble import Operators, assemble_operators, stress_stiffening_matrix
 from ._body import Body
-from ._condense import (
-    Condensed,
+from ._condense import Condensed, RotatingOperators, condense
+from ._couplings import (
     Coupled,
     MasterSet,
     band_reaction_stiffness,
-    condense,
     couple_masters,
     select_masters,
 )
+from ._kinds import Support
 from ._mesh import BodyMesh, mesh_body
 from ._modal import ModeFamily, identify_modes
 from ._solver import blas_threads, factorize, phase_bar, shift_invert_modes, solve_bar
 
-__all__ = ["Prepared", "prepare"]
+__all__ = ["Bearings", "Free", "Prepared", "prepare"]
+
+
+@final
+class Bearings(Support):
+    """The reported frequencies with the bearing nodes held (``[modal] support = "bearings"``,
+    the default)."""
+
+    name: ClassVar[str] = "bearings"
+
+    def full_modes(self, cp, Kff, free, factor, n, progress):
+        with solve_bar(f"modes of the full model ({n})", progress) as bar:
+            lam, phi_f = shift_invert_modes(
+                Kff, cp.M[free][:, free], n, sigma=0.0, factor=factor, on_solve=bar.update
+            )
+        phi = np.zeros((cp.K.shape[0], n))
+        phi[free] = phi_f
+        return lam, phi
+
+    def held(self, bearing_dofs):
+        return bearing_dofs
+
+
+@final
+class Free(Support):
+    """The reported frequencies of the free body (``[modal] support = "free"``): six rigid-body
+    modes first."""
+
+    name: ClassVar[str] = "free"
+
+    def full_modes(self, cp, Kff, free, factor, n, progress):
+        shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
+        with phase_bar(f"factorisation of K - s M (n = {cp.K.shape[0]})", progress):
+            F_shift = factorize((cp.K - shift * cp.M).tocsr())
+        with solve_bar(f"modes of the full model ({n}, free)", progress) as bar:
+            lam, phi = shift_invert_modes(
+                cp.K, cp.M, n, sigma=shift, factor=F_shift, on_solve=bar.update
+            )
+        del F_shift
+        return lam, phi
+
+    def held(self, bearing_dofs):
+        return bearing_dofs[:0]
 
 
 @dataclass
@@ -41,7 +84,7 @@ class Prepared:
         masters: master nodes.
         coupled: operators after the bearing couplings (``u_full = T q``), with the stress
             stiffening (``coupled.Ksigma``: ``T^T K_sigma T`` plus the shaft's load stiffness of
-            the bore-band reactions, :func:`~fem_prep._condense.band_reaction_stiffness`).
+            the bore-band reactions, :func:`~fem_prep._couplings.band_reaction_stiffness`).
         condensed: the condensed model.
         master_dofs: reduced indices of the boundary DOFs: rim grid ``(teeth, n_axial, 3)``
             flattened (then a pinion rim's likewise), then bearings ``(n_bearings, 6)``
@@ -160,22 +203,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     u_red[free] = Fff.solve(cp.f[free])
     u_unit = cp.T @ u_red
     u_cf = body.speed**2 * u_unit
-    if body.support == "bearings":
-        with solve_bar(f"modes of the full model ({nf})", progress) as bar:
-            lam, phi_f = shift_invert_modes(
-                Kff, cp.M[free][:, free], nf, sigma=0.0, factor=Fff, on_solve=bar.update
-            )
-        phi = np.zeros((n_red, nf))
-        phi[free] = phi_f
-    else:
-        shift = -float(np.median(cp.K.diagonal() / cp.M.diagonal())) * 1e-4
-        with phase_bar(f"factorisation of K - s M (n = {n_red})", progress):
-            F_shift = factorize((cp.K - shift * cp.M).tocsr())
-        with solve_bar(f"modes of the full model ({nf}, free)", progress) as bar:
-            lam, phi = shift_invert_modes(
-                cp.K, cp.M, nf, sigma=shift, factor=F_shift, on_solve=bar.update
-            )
-        del F_shift
+    lam, phi = body.support.full_modes(cp, Kff, free, Fff, nf, progress)
     del Fff
     shapes = cp.T @ phi
     f_full = _hz(lam)
@@ -199,10 +227,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
         master_dofs,
         method=body.condensation.method,
         n_modes=body.condensation.modes,
-        f=cp.f,
-        S=cp.S,
-        G=cp.G,
-        Ksigma=cp.Ksigma,
+        rotating=RotatingOperators(f=cp.f, S=cp.S, G=cp.G, Ksigma=cp.Ksigma),
         progress=progress,
     )
     for k, v in cond.timings.items():
@@ -214,8 +239,7 @@ def _prepare(body: Body, *, progress: bool = False, trace_memory: bool = False) 
     t_step = t0 = time.perf_counter()
     n_c = cond.K.shape[0]
     keep = np.ones(n_c, dtype=bool)
-    if body.support == "bearings":
-        keep[bearing_c] = False
+    keep[body.support.held(bearing_c)] = False
     lam_c = sla.eigh(cond.K[np.ix_(keep, keep)], cond.M[np.ix_(keep, keep)], eigvals_only=True)
     f_cond = _hz(lam_c[:nf])
     kc = np.ones(n_c, dtype=bool)

@@ -131,7 +131,7 @@ def _nodal_areas(bm: BodyMesh, facets: np.ndarray) -> tuple[np.ndarray, np.ndarr
     """Face nodes and their consistent nodal areas ``a_n = int_face phi_n dS`` (the load of a
     unit uniform traction; negative at the corners of serendipity faces, -1/12 of a flat face
     each)."""
-    el = skfem.ElementHexS2() if bm.element == "hex20" else skfem.ElementHex2()
+    el = bm.element.skfem_element()
     fb = skfem.FacetBasis(bm.mesh, el, facets=facets, intorder=6)
     share = np.stack([np.sum(np.asarray(b[0]) * fb.dx, axis=1) for b in fb.basis])  # (n_loc, n_f)
     a = np.bincount(fb.element_dofs.ravel(), weights=share.ravel(), minlength=bm.n_nodes)

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from threadpoolctl import threadpool_limits
 from tqdm import tqdm
 
 __all__ = [
@@ -86,7 +87,7 @@ class CholmodFactor:
     method = "cholmod"
 
     def __init__(self, A: sp.spmatrix):
-        import cholespy
+        import cholespy  # lazy: the optional compiled CHOLMOD; SuperLU runs without it
 
         L = sp.tril(sp.coo_matrix(A)).tocoo()
         n = A.shape[0]
@@ -117,40 +118,48 @@ class CholmodFactor:
 
 def _cholmod_available() -> bool:
     try:
-        import cholespy  # noqa: F401
+        import cholespy  # noqa: F401 - lazy: the optional CHOLMOD, looked for at each call
     except ImportError:
         return False
     return True
 
 
-def factorize(A: sp.spmatrix, *, method: str = "auto") -> CholmodFactor | SparseFactor:
+def factorize(
+    A: sp.spmatrix, *, method: type[CholmodFactor] | type[SparseFactor] | None = None
+) -> CholmodFactor | SparseFactor:
     """Factorise a sparse symmetric positive-definite matrix.
 
     Args:
         A: ``(n, n)`` sparse matrix.
-        method: ``"auto"`` (CHOLMOD when ``cholespy`` imports, else SuperLU with a
-            :class:`SolverWarning`), ``"cholmod"`` or ``"superlu"``.
+        method: the factor class, :class:`CholmodFactor` or :class:`SparseFactor` (SuperLU);
+            ``None``: CHOLMOD when ``cholespy`` imports, else SuperLU with a
+            :class:`SolverWarning`.
 
     Returns:
         A factor with ``solve(B)``, ``operator()`` and ``method`` (the library that ran).
 
     Raises:
         SolverError: the matrix is not positive definite (CHOLMOD) or singular (SuperLU).
-        ValueError: unknown ``method``.
+        ValueError: ``method`` is not a factor class.
     """
-    if method not in ("auto", "cholmod", "superlu"):
-        raise ValueError(f"method = {method!r}; use 'auto', 'cholmod' or 'superlu'")
-    if method == "superlu":
-        return SparseFactor(A)
-    if method == "cholmod" or _cholmod_available():
-        return CholmodFactor(A)
+    if method not in (None, CholmodFactor, SparseFactor):
+        raise ValueError(
+            f"method = {method!r}; use fem_prep.CholmodFactor, fem_prep.SparseFactor or None"
+        )
+    return (method or _available_factor())(A)
+
+
+def _available_factor() -> type[CholmodFactor] | type[SparseFactor]:
+    """CHOLMOD when ``cholespy`` imports, else SuperLU with a :class:`SolverWarning`."""
+    if _cholmod_available():
+        return CholmodFactor
     warnings.warn(
         "cholespy (CHOLMOD) is not installed: using SciPy's SuperLU, slower on large "
         "bodies (pip install cholespy)",
         SolverWarning,
-        stacklevel=2,
+        stacklevel=3,
     )
-    return SparseFactor(A)
+    return SparseFactor
 
 
 def shift_invert_modes(
@@ -293,8 +302,6 @@ class blas_threads:
     def __enter__(self) -> blas_threads:
         if os.environ.get("OPENBLAS_NUM_THREADS") or os.environ.get("OMP_NUM_THREADS"):
             return self
-        from threadpoolctl import threadpool_limits
-
         self._limits = threadpool_limits(limits=int(self._n), user_api="blas")
         return self
 

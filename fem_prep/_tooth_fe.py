@@ -26,9 +26,9 @@ root chord between the two fillet/root-circle tangency points (Sainsot's S_f), e
 measuring point and projected on the load direction.
 
 The tooth form comes from :func:`fem_prep.tooth_form.generate_tooth` (the rack-generated
-trochoidal fillet); ``form="circular_fillet"`` selects the circular-arc fillet approximation that
-``weber`` used before the rack-generated form (kept for comparison: 1.6 % more compliant on ROSS's
-gear). Results are cached (``cache_dir()/tooth_fe``, key = sha256 of the inputs and
+trochoidal fillet, :class:`~fem_prep.TrochoidFillet`); ``SectorModel(form=CircularFillet())``
+selects the circular-arc fillet approximation that ``weber`` used before the rack-generated form
+(kept for comparison: 1.6 % more compliant on ROSS's gear; :mod:`fem_prep._tooth_profile`). Results are cached (``cache_dir()/tooth_fe``, key = sha256 of the inputs and
 :data:`TOOTH_FE_VERSION`), normalised by E (the compliance of a linear body clamped on part of its
 boundary is exactly proportional to 1/E).
 
@@ -48,191 +48,30 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
+import skfem
+from scipy.interpolate import CubicSpline
+from skfem.models.elasticity import lame_parameters, linear_elasticity
+from tqdm import tqdm
 
 from ._solver import factorize
-from .schema import atomic_open
-from .tooth_form import ToothGeometry, generate_tooth
+from ._tooth_profile import FilletForm, ToothProfile, TrochoidFillet, tooth_profile
+from .files import atomic_open, fem_prep_cache_dir
+from .tooth_form import ToothGeometry
 
 __all__ = [
     "TOOTH_FE_VERSION",
     "SectorMesh",
+    "SectorModel",
     "ToothCompliance",
-    "ToothProfile",
     "mesh_sector",
     "plane_strain_point_loads",
     "tooth_compliance",
-    "tooth_profile",
 ]
 
 TOOTH_FE_VERSION = 1
 DEFAULT_ELEMENTS_PER_MODULE = 6.0  # default element size m_n / 6 at the teeth
 DEFAULT_N_TEETH = 5
 DEFAULT_N_ROLL = 33
-
-
-# ------------------------------------------------------------------------------------------
-# the tooth form as a polar half-angle table
-
-
-@dataclass(frozen=True)
-class ToothProfile:
-    """One member's transverse tooth form as a polar table (SI units, angles in rad).
-
-    The tooth centre line is the +y axis, the gear centre the origin; the right flank is
-    ``x = r sin ψ(r), y = r cos ψ(r)`` for ``root_radius <= r <= tip_radius``.
-
-    Attributes:
-        teeth: z. root_radius, tip_radius, base_radius, form_radius: r_f, r_a, r_b, r_F (m).
-        root_half_angle: ψ_f (rad), the polar half angle of the fillet/root-circle tangency
-            point (at most π/z).
-        r_tab: radii (m), shape (n,), increasing from r_f to r_a.
-        psi_tab: half angles ψ(r) (rad), shape (n,), decreasing.
-        source: ``"tooth_form"`` (generated fillet) or ``"circular_fillet"`` (approximation).
-    """
-
-    teeth: int
-    root_radius: float
-    tip_radius: float
-    base_radius: float
-    form_radius: float
-    root_half_angle: float
-    r_tab: np.ndarray
-    psi_tab: np.ndarray
-    source: str
-
-    def psi(self, r):
-        """Half angle ψ(r) (rad) of the tooth at radius r (m); any shape."""
-        return np.interp(r, self.r_tab, self.psi_tab)
-
-    def r_of_psi(self, psi):
-        """Radius (m) of the flank/fillet at half angle ψ (rad), ψ in [ψ(r_a), ψ_f]."""
-        return np.interp(psi, self.psi_tab[::-1], self.r_tab[::-1])
-
-    @property
-    def form_roll(self) -> float:
-        """Roll distance ρ_F (m) of the form circle (start of the involute)."""
-        return math.sqrt(max(self.form_radius**2 - self.base_radius**2, 0.0))
-
-    @property
-    def tip_roll(self) -> float:
-        """Roll distance ρ_a (m) of the tip."""
-        return math.sqrt(self.tip_radius**2 - self.base_radius**2)
-
-
-def _inv(a):
-    return np.tan(a) - a
-
-
-def _transverse(teeth, mn, an, beta, x):
-    mt = mn / math.cos(beta)
-    at = math.atan(math.tan(an) / math.cos(beta))
-    r = teeth * mt / 2
-    rb = r * math.cos(at)
-    st = mt * (math.pi / 2 + 2 * x * math.tan(an))
-    return mt, at, r, rb, st
-
-
-def _circular_fillet_table(teeth, mn, an, beta, x, ha, hf, rho_c):
-    """ψ(r) table of the involute with a circular-arc fillet of radius min(ρ_fP, r_F − r_f)
-    tangent to the root circle (the approximation ``weber`` used before the generated form)."""
-    _mt, at, r, rb, st = _transverse(teeth, mn, an, beta, x)
-    ra = r + mn * (ha + x)
-    rf = r - mn * (hf - x)
-    h = mn * (hf - x - rho_c * (1 - math.sin(an)))
-    rho_f = r * math.sin(at) - h / math.sin(at)
-    r_form = max(math.hypot(rho_f, rb), rb)
-
-    def psi_inv(rr):
-        ar = np.arccos(np.clip(rb / rr, -1.0, 1.0))
-        return st / (2 * r) + float(_inv(at)) - _inv(ar)
-
-    half_form = r_form * math.sin(float(psi_inv(np.array(r_form))))
-    rho = min(rho_c * mn, max(r_form - rf, 0.0))
-    # involute from the form circle to the tip
-    r_inv = np.linspace(r_form, ra, 400)
-    parts_r = [r_inv]
-    parts_half = [r_inv * np.sin(psi_inv(r_inv))]
-    if r_form - rf > rho:  # constant chordal half thickness between the fillet and r_form
-        rr = np.linspace(rf + rho, r_form, 50)[:-1]
-        parts_r.insert(0, rr)
-        parts_half.insert(0, np.full_like(rr, half_form))
-    if rho > 0:
-        th = np.linspace(0.0, math.pi / 2, 400)[:-1]  # fillet arc, dense at the tangency
-        parts_r.insert(0, rf + rho * (1 - np.cos(th)))
-        parts_half.insert(0, half_form + rho * (1 - np.sin(th)))
-    r_tab = np.concatenate(parts_r)
-    half = np.concatenate(parts_half)
-    psi_tab = np.arcsin(np.clip(half / r_tab, -1.0, 1.0))
-    psi_tab = np.minimum(psi_tab, math.pi / teeth)
-    return {
-        "root_radius": rf,
-        "tip_radius": ra,
-        "base_radius": rb,
-        "form_radius": r_form,
-        "r_tab": r_tab,
-        "psi_tab": psi_tab,
-    }
-
-
-def _form_table(form) -> dict:
-    """ψ(r) table of a ``fem_prep.tooth_form.ToothForm``: its right fillet points (root
-    junction to form point) and the closed-form involute above the form circle."""
-    fil = np.asarray(form.fillet, dtype=float)
-    r_fil = np.hypot(fil[:, 0], fil[:, 1])
-    psi_fil = np.arctan2(fil[:, 0], fil[:, 1])
-    r_inv = np.linspace(float(form.form_radius), float(form.tip_radius), 400)[1:]
-    r = np.concatenate([r_fil, r_inv])
-    psi = np.concatenate([psi_fil, form.involute_half_angle(r_inv)])
-    ok = np.concatenate([[True], np.diff(r) > 1e-12 * r[-1]])
-    r, psi = r[ok], np.minimum.accumulate(psi[ok])
-    return {
-        "root_radius": float(form.root_radius),
-        "tip_radius": float(form.tip_radius),
-        "base_radius": float(form.base_radius),
-        "form_radius": float(form.form_radius),
-        "r_tab": r,
-        "psi_tab": np.minimum(psi, math.pi / form.teeth),
-    }
-
-
-def tooth_profile(geometry: ToothGeometry, *, form: str = "auto") -> ToothProfile:
-    """The transverse tooth form of one member (ISO 21771 notation).
-
-    Args:
-        geometry: the member's :class:`fem_prep.ToothGeometry`.
-        form: ``"tooth_form"`` or ``"auto"`` (the generated trochoid fillet,
-            :mod:`fem_prep.tooth_form`), or ``"circular_fillet"`` (a circular arc tangent to the
-            root circle: the former ``weber`` approximation, kept for comparison).
-
-    Returns:
-        The :class:`ToothProfile`.
-
-    Raises:
-        ValueError: unknown ``form``.
-    """
-    if form not in ("auto", "tooth_form", "circular_fillet"):
-        raise ValueError(f"form = {form!r}; use 'auto', 'tooth_form' or 'circular_fillet'")
-    g = geometry
-    if form != "circular_fillet":
-        tab, source = _form_table(generate_tooth(g, n_fillet=200)), "tooth_form"
-    else:
-        tab = _circular_fillet_table(
-            g.teeth,
-            g.normal_module,
-            g.normal_pressure_angle,
-            g.helix_angle,
-            g.profile_shift,
-            g.addendum_coeff,
-            g.dedendum_coeff,
-            g.fillet_radius_coeff,
-        )
-        source = "circular_fillet"
-    return ToothProfile(
-        teeth=g.teeth,
-        root_half_angle=float(tab["psi_tab"][0]),
-        source=source,
-        **tab,
-    )
 
 
 # ------------------------------------------------------------------------------------------
@@ -339,8 +178,6 @@ def mesh_sector(
     Raises:
         ValueError: ``rim_radius`` not in (0, r_f), non-positive ``size`` or ``n_teeth``.
     """
-    import skfem
-
     rf, ra, z = prof.root_radius, prof.tip_radius, prof.teeth
     if not 0 < rim_radius < rf:
         raise ValueError(f"rim_radius = {rim_radius!r} m must lie in (0, {rf:.6g}) (root radius)")
@@ -491,9 +328,6 @@ def plane_strain_point_loads(
         (N/m), i.e. compliance per unit thickness; ``info`` with ``n_dofs``, ``n_elements``,
         ``solver`` and timings (s).
     """
-    import skfem
-    from skfem.models.elasticity import lame_parameters, linear_elasticity
-
     t0 = time.perf_counter()
     ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
     sb = skfem.Basis(mesh, skfem.ElementTriP2())
@@ -598,8 +432,6 @@ def _rigid_fit(Q: np.ndarray, w: np.ndarray, U: np.ndarray, M: np.ndarray) -> np
 
 def _compute(prof: ToothProfile, rim_radius, nu, size, n_teeth, n_roll, progress):
     """E-normalised compliances E·c (dimensionless per unit width) at n_roll roll distances."""
-    from tqdm import tqdm
-
     off = None if progress is None else not progress  # None: shown on a terminal only
     steps = tqdm(total=3, desc=f"fe2d z={prof.teeth}", disable=off, unit="step")
     t0 = time.perf_counter()
@@ -671,8 +503,6 @@ class ToothCompliance:
         Raises:
             ValueError: ``rho`` outside [form roll, tip roll] (beyond 1e-9 relative).
         """
-        from scipy.interpolate import CubicSpline
-
         rho = np.asarray(rho, dtype=float)
         lo, hi = self.roll[0], self.roll[-1]
         tol = 1e-9 * hi
@@ -687,9 +517,7 @@ class ToothCompliance:
 
 def cache_dir() -> Path:
     """``fem_prep.cache_dir() / "tooth_fe"``."""
-    from ._io import cache_dir as base
-
-    return base() / "tooth_fe"
+    return fem_prep_cache_dir() / "tooth_fe"
 
 
 def _key(inputs: dict) -> str:
@@ -708,6 +536,22 @@ def _load_cached(path: Path, key: str):
         return None
 
 
+@dataclass(frozen=True)
+class SectorModel:
+    """What the plane-strain model of :func:`tooth_compliance` holds besides the element size.
+
+    Attributes:
+        n_teeth: teeth modelled on the rim ring (the middle one is loaded; clipped to z).
+        n_roll: number of load positions, equally spaced in roll distance (>= 4).
+        form: the fillet (:class:`~fem_prep.TrochoidFillet`, the default, or
+            :class:`~fem_prep.CircularFillet`; see :func:`~fem_prep.tooth_profile`).
+    """
+
+    n_teeth: int = DEFAULT_N_TEETH
+    n_roll: int = DEFAULT_N_ROLL
+    form: FilletForm = field(default_factory=TrochoidFillet)
+
+
 def tooth_compliance(
     geometry: ToothGeometry,
     *,
@@ -715,9 +559,7 @@ def tooth_compliance(
     youngs_modulus: float = 210e9,
     poisson_ratio: float = 0.3,
     size: float | None = None,
-    n_teeth: int = DEFAULT_N_TEETH,
-    n_roll: int = DEFAULT_N_ROLL,
-    form: str = "auto",
+    model: SectorModel | None = None,
     use_cache: bool = True,
     progress: bool | None = False,
 ) -> ToothCompliance:
@@ -733,9 +575,8 @@ def tooth_compliance(
             radius; default 0.5 × root radius.
         youngs_modulus: E (Pa). poisson_ratio: ν.
         size: element size at the teeth (m); default m_n / 6.
-        n_teeth: teeth modelled on the rim ring (the middle one is loaded).
-        n_roll: number of load positions, equally spaced in roll distance.
-        form: tooth-form source, see :func:`tooth_profile`.
+        model: the teeth modelled, the load positions and the fillet (:class:`SectorModel`;
+            ``None``: its defaults).
         use_cache: read/write ``cache_dir()``.
         progress: tqdm progress bar (``None``: only on a terminal).
 
@@ -747,7 +588,9 @@ def tooth_compliance(
             positions.
     """
     g = geometry
-    prof = tooth_profile(g, form=form)
+    model = SectorModel() if model is None else model
+    n_teeth, n_roll = model.n_teeth, model.n_roll
+    prof = tooth_profile(g, form=model.form)
     rim = 0.5 * prof.root_radius if rim_radius is None else float(rim_radius)
     h = g.normal_module / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
     if not 0 < rim < prof.root_radius:

@@ -9,6 +9,7 @@ interrupted`` and exit status 130, a closed pipe (``fem-prep bodies | head -1``)
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import sys
@@ -16,9 +17,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._bench import run_bench
-from ._body import embedded_bodies, embedded_body_text, load_body
 from ._io import build
-from .schema import check_output_dir, print_or_write
+from .files import check_output_dir, print_or_write
+from .schema import embedded_bodies, embedded_body_text, load_body
 
 __all__ = ["add_build_arguments", "main", "run_build"]
 
@@ -87,20 +88,45 @@ def _bodies(args) -> int:
     return 0
 
 
+def _bench(args) -> int:
+    """``fem-prep bench``: the timing and memory benchmark (``fem_prep._bench``)."""
+    run_bench(check_output_dir(args.out), quick=args.quick, resume=args.resume)
+    return 0
+
+
+@functools.singledispatch
+def _exit_status(code) -> int:
+    """The exit status of argparse's ``SystemExit`` code: an int as is, ``None`` 0 (``--help``),
+    a message 2."""
+    return 2
+
+
+@_exit_status.register
+def _(code: int) -> int:
+    return code
+
+
+@_exit_status.register(type(None))
+def _(code: None) -> int:
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="fem-prep",
         description="Mesh, assemble and condense flexible gear bodies (Craig-Bampton / Herting).",
     )
     sub = p.add_subparsers(dest="command", required=True)
-    add_build_arguments(
-        sub.add_parser("build", help="build a condensed body (npz + vtu + summary.json)")
-    )
+    bu = sub.add_parser("build", help="build a condensed body (npz + vtu + summary.json)")
+    add_build_arguments(bu)
+    bu.set_defaults(run=run_build)
     bo = sub.add_parser("bodies", help="list the embedded bodies, or print / write one")
+    bo.set_defaults(run=_bodies)
     bo.add_argument("name", nargs="?", help="an embedded body: print its body file")
     bo.add_argument("--write", metavar="FILE", help="write the body file to FILE instead")
     bo.add_argument("--force", action="store_true", help="replace FILE if it exists")
     be = sub.add_parser("bench", help="timing/memory benchmark on three mesh sizes")
+    be.set_defaults(run=_bench)
     be.add_argument("--out", default="fem-prep-out/bench", help="directory for bench.json/png")
     be.add_argument("--quick", action="store_true", help="small sizes only (smoke test)")
     be.add_argument("--resume", action="store_true", help="reuse cases of an interrupted run")
@@ -120,15 +146,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parser().parse_args(None if argv is None else list(argv))
     except SystemExit as err:  # --help or argparse's usage error (status 2)
-        return err.code if isinstance(err.code, int) else (0 if err.code is None else 2)
+        return _exit_status(err.code)
     try:
-        if args.command == "bodies":
-            status = _bodies(args)
-        elif args.command == "build":
-            status = run_build(args)
-        else:
-            run_bench(check_output_dir(args.out), quick=args.quick, resume=args.resume)
-            status = 0
+        status = args.run(args)
         sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
         return status
     except (FileNotFoundError, ValueError) as exc:

@@ -1,665 +1,572 @@
-"""Input-file schema checks shared by jaxgear (case files) and fem_prep (body files).
+"""The body file's schema: the body-file reader of fem_prep, the one place that maps the names
+in a body file to objects.
 
-JAX-free (standard library only), so that ``fem_prep`` can use it and ``jaxgear.io`` can import it
-by this public name.  One error type, one message style, one integer rule:
+:func:`parse_body` checks a ``body.toml`` (schema in ``docs/fem_prep.md``) and builds a
+:class:`~fem_prep.Body`; the kinds the file names (``element``, ``coupling``, ``method``,
+``rim_coupling``, ``support``) become objects here and only here, by the tables :data:`ELEMENTS`,
+:data:`COUPLINGS`, :data:`METHODS`, :data:`RIM_COUPLINGS` and :data:`SUPPORTS` (a new kind: one
+more class beside its algorithm and one more entry here).  All lengths in the file are in mm, the
+modulus in GPa; :class:`~fem_prep.Body` stores SI values (m, Pa, kg/m^3) next to the raw text.
 
-* :class:`SchemaError` (a ``ValueError``) carries ONE line: the key path, the value as written in
-  the file (file units: mm, deg, µm, ...), what is wrong and what is allowed, every number with at
-  most 6 significant digits, e.g. ``[pinion] face_width_mm = -3: out of range, allowed > 0``.
-* Integer keys accept an integral float (``slices = 4.0`` is 4) and reject anything else
-  (``teeth = 45.5``); booleans are never numbers; numbers must be finite.
-* Unknown keys are errors that list the allowed keys (and suggest the closest one).
+Every error is a :class:`SchemaError` (a ``ValueError``) whose one-line message names the
+offending key, its value as written in the file (mm, deg) and the allowed range, so that a user can
+fix the file without reading the code; integer keys accept integral floats (``modes = 50.0``) and
+reject others (``modes = 50.5``), as in jaxgear's case files.
 
-It also holds the atomic file writers of both packages (:func:`atomic_open`,
-:func:`atomic_write`): a file appears complete or not at all.
+The checking helpers shared with jaxgear's case files live in :mod:`fem_prep.checks`, the atomic
+writers and embedded-file helpers in :mod:`fem_prep.files`; their names are re-exported here for
+the code that still imports them from ``fem_prep.schema``.
 """
 
 from __future__ import annotations
 
-import contextlib
-import datetime
-import decimal
-import difflib
+import functools
+import itertools
 import math
-import os
-import re
-import sys
-import tempfile
-import tomllib
-from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from . import checks as sc, files
+from ._body import (
+    BearingSeat,
+    Body,
+    Condensation,
+    Geometry,
+    Holes,
+    Material,
+    MeshSettings,
+    PinionRim,
+)
+from ._condense import CraigBampton, Guyan, Herting
+from ._couplings import Averaging, Distributing, Nodal, Rigid
+from ._elements import Hex20, Hex27
+from ._kinds import Kind
+from ._prepare import Bearings, Free
+
+# the shared helpers, re-exported (import them from fem_prep.checks / fem_prep.files)
+from .checks import (  # noqa: F401
+    MISSING as MISSING,
+    Interval as Interval,
+    SchemaError as SchemaError,
+    boolean as boolean,
+    check_keys as check_keys,
+    choice as choice,
+    fail as fail,
+    finite as finite,
+    fmt as fmt,
+    g6 as g6,
+    interval as interval,
+    key_path as key_path,
+    load_toml as load_toml,
+    name as name,
+    number as number,
+    number_list as number_list,
+    string as string,
+    subtable as subtable,
+)
+from .files import (  # noqa: F401
+    OUTPUT_MANIFEST as OUTPUT_MANIFEST,
+    atomic_open as atomic_open,
+    atomic_write as atomic_write,
+    check_output_dir as check_output_dir,
+    check_output_file as check_output_file,
+    embedded_names as embedded_names,
+    embedded_text as embedded_text,
+    print_or_write as print_or_write,
+    record_outputs as record_outputs,
+    recorded_outputs as recorded_outputs,
+    write_new_file as write_new_file,
+)
+
 __all__ = [
-    "MISSING",
-    "Interval",
-    "SchemaError",
-    "atomic_open",
-    "atomic_write",
-    "boolean",
-    "check_keys",
-    "check_output_dir",
-    "check_output_file",
-    "choice",
-    "embedded_names",
-    "embedded_text",
-    "fail",
-    "finite",
-    "fmt",
-    "g6",
-    "key_path",
-    "load_toml",
-    "name",
-    "number",
-    "number_list",
-    "print_or_write",
-    "string",
-    "subtable",
-    "write_new_file",
+    "COUPLINGS",
+    "ELEMENTS",
+    "METHODS",
+    "RIM_COUPLINGS",
+    "SUPPORTS",
+    "embedded_bodies",
+    "embedded_body_text",
+    "estimate_mesh_dofs",
+    "load_body",
+    "parse_body",
 ]
 
+# the names of the kinds in a body file (the first of each is its default, but METHODS')
+METHODS: dict[str, Kind] = {"guyan": Guyan(), "craig-bampton": CraigBampton(), "herting": Herting()}
+ELEMENTS: dict[str, Kind] = {"hex20": Hex20(), "hex27": Hex27()}
+COUPLINGS: dict[str, Kind] = {"rigid": Rigid(), "averaging": Averaging()}
+RIM_COUPLINGS: dict[str, Kind] = {"distributing": Distributing(), "nodal": Nodal()}  # ._rim
+SUPPORTS: dict[str, Kind] = {"bearings": Bearings(), "free": Free()}
 
-class SchemaError(ValueError):
-    """An input file does not follow its schema; the message is one line (see module doc).
 
-    Attributes:
-        path: the key path, e.g. ``"[pinion] face_width_mm"`` ("" when the whole file is bad).
+def _kind(table: dict, key: str, where: str, kinds: dict[str, Kind], default: str) -> Any:
+    """The kind object that ``table[key]`` names (``default`` when absent), out of ``kinds``."""
+    return kinds[sc.choice(table, key, where, kinds, default)]
+
+
+@functools.singledispatch
+def _tables(value: Any) -> Any:
+    """An array of tables as written (``[[bearings]]``), one inline table as a list of one."""
+    return value
+
+
+@_tables.register
+def _(value: dict) -> list:
+    return [value]
+
+
+# --------------------------------------------------------------------------------------------
+# Parsing (checks and messages from fem_prep.checks, shared with jaxgear's case files)
+
+_SCHEMA: dict[str, set[str] | None] = {
+    "name": None,
+    "body": {
+        "bore_radius_mm",
+        "hub_outer_radius_mm",
+        "hub_width_mm",
+        "web_thickness_mm",
+        "web_offset_mm",
+        "web_inclination_deg",
+        "rim_inner_radius_mm",
+        "rim_outer_radius_mm",
+        "rim_width_mm",
+        "holes",
+        "shaft_outer_radius_mm",
+    },
+    "bearings": {"axial_position_mm", "coupling", "width_mm"},
+    "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
+    "mesh": {
+        "element",
+        "size_mm",
+        "hub_size_mm",
+        "web_size_mm",
+        "rim_size_mm",
+        "circumferential_size_mm",
+    },
+    "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
+    "centrifugal": {"speed_rad_s", "spin_softening"},
+    "modal": {"support", "n_frequencies", "vtu_modes"},
+    "pinion_rim": {
+        "axial_position_mm",
+        "outer_radius_mm",
+        "width_mm",
+        "teeth",
+        "axial_master_nodes",
+    },
+}
+_HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
+_LENGTH = "[0.001, 1e+06]"  # mm: 1 µm to 1 km (a denormal passes "> 0" and fails the mesher)
+
+
+#: the most DOFs a body's mesh may have (the embedded bodies: 17 k to 104 k): its assembly
+#: alone takes about 10 kB a DOF (20 GB here), the factorisation more
+MAX_MESH_DOFS = 2_000_000
+#: the most component modes of a condensation (the seed retains 50)
+MAX_MODES = 2000
+
+
+def estimate_mesh_dofs(
+    g: Geometry, ms: MeshSettings, teeth: int, z_span: float = 0.0, pinion=None
+) -> int:
+    """The DOFs of :func:`fem_prep.mesh_body`'s mesh, estimated from the body's section and the
+    element sizes without meshing it: structured hub (with its shaft stubs over ``z_span``, m, the
+    bearings' extent), web, rim and pinion rim columns, each of ``nr × nz`` cells with the finest
+    axial size (the axial grid is shared), × the circumferential divisions, nodes of the
+    serendipity (hex20) or Lagrange (hex27) element counted on that grid (within about 30 % of
+    the embedded bodies' meshes)."""
+    size = ms.size
+    s_hub, s_web, s_rim = (ms.hub_size or size), (ms.web_size or size), (ms.rim_size or size)
+    s_circ = ms.circumferential_size or size
+    s_z = min(s_hub, s_web, s_rim)
+    n = lambda length, s: max(1.0, round(length / s))  # noqa: E731 - divisions of a length
+    columns = [
+        (g.hub_outer_radius - g.bore_radius, s_hub, max(g.hub_width, z_span)),
+        (g.rim_inner_radius - g.hub_outer_radius, s_web, g.web_thickness),
+        (g.rim_outer_radius - g.rim_inner_radius, s_rim, g.rim_width),
+    ]
+    base = teeth
+    if pinion is not None:
+        columns.append((pinion.outer_radius - g.shaft_outer_radius, s_rim, pinion.width))
+        base = math.lcm(teeth, pinion.teeth)
+    nt = base * max(1, math.ceil(2 * math.pi * g.rim_outer_radius / (base * s_circ) - 0.25))
+    nodes = 0.0
+    for dr, s_r, dz in columns:
+        if dr <= 0 or dz <= 0:
+            continue
+        nr, nz = n(dr, s_r), n(dz, s_z)
+        corners = (nr + 1) * (nz + 1)
+        edges = nr * (nz + 1) + (nr + 1) * nz + corners  # radial, axial, circumferential
+        faces = nr * nz + nr * (nz + 1) + (nr + 1) * nz  # hex27: face and centre nodes
+        nodes += nt * (corners + edges + ms.element.inner_nodes(faces, nr * nz))
+    return int(3 * nodes)
+
+
+def _check_mesh_size(ms: dict, mesh: MeshSettings, g: Geometry, bearings, teeth, pinion) -> None:
+    """Refuse, before meshing, a mesh of more than :data:`MAX_MESH_DOFS` (estimated), naming the
+    smallest element size given (``size_mm`` by default)."""
+    zb = [b.axial_position for b in bearings]
+    span = max(zb) - min(zb) if zb else 0.0
+    dofs = estimate_mesh_dofs(g, mesh, teeth, span, pinion)
+    if dofs <= MAX_MESH_DOFS:
+        return
+    given = {k: v for k, v in ms.items() if k.endswith("size_mm")} or {"size_mm": 2.0}
+    key = min(given, key=lambda k: given[k])
+    raise sc.fail(
+        "mesh",
+        key,
+        f"out of range: the mesh would have about {dofs:.3g} DOFs ({mesh.element}), allowed <= "
+        f"{MAX_MESH_DOFS:.3g} (about {MAX_MESH_DOFS * 1e4 / 1e9:.3g} GB to assemble): raise "
+        f"{key}",
+        given[key],
+    )
+
+
+def _within(key: str, value: float, rng: str, note: str, where: str = "body") -> None:
+    """Raise ``[where] key = value: out of range, allowed rng (note)`` unless value in rng."""
+    r = sc.interval(rng)
+    if value not in r:
+        raise sc.fail(where, key, f"out of range, allowed {r} ({note})", value)
+
+
+def parse_body(text: str, *, default_name: str = "body", label: str = "body file") -> Body:
+    """Parse and validate body-file TOML text.
+
+    Args:
+        text: the TOML text (schema in ``docs/fem_prep.md``).
+        default_name: name used when the file has no ``name`` key.
+        label: how TOML syntax errors name the file.
+
+    Returns:
+        The validated :class:`Body` (SI units).
+
+    Raises:
+        SchemaError (a ``ValueError``, see :mod:`fem_prep.checks`): invalid TOML, an unknown key
+            (named), a missing required key, a wrong type, or an impossible dimension; one line
+            naming the key, its value in mm/deg as written and the allowed range.
     """
+    data = sc.load_toml(text, label)
+    sc.check_keys(data, _SCHEMA, "")
+    name = sc.name(data, "name", "", default_name)
 
-    def __init__(self, message: str, path: str = ""):
-        super().__init__(_one_line(message))
-        self.path = path
+    # ---- [body]
+    b = sc.subtable(data, "body", "", _SCHEMA["body"], required=True)
+    w = "body"
+    mm = 1e-3
+    bore = sc.number(b, "bore_radius_mm", w, allowed=_LENGTH)
+    hub_r = sc.number(b, "hub_outer_radius_mm", w, allowed=_LENGTH)
+    hub_w = sc.number(b, "hub_width_mm", w, allowed=_LENGTH)
+    web_t = sc.number(b, "web_thickness_mm", w, allowed=_LENGTH)
+    web_off = sc.number(b, "web_offset_mm", w, 0.0)
+    incl_deg = sc.number(b, "web_inclination_deg", w, 0.0, allowed="(-60, 60)")
+    rim_i = sc.number(b, "rim_inner_radius_mm", w, allowed=_LENGTH)
+    rim_o = sc.number(b, "rim_outer_radius_mm", w, allowed=_LENGTH)
+    rim_w = sc.number(b, "rim_width_mm", w, allowed=_LENGTH)
+    shaft_r = sc.number(b, "shaft_outer_radius_mm", w, hub_r, allowed=_LENGTH)
+    _within("bore_radius_mm", bore, f"(0, {hub_r!r})", "below hub_outer_radius_mm")
+    _within("hub_outer_radius_mm", hub_r, f"({bore!r}, {rim_i!r}]", "bore to rim_inner_radius_mm")
+    _within("rim_inner_radius_mm", rim_i, f"[{hub_r!r}, {rim_o!r})", "hub_outer to rim_outer")
+    _within("web_thickness_mm", web_t, f"(0, {min(rim_w, hub_w)!r}]", "<= rim and hub widths")
+    lim = (rim_w - web_t) / 2
+    _within(
+        "web_offset_mm",
+        web_off,
+        f"[{-lim!r}, {lim!r}]",
+        "the web inside the rim: |offset| <= (rim_width - web_thickness)/2",
+    )
+    _within("shaft_outer_radius_mm", shaft_r, f"({bore!r}, {hub_r!r}]", "bore to hub outer")
 
-
-class _Missing:
-    def __repr__(self) -> str:
-        return "MISSING"
-
-
-MISSING: Any = _Missing()
-"""Default of a required key."""
-
-
-def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
-
-
-# --------------------------------------------------------------------------------------------
-# formatting
-
-
-_NUMBER = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][-+]?\d+)?(?![\w.])")
-
-
-def g6(text: str) -> str:
-    """Rewrite every decimal number in ``text`` with at most 6 significant digits."""
-    return _NUMBER.sub(lambda m: f"{float(m.group()):.6g}", text)
-
-
-def _type_name(v: Any) -> str:
-    if isinstance(v, bool):
-        return "a boolean"
-    if isinstance(v, (int, float)):
-        return "a number"
-    if isinstance(v, str):
-        return "a string"
-    if isinstance(v, dict):
-        return "a table"
-    if isinstance(v, list):
-        return "an array"
-    if isinstance(v, (datetime.date, datetime.time)):
-        return "a date/time"
-    return type(v).__name__
-
-
-def _fmt_int(v: int) -> str:
-    """An integer, beyond 10^6 with 6 significant digits (also beyond the float range)."""
-    if abs(v) < 10**6:
-        return str(v)
-    if abs(v) < 10**300:
-        return f"{v:.6g}"
-    mantissa, exponent = f"{decimal.Decimal(v):.5e}".split("e")  # no float, no str(int) limit
-    return f"{mantissa.rstrip('0').rstrip('.')}e{exponent}"
-
-
-def finite(v: Any) -> bool:
-    """``v`` is a finite number (``int`` or ``float``, not a boolean) that a float can hold."""
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        return False
-    if isinstance(v, int):
-        return abs(v) <= _FLOAT_MAX
-    return math.isfinite(v)
-
-
-_FLOAT_MAX = int(sys.float_info.max)
-
-
-def fmt(v: Any, _depth: int = 0) -> str:
-    """A value as it reads in a TOML file, numbers with at most 6 significant digits, short."""
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return _fmt_int(v)
-    if isinstance(v, float):
-        return f"{v:.6g}"
-    if isinstance(v, str):
-        s = v if len(v) <= 40 else v[:37] + "..."
-        return repr(s)
-    if isinstance(v, list):
-        if _depth > 1:
-            return "[...]"
-        items = [fmt(x, _depth + 1) for x in v[:6]]
-        return "[" + ", ".join(items + (["..."] if len(v) > 6 else [])) + "]"
-    if isinstance(v, dict):
-        if _depth > 1:
-            return "{...}"
-        items = [f"{_key(k)} = {fmt(x, _depth + 1)}" for k, x in list(v.items())[:4]]
-        return "{ " + ", ".join(items + (["..."] if len(v) > 4 else [])) + " }"
-    return _one_line(str(v))[:40]
-
-
-_BARE = re.compile(r"[A-Za-z0-9_-]{1,60}(?:\.[A-Za-z0-9_-]{1,60})*")
-
-
-def _key(k: Any) -> str:
-    k = str(k)
-    if _BARE.fullmatch(k):
-        return k
-    s = k if len(k) <= 40 else k[:37] + "..."
-    return repr(s)
-
-
-def key_path(where: str, key: str | None = None) -> str:
-    """``("pinion", "teeth")`` → ``"[pinion] teeth"``; ``("", "name")`` → ``"name"``."""
-    if key is None:
-        return f"[{where}]" if where else "the file"
-    return f"[{where}] {_key(key)}" if where else _key(key)
-
-
-def fail(where: str, key: str | None, problem: str, value: Any = MISSING) -> SchemaError:
-    """The :class:`SchemaError` ``[where] key = value: problem`` (to be raised by the caller)."""
-    p = key_path(where, key)
-    head = p if value is MISSING else f"{p} = {fmt(value)}"
-    return SchemaError(f"{head}: {problem}", p)
-
-
-# --------------------------------------------------------------------------------------------
-# ranges
-
-
-@dataclass(frozen=True)
-class Interval:
-    """A range of allowed numbers; ``str`` gives ``> 0``, ``[0, 45)``, ``>= 5`` ...
-
-    Build from text with :meth:`parse`: ``"> 0"``, ``">= 0"``, ``"< 1"``, ``"<= 1"``,
-    ``"(0, 1]"``, ``"[3, 1000]"``, ``"any"``.
-    """
-
-    lo: float = -math.inf
-    hi: float = math.inf
-    lo_open: bool = False
-    hi_open: bool = False
-
-    def __contains__(self, v: float) -> bool:
-        above = v > self.lo if self.lo_open else v >= self.lo
-        below = v < self.hi if self.hi_open else v <= self.hi
-        return bool(above and below)
-
-    def __str__(self) -> str:
-        lo, hi = f"{self.lo:.6g}", f"{self.hi:.6g}"
-        if self.lo == -math.inf and self.hi == math.inf:
-            return "any finite number"
-        if self.hi == math.inf:
-            return f"{'>' if self.lo_open else '>='} {lo}"
-        if self.lo == -math.inf:
-            return f"{'<' if self.hi_open else '<='} {hi}"
-        return f"{'(' if self.lo_open else '['}{lo}, {hi}{')' if self.hi_open else ']'}"
-
-    @classmethod
-    def parse(cls, text: str | Interval | None) -> Interval:
-        if text is None:
-            return cls()
-        if isinstance(text, Interval):
-            return text
-        t = text.strip()
-        if t == "any":
-            return cls()
-        m = re.fullmatch(r"(>=|<=|>|<)\s*(\S+)", t)
-        if m:
-            op, v = m.group(1), float(m.group(2))
-            if op[0] == ">":
-                return cls(lo=v, lo_open=op == ">")
-            return cls(hi=v, hi_open=op == "<")
-        m = re.fullmatch(r"([\[(])\s*(\S+)\s*,\s*(\S+)\s*([\])])", t)
-        if not m:
-            raise ValueError(f"bad interval {text!r}")
-        return cls(float(m.group(2)), float(m.group(3)), m.group(1) == "(", m.group(4) == ")")
-
-
-# --------------------------------------------------------------------------------------------
-# checks
-
-
-def check_keys(table: dict, allowed: Iterable[str], where: str) -> None:
-    """Unknown keys are errors:
-    ``[mesh] unknown key 'slice' (did you mean 'slices'?), allowed: foundation, ...``."""
-    allowed = sorted(allowed)
-    for key in table:
-        if key not in allowed:
-            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.7)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
-            shown = str(key) if len(str(key)) <= 40 else str(key)[:37] + "..."
-            head = f"[{where}] " if where else ""
-            raise SchemaError(
-                f"{head}unknown key {shown!r}{hint}, allowed: {', '.join(allowed)}",
-                key_path(where, key),
+    h = b.get("holes", {})
+    if not isinstance(h, dict):
+        raise sc.fail(
+            w, "holes", "must be an inline table { count, center_radius_mm, radius_mm }", h
+        )
+    h = {f"holes.{k}": v for k, v in h.items()}  # messages: [body] holes.count = ...
+    sc.check_keys(h, {f"holes.{k}" for k in _HOLES_KEYS}, w)
+    n_holes = sc.number(h, "holes.count", w, 0, allowed="[0, 10000]", integer=True)
+    hc = sc.number(h, "holes.center_radius_mm", w, 0.0, allowed=">= 0")
+    hr = sc.number(h, "holes.radius_mm", w, 0.0, allowed=">= 0")
+    if n_holes > 0:
+        _within("holes.radius_mm", hr, ">= 0.001", "holes need a radius")
+        if hub_r >= rim_i:
+            raise sc.fail(
+                w, "holes.count", "needs a web (hub_outer_radius_mm < rim_inner)", n_holes
             )
-
-
-def subtable(
-    data: dict,
-    key: str,
-    where: str,
-    allowed: Iterable[str] | None = None,
-    *,
-    required: bool = False,
-) -> dict:
-    """``data[key]`` as a table (``{}`` if absent and not required); unknown keys checked."""
-    inner = f"{where}.{_key(key)}" if where else _key(key)
-    if key not in data:
-        if required:
-            raise SchemaError(f"[{inner}]: missing required table", f"[{inner}]")
-        return {}
-    t = data[key]
-    if not isinstance(t, dict):
-        raise fail(where, key, f"must be a table ([{inner}]), not {_type_name(t)}", t)
-    if allowed is not None:
-        check_keys(t, allowed, inner)
-    return t
-
-
-def number(
-    table: dict,
-    key: str,
-    where: str,
-    default: Any = MISSING,
-    *,
-    allowed: str | Interval | None = None,
-    integer: bool = False,
-    note: str = "",
-):
-    """A finite number (``int`` when ``integer``), checked against ``allowed`` in file units.
-
-    ``default``: :data:`MISSING` makes the key required; any other value (``None`` included) is
-    returned as is when the key is absent.  ``note`` is appended to the range message.
-    """
-    if key not in table:
-        if default is MISSING:
-            raise fail(where, key, "missing required key")
-        return default
-    v = table[key]
-    kind = "an integer" if integer else "a number"
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise fail(where, key, f"must be {kind}, not {_type_name(v)}", v)
-    if isinstance(v, float) and not math.isfinite(v):
-        raise fail(where, key, f"must be a finite {kind[2:] if integer else 'number'}", v)
-    if integer and isinstance(v, float) and not v.is_integer():
-        raise fail(where, key, "must be an integer", v)
-    rng = Interval.parse(allowed)
-    if v not in rng:  # exact for integers of any size (no float conversion yet)
-        raise fail(where, key, f"out of range, allowed {rng}{note}", v)
-    if not finite(v):  # an integer beyond the float range, in an unbounded range
-        raise fail(where, key, f"out of range (beyond ±1.79769e+308), allowed {rng}{note}", v)
-    return int(v) if integer else float(v)
-
-
-def number_list(
-    table: dict,
-    key: str,
-    where: str,
-    default: Any = MISSING,
-    *,
-    min_length: int = 0,
-    length: int | None = None,
-    allowed: str | Interval | None = None,
-) -> list[float]:
-    """An array of finite numbers (each checked against ``allowed``)."""
-    if key not in table:
-        if default is MISSING:
-            raise fail(where, key, "missing required key")
-        return default
-    v = table[key]
-    if not isinstance(v, list):
-        raise fail(where, key, f"must be an array of numbers, not {_type_name(v)}", v)
-    if length is not None and len(v) != length:
-        raise fail(where, key, f"must be an array of {length} numbers", v)
-    if len(v) < min_length:
-        raise fail(where, key, f"must be an array of at least {min_length} numbers", v)
-    rng = Interval.parse(allowed)
-    out = []
-    for x in v:
-        if not finite(x):
-            raise fail(where, key, "must be an array of finite numbers", v)
-        if x not in rng:
-            raise fail(where, key, f"element {fmt(x)} out of range, allowed {rng}", v)
-        out.append(float(x))
-    return out
-
-
-def choice(table: dict, key: str, where: str, choices: Iterable[str], default: Any = MISSING):
-    """A string out of ``choices``."""
-    if key not in table:
-        if default is MISSING:
-            raise fail(where, key, "missing required key")
-        return default
-    v = table[key]
-    choices = list(choices)
-    if not isinstance(v, str) or v not in choices:
-        raise fail(where, key, f"allowed {', '.join(repr(c) for c in choices)}", v)
-    return v
-
-
-def boolean(table: dict, key: str, where: str, default: Any = MISSING):
-    """``true`` or ``false``."""
-    if key not in table:
-        if default is MISSING:
-            raise fail(where, key, "missing required key")
-        return default
-    v = table[key]
-    if not isinstance(v, bool):
-        raise fail(where, key, "must be true or false", v)
-    return v
-
-
-def string(table: dict, key: str, where: str, default: Any = MISSING) -> str:
-    """A non-empty string."""
-    if key not in table:
-        if default is MISSING:
-            raise fail(where, key, "missing required key")
-        return default
-    v = table[key]
-    if not isinstance(v, str) or not v.strip():
-        raise fail(where, key, "must be a non-empty string", v)
-    return v
-
-
-_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}")
-
-
-def name(table: dict, key: str, where: str, default: Any = MISSING) -> str:
-    """A name that becomes a file or folder name (``jaxgear-out/<name>/``, ``<name>.npz``): 1 to
-    100 letters, digits, ``-``, ``_``, ``.``, not starting with ``.`` or ``-``, so never a path
-    (no separator, no ``..``, not absolute)."""
-    v = string(table, key, where, default)
-    if key not in table:  # the default (a file's stem): a path only in odd cases such as '..'
-        if isinstance(v, str) and (v in ("", ".", "..") or re.search(r"[/\\\x00]", v)):
-            raise fail(where, key, f"missing; the default {v!r} (from the file name) is not a name")
-        return v
-    if not _NAME.fullmatch(v):
-        raise fail(
-            where,
-            key,
-            "a name, not a path: 1 to 100 letters, digits, '-', '_', '.' allowed (not starting "
-            "with '.' or '-')",
-            v,
+        _within(
+            "holes.center_radius_mm",
+            hc,
+            f"({hub_r + hr!r}, {rim_i - hr!r})",
+            "hub_outer + radius, rim_inner - radius",
         )
-    return v
+        if n_holes > 1:
+            rmax = hc * math.sin(math.pi / n_holes)
+            _within(
+                "holes.radius_mm",
+                hr,
+                f"(0, {rmax!r})",
+                f"{n_holes} holes overlap beyond center_radius * sin(pi / count)",
+            )
+    geometry = Geometry(
+        bore_radius=bore * mm,
+        hub_outer_radius=hub_r * mm,
+        hub_width=hub_w * mm,
+        web_thickness=web_t * mm,
+        web_offset=web_off * mm,
+        web_inclination=math.radians(incl_deg),
+        rim_inner_radius=rim_i * mm,
+        rim_outer_radius=rim_o * mm,
+        rim_width=rim_w * mm,
+        holes=Holes(n_holes, hc * mm if n_holes else 0.0, hr * mm if n_holes else 0.0),
+        shaft_outer_radius=shaft_r * mm,
+    )
 
-
-def load_toml(raw: bytes | str, label: str) -> dict:
-    """Decode (UTF-8) and parse TOML text; errors are one-line :class:`SchemaError` naming
-    ``label`` (e.g. ``"case file 'x.toml'"``)."""
-    if isinstance(raw, bytes):
-        try:
-            raw = raw.decode("utf-8")
-        except UnicodeDecodeError as err:
-            raise SchemaError(
-                f"{label} is not valid UTF-8 text (byte 0x{err.object[err.start]:02x} at offset "
-                f"{err.start})"
-            ) from None
-    try:
-        return tomllib.loads(raw)
-    except tomllib.TOMLDecodeError as err:
-        raise SchemaError(f"{label} is not valid TOML: {_toml_error(str(err), raw)}") from None
-    except ValueError as err:  # e.g. an integer of more than 4300 digits
-        raise SchemaError(f"{label} is not valid TOML: {err}") from None
-    except RecursionError:
-        raise SchemaError(f"{label} is not valid TOML: nested too deeply") from None
-
-
-_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
-_HEADER = re.compile(r"\s*(\[\[?)\s*([^\]#,\[{=]+?)\s*\]\]?\s*(?:#.*)?$")
-_PART = r"""(?:[A-Za-z0-9_-]+|"[^"]*"|'[^']*')"""  # a bare or quoted key
-_KEY_AT = re.compile(rf"\s*({_PART}(?:\s*\.\s*{_PART})*)\s*=")
-
-
-def _toml_error(message: str, text: str) -> str:
-    """tomllib's message with the key path it stops at, read from the line it names (and the
-    table header above it): ``Cannot overwrite a value (at line 14, column 20)`` becomes
-    ``duplicate key 'face_width_mm' in [[gears]] #2 (line 14, column 20)``."""
-    m = _AT.search(message)
-    lines = text.splitlines()
-    if m:
-        line_no, col = int(m.group(1)), int(m.group(2))
-    else:  # "(at end of document)": the last line that holds something
-        m = re.search(r"\s*\(at end of document\)$", message)
-        filled = [i for i, line in enumerate(lines, 1) if line.strip()]
-        if not m or not filled:
-            return message
-        line_no = filled[-1]
-        col = len(lines[line_no - 1]) + 1
-    if not 1 <= line_no <= len(lines):
-        return message
-    table, counts = "", {}
-    for line in lines[: line_no - 1]:  # the table the line lies in (its header above it)
-        h = _HEADER.match(line)
-        if h:
-            name = re.sub(r"\s*\.\s*", ".", h.group(2))
-            if h.group(1) == "[[":
-                counts[name] = counts.get(name, 0) + 1
-                table = f"[[{name}]] #{counts[name]}"
-            else:
-                table = f"[{name}]"
-    line = lines[line_no - 1]
-    header = _HEADER.match(line)
-    key = _KEY_AT.match(line)
-    where = f"line {line_no}, column {col}"
-    what = message[: m.start()]
-    if header:
-        name = re.sub(r"\s*\.\s*", ".", header.group(2))
-        if what.startswith("Cannot declare"):
-            return f"table [{name}] declared twice ({where})"
-        return f"{what} in the header [{name}] ({where})"
-    if key:
-        k = re.sub(r"\s*\.\s*", ".", key.group(1))
-        inside = f" in {table}" if table else ""
-        if what == "Cannot overwrite a value":
-            return f"duplicate key {k!r}{inside} ({where})"
-        return f"{what} at key {k!r}{inside} ({where})"
-    text = line.strip()
-    near = f" near {text if len(text) <= 30 else text[:27] + '...'!r}" if text else ""
-    return f"{what}{near}{f' in {table}' if table else ''} ({where})"
-
-
-# --------------------------------------------------------------------------------------------
-# atomic writes
-
-
-OUTPUT_MANIFEST = ".jaxgear-outputs"
-"""The file, in an output folder, that lists what a command wrote there (one relative path a
-line): its next run deletes only those files (see ``jaxgear.cli._paths.clear_outputs``)."""
-_RECORDING: set[str] = set()  # absolute folders whose written files go to their manifest
-
-
-def record_outputs(folder) -> None:
-    """From now on, every file written under ``folder`` by :func:`atomic_open` /
-    :func:`atomic_write` is listed in ``folder/.jaxgear-outputs`` (created with the first file,
-    so that a run that writes nothing leaves no folder behind)."""
-    _RECORDING.add(os.path.abspath(os.fspath(folder)))
-
-
-def recorded_outputs(folder) -> list[str]:
-    """The relative paths listed in ``folder``'s manifest (none without one)."""
-    try:
-        text = (Path(os.fspath(folder)) / OUTPUT_MANIFEST).read_text("utf-8")
-    except (OSError, UnicodeDecodeError):
-        return []
-    return [line for line in text.splitlines() if line and not line.startswith("#")]
-
-
-def _record(path: Path) -> None:
-    """List a written file in the manifest of the innermost recording folder that holds it."""
-    target = os.path.abspath(path)
-    holders = [f for f in _RECORDING if target.startswith(f.rstrip(os.sep) + os.sep)]
-    if not holders:
-        return
-    folder = max(holders, key=len)
-    rel = os.path.relpath(target, folder)
-    if rel in recorded_outputs(folder):
-        return
-    manifest = os.path.join(folder, OUTPUT_MANIFEST)
-    with contextlib.suppress(OSError):
-        new = not os.path.exists(manifest)
-        with open(manifest, "a", encoding="utf-8") as f:
-            if new:
-                f.write("# files written here by jaxgear (its next run deletes them)\n")
-            f.write(rel + "\n")
-
-
-@contextlib.contextmanager
-def _atomic_path(path) -> Iterator[Path]:
-    path = Path(os.fspath(path))
-    directory = path.absolute().parent
-    directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".tmp-{path.name}-", suffix=".tmp", dir=directory)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file the usual permissions
-    try:
-        yield Path(tmp)
-        fd = os.open(tmp, os.O_RDONLY)
-        try:
-            os.fsync(fd)
-        finally:
-            os.close(fd)
-        os.replace(tmp, path)
-        _record(path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-
-
-@contextlib.contextmanager
-def atomic_open(path, mode: str = "w", **kwargs):
-    """Open a temporary file beside ``path``; rename it onto ``path`` only if the block succeeds.
-
-    An interrupted run never leaves a truncated ``path``: either the old file (or nothing) or the
-    complete new one is there.
-    """
-    with _atomic_path(path) as tmp, open(tmp, mode, **kwargs) as f:
-        yield f
-
-
-def atomic_write(path, write: Callable[[Path], None]) -> Path:
-    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it onto ``path``."""
-    with _atomic_path(path) as tmp:
-        write(tmp)
-    return Path(path)
-
-
-def check_output_dir(path, option: str = "--out") -> str:
-    """Check that ``path`` can be the output folder of a command, without creating anything
-    (the writers create it when the first file is written: bad input leaves no folder behind).
-
-    Raises:
-        ValueError: one-line message ``{option} PATH: why`` when ``path`` is a file, lies under
-            a file, or its nearest existing folder is not writable.
-    """
-    path = os.fspath(path)
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise ValueError(f"{option} {path}: is a file, not a folder")
-    existing = os.path.abspath(path)
-    while not os.path.exists(existing):
-        existing = os.path.dirname(existing)
-    if not os.path.isdir(existing):
-        raise ValueError(f"{option} {path}: {existing} is a file, not a folder")
-    try:  # os.access alone misses read-only mounts (and root passes it everywhere)
-        fd, probe = tempfile.mkstemp(prefix=".tmp-probe-", dir=existing)
-        os.close(fd)
-        os.unlink(probe)
-    except OSError:
-        where = "folder" if existing == os.path.abspath(path) else f"parent folder {existing}"
-        raise ValueError(f"{option} {path}: {where} is not writable") from None
-    return path
-
-
-def check_output_file(path, option: str = "--json") -> str:
-    """Check that a file can be written at ``path`` (a missing folder is created on writing).
-
-    Raises:
-        ValueError: ``path`` is a folder, or its folder cannot be created or written.
-    """
-    path = os.fspath(path)
-    if path.endswith(os.sep) or os.path.isdir(path):
-        raise ValueError(f"{option} {path}: is a folder, expected a file name")
-    folder = os.path.dirname(os.path.abspath(path))
-    try:
-        check_output_dir(folder, option)
-    except ValueError as err:
-        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
-    if os.path.exists(path) and not os.access(path, os.W_OK):
-        raise ValueError(f"{option} {path}: file is not writable")
-    return path
-
-
-def write_new_file(path, text: str, *, force: bool = False, option: str = "--write") -> Path:
-    """Write ``text`` to ``path`` atomically, refusing to replace a file unless ``force``
-    (``jaxgear cases NAME --write FILE``, ``fem-prep bodies NAME --write FILE``).
-
-    Raises:
-        ValueError: one line ``{option} PATH: why``: a folder, an existing file without
-            ``force``, or a folder that cannot be written.
-    """
-    path = os.fspath(path)
-    if os.path.exists(path) and not os.path.isdir(path) and not force:
-        raise ValueError(f"{option} {path}: exists (add --force to replace it)")
-    check_output_file(path, option)
-    with atomic_open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-    return Path(path)
-
-
-# --------------------------------------------------------------------------------------------
-# embedded input files (jaxgear's cases, fem_prep's bodies)
-
-
-def embedded_names(folder) -> list[str]:
-    """Names of the ``*.toml`` files in a package folder (``importlib.resources`` traversable)."""
-    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
-
-
-def embedded_text(folder, name: str, kind: str) -> str:
-    """The text of the embedded ``kind`` file ``name`` (``folder/name.toml``).
-
-    Raises:
-        FileNotFoundError: ``name`` is not one of them (the message lists them).
-    """
-    names = embedded_names(folder)
-    if name not in names:
-        kinds = kind[:-1] + "ies" if kind.endswith("y") else kind + "s"
-        raise FileNotFoundError(
-            f"no embedded {kind} {name!r} (embedded {kinds}: {', '.join(names)})"
+    # ---- [[bearings]]
+    bl = _tables(data.get("bearings", []))
+    if not isinstance(bl, list) or not bl:
+        raise sc.SchemaError(
+            "[[bearings]]: at least one [[bearings]] table is required (axial_position_mm, "
+            "coupling)"
         )
-    return (folder / f"{name}.toml").read_text("utf-8")
+    lim = 20 * max(rim_w, hub_w, rim_o)
+    seen: dict[float, int] = {}
+    raw = []  # (position, coupling, explicit width or None), mm
+    for k, t in enumerate(bl):
+        wb = f"bearings[{k}]"
+        if not isinstance(t, dict):
+            raise sc.fail("", wb, "must be a table", t)
+        sc.check_keys(t, _SCHEMA["bearings"], wb)  # type: ignore[arg-type]
+        pos = sc.number(t, "axial_position_mm", wb, allowed=f"[{-lim!r}, {lim!r}]")
+        for other, j in seen.items():
+            if abs(other - pos) < 1e-3:
+                raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
+        seen[pos] = k
+        coupling = _kind(t, "coupling", wb, COUPLINGS, "rigid")
+        width = sc.number(t, "width_mm", wb, None, allowed=f"[0.001, {2 * lim!r}]")
+        raw.append((pos, coupling, width))
+    bearings = _bearing_bands(raw, geometry, hub_w)
+
+    # ---- [material]
+    m = sc.subtable(data, "material", "", _SCHEMA["material"])
+    # up to 1e6 GPa: a rigidified body (the seed uses E = 4e14 Pa)
+    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 1e+06]")
+    nu = sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)")
+    rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+06]")
+    material = Material(e * 1e9, nu, rho)
+
+    # ---- [mesh]
+    ms = sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
+    element = _kind(ms, "element", "mesh", ELEMENTS, "hex20")
+    floor = float(f"{1e-3 * rim_o:.6g}")  # the bound as printed (0.052 for a 52 mm rim)
+    sizes = {}
+    for key in ("size_mm", "hub_size_mm", "web_size_mm", "rim_size_mm", "circumferential_size_mm"):
+        v = sc.number(ms, key, "mesh", 2.0 if key == "size_mm" else None, allowed=_LENGTH)
+        if v is not None:
+            _within(key, v, f">= {floor!r}", "1e-3 x rim_outer_radius_mm", "mesh")
+        sizes[key[:-3]] = None if v is None else v * mm
+    mesh = MeshSettings(element, **sizes)  # type: ignore[arg-type]
+
+    # ---- [condensation]
+    c = sc.subtable(data, "condensation", "", _SCHEMA["condensation"])
+    w = "condensation"
+    condensation = Condensation(
+        method=_kind(c, "method", w, METHODS, "craig-bampton"),
+        modes=sc.number(
+            c, "modes", w, 50, allowed=f"[0, {MAX_MODES}]", integer=True, note=" (the seed: 50)"
+        ),
+        teeth=sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
+        axial_master_nodes=sc.number(
+            c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True
+        ),
+        rim_coupling=_kind(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
+    )
+
+    # ---- [centrifugal]
+    cf = sc.subtable(data, "centrifugal", "", _SCHEMA["centrifugal"])
+    # up to 1e5 rad/s (as jaxgear's [operating] speed_rad_s): a rim speed beyond any steel's
+    speed = sc.number(cf, "speed_rad_s", "centrifugal", 0.0, allowed="[0, 1e+05]")
+    spin = sc.boolean(cf, "spin_softening", "centrifugal", False)
+
+    # ---- [modal] (optional extension)
+    md = sc.subtable(data, "modal", "", _SCHEMA["modal"])
+    support = _kind(md, "support", "modal", SUPPORTS, "bearings")
+    nf = sc.number(md, "n_frequencies", "modal", 20, allowed="[1, 200]", integer=True)
+    nv = sc.number(
+        md, "vtu_modes", "modal", 10, allowed=f"[0, {nf}]", integer=True, note=" (<= n_frequencies)"
+    )
+
+    pinion = _pinion_rim(data, geometry, bearings, condensation)
+    _check_mesh_size(ms, mesh, geometry, bearings, condensation.teeth, pinion)
+
+    return Body(
+        name=name,
+        geometry=geometry,
+        bearings=tuple(bearings),
+        material=material,
+        mesh=mesh,
+        condensation=condensation,
+        speed=speed,
+        spin_softening=spin,
+        support=support,
+        n_frequencies=nf,
+        vtu_modes=nv,
+        pinion_rim=pinion,
+        source_text=text,
+    )
 
 
-def print_or_write(text: str, write, *, force: bool, what: str, next_command: str) -> None:
-    """``text`` to stdout, or with ``write`` (a path) to a new file (:func:`write_new_file`),
-    saying ``wrote PATH (what; next_command PATH)``."""
-    if write is None:
-        sys.stdout.write(text)
-        return
-    path = write_new_file(write, text, force=force)
-    print(f"wrote {path} ({what}; {next_command} {path})")
+def _pinion_rim(
+    data: dict, g: Geometry, bearings: list[BearingSeat], cond: Condensation
+) -> PinionRim | None:
+    """The optional ``[pinion_rim]`` (file units in, SI out): a pinion ring from the bore to
+    ``outer_radius_mm`` over ``width_mm`` at ``axial_position_mm``, beside the wheel's hub and
+    rim and on the shaft (within the bore's extent: hub and stubs to the bearings)."""
+    if "pinion_rim" not in data:
+        return None
+    p = sc.subtable(data, "pinion_rim", "", _SCHEMA["pinion_rim"])
+    w = "pinion_rim"
+    mm = 1e-3
+    if g.web_inclination != 0.0:
+        raise sc.fail(
+            "body",
+            "web_inclination_deg",
+            "must be 0 on a body with a [pinion_rim] (the pinion sits on the unsheared shaft)",
+            math.degrees(g.web_inclination),
+        )
+    pos = sc.number(p, "axial_position_mm", w)
+    width = sc.number(p, "width_mm", w, allowed=_LENGTH)
+    shaft = g.shaft_outer_radius / mm
+    radius = sc.number(p, "outer_radius_mm", w, allowed=_LENGTH)
+    _within(
+        "outer_radius_mm",
+        radius,
+        f"({shaft!r}, {g.rim_outer_radius / mm!r})",
+        "above shaft_outer_radius_mm, its face free, and below the wheel's rim_outer_radius_mm",
+        w,
+    )
+    teeth = sc.number(p, "teeth", w, allowed="[3, 1000]", integer=True)
+    nax = sc.number(
+        p, "axial_master_nodes", w, cond.axial_master_nodes, allowed="[1, 50]", integer=True
+    )
+    # beside the wheel: its face clear of the hub and the rim (file units)
+    hub = (g.web_offset / mm - g.hub_width / mm / 2, g.web_offset / mm + g.hub_width / mm / 2)
+    rim = (-g.rim_width / mm / 2, g.rim_width / mm / 2)
+    lo_w, hi_w = min(hub[0], rim[0]), max(hub[1], rim[1])
+    if pos + width / 2 > lo_w + 1e-9 and pos - width / 2 < hi_w - 1e-9:
+        raise sc.fail(
+            w,
+            "axial_position_mm",
+            f"out of range, allowed <= {lo_w - width / 2:.6g} or >= {hi_w + width / 2:.6g} "
+            f"(its {width:.6g} mm face beside the wheel's hub and rim, z from {lo_w:.6g} to "
+            f"{hi_w:.6g} mm)",
+            pos,
+        )
+    # on the shaft: within the bore's extent (hub and shaft stubs to the bearings)
+    zb = [b.axial_position / mm for b in bearings]
+    lo_s, hi_s = min(hub[0], *zb), max(hub[1], *zb)
+    if pos - width / 2 < lo_s - 1e-9 or pos + width / 2 > hi_s + 1e-9:
+        raise sc.fail(
+            w,
+            "axial_position_mm",
+            f"out of range, allowed [{lo_s + width / 2:.6g}, {hi_s - width / 2:.6g}] (its face "
+            f"on the shaft, which runs from {lo_s:.6g} to {hi_s:.6g} mm: hub and stubs to the "
+            "bearings)",
+            pos,
+        )
+    return PinionRim(pos * mm, radius * mm, width * mm, teeth, nax)
+
+
+def _bearing_bands(
+    raw: list[tuple[float, Kind, float | None]], g: Geometry, hub_w: float
+) -> list[BearingSeat]:
+    """Resolve each bearing's coupled band (file units in, SI out; see ``docs/fem_prep.md``).
+
+    The bore runs over the hub and the shaft stubs: from ``min(hub start, bearings)`` to
+    ``max(hub end, bearings)``.  The default width is ``hub_width / n_bearings``, reduced to
+    the distance to the nearest other bearing (bands do not overlap); each band is
+    ``position -/+ width / 2`` clipped to the bore.  Explicit widths whose bands overlap raise
+    a :class:`SchemaError` naming the later bearing's ``width_mm``.
+    """
+    hc = g.hub_center * 1e3
+    lo = min([hc - hub_w / 2] + [p for p, _, _ in raw])
+    hi = max([hc + hub_w / 2] + [p for p, _, _ in raw])
+    pos = [p for p, _, _ in raw]
+    bands = []
+    for k, (p, _, w) in enumerate(raw):
+        if w is None:
+            gap = min([abs(p - q) for j, q in enumerate(pos) if j != k], default=math.inf)
+            w = min(hub_w / len(raw), gap)
+        bands.append((w, max(p - w / 2, lo), min(p + w / 2, hi)))
+    order = sorted(range(len(raw)), key=lambda k: raw[k][0])
+    for i, j in itertools.pairwise(order):  # neighbours along the axis
+        overlap = bands[i][2] - bands[j][1]
+        if overlap > 1e-6 * max(1.0, abs(hi - lo)):
+            # blame the later explicit width in the file (default widths never overlap)
+            k = max(m for m in (i, j) if raw[m][2] is not None)
+            o = i + j - k
+            gap = abs(raw[i][0] - raw[j][0])
+            raise sc.fail(
+                f"bearings[{k}]",
+                "width_mm",
+                f"its band [{bands[k][1]:.6g}, {bands[k][2]:.6g}] mm overlaps the band "
+                f"[{bands[o][1]:.6g}, {bands[o][2]:.6g}] mm of bearings[{o}] (bands are "
+                f"axial_position_mm -/+ width_mm/2 and must not overlap; bearings {gap:.6g} mm "
+                "apart)",
+                raw[k][2],
+            )
+    mm = 1e-3
+    return [
+        BearingSeat(p * mm, c, w * mm, (b0 * mm, b1 * mm))
+        for (p, c, _), (w, b0, b1) in zip(raw, bands)
+    ]
+
+
+def embedded_bodies() -> list[str]:
+    """Names of the body files shipped with fem_prep (``fem_prep/bodies/*.toml``)."""
+    return files.embedded_names(resources.files("fem_prep") / "bodies")
+
+
+def embedded_body_text(name: str) -> str:
+    """The TOML text of the embedded body ``name`` (``fem-prep bodies NAME``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not an embedded body (the message lists them).
+    """
+    return files.embedded_text(resources.files("fem_prep") / "bodies", name, "body")
+
+
+def load_body(source: str | Path) -> Body:
+    """Load a body from a file path or an embedded body name.
+
+    Args:
+        source: path to a ``.toml`` body file, or the name of an embedded body
+            (see :func:`embedded_bodies`), e.g. ``"accessory-wheel"``.
+
+    Returns:
+        The validated :class:`Body`.
+
+    Raises:
+        FileNotFoundError: neither a file nor an embedded body of that name exists.
+        SchemaError (a ``ValueError``): the file is not UTF-8 or is invalid (see
+            :func:`parse_body`).
+    """
+    path = Path(source)
+    if path.is_file():
+        label = f"body file {str(source)!r}"
+        return parse_body(_decode(path.read_bytes(), label), default_name=path.stem, label=label)
+    name = str(source)
+    if name in embedded_bodies():
+        return parse_body(
+            embedded_body_text(name), default_name=name, label=f"embedded body {name!r}"
+        )
+    raise FileNotFoundError(
+        f"body file {str(source)!r} not found (and it is not an embedded body; embedded bodies: "
+        f"{', '.join(embedded_bodies())})"
+    )
+
+
+def _decode(raw: bytes, label: str) -> str:
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        sc.load_toml(raw, label)  # raises the one-line SchemaError naming the file
+        raise  # pragma: no cover

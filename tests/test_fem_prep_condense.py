@@ -5,6 +5,10 @@ import pytest
 import scipy.linalg as sla
 
 from fem_prep import (
+    CraigBampton,
+    Guyan,
+    Herting,
+    RotatingOperators,
     assemble_operators,
     condense,
     couple_masters,
@@ -72,7 +76,7 @@ def coupled():
     return body, bm, ms, cp, mdofs
 
 
-@pytest.mark.parametrize("method", ["guyan", "craig-bampton", "herting"])
+@pytest.mark.parametrize("method", [Guyan(), CraigBampton(), Herting()], ids=str)
 def test_static_response_at_masters_is_exact(coupled, method):
     """Guyan property: loads on master DOFs give the full model's master displacements."""
     body, bm, ms, cp, mdofs = coupled
@@ -100,7 +104,7 @@ def test_static_response_at_masters_is_exact(coupled, method):
     assert np.linalg.norm(ub_c - ub_full) <= 1e-8 * np.linalg.norm(ub_full)
 
 
-@pytest.mark.parametrize("method", ["craig-bampton", "herting"])
+@pytest.mark.parametrize("method", [CraigBampton(), Herting()], ids=str)
 def test_centrifugal_field_is_recovered_with_the_static_correction_vector(coupled, method):
     """Interior displacements recovered from the condensed solve under the centrifugal load
     (bearings held) match the full solve (relative L2 over all DOFs) once the static correction
@@ -115,7 +119,15 @@ def test_centrifugal_field_is_recovered_with_the_static_correction_vector(couple
     nb = len(mdofs)
     errors = {}
     for sc in (True, False):
-        c = condense(cp.K, cp.M, mdofs, method=method, n_modes=10, f=cp.f, static_correction=sc)
+        c = condense(
+            cp.K,
+            cp.M,
+            mdofs,
+            method=method,
+            n_modes=10,
+            rotating=RotatingOperators(f=cp.f),
+            static_correction=sc,
+        )
         keep = np.ones(c.K.shape[0], bool)
         keep[nb - held.size : nb] = False
         q = np.zeros(c.K.shape[0])
@@ -140,7 +152,7 @@ def test_condensed_stiffness_has_rigid_body_modes(coupling, rim):
     cp = couple_masters(bm, ops, ms)
     rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
-    c = condense(cp.K, cp.M, mdofs, method="guyan")
+    c = condense(cp.K, cp.M, mdofs, method=Guyan())
     x = cp.rim_positions.reshape(-1, 3)
     rb = []
     for k in range(6):
@@ -229,7 +241,7 @@ def test_error_decreases_with_modes(coupled):
     lam, _ = shift_invert_modes(cp.K[free][:, free], cp.M[free][:, free], 20)
     f_ref = np.sqrt(lam)
     nb = len(mdofs)
-    for method in ("craig-bampton", "herting"):
+    for method in (CraigBampton(), Herting()):
         errs = []
         for m in (0, 10, 30, 60):
             c = condense(cp.K, cp.M, mdofs, method=method, n_modes=m)
@@ -257,13 +269,13 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
     """CHOLMOD (cholespy) and SuperLU give the same solves and modes; shift-invert eigsh returns
     both members of every degenerate nodal-diameter pair (the reason the hand-written block
     solver once existed: it does not reproduce); the free structure's six rigid-body modes."""
-    from fem_prep import factorize, shift_invert_modes
+    from fem_prep import CholmodFactor, SparseFactor, factorize, shift_invert_modes
 
     body, bm, ms, cp, mdofs = coupled
     held = cp.bearing_dofs.ravel()
     free = np.setdiff1d(np.arange(cp.K.shape[0]), held)
     K, M = cp.K[free][:, free], cp.M[free][:, free]
-    cf, sf = factorize(K, method="cholmod"), factorize(K, method="superlu")
+    cf, sf = factorize(K, method=CholmodFactor), factorize(K, method=SparseFactor)
     B = np.random.default_rng(2).standard_normal((K.shape[0], 7))
     x1, x2 = cf.solve(B), sf.solve(B)
     assert np.linalg.norm(x1 - x2) < 1e-9 * np.linalg.norm(x2)
@@ -281,8 +293,9 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
     # free structure (rigid-body modes) with a negative shift, as the pipeline does
     sig = -1e-4 * float(np.median(cp.K.diagonal() / cp.M.diagonal()))
     A = (cp.K - sig * cp.M).tocsr()
-    l3, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=factorize(A, method="cholmod"))
-    l4, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=factorize(A, method="superlu"))
+    cholmod, superlu = factorize(A, method=CholmodFactor), factorize(A, method=SparseFactor)
+    l3, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=cholmod)
+    l4, _ = shift_invert_modes(cp.K, cp.M, 12, sigma=sig, factor=superlu)
     np.testing.assert_allclose(l3[6:], l4[6:], rtol=1e-8)
     assert np.all(np.abs(l3[:6]) < 1e-6 * l3[6])
 

@@ -205,8 +205,9 @@ def test_case_file_fe2d_keys():
 
 
 def test_profile_sources_agree_and_inputs_are_checked():
-    gen = fem_prep.tooth_profile(_geometry(30, 1e-3, math.radians(20)), form="tooth_form")
-    arc = fem_prep.tooth_profile(_geometry(30, 1e-3, math.radians(20)), form="circular_fillet")
+    g30 = _geometry(30, 1e-3, math.radians(20))
+    gen = fem_prep.tooth_profile(g30, form=fem_prep.TrochoidFillet())
+    arc = fem_prep.tooth_profile(g30, form=fem_prep.CircularFillet())
     assert gen.source == "tooth_form" and arc.source == "circular_fillet"
     r = np.linspace(gen.form_radius, gen.tip_radius, 50)
     np.testing.assert_allclose(gen.psi(r), arc.psi(r), atol=1e-9)  # the same involute
@@ -300,7 +301,10 @@ def test_independent_of_the_number_of_modelled_teeth():
     the same compliance within 0.3 % (the tooth-only part within 0.1 %)."""
     fe = [
         fem_prep.tooth_compliance(
-            _geometry(30, 1e-3, math.radians(20)), size=1e-3 / 3, n_teeth=n, use_cache=False
+            _geometry(30, 1e-3, math.radians(20)),
+            size=1e-3 / 3,
+            model=fem_prep.SectorModel(n_teeth=n),
+            use_cache=False,
         )
         for n in (3, 7)
     ]

@@ -1,0 +1,216 @@
+"""Atomic file writers, output-path checks and embedded input files shared by jaxgear and fem_prep.
+
+JAX-free (standard library only), so that ``jaxgear`` can import it by this public name.  A file
+written by :func:`atomic_open` / :func:`atomic_write` appears complete or not at all; the
+output-path checks raise one-line ``ValueError``s naming the option (``--out PATH: ...``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+__all__ = [
+    "OUTPUT_MANIFEST",
+    "atomic_open",
+    "atomic_write",
+    "check_output_dir",
+    "check_output_file",
+    "fem_prep_cache_dir",
+    "embedded_names",
+    "embedded_text",
+    "print_or_write",
+    "record_outputs",
+    "recorded_outputs",
+    "write_new_file",
+]
+
+
+def fem_prep_cache_dir() -> Path:
+    """fem_prep's cache directory: ``$FEM_PREP_CACHE`` or ``~/.cache/jaxgear/fem_prep``
+    (``fem_prep.cache_dir``)."""
+    env = os.environ.get("FEM_PREP_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "jaxgear" / "fem_prep"
+
+
+OUTPUT_MANIFEST = ".jaxgear-outputs"
+"""The file, in an output folder, that lists what a command wrote there (one relative path a
+line): its next run deletes only those files (see ``jaxgear.cli._paths.clear_outputs``)."""
+_RECORDING: set[str] = set()  # absolute folders whose written files go to their manifest
+
+
+def record_outputs(folder) -> None:
+    """From now on, every file written under ``folder`` by :func:`atomic_open` /
+    :func:`atomic_write` is listed in ``folder/.jaxgear-outputs`` (created with the first file,
+    so that a run that writes nothing leaves no folder behind)."""
+    _RECORDING.add(os.path.abspath(os.fspath(folder)))
+
+
+def recorded_outputs(folder) -> list[str]:
+    """The relative paths listed in ``folder``'s manifest (none without one)."""
+    try:
+        text = (Path(os.fspath(folder)) / OUTPUT_MANIFEST).read_text("utf-8")
+    except (OSError, UnicodeDecodeError):
+        return []
+    return [line for line in text.splitlines() if line and not line.startswith("#")]
+
+
+def _record(path: Path) -> None:
+    """List a written file in the manifest of the innermost recording folder that holds it."""
+    target = os.path.abspath(path)
+    holders = [f for f in _RECORDING if target.startswith(f.rstrip(os.sep) + os.sep)]
+    if not holders:
+        return
+    folder = max(holders, key=len)
+    rel = os.path.relpath(target, folder)
+    if rel in recorded_outputs(folder):
+        return
+    manifest = os.path.join(folder, OUTPUT_MANIFEST)
+    with contextlib.suppress(OSError):
+        new = not os.path.exists(manifest)
+        with open(manifest, "a", encoding="utf-8") as f:
+            if new:
+                f.write("# files written here by jaxgear (its next run deletes them)\n")
+            f.write(rel + "\n")
+
+
+@contextlib.contextmanager
+def _atomic_path(path) -> Iterator[Path]:
+    path = Path(os.fspath(path))
+    directory = path.absolute().parent
+    directory.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".tmp-{path.name}-", suffix=".tmp", dir=directory)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file the usual permissions
+    try:
+        yield Path(tmp)
+        fd = os.open(tmp, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(tmp, path)
+        _record(path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+
+
+@contextlib.contextmanager
+def atomic_open(path, mode: str = "w", **kwargs):
+    """Open a temporary file beside ``path``; rename it onto ``path`` only if the block succeeds.
+
+    An interrupted run never leaves a truncated ``path``: either the old file (or nothing) or the
+    complete new one is there.
+    """
+    with _atomic_path(path) as tmp, open(tmp, mode, **kwargs) as f:
+        yield f
+
+
+def atomic_write(path, write: Callable[[Path], None]) -> Path:
+    """Call ``write(tmp)`` on a temporary path beside ``path``, then rename it onto ``path``."""
+    with _atomic_path(path) as tmp:
+        write(tmp)
+    return Path(path)
+
+
+def check_output_dir(path, option: str = "--out") -> str:
+    """Check that ``path`` can be the output folder of a command, without creating anything
+    (the writers create it when the first file is written: bad input leaves no folder behind).
+
+    Raises:
+        ValueError: one-line message ``{option} PATH: why`` when ``path`` is a file, lies under
+            a file, or its nearest existing folder is not writable.
+    """
+    path = os.fspath(path)
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise ValueError(f"{option} {path}: is a file, not a folder")
+    existing = os.path.abspath(path)
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise ValueError(f"{option} {path}: {existing} is a file, not a folder")
+    try:  # os.access alone misses read-only mounts (and root passes it everywhere)
+        fd, probe = tempfile.mkstemp(prefix=".tmp-probe-", dir=existing)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError:
+        where = "folder" if existing == os.path.abspath(path) else f"parent folder {existing}"
+        raise ValueError(f"{option} {path}: {where} is not writable") from None
+    return path
+
+
+def check_output_file(path, option: str = "--json") -> str:
+    """Check that a file can be written at ``path`` (a missing folder is created on writing).
+
+    Raises:
+        ValueError: ``path`` is a folder, or its folder cannot be created or written.
+    """
+    path = os.fspath(path)
+    if path.endswith(os.sep) or os.path.isdir(path):
+        raise ValueError(f"{option} {path}: is a folder, expected a file name")
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        check_output_dir(folder, option)
+    except ValueError as err:
+        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
+    if os.path.exists(path) and not os.access(path, os.W_OK):
+        raise ValueError(f"{option} {path}: file is not writable")
+    return path
+
+
+def write_new_file(path, text: str, *, force: bool = False, option: str = "--write") -> Path:
+    """Write ``text`` to ``path`` atomically, refusing to replace a file unless ``force``
+    (``jaxgear cases NAME --write FILE``, ``fem-prep bodies NAME --write FILE``).
+
+    Raises:
+        ValueError: one line ``{option} PATH: why``: a folder, an existing file without
+            ``force``, or a folder that cannot be written.
+    """
+    path = os.fspath(path)
+    if os.path.exists(path) and not os.path.isdir(path) and not force:
+        raise ValueError(f"{option} {path}: exists (add --force to replace it)")
+    check_output_file(path, option)
+    with atomic_open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    return Path(path)
+
+
+# --------------------------------------------------------------------------------------------
+# embedded input files (jaxgear's cases, fem_prep's bodies)
+
+
+def embedded_names(folder) -> list[str]:
+    """Names of the ``*.toml`` files in a package folder (``importlib.resources`` traversable)."""
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
+def embedded_text(folder, name: str, kind: str) -> str:
+    """The text of the embedded ``kind`` file ``name`` (``folder/name.toml``).
+
+    Raises:
+        FileNotFoundError: ``name`` is not one of them (the message lists them).
+    """
+    names = embedded_names(folder)
+    if name not in names:
+        kinds = kind[:-1] + "ies" if kind.endswith("y") else kind + "s"
+        raise FileNotFoundError(
+            f"no embedded {kind} {name!r} (embedded {kinds}: {', '.join(names)})"
+        )
+    return (folder / f"{name}.toml").read_text("utf-8")
+
+
+def print_or_write(text: str, write, *, force: bool, what: str, next_command: str) -> None:
+    """``text`` to stdout, or with ``write`` (a path) to a new file (:func:`write_new_file`),
+    saying ``wrote PATH (what; next_command PATH)``."""
+    if write is None:
+        sys.stdout.write(text)
+        return
+    path = write_new_file(write, text, force=force)
+    print(f"wrote {path} ({what}; {next_command} {path})")
