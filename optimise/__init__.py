@@ -33,17 +33,20 @@ from ._objectives import (
 from ._problem import (
     OBJECTIVE_UNITS as OBJECTIVE_UNITS,
     OBJECTIVES as OBJECTIVES,
-    VARIABLES as VARIABLES,
-    Depth as Depth,
-    EndExtent as EndExtent,
-    Extent as Extent,
     Problem as Problem,
     Smoothing as Smoothing,
-    Variable as Variable,
     make_problem as make_problem,
-    tip_relief_slots as tip_relief_slots,
     zero_fluctuation_depth as zero_fluctuation_depth,
 )
 from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
+from ._variables import (
+    VARIABLES as VARIABLES,
+    AbstractKind as AbstractKind,
+    Depth as Depth,
+    EndExtent as EndExtent,
+    Extent as Extent,
+    Variable as Variable,
+    tip_relief_slots as tip_relief_slots,
+)
 
 __version__ = "0.1.0"

@@ -18,7 +18,8 @@ import optimistix as optx
 
 import jaxgear as jg
 
-from ._problem import EXACT, Problem, tip_relief_slots
+from ._problem import EXACT, Problem
+from ._variables import tip_relief_slots
 
 __all__ = ["contour_map", "master_curve"]
 
