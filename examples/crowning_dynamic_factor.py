@@ -26,6 +26,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import optax  # noqa: E402
 
 import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
@@ -104,9 +105,7 @@ def main() -> dict:
     # the curvature condition and its steps stay -gradient (20 iterations from 12.5 µm moved it
     # 0.34 µm); Adam's steps are the learning rate's size whatever the gradient's scale
     x0 = np.asarray(problem.from_physical({"crowning.depth": START_UM}))
-    res = optimise.minimise(
-        problem, x0, method="adam", learning_rate=0.1, max_iterations=40, progress=True
-    )
+    res = optimise.minimise(problem, x0, optax.adam(0.1), max_iterations=40, progress=True)
     best = problem.to_physical(res.x)["crowning.depth"]
     df_best = scan(case, scene, problem, [best])[0]
     grad = gradient_check(problem, 12.5)

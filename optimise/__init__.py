@@ -1,24 +1,52 @@
 """optimise: gradient-based tooth-modification design on the jaxgear quasi-static model.
 
-Objectives (TE RMS / peak-to-peak at one load or over a torque range, maximum line load, load
-centroid across the face, L_p norm of the line load) on the rigid mesh or on any scene (the hybrid
-scene at speed included), design variables normalised and bounded by reparametrisation,
-optimistix solves (L-BFGS, Adam), the Master Curve and the (Γ, E) contour map of TE RMS.
+Objectives are objects (:class:`TeRms`, :class:`TePeakToPeak`, :class:`RobustTeRms` over a torque
+range, :class:`MaxLineLoad`, :class:`LoadCentroid` across the face, :class:`LineLoadLp` of the
+line load, :class:`DynamicFactor` over a speed band) on the rigid mesh or on any scene (the hybrid
+scene at speed included), design variables normalised and bounded by reparametrisation; any
+optimistix quasi-Newton minimiser or optax gradient transformation solves it (:func:`minimise`,
+L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
+sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile` statistic).
+Case-file names map to these objects in :mod:`jaxgear.io` (``case_problem``).
 """
 
 from ._master_curve import contour_map as contour_map, master_curve as master_curve
-from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
 from ._minimise import OptimisationResult as OptimisationResult, minimise as minimise
-from ._problem import (
+from ._objectives import (
     CENTROID_SCALE as CENTROID_SCALE,
-    OBJECTIVE_UNITS as OBJECTIVE_UNITS,
-    OBJECTIVES as OBJECTIVES,
-    VARIABLES as VARIABLES,
-    Problem as Problem,
+    AbstractObjective as AbstractObjective,
+    AbstractQuasiStaticObjective as AbstractQuasiStaticObjective,
+    AbstractStatistic as AbstractStatistic,
+    DynamicFactor as DynamicFactor,
+    LineLoadLp as LineLoadLp,
+    LoadCentroid as LoadCentroid,
+    Max as Max,
+    MaxLineLoad as MaxLineLoad,
+    Mean as Mean,
+    Quantile as Quantile,
+    RobustTeRms as RobustTeRms,
+    TePeakToPeak as TePeakToPeak,
+    TeRms as TeRms,
     line_load_lp as line_load_lp,
     load_centroid as load_centroid,
+)
+from ._problem import (
+    OBJECTIVE_UNITS as OBJECTIVE_UNITS,
+    OBJECTIVES as OBJECTIVES,
+    Problem as Problem,
+    Smoothing as Smoothing,
     make_problem as make_problem,
     zero_fluctuation_depth as zero_fluctuation_depth,
+)
+from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
+from ._variables import (
+    VARIABLES as VARIABLES,
+    AbstractKind as AbstractKind,
+    Depth as Depth,
+    EndExtent as EndExtent,
+    Extent as Extent,
+    Variable as Variable,
+    tip_relief_slots as tip_relief_slots,
 )
 
 __version__ = "0.1.0"

@@ -19,29 +19,31 @@ import optimistix as optx
 import jaxgear as jg
 
 from ._problem import EXACT, Problem
+from ._variables import tip_relief_slots
 
 __all__ = ["contour_map", "master_curve"]
 
 
-def _xy(problem: Problem, extent, depth):
-    """Design vector with ``depth`` (E*) and ``extent`` (Γ) at the tip-relief variable slots."""
-    names = problem.names
-    x = jnp.zeros(len(names), dtype=jnp.result_type(float))
-    for i, n in enumerate(names):
-        if n.endswith("tip_relief.depth"):
-            x = x.at[i].set(depth)
-        elif n.endswith("tip_relief.extent"):
-            x = x.at[i].set(extent)
-    return x
+def _slots(problem: Problem) -> tuple[int, int]:
+    """The positions (depth, extent) of the tip relief variables.
 
-
-def _check(problem: Problem):
-    names = [n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names]
-    if sorted(names) != ["tip_relief.depth", "tip_relief.extent"]:
+    Raises:
+        ValueError: the problem's variables are not exactly the tip relief depth and extent.
+    """
+    slots = tip_relief_slots(problem.names)
+    if slots is None:
         raise ValueError(
             f"the (Γ, E) map needs exactly the variables tip_relief.depth and "
             f"tip_relief.extent, got {problem.names}"
         )
+    return slots
+
+
+def _xy(problem: Problem, extent, depth):
+    """Design vector with ``depth`` (E*) and ``extent`` (Γ) at the tip-relief variable slots."""
+    i_d, i_g = _slots(problem)
+    x = jnp.zeros(len(problem.names), dtype=jnp.result_type(float))
+    return x.at[i_d].set(depth).at[i_g].set(extent)
 
 
 @eqx.filter_jit
@@ -63,7 +65,7 @@ def contour_map(
     Returns:
         objective / unmodified objective, shape (nG, nE).
     """
-    _check(problem)
+    _slots(problem)
     return np.asarray(_grid(problem, jnp.asarray(extents), jnp.asarray(depths), contact))
 
 
@@ -115,11 +117,8 @@ def master_curve(problem: Problem, extents, *, coarse_depths=None, iterations: i
         bool: the optimum depth lies on a bound of the depth interval (no interior minimum was
         found there: not a true optimum).
     """
-    _check(problem)
+    i_d, i_g = _slots(problem)
     extents = np.asarray(extents, dtype=float)
-    names = list(problem.names)
-    i_d = [i for i, n in enumerate(names) if n.endswith("tip_relief.depth")][0]
-    i_g = [i for i, n in enumerate(names) if n.endswith("tip_relief.extent")][0]
     lo_g, hi_g = float(problem.lower[i_g]), float(problem.upper[i_g])
     if extents.size == 0 or np.any(extents < lo_g) or np.any(extents > hi_g):
         raise ValueError(

@@ -1,15 +1,23 @@
-"""Gradient-based minimisation with optimistix (L-BFGS with backtracking Armijo, or Adam).
+"""Gradient-based minimisation with any optimistix quasi-Newton minimiser (L-BFGS by default,
+BFGS, DFP) or optax gradient transformation (Adam, ...), passed as an object.
 
 One jitted ``optimistix.minimise`` call per run: the whole loop stays on the device, compiled
-once per problem structure and method (start, tolerance, iteration cap and learning rate are
-traced values, so new values do not recompile). A thin wrapper solver adds the iteration cap
-(accepted iterations, not line-search evaluations) and reports each accepted iterate to the host
-through ``jax.debug.callback``: the callback fills the history and the progress bar; it does not
-stop the loop or wait for Python between iterations.
+once per problem structure and solver structure (the start, the iteration cap and the solver's
+``rtol``/``atol`` are traced values, so new values do not recompile). A thin wrapper solver adds
+the iteration cap (accepted iterations, not line-search evaluations) and reports each accepted
+iterate to the host through ``jax.debug.callback``: the callback fills the history and the
+progress bar; it does not stop the loop or wait for Python between iterations.
+
+How a solver's iterations are read from its state depends on its family (a quasi-Newton state
+counts accepted steps, an optax state counts updates): :class:`_Iterations` objects chosen once
+per solver type by :func:`_iterations_of` (``functools.singledispatch``), the way
+``optimistix.minimise`` takes any ``AbstractMinimiser``.
 """
 
 from __future__ import annotations
 
+import abc
+import functools
 import itertools
 import threading
 import time
@@ -30,29 +38,111 @@ __all__ = ["OptimisationResult", "minimise"]
 
 # evaluation safety cap per allowed iteration (a line search that never accepts still stops)
 _EVALUATIONS_PER_ITERATION = 50
+# rtol = atol of the optimistix Cauchy criterion given to a bare optax transformation
+DEFAULT_TOL = 1e-7
+_DEFAULT_SOLVER = optx.LBFGS(rtol=DEFAULT_TOL, atol=DEFAULT_TOL)
+
+
+class _Iterations(eqx.Module):
+    """How the iterations of one family of optimistix minimisers are read from its state."""
+
+    @abc.abstractmethod
+    def count(self, state):
+        """Accepted iterations so far (the start is iteration 0)."""
+
+    @abc.abstractmethod
+    def step(self, y, new_y, inner, new_inner):
+        """(accepted, iteration, point, value) of one solver step, for the report."""
+
+    @abc.abstractmethod
+    def final(self, sol, problem, n_steps, run):
+        """(value, iterations, steps) of the returned point."""
+
+
+class _QuasiNewton(_Iterations):
+    """``optx.AbstractQuasiNewton`` (BFGS, LBFGS, DFP): an iterate is accepted when the line
+    search accepts it; the first accepted point is the start."""
+
+    def count(self, state):
+        return state.num_accepted_steps - 1  # the first accepted point is y0
+
+    def step(self, y, new_y, inner, new_inner):
+        accepted = new_inner.num_accepted_steps > inner.num_accepted_steps
+        return accepted, new_inner.num_accepted_steps - 1, new_y, new_inner.f_info.f
+
+    def final(self, sol, problem, n_steps, run):
+        inner_state = sol.state[0]
+        # the returned point is the last accepted one
+        return inner_state.f_info.f, inner_state.num_accepted_steps - 1, n_steps
+
+
+class _Optax(_Iterations):
+    """``optx.OptaxMinimiser``: every step is an iteration."""
+
+    def count(self, state):
+        return state.step
+
+    def step(self, y, new_y, inner, new_inner):
+        # evaluated the incoming point y (iterate ``inner.step``) at value new_inner.f
+        return jnp.array(True), inner.step, y, new_inner.f
+
+    def final(self, sol, problem, n_steps, run):
+        # the returned point is the update after the last evaluated one
+        value = _objective(sol.value, problem)
+        iterations = sol.state[0].step
+        jax.debug.callback(_report, run, jnp.array(True), iterations, sol.value, value)
+        return value, iterations, n_steps + 1
+
+
+@functools.singledispatch
+def _iterations_of(solver) -> _Iterations:
+    raise ValueError(
+        f"solver = {type(solver).__name__}: allowed an optimistix quasi-Newton minimiser "
+        "(optimistix.LBFGS, BFGS, DFP), an optimistix.OptaxMinimiser or an optax "
+        "GradientTransformation (e.g. optax.adam(0.05))"
+    )
+
+
+@_iterations_of.register
+def _(solver: optx.AbstractQuasiNewton) -> _Iterations:
+    return _QuasiNewton()
+
+
+@_iterations_of.register
+def _(solver: optx.OptaxMinimiser) -> _Iterations:
+    return _Optax()
+
+
+@functools.singledispatch
+def _as_minimiser(solver):
+    """An optimistix minimiser as it is (its tolerances as arrays, traced by the solve)."""
+    real = jnp.result_type(float)
+    rtol = jnp.asarray(np.asarray(solver.rtol, dtype=float), dtype=real)
+    atol = jnp.asarray(np.asarray(solver.atol, dtype=float), dtype=real)
+    return eqx.tree_at(lambda s: (s.rtol, s.atol), solver, (rtol, atol))
+
+
+@_as_minimiser.register
+def _(solver: optax.GradientTransformation):
+    """An optax transformation: ``optimistix.OptaxMinimiser`` with rtol = atol = 1e-7."""
+    return _as_minimiser(optx.OptaxMinimiser(solver, rtol=DEFAULT_TOL, atol=DEFAULT_TOL))
 
 
 class _Capped(optx.AbstractMinimiser):
     """Wraps an optimistix minimiser: stops after ``options["max_iterations"]`` accepted
-    iterations (result ``nonlinear_max_steps_reached``) and reports each accepted iterate.
-
-    Supports the quasi-Newton solvers (an iterate is accepted when the line search accepts it; the
-    first accepted point is the start) and ``OptaxMinimiser`` (every step is an iteration).
+    iterations (result ``nonlinear_max_steps_reached``) and reports each accepted iterate
+    (``iterations`` reads them from the solver's state).
     """
 
     solver: optx.AbstractMinimiser
+    iterations: _Iterations
     rtol: Any
     atol: Any
     norm: Any
 
-    def __init__(self, solver):
-        self.solver = solver
+    def __init__(self, solver, iterations):
+        self.solver, self.iterations = solver, iterations
         self.rtol, self.atol, self.norm = solver.rtol, solver.atol, solver.norm
-
-    def _iterations(self, state):
-        if isinstance(self.solver, optx.OptaxMinimiser):
-            return state.step
-        return state.num_accepted_steps - 1  # the first accepted point is y0
 
     def init(self, fn, y, args, options, f_struct, aux_struct, tags):
         inner = self.solver.init(fn, y, args, options, f_struct, aux_struct, tags)
@@ -61,12 +151,7 @@ class _Capped(optx.AbstractMinimiser):
     def step(self, fn, y, args, options, state, tags):
         inner, n_steps = state
         new_y, new_inner, aux = self.solver.step(fn, y, args, options, inner, tags)
-        if isinstance(self.solver, optx.OptaxMinimiser):
-            # evaluated the incoming point y (iterate ``inner.step``) at value new_inner.f
-            accepted, k, point, value = jnp.array(True), inner.step, y, new_inner.f
-        else:
-            accepted = new_inner.num_accepted_steps > inner.num_accepted_steps
-            k, point, value = new_inner.num_accepted_steps - 1, new_y, new_inner.f_info.f
+        accepted, k, point, value = self.iterations.step(y, new_y, inner, new_inner)
         jax.debug.callback(_report, options["run"], accepted, k, point, value)
         return new_y, (new_inner, n_steps + 1), aux
 
@@ -74,7 +159,7 @@ class _Capped(optx.AbstractMinimiser):
         inner, n_steps = state
         done, result = self.solver.terminate(fn, y, args, options, inner, tags)
         capped = jnp.invert(done) & (
-            (self._iterations(inner) >= options["max_iterations"])
+            (self.iterations.count(inner) >= options["max_iterations"])
             | (n_steps >= options["max_evaluations"])
         )
         result = optx.RESULTS.where(capped, optx.RESULTS.nonlinear_max_steps_reached, result)
@@ -109,32 +194,27 @@ def _objective(u, problem: Problem):
 
 
 @eqx.filter_jit
-def _solve(problem, method, u0, tol, learning_rate, max_iterations, run):
-    """One optimistix solve; ``method`` is static, every other argument is traced."""
-    if method == "lbfgs":
-        inner = optx.LBFGS(rtol=tol, atol=tol)
-    else:
-        inner = optx.OptaxMinimiser(optax.adam(learning_rate), rtol=tol, atol=tol)
+def _solve(problem, solver, iterations, u0, max_iterations, run):
+    """One optimistix solve; the solver's structure is static, its tolerances, the start and the
+    cap are traced."""
     options = {
         "max_iterations": max_iterations,
         "max_evaluations": _EVALUATIONS_PER_ITERATION * (max_iterations + 1),
         "run": run,
     }
     sol = optx.minimise(
-        _objective, _Capped(inner), u0, problem, options, max_steps=None, throw=False
+        _objective,
+        _Capped(solver, iterations),
+        u0,
+        problem,
+        options,
+        max_steps=None,
+        throw=False,
     )
-    inner_state, n_steps = sol.state
-    if method == "lbfgs":
-        value = inner_state.f_info.f  # the returned point is the last accepted one
-        iterations = inner_state.num_accepted_steps - 1
-    else:  # the returned point is the update after the last evaluated one
-        value = _objective(sol.value, problem)
-        iterations = inner_state.step
-        n_steps = n_steps + 1
-        jax.debug.callback(_report, run, jnp.array(True), iterations, sol.value, value)
+    value, n_iterations, n_steps = iterations.final(sol, problem, sol.state[1], run)
     converged = sol.result == optx.RESULTS.successful
     capped = sol.result == optx.RESULTS.nonlinear_max_steps_reached
-    return sol.value, value, iterations, n_steps, converged, capped
+    return sol.value, value, n_iterations, n_steps, converged, capped
 
 
 class OptimisationResult(eqx.Module):
@@ -168,42 +248,43 @@ class OptimisationResult(eqx.Module):
 def minimise(
     problem: Problem,
     x0,
+    solver: optx.AbstractMinimiser | optax.GradientTransformation | None = None,
     *,
-    method: str = "lbfgs",
     max_iterations: int = 100,
-    tol: float = 1e-7,
-    learning_rate: float = 0.05,
     progress: bool = True,
 ) -> OptimisationResult:
-    """Minimise ``problem.value`` (smooth contact) from normalised start ``x0``.
+    """Minimise ``problem.value`` (smooth contact) from normalised start ``x0`` with ``solver``.
 
     The optimiser runs in the unbounded variables u (``Problem.bounded``) as one jitted
-    ``optimistix.minimise`` call, compiled once per problem structure and method: ``x0``,
-    ``tol``, ``max_iterations`` and ``learning_rate`` are traced, new values do not recompile.
+    ``optimistix.minimise`` call, compiled once per problem structure and solver structure:
+    ``x0``, ``max_iterations`` and the solver's ``rtol``/``atol`` are traced, new values do not
+    recompile.
 
     Args:
         problem: the problem (bounds by reparametrisation).
         x0: start, normalised units, shape (n,), inside the bounds.
-        method: "lbfgs" (``optimistix.LBFGS``, backtracking Armijo line search) or "adam"
-            (``optimistix.OptaxMinimiser(optax.adam(learning_rate))``).
+        solver: an optimistix quasi-Newton minimiser (default
+            ``optimistix.LBFGS(rtol=1e-7, atol=1e-7)``, backtracking Armijo line search;
+            ``optimistix.BFGS``, ``DFP``), an ``optimistix.OptaxMinimiser``, or an optax
+            ``GradientTransformation`` (e.g. ``optax.adam(0.05)``, run as
+            ``OptaxMinimiser(solver, rtol=1e-7, atol=1e-7)``). Its ``rtol``/``atol`` are
+            optimistix's Cauchy criterion: stop when two successive accepted iterates differ by
+            less than ``atol + rtol·|u|`` in every component of u and their objectives by less
+            than ``atol + rtol·|f|``.
         max_iterations: cap on accepted iterations (line-search trials are not iterations).
-        tol: ``rtol = atol`` of optimistix's Cauchy criterion: stop when two successive accepted
-            iterates differ by less than ``tol·(1 + |u|)`` in every component of u and their
-            objectives by less than ``tol·(1 + |f|)``.
-        learning_rate: Adam step.
         progress: a tqdm bar, advanced from inside the solve by ``jax.debug.callback`` at each
             accepted iterate.
 
     Raises:
-        ValueError: unknown method, x0 of the wrong size or outside the bounds.
+        ValueError: a solver of another kind, x0 of the wrong size or outside the bounds.
         FloatingPointError: the objective became non-finite.
 
     Warns:
         UserWarning: the iteration cap was reached before the stopping rule (``converged`` is
             False), or the solver stopped otherwise without converging.
     """
-    if method not in ("lbfgs", "adam"):
-        raise ValueError(f"method = {method!r}: allowed 'lbfgs', 'adam'")
+    solver = _as_minimiser(_DEFAULT_SOLVER if solver is None else solver)
+    iterations = _iterations_of(solver)
     x0 = np.asarray(x0, dtype=float).reshape(-1)
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
     if x0.shape != lo.shape:
@@ -216,18 +297,17 @@ def minimise(
             f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}"
         )
     t0 = time.perf_counter()
-    bar = tqdm(total=max_iterations, desc=f"optimise ({method})", disable=not progress)
+    desc = f"optimise ({type(solver).__name__})"
+    bar = tqdm(total=max_iterations, desc=desc, disable=not progress)
     with _LOCK:
         run = next(_RUN_IDS)
     rec = _RUNS[run] = {"history": {}, "bar": bar}
-    real = jnp.result_type(float)
     try:
-        u, value, iterations, n_eval, converged, capped = _solve(
+        u, value, n_iterations, n_eval, converged, capped = _solve(
             problem,
-            method,
+            solver,
+            iterations,
             problem.unbounded(x0),
-            jnp.asarray(np.asarray(tol, dtype=float), dtype=real),
-            jnp.asarray(np.asarray(learning_rate, dtype=float), dtype=real),
             jnp.asarray(int(max_iterations)),
             jnp.asarray(run),
         )
@@ -235,7 +315,7 @@ def minimise(
         jax.effects_barrier()
     finally:
         del _RUNS[run]
-    it = int(iterations)
+    it = int(n_iterations)
     bar.total = max(it, 1)  # stopped early: the bar ends full, not at it/max_iterations
     bar.n = it
     bar.set_postfix(objective=f"{value:.5g}", refresh=False)

@@ -20,7 +20,8 @@ from jaxtyping import Array, Float
 
 import jaxgear as jg
 
-from ._problem import Problem
+from ._objectives import AbstractStatistic, Mean, TeRms
+from ._problem import Problem, base_plane
 
 __all__ = ["RobustProblem", "robust_problem"]
 
@@ -30,22 +31,21 @@ class RobustProblem(eqx.Module):
     statistic of the TE RMS over deviation realisations. Build with :func:`robust_problem`.
 
     Attributes:
-        problem: the deterministic problem (``te_rms`` objective) whose variables, bounds,
+        problem: the deterministic problem (:class:`TeRms` objective) whose variables, bounds,
             design torque and contact law are used.
         deviations: the N realisations, a :class:`jaxgear.Deviations` whose arrays have a
             leading axis (N, ...).
         theta: pinion angles of the span (rad), (P,).
         scale: the statistic at the problem's starting modifications (``problem.base``, exact
             contact) (m): the objective is 1 there.
-        statistic: "mean" or a quantile level q in (0, 1) (``jnp.quantile``, linear
-            interpolation; differentiable almost everywhere). Static.
+        statistic: the statistic over the realisations (:class:`Mean`, :class:`Quantile`, ...).
     """
 
     problem: Problem
     deviations: jg.Deviations
     theta: Float[Array, " P"]
     scale: Float[Array, ""]
-    statistic: str | float = eqx.field(static=True)
+    statistic: AbstractStatistic
 
     # the optimiser's interface (optimise.minimise), forwarded to the problem
     @property
@@ -78,30 +78,30 @@ class RobustProblem(eqx.Module):
         """Each realisation's TE RMS (m) over the span at design ``x``, shape (N,), in
         ``contact`` (default: the problem's smooth law; :class:`jaxgear.ExactContact` for the
         design as the exact law sees it)."""
-        return self._te_rms(self.problem.modifications(x), self.problem._law(contact))
-
-    def _te_rms(self, mods, law):
-        p = self.problem
-
-        def one(dev):
-            m = jg.Modifications(mods.pinion, mods.gear, deviations=dev)
-            r = jg.quasi_static(
-                p.mesh, m, p.design_torque, self.theta, speed=p.speed, contact=law, throw=False
-            )
-            return r.te_rms
-
-        return jax.vmap(one)(self.deviations)
+        mods, law = self.problem.modifications(x), self.problem._law(contact)
+        return _te_rms(self.problem, self.deviations, self.theta, mods, law)
 
     def reduce(self, values: Float[Array, " N"]) -> Float[Array, ""]:
         """The statistic of ``values``."""
-        if self.statistic == "mean":
-            return jnp.mean(values)
-        return jnp.quantile(values, self.statistic)
+        return self.statistic(values)
 
     def value(self, x: Float[Array, " n"], contact: jg.ContactLaw | None = None):
         """The scaled objective: the statistic of the realisations' TE RMS / its value at the
         unmodified design."""
         return self.reduce(self.te_rms(x, contact)) / self.scale
+
+
+def _te_rms(p: Problem, deviations, theta, mods, law) -> Float[Array, " N"]:
+    """Each realisation's TE RMS (m) over the span ``theta`` for modifications ``mods``."""
+
+    def one(dev):
+        m = jg.Modifications(mods.pinion, mods.gear, deviations=dev)
+        r = jg.quasi_static(
+            p.mesh, m, p.design_torque, theta, speed=p.speed, contact=law, throw=False
+        )
+        return r.te_rms
+
+    return jax.vmap(one)(deviations)
 
 
 def robust_problem(
@@ -112,27 +112,28 @@ def robust_problem(
     *,
     revolutions: int = 1,
     positions_per_pitch: int = 8,
-    statistic: str | float = "mean",
+    statistic: AbstractStatistic = Mean(),
 ) -> RobustProblem:
-    """The robust version of ``problem`` (a ``te_rms`` :class:`Problem` on a mesh or scene of one
-    gear pair): realisation i of the deviations is ``sampler(jax.random.fold_in(key, i))``,
-    i < ``samples``, fixed for the whole optimisation.
+    """The robust version of ``problem`` (a :class:`Problem` with the :class:`TeRms` objective on a
+    mesh or scene of one gear pair): realisation i of the deviations is
+    ``sampler(jax.random.fold_in(key, i))``, i < ``samples``, fixed for the whole optimisation.
 
     Args:
-        problem: from :func:`optimise.make_problem` with ``objective="te_rms"``.
+        problem: from :func:`optimise.make_problem` with the :class:`TeRms` objective.
         sampler: a :class:`jaxgear.DeviationSampler`. key: a ``jax.random`` key.
         samples: N >= 1.
         revolutions: pinion revolutions of the span (>= 1).
         positions_per_pitch: positions per mesh period over the span (>= 2).
-        statistic: "mean" (expected TE RMS) or a quantile level in (0, 1) (e.g. 0.9).
+        statistic: :class:`Mean` (expected TE RMS, the default) or a :class:`Quantile` (e.g.
+            ``Quantile(0.9)``), any :class:`AbstractStatistic`.
 
     Raises:
         ValueError: a problem whose objective is not te_rms, samples, revolutions or
             positions_per_pitch out of range, an unknown statistic (one line each).
     """
-    if problem.objective != "te_rms":
+    if not isinstance(problem.objective, TeRms):
         raise ValueError(
-            f"problem objective = {problem.objective!r}: allowed 'te_rms' (the statistic is "
+            f"problem objective = {problem.objective.name!r}: allowed 'te_rms' (the statistic is "
             "taken over the realisations' TE RMS)"
         )
     for name, v, lo in (
@@ -142,18 +143,15 @@ def robust_problem(
     ):
         if isinstance(v, bool) or not isinstance(v, int) or v < lo:
             raise ValueError(f"{name} = {v!r} is out of range: allowed an integer >= {lo}")
-    if statistic != "mean" and not (
-        isinstance(statistic, float | int) and not isinstance(statistic, bool) and 0 < statistic < 1
-    ):
+    if not isinstance(statistic, AbstractStatistic):
         raise ValueError(
-            f"statistic = {statistic!r} is out of range: allowed 'mean' or a quantile in (0, 1)"
+            f"statistic = {statistic!r} is out of range: allowed optimise.Mean() or "
+            "optimise.Quantile(q) with q in (0, 1)"
         )
-    plane = problem.mesh if isinstance(problem.mesh, jg.MeshModel) else problem.mesh.base_planes[0]
+    plane = base_plane(problem.mesh)
     z1 = round(2 * math.pi * float(plane.base_radius_pinion) / float(plane.base_pitch))
     theta = jg.mesh_positions(plane, positions_per_pitch, revolutions * z1)
     keys = jax.vmap(lambda i: jax.random.fold_in(key, i))(jnp.arange(samples))
     deviations = jax.vmap(sampler)(keys)
-    statistic = statistic if statistic == "mean" else float(statistic)
-    rp = RobustProblem(problem, deviations, theta, jnp.ones((), theta.dtype), statistic)
-    scale = rp.reduce(rp._te_rms(problem.base, jg.ExactContact()))
-    return eqx.tree_at(lambda r: r.scale, rp, scale)
+    scale = statistic(_te_rms(problem, deviations, theta, problem.base, jg.ExactContact()))
+    return RobustProblem(problem, deviations, theta, scale, statistic)

@@ -164,9 +164,9 @@ def test_problem_on_model_objects(case, problem):
         case.modifications,
         case.torque,
         "tip_relief.depth,tip_relief.extent",
-        "te_rms",
+        op.TeRms(),
         positions_per_pitch=PPP,
-        contact=jg.SmoothContact(case.smooth_width),
+        smoothing=op.Smoothing(jg.SmoothContact(case.smooth_width)),
     )
     k_mean = float(
         jnp.mean(jg.quasi_static(mesh, None, case.torque, positions_per_pitch=PPP).mesh_stiffness)
@@ -180,16 +180,16 @@ def test_problem_on_model_objects(case, problem):
 @pytest.mark.parametrize(
     "settings,needle",
     [
-        (dict(contact=jg.ExactContact()), "contact = ExactContact"),
-        (dict(contact="smooth"), "contact = 'smooth'"),
-        (dict(window=(20, 4)), "window = (20, 4)"),
+        (lambda: dict(smoothing=op.Smoothing(jg.ExactContact())), "contact = ExactContact"),
+        (lambda: dict(smoothing=op.Smoothing("smooth")), "contact = 'smooth'"),
+        (lambda: dict(objective=op.DynamicFactor([1e3], window=(20, 4))), "window = (20, 4)"),
     ],
 )
 def test_problem_settings_are_objects(case, settings, needle):
     mesh = case.mesh_model()
     args = (mesh, case.modifications, case.torque, "tip_relief.depth")
     with pytest.raises(ValueError, match=needle.replace("(", r"\(").replace(")", r"\)")):
-        op.make_problem(*args, positions_per_pitch=8, **settings)
+        op.make_problem(*args, positions_per_pitch=8, **settings())
     with pytest.raises(ValueError, match="torque = -1.0 N·m is out of range"):
         op.make_problem(mesh, case.modifications, -1.0, "tip_relief.depth")
 

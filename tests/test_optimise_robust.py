@@ -32,7 +32,7 @@ def setting():
     return case, prob, sampler
 
 
-@pytest.mark.parametrize("statistic", ["mean", 0.75])
+@pytest.mark.parametrize("statistic", [op.Mean(), op.Quantile(0.75)])
 def test_robust_gradient_matches_central_differences(setting, statistic):
     """4 realisations over one revolution at 4 positions per pitch, smooth contact: jax.grad of
     the objective (mean, or the 75 % quantile) equals central differences (h = 1e-5 in the
@@ -70,7 +70,7 @@ def test_robust_optimum_beats_the_nominal_optimum(setting):
 def test_robust_problem_errors_are_one_line(setting):
     case, prob, sampler = setting
     mesh = case.mesh_model(slices=4)
-    ptp = op.make_problem(mesh, jg.Modifications(), 80.0, "tip_relief.depth", "te_ptp")
+    ptp = op.make_problem(mesh, jg.Modifications(), 80.0, "tip_relief.depth", op.TePeakToPeak())
     key = jax.random.key(0)
     for call, text in (
         (lambda: op.robust_problem(prob, sampler, key, 0), "samples = 0"),

@@ -12,6 +12,7 @@ import contextlib
 import jax.monitoring
 import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
@@ -97,7 +98,7 @@ def test_minimise_traces_once_for_new_starts_tolerances_and_caps():
     problem = _tip_relief_problem("tip_relief.depth")
 
     def minimise(x0, tol, cap):
-        r = op.minimise(problem, x0, tol=tol, max_iterations=cap, progress=False)
+        r = op.minimise(problem, x0, optx.LBFGS(tol, tol), max_iterations=cap, progress=False)
         assert r.history_x.shape == (r.iterations + 1, 1)
 
     first = (([0.4], 1e-6, 30),)

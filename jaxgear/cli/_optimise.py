@@ -1,7 +1,15 @@
-"""``jaxgear optimise`` and ``jaxgear master-curve``: files and plots."""
+"""``jaxgear optimise`` and ``jaxgear master-curve``: files and plots.
+
+Entry points: :func:`run_optimise` and :func:`run_master_curve` (``args`` from the parsers of
+:func:`jaxgear.cli._optimise_options.add_parsers`). The settings are names (options and the
+case's ``[optimise]``); :mod:`jaxgear.io` maps them to objects (:func:`jaxgear.io.case_problem`,
+:func:`jaxgear.io.optimiser_from_name`), and the report's sections that differ between
+objectives dispatch on the objective's type (``functools.singledispatch``).
+"""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import time
@@ -14,108 +22,134 @@ from tqdm.auto import tqdm
 
 import jaxgear as jg
 from optimise import (
-    OBJECTIVE_UNITS,
-    OBJECTIVES,
     VARIABLES,
+    LineLoadLp,
+    LoadCentroid,
+    RobustTeRms,
+    TePeakToPeak,
+    TeRms,
+    Variable,
     contour_map,
     master_curve,
     minimise,
+    tip_relief_slots,
     zero_fluctuation_depth,
 )
 
 from ..dynamics import static_scene
-from ..io import atomic_open, case_problem, load_case, write_json
+from ..io import atomic_open, case_problem, load_case, optimiser_from_name, write_json
 from . import _plots
+from ._optimise_options import add_parsers
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, clear_outputs
 
-__all__ = ["PARTIAL", "add_parsers", "run_optimise", "run_master_curve", "settings_from_case"]
+__all__ = [
+    "PARTIAL",
+    "add_parsers",
+    "check_settings",
+    "optimise_case",
+    "run_master_curve",
+    "run_optimise",
+    "settings_from_case",
+]
 
 # the marker of an unfinished optimisation (see optimise_case)
 PARTIAL = "optimum.partial.json"
 
-
-def add_parsers(sub) -> None:
-    """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object."""
-    o = sub.add_parser("optimise", help="gradient-based optimisation of tooth modifications")
-    o.add_argument("case", help="TOML case file or embedded case name")
-    o.add_argument(
-        "--objective",
-        choices=OBJECTIVES,
-        help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
-        "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
-        "line load over the load map (a smooth maximum, see --lp-order)",
-    )
-    o.add_argument(
-        "--vars",
-        help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
-        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)",
-    )
-    o.add_argument("--torques", help="START:STOP:N torque range (N·m) for robust_te_rms")
-    o.add_argument(
-        "--speed",
-        type=float,
-        help="pinion speed (rad/s): optimise on the hybrid scene at that speed, centrifugal loads "
-        "included (a case with [scene.gear_body] or [scene.pinion_body])",
-    )
-    o.add_argument(
-        "--lp-order",
-        type=float,
-        help="p of the line_load_lp objective, in [1, 64] (default 8)",
-    )
-    o.add_argument(
-        "--speeds",
-        help="START:STOP:N pinion speed band (rad/s) of the dynamic_factor objective (hybrid "
-        "Newmark on a case with condensed bodies)",
-    )
-    o.add_argument("--reduce", choices=["max", "mean"], help="robust objective: worst case or mean")
-    o.add_argument("--method", choices=["lbfgs", "adam"], help="optimiser (default lbfgs)")
-    o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
-    o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
-    o.add_argument("--quiet", action="store_true")
-    m = sub.add_parser(
-        "master-curve", help="Master Curve: optimal tip relief depth for each extent"
-    )
-    m.add_argument("case", help="TOML case file or embedded case name")
-    m.add_argument("--extents", default="0.05:0.6:12", help="START:STOP:N relief extents Γ")
-    m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
-    m.add_argument("--quiet", action="store_true", help="no progress bar")
+# the [optimise] table's lists, written as the options write them
+_JOINED = {"vars": ",", "torques": ":", "speeds": ":"}
 
 
 def settings_from_case(case: jg.Case, args=None) -> dict:
     """Optimisation settings: command-line options over the case's ``[optimise]`` table (already
-    validated and normalised by :func:`jaxgear.io.parse_optimise` when the case was loaded)."""
+    validated and normalised by :func:`jaxgear.io.parse_optimise` when the case was loaded).
+
+    ``args``: the parsed options (an ``argparse.Namespace``; options left out or None do not
+    count), or None (the case alone)."""
     table = dict(case.optimise or {})
-    get = lambda k, d: (
-        getattr(args, k, None)
-        if args is not None and getattr(args, k, None) is not None  # noqa: E731
-        else table.get(k, d)
-    )
-    variables = get("vars", "tip_relief.depth,tip_relief.extent")
-    if isinstance(variables, list):
-        variables = ",".join(variables)
-    torques = get("torques", None)
-    if isinstance(torques, list):
-        torques = ":".join(str(t) for t in torques)
-    speeds = get("speeds", None)  # --speeds START:STOP:N or the case's speeds = [start, stop, n]
-    if isinstance(speeds, list):
-        speeds = ":".join(str(v) for v in speeds)
+    for key, sep in _JOINED.items():
+        if key in table:  # vars = [...], torques / speeds = [start, stop, n]
+            table[key] = sep.join(str(v) for v in table[key])
+    given = {} if args is None else {k: v for k, v in vars(args).items() if v is not None}
+
+    def get(key, default):
+        return given.get(key, table.get(key, default))
+
     return {
         "objective": get("objective", "te_rms"),
-        "vars": variables,
-        "torques": torques,
+        "vars": get("vars", "tip_relief.depth,tip_relief.extent"),
+        "torques": get("torques", None),
         "reduce": get("reduce", "max"),
         "method": get("method", "lbfgs"),
         "max_iterations": int(get("max_iterations", 100)),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
-        "speed": getattr(args, "speed", None) if args is not None else None,
-        "speeds": speeds,
+        "speed": given.get("speed"),
+        "speeds": get("speeds", None),
         "lp_order": get("lp_order", None),
     }
 
 
+# -- the report's parts that depend on the objective --------------------------------------------
+@functools.singledispatch
+def _lp_order(objective):
+    """The report's ``lp_order``: the objective's L_p order, None for other objectives."""
+    return None
+
+
+@_lp_order.register
+def _(objective: LineLoadLp):
+    return float(objective.order)
+
+
+@functools.singledispatch
+def _harris_torques(objective, design_torque: float) -> np.ndarray:
+    """The Harris map's torques (N·m): 0.25 to 2 times the design torque (15 points, the design
+    torque one of them)."""
+    harris_t = np.linspace(0.25, 2.0, 15) * design_torque
+    harris_t[np.argmin(np.abs(harris_t - design_torque))] = design_torque
+    return harris_t
+
+
+@_harris_torques.register
+def _(objective: RobustTeRms, design_torque: float) -> np.ndarray:
+    return np.array(objective.torques_Nm, dtype=float)  # the objective's own torque range
+
+
+@functools.singledispatch
+def _has_map(objective) -> bool:
+    """Whether a 2-variable tip relief problem gets the 41×41 map with the optimiser's path."""
+    return False
+
+
+@_has_map.register(TeRms)
+@_has_map.register(TePeakToPeak)
+def _(objective) -> bool:
+    return True
+
+
+@functools.singledispatch
+def _change(objective, rep: dict) -> str:
+    """The terminal line's objective change, start → optimum (exact contact)."""
+    units = objective.units
+    a, b = (rep[k][f"objective_exact_{units}"] for k in ("initial", "final"))
+    return f"{a:.4g} -> {b:.4g} {units}"
+
+
+@_change.register
+def _(objective: LoadCentroid, rep: dict) -> str:
+    # the signed centroid reads better than c²
+    a, b = (rep[k]["exact"]["load_centroid"] for k in ("initial", "final"))
+    return f"centroid {a:+.4g} -> {b:+.4g} face widths from mid-face (+: towards z = b)"
+
+
 def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = True) -> dict:
-    """Run one optimisation from the case's current modifications and write its files."""
+    """Run one optimisation from the case's current modifications and write its files; returns
+    the report (``optimum.json``)."""
+    return _optimise(case, settings, out_dir, progress)[0]
+
+
+def _optimise(case: jg.Case, settings: dict, out_dir: str, progress: bool):
+    """:func:`optimise_case`, returning the report and the problem."""
     torques = (
         range_values(settings["torques"], "--torques", positive=True)
         if settings["torques"]
@@ -140,21 +174,10 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         speed=settings.get("speed") or 0.0,
         speeds=speeds,
     )
+    solver = optimiser_from_name(settings["method"])
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
-    start = {}
-    for n in problem.names:
-        members = (
-            ("pinion",)
-            if n.startswith("pinion.")
-            else ("gear",)
-            if n.startswith("gear.")
-            else ("pinion",)
-        )
-        base = n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n
-        field, kind = VARIABLES[base]
-        v = float(getattr(getattr(case.modifications, members[0]), field))
-        start[n] = v * 1e6 if kind == "depth" else v
-    _warn_idle_extents(case, problem.names)
+    start = problem.case_values(case.modifications)
+    _warn_idle_extents(case, problem.variables)
     # start 5 % of the interval inside the bounds: the reparametrisation's sigmoid is flat at a
     # bound (a depth of 0, no modification yet, would leave the optimiser almost no gradient)
     lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
@@ -162,10 +185,11 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     # until optimum.json is written, a marker says the folder holds an unfinished run (plots
     # are written before optimum.json): an interruption, a crash or a kill leaves it behind
     partial = os.path.join(out_dir, PARTIAL)
+    objective = problem.objective
     marker = {
         "complete": False,
         "case": case.name,
-        "objective": problem.objective,
+        "objective": objective.name,
         "variables": list(problem.names),
         "stage": "optimiser running",
         "notes": "an unfinished jaxgear optimise: no optimum.json; the plots beside this file, "
@@ -173,11 +197,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     }
     write_json(partial, marker)
     res = minimise(
-        problem,
-        x0,
-        method=settings["method"],
-        max_iterations=settings["max_iterations"],
-        progress=progress,
+        problem, x0, solver, max_iterations=settings["max_iterations"], progress=progress
     )
     marker.update(
         stage="post-processing (exact values, plots)",
@@ -187,9 +207,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         parameters=problem.to_physical(res.x),
     )
     write_json(partial, marker)
-    two_d = sorted(
-        n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
-    ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp")
+    slots = tip_relief_slots(problem.names)
+    two_d = slots is not None and _has_map(objective)
     # after the optimiser: exact-contact values, the Harris map and (2 variables) the 41×41 map
     post = tqdm(
         total=3 if two_d else 2,
@@ -197,7 +216,7 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         disable=not progress,
     )
     scale = float(problem.scale)
-    units = OBJECTIVE_UNITS[problem.objective]
+    units = objective.units
     # each evaluation compiled once and called for the start and the optimum (eager calls of the
     # vmapped solve would trace it again each time)
     metrics = eqx.filter_jit(lambda x: sharp.metrics(x, jg.ExactContact()))
@@ -210,15 +229,15 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
 
     report = {
         "case": case.name,
-        "objective": problem.objective,
+        "objective": objective.name,
         "variables": list(problem.names),
         "torques_Nm": np.asarray(problem.torques).tolist(),
-        "reduce": problem.reduce,
+        "reduce": settings["reduce"],
         "method": settings["method"],
         "model": "rigid mesh" if scene is None else "hybrid scene",
         "speed_rad_s": settings.get("speed"),
         "mean_static_deflection_m": float(problem.delta_m),
-        "lp_order": float(problem.lp_order) if problem.objective == "line_load_lp" else None,
+        "lp_order": _lp_order(objective),
         "case_start": start,
         "initial": {
             "parameters": problem.to_physical(res.x0),
@@ -251,15 +270,11 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     _plots.convergence_plot(
         os.path.join(out_dir, "convergence.png"),
         res.history_value,
-        ylabel=_plots.convergence_ylabel(problem.objective, scale, units),
+        ylabel=_plots.convergence_ylabel(objective.name, scale, units),
         title=f"{case.name}: convergence ({settings['method']}, {res.evaluations} evaluations)",
     )
     t_design = float(problem.design_torque)
-    if problem.objective == "robust_te_rms":
-        harris_t = np.array(problem.torques, dtype=float)
-    else:
-        harris_t = np.linspace(0.25, 2.0, 15) * t_design
-        harris_t[np.argmin(np.abs(harris_t - t_design))] = t_design  # the design torque a point
+    harris_t = _harris_torques(objective, t_design)
     lower = np.asarray(problem.lower, dtype=float)
     te_jit = eqx.filter_jit(lambda x: sharp.te_rms_vs_torque(x, jnp.asarray(harris_t)))
     te_of = lambda x: np.asarray(te_jit(jnp.asarray(x, dtype=float)))  # noqa: E731
@@ -270,13 +285,9 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
         "te_rms_unmodified_m": te_of(lower).tolist(),
     }
     # the lower bounds mean "no modification" when every depth variable's lower bound is 0
-    kinds = [
-        VARIABLES[n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n][1]
-        for n in problem.names
-    ]
     unmod = (
         "unmodified design (variables at lower bounds: depth 0)"
-        if all(lo == 0 for lo, k in zip(lower, kinds, strict=True) if k == "depth")
+        if problem.lower_is_unmodified()
         else "design variables at their lower bounds"
     )
     harris["unmodified_is"] = unmod
@@ -294,16 +305,14 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     )
     report["harris"] = harris
     post.update()
-    if sorted(
-        n.split(".", 1)[-1] if n.startswith(("pinion.", "gear.")) else n for n in problem.names
-    ) == ["tip_relief.depth", "tip_relief.extent"] and problem.objective in ("te_rms", "te_ptp"):
-        i_d = [i for i, n in enumerate(problem.names) if n.endswith("depth")][0]
-        i_g = 1 - i_d
+    if two_d:
+        i_d, i_g = slots
         G = np.linspace(float(problem.lower[i_g]), float(problem.upper[i_g]), 41)
         E = np.linspace(float(problem.lower[i_d]), float(problem.upper[i_d]), 41)
         grid = contour_map(problem, G, E, None)
         post.update()
         dm = float(problem.delta_m) * 1e6
+        words = _plots.OBJECTIVE_WORDS[objective.name]
         _plots.optimiser_path_plot(
             os.path.join(out_dir, "path.png"),
             G,
@@ -312,8 +321,8 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
             res.history_x[:, i_g],
             res.history_x[:, i_d] * dm,
             (float(res.x[i_g]), float(res.x[i_d]) * dm),
-            label=f"{_plots.OBJECTIVE_WORDS[problem.objective]} (µm), smooth contact",
-            title=f"{case.name}: {_plots.OBJECTIVE_WORDS[problem.objective]} over tip relief "
+            label=f"{words} (µm), smooth contact",
+            title=f"{case.name}: {words} over tip relief "
             f"extent and depth, {settings['method']} path",
         )
         k = np.unravel_index(np.argmin(grid), grid.shape)
@@ -326,35 +335,24 @@ def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = 
     with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
         json.dump(report, f, indent=2)
     os.unlink(partial)
-    return report
+    return report, problem
 
 
-def _warn_idle_extents(case: jg.Case, names) -> None:
-    """Warn about an extent variable whose relief has no depth in the case and no depth variable:
-    its gradient is zero and the optimiser leaves it where it starts."""
-
-    def split(n):
-        who = n.split(".", 1)[0] if n.startswith(("pinion.", "gear.")) else "both"
-        return who, (n.split(".", 1)[1] if who != "both" else n)
-
-    scopes: dict[str, set] = {}  # variable base name -> members it acts on ("both" for both)
-    for n in names:
-        who, base = split(n)
-        scopes.setdefault(base, set()).add(who)
-    for n in names:
-        who, base = split(n)
-        if not base.endswith(".extent"):
+def _warn_idle_extents(case: jg.Case, variables: tuple[Variable, ...]) -> None:
+    """Warn about an extent variable whose relief has no depth in the case and no depth variable
+    on its members: its gradient is zero and the optimiser leaves it where it starts."""
+    for var in variables:
+        if not var.base.endswith(".extent"):
             continue
-        depth = base.replace(".extent", ".depth")
-        has = scopes.get(depth, set())
-        if has and (who == "both" or has & {who, "both"}):
+        depth = var.base.replace(".extent", ".depth")
+        members = set(var.members)
+        if any(d.base == depth and members & set(d.members) for d in variables):
             continue  # the depth is a design variable too
-        members = ("pinion", "gear") if who == "both" else (who,)
         field = VARIABLES[depth][0]
-        if all(float(getattr(getattr(case.modifications, m), field)) == 0 for m in members):
+        if all(float(getattr(getattr(case.modifications, m), field)) == 0 for m in var.members):
             warnings.warn(
-                f"--vars {n}: the case's {depth} is 0 for the "
-                f"{' and '.join(members)}, so the extent has no effect; add {depth} to --vars "
+                f"--vars {var.name}: the case's {depth} is 0 for the "
+                f"{' and '.join(var.members)}, so the extent has no effect; add {depth} to --vars "
                 "or give the case a depth",
                 UserWarning,
                 stacklevel=2,
@@ -379,15 +377,17 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
         raise ValueError(f"max_iterations = {settings['max_iterations']}: must be >= 1")
     variables = settings.get("vars")
     if variables is not None:
-        names = variables.split(",") if isinstance(variables, str) else list(variables)
-        names = [n.strip() for n in names]
+        names = [n.strip() for n in str(variables).split(",")]
         allowed = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
         if not names or not all(names):
             raise ValueError(f"--vars {variables!r}: empty variable name, allowed {allowed}")
         for n in names:
-            base = n.split(".", 1)[1] if n.startswith(("pinion.", "gear.")) else n
-            if base not in VARIABLES:
-                raise ValueError(f"--vars {n!r}: unknown design variable, allowed {allowed}")
+            try:
+                Variable.parse(n)
+            except ValueError:
+                raise ValueError(
+                    f"--vars {n!r}: unknown design variable, allowed {allowed}"
+                ) from None
         if len(set(names)) != len(names):
             raise ValueError(f"--vars {variables!r}: names a variable twice")
     lp = settings.get("lp_order")
@@ -435,19 +435,15 @@ def _pair_case(name_or_path: str, command: str):
 
 
 def run_optimise(args) -> int:
+    """``jaxgear optimise``: the entry point (``args`` from :func:`add_parsers`' ``optimise``
+    parser); returns the exit status."""
     case = _pair_case(args.case, "optimise")
     settings = check_settings(settings_from_case(case, args), case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
-    rep = optimise_case(case, settings, out, progress=not args.quiet)
-    units = OBJECTIVE_UNITS[rep["objective"]]
+    rep, problem = _optimise(case, settings, out, progress=not args.quiet)
     where = "" if rep["speed_rad_s"] is None else f" (hybrid scene at {rep['speed_rad_s']:g} rad/s)"
-    a, b = (rep[k][f"objective_exact_{units}"] for k in ("initial", "final"))
-    if rep["objective"] == "load_centroid":  # the signed centroid reads better than c²
-        a, b = (rep[k]["exact"]["load_centroid"] for k in ("initial", "final"))
-        value = f"centroid {a:+.4g} -> {b:+.4g} face widths from mid-face (+: towards z = b)"
-    else:
-        value = f"{a:.4g} -> {b:.4g} {units}"
+    value = _change(problem.objective, rep)
     print(
         f"{rep['objective']}{where}: {value} (exact contact), "
         f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s"
@@ -539,6 +535,8 @@ def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = Tru
 
 
 def run_master_curve(args) -> int:
+    """``jaxgear master-curve``: the entry point (``args`` from :func:`add_parsers`'
+    ``master-curve`` parser); returns the exit status."""
     extents = range_values(args.extents, "--extents")
     case = _pair_case(args.case, "master-curve")
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))

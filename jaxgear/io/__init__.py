@@ -15,7 +15,14 @@ from ._load import (
     list_cases as list_cases,
     load_case as load_case,
 )
-from ._problem import case_problem as case_problem
+from ._problem import (
+    OBJECTIVES as OBJECTIVES,
+    OPTIMISERS as OPTIMISERS,
+    STATISTICS as STATISTICS,
+    case_problem as case_problem,
+    objective_from_name as objective_from_name,
+    optimiser_from_name as optimiser_from_name,
+)
 from ._robust_table import parse_robust as parse_robust
 from ._scene_table import parse_scene as parse_scene
 from ._train_file import parse_train as parse_train

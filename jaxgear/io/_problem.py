@@ -1,11 +1,132 @@
-"""A case file's optimisation problem: :func:`optimise.make_problem` on the case's model objects."""
+"""A case file's optimisation problem: the names of ``[optimise]`` (and of the ``jaxgear
+optimise`` options) mapped to :mod:`optimise` objects, and :func:`optimise.make_problem` on the
+case's model objects.
+
+This is the one place where objective, statistic and optimiser names become objects:
+:data:`OBJECTIVES` (``objective = "te_rms"`` → :class:`optimise.TeRms`, ...),
+:data:`STATISTICS` (``reduce = "max"`` → :class:`optimise.Max`, ...) and :data:`OPTIMISERS`
+(``method = "lbfgs"`` → ``optimistix.LBFGS``, ``"adam"`` → ``optax.adam``). A new objective is
+one class in :mod:`optimise` plus its name here.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+import numpy as np
+import optax
+import optimistix as optx
+
 import jaxgear as jg
+import optimise as op
 from optimise import Problem, make_problem
 
-__all__ = ["case_problem"]
+__all__ = [
+    "OBJECTIVES",
+    "OPTIMISERS",
+    "STATISTICS",
+    "case_problem",
+    "objective_from_name",
+    "optimiser_from_name",
+]
+
+# ``reduce = "..."``: the statistic over the torques of robust_te_rms
+STATISTICS: dict[str, op.AbstractStatistic] = {"max": op.Max(), "mean": op.Mean()}
+
+DEFAULT_TOL = 1e-7  # rtol = atol of the optimiser's stopping rule
+DEFAULT_LEARNING_RATE = 0.05  # Adam's step
+
+
+def _robust(torque, torques=None, reduce="max", **_) -> op.RobustTeRms:
+    torques = np.array([float(torque)]) if torques is None else torques
+    return op.RobustTeRms(torques, _statistic(reduce))
+
+
+def _dynamic(torque, speeds=None, integrator=None, window=None, **_) -> op.DynamicFactor:
+    settings = {"integrator": integrator, "window": window}
+    given = {k: v for k, v in settings.items() if v is not None}
+    return op.DynamicFactor([] if speeds is None else speeds, **given)
+
+
+# ``objective = "..."``: the objective object, from the design torque (N·m) and the settings
+# (torques, reduce, lp_order, speeds, integrator, window)
+OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
+    "te_rms": lambda torque, **_: op.TeRms(),
+    "te_ptp": lambda torque, **_: op.TePeakToPeak(),
+    "robust_te_rms": _robust,
+    "max_line_load": lambda torque, **_: op.MaxLineLoad(),
+    "load_centroid": lambda torque, **_: op.LoadCentroid(),
+    "line_load_lp": lambda torque, lp_order=8.0, **_: op.LineLoadLp(lp_order),
+    "dynamic_factor": _dynamic,
+}
+
+# ``method = "..."``: the optimiser object (an optimistix minimiser or an optax transformation)
+OPTIMISERS: dict[str, Callable[..., object]] = {
+    "lbfgs": lambda tol=DEFAULT_TOL, **_: optx.LBFGS(rtol=tol, atol=tol),
+    "adam": lambda tol=DEFAULT_TOL, learning_rate=DEFAULT_LEARNING_RATE, **_: (
+        optx.OptaxMinimiser(optax.adam(learning_rate), rtol=tol, atol=tol)
+    ),
+}
+
+
+# the keywords case_problem takes besides its own
+_SETTINGS = {
+    "torques",
+    "reduce",
+    "lp_order",
+    "speeds",
+    "integrator",
+    "window",
+    "contact",
+    "relief_blend",
+    "end_relief_blend",
+    "bounds",
+    "speed",
+}
+
+
+def _lookup(table: dict, what: str, name: str):
+    try:
+        return table[name]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"{what} = {name!r} is unknown: allowed {', '.join(table)}"
+        ) from None
+
+
+def _statistic(name: str) -> op.AbstractStatistic:
+    return _lookup(STATISTICS, "reduce", name)
+
+
+def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
+    """The objective object of a case-file name (:data:`OBJECTIVES`).
+
+    Args:
+        name: e.g. "te_rms", "robust_te_rms", "dynamic_factor".
+        torque: the design torque (N·m): the torque range of "robust_te_rms" when none is given.
+        settings: ``torques`` (N·m, (T,)) and ``reduce`` ("max" | "mean") of "robust_te_rms",
+            ``lp_order`` of "line_load_lp", ``speeds`` (rad/s), ``integrator``, ``window`` of
+            "dynamic_factor"; the others are ignored.
+
+    Raises:
+        ValueError: an unknown name or reduce, settings out of range (as the objective class).
+    """
+    return _lookup(OBJECTIVES, "objective", name)(torque, **settings)
+
+
+def optimiser_from_name(name: str, **settings):
+    """The optimiser object of a case-file ``method`` (:data:`OPTIMISERS`), for
+    :func:`optimise.minimise`: "lbfgs" → ``optimistix.LBFGS(rtol=tol, atol=tol)``, "adam" →
+    ``optimistix.OptaxMinimiser(optax.adam(learning_rate), rtol=tol, atol=tol)``.
+
+    Args:
+        name: "lbfgs" or "adam".
+        settings: ``tol`` (default 1e-7), ``learning_rate`` (Adam, default 0.05).
+
+    Raises:
+        ValueError: an unknown name.
+    """
+    return _lookup(OPTIMISERS, "method", name)(**settings)
 
 
 def case_problem(
@@ -24,28 +145,37 @@ def case_problem(
 
     Args:
         case: a :class:`jaxgear.Case` (:func:`jaxgear.io.load_case`).
-        variables, objective: as :func:`optimise.make_problem`.
+        variables: as :func:`optimise.make_problem`.
+        objective: an objective name (:data:`OBJECTIVES`).
         slices: slices per contact line of the rigid mesh (default the case's).
         scene: the structure to optimise on instead of the case's rigid mesh, e.g. the hybrid
             scene of :func:`jaxgear.dynamics.static_scene`; its mesh replaces ``slices``.
         positions_per_pitch: default the case's.
-        settings: the other keywords of :func:`optimise.make_problem` (torques, bounds,
-            speed, speeds, integrator, window, ...).
+        settings: the objective's settings (:func:`objective_from_name`: ``torques``,
+            ``reduce``, ``lp_order``, ``speeds``, ``integrator``, ``window``), the smoothing
+            (``contact``, default ``SmoothContact`` of the case's width; ``relief_blend``,
+            ``end_relief_blend``: :class:`optimise.Smoothing`) and the other keywords of
+            :func:`optimise.make_problem` (``bounds``, ``speed``).
 
     Raises:
-        ValueError: as :func:`optimise.make_problem`.
+        ValueError: an unknown objective name, as :func:`optimise.make_problem` otherwise.
     """
+    unknown = sorted(set(settings) - _SETTINGS)
+    if unknown:
+        raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
+    smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
+    problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
+    goal = objective_from_name(objective, case.torque, **settings)
+    if smoothing["contact"] is None:
+        smoothing["contact"] = goal.default_contact(case.smooth_width)
     mesh = case.mesh_model(slices=slices) if scene is None else scene
-    settings.setdefault(
-        "contact",
-        jg.SmoothContact(case.smooth_width, 50 if objective == "dynamic_factor" else 100),
-    )
     return make_problem(
         mesh,
         case.modifications,
         case.torque,
         variables,
-        objective,
+        goal,
         positions_per_pitch=int(positions_per_pitch or case.positions_per_pitch),
-        **settings,
+        smoothing=op.Smoothing(**smoothing),
+        **problem_settings,
     )

@@ -1,0 +1,63 @@
+"""The options of ``jaxgear optimise`` and ``jaxgear master-curve`` (argparse only: the commands
+themselves live in :mod:`._optimise`, loaded when they run). The choices are the names
+:mod:`jaxgear.io` maps to objects (objectives, statistics, optimisers) and the design-variable
+names of :mod:`optimise`."""
+
+from __future__ import annotations
+
+from optimise import VARIABLES
+
+from ..io import OBJECTIVES, OPTIMISERS, STATISTICS
+
+__all__ = ["add_parsers"]
+
+
+def add_parsers(sub) -> None:
+    """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object
+    (their implementations: :func:`jaxgear.cli._optimise.run_optimise` and
+    :func:`jaxgear.cli._optimise.run_master_curve`)."""
+    o = sub.add_parser("optimise", help="gradient-based optimisation of tooth modifications")
+    o.add_argument("case", help="TOML case file or embedded case name")
+    o.add_argument(
+        "--objective",
+        choices=list(OBJECTIVES),
+        help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
+        "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
+        "line load over the load map (a smooth maximum, see --lp-order)",
+    )
+    o.add_argument(
+        "--vars",
+        help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
+        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)",
+    )
+    o.add_argument("--torques", help="START:STOP:N torque range (N·m) for robust_te_rms")
+    o.add_argument(
+        "--speed",
+        type=float,
+        help="pinion speed (rad/s): optimise on the hybrid scene at that speed, centrifugal loads "
+        "included (a case with [scene.gear_body] or [scene.pinion_body])",
+    )
+    o.add_argument(
+        "--lp-order",
+        type=float,
+        help="p of the line_load_lp objective, in [1, 64] (default 8)",
+    )
+    o.add_argument(
+        "--speeds",
+        help="START:STOP:N pinion speed band (rad/s) of the dynamic_factor objective (hybrid "
+        "Newmark on a case with condensed bodies)",
+    )
+    o.add_argument(
+        "--reduce", choices=list(STATISTICS), help="robust objective: worst case or mean"
+    )
+    o.add_argument("--method", choices=list(OPTIMISERS), help="optimiser (default lbfgs)")
+    o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
+    o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
+    o.add_argument("--quiet", action="store_true")
+    m = sub.add_parser(
+        "master-curve", help="Master Curve: optimal tip relief depth for each extent"
+    )
+    m.add_argument("case", help="TOML case file or embedded case name")
+    m.add_argument("--extents", default="0.05:0.6:12", help="START:STOP:N relief extents Γ")
+    m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
+    m.add_argument("--quiet", action="store_true", help="no progress bar")

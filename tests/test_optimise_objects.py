@@ -1,0 +1,90 @@
+"""optimise: objectives, statistics and optimisers are objects passed straight through; the
+names of case files map to them in jaxgear.io (the one place)."""
+
+from typing import ClassVar
+
+import jax.numpy as jnp
+import numpy as np
+import optax
+import optimistix as optx
+import pytest
+
+import jaxgear as jg
+import jaxgear.io as jio
+import optimise as op
+
+
+@pytest.fixture(scope="module")
+def case():
+    return jio.load_case("accessory-spur").replace(slices=3, positions_per_pitch=16)
+
+
+@pytest.fixture(scope="module")
+def problem(case):
+    return jio.case_problem(case, "tip_relief.depth", "te_rms", relief_blend=0.0)
+
+
+def test_case_file_names_map_to_objects(case):
+    """Every objective name of the case files gives its class, whose name is that name."""
+    settings = dict(torques=[40.0, 80.0], reduce="mean", lp_order=6.0, speeds=[1000.0])
+    for name in jio.OBJECTIVES:
+        obj = jio.objective_from_name(name, case.torque, **settings)
+        assert isinstance(obj, op.AbstractObjective) and obj.name == name
+    assert op.OBJECTIVES == tuple(jio.OBJECTIVES)
+    robust = jio.objective_from_name("robust_te_rms", case.torque, **settings)
+    assert isinstance(robust.statistic, op.Mean)
+    np.testing.assert_array_equal(robust.torques(case.torque), [40.0, 80.0])
+    assert float(jio.objective_from_name("line_load_lp", case.torque, lp_order=6.0).order) == 6.0
+    assert isinstance(jio.optimiser_from_name("lbfgs"), optx.LBFGS)
+    assert isinstance(jio.optimiser_from_name("adam"), optx.OptaxMinimiser)
+    for what, call in (
+        ("objective = 'te_max'", lambda: jio.objective_from_name("te_max", 80.0)),
+        ("method = 'bfgs'", lambda: jio.optimiser_from_name("bfgs")),
+        ("reduce = 'min'", lambda: jio.objective_from_name("robust_te_rms", 80.0, reduce="min")),
+    ):
+        with pytest.raises(ValueError, match=f"{what} is unknown: allowed"):
+            call()
+
+
+def test_a_new_objective_is_one_class(case, problem):
+    """A user objective (here TE RMS squared, in m²) is one subclass passed to make_problem; its
+    scaled value at the start is the square of the TE RMS objective's."""
+
+    class TeRmsSquared(op.AbstractQuasiStaticObjective):
+        name: ClassVar[str] = "te_rms_squared"
+        units: ClassVar[str] = "m2"
+
+        def of_result(self, result, problem):
+            return result.te_rms**2
+
+    p = op.make_problem(
+        case.mesh_model(),
+        case.modifications,
+        case.torque,
+        "tip_relief.depth",
+        TeRmsSquared(),
+        positions_per_pitch=case.positions_per_pitch,
+        smoothing=op.Smoothing(jg.SmoothContact(case.smooth_width), relief_blend=0.0),
+    )
+    x = jnp.asarray([0.8])
+    assert float(p.value(x)) == pytest.approx(float(problem.value(x)) ** 2, rel=1e-12)
+
+
+def test_minimise_takes_solver_objects(problem):
+    """BFGS and a bare optax transformation go straight through; a minimiser whose state the
+    loop cannot read is refused in one line."""
+    for solver in (optx.BFGS(rtol=1e-7, atol=1e-7), optax.adam(0.05)):
+        with pytest.warns(UserWarning, match="iteration cap"):
+            r = op.minimise(problem, [0.5], solver, max_iterations=1, progress=False)
+        assert r.iterations == 1 and r.history_x.shape == (2, 1)
+        assert r.value <= r.value0
+    with pytest.raises(ValueError, match="solver = GradientDescent: allowed"):
+        op.minimise(problem, [0.5], optx.GradientDescent(0.1, 1e-7, 1e-7), progress=False)
+
+
+def test_statistics_reduce_as_named():
+    v = jnp.asarray([1.0, 4.0, 2.0, 3.0])
+    assert float(op.Mean()(v)) == 2.5 and float(op.Max()(v)) == 4.0
+    assert float(op.Quantile(0.5)(v)) == pytest.approx(2.5)
+    with pytest.raises(ValueError, match="Quantile level = 1.5 is out of range"):
+        op.Quantile(1.5)
