@@ -269,9 +269,10 @@ class GearMesh(eqx.Module):
 def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
     """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`) with TE vector
     ``te`` (n,), between the scene's members 0 (the pinion, driving) and 1 (the gear); its
-    coast line of action where ``line`` has one and the base plane has coast flanks."""
+    coast line of action (``line``'s ``coast_*`` entries) where the base plane has coast
+    flanks."""
     coast = {}
-    if base_plane.coast and "coast_normal" in line:
+    if base_plane.coast:
         coast = {
             k: as_float(line[k]) for k in ("coast_tangent_point", "coast_direction", "coast_normal")
         }

@@ -70,7 +70,8 @@ class HybridScene(AssembledScene):
     """The lumped 3D scene with condensed FE bodies: a pair (H1: flexible wheel; H2: both
     flexible) or a gear train with flexible gears (a flexible idler meshing twice).
 
-    Build with :func:`hybrid_pair` or :func:`hybrid_train`. Generalised coordinates: the shafts
+    Build with :func:`hybrid_pair` or, from a train's :class:`~jaxgear.scenes.TrainSpec`,
+    :meth:`train`. Generalised coordinates: the shafts
     (6 per node), then each body's rim master and modal DOFs (its bearing nodes are shaft
     nodes). The scene speed Ω is the pinion's (a train's input's).
 

@@ -267,7 +267,9 @@ class FlexibleMember(GearMember):
         """Fixed-frame polar angle of the centre line of the tooth in contact at ``points`` on the
         flank ``flank`` (±1, :func:`loaded_flank`): φ_c = φ_M + flank ψ(r_M)
         (:func:`tooth_centre_angle`)."""
-        return tooth_centre_angle(self.centre, self.base_radius, self.base_half_angle, points, flank)
+        return tooth_centre_angle(
+            self.centre, self.base_radius, self.base_half_angle, points, flank
+        )
 
     def rim_radial_growth(self, x):
         """The mean radial displacement (m) of the rim master nodes under X (n,) (body frame)."""

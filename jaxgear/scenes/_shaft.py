@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from typing import NamedTuple
 
 import jax.numpy as jnp
@@ -132,7 +133,8 @@ def bearing_matrix(value) -> np.ndarray:
     N·m/rad for a stiffness; N·s/m, N·s/rad, N·m·s/rad for a damping).
 
     Args:
-        value: 6 rows of 6 finite numbers (nested lists/tuples or an array).
+        value: 6 rows of 6 finite numbers (nested lists/tuples or a 2-D array, read row by row
+            alike).
 
     Returns:
         The symmetrised matrix, shape (6, 6), float64.
@@ -146,18 +148,14 @@ def bearing_matrix(value) -> np.ndarray:
             scaled K_ij/√(K_ii K_jj) below −1e-6: a test independent of the mixed units).
     """
     shape = "must be 6 rows of 6 finite numbers (SI; DOF order ux, uy, uz, rx, ry, rz)"
-    if isinstance(value, (list, tuple)):
-        if len(value) != 6 or any(not isinstance(r, (list, tuple)) or len(r) != 6 for r in value):
-            sizes = [len(r) if isinstance(r, (list, tuple)) else "-" for r in value]
-            raise ValueError(f"{shape}, got {len(value)} rows of {sizes} entries")
-        if any(isinstance(x, bool) or not isinstance(x, (int, float)) for r in value for x in r):
-            raise ValueError(f"{shape}, got a non-number entry")
-        a = np.array(value, dtype=float)
-    else:
-        a = np.asarray(value)
-        if a.dtype.kind not in "iuf" or a.shape != (6, 6):
-            raise ValueError(f"{shape}, got shape {a.shape} of {a.dtype}")
-        a = a.astype(float)
+    rows = [tuple(r) if np.iterable(r) else r for r in value] if np.iterable(value) else [value]
+    sizes = [len(r) if np.iterable(r) else "-" for r in rows]
+    if sizes != [6] * 6:
+        raise ValueError(f"{shape}, got {len(rows)} rows of {sizes} entries")
+    entries = [x for r in rows for x in r]
+    if any(isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real) for x in entries):
+        raise ValueError(f"{shape}, got a non-number entry")
+    a = np.array(rows, dtype=float)
     if not np.all(np.isfinite(a)):
         i, j = np.argwhere(~np.isfinite(a))[0]
         raise ValueError(f"{shape}, got [{i}][{j}] = {a[i, j]}")
@@ -289,7 +287,7 @@ class ShaftSpec:
     @property
     def gear_positions(self) -> tuple:
         """The centres of the shaft's gears (m from the shaft start), in gear order."""
-        return tuple(self.gear_z) if isinstance(self.gear_z, tuple) else (self.gear_z,)
+        return tuple(np.atleast_1d(np.asarray(self.gear_z, float)).tolist())
 
 
 class ShaftMatrices(NamedTuple):

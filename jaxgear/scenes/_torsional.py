@@ -168,6 +168,7 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         # a torsional mesh has no place in space: its line of action stays at the origin (the
         # members' vectors do not depend on it)
         line = {"tangent_point": origin, "direction": origin, "normal": origin, "roll_start": 0.0}
+        line.update(coast_tangent_point=origin, coast_direction=origin, coast_normal=origin)
         self.members = (TorsionalMember(p), TorsionalMember(g))
         self.meshes = (pair_mesh(mesh, line, te),)
         ratio = mesh.base_radius_gear / mesh.base_radius_pinion

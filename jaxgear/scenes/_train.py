@@ -376,11 +376,13 @@ class TrainSpec(eqx.Module):
 
 
 class GearTrain(AssembledScene, DynamicScene):
-    """A gear train: a structure (one rotation per shaft, or 6-DOF shaft nodes) with one mesh per
-    pair of gears in contact (build with :func:`~jaxgear.scenes.torsional_train` or
-    :func:`~jaxgear.scenes.lumped_train`). The input torque T acts on the input shaft, each
-    loaded shaft takes its share of the input power and the balancing output the rest
-    (:func:`shaft_torques`); the chain turns freely (its rigid rotation :attr:`rigid`).
+    """A gear train of rigid gears, the base of its scene kinds: a structure (one rotation per
+    shaft: :class:`~jaxgear.scenes.TorsionalTrain`; or 6-DOF shaft nodes:
+    :class:`~jaxgear.scenes.LumpedTrain`) with one mesh per pair of gears in contact, each kind
+    built from the train's one :class:`TrainSpec` (its ``of``). The input torque T acts on the
+    input shaft, each loaded shaft takes its share of the input power and the balancing output
+    the rest (:func:`shaft_torques`); the chain turns freely (its rigid rotation
+    :attr:`rigid`).
 
     Attributes:
         rigid: the rigid rotation (n,): each shaft's rotation per unit base-plane advance of the
