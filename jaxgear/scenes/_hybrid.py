@@ -16,7 +16,10 @@ axisymmetric: their stiffness does not change), so the structure is factored onc
 Statics in the space of the cells (:func:`jaxgear.solve_contact_cells`): the structure is
 factored once (the compliance G on the complement of the drive rotation, the output torque
 rotation held), and a position only needs the compliance of the window of master DOFs under the
-contact, C = V_W G_WW V_Wᵀ: an active-set pass costs cells², not masters³.
+contact, C = V_W G_WW V_Wᵀ: an active-set pass costs cells², not masters³. That cache is
+:mod:`._window_compliance`'s; placing the bodies on their shafts is :mod:`._bodies`'s; a
+hybrid train is built from the train's one description (:meth:`HybridScene.train` of a
+:class:`~jaxgear.scenes.TrainSpec`).
 """
 
 from __future__ import annotations
