@@ -42,6 +42,7 @@ from jaxgear.io import atomic_open, load_case
 from jaxgear.scenes import (
     Bearing,
     ShaftSpec,
+    TrainSpec,
     disc_inertia,
     grounded,
     lumped_train,
@@ -81,12 +82,16 @@ def _chain(n_meshes: int, slices: int, model: str = "torsional"):
         layout = train_layout(pairs, links, [math.radians(60.0 * k) for k in range(n_meshes)], n)
         masses = [7800.0 * math.pi * r * r * FACE for r in radii]
         train = lumped_train(
-            meshes,
-            layout,
-            (SHAFT,) * n,
-            tuple(range(n)),
-            masses=masses,
-            inertias=[(j / 2 + m * FACE**2 / 12, j) for m, j in zip(masses, inertias, strict=True)],
+            TrainSpec(
+                meshes,
+                layout,
+                (SHAFT,) * n,
+                tuple(range(n)),
+                masses=masses,
+                inertias=[
+                    (j / 2 + m * FACE**2 / 12, j) for m, j in zip(masses, inertias, strict=True)
+                ],
+            )
         )
     held = grounded(train, (train.torque_dofs[1],), factor=1e9)
     cells = sum(p.n_lines * p.n_slices for p in planes)

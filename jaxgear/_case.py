@@ -18,6 +18,7 @@ from ._geometry import GearPair
 from ._modifications import Modifications
 from ._stiffness import stiffness_table
 from .scenes import (
+    TrainSpec,
     Wrench,
     disc_inertia,
     grounded,
@@ -446,11 +447,13 @@ class TrainCase:
         if not self.lumped:
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
         return lumped_train(
-            tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
-            self.layout(),
-            self.scene.shafts,
-            self.shaft_of,
-            **self._lumped_args(),
+            TrainSpec(
+                tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
+                self.layout(),
+                self.scene.shafts,
+                self.shaft_of,
+                **self._lumped_args(),
+            )
         )
 
     def hybrid_train(self, bodies: tuple, slices: int | None = None, *, tooth_mass: bool = True):
@@ -470,18 +473,18 @@ class TrainCase:
         if not self.lumped:
             raise ValueError("a hybrid train needs [scene] model = 'lumped3d'")
         flexible = tuple(b is not None for b in bodies)
-        return hybrid_train(
-            self.pairs,
+        spec = TrainSpec(
             tuple(zip(self.mesh_models(slices, flexible), self.gears, strict=True)),
             self.layout(),
             self.scene.shafts,
             self.shaft_of,
+            pairs=self.pairs,
             bodies=tuple(bodies),
-            tooth_mass=tooth_mass,
             rims=self.scene.gear_rims or None,
             gear_names=self.gear_names,
             **self._lumped_args(),
         )
+        return hybrid_train(spec, tooth_mass=tooth_mass)
 
     def dynamic_train(self, slices: int | None = None):
         """The train's rigid-gear scene: :meth:`lumped_train` for a lumped 3D scene, else

@@ -443,11 +443,13 @@ def test_rigidified_body_dynamics_equal_the_rigid_node_train(case):
     args["masses"][1:3] = [mass - m2, m2]
     args["inertias"][1:3] = [(idia, 0.5 * polar), (idia, 0.5 * polar)]
     lumped_train = jg.scenes.lumped_train(
-        tuple(zip(rigid.mesh_models(), rigid.gears, strict=True)),
-        rigid.layout(),
-        rigid.scene.shafts,
-        rigid.shaft_of,
-        **args,
+        jg.scenes.TrainSpec(
+            tuple(zip(rigid.mesh_models(), rigid.gears, strict=True)),
+            rigid.layout(),
+            rigid.scene.shafts,
+            rigid.shaft_of,
+            **args,
+        )
     )
     damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     hybrid = dynamic_model(

@@ -12,6 +12,7 @@ from .._case import Case, TrainCase
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from ..scenes import (
+    Material,
     ShaftSpec,
     TorsionalDynamics,
     disc_inertia,
@@ -289,9 +290,7 @@ def static_scene(
         bodies=bodies,
         masses=masses,
         inertias=inertias,
-        youngs_modulus=case.youngs_modulus,
-        poisson_ratio=case.poisson_ratio,
-        density=case.density,
+        material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
     )
     return scene, bodies
 

@@ -13,51 +13,44 @@ its line of action between two gear members); a member is a :class:`RigidMember`
 node, seed (2.9)), a :class:`TorsionalMember` (a gear's rotation alone: the torsional model) or a
 :class:`FlexibleMember` (a condensed body through the interface, seed (2.11)–(2.30)). The
 torsional model, the lumped 3D and the hybrid scenes are structures with their meshes
-(:class:`AssembledScene`). A gear train (:class:`GearTrain`) is one of them with several meshes:
-torsional (:func:`torsional_train`) or lumped 3D (:func:`lumped_train`), laid out by
-:func:`train_layout`. :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
+(:class:`AssembledScene`). A gear train is one of them with several meshes, described once as a
+:class:`TrainSpec` (laid out by :func:`train_layout`) and built from it as each scene kind:
+torsional (:meth:`TorsionalTrain.of`, :func:`torsional_train`), lumped 3D
+(:meth:`LumpedTrain.of`), hybrid (:meth:`HybridScene.train`); the first two are a
+:class:`GearTrain`. :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
 as a load on the structure (zone compliances fᵀ K⁻¹ f).
 """
 
 from ._gear_mesh import (
     GearMesh as GearMesh,
-    half_base_angle as half_base_angle,
     line_of_action as line_of_action,
     mesh_zone_load as mesh_zone_load,
     pair_mesh as pair_mesh,
-    TrainLayout as TrainLayout,
-    train_hands as train_hands,
-    train_layout as train_layout,
-    train_phases as train_phases,
 )
 from ._hybrid import (
     HybridPair as HybridPair,
     HybridScene as HybridScene,
-    WindowCompliance as WindowCompliance,
     cache_window_compliance as cache_window_compliance,
+    fit_members as fit_members,
     fit_windows as fit_windows,
     hybrid_pair as hybrid_pair,
     hybrid_train as hybrid_train,
-    window_compliance as window_compliance,
 )
 from ._interface import (
     FlexibleMember as FlexibleMember,
+    GearMember as GearMember,
+    GearPlace as GearPlace,
     RigidMember as RigidMember,
     TorsionalMember as TorsionalMember,
     mortar_weights as mortar_weights,
 )
 from ._lumped3d import (
-    Bearing as Bearing,
     LumpedPair as LumpedPair,
-    ShaftMatrices as ShaftMatrices,
-    ShaftSpec as ShaftSpec,
-    bearing_matrix as bearing_matrix,
+    LumpedTrain as LumpedTrain,
     Wrench as Wrench,
     lumped_pair as lumped_pair,
     lumped_train as lumped_train,
     mesh_wrench as mesh_wrench,
-    shaft_matrices as shaft_matrices,
-    timoshenko_element as timoshenko_element,
 )
 from ._rigid import RigidMesh as RigidMesh
 from ._scene import (
@@ -66,6 +59,15 @@ from ._scene import (
     Scene as Scene,
     grounded as grounded,
     rigid_mode_penalty as rigid_mode_penalty,
+)
+from ._shaft import (
+    Bearing as Bearing,
+    Material as Material,
+    ShaftMatrices as ShaftMatrices,
+    ShaftSpec as ShaftSpec,
+    bearing_matrix as bearing_matrix,
+    shaft_matrices as shaft_matrices,
+    timoshenko_element as timoshenko_element,
 )
 from ._structure import AssembledScene as AssembledScene, Structure as Structure
 from ._torsional import (
@@ -78,8 +80,18 @@ from ._torsional import (
 )
 from ._train import (
     GearTrain as GearTrain,
+    TrainLayout as TrainLayout,
+    TrainSpec as TrainSpec,
+    half_base_angle as half_base_angle,
     mesh_period_ratios as mesh_period_ratios,
     scene_span as scene_span,
     shaft_speeds as shaft_speeds,
     shaft_torques as shaft_torques,
+    train_hands as train_hands,
+    train_layout as train_layout,
+    train_phases as train_phases,
+)
+from ._window_compliance import (
+    WindowCompliance as WindowCompliance,
+    window_compliance as window_compliance,
 )

@@ -29,7 +29,6 @@ M = T1 + (ρ_A + s) t + a (z − b/2) e_z and n = cos β_b t + a sin β_b e_z. F
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import equinox as eqx
 import jax
@@ -44,17 +43,12 @@ from ._scene import Grounded
 
 __all__ = [
     "GearMesh",
-    "TrainLayout",
     "contact_points",
-    "half_base_angle",
     "line_of_action",
     "mesh_line",
     "mesh_zone_load",
     "only_mesh",
     "pair_mesh",
-    "train_hands",
-    "train_layout",
-    "train_phases",
 ]
 
 
@@ -134,216 +128,6 @@ def line_of_action(
     }
 
 
-def half_base_angle(pair: GearPair, member: int) -> float:
-    """ψ_b: half the angular tooth thickness of ``member`` (0 the pair's pinion, 1 its gear) at
-    its base circle (rad), s_t/(2 r) + inv α_t (ISO 21771: the involute function carries the
-    reference thickness s_t at radius r down to the base circle)."""
-    at = pair.transverse_pressure_angle
-    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (math.tan(at) - at)
-
-
-def train_phases(pairs, lines, gears, spins, n_gears: int, shafts=None, clockings=None):
-    """Mesh phasing of a gear train from its layout and tooth counts (NumPy): the phase of each
-    mesh's angle θ_k = ratio_k θ + phase_k (:attr:`GearMesh.phase`) and the angle of a tooth
-    centre of each gear at θ = 0.
-
-    Angles about a gear's axis are measured in its direction of motion. A gear's tooth has its
-    centre line at c, its leading flank's involute starting on the base circle at c + ψ_b and its
-    trailing flank's at c − ψ_b (:func:`half_base_angle`). A contact point at roll distance ρ from
-    a base-circle tangent point at angle τ lies on a driving gear's leading flank when
-    c + ψ_b = τ + ρ/r_b and on a driven gear's trailing flank when c − ψ_b = τ − ρ/r_b (the
-    involute's origin is ρ/r_b behind or ahead of the tangent point). A mesh's angle is 0 when a
-    contact line, at the face end z = 0, is at its engagement point (ρ_1 = ρ_A, as
-    :meth:`MeshModel.cells`), and the first mesh's driving gear (the input) sets θ: its phase
-    is 0. Each later mesh's driving gear must already be placed by an earlier mesh; its phase
-    then follows from that gear's teeth (Parker & Lin, J. Mech. Des. 126 (2004), for planetary
-    stages, read here in the base plane), and its driven gear's teeth from the contact.
-
-    Args:
-        pairs: the :class:`~jaxgear.GearPair` of each mesh (its pinion the driving gear).
-        lines: each mesh's :func:`line_of_action` as placed in the train.
-        gears: each mesh's (driving, driven) gear indices. spins: each gear's sense of rotation
-            about z (+1 or −1), (n_gears,). n_gears: the number of gears.
-        shafts: each gear's shaft (n_gears,) (default: a shaft each): gears on one shaft turn
-            together (a compound gear), their teeth set by ``clockings``: each gear's tooth
-            angle less its shaft's reference (rad, in the direction of motion; default 0: a
-            tooth centre of every gear of a shaft on one radial line at θ = 0).
-
-    Returns:
-        (phases (m,) in rad of each mesh's driving gear, in [0, 2π/z_driving); tooth angles
-        (n_gears,) in rad, each in its gear's direction of motion from the fixed +x axis).
-
-    Raises:
-        ValueError: a mesh whose driving gear no earlier mesh places (one line).
-    """
-    shafts = list(range(n_gears)) if shafts is None else list(shafts)
-    clockings = [0.0] * n_gears if clockings is None else [float(c) for c in clockings]
-    centre = [None] * n_gears
-    c0 = [None] * n_gears
-    ref = {}  # each placed shaft's reference angle: c0 = ref + clocking
-    phases = []
-    for k, (pair, line, (g, h)) in enumerate(zip(pairs, lines, gears, strict=True)):
-        if c0[g] is None and shafts[g] in ref:  # a shaft-mate's teeth place the shaft
-            c0[g] = ref[shafts[g]] + clockings[g]
-        T1 = np.asarray(line["tangent_point"], float)
-        T2 = T1 + (pair.center_distance * math.sin(pair.operating_pressure_angle)) * np.asarray(
-            line["direction"], float
-        )
-        centre[g], centre[h] = line["centres"][0], line["centres"][1]
-        rb1, rb2 = pair.base_radii
-        z1 = pair.pinion.teeth
-        tau1 = spins[g] * math.atan2(T1[1] - centre[g][1], T1[0] - centre[g][0])
-        tau2 = spins[h] * math.atan2(T2[1] - centre[h][1], T2[0] - centre[h][0])
-        rho_a = pair.start_roll
-        if c0[g] is None:
-            if k:
-                raise ValueError(
-                    f"mesh {k}: its driving gear {g} is not placed by an earlier mesh (list the "
-                    "meshes from the input outwards)"
-                )
-            c0[g] = tau1 + rho_a / rb1 - half_base_angle(pair, 0)
-            ref[shafts[g]] = c0[g] - clockings[g]
-        phase = (c0[g] + half_base_angle(pair, 0) - tau1 - rho_a / rb1) % (2 * math.pi / z1)
-        phases.append(phase)
-        if c0[h] is None:
-            length = pair.center_distance * math.sin(pair.operating_pressure_angle)
-            c0[h] = tau2 + half_base_angle(pair, 1) - (length - rho_a - rb1 * phase) / rb2
-            ref[shafts[h]] = c0[h] - clockings[h]
-    c0 = [
-        ref[shafts[i]] + clockings[i] if c is None and shafts[i] in ref else c
-        for i, c in enumerate(c0)
-    ]
-    return np.array(phases), np.array([np.nan if c is None else c for c in c0])
-
-
-def train_hands(gears, shafts, hands=None) -> tuple[list, int | None]:
-    """Each gear's helix hand (+1 right, −1 left) in a train: as given (``hands``, 0 for none),
-    else the input left-handed (a pair's pinion), a driven gear the other hand than its mate
-    (external gears) and a later gear of a shaft its shaft's first placed gear's hand.
-
-    Args:
-        gears: each mesh's (driving, driven) gear indices, from the input outwards.
-        shafts: each gear's shaft. hands: each gear's given hand or 0, (n,) (default none).
-
-    Returns:
-        (hands (n,), the first mesh whose two gears have the same hand, or None).
-    """
-    n = len(shafts)
-    given = [0] * n if hands is None else [int(np.sign(h)) for h in hands]
-    hand = [0] * n
-
-    def place(gear, h):  # the gear and its shaft-mates without a hand yet
-        hand[gear] = given[gear] or h
-        for i in range(n):
-            if shafts[i] == shafts[gear] and not hand[i]:
-                hand[i] = given[i] or hand[gear]
-
-    place(0, -1)
-    clash = None
-    for k, (g, h) in enumerate(gears):
-        if not hand[h]:
-            place(h, -hand[g])
-        if hand[h] == hand[g] and clash is None:
-            clash = k
-    return hand, clash
-
-
-class TrainLayout(NamedTuple):
-    """A train of external gears laid out in the plane (:func:`train_layout`; NumPy, SI).
-
-    Attributes:
-        centres: each gear's centre (m), (n, 3), the input at the origin.
-        spins: each gear's sense of rotation about +z (+1 or −1), (n,).
-        lines: each mesh's :func:`line_of_action` as placed in the train.
-        phases: each mesh's phase (rad of its driving gear), (m,) (:func:`train_phases`).
-        tooth_angles: a tooth centre of each gear at θ = 0 (rad, in its direction of motion
-            from the fixed +x axis), (n,).
-        ratios: each gear's angle per unit input angle (z_in / z_g through the train), (n,).
-        hands: each gear's helix hand (+1 right, −1 left), (n,).
-    """
-
-    centres: np.ndarray
-    spins: np.ndarray
-    lines: tuple
-    phases: np.ndarray
-    tooth_angles: np.ndarray
-    ratios: np.ndarray
-    hands: np.ndarray
-
-
-def train_layout(
-    pairs, gears, angles, n_gears: int, shafts=None, clockings=None, hands=None
-) -> TrainLayout:
-    """Lay out a train of external gears from its meshes (NumPy, SI).
-
-    The input (gear 0, the driving gear of mesh 0) sits at the origin turning about +z; each
-    mesh's driven gear sits at its driving gear's centre plus the pair's operating centre
-    distance a_w in the direction ``angles[k]`` and turns the other way (an external mesh);
-    then each mesh's line of action (:func:`line_of_action`, with its driving gear's hand) and
-    the phasing (:func:`train_phases`).
-
-    Args:
-        pairs: the :class:`~jaxgear.GearPair` of each mesh, its pinion the driving gear.
-        gears: each mesh's (driving, driven) gear indices, listed from the input outwards.
-        angles: each mesh's direction of the driven gear's centre seen from the driving one (rad,
-            fixed frame), (m,).
-        n_gears: the number of gears.
-        shafts, clockings: gears on one shaft (a compound gear: one centre, one rotation) and
-            their teeth's angles on it (:func:`train_phases`); default a shaft each.
-        hands: each gear's helix hand, +1 right, −1 left or 0 (default), (n,): by default the
-            input is left-handed (a pair's pinion), a driven gear takes the other hand than its
-            mate (external gears) and a later gear of a shaft its shaft's first gear's hand (a
-            compound gear's two axial forces then oppose).
-
-    Raises:
-        ValueError: a mesh whose driving gear no earlier mesh places, a gear placed twice
-            (a closed loop of meshes), or two gears in mesh given the same hand, in one line.
-    """
-    shafts = list(range(n_gears)) if shafts is None else list(shafts)
-    hand, clash = train_hands(gears, shafts, hands)
-    if clash is not None:
-        g, h = gears[clash]
-        raise ValueError(
-            f"meshes[{clash}]: gears {g} and {h} have the same helix hand (allowed: external "
-            "gears in mesh have opposite hands)"
-        )
-    centres = [None] * n_gears
-    spins = [None] * n_gears
-    ratios = [None] * n_gears
-
-    def place(gear, centre, spin, ratio):  # the gear and its shaft-mates
-        for i in range(n_gears):
-            if shafts[i] == shafts[gear]:
-                centres[i], spins[i], ratios[i] = centre, spin, ratio
-
-    place(0, np.zeros(3), 1.0, 1.0)
-    lines = []
-    for k, (pair, (g, h), angle) in enumerate(zip(pairs, gears, angles, strict=True)):
-        if centres[g] is None:
-            raise ValueError(
-                f"meshes[{k}]: its driving gear {g} is not placed by an earlier mesh (list the "
-                "meshes from the input outwards)"
-            )
-        if centres[h] is not None:
-            raise ValueError(f"meshes[{k}]: gear {h} is placed twice (allowed: once)")
-        line = line_of_action(pair, centres[g], angle, spins[g], hand[g])
-        place(h, line["centres"][1], -spins[g], ratios[g] * pair.pinion.teeth / pair.gear.teeth)
-        lines.append(line)
-    if any(c is None for c in centres):
-        missing = [i for i, c in enumerate(centres) if c is None]
-        raise ValueError(f"gears {missing} mesh with none")
-    phases, tooth = train_phases(pairs, lines, gears, spins, n_gears, shafts, clockings)
-    return TrainLayout(
-        np.array(centres),
-        np.array(spins),
-        tuple(lines),
-        phases,
-        tooth,
-        np.array(ratios),
-        np.array(hand, dtype=float),
-    )
-
-
 class GearMesh(eqx.Module):
     """One gear mesh of a scene: the base-plane mesh model on its line of action between two of
     the scene's gear members.
@@ -417,14 +201,15 @@ class GearMesh(eqx.Module):
     def _flank_parts(self, members: tuple, cells: Cells, theta, pad: int):
         """The drive rows' and the coast rows' windows (:meth:`_parts`) joined along the lines:
         the coast rows on the coast line of action (rigid members) or with the sign of the
-        flank (torsional members); a condensed body is refused (not modelled)."""
-        kinds = {type(members[g]).__name__ for g in self.gears}
-        if not kinds <= {"RigidMember", "TorsionalMember"}:
+        flank (torsional members); a member without coast flanks (a condensed body:
+        :attr:`~jaxgear.scenes.GearMember.coast_flanks`) is refused (not modelled)."""
+        gears = [members[g] for g in self.gears]
+        if not all(m.coast_flanks for m in gears):
             raise ValueError(
                 "backlash (coast flanks, tooth_thickness_allowance) with condensed FE bodies is "
                 "not modelled: use a torsional or lumped 3D scene, or drop the allowances"
             )
-        if "RigidMember" in kinds and self.coast_normal is None:
+        if any(m.needs_coast_line for m in gears) and self.coast_normal is None:
             raise ValueError(
                 "backlash (coast flanks) in this scene is not modelled: its mesh has no coast "
                 "line of action (build the pair's mesh with pair_mesh)"
@@ -484,9 +269,10 @@ class GearMesh(eqx.Module):
 def pair_mesh(base_plane: MeshModel, line: dict, te) -> GearMesh:
     """The mesh of a pair on the line of action ``line`` (:func:`line_of_action`) with TE vector
     ``te`` (n,), between the scene's members 0 (the pinion, driving) and 1 (the gear); its
-    coast line of action where ``line`` has one and the base plane has coast flanks."""
+    coast line of action (``line``'s ``coast_*`` entries) where the base plane has coast
+    flanks."""
     coast = {}
-    if base_plane.coast and "coast_normal" in line:
+    if base_plane.coast:
         coast = {
             k: as_float(line[k]) for k in ("coast_tangent_point", "coast_direction", "coast_normal")
         }

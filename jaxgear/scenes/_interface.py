@@ -38,7 +38,10 @@ contact line follow the rotation. K, M and the centrifugal load are constant in 
 
 from __future__ import annotations
 
+import abc
+import dataclasses
 import math
+from typing import ClassVar, NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -52,6 +55,8 @@ from .._util import as_float
 
 __all__ = [
     "FlexibleMember",
+    "GearMember",
+    "GearPlace",
     "RigidMember",
     "TorsionalMember",
     "body_dof_index",
@@ -92,8 +97,78 @@ def rigid_node_vector(points, centre, normal) -> Array:
     return jnp.concatenate([nm, jnp.cross(arm, nm)], axis=-1)
 
 
-class RigidMember(eqx.Module):
+def tooth_centre_angle(centre, base_radius, base_half_angle, points, flank):
+    """Fixed-frame polar angle of the centre line of the tooth in contact at ``points`` (..., 3)
+    on the flank ``flank`` (±1, :func:`loaded_flank`) of a gear about ``centre`` (3,) with base
+    radius r_b (m) and half base angle ψ_b (rad): φ_c = φ_M + flank ψ(r_M), ψ(r) = ψ_b −
+    inv(arccos(r_b/r)) (rad)."""
+    m = points - _lead(centre, points)
+    r = jnp.maximum(jnp.hypot(m[..., 0], m[..., 1]), base_radius)
+    a = jnp.arccos(base_radius / r)
+    psi = base_half_angle - (jnp.tan(a) - a)
+    return jnp.arctan2(m[..., 1], m[..., 0]) + flank * psi
+
+
+class GearMember(eqx.Module):
+    """Abstract gear member of a structure: a gear body that the cells of its meshes load
+    through their structure vectors V (its :meth:`window`). The protocol attributes below have
+    the defaults of a body that neither turns its frame nor deforms (a rigid gear); a condensed
+    FE body (:class:`FlexibleMember`) overrides them.
+
+    Class attributes:
+        coast_flanks: the member's coast flanks are modelled (backlash): a rigid gear's on the
+            coast line of action, a torsional gear's with the flank's sign; not a condensed
+            body's.
+        needs_coast_line: its coast rows need the mesh's coast line of action (a member placed
+            in space).
+        turns_frame: the member's coordinates (and its shaft's) are taken in a frame that turns
+            with it (:meth:`frame_angle`).
+    """
+
+    coast_flanks: ClassVar[bool] = True
+    needs_coast_line: ClassVar[bool] = False
+    turns_frame: ClassVar[bool] = False
+
+    @property
+    @abc.abstractmethod
+    def width(self) -> int:
+        """The number of DOFs of its window (static)."""
+
+    @abc.abstractmethod
+    def window(self, points, mask, line, theta, mesh, side, pad=0):
+        """Global DOFs of the window (w,), the structure vectors on them (L, N, w) and whether a
+        cell on the flanks reaches beyond the window, for the cells at fixed-frame points
+        ``points`` (L, N, 3) with mask (L, N) on the mesh's ``line``
+        (:meth:`~jaxgear.scenes.GearMesh.line`) at scene angle θ (rad) of base plane ``mesh``;
+        ``side`` +1 the mesh's driving gear, −1 its driven gear; ``pad`` rim stations more on
+        each side of a window that follows the contact."""
+
+    @property
+    def contact_dofs(self) -> tuple | None:
+        """The global DOFs its cells' structure vectors reach (static), or None: a window that
+        follows the contact (a condensed body's rim stations)."""
+        return None
+
+    def frame_angle(self, theta):
+        """The angle of the member's frame in the fixed frame at the scene angle θ (rad): 0 for
+        a member in the fixed frame."""
+        return jnp.zeros_like(theta)
+
+    def rim_radial_growth(self, x) -> Float[Array, ""]:
+        """The mean radial displacement (m) of its rim under the displacement X (n,): 0 for a
+        rigid gear."""
+        return jnp.zeros((), x.dtype)
+
+    def widened(self) -> GearMember:
+        """The member with its window one station wider: itself when the window is its node's
+        DOFs."""
+        return self
+
+
+class RigidMember(GearMember):
     """A rigid gear body at a 6-DOF shaft node: V = [n_m, (M − O) × n_m] (seed (2.9))."""
+
+    needs_coast_line: ClassVar[bool] = True
 
     centre: Float[Array, " 3"] = eqx.field(converter=as_float)
     dofs: tuple = eqx.field(static=True)  # the node's 6 global DOFs
@@ -115,7 +190,7 @@ class RigidMember(eqx.Module):
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
-class TorsionalMember(eqx.Module):
+class TorsionalMember(GearMember):
     """A rigid gear body that only turns, one coordinate φ (rad, positive in the gear's direction
     of motion): V = ±cos β_b r_b on it (seed (2.9) reduced to the rotation: the driving gear
     advancing closes the flanks, the driven gear advancing opens them)."""
@@ -141,7 +216,7 @@ class TorsionalMember(eqx.Module):
         return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
 
 
-class FlexibleMember(eqx.Module):
+class FlexibleMember(GearMember):
     """A condensed FE body: the interface data of docs/hybrid.md, "The interface" (build with
     :func:`hybrid_pair`).
 
@@ -177,6 +252,9 @@ class FlexibleMember(eqx.Module):
     spin: float = eqx.field(static=True)
     n_window: int = eqx.field(static=True)
 
+    coast_flanks: ClassVar[bool] = False
+    turns_frame: ClassVar[bool] = True
+
     @property
     def width(self) -> int:
         return self.n_window * self.z_nodes.shape[0] * 3
@@ -187,12 +265,23 @@ class FlexibleMember(eqx.Module):
 
     def tooth_centre_angle(self, points, flank):
         """Fixed-frame polar angle of the centre line of the tooth in contact at ``points`` on the
-        flank ``flank`` (±1, :func:`loaded_flank`): φ_c = φ_M + flank ψ(r_M)."""
-        m = points - _lead(self.centre, points)
-        r = jnp.maximum(jnp.hypot(m[..., 0], m[..., 1]), self.base_radius)
-        a = jnp.arccos(self.base_radius / r)
-        psi = self.base_half_angle - (jnp.tan(a) - a)
-        return jnp.arctan2(m[..., 1], m[..., 0]) + flank * psi
+        flank ``flank`` (±1, :func:`loaded_flank`): φ_c = φ_M + flank ψ(r_M)
+        (:func:`tooth_centre_angle`)."""
+        return tooth_centre_angle(
+            self.centre, self.base_radius, self.base_half_angle, points, flank
+        )
+
+    def rim_radial_growth(self, x):
+        """The mean radial displacement (m) of the rim master nodes under X (n,) (body frame)."""
+        u = x[self.rim_dofs]  # (Z, n_ax, 3), body frame
+        Z = self.rim_dofs.shape[0]
+        ang = self.station0 + self.pitch_angle * jnp.arange(Z)
+        ur = u[..., 0] * jnp.cos(ang)[:, None] + u[..., 1] * jnp.sin(ang)[:, None]
+        return jnp.mean(ur)
+
+    def widened(self) -> FlexibleMember:
+        """The member with one rim station more in its window."""
+        return dataclasses.replace(self, n_window=self.n_window + 1)
 
     def coefficients(self, points, outward, p1, p2):
         """c_1, c_2 (fixed frame, (..., 3) each) of (2.19)-(2.20) for contact points M (..., 3),
@@ -312,10 +401,8 @@ def loaded_flank(centre, line, side):
 
 def body_rims(body) -> tuple:
     """Each rim's ``(stations, n_axial)`` master-node grid of a condensed body, the wheel's rim
-    first (a fem_prep body with a ``[pinion_rim]`` has two: ``CondensedBody.rim_grids``; a
-    duck-typed body with only ``rim_grid`` has one)."""
-    grids = getattr(body, "rim_grids", None)
-    return tuple(grids) if grids is not None else (np.asarray(body.rim_grid),)
+    first (``CondensedBody.rim_grids``: a fem_prep body with a ``[pinion_rim]`` has two)."""
+    return tuple(body.rim_grids)
 
 
 def rim_mid_z(body, rim: int = 0) -> float:
@@ -340,36 +427,44 @@ def rim_window(pair: GearPair, member: int) -> int:
     return math.ceil(eps + 2 * _root_angle(pair, member) / pitch) + 2
 
 
+class GearPlace(NamedTuple):
+    """Where a condensed gear sits and how its body frame turns (:func:`flexible_member`).
+
+    Attributes:
+        centre: the member's axis point O (m), (3,).
+        spin, ratio: the body turns by ratio·θ in the ``spin`` sense about z at the scene angle
+            θ (default None: a pair's, +1 and 1 for the pinion, −1 and z1/z2 for the gear; in a
+            train, the layout's sense and speed ratio of the gear).
+        mesh_angle: the angle of the mesh at θ = 0 (rad; a train's mesh phase; 0 for a pair).
+        rim: which rim of the body carries the gear (:func:`body_rims`: 0 the wheel's, 1 a
+            ``[pinion_rim]``); its axial positions are taken from the middle of its face.
+        n_window: rim stations in the window (default None: the contact ratio plus the root
+            points' span, plus 2: :func:`rim_window`).
+        offset: the body frame's angle φ_0 at θ = 0 (rad), or None (default): the angle that
+            puts a tooth in contact on a rim station (the docstring of
+            :func:`flexible_member`); a body carrying two gears takes one angle for both.
+    """
+
+    centre: object
+    spin: float | None = None
+    ratio: float | None = None
+    mesh_angle: float = 0.0
+    rim: int = 0
+    n_window: int | None = None
+    offset: float | None = None
+
+
 def flexible_member(
-    pair: GearPair,
-    member: int,
-    body,
-    gidx,
-    centre,
-    line: dict,
-    mesh: MeshModel,
-    n_window=None,
-    *,
-    spin: float | None = None,
-    ratio: float | None = None,
-    mesh_angle: float = 0.0,
-    rim: int = 0,
+    pair: GearPair, member: int, body, gidx, line: dict, mesh: MeshModel, place: GearPlace
 ) -> FlexibleMember:
     """The interface of a condensed body: its rim master DOFs, root points and window.
 
     Args:
         pair: the gear pair. member: 0 pinion, 1 gear. body: the condensed body (see
             :func:`jaxgear.scenes.hybrid_pair`). gidx: global DOF of each condensed DOF (n_c,).
-        centre: the member's axis point O (m), (3,). line: the mesh's line of action
-            (:meth:`jaxgear.scenes.GearMesh.line`). mesh: the base-plane mesh model.
-        n_window: rim stations in the window (default: the contact ratio plus the root
-            points' span, plus 2).
-        spin, ratio: the body turns by ratio·θ in the ``spin`` sense about z at the scene angle
-            θ (default: a pair's, +1 and 1 for the pinion, −1 and z1/z2 for the gear; in a
-            train, the layout's sense and speed ratio of the gear).
-        mesh_angle: the angle of ``mesh`` at θ = 0 (a train's mesh phase; 0 for a pair).
-        rim: which rim of the body carries the gear (:func:`body_rims`: 0 the wheel's, 1 a
-            ``[pinion_rim]``); its axial positions are taken from the middle of its face.
+        line: the mesh's line of action (:meth:`jaxgear.scenes.GearMesh.line`). mesh: the
+            base-plane mesh model. place: the gear's centre, the turning of its body frame, its
+            rim and window (:class:`GearPlace`).
 
     The body frame is set so that at θ = 0 the centre line of a tooth in contact, at mid-face
     (body z = 0), lies on a rim station: the contact lines of ``mesh`` run
@@ -381,6 +476,7 @@ def flexible_member(
             the rim radius is not the root radius (2 %), fewer than 2 axial rim master nodes,
             or the mesh's slices do not nest in the body's axial rim faces.
     """
+    centre, rim, spin, ratio = place.centre, place.rim, place.spin, place.ratio
     coords = np.asarray(body.master_coords, float)
     rims = body_rims(body)
     if not 0 <= rim < len(rims):
@@ -438,9 +534,11 @@ def flexible_member(
     if spin is None:
         spin = 1.0 if member == 0 else -1.0
     psi_f = _root_angle(pair, member)
-    if n_window is None:
-        n_window = rim_window(pair, member)
-    fm = FlexibleMember(
+    n_window = rim_window(pair, member) if place.n_window is None else place.n_window
+    offset = place.offset
+    if offset is None:
+        offset = _station_offset(pair, member, mesh, line, place, (ang[0], pitch, psi_b))
+    return FlexibleMember(
         centre=centre,
         rim_dofs=rim_dofs,
         body_dofs=np.asarray(gidx),
@@ -451,21 +549,36 @@ def flexible_member(
         root_half_angle=psi_f,
         base_radius=pair.base_radii[member],
         base_half_angle=psi_b,
-        offset=0.0,
+        offset=offset,
         ratio=float(ratio),
         spin=float(spin),
         n_window=n_window,
     )
-    # frame offset: at θ = 0 the tooth whose flank carries a contact line at mid-face is on a
-    # station (a point of the line of action is on a flank only where a contact line is)
+
+
+def _station_offset(pair, member, mesh, line, place, stations) -> Float[Array, ""]:
+    """The body frame's angle φ_0 at θ = 0 (rad) that puts on a rim station the centre line of
+    the tooth whose flank carries a contact line at mid-face (a point of the line of action is
+    on a flank only where a contact line is): :func:`flexible_member`'s frame. ``stations``:
+    (the angle of station 0, the pitch 2π/Z, ψ_b) (rad)."""
+    angle0, pitch, psi_b = stations
+    b = float(mesh.face_width)
     pb = float(mesh.base_pitch)
-    s_mid = float(mesh.base_radius_pinion) * mesh_angle - 0.5 * b * math.tan(
+    s_mid = float(mesh.base_radius_pinion) * place.mesh_angle - 0.5 * b * math.tan(
         float(mesh.base_helix_angle)
     )
     s_mid += pb * round((0.5 * float(mesh.path_of_contact) - s_mid) / pb)
     t = np.asarray(line["direction"], float)
     point = np.asarray(line["zone"], float) + (s_mid - 0.5 * float(mesh.path_of_contact)) * t
-    flank = loaded_flank(centre, line, 1.0 if member == 0 else -1.0)
-    phi_c = float(fm.tooth_centre_angle(jnp.asarray(point), flank))
-    k = round((phi_c - float(ang[0])) / pitch)
-    return eqx.tree_at(lambda f: f.offset, fm, as_float(phi_c - float(ang[0]) - k * pitch))
+    flank = loaded_flank(place.centre, line, 1.0 if member == 0 else -1.0)
+    phi_c = float(
+        tooth_centre_angle(
+            as_float(place.centre),
+            as_float(pair.base_radii[member]),
+            as_float(psi_b),
+            jnp.asarray(point),
+            flank,
+        )
+    )
+    k = round((phi_c - float(angle0)) / pitch)
+    return as_float(phi_c - float(angle0) - k * pitch)

@@ -279,9 +279,14 @@ def rigid_mode_penalty(scene: DynamicScene, K, row: CellRow) -> Float[Array, "n 
 def _check_meshes(scene: Scene, cells: tuple) -> None:
     """One :class:`Cells` per mesh of ``scene`` (a one-line error otherwise)."""
     n = len(scene.base_planes)
-    if not isinstance(cells, tuple) or len(cells) != n:
-        got = f"{len(cells)} meshes" if isinstance(cells, tuple) else type(cells).__name__
-        raise ValueError(f"the scene has {n} gear meshes; cells given for {got} (one per mesh)")
+    if not isinstance(cells, tuple):
+        raise ValueError(
+            f"the scene has {n} gear meshes; cells given for {type(cells).__name__} (one per mesh)"
+        )
+    if len(cells) != n:
+        raise ValueError(
+            f"the scene has {n} gear meshes; cells given for {len(cells)} meshes (one per mesh)"
+        )
 
 
 def grounded(scene: Scene, dofs, factor: float = 1e3) -> Grounded:

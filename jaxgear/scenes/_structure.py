@@ -96,7 +96,8 @@ class AssembledScene(Scene):
     Attributes:
         structure: the assembled structure (n coordinates).
         meshes: the gear meshes, each naming its (driving, driven) gears among ``members``.
-        members: the gear members of the structure (:class:`~jaxgear.scenes.RigidMember`,
+        members: the gear members of the structure (each a
+            :class:`~jaxgear.scenes.GearMember`: :class:`~jaxgear.scenes.RigidMember`,
             :class:`~jaxgear.scenes.TorsionalMember`, :class:`~jaxgear.scenes.FlexibleMember`),
             for a pair (pinion, gear). A gear that meshes twice (an idler) is one member.
         f_torque: the external load per unit pinion torque (n,): +1 on the input node's φ_z,
@@ -213,7 +214,7 @@ class AssembledScene(Scene):
         out = set()
         for mesh in self.meshes:
             for g in mesh.gears:
-                dofs = getattr(self.members[g], "contact_dofs", None)
+                dofs = self.members[g].contact_dofs
                 if dofs is None:
                     return None
                 out.update(dofs)

@@ -20,6 +20,7 @@ from ._scene import DynamicScene, Scene
 from ._structure import AssembledScene, Structure
 from ._train import (
     GearTrain,
+    TrainSpec,
     mesh_period_ratios,
     mesh_teeth,
     scene_span,
@@ -27,7 +28,14 @@ from ._train import (
     shaft_torques,
 )
 
-__all__ = ["RelativeApproach", "TorsionalDynamics", "TorsionalPair", "disc_inertia"]
+__all__ = [
+    "RelativeApproach",
+    "TorsionalDynamics",
+    "TorsionalPair",
+    "TorsionalTrain",
+    "disc_inertia",
+    "torsional_train",
+]
 
 
 class TorsionalPair(Scene):
@@ -160,6 +168,7 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         # a torsional mesh has no place in space: its line of action stays at the origin (the
         # members' vectors do not depend on it)
         line = {"tangent_point": origin, "direction": origin, "normal": origin, "roll_start": 0.0}
+        line.update(coast_tangent_point=origin, coast_direction=origin, coast_normal=origin)
         self.members = (TorsionalMember(p), TorsionalMember(g))
         self.meshes = (pair_mesh(mesh, line, te),)
         ratio = mesh.base_radius_gear / mesh.base_radius_pinion
@@ -223,13 +232,91 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         return RelativeApproach(self.mesh, m_eq)
 
 
-#: the torsional train is a :class:`GearTrain` (the name of earlier releases)
-TorsionalTrain = GearTrain
+class TorsionalTrain(GearTrain):
+    """A torsional gear train (seed I-3 with several meshes): one rotation per shaft (rad, each
+    positive in its shaft's direction of motion), no place in space. Build with :meth:`of` from
+    the train's :class:`~jaxgear.scenes.TrainSpec` (or :func:`torsional_train`)."""
+
+    @classmethod
+    def of(cls, spec: TrainSpec) -> TorsionalTrain:
+        """The torsional scene of the train ``spec``: one rotation per shaft (a compound gear's
+        gears turn together) with the polar inertias of its gears, each mesh between the
+        rotations of its gears' shafts at the spec's phase (:attr:`TrainSpec.mesh_phases`), the
+        input torque on rotation 0 and the loads' shares (:func:`shaft_torques`).
+
+        Mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the driving shaft's angle per unit
+        input angle (r_b,0 / r_b,g through the train, from the tooth counts).
+
+        Raises:
+            ValueError: a mesh whose driving shaft is not yet turning, a shaft driven twice, an
+                output shaft with no share but the balancing one (or none left for it), shares
+                out of range, or meshes that repeat together only after more than
+                ``MAX_SCENE_PERIODS`` periods of the first.
+        """
+        n = spec.n_shafts
+        inertias = [None] * n
+        for g, (_, j) in enumerate(spec.inertias):
+            s = spec.shaft_of[g]
+            inertias[s] = j if inertias[s] is None else inertias[s] + j
+        links = spec.links
+        # speed ratios and periods from the tooth counts: exact in float32 too
+        teeth = [mesh_teeth(p) for p, _ in spec.meshes]
+        omega = shaft_speeds(links, teeth, n)
+        dtype = jnp.result_type(float)
+        eye = jnp.eye(n, dtype=dtype)
+        phases = spec.mesh_phases
+        out, periods = [], []
+        for k, ((plane, _), (g, h)) in enumerate(zip(spec.meshes, links, strict=True)):
+            periods.append(2.0 * math.pi / teeth[k][0] / omega[g])  # the period T_k (input rad)
+            cb = jnp.cos(plane.base_helix_angle)
+            te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
+            origin = jnp.zeros((3,), dtype)
+            out.append(
+                GearMesh(
+                    plane,
+                    origin,
+                    origin,
+                    origin,
+                    0.0,
+                    te,
+                    gears=(g, h),
+                    ratio=omega[g],
+                    phase=phases[k],
+                )
+            )
+        torques, o = shaft_torques(links, omega, spec.shares)
+        zeros = jnp.zeros((n, n), dtype)
+        structure = Structure(
+            K=zeros,
+            M=jnp.diag(jnp.stack([as_float(i) for i in inertias])),
+            parts_K=jnp.zeros((0, n, n), dtype),
+            C_bearing=jnp.zeros((0, 0), dtype),
+            reaction=jnp.zeros((0, n), dtype),
+            gyroscopic=zeros,
+            spin_stiffness=zeros,
+            f_centrifugal=jnp.zeros((n,), dtype),
+            part_names=(),
+            reaction_names=(),
+            reaction_member=(),
+            nodes=(("input", 0), ("output", o), *((f"gear{i}", i) for i in range(n))),
+            node_dofs=1,
+        )
+        rb0 = float(spec.meshes[0][0].base_radius_pinion)
+        return cls(
+            structure=structure,
+            meshes=tuple(out),
+            members=tuple(TorsionalMember(i) for i in range(n)),
+            f_torque=sum((t * eye[g] for g, t in torques.items()), jnp.zeros((n,), dtype)),
+            rigid=jnp.asarray([w / rb0 for w in omega], dtype),
+            periods=scene_span(periods),
+            period_ratios=mesh_period_ratios(periods),
+        )
 
 
-def torsional_train(meshes, inertias, phases=None, shares=None) -> GearTrain:
+def torsional_train(meshes, inertias, phases=None, shares=None) -> TorsionalTrain:
     """A torsional gear train from its meshes (seed I-3 with several meshes): one rotation per
-    gear (rad, each positive in its gear's direction of motion), no shaft.
+    gear (rad, each positive in its gear's direction of motion), no shaft;
+    :meth:`TorsionalTrain.of` of the :class:`~jaxgear.scenes.TrainSpec` of these arguments.
 
     Args:
         meshes: ((mesh model, (driving, driven)), ...), the gears numbered 0 … n−1, gear 0 the
@@ -245,74 +332,23 @@ def torsional_train(meshes, inertias, phases=None, shares=None) -> GearTrain:
             (:func:`shaft_torques`).
 
     Returns:
-        the :class:`GearTrain`; its mesh k takes its cells at θ_k = ω_g θ + phase_k, ω_g the
-        driving gear's angle per unit input angle (r_b,0 / r_b,g through the train).
+        the :class:`TorsionalTrain` (:meth:`TorsionalTrain.of`).
 
     Raises:
-        ValueError: a mesh whose driving gear is not yet turning, a gear driven twice, an
-            output gear with no share but the balancing one (or none left for it), shares out
-            of range, or meshes that repeat together only after more than
-            ``MAX_SCENE_PERIODS`` periods of the first.
+        ValueError: what :meth:`TorsionalTrain.of` refuses.
 
     A gear index is a rotation: a compound gear (two gears on one rigid shaft, the wheel of one
     stage and the pinion of the next) is one index, driven in one mesh and driving the next,
     with the inertia of both; its meshes' phases then depend on how the two are clocked on the
     shaft, which the caller gives.
     """
-    n = len(inertias)
-    links = [link for _, link in meshes]
-    # speed ratios and periods from the tooth counts: exact in float32 too
-    teeth = [mesh_teeth(p) for p, _ in meshes]
-    omega = shaft_speeds(links, teeth, n)
-    dtype = jnp.result_type(float)
-    eye = jnp.eye(n, dtype=dtype)
-    phases = [0.0] * len(meshes) if phases is None else list(phases)
-    out, periods = [], []
-    for k, (plane, (g, h)) in enumerate(meshes):
-        periods.append(2.0 * math.pi / teeth[k][0] / omega[g])  # the period T_k (input rad)
-        cb = jnp.cos(plane.base_helix_angle)
-        te = cb * plane.base_radius_pinion * eye[g] - cb * plane.base_radius_gear * eye[h]
-        origin = jnp.zeros((3,), dtype)
-        out.append(
-            GearMesh(
-                plane,
-                origin,
-                origin,
-                origin,
-                0.0,
-                te,
-                gears=(g, h),
-                ratio=omega[g],
-                phase=phases[k],
-            )
-        )
-    torques, o = shaft_torques(links, omega, shares)
-    zeros = jnp.zeros((n, n), dtype)
-    structure = Structure(
-        K=zeros,
-        M=jnp.diag(jnp.stack([as_float(i) for i in inertias])),
-        parts_K=jnp.zeros((0, n, n), dtype),
-        C_bearing=jnp.zeros((0, 0), dtype),
-        reaction=jnp.zeros((0, n), dtype),
-        gyroscopic=zeros,
-        spin_stiffness=zeros,
-        f_centrifugal=jnp.zeros((n,), dtype),
-        part_names=(),
-        reaction_names=(),
-        reaction_member=(),
-        nodes=(("input", 0), ("output", o), *((f"gear{i}", i) for i in range(n))),
-        node_dofs=1,
+    spec = TrainSpec(
+        tuple(meshes),
+        inertias=tuple((None, j) for j in inertias),
+        phases=None if phases is None else tuple(phases),
+        shares=shares,
     )
-    rb0 = float(meshes[0][0].base_radius_pinion)
-    return GearTrain(
-        structure=structure,
-        meshes=tuple(out),
-        members=tuple(TorsionalMember(i) for i in range(n)),
-        f_torque=sum((t * eye[g] for g, t in torques.items()), jnp.zeros((n,), dtype)),
-        rigid=jnp.asarray([w / rb0 for w in omega], dtype),
-        periods=scene_span(periods),
-        period_ratios=mesh_period_ratios(periods),
-    )
+    return TorsionalTrain.of(spec)
 
 
 class RelativeApproach(DynamicScene):
