@@ -3,23 +3,37 @@ dynamics").
 
 Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
 :class:`DiffraxIntegrator`; a hybrid model's Newmark can take a :class:`ModalBasis`), the
-contact law (:class:`jaxgear.ExactContact`,
-:class:`jaxgear.SmoothContact`), the damping (:class:`Damping`) and the steady-state window
-(:class:`SteadyState`); the speed is an argument.
+contact law (:class:`jaxgear.ExactContact`, :class:`jaxgear.SmoothContact`), the damping (a
+:class:`AbstractDamping`: :class:`RayleighDamping`, :class:`ModalDamping`,
+:class:`CompositeDamping`, :class:`NoDamping`; :func:`Damping` maps the case file's names to
+them) and the steady-state window (:class:`SteadyState`); the speed is an argument.
 
-:func:`dynamic_model` builds the model of a dynamic scene at a torque: a :class:`DynamicModel`
-(lumped scenes: time-averaged mesh stiffness, modal analysis, damping) or a :class:`HybridModel`
-(condensed bodies: damping built per speed). The same entries integrate both:
-:func:`simulate` (one speed to steady state: Newmark with the exact contact loop, or a diffrax
-solver for lumped models), :func:`speed_sweep` (vmapped, sharded or continued over speeds) and
-:func:`band_dynamic_factor` (a smooth worst dynamic factor over a band, for gradients); they
-return one result type, :class:`DynamicResult` (in a :class:`SweepResult` for a sweep). All
-of them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
+A dynamics engine is an object, an :class:`AbstractDynamicModel` (as diffrax's solvers are
+``AbstractSolver`` s): :func:`dynamic_model` builds the one of a scene's kind at a torque, a
+:class:`DynamicModel` (lumped scenes: time-averaged mesh stiffness, modal analysis, damping)
+or a :class:`HybridModel` (condensed bodies: damping built per speed). The entries are written
+once over its methods (``prepare`` a run at one step count, then ``independent`` or
+``continuation`` speeds): :func:`simulate` (one speed to steady state: Newmark with the exact
+contact loop, or a diffrax solver for lumped models), :func:`speed_sweep` (vmapped, sharded or
+continued over speeds) and :func:`band_dynamic_factor` (a smooth worst dynamic factor over a
+band, for gradients); every engine's records (:class:`Records`) become one result type,
+:class:`DynamicResult` (:func:`steady_state`; in a :class:`SweepResult` for a sweep). All of
+them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
 integrates any M, C, K, F and cells given by hand.
 :func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
 """
 
+from ._damping import (
+    AbstractDamping as AbstractDamping,
+    CompositeDamping as CompositeDamping,
+    ModalDamping as ModalDamping,
+    NoDamping as NoDamping,
+    RayleighDamping as RayleighDamping,
+    damping_matrix as damping_matrix,
+)
 from ._from_case import (
+    DAMPING_MODELS as DAMPING_MODELS,
+    Damping as Damping,
     SceneSpec as SceneSpec,
     bearing_forces as bearing_forces,
     build_dynamic_model as build_dynamic_model,
@@ -30,22 +44,30 @@ from ._from_case import (
     spec_window as spec_window,
     static_scene as static_scene,
 )
-from ._hybrid import (
-    FreeVibration as FreeVibration,
-    RevolutionDamping as RevolutionDamping,
-    hybrid_free_vibration as hybrid_free_vibration,
-    mean_mesh_stiffness as mean_mesh_stiffness,
-    revolution_damping as revolution_damping,
-    rim_stations as rim_stations,
-    rim_waves as rim_waves,
+from ._build import (
+    dynamic_model as dynamic_model,
+    mesh_energy_shares as mesh_energy_shares,
+    mesh_stiffness_means as mesh_stiffness_means,
 )
-from ._lumped import static_start as static_start
+from ._hybrid import HybridModel as HybridModel, HybridRun as HybridRun
+from ._hybrid_damping import (
+    RevolutionDamping as RevolutionDamping,
+    revolution_damping as revolution_damping,
+)
+from ._hybrid_free import (
+    FreeVibration as FreeVibration,
+    hybrid_free_vibration as hybrid_free_vibration,
+)
+from ._hybrid_mesh import mean_mesh_stiffness as mean_mesh_stiffness
+from ._lumped import (
+    DynamicModel as DynamicModel,
+    LumpedRun as LumpedRun,
+    static_start as static_start,
+)
 from ._modal import (
-    Damping as Damping,
     ModalAnalysis as ModalAnalysis,
     ModesAtSpeed as ModesAtSpeed,
     campbell_coincidences as campbell_coincidences,
-    damping_matrix as damping_matrix,
     excited_omega as excited_omega,
     gear_nodal_diameter_resonances as gear_nodal_diameter_resonances,
     modal_analysis as modal_analysis,
@@ -56,14 +78,9 @@ from ._modal import (
 )
 from ._model import (
     AbstractDynamicModel as AbstractDynamicModel,
-    DynamicModel as DynamicModel,
-    HybridModel as HybridModel,
     MeshTable as MeshTable,
     deviation_periods as deviation_periods,
-    dynamic_model as dynamic_model,
-    mesh_energy_shares as mesh_energy_shares,
     mesh_rows as mesh_rows,
-    mesh_stiffness_means as mesh_stiffness_means,
     mesh_table as mesh_table,
     span_periods as span_periods,
 )
@@ -71,7 +88,9 @@ from ._newmark import MeshDamping as MeshDamping, newmark as newmark
 from ._result import (
     DynamicResult as DynamicResult,
     MeshDynamics as MeshDynamics,
+    Records as Records,
     SweepResult as SweepResult,
+    steady_state as steady_state,
 )
 from ._settings import (
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
@@ -84,8 +103,10 @@ from ._settings import (
     HertzPressure as HertzPressure,
     ModalBasis as ModalBasis,
     Newmark as Newmark,
+    Outputs as Outputs,
     SteadyState as SteadyState,
 )
+from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
 from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
 from ._sweep import (

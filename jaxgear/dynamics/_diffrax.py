@@ -9,7 +9,7 @@ import optimistix
 
 from .._contact import ContactLaw, _phi
 from .._quasi_static import per_mesh_modifications
-from ._model import DynamicModel, MeshTable, cells_from_reference, mesh_te
+from ._model import AbstractDynamicModel, MeshTable, cells_from_reference, mesh_te
 from ._settings import DIFFRAX_SOLVERS, _Config, _divergence_code
 
 
@@ -21,7 +21,7 @@ def _cell_forces(table: MeshTable, X, j, law: ContactLaw):
 
 
 def _diffrax(
-    model: DynamicModel, table: MeshTable, speed, dt, state, cfg: _Config, law, static_force
+    model: AbstractDynamicModel, table: MeshTable, speed, dt, state, cfg: _Config, law, static_force
 ):
     """The run of :func:`~jaxgear.dynamics._lumped._one_speed` by a diffrax solver: the cells of
     every mesh at θ(t) (not the table's rows); ``static_force`` (m,) scales the checks."""

@@ -20,11 +20,19 @@ from ..scenes import (
     hybrid_pair,
     lumped_pair,
 )
-from ._modal import Damping
-from ._model import dynamic_model
+from ._build import dynamic_model
+from ._damping import (
+    AbstractDamping,
+    CompositeDamping,
+    ModalDamping,
+    NoDamping,
+    RayleighDamping,
+)
 from ._settings import DiffraxIntegrator, ModalBasis, Newmark, SteadyState
 
 __all__ = [
+    "DAMPING_MODELS",
+    "Damping",
     "SceneSpec",
     "bearing_forces",
     "build_dynamic_model",
@@ -92,12 +100,23 @@ def spec_integrator(spec: SceneSpec) -> Newmark | DiffraxIntegrator:
     :class:`Newmark`, a diffrax solver name → :class:`DiffraxIntegrator` (with its
     tolerances); ``steps_per_period`` (``None``: automatic); ``modal_basis`` = m →
     ``Newmark(..., basis=ModalBasis(m))`` (hybrid models)."""
-    if spec.solver == "newmark":
-        basis = None if spec.modal_basis is None else ModalBasis(int(spec.modal_basis))
-        return Newmark(spec.steps_per_period, basis=basis)
+    return INTEGRATORS.get(spec.solver, _diffrax_integrator)(spec)
+
+
+def _newmark_integrator(spec: SceneSpec) -> Newmark:
+    basis = None if spec.modal_basis is None else ModalBasis(int(spec.modal_basis))
+    return Newmark(spec.steps_per_period, basis=basis)
+
+
+def _diffrax_integrator(spec: SceneSpec) -> DiffraxIntegrator:
     return DiffraxIntegrator(
         spec.solver, spec.steps_per_period, rtol=float(spec.rtol), atol=float(spec.atol)
     )
+
+
+#: the integrators a case's ``[scene.integration] solver`` names (any other name: a diffrax
+#: solver, :data:`~jaxgear.dynamics.DIFFRAX_SOLVERS`)
+INTEGRATORS = {"newmark": _newmark_integrator}
 
 
 def spec_window(spec: SceneSpec) -> SteadyState:
@@ -105,7 +124,50 @@ def spec_window(spec: SceneSpec) -> SteadyState:
     return SteadyState(spec.periods, spec.keep_periods)
 
 
-def spec_damping(spec: SceneSpec) -> Damping:
+#: the damping models a case file (``[scene.damping] model``) or :func:`Damping` names; each
+#: takes the settings named as its fields
+DAMPING_MODELS = {
+    "rayleigh": RayleighDamping,
+    "modal": ModalDamping,
+    "composite": CompositeDamping,
+    "none": NoDamping,
+}
+
+
+def Damping(  # noqa: N802 - the former class's spelling, kept for callers
+    model: str = "composite",
+    *,
+    ratio=0.05,
+    alpha=0.0,
+    beta=0.0,
+    mesh_ratio=0.07,
+    structure_ratio=0.01,
+) -> AbstractDamping:
+    """The damping model a name gives (seed (2.34)-(2.36)), the spelling of a case file's
+    ``[scene.damping]``: ``"rayleigh"`` → :class:`RayleighDamping` (``alpha`` a_R (1/s),
+    ``beta`` b_R (s)), ``"modal"`` → :class:`ModalDamping` (``ratio`` ξ), ``"composite"`` →
+    :class:`CompositeDamping` (``mesh_ratio`` ξ_mesh, ``structure_ratio`` ξ_structure),
+    ``"none"`` → :class:`NoDamping`; the other keywords are not used.
+
+    Raises:
+        ValueError: another name (one line).
+    """
+    if model not in DAMPING_MODELS:
+        raise ValueError(
+            f"damping model = {model!r}: allowed 'rayleigh', 'modal', 'composite', 'none'"
+        )
+    settings = {
+        "ratio": ratio,
+        "alpha": alpha,
+        "beta": beta,
+        "mesh_ratio": mesh_ratio,
+        "structure_ratio": structure_ratio,
+    }
+    cls = DAMPING_MODELS[model]
+    return cls(**{f.name: settings[f.name] for f in dataclasses.fields(cls)})
+
+
+def spec_damping(spec: SceneSpec) -> AbstractDamping:
     """The damping model of a case's ``[scene.damping]`` table (seed (2.34)–(2.36))."""
     return Damping(
         spec.damping_model,
@@ -168,40 +230,7 @@ def build_dynamic_model(
             rotating_frame=spec.rotating_frame,
         )
         return model, spec
-    pair = case.pair
-    mesh = case.mesh_model(slices=slices)
-    i1 = spec.pinion_inertia or disc_inertia(
-        case.density, pair.tip_radii[0], pair.pinion.face_width
-    )
-    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
-    if spec.model == "lumped3d":
-        masses, inertias = _gear_bodies(case, spec, i1, i2)
-        scene = lumped_pair(
-            pair,
-            mesh,
-            spec.pinion_shaft,
-            spec.gear_shaft,
-            masses=masses,
-            inertias=inertias,
-            youngs_modulus=case.youngs_modulus,
-            poisson_ratio=case.poisson_ratio,
-            density=case.density,
-        )
-    else:
-        has_m, has_l = spec.motor_inertia is not None, spec.load_inertia is not None
-        scene = TorsionalDynamics(
-            mesh,
-            i1,
-            i2,
-            spec.motor_inertia or 1.0,
-            spec.load_inertia or 1.0,
-            spec.motor_shaft or 1.0,
-            spec.load_shaft or 1.0,
-            has_motor=has_m,
-            has_load=has_l,
-        )
-        if spec.reduction == "relative":
-            scene = scene.reduced()
+    scene = PAIR_SCENES[spec.model](case, spec, case.mesh_model(slices=slices))
     damping = spec_damping(spec)
     # the time averages (modal analysis, damping) need a fixed grid: 64 positions per period
     # unless the scene fixes the step
@@ -213,6 +242,56 @@ def build_dynamic_model(
         positions_per_pitch=spec.steps_per_period or 64,
     )
     return model, spec
+
+
+def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
+    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
+    pair = case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    return i1, i2
+
+
+def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
+    """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings."""
+    i1, i2 = _inertias(case, spec)
+    masses, inertias = _gear_bodies(case, spec, i1, i2)
+    return lumped_pair(
+        case.pair,
+        mesh,
+        spec.pinion_shaft,
+        spec.gear_shaft,
+        masses=masses,
+        inertias=inertias,
+        youngs_modulus=case.youngs_modulus,
+        poisson_ratio=case.poisson_ratio,
+        density=case.density,
+    )
+
+
+def _torsional_pair(case: Case, spec: SceneSpec, mesh):
+    """``[scene] model = "torsional"``: the torsional pair, with a motor and a load where the
+    case gives them, reduced to the relative approach with ``reduction = "relative"``."""
+    i1, i2 = _inertias(case, spec)
+    has_m, has_l = spec.motor_inertia is not None, spec.load_inertia is not None
+    scene = TorsionalDynamics(
+        mesh,
+        i1,
+        i2,
+        spec.motor_inertia or 1.0,
+        spec.load_inertia or 1.0,
+        spec.motor_shaft or 1.0,
+        spec.load_shaft or 1.0,
+        has_motor=has_m,
+        has_load=has_l,
+    )
+    return scene.reduced() if spec.reduction == "relative" else scene
+
+
+#: the rigid-gear pair scenes a case's ``[scene] model`` names: (case, spec, mesh model) ↦ scene
+PAIR_SCENES = {"lumped3d": _lumped3d_pair, "torsional": _torsional_pair}
 
 
 def load_bodies(spec: SceneSpec, *, progress: bool = False) -> tuple:

@@ -1,35 +1,150 @@
-"""The lumped models' dynamics (:class:`~jaxgear.dynamics.DynamicModel`): Newmark on the mesh
-table (the contact in coordinates) or a diffrax solver, one speed to steady state
-(:func:`_one_speed`), vmapped or continued over speeds (:func:`_run`). The public entries are
-:func:`jaxgear.dynamics.simulate` and :func:`jaxgear.dynamics.speed_sweep`."""
+"""The lumped engine (:class:`~jaxgear.dynamics.DynamicModel`, an
+:class:`~jaxgear.dynamics.AbstractDynamicModel`): Newmark on the mesh table (the contact in
+coordinates) or a diffrax solver, one speed to steady state (:func:`_one_speed`), one speed,
+vmapped or continued over speeds (:func:`_single`, :func:`_vmapped`, :func:`_scans`). The
+public entries :func:`jaxgear.dynamics.simulate` and :func:`jaxgear.dynamics.speed_sweep` call
+it through :meth:`DynamicModel.prepare`, :meth:`DynamicModel.independent` and
+:meth:`DynamicModel.continuation`."""
 
 from __future__ import annotations
+
+import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
+from .._modifications import Modifications
 from .._util import check_integer
-from ._modal import excited_omega
+from ..scenes import DynamicScene
+from ._devices import several_devices, shard_speeds
+from ._modal import ModalAnalysis, excited_omega
 from ._model import (
-    DynamicModel,
+    AbstractDynamicModel,
     MeshTable,
     _prepare,
     _Prepared,
     cell_geometry,
+    deviation_periods,
     mesh_max,
     mesh_te,
     pressure_factors,
-    span_periods,
     split_cells,
     static_mesh_forces,
 )
 from ._newmark import newmark
-from ._result import checked, steady_state
-from ._settings import _Config, _divergence_code
+from ._result import Records, steady_state
+from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
 
-__all__ = ["static_start"]
+__all__ = ["DynamicModel", "static_start"]
+
+
+class DynamicModel(AbstractDynamicModel):
+    """A dynamic scene at an operating torque, with its damping (build with
+    :func:`~jaxgear.dynamics.dynamic_model`): the lumped engine, the cells in coordinates on a
+    mesh table (:class:`MeshTable`), Newmark or a diffrax solver.
+
+    Attributes:
+        scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications, one
+            :class:`~jaxgear.Modifications` for every mesh or a tuple of one per mesh
+            (differentiable: δ0 is rebuilt from them in every simulation). torque: pinion
+            torque T (N·m).
+        damping: the (n, n) damping matrix C, built once from the modal analysis of the
+            time-averaged system, plus the scene's bearing damping if it has one
+            (:func:`~jaxgear.dynamics.damping_matrix`; held fixed under differentiation wrt
+            ``mods``).
+        modes: :class:`ModalAnalysis` of the time-averaged system.
+        mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m) over the
+            cells of every mesh.
+        deviation_span: mesh periods of the span a run covers when ``mods`` carry manufacturing
+            deviations (static; None: the period over which they repeat,
+            :func:`~jaxgear.dynamics.deviation_periods`). See
+            :func:`~jaxgear.dynamics.span_periods`.
+    """
+
+    scene: DynamicScene
+    mods: Modifications | tuple
+    torque: Float[Array, ""]
+    damping: Float[Array, "n n"]
+    modes: ModalAnalysis
+    mesh_stiffness_mean: Float[Array, ""]
+    deviation_span: int | None = eqx.field(static=True, default=None)
+
+    continues: ClassVar[bool] = True
+
+    def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
+        """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
+        frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
+        return (
+            self.modes.omega * self.scene.base_planes[0].mesh_period_angle / (2 * jnp.pi * harmonic)
+        )
+
+    def default_settings(self):
+        """Newmark with automatic steps, the exact law (100 passes), 60 periods with 4 kept."""
+        return Newmark(), ExactContact(), SteadyState()
+
+    def check_integrator(self, integrator) -> None:
+        if isinstance(integrator, Newmark) and integrator.basis is not None:
+            raise ValueError(
+                f"integrator = {integrator!r}: a modal basis is for a hybrid model (allowed "
+                "basis=None for a lumped one)"
+            )
+
+    def span_periods(self) -> int:
+        """The scene's period times, with manufacturing deviations, ``deviation_span`` or else
+        their period (:func:`~jaxgear.dynamics.deviation_periods`)."""
+        q = self.scene.scene_periods()
+        dev = deviation_periods(self.mods)
+        if dev == 1:
+            return q
+        return q * (self.deviation_span if self.deviation_span is not None else dev)
+
+    def steps_multiple(self) -> int:
+        """The least N_s dividing every mesh's period into whole steps, lcm of the
+        denominators of T_k/T_0; 1 with manufacturing deviations (tabulated over the span
+        whatever N_s)."""
+        if deviation_periods(self.mods) > 1:
+            return 1
+        return math.lcm(*(f.denominator for f in self.scene.mesh_periods()))
+
+    def averaged_modes(self, *, speed=0.0, positions_per_pitch=64, contact=ExactContact()):
+        """The model's own modes (:attr:`modes`, built with it; the arguments are not used)."""
+        return self.modes
+
+    def prepare(self, integrator, law, window, steps_per_period, outputs, modes=None):
+        """The mesh table and static rows of ``steps_per_period`` steps per period over the
+        model's span (:class:`LumpedRun`); ``modes`` unused (the model's own)."""
+        cells = sum(p.n_lines * p.n_slices for p in self.scene.base_planes)
+        cfg = _config(integrator, window, int(steps_per_period), outputs, cells=cells)
+        return LumpedRun(_prep(self, law, cfg.steps_per_period), law, cfg)
+
+    def independent(self, prepared, speeds, *, start=None, shard=False):
+        prep, law, cfg = prepared.prep, prepared.law, prepared.cfg
+        start = _static_start(prep) if start is None else start
+        if jnp.ndim(speeds) == 0:
+            return _single(self, prep, speeds, start, law, cfg)
+        if several_devices(shard, speeds):
+            padded, _ = shard_speeds(speeds)
+            r = _vmapped(self, prep, padded, start, law, cfg)
+            return jax.tree_util.tree_map(lambda a: a[: speeds.shape[0]], r)
+        return _vmapped(self, prep, speeds, start, law, cfg)
+
+    def continuation(self, prepared, speeds, *, start=None):
+        start = _static_start(prepared.prep) if start is None else start
+        return _scans(self, prepared.prep, speeds, start, prepared.law, prepared.cfg)
+
+
+class LumpedRun(eqx.Module):
+    """A lumped run prepared at one step count (:meth:`DynamicModel.prepare`): the mesh table
+    and the static rows over the span, the contact law and the run's settings."""
+
+    prep: _Prepared
+    law: ContactLaw
+    cfg: _Config = eqx.field(static=True)
+
 
 
 # --------------------------------------------------------------------------------------------
@@ -49,37 +164,36 @@ def _with_acceleration(model, table, X, Xd, law):
 
 def _newmark(
     model: DynamicModel,
-    table: MeshTable,
+    run: LumpedRun,
     dt,
     state,
-    n_steps: int,
-    cfg: _Config,
-    law: ContactLaw,
-    record: bool,
-    record_states: bool = False,
-    static_force=None,
-    start: int = 0,
-    record_cells: bool = False,
+    steps: tuple[int, int],
+    static_force,
+    *,
+    record: bool = False,
     factors=None,
-    dofs: tuple | None = None,
 ):
-    """``n_steps`` Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in
-    coordinates) from step ``start`` + 1 on: step n ends at step start + n + 1, whose cells
-    each mesh takes from its own rows of the table (:meth:`MeshTable.at`).
+    """Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in coordinates)
+    of the prepared ``run`` (its table, the coordinates each step's contact is condensed onto,
+    :attr:`_Prepared.dofs`, its law and settings): ``steps`` = (start, n), n steps from step
+    start + 1 on: step k ends at step start + k + 1, whose cells each mesh takes from its own
+    rows of the table (:meth:`MeshTable.at`).
 
     ``state``: (X, Ẋ, Ẍ, result code, most contact passes). ``static_force``: the static mesh
-    forces (N), (m,), the scale of the divergence check (default: the model's F_s). Records per
-    step (``record``), a dict: each mesh's force Σ P (N, (m,)) ``fm`` and TE (m, (m,)) ``te``,
-    the forces per contact line of each mesh (N, a tuple of (L_k,)) ``lines``, the bearing
-    forces R X (N, (r,)) ``reac``; (X, Ẋ) ``states`` with ``record_states``; the cell forces P
-    (N, (c,)) ``cells`` with ``record_cells``; with ``factors`` (the table's E*/(π R) per row
-    and cell, (R, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa², (m,)) ``p2``,
-    reduced here in the loop. ``dofs``: the coordinates each step's contact is condensed onto
-    (:attr:`_Prepared.dofs`; None: every coordinate)."""
+    forces (N), (m,), the scale of the divergence check. Records per step (``record``), a
+    dict: each mesh's force Σ P (N, (m,)) ``fm`` and TE (m, (m,)) ``te``, the forces per
+    contact line of each mesh (N, a tuple of (L_k,)) ``lines``, the bearing forces R X (N,
+    (r,)) ``reac``; (X, Ẋ) ``states`` when the settings record them; the cell forces P (N,
+    (c,)) ``cells`` when they record the cell loads; with ``factors`` (the table's E*/(π R)
+    per row and cell, (R, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa²,
+    (m,)) ``p2``, reduced here in the loop."""
+    table, cfg = run.prep.table, run.cfg
+    start, n_steps = steps
+    record_states, record_cells = record and cfg.states, record and cfg.cell_loads
     scene = model.scene
     M, Ks, F = scene.mass(), scene.stiffness(), scene.external_load(model.torque)
     R = scene.reaction_matrix()
-    fs = jnp.sum(model.static_force if static_force is None else static_force)
+    fs = jnp.sum(static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
     te_of = mesh_te(scene, table.e_max[0])
     cells_at = table.at
@@ -113,11 +227,11 @@ def _newmark(
         state,
         rows,
         cells_at,
-        law,
+        run.law,
         kept if record else None,
         check=check,
         record_entry=True,
-        dofs=dofs,
+        dofs=run.prep.dofs,
     )
 
 
@@ -149,20 +263,10 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         # the transient unrecorded, then the kept periods recorded from the row where the
         # transient ended (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
-        run = {"cfg": cfg, "law": law, "static_force": fs, "dofs": static.dofs}
-        carry, _ = _newmark(model, table, dt, carry0, n_trans, record=False, **run)
+        run = LumpedRun(static, law, cfg)
+        carry, _ = _newmark(model, run, dt, carry0, (0, n_trans), fs)
         carry, rec = _newmark(
-            model,
-            table,
-            dt,
-            carry,
-            n_keep,
-            record=True,
-            record_states=cfg.states,
-            start=n_trans,
-            record_cells=cfg.cell_loads,
-            factors=factors,
-            **run,
+            model, run, dt, carry, (n_trans, n_keep), fs, record=True, factors=factors
         )
         fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
         coast = rec.get("coast")
@@ -197,40 +301,46 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
     static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (S, m)
     none = jnp.zeros((n_keep, 0), fm.dtype)
     return steady_state(
-        speed=speed,
-        time_step=dt,
-        mesh_period_angle=period_angle,
-        steps_per_period=P,
-        transient_steps=n_trans,
-        theta=table.angle(j),
-        mesh_force=fm,
-        static_force=fs,
-        transmission_error=te,
-        line_force=lines,
-        static_line_force=static_lines,
-        static_te=static_te[j % table.span],
-        bearing_force=reac,
-        bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
-        omega_excited=excited_omega(model.modes),
-        final_state=final,
-        iterations=it,
-        code=code,
-        rim=(none, none),
-        states=states,
-        scene_steps=table.span,
-        pressure=pressure,
-        cells=cells,
-        coast_force=coast if cfg.newmark else None,
+        Records(
+            speed=speed,
+            time_step=dt,
+            mesh_period_angle=period_angle,
+            steps_per_period=P,
+            transient_steps=n_trans,
+            theta=table.angle(j),
+            mesh_force=fm,
+            static_force=fs,
+            transmission_error=te,
+            line_force=lines,
+            static_line_force=static_lines,
+            static_te=static_te[j % table.span],
+            bearing_force=reac,
+            bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
+            omega_excited=excited_omega(model.modes),
+            final_state=final,
+            iterations=it,
+            code=code,
+            rim=(none, none),
+            states=states,
+            scene_steps=table.span,
+            pressure=pressure,
+            cells=cells,
+            coast_force=coast if cfg.newmark else None,
+        )
     )
 
 
 def _prep(
-    model, law: ContactLaw, steps_per_period: int, own_periods: bool = True, condensed: bool = True
+    model: DynamicModel,
+    law: ContactLaw,
+    steps_per_period: int,
+    own_periods: bool = True,
+    condensed: bool = True,
 ) -> _Prepared:
     """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
     tabulated over its own period (``own_periods=False``: over the span, the long table), the
     static rows solved on the condensed structure (``condensed=False``: on every coordinate)."""
-    periods = span_periods(model)
+    periods = model.span_periods()
     return _prepare(
         model.scene,
         model.mods,
@@ -266,49 +376,45 @@ def static_start(
     return _static_start(_prep(model, law, int(steps_per_period)))
 
 
-@eqx.filter_jit
-def _run(
-    model: DynamicModel,
-    prep: _Prepared,
-    speeds,
-    state0,
-    law: ContactLaw,
-    cfg: _Config,
-    mode: str,
-    throw: bool = False,
-):
+def _starts(model: DynamicModel, prep: _Prepared, state0, law: ContactLaw):
+    """(X, Ẋ, Ẍ) of ``state0`` = (X, Ẋ), and of the static equilibrium (the restart of a
+    continuation after a failed speed)."""
     table = prep.table
-    static = prep
-    state0 = _with_acceleration(model, table, state0[0], state0[1], law)
-    restart = _with_acceleration(
-        model, table, static.static_x[0], jnp.zeros_like(static.static_x[0]), law
-    )
+    start = _with_acceleration(model, table, state0[0], state0[1], law)
+    zero = jnp.zeros_like(prep.static_x[0])
+    return start, _with_acceleration(model, table, prep.static_x[0], zero, law)
 
-    def one(speed, state):
-        return _one_speed(model, table, static, speed, state, cfg, law)
 
-    if mode == "single":
-        r = one(speeds, state0)
-        if throw:  # eqx.error_if: raises under jit, vmap and grad alike
-            r = checked(r, "simulate")
-        return r
-    if mode == "vmap":
-        return jax.vmap(lambda s: one(s, state0))(speeds)
+@eqx.filter_jit
+def _single(model: DynamicModel, prep: _Prepared, speed, state0, law: ContactLaw, cfg: _Config):
+    """One speed from ``state0`` = (X, Ẋ)."""
+    start, _ = _starts(model, prep, state0, law)
+    return _one_speed(model, prep.table, prep, speed, start, cfg, law)
+
+
+@eqx.filter_jit
+def _vmapped(model: DynamicModel, prep: _Prepared, speeds, state0, law: ContactLaw, cfg: _Config):
+    """Every speed of ``speeds`` (S,) from ``state0``, side by side (``jax.vmap``)."""
+    start, _ = _starts(model, prep, state0, law)
+    return jax.vmap(lambda s: _one_speed(model, prep.table, prep, s, start, cfg, law))(speeds)
+
+
+@eqx.filter_jit
+def _scans(model: DynamicModel, prep: _Prepared, speeds, state0, law: ContactLaw, cfg: _Config):
+    """The speeds (S,) one after the other from ``state0``, each from the previous steady
+    state (``lax.scan``; a diverged point restarts the next one from the static equilibrium);
+    (k, S): k such scans side by side (``jax.vmap``)."""
+    start, restart = _starts(model, prep, state0, law)
 
     def scan_dir(sp):
         def body(state, s):
-            r = one(s, state)
-            # a diverged point restarts the next one from the static equilibrium
+            r = _one_speed(model, prep.table, prep, s, state, cfg, law)
             ok = r.result == 0
             nxt = jax.tree_util.tree_map(lambda a, b: jnp.where(ok, a, b), r.final_state, restart)
             return nxt, r
 
-        return jax.lax.scan(body, state0, sp)[1]
+        return jax.lax.scan(body, start, sp)[1]
 
-    if mode == "continuation":
-        return scan_dir(speeds)
-    # both directions at once: vmap over (up, reversed)
-    both = jax.vmap(scan_dir)(jnp.stack([speeds, speeds[::-1]]))
-    up = jax.tree_util.tree_map(lambda a: a[0], both)
-    down = jax.tree_util.tree_map(lambda a: a[1][::-1], both)
-    return up, down
+    if speeds.ndim == 2:
+        return jax.vmap(scan_dir)(speeds)
+    return scan_dir(speeds)

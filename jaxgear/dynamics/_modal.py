@@ -17,16 +17,13 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._util import as_float
 from ..scenes import DynamicScene, FlexibleMember, HybridPair
 from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, MIN_STEPS_PER_PERIOD, STEPS_PER_MODE
 
 __all__ = [
-    "Damping",
     "ModalAnalysis",
     "ModesAtSpeed",
     "campbell_coincidences",
-    "damping_matrix",
     "excited_omega",
     "modal_analysis",
     "modes_at_speed",
@@ -470,59 +467,6 @@ def gear_nodal_diameter_resonances(
         freqs, nd["nodal_diameter"][web], Z, Z * ratio, tuple(harmonics), speeds=grid
     )
     return [tag | r for r in rows if max_speed is None or r["pinion_speed_rad_s"] <= max_speed]
-
-
-class Damping(eqx.Module):
-    """Damping model (seed (2.34)-(2.36)).
-
-    Attributes:
-        model: "rayleigh" (C = a_R M + b_R K̄), "modal" (one ratio ξ for every mode, (2.35)) or
-            "composite" (ξ_i = ξ_mesh e_i + ξ_structure (1 − e_i), (2.36)); static.
-        ratio: ξ (-) for "modal".
-        alpha: a_R (1/s), beta: b_R (s) for "rayleigh".
-        mesh_ratio, structure_ratio: the composite's ξ_mesh (0.07) and ξ_structure (0.01).
-    """
-
-    model: str = eqx.field(static=True, default="composite")
-    ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
-    alpha: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    beta: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    mesh_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.07)
-    structure_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.01)
-
-    def __check_init__(self):
-        if self.model not in ("rayleigh", "modal", "composite", "none"):
-            raise ValueError(
-                f"damping model = {self.model!r}: allowed 'rayleigh', 'modal', 'composite', 'none'"
-            )
-
-
-def damping_matrix(
-    scene: DynamicScene, modes: ModalAnalysis, damping: Damping
-) -> Float[Array, "n n"]:
-    """Viscous damping matrix C (units of K·s), shape (n, n).
-
-    Modal/composite: C = M Φ diag(2 ξ_i ω_i) Φᵀ M with mass-normalised Φ, i.e. c_i = 2 ξ_i
-    √(k_i m_i) per mode (2.35); rigid-body modes are undamped. Rayleigh: a_R M + b_R K̄ (2.34).
-    A scene with bearing damping (``scene.bearing_damping()``, e.g. :class:`LumpedPair` with
-    6×6 bearing damping matrices) adds it to C whatever the model ("none" included): it is a
-    physical element of the structure, not part of the modal/Rayleigh model.
-    """
-    M = scene.mass()
-    bearing = getattr(scene, "bearing_damping", None)
-    Cb = jnp.zeros_like(M) if bearing is None else bearing()
-    if damping.model == "none":
-        return Cb
-    if damping.model == "rayleigh":
-        K = modes.mesh_stiffness + scene.stiffness()
-        return damping.alpha * M + damping.beta * K + Cb
-    if damping.model == "modal":
-        xi = jnp.broadcast_to(damping.ratio, modes.omega.shape)
-    else:
-        e = modes.mesh_energy
-        xi = damping.mesh_ratio * e + damping.structure_ratio * (1.0 - e)
-    MP = M @ modes.shapes
-    return MP @ jnp.diag(2.0 * xi * modes.omega) @ MP.T + Cb
 
 
 def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:

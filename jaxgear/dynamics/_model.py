@@ -35,7 +35,9 @@ Divergence is reported through ``result`` (:class:`~jaxgear.DynamicsResult`), ne
 
 from __future__ import annotations
 
+import abc
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -44,24 +46,21 @@ import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import CellRow, MeshModel, cell_flank, check_positions, split_by_mesh
-from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
+from .._contact import ContactLaw, ExactContact, solve_contact
 from .._modifications import Modifications
 from .._pressure import pressure_factor
-from .._util import check_instance, check_integer
-from .._quasi_static import check_operating, mesh_separations, per_mesh_modifications
+from .._quasi_static import mesh_separations, per_mesh_modifications
 from ..scenes import DynamicScene, HybridPair
-from ._modal import Damping, ModalAnalysis, damping_matrix, modal_analysis
-from ._newmark import condensed as condensed_system, contact_coordinates
+from ._modal import ModalAnalysis
+from ._newmark import contact_coordinates, static_condensation
+from ._settings import Integrator, Outputs, SteadyState
 
 __all__ = [
     "AbstractDynamicModel",
-    "DynamicModel",
-    "HybridModel",
     "MeshTable",
     "cell_geometry",
     "cells_from_reference",
     "deviation_periods",
-    "dynamic_model",
     "mesh_forces",
     "mesh_rows",
     "mesh_table",
@@ -380,7 +379,7 @@ def _static_rows(
     quasi-static reference), each mesh at its own row.
 
     The structure is the same at every step: it is condensed once onto the coordinates the
-    cells reach (:func:`~jaxgear.dynamics._newmark.condensed`; 24 of 102 for the lumped
+    cells reach (:func:`~jaxgear.dynamics._newmark.static_condensation`; 24 of 102 for the lumped
     ``two-stage`` case), each step's active set (II-25) is solved on those alone, and X is
     recovered. A scene whose cells reach every coordinate (a torsional train), or that does
     not name them, is solved on all, as is every scene with ``condensed=False`` (for
@@ -389,7 +388,7 @@ def _static_rows(
     F = scene.external_load(torque)
     dofs = contact_coordinates(scene, K.shape[0], condensed)
     if dofs is not None:
-        reduced = condensed_system(K, dofs)
+        reduced = static_condensation(K, dofs)
         K, (F, y) = reduced.S, reduced.load(F)
         # the structure vectors on those coordinates only (the others are zero)
         table = eqx.tree_at(lambda t: t.V, table, table.V[:, :, reduced.J])
@@ -458,13 +457,29 @@ def _prepare(
 
 
 class AbstractDynamicModel(eqx.Module):
-    """What every dynamic model is (:class:`DynamicModel`, :class:`HybridModel`): a scene with its
-    mesh at a pinion torque T (N·m), ready for :func:`~jaxgear.dynamics.simulate` and
-    :func:`~jaxgear.dynamics.speed_sweep` (the pattern of diffrax's abstract solvers)."""
+    """A dynamics engine: a scene with its mesh at a pinion torque T (N·m), and the way it is
+    integrated to steady state (the pattern of diffrax's ``AbstractSolver``: the entries
+    :func:`~jaxgear.dynamics.simulate`, :func:`~jaxgear.dynamics.speed_sweep` and
+    :func:`~jaxgear.dynamics.band_dynamic_factor` are written once over these methods; a new
+    kind of model is one more subclass, not a branch in them).
+
+    Implementations: :class:`~jaxgear.dynamics.DynamicModel` (lumped scenes: the cells in
+    coordinates on a mesh table, Newmark or a diffrax solver) and
+    :class:`~jaxgear.dynamics.HybridModel` (condensed FE bodies: Newmark in the cell space or
+    a modal basis, the damping built per speed).
+
+    A run is two calls: :meth:`prepare` (the speed-independent work at one resolved step count:
+    the checked run settings, a lumped model's mesh table and static rows, a hybrid model's
+    modal basis) and :meth:`independent` or :meth:`continuation` (the speeds).
+    """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
     mods: eqx.AbstractVar[Modifications]
     torque: eqx.AbstractVar[Float[Array, ""]]
+
+    #: whether a sweep may continue from one speed's steady state to the next
+    #: (:meth:`continuation`); a model without it sweeps independent speeds only
+    continues: ClassVar[bool] = False
 
     @property
     def mesh(self) -> MeshModel:
@@ -475,266 +490,71 @@ class AbstractDynamicModel(eqx.Module):
         """Static flank-normal mesh force F_s = T/(r_b1 cos β_b) (N)."""
         return self.mesh.normal_load(self.torque)
 
+    @property
+    def dtype(self):
+        """The floating dtype of the model's arrays (its scene's)."""
+        return self.scene.base_planes[0].base_pitch.dtype
 
-class DynamicModel(AbstractDynamicModel):
-    """A dynamic scene at an operating torque, with its damping (build with :func:`dynamic_model`).
+    @abc.abstractmethod
+    def default_settings(self) -> tuple[Integrator, ContactLaw, SteadyState]:
+        """The kind's (integrator, contact law, steady-state window) where a run passes None."""
 
-    Attributes:
-        scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications, one
-            :class:`~jaxgear.Modifications` for every mesh or a tuple of one per mesh
-            (differentiable: δ0 is rebuilt from them in every simulation). torque: pinion
-            torque T (N·m).
-        damping: the (n, n) damping matrix C, built once from the modal analysis of the
-            time-averaged system, plus the scene's bearing damping if it has one
-            (:func:`damping_matrix`; held fixed under differentiation wrt ``mods``).
-        modes: :class:`ModalAnalysis` of the time-averaged system.
-        mesh_stiffness_mean: time-averaged loaded mesh stiffness k̄ = ⟨Σ w k l⟩ (N/m) over the
-            cells of every mesh.
-        deviation_span: mesh periods of the span a run covers when ``mods`` carry manufacturing
-            deviations (static; None: the period over which they repeat,
-            :func:`deviation_periods`). See :func:`span_periods`.
-    """
+    @abc.abstractmethod
+    def check_integrator(self, integrator: Integrator) -> None:
+        """Raise ``ValueError`` (one line, before any work) for an integrator the kind cannot
+        run (a diffrax solver on a hybrid model, a modal basis on a lumped one)."""
 
-    scene: DynamicScene
-    mods: Modifications | tuple
-    torque: Float[Array, ""]
-    damping: Float[Array, "n n"]
-    modes: ModalAnalysis
-    mesh_stiffness_mean: Float[Array, ""]
-    deviation_span: int | None = eqx.field(static=True, default=None)
+    @abc.abstractmethod
+    def span_periods(self) -> int:
+        """Periods of the first mesh that a run's records must cover (static)
+        (:func:`span_periods`)."""
 
-    def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
-        """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
-        frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
-        return (
-            self.modes.omega * self.scene.base_planes[0].mesh_period_angle / (2 * jnp.pi * harmonic)
+    @abc.abstractmethod
+    def steps_multiple(self) -> int:
+        """D of :func:`~jaxgear.dynamics.auto_steps_per_period` (static)."""
+
+    @abc.abstractmethod
+    def averaged_modes(
+        self, *, speed=0.0, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+    ) -> ModalAnalysis:
+        """The modes of (M, K + K̄_m), K̄_m the loaded mesh stiffness averaged over a mesh
+        period (:func:`~jaxgear.dynamics.mesh_averaged_modes`)."""
+
+    @abc.abstractmethod
+    def prepare(
+        self,
+        integrator: Integrator,
+        law: ContactLaw,
+        window: SteadyState,
+        steps_per_period: int,
+        outputs: Outputs,
+        modes: ModalAnalysis | None = None,
+    ) -> eqx.Module:
+        """The speed-independent part of a run at ``steps_per_period`` steps per mesh period
+        (an int, resolved), with checked settings; ``modes``: the averaged modes when the step
+        count was chosen from them (automatic steps), else None. Raises ``ValueError`` for a
+        run that does not fit (before any work)."""
+
+    @abc.abstractmethod
+    def independent(self, prepared, speeds, *, start=None, shard: bool = False):
+        """:class:`~jaxgear.dynamics.DynamicResult` at each of ``speeds`` (S,) (leading axis S)
+        or at one scalar speed (no leading axis), each from ``start`` ((X, Ẋ), the kind's own
+        start when None); ``shard``: spread the speeds over the local devices."""
+
+    def continuation(self, prepared, speeds, *, start=None):
+        """The speeds (S,) one after the other, each from the previous steady state (a failed
+        one restarts from the static equilibrium); (2, S): two such scans side by side.
+        Models with :attr:`continues` only."""
+        raise ValueError(
+            f"{type(self).__name__} sweeps independent speeds only (allowed direction "
+            "'independent')"
         )
 
 
-class HybridModel(AbstractDynamicModel):
-    """A hybrid scene (condensed FE bodies on the cells) at an operating torque, with its damping
-    settings (build with :func:`dynamic_model`). Its damping matrices depend on the speed (the
-    centrifugal load moves the loaded cells; the composite and modal models take the modes of
-    the mesh stiffness averaged round the wheel's revolution at each speed): the sweeps build
-    them per speed (docs/hybrid.md, "Global system").
-
-    Attributes:
-        scene: the :class:`jaxgear.scenes.HybridPair` (each simulated speed sets its
-            centrifugal load). mods: flank modifications, one for every mesh or a tuple of one
-            per mesh (differentiable). torque: pinion torque T (N·m).
-        damping: the :class:`Damping` settings (Rayleigh (2.34), modal (2.35) or composite
-            (2.36)); the scene's bearing damping is always added.
-        rotating_frame: add the inertia of the turning body frames (Coriolis Ω·gyroscopic, spin
-            softening and centrifugal stress stiffening Ω²·spin_stiffness; off in the seed).
-            Static.
-    """
-
-    scene: HybridPair
-    mods: Modifications | tuple
-    torque: Float[Array, ""]
-    damping: Damping
-    rotating_frame: bool = eqx.field(default=False, static=True)
-
-
-def span_periods(model) -> int:
+def span_periods(model: AbstractDynamicModel) -> int:
     """Periods of the first mesh that the mesh table of ``model`` spans, and that the kept
     window of a run must cover (static): the scene's period
     (:meth:`~jaxgear.scenes.Scene.scene_periods`) times, with manufacturing deviations on a
     :class:`DynamicModel`, its ``deviation_span`` or else :func:`deviation_periods` (the
     hunting period of the deviating members: z1 for the pinion's alone, lcm(z1, z2) for both)."""
-    q = model.scene.scene_periods()
-    if not isinstance(model, DynamicModel):
-        return q
-    dev = deviation_periods(model.mods)
-    if dev == 1:
-        return q
-    return q * (model.deviation_span if model.deviation_span is not None else dev)
-
-
-def dynamic_model(
-    scene: DynamicScene | HybridPair,
-    mods: Modifications | tuple | None,
-    torque,
-    damping: Damping | None = None,
-    *,
-    positions_per_pitch: int = 64,
-    contact: ContactLaw = ExactContact(),
-    rotating_frame: bool = False,
-    revolutions: int | None = None,
-) -> DynamicModel | HybridModel:
-    """The dynamic model of a scene at an operating torque: what :func:`simulate` and
-    :func:`speed_sweep` integrate.
-
-    A lumped scene (torsional or 3D, :class:`DynamicScene`) gives a :class:`DynamicModel`: the
-    time-averaged mesh stiffness matrix K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over one mesh period,
-    w_c the static contact weights at ``torque`` (loaded cells only, so a tip relief that is not
-    in contact does not count); the modal analysis of (M, K_s + K̄_m) gives the damping
-    (2.34)-(2.36). A hybrid scene (:class:`jaxgear.scenes.HybridPair`) gives a
-    :class:`HybridModel`, whose damping the sweeps build at each speed.
-
-    Args:
-        scene: dynamic scene. mods: modifications (``None``: none; one for every mesh, or a
-            tuple of one per mesh). torque: pinion torque (N·m).
-        damping: :class:`Damping`. Default: composite (2.36), 0.07 mesh / 0.01 structure, for a
-            lumped scene; the seed's D1, Rayleigh (α, β) = (25 1/s, 2.5e-6 s), for a hybrid one.
-        positions_per_pitch: positions per mesh period for the averages (lumped scenes).
-        contact: the contact law of the static solve (:class:`~jaxgear.ExactContact` by
-            default; lumped scenes).
-        rotating_frame: hybrid scenes only: add the turning frames' inertia
-            (:class:`HybridModel`).
-        revolutions: lumped scenes with manufacturing deviations (``mods.deviations``): pinion
-            revolutions of the span the runs cover (an integer >= 1; the table of δ0 over
-            ``revolutions`` × z1 mesh periods repeats after it). Default None: the period of
-            the deviations (:func:`deviation_periods`: z1 periods for the pinion's alone,
-            lcm(z1, z2) for both, the hunting period). A span shorter than that period joins
-            its end to its start (the gear's teeth jump): the steady state of a gear pair that
-            repeats after the span, an approximation stated in docs/robust.md.
-
-    Raises:
-        ValueError: a ``damping`` that is not a :class:`Damping`; ``rotating_frame`` on a
-            lumped scene; a concrete torque <= 0 for a hybrid scene; a tuple of modifications of
-            another length than the meshes.
-        eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
-            (jit/vmap-safe).
-    """
-    check_instance(
-        "scene",
-        scene,
-        (DynamicScene, HybridPair),
-        "a jaxgear dynamic scene (TorsionalDynamics, a lumped or hybrid scene)",
-        "dynamic_model",
-    )
-    check_operating("dynamic_model", scene, mods, torque, coast_torque=False, mods_name="mods")
-    if mods is None:
-        mods = Modifications()
-    if isinstance(mods, tuple | list):  # one per mesh: the count, before any computation
-        mods = per_mesh_modifications(mods, len(scene.base_planes))
-    if damping is not None and not isinstance(damping, Damping):
-        raise ValueError(f"damping = {damping!r}: allowed a jaxgear.dynamics.Damping")
-    dtype = scene.base_planes[0].base_pitch.dtype
-    torque = jnp.asarray(torque, dtype=dtype)
-    if isinstance(scene, HybridPair):
-        if not isinstance(torque, jax.core.Tracer) and not bool(torque > 0):
-            raise ValueError(f"torque = {float(torque)!r} N·m: allowed > 0 (the pinion drives)")
-        if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)
-            damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
-        return HybridModel(scene, mods, torque, damping, bool(rotating_frame))
-    if rotating_frame:
-        raise ValueError(
-            "rotating_frame = True: only a hybrid scene (condensed bodies) has turning body "
-            "frames; a lumped scene's gears are rigid"
-        )
-    if damping is None:
-        damping = Damping()
-    span = None
-    if revolutions is not None:
-        check_integer("revolutions", revolutions, 1)
-        z1 = [d.pinion.teeth for d in _deviations_of(mods) if d.pinion is not None]
-        if not z1:
-            z1 = [
-                round(2 * math.pi * float(p.base_radius_pinion) / float(p.base_pitch))
-                for p in scene.base_planes[:1]
-            ]
-        span = int(revolutions) * z1[0]
-    law = contact_law(contact, dtype)
-    return _build(scene, mods, torque, damping, law, positions_per_pitch, span)
-
-
-def _deviations_of(mods) -> list:
-    return [
-        m.deviations
-        for m in (mods if isinstance(mods, tuple | list) else (mods,))
-        if getattr(m, "deviations", None) is not None
-    ]
-
-
-def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
-    # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
-    torque = eqx.error_if(
-        torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
-    )
-    prep = _prepare(scene, mods, torque, law, positions_per_pitch)
-    model = _averaged(scene, mods, torque, damping, prep, span)
-    bad = jnp.any(prep.static_result != 0)
-    kbar = eqx.error_if(
-        model.mesh_stiffness_mean,
-        bad,
-        "dynamic_model: the static contact solve failed at some mesh positions "
-        "(no contact or no convergence): check the load and the deviations",
-    )
-    return eqx.tree_at(lambda m: m.mesh_stiffness_mean, model, kbar)
-
-
-@eqx.filter_jit
-def _averaged(scene, mods, torque, damping, prep, span=None):
-    kl = _loaded_kl(prep)
-    Km = _mean_mesh_matrix(prep.table, kl)
-    kbar = jnp.mean(jnp.sum(kl, axis=1))
-    modes = modal_analysis(scene, Km)
-    C = damping_matrix(scene, modes, damping)
-    return DynamicModel(
-        scene=scene,
-        mods=mods,
-        torque=torque,
-        damping=C,
-        modes=modes,
-        mesh_stiffness_mean=kbar,
-        deviation_span=span,
-    )
-
-
-def _loaded_kl(prep: _Prepared) -> Float[Array, "S c"]:
-    """The loaded cells' k l w (N/m) at every step of the span, (S, c)."""
-    t, steps = prep.table, jnp.arange(prep.static_weight.shape[0])
-    kl = jnp.where(t.take(t.mask, steps), t.take(t.k, steps) * t.take(t.length, steps), 0.0)
-    return kl * prep.static_weight
-
-
-def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactLaw):
-    """The loaded cells' k l w (N/m), (S, c), over ``positions_per_pitch`` positions of a mesh
-    period at the model's torque, the table, and each cell's mesh index (c,)."""
-    check_integer("positions_per_pitch", positions_per_pitch, 4)
-    law = contact_law(contact, model.damping.dtype)
-    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
-    table = prep.table
-    sizes = np.array([L * N for L, N in table.sizes])
-    return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
-
-
-def mesh_stiffness_means(
-    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
-) -> Float[Array, " m"]:
-    """Each mesh's time-averaged loaded stiffness k̄_k = ⟨Σ w k l⟩ over its cells (N/m), shape
-    (meshes,), over ``positions_per_pitch`` positions of a mesh period at the model's torque
-    (the split of :attr:`DynamicModel.mesh_stiffness_mean`)."""
-    kl, _, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
-    return jnp.stack(
-        [
-            jnp.mean(jnp.sum(jnp.where(jnp.asarray(of_mesh == k), kl, 0.0), axis=1))
-            for k in range(int(of_mesh.max()) + 1)
-        ]
-    )
-
-
-def mesh_energy_shares(
-    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
-) -> Float[Array, "m n"]:
-    """Each mesh's share of each mode's strain energy, e_ik = φ_iᵀ K̄_k φ_i / ω_i² (-), shape
-    (meshes, modes): K̄_k the loaded stiffness of mesh k averaged over ``positions_per_pitch``
-    positions of a mesh period at the model's torque (the split of the model's K̄_m, which its
-    modes diagonalise); the meshes' rows sum to the mode's mesh share (:attr:`ModalAnalysis.
-    mesh_energy`, (2.36)) up to the averaging grid. 0 for the rigid modes."""
-    kl, table, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
-    modes = model.modes
-    w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
-    out = []
-    for k in range(int(of_mesh.max()) + 1):
-        kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
-        Kk = _mean_mesh_matrix(table, kk)
-        strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
-        out.append(jnp.where(modes.rigid, 0.0, strain / w2))
-    return jnp.stack(out)
-
-
-# --------------------------------------------------------------------------------------------
-# results
+    return model.span_periods()

@@ -22,6 +22,10 @@ a₁ = γ/(βΔt), solved in whichever space is smaller (docs/design.md, "Contac
 
 A mesh damping that follows the mesh (the hybrid scene's Rayleigh and composite models) is a
 rank-w change of C per block of steps, taken by Woodbury in the cell space (:class:`MeshDamping`).
+
+One loop serves every space (:class:`_Loop`): the blocks, the steps, the result codes and the
+records; a space (:class:`_Coordinates`, :class:`_Cells`, :class:`_Modal`) says how a step's
+contact problem is solved in it.
 """
 
 from __future__ import annotations
@@ -55,10 +59,11 @@ class MeshDamping(NamedTuple):
     R: Float[Array, "n n"] | None
 
 
-class Condensed(NamedTuple):
+class StaticCondensation(NamedTuple):
     """A linear system K X = F condensed onto the coordinates J that the cells reach (static
     condensation: exact where nothing but F acts on the others, I), for solving many contact
-    problems of one K (:func:`condensed`): S X_J = F_J − K_JI K_II⁻¹ F_I with
+    problems of one K (:func:`static_condensation`; not the Craig–Bampton condensation of
+    the FE bodies, :func:`fem_prep.condensed`): S X_J = F_J − K_JI K_II⁻¹ F_I with
     S = K_JJ − K_JI K_II⁻¹ K_IJ, then X_I = K_II⁻¹ (F_I − K_IJ X_J).
 
     Attributes:
@@ -85,9 +90,10 @@ class Condensed(NamedTuple):
         return jnp.zeros((n,), XJ.dtype).at[self.J].set(XJ).at[self.I].set(y - self.H @ XJ)
 
 
-def condensed(K: Float[Array, "n n"], dofs: tuple) -> Condensed:
+def static_condensation(K: Float[Array, "n n"], dofs: tuple) -> StaticCondensation:
     """``K`` (n, n; any square K with K_II invertible) condensed onto the coordinates ``dofs``
-    (a static, sorted tuple; :meth:`~jaxgear.scenes.Scene.contact_dofs`), :class:`Condensed`."""
+    (a static, sorted tuple; :meth:`~jaxgear.scenes.Scene.contact_dofs`):
+    :class:`StaticCondensation`."""
     n = K.shape[0]
     kept = set(dofs)
     J = jnp.asarray(dofs)
@@ -95,7 +101,7 @@ def condensed(K: Float[Array, "n n"], dofs: tuple) -> Condensed:
     lu = jax.scipy.linalg.lu_factor(K[I[:, None], I[None, :]])
     H = jax.scipy.linalg.lu_solve(lu, K[I[:, None], J[None, :]])
     KJI = K[J[:, None], I[None, :]]
-    return Condensed(J, I, K[J[:, None], J[None, :]] - KJI @ H, KJI, H, lu)
+    return StaticCondensation(J, I, K[J[:, None], J[None, :]] - KJI @ H, KJI, H, lu)
 
 
 def contact_coordinates(scene, n: int, condense: bool = True) -> tuple | None:
@@ -165,7 +171,8 @@ def newmark(
             blocks before integrate without records), or None: every block.
         dofs: rows on all coordinates only: the coordinates the cells reach (static, sorted;
             :func:`contact_coordinates`); K_eff is condensed onto them once
-            (:func:`condensed`) and each step's contact solved on them alone. None: on all.
+            (:func:`static_condensation`) and each step's contact solved on them alone. None:
+            on all.
 
     Returns:
         (the final state, the records flattened over the recorded blocks, leading axis
@@ -173,112 +180,194 @@ def newmark(
     """
     if _no_steps(inputs, record):  # a steady-state window with no transient before it
         return state, None
-    dtype = K.dtype
-    n = K.shape[0]
-    b, g = BETA, GAMMA
-    a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
-    Keff = K + a0 * M + a1 * C
     first = jax.tree.map(lambda x: x[0, 0], inputs)
-    coordinates = jax.eval_shape(cells_at, first).idx is None
-    if coordinates and mesh_damping is not None:
-        raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
-    G = None if coordinates else jnp.linalg.inv(Keff)
-    reduced = condensed(Keff, dofs) if coordinates and dofs is not None else None
-    if not coordinates:  # G F_eff = G F + (G M) u + (G C) v: two n² reads a step, not three
-        GF, GM, GC = G @ F, G @ M, G @ C
-    if mesh_damping is not None:
-        block, c_m, R = mesh_damping
-        GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
-
-    def run_block(carry, p_in, keep):
-        p, entries = p_in
-        U = None
-        ok = jnp.array(True)
+    if jax.eval_shape(cells_at, first).idx is None:
         if mesh_damping is not None:
-            U, B, ok = block(p)
-            w = U.shape[0]
-            if R is None:  # W = E_U
+            raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
+        space = _Coordinates(K, M, C, F, dt, dofs)
+    else:
+        space = _Cells(K, M, C, F, dt, mesh_damping)
+    loop = _Loop(space, cells_at, law, check, block_check, record_entry)
+    return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
-                def project(x):  # W x, x (n,) or (n, m)
-                    return x[U]
 
-            else:
-                W = R[U]
+class _Loop:
+    """The Newmark loop of :func:`newmark` and :func:`newmark_modal` in any space (the
+    coordinates, the cell space, a modal basis: :class:`_Space`): blocks of steps, each step's
+    contact problem solved by the space, its result code (the first failure sticks: the
+    contact loop, non-finite states, the caller's ``check``, a window outside the block's mesh
+    damping window), the records of the kept blocks and the ``block_check`` at each block's
+    end."""
 
-                def project(x):
-                    return W @ x
+    def __init__(self, space, cells_at, law, check, block_check, record_entry=False):
+        self.space, self.cells_at, self.law = space, cells_at, law
+        self.check, self.block_check, self.record_entry = check, block_check, record_entry
 
-            # the block's effective stiffness is K_eff + a₁ c_m Wᵀ B W: Woodbury on G,
-            # G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B
-            A = (a1 * c_m) * B
-            GW = GR[:, U]  # G Wᵀ (n, w)
-            GU = GW if R is None else G[:, U]  # G E_Uᵀ (n, w)
-            Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
-            GUU = GU[U] - GW[U] @ Q @ project(GU)  # G_p on U
-            pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
-
-        def solve_at(idx, j, z):  # G_p[:, idx] z: the columns of the window, not an n² product
-            if U is None:
-                return G[:, idx] @ z
-            y = GU @ jnp.zeros((U.shape[0],), dtype).at[j].add(z, mode="drop")
-            return y - GW @ (Q @ project(y))
+    def run_block(self, carry, p_in, keep):
+        space = self.space
+        p, entries = p_in
+        blk, ok = space.block(p)
 
         def step(carry, entry):
-            X, Xd, Xdd, code, it = carry
-            row = cells_at(entry)
-            v = a1 * X + (g / b - 1.0) * Xd + dt * (0.5 * g / b - 1.0) * Xdd
-            u = a0 * X + Xd / (b * dt) + (0.5 / b - 1.0) * Xdd
-            inside = jnp.array(True)
-            if coordinates:
-                Feff = F + M @ u + C @ v
-                if reduced is None:
-                    Ks, Fs, Vs = Keff, Feff, row.V
-                else:  # on the coordinates the cells reach
-                    (Fs, y), Ks, Vs = reduced.load(Feff), reduced.S, row.V[:, reduced.J]
-                sol = solve_contact(Ks, Fs, Vs, row.k, row.length, row.delta0, row.mask, law)
-                Xn = sol.x if reduced is None else reduced.expand(sol.x, y)
-                P = sol.force_density * row.length
-            else:
-                idx = row.idx
-                c = row.V.shape[0]
-                j = None
-                y = GF + GM @ u + GC @ v  # G F_eff
-                if U is None:
-                    Gw = G[idx[:, None], idx[None, :]]
-                    xs = y
-                else:
-                    # the block's mesh damping's force Wᵀ c_m B W v: G Wᵀ = GW
-                    y = y + GW @ (c_m * (B @ project(v)))
-                    xs = y - GW @ (Q @ project(y))  # G_p F_eff (Woodbury)
-                    j = pos[idx]
-                    inside = jnp.all(j < U.shape[0])
-                    Gw = GUU[j[:, None], j[None, :]]
-                sol, P, _ = solve_contact_cells(
-                    row.V @ Gw @ row.V.T,
-                    row.V @ xs[idx] - row.delta0,
-                    jnp.zeros((c, 0), dtype),
-                    jnp.zeros((0,), dtype),
-                    row.k,
-                    row.length,
-                    row.mask,
-                    law,
-                )
-                Xn = xs - solve_at(idx, j, row.V.T @ P)
-            Xdn, Xddn = _update(Xn, X, Xd, Xdd, a0, dt)
-            new = _step_result(sol, (Xn, Xdn), None if check is None else check(Xn, Xdn, P))
+            *x, code, it = carry
+            xn, sol, P, inside = space.step(tuple(x), self.cells_at(entry), blk, self.law)
+            checked = None if self.check is None else self.check(xn[0], xn[1], P)
+            new = _step_result(sol, space.finite(xn), checked)
             new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
-            carry = (Xn, Xdn, Xddn, _first(code, new), jnp.maximum(it, sol.iterations))
+            carry = (*xn, _first(code, new), jnp.maximum(it, sol.iterations))
             if keep is None:
                 return carry, None
-            return carry, (keep(Xn, Xdn, P, entry) if record_entry else keep(Xn, Xdn, P))
+            X, Xd = space.observed(xn)
+            return carry, (keep(X, Xd, P, entry) if self.record_entry else keep(X, Xd, P))
 
         carry, out = jax.lax.scan(step, carry, entries)
-        if block_check is not None:
-            X, Xd, Xdd, code, it = carry
-            carry = (X, Xd, Xdd, _first(code, block_check(X, Xd)), it)
+        if self.block_check is not None:
+            *x, code, it = carry
+            carry = (*x, _first(code, self.block_check(x[0], x[1])), it)
         return carry, out
 
-    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
+
+class _Space:
+    """The coordinates a Newmark run steps in (average acceleration, β = 1/4, γ = 1/2): the
+    scheme's constants and how a step's contact problem is solved there. ``x`` is the state
+    without the result code and the contact passes: (X, Ẋ, Ẍ) on the coordinates, (q, q̇, q̈,
+    r, ṙ, r̈) in a modal basis; a step's check and a block's check get its first two."""
+
+    def __init__(self, dt):
+        self.dt = dt
+        self.a0, self.a1 = 1.0 / (BETA * dt * dt), GAMMA / (BETA * dt)
+
+    def block(self, p):
+        """The quantities of block ``p`` (its mesh damping's; None without) and whether every
+        window of the block lies inside its mesh damping's window."""
+        return None, jnp.array(True)
+
+    def known(self, x, xd, xdd):
+        """Newmark's known parts of a step's velocity and acceleration terms, (v, u): the
+        damping force is C (a₁ x_{n+1} − v), the inertia M (a₀ x_{n+1} − u)."""
+        b, g, dt = BETA, GAMMA, self.dt
+        v = self.a1 * x + (g / b - 1.0) * xd + dt * (0.5 * g / b - 1.0) * xdd
+        u = self.a0 * x + xd / (b * dt) + (0.5 / b - 1.0) * xdd
+        return v, u
+
+    def finite(self, x) -> tuple:
+        """The parts of a new state that must be finite."""
+        return (x[0], x[1])
+
+    def observed(self, x) -> tuple:
+        """(X, Ẋ) on the coordinates, what the records get."""
+        return (x[0], x[1])
+
+
+class _Coordinates(_Space):
+    """The contact in coordinates (the rigid-node scenes): each step's contact problem
+    K_eff X = F_eff − Vᵀ P factored by :func:`jaxgear.solve_contact`, on the coordinates the
+    cells reach (``dofs``: :func:`static_condensation` of K_eff, once) or on all (None)."""
+
+    def __init__(self, K, M, C, F, dt, dofs):
+        super().__init__(dt)
+        self.M, self.C, self.F = M, C, F
+        self.Keff = K + self.a0 * M + self.a1 * C
+        self.reduced = None if dofs is None else static_condensation(self.Keff, dofs)
+
+    def step(self, x, row, blk, law):
+        X, Xd, Xdd = x
+        v, u = self.known(X, Xd, Xdd)
+        Feff = self.F + self.M @ u + self.C @ v
+        reduced = self.reduced
+        if reduced is None:
+            Ks, Fs, Vs = self.Keff, Feff, row.V
+        else:  # on the coordinates the cells reach
+            (Fs, y), Ks, Vs = reduced.load(Feff), reduced.S, row.V[:, reduced.J]
+        sol = solve_contact(Ks, Fs, Vs, row.k, row.length, row.delta0, row.mask, law)
+        Xn = sol.x if reduced is None else reduced.expand(sol.x, y)
+        P = sol.force_density * row.length
+        Xdn, Xddn = _update(Xn, X, Xd, Xdd, self.a0, self.dt)
+        return (Xn, Xdn, Xddn), sol, P, jnp.array(True)
+
+
+class _Cells(_Space):
+    """The contact in the cell space (condensed bodies): G = K_eff⁻¹ and G F, G M, G C once
+    per speed, each step's gaps on the window's compliance
+    (:func:`jaxgear.solve_contact_cells`), a block's mesh damping (:class:`MeshDamping`) by
+    Woodbury on G."""
+
+    def __init__(self, K, M, C, F, dt, mesh_damping: MeshDamping | None):
+        super().__init__(dt)
+        self.G = G = jnp.linalg.inv(K + self.a0 * M + self.a1 * C)
+        self.dtype, self.n = K.dtype, K.shape[0]
+        # G F_eff = G F + (G M) u + (G C) v: two n² reads a step, not three
+        self.GF, self.GM, self.GC = G @ F, G @ M, G @ C
+        self.mesh_damping = mesh_damping
+        if mesh_damping is not None:
+            R = mesh_damping.R
+            self.GR = G if R is None else G @ R.T  # G Rᵀ (n, n): G Wᵀ = (G Rᵀ)[:, U]
+
+    def block(self, p):
+        if self.mesh_damping is None:
+            return None, jnp.array(True)
+        block, c_m, R = self.mesh_damping
+        G, dtype = self.G, self.dtype
+        U, B, ok = block(p)
+        w = U.shape[0]
+        if R is None:  # W = E_U
+
+            def project(x):  # W x, x (n,) or (n, m)
+                return x[U]
+
+        else:
+            W = R[U]
+
+            def project(x):
+                return W @ x
+
+        # the block's effective stiffness is K_eff + a₁ c_m Wᵀ B W: Woodbury on G,
+        # G_p = G − (G Wᵀ) Q (W G), Q = (I + A W G Wᵀ)⁻¹ A, A = a₁ c_m B
+        A = (self.a1 * c_m) * B
+        GW = self.GR[:, U]  # G Wᵀ (n, w)
+        GU = GW if R is None else G[:, U]  # G E_Uᵀ (n, w)
+        Q = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + A @ project(GW), A)
+        GUU = GU[U] - GW[U] @ Q @ project(GU)  # G_p on U
+        pos = jnp.full((self.n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
+        return (U, B, c_m, project, GW, GU, Q, GUU, pos), ok
+
+    def step(self, x, row, blk, law):
+        X, Xd, Xdd = x
+        G, dtype = self.G, self.dtype
+        v, u = self.known(X, Xd, Xdd)
+        idx = row.idx
+        c = row.V.shape[0]
+        inside = jnp.array(True)
+        y = self.GF + self.GM @ u + self.GC @ v  # G F_eff
+        if blk is None:
+            Gw = G[idx[:, None], idx[None, :]]
+            xs = y
+        else:
+            U, B, c_m, project, GW, GU, Q, GUU, pos = blk
+            # the block's mesh damping's force Wᵀ c_m B W v: G Wᵀ = GW
+            y = y + GW @ (c_m * (B @ project(v)))
+            xs = y - GW @ (Q @ project(y))  # G_p F_eff (Woodbury)
+            j = pos[idx]
+            inside = jnp.all(j < U.shape[0])
+            Gw = GUU[j[:, None], j[None, :]]
+        sol, P, _ = solve_contact_cells(
+            row.V @ Gw @ row.V.T,
+            row.V @ xs[idx] - row.delta0,
+            jnp.zeros((c, 0), dtype),
+            jnp.zeros((0,), dtype),
+            row.k,
+            row.length,
+            row.mask,
+            law,
+        )
+        z = row.V.T @ P
+        if blk is None:  # G_p[:, idx] z: the columns of the window, not an n² product
+            Xn = xs - G[:, idx] @ z
+        else:
+            yz = GU @ jnp.zeros((U.shape[0],), dtype).at[j].add(z, mode="drop")
+            Xn = xs - (yz - GW @ (Q @ project(yz)))
+        Xdn, Xddn = _update(Xn, X, Xd, Xdd, self.a0, self.dt)
+        return (Xn, Xdn, Xddn), sol, P, inside
 
 
 class ModalStructure(NamedTuple):
@@ -297,12 +386,28 @@ class ModalStructure(NamedTuple):
     xF: Float[Array, " n"]
 
 
+class ModalSystem(NamedTuple):
+    """What :func:`newmark_modal` integrates: the reduced structure and its damping.
+
+    Attributes:
+        Kr, Mr, Cr: the reduced stiffness, mass and damping Dᵀ K D, Dᵀ M D, Dᵀ C D, (m, m)
+            (C without the mesh share). Fr: Dᵀ F (m,). space: :class:`ModalStructure`.
+        residual_damping: β_r (s), >= 0.
+        mesh_damping: :class:`MeshDamping` with ``R`` None (on the coordinates of U, as the
+            cell space's) or the reduced map (n, m) (W_r = R[U]: c_m W_rᵀ B W_r on q), or None.
+    """
+
+    Kr: Float[Array, "m m"]
+    Mr: Float[Array, "m m"]
+    Cr: Float[Array, "m m"]
+    Fr: Float[Array, " m"]
+    space: ModalStructure
+    residual_damping: Any = 0.0
+    mesh_damping: MeshDamping | None = None
+
+
 def newmark_modal(
-    Kr: Float[Array, "m m"],
-    Mr: Float[Array, "m m"],
-    Cr: Float[Array, "m m"],
-    Fr: Float[Array, " m"],
-    space: ModalStructure,
+    system: ModalSystem,
     dt,
     state,
     inputs,
@@ -310,10 +415,7 @@ def newmark_modal(
     law: ContactLaw,
     record: Callable[[Array, Array, Array], Any] | None,
     *,
-    check: Callable[[Array, Array, Array], Array] | None = None,
-    block_check: Callable[[Array, Array], Array] | None = None,
-    mesh_damping: MeshDamping | None = None,
-    residual_damping=0.0,
+    checks: tuple = (None, None),
     keep_blocks: int | None = None,
 ):
     """:func:`newmark` in a modal basis with the static correction of the cells: the same
@@ -329,125 +431,134 @@ def newmark_modal(
     window's gaps from X*_W = D_W q* + (G F)_W, the contact problem on the window compliance
     H_WW = D_W G_r D_Wᵀ + ρ G_WW (the modes' effective flexibility plus the residual one), then
     q = q* − G_r D_Wᵀ Vᵀ P and X = D q + r: m² + n (m + w) per step instead of n². The
-    residual r, ṙ, r̈ is carried on every coordinate, so that a mesh damping on the window's coordinates (Rayleigh's c_m K̄_m(p), ``R`` None)
-    acts on the whole approach of the cells, static correction included: its force
+    residual r, ṙ, r̈ is carried on every coordinate, so that a mesh damping on the window's
+    coordinates (Rayleigh's c_m K̄_m(p), ``R`` None) acts on the whole approach of the cells, static correction included: its force
     c_m B (v_U − a₁ X_U) on the block's window U (v the known part of Newmark's velocity) is
     solved with X_U, H'_UU = (H_UU⁻¹ + a₁ c_m B)⁻¹ (w³ per block). A mapped mesh damping
     (the composite's R) acts on the modal coordinates only: c_m (R D)_Uᵀ B (R D)_U in C_r.
 
     Args:
-        Kr, Mr, Cr: the reduced stiffness, mass and damping Dᵀ K D, Dᵀ M D, Dᵀ C D, (m, m)
-            (C without the mesh share). Fr: Dᵀ F (m,). space: :class:`ModalStructure`.
+        system: :class:`ModalSystem` (the reduced structure, β_r and the mesh damping).
         dt, inputs, cells_at, law: as :func:`newmark` (cells_at must give a window).
         state: (q, q̇, q̈, r, ṙ, r̈, result code, most contact passes): q's (m,), r's (n,).
         record: (X, Ẋ, P) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ), or
             None.
-        check: (q, q̇, P) ↦ a result code of the step, or None. block_check: (q, q̇) ↦ a
-            result code at the end of each block (on the reduced state: the kinetic energy is
-            ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
-        mesh_damping: :class:`MeshDamping` with ``R`` None (on the coordinates of U, as the
-            cell space's) or the reduced map (n, m) (W_r = R[U]: c_m W_rᵀ B W_r on q), or None.
-        residual_damping: β_r (s), >= 0.
+        checks: (check, block_check): (q, q̇, P) ↦ a result code of the step, or None;
+            (q, q̇) ↦ a result code at the end of each block (on the reduced state: the
+            kinetic energy is ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
 
     Returns:
         As :func:`newmark`; the state as ``state``.
     """
     if _no_steps(inputs, record):  # a steady-state window with no transient before it
         return state, None
-    dtype = Kr.dtype
-    D, G, xF = space
-    n = D.shape[0]
-    b, g = BETA, GAMMA
-    a0, a1 = 1.0 / (b * dt * dt), g / (b * dt)
-    Keff = Kr + a0 * Mr + a1 * Cr
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     if jax.eval_shape(cells_at, first).idx is None:
         raise ValueError("the modal basis needs the cell space (a window of coordinates)")
-    Gr = jnp.linalg.inv(Keff)
-    rho = 1.0 / (1.0 + a1 * residual_damping)  # the residual's flexibility over the step
-    xFr = rho * xF
-    local = mesh_damping is not None and mesh_damping.R is None
-    if mesh_damping is None:
-        H = D @ Gr @ D.T + rho * G  # the effective compliance on every coordinate (n, n)
+    loop = _Loop(_Modal(system, dt), cells_at, law, *checks)
+    return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
-    def run_block(carry, p_in, keep):
-        p, entries = p_in
-        ok = jnp.array(True)
-        U, Gp, Cp = None, Gr, Cr
-        if mesh_damping is not None:
-            block, c_m, Wmap = mesh_damping
-            U, B, ok = block(p)
-            w = U.shape[0]
-            DU = D[U]
-            if local:  # c_m B on X_U: H'_UU = (I + a₁ c_m H_UU B)⁻¹ H_UU
-                HUU = DU @ Gr @ DU.T + rho * G[U[:, None], U[None, :]]
-                S = jnp.linalg.solve(jnp.eye(w, dtype=dtype) + (a1 * c_m) * (HUU @ B), jnp.eye(w))
-                H2 = S @ HUU  # (not symmetrised: a Coriolis term makes G_r unsymmetric)
-            else:  # mapped: c_m W_rᵀ B W_r on the modal coordinates
-                WD = Wmap[U]
-                Cm = c_m * (WD.T @ B @ WD)
-                Cp = Cr + Cm
-                Gp = jnp.linalg.inv(Keff + a1 * Cm)
-                H2 = DU @ Gp @ DU.T + rho * G[U[:, None], U[None, :]]
-            pos = jnp.full((n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
 
-        def step(carry, entry):
-            q, qd, qdd, r, rd, rdd, code, it = carry
-            row = cells_at(entry)
-            v = a1 * q + (g / b - 1.0) * qd + dt * (0.5 * g / b - 1.0) * qdd
-            vr = a1 * r + (g / b - 1.0) * rd + dt * (0.5 * g / b - 1.0) * rdd
-            r0 = xFr + (rho * residual_damping) * vr  # the residual before the step's forces
-            Feff = Fr + Mr @ (a0 * q + qd / (b * dt) + (0.5 / b - 1.0) * qdd) + Cp @ v
-            qs = Gp @ Feff
-            idx = row.idx
-            c = row.V.shape[0]
-            inside = jnp.array(True)
-            if U is None:  # the window's coordinates
-                Hw = H[idx[:, None], idx[None, :]]
-                Dr, j = D[idx], jnp.arange(idx.shape[0])
-                x0 = Dr @ qs + r0[idx]
-            else:  # the block's coordinates U, the window's at positions j
-                j = pos[idx]
-                inside = jnp.all(j < U.shape[0])
-                Hw = H2[j[:, None], j[None, :]]
-                Dr = DU
-                x0 = Dr @ qs + r0[U]
-                if local:  # with the mesh damping's force on U (v_X = D v_q + v_r)
-                    vU = DU @ v + vr[U]
-                    x0 = S @ (x0 + HUU @ (c_m * (B @ vU)))
-            sol, P, _ = solve_contact_cells(
-                row.V @ Hw @ row.V.T,
-                row.V @ x0[j] - row.delta0,
-                jnp.zeros((c, 0), dtype),
-                jnp.zeros((0,), dtype),
-                row.k,
-                row.length,
-                row.mask,
-                law,
-            )
-            # the forces on U (the window's when U is None): −Vᵀ P and the mesh damping's
-            fU = -jnp.zeros(x0.shape, dtype).at[j].add(row.V.T @ P, mode="drop")
-            if local:
-                fU = fU + c_m * (B @ (vU - a1 * (x0 + H2 @ fU)))
-            rows = idx if U is None else U
-            qn = qs + Gp @ (Dr.T @ fU)
-            rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
-            qdn, qddn = _update(qn, q, qd, qdd, a0, dt)
-            rdn, rddn = _update(rn, r, rd, rdd, a0, dt)
-            # X = D q + r is finite where q and r are (D @ q only at the recorded steps)
-            new = _step_result(sol, (qn, rn, qdn), None if check is None else check(qn, qdn, P))
-            new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
-            code = _first(code, new)
-            carry = (qn, qdn, qddn, rn, rdn, rddn, code, jnp.maximum(it, sol.iterations))
-            return carry, (None if keep is None else keep(D @ qn + rn, D @ qdn + rdn, P))
+class _Modal(_Space):
+    """The contact in a modal basis with the static correction of the cells
+    (:func:`newmark_modal`): G_r = K_eff,r⁻¹ once per speed, the window's compliance from the
+    modes' and the residual's flexibility, a block's mesh damping on the window's coordinates
+    (``R`` None: with X_U, w³ per block) or on the modal coordinates (a map)."""
 
-        carry, out = jax.lax.scan(step, carry, entries)
-        if block_check is not None:
-            q, qd, *rest, code, it = carry
-            carry = (q, qd, *rest, _first(code, block_check(q, qd)), it)
-        return carry, out
+    def __init__(self, system: ModalSystem, dt):
+        super().__init__(dt)
+        Kr, Mr, Cr, Fr, space, residual_damping, mesh_damping = system
+        self.Mr, self.Cr, self.Fr = Mr, Cr, Fr
+        self.dtype = Kr.dtype
+        self.D, self.G, xF = space
+        self.n = self.D.shape[0]
+        self.Keff = Kr + self.a0 * Mr + self.a1 * Cr
+        self.Gr = jnp.linalg.inv(self.Keff)
+        self.beta_r = residual_damping
+        self.rho = 1.0 / (1.0 + self.a1 * residual_damping)  # the residual's step flexibility
+        self.xFr = self.rho * xF
+        self.mesh_damping = mesh_damping
+        self.local = mesh_damping is not None and mesh_damping.R is None
+        if mesh_damping is None:  # the effective compliance on every coordinate (n, n)
+            self.H = self.D @ self.Gr @ self.D.T + self.rho * self.G
 
-    return _scan_blocks(run_block, state, inputs, record, keep_blocks)
+    def block(self, p):
+        if self.mesh_damping is None:
+            return None, jnp.array(True)
+        D, G, Gr, rho, a1 = self.D, self.G, self.Gr, self.rho, self.a1
+        block, c_m, Wmap = self.mesh_damping
+        U, B, ok = block(p)
+        w = U.shape[0]
+        DU = D[U]
+        S = HUU = None
+        Gp, Cp = Gr, self.Cr
+        if self.local:  # c_m B on X_U: H'_UU = (I + a₁ c_m H_UU B)⁻¹ H_UU
+            HUU = DU @ Gr @ DU.T + rho * G[U[:, None], U[None, :]]
+            eye = jnp.eye(w, dtype=self.dtype)
+            S = jnp.linalg.solve(eye + (a1 * c_m) * (HUU @ B), jnp.eye(w))
+            H2 = S @ HUU  # (not symmetrised: a Coriolis term makes G_r unsymmetric)
+        else:  # mapped: c_m W_rᵀ B W_r on the modal coordinates
+            WD = Wmap[U]
+            Cm = c_m * (WD.T @ B @ WD)
+            Cp = self.Cr + Cm
+            Gp = jnp.linalg.inv(self.Keff + a1 * Cm)
+            H2 = DU @ Gp @ DU.T + rho * G[U[:, None], U[None, :]]
+        pos = jnp.full((self.n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
+        return (U, B, c_m, DU, S, HUU, H2, Gp, Cp, pos), ok
+
+    def step(self, x, row, blk, law):
+        q, qd, qdd, r, rd, rdd = x
+        D, G, a0, a1, rho, dtype = self.D, self.G, self.a0, self.a1, self.rho, self.dtype
+        v, u = self.known(q, qd, qdd)
+        vr, _ = self.known(r, rd, rdd)
+        r0 = self.xFr + (rho * self.beta_r) * vr  # the residual before the step's forces
+        Gp, Cp = (self.Gr, self.Cr) if blk is None else blk[7:9]
+        Feff = self.Fr + self.Mr @ u + Cp @ v
+        qs = Gp @ Feff
+        idx = row.idx
+        c = row.V.shape[0]
+        inside = jnp.array(True)
+        if blk is None:  # the window's coordinates
+            Hw = self.H[idx[:, None], idx[None, :]]
+            Dr, j = D[idx], jnp.arange(idx.shape[0])
+            x0 = Dr @ qs + r0[idx]
+        else:  # the block's coordinates U, the window's at positions j
+            U, B, c_m, DU, S, HUU, H2, _, _, pos = blk
+            j = pos[idx]
+            inside = jnp.all(j < U.shape[0])
+            Hw = H2[j[:, None], j[None, :]]
+            Dr = DU
+            x0 = Dr @ qs + r0[U]
+            if self.local:  # with the mesh damping's force on U (v_X = D v_q + v_r)
+                vU = DU @ v + vr[U]
+                x0 = S @ (x0 + HUU @ (c_m * (B @ vU)))
+        sol, P, _ = solve_contact_cells(
+            row.V @ Hw @ row.V.T,
+            row.V @ x0[j] - row.delta0,
+            jnp.zeros((c, 0), dtype),
+            jnp.zeros((0,), dtype),
+            row.k,
+            row.length,
+            row.mask,
+            law,
+        )
+        # the forces on U (the window's when U is None): −Vᵀ P and the mesh damping's
+        fU = -jnp.zeros(x0.shape, dtype).at[j].add(row.V.T @ P, mode="drop")
+        if blk is not None and self.local:
+            fU = fU + c_m * (B @ (vU - a1 * (x0 + H2 @ fU)))
+        rows = idx if blk is None else U
+        qn = qs + Gp @ (Dr.T @ fU)
+        rn = r0 + rho * (fU @ G[rows])  # G symmetric: G_{:U} f = (fᵀ G_U:)ᵀ
+        qdn, qddn = _update(qn, q, qd, qdd, a0, self.dt)
+        rdn, rddn = _update(rn, r, rd, rdd, a0, self.dt)
+        return (qn, qdn, qddn, rn, rdn, rddn), sol, P, inside
+
+    def finite(self, x) -> tuple:
+        # X = D q + r is finite where q and r are (D @ q only at the recorded steps)
+        return (x[0], x[3], x[1])
+
+    def observed(self, x) -> tuple:
+        return (self.D @ x[0] + x[3], self.D @ x[1] + x[4])
 
 
 def _scan_blocks(run_block, state, inputs, record, keep_blocks):

@@ -13,7 +13,7 @@ from .._results import DynamicsResult, error_if_failed
 from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean
 from ._settings import UNDER_RESOLVED_STEPS
 
-__all__ = ["DynamicResult", "MeshDynamics", "SweepResult"]
+__all__ = ["DynamicResult", "MeshDynamics", "Records", "SweepResult"]
 
 
 class MeshDynamics(eqx.Module):
@@ -219,17 +219,69 @@ def _impacts(in_contact) -> Int[Array, ""]:
     return jnp.sum(in_contact[1:] & ~in_contact[:-1])
 
 
-def _mesh_dynamics(
-    fm, fs, te, lines, static_line_force, static_te, P: int, pressure=None, cells=None, coast=None
-) -> MeshDynamics:
-    """One mesh's :class:`MeshDynamics` from its K records (see :func:`steady_state`); P: the
-    steps of the period the periodicity compares; ``pressure``: (the largest p₀² per kept step
-    (K,), the largest quasi-static one) (Pa²) or None; ``cells``: (line load, s, z, mask), each
-    (K, L, N), or None."""
+class Records(eqx.Module):
+    """What one speed's run recorded over its K kept steps, m meshes: the one input of
+    :func:`steady_state`, filled by every engine (lumped and hybrid) the same way.
+
+    Attributes:
+        speed (rad/s), time_step (s), mesh_period_angle 2π/z1 (rad): scalars.
+        steps_per_period: N_s (static). transient_steps: steps run before the kept ones (whole
+            periods; static).
+        theta (K,), bearing_force (K, r): the records. Per mesh: mesh_force (K, m),
+            transmission_error (K, m), line_force (a tuple of (K, L_k), one per mesh),
+            static_te (K, m); static_force: F_s (N), (m,); static_line_force: the largest
+            quasi-static force on one contact line (N), (m,).
+        bearing_force_static: the static support forces at the table positions (P, r).
+        omega_excited: the highest natural frequency the mesh excites (rad/s; NaN: unknown).
+        final_state: (X, Ẋ, Ẍ). iterations, code: the run's most contact passes and result code.
+        rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
+        scene_steps: the steps of one scene period (None: N_s; a two-stage train's span): the
+            periodicity compares the last two of them (static).
+        pressure: None, or (the largest p₀² over each mesh's cells per kept step (K, m), the
+            largest quasi-static one per position (P, m)) (Pa²): each mesh's
+            ``max_pressure`` and ``max_pressure_static``.
+        cells: None, or per mesh (line load (N/m), s (m), z (m), mask), each (K, L_k, N_k).
+        coast_force: None, or each mesh's coast flanks' force (N), (K, m) (``mesh_force`` then
+            the drive force less it): the coast share and the impact counts.
+    """
+
+    speed: Float[Array, ""]
+    time_step: Float[Array, ""]
+    mesh_period_angle: Float[Array, ""]
+    theta: Float[Array, " K"]
+    mesh_force: Float[Array, "K m"]
+    static_force: Float[Array, " m"]
+    transmission_error: Float[Array, "K m"]
+    line_force: tuple
+    static_line_force: Float[Array, " m"]
+    static_te: Float[Array, "K m"]
+    bearing_force: Float[Array, "K r"]
+    bearing_force_static: Float[Array, "P r"]
+    omega_excited: Float[Array, ""]
+    final_state: tuple
+    iterations: Int[Array, ""]
+    code: Int[Array, ""]
+    rim: tuple
+    steps_per_period: int = eqx.field(static=True)
+    transient_steps: int = eqx.field(static=True)
+    states: Float[Array, "K n"] | None = None
+    scene_steps: int | None = eqx.field(static=True, default=None)
+    pressure: tuple | None = None
+    cells: tuple | None = None
+    coast_force: Float[Array, "K m"] | None = None
+
+
+def _mesh_dynamics(r: Records, k: int) -> MeshDynamics:
+    """Mesh ``k``'s :class:`MeshDynamics` from the K records ``r`` (:func:`steady_state`); the
+    periodicity compares the last two scene periods (``scene_steps``, default N_s)."""
+    fm, fs, te = r.mesh_force[:, k], r.static_force[k], r.transmission_error[:, k]
+    lines, static_line_force = r.line_force[k], r.static_line_force[k]
+    P = r.steps_per_period if r.scene_steps is None else r.scene_steps
+    coast = None if r.coast_force is None else r.coast_force[:, k]
     p_max = p_static = None
-    if pressure is not None:
-        p_max, p_static = (jnp.sqrt(jnp.max(v)) for v in pressure)
-    cells = (None,) * 4 if cells is None else cells
+    if r.pressure is not None:
+        p_max, p_static = (jnp.sqrt(jnp.max(v[:, k])) for v in r.pressure)
+    cells = (None,) * 4 if r.cells is None else r.cells[k]
     K = fm.shape[0]
     if K >= 2 * P:
         periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
@@ -248,7 +300,7 @@ def _mesh_dynamics(
         static_force=jnp.asarray(fs, fm.dtype),
         transmission_error=te,
         line_force=lines,
-        static_te=static_te,
+        static_te=r.static_te[:, k],
         dynamic_factor=jnp.max(fm) / fs,
         dynamic_factor_tooth=jnp.max(lines) / static_line_force,
         te_rms=rms_about_mean(te),
@@ -267,95 +319,37 @@ def _mesh_dynamics(
     )
 
 
-def steady_state(
-    *,
-    speed,
-    time_step,
-    mesh_period_angle,
-    steps_per_period: int,
-    transient_steps: int,
-    theta,
-    mesh_force,
-    static_force,
-    transmission_error,
-    line_force,
-    static_line_force,
-    static_te,
-    bearing_force,
-    bearing_force_static,
-    omega_excited,
-    final_state,
-    iterations,
-    code,
-    rim,
-    states=None,
-    scene_steps: int | None = None,
-    pressure=None,
-    cells=None,
-    coast_force=None,
-) -> DynamicResult:
-    """The :class:`DynamicResult` of one speed's records over its K kept steps, m meshes.
-
-    Args:
-        speed (rad/s), time_step (s), mesh_period_angle 2π/z1 (rad): scalars.
-        steps_per_period: N_s. transient_steps: steps run before the kept ones (whole periods).
-        theta (K,), bearing_force (K, r): the records. Per mesh: mesh_force (K, m),
-            transmission_error (K, m), line_force (a tuple of (K, L_k), one per mesh),
-            static_te (K, m); static_force: F_s (N), (m,); static_line_force: the largest
-            quasi-static force on one contact line (N), (m,).
-        bearing_force_static: the static support forces at the table positions (P, r).
-        omega_excited: the highest natural frequency the mesh excites (rad/s; NaN: unknown).
-        final_state: (X, Ẋ, Ẍ). iterations, code: the run's most contact passes and result code.
-        rim: (radial, axial) rim records, each (K, Z). states: (K, n) or None.
-        scene_steps: the steps of one scene period (default N_s; a two-stage train's span):
-            the periodicity compares the last two of them.
-        pressure: None, or (the largest p₀² over each mesh's cells per kept step (K, m), the
-            largest quasi-static one per position (P, m)) (Pa²): each mesh's
-            ``max_pressure`` and ``max_pressure_static``.
-        cells: None, or per mesh (line load (N/m), s (m), z (m), mask), each (K, L_k, N_k).
-        coast_force: None, or each mesh's coast flanks' force (N), (K, m) (``mesh_force`` then
-            the drive force less it): the coast share and the impact counts.
-    """
-    P = steps_per_period
-    fm, te = mesh_force, transmission_error
+def steady_state(r: Records) -> DynamicResult:
+    """The :class:`DynamicResult` of one speed's :class:`Records` over its K kept steps: each
+    mesh's statistics (:class:`MeshDynamics`), the bearing maxima, the clock of the records and
+    the resolution flags; a non-finite record turns a zero result code into 2."""
+    P = r.steps_per_period
+    fm, te = r.mesh_force, r.transmission_error
     K = fm.shape[0]
     finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
-    code = jnp.where((code == 0) & ~finite, 2, code)
-    meshes = tuple(
-        _mesh_dynamics(
-            fm[:, k],
-            static_force[k],
-            te[:, k],
-            line_force[k],
-            static_line_force[k],
-            static_te[:, k],
-            P if scene_steps is None else scene_steps,
-            None if pressure is None else (pressure[0][:, k], pressure[1][:, k]),
-            None if cells is None else cells[k],
-            None if coast_force is None else coast_force[:, k],
-        )
-        for k in range(fm.shape[1])
-    )
+    code = jnp.where((r.code == 0) & ~finite, 2, r.code)
+    meshes = tuple(_mesh_dynamics(r, k) for k in range(fm.shape[1]))
+    speed, time_step, mesh_period_angle = r.speed, r.time_step, r.mesh_period_angle
     # f_mesh / f_max = Ω (2π/z1)^-1 / (ω_max / 2π)
-    per_mode = P * 2 * jnp.pi * speed / (mesh_period_angle * omega_excited)
+    per_mode = P * 2 * jnp.pi * speed / (mesh_period_angle * r.omega_excited)
     return DynamicResult(
         speed=speed,
         mesh_frequency=speed / mesh_period_angle,
         # step n ends at θ = (n + 3/2) Δθ (the table's mid-points), t = θ/Ω
-        time=(transient_steps + 1.5 + jnp.arange(K)) * time_step,
+        time=(r.transient_steps + 1.5 + jnp.arange(K)) * time_step,
         time_step=jnp.asarray(time_step, fm.dtype),
-        theta=theta,
-        bearing_force=bearing_force,
-        bearing_force_max=jnp.max(jnp.abs(bearing_force), axis=0),
-        bearing_force_static=jnp.max(jnp.abs(bearing_force_static), axis=0),
+        theta=r.theta,
+        bearing_force=r.bearing_force,
+        bearing_force_max=jnp.max(jnp.abs(r.bearing_force), axis=0),
+        bearing_force_static=jnp.max(jnp.abs(r.bearing_force_static), axis=0),
         steps_per_period=jnp.asarray(P),
         steps_per_mode_period=per_mode,
         under_resolved=per_mode < UNDER_RESOLVED_STEPS,
-        final_state=final_state,
-        iterations=jnp.asarray(iterations),
+        final_state=r.final_state,
+        iterations=jnp.asarray(r.iterations),
         result=jnp.asarray(code),
-        rim_radial=rim[0],
-        rim_axial=rim[1],
+        rim_radial=r.rim[0],
+        rim_axial=r.rim[1],
         meshes=meshes,
-        states=states,
+        states=r.states,
     )

@@ -25,6 +25,7 @@ __all__ = [
     "HertzPressure",
     "ModalBasis",
     "Newmark",
+    "Outputs",
     "SteadyState",
     "check_run_size",
 ]
@@ -304,6 +305,25 @@ def check_window(window, name: str = "window") -> SteadyState:
 
 
 @dataclasses.dataclass(frozen=True)
+class Outputs:
+    """What a run records beside the steady-state statistics, and its divergence bound (the
+    options of :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep`,
+    checked there).
+
+    Attributes:
+        states: the coordinates at the kept steps (Newmark only).
+        cell_loads: every mesh's cell loads at the kept steps.
+        pressure: the Hertz pressure tracked (:class:`HertzPressure`), or None.
+        blowup: the divergence bound (> 0), result code 3.
+    """
+
+    states: bool = False
+    cell_loads: bool = False
+    pressure: HertzPressure | None = None
+    blowup: float = 100.0
+
+
+@dataclasses.dataclass(frozen=True)
 class _Config:
     """The resolved settings of one run (static under jit): the integrator with its step count
     fixed, the window, the divergence bound, whether the states and the cell loads are
@@ -365,22 +385,20 @@ def _config(
     integrator,
     window: SteadyState,
     steps_per_period: int,
-    blowup,
-    states: bool = False,
+    outputs: Outputs = Outputs(),
     *,
     min_keep: int = 2,
     values_per_step: int = 16,
     record_all: bool = False,
-    cell_loads: bool = False,
-    pressure: HertzPressure | None = None,
     cells: int = 0,
 ) -> _Config:
     """The settings of a run with the integrator's step count resolved to
     ``steps_per_period``; checks the window (at least ``min_keep`` kept periods: 2 for a
     lumped model, which compares the last two) and the run's size, ``values_per_step`` recorded
     per kept step (per step of the whole run with ``record_all``) (before any work);
-    ``cell_loads``: the ``cells`` cells' loads, coordinates and mask are recorded at every kept
-    step too; ``pressure``: the Hertz pressure tracked (:class:`HertzPressure`)."""
+    ``outputs``: the records asked for (:class:`Outputs`: with ``cell_loads`` the ``cells``
+    cells' loads, coordinates and mask at every kept step too) and the divergence bound."""
+    blowup, cell_loads = outputs.blowup, outputs.cell_loads
     check_integer("steps_per_period", steps_per_period, 4)
     if window.keep_periods < min_keep:
         why = " (the lumped dynamics compare the last two periods)" if min_keep == 2 else ""
@@ -416,7 +434,7 @@ def _config(
         int(window.keep_periods),
         int(max_steps),
         float(blowup),
-        bool(states),
+        bool(outputs.states),
         bool(cell_loads),
-        pressure,
+        outputs.pressure,
     )

@@ -2,23 +2,23 @@
 
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 
 from .._contact import ContactLaw, ExactContact
 from .._util import check_real
-from ._lumped import _prep, _run, _static_start
-from ._model import AbstractDynamicModel, DynamicModel, HybridModel
-from ._result import DynamicResult
+from ._lumped import DynamicModel, LumpedRun, _prep
+from ._model import AbstractDynamicModel
+from ._result import DynamicResult, checked
 from ._settings import (
     DiffraxIntegrator,
     HertzPressure,
     Newmark,
+    Outputs,
     SteadyState,
     _config,
     check_pressure,
 )
-from ._sweep import auto_steps_per_period, resolve_settings, speed_sweep
+from ._sweep import auto_steps_per_period, resolve_settings
 
 __all__ = ["simulate", "simulate_on_table"]
 
@@ -81,48 +81,21 @@ def simulate(
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, shape=(), where="simulate")
-    if isinstance(model, HybridModel):
-        if state0 is not None:
-            raise ValueError(
-                "state0: a hybrid model starts from its quasi-static state (allowed None)"
-            )
-        dtype = model.scene.base_planes[0].base_pitch.dtype
-        res = speed_sweep(
-            model,
-            jnp.reshape(jnp.asarray(speed, dtype), (1,)),
-            integrator=integrator,
-            contact=contact,
-            window=window,
-            states=states,
-            cell_loads=cell_loads,
-            pressure=pressure,
-            blowup=blowup,
-            throw=throw,
-        ).results
-        return jax.tree.map(lambda x: x[0], res)
     integrator, law, window = resolve_settings(model, integrator, contact, window, states)
     pressure = check_pressure(pressure, len(model.scene.base_planes))
-    dtype = model.scene.base_planes[0].base_pitch.dtype
-    steps_per_period = integrator.steps_per_period
+    if state0 is not None and not model.continues:
+        raise ValueError("state0: a hybrid model starts from its quasi-static state (allowed None)")
+    steps_per_period, modes = integrator.steps_per_period, None
     if steps_per_period is None:
-        steps_per_period = int(auto_steps_per_period(model, speed))
-    cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
-    cfg = _config(
-        integrator,
-        window,
-        steps_per_period,
-        blowup,
-        states,
-        cell_loads=bool(cell_loads),
-        pressure=pressure,
-        cells=cells,
-    )
-    speed = jnp.asarray(speed, dtype)
-    prep = _prep(model, law, cfg.steps_per_period)
-    if state0 is None:
-        state0 = _static_start(prep)
-    state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
-    return _run(model, prep, speed, state0, law, cfg, "single", bool(throw))
+        modes = model.averaged_modes()
+        steps_per_period = int(auto_steps_per_period(model, speed, modes))
+    outputs = Outputs(bool(states), bool(cell_loads), pressure, blowup)
+    prepared = model.prepare(integrator, law, window, steps_per_period, outputs, modes)
+    dtype = model.dtype
+    if state0 is not None:
+        state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
+    r = model.independent(prepared, jnp.asarray(speed, dtype), start=state0)
+    return checked(r, "simulate") if throw else r
 
 
 def simulate_on_table(
@@ -144,7 +117,7 @@ def simulate_on_table(
     ``condensed=False``, on every coordinate (as before): for comparisons and ``jaxgear bench
     trains``. Returns (:class:`DynamicResult`, the prepared table and static rows)."""
     integrator, law, window = resolve_settings(model, Newmark(steps_per_period), contact, window)
-    cfg = _config(integrator, window, int(steps_per_period), 100.0, False)
+    cfg = _config(integrator, window, int(steps_per_period))
     prep = _prep(model, law, int(steps_per_period), own_periods, condensed)
-    speed = jnp.asarray(speed, model.damping.dtype)
-    return _run(model, prep, speed, _static_start(prep), law, cfg, "single", True), prep
+    r = model.independent(LumpedRun(prep, law, cfg), jnp.asarray(speed, model.damping.dtype))
+    return checked(r, "simulate"), prep

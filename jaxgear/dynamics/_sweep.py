@@ -6,8 +6,6 @@ and the modes it resolves (:func:`mesh_averaged_modes`). One speed: :func:`simul
 
 from __future__ import annotations
 
-import math
-
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -16,24 +14,15 @@ from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
 from .._util import check_integer, check_real
-from . import _hybrid
-from ._lumped import _prep, _run, _static_start
-from ._modal import ModalAnalysis, excited_omega, modal_analysis, steps_for_mode
-from ._model import (
-    AbstractDynamicModel,
-    DynamicModel,
-    HybridModel,
-    deviation_periods,
-    span_periods,
-)
+from ._modal import ModalAnalysis, excited_omega, steps_for_mode
+from ._model import AbstractDynamicModel
 from ._result import SweepResult, checked
 from ._settings import (
     DiffraxIntegrator,
     HertzPressure,
     Newmark,
+    Outputs,
     SteadyState,
-    _Config,
-    _config,
     check_integrator,
     check_pressure,
     check_window,
@@ -51,33 +40,23 @@ Model = AbstractDynamicModel
 
 
 def resolve_settings(model, integrator, contact, window, states: bool = False):
-    """The settings of a run on ``model``, checked, with each kind's defaults for ``None``: a
-    lumped model Newmark with automatic steps, the exact law (100 passes) and 60 periods with 4
-    kept; a hybrid model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law
-    (50 passes) and 20 periods with 4 kept. ``states``: the states are to be recorded (Newmark
-    only). Returns (integrator, contact law in the model's dtype, window)."""
+    """The settings of a run on ``model``, checked, with the model kind's defaults for ``None``
+    (:meth:`~jaxgear.dynamics.AbstractDynamicModel.default_settings`: a lumped model Newmark
+    with automatic steps, the exact law (100 passes) and 60 periods with 4 kept; a hybrid
+    model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law (50 passes)
+    and 20 periods with 4 kept). ``states``: the states are to be recorded (Newmark only).
+    Returns (integrator, contact law in the model's dtype, window)."""
     if not isinstance(model, AbstractDynamicModel):
         raise ValueError(
             f"model = {type(model).__name__}: allowed a jaxgear.dynamics.DynamicModel or "
             "HybridModel (jaxgear.dynamics.dynamic_model)"
         )
-    hybrid = isinstance(model, HybridModel)
-    if integrator is None:
-        integrator = Newmark(64) if hybrid else Newmark()
-    if contact is None:
-        contact = ExactContact(50) if hybrid else ExactContact()
-    if window is None:
-        window = SteadyState(20, 4) if hybrid else SteadyState()
-    integrator = check_integrator(integrator)
-    window = check_window(window)
-    if hybrid:
-        _hybrid.check_newmark(integrator)
-    elif getattr(integrator, "basis", None) is not None:
-        raise ValueError(
-            f"integrator = {integrator!r}: a modal basis is for a hybrid model (allowed "
-            "basis=None for a lumped one)"
-        )
-    q = span_periods(model)
+    default_integrator, default_contact, default_window = model.default_settings()
+    integrator = check_integrator(default_integrator if integrator is None else integrator)
+    window = check_window(default_window if window is None else window)
+    contact = default_contact if contact is None else contact
+    model.check_integrator(integrator)
+    q = model.span_periods()
     if window.keep_periods < q:
         why = (
             f"the meshes repeat together every {q} periods of the first mesh (a two-stage train)"
@@ -96,7 +75,7 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
         )
     if states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
-    return integrator, contact_law(contact, model.scene.base_planes[0].base_pitch.dtype), window
+    return integrator, contact_law(contact, model.dtype), window
 
 
 def mesh_averaged_modes(
@@ -116,13 +95,9 @@ def mesh_averaged_modes(
     ``positions_per_pitch`` quasi-static positions at pinion ``speed`` (rad/s, the centrifugal
     load) with the ``contact`` law (:func:`~jaxgear.dynamics.mean_mesh_stiffness`).
     """
-    if isinstance(model, DynamicModel):
-        return model.modes
-    check_integer("positions_per_pitch", positions_per_pitch, 4)
-    Km = _hybrid.mean_mesh_stiffness(
-        model.scene, model.mods, model.torque, int(positions_per_pitch), contact, speed=speed
+    return model.averaged_modes(
+        speed=speed, positions_per_pitch=positions_per_pitch, contact=contact
     )
-    return modal_analysis(model.scene, Km)
 
 
 def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = None) -> np.ndarray:
@@ -176,24 +151,7 @@ def steps_multiple(model: Model) -> int:
     """D of :func:`auto_steps_per_period`: the least N_s dividing every mesh's period into
     whole steps, lcm of the denominators of T_k/T_0 (static); 1 for a hybrid model, a pair and
     a model with manufacturing deviations (tabulated over the span whatever N_s)."""
-    if not isinstance(model, DynamicModel) or deviation_periods(model.mods) > 1:
-        return 1
-    return math.lcm(*(f.denominator for f in model.scene.mesh_periods()))
-
-
-def _shard(speeds, rows: bool = False):
-    """``speeds`` (S,) padded with its last speed to a multiple of the local devices and placed
-    across them (``jax.sharding``): (S',) split along its axis, or with ``rows`` (devices,
-    S'/devices), one row per device. Returns (the placed array, the padding)."""
-    devices = jax.local_devices()
-    n = len(devices)
-    pad = (-speeds.shape[0]) % n
-    padded = jnp.concatenate([speeds, jnp.full((pad,), speeds[-1], speeds.dtype)])
-    if rows:
-        padded = padded.reshape(n, -1)
-    mesh = jax.sharding.Mesh(np.array(devices), ("speed",))
-    sharding = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("speed"))
-    return jax.device_put(padded, sharding), pad
+    return model.steps_multiple()
 
 
 def in_chunks(run, speeds, chunk_size: int, progress=None):
@@ -278,16 +236,12 @@ def speed_sweep(
         raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
     integrator, law, window = resolve_settings(model, integrator, contact, window, states)
     pressure = check_pressure(pressure, len(model.scene.base_planes))
-    cell_loads = bool(cell_loads)
-    cells = sum(p.n_lines * p.n_slices for p in model.scene.base_planes)
-    hybrid = isinstance(model, HybridModel)
-    if hybrid and direction != "independent":
+    if direction != "independent" and not model.continues:
         raise ValueError(
-            f"direction = {direction!r}: a hybrid model sweeps independent speeds only "
+            f"direction = {direction!r}: a {type(model).__name__} sweeps independent speeds only "
             "(allowed 'independent')"
         )
-    dtype = model.scene.base_planes[0].base_pitch.dtype
-    speeds = jnp.asarray(speeds, dtype)
+    speeds = jnp.asarray(speeds, model.dtype)
     traced = isinstance(speeds, jax.core.Tracer)
     if (
         speeds.ndim != 1
@@ -300,59 +254,19 @@ def speed_sweep(
         check_integer("chunk_size", chunk_size, 1)
     if not blowup > 0:
         raise ValueError(f"blowup = {blowup!r}: allowed > 0")
-    omega = jnp.asarray(jnp.nan, dtype)  # a hybrid run's excited mode: unknown unless automatic
+    outputs = Outputs(bool(states), bool(cell_loads), pressure, blowup)
+    sweep = _Sweep(model, shard, chunk_size)
 
-    def fixed(sp, n, d, tick, start=None):
-        n = int(n)
-        if not hybrid:
-            cfg = _config(
-                integrator,
-                window,
-                n,
-                blowup,
-                states,
-                cell_loads=cell_loads,
-                pressure=pressure,
-                cells=cells,
-            )
-            return _fixed_sweep(
-                model,
-                sp,
-                law,
-                cfg,
-                direction=d,
-                shard=shard,
-                chunk_size=chunk_size,
-                progress=tick,
-                start=start,
-            )
-        cfg = _hybrid.run_config(model, integrator, window, n, blowup, states, cell_loads, pressure)
-        n_dev = len(jax.local_devices()) if shard else 1
-        # the modal basis (if any) once for the whole sweep, not per chunk
-        basis = _hybrid.modal_space(model, law, cfg)
-
-        def run(w):
-            if n_dev == 1 or isinstance(w, jax.core.Tracer):
-                return _hybrid.sweep(model, w, law, cfg, omega, basis)
-            # one row of speeds per device, each row one speed after the other
-            rows, _ = _shard(w, rows=True)
-            r = _hybrid.sweep(model, rows, law, cfg, omega, basis)
-            return jax.tree.map(lambda a: a.reshape((-1,) + a.shape[2:])[: w.shape[0]], r)
-
-        if chunk_size is None or isinstance(sp, jax.core.Tracer):
-            return SweepResult(sp, run(sp))
-        return SweepResult(sp, in_chunks(run, sp, int(chunk_size), tick))
+    def fixed(sp, n, d, tick, modes=None, start=None):
+        prepared = model.prepare(integrator, law, window, int(n), outputs, modes)
+        return sweep.run(prepared, sp, d, tick, start)
 
     if integrator.steps_per_period is not None:
         return _thrown(fixed(speeds, integrator.steps_per_period, direction, progress), throw)
-    if hybrid:
-        modes = mesh_averaged_modes(model)
-        omega = excited_omega(modes)
-        ns = auto_steps_per_period(model, np.asarray(speeds), modes)
-    else:
-        ns = auto_steps_per_period(model, np.asarray(speeds))
+    modes = model.averaged_modes()
+    ns = auto_steps_per_period(model, np.asarray(speeds), modes)
     if np.all(ns == ns[0]):
-        return _thrown(fixed(speeds, ns[0], direction, progress), throw)
+        return _thrown(fixed(speeds, ns[0], direction, progress, modes), throw)
     n_min = int(ns.min())
     done = [0]
 
@@ -363,7 +277,7 @@ def speed_sweep(
             if progress is not None:
                 progress(base + k)
 
-        r = fixed(sp, n, d, tick, start).results
+        r = fixed(sp, n, d, tick, modes, start).results
         done[0] += int(sp.shape[0])
         return _subsample(r, int(n) // n_min)
 
@@ -478,71 +392,60 @@ def _subsample(r, m: int):
     return eqx.tree_at(lambda x: x.time_step, r, r.time_step * m)
 
 
-def _fixed_sweep(
-    model: DynamicModel,
-    speeds,
-    law: ContactLaw,
-    cfg: _Config,
-    *,
-    direction: str,
-    shard: bool,
-    chunk_size: int | None,
-    progress,
-    start=None,
-) -> SweepResult:
-    """The sweep at one resolved step count (``cfg``), from ``start`` (default: the static
-    equilibrium)."""
-    dtype = model.scene.base_planes[0].base_pitch.dtype
-    speeds = jnp.asarray(speeds, dtype)
-    if speeds.ndim != 1 or speeds.shape[0] < 1:
-        raise ValueError("speeds must be a 1-D array of pinion speeds (rad/s)")
-    S = speeds.shape[0]
-    n_dev = len(jax.local_devices()) if shard else 1
-    prep = _prep(model, law, cfg.steps_per_period)
-    if start is None:
-        start = _static_start(prep)
+class _Sweep:
+    """The speeds of a sweep at one resolved step count on any engine
+    (:class:`~jaxgear.dynamics.AbstractDynamicModel`): independent speeds in one call (or in
+    chunks, padded to whole rows of the local devices), continuation up, down or both (in
+    chunks, carrying the state across them)."""
 
-    def independent(sp):
-        if n_dev > 1:
-            padded, _ = _shard(sp)
-            r = _run(model, prep, padded, start, law, cfg, "vmap")
-            return jax.tree_util.tree_map(lambda a: a[: sp.shape[0]], r)
-        return _run(model, prep, sp, start, law, cfg, "vmap")
+    def __init__(self, model: AbstractDynamicModel, shard: bool, chunk_size: int | None):
+        self.model, self.shard, self.chunk_size = model, shard, chunk_size
 
-    if chunk_size is None:
+    def run(self, prepared, speeds, direction: str, progress, start=None) -> SweepResult:
+        """:class:`SweepResult` of ``speeds`` (S,) from ``start`` ((X, Ẋ); None: the model's
+        own start), ``progress(n_done)`` after each chunk."""
+        model = self.model
+
+        def independent(sp):
+            return model.independent(prepared, sp, start=start, shard=self.shard)
+
+        def scan(sp, state=start):
+            return model.continuation(prepared, sp, start=state)
+
+        if self.chunk_size is None or isinstance(speeds, jax.core.Tracer):
+            if direction == "independent":
+                return SweepResult(speeds, independent(speeds))
+            if direction == "up":
+                return SweepResult(speeds, scan(speeds))
+            if direction == "down":
+                return SweepResult(speeds, _flip(scan(speeds[::-1])))
+            both = scan(jnp.stack([speeds, speeds[::-1]]))  # one vmap over the two scans
+            up = jax.tree_util.tree_map(lambda a: a[0], both)
+            return SweepResult(speeds, up, jax.tree_util.tree_map(lambda a: a[1][::-1], both))
+
+        size = int(self.chunk_size)
         if direction == "independent":
-            return SweepResult(speeds, independent(speeds))
+            n_dev = len(jax.local_devices()) if self.shard else 1
+            size = -(-size // n_dev) * n_dev
+            return SweepResult(speeds, in_chunks(independent, speeds, size, progress))
+
+        def continuation(sp, base=0):
+            state = start
+
+            def run(ch):
+                nonlocal state
+                r = scan(ch, state)
+                ok = bool(r.result[-1] == 0)
+                state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
+                return r
+
+            tick = None if progress is None else (lambda k: progress(base + k))
+            return in_chunks(run, sp, size, tick)
+
         if direction == "up":
-            return SweepResult(speeds, _run(model, prep, speeds, start, law, cfg, "continuation"))
+            return SweepResult(speeds, continuation(speeds))
         if direction == "down":
-            return SweepResult(
-                speeds, _flip(_run(model, prep, speeds[::-1], start, law, cfg, "continuation"))
-            )
-        up, down = _run(model, prep, speeds, start, law, cfg, "both")
-        return SweepResult(speeds, up, down)
-
-    size = int(chunk_size)
-    if direction == "independent":
-        size = -(-size // n_dev) * n_dev
-
-    def continuation(sp, base=0):
-        state = start
-
-        def run(ch):
-            nonlocal state
-            r = _run(model, prep, ch, state, law, cfg, "continuation")
-            ok = bool(r.result[-1] == 0)
-            state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
-            return r
-
-        tick = None if progress is None else (lambda k: progress(base + k))
-        return in_chunks(run, sp, size, tick)
-
-    if direction == "independent":
-        return SweepResult(speeds, in_chunks(independent, speeds, size, progress))
-    if direction == "up":
-        return SweepResult(speeds, continuation(speeds))
-    if direction == "down":
-        return SweepResult(speeds, _flip(continuation(speeds[::-1])))
-    # progress counts both passes: S + S
-    return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1], S)))
+            return SweepResult(speeds, _flip(continuation(speeds[::-1])))
+        # progress counts both passes: S + S
+        S = speeds.shape[0]
+        return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1], S)))

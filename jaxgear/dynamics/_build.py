@@ -1,0 +1,256 @@
+"""The dynamic model of a scene at an operating torque (:func:`dynamic_model`): the engine of
+its kind (a lumped :class:`~jaxgear.dynamics.DynamicModel`, a hybrid
+:class:`~jaxgear.dynamics.HybridModel`), dispatched on the scene's type; and the lumped
+model's time-averaged mesh stiffness, modes and damping, with their per-mesh splits
+(:func:`mesh_stiffness_means`, :func:`mesh_energy_shares`)."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from .._contact import ContactLaw, ExactContact, contact_law
+from .._modifications import Modifications
+from .._quasi_static import check_operating, per_mesh_modifications
+from .._util import check_instance, check_integer
+from ..scenes import DynamicScene, HybridPair, HybridScene
+from ._hybrid import HybridModel
+from ._lumped import DynamicModel
+from ._damping import AbstractDamping, CompositeDamping, RayleighDamping, damping_matrix
+from ._modal import modal_analysis
+from ._model import AbstractDynamicModel, _mean_mesh_matrix, _prepare, _Prepared
+
+__all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means"]
+
+
+def dynamic_model(
+    scene: DynamicScene | HybridPair,
+    mods: Modifications | tuple | None,
+    torque,
+    damping: AbstractDamping | None = None,
+    *,
+    positions_per_pitch: int = 64,
+    contact: ContactLaw = ExactContact(),
+    rotating_frame: bool = False,
+    revolutions: int | None = None,
+) -> DynamicModel | HybridModel:
+    """The dynamic model of a scene at an operating torque: what :func:`simulate` and
+    :func:`speed_sweep` integrate.
+
+    A lumped scene (torsional or 3D, :class:`DynamicScene`) gives a :class:`DynamicModel`: the
+    time-averaged mesh stiffness matrix K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over one mesh period,
+    w_c the static contact weights at ``torque`` (loaded cells only, so a tip relief that is not
+    in contact does not count); the modal analysis of (M, K_s + K̄_m) gives the damping
+    (2.34)-(2.36). A hybrid scene (:class:`jaxgear.scenes.HybridPair`) gives a
+    :class:`HybridModel`, whose damping the sweeps build at each speed.
+
+    Args:
+        scene: dynamic scene. mods: modifications (``None``: none; one for every mesh, or a
+            tuple of one per mesh). torque: pinion torque (N·m).
+        damping: a damping model (:class:`AbstractDamping`). Default: composite (2.36), 0.07
+            mesh / 0.01 structure, for a lumped scene; the seed's D1, Rayleigh (α, β) =
+            (25 1/s, 2.5e-6 s), for a hybrid one.
+        positions_per_pitch: positions per mesh period for the averages (lumped scenes).
+        contact: the contact law of the static solve (:class:`~jaxgear.ExactContact` by
+            default; lumped scenes).
+        rotating_frame: hybrid scenes only: add the turning frames' inertia
+            (:class:`HybridModel`).
+        revolutions: lumped scenes with manufacturing deviations (``mods.deviations``): pinion
+            revolutions of the span the runs cover (an integer >= 1; the table of δ0 over
+            ``revolutions`` × z1 mesh periods repeats after it). Default None: the period of
+            the deviations (:func:`deviation_periods`: z1 periods for the pinion's alone,
+            lcm(z1, z2) for both, the hunting period). A span shorter than that period joins
+            its end to its start (the gear's teeth jump): the steady state of a gear pair that
+            repeats after the span, an approximation stated in docs/robust.md.
+
+    Raises:
+        ValueError: a ``damping`` that is not a damping model; ``rotating_frame`` on a
+            lumped scene; a concrete torque <= 0 for a hybrid scene; a tuple of modifications of
+            another length than the meshes.
+        eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
+            (jit/vmap-safe).
+    """
+    check_instance(
+        "scene",
+        scene,
+        (DynamicScene, HybridPair),
+        "a jaxgear dynamic scene (TorsionalDynamics, a lumped or hybrid scene)",
+        "dynamic_model",
+    )
+    check_operating("dynamic_model", scene, mods, torque, coast_torque=False, mods_name="mods")
+    if mods is None:
+        mods = Modifications()
+    if isinstance(mods, tuple | list):  # one per mesh: the count, before any computation
+        mods = per_mesh_modifications(mods, len(scene.base_planes))
+    if damping is not None and not isinstance(damping, AbstractDamping):
+        raise ValueError(
+            f"damping = {damping!r}: allowed a jaxgear.dynamics damping model "
+            "(RayleighDamping, ModalDamping, CompositeDamping, NoDamping, or Damping(name, ...))"
+        )
+    dtype = scene.base_planes[0].base_pitch.dtype
+    torque = jnp.asarray(torque, dtype=dtype)
+    return _engine(
+        scene,
+        mods,
+        torque,
+        damping,
+        positions_per_pitch=positions_per_pitch,
+        contact=contact,
+        rotating_frame=rotating_frame,
+        revolutions=revolutions,
+    )
+
+
+@functools.singledispatch
+def _engine(scene, mods, torque, damping, **options) -> AbstractDynamicModel:
+    """The dynamics engine of a scene (dispatched on its type: a new kind of scene registers
+    its engine here). ``options``: :func:`dynamic_model`'s keywords."""
+    raise ValueError(f"scene = {type(scene).__name__}: no dynamics engine for this scene kind")
+
+
+@_engine.register
+def _(scene: HybridScene, mods, torque, damping, *, rotating_frame=False, **_) -> HybridModel:
+    if not isinstance(torque, jax.core.Tracer) and not bool(torque > 0):
+        raise ValueError(f"torque = {float(torque)!r} N·m: allowed > 0 (the pinion drives)")
+    if damping is None:  # the seed's D1 (built here: its arrays take the caller's dtype)
+        damping = RayleighDamping(alpha=25.0, beta=2.5e-6)
+    return HybridModel(scene, mods, torque, damping, bool(rotating_frame))
+
+
+@_engine.register
+def _(
+    scene: DynamicScene,
+    mods,
+    torque,
+    damping,
+    *,
+    positions_per_pitch=64,
+    contact=ExactContact(),
+    rotating_frame=False,
+    revolutions=None,
+) -> DynamicModel:
+    if rotating_frame:
+        raise ValueError(
+            "rotating_frame = True: only a hybrid scene (condensed bodies) has turning body "
+            "frames; a lumped scene's gears are rigid"
+        )
+    if damping is None:
+        damping = CompositeDamping()
+    span = None
+    if revolutions is not None:
+        check_integer("revolutions", revolutions, 1)
+        z1 = [d.pinion.teeth for d in _deviations_of(mods) if d.pinion is not None]
+        if not z1:
+            z1 = [
+                round(2 * math.pi * float(p.base_radius_pinion) / float(p.base_pitch))
+                for p in scene.base_planes[:1]
+            ]
+        span = int(revolutions) * z1[0]
+    law = contact_law(contact, torque.dtype)
+    return _build(scene, mods, torque, damping, law, positions_per_pitch, span)
+
+
+def _deviations_of(mods) -> list:
+    return [
+        m.deviations
+        for m in (mods if isinstance(mods, tuple | list) else (mods,))
+        if getattr(m, "deviations", None) is not None
+    ]
+
+
+def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
+    # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
+    torque = eqx.error_if(
+        torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
+    )
+    prep = _prepare(scene, mods, torque, law, positions_per_pitch)
+    model = _averaged(scene, mods, torque, damping, prep, span)
+    bad = jnp.any(prep.static_result != 0)
+    kbar = eqx.error_if(
+        model.mesh_stiffness_mean,
+        bad,
+        "dynamic_model: the static contact solve failed at some mesh positions "
+        "(no contact or no convergence): check the load and the deviations",
+    )
+    return eqx.tree_at(lambda m: m.mesh_stiffness_mean, model, kbar)
+
+
+@eqx.filter_jit
+def _averaged(scene, mods, torque, damping, prep, span=None):
+    kl = _loaded_kl(prep)
+    Km = _mean_mesh_matrix(prep.table, kl)
+    kbar = jnp.mean(jnp.sum(kl, axis=1))
+    modes = modal_analysis(scene, Km)
+    C = damping_matrix(scene, modes, damping)
+    return DynamicModel(
+        scene=scene,
+        mods=mods,
+        torque=torque,
+        damping=C,
+        modes=modes,
+        mesh_stiffness_mean=kbar,
+        deviation_span=span,
+    )
+
+
+def _loaded_kl(prep: _Prepared) -> Float[Array, "S c"]:
+    """The loaded cells' k l w (N/m) at every step of the span, (S, c)."""
+    t, steps = prep.table, jnp.arange(prep.static_weight.shape[0])
+    kl = jnp.where(t.take(t.mask, steps), t.take(t.k, steps) * t.take(t.length, steps), 0.0)
+    return kl * prep.static_weight
+
+
+def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactLaw):
+    """The loaded cells' k l w (N/m), (S, c), over ``positions_per_pitch`` positions of a mesh
+    period at the model's torque, the table, and each cell's mesh index (c,)."""
+    check_integer("positions_per_pitch", positions_per_pitch, 4)
+    law = contact_law(contact, model.damping.dtype)
+    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
+    table = prep.table
+    sizes = np.array([L * N for L, N in table.sizes])
+    return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
+
+
+def mesh_stiffness_means(
+    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+) -> Float[Array, " m"]:
+    """Each mesh's time-averaged loaded stiffness k̄_k = ⟨Σ w k l⟩ over its cells (N/m), shape
+    (meshes,), over ``positions_per_pitch`` positions of a mesh period at the model's torque
+    (the split of :attr:`DynamicModel.mesh_stiffness_mean`)."""
+    kl, _, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
+    return jnp.stack(
+        [
+            jnp.mean(jnp.sum(jnp.where(jnp.asarray(of_mesh == k), kl, 0.0), axis=1))
+            for k in range(int(of_mesh.max()) + 1)
+        ]
+    )
+
+
+def mesh_energy_shares(
+    model: DynamicModel, *, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+) -> Float[Array, "m n"]:
+    """Each mesh's share of each mode's strain energy, e_ik = φ_iᵀ K̄_k φ_i / ω_i² (-), shape
+    (meshes, modes): K̄_k the loaded stiffness of mesh k averaged over ``positions_per_pitch``
+    positions of a mesh period at the model's torque (the split of the model's K̄_m, which its
+    modes diagonalise); the meshes' rows sum to the mode's mesh share (:attr:`ModalAnalysis.
+    mesh_energy`, (2.36)) up to the averaging grid. 0 for the rigid modes."""
+    kl, table, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
+    modes = model.modes
+    w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
+    out = []
+    for k in range(int(of_mesh.max()) + 1):
+        kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
+        Kk = _mean_mesh_matrix(table, kk)
+        strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
+        out.append(jnp.where(modes.rigid, 0.0, strain / w2))
+    return jnp.stack(out)
+
+
+# --------------------------------------------------------------------------------------------
+# results
