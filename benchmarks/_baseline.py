@@ -80,12 +80,10 @@ def baseline_mesh(case, slices: int | None = None, torque: float | None = None) 
     pair = case.pair
     s, k = stiffness_table(
         pair,
-        case.stiffness_model,
+        case.stiffness,
         youngs_modulus=case.youngs_modulus,
         poisson_ratio=case.poisson_ratio,
         line_load=case.nominal_line_load(torque),
-        uniform_k0=case.uniform_k0,
-        foundation=case.foundation,
     )
     return BaselineMesh(
         path_of_contact=float(pair.path_of_contact),

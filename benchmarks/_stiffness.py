@@ -68,8 +68,8 @@ def bench_stiffness(
     jax.config.update("jax_enable_x64", True)  # entry point: float64
     from tqdm.auto import tqdm
 
-    from jaxgear import MeshModel, quasi_static, stiffness_table
-    from jaxgear.io import atomic_open, load_case
+    from jaxgear import FE2D, MeshModel, quasi_static, stiffness_table
+    from jaxgear.io import atomic_open, load_case, stiffness_from_name
 
     c = load_case(case)
     pair, mn = c.pair, c.pair.normal_module
@@ -95,39 +95,40 @@ def bench_stiffness(
         return float(te.mean()), float(np.ptp(te))
 
     with _fresh_cache():  # warm-up: imports, the first FE solve, the jit of quasi_static
-        s0, k0 = stiffness_table(pair, "fe2d", fe2d_size=mn / 2, **kw)
+        s0, k0 = stiffness_table(pair, FE2D(mn / 2), **kw)
         te_of(s0, k0)
     bar.update()
     with _fresh_cache():
         t = time.perf_counter()
-        s_ref, k_ref = stiffness_table(pair, "fe2d", fe2d_size=mn / ref_div, **kw)
+        s_ref, k_ref = stiffness_table(pair, FE2D(mn / ref_div), **kw)
         ref_s = time.perf_counter() - t
     mean_ref, ptp_ref = te_of(s_ref, k_ref)
     bar.update()
     points = []
-    for label, model, foundation, size in configs:
-        if model == "fe2d":
+    for label, name, foundation, size in configs:
+        model = stiffness_from_name(name, foundation=foundation, fe2d_size=size)
+        if name == "fe2d":
             build = cached = np.inf
             for _ in range(2):  # min of two cold runs (fresh caches), each then from its cache
                 with _fresh_cache():
                     t = time.perf_counter()
-                    s, k = stiffness_table(pair, model, foundation=foundation, fe2d_size=size, **kw)
+                    s, k = stiffness_table(pair, model, **kw)
                     build = min(build, time.perf_counter() - t)
                     t = time.perf_counter()
-                    stiffness_table(pair, model, foundation=foundation, fe2d_size=size, **kw)
+                    stiffness_table(pair, model, **kw)
                     cached = min(cached, time.perf_counter() - t)
         else:
             best = np.inf
             for _ in range(3):
                 t = time.perf_counter()
-                s, k = stiffness_table(pair, model, foundation=foundation, **kw)
+                s, k = stiffness_table(pair, model, **kw)
                 best = min(best, time.perf_counter() - t)
             build, cached = best, None
         mean, ptp = te_of(s, k)
         points.append(
             {
                 "model": label,
-                "stiffness": model,
+                "stiffness": name,
                 "foundation": foundation,
                 "fe2d_size_m": size,
                 "table_s": build,

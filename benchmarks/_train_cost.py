@@ -70,7 +70,7 @@ def _chain(n_meshes: int, slices: int, model: str = "torsional"):
         jg.GearPair(jg.Member(a, face_width=FACE), jg.Member(b, face_width=FACE), MODULE, ALPHA)
         for a, b in zip(teeth[:-1], teeth[1:], strict=True)
     ]
-    planes = [jg.MeshModel.from_pair(p, *jg.stiffness_table(p, "weber"), slices) for p in pairs]
+    planes = [jg.MeshModel.from_pair(p, *jg.stiffness_table(p, jg.Weber()), slices) for p in pairs]
     radii = [pairs[0].tip_radii[0], *(p.tip_radii[1] for p in pairs)]
     inertias = [disc_inertia(7800.0, r, FACE) for r in radii]
     meshes = tuple((plane, (k, k + 1)) for k, plane in enumerate(planes))

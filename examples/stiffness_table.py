@@ -114,7 +114,8 @@ def row(spec: dict, fe2d_size: float | None = None, n_points: int = 257) -> dict
     out, times = {}, {}
     for key, (model, foundation) in runs.items():
         t0 = time.perf_counter()
-        s, k = jg.stiffness_table(pair, model, foundation=foundation, fe2d_size=fe2d_size, **kw)
+        stiffness = jio.stiffness_from_name(model, foundation=foundation, fe2d_size=fe2d_size)
+        s, k = jg.stiffness_table(pair, stiffness, **kw)
         times[key] = time.perf_counter() - t0
         out[key] = mean_mesh_stiffness(pair, s, k)
     return {

@@ -13,6 +13,7 @@ from importlib.metadata import PackageNotFoundError, version as _version
 from ._baseplane import CellRow as CellRow, Cells as Cells, MeshModel as MeshModel
 from ._case import Case as Case, TrainCase as TrainCase
 from ._contact import (
+    AbstractContactLaw as AbstractContactLaw,
     ContactLaw as ContactLaw,
     ContactSolution as ContactSolution,
     ExactContact as ExactContact,
@@ -64,6 +65,11 @@ from ._robust import (
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
+    AbstractFoundation as AbstractFoundation,
+    MemberFoundations as MemberFoundations,
+    NoFoundation as NoFoundation,
+    SainsotFoundation as SainsotFoundation,
+    WeberFoundation as WeberFoundation,
     iso6336_blank_factor as iso6336_blank_factor,
     iso6336_mesh_stiffness as iso6336_mesh_stiffness,
     iso6336_pair_blank_factor as iso6336_pair_blank_factor,
@@ -72,10 +78,18 @@ from ._stiffness import (
     member_compliance as member_compliance,
     sainsot_coefficients as sainsot_coefficients,
     sainsot_fit_check as sainsot_fit_check,
-    stiffness_table as stiffness_table,
     tooth_geometry as tooth_geometry,
     tooth_mass as tooth_mass,
     weber_profile as weber_profile,
+)
+from ._stiffness_models import (
+    FE2D as FE2D,
+    ISO6336 as ISO6336,
+    AbstractStiffness as AbstractStiffness,
+    MeshConditions as MeshConditions,
+    Uniform as Uniform,
+    Weber as Weber,
+    stiffness_table as stiffness_table,
 )
 from .scenes import (
     Grounded as Grounded,

@@ -259,6 +259,12 @@ class MeshModel(eqx.Module):
         )
 
     @property
+    def base_planes(self) -> tuple[MeshModel]:
+        """``(self,)``: a mesh model is the one base plane of its rigid pair, as a scene's
+        ``base_planes`` are (:class:`jaxgear.scenes.Scene`)."""
+        return (self,)
+
+    @property
     def n_drive_lines(self) -> int:
         """Contact lines of the drive flanks (the first rows of the cell arrays)."""
         return self.n_lines // 2 if self.coast else self.n_lines

@@ -16,7 +16,7 @@ from ._baseplane import MeshModel
 from ._contact import ContactLaw, contact_law_from_name
 from ._geometry import GearPair
 from ._modifications import Modifications
-from ._stiffness import stiffness_table
+from ._stiffness_models import FE2D, AbstractStiffness, stiffness_table
 from .scenes import (
     TrainSpec,
     Wrench,
@@ -40,12 +40,12 @@ class Case:
         youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
         torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
             centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
-        stiffness_model: "weber" | "uniform" | "iso6336" | "fe2d"; uniform_k0: N/m² (uniform
-            only); fe2d_size: element size (m) of the ``fe2d`` model, ``None`` for m_n / 6.
+        stiffness: the mesh-stiffness model (:class:`~jaxgear.AbstractStiffness`:
+            :class:`~jaxgear.Uniform`, :class:`~jaxgear.ISO6336`, :class:`~jaxgear.Weber`,
+            :class:`~jaxgear.FE2D`, default ``FE2D()``; the case file's ``[mesh] stiffness``
+            names it, :mod:`jaxgear.io` builds it).
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
-        foundation: the foundation (gear-body) term of the ``weber`` model: "weber" | "sainsot"
-            | "none" (``True``/``False`` are accepted as aliases of "weber"/"none").
         scene: the validated ``[scene]`` table (:class:`jaxgear.dynamics.SceneSpec`) or None.
         optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
         raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
@@ -66,13 +66,10 @@ class Case:
     density: float = 7800.0
     torque: float = 100.0
     speed: float = 0.0
-    stiffness_model: str = "fe2d"
-    uniform_k0: float | None = None
+    stiffness: AbstractStiffness = FE2D()
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
-    foundation: str = "weber"
-    fe2d_size: float | None = None
     scene: Any = None
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
@@ -87,9 +84,10 @@ class Case:
         """
         return contact_law_from_name(mode, self.smooth_width)
 
-    def __post_init__(self) -> None:
-        if isinstance(self.foundation, bool):  # the old boolean
-            object.__setattr__(self, "foundation", "weber" if self.foundation else "none")
+    @property
+    def stiffness_model(self) -> str:
+        """The stiffness model's name (``"weber"``, ``"fe2d"``, ...), for summaries."""
+        return self.stiffness.name
 
     @property
     def normal_load(self) -> float:
@@ -124,18 +122,12 @@ class Case:
         leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
         With :attr:`coast` the model holds the coast flanks too (docs/backlash.md).
         """
-        foundation = self.foundation
-        if any(flexible):
-            foundation = tuple("none" if f else self.foundation for f in flexible)
         s, k = stiffness_table(
             self.pair,
-            self.stiffness_model,
+            self.stiffness.without_body(flexible),
             youngs_modulus=self.youngs_modulus,
             poisson_ratio=self.poisson_ratio,
             line_load=self.nominal_line_load(torque),
-            uniform_k0=self.uniform_k0,
-            foundation=foundation,
-            fe2d_size=self.fe2d_size,
             specific_load=self.specific_load(torque),
         )
         return MeshModel.from_pair(
@@ -151,13 +143,10 @@ _SHARED_SETTINGS = (
     "youngs_modulus",
     "poisson_ratio",
     "density",
-    "stiffness_model",
-    "uniform_k0",
+    "stiffness",
     "slices",
     "positions_per_pitch",
     "smooth_width",
-    "foundation",
-    "fe2d_size",
 )
 
 
@@ -181,8 +170,8 @@ class TrainCase:
             the case's input torque; the model keeps their shares of the input power
             (:meth:`shares`), so another input torque scales them all.
         speed: the input gear's speed (rad/s).
-        stiffness_model, uniform_k0, slices, positions_per_pitch, smooth_width, foundation,
-            fe2d_size: as :class:`Case`, for every mesh.
+        stiffness, slices, positions_per_pitch, smooth_width: as :class:`Case`, for every
+            mesh.
         inertias: each gear's polar inertia (kg·m²), (n,); None: a solid disc of its tip radius
             and face width.
         shafts: each gear's shaft (n,) (default: a shaft each, numbered in gear order): gears
@@ -216,13 +205,10 @@ class TrainCase:
     torque: float = 100.0
     loads: tuple = ()
     speed: float = 0.0
-    stiffness_model: str = "fe2d"
-    uniform_k0: float | None = None
+    stiffness: AbstractStiffness = FE2D()
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
-    foundation: str = "weber"
-    fe2d_size: float | None = None
     inertias: tuple = ()
     shafts: tuple = ()
     clockings: tuple = ()
@@ -238,6 +224,11 @@ class TrainCase:
     def contact_law(self, mode: str) -> ContactLaw:
         """As :meth:`Case.contact_law`."""
         return contact_law_from_name(mode, self.smooth_width)
+
+    @property
+    def stiffness_model(self) -> str:
+        """As :attr:`Case.stiffness_model`."""
+        return self.stiffness.name
 
     @property
     def n_gears(self) -> int:

@@ -3,8 +3,10 @@
 Cell force per unit length ``p = k φ(Δ)``, ``Δ = V·X − δ0`` (seed (2.9)/(2.30); docs/design.md,
 "Contact laws"), and equilibrium ``K_s X + Σ_c k_c l_c φ(Δ_c) V_c = F``.
 
-The law is a settings object, passed as diffrax takes its solver: :class:`ExactContact` or
-:class:`SmoothContact` (:data:`ContactLaw`), each with its iteration cap.
+The law is an object, passed as diffrax takes its solver: a :class:`AbstractContactLaw`,
+:class:`ExactContact` or :class:`SmoothContact`, each with its iteration cap, its law φ and its
+hooks into the two solvers (the answer after the active set, in the coordinates' space and in
+the cells' space), so that the solvers never ask which law they hold.
 
 * ``exact``: φ(Δ) = max(0, Δ). Solved by the active-set iteration of the seed (II-25): solve with
   the current contact set, drop the cells in tension, add the cells that interfere, repeat until
@@ -36,6 +38,7 @@ dx = −J⁻¹ ∂r/∂p of every order, forward and reverse (J the tangent stif
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import ClassVar, TypeAlias
 
@@ -44,9 +47,10 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._util import check_integer, only_where_needed
+from ._util import check_integer, is_traced, only_where_needed
 
 __all__ = [
+    "AbstractContactLaw",
     "ContactLaw",
     "ContactSolution",
     "ExactContact",
@@ -57,7 +61,62 @@ __all__ = [
 ]
 
 
-class ExactContact(eqx.Module):
+class AbstractContactLaw(eqx.Module):
+    """A unilateral contact law p = k φ(Δ) and its solution after the active-set iteration.
+
+    Subclasses implement the law (:meth:`phi`), the dtype cast of their leaves (:meth:`astype`)
+    and the two solver hooks (:meth:`dense_answer` for :func:`solve_contact`,
+    :meth:`cells_answer` for :func:`solve_contact_cells`), which take the active set's exact
+    answer and return the law's own.
+
+    Attributes:
+        max_iterations: cap on active-set passes (and Newton steps) per contact problem.
+        mode: the law's name (``"exact"``, ``"smooth"``).
+    """
+
+    mode: eqx.AbstractClassVar[str]  # concrete laws also have a static ``max_iterations``
+
+    @abc.abstractmethod
+    def phi(self, gap: Float[Array, " c"]) -> tuple[Float[Array, " c"], Float[Array, " c"]]:
+        """(φ(Δ), φ'(Δ)) per cell (m, -), shape (c,) each."""
+
+    @abc.abstractmethod
+    def astype(self, dtype) -> AbstractContactLaw:
+        """The same law with its array leaves as ``dtype`` (the leaves the solvers trace)."""
+
+    def with_traced_checks(self) -> AbstractContactLaw:
+        """The law with run-time checks (``eqx.error_if``) on its traced leaves; none here."""
+        return self
+
+    @abc.abstractmethod
+    def dense_answer(self, system: tuple, exact: tuple) -> tuple:
+        """The answer of :func:`solve_contact` from the active set's.
+
+        Args:
+            system: (K_s, F, V, k l, δ0, mask as floats), shapes (n, n), (n,), (c, n), (c,),
+                (c,), (c,) (k l zero off the mask).
+            exact: (X of the last pass (stopped), active weights, passes, result code).
+
+        Returns:
+            (X (n,), iterations, result code).
+        """
+
+    @abc.abstractmethod
+    def cells_answer(self, system: tuple, exact: tuple) -> tuple:
+        """The answer of :func:`solve_contact_cells` from the active set's.
+
+        Args:
+            system: (C, a, E, b, k l, mask as floats), shapes (c, c), (c,), (c, r), (r,), (c,),
+                (c,).
+            exact: ([Δ; α] of the last pass (stopped), active weights, passes, result code);
+                the weights and the code are None when the exact answer was given (``start``).
+
+        Returns:
+            ([Δ; α] (c + r,), iterations, result code).
+        """
+
+
+class ExactContact(AbstractContactLaw):
     """The exact unilateral (Signorini) contact law φ(Δ) = max(0, Δ), solved by the active-set
     iteration of the seed (II-25) (docs/design.md, "Contact laws").
 
@@ -78,8 +137,23 @@ class ExactContact(eqx.Module):
     def astype(self, dtype) -> ExactContact:
         return self
 
+    def phi(self, gap):
+        return jnp.maximum(gap, 0.0), (gap > 0).astype(gap.dtype)
 
-class SmoothContact(eqx.Module):
+    def dense_answer(self, system, exact):
+        """The linear solve with the final active set held: the differentiable answer."""
+        Ks, F, V, kl, delta0, _ = system
+        _, active, iterations, result = exact
+        Kt, Ft = _assemble(Ks, F, V, kl, delta0, jax.lax.stop_gradient(active))
+        return _solve(Kt, Ft), iterations, result
+
+    def cells_answer(self, system, exact):
+        C, a, E, b, kl, _ = system
+        _, active, iterations, result = exact
+        return _bordered_solve(C, E, kl * jax.lax.stop_gradient(active), a, b), iterations, result
+
+
+class SmoothContact(AbstractContactLaw):
     """The smooth contact law φ_w(Δ) = w·softplus(Δ/w): C^∞, within w·ln 2 of the exact law,
     solved by Newton's method started from the exact solution (docs/design.md, "Contact laws").
     Use it for gradients and for the diffrax solvers.
@@ -99,7 +173,7 @@ class SmoothContact(eqx.Module):
 
     def __check_init__(self):
         check_integer("max_iterations", self.max_iterations, 1)
-        if isinstance(self.width, jax.core.Tracer):
+        if is_traced(self.width):
             return
         try:
             w = float(self.width)
@@ -112,8 +186,23 @@ class SmoothContact(eqx.Module):
         """The same law with its width as a ``dtype`` array (the leaf the solvers trace)."""
         return SmoothContact(jnp.asarray(self.width, dtype), self.max_iterations)
 
+    def with_traced_checks(self) -> SmoothContact:
+        """The law with a run-time check that its (traced) width is > 0."""
+        width = eqx.error_if(self.width, ~(self.width > 0), "smooth contact width must be > 0 (m)")
+        return SmoothContact(width, self.max_iterations)
 
-ContactLaw: TypeAlias = ExactContact | SmoothContact
+    def phi(self, gap):
+        w = self.width
+        return w * jax.nn.softplus(gap / w), jax.nn.sigmoid(gap / w)
+
+    def dense_answer(self, system, exact):
+        return _smooth_dense(self, system, exact)
+
+    def cells_answer(self, system, exact):
+        return _smooth_cells(self, system, exact)
+
+
+ContactLaw: TypeAlias = AbstractContactLaw
 
 
 def contact_law_from_name(mode: str, width=1e-7, max_iterations: int = 100) -> ContactLaw:
@@ -134,7 +223,7 @@ def contact_law_from_name(mode: str, width=1e-7, max_iterations: int = 100) -> C
 def contact_law(law, dtype, name: str = "contact") -> ContactLaw:
     """``law`` checked to be a :data:`ContactLaw`, its width cast to ``dtype``; a one-line
     ``ValueError`` naming ``name`` otherwise (a mode string of the former API included)."""
-    if not isinstance(law, ExactContact | SmoothContact):
+    if not isinstance(law, AbstractContactLaw):
         raise ValueError(
             f"{name} = {law!r}: allowed jaxgear.ExactContact(max_iterations=...) or "
             "jaxgear.SmoothContact(width=..., max_iterations=...)"
@@ -169,10 +258,8 @@ def _solve(A, b):
 
 
 def _phi(gap, law: ContactLaw):
-    if isinstance(law, ExactContact):
-        return jnp.maximum(gap, 0.0), (gap > 0).astype(gap.dtype)
-    w = law.width
-    return w * jax.nn.softplus(gap / w), jax.nn.sigmoid(gap / w)
+    """(φ(Δ), φ'(Δ)) of ``law`` (:meth:`AbstractContactLaw.phi`)."""
+    return law.phi(gap)
 
 
 def _assemble(Ks, F, V, kl, delta0, weight):
@@ -331,33 +418,9 @@ def solve_contact(
     )
     result = jnp.where(changed, 1, 0)
 
-    if isinstance(law, ExactContact):
-        Kt, Ft = _assemble(Ks, F, V, kl, delta0, sg(active))
-        x = _solve(Kt, Ft)
-        iterations = it_ex
-    else:
-
-        def residual(x):
-            phi, _ = _phi(V @ x - delta0, law)
-            return Ks @ x + V.T @ (kl * phi) - F
-
-        aKs, aV, aF, ad0 = jnp.abs(Ks_), jnp.abs(V_), jnp.abs(F_), jnp.abs(d0_)
-
-        def newton_of(x):
-            phi, dphi = _phi(V_ @ x - d0_, sg(law))
-            r = Ks_ @ x + V_.T @ (kl_ * phi) - F_
-            # magnitude of the terms of r and of J|x| (the rounding of x and δ0 itself)
-            ax = jnp.abs(x)
-            s = 2 * aKs @ ax + aV.T @ (kl_ * (phi + dphi * (aV @ ax + ad0))) + aF
-            dx = _solve(Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_), r)
-            return dx, _scaled_residual(r, s)
-
-        terms = F.shape[0] + jnp.sum(maskf) + 1
-        x_sm, it_sm, ok = _newton(newton_of, sg(x_ex), max_iterations, terms)
-        x = _implicit_root(residual, sg(x_sm))
-        # the smooth answer stands on its own: the active set only gives Newton its start
-        result = jnp.where(ok, 0, 1)
-        iterations = it_ex + it_sm
+    x, iterations, result = law.dense_answer(
+        (Ks, F, V, kl, delta0, maskf), (x_ex, active, it_ex, result)
+    )
     return _finish(x, V @ x - delta0, k, kl, mask, law, iterations, result)
 
 
@@ -484,34 +547,74 @@ def solve_contact_cells(
         raise ValueError("solve_contact_cells: start is for the smooth law (its exact answer)")
     else:
         y_ex, it_ex = sg(jnp.concatenate([start[0], start[1]])), start[2]
-    if isinstance(law, ExactContact):
-        y = _bordered_solve(C, E, kl * sg(active), a, b)
-        iterations = it_ex
-    else:
-
-        def residual(y):
-            p = kl * _phi(y[:c], law)[0]
-            return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], E.T @ p - b])
-
-        terms = jnp.sum(maskf) + r + 2
-        law_arrays, law_static = eqx.partition(sg(law), eqx.is_array)
-        consts = (C_, a_, E_, b_, kl_, terms, law_arrays)
-        # Newton from the exact answer, only at the positions whose start is not yet a root
-        # (under vmap a while loop factors the whole batch while one position iterates)
-        tol = _newton_tolerances(a.dtype, terms)[0]
-        need = _smooth_scaled_residual(y_ex, consts, law_static)[1] > tol
-        newton = only_where_needed(_smooth_newton(law_static, max_iterations))
-        y_sm, it_sm, ok = newton(need, (y_ex, jnp.array(0), jnp.array(True)), y_ex, consts)
-        d_root = kl_ * _phi(y_sm[:c], eqx.combine(law_arrays, law_static))[1]
-        # the tangent system is Newton's at the root: [I + C diag(d), −E; Eᵀ diag(d), 0]
-        y = _implicit_root(
-            residual,
-            sg(y_sm),
-            lambda rhs: _bordered_solve(C_, E_, d_root, rhs[:c], rhs[c:], linear=True),
-        )
-        # the smooth answer stands on its own: the active set only gives Newton its start
-        result = jnp.where(ok, 0, 1)
-        iterations = it_ex + it_sm
+        active = result = None  # the smooth law's Newton needs neither
+    y, iterations, result = law.cells_answer(
+        (C, a, E, b, kl, maskf), (y_ex, active, it_ex, result)
+    )
     gap, alpha = y[:c], y[c:]
     sol = _finish(gap, gap, k, kl, mask, law, iterations, result)
     return sol, kl * jnp.where(mask, _phi(gap, law)[0], 0.0), alpha
+
+
+def _smooth_dense(law: SmoothContact, system: tuple, exact: tuple) -> tuple:
+    """:meth:`SmoothContact.dense_answer`: Newton's method on the smooth equilibrium from the
+    active set's answer (stopped values; the stopping rule of the module docstring), then the
+    implicit-function derivatives at the root. The result code is Newton's alone."""
+    Ks, F, V, kl, delta0, maskf = system
+    x_ex, _, it_ex, _ = exact
+    sg = jax.lax.stop_gradient
+    Ks_, F_, V_, kl_, d0_ = sg(Ks), sg(F), sg(V), sg(kl), sg(delta0)
+
+    def residual(x):
+        phi, _ = law.phi(V @ x - delta0)
+        return Ks @ x + V.T @ (kl * phi) - F
+
+    aKs, aV, aF, ad0 = jnp.abs(Ks_), jnp.abs(V_), jnp.abs(F_), jnp.abs(d0_)
+
+    def newton_of(x):
+        phi, dphi = sg(law).phi(V_ @ x - d0_)
+        r = Ks_ @ x + V_.T @ (kl_ * phi) - F_
+        # magnitude of the terms of r and of J|x| (the rounding of x and δ0 itself)
+        ax = jnp.abs(x)
+        s = 2 * aKs @ ax + aV.T @ (kl_ * (phi + dphi * (aV @ ax + ad0))) + aF
+        dx = _solve(Ks_ + jnp.einsum("c,ci,cj->ij", kl_ * dphi, V_, V_), r)
+        return dx, _scaled_residual(r, s)
+
+    terms = F.shape[0] + jnp.sum(maskf) + 1
+    x_sm, it_sm, ok = _newton(newton_of, sg(x_ex), law.max_iterations, terms)
+    x = _implicit_root(residual, sg(x_sm))
+    # the smooth answer stands on its own: the active set only gives Newton its start
+    return x, it_ex + it_sm, jnp.where(ok, 0, 1)
+
+
+def _smooth_cells(law: SmoothContact, system: tuple, exact: tuple) -> tuple:
+    """:meth:`SmoothContact.cells_answer`: Newton's method in the cells' space from the exact
+    answer, only at the positions whose start is not yet a root, then the implicit-function
+    derivatives at the root (tangent system: Newton's, [I + C diag(d), −E; Eᵀ diag(d), 0])."""
+    C, a, E, b, kl, maskf = system
+    y_ex, _, it_ex, _ = exact
+    c, r = E.shape
+    sg = jax.lax.stop_gradient
+    C_, a_, E_, b_, kl_ = sg(C), sg(a), sg(E), sg(b), sg(kl)
+
+    def residual(y):
+        p = kl * law.phi(y[:c])[0]
+        return jnp.concatenate([y[:c] - a + C @ p - E @ y[c:], E.T @ p - b])
+
+    terms = jnp.sum(maskf) + r + 2
+    law_arrays, law_static = eqx.partition(sg(law), eqx.is_array)
+    consts = (C_, a_, E_, b_, kl_, terms, law_arrays)
+    # Newton from the exact answer, only at the positions whose start is not yet a root
+    # (under vmap a while loop factors the whole batch while one position iterates)
+    tol = _newton_tolerances(a.dtype, terms)[0]
+    need = _smooth_scaled_residual(y_ex, consts, law_static)[1] > tol
+    newton = only_where_needed(_smooth_newton(law_static, law.max_iterations))
+    y_sm, it_sm, ok = newton(need, (y_ex, jnp.array(0), jnp.array(True)), y_ex, consts)
+    d_root = kl_ * eqx.combine(law_arrays, law_static).phi(y_sm[:c])[1]
+    y = _implicit_root(
+        residual,
+        sg(y_sm),
+        lambda rhs: _bordered_solve(C_, E_, d_root, rhs[:c], rhs[c:], linear=True),
+    )
+    # the smooth answer stands on its own: the active set only gives Newton its start
+    return y, it_ex + it_sm, jnp.where(ok, 0, 1)

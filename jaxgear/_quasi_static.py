@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
@@ -16,7 +18,6 @@ from ._baseplane import (
 from ._contact import (
     ContactLaw,
     ExactContact,
-    SmoothContact,
     contact_law,
 )
 from ._modifications import Modifications
@@ -120,17 +121,25 @@ class QuasiStaticResult(eqx.Module):
     max_line_load = of_the_one_mesh("max_line_load")
 
 
+@functools.singledispatch
 def per_mesh_modifications(mods, n_meshes: int) -> tuple[Modifications, ...]:
     """One :class:`Modifications` per mesh from ``mods``: None (perfect involutes), one for
-    every mesh, or a tuple/list of one per mesh.
+    every mesh, or a tuple/list of one per mesh (dispatched on the type of ``mods``).
 
     Raises:
         ValueError: a tuple of another length than ``n_meshes``.
     """
-    if mods is None:
-        mods = Modifications()
-    if not isinstance(mods, tuple | list):
-        return (mods,) * n_meshes
+    return (mods,) * n_meshes
+
+
+@per_mesh_modifications.register(type(None))
+def _no_modifications(mods, n_meshes: int) -> tuple[Modifications, ...]:
+    return (Modifications(),) * n_meshes
+
+
+@per_mesh_modifications.register(tuple)
+@per_mesh_modifications.register(list)
+def _modifications_per_mesh(mods, n_meshes: int) -> tuple[Modifications, ...]:
     if len(mods) != n_meshes:
         raise ValueError(
             f"modifications: {len(mods)} given for a scene of {n_meshes} gear meshes (allowed: "
@@ -148,7 +157,7 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     """
     cells = mesh.cells(theta)
     e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
-    deviations = getattr(mods, "deviations", None)
+    deviations = mods.deviations
     if deviations is not None:
         check_no_coast(mesh, "deviations (per-tooth ISO 1328-1)")
         e = e + deviations.deviation(mesh, cells)
@@ -166,7 +175,7 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
 def check_no_coast(mesh: MeshModel, what: str) -> None:
     """A one-line ``ValueError`` where ``what`` meets a mesh with coast flanks (not modelled
     together; docs/backlash.md, "Not modelled")."""
-    if getattr(mesh, "coast", False):
+    if mesh.coast:
         raise ValueError(
             f"{what} with backlash (coast flanks, tooth_thickness_allowance) are not modelled "
             "together: drop one of them"
@@ -212,26 +221,27 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
     )
 
 
+@functools.singledispatch
+def _as_scene(scene: Scene) -> Scene:
+    """The scene :func:`quasi_static` solves: a scene itself; a :class:`MeshModel`'s is its
+    rigid pair (:class:`jaxgear.scenes.RigidMesh`, built under jit: cheaper than eagerly)."""
+    return scene
+
+
+@_as_scene.register
+def _mesh_scene(scene: MeshModel) -> Scene:
+    return RigidMesh(scene)
+
+
 @eqx.filter_jit
-def _quasi_static(
-    scene,
-    mesh,
-    mods,
-    torque,
-    speed,
-    theta,
-    law,
-    throw,
-    positions_per_pitch,
-    periods,
-    traced_checks=True,
-):
+def _quasi_static(scene, mods, torque, speed, theta, law, throw, positions, traced_checks=True):
+    """:func:`quasi_static` under jit; ``positions``: (positions per pitch, periods) of the
+    default angles."""
     # defaults are made here, under jit: building them eagerly costs more than the solve
-    if scene is None:
-        scene = RigidMesh(mesh)
+    scene = _as_scene(scene)
     mods = per_mesh_modifications(mods, len(scene.base_planes))
     if theta is None:
-        theta = mesh_positions(scene.base_planes[0], positions_per_pitch, periods)
+        theta = mesh_positions(scene.base_planes[0], *positions)
     if traced_checks:  # traced inputs (concrete ones are checked eagerly: check_operating)
         coast = any(p.coast for p in scene.base_planes)  # a negative torque loads the coast
         torque = eqx.error_if(
@@ -242,11 +252,7 @@ def _quasi_static(
             else "operating.torque_Nm must be > 0 (the pinion drives on its working flank)",
         )
         speed = eqx.error_if(speed, ~(speed >= 0), "the pinion speed must be >= 0 (rad/s)")
-        if isinstance(law, SmoothContact):  # a traced width
-            width = eqx.error_if(
-                law.width, ~(law.width > 0), "smooth contact width must be > 0 (m)"
-            )
-            law = SmoothContact(width, law.max_iterations)
+        law = law.with_traced_checks()  # e.g. a traced smooth width
     res = scene.map_positions(lambda sc, th: _one_position(sc, mods, torque, speed, th, law), theta)
     if throw:  # the check rides on what a caller reads (each mesh's TE, the coordinates)
 
@@ -287,8 +293,7 @@ def check_operating(
             check_instance(f"{mods_name}[{k}]", m, Modifications, allowed, where)
     elif modifications is not None:
         check_instance(mods_name, modifications, Modifications, allowed, where)
-    planes = (scene,) if isinstance(scene, MeshModel) else scene.base_planes
-    coast = coast_torque and any(getattr(p, "coast", False) for p in planes)
+    coast = coast_torque and any(p.coast for p in scene.base_planes)
     check_real(
         "torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(), where=where
     )
@@ -363,19 +368,11 @@ def quasi_static(
     """
     check_positions(positions_per_pitch, periods)
     check_operating("quasi_static", scene, modifications, torque, theta, speed)
-    if isinstance(scene, MeshModel):
-        mesh, scene = scene, None
-        n_meshes = 1
-    else:
-        mesh = None
-        n_meshes = len(scene.base_planes)
-    if isinstance(modifications, tuple | list):  # the count, before any computation
-        modifications = per_mesh_modifications(modifications, n_meshes)
-    planes = (mesh,) if mesh is not None else scene.base_planes
-    for plane, mods in zip(planes, per_mesh_modifications(modifications, n_meshes), strict=True):
-        if getattr(mods, "deviations", None) is not None:  # tooth counts, eagerly
+    planes = scene.base_planes  # a MeshModel's: itself
+    for plane, mods in zip(planes, per_mesh_modifications(modifications, len(planes)), strict=True):
+        if mods.deviations is not None:  # tooth counts, eagerly
             mods.deviations.check(plane)
-    dtype = (mesh if mesh is not None else scene.base_planes[0]).base_pitch.dtype
+    dtype = planes[0].base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
     speed = jnp.asarray(speed, dtype=dtype)
     law = contact_law(contact, dtype)
@@ -384,18 +381,16 @@ def quasi_static(
     # Concrete inputs (no outer jit, vmap or grad): checked eagerly above, and the result codes
     # read here, so that the compiled solve holds no eqx.error_if callback (JAX's persistent
     # compilation cache stores no program with one: a second CLI run reads the solve back).
-    concrete = not is_traced((scene, mesh, modifications, torque, speed, theta, law))
+    concrete = not is_traced((scene, modifications, torque, speed, theta, law))
     res = _quasi_static(
         scene,
-        mesh,
         modifications,
         torque,
         speed,
         theta,
         law,
         bool(throw) and not concrete,
-        int(positions_per_pitch),
-        int(periods),
+        (int(positions_per_pitch), int(periods)),
         not concrete,
     )
     if concrete and throw:

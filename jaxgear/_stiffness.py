@@ -1,6 +1,6 @@
-"""Mesh stiffness per unit contact length along the line of action (NumPy, evaluated once).
-
-Three models here and ``fe2d`` from :mod:`fem_prep` (docs/stiffness.md):
+"""Mesh stiffness per unit contact length along the line of action (NumPy, evaluated once): the
+tooth compliances and the foundation terms; the models built on them, passed as objects, are in
+:mod:`jaxgear._stiffness_models` (docs/stiffness.md):
 
 * ``uniform``: a given constant k0 (N/m per m of contact line).
 * ``iso6336``: ISO 6336-1 method B single stiffness c' and mesh stiffness c_γα (virtual teeth
@@ -11,11 +11,11 @@ Three models here and ``fe2d`` from :mod:`fem_prep` (docs/stiffness.md):
 * ``weber``: Weber–Banaschek thin-slice model, seed (1.1)–(1.3): Hertzian approach, tooth bending
   and shear of a cantilever on the real tooth-thickness profile (the exact rack-generated tooth of
   :mod:`fem_prep.tooth_form`: involute and trochoidal fillet down to the root circle), elastic
-  foundation, pinion and gear compliances in series. The foundation (gear-body) term is Weber's
-  half-plane one (``foundation="weber"``, L, M, P, Q = 5.2, 1.0, 1.4, 0.3), Sainsot et al.'s fit
-  that depends on the bore (``"sainsot"``), or left out (``"none"``), chosen per member
-  (``("weber", "none")``: a rigid pinion keeps its term, a flexible FE wheel, whose condensed body
-  supplies the body compliance, has none). It varies along the profile; it is tabulated on a
+  foundation, pinion and gear compliances in series. The foundation (gear-body) term is an object:
+  Weber's half-plane one (:class:`WeberFoundation`, L, M, P, Q = 5.2, 1.0, 1.4, 0.3), Sainsot et
+  al.'s fit that depends on the bore (:class:`SainsotFoundation`), or left out
+  (:class:`NoFoundation`), chosen per member (:class:`MemberFoundations`: a rigid pinion keeps
+  its term, a flexible FE wheel, whose condensed body supplies the body compliance, has none). It varies along the profile; it is tabulated on a
   grid of the base-plane coordinate s ∈ [0, g_α] and interpolated linearly in the JAX kernels.
 
 The profile is computed in the transverse section. A slice of width dz loaded along the transverse
@@ -28,17 +28,24 @@ Everything here is a constant for JAX (no gradient through stiffness tables).
 
 from __future__ import annotations
 
+import abc
 import functools
 import math
+from typing import ClassVar
 
+import equinox as eqx
 import numpy as np
 
 from ._geometry import GearPair, involute
-from ._util import check_instance, check_integer, check_real
+from ._util import check_instance
 
 __all__ = [
     "E_STEEL_ISO",
-    "FOUNDATIONS",
+    "AbstractFoundation",
+    "MemberFoundations",
+    "NoFoundation",
+    "SainsotFoundation",
+    "WeberFoundation",
     "bore_radius",
     "iso6336_blank_factor",
     "iso6336_mesh_stiffness",
@@ -46,10 +53,8 @@ __all__ = [
     "iso6336_single_stiffness",
     "iso6336_virtual_teeth",
     "member_compliance",
-    "member_foundations",
     "sainsot_coefficients",
     "sainsot_fit_check",
-    "stiffness_table",
     "tooth_geometry",
     "tooth_mass",
     "weber_profile",
@@ -58,8 +63,6 @@ __all__ = [
 _ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
 # Weber (1949) foundation constants for ν = 0.3 quoted by the seed under (1.3); M = 1.0 (Weber).
 _WEBER_FOUNDATION = {"L": 5.2, "M": 1.0, "P": 1.4, "Q": 0.3}
-
-FOUNDATIONS = ("weber", "sainsot", "none")
 
 # Sainsot, Velex & Duverger (2004), "Contribution of gear body to tooth deflections - a new
 # bidimensional analytical formula", J. Mech. Des. 126(4) 748-752, doi:10.1115/1.1758252: fillet-
@@ -76,45 +79,6 @@ _SAINSOT_FIT = {  # (A, B, C, D, E, F)
 }
 _SAINSOT_SPAN = {"L": (6.82, 6.94), "M": (1.08, 3.29), "P": (2.56, 13.47), "Q": (0.141, 0.62)}
 BORE_DEFAULT_FRACTION = 0.5  # default bore radius = 0.5 × root radius (solid blank on a shaft)
-
-
-def _foundation_name(foundation: bool | str | None) -> str:
-    """``True``/``False`` (the old boolean) → ``"weber"``/``"none"``; names pass through."""
-    if foundation is True:
-        return "weber"
-    if foundation is False or foundation is None:
-        return "none"
-    if foundation not in FOUNDATIONS:
-        raise ValueError(
-            f"mesh.foundation = {foundation!r} is unknown: allowed 'weber', 'sainsot', 'none'"
-        )
-    return foundation
-
-
-def member_foundations(foundation) -> tuple[str, str]:
-    """The foundation term of each member, ``(pinion, gear)``.
-
-    Args:
-        foundation: one name for both members ("weber" | "sainsot" | "none"; ``True``/``False``
-            alias "weber"/"none") or a 2-tuple/list of them, ``(pinion, gear)``: e.g.
-            ``("weber", "none")`` when the wheel is a condensed FE body (its rim supplies the body
-            compliance) and the pinion is rigid.
-
-    Returns:
-        ``(pinion, gear)`` names.
-
-    Raises:
-        ValueError: an unknown name, or a sequence that is not of length 2.
-    """
-    if isinstance(foundation, (tuple, list)):
-        if len(foundation) != 2:
-            raise ValueError(
-                f"mesh.foundation = {foundation!r} has {len(foundation)} entries: allowed one "
-                "name for both members or a (pinion, gear) pair of 'weber', 'sainsot', 'none'"
-            )
-        return (_foundation_name(foundation[0]), _foundation_name(foundation[1]))
-    name = _foundation_name(foundation)
-    return (name, name)
 
 
 def sainsot_coefficients(h_f, theta_f) -> dict:
@@ -202,6 +166,133 @@ def sainsot_fit_check(pair: GearPair) -> list[dict]:
         ]
         out.append({"h_f": h, "theta_f": th, "coefficients": coeffs, "outside": outside})
     return out
+
+
+def _foundation_term(f: dict, ratio: np.ndarray, cos2_over_e, tan2) -> np.ndarray:
+    """Seed (1.3): cos²α/E [L (u/S)² + M (u/S) + P (1 + Q tan²α)], (m/N)·m."""
+    return cos2_over_e * (f["L"] * ratio**2 + f["M"] * ratio + f["P"] * (1 + f["Q"] * tan2))
+
+
+class AbstractFoundation(eqx.Module):
+    """The foundation (gear-body) term of a tooth's compliance, seed (1.3): what the gear body
+    adds to the deflection of a tooth loaded at distance u from the root circle.
+
+    Subclasses implement :meth:`add_compliance`; ``name`` is the word summaries print (the case
+    file's ``[mesh] foundation``, mapped to these objects by :mod:`jaxgear.io`), ``fe_body``
+    whether the ``fe2d`` model meshes the gear body down to the bore with it (``False``: the
+    tooth only, the body being supplied elsewhere, e.g. by a condensed FE body).
+    """
+
+    name: ClassVar[str]  # a property of MemberFoundations
+    fe_body: ClassVar[bool]
+
+    @abc.abstractmethod
+    def add_compliance(
+        self,
+        c: np.ndarray,
+        pair: GearPair,
+        member: int,
+        u: np.ndarray,
+        cos2_over_e: np.ndarray,
+        tan2: np.ndarray,
+    ) -> np.ndarray:
+        """The tooth compliance ``c`` with this foundation's term added.
+
+        Args:
+            c: the tooth's bending + shear + compression compliance, (m/N)·m, shape (n,).
+            pair: the gear pair; member: 0 pinion, 1 gear.
+            u: cantilever length (m) from the root circle to the load, shape (n,).
+            cos2_over_e: cos²α / E (1/Pa) of the load angle α to the centre-line normal, (n,).
+            tan2: tan²α, shape (n,).
+
+        Returns:
+            compliance per unit face width, (m/N)·m, shape (n,).
+        """
+
+    def member(self, member: int) -> AbstractFoundation:
+        """The foundation of ``member`` (0 pinion, 1 gear): this one for both."""
+        return self
+
+    def without_body(self, flexible: tuple[bool, bool]) -> AbstractFoundation:
+        """The foundations with a flexible member's (a condensed FE body, whose rim supplies the
+        body compliance, seed remark after (2.31)) replaced by :class:`NoFoundation`."""
+        pinion, gear = (
+            NoFoundation() if flex else self.member(i) for i, flex in enumerate(flexible)
+        )
+        return MemberFoundations(pinion, gear)
+
+
+class WeberFoundation(AbstractFoundation):
+    """Weber's (1949) half-plane foundation, seed (1.3), L, M, P, Q = 5.2, 1.0, 1.4, 0.3 (ν = 0.3),
+    S = the chordal tooth thickness at the root circle; it does not depend on the bore."""
+
+    name: ClassVar[str] = "weber"
+    fe_body: ClassVar[bool] = True
+
+    def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
+        s_fd = float(_chordal_thickness(pair, member, np.array([pair.root_radii[member]]))[0])
+        return c + _foundation_term(_WEBER_FOUNDATION, u / s_fd, cos2_over_e, tan2)
+
+
+class SainsotFoundation(AbstractFoundation):
+    """Sainsot, Velex & Duverger's (2004) fit of the foundation term, which depends on the bore:
+    L*, M*, P*, Q* at h_f = r_f / r_int (:func:`bore_radius`), θ_f the root half angle
+    (:func:`sainsot_coefficients`, :func:`sainsot_fit_check`), S_f = 2 r_f θ_f."""
+
+    name: ClassVar[str] = "sainsot"
+    fe_body: ClassVar[bool] = True
+
+    def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
+        rf = pair.root_radii[member]
+        theta_f = _root_angle(pair, member)
+        f = sainsot_coefficients(rf / bore_radius(pair, member), theta_f)
+        return c + _foundation_term(f, u / (2 * rf * theta_f), cos2_over_e, tan2)
+
+
+class NoFoundation(AbstractFoundation):
+    """No foundation term: the tooth alone (a condensed FE body supplies the body compliance)."""
+
+    name: ClassVar[str] = "none"
+    fe_body: ClassVar[bool] = False
+
+    def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
+        return c
+
+
+class MemberFoundations(AbstractFoundation):
+    """One foundation per member, e.g. ``MemberFoundations(WeberFoundation(), NoFoundation())``
+    for a rigid pinion against a wheel that is a condensed FE body.
+
+    Attributes:
+        pinion, gear: each member's :class:`AbstractFoundation`.
+
+    Raises:
+        ValueError: a member's foundation that is not an :class:`AbstractFoundation`.
+    """
+
+    pinion: AbstractFoundation
+    gear: AbstractFoundation
+    fe_body: ClassVar[bool] = True  # per member: :meth:`member`
+
+    def __check_init__(self):
+        for tag in ("pinion", "gear"):
+            check_instance(
+                tag,
+                getattr(self, tag),
+                AbstractFoundation,
+                "a jaxgear foundation (WeberFoundation(), SainsotFoundation(), NoFoundation())",
+                "MemberFoundations",
+            )
+
+    @property
+    def name(self) -> str:
+        return f"({self.pinion.name}, {self.gear.name})"
+
+    def member(self, member: int) -> AbstractFoundation:
+        return (self.pinion, self.gear)[member]
+
+    def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
+        return self.member(member).add_compliance(c, pair, member, u, cos2_over_e, tan2)
 
 
 def iso6336_virtual_teeth(pair: GearPair) -> tuple[float, float]:
@@ -356,18 +447,22 @@ def member_compliance(
     rho: np.ndarray,
     E: float,
     nu: float,
-    foundation: str,
+    foundation: AbstractFoundation,
     n_quad: int = 400,
 ) -> np.ndarray:
     """Bending + shear + compression (seed (1.2)) and foundation (seed (1.3)) compliance of one
     tooth of the pair (``member`` 0 pinion, 1 gear), Hertz not included (the pair's Weber
     profile :func:`weber_profile` adds it).
 
-    ``foundation``: "weber" (constants of (1.3)), "sainsot" (Sainsot et al. 2004 fit at
-    h_f = r_f / r_int, θ_f = S_f / (2 r_f)), "none".
-
     Args:
+        pair: the gear pair.
+        member: 0 pinion, 1 gear.
         rho: roll distances (m) of the contact points on this member, shape (n,).
+        E: Young's modulus (Pa); nu: Poisson's ratio.
+        foundation: the gear-body term (:class:`WeberFoundation`, :class:`SainsotFoundation`,
+            :class:`NoFoundation`, or a :class:`MemberFoundations`).
+        n_quad: Gauss-Legendre points of the cantilever integrals.
+
     Returns:
         compliance per unit face width, (m/N)·m, shape (n,), along the transverse line of action.
     """
@@ -391,18 +486,7 @@ def member_compliance(
     tan2 = np.tan(alpha_p) ** 2
     # (1.2): 10.92 = 12(1-ν²) and 3.1(1 + 0.294 tan²) = 2.4(1+ν) + (1-ν²) tan² for ν = 0.3
     c = cos2 / E * (12 * (1 - nu**2) * i_bend + (2.4 * (1 + nu) + (1 - nu**2) * tan2) * i_shear)
-    if foundation != "none":
-        if foundation == "sainsot":
-            theta_f = _root_angle(pair, member)
-            s_fd = 2 * rf * theta_f
-            f = sainsot_coefficients(rf / bore_radius(pair, member), theta_f)
-        else:
-            s_fd = float(_chordal_thickness(pair, member, np.array([rf]))[0])
-            f = _WEBER_FOUNDATION
-        c = c + cos2 / E * (
-            f["L"] * (u / s_fd) ** 2 + f["M"] * (u / s_fd) + f["P"] * (1 + f["Q"] * tan2)
-        )
-    return c
+    return foundation.add_compliance(c, pair, member, u, cos2 / E, tan2)
 
 
 def weber_profile(
@@ -411,7 +495,7 @@ def weber_profile(
     youngs_modulus: float,
     poisson_ratio: float,
     line_load: float,
-    foundation: bool | str | tuple[str, str] = "weber",
+    foundation: AbstractFoundation = WeberFoundation(),  # noqa: B008 (an immutable module)
 ) -> np.ndarray:
     """Weber–Banaschek stiffness per unit contact-line length along the line of action.
 
@@ -421,11 +505,11 @@ def weber_profile(
         youngs_modulus: E (Pa); poisson_ratio: ν.
         line_load: transverse load per unit face width (N/m) used in the Hertzian term (1.1);
             the Hertzian approach depends on it logarithmically.
-        foundation: the foundation (gear-body) term: "weber" (1.3), "sainsot" (Sainsot et al.
-            2004, depends on ``Member.bore_radius``) or "none" (drop it when a condensed FE body
-            supplies the body compliance, (2.31) remark) for both members, or a ``(pinion,
-            gear)`` pair of them (see :func:`member_foundations`); ``True``/``False`` are
-            aliases of "weber"/"none".
+        foundation: the foundation (gear-body) term of both members: :class:`WeberFoundation`
+            (1.3), :class:`SainsotFoundation` (Sainsot et al. 2004, depends on
+            ``Member.bore_radius``) or :class:`NoFoundation` (drop it when a condensed FE body
+            supplies the body compliance, (2.31) remark), or a :class:`MemberFoundations` of
+            one per member.
 
     Returns:
         k(s) (N/m per m of contact line), shape (n,), flank-normal.
@@ -434,8 +518,9 @@ def weber_profile(
     rho1 = pair.roll_distance(s, 0)
     rho2 = pair.roll_distance(s, 1)
     E, nu = youngs_modulus, poisson_ratio
-    f1, f2 = member_foundations(foundation)
-    c = member_compliance(pair, 0, rho1, E, nu, f1) + member_compliance(pair, 1, rho2, E, nu, f2)
+    c = member_compliance(pair, 0, rho1, E, nu, foundation.member(0)) + member_compliance(
+        pair, 1, rho2, E, nu, foundation.member(1)
+    )
     # Hertzian approach (1.1): d_i = distance from the contact point to the tooth centre line
     d_i = [
         np.hypot(rho, rb) * np.sin(_half_thickness_angle(pair, i, np.hypot(rho, rb)))
@@ -451,105 +536,6 @@ def weber_profile(
     )
     k_transverse = 1.0 / (c + c_hertz)
     return k_transverse / math.cos(pair.base_helix_angle)
-
-
-def stiffness_table(
-    pair: GearPair,
-    model: str,
-    *,
-    youngs_modulus: float = 210e9,
-    poisson_ratio: float = 0.3,
-    line_load: float = 2e5,
-    uniform_k0: float | None = None,
-    n_points: int = 129,
-    foundation: bool | str | tuple[str, str] = "weber",
-    fe2d_size: float | None = None,
-    specific_load: float | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Tabulate k(s) (N/m²) on ``n_points`` equally spaced s ∈ [0, g_α].
-
-    ``iso6336``: c_γα of :func:`iso6336_mesh_stiffness` at ``youngs_modulus`` and
-    ``specific_load`` (F_t K_A / b, N/m, for the low-load factor below 100 N/mm; ``None``: no
-    reduction); :meth:`jaxgear.Case.mesh_model` passes the case's nominal F_t / b (K_A = 1).
-
-    ``foundation`` ("weber" | "sainsot" | "none", or the old ``True``/``False``, for both
-    members, or a ``(pinion, gear)`` pair of them, see :func:`member_foundations`) applies to the
-    ``weber`` model only, except that ``"none"`` with ``fe2d`` selects that member's tooth-only
-    FE compliance (the hybrid model's FE body supplies the rest); any other name gives the FE
-    tooth + body down to the bore (:func:`bore_radius`).
-
-    ``fe2d``: plane-strain FE compliance of each member's tooth + body
-    (:func:`fem_prep.tooth_compliance`, cached by input hash; element size ``fe2d_size`` (m),
-    default m_n / 6) plus Weber's Hertzian approach (1.1), exactly as :func:`weber_profile`.
-
-    Raises:
-        ValueError: unknown ``model`` or ``foundation``, or ``uniform`` without a positive
-            ``uniform_k0``; a ``pair`` that is not a :class:`GearPair`, a material, load or
-            size that is not a finite number in range, ``n_points`` not an integer >= 2 (one
-            line naming the argument).
-    """
-    where = "stiffness_table"
-    check_instance("pair", pair, GearPair, "a jaxgear.GearPair", where)
-    check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, shape=(), where=where)
-    check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, shape=(), where=where)
-    check_real("line_load", line_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where)
-    check_integer("n_points", n_points, 2)
-    for name, v in (("fe2d_size", fe2d_size), ("specific_load", specific_load)):
-        if v is not None:
-            unit = "m" if name == "fe2d_size" else "N/m"
-            check_real(name, v, unit, lo=0.0, lo_open=True, shape=(), where=where)
-    foundation = member_foundations(foundation)
-    s = np.linspace(0.0, pair.path_of_contact, n_points)
-    if model == "uniform":
-        if uniform_k0 is None or not 0 < uniform_k0 < math.inf:
-            raise ValueError(
-                f"stiffness_per_length_N_per_mm_per_um = {uniform_k0 if uniform_k0 is None else uniform_k0 / 1e9!r} "
-                "is required with stiffness = 'uniform' and must be > 0"
-            )
-        k = np.full_like(s, uniform_k0)
-    elif model == "iso6336":
-        k0 = iso6336_mesh_stiffness(pair, youngs_modulus, specific_load) / (
-            pair.transverse_contact_ratio * math.cos(pair.base_helix_angle)
-        )
-        k = np.full_like(s, k0)
-    elif model == "weber":
-        k = weber_profile(pair, s, youngs_modulus, poisson_ratio, line_load, foundation)
-    elif model == "fe2d":
-        import fem_prep  # lazy: SciPy and scikit-fem only when the FE model runs
-
-        E, nu, cb = youngs_modulus, poisson_ratio, math.cos(pair.base_helix_angle)
-        rho = [pair.roll_distance(s, i) for i in (0, 1)]
-        c = np.zeros_like(s)
-        for i, m in enumerate((pair.pinion, pair.gear)):
-            fe = fem_prep.tooth_compliance(
-                tooth_geometry(pair, i),
-                rim_radius=bore_radius(pair, i),
-                youngs_modulus=E,
-                poisson_ratio=nu,
-                size=fe2d_size,
-                progress=None,
-            )
-            c = c + fe(rho[i], tooth_only=foundation[i] == "none")
-        # Weber's Hertzian approach, from weber_profile's own code path: 1/k_t − (tooth terms)
-        c_none = sum(member_compliance(pair, i, rho[i], E, nu, "none") for i in (0, 1))
-        c_hertz = 1.0 / (cb * weber_profile(pair, s, E, nu, line_load, "none")) - c_none
-        k = 1.0 / (c + c_hertz) / cb
-    else:
-        raise ValueError(
-            f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336', 'fe2d'"
-        )
-    if not np.all(np.isfinite(k)) or np.any(k <= 0):
-        raise ValueError(
-            f"mesh stiffness model {model!r} gave non-positive or non-finite values; "
-            "check the tooth geometry (pointed or undercut teeth)"
-            + (
-                f" or the load (line load {line_load * 1e-3:.6g} N/mm: a Hertzian contact wider "
-                "than the teeth)"
-                if model in ("weber", "fe2d")
-                else ""
-            )
-        )
-    return s, k
 
 
 def tooth_mass(pair: GearPair, member: int, density: float, width: float) -> tuple[float, float]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -37,13 +39,28 @@ def is_traced(value) -> bool:
     return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(value))
 
 
+@functools.singledispatch
 def _show(v) -> str:
-    """A value for a one-line message: a number as ``%g``, an array by its offending entry."""
-    if isinstance(v, float | np.floating):
-        return f"{float(v):g}"
-    text = str(v) if isinstance(v, int | np.integer) else repr(v)
-    text = " ".join(text.split())  # one line
+    """A value for a one-line message: a number as ``%g``, an integer as is, anything else
+    (an array by its offending entry) by its ``repr`` on one line, cut at 60 characters."""
+    return _one_line(repr(v))
+
+
+def _one_line(text: str) -> str:
+    text = " ".join(text.split())
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+@_show.register(float)
+@_show.register(np.floating)
+def _show_float(v) -> str:
+    return f"{float(v):g}"
+
+
+@_show.register(int)
+@_show.register(np.integer)
+def _show_int(v) -> str:
+    return _one_line(str(v))
 
 
 def _bound(lo, hi, lo_open: bool, hi_open: bool) -> str:
@@ -128,9 +145,9 @@ def check_instance(name: str, value, types, allowed: str, where: str = "") -> No
     """Refuse, in one ``ValueError`` line, ``value`` that is not an instance of ``types``
     (``allowed`` says what is, e.g. ``"jaxgear.Modifications or None"``)."""
     if not isinstance(value, types):
-        head = f"{where}: " if where else ""
         raise ValueError(
-            f"{head}{name} = {_show(value)} ({type(value).__name__}) is out of range: allowed "
+            f"{where}: " * bool(where)
+            + f"{name} = {_show(value)} ({type(value).__name__}) is out of range: allowed "
             f"{allowed}"
         )
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import fem_prep
-from jaxgear import io as jio
+from jaxgear import Uniform, io as jio
 from jaxgear.dynamics import (
     Newmark,
     SteadyState,
@@ -154,7 +154,7 @@ def rigidified_pair(case, member: int, body: pathlib.Path, factor: float) -> tup
     disc of its tip radius and face width; uniform mesh stiffness in both: (case, hybrid scene,
     lumped scene)."""
     stiff = stiffened_body(body, factor)
-    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
+    uni = case.replace(stiffness=Uniform(1.4e10))
     bodies = (stiff, None) if member == 0 else (None, stiff)
     hyb = static_scene(uni, bodies=bodies)[0]
     pair, rho = uni.pair, uni.density

@@ -188,18 +188,18 @@ def test_deviations_member_types():
 def test_stiffness_table_inputs():
     case, _ = _mesh()
     _refused(
-        lambda: jg.stiffness_table(case.pair, "weber", youngs_modulus=NAN),
+        lambda: jg.stiffness_table(case.pair, jg.Weber(), youngs_modulus=NAN),
         "stiffness_table: youngs_modulus = nan Pa",
     )
     _refused(
-        lambda: jg.stiffness_table(case.pair, "weber", poisson_ratio=0.5),
+        lambda: jg.stiffness_table(case.pair, jg.Weber(), poisson_ratio=0.5),
         "poisson_ratio = 0.5",
         "[0, 0.5)",
     )
-    _refused(lambda: jg.stiffness_table(case.pair, "weber", n_points=1.5), "n_points = 1.5")
-    _refused(lambda: jg.stiffness_table("pair", "weber"), "pair = 'pair'", "GearPair")
+    _refused(lambda: jg.stiffness_table(case.pair, jg.Weber(), n_points=1.5), "n_points = 1.5")
+    _refused(lambda: jg.stiffness_table("pair", jg.Weber()), "pair = 'pair'", "GearPair")
     _refused(
-        lambda: jg.stiffness_table(case.pair, "uniform", uniform_k0=INF),
+        lambda: jg.stiffness_table(case.pair, jg.Uniform(INF)),
         "stiffness_per_length",
     )
 

@@ -81,7 +81,7 @@ def test_bad_allowance_is_one_line_error():
 
 
 def _mesh(pair, slices=8, coast=True):
-    s, k = jg.stiffness_table(pair, "weber")
+    s, k = jg.stiffness_table(pair, jg.Weber())
     return jg.MeshModel.from_pair(pair, s, k, slices, coast=coast)
 
 

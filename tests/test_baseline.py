@@ -61,7 +61,7 @@ def _setup(name: str, uniform: bool = False):
     """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once."""
     case = jio.load_case(name)
     if uniform:
-        case = case.replace(stiffness_model="uniform", uniform_k0=13e9)
+        case = case.replace(stiffness=jg.Uniform(13e9))
     bmesh = bl.baseline_mesh(case, slices=SLICES)
     mesh = jg.MeshModel.from_pair(case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES)
     return case, mesh, bmesh
@@ -157,7 +157,7 @@ def test_bench_quick(tmp_path):
 
 
 def _wide_helical(face_width_mm):
-    case = jio.load_case("power-helical").replace(stiffness_model="uniform", uniform_k0=13e9)
+    case = jio.load_case("power-helical").replace(stiffness=jg.Uniform(13e9))
     pair = case.pair
     b = face_width_mm * 1e-3
     pair = dataclasses.replace(

@@ -78,7 +78,7 @@ def test_uniform_stiffness_unit_conversion():
     d["mesh"].update(stiffness="uniform", stiffness_per_length_N_per_mm_per_um=13.0)
     c = jio.parse_case(d)
     # 13 N/(mm·µm) = 13e3 N/m / 1e-6 m = 1.3e10 N/m²
-    assert c.uniform_k0 == pytest.approx(1.3e10)
+    assert c.stiffness.k0 == pytest.approx(1.3e10)
     m = c.mesh_model()
     assert np.allclose(np.asarray(m.stiffness_k), 1.3e10)
 

@@ -29,7 +29,7 @@ def _table():
     case = jio.load_case("power-helical")
     s, k = jg.stiffness_table(
         case.pair,
-        "weber",
+        jg.Weber(),
         youngs_modulus=case.youngs_modulus,
         poisson_ratio=case.poisson_ratio,
         line_load=case.nominal_line_load(),

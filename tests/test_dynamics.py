@@ -56,7 +56,7 @@ def linear_case():
     """Uniform stiffness, long tip relief near the Master-Curve design load: small excitation,
     no contact loss, a linear response (docs/design.md, "Optimisation")."""
     case = jio.load_case("accessory-spur").replace(
-        stiffness_model="uniform", uniform_k0=14e9, slices=2
+        stiffness=jg.Uniform(14e9), slices=2
     )
     p = case.pair
     eps = p.transverse_contact_ratio

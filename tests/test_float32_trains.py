@@ -96,7 +96,7 @@ def test_idler_train_of_equal_gears(x64):
         pair = jg.GearPair(
             jg.Member(20, face_width=15e-3), jg.Member(20, face_width=15e-3), 2e-3, math.radians(20)
         )
-        plane = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, "weber"), 4)
+        plane = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Weber()), 4)
         train = torsional_train(((plane, (0, 1)), (plane, (1, 2))), [1e-4] * 3)
         theta = jg.mesh_positions(plane, 8)
         res = jg.quasi_static(train, None, 50.0, theta)

@@ -175,7 +175,7 @@ def test_rigidified_body_reproduces_the_rigid_node_scene(case, body, cache, tmp_
     """A body 1000× stiffer (E × 1000) on the same shafts gives the TE of the rigid-node lumped
     scene: mean within 0.5 %, RMS within 3 % (uniform mesh stiffness: no foundation term)."""
     rigid_body = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
-    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10, slices=4)
+    uni = case.replace(stiffness=jg.Uniform(1.4e10), slices=4)
     hyb = jg.quasi_static(
         static_scene(uni, bodies=(None, rigid_body))[0], uni.modifications, uni.torque
     )

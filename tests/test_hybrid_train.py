@@ -69,7 +69,7 @@ def test_rigidified_idler_reproduces_the_rigid_node_train(case):
     than 5 % to each mesh's TE (measured 12 % and 13 %)."""
     stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
     steel = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
-    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
+    uni = case.replace(stiffness=jg.Uniform(1.4e10))
     mods = uni.mesh_modifications()
     rigid_case = uni.replace(scene=dataclasses.replace(uni.scene, gear_bodies=()))
     assert not rigid_case.flexible and uni.flexible
@@ -199,7 +199,7 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     dynamic factor within 2 % at 1000 rad/s (near a coincidence, DF 1.85 and 1.64) and
     2000 rad/s (measured 0.05 to 0.7 %)."""
     stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
-    uni = case.replace(stiffness_model="uniform", uniform_k0=1.4e10)
+    uni = case.replace(stiffness=jg.Uniform(1.4e10))
     mods = uni.mesh_modifications()
     damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     Mr = rigid_mass_matrix(stiff)

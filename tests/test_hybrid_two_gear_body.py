@@ -217,7 +217,7 @@ def test_rigidified_body_reproduces_the_rigid_node_train(case, bodies):
     half of it fem_prep building the stiffened body."""
     stiff = _stiff_body()
     uni = case.replace(
-        stiffness_model="uniform", uniform_k0=1.4e10, youngs_modulus=1e3 * case.youngs_modulus
+        stiffness=jg.Uniform(1.4e10), youngs_modulus=1e3 * case.youngs_modulus
     )
     mods = uni.mesh_modifications()
     rigid_case = uni.replace(scene=dataclasses.replace(uni.scene, gear_bodies=(), gear_rims=()))
@@ -428,7 +428,7 @@ def test_rigidified_body_dynamics_equal_the_rigid_node_train(case):
     mass, polar, dia = Mr[0, 0], Mr[5, 5], Mr[3, 3]
     zc = Mr[0, 4] / mass  # the centre of mass from the wheel's mid-rim
     uni = case.replace(
-        stiffness_model="uniform", uniform_k0=1.4e10, youngs_modulus=1e3 * case.youngs_modulus
+        stiffness=jg.Uniform(1.4e10), youngs_modulus=1e3 * case.youngs_modulus
     )
     mods = uni.mesh_modifications()
     z = uni.scene.shafts[1].gear_positions

@@ -287,8 +287,8 @@ def test_modulus_scaling_70_vs_206_gpa():
     ratio = iso6336_single_stiffness(pair, 70e9) / iso6336_single_stiffness(pair, 206e9)
     assert ratio == pytest.approx(70 / 206, rel=1e-12)
     assert iso6336_single_stiffness(pair) == iso6336_single_stiffness(pair, 206e9)  # steel ref.
-    _, k70 = jg.stiffness_table(pair, "iso6336", youngs_modulus=70e9)
-    _, k206 = jg.stiffness_table(pair, "iso6336", youngs_modulus=206e9)
+    _, k70 = jg.stiffness_table(pair, jg.ISO6336(), youngs_modulus=70e9)
+    _, k206 = jg.stiffness_table(pair, jg.ISO6336(), youngs_modulus=206e9)
     assert k70[0] / k206[0] == pytest.approx(70 / 206, rel=1e-12)
     # through a case file: [material] youngs_modulus_GPa reaches the iso6336 mesh model
     k = [

@@ -38,7 +38,7 @@ def _pair(z1: int, z2: int) -> jg.GearPair:
 
 def _plane(z1: int, z2: int, slices: int = SLICES) -> jg.MeshModel:
     pair = _pair(z1, z2)
-    return jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, "weber"), slices)
+    return jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Weber()), slices)
 
 
 @functools.cache

@@ -68,7 +68,7 @@ def test_master_curve_matches_zero_fluctuation_family(case):
     against the numerical optimum.
     Measured: relative error in E* 2e-4 – 5e-4, TE RMS / unmodified 7e-7 – 1.9e-4 (64 positions).
     """
-    c = case.replace(stiffness_model="uniform", uniform_k0=13e9)
+    c = case.replace(stiffness=jg.Uniform(13e9))
     p = jio.case_problem(
         c,
         "tip_relief.depth,tip_relief.extent",

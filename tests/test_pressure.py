@@ -28,7 +28,7 @@ def spur():
     """The accessory spur pair, unmodified, uniform mesh stiffness (a uniform load across the
     face in single-pair contact), exact contact."""
     case = jio.load_case("accessory-spur").replace(
-        stiffness_model="uniform", uniform_k0=1.4e10, slices=4, positions_per_pitch=PPP
+        stiffness=jg.Uniform(1.4e10), slices=4, positions_per_pitch=PPP
     )
     res = jg.quasi_static(case.mesh_model(), None, case.torque, positions_per_pitch=PPP)
     return case, res

@@ -40,7 +40,7 @@ def _weber(name: str):
 
 def _uniform_mesh(name: str, slices: int, k0: float = K0):
     case = jio.load_case(name)
-    s, k = jg.stiffness_table(case.pair, "uniform", uniform_k0=k0)
+    s, k = jg.stiffness_table(case.pair, jg.Uniform(k0))
     return case, jg.MeshModel.from_pair(case.pair, s, k, slices)
 
 
@@ -117,7 +117,7 @@ def test_uniform_helical_te_equals_f_over_k0_l(face_width_mm):
         pinion=dataclasses.replace(p0.pinion, face_width=face_width_mm * 1e-3),
         gear=dataclasses.replace(p0.gear, face_width=face_width_mm * 1e-3),
     )
-    s, k = jg.stiffness_table(pair, "uniform", uniform_k0=K0)
+    s, k = jg.stiffness_table(pair, jg.Uniform(K0))
     mesh = jg.MeshModel.from_pair(pair, s, k, n_slices)
     theta = jg.mesh_positions(mesh, 12)
     res = jg.quasi_static(mesh, None, case.torque, theta)

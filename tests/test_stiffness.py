@@ -79,7 +79,7 @@ def test_iso6336_per_length_value_gives_c_gamma_alpha(name):
     case = jio.load_case(name)
     pair = case.pair
     # the table scales with E/206 GPa (ISO 6336-1): the same E on both sides
-    s, k = jg.stiffness_table(pair, "iso6336", youngs_modulus=case.youngs_modulus)
+    s, k = jg.stiffness_table(pair, jg.ISO6336(), youngs_modulus=case.youngs_modulus)
     mesh = jg.MeshModel.from_pair(pair, s, k, 40)
     n_pos = 400
     res = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=n_pos)
@@ -145,7 +145,8 @@ def test_weber_stiffness_hertz_term_and_foundation_direction():
     s = np.linspace(0.0, pair.path_of_contact, 21)
     w = case.nominal_line_load()
     k = weber_profile(pair, s, 210e9, 0.3, w)
-    assert np.all(weber_profile(pair, s, 210e9, 0.3, w, foundation=False) > k)
+    none = jio.foundation_from_name(False)
+    assert np.all(weber_profile(pair, s, 210e9, 0.3, w, foundation=none) > k)
     assert np.all(
         weber_profile(pair, s, 210e9, 0.3, w / 10) < k
     )  # Hertz compliance grows as load drops
@@ -155,13 +156,12 @@ def test_weber_stiffness_hertz_term_and_foundation_direction():
 
 
 def test_stiffness_table_errors():
-    pair = jio.load_case("accessory-spur").pair
     with pytest.raises(ValueError, match="mesh.stiffness = 'bogus' is unknown"):
-        jg.stiffness_table(pair, "bogus")
+        jio.stiffness_from_name("bogus")
     with pytest.raises(ValueError, match="stiffness_per_length_N_per_mm_per_um"):
-        jg.stiffness_table(pair, "uniform")
+        jio.stiffness_from_name("uniform")
     with pytest.raises(ValueError, match="stiffness_per_length_N_per_mm_per_um"):
-        jg.stiffness_table(pair, "uniform", uniform_k0=-1.0)
+        jio.stiffness_from_name("uniform", uniform_k0=-1.0)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -277,7 +277,11 @@ def _ross_pair(bore):
 
 def _mean_mesh_stiffness(pair, foundation):
     s, k = jg.stiffness_table(
-        pair, "weber", youngs_modulus=206e9, line_load=2e5, foundation=foundation, n_points=257
+        pair,
+        jg.Weber(jio.foundation_from_name(foundation)),
+        youngs_modulus=206e9,
+        line_load=2e5,
+        n_points=257,
     )
     pb, n = pair.base_pitch, 200
     total = sum(
@@ -314,7 +318,7 @@ def test_foundation_models_order_and_bore_dependence():
     default = _mean_mesh_stiffness(_ross_pair(None), "sainsot")
     assert default == _mean_mesh_stiffness(_ross_pair(0.5 * 59.5e-3), "sainsot")
     with pytest.raises(ValueError, match="mesh.foundation = 'winkler' is unknown"):
-        jg.stiffness_table(small, "weber", foundation="winkler")
+        jio.stiffness_from_name("weber", foundation="winkler")
     with pytest.raises(ValueError, match="pinion.bore_radius = 0.06 is out of range"):
         _ross_pair(0.06)
 
@@ -334,9 +338,10 @@ def test_case_file_foundation_and_bore_keys():
     import warnings
 
     base = jio.parse_case(_case_dict())
-    assert base.foundation == "weber"
-    assert jio.parse_case(_case_dict(**{"mesh/foundation": False})).foundation == "none"
-    assert jio.parse_case(_case_dict(**{"mesh/foundation": True})).foundation == "weber"
+    assert base.stiffness.foundation.name == "weber"
+    for given, name in ((False, "none"), (True, "weber")):
+        case = jio.parse_case(_case_dict(**{"mesh/foundation": given}))
+        assert case.stiffness.foundation.name == name
     rf_mm = base.pair.root_radii[0] * 1e3
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -349,10 +354,10 @@ def test_case_file_foundation_and_bore_keys():
                 }
             )
         )
-    assert case.foundation == "sainsot"
+    assert case.stiffness.foundation.name == "sainsot"
     assert case.pair.pinion.bore_radius == pytest.approx(round(rf_mm / 3.4, 3) * 1e-3)
-    k_sainsot = jg.stiffness_table(case.pair, "weber", foundation=case.foundation)[1]
-    k_weber = jg.stiffness_table(case.pair, "weber")[1]
+    k_sainsot = jg.stiffness_table(case.pair, case.stiffness)[1]
+    k_weber = jg.stiffness_table(case.pair, jg.Weber())[1]
     assert not np.allclose(k_sainsot, k_weber)
     with pytest.raises(jio.SchemaError) as info:
         jio.parse_case(_case_dict(**{"pinion/bore_radius_mm": 2 * rf_mm}))

@@ -22,6 +22,7 @@ from _examples import load_example
 
 import fem_prep
 import jaxgear as jg
+import jaxgear.io as jio
 
 ROOT = Path(__file__).resolve().parents[1]
 E, NU = 210e9, 0.3
@@ -108,15 +109,18 @@ def test_solid_gear_against_sainsot_at_ross_pair(cache):
     pair = _ross(17.5e-3)
     assert not _sainsot_outside(pair)
     kw = {"youngs_modulus": 206e9, "line_load": 2e5, "n_points": 257}
-    s, k_fe = jg.stiffness_table(pair, "fe2d", **kw)
-    _, k_sa = jg.stiffness_table(pair, "weber", foundation="sainsot", **kw)
+    s, k_fe = jg.stiffness_table(pair, jg.FE2D(), **kw)
+    _, k_sa = jg.stiffness_table(pair, jg.Weber(jg.SainsotFoundation()), **kw)
     ratio = _mean_mesh_stiffness(pair, s, k_fe) / _mean_mesh_stiffness(pair, s, k_sa)
     assert 1.0 < ratio < 1.07, ratio
     fe = fem_prep.tooth_compliance(
         _geometry(62, 2e-3, math.radians(20)), rim_radius=17.5e-3, youngs_modulus=206e9
     )
     body_fe = fe.compliance - fe.compliance_tooth
-    c = {f: jg.member_compliance(pair, 0, fe.roll, 206e9, NU, f) for f in ("sainsot", "none")}
+    c = {
+        f: jg.member_compliance(pair, 0, fe.roll, 206e9, NU, jio.foundation_from_name(f))
+        for f in ("sainsot", "none")
+    }
     body_sa = c["sainsot"] - c["none"]
     assert np.all((body_fe / body_sa > 0.88) & (body_fe / body_sa < 1.0))
     # and the FE tooth alone (root section held) within 5 % of Weber's cantilever on average
@@ -147,7 +151,7 @@ def test_cache_is_reused_and_rebuilt_when_corrupt(cache, monkeypatch):
     np.testing.assert_allclose(fixed.compliance, first.compliance, rtol=1e-12)
     # the k(s) table of a pair: the second run reads the cache, no FE solve
     pair = jg.GearPair(jg.Member(30), jg.Member(30), 1e-3, math.radians(20))
-    k1 = jg.stiffness_table(pair, "fe2d", fe2d_size=1e-3 / 3)[1]
+    k1 = jg.stiffness_table(pair, jg.FE2D(1e-3 / 3))[1]
 
     real, tables = fem_prep.tooth_compliance, []
 
@@ -156,7 +160,7 @@ def test_cache_is_reused_and_rebuilt_when_corrupt(cache, monkeypatch):
         return tables[-1]
 
     monkeypatch.setattr(fem_prep, "tooth_compliance", spy)
-    k2 = jg.stiffness_table(pair, "fe2d", fe2d_size=1e-3 / 3)[1]
+    k2 = jg.stiffness_table(pair, jg.FE2D(1e-3 / 3))[1]
     assert tables and all(t.cache_hit for t in tables), "the FE model ran again"
     np.testing.assert_array_equal(k1, k2)
 
@@ -166,7 +170,7 @@ def test_quasi_static_te_is_independent_of_the_slice_count(cache):
     quasi-static TE (mean and peak-to-peak) to rounding."""
     import jaxgear.io as jio
 
-    case = jio.load_case("accessory-spur").replace(stiffness_model="fe2d", fe2d_size=0.5e-3)
+    case = jio.load_case("accessory-spur").replace(stiffness=jg.FE2D(0.5e-3))
     te = []
     for n in (10, 40):
         r = jg.quasi_static(
@@ -179,15 +183,17 @@ def test_quasi_static_te_is_independent_of_the_slice_count(cache):
 
 def test_tooth_only_is_stiffer_and_per_member(cache):
     pair = jg.GearPair(jg.Member(25), jg.Member(40), 1e-3, math.radians(20))
-    kw = {"fe2d_size": 1e-3 / 3}
-    full = jg.stiffness_table(pair, "fe2d", **kw)[1]
-    tooth = jg.stiffness_table(pair, "fe2d", foundation="none", **kw)[1]
-    wheel_only = jg.stiffness_table(pair, "fe2d", foundation=("weber", "none"), **kw)[1]
+    size = 1e-3 / 3
+    full = jg.stiffness_table(pair, jg.FE2D(size))[1]
+    tooth = jg.stiffness_table(pair, jg.FE2D(size, jg.NoFoundation()))[1]
+    wheel_only = jg.stiffness_table(
+        pair, jg.FE2D(size, jg.MemberFoundations(jg.WeberFoundation(), jg.NoFoundation()))
+    )[1]
     assert np.all(tooth > wheel_only) and np.all(wheel_only > full)
     assert np.all(tooth > 1.3 * full)
     # fe2d also reaches the weber error path for bad input
     with pytest.raises(ValueError, match="'fe2d'"):
-        jg.stiffness_table(pair, "fe3d")
+        jio.stiffness_from_name("fe3d")
 
 
 def test_case_file_fe2d_keys():
@@ -198,7 +204,7 @@ def test_case_file_fe2d_keys():
     data = json.loads(json.dumps(raw))
     data["mesh"].update(stiffness="fe2d", fe2d_size_um=250.0)
     case = parse_case(data, "x")
-    assert case.stiffness_model == "fe2d" and case.fe2d_size == pytest.approx(250e-6)
+    assert case.stiffness_model == "fe2d" and case.stiffness.size == pytest.approx(250e-6)
     data["mesh"]["fe2d_size_um"] = 5000.0
     with pytest.raises(ValueError, match=r"\[mesh\] fe2d_size_um.*out of range.*m_n/100 to m_n"):
         parse_case(data, "x")

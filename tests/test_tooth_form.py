@@ -435,33 +435,35 @@ def test_per_member_foundation_is_the_series_combination():
     pair = case.pair
     s = np.linspace(0.0, pair.path_of_contact, 41)
     E, nu, w = case.youngs_modulus, case.poisson_ratio, case.nominal_line_load()
-    k = {f: jg.weber_profile(pair, s, E, nu, w, foundation=f) for f in ("weber", "none")}
+    name = jio.foundation_from_name
+    k = {f: jg.weber_profile(pair, s, E, nu, w, foundation=name(f)) for f in ("weber", "none")}
     np.testing.assert_array_equal(
-        jg.weber_profile(pair, s, E, nu, w, foundation=("none", "none")), k["none"]
+        jg.weber_profile(pair, s, E, nu, w, foundation=name(("none", "none"))), k["none"]
     )
     np.testing.assert_array_equal(
-        jg.weber_profile(pair, s, E, nu, w, foundation=("weber", "weber")), k["weber"]
+        jg.weber_profile(pair, s, E, nu, w, foundation=name(("weber", "weber"))), k["weber"]
     )
-    mixed = jg.weber_profile(pair, s, E, nu, w, foundation=("weber", "none"))
+    mixed = jg.weber_profile(pair, s, E, nu, w, foundation=name(("weber", "none")))
     assert np.all(k["weber"] < mixed) and np.all(mixed < k["none"])
     # series: 1/k = cos β_b (c_Hertz + c_1 + c_2); adding the pinion's foundation compliance only
     rho1 = pair.roll_distance(s, 0)
-    dc1 = stf.member_compliance(pair, 0, rho1, E, nu, "weber") - stf.member_compliance(
-        pair, 0, rho1, E, nu, "none"
-    )
+    dc1 = stf.member_compliance(
+        pair, 0, rho1, E, nu, jg.WeberFoundation()
+    ) - stf.member_compliance(pair, 0, rho1, E, nu, jg.NoFoundation())
     expected = 1 / (1 / k["none"] + math.cos(pair.base_helix_angle) * dc1)
     np.testing.assert_allclose(mixed, expected, rtol=1e-12)
     # the table and the helper accept the same forms
-    _, k_t = jg.stiffness_table(pair, "weber", foundation=["weber", "none"], n_points=41)
-    _, k_r = jg.stiffness_table(pair, "weber", foundation=("weber", False), n_points=41)
+    _, k_t = jg.stiffness_table(pair, jg.Weber(name(["weber", "none"])), n_points=41)
+    _, k_r = jg.stiffness_table(pair, jg.Weber(name(("weber", False))), n_points=41)
     np.testing.assert_array_equal(k_t, k_r)
-    assert stf.member_foundations("sainsot") == ("sainsot", "sainsot")
-    assert stf.member_foundations(True) == ("weber", "weber")
-    assert stf.member_foundations(("sainsot", None)) == ("sainsot", "none")
+    assert name("sainsot") == jg.SainsotFoundation()
+    assert name(True) == jg.WeberFoundation()
+    both = jg.MemberFoundations(jg.SainsotFoundation(), jg.NoFoundation())
+    assert name(("sainsot", None)) == both
     with pytest.raises(ValueError, match=r"mesh.foundation = 'winkler' is unknown"):
-        stf.member_foundations(("weber", "winkler"))
+        name(("weber", "winkler"))
     with pytest.raises(ValueError, match=r"has 3 entries"):
-        stf.member_foundations(("weber", "none", "none"))
+        name(("weber", "none", "none"))
 
 
 def test_tooth_form_errors_name_the_member():
@@ -475,4 +477,4 @@ def test_tooth_form_errors_name_the_member():
     )
     stf._generated_tooth.cache_clear()
     with pytest.raises(ValueError, match=r"^gear\.fillet_radius_coeff = 0\.6 is out of range"):
-        jg.stiffness_table(pair, "weber")
+        jg.stiffness_table(pair, jg.Weber())

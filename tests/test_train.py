@@ -51,7 +51,7 @@ def _pair(z_driving: int, z_driven: int) -> jg.GearPair:
 @functools.cache
 def _mesh(z_driving: int, z_driven: int) -> jg.MeshModel:
     pair = _pair(z_driving, z_driven)
-    s, k = jg.stiffness_table(pair, "weber")
+    s, k = jg.stiffness_table(pair, jg.Weber())
     return jg.MeshModel.from_pair(pair, s, k, SLICES)
 
 
@@ -446,7 +446,7 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
     k0 = 1.4e10  # N/m per m of contact line
     pairs = (_pair(20, 40), _pair(30, 45))
     planes = tuple(
-        jg.MeshModel.from_pair(p, *jg.stiffness_table(p, "uniform", uniform_k0=k0), SLICES)
+        jg.MeshModel.from_pair(p, *jg.stiffness_table(p, jg.Uniform(k0)), SLICES)
         for p in pairs
     )
     disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731

@@ -45,9 +45,7 @@ def result_summary(r: QuasiStaticResult, mesh: int | None = None, pressure=None)
 def mesh_settings_summary(case) -> dict:
     """``summary.json``'s ``mesh``: the mesh-model settings of a pair or train case."""
     return {
-        "stiffness": case.stiffness_model,
-        "foundation": case.foundation,
-        "fe2d_size_m": case.fe2d_size if case.stiffness_model == "fe2d" else None,
+        **case.stiffness.summary(),  # stiffness, foundation, fe2d_size_m
         "slices": case.slices,
         "positions_per_pitch": case.positions_per_pitch,
         "smooth_width_m": case.smooth_width,

@@ -1,20 +1,20 @@
 """Case files and output files: loading and validating cases (TOML, units in key names), the
 embedded cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
 
-from ._case_file import (
-    CaseWarning as CaseWarning,
-    SchemaError as SchemaError,
-    parse_case as parse_case,
-    parse_deviations as parse_deviations,
-    parse_modifications as parse_modifications,
-    parse_optimise as parse_optimise,
-    plausibility as plausibility,
-)
+from ._case_file import SchemaError as SchemaError, parse_case as parse_case
+from ._deviations_table import parse_deviations as parse_deviations
 from ._load import (
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,
     load_case as load_case,
 )
+from ._modifications_table import parse_modifications as parse_modifications
+from ._names import (
+    foundation_from_name as foundation_from_name,
+    stiffness_from_name as stiffness_from_name,
+)
+from ._optimise_table import parse_optimise as parse_optimise
+from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._problem import (
     OBJECTIVES as OBJECTIVES,
     OPTIMISERS as OPTIMISERS,

@@ -10,50 +10,32 @@ for the schema.
 
 from __future__ import annotations
 
-import itertools
 import math
 import re
 import warnings
 from typing import Any
 
-import numpy as np
-
 from fem_prep import schema as sc
-from optimise import OBJECTIVES, VARIABLES
 
-from .._case import Case, TrainCase
-from .._deviations import (
-    ISO1328_SCOPE,
-    Deviations,
-    GearDeviations,
-    iso1328_tolerances,
-    sample_gear_deviations,
-)
+from .._case import Case
 from .._geometry import JAM, GearPair, Member
-from .._modifications import MemberModification, Modifications
-from .._stiffness import FOUNDATIONS, iso6336_mesh_stiffness, sainsot_fit_check, stiffness_table
-from ..scenes import disc_inertia
+from ._deviations_table import parse_deviations
+from ._modifications_table import parse_modifications
+from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
+from ._optimise_table import parse_optimise
+from ._plausibility import CaseWarning, plausibility
 from ._robust_table import parse_robust
 from ._scene_table import parse_scene
 
 __all__ = [
-    "CaseWarning",
-    "mean_static_deflection",
+    "check_member_size",
     "parse_case",
-    "parse_deviations",
-    "parse_modifications",
-    "parse_optimise",
-    "plausibility",
+    "parse_material",
+    "parse_mesh_settings",
+    "parse_torque",
 ]
 
 SchemaError = sc.SchemaError
-
-
-class CaseWarning(UserWarning):
-    """A valid but implausible case (one-line message naming the key): relief far deeper than the
-    mean static deflection, a torque too small to deflect the teeth measurably, or a load beyond
-    what steel teeth carry, or a gear body outside the range of the Sainsot foundation fit."""
-
 
 _MEMBER_KEYS = {
     "teeth",
@@ -102,20 +84,6 @@ _MODEL_KEYS = {
     "fe2d_size_um": ("fe2d",),
     "foundation": ("weber", "fe2d"),
 }
-_MOD_KEYS = {
-    "tip_relief": {"depth_um", "extent", "shape"},
-    "root_relief": {"depth_um", "extent", "shape"},
-    "crowning": {"depth_um"},
-    "end_relief": {"depth_um", "extent", "edge"},
-    "helix_slope": {"deviation_um"},
-    "profile_deviation": {"roll_fraction", "deviation_um"},
-}
-
-# plausibility thresholds (CaseWarning), documented in README.md
-RELIEF_RATIO_WARN = 10.0  # a relief/crowning depth above 10 δ_m
-MIN_DEFLECTION_UM = 0.01  # δ_m below 0.01 µm: torque too small
-MAX_LINE_LOAD_N_PER_MM = 2000.0  # F_n / b above what case-hardened steel teeth carry
-MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
 
 # physical ranges of the pair (file units), checked before the geometry is computed
 MODULE_RANGE_MM = "[0.01, 100]"  # watch gears to mill gears
@@ -127,246 +95,6 @@ MIN_LINE_LOAD_N_PER_MM = 1e-6  # torque: F_n/b >= 1e-6 N/mm (δ_m ~ 1e-7 µm; be
 CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-backlash one is it
 MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
 MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)
-SMOOTH_WIDTH_WARN = 1.0  # CaseWarning: w above δ_m
-MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh mode's frequency
-
-
-# --------------------------------------------------------------------------------------------
-# modifications
-
-
-def _depth_range(module_mm: float | None, signed: bool = False) -> tuple[str, str]:
-    """The allowed range (file units, µm) of a modification or deviation depth and its note:
-    up to ``MAX_DEPTH_MODULE`` normal modules (deeper, the flank is no longer a tooth's)."""
-    if module_mm is None:
-        return (">= 0" if not signed else "any"), ""
-    hi = MAX_DEPTH_MODULE * module_mm * 1e3
-    rng = f"[{-hi:.6g}, {hi:.6g}]" if signed else f"[0, {hi:.6g}]"
-    return rng, f" (µm; up to {MAX_DEPTH_MODULE:g} × normal_module_mm)"
-
-
-def _member_mods(
-    entries: dict[str, tuple[Any, str]], module_mm: float | None = None
-) -> MemberModification:
-    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m), each depth
-    within one normal module ``module_mm`` (mm) of the member."""
-    kw: dict[str, Any] = {}
-    depth_rng, depth_note = _depth_range(module_mm)
-    signed_rng, _ = _depth_range(module_mm, signed=True)
-    for name, (spec, where) in entries.items():
-        if not isinstance(spec, dict):
-            raise sc.fail(where, name, "must be a table, e.g. { depth_um = 10.0 }", spec)
-        w = f"{where}.{name}"
-        sc.check_keys(spec, _MOD_KEYS[name], w)
-        if name in ("tip_relief", "root_relief"):
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
-            extent = sc.number(
-                spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
-            )
-            shape = sc.choice(spec, "shape", w, ("linear", "parabolic"), "linear")
-            kw.update(
-                {
-                    f"{name}_depth": depth * 1e-6,
-                    f"{name}_extent": extent,
-                    f"{name}_shape": shape,
-                }
-            )
-        elif name == "crowning":
-            kw["crowning_depth"] = (
-                sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note) * 1e-6
-            )
-        elif name == "end_relief":
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
-            extent = sc.number(
-                spec,
-                "extent",
-                w,
-                0.1,
-                allowed="(0, 0.5]",
-                note=" (fraction of the face width at each end)",
-            )
-            edge = sc.choice(spec, "edge", w, ("both", "z0", "z1"), "both")
-            kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
-        elif name == "helix_slope":
-            kw["helix_slope_deviation"] = (
-                sc.number(spec, "deviation_um", w, 0.0, allowed=signed_rng, note=depth_note) * 1e-6
-            )
-        elif name == "profile_deviation":
-            u = sc.number_list(spec, "roll_fraction", w, min_length=2, allowed="[0, 1]")
-            d = sc.number_list(spec, "deviation_um", w, min_length=2, allowed=signed_rng)
-            if len(u) != len(d):
-                raise sc.fail(w, "deviation_um", f"needs one value per roll_fraction ({len(u)})", d)
-            if any(b <= a for a, b in itertools.pairwise(u)):
-                raise sc.fail(w, "roll_fraction", "must ascend strictly within [0, 1]", u)
-            kw.update(profile_deviation_roll=np.asarray(u), profile_deviation=np.asarray(d) * 1e-6)
-    return MemberModification(**kw)
-
-
-def parse_modifications(table: dict, module_mm: float | None = None) -> Modifications:
-    """``[modifications]`` → :class:`Modifications`.
-
-    Entries directly under ``[modifications]`` apply to each member; entries under
-    ``[modifications.pinion]`` / ``[modifications.gear]`` replace them for that member.
-
-    Raises:
-        SchemaError: unknown modification or key, wrong type, value out of range.
-    """
-    if not isinstance(table, dict):
-        raise sc.fail("", "modifications", "must be a table", table)
-    allowed = {*_MOD_KEYS, "pinion", "gear"}
-    sc.check_keys(table, allowed, "modifications")
-    common = {k: (v, "modifications") for k, v in table.items() if k not in ("pinion", "gear")}
-    members = []
-    for tag in ("pinion", "gear"):
-        own = sc.subtable(table, tag, "modifications", _MOD_KEYS)
-        where = f"modifications.{tag}"
-        members.append(
-            _member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module_mm)
-        )
-    return Modifications(pinion=members[0], gear=members[1])
-
-
-# --------------------------------------------------------------------------------------------
-# manufacturing deviations (ISO 1328-1)
-
-_DEV_KEYS = {"grade", "seed", "revolutions", "positions_per_pitch", "pinion", "gear"}
-_DEV_MEMBER_KEYS = {
-    "pitch_um",
-    "runout_um",
-    "runout_phase_deg",
-    "profile_slope_um",
-    "profile_form_um",
-    "helix_slope_um",
-    "helix_form_um",
-}
-_PER_TOOTH = ("profile_slope", "profile_form", "helix_slope", "helix_form")
-#: tolerance on the closure Σ f_pt = 0 of given single pitch deviations (µm)
-PITCH_CLOSURE_UM = 1e-6
-#: the most positions a deviation span may ask for (revolutions × z1 × positions_per_pitch)
-MAX_SPAN_POSITIONS = 2_000_000
-
-
-def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", note: str = ""):
-    """A number (every tooth) or an array of one number per tooth, µm → m (None: absent)."""
-    if key not in spec:
-        return None
-    v = spec[key]
-    if isinstance(v, list):
-        return np.asarray(sc.number_list(spec, key, where, length=z, allowed=allowed)) * 1e-6
-    return sc.number(spec, key, where, allowed=allowed, note=note) * 1e-6
-
-
-def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
-    """``[deviations]`` → (:class:`Deviations`, the run settings).
-
-    ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every deviation of both gears
-    (:func:`~jaxgear.sample_gear_deviations`, NumPy ``default_rng(seed)``: pinion first, then
-    gear); ``[deviations.pinion]`` / ``[deviations.gear]`` give values (µm) that replace the drawn
-    ones key by key, or, without a grade, are the only deviations (the others 0).
-
-    Settings returned (case-file units): ``grade`` (or None), ``seed``, ``revolutions`` (pinion
-    revolutions of the quasi-static span, an integer or ``"hunting"``), ``revolutions_count`` (the
-    integer), ``positions_per_pitch``, ``tolerances_um`` per gear (with a grade).
-
-    Raises:
-        SchemaError: unknown keys, wrong types, values out of range, arrays of another length
-            than the gear's teeth, given single pitch deviations that do not close (Σ ≠ 0).
-    """
-    if not isinstance(table, dict):
-        raise sc.fail("", "deviations", "must be a table", table)
-    sc.check_keys(table, _DEV_KEYS, "deviations")
-    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
-    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
-    rev = table.get("revolutions", "hunting")
-    z1, z2 = pair.pinion.teeth, pair.gear.teeth
-    if rev == "hunting":
-        count = z2 // math.gcd(z1, z2)
-    else:
-        if isinstance(rev, str):
-            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
-        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
-        rev = count
-    ppp = sc.number(table, "positions_per_pitch", "deviations", 16, allowed=">= 2", integer=True)
-    if count * z1 * ppp > MAX_SPAN_POSITIONS:
-        raise sc.fail(
-            "deviations",
-            "revolutions",
-            f"out of range: {count} pinion revolutions × {z1} teeth × {ppp} positions per pitch "
-            f"is {count * z1 * ppp} positions, allowed <= {MAX_SPAN_POSITIONS} (lower "
-            "positions_per_pitch or give a number of revolutions)",
-            rev,
-        )
-    rng = np.random.default_rng(seed)
-    members, tolerances = [], {}
-    # deviations up to one normal module (µm): beyond, the flank is no longer a tooth's
-    signed, note = _depth_range(pair.normal_module * 1e3, signed=True)
-    positive, _ = _depth_range(pair.normal_module * 1e3)
-    lo_z, hi_z = ISO1328_SCOPE["teeth"]
-    for tag, z in (("pinion", z1), ("gear", z2)):
-        if grade is not None and not lo_z <= z <= hi_z:
-            raise sc.fail(
-                tag,
-                "teeth",
-                f"out of range with [deviations] grade = {grade}, allowed [{lo_z}, {hi_z}] (the "
-                "scope of ISO 1328-1, which the grade's tolerances come from; give the "
-                f"deviations in [deviations.{tag}] without a grade instead)",
-                z,
-            )
-    for tag, member, z in (("pinion", pair.pinion, z1), ("gear", pair.gear, z2)):
-        spec = sc.subtable(table, tag, "deviations", _DEV_MEMBER_KEYS)
-        where = f"deviations.{tag}"
-        kw: dict[str, Any] = {}
-        if grade is not None:
-            d = z * pair.normal_module / math.cos(pair.helix_angle)
-            try:  # the gear's own reference diameter and face width (tolerances are per gear)
-                tol = iso1328_tolerances(pair.normal_module, d, member.face_width, grade)
-            except ValueError as err:
-                raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
-            tolerances[tag] = tol.as_um()
-            drawn = sample_gear_deviations(rng, z, tol, pair.transverse_pressure_angle)
-            kw = {
-                f: np.asarray(getattr(drawn, f))
-                for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
-            }
-        if "pitch_um" in spec:
-            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z, allowed=signed))
-            fpt = fpt * 1e-6
-            if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
-                raise sc.fail(
-                    where,
-                    "pitch_um",
-                    f"out of range: the single pitch deviations sum to {fpt.sum() * 1e6:.6g} µm, "
-                    "allowed a sum of 0 (they close around the gear)",
-                    spec["pitch_um"],
-                )
-            kw["single_pitch"] = fpt
-        if "runout_um" in spec:
-            kw["runout"] = sc.number(spec, "runout_um", where, allowed=positive, note=note) * 1e-6
-        if "runout_phase_deg" in spec:
-            kw["runout_phase"] = math.radians(
-                sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
-            )
-        for f in _PER_TOOTH:
-            v = _per_tooth(spec, f"{f}_um", where, z, signed, note)
-            if v is not None:
-                kw[f] = v
-        if not kw and grade is None:
-            members.append(None)
-            continue
-        kw.setdefault("single_pitch", np.zeros(z))
-        members.append(
-            GearDeviations(**kw, reference_pressure_angle=pair.transverse_pressure_angle)
-        )
-    settings = {
-        "grade": grade,
-        "seed": seed,
-        "revolutions": rev,
-        "revolutions_count": int(count),
-        "positions_per_pitch": ppp,
-    }
-    if tolerances:
-        settings["tolerances_um"] = tolerances
-    return Deviations(pinion=members[0], gear=members[1]), settings
 
 
 # --------------------------------------------------------------------------------------------
@@ -567,7 +295,7 @@ def parse_mesh_settings(data: dict, normal_module: float) -> dict:
     m = sc.subtable(data, "mesh", "")
     # default fe2d: Weber's half-plane foundation is 16–52 % too stiff against it (README,
     # docs/stiffness.md); the embedded seed cases say "weber", the seed's model
-    model = sc.choice(m, "stiffness", "mesh", ("weber", "uniform", "iso6336", "fe2d"), "fe2d")
+    model = sc.choice(m, "stiffness", "mesh", STIFFNESS_MODELS, "fe2d")
     for key, models in _MODEL_KEYS.items():  # a key of another model would be silently ignored
         if key in m and model not in models:
             raise sc.fail(
@@ -619,13 +347,12 @@ def parse_mesh_settings(data: dict, normal_module: float) -> dict:
             foundation,
         )
     return {
-        "stiffness_model": model,
-        "uniform_k0": k0,
+        "stiffness": stiffness_from_name(
+            model, uniform_k0=k0, foundation=foundation, fe2d_size=fe2d_size
+        ),
         "slices": slices,
         "positions_per_pitch": ppp,
         "smooth_width": width,
-        "foundation": foundation,
-        "fe2d_size": fe2d_size,
     }
 
 
@@ -761,339 +488,3 @@ def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:
             f"backlash (coast flanks) with {what} is not modelled: drop one of them",
             value,
         )
-
-
-# --------------------------------------------------------------------------------------------
-# plausibility (absurd but valid)
-
-
-def mean_static_deflection(case: Case) -> float:
-    """A cheap estimate of the mean static deflection δ_m = F_n / K̄ (m), without a contact solve.
-
-    K̄ is the mean mesh stiffness: k0 ε_α b / cos β_b for ``uniform``, the ISO 6336-1 c_γα b for
-    ``iso6336`` and, for ``weber``, c_γα b scaled by E / 210 GPa (the Weber profile of the
-    embedded cases agrees with it within about 25 %).
-
-    Raises:
-        SchemaError: for ``weber``, when the line load is beyond ``MAX_LINE_LOAD_N_PER_MM`` and the
-            stiffness model cannot be evaluated (Hertzian contact wider than the teeth): the
-            message names ``[operating] torque_Nm``.
-    """
-    pair = case.pair
-    b, eps = pair.face_width, pair.transverse_contact_ratio
-    if case.stiffness_model == "uniform" and case.uniform_k0 is not None:
-        k_mean = case.uniform_k0 * eps * b / math.cos(pair.base_helix_angle)
-    else:
-        k_mean = iso6336_mesh_stiffness(pair) * b
-        if case.stiffness_model in ("weber", "fe2d"):
-            k_mean *= case.youngs_modulus / 210e9
-    w = case.normal_load / b * 1e-3
-    if case.stiffness_model in ("weber", "fe2d") and w > MAX_LINE_LOAD_N_PER_MM:
-        try:
-            with np.errstate(all="ignore"):
-                stiffness_table(
-                    pair,
-                    "weber",
-                    youngs_modulus=case.youngs_modulus,
-                    poisson_ratio=case.poisson_ratio,
-                    line_load=case.nominal_line_load(),
-                    foundation=case.foundation,
-                )
-        except (ValueError, ArithmeticError):
-            raise sc.SchemaError(
-                f"[operating] torque_Nm = {case.torque:.6g}: the line load F_n/b = {w:.6g} N/mm "
-                "is far beyond what steel teeth carry (the Hertzian contact would be wider than "
-                f"the teeth), allowed up to about {MAX_LINE_LOAD_N_PER_MM:.6g} N/mm"
-            ) from None
-    return case.normal_load / k_mean
-
-
-def _mesh_mode_frequencies(case: Case, k_mean: float) -> list[float]:
-    """The natural frequencies ω (rad/s) of the torsional modes the mesh excites (a mesh strain
-    energy share >= 5 %, as the sweep's critical speeds count them), a cheap estimate without the
-    dynamic model: the pinion and gear rotations (the scene's inertias, solid discs by default)
-    coupled by the mean mesh stiffness ``k_mean`` (N/m) along V = cos β_b (r_b1, −r_b2), with the
-    motor and load rotations on their shafts where a torsional scene has them. For a lumped 3D
-    scene, the bearings lower the mesh mode somewhat below this torsional one."""
-    spec, pair = case.scene, case.pair
-    i1 = spec.pinion_inertia or disc_inertia(
-        case.density, pair.tip_radii[0], pair.pinion.face_width
-    )
-    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
-    motor = spec.model != "lumped3d" and spec.motor_inertia is not None
-    load = spec.model != "lumped3d" and spec.load_inertia is not None
-    inertias = [spec.motor_inertia] * motor + [i1, i2] + [spec.load_inertia] * load
-    n, p = len(inertias), int(motor)
-    cb = math.cos(pair.base_helix_angle)
-    v = np.zeros(n)
-    v[p], v[p + 1] = cb * pair.base_radii[0], -cb * pair.base_radii[1]
-    K = k_mean * np.outer(v, v)
-    # the shafts motor-pinion and gear-load (stiffness 1 N·m/rad unless given, as the model's)
-    for i, k, has in ((0, spec.motor_shaft, motor), (p + 1, spec.load_shaft, load)):
-        if has:
-            e = np.zeros(n)
-            e[i], e[i + 1] = 1.0, -1.0
-            K += (k or 1.0) * np.outer(e, e)
-    s = 1.0 / np.sqrt(np.asarray(inertias, float))
-    w2, U = np.linalg.eigh(s[:, None] * K * s[None, :])
-    phi = s[:, None] * U
-    elastic = w2 > 1e-9 * w2.max()
-    share = k_mean * (v @ phi) ** 2 / np.maximum(np.einsum("ij,ik,kj->j", phi, K, phi), 1e-300)
-    keep = elastic & (share >= 0.05)
-    return [math.sqrt(w) for w in w2[keep]] or [math.sqrt(w2.max())]
-
-
-def plausibility(case: Case | TrainCase) -> list[str]:
-    """One-line warnings about absurd but valid inputs (thresholds in README.md); a train's,
-    those of each mesh as a pair case, named by mesh (``meshes[k] driving-driven: ...``):
-
-    * a relief or crowning depth above ``RELIEF_RATIO_WARN`` (10) × δ_m;
-    * δ_m below ``MIN_DEFLECTION_UM`` (0.01 µm): the torque is too small to deflect the teeth;
-    * the line load F_n/b above ``MAX_LINE_LOAD_N_PER_MM`` (2000 N/mm) or δ_m above
-      ``MAX_DEFLECTION_MODULE`` (5 %) of the normal module: beyond what steel teeth carry;
-    * ``foundation = "sainsot"`` on a member whose h_f = r_f/r_int, θ_f give Sainsot coefficients
-      outside the span of the published fit (extrapolation);
-    * a Rayleigh damping whose ratio ξ = α/(2ω) + β ω/2 exceeds ``MAX_DAMPING_RATIO`` (1) at the
-      natural frequency ω of a mode the mesh excites (:func:`_mesh_mode_frequencies`).
-
-    Raises:
-        SchemaError: see :func:`mean_static_deflection`.
-    """
-    if isinstance(case, TrainCase):
-        return [
-            f"meshes[{k}] {case.mesh_name(k)}: {text}"
-            for k in range(len(case.pairs))
-            for text in plausibility(case.mesh_case(k))
-        ]
-    out = []
-    delta = mean_static_deflection(case)
-    d_um = delta * 1e6
-    w = case.normal_load / case.pair.face_width * 1e-3
-    t = f"[operating] torque_Nm = {case.torque:.6g}"
-    if not math.isfinite(delta):
-        return [f"{t}: the mean static deflection is not finite; check the material and torque"]
-    if d_um < MIN_DEFLECTION_UM:
-        out.append(
-            f"{t}: mean static deflection {d_um:.6g} µm is below {MIN_DEFLECTION_UM:g} µm; the "
-            "torque is too small for a meaningful transmission error"
-        )
-    ratio_m = delta / case.pair.normal_module
-    if w > MAX_LINE_LOAD_N_PER_MM or ratio_m > MAX_DEFLECTION_MODULE:
-        out.append(
-            f"{t}: line load F_n/b = {w:.6g} N/mm and mean static deflection {d_um:.6g} µm "
-            f"({100 * ratio_m:.3g} % of the module) are beyond what steel teeth carry "
-            f"(limits {MAX_LINE_LOAD_N_PER_MM:g} N/mm, {100 * MAX_DEFLECTION_MODULE:g} %)"
-        )
-    if d_um >= MIN_DEFLECTION_UM and case.smooth_width > SMOOTH_WIDTH_WARN * delta:
-        out.append(
-            f"[mesh] smooth_width_um = {case.smooth_width * 1e6:.6g}: above the mean static "
-            f"deflection {d_um:.6g} µm; the smooth contact law blurs the contact (its TE is offset "
-            "by several widths)"
-        )
-    scene = case.scene
-    if scene is not None and scene.damping_model == "rayleigh":
-        # the modal damping ratio of C = α M + β K, ξ = α/(2ω) + β ω/2, of each mode the mesh
-        # excites, at its natural frequency ω (not at an excitation frequency)
-        a, b = scene.rayleigh_alpha, scene.rayleigh_beta
-        omegas = _mesh_mode_frequencies(case, case.normal_load / delta)
-        xi, w_n = max((a / (2 * w) + b * w / 2, w) for w in omegas)
-        if xi > MAX_DAMPING_RATIO:
-            key = "beta_s" if b * w_n > a / w_n else "alpha_per_s"
-            value = b if key == "beta_s" else a
-            out.append(
-                f"[scene.damping] {key} = {value:.6g}: the Rayleigh damping ratio at the mesh "
-                f"mode's natural frequency ({w_n:.4g} rad/s) is ξ = {xi:.3g} (above critical, "
-                f"{MAX_DAMPING_RATIO:g}); usual ξ are 0.01 to 0.1"
-            )
-    if d_um >= MIN_DEFLECTION_UM:
-        raw = case.raw.get("modifications", {}) if isinstance(case.raw, dict) else {}
-        for tag in ("pinion", "gear"):
-            mm = getattr(case.modifications, tag)
-            own = raw.get(tag, {}) if isinstance(raw, dict) else {}
-            for key in ("tip_relief", "root_relief", "crowning", "end_relief"):
-                depth = float(getattr(mm, f"{key}_depth"))
-                if depth > RELIEF_RATIO_WARN * delta:
-                    where = f"modifications.{tag}" if key in own else "modifications"
-                    out.append(
-                        f"[{where}] {key}.depth_um = {depth * 1e6:.6g}: {depth / delta:.3g} × the "
-                        f"mean static deflection {d_um:.6g} µm (more than {RELIEF_RATIO_WARN:g} ×); "
-                        "the relief removes most of the contact"
-                    )
-    if case.stiffness_model == "weber" and case.foundation == "sainsot":
-        for tag, fit in zip(("pinion", "gear"), sainsot_fit_check(case.pair)):
-            if fit["outside"]:
-                bore = (case.pair.pinion, case.pair.gear)[tag == "gear"].bore_radius
-                given = "default 0.5 × root radius" if bore is None else "given"
-                coeffs = ", ".join(f"{k}* = {fit['coefficients'][k]:.4g}" for k in fit["outside"])
-                out.append(
-                    f"[{tag}] bore_radius_mm ({given}): h_f = r_f/r_int = {fit['h_f']:.4g}, "
-                    f"θ_f = {fit['theta_f']:.4g} rad lie outside the range of the Sainsot fit "
-                    f"({coeffs} beyond the fitted span); [mesh] foundation = 'sainsot' extrapolates"
-                )
-    return list(dict.fromkeys(out))
-
-
-# --------------------------------------------------------------------------------------------
-# [optimise]
-
-_OPTIMISE_KEYS = {
-    "objective",
-    "vars",
-    "torques",
-    "reduce",
-    "method",
-    "max_iterations",
-    "bounds",
-    "lp_order",
-    "speeds",
-}
-_DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
-
-
-def parse_optimise(table) -> dict:
-    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options) and return it
-    normalised: ``vars`` a list of names, ``torques`` ``[start, stop, n]`` (float, float, int),
-    ``bounds`` ``{name: (lo, hi)}`` (E* for depths, Γ for extents), other keys as given.
-
-    Raises:
-        SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
-            with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
-            [1, 64] or with an objective other than ``line_load_lp``.
-    """
-    w = "optimise"
-    if not isinstance(table, dict):
-        raise sc.fail("", "optimise", "must be a table", table)
-    sc.check_keys(table, _OPTIMISE_KEYS, w)
-    out: dict[str, Any] = {}
-    if "objective" in table:
-        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES)
-    if "reduce" in table:
-        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"))
-    if "method" in table:
-        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"))
-    if "max_iterations" in table:
-        out["max_iterations"] = sc.number(
-            table, "max_iterations", w, allowed="[1, 1e+06]", integer=True
-        )
-
-    if "lp_order" in table:
-        out["lp_order"] = float(sc.number(table, "lp_order", w, allowed="[1, 64]"))
-        if out.get("objective", "line_load_lp") != "line_load_lp":
-            raise sc.fail(
-                w,
-                "lp_order",
-                f"applies to objective = 'line_load_lp' only, not {out['objective']!r}",
-                table["lp_order"],
-            )
-
-    def kind(name: str):
-        parts = name.split(".")
-        base = ".".join(parts[1:]) if parts[0] in ("pinion", "gear") else name
-        return VARIABLES[base][1] if base in VARIABLES else None
-
-    allowed_vars = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
-    names = list(_DEFAULT_VARS)
-    if "vars" in table:
-        v = table["vars"]
-        if isinstance(v, str):
-            v = [x.strip() for x in v.split(",") if x.strip()]
-        if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
-            raise sc.fail(w, "vars", "must be a non-empty array of variable names", table["vars"])
-        for x in v:
-            if kind(x) is None:
-                raise sc.fail(w, "vars", f"unknown variable {sc.fmt(x)}, allowed {allowed_vars}", v)
-        if len(set(v)) != len(v):
-            raise sc.fail(w, "vars", "names a variable twice", v)
-        out["vars"] = names = list(v)
-    if "torques" in table:
-        v = table["torques"]
-        ok = (
-            isinstance(v, list)
-            and len(v) == 3
-            and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
-            and all(sc.finite(x) for x in v)
-            and 0 < v[0] < v[1]
-            and float(v[2]).is_integer()
-            and 2 <= v[2] <= 10000
-        )
-        if not ok:
-            raise sc.fail(
-                w,
-                "torques",
-                "allowed [start, stop, n] in N·m with 0 < start < stop and an integer n in "
-                "[2, 10000]",
-                v,
-            )
-        if out.get("objective", "robust_te_rms") != "robust_te_rms":
-            raise sc.fail(
-                w,
-                "torques",
-                f"applies to objective = 'robust_te_rms' only, not {out['objective']!r}",
-                v,
-            )
-        out["torques"] = [float(v[0]), float(v[1]), int(v[2])]
-    # the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
-    if "speeds" in table:
-        v = table["speeds"]
-        ok = (
-            isinstance(v, list)
-            and len(v) == 3
-            and all(sc.finite(x) for x in v)
-            and 0 < v[0] <= v[1] <= 1e5
-            and float(v[2]).is_integer()
-            and 1 <= v[2] <= 1000
-            and (v[0] < v[1] or v[2] == 1)
-        )
-        if not ok:
-            raise sc.fail(
-                w,
-                "speeds",
-                "allowed [start, stop, n]: pinion speeds in rad/s with 0 < start < stop <= 1e+05 "
-                "and an integer n in [1, 1000] (start = stop when n = 1)",
-                v,
-            )
-        if out.get("objective") != "dynamic_factor":
-            raise sc.fail(
-                w,
-                "speeds",
-                "applies to objective = 'dynamic_factor' only, not "
-                f"{out.get('objective', 'te_rms')!r}",
-                v,
-            )
-        out["speeds"] = [float(v[0]), float(v[1]), int(v[2])]
-    elif out.get("objective") == "dynamic_factor":
-        raise sc.fail(
-            w,
-            "objective",
-            "'dynamic_factor' needs speeds = [start, stop, n] (its pinion speed band in rad/s, "
-            "e.g. [2800.0, 3200.0, 3])",
-            "dynamic_factor",
-        )
-    if "bounds" in table:
-        b = sc.subtable(table, "bounds", w)
-        bounds = {}
-        for name, pair in b.items():
-            k = kind(name)
-            if k is None:
-                raise sc.fail(
-                    f"{w}.bounds", name, f"unknown variable, allowed {allowed_vars}", pair
-                )
-            if name not in names:
-                raise sc.fail(
-                    f"{w}.bounds", name, f"is not a design variable (vars = {sc.fmt(names)})", pair
-                )
-            lo_ok = "0 < lo < hi < 1" if k != "depth" else "0 <= lo < hi"
-            lohi = sc.number_list(b, name, f"{w}.bounds", length=2)
-            lo, hi = lohi
-            good = lo < hi and (lo >= 0 if k == "depth" else 0 < lo and hi < 1)
-            if not good:
-                unit = "E* = depth/δ_m" if k == "depth" else "Γ"
-                raise sc.fail(
-                    f"{w}.bounds",
-                    name,
-                    f"out of range, allowed [lo, hi] with {lo_ok} ({unit})",
-                    pair,
-                )
-            bounds[name] = (lo, hi)
-        out["bounds"] = bounds
-    return out

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 
@@ -18,14 +19,26 @@ def write_json(path, data) -> None:
         f.write(text)
 
 
+@functools.singledispatch
 def _nan_to_none(v):
-    if isinstance(v, float) and v != v:
-        return None
-    if isinstance(v, dict):
-        return {k: _nan_to_none(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [_nan_to_none(x) for x in v]
+    """``v`` with every float NaN, at any depth of its dicts, lists and tuples, as None."""
     return v
+
+
+@_nan_to_none.register(float)
+def _float_nan_to_none(v):
+    return None if v != v else v
+
+
+@_nan_to_none.register(dict)
+def _dict_nan_to_none(v):
+    return {k: _nan_to_none(x) for k, x in v.items()}
+
+
+@_nan_to_none.register(list)
+@_nan_to_none.register(tuple)
+def _list_nan_to_none(v):
+    return [_nan_to_none(x) for x in v]
 
 
 def write_csv(path, header, columns) -> None:

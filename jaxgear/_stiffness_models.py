@@ -1,0 +1,316 @@
+"""Mesh-stiffness models as objects: the abstract :class:`AbstractStiffness` and its concrete
+:class:`Uniform`, :class:`ISO6336`, :class:`Weber` and :class:`FE2D`, and
+:func:`stiffness_table`, which tabulates any of them on the path of contact (docs/stiffness.md).
+
+A new model is one subclass with a ``name`` and a :meth:`~AbstractStiffness.profile` (the
+stiffness per unit contact-line length at base-plane coordinates s); the case file's names
+("uniform", "iso6336", "weber", "fe2d") map to these objects in :mod:`jaxgear.io` only.
+Everything here is NumPy, evaluated once: a constant for JAX (no gradient through the tables).
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from typing import ClassVar
+
+import equinox as eqx
+import numpy as np
+
+from ._geometry import GearPair
+from ._stiffness import (
+    AbstractFoundation,
+    NoFoundation,
+    WeberFoundation,
+    bore_radius,
+    iso6336_mesh_stiffness,
+    member_compliance,
+    tooth_geometry,
+    weber_profile,
+)
+from ._util import check_instance, check_integer, check_real
+
+__all__ = [
+    "FE2D",
+    "ISO6336",
+    "AbstractStiffness",
+    "MeshConditions",
+    "Uniform",
+    "Weber",
+    "stiffness_table",
+]
+
+_E_REFERENCE = 210e9  # Pa: the modulus the plausibility estimate of Weber/FE2D scales from
+
+
+class MeshConditions(eqx.Module):
+    """The material and load a stiffness profile is evaluated at (NumPy floats, SI).
+
+    Attributes:
+        youngs_modulus: E (Pa). poisson_ratio: ν (-).
+        line_load: transverse load per unit face width (N/m), the Hertzian term's (1.1).
+        specific_load: F_t K_A / b (N/m) of the ISO 6336-1 low-load factor; ``None``: at or
+            above 100 N/mm (no reduction).
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.3
+    line_load: float = 2e5
+    specific_load: float | None = None
+
+
+class AbstractStiffness(eqx.Module):
+    """A mesh-stiffness model: k(s), the stiffness per unit contact-line length (N/m per m,
+    flank-normal, in the base plane) along the path of contact.
+
+    Subclasses set ``name`` (the word summaries print) and implement :meth:`profile`; ``hertz``
+    says the profile depends on the line load through a Hertzian approach (an error then points
+    at the load). :meth:`without_body`, :meth:`mean_estimate` and :meth:`summary` have defaults.
+    """
+
+    name: eqx.AbstractClassVar[str]
+    hertz: ClassVar[bool] = False
+
+    @abc.abstractmethod
+    def profile(self, pair: GearPair, s: np.ndarray, conditions: MeshConditions) -> np.ndarray:
+        """k(s) (N/m per m of contact line) at base-plane coordinates ``s`` (m), shape (n,),
+        s ∈ [0, g_α]; returns shape (n,)."""
+
+    def without_body(self, flexible: tuple[bool, bool]) -> AbstractStiffness:
+        """The model for a pair whose ``flexible`` members (pinion, gear) are condensed FE bodies
+        that supply their body compliance (seed remark after (2.31)): the same model unless it
+        has a foundation term."""
+        return self
+
+    def mean_estimate(self, pair: GearPair, youngs_modulus: float) -> float:
+        """A cheap estimate of the mean mesh stiffness (N/m) without the table, for plausibility
+        checks: ISO 6336-1 c_γα b scaled by E / 210 GPa (the Weber profile of the embedded cases
+        agrees with it within about 25 %)."""
+        return iso6336_mesh_stiffness(pair) * pair.face_width * youngs_modulus / _E_REFERENCE
+
+    def summary(self) -> dict:
+        """``summary.json``'s mesh-stiffness entries: ``stiffness`` (:attr:`name`),
+        ``foundation`` (the case file's default, "weber", for a model without one, as summaries
+        have always carried it) and ``fe2d_size_m`` (None)."""
+        return {"stiffness": self.name, "foundation": WeberFoundation.name, "fe2d_size_m": None}
+
+
+def _check_foundation(foundation, where: str) -> None:
+    check_instance(
+        "foundation",
+        foundation,
+        AbstractFoundation,
+        "a jaxgear foundation (WeberFoundation(), SainsotFoundation(), NoFoundation(), "
+        "MemberFoundations(pinion, gear))",
+        where,
+    )
+
+
+class Uniform(AbstractStiffness):
+    """A given constant stiffness per unit contact-line length.
+
+    Attributes:
+        k0: k (N/m per m of contact line, i.e. N/m²) > 0.
+
+    Raises:
+        ValueError: ``k0`` not a finite number > 0.
+    """
+
+    k0: float
+    name: ClassVar[str] = "uniform"
+
+    def __check_init__(self):
+        try:
+            ok = 0 < float(self.k0) < math.inf
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ValueError(
+                f"Uniform: k0 = {self.k0!r} N/m² is out of range: allowed a finite value > 0 "
+                "(the case file's [mesh] stiffness_per_length_N_per_mm_per_um, required with "
+                "stiffness = 'uniform')"
+            )
+
+    def profile(self, pair, s, conditions):
+        return np.full_like(s, self.k0)
+
+    def mean_estimate(self, pair, youngs_modulus):
+        """k0 ε_α b / cos β_b (N/m)."""
+        eps = pair.transverse_contact_ratio
+        return self.k0 * eps * pair.face_width / math.cos(pair.base_helix_angle)
+
+
+class ISO6336(AbstractStiffness):
+    """ISO 6336-1 method B: c_γα (:func:`~jaxgear.iso6336_mesh_stiffness`, at the conditions'
+    E and specific load) as a constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``, so
+    that the mean mesh stiffness times cos² β_b equals c_γα b."""
+
+    name: ClassVar[str] = "iso6336"
+
+    def profile(self, pair, s, conditions):
+        k0 = iso6336_mesh_stiffness(pair, conditions.youngs_modulus, conditions.specific_load) / (
+            pair.transverse_contact_ratio * math.cos(pair.base_helix_angle)
+        )
+        return np.full_like(s, k0)
+
+    def mean_estimate(self, pair, youngs_modulus):
+        """c_γα b (N/m) at the standard's steel modulus."""
+        return iso6336_mesh_stiffness(pair) * pair.face_width
+
+
+class Weber(AbstractStiffness):
+    """The Weber–Banaschek thin-slice model, seed (1.1)–(1.3) (:func:`~jaxgear.weber_profile`).
+
+    Attributes:
+        foundation: the gear-body term (:class:`~jaxgear.WeberFoundation` by default,
+            :class:`~jaxgear.SainsotFoundation`, :class:`~jaxgear.NoFoundation`, or a
+            :class:`~jaxgear.MemberFoundations` of one per member).
+
+    Raises:
+        ValueError: ``foundation`` not a foundation object.
+    """
+
+    foundation: AbstractFoundation = WeberFoundation()
+    name: ClassVar[str] = "weber"
+    hertz: ClassVar[bool] = True
+
+    def __check_init__(self):
+        _check_foundation(self.foundation, "Weber")
+
+    def profile(self, pair, s, conditions):
+        c = conditions
+        return weber_profile(
+            pair, s, c.youngs_modulus, c.poisson_ratio, c.line_load, self.foundation
+        )
+
+    def without_body(self, flexible):
+        return Weber(self.foundation.without_body(flexible))
+
+    def summary(self):
+        return {**super().summary(), "foundation": self.foundation.name}
+
+
+class FE2D(AbstractStiffness):
+    """Plane-strain FE compliance of each member's tooth + body (:func:`fem_prep.tooth_compliance`,
+    cached by input hash) plus Weber's Hertzian approach (1.1), exactly as
+    :func:`~jaxgear.weber_profile`'s.
+
+    Attributes:
+        size: FE element size (m) > 0; ``None``: m_n / 6.
+        foundation: a member whose foundation is :class:`~jaxgear.NoFoundation` gets its
+            tooth-only FE compliance (a condensed FE body supplies the rest); any other gives the
+            FE tooth + body down to the bore (:func:`~jaxgear.bore_radius`).
+
+    Raises:
+        ValueError: ``size`` not a finite number > 0, ``foundation`` not a foundation object.
+    """
+
+    size: float | None = None
+    foundation: AbstractFoundation = WeberFoundation()
+    name: ClassVar[str] = "fe2d"
+    hertz: ClassVar[bool] = True
+
+    def __check_init__(self):
+        if self.size is not None:
+            check_real("size", self.size, "m", lo=0.0, lo_open=True, shape=(), where="FE2D")
+        _check_foundation(self.foundation, "FE2D")
+
+    def profile(self, pair, s, conditions):
+        import fem_prep  # lazy: SciPy and scikit-fem only when the FE model runs
+
+        E, nu, cb = conditions.youngs_modulus, conditions.poisson_ratio, math.cos(
+            pair.base_helix_angle
+        )
+        rho = [pair.roll_distance(s, i) for i in (0, 1)]
+        c = np.zeros_like(s)
+        for i in (0, 1):
+            fe = fem_prep.tooth_compliance(
+                tooth_geometry(pair, i),
+                rim_radius=bore_radius(pair, i),
+                youngs_modulus=E,
+                poisson_ratio=nu,
+                size=self.size,
+                progress=None,
+            )
+            c = c + fe(rho[i], tooth_only=not self.foundation.member(i).fe_body)
+        # Weber's Hertzian approach, from weber_profile's own code path: 1/k_t − (tooth terms)
+        none = NoFoundation()
+        c_none = sum(member_compliance(pair, i, rho[i], E, nu, none) for i in (0, 1))
+        k_none = weber_profile(pair, s, E, nu, conditions.line_load, none)
+        c_hertz = 1.0 / (cb * k_none) - c_none
+        return 1.0 / (c + c_hertz) / cb
+
+    def without_body(self, flexible):
+        return FE2D(self.size, self.foundation.without_body(flexible))
+
+    def summary(self):
+        return {
+            "stiffness": self.name,
+            "foundation": self.foundation.name,
+            "fe2d_size_m": self.size,
+        }
+
+
+def stiffness_table(
+    pair: GearPair,
+    model: AbstractStiffness,
+    *,
+    youngs_modulus: float = 210e9,
+    poisson_ratio: float = 0.3,
+    line_load: float = 2e5,
+    n_points: int = 129,
+    specific_load: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Tabulate k(s) (N/m²) of ``model`` on ``n_points`` equally spaced s ∈ [0, g_α].
+
+    Args:
+        pair: the gear pair.
+        model: the stiffness model, e.g. ``jaxgear.Weber(jaxgear.SainsotFoundation())``.
+        youngs_modulus: E (Pa); poisson_ratio: ν.
+        line_load: transverse load per unit face width (N/m) of the Hertzian term (``Weber``,
+            ``FE2D``).
+        n_points: table points (an integer >= 2).
+        specific_load: F_t K_A / b (N/m) of the ISO 6336-1 low-load factor below 100 N/mm
+            (``ISO6336``; ``None``: no reduction); :meth:`jaxgear.Case.mesh_model` passes the
+            case's nominal F_t / b (K_A = 1).
+
+    Returns:
+        ``(s, k)``: s (m), shape (n_points,); k(s) (N/m per m of contact line), (n_points,).
+
+    Raises:
+        ValueError: a ``model`` that is not an :class:`AbstractStiffness`, a ``pair`` that is not
+            a :class:`GearPair`, a material, load or size that is not a finite number in range,
+            ``n_points`` not an integer >= 2 (one line naming the argument); a model that gives
+            non-positive or non-finite values (pointed or undercut teeth, or a load whose
+            Hertzian contact is wider than the teeth).
+    """
+    where = "stiffness_table"
+    check_instance("pair", pair, GearPair, "a jaxgear.GearPair", where)
+    check_instance(
+        "model",
+        model,
+        AbstractStiffness,
+        "a jaxgear stiffness model (Uniform(k0), ISO6336(), Weber(foundation), FE2D(size))",
+        where,
+    )
+    check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, shape=(), where=where)
+    check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, shape=(), where=where)
+    check_real("line_load", line_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where)
+    check_integer("n_points", n_points, 2)
+    if specific_load is not None:
+        check_real(
+            "specific_load", specific_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where
+        )
+    s = np.linspace(0.0, pair.path_of_contact, n_points)
+    conditions = MeshConditions(youngs_modulus, poisson_ratio, line_load, specific_load)
+    k = model.profile(pair, s, conditions)
+    if not np.all(np.isfinite(k)) or np.any(k <= 0):
+        load = (
+            f" or the load (line load {line_load * 1e-3:.6g} N/mm: a Hertzian contact wider "
+            "than the teeth)"
+        )
+        raise ValueError(
+            f"mesh stiffness model {model.name!r} gave non-positive or non-finite values; "
+            "check the tooth geometry (pointed or undercut teeth)" + load * model.hertz
+        )
+    return s, k

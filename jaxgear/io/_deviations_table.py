@@ -1,0 +1,162 @@
+"""``[deviations]`` of a case file: manufacturing deviations per tooth (ISO 1328-1), drawn from a
+grade or given, and their run settings."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from fem_prep import schema as sc
+
+from .._deviations import (
+    ISO1328_SCOPE,
+    Deviations,
+    GearDeviations,
+    iso1328_tolerances,
+    sample_gear_deviations,
+)
+from .._geometry import GearPair
+from ._modifications_table import _depth_range
+
+__all__ = ["parse_deviations"]
+
+_DEV_KEYS = {"grade", "seed", "revolutions", "positions_per_pitch", "pinion", "gear"}
+_DEV_MEMBER_KEYS = {
+    "pitch_um",
+    "runout_um",
+    "runout_phase_deg",
+    "profile_slope_um",
+    "profile_form_um",
+    "helix_slope_um",
+    "helix_form_um",
+}
+_PER_TOOTH = ("profile_slope", "profile_form", "helix_slope", "helix_form")
+#: tolerance on the closure Σ f_pt = 0 of given single pitch deviations (µm)
+PITCH_CLOSURE_UM = 1e-6
+#: the most positions a deviation span may ask for (revolutions × z1 × positions_per_pitch)
+MAX_SPAN_POSITIONS = 2_000_000
+
+
+def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", note: str = ""):
+    """A number (every tooth) or an array of one number per tooth, µm → m (None: absent)."""
+    if key not in spec:
+        return None
+    v = spec[key]
+    if isinstance(v, list):
+        return np.asarray(sc.number_list(spec, key, where, length=z, allowed=allowed)) * 1e-6
+    return sc.number(spec, key, where, allowed=allowed, note=note) * 1e-6
+
+
+def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
+    """``[deviations]`` → (:class:`Deviations`, the run settings).
+
+    ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every deviation of both gears
+    (:func:`~jaxgear.sample_gear_deviations`, NumPy ``default_rng(seed)``: pinion first, then
+    gear); ``[deviations.pinion]`` / ``[deviations.gear]`` give values (µm) that replace the drawn
+    ones key by key, or, without a grade, are the only deviations (the others 0).
+
+    Settings returned (case-file units): ``grade`` (or None), ``seed``, ``revolutions`` (pinion
+    revolutions of the quasi-static span, an integer or ``"hunting"``), ``revolutions_count`` (the
+    integer), ``positions_per_pitch``, ``tolerances_um`` per gear (with a grade).
+
+    Raises:
+        SchemaError: unknown keys, wrong types, values out of range, arrays of another length
+            than the gear's teeth, given single pitch deviations that do not close (Σ ≠ 0).
+    """
+    if not isinstance(table, dict):
+        raise sc.fail("", "deviations", "must be a table", table)
+    sc.check_keys(table, _DEV_KEYS, "deviations")
+    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
+    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
+    rev = table.get("revolutions", "hunting")
+    z1, z2 = pair.pinion.teeth, pair.gear.teeth
+    if rev == "hunting":
+        count = z2 // math.gcd(z1, z2)
+    else:
+        if isinstance(rev, str):
+            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
+        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
+        rev = count
+    ppp = sc.number(table, "positions_per_pitch", "deviations", 16, allowed=">= 2", integer=True)
+    if count * z1 * ppp > MAX_SPAN_POSITIONS:
+        raise sc.fail(
+            "deviations",
+            "revolutions",
+            f"out of range: {count} pinion revolutions × {z1} teeth × {ppp} positions per pitch "
+            f"is {count * z1 * ppp} positions, allowed <= {MAX_SPAN_POSITIONS} (lower "
+            "positions_per_pitch or give a number of revolutions)",
+            rev,
+        )
+    rng = np.random.default_rng(seed)
+    members, tolerances = [], {}
+    # deviations up to one normal module (µm): beyond, the flank is no longer a tooth's
+    signed, note = _depth_range(pair.normal_module * 1e3, signed=True)
+    positive, _ = _depth_range(pair.normal_module * 1e3)
+    lo_z, hi_z = ISO1328_SCOPE["teeth"]
+    for tag, z in (("pinion", z1), ("gear", z2)):
+        if grade is not None and not lo_z <= z <= hi_z:
+            raise sc.fail(
+                tag,
+                "teeth",
+                f"out of range with [deviations] grade = {grade}, allowed [{lo_z}, {hi_z}] (the "
+                "scope of ISO 1328-1, which the grade's tolerances come from; give the "
+                f"deviations in [deviations.{tag}] without a grade instead)",
+                z,
+            )
+    for tag, member, z in (("pinion", pair.pinion, z1), ("gear", pair.gear, z2)):
+        spec = sc.subtable(table, tag, "deviations", _DEV_MEMBER_KEYS)
+        where = f"deviations.{tag}"
+        kw: dict[str, Any] = {}
+        if grade is not None:
+            d = z * pair.normal_module / math.cos(pair.helix_angle)
+            try:  # the gear's own reference diameter and face width (tolerances are per gear)
+                tol = iso1328_tolerances(pair.normal_module, d, member.face_width, grade)
+            except ValueError as err:
+                raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
+            tolerances[tag] = tol.as_um()
+            drawn = sample_gear_deviations(rng, z, tol, pair.transverse_pressure_angle)
+            kw = {
+                f: np.asarray(getattr(drawn, f))
+                for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
+            }
+        if "pitch_um" in spec:
+            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z, allowed=signed))
+            fpt = fpt * 1e-6
+            if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
+                raise sc.fail(
+                    where,
+                    "pitch_um",
+                    f"out of range: the single pitch deviations sum to {fpt.sum() * 1e6:.6g} µm, "
+                    "allowed a sum of 0 (they close around the gear)",
+                    spec["pitch_um"],
+                )
+            kw["single_pitch"] = fpt
+        if "runout_um" in spec:
+            kw["runout"] = sc.number(spec, "runout_um", where, allowed=positive, note=note) * 1e-6
+        if "runout_phase_deg" in spec:
+            kw["runout_phase"] = math.radians(
+                sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
+            )
+        for f in _PER_TOOTH:
+            v = _per_tooth(spec, f"{f}_um", where, z, signed, note)
+            if v is not None:
+                kw[f] = v
+        if not kw and grade is None:
+            members.append(None)
+            continue
+        kw.setdefault("single_pitch", np.zeros(z))
+        members.append(
+            GearDeviations(**kw, reference_pressure_angle=pair.transverse_pressure_angle)
+        )
+    settings = {
+        "grade": grade,
+        "seed": seed,
+        "revolutions": rev,
+        "revolutions_count": int(count),
+        "positions_per_pitch": ppp,
+    }
+    if tolerances:
+        settings["tolerances_um"] = tolerances
+    return Deviations(pinion=members[0], gear=members[1]), settings

@@ -1,0 +1,115 @@
+"""``[modifications]`` of a case file: the flank modifications of both members (or one table per
+member), depths in µm within one normal module."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+import numpy as np
+
+from fem_prep import schema as sc
+
+from .._modifications import MemberModification, Modifications
+
+__all__ = ["parse_modifications"]
+
+MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal module
+_MOD_KEYS = {
+    "tip_relief": {"depth_um", "extent", "shape"},
+    "root_relief": {"depth_um", "extent", "shape"},
+    "crowning": {"depth_um"},
+    "end_relief": {"depth_um", "extent", "edge"},
+    "helix_slope": {"deviation_um"},
+    "profile_deviation": {"roll_fraction", "deviation_um"},
+}
+
+def _depth_range(module_mm: float | None, signed: bool = False) -> tuple[str, str]:
+    """The allowed range (file units, µm) of a modification or deviation depth and its note:
+    up to ``MAX_DEPTH_MODULE`` normal modules (deeper, the flank is no longer a tooth's)."""
+    if module_mm is None:
+        return (">= 0" if not signed else "any"), ""
+    hi = MAX_DEPTH_MODULE * module_mm * 1e3
+    rng = f"[{-hi:.6g}, {hi:.6g}]" if signed else f"[0, {hi:.6g}]"
+    return rng, f" (µm; up to {MAX_DEPTH_MODULE:g} × normal_module_mm)"
+
+
+def _member_mods(
+    entries: dict[str, tuple[Any, str]], module_mm: float | None = None
+) -> MemberModification:
+    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m), each depth
+    within one normal module ``module_mm`` (mm) of the member."""
+    kw: dict[str, Any] = {}
+    depth_rng, depth_note = _depth_range(module_mm)
+    signed_rng, _ = _depth_range(module_mm, signed=True)
+    for name, (spec, where) in entries.items():
+        if not isinstance(spec, dict):
+            raise sc.fail(where, name, "must be a table, e.g. { depth_um = 10.0 }", spec)
+        w = f"{where}.{name}"
+        sc.check_keys(spec, _MOD_KEYS[name], w)
+        if name in ("tip_relief", "root_relief"):
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
+            extent = sc.number(
+                spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
+            )
+            shape = sc.choice(spec, "shape", w, ("linear", "parabolic"), "linear")
+            kw.update(
+                {
+                    f"{name}_depth": depth * 1e-6,
+                    f"{name}_extent": extent,
+                    f"{name}_shape": shape,
+                }
+            )
+        elif name == "crowning":
+            kw["crowning_depth"] = (
+                sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note) * 1e-6
+            )
+        elif name == "end_relief":
+            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
+            extent = sc.number(
+                spec,
+                "extent",
+                w,
+                0.1,
+                allowed="(0, 0.5]",
+                note=" (fraction of the face width at each end)",
+            )
+            edge = sc.choice(spec, "edge", w, ("both", "z0", "z1"), "both")
+            kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
+        elif name == "helix_slope":
+            kw["helix_slope_deviation"] = (
+                sc.number(spec, "deviation_um", w, 0.0, allowed=signed_rng, note=depth_note) * 1e-6
+            )
+        elif name == "profile_deviation":
+            u = sc.number_list(spec, "roll_fraction", w, min_length=2, allowed="[0, 1]")
+            d = sc.number_list(spec, "deviation_um", w, min_length=2, allowed=signed_rng)
+            if len(u) != len(d):
+                raise sc.fail(w, "deviation_um", f"needs one value per roll_fraction ({len(u)})", d)
+            if any(b <= a for a, b in itertools.pairwise(u)):
+                raise sc.fail(w, "roll_fraction", "must ascend strictly within [0, 1]", u)
+            kw.update(profile_deviation_roll=np.asarray(u), profile_deviation=np.asarray(d) * 1e-6)
+    return MemberModification(**kw)
+
+
+def parse_modifications(table: dict, module_mm: float | None = None) -> Modifications:
+    """``[modifications]`` → :class:`Modifications`.
+
+    Entries directly under ``[modifications]`` apply to each member; entries under
+    ``[modifications.pinion]`` / ``[modifications.gear]`` replace them for that member.
+
+    Raises:
+        SchemaError: unknown modification or key, wrong type, value out of range.
+    """
+    if not isinstance(table, dict):
+        raise sc.fail("", "modifications", "must be a table", table)
+    allowed = {*_MOD_KEYS, "pinion", "gear"}
+    sc.check_keys(table, allowed, "modifications")
+    common = {k: (v, "modifications") for k, v in table.items() if k not in ("pinion", "gear")}
+    members = []
+    for tag in ("pinion", "gear"):
+        own = sc.subtable(table, tag, "modifications", _MOD_KEYS)
+        where = f"modifications.{tag}"
+        members.append(
+            _member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module_mm)
+        )
+    return Modifications(pinion=members[0], gear=members[1])

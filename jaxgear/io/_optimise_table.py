@@ -1,0 +1,173 @@
+"""``[optimise]`` of a case file: the settings of ``jaxgear optimise`` (objective, variables,
+torques, bounds), checked and normalised."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fem_prep import schema as sc
+from optimise import OBJECTIVES, VARIABLES
+
+__all__ = ["parse_optimise"]
+
+_OPTIMISE_KEYS = {
+    "objective",
+    "vars",
+    "torques",
+    "reduce",
+    "method",
+    "max_iterations",
+    "bounds",
+    "lp_order",
+    "speeds",
+}
+_DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
+
+
+def parse_optimise(table) -> dict:
+    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options) and return it
+    normalised: ``vars`` a list of names, ``torques`` ``[start, stop, n]`` (float, float, int),
+    ``bounds`` ``{name: (lo, hi)}`` (E* for depths, Γ for extents), other keys as given.
+
+    Raises:
+        SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
+            with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
+            [1, 64] or with an objective other than ``line_load_lp``.
+    """
+    w = "optimise"
+    if not isinstance(table, dict):
+        raise sc.fail("", "optimise", "must be a table", table)
+    sc.check_keys(table, _OPTIMISE_KEYS, w)
+    out: dict[str, Any] = {}
+    if "objective" in table:
+        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES)
+    if "reduce" in table:
+        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"))
+    if "method" in table:
+        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"))
+    if "max_iterations" in table:
+        out["max_iterations"] = sc.number(
+            table, "max_iterations", w, allowed="[1, 1e+06]", integer=True
+        )
+
+    if "lp_order" in table:
+        out["lp_order"] = float(sc.number(table, "lp_order", w, allowed="[1, 64]"))
+        if out.get("objective", "line_load_lp") != "line_load_lp":
+            raise sc.fail(
+                w,
+                "lp_order",
+                f"applies to objective = 'line_load_lp' only, not {out['objective']!r}",
+                table["lp_order"],
+            )
+
+    def kind(name: str):
+        parts = name.split(".")
+        base = ".".join(parts[1:]) if parts[0] in ("pinion", "gear") else name
+        return VARIABLES[base][1] if base in VARIABLES else None
+
+    allowed_vars = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
+    names = list(_DEFAULT_VARS)
+    if "vars" in table:
+        v = table["vars"]
+        if isinstance(v, str):
+            v = [x.strip() for x in v.split(",") if x.strip()]
+        if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
+            raise sc.fail(w, "vars", "must be a non-empty array of variable names", table["vars"])
+        for x in v:
+            if kind(x) is None:
+                raise sc.fail(w, "vars", f"unknown variable {sc.fmt(x)}, allowed {allowed_vars}", v)
+        if len(set(v)) != len(v):
+            raise sc.fail(w, "vars", "names a variable twice", v)
+        out["vars"] = names = list(v)
+    if "torques" in table:
+        v = table["torques"]
+        ok = (
+            isinstance(v, list)
+            and len(v) == 3
+            and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+            and all(sc.finite(x) for x in v)
+            and 0 < v[0] < v[1]
+            and float(v[2]).is_integer()
+            and 2 <= v[2] <= 10000
+        )
+        if not ok:
+            raise sc.fail(
+                w,
+                "torques",
+                "allowed [start, stop, n] in N·m with 0 < start < stop and an integer n in "
+                "[2, 10000]",
+                v,
+            )
+        if out.get("objective", "robust_te_rms") != "robust_te_rms":
+            raise sc.fail(
+                w,
+                "torques",
+                f"applies to objective = 'robust_te_rms' only, not {out['objective']!r}",
+                v,
+            )
+        out["torques"] = [float(v[0]), float(v[1]), int(v[2])]
+    # the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
+    if "speeds" in table:
+        v = table["speeds"]
+        ok = (
+            isinstance(v, list)
+            and len(v) == 3
+            and all(sc.finite(x) for x in v)
+            and 0 < v[0] <= v[1] <= 1e5
+            and float(v[2]).is_integer()
+            and 1 <= v[2] <= 1000
+            and (v[0] < v[1] or v[2] == 1)
+        )
+        if not ok:
+            raise sc.fail(
+                w,
+                "speeds",
+                "allowed [start, stop, n]: pinion speeds in rad/s with 0 < start < stop <= 1e+05 "
+                "and an integer n in [1, 1000] (start = stop when n = 1)",
+                v,
+            )
+        if out.get("objective") != "dynamic_factor":
+            raise sc.fail(
+                w,
+                "speeds",
+                "applies to objective = 'dynamic_factor' only, not "
+                f"{out.get('objective', 'te_rms')!r}",
+                v,
+            )
+        out["speeds"] = [float(v[0]), float(v[1]), int(v[2])]
+    elif out.get("objective") == "dynamic_factor":
+        raise sc.fail(
+            w,
+            "objective",
+            "'dynamic_factor' needs speeds = [start, stop, n] (its pinion speed band in rad/s, "
+            "e.g. [2800.0, 3200.0, 3])",
+            "dynamic_factor",
+        )
+    if "bounds" in table:
+        b = sc.subtable(table, "bounds", w)
+        bounds = {}
+        for name, pair in b.items():
+            k = kind(name)
+            if k is None:
+                raise sc.fail(
+                    f"{w}.bounds", name, f"unknown variable, allowed {allowed_vars}", pair
+                )
+            if name not in names:
+                raise sc.fail(
+                    f"{w}.bounds", name, f"is not a design variable (vars = {sc.fmt(names)})", pair
+                )
+            lo_ok = "0 < lo < hi < 1" if k != "depth" else "0 <= lo < hi"
+            lohi = sc.number_list(b, name, f"{w}.bounds", length=2)
+            lo, hi = lohi
+            good = lo < hi and (lo >= 0 if k == "depth" else 0 < lo and hi < 1)
+            if not good:
+                unit = "E* = depth/δ_m" if k == "depth" else "Γ"
+                raise sc.fail(
+                    f"{w}.bounds",
+                    name,
+                    f"out of range, allowed [lo, hi] with {lo_ok} ({unit})",
+                    pair,
+                )
+            bounds[name] = (lo, hi)
+        out["bounds"] = bounds
+    return out
