@@ -210,7 +210,7 @@ def test_public_api_is_the_model():
 
 
 INSTALLED = ("jaxgear", "fem_prep", "optimise")
-LOCATOR = ROOT / "jaxgear" / "cli" / "_main.py"  # ``jaxgear bench`` finds benchmarks/ of a checkout
+LOCATOR = ROOT / "jaxgear" / "cli" / "bench.py"  # ``jaxgear bench`` finds benchmarks/ of a checkout
 
 
 def test_benchmarks_live_outside_the_installed_packages():

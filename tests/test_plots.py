@@ -216,15 +216,16 @@ def test_optimisation_maps_write_pngs(tmp_path):
 
 @pytest.fixture
 def figures(monkeypatch):
-    """The figures the plot functions write, in order (plots.savefig still writes them)."""
+    """The figures the plot functions write, in order (matplotlib's Figure.savefig, which
+    plots.savefig calls for every figure, still writes them)."""
     out = []
-    save = plots.savefig
+    save = Figure.savefig
 
-    def keep(fig, path):
+    def keep(fig, *args, **kw):
         out.append(fig)
-        save(fig, path)
+        save(fig, *args, **kw)
 
-    monkeypatch.setattr(plots, "savefig", keep)
+    monkeypatch.setattr(Figure, "savefig", keep)
     return out
 
 

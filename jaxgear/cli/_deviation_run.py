@@ -10,6 +10,7 @@ import numpy as np
 
 from .. import Modifications, mesh_positions, quasi_static, te_spectrum
 from ..io import atomic_open, write_csv
+from ._plots import te_spectrum_plot
 
 __all__ = ["CHUNK_POSITIONS", "deviation_outputs"]
 
@@ -27,8 +28,6 @@ def deviation_outputs(case, mesh, out_dir: str, *, mesh_harmonics: int = 3) -> d
         ISO tolerances of the grade, the span and the TE's figures over it, the labelled
         spectrum lines.
     """
-    from . import _plots
-
     os.makedirs(out_dir, exist_ok=True)
     st = case.deviation_settings
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
@@ -57,7 +56,7 @@ def deviation_outputs(case, mesh, out_dir: str, *, mesh_harmonics: int = 3) -> d
     )
     with atomic_open(os.path.join(out_dir, "spectrum.json"), "w") as f:
         json.dump({"revolutions": revs, "teeth": [z1, z2], "lines": lines}, f, indent=2)
-    _plots.te_spectrum_plot(
+    te_spectrum_plot(
         os.path.join(out_dir, "te_spectrum.png"),
         theta / period / z1,
         te,

@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 
+from ._paths import check_output_dir, check_output_file
+
 __all__ = [
     "EXTENT_BOUNDS",
     "MAX_SPEED",
@@ -59,65 +61,108 @@ def range_values(text: str, option: str, **checks) -> np.ndarray:
     return np.linspace(a, b, n)
 
 
+def _check_robust(args) -> None:
+    """``jaxgear robust``: the grade, samples and seed in range; the ``jax.distributed``
+    options together and in range."""
+    for name, lo, hi in (("grade", 1, 11), ("samples", 2, None), ("seed", 0, None)):
+        v = getattr(args, name)
+        if v is not None and (v < lo or (hi is not None and v > hi)):
+            allowed = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
+            raise ValueError(f"--{name} = {v}: out of range, allowed {allowed}")
+    dist = (args.coordinator_address, args.num_processes, args.process_id)
+    if any(v is not None for v in dist):
+        if any(v is None for v in dist):
+            raise ValueError(
+                "--coordinator-address, --num-processes and --process-id go together "
+                f"(given {args.coordinator_address!r}, {args.num_processes!r}, "
+                f"{args.process_id!r})"
+            )
+        host, _, port = args.coordinator_address.rpartition(":")
+        if not host or not port.isdigit() or not 0 < int(port) < 65536:
+            raise ValueError(
+                f"--coordinator-address = {args.coordinator_address!r}: allowed HOST:PORT "
+                "(port 1-65535)"
+            )
+        if args.num_processes < 1:
+            raise ValueError(f"--num-processes = {args.num_processes}: out of range, allowed >= 1")
+        if not 0 <= args.process_id < args.num_processes:
+            raise ValueError(
+                f"--process-id = {args.process_id}: out of range, allowed [0, "
+                f"{args.num_processes - 1}]"
+            )
+
+
+def _check_optimise(args) -> None:
+    """``jaxgear optimise``: the iteration bound, the torque range of ``robust_te_rms``."""
+    if args.max_iterations is not None and args.max_iterations < 1:
+        raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")
+    if args.torques is not None:
+        parse_range(args.torques, "--torques", positive=True)
+        if args.objective is not None and args.objective != "robust_te_rms":
+            raise ValueError(
+                f"--torques applies to --objective robust_te_rms only, not {args.objective}"
+            )
+
+
+def _check_master_curve(args) -> None:
+    """``jaxgear master-curve``: the extents inside :data:`EXTENT_BOUNDS`."""
+    a, b, _ = parse_range(args.extents, "--extents")
+    lo, hi = EXTENT_BOUNDS
+    if not (lo <= a and b <= hi):
+        raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
+
+
+def _check_sweep(args) -> None:
+    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range."""
+    a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
+    if n > MAX_SPEEDS:
+        raise ValueError(
+            f"--speeds {args.speeds!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
+            "per speed: split the band into several sweeps)"
+        )
+    if b > MAX_SPEED:
+        raise ValueError(
+            f"--speeds {args.speeds!r}: STOP = {b:.6g} rad/s, allowed <= {MAX_SPEED:.0e} "
+            "rad/s (pinion speed)"
+        )
+    for opt, lo, hi in (
+        ("periods", 2, 10**6),
+        ("keep_periods", 2, 10**6),
+        ("steps_per_period", 4, 10**6),
+        ("slices", 1, 10**4),
+    ):
+        v = getattr(args, opt)
+        if v is not None and not lo <= v <= hi:
+            raise ValueError(f"--{opt.replace('_', '-')} {v}: out of range, allowed [{lo}, {hi:g}]")
+    p, k = args.periods, args.keep_periods
+    if p is not None and k is not None and k > p:
+        raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
+    v = args.vtu_speed
+    if v is not None and not (math.isfinite(v) and a <= v <= b):
+        raise ValueError(
+            f"--vtu-speed {v:.6g}: out of range, allowed a speed of the sweep, "
+            f"[{a:.6g}, {b:.6g}] rad/s"
+        )
+
+
+def _no_checks(args) -> None:
+    """A command whose options need no check beyond argparse's and the output paths'."""
+
+
+#: each command's own checks (by its name on the command line); the others have none
+_CHECKS = {
+    "robust": _check_robust,
+    "optimise": _check_optimise,
+    "master-curve": _check_master_curve,
+    "sweep": _check_sweep,
+}
+
+
 def check_options(args) -> None:
     """Check the command-line options that need no case file (ranges, counts, output paths);
     raises ValueError with a one-line message. Runs before JAX or the model is imported."""
-    from ._paths import check_output_dir, check_output_file
-
-    cmd = args.command
-    if cmd == "robust":
-        from .robust import check_robust_options
-
-        check_robust_options(args)
-        if args.out is not None:
-            check_output_dir(args.out)
-    if cmd == "optimise":
-        if args.max_iterations is not None and args.max_iterations < 1:
-            raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")
-        if args.torques is not None:
-            parse_range(args.torques, "--torques", positive=True)
-            if args.objective is not None and args.objective != "robust_te_rms":
-                raise ValueError(
-                    f"--torques applies to --objective robust_te_rms only, not {args.objective}"
-                )
-    if cmd == "master-curve":
-        a, b, _ = parse_range(args.extents, "--extents")
-        lo, hi = EXTENT_BOUNDS
-        if not (lo <= a and b <= hi):
-            raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
-    if cmd == "sweep":
-        a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
-        if n > MAX_SPEEDS:
-            raise ValueError(
-                f"--speeds {args.speeds!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
-                "per speed: split the band into several sweeps)"
-            )
-        if b > MAX_SPEED:
-            raise ValueError(
-                f"--speeds {args.speeds!r}: STOP = {b:.6g} rad/s, allowed <= {MAX_SPEED:.0e} "
-                "rad/s (pinion speed)"
-            )
-        for opt, lo, hi in (
-            ("periods", 2, 10**6),
-            ("keep_periods", 2, 10**6),
-            ("steps_per_period", 4, 10**6),
-            ("slices", 1, 10**4),
-        ):
-            v = getattr(args, opt)
-            if v is not None and not lo <= v <= hi:
-                raise ValueError(
-                    f"--{opt.replace('_', '-')} {v}: out of range, allowed [{lo}, {hi:g}]"
-                )
-        p, k = args.periods, args.keep_periods
-        if p is not None and k is not None and k > p:
-            raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
-        v = args.vtu_speed
-        if v is not None and not (math.isfinite(v) and a <= v <= b):
-            raise ValueError(
-                f"--vtu-speed {v:.6g}: out of range, allowed a speed of the sweep, "
-                f"[{a:.6g}, {b:.6g}] rad/s"
-            )
-    if getattr(args, "out", None) is not None:
+    _CHECKS.get(args.command, _no_checks)(args)
+    if args.out is not None:
         check_output_dir(args.out)
-    if getattr(args, "json", None) is not None:
+    if args.json is not None:
         check_output_file(args.json)

@@ -68,6 +68,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     # jaxgear run on a case with [deviations] (subfolder deviations/)
     "deviations": ("te_span.csv", "spectrum.csv", "spectrum.json", "te_spectrum.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
+    "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),

@@ -12,68 +12,35 @@ import dataclasses
 import os
 import time
 
+import jax
+import jax.numpy as jnp
+import numpy as np
+from matplotlib.ticker import MaxNLocator
+
+from .. import (
+    DeviationSampler,
+    Modifications,
+    QuasiStaticMetrics,
+    TrainCase,
+    mesh_positions,
+    quasi_static,
+    robust_samples,
+    sample_statistics,
+)
+from ..dynamics import DynamicMetrics, Newmark, SteadyState, build_dynamic_model, dynamic_model
+from .. import io as case_io
+from ..io import SchemaError, parse_robust, write_csv, write_json
+from ..scenes import TorsionalDynamics, disc_inertia
 from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs
+from ._plots import new_figure, savefig
 
-__all__ = ["ROBUST_FILES", "add_robust_parser", "run_robust"]
+__all__ = ["ROBUST_FILES", "run_robust"]
 
-ROBUST_FILES = ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png")
-OUTPUT_FILES["robust"] = ROBUST_FILES
-
-
-def add_robust_parser(sub) -> None:
-    r = sub.add_parser(
-        "robust",
-        help="Monte Carlo over ISO 1328-1 deviations: TE, line load and dynamic-factor "
-        "distributions with percentiles ([robust] table)",
-    )
-    r.add_argument("case", help="TOML case file or embedded case name")
-    r.add_argument("--grade", type=int, help="ISO 1328-1 flank tolerance class 1-11")
-    r.add_argument("--samples", type=int, help="number of realisations (>= 2)")
-    r.add_argument("--seed", type=int, help="random seed (>= 0)")
-    r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/robust/)")
-    r.add_argument(
-        "--coordinator-address",
-        help="jax.distributed coordinator HOST:PORT (process 0's host), with --num-processes",
-    )
-    r.add_argument("--num-processes", type=int, help="jax.distributed: processes (one per host)")
-    r.add_argument("--process-id", type=int, help="jax.distributed: this process, 0 … N-1")
-    r.add_argument("--quiet", action="store_true", help="no summary line")
-
-
-def check_robust_options(args) -> None:
-    """One-line errors for the options, before JAX or the case is touched."""
-    for name, lo, hi in (("grade", 1, 11), ("samples", 2, None), ("seed", 0, None)):
-        v = getattr(args, name)
-        if v is not None and (v < lo or (hi is not None and v > hi)):
-            allowed = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
-            raise ValueError(f"--{name} = {v}: out of range, allowed {allowed}")
-    dist = (args.coordinator_address, args.num_processes, args.process_id)
-    if any(v is not None for v in dist):
-        if any(v is None for v in dist):
-            raise ValueError(
-                "--coordinator-address, --num-processes and --process-id go together "
-                f"(given {args.coordinator_address!r}, {args.num_processes!r}, "
-                f"{args.process_id!r})"
-            )
-        host, _, port = args.coordinator_address.rpartition(":")
-        if not host or not port.isdigit() or not 0 < int(port) < 65536:
-            raise ValueError(
-                f"--coordinator-address = {args.coordinator_address!r}: allowed HOST:PORT "
-                "(port 1-65535)"
-            )
-        if args.num_processes < 1:
-            raise ValueError(f"--num-processes = {args.num_processes}: out of range, allowed >= 1")
-        if not 0 <= args.process_id < args.num_processes:
-            raise ValueError(
-                f"--process-id = {args.process_id}: out of range, allowed [0, "
-                f"{args.num_processes - 1}]"
-            )
+#: the files ``jaxgear robust`` writes (:data:`jaxgear.cli.OUTPUT_FILES`)
+ROBUST_FILES = OUTPUT_FILES["robust"]
 
 
 def _settings(case, args) -> dict:
-    from .. import TrainCase
-    from ..io import SchemaError, parse_robust
-
     if isinstance(case, TrainCase):
         raise ValueError(
             f"case {case.name!r}: a gear train ([[gears]], [[meshes]]); jaxgear robust samples "
@@ -141,18 +108,6 @@ def check_robust_size(st: dict, name: str) -> None:
 def _dynamic_problem(case, st, mesh):
     """The dynamic problem of the case at the [robust] speeds: its lumped [scene] (else a
     torsional pair on solid-disc inertias), the span ``revolutions`` × z1 mesh periods."""
-    import jax.numpy as jnp
-
-    from ..dynamics import (
-        DynamicMetrics,
-        Newmark,
-        SteadyState,
-        build_dynamic_model,
-        dynamic_model,
-    )
-    from ..scenes import TorsionalDynamics
-    from ..scenes import disc_inertia
-
     if case.scene is not None:  # a lumped one (_settings refuses condensed bodies)
         model, _ = build_dynamic_model(case)
     else:
@@ -170,28 +125,13 @@ def _dynamic_problem(case, st, mesh):
 
 
 def run_robust(args) -> int:
-    import jax
-
     if args.num_processes is not None and args.num_processes > 1:
         jax.distributed.initialize(
             coordinator_address=args.coordinator_address,
             num_processes=args.num_processes,
             process_id=args.process_id,
         )
-    import jax.numpy as jnp
-    import numpy as np
-
-    from .. import (
-        DeviationSampler,
-        Modifications,
-        QuasiStaticMetrics,
-        mesh_positions,
-        robust_samples,
-        sample_statistics,
-    )
-    from ..io import load_case, write_csv, write_json
-
-    case = load_case(args.case)
+    case = case_io.load_case(args.case)
     st = _settings(case, args)
     out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")
     writer = jax.process_index() == 0
@@ -240,8 +180,6 @@ def run_robust(args) -> int:
     }
     values = {k: np.asarray(getattr(qs, f))[ok] * scale[k] for k, f in fields.items()}
     # the nominal gears (no deviation) over the same positions: a line on each histogram
-    from .. import quasi_static
-
     nom = quasi_static(mesh, mods, case.torque, theta=theta, contact=case.contact_law("exact"))
     nominal = {
         "te_rms_um": float(nom.te_rms) * 1e6,
@@ -288,7 +226,7 @@ def run_robust(args) -> int:
         write_json(os.path.join(work, "robust.json"), summary)
         write_csv(os.path.join(work, "samples.csv"), names, [np.asarray(c) for c in cols])
         _plots(work, case.name, st, values, summary["quasi_static"], bands, nominal)
-    if not getattr(args, "quiet", False):
+    if not args.quiet:
         q = summary["quasi_static"]["te_rms_um"]
         print(
             f"{case.name}: {st['samples']} realisations of grade {st['grade']}: TE RMS mean "
@@ -304,11 +242,6 @@ def _tolerances_um(g) -> dict:
 
 
 def _plots(out_dir, name, st, values, stats, bands, nominal=None) -> None:
-    import numpy as np
-    from matplotlib.ticker import MaxNLocator
-
-    from ._plots import new_figure, savefig
-
     labels = {
         "te_rms_um": "TE RMS (µm)",
         "te_ptp_um": "TE peak-to-peak (µm)",

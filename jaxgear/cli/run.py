@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import os
@@ -17,8 +18,17 @@ from .. import (
     harris_map,
     quasi_static,
 )
-from ..io import atomic_open, write_csv
+from .. import io as case_io
+from ..io import atomic_open, write_csv, write_json
+from . import scene as cli_scene
+from . import sweep as cli_sweep
+from ._deviation_run import deviation_outputs
+from ._optimise import check_settings, optimise_case, settings_from_case
+from ._paths import check_output_dir, staged_outputs
+from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from .scene import SCENE_LABELS
+from .train import format_train_table, run_train
 
 __all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case"]
 
@@ -58,8 +68,6 @@ def run_case(
     Returns:
         The summary dict (also in ``summary.json``).
     """
-    from . import _plots
-
     os.makedirs(out_dir, exist_ok=True)
     mesh = case.mesh_model()
     ppp = case.positions_per_pitch
@@ -169,8 +177,6 @@ def run_case(
     }
     what = ""
     if scene_res:
-        from .scene import SCENE_LABELS
-
         model = scene["model"]
         name = SCENE_LABELS[model].split(" (")[0]
         c = {key.split("_", 1)[1]: v for key, v in scene_res.items()}  # exact_modified, ...
@@ -191,21 +197,21 @@ def run_case(
             f"helical: the unmodified TE's corners are its {case.slices} slices entering and "
             "leaving contact one at a time (finer with more [mesh] slices)"
         )
-    _plots.transmission_error_plot(
+    transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
         x,
         te_curves,
         title=f"{case.name}: transmission error at {case.torque:g} N·m{what}",
         note=te_note,
     )
-    _plots.mesh_stiffness_plot(
+    mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
         x,
         k_curves,
         title=f"{case.name}: time-varying mesh stiffness ({case.stiffness_model}){what}",
         note=k_note,
     )
-    _plots.face_maps(
+    face_maps(
         out_dir,
         ("load_map.png", "pressure_map.png"),
         res["modified", "exact"],
@@ -214,7 +220,7 @@ def run_case(
         ppp,
         f"of {case.name} over a tooth passage (rigid mesh, exact, modified)",
     )
-    _plots.harris_plot(
+    harris_plot(
         os.path.join(out_dir, "harris_map.png"),
         torques,
         [
@@ -227,8 +233,6 @@ def run_case(
     )
     steps.update()  # the four plots
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
-        from ._deviation_run import deviation_outputs
-
         summary["deviations"] = deviation_outputs(case, mesh, os.path.join(out_dir, "deviations"))
     steps.close()
 
@@ -301,27 +305,15 @@ def run_command(args) -> int:
     run completes (:func:`~jaxgear.cli._paths.staged_outputs`): a failed or interrupted run
     leaves the earlier results; ``--keep-partial`` writes into the folder itself and leaves
     what a failed run wrote, with ``summary.json`` saying ``"complete": false``."""
-
-    from ..io import load_case, write_json
-    from ._paths import check_output_dir, staged_outputs
-
-    case = load_case(args.case)
+    case = case_io.load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
-    settings = None
-    if not isinstance(case, TrainCase) and case.optimise is not None:
-        # check the optimisation settings before computing anything
-        from ._optimise import check_settings, settings_from_case
-
-        settings = check_settings(settings_from_case(case))
+    settings = optimise_settings(case)  # checked before anything is computed
     check_run_case(case)
-    with staged_outputs(out, "run", keep_partial=getattr(args, "keep_partial", False)) as work:
+    with staged_outputs(out, "run", keep_partial=args.keep_partial) as work:
         # an interrupted --keep-partial run leaves complete files and a summary saying it is
         # not complete
         write_json(os.path.join(work, "summary.json"), {"case": case.name, "complete": False})
-        if isinstance(case, TrainCase):
-            summary = _run_train_command(case, work, args)
-        else:
-            summary = _run_pair_command(case, work, args, settings)
+        summary = run_kind(case, work, args, settings)
     if args.json:
         write_json(args.json, summary)
     print(f"written to {out}/")
@@ -333,27 +325,42 @@ def check_run_case(case) -> None:
     scene) cannot run (:func:`~jaxgear.cli.sweep.sweep_spec`: e.g. ``[scene.integration]
     periods`` × steps per period above what one speed may integrate; one line naming the key,
     its value and the allowed range)."""
-    scene = case.scene
-    if scene is None or getattr(scene, "hybrid", False) or getattr(case, "flexible", False):
+    if case.scene is None or case.scene.hybrid:  # (a train's flexible gears: a hybrid scene)
         return
-    from .sweep import sweep_spec
-
-    sweep_spec(case)
+    cli_sweep.sweep_spec(case)
 
 
-def _run_pair_command(case, out: str, args, settings) -> dict:
+@functools.singledispatch
+def optimise_settings(case) -> dict | None:
+    """The checked settings of the case's ``[optimise]`` table
+    (:func:`jaxgear.cli.check_settings`), None without one; a train has none."""
+    return None
+
+
+@optimise_settings.register
+def _(case: Case) -> dict | None:
+    if case.optimise is None:
+        return None
+    return check_settings(settings_from_case(case))
+
+
+@functools.singledispatch
+def run_kind(case, out: str, args, settings) -> dict:
+    """``jaxgear run``'s work on a case of its type, into ``out`` (a pair's, a train's);
+    prints the tables; returns the summary. ``settings``: :func:`optimise_settings`."""
+    raise TypeError(f"jaxgear run: no command for a {type(case).__name__}")
+
+
+@run_kind.register
+def _run_pair_command(case: Case, out: str, args, settings) -> dict:
     """``jaxgear run`` on a pair case, into ``out``: the quasi-static files, then the scene,
     sweep and optimisation the case asks for; prints the tables; returns the summary."""
-    from ..io import write_json
-
     summary_path = os.path.join(out, "summary.json")
     last = case.scene is None and case.optimise is None
-    scene_section, curves = None, {}
+    scene_section, dynamics, curves = None, None, {}
     if case.scene is not None and case.scene.model == "lumped3d":
-        from .scene import scene_outputs
-
         # first, so that te.csv and its plots have the scene's curves beside the rigid mesh's
-        scene_section = scene_outputs(
+        scene_section = cli_scene.scene_outputs(
             case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
         )
     summary = run_case(case, out, show_progress=not args.quiet, complete=last, scene=curves or None)
@@ -362,11 +369,9 @@ def _run_pair_command(case, out: str, args, settings) -> dict:
         write_json(summary_path, summary)
     if case.scene is not None and not case.scene.hybrid:
         # the case has a dynamic scene: add its dynamic factor curve
-        summary["dynamics"] = _sweep_section(case, out, args.quiet)
+        summary["dynamics"] = dynamics = _sweep_section(case, out, args.quiet)
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
-        from ._optimise import optimise_case
-
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
         summary["optimise"] = {
             k: rep[k]
@@ -394,18 +399,16 @@ def _run_pair_command(case, out: str, args, settings) -> dict:
             f"ptp {d['te_ptp_m'] * 1e6:.4f} µm, mesh order {mesh['amplitude_m'] * 1e6:.4f} µm "
             "(spectrum: deviations/te_spectrum.png)"
         )
-    if "quasi_static_scene" in summary:
-        from .scene import scene_lines
-
-        print("\n".join(scene_lines(summary["quasi_static_scene"])))
+    if scene_section is not None:
+        print("\n".join(cli_scene.scene_lines(scene_section)))
     if case.scene is not None and case.scene.hybrid:
         print(
             f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
             "(not run by jaxgear run: 15-25 s per speed on a 2-core CPU, into "
             f"jaxgear-out/{case.name}/sweep-A-B-N/)"
         )
-    if "dynamics" in summary:
-        d = summary["dynamics"]
+    if dynamics is not None:
+        d = dynamics
         print(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
@@ -420,10 +423,8 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
     ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s ``dynamics``: the
     dynamic factor curve and its maximum (a train's: the worst mesh per speed, with each mesh's
     under ``dynamic_factor_mesh``)."""
-    from .sweep import sweep_case
-
     slices = min(case.slices, RUN_SWEEP_SLICES)
-    sw = sweep_case(
+    sw = cli_sweep.sweep_case(
         case,
         np.linspace(100.0, 3000.0, 60),
         os.path.join(out, "sweep"),
@@ -454,13 +455,11 @@ def _sweep_files(sw: dict) -> list[str]:
     return files + list((sw.get("pressure_map_dynamic") or {}).get("files", ()))
 
 
-def _run_train_command(case, out: str, args) -> dict:
+@run_kind.register
+def _run_train_command(case: TrainCase, out: str, args, settings) -> dict:
     """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
     ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh; with
     flexible gears, the ``jaxgear sweep`` command to run instead)."""
-    from ..io import write_json
-    from .train import format_train_table, run_train
-
     summary_path = os.path.join(out, "summary.json")
     sweep = case.scene is not None and not case.flexible
     summary = run_train(case, out, show_progress=not args.quiet, complete=not sweep)
@@ -469,7 +468,7 @@ def _run_train_command(case, out: str, args) -> dict:
         summary["complete"] = True
         write_json(summary_path, summary)
     print(format_train_table(summary))
-    if "dynamics" in summary:
+    if sweep:
         d = summary["dynamics"]
         per = ", ".join(
             f"{n} {v:.3f}"

@@ -4,12 +4,18 @@ growth, load maps and a VTU of the deformed body (``quasi_static_scene`` in ``su
 
 from __future__ import annotations
 
+import functools
 import os
 
 import numpy as np
+from tqdm.auto import tqdm
 
-from .. import Case, quasi_static
-from ..io import write_vtu
+from .. import Case, contact_pressure, load_map, quasi_static
+from .. import dynamics
+from ..io import atomic_open, write_vtu
+from ..scenes import FlexibleMember
+from . import _plots
+from ._summary import result_summary
 
 __all__ = ["scene_lines", "scene_outputs"]
 
@@ -36,18 +42,28 @@ def _body_vtu(path, member, body, theta, x, extra=None) -> None:
     )
 
 
+@functools.singledispatch
+def _first_body_coordinate(member) -> int | None:
+    """The first of a member's condensed-body coordinates (the key of its body: two gears on
+    one body share it); None for a member without a body (rigid, torsional)."""
+    return None
+
+
+@_first_body_coordinate.register
+def _(member: FlexibleMember) -> int | None:
+    return int(np.asarray(member.body_dofs)[0])
+
+
 def _flexible(scene, bodies, names=None):
     """(name, member, body) of each condensed body; ``names``: {member index: name} (default a
     pair's "pinion" and "gear"). A body carrying two gears (members on the same body
     coordinates) comes once, named by its gears joined with "+" (``wheel+pinion``)."""
-    from ..scenes import FlexibleMember
-
     names = names or {0: "pinion", 1: "gear"}
     out: dict[int, list] = {}  # first body coordinate -> [names, member, body]
     for m, (member, body) in enumerate(zip(scene.members, bodies, strict=True)):
-        if not isinstance(member, FlexibleMember) or body is None:
+        key = _first_body_coordinate(member)
+        if key is None or body is None:
             continue
-        key = int(np.asarray(member.body_dofs)[0])
         if key in out:
             out[key][0].append(names[m])
         else:
@@ -101,6 +117,10 @@ SCENE_LABELS = {
 }
 
 
+#: each scene model of ``quasi_static_scene`` as the printed summary names it
+SCENE_LINE_LABELS = {"lumped3d": "lumped 3D scene", "hybrid": "hybrid scene (condensed bodies)"}
+
+
 def scene_outputs(
     case: Case, out_dir: str, *, progress: bool = False, curves: dict | None = None
 ) -> dict:
@@ -121,13 +141,6 @@ def scene_outputs(
     ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
     is not 0).
     """
-    from tqdm.auto import tqdm
-
-    from .. import contact_pressure, load_map
-    from ..dynamics import bearing_forces, load_bodies, static_scene
-    from . import _plots
-    from ._summary import result_summary
-
     hybrid = case.scene.hybrid
     n_steps = (6 if case.speed > 0 else 5) if hybrid else 3
     bar = tqdm(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
@@ -137,10 +150,10 @@ def scene_outputs(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached)")
-        bodies = load_bodies(case.scene, progress=progress)
+        bodies = dynamics.load_bodies(case.scene, progress=progress)
         bar.update()
     bar.set_postfix_str("building the scene")
-    scene, bodies = static_scene(case, slices=slices, bodies=bodies)
+    scene, bodies = dynamics.static_scene(case, slices=slices, bodies=bodies)
     out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
     res, pressure = {}, {}
 
@@ -160,7 +173,7 @@ def scene_outputs(
         )
         pressure[mode] = hertz(res[mode])
         out[mode] = result_summary(res[mode], None, pressure[mode])
-        out[mode]["bearing_forces_mean_N"] = bearing_forces(scene, res[mode])
+        out[mode]["bearing_forces_mean_N"] = dynamics.bearing_forces(scene, res[mode])
     bar.update()
     if curves is not None:
         curves["model"] = out["model"]
@@ -248,7 +261,7 @@ def scene_outputs(
 def scene_lines(q: dict) -> list[str]:
     """Plain-text lines for the printed summary."""
     e = q["exact"]
-    what = "hybrid scene (condensed bodies)" if q["model"] == "hybrid" else "lumped 3D scene"
+    what = SCENE_LINE_LABELS[q["model"]]
     head = (
         f"{what}, exact: TE mean {e['te_mean_m'] * 1e6:.4f} µm, TE rms "
         f"{e['te_rms_m'] * 1e6:.4f} µm, max line load {e['max_line_load_N_per_m'] / 1e3:.1f} N/mm"
@@ -270,8 +283,6 @@ def write_body_series(out_dir, scene, bodies, dyn, names=None) -> list[str]:
     {member index: name} (a train's gear names; default a pair's "pinion" and "gear"). Each
     body is drawn in the fixed frame, turned to its own angle at each step (its speed ratio
     and sense)."""
-    from ..io import atomic_open
-
     states = np.asarray(dyn.states)
     theta = np.asarray(dyn.theta)
     dt = float(dyn.time_step)

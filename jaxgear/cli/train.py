@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 from .. import Modifications, TrainCase, contact_pressure, quasi_static
 from ..dynamics import bearing_forces, load_bodies
 from ..io import atomic_open, write_csv
+from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import write_bodies_vtu
 
@@ -41,8 +42,6 @@ def run_train(
     Returns:
         The summary dict (also in ``summary.json``).
     """
-    from . import _plots
-
     os.makedirs(out_dir, exist_ok=True)
     steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
     steps.set_postfix_str("meshes and layout")
@@ -191,7 +190,7 @@ def run_train(
         )
     )
     glossary = _gear_glossary(case)
-    _plots.transmission_error_plot(
+    transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
         x[win],
         {
@@ -204,7 +203,7 @@ def run_train(
         f"modified{shown}{glossary}",
         driver="input",
     )
-    _plots.mesh_stiffness_plot(
+    mesh_stiffness_plot(
         os.path.join(out_dir, "mesh_stiffness.png"),
         x[win],
         {
@@ -217,7 +216,7 @@ def run_train(
         driver="input",
     )
     for k, pair in enumerate(case.pairs):
-        _plots.face_maps(
+        face_maps(
             out_dir,
             (f"load_map_{names[k]}.png", f"pressure_map_{names[k]}.png"),
             res["modified", "exact"].meshes[k],
@@ -245,14 +244,12 @@ def run_train(
             np.asarray(res["unmodified", "exact"].meshes[k].mesh_stiffness)[win],
             np.arange(first, x[win][-1] * period, per_mesh) / period,
         )
-    _plots.train_phasing_plot(
+    train_phasing_plot(
         os.path.join(out_dir, "phasing.png"),
         layout,
         case.pairs,
-        case.gear_names,
+        list(zip(case.gear_names, case.tip_radii(), base_radii, strict=True)),
         names,
-        case.tip_radii(),
-        base_radii,
         x[win],
         marks,
         title=f"{case.name}: layout and mesh phasing (unmodified flanks, exact contact){shown}"

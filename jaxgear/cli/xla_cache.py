@@ -28,6 +28,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import jax
+
 __all__ = [
     "DEFAULT_MAX_MB",
     "MIN_COMPILE_SECS",
@@ -64,8 +66,6 @@ def cache_folder() -> Path | None:
         if own.strip().lower() in _OFF:
             return None
         return Path(own).expanduser()
-    import jax
-
     theirs = jax.config.values.get("jax_compilation_cache_dir") or os.environ.get(
         "JAX_COMPILATION_CACHE_DIR"
     )
@@ -133,8 +133,6 @@ def enable() -> Path | None:
     :func:`max_bytes`, and the :data:`MIN_COMPILE_SECS` threshold unless
     ``$JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS`` is set. ``JAXGEAR_XLA_CACHE=off`` switches
     it off. Returns the folder (None when off); a setting already in force is left as it is."""
-    import jax
-
     limit = max_bytes()  # a bad bound is an input error, before anything else
     folder = cache_folder()
     if folder is None:

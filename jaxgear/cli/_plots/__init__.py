@@ -1,0 +1,48 @@
+"""Every figure the command line writes, as a gear engineer reads it (:mod:`jaxgear.cli.plots`).
+
+The command modules (``run``, ``sweep``, ``_optimise``) compute; the functions here take the
+computed data (SI units unless a name says otherwise) and a path, draw one figure and write it
+with :func:`savefig` (atomic, PNG, 120 dpi). Figures are built on the Agg canvas directly, so
+plotting never changes the process's pyplot backend (a notebook keeps its inline figures). One
+module per what they draw: the figure itself (``_figure``), ``jaxgear run``'s quasi-static
+curves and maps (``_quasi_static``), the sweep's dynamic factor and pressures (``_sweep``), its
+Campbell diagram (``_campbell``), the optimisation's (``_optimisation``).
+"""
+
+from ._campbell import campbell_plot as campbell_plot, harmonic_crossings as harmonic_crossings
+from ._figure import (
+    DPI as DPI,
+    FIGSIZE as FIGSIZE,
+    new_figure as new_figure,
+    savefig as savefig,
+)
+from ._optimisation import (
+    OBJECTIVE_WORDS as OBJECTIVE_WORDS,
+    convergence_plot as convergence_plot,
+    convergence_ylabel as convergence_ylabel,
+    master_curve_plot as master_curve_plot,
+    optimiser_path_plot as optimiser_path_plot,
+)
+from ._quasi_static import (
+    TE_COINCIDE_SHARE as TE_COINCIDE_SHARE,
+    face_map as face_map,
+    face_maps as face_maps,
+    harris_plot as harris_plot,
+    load_map_plot as load_map_plot,
+    map_difference_plot as map_difference_plot,
+    mesh_stiffness_plot as mesh_stiffness_plot,
+    te_coincide as te_coincide,
+    te_spectrum_plot as te_spectrum_plot,
+    train_phasing_plot as train_phasing_plot,
+    transmission_error_plot as transmission_error_plot,
+)
+from ._sweep import (
+    FEW_SPEEDS as FEW_SPEEDS,
+    PEAK_MIN as PEAK_MIN,
+    PEAKS_NAMED as PEAKS_NAMED,
+    coincidence_name as coincidence_name,
+    coincidences as coincidences,
+    dynamic_factor_plot as dynamic_factor_plot,
+    name_peaks as name_peaks,
+    pressure_speed_plot as pressure_speed_plot,
+)

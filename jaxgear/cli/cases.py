@@ -1,0 +1,61 @@
+"""``jaxgear cases``: the embedded cases, one line each, or one case's file (printed or written)."""
+
+from __future__ import annotations
+
+import functools
+
+from fem_prep.schema import print_or_write
+
+from .. import Case, TrainCase
+from .. import io as case_io
+from .train import gear_glossary
+
+__all__ = ["case_line", "run_cases"]
+
+
+@functools.singledispatch
+def case_line(case) -> str:
+    """What ``jaxgear cases`` prints after a case's name: its teeth, module, torque, stiffness
+    model and scene, by the case's type (a pair, a train)."""
+    raise TypeError(f"jaxgear cases: no line for a {type(case).__name__}")
+
+
+@case_line.register
+def _(case: Case) -> str:
+    scene = case.scene
+    return (
+        f"z {case.pair.pinion.teeth}/{case.pair.gear.teeth}, "
+        f"m_n {case.pair.normal_module * 1e3:g} mm, "
+        f"β {case.raw['pair'].get('helix_angle_deg', 0)}°, "
+        f"T {case.torque:g} N·m, {case.stiffness_model} stiffness"
+        + (f", {scene.model} scene" if scene is not None else "")
+        + (" with condensed bodies" if scene is not None and scene.hybrid else "")
+    )
+
+
+@case_line.register
+def _(case: TrainCase) -> str:
+    teeth = "/".join(str(m.teeth) for m in case.members())  # its gears' teeth, input first
+    modules = dict.fromkeys(f"{p.normal_module * 1e3:g}" for p in case.pairs)
+    glossary = gear_glossary(case.gear_names)
+    return (
+        f"train z {teeth}, m_n {'/'.join(modules)} mm, "
+        f"T {case.torque:g} N·m (input), {case.stiffness_model} stiffness"
+        + (f", {case.scene.model} scene" if case.scene is not None else "")
+        + (f" ({glossary})" if glossary else "")
+    )
+
+
+def run_cases(args) -> int:
+    """``jaxgear cases``: one line per embedded case; with NAME its case file (to stdout or,
+    with ``--write FILE``, to a new file to start from: ``jaxgear run FILE`` runs it)."""
+    if args.name is None:
+        if args.write is not None:
+            raise ValueError("--write needs a case NAME (jaxgear cases NAME --write FILE)")
+        for name in case_io.list_cases():
+            print(f"{name:24s} {case_line(case_io.load_case(name))}")
+        return 0
+    text = case_io.embedded_case_text(args.name)
+    what = f"embedded case {args.name!r}"
+    print_or_write(text, args.write, force=args.force, what=what, next_command="jaxgear run")
+    return 0
