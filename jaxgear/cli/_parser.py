@@ -15,7 +15,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from fem_prep import add_build_arguments
 
-from ._optimise import add_parsers as add_optimise_parsers
+from ._optimise_options import add_parsers as add_optimise_parsers
 
 __all__ = ["BENCHMARKS", "COMMANDS", "Command", "SOLVER_NAMES", "build_parser"]
 
