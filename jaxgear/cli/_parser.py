@@ -1,8 +1,8 @@
 """The ``jaxgear`` command line's options and its table of commands.
 
-Every subcommand's options are declared here and nothing is computed: building the parser needs
-neither JAX nor the model (the one exception, ``optimise`` and ``master-curve``, declare theirs
-in :mod:`._optimise`). Each command is a name in :data:`COMMANDS`, mapped to the function that
+Every subcommand's options are declared here and nothing is computed (``optimise`` and
+``master-curve`` declare theirs in :mod:`._optimise_options`, which reads the objective and
+optimiser names from :mod:`jaxgear.io`). Each command is a name in :data:`COMMANDS`, mapped to the function that
 runs it as ``"module:function"``; :func:`jaxgear.cli.main` imports that module once, after the
 options are checked (:func:`._options.check_options`).
 """
