@@ -109,11 +109,9 @@ class Depth(AbstractKind):
         return value == 0
 
 
-class Extent(AbstractKind):
-    """An extent Γ (a fraction, unnormalised), inside (0, 1); ``upper`` the default upper bound
-    (0.98 for a relief along the profile, 0.5 for an end relief along the face)."""
-
-    upper: float = eqx.field(static=True)
+class _AbstractFraction(AbstractKind):
+    """A fraction inside (0, 1), designed unnormalised: what :class:`Extent` and
+    :class:`EndExtent` share."""
 
     def to_model(self, x, delta_m):
         return x
@@ -126,9 +124,6 @@ class Extent(AbstractKind):
 
     def file_value(self, value):
         return value
-
-    def default_bounds(self):
-        return (0.02, self.upper)
 
     def check_bounds(self, name, lo, hi):
         if not (0 < lo and hi < 1):
@@ -140,35 +135,24 @@ class Extent(AbstractKind):
         return True  # an extent alone adds no modification
 
 
-class EndExtent(AbstractKind):
+class Extent(_AbstractFraction):
+    """An extent Γ (a fraction, unnormalised), inside (0, 1); ``upper`` the default upper bound
+    (0.98 for a relief along the profile, 0.5 for an end relief along the face)."""
+
+    upper: float = eqx.field(static=True)
+
+    def default_bounds(self):
+        return (0.02, self.upper)
+
+
+class EndExtent(_AbstractFraction):
     """The end relief extent (a fraction of the face width), default bounds (0.02, 0.5); its
     relief start is rounded over one slice while it is designed (``end_relief_blend``)."""
 
     rounds_end_relief: ClassVar[bool] = True
 
-    def to_model(self, x, delta_m):
-        return x
-
-    def to_file(self, x, delta_m):
-        return x
-
-    def from_file(self, v, delta_m):
-        return v
-
-    def file_value(self, value):
-        return value
-
     def default_bounds(self):
         return (0.02, 0.5)
-
-    def check_bounds(self, name, lo, hi):
-        if not (0 < lo and hi < 1):
-            raise ValueError(
-                f"bounds of {name!r} = ({lo}, {hi}): an extent must stay inside (0, 1)"
-            )
-
-    def unmodified_at(self, value):
-        return True
 
 
 _KINDS = {"depth": Depth(), "extent": Extent(0.98), "end_extent": EndExtent()}
