@@ -8,7 +8,6 @@ import math
 import numpy as np
 from matplotlib.text import Text
 from matplotlib.transforms import blended_transform_factory
-from scipy.signal import find_peaks
 
 from ...dynamics import campbell_coincidences
 from ._campbell import modes_on_grid
@@ -159,6 +158,9 @@ def name_peaks(speeds, df, candidates, min_value: float = PEAK_MIN) -> list[dict
         return []
     yy = np.where(good, y, np.nanmin(y))
     rng = float(np.nanmax(y) - np.nanmin(y))
+    # lazy: scipy.signal costs 0.4 s at import and only the sweep's plot needs it
+    from scipy.signal import find_peaks
+
     idx, _ = find_peaks(yy, height=min_value, prominence=max(0.02 * rng, 1e-6))
     out = []
     for i in idx:
