@@ -336,7 +336,6 @@ class _Cells(_Space):
         G, dtype = self.G, self.dtype
         v, u = self.known(X, Xd, Xdd)
         idx = row.idx
-        c = row.V.shape[0]
         inside = jnp.array(True)
         y = self.GF + self.GM @ u + self.GC @ v  # G F_eff
         if blk is None:
@@ -350,16 +349,7 @@ class _Cells(_Space):
             j = pos[idx]
             inside = jnp.all(j < U.shape[0])
             Gw = GUU[j[:, None], j[None, :]]
-        sol, P, _ = solve_contact_cells(
-            row.V @ Gw @ row.V.T,
-            row.V @ xs[idx] - row.delta0,
-            jnp.zeros((c, 0), dtype),
-            jnp.zeros((0,), dtype),
-            row.k,
-            row.length,
-            row.mask,
-            law,
-        )
+        sol, P = _window_contact(row, Gw, xs[idx], law, dtype)
         z = row.V.T @ P
         if blk is None:  # G_p[:, idx] z: the columns of the window, not an n² product
             Xn = xs - G[:, idx] @ z
@@ -516,7 +506,6 @@ class _Modal(_Space):
         Feff = self.Fr + self.Mr @ u + Cp @ v
         qs = Gp @ Feff
         idx = row.idx
-        c = row.V.shape[0]
         inside = jnp.array(True)
         if blk is None:  # the window's coordinates
             Hw = self.H[idx[:, None], idx[None, :]]
@@ -532,16 +521,7 @@ class _Modal(_Space):
             if self.local:  # with the mesh damping's force on U (v_X = D v_q + v_r)
                 vU = DU @ v + vr[U]
                 x0 = S @ (x0 + HUU @ (c_m * (B @ vU)))
-        sol, P, _ = solve_contact_cells(
-            row.V @ Hw @ row.V.T,
-            row.V @ x0[j] - row.delta0,
-            jnp.zeros((c, 0), dtype),
-            jnp.zeros((0,), dtype),
-            row.k,
-            row.length,
-            row.mask,
-            law,
-        )
+        sol, P = _window_contact(row, Hw, x0[j], law, dtype)
         # the forces on U (the window's when U is None): −Vᵀ P and the mesh damping's
         fU = -jnp.zeros(x0.shape, dtype).at[j].add(row.V.T @ P, mode="drop")
         if blk is not None and self.local:
@@ -559,6 +539,24 @@ class _Modal(_Space):
 
     def observed(self, x) -> tuple:
         return (self.D @ x[0] + x[3], self.D @ x[1] + x[4])
+
+
+def _window_contact(row, W, x, law: ContactLaw, dtype):
+    """One step's contact problem in the window of ``row``'s cells: compliance V W Vᵀ (W the
+    window's compliance on the coordinates the cells reach), free approach V x − δ₀, no
+    constraint rows (:func:`jaxgear.solve_contact_cells`). Returns (solution, cell forces P)."""
+    c = row.V.shape[0]
+    sol, P, _ = solve_contact_cells(
+        row.V @ W @ row.V.T,
+        row.V @ x - row.delta0,
+        jnp.zeros((c, 0), dtype),
+        jnp.zeros((0,), dtype),
+        row.k,
+        row.length,
+        row.mask,
+        law,
+    )
+    return sol, P
 
 
 def _scan_blocks(run_block, state, inputs, record, keep_blocks):
