@@ -29,6 +29,7 @@ from ._baseline_dynamics import (
     reference_response as reference_response,
 )
 from ._charts import thin_tick_labels as thin_tick_labels
+from ._device import bench_device as bench_device
 from ._dynamics import bench_dynamics as bench_dynamics, stability_map as stability_map
 from ._hybrid import bench_hybrid as bench_hybrid, hybrid_chart as hybrid_chart
 from ._hybrid_sweep import (
