@@ -26,7 +26,7 @@ import jaxgear.dynamics
 import jaxgear.io as jio
 from jaxgear import ContactResult, separation
 from jaxgear.cli import scene_outputs
-from jaxgear.dynamics import static_scene
+from jaxgear.io import static_scene
 
 WIDTH = 1e-7  # smoothing width (m)
 

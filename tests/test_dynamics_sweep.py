@@ -16,14 +16,8 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    DiffraxIntegrator,
-    Newmark,
-    SceneSpec,
-    SteadyState,
-    build_dynamic_model,
-)
-from jaxgear.io import parse_scene
+from jaxgear.dynamics import DiffraxIntegrator, Newmark, SteadyState
+from jaxgear.io import SceneSpec, build_dynamic_model, parse_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
