@@ -11,7 +11,7 @@ from tqdm.auto import tqdm
 
 from .. import Modifications, contact_pressure, quasi_static
 from ..dynamics import bearing_forces
-from ..io import atomic_open, load_bodies, write_csv
+from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import write_bodies_vtu
