@@ -12,14 +12,8 @@ import jax
 import numpy as np
 
 import jaxgear as jg
-from jaxgear.dynamics import (
-    Damping,
-    Newmark,
-    SteadyState,
-    dynamic_model,
-    speed_sweep,
-)
-from jaxgear.io import write_json
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.io import Damping, write_json
 from jaxgear.scenes import TorsionalDynamics
 
 from ._backlash_reference import dead_zone_pair, sweep

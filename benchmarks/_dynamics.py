@@ -324,8 +324,8 @@ def stability_map(out_dir: str, *, quick: bool = False) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from jaxgear.dynamics import Damping, dynamic_model, speed_sweep
-    from jaxgear.io import atomic_open, load_case
+    from jaxgear.dynamics import dynamic_model, speed_sweep
+    from jaxgear.io import Damping, atomic_open, load_case
     from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
     case = load_case("accessory-spur").replace(slices=4)

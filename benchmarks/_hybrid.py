@@ -227,8 +227,7 @@ def bench_hybrid(
     from tqdm.auto import tqdm
 
     from jaxgear import MemberModification, Modifications, quasi_static
-    from jaxgear.dynamics import static_scene
-    from jaxgear.io import load_case, write_json
+    from jaxgear.io import load_case, static_scene, write_json
 
     block = jax.block_until_ready
     env = environment()
@@ -590,8 +589,7 @@ def _compare_bodies(c, sc, bodies_info, compare_case, slices, P, rep, T) -> dict
     import jax.numpy as jnp
 
     from jaxgear import quasi_static
-    from jaxgear.dynamics import static_scene
-    from jaxgear.io import load_case
+    from jaxgear.io import load_case, static_scene
 
     c2 = load_case(compare_case)
     info2, bodies2 = [], []

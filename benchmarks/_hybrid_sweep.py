@@ -430,8 +430,8 @@ def bench_hybrid_sweep(
     from tqdm.auto import tqdm
 
     import fem_prep
-    from jaxgear.dynamics import dynamic_model, speed_sweep, static_scene
-    from jaxgear.io import load_case, write_json
+    from jaxgear.dynamics import dynamic_model, speed_sweep
+    from jaxgear.io import load_case, static_scene, write_json
 
     block = jax.block_until_ready
     env = environment()

@@ -80,7 +80,6 @@ def bench_modal_basis(
         SteadyState,
         dynamic_model,
         speed_sweep,
-        static_scene,
     )
 
     env = environment()
@@ -191,7 +190,7 @@ def bench_modal_basis(
         "load_average_end": _load(),
     }
     os.makedirs(out_dir, exist_ok=True)
-    from jaxgear.io import write_json
+    from jaxgear.io import static_scene, write_json
 
     write_json(os.path.join(out_dir, "modal_basis.json"), out)
     modal_basis_chart(out, os.path.join(out_dir, "modal_basis.png"))

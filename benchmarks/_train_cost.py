@@ -38,7 +38,7 @@ from tqdm.auto import tqdm
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
-from jaxgear.io import atomic_open, load_case
+from jaxgear.io import atomic_open, build_dynamic_model, load_case
 from jaxgear.scenes import (
     Bearing,
     ShaftSpec,
@@ -103,7 +103,7 @@ def bench_span(quick: bool = False) -> dict:
     table of the span at one speed (see the module docstring). Returns the JSON's ``span``."""
     slices, steps, repeats = (4, 35, 1) if quick else (8, 140, 2)
     case = load_case("two-stage")
-    model, _ = jd.build_dynamic_model(case, slices=slices)
+    model, _ = build_dynamic_model(case, slices=slices)
     q = case.span_periods
     window = jd.SteadyState(q + 1, q)
     speed = jnp.asarray(0.5 * float(model.modes.omega[1]) / case.pairs[0].pinion.teeth)

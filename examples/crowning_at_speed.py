@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 import jaxgear as jg  # noqa: E402
 import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import static_scene  # noqa: E402
+from jaxgear.io import static_scene  # noqa: E402
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 

@@ -30,14 +30,8 @@ import optax  # noqa: E402
 
 import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import (  # noqa: E402
-    Damping,
-    Newmark,
-    SteadyState,
-    dynamic_model,
-    speed_sweep,
-    static_scene,
-)
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.io import Damping, static_scene
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 SPEEDS = (2800.0, 3000.0, 3200.0)  # pinion, rad/s

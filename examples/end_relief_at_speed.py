@@ -44,7 +44,7 @@ import numpy as np  # noqa: E402
 import jaxgear as jg  # noqa: E402
 import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import static_scene  # noqa: E402
+from jaxgear.io import static_scene  # noqa: E402
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 CASE = "power-helical-flexible"
@@ -56,7 +56,7 @@ EXTENDED_UM = np.arange(0.0, 160.01, 5.0)
 VAR = "pinion.end_relief.depth"
 
 
-def design_case(edge: str, extent: float = EXTENT) -> jg.Case:
+def design_case(edge: str, extent: float = EXTENT) -> jio.Case:
     """The power case without crowning and with a one-sided end relief (depth 0) on the pinion."""
     case = jio.load_case(CASE)
     m = case.modifications

@@ -28,8 +28,7 @@ import numpy as np  # noqa: E402
 
 import fem_prep  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import (  # noqa: E402
-    Damping,
+from jaxgear.dynamics import (
     Newmark,
     SteadyState,
     dynamic_model,
@@ -38,8 +37,8 @@ from jaxgear.dynamics import (  # noqa: E402
     nodal_diameter_resonances,
     rim_waves,
     speed_sweep,
-    static_scene,
 )
+from jaxgear.io import Damping, static_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"

@@ -30,14 +30,8 @@ import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import (  # noqa: E402
-    build_dynamic_model,
-    load_bodies,
-    simulate,
-    spec_integrator,
-    spec_window,
-    static_scene,
-)
+from jaxgear.dynamics import simulate
+from jaxgear.io import build_dynamic_model, load_bodies, spec_integrator, spec_window, static_scene
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 SPEED = 3000.0  # pinion, rad/s

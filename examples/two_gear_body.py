@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 import fem_prep  # noqa: E402
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import load_bodies  # noqa: E402
+from jaxgear.io import load_bodies  # noqa: E402
 from jaxgear.scenes import mesh_zone_load  # noqa: E402
 
 ROOT = pathlib.Path(__file__).parents[1]

@@ -11,7 +11,6 @@ Float64 is not switched on here: the CLI, the tests and the examples do it
 from importlib.metadata import PackageNotFoundError, version as _version
 
 from ._baseplane import CellRow as CellRow, Cells as Cells, MeshModel as MeshModel
-from ._case import Case as Case, TrainCase as TrainCase
 from ._contact import (
     AbstractContactLaw as AbstractContactLaw,
     ContactLaw as ContactLaw,

@@ -12,15 +12,8 @@ import pytest
 
 import fem_prep
 from jaxgear import Uniform, io as jio
-from jaxgear.dynamics import (
-    Newmark,
-    SteadyState,
-    dynamic_model,
-    load_bodies,
-    simulate,
-    speed_sweep,
-    static_scene,
-)
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, simulate, speed_sweep
+from jaxgear.io import load_bodies, static_scene
 from jaxgear.scenes import FlexibleMember, disc_inertia, lumped_pair, mesh_zone_load
 
 __all__ = [

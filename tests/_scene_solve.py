@@ -10,7 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
-from jaxgear.dynamics import build_dynamic_model
+from jaxgear.io import build_dynamic_model
 
 
 def solve_grounded(scene, case, positions_per_pitch: int = 16):

@@ -11,7 +11,7 @@ from _toml import small_helical_pair
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import static_scene
+from jaxgear.io import static_scene
 
 
 def _inv(a):

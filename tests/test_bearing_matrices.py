@@ -25,13 +25,8 @@ from _toml import ACCESSORY_PAIR
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.dynamics import (
-    Damping,
-    damping_matrix,
-    dynamic_model,
-    static_scene,
-)
-from jaxgear.io import SchemaError, parse_scene
+from jaxgear.dynamics import damping_matrix, dynamic_model
+from jaxgear.io import Damping, SchemaError, parse_scene, static_scene
 from jaxgear.scenes import Bearing, ShaftSpec, bearing_matrix, lumped_pair, shaft_matrices
 
 DATA = pathlib.Path(__file__).parent / "data"

@@ -26,7 +26,7 @@ import jaxgear.dynamics
 import jaxgear.io as jio
 from jaxgear import ContactResult, separation
 from jaxgear.cli import scene_outputs
-from jaxgear.dynamics import static_scene
+from jaxgear.io import static_scene
 
 WIDTH = 1e-7  # smoothing width (m)
 
@@ -202,7 +202,7 @@ def test_scene_outputs_run_at_the_case_slices(tmp_path, monkeypatch):
         used.append(int(scene.mesh.n_slices))
         return scene, bodies
 
-    monkeypatch.setattr(jg.dynamics, "static_scene", spy)
+    monkeypatch.setattr(jio, "static_scene", spy)
     out = scene_outputs(case, str(tmp_path))
     assert used == [12]
     assert out["slices"] == 12

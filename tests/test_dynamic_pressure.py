@@ -24,12 +24,11 @@ from jaxgear.dynamics import (
     HertzPressure,
     Newmark,
     SteadyState,
-    build_dynamic_model,
     dynamic_model,
     simulate,
     speed_sweep,
-    static_scene,
 )
+from jaxgear.io import build_dynamic_model, static_scene
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 DATA = pathlib.Path(__file__).parent / "data"

@@ -20,7 +20,6 @@ from _scene_solve import half_face_meshes
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
-    Damping,
     DiffraxIntegrator,
     Newmark,
     SteadyState,
@@ -32,6 +31,7 @@ from jaxgear.dynamics import (
     simulate,
     speed_sweep,
 )
+from jaxgear.io import Damping
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import jaxgear.dynamics as jd
+import jaxgear.io as jio
 
 
 @pytest.mark.parametrize("engine", [jd.DynamicModel, jd.HybridModel])
@@ -38,20 +39,20 @@ def test_an_engine_without_its_methods_cannot_be_built():
     ],
 )
 def test_damping_names_map_to_damping_classes(name, kind, values):
-    d = jd.Damping(name, **values)
+    d = jio.Damping(name, **values)
     assert type(d) is kind and isinstance(d, jd.AbstractDamping)
-    assert jd.DAMPING_MODELS[name] is kind
+    assert jio.DAMPING_MODELS[name] is kind
     for key, v in values.items():
         assert float(getattr(d, key)) == pytest.approx(v)
 
 
 def test_an_unknown_damping_name_is_refused():
     with pytest.raises(ValueError, match="damping model = 'viscous'"):
-        jd.Damping("viscous")
+        jio.Damping("viscous")
 
 
 def test_the_default_damping_is_the_composite_one():
-    d = jd.Damping()
+    d = jio.Damping()
     assert type(d) is jd.CompositeDamping
     assert float(d.mesh_ratio) == pytest.approx(0.07)
     assert float(d.structure_ratio) == pytest.approx(0.01)

@@ -16,14 +16,8 @@ import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    DiffraxIntegrator,
-    Newmark,
-    SceneSpec,
-    SteadyState,
-    build_dynamic_model,
-)
-from jaxgear.io import parse_scene
+from jaxgear.dynamics import DiffraxIntegrator, Newmark, SteadyState
+from jaxgear.io import SceneSpec, build_dynamic_model, parse_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -225,8 +219,8 @@ def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
         jax.config.update("jax_enable_x64", True)
         import jaxgear.dynamics as jd
         import jaxgear.io as jio
-        from jaxgear.dynamics import Newmark, SteadyState, build_dynamic_model
-        from jaxgear.io import parse_scene
+        from jaxgear.dynamics import Newmark, SteadyState
+        from jaxgear.io import build_dynamic_model, parse_scene
         case = jio.load_case("accessory-spur").replace(slices=2)
         spec = parse_scene({"integration": {"steps_per_period": 16, "periods": 4,
                                             "keep_periods": 2}})

@@ -36,7 +36,8 @@ from fem_prep import (
     select_masters,
 )
 from jaxgear import io as jio
-from jaxgear.dynamics import build_dynamic_model, mesh_averaged_modes
+from jaxgear.dynamics import mesh_averaged_modes
+from jaxgear.io import build_dynamic_model
 
 
 @pytest.fixture(scope="module")

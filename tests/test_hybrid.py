@@ -24,7 +24,7 @@ from _scene_solve import assert_split_equals_whole, half_face_meshes
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
-from jaxgear.dynamics import quasi_static_scene, static_scene
+from jaxgear.io import quasi_static_scene, static_scene
 from jaxgear.scenes import FlexibleMember, fit_windows, grounded, hybrid_pair
 
 DATA = pathlib.Path(__file__).parent / "data"

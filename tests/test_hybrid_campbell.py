@@ -24,8 +24,8 @@ from jaxgear.dynamics import (
     modal_analysis,
     modes_at_speed,
     nodal_diameter_resonances,
-    static_scene,
 )
+from jaxgear.io import static_scene
 
 jax.config.update("jax_enable_x64", True)
 

@@ -22,7 +22,8 @@ from test_hybrid_dynamics import (
     setup,  # noqa: F401 (the module's scene fixture)
 )
 
-from jaxgear.dynamics import Damping, Newmark, SteadyState, dynamic_model, revolution_damping
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, revolution_damping
+from jaxgear.io import Damping
 
 
 def _composite(scene, mesh_stiffness, periods, xi_m, xi_s):

@@ -24,7 +24,6 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import (
-    Damping,
     DiffraxIntegrator,
     Newmark,
     SteadyState,
@@ -35,8 +34,8 @@ from jaxgear.dynamics import (
     mesh_averaged_modes,
     simulate,
     speed_sweep,
-    static_scene,
 )
+from jaxgear.io import Damping, static_scene
 
 DATA = pathlib.Path(__file__).parent / "data"
 STATIC_TE_ATOL = 1e-2  # of the mean quasi-static TE, at 5 rad/s
@@ -615,7 +614,7 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     import json
 
     from jaxgear.cli import main
-    from jaxgear.dynamics import spec_damping
+    from jaxgear.io import spec_damping
 
     text = (DATA / "hybrid-test-case.toml").read_text()
     case_file = tmp_path / "hybrid-test-case.toml"

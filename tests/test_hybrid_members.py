@@ -27,14 +27,8 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    Damping,
-    gear_nodal_diameter_resonances,
-    load_bodies,
-    modal_analysis,
-    rim_stations,
-    static_scene,
-)
+from jaxgear.dynamics import gear_nodal_diameter_resonances, modal_analysis, rim_stations
+from jaxgear.io import Damping, load_bodies, static_scene
 from jaxgear.scenes import FlexibleMember
 
 DATA = pathlib.Path(__file__).parent / "data"

@@ -16,16 +16,14 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import (
-    Damping,
     HybridModel,
     ModalBasis,
     Newmark,
     SteadyState,
-    build_dynamic_model,
     dynamic_model,
     speed_sweep,
-    static_scene,
 )
+from jaxgear.io import Damping, build_dynamic_model, static_scene
 
 DATA = pathlib.Path(__file__).parent / "data"
 
@@ -153,8 +151,7 @@ def test_bad_settings(setup):
 def test_case_key():
     """``[scene.integration] modal_basis = m`` reaches the integrator; bad values are one-line
     errors naming the key and the allowed range."""
-    from jaxgear.dynamics import spec_integrator
-    from jaxgear.io import parse_scene
+    from jaxgear.io import parse_scene, spec_integrator
 
     shaft = {
         "length_mm": 80.0,

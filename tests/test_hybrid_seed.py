@@ -15,7 +15,8 @@ from _examples import load_example
 import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
-from jaxgear.dynamics import bearing_forces, static_scene
+from jaxgear.dynamics import bearing_forces
+from jaxgear.io import static_scene
 
 pytestmark = pytest.mark.slow
 

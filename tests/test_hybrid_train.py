@@ -31,14 +31,8 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    Damping,
-    Newmark,
-    SteadyState,
-    bearing_forces,
-    dynamic_model,
-    speed_sweep,
-)
+from jaxgear.dynamics import Newmark, SteadyState, bearing_forces, dynamic_model, speed_sweep
+from jaxgear.io import Damping
 from jaxgear.scenes import FlexibleMember
 
 DATA = pathlib.Path(__file__).parent / "data"

@@ -37,15 +37,8 @@ import jaxgear as jg
 from fem_prep import mesh_body
 from jaxgear import io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    Damping,
-    Newmark,
-    SteadyState,
-    bearing_forces,
-    dynamic_model,
-    load_bodies,
-    speed_sweep,
-)
+from jaxgear.dynamics import Newmark, SteadyState, bearing_forces, dynamic_model, speed_sweep
+from jaxgear.io import Damping, load_bodies
 from jaxgear.scenes import FlexibleMember
 
 ROOT = pathlib.Path(__file__).parents[1]

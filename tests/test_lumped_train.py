@@ -29,7 +29,8 @@ from _trains import line_direction, shaft_sum, spins
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import Newmark, SteadyState, bearing_forces, build_dynamic_model, speed_sweep
+from jaxgear.dynamics import Newmark, SteadyState, bearing_forces, speed_sweep
+from jaxgear.io import build_dynamic_model
 from jaxgear.scenes import mesh_wrench
 
 jax.config.update("jax_enable_x64", True)

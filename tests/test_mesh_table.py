@@ -138,7 +138,7 @@ def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
     data["mesh"].update(slices=2, positions_per_pitch=4)
     train = jio.parse_train(data)
     spec = dataclasses.replace(train.scene, steps_per_period=steps)
-    model, _ = jd.build_dynamic_model(train, spec, slices=2)
+    model, _ = jio.build_dynamic_model(train, spec, slices=2)
     q = train.span_periods
     window = jd.SteadyState(q + 2, max(q, 2))
     speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
@@ -227,7 +227,7 @@ def _lumped_case(case: str):
     data["mesh"].update(slices=2, positions_per_pitch=4)
     train = jio.parse_train(data)
     spec = dataclasses.replace(train.scene, steps_per_period=steps)
-    model, _ = jd.build_dynamic_model(train, spec, slices=2)
+    model, _ = jio.build_dynamic_model(train, spec, slices=2)
     q = train.span_periods
     speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
     return model, speed, steps, jd.SteadyState(q + 2, max(q, 2))

@@ -21,7 +21,7 @@ import pytest
 from _trains import line_direction, spins
 
 import jaxgear.io as jio
-from jaxgear.dynamics import static_scene
+from jaxgear.io import static_scene
 from jaxgear.scenes import mesh_zone_load
 
 jax.config.update("jax_enable_x64", True)

@@ -14,7 +14,8 @@ import pytest
 import fem_prep
 import optimise
 from jaxgear import io as jio
-from jaxgear.dynamics import Newmark, SteadyState, static_scene
+from jaxgear.dynamics import Newmark, SteadyState
+from jaxgear.io import static_scene
 
 DATA = pathlib.Path(__file__).parent / "data"
 SPEEDS = [1200.0, 1600.0]

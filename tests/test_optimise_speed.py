@@ -22,7 +22,7 @@ from _examples import load_example
 import jaxgear as jg
 import optimise as op
 from jaxgear import io as jio
-from jaxgear.dynamics import static_scene
+from jaxgear.io import static_scene
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"

@@ -152,7 +152,7 @@ def test_pressure_across_the_face_against_crowning_at_speed():
     ex = load_example("pressure_crowning")
     stored = json.loads((root / "docs" / "pressure_crowning.json").read_text())
     case = jio.load_case("power-helical-flexible")
-    from jaxgear.dynamics import static_scene
+    from jaxgear.io import static_scene
 
     scene, _ = static_scene(case)
     for i in (0, 2):  # 0 and 10 µm

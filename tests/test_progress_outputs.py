@@ -28,7 +28,8 @@ from jaxgear.cli import (
     scene_outputs,
     settings_from_case,
 )
-from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep, static_scene
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.io import static_scene
 
 PARTIAL = "optimum.partial.json"  # the marker of an unfinished jaxgear optimise
 

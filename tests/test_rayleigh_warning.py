@@ -38,7 +38,7 @@ def _data(alpha: float, beta: float) -> dict:
 
 def _mesh_mode() -> float:
     """The natural frequency (rad/s) of the dynamic model's mesh mode."""
-    model, _ = jd.build_dynamic_model(jio.parse_case(_data(0.0, 0.0)), slices=8)
+    model, _ = jio.build_dynamic_model(jio.parse_case(_data(0.0, 0.0)), slices=8)
     modes = model.modes
     energy = np.where(np.asarray(modes.rigid), -1.0, np.asarray(modes.energy[0]))
     return float(np.asarray(modes.omega)[int(np.argmax(energy))])

@@ -20,14 +20,8 @@ import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
 from jaxgear.cli import OUTPUT_FILES, TRAIN_FILES, result_summary, run_case
-from jaxgear.dynamics import (
-    Newmark,
-    SteadyState,
-    build_dynamic_model,
-    dynamic_model,
-    quasi_static_scene,
-    speed_sweep,
-)
+from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.io import build_dynamic_model, quasi_static_scene
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

@@ -91,6 +91,6 @@ def test_the_solvers_refuse_what_is_not_a_setting():
     # the lumped dynamics compare the last two kept periods
     with pytest.raises(ValueError, match=r"keep_periods = 1 is out of range: allowed an integer"):
         simulate(model, 500.0, integrator=Newmark(16), window=SteadyState(4, 1))
-    assert jg.Case.contact_law(case, "smooth") == jg.SmoothContact(case.smooth_width)
+    assert jio.Case.contact_law(case, "smooth") == jg.SmoothContact(case.smooth_width)
     with pytest.raises(ValueError, match="contact = 'penalty'"):
         case.contact_law("penalty")

@@ -18,6 +18,7 @@ import scipy.linalg
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
+import jaxgear.io as jio
 from fem_prep.tooth_form import generate_tooth
 from jaxgear.scenes import (
     AssembledScene,
@@ -462,7 +463,7 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
     )
     # modal damping of 20 %: the stiffness jumps of uniform spur meshes excite strongly, and the
     # reference is linear (no contact loss at any of these speeds)
-    model = jd.dynamic_model(train, jg.Modifications(), TORQUE, jd.Damping("modal", ratio=0.2))
+    model = jd.dynamic_model(train, jg.Modifications(), TORQUE, jio.Damping("modal", ratio=0.2))
     first = float(model.modes.omega[1]) / 20  # mode 1 × H1 of the first mesh (input rad/s)
     rb_in, rb_wheel = pairs[0].base_radii
     static = (TORQUE / rb_in, TORQUE * rb_wheel / rb_in / pairs[1].base_radii[0])

@@ -25,13 +25,8 @@ from _toml import case_toml
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
-from jaxgear.dynamics import (
-    Newmark,
-    SteadyState,
-    build_dynamic_model,
-    mesh_energy_shares,
-    speed_sweep,
-)
+from jaxgear.dynamics import Newmark, SteadyState, mesh_energy_shares, speed_sweep
+from jaxgear.io import build_dynamic_model
 
 jax.config.update("jax_enable_x64", True)
 
@@ -53,7 +48,7 @@ def _gear_table(data: dict, name: str) -> dict:
     return next(g for g in data["gears"] if g["name"] == name)
 
 
-def _pair_case(data: dict, driving: str, driven: str, torque: float) -> jg.Case:
+def _pair_case(data: dict, driving: str, driven: str, torque: float) -> jio.Case:
     """The mesh driving → driven written as a pair case file of its own (``[pair]``,
     ``[pinion]``, ``[gear]``) at ``torque`` on its driving gear."""
     a, b = _gear_table(data, driving), _gear_table(data, driven)

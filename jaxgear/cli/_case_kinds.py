@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import functools
 
-from .. import Case, TrainCase
+from ..io import Case, TrainCase
 
 __all__ = [
     "case_pairs",

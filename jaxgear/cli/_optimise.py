@@ -36,8 +36,16 @@ from optimise import (
     zero_fluctuation_depth,
 )
 
-from ..dynamics import static_scene
-from ..io import atomic_open, case_problem, load_case, optimiser_from_name, write_json
+from ..io import (
+    Case,
+    TrainCase,
+    atomic_open,
+    case_problem,
+    load_case,
+    optimiser_from_name,
+    static_scene,
+    write_json,
+)
 from . import _plots
 from ._optimise_options import add_parsers
 from ._options import parse_range, range_values
@@ -60,7 +68,7 @@ PARTIAL = "optimum.partial.json"
 _JOINED = {"vars": ",", "torques": ":", "speeds": ":"}
 
 
-def settings_from_case(case: jg.Case, args=None) -> dict:
+def settings_from_case(case: Case, args=None) -> dict:
     """Optimisation settings: command-line options over the case's ``[optimise]`` table (already
     validated and normalised by :func:`jaxgear.io.parse_optimise` when the case was loaded).
 
@@ -142,13 +150,13 @@ def _(objective: LoadCentroid, rep: dict) -> str:
     return f"centroid {a:+.4g} -> {b:+.4g} face widths from mid-face (+: towards z = b)"
 
 
-def optimise_case(case: jg.Case, settings: dict, out_dir: str, progress: bool = True) -> dict:
+def optimise_case(case: Case, settings: dict, out_dir: str, progress: bool = True) -> dict:
     """Run one optimisation from the case's current modifications and write its files; returns
     the report (``optimum.json``)."""
     return _optimise(case, settings, out_dir, progress)[0]
 
 
-def _optimise(case: jg.Case, settings: dict, out_dir: str, progress: bool):
+def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     """:func:`optimise_case`, returning the report and the problem."""
     torques = (
         range_values(settings["torques"], "--torques", positive=True)
@@ -338,7 +346,7 @@ def _optimise(case: jg.Case, settings: dict, out_dir: str, progress: bool):
     return report, problem
 
 
-def _warn_idle_extents(case: jg.Case, variables: tuple[Variable, ...]) -> None:
+def _warn_idle_extents(case: Case, variables: tuple[Variable, ...]) -> None:
     """Warn about an extent variable whose relief has no depth in the case and no depth variable
     on its members: its gradient is zero and the optimiser leaves it where it starts."""
     for var in variables:
@@ -359,7 +367,7 @@ def _warn_idle_extents(case: jg.Case, variables: tuple[Variable, ...]) -> None:
             )
 
 
-def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
+def check_settings(settings: dict, case: Case | None = None) -> dict:
     """Check optimisation settings that the option parser cannot: a ``torques`` range only with
     ``robust_te_rms``, and increasing; ``max_iterations >= 1``. Returns ``settings``.
 
@@ -426,7 +434,7 @@ def check_settings(settings: dict, case: jg.Case | None = None) -> dict:
 def _pair_case(name_or_path: str, command: str):
     """The pair case a command optimises; a train case is refused in one line."""
     case = load_case(name_or_path)
-    if isinstance(case, jg.TrainCase):
+    if isinstance(case, TrainCase):
         raise ValueError(
             f"jaxgear {command} optimises a gear pair; {case.name!r} is a train case: run "
             "it with jaxgear run or jaxgear sweep, or optimise one of its meshes as a pair case"
@@ -456,7 +464,7 @@ def run_optimise(args) -> int:
     return 0
 
 
-def master_curve_case(case: jg.Case, extents, out_dir: str, progress: bool = True) -> dict:
+def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) -> dict:
     """Master Curve and contour map for a case; writes master_curve.json and master_curve.png."""
     t0 = time.perf_counter()
     problem = case_problem(

@@ -20,10 +20,8 @@ from ..dynamics import (
     rim_stations,
     rim_waves,
     simulate,
-    spec_integrator,
-    spec_window,
 )
-from ..io import write_csv, write_json
+from ..io import spec_integrator, spec_window, write_csv, write_json
 from ..scenes import AssembledScene
 from ._case_kinds import gear_meshes, gear_names, mesh_file_tag, mesh_title, per_mesh_keys
 from ._plots import campbell_plot, dynamic_factor_plot, face_map, pressure_speed_plot

@@ -6,8 +6,8 @@ import functools
 
 from fem_prep.schema import print_or_write
 
-from .. import Case, TrainCase
 from .. import io as case_io
+from ..io import Case, TrainCase
 from .train import gear_glossary
 
 __all__ = ["case_line", "run_cases"]

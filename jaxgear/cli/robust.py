@@ -21,15 +21,14 @@ from .. import (
     DeviationSampler,
     Modifications,
     QuasiStaticMetrics,
-    TrainCase,
     mesh_positions,
     quasi_static,
     robust_samples,
     sample_statistics,
 )
-from ..dynamics import DynamicMetrics, Newmark, SteadyState, build_dynamic_model, dynamic_model
+from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
 from .. import io as case_io
-from ..io import SchemaError, parse_robust, write_csv, write_json
+from ..io import SchemaError, TrainCase, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
 from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs
 from ._plots import new_figure, savefig

@@ -10,16 +10,9 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import (
-    Case,
-    Modifications,
-    TrainCase,
-    contact_pressure,
-    harris_map,
-    quasi_static,
-)
+from .. import Modifications, contact_pressure, harris_map, quasi_static
 from .. import io as case_io
-from ..io import atomic_open, write_csv, write_json
+from ..io import Case, TrainCase, atomic_open, write_csv, write_json
 from . import scene as cli_scene
 from . import sweep as cli_sweep
 from ._deviation_run import deviation_outputs

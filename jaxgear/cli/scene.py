@@ -10,9 +10,9 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Case, contact_pressure, load_map, quasi_static
-from .. import dynamics
-from ..io import atomic_open, write_vtu
+from .. import contact_pressure, load_map, quasi_static
+from .. import dynamics, io as case_io
+from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember
 from . import _plots
 from ._summary import result_summary
@@ -150,10 +150,10 @@ def scene_outputs(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached)")
-        bodies = dynamics.load_bodies(case.scene, progress=progress)
+        bodies = case_io.load_bodies(case.scene, progress=progress)
         bar.update()
     bar.set_postfix_str("building the scene")
-    scene, bodies = dynamics.static_scene(case, slices=slices, bodies=bodies)
+    scene, bodies = case_io.static_scene(case, slices=slices, bodies=bodies)
     out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
     res, pressure = {}, {}
 

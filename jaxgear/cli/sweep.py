@@ -17,8 +17,9 @@ import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Case, DynamicsResult, dynamics
+from .. import DynamicsResult, dynamics
 from .. import io as case_io
+from ..io import Case
 from ._case_kinds import case_pairs, span_periods
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
@@ -61,13 +62,13 @@ def sweep_spec(
     keep_periods: int | None = None,
     vtu_speed: float | None = None,
 ):
-    """The :class:`~jaxgear.dynamics.SceneSpec` a sweep of ``case`` runs (its ``[scene]``, the
+    """The :class:`~jaxgear.io.SceneSpec` a sweep of ``case`` runs (its ``[scene]``, the
     options given replacing its settings), checked before any work: one-line ``ValueError``
     naming the option (``--periods``) or the case-file key (``[scene.integration] periods``),
     its value and the allowed range."""
     # MAX_STEPS_PER_SPEED: jaxgear.dynamics' bound (its runs refuse more, but only once the
     # model is built); checked here before any work
-    spec = case.scene if case.scene is not None else dynamics.SceneSpec()
+    spec = case.scene if case.scene is not None else case_io.SceneSpec()
     given = dict(
         solver=solver,
         contact=contact,
@@ -166,10 +167,10 @@ def sweep_case(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
-        bodies = dynamics.load_bodies(spec, progress=show_progress)
+        bodies = case_io.load_bodies(spec, progress=show_progress)
     else:
         bar.set_postfix_str("building the model (modes, damping)")
-    model, spec = dynamics.build_dynamic_model(case, spec, slices=slices, bodies=bodies)
+    model, spec = case_io.build_dynamic_model(case, spec, slices=slices, bodies=bodies)
     kind = sweep_kind(model)
     law = case.contact_law(spec.contact)
     # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical
@@ -193,9 +194,9 @@ def sweep_case(
         direction=direction,
         chunk_size=kind.chunk_size(speeds.size),
         progress=progress,
-        integrator=dynamics.spec_integrator(spec),
+        integrator=case_io.spec_integrator(spec),
         contact=law,
-        window=dynamics.spec_window(spec),
+        window=case_io.spec_window(spec),
         pressure=hertz,
     )
     jax.block_until_ready(res)

@@ -9,9 +9,9 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Modifications, TrainCase, contact_pressure, quasi_static
-from ..dynamics import bearing_forces, load_bodies
-from ..io import atomic_open, write_csv
+from .. import Modifications, contact_pressure, quasi_static
+from ..dynamics import bearing_forces
+from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import write_bodies_vtu

@@ -5,8 +5,9 @@ Settings are objects, as diffrax takes them: the integrator (:class:`Newmark`,
 :class:`DiffraxIntegrator`; a hybrid model's Newmark can take a :class:`ModalBasis`), the
 contact law (:class:`jaxgear.ExactContact`, :class:`jaxgear.SmoothContact`), the damping (a
 :class:`AbstractDamping`: :class:`RayleighDamping`, :class:`ModalDamping`,
-:class:`CompositeDamping`, :class:`NoDamping`; :func:`Damping` maps the case file's names to
-them) and the steady-state window (:class:`SteadyState`); the speed is an argument.
+:class:`CompositeDamping`, :class:`NoDamping`; :func:`jaxgear.io.Damping` maps the case
+file's names to them) and the steady-state window (:class:`SteadyState`); the speed is an
+argument.
 
 A dynamics engine is an object, an :class:`AbstractDynamicModel` (as diffrax's solvers are
 ``AbstractSolver`` s): :func:`dynamic_model` builds the one of a scene's kind at a torque, a
@@ -20,7 +21,8 @@ band, for gradients); every engine's records (:class:`Records`) become one resul
 :class:`DynamicResult` (:func:`steady_state`; in a :class:`SweepResult` for a sweep). All of
 them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
 integrates any M, C, K, F and cells given by hand.
-:func:`build_dynamic_model` does it from a case's ``[scene]`` (:class:`SceneSpec`).
+:func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
+(:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
 """
 
 from ._damping import (
@@ -31,19 +33,7 @@ from ._damping import (
     RayleighDamping as RayleighDamping,
     damping_matrix as damping_matrix,
 )
-from ._from_case import (
-    DAMPING_MODELS as DAMPING_MODELS,
-    Damping as Damping,
-    SceneSpec as SceneSpec,
-    bearing_forces as bearing_forces,
-    build_dynamic_model as build_dynamic_model,
-    load_bodies as load_bodies,
-    quasi_static_scene as quasi_static_scene,
-    spec_damping as spec_damping,
-    spec_integrator as spec_integrator,
-    spec_window as spec_window,
-    static_scene as static_scene,
-)
+from ._bearings import bearing_forces as bearing_forces
 from ._build import (
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,

@@ -1,7 +1,21 @@
-"""Case files and output files: loading and validating cases (TOML, units in key names), the
-embedded cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
+"""Case files and output files: the one place that maps the names in a case file to the model's
+objects. Loading and validating cases (TOML, units in key names) into a :class:`Case` (a gear
+pair) or a :class:`TrainCase` (a gear train), both holding the :class:`MeshSettings`; their
+``[scene]`` (:class:`SceneSpec`) and the objects it names (:func:`spec_integrator`,
+:func:`Damping`, :func:`spec_window`, :func:`load_bodies`); the model of a case
+(:func:`build_dynamic_model`, :func:`static_scene`, :func:`quasi_static_scene`); the embedded
+cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in
+:mod:`jaxgear.cli`. The model (:mod:`jaxgear`, :mod:`jaxgear.scenes`, :mod:`jaxgear.dynamics`)
+never imports this package: it takes the objects built here, never a case."""
 
+from ._case import Case as Case, MeshSettings as MeshSettings, TrainCase as TrainCase
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
+from ._case_model import (
+    PAIR_SCENES as PAIR_SCENES,
+    build_dynamic_model as build_dynamic_model,
+    quasi_static_scene as quasi_static_scene,
+    static_scene as static_scene,
+)
 from ._deviations_table import parse_deviations as parse_deviations
 from ._load import (
     embedded_case_text as embedded_case_text,
@@ -24,6 +38,16 @@ from ._problem import (
     optimiser_from_name as optimiser_from_name,
 )
 from ._robust_table import parse_robust as parse_robust
+from ._scene_spec import (
+    DAMPING_MODELS as DAMPING_MODELS,
+    INTEGRATORS as INTEGRATORS,
+    Damping as Damping,
+    SceneSpec as SceneSpec,
+    load_bodies as load_bodies,
+    spec_damping as spec_damping,
+    spec_integrator as spec_integrator,
+    spec_window as spec_window,
+)
 from ._scene_table import parse_scene as parse_scene
 from ._train_file import parse_train as parse_train
 from ._writers import (

@@ -17,7 +17,7 @@ from typing import Any
 
 from fem_prep import schema as sc
 
-from .._case import Case
+from ._case import Case
 from .._geometry import JAM, GearPair, Member
 from ._deviations_table import parse_deviations
 from ._modifications_table import parse_modifications
@@ -51,8 +51,8 @@ _MEMBER_KEYS = {
 #: a pair case's member keys: the train's and the tooth thickness allowance (backlash; a train
 #: has no coast flanks: docs/backlash.md)
 _PAIR_MEMBER_KEYS = _MEMBER_KEYS | {"tooth_thickness_allowance_um"}
-_SCHEMA: dict[str, Any] = {
-    "name": None,
+#: the tables whose keys are listed here (the others are checked by their own parsers)
+_KEY_TABLES: dict[str, set] = {
     "pair": {
         "normal_module_mm",
         "normal_pressure_angle_deg",
@@ -72,6 +72,10 @@ _SCHEMA: dict[str, Any] = {
         "foundation",
         "fe2d_size_um",
     },
+}
+_SCHEMA: dict[str, Any] = {
+    "name": None,
+    **_KEY_TABLES,
     "modifications": None,  # checked by parse_modifications
     "deviations": None,  # checked by parse_deviations
     "robust": None,  # checked by parse_robust (jaxgear robust)
@@ -336,10 +340,9 @@ def parse_mesh_settings(data: dict, normal_module: float) -> dict:
         note=" (m_n/100 to m_n; default m_n/6)",
     )
     fe2d_size = None if fe2d_size is None else fe2d_size * 1e-6
+    # a name, or the old boolean (true = "weber", false = "none"; foundation_from_name maps it)
     foundation = m.get("foundation", "weber")
-    if isinstance(foundation, bool):  # the old boolean: true = "weber", false = "none"
-        foundation = "weber" if foundation else "none"
-    elif foundation not in FOUNDATIONS:
+    if foundation not in FOUNDATIONS and not isinstance(foundation, bool):
         raise sc.fail(
             "mesh",
             "foundation",
@@ -368,9 +371,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
     sc.check_keys(data, _SCHEMA, "")
     name = sc.name(data, "name", "", default_name)
-    for section, allowed in _SCHEMA.items():
-        if isinstance(allowed, set):
-            sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
+    for section, allowed in _KEY_TABLES.items():
+        sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
     p = data["pair"]
     pinion = _member(data, "pinion", _PAIR_MEMBER_KEYS)
     gear = _member(data, "gear", _PAIR_MEMBER_KEYS)

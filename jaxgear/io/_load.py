@@ -7,7 +7,7 @@ import os
 
 from fem_prep import schema as sc
 
-from .._case import Case, TrainCase
+from ._case import Case, TrainCase
 from ._case_file import parse_case
 from ._train_file import is_train, parse_train
 
@@ -34,7 +34,7 @@ def embedded_case_text(name: str) -> str:
 
 def load_case(name_or_path: str | os.PathLike) -> Case | TrainCase:
     """Load a case from a TOML path or an embedded case name: a pair case (:class:`Case`) or,
-    with ``[[gears]]`` and ``[[meshes]]``, a train case (:class:`~jaxgear.TrainCase`,
+    with ``[[gears]]`` and ``[[meshes]]``, a train case (:class:`TrainCase`,
     :func:`parse_train`).
 
     Raises:

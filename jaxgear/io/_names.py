@@ -7,6 +7,8 @@ A new model is one class in the model (:class:`jaxgear.AbstractStiffness`,
 
 from __future__ import annotations
 
+import functools
+
 from .._stiffness import (
     AbstractFoundation,
     MemberFoundations,
@@ -41,6 +43,7 @@ def _one_foundation(name) -> AbstractFoundation:
     return FOUNDATIONS[name]
 
 
+@functools.singledispatch
 def foundation_from_name(foundation) -> AbstractFoundation:
     """The foundation a name gives: "weber" → :class:`~jaxgear.WeberFoundation`, "sainsot" →
     :class:`~jaxgear.SainsotFoundation`, "none" → :class:`~jaxgear.NoFoundation` (``True``/
@@ -50,14 +53,19 @@ def foundation_from_name(foundation) -> AbstractFoundation:
     Raises:
         ValueError: an unknown name, or a sequence that is not of length 2.
     """
-    if isinstance(foundation, tuple | list):
-        if len(foundation) != 2:
-            raise ValueError(
-                f"mesh.foundation = {foundation!r} has {len(foundation)} entries: allowed one "
-                "name for both members or a (pinion, gear) pair of 'weber', 'sainsot', 'none'"
-            )
-        return MemberFoundations(*(_one_foundation(f) for f in foundation))
     return _one_foundation(foundation)
+
+
+@foundation_from_name.register(tuple)
+@foundation_from_name.register(list)
+def _member_foundations(foundation) -> MemberFoundations:
+    """(pinion, gear) names: each member's foundation."""
+    if len(foundation) != 2:
+        raise ValueError(
+            f"mesh.foundation = {foundation!r} has {len(foundation)} entries: allowed one "
+            "name for both members or a (pinion, gear) pair of 'weber', 'sainsot', 'none'"
+        )
+    return MemberFoundations(*(_one_foundation(f) for f in foundation))
 
 
 def stiffness_from_name(

@@ -3,6 +3,7 @@ torques, bounds), checked and normalised."""
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 from fem_prep import schema as sc
@@ -22,6 +23,18 @@ _OPTIMISE_KEYS = {
     "speeds",
 }
 _DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
+
+
+@functools.singledispatch
+def _name_list(value):
+    """``vars`` as given (an array of names; checked by the caller)."""
+    return value
+
+
+@_name_list.register
+def _(value: str) -> list:
+    """``vars = "a, b"``: comma-separated names."""
+    return [x.strip() for x in value.split(",") if x.strip()]
 
 
 def parse_optimise(table) -> dict:
@@ -69,8 +82,7 @@ def parse_optimise(table) -> dict:
     names = list(_DEFAULT_VARS)
     if "vars" in table:
         v = table["vars"]
-        if isinstance(v, str):
-            v = [x.strip() for x in v.split(",") if x.strip()]
+        v = _name_list(v)
         if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
             raise sc.fail(w, "vars", "must be a non-empty array of variable names", table["vars"])
         for x in v:

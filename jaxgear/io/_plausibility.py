@@ -10,7 +10,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from .._case import Case, TrainCase
+from ._case import Case, TrainCase
 from .._stiffness import SainsotFoundation, sainsot_fit_check
 from .._stiffness_models import Weber, stiffness_table
 from ..scenes import disc_inertia
@@ -161,10 +161,10 @@ def plausibility(case: Case) -> list[str]:
                 f"{MAX_DAMPING_RATIO:g}); usual ξ are 0.01 to 0.1"
             )
     if d_um >= MIN_DEFLECTION_UM:
-        raw = case.raw.get("modifications", {}) if isinstance(case.raw, dict) else {}
+        raw = case.raw.get("modifications", {})  # validated: tables (parse_modifications)
         for tag in ("pinion", "gear"):
             mm = getattr(case.modifications, tag)
-            own = raw.get(tag, {}) if isinstance(raw, dict) else {}
+            own = raw.get(tag, {})
             for key in ("tip_relief", "root_relief", "crowning", "end_relief"):
                 depth = float(getattr(mm, f"{key}_depth"))
                 if depth > RELIEF_RATIO_WARN * delta:

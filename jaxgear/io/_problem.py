@@ -21,6 +21,8 @@ import jaxgear as jg
 import optimise as op
 from optimise import Problem, make_problem
 
+from ._case import Case
+
 __all__ = [
     "OBJECTIVES",
     "OPTIMISERS",
@@ -130,7 +132,7 @@ def optimiser_from_name(name: str, **settings):
 
 
 def case_problem(
-    case: jg.Case,
+    case: Case,
     variables,
     objective: str = "te_rms",
     *,
@@ -144,12 +146,12 @@ def case_problem(
     pitch and its smooth contact width.
 
     Args:
-        case: a :class:`jaxgear.Case` (:func:`jaxgear.io.load_case`).
+        case: a :class:`Case` (:func:`jaxgear.io.load_case`).
         variables: as :func:`optimise.make_problem`.
         objective: an objective name (:data:`OBJECTIVES`).
         slices: slices per contact line of the rigid mesh (default the case's).
         scene: the structure to optimise on instead of the case's rigid mesh, e.g. the hybrid
-            scene of :func:`jaxgear.dynamics.static_scene`; its mesh replaces ``slices``.
+            scene of :func:`static_scene`; its mesh replaces ``slices``.
         positions_per_pitch: default the case's.
         settings: the objective's settings (:func:`objective_from_name`: ``torques``,
             ``reduce``, ``lp_order``, ``speeds``, ``integrator``, ``window``), the smoothing

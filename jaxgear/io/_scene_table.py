@@ -45,10 +45,12 @@ import os
 
 import numpy as np
 
+import fem_prep
 from fem_prep import schema as sc
 
-from ..dynamics import DIFFRAX_SOLVERS, SceneSpec
+from ..dynamics import DIFFRAX_SOLVERS
 from ..scenes import Bearing, ShaftSpec, bearing_matrix
+from ._scene_spec import SceneSpec
 
 __all__ = ["parse_scene"]
 
@@ -218,8 +220,6 @@ def parse_body(table: dict, key: str, base_dir: str | None, parent: str = "scene
     """``[scene.<member>_body] body = ...`` (a train's ``[scene.bodies.<gear>]``, ``parent``
     ``scene.bodies``): an embedded fem_prep body, a body TOML or a .npz, resolved against the
     case file's folder ``base_dir``."""
-    import fem_prep
-
     t = sc.subtable(table, key, parent, _BODY_KEYS, required=True)
     where = f"{parent}.{key}"
     ref = sc.string(t, "body", where, sc.MISSING)
@@ -250,8 +250,6 @@ def _body_error(where: str, why: str, ref: str) -> sc.SchemaError:
 def _check_body_file(path: str, ref: str, where: str) -> None:
     """A body file must be what its extension says, read now (before any work): a fem_prep body
     file (``.toml``, checked against its schema) or a condensed body (``.npz``, format checked)."""
-    import fem_prep
-
     if path.endswith(".toml"):
         try:
             with open(path, "rb") as f:
@@ -261,9 +259,11 @@ def _check_body_file(path: str, ref: str, where: str) -> None:
                 why = f"{what} is a jaxgear case file ([pair]), not a fem_prep body file"
                 raise _body_error(where, why, ref)
             fem_prep.load_body(path)
-        except (sc.SchemaError, OSError) as err:
-            if getattr(err, "path", None) == f"[{where}] body":
+        except sc.SchemaError as err:
+            if err.path == f"[{where}] body":  # already about the reference (_body_error)
                 raise
+            raise _body_error(where, f"not a fem_prep body file {path!r}: {err}", ref) from None
+        except OSError as err:
             raise _body_error(where, f"not a fem_prep body file {path!r}: {err}", ref) from None
         return
     try:
@@ -275,7 +275,7 @@ def _check_body_file(path: str, ref: str, where: str) -> None:
 
 def parse_dynamics_settings(table: dict) -> dict:
     """The ``[scene.damping]`` and ``[scene.integration]`` tables of a pair's or a train's
-    ``[scene]`` (``rotating_frame`` aside): :class:`~jaxgear.dynamics.SceneSpec` fields."""
+    ``[scene]`` (``rotating_frame`` aside): :class:`SceneSpec` fields."""
     kw: dict = {}
     d = sc.subtable(table, "damping", "scene", _DAMPING_KEYS)
     w = "scene.damping"
@@ -297,10 +297,10 @@ def parse_dynamics_settings(table: dict) -> dict:
     kw["solver"] = sc.choice(g, "solver", w, ("newmark", *DIFFRAX_SOLVERS), "newmark")
     kw["contact"] = sc.choice(g, "contact", w, ("exact", "smooth"), "exact")
     spp = g.get("steps_per_period", "auto")
-    if isinstance(spp, str):  # "auto": resolve the highest excited mode (the default)
-        if spp != "auto":
-            raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
+    if spp == "auto":  # resolve the highest excited mode (the default)
         kw["steps_per_period"] = None
+    elif isinstance(spp, str):
+        raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
     for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
         if key in g and key not in kw:
             kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)

@@ -75,7 +75,7 @@ from typing import Any
 
 from fem_prep import schema as sc
 
-from .._case import TrainCase
+from ._case import TrainCase
 from .._geometry import GearPair
 from ..scenes import train_hands
 from ._case_file import (
@@ -323,7 +323,7 @@ def _check_overlap(case: TrainCase) -> None:
 
 def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> TrainCase:
     """Validate a parsed train case (a dict with ``[[gears]]`` and ``[[meshes]]``) and build a
-    :class:`~jaxgear.TrainCase` (SI units); ``base_dir``: the case file's folder (body files of
+    :class:`TrainCase` (SI units); ``base_dir``: the case file's folder (body files of
     ``[scene.bodies]`` are resolved against it).
 
     Raises:

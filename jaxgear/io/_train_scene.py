@@ -8,10 +8,11 @@ import fractions
 import math
 from typing import Any
 
+import fem_prep
 from fem_prep import schema as sc
 
-from .._case import TrainCase
-from ..dynamics import SceneSpec
+from ._case import TrainCase
+from ._scene_spec import SceneSpec
 from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
 
 __all__ = ["MAX_TABLE_BYTES", "check_table_size", "shaft_of_table", "train_scene"]
@@ -148,8 +149,6 @@ def _check_rims(ref: str, where: str, order: list, shaft: str, spec, carried: li
     """A fem_prep body file's rims against the gears it carries (one line, mm): as many rims
     as gears, and a pinion rim where ``gear_positions_mm`` puts the second gear (a condensed
     .npz is checked when the scene is built)."""
-    import fem_prep
-
     if ref.endswith(".npz"):
         return
     body = fem_prep.load_body(ref)

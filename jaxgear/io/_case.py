@@ -12,12 +12,12 @@ import fractions
 import math
 from typing import Any
 
-from ._baseplane import MeshModel
-from ._contact import ContactLaw, contact_law_from_name
-from ._geometry import GearPair
-from ._modifications import Modifications
-from ._stiffness_models import FE2D, AbstractStiffness, stiffness_table
-from .scenes import (
+from .._baseplane import MeshModel
+from .._contact import ContactLaw, contact_law_from_name
+from .._geometry import GearPair
+from .._modifications import Modifications
+from .._stiffness_models import FE2D, AbstractStiffness, stiffness_table
+from ..scenes import (
     TrainSpec,
     Wrench,
     disc_inertia,
@@ -28,52 +28,36 @@ from .scenes import (
     train_layout,
 )
 
-__all__ = ["Case", "TrainCase"]
+__all__ = ["Case", "MeshSettings", "TrainCase"]
 
 
-@dataclasses.dataclass(frozen=True)
-class Case:
-    """A validated case (SI units).
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class MeshSettings:
+    """The material and mesh-model settings of a case, written once: a pair case
+    (:class:`Case`) holds them for its mesh, a train case (:class:`TrainCase`) for every mesh
+    (each mesh's pair case, :meth:`TrainCase.mesh_case`, takes the train's).
 
     Attributes:
-        name: case name. pair: :class:`GearPair`. modifications: :class:`Modifications`.
         youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
-        torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
-            centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
         stiffness: the mesh-stiffness model (:class:`~jaxgear.AbstractStiffness`:
             :class:`~jaxgear.Uniform`, :class:`~jaxgear.ISO6336`, :class:`~jaxgear.Weber`,
             :class:`~jaxgear.FE2D`, default ``FE2D()``; the case file's ``[mesh] stiffness``
             names it, :mod:`jaxgear.io` builds it).
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
-        scene: the validated ``[scene]`` table (:class:`jaxgear.dynamics.SceneSpec`) or None.
-        optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
-        raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
-        deviations: manufacturing deviations per tooth (:class:`~jaxgear.Deviations`, ISO
-            1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade, seed,
-            revolutions, positions per pitch; docs/deviations.md) or None.
-        coast: model the coast flanks with the pair's backlash (:meth:`mesh_model`; the case
-            file sets it when a ``tooth_thickness_allowance_um`` is given; docs/backlash.md).
     """
 
-    name: str
-    pair: GearPair
-    modifications: Modifications
-    deviations: Any = None
-    deviation_settings: dict | None = None
     youngs_modulus: float = 210e9
     poisson_ratio: float = 0.3
     density: float = 7800.0
-    torque: float = 100.0
-    speed: float = 0.0
     stiffness: AbstractStiffness = FE2D()
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
-    scene: Any = None
-    optimise: dict | None = None
-    raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
-    coast: bool = False
+
+    def mesh_settings(self) -> dict:
+        """These settings as keywords (``{field: value}``), for another case that shares them."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(MeshSettings)}
 
     def contact_law(self, mode: str) -> ContactLaw:
         """The contact law a case file names: ``"exact"`` → :class:`~jaxgear.ExactContact`,
@@ -88,6 +72,44 @@ class Case:
     def stiffness_model(self) -> str:
         """The stiffness model's name (``"weber"``, ``"fe2d"``, ...), for summaries."""
         return self.stiffness.name
+
+    def replace(self, **changes):
+        """A copy with ``changes`` (field names as keywords)."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclasses.dataclass(frozen=True)
+class Case(MeshSettings):
+    """A validated gear-pair case (SI units).
+
+    Attributes:
+        name: case name. pair: :class:`~jaxgear.GearPair`.
+        modifications: :class:`~jaxgear.Modifications`.
+        torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
+            centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
+        youngs_modulus, poisson_ratio, density, stiffness, slices, positions_per_pitch,
+            smooth_width: the mesh settings (:class:`MeshSettings`; keywords only).
+        scene: the validated ``[scene]`` table (:class:`jaxgear.io.SceneSpec`) or None.
+        optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
+        raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
+        deviations: manufacturing deviations per tooth (:class:`~jaxgear.Deviations`, ISO
+            1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade, seed,
+            revolutions, positions per pitch; docs/deviations.md) or None.
+        coast: model the coast flanks with the pair's backlash (:meth:`mesh_model`; the case
+            file sets it when a ``tooth_thickness_allowance_um`` is given; docs/backlash.md).
+    """
+
+    name: str
+    pair: GearPair
+    modifications: Modifications
+    deviations: Any = None
+    deviation_settings: dict | None = None
+    torque: float = 100.0
+    speed: float = 0.0
+    scene: Any = None
+    optimise: dict | None = None
+    raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+    coast: bool = False
 
     @property
     def normal_load(self) -> float:
@@ -115,8 +137,8 @@ class Case:
         torque: float | None = None,
         flexible: tuple[bool, bool] = (False, False),
     ) -> MeshModel:
-        """Build the :class:`MeshModel` (stiffness table evaluated at the nominal line load; the
-        ``iso6336`` table at the case's E and :meth:`specific_load` of ``torque``).
+        """Build the :class:`~jaxgear.MeshModel` (stiffness table evaluated at the nominal line
+        load; the ``iso6336`` table at the case's E and :meth:`specific_load` of ``torque``).
 
         ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
         leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
@@ -134,35 +156,21 @@ class Case:
             self.pair, s, k, self.slices if slices is None else slices, coast=self.coast
         )
 
-    def replace(self, **changes) -> Case:
-        return dataclasses.replace(self, **changes)
-
-
-#: the fields a train case holds for every mesh, as a pair case does (:meth:`TrainCase.mesh_case`)
-_SHARED_SETTINGS = (
-    "youngs_modulus",
-    "poisson_ratio",
-    "density",
-    "stiffness",
-    "slices",
-    "positions_per_pitch",
-    "smooth_width",
-)
-
 
 @dataclasses.dataclass(frozen=True)
-class TrainCase:
+class TrainCase(MeshSettings):
     """A validated gear-train case (SI units): gears, the meshes between them and their layout,
     with the mesh settings, material and operating point of a pair case.
 
     Attributes:
         name: case name. gear_names: each gear's name, (n,), gear 0 the input.
-        pairs: the :class:`GearPair` of each mesh, (m,), its pinion the mesh's driving gear.
+        pairs: the :class:`~jaxgear.GearPair` of each mesh, (m,), its pinion the mesh's driving
+            gear.
         gears: each mesh's (driving, driven) gear indices, listed from the input outwards.
         angles: each mesh's direction of the driven gear's centre seen from the driving one
             (rad, fixed frame).
-        modifications: each gear's :class:`MemberModification`, (n,) (every flank it loads).
-        youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
+        modifications: each gear's :class:`~jaxgear.MemberModification`, (n,) (every flank it
+            loads).
         torque: the input gear's torque (N·m); the balancing output takes what the loads
             leave.
         loads: ((gear, torque (N·m)), ...): the torques of the loaded gears other than the
@@ -170,8 +178,9 @@ class TrainCase:
             the case's input torque; the model keeps their shares of the input power
             (:meth:`shares`), so another input torque scales them all.
         speed: the input gear's speed (rad/s).
-        stiffness, slices, positions_per_pitch, smooth_width: as :class:`Case`, for every
-            mesh.
+        youngs_modulus, poisson_ratio, density, stiffness, slices, positions_per_pitch,
+            smooth_width: the mesh settings (:class:`MeshSettings`; keywords only), every
+            mesh's.
         inertias: each gear's polar inertia (kg·m²), (n,); None: a solid disc of its tip radius
             and face width.
         shafts: each gear's shaft (n,) (default: a shaft each, numbered in gear order): gears
@@ -188,7 +197,7 @@ class TrainCase:
             with the input torque as the loads are.
         shaft_names: each shaft's name (a gear's ``shaft`` in the case file; default the name of
             its first gear), (shafts,).
-        scene: the validated ``[scene]`` (:class:`jaxgear.dynamics.SceneSpec`: torsional, or
+        scene: the validated ``[scene]`` (:class:`jaxgear.io.SceneSpec`: torsional, or
             lumped 3D with its ``shafts``) or None.
         raw: the parsed TOML, as read.
     """
@@ -199,16 +208,9 @@ class TrainCase:
     gears: tuple
     angles: tuple
     modifications: tuple
-    youngs_modulus: float = 210e9
-    poisson_ratio: float = 0.3
-    density: float = 7800.0
     torque: float = 100.0
     loads: tuple = ()
     speed: float = 0.0
-    stiffness: AbstractStiffness = FE2D()
-    slices: int = 40
-    positions_per_pitch: int = 64
-    smooth_width: float = 1e-7
     inertias: tuple = ()
     shafts: tuple = ()
     clockings: tuple = ()
@@ -220,15 +222,6 @@ class TrainCase:
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
     optimise = None  # a train case has no [optimise] table
-
-    def contact_law(self, mode: str) -> ContactLaw:
-        """As :meth:`Case.contact_law`."""
-        return contact_law_from_name(mode, self.smooth_width)
-
-    @property
-    def stiffness_model(self) -> str:
-        """As :attr:`Case.stiffness_model`."""
-        return self.stiffness.name
 
     @property
     def n_gears(self) -> int:
@@ -313,11 +306,11 @@ class TrainCase:
             modifications=Modifications(self.modifications[g], self.modifications[h]),
             torque=self.mesh_torques[k],
             speed=speed,
-            **{key: getattr(self, key) for key in _SHARED_SETTINGS},
+            **self.mesh_settings(),
         )
 
     def mesh_modifications(self) -> tuple:
-        """Each mesh's :class:`Modifications` (its driving gear's, its driven gear's)."""
+        """Each mesh's :class:`~jaxgear.Modifications` (its driving gear's, its driven gear's)."""
         return tuple(
             Modifications(self.modifications[g], self.modifications[h]) for g, h in self.gears
         )
@@ -335,7 +328,7 @@ class TrainCase:
         )
 
     def members(self) -> tuple:
-        """Each gear's :class:`Member` (from the first mesh it takes part in)."""
+        """Each gear's :class:`~jaxgear.Member` (from the first mesh it takes part in)."""
         out = [None] * self.n_gears
         for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
             out[g] = out[g] or pair.pinion
@@ -368,7 +361,7 @@ class TrainCase:
         )
 
     def mesh_models(self, slices: int | None = None, flexible: tuple = ()) -> tuple:
-        """Each mesh's :class:`MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`);
+        """Each mesh's :class:`~jaxgear.MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`);
         ``flexible``: which gears are condensed FE bodies (their tooth stiffness leaves out the
         foundation term), (n,) (default none)."""
         flex = tuple(flexible) or (False,) * self.n_gears
@@ -454,7 +447,7 @@ class TrainCase:
 
         Args:
             bodies: each gear's condensed body or ``None`` (rigid), (n,)
-                (:func:`jaxgear.dynamics.load_bodies` of the case's scene).
+                (:func:`jaxgear.io.load_bodies` of the case's scene).
             tooth_mass: lump the teeth's mass on the rim masters (default).
 
         Raises:
@@ -480,7 +473,7 @@ class TrainCase:
     def dynamic_train(self, slices: int | None = None):
         """The train's rigid-gear scene: :meth:`lumped_train` for a lumped 3D scene, else
         :meth:`torsional_train` (a train with flexible gears: :meth:`hybrid_train`, which needs
-        their bodies; :func:`jaxgear.dynamics.build_dynamic_model` loads them).
+        their bodies; :func:`jaxgear.io.build_dynamic_model` loads them).
 
         Raises:
             ValueError: a train with flexible gears.
@@ -488,7 +481,7 @@ class TrainCase:
         if self.flexible:
             raise ValueError(
                 "[scene.bodies]: a train with flexible gears is a hybrid scene: "
-                "case.hybrid_train(bodies) or jaxgear.dynamics.build_dynamic_model(case)"
+                "case.hybrid_train(bodies) or jaxgear.io.build_dynamic_model(case)"
             )
         return self.lumped_train(slices) if self.lumped else self.torsional_train(slices)
 
@@ -505,11 +498,8 @@ class TrainCase:
             if bodies is None:
                 raise ValueError(
                     "static_train: the case has flexible gears ([scene.bodies]); pass their "
-                    "condensed bodies (jaxgear.dynamics.load_bodies(case.scene))"
+                    "condensed bodies (jaxgear.io.load_bodies(case.scene))"
                 )
             return self.hybrid_train(bodies, slices)
         train = self.dynamic_train(slices)
         return grounded(train, (train.torque_dofs[1],), factor=1e9)
-
-    def replace(self, **changes) -> TrainCase:
-        return dataclasses.replace(self, **changes)

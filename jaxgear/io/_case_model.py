@@ -1,0 +1,242 @@
+"""The dynamic model of a case: its ``[scene]`` settings turned into a scene and a
+:class:`~jaxgear.dynamics.AbstractDynamicModel` (inertias default to solid discs), and the
+scene of its quasi-static solve."""
+
+from __future__ import annotations
+
+import functools
+import math
+
+from .._contact import ContactLaw, ExactContact
+from .._quasi_static import QuasiStaticResult, quasi_static
+from ..dynamics import bearing_forces, dynamic_model
+from ..scenes import (
+    Material,
+    TorsionalDynamics,
+    disc_inertia,
+    grounded,
+    hybrid_pair,
+    lumped_pair,
+)
+from ._case import Case, TrainCase
+from ._scene_spec import SceneSpec, load_bodies, spec_damping
+
+__all__ = ["PAIR_SCENES", "build_dynamic_model", "quasi_static_scene", "static_scene"]
+
+
+def build_dynamic_model(
+    case: Case | TrainCase,
+    spec: SceneSpec | None = None,
+    *,
+    slices: int | None = None,
+    bodies: tuple | None = None,
+):
+    """The dynamic model of a case and its scene (default: ``[scene]``): a
+    :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
+    the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
+    A train case (:class:`TrainCase`) gives its train
+    (:meth:`TrainCase.dynamic_train`: torsional or lumped 3D; with flexible gears
+    :meth:`TrainCase.hybrid_train`, a hybrid model), the input torque on its input
+    gear.
+
+    Inertias default to solid discs of the tip radius and the member's face width with the case
+    density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
+    scene's, built or read from the fem_prep cache; a train's: one per gear). Returns (model,
+    spec).
+    """
+    if spec is None:
+        spec = case.scene if case.scene is not None else SceneSpec()
+    return _case_model(case, spec, slices, bodies), spec
+
+
+@functools.singledispatch
+def _case_model(case: Case, spec: SceneSpec, slices: int | None, bodies: tuple | None):
+    """A pair case's dynamic model: the hybrid scene of its condensed bodies
+    (:func:`static_scene`), or the rigid-gear scene ``[scene] model`` names (:data:`PAIR_SCENES`)
+    on the case's mesh model."""
+    if spec.hybrid:
+        scene, _ = static_scene(case, slices=slices, bodies=bodies)
+        return dynamic_model(
+            scene,
+            case.modifications,
+            case.torque,
+            spec_damping(spec),
+            rotating_frame=spec.rotating_frame,
+        )
+    scene = PAIR_SCENES[spec.model](case, spec, case.mesh_model(slices=slices))
+    # the time averages (modal analysis, damping) need a fixed grid: 64 positions per period
+    # unless the scene fixes the step
+    return dynamic_model(
+        scene,
+        case.modifications,
+        case.torque,
+        spec_damping(spec),
+        positions_per_pitch=spec.steps_per_period or 64,
+    )
+
+
+@_case_model.register
+def _train_model(case: TrainCase, spec: SceneSpec, slices: int | None, bodies: tuple | None):
+    """A train case's dynamic model: its torsional or lumped 3D train
+    (:meth:`TrainCase.dynamic_train`), or with flexible gears its hybrid train
+    (:meth:`TrainCase.hybrid_train` of the condensed ``bodies``, default the scene's)."""
+    if case.flexible:  # its flexible gears condensed: a hybrid model
+        bodies = load_bodies(spec) if bodies is None else bodies
+        return dynamic_model(
+            case.hybrid_train(bodies, slices),
+            case.mesh_modifications(),
+            case.torque,
+            spec_damping(spec),
+            rotating_frame=spec.rotating_frame,
+        )
+    return dynamic_model(
+        case.dynamic_train(slices),
+        case.mesh_modifications(),
+        case.torque,
+        spec_damping(spec),
+        positions_per_pitch=spec.steps_per_period or 64,
+    )
+
+
+def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
+    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
+    pair = case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    return i1, i2
+
+
+def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
+    """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings."""
+    i1, i2 = _inertias(case, spec)
+    masses, inertias = _gear_bodies(case, spec, i1, i2)
+    return lumped_pair(
+        case.pair,
+        mesh,
+        spec.pinion_shaft,
+        spec.gear_shaft,
+        masses=masses,
+        inertias=inertias,
+        youngs_modulus=case.youngs_modulus,
+        poisson_ratio=case.poisson_ratio,
+        density=case.density,
+    )
+
+
+def _torsional_pair(case: Case, spec: SceneSpec, mesh):
+    """``[scene] model = "torsional"``: the torsional pair, with a motor and a load where the
+    case gives them, reduced to the relative approach with ``reduction = "relative"``."""
+    i1, i2 = _inertias(case, spec)
+    has_m, has_l = spec.motor_inertia is not None, spec.load_inertia is not None
+    scene = TorsionalDynamics(
+        mesh,
+        i1,
+        i2,
+        spec.motor_inertia or 1.0,
+        spec.load_inertia or 1.0,
+        spec.motor_shaft or 1.0,
+        spec.load_shaft or 1.0,
+        has_motor=has_m,
+        has_load=has_l,
+    )
+    return scene.reduced() if spec.reduction == "relative" else scene
+
+
+#: the rigid-gear pair scenes a case's ``[scene] model`` names: (case, spec, mesh model) ↦ scene
+PAIR_SCENES = {"lumped3d": _lumped3d_pair, "torsional": _torsional_pair}
+
+
+def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
+    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
+    pair = case.pair
+    body = []
+    for r, b, m, ip in (
+        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
+        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
+    ):
+        m = m or case.density * math.pi * r * r * b
+        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
+
+
+def static_scene(
+    case: Case,
+    *,
+    slices: int | None = None,
+    bodies: tuple | None = None,
+):
+    """The scene of the case's quasi-static solve with shafts, bearings and condensed bodies.
+
+    ``lumped3d`` without bodies: the lumped scene with the load rotation grounded. With
+    ``[scene.pinion_body]``/``[scene.gear_body]``: the hybrid scene (:func:`jaxgear.scenes.hybrid_pair`),
+    its flexible members' tooth stiffness without the foundation term. The scene holds no
+    operating point: pass the torque and the pinion speed (the case's ``torque``/``speed``) to
+    the solvers.
+
+    Returns:
+        (scene, bodies): the scene and the condensed bodies (pinion, gear) or ``None``.
+
+    Raises:
+        ValueError: the case has no ``lumped3d`` scene; slices that do not nest in the body's
+            axial rim faces; body/gear mismatch (see :func:`jaxgear.scenes.hybrid_pair`).
+    """
+    spec = case.scene
+    if spec is None or spec.model != "lumped3d":
+        raise ValueError("a quasi-static scene needs a case with [scene] model = 'lumped3d'")
+    if not spec.hybrid:
+        model, _ = build_dynamic_model(case, slices=slices)
+        return grounded(model.scene, (model.scene.torque_dofs[1],)), (None, None)
+    bodies = load_bodies(spec) if bodies is None else bodies
+    flexible = tuple(b is not None for b in bodies)
+    mesh = case.mesh_model(slices=slices, flexible=flexible)
+    masses, inertias = _gear_bodies(case, spec, *_inertias(case, spec))
+    scene = hybrid_pair(
+        case.pair,
+        mesh,
+        spec.pinion_shaft,
+        spec.gear_shaft,
+        bodies=bodies,
+        masses=masses,
+        inertias=inertias,
+        material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
+    )
+    return scene, bodies
+
+
+def quasi_static_scene(
+    case: Case,
+    *,
+    slices: int | None = None,
+    contact: ContactLaw = ExactContact(),
+    speed: float | None = None,
+    bodies: tuple | None = None,
+) -> tuple[QuasiStaticResult, dict]:
+    """Quasi-static TE of the case's scene: shafts and bearings (``lumped3d``) and condensed FE
+    bodies when the scene has them, with the case's modifications.
+
+    Args:
+        case: a case with ``[scene] model = "lumped3d"``.
+        slices: slices per contact line (default the case's). contact: the contact law
+            (:class:`~jaxgear.ExactContact` by default).
+        speed: pinion speed (rad/s) of the centrifugal load of the bodies (default the case's).
+        bodies: condensed bodies (pinion, gear) already loaded (default: the scene's, built or
+            read from the fem_prep cache).
+
+    Returns:
+        (result, mean bearing force (N) per bearing-force component name, fixed frame).
+
+    Raises:
+        ValueError: the case has no ``lumped3d`` scene.
+    """
+    scene, _ = static_scene(case, slices=slices, bodies=bodies)
+    res = quasi_static(
+        scene,
+        case.modifications,
+        case.torque,
+        speed=case.speed if speed is None else speed,
+        contact=contact,
+        positions_per_pitch=case.positions_per_pitch,
+    )
+    return res, bearing_forces(scene, res)
