@@ -8,7 +8,7 @@ from fem_prep.schema import print_or_write
 
 from .. import Case, TrainCase
 from .. import io as case_io
-from .train import gear_glossary
+from ._case_kinds import gear_glossary
 
 __all__ = ["case_line", "run_cases"]
 
