@@ -11,16 +11,14 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from .. import (
-    FE2D,
-    AbstractStiffness,
     Case,
     Modifications,
     TrainCase,
-    Weber,
     contact_pressure,
     harris_map,
     quasi_static,
 )
+from .. import FE2D, AbstractStiffness, Weber
 from .. import io as case_io
 from ..io import atomic_open, write_csv, write_json
 from . import scene as cli_scene
