@@ -263,7 +263,7 @@ def test_docs_table_regenerates():
             ), (name, key)
 
 
-def _stiffness_line(mesh: dict) -> str:
+def _stiffness_line(stiffness) -> str:
     """The line of ``jaxgear run``'s table that names the mesh stiffness model (its second)."""
     from jaxgear.cli import format_table
 
@@ -283,21 +283,21 @@ def _stiffness_line(mesh: dict) -> str:
             ("transverse_contact_ratio", "overlap_ratio", "center_distance_m", "base_pitch_m"), 1.0
         ),
         "operating": {"torque_Nm": 1.0},
-        "mesh": mesh,
+        "mesh": stiffness.summary(),
         "quasi_static": {"exact": figures, "smooth": figures},
         "quasi_static_unmodified": {"exact": figures, "smooth": figures},
     }
-    return format_table(summary).splitlines()[1]
+    return format_table(summary, stiffness).splitlines()[1]
 
 
 def test_run_summary_names_the_stiffness_model():
-    line = _stiffness_line({"stiffness": "fe2d", "foundation": "weber", "fe2d_size_m": 5e-4})
+    line = _stiffness_line(jg.FE2D(5e-4, jg.WeberFoundation()))
     assert line == (
         "mesh stiffness model: fe2d (plane-strain FE, tooth + body to the bore, element size "
         "500 µm)"
     )
-    assert "tooth only" in _stiffness_line({"stiffness": "fe2d", "foundation": "none"})
-    assert _stiffness_line({"stiffness": "weber", "foundation": "sainsot"}).endswith(
+    assert "tooth only" in _stiffness_line(jg.FE2D(foundation=jg.NoFoundation()))
+    assert _stiffness_line(jg.Weber(jg.SainsotFoundation())).endswith(
         "weber (foundation sainsot)"
     )
 

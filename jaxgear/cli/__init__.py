@@ -2,22 +2,75 @@
 
 Imports flow one way: the CLI uses the model (:mod:`jaxgear`), :mod:`jaxgear.io`, :mod:`optimise`
 and :mod:`fem_prep`; none of them imports the CLI.
+
+The names below are imported on first use (PEP 562 ``__getattr__``): the console script
+(``jaxgear = "jaxgear.cli:entry"``) imports this package for every command, and a command
+imports only its own module (:func:`jaxgear.cli._main._command`), not every command's with its
+figures (matplotlib), so that ``jaxgear --help``, ``jaxgear cases`` and ``jaxgear prep`` start
+without them.
 """
 
-from . import _plots as plots  # noqa: F401 (the figures: jaxgear.cli.plots)
-from ._main import entry as entry, main as main, runtime_message as runtime_message
-from ._optimise import (
-    check_settings as check_settings,
-    optimise_case as optimise_case,
-    settings_from_case as settings_from_case,
-)
-from ._options import range_values as range_values
-from ._paths import (
-    OUTPUT_FILES as OUTPUT_FILES,
-    TRAIN_FILES as TRAIN_FILES,
-    clear_outputs as clear_outputs,
-)
-from ._summary import result_summary as result_summary
-from .run import format_table as format_table, run_case as run_case
-from .scene import scene_outputs as scene_outputs
-from .train import format_train_table as format_train_table, run_train as run_train
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the same names, for type checkers and editors
+    from . import _plots as plots
+    from ._main import entry as entry, main as main, runtime_message as runtime_message
+    from ._optimise import (
+        check_settings as check_settings,
+        optimise_case as optimise_case,
+        settings_from_case as settings_from_case,
+    )
+    from ._options import range_values as range_values
+    from ._paths import (
+        OUTPUT_FILES as OUTPUT_FILES,
+        TRAIN_FILES as TRAIN_FILES,
+        clear_outputs as clear_outputs,
+    )
+    from ._summary import result_summary as result_summary
+    from .run import format_table as format_table, run_case as run_case
+    from .scene import scene_outputs as scene_outputs
+    from .train import format_train_table as format_train_table, run_train as run_train
+
+#: the public submodules, by their public name
+_MODULES = {"plots": "._plots"}
+
+#: every other public name of the package: the module that defines it
+_EXPORTS = {
+    "entry": "._main",
+    "main": "._main",
+    "runtime_message": "._main",
+    "check_settings": "._optimise",
+    "optimise_case": "._optimise",
+    "settings_from_case": "._optimise",
+    "range_values": "._options",
+    "OUTPUT_FILES": "._paths",
+    "TRAIN_FILES": "._paths",
+    "clear_outputs": "._paths",
+    "result_summary": "._summary",
+    "format_table": ".run",
+    "run_case": ".run",
+    "scene_outputs": ".scene",
+    "format_train_table": ".train",
+    "run_train": ".train",
+}
+
+__all__ = sorted({*_MODULES, *_EXPORTS})
+
+
+def __getattr__(name: str):
+    """The public ``name``, its module imported on first use (then kept as an attribute)."""
+    if name in _MODULES:
+        value = importlib.import_module(_MODULES[name], __name__)
+    elif name in _EXPORTS:
+        value = getattr(importlib.import_module(_EXPORTS[name], __name__), name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

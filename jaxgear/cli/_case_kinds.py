@@ -10,15 +10,32 @@ import functools
 from ..io import Case, TrainCase
 
 __all__ = [
+    "GEAR_NAME_GLOSSARY",
     "case_pairs",
+    "gear_glossary",
     "gear_meshes",
     "gear_names",
     "mesh_file_tag",
     "mesh_title",
     "pair_teeth",
     "per_mesh_keys",
+    "pressure_curves",
     "span_periods",
 ]
+
+
+#: what the short gear names of the embedded trains stand for (in titles)
+GEAR_NAME_GLOSSARY = {"hst": "high-speed train, stage 1", "lst": "low-speed train, stage 2"}
+
+
+def gear_glossary(gear_names) -> str:
+    """What the abbreviations in the gear names mean, "hst = ..., lst = ..." ("" if none)."""
+    used = [
+        f"{k} = {v}"
+        for k, v in GEAR_NAME_GLOSSARY.items()
+        if any(n == k or n.startswith(k + "-") for n in gear_names)
+    ]
+    return ", ".join(used)
 
 
 def _unknown(what: str, case) -> TypeError:
@@ -156,3 +173,27 @@ def _(case: Case) -> int:
 @span_periods.register
 def _(case: TrainCase) -> int:
     return case.span_periods
+
+
+@functools.singledispatch
+def pressure_curves(case, summary: dict) -> list[tuple]:
+    """The contact pressure curves of a sweep ``summary`` of the case
+    (:func:`jaxgear.cli.plots.pressure_speed_plot`): ``(mesh name, largest pressure per speed
+    (Pa), the quasi-static one at rest (Pa) or None)`` of each mesh, a pair's one unnamed."""
+    raise _unknown("pressure_curves", case)
+
+
+@pressure_curves.register
+def _(case: Case, summary: dict) -> list[tuple]:
+    return [
+        ("", summary["max_contact_pressure_Pa"], summary["max_contact_pressure_static_Pa"])
+    ]
+
+
+@pressure_curves.register
+def _(case: TrainCase, summary: dict) -> list[tuple]:
+    per = summary["max_contact_pressure_mesh_Pa"]  # (S, m)
+    return [
+        (name, [row[k] for row in per], summary["max_contact_pressure_static_mesh_Pa"][k])
+        for k, name in enumerate(summary["mesh_names"])
+    ]

@@ -12,7 +12,7 @@ from .. import Modifications, mesh_positions, quasi_static, te_spectrum
 from ..io import atomic_open, write_csv
 from ._plots import te_spectrum_plot
 
-__all__ = ["CHUNK_POSITIONS", "deviation_outputs"]
+__all__ = ["CHUNK_POSITIONS", "deviation_line", "deviation_outputs"]
 
 #: positions solved per call over a long span (one compiled shape, reused chunk after chunk)
 CHUNK_POSITIONS = 8192
@@ -90,3 +90,15 @@ def deviation_outputs(case, mesh, out_dir: str, *, mesh_harmonics: int = 3) -> d
     if "tolerances_um" in st:
         out["tolerances_um"] = st["tolerances_um"]
     return out
+
+
+def deviation_line(d: dict) -> str:
+    """The printed line of :func:`deviation_outputs`' summary ``d``: the grade or "given", the
+    TE's peak-to-peak and its mesh-order amplitude."""
+    grade = f"grade {d['grade']}, seed {d['seed']}" if d["grade"] is not None else "given"
+    mesh = next(ln for ln in d["spectrum_lines"] if ln["label"] == "mesh")
+    return (
+        f"deviations ({grade}): TE over {d['revolutions_count']} pinion revolutions, "
+        f"ptp {d['te_ptp_m'] * 1e6:.4f} µm, mesh order {mesh['amplitude_m'] * 1e6:.4f} µm "
+        "(spectrum: deviations/te_spectrum.png)"
+    )

@@ -23,7 +23,14 @@ from ..dynamics import (
 )
 from ..io import spec_integrator, spec_window, write_csv, write_json
 from ..scenes import AssembledScene
-from ._case_kinds import gear_meshes, gear_names, mesh_file_tag, mesh_title, per_mesh_keys
+from ._case_kinds import (
+    gear_meshes,
+    gear_names,
+    mesh_file_tag,
+    mesh_title,
+    per_mesh_keys,
+    pressure_curves,
+)
 from ._plots import campbell_plot, dynamic_factor_plot, face_map, pressure_speed_plot
 from .scene import write_body_series
 
@@ -321,12 +328,14 @@ def vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible) ->
     return [os.path.join("vtu", f) for f in files]
 
 
-def write_sweep(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:
+def write_sweep(case, summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:
     """``sweep.json`` (atomically), then the dynamic factor, Campbell and contact pressure
-    plots and the dynamic pressure maps of ``dyn_map`` (:func:`dynamic_pressure_map`)."""
+    plots (each of the case's meshes: :func:`~jaxgear.cli._case_kinds.pressure_curves`) and
+    the dynamic pressure maps of ``dyn_map`` (:func:`dynamic_pressure_map`)."""
     write_json(os.path.join(out_dir, "sweep.json"), summary)
     write_sweep_csv(os.path.join(out_dir, "sweep.csv"), summary)
-    sweep_plots(summary, out_dir, z1=z1, dyn_map=dyn_map)
+    pressure = pressure_curves(case, summary)
+    sweep_plots(summary, out_dir, z1=z1, dyn_map=dyn_map, pressure=pressure)
 
 
 def write_sweep_csv(path: str, summary: dict) -> list[str]:
@@ -360,10 +369,14 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
     return header
 
 
-def sweep_plots(summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None) -> None:
+def sweep_plots(
+    summary: dict, out_dir: str, z1: int, dyn_map: dict | None = None, *, pressure: list
+) -> None:
+    """The figures of a sweep ``summary`` into ``out_dir``; ``pressure``: the contact
+    pressure curves (:func:`~jaxgear.cli._case_kinds.pressure_curves`)."""
     dynamic_factor_plot(os.path.join(out_dir, "dynamic_factor.png"), summary)
     campbell_plot(os.path.join(out_dir, "campbell.png"), summary, z1)
-    pressure_speed_plot(os.path.join(out_dir, "contact_pressure.png"), summary)
+    pressure_speed_plot(os.path.join(out_dir, "contact_pressure.png"), summary, pressure)
     for name, mesh, pressure, pair, ppp, title in (dyn_map or {}).get("maps", ()):
         face_map(
             os.path.join(out_dir, name),

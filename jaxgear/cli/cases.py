@@ -8,7 +8,7 @@ from fem_prep.schema import print_or_write
 
 from .. import io as case_io
 from ..io import Case, TrainCase
-from .train import gear_glossary
+from ._case_kinds import gear_glossary
 
 __all__ = ["case_line", "run_cases"]
 

@@ -10,12 +10,12 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import Modifications, contact_pressure, harris_map, quasi_static
+from .. import FE2D, AbstractStiffness, Modifications, Weber, contact_pressure, harris_map, quasi_static
 from .. import io as case_io
 from ..io import Case, TrainCase, atomic_open, write_csv, write_json
 from . import scene as cli_scene
 from . import sweep as cli_sweep
-from ._deviation_run import deviation_outputs
+from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
@@ -23,7 +23,7 @@ from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
-__all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case"]
+__all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case", "stiffness_line"]
 
 # slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
 RUN_SWEEP_SLICES = 8
@@ -172,12 +172,10 @@ def run_case(
     if scene_res:
         model = scene["model"]
         name = SCENE_LABELS[model].split(" (")[0]
-        c = {key.split("_", 1)[1]: v for key, v in scene_res.items()}  # exact_modified, ...
-        te_curves[f"{name}, modified"] = {m: c[f"{m}_modified"][0] for m in ("exact", "smooth")}
-        k_curves[f"{name} modified (loaded cells)"] = c["exact_modified"][1]
-        if "exact_modified_at_rest" in c:
-            te_curves[f"{name} at rest, modified"] = {"exact": c["exact_modified_at_rest"][0]}
-            k_curves[f"{name} at rest, modified (loaded cells)"] = c["exact_modified_at_rest"][1]
+        for state, by_contact in _scene_states(scene_res).items():  # as solved, at rest
+            label = " ".join((name, *state.split("_"))).strip()
+            te_curves[f"{label}, modified"] = {m: te for m, (te, _) in by_contact.items()}
+            k_curves[f"{label} modified (loaded cells)"] = by_contact["exact"][1]
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
     k_note = te_note = None
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
@@ -255,21 +253,39 @@ def _scene_columns(scene: dict | None, theta) -> dict:
     return out
 
 
-def _stiffness_line(mesh: dict) -> str:
-    """Which mesh stiffness model ran (``stiffness = ...`` and its foundation term)."""
-    model, found = mesh.get("stiffness", "?"), mesh.get("foundation")
-    if model == "weber" and found is not None:
-        return f"mesh stiffness model: weber (foundation {found})"
-    if model == "fe2d":
-        part = "tooth only" if found == "none" else "tooth + body to the bore"
-        h = mesh.get("fe2d_size_m")
-        size = "m_n/6" if h is None else f"{h * 1e6:g} µm"
-        return f"mesh stiffness model: fe2d (plane-strain FE, {part}, element size {size})"
-    return f"mesh stiffness model: {model}"
+def _scene_states(columns: dict) -> dict:
+    """The scene's curves (:func:`_scene_columns`) by the state they were solved in ("": at the
+    case's speed, "at_rest") and then by contact law: {state: {contact: (TE, K)}}, in the
+    order of the columns."""
+    out: dict = {}
+    for key, curves in columns.items():
+        contact, _, state = key.split("_", 1)[1].partition("_modified")
+        out.setdefault(state.lstrip("_"), {})[contact] = curves
+    return out
 
 
-def format_table(summary: dict) -> str:
-    """A short plain-text table of the main figures."""
+@functools.singledispatch
+def stiffness_line(model: AbstractStiffness) -> str:
+    """Which mesh stiffness model ran, as ``jaxgear run``'s table says it (by the model's type:
+    its foundation term, the FE model's element size)."""
+    return f"mesh stiffness model: {model.name}"
+
+
+@stiffness_line.register
+def _(model: Weber) -> str:
+    return f"mesh stiffness model: weber (foundation {model.foundation.name})"
+
+
+@stiffness_line.register
+def _(model: FE2D) -> str:
+    part = "tooth + body to the bore" if model.foundation.fe_body else "tooth only"
+    size = "m_n/6" if model.size is None else f"{model.size * 1e6:g} µm"
+    return f"mesh stiffness model: fe2d (plane-strain FE, {part}, element size {size})"
+
+
+def format_table(summary: dict, stiffness: AbstractStiffness) -> str:
+    """A short plain-text table of the main figures of a pair's ``summary``, run with the mesh
+    stiffness model ``stiffness`` (:func:`stiffness_line`)."""
     g = summary["geometry"]
     lines = [
         (
@@ -277,7 +293,7 @@ def format_table(summary: dict) -> str:
             f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
             f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m"
         ),
-        _stiffness_line(summary.get("mesh", {})),
+        stiffness_line(stiffness),
         f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
     for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
@@ -351,7 +367,7 @@ def _run_pair_command(case: Case, out: str, args, settings) -> dict:
     summary_path = os.path.join(out, "summary.json")
     last = case.scene is None and case.optimise is None
     scene_section, dynamics, curves = None, None, {}
-    if case.scene is not None and case.scene.model == "lumped3d":
+    if case.lumped:
         # first, so that te.csv and its plots have the scene's curves beside the rigid mesh's
         scene_section = cli_scene.scene_outputs(
             case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
@@ -382,16 +398,9 @@ def _run_pair_command(case: Case, out: str, args, settings) -> dict:
     if not last:
         summary["complete"] = True
         write_json(summary_path, summary)
-    print(format_table(summary))
-    if "deviations" in summary:
-        d = summary["deviations"]
-        grade = f"grade {d['grade']}, seed {d['seed']}" if d["grade"] is not None else "given"
-        mesh = next(ln for ln in d["spectrum_lines"] if ln["label"] == "mesh")
-        print(
-            f"deviations ({grade}): TE over {d['revolutions_count']} pinion revolutions, "
-            f"ptp {d['te_ptp_m'] * 1e6:.4f} µm, mesh order {mesh['amplitude_m'] * 1e6:.4f} µm "
-            "(spectrum: deviations/te_spectrum.png)"
-        )
+    print(format_table(summary, case.stiffness))
+    if case.deviations is not None:  # run_case added the span with the deviations
+        print(deviation_line(summary["deviations"]))
     if scene_section is not None:
         print("\n".join(cli_scene.scene_lines(scene_section)))
     if case.scene is not None and case.scene.hybrid:
@@ -433,13 +442,32 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         "max_dynamic_factor": float(np.nanmax(df)),
         "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
         "files": ", ".join(f"sweep/{name}" for name in _sweep_files(sw)),
+        **mesh_dynamics(case, sw),
     }
-    if "dynamic_factor_mesh" in sw:
-        per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
-        out["mesh_names"] = sw["mesh_names"]
-        out["dynamic_factor_mesh"] = sw["dynamic_factor_mesh"]
-        out["max_dynamic_factor_mesh"] = [float(v) for v in np.nanmax(per, axis=0)]
     return out
+
+
+@functools.singledispatch
+def mesh_dynamics(case, sw: dict) -> dict:
+    """``summary.json``'s ``dynamics`` keys per mesh of the sweep ``sw``
+    (:func:`jaxgear.cli.sweep.sweep_case`'s summary), by the case's type: none for a pair (its
+    one mesh's are the section's own)."""
+    raise TypeError(f"jaxgear run: no dynamics section of a {type(case).__name__}")
+
+
+@mesh_dynamics.register
+def _(case: Case, sw: dict) -> dict:
+    return {}
+
+
+@mesh_dynamics.register
+def _(case: TrainCase, sw: dict) -> dict:
+    per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
+    return {
+        "mesh_names": sw["mesh_names"],
+        "dynamic_factor_mesh": sw["dynamic_factor_mesh"],
+        "max_dynamic_factor_mesh": [float(v) for v in np.nanmax(per, axis=0)],
+    }
 
 
 def _sweep_files(sw: dict) -> list[str]:

@@ -4,8 +4,10 @@ growth, load maps and a VTU of the deformed body (``quasi_static_scene`` in ``su
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import os
+from typing import NamedTuple
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -13,11 +15,11 @@ from tqdm.auto import tqdm
 from .. import contact_pressure, load_map, quasi_static
 from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
-from ..scenes import FlexibleMember
+from ..scenes import FlexibleMember, HybridScene
 from . import _plots
 from ._summary import result_summary
 
-__all__ = ["scene_lines", "scene_outputs"]
+__all__ = ["SCENE_LINES", "condensed_outputs", "scene_lines", "scene_model", "scene_outputs"]
 
 
 def _rot(angle, v):
@@ -117,10 +119,6 @@ SCENE_LABELS = {
 }
 
 
-#: each scene model of ``quasi_static_scene`` as the printed summary names it
-SCENE_LINE_LABELS = {"lumped3d": "lumped 3D scene", "hybrid": "hybrid scene (condensed bodies)"}
-
-
 def scene_outputs(
     case: Case, out_dir: str, *, progress: bool = False, curves: dict | None = None
 ) -> dict:
@@ -130,7 +128,7 @@ def scene_outputs(
     Returns the ``quasi_static_scene`` entry of ``summary.json``: per contact mode the keys of
     ``quasi_static`` plus ``bearing_forces_mean_N`` (fixed frame); for a hybrid scene also
     ``centrifugal`` (rim radial growth per body at the case's speed), the load maps and the VTU
-    files (written to ``out_dir``, the run's ``scene/`` folder).
+    files (written to ``out_dir``, the run's ``scene/`` folder: :func:`condensed_outputs`).
 
     ``progress``: a bar over the steps (the condensed bodies, built by fem-prep with its own
     bar on the first run and then read from its cache; the scene; each quasi-static solve; the
@@ -154,12 +152,8 @@ def scene_outputs(
         bar.update()
     bar.set_postfix_str("building the scene")
     scene, bodies = case_io.static_scene(case, slices=slices, bodies=bodies)
-    out: dict = {"slices": slices, "model": "hybrid" if case.scene.hybrid else "lumped3d"}
+    out: dict = {"slices": slices, "model": scene_model(scene)}
     res, pressure = {}, {}
-
-    def hertz(r):
-        return contact_pressure(case.pair, r, case.youngs_modulus, case.poisson_ratio)
-
     for mode in ("exact", "smooth"):
         bar.update()
         bar.set_postfix_str(f"quasi-static, {mode} contact")
@@ -171,21 +165,64 @@ def scene_outputs(
             contact=case.contact_law(mode),
             positions_per_pitch=case.positions_per_pitch,
         )
-        pressure[mode] = hertz(res[mode])
+        pressure[mode] = _hertz(case, res[mode])
         out[mode] = result_summary(res[mode], None, pressure[mode])
         out[mode]["bearing_forces_mean_N"] = dynamics.bearing_forces(scene, res[mode])
     bar.update()
     if curves is not None:
         curves["model"] = out["model"]
         curves["results"] = dict(res)
-    if not case.scene.hybrid:
-        bar.close()
-        return out
+    run = _SceneRun(case, out_dir, bar, curves)
+    out.update(condensed_outputs(scene, run, bodies, res, pressure))
+    bar.close()
+    return out
+
+
+class _SceneRun(NamedTuple):
+    """What :func:`condensed_outputs` writes to: the case, the run's ``scene/`` folder, its
+    progress bar and the curves for ``te.csv`` (:func:`scene_outputs`' ``curves``)."""
+
+    case: Case
+    out_dir: str
+    bar: tqdm
+    curves: dict | None
+
+
+def _hertz(case: Case, r):
+    """The Hertzian contact pressure of the quasi-static result ``r`` of the case's pair."""
+    return contact_pressure(case.pair, r, case.youngs_modulus, case.poisson_ratio)
+
+
+@functools.singledispatch
+def scene_model(scene) -> str:
+    """``quasi_static_scene``'s ``model`` of a quasi-static scene, by its type: shafts and
+    bearings (a grounded lumped 3D scene), "lumped3d"."""
+    return "lumped3d"
+
+
+@scene_model.register
+def _(scene: HybridScene) -> str:
+    return "hybrid"
+
+
+@functools.singledispatch
+def condensed_outputs(scene, run: _SceneRun, bodies, res: dict, pressure: dict) -> dict:
+    """The outputs of the condensed FE bodies of a quasi-static ``scene`` solved as ``res``
+    (:func:`scene_outputs`' exact and smooth results, their contact pressures ``pressure``),
+    by the scene's type: none for a scene
+    without condensed bodies; a :class:`~jaxgear.scenes.HybridScene`'s centrifugal rim growth,
+    the solve at rest (the case's speed > 0), its load and pressure maps and VTU files, as
+    ``quasi_static_scene`` keys."""
+    return {}
+
+
+@condensed_outputs.register
+def _(scene: HybridScene, run: _SceneRun, bodies, res: dict, pressure: dict) -> dict:
+    case, out_dir, bar, curves = run
     pair = case.pair
     ppp = case.positions_per_pitch
     growth = scene.rim_radial_growth(case.speed)
-    out["bodies"] = [b for b in case.scene.bodies]
-    out["speed_rad_s"] = case.speed
+    out: dict = {"bodies": [b for b in case.scene.bodies], "speed_rad_s": case.speed}
     out["centrifugal"] = {
         "speed_rad_s": case.speed,
         "rim_radial_growth_m": {
@@ -204,7 +241,7 @@ def scene_outputs(
             case.torque,
             positions_per_pitch=ppp,
         )
-        out["exact_at_rest"] = result_summary(rest, None, hertz(rest))
+        out["exact_at_rest"] = result_summary(rest, None, _hertz(case, rest))
         if curves is not None:
             curves["results"]["exact_at_rest"] = rest
         maps = [
@@ -215,7 +252,7 @@ def scene_outputs(
     bar.set_postfix_str("load and pressure maps, VTU files")
     for kind, field, label, unit in (
         ("load", lambda r: None, "max line load (N/mm)", 1e3),
-        ("pressure", lambda r: hertz(r).max_pressure, "max contact pressure (MPa)", 1e6),
+        ("pressure", lambda r: _hertz(case, r).max_pressure, "max contact pressure (MPa)", 1e6),
     ):
         grids = [
             load_map(r, ppp, pair.base_pitch, pair.path_of_contact, field=field(r))
@@ -254,26 +291,49 @@ def scene_outputs(
     out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
     bar.set_postfix_str("")
     bar.update()
-    bar.close()
     return out
 
 
+@dataclasses.dataclass(frozen=True)
+class SceneLines:
+    """How the printed summary tells a ``quasi_static_scene`` section of one scene model:
+    ``label``, its name there."""
+
+    label: str
+
+    def lines(self, q: dict) -> list[str]:
+        """The section's lines: the exact solve's TE and largest line load."""
+        e = q["exact"]
+        return [
+            f"{self.label}, exact: TE mean {e['te_mean_m'] * 1e6:.4f} µm, TE rms "
+            f"{e['te_rms_m'] * 1e6:.4f} µm, max line load "
+            f"{e['max_line_load_N_per_m'] / 1e3:.1f} N/mm"
+        ]
+
+
+class CondensedSceneLines(SceneLines):
+    """A section with condensed bodies: each body's centrifugal rim growth after the TE."""
+
+    def lines(self, q: dict) -> list[str]:
+        c = q["centrifugal"]
+        return super().lines(q) + [
+            f"  {name} rim radial growth at {c['speed_rad_s']:g} rad/s (pinion): "
+            f"{g * 1e6:.3f} µm"
+            for name, g in c["rim_radial_growth_m"].items()
+        ]
+
+
+#: each scene model of ``quasi_static_scene`` (:func:`scene_model`) as the printed summary
+#: tells it
+SCENE_LINES = {
+    "lumped3d": SceneLines("lumped 3D scene"),
+    "hybrid": CondensedSceneLines("hybrid scene (condensed bodies)"),
+}
+
+
 def scene_lines(q: dict) -> list[str]:
-    """Plain-text lines for the printed summary."""
-    e = q["exact"]
-    what = SCENE_LINE_LABELS[q["model"]]
-    head = (
-        f"{what}, exact: TE mean {e['te_mean_m'] * 1e6:.4f} µm, TE rms "
-        f"{e['te_rms_m'] * 1e6:.4f} µm, max line load {e['max_line_load_N_per_m'] / 1e3:.1f} N/mm"
-    )
-    lines = [head]
-    if "centrifugal" in q:
-        for name, g in q["centrifugal"]["rim_radial_growth_m"].items():
-            lines.append(
-                f"  {name} rim radial growth at {q['centrifugal']['speed_rad_s']:g} rad/s "
-                f"(pinion): {g * 1e6:.3f} µm"
-            )
-    return lines
+    """Plain-text lines for the printed summary of a ``quasi_static_scene`` section ``q``."""
+    return SCENE_LINES[q["model"]].lines(q)
 
 
 def write_body_series(out_dir, scene, bodies, dyn, names=None) -> list[str]:

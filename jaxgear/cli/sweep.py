@@ -303,7 +303,7 @@ def sweep_case(
     }
     if dyn_map is not None:
         summary["pressure_map_dynamic"] = dyn_map["summary"]
-    write_sweep(summary, out_dir, z1, dyn_map)
+    write_sweep(case, summary, out_dir, z1, dyn_map)
     return summary
 
 

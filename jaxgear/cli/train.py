@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 from .. import Modifications, contact_pressure, quasi_static
 from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
+from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import write_bodies_vtu
@@ -273,22 +274,8 @@ def plotted_periods(case, layout, computed: float) -> float:
     return min(computed, max(3.0, 2.0 * slowest))
 
 
-#: what the short gear names of the embedded trains stand for (in titles)
-GEAR_NAME_GLOSSARY = {"hst": "high-speed train, stage 1", "lst": "low-speed train, stage 2"}
-
-
-def gear_glossary(gear_names) -> str:
-    """What the abbreviations in the gear names mean, "hst = ..., lst = ..." ("" if none)."""
-    used = [
-        f"{k} = {v}"
-        for k, v in GEAR_NAME_GLOSSARY.items()
-        if any(n == k or n.startswith(k + "-") for n in gear_names)
-    ]
-    return ", ".join(used)
-
-
 def _gear_glossary(case) -> str:
-    """:func:`gear_glossary` as a title's last line ("" if none)."""
+    """:func:`~jaxgear.cli._case_kinds.gear_glossary` as a title's last line ("" if none)."""
     text = gear_glossary(case.gear_names)
     return "\n" + text if text else ""
 

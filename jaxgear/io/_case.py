@@ -69,6 +69,12 @@ class MeshSettings:
         return contact_law_from_name(mode, self.smooth_width)
 
     @property
+    def lumped(self) -> bool:
+        """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings), as
+        :attr:`TrainCase.lumped`."""
+        return self.scene is not None and self.scene.model == "lumped3d"
+
+    @property
     def stiffness_model(self) -> str:
         """The stiffness model's name (``"weber"``, ``"fe2d"``, ...), for summaries."""
         return self.stiffness.name

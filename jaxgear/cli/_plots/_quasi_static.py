@@ -47,9 +47,10 @@ def transmission_error_plot(
     """Quasi-static TE (µm) against the ``driver``'s position (mesh periods): the pinion's, a
     train's input's.
 
-    ``curves``: ``{design label: {"exact": TE (m), "smooth": TE (m)}}`` (a design may have
-    "exact" only). A design whose exact and smooth curves coincide (:func:`te_coincide`) is
-    drawn once, its legend entry says so; otherwise exact is solid, smooth dashed. ``note``:
+    ``curves``: ``{design label: {contact law: TE (m)}}``, the first law solid (``"exact"``,
+    then ``"smooth"``; a design may have "exact" only). A law whose curve coincides with the
+    first's (:func:`te_coincide`) is drawn with it, its legend entry says so; another is
+    dashed. ``note``:
     a line under the plot (what a reader would otherwise take for an error). Returns the
     legend labels.
     """
@@ -59,16 +60,18 @@ def transmission_error_plot(
     span = float(np.ptp(allv)) or 1.0
     colors = ("C0", "C3", "C2", "C1", "C4", "C5")
     for (lab, v), color in zip(um.items(), colors, strict=False):
-        if "smooth" not in v:
-            ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
-            continue
-        same, d = te_coincide(v["exact"], v["smooth"], span)
-        if same:
+        (law, first), *others = v.items()  # the first law solid, the others against it
+        near = {m: te_coincide(first, a, span) for m, a in others}
+        same = [m for m, (ok, _) in near.items() if ok]
+        label = f"{lab}, {law} contact"
+        if same:  # one curve for the laws that coincide with the first
+            d = max(near[m][1] for m in same)
             within = f"within {d:.2g} µm" if d >= 1e-3 else "within 0.001 µm"
-            ax.plot(x, v["exact"], "-", color=color, label=f"{lab} (exact = smooth {within})")
-        else:
-            ax.plot(x, v["exact"], "-", color=color, label=f"{lab}, exact contact")
-            ax.plot(x, v["smooth"], "--", color=color, label=f"{lab}, smooth contact")
+            label = f"{lab} ({' = '.join((law, *same))} {within})"
+        ax.plot(x, first, "-", color=color, label=label)
+        for m, a in others:
+            if not near[m][0]:
+                ax.plot(x, a, "--", color=color, label=f"{lab}, {m} contact")
     ax.set_xlabel(f"{driver} position (mesh periods)")
     ax.set_ylabel("quasi-static TE (µm, along the line of action)")
     ax.set_title(title)

@@ -3,6 +3,7 @@ the nearest mode × mesh-harmonic coincidence, and the largest Hertzian pressure
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ from ._campbell import modes_on_grid
 from ._figure import finish, fit_legend_columns, floats, hz_text, new_figure, savefig
 
 __all__ = [
+    "DIRECTIONS",
     "FEW_SPEEDS",
     "PEAKS_NAMED",
     "PEAK_MIN",
@@ -34,40 +36,45 @@ PEAK_MIN = 1.1
 FEW_SPEEDS = 60
 
 
-def pressure_speed_plot(path, summary: dict) -> None:
-    """The largest Hertzian contact pressure (MPa) against speed from a sweep summary: per
-    speed the largest over the kept steps and the cells (``max_contact_pressure_Pa``; a
-    train's per mesh, ``max_contact_pressure_mesh_Pa``), the quasi-static maximum at rest as a
-    dashed line of the same colour (``max_contact_pressure_static_Pa``), the down sweep dashed,
-    the speed of the dynamic pressure map marked."""
+@dataclasses.dataclass(frozen=True)
+class Direction:
+    """How a sweep went over its speeds (``jaxgear sweep --direction``), as its figures draw it:
+    ``label``, what the legend adds to the first sweep's curves; ``down``, whether a second
+    sweep went down the speeds (the summary's ``*_down`` curves, drawn dashed)."""
+
+    label: str
+    down: bool = False
+
+
+#: each ``--direction`` (a sweep summary's ``direction``) as its figures draw it
+DIRECTIONS = {
+    "independent": Direction(""),
+    "up": Direction(", sweep up"),
+    "down": Direction(", sweep down"),
+    "both": Direction(", sweep up", down=True),
+}
+
+
+def pressure_speed_plot(path, summary: dict, curves: list[tuple]) -> None:
+    """The largest Hertzian contact pressure (MPa) against speed from a sweep summary:
+    ``curves``, ``(mesh name, per speed the largest over the kept steps and the cells (Pa),
+    the quasi-static maximum at rest (Pa) or None)`` of each mesh (a pair's one unnamed:
+    :func:`jaxgear.cli._case_kinds.pressure_curves`), the one at rest as a dashed line of the
+    same colour, the down sweep dashed, the speed of the dynamic pressure map marked."""
     fig, ax = new_figure()
     sp = floats(summary["speeds_rad_s"])
     few = sp.size <= FEW_SPEEDS
     mk = {"marker": "o", "ms": 4, "clip_on": False} if few else {}
-    if "max_contact_pressure_mesh_Pa" in summary:  # a train: one curve per mesh
-        per = np.asarray(summary["max_contact_pressure_mesh_Pa"], dtype=float)  # (S, m)
-        curves = [
-            (name, per[:, k], summary["max_contact_pressure_static_mesh_Pa"][k])
-            for k, name in enumerate(summary["mesh_names"])
-        ]
-    else:
-        curves = [
-            (
-                "",
-                floats(summary["max_contact_pressure_Pa"]),
-                summary["max_contact_pressure_static_Pa"],
-            )
-        ]
-    up = {"independent": "", "up": ", sweep up", "down": ", sweep down", "both": ", sweep up"}[
-        summary["direction"]
-    ]
+    direction = DIRECTIONS[summary["direction"]]
+    up = direction.label
     for k, (name, p, p0) in enumerate(curves):
         color = f"C{k % 10}"
         who = f"{name}: " if name else ""
+        p = floats(p)
         ax.plot(sp, p / 1e6, "-", color=color, lw=1.8, label=f"{who}dynamic{up}", **mk)
         if p0 is not None:
             ax.axhline(p0 / 1e6, color=color, ls="--", lw=0.9, label=f"{who}quasi-static, at rest")
-    if "max_contact_pressure_Pa_down" in summary:
+    if direction.down:
         ax.plot(
             sp,
             floats(summary["max_contact_pressure_Pa_down"]) / 1e6,
@@ -185,14 +192,13 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     fig, ax = new_figure()
     sp = floats(summary["speeds_rad_s"])
     df = floats(summary["dynamic_factor"])
-    how = {"independent": "", "up": ", sweep up", "down": ", sweep down", "both": ", sweep up"}[
-        summary["direction"]
-    ]
+    direction = DIRECTIONS[summary["direction"]]
+    how = direction.label
     few = sp.size <= FEW_SPEEDS
     mk = {"marker": "o", "ms": 4, "clip_on": False} if few else {}  # end points unclipped
     n_sp = f", {sp.size} speeds (marked)" if few else ""
     ax.plot(sp, df, "-", color="C0", lw=1.8, label=f"dynamic mesh force / static{how}{n_sp}", **mk)
-    if "dynamic_factor_down" in summary:
+    if direction.down:
         ax.plot(
             sp,
             floats(summary["dynamic_factor_down"]),
