@@ -91,7 +91,7 @@ def bench_modal_basis(
     bodies = tuple(
         None if r is None else fem_prep.condensed(fem_prep.load_body(r)) for r in c.scene.bodies
     )
-    sc, _ = static_scene(c, bodies=bodies)
+    sc, _ = jio.static_scene(c, bodies=bodies)
     model = dynamic_model(sc, c.modifications, c.torque)
     n = int(sc.structure.K.shape[0])
     speeds = np.unique(np.append(np.linspace(*_SPEED_RANGE, n_speeds), _RESONANCE))
