@@ -13,6 +13,7 @@ import numpy as np
 
 import jaxgear as jg
 from jaxgear.dynamics import (
+    Both,
     Damping,
     Newmark,
     SteadyState,
@@ -80,7 +81,7 @@ def main(out: Path = Path("docs")) -> dict:
     p, speed_n, alpha = reference()
     model = jaxgear_model(alpha)
     speeds = SWEEP * speed_n
-    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction="both")
+    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction=Both())
     x0 = [p.force / (p.pair_stiffness * p.contact_ratio), 0.0]
     ref = {"up": sweep(p, speeds, x0, 100, 8), "down": sweep(p, speeds[::-1], x0, 100, 8)[::-1]}
     data = {

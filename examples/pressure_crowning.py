@@ -31,6 +31,7 @@ import numpy as np  # noqa: E402
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.dynamics import (  # noqa: E402
+    Outputs,
     build_dynamic_model,
     load_bodies,
     simulate,
@@ -81,7 +82,7 @@ def dynamic_pressure_across_face(case, bodies, depth_um: float) -> tuple[np.ndar
         integrator=spec_integrator(spec),
         contact=case.contact_law(spec.contact),
         window=spec_window(spec),
-        cell_loads=True,
+        outputs=Outputs(cell_loads=True),
     )
     m = one.meshes[0]
     p = jg.contact_pressure(case.pair, m, case.youngs_modulus, case.poisson_ratio)
