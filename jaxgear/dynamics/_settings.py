@@ -12,9 +12,8 @@ import dataclasses
 import math
 import os
 from collections.abc import Callable
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
-import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -22,6 +21,9 @@ import optimistix
 
 from .._geometry import GearPair
 from .._util import check_integer
+
+if TYPE_CHECKING:
+    import diffrax
 
 __all__ = [
     "Batching",
@@ -40,15 +42,24 @@ __all__ = [
 # time steps one speed may integrate (periods × steps per mesh period): 2^22 is hours of Newmark
 MAX_STEPS_PER_SPEED = 2**22
 
+def _diffrax():
+    """The diffrax module, imported when a diffrax solver is first asked for (about 0.5 s of
+    import that a Newmark run, the default, does not pay)."""
+    import diffrax  # lazy: an optional heavy dependency of the Newmark default
+
+    return diffrax
+
+
 class _SolverName(eqx.Module):
-    """A diffrax solver class as a case file names it (:data:`DIFFRAX_SOLVERS`): :meth:`of` its
+    """A diffrax solver class as a case file names it (:data:`DIFFRAX_SOLVERS`), by its name in
+    diffrax (``"Tsit5"``: diffrax is imported only when the solver is built): :meth:`of` its
     object for a :class:`DiffraxIntegrator`'s tolerances and step control."""
 
-    cls: type = eqx.field(static=True)
+    cls: str = eqx.field(static=True)
 
     def of(self, rtol: float, atol: float, adaptive: bool) -> diffrax.AbstractSolver:
         """The solver object (an explicit solver: the class's default)."""
-        return self.cls()
+        return getattr(_diffrax(), self.cls)()
 
 
 class _ImplicitSolverName(_SolverName):
@@ -57,35 +68,44 @@ class _ImplicitSolverName(_SolverName):
     controller it takes the controller's, the class's default)."""
 
     def of(self, rtol: float, atol: float, adaptive: bool) -> diffrax.AbstractSolver:
+        dfx = _diffrax()
         if adaptive:
-            return self.cls()
-        return self.cls(
-            root_finder=diffrax.VeryChord(rtol=rtol, atol=atol, norm=optimistix.max_norm)
-        )
+            return getattr(dfx, self.cls)()
+        root_finder = dfx.VeryChord(rtol=rtol, atol=atol, norm=optimistix.max_norm)
+        return getattr(dfx, self.cls)(root_finder=root_finder)
+
+
+class _AdjointName(eqx.Module):
+    """A diffrax adjoint by name (:data:`DIFFRAX_ADJOINTS`), by its class name in diffrax."""
+
+    cls: str = eqx.field(static=True)
+
+    def of(self) -> diffrax.AbstractAdjoint:
+        return getattr(_diffrax(), self.cls)()
 
 
 #: the diffrax solvers by the names of the case files (``[scene.integration] solver``) and the
 #: CLI (``--solver``): the one place those names map to solver objects (for :mod:`jaxgear.io`)
 DIFFRAX_SOLVERS = {
-    "tsit5": _SolverName(diffrax.Tsit5),
-    "dopri5": _SolverName(diffrax.Dopri5),
-    "dopri8": _SolverName(diffrax.Dopri8),
-    "bosh3": _SolverName(diffrax.Bosh3),
-    "heun": _SolverName(diffrax.Heun),
-    "midpoint": _SolverName(diffrax.Midpoint),
-    "ralston": _SolverName(diffrax.Ralston),
-    "euler": _SolverName(diffrax.Euler),
-    "kvaerno3": _ImplicitSolverName(diffrax.Kvaerno3),
-    "kvaerno4": _ImplicitSolverName(diffrax.Kvaerno4),
-    "kvaerno5": _ImplicitSolverName(diffrax.Kvaerno5),
-    "implicit_euler": _ImplicitSolverName(diffrax.ImplicitEuler),
+    "tsit5": _SolverName("Tsit5"),
+    "dopri5": _SolverName("Dopri5"),
+    "dopri8": _SolverName("Dopri8"),
+    "bosh3": _SolverName("Bosh3"),
+    "heun": _SolverName("Heun"),
+    "midpoint": _SolverName("Midpoint"),
+    "ralston": _SolverName("Ralston"),
+    "euler": _SolverName("Euler"),
+    "kvaerno3": _ImplicitSolverName("Kvaerno3"),
+    "kvaerno4": _ImplicitSolverName("Kvaerno4"),
+    "kvaerno5": _ImplicitSolverName("Kvaerno5"),
+    "implicit_euler": _ImplicitSolverName("ImplicitEuler"),
 }
 
-#: the diffrax adjoints by name: "reverse" (checkpointed, for ``jax.grad``) and "forward"
-#: (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``)
+#: the diffrax adjoints by name: "reverse" (``diffrax.RecursiveCheckpointAdjoint``, for
+#: ``jax.grad``) and "forward" (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``)
 DIFFRAX_ADJOINTS = {
-    "reverse": diffrax.RecursiveCheckpointAdjoint(),
-    "forward": diffrax.ForwardMode(),
+    "reverse": _AdjointName("RecursiveCheckpointAdjoint"),
+    "forward": _AdjointName("ForwardMode"),
 }
 
 
@@ -253,9 +273,10 @@ class DiffraxIntegrator(eqx.Module):
         self.steps_per_period, self.rtol, self.atol = steps_per_period, rtol, atol
         self.adaptive, self.max_steps = adaptive, max_steps
         named = _by_name(DIFFRAX_ADJOINTS, adjoint)
-        self.adjoint = adjoint if named is None else named
+        self.adjoint = adjoint if named is None else named.of()
 
     def __check_init__(self):
+        diffrax = _diffrax()
         if not isinstance(self.solver, diffrax.AbstractSolver):
             raise ValueError(
                 f"solver = {self.solver!r}: allowed a diffrax solver name "
