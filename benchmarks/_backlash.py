@@ -12,7 +12,7 @@ import jax
 import numpy as np
 
 import jaxgear as jg
-from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.dynamics import Both, Newmark, SteadyState, dynamic_model, speed_sweep
 from jaxgear.io import Damping, write_json
 from jaxgear.scenes import TorsionalDynamics
 
@@ -74,7 +74,7 @@ def main(out: Path = Path("docs")) -> dict:
     p, speed_n, alpha = reference()
     model = jaxgear_model(alpha)
     speeds = SWEEP * speed_n
-    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction="both")
+    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction=Both())
     x0 = [p.force / (p.pair_stiffness * p.contact_ratio), 0.0]
     ref = {"up": sweep(p, speeds, x0, 100, 8), "down": sweep(p, speeds[::-1], x0, 100, 8)[::-1]}
     data = {

@@ -48,7 +48,7 @@ import time
 import numpy as np
 
 from jaxgear import contact_law_from_name
-from jaxgear.dynamics import ModalBasis, Newmark, SteadyState
+from jaxgear.dynamics import Batching, ModalBasis, Newmark, SteadyState
 
 from ._charts import thin_tick_labels
 from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases
@@ -594,8 +594,7 @@ def bench_hybrid_sweep(
             jnp.asarray(w),
             integrator=Newmark(spp, basis=basis),
             window=SteadyState(p, k),
-            chunk_size=chunk_size,
-            progress=progress,
+            batching=Batching(chunk_size, progress),
         ).results
 
     jax.clear_caches()

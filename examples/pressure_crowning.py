@@ -30,8 +30,14 @@ import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
-from jaxgear.dynamics import simulate
-from jaxgear.io import build_dynamic_model, load_bodies, spec_integrator, spec_window, static_scene
+from jaxgear.dynamics import Outputs, simulate  # noqa: E402
+from jaxgear.io import (  # noqa: E402
+    build_dynamic_model,
+    load_bodies,
+    spec_integrator,
+    spec_window,
+    static_scene,
+)
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 SPEED = 3000.0  # pinion, rad/s
@@ -75,7 +81,7 @@ def dynamic_pressure_across_face(case, bodies, depth_um: float) -> tuple[np.ndar
         integrator=spec_integrator(spec),
         contact=case.contact_law(spec.contact),
         window=spec_window(spec),
-        cell_loads=True,
+        outputs=Outputs(cell_loads=True),
     )
     m = one.meshes[0]
     p = jg.contact_pressure(case.pair, m, case.youngs_modulus, case.poisson_ratio)

@@ -46,7 +46,7 @@ def main(out_dir=None, n_speeds: int = 40, periods: int = 40):
     speeds = np.linspace(0.4 * cs, 1.6 * cs, n_speeds)
     curves = {}
     for name, model in models.items():
-        s = jd.speed_sweep(model, speeds, direction="both", **kw)
+        s = jd.speed_sweep(model, speeds, direction=jd.Both(), **kw)
         up, down = np.asarray(s.results.dynamic_factor), np.asarray(s.down.dynamic_factor)
         curves[name] = (up, down)
         i = int(np.argmax(np.maximum(up, down)))

@@ -17,7 +17,7 @@ from benchmarks import (
     dead_zone_response as response,
     dead_zone_sweep as sweep,
 )
-from jaxgear.dynamics import DiffraxIntegrator, simulate, speed_sweep
+from jaxgear.dynamics import Both, DiffraxIntegrator, simulate, speed_sweep
 
 
 @pytest.fixture(scope="module")
@@ -85,7 +85,7 @@ def jump(rms, rel=0.3):
 def test_sweeps_up_and_down_match_the_reference_with_their_jumps(setup):
     p, speed_n, model = setup
     speeds = SWEEP * speed_n
-    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction="both")
+    res = speed_sweep(model, speeds, integrator=SWEEP_STEPS, window=WINDOW, direction=Both())
     x0 = [p.force / (p.pair_stiffness * p.contact_ratio), 0.0]
     up = sweep(p, speeds, x0, 100, 8)
     down = sweep(p, speeds[::-1], x0, 100, 8)[::-1]

@@ -23,6 +23,7 @@ from jaxgear.cli import OUTPUT_FILES, main
 from jaxgear.dynamics import (
     HertzPressure,
     Newmark,
+    Outputs,
     SteadyState,
     dynamic_model,
     simulate,
@@ -69,8 +70,7 @@ def test_low_speed_cell_loads_and_pressures_are_the_quasi_static_ones(accessory)
         2.0,
         integrator=Newmark(2000),
         window=SteadyState(3, 2),
-        cell_loads=True,
-        pressure=hertz,
+        outputs=Outputs(cell_loads=True, pressure=hertz),
     )
     assert int(r.result) == 0
     assert r.line_load.shape == (4000, scene.mesh.n_lines, 4)
@@ -93,7 +93,11 @@ def test_cell_loads_sum_to_the_line_forces(accessory):
     case, scene, _ = accessory
     length = np.asarray(scene.mesh.cells(0.0).length)
     model = dynamic_model(scene, case.modifications, case.torque)
-    kw = {"integrator": Newmark(32), "window": SteadyState(8, 2), "cell_loads": True}
+    kw = {
+        "integrator": Newmark(32),
+        "window": SteadyState(8, 2),
+        "outputs": Outputs(cell_loads=True),
+    }
     r = simulate(model, 866.0, **kw)
     lf = np.asarray(r.line_force)
     np.testing.assert_allclose(
@@ -118,14 +122,14 @@ def test_in_loop_max_pressure_is_the_max_of_the_recorded_pressures(accessory):
     (dynamic factor 1.75, per tooth 1.75: √1.75 = 1.32)."""
     case, scene, hertz = accessory
     model = dynamic_model(scene, case.modifications, case.torque)
-    kw = {"integrator": Newmark(64), "window": SteadyState(30, 4), "pressure": hertz}
-    r = simulate(model, 866.0, cell_loads=True, **kw)
+    kw = {"integrator": Newmark(64), "window": SteadyState(30, 4)}
+    r = simulate(model, 866.0, outputs=Outputs(cell_loads=True, pressure=hertz), **kw)
     assert float(r.max_pressure) == pytest.approx(_pressure(case, r).max(), rel=1e-12)
     qs = jg.quasi_static(scene.mesh, case.modifications, case.torque, positions_per_pitch=64)
     assert float(r.max_pressure_static) == pytest.approx(_pressure(case, qs).max(), rel=1e-9)
     assert float(r.max_pressure / r.max_pressure_static) == pytest.approx(1.30, abs=0.01)
     speeds = [866.0, 1500.0]
-    s = speed_sweep(model, speeds, cell_loads=True, **kw).results
+    s = speed_sweep(model, speeds, outputs=Outputs(cell_loads=True, pressure=hertz), **kw).results
     for i in range(2):
         p = np.asarray(
             jg.contact_pressure(
@@ -137,7 +141,7 @@ def test_in_loop_max_pressure_is_the_max_of_the_recorded_pressures(accessory):
         )
         assert float(s.max_pressure[i]) == pytest.approx(p.max(), rel=1e-12)
     # without cell_loads a sweep keeps no per-cell record, and the maxima are unchanged
-    lean = speed_sweep(model, speeds, **kw).results
+    lean = speed_sweep(model, speeds, outputs=Outputs(pressure=hertz), **kw).results
     assert lean.line_load is None and lean.cell_s is None
     np.testing.assert_allclose(
         np.asarray(lean.max_pressure), np.asarray(s.max_pressure), rtol=1e-12
@@ -155,9 +159,11 @@ def test_hertz_pressure_settings_errors(accessory):
     case, scene, _ = accessory
     model = dynamic_model(scene, case.modifications, case.torque)
     with pytest.raises(ValueError, match="pressure: 2 gear pairs for a scene of 1 gear mesh"):
-        simulate(model, 900.0, pressure=HertzPressure((case.pair, case.pair), 2e11, 0.3))
+        simulate(
+            model, 900.0, outputs=Outputs(pressure=HertzPressure((case.pair, case.pair), 2e11, 0.3))
+        )
     with pytest.raises(ValueError, match="pressure = "):
-        simulate(model, 900.0, pressure=(2e11, 0.3))
+        simulate(model, 900.0, outputs=Outputs(pressure=(2e11, 0.3)))
     with pytest.raises(ValueError, match="youngs_modulus = -1"):
         HertzPressure(case.pair, -1.0, 0.3)
     with pytest.raises(ValueError, match="poisson_ratio = 0.5"):
@@ -233,8 +239,7 @@ def test_hybrid_cell_loads_and_in_loop_max(fem_prep_cache):
         900.0,
         integrator=Newmark(16),
         window=SteadyState(6, 2),
-        cell_loads=True,
-        pressure=hertz,
+        outputs=Outputs(cell_loads=True, pressure=hertz),
     )
     assert int(r.result) == 0 and r.line_load.shape == (32, scene.mesh.n_lines, 4)
     length = np.asarray(scene.mesh.cells(0.0).length)

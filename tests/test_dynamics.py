@@ -20,8 +20,10 @@ from _scene_solve import half_face_meshes
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
+    Both,
     DiffraxIntegrator,
     Newmark,
+    Outputs,
     SteadyState,
     band_dynamic_factor,
     damping_matrix,
@@ -218,7 +220,7 @@ def test_recorded_states_and_the_band_dynamic_factor_bounds(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
     kw = dict(contact=jg.SmoothContact(2e-7), integrator=Newmark(16), window=SteadyState(6, 2))
-    r = simulate(model, 900.0, states=True, **kw)
+    r = simulate(model, 900.0, outputs=Outputs(states=True), **kw)
     assert r.states.shape == (32, scene.mass().shape[0])
     np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))
     assert r.rim_radial.shape == (32, 0)
@@ -339,7 +341,7 @@ def test_jump_and_hysteresis_with_contact_loss(accessory):
     )
     cs = float(model.critical_speeds()[1])
     speeds = cs * np.linspace(0.86, 1.0, 8)
-    s = speed_sweep(model, speeds, direction="both", integrator=Newmark(32), window=SteadyState(40))
+    s = speed_sweep(model, speeds, direction=Both(), integrator=Newmark(32), window=SteadyState(40))
     up, down = np.asarray(s.results.dynamic_factor), np.asarray(s.down.dynamic_factor)
     assert np.all(np.asarray(s.results.result) == 0) and np.all(np.asarray(s.down.result) == 0)
     gap = down - up

@@ -18,6 +18,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
+    Both,
     Newmark,
     SteadyState,
     auto_steps_per_period,
@@ -124,7 +125,7 @@ def test_binned_continuation_sweep(models):
     model = models["relieved"]
     wc = float(model.critical_speeds(1)[0])
     speeds = np.array([0.3, 0.6, 1.0]) * wc
-    s = speed_sweep(model, speeds, direction="both", window=SteadyState(16, 2))
+    s = speed_sweep(model, speeds, direction=Both(), window=SteadyState(16, 2))
     ind = speed_sweep(model, speeds, window=SteadyState(16, 2))
     assert list(np.asarray(s.results.steps_per_period)) == [256, 128, 64]
     assert s.down.mesh_force.shape == (3, 128)

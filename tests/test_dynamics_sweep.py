@@ -227,8 +227,8 @@ def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
         model, _ = build_dynamic_model(case, spec)
         speeds = np.linspace(300.0, 1200.0, 6)   # 6 speeds on 4 devices: padded to 8
         kw = dict(integrator=Newmark(16), window=SteadyState(4, 2))
-        a = jd.speed_sweep(model, speeds, shard=True, **kw)
-        b = jd.speed_sweep(model, speeds, shard=False, **kw)
+        a = jd.speed_sweep(model, speeds, batching=jd.Batching(shard=True), **kw)
+        b = jd.speed_sweep(model, speeds, batching=jd.Batching(shard=False), **kw)
         assert len(jax.local_devices()) == 4
         np.testing.assert_allclose(a.dynamic_factor, b.dynamic_factor, rtol=1e-10)
         print("OK", len(jax.local_devices()))
@@ -270,7 +270,7 @@ def test_continuation_matches_independent_away_from_jumps(small_model):
     speeds = np.linspace(200.0, 500.0, 4)
     kw = dict(integrator=Newmark(32), window=SteadyState(30, 2))
     ind = jd.speed_sweep(small_model, speeds, **kw)
-    up = jd.speed_sweep(small_model, speeds, direction="up", chunk_size=3, **kw)
+    up = jd.speed_sweep(small_model, speeds, direction=jd.Up(), batching=jd.Batching(3), **kw)
     np.testing.assert_allclose(up.dynamic_factor, ind.dynamic_factor, rtol=2e-3)
 
 
@@ -337,14 +337,14 @@ def test_chunked_sweep_is_the_whole_sweep_with_progress(small_model):
     counts the speeds done, S per direction; a chunk size below 1 is refused before any work."""
     speeds = np.array([300.0, 400.0, 500.0])
     kw = dict(integrator=Newmark(16), window=SteadyState(4, 2))
-    whole = jd.speed_sweep(small_model, speeds, direction="both", **kw)
+    whole = jd.speed_sweep(small_model, speeds, direction=jd.Both(), **kw)
     done = []
     chunked = jd.speed_sweep(
-        small_model, speeds, direction="both", chunk_size=2, progress=done.append, **kw
+        small_model, speeds, direction=jd.Both(), batching=jd.Batching(2, done.append), **kw
     )
     assert done == [2, 3, 5, 6]
     for a, b in ((whole.results, chunked.results), (whole.down, chunked.down)):
         np.testing.assert_allclose(b.dynamic_factor, a.dynamic_factor, rtol=1e-12)
         np.testing.assert_allclose(b.transmission_error, a.transmission_error, rtol=1e-12)
     with pytest.raises(ValueError, match=r"chunk_size = 0 is out of range"):
-        jd.speed_sweep(small_model, speeds, chunk_size=0, **kw)
+        jd.speed_sweep(small_model, speeds, batching=jd.Batching(chunk_size=0), **kw)

@@ -24,9 +24,12 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import (
+    Batching,
     DiffraxIntegrator,
     Newmark,
+    Outputs,
     SteadyState,
+    Up,
     auto_steps_per_period,
     dynamic_model,
     excited_omega,
@@ -266,7 +269,7 @@ def test_speed_sweep_maps_single_speeds(setup):
     with pytest.raises(ValueError, match="integrator"):  # no diffrax form in the cell space
         _simulate(scene, None, case.torque, 900.0, integrator=DiffraxIntegrator())
     with pytest.raises(ValueError, match="direction"):  # no continuation
-        speed_sweep(_model(scene, None, case.torque), [900.0], direction="up")
+        speed_sweep(_model(scene, None, case.torque), [900.0], direction=Up())
 
 
 def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response(setup):
@@ -334,15 +337,15 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(fem_prep_
         import fem_prep
         from jaxgear import io as jio
         from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
-        from jaxgear.dynamics import static_scene
+        from jaxgear.dynamics import Batching, static_scene
         case = jio.load_case({str(DATA / "hybrid-test-case.toml")!r})
         body = fem_prep.condensed({str(DATA / "hybrid-test-wheel.toml")!r})
         model = dynamic_model(static_scene(case, bodies=(None, body))[0], case.modifications,
                               case.torque)
         kw = dict(integrator=Newmark(16), window=SteadyState(3, 1))
         speeds = np.linspace(300.0, 1800.0, 6)
-        a = speed_sweep(model, speeds, shard=True, **kw).results
-        b = speed_sweep(model, speeds, shard=False, **kw).results
+        a = speed_sweep(model, speeds, batching=Batching(shard=True), **kw).results
+        b = speed_sweep(model, speeds, batching=Batching(shard=False), **kw).results
         assert len(jax.local_devices()) == 4
         np.testing.assert_allclose(a.dynamic_factor, b.dynamic_factor, rtol=1e-10)
         np.testing.assert_allclose(a.te_rms, b.te_rms, rtol=1e-10)
@@ -730,7 +733,7 @@ def test_low_speed_tooth_factor_states_and_bearing_forces(setup):
         5.0,
         integrator=Newmark(16),
         window=SteadyState(3, 1),
-        states=True,
+        outputs=Outputs(states=True),
     )
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
     assert float(r.contact_loss) == 0.0
@@ -835,10 +838,20 @@ def test_failures_use_the_one_result_enumeration(setup):
     # the energy check (code 3) of the lumped models: a bound below the static mesh force
     # (blowup 0.5: mesh force > F_s / 2 at the first step) stops a converged run
     ok_kw = {**kw, "contact": jg.SmoothContact(5e-5, max_iterations=50)}
-    low = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, blowup=0.5, **ok_kw)
+    low = _simulate(
+        scene,
+        case.modifications,
+        case.torque,
+        900.0,
+        throw=False,
+        outputs=Outputs(blowup=0.5),
+        **ok_kw,
+    )
     assert int(low.result) == jg.DynamicsResult.blow_up == 3
     with pytest.raises(ValueError, match=r"blowup = 0\.0: allowed > 0"):
-        _simulate(scene, case.modifications, case.torque, 900.0, blowup=0.0, **ok_kw)
+        _simulate(
+            scene, case.modifications, case.torque, 900.0, outputs=Outputs(blowup=0.0), **ok_kw
+        )
     # the window-overflow code no longer shares 3 (energy blow-up) with the lumped path
     codes = {c.name: int(c) for c in jg.DynamicsResult}
     assert codes["window_overflow"] not in (codes["blow_up"], codes["non_finite"])

@@ -28,7 +28,7 @@ from jaxgear.cli import (
     scene_outputs,
     settings_from_case,
 )
-from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
+from jaxgear.dynamics import Batching, Newmark, SteadyState, dynamic_model, speed_sweep
 from jaxgear.io import static_scene
 
 PARTIAL = "optimum.partial.json"  # the marker of an unfinished jaxgear optimise
@@ -100,7 +100,7 @@ def test_hybrid_sweep_in_chunks_equals_one_call(hybrid_setup):
     done = []
     # chunks of 2: the last one padded (same compiled program), the padding dropped
     parts = _sweep(
-        scene, case.modifications, case.torque, speeds, chunk_size=2, progress=done.append, **kw
+        scene, case.modifications, case.torque, speeds, batching=Batching(2, done.append), **kw
     )
     assert done == [2, 3]
     flat_one, tree_one = jax.tree.flatten(one)
@@ -113,7 +113,9 @@ def test_hybrid_sweep_in_chunks_equals_one_call(hybrid_setup):
             b, a, rtol=1e-12, atol=1e-12 * max(np.abs(a).max(initial=0.0), 1e-300)
         )
     with pytest.raises(ValueError, match="chunk_size"):
-        _sweep(scene, case.modifications, case.torque, speeds, chunk_size=0, **kw)
+        _sweep(
+            scene, case.modifications, case.torque, speeds, batching=Batching(chunk_size=0), **kw
+        )
 
 
 def test_sweep_default_folder_leaves_the_run_sweep_alone(tmp_path, monkeypatch, capsys):

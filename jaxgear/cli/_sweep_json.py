@@ -15,6 +15,7 @@ import numpy as np
 from .. import contact_pressure, quasi_static
 from ..dynamics import (
     Newmark,
+    Outputs,
     auto_steps_per_period,
     gear_nodal_diameter_resonances,
     rim_stations,
@@ -257,7 +258,7 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | Non
         integrator=spec_integrator(spec),
         contact=law,
         window=spec_window(spec),
-        cell_loads=True,
+        outputs=Outputs(cell_loads=True),
         throw=False,
     )
     n_s = int(one.steps_per_period)
@@ -313,7 +314,7 @@ def vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible) ->
     one = simulate(
         model,
         float(vtu_speed),
-        states=True,
+        outputs=Outputs(states=True),
         integrator=Newmark(int(n_vtu)),
         window=spec_window(spec),
         contact=law,

@@ -191,13 +191,12 @@ def sweep_case(
     res = dynamics.speed_sweep(
         model,
         speeds,
-        direction=direction,
-        chunk_size=kind.chunk_size(speeds.size),
-        progress=progress,
+        direction=dynamics.DIRECTIONS[direction],
+        batching=dynamics.Batching(kind.chunk_size(speeds.size), progress),
         integrator=case_io.spec_integrator(spec),
         contact=law,
         window=case_io.spec_window(spec),
-        pressure=hertz,
+        outputs=dynamics.Outputs(pressure=hertz),
     )
     jax.block_until_ready(res)
     bar.close()

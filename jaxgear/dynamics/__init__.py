@@ -18,7 +18,7 @@ once over its methods (``prepare`` a run at one step count, then ``independent``
 contact loop, or a diffrax solver for lumped models), :func:`speed_sweep` (vmapped, sharded or
 continued over speeds) and :func:`band_dynamic_factor` (a smooth worst dynamic factor over a
 band, for gradients); every engine's records (:class:`Records`) become one result type,
-:class:`DynamicResult` (:func:`steady_state`; in a :class:`SweepResult` for a sweep). All of
+:class:`DynamicResponse` (:func:`steady_state`; in a :class:`SweepResult` for a sweep). All of
 them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
 integrates any M, C, K, F and cells given by hand.
 :func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
@@ -76,6 +76,7 @@ from ._model import (
 )
 from ._newmark import MeshDamping as MeshDamping, newmark as newmark
 from ._result import (
+    DynamicResponse as DynamicResponse,
     DynamicResult as DynamicResult,
     MeshDynamics as MeshDynamics,
     Records as Records,
@@ -83,6 +84,7 @@ from ._result import (
     steady_state as steady_state,
 )
 from ._settings import (
+    DIFFRAX_ADJOINTS as DIFFRAX_ADJOINTS,
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
     MAX_STEPS_PER_SPEED as MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN as MESH_ENERGY_MIN,
@@ -91,6 +93,7 @@ from ._settings import (
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
     DiffraxIntegrator as DiffraxIntegrator,
     HertzPressure as HertzPressure,
+    Batching as Batching,
     ModalBasis as ModalBasis,
     Newmark as Newmark,
     Outputs as Outputs,
@@ -100,6 +103,12 @@ from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
 from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
 from ._sweep import (
+    DIRECTIONS as DIRECTIONS,
+    AbstractDirection as AbstractDirection,
+    Both as Both,
+    Down as Down,
+    Independent as Independent,
+    Up as Up,
     auto_steps_per_period as auto_steps_per_period,
     band_dynamic_factor as band_dynamic_factor,
     mesh_averaged_modes as mesh_averaged_modes,

@@ -24,7 +24,7 @@ from ._hybrid import HybridModel
 from ._lumped import DynamicModel
 from ._damping import AbstractDamping, CompositeDamping, RayleighDamping, damping_matrix
 from ._modal import modal_analysis
-from ._model import AbstractDynamicModel, _mean_mesh_matrix, _prepare, _Prepared
+from ._model import AbstractDynamicModel, _mean_mesh_matrix, _prepare, _Prepared, deviations_in
 
 __all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means"]
 
@@ -86,8 +86,7 @@ def dynamic_model(
     check_operating("dynamic_model", scene, mods, torque, coast_torque=False, mods_name="mods")
     if mods is None:
         mods = Modifications()
-    if isinstance(mods, tuple | list):  # one per mesh: the count, before any computation
-        mods = per_mesh_modifications(mods, len(scene.base_planes))
+    per_mesh_modifications(mods, len(scene.base_planes))  # one per mesh: the count, first
     if damping is not None and not isinstance(damping, AbstractDamping):
         raise ValueError(
             f"damping = {damping!r}: allowed a jaxgear.dynamics damping model "
@@ -145,7 +144,7 @@ def _(
     span = None
     if revolutions is not None:
         check_integer("revolutions", revolutions, 1)
-        z1 = [d.pinion.teeth for d in _deviations_of(mods) if d.pinion is not None]
+        z1 = [d.pinion.teeth for d in deviations_in(mods) if d.pinion is not None]
         if not z1:
             z1 = [
                 round(2 * math.pi * float(p.base_radius_pinion) / float(p.base_pitch))
@@ -154,14 +153,6 @@ def _(
         span = int(revolutions) * z1[0]
     law = contact_law(contact, torque.dtype)
     return _build(scene, mods, torque, damping, law, positions_per_pitch, span)
-
-
-def _deviations_of(mods) -> list:
-    return [
-        m.deviations
-        for m in (mods if isinstance(mods, tuple | list) else (mods,))
-        if getattr(m, "deviations", None) is not None
-    ]
 
 
 def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):

@@ -5,12 +5,11 @@ from __future__ import annotations
 import diffrax
 import jax
 import jax.numpy as jnp
-import optimistix
 
 from .._contact import ContactLaw, _phi
 from .._quasi_static import per_mesh_modifications
 from ._model import AbstractDynamicModel, MeshTable, cells_from_reference, mesh_te
-from ._settings import DIFFRAX_SOLVERS, _Config, _divergence_code
+from ._settings import _Config, _divergence_code
 
 
 def _cell_forces(table: MeshTable, X, j, law: ContactLaw):
@@ -53,14 +52,6 @@ def _diffrax(
         return (Xd / x_ref, A / v_ref)
 
     opts = cfg.integrator
-    cls = getattr(diffrax, DIFFRAX_SOLVERS[opts.solver])
-    if issubclass(cls, diffrax.AbstractImplicitSolver) and not opts.adaptive:
-        # constant steps: the root finder needs its own tolerances
-        solver = cls(
-            root_finder=diffrax.VeryChord(rtol=opts.rtol, atol=opts.atol, norm=optimistix.max_norm)
-        )
-    else:
-        solver = cls()
     if opts.adaptive:
         controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol)
     else:
@@ -69,7 +60,7 @@ def _diffrax(
     X0, Xd0, _ = state
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(rhs),
-        solver,
+        opts.solver,
         t0=0.0,
         t1=n_total * dt,
         dt0=dt,
@@ -80,9 +71,7 @@ def _diffrax(
         max_steps=cfg.max_steps,
         throw=False,
         # reverse mode (grad): checkpointed adjoint; forward mode (jvp, jacfwd): ForwardMode
-        adjoint=diffrax.ForwardMode()
-        if opts.adjoint == "forward"
-        else diffrax.RecursiveCheckpointAdjoint(),
+        adjoint=opts.adjoint,
     )
     Xs, Xds = sol.ys[0] * x_ref, sol.ys[1] * v_ref
     j = n_total - n_keep + 1 + jnp.arange(n_keep)  # the kept samples' steps

@@ -392,7 +392,7 @@ def sweep(model: HybridModel, speeds, law: ContactLaw, cfg: _Config, omega_excit
     """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
     one effective compliance of n² in memory at a time), with the run's settings ``cfg``
     (:func:`run_config`) and the highest excited mode ``omega_excited`` (rad/s; NaN: unknown):
-    :class:`~jaxgear.dynamics.DynamicResult` with a leading speed axis. ``speeds`` (D, S) runs
+    :class:`~jaxgear.dynamics.DynamicResponse` with a leading speed axis. ``speeds`` (D, S) runs
     the D rows side by side (``jax.vmap``; rows placed one per device run there in parallel),
     each row's speeds one after the other: leading axes (D, S). ``space``: the modal basis
     (:func:`modal_space`) when the integrator has one, else None."""

@@ -32,7 +32,7 @@ class FreeVibration(eqx.Module):
             the cells in contact there, ½ẊᵀMẊ + ½(X − X_s)ᵀ(K + K_c)(X − X_s) (J), (S,).
         contact_held: True while every cell loaded at equilibrium stays loaded and no other
             cell closes (the system is then linear and the energy a constant of the motion).
-        result: as :class:`~jaxgear.dynamics.DynamicResult`.
+        result: as :class:`~jaxgear.dynamics.DynamicResponse`.
     """
 
     time: Float[Array, " S"]

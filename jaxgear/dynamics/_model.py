@@ -47,6 +47,7 @@ from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import CellRow, MeshModel, cell_flank, check_positions, split_by_mesh
 from .._contact import ContactLaw, ExactContact, solve_contact
+from .._deviations import Deviations
 from .._modifications import Modifications
 from .._pressure import pressure_factor
 from .._quasi_static import mesh_separations, per_mesh_modifications
@@ -175,19 +176,24 @@ def mesh_forces(cell_forces, sizes) -> tuple[Array, tuple]:
     return jnp.stack([jnp.sum(f, axis=-1) for f in lines], axis=-1), lines
 
 
+def _is_deviations(x) -> bool:
+    return isinstance(x, Deviations)
+
+
+def deviations_in(mods) -> list[Deviations]:
+    """The manufacturing deviations (:class:`~jaxgear.Deviations`) that ``mods`` carry, in mesh
+    order: ``mods`` one :class:`Modifications`, a tuple or list of one per mesh, or None."""
+    return [d for d in jax.tree.leaves(mods, is_leaf=_is_deviations) if _is_deviations(d)]
+
+
 def deviation_periods(mods) -> int:
     """Mesh periods after which the per-tooth deviations that ``mods`` carry repeat (static:
     from the tooth counts, the lengths of their arrays): the least common multiple of the
     deviating members' tooth counts (tooth pair j meets pinion tooth j mod z1 and gear tooth
     j mod z2; a pinion runout repeats every z1 periods, a gear runout every z2); 1 without
     deviations. ``mods``: one :class:`Modifications` or a tuple of one per mesh."""
-    out = 1
-    for m in mods if isinstance(mods, tuple | list) else (mods,):
-        d = getattr(m, "deviations", None)
-        for g in () if d is None else (d.pinion, d.gear):
-            if g is not None:
-                out = math.lcm(out, g.teeth)
-    return out
+    teeth = [g.teeth for d in deviations_in(mods) for g in (d.pinion, d.gear) if g is not None]
+    return math.lcm(1, *teeth)
 
 
 def mesh_rows(scene, mods, steps_per_period: int, periods: int) -> tuple[int, ...]:
@@ -537,7 +543,7 @@ class AbstractDynamicModel(eqx.Module):
 
     @abc.abstractmethod
     def independent(self, prepared, speeds, *, start=None, shard: bool = False):
-        """:class:`~jaxgear.dynamics.DynamicResult` at each of ``speeds`` (S,) (leading axis S)
+        """:class:`~jaxgear.dynamics.DynamicResponse` at each of ``speeds`` (S,) (leading axis S)
         or at one scalar speed (no leading axis), each from ``start`` ((X, Ẋ), the kind's own
         start when None); ``shard``: spread the speeds over the local devices."""
 
@@ -547,7 +553,7 @@ class AbstractDynamicModel(eqx.Module):
         Models with :attr:`continues` only."""
         raise ValueError(
             f"{type(self).__name__} sweeps independent speeds only (allowed direction "
-            "'independent')"
+            "Independent())"
         )
 
 

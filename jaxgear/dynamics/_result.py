@@ -1,4 +1,4 @@
-"""The steady-state response of every dynamic model at one speed (:class:`DynamicResult`), a
+"""The steady-state response of every dynamic model at one speed (:class:`DynamicResponse`), a
 speed sweep's results (:class:`SweepResult`), and the one place where a run's records become
 them (:func:`steady_state`): lumped and hybrid models fill the same fields the same way
 (docs/dynamics.md, "Time integration": the outputs per speed)."""
@@ -13,7 +13,7 @@ from .._results import DynamicsResult, error_if_failed
 from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean
 from ._settings import UNDER_RESOLVED_STEPS
 
-__all__ = ["DynamicResult", "MeshDynamics", "Records", "SweepResult"]
+__all__ = ["DynamicResponse", "DynamicResult", "MeshDynamics", "Records", "SweepResult"]
 
 
 class MeshDynamics(eqx.Module):
@@ -83,10 +83,12 @@ class MeshDynamics(eqx.Module):
     impacts_coast: Int[Array, ""] | None = None
 
 
-class DynamicResult(eqx.Module):
+class DynamicResponse(eqx.Module):
     """Steady-state response at one speed (K = keep_periods · N_s recorded steps; a sweep adds a
     leading speed axis to every leaf), for every model (:func:`jaxgear.dynamics.dynamic_model`):
-    the structure's records and, per gear mesh, a :class:`MeshDynamics`.
+    the structure's records and, per gear mesh, a :class:`MeshDynamics`. (Its ``result`` holds
+    a code of :class:`jaxgear.DynamicsResult`, the result codes; ``DynamicResult`` is this
+    class's former name, kept as an alias.)
 
     A scene of one gear mesh reads that mesh's response directly on this object
     (``mesh_force``, ``static_force``, ``transmission_error``, ``line_force``, ``static_te``,
@@ -182,26 +184,31 @@ class DynamicResult(eqx.Module):
     impacts_coast = of_the_one_mesh("impacts_coast")
 
 
+#: the former name of :class:`DynamicResponse` (deprecated: it read as ``jaxgear.DynamicsResult``,
+#: the result codes); kept as an alias
+DynamicResult = DynamicResponse
+
+
 class SweepResult(eqx.Module):
     """Speed sweep over S speeds.
 
     Attributes:
         speeds: pinion speeds (rad/s), shape (S,).
-        results: :class:`DynamicResult` per speed (leaves with a leading S axis), in the order of
+        results: :class:`DynamicResponse` per speed (leaves with a leading S axis), in the order of
             ``speeds``: the independent, up or down sweep.
         down: with ``direction="both"``, the down sweep (same order as ``speeds``); else None.
     """
 
     speeds: Float[Array, " S"]
-    results: DynamicResult
-    down: DynamicResult | None = None
+    results: DynamicResponse
+    down: DynamicResponse | None = None
 
     @property
     def dynamic_factor(self) -> Float[Array, " S"]:
         return self.results.dynamic_factor
 
 
-def checked(r: DynamicResult, name: str) -> DynamicResult:
+def checked(r: DynamicResponse, name: str) -> DynamicResponse:
     """``r`` raising ``eqx.EquinoxRuntimeError`` where its result code is not 0, the check
     riding on every mesh's dynamic factor and on the code (what a caller reads: under a
     caller's ``jax.jit`` a check on an output nobody reads would be dropped)."""
@@ -319,8 +326,8 @@ def _mesh_dynamics(r: Records, k: int) -> MeshDynamics:
     )
 
 
-def steady_state(r: Records) -> DynamicResult:
-    """The :class:`DynamicResult` of one speed's :class:`Records` over its K kept steps: each
+def steady_state(r: Records) -> DynamicResponse:
+    """The :class:`DynamicResponse` of one speed's :class:`Records` over its K kept steps: each
     mesh's statistics (:class:`MeshDynamics`), the bearing maxima, the clock of the records and
     the resolution flags; a non-finite record turns a zero result code into 2."""
     P = r.steps_per_period
@@ -332,7 +339,7 @@ def steady_state(r: Records) -> DynamicResult:
     speed, time_step, mesh_period_angle = r.speed, r.time_step, r.mesh_period_angle
     # f_mesh / f_max = Ω (2π/z1)^-1 / (ω_max / 2π)
     per_mode = P * 2 * jnp.pi * speed / (mesh_period_angle * r.omega_excited)
-    return DynamicResult(
+    return DynamicResponse(
         speed=speed,
         mesh_frequency=speed / mesh_period_angle,
         # step n ends at θ = (n + 3/2) Δθ (the table's mid-points), t = θ/Ω

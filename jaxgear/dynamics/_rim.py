@@ -36,7 +36,7 @@ def _rim_of(scene: HybridPair):
 
 def rim_stations(scene) -> list[tuple[int, slice]]:
     """Where each condensed member's stations sit in a hybrid run's rim records
-    (:attr:`~jaxgear.dynamics.DynamicResult.rim_radial`, ``rim_axial``): (member index, the
+    (:attr:`~jaxgear.dynamics.DynamicResponse.rim_radial`, ``rim_axial``): (member index, the
     slice of its Z stations) per condensed member, in member order; [] for a rigid scene."""
     out, start = [], 0
     for i, member in enumerate(getattr(scene, "members", ())):
@@ -54,7 +54,7 @@ def rim_waves(u, time_step, spin: float = -1.0, band=None) -> dict:
     Args:
         u: rim displacement at Z equally spaced stations (body frame, station k at angle
             2πk/Z), over equally spaced steps, shape (S, Z)
-            (:class:`~jaxgear.dynamics.DynamicResult` ``rim_radial`` or ``rim_axial``, NumPy).
+            (:class:`~jaxgear.dynamics.DynamicResponse` ``rim_radial`` or ``rim_axial``, NumPy).
         time_step: Δt (s). spin: the body's rotation sense about z (−1 for the wheel, +1 for the
             pinion): a wave travelling the same way is *forward*.
         band: (f_min, f_max) (Hz): look for each diameter's largest wave in this band only

@@ -10,6 +10,7 @@ from jaxtyping import Array, Float, Int
 from .._contact import ContactLaw, ExactContact
 from .._deviations import Deviations
 from .._modifications import Modifications
+from ._settings import Batching
 from ._sweep import speed_sweep
 
 __all__ = ["DynamicMetrics", "DynamicRobustMetrics"]
@@ -62,7 +63,7 @@ class DynamicMetrics(eqx.Module):
             integrator=self.integrator,
             contact=self.contact,
             window=self.window,
-            shard=False,
+            batching=Batching(shard=False),
             throw=False,
         ).results
         return DynamicRobustMetrics(

@@ -11,14 +11,23 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+from collections.abc import Callable
+from typing import TYPE_CHECKING, ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
+import optimistix
 
 from .._geometry import GearPair
 from .._util import check_integer
 
+if TYPE_CHECKING:
+    import diffrax
+
 __all__ = [
+    "Batching",
+    "DIFFRAX_ADJOINTS",
     "DIFFRAX_SOLVERS",
     "MAX_STEPS_PER_SPEED",
     "DiffraxIntegrator",
@@ -33,20 +42,79 @@ __all__ = [
 # time steps one speed may integrate (periods × steps per mesh period): 2^22 is hours of Newmark
 MAX_STEPS_PER_SPEED = 2**22
 
+def _diffrax():
+    """The diffrax module, imported when a diffrax solver is first asked for (about 0.5 s of
+    import that a Newmark run, the default, does not pay)."""
+    import diffrax  # lazy: an optional heavy dependency of the Newmark default
+
+    return diffrax
+
+
+class _SolverName(eqx.Module):
+    """A diffrax solver class as a case file names it (:data:`DIFFRAX_SOLVERS`), by its name in
+    diffrax (``"Tsit5"``: diffrax is imported only when the solver is built): :meth:`of` its
+    object for a :class:`DiffraxIntegrator`'s tolerances and step control."""
+
+    cls: str = eqx.field(static=True)
+
+    def of(self, rtol: float, atol: float, adaptive: bool) -> diffrax.AbstractSolver:
+        """The solver object (an explicit solver: the class's default)."""
+        return getattr(_diffrax(), self.cls)()
+
+
+class _ImplicitSolverName(_SolverName):
+    """An implicit diffrax solver by name: at constant steps (``adaptive=False``) its root
+    finder (``diffrax.VeryChord``, max norm) takes the integrator's tolerances (with a PID
+    controller it takes the controller's, the class's default)."""
+
+    def of(self, rtol: float, atol: float, adaptive: bool) -> diffrax.AbstractSolver:
+        dfx = _diffrax()
+        if adaptive:
+            return getattr(dfx, self.cls)()
+        root_finder = dfx.VeryChord(rtol=rtol, atol=atol, norm=optimistix.max_norm)
+        return getattr(dfx, self.cls)(root_finder=root_finder)
+
+
+class _AdjointName(eqx.Module):
+    """A diffrax adjoint by name (:data:`DIFFRAX_ADJOINTS`), by its class name in diffrax."""
+
+    cls: str = eqx.field(static=True)
+
+    def of(self) -> diffrax.AbstractAdjoint:
+        return getattr(_diffrax(), self.cls)()
+
+
+#: the diffrax solvers by the names of the case files (``[scene.integration] solver``) and the
+#: CLI (``--solver``): the one place those names map to solver objects (for :mod:`jaxgear.io`)
 DIFFRAX_SOLVERS = {
-    "tsit5": "Tsit5",
-    "dopri5": "Dopri5",
-    "dopri8": "Dopri8",
-    "bosh3": "Bosh3",
-    "heun": "Heun",
-    "midpoint": "Midpoint",
-    "ralston": "Ralston",
-    "euler": "Euler",
-    "kvaerno3": "Kvaerno3",
-    "kvaerno4": "Kvaerno4",
-    "kvaerno5": "Kvaerno5",
-    "implicit_euler": "ImplicitEuler",
+    "tsit5": _SolverName("Tsit5"),
+    "dopri5": _SolverName("Dopri5"),
+    "dopri8": _SolverName("Dopri8"),
+    "bosh3": _SolverName("Bosh3"),
+    "heun": _SolverName("Heun"),
+    "midpoint": _SolverName("Midpoint"),
+    "ralston": _SolverName("Ralston"),
+    "euler": _SolverName("Euler"),
+    "kvaerno3": _ImplicitSolverName("Kvaerno3"),
+    "kvaerno4": _ImplicitSolverName("Kvaerno4"),
+    "kvaerno5": _ImplicitSolverName("Kvaerno5"),
+    "implicit_euler": _ImplicitSolverName("ImplicitEuler"),
 }
+
+#: the diffrax adjoints by name: "reverse" (``diffrax.RecursiveCheckpointAdjoint``, for
+#: ``jax.grad``) and "forward" (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``)
+DIFFRAX_ADJOINTS = {
+    "reverse": _AdjointName("RecursiveCheckpointAdjoint"),
+    "forward": _AdjointName("ForwardMode"),
+}
+
+
+def _by_name(table: dict, key):
+    """``table[key]`` where ``key`` is one of its names, else None (an object given as is)."""
+    try:
+        return table.get(key)
+    except TypeError:  # unhashable: not a name
+        return None
 
 
 def _memory_bytes() -> float:
@@ -146,6 +214,9 @@ class Newmark(eqx.Module):
     steps_per_period: int | None = eqx.field(default=None, static=True)
     basis: ModalBasis | None = eqx.field(default=None, static=True)
 
+    #: no step cap: Newmark takes exactly periods × N_s steps (:attr:`DiffraxIntegrator.max_steps`)
+    max_steps: ClassVar[None] = None
+
     def __check_init__(self):
         _check_steps(self.steps_per_period)
         if self.basis is not None and not isinstance(self.basis, ModalBasis):
@@ -159,37 +230,63 @@ class DiffraxIntegrator(eqx.Module):
     use :class:`~jaxgear.SmoothContact`: the exact law's kinks stall adaptive steps).
 
     Attributes:
-        solver: a name of :data:`DIFFRAX_SOLVERS` (``"tsit5"``, ``"kvaerno5"``, ...).
+        solver: a diffrax solver object (``diffrax.Tsit5()``, ``diffrax.Kvaerno5()``, ...,
+            passed straight to ``diffrax.diffeqsolve``; an implicit solver at constant steps
+            needs its own ``root_finder`` tolerances), or a name of :data:`DIFFRAX_SOLVERS`
+            (``"tsit5"``, ``"kvaerno5"``, ...: its class, an implicit one at constant steps with
+            a ``diffrax.VeryChord`` root finder of ``rtol``, ``atol`` and the max norm).
         steps_per_period: the initial step and the sampling of the kept periods, as
             :class:`Newmark`'s (``None``: automatic).
         rtol, atol: PID step-size tolerances on the scaled state (X/x_ref, Ẋ/(x_ref ω_max),
             x_ref the static mesh deflection); with ``adaptive=False``, the implicit solvers'
-            root-finder tolerances.
+            root-finder tolerances (by name).
         adaptive: ``False`` for constant steps Δt = period/N_s.
         max_steps: step cap (``None``: 64 × the Newmark step count + 4096).
-        adjoint: "reverse" (checkpointed adjoint, for ``jax.grad``) or "forward"
-            (``diffrax.ForwardMode``, for ``jax.jvp``/``jax.jacfwd``).
+        adjoint: a diffrax adjoint object, or a name of :data:`DIFFRAX_ADJOINTS`: "reverse"
+            (the default: ``diffrax.RecursiveCheckpointAdjoint()``, for ``jax.grad``) or
+            "forward" (``diffrax.ForwardMode()``, for ``jax.jvp``/``jax.jacfwd``).
 
     Raises:
         ValueError: an unknown solver or adjoint, tolerances not > 0, bad step counts.
     """
 
-    solver: str = eqx.field(default="tsit5", static=True)
-    steps_per_period: int | None = eqx.field(default=None, static=True)
-    rtol: float = eqx.field(default=1e-6, static=True)
-    atol: float = eqx.field(default=1e-6, static=True)
-    adaptive: bool = eqx.field(default=True, static=True)
-    max_steps: int | None = eqx.field(default=None, static=True)
-    adjoint: str = eqx.field(default="reverse", static=True)
+    solver: diffrax.AbstractSolver = eqx.field(static=True)
+    steps_per_period: int | None = eqx.field(static=True)
+    rtol: float = eqx.field(static=True)
+    atol: float = eqx.field(static=True)
+    adaptive: bool = eqx.field(static=True)
+    max_steps: int | None = eqx.field(static=True)
+    adjoint: diffrax.AbstractAdjoint = eqx.field(static=True)
+
+    def __init__(
+        self,
+        solver: diffrax.AbstractSolver | str = "tsit5",
+        steps_per_period: int | None = None,
+        rtol: float = 1e-6,
+        atol: float = 1e-6,
+        adaptive: bool = True,
+        max_steps: int | None = None,
+        adjoint: diffrax.AbstractAdjoint | str = "reverse",
+    ):
+        named = _by_name(DIFFRAX_SOLVERS, solver)
+        self.solver = solver if named is None else named.of(rtol, atol, adaptive)
+        self.steps_per_period, self.rtol, self.atol = steps_per_period, rtol, atol
+        self.adaptive, self.max_steps = adaptive, max_steps
+        named = _by_name(DIFFRAX_ADJOINTS, adjoint)
+        self.adjoint = adjoint if named is None else named.of()
 
     def __check_init__(self):
-        if self.solver not in DIFFRAX_SOLVERS:
+        diffrax = _diffrax()
+        if not isinstance(self.solver, diffrax.AbstractSolver):
             raise ValueError(
                 f"solver = {self.solver!r}: allowed a diffrax solver name "
-                f"({', '.join(DIFFRAX_SOLVERS)})"
+                f"({', '.join(DIFFRAX_SOLVERS)}) or a diffrax solver object (diffrax.Tsit5(), ...)"
             )
-        if self.adjoint not in ("reverse", "forward"):
-            raise ValueError(f"adjoint = {self.adjoint!r}: allowed 'reverse', 'forward'")
+        if not isinstance(self.adjoint, diffrax.AbstractAdjoint):
+            raise ValueError(
+                f"adjoint = {self.adjoint!r}: allowed 'reverse', 'forward' or a diffrax adjoint "
+                "object (diffrax.RecursiveCheckpointAdjoint(), diffrax.ForwardMode())"
+            )
         for name in ("rtol", "atol"):
             v = getattr(self, name)
             if isinstance(v, bool) or not (isinstance(v, int | float) and 0 < v < math.inf):
@@ -228,8 +325,14 @@ class SteadyState(eqx.Module):
             )
 
 
+def _is_pair(x) -> bool:
+    return isinstance(x, GearPair)
+
+
 def _pairs(pairs) -> tuple:
-    return (pairs,) if isinstance(pairs, GearPair) else tuple(pairs)
+    """The gear pairs of ``pairs`` (one :class:`~jaxgear.GearPair` or a tuple of them), as a
+    tuple (checked by :class:`HertzPressure`)."""
+    return tuple(jax.tree.leaves(pairs, is_leaf=_is_pair))
 
 
 class HertzPressure(eqx.Module):
@@ -307,20 +410,78 @@ def check_window(window, name: str = "window") -> SteadyState:
 @dataclasses.dataclass(frozen=True)
 class Outputs:
     """What a run records beside the steady-state statistics, and its divergence bound (the
-    options of :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep`,
+    ``outputs`` of :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep`,
     checked there).
 
     Attributes:
-        states: the coordinates at the kept steps (Newmark only).
-        cell_loads: every mesh's cell loads at the kept steps.
-        pressure: the Hertz pressure tracked (:class:`HertzPressure`), or None.
-        blowup: the divergence bound (> 0), result code 3.
+        states: also record the coordinates at the kept steps (``DynamicResponse.states``;
+            Newmark only).
+        cell_loads: also record every mesh's cell loads at the kept steps: the line load
+            (N/m), base-plane s and z (m) and flank mask of every cell, (K, L, N) each
+            (:class:`~jaxgear.dynamics.MeshDynamics` ``line_load``, ``cell_s``, ``cell_z``,
+            ``cell_mask``; the input of :func:`jaxgear.contact_pressure` and
+            :func:`jaxgear.load_map`). Memory ∝ K × cells.
+        pressure: :class:`HertzPressure` (the pairs and the material): track each mesh's
+            largest Hertzian contact pressure over the kept steps inside the time loop
+            (``MeshDynamics.max_pressure``, ``max_pressure_static``; a sweep with ``pressure``
+            and without ``cell_loads`` keeps no per-cell record); None: not tracked.
+        blowup: divergence bound (> 0), result code 3: mesh force > blowup·F_s or kinetic
+            energy > blowup² · F_s²/2k̄ (k̄ the mean mesh stiffness: of the model for a lumped
+            one, of the quasi-static positions at the speed for a hybrid one).
     """
 
     states: bool = False
     cell_loads: bool = False
     pressure: HertzPressure | None = None
     blowup: float = 100.0
+
+    def checked(self, meshes: int) -> Outputs:
+        """These outputs checked for a scene of ``meshes`` gear meshes (flags as bools; one-line
+        ``ValueError`` naming ``pressure`` or ``blowup`` otherwise)."""
+        if isinstance(self.blowup, bool | str) or not self.blowup > 0:
+            raise ValueError(f"blowup = {self.blowup!r}: allowed > 0")
+        pressure = check_pressure(self.pressure, meshes)
+        return Outputs(bool(self.states), bool(self.cell_loads), pressure, self.blowup)
+
+
+def check_outputs(outputs, meshes: int) -> Outputs:
+    """``outputs`` checked to be :class:`Outputs` (:meth:`Outputs.checked`)."""
+    if not isinstance(outputs, Outputs):
+        raise ValueError(f"outputs = {outputs!r}: allowed jaxgear.dynamics.Outputs(...)")
+    return outputs.checked(meshes)
+
+
+@dataclasses.dataclass(frozen=True)
+class Batching:
+    """How the speeds of :func:`~jaxgear.dynamics.speed_sweep` are run.
+
+    Attributes:
+        chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
+            chunk is padded), calling ``progress`` after each (Ctrl-C is honoured between
+            chunks; continuation carries the state across them); None: the speeds in one call
+            (also under ``jax.jit``: traced speeds are never chunked).
+        progress: ``progress(n_done)`` after each chunk (for a progress bar), or None.
+        shard: with several local devices, place the independent speeds across them
+            (``jax.sharding``: a lumped model's vmap is split, a hybrid model runs one row of
+            speeds per device; default). Chunks are padded to whole rows of the devices.
+    """
+
+    chunk_size: int | None = None
+    progress: Callable[[int], object] | None = None
+    shard: bool = True
+
+    def checked(self) -> Batching:
+        """Raise ``ValueError`` for a ``chunk_size`` that is not None or an integer >= 1."""
+        if self.chunk_size is not None:
+            check_integer("chunk_size", self.chunk_size, 1)
+        return self
+
+
+def check_batching(batching) -> Batching:
+    """``batching`` checked to be :class:`Batching` (:meth:`Batching.checked`)."""
+    if not isinstance(batching, Batching):
+        raise ValueError(f"batching = {batching!r}: allowed jaxgear.dynamics.Batching(...)")
+    return batching.checked()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -424,7 +585,7 @@ def _config(
             int(window.keep_periods) * int(steps_per_period),
             values_per_step + 4 * int(cells),
         )
-    max_steps = getattr(integrator, "max_steps", None)
+    max_steps = integrator.max_steps
     if max_steps is None:
         max_steps = 64 * n_total + 4096
     return _Config(

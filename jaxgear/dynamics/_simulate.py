@@ -8,15 +8,13 @@ from .._contact import ContactLaw, ExactContact
 from .._util import check_real
 from ._lumped import DynamicModel, LumpedRun, _prep
 from ._model import AbstractDynamicModel
-from ._result import DynamicResult, checked
+from ._result import DynamicResponse, checked
 from ._settings import (
     DiffraxIntegrator,
-    HertzPressure,
     Newmark,
     Outputs,
     SteadyState,
     _config,
-    check_pressure,
 )
 from ._sweep import auto_steps_per_period, resolve_settings
 
@@ -31,12 +29,9 @@ def simulate(
     contact: ContactLaw | None = None,
     window: SteadyState | None = None,
     state0=None,
-    states: bool = False,
-    cell_loads: bool = False,
-    pressure: HertzPressure | None = None,
-    blowup: float = 100.0,
+    outputs: Outputs = Outputs(),
     throw: bool = True,
-) -> DynamicResult:
+) -> DynamicResponse:
     """Steady-state dynamic response at one pinion speed.
 
     Args:
@@ -54,25 +49,15 @@ def simulate(
             (default 60 and 4 for a lumped model, which keeps >= 2; 20 and 4 for a hybrid one).
         state0: (X, Ẋ) to start from (lumped models; default: the static equilibrium, zero
             vibration velocity; a hybrid model starts from the quasi-static state at the speed).
-        states: also record the coordinates at the kept steps (``DynamicResult.states``;
-            Newmark only).
-        cell_loads: also record every mesh's cell loads at the kept steps: the line load
-            (N/m), base-plane s and z (m) and flank mask of every cell, (K, L, N) each
-            (:class:`MeshDynamics` ``line_load``, ``cell_s``, ``cell_z``, ``cell_mask``; the
-            input of :func:`jaxgear.contact_pressure` and :func:`jaxgear.load_map`). Memory
-            ∝ K × cells.
-        pressure: :class:`~jaxgear.dynamics.HertzPressure` (the pairs and the material): track
-            each mesh's largest Hertzian contact pressure over the kept steps inside the time
-            loop (:class:`MeshDynamics` ``max_pressure``, ``max_pressure_static``); None: not
-            tracked.
-        blowup: divergence bound (> 0), result code 3: mesh force > blowup·F_s or kinetic
-            energy > blowup² · F_s²/2k̄ (k̄ the mean mesh stiffness: of the model for a lumped
-            one, of the quasi-static positions at the speed for a hybrid one).
+        outputs: what the run records beside the statistics (:class:`Outputs`: the states at
+            the kept steps (Newmark only), every mesh's cell loads there, the largest Hertzian
+            pressure tracked in the time loop) and its divergence bound (``blowup``, result
+            code 3). Default: none of them, blowup 100.
         throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result (``eqx.error_if``: works
             under ``jax.jit``, ``jax.vmap`` and ``jax.grad`` too).
 
     Returns:
-        :class:`DynamicResult`.
+        :class:`DynamicResponse`.
 
     Raises:
         ValueError: settings that are not settings objects, a window too short or a run too
@@ -81,15 +66,14 @@ def simulate(
         eqx.EquinoxRuntimeError: divergence or contact-loop failure (with ``throw``).
     """
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, shape=(), where="simulate")
-    integrator, law, window = resolve_settings(model, integrator, contact, window, states)
-    pressure = check_pressure(pressure, len(model.scene.base_planes))
+    settings = resolve_settings(model, integrator, contact, window, outputs)
+    integrator, law, window, outputs = settings
     if state0 is not None and not model.continues:
         raise ValueError("state0: a hybrid model starts from its quasi-static state (allowed None)")
     steps_per_period, modes = integrator.steps_per_period, None
     if steps_per_period is None:
         modes = model.averaged_modes()
         steps_per_period = int(auto_steps_per_period(model, speed, modes))
-    outputs = Outputs(bool(states), bool(cell_loads), pressure, blowup)
     prepared = model.prepare(integrator, law, window, steps_per_period, outputs, modes)
     dtype = model.dtype
     if state0 is not None:
@@ -115,8 +99,8 @@ def simulate_on_table(
     reference at every step of the span, and each Newmark step's) solved on the structure
     condensed onto the coordinates the cells reach (what :func:`simulate` does) or, with
     ``condensed=False``, on every coordinate (as before): for comparisons and ``jaxgear bench
-    trains``. Returns (:class:`DynamicResult`, the prepared table and static rows)."""
-    integrator, law, window = resolve_settings(model, Newmark(steps_per_period), contact, window)
+    trains``. Returns (:class:`DynamicResponse`, the prepared table and static rows)."""
+    integrator, law, window, _ = resolve_settings(model, Newmark(steps_per_period), contact, window)
     cfg = _config(integrator, window, int(steps_per_period))
     prep = _prep(model, law, int(steps_per_period), own_periods, condensed)
     r = model.independent(LumpedRun(prep, law, cfg), jnp.asarray(speed, model.damping.dtype))

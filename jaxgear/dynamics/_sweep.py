@@ -6,6 +6,9 @@ and the modes it resolves (:func:`mesh_averaged_modes`). One speed: :func:`simul
 
 from __future__ import annotations
 
+import abc
+from typing import ClassVar
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -18,17 +21,24 @@ from ._modal import ModalAnalysis, excited_omega, steps_for_mode
 from ._model import AbstractDynamicModel
 from ._result import SweepResult, checked
 from ._settings import (
+    Batching,
     DiffraxIntegrator,
-    HertzPressure,
     Newmark,
     Outputs,
     SteadyState,
+    check_batching,
     check_integrator,
-    check_pressure,
+    check_outputs,
     check_window,
 )
 
 __all__ = [
+    "DIRECTIONS",
+    "AbstractDirection",
+    "Both",
+    "Down",
+    "Independent",
+    "Up",
     "auto_steps_per_period",
     "band_dynamic_factor",
     "mesh_averaged_modes",
@@ -39,13 +49,99 @@ __all__ = [
 Model = AbstractDynamicModel
 
 
-def resolve_settings(model, integrator, contact, window, states: bool = False):
+class _Passes(abc.ABC):
+    """The passes a sweep can make over its speeds (S,) (:attr:`speeds`), each returning the
+    batched records of every speed in the order of :attr:`speeds` (leading axis S): the ways of
+    running them (in one call, in chunks, in runs of equal automatic step count) implement it,
+    an :class:`AbstractDirection` picks the passes."""
+
+    speeds: Array
+
+    @abc.abstractmethod
+    def independent(self):
+        """Every speed from the model's own start."""
+
+    @abc.abstractmethod
+    def ascending(self):
+        """Continuation from the first speed to the last, each from the previous steady
+        state."""
+
+    @abc.abstractmethod
+    def descending(self):
+        """Continuation from the last speed to the first, records in the order of
+        :attr:`speeds`."""
+
+    def both(self) -> tuple:
+        """(:meth:`ascending`, :meth:`descending`)."""
+        return self.ascending(), self.descending()
+
+
+class AbstractDirection(eqx.Module):
+    """How :func:`speed_sweep` passes over its speeds (the pattern of diffrax's
+    ``AbstractSolver``: a new way of sweeping is one more subclass, not a branch in the sweep).
+
+    Implementations: :class:`Independent` (every speed from the static equilibrium), and, for
+    models that continue (:attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`), the
+    continuation sweeps :class:`Up`, :class:`Down` and :class:`Both`. The case file's and the
+    CLI's names (``--direction``) map to them in :data:`DIRECTIONS`."""
+
+    #: whether the sweep continues from one speed's steady state to the next (a model must
+    #: have :attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`)
+    continues: ClassVar[bool] = True
+
+    @abc.abstractmethod
+    def sweep(self, passes: _Passes) -> SweepResult:
+        """The :class:`SweepResult` of ``passes.speeds`` from the passes this direction makes."""
+
+
+class Independent(AbstractDirection):
+    """Every speed from the static equilibrium, independently (``jax.vmap`` for a lumped model,
+    ``jax.lax.map`` for a hybrid one, sharded over the local devices): the default."""
+
+    continues: ClassVar[bool] = False
+
+    def sweep(self, passes: _Passes) -> SweepResult:
+        return SweepResult(passes.speeds, passes.independent())
+
+
+class Up(AbstractDirection):
+    """Continuation up: each speed (ascending) from the previous speed's steady state
+    (``lax.scan``); a failed speed restarts the next from the static equilibrium."""
+
+    def sweep(self, passes: _Passes) -> SweepResult:
+        return SweepResult(passes.speeds, passes.ascending())
+
+
+class Down(AbstractDirection):
+    """Continuation down: from the last speed to the first, each from the previous steady
+    state; the records in the order of the speeds."""
+
+    def sweep(self, passes: _Passes) -> SweepResult:
+        return SweepResult(passes.speeds, passes.descending())
+
+
+class Both(AbstractDirection):
+    """Continuation up and down (:class:`Up` in ``SweepResult.results``, :class:`Down` in
+    ``SweepResult.down``, both in the order of the speeds; one vmap over the two scans when not
+    chunked): the jump phenomena of a nonlinear resonance."""
+
+    def sweep(self, passes: _Passes) -> SweepResult:
+        return SweepResult(passes.speeds, *passes.both())
+
+
+#: the sweep directions by the names of the case files and the CLI (``--direction``): the one
+#: place those names map to objects (for :mod:`jaxgear.io`)
+DIRECTIONS = {"independent": Independent(), "up": Up(), "down": Down(), "both": Both()}
+
+
+def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outputs()):
     """The settings of a run on ``model``, checked, with the model kind's defaults for ``None``
     (:meth:`~jaxgear.dynamics.AbstractDynamicModel.default_settings`: a lumped model Newmark
     with automatic steps, the exact law (100 passes) and 60 periods with 4 kept; a hybrid
     model Newmark with the seed's 64 steps per mesh period (IV-27), the exact law (50 passes)
-    and 20 periods with 4 kept). ``states``: the states are to be recorded (Newmark only).
-    Returns (integrator, contact law in the model's dtype, window)."""
+    and 20 periods with 4 kept); ``outputs``: what the run records (:class:`Outputs`, checked:
+    the states with Newmark only, a pressure of the scene's meshes).
+    Returns (integrator, contact law in the model's dtype, window, outputs)."""
     if not isinstance(model, AbstractDynamicModel):
         raise ValueError(
             f"model = {type(model).__name__}: allowed a jaxgear.dynamics.DynamicModel or "
@@ -73,9 +169,10 @@ def resolve_settings(model, integrator, contact, window, states: bool = False):
             "integrator: a diffrax solver with backlash (coast flanks) is not modelled: use "
             "jaxgear.dynamics.Newmark"
         )
-    if states and isinstance(integrator, DiffraxIntegrator):
+    outputs = check_outputs(outputs, len(model.scene.base_planes))
+    if outputs.states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
-    return integrator, contact_law(contact, model.dtype), window
+    return integrator, contact_law(contact, model.dtype), window, outputs
 
 
 def mesh_averaged_modes(
@@ -182,14 +279,9 @@ def speed_sweep(
     integrator: Newmark | DiffraxIntegrator | None = None,
     contact: ContactLaw | None = None,
     window: SteadyState | None = None,
-    direction: str = "independent",
-    states: bool = False,
-    cell_loads: bool = False,
-    pressure: HertzPressure | None = None,
-    shard: bool = True,
-    chunk_size: int | None = None,
-    progress=None,
-    blowup: float = 100.0,
+    direction: AbstractDirection = Independent(),
+    outputs: Outputs = Outputs(),
+    batching: Batching = Batching(),
     throw: bool = False,
 ) -> SweepResult:
     """Dynamic response over pinion speeds, for every model.
@@ -198,30 +290,27 @@ def speed_sweep(
         model: a :class:`DynamicModel` or :class:`HybridModel`
             (:func:`~jaxgear.dynamics.dynamic_model`).
         speeds: pinion speeds (rad/s) > 0, shape (S,), ascending for continuation sweeps.
-        integrator, contact, window, blowup: as :func:`~jaxgear.dynamics.simulate` (``None``:
+        integrator, contact, window, outputs: as :func:`~jaxgear.dynamics.simulate` (``None``:
             the model kind's default, :func:`resolve_settings`). With automatic steps
             (``steps_per_period=None``) each speed gets its own N_s
             (:func:`auto_steps_per_period`, a power of two); speeds sharing an N_s are run
             together (one compilation per distinct N_s); the kept histories of a sweep with
             several N_s are subsampled to the smallest one (every speed's scalar outputs use its
             own full resolution); continuation carries the state across them.
-        direction: "independent" (every speed from the static equilibrium: ``jax.vmap`` for a
-            lumped model, ``jax.lax.map`` for a hybrid one (one n² effective compliance at a
-            time); with several local devices and ``shard``, the speeds are placed across them
-            with ``jax.sharding``: a lumped model's vmap is split, a hybrid model runs one row of
-            speeds per device), or, lumped models only, "up"
-            or "down" (continuation: each speed starts from the previous steady state,
-            ``lax.scan``), or "both" (up and down; ``SweepResult.down`` in the order of
-            ``speeds``; one vmap over the two scans when not chunked).
-        states: also record the coordinates at the kept steps (``DynamicResult.states``;
-            Newmark only).
-        cell_loads, pressure: per-cell loads at the kept steps, the largest Hertzian
-            pressure per speed, as :func:`~jaxgear.dynamics.simulate` (each speed's, with a
-            leading speed axis; the pressure reduced inside the time loop, so a sweep with
-            ``pressure`` and without ``cell_loads`` keeps no per-cell record).
-        chunk_size: split the sweep into chunks of this many speeds (one compilation; the last
-            chunk is padded), calling ``progress(n_done)`` after each (for a progress bar;
-            Ctrl-C is honoured between chunks). Continuation carries the state across chunks.
+        direction: how the speeds are passed (:class:`AbstractDirection`):
+            :class:`Independent` (default; every speed from the static equilibrium:
+            ``jax.vmap`` for a lumped model, ``jax.lax.map`` for a hybrid one (one n² effective
+            compliance at a time); with several local devices and ``batching.shard``, the speeds are
+            placed across them with ``jax.sharding``: a lumped model's vmap is split, a hybrid
+            model runs one row of speeds per device), or, lumped models only, :class:`Up` or
+            :class:`Down` (continuation: each speed starts from the previous steady state,
+            ``lax.scan``), or :class:`Both` (up and down; ``SweepResult.down`` in the order of
+            ``speeds``; one vmap over the two scans when not chunked). By name (a case file,
+            ``--direction``): :data:`DIRECTIONS`.
+            The outputs of each speed (:class:`Outputs`: states, cell loads, the largest
+            Hertzian pressure) with a leading speed axis.
+        batching: how the speeds are run (:class:`Batching`: in chunks with a progress
+            callback, sharded over the local devices (default) or not).
         throw: raise when any speed fails (off by default: read ``results.result``).
 
     Returns:
@@ -232,14 +321,18 @@ def speed_sweep(
         eqx.EquinoxRuntimeError: with ``throw``, a failure code at some speed (the message
             names it).
     """
-    if direction not in ("independent", "up", "down", "both"):
-        raise ValueError(f"direction = {direction!r}: allowed 'independent', 'up', 'down', 'both'")
-    integrator, law, window = resolve_settings(model, integrator, contact, window, states)
-    pressure = check_pressure(pressure, len(model.scene.base_planes))
-    if direction != "independent" and not model.continues:
+    if not isinstance(direction, AbstractDirection):
+        raise ValueError(
+            f"direction = {direction!r}: allowed a jaxgear.dynamics direction (Independent(), "
+            "Up(), Down(), Both(); by name: jaxgear.dynamics.DIRECTIONS)"
+        )
+    settings = resolve_settings(model, integrator, contact, window, outputs)
+    integrator, law, window, outputs = settings
+    batching = check_batching(batching)
+    if direction.continues and not model.continues:
         raise ValueError(
             f"direction = {direction!r}: a {type(model).__name__} sweeps independent speeds only "
-            "(allowed 'independent')"
+            "(allowed Independent())"
         )
     speeds = jnp.asarray(speeds, model.dtype)
     traced = isinstance(speeds, jax.core.Tracer)
@@ -250,66 +343,22 @@ def speed_sweep(
     ):
         raise ValueError("speeds must be a non-empty 1-D array of pinion speeds > 0 (rad/s)")
     check_real("speeds", speeds, "rad/s", lo=0.0, lo_open=True, where="speed_sweep")  # finite
-    if chunk_size is not None:
-        check_integer("chunk_size", chunk_size, 1)
-    if not blowup > 0:
-        raise ValueError(f"blowup = {blowup!r}: allowed > 0")
-    outputs = Outputs(bool(states), bool(cell_loads), pressure, blowup)
-    sweep = _Sweep(model, shard, chunk_size)
+    # chunks are a Python loop over concrete speeds
+    chunk_size = None if traced else batching.chunk_size
+    progress = batching.progress
 
-    def fixed(sp, n, d, tick, modes=None, start=None):
+    def at_steps(n, modes=None) -> _Sweep:
         prepared = model.prepare(integrator, law, window, int(n), outputs, modes)
-        return sweep.run(prepared, sp, d, tick, start)
+        return _Sweep(model, prepared, batching.shard, chunk_size)
 
     if integrator.steps_per_period is not None:
-        return _thrown(fixed(speeds, integrator.steps_per_period, direction, progress), throw)
+        passes = at_steps(integrator.steps_per_period).passes(speeds, progress)
+        return _thrown(direction.sweep(passes), throw)
     modes = model.averaged_modes()
     ns = auto_steps_per_period(model, np.asarray(speeds), modes)
     if np.all(ns == ns[0]):
-        return _thrown(fixed(speeds, ns[0], direction, progress, modes), throw)
-    n_min = int(ns.min())
-    done = [0]
-
-    def run(sp, n, d, start=None):
-        base = done[0]
-
-        def tick(k):
-            if progress is not None:
-                progress(base + k)
-
-        r = fixed(sp, n, d, tick, modes, start).results
-        done[0] += int(sp.shape[0])
-        return _subsample(r, int(n) // n_min)
-
-    if direction == "independent":
-        parts, order = [], []
-        for n in np.unique(ns):
-            idx = np.nonzero(ns == n)[0]
-            parts.append(run(speeds[idx], n, "independent"))
-            order.append(idx)
-        inv = np.argsort(np.concatenate(order))
-        return _thrown(
-            SweepResult(speeds, jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)),
-            throw,
-        )
-
-    def continuation(sp, n_s):
-        # runs of equal N_s in sweep order, each continuing from the previous run's last state
-        cuts = np.nonzero(np.diff(n_s))[0] + 1
-        parts, start = [], None
-        for idx in np.split(np.arange(sp.shape[0]), cuts):
-            r = run(sp[idx], n_s[idx[0]], "up", start)
-            ok = bool(r.result[-1] == 0)
-            start = (r.final_state[0][-1], r.final_state[1][-1]) if ok else None
-            parts.append(r)
-        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a), *parts)
-
-    if direction == "up":
-        return _thrown(SweepResult(speeds, continuation(speeds, ns)), throw)
-    down = _flip(continuation(speeds[::-1], ns[::-1]))
-    if direction == "down":
-        return _thrown(SweepResult(speeds, down), throw)
-    return _thrown(SweepResult(speeds, continuation(speeds, ns), down), throw)
+        return _thrown(direction.sweep(at_steps(ns[0], modes).passes(speeds, progress)), throw)
+    return _thrown(direction.sweep(_MixedSteps(at_steps, modes, speeds, ns, progress)), throw)
 
 
 def _thrown(res: SweepResult, throw: bool) -> SweepResult:
@@ -359,7 +408,12 @@ def band_dynamic_factor(
             ">= 4 (a fixed step count: the band is differentiated)"
         )
     r = speed_sweep(
-        model, speeds, integrator=integrator, contact=contact, window=window, shard=False
+        model,
+        speeds,
+        integrator=integrator,
+        contact=contact,
+        window=window,
+        batching=Batching(shard=False),
     ).results
     # per speed and mesh, then over both (the worst mesh at the worst speed, smoothly)
     per_speed = jnp.stack(
@@ -393,59 +447,145 @@ def _subsample(r, m: int):
 
 
 class _Sweep:
-    """The speeds of a sweep at one resolved step count on any engine
-    (:class:`~jaxgear.dynamics.AbstractDynamicModel`): independent speeds in one call (or in
-    chunks, padded to whole rows of the local devices), continuation up, down or both (in
-    chunks, carrying the state across them)."""
+    """A sweep's model at one resolved step count (``prepared`` by
+    :meth:`~jaxgear.dynamics.AbstractDynamicModel.prepare`), with how its speeds are run: placed
+    over the local devices (``shard``) and split into chunks of ``chunk_size`` speeds (None: in
+    one call)."""
 
-    def __init__(self, model: AbstractDynamicModel, shard: bool, chunk_size: int | None):
-        self.model, self.shard, self.chunk_size = model, shard, chunk_size
+    def __init__(self, model: AbstractDynamicModel, prepared, shard: bool, chunk_size):
+        self.model, self.prepared, self.shard, self.chunk_size = model, prepared, shard, chunk_size
 
-    def run(self, prepared, speeds, direction: str, progress, start=None) -> SweepResult:
-        """:class:`SweepResult` of ``speeds`` (S,) from ``start`` ((X, Ẋ); None: the model's
-        own start), ``progress(n_done)`` after each chunk."""
-        model = self.model
+    def independent(self, speeds, start=None):
+        """Each of ``speeds`` (S,) from ``start`` ((X, Ẋ); None: the model's own start)."""
+        return self.model.independent(self.prepared, speeds, start=start, shard=self.shard)
 
-        def independent(sp):
-            return model.independent(prepared, sp, start=start, shard=self.shard)
+    def scan(self, speeds, start=None):
+        """Continuation over ``speeds`` (S,), or (2, S) two scans side by side, from ``start``."""
+        return self.model.continuation(self.prepared, speeds, start=start)
 
-        def scan(sp, state=start):
-            return model.continuation(prepared, sp, start=state)
+    def passes(self, speeds, progress, start=None) -> _Passes:
+        """The passes over ``speeds`` (S,) from ``start``, ``progress(n_done)`` after each chunk
+        (chunked sweeps only)."""
+        if self.chunk_size is None:
+            return _Whole(self, speeds, start)
+        return _Chunked(self, speeds, start, progress)
 
-        if self.chunk_size is None or isinstance(speeds, jax.core.Tracer):
-            if direction == "independent":
-                return SweepResult(speeds, independent(speeds))
-            if direction == "up":
-                return SweepResult(speeds, scan(speeds))
-            if direction == "down":
-                return SweepResult(speeds, _flip(scan(speeds[::-1])))
-            both = scan(jnp.stack([speeds, speeds[::-1]]))  # one vmap over the two scans
-            up = jax.tree_util.tree_map(lambda a: a[0], both)
-            return SweepResult(speeds, up, jax.tree_util.tree_map(lambda a: a[1][::-1], both))
 
-        size = int(self.chunk_size)
-        if direction == "independent":
-            n_dev = len(jax.local_devices()) if self.shard else 1
-            size = -(-size // n_dev) * n_dev
-            return SweepResult(speeds, in_chunks(independent, speeds, size, progress))
+class _Whole(_Passes):
+    """The passes in one call each (the two continuation passes of :meth:`both` in one vmap
+    over two scans)."""
 
-        def continuation(sp, base=0):
-            state = start
+    def __init__(self, sweep: _Sweep, speeds, start):
+        self.sweep, self.speeds, self.start = sweep, speeds, start
 
-            def run(ch):
-                nonlocal state
-                r = scan(ch, state)
-                ok = bool(r.result[-1] == 0)
-                state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else start
-                return r
+    def independent(self):
+        return self.sweep.independent(self.speeds, self.start)
 
-            tick = None if progress is None else (lambda k: progress(base + k))
-            return in_chunks(run, sp, size, tick)
+    def ascending(self):
+        return self.sweep.scan(self.speeds, self.start)
 
-        if direction == "up":
-            return SweepResult(speeds, continuation(speeds))
-        if direction == "down":
-            return SweepResult(speeds, _flip(continuation(speeds[::-1])))
-        # progress counts both passes: S + S
-        S = speeds.shape[0]
-        return SweepResult(speeds, continuation(speeds), _flip(continuation(speeds[::-1], S)))
+    def descending(self):
+        return _flip(self.sweep.scan(self.speeds[::-1], self.start))
+
+    def both(self) -> tuple:
+        both = self.sweep.scan(jnp.stack([self.speeds, self.speeds[::-1]]), self.start)
+        up = jax.tree_util.tree_map(lambda a: a[0], both)
+        return up, jax.tree_util.tree_map(lambda a: a[1][::-1], both)
+
+
+class _Chunked(_Passes):
+    """The passes in chunks of ``sweep.chunk_size`` speeds (:func:`in_chunks`: one compiled
+    program, the last chunk padded), ``progress(n_done)`` after each; independent chunks padded
+    to whole rows of the local devices, continuation carrying the state across chunks (a failed
+    chunk end restarts from ``start``). :meth:`both` counts its two passes S + S."""
+
+    def __init__(self, sweep: _Sweep, speeds, start, progress):
+        self.sweep, self.speeds, self.start, self.progress = sweep, speeds, start, progress
+
+    def independent(self):
+        n_dev = len(jax.local_devices()) if self.sweep.shard else 1
+        size = -(-int(self.sweep.chunk_size) // n_dev) * n_dev
+
+        def run(sp):
+            return self.sweep.independent(sp, self.start)
+
+        return in_chunks(run, self.speeds, size, self.progress)
+
+    def _continuation(self, speeds, base: int):
+        state = self.start
+
+        def run(ch):
+            nonlocal state
+            r = self.sweep.scan(ch, state)
+            ok = bool(r.result[-1] == 0)
+            state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else self.start
+            return r
+
+        progress = self.progress
+        tick = None if progress is None else (lambda k: progress(base + k))
+        return in_chunks(run, speeds, int(self.sweep.chunk_size), tick)
+
+    def ascending(self):
+        return self._continuation(self.speeds, 0)
+
+    def descending(self):
+        return _flip(self._continuation(self.speeds[::-1], 0))
+
+    def both(self) -> tuple:
+        S = self.speeds.shape[0]
+        return self._continuation(self.speeds, 0), _flip(self._continuation(self.speeds[::-1], S))
+
+
+class _MixedSteps(_Passes):
+    """The passes of a sweep whose speeds have different automatic step counts ``ns`` (S,): the
+    speeds sharing an N_s run together (one compilation each, ``at_steps(n, modes)`` their
+    :class:`_Sweep`), the kept histories subsampled to the smallest N_s; continuation runs the
+    runs of equal N_s in sweep order, each from the previous run's last state;
+    ``progress(n_done)`` counts every speed run."""
+
+    def __init__(self, at_steps, modes, speeds, ns, progress):
+        self.at_steps, self.modes, self.speeds, self.ns = at_steps, modes, speeds, ns
+        self.progress, self.n_min, self.done = progress, int(ns.min()), 0
+
+    def _records(self, speeds, n, pass_, start=None):
+        """The records of ``speeds`` at N_s = ``n``: ``pass_(passes)`` of their
+        :class:`_Passes`, subsampled."""
+        base = self.done
+
+        def tick(k):
+            if self.progress is not None:
+                self.progress(base + k)
+
+        r = pass_(self.at_steps(n, self.modes).passes(speeds, tick, start))
+        self.done += int(speeds.shape[0])
+        return _subsample(r, int(n) // self.n_min)
+
+    def independent(self):
+        parts, order = [], []
+        for n in np.unique(self.ns):
+            idx = np.nonzero(self.ns == n)[0]
+            parts.append(self._records(self.speeds[idx], n, lambda p: p.independent()))
+            order.append(idx)
+        inv = np.argsort(np.concatenate(order))
+        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)
+
+    def _continuation(self, sp, n_s):
+        # runs of equal N_s in sweep order, each continuing from the previous run's last state
+        cuts = np.nonzero(np.diff(n_s))[0] + 1
+        parts, start = [], None
+        for idx in np.split(np.arange(sp.shape[0]), cuts):
+            r = self._records(sp[idx], n_s[idx[0]], lambda p: p.ascending(), start)
+            ok = bool(r.result[-1] == 0)
+            start = (r.final_state[0][-1], r.final_state[1][-1]) if ok else None
+            parts.append(r)
+        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a), *parts)
+
+    def ascending(self):
+        return self._continuation(self.speeds, self.ns)
+
+    def descending(self):
+        return _flip(self._continuation(self.speeds[::-1], self.ns[::-1]))
+
+    def both(self) -> tuple:
+        down = self.descending()  # down first, as before (the progress counts it first)
+        return self.ascending(), down
