@@ -70,9 +70,9 @@ class BaselineMesh:
 
 
 def baseline_mesh(case, slices: int | None = None, torque: float | None = None) -> BaselineMesh:
-    """:class:`BaselineMesh` of a :class:`jaxgear.Case` (geometry and k(s) table in NumPy).
+    """:class:`BaselineMesh` of a :class:`jaxgear.io.Case` (geometry and k(s) table in NumPy).
 
-    The stiffness table is the same one :meth:`jaxgear.Case.mesh_model` uses (evaluated at the
+    The stiffness table is the same one :meth:`jaxgear.io.Case.mesh_model` uses (evaluated at the
     nominal line load of ``torque``, default the case torque).
     """
     from jaxgear import stiffness_table  # NumPy only

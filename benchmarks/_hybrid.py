@@ -298,7 +298,7 @@ def bench_hybrid(
     out["setup"] = {
         "bodies": bodies_info,
         "static_scene_s": t_scene,
-        "static_scene_note": "jaxgear.dynamics.static_scene with the condensed body given (body "
+        "static_scene_note": "jaxgear.io.static_scene with the condensed body given (body "
         "already loaded): shafts, hybrid_pair (structure factored once, G), window check",
         "structure_dofs": int(sc.structure.K.shape[0]),
         "cells_per_position": _cells(sc.mesh),

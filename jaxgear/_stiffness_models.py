@@ -271,7 +271,7 @@ def stiffness_table(
             ``FE2D``).
         n_points: table points (an integer >= 2).
         specific_load: F_t K_A / b (N/m) of the ISO 6336-1 low-load factor below 100 N/mm
-            (``ISO6336``; ``None``: no reduction); :meth:`jaxgear.Case.mesh_model` passes the
+            (``ISO6336``; ``None``: no reduction); :meth:`jaxgear.io.Case.mesh_model` passes the
             case's nominal F_t / b (K_A = 1).
 
     Returns:

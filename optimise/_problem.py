@@ -9,7 +9,7 @@ The objective is an object (:mod:`optimise._objectives`: :class:`TeRms`, :class:
 :class:`RobustTeRms`, :class:`MaxLineLoad`, :class:`LoadCentroid`, :class:`LineLoadLp`,
 :class:`DynamicFactor`), scaled by its unmodified value at the design torque, so O(1)
 (``LoadCentroid`` by a fixed 0.01). Every quasi-static objective works on the rigid mesh and on
-any scene, e.g. the hybrid scene of :func:`jaxgear.dynamics.static_scene` at a pinion speed
+any scene, e.g. the hybrid scene of :func:`jaxgear.io.static_scene` at a pinion speed
 (centrifugal loads).
 """
 
@@ -327,7 +327,7 @@ def make_problem(
 
     Args:
         scene: the structure the evaluations run on: a :class:`jaxgear.MeshModel` (the rigid
-            mesh) or a scene, e.g. the hybrid scene of :func:`jaxgear.dynamics.static_scene`
+            mesh) or a scene, e.g. the hybrid scene of :func:`jaxgear.io.static_scene`
             (condensed bodies; for a quasi-static objective its window compliance is cached here
             once for every evaluation, :func:`jaxgear.scenes.cache_window_compliance`).
         modifications: the starting design; it holds the values that are not variables (None:

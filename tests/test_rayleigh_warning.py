@@ -2,7 +2,7 @@
 
 ξ(ω) = α/(2ω) + β ω/2 of C = α M + β K is evaluated at the natural frequency of the modes the
 mesh excites, here checked against the mesh mode of the dynamic model the sweep runs
-(:func:`jaxgear.dynamics.build_dynamic_model`'s modal analysis, the elastic mode with the
+(:func:`jaxgear.io.build_dynamic_model`'s modal analysis, the elastic mode with the
 largest mesh strain energy), not at an excitation frequency: a case whose mesh mode has
 ξ = 0.1 by construction was warned 'above critical' (ξ = 1.3 at the mesh frequency of the
 sweep's lowest speed, 45 × 100 rad/s).

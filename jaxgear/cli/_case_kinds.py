@@ -1,5 +1,5 @@
-"""What the command line reads from a case, by the case's type: a gear pair (:class:`jaxgear.Case`)
-or a gear train (:class:`jaxgear.TrainCase`). Each is a :func:`functools.singledispatch` function
+"""What the command line reads from a case, by the case's type: a gear pair (:class:`jaxgear.io.Case`)
+or a gear train (:class:`jaxgear.io.TrainCase`). Each is a :func:`functools.singledispatch` function
 with one implementation per case type, so that a command asks the case instead of testing its
 kind; a new kind of case registers its own."""
 
@@ -77,7 +77,7 @@ def _(case: TrainCase) -> tuple:
 @functools.singledispatch
 def gear_meshes(case, member: int) -> list:
     """The names of the meshes gear ``member`` is in: a pair's one mesh is named by its case, a
-    train's by their gears (:meth:`jaxgear.TrainCase.mesh_name`)."""
+    train's by their gears (:meth:`jaxgear.io.TrainCase.mesh_name`)."""
     raise _unknown("gear_meshes", case)
 
 
@@ -161,7 +161,7 @@ def _(case: TrainCase, keys: dict) -> dict:
 @functools.singledispatch
 def span_periods(case) -> int:
     """Periods of the first mesh after which every mesh of the case repeats: a pair's 1, a
-    train's :attr:`jaxgear.TrainCase.span_periods` (its kept periods must hold them)."""
+    train's :attr:`jaxgear.io.TrainCase.span_periods` (its kept periods must hold them)."""
     raise _unknown("span_periods", case)
 
 

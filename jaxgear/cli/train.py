@@ -27,8 +27,8 @@ def run_train(
 
     The contact of every mesh is solved at once on the train's structure (torsional, or lumped
     3D with shafts and bearings, its flexible gears condensed FE bodies; the output held;
-    :meth:`~jaxgear.TrainCase.static_train`) over two periods of the first mesh (a
-    two-stage train: over its span, :attr:`~jaxgear.TrainCase.span_periods` periods of the
+    :meth:`~jaxgear.io.TrainCase.static_train`) over two periods of the first mesh (a
+    two-stage train: over its span, :attr:`~jaxgear.io.TrainCase.span_periods` periods of the
     first mesh, after which every mesh repeats), exact
     and smooth, with and without the case's modifications. Files (atomically): ``summary.json``
     (``gears``, ``meshes``: per mesh its gears, geometry, phase, torque and the ``quasi_static``

@@ -1,4 +1,4 @@
-"""The mean bearing forces of a quasi-static solution (the part of the former ``_from_case``
+"""The mean bearing forces of a quasi-static solution (the part of the case builders
 that takes a scene, not a case)."""
 
 from __future__ import annotations

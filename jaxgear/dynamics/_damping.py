@@ -2,7 +2,7 @@
 build C for each engine, and its implementations, :class:`RayleighDamping`,
 :class:`ModalDamping`, :class:`CompositeDamping` and :class:`NoDamping`. A new damping model
 is one more subclass here; the case file's names map to these objects at the edge
-(:func:`jaxgear.dynamics.spec_damping`, :func:`jaxgear.dynamics.Damping`).
+(:func:`jaxgear.io.spec_damping`, :func:`jaxgear.io.Damping`).
 
 Both engines add the scene's bearing damping to whatever the model builds: it is a physical
 element of the structure, not part of the modal or Rayleigh model.

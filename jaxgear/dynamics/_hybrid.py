@@ -11,7 +11,7 @@ time-constant reference, and Ω the pinion speed (each body at its own speed, f_
 accordingly; the centrifugal load is always on in dynamics). On request
 (``rotating_frame=True``; the seed leaves it out) the turning frames add their inertia:
 C += Ω Gy (Coriolis, skew) and K += Ω² (S + Kσ) (spin softening and centrifugal stress
-stiffening). Damping (:class:`jaxgear.dynamics.Damping`, :mod:`._hybrid_damping`), with K̄_m(k) the
+stiffening). Damping (:class:`jaxgear.io.Damping`, :mod:`._hybrid_damping`), with K̄_m(k) the
 mesh stiffness matrix averaged over the quasi-static positions of mesh period k on the stations
 under the mesh then (it turns with the wheel): Rayleigh α M + β (K + K̄_m(k)) (2.34); modal
 (2.35) on the modes of (M, K + K̄), K̄ the mean of K̄_m(k) round the revolution; composite

@@ -2,7 +2,7 @@
 step-size controller and ``SaveAt``): the integrator (:class:`Newmark` or
 :class:`DiffraxIntegrator`) and the steady-state window (:class:`SteadyState`); the contact law
 is :class:`jaxgear.ExactContact` or :class:`jaxgear.SmoothContact`, the damping
-:class:`jaxgear.dynamics.Damping`, and the operating point (torque, speed) an argument of the
+:class:`jaxgear.io.Damping`, and the operating point (torque, speed) an argument of the
 solvers. Also the run-size guard and the divergence checks the integrators share.
 """
 
