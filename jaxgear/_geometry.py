@@ -81,6 +81,19 @@ class Member:
 #: default centre distance (the zero-backlash distance of the nominal teeth)
 JAM = "tooth_thickness_allowance (pinion + gear) without a center_distance"
 
+#: the real-valued fields of :class:`Member` (every field but ``teeth``), checked finite
+_REAL_FIELDS = (
+    "profile_shift",
+    "addendum_coeff",
+    "dedendum_coeff",
+    "face_width",
+    "fillet_radius_coeff",
+    "bore_radius",
+    "web_thickness",
+    "rim_thickness",
+    "tooth_thickness_allowance",
+)
+
 # units of the inputs, for the messages
 _UNITS = {
     "face_width": "m",
@@ -154,10 +167,10 @@ class GearPair:
             check_instance(tag, getattr(self, tag), Member, "a jaxgear.Member", "GearPair")
             m = getattr(self, tag)
             check_integer(f"{tag}.teeth", m.teeth, 5)
-            for f in dataclasses.fields(Member):
-                v = getattr(m, f.name)
-                if f.name != "teeth" and v is not None:
-                    check_real(f"{tag}.{f.name}", v, _UNITS.get(f.name, ""), shape=())
+            for name in _REAL_FIELDS:
+                v = getattr(m, name)
+                if v is not None:
+                    check_real(f"{tag}.{name}", v, _UNITS.get(name, ""), shape=())
         for name in ("normal_module", "normal_pressure_angle", "helix_angle", "center_distance"):
             if getattr(self, name) is not None:
                 check_real(name, getattr(self, name), _UNITS[name], shape=())

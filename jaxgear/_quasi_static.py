@@ -148,6 +148,24 @@ def _modifications_per_mesh(mods, n_meshes: int) -> tuple[Modifications, ...]:
     return tuple(mods)
 
 
+@functools.singledispatch
+def _named_modifications(mods, name: str) -> tuple:
+    """(argument name, value) of each modification ``mods`` holds, for the input checks: one
+    object as ``name``, a tuple/list entry by entry as ``name[k]``, None none."""
+    return ((name, mods),)
+
+
+@_named_modifications.register(type(None))
+def _no_named_modifications(mods, name: str) -> tuple:
+    return ()
+
+
+@_named_modifications.register(tuple)
+@_named_modifications.register(list)
+def _named_modifications_per_mesh(mods, name: str) -> tuple:
+    return tuple((f"{name}[{k}]", m) for k, m in enumerate(mods))
+
+
 def separation(mesh: MeshModel, mods: Modifications, theta):
     """Cells at pinion angle ``theta`` (rad), max_M e (m) and δ0 = max e − e per cell (m, (2.8)).
 
@@ -288,11 +306,8 @@ def check_operating(
         "scene", scene, (Scene, MeshModel), "a jaxgear Scene (RigidMesh, ...) or MeshModel", where
     )
     allowed = "None, a jaxgear.Modifications, or a tuple of one per gear mesh"
-    if isinstance(modifications, tuple | list):
-        for k, m in enumerate(modifications):
-            check_instance(f"{mods_name}[{k}]", m, Modifications, allowed, where)
-    elif modifications is not None:
-        check_instance(mods_name, modifications, Modifications, allowed, where)
+    for name, m in _named_modifications(modifications, mods_name):
+        check_instance(name, m, Modifications, allowed, where)
     coast = coast_torque and any(p.coast for p in scene.base_planes)
     check_real(
         "torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(), where=where

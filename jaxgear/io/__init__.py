@@ -2,7 +2,10 @@
 embedded cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in :mod:`jaxgear.cli`."""
 
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
-from ._deviations_table import parse_deviations as parse_deviations
+from ._deviations_table import (
+    deviation_kinds_from_names as deviation_kinds_from_names,
+    parse_deviations as parse_deviations,
+)
 from ._load import (
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,
