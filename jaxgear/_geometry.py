@@ -13,6 +13,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ._backlash import backlashes, base_thicknesses, thinned_involute
 from ._util import check_instance, check_integer, check_real
 
 __all__ = ["Member", "GearPair", "involute", "inverse_involute"]
@@ -221,7 +222,7 @@ class GearPair:
         a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
         # zero backlash with the thinned teeth: ISO 21771 (40) with 2 x tan α_n + A_sn / m_n
         allowances = self.pinion.tooth_thickness_allowance + self.gear.tooth_thickness_allowance
-        inv_awtA = inv_awt0 + allowances / mn / (z1 + z2)
+        inv_awtA = thinned_involute(inv_awt0, allowances, mn, z1 + z2)
         _require(
             "tooth_thickness_allowance (pinion + gear)",
             allowances,
@@ -326,23 +327,12 @@ class GearPair:
         set_("backlash_center_distance", aA)
         # backlash along the transverse line of action: the base pitch less the base-circle
         # thicknesses, carried to the operating pressure angle (docs/backlash.md)
-        sb = tuple(
-            mt
-            * math.cos(at)
-            * (
-                math.pi / 2
-                + 2 * m.profile_shift * math.tan(an)
-                + m.tooth_thickness_allowance / mn
-                + m.teeth * involute(at)
-            )
-            for m in members
-        )
-        jbt = math.pi * mt * math.cos(at) - sb[0] - sb[1] + 2 * (rb[0] + rb[1]) * involute(awt)
-        jbt = max(jbt, 0.0)  # round-off at the zero-backlash distance
+        sb = base_thicknesses(members, mt, at, an, mn, involute(at))
+        jbt, jwt, jbn = backlashes(sb, rb, mt, at, awt, involute(awt), beta)
         set_("base_thickness", sb)
         set_("transverse_backlash", jbt)
-        set_("circumferential_backlash", jbt / math.cos(awt))
-        set_("normal_backlash", jbt * math.cos(math.atan(math.tan(beta) * math.cos(at))))
+        set_("circumferential_backlash", jwt)
+        set_("normal_backlash", jbn)
         set_("pitch_radii", r)
         set_("base_radii", rb)
         set_("tip_radii", ra)
