@@ -225,20 +225,7 @@ class HybridScene(AssembledScene):
         b = self.N.T @ self.external_load(torque, speed)
 
         def factored_exact(a, b):
-            return solve_factored_cells(
-                cs.B,
-                cs.C,
-                cs.E,
-                cs.kl,
-                cs.mask,
-                a,
-                b,
-                r.k,
-                law.max_iterations,
-                cs.lines,
-                cs.K_line,
-                cs.YF,
-            )
+            return solve_factored_cells(cs, a, b, r.k, law.max_iterations)
 
         def newton(start):
             return solve_contact_cells(cs.C, a, cs.E, b, r.k, r.length, r.mask, law, start)
