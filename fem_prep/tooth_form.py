@@ -44,8 +44,8 @@ def involute(alpha):
     function, the one NumPy reference of the tooth form (:mod:`fem_prep._tooth_profile` uses
     it too). jaxgear's :func:`jaxgear.involute` is the same function on Python floats for the
     pair's geometry (:class:`jaxgear.GearPair`): jaxgear loads fem_prep only lazily (SciPy) and
-    fem_prep never imports jaxgear (JAX), so the two packages cannot share one module; tests
-    hold them together (tests/test_tooth_form.py: the form circle and the radii of both)."""
+    fem_prep never imports jaxgear (JAX), so the two packages cannot share one module; the
+    tooth-form tests hold them together (the form circle and the radii of both)."""
     return np.tan(alpha) - alpha
 
 

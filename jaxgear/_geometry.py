@@ -23,8 +23,8 @@ def involute(alpha: float) -> float:
     """inv α = tan α − α (rad), on a Python float: the model's involute function (the pair's
     geometry, evaluated once). The tooth form's, on NumPy arrays, is
     :func:`fem_prep.tooth_form.involute`, the one NumPy reference; the packages cannot share a
-    module (jaxgear loads fem_prep only lazily, fem_prep never imports JAX), and
-    tests/test_tooth_form.py holds the two geometries together."""
+    module (jaxgear loads fem_prep only lazily, fem_prep never imports JAX); the tooth-form
+    tests hold the two geometries together."""
     return math.tan(alpha) - alpha
 
 
