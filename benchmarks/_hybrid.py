@@ -226,7 +226,7 @@ def bench_hybrid(
     import jax.numpy as jnp
     from tqdm.auto import tqdm
 
-    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear import LinearRelief, MemberModification, Modifications, quasi_static
     from jaxgear.io import load_case, static_scene, write_json
 
     block = jax.block_until_ready
@@ -426,7 +426,9 @@ def bench_hybrid(
     Ev, Gv = jnp.asarray(EE.ravel()), jnp.asarray(GG.ravel())
 
     def relief(e, g):
-        m = MemberModification(tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape="linear")
+        m = MemberModification(
+            tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape=LinearRelief()
+        )
         return Modifications.symmetric(m)
 
     def curve(e, g, s, T):

@@ -82,7 +82,7 @@ def bench_quasi_static(
     import scipy
     from tqdm.auto import tqdm
 
-    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear import LinearRelief, MemberModification, Modifications, quasi_static
     from jaxgear.io import atomic_open, load_case
 
     from . import _baseline as bl
@@ -213,7 +213,9 @@ def bench_quasi_static(
     GG, EE = np.meshgrid(gam, dep, indexing="ij")
 
     def grid_rms(g, e, mesh, torque):
-        m = MemberModification(tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape="linear")
+        m = MemberModification(
+            tip_relief_depth=e, tip_relief_extent=g, tip_relief_shape=LinearRelief()
+        )
         return quasi_static(mesh, Modifications.symmetric(m), torque, positions_per_pitch=P0).te_rms
 
     grid_fn = jax.jit(jax.vmap(grid_rms, in_axes=(0, 0, None, None)))
@@ -464,7 +466,7 @@ def _batched(mesh, torque, P, quick, per_curve) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear import LinearRelief, MemberModification, Modifications, quasi_static
 
     block = jax.block_until_ready
     n = 256 if quick else 4096
@@ -481,7 +483,7 @@ def _batched(mesh, torque, P, quick, per_curve) -> dict:
 
     def by_relief(ge):
         m = MemberModification(
-            tip_relief_depth=ge[1], tip_relief_extent=ge[0], tip_relief_shape="linear"
+            tip_relief_depth=ge[1], tip_relief_extent=ge[0], tip_relief_shape=LinearRelief()
         )
         return quasi_static(mesh, Modifications.symmetric(m), torque, positions_per_pitch=P).te_rms
 

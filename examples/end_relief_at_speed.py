@@ -51,6 +51,7 @@ CASE = "power-helical-flexible"
 EXTENT = 0.4  # Γ, fraction of the face width (seed IV-33)
 SPEEDS = (0.0, 3000.0)  # pinion, rad/s
 EDGES = {"z1": "cantilevered edge (z = b)", "z0": "web-side edge (z = 0)"}
+EDGE_OBJECTS = {"z1": jg.EdgeZ1(), "z0": jg.EdgeZ0()}
 DEPTHS_UM = np.arange(0.0, 20.01, 1.0)
 EXTENDED_UM = np.arange(0.0, 160.01, 5.0)
 VAR = "pinion.end_relief.depth"
@@ -61,7 +62,7 @@ def design_case(edge: str, extent: float = EXTENT) -> jio.Case:
     case = jio.load_case(CASE)
     m = case.modifications
     pinion = dataclasses.replace(
-        m.pinion, crowning_depth=0.0, end_relief_edge=edge, end_relief_extent=extent
+        m.pinion, crowning_depth=0.0, end_relief_edge=EDGE_OBJECTS[edge], end_relief_extent=extent
     )
     gear = dataclasses.replace(m.gear, crowning_depth=0.0)
     return case.replace(modifications=jg.Modifications(pinion=pinion, gear=gear))

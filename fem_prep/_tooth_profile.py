@@ -17,7 +17,7 @@ from typing import ClassVar, final
 import numpy as np
 
 from ._kinds import Kind
-from .tooth_form import ToothGeometry, generate_tooth
+from .tooth_form import ToothGeometry, generate_tooth, involute
 
 __all__ = ["CircularFillet", "FilletForm", "ToothProfile", "TrochoidFillet", "tooth_profile"]
 
@@ -72,10 +72,6 @@ class ToothProfile:
         return math.sqrt(self.tip_radius**2 - self.base_radius**2)
 
 
-def _inv(a):
-    return np.tan(a) - a
-
-
 def _transverse(teeth, mn, an, beta, x):
     mt = mn / math.cos(beta)
     at = math.atan(math.tan(an) / math.cos(beta))
@@ -97,7 +93,7 @@ def _circular_fillet_table(teeth, mn, an, beta, x, ha, hf, rho_c):
 
     def psi_inv(rr):
         ar = np.arccos(np.clip(rb / rr, -1.0, 1.0))
-        return st / (2 * r) + float(_inv(at)) - _inv(ar)
+        return st / (2 * r) + float(involute(at)) - involute(ar)
 
     half_form = r_form * math.sin(float(psi_inv(np.array(r_form))))
     rho = min(rho_c * mn, max(r_form - rf, 0.0))

@@ -34,13 +34,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ToothForm", "ToothGeometry", "generate_tooth"]
+__all__ = ["ToothForm", "ToothGeometry", "generate_tooth", "involute"]
 
 SEGMENT_ROOT, SEGMENT_FILLET, SEGMENT_INVOLUTE, SEGMENT_TIP = 0, 1, 2, 3
 
 
-def _inv(a):
-    return np.tan(a) - a
+def involute(alpha):
+    """inv α = tan α − α (rad), elementwise on a float or a NumPy array: fem_prep's involute
+    function, the one NumPy reference of the tooth form (:mod:`fem_prep._tooth_profile` uses
+    it too). jaxgear's :func:`jaxgear.involute` is the same function on Python floats for the
+    pair's geometry (:class:`jaxgear.GearPair`): jaxgear loads fem_prep only lazily (SciPy) and
+    fem_prep never imports jaxgear (JAX), so the two packages cannot share one module; the
+    tooth-form tests hold them together (the form circle and the radii of both)."""
+    return np.tan(alpha) - alpha
 
 
 @dataclass(frozen=True)
@@ -48,6 +54,10 @@ class ToothGeometry:
     """One member's tooth geometry: the gear and its ISO 53 generating rack (ISO 21771 notation,
     SI units, angles in rad). Every tooth-form computation (:func:`generate_tooth`,
     :func:`fem_prep.tooth_profile`, :func:`fem_prep.tooth_compliance`) takes this one object.
+
+    Its fields are those of a :class:`jaxgear.Member` with the pair's module, pressure and helix
+    angles (fem_prep never imports jaxgear); :func:`jaxgear._stiffness.tooth_geometry` is the one
+    place that builds it from a :class:`jaxgear.GearPair`.
 
     Attributes:
         teeth: z (integer >= 5).
@@ -143,8 +153,8 @@ class ToothForm:
         ar = np.arccos(np.clip(self.base_radius / r, -1.0, 1.0))
         return (
             self.transverse_thickness / (2 * self.pitch_radius)
-            + _inv(self.transverse_pressure_angle)
-            - _inv(ar)
+            + involute(self.transverse_pressure_angle)
+            - involute(ar)
         )
 
     def half_thickness(self, r) -> np.ndarray:
@@ -279,7 +289,7 @@ def generate_tooth(
 
     def psi(rr):
         ar = np.arccos(np.clip(rb / rr, -1.0, 1.0))
-        return st / (2 * r) + _inv(at) - _inv(ar)
+        return st / (2 * r) + involute(at) - involute(ar)
 
     psi_a = float(psi(ra))
     _check(

@@ -37,7 +37,17 @@ from ._geometry import (
     involute as involute,
 )
 from ._maps import harris_map as harris_map, load_map as load_map
-from ._modifications import MemberModification as MemberModification, Modifications as Modifications
+from ._modifications import (
+    AbstractEndReliefEdges as AbstractEndReliefEdges,
+    AbstractReliefShape as AbstractReliefShape,
+    BothEdges as BothEdges,
+    EdgeZ0 as EdgeZ0,
+    EdgeZ1 as EdgeZ1,
+    LinearRelief as LinearRelief,
+    MemberModification as MemberModification,
+    Modifications as Modifications,
+    ParabolicRelief as ParabolicRelief,
+)
 from ._pressure import (
     ContactPressure as ContactPressure,
     contact_modulus as contact_modulus,
@@ -52,10 +62,15 @@ from ._quasi_static import (
     separation as separation,
 )
 from ._robust import (
+    AbstractDeviationKind as AbstractDeviationKind,
     DeviationSampler as DeviationSampler,
     GearSampler as GearSampler,
+    HelixDeviation as HelixDeviation,
+    PitchDeviation as PitchDeviation,
+    ProfileDeviation as ProfileDeviation,
     QuasiStaticMetrics as QuasiStaticMetrics,
     RobustMetrics as RobustMetrics,
+    RunoutDeviation as RunoutDeviation,
     robust_samples as robust_samples,
     sample_mesh as sample_mesh,
     sample_metrics as sample_metrics,

@@ -22,6 +22,7 @@ import numpy as np
 from jax.scipy.linalg import block_diag
 from jaxtyping import Array, Bool, Float, Int
 
+from ._backlash import cell_flank, coast_phase
 from ._geometry import GearPair
 from ._util import as_float
 
@@ -74,13 +75,6 @@ class Cells(eqx.Module):
     line: Float[Array, "n_lines n_slices"]
     theta: Float[Array, ""]
     flank: Float[Array, "n_lines n_slices"] | None = None
-
-
-def cell_flank(cells: Cells) -> Float[Array, "n_lines n_slices"]:
-    """``cells.flank`` (+1 drive, −1 coast), ones for cells built without it."""
-    if cells.flank is None:
-        return jnp.ones(cells.s.shape, cells.s.dtype)
-    return cells.flank
 
 
 class CellRow(NamedTuple):
@@ -319,22 +313,6 @@ class MeshModel(eqx.Module):
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))
-
-
-def coast_phase(pair: GearPair) -> float:
-    """θ_c (rad): the coast cells at pinion angle θ are the layout's cells at θ_c − θ.
-
-    Tooth i's drive contact sits at roll ρ_1 = ρ_A + r_b1 θ + i p_bt from T1 (s = 0 at the
-    engagement point at θ = 0). The same tooth's coast flank (the trailing one, an involute of
-    the second base circle tangent) meets the second line of action at ρ'_1 = 2 r_b1 (ψ_b1 +
-    α_wt) − ρ_1 from T1' (the tangent points lie at ∓α_wt about the centre line, ψ_b1 = s_b1 /
-    (2 r_b1) the half base thickness of the thinned tooth), and the gear's coast flank a
-    transverse backlash j_bt further on; the cell sits midway, s' = ρ'_1 + j_bt/2 − ρ_A.
-    """
-    rb1 = pair.base_radii[0]
-    psi = pair.base_thickness[0] / (2 * rb1)
-    c = 2 * rb1 * (psi + pair.operating_pressure_angle) - 2 * pair.start_roll
-    return (c + 0.5 * pair.transverse_backlash) / rb1
 
 
 def mesh_positions(

@@ -34,7 +34,7 @@ import jax.numpy as jnp
 from ._contact import ContactSolution, ExactContact, _finish
 from ._util import only_where_needed
 
-__all__ = ["solve_factored_cells"]
+__all__ = ["CellFactor", "solve_factored_cells"]
 
 _EXACT = ExactContact()  # the law _finish reads (φ = max(0, Δ))
 
@@ -263,25 +263,46 @@ def line_factors(B, E, kl, mask, lines):
     return K, jnp.concatenate([YF0[None], YF], axis=0)
 
 
+class CellFactor(NamedTuple):
+    """The cached, constant parts of one position's cell problem (a
+    :class:`jaxgear.scenes.WindowCompliance` slice holds the same fields and serves as well).
+
+    Attributes:
+        B: (I + S_F C S_F)⁻¹, (c, c). C: cell compliance (m/N), (c, c). E: (c, r).
+        kl: k l per cell (N/m), zero off the mask, (c,). mask: cells on the flanks (c,).
+        lines, K_line, YF: the contact lines' cells (G, g) (padding c) and
+            :func:`line_factors` (None: no line is cached; every later pass is factored).
+    """
+
+    B: jax.Array
+    C: jax.Array
+    E: jax.Array
+    kl: jax.Array
+    mask: jax.Array
+    lines: jax.Array | None = None
+    K_line: jax.Array | None = None
+    YF: jax.Array | None = None
+
+
 def solve_factored_cells(
-    B, C, E, kl, mask, a, b, k, max_iterations: int, lines=None, K_line=None, YF=None
+    factor: CellFactor, a, b, k, max_iterations: int
 ) -> tuple[ContactSolution, jax.Array, jax.Array]:
     """The exact contact problem of :func:`jaxgear.solve_contact_cells`
     (Δ − a + C P(Δ) − E α = 0, Eᵀ P(Δ) = b, P = k l max(Δ, 0)) with B = (I + S_F C S_F)⁻¹
     given (S_F = diag √(k l) on the mask, identity off it): see the module docstring.
 
     Args:
-        B: (c, c), C: cell compliance (m/N), (c, c), E: (c, r), kl: k l per cell (N/m), zero
-            off the mask, (c,), mask: cells on the flanks (c,): the cached, constant parts.
+        factor: the cached, constant parts (:class:`CellFactor`, or an object with its
+            fields, such as a :class:`jaxgear.scenes.WindowCompliance` slice).
         a: free gaps (m), (c,). b: loads on the rigid-body modes, (r,).
         k: cell stiffness per unit length (N/m²), (c,) (for the force density).
         max_iterations: cap on active-set passes (>= 1).
-        lines, K_line, YF: the contact lines' cells (G, g) (padding c) and
-            :func:`line_factors` (None: no line is cached; every later pass is factored).
 
     Returns:
         (solution, P (N), α), as :func:`jaxgear.solve_contact_cells`.
     """
+    B, C, E, kl, mask = factor.B, factor.C, factor.E, factor.kl, factor.mask
+    lines, K_line, YF = factor.lines, factor.K_line, factor.YF
     sg = jax.lax.stop_gradient
     B, C, E, kl = (sg(jnp.asarray(x)) for x in (B, C, E, kl))
     mask = jnp.asarray(mask)

@@ -115,6 +115,23 @@ class AbstractContactLaw(eqx.Module):
             ([Δ; α] (c + r,), iterations, result code).
         """
 
+    @abc.abstractmethod
+    def factored_cells_answer(self, factored_exact, newton, a, b) -> tuple:
+        """The answer of a cell-space contact problem whose exact active-set solve runs on a
+        cached factor (:func:`jaxgear._cell_factor.solve_factored_cells`, a hybrid scene's
+        compliance cache).
+
+        Args:
+            factored_exact: ``(a, b) -> (solution, P, α)``, the exact law's answer on the
+                factor for the free gaps ``a`` (m, (c,)) and rigid-body loads ``b`` ((r,)).
+            newton: ``start -> (solution, P, α)``, :func:`solve_contact_cells` with this law
+                from the exact answer ``start`` = (gaps (c,), α (r,), passes).
+            a, b: the free gaps and the rigid-body loads of the problem.
+
+        Returns:
+            (solution, P (c,), α (r,)), as :func:`solve_contact_cells`.
+        """
+
 
 class ExactContact(AbstractContactLaw):
     """The exact unilateral (Signorini) contact law φ(Δ) = max(0, Δ), solved by the active-set
@@ -151,6 +168,10 @@ class ExactContact(AbstractContactLaw):
         C, a, E, b, kl, _ = system
         _, active, iterations, result = exact
         return _bordered_solve(C, E, kl * jax.lax.stop_gradient(active), a, b), iterations, result
+
+    def factored_cells_answer(self, factored_exact, newton, a, b):
+        """The factored exact answer itself (differentiable in ``a`` and ``b``)."""
+        return factored_exact(a, b)
 
 
 class SmoothContact(AbstractContactLaw):
@@ -200,6 +221,12 @@ class SmoothContact(AbstractContactLaw):
 
     def cells_answer(self, system, exact):
         return _smooth_cells(self, system, exact)
+
+    def factored_cells_answer(self, factored_exact, newton, a, b):
+        """Newton's method from the factored exact answer (found on stopped values)."""
+        sg = jax.lax.stop_gradient
+        sol, _, alpha = factored_exact(sg(a), sg(b))
+        return newton((sol.gap, alpha, sol.iterations))
 
 
 ContactLaw: TypeAlias = AbstractContactLaw

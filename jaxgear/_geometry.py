@@ -13,13 +13,18 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ._backlash import backlashes, base_thicknesses, thinned_involute
 from ._util import check_instance, check_integer, check_real
 
 __all__ = ["Member", "GearPair", "involute", "inverse_involute"]
 
 
 def involute(alpha: float) -> float:
-    """inv α = tan α − α (rad)."""
+    """inv α = tan α − α (rad), on a Python float: the model's involute function (the pair's
+    geometry, evaluated once). The tooth form's, on NumPy arrays, is
+    :func:`fem_prep.tooth_form.involute`, the one NumPy reference; the packages cannot share a
+    module (jaxgear loads fem_prep only lazily, fem_prep never imports JAX); the tooth-form
+    tests hold the two geometries together."""
     return math.tan(alpha) - alpha
 
 
@@ -80,6 +85,19 @@ class Member:
 #: the name in :class:`GearPair`'s error when teeth thickened by positive allowances jam at the
 #: default centre distance (the zero-backlash distance of the nominal teeth)
 JAM = "tooth_thickness_allowance (pinion + gear) without a center_distance"
+
+#: the real-valued fields of :class:`Member` (every field but ``teeth``), checked finite
+_REAL_FIELDS = (
+    "profile_shift",
+    "addendum_coeff",
+    "dedendum_coeff",
+    "face_width",
+    "fillet_radius_coeff",
+    "bore_radius",
+    "web_thickness",
+    "rim_thickness",
+    "tooth_thickness_allowance",
+)
 
 # units of the inputs, for the messages
 _UNITS = {
@@ -154,10 +172,10 @@ class GearPair:
             check_instance(tag, getattr(self, tag), Member, "a jaxgear.Member", "GearPair")
             m = getattr(self, tag)
             check_integer(f"{tag}.teeth", m.teeth, 5)
-            for f in dataclasses.fields(Member):
-                v = getattr(m, f.name)
-                if f.name != "teeth" and v is not None:
-                    check_real(f"{tag}.{f.name}", v, _UNITS.get(f.name, ""), shape=())
+            for name in _REAL_FIELDS:
+                v = getattr(m, name)
+                if v is not None:
+                    check_real(f"{tag}.{name}", v, _UNITS.get(name, ""), shape=())
         for name in ("normal_module", "normal_pressure_angle", "helix_angle", "center_distance"):
             if getattr(self, name) is not None:
                 check_real(name, getattr(self, name), _UNITS[name], shape=())
@@ -208,7 +226,7 @@ class GearPair:
         a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
         # zero backlash with the thinned teeth: ISO 21771 (40) with 2 x tan α_n + A_sn / m_n
         allowances = self.pinion.tooth_thickness_allowance + self.gear.tooth_thickness_allowance
-        inv_awtA = inv_awt0 + allowances / mn / (z1 + z2)
+        inv_awtA = thinned_involute(inv_awt0, allowances, mn, z1 + z2)
         _require(
             "tooth_thickness_allowance (pinion + gear)",
             allowances,
@@ -313,23 +331,12 @@ class GearPair:
         set_("backlash_center_distance", aA)
         # backlash along the transverse line of action: the base pitch less the base-circle
         # thicknesses, carried to the operating pressure angle (docs/backlash.md)
-        sb = tuple(
-            mt
-            * math.cos(at)
-            * (
-                math.pi / 2
-                + 2 * m.profile_shift * math.tan(an)
-                + m.tooth_thickness_allowance / mn
-                + m.teeth * involute(at)
-            )
-            for m in members
-        )
-        jbt = math.pi * mt * math.cos(at) - sb[0] - sb[1] + 2 * (rb[0] + rb[1]) * involute(awt)
-        jbt = max(jbt, 0.0)  # round-off at the zero-backlash distance
+        sb = base_thicknesses(members, mt, at, an, mn, involute(at))
+        jbt, jwt, jbn = backlashes(sb, rb, mt, at, awt, involute(awt), beta)
         set_("base_thickness", sb)
         set_("transverse_backlash", jbt)
-        set_("circumferential_backlash", jbt / math.cos(awt))
-        set_("normal_backlash", jbt * math.cos(math.atan(math.tan(beta) * math.cos(at))))
+        set_("circumferential_backlash", jwt)
+        set_("normal_backlash", jbn)
         set_("pitch_radii", r)
         set_("base_radii", rb)
         set_("tip_radii", ra)

@@ -17,7 +17,8 @@ Lead coordinate: ζ = z/b ∈ [0, 1] across the effective face width.
 
 from __future__ import annotations
 
-from typing import Literal
+import abc
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -25,12 +26,20 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._deviations import Deviations
-from ._util import as_float, check_instance, check_real, is_traced
+from ._util import NamedKind, as_float, check_instance, check_real, is_traced
 
-__all__ = ["MemberModification", "Modifications"]
+__all__ = [
+    "AbstractEndReliefEdges",
+    "AbstractReliefShape",
+    "BothEdges",
+    "EdgeZ0",
+    "EdgeZ1",
+    "LinearRelief",
+    "MemberModification",
+    "Modifications",
+    "ParabolicRelief",
+]
 
-_SHAPES = ("linear", "parabolic")
-_EDGES = ("both", "z0", "z1")
 # the documented range of each parameter (name: unit, lo, hi, lo_open): checked on concrete
 # values when a MemberModification is built (traced ones, under jit/vmap/grad, are not known)
 _RANGES = {
@@ -49,17 +58,13 @@ _RANGES = {
 }
 
 
-def _ramp(x, shape: str, blend):
-    """Relief shape on x ∈ [0, 1]: x (linear) or x² (parabolic), zero below 0, one above 1.
-
-    ``blend`` > 0 rounds the kink at the relief start (x = 0) with a softplus of that width in x
-    units, so the deviation of a fixed point is smooth in the relief parameters; 0 keeps the
-    sharp kink.
-    """
+def _clamp(x, blend):
+    """x ∈ ℝ clamped to [0, 1]; ``blend`` > 0 rounds the lower kink (x = 0) with a softplus of
+    that width in x units, so the deviation of a fixed point is smooth in the relief parameters;
+    0 keeps the sharp kink."""
     safe = jnp.where(blend > 0, blend, 1.0)
     x = jnp.where(blend > 0, safe * jax.nn.softplus(x / safe), jnp.maximum(x, 0.0))
-    x = jnp.minimum(x, 1.0)
-    return x if shape == "linear" else x * x
+    return jnp.minimum(x, 1.0)
 
 
 def _end_ramp(x, blend):
@@ -73,6 +78,89 @@ def _end_ramp(x, blend):
     safe = jnp.where(blend > 0, blend, 1.0)
     rounded = jnp.where(x < -h, 0.0, jnp.where(x > h, x, (x + h) ** 2 / (2.0 * safe)))
     return jnp.minimum(jnp.where(blend > 0, rounded, jnp.maximum(x, 0.0)), 1.0)
+
+
+class AbstractReliefShape(NamedKind):
+    """The shape of a tip or root relief along the roll fraction (seed II-13; docs/design.md,
+    "Modifications, initial separation and TE"): the relief depth times :meth:`ramp` of the
+    normalised coordinate x ∈ [0, 1] (0 at the relief start, 1 at the tip or at the start of
+    active profile). A new shape is one subclass with its :meth:`shape` (and its case-file name
+    in :mod:`jaxgear.io`)."""
+
+    @abc.abstractmethod
+    def shape(self, x: Float[Array, "..."]) -> Float[Array, "..."]:
+        """The relief fraction (0 … 1) at x ∈ [0, 1] (already clamped), same shape."""
+
+    def ramp(self, x: Float[Array, "..."], blend) -> Float[Array, "..."]:
+        """The relief fraction at x ∈ ℝ: :meth:`shape` of x clamped to [0, 1], zero below 0,
+        one above 1; ``blend`` > 0 rounds the kink at the relief start (x = 0) with a softplus
+        of that width in x units (0: sharp)."""
+        return self.shape(_clamp(x, blend))
+
+
+class LinearRelief(AbstractReliefShape):
+    """Linear relief: depth ∝ x (case-file name "linear")."""
+
+    name: ClassVar[str] = "linear"
+
+    def shape(self, x):
+        return x
+
+
+class ParabolicRelief(AbstractReliefShape):
+    """Parabolic relief: depth ∝ x² (case-file name "parabolic")."""
+
+    name: ClassVar[str] = "parabolic"
+
+    def shape(self, x):
+        return x * x
+
+
+class AbstractEndReliefEdges(NamedKind):
+    """The face edge(s) a lead end relief acts on; z is the base-plane face coordinate of
+    docs/design.md, "Base plane and sign conventions", ζ = z/b. A one-sided relief is the seed's
+    IV-33 lead modification of the overloaded edge."""
+
+    @abc.abstractmethod
+    def ramp(self, zeta: Float[Array, "..."], extent, blend) -> Float[Array, "..."]:
+        """The end relief fraction (0 … 1, linear) at lead fraction ``zeta`` (broadcast), the
+        relief ``extent`` (fraction of the face width at each relieved edge) and the start's
+        rounding ``blend`` in units of the extent (:func:`_end_ramp`)."""
+
+
+def _z0_ramp(zeta, extent, blend):
+    return _end_ramp((extent - zeta) / extent, blend)
+
+
+def _z1_ramp(zeta, extent, blend):
+    return _end_ramp((zeta - (1.0 - extent)) / extent, blend)
+
+
+class BothEdges(AbstractEndReliefEdges):
+    """Both face edges, symmetric (case-file name "both"; the default)."""
+
+    name: ClassVar[str] = "both"
+
+    def ramp(self, zeta, extent, blend):
+        return _z0_ramp(zeta, extent, blend) + _z1_ramp(zeta, extent, blend)
+
+
+class EdgeZ0(AbstractEndReliefEdges):
+    """The z = 0 edge only, ζ < extent (case-file name "z0")."""
+
+    name: ClassVar[str] = "z0"
+
+    def ramp(self, zeta, extent, blend):
+        return _z0_ramp(zeta, extent, blend)
+
+
+class EdgeZ1(AbstractEndReliefEdges):
+    """The z = b edge only, ζ > 1 − extent (case-file name "z1")."""
+
+    name: ClassVar[str] = "z1"
+
+    def ramp(self, zeta, extent, blend):
+        return _z1_ramp(zeta, extent, blend)
 
 
 class MemberModification(eqx.Module):
@@ -97,12 +185,15 @@ class MemberModification(eqx.Module):
         relief_blend: rounding width of the tip/root relief start, in roll-fraction units (0:
             sharp start). Optimisation sets it to about one position step so that objectives
             sampled at discrete positions are smooth in the relief extent.
-        tip_relief_shape, root_relief_shape: "linear" or "parabolic" (static).
-        end_relief_edge: which face edge(s) the end relief acts on (static): "both" (default,
-            symmetric), "z0" (the z = 0 edge only, ζ < extent) or "z1" (the z = b edge only,
-            ζ > 1 − extent); z is the base-plane face coordinate of docs/design.md, "Base plane
-            and sign conventions". A one-sided
-            relief is the seed's IV-33 lead modification of the overloaded edge.
+        tip_relief_shape, root_relief_shape: an :class:`AbstractReliefShape`,
+            :class:`LinearRelief` (default) or :class:`ParabolicRelief` (no leaves: a new shape
+            recompiles).
+        end_relief_edge: which face edge(s) the end relief acts on, an
+            :class:`AbstractEndReliefEdges`: :class:`BothEdges` (default, symmetric),
+            :class:`EdgeZ0` (the z = 0 edge only, ζ < extent) or :class:`EdgeZ1` (the z = b
+            edge only, ζ > 1 − extent); z is the base-plane face coordinate of docs/design.md,
+            "Base plane and sign conventions". A one-sided relief is the seed's IV-33 lead
+            modification of the overloaded edge.
 
     Raises:
         ValueError: (one line naming the attribute, its value and the allowed range) an unknown
@@ -124,19 +215,27 @@ class MemberModification(eqx.Module):
     profile_deviation: Float[Array, " n"] = eqx.field(converter=as_float, default=(0.0, 0.0))
     relief_blend: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     end_relief_blend: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    tip_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
-    root_relief_shape: Literal["linear", "parabolic"] = eqx.field(static=True, default="linear")
-    end_relief_edge: Literal["both", "z0", "z1"] = eqx.field(static=True, default="both")
+    tip_relief_shape: AbstractReliefShape = LinearRelief()
+    root_relief_shape: AbstractReliefShape = LinearRelief()
+    end_relief_edge: AbstractEndReliefEdges = BothEdges()
 
     def __check_init__(self):
         for name in ("tip_relief_shape", "root_relief_shape"):
-            if getattr(self, name) not in _SHAPES:
-                raise ValueError(f"{name} = {getattr(self, name)!r}: allowed 'linear', 'parabolic'")
-        if self.end_relief_edge not in _EDGES:
-            raise ValueError(
-                f"end_relief_edge = {self.end_relief_edge!r}: allowed 'both', 'z0' (the z = 0 "
-                "edge), 'z1' (the z = b edge)"
+            check_instance(
+                name,
+                getattr(self, name),
+                AbstractReliefShape,
+                "jaxgear.LinearRelief() or jaxgear.ParabolicRelief()",
+                "MemberModification",
             )
+        check_instance(
+            "end_relief_edge",
+            self.end_relief_edge,
+            AbstractEndReliefEdges,
+            "jaxgear.BothEdges(), jaxgear.EdgeZ0() (the z = 0 edge) or jaxgear.EdgeZ1() (the "
+            "z = b edge)",
+            "MemberModification",
+        )
         if (
             self.profile_deviation_roll.shape != self.profile_deviation.shape
             or self.profile_deviation.ndim != 1
@@ -167,26 +266,20 @@ class MemberModification(eqx.Module):
 
     def deviation(self, u: Float[Array, "..."], zeta: Float[Array, "..."]) -> Float[Array, "..."]:
         """Normal deviation e (m) at roll fraction ``u`` and lead fraction ``zeta`` (broadcast)."""
-        tip = self.tip_relief_depth * _ramp(
+        tip = self.tip_relief_depth * self.tip_relief_shape.ramp(
             (u - (1.0 - self.tip_relief_extent)) / self.tip_relief_extent,
-            self.tip_relief_shape,
             self.relief_blend / self.tip_relief_extent,
         )
-        root = self.root_relief_depth * _ramp(
+        root = self.root_relief_depth * self.root_relief_shape.ramp(
             (self.root_relief_extent - u) / self.root_relief_extent,
-            self.root_relief_shape,
             self.relief_blend / self.root_relief_extent,
         )
         xi = 2.0 * zeta - 1.0
         crown = self.crowning_depth * xi * xi
         le = self.end_relief_extent
-        eb = self.end_relief_blend / le
-        ramp = 0.0
-        if self.end_relief_edge in ("both", "z0"):
-            ramp = ramp + _end_ramp((le - zeta) / le, eb)
-        if self.end_relief_edge in ("both", "z1"):
-            ramp = ramp + _end_ramp((zeta - (1.0 - le)) / le, eb)
-        end = self.end_relief_depth * ramp
+        end = self.end_relief_depth * self.end_relief_edge.ramp(
+            zeta, le, self.end_relief_blend / le
+        )
         slope = self.helix_slope_deviation * (zeta - 0.5)
         if self.profile_deviation.shape[0] == 2:  # a straight line: no table search needed
             r, d = self.profile_deviation_roll, self.profile_deviation

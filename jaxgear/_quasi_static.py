@@ -8,9 +8,9 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
+from ._backlash import check_no_coast, flank_separation
 from ._baseplane import (
     MeshModel,
-    cell_flank as cells_flank,
     check_positions,
     mesh_positions,
     split_by_mesh,
@@ -148,6 +148,24 @@ def _modifications_per_mesh(mods, n_meshes: int) -> tuple[Modifications, ...]:
     return tuple(mods)
 
 
+@functools.singledispatch
+def _named_modifications(mods, name: str) -> tuple:
+    """(argument name, value) of each modification ``mods`` holds, for the input checks: one
+    object as ``name``, a tuple/list entry by entry as ``name[k]``, None none."""
+    return ((name, mods),)
+
+
+@_named_modifications.register(type(None))
+def _no_named_modifications(mods, name: str) -> tuple:
+    return ()
+
+
+@_named_modifications.register(tuple)
+@_named_modifications.register(list)
+def _named_modifications_per_mesh(mods, name: str) -> tuple:
+    return tuple((f"{name}[{k}]", m) for k, m in enumerate(mods))
+
+
 def separation(mesh: MeshModel, mods: Modifications, theta):
     """Cells at pinion angle ``theta`` (rad), max_M e (m) and δ0 = max e − e per cell (m, (2.8)).
 
@@ -161,25 +179,9 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     if deviations is not None:
         check_no_coast(mesh, "deviations (per-tooth ISO 1328-1)")
         e = e + deviations.deviation(mesh, cells)
-    if not mesh.coast:
-        e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
-        return cells, e_max, jnp.where(cells.mask, e_max - e, 0.0)
-    # coast flanks (docs/backlash.md): the same modifications in their own base plane; their
-    # gap is the backlash less the drive flanks' reference e_max and their own e
-    drive = cells_flank(cells) > 0
-    e_max = jnp.max(jnp.where(cells.mask & drive, e, -jnp.inf))
-    delta0 = jnp.where(drive, e_max - e, mesh.backlash - e_max - e)
-    return cells, e_max, jnp.where(cells.mask, delta0, 0.0)
-
-
-def check_no_coast(mesh: MeshModel, what: str) -> None:
-    """A one-line ``ValueError`` where ``what`` meets a mesh with coast flanks (not modelled
-    together; docs/backlash.md, "Not modelled")."""
-    if mesh.coast:
-        raise ValueError(
-            f"{what} with backlash (coast flanks, tooth_thickness_allowance) are not modelled "
-            "together: drop one of them"
-        )
+    # with coast flanks (docs/backlash.md) their gap holds the backlash
+    e_max, delta0 = flank_separation(mesh, cells, e)
+    return cells, e_max, delta0
 
 
 def mesh_separations(scene: Scene, mods: tuple, theta) -> list:
@@ -288,11 +290,8 @@ def check_operating(
         "scene", scene, (Scene, MeshModel), "a jaxgear Scene (RigidMesh, ...) or MeshModel", where
     )
     allowed = "None, a jaxgear.Modifications, or a tuple of one per gear mesh"
-    if isinstance(modifications, tuple | list):
-        for k, m in enumerate(modifications):
-            check_instance(f"{mods_name}[{k}]", m, Modifications, allowed, where)
-    elif modifications is not None:
-        check_instance(mods_name, modifications, Modifications, allowed, where)
+    for name, m in _named_modifications(modifications, mods_name):
+        check_instance(name, m, Modifications, allowed, where)
     coast = coast_torque and any(p.coast for p in scene.base_planes)
     check_real(
         "torque", torque, "N·m", lo=None if coast else 0.0, lo_open=True, shape=(), where=where

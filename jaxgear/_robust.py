@@ -21,8 +21,10 @@ over the global device mesh and, across processes, run with ``jax.distributed``
 
 from __future__ import annotations
 
+import abc
 import math
 from statistics import NormalDist
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -37,14 +39,20 @@ from ._contact import ContactLaw, ExactContact
 from ._deviations import Deviations, GearDeviations, iso1328_tolerances
 from ._modifications import Modifications
 from ._quasi_static import quasi_static
+from ._util import NamedKind
 from .scenes import Scene
 
 __all__ = [
     "DEVIATION_KINDS",
+    "AbstractDeviationKind",
     "DeviationSampler",
     "GearSampler",
+    "HelixDeviation",
+    "PitchDeviation",
+    "ProfileDeviation",
     "QuasiStaticMetrics",
     "RobustMetrics",
+    "RunoutDeviation",
     "binomial_quantile",
     "robust_samples",
     "sample_mesh",
@@ -52,21 +60,9 @@ __all__ = [
     "sample_statistics",
 ]
 
-#: the deviations a sampler can draw (docs/deviations.md, "Deviation model")
-DEVIATION_KINDS = ("pitch", "runout", "profile", "helix")
 #: points of the trace over which the total profile (helix) deviation is measured (as
 #: :func:`jaxgear._deviations.total_range`)
 _TRACE_POINTS = 201
-
-
-def _check_kinds(kinds) -> tuple[str, ...]:
-    kinds = tuple(kinds)
-    bad = [k for k in kinds if k not in DEVIATION_KINDS]
-    if bad or not kinds or len(set(kinds)) != len(kinds):
-        raise ValueError(
-            f"kinds = {kinds!r} is out of range: allowed distinct names among {DEVIATION_KINDS}"
-        )
-    return kinds
 
 
 def _slope_form(key, z, slope_tol, form_tol, total_tol):
@@ -83,6 +79,101 @@ def _slope_form(key, z, slope_tol, form_tol, total_tol):
     return slope * s, form * s
 
 
+class AbstractDeviationKind(NamedKind):
+    """A kind of ISO 1328-1 deviation a :class:`GearSampler` draws (docs/deviations.md,
+    "Random draws"): :meth:`draw` gives the :class:`~jaxgear.GearDeviations` fields it sets. A
+    new kind is one subclass (and its case-file name in :mod:`jaxgear.io`)."""
+
+    @abc.abstractmethod
+    def draw(self, keys, teeth: int, tolerances: Float[Array, " 9"]) -> dict[str, Array]:
+        """The fields this kind draws.
+
+        Args:
+            keys: the sampler's five ``jax.random`` keys (pitch, runout, runout phase, profile,
+                helix), each kind drawing from its own.
+            teeth: z. tolerances: the sampler's (9,) tolerances (m), :class:`GearSampler`'s order.
+
+        Returns:
+            ``{field name: value}`` of :class:`~jaxgear.GearDeviations` (m, rad), per tooth (z,)
+            or scalars.
+        """
+
+
+class PitchDeviation(AbstractDeviationKind):
+    """Single pitch u_n ~ U(−f_pT, f_pT), closed (u_n − ū), scaled by
+    s = min(1, f_pT/max|f_pt|, F_pT/(max F_p − min F_p)) (case-file name "pitch")."""
+
+    name: ClassVar[str] = "pitch"
+
+    def draw(self, keys, teeth, tolerances):
+        t = tolerances
+        u = jax.random.uniform(keys[0], (teeth,), t.dtype, -1.0, 1.0) * t[0]
+        u = u - jnp.mean(u)
+        cum = jnp.cumsum(u) - u[0]
+        tiny = jnp.finfo(t.dtype).tiny
+        scale = jnp.minimum(
+            1.0,
+            jnp.minimum(
+                t[0] / jnp.maximum(jnp.max(jnp.abs(u)), tiny),
+                t[1] / jnp.maximum(jnp.max(cum) - jnp.min(cum), tiny),
+            ),
+        )
+        return {"single_pitch": u * scale}
+
+
+class RunoutDeviation(AbstractDeviationKind):
+    """Runout F_r ~ U(0, F_rT), phase φ ~ U(0, 2π) (case-file name "runout")."""
+
+    name: ClassVar[str] = "runout"
+
+    def draw(self, keys, teeth, tolerances):
+        dtype = tolerances.dtype
+        return {
+            "runout": jax.random.uniform(keys[1], (), dtype) * tolerances[8],
+            "runout_phase": jax.random.uniform(keys[2], (), dtype) * (2.0 * jnp.pi),
+        }
+
+
+class ProfileDeviation(AbstractDeviationKind):
+    """Per tooth profile slope ~ U(−f_HαT, f_HαT) and form ~ U(−f_fαT, f_fαT), scaled down
+    together where the trace's range exceeds F_αT (case-file name "profile")."""
+
+    name: ClassVar[str] = "profile"
+
+    def draw(self, keys, teeth, tolerances):
+        t = tolerances
+        slope, form = _slope_form(keys[3], teeth, t[2], t[3], t[4])
+        return {"profile_slope": slope, "profile_form": form}
+
+
+class HelixDeviation(AbstractDeviationKind):
+    """Per tooth helix slope ~ U(−f_HβT, f_HβT) and form ~ U(−f_fβT, f_fβT), scaled down
+    together where the trace's range exceeds F_βT (case-file name "helix")."""
+
+    name: ClassVar[str] = "helix"
+
+    def draw(self, keys, teeth, tolerances):
+        t = tolerances
+        slope, form = _slope_form(keys[4], teeth, t[5], t[6], t[7])
+        return {"helix_slope": slope, "helix_form": form}
+
+
+#: the deviations a sampler can draw, all by default (docs/deviations.md, "Deviation model")
+DEVIATION_KINDS = (PitchDeviation(), RunoutDeviation(), ProfileDeviation(), HelixDeviation())
+
+
+def _check_kinds(kinds) -> tuple[AbstractDeviationKind, ...]:
+    kinds = tuple(kinds)
+    ok = all(isinstance(k, AbstractDeviationKind) for k in kinds)
+    if not ok or not kinds or len({type(k) for k in kinds}) != len(kinds):
+        raise ValueError(
+            f"kinds = {kinds!r} is out of range: allowed distinct kinds among "
+            "jaxgear.PitchDeviation(), jaxgear.RunoutDeviation(), jaxgear.ProfileDeviation(), "
+            "jaxgear.HelixDeviation()"
+        )
+    return kinds
+
+
 class GearSampler(eqx.Module):
     """Draws one gear's deviations (:class:`~jaxgear.GearDeviations`) of an ISO 1328-1 flank
     tolerance class from a ``jax.random`` key.
@@ -92,20 +183,23 @@ class GearSampler(eqx.Module):
     s = min(1, f_pT/max|f_pt|, F_pT/(max F_p − min F_p)); runout F_r ~ U(0, F_rT), phase
     φ ~ U(0, 2π); per tooth profile slope ~ U(−f_HαT, f_HαT) and form ~ U(−f_fαT, f_fαT), scaled
     down together where the trace's range exceeds F_αT; the helix likewise (f_HβT, f_fβT, F_βT).
-    The kinds not in ``kinds`` are 0.
+    The kinds not in ``kinds`` are 0 (each kind, an :class:`AbstractDeviationKind`, draws its
+    own fields from its own key).
 
     Attributes:
         tolerances: (f_pT, F_pT, f_HαT, f_fαT, F_αT, f_HβT, f_fβT, F_βT, F_rT) (m), shape (9,)
             (:class:`~jaxgear.ISO1328Tolerances` in that order).
         reference_pressure_angle: α_t (rad) of the reference circle of the pitch deviations.
-        teeth: z (static). kinds: the deviations drawn, a tuple of names among
-            :data:`DEVIATION_KINDS` (static).
+        teeth: z (static). kinds: the deviations drawn, a tuple of distinct
+            :class:`AbstractDeviationKind` (:data:`DEVIATION_KINDS`: all four; static).
     """
 
     tolerances: Float[Array, " 9"]
     reference_pressure_angle: Float[Array, ""]
     teeth: int = eqx.field(static=True)
-    kinds: tuple[str, ...] = eqx.field(static=True, default=DEVIATION_KINDS)
+    kinds: tuple[AbstractDeviationKind, ...] = eqx.field(
+        static=True, default=DEVIATION_KINDS
+    )
 
     def __check_init__(self):
         if isinstance(self.teeth, bool) or int(self.teeth) != self.teeth or self.teeth < 2:
@@ -143,41 +237,21 @@ class GearSampler(eqx.Module):
     def __call__(self, key) -> GearDeviations:
         """One gear's deviations drawn from ``key`` (a ``jax.random`` key)."""
         z, t = self.teeth, self.tolerances
-        dtype = t.dtype
-        k_pitch, k_run, k_phase, k_prof, k_helix = jax.random.split(key, 5)
-        zeros = jnp.zeros((z,), dtype)
-        fpt, runout, phase = zeros, jnp.zeros((), dtype), jnp.zeros((), dtype)
-        p_slope = p_form = h_slope = h_form = zeros
-        if "pitch" in self.kinds:
-            u = jax.random.uniform(k_pitch, (z,), dtype, -1.0, 1.0) * t[0]
-            u = u - jnp.mean(u)
-            cum = jnp.cumsum(u) - u[0]
-            tiny = jnp.finfo(dtype).tiny
-            scale = jnp.minimum(
-                1.0,
-                jnp.minimum(
-                    t[0] / jnp.maximum(jnp.max(jnp.abs(u)), tiny),
-                    t[1] / jnp.maximum(jnp.max(cum) - jnp.min(cum), tiny),
-                ),
-            )
-            fpt = u * scale
-        if "runout" in self.kinds:
-            runout = jax.random.uniform(k_run, (), dtype) * t[8]
-            phase = jax.random.uniform(k_phase, (), dtype) * (2.0 * jnp.pi)
-        if "profile" in self.kinds:
-            p_slope, p_form = _slope_form(k_prof, z, t[2], t[3], t[4])
-        if "helix" in self.kinds:
-            h_slope, h_form = _slope_form(k_helix, z, t[5], t[6], t[7])
-        return GearDeviations(
-            single_pitch=fpt,
-            runout=runout,
-            runout_phase=phase,
-            profile_slope=p_slope,
-            profile_form=p_form,
-            helix_slope=h_slope,
-            helix_form=h_form,
-            reference_pressure_angle=self.reference_pressure_angle,
-        )
+        keys = jax.random.split(key, 5)
+        zeros = jnp.zeros((z,), t.dtype)
+        scalar = jnp.zeros((), t.dtype)
+        fields = {
+            "single_pitch": zeros,
+            "runout": scalar,
+            "runout_phase": scalar,
+            "profile_slope": zeros,
+            "profile_form": zeros,
+            "helix_slope": zeros,
+            "helix_form": zeros,
+        }
+        for kind in self.kinds:
+            fields.update(kind.draw(keys, z, t))
+        return GearDeviations(**fields, reference_pressure_angle=self.reference_pressure_angle)
 
 
 class DeviationSampler(eqx.Module):
@@ -201,7 +275,7 @@ class DeviationSampler(eqx.Module):
         grade: int,
         *,
         members: tuple[str, ...] = ("pinion", "gear"),
-        kinds: tuple[str, ...] = DEVIATION_KINDS,
+        kinds: tuple[AbstractDeviationKind, ...] = DEVIATION_KINDS,
     ) -> DeviationSampler:
         """The sampler of ISO 1328-1:2013 flank tolerance class ``grade`` for ``pair`` (a
         :class:`~jaxgear.GearPair`): each gear's tolerances from its own reference diameter
@@ -210,7 +284,8 @@ class DeviationSampler(eqx.Module):
         Args:
             pair: the :class:`~jaxgear.GearPair`. grade: the class, an integer 1 to 11.
             members: the gears that deviate ("pinion", "gear"; the others are perfect).
-            kinds: the deviations drawn, names among :data:`DEVIATION_KINDS`.
+            kinds: the deviations drawn, distinct :class:`AbstractDeviationKind` objects
+                (default :data:`DEVIATION_KINDS`, all four).
 
         Raises:
             ValueError: a grade, a size or a helix angle outside ISO 1328-1's scope, unknown

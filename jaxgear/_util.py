@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import functools
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 __all__ = [
+    "NamedKind",
     "as_float",
     "check_instance",
     "check_integer",
@@ -20,6 +22,22 @@ __all__ = [
     "rms_about_mean",
     "safe_sqrt",
 ]
+
+
+class NamedKind(eqx.Module):
+    """A kind of an algorithm or a shape without parameters (a relief shape, a deviation kind),
+    named in case files by :attr:`name`. It compares equal to another instance of its class and
+    to its name (the string the former API took, so that ``m.tip_relief_shape == "parabolic"``
+    still reads) and hashes as its name; the mapping from names to objects is
+    :mod:`jaxgear.io`'s."""
+
+    name: eqx.AbstractClassVar[str]
+
+    def __eq__(self, other) -> bool:
+        return type(other) is type(self) or (type(other) is str and other == self.name)
+
+    def __hash__(self) -> int:
+        return hash(self.name)
 
 
 def check_integer(name: str, value, lo: int) -> None:

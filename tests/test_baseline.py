@@ -35,7 +35,7 @@ def _mods(kind: str):
         pin = jg.MemberModification(
             tip_relief_depth=12e-6,
             tip_relief_extent=0.3,
-            tip_relief_shape="parabolic",
+            tip_relief_shape=jg.ParabolicRelief(),
             root_relief_depth=3e-6,
             root_relief_extent=0.15,
             crowning_depth=6e-6,
@@ -49,7 +49,7 @@ def _mods(kind: str):
         gear = jg.MemberModification(
             tip_relief_depth=8e-6,
             tip_relief_extent=0.2,
-            tip_relief_shape="parabolic",
+            tip_relief_shape=jg.ParabolicRelief(),
             crowning_depth=3e-6,
         )
         return jg.Modifications(pinion=pin, gear=gear)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._cell_factor import line_factors, solve_factored_cells
+from jaxgear._cell_factor import CellFactor, line_factors, solve_factored_cells
 from jaxgear._util import only_where_needed
 
 C_CELLS = 14
@@ -61,8 +61,8 @@ def test_factored_solve_equals_the_per_pass_factorisation(r, kind, lines):
         jnp.asarray(length), jnp.asarray(mask), jg.ExactContact(),
     )  # fmt: skip
     extra = (LINES, *line_factors(B, E, kl, mask, LINES)) if lines else (None, None, None)
-    sol, p, al = jax.jit(solve_factored_cells, static_argnums=8)(
-        B, C, E, kl, mask, jnp.asarray(a), jnp.asarray(b), jnp.asarray(k), 100, *extra
+    sol, p, al = jax.jit(solve_factored_cells, static_argnums=4)(
+        CellFactor(B, C, E, kl, mask, *extra), jnp.asarray(a), jnp.asarray(b), jnp.asarray(k), 100
     )
     assert int(ref.result) == 0 and int(sol.result) == 0
     weight = np.asarray(ref.weight)
@@ -98,7 +98,7 @@ def test_factored_solve_derivatives_equal_central_differences(kind):
     def f(t, q):
         a = jnp.asarray(a0) + 1e-6 * t * tilt
         _, p, al = solve_factored_cells(
-            B, C, E, kl, mask, a, q * jnp.asarray(b0), k, 100, LINES, K_line, YF
+            CellFactor(B, C, E, kl, mask, LINES, K_line, YF), a, q * jnp.asarray(b0), k, 100
         )
         return (jnp.sum((p / 100.0) ** 2) + jnp.sum(al**2) * 1e10) / 1e3
 
@@ -127,7 +127,8 @@ def test_vmapped_batch_factors_only_where_needed_and_equals_each_solve():
     loads = jnp.asarray([[60.0], [45.0]])
 
     def solve(a, b):
-        _, p, al = solve_factored_cells(B, C, E, kl, mask, a, b, k, 100, LINES, K_line, YF)
+        factor = CellFactor(B, C, E, kl, mask, LINES, K_line, YF)
+        _, p, al = solve_factored_cells(factor, a, b, k, 100)
         return p, al
 
     p, al = jax.jit(jax.vmap(jax.vmap(solve, (0, None)), (None, 0)))(A, loads)

@@ -28,7 +28,9 @@ def setting():
         "tip_relief.depth,tip_relief.extent",
         positions_per_pitch=16,
     )
-    sampler = jg.DeviationSampler.for_grade(case.pair, 6, kinds=("pitch", "profile"))
+    sampler = jg.DeviationSampler.for_grade(
+        case.pair, 6, kinds=(jg.PitchDeviation(), jg.ProfileDeviation())
+    )
     return case, prob, sampler
 
 

@@ -53,7 +53,8 @@ def _linear_end_relief(zeta, depth, extent, edge):
 def test_end_relief_on_one_or_both_edges_is_the_linear_ramp(edge):
     zeta = np.linspace(0.0, 1.0, 201)
     kw = dict(end_relief_depth=7e-6, end_relief_extent=0.4)
-    m = jg.MemberModification(**kw, end_relief_edge=edge)
+    edges = {"both": jg.BothEdges(), "z0": jg.EdgeZ0(), "z1": jg.EdgeZ1()}
+    m = jg.MemberModification(**kw, end_relief_edge=edges[edge])
     got = -np.asarray(m.deviation(jnp.full_like(jnp.asarray(zeta), 0.5), jnp.asarray(zeta)))
     np.testing.assert_allclose(got, _linear_end_relief(zeta, 7e-6, 0.4, edge), atol=1e-20)
     if edge == "both":  # the default is the symmetric relief
@@ -68,7 +69,10 @@ def test_end_relief_blend_rounds_only_the_start():
     depth, extent, s = 5e-6, 0.3, 0.05
     zeta = np.linspace(0.0, 1.0, 401)
     m = jg.MemberModification(
-        end_relief_depth=depth, end_relief_extent=extent, end_relief_blend=s, end_relief_edge="z0"
+        end_relief_depth=depth,
+        end_relief_extent=extent,
+        end_relief_blend=s,
+        end_relief_edge=jg.EdgeZ0(),
     )
     got = -np.asarray(m.deviation(0.5, jnp.asarray(zeta)))
     ref = _linear_end_relief(zeta, depth, extent, "z0")
@@ -81,7 +85,7 @@ def test_end_relief_blend_rounds_only_the_start():
             end_relief_depth=depth,
             end_relief_extent=le,
             end_relief_blend=blend,
-            end_relief_edge="z0",
+            end_relief_edge=jg.EdgeZ0(),
         )
         return float(mm.deviation(0.5, 0.3))
 
@@ -179,7 +183,7 @@ def hybrid(fem_prep_cache):
     case = jio.load_case(DATA / "hybrid-test-case.toml")
     m = case.modifications
     pinion = dataclasses.replace(
-        m.pinion, helix_slope_deviation=30e-6, end_relief_edge="z1", end_relief_extent=0.4
+        m.pinion, helix_slope_deviation=30e-6, end_relief_edge=jg.EdgeZ1(), end_relief_extent=0.4
     )
     case = case.replace(modifications=jg.Modifications(pinion=pinion, gear=m.gear))
     return case, static_scene(case)[0]

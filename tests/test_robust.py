@@ -129,7 +129,9 @@ def _runout_setup(spur):
     case, mesh = spur
     z1 = case.pair.pinion.teeth
     theta = jg.mesh_positions(mesh, 8, z1)
-    sampler = jg.DeviationSampler.for_grade(case.pair, 6, members=("pinion",), kinds=("runout",))
+    sampler = jg.DeviationSampler.for_grade(
+        case.pair, 6, members=("pinion",), kinds=(jg.RunoutDeviation(),)
+    )
     perfect = jg.quasi_static(mesh, None, case.torque, theta)
     te = np.asarray(perfect.transmission_error)
     r0 = float(np.sqrt(np.mean((te - te.mean()) ** 2)))

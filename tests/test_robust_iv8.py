@@ -75,8 +75,16 @@ def test_profile_slopes_drive_the_class_4_peak():
     r = jd.speed_sweep(perfect, speed, integrator=jd.Newmark(32), window=jd.SteadyState(30, 4))
     assert float(r.results.dynamic_factor[0]) == pytest.approx(1.76, abs=0.01)
     out = {}
+    kinds = {
+        "pitch": jg.PitchDeviation(),
+        "runout": jg.RunoutDeviation(),
+        "profile": jg.ProfileDeviation(),
+        "helix": jg.HelixDeviation(),
+    }
     for kind in ("pitch", "runout", "profile", "helix"):
-        sampler = jg.DeviationSampler.for_grade(case.pair, 4, members=("pinion",), kinds=(kind,))
+        sampler = jg.DeviationSampler.for_grade(
+            case.pair, 4, members=("pinion",), kinds=(kinds[kind],)
+        )
         mods = jg.Modifications(deviations=sampler(jax.random.key(0)))
         model = dataclasses.replace(jd.dynamic_model(scene, mods, case.torque), deviation_span=z1)
         r = jd.speed_sweep(

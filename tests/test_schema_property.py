@@ -383,7 +383,7 @@ def _built(case, robust, what: str) -> None:
                         small.pair,
                         robust["grade"],
                         members=tuple(robust["members"]),
-                        kinds=tuple(robust["kinds"]),
+                        kinds=jio.deviation_kinds_from_names(robust["kinds"]),
                     )
                     deviations = sampler(jax.random.PRNGKey(robust["seed"]))
                 if deviations is not None:

@@ -138,7 +138,10 @@ def run_robust(args) -> int:
         check_output_dir(out_dir)
     try:
         sampler = DeviationSampler.for_grade(
-            case.pair, st["grade"], members=tuple(st["members"]), kinds=tuple(st["kinds"])
+            case.pair,
+            st["grade"],
+            members=tuple(st["members"]),
+            kinds=case_io.deviation_kinds_from_names(st["kinds"]),
         )
     except ValueError as err:
         raise ValueError(f"[robust] grade = {st['grade']}: {err}") from None

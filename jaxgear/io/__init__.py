@@ -16,7 +16,10 @@ from ._case_model import (
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,
 )
-from ._deviations_table import parse_deviations as parse_deviations
+from ._deviations_table import (
+    deviation_kinds_from_names as deviation_kinds_from_names,
+    parse_deviations as parse_deviations,
+)
 from ._load import (
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,

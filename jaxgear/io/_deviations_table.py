@@ -18,9 +18,40 @@ from .._deviations import (
     sample_gear_deviations,
 )
 from .._geometry import GearPair
+from .._robust import (
+    AbstractDeviationKind,
+    HelixDeviation,
+    PitchDeviation,
+    ProfileDeviation,
+    RunoutDeviation,
+)
 from ._modifications_table import _depth_range
 
-__all__ = ["parse_deviations"]
+__all__ = ["DEVIATION_KINDS", "deviation_kinds_from_names", "parse_deviations"]
+
+#: ``[robust] kinds`` names: the deviations a sampler draws
+DEVIATION_KINDS = {
+    "pitch": PitchDeviation(),
+    "runout": RunoutDeviation(),
+    "profile": ProfileDeviation(),
+    "helix": HelixDeviation(),
+}
+
+
+def deviation_kinds_from_names(names) -> tuple[AbstractDeviationKind, ...]:
+    """The deviation kinds a ``[robust] kinds`` list names ("pitch", "runout", "profile",
+    "helix"), for :meth:`jaxgear.DeviationSampler.for_grade`.
+
+    Raises:
+        ValueError: an unknown name (one line).
+    """
+    names = tuple(names)
+    bad = [n for n in names if n not in DEVIATION_KINDS]
+    if bad:
+        raise ValueError(
+            f"kinds = {names!r} is out of range: allowed names among {tuple(DEVIATION_KINDS)}"
+        )
+    return tuple(DEVIATION_KINDS[n] for n in names)
 
 _DEV_KEYS = {"grade", "seed", "revolutions", "positions_per_pitch", "pinion", "gear"}
 _DEV_MEMBER_KEYS = {

@@ -10,9 +10,22 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from .._modifications import MemberModification, Modifications
+from .._modifications import (
+    BothEdges,
+    EdgeZ0,
+    EdgeZ1,
+    LinearRelief,
+    MemberModification,
+    Modifications,
+    ParabolicRelief,
+)
 
-__all__ = ["parse_modifications"]
+__all__ = ["END_RELIEF_EDGES", "RELIEF_SHAPES", "parse_modifications"]
+
+#: ``tip_relief``/``root_relief`` ``shape`` names
+RELIEF_SHAPES = {"linear": LinearRelief(), "parabolic": ParabolicRelief()}
+#: ``end_relief`` ``edge`` names
+END_RELIEF_EDGES = {"both": BothEdges(), "z0": EdgeZ0(), "z1": EdgeZ1()}
 
 MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal module
 _MOD_KEYS = {
@@ -52,7 +65,7 @@ def _member_mods(
             extent = sc.number(
                 spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
             )
-            shape = sc.choice(spec, "shape", w, ("linear", "parabolic"), "linear")
+            shape = RELIEF_SHAPES[sc.choice(spec, "shape", w, tuple(RELIEF_SHAPES), "linear")]
             kw.update(
                 {
                     f"{name}_depth": depth * 1e-6,
@@ -74,7 +87,7 @@ def _member_mods(
                 allowed="(0, 0.5]",
                 note=" (fraction of the face width at each end)",
             )
-            edge = sc.choice(spec, "edge", w, ("both", "z0", "z1"), "both")
+            edge = END_RELIEF_EDGES[sc.choice(spec, "edge", w, tuple(END_RELIEF_EDGES), "both")]
             kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
         elif name == "helix_slope":
             kw["helix_slope_deviation"] = (

@@ -36,7 +36,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
-from .._baseplane import Cells, MeshModel, cell_flank
+from .._backlash import cell_flank, coast_line
+from .._baseplane import Cells, MeshModel
 from .._geometry import GearPair
 from .._util import as_float
 from ._scene import Grounded
@@ -108,13 +109,6 @@ def line_of_action(
     centres = np.array([place(np.zeros(3)), place(np.array([pair.center_distance, 0, 0]))])
     tangent = place(pair.base_radii[0] * np.array([math.cos(alpha), -math.sin(alpha), 0.0]))
     normal = math.cos(bb) * t + axial * math.sin(bb) * np.array([0.0, 0.0, 1.0])
-    # the coast flanks: the π-rotation R about the centre line (through the driving centre,
-    # mid-face) maps each flank of a symmetric tooth onto the other (docs/backlash.md)
-    d = (centres[1] - centres[0]) / np.linalg.norm(centres[1] - centres[0])
-
-    def turn(v):  # R v = 2 (v·d) d − v
-        return 2.0 * np.dot(v, d) * d - v
-
     return {
         "centres": centres,
         "tangent_point": tangent,
@@ -122,9 +116,8 @@ def line_of_action(
         "normal": normal,
         "roll_start": pair.start_roll,
         "axial": axial,
-        "coast_tangent_point": centres[0] + turn(tangent - centres[0]),
-        "coast_direction": turn(t),
-        "coast_normal": turn(normal),
+        # the coast flanks' line (docs/backlash.md)
+        **coast_line(centres, tangent, t, normal),
     }
 
 

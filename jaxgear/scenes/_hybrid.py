@@ -36,7 +36,7 @@ from jaxtyping import Array, Float
 
 from .._baseplane import CellRow, Cells, MeshModel, mesh_positions
 from .._cell_factor import solve_factored_cells
-from .._contact import ContactLaw, ExactContact, solve_contact_cells
+from .._contact import ContactLaw, solve_contact_cells
 from .._geometry import GearPair
 from ._bodies import (
     _body_bearing_z,
@@ -223,27 +223,14 @@ class HybridScene(AssembledScene):
         x0 = torque * self.x_torque + speed**2 * self.x_centrifugal
         a = torque * cs.a_torque + speed**2 * cs.a_centrifugal - r.delta0
         b = self.N.T @ self.external_load(torque, speed)
-        exact = isinstance(law, ExactContact)
-        sg = jax.lax.stop_gradient
-        sol, force, alpha = solve_factored_cells(
-            cs.B,
-            cs.C,
-            cs.E,
-            cs.kl,
-            cs.mask,
-            a if exact else sg(a),
-            b if exact else sg(b),
-            r.k,
-            law.max_iterations,
-            cs.lines,
-            cs.K_line,
-            cs.YF,
-        )
-        if not exact:  # Newton from the factored exact answer
-            start = (sol.gap, alpha, sol.iterations)
-            sol, force, alpha = solve_contact_cells(
-                cs.C, a, cs.E, b, r.k, r.length, r.mask, law, start
-            )
+
+        def factored_exact(a, b):
+            return solve_factored_cells(cs, a, b, r.k, law.max_iterations)
+
+        def newton(start):
+            return solve_contact_cells(cs.C, a, cs.E, b, r.k, r.length, r.mask, law, start)
+
+        sol, force, alpha = law.factored_cells_answer(factored_exact, newton, a, b)
         u = self.te_vectors()
         te = u @ x0 - cs.te_rows @ force + (u @ self.N) @ alpha
         return sol, self.recover(r, x0, force, alpha), te

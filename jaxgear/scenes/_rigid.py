@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from .._baseplane import MeshModel, cell_flank
+from .._backlash import cell_flank
+from .._baseplane import MeshModel
 from .._util import check_instance
 from ._scene import Scene
 

@@ -31,7 +31,8 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, Cells, MeshModel, cell_flank
+from .._backlash import cell_flank
+from .._baseplane import CellRow, Cells, MeshModel
 from .._contact import ContactLaw, ContactSolution, solve_contact
 from .._util import as_float
 

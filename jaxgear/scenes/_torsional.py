@@ -11,7 +11,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._baseplane import MeshModel, cell_flank
+from .._backlash import cell_flank
+from .._baseplane import MeshModel
 from .._util import as_float, check_instance, check_real
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
