@@ -29,7 +29,7 @@ import time
 
 import numpy as np
 
-from jaxgear import contact_law_from_name
+from jaxgear.io import contact_law_from_name
 from jaxgear.dynamics import DiffraxIntegrator, Newmark, SteadyState
 
 from ._charts import thin_tick_labels

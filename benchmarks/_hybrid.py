@@ -42,7 +42,8 @@ import time
 
 import numpy as np
 
-from jaxgear import ExactContact, contact_law_from_name
+from jaxgear import ExactContact
+from jaxgear.io import contact_law_from_name
 
 from ._charts import thin_tick_labels
 from ._timing import environment, min_time

@@ -47,8 +47,8 @@ import time
 
 import numpy as np
 
-from jaxgear import contact_law_from_name
 from jaxgear.dynamics import Batching, ModalBasis, Newmark, SteadyState
+from jaxgear.io import contact_law_from_name
 
 from ._charts import thin_tick_labels
 from ._hybrid import _cells, _flex_index, _window_dofs, _with_window, hybrid_cases

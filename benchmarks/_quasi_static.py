@@ -29,7 +29,8 @@ import time
 
 import numpy as np
 
-from jaxgear import SmoothContact, contact_law_from_name
+from jaxgear import SmoothContact
+from jaxgear.io import contact_law_from_name
 
 from ._charts import thin_tick_labels
 from ._timing import cpu_model as _cpu_model, first_call as _first_call, min_time as _min_time

@@ -17,7 +17,6 @@ from ._contact import (
     ContactSolution as ContactSolution,
     ExactContact as ExactContact,
     SmoothContact as SmoothContact,
-    contact_law_from_name as contact_law_from_name,
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )

@@ -55,7 +55,6 @@ __all__ = [
     "ContactSolution",
     "ExactContact",
     "SmoothContact",
-    "contact_law_from_name",
     "solve_contact",
     "solve_contact_cells",
 ]
@@ -230,21 +229,6 @@ class SmoothContact(AbstractContactLaw):
 
 
 ContactLaw: TypeAlias = AbstractContactLaw
-
-
-def contact_law_from_name(mode: str, width=1e-7, max_iterations: int = 100) -> ContactLaw:
-    """The contact law a case file or a command line names: ``"exact"`` →
-    :class:`ExactContact`, ``"smooth"`` → :class:`SmoothContact` of ``width`` (m), each with
-    ``max_iterations``.
-
-    Raises:
-        ValueError: another name (one line).
-    """
-    if mode == "exact":
-        return ExactContact(max_iterations)
-    if mode == "smooth":
-        return SmoothContact(width, max_iterations)
-    raise ValueError(f"contact = {mode!r}: allowed 'exact', 'smooth'")
 
 
 def contact_law(law, dtype, name: str = "contact") -> ContactLaw:

@@ -75,7 +75,7 @@ def _compare(name, mods, contact, width=1e-7, uniform=False):
         mesh,
         mods,
         case.torque,
-        contact=jg.contact_law_from_name(contact, width),
+        contact=jio.contact_law_from_name(contact, width),
         positions_per_pitch=PPP,
     )
     b = bl.te_curve_numpy(

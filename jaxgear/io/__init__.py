@@ -27,6 +27,7 @@ from ._load import (
 )
 from ._modifications_table import parse_modifications as parse_modifications
 from ._names import (
+    contact_law_from_name as contact_law_from_name,
     foundation_from_name as foundation_from_name,
     stiffness_from_name as stiffness_from_name,
 )

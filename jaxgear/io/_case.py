@@ -13,7 +13,8 @@ import math
 from typing import Any
 
 from .._baseplane import MeshModel
-from .._contact import ContactLaw, contact_law_from_name
+from .._contact import ContactLaw
+from ._names import contact_law_from_name
 from .._geometry import GearPair
 from .._modifications import Modifications
 from .._stiffness_models import FE2D, AbstractStiffness, stiffness_table

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 
+from .._contact import ContactLaw, ExactContact, SmoothContact
 from .._stiffness import (
     AbstractFoundation,
     MemberFoundations,
@@ -21,6 +22,7 @@ from .._stiffness_models import FE2D, ISO6336, AbstractStiffness, Uniform, Weber
 __all__ = [
     "FOUNDATIONS",
     "STIFFNESS_MODELS",
+    "contact_law_from_name",
     "foundation_from_name",
     "stiffness_from_name",
 ]
@@ -91,3 +93,19 @@ def stiffness_from_name(
     raise ValueError(
         f"mesh.stiffness = {model!r} is unknown: allowed 'weber', 'uniform', 'iso6336', 'fe2d'"
     )
+
+
+def contact_law_from_name(mode: str, width=1e-7, max_iterations: int = 100) -> ContactLaw:
+    """The contact law a case file or a command line names: ``"exact"`` →
+    :class:`~jaxgear.ExactContact`, ``"smooth"`` → :class:`~jaxgear.SmoothContact` of ``width``
+    (m), each with
+    ``max_iterations``.
+
+    Raises:
+        ValueError: another name (one line).
+    """
+    if mode == "exact":
+        return ExactContact(max_iterations)
+    if mode == "smooth":
+        return SmoothContact(width, max_iterations)
+    raise ValueError(f"contact = {mode!r}: allowed 'exact', 'smooth'")
