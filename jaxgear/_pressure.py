@@ -89,7 +89,7 @@ def contact_pressure(
             :class:`~jaxgear.QuasiStaticResult` of one mesh), or (K, L, N) at the K kept
             steps of a dynamic run recorded with ``cell_loads=True``
             (:class:`~jaxgear.dynamics.MeshDynamics`, or a
-            :class:`~jaxgear.dynamics.DynamicResult` of one mesh).
+            :class:`~jaxgear.dynamics.DynamicResponse` of one mesh).
         youngs_modulus, poisson_ratio: the material of both gears (Pa, -).
 
     Returns:

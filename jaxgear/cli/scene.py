@@ -338,7 +338,7 @@ def scene_lines(q: dict) -> list[str]:
 
 def write_body_series(out_dir, scene, bodies, dyn, names=None) -> list[str]:
     """VTU time series of each flexible body over the kept steps of one speed
-    (:class:`jaxgear.dynamics.DynamicResult` with ``states``): ``body_<name>_NNNN.vtu`` and a
+    (:class:`jaxgear.dynamics.DynamicResponse` with ``states``): ``body_<name>_NNNN.vtu`` and a
     ParaView collection ``body_<name>.pvd`` (time in s), written atomically; ``names``:
     {member index: name} (a train's gear names; default a pair's "pinion" and "gear"). Each
     body is drawn in the fixed frame, turned to its own angle at each step (its speed ratio
