@@ -70,7 +70,7 @@ def _te_curves(quick, dev):
     import jax
     import jax.numpy as jnp
 
-    from jaxgear import MemberModification, Modifications, quasi_static
+    from jaxgear import LinearRelief, MemberModification, Modifications, quasi_static
     from jaxgear.io import load_case
 
     case = load_case("accessory-spur")
@@ -81,7 +81,7 @@ def _te_curves(quick, dev):
 
     def curve(x):
         m = MemberModification(
-            tip_relief_depth=x[1], tip_relief_extent=x[0], tip_relief_shape="linear"
+            tip_relief_depth=x[1], tip_relief_extent=x[0], tip_relief_shape=LinearRelief()
         )
         return quasi_static(mesh, Modifications.symmetric(m), torque).te_rms
 
@@ -152,8 +152,7 @@ def _hybrid_sweep(quick, dev):
     import jax.numpy as jnp
 
     from jaxgear.dynamics import ModalBasis, Newmark, SteadyState, dynamic_model, speed_sweep
-    from jaxgear.dynamics import static_scene
-    from jaxgear.io import load_case
+    from jaxgear.io import load_case, static_scene
 
     case = load_case(_HYBRID_CASE)
     bodies = tuple(

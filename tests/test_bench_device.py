@@ -36,7 +36,7 @@ def test_every_row_runs_on_its_platform_and_agrees(tmp_path):
     for k in (0, 5):
         i = 16 * k
         m = jg.MemberModification(
-            tip_relief_depth=dep[i], tip_relief_extent=gam[i], tip_relief_shape="linear"
+            tip_relief_depth=dep[i], tip_relief_extent=gam[i], tip_relief_shape=jg.LinearRelief()
         )
         one = jg.quasi_static(case.mesh_model(), jg.Modifications.symmetric(m), case.torque)
         np.testing.assert_allclose(sample[k], float(one.te_rms), rtol=1e-12)

@@ -337,7 +337,8 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(fem_prep_
         import fem_prep
         from jaxgear import io as jio
         from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
-        from jaxgear.dynamics import Batching, static_scene
+        from jaxgear.dynamics import Batching
+        from jaxgear.io import static_scene
         case = jio.load_case({str(DATA / "hybrid-test-case.toml")!r})
         body = fem_prep.condensed({str(DATA / "hybrid-test-wheel.toml")!r})
         model = dynamic_model(static_scene(case, bodies=(None, body))[0], case.modifications,
