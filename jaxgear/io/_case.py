@@ -73,7 +73,7 @@ class MeshSettings:
     def lumped(self) -> bool:
         """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings), as
         :attr:`TrainCase.lumped`."""
-        return self.scene is not None and self.scene.model == "lumped3d"
+        return self.scene is not None and self.scene.lumped
 
     @property
     def stiffness_model(self) -> str:
@@ -396,7 +396,7 @@ class TrainCase(MeshSettings):
     @property
     def lumped(self) -> bool:
         """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings)."""
-        return self.scene is not None and self.scene.model == "lumped3d"
+        return self.scene is not None and self.scene.lumped
 
     @property
     def flexible(self) -> bool:

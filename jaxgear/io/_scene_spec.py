@@ -81,6 +81,11 @@ class SceneSpec:
     def hybrid(self) -> bool:
         return any(b is not None for b in self.bodies)
 
+    @property
+    def lumped(self) -> bool:
+        """The scene is lumped 3D (``model = "lumped3d"``: shafts on bearings)."""
+        return self.model == "lumped3d"
+
 
 def spec_integrator(spec: SceneSpec) -> Newmark | DiffraxIntegrator:
     """The integrator of a case's ``[scene.integration]`` table: ``solver = "newmark"`` →

@@ -242,7 +242,7 @@ def check_table_size(case: TrainCase, scene: SceneSpec, slices: int) -> None:
         int(spp * t) if (spp * t).denominator == 1 and (spp * q) % (spp * t) == 0 else spp * q
         for t in periods
     )
-    if scene.model == "lumped3d" and scene.shafts:
+    if scene.lumped and scene.shafts:
         coords = sum(6 * (s.elements + 1 + len(s.gear_positions)) for s in scene.shafts)
     else:
         coords = case.n_shafts
