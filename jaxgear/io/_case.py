@@ -39,7 +39,7 @@ class MeshSettings:
     (each mesh's pair case, :meth:`TrainCase.mesh_case`, takes the train's).
 
     Attributes:
-        youngs_modulus (Pa), poisson_ratio (-), density (kg/m³).
+        youngs_modulus: Young's modulus (Pa); ``poisson_ratio`` (-); ``density`` (kg/m³).
         stiffness: the mesh-stiffness model (:class:`~jaxgear.AbstractStiffness`:
             :class:`~jaxgear.Uniform`, :class:`~jaxgear.ISO6336`, :class:`~jaxgear.Weber`,
             :class:`~jaxgear.FE2D`, default ``FE2D()``; the case file's ``[mesh] stiffness``
@@ -94,8 +94,9 @@ class Case(MeshSettings):
         modifications: :class:`~jaxgear.Modifications`.
         torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
             centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
-        youngs_modulus, poisson_ratio, density, stiffness, slices, positions_per_pitch,
-            smooth_width: the mesh settings (:class:`MeshSettings`; keywords only).
+        youngs_modulus: with ``poisson_ratio``, ``density``, ``stiffness``, ``slices``,
+            ``positions_per_pitch``, ``smooth_width``: the mesh settings
+            (:class:`MeshSettings`; keywords only).
         scene: the validated ``[scene]`` table (:class:`jaxgear.io.SceneSpec`) or None.
         optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
         raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
@@ -185,8 +186,9 @@ class TrainCase(MeshSettings):
             the case's input torque; the model keeps their shares of the input power
             (:meth:`shares`), so another input torque scales them all.
         speed: the input gear's speed (rad/s).
-        youngs_modulus, poisson_ratio, density, stiffness, slices, positions_per_pitch,
-            smooth_width: the mesh settings (:class:`MeshSettings`; keywords only), every
+        youngs_modulus: with ``poisson_ratio``, ``density``, ``stiffness``, ``slices``,
+            ``positions_per_pitch``, ``smooth_width``: the mesh settings
+            (:class:`MeshSettings`; keywords only), every
             mesh's.
         inertias: each gear's polar inertia (kg·m²), (n,); None: a solid disc of its tip radius
             and face width.

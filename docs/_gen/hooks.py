@@ -1,0 +1,25 @@
+"""mkdocs hooks: the generated reference pages (``reference/case-file.md``, ``train-file.md``,
+``body-file.md``) added to the site at build time from the validators
+(:mod:`docs._gen.schema_reference`), so that they cannot drift from them; and the API pages, one
+entry per public name (:mod:`docs._gen.api_pages`)."""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+from mkdocs.structure.files import File
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from docs._gen import api_pages, schema_reference  # noqa: E402
+
+
+def on_files(files, config):
+    for name, text in schema_reference.pages().items():
+        files.append(File.generated(config, f"reference/{name}", content=text))
+    for path, text in api_pages.pages().items():
+        files.append(File.generated(config, path, content=text))
+    return files

@@ -1,0 +1,437 @@
+"""The case-file and body-file references, read from the validators themselves.
+
+The validators of :mod:`jaxgear.io` (case files) and :mod:`fem_prep.schema` (body files) declare
+every key where they check it, through the helpers of :mod:`fem_prep.checks` (``check_keys``,
+``subtable``, ``number``, ``number_list``, ``choice``, ``boolean``, ``string``, ``name``). This
+module runs the validators on a set of sample files while recording those calls (read-only: the
+helpers are wrapped for the duration of the run and restored), and writes what they declared:
+for each table, the keys it accepts and, for each key, its type, unit (from the key's name),
+default and allowed range. Nothing here lists a key by hand, so the reference follows the
+validators.
+
+The sample files are the embedded cases and bodies, the example case files, and the case
+``SAMPLE_OVERLAYS`` (optional tables that no embedded case uses). A range computed from the case
+(a face width in normal modules, a depth up to one module) differs between samples and is shown
+with the words "depends on the case", with the samples' values.
+
+``python -m docs._gen.schema_reference OUT_DIR`` writes ``case-file.md`` and ``body-file.md``;
+the mkdocs hook (``docs/_gen/hooks.py``) generates the same pages at build time.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import dataclasses
+import pathlib
+import re
+import sys
+import tomllib
+import warnings
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import fem_prep
+from fem_prep import checks, schema as body_schema
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+#: the helpers of fem_prep.checks that declare a key
+TRACED = ("check_keys", "subtable", "number", "number_list", "choice", "boolean", "string", "name")
+
+#: unit of a key from its name's suffix (units are in key names: README, STYLE)
+UNITS = (
+    ("_N_per_mm_per_um", "N/mm/µm"),
+    ("_Nm_per_rad", "N·m/rad"),
+    ("_N_per_um", "N/µm"),
+    ("_kg_m2", "kg·m²"),
+    ("_kg_m3", "kg/m³"),
+    ("_rad_s", "rad/s"),
+    ("_per_s", "1/s"),
+    ("_GPa", "GPa"),
+    ("_deg", "deg"),
+    ("_Nm", "N·m"),
+    ("_mm", "mm"),
+    ("_um", "µm"),
+    ("_kg", "kg"),
+    ("_Hz", "Hz"),
+    ("_SI", "SI"),
+    ("_N", "N"),
+    ("_s", "s"),
+)
+
+#: optional tables no embedded case holds, added to an embedded pair case to trace them
+SAMPLE_OVERLAYS: dict[str, str] = {
+    "deviations": """
+[deviations]
+grade = 6
+seed = 1
+revolutions = 1
+positions_per_pitch = 16
+"""
+    + "".join(
+        f"""
+[deviations.{member}]
+pitch_um = [{", ".join(["0.0"] * teeth)}]
+runout_um = 8.0
+runout_phase_deg = 0.0
+profile_slope_um = 1.0
+profile_form_um = 1.0
+helix_slope_um = 1.0
+helix_form_um = 1.0
+"""
+        for member, teeth in (("pinion", 45), ("gear", 86))  # accessory-spur's teeth
+    ),
+    "robust": """
+[robust]
+grade = 6
+samples = 20
+speeds_rad_s = [800.0]
+""",
+    "optimise": """
+[optimise]
+objective = "robust_te_rms"
+vars = ["tip_relief.depth", "tip_relief.extent"]
+torques = [40.0, 80.0, 3]
+reduce = "max"
+method = "lbfgs"
+max_iterations = 10
+[optimise.bounds]
+"tip_relief.depth" = [0.0, 2.0]
+""",
+    "optimise lp": """
+[optimise]
+objective = "line_load_lp"
+lp_order = 8
+""",
+    "modifications": """
+[modifications]
+tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }
+root_relief = { depth_um = 5.0, extent = 0.2 }
+crowning = { depth_um = 2.0 }
+end_relief = { depth_um = 5.0, extent = 0.1, edge = "both" }
+helix_slope = { deviation_um = 1.0 }
+profile_deviation = { roll_fraction = [0.0, 0.5, 1.0], deviation_um = [0.0, 1.0, 0.0] }
+[modifications.pinion]
+crowning = { depth_um = 3.0 }
+""",
+    "torsional scene": """
+[scene]
+model = "torsional"
+pinion_inertia_kg_m2 = 1e-4
+gear_inertia_kg_m2 = 5e-4
+motor_inertia_kg_m2 = 1e-2
+motor_shaft_stiffness_Nm_per_rad = 1e4
+load_inertia_kg_m2 = 1e-2
+load_shaft_stiffness_Nm_per_rad = 1e4
+[scene.damping]
+model = "rayleigh"
+alpha_per_s = 10.0
+beta_s = 1e-7
+""",
+}
+
+#: where paths → the table they belong to (array indices collapsed: ``gears[2]`` → ``gears[]``)
+_INDEX = re.compile(r"\[\d+\]")
+#: the per-member modification tables of a pair: the same entries as ``[modifications]``
+_MEMBER_MODS = re.compile(r"^modifications\.(pinion|gear)\.")
+#: tables whose keys are names the file chooses (not schema keys)
+NAMED_KEYS = {"optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents)"}
+#: the default ``name`` of a case (its file's name, without the extension)
+FILE_NAME = "the-file-name"
+#: what stands for a name the file gives a gear or a shaft
+NAME = "<name>"
+
+
+def table_path(where: str, names: frozenset = frozenset()) -> str:
+    """A validator's ``where`` (``gears[2]``, ``scene.bodies.idler``) → its table's name, the
+    file's own ``names`` (of gears and shafts) replaced by ``<name>``."""
+    where = _MEMBER_MODS.sub("modifications.", _INDEX.sub("[]", where))
+    parts = [NAME if p in names else p for p in where.split(".")] if where else []
+    parts = [NAME if p.removesuffix("[]") in names else p for p in parts]
+    return ".".join(parts)
+
+
+@dataclasses.dataclass
+class KeyInfo:
+    """What the validators declared about one key (over every sample)."""
+
+    kind: set = dataclasses.field(default_factory=set)
+    defaults: set = dataclasses.field(default_factory=set)
+    allowed: set = dataclasses.field(default_factory=set)
+    required: bool = False
+
+
+@dataclasses.dataclass
+class Schema:
+    """Tables (``''`` the top level) → {key: KeyInfo}; keys only accepted carry an empty info."""
+
+    tables: dict[str, dict[str, KeyInfo]] = dataclasses.field(default_factory=dict)
+    names: frozenset = frozenset()  # the sample file's gear and shaft names
+
+    def table(self, where: str) -> dict[str, KeyInfo]:
+        return self.tables.setdefault(table_path(where, self.names), {})
+
+    def key(self, where: str, key: str) -> KeyInfo:
+        key = NAME if key in self.names else str(key)
+        return self.table(where).setdefault(key, KeyInfo())
+
+    def merged(self) -> Schema:
+        """The tables of an array of tables that the validator names by the element's name
+        (``gears.<name>``) merged into the array's (``gears[]``)."""
+        out = Schema(names=self.names)
+        for t, keys in self.tables.items():
+            head, _, tail = t.partition("." + NAME)
+            if tail == "" and t.endswith("." + NAME) and head + "[]" in self.tables:
+                t = head + "[]"
+            elif tail and head + "[]" in self.tables:
+                t = head + "[]" + tail
+            into = out.tables.setdefault(t, {})
+            for k, info in keys.items():
+                have = into.setdefault(k, KeyInfo())
+                have.kind |= info.kind
+                have.defaults |= info.defaults
+                have.allowed |= info.allowed
+                have.required |= info.required
+        for t, keys in out.tables.items():  # a key that is a table of its own
+            for k, info in keys.items():
+                inner = table_path(f"{t}.{k}.x".lstrip("."))[:-2]  # [modifications.pinion]
+                if inner in out.tables or inner + "[]" in out.tables:
+                    info.kind.add("table")
+        return out
+
+    def accepted(self) -> dict[str, set[str]]:
+        """Each table's accepted keys (the user-named ones left out)."""
+        return {
+            t: {k for k in keys if t not in NAMED_KEYS}
+            for t, keys in self.tables.items()
+        }
+
+
+def _fmt(v: Any) -> str:
+    return checks.fmt(v)
+
+
+class _Recorder:
+    """Wraps the helpers of :mod:`fem_prep.checks` while a validator runs."""
+
+    def __init__(self, schema: Schema):
+        self.schema = schema
+        self.depth_in_body = 0  # a case loading a body file: the body's keys are not the case's
+        self.own_bodies = False
+
+    def record(self, name: str, args: tuple, kw: dict) -> None:
+        if self.depth_in_body and not self.own_bodies:
+            return
+        s = self.schema
+        if name == "check_keys":
+            table, allowed, where = args[:3]
+            for k in allowed:
+                s.key(where, k)
+            return
+        if name == "subtable":
+            data, key, where = args[:3]
+            allowed = args[3] if len(args) > 3 else kw.get("allowed")
+            inner = f"{where}.{key}" if where else str(key)
+            info = s.key(where, key)
+            info.kind.add("table")
+            info.required |= bool(kw.get("required"))
+            s.table(inner)
+            for k in allowed or ():
+                s.key(inner, k)
+            return
+        table, key, where = args[:3]
+        info = s.key(where, key)
+        default = args[3] if len(args) > 3 and name != "choice" else kw.get("default", checks.MISSING)
+        if name == "choice":
+            default = args[4] if len(args) > 4 else kw.get("default", checks.MISSING)
+            info.kind.add("string")
+            info.allowed.add(", ".join(repr(c) for c in args[3]))
+        elif name == "number":
+            info.kind.add("integer" if kw.get("integer") else "number")
+            info.allowed.add(str(checks.interval(kw.get("allowed"))) + kw.get("note", ""))
+        elif name == "number_list":
+            info.kind.add("array of numbers")
+            rng = str(checks.interval(kw.get("allowed")))
+            if kw.get("length"):
+                rng += f", length {kw['length']}"
+            elif kw.get("min_length"):
+                rng += f", at least {kw['min_length']} values"
+            info.allowed.add(rng)
+        elif name == "boolean":
+            info.kind.add("boolean")
+        else:  # string, name
+            info.kind.add("string" if name == "string" else "name")
+        if default is checks.MISSING:
+            info.required = True
+        elif default is not None:
+            info.defaults.add(_fmt(default))
+
+    @contextlib.contextmanager
+    def active(self) -> Iterator[None]:
+        # the helpers are read as ``fem_prep.checks.X`` and as ``fem_prep.schema.X`` (re-exported)
+        saved = {n: getattr(checks, n) for n in TRACED}
+        saved_load = fem_prep.load_body
+
+        def wrap(name, f):
+            def traced(*args, **kw):
+                self.record(name, args, kw)
+                return f(*args, **kw)
+
+            return traced
+
+        def load_body(*args, **kw):
+            self.depth_in_body += 1
+            try:
+                return saved_load(*args, **kw)
+            finally:
+                self.depth_in_body -= 1
+
+        for n in TRACED:
+            traced = wrap(n, saved[n])
+            setattr(checks, n, traced)
+            setattr(body_schema, n, traced)
+        fem_prep.load_body = load_body
+        try:
+            yield
+        finally:
+            for n, f in saved.items():
+                setattr(checks, n, f)
+                setattr(body_schema, n, f)
+            fem_prep.load_body = saved_load
+
+
+def _case_samples() -> Iterator[tuple[dict, str | None]]:
+    """(parsed TOML, base folder) of every sample case file."""
+    import jaxgear.io as jio
+
+    for name in jio.list_cases():
+        yield tomllib.loads(jio.embedded_case_text(name)), None
+    for path in sorted((ROOT / "examples").glob("*.toml")):
+        yield tomllib.loads(path.read_text(encoding="utf-8")), str(path.parent)
+    base = tomllib.loads(jio.embedded_case_text("accessory-spur"))
+    for text in SAMPLE_OVERLAYS.values():
+        data = copy.deepcopy(base)
+        extra = tomllib.loads(text)
+        for k in extra:
+            data.pop(k, None)
+        data.update(extra)
+        yield data, None
+
+
+def trace_cases() -> tuple[Schema, Schema]:
+    """The schemas of pair case files and of train case files, as the validator declares them."""
+    from jaxgear.io import _train_file
+    import jaxgear.io as jio
+
+    pair, train = Schema(), Schema()
+    for data, base in _case_samples():
+        is_train = _train_file.is_train(data)
+        schema = train if is_train else pair
+        gears = data.get("gears", []) if is_train else []
+        schema.names = frozenset(g.get("name") for g in gears) | {g.get("shaft") for g in gears}
+        rec = _Recorder(schema)
+        with rec.active(), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            (jio.parse_train if is_train else jio.parse_case)(data, FILE_NAME, base)
+    return pair.merged(), train.merged()
+
+
+def trace_bodies() -> Schema:
+    """The body-file schema, as :func:`fem_prep.schema.parse_body` declares it."""
+    schema = Schema()
+    rec = _Recorder(schema)
+    rec.own_bodies = True
+    with rec.active():
+        for name in body_schema.embedded_bodies():
+            body_schema.parse_body(body_schema.embedded_body_text(name), default_name=FILE_NAME)
+    return schema.merged()
+
+
+def unit(key: str) -> str:
+    for suffix, u in UNITS:
+        if key.endswith(suffix):
+            return u
+    return ""
+
+
+def _cell(values: set, many: str = "depends on the case") -> str:
+    vals = sorted(v for v in values if v)
+    if not vals:
+        return ""
+    if len(vals) == 1:
+        return vals[0]
+    return f"{many}: " + "; ".join(vals[:3]) + (" …" if len(vals) > 3 else "")
+
+
+def _escape(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def _heading(table: str) -> str:
+    """``scene.shafts[].bearings[]`` → ``[[scene.shafts.bearings]]`` (an array of tables)."""
+    if table == "":
+        return "top level"
+    bare = table.replace("[]", "")
+    return f"[[{bare}]]" if table.endswith("[]") else f"[{bare}]"
+
+
+def markdown(schema: Schema, title: str, intro: str, notes: dict[str, str] | None = None) -> str:
+    """The reference page of one file kind."""
+    out = [f"# {title}", "", intro, ""]
+    notes = notes or {}
+    for table in sorted(schema.tables, key=lambda t: (t != "", t)):
+        keys = schema.tables[table]
+        out += [f"## `{_heading(table)}`", ""]
+        if table in NAMED_KEYS:
+            out += [f"Keys: {NAMED_KEYS[table]}.", ""]
+            continue
+        if table in notes:
+            out += [notes[table], ""]
+        out += ["| key | type | unit | default | allowed |", "|---|---|---|---|---|"]
+        for key in sorted(keys):
+            info = keys[key]
+            kind = " or ".join(sorted(info.kind)) or "see the guide"
+            default = "required" if info.required and not info.defaults else _cell(info.defaults)
+            row = [f"`{key}`", kind, unit(key), default, _cell(info.allowed)]
+            out.append("| " + " | ".join(_escape(c) for c in row) + " |")
+        out.append("")
+    return "\n".join(out) + "\n"
+
+
+CASE_INTRO = """\
+Generated from the case-file validator (`jaxgear.io.parse_case`, `jaxgear.io.parse_train`) by
+`docs/_gen/schema_reference.py` each time the site is built: every key the validator accepts,
+its type, unit, default and allowed range, table by table. Units are in the key names and the
+ranges are in those units. Unknown keys are errors. A range that *depends on the case* is
+computed from other keys (a face width in normal modules, a depth up to one normal module): the
+values shown are the embedded cases'. *Required* keys are asked for when their table (or the
+model they belong to, such as the torsional scene's inertias) is used. Keys whose type is *see the guide* are checked by their
+table's own rules (the user guide pages describe them). A file is a *train* case when it has `[[gears]]`."""
+
+BODY_INTRO = """\
+Generated from the body-file validator (`fem_prep.schema.parse_body`) by
+`docs/_gen/schema_reference.py` each time the site is built: every key, its type, unit, default
+and allowed range. Lengths are in mm, the modulus in GPa. A case file names a body file in
+`[scene.gear_body] body`, `[scene.pinion_body] body` or `[scene.bodies.<shaft>] body`."""
+
+
+def pages() -> dict[str, str]:
+    """``{file name: markdown}`` of the generated reference pages."""
+    pair, train = trace_cases()
+    bodies = trace_bodies()
+    case_page = markdown(pair, "Case-file reference: a gear pair", CASE_INTRO)
+    train_page = markdown(train, "Case-file reference: a gear train", CASE_INTRO)
+    body_page = markdown(bodies, "Body-file reference (fem_prep)", BODY_INTRO)
+    return {"case-file.md": case_page, "train-file.md": train_page, "body-file.md": body_page}
+
+
+def main(argv: list[str] | None = None) -> None:
+    out = pathlib.Path((argv or sys.argv[1:] or ["."])[0])
+    out.mkdir(parents=True, exist_ok=True)
+    for name, text in pages().items():
+        (out / name).write_text(text, encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main()
