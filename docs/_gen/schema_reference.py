@@ -114,6 +114,8 @@ helix_slope = { deviation_um = 1.0 }
 profile_deviation = { roll_fraction = [0.0, 0.5, 1.0], deviation_um = [0.0, 1.0, 0.0] }
 [modifications.pinion]
 crowning = { depth_um = 3.0 }
+[modifications.gear]
+tip_relief = { depth_um = 8.0 }
 """,
     "torsional scene": """
 [scene]
@@ -160,6 +162,7 @@ class KeyInfo:
     defaults: set = dataclasses.field(default_factory=set)
     allowed: set = dataclasses.field(default_factory=set)
     required: bool = False
+    accepted: bool = False  # listed by check_keys/subtable (a check alone does not accept a key)
 
 
 @dataclasses.dataclass
@@ -174,6 +177,10 @@ class Schema:
 
     def key(self, where: str, key: str) -> KeyInfo:
         key = NAME if key in self.names else str(key)
+        head, dot, leaf = key.rpartition(".")
+        if dot and table_path(where, self.names) not in NAMED_KEYS:
+            # an inline table's key as its messages write it: [body] holes.count
+            where, key = f"{where}.{head}" if where else head, leaf
         return self.table(where).setdefault(key, KeyInfo())
 
     def merged(self) -> Schema:
@@ -187,12 +194,16 @@ class Schema:
             elif tail and head + "[]" in self.tables:
                 t = head + "[]" + tail
             into = out.tables.setdefault(t, {})
+            listed = any(info.accepted for info in keys.values())
             for k, info in keys.items():
+                if listed and not info.accepted:  # checked by a shared parser, refused here
+                    continue
                 have = into.setdefault(k, KeyInfo())
                 have.kind |= info.kind
                 have.defaults |= info.defaults
                 have.allowed |= info.allowed
                 have.required |= info.required
+                have.accepted |= info.accepted
         for t, keys in out.tables.items():  # a key that is a table of its own
             for k, info in keys.items():
                 inner = table_path(f"{t}.{k}.x".lstrip("."))[:-2]  # [modifications.pinion]
@@ -227,18 +238,19 @@ class _Recorder:
         if name == "check_keys":
             table, allowed, where = args[:3]
             for k in allowed:
-                s.key(where, k)
+                s.key(where, k).accepted = True
             return
         if name == "subtable":
             data, key, where = args[:3]
             allowed = args[3] if len(args) > 3 else kw.get("allowed")
             inner = f"{where}.{key}" if where else str(key)
-            info = s.key(where, key)
-            info.kind.add("table")
-            info.required |= bool(kw.get("required"))
+            if "." not in str(key):  # a dotted key names a table further down (a train's gear)
+                info = s.key(where, key)
+                info.kind.add("table")
+                info.required |= bool(kw.get("required"))
             s.table(inner)
             for k in allowed or ():
-                s.key(inner, k)
+                s.key(inner, k).accepted = True
             return
         table, key, where = args[:3]
         info = s.key(where, key)
@@ -319,6 +331,12 @@ def _case_samples() -> Iterator[tuple[dict, str | None]]:
         yield data, None
 
 
+def _gear_and_shaft_names(data: dict) -> frozenset:
+    """The names a train file gives its gears and shafts."""
+    gears = [g for g in data.get("gears", []) if isinstance(g, dict)]
+    return frozenset(g.get("name") for g in gears) | {g.get("shaft") for g in gears} - {None}
+
+
 def trace_cases() -> tuple[Schema, Schema]:
     """The schemas of pair case files and of train case files, as the validator declares them."""
     from jaxgear.io import _train_file
@@ -328,8 +346,7 @@ def trace_cases() -> tuple[Schema, Schema]:
     for data, base in _case_samples():
         is_train = _train_file.is_train(data)
         schema = train if is_train else pair
-        gears = data.get("gears", []) if is_train else []
-        schema.names = frozenset(g.get("name") for g in gears) | {g.get("shaft") for g in gears}
+        schema.names = _gear_and_shaft_names(data) if is_train else frozenset()
         rec = _Recorder(schema)
         with rec.active(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
