@@ -13,8 +13,12 @@ import pytest
 pytest.importorskip(
     "mkdocs", reason='the docs packages are not installed (pip install -e ".[docs]")'
 )
-pytest.importorskip("mkdocstrings", reason='mkdocstrings is not installed (pip install -e ".[docs]")')
-pytest.importorskip("material", reason='mkdocs-material is not installed (pip install -e ".[docs]")')
+pytest.importorskip(
+    "mkdocstrings", reason='mkdocstrings is not installed (pip install -e ".[docs]")'
+)
+pytest.importorskip(
+    "material", reason='mkdocs-material is not installed (pip install -e ".[docs]")'
+)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -24,9 +28,22 @@ def site(tmp_path_factory):
     out = tmp_path_factory.mktemp("site")
     env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", "PYTHONPATH": str(ROOT)}
     run = subprocess.run(
-        [sys.executable, "-m", "mkdocs", "build", "--strict", "-f", str(ROOT / "mkdocs.yml"),
-         "-d", str(out)],
-        cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
+        [
+            sys.executable,
+            "-m",
+            "mkdocs",
+            "build",
+            "--strict",
+            "-f",
+            str(ROOT / "mkdocs.yml"),
+            "-d",
+            str(out),
+        ],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     return out
@@ -35,11 +52,27 @@ def site(tmp_path_factory):
 def test_strict_build_and_navigation(site):
     """Every section of the navigation is a page of the site."""
     for page in (
-        "getting-started", "guide/pair", "guide/modifications", "guide/dynamics", "guide/trains",
-        "guide/flexible", "guide/deviations", "reference/case-file", "reference/train-file",
-        "reference/body-file", "api/jaxgear", "api/jaxgear.scenes", "api/jaxgear.dynamics",
-        "api/jaxgear.io", "api/optimise", "api/fem_prep", "examples", "design", "benchmarks",
-        "changelog", "developers",
+        "getting-started",
+        "guide/pair",
+        "guide/modifications",
+        "guide/dynamics",
+        "guide/trains",
+        "guide/flexible",
+        "guide/deviations",
+        "reference/case-file",
+        "reference/train-file",
+        "reference/body-file",
+        "api/jaxgear",
+        "api/jaxgear.scenes",
+        "api/jaxgear.dynamics",
+        "api/jaxgear.io",
+        "api/optimise",
+        "api/fem_prep",
+        "examples",
+        "design",
+        "benchmarks",
+        "changelog",
+        "developers",
     ):
         assert (site / page / "index.html").is_file(), page
 

@@ -20,7 +20,6 @@ import pytest
 import jaxgear.io as jio
 from docs._gen import schema_reference as sr
 from fem_prep import schema as body_schema
-from jaxgear.io import _train_file
 
 UNKNOWN = "zz_not_a_key"
 # an inline table's keys are written with its name in front: [body] unknown key 'holes.zz…'
@@ -79,7 +78,10 @@ def _check(schema, samples, parse_of):
             seen.add(table)
             assert table in schema.tables, f"table [{table}] missing from the reference"
             allowed = {sr.NAME if k in names else k for k in _allowed(parse, data, path)}
-            assert allowed == set(schema.tables[table]), (table, allowed ^ set(schema.tables[table]))
+            assert allowed == set(schema.tables[table]), (
+                table,
+                allowed ^ set(schema.tables[table]),
+            )
     return seen
 
 
@@ -96,15 +98,15 @@ def references():
     return sr.trace_cases()
 
 
-def _case_samples(train: bool):
-    for data, base in sr._case_samples():
-        if _train_file.is_train(data) == train:
+def case_samples(train: bool):
+    for data, base in sr.case_samples():
+        if sr.is_train(data) == train:
             yield data, base
 
 
 def test_pair_reference_holds_the_validators_keys(references):
     pair, _ = references
-    samples = list(_case_samples(train=False))
+    samples = list(case_samples(train=False))
     by_id = {id(d): b for d, b in samples}
     seen = _check(
         pair,
@@ -117,9 +119,9 @@ def test_pair_reference_holds_the_validators_keys(references):
 
 def test_train_reference_holds_the_validators_keys(references):
     _, train = references
-    samples = list(_case_samples(train=True))
+    samples = list(case_samples(train=True))
     for data, base in samples:
-        names = sr._gear_and_shaft_names(data)
+        names = sr.gear_and_shaft_names(data)
         train.names = names
         _check(train, [data], lambda d, b=base: lambda x: jio.parse_train(x, "probe", b))
     assert {"", "gears[]", "meshes[]", "scene", "scene.shafts[]"} <= set(train.tables)
@@ -170,7 +172,7 @@ def test_reference_pages_list_every_key(references):
     pair, _ = references
     page = sr.markdown(pair, "t", "")
     for table, keys in pair.tables.items():
-        assert f"## `{sr._heading(table)}`" in page
+        assert f"## `{sr.heading(table)}`" in page
         if table not in sr.NAMED_KEYS:
             for key in keys:
                 assert f"| `{key}` |" in page, (table, key)

@@ -10,7 +10,11 @@ import types
 
 #: the documented packages: (module, page file, one-line summary)
 PACKAGES = (
-    ("jaxgear", "jaxgear.md", "the model: geometry, mesh stiffness, modifications, contact, quasi-statics"),
+    (
+        "jaxgear",
+        "jaxgear.md",
+        "the model: geometry, mesh stiffness, modifications, contact, quasi-statics",
+    ),
     ("jaxgear.scenes", "jaxgear.scenes.md", "the structures the contact acts on"),
     ("jaxgear.dynamics", "jaxgear.dynamics.md", "time integration, modal analysis, speed sweeps"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
@@ -51,8 +55,12 @@ def page(module_name: str, summary: str) -> str:
         "",
     ]
     if values:
-        out += ["Tables of names (case-file and command-line names mapped to objects): "
-                + ", ".join(f"`{v}`" for v in values) + ".", ""]
+        out += [
+            "Tables of names (case-file and command-line names mapped to objects): "
+            + ", ".join(f"`{v}`" for v in values)
+            + ".",
+            "",
+        ]
     for name in callables:
         out += [f"::: {module_name}.{name}", ""]
     return "\n".join(out)

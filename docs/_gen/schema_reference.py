@@ -28,7 +28,7 @@ import re
 import sys
 import tomllib
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from typing import Any
 
 import fem_prep
@@ -213,10 +213,7 @@ class Schema:
 
     def accepted(self) -> dict[str, set[str]]:
         """Each table's accepted keys (the user-named ones left out)."""
-        return {
-            t: {k for k in keys if t not in NAMED_KEYS}
-            for t, keys in self.tables.items()
-        }
+        return {t: {k for k in keys if t not in NAMED_KEYS} for t, keys in self.tables.items()}
 
 
 def _fmt(v: Any) -> str:
@@ -254,7 +251,9 @@ class _Recorder:
             return
         table, key, where = args[:3]
         info = s.key(where, key)
-        default = args[3] if len(args) > 3 and name != "choice" else kw.get("default", checks.MISSING)
+        default = (
+            args[3] if len(args) > 3 and name != "choice" else kw.get("default", checks.MISSING)
+        )
         if name == "choice":
             default = args[4] if len(args) > 4 else kw.get("default", checks.MISSING)
             info.kind.add("string")
@@ -313,7 +312,7 @@ class _Recorder:
             fem_prep.load_body = saved_load
 
 
-def _case_samples() -> Iterator[tuple[dict, str | None]]:
+def case_samples() -> Iterator[tuple[dict, str | None]]:
     """(parsed TOML, base folder) of every sample case file."""
     import jaxgear.io as jio
 
@@ -331,7 +330,14 @@ def _case_samples() -> Iterator[tuple[dict, str | None]]:
         yield data, None
 
 
-def _gear_and_shaft_names(data: dict) -> frozenset:
+def is_train(data: dict) -> bool:
+    """Whether a parsed case file is a train case (the loader's own test)."""
+    from jaxgear.io import _train_file
+
+    return _train_file.is_train(data)
+
+
+def gear_and_shaft_names(data: dict) -> frozenset:
     """The names a train file gives its gears and shafts."""
     gears = [g for g in data.get("gears", []) if isinstance(g, dict)]
     return frozenset(g.get("name") for g in gears) | {g.get("shaft") for g in gears} - {None}
@@ -339,18 +345,17 @@ def _gear_and_shaft_names(data: dict) -> frozenset:
 
 def trace_cases() -> tuple[Schema, Schema]:
     """The schemas of pair case files and of train case files, as the validator declares them."""
-    from jaxgear.io import _train_file
     import jaxgear.io as jio
 
     pair, train = Schema(), Schema()
-    for data, base in _case_samples():
-        is_train = _train_file.is_train(data)
-        schema = train if is_train else pair
-        schema.names = _gear_and_shaft_names(data) if is_train else frozenset()
+    for data, base in case_samples():
+        train_case = is_train(data)
+        schema = train if train_case else pair
+        schema.names = gear_and_shaft_names(data) if train_case else frozenset()
         rec = _Recorder(schema)
         with rec.active(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            (jio.parse_train if is_train else jio.parse_case)(data, FILE_NAME, base)
+            (jio.parse_train if train_case else jio.parse_case)(data, FILE_NAME, base)
     return pair.merged(), train.merged()
 
 
@@ -385,7 +390,7 @@ def _escape(text: str) -> str:
     return text.replace("|", "\\|")
 
 
-def _heading(table: str) -> str:
+def heading(table: str) -> str:
     """``scene.shafts[].bearings[]`` → ``[[scene.shafts.bearings]]`` (an array of tables)."""
     if table == "":
         return "top level"
@@ -399,7 +404,7 @@ def markdown(schema: Schema, title: str, intro: str, notes: dict[str, str] | Non
     notes = notes or {}
     for table in sorted(schema.tables, key=lambda t: (t != "", t)):
         keys = schema.tables[table]
-        out += [f"## `{_heading(table)}`", ""]
+        out += [f"## `{heading(table)}`", ""]
         if table in NAMED_KEYS:
             out += [f"Keys: {NAMED_KEYS[table]}.", ""]
             continue
@@ -423,8 +428,9 @@ its type, unit, default and allowed range, table by table. Units are in the key 
 ranges are in those units. Unknown keys are errors. A range that *depends on the case* is
 computed from other keys (a face width in normal modules, a depth up to one normal module): the
 values shown are the embedded cases'. *Required* keys are asked for when their table (or the
-model they belong to, such as the torsional scene's inertias) is used. Keys whose type is *see the guide* are checked by their
-table's own rules (the user guide pages describe them). A file is a *train* case when it has `[[gears]]`."""
+model they belong to, such as the torsional scene's inertias) is used. Keys whose type is *see
+the guide* are checked by their table's own rules (the user guide pages describe them). A file
+is a *train* case when it has `[[gears]]`."""
 
 BODY_INTRO = """\
 Generated from the body-file validator (`fem_prep.schema.parse_body`) by
