@@ -328,6 +328,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
             data.pop(k, None)
         data.update(extra)
         yield data, None
+    # both members condensed: the flexible case with a condensed pinion too
+    data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
+    data["scene"]["pinion_body"] = {"body": "accessory-pinion"}
+    yield data, None
 
 
 def is_train(data: dict) -> bool:
@@ -402,7 +406,12 @@ def markdown(schema: Schema, title: str, intro: str, notes: dict[str, str] | Non
     """The reference page of one file kind."""
     out = [f"# {title}", "", intro, ""]
     notes = notes or {}
-    for table in sorted(schema.tables, key=lambda t: (t != "", t)):
+    # the tables in the order the validator checks them, each with its sub-tables
+    order = list(schema.tables)
+    top = {}
+    for i, t in enumerate(order):
+        top.setdefault(t.split(".")[0], i)
+    for table in sorted(order, key=lambda t: (t != "", top[t.split(".")[0]], order.index(t))):
         keys = schema.tables[table]
         out += [f"## `{heading(table)}`", ""]
         if table in NAMED_KEYS:
