@@ -176,3 +176,15 @@ def test_reference_pages_list_every_key(references):
         if table not in sr.NAMED_KEYS:
             for key in keys:
                 assert f"| `{key}` |" in page, (table, key)
+
+
+def test_every_key_says_what_it_allows(references):
+    """No row of the references is empty: each key has a type (number, integer, string, table,
+    …) or the validator's own words for what it allows (a key checked by its table's code, such
+    as a train gear's ``hand``: 'right', 'left')."""
+    for schema in (*references, sr.trace_bodies()):
+        for table, keys in schema.tables.items():
+            for key, info in keys.items():
+                assert info.kind or info.allowed, (table, key)
+    _, train = references
+    assert train.tables["gears[]"]["hand"].allowed == {"'right', 'left'"}

@@ -28,7 +28,7 @@ import re
 import sys
 import tomllib
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import fem_prep
@@ -151,6 +151,8 @@ def table_path(where: str, names: frozenset = frozenset()) -> str:
     where = _MEMBER_MODS.sub("modifications.", _INDEX.sub("[]", where))
     parts = [NAME if p in names else p for p in where.split(".")] if where else []
     parts = [NAME if p.removesuffix("[]") in names else p for p in parts]
+    if parts[:2] == ["modifications", NAME] and len(parts) > 2:  # a train gear's own entries
+        parts = ["modifications", *parts[2:]]
     return ".".join(parts)
 
 
@@ -328,6 +330,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
             data.pop(k, None)
         data.update(extra)
         yield data, None
+    # a train gear's own modifications
+    data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
+    data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}
+    yield data, None
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
     data["scene"]["pinion_body"] = {"body": "accessory-pinion"}
@@ -360,7 +366,88 @@ def trace_cases() -> tuple[Schema, Schema]:
         with rec.active(), warnings.catch_warnings():
             warnings.simplefilter("ignore")
             (jio.parse_train if train_case else jio.parse_case)(data, FILE_NAME, base)
-    return pair.merged(), train.merged()
+    pair, train = pair.merged(), train.merged()
+    for schema, train_case in ((pair, False), (train, True)):
+        samples = [(d, b) for d, b in case_samples() if is_train(d) == train_case]
+        for data, base in samples:
+            schema.names = gear_and_shaft_names(data) if train_case else frozenset()
+            probe_undeclared(
+                schema,
+                [(data, base)],
+                lambda d, b: (
+                    lambda x: (jio.parse_train if train_case else jio.parse_case)(x, "p", b)
+                ),
+            )
+    return pair, train
+
+
+def tables_of(data: dict, path: tuple = ()) -> Iterator[tuple]:
+    """The path (keys and array indices) of every table of a parsed file."""
+    yield path
+    table = data
+    for part in path:
+        table = table[part]
+    for key, value in table.items():
+        if isinstance(value, dict):
+            yield from tables_of(data, (*path, key))
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            yield from tables_of(data, (*path, key, 0))
+
+
+def where_of(path: tuple) -> str:
+    """A table's path as the validators write it (``scene.shafts[0]``)."""
+    text = ""
+    for part in path:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else part)
+    return text
+
+
+#: wrong values given to a key whose checks the helpers do not declare: the validator's error
+#: then says what the key allows
+PROBES = (-1e300, "zz_wrong")
+_TOLD = re.compile(r"^\[(?:[^\[\]]|\[\d+\])*\] (?P<key>[\w.-]+)(?: = .*?)?: (?P<what>.*)$")
+
+
+def _told(parse: Callable[[dict], Any], data: dict, path: tuple, key: str, value) -> str | None:
+    """What the validator says about ``key`` = ``value`` in the table at ``path``, or None when
+    it accepts the value or speaks of something else."""
+    data = copy.deepcopy(data)
+    table = data
+    for part in path:
+        table = table[part]
+    table[key] = value
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            parse(data)
+    except ValueError as err:
+        m = _TOLD.match(str(err))
+        if m and m.group("key").rpartition(".")[2] == key:
+            return m.group("what").split(", got ")[0]
+    return None
+
+
+def probe_undeclared(schema: Schema, samples, parse_of) -> None:
+    """Fill in the ``allowed`` of the keys checked by their table's own code (no helper call
+    declared them): the validator's own words for a wrong value, from the first sample file that
+    holds the table."""
+    for data, base in samples:
+        parse = parse_of(data, base)
+        for path in tables_of(data):
+            table = table_path(where_of(path), schema.names)
+            head, _, tail = table.partition("." + NAME)
+            if table not in schema.tables and head + "[]" in schema.tables:
+                table = head + "[]" + tail
+            for key, info in schema.tables.get(table, {}).items():
+                if info.kind or info.allowed or key == NAME or table in NAMED_KEYS:
+                    continue
+                for value in PROBES:
+                    what = _told(parse, data, path, key, value)
+                    if what and ("allowed" in what or "must" in what):
+                        info.allowed.add(
+                            what.removeprefix("out of range, ").removeprefix("allowed ")
+                        )
+                        break
 
 
 def trace_bodies() -> Schema:
@@ -422,7 +509,7 @@ def markdown(schema: Schema, title: str, intro: str, notes: dict[str, str] | Non
         out += ["| key | type | unit | default | allowed |", "|---|---|---|---|---|"]
         for key in sorted(keys):
             info = keys[key]
-            kind = " or ".join(sorted(info.kind)) or "see the guide"
+            kind = " or ".join(sorted(info.kind)) or ("table" if not info.allowed else "")
             default = "required" if info.required and not info.defaults else _cell(info.defaults)
             row = [f"`{key}`", kind, unit(key), default, _cell(info.allowed)]
             out.append("| " + " | ".join(_escape(c) for c in row) + " |")
@@ -437,9 +524,9 @@ its type, unit, default and allowed range, table by table. Units are in the key 
 ranges are in those units. Unknown keys are errors. A range that *depends on the case* is
 computed from other keys (a face width in normal modules, a depth up to one normal module): the
 values shown are the embedded cases'. *Required* keys are asked for when their table (or the
-model they belong to, such as the torsional scene's inertias) is used. Keys whose type is *see
-the guide* are checked by their table's own rules (the user guide pages describe them). A file
-is a *train* case when it has `[[gears]]`."""
+model they belong to, such as the torsional scene's inertias) is used. For a key checked by its
+table's own code, *allowed* quotes the validator's message for a wrong value. A file is a
+*train* case when it has `[[gears]]`."""
 
 BODY_INTRO = """\
 Generated from the body-file validator (`fem_prep.schema.parse_body`) by
