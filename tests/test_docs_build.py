@@ -5,26 +5,19 @@ the API pages the public names with their signatures. About 6 s."""
 
 import os
 import pathlib
+import re
 import subprocess
 import sys
 
 import pytest
-
-pytest.importorskip(
-    "mkdocs", reason='the docs packages are not installed (pip install -e ".[docs]")'
-)
-pytest.importorskip(
-    "mkdocstrings", reason='mkdocstrings is not installed (pip install -e ".[docs]")'
-)
-pytest.importorskip(
-    "material", reason='mkdocs-material is not installed (pip install -e ".[docs]")'
-)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
+    for module in ("mkdocs", "mkdocstrings", "material"):  # the [docs] extra (also in [test])
+        pytest.importorskip(module, reason=f'{module} is not installed (pip install -e ".[docs]")')
     out = tmp_path_factory.mktemp("site")
     env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", "PYTHONPATH": str(ROOT)}
     run = subprocess.run(
@@ -86,3 +79,23 @@ def test_generated_pages_hold_keys_and_signatures(site):
     api = (site / "api/jaxgear/index.html").read_text(encoding="utf-8")
     assert 'id="jaxgear.quasi_static"' in api and "positions_per_pitch" in api
     assert 'id="jaxgear.GearPair"' in api and "N·m" in api
+
+
+HISTORY = re.compile(
+    r"\bsession \d+\b|\b(?:this|previous|until|one|each) session\b|before the move"
+    r"|\bcommit [0-9a-f]{7}\b|\([0-9a-f]{7,40}\)",
+    re.IGNORECASE,
+)
+
+
+def test_user_pages_do_not_tell_development_history():
+    """No page of the site speaks of the development sessions or names a commit, but the
+    changelog (user-facing changes by version) and the developers' architecture page."""
+    found = []
+    for page in sorted((ROOT / "docs").rglob("*.md")):
+        if page.name in ("changelog.md", "architecture.md") or "_gen" in page.parts:
+            continue
+        for n, line in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
+            if HISTORY.search(line):
+                found.append(f"{page.relative_to(ROOT)}:{n}: {line.strip()}")
+    assert not found, "\n".join(found)
