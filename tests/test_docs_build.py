@@ -99,3 +99,13 @@ def test_user_pages_do_not_tell_development_history():
             if HISTORY.search(line):
                 found.append(f"{page.relative_to(ROOT)}:{n}: {line.strip()}")
     assert not found, "\n".join(found)
+
+
+def test_validation_page_names_existing_tests():
+    """Every test file the validation page cites exists (the page cannot point at a check that
+    is gone)."""
+    text = (ROOT / "docs" / "validation.md").read_text(encoding="utf-8")
+    named = set(re.findall(r"`(tests/test_\w+\.py)`", text))
+    assert len(named) >= 15
+    missing = sorted(n for n in named if not (ROOT / n).is_file())
+    assert not missing, missing
