@@ -70,6 +70,16 @@ def test_strict_build_and_navigation(site):
         assert (site / page / "index.html").is_file(), page
 
 
+def test_every_example_has_a_page_with_its_figure(site):
+    """Each script and notebook of examples/ has a page (generated, listed under Examples); a
+    script that writes a figure into docs/ shows it."""
+    for path in [*(ROOT / "examples").glob("*.py"), *(ROOT / "examples").glob("*.ipynb")]:
+        page = site / "examples" / path.stem / "index.html"
+        assert page.is_file(), path.name
+    html = (site / "examples" / "pressure_crowning" / "index.html").read_text(encoding="utf-8")
+    assert 'src="../../pressure_crowning.png"' in html
+
+
 def test_generated_pages_hold_keys_and_signatures(site):
     """The case-file reference lists a key with its unit and range (``[pinion] face_width_mm``,
     required, > 0); the API page of jaxgear documents ``quasi_static`` with its signature and

@@ -1,7 +1,8 @@
 """mkdocs hooks: the generated reference pages (``reference/case-file.md``, ``train-file.md``,
 ``body-file.md``) added to the site at build time from the validators
 (:mod:`docs._gen.schema_reference`), so that they cannot drift from them; and the API pages, one
-entry per public name (:mod:`docs._gen.api_pages`)."""
+entry per public name (:mod:`docs._gen.api_pages`); and a page per example
+(:mod:`docs._gen.example_pages`), listed under Examples in the navigation."""
 
 from __future__ import annotations
 
@@ -14,12 +15,23 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from docs._gen import api_pages, schema_reference  # noqa: E402
+from docs._gen import api_pages, example_pages, schema_reference  # noqa: E402
+
+
+def on_config(config):
+    """The Examples section of the navigation: the overview, then a page per example."""
+    pages = [{pathlib.Path(path).stem: path} for path in example_pages.pages()]
+    for i, item in enumerate(config["nav"]):
+        if isinstance(item, dict) and "Examples" in item:
+            config["nav"][i] = {"Examples": ["examples.md", *pages]}
+    return config
 
 
 def on_files(files, config):
     for name, text in schema_reference.pages().items():
         files.append(File.generated(config, f"reference/{name}", content=text))
     for path, text in api_pages.pages().items():
+        files.append(File.generated(config, path, content=text))
+    for path, (_, text) in example_pages.pages().items():
         files.append(File.generated(config, path, content=text))
     return files

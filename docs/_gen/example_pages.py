@@ -1,0 +1,69 @@
+"""The example pages: one page per script and notebook of ``examples/`` (its docstring or
+Markdown cells, the figure it writes into ``docs/`` when there is one, and its source), so that
+a new example gets its page without editing one."""
+
+from __future__ import annotations
+
+import ast
+import json
+import pathlib
+import re
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+DOCS = ROOT / "docs"
+#: a figure the source names: "name.png"
+FIGURE = re.compile(r"([A-Za-z0-9_]+\.png)")
+
+
+def _figures(source: str) -> list[str]:
+    """The PNG files of docs/ that the source writes (named in it)."""
+    names = dict.fromkeys(FIGURE.findall(source))
+    return [n for n in names if (DOCS / n).is_file()]
+
+
+def script_page(path: pathlib.Path) -> tuple[str, str]:
+    """(title, markdown) of an example script."""
+    source = path.read_text(encoding="utf-8")
+    doc = ast.get_docstring(ast.parse(source)) or ""
+    title, _, body = doc.partition("\n")
+    out = [f"# `{path.name}`", "", title, "", body.strip(), ""]
+    out += [f"![{n}](../{n})" for n in _figures(source)] + [""]
+    out += [
+        f"Run from the repository root: `python examples/{path.name}`.",
+        "",
+        '??? example "Source"',
+        "",
+        "    ```python",
+        *("    " + line if line else "" for line in source.splitlines()),
+        "    ```",
+        "",
+    ]
+    return title.rstrip("."), "\n".join(out)
+
+
+def notebook_page(path: pathlib.Path) -> tuple[str, str]:
+    """(title, markdown) of an example notebook: its Markdown cells and its code."""
+    cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+    out = [f"# `{path.name}`", ""]
+    title = ""
+    for cell in cells:
+        text = "".join(cell["source"])
+        if cell["cell_type"] == "markdown":
+            text = re.sub(r"^(#+) ", lambda m: "#" + m.group(1) + " ", text, flags=re.M)
+            title = title or text.strip().splitlines()[0].lstrip("# ")
+            out += [text, ""]
+        elif cell["cell_type"] == "code" and text.strip():
+            out += ["```python", text, "```", ""]
+    out += [f"Open it with Jupyter: `jupyter lab examples/{path.name}`.", ""]
+    return title, "\n".join(out)
+
+
+def pages() -> dict[str, tuple[str, str]]:
+    """``{page path: (title, markdown)}`` of every example."""
+    out = {}
+    for path in sorted(EXAMPLES.glob("*.py")):
+        out[f"examples/{path.stem}.md"] = script_page(path)
+    for path in sorted(EXAMPLES.glob("*.ipynb")):
+        out[f"examples/{path.stem}.md"] = notebook_page(path)
+    return out
