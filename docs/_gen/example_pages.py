@@ -9,6 +9,8 @@ import json
 import pathlib
 import re
 
+from docs._gen.griffe_roles import plain
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 DOCS = ROOT / "docs"
@@ -25,8 +27,9 @@ def _figures(source: str) -> list[str]:
 def script_page(path: pathlib.Path) -> tuple[str, str]:
     """(title, markdown) of an example script."""
     source = path.read_text(encoding="utf-8")
-    doc = ast.get_docstring(ast.parse(source)) or ""
-    title, _, body = doc.partition("\n")
+    doc = plain(ast.get_docstring(ast.parse(source)) or "")
+    title, _, body = doc.partition("\n\n")  # the first paragraph, then the rest
+    title = " ".join(title.split())
     out = [f"# `{path.name}`", "", title, "", body.strip(), ""]
     out += [f"![{n}](../{n})" for n in _figures(source)] + [""]
     out += [
@@ -52,7 +55,7 @@ def notebook_page(path: pathlib.Path) -> tuple[str, str]:
         if cell["cell_type"] == "markdown":
             text = re.sub(r"^(#+) ", lambda m: "#" + m.group(1) + " ", text, flags=re.M)
             title = title or text.strip().splitlines()[0].lstrip("# ")
-            out += [text, ""]
+            out += [plain(text), ""]
         elif cell["cell_type"] == "code" and text.strip():
             out += ["```python", text, "```", ""]
     out += [f"Open it with Jupyter: `jupyter lab examples/{path.name}`.", ""]
