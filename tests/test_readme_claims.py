@@ -247,3 +247,11 @@ def test_moved_claims_are_still_stated():
         "Γ ≈ 0.74, E ≈ 33 µm",
     ):
         assert claim in flat, claim
+
+
+def test_readme_default_case_figures():
+    """README: "the embedded default case (`accessory-spur`: the thesis's Tab. III-1 spur pair
+    at 80 N·m)": 45/86 teeth (Tab. III-1), 80 N·m."""
+    case = jio.load_case("accessory-spur")
+    assert case.torque == 80.0
+    assert (case.pair.pinion.teeth, case.pair.gear.teeth) == (45, 86)
