@@ -278,7 +278,7 @@ class _Recorder:
         if default is checks.MISSING:
             info.required = True
         elif default is not None:
-            info.defaults.add(_fmt(default))
+            info.defaults.add("the file's name" if default == FILE_NAME else _fmt(default))
 
     @contextlib.contextmanager
     def active(self) -> Iterator[None]:
