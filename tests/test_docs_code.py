@@ -3,10 +3,15 @@ the blocks of a page one after another in one namespace (as a reader runs them),
 renamed function or a changed signature fails here and not for a user. The pages use small
 settings (4 slices, 16 positions per mesh period) so that each page runs in a few seconds."""
 
+import copy
 import pathlib
 import re
+import tomllib
+import warnings
 
 import pytest
+
+import jaxgear.io as jio
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "docs" / "getting-started.md", *sorted((ROOT / "docs" / "guide").glob("*.md"))]
@@ -33,3 +38,27 @@ def test_page_code_runs(page, capsys):
         exec(compile(code, f"{page.name}[block {i}]", "exec"), namespace)  # noqa: S102
     out = capsys.readouterr().out
     assert "nan" not in out.lower().split(), out  # printed figures are numbers
+
+
+TOML = re.compile(r"^```toml\n(.*?)^```", re.DOTALL | re.MULTILINE)
+
+
+@pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT / "docs").as_posix())
+def test_page_case_files_are_valid(page):
+    """Every ```toml block of the getting-started and user-guide pages is a valid case file: a
+    whole file (a pair with [pair], a train with [[gears]]) as it stands, a table alone put
+    into the default case in place of its own. The validator checks them before any work, as
+    for a user's file."""
+    base = tomllib.loads(jio.embedded_case_text("accessory-spur"))
+    for block in TOML.findall(page.read_text(encoding="utf-8")):
+        data = tomllib.loads(block)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", jio.CaseWarning)
+            if "gears" in data:
+                jio.parse_train(data, "docs")
+            elif "pair" in data:
+                jio.parse_case(data, "docs")
+            else:
+                case = copy.deepcopy(base)
+                case.update(data)
+                jio.parse_case(case, "docs")
