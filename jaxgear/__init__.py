@@ -53,6 +53,33 @@ from ._pressure import (
     contact_pressure as contact_pressure,
     relative_radius as relative_radius,
 )
+from ._rating import (
+    BendingRating as BendingRating,
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    LoadFactors as LoadFactors,
+    Lubrication as Lubrication,
+    OperatingPoint as OperatingPoint,
+    PittingRating as PittingRating,
+    Rating as Rating,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
+    bending_rating as bending_rating,
+    load_factors as load_factors,
+    pitting_rating as pitting_rating,
+    rate as rate,
+)
+from ._rating_bending import (
+    ToothFormFactors as ToothFormFactors,
+    tooth_form_factors as tooth_form_factors,
+)
+from ._rating_geometry import RatingGeometry as RatingGeometry
+from ._rating_material import (
+    AbstractTreatment as AbstractTreatment,
+    CaseHardened as CaseHardened,
+    Nitrided as Nitrided,
+    ThroughHardened as ThroughHardened,
+)
 from ._quasi_static import (
     MeshResult as MeshResult,
     QuasiStaticResult as QuasiStaticResult,
