@@ -5,21 +5,21 @@ differentiable ``jax.numpy`` functions of the pair's macro geometry
 an argument, never a field of the settings) and the settings (:class:`RatingSettings`: material,
 lubrication, accuracy, life, application factor and any given load factors).
 
-Pitting (ISO 6336-2:2019, clauses 5-11)::
+Pitting (ISO 6336-2:2019)::
 
     σ_H0 = Z_H Z_E Z_ε Z_β √(F_t (u + 1) / (d₁ b u))            F_t = 2 T₁ / d₁
     σ_H  = Z_B,D σ_H0 √(K_A K_v K_Hβ K_Hα)                       (pinion Z_B, gear Z_D)
     σ_HG = σ_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X,  σ_HP = σ_HG / S_Hmin,  S_H = σ_HG / σ_H
 
-Bending (ISO 6336-3:2019, clauses 5-15; Y_F, Y_S: :func:`jaxgear.tooth_form_factors`)::
+Bending (ISO 6336-3:2019; Y_F, Y_S: :func:`jaxgear.tooth_form_factors`)::
 
     σ_F0 = F_t / (b m_n) Y_F Y_S Y_β Y_B Y_DT,   σ_F = σ_F0 K_A K_v K_Fβ K_Fα
     σ_FG = σ_Flim Y_ST Y_NT Y_δrelT Y_RrelT Y_X,  σ_FP = σ_FG / S_Fmin,  S_F = σ_FG / σ_F
 
-Load factors (ISO 6336-1:2019): K_v method B (6.5, the resonance ratio N from c_γα and the
-reduced mass of solid blanks), K_Hβ from the helix slope deviation (7.6, F_βx = f_Hβ: no shaft
-deflection, no helix correction, no adjustment), K_Fβ = K_Hβ^N_F (7.6.8), K_Hα = K_Fα
-method B (8.3); a factor given in :class:`GivenFactors` replaces the computed one (and the
+Load factors (ISO 6336-1:2019): K_v method B (clause 6, the resonance ratio N from c_γα and the
+reduced mass of solid blanks), K_Hβ from the helix slope deviation (clause 7, F_βx = f_Hβ: no shaft
+deflection, no helix correction, no adjustment), K_Fβ = K_Hβ^N_F (clause 7), K_Hα = K_Fα
+method B (clause 8); a factor given in :class:`GivenFactors` replaces the computed one (and the
 factors computed after it use the given value). Each factor reports its source.
 """
 
@@ -88,8 +88,8 @@ class RatingMaterial(eqx.Module):
             slip layer, size factor); default :class:`CaseHardened`.
     """
 
-    sigma_h_lim: Float[Array, "2"]
-    sigma_f_lim: Float[Array, "2"]
+    sigma_h_lim: Float[Array, 2]
+    sigma_f_lim: Float[Array, 2]
     youngs_modulus: Float[Array, ""]
     poisson_ratio: Float[Array, ""]
     density: Float[Array, ""]
@@ -126,8 +126,8 @@ class Lubrication(eqx.Module):
     ``roughness_flank`` and ``roughness_root`` R_z (m), (pinion, gear)."""
 
     viscosity_40: Float[Array, ""]
-    roughness_flank: Float[Array, "2"]
-    roughness_root: Float[Array, "2"]
+    roughness_flank: Float[Array, 2]
+    roughness_root: Float[Array, 2]
 
     def __init__(self, viscosity_40, roughness_flank, roughness_root):
         w = "Lubrication"
@@ -190,7 +190,7 @@ class RatingSettings(eqx.Module):
         material: :class:`RatingMaterial`. lubrication: :class:`Lubrication`.
         accuracy: :class:`GearAccuracy`. life: required life (s). application_factor: K_A.
         given: :class:`GivenFactors`. tip_relief: C_a (m) of K_v; ``None``: the running-in
-            value C_ay = (σ_Hlim/97 − 18.45)²/18 + 1.5 µm (σ_Hlim in N/mm², ISO 6336-1 6.5.9).
+            value C_ay = (σ_Hlim/97 − 18.45)²/18 + 1.5 µm (σ_Hlim in N/mm², ISO 6336-1 clause 6).
         min_safety_pitting, min_safety_bending: S_Hmin, S_Fmin (σ_HP = σ_HG/S_Hmin; 1 default).
     """
 
@@ -274,6 +274,26 @@ class Rating(eqx.Module):
     pitting: PittingRating
     bending: BendingRating
 
+    def scope_notes(self) -> list[str]:
+        """Where the inputs leave the standard's scope, one line each naming the clause (empty
+        when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress correction factor), K_v's main
+        resonance range 0.85 < N < 1.15 (ISO 6336-1, dynamic factor: method B is not to be
+        used there). Concrete values only (not under ``jit``)."""
+        notes = []
+        for tag, q in zip(("pinion", "gear"), self.bending.form.q_s.tolist(), strict=True):
+            if not 1.0 <= q < 8.0:
+                notes.append(
+                    f"ISO 6336-3 stress correction factor Y_S: {tag} notch parameter q_s = "
+                    f"{q:.4g} is outside the method's scope 1 <= q_s < 8"
+                )
+        n = float(self.factors.details["resonance_ratio_N"])
+        if self.factors.sources["K_v"] != "given" and 0.85 < n < 1.15:
+            notes.append(
+                f"ISO 6336-1 dynamic factor K_v: resonance ratio N = {n:.4g} in the main "
+                "resonance range (0.85, 1.15), where the gears should not run: give K_v"
+            )
+        return notes
+
     def summary(self) -> dict:
         """The ``rating`` section of ``summary.json``: SI units (stresses in Pa), per-gear values
         as [pinion, gear] lists, each load factor with its source."""
@@ -351,9 +371,7 @@ def _stiffness(geometry: RatingGeometry, g, settings: RatingSettings, specific_l
         + c[8] * x2**2
     )
     an_deg = geometry.normal_pressure_angle * 180 / jnp.pi
-    cb = jnp.mean(
-        (1 + 0.5 * (1.2 - geometry.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg))
-    )
+    cb = jnp.mean((1 + 0.5 * (1.2 - geometry.dedendum_coeff)) * (1 - 0.02 * (20.0 - an_deg)))
     e = settings.material.youngs_modulus
     low = jnp.minimum(specific_load / LOW_LOAD, 1.0) ** 0.25
     c1 = 1e9 / q * 0.8 * cb * jnp.cos(beta) * e / E_STEEL * low
@@ -361,8 +379,8 @@ def _stiffness(geometry: RatingGeometry, g, settings: RatingSettings, specific_l
 
 
 def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
-    """K_v, ISO 6336-1 method B (6.5.4-6.5.9): the resonance ratio N = ω₁/ω_E1 with ω_E1 =
-    √(c_γα/m_red)/z₁ and m_red of two solid blanks (6.5.9 (30)), and the regions of N."""
+    """K_v, ISO 6336-1 clause 6 (method B): the resonance ratio N = ω₁/ω_E1 with ω_E1 =
+    √(c_γα/m_red)/z₁ and m_red of two solid blanks, and the regions of N."""
     c1, cga = stiffness
     mat, acc, tr = settings.material, settings.accuracy, settings.material.treatment
     dm = (g.tip_diameter + g.root_diameter) / 2
@@ -402,7 +420,7 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
 
 
 def _face_factor(settings, cga, f_m_per_b):
-    """K_Hβ (7.6): F_βx = f_Hβ, at least 0.005 µm per N/mm of F_m/b (5e-12 m²/N); F_βy =
+    """K_Hβ (ISO 6336-1 clause 7): F_βx = f_Hβ, at least 0.005 µm per N/mm of F_m/b (5e-12 m²/N); F_βy =
     F_βx − y_β (running-in); c_γβ = 0.85 c_γα; K_Hβ = 1 + F_βy c_γβ/(2 F_m/b) up to 2, else
     √(2 F_βy c_γβ/(F_m/b)) (F_m = F_t K_A K_v)."""
     acc, tr = settings.accuracy, settings.material.treatment
@@ -413,12 +431,14 @@ def _face_factor(settings, cga, f_m_per_b):
 
 
 def _transverse_factors(geometry, g, settings, cga, f_th_per_b):
-    """K_Hα and K_Fα (8.3, method B), limited to [1, ε_γ/(ε_α Z_ε²)] and [1, ε_γ/(0.25 ε_α +
+    """K_Hα and K_Fα (ISO 6336-1 clause 8, method B), limited to [1, ε_γ/(ε_α Z_ε²)] and [1, ε_γ/(0.25 ε_α +
     0.75)]."""
     acc, tr = settings.accuracy, settings.material.treatment
     ea, eb = g.transverse_contact_ratio, g.overlap_ratio
     eg = ea + eb
-    f_eff = acc.base_pitch - tr.running_in_alpha(acc.base_pitch, jnp.min(settings.material.sigma_h_lim))
+    f_eff = acc.base_pitch - tr.running_in_alpha(
+        acc.base_pitch, jnp.min(settings.material.sigma_h_lim)
+    )
     term = cga * f_eff / f_th_per_b
     k = jnp.where(
         eg <= 2,
@@ -435,7 +455,7 @@ def load_factors(
     geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings
 ) -> LoadFactors:
     """K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα at the operating point (module docstring; ISO 6336-1:2019
-    6.5 method B, 7.6, 8.3 method B); given factors replace computed ones."""
+    clauses 6, 7, 8, method B); given factors replace computed ones."""
     given = settings.given
     g = geometry.derived()
     ka = as_float(settings.application_factor)
@@ -468,14 +488,14 @@ def load_factors(
 
 
 def _contact_ratio_factor(ea, eb, geometry):
-    """Z_ε (clause 8): spur √((4 − ε_α)/3); helical √((4 − ε_α)/3 (1 − ε_β) + ε_β/ε_α) for
+    """Z_ε (contact ratio factor): spur √((4 − ε_α)/3); helical √((4 − ε_α)/3 (1 − ε_β) + ε_β/ε_α) for
     ε_β < 1, √(1/ε_α) from ε_β = 1."""
     eb1 = jnp.minimum(eb, 1.0)
     return jnp.sqrt((4 - ea) / 3 * (1 - eb1) + eb1 / ea)
 
 
 def _single_pair_factors(g, geometry):
-    """Z_B, Z_D (clause 6.2): M₁, M₂ at the inner points of single pair contact; spur max(1, M),
+    """Z_B, Z_D (single pair tooth contact factors): M₁, M₂ at the inner points of single pair contact; spur max(1, M),
     helical ε_β < 1 max(1, M − ε_β (M − 1)), ε_β >= 1: 1."""
     z = jnp.asarray(geometry.teeth, dtype=g.center_distance.dtype)
     ea, eb = g.transverse_contact_ratio, jnp.minimum(g.overlap_ratio, 1.0)
@@ -491,7 +511,7 @@ def _single_pair_factors(g, geometry):
 
 
 def _c_zl(sigma_h_lim):
-    """C_ZL of clause 11 (σ_Hlim of the softer gear)."""
+    """C_ZL of the lubricant factor Z_L (σ_Hlim of the softer gear)."""
     s = sigma_h_lim * 1e-6
     return jnp.clip(0.08 * (s - 850.0) / 350.0 + 0.83, 0.83, 0.91)
 
@@ -576,7 +596,7 @@ def pitting_rating(
 
 
 def _rim_factor(geometry: RatingGeometry, g):
-    """Y_B (clause 8): 1.6 ln(2.242 h_t/s_R) for s_R/h_t < 1.2, 1 above (solid blank: 1)."""
+    """Y_B (rim thickness factor): 1.6 ln(2.242 h_t/s_R) for s_R/h_t < 1.2, 1 above (solid blank: 1)."""
     h_t = (g.tip_diameter - g.root_diameter) / 2
     out = []
     for i, s_r in enumerate(geometry.rim_thickness):
@@ -595,10 +615,10 @@ def bending_rating(
 ) -> BendingRating:
     """ISO 6336-3:2019 method B at the operating point (module docstring).
 
-    Y_β = (1 − ε_β β/120°)/cos³ β with ε_β <= 1, β <= 30° (clause 7; the 2006 edition had no
-    1/cos³ β); Y_DT = 1 but for flank tolerance classes <= 4 with ε_αn > 2.05 (clause 9);
+    Y_β = (1 − ε_β β/120°)/cos³ β with ε_β <= 1, β <= 30° (the 2006 edition had no 1/cos³ β);
+    Y_DT = 1 but for flank tolerance classes <= 4 with ε_αn > 2.05 (deep tooth factor);
     Y_δrelT = (1 + √(ρ' χ*))/(1 + √(ρ' χ*_T)), χ* = (1 + 2 q_s)/5 mm⁻¹, χ*_T = 1.2 mm⁻¹
-    (clause 13, method B); Y_RrelT, Y_X and Y_NT from the material's treatment; the face width
+    (method B); Y_RrelT, Y_X and Y_NT from the material's treatment; the face width
     of each gear is at most the other's plus one module each side.
 
     Returns:
@@ -655,9 +675,7 @@ def bending_rating(
     )
 
 
-def rate(
-    geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings
-) -> Rating:
+def rate(geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings) -> Rating:
     """The whole rating: :func:`load_factors`, :func:`pitting_rating`, :func:`bending_rating`
     at one operating point (a pair's geometry: ``RatingGeometry.of(pair)``). Pure and jit-able
     (``eqx.filter_jit``); differentiable with respect to the array fields of the geometry, the

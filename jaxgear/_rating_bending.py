@@ -3,9 +3,9 @@
 The critical section of the tooth root is where the tangent to the generated fillet makes 30°
 with the tooth centre line; the load acts at the outer point of single pair tooth contact of the
 virtual spur gear (helical gears: the virtual gear of the normal section, z_n = z/(cos² β_b cos
-β)). With the basic rack (h_fP, ρ_fP, α_n, no protuberance) and the profile shift x (clause 6.2):
+β)). With the basic rack (h_fP, ρ_fP, α_n, no protuberance) and the profile shift x:
 
-    E = π m_n/4 − h_fP tan α_n − (1 − sin α_n) ρ_fP / cos α_n                       (6.2)
+    E = π m_n/4 − h_fP tan α_n − (1 − sin α_n) ρ_fP / cos α_n
     G = ρ_fP/m_n − h_fP/m_n + x,    H = 2/z_n (π/2 − E/m_n) − π/3
     θ = 2G/z_n tan θ − H              (solved by a fixed count of Newton steps from π/6)
     s_Fn = m_n [z_n sin(π/3 − θ) + √3 (G/cos θ − ρ_fP/m_n)]          root chord
@@ -15,7 +15,7 @@ virtual spur gear (helical gears: the virtual gear of the normal section, z_n = 
     α_Fen = α_en − γ_e
     h_Fe = m_n/2 [(cos γ_e − sin γ_e tan α_Fen) d_en/m_n − z_n cos(π/3 − θ) − G/cos θ + ρ_fP/m_n]
     Y_F = 6 (h_Fe/m_n) cos α_Fen / ((s_Fn/m_n)² cos α_n)
-    Y_S = (1.2 + 0.13 L) q_s^(1/(1.21 + 2.3/L)),   L = s_Fn/h_Fe,  q_s = s_Fn/(2 ρ_F)  (6.3)
+    Y_S = (1.2 + 0.13 L) q_s^(1/(1.21 + 2.3/L)),   L = s_Fn/h_Fe,  q_s = s_Fn/(2 ρ_F)
 
 with d_n = m_n z_n, d_bn = d_n cos α_n, d_an = d_n + d_a − d, ε_αn = ε_α / cos² β_b. Every
 quantity is a ``jax.numpy`` function of the :class:`jaxgear.RatingGeometry` parameters, so Y_F
@@ -49,20 +49,20 @@ class ToothFormFactors(NamedTuple):
             (2 ρ_F). virtual_teeth: z_n. eps_alpha_n: ε_αn.
     """
 
-    Y_F: Float[Array, "2"]
-    Y_S: Float[Array, "2"]
-    s_Fn: Float[Array, "2"]
-    rho_F: Float[Array, "2"]
-    h_Fe: Float[Array, "2"]
-    alpha_Fen: Float[Array, "2"]
-    theta: Float[Array, "2"]
-    q_s: Float[Array, "2"]
-    virtual_teeth: Float[Array, "2"]
+    Y_F: Float[Array, 2]
+    Y_S: Float[Array, 2]
+    s_Fn: Float[Array, 2]
+    rho_F: Float[Array, 2]
+    h_Fe: Float[Array, 2]
+    alpha_Fen: Float[Array, 2]
+    theta: Float[Array, 2]
+    q_s: Float[Array, 2]
+    virtual_teeth: Float[Array, 2]
     eps_alpha_n: Float[Array, ""]
 
 
 def _theta(G, H, zn):
-    """θ of θ = 2G/z_n tan θ − H by Newton's method from π/6 (ISO 6336-3 (6.2))."""
+    """θ of θ = 2G/z_n tan θ − H by Newton's method from π/6 (ISO 6336-3, method B)."""
     t = jnp.full_like(zn, jnp.pi / 6)
     for _ in range(THETA_STEPS):
         f = t - 2 * G / zn * jnp.tan(t) + H
@@ -110,7 +110,7 @@ def tooth_form_factors(geometry: RatingGeometry) -> ToothFormFactors:
     ) * jnp.cos(an) / z * (eps_an - 1)
     den = 2 * jnp.sqrt(reach**2 + dbn**2 / 4)
     aen = jnp.arccos(dbn / den)
-    inv = lambda a: jnp.tan(a) - a  # noqa: E731
+    inv = lambda a: jnp.tan(a) - a
     gamma_e = (jnp.pi / 2 + 2 * x * jnp.tan(an)) / zn + inv(an) - inv(aen)
     afen = aen - gamma_e
     h_fe = (

@@ -7,12 +7,11 @@ have gradients: :class:`RatingGeometry` holds those parameters as arrays and rec
 ISO 21771 geometry from them with ``jax.numpy`` (:meth:`RatingGeometry.derived`).
 
 Sources: ISO 21771:2007 (involute geometry, profile shift, operating pressure angle (40)), ISO
-6336-1:2019 clause 3 (symbols). SI units; angles in rad.
+6336-1:2019 (symbols). SI units; angles in rad.
 """
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 import equinox as eqx
@@ -84,11 +83,11 @@ class RatingGeometry(eqx.Module):
     normal_module: Float[Array, ""]
     normal_pressure_angle: Float[Array, ""]
     helix_angle: Float[Array, ""]
-    profile_shift: Float[Array, "2"]
-    addendum_coeff: Float[Array, "2"]
-    dedendum_coeff: Float[Array, "2"]
-    fillet_radius_coeff: Float[Array, "2"]
-    face_width: Float[Array, "2"]
+    profile_shift: Float[Array, 2]
+    addendum_coeff: Float[Array, 2]
+    dedendum_coeff: Float[Array, 2]
+    fillet_radius_coeff: Float[Array, 2]
+    face_width: Float[Array, 2]
     rim_thickness: tuple = eqx.field(static=True)
     center_distance: Float[Array, ""] | None
 
@@ -119,7 +118,9 @@ class RatingGeometry(eqx.Module):
         )
 
     def replace(self, **changes) -> RatingGeometry:
-        """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``)."""
+        """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``).
+        Nothing is checked here (values may be traced): keep them a valid pair (no undercut,
+        no jam at a fixed centre distance), as :class:`jaxgear.GearPair` would check."""
         out = self
         for name, value in changes.items():
             out = eqx.tree_at(lambda g, n=name: getattr(g, n), out, as_float(value))
@@ -162,7 +163,3 @@ class RatingGeometry(eqx.Module):
             face_width=b,
             gear_ratio=self.teeth[1] / self.teeth[0],
         )
-
-
-#: degrees to radians, for the clauses that state angles in degrees
-DEG = math.pi / 180.0

@@ -6,9 +6,10 @@ through hardened, nitrided), passed to :class:`jaxgear.RatingMaterial` as an obj
 file's names map to them in :mod:`jaxgear.io` only. Every method is a pure ``jax.numpy``
 function of its arguments (SI units; cycles are counts).
 
-Sources: ISO 6336-2:2019 clause 10 (Z_NT, Table 2), ISO 6336-3:2019 clauses 12-15 (Y_NT,
-Table 3; Y_δrelT, Table 4 and (41)-(44); Y_RrelT (45)-(50); Y_X, Table 5), ISO 6336-1:2019
-6.5.9 and 7.6 (running-in allowances y_α, y_β), ISO 6336-1:2019 6.5.9 (C_ay).
+Sources (cited by the factors' titles): ISO 6336-2:2019, life factor Z_NT; ISO 6336-3:2019,
+life factor Y_NT, relative notch sensitivity factor Y_δrelT (slip-layer thickness ρ'),
+relative surface factor Y_RrelT, size factor Y_X; ISO 6336-1:2019, running-in allowances y_α
+(dynamic and transverse load factors) and y_β (face load factor).
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ class AbstractTreatment(eqx.Module):
     """The heat treatment of a gear material: the factors of ISO 6336 that depend on it.
 
     Subclasses give :meth:`z_nt`, :meth:`y_nt` (life factors at ``cycles`` load cycles),
-    :attr:`slip_layer` ρ' (m, ISO 6336-3 Table 4), :meth:`y_r_rel` (relative roughness factor
+    :attr:`slip_layer` ρ' (m, ISO 6336-3), :meth:`y_r_rel` (relative roughness factor
     at the root's R_z, m), :meth:`y_x` (size factor at m_n, m) and :meth:`running_in`
     (the allowances y_α, y_β of ISO 6336-1 from a deviation, m)."""
 
@@ -71,7 +72,7 @@ class AbstractTreatment(eqx.Module):
 
 def _y_r_hardened(rz):
     """Y_RrelT of V, GGG (perl., bai.), Eh, IF: 1.12 below R_z = 1 µm, else 1.674 −
-    0.529 (R_z + 1)^0.1 (R_z in µm; ISO 6336-3 (46)/(45))."""
+    0.529 (R_z + 1)^0.1 (R_z in µm; ISO 6336-3, relative surface factor, method B)."""
     um = rz * 1e6
     return jnp.where(um < 1.0, 1.120, 1.674 - 0.529 * (jnp.maximum(um, 1.0) + 1.0) ** 0.1)
 
@@ -107,7 +108,7 @@ class CaseHardened(AbstractTreatment):
 class ThroughHardened(AbstractTreatment):
     """Through-hardened wrought steel (V), pitting not permitted: Z_NT as :class:`CaseHardened`;
     Y_NT 2.5 at 10⁴, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' from the proof stress (``slip_layer``, m;
-    default 0.0281 mm, ISO 6336-3 Table 4 at σ_0.2 = 600 N/mm²); y_α = 160/σ_Hlim f_pb, y_β =
+    default 0.0281 mm, ISO 6336-3 at σ_0.2 = 600 N/mm²); y_α = 160/σ_Hlim f_pb, y_β =
     320/σ_Hlim F_βx (σ_Hlim in N/mm²); Y_X = 1.03 − 0.006 m_n (mm) in [0.85, 1]."""
 
     slip_layer_m: float = 0.0281e-3

@@ -268,3 +268,22 @@ def test_rating_jits_and_runs_in_float32():
     assert bool(jnp.all(jnp.isfinite(r32.bending.S_F)))
     np.testing.assert_allclose(r32.pitting.S_H, r64.pitting.S_H, rtol=1e-4)
     np.testing.assert_allclose(r32.bending.S_F, r64.bending.S_F, rtol=1e-4)
+
+
+def test_scope_notes_name_the_clause():
+    """q_s outside [1, 8) and a speed in K_v's main resonance range are noted; the TR example
+    is in scope."""
+    pair, settings, op = _tr_example_1()
+    geometry = jg.RatingGeometry.of(pair)
+    base = RATE(geometry, op, settings)
+    assert base.scope_notes() == []
+    n = float(base.factors.details["resonance_ratio_N"])  # N is proportional to the speed
+    at_resonance = RATE(geometry, jg.OperatingPoint(9000.0, op.speed / n), settings)
+    (note,) = at_resonance.scope_notes()
+    assert "ISO 6336-1 dynamic factor K_v: resonance ratio N = 1 " in note
+    # the gear cut by a sharp rack (ρ_fP = 0) with x2 = 0.5: q_s = 14.7 (q_s is the tooth's
+    # alone; the same static structure, so no recompilation)
+    sharp = geometry.replace(fillet_radius_coeff=[0.39, 0.0], profile_shift=[0.145, 0.5])
+    notes = RATE(sharp, op, settings).scope_notes()
+    assert len(notes) == 1 and "gear notch parameter q_s = 14.72" in notes[0], notes
+    assert "ISO 6336-3 stress correction factor Y_S" in notes[0]
