@@ -53,25 +53,29 @@ from ._pressure import (
     contact_pressure as contact_pressure,
     relative_radius as relative_radius,
 )
+from ._quasi_static import (
+    MeshResult as MeshResult,
+    QuasiStaticResult as QuasiStaticResult,
+    mesh_positions as mesh_positions,
+    quasi_static as quasi_static,
+    separation as separation,
+)
 from ._rating import (
     BendingRating as BendingRating,
-    GearAccuracy as GearAccuracy,
-    GivenFactors as GivenFactors,
-    LoadFactors as LoadFactors,
-    Lubrication as Lubrication,
-    OperatingPoint as OperatingPoint,
     PittingRating as PittingRating,
     Rating as Rating,
-    RatingMaterial as RatingMaterial,
-    RatingSettings as RatingSettings,
     bending_rating as bending_rating,
-    load_factors as load_factors,
     pitting_rating as pitting_rating,
     rate as rate,
 )
 from ._rating_bending import (
     ToothFormFactors as ToothFormFactors,
     tooth_form_factors as tooth_form_factors,
+)
+from ._rating_factors import (
+    LoadFactors as LoadFactors,
+    face_load_factor as face_load_factor,
+    load_factors as load_factors,
 )
 from ._rating_geometry import RatingGeometry as RatingGeometry
 from ._rating_material import (
@@ -80,12 +84,13 @@ from ._rating_material import (
     Nitrided as Nitrided,
     ThroughHardened as ThroughHardened,
 )
-from ._quasi_static import (
-    MeshResult as MeshResult,
-    QuasiStaticResult as QuasiStaticResult,
-    mesh_positions as mesh_positions,
-    quasi_static as quasi_static,
-    separation as separation,
+from ._rating_settings import (
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    Lubrication as Lubrication,
+    OperatingPoint as OperatingPoint,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,

@@ -27,6 +27,7 @@ Data and their provenance:
   pair's own geometry, jaxgear.GearPair) intersected with the tooth centre line.
 """
 
+import dataclasses
 import math
 
 import equinox as eqx
@@ -287,3 +288,41 @@ def test_scope_notes_name_the_clause():
     notes = RATE(sharp, op, settings).scope_notes()
     assert len(notes) == 1 and "gear notch parameter q_s = 14.72" in notes[0], notes
     assert "ISO 6336-3 stress correction factor Y_S" in notes[0]
+
+
+@pytest.mark.parametrize(
+    "build, words",
+    [
+        (lambda: jg.OperatingPoint(-1.0, 10.0), "OperatingPoint: torque = -1 N·m is out of range"),
+        (lambda: jg.OperatingPoint(1.0, 0.0), "OperatingPoint: speed = 0 rad/s is out of range"),
+        (lambda: jg.RatingMaterial(0.0, 4e8), "RatingMaterial: sigma_h_lim[0] = 0 Pa is out of"),
+        (lambda: jg.RatingMaterial(1e9, 4e8, poisson_ratio=0.5), "poisson_ratio = 0.5 is out of"),
+        (lambda: jg.RatingMaterial(1e9, 4e8, treatment="Eh"), "treatment = 'Eh' (str) is out of"),
+        (lambda: jg.Lubrication(-1e-6, 1e-6, 1e-6), "Lubrication: viscosity_40 = -1e-06 m²/s"),
+    ],
+)
+def test_bad_rating_inputs_are_one_line(build, words):
+    with pytest.raises(ValueError) as err:
+        build()
+    assert words in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+def test_rim_thickness_factor_of_a_thin_rimmed_gear():
+    """Y_B = 1.6 ln(2.242 h_t/s_R) for s_R/h_t < 1.2 (ISO 6336-3, rim thickness factor): the TR
+    wheel with a rim of 0.8 tooth depths h_t = 2.4 m_n below its root circle; σ_F0 of the wheel
+    scales by it, the pinion's is unchanged."""
+    pair, settings, op = _tr_example_1()
+    h_t = 2.4 * 8e-3
+    thin = jg.GearPair(
+        pair.pinion,
+        dataclasses.replace(pair.gear, rim_thickness=0.8 * h_t),
+        8e-3,
+        math.radians(20.0),
+        math.radians(15.8),
+        0.5,
+    )
+    solid = RATE(jg.RatingGeometry.of(pair), op, settings).bending
+    rimmed = RATE(jg.RatingGeometry.of(thin), op, settings).bending
+    y_b = 1.6 * math.log(2.242 / 0.8)  # 1.6488
+    np.testing.assert_allclose(rimmed.Y_B, [1.0, y_b], rtol=1e-12)
+    np.testing.assert_allclose(rimmed.sigma_F0 / solid.sigma_F0, [1.0, y_b], rtol=1e-12)
