@@ -60,6 +60,38 @@ from ._quasi_static import (
     quasi_static as quasi_static,
     separation as separation,
 )
+from ._rating import (
+    BendingRating as BendingRating,
+    PittingRating as PittingRating,
+    Rating as Rating,
+    bending_rating as bending_rating,
+    pitting_rating as pitting_rating,
+    rate as rate,
+)
+from ._rating_bending import (
+    ToothFormFactors as ToothFormFactors,
+    tooth_form_factors as tooth_form_factors,
+)
+from ._rating_factors import (
+    LoadFactors as LoadFactors,
+    face_load_factor as face_load_factor,
+    load_factors as load_factors,
+)
+from ._rating_geometry import RatingGeometry as RatingGeometry
+from ._rating_material import (
+    AbstractTreatment as AbstractTreatment,
+    CaseHardened as CaseHardened,
+    Nitrided as Nitrided,
+    ThroughHardened as ThroughHardened,
+)
+from ._rating_settings import (
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    Lubrication as Lubrication,
+    OperatingPoint as OperatingPoint,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
+)
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,
     DeviationSampler as DeviationSampler,

@@ -38,6 +38,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "load_map.png",
         "pressure_map.png",
         "harris_map.png",
+        "rating.md",  # with a [rating] table
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
     "scene": (

@@ -19,6 +19,7 @@ from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
+from ._rating_report import rating_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
@@ -226,6 +227,10 @@ def run_case(
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
         summary["deviations"] = deviation_outputs(case, mesh, os.path.join(out_dir, "deviations"))
     steps.close()
+    # [rating]: ISO 6336 load capacity, rating.md; K_Hβ measured on the rigid mesh's load map
+    rating = rating_outputs(case, out_dir, result=res["modified", "exact"])
+    if rating is not None:
+        summary["rating"] = rating
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)

@@ -41,6 +41,12 @@ from ._problem import (
     objective_from_name as objective_from_name,
     optimiser_from_name as optimiser_from_name,
 )
+from ._rating_table import (
+    TREATMENTS as TREATMENTS,
+    RatingCase as RatingCase,
+    parse_rating as parse_rating,
+    rating_of as rating_of,
+)
 from ._robust_table import parse_robust as parse_robust
 from ._scene_spec import (
     DAMPING_MODELS as DAMPING_MODELS,

@@ -24,6 +24,7 @@ from ._modifications_table import parse_modifications
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
 from ._optimise_table import parse_optimise
 from ._plausibility import CaseWarning, plausibility
+from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
 from ._scene_table import parse_scene
 
@@ -73,6 +74,12 @@ _KEY_TABLES: dict[str, set] = {
         "fe2d_size_um",
     },
 }
+#: a pair case's tables: the rating's keys too (a train is not rated yet: its parser keeps
+#: _KEY_TABLES' keys, and refuses these)
+_PAIR_KEY_TABLES = _KEY_TABLES | {
+    "material": _KEY_TABLES["material"] | MATERIAL_RATING_KEYS,
+    "operating": _KEY_TABLES["operating"] | OPERATING_RATING_KEYS,
+}
 _SCHEMA: dict[str, Any] = {
     "name": None,
     **_KEY_TABLES,
@@ -81,6 +88,7 @@ _SCHEMA: dict[str, Any] = {
     "robust": None,  # checked by parse_robust (jaxgear robust)
     "scene": None,  # checked by parse_scene
     "optimise": None,  # checked by parse_optimise
+    "rating": None,  # checked by check_rating (ISO 6336 load capacity)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -371,7 +379,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
     sc.check_keys(data, _SCHEMA, "")
     name = sc.name(data, "name", "", default_name)
-    for section, allowed in _KEY_TABLES.items():
+    for section, allowed in _PAIR_KEY_TABLES.items():
         sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
     p = data["pair"]
     pinion = _member(data, "pinion", _PAIR_MEMBER_KEYS)
@@ -425,6 +433,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         raise _geometry_error(err, data) from None
     E, nu, rho = parse_material(data)
     torque = parse_torque(data["operating"], pair)
+    check_rating(data, pair, (E, nu, rho))
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)

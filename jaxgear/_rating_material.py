@@ -1,0 +1,165 @@
+"""Material kinds of the ISO 6336 rating: the life curves, running-in allowances, slip-layer
+thickness, roughness and size factors that depend on the heat treatment.
+
+A kind of material is one concrete subclass of :class:`AbstractTreatment` (case hardened,
+through hardened, nitrided), passed to :class:`jaxgear.RatingMaterial` as an object; the case
+file's names map to them in :mod:`jaxgear.io` only. Every method is a pure ``jax.numpy``
+function of its arguments (SI units; cycles are counts).
+
+Sources (cited by the factors' titles): ISO 6336-2:2019, life factor Z_NT; ISO 6336-3:2019,
+life factor Y_NT, relative notch sensitivity factor Y_δrelT (slip-layer thickness ρ'),
+relative surface factor Y_RrelT, size factor Y_X; ISO 6336-1:2019, running-in allowances y_α
+(dynamic and transverse load factors) and y_β (face load factor).
+"""
+
+from __future__ import annotations
+
+import abc
+
+import equinox as eqx
+import jax.numpy as jnp
+
+__all__ = [
+    "AbstractTreatment",
+    "CaseHardened",
+    "Nitrided",
+    "ThroughHardened",
+    "life_curve",
+]
+
+
+def life_curve(cycles, points):
+    """A life factor that is log-linear in the number of load cycles between the ``points``
+    ((N, factor) pairs, N increasing) and constant below the first (static strength). Beyond
+    the last point the last segment is not extended: the factor stays at the last value
+    (ISO's curves end at 10¹⁰ cycles)."""
+    n = jnp.log(jnp.maximum(cycles, 1.0))
+    logs = jnp.log(jnp.asarray([p[0] for p in points], dtype=n.dtype))
+    vals = jnp.asarray([p[1] for p in points], dtype=n.dtype)
+    return jnp.interp(n, logs, vals)
+
+
+class AbstractTreatment(eqx.Module):
+    """The heat treatment of a gear material: the factors of ISO 6336 that depend on it.
+
+    Subclasses give :meth:`z_nt`, :meth:`y_nt` (life factors at ``cycles`` load cycles),
+    :attr:`slip_layer` ρ' (m, ISO 6336-3), :meth:`y_r_rel` (relative roughness factor
+    at the root's R_z, m), :meth:`y_x` (size factor at m_n, m) and :meth:`running_in`
+    (the allowances y_α, y_β of ISO 6336-1 from a deviation, m)."""
+
+    @abc.abstractmethod
+    def z_nt(self, cycles): ...
+
+    @abc.abstractmethod
+    def y_nt(self, cycles): ...
+
+    @property
+    @abc.abstractmethod
+    def slip_layer(self) -> float: ...
+
+    @abc.abstractmethod
+    def y_r_rel(self, rz): ...
+
+    @abc.abstractmethod
+    def y_x(self, normal_module): ...
+
+    @abc.abstractmethod
+    def running_in_alpha(self, deviation, sigma_h_lim): ...
+
+    @abc.abstractmethod
+    def running_in_beta(self, deviation, sigma_h_lim): ...
+
+
+def _y_r_hardened(rz):
+    """Y_RrelT of V, GGG (perl., bai.), Eh, IF: 1.12 below R_z = 1 µm, else 1.674 −
+    0.529 (R_z + 1)^0.1 (R_z in µm; ISO 6336-3, relative surface factor, method B)."""
+    um = rz * 1e6
+    return jnp.where(um < 1.0, 1.120, 1.674 - 0.529 * (jnp.maximum(um, 1.0) + 1.0) ** 0.1)
+
+
+class CaseHardened(AbstractTreatment):
+    """Case-hardened wrought steel (Eh), pitting not permitted: Z_NT 1.6 at 10⁵, 1.0 at 5·10⁷,
+    0.85 at 10¹⁰ cycles; Y_NT 2.5 at 10³, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' = 0.003 mm; y_α =
+    0.075 f_pb ≤ 3 µm, y_β = 0.15 F_βx ≤ 6 µm; Y_X = 1.05 − 0.01 m_n (mm) in [0.8, 1]."""
+
+    def z_nt(self, cycles):
+        return life_curve(cycles, ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85)))
+
+    def y_nt(self, cycles):
+        return life_curve(cycles, ((1e3, 2.5), (3e6, 1.0), (1e10, 0.85)))
+
+    @property
+    def slip_layer(self) -> float:
+        return 0.003e-3
+
+    def y_r_rel(self, rz):
+        return _y_r_hardened(rz)
+
+    def y_x(self, normal_module):
+        return jnp.clip(1.05 - 0.01 * normal_module * 1e3, 0.8, 1.0)
+
+    def running_in_alpha(self, deviation, sigma_h_lim):
+        return jnp.minimum(0.075 * deviation, 3e-6)
+
+    def running_in_beta(self, deviation, sigma_h_lim):
+        return jnp.minimum(0.15 * deviation, 6e-6)
+
+
+class ThroughHardened(AbstractTreatment):
+    """Through-hardened wrought steel (V), pitting not permitted: Z_NT as :class:`CaseHardened`;
+    Y_NT 2.5 at 10⁴, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' from the proof stress (``slip_layer``, m;
+    default 0.0281 mm, ISO 6336-3 at σ_0.2 = 600 N/mm²); y_α = 160/σ_Hlim f_pb, y_β =
+    320/σ_Hlim F_βx (σ_Hlim in N/mm²); Y_X = 1.03 − 0.006 m_n (mm) in [0.85, 1]."""
+
+    slip_layer_m: float = 0.0281e-3
+
+    def z_nt(self, cycles):
+        return life_curve(cycles, ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85)))
+
+    def y_nt(self, cycles):
+        return life_curve(cycles, ((1e4, 2.5), (3e6, 1.0), (1e10, 0.85)))
+
+    @property
+    def slip_layer(self) -> float:
+        return self.slip_layer_m
+
+    def y_r_rel(self, rz):
+        return _y_r_hardened(rz)
+
+    def y_x(self, normal_module):
+        return jnp.clip(1.03 - 0.006 * normal_module * 1e3, 0.85, 1.0)
+
+    def running_in_alpha(self, deviation, sigma_h_lim):
+        return 160.0 / (sigma_h_lim * 1e-6) * deviation
+
+    def running_in_beta(self, deviation, sigma_h_lim):
+        return 320.0 / (sigma_h_lim * 1e-6) * deviation
+
+
+class Nitrided(AbstractTreatment):
+    """Nitrided steel (NT, NV nitrided): Z_NT 1.3 at 10⁵, 1.0 at 2·10⁶, 0.85 at 10¹⁰;
+    Y_NT 1.6 at 10³, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' = 0.1005 mm; Y_RrelT = 1.025 below
+    R_z = 1 µm, else 4.299 − 3.259 (R_z + 1)^0.005; y_α, y_β and Y_X as :class:`CaseHardened`."""
+
+    def z_nt(self, cycles):
+        return life_curve(cycles, ((1e5, 1.3), (2e6, 1.0), (1e10, 0.85)))
+
+    def y_nt(self, cycles):
+        return life_curve(cycles, ((1e3, 1.6), (3e6, 1.0), (1e10, 0.85)))
+
+    @property
+    def slip_layer(self) -> float:
+        return 0.1005e-3
+
+    def y_r_rel(self, rz):
+        um = rz * 1e6
+        return jnp.where(um < 1.0, 1.025, 4.299 - 3.259 * (jnp.maximum(um, 1.0) + 1.0) ** 0.005)
+
+    def y_x(self, normal_module):
+        return jnp.clip(1.05 - 0.01 * normal_module * 1e3, 0.8, 1.0)
+
+    def running_in_alpha(self, deviation, sigma_h_lim):
+        return jnp.minimum(0.075 * deviation, 3e-6)
+
+    def running_in_beta(self, deviation, sigma_h_lim):
+        return jnp.minimum(0.15 * deviation, 6e-6)

@@ -1,0 +1,170 @@
+"""Settings and operating point of the ISO 6336 rating (:func:`jaxgear.rate`): the material,
+lubrication, accuracy, life and given load factors (:class:`RatingSettings`), and the operating
+point (:class:`OperatingPoint`), an argument of the rating, never a field of its settings. SI
+units; each constructor refuses bad input in one line naming the parameter, its value and the
+allowed range."""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ._deviations import iso1328_tolerances
+from ._geometry import GearPair
+from ._rating_material import AbstractTreatment, CaseHardened
+from ._util import as_float, check_instance, check_real
+
+__all__ = [
+    "GearAccuracy",
+    "GivenFactors",
+    "Lubrication",
+    "OperatingPoint",
+    "RatingMaterial",
+    "RatingSettings",
+]
+
+
+class OperatingPoint(eqx.Module):
+    """The operating point of a rating: ``torque`` T₁ on the pinion (N·m, > 0) and the pinion's
+    ``speed`` ω₁ (rad/s, > 0)."""
+
+    torque: Float[Array, ""]
+    speed: Float[Array, ""]
+
+    def __init__(self, torque, speed):
+        check_real("torque", torque, "N·m", lo=0.0, lo_open=True, where="OperatingPoint")
+        check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, where="OperatingPoint")
+        self.torque = as_float(torque)
+        self.speed = as_float(speed)
+
+
+class RatingMaterial(eqx.Module):
+    """The gears' material (one modulus, Poisson ratio and density for both; strength per gear).
+
+    Attributes:
+        sigma_h_lim: σ_Hlim (Pa), (pinion, gear): the allowable contact stress number (ISO
+            6336-5). sigma_f_lim: σ_Flim (Pa), the nominal bending stress number (σ_FE =
+            Y_ST σ_Flim, Y_ST = 2).
+        youngs_modulus (Pa), poisson_ratio, density (kg/m³).
+        treatment: the heat treatment, an :class:`AbstractTreatment` (life curves, running-in,
+            slip layer, size factor); default :class:`CaseHardened`.
+    """
+
+    sigma_h_lim: Float[Array, 2]
+    sigma_f_lim: Float[Array, 2]
+    youngs_modulus: Float[Array, ""]
+    poisson_ratio: Float[Array, ""]
+    density: Float[Array, ""]
+    treatment: AbstractTreatment
+
+    def __init__(
+        self,
+        sigma_h_lim,
+        sigma_f_lim,
+        youngs_modulus=206e9,
+        poisson_ratio=0.3,
+        density=7830.0,
+        treatment: AbstractTreatment | None = None,
+    ):
+        w = "RatingMaterial"
+        sh = jnp.broadcast_to(as_float(sigma_h_lim), (2,))
+        sf = jnp.broadcast_to(as_float(sigma_f_lim), (2,))
+        check_real("sigma_h_lim", sh, "Pa", lo=0.0, lo_open=True, where=w)
+        check_real("sigma_f_lim", sf, "Pa", lo=0.0, lo_open=True, where=w)
+        check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w)
+        check_real("poisson_ratio", poisson_ratio, "", lo=0.0, hi=0.5, hi_open=True, where=w)
+        check_real("density", density, "kg/m³", lo=0.0, lo_open=True, where=w)
+        treatment = CaseHardened() if treatment is None else treatment
+        check_instance("treatment", treatment, AbstractTreatment, "a jaxgear rating treatment", w)
+        self.sigma_h_lim, self.sigma_f_lim = sh, sf
+        self.youngs_modulus = as_float(youngs_modulus)
+        self.poisson_ratio = as_float(poisson_ratio)
+        self.density = as_float(density)
+        self.treatment = treatment
+
+
+class Lubrication(eqx.Module):
+    """Lubricant and surfaces: ``viscosity_40`` ν₄₀ (m²/s; ISO VG 220 is 220e-6),
+    ``roughness_flank`` and ``roughness_root`` R_z (m), (pinion, gear)."""
+
+    viscosity_40: Float[Array, ""]
+    roughness_flank: Float[Array, 2]
+    roughness_root: Float[Array, 2]
+
+    def __init__(self, viscosity_40, roughness_flank, roughness_root):
+        w = "Lubrication"
+        check_real("viscosity_40", viscosity_40, "m²/s", lo=0.0, lo_open=True, where=w)
+        rf = jnp.broadcast_to(as_float(roughness_flank), (2,))
+        rr = jnp.broadcast_to(as_float(roughness_root), (2,))
+        check_real("roughness_flank", rf, "m", lo=0.0, lo_open=True, where=w)
+        check_real("roughness_root", rr, "m", lo=0.0, lo_open=True, where=w)
+        self.viscosity_40, self.roughness_flank, self.roughness_root = (
+            as_float(viscosity_40),
+            rf,
+            rr,
+        )
+
+
+class GearAccuracy(eqx.Module):
+    """The deviations of the load factors (m): ``base_pitch`` f_pb, ``profile_form`` f_fα and
+    ``helix_slope`` f_Hβ (each the larger of the two gears'), and the ISO 1328-1 flank
+    tolerance class ``grade`` (static; Y_DT and the report). :meth:`from_grade` takes them from
+    the tolerances of ISO 1328-1:2013 (f_pb = f_pT, f_fα = f_fαT, f_Hβ = f_HβT)."""
+
+    base_pitch: Float[Array, ""]
+    profile_form: Float[Array, ""]
+    helix_slope: Float[Array, ""]
+    grade: int = eqx.field(static=True, default=6)
+
+    @classmethod
+    def from_grade(cls, pair: GearPair, grade: int) -> GearAccuracy:
+        tol = [
+            iso1328_tolerances(
+                pair.normal_module,
+                m.teeth * pair.normal_module / math.cos(pair.helix_angle),
+                m.face_width,
+                grade,
+            )
+            for m in (pair.pinion, pair.gear)
+        ]
+        return cls(
+            base_pitch=as_float(max(t.single_pitch for t in tol)),
+            profile_form=as_float(max(t.profile_form for t in tol)),
+            helix_slope=as_float(max(t.helix_slope for t in tol)),
+            grade=int(grade),
+        )
+
+
+class GivenFactors(eqx.Module):
+    """Load factors given by the user (``None``: computed by ISO 6336-1 method B)."""
+
+    K_v: float | None = None
+    K_Hbeta: float | None = None
+    K_Fbeta: float | None = None
+    K_Halpha: float | None = None
+    K_Falpha: float | None = None
+
+
+class RatingSettings(eqx.Module):
+    """Everything of a rating but the geometry and the operating point.
+
+    Attributes:
+        material: :class:`RatingMaterial`. lubrication: :class:`Lubrication`.
+        accuracy: :class:`GearAccuracy`. life: required life (s). application_factor: K_A.
+        given: :class:`GivenFactors`. tip_relief: C_a (m) of K_v; ``None``: the running-in
+            value C_ay = (σ_Hlim/97 − 18.45)²/18 + 1.5 µm (σ_Hlim in N/mm², ISO 6336-1 clause 6).
+        min_safety_pitting, min_safety_bending: S_Hmin, S_Fmin (σ_HP = σ_HG/S_Hmin; 1 default).
+    """
+
+    material: RatingMaterial
+    lubrication: Lubrication
+    accuracy: GearAccuracy
+    life: float
+    application_factor: float = 1.0
+    given: GivenFactors = GivenFactors()
+    tip_relief: float | None = None
+    min_safety_pitting: float = 1.0
+    min_safety_bending: float = 1.0

@@ -1,0 +1,118 @@
+"""``jaxgear run``'s load-capacity outputs for a case with a ``[rating]`` table: the
+``summary.json`` section (:meth:`jaxgear.Rating.summary`) and ``rating.md``, the factors the way
+rating reports print them (symbol, value per gear, the standard's part and clause title),
+written atomically."""
+
+from __future__ import annotations
+
+import functools
+import os
+import warnings
+
+import equinox as eqx
+
+from .. import face_load_factor, rate
+from ..io import Case, CaseWarning, atomic_open, rating_of
+
+__all__ = ["rating_lines", "rating_outputs"]
+
+_RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
+
+# (summary section, key, symbol, unit scale and name, clause)
+_ROWS = [
+    ("factors", "K_A", "K_A", 1, "", "ISO 6336-1, application factor"),
+    ("factors", "K_v", "K_v", 1, "", "ISO 6336-1, dynamic factor (method B)"),
+    ("factors", "K_Hbeta", "K_Hβ", 1, "", "ISO 6336-1, face load factor (contact)"),
+    ("factors", "K_Fbeta", "K_Fβ", 1, "", "ISO 6336-1, face load factor (root), K_Hβ^N_F"),
+    ("factors", "K_Halpha", "K_Hα", 1, "", "ISO 6336-1, transverse load factor (method B)"),
+    ("factors", "K_Falpha", "K_Fα", 1, "", "ISO 6336-1, transverse load factor (method B)"),
+    ("pitting", "Z_H", "Z_H", 1, "", "ISO 6336-2, zone factor"),
+    ("pitting", "Z_E_sqrt_Pa", "Z_E", 1e-3, "√(N/mm²)", "ISO 6336-2, elasticity factor"),
+    ("pitting", "Z_epsilon", "Z_ε", 1, "", "ISO 6336-2, contact ratio factor"),
+    ("pitting", "Z_beta", "Z_β", 1, "", "ISO 6336-2, helix angle factor"),
+    ("pitting", "Z_BD", "Z_B, Z_D", 1, "", "ISO 6336-2, single pair tooth contact factors"),
+    ("pitting", "sigma_H0_Pa", "σ_H0", 1e-6, "N/mm²", "ISO 6336-2, nominal contact stress"),
+    ("pitting", "sigma_H_Pa", "σ_H", 1e-6, "N/mm²", "ISO 6336-2, contact stress"),
+    ("pitting", "Z_NT", "Z_NT", 1, "", "ISO 6336-2, life factor"),
+    ("pitting", "Z_L", "Z_L", 1, "", "ISO 6336-2, lubricant factor"),
+    ("pitting", "Z_v", "Z_v", 1, "", "ISO 6336-2, velocity factor"),
+    ("pitting", "Z_R", "Z_R", 1, "", "ISO 6336-2, roughness factor"),
+    ("pitting", "sigma_HP_Pa", "σ_HP", 1e-6, "N/mm²", "ISO 6336-2, permissible contact stress"),
+    ("pitting", "S_H", "S_H", 1, "", "ISO 6336-2, safety factor for pitting"),
+    ("bending", "Y_F", "Y_F", 1, "", "ISO 6336-3, tooth form factor (method B)"),
+    ("bending", "Y_S", "Y_S", 1, "", "ISO 6336-3, stress correction factor (method B)"),
+    ("bending", "Y_beta", "Y_β", 1, "", "ISO 6336-3, helix angle factor"),
+    ("bending", "Y_B", "Y_B", 1, "", "ISO 6336-3, rim thickness factor"),
+    ("bending", "Y_DT", "Y_DT", 1, "", "ISO 6336-3, deep tooth factor"),
+    ("bending", "sigma_F0_Pa", "σ_F0", 1e-6, "N/mm²", "ISO 6336-3, nominal tooth root stress"),
+    ("bending", "sigma_F_Pa", "σ_F", 1e-6, "N/mm²", "ISO 6336-3, tooth root stress"),
+    ("bending", "Y_NT", "Y_NT", 1, "", "ISO 6336-3, life factor"),
+    ("bending", "Y_delta_rel_T", "Y_δrelT", 1, "", "ISO 6336-3, relative notch sensitivity"),
+    ("bending", "Y_R_rel_T", "Y_RrelT", 1, "", "ISO 6336-3, relative surface factor"),
+    ("bending", "Y_X", "Y_X", 1, "", "ISO 6336-3, size factor"),
+    ("bending", "sigma_FP_Pa", "σ_FP", 1e-6, "N/mm²", "ISO 6336-3, permissible root stress"),
+    ("bending", "S_F", "S_F", 1, "", "ISO 6336-3, safety factor for bending"),
+]
+
+
+@functools.singledispatch
+def _value(v, scale) -> str:
+    """A summary value as the table prints it: a number scaled to the table's unit."""
+    return f"{v * scale:.4g}"
+
+
+@_value.register(dict)
+def _(v, scale) -> str:  # a load factor with its source
+    return f"{v['value']:.4f} ({v['source']})"
+
+
+@_value.register(list)
+def _(v, scale) -> str:  # per gear
+    return " / ".join(f"{x * scale:.4g}" for x in v)
+
+
+def rating_lines(section: dict, case_name: str) -> list[str]:
+    """``rating.md``: a Markdown table of the section's factors and stresses."""
+    out = [
+        f"# {case_name}: load capacity, {section['method']}",
+        "",
+        "Per-gear values as pinion / gear. Stresses in N/mm² (summary.json: Pa).",
+        "",
+        "| symbol | value | unit | ISO 6336 |",
+        "|---|---|---|---|",
+    ]
+    for part, key, symbol, scale, unit, clause in _ROWS:
+        out.append(f"| {symbol} | {_value(section[part][key], scale)} | {unit} | {clause} |")
+    for key, m in section.get("measured", {}).items():
+        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} (not used above) |")
+    return out
+
+
+MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
+
+
+@functools.singledispatch
+def rating_outputs(case, out_dir: str, result=None) -> dict | None:
+    """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
+    the ``summary.json`` section; ``None`` (nothing written) without ``[rating]`` or for a case
+    kind that is not rated yet (trains). ``result``: the case's quasi-static result, for the
+    section's ``measured`` factors (:func:`jaxgear.face_load_factor`); they are reported beside
+    the ISO/given ones, not used in the rating."""
+    return None
+
+
+@rating_outputs.register
+def _(case: Case, out_dir: str, result=None) -> dict | None:
+    rc = rating_of(case)
+    if rc is None:
+        return None
+    rating = _RATE(rc.geometry, rc.operating, rc.settings)
+    for note in rating.scope_notes():
+        warnings.warn(f"[rating] {note}", CaseWarning, stacklevel=2)
+    section = rating.summary()
+    if result is not None:
+        k = float(face_load_factor(result))
+        section["measured"] = {"K_Hbeta": {"value": k, "source": MEASURED}}
+    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
+        f.write("\n".join(rating_lines(section, case.name)) + "\n")
+    return section

@@ -1,0 +1,203 @@
+"""The case file's load-capacity rating: ``[rating]`` with the ``[material]`` strength keys and
+the ``[operating]`` rating speed, checked whole before any work and mapped to the model's
+objects (:class:`jaxgear.RatingGeometry`, :class:`jaxgear.OperatingPoint`,
+:class:`jaxgear.RatingSettings`).
+
+Keys (file units; ranges as checked)::
+
+    [material]
+    sigma_H_lim_MPa = 1500.0        # σ_Hlim (ISO 6336-5), (0, 3000]; or [pinion, gear]
+    sigma_F_lim_MPa = 430.0         # σ_Flim (ISO 6336-5), (0, 1500]; or [pinion, gear]
+    treatment = "case_hardened"     # | "through_hardened" | "nitrided" (life curves, ρ', Y_X)
+    [operating]
+    speed_rpm = 1165.9              # pinion speed of the rating, (0, 1e6] 1/min
+                                    # (without it: speed_rad_s, which must then be > 0)
+    [rating]                        # ISO 6336:2019 method B
+    application_factor = 1.25       # K_A, [1, 10], default 1
+    life_h = 175200.0               # required life, (0, 1e7] h
+    viscosity_40C_mm2_s = 220.0     # ν_40, [1, 1e4] mm²/s
+    roughness_Rz_flank_um = 4.8     # R_z of the flanks, (0, 100] µm; or [pinion, gear]
+    roughness_Rz_root_um = 20.0     # R_z of the root fillets, (0, 200] µm; or [pinion, gear]
+    accuracy_grade = 6              # ISO 1328-1 flank tolerance class, 1..11, default 6
+    tip_relief_um = 20.0            # C_a of K_v, [0, 1000] µm; default: the running-in C_ay
+    min_safety_pitting = 1.0        # S_Hmin, [0.5, 10], default 1
+    min_safety_bending = 1.0        # S_Fmin, [0.5, 10], default 1
+    # K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha = ...  [1, 10]: given factors replace ISO's
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+
+from fem_prep import schema as sc
+
+from .. import (
+    CaseHardened,
+    GearAccuracy,
+    GearPair,
+    GivenFactors,
+    Lubrication,
+    Nitrided,
+    OperatingPoint,
+    RatingGeometry,
+    RatingMaterial,
+    RatingSettings,
+    ThroughHardened,
+)
+
+__all__ = [
+    "MATERIAL_RATING_KEYS",
+    "OPERATING_RATING_KEYS",
+    "RATING_KEYS",
+    "TREATMENTS",
+    "RatingCase",
+    "check_rating",
+    "parse_rating",
+    "rating_of",
+]
+
+#: ``[material] treatment`` names → the model's treatment objects
+TREATMENTS = {
+    "case_hardened": CaseHardened,
+    "through_hardened": ThroughHardened,
+    "nitrided": Nitrided,
+}
+#: the keys a rating adds to ``[material]`` and ``[operating]``
+MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment"}
+OPERATING_RATING_KEYS = {"speed_rpm"}
+GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
+RATING_KEYS = {
+    "application_factor",
+    "life_h",
+    "viscosity_40C_mm2_s",
+    "roughness_Rz_flank_um",
+    "roughness_Rz_root_um",
+    "accuracy_grade",
+    "tip_relief_um",
+    "min_safety_pitting",
+    "min_safety_bending",
+    *GIVEN,
+}
+RPM = 2 * math.pi / 60
+
+
+@dataclasses.dataclass(frozen=True)
+class RatingCase:
+    """A case's rating, ready for :func:`jaxgear.rate` (``rate(geometry, operating,
+    settings)``)."""
+
+    geometry: RatingGeometry
+    operating: OperatingPoint
+    settings: RatingSettings
+
+
+@functools.singledispatch
+def _per_gear(value, table: dict, key: str, where: str, allowed: str) -> list[float]:
+    """A number for both gears (any other type: :func:`fem_prep.schema.number` names it)."""
+    v = sc.number(table, key, where, allowed=allowed)
+    return [v, v]
+
+
+@_per_gear.register(list)
+def _(value, table: dict, key: str, where: str, allowed: str) -> list[float]:
+    """[pinion, gear]."""
+    return sc.number_list(table, key, where, length=2, allowed=allowed)
+
+
+def _pair_of(table: dict, key: str, where: str, allowed: str) -> list[float]:
+    """A number or a [pinion, gear] list of two numbers (file units); the key required."""
+    return _per_gear(table.get(key), table, key, where, allowed)
+
+
+def _need(table: dict, key: str, where: str) -> None:
+    if key not in table:
+        raise sc.fail(where, key, "missing required key (the [rating] table needs it)")
+
+
+def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
+    """Check a case's ``[rating]`` with its ``[material]`` and ``[operating]`` rating keys (module
+    docstring) and build the :class:`RatingCase`.
+
+    Args:
+        data: the parsed case TOML (a dict) with a ``rating`` table.
+        pair: the case's gear pair. material: (E Pa, ν, ρ kg/m³) of ``[material]``.
+
+    Raises:
+        SchemaError: a missing key (named), a value out of range (key, value, allowed range in
+            the file's units), unknown keys; one line.
+    """
+    rt = sc.subtable(data, "rating", "", RATING_KEYS)
+    mat = data.get("material", {})
+    op = data.get("operating", {})
+    for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
+        _need(mat, key, "material")
+    for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
+        _need(rt, key, "rating")
+    s_h = _pair_of(mat, "sigma_H_lim_MPa", "material", "(0, 3000]")
+    s_f = _pair_of(mat, "sigma_F_lim_MPa", "material", "(0, 1500]")
+    treatment = TREATMENTS[sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")]()
+    rpm = sc.number(op, "speed_rpm", "operating", None, allowed="(0, 1e+06]")
+    if rpm is not None and op.get("speed_rad_s", 0.0):
+        raise sc.fail(
+            "operating", "speed_rpm", "give the speed once: speed_rpm or speed_rad_s", rpm
+        )
+    speed = rpm * RPM if rpm is not None else float(op.get("speed_rad_s", 0.0))
+    if not speed > 0:
+        raise sc.fail(
+            "operating",
+            "speed_rpm",
+            "missing required key (the [rating] table needs a pinion speed > 0: speed_rpm, "
+            "or speed_rad_s)",
+        )
+    ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
+    life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
+    nu40 = sc.number(rt, "viscosity_40C_mm2_s", "rating", allowed="[1, 10000]") * 1e-6
+    rz_flank = _pair_of(rt, "roughness_Rz_flank_um", "rating", "(0, 100]")
+    rz_root = _pair_of(rt, "roughness_Rz_root_um", "rating", "(0, 200]")
+    grade = sc.number(rt, "accuracy_grade", "rating", 6, allowed="[1, 11]", integer=True)
+    ca = sc.number(rt, "tip_relief_um", "rating", None, allowed="[0, 1000]")
+    s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
+    s_fmin = sc.number(rt, "min_safety_bending", "rating", 1.0, allowed="[0.5, 10]")
+    given = {k: sc.number(rt, k, "rating", None, allowed="[1, 10]") for k in GIVEN}
+    E, nu, rho = material
+    try:
+        accuracy = GearAccuracy.from_grade(pair, grade)
+    except ValueError as err:  # outside ISO 1328-1's scope (module, diameter, face width)
+        raise sc.fail("rating", "accuracy_grade", f"{err}", grade) from None
+    settings = RatingSettings(
+        material=RatingMaterial(
+            [v * 1e6 for v in s_h], [v * 1e6 for v in s_f], E, nu, rho, treatment
+        ),
+        lubrication=Lubrication(nu40, [v * 1e-6 for v in rz_flank], [v * 1e-6 for v in rz_root]),
+        accuracy=accuracy,
+        life=life,
+        application_factor=ka,
+        given=GivenFactors(**given),
+        tip_relief=None if ca is None else ca * 1e-6,
+        min_safety_pitting=s_hmin,
+        min_safety_bending=s_fmin,
+    )
+    torque = sc.number(op, "torque_Nm", "operating")
+    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings)
+
+
+def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> None:
+    """The case reader's hook: a ``[rating]`` table checked whole (:func:`parse_rating`), and
+    the rating's ``[material]``/``[operating]`` keys refused without one (they would be
+    silently unused)."""
+    if "rating" in data:
+        parse_rating(data, pair, material)
+        return
+    for table, keys in (("material", MATERIAL_RATING_KEYS), ("operating", OPERATING_RATING_KEYS)):
+        for key in sorted(keys & set(data.get(table, {}))):
+            raise sc.fail(table, key, "read by the [rating] table only: add one", data[table][key])
+
+
+def rating_of(case) -> RatingCase | None:
+    """A pair case's :class:`RatingCase`, ``None`` when it has no ``[rating]`` table."""
+    if "rating" not in case.raw:
+        return None
+    material = (case.youngs_modulus, case.poisson_ratio, case.density)
+    return parse_rating(case.raw, case.pair, material)

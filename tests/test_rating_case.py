@@ -1,0 +1,224 @@
+"""The case file's ``[rating]`` table (ISO 6336 load capacity): keys validated whole before any
+work, one-line errors naming the key, its value and the allowed range; the rating built from a
+case equals the one built through the API; ``rating.md`` and the ``summary.json`` section.
+
+The case is ISO/TR 6336-30:2017 Annex A example 1 (tests/test_rating.py gives its provenance);
+the API-built rating there is checked against the TR's printed values."""
+
+import copy
+import json
+import math
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+
+import jaxgear as jg
+import jaxgear.io as jio
+from jaxgear import cli
+
+CASE = {
+    "name": "tr-6336-30-example-1",
+    "pair": {
+        "normal_module_mm": 8.0,
+        "normal_pressure_angle_deg": 20.0,
+        "helix_angle_deg": 15.8,
+        "center_distance_mm": 500.0,
+    },
+    "pinion": {"teeth": 17, "profile_shift": 0.145},
+    "gear": {"teeth": 103, "profile_shift": 0.0},
+    "material": {
+        "youngs_modulus_GPa": 206.0,
+        "density_kg_m3": 7830.0,
+        "sigma_H_lim_MPa": 1500.0,
+        "sigma_F_lim_MPa": 500.0,
+    },
+    "operating": {"torque_Nm": 9000.0, "speed_rpm": 360.0},
+    "mesh": {"stiffness": "iso6336", "slices": 8, "positions_per_pitch": 8},
+    "rating": {
+        "life_h": 50000.0,
+        "viscosity_40C_mm2_s": 320.0,
+        "roughness_Rz_flank_um": 6.0,
+        "roughness_Rz_root_um": 10.0,
+        "accuracy_grade": 5,
+        "tip_relief_um": 70.0,
+        "K_Hbeta": 1.16,
+    },
+}
+for _tag in ("pinion", "gear"):
+    CASE[_tag].update(
+        {
+            "addendum_coeff": 1.0,
+            "dedendum_coeff": 1.4,
+            "fillet_radius_coeff": 0.39,
+            "face_width_mm": 100.0,
+        }
+    )
+
+
+def _case(**changes):
+    d = copy.deepcopy(CASE)
+    for path, value in changes.items():
+        table, key = path.split("/")
+        if value is None:
+            del d[table][key]
+        else:
+            d[table][key] = value
+    return d
+
+
+def test_case_rating_is_the_api_rating():
+    rc = jio.rating_of(jio.parse_case(_case()))
+    assert rc.operating.speed == pytest.approx(360.0 * 2 * math.pi / 60)
+    assert rc.settings.given.K_Hbeta == 1.16 and rc.settings.given.K_v is None
+    assert rc.settings.accuracy.grade == 5
+    assert rc.settings.tip_relief == pytest.approx(70e-6)
+    assert list(rc.settings.material.sigma_h_lim) == [1500e6, 1500e6]
+    assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
+    assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
+    assert float(rc.geometry.center_distance) == pytest.approx(0.5)
+
+
+def test_case_without_rating_has_none():
+    d = _case()
+    del d["rating"]
+    for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
+        del d["material"][key]
+    del d["operating"]["speed_rpm"]
+    assert jio.rating_of(jio.parse_case(d)) is None
+
+
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        ({"rating/life_h": None}, "[rating] life_h: missing required key"),
+        ({"material/sigma_F_lim_MPa": None}, "[material] sigma_F_lim_MPa: missing required key"),
+        (
+            {"rating/viscosity_40C_mm2_s": 0.5},
+            "[rating] viscosity_40C_mm2_s = 0.5: out of range, allowed [1, 10000]",
+        ),
+        ({"rating/K_v": 0.9}, "[rating] K_v = 0.9: out of range, allowed [1, 10]"),
+        (
+            {"rating/accuracy_grade": 12},
+            "[rating] accuracy_grade = 12: out of range, allowed [1, 11]",
+        ),
+        ({"rating/roughness_Rz_root_um": [10.0]}, "[rating] roughness_Rz_root_um"),
+        (
+            {"material/sigma_H_lim_MPa": -1.0},
+            "[material] sigma_H_lim_MPa = -1: out of range, allowed (0, 3000]",
+        ),
+        ({"material/treatment": "carburised"}, "[material] treatment = 'carburised': allowed"),
+        ({"operating/speed_rpm": None}, "[operating] speed_rpm: missing required key"),
+        ({"operating/speed_rad_s": 10.0}, "[operating] speed_rpm = 360: give the speed once"),
+        ({"rating/K_Hbta": 1.2}, "[rating] unknown key 'K_Hbta' (did you mean 'K_Hbeta'?)"),
+    ],
+)
+def test_bad_rating_input_is_one_line_naming_the_key(changes, message):
+    with pytest.raises(jio.SchemaError) as err:
+        jio.parse_case(_case(**changes))
+    text = str(err.value)
+    assert message in text and "\n" not in text, text
+
+
+def test_rating_keys_without_a_rating_table_are_refused():
+    d = _case()
+    del d["rating"]
+    with pytest.raises(jio.SchemaError, match=r"\[material\] sigma_F_lim_MPa = 500: read by the"):
+        jio.parse_case(d)
+
+
+def test_rating_outputs_write_the_table_and_the_summary_section(tmp_path):
+    case = jio.parse_case(_case())
+    section = cli.rating_outputs(case, str(tmp_path))
+    assert section["method"] == "ISO 6336:2019 method B"
+    assert section["factors"]["K_Hbeta"] == {"value": 1.16, "source": "given"}
+    assert section["factors"]["K_v"]["source"] == "ISO 6336-1 method B"
+    for key in ("Z_H", "Z_E_sqrt_Pa", "Z_epsilon", "Z_beta", "sigma_H0_Pa"):
+        assert isinstance(section["pitting"][key], float)
+    for key in ("sigma_H_Pa", "sigma_HP_Pa", "S_H"):
+        assert len(section["pitting"][key]) == 2
+    for key in ("Y_F", "Y_S", "sigma_F0_Pa", "sigma_F_Pa", "sigma_FP_Pa", "S_F"):
+        assert len(section["bending"][key]) == 2
+    json.dumps(section)  # JSON-ready
+    # S_H of the TR (printed 1.02853 / 1.08696), through the case file
+    assert section["pitting"]["S_H"] == pytest.approx([1.02853, 1.08696], rel=5e-3)
+    table = (tmp_path / "rating.md").read_text(encoding="utf-8")
+    assert "| K_Hβ | 1.1600 (given) |" in table
+    assert "| S_F |" in table and "ISO 6336-3, safety factor for bending" in table
+    no_rating = _case()
+    del no_rating["rating"], no_rating["operating"]["speed_rpm"]
+    for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
+        del no_rating["material"][key]
+    other = tmp_path / "none"
+    other.mkdir()
+    assert cli.rating_outputs(jio.parse_case(no_rating), str(other)) is None
+    assert not list(other.iterdir())
+
+
+def test_a_rating_out_of_scope_warns_naming_the_clause(tmp_path):
+    # 9000 1/min: K_v's resonance ratio N = 0.99 (0.0396 at 360 1/min), in the main resonance
+    case = jio.parse_case(_case(**{"operating/speed_rpm": 9000.0}))
+    with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-1 dynamic factor K_v: reso"):
+        cli.rating_outputs(case, str(tmp_path))
+
+
+@pytest.mark.slow  # ~5 s idle (two compilations); the fast test below checks the arithmetic
+def test_measured_face_load_factor_of_a_crowned_spur_pair(tmp_path):
+    """K_Hβ measured on the load map against the closed form of a crowned spur pair: with a
+    uniform stiffness k per unit contact length and the pinion's parabolic lead crowning
+    c(z) = C (2z/b − 1)², every line in contact at position p closes by one δ_p, so the load per
+    unit face width of slice n is Σ_l w = k (n_p δ_p − n_p c_n) and the force balance gives
+    Σ_l w = F_n/b + k n_p (c̄ − c_n) (c̄ the mean of c over the slices); averaged over the
+    positions, K_Hβ = 1 + k n̄ b (c̄ − min c)/F_n with n̄ the mean number of lines in contact."""
+    d = {
+        "name": "crowned-spur",
+        "pair": {"normal_module_mm": 2.0, "normal_pressure_angle_deg": 20.0},
+        "pinion": {"teeth": 24, "face_width_mm": 20.0},
+        "gear": {"teeth": 48, "face_width_mm": 20.0},
+        "material": {"sigma_H_lim_MPa": 1500.0, "sigma_F_lim_MPa": 430.0},
+        "operating": {"torque_Nm": 100.0, "speed_rpm": 1000.0},
+        "mesh": {
+            "stiffness": "uniform",
+            "stiffness_per_length_N_per_mm_per_um": 10.0,
+            "slices": 10,
+            "positions_per_pitch": 16,
+        },
+        "modifications": {"pinion": {"crowning": {"depth_um": 4.0}}},
+        "rating": copy.deepcopy(CASE["rating"]),
+    }
+    case = jio.parse_case(d)
+    mesh = case.mesh_model()
+    res = jg.quasi_static(
+        mesh, case.modifications, case.torque, jg.mesh_positions(mesh, 16, periods=1)
+    )
+    mask = np.asarray(res.cell_mask)
+    assert np.all(np.asarray(res.line_load)[mask] > 0)  # every cell in contact: the closed form
+    k, b, n_slices, crown = 10e9, 0.02, 10, 4e-6
+    c = crown * (2 * (np.arange(n_slices) + 0.5) / n_slices - 1) ** 2
+    lines = mask.any(axis=-1).sum(axis=-1).mean()
+    f_n = case.torque / case.pair.base_radii[0]
+    want = 1 + k * lines * b * (c.mean() - c.min()) / f_n
+    assert float(jg.face_load_factor(res)) == pytest.approx(want, rel=1e-6)
+    section = cli.rating_outputs(case, str(tmp_path), result=res)
+    assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(want, rel=1e-6)
+    assert "K_Hbeta measured" in (tmp_path / "rating.md").read_text(encoding="utf-8")
+
+
+class _Loads(NamedTuple):
+    line_load: np.ndarray
+    cell_mask: np.ndarray
+
+
+def test_measured_face_load_factor_by_hand(tmp_path):
+    """Two positions, two lines, three slices: the load per unit face width of a slice is the
+    sum over the lines (masked cells and negative loads count 0), averaged over positions."""
+    w = np.array(
+        [[[1.0, 2.0, 3.0], [1.0, 1.0, -5.0]], [[2.0, 2.0, 2.0], [9.0, 9.0, 9.0]]]
+    )  # (P, L, N)
+    mask = np.array([[[1, 1, 1], [1, 1, 1]], [[1, 1, 1], [0, 0, 0]]], dtype=bool)
+    # slices: position 0 -> (2, 3, 3), position 1 -> (2, 2, 2); mean (2, 2.5, 2.5): 2.5/(7/3)
+    loads = _Loads(w, mask)
+    assert float(jg.face_load_factor(loads)) == pytest.approx(2.5 / (7 / 3), rel=1e-12)
+    section = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path), result=loads)
+    assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(2.5 / (7 / 3), rel=1e-12)
+    assert section["factors"]["K_Hbeta"]["value"] == 1.16  # the given one rates; measured beside
