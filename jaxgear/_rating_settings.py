@@ -46,9 +46,12 @@ class RatingMaterial(eqx.Module):
 
     Attributes:
         sigma_h_lim: σ_Hlim (Pa), (pinion, gear): the allowable contact stress number (ISO
-            6336-5). sigma_f_lim: σ_Flim (Pa), the nominal bending stress number (σ_FE =
-            Y_ST σ_Flim, Y_ST = 2).
-        youngs_modulus (Pa), poisson_ratio, density (kg/m³).
+            6336-5).
+        sigma_f_lim: σ_Flim (Pa), (pinion, gear): the nominal bending stress number
+            (σ_FE = Y_ST σ_Flim, Y_ST = 2).
+        youngs_modulus: Young's modulus (Pa), both gears.
+        poisson_ratio: Poisson's ratio, both gears.
+        density: density (kg/m³), both gears.
         treatment: the heat treatment, an :class:`AbstractTreatment` (life curves, running-in,
             slip layer, size factor); default :class:`CaseHardened`.
     """

@@ -47,8 +47,9 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     case = jio.load_case("accessory-spur").replace(slices=2, positions_per_pitch=8)
     summary = run_case(case, str(tmp_path), harris_points=3, show_progress=False)
     for name in OUTPUT_FILES["run"]:
-        # sweep/ and optimise/ come only with a [scene] / [optimise]; TRAIN_FILES with a train
-        if "/" not in name and name not in TRAIN_FILES:
+        # sweep/ and optimise/ come only with a [scene] / [optimise], rating.md with a
+        # [rating]; TRAIN_FILES with a train
+        if "/" not in name and name not in TRAIN_FILES and name != "rating.md":
             assert (tmp_path / name).stat().st_size > 0, name
     env = summary["environment"]
     assert env["jaxgear"] == jg.__version__ and env["jax"] and env["python"]

@@ -117,6 +117,33 @@ crowning = { depth_um = 3.0 }
 [modifications.gear]
 tip_relief = { depth_um = 8.0 }
 """,
+    "rating": """
+[material]
+youngs_modulus_GPa = 210.0
+poisson_ratio = 0.3
+density_kg_m3 = 7800.0
+sigma_H_lim_MPa = 1500.0
+sigma_F_lim_MPa = 430.0
+treatment = "case_hardened"
+[operating]
+torque_Nm = 80.0
+speed_rpm = 3000.0
+[rating]
+application_factor = 1.25
+life_h = 20000.0
+viscosity_40C_mm2_s = 220.0
+roughness_Rz_flank_um = 4.8
+roughness_Rz_root_um = 20.0
+accuracy_grade = 6
+tip_relief_um = 15.0
+min_safety_pitting = 1.0
+min_safety_bending = 1.4
+K_v = 1.1
+K_Hbeta = 1.15
+K_Fbeta = 1.12
+K_Halpha = 1.05
+K_Falpha = 1.05
+""",
     "torsional scene": """
 [scene]
 model = "torsional"
