@@ -219,7 +219,7 @@ def test_license_and_thesis_citation():
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     assert text.startswith(
         "# jaxgear\n\n```bash\npip install -e . && jaxgear run\n"
-        'pip install -e ".[test]" && python -m pytest -q -m "not slow" -n 2 --dist worksteal\n```'
+        'pip install -e ".[test]" && python -m pytest -q -m "not slow" -n 2 --dist worksteal --durations=25\n```'
     )
     assert len(text.splitlines()) <= 120  # the README fits on two screens
     for target in re.findall(r"\]\((?!https?:)([^)#]+)", text):  # its links lead somewhere
