@@ -16,7 +16,7 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
-from ..scenes import FlexibleMember, HybridPair, HybridScene
+from ..scenes import HybridPair, HybridScene
 from ._model import cells_from_reference, mesh_te
 from ._newmark import MeshDamping, ModalSystem, newmark, newmark_modal
 
@@ -119,7 +119,7 @@ def _newmark_cells(
 def _revolution_periods(scene: HybridPair) -> int:
     """Mesh periods after which every flexible member's stations are again where they were:
     the least common multiple of their tooth counts (the wheel's teeth for H1; 1 if none)."""
-    Z = [m.rim_dofs.shape[0] for m in scene.members if isinstance(m, FlexibleMember)]
+    Z = [z for z in (m.rim_stations().count for m in scene.members) if z]
     return math.lcm(*Z) if Z else 1
 
 
