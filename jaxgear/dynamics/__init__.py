@@ -69,6 +69,7 @@ from ._modal import (
 from ._model import (
     AbstractDynamicModel as AbstractDynamicModel,
     MeshTable as MeshTable,
+    cell_stiffness as cell_stiffness,
     deviation_periods as deviation_periods,
     mesh_rows as mesh_rows,
     mesh_table as mesh_table,

@@ -17,7 +17,7 @@ from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
 from ..scenes import HybridPair, HybridScene
-from ._model import cells_from_reference, mesh_te
+from ._model import cell_stiffness, cells_from_reference, mesh_te
 from ._newmark import MeshDamping, ModalSystem, newmark, newmark_modal
 
 __all__ = ["mean_mesh_stiffness"]
@@ -186,9 +186,16 @@ def mean_mesh_stiffness(
     speed=0.0,
 ):
     """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the ``spp`` quasi-static positions of one mesh
-    period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
-    in Rayleigh damping (2.34); at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal
-    loads; default at rest), with the ``contact`` law of the quasi-static solve."""
+    period of the first mesh, θ_j = (j + ½) Δθ (n, n), w_c = 1 on the loaded cells (line load
+    > 0), 0 elsewhere: the mesh part of K̄ in Rayleigh damping (2.34) and of the modal
+    analysis; at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal loads; default at
+    rest), with the ``contact`` law of the quasi-static solve.
+
+    ``scene``: any assembled scene, condensed (:class:`~jaxgear.scenes.HybridScene`) or lumped
+    (:class:`~jaxgear.scenes.LumpedPair`, a train); the sum is :func:`cell_stiffness` on the
+    cells' windows, as the lumped model's over its table: for a pair (whose span is one
+    period) the two agree to rounding. The lumped model of a train averages over its whole
+    span (:attr:`~jaxgear.dynamics.MeshTable.span`), this one over the first mesh's period."""
     law = contact_law(contact, scene.structure.K.dtype)
     return _period_statics(scene, mods, torque, speed, spp, law)[1]
 
@@ -213,7 +220,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
         r = row(theta[p])
         kl = jnp.where(r.mask, r.k * r.length, 0.0) * loaded[p].astype(B.dtype)
         j = pos[r.idx]
-        B = B.at[j[:, None], j[None, :]].add(r.V.T @ (kl[:, None] * r.V), mode="drop")
+        B = B.at[j[:, None], j[None, :]].add(cell_stiffness(r.V, kl), mode="drop")
         return B, jnp.all(j < w)
 
     B, ok = jax.lax.scan(
