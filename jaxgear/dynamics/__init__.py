@@ -75,7 +75,12 @@ from ._model import (
     mesh_table as mesh_table,
     span_periods as span_periods,
 )
-from ._newmark import MeshDamping as MeshDamping, newmark as newmark
+from ._newmark import (
+    LinearSystem as LinearSystem,
+    MeshDamping as MeshDamping,
+    StepCells as StepCells,
+    newmark as newmark,
+)
 from ._result import (
     DynamicResponse as DynamicResponse,
     DynamicResult as DynamicResult,

@@ -18,7 +18,7 @@ from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
 from ..scenes import HybridPair, HybridScene
 from ._model import cell_stiffness, cells_from_reference, mesh_te
-from ._newmark import MeshDamping, ModalSystem, newmark, newmark_modal
+from ._newmark import LinearSystem, MeshDamping, ModalSystem, newmark, newmark_modal
 
 __all__ = ["mean_mesh_stiffness"]
 
@@ -89,23 +89,14 @@ def _newmark_cells(
     meshes, each mesh's TE (m,) and ``record(X, Ẋ)``."""
     te_of = mesh_te(cells.scene, cells.e_ref)
 
-    def kept(X, Xd, P):
+    def kept(X, Xd, P, _theta):
         return P, te_of(X), record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
-    steps = (dt, init, thetas, cells.at, cells.law, kept)
+    steps = (dt, init, thetas, cells, kept)
     if system.modal is None:
-        carry, (P, te, rec) = newmark(
-            system.K,
-            system.M,
-            system.C,
-            system.F,
-            *steps,
-            check=checks[0],
-            block_check=checks[1],
-            mesh_damping=system.mesh_damping,
-            keep_blocks=keep_blocks,
-        )
+        linear = LinearSystem(system.K, system.M, system.C, system.F, system.mesh_damping)
+        carry, (P, te, rec) = newmark(linear, *steps, checks=checks, keep_blocks=keep_blocks)
     else:
         carry, (P, te, rec) = newmark_modal(
             system.modal, *steps, checks=checks, keep_blocks=keep_blocks
