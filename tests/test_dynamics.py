@@ -22,9 +22,11 @@ import jaxgear.io as jio
 from jaxgear.dynamics import (
     Both,
     DiffraxIntegrator,
+    LinearSystem,
     Newmark,
     Outputs,
     SteadyState,
+    StepCells,
     band_dynamic_factor,
     damping_matrix,
     dynamic_model,
@@ -258,17 +260,19 @@ def _integrate(model, row, dt, X0, A0, n_steps):
     (n_steps, n) and velocities (n_steps, n)."""
     scene = model.scene
     state = (X0, jnp.zeros_like(X0), A0, jnp.array(0), jnp.array(0))
-    _, (X, Xd) = newmark(
+    system = LinearSystem(
         scene.stiffness(),
         scene.mass(),
         jnp.zeros_like(scene.mass()),
         scene.external_load(model.torque),
+    )
+    _, (X, Xd) = newmark(
+        system,
         dt,
         state,
         jnp.zeros((1, n_steps), jnp.int32),
-        lambda _: row,
-        jg.ExactContact(),
-        lambda X, Xd, P: (X, Xd),
+        StepCells(lambda _: row, jg.ExactContact()),
+        lambda X, Xd, P, _: (X, Xd),
     )
     return X, Xd
 

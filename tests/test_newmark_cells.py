@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear.dynamics import newmark
+from jaxgear.dynamics import LinearSystem, StepCells, newmark
 
 N = 6  # coordinates
 WINDOW = np.array([1, 3, 4])  # the cells see these (not contiguous: the gathers are exercised)
@@ -83,17 +83,13 @@ def _run(alpha, blocks, steps, dt, keep_blocks=None, bound=None):
 
     state = (jnp.zeros(N), jnp.zeros(N), jnp.asarray(a0), jnp.array(0), jnp.array(0))
     return newmark(
-        jnp.asarray(K),
-        Mj,
-        jnp.asarray(C),
-        jnp.asarray(F),
+        LinearSystem(jnp.asarray(K), Mj, jnp.asarray(C), jnp.asarray(F)),
         dt,
         state,
         jnp.zeros((blocks, steps), jnp.int32),
-        lambda _: row,
-        jg.ExactContact(),
-        lambda X, Xd, P: (X, Xd, P),
-        block_check=None if bound is None else energy_check,
+        StepCells(lambda _: row, jg.ExactContact()),
+        lambda X, Xd, P, _: (X, Xd, P),
+        checks=(None, None if bound is None else energy_check),
         keep_blocks=keep_blocks,
     )
 

@@ -26,7 +26,6 @@ from ..io import spec_integrator, spec_window, write_csv, write_json
 from ..scenes import AssembledScene
 from ._case_kinds import (
     gear_meshes,
-    gear_names,
     mesh_file_tag,
     mesh_title,
     per_mesh_keys,
@@ -103,7 +102,7 @@ def flexible_gears(case, scene) -> list[dict]:
     ``speed_ratio`` (its turns per turn of the pinion or input, > 0), ``spin`` (its sense about
     z, ±1), ``stations`` (the slice of its stations in the rim records) and ``meshes`` (the
     names of the meshes it is in)."""
-    names = gear_names(case)
+    names = case.gear_names
     out = []
     for m, stations in rim_stations(scene):
         member = scene.members[m]

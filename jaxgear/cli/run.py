@@ -15,6 +15,7 @@ from .. import io as case_io
 from ..io import Case, TrainCase, atomic_open, write_csv, write_json
 from . import scene as cli_scene
 from . import sweep as cli_sweep
+from ._case_kinds import labelled_meshes
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
@@ -452,21 +453,13 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
     return out
 
 
-@functools.singledispatch
 def mesh_dynamics(case, sw: dict) -> dict:
     """``summary.json``'s ``dynamics`` keys per mesh of the sweep ``sw``
-    (:func:`jaxgear.cli.sweep.sweep_case`'s summary), by the case's type: none for a pair (its
-    one mesh's are the section's own)."""
-    raise TypeError(f"jaxgear run: no dynamics section of a {type(case).__name__}")
-
-
-@mesh_dynamics.register
-def _(case: Case, sw: dict) -> dict:
-    return {}
-
-
-@mesh_dynamics.register
-def _(case: TrainCase, sw: dict) -> dict:
+    (:func:`jaxgear.cli.sweep.sweep_case`'s summary) where the case's meshes are labelled (a
+    train's, :func:`~jaxgear.cli._case_kinds.labelled_meshes`); none for a pair (its one mesh's
+    are the section's own)."""
+    if not labelled_meshes(case):
+        return {}
     per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
     return {
         "mesh_names": sw["mesh_names"],

@@ -20,7 +20,6 @@ from tqdm.auto import tqdm
 from .. import DynamicsResult, dynamics
 from .. import io as case_io
 from ..io import Case
-from ._case_kinds import case_pairs, span_periods
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
 from ._sweep_json import (
@@ -89,7 +88,7 @@ def sweep_spec(
             f"{name('keep_periods')} = {spec.keep_periods}: out of range, allowed <= "
             f"{name('periods')} = {spec.periods}"
         )
-    q = span_periods(case)
+    q = case.span_periods
     if spec.keep_periods < q:
         raise ValueError(
             f"{name('keep_periods')} = {spec.keep_periods}: out of range, allowed >= {q} (the "
@@ -187,7 +186,7 @@ def sweep_case(
         bar.update(n - last[0] if n >= last[0] else n)
         last[0] = n
 
-    hertz = dynamics.HertzPressure(case_pairs(case), case.youngs_modulus, case.poisson_ratio)
+    hertz = dynamics.HertzPressure(tuple(case.pairs), case.youngs_modulus, case.poisson_ratio)
     res = dynamics.speed_sweep(
         model,
         speeds,

@@ -69,12 +69,18 @@ from ._modal import (
 from ._model import (
     AbstractDynamicModel as AbstractDynamicModel,
     MeshTable as MeshTable,
+    cell_stiffness as cell_stiffness,
     deviation_periods as deviation_periods,
     mesh_rows as mesh_rows,
     mesh_table as mesh_table,
     span_periods as span_periods,
 )
-from ._newmark import MeshDamping as MeshDamping, newmark as newmark
+from ._newmark import (
+    LinearSystem as LinearSystem,
+    MeshDamping as MeshDamping,
+    StepCells as StepCells,
+    newmark as newmark,
+)
 from ._result import (
     DynamicResponse as DynamicResponse,
     DynamicResult as DynamicResult,

@@ -160,9 +160,7 @@ def damping_matrix(
 ) -> Float[Array, "n n"]:
     """Viscous damping matrix C of a lumped scene (units of K·s), shape (n, n): the model's
     (:meth:`AbstractDamping.matrix`) plus the scene's bearing damping
-    (``scene.bearing_damping()``, e.g. :class:`LumpedPair` with 6×6 bearing damping matrices)
-    whatever the model (:class:`NoDamping` included)."""
-    M = scene.mass()
-    bearing = getattr(scene, "bearing_damping", None)
-    Cb = jnp.zeros_like(M) if bearing is None else bearing()
-    return damping.matrix(scene, modes) + Cb
+    (:meth:`~jaxgear.scenes.DynamicScene.bearing_damping`, e.g. :class:`LumpedPair` with 6×6
+    bearing damping matrices; zeros without bearings) whatever the model (:class:`NoDamping`
+    included)."""
+    return damping.matrix(scene, modes) + scene.bearing_damping()

@@ -16,9 +16,9 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
-from ..scenes import FlexibleMember, HybridPair, HybridScene
-from ._model import cells_from_reference, mesh_te
-from ._newmark import MeshDamping, ModalSystem, newmark, newmark_modal
+from ..scenes import HybridPair, HybridScene
+from ._model import cell_stiffness, cells_from_reference, mesh_te
+from ._newmark import LinearSystem, MeshDamping, ModalSystem, newmark, newmark_modal
 
 __all__ = ["mean_mesh_stiffness"]
 
@@ -89,23 +89,14 @@ def _newmark_cells(
     meshes, each mesh's TE (m,) and ``record(X, Ẋ)``."""
     te_of = mesh_te(cells.scene, cells.e_ref)
 
-    def kept(X, Xd, P):
+    def kept(X, Xd, P, _theta):
         return P, te_of(X), record(X, Xd)
 
     init = (*state, jnp.array(0), jnp.array(0))
-    steps = (dt, init, thetas, cells.at, cells.law, kept)
+    steps = (dt, init, thetas, cells, kept)
     if system.modal is None:
-        carry, (P, te, rec) = newmark(
-            system.K,
-            system.M,
-            system.C,
-            system.F,
-            *steps,
-            check=checks[0],
-            block_check=checks[1],
-            mesh_damping=system.mesh_damping,
-            keep_blocks=keep_blocks,
-        )
+        linear = LinearSystem(system.K, system.M, system.C, system.F, system.mesh_damping)
+        carry, (P, te, rec) = newmark(linear, *steps, checks=checks, keep_blocks=keep_blocks)
     else:
         carry, (P, te, rec) = newmark_modal(
             system.modal, *steps, checks=checks, keep_blocks=keep_blocks
@@ -119,7 +110,7 @@ def _newmark_cells(
 def _revolution_periods(scene: HybridPair) -> int:
     """Mesh periods after which every flexible member's stations are again where they were:
     the least common multiple of their tooth counts (the wheel's teeth for H1; 1 if none)."""
-    Z = [m.rim_dofs.shape[0] for m in scene.members if isinstance(m, FlexibleMember)]
+    Z = [z for z in (m.rim_stations().count for m in scene.members) if z]
     return math.lcm(*Z) if Z else 1
 
 
@@ -186,9 +177,16 @@ def mean_mesh_stiffness(
     speed=0.0,
 ):
     """K̄_m = ⟨Σ_c w_c k_c l_c V_c V_cᵀ⟩ over the ``spp`` quasi-static positions of one mesh
-    period (n, n), w_c = 1 on the loaded cells (line load > 0), 0 elsewhere: the mesh part of K̄
-    in Rayleigh damping (2.34); at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal
-    loads; default at rest), with the ``contact`` law of the quasi-static solve."""
+    period of the first mesh, θ_j = (j + ½) Δθ (n, n), w_c = 1 on the loaded cells (line load
+    > 0), 0 elsewhere: the mesh part of K̄ in Rayleigh damping (2.34) and of the modal
+    analysis; at pinion torque T (N·m) and speed Ω (rad/s, the centrifugal loads; default at
+    rest), with the ``contact`` law of the quasi-static solve.
+
+    ``scene``: any assembled scene, condensed (:class:`~jaxgear.scenes.HybridScene`) or lumped
+    (:class:`~jaxgear.scenes.LumpedPair`, a train); the sum is :func:`cell_stiffness` on the
+    cells' windows, as the lumped model's over its table: for a pair (whose span is one
+    period) the two agree to rounding. The lumped model of a train averages over its whole
+    span (:attr:`~jaxgear.dynamics.MeshTable.span`), this one over the first mesh's period."""
     law = contact_law(contact, scene.structure.K.dtype)
     return _period_statics(scene, mods, torque, speed, spp, law)[1]
 
@@ -213,7 +211,7 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
         r = row(theta[p])
         kl = jnp.where(r.mask, r.k * r.length, 0.0) * loaded[p].astype(B.dtype)
         j = pos[r.idx]
-        B = B.at[j[:, None], j[None, :]].add(r.V.T @ (kl[:, None] * r.V), mode="drop")
+        B = B.at[j[:, None], j[None, :]].add(cell_stiffness(r.V, kl), mode="drop")
         return B, jnp.all(j < w)
 
     B, ok = jax.lax.scan(

@@ -35,7 +35,7 @@ from ._model import (
     split_cells,
     static_mesh_forces,
 )
-from ._newmark import newmark
+from ._newmark import LinearSystem, StepCells, newmark
 from ._result import Records, steady_state
 from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
 
@@ -196,7 +196,6 @@ def _newmark(
     fs = jnp.sum(static_force)
     e_ref = 0.5 * fs**2 / model.mesh_stiffness_mean
     te_of = mesh_te(scene, table.e_max[0])
-    cells_at = table.at
 
     def check(X, Xd, forces):
         return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
@@ -219,19 +218,13 @@ def _newmark(
 
     rows = (jnp.arange(n_steps) + 1 + start)[None, :]
     return newmark(
-        Ks,
-        M,
-        model.damping,
-        F,
+        LinearSystem(Ks, M, model.damping, F, dofs=run.prep.dofs),
         dt,
         state,
         rows,
-        cells_at,
-        run.law,
+        StepCells(table.at, run.law),
         kept if record else None,
-        check=check,
-        record_entry=True,
-        dofs=run.prep.dofs,
+        checks=(check, None),
     )
 
 

@@ -17,7 +17,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..scenes import DynamicScene, FlexibleMember, HybridPair
+from ..scenes import DynamicScene, HybridPair
 from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, MIN_STEPS_PER_PERIOD, STEPS_PER_MODE
 
 __all__ = [
@@ -265,7 +265,7 @@ def campbell_coincidences(
 def _condensed_member(scene, member: int | None, who: str) -> int:
     """``member`` checked to be a condensed body of ``scene`` (None: the wheel, member 1, when
     it is condensed, else the first condensed member); a one-line error naming ``who``."""
-    flexible = [i for i, m in enumerate(scene.members) if isinstance(m, FlexibleMember)]
+    flexible = [i for i, m in enumerate(scene.members) if m.rim_stations().count]
     if member is None:
         if not flexible:
             raise ValueError(f"{who}: the scene has no condensed body")

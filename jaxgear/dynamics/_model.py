@@ -60,6 +60,7 @@ __all__ = [
     "AbstractDynamicModel",
     "MeshTable",
     "cell_geometry",
+    "cell_stiffness",
     "cells_from_reference",
     "deviation_periods",
     "mesh_forces",
@@ -421,11 +422,20 @@ def _k_ref(table: MeshTable):
     return jnp.einsum("c,ci,ci->", kl, r.V, r.V)
 
 
+def cell_stiffness(V, weights) -> Float[Array, "w w"]:
+    """Σ w_c V_c V_cᵀ: the stiffness the cells add to the structure (seed (2.34)'s mesh part),
+    summed over every leading axis: structure vectors V (..., c, w) (m per unit coordinate,
+    on all n coordinates or a window of w), weights w (..., c) (N/m: k l times each cell's
+    loaded weight) → (w, w). The one kernel of the mean mesh stiffness K̄_m of every engine:
+    the lumped model's over its table (:func:`_mean_mesh_matrix`), the hybrid model's on the
+    windows of the positions of a mesh period (:func:`jaxgear.dynamics.mean_mesh_stiffness`)."""
+    return jnp.einsum("...c,...ci,...cj->ij", weights, V, V)
+
+
 def _mean_mesh_matrix(table: MeshTable, kl) -> Float[Array, "n n"]:
     """⟨Σ_c kl_c V_c V_cᵀ⟩ over the span's steps, from the cells' k l w (N/m) at every step
-    (span, c): folded onto the table's rows (:meth:`MeshTable.fold`)."""
-    W = table.fold(kl)
-    return jnp.einsum("rc,rci,rcj->ij", W, table.V, table.V) / kl.shape[0]
+    (span, c): folded onto the table's rows (:meth:`MeshTable.fold`), :func:`cell_stiffness`."""
+    return cell_stiffness(table.V, table.fold(kl)) / kl.shape[0]
 
 
 class _Prepared(eqx.Module):

@@ -123,56 +123,71 @@ def _no_steps(inputs, record) -> bool:
     return True
 
 
-def newmark(
-    K: Float[Array, "n n"],
-    M: Float[Array, "n n"],
-    C: Float[Array, "n n"],
-    F: Float[Array, " n"],
-    dt,
-    state,
-    inputs,
-    cells_at: Callable[[Any], CellRow],
-    law: ContactLaw,
-    record: Callable[[Array, Array, Array], Any] | None,
-    *,
-    check: Callable[[Array, Array, Array], Array] | None = None,
-    block_check: Callable[[Array, Array], Array] | None = None,
-    mesh_damping: MeshDamping | None = None,
-    record_entry: bool = False,
-    keep_blocks: int | None = None,
-    dofs: tuple | None = None,
-):
-    """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
+class LinearSystem(NamedTuple):
+    """What :func:`newmark` integrates: M Ẍ + C(t) Ẋ + K X = F − Vᵀ P on n coordinates.
 
-    Args:
+    Attributes:
         K, M, C: stiffness, mass and damping (SI per coordinate), (n, n); C may hold a skew
             Coriolis term. F: the constant load (n,).
-        dt: time step Δt (s).
-        state: (X, Ẋ, Ẍ, result code, most contact passes), the first three (n,).
-        inputs: one entry per step, leading shape (B, S): B blocks of S steps (the blocks of
-            the mesh damping, e.g. mesh periods; B = 1 without it). An entry is whatever
-            ``cells_at`` takes (a table row index, a pinion angle).
-        cells_at: entry ↦ :class:`CellRow`; all steps use the same window kind (None or not).
-        law: the contact law.
-        record: (X, Ẋ, P) ↦ a pytree kept for every recorded step, P the cell forces (N),
-            (c,); None keeps nothing (a transient).
-        check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult` code of the step (e.g. the mesh
-            force beyond its bound: code 3), 0 if none; the loop itself flags contact loops
-            that did not converge, non-finite states and cells outside the mesh damping's
-            window.
-        block_check: (X, Ẋ) ↦ a result code of the state at the end of each block, or None:
-            the place for a check that costs a product with an n × n matrix (the kinetic
-            energy ½ ẊᵀMẊ), paid once per block (e.g. mesh period) instead of every step; it
-            fires at the end of the block in which the state crossed its bound.
-        mesh_damping: :class:`MeshDamping` or None (needs a window: the cell space).
-        record_entry: call ``record(X, Ẋ, P, entry)`` with the step's entry of ``inputs`` (to
-            reduce per-cell values that depend on the position inside the loop).
-        keep_blocks: record only the last ``keep_blocks`` blocks (the steady-state window: the
-            blocks before integrate without records), or None: every block.
+        mesh_damping: the mesh share of C that follows the mesh (:class:`MeshDamping`; needs
+            a window: the cell space), or None.
         dofs: rows on all coordinates only: the coordinates the cells reach (static, sorted;
             :func:`contact_coordinates`); K_eff is condensed onto them once
             (:func:`static_condensation`) and each step's contact solved on them alone. None:
             on all.
+    """
+
+    K: Float[Array, "n n"]
+    M: Float[Array, "n n"]
+    C: Float[Array, "n n"]
+    F: Float[Array, " n"]
+    mesh_damping: MeshDamping | None = None
+    dofs: tuple | None = None
+
+
+class StepCells(NamedTuple):
+    """The cells of a Newmark run's steps (:func:`newmark`): ``at``: a step's entry of the
+    inputs ↦ its :class:`CellRow` (all steps the same window kind, None or not); ``law``: the
+    contact law. Any object with these two serves (the hybrid scene's ``SceneCells``)."""
+
+    at: Callable[[Any], CellRow]
+    law: ContactLaw
+
+
+def newmark(
+    system: LinearSystem,
+    dt,
+    state,
+    inputs,
+    cells: StepCells,
+    record: Callable[[Array, Array, Array, Any], Any] | None,
+    *,
+    checks: tuple = (None, None),
+    keep_blocks: int | None = None,
+):
+    """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
+
+    Args:
+        system: :class:`LinearSystem` (K, M, C, F, the mesh damping, the contact coordinates).
+        dt: time step Δt (s).
+        state: (X, Ẋ, Ẍ, result code, most contact passes), the first three (n,).
+        inputs: one entry per step, leading shape (B, S): B blocks of S steps (the blocks of
+            the mesh damping, e.g. mesh periods; B = 1 without it). An entry is whatever
+            ``cells.at`` takes (a table row index, a pinion angle).
+        cells: :class:`StepCells` (entry ↦ :class:`CellRow`, the contact law).
+        record: (X, Ẋ, P, entry) ↦ a pytree kept for every recorded step, P the cell forces
+            (N), (c,), entry the step's entry of ``inputs`` (to reduce per-cell values that
+            depend on the position inside the loop); None keeps nothing (a transient).
+        checks: (check, block_check). check: (X, Ẋ, P) ↦ a :class:`~jaxgear.DynamicsResult`
+            code of the step (e.g. the mesh force beyond its bound: code 3), 0 if none, or
+            None; the loop itself flags contact loops that did not converge, non-finite states
+            and cells outside the mesh damping's window. block_check: (X, Ẋ) ↦ a result code
+            of the state at the end of each block, or None: the place for a check that costs a
+            product with an n × n matrix (the kinetic energy ½ ẊᵀMẊ), paid once per block
+            (e.g. mesh period) instead of every step; it fires at the end of the block in
+            which the state crossed its bound.
+        keep_blocks: record only the last ``keep_blocks`` blocks (the steady-state window: the
+            blocks before integrate without records), or None: every block.
 
     Returns:
         (the final state, the records flattened over the recorded blocks, leading axis
@@ -181,13 +196,14 @@ def newmark(
     if _no_steps(inputs, record):  # a steady-state window with no transient before it
         return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
-    if jax.eval_shape(cells_at, first).idx is None:
+    K, M, C, F, mesh_damping, dofs = system
+    if jax.eval_shape(cells.at, first).idx is None:
         if mesh_damping is not None:
             raise ValueError("a mesh damping needs the cell space (a window of coordinates)")
         space = _Coordinates(K, M, C, F, dt, dofs)
     else:
         space = _Cells(K, M, C, F, dt, mesh_damping)
-    loop = _Loop(space, cells_at, law, check, block_check, record_entry)
+    loop = _Loop(space, cells, *checks)
     return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
 
@@ -199,9 +215,9 @@ class _Loop:
     damping window), the records of the kept blocks and the ``block_check`` at each block's
     end."""
 
-    def __init__(self, space, cells_at, law, check, block_check, record_entry=False):
-        self.space, self.cells_at, self.law = space, cells_at, law
-        self.check, self.block_check, self.record_entry = check, block_check, record_entry
+    def __init__(self, space, cells, check, block_check):
+        self.space, self.cells_at, self.law = space, cells.at, cells.law
+        self.check, self.block_check = check, block_check
 
     def run_block(self, carry, p_in, keep):
         space = self.space
@@ -218,7 +234,7 @@ class _Loop:
             if keep is None:
                 return carry, None
             X, Xd = space.observed(xn)
-            return carry, (keep(X, Xd, P, entry) if self.record_entry else keep(X, Xd, P))
+            return carry, keep(X, Xd, P, entry)
 
         carry, out = jax.lax.scan(step, carry, entries)
         if self.block_check is not None:
@@ -401,9 +417,8 @@ def newmark_modal(
     dt,
     state,
     inputs,
-    cells_at: Callable[[Any], CellRow],
-    law: ContactLaw,
-    record: Callable[[Array, Array, Array], Any] | None,
+    cells: StepCells,
+    record: Callable[[Array, Array, Array, Any], Any] | None,
     *,
     checks: tuple = (None, None),
     keep_blocks: int | None = None,
@@ -429,10 +444,10 @@ def newmark_modal(
 
     Args:
         system: :class:`ModalSystem` (the reduced structure, β_r and the mesh damping).
-        dt, inputs, cells_at, law: as :func:`newmark` (cells_at must give a window).
+        dt, inputs, cells: as :func:`newmark` (``cells.at`` must give a window).
         state: (q, q̇, q̈, r, ṙ, r̈, result code, most contact passes): q's (m,), r's (n,).
-        record: (X, Ẋ, P) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ), or
-            None.
+        record: (X, Ẋ, P, entry) ↦ a pytree kept for every step (X = D q + r, Ẋ = D q̇ + ṙ),
+            or None.
         checks: (check, block_check): (q, q̇, P) ↦ a result code of the step, or None;
             (q, q̇) ↦ a result code at the end of each block (on the reduced state: the
             kinetic energy is ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
@@ -443,9 +458,9 @@ def newmark_modal(
     if _no_steps(inputs, record):  # a steady-state window with no transient before it
         return state, None
     first = jax.tree.map(lambda x: x[0, 0], inputs)
-    if jax.eval_shape(cells_at, first).idx is None:
+    if jax.eval_shape(cells.at, first).idx is None:
         raise ValueError("the modal basis needs the cell space (a window of coordinates)")
-    loop = _Loop(_Modal(system, dt), cells_at, law, *checks)
+    loop = _Loop(_Modal(system, dt), cells, *checks)
     return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
 

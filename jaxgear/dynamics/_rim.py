@@ -7,25 +7,21 @@ from __future__ import annotations
 import jax.numpy as jnp
 import numpy as np
 
-from ..scenes import FlexibleMember, HybridPair
+from ..scenes import HybridPair
 
 __all__ = ["rim_stations", "rim_waves"]
 
 
 def _rim_of(scene: HybridPair):
     """X ↦ (radial, axial) displacement of the rim stations of every condensed member, member
-    after member (each in its own body frame, at the axial master plane nearest mid-face), each
-    (Σ Z,); (0,) when every member is rigid. A pair with a flexible wheel: the wheel's Z
-    stations; both members flexible: the pinion's z1 stations, then the wheel's
-    (:func:`rim_stations` splits them)."""
-    dofs, angles = [jnp.zeros((0, 3), jnp.int32)], [jnp.zeros((0,), scene.structure.K.dtype)]
-    for member in scene.members:
-        if isinstance(member, FlexibleMember):
-            j_mid = jnp.argmin(jnp.abs(member.z_nodes))
-            dofs.append(member.rim_dofs[:, j_mid, :])  # (Z, 3) global DOFs
-            Z = member.rim_dofs.shape[0]
-            angles.append(member.station0 + member.pitch_angle * jnp.arange(Z))
-    rim, ang = jnp.concatenate(dofs), jnp.concatenate(angles)
+    after member (each in its own body frame, at the axial master plane nearest mid-face:
+    :meth:`~jaxgear.scenes.GearMember.rim_stations`), each (Σ Z,); (0,) when every member is
+    rigid. A pair with a flexible wheel: the wheel's Z stations; both members flexible: the
+    pinion's z1 stations, then the wheel's (:func:`rim_stations` splits them)."""
+    dtype = scene.structure.K.dtype
+    stations = [m.rim_stations() for m in scene.gear_members()]
+    rim = jnp.concatenate([jnp.zeros((0, 3), jnp.int32)] + [s.dofs for s in stations])
+    ang = jnp.concatenate([jnp.zeros((0,), dtype)] + [s.angles for s in stations])
 
     def rim_of(X):
         u = X[rim]
@@ -37,11 +33,12 @@ def _rim_of(scene: HybridPair):
 def rim_stations(scene) -> list[tuple[int, slice]]:
     """Where each condensed member's stations sit in a hybrid run's rim records
     (:attr:`~jaxgear.dynamics.DynamicResponse.rim_radial`, ``rim_axial``): (member index, the
-    slice of its Z stations) per condensed member, in member order; [] for a rigid scene."""
+    slice of its Z stations) per member with rim stations
+    (:meth:`~jaxgear.scenes.GearMember.rim_stations`), in member order; [] for a rigid scene."""
     out, start = [], 0
-    for i, member in enumerate(getattr(scene, "members", ())):
-        if isinstance(member, FlexibleMember):
-            Z = int(member.rim_dofs.shape[0])
+    for i, member in enumerate(scene.gear_members()):
+        Z = member.rim_stations().count
+        if Z:
             out.append((i, slice(start, start + Z)))
             start += Z
     return out

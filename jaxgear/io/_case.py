@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 import fractions
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
@@ -118,6 +118,52 @@ class Case(MeshSettings):
     optimise: dict | None = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
     coast: bool = False
+
+    # the views of a train (:class:`TrainCase`) on a pair: a pair is a train of two gears and
+    # one mesh, named by the case, so that what reads a case's meshes reads both the same way
+
+    gears: ClassVar[tuple] = ((0, 1),)
+    shaft_of: ClassVar[tuple] = (0, 1)
+    span_periods: ClassVar[int] = 1
+
+    @property
+    def gear_names(self) -> tuple:
+        """("pinion", "gear")."""
+        return ("pinion", "gear")
+
+    @property
+    def n_gears(self) -> int:
+        return 2
+
+    @property
+    def pairs(self) -> tuple:
+        """(pair,): its one mesh's :class:`~jaxgear.GearPair`."""
+        return (self.pair,)
+
+    def mesh_name(self, k: int) -> str:
+        """Its one mesh's name: the case's."""
+        return self.name
+
+    def mesh_label(self, k: int) -> str:
+        """"": a pair's one mesh needs no label in the outputs (:meth:`TrainCase.mesh_label`)."""
+        return ""
+
+    def mesh_case(self, k: int) -> Case:
+        """Its one mesh as a pair case: itself."""
+        return self
+
+    @property
+    def mesh_torques(self) -> tuple:
+        """(torque,): the pinion torque (N·m)."""
+        return (self.torque,)
+
+    def mesh_modifications(self) -> tuple:
+        """(modifications,)."""
+        return (self.modifications,)
+
+    def members(self) -> tuple:
+        """(pinion, gear): each gear's :class:`~jaxgear.Member`."""
+        return (self.pair.pinion, self.pair.gear)
 
     @property
     def normal_load(self) -> float:
@@ -240,6 +286,11 @@ class TrainCase(MeshSettings):
         """``"driving-driven"``, the names of mesh ``k``'s gears."""
         g, h = self.gears[k]
         return f"{self.gear_names[g]}-{self.gear_names[h]}"
+
+    def mesh_label(self, k: int) -> str:
+        """What tells mesh ``k`` apart in the outputs (file names, titles, per-mesh keys and
+        warnings): its :meth:`mesh_name` (a pair case's one mesh has none, "")."""
+        return self.mesh_name(k)
 
     @property
     def shaft_of(self) -> tuple:

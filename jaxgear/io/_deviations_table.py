@@ -74,8 +74,7 @@ def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", n
     """A number (every tooth) or an array of one number per tooth, µm → m (None: absent)."""
     if key not in spec:
         return None
-    v = spec[key]
-    if isinstance(v, list):
+    if np.ndim(spec[key]):  # an array: one value per tooth
         return np.asarray(sc.number_list(spec, key, where, length=z, allowed=allowed)) * 1e-6
     return sc.number(spec, key, where, allowed=allowed, note=note) * 1e-6
 

@@ -3,7 +3,6 @@ inputs (thresholds documented in README.md), from cheap estimates without a cont
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
@@ -103,10 +102,20 @@ def _mesh_mode_frequencies(case: Case, k_mean: float) -> list[float]:
     return [math.sqrt(w) for w in w2[keep]] or [math.sqrt(w2.max())]
 
 
-@functools.singledispatch
-def plausibility(case: Case) -> list[str]:
-    """One-line warnings about absurd but valid inputs (thresholds in README.md); a train's,
-    those of each mesh as a pair case, named by mesh (``meshes[k] driving-driven: ...``):
+def plausibility(case: Case | TrainCase) -> list[str]:
+    """One-line warnings about absurd but valid inputs (thresholds in README.md), those of each
+    mesh as a pair case (:meth:`~jaxgear.io.TrainCase.mesh_case`; a pair's: itself), a labelled
+    mesh's named (a train's, ``meshes[k] driving-driven: ...``; :func:`_mesh_plausibility`)."""
+    out = []
+    for k in range(len(case.pairs)):
+        label = case.mesh_label(k)
+        head = f"meshes[{k}] {label}: " if label else ""
+        out.extend(head + text for text in _mesh_plausibility(case.mesh_case(k)))
+    return out
+
+
+def _mesh_plausibility(case: Case) -> list[str]:
+    """The warnings of one mesh as a pair case:
 
     * a relief or crowning depth above ``RELIEF_RATIO_WARN`` (10) × δ_m;
     * δ_m below ``MIN_DEFLECTION_UM`` (0.01 µm): the torque is too small to deflect the teeth;
@@ -186,14 +195,3 @@ def plausibility(case: Case) -> list[str]:
                     f"({coeffs} beyond the fitted span); [mesh] foundation = 'sainsot' extrapolates"
                 )
     return list(dict.fromkeys(out))
-
-
-@plausibility.register
-def _train_plausibility(case: TrainCase) -> list[str]:
-    """A train's: those of each mesh as a pair case, named by mesh (``meshes[k] driving-driven:
-    ...``)."""
-    return [
-        f"meshes[{k}] {case.mesh_name(k)}: {text}"
-        for k in range(len(case.pairs))
-        for text in plausibility(case.mesh_case(k))
-    ]

@@ -41,6 +41,7 @@ from ._interface import (
     GearMember as GearMember,
     GearPlace as GearPlace,
     RigidMember as RigidMember,
+    RimStations as RimStations,
     TorsionalMember as TorsionalMember,
     mortar_weights as mortar_weights,
 )

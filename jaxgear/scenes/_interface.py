@@ -58,6 +58,7 @@ __all__ = [
     "GearMember",
     "GearPlace",
     "RigidMember",
+    "RimStations",
     "TorsionalMember",
     "body_dof_index",
     "body_rims",
@@ -68,6 +69,26 @@ __all__ = [
 ]
 
 MORTAR = (5.0 / 30.0, 20.0 / 30.0, 5.0 / 30.0)  # (2.26)-(2.27): Simpson on the slice
+
+
+class RimStations(NamedTuple):
+    """The rim stations of a gear member that a run records (:meth:`GearMember.rim_stations`).
+
+    Attributes:
+        dofs: the global (x, y, z) DOFs of each station at the axial master plane nearest
+            mid-face, (Z, 3) int (body frame).
+        angles: each station's angle in the body frame (rad), (Z,).
+
+    A member without a rim (a rigid gear) has Z = 0.
+    """
+
+    dofs: Int[Array, "Z 3"]
+    angles: Float[Array, " Z"]
+
+    @property
+    def count(self) -> int:
+        """Z, the number of stations (static)."""
+        return int(self.angles.shape[0])
 
 
 def mortar_weights() -> tuple[float, float, float]:
@@ -163,6 +184,11 @@ class GearMember(eqx.Module):
         """The member with its window one station wider: itself when the window is its node's
         DOFs."""
         return self
+
+    def rim_stations(self) -> RimStations:
+        """The rim stations a run records (:class:`RimStations`): none (Z = 0) for a gear
+        without a deformable rim."""
+        return RimStations(jnp.zeros((0, 3), jnp.int32), jnp.zeros((0,)))
 
 
 class RigidMember(GearMember):
@@ -282,6 +308,15 @@ class FlexibleMember(GearMember):
     def widened(self) -> FlexibleMember:
         """The member with one rim station more in its window."""
         return dataclasses.replace(self, n_window=self.n_window + 1)
+
+    def rim_stations(self) -> RimStations:
+        """Its Z rim stations (one per tooth, :class:`RimStations`) at the axial master plane
+        nearest mid-face, station k at the body angle station0 + k 2π/Z."""
+        j_mid = jnp.argmin(jnp.abs(self.z_nodes))
+        Z = self.rim_dofs.shape[0]
+        return RimStations(
+            self.rim_dofs[:, j_mid, :], self.station0 + self.pitch_angle * jnp.arange(Z)
+        )
 
     def coefficients(self, points, outward, p1, p2):
         """c_1, c_2 (fixed frame, (..., 3) each) of (2.19)-(2.20) for contact points M (..., 3),

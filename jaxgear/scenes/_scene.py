@@ -69,6 +69,12 @@ class Scene(eqx.Module):
         """The base-plane model of each gear mesh (a scene of one mesh: its ``mesh``)."""
         return (self.mesh,)
 
+    def gear_members(self) -> tuple:
+        """The gear members of the structure (:class:`~jaxgear.scenes.GearMember`, a pair's
+        (pinion, gear)): none for a scene that does not model its gears as members (a torsional
+        pair of two rotations, the relative approach); an assembled scene's ``members``."""
+        return ()
+
     def mesh_angles(self, theta) -> tuple:
         """The angle at which each mesh takes its cells at the scene angle θ (rad): θ itself for
         every mesh of a pair (a train's meshes: :meth:`GearMesh.angle`)."""
@@ -156,6 +162,12 @@ class DynamicScene(Scene):
         M = self.mass()
         return jnp.zeros((0, M.shape[0]), M.dtype)
 
+    def bearing_damping(self) -> Float[Array, "n n"]:
+        """The bearings' viscous damping matrix (units of K·s), shape (n, n), that the dynamic
+        model adds to its damping matrix: zeros for a scene without bearing damping (an
+        assembled scene's, :meth:`~jaxgear.scenes.AssembledScene.bearing_damping`)."""
+        return jnp.zeros_like(self.mass())
+
     @abc.abstractmethod
     def rigid_modes(self) -> Float[Array, "n r"]:
         """Rigid-body modes r (columns, r may be 0) with V·r = 0 and F·r = 0."""
@@ -198,6 +210,9 @@ class Grounded(Scene):
 
     def mesh_angles(self, theta):
         return self.base.mesh_angles(theta)
+
+    def gear_members(self):
+        return self.base.gear_members()
 
     def scene_periods(self):
         return self.base.scene_periods()

@@ -119,6 +119,10 @@ class AssembledScene(Scene):
                     f"scene's {len(self.members)} gear members (0 to {len(self.members) - 1})"
                 )
 
+    def gear_members(self) -> tuple:
+        """Its ``members``."""
+        return self.members
+
     def external_load(self, torque) -> Float[Array, " n"]:
         """Generalised external forces T f_torque (n,) at pinion torque T (N·m)."""
         return torque * self.f_torque
