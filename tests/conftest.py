@@ -11,18 +11,6 @@ import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-# XLA's CPU compiler with its cheaper pipeline (no LLVM optimisation passes beyond the basic
-# ones): most of the suite's time is compilation of programs that then run for milliseconds;
-# this cuts the compile time by about a quarter (``jaxgear run accessory-spur``: 51 s of CPU
-# against 68 s), and the programs still run the same arithmetic (the regression records hold
-# at their tolerances). Set before JAX starts its CPU backend; inherited by the ``jaxgear``
-# subprocesses the CLI tests start. ``JAXGEAR_TEST_FULL_XLA=1`` keeps XLA's defaults.
-TEST_XLA_FLAGS = ("--xla_backend_optimization_level=0", "--xla_llvm_disable_expensive_passes=true")
-if os.environ.get("JAXGEAR_TEST_FULL_XLA", "") in ("", "0"):
-    _given = os.environ.get("XLA_FLAGS", "")
-    _extra = [f for f in TEST_XLA_FLAGS if f.split("=")[0] not in _given]
-    os.environ["XLA_FLAGS"] = " ".join([_given, *_extra]).strip()
-
 import jax  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)

@@ -252,7 +252,7 @@ def test_two_processes_on_loopback_give_the_one_process_result(spur, tmp_path):
     1e-12."""
     env = dict(
         os.environ,
-        XLA_FLAGS=f"{os.environ.get('XLA_FLAGS', '')} --xla_force_host_platform_device_count=2",
+        XLA_FLAGS="--xla_force_host_platform_device_count=2",
         JAX_PLATFORMS="cpu",
         PYTHONPATH=str(ROOT),
     )
