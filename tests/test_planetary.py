@@ -1,0 +1,368 @@
+"""The lumped planetary stage (docs/planetary.md): its natural modes against the frequencies
+Lin & Parker (1999) print for their example system, the mode structure they prove, an
+eigen-solution assembled here from the paper's equations in plain NumPy (not the library's
+matrices), the rotating-frame terms, the torsional model against Kahraman's form written
+here, the Willis ratios and the assembly condition."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+
+ALPHA = np.radians(24.6)
+
+
+def lin_parker_stage(n, angles=None):
+    """Lin & Parker 1999, Table 1: their example system (I/r^2 in kg, k_u in N/m)."""
+    member = jg.PlanetaryMember.lumped
+    fields = {
+        "sun": member(0.4, 0.39, 77.4e-3 / 2, 1e8, 0.0),
+        "ring": member(2.35, 3.0, 275.0e-3 / 2, 1e8, 1e9),
+        "carrier": member(5.43, 6.29, 176.8e-3 / 2, 1e8, 0.0),
+        "planet": member(0.66, 0.61, 100.3e-3 / 2, 1e8, 0.0),
+        "sun_pressure_angle": ALPHA,
+        "ring_pressure_angle": ALPHA,
+        "sun_mesh_stiffness": 5e8,
+        "ring_mesh_stiffness": 5e8,
+    }
+    if angles is None:
+        return jg.PlanetaryStage.equally_spaced(n, **fields)
+    return jg.PlanetaryStage(planet_angles=angles, **fields)
+
+
+# The natural frequencies (Hz) Lin & Parker (1999) print for the Table 1 system, by type:
+# rotational (single), translational (pairs), planet modes (multiplicity N - 3). Read from the
+# transcription of the paper's table in a public repository (a test of a Python port of
+# Lin & Parker's model, file tests of "Lin_Parker_99"); the paper itself was not at hand.
+PRINTED = {
+    3: (
+        [0.0, 1475.7, 1930.3, 2658.3, 7462.8, 11775.3],
+        [743.2, 1102.4, 1896.0, 2276.4, 6986.3, 9647.9],
+        [],
+    ),
+    4: (
+        [0.0, 1536.6, 1970.6, 2625.7, 7773.6, 13071.1],
+        [727.0, 1091.0, 1892.8, 2342.5, 7189.9, 10437.6],
+        [1808.2, 5963.8, 6981.7],
+    ),
+    5: (
+        [0.0, 1567.4, 2006.1, 2614.8, 8065.4, 14253.1],
+        [710.0, 1072.0, 1888.1, 2425.3, 7382.4, 11172.3],
+        [1808.2, 5963.8, 6981.7],
+    ),
+}
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_lin_parker_example_frequencies_and_mode_types(n):
+    stage = lin_parker_stage(n)
+    model = jg.PlanarPlanetary()
+    modes = jg.planetary_modes(model, stage)
+    f = np.asarray(modes.frequencies)
+    types = jg.classify_modes(modes, model, stage)
+    by = {
+        t: sorted({round(float(x), 6) for x, (tt, _) in zip(f, types, strict=True) if tt == t})
+        for t in jg.ModeType
+    }
+    mult = {t: {m for tt, m in types if tt == t} for t in jg.ModeType}
+    rot, tra, pla = PRINTED[n]
+    # the structure Lin & Parker prove: 6 rotational (multiplicity 1), 6 translational pairs,
+    # 3 planet-mode frequencies of multiplicity N - 3, nothing mixed
+    assert len(f) == 3 * (n + 3)
+    assert len(by[jg.ModeType.ROTATIONAL]) == 6 and mult[jg.ModeType.ROTATIONAL] == {1}
+    assert len(by[jg.ModeType.TRANSLATIONAL]) == 6 and mult[jg.ModeType.TRANSLATIONAL] == {2}
+    assert len(by[jg.ModeType.PLANET]) == (3 if n > 3 else 0)
+    assert mult[jg.ModeType.PLANET] <= {n - 3}
+    assert not by[jg.ModeType.MIXED]
+    # the printed frequencies (0.1 Hz rounding; three of N = 4's differ by up to 0.04 %)
+    for computed, printed in (
+        (by[jg.ModeType.ROTATIONAL], rot),
+        (by[jg.ModeType.TRANSLATIONAL], tra),
+        (by[jg.ModeType.PLANET], pla),
+    ):
+        np.testing.assert_allclose(computed, printed, rtol=5e-4, atol=0.06)
+    # planet modes: the central members still; mass-normalised shapes
+    phi = np.asarray(modes.shapes)
+    m = np.asarray(model.mass_matrix(stage))
+    np.testing.assert_allclose(phi.T @ m @ phi, np.eye(len(f)), atol=1e-9)
+    planet = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.PLANET]
+    assert np.abs(phi[:9, planet]).max(initial=0.0) < 1e-9 * np.abs(phi).max()
+
+
+# -- an independent planar model, from the paper's equations, in plain NumPy -------------------
+
+
+def reference_planar(masses, inertias, radii, bearings, torsion, angles, a_s, a_r, k_s, k_r, pin):
+    """M, K of Lin & Parker's planar model: members c, r, s (index 0, 1, 2), then the planets;
+    K assembled as sum k a a^T with a the gradient of each spring's deflection."""
+    n = len(angles)
+    size = 9 + 3 * n
+    K = np.zeros((size, size))
+
+    def spring(k, terms):
+        a = np.zeros(size)
+        for i, c in terms:
+            a[i] += c
+        K[:, :] += k * np.outer(a, a)
+
+    for h in range(3):  # central bearings: x, y, u
+        spring(bearings[h][0], [(3 * h, 1.0)])
+        spring(bearings[h][1], [(3 * h + 1, 1.0)])
+        spring(torsion[h], [(3 * h + 2, 1.0)])
+    for j, psi in enumerate(angles):
+        z, e, u = 9 + 3 * j, 10 + 3 * j, 11 + 3 * j
+        ps, pr = psi - a_s, psi + a_r
+        # sun-planet: -x_s sin psi_s + y_s cos psi_s - zeta sin a_s - eta cos a_s + u_s + u_p
+        spring(
+            k_s[j],
+            [
+                (6, -np.sin(ps)),
+                (7, np.cos(ps)),
+                (z, -np.sin(a_s)),
+                (e, -np.cos(a_s)),
+                (8, 1.0),
+                (u, 1.0),
+            ],
+        )
+        # ring-planet: -x_r sin psi_r + y_r cos psi_r + zeta sin a_r - eta cos a_r + u_r - u_p
+        spring(
+            k_r[j],
+            [
+                (3, -np.sin(pr)),
+                (4, np.cos(pr)),
+                (z, np.sin(a_r)),
+                (e, -np.cos(a_r)),
+                (5, 1.0),
+                (u, -1.0),
+            ],
+        )
+        # planet pin on the carrier, radial and tangential
+        spring(pin[0], [(0, np.cos(psi)), (1, np.sin(psi)), (z, -1.0)])
+        spring(pin[1], [(0, -np.sin(psi)), (1, np.cos(psi)), (2, 1.0), (e, -1.0)])
+        spring(torsion[3], [(u, 1.0)])
+    diag = []
+    for h in range(3 + n):
+        i = min(h, 3)
+        diag += [masses[i], masses[i], inertias[i] / radii[i] ** 2]
+    return np.diag(diag), K
+
+
+def _random_stage(rng, n, angles):
+    member = jg.PlanetaryMember
+    raw = {
+        "masses": rng.uniform(0.5, 5.0, 4),
+        "inertias": rng.uniform(1e-3, 5e-2, 4),
+        "radii": np.array([0.09, 0.14, 0.04, 0.05]),
+        "bearings": rng.uniform(1e7, 1e9, (4, 2)),
+        "torsion": np.array([rng.uniform(1e6, 1e7), 5e7, 2e5, 0.0]),
+        "angles": angles,
+        "a_s": np.radians(21.0),
+        "a_r": np.radians(23.5),
+        "k_s": rng.uniform(2e8, 6e8, n),
+        "k_r": rng.uniform(3e8, 8e8, n),
+    }
+    members = [
+        member(
+            raw["masses"][i],
+            raw["inertias"][i],
+            raw["radii"][i],
+            raw["bearings"][i],
+            raw["torsion"][i],
+        )
+        for i in range(4)
+    ]
+    stage = jg.PlanetaryStage(
+        carrier=members[0],
+        ring=members[1],
+        sun=members[2],
+        planet=members[3],
+        planet_angles=angles,
+        sun_pressure_angle=raw["a_s"],
+        ring_pressure_angle=raw["a_r"],
+        sun_mesh_stiffness=raw["k_s"],
+        ring_mesh_stiffness=raw["k_r"],
+    )
+    # the reference takes k_u = k_theta / r^2 on u = r theta
+    torsion_u = raw.pop("torsion") / raw["radii"] ** 2
+    pin = raw["bearings"][3]
+    return stage, reference_planar(torsion=torsion_u, pin=pin, **raw)
+
+
+@pytest.mark.parametrize("n", [3, 4, 6])
+def test_planar_model_against_an_independent_numpy_eigen_solution(n):
+    rng = np.random.default_rng(n)
+    angles = np.sort(rng.uniform(0.0, 2 * np.pi, n))  # unequal spacing, per-planet stiffness
+    stage, (m_ref, k_ref) = _random_stage(rng, n, angles)
+    model = jg.PlanarPlanetary()
+    np.testing.assert_allclose(model.mass_matrix(stage), m_ref, rtol=1e-12)
+    w2 = scipy.linalg.eigh(k_ref, m_ref, eigvals_only=True)
+    f_ref = np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi)
+    f = np.asarray(jg.planetary_modes(model, stage).frequencies)
+    np.testing.assert_allclose(f, f_ref, rtol=1e-9)
+
+
+def test_rotating_frame_terms_against_a_point_mass_in_a_rotating_frame():
+    """The carrier-frame equations of each mass, m (x'' - 2 Omega y' - Omega^2 x) = F_x,
+    m (y'' + 2 Omega x' - Omega^2 y) = F_y, written here: the quadratic eigenvalues of
+    M q'' + Omega G q' + (K - Omega^2 K_Omega) q = 0 agree."""
+    rng = np.random.default_rng(7)
+    stage, (m_ref, k_ref) = _random_stage(rng, 4, np.arange(4) * np.pi / 2)
+    omega = 300.0
+    size = m_ref.shape[0]
+    g_ref, kc_ref = np.zeros((size, size)), np.zeros((size, size))
+    for b in range(size // 3):
+        m = m_ref[3 * b, 3 * b]
+        g_ref[3 * b, 3 * b + 1], g_ref[3 * b + 1, 3 * b] = -2 * m, 2 * m
+        kc_ref[3 * b, 3 * b] = kc_ref[3 * b + 1, 3 * b + 1] = m
+
+    def quadratic_eigs(m, g, k):
+        a = np.block(
+            [[np.zeros_like(m), np.eye(len(m))], [-np.linalg.solve(m, k), -np.linalg.solve(m, g)]]
+        )
+        lam = np.linalg.eigvals(a)
+        return np.sort_complex(np.round(lam, 6))
+
+    model = jg.PlanarPlanetary()
+    got = quadratic_eigs(
+        np.asarray(model.mass_matrix(stage)),
+        omega * np.asarray(model.gyroscopic_matrix(stage)),
+        np.asarray(model.stiffness_matrix(stage))
+        - omega**2 * np.asarray(model.centripetal_matrix(stage)),
+    )
+    want = quadratic_eigs(m_ref, omega * g_ref, k_ref - omega**2 * kc_ref)
+    np.testing.assert_allclose(np.abs(got.imag), np.abs(want.imag), rtol=1e-8)
+    g = np.asarray(model.gyroscopic_matrix(stage))
+    np.testing.assert_array_equal(g, -g.T)
+
+
+def test_torsional_model_against_kahramans_form():
+    """Torsional model: rigid centres and pins, the planet centre turns with the carrier, so
+    delta_sn = u_s + u_n - u_c cos a_s and delta_rn = u_r - u_n - u_c cos a_r; the carrier
+    carries the planets' masses on its coordinate (u_c = r_c theta_c)."""
+    rng = np.random.default_rng(3)
+    n = 5
+    stage, (m_pl, _) = _random_stage(rng, n, 2 * np.pi * np.arange(n) / n)
+    a_s, a_r = float(stage.sun_pressure_angle), float(stage.ring_pressure_angle)
+    k_s, k_r = (np.asarray(k) for k in stage.mesh_stiffnesses())
+    size = 3 + n
+    K = np.zeros((size, size))
+    for j in range(n):
+        for k, row in (
+            (k_s[j], {2: 1.0, 3 + j: 1.0, 0: -np.cos(a_s)}),
+            (k_r[j], {1: 1.0, 3 + j: -1.0, 0: -np.cos(a_r)}),
+        ):
+            a = np.zeros(size)
+            for i, c in row.items():
+                a[i] += c
+            K += k * np.outer(a, a)
+    for i, mem in enumerate((stage.carrier, stage.ring, stage.sun)):
+        K[i, i] += float(mem.torsional_stiffness) / float(mem.base_radius) ** 2
+    m = np.diag([m_pl[2, 2] + n * m_pl[9, 9], m_pl[5, 5], m_pl[8, 8]] + [m_pl[11, 11]] * n)
+    model = jg.TorsionalPlanetary()
+    np.testing.assert_allclose(model.stiffness_matrix(stage), K, rtol=1e-12, atol=1e-3)
+    w2 = scipy.linalg.eigh(K, m, eigvals_only=True)
+    np.testing.assert_allclose(
+        jg.planetary_modes(model, stage).frequencies,
+        np.sqrt(np.clip(w2, 0, None)) / (2 * np.pi),
+        rtol=1e-9,
+    )
+    # identical planets: 4 rotational modes, one planet mode of multiplicity N - 1
+    alike = jg.PlanetaryStage(
+        **{**_fields(stage), "sun_mesh_stiffness": 4e8, "ring_mesh_stiffness": 5e8}
+    )
+    types = jg.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    assert [t for t, _ in types].count(jg.ModeType.ROTATIONAL) == 4
+    assert {m for t, m in types if t == jg.ModeType.PLANET} == {n - 1}  # planets alone
+
+
+# -- kinematics --------------------------------------------------------------------------------
+
+
+def test_willis_ratios_exact():
+    c = jg.Central
+    zs, zr = 19, 56
+    assert jg.speed_ratio(zs, zr, c.RING, c.SUN, c.CARRIER) == pytest.approx(1 + zr / zs, rel=1e-14)
+    assert jg.speed_ratio(zs, zr, c.CARRIER, c.SUN, c.RING) == pytest.approx(-zr / zs, rel=1e-14)
+    assert jg.speed_ratio(zs, zr, c.SUN, c.RING, c.CARRIER) == pytest.approx(1 + zs / zr, rel=1e-14)
+    assert jg.speed_ratio(zs, zr, c.RING, c.CARRIER, c.SUN) == pytest.approx(
+        zs / (zs + zr), rel=1e-14
+    )
+    with pytest.raises(ValueError, match="three different members"):
+        jg.speed_ratio(zs, zr, c.RING, c.RING, c.SUN)
+    with pytest.raises(ValueError, match="z_ring = 10 is out of range"):
+        jg.speed_ratio(zs, 10, c.RING, c.SUN, c.CARRIER)
+
+
+def test_torsional_rigid_mode_is_the_willis_ratio():
+    """A geometry-consistent stage (module 3 mm, z_s 21, z_p 27, z_r 75, 20 deg), ring held,
+    sun and carrier free: the torsional model's zero-frequency mode turns the sun
+    1 + z_r/z_s times the carrier."""
+    mn, zs, zp, zr, a = 3e-3, 21, 27, 75, np.radians(20.0)
+    member = jg.PlanetaryMember.lumped
+    stage = jg.PlanetaryStage.equally_spaced(
+        4,
+        sun=member(1.0, 0.5, mn * zs * np.cos(a) / 2, 1e8, 0.0),
+        ring=member(3.0, 2.0, mn * zr * np.cos(a) / 2, 1e8, 1e9),
+        carrier=member(4.0, 3.0, mn * (zs + zp) / 2, 1e8, 0.0),
+        planet=member(0.8, 0.6, mn * zp * np.cos(a) / 2, 1e8, 0.0),
+        sun_pressure_angle=a,
+        ring_pressure_angle=a,
+        sun_mesh_stiffness=4e8,
+        ring_mesh_stiffness=4e8,
+    )
+    jg.check_assembly(zs, zr, stage.planet_angles)
+    model = jg.TorsionalPlanetary()
+    modes = jg.planetary_modes(model, stage)
+    assert float(modes.frequencies[0]) < 1e-6 * float(modes.frequencies[1])
+    u = np.asarray(modes.shapes[:, 0])
+    theta_s = u[2] / float(stage.sun.base_radius)
+    theta_c = u[0] / float(stage.carrier.base_radius)
+    assert theta_s / theta_c == pytest.approx(
+        jg.speed_ratio(zs, zr, jg.Central.RING, jg.Central.SUN, jg.Central.CARRIER), rel=1e-9
+    )
+
+
+def test_assembly_condition_and_input_errors():
+    jg.check_assembly(19, 56, 2 * np.pi * np.arange(3) / 3)  # 75 / 3 = 25
+    with pytest.raises(ValueError, match=r"planet 2 at 90 deg cannot be assembled"):
+        jg.check_assembly(19, 56, 2 * np.pi * np.arange(4) / 4)  # 75 / 4
+    jg.check_assembly(20, 70, np.radians([0.0, 120.0, 236.0]))  # 90 * 236 / 360 = 59
+    with pytest.raises(ValueError, match=r"PlanetaryMember: mass = -1 kg|mass = -1 is out"):
+        jg.PlanetaryMember(mass=-1.0, polar_inertia=1.0, base_radius=0.1)
+    with pytest.raises(ValueError, match="sun_pressure_angle = 1.6 rad is out of range"):
+        lin_parker_stage(3).__class__(**{**_fields(lin_parker_stage(3)), "sun_pressure_angle": 1.6})
+    with pytest.raises(ValueError, match=r"sun_mesh_stiffness must have shape \(\) or \(3,\)"):
+        lin_parker_stage(3).__class__(
+            **{**_fields(lin_parker_stage(3)), "sun_mesh_stiffness": np.ones(4)}
+        )
+
+
+def _fields(stage):
+    return {k: getattr(stage, k) for k in stage.__dataclass_fields__}
+
+
+def test_frequency_gradient_against_finite_difference_and_float32_runs():
+    model = jg.PlanarPlanetary()
+
+    def f1(k_mesh):
+        stage = jg.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "sun_mesh_stiffness": k_mesh})
+        return jg.planetary_modes(model, stage).frequencies[5]  # a rotational (single) mode
+
+    k0 = 5e8
+    g = jax.grad(f1)(jnp.asarray(k0))
+    h = 1e4
+    fd = (f1(k0 + h) - f1(k0 - h)) / (2 * h)
+    assert float(g) == pytest.approx(float(fd), rel=1e-5)
+    # the lowest rotational (single) mode: a smooth eigenvalue, gradient through jit
+    f32 = np.asarray(
+        jg.planetary_modes(
+            model, jax.tree_util.tree_map(lambda x: x.astype(jnp.float32), lin_parker_stage(3))
+        ).frequencies
+    )
+    assert f32.dtype == np.float32
+    np.testing.assert_allclose(
+        f32[1:], jg.planetary_modes(model, lin_parker_stage(3)).frequencies[1:], rtol=1e-3
+    )
