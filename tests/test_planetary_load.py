@@ -50,7 +50,7 @@ def test_k_gamma_with_one_pin_error_against_a_hand_spring_model(n):
     errors[0] = 20e-6  # planet 1's pin 20 um ahead (it unloads)
     forces, k_gamma = hand_spring_model(n, torque, errors)
     assert k_gamma > 1.05 and forces.min() > 0  # a real spread, every mesh in contact
-    for model, rtol in ((jg.PlanarPlanetary(), 1e-2), (jg.TorsionalPlanetary(), 1e-3)):
+    for model, rtol in ((jg.PlanarPlanetary(), 1e-3), (jg.TorsionalPlanetary(), 1e-9)):
         got = jg.load_sharing(model, stage(n), torque, errors)
         np.testing.assert_allclose(got.sun_mesh_forces, forces, rtol=rtol)
         np.testing.assert_allclose(got.ring_mesh_forces, forces, rtol=rtol)
