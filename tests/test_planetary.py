@@ -344,7 +344,7 @@ def _fields(stage):
     return {k: getattr(stage, k) for k in stage.__dataclass_fields__}
 
 
-def test_frequency_gradient_against_finite_difference_and_float32_runs():
+def test_frequency_gradient_against_finite_difference():
     model = jg.PlanarPlanetary()
 
     def f1(k_mesh):
@@ -356,13 +356,77 @@ def test_frequency_gradient_against_finite_difference_and_float32_runs():
     h = 1e4
     fd = (f1(k0 + h) - f1(k0 - h)) / (2 * h)
     assert float(g) == pytest.approx(float(fd), rel=1e-5)
-    # the lowest rotational (single) mode: a smooth eigenvalue, gradient through jit
-    f32 = np.asarray(
-        jg.planetary_modes(
-            model, jax.tree_util.tree_map(lambda x: x.astype(jnp.float32), lin_parker_stage(3))
-        ).frequencies
-    )
+
+
+def test_float32_runs():
+    model = jg.PlanarPlanetary()
+    stage32 = jax.tree_util.tree_map(lambda x: x.astype(jnp.float32), lin_parker_stage(3))
+    f32 = np.asarray(jg.planetary_modes(model, stage32).frequencies)
     assert f32.dtype == np.float32
-    np.testing.assert_allclose(
-        f32[1:], jg.planetary_modes(model, lin_parker_stage(3)).frequencies[1:], rtol=1e-3
+    f64 = jg.planetary_modes(model, lin_parker_stage(3)).frequencies
+    np.testing.assert_allclose(f32[1:], f64[1:], rtol=1e-3)
+
+
+# Cooley & Parker (2012), Table 1 example at zero carrier speed, and the dimensionless natural
+# frequencies omega / sqrt(k_p / m_p) they list for N = 3, 4, 5 (same transcription as above).
+COOLEY_PARKER = {
+    3: [
+        0.9296,
+        1.090,
+        1.358,
+        1.931,
+        5.566,
+        7.741,
+        *[0.7432, 1.018, 1.265, 1.487, 4.976, 6.282] * 2,
+    ],
+    4: [
+        0.9077,
+        1.046,
+        1.317,
+        2.013,
+        5.809,
+        8.383,
+        *[0.7199, 1.001, 1.317, 1.481, 5.153, 6.488] * 2,
+        0.9617,
+        4.320,
+        5.672,
+    ],
+    5: [
+        0.8802,
+        1.019,
+        1.281,
+        2.090,
+        6.030,
+        8.986,
+        *[0.6992, 0.9863, 1.344, 1.496, 5.317, 6.693] * 2,
+        *[0.9617, 4.320, 5.672] * 2,
+    ],
+}
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_cooley_parker_example_at_rest(n):
+    """m_s 3, m_r 7.64, m_c 12, m_p 1.86 kg; I/r^2 1.75, 8.09, 6.80, 1.25 kg; base diameters
+    55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp = 10^8, k_s 2e7, k_r 1e8, k_c 5e7,
+    k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
+    member = jg.PlanetaryMember.lumped
+    stage = jg.PlanetaryStage.equally_spaced(
+        n,
+        sun=member(3.0, 1.75, 55.75e-3 / 2, 2e7, 2e7),
+        ring=member(7.64, 8.09, 109.7e-3 / 2, 1e8, 1e8),
+        carrier=member(12.0, 6.80, 88.6e-3 / 2, 5e7, 1e8),
+        planet=member(1.86, 1.25, 27.0e-3 / 2, 1e7, 0.0),
+        sun_pressure_angle=np.radians(20.0),
+        ring_pressure_angle=np.radians(20.0),
+        sun_mesh_stiffness=1e8,
+        ring_mesh_stiffness=1e8,
     )
+    modes = jg.planetary_modes(jg.PlanarPlanetary(), stage)
+    got = np.asarray(modes.frequencies) * 2 * np.pi / np.sqrt(1e7 / 1.86)
+    printed = np.sort(COOLEY_PARKER[n])
+    digit = 10.0 ** (np.floor(np.log10(printed)) - 3)  # 4 significant digits
+    # within 0.6 of the printed last digit (one value, 1.2805 at N = 5, rounds the other way)
+    assert np.all(np.abs(got - printed) <= 0.6 * digit), np.abs(got - printed) / digit
+    types = jg.classify_modes(modes, jg.PlanarPlanetary(), stage)
+    assert [t for t, _ in types].count(jg.ModeType.ROTATIONAL) == 6
+    assert [t for t, _ in types].count(jg.ModeType.PLANET) == 3 * (n - 3)
