@@ -60,6 +60,7 @@ from ._planetary import (
 from ._planetary_analysis import (
     LoadSharing as LoadSharing,
     ModeType as ModeType,
+    campbell as campbell,
     PlanetaryModes as PlanetaryModes,
     classify_modes as classify_modes,
     load_sharing as load_sharing,

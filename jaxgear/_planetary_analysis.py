@@ -7,6 +7,7 @@ from __future__ import annotations
 import enum
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -18,6 +19,7 @@ __all__ = [
     "LoadSharing",
     "ModeType",
     "PlanetaryModes",
+    "campbell",
     "classify_modes",
     "load_sharing",
     "mesh_phases",
@@ -74,6 +76,53 @@ def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> Pla
     lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
     shapes = jnp.linalg.solve(low.T, vec)
     return PlanetaryModes(jnp.sqrt(jnp.clip(lam, 0.0)) / (2.0 * jnp.pi), shapes)
+
+
+@eqx.filter_jit
+def campbell(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    carrier_speeds: Float[Array, " n_speeds"],
+) -> Float[Array, "n_speeds n_dof"]:
+    """Natural frequencies in the carrier frame against the carrier speed, with the Coriolis
+    and centripetal terms (Cooley & Parker 2012): ``M q'' + Omega G q' + (K - Omega^2 K_Omega)
+    q = 0``. With ``K_e = K - Omega^2 K_Omega = S S`` (S its symmetric square root) and
+    ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real skew-symmetric matrix
+    ``[[0, S L^-T], [-L^-1 S, -Omega L^-1 G L^-T]]``, whose eigenvalues +-i omega come from the
+    Hermitian ``eigh`` (so it runs on every device and is differentiable at simple values).
+
+    Args:
+        model, stage: as :func:`planetary_modes`.
+        carrier_speeds: carrier speeds Omega (rad/s), shape ``(n_speeds,)``.
+
+    Returns:
+        Frequencies (Hz), shape ``(n_speeds, n_dof)``, ascending per speed; at Omega = 0 those
+        of :func:`planetary_modes`.
+
+    Raises:
+        EquinoxRuntimeError: a speed past divergence (K_e not positive semi-definite).
+    """
+    m = model.mass_matrix(stage)
+    k = model.stiffness_matrix(stage)
+    g = model.gyroscopic_matrix(stage)
+    kc = model.centripetal_matrix(stage)
+    low = jnp.linalg.cholesky(m)
+    n = m.shape[0]
+
+    def one(omega):
+        lam, u = jnp.linalg.eigh(k - omega**2 * kc)
+        lam = eqx.error_if(
+            lam, jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam)), "campbell: past divergence"
+        )
+        s = (u * jnp.sqrt(jnp.clip(lam, 0.0))[None, :]) @ u.T
+        b = jnp.linalg.solve(low, s).T  # S L^-T
+        c = jnp.linalg.solve(low, jnp.linalg.solve(low, g).T).T  # L^-1 G L^-T
+        a = jnp.block([[jnp.zeros((n, n)), b], [-b.T, -omega * c]])
+        w = jnp.linalg.eigvalsh(-1j * a)
+        return w[n:] / (2.0 * jnp.pi)
+
+    speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
+    return jax.vmap(one)(speeds)
 
 
 def classify_modes(

@@ -4,6 +4,7 @@ eigen-solution assembled here from the paper's equations in plain NumPy (not the
 matrices), the rotating-frame terms, the torsional model against Kahraman's form written
 here, the Willis ratios and the assembly condition."""
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -204,38 +205,53 @@ def test_planar_model_against_an_independent_numpy_eigen_solution(n):
     np.testing.assert_allclose(f, f_ref, rtol=1e-9)
 
 
-def test_rotating_frame_terms_against_a_point_mass_in_a_rotating_frame():
+def test_campbell_against_a_point_mass_in_a_rotating_frame():
     """The carrier-frame equations of each mass, m (x'' - 2 Omega y' - Omega^2 x) = F_x,
-    m (y'' + 2 Omega x' - Omega^2 y) = F_y, written here: the quadratic eigenvalues of
-    M q'' + Omega G q' + (K - Omega^2 K_Omega) q = 0 agree."""
+    m (y'' + 2 Omega x' - Omega^2 y) = F_y, written here with the independent M, K: the
+    first-order eigenvalues (``numpy.linalg.eig``) against :func:`jaxgear.campbell` (skew
+    form, Hermitian ``eigh``), 0 to 800 rad/s; the translational pairs split with speed."""
     rng = np.random.default_rng(7)
     stage, (m_ref, k_ref) = _random_stage(rng, 4, np.arange(4) * np.pi / 2)
-    omega = 300.0
     size = m_ref.shape[0]
     g_ref, kc_ref = np.zeros((size, size)), np.zeros((size, size))
     for b in range(size // 3):
         m = m_ref[3 * b, 3 * b]
         g_ref[3 * b, 3 * b + 1], g_ref[3 * b + 1, 3 * b] = -2 * m, 2 * m
         kc_ref[3 * b, 3 * b] = kc_ref[3 * b + 1, 3 * b + 1] = m
-
-    def quadratic_eigs(m, g, k):
+    speeds = np.array([0.0, 300.0, 800.0])
+    want = []
+    for omega in speeds:
         a = np.block(
-            [[np.zeros_like(m), np.eye(len(m))], [-np.linalg.solve(m, k), -np.linalg.solve(m, g)]]
+            [
+                [np.zeros_like(m_ref), np.eye(size)],
+                [
+                    -np.linalg.solve(m_ref, k_ref - omega**2 * kc_ref),
+                    -np.linalg.solve(m_ref, omega * g_ref),
+                ],
+            ]
         )
         lam = np.linalg.eigvals(a)
-        return np.sort_complex(np.round(lam, 6))
-
+        assert np.abs(lam.real).max() < 1e-6 * np.abs(lam).max()  # stable: pure imaginary
+        want.append(np.sort(np.abs(lam.imag))[::2] / (2 * np.pi))
     model = jg.PlanarPlanetary()
-    got = quadratic_eigs(
-        np.asarray(model.mass_matrix(stage)),
-        omega * np.asarray(model.gyroscopic_matrix(stage)),
-        np.asarray(model.stiffness_matrix(stage))
-        - omega**2 * np.asarray(model.centripetal_matrix(stage)),
-    )
-    want = quadratic_eigs(m_ref, omega * g_ref, k_ref - omega**2 * kc_ref)
-    np.testing.assert_allclose(np.abs(got.imag), np.abs(want.imag), rtol=1e-8)
+    got = np.asarray(jg.campbell(model, stage, speeds))
+    np.testing.assert_allclose(got, np.array(want), rtol=1e-9)
     g = np.asarray(model.gyroscopic_matrix(stage))
     np.testing.assert_array_equal(g, -g.T)
+    # identical, equally spaced planets: a translational pair at rest splits at speed
+    alike = cooley_parker_stage(4)  # isotropic bearings, every member held in rotation
+    rest, fast = np.asarray(jg.campbell(model, alike, np.array([0.0, 800.0])))
+    types = jg.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    pair = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.TRANSLATIONAL][:2]
+    assert rest[pair[1]] - rest[pair[0]] < 1e-9 * rest[pair[0]]
+    assert fast[pair[1]] - fast[pair[0]] > 1e-3 * rest[pair[0]]
+
+
+def test_campbell_refuses_a_speed_past_divergence():
+    """Lin & Parker's example leaves the carrier free to turn: with the planets' centripetal
+    term the rigid rotation has negative stiffness at any speed."""
+    with pytest.raises(eqx.EquinoxRuntimeError, match="past divergence"):
+        jg.campbell(jg.PlanarPlanetary(), lin_parker_stage(3), np.array([100.0]))
 
 
 def test_torsional_model_against_kahramans_form():
@@ -404,13 +420,12 @@ COOLEY_PARKER = {
 }
 
 
-@pytest.mark.parametrize("n", [3, 4, 5])
-def test_cooley_parker_example_at_rest(n):
-    """m_s 3, m_r 7.64, m_c 12, m_p 1.86 kg; I/r^2 1.75, 8.09, 6.80, 1.25 kg; base diameters
-    55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp = 10^8, k_s 2e7, k_r 1e8, k_c 5e7,
-    k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
+def cooley_parker_stage(n):
+    """Cooley & Parker (2012), Table 1: m_s 3, m_r 7.64, m_c 12, m_p 1.86 kg; I/r^2 1.75, 8.09,
+    6.80, 1.25 kg; base diameters 55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp =
+    1e8, k_s 2e7, k_r 1e8, k_c 5e7, k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
     member = jg.PlanetaryMember.lumped
-    stage = jg.PlanetaryStage.equally_spaced(
+    return jg.PlanetaryStage.equally_spaced(
         n,
         sun=member(3.0, 1.75, 55.75e-3 / 2, 2e7, 2e7),
         ring=member(7.64, 8.09, 109.7e-3 / 2, 1e8, 1e8),
@@ -421,6 +436,14 @@ def test_cooley_parker_example_at_rest(n):
         sun_mesh_stiffness=1e8,
         ring_mesh_stiffness=1e8,
     )
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_cooley_parker_example_at_rest(n):
+    """m_s 3, m_r 7.64, m_c 12, m_p 1.86 kg; I/r^2 1.75, 8.09, 6.80, 1.25 kg; base diameters
+    55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp = 10^8, k_s 2e7, k_r 1e8, k_c 5e7,
+    k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
+    stage = cooley_parker_stage(n)
     modes = jg.planetary_modes(jg.PlanarPlanetary(), stage)
     got = np.asarray(modes.frequencies) * 2 * np.pi / np.sqrt(1e7 / 1.86)
     printed = np.sort(COOLEY_PARKER[n])
