@@ -91,6 +91,12 @@ def test_lin_parker_example_frequencies_and_mode_types(n):
     np.testing.assert_allclose(phi.T @ m @ phi, np.eye(len(f)), atol=1e-9)
     planet = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.PLANET]
     assert np.abs(phi[:9, planet]).max(initial=0.0) < 1e-9 * np.abs(phi).max()
+    # rotational modes: every planet moves alike in its own (zeta, eta, u)
+    rotational = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.ROTATIONAL]
+    planets = phi[9:, rotational].reshape(n, 3, -1)
+    np.testing.assert_allclose(
+        planets, np.broadcast_to(planets[:1], planets.shape), atol=1e-9 * np.abs(phi).max()
+    )
 
 
 # -- an independent planar model, from the paper's equations, in plain NumPy -------------------
