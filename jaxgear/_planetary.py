@@ -364,10 +364,10 @@ class AbstractPlanetaryModel(eqx.Module):
         """K_Omega (kg): the centripetal softening is -Omega^2 K_Omega q."""
 
     @abc.abstractmethod
-    def pin_error_terms(self, stage: PlanetaryStage, tangential_errors):
+    def pin_error_terms(self, stage: PlanetaryStage, tangential_errors, radial_errors):
         """(f, d_s, d_r): the load f (N, (n_dof,)) and the mesh-deflection offsets d_s, d_r
-        (m, (n_planets,)) that tangential planet-pin position errors (m, (n_planets,),
-        positive along eta) cause."""
+        (m, (n_planets,)) that planet-pin position errors cause: ``tangential_errors`` along
+        eta, ``radial_errors`` along zeta (outward), both (m, (n_planets,))."""
 
     @eqx.filter_jit
     def mass_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:
@@ -416,11 +416,14 @@ class PlanarPlanetary(AbstractPlanetaryModel):
     def centripetal_matrix(self, stage):
         return _planar_centripetal(stage)
 
-    def pin_error_terms(self, stage, tangential_errors):
-        # the pin stands e further along eta: delta_eta = P_eta q + e; K q = -k_eta e P_eta
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        # the pin stands e further along eta (eps along zeta): delta_eta = P_eta q + e,
+        # delta_zeta = P_zeta q + eps; K q = -k_eta e P_eta - k_zeta eps P_zeta
         e = jnp.broadcast_to(as_float(tangential_errors), (stage.n_planets,))
-        _, p_tan = pin_rows(stage)
-        f = -stage.planet.bearing_stiffness[1] * (e @ p_tan)
+        eps = jnp.broadcast_to(as_float(radial_errors), (stage.n_planets,))
+        p_rad, p_tan = pin_rows(stage)
+        k_pin = stage.planet.bearing_stiffness
+        f = -k_pin[1] * (e @ p_tan) - k_pin[0] * (eps @ p_rad)
         zero = jnp.zeros_like(e)
         return f, zero, zero
 
@@ -454,11 +457,14 @@ class TorsionalPlanetary(AbstractPlanetaryModel):
     def centripetal_matrix(self, stage):
         return self.gyroscopic_matrix(stage)
 
-    def pin_error_terms(self, stage, tangential_errors):
-        # rigid pin at eta_n = u_c + e_n: the meshes see the offset -e cos a (Lin & Parker's
-        # delta with eta_n shifted by e), the load is -T^T K_m q0 with q0 the shift alone
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        # rigid pin at eta_n = u_c + e_n, zeta_n = eps_n: the meshes see the offsets
+        # -e cos a_s - eps sin a_s and -e cos a_r + eps sin a_r (Lin & Parker's deltas with the
+        # planet shifted), the load is -T^T K_m q0 with q0 the shift alone
         e = jnp.broadcast_to(as_float(tangential_errors), (stage.n_planets,))
+        eps = jnp.broadcast_to(as_float(radial_errors), (stage.n_planets,))
         q0 = jnp.zeros(_planar_size(stage), dtype=e.dtype).at[3 * CENTRAL + 1 :: 3].set(e)
+        q0 = q0.at[3 * CENTRAL :: 3].set(eps)
         f = -self.reduction(stage).T @ (_planar_mesh_stiffness(stage) @ q0)
         v_s, v_r = mesh_rows(stage)
         return f, v_s @ q0, v_r @ q0

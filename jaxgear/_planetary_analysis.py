@@ -248,9 +248,9 @@ def load_sharing(
     stage: PlanetaryStage,
     sun_torque: Float[Array, ""],
     tangential_pin_errors: Float[Array, " n_planets"],
+    radial_pin_errors: Float[Array, " n_planets"] | float = 0.0,
 ) -> LoadSharing:
-    """Load sharing among the planets under a sun torque, with planet-pin tangential position
-    errors, from ``K q = f`` (the model's stiffness; constant mesh stiffness, every mesh assumed
+    """Load sharing among the planets under a sun torque, with planet-pin position errors, from ``K q = f`` (the model's stiffness; constant mesh stiffness, every mesh assumed
     in contact: a negative mesh force means the model does not apply).
 
     Args:
@@ -262,6 +262,10 @@ def load_sharing(
         tangential_pin_errors: position error of each planet pin along eta (m), shape
             ``(n_planets,)`` (positive counter-clockwise, the sense that unloads the planet's
             meshes under a positive sun torque).
+        radial_pin_errors: position error of each planet pin along zeta, outward (m), shape
+            ``(n_planets,)`` or ``()``; with equal pressure angles it leaves the shares
+            unchanged to first order (its mesh offsets -eps sin a_s and +eps sin a_r cancel
+            along a planet's path).
 
     Returns:
         :class:`LoadSharing`.
@@ -279,8 +283,11 @@ def load_sharing(
         shape_text=f"({n},)",
         where="load_sharing",
     )
+    check_real("radial_pin_errors", radial_pin_errors, "m", where="load_sharing")
+    if jnp.size(radial_pin_errors) not in (1, n):
+        raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
     e = as_float(tangential_pin_errors)
-    f_err, d_s, d_r = model.pin_error_terms(stage, e)
+    f_err, d_s, d_r = model.pin_error_terms(stage, e, as_float(radial_pin_errors))
     k = model.stiffness_matrix(stage)
     names = model.dof_names(stage)
     f = f_err.at[names.index("u_s")].add(as_float(sun_torque) / stage.sun.base_radius)

@@ -459,3 +459,24 @@ def test_cooley_parker_example_at_rest(n):
     types = jg.classify_modes(modes, jg.PlanarPlanetary(), stage)
     assert [t for t, _ in types].count(jg.ModeType.ROTATIONAL) == 6
     assert [t for t, _ in types].count(jg.ModeType.PLANET) == 3 * (n - 3)
+
+
+def test_one_trace_for_new_values_and_vmap_over_a_stiffness():
+    """New values of the same stage structure reuse the compiled solve; a sweep of the mesh
+    stiffness runs under vmap and matches one-by-one solves."""
+    model = jg.PlanarPlanetary()
+
+    @eqx.filter_jit
+    @eqx.debug.assert_max_traces(max_traces=1)
+    def lowest_rotational(stage):
+        return jg.planetary_modes(model, stage).frequencies[5]
+
+    def with_k(k):
+        return jg.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "ring_mesh_stiffness": k})
+
+    singles = [float(lowest_rotational(with_k(jnp.asarray(k)))) for k in (3e8, 5e8, 7e8)]
+    assert singles[0] < singles[1] < singles[2]
+    swept = jax.vmap(lambda k: jg.planetary_modes(model, with_k(k)).frequencies[5])(
+        jnp.array([3e8, 5e8, 7e8])
+    )
+    np.testing.assert_allclose(swept, singles, rtol=1e-12)

@@ -15,7 +15,7 @@ K_MESH = 5e8
 HELD = 1e13  # N/m on u = r theta, or N/m on a translation: "rigid"
 
 
-def stage(n, sun_bearing=HELD, pin=HELD, carrier_u=HELD):
+def stage(n, sun_bearing=HELD, pin=HELD, carrier_u=HELD, ring_angle=ALPHA):
     """Lin & Parker's example masses and radii (their Table 1); bearings as asked, the ring and
     (unless told) the carrier held in rotation."""
     member = jg.PlanetaryMember.lumped
@@ -26,21 +26,23 @@ def stage(n, sun_bearing=HELD, pin=HELD, carrier_u=HELD):
         carrier=member(5.43, 6.29, 176.8e-3 / 2, HELD, carrier_u),
         planet=member(0.66, 0.61, 100.3e-3 / 2, pin, 0.0),
         sun_pressure_angle=ALPHA,
-        ring_pressure_angle=ALPHA,
+        ring_pressure_angle=ring_angle,
         sun_mesh_stiffness=K_MESH,
         ring_mesh_stiffness=K_MESH,
     )
 
 
-def hand_spring_model(n, torque, errors):
+def hand_spring_model(n, torque, errors, radial=0.0, a_r=ALPHA):
     """Rigid centres, rigid pins, ring and carrier held; the sun turns. Planet path j: the sun
     mesh k_s = k (u_s + u_j - e_j cos a) and the ring mesh k (-u_j - e_j cos a) in series
     (the planet's moment balance k_s delta_s = k_r delta_r), so
     F_j = k_eq (u_s - e_j (cos a_s + cos a_r)) with k_eq = k k / (k + k); the sun's balance
-    sum F_j = T / r_s gives u_s, and F_j = T / (N r_s) + k_eq c (mean e - e_j)."""
+    sum F_j = T / r_s gives u_s, and F_j = T / (N r_s) + k_eq c (mean e - e_j). A radial
+    error eps_j (outward) adds the offsets -eps sin a_s and +eps sin a_r: e_j c becomes
+    e_j (cos a_s + cos a_r) + eps_j (sin a_s - sin a_r)."""
     k_eq = K_MESH * K_MESH / (2 * K_MESH)
-    c = 2 * np.cos(ALPHA)
-    forces = torque / (n * R_SUN) + k_eq * c * (np.mean(errors) - errors)
+    shift = errors * (np.cos(ALPHA) + np.cos(a_r)) + radial * (np.sin(ALPHA) - np.sin(a_r))
+    forces = torque / (n * R_SUN) + k_eq * (np.mean(shift) - shift)
     return forces, forces.max() / forces.mean()
 
 
@@ -54,6 +56,21 @@ def test_k_gamma_with_one_pin_error_against_a_hand_spring_model(n):
         got = jg.load_sharing(model, stage(n), torque, errors)
         np.testing.assert_allclose(got.sun_mesh_forces, forces, rtol=rtol)
         np.testing.assert_allclose(got.ring_mesh_forces, forces, rtol=rtol)
+        assert float(got.k_gamma) == pytest.approx(k_gamma, rel=rtol)
+
+
+def test_radial_pin_errors_against_the_hand_spring_model():
+    """Equal pressure angles: a radial error leaves the shares equal; unequal (24.6 and 20 deg):
+    it acts through sin a_s - sin a_r."""
+    radial = np.array([0.0, 100e-6, 0.0, 0.0])
+    same = jg.load_sharing(jg.TorsionalPlanetary(), stage(4), 3000.0, np.zeros(4), radial)
+    assert float(same.k_gamma) == pytest.approx(1.0, abs=1e-9)
+    a_r = np.radians(20.0)
+    errors = np.array([10e-6, 0.0, 0.0, 0.0])
+    forces, k_gamma = hand_spring_model(4, 3000.0, errors, radial, a_r)
+    for model, rtol in ((jg.PlanarPlanetary(), 1e-3), (jg.TorsionalPlanetary(), 1e-9)):
+        got = jg.load_sharing(model, stage(4, ring_angle=a_r), 3000.0, errors, radial)
+        np.testing.assert_allclose(got.sun_mesh_forces, forces, rtol=rtol)
         assert float(got.k_gamma) == pytest.approx(k_gamma, rel=rtol)
 
 
