@@ -148,6 +148,15 @@ class PlanetaryStage(eqx.Module):
 
     Raises:
         ValueError: fewer than one planet, an angle or stiffness out of range (one line).
+
+    Example:
+        >>> lumped = PlanetaryMember.lumped  # Lin & Parker's Table 1 system, 4 planets
+        >>> stage = PlanetaryStage.equally_spaced(
+        ...     4, sun=lumped(0.4, 0.39, 0.0387, 1e8), ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
+        ...     carrier=lumped(5.43, 6.29, 0.0884, 1e8), planet=lumped(0.66, 0.61, 0.05015, 1e8),
+        ...     sun_pressure_angle=0.4294, ring_pressure_angle=0.4294,
+        ...     sun_mesh_stiffness=5e8, ring_mesh_stiffness=5e8)
+        >>> modes = planetary_modes(PlanarPlanetary(), stage)  # 21 frequencies (Hz)
     """
 
     sun: PlanetaryMember
