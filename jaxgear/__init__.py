@@ -47,6 +47,27 @@ from ._modifications import (
     Modifications as Modifications,
     ParabolicRelief as ParabolicRelief,
 )
+from ._planetary import (
+    AbstractPlanetaryModel as AbstractPlanetaryModel,
+    Central as Central,
+    PlanarPlanetary as PlanarPlanetary,
+    PlanetaryMember as PlanetaryMember,
+    PlanetaryStage as PlanetaryStage,
+    TorsionalPlanetary as TorsionalPlanetary,
+    check_assembly as check_assembly,
+    speed_ratio as speed_ratio,
+)
+from ._planetary_analysis import (
+    LoadSharing as LoadSharing,
+    ModeType as ModeType,
+    campbell as campbell,
+    PlanetaryModes as PlanetaryModes,
+    classify_modes as classify_modes,
+    load_sharing as load_sharing,
+    mesh_phases as mesh_phases,
+    phasing_excites as phasing_excites,
+    planetary_modes as planetary_modes,
+)
 from ._pressure import (
     ContactPressure as ContactPressure,
     contact_modulus as contact_modulus,

@@ -1,0 +1,536 @@
+"""A planetary stage in the literature's lumped form: sun, ring, carrier and N identical planets,
+their matrices in the frame turning with the carrier, the Willis speed ratios and the assembly
+condition (docs/planetary.md).
+
+Sources: J. Lin and R. G. Parker, "Analytical characterization of the unique properties of
+planetary gear free vibration", J. Vib. Acoust. 121 (1999) 316-321 (the planar model, its
+equations (1)-(4) and the mode structure); R. G. Parker and J. Lin, "Mesh phasing relationships
+in planetary and epicyclic gears", J. Mech. Des. 126 (2004) 365-370 (the mesh phases);
+A. Kahraman, "Natural modes of planetary gear trains", J. Sound Vib. 173 (1994) (the torsional
+model).
+
+Conventions (the carrier frame): the x axis is fixed to the carrier, angles are positive
+counter-clockwise seen from the side the planets are numbered on; planet n sits at the angle
+``psi_n`` from the x axis, on the circle of radius ``carrier.base_radius``. Coordinates, in this
+order (Lin & Parker's): the carrier ``(x_c, y_c, u_c)``, the ring ``(x_r, y_r, u_r)``, the sun
+``(x_s, y_s, u_s)``, then each planet ``(zeta_n, eta_n, u_n)``. ``x, y`` are translations (m) in
+the carrier frame; ``zeta_n, eta_n`` the planet's radial and tangential translations (m), along
+``(cos psi_n, sin psi_n)`` and ``(-sin psi_n, cos psi_n)``; ``u = r theta`` a rotation (rad)
+times the member's base radius (m; the carrier's: the planet-centre radius), positive
+counter-clockwise. The mesh deflections, positive in compression (Lin & Parker 1999):
+
+    delta_sn = -x_s sin psi_sn + y_s cos psi_sn - zeta_n sin a_s - eta_n cos a_s + u_s + u_n
+    delta_rn = -x_r sin psi_rn + y_r cos psi_rn + zeta_n sin a_r - eta_n cos a_r + u_r - u_n
+
+with ``psi_sn = psi_n - a_s`` and ``psi_rn = psi_n + a_r`` (a_s, a_r: the pressure angles of
+the sun-planet and ring-planet meshes), and the planet-pin deflections
+``delta_zeta = x_c cos psi_n + y_c sin psi_n - zeta_n``,
+``delta_eta = -x_c sin psi_n + y_c cos psi_n + u_c - eta_n``.
+The equations of motion at the carrier speed Omega (rad/s):
+``M q'' + Omega G q' + (K - Omega^2 K_Omega) q = f``.
+"""
+
+from __future__ import annotations
+
+import abc
+import enum
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._util import as_float, check_instance, check_integer, check_real
+
+__all__ = [
+    "AbstractPlanetaryModel",
+    "Central",
+    "PlanarPlanetary",
+    "PlanetaryMember",
+    "PlanetaryStage",
+    "TorsionalPlanetary",
+    "check_assembly",
+    "speed_ratio",
+]
+
+
+def _pair(value) -> Float[Array, " 2"]:
+    """One stiffness for both directions, or two."""
+    return jnp.broadcast_to(as_float(value), (2,))
+
+
+class PlanetaryMember(eqx.Module):
+    """One member of a planetary stage in the lumped form: a rigid body on its bearing.
+
+    Attributes:
+        mass: mass (kg), shape ``()``.
+        polar_inertia: polar moment of inertia about its axis (kg m^2), shape ``()``.
+        base_radius: base radius (m), shape ``()``; for the carrier the radius of the circle of
+            the planet centres.
+        bearing_stiffness: translational bearing stiffnesses (N/m), shape ``(2,)``: along the
+            carrier frame's x and y for a central member, along the pin's radial (zeta) and
+            tangential (eta) directions for a planet (the planet pin on the carrier).
+        torsional_stiffness: torsional stiffness to ground (N m/rad), shape ``()``: 0 for a free
+            member, a large value for a fixed one (Lin & Parker's ``k_u`` is this over the
+            base radius squared).
+
+    Raises:
+        ValueError: a mass, inertia or radius <= 0, a stiffness < 0 (one line naming it).
+    """
+
+    mass: Float[Array, ""] = eqx.field(converter=as_float)
+    polar_inertia: Float[Array, ""] = eqx.field(converter=as_float)
+    base_radius: Float[Array, ""] = eqx.field(converter=as_float)
+    bearing_stiffness: Float[Array, " 2"] = eqx.field(converter=_pair, default=0.0)
+    torsional_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+
+    def __check_init__(self):
+        for name in ("mass", "polar_inertia", "base_radius"):
+            check_real(
+                name, getattr(self, name), lo=0.0, lo_open=True, shape=(), where="PlanetaryMember"
+            )
+        check_real(
+            "bearing_stiffness",
+            self.bearing_stiffness,
+            "N/m",
+            lo=0.0,
+            shape=(2,),
+            where="PlanetaryMember",
+        )
+        check_real(
+            "torsional_stiffness",
+            self.torsional_stiffness,
+            "N m/rad",
+            lo=0.0,
+            shape=(),
+            where="PlanetaryMember",
+        )
+
+    @classmethod
+    def lumped(cls, mass, inertia_over_r2, base_radius, bearing, torsional_u=0.0):
+        """The member in Lin & Parker's units: ``inertia_over_r2`` = I/r^2 (kg), ``bearing``
+        (N/m, one value for both directions or two), ``torsional_u`` = k_u (N/m, on the
+        coordinate u = r theta); converted to I = (I/r^2) r^2 and k_theta = k_u r^2."""
+        r = as_float(base_radius)
+        return cls(
+            mass=mass,
+            polar_inertia=as_float(inertia_over_r2) * r**2,
+            base_radius=r,
+            bearing_stiffness=bearing,
+            torsional_stiffness=as_float(torsional_u) * r**2,
+        )
+
+    @property
+    def inertia_over_r2(self) -> Float[Array, ""]:
+        """I / r_b^2 (kg): the mass on the coordinate u = r_b theta."""
+        return self.polar_inertia / self.base_radius**2
+
+    @property
+    def torsional_u(self) -> Float[Array, ""]:
+        """k_theta / r_b^2 (N/m): the torsional stiffness on the coordinate u = r_b theta."""
+        return self.torsional_stiffness / self.base_radius**2
+
+
+class PlanetaryStage(eqx.Module):
+    """A simple planetary stage: sun, ring, carrier and N identical planets (the lumped form of
+    Lin & Parker 1999; their Table 1 gives a worked example).
+
+    Attributes:
+        sun, ring, carrier: the central members (:class:`PlanetaryMember`).
+        planet: one planet (all N alike); its ``bearing_stiffness`` is the pin's (radial,
+            tangential) stiffness on the carrier.
+        planet_angles: angle psi_n of each planet centre from the carrier's x axis (rad),
+            shape ``(n_planets,)``, counter-clockwise (``equally_spaced`` builds 2 pi n / N).
+        sun_pressure_angle, ring_pressure_angle: operating pressure angles a_s, a_r (rad) of the
+            sun-planet and ring-planet meshes, in (0, pi/2).
+        sun_mesh_stiffness, ring_mesh_stiffness: constant mesh stiffness (N/m) on the line of
+            action, shape ``()`` (every planet) or ``(n_planets,)``.
+
+    Raises:
+        ValueError: fewer than one planet, an angle or stiffness out of range (one line).
+
+    Example:
+        >>> lumped = PlanetaryMember.lumped  # Lin & Parker's Table 1 system, 4 planets
+        >>> stage = PlanetaryStage.equally_spaced(
+        ...     4, sun=lumped(0.4, 0.39, 0.0387, 1e8), ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
+        ...     carrier=lumped(5.43, 6.29, 0.0884, 1e8), planet=lumped(0.66, 0.61, 0.05015, 1e8),
+        ...     sun_pressure_angle=0.4294, ring_pressure_angle=0.4294,
+        ...     sun_mesh_stiffness=5e8, ring_mesh_stiffness=5e8)
+        >>> modes = planetary_modes(PlanarPlanetary(), stage)  # 21 frequencies (Hz)
+    """
+
+    sun: PlanetaryMember
+    ring: PlanetaryMember
+    carrier: PlanetaryMember
+    planet: PlanetaryMember
+    planet_angles: Float[Array, " n_planets"] = eqx.field(converter=as_float)
+    sun_pressure_angle: Float[Array, ""] = eqx.field(converter=as_float)
+    ring_pressure_angle: Float[Array, ""] = eqx.field(converter=as_float)
+    sun_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
+    ring_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
+
+    def __check_init__(self):
+        for name in ("sun", "ring", "carrier", "planet"):
+            check_instance(
+                name,
+                getattr(self, name),
+                PlanetaryMember,
+                "a jaxgear.PlanetaryMember",
+                "PlanetaryStage",
+            )
+        check_real(
+            "planet_angles",
+            self.planet_angles,
+            "rad",
+            shape=(None,),
+            shape_text="(n_planets,)",
+            where="PlanetaryStage",
+        )
+        if self.planet_angles.shape[0] < 1:
+            raise ValueError("PlanetaryStage: planet_angles has 0 planets: allowed >= 1")
+        for name in ("sun_pressure_angle", "ring_pressure_angle"):
+            check_real(
+                name,
+                getattr(self, name),
+                "rad",
+                lo=0.0,
+                hi=np.pi / 2,
+                lo_open=True,
+                hi_open=True,
+                shape=(),
+                where="PlanetaryStage",
+            )
+        n = self.planet_angles.shape[0]
+        for name in ("sun_mesh_stiffness", "ring_mesh_stiffness"):
+            value = getattr(self, name)
+            if jnp.ndim(value) not in (0, 1) or jnp.size(value) not in (1, n):
+                raise ValueError(
+                    f"PlanetaryStage: {name} must have shape () or ({n},), got {jnp.shape(value)}"
+                )
+            check_real(name, value, "N/m", lo=0.0, where="PlanetaryStage")
+
+    @classmethod
+    def equally_spaced(cls, n_planets: int, **members_and_meshes) -> PlanetaryStage:
+        """The stage with ``n_planets`` planets at psi_n = 2 pi (n - 1) / N (planet 1 on the
+        x axis); the other fields as keywords."""
+        check_integer("n_planets", n_planets, 1)
+        angles = 2.0 * np.pi * np.arange(n_planets) / n_planets
+        return cls(planet_angles=angles, **members_and_meshes)
+
+    @property
+    def n_planets(self) -> int:
+        """Number of planets N (static)."""
+        return self.planet_angles.shape[0]
+
+    def mesh_stiffnesses(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
+        """(k_sn, k_rn): the sun-planet and ring-planet mesh stiffness of each planet (N/m)."""
+        n = (self.n_planets,)
+        return (
+            jnp.broadcast_to(self.sun_mesh_stiffness, n),
+            jnp.broadcast_to(self.ring_mesh_stiffness, n),
+        )
+
+
+# -- the planar model's pieces (Lin & Parker 1999) ---------------------------------------------
+
+CENTRAL = 3  # carrier, ring, sun: 3 coordinates each, then the planets
+
+
+def _planar_size(stage: PlanetaryStage) -> int:
+    return 3 * (CENTRAL + stage.n_planets)
+
+
+def _rows(stage: PlanetaryStage, central: int, central_part, planet_part) -> Float[Array, "n d"]:
+    """One row per planet of a linear form of the planar coordinates: ``central_part`` (n, 3) on
+    the central member ``central`` (0 carrier, 1 ring, 2 sun), ``planet_part`` (n, 3) on the
+    planet's own coordinates."""
+    n = stage.n_planets
+    rows = jnp.zeros((n, _planar_size(stage)), dtype=stage.planet_angles.dtype)
+    rows = rows.at[:, 3 * central : 3 * central + 3].set(central_part)
+    planet_cols = 3 * CENTRAL + 3 * jnp.arange(n)[:, None] + jnp.arange(3)[None, :]
+    return rows.at[jnp.arange(n)[:, None], planet_cols].set(planet_part)
+
+
+def mesh_rows(stage: PlanetaryStage) -> tuple[Float[Array, "n d"], Float[Array, "n d"]]:
+    """(V_s, V_r), each (n_planets, 3 (3 + n_planets)): the mesh deflections are
+    ``delta_s = V_s q`` and ``delta_r = V_r q`` (m, positive in compression) for the planar
+    coordinates q (module docstring)."""
+    psi = stage.planet_angles
+    a_s, a_r = stage.sun_pressure_angle, stage.ring_pressure_angle
+    one = jnp.ones_like(psi)
+    psi_s, psi_r = psi - a_s, psi + a_r
+    sun = jnp.stack([-jnp.sin(psi_s), jnp.cos(psi_s), one], axis=-1)
+    p_sun = jnp.stack([-jnp.sin(a_s) * one, -jnp.cos(a_s) * one, one], axis=-1)
+    ring = jnp.stack([-jnp.sin(psi_r), jnp.cos(psi_r), one], axis=-1)
+    p_ring = jnp.stack([jnp.sin(a_r) * one, -jnp.cos(a_r) * one, -one], axis=-1)
+    return _rows(stage, 2, sun, p_sun), _rows(stage, 1, ring, p_ring)
+
+
+def pin_rows(stage: PlanetaryStage) -> tuple[Float[Array, "n d"], Float[Array, "n d"]]:
+    """(P_zeta, P_eta): the planet-pin deflections (m) ``P q``, radial and tangential."""
+    psi = stage.planet_angles
+    zero, one = jnp.zeros_like(psi), jnp.ones_like(psi)
+    radial = jnp.stack([jnp.cos(psi), jnp.sin(psi), zero], axis=-1)
+    tangential = jnp.stack([-jnp.sin(psi), jnp.cos(psi), one], axis=-1)
+    p_rad = jnp.stack([-one, zero, zero], axis=-1)
+    p_tan = jnp.stack([zero, -one, zero], axis=-1)
+    return _rows(stage, 0, radial, p_rad), _rows(stage, 0, tangential, p_tan)
+
+
+def _members(stage: PlanetaryStage) -> tuple[PlanetaryMember, ...]:
+    return (stage.carrier, stage.ring, stage.sun) + (stage.planet,) * stage.n_planets
+
+
+def _planar_mass(stage):
+    return jnp.diag(
+        jnp.concatenate([jnp.stack([m.mass, m.mass, m.inertia_over_r2]) for m in _members(stage)])
+    )
+
+
+def _planar_mesh_stiffness(stage):
+    v_s, v_r = mesh_rows(stage)
+    k_s, k_r = stage.mesh_stiffnesses()
+    return v_s.T @ (k_s[:, None] * v_s) + v_r.T @ (k_r[:, None] * v_r)
+
+
+def _planar_stiffness(stage):
+    """K = K_b + K_m (N/m): bearings of the central members, the planet pins, the meshes."""
+    central = [m for m in _members(stage)[:CENTRAL]]
+    b = jnp.concatenate(
+        [jnp.concatenate([m.bearing_stiffness, m.torsional_u[None]]) for m in central]
+    )
+    planet_u = jnp.broadcast_to(stage.planet.torsional_u, (stage.n_planets,))
+    diag = jnp.zeros(_planar_size(stage), dtype=b.dtype).at[: 3 * CENTRAL].set(b)
+    diag = diag.at[3 * CENTRAL + 2 :: 3].set(planet_u)
+    p_rad, p_tan = pin_rows(stage)
+    k_pin = stage.planet.bearing_stiffness
+    return (
+        jnp.diag(diag)
+        + k_pin[0] * p_rad.T @ p_rad
+        + k_pin[1] * p_tan.T @ p_tan
+        + _planar_mesh_stiffness(stage)
+    )
+
+
+def _planar_gyroscopic(stage):
+    blocks = [
+        jnp.array([[0.0, -2.0, 0.0], [2.0, 0.0, 0.0], [0.0, 0.0, 0.0]]) * m.mass
+        for m in _members(stage)
+    ]
+    return _block_diag(blocks)
+
+
+def _planar_centripetal(stage):
+    return jnp.diag(
+        jnp.concatenate([jnp.stack([m.mass, m.mass, 0.0 * m.mass]) for m in _members(stage)])
+    )
+
+
+def _block_diag(blocks):
+    n = sum(b.shape[0] for b in blocks)
+    out = jnp.zeros((n, n), dtype=blocks[0].dtype)
+    i = 0
+    for b in blocks:
+        out = out.at[i : i + b.shape[0], i : i + b.shape[0]].set(b)
+        i += b.shape[0]
+    return out
+
+
+# -- model kinds -------------------------------------------------------------------------------
+
+
+class AbstractPlanetaryModel(eqx.Module):
+    """A model kind of a planetary stage: which coordinates it keeps and its matrices.
+
+    Every matrix is (n_dof, n_dof) in the model's coordinates (:meth:`dof_names`), in the
+    carrier frame, SI units on the coordinates (m for a translation or u = r theta); at the
+    carrier speed Omega (rad/s) the free motion obeys
+    ``M q'' + Omega G q' + (K - Omega^2 K_Omega) q = f``, f in N.
+    """
+
+    @abc.abstractmethod
+    def reduction(self, stage: PlanetaryStage) -> Float[Array, "n_planar n_dof"]:
+        """T: the planar coordinates of the model's coordinates, q_planar = T q."""
+
+    @abc.abstractmethod
+    def dof_names(self, stage: PlanetaryStage) -> tuple[str, ...]:
+        """One name per coordinate, in order (``"x_c"``, ``"u_s"``, ``"eta_2"``...)."""
+
+    @abc.abstractmethod
+    def central_translations(self, stage: PlanetaryStage) -> tuple[int, ...]:
+        """Indices of the central members' translations (x, y of carrier, ring, sun)."""
+
+    @abc.abstractmethod
+    def central_rotations(self, stage: PlanetaryStage) -> tuple[int, ...]:
+        """Indices of the central members' rotations (u_c, u_r, u_s)."""
+
+    @abc.abstractmethod
+    def gyroscopic_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:
+        """G (kg), skew-symmetric: the Coriolis term is Omega G q'."""
+
+    @abc.abstractmethod
+    def centripetal_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:
+        """K_Omega (kg): the centripetal softening is -Omega^2 K_Omega q."""
+
+    @abc.abstractmethod
+    def pin_error_terms(self, stage: PlanetaryStage, tangential_errors, radial_errors):
+        """(f, d_s, d_r): the load f (N, (n_dof,)) and the mesh-deflection offsets d_s, d_r
+        (m, (n_planets,)) that planet-pin position errors cause: ``tangential_errors`` along
+        eta, ``radial_errors`` along zeta (outward), both (m, (n_planets,))."""
+
+    @eqx.filter_jit
+    def mass_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:
+        """M (kg): diag(m, m, I/r^2) per member reduced to the model's coordinates."""
+        t = self.reduction(stage)
+        return t.T @ _planar_mass(stage) @ t
+
+    @eqx.filter_jit
+    def stiffness_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:
+        """K (N/m): bearings, planet pins and the constant mesh stiffnesses."""
+        t = self.reduction(stage)
+        return t.T @ _planar_stiffness(stage) @ t
+
+    def mesh_deflection_rows(self, stage: PlanetaryStage):
+        """(V_s, V_r), each (n_planets, n_dof): delta = V q (m, compression positive)."""
+        t = self.reduction(stage)
+        v_s, v_r = mesh_rows(stage)
+        return v_s @ t, v_r @ t
+
+
+class PlanarPlanetary(AbstractPlanetaryModel):
+    """The planar lumped model of Lin & Parker (1999): three coordinates per member (two
+    translations, one rotation), 3 (3 + N) in all, in the carrier frame, with the Coriolis and
+    centripetal terms of the rotating frame (per member ``G = [[0, -2m, 0], [2m, 0, 0], 0]``,
+    ``K_Omega = diag(m, m, 0)``)."""
+
+    def reduction(self, stage):
+        n = _planar_size(stage)
+        return jnp.eye(n, dtype=stage.planet_angles.dtype)
+
+    def dof_names(self, stage):
+        central = tuple(f"{c}_{m}" for m in "crs" for c in "xyu")
+        return central + tuple(
+            f"{c}_{i + 1}" for i in range(stage.n_planets) for c in ("zeta", "eta", "u")
+        )
+
+    def central_translations(self, stage):
+        return (0, 1, 3, 4, 6, 7)
+
+    def central_rotations(self, stage):
+        return (2, 5, 8)
+
+    def gyroscopic_matrix(self, stage):
+        return _planar_gyroscopic(stage)
+
+    def centripetal_matrix(self, stage):
+        return _planar_centripetal(stage)
+
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        # the pin stands e further along eta (eps along zeta): delta_eta = P_eta q + e,
+        # delta_zeta = P_zeta q + eps; K q = -k_eta e P_eta - k_zeta eps P_zeta
+        e = jnp.broadcast_to(as_float(tangential_errors), (stage.n_planets,))
+        eps = jnp.broadcast_to(as_float(radial_errors), (stage.n_planets,))
+        p_rad, p_tan = pin_rows(stage)
+        k_pin = stage.planet.bearing_stiffness
+        f = -k_pin[1] * (e @ p_tan) - k_pin[0] * (eps @ p_rad)
+        zero = jnp.zeros_like(e)
+        return f, zero, zero
+
+
+class TorsionalPlanetary(AbstractPlanetaryModel):
+    """The torsional model (Kahraman 1994): one rotation per member, ``(u_c, u_r, u_s, u_1..
+    u_N)``; the members' centres and the planet pins are rigid (the planet centre moves with the
+    carrier, eta_n = u_c). A rotation about the stage axis has no Coriolis nor centripetal term:
+    G = K_Omega = 0."""
+
+    def reduction(self, stage):
+        n = stage.n_planets
+        t = jnp.zeros((_planar_size(stage), CENTRAL + n), dtype=stage.planet_angles.dtype)
+        t = t.at[jnp.array([2, 5, 8]), jnp.arange(CENTRAL)].set(1.0)
+        t = t.at[3 * CENTRAL + 3 * jnp.arange(n) + 1, 0].set(1.0)  # eta_n = u_c
+        return t.at[3 * CENTRAL + 3 * jnp.arange(n) + 2, CENTRAL + jnp.arange(n)].set(1.0)
+
+    def dof_names(self, stage):
+        return ("u_c", "u_r", "u_s") + tuple(f"u_{i + 1}" for i in range(stage.n_planets))
+
+    def central_translations(self, stage):
+        return ()
+
+    def central_rotations(self, stage):
+        return (0, 1, 2)
+
+    def gyroscopic_matrix(self, stage):
+        n = CENTRAL + stage.n_planets
+        return jnp.zeros((n, n), dtype=stage.planet_angles.dtype)
+
+    def centripetal_matrix(self, stage):
+        return self.gyroscopic_matrix(stage)
+
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        # rigid pin at eta_n = u_c + e_n, zeta_n = eps_n: the meshes see the offsets
+        # -e cos a_s - eps sin a_s and -e cos a_r + eps sin a_r (Lin & Parker's deltas with the
+        # planet shifted), the load is -T^T K_m q0 with q0 the shift alone
+        e = jnp.broadcast_to(as_float(tangential_errors), (stage.n_planets,))
+        eps = jnp.broadcast_to(as_float(radial_errors), (stage.n_planets,))
+        q0 = jnp.zeros(_planar_size(stage), dtype=e.dtype).at[3 * CENTRAL + 1 :: 3].set(e)
+        q0 = q0.at[3 * CENTRAL :: 3].set(eps)
+        f = -self.reduction(stage).T @ (_planar_mesh_stiffness(stage) @ q0)
+        v_s, v_r = mesh_rows(stage)
+        return f, v_s @ q0, v_r @ q0
+
+
+# -- kinematics --------------------------------------------------------------------------------
+
+
+class Central(enum.IntEnum):
+    """The central members of a simple planetary stage."""
+
+    SUN = 0
+    RING = 1
+    CARRIER = 2
+
+
+def speed_ratio(z_sun: int, z_ring: int, fixed: Central, driver: Central, driven: Central) -> float:
+    """The Willis speed ratio omega_driver / omega_driven with ``fixed`` held, from
+    ``z_s omega_s + z_r omega_r = (z_s + z_r) omega_c`` (Willis; ``z_ring`` the ring's number of
+    internal teeth, positive here, negative in ISO 21771's formulas). Ring fixed, sun driving
+    the carrier: 1 + z_r/z_s; carrier fixed, sun to ring: -z_r/z_s; sun fixed, ring to
+    carrier: 1 + z_s/z_r.
+
+    Raises:
+        ValueError: a tooth count < 3, ``z_ring <= z_sun``, or two of the members the same.
+    """
+    check_integer("z_sun", z_sun, 3)
+    check_integer("z_ring", z_ring, int(z_sun) + 1)
+    roles = (Central(fixed), Central(driver), Central(driven))
+    if len(set(roles)) != 3:
+        raise ValueError(
+            f"speed_ratio: fixed, driver, driven = {tuple(r.name for r in roles)}"
+            " must be three different members"
+        )
+    a = np.zeros((3, 3))
+    a[0] = [z_sun, z_ring, -(z_sun + z_ring)]  # Willis
+    a[1, roles[0]] = 1.0
+    a[2, roles[1]] = 1.0
+    w = np.linalg.solve(a, [0.0, 0.0, 1.0])
+    return float(w[roles[1]] / w[roles[2]])
+
+
+def check_assembly(z_sun: int, z_ring: int, planet_angles) -> None:
+    """Refuse (one line) planets that cannot be assembled: a planet at psi_n needs
+    ``(z_s + z_r) psi_n / (2 pi)`` integer (Parker & Lin 2004; for N equally spaced planets
+    ``(z_s + z_r) / N`` integer). ``planet_angles`` in rad, shape ``(n_planets,)``, planet 1
+    as the reference."""
+    check_integer("z_sun", z_sun, 3)
+    check_integer("z_ring", z_ring, int(z_sun) + 1)
+    psi = np.asarray(planet_angles, dtype=float)
+    check_real("planet_angles", psi, "rad", shape=(None,), where="check_assembly")
+    turns = (z_sun + z_ring) * (psi - psi[0]) / (2.0 * np.pi)
+    bad = np.abs(turns - np.round(turns)) > 1e-6
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ValueError(
+            f"check_assembly: planet {i + 1} at {np.degrees(psi[i] - psi[0]):g} deg cannot be "
+            f"assembled: (z_sun + z_ring) psi/360 = {turns[i]:.6g} must be an integer "
+            f"(z_sun = {z_sun}, z_ring = {z_ring})"
+        )

@@ -1,0 +1,309 @@
+"""Analyses of a lumped planetary stage: natural modes with their types (Lin & Parker 1999),
+the mesh phases (Parker & Lin 2004) and the quasi-static load sharing with planet-pin errors
+(ISO 6336-1's K_gamma). Conventions: :mod:`jaxgear._planetary` and docs/planetary.md."""
+
+from __future__ import annotations
+
+import enum
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._planetary import AbstractPlanetaryModel, PlanetaryStage
+from ._util import as_float, check_instance, check_integer, check_real
+
+__all__ = [
+    "LoadSharing",
+    "ModeType",
+    "PlanetaryModes",
+    "campbell",
+    "classify_modes",
+    "load_sharing",
+    "mesh_phases",
+    "phasing_excites",
+    "planetary_modes",
+]
+
+
+class ModeType(enum.Enum):
+    """The vibration-mode types of a planetary stage with equally spaced planets (Lin & Parker
+    1999): ROTATIONAL (multiplicity 1, the central members rotate only, the planets move alike),
+    TRANSLATIONAL (multiplicity 2, the central members translate only), PLANET (multiplicity
+    N - 3, the central members still); MIXED where none holds (unequal spacing, an accidental
+    coincidence of two types)."""
+
+    ROTATIONAL = "rotational"
+    TRANSLATIONAL = "translational"
+    PLANET = "planet"
+    MIXED = "mixed"
+
+
+class PlanetaryModes(eqx.Module):
+    """Natural modes of a stage model.
+
+    Attributes:
+        frequencies: natural frequencies (Hz), shape ``(n_dof,)``, ascending (a rigid-body
+            mode gives 0; a tiny negative eigenvalue from round-off is clipped to 0).
+        shapes: mode shapes, shape ``(n_dof, n_dof)``, column j for ``frequencies[j]``, in the
+            model's coordinates (m), mass-normalised: ``shapes.T M shapes = I``.
+    """
+
+    frequencies: Float[Array, " n_dof"]
+    shapes: Float[Array, "n_dof n_dof"]
+
+
+@eqx.filter_jit
+def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> PlanetaryModes:
+    """The undamped natural modes at zero carrier speed: ``K phi = omega^2 M phi`` solved as the
+    symmetric problem ``L^-1 K L^-T`` (M = L L^T, Cholesky) with ``jnp.linalg.eigh``; jit-able
+    and differentiable in the stage's values (away from repeated frequencies).
+
+    Args:
+        model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
+            :class:`~jaxgear.TorsionalPlanetary`).
+        stage: the stage.
+
+    Returns:
+        :class:`PlanetaryModes`.
+    """
+    m = model.mass_matrix(stage)
+    k = model.stiffness_matrix(stage)
+    low = jnp.linalg.cholesky(m)
+    a = jnp.linalg.solve(low, jnp.linalg.solve(low, k).T)
+    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
+    shapes = jnp.linalg.solve(low.T, vec)
+    return PlanetaryModes(jnp.sqrt(jnp.clip(lam, 0.0)) / (2.0 * jnp.pi), shapes)
+
+
+@eqx.filter_jit
+def campbell(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    carrier_speeds: Float[Array, " n_speeds"],
+) -> Float[Array, "n_speeds n_dof"]:
+    """Natural frequencies in the carrier frame against the carrier speed, with the Coriolis
+    and centripetal terms (Cooley & Parker 2012): ``M q'' + Omega G q' + (K - Omega^2 K_Omega)
+    q = 0``. With ``K_e = K - Omega^2 K_Omega = S S`` (S its symmetric square root) and
+    ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real skew-symmetric matrix
+    ``[[0, S L^-T], [-L^-1 S, -Omega L^-1 G L^-T]]``, whose eigenvalues +-i omega come from the
+    Hermitian ``eigh`` (so it runs on every device and is differentiable at simple values).
+
+    Args:
+        model, stage: as :func:`planetary_modes`.
+        carrier_speeds: carrier speeds Omega (rad/s), shape ``(n_speeds,)``.
+
+    Returns:
+        Frequencies (Hz), shape ``(n_speeds, n_dof)``, ascending per speed; at Omega = 0 those
+        of :func:`planetary_modes`.
+
+    Raises:
+        EquinoxRuntimeError: a speed past divergence (K_e not positive semi-definite).
+    """
+    m = model.mass_matrix(stage)
+    k = model.stiffness_matrix(stage)
+    g = model.gyroscopic_matrix(stage)
+    kc = model.centripetal_matrix(stage)
+    low = jnp.linalg.cholesky(m)
+    n = m.shape[0]
+
+    def one(omega):
+        lam, u = jnp.linalg.eigh(k - omega**2 * kc)
+        lam = eqx.error_if(
+            lam, jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam)), "campbell: past divergence"
+        )
+        s = (u * jnp.sqrt(jnp.clip(lam, 0.0))[None, :]) @ u.T
+        b = jnp.linalg.solve(low, s).T  # S L^-T
+        c = jnp.linalg.solve(low, jnp.linalg.solve(low, g).T).T  # L^-1 G L^-T
+        a = jnp.block([[jnp.zeros((n, n)), b], [-b.T, -omega * c]])
+        w = jnp.linalg.eigvalsh(-1j * a)
+        return w[n:] / (2.0 * jnp.pi)
+
+    speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
+    return jax.vmap(one)(speeds)
+
+
+def classify_modes(
+    modes: PlanetaryModes,
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    rtol: float = 1e-7,
+    still: float = 1e-8,
+) -> tuple[tuple[ModeType, int], ...]:
+    """The type and multiplicity of each mode (host-side, NumPy; not traced).
+
+    Modes whose frequencies agree within ``rtol`` times the highest frequency form one group;
+    in a group's mode shapes, the share of the squared amplitude on the central members'
+    translations and rotations decides: both below ``still`` -> PLANET, rotations only ->
+    ROTATIONAL, translations only -> TRANSLATIONAL, else MIXED.
+
+    Returns:
+        One ``(ModeType, multiplicity)`` per mode, in the order of ``modes.frequencies``.
+    """
+    check_instance(
+        "model", model, AbstractPlanetaryModel, "a planetary model kind", "classify_modes"
+    )
+    f = np.asarray(modes.frequencies)
+    phi = np.asarray(modes.shapes)
+    trans = list(model.central_translations(stage))
+    rot = list(model.central_rotations(stage))
+    tol = rtol * max(float(f.max()), 1.0)
+    groups, start = [], 0
+    for j in range(1, len(f) + 1):
+        if j == len(f) or f[j] - f[j - 1] > tol:
+            groups.append(range(start, j))
+            start = j
+    out = []
+    for g in groups:
+        block = phi[:, list(g)]
+        total = np.sum(block**2)
+        t_share = np.sum(block[trans] ** 2) / total
+        r_share = np.sum(block[rot] ** 2) / total
+        kind = _TYPES[(bool(t_share > still), bool(r_share > still))]
+        out += [(kind, len(g))] * len(g)
+    return tuple(out)
+
+
+# (central translations move, central rotations move) -> type
+_TYPES = {
+    (False, False): ModeType.PLANET,
+    (False, True): ModeType.ROTATIONAL,
+    (True, False): ModeType.TRANSLATIONAL,
+    (True, True): ModeType.MIXED,
+}
+
+
+# -- mesh phasing ------------------------------------------------------------------------------
+
+
+def mesh_phases(z_sun: int, z_ring: int, planet_angles) -> tuple[np.ndarray, np.ndarray]:
+    """The mesh phases of the 2N meshes relative to planet 1's (Parker & Lin 2004), as
+    fractions of a mesh period in [0, 1).
+
+    With the sun turning counter-clockwise relative to the carrier (and so the ring clockwise),
+    the sun-planet mesh of planet n repeats planet 1's a time ``gamma_sn T_m`` later:
+    ``k_sn(t) = k_s1(t - gamma_sn T_m)``, ``gamma_sn = frac(z_s psi_n / 2 pi)``; the ring-planet
+    meshes ``gamma_rn = frac(-z_r psi_n / 2 pi)``. When the planets can be assembled
+    (:func:`~jaxgear.check_assembly`) the two are equal. For the clockwise sense, take
+    ``1 - gamma`` (mod 1). ``planet_angles`` (rad), shape ``(n_planets,)``, planet 1 the
+    reference.
+
+    Returns:
+        (gamma_s, gamma_r), each shape ``(n_planets,)``.
+    """
+    check_integer("z_sun", z_sun, 3)
+    check_integer("z_ring", z_ring, int(z_sun) + 1)
+    psi = np.asarray(planet_angles, dtype=float)
+    check_real("planet_angles", psi, "rad", shape=(None,), where="mesh_phases")
+    turns = (psi - psi[0]) / (2.0 * np.pi)
+    return _frac(z_sun * turns), _frac(-z_ring * turns)
+
+
+def _frac(x):
+    r = np.mod(x, 1.0)
+    return np.where(np.isclose(r, 1.0, atol=1e-9) | np.isclose(r, 0.0, atol=1e-9), 0.0, r)
+
+
+def phasing_excites(z_sun: int, n_planets: int, harmonic: int) -> ModeType:
+    """Which modes harmonic ``harmonic`` of the mesh frequency can excite through the sun-planet
+    meshes of N equally spaced planets (Parker 2000; Parker & Lin 2004): with
+    ``k = mod(harmonic z_s, N)``, k = 0: ROTATIONAL (the net torque adds up, the net force
+    cancels); k = 1 or N - 1: TRANSLATIONAL (net force, no net torque); otherwise PLANET (both
+    cancel on the central members). In phase (z_s / N integer): k = 0 at every harmonic."""
+    check_integer("z_sun", z_sun, 3)
+    check_integer("n_planets", n_planets, 3)
+    check_integer("harmonic", harmonic, 1)
+    k = (harmonic * z_sun) % n_planets
+    return _EXCITES[min(k, n_planets - k, 2)]
+
+
+_EXCITES = (ModeType.ROTATIONAL, ModeType.TRANSLATIONAL, ModeType.PLANET)
+
+
+# -- quasi-static load sharing -----------------------------------------------------------------
+
+
+class LoadSharing(eqx.Module):
+    """Quasi-static mesh loads of a stage (linear, constant mesh stiffness).
+
+    Attributes:
+        displacement: the coordinates (m), shape ``(n_dof,)``.
+        sun_mesh_forces, ring_mesh_forces: force on each planet's sun-planet and ring-planet
+            mesh (N, compression positive), shape ``(n_planets,)``.
+        k_gamma: the mesh load factor (ISO 6336-1, AGMA 6123): the most loaded planet's
+            sun-planet force over the mean, shape ``()``.
+    """
+
+    displacement: Float[Array, " n_dof"]
+    sun_mesh_forces: Float[Array, " n_planets"]
+    ring_mesh_forces: Float[Array, " n_planets"]
+    k_gamma: Float[Array, ""]
+
+
+@eqx.filter_jit
+def load_sharing(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    sun_torque: Float[Array, ""],
+    tangential_pin_errors: Float[Array, " n_planets"],
+    radial_pin_errors: Float[Array, " n_planets"] | float = 0.0,
+) -> LoadSharing:
+    """Load sharing among the planets under a sun torque, with planet-pin position errors, from ``K q = f`` (the model's stiffness; constant mesh stiffness, every mesh assumed
+    in contact: a negative mesh force means the model does not apply).
+
+    Args:
+        model: the model kind.
+        stage: the stage; its ring and carrier (or whichever members react the torque) need a
+            torsional stiffness, else K is singular (the result is then refused).
+        sun_torque: torque on the sun (N m), positive counter-clockwise (it loads the sun-planet
+            meshes in compression).
+        tangential_pin_errors: position error of each planet pin along eta (m), shape
+            ``(n_planets,)`` (positive counter-clockwise, the sense that unloads the planet's
+            meshes under a positive sun torque).
+        radial_pin_errors: position error of each planet pin along zeta, outward (m), shape
+            ``(n_planets,)`` or ``()``; with equal pressure angles it leaves the shares
+            unchanged to first order (its mesh offsets -eps sin a_s and +eps sin a_r cancel
+            along a planet's path).
+
+    Returns:
+        :class:`LoadSharing`.
+
+    Raises:
+        ValueError: an error array of the wrong shape (trace time).
+        EquinoxRuntimeError: a singular stiffness (a member free to turn).
+    """
+    n = stage.n_planets
+    check_real(
+        "tangential_pin_errors",
+        tangential_pin_errors,
+        "m",
+        shape=(n,),
+        shape_text=f"({n},)",
+        where="load_sharing",
+    )
+    check_real("radial_pin_errors", radial_pin_errors, "m", where="load_sharing")
+    if jnp.size(radial_pin_errors) not in (1, n):
+        raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
+    e = as_float(tangential_pin_errors)
+    f_err, d_s, d_r = model.pin_error_terms(stage, e, as_float(radial_pin_errors))
+    k = model.stiffness_matrix(stage)
+    names = model.dof_names(stage)
+    f = f_err.at[names.index("u_s")].add(as_float(sun_torque) / stage.sun.base_radius)
+    # K is symmetric positive semi-definite: a free member leaves an eigenvalue at rounding
+    # level (or one too small for the precision), which no residual of the solve reveals
+    lam = jnp.linalg.eigvalsh(k)
+    eps = jnp.finfo(k.dtype).eps
+    q = jnp.linalg.solve(k, f)
+    q = eqx.error_if(
+        q,
+        (lam[0] <= 100 * k.shape[0] * eps * lam[-1]) | ~jnp.all(jnp.isfinite(q)),
+        "load_sharing: the stiffness is singular (or too ill-conditioned for this precision): "
+        "hold the ring or the carrier",
+    )
+    v_s, v_r = model.mesh_deflection_rows(stage)
+    k_s, k_r = stage.mesh_stiffnesses()
+    f_s = k_s * (v_s @ q + d_s)
+    f_r = k_r * (v_r @ q + d_r)
+    return LoadSharing(q, f_s, f_r, jnp.max(f_s) / jnp.mean(f_s))
