@@ -52,6 +52,8 @@ def test_strict_build_and_navigation(site):
         "guide/trains",
         "guide/flexible",
         "guide/deviations",
+        "guide/rating",
+        "guide/planetary",
         "reference/case-file",
         "reference/train-file",
         "reference/body-file",

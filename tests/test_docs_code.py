@@ -71,3 +71,24 @@ def test_models_page_case_file_is_valid():
     block = TOML.findall(text[text.index("## Case file") :])[0]
     case = jio.parse_case(tomllib.loads(block), "docs")
     assert case.stiffness_model == "fe2d"
+
+
+TEXT = re.compile(r"^```text\n(.*?)^```", re.DOTALL | re.MULTILINE)
+
+
+def test_rating_page_shows_what_jaxgear_run_writes(tmp_path):
+    """The rows of ``rating.md`` quoted on docs/guide/rating.md are those `jaxgear run` writes
+    for the page's case (the embedded power-helical pair with the page's ```toml tables), so
+    that the quoted figures cannot drift from the program. About 3 s (one rating)."""
+    from jaxgear.cli import rating_outputs
+
+    text = (ROOT / "docs" / "guide" / "rating.md").read_text(encoding="utf-8")
+    data = tomllib.loads(jio.embedded_case_text("power-helical"))
+    data.update(tomllib.loads(TOML.findall(text)[0]))
+    section = rating_outputs(jio.parse_case(data, "docs"), str(tmp_path))
+    assert section is not None
+    written = (tmp_path / "rating.md").read_text(encoding="utf-8").splitlines()
+    quoted = [row for row in TEXT.findall(text)[0].splitlines() if row.startswith("| ")]
+    assert len(quoted) >= 6
+    missing = [row for row in quoted if row not in written]
+    assert not missing, missing
