@@ -1,5 +1,5 @@
 """The backlash evidence (docs/backlash.md): the gear pair shared by the tests and the figure,
-and docs/backlash.{png,json}: RMS DTE against speed, up and down sweeps, jaxgear (Newmark with the
+and docs/bench/backlash.{png,json}: RMS DTE against speed, up and down sweeps, jaxgear (Newmark with the
 coast flanks) against the independent reference (benchmarks/_backlash_reference.py), regimes
 marked. Run: ``python -m benchmarks._backlash`` (float64; about a minute on a CPU)."""
 
@@ -70,7 +70,7 @@ def regime(coast_share, loss):
     return "double-sided" if coast_share > 0 else ("single-sided" if loss > 0 else "no impact")
 
 
-def main(out: Path = Path("docs")) -> dict:
+def main(out: Path = Path("docs/bench")) -> dict:
     p, speed_n, alpha = reference()
     model = jaxgear_model(alpha)
     speeds = SWEEP * speed_n

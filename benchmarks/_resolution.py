@@ -119,7 +119,7 @@ def plot(data: dict, path: Path):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/dynamics_resolution.png")
+    ap.add_argument("--out", default="docs/bench/dynamics_resolution.png")
     ap.add_argument("--json", default=None, help="write (or, if it exists, read) the data here")
     ap.add_argument("--periods", type=int, default=60)
     args = ap.parse_args(argv)

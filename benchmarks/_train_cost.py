@@ -23,7 +23,7 @@ quasi-static reference at each of the span's 127 N_s steps) are solved on the st
 condensed onto the coordinates the cells reach; ``own_full`` solves them on every coordinate
 (``condensed=False``, as before), on the own-period table: ``ratios_full_over_condensed``.
 The span section can run alone on an idle machine, replacing ``span`` in a written JSON:
-``python -c "from benchmarks._train_cost import bench_span_only; bench_span_only('docs')"``.
+``python -c "from benchmarks._train_cost import bench_span_only; bench_span_only('docs/bench')"``.
 """
 
 from __future__ import annotations

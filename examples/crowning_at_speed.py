@@ -1,7 +1,7 @@
 """Maximum line load against lead crowning on the power pair with its flexible wheel, at rest and
 at 3000 rad/s (pinion), with the gradient-based optimum at speed (seed IV-47/48).
 
-Writes docs/crowning_at_speed.png and docs/crowning_at_speed.json. Run from the repository root:
+Writes docs/bench/crowning_at_speed.png and docs/bench/crowning_at_speed.json. Run from the repository root:
 ``python examples/crowning_at_speed.py`` (the wheel is condensed once, about a minute, then read
 from the fem_prep cache)."""
 
@@ -26,7 +26,7 @@ import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.io import static_scene  # noqa: E402
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 
 
 def main() -> dict:

@@ -6,7 +6,7 @@ The hybrid Newmark (condensed wheel, centrifugal load at each speed, Rayleigh D1
 gives the scan; the optimiser minimises the smooth band dynamic factor
 (:func:`jaxgear.dynamics.band_dynamic_factor`, smooth contact) over the crowning depth per member
 and its gradient is checked against central finite differences. Writes
-docs/crowning_dynamic_factor.png and docs/crowning_dynamic_factor.json. Run from the repository
+docs/bench/crowning_dynamic_factor.png and docs/bench/crowning_dynamic_factor.json. Run from the repository
 root: ``python examples/crowning_dynamic_factor.py`` (about 10 minutes on 2 cores)."""
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from jaxgear import io as jio  # noqa: E402
 from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
 from jaxgear.io import Damping, static_scene
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 SPEEDS = (2800.0, 3000.0, 3200.0)  # pinion, rad/s
 DYNAMICS = (32, 30, 4)  # steps per mesh period, periods, kept periods
 D1 = Damping("rayleigh", alpha=25.0, beta=2.5e-6)

@@ -19,7 +19,7 @@ smooth contact, evaluated in exact contact): the ``load_centroid`` objective ove
 on the web side at speed, over depth and extent), and the ``max_line_load`` objective over the
 depth.
 
-Writes docs/end_relief_at_speed.png and docs/end_relief_at_speed.json. Run from the repository
+Writes docs/bench/end_relief_at_speed.png and docs/bench/end_relief_at_speed.json. Run from the repository
 root: ``python examples/end_relief_at_speed.py [out_dir]`` (the wheel is condensed once, about
 three minutes, then read from the fem_prep cache; the rest takes about five minutes on 2 CPU
 cores).
@@ -46,7 +46,7 @@ import optimise  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.io import static_scene  # noqa: E402
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 CASE = "power-helical-flexible"
 EXTENT = 0.4  # Γ, fraction of the face width (seed IV-33)
 SPEEDS = (0.0, 3000.0)  # pinion, rad/s

@@ -3,7 +3,7 @@ with the idler as a thin-webbed condensed FE body against the same train with a 
 and the two contact zones sharing the body's compliance (docs/trains.md, "Flexible gears in a
 train").
 
-Writes docs/flexible_idler.png and docs/flexible_idler.json. Run from the repository root:
+Writes docs/bench/flexible_idler.png and docs/bench/flexible_idler.json. Run from the repository root:
 ``python examples/flexible_idler.py`` (about 1 minute on 2 cores, plus 1-2 minutes the first
 time fem_prep builds the idler body).
 """
@@ -29,7 +29,7 @@ from jaxgear import io as jio  # noqa: E402
 from jaxgear.io import load_bodies  # noqa: E402
 from jaxgear.scenes import mesh_zone_load  # noqa: E402
 
-DOCS = pathlib.Path(__file__).parents[1] / "docs"
+DOCS = pathlib.Path(__file__).parents[1] / "docs" / "bench"
 
 
 def main(out_dir: pathlib.Path = DOCS) -> dict:

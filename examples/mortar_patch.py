@@ -24,7 +24,7 @@ faces condensed on their corner nodes give (docs/hybrid.md, "Seed typos and trap
 quadratically on all three nodes of each element edge (corner and mid-side) — the construction
 of the 2-D reference table of docs/hybrid.md, "Mortar patch test".
 
-Run: ``python examples/mortar_patch.py [out_dir]`` (default ``docs``): writes
+Run: ``python examples/mortar_patch.py [out_dir]`` (default ``docs/bench``): writes
 ``mortar_patch.png`` (q / q_exact across the face for a nested and a non-nested layout) and
 ``mortar_patch.json`` (max |q/q_exact − 1| for the reference layouts of docs/hybrid.md).
 """
@@ -204,7 +204,7 @@ def table():
     }
 
 
-def main(out_dir="docs"):
+def main(out_dir="docs/bench"):
     """Write ``mortar_patch.json`` and ``mortar_patch.png`` to ``out_dir``; return the table."""
     import matplotlib
 
@@ -289,7 +289,7 @@ def main(out_dir="docs"):
 
 
 if __name__ == "__main__":
-    result = main(sys.argv[1] if len(sys.argv) > 1 else "docs")
+    result = main(sys.argv[1] if len(sys.argv) > 1 else "docs/bench")
     for el, rows in result.items():
         for lay, errs in rows.items():
             print(f"{el:13s} {lay}", "  ".join(f"{k} {v:.3%}" for k, v in errs.items()))

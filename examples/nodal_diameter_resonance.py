@@ -8,7 +8,7 @@ runs round the rim against the rotation: its first harmonic drives diameter n at
 Z + n (a backward wave) and Z − n (forward) of the wheel's rotation frequency. Light Rayleigh
 damping (α = 0, β = 5e-7 s: ξ ≈ 1 % at 7 kHz) separates the two peaks.
 
-Writes docs/nd_resonance.png and docs/nd_resonance.json. Run from the repository root:
+Writes docs/bench/nd_resonance.png and docs/bench/nd_resonance.json. Run from the repository root:
 ``python examples/nodal_diameter_resonance.py`` (about a minute)."""
 
 from __future__ import annotations
@@ -139,7 +139,7 @@ def plot(res: dict, path) -> None:
 
 def main() -> dict:
     res = compute()
-    docs = ROOT / "docs"
+    docs = ROOT / "docs" / "bench"
     (docs / "nd_resonance.json").write_text(json.dumps(res, indent=1) + "\n")
     plot(res, docs / "nd_resonance.png")
     return res

@@ -7,7 +7,7 @@ rim's growth included) and, as the seed draws IV-47, dynamic: the hybrid model i
 3000 rad/s (the case's ``[scene]``: Newmark, its damping and window), the pressure the largest
 over the kept steps (cell loads recorded, :func:`jaxgear.dynamics.simulate`).
 
-Writes docs/pressure_crowning.png and docs/pressure_crowning.json. Run from the repository root:
+Writes docs/bench/pressure_crowning.png and docs/bench/pressure_crowning.json. Run from the repository root:
 ``python examples/pressure_crowning.py`` (a few minutes on 2 cores once fem_prep has built the
 wheel body).
 """
@@ -39,7 +39,7 @@ from jaxgear.io import (  # noqa: E402
     static_scene,
 )
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 SPEED = 3000.0  # pinion, rad/s
 DEPTHS_UM = (0.0, 5.0, 10.0, 15.0, 20.0)
 

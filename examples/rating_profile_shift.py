@@ -5,7 +5,7 @@ above undercut) to 0.8, the gear's x₂ = 0, the centre distance following the s
 backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed. ``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives
 dS/dx₁ at each, the slope an optimiser would follow.
 
-Writes docs/rating_profile_shift.png and docs/rating_profile_shift.json. Run from the repository
+Writes docs/bench/rating_profile_shift.png and docs/bench/rating_profile_shift.json. Run from the repository
 root: ``python examples/rating_profile_shift.py`` (a few seconds).
 """
 
@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt
 
 import jaxgear as jg
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 SHIFTS = jnp.linspace(0.05, 0.8, 31)
 
 

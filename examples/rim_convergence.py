@@ -10,14 +10,14 @@ For each body: the compliance of one rim station (a unit tangential and radial f
 axial masters, the bearings held) and the quasi-static TE of the case
 ``accessory-spur-flexible`` (80 N·m, 3000 rad/s).
 
-Writes docs/rim_convergence.png and docs/rim_convergence.json. Run from the repository root:
+Writes docs/bench/rim_convergence.png and docs/bench/rim_convergence.json. Run from the repository root:
 ``python examples/rim_convergence.py`` (about 25 minutes on 2 cores: six fem_prep builds, the
 finest about 5 minutes each).
 
 ``python examples/rim_convergence.py power``: the same for the helical power pair's wheel
 (embedded body ``power-helical-wheel``, case ``power-helical-flexible``, 310 N·m at 3000 rad/s)
 with distributing masters only, refined as ``POWER_REFINEMENTS`` (the rim section halved, then
-the circumference: 2 → 4 elements per pitch); writes docs/rim_convergence_power.json (about
+the circumference: 2 → 4 elements per pitch); writes docs/bench/rim_convergence_power.json (about
 30 minutes on 2 cores: the finest body has about 333 000 DOFs).
 """
 
@@ -43,7 +43,7 @@ import jaxgear as jg  # noqa: E402
 from jaxgear import io as jio  # noqa: E402
 from jaxgear.io import static_scene  # noqa: E402
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 COUPLINGS = ("nodal", "distributing")
 # (label, rim section element size (mm, None: the body's 3.5), circumferential size (mm))
 REFINEMENTS = (
@@ -180,7 +180,7 @@ def plot(out: dict) -> None:
 
 def power_study() -> dict:
     """TE mean and RMS of ``power-helical-flexible`` on its wheel refined twice (distributing
-    rim masters): docs/rim_convergence_power.json."""
+    rim masters): docs/bench/rim_convergence_power.json."""
     case = jio.load_case("power-helical-flexible")
     out: dict = {"case": case.name, "coupling": "distributing", "rows": []}
     with tempfile.TemporaryDirectory() as tmp:

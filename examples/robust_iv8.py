@@ -8,7 +8,7 @@ the pinion's deviations drawn for the class (pitch, runout, profile, helix; the 
 that one pinion revolution, the span of each run, is their exact period), Newmark 32 steps per
 mesh period, 10 transient periods then one revolution kept, exact contact; realisation i from
 ``jax.random.fold_in(jax.random.key(SEED), i)`` (common to every speed, class and design). Writes
-docs/robust_iv8.png and docs/robust_iv8.json. Run from the repository root:
+docs/bench/robust_iv8.png and docs/bench/robust_iv8.json. Run from the repository root:
 ``python examples/robust_iv8.py`` (a few minutes on 2 cores)."""
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from jaxgear import io as jio  # noqa: E402
 from jaxgear.scenes import TorsionalDynamics  # noqa: E402
 from jaxgear.scenes import disc_inertia  # noqa: E402
 
-DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
+DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 GRADES = (4, 8)
 SAMPLES = 48
 SEED = 0

@@ -9,7 +9,7 @@ The mean mesh stiffness is the c_γα-equivalent ``K̄ = (b cos β_b / p_bt) ∫
 The FE compliance tables are computed in a fresh cache so that the recorded times are those of a
 first run (2 members, default density m_n / 6).
 
-Run: ``python examples/stiffness_table.py [docs/stiffness_table.json]`` (about 15 s).
+Run: ``python examples/stiffness_table.py [docs/bench/stiffness_table.json]`` (about 15 s).
 """
 
 from __future__ import annotations
@@ -154,7 +154,7 @@ def markdown(result: dict) -> str:
     return "\n".join(lines)
 
 
-def main(out: str | os.PathLike = "docs/stiffness_table.json") -> dict:
+def main(out: str | os.PathLike = "docs/bench/stiffness_table.json") -> dict:
     result = table()
     Path(out).parent.mkdir(parents=True, exist_ok=True)
     Path(out).write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")

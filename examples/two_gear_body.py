@@ -5,7 +5,7 @@ body made a thousand times stiffer and against rigid gear discs on the case's be
 the two rims' contact zones sharing the body's compliance (docs/trains.md, "A body carrying
 two gears").
 
-Writes docs/two_gear_body.png and docs/two_gear_body.json. Run from the repository root:
+Writes docs/bench/two_gear_body.png and docs/bench/two_gear_body.json. Run from the repository root:
 ``python examples/two_gear_body.py`` (about a minute on 2 cores, plus one to two minutes for
 each of the two bodies the first time fem_prep builds them).
 """
@@ -33,7 +33,7 @@ from jaxgear.io import load_bodies  # noqa: E402
 from jaxgear.scenes import mesh_zone_load  # noqa: E402
 
 ROOT = pathlib.Path(__file__).parents[1]
-DOCS = ROOT / "docs"
+DOCS = ROOT / "docs" / "bench"
 CASE = ROOT / "examples" / "two-gear-body.toml"
 
 

@@ -79,7 +79,7 @@ def test_every_example_has_a_page_with_its_figure(site):
         page = site / "examples" / path.stem / "index.html"
         assert page.is_file(), path.name
     html = (site / "examples" / "pressure_crowning" / "index.html").read_text(encoding="utf-8")
-    assert 'src="../../pressure_crowning.png"' in html
+    assert 'src="../../bench/pressure_crowning.png"' in html
 
 
 def test_generated_pages_hold_keys_and_signatures(site):

@@ -242,7 +242,7 @@ def _te_with_bodies(ex, case_name: str, texts) -> tuple[np.ndarray, np.ndarray]:
 @pytest.mark.slow
 def test_accessory_spur_flexible_te_settles_under_body_refinement(fem_prep_cache):
     """TE of ``accessory-spur-flexible`` (80 N·m, 3000 rad/s) with the distributing wheel refined
-    twice (examples/rim_convergence.py, docs/rim_convergence.json): mean 43.36, 43.38, 43.38 µm,
+    twice (examples/rim_convergence.py, docs/bench/rim_convergence.json): mean 43.36, 43.38, 43.38 µm,
     RMS 0.912, 0.909, 0.910 µm: 0.02 % and 0.2 % between the two finest (nodal masters: mean 44.00,
     44.40, 44.98, RMS 0.869, 0.846, 0.819 µm, 1.3 % and 3.1 %)."""
     ex = load_example("rim_convergence")
@@ -281,7 +281,7 @@ def test_distributing_masters_leave_the_hybrid_modes_clean(fem_prep_cache, tmp_p
 @pytest.mark.slow
 def test_power_helical_flexible_te_settles_under_body_refinement(fem_prep_cache):
     """TE of ``power-helical-flexible`` (310 N·m, 3000 rad/s) with the distributing power wheel
-    refined twice (examples/rim_convergence.py power, docs/rim_convergence_power.json): mean
+    refined twice (examples/rim_convergence.py power, docs/bench/rim_convergence_power.json): mean
     91.72, 92.35, 92.35 µm, RMS 0.397, 0.400, 0.401 µm, below 1 % between the two finest
     (measured 0.002 % and 0.04 %; about 35 minutes on 2 cores: the finest body has 333 000
     DOFs)."""

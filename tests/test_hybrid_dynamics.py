@@ -781,7 +781,7 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
     turn kept) finds the ND-2 axial rim wave of order 32 peaking at 2000 rad/s and travelling
     backward, and that of order 28 peaking at 2300 rad/s travelling forward, each within the
     predicted span ± one step and at least 3 times its level at 1850 rad/s (measured 4.6×,
-    16×). docs/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
+    16×). docs/bench/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
     import json
 
     ex = load_example("nodal_diameter_resonance")
@@ -798,7 +798,7 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
         assert res["response"][name][k]["direction"] == sign
         assert amp[k] > 3 * amp[0]
     docs = json.loads(
-        (pathlib.Path(__file__).parents[1] / "docs" / "nd_resonance.json").read_text()
+        (pathlib.Path(__file__).parents[1] / "docs" / "bench" / "nd_resonance.json").read_text()
     )
     np.testing.assert_allclose(
         [r["amplitude_m"] for r in docs["response"]["forward"]],

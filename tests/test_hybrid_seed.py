@@ -120,7 +120,7 @@ def test_power_crowning_optimum_at_speed(cache):
     """Seed IV-47/48: at 3000 rad/s a light crowning minimises the maximum line load of the power
     pair (the seed's compromise ≈ 10 µm, with edge contact lost at 20 µm). Ours (the case's
     10 µm tip relief, crowning per member): gradient optimum 3.8 µm, the web-side edge unloaded
-    from 16 µm (docs/crowning_at_speed.png): optimum in 2–10 µm, the edge unloaded by 20 µm."""
+    from 16 µm (docs/bench/crowning_at_speed.png): optimum in 2–10 µm, the edge unloaded by 20 µm."""
     import jax.numpy as jnp
 
     import optimise
@@ -141,7 +141,7 @@ def test_power_crowning_optimum_at_speed(cache):
 
 def test_power_crowning_against_the_dynamic_factor_at_speed(cache):
     """Seed IV-47/48 by the seed's own criterion: "crowning 5–20 µm: above 10 µm the edges
-    unload and K_v rises, so ≈ 10 µm". docs/crowning_dynamic_factor.{png,json}
+    unload and K_v rises, so ≈ 10 µm". docs/bench/crowning_dynamic_factor.{png,json}
     (examples/crowning_dynamic_factor.py): the power pair's dynamic factor over 2800–3200 rad/s
     (hybrid Newmark, exact contact, Rayleigh D1) against the crowning per member. Recomputed
     here at 0, 7.5 and 15 µm against the committed scan (rtol 1e-3); the committed scan is least
@@ -154,7 +154,7 @@ def test_power_crowning_against_the_dynamic_factor_at_speed(cache):
 
     root = pathlib.Path(__file__).parents[1]
     ex = load_example("crowning_dynamic_factor")
-    stored = json.loads((root / "docs" / "crowning_dynamic_factor.json").read_text())
+    stored = json.loads((root / "docs" / "bench" / "crowning_dynamic_factor.json").read_text())
     depths = np.asarray(stored["crowning_depth_um"])
     df = np.asarray(stored["dynamic_factor"])
     case, scene, problem = ex.setup()

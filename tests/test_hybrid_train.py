@@ -165,14 +165,14 @@ def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
 @pytest.mark.slow
 def test_flexible_idler_case_gives_the_documented_figures(tmp_path):
     """The embedded ``flexible-idler`` case (fem_prep builds its idler body once, about a minute
-    on 2 cores): examples/flexible_idler.py recomputed against docs/flexible_idler.json (rtol
+    on 2 cores): examples/flexible_idler.py recomputed against docs/bench/flexible_idler.json (rtol
     1e-6) and docs/trains.md's table (TE mean 31.39 / 28.81 and 25.47 / 22.88 µm, flexible /
     rigid idler; the cross term −0.55 of the own)."""
     import json
 
     root = pathlib.Path(__file__).parents[1]
     ex = load_example("flexible_idler")
-    stored = json.loads((root / "docs" / "flexible_idler.json").read_text())
+    stored = json.loads((root / "docs" / "bench" / "flexible_idler.json").read_text())
     got = ex.main(tmp_path)
     for a, b in zip(got["meshes"], stored["meshes"], strict=True):
         for key, value in b.items():

@@ -384,11 +384,11 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
 def test_hybrid_two_gear_body_example_gives_the_documented_figures(tmp_path):
     """examples/two_gear_body.py (fem_prep builds the embedded ``intermediate-shaft`` and its
     stiffened copy once, one to two minutes each on 2 cores) recomputed against
-    docs/two_gear_body.json (rtol 1e-6) and docs/trains.md's figures: TE mean 28.46 / 16.10 /
+    docs/bench/two_gear_body.json (rtol 1e-6) and docs/trains.md's figures: TE mean 28.46 / 16.10 /
     19.28 µm (input-wheel) and 35.00 / 30.65 / 41.76 µm (pinion-output), flexible body / body
     10³ stiffer / rigid gear discs; zone compliance 8.82 and 1.19 nm/N own, −0.71 nm/N across
     (−0.22 of the own), reciprocal to 1e-12."""
-    stored = json.loads((ROOT / "docs" / "two_gear_body.json").read_text())
+    stored = json.loads((ROOT / "docs" / "bench" / "two_gear_body.json").read_text())
     got = load_example("two_gear_body").main(tmp_path)
     for a, b in zip(got["meshes"], stored["meshes"], strict=True):
         for key, value in b.items():

@@ -352,14 +352,15 @@ def _example():
 
 @pytest.mark.slow
 def test_power_pair_end_relief_at_speed(fem_prep_cache):
-    """docs/end_relief_at_speed.{png,json} (seed IV-33/34) on power-helical-flexible at 3000 rad/s,
+    """docs/bench/end_relief_at_speed.{png,json} (seed IV-33/34) on power-helical-flexible at 3000 rad/s,
     recomputed: (1) the committed scan values; (2) what the figure shows — the web-side relief
     moves the centroid towards the centre as it deepens, the seed's cantilevered-edge relief
     away from it; (3) the gradient optimum of load_centroid over the web-side depth is the zero
     crossing of c(E) from a 2 µm grid scan in exact contact (within 0.5 µm), and c there < 1e-3;
     (4) the max_line_load gradient optimum is within 1 % of the best of a 1 µm grid scan."""
     ex = _example()
-    stored = json.loads((ROOT / "docs" / "end_relief_at_speed.json").read_text())["speeds"]["3000"]
+    record = json.loads((ROOT / "docs" / "bench" / "end_relief_at_speed.json").read_text())
+    stored = record["speeds"]["3000"]
     depths = np.arange(0.0, 20.01, 2.0)
     got = {}
     for edge in ("z0", "z1"):
@@ -393,7 +394,7 @@ def test_power_pair_end_relief_at_speed(fem_prep_cache):
             c = np.asarray(got[edge]["load_centroid"])
             assert np.all(np.diff(c) < 0)  # the seed's relief: away from the centre
             assert c[5] < c[0] < 0
-    seed = json.loads((ROOT / "docs" / "end_relief_at_speed.json").read_text())["seed_check"]
+    seed = record["seed_check"]
     assert seed["reproduced"] is False
     assert math.isclose(seed["centroid_seed_relief"], got["z1"]["load_centroid"][5], rel_tol=1e-6)
 

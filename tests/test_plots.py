@@ -25,7 +25,7 @@ from jaxgear.dynamics import nodal_diameter_resonances
 from jaxgear.io import load_case
 
 DATA = pathlib.Path(__file__).parent / "data"
-DOCS = pathlib.Path(__file__).parent.parent / "docs"
+DOCS = pathlib.Path(__file__).parent.parent / "docs" / "bench"
 
 Z1 = 20
 

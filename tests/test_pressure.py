@@ -137,7 +137,7 @@ def test_jaxgear_run_writes_the_pressure(tmp_path):
 
 @pytest.mark.slow
 def test_pressure_across_the_face_against_crowning_at_speed():
-    """docs/pressure_crowning.{png,json} (the seed's Fig. IV-47 form; examples/pressure_crowning.py):
+    """docs/bench/pressure_crowning.{png,json} (the seed's Fig. IV-47 form; examples/pressure_crowning.py):
     the power pair's hybrid scene at 3000 rad/s, quasi-static and dynamic. Recomputed at 0 and
     10 µm (the dynamic run at 10 µm) against the committed curves (rtol 1e-6, dynamic 1e-4);
     the committed curves: the lowest peak pressure at 5 µm (914 MPa, against 1026 MPa without
@@ -150,7 +150,7 @@ def test_pressure_across_the_face_against_crowning_at_speed():
 
     root = pathlib.Path(__file__).parents[1]
     ex = load_example("pressure_crowning")
-    stored = json.loads((root / "docs" / "pressure_crowning.json").read_text())
+    stored = json.loads((root / "docs" / "bench" / "pressure_crowning.json").read_text())
     case = jio.load_case("power-helical-flexible")
     from jaxgear.io import static_scene
 

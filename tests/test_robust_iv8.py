@@ -1,5 +1,5 @@
 """docs/robust.md, "Fig. IV-8 as percentile bands" (examples/robust_iv8.py,
-docs/robust_iv8.json): the statements the page makes about the committed figure, and the figure
+docs/bench/robust_iv8.json): the statements the page makes about the committed figure, and the figure
 recomputed for a few realisations and speeds."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import pytest
 from _examples import load_example
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-STORED = json.loads((ROOT / "docs" / "robust_iv8.json").read_text())
+STORED = json.loads((ROOT / "docs" / "bench" / "robust_iv8.json").read_text())
 
 
 def _p(key, what):

@@ -1,5 +1,5 @@
 """The example pages: one page per script and notebook of ``examples/`` (its docstring or
-Markdown cells, the figure it writes into ``docs/`` when there is one, and its source), so that
+Markdown cells, the figure it writes into ``docs/bench/`` when there is one, and its source), so that
 a new example gets its page without editing one."""
 
 from __future__ import annotations
@@ -13,13 +13,13 @@ from docs._gen.griffe_roles import plain
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
-DOCS = ROOT / "docs"
+DOCS = ROOT / "docs" / "bench"  # the figures and records the examples and benchmarks write
 #: a figure the source names: "name.png"
 FIGURE = re.compile(r"([A-Za-z0-9_]+\.png)")
 
 
 def _figures(source: str) -> list[str]:
-    """The PNG files of docs/ that the source writes (named in it)."""
+    """The PNG files of docs/bench/ that the source writes (named in it)."""
     names = dict.fromkeys(FIGURE.findall(source))
     return [n for n in names if (DOCS / n).is_file()]
 
@@ -31,7 +31,7 @@ def script_page(path: pathlib.Path) -> tuple[str, str]:
     title, _, body = doc.partition("\n\n")  # the first paragraph, then the rest
     title = " ".join(title.split())
     out = [f"# `{path.name}`", "", title, "", body.strip(), ""]
-    out += [f"![{n}](../{n})" for n in _figures(source)] + [""]
+    out += [f"![{n}](../bench/{n})" for n in _figures(source)] + [""]
     out += [
         f"Run from the repository root: `python examples/{path.name}`.",
         "",
