@@ -1,5 +1,6 @@
-"""The stiffness-model benchmark's accuracy figures (README, docs/stiffness.md): the TE mean and
-peak-to-peak errors of each k(s) model against fe2d at m_n/16 on the accessory spur pair.
+"""The stiffness-model benchmark's accuracy figures (docs/guide/pair.md, docs/stiffness.md): the
+TE mean and peak-to-peak errors of each k(s) model against fe2d at m_n/16 on the accessory spur
+pair.
 
 The reference is the converged end of the fe2d refinement (m_n/2 … m_n/16), so the test also
 checks convergence: fe2d's error falls as the mesh is refined. Timings are not asserted

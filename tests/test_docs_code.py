@@ -64,11 +64,12 @@ def test_page_case_files_are_valid(page):
                 jio.parse_case(case, "docs")
 
 
-def test_models_page_case_file_is_valid():
-    """The annotated case file of docs/models.md ("Case file", the README's former section) is
-    a valid pair case with the default stiffness model."""
-    text = (ROOT / "docs" / "models.md").read_text(encoding="utf-8")
-    block = TOML.findall(text[text.index("## Case file") :])[0]
+def test_annotated_case_file_is_valid():
+    """The annotated case file of docs/guide/pair.md ("The case file in detail": every table of a
+    pair case, the optional keys commented) is a valid pair case with the default stiffness
+    model."""
+    text = (ROOT / "docs" / "guide" / "pair.md").read_text(encoding="utf-8")
+    block = TOML.findall(text[text.index("## The case file in detail") :])[0]
     case = jio.parse_case(tomllib.loads(block), "docs")
     assert case.stiffness_model == "fe2d"
 

@@ -203,7 +203,7 @@ def test_example_runs(tmp_path):
 def test_bench_quick_is_a_smoke_test(tmp_path):
     """`fem-prep bench --quick` runs the whole benchmark path on a 17-station wheel in seconds
     (no baseline, two-point error curve) and reports failures as data, not as `{'error': ''}`."""
-    QUICK_TEETH = 17  # the wheel of --quick: 17 angular stations (docs/fem_prep.md)
+    QUICK_TEETH = 17  # the wheel of --quick: 17 angular stations (docs/fem_prep-evidence.md)
 
     assert main(["bench", "--quick", "--out", str(tmp_path)]) == 0
     rec = json.loads((tmp_path / "bench.json").read_text())

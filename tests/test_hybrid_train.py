@@ -95,7 +95,7 @@ def test_the_two_contact_zones_share_the_idler_body(scene):
     """Cross-compliance between the meshes through the idler body (its hub held): a unit force
     over one contact zone moves the other zone by 65 % of what it moves its own (asserted:
     more than 10 %), reciprocally (Maxwell–Betti, 1e-9) and with a positive definite 2 × 2
-    zone compliance. docs/trains.md states 4.2 nm/N own and −2.8 nm/N across: the web twists
+    zone compliance. docs/trains-evidence.md states 4.2 nm/N own and −2.8 nm/N across: the web twists
     under either zone's torque alone (an idler's two mesh torques cancel on the rim)."""
     for theta in (0.0, 0.05, 0.1):
         C = zone_compliance(scene, theta)
@@ -166,7 +166,7 @@ def test_jaxgear_run_on_a_flexible_idler_train(case, tmp_path):
 def test_flexible_idler_case_gives_the_documented_figures(tmp_path):
     """The embedded ``flexible-idler`` case (fem_prep builds its idler body once, about a minute
     on 2 cores): examples/flexible_idler.py recomputed against docs/bench/flexible_idler.json (rtol
-    1e-6) and docs/trains.md's table (TE mean 31.39 / 28.81 and 25.47 / 22.88 µm, flexible /
+    1e-6) and docs/trains-evidence.md's table (TE mean 31.39 / 28.81 and 25.47 / 22.88 µm, flexible /
     rigid idler; the cross term −0.55 of the own)."""
     import json
 

@@ -206,7 +206,7 @@ def test_rigidified_body_reproduces_the_rigid_node_train(case, bodies):
     its shaft between the two gears, which the rigid-node train's shaft does not), uniform mesh
     stiffness: each mesh's TE equals the rigid-node lumped train's, mean within 0.5 % and RMS
     within 3 % (measured 0.06 % and 0.008 %, 0.005 %); the steel body adds 67 % and 14 % to
-    the TE mean (its 3 mm web under the wheel; docs/trains.md). Slow: about 40 s on 2 cores,
+    the TE mean (its 3 mm web under the wheel; docs/trains-evidence.md). Slow: about 40 s on 2 cores,
     half of it fem_prep building the stiffened body."""
     stiff = _stiff_body()
     uni = case.replace(
@@ -224,7 +224,7 @@ def test_rigidified_body_reproduces_the_rigid_node_train(case, bodies):
         assert float(hyb.meshes[k].te_mean) == pytest.approx(te_ref, rel=5e-3)
         assert float(hyb.meshes[k].te_rms) == pytest.approx(float(ref.meshes[k].te_rms), rel=3e-2)
         added.append(round(float(soft.meshes[k].te_mean) / te_ref - 1.0, 2))
-    assert added == [0.67, 0.14]  # docs/trains.md: the steel body adds 67 % and 14 %
+    assert added == [0.67, 0.14]  # docs/trains-evidence.md: the steel body adds 67 % and 14 %
 
 
 def test_the_body_bearings_carry_both_mesh_forces(case, scene):
@@ -247,13 +247,13 @@ def test_the_two_rims_share_the_body(scene):
     """The 2 × 2 zone compliance between the wheel's contact zone and the pinion's, on the body
     alone (its bearing nodes held): reciprocal (Maxwell–Betti, 1e-9), positive definite, and
     its cross term not zero (more than 1 % of the own terms' geometric mean; at θ = 0, 7.77 and
-    1.62 nm/N own, −0.92 nm/N across, −0.26 of the own: docs/trains.md)."""
+    1.62 nm/N own, −0.92 nm/N across, −0.26 of the own: docs/trains-evidence.md)."""
     for theta in (0.0, 0.05, 0.1):
         C = zone_compliance(scene, theta)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)
         assert np.all(np.linalg.eigvalsh(0.5 * (C + C.T)) > 0)
         assert abs(C[0, 1]) / np.sqrt(C[0, 0] * C[1, 1]) > 0.01, C
-        if theta == 0.0:  # docs/trains.md's figures
+        if theta == 0.0:  # docs/trains-evidence.md's figures
             assert np.round(C * 1e9, 2).tolist() == [[7.77, -0.92], [-0.92, 1.62]]
             assert round(C[0, 1] / np.sqrt(C[0, 0] * C[1, 1]), 2) == -0.26
 
@@ -384,7 +384,7 @@ def test_jaxgear_run_and_sweep_on_a_two_gear_body_train(tmp_path):
 def test_hybrid_two_gear_body_example_gives_the_documented_figures(tmp_path):
     """examples/two_gear_body.py (fem_prep builds the embedded ``intermediate-shaft`` and its
     stiffened copy once, one to two minutes each on 2 cores) recomputed against
-    docs/bench/two_gear_body.json (rtol 1e-6) and docs/trains.md's figures: TE mean 28.46 / 16.10 /
+    docs/bench/two_gear_body.json (rtol 1e-6) and docs/trains-evidence.md's figures: TE mean 28.46 / 16.10 /
     19.28 µm (input-wheel) and 35.00 / 30.65 / 41.76 µm (pinion-output), flexible body / body
     10³ stiffer / rigid gear discs; zone compliance 8.82 and 1.19 nm/N own, −0.71 nm/N across
     (−0.22 of the own), reciprocal to 1e-12."""

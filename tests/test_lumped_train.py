@@ -130,7 +130,7 @@ def test_each_shaft_bearings_balance_the_nominal_mesh_forces(lst_hand):
     fa0, fa1 = abs(f0[2]), abs(f1[2])
     expected = abs(fa0 - fa1) if lst_hand == "right" else fa0 + fa1
     assert axial == pytest.approx(expected, rel=1e-6)
-    # docs/trains.md: 863 and 1509 N, 646 N on the intermediate shaft with the default hands
+    # docs/trains-evidence.md: 863 and 1509 N, 646 N on the intermediate shaft with the default hands
     assert (round(fa0), round(fa1)) == (863, 1509)
     assert round(axial) == (646 if lst_hand == "right" else 2372)
 
@@ -181,7 +181,7 @@ def test_second_stage_as_a_wrench_gives_the_intermediate_bearing_loads():
     intermediate shaft. The nominal wrench (F_n at the centre of the contact zone) gives the
     input shaft's bearing loads to 1e-4 and the intermediate shaft's to 3 % of its largest
     component (measured 1.6 %: 57 N on the bearing near the high-speed wheel, whose y load is
-    142 N; the high-speed TE mean moves by 1.3 %, as docs/trains.md states). The difference is
+    142 N; the high-speed TE mean moves by 1.3 %, as docs/trains-evidence.md states). The difference is
     the load centre: the mean contact wrench, summed here from the full model's line loads at
     their base-plane points, gives every bearing load to 1e-6."""
     data = _two_stage()

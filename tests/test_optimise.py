@@ -61,8 +61,8 @@ def test_objective_gradients_match_central_differences(case, objective, variable
 
 
 def test_master_curve_matches_zero_fluctuation_family(case):
-    """README: "the numerical Master Curve matches it to 0.1 % with TE RMS below 3e-4 of the
-    unmodified value (tests)".
+    """docs/guide/modifications.md: "the numerical Master Curve matches it to 0.1 % with TE RMS
+    below 3e-4 of the unmodified value (tests)".
 
     Uniform stiffness, spur, ε_α = 1.42 < 2: the family of docs/design.md, "Optimisation",
     against the numerical optimum.

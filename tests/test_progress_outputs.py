@@ -256,8 +256,8 @@ def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup,
 
 
 def test_readme_robust_example_converges_to_the_stated_optimum(tmp_path):
-    """README: ``jaxgear optimise accessory-spur --objective robust_te_rms --torques 40:120:5
-    --reduce mean --vars tip_relief.depth,tip_relief.extent`` converges in under 20 iterations
+    """docs/guide/modifications.md: ``jaxgear optimise accessory-spur --objective robust_te_rms
+    --torques 40:120:5 --reduce mean --vars tip_relief.depth,tip_relief.extent`` converges in under 20 iterations
     to E = 17.4 µm, Γ = 0.205, mean TE RMS 0.653 µm from 0.778 µm (exact contact)."""
     case, settings = _settings(
         objective="robust_te_rms",

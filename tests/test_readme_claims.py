@@ -1,5 +1,6 @@
-"""Figures and properties stated in README.md, docs/models.md (the README's long sections, moved
-there) and docs/dynamics.md that no other test asserts.
+"""Figures and properties stated in README.md, the user guide (docs/guide/pair.md and
+modifications.md, the README's former long sections) and docs/dynamics.md that no other test
+asserts.
 
 Each test quotes the sentence it checks; the tolerance is the one the sentence states (a figure
 given as "35 µm" is checked to ±0.5 µm). Where a claim needs a long computation, a smaller but
@@ -40,10 +41,10 @@ def test_readme_python_api_example_runs():
 
 
 def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
-    """docs/models.md "What `jaxgear run` computes": "`summary.json` … the Harris map; versions",
-    "`te.csv` | TE(θ) over two mesh periods", "`harris_map.png` | TE peak-to-peak against torque
-    (0.1–2 × the case torque)". Tiny discretisation (2 slices × 8 positions): the claims are
-    about the files, not the figures."""
+    """docs/guide/pair.md "What `jaxgear run` writes": "`summary.json` … the Harris map;
+    versions", "`te.csv` | TE(θ) over two mesh periods", "`harris_map.png` | TE peak-to-peak
+    against torque (0.1–2 × the case torque)". Tiny discretisation (2 slices × 8 positions):
+    the claims are about the files, not the figures."""
     case = jio.load_case("accessory-spur").replace(slices=2, positions_per_pitch=8)
     summary = run_case(case, str(tmp_path), harris_points=3, show_progress=False)
     for name in OUTPUT_FILES["run"]:
@@ -73,8 +74,8 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
 
 
 def test_lumped3d_mean_te_35um_against_12um_rigid():
-    """docs/models.md: "a `lumped3d` scene also gets `quasi_static_scene` (…): 35 µm mean TE for
-    the default case against 12 µm for rigid bodies"; docs/dynamics.md: "the static TE mean is
+    """docs/guide/pair.md: "a `lumped3d` scene also gets `quasi_static_scene` (…): 35 µm mean TE
+    for the default case against 12 µm for rigid bodies"; docs/dynamics.md: "the static TE mean is
     ≈ 35 µm (rigid mesh: 12 µm …), the RMS unchanged". Measured 35.33 and 12.17 µm; RMS equal
     to 1e-12.
     8 slices as `jaxgear run` uses (spur without crowning: the slices do not change the TE)."""
@@ -89,8 +90,8 @@ def test_lumped3d_mean_te_35um_against_12um_rigid():
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_active_set_passes(name):
-    """docs/models.md "Contact law": "Newton's method on a piecewise-linear equation started with
-    every cell in contact: finite passes (1–3 per position for the embedded cases at their
+    """docs/guide/pair.md "Contact law": "Newton's method on a piecewise-linear equation started
+    with every cell in contact: finite passes (1–3 per position for the embedded cases at their
     torque, at most 5 at a tenth of it)". Measured: 1–2 (accessory-spur), 1–3
     (power-helical); 4–5 at 0.1 × torque with the helical pair's crowning."""
     case = jio.load_case(name)
@@ -103,7 +104,7 @@ def test_active_set_passes(name):
 
 
 def test_quasi_static_failure_raises_or_returns_a_code():
-    """docs/models.md "Contact law": "Failures (loop not converged, …) raise
+    """docs/guide/pair.md "Contact law": "Failures (loop not converged, …) raise
     `eqx.EquinoxRuntimeError` or, with `throw=False`, come back as a result code per
     position"; and "Positions are the mid-points of P steps per mesh period"."""
     case = jio.load_case("accessory-spur")
@@ -127,8 +128,8 @@ def accessory_problem():
 
 
 def test_objective_normalisation_and_default_bounds(accessory_problem):
-    """docs/models.md "Objectives": "Each is divided by its unmodified value at the design
-    torque, so 1 = no improvement"; "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]"."""
+    """docs/guide/modifications.md "Objectives": "Each is divided by its unmodified value at the
+    design torque, so 1 = no improvement"; "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]"."""
     p = accessory_problem
     assert float(p.value(jnp.array([0.0, 0.3]), jg.ExactContact())) == pytest.approx(1.0, rel=1e-9)
     np.testing.assert_array_equal(np.asarray(p.lower), [0.0, 0.02])
@@ -136,9 +137,9 @@ def test_objective_normalisation_and_default_bounds(accessory_problem):
 
 
 def test_te_rms_landscape_has_two_valleys(accessory_problem):
-    """docs/models.md: "The TE RMS landscape of the accessory pair has two valleys: the Master
-    Curve (short relief, Γ ≈ 0.26, E ≈ 11.5 µm, …) and a long-relief branch (Γ ≈ 0.74,
-    E ≈ 33 µm), both at about 9 % of the unmodified TE RMS". Exact contact, sharp relief
+    """docs/guide/modifications.md: "The TE RMS landscape of the accessory pair has two valleys:
+    the Master Curve (short relief, Γ ≈ 0.26, E ≈ 11.5 µm, …) and a long-relief branch
+    (Γ ≈ 0.74, E ≈ 33 µm), both at about 9 % of the unmodified TE RMS". Exact contact, sharp relief
     starts, 64 positions, 4 slices (spur, no lead modification: the slices do not change the
     TE), grid step 0.01 in Γ and 0.5 µm in E. Measured: (0.26, 11.5 µm, 0.092) and (0.74,
     33 µm, 0.092); the best depth at Γ = 0.5 between them gives 0.42."""
@@ -233,21 +234,27 @@ def test_license_and_thesis_citation():
 
 
 def test_moved_claims_are_still_stated():
-    """The sentences the tests above check (quoted in their docstrings) are still stated in
-    docs/models.md, where the README's long sections moved: a page that changes a figure fails
+    """The sentences the tests above check (quoted in their docstrings) are still stated on the
+    user-guide pages where the README's long sections moved: a page that changes a figure fails
     here and sends its author to the test that asserts it."""
-    flat = " ".join((ROOT / "docs" / "models.md").read_text(encoding="utf-8").split())
-    for claim in (
-        "TE(θ) over two mesh periods",
-        "35 µm mean TE for the default case against 12 µm for rigid bodies",
-        "1–3 per position for the embedded cases at their torque, at most 5 at a tenth of it",
-        "come back as a result code per position",
-        "Each is divided by its unmodified value at the design torque, so 1 = no improvement",
-        "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]",
-        "Γ ≈ 0.26, E ≈ 11.5 µm",
-        "Γ ≈ 0.74, E ≈ 33 µm",
-    ):
-        assert claim in flat, claim
+    claims = {
+        "pair.md": (
+            "TE(θ) over two mesh periods",
+            "35 µm mean TE for the default case against 12 µm for rigid bodies",
+            "1–3 per position for the embedded cases at their torque, at most 5 at a tenth of it",
+            "come back as a result code per position",
+        ),
+        "modifications.md": (
+            "Each is divided by its unmodified value at the design torque, so 1 = no improvement",
+            "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]",
+            "Γ ≈ 0.26, E ≈ 11.5 µm",
+            "Γ ≈ 0.74, E ≈ 33 µm",
+        ),
+    }
+    for page, stated in claims.items():
+        flat = " ".join((ROOT / "docs" / "guide" / page).read_text(encoding="utf-8").split())
+        for claim in stated:
+            assert claim in flat, (page, claim)
 
 
 def test_readme_default_case_figures():

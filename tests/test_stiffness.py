@@ -94,8 +94,8 @@ def test_iso6336_per_length_value_gives_c_gamma_alpha(name):
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_weber_mean_mesh_stiffness_in_iso_band(name):
-    """README: "For the embedded cases Weber's mean mesh stiffness per unit face width is
-    1.30 ± 0.01 c_γα (1.293 accessory-spur, 1.299 power-helical), 3–4 % above ISO's theoretical
+    """docs/guide/pair.md: "For the embedded cases Weber's mean mesh stiffness per unit face width
+    is 1.30 ± 0.01 c_γα (1.293 accessory-spur, 1.299 power-helical), 3–4 % above ISO's theoretical
     value c_γα/C_M = 1.25 c_γα" (Weber is theoretical: no measured-vs-theory factor C_M).
 
     Measured at the cases' 40 slices × 64 positions: accessory-spur 30.43 N/(mm·µm) = 1.2933 c_γα;
