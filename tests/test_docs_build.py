@@ -121,3 +121,42 @@ def test_validation_page_names_existing_tests():
     assert len(named) >= 15
     missing = sorted(n for n in named if not (ROOT / n).is_file())
     assert not missing, missing
+
+
+def test_notebook_pages_show_their_stored_outputs(tmp_path):
+    """An example notebook's page shows the outputs stored with it, without running it: a
+    printed line as a text block, a figure as an image whose PNG bytes the site serves beside
+    the page (the bytes written into the notebook, decoded back)."""
+    import base64
+    import json
+
+    from docs._gen import example_pages
+
+    png = b"\x89PNG\r\n\x1a\n" + bytes(range(40))  # any bytes: the page passes them through
+    cells = [
+        {"cell_type": "markdown", "metadata": {}, "source": ["# A demo\n", "Text."]},
+        {
+            "cell_type": "code",
+            "metadata": {},
+            "execution_count": 1,
+            "source": ["print('TE rms 0.42 µm')\n", "plot()"],
+            "outputs": [
+                {"output_type": "stream", "name": "stdout", "text": ["TE rms 0.42 µm\n"]},
+                {
+                    "output_type": "display_data",
+                    "metadata": {},
+                    "data": {"image/png": base64.b64encode(png).decode(), "text/plain": ["<Fig>"]},
+                },
+            ],
+        },
+        {"cell_type": "code", "metadata": {}, "execution_count": None, "source": ["x = 1"]},
+    ]
+    path = tmp_path / "demo.ipynb"
+    nb = {"cells": cells, "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
+    path.write_text(json.dumps(nb), encoding="utf-8")
+    title, text, figures = example_pages.notebook(path)
+    assert title == "A demo"
+    assert "```text\nTE rms 0.42 µm\n```" in text
+    assert "![output 1](demo-1.png)" in text and "<Fig>" not in text
+    assert figures == {"examples/demo-1.png": png}
+    assert example_pages.notebook_page(path) == (title, text)

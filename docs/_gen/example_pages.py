@@ -5,6 +5,7 @@ a new example gets its page without editing one."""
 from __future__ import annotations
 
 import ast
+import base64
 import json
 import pathlib
 import re
@@ -45,11 +46,34 @@ def script_page(path: pathlib.Path) -> tuple[str, str]:
     return title.rstrip("."), "\n".join(out)
 
 
-def notebook_page(path: pathlib.Path) -> tuple[str, str]:
-    """(title, markdown) of an example notebook: its Markdown cells and its code."""
+def _outputs(cell: dict, stem: str, figures: dict[str, bytes]) -> list[str]:
+    """The Markdown of a code cell's stored outputs: text as a text block, a PNG as an image
+    (its bytes put in ``figures`` under the site path ``examples/<stem>-<n>.png``). Nothing is
+    executed: a notebook saved without outputs shows its code only."""
+    out = []
+    for o in cell.get("outputs", []):
+        data = o.get("data", {})
+        if "image/png" in data:
+            name = f"{stem}-{len(figures) + 1}.png"
+            png = data["image/png"]
+            figures[f"examples/{name}"] = base64.b64decode(
+                "".join(png) if isinstance(png, list) else png
+            )
+            out += [f"![output {len(figures)}]({name})", ""]
+            continue
+        text = o.get("text") if o.get("output_type") == "stream" else data.get("text/plain")
+        if text:
+            out += ["```text", "".join(text).rstrip("\n"), "```", ""]
+    return out
+
+
+def notebook(path: pathlib.Path) -> tuple[str, str, dict[str, bytes]]:
+    """(title, markdown, figures) of an example notebook: its Markdown cells, its code and the
+    outputs stored with it (``figures``: site path → PNG bytes)."""
     cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
     out = [f"# `{path.name}`", ""]
     title = ""
+    figures: dict[str, bytes] = {}
     for cell in cells:
         text = "".join(cell["source"])
         if cell["cell_type"] == "markdown":
@@ -58,8 +82,23 @@ def notebook_page(path: pathlib.Path) -> tuple[str, str]:
             out += [plain(text), ""]
         elif cell["cell_type"] == "code" and text.strip():
             out += ["```python", text, "```", ""]
+            out += _outputs(cell, path.stem, figures)
     out += [f"Open it with Jupyter: `jupyter lab examples/{path.name}`.", ""]
-    return title, "\n".join(out)
+    return title, "\n".join(out), figures
+
+
+def notebook_page(path: pathlib.Path) -> tuple[str, str]:
+    """(title, markdown) of an example notebook (:func:`notebook`)."""
+    title, text, _ = notebook(path)
+    return title, text
+
+
+def figures() -> dict[str, bytes]:
+    """``{site path: PNG bytes}`` of the figures stored in the example notebooks' outputs."""
+    out: dict[str, bytes] = {}
+    for path in sorted(EXAMPLES.glob("*.ipynb")):
+        out.update(notebook(path)[2])
+    return out
 
 
 def pages() -> dict[str, tuple[str, str]]:

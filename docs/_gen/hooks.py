@@ -34,4 +34,6 @@ def on_files(files, config):
         files.append(File.generated(config, path, content=text))
     for path, (_, text) in example_pages.pages().items():
         files.append(File.generated(config, path, content=text))
+    for path, png in example_pages.figures().items():  # the notebooks' stored figures
+        files.append(File.generated(config, path, content=png))
     return files
