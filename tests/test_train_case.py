@@ -112,9 +112,9 @@ _LISTENING = [False]
 
 
 def _count_solves(name, secs, fun_name="", **kw):
-    if _LISTENING[0] and name == "/jax/core/compile/backend_compile_duration":
-        if "_quasi_static" in str(fun_name):
-            _QS_COMPILES.append(fun_name)
+    compiled = name == "/jax/core/compile/backend_compile_duration"
+    if _LISTENING[0] and compiled and "_quasi_static" in str(fun_name):
+        _QS_COMPILES.append(fun_name)
 
 
 jax.monitoring.register_event_duration_secs_listener(_count_solves)
@@ -126,7 +126,7 @@ def test_one_modifications_for_every_mesh_is_the_per_mesh_solve(train):
     one ``Modifications()`` after the same flanks given per mesh compile nothing (a CLI run of
     a train solves both designs; they compiled one program each) and give the same TE; None
     likewise."""
-    data, case = train
+    _, case = train
     scene = case.static_train()
     per_mesh = tuple(jg.Modifications() for _ in case.pairs)
     ref = jg.quasi_static(scene, per_mesh, case.torque, positions_per_pitch=PPP)
