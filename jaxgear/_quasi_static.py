@@ -368,7 +368,10 @@ def quasi_static(
     check_positions(positions_per_pitch, periods)
     check_operating("quasi_static", scene, modifications, torque, theta, speed)
     planes = scene.base_planes  # a MeshModel's: itself
-    for plane, mods in zip(planes, per_mesh_modifications(modifications, len(planes)), strict=True):
+    # one per mesh before jit: None, one for every mesh and a tuple of the same meshes' (a CLI
+    # run's unmodified and modified flanks of a train) then share one compiled program
+    modifications = per_mesh_modifications(modifications, len(planes))
+    for plane, mods in zip(planes, modifications, strict=True):
         if mods.deviations is not None:  # tooth counts, eagerly
             mods.deviations.check(plane)
     dtype = planes[0].base_pitch.dtype

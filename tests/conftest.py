@@ -2,16 +2,20 @@
 persistent compilation cache for the test run; one fresh fem_prep cache for the session's
 condensed test bodies; JAX's compiled executables released between families of test modules."""
 
+import collections
 import gc
+import json
 import os
 import pathlib
 import re
+import time
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import jax  # noqa: E402
+from jax import monitoring
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
@@ -43,6 +47,67 @@ def pytest_configure(config):
     jax.config.update("jax_enable_compilation_cache", True)
     jax.config.update("jax_compilation_cache_dir", path)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.2)
+    if os.environ.get("JAXGEAR_TEST_COMPILE_LOG"):
+        _count_compilations()
+
+
+# JAX's monitoring events counted per test when $JAXGEAR_TEST_COMPILE_LOG names a file (a
+# profile of the suite: which tests compile, for how long, and what the persistent cache saved)
+_EVENTS = {
+    "/jax/core/compile/backend_compile_duration": "compile_s",
+    "/jax/core/compile/jaxpr_trace_duration": "trace_s",
+    "/jax/core/compile/jaxpr_to_mlir_module_duration": "lower_s",
+    "/jax/compilation_cache/cache_retrieval_time_sec": "cache_read_s",
+    "/jax/compilation_cache/compile_time_saved_sec": "saved_s",
+}
+_COUNTS = {
+    "/jax/compilation_cache/cache_hits": "hits",
+    "/jax/compilation_cache/cache_misses": "written",
+}
+_tally = collections.Counter()
+_programs = collections.Counter()  # backend compile seconds by function name, in the test
+
+
+def _count_compilations():
+    def duration(name, secs, **kw):
+        if name in _EVENTS:
+            _tally[_EVENTS[name]] += secs
+            if name.endswith("backend_compile_duration"):
+                _tally["compiles"] += 1
+                _programs[kw.get("fun_name", "?")] += secs
+                _programs[kw.get("fun_name", "?") + " #"] += 1
+
+    def event(name, **kw):
+        if name in _COUNTS:
+            _tally[_COUNTS[name]] += 1
+
+    monitoring.register_event_duration_secs_listener(duration)
+    monitoring.register_event_listener(event)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """With ``$JAXGEAR_TEST_COMPILE_LOG``: one JSON line per test (wall and CPU seconds,
+    compilations and their seconds, persistent-cache reads), appended to that file."""
+    path = os.environ.get("JAXGEAR_TEST_COMPILE_LOG")
+    if not path:
+        yield
+        return
+    before, t0, c0 = dict(_tally), time.perf_counter(), time.process_time()
+    _programs.clear()
+    yield
+    row = {k: round(v - before.get(k, 0), 3) for k, v in _tally.items()}
+    top = [k for k, _ in _programs.most_common() if not k.endswith(" #")][:6]
+    row["programs"] = {k: [int(_programs[k + " #"]), round(_programs[k], 2)] for k in top}
+    row.update(
+        test=item.nodeid,
+        wall_s=round(time.perf_counter() - t0, 3),
+        cpu_s=round(time.process_time() - c0, 3),
+        worker=os.environ.get("PYTEST_XDIST_WORKER", "-"),
+        maps=_memory_maps(),
+    )
+    with open(path, "a") as f:
+        f.write(json.dumps(row) + "\n")
 
 
 @pytest.fixture(scope="session")
@@ -83,18 +148,36 @@ def pytest_collection_modifyitems(config, items):
 
 _last_family = [None]
 
+# The process's memory maps above which a new family releases the compiled programs (the
+# kernel's vm.max_map_count is 65530 on the CI machine); $JAXGEAR_TEST_RELEASE_MAPS changes it
+# (0: release at every new family).
+RELEASE_MAPS = int(os.environ.get("JAXGEAR_TEST_RELEASE_MAPS", "20000"))
+
+
+def _memory_maps() -> int:
+    """The process's memory maps (lines of /proc/self/maps); 0 where there is no /proc."""
+    try:
+        with open("/proc/self/maps", "rb") as f:
+            return sum(1 for _ in f)
+    except OSError:  # pragma: no cover - not Linux
+        return 0
+
 
 @pytest.fixture(scope="module", autouse=True)
 def _release_compiled_code(request):
-    """Drop JAX's compilation caches when a new family of test modules starts.
+    """Drop JAX's compilation caches when a new family of test modules starts and the process
+    holds more than :data:`RELEASE_MAPS` memory maps.
 
     One process runs the whole suite: every compiled XLA executable keeps its code mapped, and
     after about 400 tests a compilation on the 2-core CI machine died with a segmentation fault
     inside XLA (vm.max_map_count is 65530 there). The modules of one family (pytest runs them
     one after the other: ``test_hybrid``, ``test_hybrid_composite``, ``test_hybrid_dynamics``,
-    …) share their compiled programs; each family recompiles what it needs."""
+    …) share their compiled programs; below the bound the next families share them too (the
+    quasi-static solve of a case, the small programs of eager operations) instead of compiling
+    them again."""
     family = _family(request.module)
-    if _last_family[0] is not None and family != _last_family[0]:
+    new_family = _last_family[0] is not None and family != _last_family[0]
+    if new_family and _memory_maps() > RELEASE_MAPS:
         jax.clear_caches()
         gc.collect()
     _last_family[0] = family

@@ -45,15 +45,20 @@ def _csv_finite(path: Path) -> None:
     assert all(math.isfinite(float(v)) for row in rows[1:] for v in row)
 
 
-# Which kinds run in the default suite. jaxgear run sweeps a lumped scene with the same
-# sweep_case as jaxgear sweep, so the sweep command of a lumped kind is slow-only (its run covers
-# the sweep of that scene; pair-rigid's and pair-relative's sweeps cover the command itself); a
-# rigid train's sweep is a torsional train's (train-torsional's run); the hybrid sweeps are
-# covered by tests/test_hybrid_dynamics.py's default jaxgear sweep on a hybrid pair and by
-# train-lumped3d for a train's keys. Runs: the two-stage train's lumped path is
-# train-lumped3d's; a torsional pair's run is pair-rigid's run_case and pair-rigid's sweep (the
-# default scene of a case without one is that torsional pair).
-SLOW_RUN = {"train-two-stage", "pair-torsional"}
+# Which kinds run in the default suite. jaxgear run sweeps a lumped scene with the same sweep_case
+# as jaxgear sweep, so the sweep command of a lumped kind is slow-only (its run covers the sweep of
+# that scene; pair-rigid's and pair-relative's sweeps cover the command itself); a rigid train's
+# sweep is a torsional train's (train-torsional's run); the hybrid sweeps are covered by
+# tests/test_hybrid_dynamics.py's default jaxgear sweep on a hybrid pair and by a lumped 3D train's
+# run (below) for a train's keys. Runs: a torsional pair's run is pair-rigid's run_case and
+# pair-rigid's sweep (the default scene of a case without one is that torsional pair); a lumped 3D
+# train's whole run (its 60-speed sweep included, the two-stage train's path) is
+# tests/test_lumped_train.py's default jaxgear run on the two-stage lumped 3D train
+# (test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces); a lumped 3D pair's run is
+# tests/test_cli_scene_curves.py's default run of a small lumped 3D pair (its scene's curves and
+# files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
+# 3D pair, against its record).
+SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
 SLOW_SWEEP = set(KINDS) - {"pair-rigid", "pair-relative"}
 
 

@@ -107,6 +107,42 @@ def test_each_mesh_equals_its_pair_alone(train):
         assert float(got.te_mean) == pytest.approx(float(ref.te_mean), rel=1e-9)
 
 
+_QS_COMPILES: list[str] = []  # quasi_static's compilations while a test listens (fun names)
+_LISTENING = [False]
+
+
+def _count_solves(name, secs, fun_name="", **kw):
+    compiled = name == "/jax/core/compile/backend_compile_duration"
+    if _LISTENING[0] and compiled and "_quasi_static" in str(fun_name):
+        _QS_COMPILES.append(fun_name)
+
+
+jax.monitoring.register_event_duration_secs_listener(_count_solves)
+
+
+def test_one_modifications_for_every_mesh_is_the_per_mesh_solve(train):
+    """``quasi_static`` takes one :class:`jaxgear.Modifications` for every mesh, None or one per
+    mesh, and makes the per-mesh form before it compiles: a train's unmodified flanks given as
+    one ``Modifications()`` after the same flanks given per mesh compile nothing (a CLI run of
+    a train solves both designs; they compiled one program each) and give the same TE; None
+    likewise."""
+    _, case = train
+    scene = case.static_train()
+    per_mesh = tuple(jg.Modifications() for _ in case.pairs)
+    ref = jg.quasi_static(scene, per_mesh, case.torque, positions_per_pitch=PPP)
+    _QS_COMPILES.clear()
+    _LISTENING[0] = True
+    try:
+        one = jg.quasi_static(scene, jg.Modifications(), case.torque, positions_per_pitch=PPP)
+        none = jg.quasi_static(scene, None, case.torque, positions_per_pitch=PPP)
+    finally:
+        _LISTENING[0] = False
+    assert _QS_COMPILES == []
+    for r in (one, none):
+        for got, want in zip(r.meshes, ref.meshes, strict=True):
+            np.testing.assert_array_equal(got.transmission_error, want.transmission_error)
+
+
 def test_natural_frequencies_equal_a_three_inertia_chain(train):
     """The train's modes (time-averaged mesh stiffness) against the chain written out: three
     solid-disc inertias ½ ρ π b r_a⁴, two mesh springs of each pair's mean stiffness (alone,
@@ -299,7 +335,7 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys
     ``quasi_static``, te.csv a column per mesh, a load map per mesh and the phasing figure; the
     sweep has a dynamic factor per mesh whose worst is the scene's."""
     data = _train_data()
-    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["mesh"].update(slices=2, positions_per_pitch=PPP)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
     text = case_toml(data)
     path = tmp_path / "idler.toml"
@@ -420,7 +456,7 @@ def test_jaxgear_run_on_an_input_driving_two_meshes(tmp_path):
     run`` with its sweep completes, and the balancing output's torque is what the power balance
     written here leaves, T_out = −(T ω_0 + T_acc ω_acc)/ω_out."""
     data = _train_data()
-    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["mesh"].update(slices=2, positions_per_pitch=PPP)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
     acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
     data["gears"].append(acc)
@@ -513,7 +549,7 @@ def test_two_stage_refusals():
 
 def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
     data = _two_stage_data()
-    data["mesh"].update(slices=2, positions_per_pitch=8)
+    data["mesh"].update(slices=2, positions_per_pitch=PPP)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 12, "keep_periods": 8}
     path = tmp_path / "two.toml"
     path.write_text(case_toml(data), "utf-8")
