@@ -35,6 +35,7 @@ from ._geometry import (
     inverse_involute as inverse_involute,
     involute as involute,
 )
+from ._internal import InternalGearPair as InternalGearPair
 from ._maps import harris_map as harris_map, load_map as load_map
 from ._modifications import (
     AbstractEndReliefEdges as AbstractEndReliefEdges,
