@@ -33,12 +33,12 @@ import math
 
 import jax.numpy as jnp
 
-from ._geometry import Member, inverse_involute, involute
+from ._geometry import GearPair, Member, inverse_involute, involute
 from ._pressure import relative_radius
 from ._stiffness import iso6336_virtual_teeth
 from ._util import check_instance, check_integer, check_real
 
-__all__ = ["InternalGearPair"]
+__all__ = ["InternalGearPair", "PlanetaryGeometry", "planetary_geometry"]
 
 #: the real-valued fields of :class:`~jaxgear.Member` checked finite (as :class:`GearPair`)
 _REAL_FIELDS = (
@@ -105,10 +105,13 @@ class InternalGearPair:
             21771), |z2| > z1; its ``profile_shift`` x2 in ISO 21771's sign (positive thickens
             the ring's teeth, moving its tip circle inwards); ``bore_radius`` and
             ``tooth_thickness_allowance`` must be left at their defaults (None, 0: a ring has
-            no bore; the backlash of an internal pair is not modelled yet).
+            no bore; tooth-thickness allowances of internal pairs are not modelled yet, the
+            backlash comes from the centre distance).
         normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad), >= 0
             (both members of the same hand).
-        center_distance: a_w (m), >= the zero-backlash distance; ``None`` for it.
+        center_distance: a_w (m), in (r_b2 − r_b1, the zero-backlash distance]: an internal
+            pair has backlash *closer* than that distance and jams farther apart; ``None`` for
+            the zero-backlash distance.
 
     Derived attributes: ``transverse_module`` m_t, ``transverse_pressure_angle`` α_t,
     ``operating_pressure_angle`` α_wt (inv α_wt = inv α_t + 2 tan α_n (x1 + x2)/(z1 + z2),
@@ -125,10 +128,17 @@ class InternalGearPair:
     ``transverse_contact_ratio`` ε_α = g_α/p_bt, ``overlap_ratio`` ε_β, ``face_width`` b,
     ``tip_root_clearances`` (c1 = r_f2 − a_w − r_a1: pinion tip to ring root; c2 = r_a2 −
     a_w − r_f1: ring tip to pinion root), ``trochoid_margin`` (:func:`trochoid_margin`, rad),
-    ``mesh_period_angle`` 2π/z1.
+    ``mesh_period_angle`` 2π/z1; the backlash (ISO 21771 / DIN 3967 quantities, as
+    :class:`~jaxgear.GearPair`'s): ``transverse_backlash`` j_bt = 2 (r_b2 − r_b1)(inv α_wt0 −
+    inv α_wt) (the ring's space less the pinion's tooth along the line of action; 0 at the
+    zero-backlash distance a_0, > 0 for a_w < a_0), ``circumferential_backlash`` j_wt =
+    j_bt/cos α_wt, ``normal_backlash`` j_bn = j_bt cos β_b; ``base_thickness`` (s_b1, s_b2),
+    the members' tooth thicknesses on their base circles (the ring's: 2 r_b2 (s_t2/(2 r2) −
+    inv α_t)). With ``coast=True`` :meth:`jaxgear.MeshModel.from_pair` lays out the coast
+    flanks with this backlash.
 
     Checks (docs/planetary.md, "Internal gears"): sizes and coefficients as
-    :class:`~jaxgear.GearPair`; |z2| > z1; inv α_wt > 0; a_w >= the zero-backlash distance;
+    :class:`~jaxgear.GearPair`; |z2| > z1; inv α_wt > 0; a_w <= the zero-backlash distance;
     the pinion's root radius > 0 and tip radius > its base radius; the ring's tip circle
     outside its base circle (r_a2 > r_b2: the involute exists only outside the base circle);
     no pointed tips; no undercut of the pinion (form circle, ISO 21771); **involute
@@ -192,7 +202,8 @@ class InternalGearPair:
                 f"{tag}.tooth_thickness_allowance",
                 m.tooth_thickness_allowance,
                 m.tooth_thickness_allowance == 0.0,
-                "0 (the backlash of an internal pair is not modelled yet)",
+                "0 (tooth-thickness allowances of internal pairs are not modelled yet; "
+                "give a center_distance below the zero-backlash distance for backlash)",
             )
         _require(
             "gear.bore_radius",
@@ -219,14 +230,17 @@ class InternalGearPair:
         if self.center_distance is None:
             a, awt = a0, awt0
         else:
+            # an internal pair jams farther apart: the pinion's tooth enters the ring's space
+            # deeper, where the space narrows (the ring's teeth thicken towards their roots)
             a = float(self.center_distance)
             _require(
                 "center_distance",
                 a,
-                a >= a0 * (1 - 1e-9),
-                f">= {a0 * 1e3:.6f} mm (the zero-backlash distance; closer, the teeth jam)",
+                rb[1] - rb[0] < a <= a0 * (1 + 1e-9),
+                f"({(rb[1] - rb[0]) * 1e3:.6f}, {a0 * 1e3:.6f}] mm (up to the zero-backlash "
+                "distance; farther apart, the teeth of an internal pair jam)",
             )
-            awt = math.acos(min(1.0, (rb[1] - rb[0]) / a))
+            awt = math.acos((rb[1] - rb[0]) / a)
         ra = (
             r[0] + mn * (self.pinion.addendum_coeff + x1),
             r[1] - mn * (self.gear.addendum_coeff + x2),
@@ -331,6 +345,19 @@ class InternalGearPair:
         set_("tip_radii", ra)
         set_("root_radii", rf)
         set_("reference_thickness", st)
+        # backlash: the ring's space less the pinion's tooth on the operating pitch circles,
+        # j_bt = 2 (r_b2 − r_b1)(inv α_wt0 − inv α_wt) >= 0 (0 at the zero-backlash distance)
+        jbt = 2 * (rb[1] - rb[0]) * (inv_awt0 - involute(awt))
+        set_(
+            "base_thickness",
+            (
+                2 * rb[0] * (st[0] / (2 * r[0]) + involute(at)),
+                2 * rb[1] * (st[1] / (2 * r[1]) - involute(at)),
+            ),
+        )
+        set_("transverse_backlash", jbt)
+        set_("circumferential_backlash", jbt / math.cos(awt))
+        set_("normal_backlash", jbt * math.cos(math.atan(math.tan(beta) * math.cos(at))))
         set_("tip_thickness", (sa1, sa2))
         set_("pinion_form_roll", rho_f)
         set_("line_length", line)
@@ -358,15 +385,6 @@ class InternalGearPair:
     def gear_ratio(self) -> float:
         """u = z2/z1 < 0 (ISO 21771, ISO 6336: negative for an internal pair)."""
         return self.gear.teeth / self.pinion.teeth
-
-    @property
-    def normal_backlash(self) -> float:
-        """Not modelled for an internal pair yet: the coast flanks of
-        :meth:`jaxgear.MeshModel.from_pair` (``coast=True``) are refused with this error."""
-        raise ValueError(
-            "InternalGearPair: coast = True is out of range: allowed False (the backlash and "
-            "coast flanks of an internal pair are not modelled yet)"
-        )
 
     def roll_distance(self, s, member: int):
         """Roll distance ρ (m) of base-plane coordinate ``s`` on member 0 (pinion, convex
@@ -416,3 +434,82 @@ def _internal_virtual_teeth(pair: InternalGearPair) -> tuple[float, float]:
     basic rack's value), the rule jaxgear applies to internal gears (docs/planetary.md)."""
     f = math.cos(pair.base_helix_angle) ** 2 * math.cos(pair.helix_angle)
     return pair.pinion.teeth / f, math.inf
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanetaryGeometry:
+    """The two pairs of a planetary stage at one operating centre distance (the carrier's
+    planet-circle radius): the sun–planet :class:`~jaxgear.GearPair` and the planet–ring
+    :class:`InternalGearPair`, built by :func:`planetary_geometry`.
+
+    Attributes:
+        sun_planet: the external pair (the sun drives the planet).
+        planet_ring: the internal pair (the planet meshes inside the ring).
+        center_distance: a_w (m), shared by both pairs.
+        mismatch: the internal pair's zero-backlash distance less the external pair's (m),
+            >= 0: 0 for a concentric tooth set without backlash (z_r = z_s + 2 z_p and
+            x_r = −(x_s + 2 x_p)); otherwise the pairs have a common distance only in between
+            (an external pair jams closer than its zero-backlash distance, an internal pair
+            farther).
+    """
+
+    sun_planet: GearPair
+    planet_ring: InternalGearPair
+    center_distance: float
+    mismatch: float
+
+    @property
+    def sun_pressure_angle(self) -> float:
+        """α_s: the sun–planet operating transverse pressure angle (rad), a
+        :class:`~jaxgear.PlanetaryStage`'s ``sun_pressure_angle``."""
+        return self.sun_planet.operating_pressure_angle
+
+    @property
+    def ring_pressure_angle(self) -> float:
+        """α_r: the ring–planet operating transverse pressure angle (rad), a
+        :class:`~jaxgear.PlanetaryStage`'s ``ring_pressure_angle``."""
+        return self.planet_ring.operating_pressure_angle
+
+
+def planetary_geometry(
+    sun: Member,
+    planet: Member,
+    ring: Member,
+    normal_module: float,
+    normal_pressure_angle: float,
+    helix_angle: float = 0.0,
+    center_distance: float | None = None,
+) -> PlanetaryGeometry:
+    """Sun–planet and planet–ring pairs of a planetary stage at one centre distance.
+
+    Args:
+        sun, planet: external members (teeth >= 5). ring: the internal gear (teeth < 0, ISO
+            21771; see :class:`InternalGearPair`).
+        normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad).
+        center_distance: a_w (m), between the sun pair's zero-backlash distance and the ring
+            pair's; ``None``: the sun pair's (the ring pair then takes the backlash).
+
+    Returns:
+        :class:`PlanetaryGeometry`.
+
+    Raises:
+        ValueError: the ring pair's zero-backlash distance below the sun pair's (no common
+            distance: the teeth jam in one of the meshes), or any check of
+            :class:`~jaxgear.GearPair` or :class:`InternalGearPair` (one line each).
+    """
+    args = (normal_module, normal_pressure_angle, helix_angle)
+    external = GearPair(sun, planet, *args)
+    internal = InternalGearPair(planet, ring, *args)
+    mismatch = internal.center_distance - external.center_distance
+    if mismatch < -1e-12 * external.center_distance:
+        raise ValueError(
+            f"planetary_geometry: ring.profile_shift = {ring.profile_shift!r} is out of range: "
+            f"the ring pair's zero-backlash distance {internal.center_distance * 1e3:.6f} mm is "
+            f"below the sun pair's {external.center_distance * 1e3:.6f} mm (the teeth jam at "
+            "any common distance); allowed a smaller ring.profile_shift (thinner ring teeth) "
+            "or smaller sun/planet profile shifts"
+        )
+    a = external.center_distance if center_distance is None else center_distance
+    return PlanetaryGeometry(
+        GearPair(sun, planet, *args, a), InternalGearPair(planet, ring, *args, a), a, mismatch
+    )
