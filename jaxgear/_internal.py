@@ -146,7 +146,18 @@ class InternalGearPair:
     (start_roll >= pinion_form_roll; with a zero form roll this is KHK's z1/|z2| >= 1 − tan
     α_a2/tan α_wt); **tip-to-root clearance** c1, c2 >= 0; ε_α >= 1; **trochoid
     interference**: margin >= 0 (KHK), the condition that sets the minimum tooth-count
-    difference (about 8 to 12 for 20° full-depth teeth without profile shift).
+    difference (20° teeth, z1 = 20, unshifted, ring addendum 0.6 m_n: |z2| − z1 >= 7).
+
+    Raises:
+        ValueError: any check above, one line naming the parameter (``pinion.<field>``,
+            ``gear.<field>`` or the pair's), its value and the allowed range.
+
+    Example:
+        >>> planet = Member(20, profile_shift=0.3, face_width=0.02)
+        >>> ring = Member(-90, face_width=0.02)           # ISO 21771: internal teeth negative
+        >>> pair = InternalGearPair(planet, ring, 3e-3, math.radians(20.0))
+        >>> round(pair.transverse_contact_ratio, 4)
+        1.7426
     """
 
     pinion: Member
