@@ -103,15 +103,13 @@ class InternalGearPair:
         pinion: the external member (teeth z1 >= 5; a planet).
         gear: the internal gear (a ring): a :class:`~jaxgear.Member` with ``teeth`` z2 < 0 (ISO
             21771), |z2| > z1; its ``profile_shift`` x2 in ISO 21771's sign (positive thickens
-            the ring's teeth, moving its tip circle inwards); ``bore_radius`` and
-            ``tooth_thickness_allowance`` must be left at their defaults (None, 0: a ring has
-            no bore; tooth-thickness allowances of internal pairs are not modelled yet, the
-            backlash comes from the centre distance).
+            the ring's teeth, moving its tip circle inwards); ``bore_radius`` None (a ring has no bore); ``tooth_thickness_allowance`` A_sn
+            (m, negative thins the ring's teeth) as for :class:`~jaxgear.GearPair`.
         normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad), >= 0
             (both members of the same hand).
-        center_distance: a_w (m), in (r_b2 − r_b1, the zero-backlash distance]: an internal
-            pair has backlash *closer* than that distance and jams farther apart; ``None`` for
-            the zero-backlash distance.
+        center_distance: a_w (m), in (r_b2 − r_b1, ``backlash_center_distance``]: an internal
+            pair has backlash *closer* than its zero-backlash distance and jams farther apart;
+            ``None`` for the zero-backlash distance of the nominal teeth.
 
     Derived attributes: ``transverse_module`` m_t, ``transverse_pressure_angle`` α_t,
     ``operating_pressure_angle`` α_wt (inv α_wt = inv α_t + 2 tan α_n (x1 + x2)/(z1 + z2),
@@ -129,9 +127,10 @@ class InternalGearPair:
     ``tip_root_clearances`` (c1 = r_f2 − a_w − r_a1: pinion tip to ring root; c2 = r_a2 −
     a_w − r_f1: ring tip to pinion root), ``trochoid_margin`` (:func:`trochoid_margin`, rad),
     ``mesh_period_angle`` 2π/z1; the backlash (ISO 21771 / DIN 3967 quantities, as
-    :class:`~jaxgear.GearPair`'s): ``transverse_backlash`` j_bt = 2 (r_b2 − r_b1)(inv α_wt0 −
-    inv α_wt) (the ring's space less the pinion's tooth along the line of action; 0 at the
-    zero-backlash distance a_0, > 0 for a_w < a_0), ``circumferential_backlash`` j_wt =
+    :class:`~jaxgear.GearPair`'s): ``backlash_center_distance`` a_A, the zero-backlash distance
+    of the thinned teeth (inv α_wtA = inv α_wt0 + (A_sn1 + A_sn2)/(m_n (z1 + z2))),
+    ``transverse_backlash`` j_bt = 2 (r_b2 − r_b1)(inv α_wtA − inv α_wt) (the ring's space less
+    the pinion's tooth along the line of action; 0 at a_A, > 0 for a_w < a_A), ``circumferential_backlash`` j_wt =
     j_bt/cos α_wt, ``normal_backlash`` j_bn = j_bt cos β_b; ``base_thickness`` (s_b1, s_b2),
     the members' tooth thicknesses on their base circles (the ring's: 2 r_b2 (s_t2/(2 r2) −
     inv α_t)). With ``coast=True`` :meth:`jaxgear.MeshModel.from_pair` lays out the coast
@@ -209,12 +208,12 @@ class InternalGearPair:
             for name in ("web_thickness", "rim_thickness"):
                 v = getattr(m, name)
                 _require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
+            A = m.tooth_thickness_allowance
             _require(
                 f"{tag}.tooth_thickness_allowance",
-                m.tooth_thickness_allowance,
-                m.tooth_thickness_allowance == 0.0,
-                "0 (tooth-thickness allowances of internal pairs are not modelled yet; "
-                "give a center_distance below the zero-backlash distance for backlash)",
+                A,
+                -0.25 * mn <= A <= 0.25 * mn,
+                f"[{-0.25 * mn:.6g}, {0.25 * mn:.6g}] m (a quarter of the normal module)",
             )
         _require(
             "gear.bore_radius",
@@ -238,8 +237,26 @@ class InternalGearPair:
         )
         awt0 = inverse_involute(inv_awt0)
         a0 = (rb[1] - rb[0]) / math.cos(awt0)
+        # zero backlash with the thinned teeth: 2 x tan α_n + A_sn/m_n per member (ISO 21771,
+        # DIN 3967), inv α_wtA = inv α_wt0 + (A_sn1 + A_sn2)/(m_n (z1 + z2)), z1 + z2 < 0
+        allowances = self.pinion.tooth_thickness_allowance + self.gear.tooth_thickness_allowance
+        inv_awtA = inv_awt0 + allowances / mn / (z1 + z2)
+        _require(
+            "tooth_thickness_allowance (pinion + gear)",
+            allowances,
+            inv_awtA > 0,
+            f"< {inv_awt0 * -(z1 + z2) * mn:.6g} m (inv α_wt > 0)",
+        )
+        aA = (rb[1] - rb[0]) / math.cos(inverse_involute(inv_awtA))
         if self.center_distance is None:
             a, awt = a0, awt0
+            _require(
+                "tooth_thickness_allowance (pinion + gear) without a center_distance",
+                allowances,
+                aA >= a0 * (1 - 1e-9),
+                f"<= 0 m (the teeth jam at the zero-backlash distance {a0 * 1e3:.6f} mm of the "
+                f"nominal teeth); or give center_distance <= {aA * 1e3:.6f} mm",
+            )
         else:
             # an internal pair jams farther apart: the pinion's tooth enters the ring's space
             # deeper, where the space narrows (the ring's teeth thicken towards their roots)
@@ -247,9 +264,9 @@ class InternalGearPair:
             _require(
                 "center_distance",
                 a,
-                rb[1] - rb[0] < a <= a0 * (1 + 1e-9),
-                f"({(rb[1] - rb[0]) * 1e3:.6f}, {a0 * 1e3:.6f}] mm (up to the zero-backlash "
-                "distance; farther apart, the teeth of an internal pair jam)",
+                rb[1] - rb[0] < a <= aA * (1 + 1e-9),
+                f"({(rb[1] - rb[0]) * 1e3:.6f}, {aA * 1e3:.6f}] mm (up to the zero-backlash "
+                "distance of the thinned teeth; farther apart, the teeth of an internal pair jam)",
             )
             awt = math.acos((rb[1] - rb[0]) / a)
         ra = (
@@ -357,15 +374,20 @@ class InternalGearPair:
         set_("root_radii", rf)
         set_("reference_thickness", st)
         # backlash: the ring's space less the pinion's tooth on the operating pitch circles,
-        # j_bt = 2 (r_b2 − r_b1)(inv α_wt0 − inv α_wt) >= 0 (0 at the zero-backlash distance)
-        jbt = 2 * (rb[1] - rb[0]) * (inv_awt0 - involute(awt))
+        # j_bt = 2 (r_b2 − r_b1)(inv α_wtA − inv α_wt) >= 0 (0 at the zero-backlash distance
+        # of the thinned teeth; round-off clamped)
+        jbt = max(2 * (rb[1] - rb[0]) * (inv_awtA - involute(awt)), 0.0)
+        thinned = tuple(
+            st[i] + mt * m.tooth_thickness_allowance / mn for i, m in enumerate(members)
+        )
         set_(
             "base_thickness",
             (
-                2 * rb[0] * (st[0] / (2 * r[0]) + involute(at)),
-                2 * rb[1] * (st[1] / (2 * r[1]) - involute(at)),
+                2 * rb[0] * (thinned[0] / (2 * r[0]) + involute(at)),
+                2 * rb[1] * (thinned[1] / (2 * r[1]) - involute(at)),
             ),
         )
+        set_("backlash_center_distance", aA)
         set_("transverse_backlash", jbt)
         set_("circumferential_backlash", jbt / math.cos(awt))
         set_("normal_backlash", jbt * math.cos(math.atan(math.tan(beta) * math.cos(at))))
@@ -457,11 +479,11 @@ class PlanetaryGeometry:
         sun_planet: the external pair (the sun drives the planet).
         planet_ring: the internal pair (the planet meshes inside the ring).
         center_distance: a_w (m), shared by both pairs.
-        mismatch: the internal pair's zero-backlash distance less the external pair's (m),
-            >= 0: 0 for a concentric tooth set without backlash (z_r = z_s + 2 z_p and
-            x_r = −(x_s + 2 x_p)); otherwise the pairs have a common distance only in between
-            (an external pair jams closer than its zero-backlash distance, an internal pair
-            farther).
+        mismatch: the internal pair's zero-backlash distance less the external pair's (m, of
+            the thinned teeth: ``backlash_center_distance``), >= 0: 0 for a concentric tooth
+            set without allowances (z_r = z_s + 2 z_p and x_r = −(x_s + 2 x_p)); the pairs have
+            a common distance only in between (an external pair jams closer than its
+            zero-backlash distance, an internal pair farther).
     """
 
     sun_planet: GearPair
@@ -497,8 +519,9 @@ def planetary_geometry(
         sun, planet: external members (teeth >= 5). ring: the internal gear (teeth < 0, ISO
             21771; see :class:`InternalGearPair`).
         normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad).
-        center_distance: a_w (m), between the sun pair's zero-backlash distance and the ring
-            pair's; ``None``: the sun pair's (the ring pair then takes the backlash).
+        center_distance: a_w (m), between the sun pair's and the ring pair's zero-backlash
+            distances of the thinned teeth; ``None``: the sun pair's nominal zero-backlash
+            distance, or the ring pair's if smaller.
 
     Returns:
         :class:`PlanetaryGeometry`.
@@ -511,16 +534,19 @@ def planetary_geometry(
     args = (normal_module, normal_pressure_angle, helix_angle)
     external = GearPair(sun, planet, *args)
     internal = InternalGearPair(planet, ring, *args)
-    mismatch = internal.center_distance - external.center_distance
-    if mismatch < -1e-12 * external.center_distance:
+    # with thinned teeth: the sun pair fits from its backlash distance outwards, the ring pair
+    # up to its own
+    low, high = external.backlash_center_distance, internal.backlash_center_distance
+    mismatch = high - low
+    if mismatch < -1e-12 * low:
         raise ValueError(
             f"planetary_geometry: ring.profile_shift = {ring.profile_shift!r} is out of range: "
-            f"the ring pair's zero-backlash distance {internal.center_distance * 1e3:.6f} mm is "
-            f"below the sun pair's {external.center_distance * 1e3:.6f} mm (the teeth jam at "
-            "any common distance); allowed a smaller ring.profile_shift (thinner ring teeth) "
-            "or smaller sun/planet profile shifts"
+            f"the ring pair's zero-backlash distance {high * 1e3:.6f} mm is below the sun "
+            f"pair's {low * 1e3:.6f} mm (the teeth jam at any common distance); allowed a "
+            "smaller ring.profile_shift (thinner ring teeth), smaller sun/planet profile shifts "
+            "or thinner teeth (tooth_thickness_allowance < 0)"
         )
-    a = external.center_distance if center_distance is None else center_distance
+    a = min(external.center_distance, high) if center_distance is None else center_distance
     return PlanetaryGeometry(
         GearPair(sun, planet, *args, a), InternalGearPair(planet, ring, *args, a), a, mismatch
     )

@@ -139,6 +139,23 @@ def test_center_distance_and_backlash_of_an_internal_pair():
     assert abs(p0.transverse_backlash) < 1e-18
     with pytest.raises(ValueError, match="farther apart, the teeth of an internal pair jam"):
         _pair(x2=-0.3, a=p0.center_distance + 1e-6)
+    # thinned teeth (A_sn1 = −20 µm, A_sn2 = −30 µm; spur: m_t = m_n): more backlash, and the
+    # pair may now sit farther apart, up to its backlash_center_distance
+    A = (-20e-6, -30e-6)
+    pa = _pair(
+        x2=-0.3, a=a, p1={"tooth_thickness_allowance": A[0]}, p2={"tooth_thickness_allowance": A[1]}
+    )
+    s_w1 = rw1 * ((t.st[0] + A[0]) / r1 + 2 * (_inv(t.at) - _inv(awt)))
+    e_w2 = rw2 * ((math.pi * t.mt - t.st[1] - A[1]) / r2 + 2 * (_inv(t.at) - _inv(awt)))
+    assert pa.circumferential_backlash == pytest.approx(e_w2 - s_w1, rel=1e-9)
+    assert pa.backlash_center_distance > p0.center_distance
+    pb = _pair(
+        x2=-0.3,
+        a=pa.backlash_center_distance,
+        p1={"tooth_thickness_allowance": A[0]},
+        p2={"tooth_thickness_allowance": A[1]},
+    )
+    assert abs(pb.transverse_backlash) < 1e-12
 
 
 def test_coast_flanks_sit_a_backlash_below():
@@ -265,7 +282,14 @@ def test_trochoid_check_agrees_with_a_kinematic_simulation(z1, dz, ha1, ha2, x2)
         ),
         ({"z2": -24, "x1": 0.1}, "profile_shift (x1 + x2) = 0.1 is out of range: allowed < 0.08"),
         ({"p2": {"bore_radius": 0.1}}, "gear.bore_radius = 0.1 is out of range: allowed None"),
-        ({"p2": {"tooth_thickness_allowance": -1e-5}}, "gear.tooth_thickness_allowance"),
+        (
+            {"p2": {"tooth_thickness_allowance": 1e-3}},
+            "gear.tooth_thickness_allowance = 0.001 is out of range: allowed [-0.00075, 0.00075]",
+        ),
+        (
+            {"p1": {"tooth_thickness_allowance": 1e-5}},
+            "tooth_thickness_allowance (pinion + gear) without a center_distance = 1e-05",
+        ),
         ({"x1": float("nan")}, "pinion.profile_shift"),
     ],
 )
@@ -433,6 +457,45 @@ def test_contact_pressure_of_an_internal_quasi_static_result():
     np.testing.assert_allclose(
         np.asarray(cp.max_pressure)[loaded], np.sqrt(w * e_star / (np.pi * R)), rtol=1e-10
     )
+
+
+# NREL 5 MW reference gearbox, planetary stages 1 and 2 (Nejad, Guo, Gao, Moan, Wind Energy 19
+# (2016) 1089-1106, doi:10.1002/we.1884, Table V; as carried by gfsReboucas/Drivetrain-python,
+# drivetrain/models/nrel_5mw.py): m_n, face width, a_w, z (sun, planet, ring), x (ISO signs)
+NREL_STAGES = [
+    (45e-3, 0.491, 0.863, (19, 17, -56), (0.617, 0.802, -0.501)),
+    (21e-3, 0.550, 0.584, (18, 36, -93), (0.389, 0.504, 0.117)),
+]
+
+
+@pytest.mark.parametrize("mn, b, aw, z, x", NREL_STAGES)
+def test_nrel_5mw_planetary_stages_are_concentric_at_the_published_distance(mn, b, aw, z, x):
+    """The published shifts make both meshes of each stage zero-backlash at the published centre
+    distance (rounded to 1 mm): the sun pair's and the ring pair's zero-backlash distances agree
+    to 5 µm and lie within 0.01 mm of a_w. Read with the opposite (textbook) sign of the ring's
+    shift, stage 1 is refused and stage 2 lands 5.9 mm off. With 0.1 mm thinned teeth the stage
+    assembles at a_w with backlash in both meshes."""
+    members = [jg.Member(zi, xi, face_width=b) for zi, xi in zip(z, x)]
+    ext = jg.GearPair(members[0], members[1], mn, ALPHA)
+    ring = jg.InternalGearPair(members[1], members[2], mn, ALPHA)
+    assert abs(ring.center_distance - ext.center_distance) < 5e-6
+    assert abs(ring.center_distance - aw) < 1e-5 and abs(ext.center_distance - aw) < 1e-5
+    # the ring's tip and root diameters (ISO: d_a2 = |d2| − 2 m_n (1 + x2), d_f2 = |d2| +
+    # 2 m_n (1.25 − x2)); stage 1: 2475.09 and 2677.59 mm
+    d2 = -z[2] * mn
+    assert 2 * ring.tip_radii[1] == pytest.approx(d2 - 2 * mn * (1 + x[2]), rel=1e-14)
+    assert 2 * ring.root_radii[1] == pytest.approx(d2 + 2 * mn * (1.25 - x[2]), rel=1e-14)
+    flipped = jg.Member(z[2], -x[2], face_width=b)
+    if x[2] < 0:
+        with pytest.raises(ValueError, match="profile_shift"):
+            jg.InternalGearPair(members[1], flipped, mn, ALPHA)
+    else:
+        assert jg.InternalGearPair(members[1], flipped, mn, ALPHA).center_distance - aw > 5e-3
+    thin = [
+        jg.Member(zi, xi, face_width=b, tooth_thickness_allowance=-0.1e-3) for zi, xi in zip(z, x)
+    ]
+    g = jg.planetary_geometry(*thin, mn, ALPHA, center_distance=aw)
+    assert g.sun_planet.normal_backlash > 0.1e-3 and g.planet_ring.normal_backlash > 0.1e-3
 
 
 def test_planetary_geometry_at_one_centre_distance():
