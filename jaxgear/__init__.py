@@ -35,6 +35,11 @@ from ._geometry import (
     inverse_involute as inverse_involute,
     involute as involute,
 )
+from ._internal import (
+    InternalGearPair as InternalGearPair,
+    PlanetaryGeometry as PlanetaryGeometry,
+    planetary_geometry as planetary_geometry,
+)
 from ._maps import harris_map as harris_map, load_map as load_map
 from ._modifications import (
     AbstractEndReliefEdges as AbstractEndReliefEdges,

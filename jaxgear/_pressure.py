@@ -17,6 +17,7 @@ nominal contact stress σ_H0 = Z_H Z_E √(F_t (u + 1)/(d₁ b u)) with Z_ε = 1
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import jax.numpy as jnp
@@ -53,10 +54,13 @@ def contact_modulus(youngs_modulus: float, poisson_ratio: float) -> float:
     return youngs_modulus / (2.0 * (1.0 - poisson_ratio**2))
 
 
+@functools.singledispatch
 def relative_radius(pair: GearPair, s) -> Float[Array, "..."]:
     """R = ρ₁ρ₂/(ρ₁ + ρ₂) (m) in the normal plane at base-plane coordinates ``s`` (m, any shape):
     ρ₁ = (ρ_A + s)/cos β_b, ρ₂ = (a_w sin α_wt − ρ_A − s)/cos β_b (the module docstring). Points
-    off the path of contact give the formula's value; callers mask them."""
+    off the path of contact give the formula's value; callers mask them. Dispatched on the
+    pair's type: an :class:`~jaxgear.InternalGearPair`'s concave ring flank gives
+    R = ρ₁ρ₂/(ρ₂ − ρ₁) (``jaxgear/_internal.py``)."""
     s = jnp.asarray(s)
     cb = jnp.cos(pair.base_helix_angle)
     length = pair.center_distance * jnp.sin(pair.operating_pressure_angle)

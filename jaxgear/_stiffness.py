@@ -295,10 +295,13 @@ class MemberFoundations(AbstractFoundation):
         return self.member(member).add_compliance(c, pair, member, u, cos2_over_e, tan2)
 
 
+@functools.singledispatch
 def iso6336_virtual_teeth(pair: GearPair) -> tuple[float, float]:
     """Virtual numbers of teeth (z_n1, z_n2) of ISO 6336-1 method B (§9.3, the q' equation):
     ``z_n = z / (cos² β_b cos β)`` (not the older z / cos³ β; the two differ by ≈ 1 % at
-    β = 15°, ≈ 0.16 % on c'_th of ISO/TR 6336-30 example 1)."""
+    β = 15°, ≈ 0.16 % on c'_th of ISO/TR 6336-30 example 1). Dispatched on the pair's type: an
+    :class:`~jaxgear.InternalGearPair` takes the internal gear's z_n2 as infinite
+    (``jaxgear/_internal.py``)."""
     beta, beta_b = pair.helix_angle, pair.base_helix_angle
     f = math.cos(beta_b) ** 2 * math.cos(beta)
     return pair.pinion.teeth / f, pair.gear.teeth / f

@@ -11,6 +11,7 @@ Everything here is NumPy, evaluated once: a constant for JAX (no gradient throug
 from __future__ import annotations
 
 import abc
+import functools
 import math
 from typing import ClassVar
 
@@ -18,6 +19,7 @@ import equinox as eqx
 import numpy as np
 
 from ._geometry import GearPair
+from ._internal import InternalGearPair
 from ._stiffness import (
     AbstractFoundation,
     NoFoundation,
@@ -70,6 +72,8 @@ class AbstractStiffness(eqx.Module):
 
     name: eqx.AbstractClassVar[str]
     hertz: ClassVar[bool] = False
+    #: the model has an internal-gear form (an :class:`~jaxgear.InternalGearPair` accepted)
+    internal_teeth: ClassVar[bool] = False
 
     @abc.abstractmethod
     def profile(self, pair: GearPair, s: np.ndarray, conditions: MeshConditions) -> np.ndarray:
@@ -118,6 +122,7 @@ class Uniform(AbstractStiffness):
 
     k0: float
     name: ClassVar[str] = "uniform"
+    internal_teeth: ClassVar[bool] = True
 
     def __check_init__(self):
         try:
@@ -146,6 +151,7 @@ class ISO6336(AbstractStiffness):
     that the mean mesh stiffness times cos² β_b equals c_γα b."""
 
     name: ClassVar[str] = "iso6336"
+    internal_teeth: ClassVar[bool] = True
 
     def profile(self, pair, s, conditions):
         k0 = iso6336_mesh_stiffness(pair, conditions.youngs_modulus, conditions.specific_load) / (
@@ -251,6 +257,21 @@ class FE2D(AbstractStiffness):
         }
 
 
+@functools.singledispatch
+def _check_model_for_pair(pair, model: AbstractStiffness) -> None:
+    """Every model takes an external pair."""
+
+
+@_check_model_for_pair.register
+def _internal_pair_model(pair: InternalGearPair, model: AbstractStiffness) -> None:
+    if not model.internal_teeth:
+        raise ValueError(
+            f"stiffness_table: model = {model.name!r} is out of range for an InternalGearPair: "
+            "allowed 'uniform' or 'iso6336' (the Weber and FE tooth models of internal teeth "
+            "are not built yet)"
+        )
+
+
 def stiffness_table(
     pair: GearPair,
     model: AbstractStiffness,
@@ -285,7 +306,9 @@ def stiffness_table(
             Hertzian contact is wider than the teeth).
     """
     where = "stiffness_table"
-    check_instance("pair", pair, GearPair, "a jaxgear.GearPair", where)
+    check_instance(
+        "pair", pair, (GearPair, InternalGearPair), "a jaxgear.GearPair or InternalGearPair", where
+    )
     check_instance(
         "model",
         model,
@@ -297,6 +320,7 @@ def stiffness_table(
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, shape=(), where=where)
     check_real("line_load", line_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where)
     check_integer("n_points", n_points, 2)
+    _check_model_for_pair(pair, model)
     if specific_load is not None:
         check_real(
             "specific_load", specific_load, "N/m", lo=0.0, lo_open=True, shape=(), where=where
