@@ -106,6 +106,9 @@ from ._rating_material import (
     ThroughHardened as ThroughHardened,
 )
 from ._rating_settings import (
+    AbstractEdition as AbstractEdition,
+    Edition2006 as Edition2006,
+    Edition2019 as Edition2019,
     GearAccuracy as GearAccuracy,
     GivenFactors as GivenFactors,
     Lubrication as Lubrication,

@@ -77,6 +77,9 @@ def test_case_rating_is_the_api_rating():
     assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
     assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
     assert float(rc.geometry.center_distance) == pytest.approx(0.5)
+    assert isinstance(rc.settings.edition, jg.Edition2019)  # the default
+    old = jio.rating_of(jio.parse_case(_case(**{"rating/edition": 2006})))
+    assert isinstance(old.settings.edition, jg.Edition2006)
 
 
 def test_case_without_rating_has_none():
@@ -111,6 +114,8 @@ def test_case_without_rating_has_none():
         ({"operating/speed_rpm": None}, "[operating] speed_rpm: missing required key"),
         ({"operating/speed_rad_s": 10.0}, "[operating] speed_rpm = 360: give the speed once"),
         ({"rating/K_Hbta": 1.2}, "[rating] unknown key 'K_Hbta' (did you mean 'K_Hbeta'?)"),
+        ({"rating/edition": 2010}, "[rating] edition = 2010: out of range, allowed 2006 | 2019"),
+        ({"rating/edition": 1990}, "[rating] edition = 1990: out of range, allowed [2006, 2019]"),
     ],
 )
 def test_bad_rating_input_is_one_line_naming_the_key(changes, message):
