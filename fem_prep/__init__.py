@@ -59,11 +59,17 @@ from ._modal import (
 )
 from ._prepare import Bearings as Bearings, Free as Free, Prepared as Prepared, prepare as prepare
 from ._rim import RimFit as RimFit, rim_fit as rim_fit
+from ._root_stress import (
+    FilletStress as FilletStress,
+    PlaneStrainStress as PlaneStrainStress,
+    fillet_stress as fillet_stress,
+    plane_strain_stress as plane_strain_stress,
+)
 from ._solver import (
     CholmodFactor as CholmodFactor,
-    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
+    SparseFactor as SparseFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )
@@ -80,8 +86,8 @@ from ._tooth_profile import (
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
 )
-from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .checks import SchemaError as SchemaError
+from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .schema import (
     embedded_bodies as embedded_bodies,
     embedded_body_text as embedded_body_text,

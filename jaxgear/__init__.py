@@ -60,8 +60,8 @@ from ._planetary import (
 from ._planetary_analysis import (
     LoadSharing as LoadSharing,
     ModeType as ModeType,
-    campbell as campbell,
     PlanetaryModes as PlanetaryModes,
+    campbell as campbell,
     classify_modes as classify_modes,
     load_sharing as load_sharing,
     mesh_phases as mesh_phases,
@@ -116,6 +116,7 @@ from ._rating_settings import (
     RatingMaterial as RatingMaterial,
     RatingSettings as RatingSettings,
 )
+from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,
     DeviationSampler as DeviationSampler,
@@ -131,7 +132,6 @@ from ._robust import (
     sample_metrics as sample_metrics,
     sample_statistics as sample_statistics,
 )
-from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
     AbstractFoundation as AbstractFoundation,

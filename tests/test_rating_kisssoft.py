@@ -176,7 +176,9 @@ SPUR_MESHES = [
 
 
 @pytest.mark.parametrize("report, z, x, mn_mm, k_mm, printed", SPUR_MESHES)
-def test_kisssoft_spur_sun_planet_tooth_form_within_half_a_percent(report, z, x, mn_mm, k_mm, printed):
+def test_kisssoft_spur_sun_planet_tooth_form_within_half_a_percent(
+    report, z, x, mn_mm, k_mm, printed
+):
     """Y_F, Y_S and the root section of the external sun/planet mesh of the planetary stages
     (spur, large profile shifts, tip shortening), the report's section 3."""
     pair = _pair(z, x, mn_mm, 0.0, k_mm, 491.0)

@@ -51,9 +51,9 @@ from .. import (
 )
 
 __all__ = [
+    "EDITIONS",
     "MATERIAL_RATING_KEYS",
     "OPERATING_RATING_KEYS",
-    "EDITIONS",
     "RATING_KEYS",
     "TREATMENTS",
     "RatingCase",
