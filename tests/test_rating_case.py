@@ -114,7 +114,10 @@ def test_case_without_rating_has_none():
         ({"operating/speed_rpm": None}, "[operating] speed_rpm: missing required key"),
         ({"operating/speed_rad_s": 10.0}, "[operating] speed_rpm = 360: give the speed once"),
         ({"rating/K_Hbta": 1.2}, "[rating] unknown key 'K_Hbta' (did you mean 'K_Hbeta'?)"),
-        ({"rating/edition": 2010}, "[rating] edition = 2010: out of range, allowed 2006 | 2019"),
+        (
+            {"rating/edition": 2010},
+            "[rating] edition = 2010: out of range, allowed [2006, 2019], the years 2006 or 2019",
+        ),
         ({"rating/edition": 1990}, "[rating] edition = 1990: out of range, allowed [2006, 2019]"),
     ],
 )

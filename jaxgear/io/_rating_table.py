@@ -168,9 +168,12 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
     s_fmin = sc.number(rt, "min_safety_bending", "rating", 1.0, allowed="[0.5, 10]")
     given = {k: sc.number(rt, k, "rating", None, allowed="[1, 10]") for k in GIVEN}
-    year = sc.number(rt, "edition", "rating", 2019, allowed="[2006, 2019]", integer=True)
+    years = ", the years 2006 or 2019"
+    year = sc.number(
+        rt, "edition", "rating", 2019, allowed="[2006, 2019]", integer=True, note=years
+    )
     if year not in EDITIONS:
-        raise sc.fail("rating", "edition", "out of range, allowed 2006 | 2019", year)
+        raise sc.fail("rating", "edition", f"out of range, allowed [2006, 2019]{years}", year)
     E, nu, rho = material
     try:
         accuracy = GearAccuracy.from_grade(pair, grade)
