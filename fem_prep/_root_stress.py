@@ -41,7 +41,14 @@ from ._tooth_fe import _load_geometry, _on_flank, mesh_sector
 from ._tooth_profile import FilletForm, ToothProfile, tooth_profile
 from .tooth_form import ToothGeometry
 
-__all__ = ["FilletStress", "PlaneStrainStress", "fillet_stress", "plane_strain_stress"]
+__all__ = [
+    "FilletInfluence",
+    "FilletStress",
+    "PlaneStrainStress",
+    "fillet_influence",
+    "fillet_stress",
+    "plane_strain_stress",
+]
 
 DEFAULT_ELEMENTS_PER_MODULE = 18.0  # element size m_n/18 at the teeth: peak within 0.1 % of m_n/27
 DEFAULT_RIM_DEPTH = 3.5  # rim depth below the root circle, in modules (s_R/h_t ≈ 1.5: solid)
@@ -104,6 +111,23 @@ class PlaneStrainStress:
         return np.stack([np.stack([sxx, sxy], -1), np.stack([sxy, syy], -1)], -2)
 
 
+def _solve(mesh, lam, mu, clamped, load_points, load_dirs):
+    """Quadratic plane-strain displacements (dof vectors, (n_dofs, n_loads)) under unit point
+    forces (one load case each, one factorisation)."""
+    ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
+    sb = skfem.Basis(mesh, skfem.ElementTriP2())
+    K = skfem.asm(linear_elasticity(lam, mu), ib)
+    fixed = ib.get_dofs(clamped).all()
+    free = np.setdiff1d(np.arange(ib.N), fixed)
+    pl = sb.probes(np.asarray(load_points, dtype=float).T).tocoo()  # (n_loads, n_scalar)
+    F = np.zeros((ib.N, len(load_points)))
+    for c in (0, 1):
+        np.add.at(F, (2 * pl.col + c, pl.row), pl.data * load_dirs[pl.row, c])
+    U = np.zeros_like(F)
+    U[free] = factorize(K[free][:, free].tocsc()).solve(F[free])
+    return ib, U
+
+
 def plane_strain_stress(
     mesh,
     youngs_modulus: float,
@@ -123,18 +147,11 @@ def plane_strain_stress(
     Returns:
         The :class:`PlaneStrainStress` (stresses in Pa per N/m of load).
     """
-    ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
-    sb = skfem.Basis(mesh, skfem.ElementTriP2())
     lam, mu = lame_parameters(youngs_modulus, poisson_ratio)
-    K = skfem.asm(linear_elasticity(lam, mu), ib)
-    fixed = ib.get_dofs(clamped).all()
-    free = np.setdiff1d(np.arange(ib.N), fixed)
-    pl = sb.probes(np.asarray(load_point, dtype=float).reshape(2, 1)).tocoo()
-    F = np.zeros(ib.N)
-    for c in (0, 1):
-        np.add.at(F, 2 * pl.col + c, pl.data * float(load_dir[c]))
-    u = np.zeros(ib.N)
-    u[free] = factorize(K[free][:, free].tocsc()).solve(F[free])
+    ib, U = _solve(
+        mesh, lam, mu, clamped, np.reshape(load_point, (1, 2)), np.reshape(load_dir, (1, 2))
+    )
+    u = U[:, 0]
     # the gradient at the three vertices of every triangle (reference points (0,0), (1,0), (0,1))
     at_vertices = skfem.Basis(
         mesh,
@@ -228,6 +245,104 @@ def _fillet_edges(sm, prof: ToothProfile):
     return ends[:, sel][:, order], mid[:, sel][:, order].T, centroid.T
 
 
+def _surface_stress(sm, ib, U, ends, poisson_ratio):
+    """σ_t (Pa per N/m) at the midpoints of the boundary edges ``ends`` for the displacement
+    columns ``U``: the chord strain of the quadratic field is its tangential strain at the edge
+    midpoint (a central difference, O(h²)); at the free surface σ_n = τ = 0 and ε_z = 0, so
+    σ_t = E ε_t/(1 − ν²), E = 1 here (the stresses do not depend on E). Shape (n_loads, n)."""
+    a, b = sm.mesh.p[:, ends[0]].T, sm.mesh.p[:, ends[1]].T
+    length = np.linalg.norm(b - a, axis=1)
+    t = (b - a) / length[:, None]
+    ud = U[ib.nodal_dofs]  # (2, n_vertices, n_loads)
+    du = ud[:, ends[1]] - ud[:, ends[0]]  # (2, n, n_loads)
+    strain = np.einsum("cnl,nc->ln", du, t) / length
+    return strain / (1 - poisson_ratio**2), t
+
+
+def _sector(geometry, size, rim_radius, n_teeth, form):
+    prof = tooth_profile(geometry, form=form)
+    mn = geometry.normal_module
+    size = mn / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
+    if rim_radius is None:
+        rim_radius = max(prof.root_radius - DEFAULT_RIM_DEPTH * mn, 0.2 * prof.root_radius)
+    return prof, mesh_sector(prof, rim_radius, size, n_teeth=n_teeth), size
+
+
+def _check_radii(prof, radii, where):
+    bad = radii[(radii < prof.form_radius) | (radii > prof.tip_radius)]
+    if len(bad):
+        raise ValueError(
+            f"{where}: load_radius = {float(bad[0])!r} m is out of range, allowed "
+            f"[{prof.form_radius:.6g}, {prof.tip_radius:.6g}] (form to tip circle)"
+        )
+
+
+@dataclass(frozen=True)
+class FilletInfluence:
+    """The fillet surface stress of one tooth for unit loads at several flank radii: the
+    influence of a load's position on the root stress (per unit face width).
+
+    Attributes:
+        load_radius: (n_loads,) radii of the loads on the flank (m), increasing.
+        roll: (n_loads,) their roll distances from the base tangent point (m).
+        sigma_t: (n_loads, n) the surface stress at the fillet points (Pa per N/m of load),
+            as :attr:`FilletStress.sigma_t`.
+        points: (n, 2) the fillet points (m). tangent_angle: (n,) (rad).
+        size: element size (m). n_dofs: degrees of freedom.
+    """
+
+    load_radius: np.ndarray
+    roll: np.ndarray
+    sigma_t: np.ndarray
+    points: np.ndarray
+    tangent_angle: np.ndarray
+    size: float
+    n_dofs: int
+
+    @property
+    def peak(self) -> np.ndarray:
+        """(n_loads,) the largest fillet stress of each unit load (Pa per N/m)."""
+        return np.max(self.sigma_t, axis=1)
+
+
+def fillet_influence(
+    geometry: ToothGeometry,
+    load_radii,
+    *,
+    size: float | None = None,
+    rim_radius: float | None = None,
+    n_teeth: int = 1,
+    poisson_ratio: float = 0.3,
+    form: FilletForm | None = None,
+) -> FilletInfluence:
+    """The tensile fillet's surface stress for a unit load at each of ``load_radii`` (m, on
+    the involute flank, [r_F, r_a]): one factorisation, one load case per radius; the model
+    and the other arguments as :func:`fillet_stress`. A load history on the tooth (one contact
+    point per transverse slice) gives the slice's fillet stress as the load per unit face
+    width times the row of its position (interpolated between the radii): the root-stress map
+    (docs/rating.md)."""
+    radii = np.sort(np.atleast_1d(np.asarray(load_radii, dtype=float)))
+    prof, sm, size = _sector(geometry, size, rim_radius, n_teeth, form)
+    _check_radii(prof, radii, "fillet_influence")
+    rho = np.sqrt(radii**2 - prof.base_radius**2)
+    _c, n, _m = _load_geometry(prof, rho)
+    loads = _on_flank(sm.flank, radii, 1e-9 * size)
+    lam, mu = lame_parameters(1.0, poisson_ratio)
+    r_int = sm.rim_radius * (1 + 1e-9)
+    ib, U = _solve(sm.mesh, lam, mu, lambda x: np.hypot(x[0], x[1]) < r_int, loads, n)
+    ends, mid, _centroid = _fillet_edges(sm, prof)
+    sigma_t, t = _surface_stress(sm, ib, U, ends, poisson_ratio)
+    return FilletInfluence(
+        load_radius=radii,
+        roll=rho,
+        sigma_t=sigma_t,
+        points=mid,
+        tangent_angle=np.arccos(np.clip(np.abs(t[:, 1]), 0.0, 1.0)),
+        size=size,
+        n_dofs=int(ib.N),
+    )
+
+
 def fillet_stress(
     geometry: ToothGeometry,
     load_radius: float,
@@ -261,34 +376,18 @@ def fillet_stress(
         ValueError: ``load_radius`` outside the involute [r_F, r_a], or a bad ``size``,
             ``rim_radius``, ``n_teeth`` (named, with the allowed range).
     """
-    prof = tooth_profile(geometry, form=form)
-    mn = geometry.normal_module
-    if not prof.form_radius <= load_radius <= prof.tip_radius:
-        raise ValueError(
-            f"fillet_stress: load_radius = {load_radius!r} m is out of range, allowed "
-            f"[{prof.form_radius:.6g}, {prof.tip_radius:.6g}] (form to tip circle)"
-        )
-    size = mn / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
-    if rim_radius is None:
-        rim_radius = max(prof.root_radius - DEFAULT_RIM_DEPTH * mn, 0.2 * prof.root_radius)
-    sm = mesh_sector(prof, rim_radius, size, n_teeth=n_teeth)
+    prof, sm, size = _sector(geometry, size, rim_radius, n_teeth, form)
+    _check_radii(prof, np.array([load_radius]), "fillet_stress")
     rho = np.array([math.sqrt(load_radius**2 - prof.base_radius**2)])
     _c, n, _m = _load_geometry(prof, rho)
     load = _on_flank(sm.flank, np.array([load_radius]), 1e-9 * size)[0]
-    r_int = rim_radius * (1 + 1e-9)
+    r_int = sm.rim_radius * (1 + 1e-9)
     sol = plane_strain_stress(
         sm.mesh, 1.0, poisson_ratio, lambda x: np.hypot(x[0], x[1]) < r_int, load, n[0]
     )
     ends, mid, centroid = _fillet_edges(sm, prof)
-    a, b = sm.mesh.p[:, ends[0]].T, sm.mesh.p[:, ends[1]].T
-    length = np.linalg.norm(b - a, axis=1)
-    t = (b - a) / length[:, None]
-    ud = sol.displacement[sol.basis.nodal_dofs]  # (2, n_vertices)
-    du = (ud[:, ends[1]] - ud[:, ends[0]]).T
-    # the chord strain of the quadratic field is its tangential strain at the edge midpoint
-    # (central difference: O(h²)); at the free surface σ_n = τ = 0 and ε_z = 0, so σ_t = E ε_t /
-    # (1 − ν²), E = 1 here (the stresses do not depend on E)
-    sigma_t = np.sum(du * t, axis=1) / length / (1 - poisson_ratio**2)
+    sigma_t, t = _surface_stress(sm, sol.basis, sol.displacement[:, None], ends, poisson_ratio)
+    sigma_t = sigma_t[0]
     sig = sol.stress(mid + 1e-3 * (centroid - mid))  # just inside the edge's triangle
     mean = 0.5 * (sig[:, 0, 0] + sig[:, 1, 1])
     rad = np.hypot(0.5 * (sig[:, 0, 0] - sig[:, 1, 1]), sig[:, 0, 1])
