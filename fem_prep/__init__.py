@@ -69,9 +69,9 @@ from ._root_stress import (
 )
 from ._solver import (
     CholmodFactor as CholmodFactor,
+    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
-    SparseFactor as SparseFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )
@@ -88,8 +88,8 @@ from ._tooth_profile import (
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
 )
-from .checks import SchemaError as SchemaError
 from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
+from .checks import SchemaError as SchemaError
 from .schema import (
     embedded_bodies as embedded_bodies,
     embedded_body_text as embedded_body_text,

@@ -60,8 +60,8 @@ from ._planetary import (
 from ._planetary_analysis import (
     LoadSharing as LoadSharing,
     ModeType as ModeType,
-    PlanetaryModes as PlanetaryModes,
     campbell as campbell,
+    PlanetaryModes as PlanetaryModes,
     classify_modes as classify_modes,
     load_sharing as load_sharing,
     mesh_phases as mesh_phases,
@@ -116,7 +116,6 @@ from ._rating_settings import (
     RatingMaterial as RatingMaterial,
     RatingSettings as RatingSettings,
 )
-from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,
     DeviationSampler as DeviationSampler,
@@ -132,6 +131,7 @@ from ._robust import (
     sample_metrics as sample_metrics,
     sample_statistics as sample_statistics,
 )
+from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
 from ._root_stress import RootStressMap as RootStressMap, root_stress_map as root_stress_map
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (

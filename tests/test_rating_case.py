@@ -230,3 +230,32 @@ def test_measured_face_load_factor_by_hand(tmp_path):
     section = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path), result=loads)
     assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(2.5 / (7 / 3), rel=1e-12)
     assert section["factors"]["K_Hbeta"]["value"] == 1.16  # the given one rates; measured beside
+
+
+def test_measured_dynamic_factor_is_the_sweep_at_the_rating_speed(tmp_path):
+    """jaxgear run's K_v measured (cli.measured_dynamic_factor): the sweep's dynamic factor at
+    the rating's pinion speed, linear between the two swept speeds around it, beside ISO's
+    (which still rates); a speed outside the sweep adds nothing."""
+    case = jio.parse_case(_case())  # 360 1/min = 37.70 rad/s
+    section = cli.rating_outputs(case, str(tmp_path))
+    w = 360.0 * 2 * math.pi / 60
+    dynamics = {"model": "torsional", "slices": 8, "speeds_rad_s": [30.0, 40.0, 50.0]}
+    dynamics["dynamic_factor"] = [1.10, 1.30, 1.20]
+    cli.measured_dynamic_factor(case, str(tmp_path), {"rating": section}, dynamics)
+    want = 1.10 + (w - 30.0) / 10.0 * 0.20  # by hand: 1.2540
+    assert section["measured"]["K_v"]["value"] == pytest.approx(want, rel=1e-12)
+    assert "torsional scene, 8 slices" in section["measured"]["K_v"]["source"]
+    assert section["factors"]["K_v"]["source"] == "ISO 6336-1 method B"
+    assert "| K_v measured | 1.2540 |" in (tmp_path / "rating.md").read_text(encoding="utf-8")
+    outside = {**dynamics, "speeds_rad_s": [100.0, 200.0, 300.0]}
+    other = cli.rating_outputs(case, str(tmp_path))
+    cli.measured_dynamic_factor(case, str(tmp_path), {"rating": other}, outside)
+    assert "measured" not in other
+    d = _case()  # a case without [rating]: nothing added, nothing read
+    del d["rating"], d["operating"]["speed_rpm"]
+    for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
+        del d["material"][key]
+    no_rating = jio.parse_case(d)
+    summary = {}
+    cli.measured_dynamic_factor(no_rating, str(tmp_path), summary, dynamics)
+    assert summary == {}
