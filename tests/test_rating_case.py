@@ -8,6 +8,7 @@ the API-built rating there is checked against the TR's printed values."""
 import copy
 import json
 import math
+import pathlib
 from typing import NamedTuple
 
 import numpy as np
@@ -259,3 +260,23 @@ def test_measured_dynamic_factor_is_the_sweep_at_the_rating_speed(tmp_path):
     summary = {}
     cli.measured_dynamic_factor(no_rating, str(tmp_path), summary, dynamics)
     assert summary == {}
+
+
+def test_the_wind_turbine_stage_case_file_reproduces_the_published_report(tmp_path):
+    """examples/wind-helical-stage.toml: the KISSsoft-rated helical stage of
+    tests/test_rating_kisssoft.py (provenance there) as a case file, 2006 edition and the
+    report's load factors given: S_F, S_H, σ_F0 and σ_HP as printed, within 0.5 %."""
+    path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "wind-helical-stage.toml"
+    section = cli.rating_outputs(jio.load_case(str(path)), str(tmp_path))
+    assert section["method"] == "ISO 6336:2006 method B"
+    got = {k: section[p][k] for p, k in (("bending", "S_F"), ("pitting", "S_H"))}
+    got["sigma_F0"] = [v / 1e6 for v in section["bending"]["sigma_F0_Pa"]]
+    got["sigma_HP"] = [v / 1e6 for v in section["pitting"]["sigma_HP_Pa"]]
+    printed = {
+        "S_F": [3.26, 3.09],
+        "S_H": [1.81, 1.88],
+        "sigma_F0": [117.92, 127.69],
+        "sigma_HP": [1070.64, 1109.85],
+    }
+    for key, want in printed.items():
+        assert got[key] == pytest.approx(want, rel=5e-3), key
