@@ -263,10 +263,10 @@ def test_measured_dynamic_factor_is_the_sweep_at_the_rating_speed(tmp_path):
 
 
 def test_the_wind_turbine_stage_case_file_reproduces_the_published_report(tmp_path):
-    """examples/wind-helical-stage.toml: the KISSsoft-rated helical stage of
+    """tests/data/rating/wind-helical-stage.toml: the KISSsoft-rated helical stage of
     tests/test_rating_kisssoft.py (provenance there) as a case file, 2006 edition and the
     report's load factors given: S_F, S_H, σ_F0 and σ_HP as printed, within 0.5 %."""
-    path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "wind-helical-stage.toml"
+    path = pathlib.Path(__file__).resolve().parent / "data" / "rating" / "wind-helical-stage.toml"
     section = cli.rating_outputs(jio.load_case(str(path)), str(tmp_path))
     assert section["method"] == "ISO 6336:2006 method B"
     got = {k: section[p][k] for p, k in (("bending", "S_F"), ("pitting", "S_H"))}
