@@ -59,6 +59,14 @@ from ._modal import (
 )
 from ._prepare import Bearings as Bearings, Free as Free, Prepared as Prepared, prepare as prepare
 from ._rim import RimFit as RimFit, rim_fit as rim_fit
+from ._root_stress import (
+    FilletInfluence as FilletInfluence,
+    FilletStress as FilletStress,
+    PlaneStrainStress as PlaneStrainStress,
+    fillet_influence as fillet_influence,
+    fillet_stress as fillet_stress,
+    plane_strain_stress as plane_strain_stress,
+)
 from ._solver import (
     CholmodFactor as CholmodFactor,
     SparseFactor as SparseFactor,

@@ -111,6 +111,9 @@ from ._rating_material import (
     ThroughHardened as ThroughHardened,
 )
 from ._rating_settings import (
+    AbstractEdition as AbstractEdition,
+    Edition2006 as Edition2006,
+    Edition2019 as Edition2019,
     GearAccuracy as GearAccuracy,
     GivenFactors as GivenFactors,
     Lubrication as Lubrication,
@@ -134,6 +137,7 @@ from ._robust import (
     sample_statistics as sample_statistics,
 )
 from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
+from ._root_stress import RootStressMap as RootStressMap, root_stress_map as root_stress_map
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
     AbstractFoundation as AbstractFoundation,

@@ -90,11 +90,13 @@ class BendingRating(eqx.Module):
 
 class Rating(eqx.Module):
     """A whole rating: ``factors`` (:class:`LoadFactors`), ``pitting`` (:class:`PittingRating`),
-    ``bending`` (:class:`BendingRating`); :meth:`summary` gives the JSON section."""
+    ``bending`` (:class:`BendingRating`), ``method`` (the edition's label, e.g. "ISO 6336:2019
+    method B"); :meth:`summary` gives the JSON section."""
 
     factors: LoadFactors
     pitting: PittingRating
     bending: BendingRating
+    method: str = eqx.field(static=True, default=METHOD)
 
     def scope_notes(self) -> list[str]:
         """Where the inputs leave the standard's scope, one line each naming the clause (empty
@@ -127,7 +129,7 @@ class Rating(eqx.Module):
 
         f, p, b = self.factors, self.pitting, self.bending
         return {
-            "method": METHOD,
+            "method": self.method,
             "factors": {
                 k: {"value": v(getattr(f, k)), "source": f.sources[k]}
                 for k in ("K_A", "K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
@@ -290,7 +292,8 @@ def bending_rating(
 ) -> BendingRating:
     """ISO 6336-3:2019 method B at the operating point (module docstring).
 
-    Y_β = (1 − ε_β β/120°)/cos³ β with ε_β <= 1, β <= 30° (the 2006 edition had no 1/cos³ β);
+    Y_β of the settings' edition (:class:`jaxgear.Edition2019`: (1 − ε_β β/120°)/cos³ β,
+    :class:`jaxgear.Edition2006`: 1 − ε_β β/120°; ε_β <= 1, β <= 30°);
     Y_DT = 1 but for flank tolerance classes <= 4 with ε_αn > 2.05 (deep tooth factor);
     Y_δrelT = (1 + √(ρ' χ*))/(1 + √(ρ' χ*_T)), χ* = (1 + 2 q_s)/5 mm⁻¹, χ*_T = 1.2 mm⁻¹
     (method B); Y_RrelT, Y_X and Y_NT from the material's treatment; the face width
@@ -308,10 +311,7 @@ def bending_rating(
     ft = _tangential_load(g, operating)
     bw = geometry.face_width
     b = jnp.minimum(bw, bw[::-1] + 2 * mn)
-    beta_deg = jnp.minimum(geometry.helix_angle * 180 / jnp.pi, 30.0)
-    y_beta = (1 - jnp.minimum(g.overlap_ratio, 1.0) * beta_deg / 120.0) / jnp.cos(
-        geometry.helix_angle
-    ) ** 3
+    y_beta = settings.edition.helix_angle_factor(g.overlap_ratio, geometry.helix_angle)
     y_b = _rim_factor(geometry, g)
     ean = form.eps_alpha_n
     if settings.accuracy.grade <= 4:
@@ -361,4 +361,5 @@ def rate(geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSe
         factors,
         pitting_rating(geometry, operating, settings, factors),
         bending_rating(geometry, operating, settings, factors),
+        settings.edition.label,
     )

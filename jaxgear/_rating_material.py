@@ -29,14 +29,18 @@ __all__ = [
 
 
 def life_curve(cycles, points):
-    """A life factor that is log-linear in the number of load cycles between the ``points``
-    ((N, factor) pairs, N increasing) and constant below the first (static strength). Beyond
-    the last point the last segment is not extended: the factor stays at the last value
-    (ISO's curves end at 10¹⁰ cycles)."""
+    """A life factor that is a power law of the number of load cycles between the ``points``
+    ((N, factor) pairs, N increasing) and constant below the first (static strength) and
+    beyond the last (ISO's curves end at 10¹⁰ cycles): log(factor) is interpolated linearly in
+    log N, so each segment is a power law ``factor = factor_b (N_b/N)^k`` through its two end
+    points, the form of ISO 6336-2/-3's life factors (the long-life segments of case-hardened
+    steel: Z_NT = (5·10⁷/N_L)^0.03067, Y_NT = (3·10⁶/N_L)^0.0200; checked against the Z_NT of
+    ISO/TR 6336-30 example 1 and the Z_NT, Y_NT of a published KISSsoft report,
+    docs/rating.md)."""
     n = jnp.log(jnp.maximum(cycles, 1.0))
     logs = jnp.log(jnp.asarray([p[0] for p in points], dtype=n.dtype))
-    vals = jnp.asarray([p[1] for p in points], dtype=n.dtype)
-    return jnp.interp(n, logs, vals)
+    vals = jnp.log(jnp.asarray([p[1] for p in points], dtype=n.dtype))
+    return jnp.exp(jnp.interp(n, logs, vals))
 
 
 class AbstractTreatment(eqx.Module):

@@ -8,6 +8,7 @@ the API-built rating there is checked against the TR's printed values."""
 import copy
 import json
 import math
+import pathlib
 from typing import NamedTuple
 
 import numpy as np
@@ -77,6 +78,9 @@ def test_case_rating_is_the_api_rating():
     assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
     assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
     assert float(rc.geometry.center_distance) == pytest.approx(0.5)
+    assert isinstance(rc.settings.edition, jg.Edition2019)  # the default
+    old = jio.rating_of(jio.parse_case(_case(**{"rating/edition": 2006})))
+    assert isinstance(old.settings.edition, jg.Edition2006)
 
 
 def test_case_without_rating_has_none():
@@ -111,6 +115,11 @@ def test_case_without_rating_has_none():
         ({"operating/speed_rpm": None}, "[operating] speed_rpm: missing required key"),
         ({"operating/speed_rad_s": 10.0}, "[operating] speed_rpm = 360: give the speed once"),
         ({"rating/K_Hbta": 1.2}, "[rating] unknown key 'K_Hbta' (did you mean 'K_Hbeta'?)"),
+        (
+            {"rating/edition": 2010},
+            "[rating] edition = 2010: out of range, allowed [2006, 2019], the years 2006 or 2019",
+        ),
+        ({"rating/edition": 1990}, "[rating] edition = 1990: out of range, allowed [2006, 2019]"),
     ],
 )
 def test_bad_rating_input_is_one_line_naming_the_key(changes, message):
@@ -222,3 +231,52 @@ def test_measured_face_load_factor_by_hand(tmp_path):
     section = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path), result=loads)
     assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(2.5 / (7 / 3), rel=1e-12)
     assert section["factors"]["K_Hbeta"]["value"] == 1.16  # the given one rates; measured beside
+
+
+def test_measured_dynamic_factor_is_the_sweep_at_the_rating_speed(tmp_path):
+    """jaxgear run's K_v measured (cli.measured_dynamic_factor): the sweep's dynamic factor at
+    the rating's pinion speed, linear between the two swept speeds around it, beside ISO's
+    (which still rates); a speed outside the sweep adds nothing."""
+    case = jio.parse_case(_case())  # 360 1/min = 37.70 rad/s
+    section = cli.rating_outputs(case, str(tmp_path))
+    w = 360.0 * 2 * math.pi / 60
+    dynamics = {"model": "torsional", "slices": 8, "speeds_rad_s": [30.0, 40.0, 50.0]}
+    dynamics["dynamic_factor"] = [1.10, 1.30, 1.20]
+    cli.measured_dynamic_factor(case, str(tmp_path), {"rating": section}, dynamics)
+    want = 1.10 + (w - 30.0) / 10.0 * 0.20  # by hand: 1.2540
+    assert section["measured"]["K_v"]["value"] == pytest.approx(want, rel=1e-12)
+    assert "torsional scene, 8 slices" in section["measured"]["K_v"]["source"]
+    assert section["factors"]["K_v"]["source"] == "ISO 6336-1 method B"
+    assert "| K_v measured | 1.2540 |" in (tmp_path / "rating.md").read_text(encoding="utf-8")
+    outside = {**dynamics, "speeds_rad_s": [100.0, 200.0, 300.0]}
+    other = cli.rating_outputs(case, str(tmp_path))
+    cli.measured_dynamic_factor(case, str(tmp_path), {"rating": other}, outside)
+    assert "measured" not in other
+    d = _case()  # a case without [rating]: nothing added, nothing read
+    del d["rating"], d["operating"]["speed_rpm"]
+    for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
+        del d["material"][key]
+    no_rating = jio.parse_case(d)
+    summary = {}
+    cli.measured_dynamic_factor(no_rating, str(tmp_path), summary, dynamics)
+    assert summary == {}
+
+
+def test_the_wind_turbine_stage_case_file_reproduces_the_published_report(tmp_path):
+    """tests/data/rating/wind-helical-stage.toml: the KISSsoft-rated helical stage of
+    tests/test_rating_kisssoft.py (provenance there) as a case file, 2006 edition and the
+    report's load factors given: S_F, S_H, σ_F0 and σ_HP as printed, within 0.5 %."""
+    path = pathlib.Path(__file__).resolve().parent / "data" / "rating" / "wind-helical-stage.toml"
+    section = cli.rating_outputs(jio.load_case(str(path)), str(tmp_path))
+    assert section["method"] == "ISO 6336:2006 method B"
+    got = {k: section[p][k] for p, k in (("bending", "S_F"), ("pitting", "S_H"))}
+    got["sigma_F0"] = [v / 1e6 for v in section["bending"]["sigma_F0_Pa"]]
+    got["sigma_HP"] = [v / 1e6 for v in section["pitting"]["sigma_HP_Pa"]]
+    printed = {
+        "S_F": [3.26, 3.09],
+        "S_H": [1.81, 1.88],
+        "sigma_F0": [117.92, 127.69],
+        "sigma_HP": [1070.64, 1109.85],
+    }
+    for key, want in printed.items():
+        assert got[key] == pytest.approx(want, rel=5e-3), key

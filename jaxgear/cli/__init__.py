@@ -29,7 +29,10 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         TRAIN_FILES as TRAIN_FILES,
         clear_outputs as clear_outputs,
     )
-    from ._rating_report import rating_outputs as rating_outputs
+    from ._rating_report import (
+        measured_dynamic_factor as measured_dynamic_factor,
+        rating_outputs as rating_outputs,
+    )
     from ._summary import result_summary as result_summary
     from .run import format_table as format_table, run_case as run_case
     from .scene import scene_outputs as scene_outputs
@@ -50,6 +53,7 @@ _EXPORTS = {
     "OUTPUT_FILES": "._paths",
     "TRAIN_FILES": "._paths",
     "clear_outputs": "._paths",
+    "measured_dynamic_factor": "._rating_report",
     "rating_outputs": "._rating_report",
     "result_summary": "._summary",
     "format_table": ".run",

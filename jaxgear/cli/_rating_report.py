@@ -10,11 +10,12 @@ import os
 import warnings
 
 import equinox as eqx
+import numpy as np
 
 from .. import face_load_factor, rate
 from ..io import Case, CaseWarning, atomic_open, rating_of
 
-__all__ = ["rating_lines", "rating_outputs"]
+__all__ = ["measured_dynamic_factor", "rating_lines", "rating_outputs"]
 
 _RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
 
@@ -116,3 +117,31 @@ def _(case: Case, out_dir: str, result=None) -> dict | None:
     with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
         f.write("\n".join(rating_lines(section, case.name)) + "\n")
     return section
+
+
+def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: dict) -> None:
+    """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing): the
+    dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
+    ``speeds_rad_s``, ``dynamic_factor``, ``model``, ``slices``) interpolated linearly at the
+    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (not used in the
+    rating: give ``K_v`` to use it) and ``rating.md`` rewritten. A rating speed outside the
+    swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v and the sweep's
+    dynamic factor are both the largest dynamic tooth load over the static one (the sweep's:
+    over a mesh period at steady state, of the scene's model)."""
+    rc = rating_of(case)
+    if rc is None:
+        return
+    speeds = np.asarray(dynamics["speeds_rad_s"], dtype=float)
+    factor = np.asarray(dynamics["dynamic_factor"], dtype=float)
+    speed = float(rc.operating.speed)
+    if not speeds[0] <= speed <= speeds[-1]:
+        return
+    value = float(np.interp(speed, speeds, factor))
+    source = (
+        f"jaxgear speed sweep ({dynamics['model']} scene, {dynamics['slices']} slices), "
+        f"interpolated at {speed:.4g} rad/s"
+    )
+    section = summary["rating"]
+    section.setdefault("measured", {})["K_v"] = {"value": value, "source": source}
+    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
+        f.write("\n".join(rating_lines(section, case.name)) + "\n")

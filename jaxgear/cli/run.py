@@ -20,7 +20,7 @@ from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
-from ._rating_report import rating_outputs
+from ._rating_report import measured_dynamic_factor, rating_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
@@ -385,6 +385,7 @@ def _run_pair_command(case: Case, out: str, args, settings) -> dict:
     if case.scene is not None and not case.scene.hybrid:
         # the case has a dynamic scene: add its dynamic factor curve
         summary["dynamics"] = dynamics = _sweep_section(case, out, args.quiet)
+        measured_dynamic_factor(case, out, summary, dynamics)  # K_v measured, beside ISO's
         write_json(os.path.join(out, "summary.json"), summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)

@@ -22,6 +22,7 @@ Keys (file units; ranges as checked)::
     tip_relief_um = 20.0            # C_a of K_v, [0, 1000] µm; default: the running-in C_ay
     min_safety_pitting = 1.0        # S_Hmin, [0.5, 10], default 1
     min_safety_bending = 1.0        # S_Fmin, [0.5, 10], default 1
+    edition = 2019                  # ISO 6336 edition, 2019 | 2006 (Y_β), default 2019
     # K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha = ...  [1, 10]: given factors replace ISO's
 """
 
@@ -35,6 +36,8 @@ from fem_prep import schema as sc
 
 from .. import (
     CaseHardened,
+    Edition2006,
+    Edition2019,
     GearAccuracy,
     GearPair,
     GivenFactors,
@@ -48,6 +51,7 @@ from .. import (
 )
 
 __all__ = [
+    "EDITIONS",
     "MATERIAL_RATING_KEYS",
     "OPERATING_RATING_KEYS",
     "RATING_KEYS",
@@ -64,6 +68,8 @@ TREATMENTS = {
     "through_hardened": ThroughHardened,
     "nitrided": Nitrided,
 }
+#: ``[rating] edition`` years → the model's edition objects
+EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
 MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment"}
 OPERATING_RATING_KEYS = {"speed_rpm"}
@@ -78,6 +84,7 @@ RATING_KEYS = {
     "tip_relief_um",
     "min_safety_pitting",
     "min_safety_bending",
+    "edition",
     *GIVEN,
 }
 RPM = 2 * math.pi / 60
@@ -161,6 +168,12 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
     s_fmin = sc.number(rt, "min_safety_bending", "rating", 1.0, allowed="[0.5, 10]")
     given = {k: sc.number(rt, k, "rating", None, allowed="[1, 10]") for k in GIVEN}
+    years = ", the years 2006 or 2019"
+    year = sc.number(
+        rt, "edition", "rating", 2019, allowed="[2006, 2019]", integer=True, note=years
+    )
+    if year not in EDITIONS:
+        raise sc.fail("rating", "edition", f"out of range, allowed [2006, 2019]{years}", year)
     E, nu, rho = material
     try:
         accuracy = GearAccuracy.from_grade(pair, grade)
@@ -178,6 +191,7 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         tip_relief=None if ca is None else ca * 1e-6,
         min_safety_pitting=s_hmin,
         min_safety_bending=s_fmin,
+        edition=EDITIONS[year](),
     )
     torque = sc.number(op, "torque_Nm", "operating")
     return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings)

@@ -1,0 +1,201 @@
+"""ISO 6336-3 bending (and ISO 6336-2 pitting) against a published commercial calculation report.
+
+Source: three KISSsoft reports (KISSsoft Release 03/2017 A, "Calculation method ISO 6336:2006
+Method B"), published with the NREL 5 MW reference gearbox model in the public repository
+gfsReboucas/Drivetrain (commit 4a88df348fc70d04254c84bd375bb2bab0d15d0d), files
+``@NREL_5MW/stage_03.rtf`` (the helical parallel stage: z 24/95, m_n 14 mm, β 10°, the stage the
+load-capacity issue calls "a wind-turbine helical stage rated by a commercial code"),
+``@NREL_5MW/stage_02.rtf`` and ``@NREL_5MW/stage_01.rtf`` (spur planetary stages; their
+external sun/planet meshes). The printed values are typed in below with the report's rounding;
+each is asserted within 0.5 % (the issue's tolerance; a value printed with three digits, e.g.
+Y_F = 1.18, carries up to 0.42 % of rounding).
+
+The report rates to the 2006 edition, so the rating runs with ``jg.Edition2006()`` (Y_β =
+1 − ε_β β/120°); the report's own load factors K_v = 1.092, K_Hβ = 1.15 (user specified there),
+K_Hα = K_Fα = 1.069 are given (its K_v comes from a gear body factor C_R = 0.898 and bored blanks,
+which jaxgear's method B K_v does not model), and K_Fβ = 1.136 is computed from K_Hβ.
+The tip diameters are the report's (its tip alteration k m_n enters as the addendum
+coefficient 1 + k) and the centre distance is the zero-backlash one of the nominal profile
+shifts (the report's a = 861 mm and 584 mm carry tooth thickness allowances).
+"""
+
+import math
+
+import equinox as eqx
+import numpy as np
+import pytest
+
+import jaxgear as jg
+
+RPM = 2 * math.pi / 60
+RATE = eqx.filter_jit(jg.rate)
+
+
+def _pair(z, x, mn_mm, beta_deg, tip_alteration_mm, face_mm, rho_fp=0.38):
+    m = {
+        "addendum_coeff": 1.0 + tip_alteration_mm / mn_mm,
+        "dedendum_coeff": 1.25,
+        "fillet_radius_coeff": rho_fp,
+        "face_width": face_mm * 1e-3,
+    }
+    return jg.GearPair(
+        jg.Member(z[0], x[0], **m),
+        jg.Member(z[1], x[1], **m),
+        mn_mm * 1e-3,
+        math.radians(20.0),
+        math.radians(beta_deg),
+    )
+
+
+def _stage_03():
+    """stage_03.rtf: 5000 kW, n_1 1165.9 1/min, T_1 40 953 N·m, K_A 1.25, 175 200 h,
+    18CrNiMo7-6 case-hardened (σ_Hlim 1500, σ_Flim 430 N/mm²), ν_40 220 mm²/s, R_z 4.8 µm
+    flank and 20 µm root, ISO 53 profile A (1.25/0.38/1.0), S_Hmin 1.25, S_Fmin 1.56."""
+    pair = _pair((24, 95), (0.48, 0.6691), 14.0, 10.0, -0.938, 360.0)
+    settings = jg.RatingSettings(
+        material=jg.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
+        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        life=175_200 * 3600.0,
+        application_factor=1.25,
+        given=jg.GivenFactors(K_v=1.092, K_Hbeta=1.15, K_Halpha=1.069, K_Falpha=1.069),
+        min_safety_pitting=1.25,
+        min_safety_bending=1.56,
+        edition=jg.Edition2006(),
+    )
+    return pair, settings, jg.OperatingPoint(40953.0, 1165.9 * RPM)
+
+
+MN3 = 14e-3
+# (symbol, printed value(s) [gear 1, gear 2] or scalar, how to read it from the rating)
+STAGE_03_PRINTED = [
+    # 1. geometry
+    ("eps_alpha", 1.463, lambda r, p: p.transverse_contact_ratio),
+    ("eps_beta", 1.421, lambda r, p: p.overlap_ratio),
+    ("z_n", [25.037, 99.104], lambda r, p: r.bending.form.virtual_teeth),
+    # 2. factors
+    ("K_Fbeta", 1.136, lambda r, p: r.factors.K_Fbeta),
+    ("N_L (1e6)", [12255.788, 3096.199], lambda r, p: r.pitting.cycles / 1e6),
+    # 3. tooth root strength
+    ("Y_F", [1.18, 1.24], lambda r, p: r.bending.Y_F),
+    ("Y_S", [2.28, 2.35], lambda r, p: r.bending.Y_S),
+    ("alpha_Fen (deg)", [23.89, 22.20], lambda r, p: np.degrees(r.bending.form.alpha_Fen)),
+    ("h_F (mm)", [14.06, 16.11], lambda r, p: r.bending.form.h_Fe * 1e3),
+    ("s_Fn (mm)", [31.18, 32.75], lambda r, p: r.bending.form.s_Fn * 1e3),
+    ("rho_F (mm)", [5.95, 5.39], lambda r, p: r.bending.form.rho_F * 1e3),
+    ("h_F*", [1.004, 1.151], lambda r, p: r.bending.form.h_Fe / MN3),
+    ("s_Fn*", [2.227, 2.340], lambda r, p: r.bending.form.s_Fn / MN3),
+    ("rho_F*", [0.425, 0.385], lambda r, p: r.bending.form.rho_F / MN3),
+    ("q_s", [2.620, 3.036], lambda r, p: r.bending.form.q_s),
+    ("Y_beta", 0.917, lambda r, p: r.bending.Y_beta),
+    ("Y_DT", 1.0, lambda r, p: r.bending.Y_DT),
+    ("Y_B", [1.0, 1.0], lambda r, p: r.bending.Y_B),
+    ("sigma_F0 (N/mm2)", [117.92, 127.69], lambda r, p: r.bending.sigma_F0 / 1e6),
+    ("sigma_F (N/mm2)", [195.64, 211.85], lambda r, p: r.bending.sigma_F / 1e6),
+    ("Y_delta_rel_T", [1.001, 1.005], lambda r, p: r.bending.Y_delta_rel_T),
+    ("Y_R_rel_T", [0.957, 0.957], lambda r, p: r.bending.Y_R_rel_T),
+    ("Y_X", [0.910, 0.910], lambda r, p: r.bending.Y_X),
+    ("Y_NT", [0.850, 0.870], lambda r, p: r.bending.Y_NT),
+    ("Y_ST", 2.0, lambda r, p: r.bending.Y_ST),
+    ("sigma_FP (N/mm2)", [408.43, 419.69], lambda r, p: r.bending.sigma_FP / 1e6),
+    ("sigma_FG (N/mm2)", [637.15, 654.72], lambda r, p: r.bending.sigma_FG / 1e6),
+    ("S_F", [3.26, 3.09], lambda r, p: r.bending.S_F),
+    # 4. safety against pitting
+    ("Z_H", 2.307, lambda r, p: r.pitting.Z_H),
+    ("Z_E", 189.812, lambda r, p: r.pitting.Z_E / 1e3),
+    ("Z_eps", 0.827, lambda r, p: r.pitting.Z_epsilon),
+    ("Z_beta", 1.008, lambda r, p: r.pitting.Z_beta),
+    ("sigma_H0 (N/mm2)", 570.79, lambda r, p: r.pitting.sigma_H0 / 1e6),
+    ("Z_B, Z_D", [1.0, 1.0], lambda r, p: r.pitting.Z_BD),
+    ("sigma_H (N/mm2)", [739.61, 739.61], lambda r, p: r.pitting.sigma_H / 1e6),
+    ("Z_L", 1.020, lambda r, p: r.pitting.Z_L),
+    ("Z_v", 1.022, lambda r, p: r.pitting.Z_v),
+    ("Z_R", 1.007, lambda r, p: r.pitting.Z_R),
+    ("Z_W", 1.0, lambda r, p: r.pitting.Z_W),
+    ("Z_X", 1.0, lambda r, p: r.pitting.Z_X),
+    ("Z_NT", [0.850, 0.881], lambda r, p: r.pitting.Z_NT),
+    ("sigma_HP (N/mm2)", [1070.64, 1109.85], lambda r, p: r.pitting.sigma_HP / 1e6),
+    ("sigma_HG (N/mm2)", [1338.30, 1387.31], lambda r, p: r.pitting.sigma_HG / 1e6),
+    ("S_H", [1.81, 1.88], lambda r, p: r.pitting.S_H),
+]
+
+
+def test_kisssoft_helical_stage_every_printed_bending_and_pitting_value_within_half_a_percent():
+    pair, settings, op = _stage_03()
+    rating = RATE(jg.RatingGeometry.of(pair), op, settings)
+    bad = {}
+    for symbol, printed, get in STAGE_03_PRINTED:
+        ours = np.atleast_1d(np.asarray(get(rating, pair), dtype=float))
+        want = np.broadcast_to(np.asarray(printed, dtype=float), ours.shape)
+        err = ours / want - 1
+        if np.any(np.abs(err) > 5e-3):
+            bad[symbol] = (ours.tolist(), want.tolist())
+    assert not bad, bad
+    assert rating.method == "ISO 6336:2006 method B"
+    # F_t = 240 064.4 N at the reference circle and v = 20.83 m/s (printed)
+    d1 = pair.pitch_radii[0] * 2
+    assert 2 * 40953.0 / d1 == pytest.approx(240064.4, rel=1e-4)
+    assert 1165.9 * RPM * d1 / 2 == pytest.approx(20.83, rel=5e-4)
+
+
+def test_2019_edition_differs_from_2006_by_the_helix_factor_alone():
+    """The 2019 edition's Y_β carries 1/cos³ β (written from the text as recalled; no printed
+    2019 example was found): σ_F0 of the stage is 1/cos³ 10° = 1.0472 times the 2006 one, and
+    nothing else of the rating moves."""
+    pair, settings, op = _stage_03()
+    geometry = jg.RatingGeometry.of(pair)
+    old = RATE(geometry, op, settings)
+    new = RATE(geometry, op, eqx.tree_at(lambda s: s.edition, settings, jg.Edition2019()))
+    ratio = 1 / math.cos(math.radians(10.0)) ** 3
+    np.testing.assert_allclose(new.bending.sigma_F0 / old.bending.sigma_F0, ratio, rtol=1e-12)
+    np.testing.assert_allclose(new.bending.S_F * ratio, old.bending.S_F, rtol=1e-12)
+    np.testing.assert_allclose(new.pitting.S_H, old.pitting.S_H, rtol=1e-14)
+    assert new.method == "ISO 6336:2019 method B"
+
+
+# (report, z, x, m_n mm, tip alteration mm, printed [Y_F, Y_S, h_F*, s_Fn*, ρ_F*, α_Fen °] of
+# the sun and of the planet in its mesh with the sun)
+SPUR_MESHES = [
+    (
+        "stage_02.rtf",
+        (18, 36),
+        (0.389, 0.5039),
+        21.0,
+        -1.750,
+        [[1.47, 2.04, 1.159, 2.132, 0.453, 25.74], [1.38, 2.18, 1.225, 2.271, 0.414, 24.68]],
+    ),
+    (
+        "stage_01.rtf",
+        (19, 17),
+        (0.617, 0.8021),
+        45.0,
+        -10.861,
+        [[1.56, 2.06, 1.441, 2.248, 0.403, 30.75], [1.44, 2.14, 1.450, 2.314, 0.382, 33.33]],
+    ),
+]
+
+
+@pytest.mark.parametrize("report, z, x, mn_mm, k_mm, printed", SPUR_MESHES)
+def test_kisssoft_spur_sun_planet_tooth_form_within_half_a_percent(
+    report, z, x, mn_mm, k_mm, printed
+):
+    """Y_F, Y_S and the root section of the external sun/planet mesh of the planetary stages
+    (spur, large profile shifts, tip shortening), the report's section 3."""
+    pair = _pair(z, x, mn_mm, 0.0, k_mm, 491.0)
+    f = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+    mn = mn_mm * 1e-3
+    ours = np.stack(
+        [f.Y_F, f.Y_S, f.h_Fe / mn, f.s_Fn / mn, f.rho_F / mn, np.degrees(f.alpha_Fen)], -1
+    )
+    np.testing.assert_allclose(ours, printed, rtol=5e-3, err_msg=report)
+
+
+def test_life_factors_are_iso_power_laws():
+    """ISO 6336-2/-3 write the life factors as power laws of N_L (Z_NT = (5·10⁷/N_L)^0.0307,
+    Y_NT = (3·10⁶/N_L)^0.02 for case-hardened steel past the knee): the curve through the
+    points reproduces them to the printed exponents' rounding (3e-4), where the former
+    interpolation, linear in the factor, was 0.26 % (Y_NT) and 0.33 % (Z_NT) high at 10⁹."""
+    t = jg.CaseHardened()
+    n = np.array([1e8, 1e9, 3e9])
+    np.testing.assert_allclose(t.z_nt(n), (5e7 / n) ** 0.0307, rtol=3e-4)
+    np.testing.assert_allclose(t.y_nt(n), (3e6 / n) ** 0.02, rtol=3e-4)
