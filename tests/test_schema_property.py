@@ -315,7 +315,7 @@ def _static_pieces(case, what: str) -> None:
                 check_settings(settings_from_case(case), case)
             if case.stiffness_model != "fe2d":
                 small = case.replace(slices=2, positions_per_pitch=8)
-                if isinstance(small, jio.TrainCase):
+                if isinstance(small.form, jio.TrainForm):
                     small.mesh_models()
                     small.layout()
                 else:
@@ -329,7 +329,7 @@ def _static_pieces(case, what: str) -> None:
 def _robust_settings(case, what: str):
     """The ``[robust]`` table of a loaded pair case, as ``jaxgear robust`` reads it: its
     settings or None after a one-line SchemaError (anything else fails the test)."""
-    if isinstance(case, jio.TrainCase) or not isinstance(case.raw, dict):
+    if isinstance(case.form, jio.TrainForm) or not isinstance(case.raw, dict):
         return None
     if "robust" not in case.raw:
         return None
@@ -370,7 +370,7 @@ def _built(case, robust, what: str) -> None:
         warnings.simplefilter("always")
         try:
             small = case.replace(slices=2, positions_per_pitch=8)
-            if isinstance(small, jio.TrainCase):
+            if isinstance(small.form, jio.TrainForm):
                 scene = small.static_train()
                 mods = small.mesh_modifications()
                 plane = scene.base_planes[0]

@@ -1,8 +1,11 @@
-"""What the command line writes about a case's meshes, for a gear pair (:class:`jaxgear.io.Case`)
-and a gear train (:class:`jaxgear.io.TrainCase`) alike: both give a train's views (``pairs``,
-``gears``, ``gear_names``, ``mesh_name``, ``span_periods``; a pair is a train of two gears and one
-mesh), and each mesh's label in the outputs, :meth:`jaxgear.io.TrainCase.mesh_label` (a pair's one
-mesh has none: its values are the summary's own, its files and titles the case's)."""
+"""What the command line writes about a case's meshes, for any case (:class:`jaxgear.io.Case`: a
+gear pair is a train of two gears and one mesh), over its views (``pairs``, ``gears``,
+``gear_names``, ``mesh_name``, ``span_periods``) and what its results hold: a case of several
+meshes has per-mesh lists in its summaries (as the sweep's results,
+:func:`jaxgear.cli._sweep_json.pressure_responses`), a case of one mesh (a pair, or a train of one
+mesh) has its mesh's values as the summary's own; each mesh's files and titles carry its label,
+:meth:`jaxgear.io.Case.mesh_label` (a pair's one mesh has none: its files and titles are the
+case's)."""
 
 from __future__ import annotations
 
@@ -10,7 +13,6 @@ __all__ = [
     "GEAR_NAME_GLOSSARY",
     "gear_glossary",
     "gear_meshes",
-    "labelled_meshes",
     "mesh_file_tag",
     "mesh_title",
     "pair_teeth",
@@ -34,23 +36,23 @@ def gear_glossary(gear_names) -> str:
 
 
 def gear_meshes(case, member: int) -> list:
-    """The names of the meshes gear ``member`` is in (:meth:`jaxgear.io.TrainCase.mesh_name`;
+    """The names of the meshes gear ``member`` is in (:meth:`jaxgear.io.Case.mesh_name`;
     a pair's one mesh is named by its case)."""
     return [case.mesh_name(k) for k, gears in enumerate(case.gears) if member in gears]
 
 
-def labelled_meshes(case) -> bool:
-    """The case's meshes carry labels in the outputs (a train's); a pair's one mesh does not."""
-    return any(case.mesh_label(k) for k in range(len(case.pairs)))
-
-
 def pair_teeth(case) -> dict:
-    """``sweep.json``'s teeth of the two gears of an unlabelled mesh (a pair's: ``pinion_teeth``,
-    ``wheel_teeth``); labelled meshes' gears are under ``flexible_gear_teeth`` only: {}."""
-    if labelled_meshes(case):
-        return {}
-    (pair,) = case.pairs
-    return {"pinion_teeth": pair.pinion.teeth, "wheel_teeth": pair.gear.teeth}
+    """``sweep.json``'s teeth of the two gears of a case of one mesh (``pinion_teeth``,
+    ``wheel_teeth``: the summary's own, as its other values); the gears of a case of several
+    meshes are under ``flexible_gear_teeth`` only: {}."""
+    pair = case.pairs[0]
+    return one_mesh_keys(case, {"pinion_teeth": pair.pinion.teeth, "wheel_teeth": pair.gear.teeth})
+
+
+def one_mesh_keys(case, keys: dict) -> dict:
+    """``keys`` (a summary's keys of its one mesh) for a case of one mesh, {} for a case of
+    several (their values are per mesh, :func:`per_mesh_keys`)."""
+    return {} if len(case.pairs) > 1 else dict(keys)
 
 
 def mesh_file_tag(case, k: int) -> str:
@@ -68,21 +70,21 @@ def mesh_title(case, k: int) -> str:
 
 
 def per_mesh_keys(case, keys: dict) -> dict:
-    """``keys`` (per-mesh lists of a summary) where the case's meshes are labelled (a train's);
-    {} for a pair (its one mesh's values are the summary's own)."""
-    return dict(keys) if labelled_meshes(case) else {}
+    """``keys`` (per-mesh lists of a summary) for a case of several meshes, as the sweep's
+    results hold them (:func:`jaxgear.cli._sweep_json.pressure_responses`); {} for a case of
+    one mesh (its values are the summary's own)."""
+    return dict(keys) if len(case.pairs) > 1 else {}
 
 
 def pressure_curves(case, summary: dict) -> list[tuple]:
     """The contact pressure curves of a sweep ``summary`` of the case
     (:func:`jaxgear.cli.plots.pressure_speed_plot`): ``(mesh label, largest pressure per speed
-    (Pa), the quasi-static one at rest (Pa) or None)`` of each mesh, a pair's one unlabelled (the
-    summary's own values, :func:`per_mesh_keys`)."""
-    if not labelled_meshes(case):
-        return [
-            ("", summary["max_contact_pressure_Pa"], summary["max_contact_pressure_static_Pa"])
-        ]
-    per = summary["max_contact_pressure_mesh_Pa"]  # (S, m)
+    (Pa), the quasi-static one at rest (Pa) or None)`` of each mesh, as the summary holds them:
+    per mesh (a case of several meshes, :func:`per_mesh_keys`), else the summary's own values,
+    one curve, unlabelled."""
+    per = summary.get("max_contact_pressure_mesh_Pa")  # (S, m)
+    if per is None:
+        return [("", summary["max_contact_pressure_Pa"], summary["max_contact_pressure_static_Pa"])]
     return [
         (name, [row[k] for row in per], summary["max_contact_pressure_static_mesh_Pa"][k])
         for k, name in enumerate(summary["mesh_names"])

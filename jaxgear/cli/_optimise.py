@@ -38,7 +38,7 @@ from optimise import (
 
 from ..io import (
     Case,
-    TrainCase,
+    TrainForm,
     atomic_open,
     case_problem,
     load_case,
@@ -434,7 +434,7 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
 def _pair_case(name_or_path: str, command: str):
     """The pair case a command optimises; a train case is refused in one line."""
     case = load_case(name_or_path)
-    if isinstance(case, TrainCase):
+    if isinstance(case.form, TrainForm):
         raise ValueError(
             f"jaxgear {command} optimises a gear pair; {case.name!r} is a train case: run "
             "it with jaxgear run or jaxgear sweep, or optimise one of its meshes as a pair case"

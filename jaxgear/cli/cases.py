@@ -7,21 +7,27 @@ import functools
 from fem_prep.schema import print_or_write
 
 from .. import io as case_io
-from ..io import Case, TrainCase
+from ..io import Case, PairForm, TrainForm
 from ._case_kinds import gear_glossary
 
 __all__ = ["case_line", "run_cases"]
 
 
-@functools.singledispatch
-def case_line(case) -> str:
+def case_line(case: Case) -> str:
     """What ``jaxgear cases`` prints after a case's name: its teeth, module, torque, stiffness
-    model and scene, by the case's type (a pair, a train)."""
-    raise TypeError(f"jaxgear cases: no line for a {type(case).__name__}")
+    model and scene, as its file wrote its gears (:attr:`~jaxgear.io.Case.form`: a pair's, a
+    train's)."""
+    return form_line(case.form, case)
 
 
-@case_line.register
-def _(case: Case) -> str:
+@functools.singledispatch
+def form_line(form, case: Case) -> str:
+    """:func:`case_line` for a case of ``form`` (:class:`~jaxgear.io.CaseForm`)."""
+    raise TypeError(f"jaxgear cases: no line for a case of form {type(form).__name__}")
+
+
+@form_line.register
+def _(form: PairForm, case: Case) -> str:
     scene = case.scene
     return (
         f"z {case.pair.pinion.teeth}/{case.pair.gear.teeth}, "
@@ -33,8 +39,8 @@ def _(case: Case) -> str:
     )
 
 
-@case_line.register
-def _(case: TrainCase) -> str:
+@form_line.register
+def _(form: TrainForm, case: Case) -> str:
     teeth = "/".join(str(m.teeth) for m in case.members())  # its gears' teeth, input first
     modules = dict.fromkeys(f"{p.normal_module * 1e3:g}" for p in case.pairs)
     glossary = gear_glossary(case.gear_names)

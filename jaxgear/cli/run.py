@@ -10,12 +10,19 @@ import os
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import FE2D, AbstractStiffness, Modifications, Weber, contact_pressure, harris_map, quasi_static
+from .. import (
+    FE2D,
+    AbstractStiffness,
+    Modifications,
+    Weber,
+    contact_pressure,
+    harris_map,
+    quasi_static,
+)
 from .. import io as case_io
-from ..io import Case, TrainCase, atomic_open, write_csv, write_json
+from ..io import Case, PairForm, TrainForm, atomic_open, write_csv, write_json
 from . import scene as cli_scene
 from . import sweep as cli_sweep
-from ._case_kinds import labelled_meshes
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
@@ -345,48 +352,28 @@ def check_run_case(case) -> None:
     cli_sweep.sweep_spec(case)
 
 
-@functools.singledispatch
 def optimise_settings(case) -> dict | None:
     """The checked settings of the case's ``[optimise]`` table
-    (:func:`jaxgear.cli.check_settings`), None without one; a train has none."""
-    return None
-
-
-@optimise_settings.register
-def _(case: Case) -> dict | None:
+    (:func:`jaxgear.cli.check_settings`), None without one (a train has none)."""
     if case.optimise is None:
         return None
     return check_settings(settings_from_case(case))
 
 
-@functools.singledispatch
-def run_kind(case, out: str, args, settings) -> dict:
-    """``jaxgear run``'s work on a case of its type, into ``out`` (a pair's, a train's);
-    prints the tables; returns the summary. ``settings``: :func:`optimise_settings`."""
-    raise TypeError(f"jaxgear run: no command for a {type(case).__name__}")
-
-
-@run_kind.register
-def _run_pair_command(case: Case, out: str, args, settings) -> dict:
-    """``jaxgear run`` on a pair case, into ``out``: the quasi-static files, then the scene,
-    sweep and optimisation the case asks for; prints the tables; returns the summary."""
+def run_kind(case: Case, out: str, args, settings) -> dict:
+    """``jaxgear run``'s work on a case, into ``out``: the quasi-static files of its meshes (by
+    the case's form, :func:`quasi_static_files`), then what the case asks for: the dynamic
+    factor sweep of a ``[scene]`` without condensed bodies, the optimisation of an
+    ``[optimise]`` table; prints the tables (:func:`run_lines`); returns the summary.
+    ``settings``: :func:`optimise_settings`."""
     summary_path = os.path.join(out, "summary.json")
-    last = case.scene is None and case.optimise is None
-    scene_section, dynamics, curves = None, None, {}
-    if case.lumped:
-        # first, so that te.csv and its plots have the scene's curves beside the rigid mesh's
-        scene_section = cli_scene.scene_outputs(
-            case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
-        )
-    summary = run_case(case, out, show_progress=not args.quiet, complete=last, scene=curves or None)
-    if scene_section is not None:
-        summary["quasi_static_scene"] = scene_section
-        write_json(summary_path, summary)
-    if case.scene is not None and not case.scene.hybrid:
-        # the case has a dynamic scene: add its dynamic factor curve
+    sweep = sweeps(case)
+    last = not sweep and case.optimise is None
+    summary = quasi_static_files(case.form, case, out, args, last)
+    if sweep:  # the case has a dynamic scene: add its dynamic factor curve
         summary["dynamics"] = dynamics = _sweep_section(case, out, args.quiet)
         measured_dynamic_factor(case, out, summary, dynamics)  # K_v measured, beside ISO's
-        write_json(os.path.join(out, "summary.json"), summary)
+        write_json(summary_path, summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
         summary["optimise"] = {
@@ -405,25 +392,108 @@ def _run_pair_command(case: Case, out: str, args, settings) -> dict:
     if not last:
         summary["complete"] = True
         write_json(summary_path, summary)
-    print(format_table(summary, case.stiffness))
-    if case.deviations is not None:  # run_case added the span with the deviations
-        print(deviation_line(summary["deviations"]))
+    print("\n".join(run_lines(case.form, case, summary)))
+    return summary
+
+
+def sweeps(case: Case) -> bool:
+    """``jaxgear run`` adds a dynamic factor sweep (:func:`_sweep_section`): the case has a
+    ``[scene]`` without condensed bodies (with them, ``jaxgear sweep`` runs it)."""
+    return case.scene is not None and not case.flexible
+
+
+@functools.singledispatch
+def quasi_static_files(form, case: Case, out: str, args, complete: bool) -> dict:
+    """The quasi-static files ``jaxgear run`` writes for a case of ``form``
+    (:class:`~jaxgear.io.CaseForm`) into ``out``; returns the summary (``"complete":
+    complete``)."""
+    raise TypeError(f"jaxgear run: no quasi-static files for a case of form {type(form).__name__}")
+
+
+@quasi_static_files.register
+def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
+    """A pair's: :func:`run_case` (with ``[deviations]`` its deviation span), with a lumped
+    scene first its quasi-static scene (``summary.json``'s ``quasi_static_scene``: so that
+    te.csv and its plots have the scene's curves beside the rigid mesh's)."""
+    scene_section, curves = None, {}
+    if case.lumped:
+        scene_section = cli_scene.scene_outputs(
+            case, os.path.join(out, "scene"), progress=not args.quiet, curves=curves
+        )
+    summary = run_case(
+        case,
+        out,
+        show_progress=not args.quiet,
+        complete=complete and scene_section is None,
+        scene=curves or None,
+    )
     if scene_section is not None:
-        print("\n".join(cli_scene.scene_lines(scene_section)))
-    if case.scene is not None and case.scene.hybrid:
-        print(
+        summary["quasi_static_scene"] = scene_section
+        summary["complete"] = bool(complete)
+        write_json(os.path.join(out, "summary.json"), summary)
+    return summary
+
+
+@quasi_static_files.register
+def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
+    """A train's: every mesh at once on the train's structure (:func:`run_train`)."""
+    return run_train(case, out, show_progress=not args.quiet, complete=complete)
+
+
+@functools.singledispatch
+def run_lines(form, case: Case, summary: dict) -> list[str]:
+    """What ``jaxgear run`` prints at the end for a case of ``form``, from its ``summary``."""
+    raise TypeError(f"jaxgear run: no table for a case of form {type(form).__name__}")
+
+
+@run_lines.register
+def _(form: PairForm, case: Case, summary: dict) -> list[str]:
+    lines = [format_table(summary, case.stiffness)]
+    if case.deviations is not None:  # run_case added the span with the deviations
+        lines.append(deviation_line(summary["deviations"]))
+    if case.lumped:
+        lines.extend(cli_scene.scene_lines(summary["quasi_static_scene"]))
+    if case.flexible:
+        lines.append(
             f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
             "(not run by jaxgear run: 15-25 s per speed on a 2-core CPU, into "
             f"jaxgear-out/{case.name}/sweep-A-B-N/)"
         )
-    if dynamics is not None:
-        d = dynamics
-        print(
+    if sweeps(case):
+        d = summary["dynamics"]
+        lines.append(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
             f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
         )
-    return summary
+    return lines
+
+
+@run_lines.register
+def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
+    lines = [format_train_table(summary)]
+    if sweeps(case):
+        d = summary["dynamics"]
+        per = ", ".join(  # a train of one mesh: its own
+            f"{n} {v:.3f}"
+            for n, v in zip(
+                [case.mesh_name(k) for k in range(len(case.pairs))],
+                d.get("max_dynamic_factor_mesh", [d["max_dynamic_factor"]]),
+                strict=True,
+            )
+        )
+        lines.append(
+            f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
+            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
+            f"{d['speeds_rad_s'][-1]:g} rad/s"
+        )
+    if case.flexible:
+        lines.append(
+            f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
+            "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
+            f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
+        )
+    return lines
 
 
 def _sweep_section(case, out: str, quiet: bool) -> dict:
@@ -449,21 +519,22 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         "max_dynamic_factor": float(np.nanmax(df)),
         "speed_of_max_rad_s": float(sw["speeds_rad_s"][int(np.nanargmax(df))]),
         "files": ", ".join(f"sweep/{name}" for name in _sweep_files(sw)),
-        **mesh_dynamics(case, sw),
+        **mesh_dynamics(sw),
     }
     return out
 
 
-def mesh_dynamics(case, sw: dict) -> dict:
-    """``summary.json``'s ``dynamics`` keys per mesh of the sweep ``sw``
-    (:func:`jaxgear.cli.sweep.sweep_case`'s summary) where the case's meshes are labelled (a
-    train's, :func:`~jaxgear.cli._case_kinds.labelled_meshes`); none for a pair (its one mesh's
-    are the section's own)."""
-    if not labelled_meshes(case):
+def mesh_dynamics(sw: dict) -> dict:
+    """``summary.json``'s ``dynamics`` keys per mesh, as the sweep ``sw``
+    (:func:`jaxgear.cli.sweep.sweep_case`'s summary) holds them: a case of several meshes has
+    them (``mesh_names``, ``dynamic_factor_mesh``); a case of one mesh none (its mesh's are the
+    section's own)."""
+    names = sw.get("mesh_names")
+    if names is None:
         return {}
     per = np.asarray(sw["dynamic_factor_mesh"], dtype=float)  # (S, m)
     return {
-        "mesh_names": sw["mesh_names"],
+        "mesh_names": names,
         "dynamic_factor_mesh": sw["dynamic_factor_mesh"],
         "max_dynamic_factor_mesh": [float(v) for v in np.nanmax(per, axis=0)],
     }
@@ -473,36 +544,3 @@ def _sweep_files(sw: dict) -> list[str]:
     """The files a sweep wrote, by its summary (:func:`jaxgear.cli.sweep.sweep_case`)."""
     files = ["sweep.json", "dynamic_factor.png", "campbell.png", "contact_pressure.png"]
     return files + list((sw.get("pressure_map_dynamic") or {}).get("files", ()))
-
-
-@run_kind.register
-def _run_train_command(case: TrainCase, out: str, args, settings) -> dict:
-    """``jaxgear run`` on a train case: the quasi-static files of every mesh, then, with a
-    ``[scene]``, the dynamic factor sweep of the train (torsional or lumped 3D; per mesh; with
-    flexible gears, the ``jaxgear sweep`` command to run instead)."""
-    summary_path = os.path.join(out, "summary.json")
-    sweep = case.scene is not None and not case.flexible
-    summary = run_train(case, out, show_progress=not args.quiet, complete=not sweep)
-    if sweep:
-        summary["dynamics"] = _sweep_section(case, out, args.quiet)
-        summary["complete"] = True
-        write_json(summary_path, summary)
-    print(format_train_table(summary))
-    if sweep:
-        d = summary["dynamics"]
-        per = ", ".join(
-            f"{n} {v:.3f}"
-            for n, v in zip(d["mesh_names"], d["max_dynamic_factor_mesh"], strict=True)
-        )
-        print(
-            f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
-            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
-            f"{d['speeds_rad_s'][-1]:g} rad/s"
-        )
-    if case.flexible:
-        print(
-            f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
-            "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
-            f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
-        )
-    return summary

@@ -1,6 +1,7 @@
 """Case files and output files: the one place that maps the names in a case file to the model's
-objects. Loading and validating cases (TOML, units in key names) into a :class:`Case` (a gear
-pair) or a :class:`TrainCase` (a gear train), both holding the :class:`MeshSettings`; their
+objects. Loading and validating cases (TOML, units in key names) into the one case type,
+:class:`Case` (a gear train; a pair is a train of one mesh; ``TrainCase`` is another name for
+it), holding the :class:`MeshSettings` and its file's :class:`CaseForm`; its
 ``[scene]`` (:class:`SceneSpec`) and the objects it names (:func:`spec_integrator`,
 :func:`Damping`, :func:`spec_window`, :func:`load_bodies`); the model of a case
 (:func:`build_dynamic_model`, :func:`static_scene`, :func:`quasi_static_scene`); the embedded
@@ -8,7 +9,14 @@ cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots l
 :mod:`jaxgear.cli`. The model (:mod:`jaxgear`, :mod:`jaxgear.scenes`, :mod:`jaxgear.dynamics`)
 never imports this package: it takes the objects built here, never a case."""
 
-from ._case import Case as Case, MeshSettings as MeshSettings, TrainCase as TrainCase
+from ._case import (
+    Case as Case,
+    CaseForm as CaseForm,
+    MeshSettings as MeshSettings,
+    PairForm as PairForm,
+    TrainCase as TrainCase,
+    TrainForm as TrainForm,
+)
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,

@@ -1,16 +1,22 @@
-"""A gear-pair case in SI units: geometry, modifications, material, operating point, mesh model
-settings, and optionally a dynamic scene and optimisation settings.
+"""A case in SI units: one type, :class:`Case`, for a gear pair and a gear train alike (a pair is a
+train of two gears and one mesh): geometry, modifications, material, operating point, mesh model
+settings (:class:`MeshSettings`, written once), and optionally a dynamic scene, deviations and
+optimisation settings.
 
 Cases are read from TOML files (units in key names) by :func:`jaxgear.io.load_case`, which
-validates the whole file first; this module holds only the validated, SI-unit result.
+validates the whole file first; this module holds only the validated, SI-unit result. How the
+file wrote its gears, a pair's ``[pair]``/``[pinion]``/``[gear]`` or a train's ``[[gears]]`` and
+``[[meshes]]``, is the case's :class:`CaseForm` (:class:`PairForm`, :class:`TrainForm`): it names
+the meshes in the outputs and chooses the scene builders of ``[scene]``.
 """
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import fractions
 import math
-from typing import Any, ClassVar
+from typing import Any
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
@@ -29,14 +35,13 @@ from ..scenes import (
     train_layout,
 )
 
-__all__ = ["Case", "MeshSettings", "TrainCase"]
+__all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm"]
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class MeshSettings:
-    """The material and mesh-model settings of a case, written once: a pair case
-    (:class:`Case`) holds them for its mesh, a train case (:class:`TrainCase`) for every mesh
-    (each mesh's pair case, :meth:`TrainCase.mesh_case`, takes the train's).
+    """The material and mesh-model settings of a case (:class:`Case`), written once, for every
+    mesh (each mesh's one-mesh case, :meth:`Case.mesh_case`, takes them).
 
     Attributes:
         youngs_modulus: Young's modulus (Pa); ``poisson_ratio`` (-); ``density`` (kg/m³).
@@ -71,8 +76,7 @@ class MeshSettings:
 
     @property
     def lumped(self) -> bool:
-        """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings), as
-        :attr:`TrainCase.lumped`."""
+        """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings)."""
         return self.scene is not None and self.scene.lumped
 
     @property
@@ -85,136 +89,75 @@ class MeshSettings:
         return dataclasses.replace(self, **changes)
 
 
+class CaseForm(abc.ABC):
+    """How a case file wrote its gears, which the case keeps (:attr:`Case.form`): it names the
+    case's meshes in the outputs and gives each mesh as a one-mesh case; :mod:`jaxgear.io`
+    builds the ``[scene]`` of a case by its form (``io/_case_model.py``), the command line
+    writes a case's summary by it (``cli/run.py``, ``cli/cases.py``)."""
+
+    @abc.abstractmethod
+    def mesh_name(self, case: Case, k: int) -> str:
+        """Mesh ``k``'s name."""
+
+    @abc.abstractmethod
+    def mesh_label(self, case: Case, k: int) -> str:
+        """What tells mesh ``k`` apart in the outputs ("": nothing, the case's own values)."""
+
+    @abc.abstractmethod
+    def mesh_case(self, case: Case, k: int) -> Case:
+        """Mesh ``k`` as a one-mesh case (a :class:`PairForm` case)."""
+
+
 @dataclasses.dataclass(frozen=True)
-class Case(MeshSettings):
-    """A validated gear-pair case (SI units).
+class PairForm(CaseForm):
+    """A pair case file (``[pair]``, ``[pinion]``, ``[gear]``): gears ``pinion`` and ``gear``,
+    one mesh that is the case itself: named by the case, unlabelled in the outputs (its values
+    are the summary's own, its files and titles the case's); its ``[scene]`` a pair's
+    (:data:`jaxgear.io.PAIR_SCENES`, condensed pinion and gear bodies)."""
 
-    Attributes:
-        name: case name. pair: :class:`~jaxgear.GearPair`.
-        modifications: :class:`~jaxgear.Modifications`.
-        torque: pinion torque (N·m). speed: pinion speed Ω (rad/s) of the quasi-static
-            centrifugal load of condensed bodies (each body at its own speed); 0: at rest.
-        youngs_modulus: with ``poisson_ratio``, ``density``, ``stiffness``, ``slices``,
-            ``positions_per_pitch``, ``smooth_width``: the mesh settings
-            (:class:`MeshSettings`; keywords only).
-        scene: the validated ``[scene]`` table (:class:`jaxgear.io.SceneSpec`) or None.
-        optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
-        raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
-        deviations: manufacturing deviations per tooth (:class:`~jaxgear.Deviations`, ISO
-            1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade, seed,
-            revolutions, positions per pitch; docs/deviations.md) or None.
-        coast: model the coast flanks with the pair's backlash (:meth:`mesh_model`; the case
-            file sets it when a ``tooth_thickness_allowance_um`` is given; docs/backlash.md).
-    """
+    def mesh_name(self, case: Case, k: int) -> str:
+        return case.name
 
-    name: str
-    pair: GearPair
-    modifications: Modifications
-    deviations: Any = None
-    deviation_settings: dict | None = None
-    torque: float = 100.0
-    speed: float = 0.0
-    scene: Any = None
-    optimise: dict | None = None
-    raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
-    coast: bool = False
-
-    # the views of a train (:class:`TrainCase`) on a pair: a pair is a train of two gears and
-    # one mesh, named by the case, so that what reads a case's meshes reads both the same way
-
-    gears: ClassVar[tuple] = ((0, 1),)
-    shaft_of: ClassVar[tuple] = (0, 1)
-    span_periods: ClassVar[int] = 1
-
-    @property
-    def gear_names(self) -> tuple:
-        """("pinion", "gear")."""
-        return ("pinion", "gear")
-
-    @property
-    def n_gears(self) -> int:
-        return 2
-
-    @property
-    def pairs(self) -> tuple:
-        """(pair,): its one mesh's :class:`~jaxgear.GearPair`."""
-        return (self.pair,)
-
-    def mesh_name(self, k: int) -> str:
-        """Its one mesh's name: the case's."""
-        return self.name
-
-    def mesh_label(self, k: int) -> str:
-        """"": a pair's one mesh needs no label in the outputs (:meth:`TrainCase.mesh_label`)."""
+    def mesh_label(self, case: Case, k: int) -> str:
         return ""
 
-    def mesh_case(self, k: int) -> Case:
-        """Its one mesh as a pair case: itself."""
-        return self
-
-    @property
-    def mesh_torques(self) -> tuple:
-        """(torque,): the pinion torque (N·m)."""
-        return (self.torque,)
-
-    def mesh_modifications(self) -> tuple:
-        """(modifications,)."""
-        return (self.modifications,)
-
-    def members(self) -> tuple:
-        """(pinion, gear): each gear's :class:`~jaxgear.Member`."""
-        return (self.pair.pinion, self.pair.gear)
-
-    @property
-    def normal_load(self) -> float:
-        """Flank-normal mesh force F_n = T/(r_b1 cos β_b) (N)."""
-        return self.torque / (self.pair.base_radii[0] * math.cos(self.pair.base_helix_angle))
-
-    def nominal_line_load(self, torque: float | None = None) -> float:
-        """Mean transverse load per unit face width, F_bt/(ε_α b) (N/m), for the Hertz term."""
-        t = self.torque if torque is None else torque
-        return (
-            t
-            / self.pair.base_radii[0]
-            / (self.pair.transverse_contact_ratio * self.pair.face_width)
-        )
-
-    def specific_load(self, torque: float | None = None) -> float:
-        """Nominal tangential load at the reference circle per unit face width, F_t / b =
-        T / (r_1 b) (N/m), K_A = 1: the load of the ISO 6336-1 low-load factor (``iso6336``)."""
-        t = self.torque if torque is None else torque
-        return t / self.pair.pitch_radii[0] / self.pair.face_width
-
-    def mesh_model(
-        self,
-        slices: int | None = None,
-        torque: float | None = None,
-        flexible: tuple[bool, bool] = (False, False),
-    ) -> MeshModel:
-        """Build the :class:`~jaxgear.MeshModel` (stiffness table evaluated at the nominal line
-        load; the ``iso6336`` table at the case's E and :meth:`specific_load` of ``torque``).
-
-        ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
-        leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
-        With :attr:`coast` the model holds the coast flanks too (docs/backlash.md).
-        """
-        s, k = stiffness_table(
-            self.pair,
-            self.stiffness.without_body(flexible),
-            youngs_modulus=self.youngs_modulus,
-            poisson_ratio=self.poisson_ratio,
-            line_load=self.nominal_line_load(torque),
-            specific_load=self.specific_load(torque),
-        )
-        return MeshModel.from_pair(
-            self.pair, s, k, self.slices if slices is None else slices, coast=self.coast
-        )
+    def mesh_case(self, case: Case, k: int) -> Case:
+        return case
 
 
 @dataclasses.dataclass(frozen=True)
-class TrainCase(MeshSettings):
-    """A validated gear-train case (SI units): gears, the meshes between them and their layout,
-    with the mesh settings, material and operating point of a pair case.
+class TrainForm(CaseForm):
+    """A train case file (``[[gears]]``, ``[[meshes]]``): each mesh named and labelled by its
+    gears, ``"driving-driven"``; its ``[scene]`` a train's (torsional, lumped 3D on
+    ``[[scene.shafts]]``, flexible gears)."""
+
+    def mesh_name(self, case: Case, k: int) -> str:
+        g, h = case.gears[k]
+        return f"{case.gear_names[g]}-{case.gear_names[h]}"
+
+    def mesh_label(self, case: Case, k: int) -> str:
+        return self.mesh_name(case, k)
+
+    def mesh_case(self, case: Case, k: int) -> Case:
+        g, h = case.gears[k]
+        return Case(
+            name=f"{case.name}-{self.mesh_name(case, k)}",
+            pairs=(case.pairs[k],),
+            gear_modifications=(case.gear_modifications[g], case.gear_modifications[h]),
+            torque=case.mesh_torques[k],
+            speed=case.speed * case.layout().ratios[g],
+            form=PairForm(),
+            **case.mesh_settings(),
+        )
+
+
+@dataclasses.dataclass(frozen=True, kw_only=True)
+class Case(MeshSettings):
+    """A validated case (SI units, keywords only): gears, the meshes between them and their
+    layout, the mesh settings, material and operating point. A gear pair is a train of two gears
+    (``pinion``, ``gear``) and one mesh (:meth:`of_pair`); its views :attr:`pair`,
+    :attr:`modifications` and :meth:`replace` of ``pair=``/``modifications=`` hold for a case of
+    one mesh (else a ``ValueError``).
 
     Attributes:
         name: case name. gear_names: each gear's name, (n,), gear 0 the input.
@@ -223,8 +166,8 @@ class TrainCase(MeshSettings):
         gears: each mesh's (driving, driven) gear indices, listed from the input outwards.
         angles: each mesh's direction of the driven gear's centre seen from the driving one
             (rad, fixed frame).
-        modifications: each gear's :class:`~jaxgear.MemberModification`, (n,) (every flank it
-            loads).
+        gear_modifications: each gear's :class:`~jaxgear.MemberModification`, (n,) (every flank
+            it loads; :meth:`mesh_modifications` per mesh).
         torque: the input gear's torque (N·m); the balancing output takes what the loads
             leave.
         loads: ((gear, torque (N·m)), ...): the torques of the loaded gears other than the
@@ -252,17 +195,25 @@ class TrainCase(MeshSettings):
             with the input torque as the loads are.
         shaft_names: each shaft's name (a gear's ``shaft`` in the case file; default the name of
             its first gear), (shafts,).
-        scene: the validated ``[scene]`` (:class:`jaxgear.io.SceneSpec`: torsional, or
-            lumped 3D with its ``shafts``) or None.
-        raw: the parsed TOML, as read.
+        scene: the validated ``[scene]`` (:class:`jaxgear.io.SceneSpec`) or None.
+        raw: the parsed TOML, as read (for reference; the fields above are what the code uses).
+        deviations: manufacturing deviations per tooth of a pair (:class:`~jaxgear.Deviations`,
+            ISO 1328-1) or None; deviation_settings: the ``[deviations]`` run settings (grade,
+            seed, revolutions, positions per pitch; docs/deviations.md) or None.
+        coast: model the coast flanks with the pair's backlash (:meth:`mesh_model`; the case
+            file sets it when a ``tooth_thickness_allowance_um`` is given; docs/backlash.md).
+        optimise: the validated ``[optimise]`` table (a dict in case-file units) or None.
+        form: how the case file wrote its gears (:class:`CaseForm`: :class:`TrainForm` by
+            default, :class:`PairForm` a pair file's): the meshes' names and labels in the
+            outputs, and the scene builders.
     """
 
     name: str
-    gear_names: tuple
     pairs: tuple
-    gears: tuple
-    angles: tuple
-    modifications: tuple
+    gear_modifications: tuple
+    gear_names: tuple = ("pinion", "gear")
+    gears: tuple = ((0, 1),)
+    angles: tuple = (0.0,)
     torque: float = 100.0
     loads: tuple = ()
     speed: float = 0.0
@@ -275,22 +226,80 @@ class TrainCase(MeshSettings):
     shaft_names: tuple = ()
     scene: Any = None
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
+    deviations: Any = None
+    deviation_settings: dict | None = None
+    coast: bool = False
+    optimise: dict | None = None
+    form: CaseForm = TrainForm()
 
-    optimise = None  # a train case has no [optimise] table
+    @classmethod
+    def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:
+        """A pair case: gears ``pinion`` and ``gear``, the one mesh ``pair`` with the
+        ``modifications`` of its two members (:class:`PairForm`); ``fields``: the other
+        attributes (keywords)."""
+        return cls(
+            name=name,
+            pairs=(pair,),
+            gear_modifications=(modifications.pinion, modifications.gear),
+            form=PairForm(),
+            **fields,
+        )
+
+    def _one_mesh(self, what: str) -> None:
+        """Refuse a view of a one-mesh case on a case of several meshes, in one line."""
+        if len(self.pairs) != 1:
+            raise ValueError(
+                f"case {self.name!r}: {what} is a one-mesh case's (a pair's); this case has "
+                f"{len(self.pairs)} meshes: use pairs, mesh_modifications() or mesh_case(k)"
+            )
+
+    @property
+    def pair(self) -> GearPair:
+        """Its one mesh's :class:`~jaxgear.GearPair` (a pair case's).
+
+        Raises:
+            ValueError: a case of several meshes."""
+        self._one_mesh("case.pair")
+        return self.pairs[0]
+
+    @property
+    def modifications(self) -> Modifications:
+        """Its one mesh's :class:`~jaxgear.Modifications` (pinion, gear; a pair case's).
+
+        Raises:
+            ValueError: a case of several meshes."""
+        self._one_mesh("case.modifications")
+        return self.mesh_modifications()[0]
+
+    def replace(self, **changes) -> Case:
+        """A copy with ``changes`` (field names as keywords); on a one-mesh case also ``pair``
+        (its one mesh's :class:`~jaxgear.GearPair`) and ``modifications`` (its
+        :class:`~jaxgear.Modifications`).
+
+        Raises:
+            ValueError: ``pair`` or ``modifications`` on a case of several meshes."""
+        if "pair" in changes:
+            self._one_mesh("replace(pair=...)")
+            changes["pairs"] = (changes.pop("pair"),)
+        if "modifications" in changes:
+            self._one_mesh("replace(modifications=...)")
+            m = changes.pop("modifications")
+            changes["gear_modifications"] = (m.pinion, m.gear)
+        return dataclasses.replace(self, **changes)
 
     @property
     def n_gears(self) -> int:
         return len(self.gear_names)
 
     def mesh_name(self, k: int) -> str:
-        """``"driving-driven"``, the names of mesh ``k``'s gears."""
-        g, h = self.gears[k]
-        return f"{self.gear_names[g]}-{self.gear_names[h]}"
+        """Mesh ``k``'s name: ``"driving-driven"``, the names of its gears (a pair's one mesh:
+        the case's; :attr:`form`)."""
+        return self.form.mesh_name(self, k)
 
     def mesh_label(self, k: int) -> str:
         """What tells mesh ``k`` apart in the outputs (file names, titles, per-mesh keys and
-        warnings): its :meth:`mesh_name` (a pair case's one mesh has none, "")."""
-        return self.mesh_name(k)
+        warnings): a train's :meth:`mesh_name` (a pair case's one mesh has none, "")."""
+        return self.form.mesh_label(self, k)
 
     @property
     def shaft_of(self) -> tuple:
@@ -355,25 +364,15 @@ class TrainCase(MeshSettings):
         )
 
     def mesh_case(self, k: int) -> Case:
-        """Mesh ``k`` as a pair case: its pair (the driving gear as pinion), its driving gear's
-        torque (:attr:`mesh_torques`) and speed, and the train's mesh settings."""
-        g, h = self.gears[k]
-        pair = self.pairs[k]
-        speed = self.speed * self.layout().ratios[g]
-        return Case(
-            name=f"{self.name}-{self.mesh_name(k)}",
-            pair=pair,
-            modifications=Modifications(self.modifications[g], self.modifications[h]),
-            torque=self.mesh_torques[k],
-            speed=speed,
-            **self.mesh_settings(),
-        )
+        """Mesh ``k`` as a one-mesh (pair) case: its pair (the driving gear as pinion), its
+        driving gear's torque (:attr:`mesh_torques`) and speed, and the case's mesh settings; a
+        pair case's one mesh is the case itself (:attr:`form`)."""
+        return self.form.mesh_case(self, k)
 
     def mesh_modifications(self) -> tuple:
         """Each mesh's :class:`~jaxgear.Modifications` (its driving gear's, its driven gear's)."""
-        return tuple(
-            Modifications(self.modifications[g], self.modifications[h]) for g, h in self.gears
-        )
+        m = self.gear_modifications
+        return tuple(Modifications(m[g], m[h]) for g, h in self.gears)
 
     def layout(self):
         """The train laid out in the plane (:func:`jaxgear.scenes.train_layout`)."""
@@ -421,7 +420,7 @@ class TrainCase(MeshSettings):
         )
 
     def mesh_models(self, slices: int | None = None, flexible: tuple = ()) -> tuple:
-        """Each mesh's :class:`~jaxgear.MeshModel` (:meth:`Case.mesh_model` of :meth:`mesh_case`);
+        """Each mesh's :class:`~jaxgear.MeshModel` (:meth:`mesh_model` of :meth:`mesh_case`);
         ``flexible``: which gears are condensed FE bodies (their tooth stiffness leaves out the
         foundation term), (n,) (default none)."""
         flex = tuple(flexible) or (False,) * self.n_gears
@@ -445,11 +444,6 @@ class TrainCase(MeshSettings):
             tuple(float(p) for p in self.layout().phases),
             self.shares(),
         )
-
-    @property
-    def lumped(self) -> bool:
-        """The scene is lumped 3D (``[scene] model = "lumped3d"``: shafts on bearings)."""
-        return self.scene is not None and self.scene.lumped
 
     @property
     def flexible(self) -> bool:
@@ -563,3 +557,52 @@ class TrainCase(MeshSettings):
             return self.hybrid_train(bodies, slices)
         train = self.dynamic_train(slices)
         return grounded(train, (train.torque_dofs[1],), factor=1e9)
+
+    @property
+    def normal_load(self) -> float:
+        """Flank-normal mesh force F_n = T/(r_b1 cos β_b) (N) of a one-mesh case."""
+        return self.torque / (self.pair.base_radii[0] * math.cos(self.pair.base_helix_angle))
+
+    def nominal_line_load(self, torque: float | None = None) -> float:
+        """Mean transverse load per unit face width, F_bt/(ε_α b) (N/m), for the Hertz term."""
+        t = self.torque if torque is None else torque
+        return (
+            t
+            / self.pair.base_radii[0]
+            / (self.pair.transverse_contact_ratio * self.pair.face_width)
+        )
+
+    def specific_load(self, torque: float | None = None) -> float:
+        """Nominal tangential load at the reference circle per unit face width, F_t / b =
+        T / (r_1 b) (N/m), K_A = 1: the load of the ISO 6336-1 low-load factor (``iso6336``)."""
+        t = self.torque if torque is None else torque
+        return t / self.pair.pitch_radii[0] / self.pair.face_width
+
+    def mesh_model(
+        self,
+        slices: int | None = None,
+        torque: float | None = None,
+        flexible: tuple[bool, bool] = (False, False),
+    ) -> MeshModel:
+        """Build the :class:`~jaxgear.MeshModel` (stiffness table evaluated at the nominal line
+        load; the ``iso6336`` table at the case's E and :meth:`specific_load` of ``torque``).
+
+        ``flexible``: members that are condensed FE bodies (pinion, gear): their tooth stiffness
+        leaves out the foundation term, which the FE rim replaces (seed remark after (2.31)).
+        With :attr:`coast` the model holds the coast flanks too (docs/backlash.md).
+        """
+        s, k = stiffness_table(
+            self.pair,
+            self.stiffness.without_body(flexible),
+            youngs_modulus=self.youngs_modulus,
+            poisson_ratio=self.poisson_ratio,
+            line_load=self.nominal_line_load(torque),
+            specific_load=self.specific_load(torque),
+        )
+        return MeshModel.from_pair(
+            self.pair, s, k, self.slices if slices is None else slices, coast=self.coast
+        )
+
+
+#: the name the train case had before the one case type (a pair is a train of one mesh)
+TrainCase = Case

@@ -459,7 +459,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     coast = any("tooth_thickness_allowance_um" in data[tag] for tag in ("pinion", "gear"))
     if coast:
         _refuse_with_backlash(data, deviations is not None, scene)
-    case = Case(
+    case = Case.of_pair(
         coast=coast,
         name=name,
         pair=pair,

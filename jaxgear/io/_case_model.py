@@ -18,14 +18,14 @@ from ..scenes import (
     hybrid_pair,
     lumped_pair,
 )
-from ._case import Case, TrainCase
+from ._case import Case, PairForm, TrainForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 
 __all__ = ["PAIR_SCENES", "build_dynamic_model", "quasi_static_scene", "static_scene"]
 
 
 def build_dynamic_model(
-    case: Case | TrainCase,
+    case: Case,
     spec: SceneSpec | None = None,
     *,
     slices: int | None = None,
@@ -34,10 +34,11 @@ def build_dynamic_model(
     """The dynamic model of a case and its scene (default: ``[scene]``): a
     :class:`~jaxgear.dynamics.DynamicModel`, or a :class:`~jaxgear.dynamics.HybridModel` when
     the scene has condensed bodies (its damping ``[scene.damping]`` and ``rotating_frame``).
-    A train case (:class:`TrainCase`) gives its train
-    (:meth:`TrainCase.dynamic_train`: torsional or lumped 3D; with flexible gears
-    :meth:`TrainCase.hybrid_train`, a hybrid model), the input torque on its input
-    gear.
+    The scene is built by the case's form (:attr:`Case.form`): a pair's
+    (:class:`~jaxgear.io.PairForm`) as ``[scene] model`` names it (:data:`PAIR_SCENES`), a
+    train's (:class:`~jaxgear.io.TrainForm`) its train (:meth:`Case.dynamic_train`: torsional
+    or lumped 3D; with flexible gears :meth:`Case.hybrid_train`, a hybrid model), the input
+    torque on its input gear.
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
     density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
@@ -46,11 +47,17 @@ def build_dynamic_model(
     """
     if spec is None:
         spec = case.scene if case.scene is not None else SceneSpec()
-    return _case_model(case, spec, slices, bodies), spec
+    return _case_model(case.form, case, spec, slices, bodies), spec
 
 
 @functools.singledispatch
-def _case_model(case: Case, spec: SceneSpec, slices: int | None, bodies: tuple | None):
+def _case_model(form, case: Case, spec: SceneSpec, slices: int | None, bodies: tuple | None):
+    """The dynamic model of a case of ``form`` (:class:`~jaxgear.io.CaseForm`)."""
+    raise TypeError(f"no dynamic model for a case of form {type(form).__name__}")
+
+
+@_case_model.register
+def _pair_model(form: PairForm, case: Case, spec: SceneSpec, slices, bodies):
     """A pair case's dynamic model: the hybrid scene of its condensed bodies
     (:func:`static_scene`), or the rigid-gear scene ``[scene] model`` names (:data:`PAIR_SCENES`)
     on the case's mesh model."""
@@ -76,10 +83,10 @@ def _case_model(case: Case, spec: SceneSpec, slices: int | None, bodies: tuple |
 
 
 @_case_model.register
-def _train_model(case: TrainCase, spec: SceneSpec, slices: int | None, bodies: tuple | None):
+def _train_model(form: TrainForm, case: Case, spec: SceneSpec, slices, bodies):
     """A train case's dynamic model: its torsional or lumped 3D train
-    (:meth:`TrainCase.dynamic_train`), or with flexible gears its hybrid train
-    (:meth:`TrainCase.hybrid_train` of the condensed ``bodies``, default the scene's)."""
+    (:meth:`Case.dynamic_train`), or with flexible gears its hybrid train
+    (:meth:`Case.hybrid_train` of the condensed ``bodies``, default the scene's)."""
     if case.flexible:  # its flexible gears condensed: a hybrid model
         bodies = load_bodies(spec) if bodies is None else bodies
         return dynamic_model(
@@ -167,16 +174,20 @@ def static_scene(
     slices: int | None = None,
     bodies: tuple | None = None,
 ):
-    """The scene of the case's quasi-static solve with shafts, bearings and condensed bodies.
+    """The scene of the case's quasi-static solve with shafts, bearings and condensed bodies,
+    by the case's form (:attr:`Case.form`).
 
-    ``lumped3d`` without bodies: the lumped scene with the load rotation grounded. With
-    ``[scene.pinion_body]``/``[scene.gear_body]``: the hybrid scene (:func:`jaxgear.scenes.hybrid_pair`),
-    its flexible members' tooth stiffness without the foundation term. The scene holds no
-    operating point: pass the torque and the pinion speed (the case's ``torque``/``speed``) to
-    the solvers.
+    A pair's: ``lumped3d`` without bodies, the lumped scene with the load rotation grounded;
+    with ``[scene.pinion_body]``/``[scene.gear_body]``, the hybrid scene
+    (:func:`jaxgear.scenes.hybrid_pair`), its flexible members' tooth stiffness without the
+    foundation term. A train's: :meth:`Case.static_train` (the lumped 3D train, the output
+    shaft's rotation held; with ``[scene.bodies]`` its hybrid train, the bodies default to the
+    scene's), the scene ``jaxgear run`` solves. The scene holds no operating point: pass the
+    torque and the input speed (the case's ``torque``/``speed``) to the solvers.
 
     Returns:
-        (scene, bodies): the scene and the condensed bodies (pinion, gear) or ``None``.
+        (scene, bodies): the scene and the condensed bodies (a pair's (pinion, gear), a train's
+        one per gear) or ``None`` each.
 
     Raises:
         ValueError: the case has no ``lumped3d`` scene; slices that do not nest in the body's
@@ -185,6 +196,18 @@ def static_scene(
     spec = case.scene
     if spec is None or spec.model != "lumped3d":
         raise ValueError("a quasi-static scene needs a case with [scene] model = 'lumped3d'")
+    return _static_scene(case.form, case, slices, bodies)
+
+
+@functools.singledispatch
+def _static_scene(form, case: Case, slices: int | None, bodies: tuple | None):
+    """:func:`static_scene` of a case of ``form`` (:class:`~jaxgear.io.CaseForm`)."""
+    raise TypeError(f"no quasi-static scene for a case of form {type(form).__name__}")
+
+
+@_static_scene.register
+def _pair_static_scene(form: PairForm, case: Case, slices, bodies):
+    spec = case.scene
     if not spec.hybrid:
         model, _ = build_dynamic_model(case, slices=slices)
         return grounded(model.scene, (model.scene.torque_dofs[1],)), (None, None)
@@ -205,6 +228,13 @@ def static_scene(
     return scene, bodies
 
 
+@_static_scene.register
+def _train_static_scene(form: TrainForm, case: Case, slices, bodies):
+    rigid = (None,) * case.n_gears
+    bodies = (load_bodies(case.scene) if case.flexible else rigid) if bodies is None else bodies
+    return case.static_train(slices, bodies), bodies
+
+
 def quasi_static_scene(
     case: Case,
     *,
@@ -213,8 +243,9 @@ def quasi_static_scene(
     speed: float | None = None,
     bodies: tuple | None = None,
 ) -> tuple[QuasiStaticResult, dict]:
-    """Quasi-static TE of the case's scene: shafts and bearings (``lumped3d``) and condensed FE
-    bodies when the scene has them, with the case's modifications.
+    """Quasi-static TE of the case's scene (:func:`static_scene`): shafts and bearings
+    (``lumped3d``) and condensed FE bodies when the scene has them, with the case's
+    modifications (each mesh's).
 
     Args:
         case: a case with ``[scene] model = "lumped3d"``.
@@ -233,7 +264,7 @@ def quasi_static_scene(
     scene, _ = static_scene(case, slices=slices, bodies=bodies)
     res = quasi_static(
         scene,
-        case.modifications,
+        case.mesh_modifications(),
         case.torque,
         speed=case.speed if speed is None else speed,
         contact=contact,

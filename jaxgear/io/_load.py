@@ -7,7 +7,7 @@ import os
 
 from fem_prep import schema as sc
 
-from ._case import Case, TrainCase
+from ._case import Case
 from ._case_file import parse_case
 from ._train_file import is_train, parse_train
 
@@ -32,10 +32,10 @@ def embedded_case_text(name: str) -> str:
     return sc.embedded_text(_embedded(), name, "case")
 
 
-def load_case(name_or_path: str | os.PathLike) -> Case | TrainCase:
-    """Load a case from a TOML path or an embedded case name: a pair case (:class:`Case`) or,
-    with ``[[gears]]`` and ``[[meshes]]``, a train case (:class:`TrainCase`,
-    :func:`parse_train`).
+def load_case(name_or_path: str | os.PathLike) -> Case:
+    """Load a case (:class:`Case`) from a TOML path or an embedded case name: a pair case
+    (:func:`parse_case`, :class:`PairForm`: one mesh) or, with ``[[gears]]`` and ``[[meshes]]``,
+    a train case (:func:`parse_train`, :class:`TrainForm`).
 
     Raises:
         FileNotFoundError: neither a file nor an embedded case name.

@@ -9,7 +9,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ._case import Case, TrainCase
+from ._case import Case
 from .._stiffness import SainsotFoundation, sainsot_fit_check
 from .._stiffness_models import Weber, stiffness_table
 from ..scenes import disc_inertia
@@ -102,9 +102,9 @@ def _mesh_mode_frequencies(case: Case, k_mean: float) -> list[float]:
     return [math.sqrt(w) for w in w2[keep]] or [math.sqrt(w2.max())]
 
 
-def plausibility(case: Case | TrainCase) -> list[str]:
+def plausibility(case: Case) -> list[str]:
     """One-line warnings about absurd but valid inputs (thresholds in README.md), those of each
-    mesh as a pair case (:meth:`~jaxgear.io.TrainCase.mesh_case`; a pair's: itself), a labelled
+    mesh as a pair case (:meth:`~jaxgear.io.Case.mesh_case`; a pair's: itself), a labelled
     mesh's named (a train's, ``meshes[k] driving-driven: ...``; :func:`_mesh_plausibility`)."""
     out = []
     for k in range(len(case.pairs)):

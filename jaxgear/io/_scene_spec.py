@@ -63,7 +63,7 @@ class SceneSpec:
     gear_mass: float | None = None
     pinion_shaft: ShaftSpec | None = None  # lumped3d
     gear_shaft: ShaftSpec | None = None
-    shafts: tuple | None = None  # a lumped3d train: each shaft's ShaftSpec (TrainCase.shaft_of)
+    shafts: tuple | None = None  # a lumped3d train: each shaft's ShaftSpec (Case.shaft_of)
     # lumped3d with condensed FE bodies (hybrid H1/H2): an embedded fem_prep body name, a body
     # TOML path or a condensed .npz path (resolved against the case file's folder)
     pinion_body: str | None = None

@@ -75,7 +75,7 @@ from typing import Any
 
 from fem_prep import schema as sc
 
-from ._case import TrainCase
+from ._case import Case
 from .._geometry import GearPair
 from ..scenes import train_hands
 from ._case_file import (
@@ -278,7 +278,7 @@ def _loads(op: dict, index: dict, shafts: list) -> tuple:
     return tuple(out.items())
 
 
-def _check_power(case: TrainCase) -> None:
+def _check_power(case: Case) -> None:
     """The loads must leave the balancing output some of the input power."""
     taken = sum(case.shares().values())
     if taken >= 1.0:
@@ -289,7 +289,7 @@ def _check_power(case: TrainCase) -> None:
         )
 
 
-def _check_overlap(case: TrainCase) -> None:
+def _check_overlap(case: Case) -> None:
     """Two gears in one plane (joined by meshes) that do not mesh with each other must not
     overlap: their centres at least the sum of their tip radii apart (mm in the message)."""
     layout = case.layout()
@@ -321,9 +321,9 @@ def _check_overlap(case: TrainCase) -> None:
                 )
 
 
-def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> TrainCase:
+def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> Case:
     """Validate a parsed train case (a dict with ``[[gears]]`` and ``[[meshes]]``) and build a
-    :class:`TrainCase` (SI units); ``base_dir``: the case file's folder (body files of
+    :class:`Case` (SI units); ``base_dir``: the case file's folder (body files of
     ``[scene.bodies]`` are resolved against it).
 
     Raises:
@@ -454,13 +454,13 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
-    case = TrainCase(
+    case = Case(
         name=name,
         gear_names=tuple(names),
         pairs=tuple(pairs),
         gears=tuple(links),
         angles=tuple(angles),
-        modifications=mods,
+        gear_modifications=mods,
         youngs_modulus=E,
         poisson_ratio=nu,
         density=rho,

@@ -11,7 +11,7 @@ from typing import Any
 import fem_prep
 from fem_prep import schema as sc
 
-from ._case import TrainCase
+from ._case import Case
 from ._scene_spec import SceneSpec
 from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
 
@@ -218,7 +218,7 @@ def _train_shafts(table: dict, names: list, shafts: list, shaft_names: list) -> 
 MAX_TABLE_BYTES = 1e9
 
 
-def check_table_size(case: TrainCase, scene: SceneSpec, slices: int) -> None:
+def check_table_size(case: Case, scene: SceneSpec, slices: int) -> None:
     """Refuse, before any work, a dynamics mesh table above :data:`MAX_TABLE_BYTES`: with
     ``steps_per_period`` N_s given, mesh k is tabulated over its own period T_k/T_0 (periods of
     the first mesh) when N_s T_k is whole, else over the whole span of q periods (N_s q rows); a
