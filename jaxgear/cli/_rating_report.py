@@ -92,18 +92,12 @@ def rating_lines(section: dict, case_name: str) -> list[str]:
 MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
 
 
-@functools.singledispatch
-def rating_outputs(case, out_dir: str, result=None) -> dict | None:
-    """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
-    the ``summary.json`` section; ``None`` (nothing written) without ``[rating]`` or for a case
-    kind that is not rated yet (trains). ``result``: the case's quasi-static result, for the
-    section's ``measured`` factors (:func:`jaxgear.face_load_factor`); they are reported beside
-    the ISO/given ones, not used in the rating."""
-    return None
-
-
-@rating_outputs.register
-def _(case: Case, out_dir: str, result=None) -> dict | None:
+def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
+    """The rating of a one-mesh case with ``[rating]``: writes ``rating.md`` into ``out_dir``
+    and returns the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``
+    (a train file has no ``[rating]`` table yet). ``result``: the case's quasi-static result,
+    for the section's ``measured`` factors (:func:`jaxgear.face_load_factor`); they are
+    reported beside the ISO/given ones, not used in the rating."""
     rc = rating_of(case)
     if rc is None:
         return None
