@@ -200,8 +200,8 @@ def _append_column(H: np.ndarray, col: np.ndarray) -> np.ndarray:
     correction's column so that a 1.6 GB basis is not copied to add it), else a copy."""
     base = H.base
     if (
-        isinstance(base, np.ndarray)
-        and base.ndim == 2
+        base is not None
+        and np.ndim(base) == 2
         and base.flags.c_contiguous
         and base.shape[0] == H.shape[0]
         and base.shape[1] > H.shape[1]

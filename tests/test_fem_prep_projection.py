@@ -13,7 +13,6 @@ import scipy.sparse as sp
 from fem_prep import (
     CraigBampton,
     Guyan,
-    Herting,
     RotatingOperators,
     assemble_operators,
     condense,
@@ -22,7 +21,6 @@ from fem_prep import (
     parse_body,
     select_masters,
 )
-from fem_prep._condense import _append_column, _project
 
 BODY = """
 name = "projection-test"
@@ -66,14 +64,17 @@ def _rel(a, b):
     return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
 
 
-@pytest.mark.parametrize("method", [Guyan(), CraigBampton(), Herting()], ids=str)
+@pytest.mark.parametrize("method", [Guyan(), CraigBampton()], ids=str)
 def test_condensed_matrices_equal_the_plain_projection(coupled, method):
     cp, mdofs, Ks = coupled
     rot = RotatingOperators(f=cp.f, S=cp.S, G=cp.G, Ksigma=Ks)
-    c = condense(cp.K, cp.M, mdofs, method=method, n_modes=12, rotating=rot)
+    # 75 modes: with the 60 boundary DOFs and the static correction, 136 columns, more than one
+    # column block of the projection (128)
+    c = condense(cp.K, cp.M, mdofs, method=method, n_modes=75, rotating=rot)
     H = np.array(c.basis)
     nb = len(mdofs)
     assert H.shape[0] == cp.K.shape[0] and H.shape[1] == c.K.shape[0]
+    assert nb == 60 and H.shape[1] == (60 if str(method) == "guyan" else 136)
     np.testing.assert_array_equal(H[mdofs, :nb], np.eye(nb))
     assert not np.any(H[mdofs, nb:])
     ref_K = H.T @ (cp.K @ H)
@@ -88,33 +89,3 @@ def test_condensed_matrices_equal_the_plain_projection(coupled, method):
     assert _rel(c.gyroscopic, H.T @ (cp.G @ H)) < 1e-9
     np.testing.assert_array_equal(c.gyroscopic, -c.gyroscopic.T)
     np.testing.assert_allclose(c.f_centrifugal, H.T @ cp.f, rtol=1e-12, atol=0)
-
-
-def test_block_projection_of_random_matrices():
-    """``_project`` with blocks that do not divide the column count: symmetric and skew."""
-    rng = np.random.default_rng(3)
-    n, m = 200, 37
-    A = sp.random(n, n, density=0.05, random_state=4, format="csr")
-    V = rng.standard_normal((n, m))
-    sym, skew = (A + A.T).tocsr(), (A - A.T).tocsr()
-    for blk in (5, 16, 37, 64):
-        np.testing.assert_allclose(_project(sym, V, blk), V.T @ (sym @ V), rtol=1e-12, atol=1e-12)
-        got = _project(skew, V, blk, skew=True)
-        np.testing.assert_allclose(got, V.T @ (skew @ V), rtol=1e-12, atol=1e-12)
-        np.testing.assert_array_equal(got, -got.T)
-
-
-def test_append_column_fills_the_reserved_column_in_place():
-    buf = np.zeros((6, 4))
-    H = buf[:, :3]
-    H[:] = 1.0
-    col = np.arange(6.0)[:, None]
-    out = _append_column(H, col)
-    assert out.shape == (6, 4) and np.shares_memory(out, buf)
-    np.testing.assert_array_equal(out[:, 3], col[:, 0])
-    np.testing.assert_array_equal(out[:, :3], 1.0)
-    # no spare column: a copy
-    full = np.ones((6, 3))
-    out2 = _append_column(full, col)
-    assert out2.shape == (6, 4) and not np.shares_memory(out2, full)
-    np.testing.assert_array_equal(out2[:, 3], col[:, 0])
