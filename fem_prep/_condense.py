@@ -28,6 +28,7 @@ from typing import ClassVar, final
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from tqdm import tqdm
 
 from ._kinds import CondensationMethod
@@ -73,6 +74,31 @@ class RotatingOperators:
     Ksigma: sp.spmatrix | None = None
 
 
+class InteriorBlock(spla.LinearOperator):
+    """The interior block ``A[i][:, i]`` of a sparse ``A`` as an operator on the full matrix
+    (``x ↦ (A x̂)[i]``, ``x̂`` the interior vector ``x`` padded with zeros): the eigen-solve and
+    the static correction use ``K_ii`` and ``M_ii`` only through products, so no copy of the
+    blocks (each as large as ``A``) is held. ``toarray()``: the dense block (small problems)."""
+
+    def __init__(self, A: sp.csr_matrix, i: np.ndarray):
+        super().__init__(dtype=A.dtype, shape=(len(i), len(i)))
+        self._A, self._i = A, i
+
+    def _matmat(self, X: np.ndarray) -> np.ndarray:
+        full = np.zeros((self._A.shape[0],) + X.shape[1:])
+        full[self._i] = X
+        return (self._A @ full)[self._i]
+
+    def _matvec(self, x: np.ndarray) -> np.ndarray:
+        return self._matmat(np.ravel(x))
+
+    def _adjoint(self) -> InteriorBlock:
+        return self  # A symmetric
+
+    def toarray(self) -> np.ndarray:
+        return self._A[self._i][:, self._i].toarray()
+
+
 @dataclass(frozen=True)
 class Partition:
     """A structure split into boundary DOFs ``b`` and interior DOFs ``i``, with the factor of
@@ -81,7 +107,7 @@ class Partition:
     Attributes:
         K, M: CSR stiffness and mass ``(n, n)``.
         b, i: boundary and interior DOF indices.
-        Kii: ``K[i][:, i]``. Fii: its factorisation.
+        Fii: the factorisation of ``K_ii``.
         progress: show progress bars.
     """
 
@@ -89,7 +115,6 @@ class Partition:
     M: sp.csr_matrix
     b: np.ndarray
     i: np.ndarray
-    Kii: sp.csr_matrix
     Fii: CholmodFactor | SparseFactor
     progress: bool = False
 
@@ -101,10 +126,15 @@ class Partition:
     def nb(self) -> int:
         return len(self.b)
 
-    @functools.cached_property
-    def Mii(self) -> sp.csr_matrix:
-        """``M[i][:, i]``, built once."""
-        return self.M[self.i][:, self.i]
+    @property
+    def Kii(self) -> InteriorBlock:
+        """``K[i][:, i]`` as an operator (:class:`InteriorBlock`)."""
+        return InteriorBlock(self.K, self.i)
+
+    @property
+    def Mii(self) -> InteriorBlock:
+        """``M[i][:, i]`` as an operator (:class:`InteriorBlock`)."""
+        return InteriorBlock(self.M, self.i)
 
 
 @dataclass
@@ -407,16 +437,16 @@ def _condense(
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     Ki = K[i]
-    Kii = Ki[:, i]
     Kib = Ki[:, b].tocsc()
-    del Ki
     if interior_factor is None:
         with phase_bar(f"factorisation of K_ii (n = {len(i)})", progress):
-            Fii = factorize(Kii)
+            Fii = factorize(Ki[:, i])
     else:
         Fii = interior_factor
+    # the factor holds K_ii; the eigen-solve takes products (InteriorBlock): no copy kept
+    del Ki
     timings["factorisation_s"] = time.perf_counter() - t0
-    part = Partition(K, M, b, i, Kii, Fii, progress)
+    part = Partition(K, M, b, i, Fii, progress)
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks; one column more is
     # reserved for the static correction vector (appended in place, not by a copy of H)
@@ -426,7 +456,7 @@ def _condense(
     width = nb + method.n_columns(n_modes)
     H = np.zeros((n, width + int(wants_psi)))[:, :width]
     H[b, np.arange(nb)] = 1.0
-    blk = 128
+    blk = 32  # columns per solve: CHOLMOD's simplicial solve takes 4 at a time; bounded memory
     it = range(0, nb, blk)
     for c0 in tqdm(it, desc="constraint modes", disable=not progress, unit="block", leave=False):
         c1 = min(nb, c0 + blk)
@@ -442,7 +472,7 @@ def _condense(
         H, modes_hz = method.add_static_correction(part, H, modes_hz, f)
     timings["eigen_s"] = time.perf_counter() - t0
     # the factor and the interior blocks are not needed by the projections: free them first
-    del part, Fii, Kii
+    del part, Fii
 
     t0 = time.perf_counter()
     n_mat = 2 + sum(A is not None for A in (S, G, Ksigma))
