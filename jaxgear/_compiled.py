@@ -107,7 +107,7 @@ class CompiledQuasiStatic(eqx.Module):
             t = float(torque)
         except (TypeError, ValueError):
             t = math.nan
-        if math.isfinite(t) and (t != 0.0 if self._coast else t > 0.0) and jnp.ndim(torque) == 0:
+        if math.isfinite(t) and (t != 0.0 if self._coast else t > 0.0) and np.ndim(torque) == 0:
             return
         check_real(
             "torque",
@@ -132,7 +132,7 @@ class CompiledQuasiStatic(eqx.Module):
             return self._traced(x, torque)
         self._check_torque(torque)
         out, codes = self._fast(x, torque)
-        if self.throw and np.any(np.asarray(codes)):
+        if self.throw and np.asarray(codes).any():
             raise_if_failed(codes, ContactResult, _WHERE)
         return out
 
