@@ -381,6 +381,19 @@ def bench_quasi_static(
         "meets_ratio_smooth": per_curve["smooth"]["ratio"] >= 50.0,
         "per_curve_ratio_cached_jit_exact": out["cached_jit"]["exact"]["ratio"],
         "per_curve_ratio_cached_jit_smooth": out["cached_jit"]["smooth"]["ratio"],
+        "per_curve_ratio_public_compiled_exact": out["cached_jit"]["exact"][
+            "ratio_public_compiled"
+        ],
+        "meets_ratio_public_compiled_exact": out["cached_jit"]["exact"]["ratio_public_compiled"]
+        >= 50.0,
+        "public_compiled_over_compute_target": 2.0,
+        "public_compiled_over_compute_exact": out["cached_jit"]["exact"][
+            "public_compiled_over_compute"
+        ],
+        "meets_public_compiled_over_compute_exact": out["cached_jit"]["exact"][
+            "public_compiled_over_compute"
+        ]
+        <= 2.0,
         "batched_target_curves_per_s": 10000.0,
         "batched_curves_per_s": out["batched"]["best_curves_per_s"],
         "meets_batched": out["batched"]["best_curves_per_s"] >= 10000.0,
@@ -416,7 +429,7 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
     import jax
     import jax.numpy as jnp
 
-    from jaxgear import quasi_static
+    from jaxgear import compile_quasi_static, quasi_static
 
     block = jax.block_until_ready
     t = jnp.asarray(torque)
@@ -439,6 +452,27 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         many = jax.jit(lambda ts, qs=qs: jax.lax.map(lambda x: qs(mesh, mods, x).te_rms, ts))
         ts = jnp.full((64,), t)
         t_many = _min_time(lambda many=many, ts=ts: many(ts), max(3, repeats // 10), block) / 64
+        # the public entry: jaxgear.compile_quasi_static, called with (design vector, torque)
+        pub = compile_quasi_static(mesh, mods, contact=law, positions_per_pitch=P)
+        pub_te = compile_quasi_static(
+            mesh, mods, contact=law, positions_per_pitch=P, output=lambda r: r.transmission_error
+        )
+        x0 = pub.design0
+        # compute alone when the design varies (the modifications' separation is then computed
+        # in the program, not folded as a constant): 64 designs in one lax.map, per curve
+        xs = x0[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
+        many_x = jax.jit(
+            lambda xs, qs=qs, pub=pub: jax.lax.map(
+                lambda x: qs(mesh, pub.modifications(x), t).te_rms, xs
+            )
+        )
+        t_many_x = (
+            _min_time(lambda many_x=many_x, xs=xs: many_x(xs), max(3, repeats // 10), block) / 64
+        )
+        t_pub = _min_time(lambda pub=pub, x0=x0: pub(x0, torque), repeats, block)
+        t_pub_te = _min_time(lambda pub_te=pub_te, x0=x0: pub_te(x0, torque), repeats, block)
+        t_api = _min_time(lambda qs=qs: qs(mesh, mods, torque), max(3, repeats // 5), block)
+        diff_pub = _rel(pub(x0, torque).transmission_error, qs(mesh, mods, t).transmission_error)
         best = min(t_full, t_te, t_closed)
         base = per_curve[mode]["baseline_s"]
         out[mode] = {
@@ -449,6 +483,17 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
             "best_s": best,
             "ratio": base / best,
             "ratio_compute_only": base / t_many,
+            "public_quasi_static_s": t_api,
+            "public_compiled_s": t_pub,
+            "public_compiled_te_only_s": t_pub_te,
+            "compute_per_curve_design_varying_s": t_many_x,
+            "public_compiled_over_compute_design_varying": t_pub / t_many_x,
+            "public_compiled_te_only_over_compute_design_varying": t_pub_te / t_many_x,
+            "public_compiled_over_compute": t_pub / t_many,
+            "public_compiled_te_only_over_compute": t_pub_te / t_many,
+            "ratio_public_compiled": base / t_pub,
+            "ratio_public_compiled_te_only": base / t_pub_te,
+            "public_compiled_max_rel_diff_te": diff_pub,
         }
     out["dispatch_identity_same_args_s"] = t_dispatch
     out["dispatch_identity_scalar_s"] = t_dispatch1
@@ -456,7 +501,14 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         "jax.jit(functools.partial(quasi_static, contact=..., positions_per_pitch=...)) "
         "built once and called with (mesh, mods, torque); te-only: the jitted function returns "
         "the TE array only; closure: mesh and mods closed over (constants), torque the only "
-        "argument; compute per curve: 64 curves in one jitted lax.map, divided by 64"
+        "argument; compute per curve: 64 curves in one jitted lax.map, divided by 64; public "
+        "compiled: jaxgear.compile_quasi_static(mesh, mods, contact=..., positions_per_pitch=...) "
+        "built once, called as compiled(design0, torque) (the whole QuasiStaticResult, or with "
+        "output= the TE only), input checks and result codes read at each call; public "
+        "quasi_static: the plain jaxgear.quasi_static call; compute per curve, design varying: 64 "
+        "design vectors (0.9..1.1 x the case's) in one jitted lax.map, divided by 64 (the "
+        "compiled call's own reference: the other compute time has the modifications folded as "
+        "constants)"
     )
     return out
 
@@ -739,6 +791,16 @@ def _table(out) -> str:
             f"({out['cached_jit']['exact']['ratio_compute_only']:.1f}× / "
             f"{out['cached_jit']['smooth']['ratio_compute_only']:.1f}×); dispatch "
             f"{out['cached_jit']['dispatch_identity_same_args_s'] * 1e3:.3f}"
+        ),
+        (
+            f"public compiled call (compile_quasi_static), per curve (ms): exact "
+            f"{out['cached_jit']['exact']['public_compiled_s'] * 1e3:.3f} "
+            f"({out['cached_jit']['exact']['ratio_public_compiled']:.1f}× baseline, "
+            f"{out['cached_jit']['exact']['public_compiled_over_compute_design_varying']:.2f}× "
+            "compute with the design varying), TE only "
+            f"{out['cached_jit']['exact']['public_compiled_te_only_s'] * 1e3:.3f} "
+            f"({out['cached_jit']['exact']['ratio_public_compiled_te_only']:.1f}×); plain "
+            f"quasi_static {out['cached_jit']['exact']['public_quasi_static_s'] * 1e3:.3f}"
         ),
         (
             f"batched exact curves: best {out['batched']['best_curves_per_s']:.0f} curves/s "

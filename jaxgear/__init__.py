@@ -11,6 +11,10 @@ Float64 is not switched on here: the CLI, the tests and the examples do it
 from importlib.metadata import PackageNotFoundError, version as _version
 
 from ._baseplane import CellRow as CellRow, Cells as Cells, MeshModel as MeshModel
+from ._compiled import (
+    CompiledQuasiStatic as CompiledQuasiStatic,
+    compile_quasi_static as compile_quasi_static,
+)
 from ._contact import (
     AbstractContactLaw as AbstractContactLaw,
     ContactLaw as ContactLaw,

@@ -1,0 +1,218 @@
+"""A quasi-static solve compiled once for one scene: the per-curve call of an optimisation loop.
+
+:func:`quasi_static` checks its inputs, flattens the scene and the modifications and dispatches
+a cached program at every call; for one TE curve of a small pair that costs several times the
+solve itself. :func:`compile_quasi_static` does that work once: the scene, the angles, the
+contact law and the speed are compiled into the program as constants, the modifications become
+one flat design vector (the leaves of a template :class:`Modifications`, in its tree order), and
+each call passes only that vector and the torque.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jax.flatten_util import ravel_pytree
+from jaxtyping import Array, Float
+
+from ._baseplane import MeshModel, check_positions
+from ._contact import ContactLaw, ExactContact, contact_law
+from ._modifications import Modifications
+from ._quasi_static import (
+    _quasi_static,
+    check_operating,
+    per_mesh_modifications,
+)
+from ._results import ContactResult, raise_if_failed
+from ._util import check_real, is_traced
+from .scenes import Scene
+
+__all__ = ["CompiledQuasiStatic", "compile_quasi_static"]
+
+_WHERE = "compiled quasi_static"
+
+
+class CompiledQuasiStatic(eqx.Module):
+    """:func:`quasi_static` of one scene compiled once (built by :func:`compile_quasi_static`):
+    ``compiled(design, torque)`` returns what ``quasi_static(scene, modifications(design),
+    torque, ...)`` returns (or its ``output``), to round-off (the same program).
+
+    Call with:
+        design: the design vector ``(D,)`` (the template's leaves flattened, in its tree order:
+            :meth:`design_vector` builds it from a :class:`Modifications` of the template's
+            structure, :meth:`modifications` maps it back), or such a :class:`Modifications`
+            (flattened at each call: slower than passing the vector); ``None`` or a tuple of
+            one per mesh when the template was.
+        torque: pinion torque (N·m), scalar, > 0 (!= 0 with coast flanks).
+
+    A call with concrete inputs runs the compiled program and reads its result codes
+    (``throw``: ``eqx.EquinoxRuntimeError`` on a failed position); under ``jax.grad``,
+    ``jax.vmap`` or ``jax.jit`` the same solve is traced into the caller's program (errors by
+    ``eqx.error_if``), so the call is differentiable in ``design`` and ``torque``.
+
+    Attributes:
+        design0: the template's design vector ``(D,)``.
+        throw: raise on a failed position (see :func:`quasi_static`).
+    """
+
+    design0: Float[Array, " D"]
+    throw: bool = eqx.field(static=True)
+    _unravel: Callable = eqx.field(static=True)
+    _treedef: Any = eqx.field(static=True)
+    _shapes: tuple = eqx.field(static=True)
+    _fast: Callable = eqx.field(static=True)
+    _traced: Callable = eqx.field(static=True)
+    _coast: bool = eqx.field(static=True)
+
+    @property
+    def size(self) -> int:
+        """Length D of the design vector."""
+        return int(self.design0.shape[0])
+
+    def design_vector(self, modifications: Modifications) -> Float[Array, " D"]:
+        """The design vector ``(D,)`` of ``modifications``, which must have the template's
+        structure (the same relief shapes, deviations present or not, the same array shapes).
+
+        Raises:
+            ValueError: another structure or leaf shape than the template's (one line).
+        """
+        leaves, treedef = jax.tree_util.tree_flatten(modifications)
+        shapes = tuple(jnp.shape(x) for x in leaves)
+        if treedef != self._treedef or shapes != self._shapes:
+            raise ValueError(
+                f"{_WHERE}: modifications = {type(modifications).__name__} of another structure "
+                "than the template's: allowed a Modifications with the same relief shapes, "
+                "deviations and array shapes as the one given to compile_quasi_static"
+            )
+        if is_traced(leaves):
+            return ravel_pytree(modifications)[0].astype(self.design0.dtype)
+        flat = [np.ravel(np.asarray(x)) for x in leaves]
+        return jnp.asarray(np.concatenate(flat) if flat else np.zeros(0), self.design0.dtype)
+
+    def modifications(self, design: Float[Array, " D"]) -> Modifications:
+        """The :class:`Modifications` of a design vector ``(D,)`` (the inverse of
+        :meth:`design_vector`)."""
+        return self._unravel(jnp.asarray(design, self.design0.dtype))
+
+    def _check_torque(self, torque) -> None:
+        """The concrete torque, cheaply (the per-call path): a finite scalar > 0 (!= 0 with
+        coast flanks); the one-line message of :func:`~jaxgear._util.check_real` otherwise."""
+        try:
+            t = float(torque)
+        except (TypeError, ValueError):
+            t = math.nan
+        if math.isfinite(t) and (t != 0.0 if self._coast else t > 0.0) and np.ndim(torque) == 0:
+            return
+        check_real(
+            "torque",
+            torque,
+            "N·m",
+            lo=None if self._coast else 0.0,
+            lo_open=True,
+            shape=(),
+            where=_WHERE,
+        )
+        raise ValueError(f"{_WHERE}: torque = 0 N·m is out of range: allowed != 0 (coast flanks)")
+
+    def __call__(self, design, torque):
+        as_mods = design is None or isinstance(design, Modifications | tuple | list)
+        x = self.design_vector(design) if as_mods else design
+        if jnp.shape(x) != (self.size,):
+            raise ValueError(
+                f"{_WHERE}: design has shape {jnp.shape(x)}: allowed ({self.size},), the design "
+                "vector of the template modifications (CompiledQuasiStatic.design_vector)"
+            )
+        if is_traced((x, torque)):
+            return self._traced(x, torque)
+        self._check_torque(torque)
+        out, codes = self._fast(x, torque)
+        if self.throw and np.asarray(codes).any():
+            raise_if_failed(codes, ContactResult, _WHERE)
+        return out
+
+
+def compile_quasi_static(
+    scene: Scene | MeshModel,
+    modifications: Modifications | None,
+    theta: Float[Array, " P"] | None = None,
+    *,
+    speed=0.0,
+    contact: ContactLaw = ExactContact(),
+    positions_per_pitch: int = 64,
+    periods: int = 1,
+    output: Callable | None = None,
+    throw: bool = True,
+) -> CompiledQuasiStatic:
+    """Compile :func:`quasi_static` of ``scene`` once, for repeated TE curves that differ only
+    in the modifications and the torque (an optimisation loop, a user's own sweep).
+
+    The scene, ``theta``, ``speed`` and ``contact`` are compiled in as constants (a large
+    hybrid scene makes a longer compilation, once); the modifications become the design vector,
+    the leaves of ``modifications`` (the template: its relief shapes, deviations present or not
+    and array shapes are fixed, its values are the starting design ``design0``). The program is
+    compiled at the first call (JAX's persistent compilation cache applies).
+
+    Args:
+        scene: a :class:`~jaxgear.scenes.Scene` or a :class:`MeshModel` (its rigid pair).
+        modifications: the template :class:`Modifications` (``None``: perfect involutes, an
+            empty design vector), one for every mesh of the scene or a tuple of one per mesh.
+        theta, speed, contact, positions_per_pitch, periods, throw: as for
+            :func:`quasi_static` (fixed for the compiled program).
+        output: a function of the :class:`QuasiStaticResult` compiled into the program (e.g.
+            ``lambda r: r.te_rms``); ``None``: the whole result. Returning less makes a call
+            cheaper (fewer arrays out of the program).
+
+    Returns:
+        The :class:`CompiledQuasiStatic` callable ``(design, torque)``.
+
+    Raises:
+        ValueError: as :func:`quasi_static`, before any compilation: a ``scene`` that is not a
+            scene, ``modifications`` that are not :class:`Modifications`, ``theta`` not finite
+            of shape (P,), a negative speed, bad position counts, a contact that is not a
+            contact law, ``output`` not callable.
+    """
+    check_positions(positions_per_pitch, periods)
+    check_operating(_WHERE, scene, modifications, 1.0, theta, speed)
+    if output is not None and not callable(output):
+        raise ValueError(f"{_WHERE}: output = {output!r}: allowed None or a function of the result")
+    planes = scene.base_planes
+    for plane, mods in zip(planes, per_mesh_modifications(modifications, len(planes)), strict=True):
+        if mods.deviations is not None:
+            mods.deviations.check(plane)
+    dtype = planes[0].base_pitch.dtype
+    law = contact_law(contact, dtype)
+    speed = jnp.asarray(speed, dtype=dtype)
+    if theta is not None:
+        theta = jnp.asarray(theta, dtype=dtype)
+    positions = (int(positions_per_pitch), int(periods))
+    design0, unravel = ravel_pytree(modifications)
+    design0 = jnp.asarray(design0, dtype=dtype)
+    leaves, treedef = jax.tree_util.tree_flatten(modifications)
+    pick = (lambda r: r) if output is None else output
+
+    def solve(x, torque, raise_: bool, checks: bool):
+        mods = unravel(jnp.asarray(x, dtype=dtype))
+        t = jnp.asarray(torque, dtype=dtype)
+        res = _quasi_static(scene, mods, t, speed, theta, law, raise_, positions, checks)
+        return pick(res), res.result
+
+    # concrete calls: no eqx.error_if in the program, the result codes read on the host
+    fast = jax.jit(lambda x, t: solve(x, t, False, False))
+    # traced calls (grad, vmap, an outer jit): the checks ride in the caller's program
+    traced = jax.jit(lambda x, t: solve(x, t, bool(throw), True)[0])
+    return CompiledQuasiStatic(
+        design0=design0,
+        throw=bool(throw),
+        _unravel=unravel,
+        _treedef=treedef,
+        _shapes=tuple(jnp.shape(x) for x in leaves),
+        _fast=fast,
+        _traced=traced,
+        _coast=any(p.coast for p in planes),
+    )

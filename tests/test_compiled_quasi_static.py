@@ -1,0 +1,120 @@
+"""``jaxgear.compile_quasi_static``: the same curves as ``quasi_static``, differentiable, and
+one-line errors for bad input."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxgear as jg
+import jaxgear.io as jio
+
+P = 16  # positions per pitch: a short curve keeps the compilations small
+
+
+@pytest.fixture(scope="module")
+def setup():
+    c = jio.load_case("accessory-spur")
+    mesh = c.mesh_model(slices=10)
+    return mesh, c.modifications, float(c.torque)
+
+
+@pytest.fixture(scope="module")
+def compiled(setup):
+    mesh, mods, _ = setup
+    return jg.compile_quasi_static(mesh, mods, positions_per_pitch=P)
+
+
+def _rel(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def test_equals_quasi_static_for_other_designs_and_torques(setup, compiled):
+    mesh, mods, torque = setup
+    tip = jg.MemberModification(tip_relief_depth=22e-6, tip_relief_extent=0.31)
+    other = jg.Modifications(pinion=tip, gear=mods.gear)
+    for m, t in ((mods, torque), (other, 0.6 * torque)):
+        ref = jg.quasi_static(mesh, m, t, positions_per_pitch=P)
+        got = compiled(compiled.design_vector(m), t)
+        for name in ("transmission_error", "mesh_stiffness", "contact_length", "line_load"):
+            assert _rel(getattr(got, name), getattr(ref, name)) < 1e-12, name
+        # the Modifications object itself is accepted too
+        assert _rel(compiled(m, t).transmission_error, ref.transmission_error) < 1e-12
+    # design_vector and modifications are inverse maps
+    x = compiled.design_vector(other)
+    np.testing.assert_array_equal(compiled.design_vector(compiled.modifications(x)), x)
+    np.testing.assert_array_equal(compiled.design_vector(mods), compiled.design0)
+
+
+@pytest.fixture(scope="module")
+def coarse_rms(setup):
+    """TE RMS of a coarse curve (8 positions): the derivative programs are the largest
+    compilations here."""
+    mesh, mods, _ = setup
+    return jg.compile_quasi_static(mesh, mods, positions_per_pitch=8, output=lambda r: r.te_rms)
+
+
+def _central(f, x0, torque, k, rel=1e-6):
+    """Central differences of ``f`` in design entry ``k`` (``k = None``: the torque)."""
+    if k is None:
+        h = rel * torque
+        return (f(x0, torque + h) - f(x0, torque - h)) / (2 * h)
+    h = rel * max(abs(float(x0[k])), 1e-6)
+    e = jnp.zeros_like(x0).at[k].set(h)
+    return (f(x0 + e, torque) - f(x0 - e, torque)) / (2 * h)
+
+
+def test_forward_derivative_matches_finite_differences(setup, coarse_rms):
+    """Forward mode (``jax.jvp``) through the compiled solve, in a design direction and in the
+    torque, against central differences of the compiled call."""
+    _, _, torque = setup
+    f, x0 = coarse_rms, coarse_rms.design0
+    k = 0  # the pinion's tip-relief depth: the TE RMS depends on it
+    v = jnp.zeros_like(x0).at[k].set(1.0)
+    _, dx = jax.jvp(f, (x0, jnp.asarray(torque)), (v, jnp.asarray(0.0)))
+    _, dt = jax.jvp(f, (x0, jnp.asarray(torque)), (jnp.zeros_like(x0), jnp.asarray(1.0)))
+    fd_x, fd_t = _central(f, x0, torque, k), _central(f, x0, torque, None, 1e-4)
+    assert abs(float(fd_x)) > 0 and abs(float(dx) - float(fd_x)) < 1e-5 * abs(float(fd_x))
+    assert abs(float(dt) - float(fd_t)) < 1e-5 * abs(float(fd_t))
+
+
+@pytest.mark.slow
+def test_gradient_matches_finite_differences(setup, coarse_rms):
+    """Reverse mode (``jax.grad``, what an optimiser calls; a 6 s compilation: the forward
+    test above checks the same derivatives fast) against central differences."""
+    _, _, torque = setup
+    f, x0 = coarse_rms, coarse_rms.design0
+    gx, gt = jax.grad(f, argnums=(0, 1))(x0, jnp.asarray(torque))
+    k = int(np.argmax(np.abs(np.asarray(gx))))  # the most sensitive design entry
+    fd_x, fd_t = _central(f, x0, torque, k), _central(f, x0, torque, None, 1e-4)
+    assert abs(float(gx[k]) - float(fd_x)) < 1e-5 * abs(float(fd_x))
+    assert abs(float(gt) - float(fd_t)) < 1e-5 * abs(float(fd_t))
+
+
+def test_output_and_vmap(setup):
+    mesh, mods, torque = setup
+    f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=P, output=lambda r: r.te_rms)
+    ts = jnp.asarray([0.5, 1.0, 1.5]) * torque
+    batch = jax.vmap(lambda t: f(f.design0, t))(ts)
+    for t, got in zip(ts, batch, strict=True):
+        ref = jg.quasi_static(mesh, mods, float(t), positions_per_pitch=P).te_rms
+        assert abs(float(got) - float(ref)) < 1e-12 * float(ref)
+
+
+def test_bad_input_is_refused_in_one_line(setup, compiled):
+    mesh, mods, torque = setup
+    with pytest.raises(ValueError, match=r"torque = -3.*allowed > 0"):
+        compiled(compiled.design0, -3.0)
+    with pytest.raises(ValueError, match=r"torque = nan"):
+        compiled(compiled.design0, float("nan"))
+    with pytest.raises(ValueError, match=rf"design has shape \(3,\): allowed \({compiled.size},\)"):
+        compiled(jnp.zeros(3), torque)
+    with pytest.raises(ValueError, match="another structure than the template"):
+        compiled((mods,), torque)  # a tuple of one per mesh: not the template's structure
+    with pytest.raises(ValueError, match="output = 3"):
+        jg.compile_quasi_static(mesh, mods, output=3)
+    with pytest.raises(ValueError, match="scene"):
+        jg.compile_quasi_static("mesh", mods)
+    with pytest.raises(ValueError, match="positions_per_pitch"):
+        jg.compile_quasi_static(mesh, mods, positions_per_pitch=0)
