@@ -41,7 +41,10 @@ def traced():
 
 def _first_then_none(call, first_args, new_args):
     """Run ``call`` on each of ``first_args`` (it must trace something, or the listener is
-    deaf), then on each of ``new_args``: returns the names traced by the second group."""
+    deaf), then on each of ``new_args``: returns the names traced by the second group. JAX's
+    in-memory caches are cleared first, so that programs an earlier test of this worker traced
+    for the same shapes do not answer the first calls."""
+    jax.clear_caches()
     with traced() as first:
         for a in first_args:
             call(*a)

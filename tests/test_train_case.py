@@ -557,7 +557,7 @@ def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["span_periods"] == 4
-    assert len((out / "te.csv").read_text().splitlines()) == 1 + 4 * 8
+    assert len((out / "te.csv").read_text().splitlines()) == 1 + 4 * PPP
     shafts = {g["name"]: g["shaft"] for g in summary["gears"]}
     assert shafts["pinion-2"] == shafts["wheel-1"] == "wheel-1"
     assert summary["operating"]["output_torque_Nm"] == pytest.approx(120.0 * 40 / 20 * 45 / 30)
