@@ -33,36 +33,12 @@ import math
 
 import jax.numpy as jnp
 
-from ._geometry import GearPair, Member, inverse_involute, involute
+from ._geometry import _REAL_FIELDS, _UNITS, GearPair, Member, inverse_involute, involute
 from ._pressure import relative_radius
 from ._stiffness import iso6336_virtual_teeth
 from ._util import check_instance, check_integer, check_real
 
 __all__ = ["InternalGearPair", "PlanetaryGeometry", "planetary_geometry"]
-
-#: the real-valued fields of :class:`~jaxgear.Member` checked finite (as :class:`GearPair`)
-_REAL_FIELDS = (
-    "profile_shift",
-    "addendum_coeff",
-    "dedendum_coeff",
-    "face_width",
-    "fillet_radius_coeff",
-    "bore_radius",
-    "web_thickness",
-    "rim_thickness",
-    "tooth_thickness_allowance",
-)
-_UNITS = {
-    "face_width": "m",
-    "bore_radius": "m",
-    "web_thickness": "m",
-    "rim_thickness": "m",
-    "tooth_thickness_allowance": "m",
-    "normal_module": "m",
-    "normal_pressure_angle": "rad",
-    "helix_angle": "rad",
-    "center_distance": "m",
-}
 
 
 def _require(name: str, value, ok: bool, allowed: str) -> None:
