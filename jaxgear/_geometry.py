@@ -118,6 +118,34 @@ def _require(name: str, value: float, ok: bool, allowed: str) -> None:
         raise ValueError(f"{name} = {value!r} is out of range: allowed {allowed}")
 
 
+def check_member_ranges(tag: str, m: Member, mn: float, require=_require) -> None:
+    """The range checks of one :class:`Member`'s fields but its tooth count (face width,
+    addendum, dedendum, fillet radius, profile shift, web and rim, tooth-thickness allowance
+    against the normal module ``mn``, m), shared by :class:`GearPair` and
+    :class:`~jaxgear.InternalGearPair`; ``require(name, value, ok, allowed)`` raises the pair's
+    one-line ``ValueError``."""
+    require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
+    require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
+    require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
+    require(
+        f"{tag}.fillet_radius_coeff",
+        m.fillet_radius_coeff,
+        0 <= m.fillet_radius_coeff < m.dedendum_coeff,
+        "[0, dedendum_coeff)",
+    )
+    require(f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)")
+    for name in ("web_thickness", "rim_thickness"):
+        v = getattr(m, name)
+        require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
+    A = m.tooth_thickness_allowance
+    require(
+        f"{tag}.tooth_thickness_allowance",
+        A,
+        math.isfinite(A) and -0.25 * mn <= A <= 0.25 * mn,
+        f"[{-0.25 * mn:.6g}, {0.25 * mn:.6g}] m (a quarter of the normal module)",
+    )
+
+
 @dataclasses.dataclass(frozen=True)
 class GearPair:
     """External involute spur or helical gear pair; member 1 (pinion) drives.
@@ -187,28 +215,7 @@ class GearPair:
             _require(
                 f"{tag}.teeth", m.teeth, int(m.teeth) == m.teeth and m.teeth >= 5, "an integer >= 5"
             )
-            _require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
-            _require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
-            _require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
-            _require(
-                f"{tag}.fillet_radius_coeff",
-                m.fillet_radius_coeff,
-                0 <= m.fillet_radius_coeff < m.dedendum_coeff,
-                "[0, dedendum_coeff)",
-            )
-            _require(
-                f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)"
-            )
-            for name in ("web_thickness", "rim_thickness"):
-                v = getattr(m, name)
-                _require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
-            A = m.tooth_thickness_allowance
-            _require(
-                f"{tag}.tooth_thickness_allowance",
-                A,
-                math.isfinite(A) and -0.25 * mn <= A <= 0.25 * mn,
-                f"[{-0.25 * mn:.6g}, {0.25 * mn:.6g}] m (a quarter of the normal module)",
-            )
+            check_member_ranges(tag, m, mn, _require)
         z1, z2 = self.pinion.teeth, self.gear.teeth
         x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
         mt = mn / math.cos(beta)

@@ -33,7 +33,15 @@ import math
 
 import jax.numpy as jnp
 
-from ._geometry import _REAL_FIELDS, _UNITS, GearPair, Member, inverse_involute, involute
+from ._geometry import (
+    _REAL_FIELDS,
+    _UNITS,
+    GearPair,
+    Member,
+    check_member_ranges,
+    inverse_involute,
+    involute,
+)
 from ._pressure import relative_radius
 from ._stiffness import iso6336_virtual_teeth
 from ._util import check_instance, check_integer, check_real
@@ -169,28 +177,7 @@ class InternalGearPair:
         _require("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg")
         members = (self.pinion, self.gear)
         for tag, m in zip(("pinion", "gear"), members):
-            _require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
-            _require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
-            _require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
-            _require(
-                f"{tag}.fillet_radius_coeff",
-                m.fillet_radius_coeff,
-                0 <= m.fillet_radius_coeff < m.dedendum_coeff,
-                "[0, dedendum_coeff)",
-            )
-            _require(
-                f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)"
-            )
-            for name in ("web_thickness", "rim_thickness"):
-                v = getattr(m, name)
-                _require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
-            A = m.tooth_thickness_allowance
-            _require(
-                f"{tag}.tooth_thickness_allowance",
-                A,
-                -0.25 * mn <= A <= 0.25 * mn,
-                f"[{-0.25 * mn:.6g}, {0.25 * mn:.6g}] m (a quarter of the normal module)",
-            )
+            check_member_ranges(tag, m, mn, _require)
         _require(
             "gear.bore_radius",
             self.gear.bore_radius,
