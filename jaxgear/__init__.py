@@ -77,6 +77,14 @@ from ._planetary_analysis import (
     phasing_excites as phasing_excites,
     planetary_modes as planetary_modes,
 )
+from ._planetary_mesh import (
+    AbstractPlanetaryMeshes as AbstractPlanetaryMeshes,
+    ConstantMeshes as ConstantMeshes,
+    ContactMeshes as ContactMeshes,
+    PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    planetary_quasi_static as planetary_quasi_static,
+    sun_ring_offset as sun_ring_offset,
+)
 from ._pressure import (
     ContactPressure as ContactPressure,
     contact_modulus as contact_modulus,

@@ -81,6 +81,14 @@ from ._newmark import (
     StepCells as StepCells,
     newmark as newmark,
 )
+from ._planetary_dynamics import (
+    PlanetaryDynamics as PlanetaryDynamics,
+    PlanetaryRun as PlanetaryRun,
+    order_spectrum as order_spectrum,
+    planetary_dynamics as planetary_dynamics,
+    planetary_speed_sweep as planetary_speed_sweep,
+    ring_transducer_signal as ring_transducer_signal,
+)
 from ._result import (
     DynamicResponse as DynamicResponse,
     DynamicResult as DynamicResult,

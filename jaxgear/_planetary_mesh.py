@@ -1,0 +1,397 @@
+"""The 2N meshes of a planetary stage as contact cells, phased per planet, and the quasi-static
+solve of the stage over the carrier turn with the cells' unilateral contact (docs/planetary.md,
+"Meshes from real contact").
+
+Each sun–planet mesh is a :class:`~jaxgear.GearPair` (the sun drives) and each planet–ring mesh
+an :class:`~jaxgear.InternalGearPair` (the planet drives, in the carrier frame), laid out in the
+base plane by :meth:`jaxgear.MeshModel.from_pair` with jaxgear's stiffness model and the case's
+modifications. The stage's meshes advance together: with the sun turning counter-clockwise
+relative to the carrier by phi, every mesh's contact lines travel ``x = r_bs phi`` (m) along its
+line of action (the ring's, turning the other way, as fast: r_bp phi_p = r_bs phi). At the mesh
+travel x, planet n's sun mesh has its contact lines at ``s = x - gamma_sn p_b`` and its ring mesh
+at ``s = x + Delta_rs - gamma_rn p_b`` (mod p_b; s from each pair's engagement point, as
+:meth:`~jaxgear.MeshModel.cells`), gamma_sn, gamma_rn from :func:`~jaxgear.mesh_phases` (Parker &
+Lin 2004), and Delta_rs the sun–ring offset within a planet (:func:`sun_ring_offset`).
+
+A cell's approach is the transverse mesh deflection of Lin & Parker's model times cos beta_b
+(the normal approach of a slice; the planar model keeps the transverse plane only), so the
+model's ``mesh_deflection_rows`` are the cells' structure vectors.
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._baseplane import CellRow, MeshModel
+from ._contact import AbstractContactLaw, ExactContact, solve_contact
+from ._internal import PlanetaryGeometry
+from ._modifications import Modifications
+from ._planetary import AbstractPlanetaryModel, PlanetaryStage, check_assembly
+from ._planetary_analysis import mesh_phases
+from ._quasi_static import separation
+from ._stiffness_models import AbstractStiffness, stiffness_table
+from ._util import as_float, check_instance, check_integer, check_real
+
+__all__ = [
+    "AbstractPlanetaryMeshes",
+    "ConstantMeshes",
+    "ContactMeshes",
+    "PlanetaryQuasiStatic",
+    "planetary_quasi_static",
+    "structure_stiffness",
+    "sun_ring_offset",
+]
+
+
+def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
+    """Delta_rs (m, in [0, p_b)): how far planet 1's ring mesh runs ahead of its sun mesh, as a
+    travel along the line of action (divide by p_b for Parker & Lin's sun–ring phase gamma_rs).
+
+    Derivation (docs/planetary.md, "The sun–ring phase within a planet"): in the planet's frame
+    (x outward from the carrier centre) the sun mesh's line of action touches the planet's base
+    circle at the angle pi - a_s, the ring mesh's at a_r; the sun loads the planet's flanks that
+    face counter-clockwise (base points at c_j + psi_b), the ring those facing clockwise
+    (c_j - psi_b), psi_b = s_bp / (2 r_bp) the half base thickness. Measured from each pair's
+    engagement point (jaxgear's s), the contact lines are at
+    ``s_s = a sin a_s - rho_As - r_bp (c + psi_b + phi_p - pi + a_s)`` and
+    ``s_r = r_bp (a_r - c + psi_b - phi_p) - rho_Ar`` (mod p_b), rho_A the pinions' start rolls,
+    so that
+
+        Delta_rs = s_r - s_s = s_bp - pi r_bp + r_bp (a_s + a_r) + rho_As - rho_Ar - a sin a_s
+
+    (mod p_b), whatever the planet's angle: the planet's tooth count enters through pi r_bp =
+    z_p p_b / 2 (half a pitch for an odd count), its thickness through s_bp.
+
+    Args:
+        geometry: the stage's two pairs (:func:`~jaxgear.planetary_geometry`).
+
+    Returns:
+        Delta_rs (m), a float in [0, p_b).
+    """
+    check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
+                   "sun_ring_offset")
+    sp, pr = geometry.sun_planet, geometry.planet_ring
+    r_bp = float(pr.base_radii[0])
+    p_b = float(pr.base_pitch)
+    s_bp = float(sp.base_thickness[1])
+    a_s, a_r = float(sp.operating_pressure_angle), float(pr.operating_pressure_angle)
+    delta = (
+        s_bp
+        - math.pi * r_bp
+        + r_bp * (a_s + a_r)
+        + float(sp.start_roll)
+        - float(pr.start_roll)
+        - float(geometry.center_distance) * math.sin(a_s)
+    )
+    return float(np.mod(delta, p_b))
+
+
+def structure_stiffness(model: AbstractPlanetaryModel, stage: PlanetaryStage):
+    """K_b (N/m, (n_dof, n_dof)): the model's stiffness without the meshes (bearings, pins,
+    torsional supports); the meshes come from the cells."""
+    zero = jnp.zeros((), dtype=stage.planet_angles.dtype)
+    bare = eqx.tree_at(
+        lambda s: (s.sun_mesh_stiffness, s.ring_mesh_stiffness), stage, (zero, zero)
+    )
+    return model.stiffness_matrix(bare)
+
+
+class AbstractPlanetaryMeshes(eqx.Module):
+    """How the 2N meshes of a stage are represented: contact cells at each mesh travel x (m).
+
+    The cells are ordered mesh after mesh: the N sun–planet meshes (planets 1..N), then the N
+    ring–planet meshes.
+    """
+
+    @abc.abstractmethod
+    def cell_row(self, model, stage, x, offsets) -> CellRow:
+        """The cells of the 2N meshes at the mesh travel ``x`` (m) on all coordinates: structure
+        vectors (c, n_dof), stiffness per length, length, delta0 and mask (c,). ``offsets``:
+        (d_s, d_r), each (n_planets,): transverse mesh-deflection offsets (m) that the pin
+        errors add (compression positive)."""
+
+    @abc.abstractmethod
+    def mesh_period(self) -> Float[Array, ""]:
+        """p_b (m): the mesh travel of one mesh period."""
+
+    @abc.abstractmethod
+    def mesh_forces(self, forces) -> Float[Array, "... 2n"]:
+        """Transverse mesh forces (N, compression positive), (..., 2N), from the cell forces
+        ``forces`` (N, (..., c)): sun meshes then ring meshes (the cells' normal forces times
+        cos beta_b)."""
+
+    def positions(self, per_period: int, periods: int = 1) -> Float[Array, " p"]:
+        """Mesh travels x (m) at the mid-points of ``per_period`` equal steps per mesh period,
+        over ``periods`` periods."""
+        check_integer("per_period", per_period, 1)
+        check_integer("periods", periods, 1)
+        p_b = self.mesh_period()
+        k = jnp.arange(per_period * periods, dtype=jnp.result_type(p_b)) + 0.5
+        return k * p_b / per_period
+
+
+class ConstantMeshes(AbstractPlanetaryMeshes):
+    """The stage's own constant mesh stiffnesses as one unilateral spring per mesh (the lumped
+    form of Lin & Parker 1999): with every mesh loaded, :func:`planetary_quasi_static` is
+    :func:`~jaxgear.load_sharing` at every position.
+
+    Attributes:
+        base_pitch: p_b (m), the mesh travel of one period (it sets only the time scale of the
+            dynamics).
+    """
+
+    base_pitch: Float[Array, ""] = eqx.field(converter=as_float, default=0.01)
+
+    def __check_init__(self):
+        check_real("base_pitch", self.base_pitch, "m", lo=0.0, lo_open=True, shape=(),
+                   where="ConstantMeshes")
+
+    def cell_row(self, model, stage, x, offsets):
+        v_s, v_r = model.mesh_deflection_rows(stage)
+        k_s, k_r = stage.mesh_stiffnesses()
+        d_s, d_r = offsets
+        V = jnp.concatenate([v_s, v_r])
+        k = jnp.concatenate([k_s, k_r])
+        return CellRow(None, V, k, jnp.ones_like(k), -jnp.concatenate([d_s, d_r]),
+                       jnp.ones(k.shape, bool))
+
+    def mesh_period(self):
+        return self.base_pitch
+
+    def mesh_forces(self, forces):
+        return forces
+
+
+class ContactMeshes(AbstractPlanetaryMeshes):
+    """The 2N meshes from real contact: the sun–planet pair's and the planet–ring pair's cells
+    (:class:`~jaxgear.MeshModel`), with their modifications, phased per planet.
+
+    Build with :meth:`from_geometry`.
+
+    Attributes:
+        sun_mesh: the sun–planet mesh (pinion: the sun). ring_mesh: the planet–ring mesh
+            (pinion: the planet). Both must have the same base pitch.
+        sun_modifications, ring_modifications: their flank modifications (no per-tooth
+            deviations: the planets' tooth indices are not tracked).
+        sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
+            (:func:`~jaxgear.mesh_phases`).
+        ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
+    """
+
+    sun_mesh: MeshModel
+    ring_mesh: MeshModel
+    sun_modifications: Modifications
+    ring_modifications: Modifications
+    sun_phases: Float[Array, " n_planets"] = eqx.field(converter=as_float)
+    ring_phases: Float[Array, " n_planets"] = eqx.field(converter=as_float)
+    ring_offset: Float[Array, ""] = eqx.field(converter=as_float)
+
+    def __check_init__(self):
+        for name in ("sun_mesh", "ring_mesh"):
+            check_instance(name, getattr(self, name), MeshModel, "a jaxgear.MeshModel",
+                           "ContactMeshes")
+        for name in ("sun_modifications", "ring_modifications"):
+            mods = getattr(self, name)
+            check_instance(name, mods, Modifications, "a jaxgear.Modifications", "ContactMeshes")
+            if mods.deviations is not None:
+                raise ValueError(
+                    f"ContactMeshes: {name}.deviations is set: per-tooth deviations are not "
+                    "modelled in a planetary stage (allowed None)"
+                )
+        if self.sun_mesh.coast or self.ring_mesh.coast:
+            raise ValueError("ContactMeshes: coast flanks are not modelled (allowed coast=False)")
+
+    @classmethod
+    def from_geometry(
+        cls,
+        geometry: PlanetaryGeometry,
+        planet_angles,
+        stiffness: AbstractStiffness,
+        n_slices: int = 1,
+        modifications: tuple[Modifications, Modifications] | None = None,
+        **table,
+    ) -> ContactMeshes:
+        """The meshes of the stage ``geometry`` with planets at ``planet_angles`` (rad,
+        (n_planets,), assembly checked), each mesh's stiffness table from ``stiffness``
+        (:func:`~jaxgear.stiffness_table`, ``table``: its keywords), ``n_slices`` slices per
+        contact line, ``modifications`` (sun pair's, ring pair's; None: none).
+
+        Raises:
+            ValueError: planets that cannot be assembled, a bad stiffness model for internal
+                teeth, or the pairs' base pitches different (one line each).
+        """
+        check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
+                       "ContactMeshes.from_geometry")
+        sp, pr = geometry.sun_planet, geometry.planet_ring
+        z_s, z_r = int(sp.pinion.teeth), -int(pr.gear.teeth)
+        psi = np.asarray(planet_angles, dtype=float)
+        check_assembly(z_s, z_r, psi)
+        if not math.isclose(float(sp.base_pitch), float(pr.base_pitch), rel_tol=1e-9):
+            raise ValueError(
+                f"ContactMeshes: the base pitches differ ({float(sp.base_pitch)!r} m, "
+                f"{float(pr.base_pitch)!r} m): allowed one module and pressure angle"
+            )
+        mods = (Modifications(), Modifications()) if modifications is None else modifications
+        meshes = []
+        for pair in (sp, pr):
+            s, k = stiffness_table(pair, stiffness, **table)
+            meshes.append(MeshModel.from_pair(pair, s, k, n_slices))
+        g_s, g_r = mesh_phases(z_s, z_r, psi)
+        return cls(meshes[0], meshes[1], mods[0], mods[1], g_s, g_r, sun_ring_offset(geometry))
+
+    def mesh_period(self):
+        return self.sun_mesh.base_pitch
+
+    def mesh_forces(self, forces):
+        c_s = self.sun_mesh.n_lines * self.sun_mesh.n_slices
+        c_r = self.ring_mesh.n_lines * self.ring_mesh.n_slices
+        n = self.sun_phases.shape[0]
+        lead = forces.shape[:-1]
+        f_s = forces[..., : n * c_s].reshape(lead + (n, c_s)).sum(-1)
+        f_r = forces[..., n * c_s :].reshape(lead + (n, c_r)).sum(-1)
+        return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
+
+    def cell_row(self, model, stage, x, offsets):
+        p_b = self.sun_mesh.base_pitch
+        t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
+        t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
+        v_s, v_r = model.mesh_deflection_rows(stage)
+        d_s, d_r = offsets
+        parts = []
+        for mesh, mods, theta, v, d in (
+            (self.sun_mesh, self.sun_modifications, t_s, v_s, d_s),
+            (self.ring_mesh, self.ring_modifications, t_r, v_r, d_r),
+        ):
+            cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
+                theta
+            )
+            cb = jnp.cos(mesh.base_helix_angle)
+            shape = cells.s.shape  # (n_planets, n_lines, n_slices)
+            V = jnp.broadcast_to((cb * v)[:, None, None, :], shape + (v.shape[-1],))
+            d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
+            parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
+                          cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
+        return CellRow(None, *(jnp.concatenate(f) for f in zip(*parts, strict=True)))
+
+
+class PlanetaryQuasiStatic(eqx.Module):
+    """The stage's quasi-static state at each mesh position (unilateral contact of the cells).
+
+    Attributes:
+        travel: mesh travel x (m), (p,): the sun's rotation relative to the carrier times r_bs.
+        displacement: coordinates (m), (p, n_dof).
+        sun_mesh_forces, ring_mesh_forces: transverse force on each planet's meshes (N,
+            compression positive), (p, n_planets).
+        sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
+            compression positive, the pin errors' offsets d included), (p, n_planets).
+        k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
+            loaded planet's sun-mesh force over their mean, (p,).
+        result: the contact solver's code at each position (0: converged), (p,).
+    """
+
+    travel: Float[Array, " p"]
+    displacement: Float[Array, "p n_dof"]
+    sun_mesh_forces: Float[Array, "p n"]
+    ring_mesh_forces: Float[Array, "p n"]
+    sun_te: Float[Array, "p n"]
+    ring_te: Float[Array, "p n"]
+    k_gamma: Float[Array, " p"]
+    result: Array
+
+    @property
+    def k_gamma_max(self) -> Float[Array, ""]:
+        """K_gamma over the positions: the largest."""
+        return jnp.max(self.k_gamma)
+
+
+def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str):
+    """(f, d_s, d_r) of :meth:`~jaxgear.AbstractPlanetaryModel.pin_error_terms` after the
+    shape checks (one-line errors naming the argument)."""
+    n = stage.n_planets
+    for name, value in (("tangential_pin_errors", tangential_pin_errors),
+                        ("radial_pin_errors", radial_pin_errors)):
+        check_real(name, value, "m", where=where)
+        if jnp.size(value) not in (1, n) or jnp.ndim(value) > 1:
+            raise ValueError(f"{where}: {name} must have shape () or ({n},), got "
+                             f"{jnp.shape(value)}")
+    e = jnp.broadcast_to(as_float(tangential_pin_errors), (n,))
+    eps = jnp.broadcast_to(as_float(radial_pin_errors), (n,))
+    return model.pin_error_terms(stage, e, eps)
+
+
+def sun_load(model, stage, sun_torque, f_err):
+    """The load vector (N): the pin errors' ``f_err`` plus the sun torque (N m, positive
+    counter-clockwise) on u_s."""
+    i = model.dof_names(stage).index("u_s")
+    return f_err.at[i].add(as_float(sun_torque) / stage.sun.base_radius)
+
+
+@eqx.filter_jit
+def planetary_quasi_static(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    sun_torque: Float[Array, ""],
+    positions: Float[Array, " p"],
+    tangential_pin_errors: Float[Array, "*n"] | float = 0.0,
+    radial_pin_errors: Float[Array, "*n"] | float = 0.0,
+    law: AbstractContactLaw = ExactContact(),
+) -> PlanetaryQuasiStatic:
+    """The stage's quasi-static state at each mesh travel: ``K_b q + V^T P = f`` with the
+    unilateral contact of the 2N meshes' cells (a mesh may lose contact), K_b the bearings,
+    pins and supports (:func:`structure_stiffness`), f the sun torque and the pin errors' load.
+
+    Args:
+        model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
+            :class:`~jaxgear.TorsionalPlanetary`).
+        stage: the stage (its mesh stiffnesses are used only by :class:`ConstantMeshes`); the
+            ring or the carrier must be held in rotation (else K_b + meshes is singular).
+        meshes: :class:`ContactMeshes` (real pairs) or :class:`ConstantMeshes`.
+        sun_torque: torque on the sun (N m), positive counter-clockwise (it loads the drive
+            flanks of the sun meshes).
+        positions: mesh travels x (m), (p,) (``meshes.positions(per_period, periods)``; over a
+            hunting period: as many mesh periods as it holds).
+        tangential_pin_errors, radial_pin_errors: planet-pin position errors (m), () or
+            (n_planets,), as :func:`~jaxgear.load_sharing`.
+        law: the contact law.
+
+    Returns:
+        :class:`PlanetaryQuasiStatic`.
+
+    Raises:
+        ValueError: pin errors of the wrong shape (one line).
+    """
+    check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
+                   "planetary_quasi_static")
+    f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
+                                "planetary_quasi_static")
+    f = sun_load(model, stage, sun_torque, f_err)
+    k_b = structure_stiffness(model, stage)
+    v_s, v_r = model.mesh_deflection_rows(stage)
+    n = stage.n_planets
+
+    def one(x):
+        row = meshes.cell_row(model, stage, x, (d_s, d_r))
+        sol = solve_contact(k_b, f, row.V, row.k, row.length, row.delta0, row.mask, law)
+        forces = meshes.mesh_forces(sol.force_density * row.length)
+        return sol.x, forces, sol.result
+
+    q, forces, result = jax.vmap(one)(as_float(positions))
+    f_s, f_r = forces[:, :n], forces[:, n:]
+    return PlanetaryQuasiStatic(
+        travel=as_float(positions),
+        displacement=q,
+        sun_mesh_forces=f_s,
+        ring_mesh_forces=f_r,
+        sun_te=q @ v_s.T + d_s,
+        ring_te=q @ v_r.T + d_r,
+        k_gamma=jnp.max(f_s, axis=-1) / jnp.mean(f_s, axis=-1),
+        result=result,
+    )

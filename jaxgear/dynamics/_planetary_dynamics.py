@@ -1,0 +1,284 @@
+"""Dynamics of a planetary stage in the carrier frame, every mesh at once (docs/planetary.md,
+"Dynamics in the carrier frame"): the one Newmark engine (:func:`jaxgear.dynamics.newmark`) on
+
+    M q'' + (C + Omega G) q' + (K_b - Omega^2 K_Omega) q + V^T P(V q - delta0) = f,
+
+the 2N meshes' contact cells P (:class:`~jaxgear.ContactMeshes`: time-varying stiffness, loss
+of contact; or :class:`~jaxgear.ConstantMeshes`) at the mesh travel x = v t, the Coriolis and
+centripetal terms at the carrier speed Omega; the dynamic factor and dynamic load sharing per
+mesh; a speed sweep (``jax.vmap`` over the carrier speeds); the signal of a transducer fixed on
+the ring (the planet-pass modulation, McFadden & Smith 1985) and its order spectrum.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from .._contact import AbstractContactLaw, ExactContact, solve_contact
+from .._planetary import AbstractPlanetaryModel, PlanetaryStage
+from .._planetary_mesh import (
+    AbstractPlanetaryMeshes,
+    pin_terms,
+    structure_stiffness,
+    sun_load,
+)
+from .._util import as_float, check_instance, check_integer, check_real
+from ._newmark import LinearSystem, StepCells, newmark
+
+__all__ = [
+    "PlanetaryDynamics",
+    "PlanetaryRun",
+    "order_spectrum",
+    "planetary_dynamics",
+    "planetary_speed_sweep",
+    "ring_transducer_signal",
+]
+
+
+class PlanetaryRun(eqx.Module):
+    """How a planetary run is integrated and what it loads.
+
+    Attributes:
+        sun_torque: torque on the sun (N m), positive counter-clockwise.
+        steps_per_period: Newmark steps per mesh period (static, >= 8).
+        periods: mesh periods integrated (static, >= 1).
+        keep_periods: the last mesh periods recorded (static, 1..periods).
+        damping_ratio: modal damping ratio (-) on the modes of (M, K_b + mean mesh stiffness):
+            C = M Phi diag(2 zeta omega) Phi^T M (seed (2.35)).
+        tangential_pin_errors, radial_pin_errors: planet-pin errors (m), () or (n_planets,), as
+            :func:`~jaxgear.load_sharing`.
+
+    Raises:
+        ValueError: a count or ratio out of range (one line).
+    """
+
+    sun_torque: Float[Array, ""] = eqx.field(converter=as_float)
+    steps_per_period: int = eqx.field(static=True, default=64)
+    periods: int = eqx.field(static=True, default=40)
+    keep_periods: int = eqx.field(static=True, default=4)
+    damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
+    tangential_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
+    radial_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
+
+    def __check_init__(self):
+        check_integer("steps_per_period", self.steps_per_period, 8)
+        check_integer("periods", self.periods, 1)
+        check_integer("keep_periods", self.keep_periods, 1)
+        if self.keep_periods > self.periods:
+            raise ValueError(
+                f"PlanetaryRun: keep_periods = {self.keep_periods} is out of range: allowed "
+                f"1..periods = {self.periods}"
+            )
+        check_real("damping_ratio", self.damping_ratio, lo=0.0, hi=1.0, shape=(),
+                   where="PlanetaryRun")
+
+
+class PlanetaryDynamics(eqx.Module):
+    """The recorded steady state of a planetary run (the last ``keep_periods`` mesh periods).
+
+    Attributes:
+        time: time (s) of each recorded step, (t,).
+        travel: mesh travel x (m), (t,).
+        displacement: coordinates (m), (t, n_dof).
+        sun_mesh_forces, ring_mesh_forces: transverse mesh forces (N, compression positive),
+            (t, n_planets).
+        static_force: the nominal transverse mesh force T_s / (N r_bs) (N), ().
+        result: the run's result code (0: successful; a
+            :class:`~jaxgear.DynamicsResult`), ().
+    """
+
+    time: Float[Array, " t"]
+    travel: Float[Array, " t"]
+    displacement: Float[Array, "t n_dof"]
+    sun_mesh_forces: Float[Array, "t n"]
+    ring_mesh_forces: Float[Array, "t n"]
+    static_force: Float[Array, ""]
+    result: Array
+
+    @property
+    def dynamic_factors(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
+        """(sun meshes', ring meshes') dynamic factors: each mesh's largest force over the
+        nominal one T_s / (N r_bs), each (n_planets,)."""
+        return (
+            jnp.max(self.sun_mesh_forces, axis=-2) / self.static_force,
+            jnp.max(self.ring_mesh_forces, axis=-2) / self.static_force,
+        )
+
+    @property
+    def k_gamma(self) -> Float[Array, ""]:
+        """Dynamic load sharing: the largest over the recorded steps of the most loaded planet's
+        sun-mesh force over the planets' mean."""
+        f = self.sun_mesh_forces
+        return jnp.max(jnp.max(f, axis=-1) / jnp.mean(f, axis=-1))
+
+
+def _modal_damping(M, K, ratio):
+    low = jnp.linalg.cholesky(M)
+    a = jnp.linalg.solve(low, jnp.linalg.solve(low, K).T)
+    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
+    phi = jnp.linalg.solve(low.T, vec)  # mass-normalised
+    mp = M @ phi
+    omega = jnp.sqrt(jnp.clip(lam, 0.0))
+    return mp @ ((2.0 * ratio * omega)[:, None] * mp.T)
+
+
+def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
+    m = model.mass_matrix(stage)
+    k_b = structure_stiffness(model, stage)
+    f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
+                                "planetary_dynamics")
+    f = sun_load(model, stage, run.sun_torque, f_err)
+    offsets = (d_s, d_r)
+    p_b = meshes.mesh_period()
+    S, B = run.steps_per_period, run.periods
+    x_one = meshes.positions(S, 1)
+    rows = jax.vmap(lambda x: meshes.cell_row(model, stage, x, offsets))(x_one)
+    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+    k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+    omega = as_float(carrier_speed)
+    c = _modal_damping(m, k_b + k_mean, run.damping_ratio)
+    system = LinearSystem(
+        K=k_b - omega**2 * model.centripetal_matrix(stage),
+        M=m,
+        C=c + omega * model.gyroscopic_matrix(stage),
+        F=f,
+    )
+    dt = p_b / (S * mesh_speed)
+    # start from the quasi-static state at x = 0, at rest
+    row0 = meshes.cell_row(model, stage, jnp.zeros_like(p_b), offsets)
+    static = solve_contact(system.K, f, row0.V, row0.k, row0.length, row0.delta0, row0.mask, law)
+    zero = jnp.zeros_like(static.x)
+    state = (static.x, zero, zero, jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
+    steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
+    cells = StepCells(lambda i: meshes.cell_row(model, stage, i * dt * mesh_speed, offsets), law)
+
+    def record(X, Xd, P, i):
+        return X, meshes.mesh_forces(P), i
+
+    final, (X, forces, i) = newmark(system, dt, state, steps, cells, record,
+                                    keep_blocks=run.keep_periods)
+    n = stage.n_planets
+    return PlanetaryDynamics(
+        time=i * dt,
+        travel=i * dt * mesh_speed,
+        displacement=X,
+        sun_mesh_forces=forces[:, :n],
+        ring_mesh_forces=forces[:, n:],
+        static_force=run.sun_torque / (n * stage.sun.base_radius),
+        result=final[3],
+    )
+
+
+def _mesh_speed(stage, carrier_speed, mesh_speed):
+    """The mesh travel speed (m/s): given, or the ring held: r_br Omega (the ring turns at
+    -Omega in the carrier frame; r_bs (omega_s - Omega) with Willis)."""
+    if mesh_speed is None:
+        return stage.ring.base_radius * jnp.abs(as_float(carrier_speed))
+    return as_float(mesh_speed)
+
+
+@eqx.filter_jit
+def planetary_dynamics(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    run: PlanetaryRun,
+    carrier_speed: Float[Array, ""],
+    mesh_speed: Float[Array, ""] | None = None,
+    law: AbstractContactLaw = ExactContact(),
+) -> PlanetaryDynamics:
+    """The steady response of a stage at one carrier speed, in the carrier frame.
+
+    Newmark average acceleration (:func:`jaxgear.dynamics.newmark`, the contact in coordinates)
+    on ``M q'' + (C + Omega G) q' + (K_b - Omega^2 K_Omega) q + V^T P = f`` with the 2N meshes'
+    cells at the mesh travel ``x = v t`` (time-varying mesh stiffness, contact loss), from the
+    quasi-static state at x = 0 at rest; the last ``run.keep_periods`` mesh periods recorded.
+
+    Args:
+        model: the model kind (:class:`~jaxgear.PlanarPlanetary`: Coriolis and centripetal
+            terms; :class:`~jaxgear.TorsionalPlanetary`: none).
+        stage: the stage (ring or carrier held in rotation).
+        meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
+        run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
+        carrier_speed: Omega (rad/s), counter-clockwise positive.
+        mesh_speed: v (m/s), the mesh travel speed; None: the ring held, v = r_br |Omega|
+            (mesh frequency v / p_b = z_r |Omega| / 2 pi).
+        law: the contact law.
+
+    Returns:
+        :class:`PlanetaryDynamics`.
+    """
+    check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
+                   "planetary_dynamics")
+    check_instance("run", run, PlanetaryRun, "a jaxgear.dynamics.PlanetaryRun",
+                   "planetary_dynamics")
+    v = _mesh_speed(stage, carrier_speed, mesh_speed)
+    return _run(model, stage, meshes, run, carrier_speed, v, law)
+
+
+@eqx.filter_jit
+def planetary_speed_sweep(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    run: PlanetaryRun,
+    carrier_speeds: Float[Array, " s"],
+    law: AbstractContactLaw = ExactContact(),
+) -> PlanetaryDynamics:
+    """:func:`planetary_dynamics` at each carrier speed (rad/s, (s,), > 0; the ring held),
+    vectorised with ``jax.vmap``: every field gains a leading axis (s,)."""
+    speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
+
+    def one(omega):
+        return _run(model, stage, meshes, run, omega, stage.ring.base_radius * omega, law)
+
+    return jax.vmap(one)(speeds)
+
+
+def ring_transducer_signal(
+    ring_mesh_forces: Float[Array, "t n"],
+    carrier_angle: Float[Array, " t"],
+    planet_angles: Float[Array, " n"],
+    sensor_angle: float = 0.0,
+    window_power: int = 4,
+) -> Float[Array, " t"]:
+    """What a transducer fixed on the ring (or the housing) at ``sensor_angle`` sees: each
+    planet's ring-mesh force weighted by how near the planet passes,
+    ``y(t) = sum_n w(psi_n + theta_c(t) - theta_T) F_rn(t)`` with the planet-pass window
+    ``w(a) = ((1 + cos a) / 2)^p`` (McFadden & Smith 1985's amplitude modulation; Inalpolat &
+    Kahraman 2009).
+
+    Args:
+        ring_mesh_forces: F_rn (N), (t, n_planets), in the carrier frame's time.
+        carrier_angle: theta_c (rad) of the carrier in the fixed frame at each sample, (t,).
+        planet_angles: psi_n (rad), (n_planets,). sensor_angle: theta_T (rad).
+        window_power: p (>= 1): the window's sharpness.
+
+    Returns:
+        y (N), (t,).
+    """
+    check_integer("window_power", window_power, 1)
+    a = planet_angles[None, :] + carrier_angle[:, None] - sensor_angle
+    w = ((1.0 + jnp.cos(a)) / 2.0) ** window_power
+    return jnp.sum(w * ring_mesh_forces, axis=-1)
+
+
+def order_spectrum(signal, samples_per_turn: int) -> tuple[np.ndarray, np.ndarray]:
+    """The one-sided amplitude spectrum of a signal sampled ``samples_per_turn`` times per
+    carrier turn over a whole number of turns (host-side, NumPy): (orders (-), amplitudes, in
+    the signal's unit); order k is k times the carrier frequency."""
+    y = np.asarray(signal, dtype=float)
+    check_integer("samples_per_turn", samples_per_turn, 2)
+    if y.size % samples_per_turn:
+        raise ValueError(
+            f"order_spectrum: {y.size} samples is not a whole number of turns of "
+            f"samples_per_turn = {samples_per_turn}"
+        )
+    turns = y.size // samples_per_turn
+    amp = np.abs(np.fft.rfft(y)) / y.size
+    amp[1:] *= 2.0
+    return np.arange(amp.size) / turns, amp
