@@ -312,8 +312,11 @@ class PlanetaryQuasiStatic(eqx.Module):
 
 
 def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str):
-    """(f, d_s, d_r) of :meth:`~jaxgear.AbstractPlanetaryModel.pin_error_terms` after the
-    shape checks (one-line errors naming the argument)."""
+    """(f, d_s, d_r) of the pin errors for the cells, after the shape checks (one-line errors
+    naming the argument): the offsets d_s, d_r of
+    :meth:`~jaxgear.AbstractPlanetaryModel.pin_error_terms` and its load f without the meshes'
+    share (the torsional model's f is -V^T k d, the constant meshes' reaction to the offsets,
+    which the cells make themselves: f + V_s^T k_s d_s + V_r^T k_r d_r is the pins' share)."""
     n = stage.n_planets
     for name, value in (("tangential_pin_errors", tangential_pin_errors),
                         ("radial_pin_errors", radial_pin_errors)):
@@ -323,7 +326,27 @@ def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str
                              f"{jnp.shape(value)}")
     e = jnp.broadcast_to(as_float(tangential_pin_errors), (n,))
     eps = jnp.broadcast_to(as_float(radial_pin_errors), (n,))
-    return model.pin_error_terms(stage, e, eps)
+    f, d_s, d_r = model.pin_error_terms(stage, e, eps)
+    v_s, v_r = model.mesh_deflection_rows(stage)
+    k_s, k_r = stage.mesh_stiffnesses()
+    return f + v_s.T @ (k_s * d_s) + v_r.T @ (k_r * d_r), d_s, d_r
+
+
+#: the spring (relative to the mean mesh stiffness) that holds a planet's rotation when both its
+#: meshes open (else the stiffness is singular there); it changes the forces by ~1e-12
+FLOATING_PLANET = 1e-12
+
+
+def held_structure(model, stage, meshes, offsets):
+    """K_b (:func:`structure_stiffness`) with the planets' rotations held by
+    :data:`FLOATING_PLANET` times the meshes' mean stiffness (one cell row at x = 0)."""
+    k_b = structure_stiffness(model, stage)
+    row = meshes.cell_row(model, stage, jnp.zeros_like(meshes.mesh_period()), offsets)
+    kl = jnp.where(row.mask, row.k * row.length, 0.0)
+    scale = jnp.sum(kl * jnp.sum(row.V**2, axis=-1)) / (2 * stage.n_planets)
+    names = model.dof_names(stage)
+    idx = jnp.array([names.index(f"u_{i + 1}") for i in range(stage.n_planets)])
+    return k_b.at[idx, idx].add(FLOATING_PLANET * scale)
 
 
 def sun_load(model, stage, sun_torque, f_err):
@@ -346,7 +369,8 @@ def planetary_quasi_static(
 ) -> PlanetaryQuasiStatic:
     """The stage's quasi-static state at each mesh travel: ``K_b q + V^T P = f`` with the
     unilateral contact of the 2N meshes' cells (a mesh may lose contact), K_b the bearings,
-    pins and supports (:func:`structure_stiffness`), f the sun torque and the pin errors' load.
+    pins and supports (:func:`structure_stiffness`; a planet whose meshes both open is held in
+    rotation by :data:`FLOATING_PLANET`), f the sun torque and the pin errors' load.
 
     Args:
         model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
@@ -373,7 +397,7 @@ def planetary_quasi_static(
     f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
                                 "planetary_quasi_static")
     f = sun_load(model, stage, sun_torque, f_err)
-    k_b = structure_stiffness(model, stage)
+    k_b = held_structure(model, stage, meshes, (d_s, d_r))
     v_s, v_r = model.mesh_deflection_rows(stage)
     n = stage.n_planets
 
@@ -390,8 +414,8 @@ def planetary_quasi_static(
         displacement=q,
         sun_mesh_forces=f_s,
         ring_mesh_forces=f_r,
-        sun_te=q @ v_s.T + d_s,
-        ring_te=q @ v_r.T + d_r,
+        sun_te=q @ v_s.T + d_s[None, :],
+        ring_te=q @ v_r.T + d_r[None, :],
         k_gamma=jnp.max(f_s, axis=-1) / jnp.mean(f_s, axis=-1),
         result=result,
     )

@@ -22,8 +22,8 @@ from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._planetary import AbstractPlanetaryModel, PlanetaryStage
 from .._planetary_mesh import (
     AbstractPlanetaryMeshes,
+    held_structure,
     pin_terms,
-    structure_stiffness,
     sun_load,
 )
 from .._util import as_float, check_instance, check_integer, check_real
@@ -128,11 +128,11 @@ def _modal_damping(M, K, ratio):
 
 def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
     m = model.mass_matrix(stage)
-    k_b = structure_stiffness(model, stage)
     f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
                                 "planetary_dynamics")
     f = sun_load(model, stage, run.sun_torque, f_err)
     offsets = (d_s, d_r)
+    k_b = held_structure(model, stage, meshes, offsets)
     p_b = meshes.mesh_period()
     S, B = run.steps_per_period, run.periods
     x_one = meshes.positions(S, 1)
