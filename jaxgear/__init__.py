@@ -82,6 +82,7 @@ from ._planetary_mesh import (
     ConstantMeshes as ConstantMeshes,
     ContactMeshes as ContactMeshes,
     PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    planetary_mesh_stiffness as planetary_mesh_stiffness,
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,
 )

@@ -44,6 +44,7 @@ __all__ = [
     "ConstantMeshes",
     "ContactMeshes",
     "PlanetaryQuasiStatic",
+    "planetary_mesh_stiffness",
     "planetary_quasi_static",
     "structure_stiffness",
     "sun_ring_offset",
@@ -127,6 +128,13 @@ class AbstractPlanetaryMeshes(eqx.Module):
         ``forces`` (N, (..., c)): sun meshes then ring meshes (the cells' normal forces times
         cos beta_b)."""
 
+    @abc.abstractmethod
+    def mesh_stiffness(self, model, stage, positions) -> tuple[Array, Array]:
+        """(k_s, k_r): each mesh's transverse stiffness on its line of action (N/m, the cells
+        in contact on the flanks, rigid teeth otherwise: cos^2 beta_b sum k l) at each mesh
+        travel ``positions`` (m, (p,)), each (p, n_planets): k_sn(x), k_rn(x) of every planet,
+        phased."""
+
     def positions(self, per_period: int, periods: int = 1) -> Float[Array, " p"]:
         """Mesh travels x (m) at the mid-points of ``per_period`` equal steps per mesh period,
         over ``periods`` periods."""
@@ -164,6 +172,11 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
 
     def mesh_period(self):
         return self.base_pitch
+
+    def mesh_stiffness(self, model, stage, positions):
+        k_s, k_r = stage.mesh_stiffnesses()
+        p = (jnp.size(positions), stage.n_planets)
+        return jnp.broadcast_to(k_s, p), jnp.broadcast_to(k_r, p)
 
     def mesh_forces(self, forces):
         return forces
@@ -249,6 +262,17 @@ class ContactMeshes(AbstractPlanetaryMeshes):
     def mesh_period(self):
         return self.sun_mesh.base_pitch
 
+    def mesh_stiffness(self, model, stage, positions):
+        zero = jnp.zeros((stage.n_planets,), dtype=self.ring_offset.dtype)
+
+        def one(x):
+            row = self.cell_row(model, stage, x, (zero, zero))
+            return self.mesh_forces(jnp.where(row.mask, row.k * row.length, 0.0))
+
+        k = jnp.cos(self.sun_mesh.base_helix_angle) * jax.vmap(one)(as_float(positions))
+        n = stage.n_planets
+        return k[:, :n], k[:, n:]
+
     def mesh_forces(self, forces):
         c_s = self.sun_mesh.n_lines * self.sun_mesh.n_slices
         c_r = self.ring_mesh.n_lines * self.ring_mesh.n_slices
@@ -279,6 +303,24 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
         return CellRow(None, *(jnp.concatenate(f) for f in zip(*parts, strict=True)))
+
+
+@eqx.filter_jit
+def planetary_mesh_stiffness(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    positions: Float[Array, " p"],
+) -> tuple[Float[Array, "p n"], Float[Array, "p n"]]:
+    """k_sn(x), k_rn(x): every planet's sun-mesh and ring-mesh stiffness (N/m, transverse, on
+    the line of action) at each mesh travel x (m, (p,); ``meshes.positions(per_period,
+    periods)`` for a mesh period or a hunting period), phased per planet (Parker & Lin 2004) and
+    within a planet (:func:`sun_ring_offset`): jaxgear's stiffness model over the cells on the
+    flanks, with rigid teeth otherwise (cos^2 beta_b sum k l; the load-dependent stiffness is
+    :func:`planetary_quasi_static`'s). Each (p, n_planets)."""
+    check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
+                   "planetary_mesh_stiffness")
+    return meshes.mesh_stiffness(model, stage, positions)
 
 
 class PlanetaryQuasiStatic(eqx.Module):

@@ -146,6 +146,21 @@ def test_torsional_speed_sweep_against_the_reference(seq):
         _check_against_reference(geo, st, meshes, one, omega)
 
 
+def test_zero_speed_limit_torsional(seq):
+    """Fast twin of the planar test below (the resonance test's compiled run): at 1e-4 rad/s
+    the recorded forces are the quasi-static ones at the same travels, to 1e-6."""
+    geo, st, meshes = seq
+    run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
+                          damping_ratio=ZETA)
+    model = jg.TorsionalPlanetary()
+    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-4))
+    static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel[::96],
+                                       np.zeros(3))
+    np.testing.assert_allclose(got.sun_mesh_forces[::96], static.sun_mesh_forces, rtol=1e-6)
+    np.testing.assert_allclose(got.ring_mesh_forces[::96], static.ring_mesh_forces, rtol=1e-6)
+
+
+@pytest.mark.slow
 def test_zero_speed_limit_is_the_quasi_static_solution(seq):
     """At a carrier speed of 1e-4 rad/s the recorded forces are the quasi-static ones at the
     same mesh travels (planar model, a pin error), to 1e-6 (measured 2e-7: after each jump of
@@ -162,3 +177,76 @@ def test_zero_speed_limit_is_the_quasi_static_solution(seq):
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-6)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-6)
     assert float(got.k_gamma) == pytest.approx(float(static.k_gamma_max), rel=1e-6)
+
+
+def _harmonics(signal, harmonics):
+    """Complex amplitudes of mesh harmonics 1..harmonics of a signal sampled over one period."""
+    return np.fft.rfft(signal, axis=0)[1 : harmonics + 1] / signal.shape[0]
+
+
+@pytest.mark.parametrize(
+    "params, n",
+    [(SEQ, 3), (dict(z_s=20, z_p=16, x_s=0.2, x_p=0.2), 4),
+     (dict(z_s=18, z_p=16, x_s=0.2, x_p=0.2), 4)],
+)
+def test_net_mesh_excitation_cancellation_follows_the_phasing_rule(params, n):
+    """The sun meshes' stiffness k_sn(x) from the contact cells over a mesh period
+    (``planetary_mesh_stiffness``: the excitation the rule is about, a planet's mesh force
+    under a constant deflection) summed on the sun along the lines of action and as a torque:
+    at each mesh harmonic l = 1..4 the net force and the net torque vanish (relative to N times
+    one mesh's harmonic, < 1e-9) exactly where ``phasing_excites`` says, and survive elsewhere
+    (force > 0.5, torque > 0.99): 19/3 sequential (l z_s mod 3 = 1 or 2: force only; l = 3:
+    torque only), 20/4 in phase (torque only), 18/4 sequential (l = 1, 3: mod 4 = 2, neither;
+    l = 2, 4: torque only). The lines counted by hand give the same k_sn (to 1e-12)."""
+    geo = geometry(**params)
+    st = stage(geo, n)
+    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    per = 48
+    x = np.asarray(meshes.positions(per))
+    k_s, k_r = jg.planetary_mesh_stiffness(jg.TorsionalPlanetary(), st, meshes, x)
+    f = np.asarray(k_s)  # (per, n)
+    for i, xi in enumerate(x):
+        want_s, want_r = counted_stiffness(geo, meshes, xi)
+        np.testing.assert_allclose(f[i], want_s, rtol=1e-12)
+        np.testing.assert_allclose(k_r[i], want_r, rtol=1e-12)
+    psi = np.asarray(st.planet_angles) - geo.sun_pressure_angle  # psi_sn
+    # the force of mesh n on the sun: -F (-sin psi_sn, cos psi_sn); its torque -r_bs F
+    fx, fy = f @ np.sin(psi), -(f @ np.cos(psi))
+    torque = f.sum(1)
+    one = np.abs(_harmonics(f[:, 0], 4))
+    force = np.hypot(np.abs(_harmonics(fx, 4)), np.abs(_harmonics(fy, 4))) / (n * one)
+    torq = np.abs(_harmonics(torque, 4)) / (n * one)
+    assert one.min() > 1e-3 * f.mean()  # every harmonic present in one mesh
+    for ell in range(1, 5):
+        kind = jg.phasing_excites(params["z_s"], n, ell)
+        force_on = kind is jg.ModeType.TRANSLATIONAL
+        torque_on = kind is jg.ModeType.ROTATIONAL
+        assert (force[ell - 1] > 0.5) if force_on else (force[ell - 1] < 1e-9), (ell, kind)
+        assert (torq[ell - 1] > 0.99) if torque_on else (torq[ell - 1] < 1e-9), (ell, kind)
+
+
+def test_ring_transducer_sidebands_at_multiples_of_the_planet_count(seq):
+    """A transducer on the ring sees the planets' ring-mesh forces through a planet-pass window;
+    over one carrier turn (z_r = 53 mesh periods, the ring held) its spectrum has lines only at
+    orders that are multiples of N = 3 (McFadden & Smith 1985: the sidebands m z_r + j with
+    m z_r + j = k N): the mesh order 53 itself is absent, the lines at 51 and 54 are there."""
+    geo, st, meshes = seq
+    per, z_r = 24, 53
+    x = meshes.positions(per)
+    res = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, meshes, np.asarray(TORQUE), x,
+                                    np.zeros(3))
+    forces = np.tile(np.asarray(res.ring_mesh_forces), (z_r, 1))  # one carrier turn
+    theta_c = 2 * np.pi * (np.arange(per * z_r) + 0.5) / (per * z_r)
+    y = jd.ring_transducer_signal(jnp.asarray(forces), jnp.asarray(theta_c), st.planet_angles)
+    orders, amp = jd.order_spectrum(y, per * z_r)
+    k = np.rint(orders).astype(int)
+    assert np.allclose(orders, k)
+    off = amp[(k % 3 != 0)]
+    assert off.max() < 1e-9 * amp.max()
+    assert amp[53] < 1e-9 * amp.max() and amp[51] > 1e-3 * amp.max()
+    assert amp[54] > 1e-3 * amp.max()
+    # a planet-pass window of one planet alone (no phasing) puts a line at the mesh order
+    single = jd.ring_transducer_signal(jnp.asarray(forces[:, :1]), jnp.asarray(theta_c),
+                                       st.planet_angles[:1])
+    _, amp1 = jd.order_spectrum(single, per * z_r)
+    assert amp1[53] > 1e-2 * amp1.max()
