@@ -82,7 +82,7 @@ class PlanetaryDynamics(eqx.Module):
 
     Attributes:
         time: time (s) of each recorded step, (t,).
-        travel: mesh travel x (m), (t,).
+        travel: mesh travel x = x_0 + v t (m), (t,).
         displacement: coordinates (m), (t, n_dof).
         sun_mesh_forces, ring_mesh_forces: transverse mesh forces (N, compression positive),
             (t, n_planets).
@@ -102,18 +102,18 @@ class PlanetaryDynamics(eqx.Module):
     @property
     def dynamic_factors(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(sun meshes', ring meshes') dynamic factors: each mesh's largest force over the
-        nominal one T_s / (N r_bs), each (n_planets,)."""
+        nominal one T_s / (N r_bs), each (n_planets,) (a sweep's: (n_speeds, n_planets))."""
         return (
-            jnp.max(self.sun_mesh_forces, axis=-2) / self.static_force,
-            jnp.max(self.ring_mesh_forces, axis=-2) / self.static_force,
+            jnp.max(self.sun_mesh_forces, axis=-2) / self.static_force[..., None],
+            jnp.max(self.ring_mesh_forces, axis=-2) / self.static_force[..., None],
         )
 
     @property
     def k_gamma(self) -> Float[Array, ""]:
         """Dynamic load sharing: the largest over the recorded steps of the most loaded planet's
-        sun-mesh force over the planets' mean."""
+        sun-mesh force over the planets' mean, () (a sweep's: (n_speeds,))."""
         f = self.sun_mesh_forces
-        return jnp.max(jnp.max(f, axis=-1) / jnp.mean(f, axis=-1))
+        return jnp.max(jnp.max(f, axis=-1) / jnp.mean(f, axis=-1), axis=-1)
 
 
 def _modal_damping(M, K, ratio):
@@ -148,13 +148,19 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
         F=f,
     )
     dt = p_b / (S * mesh_speed)
-    # start from the quasi-static state at x = 0, at rest
-    row0 = meshes.cell_row(model, stage, jnp.zeros_like(p_b), offsets)
+    # step i at the travel x = (i + 1/2) p_b / S, mid-points as :func:`jaxgear.mesh_positions`:
+    # never on the instant a line enters (s = 0) when the planets' phases are multiples of
+    # 1/S, where rounding would decide planet by planet; the run starts from the quasi-static
+    # state at x = p_b / (2 S), at rest
+    def travel(i):
+        return (i + 0.5) * (p_b / S)
+
+    row0 = meshes.cell_row(model, stage, travel(jnp.zeros_like(p_b)), offsets)
     static = solve_contact(system.K, f, row0.V, row0.k, row0.length, row0.delta0, row0.mask, law)
     zero = jnp.zeros_like(static.x)
     state = (static.x, zero, zero, jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
-    cells = StepCells(lambda i: meshes.cell_row(model, stage, i * dt * mesh_speed, offsets), law)
+    cells = StepCells(lambda i: meshes.cell_row(model, stage, travel(i), offsets), law)
 
     def record(X, Xd, P, i):
         return X, meshes.mesh_forces(P), i
@@ -164,7 +170,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
     n = stage.n_planets
     return PlanetaryDynamics(
         time=i * dt,
-        travel=i * dt * mesh_speed,
+        travel=travel(i),
         displacement=X,
         sun_mesh_forces=forces[:, :n],
         ring_mesh_forces=forces[:, n:],
@@ -195,8 +201,11 @@ def planetary_dynamics(
 
     Newmark average acceleration (:func:`jaxgear.dynamics.newmark`, the contact in coordinates)
     on ``M q'' + (C + Omega G) q' + (K_b - Omega^2 K_Omega) q + V^T P = f`` with the 2N meshes'
-    cells at the mesh travel ``x = v t`` (time-varying mesh stiffness, contact loss), from the
-    quasi-static state at x = 0 at rest; the last ``run.keep_periods`` mesh periods recorded.
+    cells at the mesh travel ``x = x_0 + v t``, x_0 = p_b / (2 S) (time-varying mesh stiffness,
+    contact loss), from the quasi-static state at x_0 at rest; the last ``run.keep_periods``
+    mesh periods recorded. With ``run.steps_per_period`` a multiple of N (equally spaced
+    planets) the planets' phases fall on the steps and the discrete system keeps the stage's
+    cyclic symmetry.
 
     Args:
         model: the model kind (:class:`~jaxgear.PlanarPlanetary`: Coriolis and centripetal
