@@ -2,7 +2,7 @@
 reference written here from scratch (Kahraman's torsional equations with the ring and carrier
 rigidly held, the meshes' stiffness k0 b n(t) from the contact lines counted here, integrated by
 scipy's DOP853 segment by segment between the instants a line enters or leaves), per-mesh DF
-within 2 % at three speeds, one near a resonance; the zero-speed limit; the speed sweep; the
+within 1 % at three speeds, one near a resonance; the zero-speed limit; the speed sweep; the
 phasing's cancellation of the net mesh force at the mesh order; the ring transducer's
 sidebands."""
 
@@ -114,7 +114,7 @@ def _check_against_reference(geo, st, meshes, got, omega):
                                 KEEP)
     assert forces.min() > 0  # every mesh in contact: the reference holds
     df = np.concatenate([np.asarray(d) for d in got.dynamic_factors])
-    np.testing.assert_allclose(df, want, rtol=0.02)
+    np.testing.assert_allclose(df, want, rtol=0.01)  # measured 0.11 %, 0.12 %, 0.20 %
     return df
 
 
