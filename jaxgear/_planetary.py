@@ -526,7 +526,7 @@ def check_assembly(z_sun: int, z_ring: int, planet_angles) -> None:
     psi = np.asarray(planet_angles, dtype=float)
     check_real("planet_angles", psi, "rad", shape=(None,), where="check_assembly")
     turns = (z_sun + z_ring) * (psi - psi[0]) / (2.0 * np.pi)
-    bad = np.abs(turns - np.round(turns)) > 1e-6
+    bad = np.abs(turns - np.round(turns)) > 1e-6 * (z_sun + z_ring)  # float32 angles too
     if np.any(bad):
         i = int(np.argmax(bad))
         raise ValueError(

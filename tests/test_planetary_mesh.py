@@ -236,3 +236,22 @@ def test_bad_inputs_one_line():
     with pytest.raises(ValueError, match="tangential_pin_errors"):
         jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, jg.ConstantMeshes(), 1.0,
                                   np.zeros(1), np.zeros(2))
+
+
+def test_float32_runs():
+    """With x64 off the contact meshes' quasi-static solve runs in float32 (the assembly check
+    taking float32 angles) and its K_gamma agrees with float64 to 1e-4 (pins 5e8, sun bearing
+    1e8 N/m: a moderate conditioning)."""
+    out = {}
+    for x64 in (False, True):
+        with jax.enable_x64(x64):
+            geo = geometry(**SEQ)
+            st = stage(geo, 3, pin=5e8, sun_bearing=1e8)
+            meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+            got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, meshes,
+                                            np.asarray(1000.0), meshes.positions(6),
+                                            np.array([10e-6, 0.0, 0.0]))
+            assert np.all(np.asarray(got.result) == 0)
+            out[x64] = np.asarray(got.k_gamma)
+            assert out[x64].dtype == (np.float64 if x64 else np.float32)
+    np.testing.assert_allclose(out[False], out[True], rtol=1e-4)
