@@ -154,7 +154,8 @@ def test_zero_speed_limit_torsional(seq):
     run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=0.0)
     model = jg.TorsionalPlanetary()
-    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-7))
+    # a float64 speed, as the resonance test's: the same compiled run
+    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(np.float64(1e-7)))
     static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel[::96],
                                        np.zeros(3))
     np.testing.assert_allclose(got.sun_mesh_forces[::96], static.sun_mesh_forces, rtol=1e-8)

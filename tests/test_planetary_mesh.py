@@ -249,7 +249,7 @@ def test_float32_runs():
             st = stage(geo, 3, pin=5e8, sun_bearing=1e8)
             meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
             got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, meshes,
-                                            np.asarray(1000.0), meshes.positions(6),
+                                            np.asarray(1000.0), meshes.positions(PER_PERIOD),
                                             np.array([10e-6, 0.0, 0.0]))
             assert np.all(np.asarray(got.result) == 0)
             out[x64] = np.asarray(got.k_gamma)
