@@ -122,9 +122,9 @@ def test_planetary_guide_shows_its_campbell_diagram(site):
 
 def test_outputs_reference_names_every_file_jaxgear_run_writes():
     """docs/reference/outputs.md explains every file that `jaxgear run` writes (the command's
-    own list of its outputs, jaxgear.cli._paths.OUTPUT_FILES, which also decides what a new run
+    own list of its outputs, jaxgear.cli.OUTPUT_FILES, which also decides what a new run
     may delete), in its folder and in sweep/, scene/, optimise/ and deviations/."""
-    from jaxgear.cli._paths import OUTPUT_FILES
+    from jaxgear.cli import OUTPUT_FILES
 
     text = (ROOT / "docs" / "reference" / "outputs.md").read_text(encoding="utf-8")
     folders = ("sweep", "scene", "optimise", "deviations")
