@@ -81,7 +81,7 @@ def draw_shape(ax, held: jg.PlanetaryStage, shape: np.ndarray, title: str) -> No
     ax.plot(r_c * np.cos(t), r_c * np.sin(t), color="0.6", lw=0.8, ls=":")  # planet-centre circle
     ax.set_aspect("equal")
     ax.set_axis_off()
-    ax.set_title(title, fontsize=9)
+    ax.set_title(title, fontsize=10)
 
 
 def main(out_dir=DOCS, speed_max: float = 3000.0, n_speeds: int = 61, f_max: float = 3000.0):
@@ -97,9 +97,10 @@ def main(out_dir=DOCS, speed_max: float = 3000.0, n_speeds: int = 61, f_max: flo
     out = {"speeds": speeds, "campbell": f, "frequencies": f0, "types": types}
     if out_dir is None:
         return out
-    fig = plt.figure(figsize=(13, 4.8), layout="constrained")
-    grid = fig.add_gridspec(2, 4, width_ratios=(2.4, 1, 1, 1), height_ratios=(1, 0.22))
-    ax = fig.add_subplot(grid[:, 0])
+    # narrow and tall: readable at the width of a documentation page
+    fig = plt.figure(figsize=(8.5, 8.0), layout="constrained")
+    grid = fig.add_gridspec(2, 3, height_ratios=(1.45, 1))
+    ax = fig.add_subplot(grid[0, :])
     shown = f0 < f_max
     ax.plot(speeds, np.where(f < f_max, f, np.nan), "k.", ms=2)
     seen = set()
@@ -109,30 +110,25 @@ def main(out_dir=DOCS, speed_max: float = 3000.0, n_speeds: int = 61, f_max: flo
         seen.add(name)
         ax.plot(0.0, fj, "o", ms=7, color=COLOURS[name], mec="k", mew=0.5, label=label, zorder=3)
     ax.set_xlim(-0.02 * speed_max, speed_max)
-    ax.set_ylim(0.0, f_max)
+    ax.set_ylim(0.0, 1.18 * f_max)  # room for the key above the branches
     ax.set_xlabel("carrier speed Ω (rad/s)")
     ax.set_ylabel("natural frequency in the carrier frame (Hz)")
-    ax.set_title("Campbell diagram, planar model, carrier held", fontsize=10)
+    ax.set_title("Campbell diagram, planar model, carrier held", fontsize=11)
     ax.grid(alpha=0.3)
+    ax.legend(
+        title="type of each frequency at rest (dots at Ω = 0)",
+        fontsize=9,
+        loc="upper center",
+        ncols=3,
+    )
     shapes = np.asarray(modes.shapes)
     for k, name in enumerate(("rotational", "translational", "planet")):
         j = next(i for i, (kind, _) in enumerate(types) if kind.value == name)
-        draw_shape(fig.add_subplot(grid[0, 1 + k]), held, shapes[:, j], f"{name}, {f0[j]:.0f} Hz")
-    key = fig.add_subplot(grid[1, 1:])  # the types' key, under the shapes
-    key.set_axis_off()
-    key.legend(
-        *ax.get_legend_handles_labels(),
-        title="type of each frequency at rest (dots at Ω = 0)",
-        ncols=3,
-        fontsize=8,
-        title_fontsize=8,
-        loc="center",
-        frameon=False,
-    )
+        draw_shape(fig.add_subplot(grid[1, k]), held, shapes[:, j], f"{name}, {f0[j]:.0f} Hz")
     fig.suptitle(
-        "Lin & Parker's four-planet stage: frequencies against carrier speed, lowest mode of each "
-        "type (grey: at rest)",
-        fontsize=10,
+        "Lin & Parker's four-planet stage: frequencies against carrier speed;\n"
+        "below, the lowest mode of each type (grey: at rest)",
+        fontsize=11,
     )
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -144,6 +144,10 @@ def test_generated_pages_hold_keys_and_signatures(site):
     api = (site / "api/jaxgear/index.html").read_text(encoding="utf-8")
     assert 'id="jaxgear.quasi_static"' in api and "positions_per_pitch" in api
     assert 'id="jaxgear.GearPair"' in api and "N·m" in api
+    # the docstrings' Sphinx roles are shown as code, the packages' introductions included
+    for page in (site / "api").glob("*/index.html"):
+        text = page.read_text(encoding="utf-8")
+        assert not re.search(r":(?:class|func|meth|attr|mod|data|exc|obj):", text), page
 
 
 HISTORY = re.compile(
