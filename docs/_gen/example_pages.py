@@ -27,6 +27,7 @@ MADE_ELSEWHERE = {
         "img/getting-started-transmission_error.png",
         "img/getting-started-mesh_stiffness.png",
         "img/getting-started-load_map.png",
+        "img/getting-started-pressure_map.png",
         "img/getting-started-harris_map.png",
     ),
 }
