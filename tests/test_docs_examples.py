@@ -10,23 +10,13 @@ sentence of the guide page). A few seconds."""
 from __future__ import annotations
 
 import collections
-import importlib.util
-import pathlib
 
 import numpy as np
-
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-
-
-def _example(name: str):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "examples" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from _examples import load_example
 
 
 def test_planetary_campbell_example(tmp_path):
-    example = _example("planetary_campbell")
+    example = load_example("planetary_campbell")
     out = example.main(tmp_path, speed_max=1000.0, n_speeds=5)
     png = (tmp_path / "planetary_campbell.png").read_bytes()
     assert png.startswith(b"\x89PNG\r\n\x1a\n") and len(png) > 20_000
