@@ -8,8 +8,9 @@ stress along the tensile fillet of the plane-strain FE tooth (element size m_n/1
 the largest principal stress there),
 ISO's method B the nominal stress σ_F0 per unit normal load, 6 cos α_Fen h_Fe / s_Fn² · Y_S (the
 beam stress at the 30° tangent section times the stress correction factor; :func:`jaxgear.
-tooth_form_factors`). Writes docs/root_stress_iso.json and docs/img/root_stress_fillet.png. Run
-from the repository root: ``python examples/root_stress_iso.py`` (about 20 s on 2 cores).
+tooth_form_factors`). Writes docs/bench/root_stress_iso.json and
+docs/img/root_stress_fillet.png. Run from the repository root: ``python
+examples/root_stress_iso.py`` (about 20 s on 2 cores).
 
 The embedded helical pair is left out: ISO rates a helical tooth on its virtual spur gear in the
 normal section (z_n = 37.10 and 72.08 for power-helical), which the 2-D model of an integer tooth
@@ -118,7 +119,7 @@ def main() -> None:
                 f"{name:38s} {tag:6s} FE/ISO = {fs.peak / iso:.4f}  peak at "
                 f"{math.degrees(fs.peak_tangent_angle):.1f}°"
             )
-    (DOCS / "root_stress_iso.json").write_text(json.dumps(rows, indent=1) + "\n")
+    (DOCS / "bench" / "root_stress_iso.json").write_text(json.dumps(rows, indent=1) + "\n")
     fig, ax = plt.subplots(figsize=(7, 4))
     for label, (a, s) in curves.items():
         ax.plot(a, s, label=label)

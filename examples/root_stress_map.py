@@ -6,7 +6,7 @@ over each member's active profile, element size m_n/18), :func:`jaxgear.root_str
 Prints the largest root stress of each gear beside ISO 6336-3's nominal σ_F0 (method B, load at
 the outer point of single pair contact, no load factor) and writes docs/img/root_stress_map.png
 (the stress of each member's tooth against the line-of-action coordinate s of its load and the
-face width) and docs/root_stress_map.json. Run from the repository root:
+face width) and docs/bench/root_stress_map.json. Run from the repository root:
 ``python examples/root_stress_map.py`` (about half a minute on 2 cores).
 """
 
@@ -63,7 +63,7 @@ def main() -> None:
             f"{tag}: FE max root stress {float(rmap.max) / 1e6:.1f} MPa, ISO σ_F0 "
             f"{sigma_f0 / 1e6:.1f} MPa (FE/ISO {float(rmap.max) / sigma_f0:.3f})"
         )
-    (DOCS / "root_stress_map.json").write_text(json.dumps(out, indent=1) + "\n")
+    (DOCS / "bench" / "root_stress_map.json").write_text(json.dumps(out, indent=1) + "\n")
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
     for ax, (tag, rmap) in zip(axes, maps.items(), strict=True):
         m = np.asarray(rmap.mask)

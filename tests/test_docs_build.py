@@ -57,6 +57,7 @@ def test_strict_build_and_navigation(site):
         "reference/case-file",
         "reference/train-file",
         "reference/body-file",
+        "reference/outputs",
         "api/jaxgear",
         "api/jaxgear.scenes",
         "api/jaxgear.dynamics",
@@ -72,14 +73,66 @@ def test_strict_build_and_navigation(site):
         assert (site / page / "index.html").is_file(), page
 
 
+IMG = re.compile(r'<img[^>]*\bsrc="([^"]+)"')
+#: examples that draw no figure, and where their result is shown instead
+NO_FIGURE = {"stiffness_table": "stiffness/"}  # a table of mean mesh stiffnesses
+
+
 def test_every_example_has_a_page_with_its_figure(site):
-    """Each script and notebook of examples/ has a page (generated, listed under Examples); a
-    script that writes a figure into docs/ shows it."""
+    """Each script and notebook of examples/ has a page (generated, listed under Examples) that
+    shows the figures it draws: a script's PNG files (docs/bench/, docs/img/), a notebook's
+    stored outputs; the one example that writes a table links the page that holds it."""
+    missing = []
     for path in [*(ROOT / "examples").glob("*.py"), *(ROOT / "examples").glob("*.ipynb")]:
         page = site / "examples" / path.stem / "index.html"
         assert page.is_file(), path.name
+        html = page.read_text(encoding="utf-8")
+        if path.stem in NO_FIGURE:
+            assert f'href="../../{NO_FIGURE[path.stem]}"' in html, path.name
+        elif not IMG.search(html):
+            missing.append(path.name)
+    assert not missing, f"example pages without a figure: {missing}"
     html = (site / "examples" / "pressure_crowning" / "index.html").read_text(encoding="utf-8")
     assert 'src="../../bench/pressure_crowning.png"' in html
+    # the notebooks' pages show every figure stored in them (three plots, four plots)
+    for stem, n in (("master_curve", 3), ("thin_webbed_gear", 4)):
+        html = (site / "examples" / stem / "index.html").read_text(encoding="utf-8")
+        assert len(IMG.findall(html)) >= n, stem
+
+
+def test_every_image_of_the_site_exists(site):
+    """Every picture a page shows is a file of the site (generated figures included)."""
+    broken = []
+    for page in site.rglob("*.html"):
+        for src in IMG.findall(page.read_text(encoding="utf-8")):
+            if src.startswith(("http:", "https:", "data:")):
+                continue
+            if not (page.parent / src.split("#")[0]).resolve().is_file():
+                broken.append(f"{page.relative_to(site)}: {src}")
+    assert not broken, broken
+
+
+def test_planetary_guide_shows_its_campbell_diagram(site):
+    """The planetary guide page shows the Campbell diagram that examples/planetary_campbell.py
+    draws."""
+    html = (site / "guide" / "planetary" / "index.html").read_text(encoding="utf-8")
+    assert 'src="../../bench/planetary_campbell.png"' in html
+    assert (site / "bench" / "planetary_campbell.png").is_file()
+
+
+def test_outputs_reference_names_every_file_jaxgear_run_writes():
+    """docs/reference/outputs.md explains every file that `jaxgear run` writes (the command's
+    own list of its outputs, jaxgear.cli.OUTPUT_FILES, which also decides what a new run
+    may delete), in its folder and in sweep/, scene/, optimise/ and deviations/."""
+    from jaxgear.cli import OUTPUT_FILES
+
+    text = (ROOT / "docs" / "reference" / "outputs.md").read_text(encoding="utf-8")
+    folders = ("sweep", "scene", "optimise", "deviations")
+    names = {n.split("/", 1)[1] if n.split("/")[0] in folders else n for n in OUTPUT_FILES["run"]}
+    missing = sorted(n for n in names if f"`{n}`" not in text)
+    assert not missing, missing
+    for folder in folders:
+        assert f"`{folder}/`" in text, folder
 
 
 def test_generated_pages_hold_keys_and_signatures(site):
@@ -91,11 +144,16 @@ def test_generated_pages_hold_keys_and_signatures(site):
     api = (site / "api/jaxgear/index.html").read_text(encoding="utf-8")
     assert 'id="jaxgear.quasi_static"' in api and "positions_per_pitch" in api
     assert 'id="jaxgear.GearPair"' in api and "N·m" in api
+    # the docstrings' Sphinx roles are shown as code, the packages' introductions included
+    for page in (site / "api").glob("*/index.html"):
+        text = page.read_text(encoding="utf-8")
+        assert not re.search(r":(?:class|func|meth|attr|mod|data|exc|obj):", text), page
 
 
 HISTORY = re.compile(
-    r"\bsession \d+\b|\b(?:this|previous|until|one|each) session\b|before the move"
-    r"|\bcommit [0-9a-f]{7}\b|\([0-9a-f]{7,40}\)",
+    r"\bsession \d+\b|\b(?:this|previous|until|one|each|other) sessions?\b|before the move"
+    r"|before the fix|\bwe (?:changed|fixed|moved|removed)\b|\bissue \d+|\bthis task\b"
+    r"|\ban earlier version\b|\bcommit [0-9a-f]{7}\b|\([0-9a-f]{7,40}\)",
     re.IGNORECASE,
 )
 

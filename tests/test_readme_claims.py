@@ -41,7 +41,7 @@ def test_readme_python_api_example_runs():
 
 
 def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
-    """docs/guide/pair.md "What `jaxgear run` writes": "`summary.json` … the Harris map;
+    """docs/reference/outputs.md "Every case": "`summary.json` … the Harris map;
     versions", "`te.csv` | TE(θ) over two mesh periods", "`harris_map.png` | TE peak-to-peak
     against torque (0.1–2 × the case torque)". Tiny discretisation (2 slices × 8 positions):
     the claims are about the files, not the figures."""
@@ -238,13 +238,13 @@ def test_moved_claims_are_still_stated():
     user-guide pages where the README's long sections moved: a page that changes a figure fails
     here and sends its author to the test that asserts it."""
     claims = {
-        "pair.md": (
-            "TE(θ) over two mesh periods",
+        "reference/outputs.md": ("TE(θ) over two mesh periods",),
+        "guide/pair.md": (
             "35 µm mean TE for the default case against 12 µm for rigid bodies",
             "1–3 per position for the embedded cases at their torque, at most 5 at a tenth of it",
             "come back as a result code per position",
         ),
-        "modifications.md": (
+        "guide/modifications.md": (
             "Each is divided by its unmodified value at the design torque, so 1 = no improvement",
             "Default bounds: E* ∈ [0, 3], Γ ∈ [0.02, 0.98]",
             "Γ ≈ 0.26, E ≈ 11.5 µm",
@@ -252,7 +252,7 @@ def test_moved_claims_are_still_stated():
         ),
     }
     for page, stated in claims.items():
-        flat = " ".join((ROOT / "docs" / "guide" / page).read_text(encoding="utf-8").split())
+        flat = " ".join((ROOT / "docs" / page).read_text(encoding="utf-8").split())
         for claim in stated:
             assert claim in flat, (page, claim)
 

@@ -1,6 +1,7 @@
 """The example pages: one page per script and notebook of ``examples/`` (its docstring or
-Markdown cells, the figure it writes into ``docs/bench/`` when there is one, and its source), so that
-a new example gets its page without editing one."""
+Markdown cells, the figures it writes into ``docs/bench/`` or ``docs/img/``, the outputs stored
+with a notebook, the documentation pages that discuss it, and its source), so that a new example
+gets its page without editing one."""
 
 from __future__ import annotations
 
@@ -14,15 +15,51 @@ from docs._gen.griffe_roles import plain
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
-DOCS = ROOT / "docs" / "bench"  # the figures and records the examples and benchmarks write
+DOCS = ROOT / "docs"
+#: the folders of docs/ holding the figures and records the examples and benchmarks write
+FIGURE_DIRS = ("bench", "img")
 #: a figure the source names: "name.png"
-FIGURE = re.compile(r"([A-Za-z0-9_]+\.png)")
+FIGURE = re.compile(r"([A-Za-z0-9_-]+\.png)")
+#: figures an example makes without naming them: quickstart.py runs `jaxgear run`'s quasi-static
+#: files on the accessory pair, those that Getting started shows
+MADE_ELSEWHERE = {
+    "quickstart.py": (
+        "img/getting-started-transmission_error.png",
+        "img/getting-started-mesh_stiffness.png",
+        "img/getting-started-load_map.png",
+        "img/getting-started-pressure_map.png",
+        "img/getting-started-harris_map.png",
+    ),
+}
 
 
-def _figures(source: str) -> list[str]:
-    """The PNG files of docs/bench/ that the source writes (named in it)."""
+def _figures(path: pathlib.Path, source: str) -> list[str]:
+    """The PNG files (paths under docs/) that the example writes: those of docs/bench/ and
+    docs/img/ its source names, and those of :data:`MADE_ELSEWHERE`."""
     names = dict.fromkeys(FIGURE.findall(source))
-    return [n for n in names if (DOCS / n).is_file()]
+    found = [f"{d}/{n}" for n in names for d in FIGURE_DIRS if (DOCS / d / n).is_file()]
+    return found + list(MADE_ELSEWHERE.get(path.name, ()))
+
+
+def _title(page: pathlib.Path) -> str:
+    """The first heading of a documentation page."""
+    for line in page.read_text(encoding="utf-8").splitlines():
+        if line.startswith("# "):
+            return line[2:].strip()
+    return page.stem
+
+
+def discussed_on(path: pathlib.Path) -> list[str]:
+    """Markdown links (from the example's page) to the documentation pages that name the
+    example (``examples/<name>``), the Examples overview aside."""
+    out = []
+    for page in sorted(DOCS.rglob("*.md")):
+        rel = page.relative_to(DOCS)
+        if rel.parts[0] == "_gen" or rel.as_posix() == "examples.md":
+            continue
+        if f"examples/{path.name}" in page.read_text(encoding="utf-8"):
+            out.append(f"[{_title(page)}](../{rel.as_posix()})")
+    return out
 
 
 def script_page(path: pathlib.Path) -> tuple[str, str]:
@@ -32,7 +69,10 @@ def script_page(path: pathlib.Path) -> tuple[str, str]:
     title, _, body = doc.partition("\n\n")  # the first paragraph, then the rest
     title = " ".join(title.split())
     out = [f"# `{path.name}`", "", title, "", body.strip(), ""]
-    out += [f"![{n}](../bench/{n})" for n in _figures(source)] + [""]
+    out += [f"![{pathlib.Path(n).stem}](../{n})" for n in _figures(path, source)] + [""]
+    pages = discussed_on(path)
+    if pages:
+        out += ["Discussed on: " + ", ".join(pages) + ".", ""]
     out += [
         f"Run from the repository root: `python examples/{path.name}`.",
         "",
@@ -49,7 +89,7 @@ def script_page(path: pathlib.Path) -> tuple[str, str]:
 def _outputs(cell: dict, stem: str, figures: dict[str, bytes]) -> list[str]:
     """The Markdown of a code cell's stored outputs: text as a text block, a PNG as an image
     (its bytes put in ``figures`` under the site path ``examples/<stem>-<n>.png``). Nothing is
-    executed: a notebook saved without outputs shows its code only."""
+    executed here: a notebook saved without outputs would show its code only."""
     out = []
     for o in cell.get("outputs", []):
         data = o.get("data", {})
@@ -69,7 +109,8 @@ def _outputs(cell: dict, stem: str, figures: dict[str, bytes]) -> list[str]:
 
 def notebook(path: pathlib.Path) -> tuple[str, str, dict[str, bytes]]:
     """(title, markdown, figures) of an example notebook: its Markdown cells, its code and the
-    outputs stored with it (``figures``: site path → PNG bytes)."""
+    outputs stored with it (``figures``: site path → PNG bytes; the notebooks are stored executed,
+    :mod:`docs._gen.notebooks`)."""
     cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
     out = [f"# `{path.name}`", ""]
     title = ""
@@ -83,6 +124,9 @@ def notebook(path: pathlib.Path) -> tuple[str, str, dict[str, bytes]]:
         elif cell["cell_type"] == "code" and text.strip():
             out += ["```python", text, "```", ""]
             out += _outputs(cell, path.stem, figures)
+    pages = discussed_on(path)
+    if pages:
+        out += ["Discussed on: " + ", ".join(pages) + ".", ""]
     out += [f"Open it with Jupyter: `jupyter lab examples/{path.name}`.", ""]
     return title, "\n".join(out), figures
 

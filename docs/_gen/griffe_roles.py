@@ -23,3 +23,7 @@ class SphinxRoles(griffe.Extension):
     def on_object(self, *, obj, **kwargs) -> None:
         if obj.docstring is not None:
             obj.docstring.value = plain(obj.docstring.value)
+
+    def on_module_instance(self, *, mod, **kwargs) -> None:
+        # a package's own docstring (the API pages' introductions), which on_object leaves
+        self.on_object(obj=mod)
