@@ -5,6 +5,7 @@ below the axes, sized to the figure."""
 from __future__ import annotations
 
 import sys
+import textwrap
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -39,9 +40,24 @@ def new_figure(figsize=FIGSIZE):
     return fig, fig.add_subplot()
 
 
+def wrap_titles(fig) -> None:
+    """Break each axes title wider than its axes into lines (a long case name or model
+    description would otherwise run past the figure's edges, which constrained layout does
+    not prevent): about 0.55 em per character of the title's font."""
+    width_pt = fig.get_figwidth() * 72.0
+    for ax in fig.axes:
+        title = ax.title
+        text = title.get_text()
+        chars = int(width_pt * ax.get_position().width / (0.55 * title.get_fontsize()))
+        if text and "\n" not in text and len(text) > chars > 20:
+            title.set_text(textwrap.fill(text, chars))
+
+
 def savefig(fig, path) -> None:
-    """Write ``fig`` as PNG (120 dpi, Agg) to ``path`` atomically and close it."""
+    """Write ``fig`` as PNG (120 dpi, Agg) to ``path`` atomically and close it; titles wider
+    than their axes are broken into lines (:func:`wrap_titles`)."""
     try:
+        wrap_titles(fig)
         FigureCanvasAgg(fig)  # an Agg canvas (a pyplot figure's is replaced: closed below)
         with atomic_open(path, "wb") as f:
             fig.savefig(f, format="png", dpi=DPI)
