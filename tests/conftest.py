@@ -1,6 +1,7 @@
 """Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one JAX
-persistent compilation cache for the test run; one fresh fem_prep cache for the session's
-condensed test bodies; JAX's compiled executables released between families of test modules."""
+persistent compilation cache for the test run; one fresh fem_prep cache for the run's condensed
+test bodies (shared by the xdist workers too); JAX's compiled executables released between
+families of test modules above a bound of memory maps."""
 
 import collections
 import gc
@@ -8,6 +9,7 @@ import json
 import os
 import pathlib
 import re
+import resource
 import time
 
 import pytest
@@ -19,6 +21,10 @@ from jax import monitoring
 
 jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_numpy_rank_promotion", "raise")
+
+
+# the run's base temporary folder (the xdist controller's, shared by its workers)
+_RUN_BASE: list = [None]
 
 
 @pytest.hookimpl(trylast=True)  # after pytest's tmp_path plugin made its factory
@@ -39,6 +45,7 @@ def pytest_configure(config):
         if factory is None:  # pragma: no cover - pytest without its tmp_path plugin
             return
         base = factory.getbasetemp()
+    _RUN_BASE[0] = base
     path = str(base / "xla-cache")
     os.environ["JAX_COMPILATION_CACHE_DIR"] = path
     os.environ["JAXGEAR_XLA_CACHE"] = path
@@ -87,22 +94,26 @@ def _count_compilations():
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item, nextitem):
-    """With ``$JAXGEAR_TEST_COMPILE_LOG``: one JSON line per test (wall and CPU seconds,
-    compilations and their seconds, persistent-cache reads), appended to that file."""
+    """With ``$JAXGEAR_TEST_COMPILE_LOG``: one JSON line per test (wall and CPU seconds, the
+    CPU seconds of the subprocesses it waited for (``child_cpu_s``: a CLI run or a pytest in
+    a subprocess, whose compilations this process does not see), compilations and their
+    seconds, persistent-cache reads), appended to that file."""
     path = os.environ.get("JAXGEAR_TEST_COMPILE_LOG")
     if not path:
         yield
         return
     before, t0, c0 = dict(_tally), time.perf_counter(), time.process_time()
+    k0 = _children_cpu()
     _programs.clear()
     yield
     row = {k: round(v - before.get(k, 0), 3) for k, v in _tally.items()}
-    top = [k for k, _ in _programs.most_common() if not k.endswith(" #")][:6]
+    top = [k for k, _ in _programs.most_common() if not k.endswith(" #")][:10]
     row["programs"] = {k: [int(_programs[k + " #"]), round(_programs[k], 2)] for k in top}
     row.update(
         test=item.nodeid,
         wall_s=round(time.perf_counter() - t0, 3),
         cpu_s=round(time.process_time() - c0, 3),
+        child_cpu_s=round(_children_cpu() - k0, 3),
         worker=os.environ.get("PYTEST_XDIST_WORKER", "-"),
         maps=_memory_maps(),
     )
@@ -110,13 +121,25 @@ def pytest_runtest_protocol(item, nextitem):
         f.write(json.dumps(row) + "\n")
 
 
+def _children_cpu() -> float:
+    """User + system CPU seconds of this process's finished (waited-for) subprocesses."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 @pytest.fixture(scope="session")
 def fem_prep_cache(tmp_path_factory):
-    """A fresh ``$FEM_PREP_CACHE`` for the test session: the test bodies are condensed once
-    there (the first module that asks) and never go to (or come from) the user's cache. Tests
-    of the cache itself (a miss, a hit, a stale entry) set their own."""
+    """A fresh ``$FEM_PREP_CACHE`` for the test run: the test bodies are condensed once there
+    (the first module that asks, in either xdist worker: the folder lies in the run's base
+    folder, and fem_prep writes an entry by renaming a finished temporary file, so a worker
+    reads only whole bodies) and never go to (or come from) the user's cache. Tests of the
+    cache itself (a miss, a hit, a stale entry) set their own."""
     with pytest.MonkeyPatch.context() as mp:
-        path = tmp_path_factory.mktemp("fem_prep_cache")
+        if _RUN_BASE[0] is None:  # pragma: no cover - pytest without its tmp_path plugin
+            path = tmp_path_factory.mktemp("fem_prep_cache")
+        else:
+            path = _RUN_BASE[0] / "fem_prep_cache"
+            path.mkdir(exist_ok=True)
         mp.setenv("FEM_PREP_CACHE", str(path))
         yield path
 
