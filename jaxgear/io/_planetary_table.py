@@ -433,12 +433,12 @@ def _body(table: dict, where: str, r: float) -> tuple[float, float]:
 
 def _either(table: dict, where: str, first: tuple, second: tuple, default=sc.MISSING) -> float:
     """One of two keys (key, allowed, SI factor) of one quantity, or ``default``."""
-    given = [k for k, _, _ in (first, second) if k in table]
-    if len(given) == 2:
+    values = [sc.number(table, key, where, None, allowed=allowed) for key, allowed, _ in (first, second)]
+    if None not in values:
         raise sc.fail(where, second[0], f"give {first[0]} or {second[0]}, not both", table[second[0]])
-    for key, allowed, factor in (first, second):
-        if key in table:
-            return sc.number(table, key, where, allowed=allowed) * factor
+    for v, (_, _, factor) in zip(values, (first, second), strict=True):
+        if v is not None:
+            return v * factor
     if default is sc.MISSING:
         raise sc.fail(where, first[0], f"missing required key (or {second[0]})")
     return default

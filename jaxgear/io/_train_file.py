@@ -507,9 +507,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             raise sc.fail(
                 "scene",
                 "model",
-                "no scene takes an internal mesh yet (allowed: no [scene], the rigid mesh's "
-                "quasi-static run; a planetary stage: [planetary])",
-                data["scene"].get("model") if isinstance(data["scene"], dict) else data["scene"],
+                "no scene kind takes an internal mesh yet (allowed: no [scene], the rigid "
+                "mesh's quasi-static run; a planetary stage: [planetary])",
             )
     effective, clash = train_hands(links, shafts, hands)
     if clash is not None:
