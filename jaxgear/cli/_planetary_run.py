@@ -102,13 +102,14 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     return summary
 
 
-def _sharing(spec, stage, torques: dict) -> dict:
-    """Load sharing under the sun's torque with the pin errors, per model."""
+def _sharing(spec, stage, torques: dict, models: dict = MODELS) -> dict:
+    """Load sharing under the sun's torque with the pin errors, per model of ``models``
+    ({name: model kind})."""
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
     out = {"tangential_pin_errors_m": e.tolist(), "radial_pin_errors_m": eps.tolist()}
-    for name, model in MODELS.items():
+    for name, model in models.items():
         r = load_sharing(model, held, abs(torques["sun"]), e, eps)
         out[name] = {
             "sun_mesh_forces_N": np.asarray(r.sun_mesh_forces).tolist(),
