@@ -64,11 +64,14 @@ def test_a_negative_tooth_count_makes_an_internal_mesh():
     assert isinstance(pair, jg.InternalGearPair)
     assert pair.gear.teeth == -90 and pair.pinion.teeth == 20
     assert case.mesh_name(0) == "planet-ring"
-    # ISO 21771: a_w = m (|z2| - z1)/2 cos α / cos α_w, inv α_w = inv α + 2 tan α (x1 + x2)/(z1 + z2)
+    # ISO 21771: a_w = m (|z2| - z1)/2 cos α / cos α_w,
+    # inv α_w = inv α + 2 tan α (x1 + x2)/(z1 + z2)
     alpha = math.radians(20.0)
     inv = math.tan(alpha) - alpha + 2 * math.tan(alpha) * 0.3 / (20 - 90)
     aw = _inverse_involute(inv)
-    assert pair.center_distance == pytest.approx(3e-3 * 70 / 2 * math.cos(alpha) / math.cos(aw), rel=1e-12)
+    assert pair.center_distance == pytest.approx(
+        3e-3 * 70 / 2 * math.cos(alpha) / math.cos(aw), rel=1e-12
+    )
 
 
 def _inverse_involute(inv: float) -> float:
@@ -130,8 +133,9 @@ def test_jaxgear_run_on_an_internal_mesh_against_the_contact_line_count(tmp_path
         (
             GEARS
             + MESH.format(a="planet", b="ring")
-            + TAIL.replace('stiffness = "uniform"\nstiffness_per_length_N_per_mm_per_um = 12.0', "")
-            .replace("[mesh]", '[mesh]\nstiffness = "fe2d"'),
+            + TAIL.replace(
+                'stiffness = "uniform"\nstiffness_per_length_N_per_mm_per_um = 12.0', ""
+            ).replace("[mesh]", '[mesh]\nstiffness = "fe2d"'),
             "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form (meshes[0] has an "
             "internal gear); allowed 'uniform' or 'iso6336'",
         ),
@@ -152,14 +156,15 @@ def test_what_cannot_take_an_internal_mesh_is_refused_in_one_line(tmp_path, caps
 
 def test_two_meshes_with_an_internal_gear_are_refused():
     text = (
-        GEARS
-        + "[[gears]]\nname = \"sun\"\nteeth = 20\nnormal_module_mm = 3.0\n"
+        GEARS + '[[gears]]\nname = "sun"\nteeth = 20\nnormal_module_mm = 3.0\n'
         "normal_pressure_angle_deg = 20.0\nprofile_shift = 0.3\nface_width_mm = 20.0\n"
         + MESH.format(a="planet", b="sun").replace("0.0", "180.0")
         + MESH.format(a="planet", b="ring")
         + TAIL
     )
-    words = r"\[meshes\[1\]\] planet → ring: an internal gear is allowed in a train of one mesh only"
+    words = (
+        r"\[meshes\[1\]\] planet → ring: an internal gear is allowed in a train of one mesh only"
+    )
     with pytest.raises(ValueError, match=words) as err:
         jio.parse_train(tomllib.loads(text))
     assert "\n" not in str(err.value)

@@ -1,5 +1,5 @@
 """A planetary stage through case files and ``jaxgear run`` (the ``[planetary]`` table,
-jaxgear/io/_planetary_table.py; the run, jaxgear/cli/_planetary_run.py).
+jaxgear/io/_planetary_table.py; the run, jaxgear/cli/planetary.py).
 
 * Lin & Parker (1999)'s Table 1 system written in the lumped form (the embedded
   ``lin-parker-1999``): its natural frequencies are the paper's printed ones (the values
@@ -29,7 +29,7 @@ from test_planetary import PRINTED, lin_parker_stage
 import jaxgear as jg
 import jaxgear.io as jio
 from docs._gen import schema_reference as sr
-from jaxgear.cli import main
+from jaxgear.cli import main, planetary as pr
 
 
 def _data(name: str) -> dict:
@@ -38,7 +38,9 @@ def _data(name: str) -> dict:
 
 def _by_type(frequencies, types) -> dict:
     return {
-        t: sorted({round(float(f), 6) for f, (tt, _) in zip(frequencies, types, strict=True) if tt == t})
+        t: sorted(
+            {round(float(f), 6) for f, (tt, _) in zip(frequencies, types, strict=True) if tt == t}
+        )
         for t in jg.ModeType
     }
 
@@ -103,7 +105,9 @@ def _check_kinematics_and_sharing(summary: dict) -> None:
     assert w["ring"] == 0.0 and w["carrier"] == W_IN
     assert w["sun"] == pytest.approx(W_IN * (Z_S + Z_R) / Z_S, rel=1e-14)
     assert w["planet"] == pytest.approx(W_IN * (1 - Z_R / Z_P), rel=1e-14)
-    assert p["mesh_frequency_carrier_frame_Hz"] == pytest.approx(Z_R * W_IN / (2 * math.pi), rel=1e-14)
+    assert p["mesh_frequency_carrier_frame_Hz"] == pytest.approx(
+        Z_R * W_IN / (2 * math.pi), rel=1e-14
+    )
     t = p["torques_Nm"]
     assert t["sun"] == pytest.approx(-T_IN * Z_S / (Z_S + Z_R), rel=1e-14)
     assert t["sun"] + t["ring"] + t["carrier"] == pytest.approx(0.0, abs=1e-6)
@@ -154,8 +158,6 @@ def _check_planar(summary: dict, modes: dict) -> None:
 def test_nrel_kinematics_and_sharing_against_hand_formulas():
     """A fast twin of :func:`test_nrel_stage_through_jaxgear_run`: the loaded case's stage
     through the run's own steps (the torsional model only; no files, meshes or plots)."""
-    from jaxgear.cli import _planetary_run as pr
-
     case = jio.load_case("nrel-5mw-planetary")
     spec = case.form.spec
     stage = spec.stage(case)
@@ -169,23 +171,23 @@ def test_nrel_kinematics_and_sharing_against_hand_formulas():
             "mesh_stiffness_N_per_m": {"sun": k[0], "ring": k[1]},
             "pressure_angles_deg": {"sun": math.degrees(spec.pressure_angles[0])},
         },
-        "load_sharing": pr._sharing(spec, stage, spec.torques(case.torque), {"torsional": pr.MODELS["torsional"]}),
-        "mesh_phases": pr._phases(spec),
+        "load_sharing": pr.sharing_summary(
+            spec, stage, spec.torques(case.torque), {"torsional": pr.MODELS["torsional"]}
+        ),
+        "mesh_phases": pr.phases_summary(spec),
     }
     _check_kinematics_and_sharing(summary)
 
 
 def test_nrel_planar_sharing_and_mode_types():
     """The other fast twin: the planar model's load sharing and its modes' types."""
-    from jaxgear.cli import _planetary_run as pr
-
     case = jio.load_case("nrel-5mw-planetary")
     spec = case.form.spec
     stage = spec.stage(case)
     planar = {"planar": pr.MODELS["planar"]}
-    summary = {"load_sharing": pr._sharing(spec, stage, spec.torques(case.torque), planar)}
-    modes = {name: pr._modes(model, stage) for name, model in pr.MODELS.items()}
-    summary["modes"] = {"planar_type_counts": pr._type_counts(modes["planar"])}
+    summary = {"load_sharing": pr.sharing_summary(spec, stage, spec.torques(case.torque), planar)}
+    modes = {name: pr.mode_list(model, stage) for name, model in pr.MODELS.items()}
+    summary["modes"] = {"planar_type_counts": pr.type_counts(modes["planar"])}
     _check_planar(summary, modes)
 
 
@@ -196,7 +198,13 @@ def test_nrel_stage_through_jaxgear_run(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "planetary stage nrel-5mw-planetary: 3 planets, ring fixed, carrier → sun" in printed
     files = {p.name for p in out.iterdir()}
-    assert {"summary.json", "modes.json", "campbell.png", "mesh_sun1-planet1.csv", "mesh_planet1-ring1.csv"} <= files
+    assert {
+        "summary.json",
+        "modes.json",
+        "campbell.png",
+        "mesh_sun1-planet1.csv",
+        "mesh_planet1-ring1.csv",
+    } <= files
     summary = json.loads((out / "summary.json").read_text())
     modes = json.loads((out / "modes.json").read_text())
     assert summary["complete"] is True
@@ -210,6 +218,22 @@ def test_nrel_stage_through_jaxgear_run(tmp_path, capsys):
     assert meshes["sun1-planet1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
     assert meshes["planet1-ring1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
     assert meshes["planet1-ring1"]["quasi_static"]["te_ptp_m"] > 0
+
+
+def test_mesh_stiffness_mean_of_the_mesh_model_against_the_contact_ratio():
+    """``mesh_stiffness = "mean"``: the lumped models' constant stiffness is the mean of the
+    ``[mesh]`` model's; with a uniform stiffness k0 per unit length of rigid spur teeth it is
+    k0 b ε_α (one pair in contact over 2 − ε_α of the period, two over ε_α − 1), to one of the
+    16 positions per period."""
+    data = _data("nrel-5mw-planetary")
+    data["mesh"] = {"stiffness": "uniform", "stiffness_per_length_N_per_mm_per_um": 15.0}
+    data["planetary"]["mesh_stiffness"] = "mean"
+    case = jio.parse_train(data)
+    got = case.form.spec.mesh_stiffness.values(case)
+    g = _nrel_pairs()
+    for k, pair in zip(got, (g.sun_planet, g.planet_ring), strict=True):
+        k0b = 15e9 * pair.face_width
+        assert abs(k - k0b * pair.transverse_contact_ratio) <= k0b / 16 + 1e-9 * k
 
 
 # -- bad input ---------------------------------------------------------------------------------
@@ -243,7 +267,10 @@ def _set(path: str, value):
             "[planetary] planets = 4: planet 2 at 90° cannot be assembled: (z_sun + z_ring) × "
             "angle/360° = 18.75 must be an integer (z_sun = 19, z_ring = 56",
         ),
-        (_set("planetary/planet/mass_kg", None), "[planetary.planet] mass_kg: missing required key"),
+        (
+            _set("planetary/planet/mass_kg", None),
+            "[planetary.planet] mass_kg: missing required key",
+        ),
         (
             _set("planetary/ring/torsional_stiffness_Nm_per_rad", None),
             "[planetary.ring] torsional_stiffness_Nm_per_rad: missing: the fixed member needs a "
@@ -262,9 +289,18 @@ def _set(path: str, value):
             _set("planetary/sun_gear", "ring1"),
             "[planetary] sun_gear = 'ring1': must name an external gear (teeth > 0)",
         ),
-        (_set("planetary/sun_teeth", 19), "[planetary] sun_teeth = 19: allowed only in the lumped form"),
-        (_set("planetary/sun/base_radius_mm", 400.0), "[planetary.sun] base_radius_mm = 400: allowed only in the lumped form"),
-        (_set("mesh/stiffness", "fe2d"), "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form"),
+        (
+            _set("planetary/sun_teeth", 19),
+            "[planetary] sun_teeth = 19: allowed only in the lumped form",
+        ),
+        (
+            _set("planetary/sun/base_radius_mm", 400.0),
+            "[planetary.sun] base_radius_mm = 400: allowed only in the lumped form",
+        ),
+        (
+            _set("mesh/stiffness", "fe2d"),
+            "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form",
+        ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
     ],

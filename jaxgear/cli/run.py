@@ -35,10 +35,10 @@ from . import sweep as cli_sweep
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
-from ._planetary_run import planetary_files, planetary_lines
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
 from ._rating_report import measured_dynamic_factor, rating_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from .planetary import planetary_files, planetary_lines
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
@@ -450,7 +450,7 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     return run_train(case, out, show_progress=not args.quiet, complete=complete)
 
 
-# a planetary stage's files and lines (cli/_planetary_run.py)
+# a planetary stage's files and lines (cli/planetary.py)
 quasi_static_files.register(PlanetaryForm, planetary_files)
 
 

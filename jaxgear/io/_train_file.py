@@ -76,10 +76,10 @@ from typing import Any
 
 from fem_prep import schema as sc
 
-from ._case import Case, TrainForm
 from .._geometry import GearPair
 from .._internal import InternalGearPair
 from ..scenes import train_hands
+from ._case import Case, TrainForm
 from ._case_file import (
     _MEMBER_KEYS,
     _SCHEMA,
@@ -93,14 +93,14 @@ from ._case_file import (
     parse_torque,
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
-from ._plausibility import CaseWarning, plausibility
+from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
-    InternalMeshForm,
     check_internal_stiffness,
     is_planetary,
     parse_planetary,
     planetary_mesh_settings,
 )
+from ._plausibility import CaseWarning, plausibility
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
 __all__ = ["is_train", "parse_train"]

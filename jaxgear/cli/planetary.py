@@ -34,7 +34,19 @@ from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
-__all__ = ["MESH_ORDERS", "MODELS", "planetary_files", "planetary_lines"]
+__all__ = [
+    "MESH_ORDERS",
+    "MODELS",
+    "campbell_section",
+    "lowest_frequency",
+    "mesh_sections",
+    "mode_list",
+    "phases_summary",
+    "planetary_files",
+    "planetary_lines",
+    "sharing_summary",
+    "type_counts",
+]
 
 #: the lumped models run, by their name in the outputs
 MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
@@ -81,28 +93,26 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
             },
         },
         "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
-        "load_sharing": _sharing(spec, stage, torques),
-        "mesh_phases": _phases(spec),
+        "load_sharing": sharing_summary(spec, stage, torques),
+        "mesh_phases": phases_summary(spec),
     }
-    modes = {name: _modes(model, stage) for name, model in MODELS.items()}
+    modes = {name: mode_list(model, stage) for name, model in MODELS.items()}
     write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
     summary["modes"] = {
         "file": "modes.json",
-        **{
-            f"{name}_lowest_Hz": _lowest(v) for name, v in modes.items()
-        },
-        "planar_type_counts": _type_counts(modes["planar"]),
+        **{f"{name}_lowest_Hz": lowest_frequency(v) for name, v in modes.items()},
+        "planar_type_counts": type_counts(modes["planar"]),
     }
-    summary["campbell"] = _campbell(case, spec, stage, os.path.join(out, "campbell.png"))
+    summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
     if case.pairs:
-        summary["meshes"] = _meshes(case, out)
+        summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
     write_json(os.path.join(out, "summary.json"), summary)
     return summary
 
 
-def _sharing(spec, stage, torques: dict, models: dict = MODELS) -> dict:
+def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
     ({name: model kind})."""
     held = spec.sharing_stage(stage)
@@ -119,13 +129,13 @@ def _sharing(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     return out
 
 
-def _phases(spec) -> dict:
+def phases_summary(spec) -> dict:
     z_s, _, z_r = spec.teeth
     g_s, g_r = mesh_phases(z_s, z_r, np.asarray(spec.planet_angles))
     return {"sun_planet": np.asarray(g_s).tolist(), "ring_planet": np.asarray(g_r).tolist()}
 
 
-def _modes(model, stage) -> list:
+def mode_list(model, stage) -> list:
     m = planetary_modes(model, stage)
     types = classify_modes(m, model, stage)
     return [
@@ -134,7 +144,7 @@ def _modes(model, stage) -> list:
     ]
 
 
-def _lowest(modes: list) -> float | None:
+def lowest_frequency(modes: list) -> float | None:
     """The lowest natural frequency above the rigid modes' (those below 1e-6 × the highest:
     a member free to turn has one at 0 Hz, which round-off leaves at ~1e-4 Hz)."""
     f = np.array([m["frequency_Hz"] for m in modes])
@@ -142,7 +152,7 @@ def _lowest(modes: list) -> float | None:
     return float(above.min()) if above.size else None
 
 
-def _type_counts(modes: list) -> dict:
+def type_counts(modes: list) -> dict:
     """Distinct frequencies per mode type (a degenerate pair counted once)."""
     out = {t.value: 0 for t in ModeType}
     seen = set()
@@ -154,7 +164,7 @@ def _type_counts(modes: list) -> dict:
     return out
 
 
-def _campbell(case, spec, stage, path: str) -> dict:
+def campbell_section(case, spec, stage, path: str) -> dict:
     """The planar model's frequencies in the carrier frame against the input speed (Coriolis
     and centripetal terms at the carrier speed), the output held in rotation
     (:meth:`~jaxgear.io.PlanetarySpec.held_stage`: the free mechanism mode would diverge under
@@ -170,9 +180,21 @@ def _campbell(case, spec, stage, path: str) -> dict:
     freqs = np.asarray(campbell(MODELS["planar"], held, inputs * per_input["carrier"]))
     fig, ax = new_figure()
     for j in range(freqs.shape[1]):
-        ax.plot(inputs, freqs[:, j], color="0.3", lw=0.8, label="natural frequencies (planar)" if j == 0 else None)
+        ax.plot(
+            inputs,
+            freqs[:, j],
+            color="0.3",
+            lw=0.8,
+            label="natural frequencies (planar)" if j == 0 else None,
+        )
     for k in MESH_ORDERS:
-        ax.plot(inputs, k * f_mesh * inputs, "--", lw=1.2, label=f"mesh order {k}: {k} z_s |ω_s − ω_c|/2π")
+        ax.plot(
+            inputs,
+            k * f_mesh * inputs,
+            "--",
+            lw=1.2,
+            label=f"mesh order {k}: {k} z_s |ω_s − ω_c|/2π",
+        )
     if case.speed > 0:
         ax.axvline(case.speed, color="tab:red", lw=0.8, label=f"operating {case.speed:g} rad/s")
     ax.set_ylim(0, 1.1 * float(nonzero.max() if nonzero.size else 1.0))
@@ -194,7 +216,7 @@ def _campbell(case, spec, stage, path: str) -> dict:
     }
 
 
-def _meshes(case, out: str) -> dict:
+def mesh_sections(case, out: str) -> dict:
     """Each mesh's quasi-static TE and stiffness (rigid mesh, exact contact, the case's
     modifications) at the mean planet load; ``mesh_<name>.csv``."""
     res = {}
