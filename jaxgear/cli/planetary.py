@@ -255,7 +255,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
     m = summary["modes"]
     lines = [
         f"planetary stage {case.name}: {p['planets']} planets, {p['fixed']} fixed, "
-        f"{p['input']} → {p['output']}, speed ratio {p['speed_ratio']:.6g} (Willis), "
+        f"{p['input']} → {p['output']}, speed ratio ω_in/ω_out {p['speed_ratio']:.6g} (Willis; "
+        f"the output turns {1 / p['speed_ratio']:.6g} × the input), "
         f"mesh frequency {p['mesh_frequency_carrier_frame_Hz']:.4g} Hz (carrier frame)",
         f"load sharing K_γ: planar {ls['planar']['k_gamma']:.4f}, torsional "
         f"{ls['torsional']['k_gamma']:.4f} (pin errors "

@@ -55,6 +55,15 @@
     [scene.damping]                  # as a pair case
     [scene.integration]              # as a pair case
 
+An internal gear (a ring) has a negative ``teeth`` (ISO 21771, e.g. ``teeth = -56``; its
+``profile_shift`` in ISO 21771's sign, its tip and root keys as an external gear's): it may be
+a mesh's ``driven`` gear only, its ``driving`` mate an external gear inside it, and the mesh an
+:class:`~jaxgear.InternalGearPair`. A train with an internal mesh has that one mesh and no
+``[scene]`` (``jaxgear run`` writes the rigid mesh's quasi-static files, as a pair's), and its
+``[mesh] stiffness`` must have an internal-gear form (``uniform``, or ``iso6336``, the default
+there). A planetary stage names its sun, planet and ring gears in ``[planetary]``
+(jaxgear/io/_planetary_table.py) instead of ``[[meshes]]``.
+
 A helical gear may state its ``hand = "right"`` or ``"left"``; by default the input is
 left-handed (a pair case's pinion), a driven gear takes its mate's other hand and a later gear on
 a shaft its shaft's first gear's hand (the axial forces of a compound gear then oppose).
