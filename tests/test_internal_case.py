@@ -168,3 +168,15 @@ def test_two_meshes_with_an_internal_gear_are_refused():
     with pytest.raises(ValueError, match=words) as err:
         jio.parse_train(tomllib.loads(text))
     assert "\n" not in str(err.value)
+
+
+def test_a_sweep_of_an_internal_mesh_is_refused_in_one_line(tmp_path, capsys):
+    path = _file(tmp_path, GEARS + MESH.format(a="planet", b="ring") + TAIL)
+    out = tmp_path / "sweep"
+    assert main(["sweep", str(path), "--speeds", "100:200:2", "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(
+        "[meshes[0]]: no dynamic scene takes an internal mesh yet (allowed: jaxgear run, the "
+        "rigid mesh's quasi-static files)"
+    )
+    assert "\n" not in err and not out.exists()

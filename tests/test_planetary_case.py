@@ -341,3 +341,15 @@ def test_the_case_file_reference_lists_the_planetary_keys():
     assert "## `[planetary.carrier]`" in page
     # the internal gear's tooth range is in the reference beside the external one
     assert any("-10000, -5" in a for a in train.tables["gears[]"]["teeth"].allowed)
+
+
+def test_a_sweep_of_a_planetary_stage_is_refused_in_one_line(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    argv = ["sweep", "nrel-5mw-planetary", "--speeds", "1:2:2", "--out", str(out), "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(
+        "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
+        "writes its lumped models' modes, Campbell diagram and load sharing)"
+    )
+    assert "\n" not in err and not out.exists()

@@ -19,7 +19,7 @@ from ..scenes import (
     lumped_pair,
 )
 from ._case import Case, PairForm, TrainForm
-from ._planetary_spec import PlanetaryForm
+from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 
 __all__ = ["PAIR_SCENES", "build_dynamic_model", "quasi_static_scene", "static_scene"]
@@ -93,6 +93,14 @@ PLANETARY_NO_SCENE = (
     "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
     "writes its lumped models' modes, Campbell diagram and load sharing)"
 )
+
+
+@_case_model.register
+def _internal_model(form: InternalMeshForm, case: Case, spec: SceneSpec, slices, bodies):
+    raise ValueError(
+        "[meshes[0]]: no dynamic scene takes an internal mesh yet (allowed: jaxgear run, the "
+        "rigid mesh's quasi-static files)"
+    )
 
 
 @_case_model.register
