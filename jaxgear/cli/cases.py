@@ -7,7 +7,7 @@ import functools
 from fem_prep.schema import print_or_write
 
 from .. import io as case_io
-from ..io import Case, PairForm, TrainForm
+from ..io import Case, PairForm, PlanetaryForm, TrainForm
 from ._case_kinds import gear_glossary
 
 __all__ = ["case_line", "run_cases"]
@@ -49,6 +49,17 @@ def _(form: TrainForm, case: Case) -> str:
         f"T {case.torque:g} N·m (input), {case.stiffness_model} stiffness"
         + (f", {case.scene.model} scene" if case.scene is not None else "")
         + (f" ({glossary})" if glossary else "")
+    )
+
+
+@form_line.register
+def _(form: PlanetaryForm, case: Case) -> str:
+    z_s, z_p, z_r = form.spec.teeth
+    teeth = f"{z_s}/{z_p}/-{z_r}" if z_p is not None else f"sun {z_s}, ring {z_r} (lumped)"
+    return (
+        f"planetary z {teeth}, {form.spec.n_planets} planets, {form.spec.fixed.name.lower()} "
+        f"fixed, {form.spec.input.name.lower()} → {form.spec.output.name.lower()}, "
+        f"T {case.torque:g} N·m (input)"
     )
 
 

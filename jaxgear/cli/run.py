@@ -20,7 +20,16 @@ from .. import (
     quasi_static,
 )
 from .. import io as case_io
-from ..io import Case, PairForm, TrainForm, atomic_open, write_csv, write_json
+from ..io import (
+    Case,
+    InternalMeshForm,
+    PairForm,
+    PlanetaryForm,
+    TrainForm,
+    atomic_open,
+    write_csv,
+    write_json,
+)
 from . import scene as cli_scene
 from . import sweep as cli_sweep
 from ._deviation_run import deviation_line, deviation_outputs
@@ -29,6 +38,7 @@ from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
 from ._rating_report import measured_dynamic_factor, rating_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from .planetary import planetary_files, planetary_lines
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
@@ -440,6 +450,16 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     return run_train(case, out, show_progress=not args.quiet, complete=complete)
 
 
+# a planetary stage's files and lines (cli/planetary.py)
+quasi_static_files.register(PlanetaryForm, planetary_files)
+
+
+@quasi_static_files.register
+def _(form: InternalMeshForm, case: Case, out: str, args, complete: bool) -> dict:
+    """A train of one internal mesh: its rigid mesh as a pair's (:func:`run_case`)."""
+    return run_case(case, out, show_progress=not args.quiet, complete=complete)
+
+
 @functools.singledispatch
 def run_lines(form, case: Case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints at the end for a case of ``form``, from its ``summary``."""
@@ -494,6 +514,14 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
             f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
         )
     return lines
+
+
+run_lines.register(PlanetaryForm, planetary_lines)
+
+
+@run_lines.register
+def _(form: InternalMeshForm, case: Case, summary: dict) -> list[str]:
+    return [format_table(summary, case.stiffness)]
 
 
 def _sweep_section(case, out: str, quiet: bool) -> dict:

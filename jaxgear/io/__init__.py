@@ -41,6 +41,11 @@ from ._names import (
 )
 from ._optimise_table import parse_optimise as parse_optimise
 from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
+from ._planetary_spec import (
+    InternalMeshForm as InternalMeshForm,
+    PlanetaryForm as PlanetaryForm,
+    PlanetarySpec as PlanetarySpec,
+)
 from ._problem import (
     OBJECTIVES as OBJECTIVES,
     OPTIMISERS as OPTIMISERS,

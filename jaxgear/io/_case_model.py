@@ -19,6 +19,7 @@ from ..scenes import (
     lumped_pair,
 )
 from ._case import Case, PairForm, TrainForm
+from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 
 __all__ = ["PAIR_SCENES", "build_dynamic_model", "quasi_static_scene", "static_scene"]
@@ -79,6 +80,26 @@ def _pair_model(form: PairForm, case: Case, spec: SceneSpec, slices, bodies):
         case.torque,
         spec_damping(spec),
         positions_per_pitch=spec.steps_per_period or 64,
+    )
+
+
+@_case_model.register
+def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, bodies):
+    raise ValueError(PLANETARY_NO_SCENE)
+
+
+#: a planetary stage's refusal of the scene-based commands (sweep, robust), one line
+PLANETARY_NO_SCENE = (
+    "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
+    "writes its lumped models' modes, Campbell diagram and load sharing)"
+)
+
+
+@_case_model.register
+def _internal_model(form: InternalMeshForm, case: Case, spec: SceneSpec, slices, bodies):
+    raise ValueError(
+        "[meshes[0]]: no dynamic scene takes an internal mesh yet (allowed: jaxgear run, the "
+        "rigid mesh's quasi-static files)"
     )
 
 
@@ -226,6 +247,11 @@ def _pair_static_scene(form: PairForm, case: Case, slices, bodies):
         material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
     )
     return scene, bodies
+
+
+@_static_scene.register
+def _planetary_static_scene(form: PlanetaryForm, case: Case, slices, bodies):
+    raise ValueError(PLANETARY_NO_SCENE)
 
 
 @_static_scene.register

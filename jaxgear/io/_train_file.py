@@ -55,6 +55,15 @@
     [scene.damping]                  # as a pair case
     [scene.integration]              # as a pair case
 
+An internal gear (a ring) has a negative ``teeth`` (ISO 21771, e.g. ``teeth = -56``; its
+``profile_shift`` in ISO 21771's sign, its tip and root keys as an external gear's): it may be
+a mesh's ``driven`` gear only, its ``driving`` mate an external gear inside it, and the mesh an
+:class:`~jaxgear.InternalGearPair`. A train with an internal mesh has that one mesh and no
+``[scene]`` (``jaxgear run`` writes the rigid mesh's quasi-static files, as a pair's), and its
+``[mesh] stiffness`` must have an internal-gear form (``uniform``, or ``iso6336``, the default
+there). A planetary stage names its sun, planet and ring gears in ``[planetary]``
+(jaxgear/io/_planetary_table.py) instead of ``[[meshes]]``.
+
 A helical gear may state its ``hand = "right"`` or ``"left"``; by default the input is
 left-handed (a pair case's pinion), a driven gear takes its mate's other hand and a later gear on
 a shaft its shaft's first gear's hand (the axial forces of a compound gear then oppose).
@@ -69,15 +78,17 @@ mesh with each other overlapping (tip circles apart).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from typing import Any
 
 from fem_prep import schema as sc
 
-from ._case import Case
 from .._geometry import GearPair
+from .._internal import InternalGearPair
 from ..scenes import train_hands
+from ._case import Case, TrainForm
 from ._case_file import (
     _MEMBER_KEYS,
     _SCHEMA,
@@ -91,12 +102,29 @@ from ._case_file import (
     parse_torque,
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
+from ._planetary_spec import InternalMeshForm
+from ._planetary_table import (
+    check_internal_stiffness,
+    is_planetary,
+    parse_planetary,
+    planetary_mesh_settings,
+)
 from ._plausibility import CaseWarning, plausibility
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
 __all__ = ["is_train", "parse_train"]
 
-_TOP_KEYS = {"name", "material", "gears", "meshes", "mesh", "modifications", "operating", "scene"}
+_TOP_KEYS = {
+    "name",
+    "material",
+    "gears",
+    "meshes",
+    "mesh",
+    "modifications",
+    "operating",
+    "scene",
+    "planetary",
+}
 _GEAR_KEYS = {
     "name",
     "shaft",
@@ -117,8 +145,9 @@ def table_hand(h: int) -> str:
 
 
 def is_train(data: Any) -> bool:
-    """Whether a parsed case file is a train (``[[gears]]`` or ``[[meshes]]``)."""
-    return isinstance(data, dict) and ("gears" in data or "meshes" in data)
+    """Whether a parsed case file is a train (``[[gears]]`` or ``[[meshes]]``) or a planetary
+    stage (``[planetary]``, :func:`parse_train` reads both)."""
+    return isinstance(data, dict) and ("gears" in data or "meshes" in data or is_planetary(data))
 
 
 def _array_of_tables(data: dict, key: str, minimum: int) -> list:
@@ -142,8 +171,23 @@ def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
     module = sc.number(table, "normal_module_mm", where, allowed=MODULE_RANGE_MM)
     alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
     beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
-    member = _member({where: {k: v for k, v in table.items() if k in _MEMBER_KEYS}}, where)
+    own = {k: v for k, v in table.items() if k in _MEMBER_KEYS}
+    teeth = own.get("teeth")
+    internal = isinstance(teeth, int) and not isinstance(teeth, bool) and teeth < 0
+    if internal:  # an internal gear (a ring): negative teeth, ISO 21771
+        sc.number(
+            table,
+            "teeth",
+            where,
+            allowed="[-10000, -5]",
+            integer=True,
+            note=" (an internal gear, ISO 21771; external: [5, 10000])",
+        )
+        own["teeth"] = -teeth
+    member = _member({where: own}, where)
     check_member_size(table, where, member, module, alpha)
+    if internal:
+        member = dataclasses.replace(member, teeth=teeth)
     return name, {
         "member": member,
         "module_mm": module,
@@ -166,6 +210,15 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
                 f"[{where}] {driving} → {driven}: [{a['where']}] {label} = {sc.fmt(a[key])} and "
                 f"[{b['where']}] {label} = {sc.fmt(b[key])} differ (gears in mesh share them)"
             )
+    if a["member"].teeth < 0:
+        raise sc.fail(
+            where,
+            "driving",
+            "is an internal gear (teeth < 0): allowed as a mesh's driven gear only, its mate "
+            "an external gear inside it",
+            driving,
+        )
+    kind = InternalGearPair if b["member"].teeth < 0 else GearPair
     geometry = {
         "pinion": a["member"],
         "gear": b["member"],
@@ -174,8 +227,18 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
         "helix_angle": math.radians(a["beta_deg"]),
     }
     try:
-        pair = GearPair(**geometry)
+        pair = kind(**geometry)
         a0_mm = pair.zero_backlash_center_distance * 1e3
+        if cd is not None and kind is InternalGearPair:  # backlash closer, jams farther
+            if cd > a0_mm + CENTER_DISTANCE_TOL_MM:
+                raise sc.fail(
+                    where,
+                    "center_distance_mm",
+                    f"out of range, allowed <= {a0_mm:.3f} mm (the zero-backlash distance of "
+                    f"the internal pair {driving} → {driven}; farther, the teeth jam)",
+                    cd,
+                )
+            return kind(**geometry, center_distance=min(cd, a0_mm) * 1e-3)
         if cd is not None and cd < a0_mm - CENTER_DISTANCE_TOL_MM:
             raise sc.fail(
                 where,
@@ -321,6 +384,38 @@ def _check_overlap(case: Case) -> None:
                 )
 
 
+def _planetary_case(data: dict, name: str) -> Case:
+    """A planetary stage's case (``[planetary]``, :func:`jaxgear.io._planetary_table.
+    parse_planetary`): its ``[[gears]]`` (none in the lumped form), material, mesh settings,
+    modifications and input torque and speed read as a train's."""
+    gears: dict[str, dict] = {}
+    index: dict[str, int] = {}
+    if "gears" in data:
+        for i, table in enumerate(_array_of_tables(data, "gears", 3)):
+            gear_name, gear = _gear(table, i, index)
+            gears[gear_name], index[gear_name] = gear, i
+    names = list(gears)
+    modules = [gears[n]["module_mm"] for n in names]
+    E, nu, rho = parse_material(data)
+    op = data["operating"]
+    base = {
+        "name": name,
+        "youngs_modulus": E,
+        "poisson_ratio": nu,
+        "density": rho,
+        "torque": sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+12]"),
+        "speed": sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]"),
+        "raw": data,
+        "gear_modifications": (
+            _modifications(data.get("modifications", {}), names, modules) if names else ()
+        ),
+        **planetary_mesh_settings(data, parse_mesh_settings(data, min(modules or [1.0]) * 1e-3)),
+    }
+    case = parse_planetary(data, base, gears, index)
+    check_internal_stiffness(case, "[planetary]")
+    return case
+
+
 def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> Case:
     """Validate a parsed train case (a dict with ``[[gears]]`` and ``[[meshes]]``) and build a
     :class:`Case` (SI units); ``base_dir``: the case file's folder (body files of
@@ -337,6 +432,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     for key in ("material", "mesh"):
         sc.subtable(data, key, "", _SCHEMA[key])
     sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads", "wrenches"}, required=True)
+    if is_planetary(data):
+        return _planetary_case(data, name)
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}
@@ -407,6 +504,21 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         pairs.append(_mesh_pair(gears, driving, driven, cd, where))
         links.append((g, h))
         angles.append(math.radians(angle))
+    internal = [k for k, p in enumerate(pairs) if isinstance(p, InternalGearPair)]
+    if internal:  # the rigid path of one internal mesh (its scenes are not written yet)
+        if len(pairs) > 1:
+            raise sc.SchemaError(
+                f"[meshes[{internal[0]}]] {names[links[internal[0]][0]]} → "
+                f"{names[links[internal[0]][1]]}: an internal gear is allowed in a train of one "
+                f"mesh only (this train has {len(pairs)}; a planetary stage: [planetary])"
+            )
+        if "scene" in data:
+            raise sc.fail(
+                "scene",
+                "model",
+                "no scene kind takes an internal mesh yet (allowed: no [scene], the rigid "
+                "mesh's quasi-static run; a planetary stage: [planetary])",
+            )
     effective, clash = train_hands(links, shafts, hands)
     if clash is not None:
         g, h = links[clash]
@@ -444,6 +556,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             "balancing output"
         )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
+    if internal:  # the default FE model has no internal-gear form
+        mesh = planetary_mesh_settings(data, mesh)
     mods = _modifications(
         data.get("modifications", {}), names, [gears[n]["module_mm"] for n in names]
     )
@@ -477,7 +591,11 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         shaft_names=tuple(shaft_list),
         scene=scene,
         raw=data,
+        form=InternalMeshForm() if internal else TrainForm(),
     )
+    if internal:
+        check_internal_stiffness(case, f"meshes[{internal[0]}]")
+        return case
     _check_overlap(case)
     _check_power(case)
     q = case.span_periods

@@ -1,0 +1,277 @@
+"""``jaxgear run`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`): the speed
+ratio and member speeds (Willis), the load sharing among the planets with the pin errors
+(K_γ, both lumped models), the natural frequencies with their mode types, the mesh phases, the
+Campbell diagram with the mesh orders in the carrier frame and, for a stage given by its gears,
+each of its two meshes' quasi-static TE and stiffness on the rigid mesh (the sun–planet and
+planet–ring meshes of one planet: the other planets' are the same up to phase).
+
+Files (atomically, into the run's folder): ``summary.json``, ``modes.json``, ``campbell.png``
+and, with gears, ``mesh_<sun>-<planet>.csv`` and ``mesh_<planet>-<ring>.csv`` (TE and mesh
+stiffness over two mesh periods).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from .. import (
+    ModeType,
+    PlanarPlanetary,
+    TorsionalPlanetary,
+    campbell,
+    classify_modes,
+    contact_pressure,
+    load_sharing,
+    mesh_phases,
+    planetary_modes,
+    quasi_static,
+)
+from ..io import write_csv, write_json
+from ._plots import new_figure
+from ._plots._figure import legend_below_and_save
+from ._summary import environment_summary, mesh_settings_summary, result_summary
+
+__all__ = [
+    "MESH_ORDERS",
+    "MODELS",
+    "campbell_section",
+    "lowest_frequency",
+    "mesh_sections",
+    "mode_list",
+    "phases_summary",
+    "planetary_files",
+    "planetary_lines",
+    "sharing_summary",
+    "type_counts",
+]
+
+#: the lumped models run, by their name in the outputs
+MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
+#: the mesh-frequency harmonics drawn on the Campbell diagram
+MESH_ORDERS = (1, 2, 3)
+#: a frequency below this share of the highest is a rigid mode's
+RIGID_SHARE = 1e-6
+#: speeds of the Campbell diagram
+CAMPBELL_SPEEDS = 41
+
+
+def planetary_files(form, case, out: str, args, complete: bool) -> dict:
+    """The files of a planetary case (module docstring) into ``out``; returns the summary
+    (``"complete": complete``)."""
+    spec = form.spec
+    stage = spec.stage(case)
+    speeds = spec.speeds(case.speed)
+    torques = spec.torques(case.torque)
+    k_s, k_r = (float(np.max(np.asarray(k))) for k in stage.mesh_stiffnesses())
+    summary = {
+        "case": case.name,
+        "complete": bool(complete),
+        "planetary": {
+            "form": "gears" if case.pairs else "lumped",
+            "teeth": dict(zip(("sun", "planet", "ring"), spec.teeth, strict=True)),
+            "planets": spec.n_planets,
+            "planet_angles_deg": [math.degrees(p) for p in spec.planet_angles],
+            "fixed": spec.fixed.name.lower(),
+            "input": spec.input.name.lower(),
+            "output": spec.output.name.lower(),
+            "speed_ratio": spec.ratio(),
+            "speeds_rad_s": speeds,
+            "torques_Nm": torques,
+            "mesh_frequency_carrier_frame_Hz": spec.mesh_frequency(case.speed),
+            "center_distance_m": spec.center_distance,
+            "pressure_angles_deg": {
+                "sun": math.degrees(spec.pressure_angles[0]),
+                "ring": math.degrees(spec.pressure_angles[1]),
+            },
+            "mesh_stiffness_N_per_m": {
+                "sun": k_s,
+                "ring": k_r,
+                "source": spec.mesh_stiffness.summary(),
+            },
+        },
+        "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
+        "load_sharing": sharing_summary(spec, stage, torques),
+        "mesh_phases": phases_summary(spec),
+    }
+    modes = {name: mode_list(model, stage) for name, model in MODELS.items()}
+    write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
+    summary["modes"] = {
+        "file": "modes.json",
+        **{f"{name}_lowest_Hz": lowest_frequency(v) for name, v in modes.items()},
+        "planar_type_counts": type_counts(modes["planar"]),
+    }
+    summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
+    if case.pairs:
+        summary["meshes"] = mesh_sections(case, out)
+        summary["mesh"] = mesh_settings_summary(case)
+    summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
+    write_json(os.path.join(out, "summary.json"), summary)
+    return summary
+
+
+def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
+    """Load sharing under the sun's torque with the pin errors, per model of ``models``
+    ({name: model kind})."""
+    held = spec.sharing_stage(stage)
+    e = np.asarray(spec.tangential_pin_errors)
+    eps = np.asarray(spec.radial_pin_errors)
+    out = {"tangential_pin_errors_m": e.tolist(), "radial_pin_errors_m": eps.tolist()}
+    for name, model in models.items():
+        r = load_sharing(model, held, abs(torques["sun"]), e, eps)
+        out[name] = {
+            "sun_mesh_forces_N": np.asarray(r.sun_mesh_forces).tolist(),
+            "ring_mesh_forces_N": np.asarray(r.ring_mesh_forces).tolist(),
+            "k_gamma": float(r.k_gamma),
+        }
+    return out
+
+
+def phases_summary(spec) -> dict:
+    z_s, _, z_r = spec.teeth
+    g_s, g_r = mesh_phases(z_s, z_r, np.asarray(spec.planet_angles))
+    return {"sun_planet": np.asarray(g_s).tolist(), "ring_planet": np.asarray(g_r).tolist()}
+
+
+def mode_list(model, stage) -> list:
+    m = planetary_modes(model, stage)
+    types = classify_modes(m, model, stage)
+    return [
+        {"frequency_Hz": float(f), "type": t.value, "multiplicity": int(k)}
+        for f, (t, k) in zip(np.asarray(m.frequencies), types, strict=True)
+    ]
+
+
+def lowest_frequency(modes: list) -> float | None:
+    """The lowest natural frequency above the rigid modes' (those below 1e-6 × the highest:
+    a member free to turn has one at 0 Hz, which round-off leaves at ~1e-4 Hz)."""
+    f = np.array([m["frequency_Hz"] for m in modes])
+    above = f[f > RIGID_SHARE * f.max()]
+    return float(above.min()) if above.size else None
+
+
+def type_counts(modes: list) -> dict:
+    """Distinct frequencies per mode type (a degenerate pair counted once)."""
+    out = {t.value: 0 for t in ModeType}
+    seen = set()
+    for m in modes:
+        key = (m["type"], round(m["frequency_Hz"], 6))
+        if key not in seen:
+            seen.add(key)
+            out[m["type"]] += 1
+    return out
+
+
+def campbell_section(case, spec, stage, path: str) -> dict:
+    """The planar model's frequencies in the carrier frame against the input speed (Coriolis
+    and centripetal terms at the carrier speed), the output held in rotation
+    (:meth:`~jaxgear.io.PlanetarySpec.held_stage`: the free mechanism mode would diverge under
+    the centripetal term), with the mesh orders k z_s |ω_s − ω_c|/(2π); drawn into ``path``."""
+    per_input = spec.speeds(1.0)  # every speed per rad/s of the input
+    f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
+    f0 = np.asarray(planetary_modes(MODELS["planar"], stage).frequencies)
+    nonzero = f0[f0 > RIGID_SHARE * max(f0.max(), 1.0)]
+    reach = nonzero[min(1, nonzero.size - 1)] * 1.2 / f_mesh if nonzero.size else 1.0
+    top = max(1.5 * case.speed, reach)
+    inputs = np.linspace(0.0, top, CAMPBELL_SPEEDS)
+    held = spec.held_stage(stage)
+    freqs = np.asarray(campbell(MODELS["planar"], held, inputs * per_input["carrier"]))
+    fig, ax = new_figure()
+    for j in range(freqs.shape[1]):
+        ax.plot(
+            inputs,
+            freqs[:, j],
+            color="0.3",
+            lw=0.8,
+            label="natural frequencies (planar)" if j == 0 else None,
+        )
+    for k in MESH_ORDERS:
+        ax.plot(
+            inputs,
+            k * f_mesh * inputs,
+            "--",
+            lw=1.2,
+            label=f"mesh order {k}: {k} z_s |ω_s − ω_c|/2π",
+        )
+    if case.speed > 0:
+        ax.axvline(case.speed, color="tab:red", lw=0.8, label=f"operating {case.speed:g} rad/s")
+    ax.set_ylim(0, 1.1 * float(nonzero.max() if nonzero.size else 1.0))
+    ax.set_xlim(0, top)
+    ax.set_xlabel(f"input ({spec.input.name.lower()}) speed (rad/s)")
+    ax.set_ylabel("frequency in the carrier frame (Hz)")
+    ax.set_title(
+        f"{case.name}: Campbell diagram, {spec.n_planets} planets, "
+        f"{spec.fixed.name.lower()} fixed, {spec.output.name.lower()} (output) held"
+    )
+    ax.grid(alpha=0.3)
+    legend_below_and_save(fig, ax, path, None)
+    return {
+        "file": "campbell.png",
+        "input_speeds_rad_s": inputs.tolist(),
+        "carrier_speeds_rad_s": (inputs * per_input["carrier"]).tolist(),
+        "mesh_frequency_per_input_rad_s_Hz": f_mesh,
+        "held": spec.output.name.lower(),
+    }
+
+
+def mesh_sections(case, out: str) -> dict:
+    """Each mesh's quasi-static TE and stiffness (rigid mesh, exact contact, the case's
+    modifications) at the mean planet load; ``mesh_<name>.csv``."""
+    res = {}
+    for k in range(len(case.pairs)):
+        one = case.mesh_case(k)
+        name = case.mesh_name(k)
+        r = quasi_static(
+            one.mesh_model(),
+            one.modifications,
+            one.torque,
+            positions_per_pitch=one.positions_per_pitch,
+            periods=2,
+        )
+        p = contact_pressure(one.pair, r, one.youngs_modulus, one.poisson_ratio)
+        write_csv(
+            os.path.join(out, f"mesh_{name}.csv"),
+            ["theta_rad", "te_m", "mesh_stiffness_N_per_m"],
+            [np.asarray(r.theta), np.asarray(r.transmission_error), np.asarray(r.mesh_stiffness)],
+        )
+        res[name] = {
+            "internal": one.pair.pinion.teeth * one.pair.gear.teeth < 0,
+            "driving_torque_Nm": one.torque,
+            "normal_load_N": one.normal_load,
+            "driving_speed_relative_to_carrier_rad_s": one.speed,
+            "geometry": one.pair.summary(),
+            "quasi_static": result_summary(r, None, p),
+            "file": f"mesh_{name}.csv",
+        }
+    return res
+
+
+def planetary_lines(form, case, summary: dict) -> list[str]:
+    """What ``jaxgear run`` prints for a planetary case."""
+    p = summary["planetary"]
+    ls = summary["load_sharing"]
+    m = summary["modes"]
+    lines = [
+        f"planetary stage {case.name}: {p['planets']} planets, {p['fixed']} fixed, "
+        f"{p['input']} → {p['output']}, speed ratio ω_in/ω_out {p['speed_ratio']:.6g} (Willis; "
+        f"the output turns {1 / p['speed_ratio']:.6g} × the input), "
+        f"mesh frequency {p['mesh_frequency_carrier_frame_Hz']:.4g} Hz (carrier frame)",
+        f"load sharing K_γ: planar {ls['planar']['k_gamma']:.4f}, torsional "
+        f"{ls['torsional']['k_gamma']:.4f} (pin errors "
+        f"{', '.join(f'{e * 1e6:g}' for e in ls['tangential_pin_errors_m'])} µm tangential)",
+        f"lowest natural frequency: planar {m['planar_lowest_Hz']:.5g} Hz, torsional "
+        f"{m['torsional_lowest_Hz']:.5g} Hz; planar mode types "
+        + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
+        + " (modes.json, campbell.png)",
+    ]
+    for name, mesh in summary.get("meshes", {}).items():
+        q = mesh["quasi_static"]
+        lines.append(
+            f"mesh {name}{' (internal)' if mesh['internal'] else ''}: TE ptp "
+            f"{q['te_ptp_m'] * 1e6:.4f} µm, K mean {q['mesh_stiffness_mean_N_per_m'] / 1e6:.2f} "
+            f"N/µm, max line load {q['max_line_load_N_per_m'] / 1e3:.1f} N/mm, max pressure "
+            f"{q['max_contact_pressure_Pa'] / 1e6:.0f} MPa"
+        )
+    return lines

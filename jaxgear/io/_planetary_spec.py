@@ -1,0 +1,282 @@
+"""A planetary stage as a case holds it (SI units): :class:`PlanetarySpec` (the validated
+``[planetary]`` table, jaxgear/io/_planetary_table.py), the case's form :class:`PlanetaryForm`,
+the lumped models' mesh stiffness by where it comes from (:class:`PlanetaryMeshStiffness`), and
+the form of a train of one internal mesh (:class:`InternalMeshForm`).
+
+Sign conventions: speeds and torques in the fixed frame, positive in the input's direction of
+motion; the Willis relation z_s ω_s + z_r ω_r = (z_s + z_r) ω_c (z_r the ring's tooth count,
+positive here); the torques T_s : T_r : T_c = z_s : z_r : −(z_s + z_r) (lossless).
+"""
+
+from __future__ import annotations
+
+import abc
+import dataclasses
+import math
+
+import numpy as np
+
+from .._planetary import Central, PlanetaryStage, speed_ratio
+from .._quasi_static import quasi_static
+from .._stiffness import iso6336_mesh_stiffness
+from ._case import Case, CaseForm, PairForm, TrainForm
+
+__all__ = [
+    "HOLD_FACTOR",
+    "GivenMeshStiffness",
+    "ISO6336MeshStiffness",
+    "InternalMeshForm",
+    "MeanMeshStiffness",
+    "PlanetaryForm",
+    "PlanetaryMeshStiffness",
+    "PlanetarySpec",
+]
+
+#: a stiffness that holds a member (N/m on u = r θ) relative to the stiffest mesh
+HOLD_FACTOR = 1e3
+
+
+# -- mesh stiffness of the lumped models: objects named by `mesh_stiffness` --------------------
+
+
+class PlanetaryMeshStiffness(abc.ABC):
+    """Where the lumped models' constant sun–planet and ring–planet mesh stiffnesses come from
+    (``[planetary] mesh_stiffness`` names it; given values are :class:`GivenMeshStiffness`)."""
+
+    @abc.abstractmethod
+    def values(self, case: Case) -> tuple[float, float]:
+        """(k_s, k_r) (N/m) on the line of action."""
+
+    @abc.abstractmethod
+    def summary(self) -> str:
+        """What the summary says the stiffness is."""
+
+
+@dataclasses.dataclass(frozen=True)
+class GivenMeshStiffness(PlanetaryMeshStiffness):
+    """Given in the case file (``sun_mesh_stiffness_N_per_um``,
+    ``ring_mesh_stiffness_N_per_um``)."""
+
+    sun: float
+    ring: float
+
+    def values(self, case):
+        return self.sun, self.ring
+
+    def summary(self):
+        return "given"
+
+
+@dataclasses.dataclass(frozen=True)
+class ISO6336MeshStiffness(PlanetaryMeshStiffness):
+    """ISO 6336-1 §9.3: c_γα b (c_γα = c' (0.75 ε_α + 0.25) at the case's Young's modulus; an
+    internal pair with the standard's internal-gear rule)."""
+
+    def values(self, case):
+        return tuple(
+            iso6336_mesh_stiffness(p, case.youngs_modulus) * p.face_width for p in case.pairs
+        )
+
+    def summary(self):
+        return "iso6336 (ISO 6336-1 c_gamma_alpha b)"
+
+
+@dataclasses.dataclass(frozen=True)
+class MeanMeshStiffness(PlanetaryMeshStiffness):
+    """The mean over a mesh period of the ``[mesh]`` stiffness model's quasi-static mesh
+    stiffness, each mesh at its mean planet load (the rigid mesh, exact contact)."""
+
+    def values(self, case):
+        out = []
+        for k in range(len(case.pairs)):
+            one = case.mesh_case(k)
+            r = quasi_static(
+                one.mesh_model(), one.modifications, one.torque, positions_per_pitch=16
+            )
+            out.append(float(np.mean(np.asarray(r.mesh_stiffness))))
+        return tuple(out)
+
+    def summary(self):
+        return "mean of the [mesh] stiffness model"
+
+
+# -- the stage as the file gives it --------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanetarySpec:
+    """A validated ``[planetary]`` table in SI units.
+
+    Attributes:
+        teeth: (z_s, z_p, z_r), the ring's positive (z_p None in the lumped form).
+        planet_angles: ψ_n (rad), (N,), planet 1 first.
+        fixed, input, output: the :class:`~jaxgear.Central` members.
+        members: {"sun", "ring", "carrier", "planet": :class:`~jaxgear.PlanetaryMember`}, the
+            base radii of the gear form from the gears.
+        pressure_angles: (α_s, α_r) operating transverse pressure angles (rad).
+        mesh_stiffness: a :class:`PlanetaryMeshStiffness`.
+        tangential_pin_errors, radial_pin_errors: per planet (m), (N,).
+        center_distance: a_w (m), the planet-circle radius.
+    """
+
+    teeth: tuple
+    planet_angles: tuple
+    fixed: Central
+    input: Central
+    output: Central
+    members: dict
+    pressure_angles: tuple
+    mesh_stiffness: PlanetaryMeshStiffness
+    tangential_pin_errors: tuple
+    radial_pin_errors: tuple
+    center_distance: float
+
+    @property
+    def n_planets(self) -> int:
+        return len(self.planet_angles)
+
+    def tooth_count(self, member: Central) -> float:
+        """z of the Willis torque balance: z_s, z_r, −(z_s + z_r) for the carrier."""
+        z_s, _, z_r = self.teeth
+        return (z_s, z_r, -(z_s + z_r))[member]
+
+    def speeds(self, input_speed: float) -> dict:
+        """Each central member's speed (rad/s, fixed frame) and the planet's (absolute and
+        relative to the carrier), the input at ``input_speed``, the fixed member at rest
+        (Willis: z_s ω_s + z_r ω_r = (z_s + z_r) ω_c)."""
+        z_s, z_p, z_r = self.teeth
+        a = np.array([[z_s, z_r, -(z_s + z_r)], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+        a[1, self.fixed], a[2, self.input] = 1.0, 1.0
+        w = np.linalg.solve(a, [0.0, 0.0, input_speed])
+        w[self.fixed] = 0.0
+        out = {m.name.lower(): float(w[m]) for m in Central}
+        if z_p is not None:
+            rel = -(w[Central.SUN] - w[Central.CARRIER]) * z_s / z_p
+            out["planet_relative"] = float(rel)
+            out["planet"] = float(w[Central.CARRIER] + rel)
+        return out
+
+    def torques(self, input_torque: float) -> dict:
+        """Each central member's torque (N·m), the input's ``input_torque``: T_m = T_in z_m /
+        z_in (lossless; their sum 0)."""
+        z_in = self.tooth_count(self.input)
+        return {m.name.lower(): input_torque * self.tooth_count(m) / z_in for m in Central}
+
+    def ratio(self) -> float:
+        """The Willis speed ratio ω_input/ω_output (:func:`jaxgear.speed_ratio`)."""
+        z_s, _, z_r = self.teeth
+        return speed_ratio(z_s, z_r, self.fixed, self.input, self.output)
+
+    def mesh_frequency(self, input_speed: float) -> float:
+        """The mesh frequency (Hz) in the carrier frame, z_s |ω_s − ω_c|/(2π)."""
+        w = self.speeds(input_speed)
+        return self.teeth[0] * abs(w["sun"] - w["carrier"]) / (2 * math.pi)
+
+    def stage(self, case: Case) -> PlanetaryStage:
+        """The lumped stage (:class:`~jaxgear.PlanetaryStage`) of the case: the members as
+        given (a member without torsional stiffness free to turn), the mesh stiffnesses of
+        :attr:`mesh_stiffness`."""
+        k_s, k_r = self.mesh_stiffness.values(case)
+        m = self.members
+        return PlanetaryStage(
+            sun=m["sun"],
+            ring=m["ring"],
+            carrier=m["carrier"],
+            planet=m["planet"],
+            planet_angles=np.asarray(self.planet_angles),
+            sun_pressure_angle=self.pressure_angles[0],
+            ring_pressure_angle=self.pressure_angles[1],
+            sun_mesh_stiffness=k_s,
+            ring_mesh_stiffness=k_r,
+        )
+
+    def held_stage(self, stage: PlanetaryStage) -> PlanetaryStage:
+        """The stage with its output held in rotation too (HOLD_FACTOR × the stiffest mesh on
+        u = r θ, as a load of large inertia): no rigid mechanism mode is left, which the
+        centripetal term of the carrier frame would make diverge at any carrier speed (the
+        Campbell diagram's stage)."""
+        member = self.output.name.lower()
+        m = getattr(stage, member)
+        held = dataclasses.replace(
+            m, torsional_stiffness=m.torsional_stiffness + self._hold(stage) * m.base_radius**2
+        )
+        return dataclasses.replace(stage, **{member: held})
+
+    @staticmethod
+    def _hold(stage: PlanetaryStage) -> float:
+        return HOLD_FACTOR * float(
+            max(np.max(stage.sun_mesh_stiffness), np.max(stage.ring_mesh_stiffness))
+        )
+
+    def sharing_stage(self, stage: PlanetaryStage) -> PlanetaryStage:
+        """The stage of the load-sharing solve (:func:`jaxgear.load_sharing` loads the sun):
+        the sun free in rotation, the ring and the carrier held (HOLD_FACTOR × the stiffest
+        mesh on u = r θ). Which two members take the reactions does not change the mesh loads:
+        with the sun's torque the statics set every member's torque (Willis), and holding
+        another pair of members differs by a rigid motion of the mechanism, which strains no
+        mesh."""
+        hold = self._hold(stage)
+
+        def held(m, k_u):
+            return dataclasses.replace(m, torsional_stiffness=k_u * m.base_radius**2)
+
+        return dataclasses.replace(
+            stage,
+            sun=held(stage.sun, 0.0),
+            ring=held(stage.ring, hold),
+            carrier=held(stage.carrier, hold),
+        )
+
+
+@dataclasses.dataclass(frozen=True)
+class PlanetaryForm(CaseForm):
+    """A planetary case file (``[planetary]``): its stage (:class:`PlanetarySpec`); the gear
+    form's two meshes, ``sun-planet`` (the external pair, the sun driving) and ``planet-ring``
+    (the :class:`~jaxgear.InternalGearPair`, the planet driving), named by the gears; each as a
+    one-mesh case at the mean planet load, at its speed relative to the carrier. ``jaxgear run``
+    writes its stage outputs (``jaxgear/cli/planetary.py``)."""
+
+    spec: PlanetarySpec
+
+    def mesh_name(self, case: Case, k: int) -> str:
+        g, h = case.gears[k]
+        return f"{case.gear_names[g]}-{case.gear_names[h]}"
+
+    def mesh_label(self, case: Case, k: int) -> str:
+        return self.mesh_name(case, k)
+
+    def mesh_case(self, case: Case, k: int) -> Case:
+        if not case.pairs:
+            raise ValueError(
+                f"case {case.name!r}: a lumped planetary stage ([planetary] without [[gears]]) "
+                "has no gear meshes"
+            )
+        spec = self.spec
+        torque_sun = abs(spec.torques(case.torque)["sun"])
+        force = torque_sun / (spec.n_planets * case.pairs[0].base_radii[0])  # on the line of action
+        speeds = spec.speeds(case.speed)
+        pair = case.pairs[k]
+        g, h = case.gears[k]
+        driving_speed = (
+            abs(speeds["sun"] - speeds["carrier"]) if k == 0 else abs(speeds["planet_relative"])
+        )
+        return Case(
+            name=f"{case.name}-{self.mesh_name(case, k)}",
+            pairs=(pair,),
+            gear_modifications=(case.gear_modifications[g], case.gear_modifications[h]),
+            torque=force * pair.base_radii[0],
+            speed=driving_speed,
+            form=PairForm(),
+            **case.mesh_settings(),
+        )
+
+
+@dataclasses.dataclass(frozen=True)
+class InternalMeshForm(TrainForm):
+    """A train file of one mesh whose driven gear is internal (``teeth`` < 0: an
+    :class:`~jaxgear.InternalGearPair`): named and labelled as a train's mesh; the mesh is the
+    case itself as a one-mesh case, and ``jaxgear run`` writes a pair's quasi-static files for it
+    (the rigid mesh: TE, stiffness, pressure); no ``[scene]`` takes it yet."""
+
+    def mesh_case(self, case: Case, k: int) -> Case:
+        return dataclasses.replace(case, form=PairForm())

@@ -1,0 +1,475 @@
+"""A planetary stage in a case file: the ``[planetary]`` table (docs/guide/planetary.md, "Case
+files"), in one of two forms.
+
+**Gear form**: the sun, planet and ring are ``[[gears]]`` entries (the ring internal: ``teeth``
+negative, ISO 21771), named by ``[planetary] sun_gear``, ``planet_gear``, ``ring_gear``; the
+base radii, the operating pressure angles and the planet-circle radius come from their geometry
+(:func:`jaxgear.planetary_geometry` at ``center_distance_mm``), the mesh stiffness from the
+gears (ISO 6336-1 c_γα b, or the mean of the ``[mesh]`` stiffness model) or given.
+
+.. code-block:: toml
+
+    [[gears]]                          # sun, planet, ring: keys as a train's gears
+    name = "ring"
+    teeth = -56                        # internal: negative (ISO 21771)
+    ...
+    [operating]
+    torque_Nm = 3.946e6                # on the input member, in its direction of motion
+    speed_rad_s = 1.2671               # of the input member
+    [planetary]
+    sun_gear = "sun"                   # [[gears]] names
+    planet_gear = "planet"
+    ring_gear = "ring"
+    planets = 3                        # equally spaced; or planet_angles_deg = [0, 120, 240]
+    fixed = "ring"                     # "sun", "ring" or "carrier"
+    input = "carrier"                  # the output is the third
+    center_distance_mm = 863.0         # optional: the sun pair's zero-backlash distance
+    mesh_stiffness = "iso6336"         # or "mean", or sun_/ring_mesh_stiffness_N_per_um
+    tangential_pin_errors_um = [20.0, 0.0, 0.0]   # optional, one per planet
+    [planetary.sun]                    # and ring, carrier, planet
+    mass_kg = 1.0e3
+    inertia_kg_m2 = 100.0              # or inertia_over_r2_kg (I/r_b², Lin & Parker's)
+    bearing_N_per_um = 100.0           # radial, both directions (0: floating)
+    [planetary.ring]
+    torsional_stiffness_Nm_per_rad = 1e12   # or torsional_stiffness_N_per_um (on u = r_b θ)
+    [planetary.planet]
+    pin_radial_N_per_um = 1.0e4        # the pin on the carrier (radial, tangential)
+    pin_tangential_N_per_um = 1.0e4
+
+**Lumped form** (the literature's: Lin & Parker 1999's Table 1 is written so): no ``[[gears]]``;
+each member gives ``base_radius_mm`` (the carrier's: the planet-circle radius),
+``[planetary]`` the tooth counts ``sun_teeth``, ``ring_teeth`` (positive; for the speed ratios,
+the assembly condition and the mesh phases only), ``sun_pressure_angle_deg``,
+``ring_pressure_angle_deg`` and both mesh stiffnesses.
+
+Validated whole before any work, one line per error in the file's units: the assembly condition
+((z_s + z_r) ψ_n/360° integer), the three members distinct, the fixed member held in rotation
+(a torsional stiffness > 0), one pin error per planet, keys of one form only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from fem_prep import schema as sc
+
+from .._internal import InternalGearPair, planetary_geometry
+from .._planetary import Central, PlanetaryMember, check_assembly
+from .._stiffness_models import ISO6336
+from ._case import Case
+from ._planetary_spec import (
+    GivenMeshStiffness,
+    ISO6336MeshStiffness,
+    MeanMeshStiffness,
+    PlanetaryForm,
+    PlanetarySpec,
+)
+
+__all__ = [
+    "MESH_STIFFNESS",
+    "check_internal_stiffness",
+    "is_planetary",
+    "parse_planetary",
+    "planetary_mesh_settings",
+]
+
+#: ``[planetary] mesh_stiffness``: the name → where the lumped models' mesh stiffness comes from
+MESH_STIFFNESS = {"iso6336": ISO6336MeshStiffness, "mean": MeanMeshStiffness}
+MEMBERS = ("sun", "ring", "carrier")
+#: keys of [planetary] (both forms; a key of the other form is refused in one line)
+PLANETARY_KEYS = {
+    "sun_gear",
+    "planet_gear",
+    "ring_gear",
+    "sun",
+    "planet",
+    "ring",
+    "carrier",
+    "planets",
+    "planet_angles_deg",
+    "fixed",
+    "input",
+    "center_distance_mm",
+    "mesh_stiffness",
+    "sun_mesh_stiffness_N_per_um",
+    "ring_mesh_stiffness_N_per_um",
+    "tangential_pin_errors_um",
+    "radial_pin_errors_um",
+    "sun_teeth",
+    "ring_teeth",
+    "sun_pressure_angle_deg",
+    "ring_pressure_angle_deg",
+}
+GEAR_FORM_KEYS = ("sun_gear", "planet_gear", "ring_gear", "center_distance_mm", "mesh_stiffness")
+LUMPED_FORM_KEYS = ("sun_teeth", "ring_teeth", "sun_pressure_angle_deg", "ring_pressure_angle_deg")
+_BODY_KEYS = {
+    "mass_kg",
+    "inertia_kg_m2",
+    "inertia_over_r2_kg",
+    "base_radius_mm",
+}
+CENTRAL_KEYS = _BODY_KEYS | {
+    "bearing_N_per_um",
+    "torsional_stiffness_Nm_per_rad",
+    "torsional_stiffness_N_per_um",
+}
+PLANET_KEYS = _BODY_KEYS | {"pin_radial_N_per_um", "pin_tangential_N_per_um"}
+
+
+def is_planetary(data) -> bool:
+    """Whether a parsed case file is a planetary stage (a ``[planetary]`` table)."""
+    return isinstance(data, dict) and "planetary" in data
+
+
+# -- parsing -----------------------------------------------------------------------------------
+
+
+def _central(table: dict, name: str, base_radius: float | None) -> PlanetaryMember:
+    where = f"planetary.{name}"
+    r = _base_radius(table, where, base_radius)
+    mass, inertia = _body(table, where, r)
+    bearing = sc.number(table, "bearing_N_per_um", where, 0.0, allowed="[0, 1e+09]") * 1e6
+    torsional = _either(
+        table,
+        where,
+        ("torsional_stiffness_Nm_per_rad", "[0, 1e+20]", 1.0),
+        ("torsional_stiffness_N_per_um", "[0, 1e+09]", 1e6 * r**2),
+        0.0,
+    )
+    return PlanetaryMember(
+        mass=mass,
+        polar_inertia=inertia,
+        base_radius=r,
+        bearing_stiffness=bearing,
+        torsional_stiffness=torsional,
+    )
+
+
+def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
+    where = "planetary.planet"
+    r = _base_radius(table, where, base_radius)
+    mass, inertia = _body(table, where, r)
+    pin = [
+        sc.number(table, key, where, allowed="(0, 1e+09]") * 1e6
+        for key in ("pin_radial_N_per_um", "pin_tangential_N_per_um")
+    ]
+    return PlanetaryMember(mass=mass, polar_inertia=inertia, base_radius=r, bearing_stiffness=pin)
+
+
+def _base_radius(table: dict, where: str, from_gears: float | None) -> float:
+    if from_gears is None:
+        return sc.number(table, "base_radius_mm", where, allowed="(0, 1e+05]") * 1e-3
+    if "base_radius_mm" in table:
+        raise sc.fail(
+            where,
+            "base_radius_mm",
+            "allowed only in the lumped form (no [[gears]]): with gears the base radii come "
+            "from their geometry",
+            table["base_radius_mm"],
+        )
+    return from_gears
+
+
+def _body(table: dict, where: str, r: float) -> tuple[float, float]:
+    mass = sc.number(table, "mass_kg", where, allowed="(0, 1e+07]")
+    inertia = _either(
+        table,
+        where,
+        ("inertia_kg_m2", "(0, 1e+09]", 1.0),
+        ("inertia_over_r2_kg", "(0, 1e+09]", r**2),
+    )
+    return mass, inertia
+
+
+def _either(table: dict, where: str, first: tuple, second: tuple, default=sc.MISSING) -> float:
+    """One of two keys (key, allowed, SI factor) of one quantity, or ``default``."""
+    values = [
+        sc.number(table, key, where, None, allowed=allowed) for key, allowed, _ in (first, second)
+    ]
+    if None not in values:
+        raise sc.fail(
+            where, second[0], f"give {first[0]} or {second[0]}, not both", table[second[0]]
+        )
+    for v, (_, _, factor) in zip(values, (first, second), strict=True):
+        if v is not None:
+            return v * factor
+    if default is sc.MISSING:
+        raise sc.fail(where, first[0], f"missing required key (or {second[0]})")
+    return default
+
+
+def _angles(t: dict, z_s: int, z_r: int) -> tuple:
+    """``planets`` (equally spaced) or ``planet_angles_deg``, the assembly condition checked."""
+    if ("planets" in t) == ("planet_angles_deg" in t):
+        raise sc.fail(
+            "planetary",
+            "planets",
+            "give planets (equally spaced) or planet_angles_deg, one of them"
+            + (", not both" if "planets" in t else ""),
+        )
+    if "planets" in t:
+        n = sc.number(t, "planets", "planetary", allowed="[1, 64]", integer=True)
+        psi = 2 * math.pi * np.arange(n) / n
+        key, shown = "planets", t["planets"]
+    else:
+        deg = sc.number_list(
+            t, "planet_angles_deg", "planetary", min_length=1, allowed="[-360, 360]"
+        )
+        psi = np.radians(deg)
+        key, shown = "planet_angles_deg", t["planet_angles_deg"]
+    turns = (z_s + z_r) * (psi - psi[0]) / (2 * math.pi)
+    bad = np.abs(turns - np.round(turns)) > 1e-6
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise sc.fail(
+            "planetary",
+            key,
+            f"planet {i + 1} at {math.degrees(psi[i] - psi[0]):.6g}° cannot be assembled: "
+            f"(z_sun + z_ring) × angle/360° = {turns[i]:.6g} must be an integer (z_sun = {z_s}, "
+            f"z_ring = {z_r}; equally spaced planets need (z_sun + z_ring)/planets integer)",
+            shown,
+        )
+    check_assembly(z_s, z_r, psi)  # the library's own condition, the same
+    return tuple(float(p) for p in psi)
+
+
+def _roles(t: dict) -> tuple:
+    names = [m.lower() for m in Central.__members__]
+    fixed = sc.choice(t, "fixed", "planetary", names)
+    driver = sc.choice(t, "input", "planetary", names)
+    if driver == fixed:
+        raise sc.fail(
+            "planetary",
+            "input",
+            f"is the fixed member (allowed: another of {', '.join(names)})",
+            driver,
+        )
+    out = next(n for n in names if n not in (fixed, driver))
+    return tuple(Central[n.upper()] for n in (fixed, driver, out))
+
+
+def _pin_errors(t: dict, key: str, n: int) -> tuple:
+    v = sc.number_list(t, key, "planetary", [0.0] * n, allowed="[-1e+04, 1e+04]")
+    if len(v) != n:
+        raise sc.fail("planetary", key, f"must hold one value per planet ({n})", t[key])
+    return tuple(x * 1e-6 for x in v)
+
+
+def _refuse(t: dict, keys, why: str) -> None:
+    for key in keys:
+        if key in t:
+            raise sc.fail("planetary", key, why, t[key])
+
+
+def _given_stiffness(t: dict, required: bool) -> GivenMeshStiffness | None:
+    keys = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
+    if not required and not any(k in t for k in keys):
+        return None
+    vals = [sc.number(t, k, "planetary", allowed="(0, 1e+09]") * 1e6 for k in keys]
+    return GivenMeshStiffness(*vals)
+
+
+def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
+    """Validate ``[planetary]`` and build the stage's :class:`Case` (:class:`PlanetaryForm`).
+
+    Args:
+        data: the parsed file; ``base``: the train fields already parsed (``name``, material,
+            mesh settings, modifications, operating torque and speed: :class:`Case` keywords);
+        gears: the ``[[gears]]`` (name → parsed gear, as :func:`jaxgear.io._train_file._gear`
+            gives it), ``{}`` in the lumped form; index: name → position.
+
+    Raises:
+        SchemaError: one line, in the file's units (module docstring).
+    """
+    t = sc.subtable(data, "planetary", "", PLANETARY_KEYS, required=True)
+    for key in ("meshes", "scene"):
+        if key in data:
+            raise sc.SchemaError(
+                f"[{key}]: not in a planetary case (allowed: [planetary] names the stage's "
+                "gears and meshes; its models are the lumped ones of [planetary])"
+            )
+    op = data.get("operating", {})
+    for key in ("loads", "wrenches"):
+        if key in op:
+            raise sc.fail(
+                "operating",
+                key,
+                "not in a planetary case (allowed: torque_Nm on the input member)",
+                op[key],
+            )
+    fixed, driver, output = _roles(t)
+    tables = {
+        m: sc.subtable(
+            t, m, "planetary", PLANET_KEYS if m == "planet" else CENTRAL_KEYS, required=True
+        )
+        for m in (*MEMBERS, "planet")
+    }
+    if gears:
+        _refuse(
+            t, LUMPED_FORM_KEYS, "allowed only in the lumped form (no [[gears]]): the gears give it"
+        )
+        geometry, names, z_p = _geometry(t, gears)
+        z_s, z_r = geometry.sun_planet.pinion.teeth, -geometry.planet_ring.gear.teeth
+        radii = {
+            "sun": geometry.sun_planet.base_radii[0],
+            "planet": geometry.sun_planet.base_radii[1],
+            "ring": geometry.planet_ring.base_radii[1],
+            "carrier": geometry.center_distance,
+        }
+        alphas = (geometry.sun_pressure_angle, geometry.ring_pressure_angle)
+        given = _given_stiffness(t, required=False)
+        if given is not None and "mesh_stiffness" in t:
+            raise sc.fail(
+                "planetary",
+                "mesh_stiffness",
+                "give mesh_stiffness or the two *_mesh_stiffness_N_per_um, not both",
+                t["mesh_stiffness"],
+            )
+        mesh_k = (
+            given
+            or MESH_STIFFNESS[
+                sc.choice(t, "mesh_stiffness", "planetary", tuple(MESH_STIFFNESS), "iso6336")
+            ]()
+        )
+        a_w = geometry.center_distance
+        pairs = (geometry.sun_planet, geometry.planet_ring)
+    else:
+        _refuse(t, GEAR_FORM_KEYS, "allowed only with [[gears]] (the gear form)")
+        z_s = sc.number(t, "sun_teeth", "planetary", allowed="[3, 10000]", integer=True)
+        z_r = sc.number(
+            t,
+            "ring_teeth",
+            "planetary",
+            allowed=f"[{z_s + 1}, 10000]",
+            integer=True,
+            note=" (above sun_teeth)",
+        )
+        z_p = None
+        radii = dict.fromkeys((*MEMBERS, "planet"))
+        alphas = tuple(
+            math.radians(sc.number(t, k, "planetary", allowed="(0, 90)"))
+            for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg")
+        )
+        mesh_k = _given_stiffness(t, required=True)
+        names, pairs, a_w = (), (), None
+    psi = _angles(t, z_s, z_r)
+    members = {m: _central(tables[m], m, radii[m]) for m in MEMBERS}
+    members["planet"] = _planet(tables["planet"], radii["planet"])
+    if a_w is None:
+        a_w = float(members["carrier"].base_radius)
+    held = members[fixed.name.lower()]
+    if float(held.torsional_stiffness) <= 0:
+        raise sc.fail(
+            f"planetary.{fixed.name.lower()}",
+            "torsional_stiffness_Nm_per_rad",
+            "missing: the fixed member needs a torsional stiffness > 0 (its support; or "
+            "torsional_stiffness_N_per_um)",
+        )
+    n = len(psi)
+    spec = PlanetarySpec(
+        teeth=(z_s, z_p, z_r),
+        planet_angles=psi,
+        fixed=fixed,
+        input=driver,
+        output=output,
+        members=members,
+        pressure_angles=alphas,
+        mesh_stiffness=mesh_k,
+        tangential_pin_errors=_pin_errors(t, "tangential_pin_errors_um", n),
+        radial_pin_errors=_pin_errors(t, "radial_pin_errors_um", n),
+        center_distance=a_w,
+    )
+    mods = base.pop("gear_modifications", ())
+    idx = [index[nm] for nm in names]
+    return Case(
+        pairs=pairs,
+        gear_names=tuple(names),
+        gears=((0, 1), (1, 2)) if pairs else (),
+        angles=(0.0, 0.0) if pairs else (),
+        gear_modifications=tuple(mods[i] for i in idx),
+        form=PlanetaryForm(spec),
+        **base,
+    )
+
+
+def _geometry(t: dict, gears: dict):
+    """The stage's pairs from the gears ``[planetary]`` names (sun, planet external, ring
+    internal; one module, pressure and helix angle), at ``center_distance_mm``."""
+    names = []
+    for role in ("sun", "planet", "ring"):
+        key = f"{role}_gear"
+        name = sc.string(t, key, "planetary")
+        if name not in gears:
+            raise sc.fail("planetary", key, f"no such gear, allowed {', '.join(gears)}", name)
+        if name in names:
+            raise sc.fail(
+                "planetary",
+                key,
+                f"names the {('sun', 'planet')[names.index(name)]} already (allowed: three "
+                "different gears)",
+                name,
+            )
+        internal = gears[name]["member"].teeth < 0
+        if internal != (role == "ring"):
+            what = (
+                "an internal gear (teeth < 0)" if role == "ring" else "an external gear (teeth > 0)"
+            )
+            raise sc.fail(
+                "planetary",
+                key,
+                f"must name {what}: [gears.{name}] teeth = {gears[name]['member'].teeth}",
+                name,
+            )
+        names.append(name)
+    g = [gears[n] for n in names]
+    for key, label in (
+        ("module_mm", "normal_module_mm"),
+        ("alpha_deg", "normal_pressure_angle_deg"),
+        ("beta_deg", "helix_angle_deg"),
+    ):
+        if len({x[key] for x in g}) > 1:
+            raise sc.SchemaError(
+                f"[planetary]: [gears.{names[0]}], [gears.{names[1]}], [gears.{names[2]}] "
+                f"{label} = {', '.join(sc.fmt(x[key]) for x in g)} differ (a stage's gears share "
+                "it)"
+            )
+    cd = sc.number(t, "center_distance_mm", "planetary", None, allowed="(0, 1e+06]")
+    try:
+        geometry = planetary_geometry(
+            g[0]["member"],
+            g[1]["member"],
+            g[2]["member"],
+            g[0]["module_mm"] * 1e-3,
+            math.radians(g[0]["alpha_deg"]),
+            math.radians(g[0]["beta_deg"]),
+            None if cd is None else cd * 1e-3,
+        )
+    except (ValueError, ArithmeticError) as err:
+        raise sc.SchemaError(f"[planetary] {' / '.join(names)}: {sc.g6(str(err))}") from None
+    return geometry, tuple(names), g[1]["member"].teeth
+
+
+def check_internal_stiffness(case: Case, where: str) -> None:
+    """The ``[mesh]`` stiffness model must have an internal-gear form when a mesh is internal
+    (``uniform`` or ``iso6336``), refused in one line before any work."""
+    if (
+        any(isinstance(p, InternalGearPair) for p in case.pairs)
+        and not case.stiffness.internal_teeth
+    ):
+        raise sc.fail(
+            "mesh",
+            "stiffness",
+            f"{case.stiffness.name!r} has no internal-gear form ({where} has an internal gear); "
+            "allowed 'uniform' or 'iso6336'",
+            case.stiffness.name,
+        )
+
+
+def planetary_mesh_settings(data: dict, mesh: dict) -> dict:
+    """A planetary case's mesh settings: ``[mesh]``'s, the stiffness model ISO 6336 unless the
+    file names one (the default FE model has no internal-gear form)."""
+    if "stiffness" not in data.get("mesh", {}):
+        return {**mesh, "stiffness": ISO6336()}
+    return mesh

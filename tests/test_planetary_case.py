@@ -1,0 +1,355 @@
+"""A planetary stage through case files and ``jaxgear run`` (the ``[planetary]`` table,
+jaxgear/io/_planetary_table.py; the run, jaxgear/cli/planetary.py).
+
+* Lin & Parker (1999)'s Table 1 system written in the lumped form (the embedded
+  ``lin-parker-1999``): its natural frequencies are the paper's printed ones (the values
+  tests/test_planetary.py compares the library with), at 3, 4 and 5 planets.
+* The embedded ``nrel-5mw-planetary`` (stage 1 of the NREL 5 MW gearbox, ring fixed, carrier
+  in, sun out): the Willis ratio and the speeds against the hand formulas, the load sharing
+  with one planet-pin error against a spring model written here (rigid centres and pins, the
+  sun turning against the held ring and carrier: each planet path is its two meshes in series),
+  a floating sun sharing three planets' loads equally, the planar modes' types with the
+  structure Lin & Parker prove (6 rotational, 6 translational pairs, N − 3 = 0 planet modes).
+* Bad input refused in one line, in the file's units, before any work; the generated case-file
+  reference lists the new keys.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import tomllib
+
+import numpy as np
+import pytest
+from _toml import case_toml
+from test_planetary import PRINTED, lin_parker_stage
+
+import jaxgear as jg
+import jaxgear.io as jio
+from docs._gen import schema_reference as sr
+from jaxgear.cli import main, planetary as pr
+
+
+def _data(name: str) -> dict:
+    return tomllib.loads(jio.embedded_case_text(name))
+
+
+def _by_type(frequencies, types) -> dict:
+    return {
+        t: sorted(
+            {round(float(f), 6) for f, (tt, _) in zip(frequencies, types, strict=True) if tt == t}
+        )
+        for t in jg.ModeType
+    }
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_lin_parker_table_1_from_a_case_file(n):
+    data = _data("lin-parker-1999")
+    del data["planetary"]["planet_angles_deg"]
+    data["planetary"]["planets"] = n
+    case = jio.parse_train(data)
+    stage = case.form.spec.stage(case)
+    model = jg.PlanarPlanetary()
+    modes = jg.planetary_modes(model, stage)
+    by = _by_type(np.asarray(modes.frequencies), jg.classify_modes(modes, model, stage))
+    rot, tra, pla = PRINTED[n]
+    # the printed values (0.1 Hz rounding; three of N = 4's differ by up to 0.04 %: the
+    # tolerance of tests/test_planetary.py)
+    for t, printed in zip(jg.ModeType, (rot, tra, pla), strict=False):
+        np.testing.assert_allclose(by[t], printed, rtol=5e-4, atol=0.06)
+    # and exactly the stage tests/test_planetary.py builds from the paper's table in the API
+    reference = jg.planetary_modes(model, lin_parker_stage(n)).frequencies
+    np.testing.assert_allclose(modes.frequencies, reference, rtol=1e-12, atol=1e-9)
+
+
+# -- the NREL 5 MW stage 1, its values written again here from the published table ---------------
+
+Z_S, Z_P, Z_R = 19, 17, 56
+T_IN, W_IN = 3.946e6, 1.2671  # carrier torque (N·m) and speed (rad/s)
+PIN_ERROR = 20e-6  # planet 1, tangential (m)
+
+
+def _nrel_pairs():
+    """Sun–planet and planet–ring pairs of the NREL stage 1 (Nejad et al. 2016, Table V; tip
+    shortening 10.861 mm; the ring's x as the case file writes it)."""
+    b = 0.491
+    h_a = 0.7586  # 1 - 10.861/45, as the case file rounds it
+    sun = jg.Member(Z_S, 0.617, addendum_coeff=h_a, face_width=b)
+    planet = jg.Member(Z_P, 0.802, addendum_coeff=h_a, face_width=b)
+    ring = jg.Member(-Z_R, -0.5012, face_width=b)
+    return jg.planetary_geometry(sun, planet, ring, 45e-3, math.radians(20.0), 0.0, 0.863)
+
+
+def _hand_spring_model(errors, k_s, k_r, a_s, a_r, torque_sun, r_s):
+    """Rigid centres and pins, the ring and the carrier held, the sun turning: planet path j is
+    its sun mesh k_s (u_s + u_j − e_j cos a_s) and ring mesh k_r (−u_j − e_j cos a_r) in series
+    (the planet's moment balance makes their forces equal), F_j = k_eq (u_s − e_j c) with
+    k_eq = k_s k_r/(k_s + k_r), c = cos a_s + cos a_r; the sun's balance Σ F_j = T_s/r_s gives
+    F_j = T_s/(N r_s) + k_eq c (mean e − e_j)."""
+    k_eq = k_s * k_r / (k_s + k_r)
+    c = math.cos(a_s) + math.cos(a_r)
+    forces = torque_sun / (len(errors) * r_s) + k_eq * c * (np.mean(errors) - errors)
+    return forces, forces.max() / forces.mean()
+
+
+def _check_kinematics_and_sharing(summary: dict) -> None:
+    """The NREL stage's speeds, torques, mesh stiffnesses and torsional load sharing against
+    the hand formulas (shared by the run and its twin)."""
+    p = summary["planetary"]
+    # Willis, ring fixed: ω_c/ω_s = z_s/(z_s + z_r), the planet ω_c (1 − z_r/z_p)
+    assert p["speed_ratio"] == pytest.approx(Z_S / (Z_S + Z_R), rel=1e-14)
+    w = p["speeds_rad_s"]
+    assert w["ring"] == 0.0 and w["carrier"] == W_IN
+    assert w["sun"] == pytest.approx(W_IN * (Z_S + Z_R) / Z_S, rel=1e-14)
+    assert w["planet"] == pytest.approx(W_IN * (1 - Z_R / Z_P), rel=1e-14)
+    assert p["mesh_frequency_carrier_frame_Hz"] == pytest.approx(
+        Z_R * W_IN / (2 * math.pi), rel=1e-14
+    )
+    t = p["torques_Nm"]
+    assert t["sun"] == pytest.approx(-T_IN * Z_S / (Z_S + Z_R), rel=1e-14)
+    assert t["sun"] + t["ring"] + t["carrier"] == pytest.approx(0.0, abs=1e-6)
+    # the mesh stiffness: ISO 6336-1 c_γα b of the pairs built here, and their pressure angles
+    g = _nrel_pairs()
+    k_s, k_r = (jg.iso6336_mesh_stiffness(q, 206e9) * 0.491 for q in (g.sun_planet, g.planet_ring))
+    assert p["mesh_stiffness_N_per_m"]["sun"] == pytest.approx(k_s, rel=1e-12)
+    assert p["mesh_stiffness_N_per_m"]["ring"] == pytest.approx(k_r, rel=1e-12)
+    a_s, a_r = g.sun_pressure_angle, g.ring_pressure_angle
+    assert math.radians(p["pressure_angles_deg"]["sun"]) == pytest.approx(a_s, rel=1e-12)
+    # load sharing with planet 1's pin 20 µm ahead: the torsional model is the hand model
+    errors = np.array([PIN_ERROR, 0.0, 0.0])
+    forces, k_gamma = _hand_spring_model(
+        errors, k_s, k_r, a_s, a_r, T_IN * Z_S / (Z_S + Z_R), g.sun_planet.base_radii[0]
+    )
+    ls = summary["load_sharing"]
+    assert ls["tangential_pin_errors_m"] == pytest.approx(errors.tolist(), abs=1e-18)
+    assert k_gamma > 1.05  # a real spread
+    np.testing.assert_allclose(ls["torsional"]["sun_mesh_forces_N"], forces, rtol=1e-9)
+    np.testing.assert_allclose(ls["torsional"]["ring_mesh_forces_N"], forces, rtol=1e-9)
+    assert ls["torsional"]["k_gamma"] == pytest.approx(k_gamma, rel=1e-9)
+    # the mesh phases (Parker & Lin 2004): z_s ψ_n/2π mod 1 = 19 n/3 mod 1
+    np.testing.assert_allclose(summary["mesh_phases"]["sun_planet"], [0, 1 / 3, 2 / 3], atol=1e-12)
+
+
+def _check_planar(summary: dict, modes: dict) -> None:
+    """The planar model's load sharing and mode types (shared by the run and its twin)."""
+    ls = summary["load_sharing"]
+    # a floating sun (no bearing) moves to share three planets' loads equally, whatever the pin
+    # errors (its two translations and its rotation meet any three planet-path offsets)
+    mean = T_IN * Z_S / (Z_S + Z_R) / (3 * _nrel_pairs().sun_planet.base_radii[0])
+    np.testing.assert_allclose(ls["planar"]["sun_mesh_forces_N"], mean, rtol=1e-9)
+    assert ls["planar"]["k_gamma"] == pytest.approx(1.0, abs=1e-9)
+    # Lin & Parker's structure at 3 equally spaced planets: 3 (3 + 3) = 18 planar modes, 6
+    # rotational (single), 6 translational (pairs), no planet mode (N − 3 = 0), nothing mixed
+    planar = modes["planar"]
+    assert len(planar) == 18 and len(modes["torsional"]) == 6
+    kinds = {}
+    for m in planar:
+        kinds.setdefault(m["type"], set()).add((round(m["frequency_Hz"], 6), m["multiplicity"]))
+    assert sorted(kinds) == ["rotational", "translational"]
+    assert len(kinds["rotational"]) == 6 and {k for _, k in kinds["rotational"]} == {1}
+    assert len(kinds["translational"]) == 6 and {k for _, k in kinds["translational"]} == {2}
+    assert summary["modes"]["planar_type_counts"]["rotational"] == 6
+    assert summary["modes"]["planar_type_counts"]["planet"] == 0
+
+
+def test_nrel_kinematics_and_sharing_against_hand_formulas():
+    """A fast twin of :func:`test_nrel_stage_through_jaxgear_run`: the loaded case's stage
+    through the run's own steps (the torsional model only; no files, meshes or plots)."""
+    case = jio.load_case("nrel-5mw-planetary")
+    spec = case.form.spec
+    stage = spec.stage(case)
+    k = spec.mesh_stiffness.values(case)
+    summary = {
+        "planetary": {
+            "speed_ratio": spec.ratio(),
+            "speeds_rad_s": spec.speeds(case.speed),
+            "torques_Nm": spec.torques(case.torque),
+            "mesh_frequency_carrier_frame_Hz": spec.mesh_frequency(case.speed),
+            "mesh_stiffness_N_per_m": {"sun": k[0], "ring": k[1]},
+            "pressure_angles_deg": {"sun": math.degrees(spec.pressure_angles[0])},
+        },
+        "load_sharing": pr.sharing_summary(
+            spec, stage, spec.torques(case.torque), {"torsional": pr.MODELS["torsional"]}
+        ),
+        "mesh_phases": pr.phases_summary(spec),
+    }
+    _check_kinematics_and_sharing(summary)
+
+
+def test_nrel_planar_sharing_and_mode_types():
+    """The other fast twin: the planar model's load sharing and its modes' types."""
+    case = jio.load_case("nrel-5mw-planetary")
+    spec = case.form.spec
+    stage = spec.stage(case)
+    planar = {"planar": pr.MODELS["planar"]}
+    summary = {"load_sharing": pr.sharing_summary(spec, stage, spec.torques(case.torque), planar)}
+    modes = {name: pr.mode_list(model, stage) for name, model in pr.MODELS.items()}
+    summary["modes"] = {"planar_type_counts": pr.type_counts(modes["planar"])}
+    _check_planar(summary, modes)
+
+
+@pytest.mark.slow  # 15-20 s wall on the loaded 2-core CPU (7 s CPU); fast twins above
+def test_nrel_stage_through_jaxgear_run(tmp_path, capsys):
+    out = tmp_path / "nrel"
+    assert main(["run", "nrel-5mw-planetary", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "planetary stage nrel-5mw-planetary: 3 planets, ring fixed, carrier → sun" in printed
+    files = {p.name for p in out.iterdir()}
+    assert {
+        "summary.json",
+        "modes.json",
+        "campbell.png",
+        "mesh_sun1-planet1.csv",
+        "mesh_planet1-ring1.csv",
+    } <= files
+    summary = json.loads((out / "summary.json").read_text())
+    modes = json.loads((out / "modes.json").read_text())
+    assert summary["complete"] is True
+    _check_kinematics_and_sharing(summary)
+    _check_planar(summary, modes)
+    meshes = summary["meshes"]
+    assert meshes["planet1-ring1"]["internal"] and not meshes["sun1-planet1"]["internal"]
+    # each mesh at the mean planet load: F = T_s/(N r_b,s) on the line of action
+    g = _nrel_pairs()
+    f = T_IN * Z_S / (Z_S + Z_R) / (3 * g.sun_planet.base_radii[0])
+    assert meshes["sun1-planet1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
+    assert meshes["planet1-ring1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
+    assert meshes["planet1-ring1"]["quasi_static"]["te_ptp_m"] > 0
+
+
+def test_mesh_stiffness_mean_of_the_mesh_model_against_the_contact_ratio():
+    """``mesh_stiffness = "mean"``: the lumped models' constant stiffness is the mean of the
+    ``[mesh]`` model's; with a uniform stiffness k0 per unit length of rigid spur teeth it is
+    k0 b ε_α (one pair in contact over 2 − ε_α of the period, two over ε_α − 1), to one of the
+    16 positions per period."""
+    data = _data("nrel-5mw-planetary")
+    data["mesh"] = {"stiffness": "uniform", "stiffness_per_length_N_per_mm_per_um": 15.0}
+    data["planetary"]["mesh_stiffness"] = "mean"
+    case = jio.parse_train(data)
+    got = case.form.spec.mesh_stiffness.values(case)
+    g = _nrel_pairs()
+    for k, pair in zip(got, (g.sun_planet, g.planet_ring), strict=True):
+        k0b = 15e9 * pair.face_width
+        assert abs(k - k0b * pair.transverse_contact_ratio) <= k0b / 16 + 1e-9 * k
+
+
+# -- bad input ---------------------------------------------------------------------------------
+
+
+def _nrel_with(change) -> dict:
+    data = copy.deepcopy(_data("nrel-5mw-planetary"))
+    change(data)
+    return data
+
+
+def _set(path: str, value):
+    def change(data):
+        *head, key = path.split("/")
+        t = data
+        for h in head:
+            t = t[h]
+        if value is None:
+            del t[key]
+        else:
+            t[key] = value
+
+    return change
+
+
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        (
+            _set("planetary/planets", 4),
+            "[planetary] planets = 4: planet 2 at 90° cannot be assembled: (z_sun + z_ring) × "
+            "angle/360° = 18.75 must be an integer (z_sun = 19, z_ring = 56",
+        ),
+        (
+            _set("planetary/planet/mass_kg", None),
+            "[planetary.planet] mass_kg: missing required key",
+        ),
+        (
+            _set("planetary/ring/torsional_stiffness_Nm_per_rad", None),
+            "[planetary.ring] torsional_stiffness_Nm_per_rad: missing: the fixed member needs a "
+            "torsional stiffness > 0",
+        ),
+        (_set("planetary/input", "ring"), "[planetary] input = 'ring': is the fixed member"),
+        (
+            _set("planetary/tangential_pin_errors_um", [1.0, 2.0]),
+            "[planetary] tangential_pin_errors_um = [1, 2]: must hold one value per planet (3)",
+        ),
+        (
+            _set("planetary/ring_gear", "planet1"),
+            "[planetary] ring_gear = 'planet1': names the planet already",
+        ),
+        (
+            _set("planetary/sun_gear", "ring1"),
+            "[planetary] sun_gear = 'ring1': must name an external gear (teeth > 0)",
+        ),
+        (
+            _set("planetary/sun_teeth", 19),
+            "[planetary] sun_teeth = 19: allowed only in the lumped form",
+        ),
+        (
+            _set("planetary/sun/base_radius_mm", 400.0),
+            "[planetary.sun] base_radius_mm = 400: allowed only in the lumped form",
+        ),
+        (
+            _set("mesh/stiffness", "fe2d"),
+            "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form",
+        ),
+        (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
+        (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
+    ],
+)
+def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, change, words):
+    path = tmp_path / "bad.toml"
+    path.write_text(case_toml(_nrel_with(change)))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err, err
+    assert not out.exists()
+
+
+def test_the_case_file_reference_lists_the_planetary_keys():
+    _, train = sr.trace_cases()
+    keys = set(train.tables["planetary"])
+    assert {
+        "sun_gear",
+        "ring_gear",
+        "planets",
+        "planet_angles_deg",
+        "fixed",
+        "input",
+        "mesh_stiffness",
+        "sun_mesh_stiffness_N_per_um",
+        "tangential_pin_errors_um",
+        "radial_pin_errors_um",
+        "sun_teeth",
+        "ring_pressure_angle_deg",
+    } <= keys
+    assert {"pin_radial_N_per_um", "pin_tangential_N_per_um", "inertia_over_r2_kg"} <= set(
+        train.tables["planetary.planet"]
+    )
+    assert "torsional_stiffness_Nm_per_rad" in train.tables["planetary.sun"]
+    page = sr.markdown(train, "t", "")
+    assert "## `[planetary]`" in page and "| `tangential_pin_errors_um` |" in page
+    assert "## `[planetary.carrier]`" in page
+    # the internal gear's tooth range is in the reference beside the external one
+    assert any("-10000, -5" in a for a in train.tables["gears[]"]["teeth"].allowed)
+
+
+def test_a_sweep_of_a_planetary_stage_is_refused_in_one_line(tmp_path, capsys):
+    out = tmp_path / "sweep"
+    argv = ["sweep", "nrel-5mw-planetary", "--speeds", "1:2:2", "--out", str(out), "--quiet"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(
+        "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
+        "writes its lumped models' modes, Campbell diagram and load sharing)"
+    )
+    assert "\n" not in err and not out.exists()
