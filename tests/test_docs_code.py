@@ -46,7 +46,8 @@ TOML = re.compile(r"^```toml\n(.*?)^```", re.DOTALL | re.MULTILINE)
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT / "docs").as_posix())
 def test_page_case_files_are_valid(page):
     """Every ```toml block of the getting-started and user-guide pages is a valid case file: a
-    whole file (a pair with [pair], a train with [[gears]]) as it stands, a table alone put
+    whole file (a pair with [pair], a train with [[gears]], a planetary stage with [planetary])
+    as it stands, a table alone put
     into the default case in place of its own. The validator checks them before any work, as
     for a user's file."""
     base = tomllib.loads(jio.embedded_case_text("accessory-spur"))
@@ -54,7 +55,7 @@ def test_page_case_files_are_valid(page):
         data = tomllib.loads(block)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", jio.CaseWarning)
-            if "gears" in data:
+            if "gears" in data or "planetary" in data:
                 jio.parse_train(data, "docs")
             elif "pair" in data:
                 jio.parse_case(data, "docs")

@@ -49,7 +49,7 @@ def wrap_titles(fig) -> None:
         title = ax.title
         text = title.get_text()
         chars = int(width_pt * ax.get_position().width / (0.55 * title.get_fontsize()))
-        if text and "\n" not in text and len(text) > chars > 20:
+        if len(text.splitlines()) == 1 and len(text) > chars > 20:
             title.set_text(textwrap.fill(text, chars))
 
 
