@@ -124,6 +124,7 @@ from ._rating_settings import (
     OperatingPoint as OperatingPoint,
     RatingMaterial as RatingMaterial,
     RatingSettings as RatingSettings,
+    ToothLoading as ToothLoading,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,

@@ -13,7 +13,7 @@ import equinox as eqx
 import numpy as np
 
 from .. import face_load_factor, rate
-from ..io import Case, CaseWarning, atomic_open, rating_of
+from ..io import Case, CaseWarning, PairForm, TrainForm, atomic_open, ratings_of
 
 __all__ = ["measured_dynamic_factor", "rating_lines", "rating_outputs"]
 
@@ -51,6 +51,7 @@ _ROWS = [
     ("bending", "Y_delta_rel_T", "Y_δrelT", 1, "", "ISO 6336-3, relative notch sensitivity"),
     ("bending", "Y_R_rel_T", "Y_RrelT", 1, "", "ISO 6336-3, relative surface factor"),
     ("bending", "Y_X", "Y_X", 1, "", "ISO 6336-3, size factor"),
+    ("bending", "Y_M", "Y_M", 1, "", "ISO 6336-3:2019, mean stress influence factor"),
     ("bending", "sigma_FP_Pa", "σ_FP", 1e-6, "N/mm²", "ISO 6336-3, permissible root stress"),
     ("bending", "S_F", "S_F", 1, "", "ISO 6336-3, safety factor for bending"),
 ]
@@ -72,10 +73,11 @@ def _(v, scale) -> str:  # per gear
     return " / ".join(f"{x * scale:.4g}" for x in v)
 
 
-def rating_lines(section: dict, case_name: str) -> list[str]:
-    """``rating.md``: a Markdown table of the section's factors and stresses."""
+def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]:
+    """``rating.md``: a Markdown table of the section's factors and stresses (one mesh's
+    section; ``heading`` the title's Markdown level)."""
     out = [
-        f"# {case_name}: load capacity, {section['method']}",
+        f"{heading} {case_name}: load capacity, {section['method']}",
         "",
         "Per-gear values as pinion / gear. Stresses in N/mm² (summary.json: Pa).",
         "",
@@ -89,27 +91,83 @@ def rating_lines(section: dict, case_name: str) -> list[str]:
     return out
 
 
+@functools.singledispatch
+def _stack(first, values: list):
+    """Per-mesh lists of the meshes' summary values (a train's ``rating`` section)."""
+    return list(values)
+
+
+@_stack.register(dict)
+def _(first, values: list):
+    return {k: _stack(v, [s[k] for s in values]) for k, v in first.items()}
+
+
+@_stack.register(str)
+def _(first, values: list):  # the method: one for every mesh
+    return first if all(v == first for v in values) else list(values)
+
+
+@functools.singledispatch
+def _section_and_table(form, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    raise TypeError(f"rating_outputs: no rating report for a case of form {type(form).__name__}")
+
+
+@_section_and_table.register
+def _(form: PairForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    """A pair: its one mesh's section, the case's table."""
+    return sections[0], rating_lines(sections[0], case.name)
+
+
+@_section_and_table.register
+def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    """A train: per-mesh lists (``meshes`` names them, in the order of ``[[meshes]]``; per-gear
+    values [driving, driven] per mesh); ``rating.md`` one section per mesh."""
+    names = [case.mesh_name(k) for k in range(len(sections))]
+    lines = [
+        f"# {case.name}: load capacity of every mesh",
+        "",
+        "Each mesh rated with its driving gear as the pinion (pinion / gear = driving / "
+        "driven), at its driving gear's torque and speed. A gear in two meshes is rated in each; "
+        "an idler (driven in one mesh, driving in the other) has its teeth loaded on alternate "
+        "flanks: Y_M = 0.7 (ISO 6336-3:2019, mean stress influence factor).",
+        "",
+    ]
+    for name, sec in zip(names, sections, strict=True):
+        lines += rating_lines(sec, f"{case.name}, mesh {name}", heading="##") + [""]
+    return {"meshes": names} | _stack(sections[0], sections), lines
+
+
+def _write_table(out_dir: str, lines: list[str]) -> None:
+    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
 
 
 def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
-    """The rating of a one-mesh case with ``[rating]``: writes ``rating.md`` into ``out_dir``
-    and returns the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``
-    (a train file has no ``[rating]`` table yet). ``result``: the case's quasi-static result,
-    for the section's ``measured`` factors (:func:`jaxgear.face_load_factor`); they are
-    reported beside the ISO/given ones, not used in the rating."""
-    rc = rating_of(case)
-    if rc is None:
+    """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
+    the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
+    section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
+    table per mesh. ``result``: a pair's quasi-static result, for the section's ``measured``
+    factors (:func:`jaxgear.face_load_factor`); they are reported beside the ISO/given ones,
+    not used in the rating."""
+    rcs = ratings_of(case)
+    if rcs is None:
         return None
-    rating = _RATE(rc.geometry, rc.operating, rc.settings)
-    for note in rating.scope_notes():
-        warnings.warn(f"[rating] {note}", CaseWarning, stacklevel=2)
-    section = rating.summary()
+    sections = []
+    for k, rc in enumerate(rcs):
+        rating = _RATE(rc.geometry, rc.operating, rc.settings)
+        label = case.mesh_label(k)
+        for note in rating.scope_notes():
+            where = f"[rating] {label}: " if label else "[rating] "
+            warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
+        sections.append(rating.summary())
     if result is not None:
         k = float(face_load_factor(result))
-        section["measured"] = {"K_Hbeta": {"value": k, "source": MEASURED}}
-    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
-        f.write("\n".join(rating_lines(section, case.name)) + "\n")
+        sections[0]["measured"] = {"K_Hbeta": {"value": k, "source": MEASURED}}
+    section, lines = _section_and_table(case.form, case, sections)
+    _write_table(out_dir, lines)
     return section
 
 
@@ -122,9 +180,10 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
     swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v and the sweep's
     dynamic factor are both the largest dynamic tooth load over the static one (the sweep's:
     over a mesh period at steady state, of the scene's model)."""
-    rc = rating_of(case)
-    if rc is None:
+    rcs = ratings_of(case)
+    if rcs is None or len(rcs) != 1:  # a train's meshes: not yet (the pair's sweep only)
         return
+    rc = rcs[0]
     speeds = np.asarray(dynamics["speeds_rad_s"], dtype=float)
     factor = np.asarray(dynamics["dynamic_factor"], dtype=float)
     speed = float(rc.operating.speed)
@@ -137,5 +196,4 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
     )
     section = summary["rating"]
     section.setdefault("measured", {})["K_v"] = {"value": value, "source": source}
-    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
-        f.write("\n".join(rating_lines(section, case.name)) + "\n")
+    _write_table(out_dir, rating_lines(section, case.name))

@@ -436,8 +436,14 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
 
 @quasi_static_files.register
 def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
-    """A train's: every mesh at once on the train's structure (:func:`run_train`)."""
-    return run_train(case, out, show_progress=not args.quiet, complete=complete)
+    """A train's: every mesh at once on the train's structure (:func:`run_train`); with
+    ``[rating]`` every mesh rated (``rating.md``, ``summary.json``'s ``rating``)."""
+    summary = run_train(case, out, show_progress=not args.quiet, complete=complete)
+    rating = rating_outputs(case, out)
+    if rating is not None:
+        summary["rating"] = rating
+        write_json(os.path.join(out, "summary.json"), summary)
+    return summary
 
 
 @functools.singledispatch

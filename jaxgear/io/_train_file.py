@@ -92,11 +92,14 @@ from ._case_file import (
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._plausibility import CaseWarning, plausibility
+from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_train_rating
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
 __all__ = ["is_train", "parse_train"]
 
-_TOP_KEYS = {"name", "material", "gears", "meshes", "mesh", "modifications", "operating", "scene"}
+_TOP_KEYS = {
+    "name", "material", "gears", "meshes", "mesh", "modifications", "operating", "scene", "rating"
+}
 _GEAR_KEYS = {
     "name",
     "shaft",
@@ -334,9 +337,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     """
     sc.check_keys(data, _TOP_KEYS, "")
     name = sc.name(data, "name", "", default_name)
-    for key in ("material", "mesh"):
-        sc.subtable(data, key, "", _SCHEMA[key])
-    sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads", "wrenches"}, required=True)
+    sc.subtable(data, "material", "", _SCHEMA["material"] | MATERIAL_RATING_KEYS)
+    sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
+    op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
+    sc.subtable(data, "operating", "", op_keys, required=True)
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}
@@ -480,6 +484,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     )
     _check_overlap(case)
     _check_power(case)
+    check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
         raise sc.fail(
