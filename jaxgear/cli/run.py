@@ -27,7 +27,7 @@ from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
-from ._rating_report import measured_dynamic_factor, rating_outputs
+from ._rating_report import measured_dynamic_factor, rating_outputs, root_stress_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
@@ -238,6 +238,7 @@ def run_case(
     # [rating]: ISO 6336 load capacity, rating.md; K_Hβ measured on the rigid mesh's load map
     rating = rating_outputs(case, out_dir, result=res["modified", "exact"])
     if rating is not None:
+        root_stress_outputs(case, out_dir, res["modified", "exact"], rating)  # FE root stress
         summary["rating"] = rating
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
