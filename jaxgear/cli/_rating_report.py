@@ -16,9 +16,17 @@ from matplotlib.figure import Figure
 
 import fem_prep
 
-from .. import GearPair, face_load_factor, rate, root_stress_map, tooth_geometry
+from .. import (
+    GearPair,
+    GivenFactors,
+    face_load_factor,
+    rate,
+    root_stress_map,
+    tooth_geometry,
+    transverse_load_factor,
+)
 from ._plots import savefig
-from ..io import Case, CaseWarning, PairForm, TrainForm, atomic_open, ratings_of
+from ..io import Case, CaseWarning, PairForm, RatingCase, TrainForm, atomic_open, ratings_of
 
 __all__ = [
     "ROOT_STRESS_RADII",
@@ -99,7 +107,9 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
     for part, key, symbol, scale, unit, clause in _ROWS:
         out.append(f"| {symbol} | {_value(section[part][key], scale)} | {unit} | {clause} |")
     for key, m in section.get("measured", {}).items():
-        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} (not used above) |")
+        used = section["factors"][key]["source"] == USED
+        note = "used above: [rating] use_measured" if used else "not used above"
+        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} ({note}) |")
     rs = section.get("root_stress")
     if rs is not None:
         out.append(
@@ -162,6 +172,35 @@ def _write_table(out_dir: str, lines: list[str]) -> None:
 
 
 MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
+USED = "measured (rating.measured, [rating] use_measured)"
+MEASURED_ALPHA = (
+    "jaxgear load map (rigid mesh, exact contact, case modifications): largest mean line load "
+    "of one tooth pair over that of all loaded cells, max over a mesh period"
+)
+
+
+#: the given factors a measured one stands for (ISO 6336-1 method B: K_Fα = K_Hα; K_Fβ
+#: follows from K_Hβ as ISO's, K_Hβ^N_F)
+_STANDS_FOR = {"K_Hbeta": ("K_Hbeta",), "K_Halpha": ("K_Halpha", "K_Falpha"), "K_v": ("K_v",)}
+
+
+def _rated(rc: RatingCase, section: dict) -> dict:
+    """The section rated again with the measured factors ``rc.use_measured`` names that
+    ``section["measured"]`` holds in place of ISO's (their source "measured"); the section's
+    other entries (``measured``, ``root_stress``) kept. Nothing to use: the section itself."""
+    measured = section.get("measured", {})
+    use = {n: measured[n]["value"] for n in rc.use_measured if n in measured}
+    if not use:
+        return section
+    given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
+    for name, value in use.items():
+        given.update(dict.fromkeys(_STANDS_FOR[name], value))
+    settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
+    out = _RATE(rc.geometry, rc.operating, settings).summary()
+    for name in use:
+        for f in _STANDS_FOR[name]:
+            out["factors"][f]["source"] = USED
+    return section | out
 
 
 def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
@@ -169,8 +208,9 @@ def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
     the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
     section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
     table per mesh. ``result``: a pair's quasi-static result, for the section's ``measured``
-    factors (:func:`jaxgear.face_load_factor`); they are reported beside the ISO/given ones,
-    not used in the rating."""
+    factors (K_Hβ: :func:`jaxgear.face_load_factor`, K_Hα: :func:`jaxgear.transverse_load_factor`);
+    reported beside the ISO/given ones, and rated with in their place when ``[rating]
+    use_measured`` names them (the factors' source then "measured")."""
     rcs = ratings_of(case)
     if rcs is None:
         return None
@@ -183,8 +223,11 @@ def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
         sections.append(rating.summary())
     if result is not None:
-        k = float(face_load_factor(result))
-        sections[0]["measured"] = {"K_Hbeta": {"value": k, "source": MEASURED}}
+        sections[0]["measured"] = {
+            "K_Hbeta": {"value": float(face_load_factor(result)), "source": MEASURED},
+            "K_Halpha": {"value": float(transverse_load_factor(result)), "source": MEASURED_ALPHA},
+        }
+        sections[0] = _rated(rcs[0], sections[0])
     section, lines = _section_and_table(case.form, case, sections)
     _write_table(out_dir, lines)
     return section
@@ -194,8 +237,8 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
     """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing): the
     dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
     ``speeds_rad_s``, ``dynamic_factor``, ``model``, ``slices``) interpolated linearly at the
-    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (not used in the
-    rating: give ``K_v`` to use it) and ``rating.md`` rewritten. A rating speed outside the
+    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (the rating redone
+    with it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating speed outside the
     swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v and the sweep's
     dynamic factor are both the largest dynamic tooth load over the static one (the sweep's:
     over a mesh period at steady state, of the scene's model)."""
@@ -215,6 +258,7 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
     )
     section = summary["rating"]
     section.setdefault("measured", {})["K_v"] = {"value": value, "source": source}
+    section = summary["rating"] = _rated(rc, section)
     _write_table(out_dir, rating_lines(section, case.name))
 
 

@@ -24,6 +24,13 @@ Keys (file units; ranges as checked)::
     min_safety_bending = 1.0        # S_Fmin, [0.5, 10], default 1
     edition = 2019                  # ISO 6336 edition, 2019 | 2006 (Y_β), default 2019
     # K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha = ...  [1, 10]: given factors replace ISO's
+    use_measured = ["K_Hbeta"]      # measured factors that replace ISO's (jaxgear run): K_Hbeta
+                                    # (load map), K_Halpha (load sharing; K_Falpha too), K_v
+                                    # (the speed sweep at the rating speed); default none
+
+A train file's ``[rating]`` is a pair's for every mesh (:func:`parse_train_rating`): per-gear
+values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replacing entries for
+one mesh; ``[operating] speed_rpm`` the input's speed.
 """
 
 from __future__ import annotations
@@ -56,6 +63,7 @@ from ._case import PairForm, TrainForm
 __all__ = [
     "EDITIONS",
     "MATERIAL_RATING_KEYS",
+    "MEASURABLE",
     "OPERATING_RATING_KEYS",
     "RATING_KEYS",
     "TREATMENTS",
@@ -82,7 +90,12 @@ EDITIONS = {2006: Edition2006, 2019: Edition2019}
 MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment"}
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
+#: the factors jaxgear measures that ``[rating] use_measured`` may put in place of ISO's
+#: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
+#: taken for K_Fα; K_v: the speed sweep at the rating speed)
+MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
 RATING_KEYS = {
+    "use_measured",
     "application_factor",
     "life_h",
     "viscosity_40C_mm2_s",
@@ -106,6 +119,8 @@ class RatingCase:
     geometry: RatingGeometry
     operating: OperatingPoint
     settings: RatingSettings
+    #: the measured factors to rate with instead of ISO's (``[rating] use_measured``)
+    use_measured: tuple[str, ...] = ()
 
 
 @functools.singledispatch
@@ -209,7 +224,27 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         edition=EDITIONS[year](),
     )
     torque = sc.number(op, "torque_Nm", "operating")
-    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings)
+    use = _use_measured(rt, given)
+    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings, use)
+
+
+def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
+    """``[rating] use_measured``: a list of distinct names of :data:`MEASURABLE`, none also
+    given as a value."""
+    v = rt.get("use_measured", [])
+    allowed = f"a list of {', '.join(MEASURABLE)}"
+    if not isinstance(v, list) or not all(isinstance(n, str) for n in v):
+        raise sc.fail("rating", "use_measured", f"allowed {allowed}", v)
+    for n in v:
+        if n not in MEASURABLE:
+            raise sc.fail("rating", "use_measured", f"unknown factor {n!r}, allowed {allowed}", v)
+        if given.get(n) is not None:
+            raise sc.fail(
+                "rating", "use_measured", f"{n} is given as a value too: give it once", v
+            )
+    if len(set(v)) != len(v):
+        raise sc.fail("rating", "use_measured", "a factor named twice", v)
+    return tuple(v)
 
 
 def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> None:
@@ -317,6 +352,13 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
         rc = parse_rating(mesh_data, case.pairs[k], material)
+        if rc.use_measured:
+            raise sc.fail(
+                "rating",
+                "use_measured",
+                "not for a train yet (its meshes are rated with ISO's or given factors)",
+                list(rc.use_measured),
+            )
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
