@@ -186,14 +186,17 @@ class Edition2006(AbstractEdition):
 
 
 class Edition2019(AbstractEdition):
-    """ISO 6336-3:2019: Y_β = (1 − ε_β β/120°)/cos³ β (ε_β ≤ 1, β ≤ 30°). The 1/cos³ β is
-    written from the edition as recalled: no printed example of the 2019 edition was found
-    to check it (docs/rating.md); the 2006 term is checked (:class:`Edition2006`)."""
+    """ISO 6336-3:2019: Y_β = (1 − ε_β β/120°)/cos³ β, with ε_β ≤ 1 and β ≤ 30° in both terms
+    (above 30° the factor is that of 30°). No printed worked example of the 2019 edition was
+    found to check it against (docs/rating.md); two independent public implementations of the
+    2019 edition write the same formula, the limits included. The 2006 term is checked
+    (:class:`Edition2006`)."""
 
     label: ClassVar[str] = "ISO 6336:2019 method B"
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
-        return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(helix_angle) ** 3
+        beta = jnp.minimum(helix_angle, jnp.pi / 6)
+        return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(beta) ** 3
 
 
 #: ISO 6336-3:2019's mean stress influence factor Y_M for a tooth loaded on both flanks in

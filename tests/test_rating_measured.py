@@ -121,3 +121,16 @@ def test_bad_use_measured_is_one_line(use, message):
     with pytest.raises(jio.SchemaError) as err:
         jio.parse_case(_case(**{"rating/use_measured": use}))
     assert message in str(err.value) and "\n" not in str(err.value)
+
+
+def test_2019_helix_angle_factor_holds_beta_at_30_degrees():
+    """ISO 6336-3:2019 Y_β = (1 − ε_β β/120°)/cos³ β with ε_β ≤ 1 and β ≤ 30° in both terms:
+    by hand at 10° and ε_β 0.6, and above the limits (35°, ε_β 1.4) the value of 30° and 1."""
+    e = jg.Edition2019()
+    b10 = math.radians(10.0)
+    assert float(e.helix_angle_factor(0.6, b10)) == pytest.approx(
+        (1 - 0.6 * 10 / 120) / math.cos(b10) ** 3, rel=1e-12
+    )
+    assert float(e.helix_angle_factor(1.4, math.radians(35.0))) == pytest.approx(
+        (1 - 30 / 120) / math.cos(math.radians(30.0)) ** 3, rel=1e-12
+    )
