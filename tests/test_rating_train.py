@@ -14,8 +14,10 @@ import json
 import math
 import tomllib
 from importlib import resources
+from typing import NamedTuple
 
 import jax
+import numpy as np
 import pytest
 
 import jaxgear as jg
@@ -163,3 +165,56 @@ def test_train_rating_outputs_per_mesh_lists_and_a_table_per_mesh(tmp_path):
     table = (tmp_path / "rating.md").read_text(encoding="utf-8")
     assert table.count("\n## ") == 2
     assert "mesh idler-output" in table and "| Y_M | 0.7 / 1 |" in table
+
+
+class _Cells(NamedTuple):
+    line_load: np.ndarray
+    cell_s: np.ndarray
+    cell_z: np.ndarray
+    cell_mask: np.ndarray
+
+
+class _Table(NamedTuple):
+    roll: np.ndarray
+    peak: np.ndarray
+
+
+def _stub(tooth, radii):
+    """A stub FE table: g(ρ) = 1e3 ρ (Pa per N/m)."""
+    rb = tooth.teeth * tooth.normal_module / 2 * math.cos(tooth.normal_pressure_angle)
+    roll = np.sqrt(np.asarray(radii) ** 2 - rb**2)
+    return _Table(roll, 1e3 * roll)
+
+
+def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
+    """Per-mesh load maps (two hand-made ones: two lines of two slices at one position) give
+    each mesh its measured K_Hβ, K_Hα (by hand) and its root-stress map (a stub FE table,
+    by hand); ``use_measured = ["K_Halpha"]`` rates each mesh with its own; K_v is refused."""
+    case = jio.parse_train(_train(use_measured=["K_Halpha"]))
+    g = [float(p.path_of_contact) for p in case.pairs]
+    maps = []
+    for k, (a, b) in enumerate(((2.0, 1.0), (3.0, 3.0))):
+        s = np.array([[[0.3 * g[k]] * 2, [0.8 * g[k]] * 2]])
+        maps.append(
+            _Cells(
+                line_load=np.array([[[a, a], [b, b]]]) * 1e5,
+                cell_s=s,
+                cell_z=np.array([[[1e-3, 5e-3]] * 2]),
+                cell_mask=np.ones((1, 2, 2), dtype=bool),
+            )
+        )
+    section = cli.rating_outputs(case, str(tmp_path), tuple(maps), root_stress=_stub)
+    k_ha = section["measured"]["K_Halpha"]["value"]
+    assert k_ha == pytest.approx([2.0 / 1.5, 1.0], rel=1e-12)  # line means over the mean
+    assert section["measured"]["K_Hbeta"]["value"] == pytest.approx([1.0, 1.0])
+    assert section["factors"]["K_Halpha"]["value"] == pytest.approx(k_ha, rel=1e-12)
+    assert all(s.startswith("measured") for s in section["factors"]["K_Halpha"]["source"])
+    for k, pair in enumerate(case.pairs):
+        loads = [(2e5, 0.3 * g[k]), (1e5, 0.8 * g[k])] if k == 0 else [(3e5, 0.3 * g[k]),
+                                                                      (3e5, 0.8 * g[k])]
+        want = [max(w * 1e3 * float(pair.roll_distance(x, i)) for w, x in loads) for i in (0, 1)]
+        assert section["root_stress"]["max_Pa"][k] == pytest.approx(want, rel=1e-9)
+        name = f"root_stress_map_{case.mesh_name(k)}.png"
+        assert (tmp_path / name).stat().st_size > 10_000
+    with pytest.raises(SchemaError, match="K_v not for a train yet"):
+        jio.parse_train(_train(use_measured=["K_v"]))

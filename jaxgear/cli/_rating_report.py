@@ -18,6 +18,7 @@ import fem_prep
 
 from .. import (
     GearPair,
+    quasi_static,
     GivenFactors,
     face_load_factor,
     rate,
@@ -35,6 +36,7 @@ __all__ = [
     "rating_lines",
     "rating_outputs",
     "root_stress_outputs",
+    "train_mesh_results",
 ]
 
 _RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
@@ -131,11 +133,6 @@ def _(first, values: list):
     return {k: _stack(v, [s[k] for s in values]) for k, v in first.items()}
 
 
-@_stack.register(str)
-def _(first, values: list):  # the method: one for every mesh
-    return first if all(v == first for v in values) else list(values)
-
-
 @functools.singledispatch
 def _section_and_table(form, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
     raise TypeError(f"rating_outputs: no rating report for a case of form {type(form).__name__}")
@@ -163,7 +160,10 @@ def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str
     ]
     for name, sec in zip(names, sections, strict=True):
         lines += rating_lines(sec, f"{case.name}, mesh {name}", heading="##") + [""]
-    return {"meshes": names} | _stack(sections[0], sections), lines
+    out = {"meshes": names} | _stack(sections[0], sections)
+    methods = out["method"]  # one edition for every mesh (a mesh's table may set another)
+    out["method"] = methods[0] if len(set(methods)) == 1 else methods
+    return out, lines
 
 
 def _write_table(out_dir: str, lines: list[str]) -> None:
@@ -203,17 +203,49 @@ def _rated(rc: RatingCase, section: dict) -> dict:
     return section | out
 
 
-def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
+@functools.singledispatch
+def _per_mesh(form, result) -> list:
+    """The one-mesh results of ``rating_outputs``' ``result``, by the case's form."""
+    raise TypeError(f"rating_outputs: no results for a case of form {type(form).__name__}")
+
+
+@_per_mesh.register
+def _(form: PairForm, result) -> list:  # a pair's one result
+    return [result]
+
+
+@_per_mesh.register
+def _(form: TrainForm, result) -> list:  # a train's: one per mesh
+    return list(result)
+
+
+def _measured(result) -> dict:
+    return {
+        "K_Hbeta": {"value": float(face_load_factor(result)), "source": MEASURED},
+        "K_Halpha": {"value": float(transverse_load_factor(result)), "source": MEASURED_ALPHA},
+    }
+
+
+def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> dict | None:
     """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
     the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
     section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
-    table per mesh. ``result``: a pair's quasi-static result, for the section's ``measured``
-    factors (K_Hβ: :func:`jaxgear.face_load_factor`, K_Hα: :func:`jaxgear.transverse_load_factor`);
-    reported beside the ISO/given ones, and rated with in their place when ``[rating]
-    use_measured`` names them (the factors' source then "measured")."""
+    table per mesh.
+
+    Args:
+        result: a pair's quasi-static result, or a train's tuple of one per mesh
+            (:func:`train_mesh_results`), for the sections' ``measured`` factors (K_Hβ:
+            :func:`jaxgear.face_load_factor`, K_Hα: :func:`jaxgear.transverse_load_factor`);
+            reported beside the ISO/given ones, and rated with in their place when ``[rating]
+            use_measured`` names them (the factors' source then "measured").
+        root_stress: with ``result``, a table of the FE fillet stress per unit load
+            (``table(tooth, radii)``, e.g. :func:`fillet_table`): each mesh's root-stress map
+            too (:func:`root_stress_outputs`; a train's plots ``root_stress_map_<mesh>.png``).
+    """
     rcs = ratings_of(case)
     if rcs is None:
         return None
+    results = None if result is None else _per_mesh(case.form, result)
     sections = []
     for k, rc in enumerate(rcs):
         rating = _RATE(rc.geometry, rc.operating, rc.settings)
@@ -221,16 +253,30 @@ def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
         for note in rating.scope_notes():
             where = f"[rating] {label}: " if label else "[rating] "
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
-        sections.append(rating.summary())
-    if result is not None:
-        sections[0]["measured"] = {
-            "K_Hbeta": {"value": float(face_load_factor(result)), "source": MEASURED},
-            "K_Halpha": {"value": float(transverse_load_factor(result)), "source": MEASURED_ALPHA},
-        }
-        sections[0] = _rated(rcs[0], sections[0])
+        section = rating.summary()
+        if results is not None:
+            section["measured"] = _measured(results[k])
+            section = _rated(rc, section)
+            if root_stress is not None:
+                name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
+                title = f"{case.name}{' ' + label if label else ''}"
+                _root_stress(case.pairs[k], results[k], section, root_stress,
+                             os.path.join(out_dir, name), title, float(rc.operating.torque))
+        sections.append(section)
     section, lines = _section_and_table(case.form, case, sections)
     _write_table(out_dir, lines)
     return section
+
+
+def train_mesh_results(case: Case) -> tuple | None:
+    """Each mesh's quasi-static result on its own rigid mesh (exact contact, its gears'
+    modifications, its driving gear's torque: :meth:`jaxgear.io.Case.mesh_case`), for a case
+    with ``[rating]`` (else None): the load maps a train's measured factors and root-stress
+    maps are read from, as a pair's are from its rigid mesh."""
+    if ratings_of(case) is None:
+        return None
+    cases = [case.mesh_case(k) for k in range(len(case.pairs))]
+    return tuple(quasi_static(c.mesh_model(), c.modifications, c.torque) for c in cases)
 
 
 def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: dict) -> None:
@@ -307,23 +353,8 @@ def _root_stress_plot(path: str, maps, title: str) -> None:
     savefig(fig, path)
 
 
-def root_stress_outputs(
-    case: Case, out_dir: str, result, section: dict, table=fillet_table
-) -> None:
-    """The root-stress map of a one-mesh case with ``[rating]`` (``section``: its
-    :func:`rating_outputs` section, completed here): each cell's load of ``result`` (the rigid
-    mesh's quasi-static result at the case torque) times the plane FE tooth's fillet stress per
-    unit load at the cell's position (:func:`jaxgear.root_stress_map`,
-    :data:`ROOT_STRESS_RADII` load cases per member, cached per tooth form by
-    :func:`fillet_table`). Adds ``section["root_stress"]``: ``max_Pa`` (the largest root stress
-    of each gear over the passage, [pinion, gear]), ``iso_sigma_F0_Pa`` (ISO 6336-3's nominal
-    σ_F0 of the rating, no load factor) and ``fe_over_iso``; writes ``root_stress_map.png``
-    (each member's stress against the load's position s and z across the face) and rewrites
-    ``rating.md`` with the two rows. ``table(tooth, radii)``: the FE fillet stress per unit
-    load (``.roll``, ``.peak``), by default :func:`fillet_table`. The FE stress includes what the load map includes (load
-    sharing between pairs, tip relief, the face load distribution): it is a stress at the
-    case torque, to be compared with σ_F0, not σ_F (which adds K_A K_v K_Fβ K_Fα)."""
-    pair = case.pair
+def _root_stress(pair, result, section, table, path: str, title: str, torque: float) -> None:
+    """One mesh's root-stress map (:func:`root_stress_outputs`) into ``section`` and ``path``."""
     maps = []
     for i in (0, 1):
         t = table(tooth_geometry(pair, i), _active_radii(pair, i, ROOT_STRESS_RADII))
@@ -338,9 +369,30 @@ def root_stress_outputs(
         "source": ROOT_STRESS,
     }
     _root_stress_plot(
-        os.path.join(out_dir, "root_stress_map.png"),
+        path,
         maps,
-        f"{case.name}: root stress over a tooth passage at {case.torque:g} N·m (plane FE × "
-        "quasi-static cell loads)",
+        f"{title}: root stress over a tooth passage at {torque:g} N·m (plane FE × quasi-static "
+        "cell loads)",
     )
+
+
+def root_stress_outputs(
+    case: Case, out_dir: str, result, section: dict, table=fillet_table
+) -> None:
+    """The root-stress map of a one-mesh case with ``[rating]`` (``section``: its
+    :func:`rating_outputs` section, completed here): each cell's load of ``result`` (the rigid
+    mesh's quasi-static result at the case torque) times the plane FE tooth's fillet stress per
+    unit load at the cell's position (:func:`jaxgear.root_stress_map`,
+    :data:`ROOT_STRESS_RADII` load cases per member, cached per tooth form by
+    :func:`fillet_table`). Adds ``section["root_stress"]``: ``max_Pa`` (the largest root stress
+    of each gear over the passage, [pinion, gear]), ``iso_sigma_F0_Pa`` (ISO 6336-3's nominal
+    σ_F0 of the rating, no load factor) and ``fe_over_iso``; writes ``root_stress_map.png``
+    (each member's stress against the load's position s and z across the face) and rewrites
+    ``rating.md`` with the two rows. ``table(tooth, radii)``: the FE fillet stress per unit
+    load (``.roll``, ``.peak``), by default :func:`fillet_table`. The FE stress includes what
+    the load map includes (load sharing between pairs, tip relief, the face load
+    distribution): it is a stress at the case torque, to be compared with σ_F0, not σ_F (which
+    adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
+    path = os.path.join(out_dir, "root_stress_map.png")
+    _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
     _write_table(out_dir, rating_lines(section, case.name))

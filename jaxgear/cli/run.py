@@ -27,7 +27,13 @@ from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
-from ._rating_report import measured_dynamic_factor, rating_outputs, root_stress_outputs
+from ._rating_report import (
+    fillet_table,
+    measured_dynamic_factor,
+    rating_outputs,
+    root_stress_outputs,
+    train_mesh_results,
+)
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
@@ -440,7 +446,7 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     """A train's: every mesh at once on the train's structure (:func:`run_train`); with
     ``[rating]`` every mesh rated (``rating.md``, ``summary.json``'s ``rating``)."""
     summary = run_train(case, out, show_progress=not args.quiet, complete=complete)
-    rating = rating_outputs(case, out)
+    rating = rating_outputs(case, out, train_mesh_results(case), root_stress=fillet_table)
     if rating is not None:
         summary["rating"] = rating
         write_json(os.path.join(out, "summary.json"), summary)

@@ -94,6 +94,7 @@ GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
 #: taken for K_Fα; K_v: the speed sweep at the rating speed)
 MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
+TRAIN_UNMEASURED = {"K_v"}  # not measured per mesh of a train yet
 RATING_KEYS = {
     "use_measured",
     "application_factor",
@@ -300,8 +301,16 @@ def _(value, key: str, where: str, names: tuple, ends: tuple[int, int]):
     )
 
 
+#: the per-gear keys of a train's [rating] and [material]: a number or a table by gear name
+PER_GEAR = {"roughness_Rz_flank_um", "roughness_Rz_root_um", "sigma_H_lim_MPa", "sigma_F_lim_MPa"}
+
+
 def _mesh_table(table: dict, keys: set, where: str, names: tuple, ends) -> dict:
-    return {k: _mesh_value(v, k, where, names, ends) for k, v in table.items() if k in keys}
+    """The entries of ``keys`` for one mesh: per-gear values (:data:`PER_GEAR`) resolved."""
+    out = {k: v for k, v in table.items() if k in keys}
+    for k in PER_GEAR & set(out):
+        out[k] = _mesh_value(out[k], k, where, names, ends)
+    return out
 
 
 def mesh_roles(case) -> tuple[list[int], list[int]]:
@@ -352,11 +361,12 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
         rc = parse_rating(mesh_data, case.pairs[k], material)
-        if rc.use_measured:
+        if set(rc.use_measured) & TRAIN_UNMEASURED:
             raise sc.fail(
                 "rating",
                 "use_measured",
-                "not for a train yet (its meshes are rated with ISO's or given factors)",
+                "K_v not for a train yet (its sweep's dynamic factor is not read per mesh): "
+                "allowed K_Hbeta, K_Halpha",
                 list(rc.use_measured),
             )
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
