@@ -15,7 +15,13 @@ from ._rating_geometry import RatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings
 from ._util import as_float
 
-__all__ = ["LoadFactors", "face_load_factor", "load_factors", "transverse_load_factor"]
+__all__ = [
+    "LoadFactors",
+    "face_load_factor",
+    "load_factors",
+    "transverse_factor_limits",
+    "transverse_load_factor",
+]
 
 E_STEEL = 206e9  # Pa: ISO 6336-1's reference modulus of c'_th
 ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -222,6 +228,19 @@ def transverse_load_factor(result, loaded: float = 1e-6) -> Array:
     all_mean = jnp.sum(w, axis=(-2, -1)) / jnp.maximum(jnp.sum(on, axis=(-2, -1)), 1)
     ratio = jnp.max(line_mean, axis=-1) / jnp.where(all_mean > 0, all_mean, 1.0)
     return jnp.maximum(jnp.max(ratio), 1.0)
+
+
+def transverse_factor_limits(geometry: RatingGeometry) -> tuple[Array, Array]:
+    """ISO 6336-1:2019 clause 8's upper limits of K_Hα and K_Fα: ε_γ/(ε_α Z_ε²) (the whole
+    load on one pair at the critical point) and ε_γ/(0.25 ε_α + 0.75). A measured K_Hα
+    (:func:`transverse_load_factor`) rates within them: beyond, the load sharing it measures
+    (one pair carrying nearly all, e.g. a relieved pair that barely touches) is the single
+    pair contact the rating's Z_ε, Z_B and Y_F already take. Returns (K_Hα max, K_Fα max)."""
+    g = geometry.derived()
+    ea, eb = g.transverse_contact_ratio, g.overlap_ratio
+    eg = ea + eb
+    z_eps = _contact_ratio_factor(ea, eb, geometry)
+    return eg / (ea * z_eps**2), eg / (0.25 * ea + 0.75)
 
 
 def _contact_ratio_factor(ea, eb, geometry):

@@ -72,12 +72,18 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
             raise ValueError(f"LeastSafetyFactor: te_limit = {self.te_limit!r} m: allowed > 0")
 
     def rating(self, result: jg.QuasiStaticResult) -> jg.Rating:
-        """The rating with K_Hβ and K_Hα (and K_Fα) measured on ``result``."""
+        """The rating with K_Hβ and K_Hα (and K_Fα) measured on ``result``, K_Hα and K_Fα
+        within ISO 6336-1's limits (:func:`jaxgear.transverse_factor_limits`)."""
         khb = jg.face_load_factor(result)
         kha = jg.transverse_load_factor(result)
+        h_max, f_max = jg.transverse_factor_limits(self.geometry)  # ISO 6336-1 clause 8
         old = self.settings.given
         given = jg.GivenFactors(
-            K_v=old.K_v, K_Hbeta=khb, K_Fbeta=old.K_Fbeta, K_Halpha=kha, K_Falpha=kha
+            K_v=old.K_v,
+            K_Hbeta=khb,
+            K_Fbeta=old.K_Fbeta,
+            K_Halpha=jnp.minimum(kha, h_max),
+            K_Falpha=jnp.minimum(kha, f_max),
         )
         settings = eqx.tree_at(lambda s: s.given, self.settings, given)
         return jg.rate(self.geometry, self.operating, settings)

@@ -134,3 +134,13 @@ def test_2019_helix_angle_factor_holds_beta_at_30_degrees():
     assert float(e.helix_angle_factor(1.4, math.radians(35.0))) == pytest.approx(
         (1 - 30 / 120) / math.cos(math.radians(30.0)) ** 3, rel=1e-12
     )
+
+
+def test_transverse_factor_limits_by_hand():
+    """ISO 6336-1 clause 8: K_Hα <= ε_γ/(ε_α Z_ε²), K_Fα <= ε_γ/(0.25 ε_α + 0.75); a spur pair:
+    Z_ε² = (4 − ε_α)/3."""
+    pair = jio.load_case("accessory-spur").pair
+    ea = float(pair.transverse_contact_ratio)
+    h, f = jg.transverse_factor_limits(jg.RatingGeometry.of(pair))
+    assert float(h) == pytest.approx(3 / (4 - ea), rel=1e-9)
+    assert float(f) == pytest.approx(ea / (0.25 * ea + 0.75), rel=1e-9)

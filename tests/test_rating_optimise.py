@@ -57,14 +57,21 @@ def test_soft_min_bounds():
 
 def test_least_safety_objective_by_hand():
     """Loads with K_Hβ = 2.5/(7/3), K_Hα = 5/4 (tests/test_rating_measured.py's count): the
-    objective's safety factors are the rating's with these factors given; the penalty is
+    objective's safety factors are the rating's with these factors given (K_Hα, K_Fα within
+    ISO's limits, by hand); the penalty is
     100 (TE/limit − 1)² above the limit, nothing below."""
-    rc = jio.rating_of(_case())
+    case = _case()
+    rc = jio.rating_of(case)
     w = np.array([[[1.0, 2.0, 3.0], [1.0, 1.0, -5.0]], [[2.0, 2.0, 2.0], [9.0, 9.0, 9.0]]])
     mask = np.array([[[1, 1, 1], [1, 1, 1]], [[1, 1, 1], [0, 0, 0]]], dtype=bool)
     k_hb, k_ha = 2.5 / (7 / 3), 1.25
     obj = op.LeastSafetyFactor(rc.geometry, rc.operating, rc.settings, te_limit=1e-6)
-    given = jg.GivenFactors(K_Hbeta=k_hb, K_Halpha=k_ha, K_Falpha=k_ha)
+    # K_Hα and K_Fα within ISO 6336-1 clause 8's limits, spur: 1/Z_ε² = 3/(4 − ε_α) and
+    # ε_α/(0.25 ε_α + 0.75)
+    ea = float(case.pair.transverse_contact_ratio)
+    given = jg.GivenFactors(
+        K_Hbeta=k_hb, K_Halpha=min(k_ha, 3 / (4 - ea)), K_Falpha=min(k_ha, ea / (0.25 * ea + 0.75))
+    )
     ref = jg.rate(rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given))
     s = np.asarray(obj.safety_factors(_Result(w, mask, 0.5e-6)))
     want = np.concatenate([np.asarray(ref.pitting.S_H), np.asarray(ref.bending.S_F)])

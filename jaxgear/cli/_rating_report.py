@@ -24,6 +24,7 @@ from .. import (
     rate,
     root_stress_map,
     tooth_geometry,
+    transverse_factor_limits,
     transverse_load_factor,
 )
 from ._plots import savefig
@@ -172,7 +173,7 @@ def _write_table(out_dir: str, lines: list[str]) -> None:
 
 
 MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
-USED = "measured (rating.measured, [rating] use_measured)"
+USED = "measured (rating.measured, [rating] use_measured; K_Halpha/K_Falpha within ISO's limits)"
 MEASURED_ALPHA = (
     "jaxgear load map (rigid mesh, exact contact, case modifications): largest mean line load "
     "of one tooth pair over that of all loaded cells, max over a mesh period"
@@ -195,6 +196,9 @@ def _rated(rc: RatingCase, section: dict) -> dict:
     given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
     for name, value in use.items():
         given.update(dict.fromkeys(_STANDS_FOR[name], value))
+    h_max, f_max = (float(v) for v in transverse_factor_limits(rc.geometry))
+    for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):  # ISO's limits (clause 8)
+        given[key] = None if given[key] is None else min(given[key], top)
     settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
     out = _RATE(rc.geometry, rc.operating, settings).summary()
     for name in use:
