@@ -200,7 +200,7 @@ def face_load_factor(result) -> Array:
     return jnp.max(face) / jnp.mean(face)
 
 
-def transverse_load_factor(result, loaded: float = 1e-6) -> Array:
+def transverse_load_factor(result, loaded: float = 1e-2) -> Array:
     """K_Hα measured on a jaxgear load distribution: the load sharing between the tooth pairs in
     contact. ISO 6336-1:2019 clause 8 defines K_Hα as accounting for the non-uniform
     distribution of the transverse load between the several pairs of teeth in contact at once;
