@@ -115,6 +115,8 @@ from ._rating_factors import (
     LoadFactors as LoadFactors,
     face_load_factor as face_load_factor,
     load_factors as load_factors,
+    transverse_factor_limits as transverse_factor_limits,
+    transverse_load_factor as transverse_load_factor,
 )
 from ._rating_geometry import RatingGeometry as RatingGeometry
 from ._rating_material import (
@@ -133,6 +135,7 @@ from ._rating_settings import (
     OperatingPoint as OperatingPoint,
     RatingMaterial as RatingMaterial,
     RatingSettings as RatingSettings,
+    ToothLoading as ToothLoading,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,

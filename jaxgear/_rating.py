@@ -14,7 +14,7 @@ Pitting (ISO 6336-2:2019)::
 Bending (ISO 6336-3:2019; Y_F, Y_S: :func:`jaxgear.tooth_form_factors`)::
 
     σ_F0 = F_t / (b m_n) Y_F Y_S Y_β Y_B Y_DT,   σ_F = σ_F0 K_A K_v K_Fβ K_Fα
-    σ_FG = σ_Flim Y_ST Y_NT Y_δrelT Y_RrelT Y_X,  σ_FP = σ_FG / S_Fmin,  S_F = σ_FG / σ_F
+    σ_FG = σ_Flim Y_ST Y_NT Y_δrelT Y_RrelT Y_X Y_M,  σ_FP = σ_FG / S_Fmin,  S_F = σ_FG / σ_F
 
 Load factors (ISO 6336-1:2019): K_v method B (clause 6, the resonance ratio N from c_γα and the
 reduced mass of solid blanks), K_Hβ from the helix slope deviation (clause 7, F_βx = f_Hβ: no shaft
@@ -67,7 +67,8 @@ class PittingRating(eqx.Module):
 
 class BendingRating(eqx.Module):
     """ISO 6336-3 results, per gear (2,): Y_F, Y_S, Y_B, Y_NT, Y_delta_rel_T, Y_R_rel_T, Y_X,
-    sigma_F0, sigma_F, sigma_FG, sigma_FP (Pa), S_F; scalars Y_beta, Y_DT, Y_ST; ``form`` the
+    Y_M (mean stress influence factor, :class:`jaxgear.ToothLoading`), sigma_F0, sigma_F,
+    sigma_FG, sigma_FP (Pa), S_F; scalars Y_beta, Y_DT, Y_ST; ``form`` the
     :class:`jaxgear.ToothFormFactors`."""
 
     Y_F: Array
@@ -80,6 +81,7 @@ class BendingRating(eqx.Module):
     Y_delta_rel_T: Array
     Y_R_rel_T: Array
     Y_X: Array
+    Y_M: Array
     sigma_F0: Array
     sigma_F: Array
     sigma_FG: Array
@@ -159,6 +161,7 @@ class Rating(eqx.Module):
                 "Y_delta_rel_T": v(b.Y_delta_rel_T),
                 "Y_R_rel_T": v(b.Y_R_rel_T),
                 "Y_X": v(b.Y_X),
+                "Y_M": v(b.Y_M),
                 "sigma_F0_Pa": v(b.sigma_F0),
                 "sigma_F_Pa": v(b.sigma_F),
                 "sigma_FP_Pa": v(b.sigma_FP),
@@ -230,7 +233,7 @@ def pitting_rating(
     z_bd = _single_pair_factors(g, geometry)
     s_h = z_bd * s_h0 * jnp.sqrt(k)
     # permissible stress
-    cycles = settings.life * operating.speed / (2 * jnp.pi) * jnp.asarray([1.0, 1.0 / u])
+    cycles = _cycles(settings, operating, u)
     z_nt = mat.treatment.z_nt(cycles)
     s_min = jnp.min(mat.sigma_h_lim)
     czl = _c_zl(s_min)
@@ -270,6 +273,14 @@ def pitting_rating(
 
 # ------------------------------------------------------------------------------------------
 # bending (ISO 6336-3:2019)
+
+
+def _cycles(settings: RatingSettings, operating: OperatingPoint, u):
+    """Load cycles N_L (pinion, gear) over the life: turns × the rated flank's cycles per turn
+    (:class:`jaxgear.ToothLoading`)."""
+    turns = jnp.stack([jnp.ones_like(u), 1 / u])
+    per_turn = jnp.asarray(settings.loading.cycles_per_turn, dtype=turns.dtype) * turns
+    return settings.life * operating.speed / (2 * jnp.pi) * per_turn
 
 
 def _rim_factor(geometry: RatingGeometry, g):
@@ -320,8 +331,7 @@ def bending_rating(
         y_dt = jnp.ones_like(ean)
     s_f0 = ft / (b * mn) * form.Y_F * form.Y_S * y_beta * y_b * y_dt
     s_f = s_f0 * factors.K_A * factors.K_v * factors.K_Fbeta * factors.K_Falpha
-    u = g.gear_ratio
-    cycles = settings.life * operating.speed / (2 * jnp.pi) * jnp.asarray([1.0, 1.0 / u])
+    cycles = _cycles(settings, operating, g.gear_ratio)
     tr = mat.treatment
     y_nt = tr.y_nt(cycles)
     chi = 200.0 * (1 + 2 * form.q_s)  # 1/m
@@ -329,7 +339,8 @@ def bending_rating(
     y_d = (1 + jnp.sqrt(rho_p * chi)) / (1 + jnp.sqrt(rho_p * 1200.0))
     y_r = tr.y_r_rel(lub.roughness_root)
     y_x = tr.y_x(mn) * jnp.ones(2)
-    s_fg = mat.sigma_f_lim * Y_ST * y_nt * y_d * y_r * y_x
+    y_m = jnp.asarray(settings.loading.mean_stress_factor, dtype=s_f.dtype)
+    s_fg = mat.sigma_f_lim * Y_ST * y_nt * y_d * y_r * y_x * y_m
     return BendingRating(
         Y_F=form.Y_F,
         Y_S=form.Y_S,
@@ -341,6 +352,7 @@ def bending_rating(
         Y_delta_rel_T=y_d,
         Y_R_rel_T=y_r,
         Y_X=y_x,
+        Y_M=y_m,
         sigma_F0=s_f0,
         sigma_F=s_f,
         sigma_FG=s_fg,

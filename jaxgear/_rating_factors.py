@@ -1,7 +1,8 @@
 """Load factors of the ISO 6336 rating, ISO 6336-1:2019: K_v (clause 6, method B), K_Hβ and
 K_Fβ (clause 7), K_Hα and K_Fα (clause 8, method B), with c' and c_γα of method B (clause 9);
-a factor given in :class:`jaxgear.GivenFactors` replaces the computed one. And K_Hβ measured on
-a jaxgear load distribution (:func:`face_load_factor`). Pure ``jax.numpy`` functions of the
+a factor given in :class:`jaxgear.GivenFactors` replaces the computed one. And K_Hβ and K_Hα
+measured on a jaxgear load distribution (:func:`face_load_factor`,
+:func:`transverse_load_factor`). Pure ``jax.numpy`` functions of the
 :class:`jaxgear.RatingGeometry`, the operating point and the settings."""
 
 from __future__ import annotations
@@ -14,7 +15,13 @@ from ._rating_geometry import RatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings
 from ._util import as_float
 
-__all__ = ["LoadFactors", "face_load_factor", "load_factors"]
+__all__ = [
+    "LoadFactors",
+    "face_load_factor",
+    "load_factors",
+    "transverse_factor_limits",
+    "transverse_load_factor",
+]
 
 E_STEEL = 206e9  # Pa: ISO 6336-1's reference modulus of c'_th
 ISO_C = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -191,6 +198,49 @@ def face_load_factor(result) -> Array:
     w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
     face = jnp.mean(jnp.sum(w, axis=-2), axis=0)  # (N,): mean over positions, summed lines
     return jnp.max(face) / jnp.mean(face)
+
+
+def transverse_load_factor(result, loaded: float = 1e-2) -> Array:
+    """K_Hα measured on a jaxgear load distribution: the load sharing between the tooth pairs in
+    contact. ISO 6336-1:2019 clause 8 defines K_Hα as accounting for the non-uniform
+    distribution of the transverse load between the several pairs of teeth in contact at once;
+    measured here, at each mesh position, as the largest mean line load of one contact line
+    (one tooth pair: its load over its loaded length) over the mean line load of all the loaded
+    cells (the total load over the total loaded length), the maximum over the positions. Equal
+    sharing (a spur pair's two pairs carrying their load evenly, or one pair alone) gives 1;
+    a pitch deviation or a modification that shifts load from one pair to the other gives
+    more. A pair that has lost contact altogether (a pitch deviation larger than its
+    deflection) is not in contact: its mate then carries the load alone, ratio 1 (ISO's cap
+    ε_γ/(ε_α Z_ε²) covers that case); so this measures sharing, not lift-off.
+
+    Args:
+        result: a one-mesh result with ``line_load`` (N/m) and ``cell_mask`` (P, L, N)
+            (:class:`jaxgear.MeshResult`, a one-mesh :class:`jaxgear.QuasiStaticResult`).
+        loaded: a cell is loaded above this fraction of the result's largest line load.
+
+    Returns:
+        K_Hα (-), >= 1.
+    """
+    w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
+    on = w > loaded * jnp.max(w)
+    n_line = jnp.sum(on, axis=-1)  # (P, L) loaded cells per line
+    line_mean = jnp.sum(w, axis=-1) / jnp.maximum(n_line, 1)
+    all_mean = jnp.sum(w, axis=(-2, -1)) / jnp.maximum(jnp.sum(on, axis=(-2, -1)), 1)
+    ratio = jnp.max(line_mean, axis=-1) / jnp.where(all_mean > 0, all_mean, 1.0)
+    return jnp.maximum(jnp.max(ratio), 1.0)
+
+
+def transverse_factor_limits(geometry: RatingGeometry) -> tuple[Array, Array]:
+    """ISO 6336-1:2019 clause 8's upper limits of K_Hα and K_Fα: ε_γ/(ε_α Z_ε²) (the whole
+    load on one pair at the critical point) and ε_γ/(0.25 ε_α + 0.75). A measured K_Hα
+    (:func:`transverse_load_factor`) rates within them: beyond, the load sharing it measures
+    (one pair carrying nearly all, e.g. a relieved pair that barely touches) is the single
+    pair contact the rating's Z_ε, Z_B and Y_F already take. Returns (K_Hα max, K_Fα max)."""
+    g = geometry.derived()
+    ea, eb = g.transverse_contact_ratio, g.overlap_ratio
+    eg = ea + eb
+    z_eps = _contact_ratio_factor(ea, eb, geometry)
+    return eg / (ea * z_eps**2), eg / (0.25 * ea + 0.75)
 
 
 def _contact_ratio_factor(ea, eb, geometry):

@@ -29,6 +29,7 @@ __all__ = [
     "OperatingPoint",
     "RatingMaterial",
     "RatingSettings",
+    "ToothLoading",
 ]
 
 
@@ -185,14 +186,65 @@ class Edition2006(AbstractEdition):
 
 
 class Edition2019(AbstractEdition):
-    """ISO 6336-3:2019: Y_β = (1 − ε_β β/120°)/cos³ β (ε_β ≤ 1, β ≤ 30°). The 1/cos³ β is
-    written from the edition as recalled: no printed example of the 2019 edition was found
-    to check it (docs/rating.md); the 2006 term is checked (:class:`Edition2006`)."""
+    """ISO 6336-3:2019: Y_β = (1 − ε_β β/120°)/cos³ β, with ε_β ≤ 1 and β ≤ 30° in both terms
+    (above 30° the factor is that of 30°). No printed worked example of the 2019 edition was
+    found to check it against (docs/rating.md); two independent public implementations of the
+    2019 edition write the same formula, the limits included. The 2006 term is checked
+    (:class:`Edition2006`)."""
 
     label: ClassVar[str] = "ISO 6336:2019 method B"
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
-        return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(helix_angle) ** 3
+        beta = jnp.minimum(helix_angle, jnp.pi / 6)
+        return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(beta) ** 3
+
+
+#: ISO 6336-3:2019's mean stress influence factor Y_M for a tooth loaded on both flanks in
+#: turn (an idler: stress ratio R ≈ −1.2), its method C value; one-way bending (R = 0): 1
+IDLER_MEAN_STRESS_FACTOR = 0.7
+
+
+class ToothLoading(eqx.Module):
+    """How each gear's teeth are loaded per turn, (pinion, gear) each.
+
+    Attributes:
+        cycles_per_turn: load cycles of the rated flank (and of its fillet in tension) per
+            turn of the gear, >= 1: the number of meshes in which the gear has the same role
+            (driving or driven); the life factors' N_L = life · turns · cycles_per_turn.
+        mean_stress_factor: Y_M of ISO 6336-3:2019 (mean stress influence factor, in σ_FG),
+            (0, 1]: 1 for one-way bending; :data:`IDLER_MEAN_STRESS_FACTOR` (0.7, the
+            standard's method C value for R ≈ −1.2) for a gear loaded on alternate flanks in
+            turn (driven in one mesh, driving in another: an idler).
+
+    :meth:`idler` gives a gear of two meshes on alternate flanks; the default is a pair's
+    (one cycle per turn, one-way bending). A pair or a train mesh's value comes from the
+    train's layout (``jaxgear.io``).
+    """
+
+    cycles_per_turn: tuple[float, float] = eqx.field(static=True)
+    mean_stress_factor: tuple[float, float] = eqx.field(static=True)
+
+    def __init__(self, cycles_per_turn=(1.0, 1.0), mean_stress_factor=(1.0, 1.0)):
+        w = "ToothLoading"
+        check_real("cycles_per_turn", cycles_per_turn, "", lo=1.0, shape=(2,), where=w)
+        check_real(
+            "mean_stress_factor", mean_stress_factor, "", lo=0.0, lo_open=True, hi=1.0,
+            shape=(2,), where=w,
+        )
+        self.cycles_per_turn = tuple(float(c) for c in cycles_per_turn)
+        self.mean_stress_factor = tuple(float(y) for y in mean_stress_factor)
+
+    @classmethod
+    def of_roles(cls, driving: tuple[int, int], driven: tuple[int, int]) -> ToothLoading:
+        """From the number of meshes each gear of the rated mesh drives in (``driving``) and is
+        driven in (``driven``), (pinion, gear): a gear rated in the mesh where it drives (the
+        pinion, member 0) has ``driving`` cycles per turn on that flank, one rated where it is
+        driven (member 1) ``driven``; Y_M = 0.7 for a gear with both roles (its two flanks
+        loaded in turn, fully reversed bending), 1 otherwise."""
+        same = (driving[0], driven[1])
+        both = [d > 0 and n > 0 for d, n in zip(driving, driven, strict=True)]
+        ym = [IDLER_MEAN_STRESS_FACTOR if b else 1.0 for b in both]
+        return cls([float(max(c, 1)) for c in same], ym)
 
 
 class RatingSettings(eqx.Module):
@@ -206,6 +258,8 @@ class RatingSettings(eqx.Module):
         min_safety_pitting, min_safety_bending: S_Hmin, S_Fmin (σ_HP = σ_HG/S_Hmin; 1 default).
         edition: the ISO 6336 edition (:class:`AbstractEdition`; default
             :class:`Edition2019`, or :class:`Edition2006` to compare with ratings to it).
+        loading: :class:`ToothLoading`, load cycles per turn and Y_M per gear (default: a
+            pair's, one cycle per turn, one-way bending).
     """
 
     material: RatingMaterial
@@ -218,3 +272,4 @@ class RatingSettings(eqx.Module):
     min_safety_pitting: float = 1.0
     min_safety_bending: float = 1.0
     edition: AbstractEdition = Edition2019()
+    loading: ToothLoading = ToothLoading()

@@ -38,6 +38,7 @@ from ._problem import (
     make_problem as make_problem,
     zero_fluctuation_depth as zero_fluctuation_depth,
 )
+from ._safety import LeastSafetyFactor as LeastSafetyFactor, soft_min as soft_min
 from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
 from ._variables import (
     VARIABLES as VARIABLES,

@@ -302,6 +302,7 @@ def _set(path: str, value):
             "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form",
         ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
+        (_set("rating", {"application_factor": 1.25}), "[rating]: not in a planetary case"),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
     ],
 )

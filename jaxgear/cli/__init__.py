@@ -30,8 +30,10 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         clear_outputs as clear_outputs,
     )
     from ._rating_report import (
+        fillet_table as fillet_table,
         measured_dynamic_factor as measured_dynamic_factor,
         rating_outputs as rating_outputs,
+        root_stress_outputs as root_stress_outputs,
     )
     from ._summary import result_summary as result_summary
     from .run import format_table as format_table, run_case as run_case
@@ -55,6 +57,8 @@ _EXPORTS = {
     "clear_outputs": "._paths",
     "measured_dynamic_factor": "._rating_report",
     "rating_outputs": "._rating_report",
+    "root_stress_outputs": "._rating_report",
+    "fillet_table": "._rating_report",
     "result_summary": "._summary",
     "format_table": ".run",
     "run_case": ".run",

@@ -11,11 +11,34 @@ import warnings
 
 import equinox as eqx
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
-from .. import face_load_factor, rate
-from ..io import Case, CaseWarning, atomic_open, rating_of
+import fem_prep
 
-__all__ = ["measured_dynamic_factor", "rating_lines", "rating_outputs"]
+from .. import (
+    GearPair,
+    quasi_static,
+    GivenFactors,
+    face_load_factor,
+    rate,
+    root_stress_map,
+    tooth_geometry,
+    transverse_factor_limits,
+    transverse_load_factor,
+)
+from ._plots import savefig
+from ..io import Case, CaseWarning, PairForm, RatingCase, TrainForm, atomic_open, ratings_of
+
+__all__ = [
+    "ROOT_STRESS_RADII",
+    "fillet_table",
+    "measured_dynamic_factor",
+    "rating_lines",
+    "rating_outputs",
+    "root_stress_outputs",
+    "train_mesh_results",
+]
 
 _RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
 
@@ -51,6 +74,7 @@ _ROWS = [
     ("bending", "Y_delta_rel_T", "Y_δrelT", 1, "", "ISO 6336-3, relative notch sensitivity"),
     ("bending", "Y_R_rel_T", "Y_RrelT", 1, "", "ISO 6336-3, relative surface factor"),
     ("bending", "Y_X", "Y_X", 1, "", "ISO 6336-3, size factor"),
+    ("bending", "Y_M", "Y_M", 1, "", "ISO 6336-3:2019, mean stress influence factor"),
     ("bending", "sigma_FP_Pa", "σ_FP", 1e-6, "N/mm²", "ISO 6336-3, permissible root stress"),
     ("bending", "S_F", "S_F", 1, "", "ISO 6336-3, safety factor for bending"),
 ]
@@ -72,10 +96,11 @@ def _(v, scale) -> str:  # per gear
     return " / ".join(f"{x * scale:.4g}" for x in v)
 
 
-def rating_lines(section: dict, case_name: str) -> list[str]:
-    """``rating.md``: a Markdown table of the section's factors and stresses."""
+def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]:
+    """``rating.md``: a Markdown table of the section's factors and stresses (one mesh's
+    section; ``heading`` the title's Markdown level)."""
     out = [
-        f"# {case_name}: load capacity, {section['method']}",
+        f"{heading} {case_name}: load capacity, {section['method']}",
         "",
         "Per-gear values as pinion / gear. Stresses in N/mm² (summary.json: Pa).",
         "",
@@ -85,46 +110,192 @@ def rating_lines(section: dict, case_name: str) -> list[str]:
     for part, key, symbol, scale, unit, clause in _ROWS:
         out.append(f"| {symbol} | {_value(section[part][key], scale)} | {unit} | {clause} |")
     for key, m in section.get("measured", {}).items():
-        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} (not used above) |")
+        used = section["factors"][key]["source"] == USED
+        note = "used above: [rating] use_measured" if used else "not used above"
+        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} ({note}) |")
+    rs = section.get("root_stress")
+    if rs is not None:
+        out.append(
+            f"| σ_F,FE max | {_value(rs['max_Pa'], 1e-6)} | N/mm² | {rs['source']} (not used "
+            "above) |"
+        )
+        out.append(f"| σ_F,FE max / σ_F0 | {_value(rs['fe_over_iso'], 1)} |  | FE over ISO |")
     return out
 
 
-MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
+@functools.singledispatch
+def _stack(first, values: list):
+    """Per-mesh lists of the meshes' summary values (a train's ``rating`` section)."""
+    return list(values)
 
 
-def rating_outputs(case: Case, out_dir: str, result=None) -> dict | None:
-    """The rating of a one-mesh case with ``[rating]``: writes ``rating.md`` into ``out_dir``
-    and returns the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``
-    (a train file has no ``[rating]`` table yet). ``result``: the case's quasi-static result,
-    for the section's ``measured`` factors (:func:`jaxgear.face_load_factor`); they are
-    reported beside the ISO/given ones, not used in the rating."""
-    rc = rating_of(case)
-    if rc is None:
-        return None
-    rating = _RATE(rc.geometry, rc.operating, rc.settings)
-    for note in rating.scope_notes():
-        warnings.warn(f"[rating] {note}", CaseWarning, stacklevel=2)
-    section = rating.summary()
-    if result is not None:
-        k = float(face_load_factor(result))
-        section["measured"] = {"K_Hbeta": {"value": k, "source": MEASURED}}
+@_stack.register(dict)
+def _(first, values: list):
+    return {k: _stack(v, [s[k] for s in values]) for k, v in first.items()}
+
+
+@functools.singledispatch
+def _section_and_table(form, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    raise TypeError(f"rating_outputs: no rating report for a case of form {type(form).__name__}")
+
+
+@_section_and_table.register
+def _(form: PairForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    """A pair: its one mesh's section, the case's table."""
+    return sections[0], rating_lines(sections[0], case.name)
+
+
+@_section_and_table.register
+def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+    """A train: per-mesh lists (``meshes`` names them, in the order of ``[[meshes]]``; per-gear
+    values [driving, driven] per mesh); ``rating.md`` one section per mesh."""
+    names = [case.mesh_name(k) for k in range(len(sections))]
+    lines = [
+        f"# {case.name}: load capacity of every mesh",
+        "",
+        "Each mesh rated with its driving gear as the pinion (pinion / gear = driving / "
+        "driven), at its driving gear's torque and speed. A gear in two meshes is rated in each; "
+        "an idler (driven in one mesh, driving in the other) has its teeth loaded on alternate "
+        "flanks: Y_M = 0.7 (ISO 6336-3:2019, mean stress influence factor).",
+        "",
+    ]
+    for name, sec in zip(names, sections, strict=True):
+        lines += rating_lines(sec, f"{case.name}, mesh {name}", heading="##") + [""]
+    out = {"meshes": names} | _stack(sections[0], sections)
+    methods = out["method"]  # one edition for every mesh (a mesh's table may set another)
+    out["method"] = methods[0] if len(set(methods)) == 1 else methods
+    return out, lines
+
+
+def _write_table(out_dir: str, lines: list[str]) -> None:
     with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
-        f.write("\n".join(rating_lines(section, case.name)) + "\n")
+        f.write("\n".join(lines) + "\n")
+
+
+MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
+USED = "measured (rating.measured, [rating] use_measured; K_Halpha/K_Falpha within ISO's limits)"
+MEASURED_ALPHA = (
+    "jaxgear load map (rigid mesh, exact contact, case modifications): largest mean line load "
+    "of one tooth pair over that of all loaded cells, max over a mesh period"
+)
+
+
+#: the given factors a measured one stands for (ISO 6336-1 method B: K_Fα = K_Hα; K_Fβ
+#: follows from K_Hβ as ISO's, K_Hβ^N_F)
+_STANDS_FOR = {"K_Hbeta": ("K_Hbeta",), "K_Halpha": ("K_Halpha", "K_Falpha"), "K_v": ("K_v",)}
+
+
+def _rated(rc: RatingCase, section: dict) -> dict:
+    """The section rated again with the measured factors ``rc.use_measured`` names that
+    ``section["measured"]`` holds in place of ISO's (their source "measured"); the section's
+    other entries (``measured``, ``root_stress``) kept. Nothing to use: the section itself."""
+    measured = section.get("measured", {})
+    use = {n: measured[n]["value"] for n in rc.use_measured if n in measured}
+    if not use:
+        return section
+    given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
+    for name, value in use.items():
+        given.update(dict.fromkeys(_STANDS_FOR[name], value))
+    h_max, f_max = (float(v) for v in transverse_factor_limits(rc.geometry))
+    for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):  # ISO's limits (clause 8)
+        given[key] = None if given[key] is None else min(given[key], top)
+    settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
+    out = _RATE(rc.geometry, rc.operating, settings).summary()
+    for name in use:
+        for f in _STANDS_FOR[name]:
+            out["factors"][f]["source"] = USED
+    return section | out
+
+
+@functools.singledispatch
+def _per_mesh(form, result) -> list:
+    """The one-mesh results of ``rating_outputs``' ``result``, by the case's form."""
+    raise TypeError(f"rating_outputs: no results for a case of form {type(form).__name__}")
+
+
+@_per_mesh.register
+def _(form: PairForm, result) -> list:  # a pair's one result
+    return [result]
+
+
+@_per_mesh.register
+def _(form: TrainForm, result) -> list:  # a train's: one per mesh
+    return list(result)
+
+
+def _measured(result) -> dict:
+    return {
+        "K_Hbeta": {"value": float(face_load_factor(result)), "source": MEASURED},
+        "K_Halpha": {"value": float(transverse_load_factor(result)), "source": MEASURED_ALPHA},
+    }
+
+
+def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> dict | None:
+    """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
+    the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
+    section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
+    table per mesh.
+
+    Args:
+        result: a pair's quasi-static result, or a train's tuple of one per mesh
+            (:func:`train_mesh_results`), for the sections' ``measured`` factors (K_Hβ:
+            :func:`jaxgear.face_load_factor`, K_Hα: :func:`jaxgear.transverse_load_factor`);
+            reported beside the ISO/given ones, and rated with in their place when ``[rating]
+            use_measured`` names them (the factors' source then "measured").
+        root_stress: with ``result``, a table of the FE fillet stress per unit load
+            (``table(tooth, radii)``, e.g. :func:`fillet_table`): each mesh's root-stress map
+            too (:func:`root_stress_outputs`; a train's plots ``root_stress_map_<mesh>.png``).
+    """
+    rcs = ratings_of(case)
+    if rcs is None:
+        return None
+    results = None if result is None else _per_mesh(case.form, result)
+    sections = []
+    for k, rc in enumerate(rcs):
+        rating = _RATE(rc.geometry, rc.operating, rc.settings)
+        label = case.mesh_label(k)
+        for note in rating.scope_notes():
+            where = f"[rating] {label}: " if label else "[rating] "
+            warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
+        section = rating.summary()
+        if results is not None:
+            section["measured"] = _measured(results[k])
+            section = _rated(rc, section)
+            if root_stress is not None:
+                name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
+                title = f"{case.name}{' ' + label if label else ''}"
+                _root_stress(case.pairs[k], results[k], section, root_stress,
+                             os.path.join(out_dir, name), title, float(rc.operating.torque))
+        sections.append(section)
+    section, lines = _section_and_table(case.form, case, sections)
+    _write_table(out_dir, lines)
     return section
+
+
+def train_mesh_results(case: Case) -> tuple | None:
+    """Each mesh's quasi-static result on its own rigid mesh (exact contact, its gears'
+    modifications, its driving gear's torque: :meth:`jaxgear.io.Case.mesh_case`), for a case
+    with ``[rating]`` (else None): the load maps a train's measured factors and root-stress
+    maps are read from, as a pair's are from its rigid mesh."""
+    if ratings_of(case) is None:
+        return None
+    cases = [case.mesh_case(k) for k in range(len(case.pairs))]
+    return tuple(quasi_static(c.mesh_model(), c.modifications, c.torque) for c in cases)
 
 
 def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: dict) -> None:
     """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing): the
     dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
     ``speeds_rad_s``, ``dynamic_factor``, ``model``, ``slices``) interpolated linearly at the
-    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (not used in the
-    rating: give ``K_v`` to use it) and ``rating.md`` rewritten. A rating speed outside the
+    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (the rating redone
+    with it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating speed outside the
     swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v and the sweep's
     dynamic factor are both the largest dynamic tooth load over the static one (the sweep's:
     over a mesh period at steady state, of the scene's model)."""
-    rc = rating_of(case)
-    if rc is None:
+    rcs = ratings_of(case)
+    if rcs is None or len(rcs) != 1:  # a train's meshes: not yet (the pair's sweep only)
         return
+    rc = rcs[0]
     speeds = np.asarray(dynamics["speeds_rad_s"], dtype=float)
     factor = np.asarray(dynamics["dynamic_factor"], dtype=float)
     speed = float(rc.operating.speed)
@@ -137,5 +308,95 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
     )
     section = summary["rating"]
     section.setdefault("measured", {})["K_v"] = {"value": value, "source": source}
-    with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
-        f.write("\n".join(rating_lines(section, case.name)) + "\n")
+    section = summary["rating"] = _rated(rc, section)
+    _write_table(out_dir, rating_lines(section, case.name))
+
+
+# ------------------------------------------------------------------------------------------
+# the root-stress map of jaxgear run
+
+#: FE load cases per member over its active profile (one factorisation each member): the map
+#: interpolates linearly between them (within 0.5 % of a direct solve at 9 radii; the
+#: rating page of the documentation)
+ROOT_STRESS_RADII = 9
+ROOT_STRESS = (
+    "plane FE tooth (fem_prep.fillet_influence, m_n/18; transverse section) × the rigid mesh's "
+    "quasi-static cell loads (exact contact, case modifications), largest over the passage"
+)
+
+
+@functools.lru_cache(maxsize=32)
+def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
+    """The FE fillet stress per unit load at each of ``radii`` (m) of a tooth form
+    (:func:`fem_prep.fillet_influence`), cached for the process: one FE factorisation per tooth
+    form and radii (a train's gear of two meshes, a rerun of the same case)."""
+    return fem_prep.fillet_influence(tooth, np.asarray(radii))
+
+
+def _active_radii(pair: GearPair, member: int, n: int) -> tuple:
+    """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α)."""
+    ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
+    roll = np.linspace(min(ends), max(ends), n)
+    return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
+
+
+def _root_stress_plot(path: str, maps, title: str) -> None:
+    fig = Figure(figsize=(9, 3.8), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 2, sharey=True)
+    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
+        m = np.asarray(rmap.mask)
+        s = np.asarray(rmap.cell_s)[m] * 1e3
+        z = np.asarray(rmap.cell_z)[m] * 1e3
+        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
+        ax.set_title(f"{tag} root stress (MPa)")
+        ax.set_xlabel("s of the load along the line of action (mm)")
+        fig.colorbar(sc, ax=ax)
+    axes[0].set_ylabel("z across the face (mm)")
+    fig.suptitle(title, fontsize=9)
+    savefig(fig, path)
+
+
+def _root_stress(pair, result, section, table, path: str, title: str, torque: float) -> None:
+    """One mesh's root-stress map (:func:`root_stress_outputs`) into ``section`` and ``path``."""
+    maps = []
+    for i in (0, 1):
+        t = table(tooth_geometry(pair, i), _active_radii(pair, i, ROOT_STRESS_RADII))
+        maps.append(root_stress_map(pair, result, i, t.roll, t.peak))
+    peak = [float(m.max) for m in maps]
+    iso = section["bending"]["sigma_F0_Pa"]
+    section["root_stress"] = {
+        "max_Pa": peak,
+        "iso_sigma_F0_Pa": iso,
+        "fe_over_iso": [p / q for p, q in zip(peak, iso, strict=True)],
+        "load_radii": ROOT_STRESS_RADII,
+        "source": ROOT_STRESS,
+    }
+    _root_stress_plot(
+        path,
+        maps,
+        f"{title}: root stress over a tooth passage at {torque:g} N·m (plane FE × quasi-static "
+        "cell loads)",
+    )
+
+
+def root_stress_outputs(
+    case: Case, out_dir: str, result, section: dict, table=fillet_table
+) -> None:
+    """The root-stress map of a one-mesh case with ``[rating]`` (``section``: its
+    :func:`rating_outputs` section, completed here): each cell's load of ``result`` (the rigid
+    mesh's quasi-static result at the case torque) times the plane FE tooth's fillet stress per
+    unit load at the cell's position (:func:`jaxgear.root_stress_map`,
+    :data:`ROOT_STRESS_RADII` load cases per member, cached per tooth form by
+    :func:`fillet_table`). Adds ``section["root_stress"]``: ``max_Pa`` (the largest root stress
+    of each gear over the passage, [pinion, gear]), ``iso_sigma_F0_Pa`` (ISO 6336-3's nominal
+    σ_F0 of the rating, no load factor) and ``fe_over_iso``; writes ``root_stress_map.png``
+    (each member's stress against the load's position s and z across the face) and rewrites
+    ``rating.md`` with the two rows. ``table(tooth, radii)``: the FE fillet stress per unit
+    load (``.roll``, ``.peak``), by default :func:`fillet_table`. The FE stress includes what
+    the load map includes (load sharing between pairs, tip relief, the face load
+    distribution): it is a stress at the case torque, to be compared with σ_F0, not σ_F (which
+    adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
+    path = os.path.join(out_dir, "root_stress_map.png")
+    _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
+    _write_table(out_dir, rating_lines(section, case.name))

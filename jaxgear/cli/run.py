@@ -36,7 +36,13 @@ from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
-from ._rating_report import measured_dynamic_factor, rating_outputs
+from ._rating_report import (
+    fillet_table,
+    measured_dynamic_factor,
+    rating_outputs,
+    root_stress_outputs,
+    train_mesh_results,
+)
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .planetary import planetary_files, planetary_lines
 from .scene import SCENE_LABELS
@@ -248,6 +254,7 @@ def run_case(
     # [rating]: ISO 6336 load capacity, rating.md; K_Hβ measured on the rigid mesh's load map
     rating = rating_outputs(case, out_dir, result=res["modified", "exact"])
     if rating is not None:
+        root_stress_outputs(case, out_dir, res["modified", "exact"], rating)  # FE root stress
         summary["rating"] = rating
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
@@ -446,8 +453,14 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
 
 @quasi_static_files.register
 def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
-    """A train's: every mesh at once on the train's structure (:func:`run_train`)."""
-    return run_train(case, out, show_progress=not args.quiet, complete=complete)
+    """A train's: every mesh at once on the train's structure (:func:`run_train`); with
+    ``[rating]`` every mesh rated (``rating.md``, ``summary.json``'s ``rating``)."""
+    summary = run_train(case, out, show_progress=not args.quiet, complete=complete)
+    rating = rating_outputs(case, out, train_mesh_results(case), root_stress=fillet_table)
+    if rating is not None:
+        summary["rating"] = rating
+        write_json(os.path.join(out, "summary.json"), summary)
+    return summary
 
 
 # a planetary stage's files and lines (cli/planetary.py)

@@ -58,7 +58,9 @@ from ._rating_table import (
     TREATMENTS as TREATMENTS,
     RatingCase as RatingCase,
     parse_rating as parse_rating,
+    parse_train_rating as parse_train_rating,
     rating_of as rating_of,
+    ratings_of as ratings_of,
 )
 from ._robust_table import parse_robust as parse_robust
 from ._scene_spec import (

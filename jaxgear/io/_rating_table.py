@@ -24,6 +24,13 @@ Keys (file units; ranges as checked)::
     min_safety_bending = 1.0        # S_Fmin, [0.5, 10], default 1
     edition = 2019                  # ISO 6336 edition, 2019 | 2006 (Y_β), default 2019
     # K_v, K_Hbeta, K_Fbeta, K_Halpha, K_Falpha = ...  [1, 10]: given factors replace ISO's
+    use_measured = ["K_Hbeta"]      # measured factors that replace ISO's (jaxgear run): K_Hbeta
+                                    # (load map), K_Halpha (load sharing; K_Falpha too), K_v
+                                    # (the speed sweep at the rating speed); default none
+
+A train file's ``[rating]`` is a pair's for every mesh (:func:`parse_train_rating`): per-gear
+values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replacing entries for
+one mesh; ``[operating] speed_rpm`` the input's speed.
 """
 
 from __future__ import annotations
@@ -32,6 +39,7 @@ import dataclasses
 import functools
 import math
 
+import equinox as eqx
 from fem_prep import schema as sc
 
 from .. import (
@@ -48,18 +56,26 @@ from .. import (
     RatingMaterial,
     RatingSettings,
     ThroughHardened,
+    ToothLoading,
 )
+from ._case import PairForm, TrainForm
 
 __all__ = [
     "EDITIONS",
     "MATERIAL_RATING_KEYS",
+    "MEASURABLE",
     "OPERATING_RATING_KEYS",
     "RATING_KEYS",
     "TREATMENTS",
     "RatingCase",
     "check_rating",
+    "check_train_rating",
+    "mesh_roles",
     "parse_rating",
+    "parse_train_rating",
     "rating_of",
+    "rating_speed",
+    "ratings_of",
 ]
 
 #: ``[material] treatment`` names → the model's treatment objects
@@ -74,7 +90,13 @@ EDITIONS = {2006: Edition2006, 2019: Edition2019}
 MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment"}
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
+#: the factors jaxgear measures that ``[rating] use_measured`` may put in place of ISO's
+#: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
+#: taken for K_Fα; K_v: the speed sweep at the rating speed)
+MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
+TRAIN_UNMEASURED = {"K_v"}  # not measured per mesh of a train yet
 RATING_KEYS = {
+    "use_measured",
     "application_factor",
     "life_h",
     "viscosity_40C_mm2_s",
@@ -98,6 +120,8 @@ class RatingCase:
     geometry: RatingGeometry
     operating: OperatingPoint
     settings: RatingSettings
+    #: the measured factors to rate with instead of ISO's (``[rating] use_measured``)
+    use_measured: tuple[str, ...] = ()
 
 
 @functools.singledispatch
@@ -123,6 +147,25 @@ def _need(table: dict, key: str, where: str) -> None:
         raise sc.fail(where, key, "missing required key (the [rating] table needs it)")
 
 
+def rating_speed(op: dict) -> float:
+    """The rating's speed (rad/s) of ``[operating]``: ``speed_rpm``, or ``speed_rad_s`` (> 0);
+    a pair's pinion speed, a train's input speed."""
+    rpm = sc.number(op, "speed_rpm", "operating", None, allowed="(0, 1e+06]")
+    if rpm is not None and op.get("speed_rad_s", 0.0):
+        raise sc.fail(
+            "operating", "speed_rpm", "give the speed once: speed_rpm or speed_rad_s", rpm
+        )
+    speed = rpm * RPM if rpm is not None else float(op.get("speed_rad_s", 0.0))
+    if not speed > 0:
+        raise sc.fail(
+            "operating",
+            "speed_rpm",
+            "missing required key (the [rating] table needs a pinion speed > 0: speed_rpm, "
+            "or speed_rad_s)",
+        )
+    return speed
+
+
 def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
     """Check a case's ``[rating]`` with its ``[material]`` and ``[operating]`` rating keys (module
     docstring) and build the :class:`RatingCase`.
@@ -145,19 +188,7 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     s_h = _pair_of(mat, "sigma_H_lim_MPa", "material", "(0, 3000]")
     s_f = _pair_of(mat, "sigma_F_lim_MPa", "material", "(0, 1500]")
     treatment = TREATMENTS[sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")]()
-    rpm = sc.number(op, "speed_rpm", "operating", None, allowed="(0, 1e+06]")
-    if rpm is not None and op.get("speed_rad_s", 0.0):
-        raise sc.fail(
-            "operating", "speed_rpm", "give the speed once: speed_rpm or speed_rad_s", rpm
-        )
-    speed = rpm * RPM if rpm is not None else float(op.get("speed_rad_s", 0.0))
-    if not speed > 0:
-        raise sc.fail(
-            "operating",
-            "speed_rpm",
-            "missing required key (the [rating] table needs a pinion speed > 0: speed_rpm, "
-            "or speed_rad_s)",
-        )
+    speed = rating_speed(op)
     ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
     life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
     nu40 = sc.number(rt, "viscosity_40C_mm2_s", "rating", allowed="[1, 10000]") * 1e-6
@@ -194,7 +225,27 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         edition=EDITIONS[year](),
     )
     torque = sc.number(op, "torque_Nm", "operating")
-    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings)
+    use = _use_measured(rt, given)
+    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings, use)
+
+
+def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
+    """``[rating] use_measured``: a list of distinct names of :data:`MEASURABLE`, none also
+    given as a value."""
+    v = rt.get("use_measured", [])
+    allowed = f"a list of {', '.join(MEASURABLE)}"
+    if not isinstance(v, list) or not all(isinstance(n, str) for n in v):
+        raise sc.fail("rating", "use_measured", f"allowed {allowed}", v)
+    for n in v:
+        if n not in MEASURABLE:
+            raise sc.fail("rating", "use_measured", f"unknown factor {n!r}, allowed {allowed}", v)
+        if given.get(n) is not None:
+            raise sc.fail(
+                "rating", "use_measured", f"{n} is given as a value too: give it once", v
+            )
+    if len(set(v)) != len(v):
+        raise sc.fail("rating", "use_measured", "a factor named twice", v)
+    return tuple(v)
 
 
 def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> None:
@@ -204,9 +255,7 @@ def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     if "rating" in data:
         parse_rating(data, pair, material)
         return
-    for table, keys in (("material", MATERIAL_RATING_KEYS), ("operating", OPERATING_RATING_KEYS)):
-        for key in sorted(keys & set(data.get(table, {}))):
-            raise sc.fail(table, key, "read by the [rating] table only: add one", data[table][key])
+    _refuse_unread(data)
 
 
 def rating_of(case) -> RatingCase | None:
@@ -215,3 +264,150 @@ def rating_of(case) -> RatingCase | None:
         return None
     material = (case.youngs_modulus, case.poisson_ratio, case.density)
     return parse_rating(case.raw, case.pair, material)
+
+
+# ------------------------------------------------------------------------------------------
+# trains: every mesh rated
+
+
+@functools.singledispatch
+def _mesh_value(value, key: str, where: str, names: tuple, ends: tuple[int, int]):
+    """A shared ``[rating]``/``[material]`` value for one train mesh: a number as it is (the
+    pair reader checks it)."""
+    return value
+
+
+@_mesh_value.register(dict)
+def _(value, key: str, where: str, names: tuple, ends: tuple[int, int]):
+    """``{gear name = value}``: every gear of the train named, once → [driving, driven]."""
+    missing = [n for n in names if n not in value]
+    unknown = [n for n in value if n not in names]
+    if missing or unknown:
+        what = f"no gear {unknown[0]!r}" if unknown else f"gear {missing[0]!r} missing"
+        raise sc.fail(
+            where, key, f"{what}: a number, or a table of one per gear ({', '.join(names)})", value
+        )
+    return [value[names[ends[0]]], value[names[ends[1]]]]
+
+
+@_mesh_value.register(list)
+def _(value, key: str, where: str, names: tuple, ends: tuple[int, int]):
+    raise sc.fail(
+        where,
+        key,
+        "a number, or a table of one per gear ({}); a [driving, driven] list only in a "
+        "[rating.<driving>-<driven>] table".format(", ".join(names)),
+        value,
+    )
+
+
+#: the per-gear keys of a train's [rating] and [material]: a number or a table by gear name
+PER_GEAR = {"roughness_Rz_flank_um", "roughness_Rz_root_um", "sigma_H_lim_MPa", "sigma_F_lim_MPa"}
+
+
+def _mesh_table(table: dict, keys: set, where: str, names: tuple, ends) -> dict:
+    """The entries of ``keys`` for one mesh: per-gear values (:data:`PER_GEAR`) resolved."""
+    out = {k: v for k, v in table.items() if k in keys}
+    for k in PER_GEAR & set(out):
+        out[k] = _mesh_value(out[k], k, where, names, ends)
+    return out
+
+
+def mesh_roles(case) -> tuple[list[int], list[int]]:
+    """How many meshes each gear of a train drives in and is driven in, (n,) each."""
+    driving, driven = [0] * case.n_gears, [0] * case.n_gears
+    for g, h in case.gears:
+        driving[g] += 1
+        driven[h] += 1
+    return driving, driven
+
+
+def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
+    """Check a train's ``[rating]`` with its ``[material]`` and ``[operating]`` rating keys and
+    build one :class:`RatingCase` per mesh (the driving gear as the rating's pinion).
+
+    The train's keys are a pair's, for every mesh, with per-gear values (``sigma_H_lim_MPa``,
+    ``sigma_F_lim_MPa``, ``roughness_Rz_flank_um``, ``roughness_Rz_root_um``) a number or a
+    table of one per gear name (``{ input = 4.8, idler = 4.8, output = 6.0 }``); a
+    ``[rating.<driving>-<driven>]`` table (a mesh's name) replaces entries for that mesh (its
+    given load factors, accuracy grade, tip relief, or a per-gear key as a pair's
+    ``[driving, driven]``). ``[operating] speed_rpm`` (or ``speed_rad_s``) is the input's
+    speed; each mesh is rated at its driving gear's speed and torque
+    (:attr:`jaxgear.io.Case.mesh_torques`). A gear of two meshes rates each flank it is loaded
+    on with its load cycles per turn and Y_M (:meth:`jaxgear.ToothLoading.of_roles`: an
+    idler, loaded on alternate flanks, Y_M = 0.7).
+
+    Raises:
+        SchemaError: as :func:`parse_rating`, and a mesh table that names no mesh, a per-gear
+            table that misses a gear; one line.
+    """
+    meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes))
+    own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
+    mat, op = data.get("material", {}), data.get("operating", {})
+    names = case.gear_names
+    speed = rating_speed(op)
+    ratios = case.layout().ratios
+    torques = case.mesh_torques
+    driving, driven = mesh_roles(case)
+    material = (case.youngs_modulus, case.poisson_ratio, case.density)
+    out = []
+    for k, (g, h) in enumerate(case.gears):
+        ends = (g, h)
+        shared = _mesh_table(rt, RATING_KEYS, "rating", names, ends)
+        mesh_data = {
+            "rating": shared | own[meshes[k]],
+            "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
+            "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
+        }
+        rc = parse_rating(mesh_data, case.pairs[k], material)
+        if set(rc.use_measured) & TRAIN_UNMEASURED:
+            raise sc.fail(
+                "rating",
+                "use_measured",
+                "K_v not for a train yet (its sweep's dynamic factor is not read per mesh): "
+                "allowed K_Hbeta, K_Halpha",
+                list(rc.use_measured),
+            )
+        loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
+        settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
+        out.append(dataclasses.replace(rc, settings=settings))
+    return tuple(out)
+
+
+def check_train_rating(data: dict, case) -> None:
+    """The train reader's hook: a ``[rating]`` table checked whole (:func:`parse_train_rating`),
+    the rating's ``[material]``/``[operating]`` keys refused without one."""
+    if "rating" in data:
+        parse_train_rating(data, case)
+        return
+    _refuse_unread(data)
+
+
+def _refuse_unread(data: dict) -> None:
+    for table, keys in (("material", MATERIAL_RATING_KEYS), ("operating", OPERATING_RATING_KEYS)):
+        for key in sorted(keys & set(data.get(table, {}))):
+            raise sc.fail(table, key, "read by the [rating] table only: add one", data[table][key])
+
+
+@functools.singledispatch
+def _ratings(form, case) -> tuple:
+    raise TypeError(f"ratings_of: no rating for a case of form {type(form).__name__}")
+
+
+@_ratings.register
+def _(form: PairForm, case) -> tuple:
+    return (rating_of(case),)
+
+
+@_ratings.register
+def _(form: TrainForm, case) -> tuple:
+    return parse_train_rating(case.raw, case)
+
+
+def ratings_of(case) -> tuple[RatingCase, ...] | None:
+    """Each mesh's :class:`RatingCase` of a case with ``[rating]`` (a pair: one; a train: one
+    per mesh, in the order of its meshes), ``None`` without one."""
+    if "rating" not in case.raw:
+        return None
+    return _ratings(case.form, case)

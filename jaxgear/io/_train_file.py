@@ -110,6 +110,7 @@ from ._planetary_table import (
     planetary_mesh_settings,
 )
 from ._plausibility import CaseWarning, plausibility
+from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_train_rating
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
 __all__ = ["is_train", "parse_train"]
@@ -124,6 +125,7 @@ _TOP_KEYS = {
     "operating",
     "scene",
     "planetary",
+    "rating",
 }
 _GEAR_KEYS = {
     "name",
@@ -429,9 +431,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     """
     sc.check_keys(data, _TOP_KEYS, "")
     name = sc.name(data, "name", "", default_name)
-    for key in ("material", "mesh"):
-        sc.subtable(data, key, "", _SCHEMA[key])
-    sc.subtable(data, "operating", "", {*_SCHEMA["operating"], "loads", "wrenches"}, required=True)
+    sc.subtable(data, "material", "", _SCHEMA["material"] | MATERIAL_RATING_KEYS)
+    sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
+    op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
+    sc.subtable(data, "operating", "", op_keys, required=True)
     if is_planetary(data):
         return _planetary_case(data, name)
     gears: dict[str, dict] = {}
@@ -598,6 +601,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         return case
     _check_overlap(case)
     _check_power(case)
+    check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
         raise sc.fail(

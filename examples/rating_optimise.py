@@ -1,0 +1,95 @@
+"""Raise the least ISO 6336 safety factor of a misaligned spur pair through its tooth
+modifications, under a TE limit (optimise.LeastSafetyFactor).
+
+The accessory spur pair at 80 N·m with a 12 µm helix slope deviation on the pinion (a
+misalignment: K_Hβ 1.5 on the load map) and the case's 15 µm tip relief, rated to ISO 6336:2019
+method B (σ_Hlim 1500, σ_Flim 430 N/mm², 6000 1/min, 20 000 h) with the K_Hβ and K_Hα measured
+on the quasi-static load map in place of ISO 6336-1's. The design variables are the pinion's
+crowning and the tip relief depth; the TE RMS may rise to 1.5 times the start's. L-BFGS on the
+smooth contact law; the start and the optimum are then rated in exact contact.
+
+Prints, start → optimum: the variables, the measured K_Hβ and K_Hα, the four safety factors and
+the TE RMS. Run from the repository root: ``python examples/rating_optimise.py`` (about a
+minute on 2 loaded cores).
+"""
+
+from __future__ import annotations
+
+import tomllib
+
+import jax
+
+jax.config.update("jax_enable_x64", True)
+
+import jax.numpy as jnp
+
+import jaxgear as jg
+import jaxgear.io as jio
+import optimise as op
+
+VARIABLES = ["pinion.crowning.depth", "tip_relief.depth"]
+
+
+def rated_case(slices: int = 8, positions: int = 16) -> jio.Case:
+    """The embedded accessory pair with a ``[rating]`` (no scene: the quasi-static model)."""
+    d = tomllib.loads(jio.embedded_case_text("accessory-spur"))
+    d.pop("scene", None)
+    d["mesh"].update(slices=slices, positions_per_pitch=positions)
+    d["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
+    d["operating"]["speed_rpm"] = 6000.0
+    d["rating"] = {
+        "life_h": 20000.0,
+        "viscosity_40C_mm2_s": 46.0,
+        "roughness_Rz_flank_um": 3.0,
+        "roughness_Rz_root_um": 10.0,
+    }
+    return jio.parse_case(d)
+
+
+def main() -> None:
+    case = rated_case()
+    ppp = case.positions_per_pitch
+    rc = jio.rating_of(case)
+    mesh = case.mesh_model()
+    tip = {"tip_relief_depth": 15e-6, "tip_relief_extent": 0.25}
+    base = jg.Modifications(
+        jg.MemberModification(helix_slope_deviation=12e-6, **tip), jg.MemberModification(**tip)
+    )
+    # the TE limit from the start in the smooth law the objective is evaluated in
+    law = jg.SmoothContact(1e-7, 100)
+    start = jg.quasi_static(mesh, base, case.torque, positions_per_pitch=ppp, contact=law)
+    objective = op.LeastSafetyFactor(
+        rc.geometry, rc.operating, rc.settings, te_limit=1.5 * float(start.te_rms)
+    )
+    problem = op.make_problem(
+        mesh,
+        base,
+        case.torque,
+        VARIABLES,
+        objective,
+        positions_per_pitch=ppp,
+        bounds={"pinion.crowning.depth": (0.0, 8.0)},  # E* = C/δ_m: up to about 16 µm
+    )
+    x0 = problem.from_physical({"pinion.crowning.depth": 4.0, "tip_relief.depth": 15.0})
+    result = op.minimise(problem, jnp.asarray(x0), max_iterations=60, progress=False)
+    sharp = problem.sharp()
+    for label, x in (("start", x0), ("optimum", result.x)):
+        res = jg.quasi_static(
+            mesh, sharp.modifications(jnp.asarray(x)), case.torque, positions_per_pitch=ppp
+        )
+        s = [float(v) for v in objective.safety_factors(res)]
+        design = ", ".join(f"{k} {v:.2f} µm" for k, v in problem.to_physical(x).items())
+        print(
+            f"{label}: {design}; K_Hβ {float(jg.face_load_factor(res)):.3f}, "
+            f"K_Hα {float(jg.transverse_load_factor(res)):.3f}; S_H {s[0]:.3f}/{s[1]:.3f}, "
+            f"S_F {s[2]:.3f}/{s[3]:.3f} (least {min(s):.3f}); TE RMS "
+            f"{float(res.te_rms) * 1e6:.3f} µm (limit {objective.te_limit * 1e6:.3f})"
+        )
+    print(
+        f"objective {result.value0:.4f} -> {result.value:.4f} (smooth law), {result.iterations} "
+        f"iterations, {result.wall_time_s:.1f} s (compile included)"
+    )
+
+
+if __name__ == "__main__":
+    main()

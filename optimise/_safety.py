@@ -1,0 +1,106 @@
+"""The load-capacity objective: raise the least ISO 6336 safety factor of a pair through its tooth
+modifications, under a transmission-error constraint (docs/rating.md, "Optimising the least
+safety factor").
+
+The modifications act on the rating through the load map: the face load factor K_Hβ
+(:func:`jaxgear.face_load_factor`: a crowning or a helix correction that meets a misalignment
+evens the face load) and the transverse load factor K_Hα (:func:`jaxgear.transverse_load_factor`:
+a tip relief that shifts load between the pairs) are measured on the quasi-static result and
+rate the pair in place of ISO 6336-1's (K_Fβ = K_Hβ^N_F, K_Fα = K_Hα as method B); K_A, K_v and
+every other factor are the rating's. The objective is 1/S̃ with S̃ the soft minimum of the four
+safety factors (S_H and S_F of pinion and gear), plus a quadratic penalty on the TE RMS above a
+limit; divided by its unmodified value, it is 1 at the unmodified design and below 1 where the
+least safety factor is higher.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+import jaxgear as jg
+
+from ._objectives import AbstractQuasiStaticObjective
+
+__all__ = ["LeastSafetyFactor", "soft_min"]
+
+
+def soft_min(values: Float[Array, " n"], sharpness: float) -> Float[Array, ""]:
+    """The soft minimum −log(Σ exp(−κ v))/κ of ``values`` (κ = ``sharpness`` > 0, in 1/units
+    of the values): below the minimum by at most log(n)/κ, smooth in every value."""
+    return -jax.nn.logsumexp(-sharpness * jnp.asarray(values)) / sharpness
+
+
+class LeastSafetyFactor(AbstractQuasiStaticObjective):
+    """1/soft-min(S_H, S_F of both gears) of the rating with the measured K_Hβ and K_Hα, plus
+    ``penalty`` (TE_rms/``te_limit`` − 1)² above the TE limit (module docstring).
+
+    Attributes:
+        geometry: the pair's :class:`jaxgear.RatingGeometry` (``RatingGeometry.of(pair)``).
+        operating: the rating's :class:`jaxgear.OperatingPoint` (its torque is the design
+            torque of the problem).
+        settings: :class:`jaxgear.RatingSettings`; its given K_Hβ, K_Hα, K_Fα are replaced by
+            the measured ones.
+        te_limit: the TE RMS (m) above which the penalty acts, > 0, or None (no constraint).
+        sharpness: κ of the soft minimum (default 50: within log(4)/50 = 0.028 of the least S).
+        penalty: the weight of the squared relative excess of TE RMS (default 100).
+
+    Raises:
+        ValueError: ``te_limit`` <= 0, ``sharpness`` or ``penalty`` <= 0.
+    """
+
+    geometry: jg.RatingGeometry
+    operating: jg.OperatingPoint
+    settings: jg.RatingSettings
+    te_limit: float | None = eqx.field(default=None, static=True)
+    sharpness: float = eqx.field(default=50.0, static=True)
+    penalty: float = eqx.field(default=100.0, static=True)
+
+    name: ClassVar[str] = "least_safety"
+    units: ClassVar[str] = "inverse_S"
+
+    def __check_init__(self):
+        for key in ("sharpness", "penalty"):
+            v = getattr(self, key)
+            if not float(v) > 0:
+                raise ValueError(f"LeastSafetyFactor: {key} = {v!r}: allowed > 0")
+        if self.te_limit is not None and not float(self.te_limit) > 0:
+            raise ValueError(f"LeastSafetyFactor: te_limit = {self.te_limit!r} m: allowed > 0")
+
+    def rating(self, result: jg.QuasiStaticResult) -> jg.Rating:
+        """The rating with K_Hβ and K_Hα (and K_Fα) measured on ``result``, K_Hα and K_Fα
+        within ISO 6336-1's limits (:func:`jaxgear.transverse_factor_limits`)."""
+        khb = jg.face_load_factor(result)
+        kha = jg.transverse_load_factor(result)
+        h_max, f_max = jg.transverse_factor_limits(self.geometry)  # ISO 6336-1 clause 8
+        old = self.settings.given
+        given = jg.GivenFactors(
+            K_v=old.K_v,
+            K_Hbeta=khb,
+            K_Fbeta=old.K_Fbeta,
+            K_Halpha=jnp.minimum(kha, h_max),
+            K_Falpha=jnp.minimum(kha, f_max),
+        )
+        settings = eqx.tree_at(lambda s: s.given, self.settings, given)
+        return jg.rate(self.geometry, self.operating, settings)
+
+    def safety_factors(self, result: jg.QuasiStaticResult) -> Float[Array, " 4"]:
+        """(S_H pinion, S_H gear, S_F pinion, S_F gear) of :meth:`rating`."""
+        r = self.rating(result)
+        return jnp.concatenate([r.pitting.S_H, r.bending.S_F])
+
+    def scale(self, unmodified):
+        """1/S̃ of the unmodified design (no penalty: an unmodified design's TE may be far
+        above the limit that the modifications are to keep)."""
+        return float(1.0 / soft_min(self.safety_factors(unmodified), self.sharpness))
+
+    def of_result(self, result, problem):
+        value = 1.0 / soft_min(self.safety_factors(result), self.sharpness)
+        if self.te_limit is None:
+            return value
+        excess = jax.nn.relu(result.te_rms / self.te_limit - 1.0)
+        return value + self.penalty * excess**2
