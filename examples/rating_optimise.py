@@ -9,12 +9,16 @@ crowning and the tip relief depth; the TE RMS may rise to 1.5 times the start's.
 smooth contact law; the start and the optimum are then rated in exact contact.
 
 Prints, start → optimum: the variables, the measured K_Hβ and K_Hα, the four safety factors and
-the TE RMS. Run from the repository root: ``python examples/rating_optimise.py`` (about a
-minute on 2 loaded cores).
+the TE RMS; writes them to docs/bench/rating_optimise.json and the figure
+docs/bench/rating_optimise.png (the four safety factors and the TE RMS, start and optimum). Run
+from the repository root: ``python examples/rating_optimise.py`` (about a minute on 2 loaded
+cores).
 """
 
 from __future__ import annotations
 
+import json
+import pathlib
 import tomllib
 
 import jax
@@ -22,10 +26,16 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 import jax.numpy as jnp
+import matplotlib
 
 import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+OUT = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 
 VARIABLES = ["pinion.crowning.depth", "tip_relief.depth"]
 
@@ -73,12 +83,21 @@ def main() -> None:
     x0 = problem.from_physical({"pinion.crowning.depth": 4.0, "tip_relief.depth": 15.0})
     result = op.minimise(problem, jnp.asarray(x0), max_iterations=60, progress=False)
     sharp = problem.sharp()
+    record = {}
     for label, x in (("start", x0), ("optimum", result.x)):
         res = jg.quasi_static(
             mesh, sharp.modifications(jnp.asarray(x)), case.torque, positions_per_pitch=ppp
         )
         s = [float(v) for v in objective.safety_factors(res)]
         design = ", ".join(f"{k} {v:.2f} µm" for k, v in problem.to_physical(x).items())
+        record[label] = {
+            "design_um": {k: float(v) for k, v in problem.to_physical(x).items()},
+            "K_Hbeta": float(jg.face_load_factor(res)),
+            "K_Halpha": float(jg.transverse_load_factor(res)),
+            "S_H": s[:2],
+            "S_F": s[2:],
+            "te_rms_m": float(res.te_rms),
+        }
         print(
             f"{label}: {design}; K_Hβ {float(jg.face_load_factor(res)):.3f}, "
             f"K_Hα {float(jg.transverse_load_factor(res)):.3f}; S_H {s[0]:.3f}/{s[1]:.3f}, "
@@ -89,6 +108,31 @@ def main() -> None:
         f"objective {result.value0:.4f} -> {result.value:.4f} (smooth law), {result.iterations} "
         f"iterations, {result.wall_time_s:.1f} s (compile included)"
     )
+    record.update(te_limit_m=objective.te_limit, iterations=int(result.iterations))
+    (OUT / "rating_optimise.json").write_text(json.dumps(record, indent=1) + "\n")
+    plot(record, OUT / "rating_optimise.png")
+
+
+def plot(record: dict, path) -> None:
+    """The four safety factors and the TE RMS (against its limit), start and optimum."""
+    fig, (ax, ax_te) = plt.subplots(1, 2, figsize=(8, 4), width_ratios=(3, 1), layout="constrained")
+    names = ["S_H pinion", "S_H gear", "S_F pinion", "S_F gear"]
+    x = range(len(names))
+    for k, (label, shift) in enumerate((("start", -0.2), ("optimum", 0.2))):
+        r = record[label]
+        ax.bar([i + shift for i in x], r["S_H"] + r["S_F"], width=0.4, label=label, color=f"C{k}")
+        ax_te.bar(k, r["te_rms_m"] * 1e6, color=f"C{k}")
+    ax.set_xticks(list(x), names)
+    ax.set_ylabel("ISO 6336 safety factor (-)")
+    least = [min(record[k]["S_H"] + record[k]["S_F"]) for k in ("start", "optimum")]
+    ax.set_title(f"safety factors; the least {least[0]:.3f} → {least[1]:.3f} (exact contact)")
+    ax.legend()
+    ax_te.axhline(record["te_limit_m"] * 1e6, color="0.3", ls="--", label="TE limit")
+    ax_te.set_xticks([0, 1], ["start", "optimum"])
+    ax_te.set_ylabel("TE RMS (µm)")
+    ax_te.legend()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

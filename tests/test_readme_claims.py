@@ -21,7 +21,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
-from jaxgear.cli import OUTPUT_FILES, TRAIN_FILES, result_summary, run_case
+from jaxgear.cli import OUTPUT_FILES, PLANETARY_FILES, TRAIN_FILES, result_summary, run_case
 from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
 from jaxgear.io import build_dynamic_model, quasi_static_scene
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
@@ -49,8 +49,9 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     summary = run_case(case, str(tmp_path), harris_points=3, show_progress=False)
     for name in OUTPUT_FILES["run"]:
         # sweep/ and optimise/ come only with a [scene] / [optimise], rating.md with a
-        # [rating]; TRAIN_FILES with a train
-        if "/" not in name and name not in TRAIN_FILES and name != "rating.md":
+        # [rating] (and the root-stress maps); TRAIN_FILES with a train, PLANETARY_FILES with a
+        # [planetary] stage
+        if "/" not in name and name not in TRAIN_FILES + PLANETARY_FILES and not name.startswith(("rating", "root_stress")):
             assert (tmp_path / name).stat().st_size > 0, name
     env = summary["environment"]
     assert env["jaxgear"] == jg.__version__ and env["jax"] and env["python"]

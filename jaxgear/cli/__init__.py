@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from ._options import range_values as range_values
     from ._paths import (
         OUTPUT_FILES as OUTPUT_FILES,
+        PLANETARY_FILES as PLANETARY_FILES,
         TRAIN_FILES as TRAIN_FILES,
         clear_outputs as clear_outputs,
     )
@@ -53,6 +54,7 @@ _EXPORTS = {
     "settings_from_case": "._optimise",
     "range_values": "._options",
     "OUTPUT_FILES": "._paths",
+    "PLANETARY_FILES": "._paths",
     "TRAIN_FILES": "._paths",
     "clear_outputs": "._paths",
     "measured_dynamic_factor": "._rating_report",

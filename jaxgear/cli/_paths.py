@@ -17,6 +17,7 @@ from fem_prep.schema import check_output_dir, check_output_file
 
 __all__ = [
     "OUTPUT_FILES",
+    "PLANETARY_FILES",
     "TRAIN_FILES",
     "check_output_dir",
     "check_output_file",
@@ -39,6 +40,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map.png",
         "harris_map.png",
         "rating.md",  # with a [rating] table
+        "root_stress_map.png",  # with a [rating] table (a train: root_stress_map_<mesh>.png)
+        "root_stress_map_*.png",
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
     "scene": (
@@ -85,6 +88,10 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
 # map per mesh (named after its gears), the layout with its phasing, its flexible gears' bodies
 TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vtu")
 OUTPUT_FILES["run"] += TRAIN_FILES
+# what ``jaxgear run`` writes for a planetary stage ([planetary]) besides summary.json: the modes
+# with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves
+PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv")
+OUTPUT_FILES["run"] += PLANETARY_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
     f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations") for n in OUTPUT_FILES[sub]

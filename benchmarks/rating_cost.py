@@ -8,7 +8,7 @@ the quasi-static TE curve (``jaxgear.quasi_static``, exact contact), the rating
 FE influence tables of both members (``fem_prep.fillet_influence``, 9 load radii each: once per
 tooth form) and the root-stress map of both members (``jaxgear.root_stress_map``, jitted) per
 mesh position. Writes docs/bench/rating_cost.json. Run from the repository root:
-``python examples/rating_cost.py`` (about half a minute).
+``python benchmarks/rating_cost.py`` (about half a minute).
 """
 
 from __future__ import annotations
