@@ -8,7 +8,6 @@ the measured factors given by hand (jaxgear.rate, checked against ISO/TR 6336-30
 tests/test_rating*.py); central differences of the objective (float64)."""
 
 import math
-import tomllib
 import warnings
 from typing import NamedTuple
 
@@ -17,6 +16,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _rating_cases import rated_accessory_case
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -26,18 +26,7 @@ jax.config.update("jax_enable_x64", True)
 
 
 def _case(slices=4, ppp=8):
-    d = tomllib.loads(jio.embedded_case_text("accessory-spur"))
-    d.pop("scene", None)
-    d["mesh"].update(slices=slices, positions_per_pitch=ppp)
-    d["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
-    d["operating"]["speed_rpm"] = 6000.0
-    d["rating"] = {
-        "life_h": 20000.0,
-        "viscosity_40C_mm2_s": 46.0,
-        "roughness_Rz_flank_um": 3.0,
-        "roughness_Rz_root_um": 10.0,
-    }
-    return jio.parse_case(d)
+    return rated_accessory_case(slices, ppp)
 
 
 class _Result(NamedTuple):
@@ -118,8 +107,13 @@ def test_least_safety_gradient_and_minimisation():
     exact = jg.ExactContact()
 
     def least(x):
-        res = jg.quasi_static(mesh, prob.sharp().modifications(jnp.asarray(x)), case.torque,
-                              positions_per_pitch=8, contact=exact)
+        res = jg.quasi_static(
+            mesh,
+            prob.sharp().modifications(jnp.asarray(x)),
+            case.torque,
+            positions_per_pitch=8,
+            contact=exact,
+        )
         return float(jnp.min(obj.safety_factors(res))), float(res.te_rms)
 
     # the optimiser lowers the objective (smooth law); whether the least S of the exact law

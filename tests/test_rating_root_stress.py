@@ -9,46 +9,21 @@ load with the load at its outer point of single pair contact (a separate FE solv
 ``fem_prep.fillet_stress``): within the step of the mesh positions (1 %)."""
 
 import math
-import tomllib
-from typing import NamedTuple
 
 import jax
 import numpy as np
 import pytest
+from _rating_cases import Cells, rated_accessory_case, stub_table
 
 import fem_prep
 import jaxgear as jg
-import jaxgear.io as jio
 from jaxgear import cli
 
 jax.config.update("jax_enable_x64", True)
 
 
 def _case():
-    d = tomllib.loads(jio.embedded_case_text("accessory-spur"))
-    d.pop("scene", None)
-    d["mesh"].update(slices=2, positions_per_pitch=48)
-    d["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
-    d["operating"]["speed_rpm"] = 6000.0
-    d["rating"] = {
-        "life_h": 20000.0,
-        "viscosity_40C_mm2_s": 46.0,
-        "roughness_Rz_flank_um": 3.0,
-        "roughness_Rz_root_um": 10.0,
-    }
-    return jio.parse_case(d)
-
-
-class _Cells(NamedTuple):
-    line_load: np.ndarray
-    cell_s: np.ndarray
-    cell_z: np.ndarray
-    cell_mask: np.ndarray
-
-
-class _Table(NamedTuple):
-    roll: np.ndarray
-    peak: np.ndarray
+    return rated_accessory_case(2, 48)
 
 
 def test_root_stress_outputs_section_plot_and_table(tmp_path):
@@ -61,13 +36,11 @@ def test_root_stress_outputs_section_plot_and_table(tmp_path):
 
     def stub(tooth, radii):
         calls.append(tooth.teeth)
-        roll = np.sqrt(np.asarray(radii) ** 2 - (tooth.teeth * tooth.normal_module / 2 *
-                                                math.cos(tooth.normal_pressure_angle)) ** 2)
-        return _Table(roll, 1e3 * roll)
+        return stub_table(tooth, radii)
 
     g = float(pair.path_of_contact)
     s = np.array([[[0.2 * g, 0.2 * g], [0.7 * g, 0.7 * g], [-1e-3, -1e-3]]])
-    cells = _Cells(
+    cells = Cells(
         line_load=np.array([[[1e5, 2e5], [3e5, 0.0], [9e5, 9e5]]]),
         cell_s=s,
         cell_z=np.array([[[1e-3, 5e-3]] * 3]),

@@ -14,16 +14,16 @@ import json
 import math
 import tomllib
 from importlib import resources
-from typing import NamedTuple
 
 import jax
 import numpy as np
 import pytest
+from _rating_cases import Cells, stub_table
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear import cli
 from fem_prep.schema import SchemaError
+from jaxgear import cli
 
 jax.config.update("jax_enable_x64", True)
 
@@ -67,9 +67,9 @@ def _hand_idler_output():
     d1, d2 = z1 * m, z2 * m
     rb1, rb2 = d1 / 2 * math.cos(alpha), d2 / 2 * math.cos(alpha)
     ra1, ra2 = d1 / 2 + m * (ha + x1), d2 / 2 + m * (ha + x2)
-    eps_a = (
-        math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - a * math.sin(aw)
-    ) / (math.pi * m * math.cos(alpha))
+    eps_a = (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - a * math.sin(aw)) / (
+        math.pi * m * math.cos(alpha)
+    )
     z_h = math.sqrt(2 * math.cos(aw) / (math.cos(alpha) ** 2 * math.sin(aw)))
     z_e = math.sqrt(210e9 / (2 * math.pi * (1 - 0.3**2)))
     z_eps = math.sqrt((4 - eps_a) / 3)
@@ -167,25 +167,6 @@ def test_train_rating_outputs_per_mesh_lists_and_a_table_per_mesh(tmp_path):
     assert "mesh idler-output" in table and "| Y_M | 0.7 / 1 |" in table
 
 
-class _Cells(NamedTuple):
-    line_load: np.ndarray
-    cell_s: np.ndarray
-    cell_z: np.ndarray
-    cell_mask: np.ndarray
-
-
-class _Table(NamedTuple):
-    roll: np.ndarray
-    peak: np.ndarray
-
-
-def _stub(tooth, radii):
-    """A stub FE table: g(ρ) = 1e3 ρ (Pa per N/m)."""
-    rb = tooth.teeth * tooth.normal_module / 2 * math.cos(tooth.normal_pressure_angle)
-    roll = np.sqrt(np.asarray(radii) ** 2 - rb**2)
-    return _Table(roll, 1e3 * roll)
-
-
 def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
     """Per-mesh load maps (two hand-made ones: two lines of two slices at one position) give
     each mesh its measured K_Hβ, K_Hα (by hand) and its root-stress map (a stub FE table,
@@ -196,14 +177,14 @@ def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
     for k, (a, b) in enumerate(((2.0, 1.0), (3.0, 3.0))):
         s = np.array([[[0.3 * g[k]] * 2, [0.8 * g[k]] * 2]])
         maps.append(
-            _Cells(
+            Cells(
                 line_load=np.array([[[a, a], [b, b]]]) * 1e5,
                 cell_s=s,
                 cell_z=np.array([[[1e-3, 5e-3]] * 2]),
                 cell_mask=np.ones((1, 2, 2), dtype=bool),
             )
         )
-    section = cli.rating_outputs(case, str(tmp_path), tuple(maps), root_stress=_stub)
+    section = cli.rating_outputs(case, str(tmp_path), tuple(maps), root_stress=stub_table)
     k_ha = section["measured"]["K_Halpha"]["value"]
     assert k_ha == pytest.approx([2.0 / 1.5, 1.0], rel=1e-12)  # line means over the mean
     assert section["measured"]["K_Hbeta"]["value"] == pytest.approx([1.0, 1.0])
@@ -214,8 +195,11 @@ def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
     assert want[0] < k_ha[0]  # the limit acts on the first mesh
     assert all(s.startswith("measured") for s in section["factors"]["K_Halpha"]["source"])
     for k, pair in enumerate(case.pairs):
-        loads = [(2e5, 0.3 * g[k]), (1e5, 0.8 * g[k])] if k == 0 else [(3e5, 0.3 * g[k]),
-                                                                      (3e5, 0.8 * g[k])]
+        loads = (
+            [(2e5, 0.3 * g[k]), (1e5, 0.8 * g[k])]
+            if k == 0
+            else [(3e5, 0.3 * g[k]), (3e5, 0.8 * g[k])]
+        )
         want = [max(w * 1e3 * float(pair.roll_distance(x, i)) for w, x in loads) for i in (0, 1)]
         assert section["root_stress"]["max_Pa"][k] == pytest.approx(want, rel=1e-9)
         name = f"root_stress_map_{case.mesh_name(k)}.png"
