@@ -170,6 +170,13 @@ NAMED_KEYS = {"optimise.bounds": "a design variable of `vars` (E* for depths, Γ
 FILE_NAME = "the-file-name"
 #: what stands for a name the file gives a gear or a shaft
 NAME = "<name>"
+#: what stands for a mesh's name, its driving and driven gears' names (``[rating.<mesh>]``)
+MESH = "<driving>-<driven>"
+
+
+def _is_mesh(part: str, names: frozenset) -> bool:
+    """Whether a table name is a mesh's: two of the file's gear names joined by a hyphen."""
+    return any(part == f"{a}-{b}" for a in names for b in names if a != b)
 
 
 def table_path(where: str, names: frozenset = frozenset()) -> str:
@@ -178,6 +185,7 @@ def table_path(where: str, names: frozenset = frozenset()) -> str:
     where = _MEMBER_MODS.sub("modifications.", _INDEX.sub("[]", where))
     parts = [NAME if p in names else p for p in where.split(".")] if where else []
     parts = [NAME if p.removesuffix("[]") in names else p for p in parts]
+    parts = [MESH if _is_mesh(p, names) else p for p in parts]
     if parts[:2] == ["modifications", NAME] and len(parts) > 2:  # a train gear's own entries
         parts = ["modifications", *parts[2:]]
     return ".".join(parts)
@@ -360,6 +368,15 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}
+    yield data, None
+    # a train rated to ISO 6336: the shared [rating] and each mesh's own
+    data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
+    data["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
+    data["operating"]["speed_rpm"] = 6000.0
+    shared = tomllib.loads(SAMPLE_OVERLAYS["rating"])["rating"]
+    data["rating"] = dict(shared)
+    for mesh in data["meshes"]:  # each mesh's own [rating.<driving>-<driven>], every key
+        data["rating"][f"{mesh['driving']}-{mesh['driven']}"] = dict(shared)
     yield data, None
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
