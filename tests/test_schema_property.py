@@ -343,7 +343,9 @@ def _robust_settings(case, what: str):
 
 def _check_case(data, what: str, tmp: Path, *, build: bool = False) -> None:
     text = _dumps(data)
-    parse = jio.parse_train if "gears" in data or "meshes" in data else jio.parse_case
+    # the loader's own choice: a train or a planetary stage (parse_train reads both), else a pair
+    train = any(k in data for k in ("gears", "meshes", "planetary"))
+    parse = jio.parse_train if train else jio.parse_case
     case = _one_line(lambda: parse(copy.deepcopy(data)), what)
     path = tmp / "case.toml"
     path.write_text(text, "utf-8")

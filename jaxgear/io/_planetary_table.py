@@ -160,7 +160,7 @@ def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
 
 def _base_radius(table: dict, where: str, from_gears: float | None) -> float:
     if from_gears is None:
-        return sc.number(table, "base_radius_mm", where, allowed="(0, 1e+05]") * 1e-3
+        return sc.number(table, "base_radius_mm", where, allowed="[0.001, 1e+05]") * 1e-3
     if "base_radius_mm" in table:
         raise sc.fail(
             where,
@@ -173,12 +173,14 @@ def _base_radius(table: dict, where: str, from_gears: float | None) -> float:
 
 
 def _body(table: dict, where: str, r: float) -> tuple[float, float]:
-    mass = sc.number(table, "mass_kg", where, allowed="(0, 1e+07]")
+    # lower ends far below any gear's (a gram, 1e-12 kg m²) and above the float range's
+    # underflow: I = (I/r²) r² stays a positive number
+    mass = sc.number(table, "mass_kg", where, allowed="[1e-06, 1e+07]")
     inertia = _either(
         table,
         where,
-        ("inertia_kg_m2", "(0, 1e+09]", 1.0),
-        ("inertia_over_r2_kg", "(0, 1e+09]", r**2),
+        ("inertia_kg_m2", "[1e-12, 1e+09]", 1.0),
+        ("inertia_over_r2_kg", "[1e-06, 1e+09]", r**2),
     )
     return mass, inertia
 
