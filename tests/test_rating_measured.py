@@ -9,7 +9,6 @@ pair's line load is short of the other's by k e(s) (both close by one approach),
 F_n/b, so K_Hα = 1 + k b max e/F_n over the positions of double contact; and ISO 6336-2's
 σ_H ∝ √(K_Hβ K_Hα), through which S_H scales when the measured factors replace ISO's."""
 
-import copy
 import math
 from typing import NamedTuple
 
