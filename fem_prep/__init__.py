@@ -17,7 +17,12 @@ the one place where the names in a body file become objects: the element (:class
 """
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
-from ._body import Body as Body, Material as Material
+from ._body import (
+    Body as Body,
+    Condensation as Condensation,
+    Material as Material,
+    MeshSettings as MeshSettings,
+)
 from ._condense import (
     Condensed as Condensed,
     CraigBampton as CraigBampton,
@@ -58,6 +63,18 @@ from ._modal import (
     resonance_orders as resonance_orders,
 )
 from ._prepare import Bearings as Bearings, Free as Free, Prepared as Prepared, prepare as prepare
+from ._ring import (
+    BoltedFlange as BoltedFlange,
+    ElasticFoundation as ElasticFoundation,
+    FreeRing as FreeRing,
+    PreparedRing as PreparedRing,
+    RingBody as RingBody,
+    mesh_ring as mesh_ring,
+    mode_nodal_diameter as mode_nodal_diameter,
+    prepare_ring as prepare_ring,
+    ring_master_compliance as ring_master_compliance,
+    thin_ring_frequency as thin_ring_frequency,
+)
 from ._rim import RimFit as RimFit, rim_fit as rim_fit
 from ._root_stress import (
     FilletInfluence as FilletInfluence,

@@ -16,7 +16,15 @@ from __future__ import annotations
 import abc
 from typing import ClassVar
 
-__all__ = ["BearingCoupling", "CondensationMethod", "Element", "Kind", "RimCoupling", "Support"]
+__all__ = [
+    "BearingCoupling",
+    "CondensationMethod",
+    "Element",
+    "Kind",
+    "RimCoupling",
+    "RingSupport",
+    "Support",
+]
 
 
 class Kind(abc.ABC):  # noqa: B024 - abstract through its subclasses' abstract methods
@@ -142,3 +150,19 @@ class Support(Kind):
     @abc.abstractmethod
     def held(self, bearing_dofs):
         """The condensed DOFs held for the condensed model's frequencies (indices)."""
+
+
+class RingSupport(Kind):
+    """How the housing holds a ring gear (:class:`~fem_prep.BoltedFlange`,
+    :class:`~fem_prep.ElasticFoundation`, :class:`~fem_prep.FreeRing`; see :mod:`fem_prep._ring`).
+    Unlike the other kinds, a support carries its parameters (bolt count, foundation
+    stiffnesses): it compares by its fields."""
+
+    @abc.abstractmethod
+    def foundation(self, ring, bm):
+        """The support's stiffness on the full DOFs of the mesh ``bm`` (N/m, sparse
+        ``(n_dofs, n_dofs)``; zero for clamped seats)."""
+
+    @abc.abstractmethod
+    def clamped(self, ring, bm):
+        """The full DOFs the support holds at zero (indices; none for a foundation)."""

@@ -1,0 +1,153 @@
+"""The ring gear body of fem_prep (fem_prep._ring): a thin annulus with internal teeth' root-patch
+masters, its housing supports and its Craig-Bampton condensation.
+
+References: the thin ring's in-plane flexural frequencies (Hoppe 1871; Blevins, Table 9-2),
+omega_n^2 = E I n^2 (n^2 - 1)^2 / (rho A R^4 (n^2 + 1)), for h / R = 0.05, b / h = 3; the
+condensed model against the full FE model; the support reactions against the applied loads.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import fem_prep as fp
+
+
+R_F, R_O, WIDTH = 0.0975, 0.1025, 0.015  # h / R = 0.05, b / h = 3
+SIGMA_FREE = -((2 * math.pi * 200) ** 2)
+
+
+def ring(size=0.005, circ=0.013, support=None, modes=30, teeth=24, nax=2):
+    return fp.RingBody(
+        "test-ring",
+        R_F,
+        R_O,
+        WIDTH,
+        fp.Material(),
+        fp.MeshSettings(fp.Hex20(), size=size, circumferential_size=circ),
+        fp.Condensation(fp.CraigBampton(), fp.Distributing(), modes=modes, teeth=teeth,
+                     axial_master_nodes=nax),
+        fp.FreeRing() if support is None else support,
+    )
+
+
+def in_plane_nd(prep, n_modes=14):
+    """{n: f (Hz)} of the full model's in-plane flexural modes n = 2, 3, 4 (each a pair)."""
+    f, shapes = prep.full_modes(n_modes, sigma=SIGMA_FREE)
+    out = {}
+    for k in range(n_modes):
+        n, inplane = fp.mode_nodal_diameter(prep, shapes[:, k])
+        if inplane > 0.9 and n in (2, 3, 4):
+            out.setdefault(n, []).append(f[k])
+    return out
+
+
+@pytest.fixture(scope="module")
+def free_ring():
+    return fp.prepare_ring(ring())
+
+
+def test_thin_ring_formula_by_hand():
+    # omega_2^2 = E I 4 * 9 / (rho A R^4 5) written out for the test ring
+    r = ring()
+    h, b, R = R_O - R_F, WIDTH, 0.1
+    w2 = 210e9 * b * h**3 / 12 * 36 / (7800 * b * h * R**4 * 5)
+    assert fp.thin_ring_frequency(r, 2) == pytest.approx(math.sqrt(w2) / (2 * math.pi), rel=1e-14)
+
+
+def test_free_ring_in_plane_modes_match_thin_ring_theory(free_ring):
+    """n = 2, 3, 4: degenerate pairs within 2 % of the thin-ring formula (h / R = 0.05: the
+    curved-beam assumptions hold to about (n h / R)^2 / 12 ~ 0.3 % plus the coarse mesh's
+    stiffening; the converged FE values are in the slow test)."""
+    modes = in_plane_nd(free_ring)
+    ref = fp.thin_ring_frequency(free_ring.ring, [2, 3, 4])
+    for n, f_ref in zip((2, 3, 4), ref):
+        pair = modes[n]
+        assert len(pair) == 2
+        assert pair[1] == pytest.approx(pair[0], rel=1e-6)
+        assert pair[0] == pytest.approx(f_ref, rel=0.02)
+
+
+def test_condensed_modes_match_full_model(free_ring):
+    """The Craig-Bampton model on the root-patch masters: its lowest elastic modes (the n = 2
+    in-plane and out-of-plane pairs, n = 3) within 0.1 % of the full FE model's."""
+    f_full, _ = free_ring.full_modes(16, sigma=SIGMA_FREE)
+    f_c = free_ring.condensed_frequencies()[:16]
+    elastic = f_full > 1.0
+    assert np.sum(~elastic) == 6  # the free ring's rigid motions
+    assert np.all(np.abs(f_c[elastic] / f_full[elastic] - 1) < 1e-3)
+    assert np.all(f_c[elastic] >= f_full[elastic] * (1 - 1e-9))  # a Ritz basis: from above
+
+
+def test_foundation_reactions_balance_tooth_loads():
+    """Loads on a few stations of a ring on an elastic foundation: the foundation's reactions
+    (recovered from the condensed solve) balance the loads' force and moment about the axis."""
+    prep = fp.prepare_ring(
+        ring(support=fp.ElasticFoundation(1e13, 1e13, 1e13), modes=4, teeth=12, circ=0.026)
+    )
+    teeth, nax, _ = prep.master_dofs.shape
+    P = np.zeros((teeth, nax, 3))
+    P[0, :, :] = [300.0, 1000.0, 50.0]
+    P[7, 0, :] = [-250.0, 400.0, 0.0]
+    P[9, 1, :] = [0.0, -800.0, -20.0]
+    u = prep.static(P)
+    r = prep.support_reactions(u).reshape(-1, 3)
+    x_m = prep.coupled.rim_positions.reshape(-1, 3)
+    x = prep.mesh.nodes
+    F = P.reshape(-1, 3)
+    scale = np.abs(F).sum()
+    assert np.allclose(r.sum(0), -F.sum(0), atol=1e-9 * scale)
+    moment = np.cross(x, r).sum(0) + np.cross(x_m, F).sum(0)
+    assert np.allclose(moment, 0.0, atol=1e-9 * scale * R_O)
+
+
+def test_bolted_flange_holds_the_ring_and_stiffens_it():
+    """Clamped bolt seats: no rigid mode, and the n = 2 flexural pair above the free ring's."""
+    free = ring(modes=10)
+    bolted = fp.prepare_ring(
+        ring(support=fp.BoltedFlange(bolts=6, seat_arc=0.006), modes=4, teeth=12, circ=0.026)
+    )
+    f = bolted.condensed_frequencies()
+    assert f[0] > fp.thin_ring_frequency(free, 2)
+    F, ang = fp.ring_master_compliance(bolted)
+    assert F.shape == (12, 2, 12, 2) and np.allclose(ang[1], 2 * math.pi / 12)
+    Fm = F.reshape(24, 24)
+    assert np.allclose(Fm, Fm.T) and np.all(np.linalg.eigvalsh(Fm) > 0)
+
+
+def test_bad_ring_inputs_name_the_parameter():
+    with pytest.raises(ValueError, match="outer_radius"):
+        fp.RingBody("x", 0.1, 0.09, 0.01, fp.Material(), ring().mesh, ring().condensation,
+                    fp.FreeRing())
+    with pytest.raises(ValueError, match="bolts"):
+        fp.BoltedFlange(bolts=0)
+    with pytest.raises(ValueError, match="tangential"):
+        fp.ElasticFoundation(1e12, 0.0, 1e12)
+    with pytest.raises(ValueError, match="FreeRing"):
+        fp.ring_master_compliance(fp.prepare_ring(ring(modes=2, teeth=12, circ=0.026)))
+
+
+def test_elastic_foundation_resultants_by_hand():
+    """The foundation's resultant for a rigid translation along x is pi R_o b (k_r + k_t) and
+    for a rigid turn theta its torque is 2 pi R_o^3 b k_t theta (int of the springs over the
+    outer cylinder), to the quadratic arcs' area error (24 elements around: ~5e-6)."""
+    kr, kt, ka = 3e12, 1e12, 2e12
+    r = ring(support=fp.ElasticFoundation(kr, kt, ka), teeth=12, circ=0.026)
+    bm = fp.mesh_ring(r)
+    Ks = r.support.foundation(r, bm)
+    x = bm.nodes
+    u = np.zeros_like(x)
+    u[:, 0] = 1.0
+    f = (Ks @ u.ravel()).reshape(-1, 3)
+    area = 2 * math.pi * R_O * WIDTH
+    assert f[:, 0].sum() == pytest.approx(area * (kr + kt) / 2, rel=2e-5)
+    assert abs(f[:, 1].sum()) < 1e-9 * f[:, 0].sum()
+    theta = 1e-3
+    u = theta * np.stack([-x[:, 1], x[:, 0], np.zeros(len(x))], 1)
+    f = (Ks @ u.ravel()).reshape(-1, 3)
+    torque = np.sum(x[:, 0] * f[:, 1] - x[:, 1] * f[:, 0])
+    assert torque == pytest.approx(area * R_O**2 * kt * theta, rel=2e-5)
+    u = np.zeros_like(x)
+    u[:, 2] = 1.0
+    assert (Ks @ u.ravel()).reshape(-1, 3)[:, 2].sum() == pytest.approx(area * ka, rel=2e-5)
