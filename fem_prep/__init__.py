@@ -63,6 +63,7 @@ from ._modal import (
     resonance_orders as resonance_orders,
 )
 from ._prepare import Bearings as Bearings, Free as Free, Prepared as Prepared, prepare as prepare
+from ._rim import RimFit as RimFit, rim_fit as rim_fit
 from ._ring import (
     BoltedFlange as BoltedFlange,
     ElasticFoundation as ElasticFoundation,
@@ -75,7 +76,6 @@ from ._ring import (
     ring_master_compliance as ring_master_compliance,
     thin_ring_frequency as thin_ring_frequency,
 )
-from ._rim import RimFit as RimFit, rim_fit as rim_fit
 from ._root_stress import (
     FilletInfluence as FilletInfluence,
     FilletStress as FilletStress,
@@ -86,9 +86,9 @@ from ._root_stress import (
 )
 from ._solver import (
     CholmodFactor as CholmodFactor,
-    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
+    SparseFactor as SparseFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )
@@ -105,8 +105,8 @@ from ._tooth_profile import (
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
 )
-from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .checks import SchemaError as SchemaError
+from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .schema import (
     embedded_bodies as embedded_bodies,
     embedded_body_text as embedded_body_text,

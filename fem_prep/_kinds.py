@@ -27,7 +27,7 @@ __all__ = [
 ]
 
 
-class Kind(abc.ABC):  # noqa: B024 - abstract through its subclasses' abstract methods
+class Kind(abc.ABC):
     """A kind chosen by name in a body file; stateless, printed and compared by :attr:`name`."""
 
     name: ClassVar[str]

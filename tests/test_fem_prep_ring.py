@@ -13,7 +13,6 @@ import pytest
 
 import fem_prep as fp
 
-
 R_F, R_O, WIDTH = 0.0975, 0.1025, 0.015  # h / R = 0.05, b / h = 3
 SIGMA_FREE = -((2 * math.pi * 200) ** 2)
 
@@ -26,8 +25,9 @@ def ring(size=0.005, circ=0.013, support=None, modes=30, teeth=24, nax=2):
         WIDTH,
         fp.Material(),
         fp.MeshSettings(fp.Hex20(), size=size, circumferential_size=circ),
-        fp.Condensation(fp.CraigBampton(), fp.Distributing(), modes=modes, teeth=teeth,
-                     axial_master_nodes=nax),
+        fp.Condensation(
+            fp.CraigBampton(), fp.Distributing(), modes=modes, teeth=teeth, axial_master_nodes=nax
+        ),
         fp.FreeRing() if support is None else support,
     )
 
@@ -118,8 +118,9 @@ def test_bolted_flange_holds_the_ring_and_stiffens_it():
 
 def test_bad_ring_inputs_name_the_parameter():
     with pytest.raises(ValueError, match="outer_radius"):
-        fp.RingBody("x", 0.1, 0.09, 0.01, fp.Material(), ring().mesh, ring().condensation,
-                    fp.FreeRing())
+        fp.RingBody(
+            "x", 0.1, 0.09, 0.01, fp.Material(), ring().mesh, ring().condensation, fp.FreeRing()
+        )
     with pytest.raises(ValueError, match="bolts"):
         fp.BoltedFlange(bolts=0)
     with pytest.raises(ValueError, match="tangential"):
