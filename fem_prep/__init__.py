@@ -86,9 +86,9 @@ from ._root_stress import (
 )
 from ._solver import (
     CholmodFactor as CholmodFactor,
+    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
-    SparseFactor as SparseFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )
