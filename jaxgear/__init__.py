@@ -86,6 +86,13 @@ from ._planetary_mesh import (
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,
 )
+from ._planetary_ring import (
+    AbstractRingModel as AbstractRingModel,
+    CondensedRing as CondensedRing,
+    RigidRing as RigidRing,
+    ring_contact_angles as ring_contact_angles,
+    ring_excitation as ring_excitation,
+)
 from ._pressure import (
     ContactPressure as ContactPressure,
     contact_modulus as contact_modulus,

@@ -35,6 +35,7 @@ from ._internal import PlanetaryGeometry
 from ._modifications import Modifications
 from ._planetary import AbstractPlanetaryModel, PlanetaryStage, check_assembly
 from ._planetary_analysis import mesh_phases
+from ._planetary_ring import AbstractRingModel, RigidRing
 from ._quasi_static import separation
 from ._stiffness_models import AbstractStiffness, stiffness_table
 from ._util import as_float, check_instance, check_integer, check_real
@@ -336,6 +337,8 @@ class PlanetaryQuasiStatic(eqx.Module):
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
         result: the contact solver's code at each position (0: converged), (p,).
+        ring_deflection: the flexible ring's elastic displacement at each ring mesh along its
+            force (m, relieving the mesh), (p, n_planets); zero for a rigid ring.
     """
 
     travel: Float[Array, " p"]
@@ -346,6 +349,7 @@ class PlanetaryQuasiStatic(eqx.Module):
     ring_te: Float[Array, "p n"]
     k_gamma: Float[Array, " p"]
     result: Array
+    ring_deflection: Float[Array, "p n"] | None = None
 
     @property
     def k_gamma_max(self) -> Float[Array, ""]:
@@ -408,6 +412,7 @@ def planetary_quasi_static(
     tangential_pin_errors: Float[Array, "*n"] | float = 0.0,
     radial_pin_errors: Float[Array, "*n"] | float = 0.0,
     law: AbstractContactLaw = ExactContact(),
+    ring: AbstractRingModel = RigidRing(),
 ) -> PlanetaryQuasiStatic:
     """The stage's quasi-static state at each mesh travel: ``K_b q + V^T P = f`` with the
     unilateral contact of the 2N meshes' cells (a mesh may lose contact), K_b the bearings,
@@ -427,6 +432,9 @@ def planetary_quasi_static(
         tangential_pin_errors, radial_pin_errors: planet-pin position errors (m), () or
             (n_planets,), as :func:`~jaxgear.load_sharing`.
         law: the contact law.
+        ring: the ring gear: :class:`~jaxgear.RigidRing` (the lumped ring, the default) or a
+            flexible :class:`~jaxgear.CondensedRing`, whose compliance at the ring meshes
+            follows the planets around it (its N displacements join the contact problem).
 
     Returns:
         :class:`PlanetaryQuasiStatic`.
@@ -436,6 +444,8 @@ def planetary_quasi_static(
     """
     check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
                    "planetary_quasi_static")
+    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+                   "planetary_quasi_static")
     f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
                                 "planetary_quasi_static")
     f = sun_load(model, stage, sun_torque, f_err)
@@ -443,13 +453,19 @@ def planetary_quasi_static(
     v_s, v_r = model.mesh_deflection_rows(stage)
     n = stage.n_planets
 
+    n_dof = k_b.shape[0]
+
     def one(x):
         row = meshes.cell_row(model, stage, x, (d_s, d_r))
-        sol = solve_contact(k_b, f, row.V, row.k, row.length, row.delta0, row.mask, law)
+        # the ring meshes' transverse force per cell force (mesh_forces is linear)
+        ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[n:])(jnp.zeros_like(row.k))
+        K, fx, V = ring.augment(stage, k_b, f, row.V, ring_rows, x)
+        sol = solve_contact(K, fx, V, row.k, row.length, row.delta0, row.mask, law)
         forces = meshes.mesh_forces(sol.force_density * row.length)
-        return sol.x, forces, sol.result
+        w = jnp.zeros(n, sol.x.dtype) if sol.x.shape[0] == n_dof else sol.x[n_dof:]
+        return sol.x[:n_dof], forces, sol.result, w
 
-    q, forces, result = jax.vmap(one)(as_float(positions))
+    q, forces, result, w = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]
     return PlanetaryQuasiStatic(
         travel=as_float(positions),
@@ -460,4 +476,5 @@ def planetary_quasi_static(
         ring_te=q @ v_r.T + d_r[None, :],
         k_gamma=jnp.max(f_s, axis=-1) / jnp.mean(f_s, axis=-1),
         result=result,
+        ring_deflection=w,
     )

@@ -1,0 +1,184 @@
+"""The ring gear of a planetary stage as a rigid member or as a flexible condensed body, and the
+resonance rule of its nodal-diameter modes under the planets' moving mesh forces
+(docs/planetary.md, "A flexible ring gear" and "Which ring modes the planets excite").
+
+A flexible ring adds, to the lumped model's rigid ring, the ring's elastic displacement at each
+ring–planet contact: the planets move around the ring as the carrier turns, so the compliance
+that couples the N ring meshes depends on the carrier position. With the ring's static in-plane
+compliance ``F`` at its Z tooth stations (``fem_prep.ring_master_compliance`` of a ring condensed
+on its root-patch masters), planet n at the angle ``phi_n`` of the ring's frame and the direction
+``e_n`` of its mesh force on the ring, the ring meshes' compliance is
+
+    C_nm = sum_(k, k') W_nk W_mk' e_n^T F_kk' e_m            (m/N, N x N),
+
+``W_nk`` the stations' linear hats at ``phi_n`` (the interpolation the rim masters carry). Each
+ring mesh's approach loses the ring's displacement there, ``w_n = sum_m C_nm P_m`` (P_m the
+transverse ring-mesh forces, N): the contact problem gains N coordinates w with the stiffness
+``C^-1`` and the ring cells' rows ``-cos(beta_b)`` on their planet's w.
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._util import as_float, check_integer, check_real
+
+__all__ = [
+    "AbstractRingModel",
+    "CondensedRing",
+    "RigidRing",
+    "ring_contact_angles",
+    "ring_excitation",
+]
+
+
+def ring_contact_angles(stage, travel) -> Float[Array, " n"]:
+    """phi_n (rad): the planets' angles in the ring's frame at the mesh travel ``travel`` (m):
+    ``psi_n + travel / r_b,ring``. The ring turns clockwise relative to the carrier by
+    ``travel / r_b,ring`` (its mesh travels as fast as the sun's, :mod:`._planetary_mesh`), so
+    the planets advance counter-clockwise around it; both frames coincide at ``travel = 0``."""
+    return stage.planet_angles + travel / stage.ring.base_radius
+
+
+def ring_force_directions(stage, angles) -> Float[Array, "n 2"]:
+    """e_n (n, 2): the unit direction, in the ring's frame, of planet n's mesh force on the ring
+    at the angle ``angles`` (rad): minus the gradient of the ring mesh's compression with the
+    ring's translation in Lin & Parker's rows, ``(sin(phi + a_r), -cos(phi + a_r))``."""
+    a = angles + stage.ring_pressure_angle
+    return jnp.stack([jnp.sin(a), -jnp.cos(a)], axis=-1)
+
+
+class AbstractRingModel(eqx.Module):
+    """How the ring gear deforms under the ring meshes in
+    :func:`~jaxgear.planetary_quasi_static` (:class:`RigidRing`, :class:`CondensedRing`)."""
+
+    @abc.abstractmethod
+    def augment(self, stage, k_b, f, V, ring_rows, travel):
+        """``(k_b', f', V')``: the structure stiffness, load and cell rows with the ring's
+        coordinates added (none for a rigid ring) at the mesh travel ``travel`` (m).
+        ``ring_rows`` (n_planets, c): the transverse ring-mesh force of each planet per cell
+        force (cos beta_b on that planet's ring cells)."""
+
+
+class RigidRing(AbstractRingModel):
+    """The lumped model's ring as it is: rigid, on its bearing and torsional supports (the
+    default)."""
+
+    def augment(self, stage, k_b, f, V, ring_rows, travel):
+        return k_b, f, V
+
+
+class CondensedRing(AbstractRingModel):
+    """A flexible ring: its static in-plane compliance at Z equally spaced tooth stations,
+    station k at ``2 pi k / Z`` from the ring frame's x axis (``fem_prep.ring_master_compliance``
+    of a ring condensed on its root-patch masters, supported by its housing).
+
+    Its displacement adds to the lumped ring's rigid motion: the lumped ring's supports stay
+    in the stage (hold them stiff when the FE ring's support is the housing). Loads are taken
+    at the stations' hats at the planet's angle (the pitch point lies on the line of centres),
+    spread across the face width; the teeth's moment on the rim about the root circle is not
+    carried (the rim masters carry translations only).
+
+    Attributes:
+        compliance: F (m/N), ``(Z, 2, Z, 2)``, symmetric positive definite as a ``2Z x 2Z``
+            matrix.
+    """
+
+    compliance: Float[Array, "z 2 z 2"] = eqx.field(converter=as_float)
+
+    def __check_init__(self):
+        F = self.compliance
+        if F.ndim != 4 or F.shape[1] != 2 or F.shape[3] != 2 or F.shape[0] != F.shape[2]:
+            raise ValueError(
+                f"CondensedRing: compliance has shape {F.shape}; allowed (Z, 2, Z, 2), Z >= 3"
+            )
+        check_integer("CondensedRing: compliance.shape[0]", F.shape[0], 3)
+        check_real("compliance", F, "m/N", where="CondensedRing")
+
+    @property
+    def stations(self) -> int:
+        """Z, the number of tooth stations."""
+        return self.compliance.shape[0]
+
+    def hats(self, angles) -> Float[Array, "n z"]:
+        """W (n, Z): the stations' linear hats at ``angles`` (rad)."""
+        z = self.stations
+        t = jnp.mod(angles, 2 * math.pi) / (2 * math.pi / z)
+        k0 = jnp.floor(t)
+        xi = t - k0
+        k0 = k0.astype(jnp.int32) % z
+        eye = jnp.eye(z, dtype=self.compliance.dtype)
+        return (1 - xi)[:, None] * eye[k0] + xi[:, None] * eye[(k0 + 1) % z]
+
+    def mesh_compliance(self, stage, travel) -> Float[Array, "n n"]:
+        """C (m/N, (n_planets, n_planets)) of the ring meshes at the mesh travel ``travel``
+        (m): module docstring."""
+        phi = ring_contact_angles(stage, travel)
+        E = self.hats(phi)[:, :, None] * ring_force_directions(stage, phi)[:, None, :]
+        z = self.stations
+        E = E.reshape(E.shape[0], 2 * z)
+        return E @ self.compliance.reshape(2 * z, 2 * z) @ E.T
+
+    def augment(self, stage, k_b, f, V, ring_rows, travel):
+        n = stage.n_planets
+        C = self.mesh_compliance(stage, travel)
+        Kw = jnp.linalg.inv(0.5 * (C + C.T))
+        d = k_b.shape[0]
+        K = jnp.zeros((d + n, d + n), dtype=k_b.dtype)
+        K = K.at[:d, :d].set(k_b).at[d:, d:].set(0.5 * (Kw + Kw.T))
+        return K, jnp.concatenate([f, jnp.zeros(n, f.dtype)]), jnp.concatenate(
+            [V, -ring_rows.T], axis=1
+        )
+
+
+def ring_excitation(
+    n_planets: int, ring_teeth: int, harmonic: int, max_nd: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Which nodal-diameter modes of a fixed ring the h-th mesh harmonic of N equally spaced
+    planets excites, and at which order of the carrier speed (docs/planetary.md, "Which ring
+    modes the planets excite").
+
+    Planet j sits at ``theta_j(t) = Omega_c t + 2 pi j / N`` on the ring; its ring mesh meets a
+    new tooth every ``2 pi / Z_r`` of its travel, so its mesh force at harmonic h is
+    ``P_h exp(i h Z_r theta_j(t))`` (its phase ``h Z_r 2 pi j / N`` is Parker & Lin's ring-mesh
+    phase). The circumferential harmonic n of the N moving point loads is
+
+        q_n(t) = (1 / 2 pi) sum_j P_h exp(i (h Z_r - n) theta_j(t))
+               = (P_h / 2 pi) exp(i (h Z_r - n) Omega_c t) sum_j exp(2 pi i (h Z_r - n) j / N),
+
+    and the sum over the planets is N when ``h Z_r - n = 0 (mod N)``, else 0: the seed's rule
+    (3.9) with the N planets in the place of the teeth and the ring's teeth phasing them. A
+    standing n-diameter mode (n >= 0, the pair cos n theta, sin n theta) is excited by the
+    travelling waves ``n`` and ``-n``: where ``h Z_r - s n = 0 (mod N)``, s = +1 or -1, at
+    the frequency ``|h Z_r - s n| Omega_c``; it resonates where its natural frequency equals
+    that. h = 0 (the mean mesh forces) excites the multiples of N at ``n Omega_c``.
+
+    Args:
+        n_planets: N (>= 1).
+        ring_teeth: |Z_r| (>= 1).
+        harmonic: h (>= 0).
+        max_nd: the largest nodal diameter listed (>= 0).
+
+    Returns:
+        ``(nd, order)``: int arrays, one entry per excited (n, s) with ``nd = n`` ascending and
+        ``order = |h Z_r - s n|``, the excitation frequency per carrier speed (a mode n excited
+        by both waves appears twice, n = 0 once).
+    """
+    check_integer("n_planets", n_planets, 1)
+    check_integer("ring_teeth", ring_teeth, 1)
+    check_integer("harmonic", harmonic, 0)
+    check_integer("max_nd", max_nd, 0)
+    hz = harmonic * ring_teeth
+    nd, order = [], []
+    for n in range(max_nd + 1):
+        for s in (1, -1) if n else (1,):
+            if (hz - s * n) % n_planets == 0:
+                nd.append(n)
+                order.append(abs(hz - s * n))
+    return np.array(nd, dtype=int), np.array(order, dtype=int)
