@@ -1,5 +1,5 @@
 """A thin-rimmed ring gear with internal teeth: its FE body, its housing support, its condensation
-on the tooth-root masters and its nodal-diameter modes (docs/fem_prep.md, "Ring gears").
+on the tooth-root masters and its nodal-diameter modes (docs/planetary.md, "A flexible ring gear").
 
 The body is the annulus between the root circle ``r = R_f`` (the inner face, where the internal
 teeth stand) and the outer radius ``R_o``, over the face width ``b``. As for the wheels, the teeth

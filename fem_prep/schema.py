@@ -43,6 +43,7 @@ from ._couplings import Averaging, Distributing, Nodal, Rigid
 from ._elements import Hex20, Hex27
 from ._kinds import Kind
 from ._prepare import Bearings, Free
+from ._ring import BoltedFlange, ElasticFoundation, FreeRing, RingBody
 
 # the shared helpers, re-exported (import them from fem_prep.checks / fem_prep.files)
 from .checks import (  # noqa: F401
@@ -90,6 +91,7 @@ __all__ = [
     "estimate_mesh_dofs",
     "load_body",
     "parse_body",
+    "parse_ring_body",
 ]
 
 # the names of the kinds in a body file (the first of each is its default, but METHODS')
@@ -570,3 +572,88 @@ def _decode(raw: bytes, label: str) -> str:
     except UnicodeDecodeError:
         sc.load_toml(raw, label)  # raises the one-line SchemaError naming the file
         raise  # pragma: no cover
+
+
+# --------------------------------------------------------------------------------------------
+# Ring-gear body files (fem_prep._ring): [ring], [support], [material], [mesh], [condensation]
+
+_RING_SCHEMA: dict[str, set[str] | None] = {
+    "name": None,
+    "ring": {"root_radius_mm", "outer_radius_mm", "width_mm"},
+    "support": {"kind", "bolts", "seat_arc_mm", "phase_deg", "radial_N_per_mm3",
+                "tangential_N_per_mm3", "axial_N_per_mm3"},
+    "material": _SCHEMA["material"],
+    "mesh": {"element", "size_mm", "circumferential_size_mm"},
+    "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
+}
+
+
+def _bolted(t: dict) -> BoltedFlange:
+    return BoltedFlange(
+        bolts=sc.number(t, "bolts", "support", allowed="[1, 1000]", integer=True),
+        seat_arc=1e-3 * sc.number(t, "seat_arc_mm", "support", allowed=_LENGTH),
+        phase=math.radians(sc.number(t, "phase_deg", "support", 0.0, allowed="[-360, 360]")),
+    )
+
+
+def _foundation(t: dict) -> ElasticFoundation:
+    # N/mm^3 = 1e9 N/m^3 (Pa/m)
+    k = [sc.number(t, f"{d}_N_per_mm3", "support", allowed="(0, 1e+09]")
+         for d in ("radial", "tangential", "axial")]
+    return ElasticFoundation(*(1e9 * v for v in k))
+
+
+def _free(t: dict) -> FreeRing:
+    return FreeRing()
+
+
+#: the ring supports by their body-file name (``[support] kind``), each built from its table
+RING_SUPPORTS = {"bolted_flange": _bolted, "elastic_foundation": _foundation, "free": _free}
+
+
+def parse_ring_body(text: str, *, default_name: str = "ring", label: str = "ring file") -> RingBody:
+    """Parse and validate a ring-gear body file (TOML; lengths in mm, the modulus in GPa, the
+    foundation in N/mm^3; docs/planetary.md, "A flexible ring gear").
+
+    Returns:
+        The :class:`~fem_prep.RingBody` (SI units).
+
+    Raises:
+        SchemaError: an unknown or missing key, a wrong type or a value out of range (one line
+            naming the key, its value as written and the allowed range).
+    """
+    data = sc.load_toml(text, label)
+    sc.check_keys(data, _RING_SCHEMA, "")
+    name = sc.name(data, "name", "", default_name)
+    r = sc.subtable(data, "ring", "", _RING_SCHEMA["ring"], required=True)
+    r_f = sc.number(r, "root_radius_mm", "ring", allowed=_LENGTH)
+    r_o = sc.number(r, "outer_radius_mm", "ring", allowed=f"({r_f!r}, 1e+06]")
+    width = sc.number(r, "width_mm", "ring", allowed=_LENGTH)
+    t = sc.subtable(data, "support", "", _RING_SCHEMA["support"], required=True)
+    support = RING_SUPPORTS[sc.choice(t, "kind", "support", RING_SUPPORTS)](t)
+    m = sc.subtable(data, "material", "", _RING_SCHEMA["material"])
+    material = Material(
+        1e9 * sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 1e+06]"),
+        sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)"),
+        sc.number(m, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+06]"),
+    )
+    ms = sc.subtable(data, "mesh", "", _RING_SCHEMA["mesh"])
+    size = sc.number(ms, "size_mm", "mesh", allowed=_LENGTH)
+    circ = sc.number(ms, "circumferential_size_mm", "mesh", size, allowed=_LENGTH)
+    mesh = MeshSettings(
+        _kind(ms, "element", "mesh", ELEMENTS, "hex20"), size=1e-3 * size,
+        circumferential_size=1e-3 * circ,
+    )
+    c = sc.subtable(data, "condensation", "", _RING_SCHEMA["condensation"], required=True)
+    w = "condensation"
+    condensation = Condensation(
+        method=_kind(c, "method", w, METHODS, "craig-bampton"),
+        modes=sc.number(c, "modes", w, 50, allowed=f"[0, {MAX_MODES}]", integer=True),
+        teeth=sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
+        axial_master_nodes=sc.number(c, "axial_master_nodes", w, 2, allowed="[1, 50]",
+                                     integer=True),
+        rim_coupling=_kind(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
+    )
+    return RingBody(name, 1e-3 * r_f, 1e-3 * r_o, 1e-3 * width, material, mesh, condensation,
+                    support)
+
