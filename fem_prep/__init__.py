@@ -75,6 +75,7 @@ from ._ring import (
     prepare_ring as prepare_ring,
     ring_master_compliance as ring_master_compliance,
     thin_ring_frequency as thin_ring_frequency,
+    write_ring_vtu as write_ring_vtu,
 )
 from ._root_stress import (
     FilletInfluence as FilletInfluence,

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from pathlib import Path
 from dataclasses import dataclass
 from typing import ClassVar, final
 
@@ -36,6 +37,7 @@ import skfem
 from ._assemble import Operators, assemble_operators
 from ._body import Condensation, Material, MeshSettings
 from ._condense import Condensed, condense
+from .files import atomic_open
 from ._couplings import Coupled, MasterSet, _station_nodes, couple_masters
 from ._kinds import RingSupport
 from ._mesh import RIM, BodyMesh
@@ -53,6 +55,7 @@ __all__ = [
     "prepare_ring",
     "ring_master_compliance",
     "thin_ring_frequency",
+    "write_ring_vtu",
 ]
 
 
@@ -509,3 +512,48 @@ def mode_nodal_diameter(prep: PreparedRing, shape: np.ndarray) -> tuple[int, flo
     u = shape.reshape(-1, 3)
     inplane = float(np.sum(u[:, :2] ** 2) / np.sum(u**2))
     return int(np.argmax(spectrum)), inplane
+
+
+def _vtu_array(name: str, values: np.ndarray, components: int) -> str:
+    text = " ".join(repr(float(v)) for v in np.ravel(values))
+    return (
+        f'<DataArray type="Float64" Name="{name}" NumberOfComponents="{components}" '
+        f'format="ascii">{text}</DataArray>'
+    )
+
+
+def write_ring_vtu(prep: PreparedRing, path, n_modes: int = 10, sigma: float = -1.0) -> Path:
+    """Write the ring's mesh (corner nodes, linear hexahedra) with its first ``n_modes`` full
+    FE mode shapes as point data ``mode_XX_<f>Hz_ND<n>`` (mass-normalised, m) to an ASCII
+    ``.vtu`` (ParaView). ``sigma``: the eigen-solve's shift ((rad/s)^2, < 0 for a free ring).
+
+    Returns:
+        The path written.
+    """
+    bm = prep.mesh
+    nv = bm.n_vertices
+    f, shapes = prep.full_modes(n_modes, sigma=sigma)
+    arrays = []
+    for k in range(n_modes):
+        nd, _ = mode_nodal_diameter(prep, shapes[:, k])
+        name = f"mode_{k + 1:02d}_{f[k]:.0f}Hz_ND{nd}"
+        arrays.append(_vtu_array(name, shapes[:, k].reshape(-1, 3)[:nv], 3))
+    n_cells = len(bm.cells)
+    connectivity = " ".join(str(int(i)) for i in bm.cells.ravel())
+    offsets = " ".join(str(8 * (i + 1)) for i in range(n_cells))
+    types = " ".join(["12"] * n_cells)  # VTK_HEXAHEDRON
+    xml = (
+        '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="0.1" '
+        'byte_order="LittleEndian">\n<UnstructuredGrid>\n'
+        f'<Piece NumberOfPoints="{nv}" NumberOfCells="{n_cells}">\n'
+        f"<Points>{_vtu_array('points', bm.nodes[:nv], 3)}</Points>\n"
+        f'<Cells><DataArray type="Int64" Name="connectivity" format="ascii">'
+        f"{connectivity}</DataArray>"
+        f'<DataArray type="Int64" Name="offsets" format="ascii">{offsets}</DataArray>'
+        f'<DataArray type="UInt8" Name="types" format="ascii">{types}</DataArray></Cells>\n'
+        f"<PointData>{''.join(arrays)}</PointData>\n"
+        "</Piece>\n</UnstructuredGrid>\n</VTKFile>\n"
+    )
+    with atomic_open(path) as fh:
+        fh.write(xml)
+    return Path(path)

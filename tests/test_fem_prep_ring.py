@@ -8,6 +8,7 @@ condensed model against the full FE model; the support reactions against the app
 
 import math
 
+import meshio
 import numpy as np
 import pytest
 
@@ -215,3 +216,21 @@ def test_ring_body_file():
         RING_FILE.split("[support]")[0] + bolted_support + "[mesh]" + RING_FILE.split("[mesh]")[1]
     )
     assert bolted.support == fp.BoltedFlange(6, 0.006, 0.0)
+
+
+def test_ring_vtu_holds_the_mode_shapes(free_ring, tmp_path):
+    """The .vtu read back by meshio: the corner nodes, one hexahedron per element, and a mode
+    shape's corner values with its frequency and nodal diameter in its name."""
+    path = fp.write_ring_vtu(free_ring, tmp_path / "ring.vtu", n_modes=8, sigma=SIGMA_FREE)
+    m = meshio.read(path)
+    bm = free_ring.mesh
+    assert np.allclose(m.points, bm.nodes[: bm.n_vertices])
+    assert np.array_equal(m.cells_dict["hexahedron"], bm.cells)
+    f, shapes = free_ring.full_modes(8, sigma=SIGMA_FREE)
+    name = [k for k in m.point_data if k.startswith("mode_07_")][0]
+    assert name == f"mode_07_{f[6]:.0f}Hz_ND2"
+    # mode 7 is one of the n = 2 pair (7, 8): in the span of this solve's pair
+    pair = shapes[:, 6:8].reshape(-1, 3, 2)[: bm.n_vertices].reshape(-1, 2)
+    v = m.point_data[name].ravel()
+    c = np.linalg.lstsq(pair, v, rcond=None)[0]
+    assert np.linalg.norm(pair @ c - v) < 1e-8 * np.linalg.norm(v)
