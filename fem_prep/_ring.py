@@ -25,8 +25,8 @@ from __future__ import annotations
 
 import itertools
 import math
-from pathlib import Path
 from dataclasses import dataclass
+from pathlib import Path
 from typing import ClassVar, final
 
 import numpy as np
@@ -37,12 +37,12 @@ import skfem
 from ._assemble import Operators, assemble_operators
 from ._body import Condensation, Material, MeshSettings
 from ._condense import Condensed, condense
-from .files import atomic_open
 from ._couplings import Coupled, MasterSet, _station_nodes, couple_masters
 from ._kinds import RingSupport
 from ._mesh import RIM, BodyMesh
 from ._modal import nodal_diameter_spectrum
 from ._solver import shift_invert_modes
+from .files import atomic_open
 
 __all__ = [
     "BoltedFlange",

@@ -227,7 +227,7 @@ def test_ring_vtu_holds_the_mode_shapes(free_ring, tmp_path):
     assert np.allclose(m.points, bm.nodes[: bm.n_vertices])
     assert np.array_equal(m.cells_dict["hexahedron"], bm.cells)
     f, shapes = free_ring.full_modes(8, sigma=SIGMA_FREE)
-    name = [k for k in m.point_data if k.startswith("mode_07_")][0]
+    name = next(k for k in m.point_data if k.startswith("mode_07_"))
     assert name == f"mode_07_{f[6]:.0f}Hz_ND2"
     # mode 7 is one of the n = 2 pair (7, 8): in the span of this solve's pair
     pair = shapes[:, 6:8].reshape(-1, 3, 2)[: bm.n_vertices].reshape(-1, 2)
