@@ -92,6 +92,7 @@ from ._planetary_ring import (
     RigidRing as RigidRing,
     ring_contact_angles as ring_contact_angles,
     ring_excitation as ring_excitation,
+    ring_resonances as ring_resonances,
 )
 from ._pressure import (
     ContactPressure as ContactPressure,

@@ -35,6 +35,7 @@ __all__ = [
     "RigidRing",
     "ring_contact_angles",
     "ring_excitation",
+    "ring_resonances",
 ]
 
 
@@ -182,3 +183,37 @@ def ring_excitation(
                 nd.append(n)
                 order.append(abs(hz - s * n))
     return np.array(nd, dtype=int), np.array(order, dtype=int)
+
+
+def ring_resonances(
+    frequencies_hz: dict[int, float], n_planets: int, ring_teeth: int, harmonics: int = 2
+) -> list[dict[str, float]]:
+    """The carrier speeds at which the planets' mesh harmonics meet the ring's nodal-diameter
+    modes (a fixed ring; the crossings of a Campbell diagram of the ring's modes against the
+    mesh orders, :func:`ring_excitation`).
+
+    Args:
+        frequencies_hz: the ring's natural frequency (Hz) of each nodal diameter n (>= 0) to
+            check, e.g. from ``fem_prep`` (``{2: 319.6, 3: 902.5}``).
+        n_planets: N. ring_teeth: |Z_r|.
+        harmonics: the mesh harmonics h = 1 .. ``harmonics`` (and h = 0, the mean forces).
+
+    Returns:
+        One dict per crossing, sorted by carrier speed: ``nd``, ``harmonic``, ``order`` (the
+        excitation frequency per carrier speed, ``|h Z_r -/+ n|``), ``frequency_hz`` and
+        ``carrier_speed_hz`` (revolutions per second: frequency / order); order 0 (a static
+        load pattern) never resonates and is left out.
+    """
+    check_integer("harmonics", harmonics, 0)
+    out = []
+    top = max(frequencies_hz) if frequencies_hz else 0
+    for h in range(harmonics + 1):
+        nd, order = ring_excitation(n_planets, ring_teeth, h, top)
+        for n, k in zip(nd.tolist(), order.tolist(), strict=True):
+            hit = {"nd": n, "harmonic": h, "order": k}
+            if n in frequencies_hz and k > 0 and hit not in out:  # h = 0: both waves alike
+                out.append(hit)
+    for r in out:
+        r["frequency_hz"] = float(frequencies_hz[r["nd"]])
+        r["carrier_speed_hz"] = r["frequency_hz"] / r["order"]
+    return sorted(out, key=lambda r: r["carrier_speed_hz"])

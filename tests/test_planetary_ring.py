@@ -209,6 +209,19 @@ def test_excitation_rule_examples():
         jg.ring_excitation(0, 53, 1, 4)
 
 
+def test_ring_resonances_by_hand():
+    """3 planets, 53 teeth, the n = 2 mode at 320 Hz: h = 1 drives it at order 51 (53 - 2 = 51 =
+    0 mod 3), h = 2 at order 108 (106 + 2 = 108 = 0 mod 3; 104 is not): carrier speeds 320 / 51
+    and 320 / 108 rev/s; h = 0 never (2 is not a multiple of 3)."""
+    got = jg.ring_resonances({2: 320.0}, 3, 53, harmonics=2)
+    assert [(r["harmonic"], r["order"]) for r in got] == [(2, 108), (1, 51)]
+    assert got[0]["carrier_speed_hz"] == pytest.approx(320.0 / 108, rel=1e-15)
+    assert got[1]["carrier_speed_hz"] == pytest.approx(320.0 / 51, rel=1e-15)
+    # 3 planets, the n = 3 mode: h = 0 at 3 Omega, h = 1 at 53 -/+ 3 = 50, 56 (neither = 0 mod 3)
+    got = jg.ring_resonances({3: 900.0}, 3, 53, harmonics=1)
+    assert [(r["harmonic"], r["order"]) for r in got] == [(0, 3)]
+
+
 def test_bad_ring_inputs_one_line(seq):
     _, st = seq
     with pytest.raises(ValueError, match="compliance"):
