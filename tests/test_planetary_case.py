@@ -344,13 +344,15 @@ def test_the_case_file_reference_lists_the_planetary_keys():
     assert any("-10000, -5" in a for a in train.tables["gears[]"]["teeth"].allowed)
 
 
-def test_a_sweep_of_a_planetary_stage_is_refused_in_one_line(tmp_path, capsys):
+def test_a_planetary_sweep_refuses_a_scene_option_in_one_line(tmp_path, capsys):
+    # jaxgear sweep dispatches on the case's form: a planetary stage runs its own sweep
+    # (tests/test_planetary_sweep.py), refusing the scene's options it has not, before any work
     out = tmp_path / "sweep"
     argv = ["sweep", "nrel-5mw-planetary", "--speeds", "1:2:2", "--out", str(out), "--quiet"]
-    assert main(argv) == 2
+    assert main([*argv, "--contact", "smooth"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith(
-        "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
-        "writes its lumped models' modes, Campbell diagram and load sharing)"
+        "--contact = smooth: a planetary stage's sweep has no such option (allowed: the exact "
+        "contact law only; leave it out)"
     )
     assert "\n" not in err and not out.exists()

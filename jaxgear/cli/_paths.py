@@ -64,6 +64,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map_dynamic.png",
         # a train's, one per mesh (named after its gears)
         "pressure_map_dynamic_*.png",
+        # a planetary stage's: the ring transducer's order spectrum at the worst speed
+        "ring_spectrum.png",
         # --vtu-speed: the deformed bodies' time series
         "vtu/body_*.vtu",
         "vtu/body_*.pvd",
