@@ -20,8 +20,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from jaxgear.cli import main
-from jaxgear.cli import planetary_sweep as ps
+from jaxgear.cli import main, planetary_sweep as ps
 
 M, B, ALPHA = 3e-3, 0.03, math.radians(20.0)
 Z_S, Z_P, Z_R = 19, 17, 53
@@ -93,7 +92,7 @@ pin_tangential_N_per_um = {PLANET[3]}
 """
 
 SPEEDS = np.array([20.0, 45.0])  # rad/s of the carrier
-RUN = dict(steps_per_period=24, periods=6, keep_periods=2)
+RUN = {"steps_per_period": 24, "periods": 6, "keep_periods": 2}
 
 
 @pytest.fixture(scope="module")
@@ -148,7 +147,7 @@ def _by_hand(case):
 # twin of the dispatch is tests/test_planetary_case.py's refusal
 @pytest.mark.slow
 def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
-    case, out, s = swept
+    case, _, s = swept
     stage, meshes, run, r_r = _by_hand(case)
     for i, w in enumerate(SPEEDS):
         d = jd.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes, run, jnp.asarray(w),
@@ -165,7 +164,7 @@ def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
 
 @pytest.mark.slow
 def test_the_files_and_keys(swept):
-    case, out, s = swept
+    _, out, s = swept
     assert {p.name for p in out.iterdir()} == set(ps.RUN_SWEEP_FILES)
     on_disk = json.loads((out / "sweep.json").read_text())
     assert on_disk["mesh_names"] == [f"sun-planet {k}" for k in (1, 2, 3)] + [

@@ -71,6 +71,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "vtu/body_*.pvd",
     ),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
+    # jaxgear modes: the natural frequencies with their types
+    "modes": ("modes.json",),
     # jaxgear run on a case with [deviations] (subfolder deviations/)
     "deviations": ("te_span.csv", "spectrum.csv", "spectrum.json", "te_spectrum.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),

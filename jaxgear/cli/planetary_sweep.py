@@ -57,8 +57,8 @@ __all__ = [
     "DEFAULT_PERIODS",
     "DEFAULT_STEPS",
     "RUN_SPEEDS",
-    "SPECTRUM_SIDEBANDS",
     "RUN_SWEEP_FILES",
+    "SPECTRUM_SIDEBANDS",
     "planetary_run",
     "planetary_run_files",
     "planetary_run_lines",
@@ -335,12 +335,13 @@ def sweep_lines(case, s: dict) -> list[str]:
     i = int(np.argmax(s["dynamic_factor"]))
     worst = s["mesh_names"][int(np.argmax(s["dynamic_factor_mesh"][i]))]
     nat = ", ".join(f"{f:.4g}" for f in s["natural_frequencies_Hz"][:6])
-    return [
+    line = (
         f"{case.name}: {len(s['speeds_rad_s'])} input speeds, max dynamic factor "
         f"{s['max_dynamic_factor']:.4f} ({worst}) at {s['speed_of_max_rad_s']:.4g} rad/s, "
         f"max dynamic K_γ {s['max_k_gamma']:.4f}; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
-    ]
+    )
+    return [line]
 
 
 def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
@@ -373,9 +374,10 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
 def planetary_run_lines(form, case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints for a planetary case: the stage's lines and the sweep's."""
     d = summary["dynamics"]
-    return planetary_lines(form, case, summary) + [
+    line = (
         f"dynamic factor ({d['model']}, {len(d['speeds_rad_s'])} {d['speed_of']} speeds "
         f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): max "
         f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
         f"{d['max_k_gamma']:.4f} ({d['files']})"
-    ]
+    )
+    return [*planetary_lines(form, case, summary), line]

@@ -18,8 +18,7 @@ import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import DynamicsResult, dynamics
-from .. import io as case_io
+from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
