@@ -344,13 +344,73 @@ def test_the_case_file_reference_lists_the_planetary_keys():
     assert any("-10000, -5" in a for a in train.tables["gears[]"]["teeth"].allowed)
 
 
-def test_a_sweep_of_a_planetary_stage_is_refused_in_one_line(tmp_path, capsys):
+def test_a_planetary_sweep_refuses_a_scene_option_in_one_line(tmp_path, capsys):
+    # jaxgear sweep dispatches on the case's form: a planetary stage runs its own sweep
+    # (tests/test_planetary_sweep.py), refusing the scene's options it has not, before any work
     out = tmp_path / "sweep"
     argv = ["sweep", "nrel-5mw-planetary", "--speeds", "1:2:2", "--out", str(out), "--quiet"]
-    assert main(argv) == 2
+    assert main([*argv, "--contact", "smooth"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith(
-        "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
-        "writes its lumped models' modes, Campbell diagram and load sharing)"
+        "--contact = smooth: a planetary stage's sweep has no such option (allowed: the exact "
+        "contact law only; leave it out)"
     )
     assert "\n" not in err and not out.exists()
+
+
+# -- stage 2 of the NREL 5 MW gearbox (Nejad et al. 2016 Table V, second stage) ----------------
+Z2 = (18, 36, 93)
+
+
+def _stage2_modes(modes: dict) -> None:
+    """Lin & Parker's structure at 3 equally spaced planets (as stage 1): 18 planar modes, 6
+    rotational (single), 6 translational (pairs), no planet mode; 6 torsional modes."""
+    planar = modes["planar"]
+    assert len(planar) == 18 and len(modes["torsional"]) == 6
+    kinds = {}
+    for m in planar:
+        kinds.setdefault(m["type"], set()).add((round(m["frequency_Hz"], 6), m["multiplicity"]))
+    assert sorted(kinds) == ["rotational", "translational"]
+    assert len(kinds["rotational"]) == 6 and {k for _, k in kinds["rotational"]} == {1}
+    assert len(kinds["translational"]) == 6 and {k for _, k in kinds["translational"]} == {2}
+
+
+def test_nrel_stage2_willis_and_mode_types():
+    """A fast twin of :func:`test_nrel_stage2_through_jaxgear_run`: the case's kinematics
+    against Willis by hand and its modes by type."""
+    case = jio.load_case("nrel-5mw-stage2")
+    spec = case.form.spec
+    z_s, z_p, z_r = Z2
+    assert spec.teeth == (z_s, z_p, z_r)
+    # ring fixed, carrier in, sun out: omega_s / omega_c = 1 + z_r / z_s = 111/18 (Table V 6.167)
+    assert spec.ratio() == pytest.approx(z_s / (z_s + z_r), rel=1e-15)
+    w = spec.speeds(case.speed)
+    assert w["sun"] == pytest.approx(case.speed * (z_s + z_r) / z_s, rel=1e-15)
+    assert w["planet_relative"] == pytest.approx(-(w["sun"] - case.speed) * z_s / z_p, rel=1e-15)
+    # stage 2's input is stage 1's output: the rotor's 12.1 rpm times 1 + 56/19
+    assert case.speed == pytest.approx(12.1 * math.pi / 30 * (1 + 56 / 19), rel=1e-4)
+    stage = spec.stage(case)
+    _stage2_modes({name: pr.mode_list(model, stage) for name, model in pr.MODELS.items()})
+    # Table V's tip diameters (mm) within the rounding of the tip alteration (0.9167 m_n)
+    sp, prg = case.pairs
+    tips = [2e3 * r for r in (*sp.tip_radii, prg.tip_radii[1])]
+    np.testing.assert_allclose(tips, [432.845, 815.655, 1906.074], atol=0.03)
+
+
+@pytest.mark.slow  # a minute of wall (25 s CPU) on the loaded 2-core CPU: its sweep; fast twin above
+def test_nrel_stage2_through_jaxgear_run(tmp_path, capsys):
+    out = tmp_path / "stage2"
+    assert main(["run", "nrel-5mw-stage2", "--out", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "planetary stage nrel-5mw-stage2: 3 planets, ring fixed, carrier → sun" in printed
+    summary = json.loads((out / "summary.json").read_text())
+    modes = json.loads((out / "modes.json").read_text())
+    assert summary["complete"] is True
+    z_s, _, z_r = Z2
+    assert summary["planetary"]["speed_ratio"] == pytest.approx(z_s / (z_s + z_r), rel=1e-15)
+    _stage2_modes(modes)
+    # no pin error and a floating sun: the planets share equally (K_gamma 1)
+    assert summary["load_sharing"]["planar"]["k_gamma"] == pytest.approx(1.0, abs=1e-9)
+    d = summary["dynamics"]
+    assert len(d["speeds_rad_s"]) == 8 and d["max_dynamic_factor"] >= 1.0
+    assert {p.name for p in (out / "sweep").iterdir()} >= {"sweep.json", "ring_spectrum.png"}

@@ -37,6 +37,7 @@ COMMANDS = {
     "optimise": Command("jaxgear.cli._optimise:run_optimise"),
     "master-curve": Command("jaxgear.cli._optimise:run_master_curve"),
     "sweep": Command("jaxgear.cli.sweep:run_sweep"),
+    "modes": Command("jaxgear.cli.modes:run_modes"),
     "robust": Command("jaxgear.cli.robust:run_robust"),
     "bench": Command("jaxgear.cli.bench:run_bench"),
     "prep": Command("jaxgear.cli.bench:run_prep", jax=False),
@@ -96,6 +97,7 @@ def build_parser() -> argparse.ArgumentParser:
     pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (= fem-prep build)")
     add_build_arguments(pr)
     _add_sweep(sub)
+    _add_modes(sub)
     _add_robust(sub)
     add_optimise_parsers(sub)
     return p
@@ -153,7 +155,11 @@ def _add_bench(sub) -> None:
 def _add_sweep(sub) -> None:
     s = sub.add_parser("sweep", help="dynamic factor vs speed (Newmark/diffrax, [scene] table)")
     s.add_argument("case", help="TOML case file or embedded case name")
-    s.add_argument("--speeds", required=True, help="START:STOP:N pinion speeds (rad/s)")
+    s.add_argument(
+        "--speeds",
+        required=True,
+        help="START:STOP:N pinion speeds (rad/s; a planetary stage: its input member's)",
+    )
     s.add_argument(
         "--direction",
         default="independent",
@@ -187,6 +193,15 @@ def _add_sweep(sub) -> None:
         "sweep/ of jaxgear run, which its summary.json describes)",
     )
     s.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _add_modes(sub) -> None:
+    m = sub.add_parser(
+        "modes", help="natural frequencies (Hz) with their mode types, for any case (modes.json)"
+    )
+    m.add_argument("case", help="TOML case file or embedded case name")
+    m.add_argument("--out", help="output folder (default: jaxgear-out/<case>/modes/)")
+    m.add_argument("--quiet", action="store_true", help="no progress output")
 
 
 def _add_robust(sub) -> None:

@@ -64,11 +64,15 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map_dynamic.png",
         # a train's, one per mesh (named after its gears)
         "pressure_map_dynamic_*.png",
+        # a planetary stage's: the ring transducer's order spectrum at the worst speed
+        "ring_spectrum.png",
         # --vtu-speed: the deformed bodies' time series
         "vtu/body_*.vtu",
         "vtu/body_*.pvd",
     ),
     "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
+    # jaxgear modes: the natural frequencies with their types
+    "modes": ("modes.json",),
     # jaxgear run on a case with [deviations] (subfolder deviations/)
     "deviations": ("te_span.csv", "spectrum.csv", "spectrum.json", "te_spectrum.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),

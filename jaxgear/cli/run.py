@@ -44,7 +44,7 @@ from ._rating_report import (
     train_mesh_results,
 )
 from ._summary import environment_summary, mesh_settings_summary, result_summary
-from .planetary import planetary_files, planetary_lines
+from .planetary_sweep import planetary_run_files, planetary_run_lines
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
@@ -463,8 +463,8 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     return summary
 
 
-# a planetary stage's files and lines (cli/planetary.py)
-quasi_static_files.register(PlanetaryForm, planetary_files)
+# a planetary stage's files and lines, with its first-look sweep (cli/planetary_sweep.py)
+quasi_static_files.register(PlanetaryForm, planetary_run_files)
 
 
 @quasi_static_files.register
@@ -529,7 +529,7 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
     return lines
 
 
-run_lines.register(PlanetaryForm, planetary_lines)
+run_lines.register(PlanetaryForm, planetary_run_lines)
 
 
 @run_lines.register

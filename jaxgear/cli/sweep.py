@@ -7,6 +7,7 @@ the speed of the largest dynamic factor; a train: ``pressure_map_dynamic_<mesh>.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import os
 import platform
@@ -17,8 +18,7 @@ import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import DynamicsResult, dynamics
-from .. import io as case_io
+from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
@@ -36,6 +36,7 @@ from ._sweep_json import (
     write_sweep_csv,
 )
 from ._sweep_kinds import sweep_kind
+from .planetary_sweep import planetary_run, planetary_sweep, sweep_lines
 
 __all__ = [
     "ND_MODES",
@@ -314,9 +315,18 @@ def default_sweep_dir(case_name: str, speeds) -> str:
 
 
 def run_sweep(args) -> int:
-    """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it). Returns 0."""
+    """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it), by the case's form
+    (:func:`sweep_command`). Returns 0."""
     speeds = range_values(args.speeds, "--speeds", positive=True, min_points=2)
     case = case_io.load_case(args.case)
+    return sweep_command(case.form, case, speeds, args)
+
+
+@functools.singledispatch
+def sweep_command(form, case, speeds, args) -> int:
+    """``jaxgear sweep`` on a case of ``form`` (:class:`~jaxgear.io.CaseForm`): a case's
+    ``[scene]`` (pairs and trains, :func:`sweep_case`); a planetary stage registers its own
+    (:func:`planetary_sweep_command`). Returns 0."""
     out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
     options = dict(
         direction=args.direction,
@@ -356,5 +366,44 @@ def run_sweep(args) -> int:
             "--steps-per-period or leave it automatic",
             stacklevel=2,
         )
+    print(f"written to {out}/")
+    return 0
+
+
+#: the options of a scene's sweep that a planetary stage's has not: (value, what it allows)
+PLANETARY_REFUSED = {
+    "--vtu-speed": ("vtu_speed", "no condensed body"),
+    "--solver": ("solver", "Newmark only"),
+    "--contact": ("contact", "the exact contact law only"),
+}
+
+
+@sweep_command.register
+def planetary_sweep_command(form: case_io.PlanetaryForm, case, speeds, args) -> int:
+    """``jaxgear sweep`` on a planetary stage (:func:`jaxgear.cli.planetary_sweep.planetary_sweep`:
+    ``--speeds`` are the input member's, rad/s); the options of a scene's sweep it has not
+    refused in one line before any work."""
+    for option, (attr, allowed) in PLANETARY_REFUSED.items():
+        value = getattr(args, attr)
+        if value is not None:
+            raise ValueError(
+                f"{option} = {value}: a planetary stage's sweep has no such option (allowed: "
+                f"{allowed}; leave it out)"
+            )
+    if args.direction not in ("independent",):
+        raise ValueError(
+            f"--direction = {args.direction}: a planetary stage's sweep runs independent speeds "
+            "(allowed: independent)"
+        )
+    out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
+    options = dict(
+        steps_per_period=args.steps_per_period,
+        periods=args.periods,
+        keep_periods=args.keep_periods,
+    )
+    planetary_run(form, case, **options)  # every check before any file is touched
+    with staged_outputs(out, "sweep") as work:
+        s = planetary_sweep(form, case, speeds, work, slices=args.slices, **options)
+    print("\n".join(sweep_lines(case, s)))
     print(f"written to {out}/")
     return 0

@@ -16,7 +16,9 @@ import math
 
 import numpy as np
 
+from .._internal import PlanetaryGeometry
 from .._planetary import Central, PlanetaryStage, speed_ratio
+from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
 from ._case import Case, CaseForm, PairForm, TrainForm
@@ -226,6 +228,31 @@ class PlanetarySpec:
             ring=held(stage.ring, hold),
             carrier=held(stage.carrier, hold),
         )
+
+
+    def dynamic_meshes(self, case: Case, n_slices: int = 1) -> AbstractPlanetaryMeshes:
+        """The 2N meshes of the stage's dynamics (:func:`jaxgear.dynamics.planetary_dynamics`):
+        with gears, :class:`~jaxgear.ContactMeshes` from the two pairs (the case's ``[mesh]``
+        stiffness model and each pair's modifications, ``n_slices`` slices per contact line,
+        phased per planet); in the lumped form, :class:`~jaxgear.ConstantMeshes` at the base
+        pitch p_b = 2π r_bs / z_s (so that the mesh frequency is z_s |ω_s − ω_c| / 2π)."""
+        if not case.pairs:
+            sun = self.members["sun"]
+            return ConstantMeshes(2.0 * math.pi * float(sun.base_radius) / self.teeth[0])
+        geometry = PlanetaryGeometry(case.pairs[0], case.pairs[1], self.center_distance, 0.0)
+        return ContactMeshes.from_geometry(
+            geometry,
+            np.asarray(self.planet_angles),
+            case.stiffness,
+            n_slices,
+            (case.mesh_case(0).modifications, case.mesh_case(1).modifications),
+        )
+
+    def mesh_speed(self, input_speed: float) -> float:
+        """The mesh travel speed v = r_bs |ω_s − ω_c| (m/s) at the input's ``input_speed``
+        (rad/s): the contact lines' speed along every line of action, in the carrier frame."""
+        w = self.speeds(input_speed)
+        return float(self.members["sun"].base_radius) * abs(w["sun"] - w["carrier"])
 
 
 @dataclasses.dataclass(frozen=True)

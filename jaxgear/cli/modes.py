@@ -1,0 +1,173 @@
+"""``jaxgear modes CASE``: the natural frequencies (Hz) with their mode type, for every kind of
+case, written to ``modes.json`` (atomically, into ``--out``, default
+``jaxgear-out/<case>/modes/``) and printed as a table.
+
+By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
+
+* **a planetary stage** (:class:`~jaxgear.io.PlanetaryForm`): the lumped planar and torsional
+  models' modes (:func:`jaxgear.planetary_modes`), typed by :func:`jaxgear.classify_modes`
+  (rotational, translational, planet; Lin & Parker 1999), with their multiplicities — the same
+  lists as ``jaxgear run``'s ``modes.json``;
+* **pairs and trains** (torsional and lumped 3D scenes, the case's ``[scene]``, else the
+  torsional model): the modes of the scene's linearised model at the mean loaded mesh
+  stiffness (:func:`jaxgear.dynamics.mesh_averaged_modes`, the modes ``jaxgear sweep`` reads),
+  each typed by the **coordinate group carrying most of its kinetic energy**: a shaft node's
+  u_x, u_y, φ_x, φ_y ``bending``, u_z ``axial``, φ_z ``torsional`` (the shaft axis z); a
+  torsional scene's coordinates are all ``torsional``. The share of mode i in group g is
+  e_g = Σ_{j∈g} φ_ji (M φ_i)_j (mass-normalised φ_i: the shares sum to 1); a rigid mode
+  (0 Hz: the drive rotation) is typed ``rigid``;
+* **flexible cases** (condensed FE bodies: the hybrid model): the lowest
+  :data:`HYBRID_MODES` modes of the condensed bodies' scene at the operating speed, typed by
+  the **part storing most of their strain energy** (``mesh`` or a body or bearing part of the
+  scene, :attr:`jaxgear.dynamics.ModalAnalysis.parts`).
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+
+import numpy as np
+
+from .. import dynamics, io as case_io
+from ..dynamics import DynamicModel, HybridModel
+from ..io import write_json
+from ._paths import check_output_dir, staged_outputs
+from .planetary import MODELS, mode_list
+
+__all__ = [
+    "DOF_GROUPS",
+    "HYBRID_MODES",
+    "MODES_SLICES",
+    "case_modes",
+    "group_shares",
+    "mode_table",
+    "run_modes",
+]
+
+#: the type of each coordinate of a structure node, by the node's number of coordinates
+DOF_GROUPS = {
+    6: ("bending", "bending", "axial", "bending", "bending", "torsional"),
+    1: ("torsional",),
+}
+#: the modes a hybrid model lists (of thousands of coordinates)
+HYBRID_MODES = 20
+#: slices per contact line of the models whose modes are listed (``jaxgear run``'s sweep's)
+MODES_SLICES = 8
+
+
+def group_shares(mass, shapes, node_dofs: int) -> tuple[tuple, np.ndarray]:
+    """(group names, shares (g, n)): each mode's kinetic-energy share per coordinate group
+    (:data:`DOF_GROUPS` of ``node_dofs`` coordinates per node), mass-normalised ``shapes``
+    (n_dof, n) and ``mass`` (n_dof, n_dof)."""
+    labels = DOF_GROUPS[node_dofs]
+    phi = np.asarray(shapes)
+    energy = phi * (np.asarray(mass) @ phi)  # (n_dof, n): sums to 1 over the coordinates
+    names = tuple(dict.fromkeys(labels))
+    of = np.array([names.index(labels[j % node_dofs]) for j in range(phi.shape[0])])
+    shares = np.stack([energy[of == g].sum(axis=0) for g in range(len(names))])
+    return names, shares
+
+
+@functools.singledispatch
+def typed_modes(model, modes) -> dict:
+    """``modes.json``'s list of a dynamic model's ``modes`` (:class:`~jaxgear.dynamics.
+    ModalAnalysis`), each typed (module docstring)."""
+    raise TypeError(f"jaxgear modes: no modes of a {type(model).__name__}")
+
+
+@typed_modes.register
+def _(model: DynamicModel, modes) -> dict:
+    scene = model.scene
+    names, shares = group_shares(scene.mass(), modes.shapes, scene.structure.node_dofs)
+    rigid = np.asarray(modes.rigid)
+    rows = []
+    for i, f in enumerate(np.asarray(modes.frequency)):
+        kind = "rigid" if rigid[i] else names[int(np.argmax(shares[:, i]))]
+        rows.append({
+            "frequency_Hz": float(f),
+            "type": kind,
+            "kinetic_energy_shares": {n: float(shares[g, i]) for g, n in enumerate(names)},
+        })
+    return {
+        "classification": "coordinate group of the largest kinetic energy",
+        "mesh_stiffness_mean_N_per_m": float(model.mesh_stiffness_mean),
+        "modes": rows,
+    }
+
+
+@typed_modes.register
+def _(model: HybridModel, modes) -> dict:
+    parts = modes.parts
+    energy = np.asarray(modes.energy)[:, :HYBRID_MODES]
+    rigid = np.asarray(modes.rigid)
+    rows = []
+    for i, f in enumerate(np.asarray(modes.frequency)[:HYBRID_MODES]):
+        kind = "rigid" if rigid[i] else parts[int(np.argmax(energy[:, i]))]
+        rows.append({
+            "frequency_Hz": float(f),
+            "type": kind,
+            "strain_energy_shares": {p: float(energy[k, i]) for k, p in enumerate(parts)},
+        })
+    return {"classification": "part storing the largest strain energy", "modes": rows}
+
+
+@functools.singledispatch
+def case_modes(form, case) -> dict:
+    """``modes.json`` of a case of ``form`` (module docstring): a pair's or a train's scene."""
+    spec = case.scene if case.scene is not None else case_io.SceneSpec()
+    bodies = case_io.load_bodies(spec, progress=False) if spec.hybrid else None
+    model, spec = case_io.build_dynamic_model(
+        case, spec, slices=min(case.slices, MODES_SLICES), bodies=bodies
+    )
+    modes = dynamics.mesh_averaged_modes(
+        model, speed=case.speed, positions_per_pitch=spec.steps_per_period or 64
+    )
+    return {"case": case.name, "model": spec.model, **typed_modes(model, modes)}
+
+
+@case_modes.register
+def _(form: case_io.PlanetaryForm, case) -> dict:
+    stage = form.spec.stage(case)
+    return {
+        "case": case.name,
+        "model": "planetary (lumped)",
+        "classification": "Lin & Parker 1999: rotational, translational, planet",
+        **{name: mode_list(model, stage) for name, model in MODELS.items()},
+    }
+
+
+def mode_table(data: dict) -> list[str]:
+    """The printed table of ``modes.json``'s content: one row per mode (a planetary stage's:
+    per model, a degenerate pair on one row with its multiplicity)."""
+    lists = {k: v for k, v in data.items() if isinstance(v, list)}
+    lines = [f"{data['case']}: natural frequencies ({data['classification']})"]
+    for name, rows in lists.items():
+        lines.append(f"{name}:" if len(lists) > 1 else "")
+        lines.append(f"{'#':>4} {'frequency (Hz)':>16}  type")
+        seen = set()
+        for i, m in enumerate(rows, start=1):
+            key = (m["type"], round(m["frequency_Hz"], 6))
+            if key in seen:
+                continue
+            seen.add(key)
+            extra = f" × {m['multiplicity']}" if m.get("multiplicity", 1) > 1 else ""
+            lines.append(f"{i:>4} {m['frequency_Hz']:>16.6g}  {m['type']}{extra}")
+    return [line for line in lines if line]
+
+
+def default_modes_dir(case_name: str) -> str:
+    """``jaxgear modes``' default folder, ``jaxgear-out/<case>/modes``."""
+    return os.path.join("jaxgear-out", case_name, "modes")
+
+
+def run_modes(args) -> int:
+    """Run ``jaxgear modes`` (float64 on: the CLI does it). Returns 0."""
+    case = case_io.load_case(args.case)
+    out = check_output_dir(args.out or default_modes_dir(case.name))
+    data = case_modes(case.form, case)
+    with staged_outputs(out, "modes") as work:
+        write_json(os.path.join(work, "modes.json"), data)
+    print("\n".join(mode_table(data)))
+    print(f"written to {out}/")
+    return 0
