@@ -38,6 +38,7 @@ from ._objectives import (
     line_load_lp,
     load_centroid,
 )
+from ._safety import LeastSafetyFactor
 from ._variables import Variable, variables_of
 
 __all__ = [
@@ -58,6 +59,7 @@ _OBJECTIVE_CLASSES = (
     LoadCentroid,
     LineLoadLp,
     DynamicFactor,
+    LeastSafetyFactor,
 )
 # the objectives' names (case files map them to objects in jaxgear.io) and their units
 OBJECTIVES = tuple(c.name for c in _OBJECTIVE_CLASSES)

@@ -15,6 +15,11 @@ import jaxgear.io as jio
 def rated_accessory_case(slices: int, positions_per_pitch: int) -> jio.Case:
     """The embedded accessory pair with a ``[rating]`` (σ_Hlim 1500, σ_Flim 430 N/mm², 6000
     1/min, 20 000 h) and no scene: the quasi-static model at the given resolution."""
+    return jio.parse_case(rated_accessory_data(slices, positions_per_pitch))
+
+
+def rated_accessory_data(slices: int, positions_per_pitch: int) -> dict:
+    """:func:`rated_accessory_case` as the parsed TOML (a dict, to write or change)."""
     d = tomllib.loads(jio.embedded_case_text("accessory-spur"))
     d.pop("scene", None)
     d["mesh"].update(slices=slices, positions_per_pitch=positions_per_pitch)
@@ -26,7 +31,7 @@ def rated_accessory_case(slices: int, positions_per_pitch: int) -> jio.Case:
         "roughness_Rz_flank_um": 3.0,
         "roughness_Rz_root_um": 10.0,
     }
-    return jio.parse_case(d)
+    return d
 
 
 class Cells(NamedTuple):

@@ -12,6 +12,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
+from _rating_cases import rated_accessory_case
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +27,10 @@ def problem(case):
 
 def test_case_file_names_map_to_objects(case):
     """Every objective name of the case files gives its class, whose name is that name."""
-    settings = dict(torques=[40.0, 80.0], reduce="mean", lp_order=6.0, speeds=[1000.0])
+    rating = jio.rating_of(rated_accessory_case(3, 16))
+    settings = dict(
+        torques=[40.0, 80.0], reduce="mean", lp_order=6.0, speeds=[1000.0], rating=rating
+    )
     for name in jio.OBJECTIVES:
         obj = jio.objective_from_name(name, case.torque, **settings)
         assert isinstance(obj, op.AbstractObjective) and obj.name == name
@@ -35,6 +39,9 @@ def test_case_file_names_map_to_objects(case):
     assert isinstance(robust.statistic, op.Mean)
     np.testing.assert_array_equal(robust.torques(case.torque), [40.0, 80.0])
     assert float(jio.objective_from_name("line_load_lp", case.torque, lp_order=6.0).order) == 6.0
+    least = jio.objective_from_name("least_safety", case.torque, rating=rating, te_limit=1e-6)
+    assert isinstance(least, op.LeastSafetyFactor) and least.te_limit == 1e-6
+    assert least.geometry is rating.geometry and least.settings is rating.settings
     assert isinstance(jio.optimiser_from_name("lbfgs"), optx.LBFGS)
     assert isinstance(jio.optimiser_from_name("adam"), optx.OptaxMinimiser)
     for what, call in (
@@ -44,6 +51,11 @@ def test_case_file_names_map_to_objects(case):
     ):
         with pytest.raises(ValueError, match=f"{what} is unknown: allowed"):
             call()
+    # least_safety rates the pair: without the case's [rating] it names the table
+    with pytest.raises(ValueError, match=r"'least_safety' needs the case's \[rating\] table"):
+        jio.objective_from_name("least_safety", case.torque)
+    with pytest.raises(ValueError, match=r"'least_safety' needs the case's \[rating\] table"):
+        jio.case_problem(case, "pinion.crowning.depth", "least_safety")
 
 
 def test_a_new_objective_is_one_class(case, problem):

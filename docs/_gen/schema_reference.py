@@ -104,6 +104,12 @@ max_iterations = 10
 objective = "line_load_lp"
 lp_order = 8
 """,
+    "optimise least_safety": """
+[optimise]
+objective = "least_safety"
+vars = ["pinion.crowning.depth"]
+te_limit_um = 1.0
+""",
     "modifications": """
 [modifications]
 tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }

@@ -34,6 +34,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         fillet_table as fillet_table,
         measured_dynamic_factor as measured_dynamic_factor,
         rating_outputs as rating_outputs,
+        root_stress_at_speed as root_stress_at_speed,
         root_stress_outputs as root_stress_outputs,
     )
     from ._summary import result_summary as result_summary
@@ -60,6 +61,7 @@ _EXPORTS = {
     "measured_dynamic_factor": "._rating_report",
     "rating_outputs": "._rating_report",
     "root_stress_outputs": "._rating_report",
+    "root_stress_at_speed": "._rating_report",
     "fillet_table": "._rating_report",
     "result_summary": "._summary",
     "format_table": ".run",

@@ -23,6 +23,7 @@ from tqdm.auto import tqdm
 import jaxgear as jg
 from optimise import (
     VARIABLES,
+    LeastSafetyFactor,
     LineLoadLp,
     LoadCentroid,
     RobustTeRms,
@@ -43,6 +44,7 @@ from ..io import (
     case_problem,
     load_case,
     optimiser_from_name,
+    rating_of,
     static_scene,
     write_json,
 )
@@ -94,6 +96,7 @@ def settings_from_case(case: Case, args=None) -> dict:
         "speed": given.get("speed"),
         "speeds": get("speeds", None),
         "lp_order": get("lp_order", None),
+        "te_limit_um": get("te_limit_um", None),
     }
 
 
@@ -144,6 +147,55 @@ def _change(objective, rep: dict) -> str:
 
 
 @_change.register
+def _(objective: LeastSafetyFactor, rep: dict) -> str:
+    # the least safety factor itself (exact contact) reads better than 1/S̃
+    a, b = (rep["rating"][k]["least_S"] for k in ("initial", "final"))
+    return f"least safety factor {a:.4g} -> {b:.4g}"
+
+
+@functools.singledispatch
+def _objective_report(objective, problem, designs: dict) -> dict:
+    """The report's sections of one objective beyond those of every objective: none."""
+    return {}
+
+
+@_objective_report.register
+def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
+    """``rating``: the start's and the optimum's rating in exact contact (sharp relief starts),
+    with the K_Hβ and K_Hα measured on the load map (the objective's rating), and the TE limit.
+    """
+    sharp = problem.sharp()
+    rated = {}
+    for label, x in designs.items():
+        res = jg.quasi_static(
+            sharp.mesh,
+            sharp.modifications(jnp.asarray(x)),
+            sharp.design_torque,
+            speed=sharp.speed,
+            positions_per_pitch=sharp.positions_per_pitch,
+        )
+        r = objective.rating(res)
+        s_h = np.asarray(r.pitting.S_H, dtype=float)
+        s_f = np.asarray(r.bending.S_F, dtype=float)
+        rated[label] = {
+            "S_H": s_h.tolist(),
+            "S_F": s_f.tolist(),
+            "least_S": float(min(s_h.min(), s_f.min())),
+            "K_Hbeta_measured": float(jg.face_load_factor(res)),
+            "K_Halpha_measured": float(jg.transverse_load_factor(res)),
+            "te_rms_m": float(res.te_rms),
+        }
+    limit = objective.te_limit
+    rated["te_limit_m"] = None if limit is None else float(limit)
+    rated["notes"] = (
+        "ISO 6336:2019 method B with K_Hbeta and K_Halpha (K_Falpha) measured on the exact-contact "
+        "load map at the design torque (K_Halpha, K_Falpha within ISO 6336-1 clause 8's limits); "
+        "S_H, S_F as [pinion, gear]"
+    )
+    return {"rating": rated}
+
+
+@_change.register
 def _(objective: LoadCentroid, rep: dict) -> str:
     # the signed centroid reads better than c²
     a, b = (rep[k]["exact"]["load_centroid"] for k in ("initial", "final"))
@@ -181,6 +233,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
         lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
         speed=settings.get("speed") or 0.0,
         speeds=speeds,
+        te_limit=None if settings.get("te_limit_um") is None else settings["te_limit_um"] * 1e-6,
     )
     solver = optimiser_from_name(settings["method"])
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
@@ -273,6 +326,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
         "relief start over one slice (end_relief_blend); 'exact' holds every objective's quantity at the design torque: "
         "load_centroid is (z̄ − b/2)/b, positive towards the z = b edge of the face",
     }
+    report.update(_objective_report(objective, problem, {"initial": res.x0, "final": res.x}))
     post.update()
     os.makedirs(out_dir, exist_ok=True)
     _plots.convergence_plot(
@@ -418,6 +472,21 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
         raise ValueError(
             f"--speeds {band}: the dynamic_factor objective needs a case with condensed bodies "
             "([scene.gear_body] or [scene.pinion_body])"
+        )
+    least = settings["objective"] == "least_safety"
+    te_limit = settings.get("te_limit_um")
+    if te_limit is not None and not least:
+        raise ValueError(
+            f"--te-limit-um {te_limit:g} applies to the objective least_safety only, "
+            f"not {settings['objective']}"
+        )
+    if te_limit is not None and not 0 < te_limit <= 1e4:
+        raise ValueError(f"--te-limit-um {te_limit:g}: out of range, allowed (0, 1e+04] µm")
+    if least and case is not None and rating_of(case) is None:
+        raise ValueError(
+            f"--objective least_safety rates the pair to ISO 6336: the case {case.name!r} has no "
+            "[rating] table (life_h, viscosity_40C_mm2_s, roughness_Rz_flank_um, "
+            "roughness_Rz_root_um)"
         )
     speed = settings.get("speed")
     if speed is not None:

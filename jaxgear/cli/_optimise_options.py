@@ -23,7 +23,14 @@ def add_parsers(sub) -> None:
         choices=list(OBJECTIVES),
         help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
         "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
-        "line load over the load map (a smooth maximum, see --lp-order)",
+        "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
+        "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um)",
+    )
+    o.add_argument(
+        "--te-limit-um",
+        type=float,
+        help="TE RMS limit (µm) of the least_safety objective, > 0: a penalty acts above it "
+        "(default none)",
     )
     o.add_argument(
         "--vars",

@@ -28,7 +28,19 @@ from .. import (
     transverse_load_factor,
 )
 from ._plots import savefig
-from ..io import Case, CaseWarning, PairForm, RatingCase, TrainForm, atomic_open, ratings_of
+from ..dynamics import Outputs, simulate
+from ..io import (
+    Case,
+    CaseWarning,
+    PairForm,
+    RatingCase,
+    TrainForm,
+    atomic_open,
+    build_dynamic_model,
+    ratings_of,
+    spec_integrator,
+    spec_window,
+)
 
 __all__ = [
     "ROOT_STRESS_RADII",
@@ -36,6 +48,7 @@ __all__ = [
     "measured_dynamic_factor",
     "rating_lines",
     "rating_outputs",
+    "root_stress_at_speed",
     "root_stress_outputs",
     "train_mesh_results",
 ]
@@ -120,6 +133,17 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
             "above) |"
         )
         out.append(f"| σ_F,FE max / σ_F0 | {_value(rs['fe_over_iso'], 1)} |  | FE over ISO |")
+        fast = rs.get("at_speed")
+        if fast is not None:
+            out.append(
+                f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
+                f"{fast['speed_rad_s']:.4g} rad/s (largest dynamic factor of the sweep, "
+                f"{fast['dynamic_factor']:.3f}; tooth {fast['dynamic_factor_tooth']:.3f}) |"
+            )
+            out.append(
+                f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | the same "
+                f"{fast['slices']} slices, quasi-static rigid mesh |"
+            )
     return out
 
 
@@ -399,4 +423,67 @@ def root_stress_outputs(
     adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
     path = os.path.join(out_dir, "root_stress_map.png")
     _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
+    _write_table(out_dir, rating_lines(section, case.name))
+
+
+def _member_maps(pair, result, table) -> list:
+    """Both members' root-stress maps of ``result``'s cell loads (:data:`ROOT_STRESS_RADII` FE
+    load cases per member, ``table`` as :func:`root_stress_outputs`)."""
+    maps = []
+    for i in (0, 1):
+        t = table(tooth_geometry(pair, i), _active_radii(pair, i, ROOT_STRESS_RADII))
+        maps.append(root_stress_map(pair, result, i, t.roll, t.peak))
+    return maps
+
+
+def root_stress_at_speed(
+    case: Case, out_dir: str, summary: dict, dynamics: dict, table=fillet_table
+) -> None:
+    """The root-stress map at speed, for a pair case with ``[rating]`` and a speed sweep (else
+    nothing): the case's dynamic model (the sweep's: ``dynamics["slices"]`` slices, the
+    ``[scene]`` settings) run once at the speed of the sweep's largest dynamic factor
+    (``dynamics["speed_of_max_rad_s"]``) with its cell loads recorded
+    (:func:`jaxgear.dynamics.simulate`, ``Outputs(cell_loads=True)``), each kept step's cell
+    loads times the plane FE fillet stress per unit load (:func:`jaxgear.root_stress_map`, the
+    same tables as the quasi-static map), and, beside it, the quasi-static map of the rigid mesh
+    at the same slices (exact contact, the case's modifications and torque). Adds
+    ``summary["rating"]["root_stress"]["at_speed"]``: ``speed_rad_s``, ``max_Pa`` and
+    ``static_max_Pa`` ([pinion, gear]), ``ratio`` (at speed / static, per gear), the run's
+    ``dynamic_factor`` (largest mesh force over the static one) and ``dynamic_factor_tooth``
+    (largest tooth force over the quasi-static one), and ``slices``; rewrites ``rating.md``.
+    The map is linear in the cell loads (docs/rating.md, "Root stress at speed"); the ratio
+    equals a dynamic factor only where the loads at speed are the static ones scaled (a tooth
+    force dynamic factor weighs the tooth's whole load, the map the most stressed cell)."""
+    section = summary.get("rating") or {}
+    if section.get("root_stress") is None or len(case.pairs) != 1:
+        return
+    speed = float(dynamics["speed_of_max_rad_s"])
+    slices = int(dynamics["slices"])
+    spec = case.scene
+    model, spec = build_dynamic_model(case, spec, slices=slices)
+    run = simulate(
+        model,
+        speed,
+        integrator=spec_integrator(spec),
+        contact=case.contact_law(spec.contact),
+        window=spec_window(spec),
+        outputs=Outputs(cell_loads=True),
+        throw=False,
+    )
+    static = quasi_static(case.mesh_model(slices=slices), case.modifications, case.torque)
+    at_speed = [float(m.max) for m in _member_maps(case.pair, run, table)]
+    at_rest = [float(m.max) for m in _member_maps(case.pair, static, table)]
+    section["root_stress"]["at_speed"] = {
+        "speed_rad_s": speed,
+        "max_Pa": at_speed,
+        "static_max_Pa": at_rest,
+        "ratio": [a / b for a, b in zip(at_speed, at_rest, strict=True)],
+        "dynamic_factor": float(run.dynamic_factor),
+        "dynamic_factor_tooth": float(run.dynamic_factor_tooth),
+        "slices": slices,
+        "result": int(run.result),
+        "source": "the dynamic model's cell loads at the kept steps of one run at the sweep's "
+        "speed of the largest dynamic factor × the plane FE fillet stress per unit load; "
+        "static: the rigid mesh's quasi-static map at the same slices",
+    }
     _write_table(out_dir, rating_lines(section, case.name))

@@ -39,6 +39,7 @@ from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_er
 from ._rating_report import (
     fillet_table,
     measured_dynamic_factor,
+    root_stress_at_speed,
     rating_outputs,
     root_stress_outputs,
     train_mesh_results,
@@ -390,6 +391,7 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     if sweep:  # the case has a dynamic scene: add its dynamic factor curve
         summary["dynamics"] = dynamics = _sweep_section(case, out, args.quiet)
         measured_dynamic_factor(case, out, summary, dynamics)  # K_v measured, beside ISO's
+        root_stress_at_speed(case, out, summary, dynamics)  # the root-stress map at speed
         write_json(summary_path, summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)

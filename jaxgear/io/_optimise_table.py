@@ -21,6 +21,7 @@ _OPTIMISE_KEYS = {
     "bounds",
     "lp_order",
     "speeds",
+    "te_limit_um",
 }
 _DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
 
@@ -45,7 +46,8 @@ def parse_optimise(table) -> dict:
     Raises:
         SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
             with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
-            [1, 64] or with an objective other than ``line_load_lp``.
+            [1, 64] or with an objective other than ``line_load_lp``; ``te_limit_um`` (the TE
+            RMS limit of ``least_safety``, µm) not in (0, 1e+04] or with another objective.
     """
     w = "optimise"
     if not isinstance(table, dict):
@@ -71,6 +73,18 @@ def parse_optimise(table) -> dict:
                 "lp_order",
                 f"applies to objective = 'line_load_lp' only, not {out['objective']!r}",
                 table["lp_order"],
+            )
+
+    # the TE RMS limit of the least_safety objective, as jaxgear optimise --te-limit-um
+    if "te_limit_um" in table:
+        out["te_limit_um"] = float(sc.number(table, "te_limit_um", w, allowed="(0, 1e+04]"))
+        if out.get("objective") != "least_safety":
+            raise sc.fail(
+                w,
+                "te_limit_um",
+                "applies to objective = 'least_safety' only, not "
+                f"{out.get('objective', 'te_rms')!r}",
+                table["te_limit_um"],
             )
 
     def kind(name: str):

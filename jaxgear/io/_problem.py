@@ -22,6 +22,7 @@ import optimise as op
 from optimise import Problem, make_problem
 
 from ._case import Case
+from ._rating_table import RatingCase, rating_of
 
 __all__ = [
     "OBJECTIVES",
@@ -50,8 +51,19 @@ def _dynamic(torque, speeds=None, integrator=None, window=None, **_) -> op.Dynam
     return op.DynamicFactor([] if speeds is None else speeds, **given)
 
 
+def _least_safety(torque, rating: RatingCase | None = None, te_limit=None, **_):
+    if rating is None:
+        raise ValueError(
+            "objective = 'least_safety' needs the case's [rating] table (ISO 6336 method B: "
+            "life_h, viscosity_40C_mm2_s, roughness_Rz_flank_um, roughness_Rz_root_um)"
+        )
+    return op.LeastSafetyFactor(
+        rating.geometry, rating.operating, rating.settings, te_limit=te_limit
+    )
+
+
 # ``objective = "..."``: the objective object, from the design torque (N·m) and the settings
-# (torques, reduce, lp_order, speeds, integrator, window)
+# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit)
 OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "te_rms": lambda torque, **_: op.TeRms(),
     "te_ptp": lambda torque, **_: op.TePeakToPeak(),
@@ -60,6 +72,7 @@ OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "load_centroid": lambda torque, **_: op.LoadCentroid(),
     "line_load_lp": lambda torque, lp_order=8.0, **_: op.LineLoadLp(lp_order),
     "dynamic_factor": _dynamic,
+    "least_safety": _least_safety,
 }
 
 # ``method = "..."``: the optimiser object (an optimistix minimiser or an optax transformation)
@@ -84,6 +97,7 @@ _SETTINGS = {
     "end_relief_blend",
     "bounds",
     "speed",
+    "te_limit",
 }
 
 
@@ -108,10 +122,13 @@ def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
         torque: the design torque (N·m): the torque range of "robust_te_rms" when none is given.
         settings: ``torques`` (N·m, (T,)) and ``reduce`` ("max" | "mean") of "robust_te_rms",
             ``lp_order`` of "line_load_lp", ``speeds`` (rad/s), ``integrator``, ``window`` of
-            "dynamic_factor"; the others are ignored.
+            "dynamic_factor", ``rating`` (the case's :class:`RatingCase`,
+            :func:`rating_of`) and ``te_limit`` (the TE RMS limit, m, > 0, or None) of
+            "least_safety"; the others are ignored.
 
     Raises:
-        ValueError: an unknown name or reduce, settings out of range (as the objective class).
+        ValueError: an unknown name or reduce, settings out of range (as the objective class),
+            "least_safety" without ``rating`` (the case has no ``[rating]`` table).
     """
     return _lookup(OBJECTIVES, "objective", name)(torque, **settings)
 
@@ -154,20 +171,22 @@ def case_problem(
             scene of :func:`static_scene`; its mesh replaces ``slices``.
         positions_per_pitch: default the case's.
         settings: the objective's settings (:func:`objective_from_name`: ``torques``,
-            ``reduce``, ``lp_order``, ``speeds``, ``integrator``, ``window``), the smoothing
+            ``reduce``, ``lp_order``, ``speeds``, ``integrator``, ``window``, ``te_limit`` in
+            m; "least_safety" rates with the case's ``[rating]``), the smoothing
             (``contact``, default ``SmoothContact`` of the case's width; ``relief_blend``,
             ``end_relief_blend``: :class:`optimise.Smoothing`) and the other keywords of
             :func:`optimise.make_problem` (``bounds``, ``speed``).
 
     Raises:
-        ValueError: an unknown objective name, as :func:`optimise.make_problem` otherwise.
+        ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
+            as :func:`optimise.make_problem` otherwise.
     """
     unknown = sorted(set(settings) - _SETTINGS)
     if unknown:
         raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
     smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
     problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
-    goal = objective_from_name(objective, case.torque, **settings)
+    goal = objective_from_name(objective, case.torque, rating=rating_of(case), **settings)
     if smoothing["contact"] is None:
         smoothing["contact"] = goal.default_contact(case.smooth_width)
     mesh = case.mesh_model(slices=slices) if scene is None else scene
