@@ -77,6 +77,8 @@ def _same_as_recorded(command: str, kind: str, out: Path) -> None:
         got = {f: json.loads((out / f).read_text(encoding="utf-8")) for f in _files(name)}
         diff = _compare(got, _recorded_files(name))
         assert not diff, f"{name}: {len(diff)} differences, first: " + "; ".join(diff[:5])
+
+
 SLOW_SWEEP = set(KINDS) - {"pair-rigid", "pair-relative"}
 
 
