@@ -20,6 +20,7 @@ from pathlib import Path
 
 import pytest
 from _kinds import KINDS
+from test_regression import _compare, _files, _recorded_files
 
 from jaxgear.cli import main
 
@@ -59,6 +60,25 @@ def _csv_finite(path: Path) -> None:
 # files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
 # 3D pair, against its record).
 SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
+# The commands here that are also tests/test_regression.py's records (the same case text, the
+# same options): their outputs are compared with the record here, and the regression test runs
+# them only in the slow suite (one run of each in the default suite, not two).
+RECORDED = {
+    ("run", "pair-relative"): "run-pair-relative",
+    ("sweep", "pair-relative"): "sweep-pair-relative",
+}
+
+
+def _same_as_recorded(command: str, kind: str, out: Path) -> None:
+    """The outputs in ``out`` equal the regression record of the same command, if it has one
+    (:data:`RECORDED`; tests/test_regression.py's comparison)."""
+    name = RECORDED.get((command, kind))
+    if name is not None:
+        got = {f: json.loads((out / f).read_text(encoding="utf-8")) for f in _files(name)}
+        diff = _compare(got, _recorded_files(name))
+        assert not diff, f"{name}: {len(diff)} differences, first: " + "; ".join(diff[:5])
+
+
 SLOW_SWEEP = set(KINDS) - {"pair-rigid", "pair-relative"}
 
 
@@ -98,6 +118,7 @@ def test_run_every_scene_kind(kind, tmp_path, capsys, request):
     if kind == "train-hybrid":
         assert (out / "body_idler.vtu").is_file()
     assert not [p for p in out.iterdir() if p.name.startswith(".jaxgear-staging-")]
+    _same_as_recorded("run", kind, out)
 
 
 @pytest.mark.filterwarnings("ignore:.*under-resolved")
@@ -117,3 +138,4 @@ def test_sweep_every_scene_kind(kind, tmp_path, capsys, request):
         assert (out / png).read_bytes()[:4] == b"\x89PNG"
     assert "sweep.json" in (out / ".jaxgear-outputs").read_text()
     assert not [p for p in out.iterdir() if p.name.startswith(".jaxgear-staging-")]
+    _same_as_recorded("sweep", kind, out)

@@ -6,6 +6,7 @@ limit at low speed."""
 from __future__ import annotations
 
 import functools
+import json
 import pathlib
 import textwrap
 
@@ -64,6 +65,18 @@ def setup(fem_prep_cache):
     case = jio.load_case(DATA / "hybrid-test-case.toml")
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     return case, static_scene(case, bodies=(None, body))[0]
+
+
+# the settings of the module's runs of the test scene (Newmark 16, 3 periods with 1 kept, the
+# states recorded): one compiled sweep program for every speed and test that takes them
+RUN = {"integrator": Newmark(16), "window": SteadyState(3, 1), "outputs": Outputs(states=True)}
+
+
+@pytest.fixture(scope="module")
+def low_speed(setup):
+    """The run at 5 rad/s (mesh frequency 16 Hz, far below the modes), read by two tests."""
+    case, scene = setup
+    return _simulate(scene, case.modifications, case.torque, 5.0, **RUN)
 
 
 def _period_mesh_stiffness(scene, mods, torque, speed, spp):
@@ -199,19 +212,11 @@ def test_cell_space_newmark_equals_newmark_on_all_coordinates(setup, rotating):
     np.testing.assert_allclose(np.asarray(r.mesh_force), ref, rtol=1e-8, atol=1e-8 * ref.max())
 
 
-def test_low_speed_is_the_quasi_static_response(setup):
+def test_low_speed_is_the_quasi_static_response(setup, low_speed):
     """At 5 rad/s (mesh frequency 16 Hz, far below the modes) the dynamic mesh force follows the
     quasi-static one at speed (centrifugal load included) within 0.5 % of the static force."""
     case, scene = setup
-    spp, speed = 16, 5.0
-    r = _simulate(
-        scene,
-        case.modifications,
-        case.torque,
-        speed,
-        integrator=Newmark(spp),
-        window=SteadyState(3, 1),
-    )
+    speed, r = 5.0, low_speed
     qs = jg.quasi_static(scene, case.modifications, case.torque, r.theta, speed=speed)
     f_qs = np.sum(
         np.asarray(qs.line_load) * np.asarray(scene.mesh.cells(0.0).length)[None], axis=(1, 2)
@@ -263,9 +268,14 @@ def test_speed_sweep_maps_single_speeds(setup):
     ``jaxgear sweep`` runs a hybrid case: the compiled program of the single runs serves the
     sweep too); bad settings are one-line errors."""
     case, scene = setup
-    kw = dict(integrator=Newmark(16), window=SteadyState(3, 1))
+    kw = RUN
     sw = _sweep(
-        scene, case.modifications, case.torque, [300.0, 900.0], batching=Batching(chunk_size=1), **kw
+        scene,
+        case.modifications,
+        case.torque,
+        [300.0, 900.0],
+        batching=Batching(chunk_size=1),
+        **kw,
     )
     one = _simulate(scene, case.modifications, case.torque, 900.0, **kw)
     np.testing.assert_allclose(sw.mesh_force[1], one.mesh_force, rtol=1e-10)
@@ -287,7 +297,7 @@ def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response
     bearing forces and rim records agree, to 1e-9."""
     case, scene = setup
     two = eqx.tree_at(lambda s: s.meshes, scene, half_face_meshes(scene.meshes[0]))
-    run = dict(integrator=Newmark(16), window=SteadyState(3, 1))
+    run = RUN
     whole = _simulate(scene, case.modifications, case.torque, 900.0, **run)
     parts = _simulate(two, case.modifications, case.torque, 900.0, **run)
     assert int(whole.result) == 0 and int(parts.result) == 0
@@ -541,14 +551,7 @@ def test_simulation_records_the_wheel_rim(setup):
     """A hybrid run records the wheel rim's radial and axial motion at every station and kept
     step (the settings of the module's other runs at 900 rad/s: one compiled program)."""
     case, scene = setup
-    r = _simulate(
-        scene,
-        case.modifications,
-        case.torque,
-        900.0,
-        integrator=Newmark(16),
-        window=SteadyState(3, 1),
-    )
+    r = _simulate(scene, case.modifications, case.torque, 900.0, **RUN)
     Z = scene.members[1].rim_dofs.shape[0]
     assert r.rim_radial.shape == (16, Z) and r.rim_axial.shape == (16, Z)
     assert np.all(np.isfinite(np.asarray(r.rim_radial)))
@@ -560,7 +563,6 @@ def test_jaxgear_sweep_on_a_hybrid_case(tmp_path, fem_prep_cache):
     case's composite damping), sweep.json with the dynamic factors (global and per tooth), the
     modes of the mesh-averaged system, the (3.9) nodal-diameter resonances of the wheel and its
     rim waves per speed, both plots, and a VTU time series at one speed."""
-    import json
     import xml.etree.ElementTree as ET
 
     import meshio
@@ -622,7 +624,6 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
     gives the dynamic factors of ``_sweep(..., rotating_frame=True)`` with the same
     settings (and not those without it), and records the flag."""
-    import json
 
     from jaxgear.cli import main
     from jaxgear.io import spec_damping
@@ -697,7 +698,8 @@ def test_free_vibration_conserves_energy(setup):
 
 def test_free_vibration_flags_contact_loss(setup):
     """The check knows when it does not apply: the rim set moving at 50 m/s loses contact
-    (contact_held False), where the system is no longer the linear one."""
+    (contact_held False), where the system is no longer the linear one. The run's step count
+    is the conservation test's (its compiled program: the step count fixes the program)."""
     from jaxgear.dynamics import hybrid_free_vibration
 
     case, scene = setup
@@ -706,7 +708,7 @@ def test_free_vibration_flags_contact_loss(setup):
     v[np.asarray(scene.members[1].rim_dofs)[:, :, 0].ravel()] = 50.0  # rim stations, 50 m/s in x
     dt = float(scene.mesh.mesh_period_angle) / 800.0 / 16
     theta = 0.3 * float(scene.mesh.mesh_period_angle)
-    fv = hybrid_free_vibration(scene, case.modifications, case.torque, theta, v, dt, 64)
+    fv = hybrid_free_vibration(scene, case.modifications, case.torque, theta, v, dt, 16 * 20)
     assert not bool(fv.contact_held)
 
 
@@ -729,20 +731,11 @@ def test_rigidified_body_composite_damping_and_tooth_factor(setup):
         )
 
 
-def test_low_speed_tooth_factor_states_and_bearing_forces(setup):
+def test_low_speed_tooth_factor_states_and_bearing_forces(setup, low_speed):
     """At 5 rad/s the largest tooth-pair force is the quasi-static one (per-tooth dynamic factor
     1 within 0.5 %), no contact is lost, the recorded states end at the final state, and the
     bearing forces balance the mesh force on each shaft (their maxima the static ones)."""
-    case, scene = setup
-    r = _simulate(
-        scene,
-        case.modifications,
-        case.torque,
-        5.0,
-        integrator=Newmark(16),
-        window=SteadyState(3, 1),
-        outputs=Outputs(states=True),
-    )
+    scene, r = setup[1], low_speed
     assert float(r.dynamic_factor_tooth) == pytest.approx(1.0, abs=5e-3)
     assert float(r.contact_loss) == 0.0
     assert r.states.shape == (16, scene.structure.K.shape[0])
@@ -789,7 +782,6 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
     backward, and that of order 28 peaking at 2300 rad/s travelling forward, each within the
     predicted span ± one step and at least 3 times its level at 1850 rad/s (measured 4.6×,
     16×). docs/bench/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
-    import json
 
     ex = load_example("nodal_diameter_resonance")
     res = ex.compute()

@@ -402,36 +402,43 @@ def _segmented_reference(model, train, planes, speed, t_end, k0):
                     t += period / (ratio * speed)
         return np.array(sorted(out))
 
-    times = events(t_end)
-    states = [np.zeros(2 * n)]
-    for a, b in itertools.pairwise(times):
-        mid = 0.5 * (a + b)
+    def augmented(mid):  # the linear system between two jumps, [x, ẋ, 1]' = A [x, ẋ, 1]
         K = sum(meshes[k][4] * pairs_in_contact(k, mid) * np.outer(U[k], U[k]) for k in range(2))
         A = np.zeros((2 * n + 1, 2 * n + 1))
         A[:n, n : 2 * n] = np.eye(n)
         A[n : 2 * n, :n] = -Minv @ K
         A[n : 2 * n, n : 2 * n] = -Minv @ C
         A[n : 2 * n, 2 * n] = Minv @ F
-        y = scipy.linalg.expm(A * (b - a)) @ np.append(states[-1], 1.0)
+        return A
+
+    times = events(t_end)
+    states = [np.zeros(2 * n)]
+    for a, b in itertools.pairwise(times):
+        y = scipy.linalg.expm(augmented(0.5 * (a + b)) * (b - a)) @ np.append(states[-1], 1.0)
         states.append(y[: 2 * n])
     states = np.array(states)
 
-    def x_at(t):  # exact within a segment: advance from its start
-        i = np.clip(np.searchsorted(times, t, side="right") - 1, 0, times.size - 2)
-        out = []
-        for ti, ii in zip(np.atleast_1d(t), np.atleast_1d(i), strict=True):
+    def x_at(t):
+        """Exact within a segment: advanced from its start to its first record by the
+        exponential, then record to record by the exponential of the records' step (the
+        records are evenly spaced: t_j = t_0 + j h to rounding)."""
+        t = np.atleast_1d(t)
+        seg = np.clip(np.searchsorted(times, t, side="right") - 1, 0, times.size - 2)
+        out = np.empty((t.size, n))
+        for ii in np.unique(seg):
+            at = np.nonzero(seg == ii)[0]
             a, b = times[ii], times[ii + 1]
-            mid = 0.5 * (a + b)
-            K = sum(
-                meshes[k][4] * pairs_in_contact(k, mid) * np.outer(U[k], U[k]) for k in range(2)
-            )
-            A = np.zeros((2 * n + 1, 2 * n + 1))
-            A[:n, n : 2 * n] = np.eye(n)
-            A[n : 2 * n, :n] = -Minv @ K
-            A[n : 2 * n, n : 2 * n] = -Minv @ C
-            A[n : 2 * n, 2 * n] = Minv @ F
-            out.append((scipy.linalg.expm(A * (ti - a)) @ np.append(states[ii], 1.0))[:n])
-        return np.array(out)
+            A = augmented(0.5 * (a + b))
+            y = scipy.linalg.expm(A * (t[at[0]] - a)) @ np.append(states[ii], 1.0)
+            out[at[0]] = y[:n]
+            if at.size > 1:
+                h = (t[at[-1]] - t[at[0]]) / (at.size - 1)
+                np.testing.assert_allclose(np.diff(t[at]), h, rtol=1e-9)  # evenly spaced
+                step = scipy.linalg.expm(A * h)
+                for j in at[1:]:
+                    y = step @ y
+                    out[j] = y[:n]
+        return out
 
     return x_at, pairs_in_contact, meshes
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
@@ -191,6 +192,7 @@ def mean_mesh_stiffness(
     return _period_statics(scene, mods, torque, speed, spp, law)[1]
 
 
+@eqx.filter_jit
 def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     """The mesh stiffness of every mesh averaged over the positions ``theta`` (S,) with the
     cells ``loaded`` (S, c) (weights 0/1, joined mesh after mesh) on the window U of the first

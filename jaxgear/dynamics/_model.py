@@ -232,7 +232,14 @@ def mesh_table(
     (``mods``: one :class:`Modifications` for every mesh, or one per mesh). The reference e_ref
     of each mesh is the largest e over its rows, so that δ0 = e_ref − e >= 0 over the span
     (docs/robust.md, "Dynamics with deviations"). ``own_periods=False`` tabulates every mesh
-    over the whole span (the long table: the same cells at every step, for comparisons)."""
+    over the whole span (the long table: the same cells at every step, for comparisons).
+    One compiled program per scene and table size (called outside a jit, the table is not
+    formed operation by operation)."""
+    return _mesh_table(scene, mods, steps_per_period, periods, own_periods)
+
+
+@eqx.filter_jit
+def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTable:
     planes = scene.base_planes
     mods = per_mesh_modifications(mods, len(planes))
     # one scene period: the first mesh's periods after which every mesh repeats (1 but for a

@@ -68,8 +68,13 @@ def window_compliance(scene, theta) -> WindowCompliance:
     angles ``theta`` (rad), (P,): the windows, structure vectors, C = V_W G_WW V_Wᵀ, E = V_W N_W,
     the free gaps of the unit loads, k l and the mask, the inverse B of the full contact set and
     the TE rows (:class:`WindowCompliance`), vmapped over the positions. Memory:
-    P (2 c² + G c g + c w + (2 + G) c r + (4 + meshes) c) floats."""
-    theta = jnp.asarray(theta, scene.structure.K.dtype)
+    P (2 c² + G c g + c w + (2 + G) c r + (4 + meshes) c) floats. One compiled program per
+    scene and number of positions."""
+    return _window_compliance(scene, jnp.asarray(theta, scene.structure.K.dtype))
+
+
+@eqx.filter_jit
+def _window_compliance(scene, theta) -> WindowCompliance:
     Gu = scene.te_vectors() @ scene.G  # (meshes, n): G symmetric, (G u)ᵀ
 
     def one(th):
