@@ -83,7 +83,7 @@ SCALES = {
 # tests/_kinds.py, written into the test's folder).
 SWEEP_SMALL = ["--periods", "6", "--keep-periods", "2", "--steps-per-period", "16"]
 SUMMARY = ("summary.json",)
-# jaxgear run on a dynamic scene also sweeps it (sweep/sweep.json, 60 speeds)
+# jaxgear run on a dynamic scene also sweeps it (sweep/sweep.json: a pair 60 speeds, a train 30)
 SUMMARY_AND_SWEEP = ("summary.json", "sweep/sweep.json")
 
 RUNS = {  # name: (argv after the command, output file(s) to compare, in the default suite)

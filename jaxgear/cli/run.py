@@ -49,7 +49,14 @@ from .planetary_sweep import planetary_run_files, planetary_run_lines
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
-__all__ = ["RUN_SWEEP_SLICES", "format_table", "result_summary", "run_case", "stiffness_line"]
+__all__ = [
+    "RUN_SWEEP_SLICES",
+    "format_table",
+    "result_summary",
+    "run_case",
+    "run_sweep_speeds",
+    "stiffness_line",
+]
 
 # slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
 RUN_SWEEP_SLICES = 8
@@ -539,16 +546,34 @@ def _(form: InternalMeshForm, case: Case, summary: dict) -> list[str]:
     return [format_table(summary, case.stiffness)]
 
 
+@functools.singledispatch
+def run_sweep_speeds(form) -> np.ndarray:
+    """The pinion (input) speeds (rad/s) of the dynamic factor sweep ``jaxgear run`` adds for a
+    case of ``form`` (:class:`~jaxgear.io.CaseForm`): a pair's (and a train of one internal
+    mesh's) 60 speeds from 100 to 3000 rad/s; a train's 30 over the same range (every 100 rad/s:
+    a first look, each speed of a train integrating every mesh over the span after which they
+    repeat together; ``jaxgear sweep CASE --speeds 100:3000:60`` runs more)."""
+    return np.linspace(100.0, 3000.0, 60)
+
+
+@run_sweep_speeds.register
+def _(form: TrainForm) -> np.ndarray:
+    return np.linspace(100.0, 3000.0, 30)
+
+
+run_sweep_speeds.register(InternalMeshForm, run_sweep_speeds.dispatch(object))
+
+
 def _sweep_section(case, out: str, quiet: bool) -> dict:
-    """The dynamic factor sweep ``jaxgear run`` adds for a case's scene (60 speeds from 100 to
-    3000 rad/s into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per contact line;
-    ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s ``dynamics``: the
-    dynamic factor curve and its maximum (a train's: the worst mesh per speed, with each mesh's
-    under ``dynamic_factor_mesh``)."""
+    """The dynamic factor sweep ``jaxgear run`` adds for a case's scene (the speeds of
+    :func:`run_sweep_speeds` into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per
+    contact line; ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s
+    ``dynamics``: the dynamic factor curve and its maximum (a train's: the worst mesh per speed,
+    with each mesh's under ``dynamic_factor_mesh``)."""
     slices = min(case.slices, RUN_SWEEP_SLICES)
     sw = cli_sweep.sweep_case(
         case,
-        np.linspace(100.0, 3000.0, 60),
+        run_sweep_speeds(case.form),
         os.path.join(out, "sweep"),
         slices=slices,
         show_progress=not quiet,
