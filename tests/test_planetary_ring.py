@@ -17,7 +17,7 @@ import pytest
 
 import fem_prep as fp
 import jaxgear as jg
-from _planetary_stage import SEQ, geometry, stage
+from _planetary_stage import K0, SEQ, geometry, stage
 
 jax.config.update("jax_enable_x64", True)
 
@@ -117,6 +117,29 @@ def test_stiff_flexible_ring_equals_rigid_ring_and_soft_one_lowers_k_gamma(seq, 
     # the torques still balance: T_s = r_bs sum F_s
     np.testing.assert_allclose(st.sun.base_radius * np.asarray(soft.sun_mesh_forces).sum(1),
                                TORQUE, rtol=1e-9)
+
+
+@pytest.mark.slow
+def test_stiff_flexible_ring_equals_rigid_ring_with_real_contact(seq, fe_ring):
+    """As the test above, with the meshes from real contact (ContactMeshes, uniform k0, 12
+    positions over a mesh period): the ring 10^3 stiffer within 0.5 % of the rigid one (forces),
+    and the real ring lowers the period's largest K_gamma (1.731 -> 1.398)."""
+    geo, _ = seq
+    st = stage(geo, 3)
+    _, F = fe_ring
+    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    x = np.asarray(meshes.positions(12))
+    model = jg.PlanarPlanetary()
+    rigid = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS)
+    stiff = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
+                                      ring=jg.CondensedRing(F / 1e3))
+    soft = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
+                                     ring=jg.CondensedRing(F))
+    np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
+    np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
+    assert float(rigid.k_gamma_max) == pytest.approx(1.7306, abs=1e-3)
+    assert float(soft.k_gamma_max) < float(rigid.k_gamma_max) - 0.3
+    assert np.all(np.asarray(soft.result) == 0)
 
 
 def test_ring_deflections_and_support_reactions_from_the_fe_ring(seq, bolted_ring):
