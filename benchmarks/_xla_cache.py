@@ -1,9 +1,14 @@
-"""``jaxgear bench xla-cache``: what JAX's persistent compilation cache (jaxgear/cli/xla_cache.py)
-saves a user who runs a case again. For each embedded case, two identical ``jaxgear run CASE
---quiet`` in fresh processes sharing a fresh, empty cache folder: the first compiles and writes
-the cache, the second reads it back. Recorded per case: both wall times (the whole process,
-start-up included), their ratio (second / first), JAX's compilation events of each run
-(programs written to and read from the cache, backend compile seconds) and the cache's size.
+"""``jaxgear bench xla-cache``: how long ``jaxgear run`` takes on each embedded case, first run
+included, and what JAX's persistent compilation cache (jaxgear/cli/xla_cache.py) saves a user
+who runs a case again. For each embedded case, two identical ``jaxgear run CASE --quiet`` in
+fresh processes sharing a fresh, empty cache folder: the first compiles and writes the cache,
+the second reads it back. A case with condensed FE bodies has them built (or read from
+fem_prep's cache, ``$FEM_PREP_CACHE``) in a process of its own before the first run, so that
+both runs time the main job with its bodies cached (``bodies_s``: that preparation).
+Recorded per case: both wall times (the whole process, start-up included) and CPU times (user +
+sys of the process and its threads: on a loaded machine the robust figure), the peak resident
+memory, their ratio (second / first), JAX's compilation events of each run (programs written to
+and read from the cache, backend compile seconds) and the cache's size.
 
 Benchmarks are not tests: timings are measured, never asserted; machine, load, dtype and
 versions are recorded (benchmarks/_timing.py)."""
@@ -46,24 +51,62 @@ _EVENTS = {
 }
 _BACKEND = "/jax/core/compile/backend_compile_duration"
 
+# The case's condensed bodies built or read from fem_prep's cache (none for a rigid scene).
+_BODIES = """
+import sys
+from jaxgear.io import load_bodies, load_case
+case = load_case(sys.argv[1])
+if case.scene is not None:
+    load_bodies(case.scene)
+"""
 
-def _one_run(case: str, cache: str, work: str, name: str) -> dict:
+
+def _timed(cmd: list[str], env: dict) -> tuple[float, dict, str, int]:
+    """Run ``cmd``: (wall s, {user_s, sys_s, cpu_s, max_rss_MB} of the process and its threads
+    from ``os.wait4``, stderr, exit status)."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    err = proc.stderr.read().decode(errors="replace")
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    wall = time.perf_counter() - t
+    cpu = {
+        "user_s": usage.ru_utime,
+        "sys_s": usage.ru_stime,
+        "cpu_s": usage.ru_utime + usage.ru_stime,
+        "max_rss_MB": usage.ru_maxrss / 1024.0,  # Linux: kB
+    }
+    return wall, cpu, err, proc.returncode
+
+
+def _env(cache: str) -> dict:
     env = dict(os.environ)
     for key in ("JAX_COMPILATION_CACHE_DIR", "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"):
         env.pop(key, None)  # the CLI's own settings
     env["JAXGEAR_XLA_CACHE"] = cache
+    return env
+
+
+def _bodies(case: str, cache: str) -> float:
+    """Wall time (s) of building or reading the case's condensed bodies, in a process of its
+    own (so that the timed runs find them in fem_prep's cache)."""
+    wall, _, err, code = _timed([sys.executable, "-c", _BODIES, case], _env(cache))
+    if code != 0:
+        raise RuntimeError(f"the bodies of {case} failed: {err.strip()[-500:]}")
+    return wall
+
+
+def _one_run(case: str, cache: str, work: str, name: str) -> dict:
     record = os.path.join(work, f"{name}.json")
     cmd = [sys.executable, "-c", _PROBE, record, "run", case, "--quiet"]
     cmd += ["--out", os.path.join(work, name)]
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else None
-    t = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - t
-    if proc.returncode != 0:
-        raise RuntimeError(f"jaxgear run {case} failed: {proc.stderr.strip()[-500:]}")
+    wall, cpu, err, code = _timed(cmd, _env(cache))
+    if code != 0:
+        raise RuntimeError(f"jaxgear run {case} failed: {err.strip()[-500:]}")
     with open(record) as f:
         rec = json.load(f)
-    out = {"wall_s": wall, "load_average_1min_at_start": load}
+    out = {"wall_s": wall, **cpu, "load_average_1min_at_start": load}
     out.update({k: int(rec["events"].get(v, 0)) for k, v in _EVENTS.items()})
     out["backend_compile_s"] = float(rec["seconds"].get(_BACKEND, 0.0))
     return out
@@ -77,7 +120,8 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
         out_dir: output folder (created if missing).
         quick: ``accessory-spur`` only (unless ``cases`` names others).
         cases: embedded case names (default: every embedded case; the flexible ones and
-            ``two-stage`` take minutes per run on a 2-core CPU).
+            ``two-stage`` take minutes per run on a loaded 2-core CPU; a flexible case's
+            bodies are built first when fem_prep's cache does not hold them).
     """
     known = list_cases()
     if cases is None:
@@ -91,6 +135,7 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
     for case in cases:
         with tempfile.TemporaryDirectory(prefix="jaxgear-xla-bench-") as work:
             cache = os.path.join(work, "xla")
+            bodies = _bodies(case, os.path.join(work, "xla-bodies"))
             first = _one_run(case, cache, work, "first")
             second = _one_run(case, cache, work, "second")
             names = [n for n in os.listdir(cache) if n.endswith("-cache")]
@@ -100,13 +145,16 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
             "first": first,
             "second": second,
             "ratio_second_to_first": second["wall_s"] / first["wall_s"],
+            "ratio_second_to_first_cpu": second["cpu_s"] / first["cpu_s"],
+            "bodies_s": bodies,
             "cache_entries": len(names),
             "cache_bytes": size,
         }
         rows.append(row)
         if verbose:
             print(
-                f"{case:24s} first {first['wall_s']:7.1f} s  second {second['wall_s']:7.1f} s  "
+                f"{case:24s} first {first['wall_s']:7.1f} s (CPU {first['cpu_s']:6.1f} s)  second "
+                f"{second['wall_s']:7.1f} s (CPU {second['cpu_s']:6.1f} s)  "
                 f"ratio {row['ratio_second_to_first']:.2f}  ({len(names)} programs, "
                 f"{size / 2**20:.1f} MB; backend compile {first['backend_compile_s']:.1f} s → "
                 f"{second['backend_compile_s']:.1f} s)",
@@ -115,7 +163,10 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
     result = {
         "benchmark": "xla-cache",
         "what": "wall time of a first `jaxgear run CASE --quiet` (empty persistent compilation "
-        "cache) and of a second identical one (the cache the first wrote), fresh processes; "
+        "cache) and of a second identical one (the cache the first wrote), fresh processes, "
+        "the case's condensed bodies built or read beforehand in a process of their own "
+        "(bodies_s); cpu_s: user + sys of the run's process and threads (os.wait4), "
+        "max_rss_MB its peak resident memory; "
         "written/read_back: JAX's /jax/compilation_cache/cache_misses and cache_hits events; "
         "backend_compile_s: the sum of /jax/core/compile/backend_compile_duration (a cache "
         "read counts there too)",
