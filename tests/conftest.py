@@ -16,17 +16,6 @@ import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-# XLA's CPU backend builds the test programs with LLVM at -O0 (set before JAX starts its backend;
-# the CLI runs the tests start inherit it): most of the suite's time is compiling programs that
-# then run a few steps, and the unoptimised code keeps IEEE arithmetic (no fast-math), so the
-# results are the optimised code's to round-off (the regression records hold to 1e-9). Measured
-# side by side on the loaded 2-core VM: 17-30 % less CPU for compile-heavy and run-heavy tests
-# alike (docs/bench/suite_profile.json). An XLA_FLAGS that names the level is kept.
-if "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
-    os.environ["XLA_FLAGS"] = (
-        os.environ.get("XLA_FLAGS", "") + " --xla_backend_optimization_level=0"
-    ).strip()
-
 import jax  # noqa: E402
 from jax import monitoring
 

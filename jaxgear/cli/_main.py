@@ -1,4 +1,4 @@
-"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | robust | bench | prep``.
+"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | modes | robust | bench | prep``.
 
 The CLI is an entry point, so it switches float64 on (library modules never do) and JAX's
 persistent compilation cache (:mod:`.xla_cache`: ``~/.cache/jaxgear/xla``, ``$JAXGEAR_XLA_CACHE``
