@@ -104,6 +104,45 @@ def _merge(hard: list[float], soft: list[float], tol: float) -> list[float]:
     return merged
 
 
+
+# skfem's reference corner order (0,0,0),(0,0,1),(0,1,0),(1,0,0),(0,1,1),(1,0,1),(1,1,0),(1,1,1)
+# with (xi, eta, zeta) -> (r, theta, z) (right-handed: e_r x e_theta = e_z), stored as (a, b, c) =
+# (r step, theta step, z step) offsets of the corner
+_CORNERS = ((0, 0, 0), (0, 0, 1), (0, 1, 0), (1, 0, 0), (0, 1, 1), (1, 0, 1), (1, 1, 0), (1, 1, 1))
+
+
+def revolved_hexes(I, J, K, nz: int, nt: int) -> np.ndarray:
+    """Corner vertex ids, shape (8, n), of the hexahedra (I, J, K) (radial, axial, circumferential
+    indices, each shape (n,)) of an (r, z) grid with nz axial cells revolved in nt sectors; vertex
+    (i, j, k) is numbered (i (nz + 1) + j) nt + k mod nt, so the last sector closes on the first."""
+
+    def vid(i, j, k):
+        return (i * (nz + 1) + j) * nt + (k % nt)
+
+    return np.array([vid(I + a, J + c, K + b) for a, b, c in _CORNERS])
+
+
+def used_vertices(t: np.ndarray, nz: int, nt: int):
+    """The vertices that corner ids ``t`` (8, n) use, renumbered 0..m-1: (t renumbered (8, n), and
+    the vertices' radial, axial and circumferential grid indices vi, vj, vk, each shape (m,))."""
+    used, t = np.unique(t, return_inverse=True)
+    t = t.reshape(8, -1)
+    return t, used // (nt * (nz + 1)), (used // nt) % (nz + 1), used % nt
+
+
+def arc_hex2(p: np.ndarray, t: np.ndarray, dth: float) -> skfem.MeshHex2:
+    """The quadratic hexahedra of vertices ``p`` (3, m) and corners ``t`` (8, n) of a revolved grid
+    of sector angle ``dth`` (rad), with the circumferential mid-nodes (at mid-angle, on the chords
+    of the linear mesh) pushed out to the arcs."""
+    loc = skfem.MeshHex2.from_mesh(skfem.MeshHex1(p, t, validate=False)).doflocs.copy()
+    phi = np.mod(np.arctan2(loc[1], loc[0]), 2 * math.pi) / dth
+    mid = np.abs(phi - np.floor(phi) - 0.5) < 1e-6
+    scale = np.where(mid, 1.0 / math.cos(dth / 2), 1.0)
+    loc[0] *= scale
+    loc[1] *= scale
+    return skfem.MeshHex2(loc, t, validate=False)
+
+
 def mesh_body(body: Body, *, progress: bool = False) -> BodyMesh:
     """Mesh a gear body (see the module docstring for the construction).
 
@@ -323,22 +362,7 @@ def mesh_from_section(
     K = np.tile(kk, len(ii))
     R = np.repeat(regs, nt)
 
-    def vid(i, j, k):
-        return (i * (nz + 1) + j) * nt + (k % nt)
-
-    # skfem reference corner order: (0,0,0),(0,0,1),(0,1,0),(1,0,0),(0,1,1),(1,0,1),(1,1,0),(1,1,1)
-    # with (xi, eta, zeta) -> (r, theta, z) (right-handed: e_r x e_theta = e_z)
-    corners = [
-        (0, 0, 0),
-        (0, 0, 1),
-        (0, 1, 0),
-        (1, 0, 0),
-        (0, 1, 1),
-        (1, 0, 1),
-        (1, 1, 0),
-        (1, 1, 1),
-    ]
-    t = np.array([vid(I + a, J + c, K + b) for a, b, c in corners])
+    t = revolved_hexes(I, J, K, nz, nt)
 
     # hole removal (web elements whose centroid is inside a hole)
     keep = np.ones(t.shape[1], dtype=bool)
@@ -353,24 +377,11 @@ def mesh_from_section(
             keep &= ~((R == WEB) & (d < h.radius))
     t, R = t[:, keep], R[keep]
 
-    used, t = np.unique(t, return_inverse=True)
-    t = t.reshape(8, -1)
-    vk = used % nt
-    vj = (used // nt) % (nz + 1)
-    vi = used // (nt * (nz + 1))
+    t, vi, vj, vk = used_vertices(t, nz, nt)
     rv = r_grid[vi]
     th = vk * dth
     p = np.array([rv * np.cos(th), rv * np.sin(th), z_grid[vj] + shear(rv)])
-    m1 = skfem.MeshHex1(p, t, validate=False)
-    m2 = skfem.MeshHex2.from_mesh(m1)
-    loc = m2.doflocs.copy()
-    # curved circumferential geometry: points at mid-angle lie on chords; push them to the arc
-    phi = np.mod(np.arctan2(loc[1], loc[0]), 2 * math.pi) / dth
-    mid = np.abs(phi - np.floor(phi) - 0.5) < 1e-6
-    scale = np.where(mid, 1.0 / math.cos(dth / 2), 1.0)
-    loc[0] *= scale
-    loc[1] *= scale
-    mesh = skfem.MeshHex2(loc, t, validate=False)
+    mesh = arc_hex2(p, t, dth)
 
     el = ms.element.skfem_element()
     basis = skfem.Basis(mesh, skfem.ElementVector(el), intorder=ms.element.intorder)

@@ -39,7 +39,7 @@ from ._body import Condensation, Material, MeshSettings
 from ._condense import Condensed, condense
 from ._couplings import Coupled, MasterSet, _station_nodes, couple_masters
 from ._kinds import RingSupport
-from ._mesh import RIM, BodyMesh
+from ._mesh import RIM, BodyMesh, arc_hex2, revolved_hexes, used_vertices
 from ._modal import nodal_diameter_spectrum
 from ._solver import shift_invert_modes
 from .files import atomic_open
@@ -167,36 +167,10 @@ def mesh_ring(ring: RingBody) -> BodyMesh:
         a.ravel() for a in np.meshgrid(np.arange(nr), np.arange(nz), np.arange(nt), indexing="ij")
     )
 
-    def vid(i, j, k):
-        return (i * (nz + 1) + j) * nt + (k % nt)
-
-    # skfem's reference corner order, (xi, eta, zeta) -> (r, theta, z), as _mesh
-    corners = [
-        (0, 0, 0),
-        (0, 0, 1),
-        (0, 1, 0),
-        (1, 0, 0),
-        (0, 1, 1),
-        (1, 0, 1),
-        (1, 1, 0),
-        (1, 1, 1),
-    ]
-    t = np.array([vid(I + a, J + c, K + b) for a, b, c in corners])
-    used, t = np.unique(t, return_inverse=True)
-    t = t.reshape(8, -1)
-    vk = used % nt
-    vj = (used // nt) % (nz + 1)
-    vi = used // (nt * (nz + 1))
+    t, vi, vj, vk = used_vertices(revolved_hexes(I, J, K, nz, nt), nz, nt)
     rv, th = r_grid[vi], vk * dth
     p = np.array([rv * np.cos(th), rv * np.sin(th), z_grid[vj]])
-    m2 = skfem.MeshHex2.from_mesh(skfem.MeshHex1(p, t, validate=False))
-    loc = m2.doflocs.copy()
-    phi = np.mod(np.arctan2(loc[1], loc[0]), 2 * math.pi) / dth
-    mid = np.abs(phi - np.floor(phi) - 0.5) < 1e-6
-    scale = np.where(mid, 1.0 / math.cos(dth / 2), 1.0)
-    loc[0] *= scale
-    loc[1] *= scale
-    mesh = skfem.MeshHex2(loc, t, validate=False)
+    mesh = arc_hex2(p, t, dth)
     basis = skfem.Basis(
         mesh, skfem.ElementVector(ms.element.skfem_element()), intorder=ms.element.intorder
     )
