@@ -4,15 +4,17 @@
 a cached program at every call; for one TE curve of a small pair that costs several times the
 solve itself. :func:`compile_quasi_static` does that work once: the scene, the angles, the
 contact law and the speed are compiled into the program as constants, the modifications become
-one flat design vector (the leaves of a template :class:`Modifications`, in its tree order), and
-each call passes only that vector and the torque.
+one flat design vector (the leaves of a template :class:`Modifications`, in its tree order, or
+only those a ``free`` selector names: the others are compiled in as constants, and a program
+whose design is a few leaves costs about what a fully constant one does), and each call passes
+only that vector and the torque.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import equinox as eqx
 import jax
@@ -44,7 +46,7 @@ class CompiledQuasiStatic(eqx.Module):
     torque, ...)`` returns (or its ``output``), to round-off (the same program).
 
     Call with:
-        design: the design vector ``(D,)`` (the template's leaves flattened, in its tree order:
+        design: the design vector ``(D,)`` (the template's free leaves flattened, in its tree order:
             :meth:`design_vector` builds it from a :class:`Modifications` of the template's
             structure, :meth:`modifications` maps it back), or such a :class:`Modifications`
             (flattened at each call: slower than passing the vector); ``None`` or a tuple of
@@ -63,12 +65,14 @@ class CompiledQuasiStatic(eqx.Module):
 
     design0: Float[Array, " D"]
     throw: bool = eqx.field(static=True)
-    _unravel: Callable = eqx.field(static=True)
+    _rebuild: Callable = eqx.field(static=True)
+    _free: Callable | None = eqx.field(static=True)
     _treedef: Any = eqx.field(static=True)
     _shapes: tuple = eqx.field(static=True)
     _fast: Callable = eqx.field(static=True)
     _traced: Callable = eqx.field(static=True)
     _coast: bool = eqx.field(static=True)
+    _recompile: Callable = eqx.field(static=True)
 
     @property
     def size(self) -> int:
@@ -90,20 +94,46 @@ class CompiledQuasiStatic(eqx.Module):
                 "than the template's: allowed a Modifications with the same relief shapes, "
                 "deviations and array shapes as the one given to compile_quasi_static"
             )
+        free = modifications if self._free is None else self._free(modifications)
         if is_traced(leaves):
-            return ravel_pytree(modifications)[0].astype(self.design0.dtype)
-        flat = [np.ravel(np.asarray(x)) for x in leaves]
-        return jnp.asarray(np.concatenate(flat) if flat else np.zeros(0), self.design0.dtype)
+            return ravel_pytree(free)[0].astype(self.design0.dtype)
+        flat = [np.ravel(np.asarray(x)) for x in jax.tree_util.tree_leaves(free)]
+        x = jnp.asarray(np.concatenate(flat) if flat else np.zeros(0), self.design0.dtype)
+        fixed = jax.tree_util.tree_leaves(self.modifications(x))
+        if self._free is not None and not all(
+            np.array_equal(a, b) for a, b in zip(fixed, leaves, strict=True)
+        ):
+            raise ValueError(
+                f"{_WHERE}: modifications differ from the template in a leaf that is not free: "
+                "allowed changes in the free leaves only (compile_quasi_static(free=...))"
+            )
+        return x
+
+    def with_free(self, free: Callable | None) -> CompiledQuasiStatic:
+        """The same solve (scene, angles, contact, output) with the design variables ``free``:
+        a function of the template :class:`Modifications` returning the leaves that vary (e.g.
+        ``lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)``, or a subtree such
+        as ``lambda m: m.pinion``: its array leaves; as ``equinox.tree_at``'s ``where``);
+        ``None``: every leaf. The other leaves are compiled in as constants: a smaller, faster
+        program (a relief depth enters linearly and folds; a design of the whole template
+        evaluates every relief ramp at every cell). A new program, compiled at its first call.
+
+        Raises:
+            ValueError: ``free`` not a function returning array leaves of the template (one
+                line).
+        """
+        return self._recompile(free)
 
     def modifications(self, design: Float[Array, " D"]) -> Modifications:
         """The :class:`Modifications` of a design vector ``(D,)`` (the inverse of
         :meth:`design_vector`)."""
-        return self._unravel(jnp.asarray(design, self.design0.dtype))
+        return self._rebuild(jnp.asarray(design, self.design0.dtype))
 
     def __call__(self, design, torque):
         # the per-call path is kept lean (plain functions, no bound-method objects: an
         # eqx.Module method looked up on an instance builds one, ~20 µs, a tenth of a solve)
-        if design is None or isinstance(design, _MODS):
+        as_mods = design is None or isinstance(design, _MODS)
+        if as_mods:
             design = self.design_vector(design)
         if jnp.shape(design) != self.design0.shape:
             raise ValueError(
@@ -111,7 +141,7 @@ class CompiledQuasiStatic(eqx.Module):
                 f"({self.design0.shape[0]},), the design vector of the template modifications "
                 "(CompiledQuasiStatic.design_vector)"
             )
-        if isinstance(design, jax.core.Tracer) or isinstance(torque, jax.core.Tracer):
+        if is_traced((design, torque)):
             return self._traced(design, torque)
         _check_torque(torque, self._coast)
         out, codes = self._fast(design, torque)
@@ -170,7 +200,8 @@ def compile_quasi_static(
             cheaper (fewer arrays out of the program).
 
     Returns:
-        The :class:`CompiledQuasiStatic` callable ``(design, torque)``.
+        The :class:`CompiledQuasiStatic` callable ``(design, torque)``, every leaf of the
+        template a design variable (:meth:`CompiledQuasiStatic.with_free` names fewer).
 
     Raises:
         ValueError: as :func:`quasi_static`, before any compilation: a ``scene`` that is not a
@@ -192,13 +223,45 @@ def compile_quasi_static(
     if theta is not None:
         theta = jnp.asarray(theta, dtype=dtype)
     positions = (int(positions_per_pitch), int(periods))
-    design0, unravel = ravel_pytree(modifications)
+    pick = (lambda r: r) if output is None else output
+    setup = _Setup(scene, modifications, theta, speed, law, positions, pick, bool(throw))
+    return _compile(setup, None)
+
+
+class _Setup(NamedTuple):
+    """What :func:`compile_quasi_static` compiles in, checked: the scene, the template
+    modifications, the angles (or None), the speed, the contact law, (positions per pitch,
+    periods), the output function and ``throw``."""
+
+    scene: Any
+    modifications: Any
+    theta: Any
+    speed: Any
+    law: Any
+    positions: tuple
+    pick: Callable
+    throw: bool
+
+
+def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
+    """The :class:`CompiledQuasiStatic` of ``setup`` with the design leaves ``free`` (a
+    function of the template, None: every leaf)."""
+    scene, modifications, theta, speed, law, positions, pick, throw = setup
+    dtype = scene.base_planes[0].base_pitch.dtype
+    where = _free_leaves(free, modifications)
+    if where is None:  # every leaf: the template's own flattening
+        design0, rebuild = ravel_pytree(modifications)
+    else:
+        design0, unravel = ravel_pytree(where(modifications))
+
+        def rebuild(x):
+            return eqx.tree_at(where, modifications, unravel(x))
+
     design0 = jnp.asarray(design0, dtype=dtype)
     leaves, treedef = jax.tree_util.tree_flatten(modifications)
-    pick = (lambda r: r) if output is None else output
 
     def solve(x, torque, raise_: bool, checks: bool):
-        mods = unravel(jnp.asarray(x, dtype=dtype))
+        mods = rebuild(jnp.asarray(x, dtype=dtype))
         t = jnp.asarray(torque, dtype=dtype)
         res = _quasi_static(scene, mods, t, speed, theta, law, raise_, positions, checks)
         return pick(res), res.result
@@ -206,14 +269,42 @@ def compile_quasi_static(
     # concrete calls: no eqx.error_if in the program, the result codes read on the host
     fast = jax.jit(lambda x, t: solve(x, t, False, False))
     # traced calls (grad, vmap, an outer jit): the checks ride in the caller's program
-    traced = jax.jit(lambda x, t: solve(x, t, bool(throw), True)[0])
+    traced = jax.jit(lambda x, t: solve(x, t, throw, True)[0])
     return CompiledQuasiStatic(
         design0=design0,
-        throw=bool(throw),
-        _unravel=unravel,
+        throw=throw,
+        _rebuild=rebuild,
+        _free=where,
         _treedef=treedef,
         _shapes=tuple(jnp.shape(x) for x in leaves),
         _fast=fast,
         _traced=traced,
-        _coast=any(p.coast for p in planes),
+        _coast=any(p.coast for p in scene.base_planes),
+        _recompile=lambda free: _compile(setup, free),
     )
+
+
+def _free_leaves(free, template) -> Callable | None:
+    """The selector of the design leaves (a function returning a tuple of them; ``None`` for
+    ``free = None``, every leaf); a one-line ``ValueError`` when ``free`` is not a function returning array leaves of the
+    template."""
+    if free is None:
+        return None
+    msg = (
+        f"{_WHERE}: free = {free!r}: allowed None or a function of the template modifications "
+        "returning some of its array leaves (e.g. lambda m: (m.pinion.tip_relief_depth,))"
+    )
+
+    def where(m):
+        return tuple(jax.tree_util.tree_leaves(free(m)))
+
+    picked = ()
+    if callable(free):
+        try:
+            picked = where(template)
+            eqx.tree_at(where, template, picked)
+        except Exception as err:  # the selector's own error: named in one line
+            raise ValueError(msg) from err
+    if not picked or not all(isinstance(x, jax.Array | np.ndarray) for x in picked):
+        raise ValueError(msg)
+    return where

@@ -118,3 +118,39 @@ def test_bad_input_is_refused_in_one_line(setup, compiled):
         jg.compile_quasi_static("mesh", mods)
     with pytest.raises(ValueError, match="positions_per_pitch"):
         jg.compile_quasi_static(mesh, mods, positions_per_pitch=0)
+
+
+def test_free_leaves_are_the_design_and_the_others_fixed(setup):
+    """``with_free``: the design vector is the named leaves only; a call equals ``quasi_static`` of
+    the template with those leaves replaced by hand; a change in a fixed leaf is refused."""
+    mesh, mods, torque = setup
+    f = jg.compile_quasi_static(
+        mesh, mods, positions_per_pitch=P, output=lambda r: r.transmission_error
+    ).with_free(lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent))
+    assert f.design0.shape == (2,)
+    np.testing.assert_array_equal(
+        f.design0, [mods.pinion.tip_relief_depth, mods.pinion.tip_relief_extent]
+    )
+    pinion = jg.MemberModification(
+        tip_relief_depth=22e-6,
+        tip_relief_extent=0.31,
+        root_relief_depth=mods.pinion.root_relief_depth,
+        root_relief_extent=mods.pinion.root_relief_extent,
+        crowning_depth=mods.pinion.crowning_depth,
+        end_relief_depth=mods.pinion.end_relief_depth,
+        end_relief_extent=mods.pinion.end_relief_extent,
+        helix_slope_deviation=mods.pinion.helix_slope_deviation,
+        profile_deviation_roll=mods.pinion.profile_deviation_roll,
+        profile_deviation=mods.pinion.profile_deviation,
+    )
+    by_hand = jg.Modifications(pinion=pinion, gear=mods.gear)
+    ref = jg.quasi_static(mesh, by_hand, torque, positions_per_pitch=P).transmission_error
+    assert _rel(f(jnp.asarray([22e-6, 0.31]), torque), ref) < 1e-12
+    np.testing.assert_array_equal(f.design_vector(by_hand), [22e-6, 0.31])
+    other = jg.Modifications(pinion=pinion, gear=jg.MemberModification())
+    with pytest.raises(ValueError, match="leaf that is not free"):
+        f.design_vector(other)
+    with pytest.raises(ValueError, match="free = 3"):
+        f.with_free(3)
+    with pytest.raises(ValueError, match="free = "):
+        f.with_free(lambda m: m.pinion.tip_relief_shape)
