@@ -150,6 +150,18 @@ def test_free_leaves_are_the_design_and_the_others_fixed(setup):
     other = jg.Modifications(pinion=pinion, gear=jg.MemberModification())
     with pytest.raises(ValueError, match="leaf that is not free"):
         f.design_vector(other)
+    # a subtree names its array leaves: the pinion's, in its tree order
+    g = f.with_free(lambda m: m.pinion)
+    pin = np.concatenate([np.ravel(x) for x in jax.tree_util.tree_leaves(mods.pinion)])
+    np.testing.assert_array_equal(g.design0, pin)
+    x = g.design0.at[0].set(7e-6)  # the first leaf: the tip relief depth
+    assert float(g.modifications(x).pinion.tip_relief_depth) == 7e-6
+    for a, b in zip(
+        jax.tree_util.tree_leaves(g.modifications(x).gear),
+        jax.tree_util.tree_leaves(mods.gear),
+        strict=True,
+    ):
+        np.testing.assert_array_equal(a, b)
     with pytest.raises(ValueError, match="free = 3"):
         f.with_free(3)
     with pytest.raises(ValueError, match="free = "):
