@@ -20,8 +20,8 @@ import abc
 
 import equinox as eqx
 import jax
-import jax.scipy.linalg
 import jax.numpy as jnp
+import jax.scipy.linalg
 import numpy as np
 from jaxtyping import Array, Float
 

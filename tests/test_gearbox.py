@@ -48,7 +48,7 @@ def _planetary_reference(st):
     """(M, K) in (theta_c, theta_r, theta_s, theta_1..N) from the energies: the planets ride
     with the carrier (I_c + N m_p r_c^2), the sun mesh compresses by r_s th_s + r_p th_n -
     r_c cos a_s th_c, the ring mesh by r_r th_r - r_p th_n - r_c cos a_r th_c."""
-    f = lambda x: float(np.asarray(x))  # noqa: E731
+    f = lambda x: float(np.asarray(x))
     n = st.n_planets
     r_c, r_r, r_s, r_p = (f(m.base_radius) for m in (st.carrier, st.ring, st.sun, st.planet))
     a_s, a_r = f(st.sun_pressure_angle), f(st.ring_pressure_angle)
@@ -77,8 +77,13 @@ def _planetary_reference(st):
     return m, k
 
 
-def test_nrel_gearbox_chain_frequencies_against_an_independent_eigen_solution():
-    chain, (s1, s2), pair = _chain()
+def reference_frequencies():
+    """The NREL chain's natural frequencies (Hz) from the energies written here."""
+    return _reference()[0]
+
+
+def _reference():
+    _, (s1, s2), pair = _chain()
     blocks = [_planetary_reference(s1), _planetary_reference(s2)]
     r = np.asarray(pair.base_radii)
     blocks.append((np.diag(PAIR_INERTIAS), PAIR_MESH * np.outer(r, r)))
@@ -89,7 +94,12 @@ def test_nrel_gearbox_chain_frequencies_against_an_independent_eigen_solution():
     for (i, j), kt in zip(((2, 6), (8, 13)), SHAFTS, strict=True):
         k[np.ix_([i, j], [i, j])] += kt * np.array([[1.0, -1.0], [-1.0, 1.0]])
     lam = scipy.linalg.eigh(k, m, eigvals_only=True)
-    ref = np.sqrt(np.clip(lam, 0.0, None)) / (2 * math.pi)
+    return np.sqrt(np.clip(lam, 0.0, None)) / (2 * math.pi), m, k
+
+
+def test_nrel_gearbox_chain_frequencies_against_an_independent_eigen_solution():
+    chain = _chain()[0]
+    ref, m, k = _reference()
     modes = jg.gearbox_modes(chain)
     got = np.asarray(modes.frequencies)
     assert got.shape == (14,)
