@@ -112,3 +112,14 @@ def test_nrel_gearbox_through_jaxgear_run(tmp_path, capsys):
     assert [m["type"] for m in modes].count("rigid body") == 1
     f = [m["frequency_Hz"] for m in modes]
     np.testing.assert_allclose(f[1:], reference_frequencies()[1:], rtol=1e-9)
+
+
+def test_jaxgear_modes_on_the_gearbox_lists_the_chain(tmp_path, capsys):
+    out = tmp_path / "modes"
+    assert main(["modes", "nrel-5mw-gearbox", "--out", str(out)]) == 0
+    assert "nrel-5mw-gearbox: natural frequencies" in capsys.readouterr().out
+    rows = json.loads((out / "modes.json").read_text())["torsional_chain"]
+    assert [r["type"] for r in rows].count("rigid body") == 1
+    assert {r["type"] for r in rows[1:]} <= {"stage1", "stage2", "stage3"}
+    f = [r["frequency_Hz"] for r in rows]
+    np.testing.assert_allclose(f[1:], reference_frequencies()[1:], rtol=1e-9)
