@@ -56,6 +56,14 @@ from ._modifications import (
     Modifications as Modifications,
     ParabolicRelief as ParabolicRelief,
 )
+from ._gearbox import (
+    AbstractGearboxStage as AbstractGearboxStage,
+    GearboxModes as GearboxModes,
+    GearboxTorsional as GearboxTorsional,
+    PairGearboxStage as PairGearboxStage,
+    PlanetaryGearboxStage as PlanetaryGearboxStage,
+    gearbox_modes as gearbox_modes,
+)
 from ._planetary import (
     AbstractPlanetaryModel as AbstractPlanetaryModel,
     Central as Central,

@@ -86,6 +86,7 @@ NON_FLEXIBLE = [
     "two-stage",
     "nrel-5mw-planetary",
     "nrel-5mw-stage2",
+    "nrel-5mw-stage3",
 ]
 FLEXIBLE = ["accessory-spur-flexible", "flexible-idler", "power-helical-flexible"]
 

@@ -360,7 +360,9 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     import jaxgear.io as jio
 
     for name in jio.list_cases():
-        yield tomllib.loads(jio.embedded_case_text(name)), None
+        data = tomllib.loads(jio.embedded_case_text(name))
+        if "stages" not in data:  # a gearbox's file names its stages' cases (their own keys)
+            yield data, None
     for path in sorted((ROOT / "examples").glob("*.toml")):
         yield tomllib.loads(path.read_text(encoding="utf-8")), str(path.parent)
     base = tomllib.loads(jio.embedded_case_text("accessory-spur"))

@@ -7,7 +7,7 @@ import functools
 from fem_prep.schema import print_or_write
 
 from .. import io as case_io
-from ..io import Case, PairForm, PlanetaryForm, TrainForm
+from ..io import Case, GearboxForm, PairForm, PlanetaryForm, TrainForm
 from ._case_kinds import gear_glossary
 
 __all__ = ["case_line", "run_cases"]
@@ -61,6 +61,12 @@ def _(form: PlanetaryForm, case: Case) -> str:
         f"fixed, {form.spec.input.name.lower()} → {form.spec.output.name.lower()}, "
         f"T {case.torque:g} N·m (input)"
     )
+
+
+@form_line.register
+def _(form: GearboxForm, case: Case) -> str:
+    stages = ", ".join(s.case.name for s in form.stages)
+    return f"gearbox of {len(form.stages)} stages ({stages}), ratio 1:{1 / form.ratio():.6g}"
 
 
 def run_cases(args) -> int:

@@ -33,6 +33,7 @@ from .. import dynamics, io as case_io
 from ..dynamics import DynamicModel, HybridModel
 from ..io import write_json
 from ._paths import check_output_dir, staged_outputs
+from .gearbox import chain_modes
 from .planetary import MODELS, mode_list
 
 __all__ = [
@@ -134,6 +135,16 @@ def _(form: case_io.PlanetaryForm, case) -> dict:
         "model": "planetary (lumped)",
         "classification": "Lin & Parker 1999: rotational, translational, planet",
         **{name: mode_list(model, stage) for name, model in MODELS.items()},
+    }
+
+
+@case_modes.register
+def _(form: case_io.GearboxForm, case) -> dict:
+    return {
+        "case": case.name,
+        "model": "gearbox torsional chain",
+        "classification": "the stage holding most of the kinetic energy",
+        "torsional_chain": chain_modes(form),
     }
 
 

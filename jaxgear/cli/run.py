@@ -22,6 +22,7 @@ from .. import (
 from .. import io as case_io
 from ..io import (
     Case,
+    GearboxForm,
     InternalMeshForm,
     PairForm,
     PlanetaryForm,
@@ -33,6 +34,7 @@ from ..io import (
 from . import scene as cli_scene
 from . import sweep as cli_sweep
 from ._deviation_run import deviation_line, deviation_outputs
+from .gearbox import gearbox_run_files, gearbox_run_lines
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
@@ -477,6 +479,11 @@ quasi_static_files.register(PlanetaryForm, planetary_run_files)
 
 
 @quasi_static_files.register
+def _(form: GearboxForm, case: Case, out: str, args, complete: bool) -> dict:
+    return gearbox_run_files(form, case, out, args, complete, run_kind)  # each stage's own run
+
+
+@quasi_static_files.register
 def _(form: InternalMeshForm, case: Case, out: str, args, complete: bool) -> dict:
     """A train of one internal mesh: its rigid mesh as a pair's (:func:`run_case`)."""
     return run_case(case, out, show_progress=not args.quiet, complete=complete)
@@ -539,6 +546,7 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
 
 
 run_lines.register(PlanetaryForm, planetary_run_lines)
+run_lines.register(GearboxForm, gearbox_run_lines)
 
 
 @run_lines.register

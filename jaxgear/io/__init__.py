@@ -39,6 +39,11 @@ from ._names import (
     foundation_from_name as foundation_from_name,
     stiffness_from_name as stiffness_from_name,
 )
+from ._gearbox_file import (
+    PAIR_INPUTS as PAIR_INPUTS,
+    GearboxForm as GearboxForm,
+    GearboxStage as GearboxStage,
+)
 from ._optimise_table import parse_optimise as parse_optimise
 from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._planetary_spec import (

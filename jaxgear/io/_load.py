@@ -9,6 +9,7 @@ from fem_prep import schema as sc
 
 from ._case import Case
 from ._case_file import parse_case
+from ._gearbox_file import is_gearbox, parse_gearbox
 from ._train_file import is_train, parse_train
 
 __all__ = ["embedded_case_text", "list_cases", "load_case"]
@@ -58,6 +59,8 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
             f"(embedded: {', '.join(list_cases())})"
         )
     data = sc.load_toml(raw, f"case file {label!r}")
+    if is_gearbox(data):
+        return parse_gearbox(data, default, base, load_case)
     if is_train(data):
         return parse_train(data, default, base)
     return parse_case(data, default, base)

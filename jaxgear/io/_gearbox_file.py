@@ -1,0 +1,202 @@
+"""A gearbox case file: stages in series, each an embedded case or a case file, the operating
+point given on the first stage's input and carried stage to stage by the stages' ratios
+(lossless), the stages joined by shafts of given torsional stiffness::
+
+    name = "my-gearbox"
+    [operating]
+    torque_Nm = 3.946e6                # on stage 1's input member
+    speed_rad_s = 1.2671
+    [[stages]]
+    case = "nrel-5mw-planetary"        # an embedded case, or a case file (relative to this one)
+    [[stages]]
+    case = "nrel-5mw-stage2"
+    shaft_Nm_per_rad = 1.26e9          # the shaft from the previous stage's output member
+    [[stages]]
+    case = "nrel-5mw-stage3"           # a pair: which gear the previous stage drives, its
+    input = "gear"                     # gears' polar inertias and its mean mesh stiffness
+    shaft_Nm_per_rad = 1.435e8
+    pinion_inertia_kg_m2 = 3.75
+    gear_inertia_kg_m2 = 921.0
+    mesh_stiffness_N_per_um = 7668.0
+
+A planetary stage's input and output are its ``[planetary]`` table's; each stage's own
+``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import os
+
+from fem_prep import schema as sc
+
+from .._gearbox import (
+    AbstractGearboxStage,
+    GearboxTorsional,
+    PairGearboxStage,
+    PlanetaryGearboxStage,
+)
+from ._case import Case, CaseForm, PairForm
+from ._planetary_spec import PlanetaryForm
+
+__all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
+
+_KEYS = ("name", "operating", "stages")
+_STAGE_KEYS = (
+    "case",
+    "shaft_Nm_per_rad",
+    "input",
+    "pinion_inertia_kg_m2",
+    "gear_inertia_kg_m2",
+    "mesh_stiffness_N_per_um",
+)
+_PAIR_KEYS = _STAGE_KEYS[2:]
+#: a pair stage's ``input``: which gear the previous stage drives
+PAIR_INPUTS = {"pinion": 0, "gear": 1}
+
+
+@dataclasses.dataclass(frozen=True)
+class GearboxStage:
+    """One stage as the gearbox holds it: its case (its operating point the carried one),
+    the ratio ω_in/ω_out, the input speed (rad/s) and torque (N·m) of its input member, the
+    torsional stiffness of the shaft from the previous stage (N·m/rad; 0 for the first) and its
+    torsional model in the chain (:class:`~jaxgear.AbstractGearboxStage`)."""
+
+    case: Case
+    ratio: float
+    input_speed: float
+    input_torque: float
+    shaft_stiffness: float
+    torsional: AbstractGearboxStage
+
+    @property
+    def output_speed(self) -> float:
+        return self.input_speed / self.ratio
+
+    @property
+    def output_torque(self) -> float:
+        return self.input_torque * self.ratio
+
+
+@dataclasses.dataclass(frozen=True)
+class GearboxForm(CaseForm):
+    """A gearbox case file (``[[stages]]``): stages in series; its meshes (the case's
+    ``pairs``) are its stages' meshes in order, each named ``stage<i>:<the stage's name of it>``
+    (i from 1) and given as a pair case by its stage (:meth:`mesh_case`)."""
+
+    stages: tuple[GearboxStage, ...]
+
+    def stage_name(self, i: int) -> str:
+        """Stage ``i``'s name in the outputs: ``stage<i + 1>``."""
+        return f"stage{i + 1}"
+
+    def _where(self, k: int) -> tuple[Case, int, int]:
+        for i, s in enumerate(self.stages):
+            if k < len(s.case.pairs):
+                return s.case, k, i
+            k -= len(s.case.pairs)
+        raise IndexError(f"mesh {k}: the gearbox has fewer meshes")
+
+    def mesh_name(self, case: Case, k: int) -> str:
+        stage, j, i = self._where(k)
+        return f"{self.stage_name(i)}:{stage.form.mesh_name(stage, j)}"
+
+    def mesh_label(self, case: Case, k: int) -> str:
+        return self.mesh_name(case, k)
+
+    def mesh_case(self, case: Case, k: int) -> Case:
+        stage, j, _ = self._where(k)
+        return stage.form.mesh_case(stage, j)
+
+    def ratio(self) -> float:
+        """The overall ratio ω_in/ω_out: the stages' product."""
+        out = 1.0
+        for s in self.stages:
+            out *= s.ratio
+        return out
+
+    def torsional(self) -> GearboxTorsional:
+        """The chain's torsional model (:class:`~jaxgear.GearboxTorsional`)."""
+        return GearboxTorsional(
+            tuple(s.torsional for s in self.stages),
+            tuple(s.shaft_stiffness for s in self.stages[1:]),
+        )
+
+
+def is_gearbox(data: dict) -> bool:
+    """A gearbox case file: it has ``[[stages]]``."""
+    return "stages" in data
+
+
+@functools.singledispatch
+def _stage(form, case: Case, table: dict, where: str, speed: float, torque: float):
+    """(case at the carried point, ratio, torsional stage) of a stage of ``form``."""
+    raise sc.fail(where, "case", f"a stage must be a planetary or a pair case, not {case.name!r}")
+
+
+@_stage.register
+def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, torque: float):
+    extra = sorted(set(table) & set(_PAIR_KEYS))
+    if extra:
+        raise sc.fail(where, extra[0], "only for a pair stage", table[extra[0]])
+    spec = form.spec
+    model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output)
+    return case.replace(torque=torque, speed=speed), spec.ratio(), model
+
+
+@_stage.register
+def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque: float):
+    side = PAIR_INPUTS[sc.choice(table, "input", where, tuple(PAIR_INPUTS))]
+    inertias = [
+        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="(0, 1e+09]")
+        for g in ("pinion", "gear")
+    ]
+    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed="(0, 1e+06]")
+    pair = case.pair
+    z = (pair.pinion.teeth, pair.gear.teeth)
+    ratio = z[1 - side] / z[side]  # ω_in/ω_out
+    # the pair's own operating point is its pinion's
+    pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
+    model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
+    return case.replace(speed=pinion[0], torque=pinion[1]), ratio, model
+
+
+def _stage_case(value: str, base: str | None, load_case) -> Case:
+    path = os.path.join(base, value) if base is not None else value
+    return load_case(path if base is not None and os.path.isfile(path) else value)
+
+
+def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
+    """Validate a gearbox case file (module docstring) and build its :class:`Case`: the first
+    stage's case, named by the file, of form :class:`GearboxForm`. ``load_case``: how a stage's
+    ``case`` is loaded (:func:`jaxgear.io.load_case`).
+
+    Raises:
+        SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
+            a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
+            is not a planetary stage or a pair; one line each.
+    """
+    sc.check_keys(data, _KEYS, "")
+    name = sc.name(data, "name", "", default_name)
+    op = sc.subtable(data, "operating", "", ("torque_Nm", "speed_rad_s"), required=True)
+    torque = sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+09]")
+    speed = sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]")
+    tables = data["stages"]
+    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
+        raise sc.fail("", "stages", "must be a non-empty array of tables ([[stages]])")
+    stages = []
+    for k, t in enumerate(tables):
+        where = f"stages[{k}]"
+        sc.check_keys(t, _STAGE_KEYS, where)
+        case = _stage_case(sc.string(t, "case", where), base, load_case)
+        if k == 0 and "shaft_Nm_per_rad" in t:
+            raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")
+        shaft = 0.0 if k == 0 else sc.number(t, "shaft_Nm_per_rad", where, allowed="(0, 1e+15]")
+        staged, ratio, model = _stage(case.form, case, t, where, speed, torque)
+        stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model))
+        speed, torque = stages[-1].output_speed, stages[-1].output_torque
+    first = stages[0].case
+    pairs = tuple(p for s in stages for p in s.case.pairs)
+    form = GearboxForm(tuple(stages))
+    return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs)
