@@ -22,7 +22,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # optimised code's to round-off, but it may compute one value in two kernels that round
 # differently (jaxgear._util.safe_max is the derivative of a maximum that survives it;
 # test_optimise_robust checks the robust gradient at this level). An XLA_FLAGS that names the
-# level is kept (e.g. --xla_backend_optimization_level=2 for XLA's default pipeline).
+# level is kept (--xla_backend_optimization_level=3: XLA's default pipeline).
 if "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
     os.environ["XLA_FLAGS"] = (
         os.environ.get("XLA_FLAGS", "") + " --xla_backend_optimization_level=0"
