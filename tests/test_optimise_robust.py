@@ -79,7 +79,7 @@ def _small_gradient() -> dict:
     theta = jg.mesh_positions(prob.mesh, 2, 45)
     rp = op.RobustProblem(prob, jax.vmap(sampler)(keys), theta, 1e-6, op.Mean())
     vg = jax.jit(jax.value_and_grad(lambda x: rp.value(x)))  # one program for both
-    f = lambda x: float(vg(x)[0])  # noqa: E731
+    f = lambda x: float(vg(x)[0])
     x = jnp.asarray([1.1, 0.3])
     g = vg(x)[1]
     h = 1e-5
@@ -102,7 +102,9 @@ def test_robust_gradient_is_finite_with_unoptimised_xla_code():
     if _O0 in os.environ.get("XLA_FLAGS", "").split():
         out = _small_gradient()
     else:
-        flags = [f for f in os.environ.get("XLA_FLAGS", "").split() if "optimization_level" not in f]
+        flags = [
+            f for f in os.environ.get("XLA_FLAGS", "").split() if "optimization_level" not in f
+        ]
         script = (
             "import json, sys; sys.path.insert(0, 'tests'); "
             "from test_optimise_robust import _small_gradient; "
