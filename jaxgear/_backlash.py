@@ -28,6 +28,8 @@ import math
 import jax.numpy as jnp
 import numpy as np
 
+from ._util import safe_max
+
 __all__ = [
     "backlashes",
     "base_thicknesses",
@@ -143,10 +145,10 @@ def flank_separation(mesh, cells, e):
     flanks and the coast flanks, the same modifications in their own base plane, have the
     backlash less the drive flanks' reference e_max and their own e."""
     if not mesh.coast:
-        e_max = jnp.max(jnp.where(cells.mask, e, -jnp.inf))
+        e_max = safe_max(jnp.where(cells.mask, e, -jnp.inf))
         return e_max, jnp.where(cells.mask, e_max - e, 0.0)
     drive = cell_flank(cells) > 0
-    e_max = jnp.max(jnp.where(cells.mask & drive, e, -jnp.inf))
+    e_max = safe_max(jnp.where(cells.mask & drive, e, -jnp.inf))
     delta0 = jnp.where(drive, e_max - e, mesh.backlash - e_max - e)
     return e_max, jnp.where(cells.mask, delta0, 0.0)
 

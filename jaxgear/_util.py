@@ -20,6 +20,7 @@ __all__ = [
     "only_one_mesh",
     "only_where_needed",
     "rms_about_mean",
+    "safe_max",
     "safe_sqrt",
 ]
 
@@ -188,6 +189,33 @@ def _safe_sqrt_jvp(primals, tangents):
     y = jnp.sqrt(x)
     pos = x > 0
     return y, jnp.where(pos, dx / (2.0 * jnp.where(pos, y, 1.0)), 0.0)
+
+
+@functools.partial(jax.custom_jvp, nondiff_argnums=(1,))
+def safe_max(x, axis: int | None = None):
+    """``jnp.max(x, axis)`` whose derivative never divides by zero: the tangent is the mean of
+    the tangents at the elements equal to the maximum (``jnp.max``'s rule), or the tangent at
+    the first maximum (``jnp.argmax``) where no element compares equal to it. ``jnp.max``'s rule
+    divides by that count, and a compiled program may compute the operand of the comparison and
+    of the reduction in two kernels that round differently (XLA's CPU backend at
+    ``--xla_backend_optimization_level=0``), making it 0 and the gradient NaN. ``axis``: None
+    (all elements) or one axis."""
+    return jnp.max(x, axis=axis)
+
+
+@safe_max.defjvp
+def _safe_max_jvp(axis, primals, tangents):
+    (x,), (dx,) = primals, tangents
+    y = jnp.max(x, axis=axis, keepdims=True)
+    hit = x == y
+    count = jnp.sum(hit, axis=axis, keepdims=True)
+    first = jnp.argmax(x, axis=axis, keepdims=True)
+    if axis is None:
+        index = jnp.arange(x.size).reshape(x.shape)
+    else:
+        index = jax.lax.broadcasted_iota(first.dtype, x.shape, axis % x.ndim)
+    w = jnp.where(count > 0, hit / jnp.maximum(count, 1), index == first).astype(dx.dtype)
+    return jnp.max(x, axis=axis), jnp.sum(w * dx, axis=axis)
 
 
 def rms_about_mean(x, axis=-1):

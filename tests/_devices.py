@@ -16,7 +16,8 @@ def run_on_cpu_devices(script: str, devices: int = 4, timeout: float = 600) -> s
     (at most ``timeout`` s); asserts it exits with 0 (showing the end of its stderr otherwise) and returns its stdout."""
     env = dict(
         os.environ,
-        XLA_FLAGS=f"--xla_force_host_platform_device_count={devices}",
+        # the inherited flags (the suite's XLA level, tests/conftest.py) and the device count
+        XLA_FLAGS=f"{os.environ.get('XLA_FLAGS', '')} --xla_force_host_platform_device_count={devices}",
         JAX_PLATFORMS="cpu",
     )
     r = subprocess.run(

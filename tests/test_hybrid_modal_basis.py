@@ -16,9 +16,11 @@ import fem_prep
 import jaxgear as jg
 from jaxgear import io as jio
 from jaxgear.dynamics import (
+    Batching,
     HybridModel,
     ModalBasis,
     Newmark,
+    Outputs,
     SteadyState,
     dynamic_model,
     speed_sweep,
@@ -37,13 +39,23 @@ def setup(fem_prep_cache):
 
 
 def _sweep(setup, speeds, basis, *, damping=None, spp=16, window=None, rotating_frame=False):
+    """The sweep of the test scene at ``speeds`` (rad/s) in ``basis`` (None: cell space), by
+    default with the settings of tests/test_hybrid_dynamics.py's runs of the same scene (its
+    ``RUN``: Newmark 16, 3 periods with 1 kept, the states recorded) one speed per call, so that
+    the cell-space reference is the program that module compiled (read back from the run's
+    compilation cache)."""
     case, scene = setup
-    window = SteadyState(6, 2) if window is None else window
+    window = SteadyState(3, 1) if window is None else window
     model = dynamic_model(
         scene, case.modifications, case.torque, damping, rotating_frame=rotating_frame
     )
     return speed_sweep(
-        model, jnp.asarray(speeds), integrator=Newmark(spp, basis=basis), window=window
+        model,
+        jnp.asarray(speeds),
+        integrator=Newmark(spp, basis=basis),
+        window=window,
+        outputs=Outputs(states=True),
+        batching=Batching(chunk_size=1),
     ).results
 
 
