@@ -11,6 +11,7 @@ import math
 import meshio
 import numpy as np
 import pytest
+import scipy.linalg
 
 import fem_prep as fp
 from fem_prep import schema
@@ -234,3 +235,33 @@ def test_ring_vtu_holds_the_mode_shapes(free_ring, tmp_path):
     v = m.point_data[name].ravel()
     c = np.linalg.lstsq(pair, v, rcond=None)[0]
     assert np.linalg.norm(pair @ c - v) < 1e-8 * np.linalg.norm(v)
+
+
+@pytest.mark.slow
+def test_station_mass_and_frequencies_of_the_embedded_test_ring(tmp_path):
+    """fem_prep.ring_stations of the embedded coarse test ring (built into a fresh cache, then
+    read back equal): the stations' mass (a static reduction onto the 53 stations' in-plane
+    displacements) carries the annulus' mass rho pi (R_o^2 - R_f^2) b in a rigid translation
+    (within 1e-4: the soft housing bends the static shape a little), and the station model's
+    lowest frequencies of nodal diameters 2 and 3 (eig(F^-1, M_u), in degenerate pairs) are the
+    Craig-Bampton ring's within 1 %."""
+    body = fp.load_ring_body("seq-test-ring")
+    st = fp.ring_stations(body, cache=tmp_path)
+    again = fp.ring_stations(body, cache=tmp_path)
+    np.testing.assert_array_equal(again.compliance, st.compliance)
+    assert again.nd_frequencies == st.nd_frequencies
+    z = body.condensation.teeth
+    M = st.mass.reshape(2 * z, 2 * z)
+    u = np.zeros((z, 2))
+    u[:, 0] = 1.0
+    rho = body.material.density
+    annulus = rho * math.pi * (body.outer_radius**2 - body.root_radius**2) * body.width
+    assert u.ravel() @ M @ u.ravel() == pytest.approx(annulus, rel=1e-4)
+    lam = scipy.linalg.eigh(np.linalg.inv(st.compliance.reshape(2 * z, 2 * z)), M,
+                            eigvals_only=True)
+    f = np.sqrt(lam) / (2 * math.pi)
+    for n in (2, 3):
+        ref = st.nd_frequencies[n]
+        near = f[np.argmin(np.abs(f - ref))]
+        assert near == pytest.approx(ref, rel=1e-2)
+        assert np.sum(np.abs(f / ref - 1) < 1e-2) == 2  # a degenerate pair

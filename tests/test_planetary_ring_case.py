@@ -4,8 +4,10 @@ jaxgear.RigidRing / CondensedRing by jaxgear.io, and the refusals in one line be
 count or root radius disagree with the ring gear)."""
 
 import copy
+import json
 import tomllib
 
+import numpy as np
 import pytest
 
 import fem_prep as fp
@@ -75,3 +77,58 @@ def test_bad_ring_keys_are_one_line_before_any_work(tmp_path, capsys, ring, word
     err = capsys.readouterr().err.strip()
     assert words in err and "\n" not in err, err
     assert not out.exists()
+
+
+def _seq_case() -> dict:
+    """A small stage (19/17/-53 teeth, m 3 mm, b 30 mm, 3 planets, ring fixed, carrier in) whose
+    ring is the embedded coarse test ring, a 3 um tangential error on planet 1 (every mesh stays loaded)'s pin."""
+    def gear(name, teeth, x):
+        return {"name": name, "teeth": teeth, "normal_module_mm": 3.0,
+                "normal_pressure_angle_deg": 20.0, "profile_shift": x, "face_width_mm": 30.0}
+
+    member = {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}
+    return {
+        "name": "seq-flexible-ring",
+        "gears": [gear("sun", 19, 0.3), gear("planet", 17, 0.3), gear("ring", -53, -0.9)],
+        "mesh": {"stiffness": "iso6336", "positions_per_pitch": 8},
+        "operating": {"torque_Nm": 1000.0, "speed_rad_s": 20.0},
+        "planetary": {
+            "sun_gear": "sun", "planet_gear": "planet", "ring_gear": "ring", "planets": 3,
+            "fixed": "ring", "input": "carrier", "tangential_pin_errors_um": [3.0, 0.0, 0.0],
+            "sun": {**member, "bearing_N_per_um": 1e4},  # held: a floating sun shares evenly
+            "ring": {"mass_kg": 6.0, "inertia_kg_m2": 0.05, "bearing_N_per_um": 1e4,
+                     "torsional_stiffness_Nm_per_rad": 1e10, "model": "condensed",
+                     "body": "seq-test-ring"},
+            "carrier": {**member, "bearing_N_per_um": 1e4},
+            "planet": {**member, "pin_radial_N_per_um": 1e4, "pin_tangential_N_per_um": 1e4},
+        },
+    }
+
+
+@pytest.mark.slow
+def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
+    """jaxgear run on a small stage with the coarse test ring (30 s under load: the run's own
+    sweep and mesh sections; the fast tests above check the parser and the objects, and
+    tests/test_planetary_ring.py the flexible ring's quasi-static solve): the ring section of summary.json
+    (K_gamma of the rigid ring is the load_sharing one, found by another solver, to 1e-6; the
+    flexible ring relieves planet 1; the ring's deflection at the ring meshes is the station
+    compliance's C P within 1e-9 at the first position), ring.vtu with its mode shapes."""
+    path = tmp_path / "seq.toml"
+    path.write_text(case_toml(_seq_case()))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    ring = summary["ring"]
+    assert ring["k_gamma_rigid"] == pytest.approx(
+        summary["load_sharing"]["planar"]["k_gamma"], rel=1e-6)
+    assert ring["k_gamma_condensed"] < ring["k_gamma_rigid"]
+    case = jio.load_case(path)
+    spec = case.form.spec
+    C = np.asarray(spec.ring_model.ring().mesh_compliance(spec.stage(case), 0.0))
+    P = np.asarray(ring["ring_mesh_forces_condensed_N"][0])
+    assert ring["ring_deflection_max_m"] >= np.max(np.abs(C @ P)) * (1 - 1e-9)
+    assert set(ring["nd_frequencies_Hz"]) >= {"2", "3"}
+    for r in ring["resonances"]:
+        assert r["frequency_hz"] == pytest.approx(r["order"] * r["carrier_speed_hz"], rel=1e-12)
+    vtu = (out / "ring.vtu").read_text()
+    assert vtu.count('Name="mode_') == 8
