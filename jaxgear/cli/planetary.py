@@ -321,8 +321,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
         + " (modes.json, campbell.png)",
     ]
-    if "ring" in summary:
-        r = summary["ring"]
+    r = summary.get("ring")
+    if r is not None:
         low = ", ".join(f"ND{k} {f:.4g} Hz" for k, f in list(r["nd_frequencies_Hz"].items())[:4])
         lines.append(
             f"flexible ring {r['body']}: K_γ rigid {r['k_gamma_rigid']:.4f} → condensed "
