@@ -77,6 +77,15 @@ from ._ring import (
     thin_ring_frequency as thin_ring_frequency,
     write_ring_vtu as write_ring_vtu,
 )
+from ._ring_stations import (
+    RingStations as RingStations,
+    embedded_ring_text as embedded_ring_text,
+    embedded_rings as embedded_rings,
+    load_ring_body as load_ring_body,
+    ring_nd_frequencies as ring_nd_frequencies,
+    ring_station_mass as ring_station_mass,
+    ring_stations as ring_stations,
+)
 from ._root_stress import (
     FilletInfluence as FilletInfluence,
     FilletStress as FilletStress,
@@ -87,9 +96,9 @@ from ._root_stress import (
 )
 from ._solver import (
     CholmodFactor as CholmodFactor,
-    SparseFactor as SparseFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
+    SparseFactor as SparseFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )

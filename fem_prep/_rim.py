@@ -74,6 +74,7 @@ free of rigid motions with the masters at ``x_hat`` (stored as the master coordi
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -130,16 +131,41 @@ def _face_facets(bm: BodyMesh, radius: float, band=None) -> np.ndarray:
 def _nodal_areas(bm: BodyMesh, facets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Face nodes and their consistent nodal areas ``a_n = int_face phi_n dS`` (the load of a
     unit uniform traction; negative at the corners of serendipity faces, -1/12 of a flat face
-    each)."""
+    each).
+
+    Integrated on each facet's reference face of its element (Gauss order 6 on the face, the
+    area element of Nanson's formula ``dS = |det F| |F^-T n_ref| dS_ref`` of the element's
+    isoparametric map), never by inverting that map at points found in space: skfem's
+    ``FacetBasis`` does (a Newton iteration to 1e-12 per point), which fails on the thin, curved
+    quadratic elements of a ring with three or more elements through its thickness."""
     el = bm.element.skfem_element()
-    fb = skfem.FacetBasis(bm.mesh, el, facets=facets, intorder=6)
-    share = np.stack([np.sum(np.asarray(b[0]) * fb.dx, axis=1) for b in fb.basis])  # (n_loc, n_f)
-    a = np.bincount(fb.element_dofs.ravel(), weights=share.ravel(), minlength=bm.n_nodes)
+    mesh = bm.mesh
+    mapping = mesh._mapping()
+    element_dofs = skfem.Dofs(mesh, el).element_dofs
+    facets = np.asarray(facets)
+    t = mesh.f2t[0, facets]
+    # the facet's vertices among its element's: the reference coordinate constant on them
+    local = np.argmax(mesh.t[:, t][None, :, :] == mesh.facets[:, facets][:, None, :], axis=1)
+    corners = mesh.init_refdom().p[:, local]  # (dim, 4, n_f)
+    axis = np.argmax(np.ptp(corners, axis=1) == 0, axis=0)
+    value = corners[axis, 0, np.arange(facets.size)]
+    xq, wq = skfem.quadrature.get_quadrature(skfem.refdom.RefQuad, 6)
+    share = np.zeros((element_dofs.shape[0], facets.size))  # (n_loc, n_f)
+    for a, v in itertools.product(range(3), (0.0, 1.0)):
+        sel = np.nonzero((axis == a) & (value == v))[0]
+        if sel.size:
+            X = np.insert(xq, a, v, axis=0)
+            inv = mapping.invDF(X, tind=t[sel])
+            ds = np.abs(mapping.detDF(X, tind=t[sel])) * np.sqrt(np.sum(inv[a] ** 2, axis=0))
+            phi = np.stack([np.asarray(el.lbasis(X, i)[0]) for i in range(share.shape[0])])
+            share[:, sel] = phi @ (ds * wq).T
+    dofs = element_dofs[:, t]
+    a_n = np.bincount(dofs.ravel(), weights=share.ravel(), minlength=bm.n_nodes)
     # the face's nodes: those whose shape function is not zero on it (a corner's area may be
     # small but is not zero)
     on_face = np.abs(share) > 1e-12 * np.abs(share).max()
-    nodes = np.unique(fb.element_dofs[on_face])
-    return nodes, a[nodes]
+    nodes = np.unique(dofs[on_face])
+    return nodes, a_n[nodes]
 
 
 def _weights(

@@ -15,6 +15,14 @@ on its root-patch masters), planet n at the angle ``phi_n`` of the ring's frame 
 ring mesh's approach loses the ring's displacement there, ``w_n = sum_m C_nm P_m`` (P_m the
 transverse ring-mesh forces, N): the contact problem gains N coordinates w with the stiffness
 ``C^-1`` and the ring cells' rows ``-cos(beta_b)`` on their planet's w.
+
+In the dynamics (:func:`jaxgear.dynamics.planetary_dynamics`) the ring keeps its 2Z station
+displacements u (the ring frame's x, y at each station) as coordinates of constant stiffness
+``F^-1`` (and, given, the stations' mass: the ring's nodal-diameter modes), and the ring cells'
+rows gain ``-cos(beta_b) E_n`` with ``E_n = sum_k W_nk e_n^T`` on station k: the carrier angle
+moves the rows, not the ring's matrices. Eliminating u statically gives back ``w = C P``.
+The ring's coordinates live in the ring's frame: with the ring held they are inertial (no
+Coriolis or centripetal terms), and only the contacts move around them.
 """
 
 from __future__ import annotations
@@ -37,6 +45,22 @@ __all__ = [
     "ring_excitation",
     "ring_resonances",
 ]
+
+
+def modal_damping(M, K, ratio) -> Float[Array, "m m"]:
+    """C = M Phi diag(2 zeta omega) Phi^T M (N s/m, (m, m)) on the modes Phi (mass-normalised)
+    of (M, K), M positive definite (seed (2.35))."""
+    low = jnp.linalg.cholesky(M)
+    a = jnp.linalg.solve(low, jnp.linalg.solve(low, K).T)
+    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
+    phi = jnp.linalg.solve(low.T, vec)  # mass-normalised
+    mp = M @ phi
+    omega = jnp.sqrt(jnp.clip(lam, 0.0))
+    return mp @ ((2.0 * ratio * omega)[:, None] * mp.T)
+
+
+def _optional_float(x):
+    return None if x is None else as_float(x)
 
 
 def ring_contact_angles(stage, travel) -> Float[Array, " n"]:
@@ -66,6 +90,17 @@ class AbstractRingModel(eqx.Module):
         ``ring_rows`` (n_planets, c): the transverse ring-mesh force of each planet per cell
         force (cos beta_b on that planet's ring cells)."""
 
+    @abc.abstractmethod
+    def dynamic_matrices(self, dtype, damping_ratio) -> tuple[Array, Array, Array]:
+        """``(K_u, M_u, C_u)``: the stiffness (N/m), mass (kg) and damping (N s/m) of the
+        ring's m coordinates in the dynamics, each (m, m) (m = 0 for a rigid ring); C_u modal
+        at ``damping_ratio`` on the ring's own modes (:func:`modal_damping`)."""
+
+    @abc.abstractmethod
+    def contact_rows(self, stage, travel) -> Float[Array, "n m"]:
+        """E (-, (n_planets, m)): each ring mesh's elastic ring displacement along its force,
+        ``w_n = E_n u``, at the mesh travel ``travel`` (m)."""
+
 
 class RigidRing(AbstractRingModel):
     """The lumped model's ring as it is: rigid, on its bearing and torsional supports (the
@@ -73,6 +108,13 @@ class RigidRing(AbstractRingModel):
 
     def augment(self, stage, k_b, f, V, ring_rows, travel):
         return k_b, f, V
+
+    def dynamic_matrices(self, dtype, damping_ratio):
+        zero = jnp.zeros((0, 0), dtype)
+        return zero, zero, zero
+
+    def contact_rows(self, stage, travel):
+        return jnp.zeros((stage.n_planets, 0), jnp.result_type(travel))
 
 
 class CondensedRing(AbstractRingModel):
@@ -86,12 +128,21 @@ class CondensedRing(AbstractRingModel):
     spread across the face width; the teeth's moment on the rim about the root circle is not
     carried (the rim masters carry translations only).
 
+    In the dynamics the ring's 2Z station displacements are coordinates (module docstring):
+    massless without ``mass`` (the ring quasi-static at every step: the compliance in series
+    with the ring meshes, moving with the carrier), or with the stations' mass
+    (``fem_prep.ring_station_mass``: the condensed ring reduced statically onto its stations)
+    so that its nodal-diameter modes respond.
+
     Attributes:
         compliance: F (m/N), ``(Z, 2, Z, 2)``, symmetric positive definite as a ``2Z x 2Z``
             matrix.
+        mass: M_u (kg), ``(Z, 2, Z, 2)`` symmetric positive semi-definite, or None: a massless
+            (quasi-static) ring.
     """
 
     compliance: Float[Array, "z 2 z 2"] = eqx.field(converter=as_float)
+    mass: Float[Array, "z 2 z 2"] | None = eqx.field(converter=_optional_float, default=None)
 
     def __check_init__(self):
         F = self.compliance
@@ -101,6 +152,13 @@ class CondensedRing(AbstractRingModel):
             )
         check_integer("CondensedRing: compliance.shape[0]", F.shape[0], 3)
         check_real("compliance", F, "m/N", where="CondensedRing")
+        if self.mass is not None:
+            if self.mass.shape != F.shape:
+                raise ValueError(
+                    f"CondensedRing: mass has shape {self.mass.shape}; allowed {F.shape} (the "
+                    "compliance's)"
+                )
+            check_real("mass", self.mass, "kg", where="CondensedRing")
 
     @property
     def stations(self) -> int:
@@ -120,11 +178,32 @@ class CondensedRing(AbstractRingModel):
     def mesh_compliance(self, stage, travel) -> Float[Array, "n n"]:
         """C (m/N, (n_planets, n_planets)) of the ring meshes at the mesh travel ``travel``
         (m): module docstring."""
+        E = self.station_rows(stage, travel)
+        z2 = 2 * self.stations
+        return E @ self.compliance.reshape(z2, z2) @ E.T
+
+    def station_rows(self, stage, travel) -> Float[Array, "n zz"]:
+        """E (n_planets, 2Z): ``E_n = sum_k W_nk e_n^T`` on the stations' (x, y) at the mesh
+        travel ``travel`` (m): the ring's displacement at planet n along its mesh force is
+        ``E_n u``, and the force P_n e_n spread on the stations is ``E_n^T P_n``."""
         phi = ring_contact_angles(stage, travel)
         E = self.hats(phi)[:, :, None] * ring_force_directions(stage, phi)[:, None, :]
-        z = self.stations
-        E = E.reshape(E.shape[0], 2 * z)
-        return E @ self.compliance.reshape(2 * z, 2 * z) @ E.T
+        return E.reshape(E.shape[0], 2 * self.stations)
+
+    def dynamic_matrices(self, dtype, damping_ratio):
+        z2 = 2 * self.stations
+        F = self.compliance.reshape(z2, z2).astype(dtype)
+        K = jnp.linalg.inv(0.5 * (F + F.T))
+        K = 0.5 * (K + K.T)
+        if self.mass is None:  # quasi-static: no inertia, no damping
+            zero = jnp.zeros((z2, z2), dtype)
+            return K, zero, zero
+        M = self.mass.reshape(z2, z2).astype(dtype)
+        M = 0.5 * (M + M.T)
+        return K, M, modal_damping(M, K, damping_ratio)
+
+    def contact_rows(self, stage, travel):
+        return self.station_rows(stage, travel)
 
     def augment(self, stage, k_b, f, V, ring_rows, travel):
         n = stage.n_planets

@@ -93,8 +93,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
 TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vtu")
 OUTPUT_FILES["run"] += TRAIN_FILES
 # what ``jaxgear run`` writes for a planetary stage ([planetary]) besides summary.json: the modes
-# with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves
-PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv")
+# with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves,
+# a flexible ring's mode shapes
+PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu")
 OUTPUT_FILES["run"] += PLANETARY_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

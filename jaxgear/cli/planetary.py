@@ -17,7 +17,10 @@ import os
 
 import numpy as np
 
+import fem_prep
+
 from .. import (
+    ConstantMeshes,
     ModeType,
     PlanarPlanetary,
     TorsionalPlanetary,
@@ -27,7 +30,9 @@ from .. import (
     load_sharing,
     mesh_phases,
     planetary_modes,
+    planetary_quasi_static,
     quasi_static,
+    ring_resonances,
 )
 from ..io import write_csv, write_json
 from ._plots import new_figure
@@ -44,6 +49,7 @@ __all__ = [
     "phases_summary",
     "planetary_files",
     "planetary_lines",
+    "ring_section",
     "sharing_summary",
     "type_counts",
 ]
@@ -104,6 +110,8 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
         "planar_type_counts": type_counts(modes["planar"]),
     }
     summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
+    if spec.ring_model.flexible:
+        summary["ring"] = ring_section(case, spec, stage, out)
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
@@ -127,6 +135,53 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
             "k_gamma": float(r.k_gamma),
         }
     return out
+
+
+#: carrier positions over 1/N of a turn at which the flexible ring's load sharing is solved
+RING_POSITIONS = 9
+#: the ring's mode shapes written to ring.vtu
+RING_VTU_MODES = 8
+
+
+def ring_section(case, spec, stage, out: str) -> dict:
+    """A flexible ring's effect (``[planetary.ring] model = "condensed"``): the planar model's
+    load sharing with the pin errors, the rigid ring against the condensed one (one spring per
+    mesh at the stage's mesh stiffness, sun free, ring and carrier held: the stage of
+    :func:`sharing_summary`) at :data:`RING_POSITIONS` carrier positions over 1/N of a turn;
+    the ring's deflection at the ring meshes; its lowest in-plane nodal-diameter frequencies
+    and which of them the planets' mesh harmonics excite, at which carrier speed
+    (:func:`jaxgear.ring_resonances`); ``ring.vtu`` (the ring's mode shapes)."""
+    rm = spec.ring_model
+    st = rm.stations()
+    held = spec.sharing_stage(stage)
+    torque = abs(spec.torques(case.torque)["sun"])
+    n = spec.n_planets
+    x = np.linspace(0.0, float(stage.ring.base_radius) * 2 * math.pi / n, RING_POSITIONS)
+    e = np.asarray(spec.tangential_pin_errors)
+    eps = np.asarray(spec.radial_pin_errors)
+    model = MODELS["planar"]
+    rigid = planetary_quasi_static(model, held, ConstantMeshes(), torque, x, e, eps)
+    flex = planetary_quasi_static(model, held, ConstantMeshes(), torque, x, e, eps,
+                                  ring=rm.ring())
+    z_r = spec.teeth[2]
+    per_input = abs(spec.speeds(1.0)["carrier"])  # carrier rad/s per input rad/s
+    fem_prep.write_ring_vtu(fem_prep.prepare_ring(rm.body), os.path.join(out, "ring.vtu"),
+                            n_modes=RING_VTU_MODES)
+    return {
+        "body": rm.source,
+        "stations": int(st.compliance.shape[0]),
+        "carrier_positions_rad": (x / float(stage.ring.base_radius)).tolist(),
+        "k_gamma_rigid": float(np.max(np.asarray(rigid.k_gamma))),
+        "k_gamma_condensed": float(np.max(np.asarray(flex.k_gamma))),
+        "ring_mesh_forces_condensed_N": np.asarray(flex.ring_mesh_forces).tolist(),
+        "ring_deflection_max_m": float(np.max(np.abs(np.asarray(flex.ring_deflection)))),
+        "nd_frequencies_Hz": {str(k): v for k, v in st.nd_frequencies.items()},
+        "resonances": [
+            {**r, "input_speed_rad_s": r["carrier_speed_hz"] * 2 * math.pi / per_input}
+            for r in ring_resonances(st.nd_frequencies, n, z_r, 2)
+        ] if per_input else [],
+        "file": "ring.vtu",
+    }
 
 
 def phases_summary(spec) -> dict:
@@ -266,6 +321,15 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
         + " (modes.json, campbell.png)",
     ]
+    r = summary.get("ring")
+    if r is not None:
+        low = ", ".join(f"ND{k} {f:.4g} Hz" for k, f in list(r["nd_frequencies_Hz"].items())[:4])
+        lines.append(
+            f"flexible ring {r['body']}: K_γ rigid {r['k_gamma_rigid']:.4f} → condensed "
+            f"{r['k_gamma_condensed']:.4f}, ring deflection max "
+            f"{r['ring_deflection_max_m'] * 1e6:.3g} µm; {low}; {len(r['resonances'])} "
+            "ND crossings with the planets' mesh harmonics (ring.vtu)"
+        )
     for name, mesh in summary.get("meshes", {}).items():
         q = mesh["quasi_static"]
         lines.append(

@@ -26,6 +26,7 @@ from .._planetary_mesh import (
     pin_terms,
     sun_load,
 )
+from .._planetary_ring import AbstractRingModel, RigidRing, modal_damping
 from .._util import as_float, check_instance, check_integer, check_real
 from ._newmark import LinearSystem, StepCells, newmark
 
@@ -83,12 +84,15 @@ class PlanetaryDynamics(eqx.Module):
     Attributes:
         time: time (s) of each recorded step, (t,).
         travel: mesh travel x = x_0 + v t (m), (t,).
-        displacement: coordinates (m), (t, n_dof).
+        displacement: coordinates (m), (t, n_dof + m): the model's, then a flexible ring's m
+            = 2Z station displacements (x, y in the ring's frame; :class:`~jaxgear.CondensedRing`).
         sun_mesh_forces, ring_mesh_forces: transverse mesh forces (N, compression positive),
             (t, n_planets).
         static_force: the nominal transverse mesh force T_s / (N r_bs) (N), ().
         result: the run's result code (0: successful; a
             :class:`~jaxgear.DynamicsResult`), ().
+        ring_deflection: the flexible ring's elastic displacement at each ring mesh along its
+            force (m, relieving the mesh), (t, n_planets); zero for a rigid ring.
     """
 
     time: Float[Array, " t"]
@@ -98,6 +102,7 @@ class PlanetaryDynamics(eqx.Module):
     ring_mesh_forces: Float[Array, "t n"]
     static_force: Float[Array, ""]
     result: Array
+    ring_deflection: Float[Array, "t n"]
 
     @property
     def dynamic_factors(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
@@ -116,17 +121,16 @@ class PlanetaryDynamics(eqx.Module):
         return jnp.max(jnp.max(f, axis=-1) / jnp.mean(f, axis=-1), axis=-1)
 
 
-def _modal_damping(M, K, ratio):
-    low = jnp.linalg.cholesky(M)
-    a = jnp.linalg.solve(low, jnp.linalg.solve(low, K).T)
-    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
-    phi = jnp.linalg.solve(low.T, vec)  # mass-normalised
-    mp = M @ phi
-    omega = jnp.sqrt(jnp.clip(lam, 0.0))
-    return mp @ ((2.0 * ratio * omega)[:, None] * mp.T)
+def _with_ring(A, B):
+    """The block-diagonal [[A, 0], [0, B]] (the stage's coordinates, then the ring's)."""
+    if B.shape[0] == 0:
+        return A
+    n, m = A.shape[0], B.shape[0]
+    out = jnp.zeros((n + m, n + m), A.dtype)
+    return out.at[:n, :n].set(A).at[n:, n:].set(B.astype(A.dtype))
 
 
-def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
+def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     m = model.mass_matrix(stage)
     f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
                                 "planetary_dynamics")
@@ -140,12 +144,18 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
     kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
     k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
     omega = as_float(carrier_speed)
-    c = _modal_damping(m, k_b + k_mean, run.damping_ratio)
+    c = modal_damping(m, k_b + k_mean, run.damping_ratio)
+    k_u, m_u, c_u = ring.dynamic_matrices(k_b.dtype, run.damping_ratio)
+    n_dof, n_u = k_b.shape[0], k_u.shape[0]
     system = LinearSystem(
-        K=k_b - omega**2 * model.centripetal_matrix(stage),
-        M=m,
-        C=c + omega * model.gyroscopic_matrix(stage),
-        F=f,
+        K=_with_ring(k_b - omega**2 * model.centripetal_matrix(stage), k_u),
+        M=_with_ring(m, m_u),
+        C=_with_ring(c + omega * model.gyroscopic_matrix(stage), c_u),
+        F=jnp.concatenate([f, jnp.zeros(n_u, f.dtype)]),
+    )
+    # the ring meshes' transverse force per cell force (mesh_forces is linear), (n, c)
+    ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[stage.n_planets:])(
+        jnp.zeros(rows.k.shape[1], rows.k.dtype)
     )
     dt = p_b / (S * mesh_speed)
     # step i at the travel x = (i + 1/2) p_b / S, mid-points as :func:`jaxgear.mesh_positions`:
@@ -155,17 +165,25 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
     def travel(i):
         return (i + 0.5) * (p_b / S)
 
-    row0 = meshes.cell_row(model, stage, travel(jnp.zeros_like(p_b)), offsets)
-    static = solve_contact(system.K, f, row0.V, row0.k, row0.length, row0.delta0, row0.mask, law)
+    def cell_row(i):
+        row = meshes.cell_row(model, stage, travel(i), offsets)
+        if n_u == 0:
+            return row
+        E = ring.contact_rows(stage, travel(i))
+        return row._replace(V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
+
+    row0 = cell_row(jnp.zeros_like(p_b))
+    static = solve_contact(system.K, system.F, row0.V, row0.k, row0.length, row0.delta0,
+                           row0.mask, law)
     zero = jnp.zeros_like(static.x)
     state = (static.x, zero, zero, jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
-    cells = StepCells(lambda i: meshes.cell_row(model, stage, travel(i), offsets), law)
+    cells = StepCells(cell_row, law)
 
     def record(X, Xd, P, i):
-        return X, meshes.mesh_forces(P), i
+        return X, meshes.mesh_forces(P), i, ring.contact_rows(stage, travel(i)) @ X[n_dof:]
 
-    final, (X, forces, i) = newmark(system, dt, state, steps, cells, record,
+    final, (X, forces, i, w) = newmark(system, dt, state, steps, cells, record,
                                     keep_blocks=run.keep_periods)
     n = stage.n_planets
     return PlanetaryDynamics(
@@ -176,6 +194,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law):
         ring_mesh_forces=forces[:, n:],
         static_force=run.sun_torque / (n * stage.sun.base_radius),
         result=final[3],
+        ring_deflection=w,
     )
 
 
@@ -196,6 +215,7 @@ def planetary_dynamics(
     carrier_speed: Float[Array, ""],
     mesh_speed: Float[Array, ""] | None = None,
     law: AbstractContactLaw = ExactContact(),
+    ring: AbstractRingModel = RigidRing(),
 ) -> PlanetaryDynamics:
     """The steady response of a stage at one carrier speed, in the carrier frame.
 
@@ -217,6 +237,13 @@ def planetary_dynamics(
         mesh_speed: v (m/s), the mesh travel speed; None: the ring held, v = r_br |Omega|
             (mesh frequency v / p_b = z_r |Omega| / 2 pi).
         law: the contact law.
+        ring: :class:`~jaxgear.RigidRing` (the lumped ring, the default) or a flexible
+            :class:`~jaxgear.CondensedRing`: its 2Z station displacements join the coordinates
+            (stiffness F^-1, its stations' mass if given), and each ring mesh's cells see the
+            ring's displacement at the planet's moving position (the hats at the angle
+            :func:`~jaxgear.ring_contact_angles`), so that the ring compliance coupling the
+            ring meshes follows the carrier; a massless ring gives the quasi-static
+            compliance of :func:`~jaxgear.planetary_quasi_static` at every step.
 
     Returns:
         :class:`PlanetaryDynamics`.
@@ -225,8 +252,10 @@ def planetary_dynamics(
                    "planetary_dynamics")
     check_instance("run", run, PlanetaryRun, "a jaxgear.dynamics.PlanetaryRun",
                    "planetary_dynamics")
+    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+                   "planetary_dynamics")
     v = _mesh_speed(stage, carrier_speed, mesh_speed)
-    return _run(model, stage, meshes, run, carrier_speed, v, law)
+    return _run(model, stage, meshes, run, carrier_speed, v, law, ring)
 
 
 @eqx.filter_jit
@@ -237,13 +266,16 @@ def planetary_speed_sweep(
     run: PlanetaryRun,
     carrier_speeds: Float[Array, " s"],
     law: AbstractContactLaw = ExactContact(),
+    ring: AbstractRingModel = RigidRing(),
 ) -> PlanetaryDynamics:
     """:func:`planetary_dynamics` at each carrier speed (rad/s, (s,), > 0; the ring held),
-    vectorised with ``jax.vmap``: every field gains a leading axis (s,)."""
+    vectorised with ``jax.vmap``: every field gains a leading axis (s,); ``ring`` as there."""
+    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+                   "planetary_speed_sweep")
     speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
 
     def one(omega):
-        return _run(model, stage, meshes, run, omega, stage.ring.base_radius * omega, law)
+        return _run(model, stage, meshes, run, omega, stage.ring.base_radius * omega, law, ring)
 
     return jax.vmap(one)(speeds)
 

@@ -22,6 +22,7 @@ from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes, ContactMe
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
 from ._case import Case, CaseForm, PairForm, TrainForm
+from ._planetary_ring_spec import RigidRingSpec, RingModelSpec
 
 __all__ = [
     "HOLD_FACTOR",
@@ -119,6 +120,8 @@ class PlanetarySpec:
         mesh_stiffness: a :class:`PlanetaryMeshStiffness`.
         tangential_pin_errors, radial_pin_errors: per planet (m), (N,).
         center_distance: a_w (m), the planet-circle radius.
+        ring_model: the ring's model (``[planetary.ring] model``,
+            :class:`~jaxgear.io._planetary_ring_spec.RingModelSpec`); rigid by default.
     """
 
     teeth: tuple
@@ -132,6 +135,7 @@ class PlanetarySpec:
     tangential_pin_errors: tuple
     radial_pin_errors: tuple
     center_distance: float
+    ring_model: RingModelSpec = dataclasses.field(default_factory=RigidRingSpec)
 
     @property
     def n_planets(self) -> int:

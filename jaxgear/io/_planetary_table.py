@@ -59,6 +59,7 @@ from .._internal import InternalGearPair, planetary_geometry
 from .._planetary import Central, PlanetaryMember, check_assembly
 from .._stiffness_models import ISO6336
 from ._case import Case
+from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
 from ._planetary_spec import (
     GivenMeshStiffness,
     ISO6336MeshStiffness,
@@ -116,6 +117,8 @@ CENTRAL_KEYS = _BODY_KEYS | {
     "torsional_stiffness_N_per_um",
 }
 PLANET_KEYS = _BODY_KEYS | {"pin_radial_N_per_um", "pin_tangential_N_per_um"}
+#: each member table's keys (the others: CENTRAL_KEYS)
+MEMBER_KEYS = {"planet": PLANET_KEYS, "ring": CENTRAL_KEYS | RING_MODEL_KEYS}
 
 
 def is_planetary(data) -> bool:
@@ -305,7 +308,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
     fixed, driver, output = _roles(t)
     tables = {
         m: sc.subtable(
-            t, m, "planetary", PLANET_KEYS if m == "planet" else CENTRAL_KEYS, required=True
+            t, m, "planetary", MEMBER_KEYS.get(m, CENTRAL_KEYS), required=True
         )
         for m in (*MEMBERS, "planet")
     }
@@ -315,6 +318,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         )
         geometry, names, z_p = _geometry(t, gears)
         z_s, z_r = geometry.sun_planet.pinion.teeth, -geometry.planet_ring.gear.teeth
+        ring_root = float(geometry.planet_ring.root_radii[1])
         radii = {
             "sun": geometry.sun_planet.base_radii[0],
             "planet": geometry.sun_planet.base_radii[1],
@@ -356,8 +360,9 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
             for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg")
         )
         mesh_k = _given_stiffness(t, required=True)
-        names, pairs, a_w = (), (), None
+        names, pairs, a_w, ring_root = (), (), None, None
     psi = _angles(t, z_s, z_r)
+    ring_model = parse_ring_model(tables["ring"], z_r, ring_root)
     members = {m: _central(tables[m], m, radii[m]) for m in MEMBERS}
     members["planet"] = _planet(tables["planet"], radii["planet"])
     if a_w is None:
@@ -383,6 +388,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         tangential_pin_errors=_pin_errors(t, "tangential_pin_errors_um", n),
         radial_pin_errors=_pin_errors(t, "radial_pin_errors_um", n),
         center_distance=a_w,
+        ring_model=ring_model,
     )
     mods = base.pop("gear_modifications", ())
     idx = [index[nm] for nm in names]

@@ -1,0 +1,134 @@
+"""The ring's model in a planetary case file ([planetary.ring] model, body): the names mapped to
+jaxgear.RigidRing / CondensedRing by jaxgear.io, and the refusals in one line before any work
+(an unknown model, a missing or unknown body, a body with a rigid ring, a ring body whose tooth
+count or root radius disagree with the ring gear)."""
+
+import copy
+import json
+import tomllib
+
+import numpy as np
+import pytest
+
+import fem_prep as fp
+import jaxgear as jg
+import jaxgear.io as jio
+from _toml import case_toml
+from jaxgear.cli import main
+
+NREL2 = "nrel-5mw-stage2"
+NREL2_RING = "nrel-5mw-stage2-ring"
+
+
+def _with_ring(tmp_path, **ring):
+    data = copy.deepcopy(tomllib.loads(jio.embedded_case_text(NREL2)))
+    data["planetary"]["ring"].update(ring)
+    path = tmp_path / "case.toml"
+    path.write_text(case_toml(data))
+    return path
+
+
+def test_names_map_to_ring_objects(tmp_path):
+    """No model: the rigid ring; model = "condensed" with the embedded NREL stage-2 ring: its
+    body (93 stations, the ring gear's root radius within 2 %), not built until asked."""
+    rigid = jio.load_case(NREL2).form.spec.ring_model
+    assert not rigid.flexible and isinstance(rigid.ring(), jg.RigidRing)
+    case = jio.load_case(_with_ring(tmp_path, model="condensed", body=NREL2_RING))
+    spec = case.form.spec.ring_model
+    assert spec.flexible and spec.body == fp.load_ring_body(NREL2_RING)
+    assert spec.body.condensation.teeth == 93
+    assert spec.body.root_radius == pytest.approx(float(case.pairs[1].root_radii[1]), rel=1e-4)
+    explicit = jio.load_case(_with_ring(tmp_path, model="rigid")).form.spec.ring_model
+    assert isinstance(explicit.ring(), jg.RigidRing)
+
+
+def test_a_ring_body_file_by_path(tmp_path):
+    text = fp.embedded_ring_text(NREL2_RING)
+    body = tmp_path / "my-ring.toml"
+    body.write_text(text.replace('name = "nrel-5mw-stage2-ring"', 'name = "mine"'))
+    spec = jio.load_case(_with_ring(tmp_path, model="condensed", body=str(body))).form.spec
+    assert spec.ring_model.body.name == "mine"
+
+
+@pytest.mark.parametrize(
+    "ring, words",
+    [
+        (dict(model="elastic"), "[planetary.ring] model = 'elastic'"),
+        (dict(model="condensed"), "[planetary.ring] body: missing required key"),
+        (dict(model="rigid", body=NREL2_RING),
+         "[planetary.ring] body = 'nrel-5mw-stage2-ring': allowed only with model = \"condensed\""),
+        (dict(model="condensed", body="no-such-ring"),
+         "[planetary.ring] body = 'no-such-ring': ring body 'no-such-ring' not found"),
+        (dict(model="condensed", body="seq-test-ring"),
+         "has 53 tooth stations ([condensation] teeth); the ring gear has 93 teeth"),
+        (dict(model="condensed", body="BODY_900"),
+         "root_radius_mm = 900 differs from the ring gear's root radius 1000.3 mm by 10"),
+    ],
+)
+def test_bad_ring_keys_are_one_line_before_any_work(tmp_path, capsys, ring, words):
+    if ring.get("body") == "BODY_900":
+        text = fp.embedded_ring_text(NREL2_RING)
+        body = tmp_path / "small.toml"
+        body.write_text(text.replace("root_radius_mm = 1000.30", "root_radius_mm = 900.0"))
+        ring = {**ring, "body": str(body)}
+    path = _with_ring(tmp_path, **ring)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err, err
+    assert not out.exists()
+
+
+def _seq_case() -> dict:
+    """A small stage (19/17/-53 teeth, m 3 mm, b 30 mm, 3 planets, ring fixed, carrier in) whose
+    ring is the embedded coarse test ring, a 3 um tangential error on planet 1 (every mesh stays loaded)'s pin."""
+    def gear(name, teeth, x):
+        return {"name": name, "teeth": teeth, "normal_module_mm": 3.0,
+                "normal_pressure_angle_deg": 20.0, "profile_shift": x, "face_width_mm": 30.0}
+
+    member = {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}
+    return {
+        "name": "seq-flexible-ring",
+        "gears": [gear("sun", 19, 0.3), gear("planet", 17, 0.3), gear("ring", -53, -0.9)],
+        "mesh": {"stiffness": "iso6336", "positions_per_pitch": 8},
+        "operating": {"torque_Nm": 1000.0, "speed_rad_s": 20.0},
+        "planetary": {
+            "sun_gear": "sun", "planet_gear": "planet", "ring_gear": "ring", "planets": 3,
+            "fixed": "ring", "input": "carrier", "tangential_pin_errors_um": [3.0, 0.0, 0.0],
+            "sun": {**member, "bearing_N_per_um": 1e4},  # held: a floating sun shares evenly
+            "ring": {"mass_kg": 6.0, "inertia_kg_m2": 0.05, "bearing_N_per_um": 1e4,
+                     "torsional_stiffness_Nm_per_rad": 1e10, "model": "condensed",
+                     "body": "seq-test-ring"},
+            "carrier": {**member, "bearing_N_per_um": 1e4},
+            "planet": {**member, "pin_radial_N_per_um": 1e4, "pin_tangential_N_per_um": 1e4},
+        },
+    }
+
+
+@pytest.mark.slow
+def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
+    """jaxgear run on a small stage with the coarse test ring (30 s under load: the run's own
+    sweep and mesh sections; the fast tests above check the parser and the objects, and
+    tests/test_planetary_ring.py the flexible ring's quasi-static solve): the ring section of summary.json
+    (K_gamma of the rigid ring is the load_sharing one, found by another solver, to 1e-6; the
+    flexible ring relieves planet 1; the ring's deflection at the ring meshes is the station
+    compliance's C P within 1e-9 at the first position), ring.vtu with its mode shapes."""
+    path = tmp_path / "seq.toml"
+    path.write_text(case_toml(_seq_case()))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    ring = summary["ring"]
+    assert ring["k_gamma_rigid"] == pytest.approx(
+        summary["load_sharing"]["planar"]["k_gamma"], rel=1e-6)
+    assert ring["k_gamma_condensed"] < ring["k_gamma_rigid"]
+    case = jio.load_case(path)
+    spec = case.form.spec
+    C = np.asarray(spec.ring_model.ring().mesh_compliance(spec.stage(case), 0.0))
+    P = np.asarray(ring["ring_mesh_forces_condensed_N"][0])
+    assert ring["ring_deflection_max_m"] >= np.max(np.abs(C @ P)) * (1 - 1e-9)
+    assert set(ring["nd_frequencies_Hz"]) >= {"2", "3"}
+    for r in ring["resonances"]:
+        assert r["frequency_hz"] == pytest.approx(r["order"] * r["carrier_speed_hz"], rel=1e-12)
+    vtu = (out / "ring.vtu").read_text()
+    assert vtu.count('Name="mode_') == 8
