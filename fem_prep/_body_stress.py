@@ -117,7 +117,7 @@ def element_stresses(
     sig = 2.0 * mu * eps
     for a in range(3):
         sig[a, a] += lam * tr
-    x = basis.global_coordinates().value  # (3, n_el, n_q)
+    x = np.asarray(basis.global_coordinates())  # (3, n_el, n_q)
     r = np.hypot(x[0], x[1])
     c, s = x[0] / r, x[1] / r
     hoop = s * s * sig[0, 0] + c * c * sig[1, 1] - 2 * s * c * sig[0, 1]
