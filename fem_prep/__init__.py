@@ -20,6 +20,7 @@ from ._assemble import Operators as Operators, assemble_operators as assemble_op
 from ._body_stress import (
     BodyStress as BodyStress,
     body_stress as body_stress,
+    condensed_body_stress as condensed_body_stress,
     element_stresses as element_stresses,
     full_displacement as full_displacement,
     write_stress_vtu as write_stress_vtu,

@@ -31,6 +31,7 @@ __all__ = [
     "REGIONS",
     "BodyStress",
     "body_stress",
+    "condensed_body_stress",
     "element_stresses",
     "full_displacement",
     "write_stress_vtu",
@@ -145,6 +146,58 @@ def body_stress(prep: Any, q_c: np.ndarray) -> tuple[np.ndarray, BodyStress]:
     :class:`~fem_prep.Prepared` body. Returns ``(u, stress)``."""
     u = full_displacement(prep, q_c)
     return u, element_stresses(prep.mesh.basis, prep.body.material, u, prep.mesh.region)
+
+
+#: skfem's MeshHex corner order from the VTK hexahedron order of ``BodyMesh.cells`` (its inverse)
+_VTK_ORDER = np.array([0, 3, 6, 2, 1, 5, 7, 4])
+
+
+def _regions_by_radius(body: Any, coords: np.ndarray) -> np.ndarray:
+    """Each element's region from its mean corner position ``coords`` ``(n_el, 3)`` (m) and
+    the body's geometry, as the mesher sets them: rim at ``r >= rim_inner_radius``, web at
+    ``hub_outer_radius <= r < rim_inner_radius``, hub below; a pinion rim's elements (radius
+    under its outer radius, axially in its band outside the hub's width) are region 3."""
+    g = body.geometry
+    r = np.hypot(coords[:, 0], coords[:, 1])
+    reg = np.where(r >= g.rim_inner_radius, 2, np.where(r >= g.hub_outer_radius, 1, 0))
+    pin = getattr(body, "pinion_rim", None)
+    if pin is not None:
+        lo, hi = pin.band
+        z = coords[:, 2]
+        hub = np.abs(z - g.web_offset) <= g.hub_width / 2
+        reg = np.where((r < pin.outer_radius) & (z > lo) & (z < hi) & ~hub, 3, reg)
+    return reg
+
+
+def condensed_body_stress(body: Any, q_c: np.ndarray) -> tuple[np.ndarray, BodyStress]:
+    """Element stresses of a loaded :class:`~fem_prep.CondensedBody` (the ``.npz`` a run reads;
+    no mesh or operator is rebuilt): the corner displacements ``u = recovery @ q_c``
+    (``(n_rec, 3)``, m) on the linear hexahedra ``recovery_cells``, stresses as
+    :func:`element_stresses` with trilinear interpolation of the corners (the quadratic
+    elements' mid-edge values are not in the file: a coarser stress than :func:`body_stress`,
+    see ``docs/rating.md``), regions from the radius (:func:`_regions_by_radius`); the material
+    is the body file's.
+
+    Returns ``(u (n_rec, 3), stress)``.
+
+    Raises:
+        ValueError: ``q_c`` not of shape ``(n_c,)``.
+    """
+    q = np.asarray(q_c, dtype=float)
+    if q.shape != (body.n_dofs,):
+        raise ValueError(
+            f"q_c of shape {q.shape}: the condensed body has {body.n_dofs} coordinates"
+        )
+    u = np.asarray(body.recovery, dtype=float) @ q
+    coords = np.asarray(body.recovery_coords, dtype=float)
+    cells = np.asarray(body.recovery_cells)
+    t = np.empty((8, cells.shape[0]), dtype=np.int64)
+    t[_VTK_ORDER] = cells.T
+    mesh = skfem.MeshHex(coords.T.copy(), t)
+    basis = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementHex1()), intorder=2)
+    b = body.body
+    region = _regions_by_radius(b, coords[cells].mean(axis=1))
+    return u.reshape(-1, 3), element_stresses(basis, b.material, u, region)
 
 
 def write_stress_vtu(prep: Any, u: np.ndarray, stress: BodyStress, path: str | Path) -> Path:
