@@ -18,6 +18,7 @@ the one place where the names in a body file become objects: the element (:class
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
 from ._body_stress import (
+    REGIONS as REGIONS,
     BodyStress as BodyStress,
     body_stress as body_stress,
     condensed_body_stress as condensed_body_stress,

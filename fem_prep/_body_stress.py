@@ -17,6 +17,7 @@ mesh's (0 hub/stub, 1 web, 2 rim, 3 pinion rim). NumPy/SciPy/scikit-fem only.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -25,6 +26,8 @@ import numpy as np
 import skfem
 
 from ._body import Material
+from ._io import CondensedBody
+from ._prepare import Prepared
 from .files import atomic_write
 
 __all__ = [
@@ -160,7 +163,7 @@ def _regions_by_radius(body: Any, coords: np.ndarray) -> np.ndarray:
     g = body.geometry
     r = np.hypot(coords[:, 0], coords[:, 1])
     reg = np.where(r >= g.rim_inner_radius, 2, np.where(r >= g.hub_outer_radius, 1, 0))
-    pin = getattr(body, "pinion_rim", None)
+    pin = body.pinion_rim
     if pin is not None:
         lo, hi = pin.band
         z = coords[:, 2]
@@ -200,19 +203,31 @@ def condensed_body_stress(body: Any, q_c: np.ndarray) -> tuple[np.ndarray, BodyS
     return u.reshape(-1, 3), element_stresses(basis, b.material, u, region)
 
 
+@functools.singledispatch
+def _corners(source: Prepared) -> tuple[np.ndarray, np.ndarray]:
+    """(corner nodes (n, 3) m, hexahedra (n_el, 8) VTK order) of a prepared body's mesh."""
+    return source.mesh.nodes[: source.mesh.n_vertices], source.mesh.cells
+
+
+@_corners.register
+def _(source: CondensedBody) -> tuple[np.ndarray, np.ndarray]:
+    return np.asarray(source.recovery_coords), np.asarray(source.recovery_cells)
+
+
 def write_stress_vtu(prep: Any, u: np.ndarray, stress: BodyStress, path: str | Path) -> Path:
     """Write the body mesh (corner nodes, linear hexahedra) with the displacement ``u`` (point
     data ``displacement``, m) and the element stresses (cell data ``von_mises_Pa``,
     ``hoop_Pa``, ``radial_Pa``, ``axial_Pa``, ``region``) as a meshio ``.vtu`` (written
-    atomically). Returns the path."""
+    atomically). ``prep``: a :class:`~fem_prep.Prepared` body (``u`` its full field,
+    ``(n_dofs,)``) or a :class:`~fem_prep.CondensedBody` (``u`` its corner displacements,
+    ``(n_rec, 3)``, as :func:`condensed_body_stress` returns them). Returns the path."""
     import meshio  # lazy, as fem_prep's other .vtu writer: only when a file is written
 
-    bm = prep.mesh
-    nv = bm.n_vertices
+    points, cells = _corners(prep)
     mesh = meshio.Mesh(
-        bm.nodes[:nv],
-        [("hexahedron", bm.cells)],
-        point_data={"displacement": np.asarray(u).reshape(-1, 3)[:nv]},
+        points,
+        [("hexahedron", cells)],
+        point_data={"displacement": np.asarray(u).reshape(-1, 3)[: len(points)]},
         cell_data={
             "von_mises_Pa": [stress.von_mises],
             "hoop_Pa": [stress.hoop],
