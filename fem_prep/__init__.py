@@ -17,6 +17,15 @@ the one place where the names in a body file become objects: the element (:class
 """
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
+from ._body_stress import (
+    REGIONS as REGIONS,
+    BodyStress as BodyStress,
+    body_stress as body_stress,
+    condensed_body_stress as condensed_body_stress,
+    element_stresses as element_stresses,
+    full_displacement as full_displacement,
+    write_stress_vtu as write_stress_vtu,
+)
 from ._body import (
     Body as Body,
     Condensation as Condensation,

@@ -3,6 +3,7 @@ names of case files map to them in jaxgear.io (the one place)."""
 
 from typing import ClassVar
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import optax
@@ -100,3 +101,41 @@ def test_statistics_reduce_as_named():
     assert float(op.Quantile(0.5)(v)) == pytest.approx(2.5)
     with pytest.raises(ValueError, match="Quantile level = 1.5 is out of range"):
         op.Quantile(1.5)
+
+
+def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
+    """LeastSafetyFactor on the rated accessory pair (2 slices, 8 positions): its value is
+    1/S̃ with S̃ = −log Σ exp(−κ S)/κ written here in NumPy over the four safety factors of
+    ``jaxgear.rate`` given the K_Hβ and K_Hα measured on the same quasi-static result (K_Fα
+    capped at ISO 6336-1's limit, K_Hα too); S̃ lies within log(4)/κ below the least S; a TE
+    limit at half the TE RMS adds ``penalty`` × 1² exactly."""
+    rcase = rated_accessory_case(2, 8)
+    rating = jio.rating_of(rcase)
+    res = jg.quasi_static(
+        rcase.mesh_model(), rcase.modifications, rcase.torque, positions_per_pitch=8
+    )
+    least = jio.objective_from_name("least_safety", rcase.torque, rating=rating)
+    khb = float(jg.face_load_factor(res))
+    kha = float(jg.transverse_load_factor(res))
+    h_max, f_max = (float(v) for v in jg.transverse_factor_limits(rating.geometry))
+    given = jg.GivenFactors(
+        K_v=rating.settings.given.K_v,
+        K_Hbeta=khb,
+        K_Fbeta=rating.settings.given.K_Fbeta,
+        K_Halpha=min(kha, h_max),
+        K_Falpha=min(kha, f_max),
+    )
+    r = jg.rate(
+        rating.geometry, rating.operating, eqx.tree_at(lambda s: s.given, rating.settings, given)
+    )
+    S = np.concatenate([np.asarray(r.pitting.S_H), np.asarray(r.bending.S_F)])
+    kappa = least.sharpness
+    soft = -np.log(np.sum(np.exp(-kappa * S))) / kappa
+    assert S.min() - np.log(4) / kappa <= soft <= S.min()
+    assert float(least.of_result(res, None)) == pytest.approx(1.0 / soft, rel=1e-10)
+    limited = jio.objective_from_name(
+        "least_safety", rcase.torque, rating=rating, te_limit=0.5 * float(res.te_rms)
+    )
+    assert float(limited.of_result(res, None)) == pytest.approx(
+        1.0 / soft + limited.penalty, rel=1e-10
+    )

@@ -211,7 +211,14 @@ def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup,
     assert states and states[-1] == ("5", "5")  # speed 0: no solve at rest
     assert "quasi-static, exact contact" in err and "quasi-static, smooth contact" in err
     assert sorted(out["files"]) == sorted(
-        f"scene/{f}" for f in ("load_map.png", "pressure_map.png", "body_gear.vtu", "contact.vtu")
+        f"scene/{f}"
+        for f in (
+            "load_map.png",
+            "pressure_map.png",
+            "body_gear.vtu",
+            "contact.vtu",
+            "body_gear_stress.vtu",
+        )
     )
     # the hybrid curves for te.csv (jaxgear run): one period at the rigid mesh's first
     # positions, repeated over the second: equal to a two-period solve (the scene is periodic)

@@ -31,6 +31,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         clear_outputs as clear_outputs,
     )
     from ._rating_report import (
+        body_stress_outputs as body_stress_outputs,
         fillet_table as fillet_table,
         measured_dynamic_factor as measured_dynamic_factor,
         rating_outputs as rating_outputs,
@@ -58,6 +59,7 @@ _EXPORTS = {
     "PLANETARY_FILES": "._paths",
     "TRAIN_FILES": "._paths",
     "clear_outputs": "._paths",
+    "body_stress_outputs": "._rating_report",
     "measured_dynamic_factor": "._rating_report",
     "rating_outputs": "._rating_report",
     "root_stress_outputs": "._rating_report",

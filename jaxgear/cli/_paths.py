@@ -53,6 +53,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "pressure_map_speed_minus_rest.png",
         "body_pinion.vtu",
         "body_gear.vtu",
+        "body_pinion_stress.vtu",  # the condensed bodies' element stresses
+        "body_gear_stress.vtu",
         "contact.vtu",
     ),
     "sweep": (

@@ -44,6 +44,7 @@ from ..io import (
 
 __all__ = [
     "ROOT_STRESS_RADII",
+    "body_stress_outputs",
     "fillet_table",
     "measured_dynamic_factor",
     "rating_lines",
@@ -288,8 +289,15 @@ def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> d
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
                 title = f"{case.name}{' ' + label if label else ''}"
-                _root_stress(case.pairs[k], results[k], section, root_stress,
-                             os.path.join(out_dir, name), title, float(rc.operating.torque))
+                _root_stress(
+                    case.pairs[k],
+                    results[k],
+                    section,
+                    root_stress,
+                    os.path.join(out_dir, name),
+                    title,
+                    float(rc.operating.torque),
+                )
         sections.append(section)
     section, lines = _section_and_table(case.form, case, sections)
     _write_table(out_dir, lines)
@@ -487,3 +495,33 @@ def root_stress_at_speed(
         "static: the rigid mesh's quasi-static map at the same slices",
     }
     _write_table(out_dir, rating_lines(section, case.name))
+
+
+#: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them
+_BODY_REGIONS = ("rim", "web", "hub", "pinion_rim")
+
+
+def body_stress_outputs(out_dir: str, flexible, x) -> tuple[dict, list[str]]:
+    """Rim and web stresses of each condensed body of a hybrid scene's quasi-static solution
+    (:func:`fem_prep.condensed_body_stress`: the body's corner field ``recovery @ q``, element
+    means, linear hexahedra), one evaluation per body, no JAX.
+
+    ``flexible``: ``(name, member, body)`` of each condensed body (a member's ``body_dofs``
+    pick its coordinates out of ``x``); ``x``: the scene's coordinates at one position
+    (``res.x[k]``, body frame; the tooth loads and, at speed, the centrifugal load).
+
+    Returns ``({name: {region: {"von_mises_Pa", "hoop_Pa"}}}, files)``: per body the largest
+    von Mises stress and the largest-magnitude hoop stress (signed, Pa) over the elements of
+    each region it has ("rim", "web", "hub", "pinion_rim"), and the ``body_<name>_stress.vtu``
+    files written to ``out_dir`` (cell data von_mises_Pa, hoop_Pa, radial_Pa, axial_Pa, region;
+    point data displacement, m; body frame)."""
+    out, files = {}, []
+    for name, member, body in flexible:
+        q = np.asarray(x, dtype=float)[np.asarray(member.body_dofs)]
+        u, stress = fem_prep.condensed_body_stress(body, q)
+        present = set(np.unique(stress.region).tolist())
+        out[name] = {r: stress.max_in(r) for r in _BODY_REGIONS if fem_prep.REGIONS[r] in present}
+        fname = f"body_{name}_stress.vtu"
+        fem_prep.write_stress_vtu(body, u, stress, os.path.join(out_dir, fname))
+        files.append(fname)
+    return out, files

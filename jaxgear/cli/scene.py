@@ -17,6 +17,7 @@ from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
+from ._rating_report import body_stress_outputs
 from ._summary import result_summary
 
 __all__ = ["SCENE_LINES", "condensed_outputs", "scene_lines", "scene_model", "scene_outputs"]
@@ -288,6 +289,12 @@ def _(scene: HybridScene, run: _SceneRun, bodies, res: dict, pressure: dict) -> 
             )
             files.append(name)
     files += write_scene_vtu(out_dir, scene, bodies, res["exact"], pressure["exact"])
+    r = res["exact"]  # the rim and web stresses where the VTU is: the largest line load
+    k = int(np.argmax(np.asarray(r.line_load).reshape(r.line_load.shape[0], -1).max(axis=1)))
+    out["body_stress"], stress_files = body_stress_outputs(
+        out_dir, _flexible(scene, bodies), r.x[k]
+    )
+    files += stress_files
     out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
     bar.set_postfix_str("")
     bar.update()
@@ -317,8 +324,7 @@ class CondensedSceneLines(SceneLines):
     def lines(self, q: dict) -> list[str]:
         c = q["centrifugal"]
         return super().lines(q) + [
-            f"  {name} rim radial growth at {c['speed_rad_s']:g} rad/s (pinion): "
-            f"{g * 1e6:.3f} µm"
+            f"  {name} rim radial growth at {c['speed_rad_s']:g} rad/s (pinion): {g * 1e6:.3f} µm"
             for name, g in c["rim_radial_growth_m"].items()
         ]
 
