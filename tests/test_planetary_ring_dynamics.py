@@ -91,16 +91,22 @@ def test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes(seq, fe_compliance)
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
     model = jg.PlanarPlanetary()
     meshes = jg.ConstantMeshes()
-    omega = jnp.asarray(60.0)
-    rigid = jd.planetary_dynamics(model, st, meshes, run, omega)
-    stiff = jd.planetary_dynamics(model, st, meshes, run, omega,
-                                  ring=jg.CondensedRing(fe_compliance / 1e3))
-    soft = jd.planetary_dynamics(model, st, meshes, run, omega,
-                                 ring=jg.CondensedRing(fe_compliance))
+    rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
     assert float(soft.k_gamma) < float(rigid.k_gamma) - 0.02
     assert np.all(np.asarray(soft.ring_deflection) > 0.0)
+
+
+def _three_rings(model, st, meshes, run, fe_compliance, omega=60.0):
+    """The stage's dynamics at carrier speed ``omega`` (rad/s) with the rigid ring, the FE ring
+    made 10^3 stiffer and the FE ring itself (massless, compliance ``fe_compliance``)."""
+    omega = jnp.asarray(omega)
+    return tuple(
+        jd.planetary_dynamics(model, st, meshes, run, omega, **ring)
+        for ring in ({}, {"ring": jg.CondensedRing(fe_compliance / 1e3)},
+                     {"ring": jg.CondensedRing(fe_compliance)})
+    )
 
 
 @pytest.mark.slow
@@ -113,12 +119,7 @@ def test_stiff_fe_ring_dynamics_equals_the_rigid_ring(seq, fe_compliance):
     run = jd.PlanetaryRun(TORQUE, steps_per_period=24, periods=12, keep_periods=3,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
     model = jg.PlanarPlanetary()
-    omega = jnp.asarray(60.0)
-    rigid = jd.planetary_dynamics(model, st, meshes, run, omega)
-    stiff = jd.planetary_dynamics(model, st, meshes, run, omega,
-                                  ring=jg.CondensedRing(fe_compliance / 1e3))
-    soft = jd.planetary_dynamics(model, st, meshes, run, omega,
-                                 ring=jg.CondensedRing(fe_compliance))
+    rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)
     for r in (rigid, stiff, soft):
         assert int(r.result) == 0
     for a, b, c in zip(rigid.dynamic_factors, stiff.dynamic_factors, soft.dynamic_factors,
