@@ -67,6 +67,7 @@ from ._gearbox import (
 from ._planetary import (
     AbstractPlanetaryModel as AbstractPlanetaryModel,
     Central as Central,
+    Eccentricities as Eccentricities,
     PlanarPlanetary as PlanarPlanetary,
     PlanetaryMember as PlanetaryMember,
     PlanetaryStage as PlanetaryStage,

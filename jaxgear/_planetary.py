@@ -45,6 +45,7 @@ from ._util import as_float, check_instance, check_integer, check_real
 __all__ = [
     "AbstractPlanetaryModel",
     "Central",
+    "Eccentricities",
     "PlanarPlanetary",
     "PlanetaryMember",
     "PlanetaryStage",
@@ -131,6 +132,70 @@ class PlanetaryMember(eqx.Module):
         return self.torsional_stiffness / self.base_radius**2
 
 
+class Eccentricities(eqx.Module):
+    """Eccentricities (radial runout) of the central members: each member's toothed centre
+    (the carrier's: the centre of its planet-pin circle) stands off its axis of rotation by an
+    amplitude E (m) in a direction that turns with the member (docs/planetary.md,
+    "Eccentricities").
+
+    Conventions (the carrier frame of :class:`PlanetaryStage`): the phase beta (rad) is the
+    direction of the offset at the mesh travel x = 0, counter-clockwise from the carrier's x
+    axis (through planet 1's centre when psi_1 = 0). The offset turns with its member relative
+    to the carrier: the sun's by +x / r_bs (the mesh travel's own definition), the ring's by
+    -x / r_br (it turns the other way), the carrier's not at all (its pins move with it). So a
+    sun eccentricity repeats once per turn of the sun relative to the carrier (z_s mesh
+    periods), a ring's once per turn of the ring relative to the carrier (z_r mesh periods;
+    with the ring fixed, once per carrier turn), and a carrier's is steady in the carrier frame:
+    it moves every pin by the same vector, the pin errors ``E sin(beta_c - psi_n)``
+    (tangential) and ``E cos(beta_c - psi_n)`` (radial). A sun's or ring's offset e = E (cos,
+    sin) of the angle above adds ``e . n`` to the compression of each of its meshes (n the
+    direction of the mesh's line of action in Lin & Parker's deflections: the rows of x, y in
+    :func:`mesh_rows`): ``E_s sin(beta_s + x / r_bs - psi_n + a_s)`` on the sun mesh of
+    planet n, ``E_r sin(beta_r - x / r_br - psi_n - a_r)`` on its ring mesh. The bearings act
+    on the axis (the model's x, y), the meshes on the toothed centre; the mass unbalance of an
+    eccentric member is not modelled.
+
+    Attributes:
+        sun, ring, carrier: the amplitudes E (m, >= 0), shape ``()``.
+        sun_phase, ring_phase, carrier_phase: the phases beta (rad), shape ``()``.
+
+    Raises:
+        ValueError: an amplitude < 0 or a value not finite (one line naming it).
+    """
+
+    sun: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    sun_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    ring: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    ring_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    carrier: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    carrier_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+
+    def __check_init__(self):
+        for name in ("sun", "ring", "carrier"):
+            check_real(name, getattr(self, name), "m", lo=0.0, shape=(), where="Eccentricities")
+            check_real(f"{name}_phase", getattr(self, f"{name}_phase"), "rad", shape=(),
+                       where="Eccentricities")
+
+    def pin_errors(self, stage: PlanetaryStage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
+        """(tangential, radial): the carrier eccentricity as planet-pin errors (m, (n_planets,);
+        along eta and zeta, as :func:`~jaxgear.load_sharing` takes them)."""
+        a = self.carrier_phase - stage.planet_angles
+        return self.carrier * jnp.sin(a), self.carrier * jnp.cos(a)
+
+    def mesh_offsets(self, stage: PlanetaryStage, travel) -> tuple[Float[Array, " n"], ...]:
+        """(d_s, d_r): the sun's and the ring's eccentricities as offsets of the sun-planet and
+        ring-planet mesh deflections (m, compression positive, (n_planets,)) at the mesh travel
+        ``travel`` (m, ``()``)."""
+        psi = stage.planet_angles
+        x = as_float(travel)
+        turn_s = self.sun_phase + x / stage.sun.base_radius
+        turn_r = self.ring_phase - x / stage.ring.base_radius
+        return (
+            self.sun * jnp.sin(turn_s - psi + stage.sun_pressure_angle),
+            self.ring * jnp.sin(turn_r - psi - stage.ring_pressure_angle),
+        )
+
+
 class PlanetaryStage(eqx.Module):
     """A simple planetary stage: sun, ring, carrier and N identical planets (the lumped form of
     Lin & Parker 1999; their Table 1 gives a worked example).
@@ -145,6 +210,8 @@ class PlanetaryStage(eqx.Module):
             sun-planet and ring-planet meshes, in (0, pi/2).
         sun_mesh_stiffness, ring_mesh_stiffness: constant mesh stiffness (N/m) on the line of
             action, shape ``()`` (every planet) or ``(n_planets,)``.
+        eccentricities: the central members' eccentricities (:class:`Eccentricities`; none by
+            default), used by the load sharing, the quasi-static solve and the dynamics.
 
     Raises:
         ValueError: fewer than one planet, an angle or stiffness out of range (one line).
@@ -168,8 +235,11 @@ class PlanetaryStage(eqx.Module):
     ring_pressure_angle: Float[Array, ""] = eqx.field(converter=as_float)
     sun_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
     ring_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
+    eccentricities: Eccentricities = eqx.field(default_factory=Eccentricities)
 
     def __check_init__(self):
+        check_instance("eccentricities", self.eccentricities, Eccentricities,
+                       "a jaxgear.Eccentricities", "PlanetaryStage")
         for name in ("sun", "ring", "carrier", "planet"):
             check_instance(
                 name,
@@ -389,6 +459,19 @@ class AbstractPlanetaryModel(eqx.Module):
         """K (N/m): bearings, planet pins and the constant mesh stiffnesses."""
         t = self.reduction(stage)
         return t.T @ _planar_stiffness(stage) @ t
+
+    def error_terms(self, stage: PlanetaryStage, tangential_errors, radial_errors, travel=0.0):
+        """(f, d_s, d_r) of :meth:`pin_error_terms` with the stage's eccentricities at the mesh
+        travel ``travel`` (m) added (:class:`Eccentricities`): the carrier's as pin errors, the
+        sun's and the ring's as mesh-deflection offsets (their constant meshes' reaction in f,
+        as the torsional model's pin errors)."""
+        ecc = stage.eccentricities
+        e_t, e_r = ecc.pin_errors(stage)
+        f, d_s, d_r = self.pin_error_terms(stage, tangential_errors + e_t, radial_errors + e_r)
+        o_s, o_r = ecc.mesh_offsets(stage, travel)
+        v_s, v_r = self.mesh_deflection_rows(stage)
+        k_s, k_r = stage.mesh_stiffnesses()
+        return f - v_s.T @ (k_s * o_s) - v_r.T @ (k_r * o_r), d_s + o_s, d_r + o_r
 
     def mesh_deflection_rows(self, stage: PlanetaryStage):
         """(V_s, V_r), each (n_planets, n_dof): delta = V q (m, compression positive)."""

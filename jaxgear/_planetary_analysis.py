@@ -249,6 +249,7 @@ def load_sharing(
     sun_torque: Float[Array, ""],
     tangential_pin_errors: Float[Array, " n_planets"],
     radial_pin_errors: Float[Array, " n_planets"] | float = 0.0,
+    travel: Float[Array, ""] | float = 0.0,
 ) -> LoadSharing:
     """Load sharing among the planets under a sun torque, with planet-pin position errors, from ``K q = f`` (the model's stiffness; constant mesh stiffness, every mesh assumed
     in contact: a negative mesh force means the model does not apply).
@@ -266,6 +267,10 @@ def load_sharing(
             ``(n_planets,)`` or ``()``; with equal pressure angles it leaves the shares
             unchanged to first order (its mesh offsets -eps sin a_s and +eps sin a_r cancel
             along a planet's path).
+        travel: the mesh travel x (m) at which the stage's eccentricities
+            (:class:`~jaxgear.Eccentricities`, turning with their members) are taken; 0 by
+            default (their phases' origin). Without eccentricities the result does not depend
+            on it.
 
     Returns:
         :class:`LoadSharing`.
@@ -287,7 +292,8 @@ def load_sharing(
     if jnp.size(radial_pin_errors) not in (1, n):
         raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
     e = as_float(tangential_pin_errors)
-    f_err, d_s, d_r = model.pin_error_terms(stage, e, as_float(radial_pin_errors))
+    check_real("travel", travel, "m", shape=(), where="load_sharing")
+    f_err, d_s, d_r = model.error_terms(stage, e, as_float(radial_pin_errors), travel)
     k = model.stiffness_matrix(stage)
     names = model.dof_names(stage)
     f = f_err.at[names.index("u_s")].add(as_float(sun_torque) / stage.sun.base_radius)

@@ -357,12 +357,13 @@ class PlanetaryQuasiStatic(eqx.Module):
         return jnp.max(self.k_gamma)
 
 
-def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str):
-    """(f, d_s, d_r) of the pin errors for the cells, after the shape checks (one-line errors
-    naming the argument): the offsets d_s, d_r of
-    :meth:`~jaxgear.AbstractPlanetaryModel.pin_error_terms` and its load f without the meshes'
-    share (the torsional model's f is -V^T k d, the constant meshes' reaction to the offsets,
-    which the cells make themselves: f + V_s^T k_s d_s + V_r^T k_r d_r is the pins' share)."""
+def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str, travel=0.0):
+    """(f, d_s, d_r) of the pin errors and the stage's eccentricities at the mesh travel
+    ``travel`` (m) for the cells, after the shape checks (one-line errors naming the argument):
+    the offsets d_s, d_r of :meth:`~jaxgear.AbstractPlanetaryModel.error_terms` and its load f
+    without the meshes' share (the torsional model's f is -V^T k d, the constant meshes'
+    reaction to the offsets, which the cells make themselves: f + V_s^T k_s d_s + V_r^T k_r d_r
+    is the pins' share; it does not depend on the travel, the offsets do)."""
     n = stage.n_planets
     for name, value in (("tangential_pin_errors", tangential_pin_errors),
                         ("radial_pin_errors", radial_pin_errors)):
@@ -372,7 +373,7 @@ def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str
                              f"{jnp.shape(value)}")
     e = jnp.broadcast_to(as_float(tangential_pin_errors), (n,))
     eps = jnp.broadcast_to(as_float(radial_pin_errors), (n,))
-    f, d_s, d_r = model.pin_error_terms(stage, e, eps)
+    f, d_s, d_r = model.error_terms(stage, e, eps, travel)
     v_s, v_r = model.mesh_deflection_rows(stage)
     k_s, k_r = stage.mesh_stiffnesses()
     return f + v_s.T @ (k_s * d_s) + v_r.T @ (k_r * d_r), d_s, d_r
@@ -430,7 +431,9 @@ def planetary_quasi_static(
         positions: mesh travels x (m), (p,) (``meshes.positions(per_period, periods)``; over a
             hunting period: as many mesh periods as it holds).
         tangential_pin_errors, radial_pin_errors: planet-pin position errors (m), () or
-            (n_planets,), as :func:`~jaxgear.load_sharing`.
+            (n_planets,), as :func:`~jaxgear.load_sharing`; the stage's eccentricities
+            (:class:`~jaxgear.Eccentricities`) are added at each position, turning with their
+            members.
         law: the contact law.
         ring: the ring gear: :class:`~jaxgear.RigidRing` (the lumped ring, the default) or a
             flexible :class:`~jaxgear.CondensedRing`, whose compliance at the ring meshes
@@ -456,24 +459,27 @@ def planetary_quasi_static(
     n_dof = k_b.shape[0]
 
     def one(x):
-        row = meshes.cell_row(model, stage, x, (d_s, d_r))
+        # the sun's and ring's eccentricities turn with their members: offsets at x
+        _, d_sx, d_rx = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
+                                  "planetary_quasi_static", x)
+        row = meshes.cell_row(model, stage, x, (d_sx, d_rx))
         # the ring meshes' transverse force per cell force (mesh_forces is linear)
         ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[n:])(jnp.zeros_like(row.k))
         K, fx, V = ring.augment(stage, k_b, f, row.V, ring_rows, x)
         sol = solve_contact(K, fx, V, row.k, row.length, row.delta0, row.mask, law)
         forces = meshes.mesh_forces(sol.force_density * row.length)
         w = jnp.zeros(n, sol.x.dtype) if sol.x.shape[0] == n_dof else sol.x[n_dof:]
-        return sol.x[:n_dof], forces, sol.result, w
+        return sol.x[:n_dof], forces, sol.result, w, d_sx, d_rx
 
-    q, forces, result, w = jax.vmap(one)(as_float(positions))
+    q, forces, result, w, d_s, d_r = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]
     return PlanetaryQuasiStatic(
         travel=as_float(positions),
         displacement=q,
         sun_mesh_forces=f_s,
         ring_mesh_forces=f_r,
-        sun_te=q @ v_s.T + d_s[None, :],
-        ring_te=q @ v_r.T + d_r[None, :],
+        sun_te=q @ v_s.T + d_s,
+        ring_te=q @ v_r.T + d_r,
         k_gamma=jnp.max(f_s, axis=-1) / jnp.mean(f_s, axis=-1),
         result=result,
         ring_deflection=w,

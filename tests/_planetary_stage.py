@@ -74,3 +74,39 @@ def with_meshes(st, k_s, k_r):
     """The stage with other constant mesh stiffnesses (N/m, () or (n_planets,))."""
     return eqx.tree_at(lambda s: (s.sun_mesh_stiffness, s.ring_mesh_stiffness), st,
                        (jnp.asarray(k_s, float), jnp.asarray(k_r, float)))
+
+
+def rigid_path_forces(torque, r_sun, psi, a_s, a_r, k_s, k_r, sun_centre=(0.0, 0.0),
+                      ring_centre=(0.0, 0.0), pins=None):
+    """An independent spring model of load sharing, written from the geometry of the forces
+    (not from the library's matrices): rigid centres and pins, ring and carrier held, the sun
+    free to turn only. Planet j at psi_j (unit vectors r_j outward, t_j counter-clockwise).
+
+    The sun, driving counter-clockwise, pushes planet j along n_j = cos a_s t_j + sin a_s r_j
+    (the drive plus the separating radial component, outward); the ring pushes it along
+    m_j = cos a_r t_j - sin a_r r_j (its separating component points inward, the ring's
+    teeth being outside). Moving a body by a vector d changes a mesh's compression by d along
+    the force that body exerts (d . n for the sun, d . m for the ring) and moving the planet by
+    p changes both by -p . n, -p . m. So with the sun's toothed centre at ``sun_centre``, the
+    ring's at ``ring_centre`` (m, fixed-frame vectors in the carrier frame) and pin j at
+    ``pins[j]`` (m, (t, r) components: tangential, radial), path j's offsets are
+    c_sj = s . n_j - p_j . n_j and c_rj = g . m_j - p_j . m_j. The planet's moment balance
+    k_s (u_s + u_j + c_sj) = k_r (-u_j + c_rj) puts the two meshes in series:
+    F_j = k_eq (u_s + c_sj + c_rj), k_eq = k_s k_r / (k_s + k_r), and the sun's
+    sum F_j = T / r_s gives F_j = T / (N r_s) + k_eq (c_j - mean c), c_j = c_sj + c_rj.
+
+    Returns:
+        (F (N, (N,)), K_gamma = max F / mean F).
+    """
+    psi = np.asarray(psi, float)
+    r = np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+    t = np.stack([-np.sin(psi), np.cos(psi)], axis=-1)
+    n = np.cos(a_s) * t + np.sin(a_s) * r
+    m = np.cos(a_r) * t - np.sin(a_r) * r
+    p = np.zeros_like(r) if pins is None else (
+        np.asarray(pins)[:, :1] * t + np.asarray(pins)[:, 1:] * r)
+    c = (n @ np.asarray(sun_centre) - np.sum(p * n, -1)) + (
+        m @ np.asarray(ring_centre) - np.sum(p * m, -1))
+    k_eq = k_s * k_r / (k_s + k_r)
+    forces = torque / (len(psi) * r_sun) + k_eq * (c - c.mean())
+    return forces, forces.max() / forces.mean()

@@ -23,6 +23,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from _planetary_stage import rigid_path_forces
 from _toml import case_toml
 from test_planetary import PRINTED, lin_parker_stage
 
@@ -304,6 +305,19 @@ def _set(path: str, value):
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (_set("rating", {"application_factor": 1.25}), "[rating]: not in a planetary case"),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
+        (
+            _set("planetary/sun_eccentricity_um", -5.0),
+            "[planetary] sun_eccentricity_um = -5: out of range, allowed [0, 10000]",
+        ),
+        (
+            _set("planetary/carrier_eccentricity_phase_deg", 30.0),
+            "[planetary] carrier_eccentricity_phase_deg = 30: given without "
+            "carrier_eccentricity_um",
+        ),
+        (
+            _set("planetary/ring_eccentricity_phase_deg", 400.0),
+            "[planetary] ring_eccentricity_phase_deg = 400: out of range, allowed [-360, 360]",
+        ),
     ],
 )
 def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, change, words):
@@ -332,6 +346,10 @@ def test_the_case_file_reference_lists_the_planetary_keys():
         "radial_pin_errors_um",
         "sun_teeth",
         "ring_pressure_angle_deg",
+        "sun_eccentricity_um",
+        "sun_eccentricity_phase_deg",
+        "ring_eccentricity_um",
+        "carrier_eccentricity_phase_deg",
     } <= keys
     assert {"pin_radial_N_per_um", "pin_tangential_N_per_um", "inertia_over_r2_kg"} <= set(
         train.tables["planetary.planet"]
@@ -414,3 +432,53 @@ def test_nrel_stage2_through_jaxgear_run(tmp_path, capsys):
     d = summary["dynamics"]
     assert len(d["speeds_rad_s"]) == 8 and d["max_dynamic_factor"] >= 1.0
     assert {p.name for p in (out / "sweep").iterdir()} >= {"sweep.json", "ring_spectrum.png"}
+
+
+def test_eccentricities_from_a_case_file_over_a_turn_against_the_spring_model():
+    """``[planetary] sun_eccentricity_um`` and its phase, in the lumped Lin & Parker case (ring
+    fixed, sun in): the run's load sharing over a turn (jaxgear/cli/planetary.py
+    ``sharing_summary``) is the spring model of tests/_planetary_stage.py with the sun's toothed
+    centre turning with the sun, +x / r_bs relative to the carrier (the torsional model, to
+    1e-9; the planar model's is tested on the API in tests/test_planetary_eccentricity.py)."""
+    data = _data("lin-parker-1999")
+    data["planetary"].update(sun_eccentricity_um=25.0, sun_eccentricity_phase_deg=40.0)
+    data["operating"]["torque_Nm"] = 3000.0  # every mesh in contact over the turn
+    case = jio.parse_train(data)
+    spec = case.form.spec
+    ecc = spec.stage(case).eccentricities
+    assert float(ecc.sun) == pytest.approx(25e-6) and float(ecc.sun_phase) == pytest.approx(
+        math.radians(40.0))
+    assert float(ecc.ring) == 0.0 and float(ecc.carrier) == 0.0
+    stage = spec.stage(case)
+    torque = abs(spec.torques(case.torque)["sun"])
+    torsional = {"torsional": pr.MODELS["torsional"]}
+    ls = pr.sharing_summary(spec, stage, spec.torques(case.torque), torsional)
+    turn = ls["torsional"]["over_turn"]
+    x = np.asarray(turn["mesh_travel_m"])
+    assert x.size == pr.TURN_POSITIONS
+    r_s = 38.7e-3
+    # one carrier turn against the fixed ring
+    assert turn["carrier_angle_relative_to_ring_deg"][-1] == pytest.approx(
+        360.0 * (1 - 1 / pr.TURN_POSITIONS))
+    a = math.radians(24.6)
+    want = []
+    for xi in x:
+        angle = math.radians(40.0) + xi / r_s
+        want.append(rigid_path_forces(torque, r_s, np.radians([0.0, 120.0, 240.0]), a, a, 5e8,
+                                      5e8, sun_centre=25e-6 * np.array([math.cos(angle),
+                                                                        math.sin(angle)])))
+    np.testing.assert_allclose(turn["sun_mesh_forces_N"], [w[0] for w in want], rtol=1e-9)
+    np.testing.assert_allclose(turn["k_gamma"], [w[1] for w in want], rtol=1e-9)
+    assert turn["k_gamma_max"] == pytest.approx(max(w[1] for w in want), rel=1e-9)
+    assert turn["k_gamma_max"] > 1.1
+    # at the travel 0, the static load sharing's K_γ is the turn's first
+    assert ls["torsional"]["k_gamma"] == pytest.approx(turn["k_gamma"][0], rel=1e-9)
+    assert ls["eccentricities"]["sun_m"] == pytest.approx(25e-6)
+    line = pr.turn_words({"planar": ls["torsional"], **ls})
+    assert f"torsional up to {turn['k_gamma_max']:.4f}" in line
+    # no eccentricity: no turn, the summary as before
+    plain = jio.parse_train(_data("lin-parker-1999"))
+    flat = pr.sharing_summary(plain.form.spec, plain.form.spec.stage(plain),
+                              plain.form.spec.torques(plain.torque), torsional)
+    assert "over_turn" not in flat["torsional"] and "eccentricities" not in flat
+    assert pr.turn_words({"planar": flat["torsional"]}) == ""

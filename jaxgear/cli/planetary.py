@@ -51,6 +51,7 @@ __all__ = [
     "planetary_lines",
     "ring_section",
     "sharing_summary",
+    "turn_sharing",
     "type_counts",
 ]
 
@@ -120,13 +121,22 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     return summary
 
 
+#: carrier positions over a turn at which an eccentric stage's load sharing is solved
+TURN_POSITIONS = 72
+
+
 def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
-    ({name: model kind})."""
+    ({name: model kind}); with eccentricities (:class:`jaxgear.Eccentricities`, taken at the
+    mesh travel 0 in ``k_gamma``) also K_γ over a turn (:func:`turn_sharing`)."""
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
     out = {"tangential_pin_errors_m": e.tolist(), "radial_pin_errors_m": eps.tolist()}
+    if spec.eccentric:
+        names = ("sun_m", "sun_phase_rad", "ring_m", "ring_phase_rad", "carrier_m",
+                 "carrier_phase_rad")
+        out["eccentricities"] = dict(zip(names, spec.eccentricities, strict=True))
     for name, model in models.items():
         r = load_sharing(model, held, abs(torques["sun"]), e, eps)
         out[name] = {
@@ -134,7 +144,28 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
             "ring_mesh_forces_N": np.asarray(r.ring_mesh_forces).tolist(),
             "k_gamma": float(r.k_gamma),
         }
+        if spec.eccentric:
+            out[name]["over_turn"] = turn_sharing(model, held, abs(torques["sun"]), e, eps)
     return out
+
+
+def turn_sharing(model, held, torque: float, e, eps) -> dict:
+    """K_γ at :data:`TURN_POSITIONS` positions over one turn of the ring relative to the carrier
+    (one carrier turn when the ring is fixed; the sun, faster, turns z_r/z_s times relative to
+    the carrier): the quasi-static solve with one unilateral spring per mesh
+    (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes`), the
+    eccentricities turning with their members."""
+    r_r = float(held.ring.base_radius)
+    x = np.arange(TURN_POSITIONS) * 2 * math.pi * r_r / TURN_POSITIONS
+    q = planetary_quasi_static(model, held, ConstantMeshes(), np.asarray(torque), x, e, eps)
+    k = np.asarray(q.k_gamma)
+    return {
+        "mesh_travel_m": x.tolist(),
+        "carrier_angle_relative_to_ring_deg": np.degrees(x / r_r).tolist(),
+        "k_gamma": k.tolist(),
+        "k_gamma_max": float(k.max()),
+        "sun_mesh_forces_N": np.asarray(q.sun_mesh_forces).tolist(),
+    }
 
 
 #: carrier positions over 1/N of a turn at which the flexible ring's load sharing is solved
@@ -303,6 +334,16 @@ def mesh_sections(case, out: str) -> dict:
     return res
 
 
+def turn_words(sharing: dict) -> str:
+    """The closing words of the load-sharing line: K_γ's largest over a turn with the
+    eccentricities (none without)."""
+    turn = sharing["planar"].get("over_turn")
+    if turn is None:
+        return ""
+    return (f"; with the eccentricities, over a turn: planar up to {turn['k_gamma_max']:.4f}, "
+            f"torsional up to {sharing['torsional']['over_turn']['k_gamma_max']:.4f}")
+
+
 def planetary_lines(form, case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints for a planetary case."""
     p = summary["planetary"]
@@ -315,7 +356,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         f"mesh frequency {p['mesh_frequency_carrier_frame_Hz']:.4g} Hz (carrier frame)",
         f"load sharing K_γ: planar {ls['planar']['k_gamma']:.4f}, torsional "
         f"{ls['torsional']['k_gamma']:.4f} (pin errors "
-        f"{', '.join(f'{e * 1e6:g}' for e in ls['tangential_pin_errors_m'])} µm tangential)",
+        f"{', '.join(f'{e * 1e6:g}' for e in ls['tangential_pin_errors_m'])} µm tangential)"
+        + turn_words(ls),
         f"lowest natural frequency: planar {m['planar_lowest_Hz']:.5g} Hz, torsional "
         f"{m['torsional_lowest_Hz']:.5g} Hz; planar mode types "
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)

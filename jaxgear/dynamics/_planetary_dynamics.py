@@ -51,7 +51,9 @@ class PlanetaryRun(eqx.Module):
         damping_ratio: modal damping ratio (-) on the modes of (M, K_b + mean mesh stiffness):
             C = M Phi diag(2 zeta omega) Phi^T M (seed (2.35)).
         tangential_pin_errors, radial_pin_errors: planet-pin errors (m), () or (n_planets,), as
-            :func:`~jaxgear.load_sharing`.
+            :func:`~jaxgear.load_sharing` (the stage's eccentricities,
+            :class:`~jaxgear.Eccentricities`, are added at each step, turning with their
+            members).
 
     Raises:
         ValueError: a count or ratio out of range (one line).
@@ -166,7 +168,10 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         return (i + 0.5) * (p_b / S)
 
     def cell_row(i):
-        row = meshes.cell_row(model, stage, travel(i), offsets)
+        # the pins' offsets, and the sun's and ring's eccentricities turning with their members
+        _, d_si, d_ri = pin_terms(model, stage, run.tangential_pin_errors,
+                                  run.radial_pin_errors, "planetary_dynamics", travel(i))
+        row = meshes.cell_row(model, stage, travel(i), (d_si, d_ri))
         if n_u == 0:
             return row
         E = ring.contact_rows(stage, travel(i))

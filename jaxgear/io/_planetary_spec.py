@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from .._internal import PlanetaryGeometry
-from .._planetary import Central, PlanetaryStage, speed_ratio
+from .._planetary import Central, Eccentricities, PlanetaryStage, speed_ratio
 from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
@@ -122,6 +122,8 @@ class PlanetarySpec:
         center_distance: a_w (m), the planet-circle radius.
         ring_model: the ring's model (``[planetary.ring] model``,
             :class:`~jaxgear.io._planetary_ring_spec.RingModelSpec`); rigid by default.
+        eccentricities: the sun's, ring's and carrier's eccentricities (m) and phases (rad),
+            in the order of :class:`~jaxgear.Eccentricities`' fields; none by default.
     """
 
     teeth: tuple
@@ -136,6 +138,12 @@ class PlanetarySpec:
     radial_pin_errors: tuple
     center_distance: float
     ring_model: RingModelSpec = dataclasses.field(default_factory=RigidRingSpec)
+    eccentricities: tuple = (0.0,) * 6
+
+    @property
+    def eccentric(self) -> bool:
+        """Whether a central member has an eccentricity."""
+        return any(self.eccentricities[::2])
 
     @property
     def n_planets(self) -> int:
@@ -194,6 +202,7 @@ class PlanetarySpec:
             ring_pressure_angle=self.pressure_angles[1],
             sun_mesh_stiffness=k_s,
             ring_mesh_stiffness=k_r,
+            eccentricities=Eccentricities(*self.eccentricities),
         )
 
     def held_stage(self, stage: PlanetaryStage) -> PlanetaryStage:

@@ -26,6 +26,8 @@ gears (ISO 6336-1 c_γα b, or the mean of the ``[mesh]`` stiffness model) or gi
     center_distance_mm = 863.0         # optional: the sun pair's zero-backlash distance
     mesh_stiffness = "iso6336"         # or "mean", or sun_/ring_mesh_stiffness_N_per_um
     tangential_pin_errors_um = [20.0, 0.0, 0.0]   # optional, one per planet
+    sun_eccentricity_um = 10.0         # optional: sun, ring, carrier (radial runout)
+    sun_eccentricity_phase_deg = 0.0   # its direction at the start, from planet 1's
     [planetary.sun]                    # and ring, carrier, planet
     mass_kg = 1.0e3
     inertia_kg_m2 = 100.0              # or inertia_over_r2_kg (I/r_b², Lin & Parker's)
@@ -98,6 +100,7 @@ PLANETARY_KEYS = {
     "ring_mesh_stiffness_N_per_um",
     "tangential_pin_errors_um",
     "radial_pin_errors_um",
+    *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
     "sun_teeth",
     "ring_teeth",
     "sun_pressure_angle_deg",
@@ -262,6 +265,22 @@ def _pin_errors(t: dict, key: str, n: int) -> tuple:
     return tuple(x * 1e-6 for x in v)
 
 
+def _eccentricities(t: dict) -> tuple:
+    """``<member>_eccentricity_um`` and ``<member>_eccentricity_phase_deg`` of the sun, ring and
+    carrier, in SI as :class:`jaxgear.Eccentricities` takes them (sun, sun_phase, ring,
+    ring_phase, carrier, carrier_phase); a phase without its amplitude is refused."""
+    out = []
+    for m in ("sun", "ring", "carrier"):
+        amp = sc.number(t, f"{m}_eccentricity_um", "planetary", 0.0, allowed="[0, 1e+04]")
+        key = f"{m}_eccentricity_phase_deg"
+        phase = sc.number(t, key, "planetary", 0.0, allowed="[-360, 360]")
+        if key in t and f"{m}_eccentricity_um" not in t:
+            raise sc.fail("planetary", key, f"given without {m}_eccentricity_um (its amplitude)",
+                          t[key])
+        out += [amp * 1e-6, math.radians(phase)]
+    return tuple(out)
+
+
 def _refuse(t: dict, keys, why: str) -> None:
     for key in keys:
         if key in t:
@@ -387,6 +406,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         mesh_stiffness=mesh_k,
         tangential_pin_errors=_pin_errors(t, "tangential_pin_errors_um", n),
         radial_pin_errors=_pin_errors(t, "radial_pin_errors_um", n),
+        eccentricities=_eccentricities(t),
         center_distance=a_w,
         ring_model=ring_model,
     )
