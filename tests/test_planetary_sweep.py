@@ -11,6 +11,7 @@ sequentially phased stage of tests/_planetary_stage.py), a few mesh periods per 
 from __future__ import annotations
 
 import json
+import tomllib
 import math
 
 import jax.numpy as jnp
@@ -195,3 +196,70 @@ def test_jaxgear_sweep_end_to_end_and_refusals(case_path, tmp_path, capsys):
         assert main(argv[:-3] + extra + ["--out", str(bad), "--quiet"]) == 2
         err = capsys.readouterr().err.strip()
         assert words in err and "\n" not in err and not bad.exists()
+
+
+# -- a fast twin: the lumped form (one spring per mesh), a turning sun eccentricity ----------
+
+LP = {"sun": (0.4, 0.39, 38.7e-3, 100.0), "ring": (2.35, 3.0, 137.5e-3, 100.0),
+      "carrier": (5.43, 6.29, 88.4e-3, 100.0), "planet": (0.66, 0.61, 50.15e-3, 100.0)}
+LP_TEETH = (28, 92)
+LP_TORQUE, LP_ECC, LP_PHASE = 2000.0, 20e-6, 30.0  # N m on the sun (input), m, deg
+LP_SPEEDS = np.array([150.0, 900.0])  # rad/s of the sun
+LP_RUN = {"steps_per_period": 12, "periods": 4, "keep_periods": 2}
+
+
+def _lumped_by_hand():
+    """Lin & Parker's Table 1 (the embedded lin-parker-1999), written here from the paper's
+    values: ring and carrier held in rotation (1e3 x the 5e8 N/m mesh stiffness on u = r theta),
+    the sun free in rotation, 20 um of sun eccentricity at 30 deg, a 10 um pin error."""
+    member = jg.PlanetaryMember.lumped
+    hold = 1e3 * 5e8
+    m = {k: member(v[0], v[1], v[2], v[3] * 1e6, hold if k in ("ring", "carrier") else 0.0)
+         for k, v in LP.items()}
+    alpha = math.radians(24.6)
+    stage = jg.PlanetaryStage.equally_spaced(
+        3, **m, sun_pressure_angle=alpha, ring_pressure_angle=alpha, sun_mesh_stiffness=5e8,
+        ring_mesh_stiffness=5e8,
+        eccentricities=jg.Eccentricities(sun=LP_ECC, sun_phase=math.radians(LP_PHASE)))
+    z_s, z_r = LP_TEETH
+    meshes = jg.ConstantMeshes(2 * math.pi * LP["sun"][2] / z_s)
+    run = jd.PlanetaryRun(LP_TORQUE, tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
+                          **LP_RUN)
+    return stage, meshes, run
+
+
+def test_the_lumped_sweep_is_planetary_dynamics_at_each_speed():
+    """Two speeds, a few periods of the embedded lin-parker-1999 (ring fixed, sun in) with a
+    sun eccentricity: each mesh's dynamic factor in the sweep's summary is the largest of that
+    mesh's force over the kept steps over T_s / (N r_bs), computed here from
+    planetary_dynamics on the stage built by hand at the carrier speed and the mesh speed of
+    Willis written here; K_gamma likewise."""
+    data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
+    data["operating"]["torque_Nm"] = LP_TORQUE
+    data["planetary"].update(tangential_pin_errors_um=[10.0, 0.0, 0.0],
+                             sun_eccentricity_um=LP_ECC * 1e6,
+                             sun_eccentricity_phase_deg=LP_PHASE)
+    case = jio.parse_train(data)
+    s, _ = ps.sweep_summary(case.form, case, LP_SPEEDS, **LP_RUN)
+    stage, meshes, run = _lumped_by_hand()
+    z_s, z_r = LP_TEETH
+    r_s = LP["sun"][2]
+    nominal = LP_TORQUE / (3 * r_s)
+    for i, w in enumerate(LP_SPEEDS):
+        omega_c = w * z_s / (z_s + z_r)  # Willis, ring fixed
+        v = r_s * (w - omega_c)  # the sun's speed relative to the carrier times r_bs
+        d = jd.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes, run, jnp.asarray(omega_c),
+                                  jnp.asarray(v))
+        f = np.concatenate([np.asarray(d.sun_mesh_forces), np.asarray(d.ring_mesh_forces)], 1)
+        np.testing.assert_allclose(s["dynamic_factor_mesh"][i], f.max(0) / nominal, rtol=1e-9)
+        f_s = f[:, :3]
+        assert s["k_gamma"][i] == pytest.approx((f_s.max(1) / f_s.mean(1)).max(), rel=1e-9)
+        assert s["carrier_speeds_rad_s"][i] == pytest.approx(omega_c, rel=1e-12)
+        assert s["mesh_frequency_Hz"][i] == pytest.approx(z_s * (w - omega_c) / (2 * math.pi),
+                                                          rel=1e-12)
+    assert s["result"] == [0, 0]
+    assert s["nominal_mesh_force_N"] == pytest.approx(nominal, rel=1e-12)
+    # the eccentricity and the pin error load one mesh above the nominal force (the soft sun
+    # bearing and pins of 1e8 N/m take most of it: DF 1.0053 and 1.0059)
+    assert min(s["dynamic_factor"]) > 1.003
+    assert s["max_dynamic_factor"] == pytest.approx(max(s["dynamic_factor"]))

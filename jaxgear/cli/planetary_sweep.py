@@ -65,6 +65,7 @@ __all__ = [
     "planetary_sweep",
     "run_speeds",
     "sweep_lines",
+    "sweep_summary",
 ]
 
 #: Newmark steps per mesh period (rounded up to a multiple of the planet count, so that the
@@ -146,13 +147,47 @@ def planetary_sweep(
     """Sweep the input speeds ``speeds`` (rad/s, (s,), > 0) of a planetary case (module
     docstring) and write its files into ``out_dir``; returns ``sweep.json``'s content.
 
-    ``sweep.json``: ``speeds_rad_s`` (input), ``carrier_speeds_rad_s``,
-    ``mesh_frequency_Hz`` (carrier frame), ``mesh_names`` (``sun-planet 1..N``, then
-    ``ring-planet 1..N``), ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the
+    ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
+    ``ring_spectrum`` (the ring transducer at the worst speed)."""
+    t0 = time.perf_counter()
+    summary, (stage, meshes, run) = sweep_summary(
+        form, case, speeds, steps_per_period=steps_per_period, periods=periods,
+        keep_periods=keep_periods, slices=slices,
+    )
+    spec = form.spec
+    summary["campbell"] = campbell_section(
+        case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
+    )["file"]
+    summary["ring_spectrum"] = ring_spectrum(
+        form, case, stage, meshes, run, summary["speed_of_max_rad_s"],
+        os.path.join(out_dir, "ring_spectrum.png"),
+    )
+    summary["elapsed_s"] = time.perf_counter() - t0
+    write_json(os.path.join(out_dir, "sweep.json"), summary)
+    write_sweep_csv(os.path.join(out_dir, "sweep.csv"), summary)
+    dynamic_factor_plot(case, summary, os.path.join(out_dir, "dynamic_factor.png"))
+    return summary
+
+
+def sweep_summary(
+    form,
+    case,
+    speeds,
+    *,
+    steps_per_period: int | None = None,
+    periods: int | None = None,
+    keep_periods: int | None = None,
+    slices: int | None = None,
+) -> tuple[dict, tuple]:
+    """The sweep of :func:`planetary_sweep` without its files, spectrum and Campbell diagram:
+    (``sweep.json``'s numbers, (the dynamic stage, its meshes, the run)).
+
+    Keys: ``speeds_rad_s`` (input), ``carrier_speeds_rad_s``, ``mesh_frequency_Hz`` (carrier
+    frame), ``mesh_names`` (``sun-planet 1..N``, then ``ring-planet 1..N``),
+    ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
     load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (planar model at
-    the stage's constant mesh stiffness), ``crossings`` and ``ring_spectrum``."""
-    t0 = time.perf_counter()
+    the stage's constant mesh stiffness) and ``crossings``."""
     spec, stage, meshes = _dynamic_setup(form, case, slices)
     run = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
@@ -197,13 +232,6 @@ def planetary_sweep(
         "natural_frequencies_Hz": natural.tolist(),
         "crossings": crossings(natural, f_mesh, speeds),
     }
-    summary["campbell"] = campbell_section(
-        case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
-    )["file"]
-    summary["ring_spectrum"] = ring_spectrum(
-        form, case, stage, meshes, run, float(speeds[i]), os.path.join(out_dir, "ring_spectrum.png")
-    )
-    summary["elapsed_s"] = time.perf_counter() - t0
     summary["platform"] = {
         "device": str(jax.devices()[0].platform),
         "dtype": str(np.asarray(r.time).dtype),
@@ -215,10 +243,7 @@ def planetary_sweep(
         "nominal T_s/(N r_bs) (pin errors included); k_gamma: the most loaded planet's sun-mesh "
         "force over the planets' mean, largest over the kept periods"
     )
-    write_json(os.path.join(out_dir, "sweep.json"), summary)
-    write_sweep_csv(os.path.join(out_dir, "sweep.csv"), summary)
-    dynamic_factor_plot(case, summary, os.path.join(out_dir, "dynamic_factor.png"))
-    return summary
+    return summary, (stage, meshes, run)
 
 
 def _sweep(stage, meshes, run, carrier, mesh_speed):
