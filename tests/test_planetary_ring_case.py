@@ -132,3 +132,48 @@ def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
         assert r["frequency_hz"] == pytest.approx(r["order"] * r["carrier_speed_hz"], rel=1e-12)
     vtu = (out / "ring.vtu").read_text()
     assert vtu.count('Name="mode_') == 8
+    # the ring's Campbell diagram: every crossing at 2 pi f_n / (order Omega) of the input
+    # (ring fixed, carrier in: Omega is the input speed)
+    camp = ring["campbell"]
+    assert (out / camp["file"]).stat().st_size > 10_000
+    for c in camp["crossings"]:
+        assert c["input_speed_rad_s"] == pytest.approx(
+            2 * np.pi * ring["nd_frequencies_Hz"][str(c["nd"])] / c["order"], rel=1e-12)
+
+
+@pytest.mark.parametrize("fixed, per_input", [("ring", 28 / 120), ("carrier", 28 / 92)])
+def test_ring_campbell_lines_follow_the_moving_load_rule(tmp_path, fixed, per_input):
+    """ring_campbell.png's lines and crossings on the lumped lin-parker-1999 (28/92 teeth,
+    sun in, three planets; synthetic nodal-diameter frequencies, no condensation): the lines
+    are the (n, h, order) for which N point loads moving round the ring with the h-th mesh
+    harmonic have a circumferential harmonic ±n, found here by summing the planets' phasors
+    exp(2 pi i (h z_r - s n) j / N) (not by the library's congruence); each crossing's input
+    speed is 2 pi f_n / (order Omega per input), Omega = |omega_c - omega_r| from Willis by
+    hand (ring fixed: z_s/(z_s + z_r); carrier fixed: the ring's z_s/z_r)."""
+    from jaxgear.cli import planetary as pr
+
+    data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
+    data["planetary"]["fixed"] = fixed
+    data["planetary"][fixed].setdefault("torsional_stiffness_N_per_um", 1000.0)
+    case = jio.parse_train(data)
+    nd = {2: 400.0, 3: 1100.0, 4: 2000.0, 5: 3000.0}
+    got = pr.ring_campbell(case, case.form.spec, nd, str(tmp_path / "ring_campbell.png"))
+    assert got["planet_pass_speed_per_input"] == pytest.approx(per_input, rel=1e-12)
+    n_p, z_r = 3, 92
+    want = set()
+    for h in range(pr.RING_HARMONICS + 1):
+        for n in nd:
+            for s in (1, -1):
+                total = sum(np.exp(2j * np.pi * (h * z_r - s * n) * j / n_p) for j in range(n_p))
+                if abs(total) > 1e-9 and h * z_r - s * n != 0:
+                    want.add((n, h, abs(h * z_r - s * n)))
+    assert {(c["nd"], c["harmonic"], c["order"]) for c in got["lines"]} == want
+    top = got["input_speeds_rad_s"][1]
+    expect = {(n, h, k): 2 * np.pi * nd[n] / (k * per_input) for n, h, k in want}
+    shown = {k: v for k, v in expect.items() if v <= top}
+    assert shown and any(h > 0 for _, h, _ in shown)
+    assert len(got["crossings"]) == len(shown)
+    for c in got["crossings"]:
+        assert c["input_speed_rad_s"] == pytest.approx(shown[(c["nd"], c["harmonic"],
+                                                               c["order"])], rel=1e-12)
+    assert (tmp_path / "ring_campbell.png").stat().st_size > 10_000

@@ -97,7 +97,7 @@ OUTPUT_FILES["run"] += TRAIN_FILES
 # what ``jaxgear run`` writes for a planetary stage ([planetary]) besides summary.json: the modes
 # with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves,
 # a flexible ring's mode shapes
-PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu")
+PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu", "ring_campbell.png")
 OUTPUT_FILES["run"] += PLANETARY_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

@@ -32,6 +32,7 @@ from .. import (
     planetary_modes,
     planetary_quasi_static,
     quasi_static,
+    ring_excitation,
     ring_resonances,
 )
 from ..io import write_csv, write_json
@@ -47,8 +48,10 @@ __all__ = [
     "mesh_sections",
     "mode_list",
     "phases_summary",
+    "planet_pass_per_input",
     "planetary_files",
     "planetary_lines",
+    "ring_campbell",
     "ring_section",
     "sharing_summary",
     "turn_sharing",
@@ -195,9 +198,10 @@ def ring_section(case, spec, stage, out: str) -> dict:
     flex = planetary_quasi_static(model, held, ConstantMeshes(), torque, x, e, eps,
                                   ring=rm.ring())
     z_r = spec.teeth[2]
-    per_input = abs(spec.speeds(1.0)["carrier"])  # carrier rad/s per input rad/s
+    per_input = planet_pass_per_input(spec)
     fem_prep.write_ring_vtu(fem_prep.prepare_ring(rm.body), os.path.join(out, "ring.vtu"),
                             n_modes=RING_VTU_MODES)
+    campbell = ring_campbell(case, spec, st.nd_frequencies, os.path.join(out, "ring_campbell.png"))
     return {
         "body": rm.source,
         "stations": int(st.compliance.shape[0]),
@@ -212,6 +216,84 @@ def ring_section(case, spec, stage, out: str) -> dict:
             for r in ring_resonances(st.nd_frequencies, n, z_r, 2)
         ] if per_input else [],
         "file": "ring.vtu",
+        "campbell": campbell,
+    }
+
+
+#: the mesh harmonics h drawn on the ring's Campbell diagram (h = 0: the mean loads carried round)
+RING_HARMONICS = 2
+
+
+def planet_pass_per_input(spec) -> float:
+    """|ω_c − ω_r| per rad/s of the input: how fast the planets move round the ring (the carrier
+    speed when the ring is fixed)."""
+    w = spec.speeds(1.0)
+    return abs(w["carrier"] - w["ring"])
+
+
+def ring_campbell(case, spec, nd_frequencies: dict, path: str) -> dict:
+    """The ring's Campbell diagram against the input speed, drawn into ``path``: each
+    nodal-diameter frequency f_n (Hz, ``nd_frequencies`` {n: f_n}; a ring held, its modes do not
+    change with the speed) and the excitation lines of the rule of docs/planetary.md ("Which
+    ring modes the planets excite", :func:`jaxgear.ring_excitation`): the mesh harmonic h of N
+    planets moving round the ring at Ω = |ω_c − ω_r| excites the n-diameter mode where
+    h z_r ∓ n ≡ 0 (mod N), at the frequency |h z_r ∓ n| Ω/2π, for h = 0..:data:`RING_HARMONICS`;
+    each line is drawn in its mode's colour and its crossing with f_n (a resonance) marked.
+
+    Returns the section's keys: the file, the speed range, Ω per input speed, the lines
+    (nd, harmonic, order) and the crossings in the range (input speed, rad/s)."""
+    z_r, n = int(spec.teeth[2]), spec.n_planets
+    per_input = planet_pass_per_input(spec)
+    nds = sorted(int(k) for k in nd_frequencies)
+    lines = []
+    for h in range(RING_HARMONICS + 1):
+        nd, order = ring_excitation(n, z_r, h, max(nds))
+        for m, k in zip(nd.tolist(), order.tolist(), strict=True):
+            line = {"nd": m, "harmonic": h, "order": k}
+            if m in nds and k > 0 and line not in lines:
+                lines.append(line)
+    crossing = [
+        {**line, "frequency_Hz": float(nd_frequencies[line["nd"]]),
+         "input_speed_rad_s": 2 * math.pi * float(nd_frequencies[line["nd"]])
+         / (line["order"] * per_input)}
+        for line in lines
+    ] if per_input else []
+    mesh = [c["input_speed_rad_s"] for c in crossing if c["harmonic"] > 0]
+    top = max(1.5 * case.speed, 1.2 * max(mesh, default=0.0), 1e-9)
+    shown = [c for c in crossing if c["input_speed_rad_s"] <= top]
+    fig, ax = new_figure()
+    styles = {0: ":", 1: "--", 2: "-."}
+    colours = {m: f"C{i % 10}" for i, m in enumerate(nds)}
+    speeds = np.array([0.0, top])
+    for m in nds:
+        ax.axhline(nd_frequencies[m], color=colours[m], lw=1.4,
+                   label=f"ND {m}: {nd_frequencies[m]:.4g} Hz")
+    for line in lines:
+        ax.plot(speeds, line["order"] * per_input * speeds / (2 * math.pi),
+                styles.get(line["harmonic"], "-"), color=colours[line["nd"]], lw=0.8)
+    for h in range(RING_HARMONICS + 1):
+        ax.plot([], [], styles.get(h, "-"), color="0.3", lw=0.8,
+                label=f"h = {h}: |{h} z_r ∓ n| Ω/2π" if h else "h = 0: n Ω/2π (mean loads)")
+    if shown:
+        ax.plot([c["input_speed_rad_s"] for c in shown], [c["frequency_Hz"] for c in shown],
+                "o", mfc="none", color="k", label="resonance")
+    if case.speed > 0:
+        ax.axvline(case.speed, color="k", lw=0.8, ls=(0, (1, 3)),
+                   label=f"operating {case.speed:g} rad/s")
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, 1.15 * max(nd_frequencies.values()))
+    ax.set_xlabel(f"input ({spec.input.name.lower()}) speed (rad/s)")
+    ax.set_ylabel("frequency (Hz, the ring's frame)")
+    ax.set_title(f"{case.name}: ring nodal-diameter modes and the planets' excitation "
+                 f"({n} planets, z_r = {z_r}; excited where h z_r ∓ n ≡ 0 mod {n})")
+    ax.grid(alpha=0.3)
+    legend_below_and_save(fig, ax, path, None)
+    return {
+        "file": "ring_campbell.png",
+        "input_speeds_rad_s": [0.0, top],
+        "planet_pass_speed_per_input": per_input,
+        "lines": lines,
+        "crossings": shown,
     }
 
 
@@ -370,7 +452,7 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
             f"flexible ring {r['body']}: K_γ rigid {r['k_gamma_rigid']:.4f} → condensed "
             f"{r['k_gamma_condensed']:.4f}, ring deflection max "
             f"{r['ring_deflection_max_m'] * 1e6:.3g} µm; {low}; {len(r['resonances'])} "
-            "ND crossings with the planets' mesh harmonics (ring.vtu)"
+            "ND crossings with the planets' mesh harmonics (ring.vtu, ring_campbell.png)"
         )
     for name, mesh in summary.get("meshes", {}).items():
         q = mesh["quasi_static"]
