@@ -6,15 +6,20 @@ Table V's 1:96.354; one-line errors. Parsing only (fast)."""
 
 from __future__ import annotations
 
+import copy
 import json
+import re
+import tomllib
 
 import numpy as np
 import pytest
 from test_gearbox import reference_frequencies
 
 import jaxgear.io as jio
+from docs._gen import schema_reference as sr
 from fem_prep.schema import SchemaError
 from jaxgear.cli import main
+from jaxgear.io._gearbox_file import parse_gearbox
 
 
 def test_nrel_gearbox_stages_ratios_and_operating_points():
@@ -123,3 +128,26 @@ def test_jaxgear_modes_on_the_gearbox_lists_the_chain(tmp_path, capsys):
     assert {r["type"] for r in rows[1:]} <= {"stage1", "stage2", "stage3"}
     f = [r["frequency_Hz"] for r in rows]
     np.testing.assert_allclose(f[1:], reference_frequencies()[1:], rtol=1e-9)
+
+
+def test_the_gearbox_reference_holds_the_validators_keys():
+    """docs/_gen/schema_reference.py's gearbox page: each table of the embedded
+    nrel-5mw-gearbox holds exactly the keys the validator allows there, read from its one-line
+    error for an unknown key (as a user would find them), and the page lists them."""
+    schema = sr.trace_gearbox()
+    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-gearbox"))
+    allowed_re = re.compile(r"unknown key 'zz_not_a_key'(?: \(did you mean .*?\))?, allowed: (.*)$")
+    for path, table in (((), ""), (("operating",), "operating"), (("stages", 2), "stages[]")):
+        probe = copy.deepcopy(data)
+        t = probe
+        for part in path:
+            t = t[part]
+        t["zz_not_a_key"] = 1.0
+        with pytest.raises(SchemaError) as err:
+            parse_gearbox(probe, "probe", None, jio.load_case)
+        m = allowed_re.search(str(err.value))
+        assert m, str(err.value)
+        assert set(m.group(1).split(", ")) == set(schema.tables[table]), table
+    page = sr.pages()["gearbox-file.md"]
+    assert "## `[[stages]]`" in page and "| `shaft_Nm_per_rad` |" in page
+    assert "| `mesh_stiffness_N_per_um` | number | N/µm |" in page

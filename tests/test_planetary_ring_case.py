@@ -14,7 +14,7 @@ import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
 from _toml import case_toml
-from jaxgear.cli import main
+from jaxgear.cli import main, planetary as pr
 
 NREL2 = "nrel-5mw-stage2"
 NREL2_RING = "nrel-5mw-stage2-ring"
@@ -150,8 +150,6 @@ def test_ring_campbell_lines_follow_the_moving_load_rule(tmp_path, fixed, per_in
     exp(2 pi i (h z_r - s n) j / N) (not by the library's congruence); each crossing's input
     speed is 2 pi f_n / (order Omega per input), Omega = |omega_c - omega_r| from Willis by
     hand (ring fixed: z_s/(z_s + z_r); carrier fixed: the ring's z_s/z_r)."""
-    from jaxgear.cli import planetary as pr
-
     data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
     data["planetary"]["fixed"] = fixed
     data["planetary"][fixed].setdefault("torsional_stiffness_N_per_um", 1000.0)

@@ -433,6 +433,49 @@ def trace_cases() -> tuple[Schema, Schema]:
     return pair, train
 
 
+def gearbox_samples() -> Iterator[tuple[dict, str | None]]:
+    """(parsed TOML, base folder) of every sample gearbox file (``[[stages]]``)."""
+    import jaxgear.io as jio
+
+    for name in jio.list_cases():
+        data = tomllib.loads(jio.embedded_case_text(name))
+        if "stages" in data:
+            yield data, None
+    for path in sorted((ROOT / "examples").glob("*.toml")):
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        if "stages" in data:
+            yield data, str(path.parent)
+
+
+def trace_gearbox() -> Schema:
+    """The gearbox file's schema (``[[stages]]``), as :func:`jaxgear.io._gearbox_file.
+    parse_gearbox` declares it; the stages' own case files are loaded without recording (their
+    keys are the pair's and the train's references)."""
+    import jaxgear.io as jio
+    from jaxgear.io._gearbox_file import parse_gearbox
+
+    schema = Schema()
+    rec = _Recorder(schema)
+
+    def load_stage(name):
+        rec.depth_in_body += 1  # a stage's own file, as a body file of a case: not recorded
+        try:
+            return jio.load_case(name)
+        finally:
+            rec.depth_in_body -= 1
+
+    samples = list(gearbox_samples())
+    for data, base in samples:
+        with rec.active(), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            parse_gearbox(data, FILE_NAME, base, load_stage)
+    schema = schema.merged()
+    probe_undeclared(
+        schema, samples, lambda d, b: lambda x: parse_gearbox(x, "p", b, jio.load_case)
+    )
+    return schema
+
+
 def tables_of(data: dict, path: tuple = ()) -> Iterator[tuple]:
     """The path (keys and array indices) of every table of a parsed file."""
     yield path
@@ -580,6 +623,25 @@ model they belong to, such as the torsional scene's inertias) is used. For a key
 table's own code, *allowed* quotes the validator's message for a wrong value. A file is a
 *train* case when it has `[[gears]]`."""
 
+GEARBOX_INTRO = """\
+Generated from the gearbox-file validator (`jaxgear.io`'s `parse_gearbox`, which
+`jaxgear.io.load_case` calls for a file with `[[stages]]`) by `docs/_gen/schema_reference.py`
+each time the site is built. A gearbox file names its stages in order, each an embedded case or a
+case file (a planetary stage or a gear pair, whose own keys are in the pair and train
+references), the torsional stiffness of the shaft joining each stage to the previous one, and
+the operating point once, on the first stage's input; a pair stage also states which gear the
+previous stage drives, its gears' polar inertias and its mean mesh stiffness (see *Planetary
+stages*, "A gearbox of stages in series"). Unknown keys are errors."""
+
+#: what the gearbox page says of a table beyond its keys
+GEARBOX_NOTES = {
+    "stages[]": "One table per stage, in order from the input. *Required* as the stage asks: "
+    "`shaft_Nm_per_rad` on every stage but the first (refused there: no shaft before it); "
+    "`input`, `pinion_inertia_kg_m2`, `gear_inertia_kg_m2` and `mesh_stiffness_N_per_um` on a "
+    "gear-pair stage only (refused on a planetary stage, whose input and output are its "
+    "`[planetary]` table's).",
+}
+
 BODY_INTRO = """\
 Generated from the body-file validator (`fem_prep.schema.parse_body`) by
 `docs/_gen/schema_reference.py` each time the site is built: every key, its type, unit, default
@@ -594,7 +656,10 @@ def pages() -> dict[str, str]:
     case_page = markdown(pair, "Case-file reference: a gear pair", CASE_INTRO)
     train_page = markdown(train, "Case-file reference: a gear train", CASE_INTRO)
     body_page = markdown(bodies, "Body-file reference (fem_prep)", BODY_INTRO)
-    return {"case-file.md": case_page, "train-file.md": train_page, "body-file.md": body_page}
+    gearbox_page = markdown(trace_gearbox(), "Case-file reference: a gearbox", GEARBOX_INTRO,
+                            GEARBOX_NOTES)
+    return {"case-file.md": case_page, "train-file.md": train_page, "body-file.md": body_page,
+            "gearbox-file.md": gearbox_page}
 
 
 def main(argv: list[str] | None = None) -> None:
