@@ -496,10 +496,14 @@ def _vtu_array(name: str, values: np.ndarray, components: int) -> str:
     )
 
 
-def write_ring_vtu(prep: PreparedRing, path, n_modes: int = 10, sigma: float = -1.0) -> Path:
+def write_ring_vtu(
+    prep: PreparedRing, path, n_modes: int = 10, sigma: float = -1.0, point_data=None
+) -> Path:
     """Write the ring's mesh (corner nodes, linear hexahedra) with its first ``n_modes`` full
     FE mode shapes as point data ``mode_XX_<f>Hz_ND<n>`` (mass-normalised, m) to an ASCII
     ``.vtu`` (ParaView). ``sigma``: the eigen-solve's shift ((rad/s)^2, < 0 for a free ring).
+    ``point_data``: more vector fields ``{name: (n_nodes, 3)}`` (full FE nodes; the corner
+    nodes' values are written), e.g. a deflected shape.
 
     Returns:
         The path written.
@@ -512,6 +516,8 @@ def write_ring_vtu(prep: PreparedRing, path, n_modes: int = 10, sigma: float = -
         nd, _ = mode_nodal_diameter(prep, shapes[:, k])
         name = f"mode_{k + 1:02d}_{f[k]:.0f}Hz_ND{nd}"
         arrays.append(_vtu_array(name, shapes[:, k].reshape(-1, 3)[:nv], 3))
+    for name, values in (point_data or {}).items():
+        arrays.append(_vtu_array(name, np.asarray(values).reshape(-1, 3)[:nv], 3))
     n_cells = len(bm.cells)
     connectivity = " ".join(str(int(i)) for i in bm.cells.ravel())
     offsets = " ".join(str(8 * (i + 1)) for i in range(n_cells))

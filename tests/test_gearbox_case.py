@@ -13,13 +13,13 @@ import tomllib
 
 import numpy as np
 import pytest
+from _toml import case_toml
 from test_gearbox import reference_frequencies
 
 import jaxgear.io as jio
 from docs._gen import schema_reference as sr
 from fem_prep.schema import SchemaError
 from jaxgear.cli import main
-from jaxgear.io._gearbox_file import parse_gearbox
 
 
 def test_nrel_gearbox_stages_ratios_and_operating_points():
@@ -130,7 +130,7 @@ def test_jaxgear_modes_on_the_gearbox_lists_the_chain(tmp_path, capsys):
     np.testing.assert_allclose(f[1:], reference_frequencies()[1:], rtol=1e-9)
 
 
-def test_the_gearbox_reference_holds_the_validators_keys():
+def test_the_gearbox_reference_holds_the_validators_keys(tmp_path):
     """docs/_gen/schema_reference.py's gearbox page: each table of the embedded
     nrel-5mw-gearbox holds exactly the keys the validator allows there, read from its one-line
     error for an unknown key (as a user would find them), and the page lists them."""
@@ -143,8 +143,10 @@ def test_the_gearbox_reference_holds_the_validators_keys():
         for part in path:
             t = t[part]
         t["zz_not_a_key"] = 1.0
+        path = tmp_path / "probe.toml"
+        path.write_text(case_toml(probe))
         with pytest.raises(SchemaError) as err:
-            parse_gearbox(probe, "probe", None, jio.load_case)
+            jio.load_case(str(path))
         m = allowed_re.search(str(err.value))
         assert m, str(err.value)
         assert set(m.group(1).split(", ")) == set(schema.tables[table]), table

@@ -18,6 +18,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 from _planetary_stage import K0, SEQ, geometry, stage
+from jaxgear.cli import planetary as pr
 
 jax.config.update("jax_enable_x64", True)
 
@@ -185,6 +186,37 @@ def test_ring_deflections_and_support_reactions_from_the_fe_ring(seq, bolted_rin
         tz = np.sum(np.cross(prep.mesh.nodes, r)[:, 2]) + np.sum(np.cross(xm, applied)[:, 2])
         assert abs(tz) < 1e-9 * scale * prep.ring.outer_radius
         assert np.abs(q).max() > 0
+
+
+def test_the_deflected_shape_written_to_ring_vtu(seq, bolted_ring):
+    """jaxgear run's ring.vtu deflected shape (jaxgear/cli/planetary.py ring_operating_shape) at
+    x = 0: the FE ring's static response to the solve's ring-mesh forces put on the stations
+    (E^T P): the loads written here uniform across the face (two axial master planes: the
+    trapezoid weights are 1/2, 1/2) give the same field (1e-12); read through the condensed
+    solve's masters, its face mean along each force is the solve's ring deflection, and the bolt
+    seats' reactions balance the mesh forces written here from their angles (force, 1e-9)."""
+    _, st = seq
+    prep, F = bolted_ring
+    ring = jg.CondensedRing(F)
+    x = np.array([0.0, 0.0123])  # as the test above: the same compiled solve
+    got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE, x,
+                                    PIN_ERRORS, ring=ring)
+    P = np.asarray(got.ring_mesh_forces[0])
+    E = np.asarray(ring.station_rows(st, 0.0))
+    u = pr.ring_operating_shape(prep, (E.T @ P).reshape(-1, 2))
+    teeth, nax, _ = prep.master_dofs.shape
+    assert nax == 2
+    loads = np.zeros((teeth, nax, 3))
+    loads[:, :, :2] = (E.T @ P).reshape(-1, 2)[:, None, :] / nax
+    np.testing.assert_allclose(u, prep.static(loads).reshape(-1, 3), rtol=0,
+                               atol=1e-12 * np.abs(u).max())
+    um = _masters(prep, loads)[prep.master_dofs].mean(axis=1)  # (teeth, 3): face mean
+    np.testing.assert_allclose(E @ um[:, :2].ravel(), got.ring_deflection[0], rtol=1e-9)
+    phi = np.asarray(jg.ring_contact_angles(st, 0.0)) + float(st.ring_pressure_angle)
+    applied = (P[:, None] * np.stack([np.sin(phi), -np.cos(phi)], 1)).sum(0)
+    r = prep.support_reactions(u.ravel()).reshape(-1, 3)
+    np.testing.assert_allclose(r.sum(0)[:2] + applied, 0.0, atol=1e-9 * np.abs(P).sum())
+    assert np.abs(u).max() > 1e-7  # microns: a visible shape
 
 
 def _masters(prep, loads):

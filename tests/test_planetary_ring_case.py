@@ -132,6 +132,7 @@ def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
         assert r["frequency_hz"] == pytest.approx(r["order"] * r["carrier_speed_hz"], rel=1e-12)
     vtu = (out / "ring.vtu").read_text()
     assert vtu.count('Name="mode_') == 8
+    assert vtu.count(f'Name="{pr.DEFLECTION}"') == 1  # the deflected shape beside the modes
     # the ring's Campbell diagram: every crossing at 2 pi f_n / (order Omega) of the input
     # (ring fixed, carrier in: Omega is the input speed)
     camp = ring["campbell"]

@@ -52,6 +52,7 @@ __all__ = [
     "planetary_files",
     "planetary_lines",
     "ring_campbell",
+    "ring_operating_shape",
     "ring_section",
     "sharing_summary",
     "turn_sharing",
@@ -184,7 +185,8 @@ def ring_section(case, spec, stage, out: str) -> dict:
     :func:`sharing_summary`) at :data:`RING_POSITIONS` carrier positions over 1/N of a turn;
     the ring's deflection at the ring meshes; its lowest in-plane nodal-diameter frequencies
     and which of them the planets' mesh harmonics excite, at which carrier speed
-    (:func:`jaxgear.ring_resonances`); ``ring.vtu`` (the ring's mode shapes)."""
+    (:func:`jaxgear.ring_resonances`); ``ring.vtu`` (the ring's mode shapes and its deflected
+    shape at the first position, :func:`ring_operating_shape`); ``ring_campbell.png``."""
     rm = spec.ring_model
     st = rm.stations()
     held = spec.sharing_stage(stage)
@@ -199,8 +201,11 @@ def ring_section(case, spec, stage, out: str) -> dict:
                                   ring=rm.ring())
     z_r = spec.teeth[2]
     per_input = planet_pass_per_input(spec)
-    fem_prep.write_ring_vtu(fem_prep.prepare_ring(rm.body), os.path.join(out, "ring.vtu"),
-                            n_modes=RING_VTU_MODES)
+    prep = fem_prep.prepare_ring(rm.body)
+    station = np.asarray(rm.ring().station_rows(held, x[0])).T @ np.asarray(
+        flex.ring_mesh_forces[0])
+    fem_prep.write_ring_vtu(prep, os.path.join(out, "ring.vtu"), n_modes=RING_VTU_MODES,
+                            point_data={DEFLECTION: ring_operating_shape(prep, station)})
     campbell = ring_campbell(case, spec, st.nd_frequencies, os.path.join(out, "ring_campbell.png"))
     return {
         "body": rm.source,
@@ -216,8 +221,28 @@ def ring_section(case, spec, stage, out: str) -> dict:
             for r in ring_resonances(st.nd_frequencies, n, z_r, 2)
         ] if per_input else [],
         "file": "ring.vtu",
+        "vtu_deflection": f"{DEFLECTION}: the deflected shape at the first carrier position "
+        "(the condensed solve's ring-mesh forces), beside the mode shapes",
         "campbell": campbell,
     }
+
+
+#: ring.vtu's point data of the deflected shape at the operating point
+DEFLECTION = "deflection_operating_m"
+
+
+def ring_operating_shape(prep, station_forces) -> np.ndarray:
+    """The FE ring's deflected shape (m, (n_nodes, 3)) under in-plane forces at its tooth
+    stations (N, (Z, 2): ``CondensedRing.station_rows(stage, x).T @ P``, the ring-mesh forces P
+    spread on the stations' hats), each spread across the face width on the station's axial
+    masters with the trapezoid weights of ``fem_prep.ring_master_compliance`` (the compliance
+    the solve used): the condensed model's static response, recovered on the full mesh."""
+    teeth, nax, _ = prep.master_dofs.shape
+    w = np.ones(nax) if nax == 1 else np.r_[0.5, np.ones(nax - 2), 0.5]
+    loads = np.zeros((teeth, nax, 3))
+    forces = np.asarray(station_forces).reshape(teeth, 2)
+    loads[:, :, :2] = (w / w.sum())[None, :, None] * forces[:, None, :]
+    return prep.static(loads).reshape(-1, 3)
 
 
 #: the mesh harmonics h drawn on the ring's Campbell diagram (h = 0: the mean loads carried round)
