@@ -140,6 +140,11 @@ def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
     for c in camp["crossings"]:
         assert c["input_speed_rad_s"] == pytest.approx(
             2 * np.pi * ring["nd_frequencies_Hz"][str(c["nd"])] / c["order"], rel=1e-12)
+    # docs/planetary.md's figure: the n = 1 mode (195 Hz) meets the first harmonic's order
+    # z_r + 1 = 54 near the 20 rad/s operating speed
+    assert ring["nd_frequencies_Hz"]["1"] == pytest.approx(194.6, abs=0.5)
+    (near,) = [c for c in camp["crossings"] if (c["nd"], c["harmonic"], c["order"]) == (1, 1, 54)]
+    assert 20.0 < near["input_speed_rad_s"] < 25.0
 
 
 @pytest.mark.parametrize("fixed, per_input", [("ring", 28 / 120), ("carrier", 28 / 92)])

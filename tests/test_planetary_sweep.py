@@ -5,7 +5,9 @@ carrier speed and the mesh speed from Willis by hand), to 1e-12; the files are w
 staging folder and moved in place (none left on a refused option); the command line end to end.
 
 The stage: 19/17/−53, m_n 3 mm, b 30 mm, 3 planets, ring fixed, carrier in, sun out (the
-sequentially phased stage of tests/_planetary_stage.py), a few mesh periods per speed.
+sequentially phased stage of tests/_planetary_stage.py), a few mesh periods per speed. Fast:
+the same definition on the lumped lin-parker-1999 (one spring per mesh, a sun eccentricity
+exciting it), through ``sweep_summary`` (the sweep without its files).
 """
 
 from __future__ import annotations
@@ -145,7 +147,8 @@ def _by_hand(case):
 
 # the module's runs compile three Newmark loops on contact cells (the sweep, the ring
 # transducer's turn, the run by hand): about 25 s of CPU, over the fast suite's 5 s; the fast
-# twin of the dispatch is tests/test_planetary_case.py's refusal
+# twins: the lumped-form sweep at the end of this file (the DF-per-mesh definition against
+# planetary_dynamics) and tests/test_planetary_case.py's refusal (the dispatch)
 @pytest.mark.slow
 def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
     case, _, s = swept
