@@ -143,7 +143,10 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
     a0, a1 = 4.0 / dt**2, 2.0 / dt
     F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.structure.f_centrifugal)
     th0 = 0.5 * T / spp
-    qs = jg.quasi_static(scene, mods, torque, jnp.array([th0]), speed=speed)
+    # the start: the quasi-static solution at θ0, the first of a period's step positions (the
+    # program of the module's other quasi-static solves at spp positions)
+    positions = (np.arange(spp) + 0.5) * T / spp
+    qs = jg.quasi_static(scene, mods, torque, jnp.asarray(positions), speed=speed)
 
     @jax.jit
     @jax.vmap
