@@ -29,6 +29,7 @@ from ._util import (
     of_the_one_mesh,
     only_one_mesh,
     rms_about_mean,
+    safe_max,
 )
 from .scenes import RigidMesh, Scene
 
@@ -72,13 +73,14 @@ class MeshResult(eqx.Module):
 
     @property
     def te_ptp(self):
-        """Peak-to-peak TE (m)."""
-        return jnp.max(self.transmission_error) - jnp.min(self.transmission_error)
+        """Peak-to-peak TE (m). (safe_max: jnp.max's and jnp.min's values, with a derivative
+        that never divides by a zero count of extrema.)"""
+        return safe_max(self.transmission_error) + safe_max(-self.transmission_error)
 
     @property
     def max_line_load(self):
-        """Largest load per unit contact length (N/m)."""
-        return jnp.max(self.line_load)
+        """Largest load per unit contact length (N/m) (safe_max: jnp.max's value)."""
+        return safe_max(self.line_load)
 
 
 class QuasiStaticResult(eqx.Module):

@@ -92,62 +92,79 @@ def _period_mesh_stiffness(scene, mods, torque, speed, spp):
     )
 
     @jax.jit
-    def period(k):  # Σ_p Σ_c w_c k_c l_c V_c V_cᵀ over the period's positions, on all coordinates
-        def one(th, load):
-            cells = mesh.cells(th + k * T)
-            kl = jnp.where(cells.mask & load, cells.stiffness * cells.length, 0.0).reshape(-1)
-            V = scene.cell_vectors(cells).reshape(-1, n)
-            return V.T @ (kl[:, None] * V)
+    @jax.vmap
+    def parts(th):  # a position's cells: V (c, n) and k l (c,), 0 off the flanks
+        cells = mesh.cells(th)
+        mask = cells.mask.reshape(-1)
+        V = jnp.where(mask[:, None], scene.cell_vectors(cells).reshape(-1, n), 0.0)
+        return V, jnp.where(mask, (cells.stiffness * cells.length).reshape(-1), 0.0)
 
-        return jnp.sum(jax.vmap(one)(jnp.asarray(positions), jnp.asarray(loaded > 0)), axis=0)
+    on = np.asarray(loaded > 0).reshape(spp, -1)
 
     @functools.cache
-    def mesh_stiffness(k):
-        return np.asarray(period(k)) / spp
+    def mesh_stiffness(k):  # Σ_p Σ_c w_c k_c l_c V_c V_cᵀ / spp over the period's positions
+        V, kl = (np.asarray(a) for a in parts(jnp.asarray(positions + k * T)))
+        W = V * np.where(on, kl, 0.0)[..., None]
+        return W.reshape(-1, n).T @ V.reshape(-1, n) / spp
 
     return mesh_stiffness
+
+
+def _exact_contact_numpy(Keff, F, V, kl, d0, mask, max_iterations=100):
+    """The exact contact problem K_eff X + Σ_c k_c l_c max(V_c·X − δ0_c, 0) V_c = F (seed (2.9))
+    by the seed's active-set iteration (II-25) from every cell on the flanks, in NumPy/SciPy
+    (LAPACK's LU: K_eff is not symmetric in a turning frame): X (n,) and the mesh force
+    Σ_c k_c l_c max(Δ_c, 0) (N)."""
+    active = mask.copy()
+    for _ in range(max_iterations):
+        w = np.where(active, kl, 0.0)
+        X = scipy.linalg.solve(Keff + (V.T * w) @ V, F + V.T @ (w * d0))
+        gap = V @ X - d0
+        new = mask & (gap > 0)
+        if np.array_equal(new, active):
+            return X, float(np.sum(np.where(mask, kl * np.maximum(gap, 0.0), 0.0)))
+        active = new
+    raise AssertionError("the reference's active set did not settle")
 
 
 def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
     """Newmark average acceleration on all coordinates, written out here, with the damping
     C_of(k) in mesh period k (K_eff refactored each period) and each step's contact problem
-    K_eff X = F_eff − Σ P V solved by :func:`jaxgear.solve_contact`; the flank gaps from one
-    time-constant reference (the largest flank deviation over the period's step positions), the
-    start moved along the drive rotation to match. ``runs``: (C_of, rotating (the turning
-    frame's Ω Gy and Ω² S), steps) each; the mesh force per step of each."""
+    K_eff X = F_eff − Σ P V solved by the active set in NumPy (:func:`_exact_contact_numpy`; the
+    cells' vectors, stiffness and flank gaps of every step from the model's mesh in one call);
+    the flank gaps from one time-constant reference (the largest flank deviation over the
+    period's step positions), the start moved along the drive rotation to match. ``runs``:
+    (C_of, rotating (the turning frame's Ω Gy and Ω² S), steps) each; the mesh force per step
+    of each."""
     mesh = scene.mesh
+    n = scene.structure.K.shape[0]
     T = float(mesh.mesh_period_angle)
     dt = T / speed / spp
     a0, a1 = 4.0 / dt**2, 2.0 / dt
     F = torque * np.asarray(scene.f_torque) + speed**2 * np.asarray(scene.structure.f_centrifugal)
     th0 = 0.5 * T / spp
-    qs = jg.quasi_static(scene, mods, torque, jnp.array([th0]), speed=speed)
-
-    def deviation(th):
-        cells = mesh.cells(th)
-        e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
-        return cells, jnp.where(cells.mask, e, -jnp.inf)
-
-    # flank gaps from one time-constant reference, the start moved along the drive rotation
-    e_ref = max(float(jnp.max(deviation(th0 + p * T / spp)[1])) for p in range(spp))
-    shift = e_ref - float(jnp.max(deviation(th0)[1]))
-    start = np.asarray(qs.x[0]) + shift * np.asarray(scene.N[:, 0])
+    # the start: the quasi-static solution at θ0, the first of a period's step positions (the
+    # program of the module's other quasi-static solves at spp positions)
+    positions = (np.arange(spp) + 0.5) * T / spp
+    qs = jg.quasi_static(scene, mods, torque, jnp.asarray(positions), speed=speed)
 
     @jax.jit
-    def step(th, Feff, Keff):
-        cells, e = deviation(th)
-        d0 = jnp.where(cells.mask, e_ref - e, 0.0)
-        V = scene.cell_vectors(cells).reshape(-1, scene.structure.K.shape[0])
-        sol = jg.solve_contact(
-            Keff,
-            Feff,
-            V,
-            cells.stiffness.reshape(-1),
-            cells.length.reshape(-1),
-            d0.reshape(-1),
-            cells.mask.reshape(-1),
-        )
-        return sol.x, jnp.sum(sol.force_density * cells.length.reshape(-1))
+    @jax.vmap
+    def cells_at(th):  # each position's cells: V (c, n), k l (c,), deviation e (c,), mask (c,)
+        cells = mesh.cells(th)
+        e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+        mask = cells.mask.reshape(-1)
+        V = jnp.where(mask[:, None], scene.cell_vectors(cells).reshape(-1, n), 0.0)
+        kl = jnp.where(mask, (cells.stiffness * cells.length).reshape(-1), 0.0)
+        return V, kl, e.reshape(-1), mask
+
+    steps = max(r[2] for r in runs)
+    V, kl, e, mask = (np.asarray(a) for a in cells_at(th0 + np.arange(steps + 1) * T / spp))
+    e = np.where(mask, e, -np.inf)
+    # flank gaps from one time-constant reference, the start moved along the drive rotation
+    e_ref = float(np.max(e[:spp]))
+    start = np.asarray(qs.x[0]) + (e_ref - float(np.max(e[0]))) * np.asarray(scene.N[:, 0])
+    d0 = np.where(mask, e_ref - e, 0.0)
 
     out = []
     for C_of, rotating, n_steps in runs:
@@ -160,14 +177,13 @@ def _newmark_all_coordinates(scene, mods, torque, speed, spp, runs):
         for i in range(n_steps):
             if i % spp == 0:
                 C = C_of(i // spp) + Cr
-                Keff = jnp.asarray(K + a0 * M + a1 * C)
+                Keff = K + a0 * M + a1 * C
             Feff = F + M @ (a0 * X + 4.0 / dt * Xd + Xdd) + C @ (a1 * X + Xd)
-            Xn, fm = step(jnp.asarray(th0 + (i + 1) * T / spp), jnp.asarray(Feff), Keff)
-            Xn = np.asarray(Xn)
+            Xn, fm = _exact_contact_numpy(Keff, Feff, V[i + 1], kl[i + 1], d0[i + 1], mask[i + 1])
             Xddn = a0 * (Xn - X - dt * Xd - dt * dt * 0.25 * Xdd)
             Xd = Xd + dt * 0.5 * (Xdd + Xddn)
             X, Xdd = Xn, Xddn
-            forces.append(float(fm))
+            forces.append(fm)
         out.append(np.array(forces))
     return out
 

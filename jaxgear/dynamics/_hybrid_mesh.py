@@ -17,6 +17,7 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
+from .._util import safe_max
 from ..scenes import HybridPair, HybridScene
 from ._model import cell_stiffness, cells_from_reference, mesh_te
 from ._newmark import LinearSystem, MeshDamping, ModalSystem, newmark, newmark_modal
@@ -142,7 +143,7 @@ def _references(scene: HybridPair, mods, theta):
         return jnp.stack([part[1] for part in mesh_separations(scene, mods, th)])
 
     e_max = jax.vmap(at)(theta)
-    return jnp.max(e_max, axis=0), e_max
+    return safe_max(e_max, axis=0), e_max  # jnp.max's value; its derivative never 0/0
 
 
 def _joined(qs, name: str):

@@ -51,6 +51,7 @@ from .._deviations import Deviations
 from .._modifications import Modifications
 from .._pressure import pressure_factor
 from .._quasi_static import mesh_separations, per_mesh_modifications
+from .._util import safe_max
 from ..scenes import DynamicScene, HybridPair
 from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
@@ -268,7 +269,8 @@ def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTabl
     # inertial excitation in dynamics. (A coast cell's δ0 = j_bn − e_ref − e: the shift has the
     # other sign.)
     own = jnp.arange(n_rows)[:, None] < jnp.asarray(rows)[None, :]  # (R, m)
-    e_ref = jnp.max(jnp.where(own, e_max, -jnp.inf), axis=0)  # (m,)
+    # (safe_max: jnp.max's value, a derivative that never divides by a zero count of maxima)
+    e_ref = safe_max(jnp.where(own, e_max, -jnp.inf), axis=0)  # (m,)
     sizes = tuple((p.n_lines, p.n_slices) for p in planes)
     of_cell = np.repeat(np.arange(len(planes)), [L * N for L, N in sizes])
     d0 = jnp.where(mask, d0 + flank * (e_ref[None, :] - e_max)[:, of_cell], 0.0)
