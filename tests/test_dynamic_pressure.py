@@ -226,6 +226,40 @@ def test_cli_sweep_writes_the_pressure_keys_and_files(tmp_path):
     assert m["max_contact_pressure_Pa"] == pytest.approx(p[i], rel=1e-9)
 
 
+def test_sweep_hands_over_its_run_at_the_worst_speed(tmp_path):
+    """``sweep_case_run`` returns, beside ``sweep.json``'s dict, the run its pressure map read:
+    at the speed of the largest dynamic factor, with the case's settings and its cell loads,
+    the run a fresh ``simulate`` of the case's model gives (``jaxgear run`` hands it to the
+    root stress at speed instead of simulating it again); the run's Hertzian maximum is the
+    map's."""
+    from jaxgear.cli.sweep import sweep_case_run
+
+    path = tmp_path / "tiny.toml"
+    path.write_text(CASE)
+    case = jio.load_case(path)
+    data, run = sweep_case_run(
+        case, np.array([500.0, 900.0, 1300.0]), str(tmp_path / "out"), show_progress=False
+    )
+    i = int(np.argmax(data["dynamic_factor"]))
+    assert (
+        float(run.speed) == data["speeds_rad_s"][i] == data["pressure_map_dynamic"]["speed_rad_s"]
+    )
+    model, spec = build_dynamic_model(case)
+    fresh = simulate(
+        model,
+        data["speeds_rad_s"][i],
+        integrator=Newmark(32),
+        contact=case.contact_law(spec.contact),
+        window=SteadyState(6, 2),
+        outputs=Outputs(cell_loads=True),
+    )
+    np.testing.assert_allclose(run.line_load, fresh.line_load, rtol=1e-12, atol=0)
+    assert float(run.dynamic_factor) == pytest.approx(data["dynamic_factor"][i], rel=1e-12)
+    assert _pressure(case, run).max() == pytest.approx(
+        data["pressure_map_dynamic"]["max_contact_pressure_Pa"], rel=1e-12
+    )
+
+
 @pytest.mark.slow
 def test_hybrid_cell_loads_and_in_loop_max(fem_prep_cache):
     """The hybrid Newmark (condensed test wheel, cell space) records the same quantities: the
