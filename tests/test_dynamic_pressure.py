@@ -22,7 +22,7 @@ import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import OUTPUT_FILES, main
-from jaxgear.cli._sweep_json import dynamic_pressure_map
+from jaxgear.cli.sweep import dynamic_pressure_map
 from jaxgear.dynamics import (
     HertzPressure,
     Newmark,
