@@ -257,8 +257,9 @@ def _host(tree):
 
 
 def _device(tree):
-    """The arrays of ``tree`` as JAX arrays (placed on the default device; nothing compiled)."""
-    return jax.tree.map(jnp.asarray, tree)
+    """The arrays of ``tree`` as JAX arrays on the default device (``jax.device_put``, a copy:
+    ``jnp.asarray`` of a NumPy array compiles a program per shape)."""
+    return jax.tree.map(jax.device_put, tree)
 
 
 def in_chunks(run, speeds, chunk_size: int, progress=None):
@@ -275,7 +276,7 @@ def in_chunks(run, speeds, chunk_size: int, progress=None):
         part = sp[k : k + chunk_size]
         padded = np.concatenate([part, np.full(chunk_size - part.shape[0], part[-1], part.dtype)])
         parts.append(
-            jax.tree.map(lambda x, m=part.shape[0]: x[:m], _host(run(jnp.asarray(padded))))
+            jax.tree.map(lambda x, m=part.shape[0]: x[:m], _host(run(jax.device_put(padded))))
         )
         if progress is not None:
             progress(k + part.shape[0])
@@ -532,7 +533,7 @@ class _Chunked(_Passes):
             nonlocal state
             r = _host(self.sweep.scan(ch, state))
             ok = bool(r.result[-1] == 0)
-            last = (jnp.asarray(r.final_state[0][-1]), jnp.asarray(r.final_state[1][-1]))
+            last = _device((r.final_state[0][-1], r.final_state[1][-1]))
             state = last if ok else self.start
             return r
 
@@ -574,7 +575,7 @@ class _MixedSteps(_Passes):
             if self.progress is not None:
                 self.progress(base + k)
 
-        speeds = jnp.asarray(self.host_speeds[idx])
+        speeds = jax.device_put(self.host_speeds[idx])
         r = pass_(self.at_steps(n, self.modes).passes(speeds, tick, start))
         self.done += int(speeds.shape[0])
         return _subsample(_host(r), int(n) // self.n_min)
@@ -596,7 +597,7 @@ class _MixedSteps(_Passes):
         for run in np.split(np.arange(order.shape[0]), cuts):
             r = self._records(order[run], n_s[run[0]], lambda p: p.ascending(), start)
             ok = bool(r.result[-1] == 0)
-            start = (jnp.asarray(r.final_state[0][-1]), jnp.asarray(r.final_state[1][-1]))
+            start = _device((r.final_state[0][-1], r.final_state[1][-1]))
             start = start if ok else None
             parts.append(r)
         return jax.tree_util.tree_map(lambda *a: np.concatenate(a), *parts)
