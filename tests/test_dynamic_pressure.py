@@ -11,6 +11,8 @@ quasi-static solution for the static maximum of ``sweep.json``.
 
 import json
 import pathlib
+import tomllib
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -20,6 +22,7 @@ import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import OUTPUT_FILES, main
+from jaxgear.cli.sweep import dynamic_pressure_map
 from jaxgear.dynamics import (
     HertzPressure,
     Newmark,
@@ -224,6 +227,72 @@ def test_cli_sweep_writes_the_pressure_keys_and_files(tmp_path):
     assert m["files"] == ["pressure_map_dynamic.png"]
     # the map's run is the sweep's speed again, from the same start: the same maximum
     assert m["max_contact_pressure_Pa"] == pytest.approx(p[i], rel=1e-9)
+
+
+def test_pressure_map_run_is_a_fresh_run_at_the_worst_speed():
+    """``dynamic_pressure_map`` (``jaxgear sweep``'s map at the speed of the largest dynamic
+    factor) returns its run: at the speed of the largest dynamic factor among the speeds that
+    ran to the end (a diverged speed of a larger factor passed over), with its cell loads, the
+    run a fresh ``simulate`` of the same model and settings gives (``jaxgear run`` hands it to
+    the root stress at speed instead of simulating it again). The sweep's results stand in as
+    the three dynamic factors and result codes the map reads."""
+    case = jio.parse_case(tomllib.loads(CASE))
+    model, spec = build_dynamic_model(case)
+    law = case.contact_law(spec.contact)
+    hertz = HertzPressure(case.pair, case.youngs_modulus, case.poisson_ratio)
+    speeds = np.array([500.0, 900.0, 1300.0])
+    mesh = SimpleNamespace(dynamic_factor=np.array([1.1, 1.3, 1.5]))
+    sweep = SimpleNamespace(meshes=(mesh,), result=np.array([0, 0, 2]))
+    got = dynamic_pressure_map(case, model, spec, law, sweep, speeds, hertz)
+    run = got["run"]
+    assert float(run.speed) == 900.0 == got["summary"]["speed_rad_s"]
+    fresh = simulate(
+        model,
+        900.0,
+        integrator=Newmark(32),
+        contact=law,
+        window=SteadyState(6, 2),
+        outputs=Outputs(cell_loads=True),
+    )
+    np.testing.assert_allclose(run.line_load, fresh.line_load, rtol=1e-12, atol=0)
+    assert _pressure(case, run).max() == pytest.approx(
+        got["summary"]["max_contact_pressure_Pa"], rel=1e-12
+    )
+
+
+@pytest.mark.slow
+def test_sweep_hands_over_its_run_at_the_worst_speed(tmp_path):
+    """``sweep_case_run`` returns, beside ``sweep.json``'s dict, the run its pressure map read:
+    at the speed of the largest dynamic factor, with the case's settings and its cell loads,
+    the run a fresh ``simulate`` of the case's model gives (``jaxgear run`` hands it to the
+    root stress at speed instead of simulating it again); the run's Hertzian maximum is the
+    map's. (The fast test above checks the map's run on a hand-made sweep.)"""
+    from jaxgear.cli.sweep import sweep_case_run
+
+    path = tmp_path / "tiny.toml"
+    path.write_text(CASE)
+    case = jio.load_case(path)
+    data, run = sweep_case_run(
+        case, np.array([500.0, 900.0, 1300.0]), str(tmp_path / "out"), show_progress=False
+    )
+    i = int(np.argmax(data["dynamic_factor"]))
+    assert (
+        float(run.speed) == data["speeds_rad_s"][i] == data["pressure_map_dynamic"]["speed_rad_s"]
+    )
+    model, spec = build_dynamic_model(case)
+    fresh = simulate(
+        model,
+        data["speeds_rad_s"][i],
+        integrator=Newmark(32),
+        contact=case.contact_law(spec.contact),
+        window=SteadyState(6, 2),
+        outputs=Outputs(cell_loads=True),
+    )
+    np.testing.assert_allclose(run.line_load, fresh.line_load, rtol=1e-12, atol=0)
+    assert float(run.dynamic_factor) == pytest.approx(data["dynamic_factor"][i], rel=1e-12)
+    assert _pressure(case, run).max() == pytest.approx(
+        data["pressure_map_dynamic"]["max_contact_pressure_Pa"], rel=1e-12
+    )
 
 
 @pytest.mark.slow

@@ -445,7 +445,7 @@ def _member_maps(pair, result, table) -> list:
 
 
 def root_stress_at_speed(
-    case: Case, out_dir: str, summary: dict, dynamics: dict, table=fillet_table
+    case: Case, out_dir: str, summary: dict, dynamics: dict, table=fillet_table, run=None
 ) -> None:
     """The root-stress map at speed, for a pair case with ``[rating]`` and a speed sweep (else
     nothing): the case's dynamic model (the sweep's: ``dynamics["slices"]`` slices, the
@@ -461,23 +461,25 @@ def root_stress_at_speed(
     (largest tooth force over the quasi-static one), and ``slices``; rewrites ``rating.md``.
     The map is linear in the cell loads (docs/rating.md, "Root stress at speed"); the ratio
     equals a dynamic factor only where the loads at speed are the static ones scaled (a tooth
-    force dynamic factor weighs the tooth's whole load, the map the most stressed cell)."""
+    force dynamic factor weighs the tooth's whole load, the map the most stressed cell).
+    ``run``: that run when the caller has it already (the sweep's, at that speed, with its cell
+    loads: :func:`jaxgear.cli.sweep.sweep_case_run`), else None: simulated here."""
     section = summary.get("rating") or {}
     if section.get("root_stress") is None or len(case.pairs) != 1:
         return
     speed = float(dynamics["speed_of_max_rad_s"])
     slices = int(dynamics["slices"])
-    spec = case.scene
-    model, spec = build_dynamic_model(case, spec, slices=slices)
-    run = simulate(
-        model,
-        speed,
-        integrator=spec_integrator(spec),
-        contact=case.contact_law(spec.contact),
-        window=spec_window(spec),
-        outputs=Outputs(cell_loads=True),
-        throw=False,
-    )
+    if run is None or float(run.speed) != speed or run.meshes[0].line_load is None:
+        model, spec = build_dynamic_model(case, case.scene, slices=slices)
+        run = simulate(
+            model,
+            speed,
+            integrator=spec_integrator(spec),
+            contact=case.contact_law(spec.contact),
+            window=spec_window(spec),
+            outputs=Outputs(cell_loads=True),
+            throw=False,
+        )
     static = quasi_static(case.mesh_model(slices=slices), case.modifications, case.torque)
     at_speed = [float(m.max) for m in _member_maps(case.pair, run, table)]
     at_rest = [float(m.max) for m in _member_maps(case.pair, static, table)]

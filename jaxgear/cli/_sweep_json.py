@@ -244,7 +244,10 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | Non
     loads recorded (:func:`jaxgear.dynamics.simulate` with ``cell_loads=True``), and each
     mesh's Hertzian pressure over the kept steps (:func:`jaxgear.contact_pressure`). Returns
     ``{"summary": ..., "maps": [(file name, mesh result, pressure (K, L, N), pair,
-    positions per its pitch, title)]}``, or None when no speed ran to the end."""
+    positions per its pitch, title)], "run": the run (its ``speed``, rad/s)}``, or None when
+    no speed ran to the end. The run is the one a caller needing the cell loads at that speed
+    with the same settings reuses (``jaxgear run``'s root stress at speed,
+    :func:`jaxgear.cli.root_stress_at_speed`) instead of simulating it again."""
     df = worst(r, "dynamic_factor")
     ok = (np.asarray(r.result) == 0) & np.isfinite(df)
     if not ok.any():
@@ -287,7 +290,7 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | Non
         "files": files,
     }
     summary.update(per_mesh_keys(case, {"max_contact_pressure_mesh_Pa": p_max}))
-    return {"summary": summary, "maps": maps}
+    return {"summary": summary, "maps": maps, "run": one}
 
 
 def nodal_diameter_resonances(scene, modes, speeds, gear: dict, at=None) -> list:

@@ -398,9 +398,11 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     last = not sweep and case.optimise is None
     summary = quasi_static_files(case.form, case, out, args, last)
     if sweep:  # the case has a dynamic scene: add its dynamic factor curve
-        summary["dynamics"] = dynamics = _sweep_section(case, out, args.quiet)
+        dynamics, worst_run = _sweep_section(case, out, args.quiet)
+        summary["dynamics"] = dynamics
         measured_dynamic_factor(case, out, summary, dynamics)  # K_v measured, beside ISO's
-        root_stress_at_speed(case, out, summary, dynamics)  # the root-stress map at speed
+        # the root-stress map at speed, from the sweep's run at that speed (not run again)
+        root_stress_at_speed(case, out, summary, dynamics, run=worst_run)
         write_json(summary_path, summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
@@ -577,9 +579,11 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
     :func:`run_sweep_speeds` into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per
     contact line; ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s
     ``dynamics``: the dynamic factor curve and its maximum (a train's: the worst mesh per speed,
-    with each mesh's under ``dynamic_factor_mesh``)."""
+    with each mesh's under ``dynamic_factor_mesh``), and the sweep's run at the speed of the
+    largest dynamic factor with its cell loads (:func:`~jaxgear.cli.sweep.sweep_case_run`; None
+    when no speed ran to the end)."""
     slices = min(case.slices, RUN_SWEEP_SLICES)
-    sw = cli_sweep.sweep_case(
+    sw, worst_run = cli_sweep.sweep_case_run(
         case,
         run_sweep_speeds(case.form),
         os.path.join(out, "sweep"),
@@ -597,7 +601,7 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         "files": ", ".join(f"sweep/{name}" for name in _sweep_files(sw)),
         **mesh_dynamics(sw),
     }
-    return out
+    return out, worst_run
 
 
 def mesh_dynamics(sw: dict) -> dict:

@@ -43,6 +43,7 @@ __all__ = [
     "default_sweep_dir",
     "run_sweep",
     "sweep_case",
+    "sweep_case_run",
     "sweep_spec",
     "write_sweep_csv",
 ]
@@ -139,6 +140,23 @@ def sweep_case(
     vtu_speed: float | None = None,
     **integration,
 ) -> dict:
+    """The summary of :func:`sweep_case_run` (same arguments, same files): the ``sweep.json``
+    dict."""
+    options = dict(direction=direction, slices=slices, show_progress=show_progress)
+    return sweep_case_run(case, speeds, out_dir, vtu_speed=vtu_speed, **options, **integration)[0]
+
+
+def sweep_case_run(
+    case: Case,
+    speeds,
+    out_dir: str,
+    *,
+    direction: str = "independent",
+    slices: int | None = None,
+    show_progress: bool = True,
+    vtu_speed: float | None = None,
+    **integration,
+) -> tuple[dict, object]:
     """Speed sweep of a case's scene, lumped or with condensed bodies (one
     :func:`jaxgear.dynamics.speed_sweep` for both, tracking the largest Hertzian pressure per
     speed); writes ``sweep.json``, ``dynamic_factor.png``, ``campbell.png``,
@@ -152,7 +170,11 @@ def sweep_case(
 
     ``integration``: the case's ``[scene.integration]`` settings replaced
     (:func:`sweep_spec`'s ``solver``, ``contact``, ``periods``, ``steps_per_period``,
-    ``keep_periods``; None keeps the case's); ``slices``: the ``[mesh]`` slices replaced."""
+    ``keep_periods``; None keeps the case's); ``slices``: the ``[mesh]`` slices replaced.
+
+    Returns (the JSON dict, the run at the speed of the largest dynamic factor with its cell
+    loads: :func:`jaxgear.dynamics.simulate`'s result, the one the dynamic pressure map
+    reads, for a caller that needs those loads again; None when no speed ran to the end)."""
     spec = sweep_spec(case, direction=direction, vtu_speed=vtu_speed, **integration)
     speeds = np.asarray(speeds, dtype=float)
     hybrid = spec.hybrid  # condensed bodies to load before the model is built
@@ -290,9 +312,7 @@ def sweep_case(
         )
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
     dyn_map = dynamic_pressure_map(case, model, spec, law, r, speeds, hertz)
-    summary.update(
-        kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible)
-    )
+    summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
     summary["elapsed_s"] = time.perf_counter() - t0
     summary["platform"] = {
         "jax": jax.__version__,
@@ -303,7 +323,7 @@ def sweep_case(
     if dyn_map is not None:
         summary["pressure_map_dynamic"] = dyn_map["summary"]
     write_sweep(case, summary, out_dir, z1, dyn_map)
-    return summary
+    return summary, None if dyn_map is None else dyn_map["run"]
 
 
 def default_sweep_dir(case_name: str, speeds) -> str:

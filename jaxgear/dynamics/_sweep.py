@@ -251,21 +251,36 @@ def steps_multiple(model: Model) -> int:
     return model.steps_multiple()
 
 
+def _host(tree):
+    """The arrays of ``tree`` as NumPy arrays (a copy to the host; nothing compiled)."""
+    return jax.tree.map(np.asarray, tree)
+
+
+def _device(tree):
+    """The arrays of ``tree`` as JAX arrays on the default device (``jax.device_put``, a copy:
+    ``jnp.asarray`` of a NumPy array compiles a program per shape)."""
+    return jax.tree.map(jax.device_put, tree)
+
+
 def in_chunks(run, speeds, chunk_size: int, progress=None):
     """``run`` over ``speeds`` (S,) in chunks of ``chunk_size``, one call per chunk from a Python
     loop: the last chunk is padded with its last speed (every chunk runs the same compiled
     program) and the padding dropped; ``progress(n_done)`` after each chunk, and Ctrl-C is
-    honoured between chunks. Returns the results concatenated along the speed axis (S, ...)."""
-    n = speeds.shape[0]
+    honoured between chunks. Returns the results concatenated along the speed axis (S, ...).
+    The chunks are cut, trimmed and joined on the host (NumPy): a compiled program per chunk
+    and leaf shape for these copies would cost more than the copies."""
+    sp = np.asarray(speeds)
+    n = sp.shape[0]
     parts = []
     for k in range(0, n, chunk_size):
-        part = speeds[k : k + chunk_size]
-        padded = jnp.concatenate([part, jnp.full(chunk_size - part.shape[0], part[-1], part.dtype)])
-        parts.append(jax.tree.map(lambda x, m=part.shape[0]: x[:m], run(padded)))
-        jax.block_until_ready(parts[-1])
+        part = sp[k : k + chunk_size]
+        padded = np.concatenate([part, np.full(chunk_size - part.shape[0], part[-1], part.dtype)])
+        parts.append(
+            jax.tree.map(lambda x, m=part.shape[0]: x[:m], _host(run(jax.device_put(padded))))
+        )
         if progress is not None:
             progress(k + part.shape[0])
-    return jax.tree.map(lambda *xs: jnp.concatenate(xs), *parts)
+    return _device(jax.tree.map(lambda *xs: np.concatenate(xs), *parts))
 
 
 def _flip(r):
@@ -442,8 +457,8 @@ def _subsample(r, m: int):
         leaves = [getattr(x, h) for h in hist]
         return leaves + [getattr(mesh, h) for mesh in x.meshes for h in per_mesh]
 
-    r = eqx.tree_at(records, r, [a[:, m - 1 :: m] for a in records(r)])
-    return eqx.tree_at(lambda x: x.time_step, r, r.time_step * m)
+    r = eqx.tree_at(records, r, [np.asarray(a)[:, m - 1 :: m] for a in records(r)])
+    return eqx.tree_at(lambda x: x.time_step, r, np.asarray(r.time_step) * m)
 
 
 class _Sweep:
@@ -516,9 +531,10 @@ class _Chunked(_Passes):
 
         def run(ch):
             nonlocal state
-            r = self.sweep.scan(ch, state)
+            r = _host(self.sweep.scan(ch, state))
             ok = bool(r.result[-1] == 0)
-            state = (r.final_state[0][-1], r.final_state[1][-1]) if ok else self.start
+            last = _device((r.final_state[0][-1], r.final_state[1][-1]))
+            state = last if ok else self.start
             return r
 
         progress = self.progress
@@ -546,45 +562,52 @@ class _MixedSteps(_Passes):
     def __init__(self, at_steps, modes, speeds, ns, progress):
         self.at_steps, self.modes, self.speeds, self.ns = at_steps, modes, speeds, ns
         self.progress, self.n_min, self.done = progress, int(ns.min()), 0
+        self.host_speeds = np.asarray(speeds)
 
-    def _records(self, speeds, n, pass_, start=None):
-        """The records of ``speeds`` at N_s = ``n``: ``pass_(passes)`` of their
-        :class:`_Passes`, subsampled."""
+    def _records(self, idx, n, pass_, start=None):
+        """The records of the speeds ``idx`` (indices into :attr:`speeds`, or a slice) at N_s =
+        ``n``: ``pass_(passes)`` of their :class:`_Passes`, subsampled, on the host (NumPy:
+        the runs of other N_s have other record lengths, and a compiled program per leaf
+        shape for these copies would cost more than the copies)."""
         base = self.done
 
         def tick(k):
             if self.progress is not None:
                 self.progress(base + k)
 
+        speeds = jax.device_put(self.host_speeds[idx])
         r = pass_(self.at_steps(n, self.modes).passes(speeds, tick, start))
         self.done += int(speeds.shape[0])
-        return _subsample(r, int(n) // self.n_min)
+        return _subsample(_host(r), int(n) // self.n_min)
 
     def independent(self):
         parts, order = [], []
         for n in np.unique(self.ns):
             idx = np.nonzero(self.ns == n)[0]
-            parts.append(self._records(self.speeds[idx], n, lambda p: p.independent()))
+            parts.append(self._records(idx, n, lambda p: p.independent()))
             order.append(idx)
         inv = np.argsort(np.concatenate(order))
-        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a)[inv], *parts)
+        return _device(jax.tree_util.tree_map(lambda *a: np.concatenate(a)[inv], *parts))
 
-    def _continuation(self, sp, n_s):
-        # runs of equal N_s in sweep order, each continuing from the previous run's last state
+    def _continuation(self, order, n_s):
+        # runs of equal N_s in sweep order (``order``: the indices of the speeds in it), each
+        # continuing from the previous run's last state
         cuts = np.nonzero(np.diff(n_s))[0] + 1
         parts, start = [], None
-        for idx in np.split(np.arange(sp.shape[0]), cuts):
-            r = self._records(sp[idx], n_s[idx[0]], lambda p: p.ascending(), start)
+        for run in np.split(np.arange(order.shape[0]), cuts):
+            r = self._records(order[run], n_s[run[0]], lambda p: p.ascending(), start)
             ok = bool(r.result[-1] == 0)
-            start = (r.final_state[0][-1], r.final_state[1][-1]) if ok else None
+            start = _device((r.final_state[0][-1], r.final_state[1][-1]))
+            start = start if ok else None
             parts.append(r)
-        return jax.tree_util.tree_map(lambda *a: jnp.concatenate(a), *parts)
+        return jax.tree_util.tree_map(lambda *a: np.concatenate(a), *parts)
 
     def ascending(self):
-        return self._continuation(self.speeds, self.ns)
+        return _device(self._continuation(np.arange(self.ns.shape[0]), self.ns))
 
     def descending(self):
-        return _flip(self._continuation(self.speeds[::-1], self.ns[::-1]))
+        order = np.arange(self.ns.shape[0])[::-1]
+        return _device(_flip(self._continuation(order, self.ns[::-1])))
 
     def both(self) -> tuple:
         down = self.descending()  # down first, as before (the progress counts it first)

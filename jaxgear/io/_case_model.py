@@ -229,9 +229,9 @@ def _static_scene(form, case: Case, slices: int | None, bodies: tuple | None):
 @_static_scene.register
 def _pair_static_scene(form: PairForm, case: Case, slices, bodies):
     spec = case.scene
-    if not spec.hybrid:
-        model, _ = build_dynamic_model(case, slices=slices)
-        return grounded(model.scene, (model.scene.torque_dofs[1],)), (None, None)
+    if not spec.hybrid:  # the dynamic model's scene, without its modes and damping
+        scene = PAIR_SCENES[spec.model](case, spec, case.mesh_model(slices=slices))
+        return grounded(scene, (scene.torque_dofs[1],)), (None, None)
     bodies = load_bodies(spec) if bodies is None else bodies
     flexible = tuple(b is not None for b in bodies)
     mesh = case.mesh_model(slices=slices, flexible=flexible)
