@@ -170,7 +170,8 @@ def test_train_rating_outputs_per_mesh_lists_and_a_table_per_mesh(tmp_path):
 def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
     """Per-mesh load maps (two hand-made ones: two lines of two slices at one position) give
     each mesh its measured K_Hβ, K_Hα (by hand) and its root-stress map (a stub FE table,
-    by hand); ``use_measured = ["K_Halpha"]`` rates each mesh with its own; K_v is refused."""
+    by hand); ``use_measured = ["K_Halpha"]`` rates each mesh with its own; K_v is accepted
+    (measured per mesh from the train's sweep)."""
     case = jio.parse_train(_train(use_measured=["K_Halpha"]))
     g = [float(p.path_of_contact) for p in case.pairs]
     maps = []
@@ -204,5 +205,6 @@ def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
         assert section["root_stress"]["max_Pa"][k] == pytest.approx(want, rel=1e-9)
         name = f"root_stress_map_{case.mesh_name(k)}.png"
         assert (tmp_path / name).stat().st_size > 10_000
-    with pytest.raises(SchemaError, match="K_v not for a train yet"):
-        jio.parse_train(_train(use_measured=["K_v"]))
+    # K_v is measured per mesh from the train's sweep (tests/test_rating_train_speed.py)
+    rcs = jio.ratings_of(jio.parse_train(_train(use_measured=["K_v"])))
+    assert [rc.use_measured for rc in rcs] == [("K_v",), ("K_v",)]

@@ -94,7 +94,6 @@ GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
 #: taken for K_Fα; K_v: the speed sweep at the rating speed)
 MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
-TRAIN_UNMEASURED = {"K_v"}  # not measured per mesh of a train yet
 RATING_KEYS = {
     "use_measured",
     "application_factor",
@@ -240,9 +239,7 @@ def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
         if n not in MEASURABLE:
             raise sc.fail("rating", "use_measured", f"unknown factor {n!r}, allowed {allowed}", v)
         if given.get(n) is not None:
-            raise sc.fail(
-                "rating", "use_measured", f"{n} is given as a value too: give it once", v
-            )
+            raise sc.fail("rating", "use_measured", f"{n} is given as a value too: give it once", v)
     if len(set(v)) != len(v):
         raise sc.fail("rating", "use_measured", "a factor named twice", v)
     return tuple(v)
@@ -361,14 +358,6 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
         rc = parse_rating(mesh_data, case.pairs[k], material)
-        if set(rc.use_measured) & TRAIN_UNMEASURED:
-            raise sc.fail(
-                "rating",
-                "use_measured",
-                "K_v not for a train yet (its sweep's dynamic factor is not read per mesh): "
-                "allowed K_Hbeta, K_Halpha",
-                list(rc.use_measured),
-            )
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
