@@ -3,6 +3,8 @@ on a thin rotating annular disc written and read back as its ``.npz``: the repor
 hoop stress is the plane-stress (Timoshenko & Goodier, Theory of Elasticity, Sec. 32) hoop stress
 at that element's radius, and the summary's numbers are the ones in the stress VTU."""
 
+import json
+from pathlib import Path
 from types import SimpleNamespace
 
 import meshio
@@ -10,6 +12,7 @@ import numpy as np
 import pytest
 from test_fem_prep_body_stress import A_MM, B_MM, _condensed_centrifugal, _disc, _timoshenko
 
+import fem_prep
 from jaxgear import cli
 
 
@@ -42,3 +45,36 @@ def test_body_stress_outputs_rim_and_hub_against_timoshenko(tmp_path):
     hoop_ref = _timoshenko(np.array([r[k]]))[0][0]
     largest = np.abs(_timoshenko(np.linspace(1e-3 * A_MM, 1e-3 * B_MM, 401))[0]).max()
     assert rim == pytest.approx(hoop_ref, abs=0.03 * largest)
+
+
+@pytest.mark.slow
+def test_a_flexible_train_reports_its_body_stresses(fem_prep_cache, tmp_path):
+    """``jaxgear run`` on the small flexible idler train (tests/data/hybrid-test-train.toml)
+    reports the idler body's rim and web stresses as a pair's hybrid scene does (the same
+    ``body_stress_outputs``): ``body_stress.idler.<region>`` equal to the maxima of the written
+    ``body_idler_stress.vtu``, recovered at the position of ``body_idler.vtu`` (the two files'
+    displacements have the same magnitude at every node: one solution, the stress file in the
+    body frame, the deformed body turned to its angle)."""
+    out = tmp_path / "out"
+    case = Path(__file__).parent / "data" / "hybrid-test-train.toml"
+    assert cli.main(["run", str(case), "--out", str(out), "--quiet"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["body_stress_vtu"] == ["body_idler_stress.vtu"]
+    stress = meshio.read(out / "body_idler_stress.vtu")
+    region = stress.cell_data["region"][0]
+    got = s["body_stress"]["idler"]
+    assert {"rim", "web", "hub"} <= set(got)
+    for name in got:
+        cells = region == fem_prep.REGIONS[name]
+        vm = stress.cell_data["von_mises_Pa"][0][cells]
+        assert got[name]["von_mises_Pa"] == pytest.approx(vm.max(), rel=1e-12)
+        hoop = stress.cell_data["hoop_Pa"][0][cells]
+        assert got[name]["hoop_Pa"] == pytest.approx(hoop[np.argmax(np.abs(hoop))], rel=1e-12)
+    assert got["rim"]["von_mises_Pa"] > 1e6  # the tooth loads reach the rim
+    deformed = meshio.read(out / "body_idler.vtu")
+    np.testing.assert_allclose(
+        np.linalg.norm(stress.point_data["displacement"], axis=1),
+        np.linalg.norm(deformed.point_data["displacement_m"], axis=1),
+        rtol=1e-9,
+        atol=1e-9 * np.abs(deformed.point_data["displacement_m"]).max(),
+    )
