@@ -14,8 +14,8 @@ from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
-from ._summary import environment_summary, mesh_settings_summary, result_summary
 from ._rating_report import body_stress_outputs
+from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .scene import _flexible, write_bodies_vtu
 
 __all__ = ["format_train_table", "run_train"]
