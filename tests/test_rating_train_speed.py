@@ -53,9 +53,12 @@ def test_train_measured_k_v_per_mesh_from_given_curves(tmp_path):
     t = (INPUT_SPEED - 600.0) / 100.0  # 628.3 rad/s between the 2nd and 3rd speeds
     want = [1.2 + t * (1.5 - 1.2), 1.6 + t * (1.1 - 1.6)]
     case = _case(use_measured=["K_v"], **fixed)
-    iso = cli.rating_outputs(case, str(tmp_path))
-    summary = {"rating": copy.deepcopy(iso)}
-    cli.measured_dynamic_factor(case, str(tmp_path), summary, dynamics)
+    # eagerly: jit would compile the rating four times (each mesh's static structure, with and
+    # without a given K_v), ~1.4 s CPU each; the values are the same
+    with jax.disable_jit():
+        iso = cli.rating_outputs(case, str(tmp_path))
+        summary = {"rating": copy.deepcopy(iso)}
+        cli.measured_dynamic_factor(case, str(tmp_path), summary, dynamics)
     used = summary["rating"]
     assert used["meshes"] == ["input-idler", "idler-output"]
     assert used["measured"]["K_v"]["value"] == pytest.approx(want, rel=1e-12)
@@ -111,7 +114,8 @@ def test_train_root_stress_at_speed_per_mesh(tmp_path):
     per-mesh lists in ``rating.root_stress.at_speed`` and two rows per mesh in rating.md."""
     case = _case()
     results = cli.train_mesh_results(case)
-    section = cli.rating_outputs(case, str(tmp_path), results, root_stress=stub_table)
+    with jax.disable_jit():  # the rating's values without its two compilations (one per mesh)
+        section = cli.rating_outputs(case, str(tmp_path), results, root_stress=stub_table)
     meshes = []
     for k, pair in enumerate(case.pairs):
         g = float(pair.path_of_contact)
