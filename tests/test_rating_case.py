@@ -9,14 +9,17 @@ import copy
 import json
 import math
 import pathlib
+import re
 from typing import NamedTuple
 
 import numpy as np
 import pytest
+from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear import cli
+from jaxgear.cli import main
 
 CASE = {
     "name": "tr-6336-30-example-1",
@@ -127,6 +130,27 @@ def test_bad_rating_input_is_one_line_naming_the_key(changes, message):
         jio.parse_case(_case(**changes))
     text = str(err.value)
     assert message in text and "\n" not in text, text
+
+
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        ({"rating/life_h": None}, r"^jaxgear: error: \[rating\] life_h: missing required key"),
+        ({"rating/K_v": 0.9}, r"^jaxgear: error: \[rating\] K_v = 0.9: out of range"),
+    ],
+)
+def test_jaxgear_run_refuses_a_bad_rating_in_one_line_before_any_work(
+    tmp_path, capsys, changes, message
+):
+    """``jaxgear run`` on a case whose ``[rating]`` lacks a key or has one out of range: exit
+    status 2, one line on stderr naming the key, no output folder."""
+    path = tmp_path / "bad.toml"
+    path.write_text(case_toml(_case(**changes)))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and re.search(message, err), err
+    assert not out.exists()
 
 
 def test_rating_keys_without_a_rating_table_are_refused():
