@@ -40,6 +40,7 @@ import functools
 import math
 
 import equinox as eqx
+
 from fem_prep import schema as sc
 
 from .. import (
@@ -336,9 +337,17 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
 
     Raises:
         SchemaError: as :func:`parse_rating`, and a mesh table that names no mesh, a per-gear
-            table that misses a gear; one line.
+            table that misses a gear, an internal mesh (external pairs only); one line.
     """
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
+    for k, (g, h) in enumerate(case.gears):
+        if not isinstance(case.pairs[k], GearPair):  # an internal mesh (InternalGearPair)
+            raise sc.fail(
+                "rating",
+                None,
+                f"mesh {meshes[k]} is internal ({case.gear_names[h]}: teeth "
+                f"{case.pairs[k].gear.teeth}): the rating covers external pairs only",
+            )
     rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes))
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat, op = data.get("material", {}), data.get("operating", {})
