@@ -12,6 +12,7 @@ import pathlib
 import re
 from typing import NamedTuple
 
+import jax
 import numpy as np
 import pytest
 from _toml import case_toml
@@ -193,6 +194,28 @@ def test_a_rating_out_of_scope_warns_naming_the_clause(tmp_path):
     case = jio.parse_case(_case(**{"operating/speed_rpm": 9000.0}))
     with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-1 dynamic factor K_v: reso"):
         cli.rating_outputs(case, str(tmp_path))
+
+
+def test_case_file_rim_thickness_rates_y_b_and_warns_below_its_scope(tmp_path):
+    """``[gear] rim_thickness_mm`` (with ``web_thickness_mm``, the blank keys) reaches the
+    rating: a rim of 0.8 tooth depths (h_t = (1 + 1.4) m_n = 19.2 mm) gives the gear Y_B =
+    1.6 ln(2.242/0.8) (ISO 6336-3, rim thickness factor) in ``rating.bending.Y_B`` and its σ_F0
+    that factor above the solid blank's (1e-12), the pinion's unchanged; a rim of 0.4 tooth
+    depths warns with a CaseWarning naming the factor and its scope 0.5 < s_R/h_t."""
+    blank = {"gear/web_thickness_mm": 30.0}
+
+    def section(rim_mm=None, **more):
+        changes = blank | {"gear/rim_thickness_mm": rim_mm} if rim_mm else {}
+        with jax.disable_jit():  # three ratings of different static rims: no compilations
+            return cli.rating_outputs(jio.parse_case(_case(**changes, **more)), str(tmp_path))
+
+    solid, thin = section()["bending"], section(0.8 * 19.2)["bending"]
+    y_b = 1.6 * math.log(2.242 / 0.8)
+    assert thin["Y_B"] == pytest.approx([1.0, y_b], rel=1e-12)
+    ratio = np.asarray(thin["sigma_F0_Pa"]) / np.asarray(solid["sigma_F0_Pa"])
+    np.testing.assert_allclose(ratio, [1.0, y_b], rtol=1e-12)
+    with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-3 rim thickness factor Y_B"):
+        section(0.4 * 19.2)
 
 
 @pytest.mark.slow  # ~5 s idle (two compilations); the fast test below checks the arithmetic
