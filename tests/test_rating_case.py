@@ -218,6 +218,22 @@ def test_case_file_rim_thickness_rates_y_b_and_warns_below_its_scope(tmp_path):
         section(0.4 * 19.2)
 
 
+def test_a_given_k_fbeta_replaces_iso_and_scales_the_root_stress_alone(tmp_path):
+    """``[rating] K_Fbeta = 1.3``: the factor reads 1.3 with source "given" in place of ISO's
+    K_Hβ^N_F, σ_F of both gears scales by 1.3/K_Fβ,ISO (σ_F = σ_F0 K_A K_v K_Fβ K_Fα, ISO 6336-3
+    (2); 1e-12) and the pitting side is unchanged (σ_H does not read K_Fβ)."""
+    with jax.disable_jit():
+        iso = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path))
+        given = cli.rating_outputs(jio.parse_case(_case(**{"rating/K_Fbeta": 1.3})), str(tmp_path))
+    assert iso["factors"]["K_Fbeta"]["source"] == "ISO 6336-1 method B"
+    assert given["factors"]["K_Fbeta"] == {"value": 1.3, "source": "given"}
+    r = 1.3 / iso["factors"]["K_Fbeta"]["value"]
+    ratio = np.asarray(given["bending"]["sigma_F_Pa"]) / np.asarray(iso["bending"]["sigma_F_Pa"])
+    np.testing.assert_allclose(ratio, [r, r], rtol=1e-12)
+    assert given["pitting"]["sigma_H_Pa"] == pytest.approx(iso["pitting"]["sigma_H_Pa"], rel=1e-12)
+    assert "| K_Fβ | 1.3000 (given) |" in (tmp_path / "rating.md").read_text(encoding="utf-8")
+
+
 @pytest.mark.slow  # ~5 s idle (two compilations); the fast test below checks the arithmetic
 def test_measured_face_load_factor_of_a_crowned_spur_pair(tmp_path):
     """K_Hβ measured on the load map against the closed form of a crowned spur pair: with a
