@@ -25,6 +25,8 @@ factors computed after it use the given value). Each factor reports its source.
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
@@ -104,8 +106,16 @@ class Rating(eqx.Module):
         """Where the inputs leave the standard's scope, one line each naming the clause (empty
         when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress correction factor), K_v's main
         resonance range 0.85 < N < 1.15 (ISO 6336-1, dynamic factor; noted whether K_v is
-        given or computed). Concrete values only (not under ``jit``)."""
+        given or computed), Y_B's rim 0.5 < s_R/h_t (ISO 6336-3, rim thickness factor; read back
+        from Y_B = 1.6 ln(2.242 h_t/s_R)). Concrete values only (not under ``jit``)."""
         notes = []
+        for tag, y_b in zip(("pinion", "gear"), self.bending.Y_B.tolist(), strict=True):
+            ratio = 2.242 * math.exp(-y_b / 1.6)
+            if y_b > 1.0 and ratio <= 0.5:
+                notes.append(
+                    f"ISO 6336-3 rim thickness factor Y_B: {tag} rim s_R/h_t = {ratio:.4g} is "
+                    "outside the method's scope 0.5 < s_R/h_t (thinner rims should be avoided)"
+                )
         for tag, q in zip(("pinion", "gear"), self.bending.form.q_s.tolist(), strict=True):
             if not 1.0 <= q < 8.0:
                 notes.append(

@@ -17,6 +17,7 @@ alike.
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
@@ -47,6 +48,24 @@ class RootStressMap(eqx.Module):
     def max(self) -> Float[Array, ""]:
         """The largest root stress over the map (Pa)."""
         return jnp.max(self.stress)
+
+    def soft_max(self, width) -> Float[Array, ""]:
+        """A smooth upper bound of :attr:`max` for gradients (Pa): ``width`` log Σ exp(σ/width)
+        over every cell (0 off the flanks), between :attr:`max` and :attr:`max` + ``width``
+        log(P L N); its gradient is the softmax-weighted sum of the cells' gradients, where
+        :attr:`max`'s jumps from cell to cell.
+
+        Args:
+            width: the smoothing (Pa), > 0; e.g. 1e6 (1 MPa) on stresses of hundreds of MPa.
+
+        Raises:
+            ValueError: ``width`` (a number) not > 0.
+        """
+        if isinstance(width, int | float) and not width > 0:
+            raise ValueError(
+                f"RootStressMap.soft_max: width = {width!r} is out of range, allowed > 0 (Pa)"
+            )
+        return width * jax.nn.logsumexp(self.stress / width)
 
 
 def root_stress_map(

@@ -326,3 +326,10 @@ def test_rim_thickness_factor_of_a_thin_rimmed_gear():
     y_b = 1.6 * math.log(2.242 / 0.8)  # 1.6488
     np.testing.assert_allclose(rimmed.Y_B, [1.0, y_b], rtol=1e-12)
     np.testing.assert_allclose(rimmed.sigma_F0 / solid.sigma_F0, [1.0, y_b], rtol=1e-12)
+    rating = RATE(jg.RatingGeometry.of(thin), op, settings)
+    assert rating.scope_notes() == []
+    # a rim of 0.4 tooth depths (its Y_B; no recompilation): below Y_B's scope 0.5 < s_R/h_t,
+    # noted naming the clause
+    y_b_04 = jnp.asarray([1.0, 1.6 * math.log(2.242 / 0.4)])
+    (note,) = eqx.tree_at(lambda r: r.bending.Y_B, rating, y_b_04).scope_notes()
+    assert "ISO 6336-3 rim thickness factor Y_B: gear rim s_R/h_t = 0.4 is outside" in note

@@ -9,14 +9,18 @@ import copy
 import json
 import math
 import pathlib
+import re
 from typing import NamedTuple
 
+import jax
 import numpy as np
 import pytest
+from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear import cli
+from jaxgear.cli import main
 
 CASE = {
     "name": "tr-6336-30-example-1",
@@ -129,6 +133,27 @@ def test_bad_rating_input_is_one_line_naming_the_key(changes, message):
     assert message in text and "\n" not in text, text
 
 
+@pytest.mark.parametrize(
+    "changes, message",
+    [
+        ({"rating/life_h": None}, r"^jaxgear: error: \[rating\] life_h: missing required key"),
+        ({"rating/K_v": 0.9}, r"^jaxgear: error: \[rating\] K_v = 0.9: out of range"),
+    ],
+)
+def test_jaxgear_run_refuses_a_bad_rating_in_one_line_before_any_work(
+    tmp_path, capsys, changes, message
+):
+    """``jaxgear run`` on a case whose ``[rating]`` lacks a key or has one out of range: exit
+    status 2, one line on stderr naming the key, no output folder."""
+    path = tmp_path / "bad.toml"
+    path.write_text(case_toml(_case(**changes)))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and re.search(message, err), err
+    assert not out.exists()
+
+
 def test_rating_keys_without_a_rating_table_are_refused():
     d = _case()
     del d["rating"]
@@ -169,6 +194,44 @@ def test_a_rating_out_of_scope_warns_naming_the_clause(tmp_path):
     case = jio.parse_case(_case(**{"operating/speed_rpm": 9000.0}))
     with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-1 dynamic factor K_v: reso"):
         cli.rating_outputs(case, str(tmp_path))
+
+
+def test_case_file_rim_thickness_rates_y_b_and_warns_below_its_scope(tmp_path):
+    """``[gear] rim_thickness_mm`` (with ``web_thickness_mm``, the blank keys) reaches the
+    rating: a rim of 0.8 tooth depths (h_t = (1 + 1.4) m_n = 19.2 mm) gives the gear Y_B =
+    1.6 ln(2.242/0.8) (ISO 6336-3, rim thickness factor) in ``rating.bending.Y_B`` and its σ_F0
+    that factor above the solid blank's (1e-12), the pinion's unchanged; a rim of 0.4 tooth
+    depths warns with a CaseWarning naming the factor and its scope 0.5 < s_R/h_t."""
+    blank = {"gear/web_thickness_mm": 30.0}
+
+    def section(rim_mm=None, **more):
+        changes = blank | {"gear/rim_thickness_mm": rim_mm} if rim_mm else {}
+        with jax.disable_jit():  # three ratings of different static rims: no compilations
+            return cli.rating_outputs(jio.parse_case(_case(**changes, **more)), str(tmp_path))
+
+    solid, thin = section()["bending"], section(0.8 * 19.2)["bending"]
+    y_b = 1.6 * math.log(2.242 / 0.8)
+    assert thin["Y_B"] == pytest.approx([1.0, y_b], rel=1e-12)
+    ratio = np.asarray(thin["sigma_F0_Pa"]) / np.asarray(solid["sigma_F0_Pa"])
+    np.testing.assert_allclose(ratio, [1.0, y_b], rtol=1e-12)
+    with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-3 rim thickness factor Y_B"):
+        section(0.4 * 19.2)
+
+
+def test_a_given_k_fbeta_replaces_iso_and_scales_the_root_stress_alone(tmp_path):
+    """``[rating] K_Fbeta = 1.3``: the factor reads 1.3 with source "given" in place of ISO's
+    K_Hβ^N_F, σ_F of both gears scales by 1.3/K_Fβ,ISO (σ_F = σ_F0 K_A K_v K_Fβ K_Fα, ISO 6336-3
+    (2); 1e-12) and the pitting side is unchanged (σ_H does not read K_Fβ)."""
+    with jax.disable_jit():
+        iso = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path))
+        given = cli.rating_outputs(jio.parse_case(_case(**{"rating/K_Fbeta": 1.3})), str(tmp_path))
+    assert iso["factors"]["K_Fbeta"]["source"] == "ISO 6336-1 method B"
+    assert given["factors"]["K_Fbeta"] == {"value": 1.3, "source": "given"}
+    r = 1.3 / iso["factors"]["K_Fbeta"]["value"]
+    ratio = np.asarray(given["bending"]["sigma_F_Pa"]) / np.asarray(iso["bending"]["sigma_F_Pa"])
+    np.testing.assert_allclose(ratio, [r, r], rtol=1e-12)
+    assert given["pitting"]["sigma_H_Pa"] == pytest.approx(iso["pitting"]["sigma_H_Pa"], rel=1e-12)
+    assert "| K_Fβ | 1.3000 (given) |" in (tmp_path / "rating.md").read_text(encoding="utf-8")
 
 
 @pytest.mark.slow  # ~5 s idle (two compilations); the fast test below checks the arithmetic

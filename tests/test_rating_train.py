@@ -19,6 +19,7 @@ import jax
 import numpy as np
 import pytest
 from _rating_cases import Cells, stub_table
+from test_internal_case import GEARS as INTERNAL_GEARS
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -145,6 +146,36 @@ def test_bad_train_rating_is_one_line_naming_the_key(data, message):
     assert "\n" not in str(err.value)
 
 
+def test_a_rating_of_an_internal_mesh_is_refused_in_one_line(tmp_path, capsys):
+    """A planet → ring train with ``[rating]``: ``jaxgear run`` exits 2 with one stderr line
+    naming the internal mesh and its gear before any work, nothing written (it failed on the
+    ring's negative reference diameter in ISO 1328-1 before)."""
+    text = (
+        INTERNAL_GEARS
+        + '\n[[meshes]]\ndriving = "planet"\ndriven = "ring"\nangle_deg = 0.0\n'
+        + '[mesh]\nstiffness = "uniform"\nstiffness_per_length_N_per_mm_per_um = 12.0\n'
+        + "[operating]\ntorque_Nm = 150.0\nspeed_rpm = 1000.0\n"
+        + "[material]\nsigma_H_lim_MPa = 1500.0\nsigma_F_lim_MPa = 430.0\n"
+        + _rating_text()
+    )
+    message = "[rating]: mesh planet-ring is internal (ring: teeth -90): the rating covers"
+    with pytest.raises(SchemaError) as err:
+        jio.parse_train(tomllib.loads(text))
+    assert str(err.value).startswith(message) and "\n" not in str(err.value)
+    path, out = tmp_path / "internal.toml", tmp_path / "out"
+    path.write_text(text)
+    assert cli.main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err, err
+    assert not out.exists()
+
+
+def _rating_text() -> str:
+    """TRAIN's ``[rating]`` keys as TOML text."""
+    keys = ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um")
+    return "[rating]\n" + "".join(f"{k} = {TRAIN['rating'][k]}\n" for k in keys)
+
+
 def test_train_rating_keys_without_a_rating_table_are_refused():
     d = copy.deepcopy(TRAIN)
     del d["rating"]
@@ -170,7 +201,8 @@ def test_train_rating_outputs_per_mesh_lists_and_a_table_per_mesh(tmp_path):
 def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
     """Per-mesh load maps (two hand-made ones: two lines of two slices at one position) give
     each mesh its measured K_Hβ, K_Hα (by hand) and its root-stress map (a stub FE table,
-    by hand); ``use_measured = ["K_Halpha"]`` rates each mesh with its own; K_v is refused."""
+    by hand); ``use_measured = ["K_Halpha"]`` rates each mesh with its own; K_v is accepted
+    (measured per mesh from the train's sweep)."""
     case = jio.parse_train(_train(use_measured=["K_Halpha"]))
     g = [float(p.path_of_contact) for p in case.pairs]
     maps = []
@@ -204,5 +236,6 @@ def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):
         assert section["root_stress"]["max_Pa"][k] == pytest.approx(want, rel=1e-9)
         name = f"root_stress_map_{case.mesh_name(k)}.png"
         assert (tmp_path / name).stat().st_size > 10_000
-    with pytest.raises(SchemaError, match="K_v not for a train yet"):
-        jio.parse_train(_train(use_measured=["K_v"]))
+    # K_v is measured per mesh from the train's sweep (tests/test_rating_train_speed.py)
+    rcs = jio.ratings_of(jio.parse_train(_train(use_measured=["K_v"])))
+    assert [rc.use_measured for rc in rcs] == [("K_v",), ("K_v",)]

@@ -44,6 +44,7 @@ from ..io import (
 
 __all__ = [
     "ROOT_STRESS_RADII",
+    "at_speed_sections",
     "body_stress_outputs",
     "fillet_table",
     "measured_dynamic_factor",
@@ -138,8 +139,9 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         if fast is not None:
             out.append(
                 f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
-                f"{fast['speed_rad_s']:.4g} rad/s (largest dynamic factor of the sweep, "
-                f"{fast['dynamic_factor']:.3f}; tooth {fast['dynamic_factor_tooth']:.3f}) |"
+                f"{fast['speed_rad_s']:.4g} rad/s (the sweep's speed of its largest dynamic "
+                f"factor; this mesh's dynamic factor there {fast['dynamic_factor']:.3f}, tooth "
+                f"{fast['dynamic_factor_tooth']:.3f}) |"
             )
             out.append(
                 f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | the same "
@@ -316,32 +318,97 @@ def train_mesh_results(case: Case) -> tuple | None:
 
 
 def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: dict) -> None:
-    """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing): the
-    dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
-    ``speeds_rad_s``, ``dynamic_factor``, ``model``, ``slices``) interpolated linearly at the
-    rating's pinion speed, added to the ``summary``'s ``rating.measured`` (the rating redone
-    with it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating speed outside the
-    swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v and the sweep's
-    dynamic factor are both the largest dynamic tooth load over the static one (the sweep's:
-    over a mesh period at steady state, of the scene's model)."""
+    """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing), per
+    mesh: the dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
+    ``speeds_rad_s``, the pinion's (a train: the input's) speeds, ``dynamic_factor``, a train's
+    ``dynamic_factor_mesh`` of each mesh, ``model``, ``slices``) interpolated linearly at the
+    rating's input speed, added to each mesh's ``rating.measured`` (the mesh rated again with
+    it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating
+    speed outside the swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v
+    and the sweep's dynamic factor are both the largest dynamic load of the mesh over its
+    static one (the sweep's: the mesh force over a mesh period at steady state, of the scene's
+    model, over the static mesh force; a train's each mesh's own: :func:`_mesh_curves`)."""
     rcs = ratings_of(case)
-    if rcs is None or len(rcs) != 1:  # a train's meshes: not yet (the pair's sweep only)
+    if rcs is None:
         return
-    rc = rcs[0]
     speeds = np.asarray(dynamics["speeds_rad_s"], dtype=float)
-    factor = np.asarray(dynamics["dynamic_factor"], dtype=float)
-    speed = float(rc.operating.speed)
+    speed = _input_speed(case, rcs)
     if not speeds[0] <= speed <= speeds[-1]:
         return
-    value = float(np.interp(speed, speeds, factor))
-    source = (
-        f"jaxgear speed sweep ({dynamics['model']} scene, {dynamics['slices']} slices), "
-        f"interpolated at {speed:.4g} rad/s"
-    )
-    section = summary["rating"]
-    section.setdefault("measured", {})["K_v"] = {"value": value, "source": source}
-    section = summary["rating"] = _rated(rc, section)
-    _write_table(out_dir, rating_lines(section, case.name))
+    sections = _mesh_sections(case.form, summary["rating"])
+    for k, curve in enumerate(_mesh_curves(dynamics, len(rcs))):
+        label = case.mesh_label(k)
+        source = (
+            f"jaxgear speed sweep ({dynamics['model']} scene, {dynamics['slices']} slices), "
+            f"interpolated at {speed:.4g} rad/s"
+            + (f" of the input (mesh {label}'s dynamic factor)" if label else "")
+        )
+        value = float(np.interp(speed, speeds, curve))
+        sections[k].setdefault("measured", {})["K_v"] = {"value": value, "source": source}
+        sections[k] = _rated(rcs[k], sections[k])
+    summary["rating"] = _write_sections(case, out_dir, sections)
+
+
+def _input_speed(case: Case, rcs) -> float:
+    """The rating's speed of the case's input (rad/s; a pair's pinion): the speed axis of a
+    sweep (mesh 0's driving gear turns at its layout ratio to the input)."""
+    driving = case.gears[0][0]
+    return float(rcs[0].operating.speed) / abs(float(case.layout().ratios[driving]))
+
+
+def _mesh_curves(dynamics: dict, n: int) -> list[np.ndarray]:
+    """Each mesh's dynamic factor against the sweep's speeds: a train's ``dynamic_factor_mesh``
+    (speeds × meshes) by column, a pair's (one mesh) ``dynamic_factor``."""
+    per = dynamics.get("dynamic_factor_mesh")
+    if per is None:
+        return [np.asarray(dynamics["dynamic_factor"], dtype=float)]
+    per = np.asarray(per, dtype=float).reshape(-1, n)
+    return [per[:, k] for k in range(n)]
+
+
+@functools.singledispatch
+def _pick(value, k: int):
+    """Mesh ``k``'s entry of a train's stacked ``rating`` value (:func:`_stack`); a value
+    common to the meshes (the one edition's ``method``) as it is."""
+    return value
+
+
+@_pick.register(list)
+def _(value, k: int):
+    return value[k]
+
+
+@_pick.register(dict)
+def _(value, k: int):
+    return {key: _pick(v, k) for key, v in value.items()}
+
+
+@functools.singledispatch
+def _mesh_sections(form, section: dict) -> list[dict]:
+    """The one-mesh sections of a case's ``rating`` section (the inverse of
+    :func:`_section_and_table`): a pair's, itself; a train's, each mesh's entry of its
+    per-mesh lists."""
+    raise TypeError(f"rating: no mesh sections for a case of form {type(form).__name__}")
+
+
+@_mesh_sections.register
+def _(form: PairForm, section: dict) -> list[dict]:
+    return [section]
+
+
+@_mesh_sections.register
+def _(form: TrainForm, section: dict) -> list[dict]:
+    rest = dict(section)
+    names = rest.pop("meshes")
+    return [_pick(rest, k) for k in range(len(names))]
+
+
+def _write_sections(case: Case, out_dir: str, sections: list[dict]) -> dict:
+    """The case's ``rating`` section of its meshes' ``sections`` (a train's per-mesh lists),
+    ``rating.md`` rewritten with them; returns the section."""
+    section, lines = _section_and_table(case.form, case, sections)
+    _write_table(out_dir, lines)
+    return section
 
 
 # ------------------------------------------------------------------------------------------
@@ -447,25 +514,16 @@ def _member_maps(pair, result, table) -> list:
 def root_stress_at_speed(
     case: Case, out_dir: str, summary: dict, dynamics: dict, table=fillet_table, run=None
 ) -> None:
-    """The root-stress map at speed, for a pair case with ``[rating]`` and a speed sweep (else
+    """The root-stress map at speed, for a case with ``[rating]`` and a speed sweep (else
     nothing): the case's dynamic model (the sweep's: ``dynamics["slices"]`` slices, the
     ``[scene]`` settings) run once at the speed of the sweep's largest dynamic factor
-    (``dynamics["speed_of_max_rad_s"]``) with its cell loads recorded
-    (:func:`jaxgear.dynamics.simulate`, ``Outputs(cell_loads=True)``), each kept step's cell
-    loads times the plane FE fillet stress per unit load (:func:`jaxgear.root_stress_map`, the
-    same tables as the quasi-static map), and, beside it, the quasi-static map of the rigid mesh
-    at the same slices (exact contact, the case's modifications and torque). Adds
-    ``summary["rating"]["root_stress"]["at_speed"]``: ``speed_rad_s``, ``max_Pa`` and
-    ``static_max_Pa`` ([pinion, gear]), ``ratio`` (at speed / static, per gear), the run's
-    ``dynamic_factor`` (largest mesh force over the static one) and ``dynamic_factor_tooth``
-    (largest tooth force over the quasi-static one), and ``slices``; rewrites ``rating.md``.
-    The map is linear in the cell loads (docs/rating.md, "Root stress at speed"); the ratio
-    equals a dynamic factor only where the loads at speed are the static ones scaled (a tooth
-    force dynamic factor weighs the tooth's whole load, the map the most stressed cell).
-    ``run``: that run when the caller has it already (the sweep's, at that speed, with its cell
-    loads: :func:`jaxgear.cli.sweep.sweep_case_run`), else None: simulated here."""
+    (``dynamics["speed_of_max_rad_s"]``; a train's: of its worst mesh, the input's speed) with
+    its cell loads recorded (:func:`jaxgear.dynamics.simulate`, ``Outputs(cell_loads=True)``),
+    then each mesh's map (:func:`at_speed_sections`); rewrites ``rating.md``. ``run``: that run
+    when the caller has it already (the sweep's, at that speed, with its cell loads:
+    :func:`jaxgear.cli.sweep.sweep_case_run`), else None: simulated here."""
     section = summary.get("rating") or {}
-    if section.get("root_stress") is None or len(case.pairs) != 1:
+    if section.get("root_stress") is None:
         return
     speed = float(dynamics["speed_of_max_rad_s"])
     slices = int(dynamics["slices"])
@@ -480,23 +538,45 @@ def root_stress_at_speed(
             outputs=Outputs(cell_loads=True),
             throw=False,
         )
-    static = quasi_static(case.mesh_model(slices=slices), case.modifications, case.torque)
-    at_speed = [float(m.max) for m in _member_maps(case.pair, run, table)]
-    at_rest = [float(m.max) for m in _member_maps(case.pair, static, table)]
-    section["root_stress"]["at_speed"] = {
-        "speed_rad_s": speed,
-        "max_Pa": at_speed,
-        "static_max_Pa": at_rest,
-        "ratio": [a / b for a, b in zip(at_speed, at_rest, strict=True)],
-        "dynamic_factor": float(run.dynamic_factor),
-        "dynamic_factor_tooth": float(run.dynamic_factor_tooth),
-        "slices": slices,
-        "result": int(run.result),
-        "source": "the dynamic model's cell loads at the kept steps of one run at the sweep's "
-        "speed of the largest dynamic factor × the plane FE fillet stress per unit load; "
-        "static: the rigid mesh's quasi-static map at the same slices",
-    }
-    _write_table(out_dir, rating_lines(section, case.name))
+    summary["rating"] = at_speed_sections(case, out_dir, section, run, slices, table)
+
+
+def at_speed_sections(case: Case, out_dir: str, section: dict, run, slices: int, table) -> dict:
+    """Each mesh's root-stress map at speed into the case's ``rating`` ``section`` (returned;
+    ``rating.md`` rewritten): mesh k's cell loads of the dynamic run ``run`` (one speed,
+    ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps times the plane FE
+    fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
+    :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh
+    at the same ``slices`` (exact contact, its modifications, its driving gear's torque:
+    :meth:`jaxgear.io.Case.mesh_case`). Adds ``root_stress.at_speed`` to each mesh's section:
+    ``speed_rad_s`` (the run's, the pinion's; a train's the input's), ``max_Pa`` and
+    ``static_max_Pa`` ([pinion, gear]: [driving, driven]), ``ratio`` (at speed / static, per
+    gear), the mesh's ``dynamic_factor`` (largest mesh force over the static one) and
+    ``dynamic_factor_tooth`` (largest tooth force over the quasi-static one), ``slices`` and the
+    run's ``result`` code (a train: per-mesh lists). The map is linear in the cell loads
+    (docs/rating.md, "Root stress at speed"); the ratio equals a dynamic factor only where the
+    loads at speed are the static ones scaled (a tooth force dynamic factor weighs the tooth's
+    whole load, the map the most stressed cell)."""
+    sections = _mesh_sections(case.form, section)
+    for k, sec in enumerate(sections):
+        mesh, one = run.meshes[k], case.mesh_case(k)
+        static = quasi_static(one.mesh_model(slices=slices), one.modifications, one.torque)
+        at_speed = [float(m.max) for m in _member_maps(case.pairs[k], mesh, table)]
+        at_rest = [float(m.max) for m in _member_maps(case.pairs[k], static, table)]
+        sec["root_stress"]["at_speed"] = {
+            "speed_rad_s": float(run.speed),
+            "max_Pa": at_speed,
+            "static_max_Pa": at_rest,
+            "ratio": [a / b for a, b in zip(at_speed, at_rest, strict=True)],
+            "dynamic_factor": float(mesh.dynamic_factor),
+            "dynamic_factor_tooth": float(mesh.dynamic_factor_tooth),
+            "slices": slices,
+            "result": int(run.result),
+            "source": "the dynamic model's cell loads at the kept steps of one run at the "
+            "sweep's speed of the largest dynamic factor × the plane FE fillet stress per unit "
+            "load; static: the rigid mesh's quasi-static map at the same slices",
+        }
+    return _write_sections(case, out_dir, sections)
 
 
 #: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them

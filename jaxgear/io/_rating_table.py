@@ -40,6 +40,7 @@ import functools
 import math
 
 import equinox as eqx
+
 from fem_prep import schema as sc
 
 from .. import (
@@ -94,7 +95,6 @@ GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
 #: taken for K_Fα; K_v: the speed sweep at the rating speed)
 MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
-TRAIN_UNMEASURED = {"K_v"}  # not measured per mesh of a train yet
 RATING_KEYS = {
     "use_measured",
     "application_factor",
@@ -240,9 +240,7 @@ def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
         if n not in MEASURABLE:
             raise sc.fail("rating", "use_measured", f"unknown factor {n!r}, allowed {allowed}", v)
         if given.get(n) is not None:
-            raise sc.fail(
-                "rating", "use_measured", f"{n} is given as a value too: give it once", v
-            )
+            raise sc.fail("rating", "use_measured", f"{n} is given as a value too: give it once", v)
     if len(set(v)) != len(v):
         raise sc.fail("rating", "use_measured", "a factor named twice", v)
     return tuple(v)
@@ -339,9 +337,17 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
 
     Raises:
         SchemaError: as :func:`parse_rating`, and a mesh table that names no mesh, a per-gear
-            table that misses a gear; one line.
+            table that misses a gear, an internal mesh (external pairs only); one line.
     """
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
+    for k, (g, h) in enumerate(case.gears):
+        if not isinstance(case.pairs[k], GearPair):  # an internal mesh (InternalGearPair)
+            raise sc.fail(
+                "rating",
+                None,
+                f"mesh {meshes[k]} is internal ({case.gear_names[h]}: teeth "
+                f"{case.pairs[k].gear.teeth}): the rating covers external pairs only",
+            )
     rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes))
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat, op = data.get("material", {}), data.get("operating", {})
@@ -361,14 +367,6 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
         rc = parse_rating(mesh_data, case.pairs[k], material)
-        if set(rc.use_measured) & TRAIN_UNMEASURED:
-            raise sc.fail(
-                "rating",
-                "use_measured",
-                "K_v not for a train yet (its sweep's dynamic factor is not read per mesh): "
-                "allowed K_Hbeta, K_Halpha",
-                list(rc.use_measured),
-            )
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))

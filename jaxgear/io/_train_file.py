@@ -598,6 +598,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     )
     if internal:
         check_internal_stiffness(case, f"meshes[{internal[0]}]")
+        check_train_rating(data, case)  # [rating]: refused (external pairs only)
         return case
     _check_overlap(case)
     _check_power(case)
