@@ -216,7 +216,11 @@ def _project_stiffness(K: sp.spmatrix, H: np.ndarray, b: np.ndarray) -> np.ndarr
     nb, m = len(b), H.shape[1]
     out = np.zeros((m, m))
     Kb = K[b]
-    out[:nb, :nb] = Kb @ H[:, :nb]
+    # only the DOFs coupled to the boundary (the columns of K[b]) enter: gathering their rows of
+    # H avoids the contiguous copy of the whole n x n_b block that the sparse product makes of a
+    # column slice (1.5 GB at 186 k DOFs); the same products in the same order
+    J = np.unique(Kb.indices)
+    out[:nb, :nb] = Kb[:, J] @ H[J, :nb]
     out[:nb, :nb] = 0.5 * (out[:nb, :nb] + out[:nb, :nb].T)
     if m > nb:
         Phi = H[:, nb:]
