@@ -41,7 +41,7 @@ from ._couplings import couple_masters, select_masters
 from ._kinds import CondensationMethod
 from ._mesh import mesh_body
 from ._prepare import prepare
-from ._solver import CholmodFactor, SparseFactor, factorize
+from ._solver import CholmodFactor, SparseFactor, _available_factor, factorize
 from .files import atomic_open
 from .schema import load_body
 
@@ -112,8 +112,12 @@ def _case(size_mm: float, circ_mm: float, factor: str = "default", quick: bool =
     t0, c0 = time.perf_counter(), time.process_time()
     interior = np.setdiff1d(np.arange(K.shape[0]), mdofs)
     # the baselines: the same Craig-Bampton with SciPy's SuperLU (the pure-SciPy fallback) or
-    # cholespy's simplicial CHOLMOD instead of factorize's choice; everything else identical
-    fac = factorize(K[interior][:, interior], method=FACTORS[factor])
+    # cholespy's simplicial CHOLMOD instead of factorize's choice; everything else identical.
+    # factorize's own choice is made inside condense, as the pipeline does: its factor is freed
+    # before the projections (one passed in stays alive, and in the peak, until the end)
+    cls = FACTORS[factor]
+    fac = None if cls is None else factorize(K[interior][:, interior], method=cls)
+    solver, library = (cls or _available_factor()).method, (cls or _available_factor()).library
     cond = condense(
         K,
         M,
@@ -123,7 +127,6 @@ def _case(size_mm: float, circ_mm: float, factor: str = "default", quick: bool =
         rotating=RotatingOperators(f=f),
         interior_factor=fac,
     )
-    solver, library = fac.method, fac.library
     del fac
     out["condensation_s"] = time.perf_counter() - t0
     # the CPU time of the process (all threads) over the condensation: on a shared machine the
