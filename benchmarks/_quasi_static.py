@@ -469,30 +469,14 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         )
         x0 = pub.design0
         # compute alone when the design varies (the modifications' separation is then computed
-        # in the program, not folded as a constant): 64 designs in one lax.map, per curve
-        xs = x0[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
-        many_x = jax.jit(
-            lambda xs, qs=qs, pub=pub: jax.lax.map(
-                lambda x: qs(mesh, pub.modifications(x), t).te_rms, xs
-            )
-        )
-        t_many_x = (
-            _min_time(lambda many_x=many_x, xs=xs: many_x(xs), max(3, repeats // 10), block) / 64
-        )
+        # in the program, not folded as a constant)
+        t_many_x = _compute_per_design(qs, mesh, pub, t, repeats)
         # the design an optimiser of the pinion's tip relief varies (with_free): (E, Γ), the other
-        # leaves compiled in as constants; its compute alone likewise (64 designs, per curve)
+        # leaves compiled in as constants; its compute alone likewise
         free = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
         pub_free = pub_te.with_free(free)
         xf = pub_free.design0
-        xfs = xf[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
-        many_f = jax.jit(
-            lambda xs, qs=qs, pf=pub_free: jax.lax.map(
-                lambda x: qs(mesh, pf.modifications(x), t).te_rms, xs
-            )
-        )
-        t_many_f = (
-            _min_time(lambda many_f=many_f, xfs=xfs: many_f(xfs), max(3, repeats // 10), block) / 64
-        )
+        t_many_f = _compute_per_design(qs, mesh, pub_free, t, repeats)
         t_pub_free = _min_time(lambda pf=pub_free, xf=xf: pf(xf, torque), repeats, block)
         t_pub = _min_time(lambda pub=pub, x0=x0: pub(x0, torque), repeats, block)
         t_pub_te = _min_time(lambda pub_te=pub_te, x0=x0: pub_te(x0, torque), repeats, block)
@@ -543,6 +527,21 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         "(64 such designs in one jitted lax.map, divided by 64)"
     )
     return out
+
+
+def _compute_per_design(qs, mesh, compiled, torque, repeats: int) -> float:
+    """Compute alone of a compiled call's program when its design varies: 64 design vectors
+    (0.9..1.1 x ``compiled.design0``) mapped to ``qs(mesh, compiled.modifications(x),
+    torque).te_rms`` in one jitted ``lax.map`` (no vmap), min time over repeats divided by 64
+    (s per curve)."""
+    import jax
+    import jax.numpy as jnp
+
+    xs = compiled.design0[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
+    many = jax.jit(
+        lambda xs: jax.lax.map(lambda x: qs(mesh, compiled.modifications(x), torque).te_rms, xs)
+    )
+    return _min_time(lambda: many(xs), max(3, repeats // 10), jax.block_until_ready) / 64
 
 
 def _batched(mesh, torque, P, quick, per_curve) -> dict:

@@ -108,6 +108,7 @@ from ._solver import (
     SolverError as SolverError,
     SolverWarning as SolverWarning,
     SparseFactor as SparseFactor,
+    SupernodalFactor as SupernodalFactor,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )

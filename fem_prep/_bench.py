@@ -2,8 +2,10 @@
 
 Each case runs in a fresh subprocess (so that ``ru_maxrss`` is the peak of that case alone):
 the power-helical wheel meshed at three element sizes (the finest >= 150 000 DOFs), condensed by
-Craig-Bampton with 50 modes (CHOLMOD + eigsh), and the same condensation with SciPy's SuperLU (the
-pure-SciPy fallback) as the baseline on the smallest size.  A second figure plots the error of the first 20 frequencies
+Craig-Bampton with 50 modes (CHOLMOD + eigsh, the factor :func:`~fem_prep.factorize` picks), and
+the same condensation with SciPy's SuperLU (the pure-SciPy fallback) as the baseline on the
+smallest size and with cholespy's simplicial CHOLMOD (the dependency, the default without
+scikit-sparse) on the largest.  A second figure plots the error of the first 20 frequencies
 against the number of retained modes for Craig-Bampton and Herting (Fig. III-13's question).
 """
 
@@ -39,7 +41,7 @@ from ._couplings import couple_masters, select_masters
 from ._kinds import CondensationMethod
 from ._mesh import mesh_body
 from ._prepare import prepare
-from ._solver import SparseFactor, factorize
+from ._solver import CholmodFactor, SparseFactor, _available_factor, factorize
 from .files import atomic_open
 from .schema import load_body
 
@@ -52,6 +54,11 @@ QUICK_SIZES_MM = (
 def _peak_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
+
+# the factor of each benchmark case, by its command-line name (--factor): None is factorize's
+# own choice (CHOLMOD by scikit-sparse when it imports, else by cholespy)
+FACTORS = {"default": None, "superlu": SparseFactor, "cholespy": CholmodFactor}
+FACTOR_LABELS = {"superlu": "SuperLU baseline", "cholespy": "cholespy baseline"}
 
 QUICK_TEETH = 17  # --quick: the wheel with 17 angular stations instead of 68 (a smoke test)
 
@@ -82,7 +89,7 @@ def _body(
     return dataclasses.replace(b, mesh=mesh, condensation=cond)
 
 
-def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -> dict:
+def _case(size_mm: float, circ_mm: float, factor: str = "default", quick: bool = False) -> dict:
     body = _body(size_mm, circ_mm, quick=quick)
     out: dict = {"size_mm": size_mm, "circumferential_size_mm": circ_mm}
     t0 = time.perf_counter()
@@ -102,11 +109,15 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
     # coupling's other matrices, the mesh) is released first
     K, M, f = cp.K, cp.M, cp.f
     del cp, ops, ms, bm
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     interior = np.setdiff1d(np.arange(K.shape[0]), mdofs)
-    # the baseline: the same Craig-Bampton with SciPy's SuperLU instead of CHOLMOD (the
-    # pure-SciPy fallback; everything else identical)
-    factor = factorize(K[interior][:, interior], method=SparseFactor if baseline else None)
+    # the baselines: the same Craig-Bampton with SciPy's SuperLU (the pure-SciPy fallback) or
+    # cholespy's simplicial CHOLMOD instead of factorize's choice; everything else identical.
+    # factorize's own choice is made inside condense, as the pipeline does: its factor is freed
+    # before the projections (one passed in stays alive, and in the peak, until the end)
+    cls = FACTORS[factor]
+    fac = None if cls is None else factorize(K[interior][:, interior], method=cls)
+    solver, library = (cls or _available_factor()).method, (cls or _available_factor()).library
     cond = condense(
         K,
         M,
@@ -114,11 +125,13 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
         method=CraigBampton(),
         n_modes=50,
         rotating=RotatingOperators(f=f),
-        interior_factor=factor,
+        interior_factor=fac,
     )
-    solver = factor.method
-    del factor
+    del fac
     out["condensation_s"] = time.perf_counter() - t0
+    # the CPU time of the process (all threads) over the condensation: on a shared machine the
+    # wall time counts the other jobs' share too
+    out["condensation_cpu_s"] = time.process_time() - c0
     out["factorisation_s"] = cond.timings["factorisation_s"] + (
         out["condensation_s"] - sum(v for v in cond.timings.values())
     )
@@ -127,8 +140,10 @@ def _case(size_mm: float, circ_mm: float, baseline: bool, quick: bool = False) -
     out["projection_s"] = cond.timings["projection_s"]
     out["n_condensed_dofs"] = int(cond.K.shape[0])
     out["solver"] = solver
-    out["method"] = f"sparse Craig-Bampton ({'SuperLU baseline' if baseline else solver})"
-    out["baseline"] = bool(baseline)
+    out["library"] = library
+    out["factor"] = factor
+    out["method"] = f"sparse Craig-Bampton ({FACTOR_LABELS.get(factor, f'{solver} by {library}')})"
+    out["baseline"] = factor in FACTOR_LABELS
     out["peak_rss_mib"] = _peak_mib()
     out["load_average_1min"] = os.getloadavg()[0]
     return out
@@ -179,11 +194,12 @@ def _sub(args: list[str]) -> dict:
 
 @dataclass(frozen=True)
 class _CaseJob:
-    """One timing case: the wheel at ``sizes`` (meridian, circumferential mm), CHOLMOD or the
-    SuperLU ``baseline``; a successful case of an interrupted run (``old``) is reused."""
+    """One timing case: the wheel at ``sizes`` (meridian, circumferential mm) with the factor
+    named ``factor`` (a key of :data:`FACTORS`); a successful case of an interrupted run
+    (``old``) is reused."""
 
     sizes: tuple[float, float]
-    baseline: bool
+    factor: str = "default"
 
     def run(self, rec: dict, old: list, quick: bool) -> None:
         s, cs = self.sizes
@@ -192,9 +208,9 @@ class _CaseJob:
             for c in old
             if c["size_mm"] == s
             and c["circumferential_size_mm"] == cs
-            and bool(c.get("baseline")) == self.baseline
+            and c.get("factor", "superlu" if c.get("baseline") else "default") == self.factor
         ]
-        args = ["case", str(s), str(cs), *(["--superlu"] * self.baseline), *(["--quick"] * quick)]
+        args = ["case", str(s), str(cs), "--factor", self.factor, *(["--quick"] * quick)]
         rec["cases"].append(done[0] if done else _sub(args))
 
 
@@ -233,11 +249,10 @@ def run_bench(out_dir: str, *, quick: bool = False, resume: bool = False) -> dic
         "scikit-fem": skfem.__version__,
         "cases": [],
     }
-    # the SuperLU baseline (smallest size) only in the full benchmark
-    jobs = [_CaseJob(s, False) for s in sizes] + [
-        *([] if quick else [_CaseJob(sizes[0], True)]),
-        _CurveJob(sizes[0]),
-    ]
+    # the baselines (SuperLU on the smallest size, cholespy on the largest) only in the full
+    # benchmark
+    baselines = [_CaseJob(sizes[0], "superlu"), _CaseJob(sizes[-1], "cholespy")]
+    jobs = [_CaseJob(s) for s in sizes] + [*([] if quick else baselines), _CurveJob(sizes[0])]
     rec["quick"] = bool(quick)
     old: list = []
     part = Path(out_dir) / "partial.json"
@@ -320,13 +335,14 @@ def _plots(rec: dict, out: Path) -> None:
 
 
 def _main(argv: list[str]) -> None:
-    """``python -m fem_prep._bench case SIZE CIRC [--superlu] [--quick]`` or ``... curve SIZE
-    CIRC [--quick]``: one benchmark job, its record printed as one JSON line."""
+    """``python -m fem_prep._bench case SIZE CIRC [--factor NAME] [--quick]`` or ``... curve
+    SIZE CIRC [--quick]``: one benchmark job, its record printed as one JSON line (NAME: a key
+    of :data:`FACTORS`)."""
     parser = argparse.ArgumentParser(prog="python -m fem_prep._bench")
     sub = parser.add_subparsers(required=True)
     case = sub.add_parser("case")
-    case.set_defaults(run=lambda a: _case(a.size, a.circ, a.superlu, a.quick))
-    case.add_argument("--superlu", action="store_true")
+    case.set_defaults(run=lambda a: _case(a.size, a.circ, a.factor, a.quick))
+    case.add_argument("--factor", choices=sorted(FACTORS), default="default")
     curve = sub.add_parser("curve")
     curve.set_defaults(run=lambda a: _error_curve(a.size, a.circ, a.quick))
     for p in (case, curve):

@@ -302,7 +302,8 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
 
 def test_solvers_fail_loudly():
     """Not positive definite → SolverError (never a silent wrong answer); the SuperLU fallback
-    announces itself with a SolverWarning when cholespy is missing."""
+    announces itself with a SolverWarning when no CHOLMOD library (cholespy, scikit-sparse)
+    imports."""
     import sys
 
     import scipy.sparse as sp
@@ -313,15 +314,18 @@ def test_solvers_fail_loudly():
     A = sp.diags(np.r_[np.ones(n - 1), -1.0]).tocsr()
     with pytest.raises(SolverError, match="not positive definite"):
         factorize(A)
-    saved = sys.modules.get("cholespy")
-    sys.modules["cholespy"] = None  # import fails
+    hidden = ("cholespy", "sksparse.cholmod")  # both CHOLMOD libraries
+    saved = {name: sys.modules.get(name) for name in hidden}
+    for name in hidden:
+        sys.modules[name] = None  # import fails
     try:
         with pytest.warns(SolverWarning, match="SuperLU"):
             f = factorize(sp.eye(n).tocsr())
         assert f.method == "superlu"
     finally:
-        if saved is None:
-            del sys.modules["cholespy"]
-        else:
-            sys.modules["cholespy"] = saved
+        for name, module in saved.items():
+            if module is None:
+                del sys.modules[name]
+            else:
+                sys.modules[name] = module
     assert factorize(sp.eye(n).tocsr()).method == "cholmod"
