@@ -126,13 +126,13 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
 
     def fake_sweep(case, speeds, out_dir, *, slices, **kw):
         seen["slices"], seen["case_slices"] = slices, case.slices
-        return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}
+        return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}, None
 
     monkeypatch.setattr(run_module, "run_case", lambda case, out, **kw: {"case": case.name})
     monkeypatch.setattr(scene_module, "scene_outputs", lambda *a, **kw: {})
     monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness: "")
     monkeypatch.setattr(scene_module, "scene_lines", lambda s: [])
-    monkeypatch.setattr(sweep_module, "sweep_case", fake_sweep)
+    monkeypatch.setattr(sweep_module, "sweep_case_run", fake_sweep)  # (summary, worst run)
     out = tmp_path / "o"
     assert main(["run", "accessory-spur", "--out", str(out), "--quiet"]) == 0
     assert seen == {"slices": 8, "case_slices": 40}

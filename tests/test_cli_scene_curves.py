@@ -30,9 +30,9 @@ def test_run_writes_the_scene_te_and_stiffness_beside_the_rigid_mesh(
     small_lumped3d, tmp_path, monkeypatch, capsys
 ):
     def no_sweep(case, speeds, out_dir, *, slices, **kw):
-        return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}
+        return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}, None
 
-    monkeypatch.setattr(sweep_module, "sweep_case", no_sweep)
+    monkeypatch.setattr(sweep_module, "sweep_case_run", no_sweep)  # (summary, worst run)
     out = tmp_path / "o"
     assert main(["run", str(small_lumped3d), "--out", str(out), "--quiet"]) == 0
     capsys.readouterr()
