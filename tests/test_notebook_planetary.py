@@ -13,7 +13,6 @@ tests/test_planetary_sweep.py."""
 
 from __future__ import annotations
 
-import json
 import math
 import pathlib
 import re
@@ -21,9 +20,9 @@ import tomllib
 
 import numpy as np
 import pytest
+from _notebooks import execute_with_probe
 from _planetary_stage import rigid_path_forces
 
-import jaxgear as jg
 import jaxgear.io as jio
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -47,22 +46,9 @@ print("PROBE" + json.dumps({
 @pytest.mark.slow
 def test_planetary_notebook_executes(tmp_path):
     import nbformat
-    from nbclient import NotebookClient
 
     nb = nbformat.read(NOTEBOOK, as_version=4)
-    n_cells = len(nb.cells)
-    nb.cells.append(nbformat.v4.new_code_cell(PROBE))
-    NotebookClient(
-        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
-    ).execute()
-    code = [c for c in nb.cells[:n_cells] if c.cell_type == "code"]
-    text = "".join(o.get("text", "") for c in code for o in c.outputs if o.get("name") == "stdout")
-    (got,) = [
-        json.loads(line[5:])
-        for o in nb.cells[-1].outputs
-        for line in o.get("text", "").splitlines()
-        if line.startswith("PROBE")
-    ]
+    code, text, got = execute_with_probe(nb, PROBE, tmp_path, timeout=600)
     # three figures inline (the load sharing over a turn, Campbell, the sweep); numbers for people
     pngs = [o for c in code for o in c.outputs if "image/png" in o.get("data", {})]
     assert len(pngs) == 3

@@ -12,6 +12,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from _notebooks import execute_with_probe
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 NOTEBOOK = ROOT / "examples" / "thin_webbed_gear.ipynb"
@@ -36,26 +37,13 @@ print("PROBE" + json.dumps({
 @pytest.mark.slow
 def test_thin_webbed_gear_notebook_executes(tmp_path, fem_prep_cache):
     import nbformat
-    from nbclient import NotebookClient
 
     nb = nbformat.read(NOTEBOOK, as_version=4)
-    n_cells = len(nb.cells)
     (i_par,) = [i for i, c in enumerate(nb.cells) if "parameters" in c.metadata.get("tags", [])]
     # as papermill does: the injected parameters follow the tagged cell (the notebook's default
     # path is relative to examples/, the kernel runs in a scratch directory)
     nb.cells.insert(i_par + 1, nbformat.v4.new_code_cell(f"CASE = {str(CASE)!r}"))
-    nb.cells.append(nbformat.v4.new_code_cell(PROBE))
-    NotebookClient(
-        nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
-    ).execute()
-    code = [c for c in nb.cells[: n_cells + 1] if c.cell_type == "code"]
-    text = "".join(o.get("text", "") for c in code for o in c.outputs if o.get("name") == "stdout")
-    (got,) = [
-        json.loads(line[5:])
-        for o in nb.cells[-1].outputs
-        for line in o.get("text", "").splitlines()
-        if line.startswith("PROBE")
-    ]
+    code, text, got = execute_with_probe(nb, PROBE, tmp_path)
     assert list(fem_prep_cache.iterdir()), "the wheel was not condensed into the test's cache"
 
     # figures inline (load maps, Campbell diagram, sweep, crowning); numbers for people

@@ -4,6 +4,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from _notebooks import execute_with_probe
 from _toml import ACCESSORY_PAIR
 
 import jaxgear as jg
@@ -274,19 +275,16 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
 def test_master_curve_notebook_executes():
     """The example notebook runs (SMALL grids), shows its figures inline and its numbers for
     people, and the values it computes agree with independent references."""
-    import json
     import math
     import pathlib
     import re
     import tomllib
 
     import nbformat
-    from nbclient import NotebookClient
 
     root = pathlib.Path(__file__).resolve().parents[1]
     path = root / "examples" / "master_curve.ipynb"
     nb = nbformat.read(path, as_version=4)
-    n_cells = len(nb.cells)
     # a probe cell, not stored in the notebook: the kernel's values after the notebook ran
     probe = """import json
 print("PROBE" + json.dumps({
@@ -299,18 +297,7 @@ print("PROBE" + json.dumps({
     "mc_extent": [float(v) for v in mc["extent"]], "mc_depth_star": [float(v) for v in mc["depth_star"]],
     "mc_te": [float(v) for v in mc["te_rms_exact_m"]],
     "single": [float(v) for v in single], "robust": [float(v) for v in rob]}))"""
-    nb.cells.append(nbformat.v4.new_code_cell(probe))
-    NotebookClient(
-        nb, timeout=900, kernel_name="python3", resources={"metadata": {"path": str(path.parent)}}
-    ).execute()
-    code = [c for c in nb.cells[:n_cells] if c.cell_type == "code"]
-    text = "".join(o.get("text", "") for c in code for o in c.outputs if o.get("name") == "stdout")
-    (got,) = [
-        json.loads(line[5:])
-        for o in nb.cells[-1].outputs
-        for line in o.get("text", "").splitlines()
-        if line.startswith("PROBE")
-    ]
+    code, text, got = execute_with_probe(nb, probe, path.parent)
 
     # figures inline, one per plotting cell (TE, Master Curve map, Harris map)
     pngs = [o for c in code for o in c.outputs if "image/png" in o.get("data", {})]
