@@ -56,7 +56,18 @@ class SolverError(RuntimeError):
     """A factorisation or eigen-solve did not succeed (not positive definite, no convergence)."""
 
 
-class SparseFactor:
+class _Factor:
+    """What every factor shares: ``A^-1`` as a LinearOperator from the factor's own ``solve``
+    and ``shape``."""
+
+    shape: tuple[int, int]
+
+    def operator(self) -> spla.LinearOperator:
+        """``A^-1`` as a LinearOperator."""
+        return spla.LinearOperator(self.shape, matvec=self.solve, matmat=self.solve, dtype=float)
+
+
+class SparseFactor(_Factor):
     """SuperLU factorisation (symmetric mode) of a sparse symmetric matrix (SciPy)."""
 
     method = "superlu"
@@ -81,12 +92,8 @@ class SparseFactor:
         """Solve ``A x = b``, ``b`` of shape ``(n,)`` or ``(n, k)``."""
         return self._lu.solve(np.asarray(b, dtype=float))
 
-    def operator(self) -> spla.LinearOperator:
-        """``A^-1`` as a LinearOperator."""
-        return spla.LinearOperator(self.shape, matvec=self.solve, matmat=self.solve, dtype=float)
 
-
-class CholmodFactor:
+class CholmodFactor(_Factor):
     """Sparse Cholesky ``A = L Lᵀ`` by CHOLMOD (``cholespy``: simplicial, METIS ordering) of a
     symmetric positive-definite matrix; the lower triangle of ``A`` is used.
 
@@ -124,12 +131,8 @@ class CholmodFactor:
         self._chol.solve(b, x)
         return x
 
-    def operator(self) -> spla.LinearOperator:
-        """``A^-1`` as a LinearOperator."""
-        return spla.LinearOperator(self.shape, matvec=self.solve, matmat=self.solve, dtype=float)
 
-
-class SupernodalFactor:
+class SupernodalFactor(_Factor):
     """Supernodal sparse Cholesky ``P A Pᵀ = L Lᵀ`` by CHOLMOD through ``scikit-sparse``
     (``sksparse.cholmod.cholesky``, ``mode="supernodal"``, CHOLMOD's choice of ordering) of a
     symmetric positive-definite matrix. The factorisation and the solves with many right-hand
@@ -169,10 +172,6 @@ class SupernodalFactor:
     def solve(self, b: np.ndarray) -> np.ndarray:
         """Solve ``A x = b``, ``b`` of shape ``(n,)`` or ``(n, k)``."""
         return self._factor(np.asarray(b, dtype=np.float64))
-
-    def operator(self) -> spla.LinearOperator:
-        """``A^-1`` as a LinearOperator."""
-        return spla.LinearOperator(self.shape, matvec=self.solve, matmat=self.solve, dtype=float)
 
 
 def _optional_module(name: str):

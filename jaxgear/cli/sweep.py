@@ -129,21 +129,10 @@ def sweep_spec(
     return spec
 
 
-def sweep_case(
-    case: Case,
-    speeds,
-    out_dir: str,
-    *,
-    direction: str = "independent",
-    slices: int | None = None,
-    show_progress: bool = True,
-    vtu_speed: float | None = None,
-    **integration,
-) -> dict:
+def sweep_case(case: Case, speeds, out_dir: str, **options) -> dict:
     """The summary of :func:`sweep_case_run` (same arguments, same files): the ``sweep.json``
     dict."""
-    options = dict(direction=direction, slices=slices, show_progress=show_progress)
-    return sweep_case_run(case, speeds, out_dir, vtu_speed=vtu_speed, **options, **integration)[0]
+    return sweep_case_run(case, speeds, out_dir, **options)[0]
 
 
 def sweep_case_run(
