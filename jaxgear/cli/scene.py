@@ -89,13 +89,26 @@ def write_bodies_vtu(out_dir, scene, bodies, res, k: int, names=None) -> list[st
     return written
 
 
-def write_scene_vtu(out_dir, scene, bodies, res, pressure) -> list[str]:
-    """VTU of each flexible body deformed at the position of maximum line load (fixed frame:
-    the body turned to that position, centred on its axis) and of the loaded contact cells with
-    their line loads (N/m), Hertzian pressures (Pa) and contact half-widths (m), SI as the body
-    VTUs (``pressure``: the result's :class:`~jaxgear.ContactPressure`)."""
-    k = int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
-    written = write_bodies_vtu(out_dir, scene, bodies, res, k)
+def body_outputs(out_dir, scene, bodies, res, k: int, names=None):
+    """Each condensed body at the quasi-static result ``res``'s position ``k``: its deformed
+    ``body_<name>.vtu`` (:func:`write_bodies_vtu`) and its rim and web stresses there
+    (:func:`jaxgear.cli.body_stress_outputs`); ``names`` as :func:`write_bodies_vtu`'s.
+    Returns (the body VTU files, the ``body_stress`` section, the stress VTU files)."""
+    vtu = write_bodies_vtu(out_dir, scene, bodies, res, k, names)
+    stress, stress_files = body_stress_outputs(out_dir, _flexible(scene, bodies, names), res.x[k])
+    return vtu, stress, stress_files
+
+
+def peak_position(res) -> int:
+    """The position index of a one-mesh result's largest line load."""
+    return int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
+
+
+def write_contact_vtu(out_dir, scene, res, pressure, k: int) -> list[str]:
+    """``contact.vtu``: the loaded contact cells of ``res`` at its position ``k`` with their
+    line loads (N/m), Hertzian pressures (Pa) and contact half-widths (m), SI as the body VTUs
+    (``pressure``: the result's :class:`~jaxgear.ContactPressure`)."""
+    written = []
     cells = scene.mesh.cells(res.theta[k])
     on = np.asarray(cells.mask).reshape(-1)
     P = np.asarray(scene.points(cells)).reshape(-1, 3)[on]
@@ -288,13 +301,12 @@ def _(scene: HybridScene, run: _SceneRun, bodies, res: dict, pressure: dict) -> 
                 unit=unit,
             )
             files.append(name)
-    files += write_scene_vtu(out_dir, scene, bodies, res["exact"], pressure["exact"])
-    r = res["exact"]  # the rim and web stresses where the VTU is: the largest line load
-    k = int(np.argmax(np.asarray(r.line_load).reshape(r.line_load.shape[0], -1).max(axis=1)))
-    out["body_stress"], stress_files = body_stress_outputs(
-        out_dir, _flexible(scene, bodies), r.x[k]
-    )
-    files += stress_files
+    # the bodies deformed, their rim and web stresses and the contact cells (fixed frame) at
+    # the position of the largest line load
+    r = res["exact"]
+    k = peak_position(r)
+    vtu, out["body_stress"], stress_files = body_outputs(out_dir, scene, bodies, r, k)
+    files += vtu + write_contact_vtu(out_dir, scene, r, pressure["exact"], k) + stress_files
     out["files"] = [f"{os.path.basename(out_dir)}/{f}" for f in files]
     bar.set_postfix_str("")
     bar.update()

@@ -14,9 +14,8 @@ from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
-from ._rating_report import body_stress_outputs
 from ._summary import environment_summary, mesh_settings_summary, result_summary
-from .scene import _flexible, write_bodies_vtu
+from .scene import body_outputs
 
 __all__ = ["format_train_table", "run_train"]
 
@@ -234,10 +233,9 @@ def run_train(
         )
         names_of = {g: n for g, n in enumerate(case.gear_names)}
         k = int(np.argmax(peak))
-        summary["body_vtu"] = write_bodies_vtu(out_dir, scene, bodies, qs, k, names_of)
-        # the rim and web stresses there, as a pair's hybrid scene reports them
-        summary["body_stress"], summary["body_stress_vtu"] = body_stress_outputs(
-            out_dir, _flexible(scene, bodies, names_of), qs.x[k]
+        # with the rim and web stresses there, as a pair's hybrid scene reports them
+        summary["body_vtu"], summary["body_stress"], summary["body_stress_vtu"] = body_outputs(
+            out_dir, scene, bodies, qs, k, names_of
         )
     marks = {}
     for k, pair in enumerate(case.pairs):
