@@ -41,10 +41,11 @@ def active_radii(pair: jg.GearPair, member: int, n: int = 17) -> np.ndarray:
     return np.hypot(roll, pair.base_radii[member])
 
 
-def main(out_dir=None, n_radii: int = 17) -> dict:
-    """The map of each member with ``n_radii`` FE load radii over its active profile: the
-    record root_stress_map.json and the figure root_stress_map.png written into ``out_dir``
-    (created if missing), or by default into docs/bench and docs/img; returns the record."""
+def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) -> dict:
+    """The map of each member with ``n_radii`` FE load radii over its active profile and FE
+    elements of ``size_per_module`` m_n (default fem_prep's, m_n/18): the record
+    root_stress_map.json and the figure root_stress_map.png written into ``out_dir`` (created
+    if missing), or by default into docs/bench and docs/img; returns the record."""
     if out_dir is None:
         bench, img = DOCS / "bench", DOCS / "img"
     else:
@@ -59,7 +60,8 @@ def main(out_dir=None, n_radii: int = 17) -> dict:
     out, maps = {}, {}
     for i, tag in enumerate(("pinion", "gear")):
         radii = active_radii(pair, i, n_radii)
-        table = fem_prep.fillet_influence(jg.tooth_geometry(pair, i), radii)
+        size = None if size_per_module is None else size_per_module * pair.normal_module
+        table = fem_prep.fillet_influence(jg.tooth_geometry(pair, i), radii, size=size)
         rmap = jg.root_stress_map(pair, res, i, table.roll, table.peak)
         maps[tag] = rmap
         sigma_f0 = ft / (b * pair.normal_module) * float(form.Y_F[i] * form.Y_S[i])
