@@ -2,8 +2,9 @@
 ISO/TR 6336-30 example 1 (m_n 8 mm, z 17/103, β 15.8°, a_w 500 mm, T₁ 9000 N·m at 360 1/min;
 docs/rating.md), rated by ISO 6336-2/-3 method B (:func:`jaxgear.rate`) over x₁ from 0.05 (just
 above undercut) to 0.8, the gear's x₂ = 0, the centre distance following the shifts (zero
-backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed. ``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives
-dS/dx₁ at each, the slope an optimiser would follow.
+backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed.
+``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives dS/dx₁ at each, the slope an
+optimiser would follow.
 
 Writes rating_profile_shift.png and rating_profile_shift.json into docs/bench/ (or the folder
 given). Run from the repository root: ``python examples/rating_profile_shift.py [out_dir]`` (a

@@ -105,7 +105,8 @@ class Rating(eqx.Module):
     def scope_notes(self) -> list[str]:
         """Where the inputs leave the standard's scope, one line each naming the part, edition and
         (where checked, :func:`jaxgear.factor_clause`) clause, e.g. "ISO 6336-3:2006 9.2 rim
-        thickness factor Y_B: ..." (empty when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress correction factor), K_v's main
+        thickness factor Y_B: ..." (empty when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress
+        correction factor), K_v's main
         resonance range 0.85 < N < 1.15 (ISO 6336-1, dynamic factor; noted whether K_v is
         given or computed), Y_B's rim 0.5 < s_R/h_t (ISO 6336-3, rim thickness factor; read back
         from Y_B = 1.6 ln(2.242 h_t/s_R)). Concrete values only (not under ``jit``)."""

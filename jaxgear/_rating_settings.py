@@ -198,7 +198,8 @@ _PART |= {"sigma_H_lim": 5, "sigma_F_lim": 5}
 # Y_β, 8.2 Determination by calculation, 9.2 (Y_B), 10.2 (Y_DT), 11.2 Reference stress, with
 # values σ_Flim and σ_FE for Method B, 12.2 Life factor Y_NT: Method B, 13.3 Relative notch
 # sensitivity factor Y_δrelT: Method B, 14.3 Relative surface factor Y_RrelT: Method B,
-# 15 Size factor Y_X"; https://shop.standards.ie/en-ie/standards/bs-iso-6336-3-2006-226269_saig_bsi_bsi_531028).
+# 15 Size factor Y_X"; the BSI shop's page of BS ISO 6336-3:2006, e.g.
+# https://shop.standards.ie/en-ie/standards/bs-iso-6336-3-2006-226269_saig_bsi_bsi_531028).
 # No table of contents of parts 1, 2 and 5, nor of the 2019 edition, was found to check
 # against: those name the part alone (the σ_F0 and σ_FG that 5.2 and 5.3 hold are not named in
 # the contents, so they too name the part alone).
