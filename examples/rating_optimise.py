@@ -9,16 +9,17 @@ crowning and the tip relief depth; the TE RMS may rise to 1.5 times the start's.
 smooth contact law; the start and the optimum are then rated in exact contact.
 
 Prints, start → optimum: the variables, the measured K_Hβ and K_Hα, the four safety factors and
-the TE RMS; writes them to docs/bench/rating_optimise.json and the figure
-docs/bench/rating_optimise.png (the four safety factors and the TE RMS, start and optimum). Run
-from the repository root: ``python examples/rating_optimise.py`` (about a minute on 2 loaded
-cores).
+the TE RMS; writes them to rating_optimise.json and the figure rating_optimise.png (the four
+safety factors and the TE RMS, start and optimum) in docs/bench/ or the folder given. Run from
+the repository root: ``python examples/rating_optimise.py [out_dir]`` (about a minute on 2
+loaded cores).
 """
 
 from __future__ import annotations
 
 import json
 import pathlib
+import sys
 import tomllib
 
 import jax
@@ -56,8 +57,13 @@ def rated_case(slices: int = 8, positions: int = 16) -> jio.Case:
     return jio.parse_case(d)
 
 
-def main() -> None:
-    case = rated_case()
+def main(out_dir=OUT, max_iterations: int = 60, slices: int = 8, positions: int = 16) -> dict:
+    """Optimise (at most ``max_iterations`` L-BFGS steps) on the ``slices`` × ``positions``
+    model and write the record and the figure into ``out_dir`` (default docs/bench; created if
+    missing); returns the record."""
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    case = rated_case(slices, positions)
     ppp = case.positions_per_pitch
     rc = jio.rating_of(case)
     mesh = case.mesh_model()
@@ -81,7 +87,9 @@ def main() -> None:
         bounds={"pinion.crowning.depth": (0.0, 8.0)},  # E* = C/δ_m: up to about 16 µm
     )
     x0 = problem.from_physical({"pinion.crowning.depth": 4.0, "tip_relief.depth": 15.0})
-    result = op.minimise(problem, jnp.asarray(x0), max_iterations=60, progress=False)
+    result = op.minimise(
+        problem, jnp.asarray(x0), max_iterations=max_iterations, progress=False
+    )
     sharp = problem.sharp()
     record = {}
     for label, x in (("start", x0), ("optimum", result.x)):
@@ -109,8 +117,9 @@ def main() -> None:
         f"iterations, {result.wall_time_s:.1f} s (compile included)"
     )
     record.update(te_limit_m=objective.te_limit, iterations=int(result.iterations))
-    (OUT / "rating_optimise.json").write_text(json.dumps(record, indent=1) + "\n")
-    plot(record, OUT / "rating_optimise.png")
+    (out_dir / "rating_optimise.json").write_text(json.dumps(record, indent=1) + "\n")
+    plot(record, out_dir / "rating_optimise.png")
+    return record
 
 
 def plot(record: dict, path) -> None:
@@ -136,4 +145,4 @@ def plot(record: dict, path) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])

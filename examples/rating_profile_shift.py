@@ -2,11 +2,13 @@
 ISO/TR 6336-30 example 1 (m_n 8 mm, z 17/103, β 15.8°, a_w 500 mm, T₁ 9000 N·m at 360 1/min;
 docs/rating.md), rated by ISO 6336-2/-3 method B (:func:`jaxgear.rate`) over x₁ from 0.05 (just
 above undercut) to 0.8, the gear's x₂ = 0, the centre distance following the shifts (zero
-backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed. ``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives
-dS/dx₁ at each, the slope an optimiser would follow.
+backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed.
+``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives dS/dx₁ at each, the slope an
+optimiser would follow.
 
-Writes docs/bench/rating_profile_shift.png and docs/bench/rating_profile_shift.json. Run from the repository
-root: ``python examples/rating_profile_shift.py`` (a few seconds).
+Writes rating_profile_shift.png and rating_profile_shift.json into docs/bench/ (or the folder
+given). Run from the repository root: ``python examples/rating_profile_shift.py [out_dir]`` (a
+few seconds).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from __future__ import annotations
 import json
 import math
 import pathlib
+import sys
 
 import jax
 
@@ -63,29 +66,36 @@ def safety(x1, geometry, operating, settings):
     return jnp.concatenate([r.pitting.S_H, r.bending.S_F])
 
 
-def main() -> dict:
+def main(out_dir=DOCS, shifts=SHIFTS) -> dict:
+    """Rate the pair at each pinion profile shift of ``shifts`` (within 0.05-0.8; default 31
+    from 0.05 to 0.8) and write the figure and the record into ``out_dir`` (default
+    docs/bench; created if missing); returns the record."""
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    shifts = jnp.asarray(shifts)
     geometry, operating, settings = tr_example()
     f = jax.jit(jax.vmap(lambda x: safety(x, geometry, operating, settings)))
     df = jax.jit(jax.vmap(jax.jacfwd(lambda x: safety(x, geometry, operating, settings))))
-    s, ds = f(SHIFTS), df(SHIFTS)
+    s, ds = f(shifts), df(shifts)
     names = ("S_H pinion", "S_H gear", "S_F pinion", "S_F gear")
     out = {
-        "profile_shift_pinion": [float(x) for x in SHIFTS],
+        "profile_shift_pinion": [float(x) for x in shifts],
         **{n: [float(v) for v in s[:, i]] for i, n in enumerate(names)},
         **{f"d({n})/dx1": [float(v) for v in ds[:, i]] for i, n in enumerate(names)},
     }
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     for i, n in enumerate(names):
-        a.plot(SHIFTS, s[:, i], label=n)
-        b.plot(SHIFTS, ds[:, i], label=n)
+        a.plot(shifts, s[:, i], label=n)
+        b.plot(shifts, ds[:, i], label=n)
     a.set(xlabel="pinion profile shift x₁", ylabel="safety factor", title="ISO 6336 method B")
     b.set(xlabel="pinion profile shift x₁", ylabel="dS/dx₁ (jax.jacfwd)", title="gradients")
     a.legend()
     fig.suptitle("ISO/TR 6336-30 example 1 pair, zero backlash, T₁ = 9000 N·m, 360 1/min")
-    fig.savefig(DOCS / "rating_profile_shift.png", dpi=110)
-    (DOCS / "rating_profile_shift.json").write_text(json.dumps(out, indent=1) + "\n")
+    fig.savefig(out_dir / "rating_profile_shift.png", dpi=110)
+    plt.close(fig)
+    (out_dir / "rating_profile_shift.json").write_text(json.dumps(out, indent=1) + "\n")
     return out
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])

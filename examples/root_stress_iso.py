@@ -9,8 +9,8 @@ the largest principal stress there),
 ISO's method B the nominal stress σ_F0 per unit normal load, 6 cos α_Fen h_Fe / s_Fn² · Y_S (the
 beam stress at the 30° tangent section times the stress correction factor; :func:`jaxgear.
 tooth_form_factors`). Writes docs/bench/root_stress_iso.json and
-docs/img/root_stress_fillet.png. Run from the repository root: ``python
-examples/root_stress_iso.py`` (about 20 s on 2 cores).
+docs/img/root_stress_fillet.png (both into one folder if given). Run from the repository root:
+``python examples/root_stress_iso.py [out_dir]`` (about 20 s on 2 cores).
 
 The embedded helical pair is left out: ISO rates a helical tooth on its virtual spur gear in the
 normal section (z_n = 37.10 and 72.08 for power-helical), which the 2-D model of an integer tooth
@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 import math
 import pathlib
+import sys
 
 import jax
 
@@ -85,9 +86,18 @@ def outer_single_contact_radius(pair: jg.GearPair, i: int) -> float:
     return math.hypot(roll, rb)
 
 
-def main() -> None:
+def main(out_dir=None, pairs=None) -> list[dict]:
+    """The FE/ISO rows of ``pairs`` (names of :data:`PAIRS`; default all): the record
+    root_stress_iso.json and the figure root_stress_fillet.png written into ``out_dir``
+    (created if missing), or by default into docs/bench and docs/img; returns the rows."""
+    if out_dir is None:
+        bench, img = DOCS / "bench", DOCS / "img"
+    else:
+        bench = img = pathlib.Path(out_dir)
+        bench.mkdir(parents=True, exist_ok=True)
     rows, curves = [], {}
-    for name, pair in PAIRS.items():
+    for name in PAIRS if pairs is None else pairs:
+        pair = PAIRS[name]
         form = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
         for i, tag in enumerate(("pinion", "gear")):
             iso = (
@@ -119,7 +129,7 @@ def main() -> None:
                 f"{name:38s} {tag:6s} FE/ISO = {fs.peak / iso:.4f}  peak at "
                 f"{math.degrees(fs.peak_tangent_angle):.1f}°"
             )
-    (DOCS / "bench" / "root_stress_iso.json").write_text(json.dumps(rows, indent=1) + "\n")
+    (bench / "root_stress_iso.json").write_text(json.dumps(rows, indent=1) + "\n")
     fig, ax = plt.subplots(figsize=(7, 4))
     for label, (a, s) in curves.items():
         ax.plot(a, s, label=label)
@@ -131,8 +141,10 @@ def main() -> None:
     ax.legend(fontsize=6)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(DOCS / "img" / "root_stress_fillet.png", dpi=130)
+    fig.savefig(img / "root_stress_fillet.png", dpi=130)
+    plt.close(fig)
+    return rows
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])

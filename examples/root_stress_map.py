@@ -6,14 +6,16 @@ over each member's active profile, element size m_n/18), :func:`jaxgear.root_str
 Prints the largest root stress of each gear beside ISO 6336-3's nominal σ_F0 (method B, load at
 the outer point of single pair contact, no load factor) and writes docs/img/root_stress_map.png
 (the stress of each member's tooth against the line-of-action coordinate s of its load and the
-face width) and docs/bench/root_stress_map.json. Run from the repository root:
-``python examples/root_stress_map.py`` (about half a minute on 2 cores).
+face width) and docs/bench/root_stress_map.json (both into one folder if given). Run from the
+repository root: ``python examples/root_stress_map.py [out_dir]`` (about half a minute on 2
+cores).
 """
 
 from __future__ import annotations
 
 import json
 import pathlib
+import sys
 
 import jax
 
@@ -39,7 +41,16 @@ def active_radii(pair: jg.GearPair, member: int, n: int = 17) -> np.ndarray:
     return np.hypot(roll, pair.base_radii[member])
 
 
-def main() -> None:
+def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) -> dict:
+    """The map of each member with ``n_radii`` FE load radii over its active profile and FE
+    elements of ``size_per_module`` m_n (default fem_prep's, m_n/18): the record
+    root_stress_map.json and the figure root_stress_map.png written into ``out_dir`` (created
+    if missing), or by default into docs/bench and docs/img; returns the record."""
+    if out_dir is None:
+        bench, img = DOCS / "bench", DOCS / "img"
+    else:
+        bench = img = pathlib.Path(out_dir)
+        bench.mkdir(parents=True, exist_ok=True)
     case = jio.load_case("accessory-spur")
     pair = case.pair
     res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque)
@@ -48,7 +59,9 @@ def main() -> None:
     b = pair.face_width
     out, maps = {}, {}
     for i, tag in enumerate(("pinion", "gear")):
-        table = fem_prep.fillet_influence(jg.tooth_geometry(pair, i), active_radii(pair, i))
+        radii = active_radii(pair, i, n_radii)
+        size = None if size_per_module is None else size_per_module * pair.normal_module
+        table = fem_prep.fillet_influence(jg.tooth_geometry(pair, i), radii, size=size)
         rmap = jg.root_stress_map(pair, res, i, table.roll, table.peak)
         maps[tag] = rmap
         sigma_f0 = ft / (b * pair.normal_module) * float(form.Y_F[i] * form.Y_S[i])
@@ -63,7 +76,7 @@ def main() -> None:
             f"{tag}: FE max root stress {float(rmap.max) / 1e6:.1f} MPa, ISO σ_F0 "
             f"{sigma_f0 / 1e6:.1f} MPa (FE/ISO {float(rmap.max) / sigma_f0:.3f})"
         )
-    (DOCS / "bench" / "root_stress_map.json").write_text(json.dumps(out, indent=1) + "\n")
+    (bench / "root_stress_map.json").write_text(json.dumps(out, indent=1) + "\n")
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
     for ax, (tag, rmap) in zip(axes, maps.items(), strict=True):
         m = np.asarray(rmap.mask)
@@ -75,8 +88,10 @@ def main() -> None:
         fig.colorbar(sc, ax=ax)
     axes[0].set_ylabel("z across the face (mm)")
     fig.tight_layout()
-    fig.savefig(DOCS / "img" / "root_stress_map.png", dpi=130)
+    fig.savefig(img / "root_stress_map.png", dpi=130)
+    plt.close(fig)
+    return out
 
 
 if __name__ == "__main__":
-    main()
+    main(*sys.argv[1:2])

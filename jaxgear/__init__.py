@@ -143,6 +143,7 @@ from ._rating_material import (
     ThroughHardened as ThroughHardened,
 )
 from ._rating_settings import (
+    FACTOR_CLAUSES as FACTOR_CLAUSES,
     AbstractEdition as AbstractEdition,
     Edition2006 as Edition2006,
     Edition2019 as Edition2019,
@@ -153,6 +154,7 @@ from ._rating_settings import (
     RatingMaterial as RatingMaterial,
     RatingSettings as RatingSettings,
     ToothLoading as ToothLoading,
+    factor_clause as factor_clause,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,

@@ -34,7 +34,7 @@ from jaxtyping import Array
 from ._rating_bending import ToothFormFactors, tooth_form_factors
 from ._rating_factors import LoadFactors, _contact_ratio_factor, _tangential_load, load_factors
 from ._rating_geometry import RatingGeometry
-from ._rating_settings import OperatingPoint, RatingSettings
+from ._rating_settings import OperatingPoint, RatingSettings, factor_clause
 from ._util import as_float, check_instance
 
 __all__ = ["BendingRating", "PittingRating", "Rating", "bending_rating", "pitting_rating", "rate"]
@@ -103,29 +103,32 @@ class Rating(eqx.Module):
     method: str = eqx.field(static=True, default=METHOD)
 
     def scope_notes(self) -> list[str]:
-        """Where the inputs leave the standard's scope, one line each naming the clause (empty
-        when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress correction factor), K_v's main
+        """Where the inputs leave the standard's scope, one line each naming the part, edition and
+        (where checked, :func:`jaxgear.factor_clause`) clause, e.g. "ISO 6336-3:2006 9.2 rim
+        thickness factor Y_B: ..." (empty when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress
+        correction factor), K_v's main
         resonance range 0.85 < N < 1.15 (ISO 6336-1, dynamic factor; noted whether K_v is
         given or computed), Y_B's rim 0.5 < s_R/h_t (ISO 6336-3, rim thickness factor; read back
         from Y_B = 1.6 ln(2.242 h_t/s_R)). Concrete values only (not under ``jit``)."""
         notes = []
+        where = {k: factor_clause(k, self.method) for k in ("Y_B", "Y_S", "K_v")}
         for tag, y_b in zip(("pinion", "gear"), self.bending.Y_B.tolist(), strict=True):
             ratio = 2.242 * math.exp(-y_b / 1.6)
             if y_b > 1.0 and ratio <= 0.5:
                 notes.append(
-                    f"ISO 6336-3 rim thickness factor Y_B: {tag} rim s_R/h_t = {ratio:.4g} is "
-                    "outside the method's scope 0.5 < s_R/h_t (thinner rims should be avoided)"
+                    f"{where['Y_B']} rim thickness factor Y_B: {tag} rim s_R/h_t = {ratio:.4g} "
+                    "is outside the method's scope 0.5 < s_R/h_t (thinner rims should be avoided)"
                 )
         for tag, q in zip(("pinion", "gear"), self.bending.form.q_s.tolist(), strict=True):
             if not 1.0 <= q < 8.0:
                 notes.append(
-                    f"ISO 6336-3 stress correction factor Y_S: {tag} notch parameter q_s = "
+                    f"{where['Y_S']} stress correction factor Y_S: {tag} notch parameter q_s = "
                     f"{q:.4g} is outside the method's scope 1 <= q_s < 8"
                 )
         n = float(self.factors.details["resonance_ratio_N"])
         if 0.85 < n < 1.15:
             notes.append(
-                f"ISO 6336-1 dynamic factor K_v: resonance ratio N = {n:.4g} in the main "
+                f"{where['K_v']} dynamic factor K_v: resonance ratio N = {n:.4g} in the main "
                 "resonance range (0.85, 1.15), where the gears should not run (method B's K_v "
                 "is not meant for it)"
             )

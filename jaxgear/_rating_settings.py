@@ -20,6 +20,7 @@ from ._rating_material import AbstractTreatment, CaseHardened
 from ._util import as_float, check_instance, check_real
 
 __all__ = [
+    "FACTOR_CLAUSES",
     "AbstractEdition",
     "Edition2006",
     "Edition2019",
@@ -30,6 +31,7 @@ __all__ = [
     "RatingMaterial",
     "RatingSettings",
     "ToothLoading",
+    "factor_clause",
 ]
 
 
@@ -163,10 +165,59 @@ class AbstractEdition(eqx.Module):
     both). A kind, passed as an object (:attr:`RatingSettings.edition`)."""
 
     label: eqx.AbstractClassVar[str]
+    #: where each factor and stress of the rating is defined in this edition: symbol (the
+    #: attribute names of :class:`jaxgear.LoadFactors`, :class:`jaxgear.PittingRating`,
+    #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
+    #: 6.2", or the part alone where the clause could not be checked (:func:`factor_clause`)
+    clauses: eqx.AbstractClassVar[dict[str, str]]
 
     @abc.abstractmethod
     def helix_angle_factor(self, overlap_ratio, helix_angle):
         """Y_β (-) from ε_β and β (rad)."""
+
+
+# The part of ISO 6336 that defines each factor (1: load factors, 2: pitting, 3: bending, 5:
+# the strength numbers); the material's σ_Hlim and σ_Flim are ISO 6336-5's.
+_PART = dict.fromkeys(("K_A", "K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha"), 1)
+_PART |= dict.fromkeys(
+    ("Z_H", "Z_E", "Z_epsilon", "Z_beta", "Z_BD", "Z_NT", "Z_L", "Z_v", "Z_R", "Z_W", "Z_X",
+     "sigma_H0", "sigma_H", "sigma_HG", "sigma_HP", "S_H"),
+    2,
+)
+_PART |= dict.fromkeys(
+    ("Y_F", "Y_S", "Y_beta", "Y_B", "Y_DT", "Y_ST", "Y_NT", "Y_delta_rel_T", "Y_R_rel_T", "Y_X",
+     "Y_M", "sigma_F0", "sigma_F", "sigma_FG", "sigma_FP", "S_F"),
+    3,
+)
+_PART |= {"sigma_H_lim": 5, "sigma_F_lim": 5}
+
+# ISO 6336-3:2006's clauses, as its table of contents numbers them (BS ISO 6336-3:2006, the
+# BSI's listing of its contents: "5.1 Safety factor for bending strength S_F, 5.2 Tooth root
+# stress σ_F, 5.3 Permissible bending stress σ_FP, 6.2 Calculation of the form factor Y_F:
+# Method B, 7.2 Stress correction factor Y_S: Method B, 7.4 ... Y_ST ..., 8 Helix angle factor
+# Y_β, 8.2 Determination by calculation, 9.2 (Y_B), 10.2 (Y_DT), 11.2 Reference stress, with
+# values σ_Flim and σ_FE for Method B, 12.2 Life factor Y_NT: Method B, 13.3 Relative notch
+# sensitivity factor Y_δrelT: Method B, 14.3 Relative surface factor Y_RrelT: Method B,
+# 15 Size factor Y_X"; the BSI shop's page of BS ISO 6336-3:2006, e.g.
+# https://shop.standards.ie/en-ie/standards/bs-iso-6336-3-2006-226269_saig_bsi_bsi_531028).
+# No table of contents of parts 1, 2 and 5, nor of the 2019 edition, was found to check
+# against: those name the part alone (the σ_F0 and σ_FG that 5.2 and 5.3 hold are not named in
+# the contents, so they too name the part alone).
+_CLAUSES_3_2006 = {
+    "S_F": "5.1", "sigma_F": "5.2", "sigma_FP": "5.3", "Y_F": "6.2", "Y_S": "7.2",
+    "Y_ST": "7.4", "Y_beta": "8.2", "Y_B": "9.2", "Y_DT": "10.2", "sigma_F_lim": "11.2",
+    "Y_NT": "12.2", "Y_delta_rel_T": "13.3", "Y_R_rel_T": "14.3", "Y_X": "15",
+}
+
+
+def _clauses(year: int, checked: dict[str, str]) -> dict[str, str]:
+    """symbol → "ISO 6336-<part>:<year>[ <clause>]" (σ_Hlim, σ_Flim: ISO 6336-5, no year)."""
+    out = {}
+    for symbol, part in _PART.items():
+        head = "ISO 6336-5" if part == 5 else f"ISO 6336-{part}:{year}"
+        clause = checked.get(symbol) if part == 3 else None
+        out[symbol] = f"{head} {clause}" if clause else head
+    return out
 
 
 def _y_beta_2006(overlap_ratio, helix_angle):
@@ -180,6 +231,7 @@ class Edition2006(AbstractEdition):
     Y_β and σ_F0 of a KISSsoft report to ISO 6336:2006 (docs/rating.md)."""
 
     label: ClassVar[str] = "ISO 6336:2006 method B"
+    clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_3_2006)
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
         return _y_beta_2006(overlap_ratio, helix_angle)
@@ -193,10 +245,47 @@ class Edition2019(AbstractEdition):
     (:class:`Edition2006`)."""
 
     label: ClassVar[str] = "ISO 6336:2019 method B"
+    clauses: ClassVar[dict[str, str]] = _clauses(2019, {})
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
         beta = jnp.minimum(helix_angle, jnp.pi / 6)
         return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(beta) ** 3
+
+
+#: The clauses of each edition by its label (:attr:`jaxgear.Rating.method`): label → symbol →
+#: "ISO 6336-3:2006 6.2" (:attr:`AbstractEdition.clauses`)
+FACTOR_CLAUSES: dict[str, dict[str, str]] = {
+    e.label: e.clauses for e in (Edition2006, Edition2019)
+}
+
+
+def factor_clause(symbol: str, edition: AbstractEdition | str) -> str:
+    """Where ISO 6336 defines a factor or stress of the rating: "ISO 6336-3:2006 6.2" (part,
+    edition and clause), or "ISO 6336-2:2019" (the part alone, where the clause was not checked
+    against the standard's contents; :attr:`AbstractEdition.clauses`).
+
+    Args:
+        symbol: an attribute name of :class:`jaxgear.LoadFactors`,
+            :class:`jaxgear.PittingRating` or :class:`jaxgear.BendingRating` (``"Y_F"``,
+            ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa`` suffix is
+            dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
+        edition: the :class:`AbstractEdition`, or its label (:attr:`jaxgear.Rating.method`).
+
+    Raises:
+        ValueError: an unknown symbol or edition, in one line naming the known ones.
+    """
+    label = edition if isinstance(edition, str) else edition.label
+    if label not in FACTOR_CLAUSES:
+        raise ValueError(
+            f"factor_clause: edition = {label!r} is out of range: one of {sorted(FACTOR_CLAUSES)}"
+        )
+    clauses = FACTOR_CLAUSES[label]
+    key = symbol.removesuffix("_sqrt_Pa").removesuffix("_Pa")
+    if key not in clauses:
+        raise ValueError(
+            f"factor_clause: symbol = {symbol!r} is out of range: one of {sorted(clauses)}"
+        )
+    return clauses[key]
 
 
 #: ISO 6336-3:2019's mean stress influence factor Y_M for a tooth loaded on both flanks in

@@ -281,13 +281,13 @@ def test_scope_notes_name_the_clause():
     n = float(base.factors.details["resonance_ratio_N"])  # N is proportional to the speed
     at_resonance = RATE(geometry, jg.OperatingPoint(9000.0, op.speed / n), settings)
     (note,) = at_resonance.scope_notes()
-    assert "ISO 6336-1 dynamic factor K_v: resonance ratio N = 1 " in note
+    assert "ISO 6336-1:2019 dynamic factor K_v: resonance ratio N = 1 " in note
     # the gear cut by a sharp rack (ρ_fP = 0) with x2 = 0.5: q_s = 14.7 (q_s is the tooth's
     # alone; the same static structure, so no recompilation)
     sharp = geometry.replace(fillet_radius_coeff=[0.39, 0.0], profile_shift=[0.145, 0.5])
     notes = RATE(sharp, op, settings).scope_notes()
     assert len(notes) == 1 and "gear notch parameter q_s = 14.72" in notes[0], notes
-    assert "ISO 6336-3 stress correction factor Y_S" in notes[0]
+    assert "ISO 6336-3:2019 stress correction factor Y_S" in notes[0]
 
 
 @pytest.mark.parametrize(
@@ -332,4 +332,41 @@ def test_rim_thickness_factor_of_a_thin_rimmed_gear():
     # noted naming the clause
     y_b_04 = jnp.asarray([1.0, 1.6 * math.log(2.242 / 0.4)])
     (note,) = eqx.tree_at(lambda r: r.bending.Y_B, rating, y_b_04).scope_notes()
-    assert "ISO 6336-3 rim thickness factor Y_B: gear rim s_R/h_t = 0.4 is outside" in note
+    assert "ISO 6336-3:2019 rim thickness factor Y_B: gear rim s_R/h_t = 0.4 is outside" in note
+    # the 2006 edition's notes name the clause its table of contents gives (9.2)
+    old = eqx.tree_at(lambda r: r.bending.Y_B, rating, y_b_04)
+    old = dataclasses.replace(old, method=jg.Edition2006.label)
+    (note,) = old.scope_notes()
+    assert note.startswith("ISO 6336-3:2006 9.2 rim thickness factor Y_B: gear rim"), note
+
+
+def test_every_factor_names_its_part_and_the_checked_clauses_of_iso_6336_3_2006():
+    """jg.factor_clause: every field of the rating's results names its ISO 6336 part and edition
+    (load factors part 1, pitting part 2, bending part 3); the 2006 edition's bending clauses
+    are those of ISO 6336-3:2006's table of contents (BS ISO 6336-3:2006 as the BSI lists its
+    contents: 6.2 "Calculation of the form factor, Y_F: Method B", 7.2 Y_S method B, 8.2 Y_β by
+    calculation, 9.2 Y_B, 10.2 Y_DT, 12.2 Y_NT method B, 13.3 Y_δrelT method B, 14.3 Y_RrelT
+    method B, 15 Y_X, 5.1 S_F, 5.2 σ_F, 5.3 σ_FP, 7.4 Y_ST), typed here from that listing; the
+    rest, unchecked, name the part alone; an unknown symbol is a one-line error."""
+    for edition, year in ((jg.Edition2006(), 2006), (jg.Edition2019(), 2019)):
+        for cls, part in ((jg.LoadFactors, 1), (jg.PittingRating, 2), (jg.BendingRating, 3)):
+            for name in (f.name for f in dataclasses.fields(cls)):
+                if name in ("details", "sources", "form", "cycles"):
+                    continue
+                assert jg.factor_clause(name, edition).startswith(f"ISO 6336-{part}:{year}"), name
+        assert jg.factor_clause("sigma_H_lim", edition) == "ISO 6336-5"
+        assert jg.FACTOR_CLAUSES[edition.label] == type(edition).clauses
+    toc = {
+        "Y_F": "6.2", "Y_S": "7.2", "Y_ST": "7.4", "Y_beta": "8.2", "Y_B": "9.2", "Y_DT": "10.2",
+        "Y_NT": "12.2", "Y_delta_rel_T": "13.3", "Y_R_rel_T": "14.3", "Y_X": "15", "S_F": "5.1",
+        "sigma_F": "5.2", "sigma_FP": "5.3",
+    }
+    for symbol, clause in toc.items():
+        assert jg.factor_clause(symbol, "ISO 6336:2006 method B") == f"ISO 6336-3:2006 {clause}"
+    assert jg.factor_clause("sigma_F0_Pa", jg.Edition2006()) == "ISO 6336-3:2006"  # unchecked
+    assert jg.factor_clause("Y_F", jg.Edition2019()) == "ISO 6336-3:2019"
+    assert jg.factor_clause("Z_E_sqrt_Pa", jg.Edition2019()) == "ISO 6336-2:2019"
+    for bad, words in (("Y_Q", "symbol = 'Y_Q' is out of range"), ("Y_F", "edition = 'x'")):
+        with pytest.raises(ValueError) as err:
+            jg.factor_clause(bad, "x" if bad == "Y_F" else jg.Edition2019())
+        assert words in str(err.value) and "\n" not in str(err.value)

@@ -192,7 +192,9 @@ def test_rating_outputs_write_the_table_and_the_summary_section(tmp_path):
 def test_a_rating_out_of_scope_warns_naming_the_clause(tmp_path):
     # 9000 1/min: K_v's resonance ratio N = 0.99 (0.0396 at 360 1/min), in the main resonance
     case = jio.parse_case(_case(**{"operating/speed_rpm": 9000.0}))
-    with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-1 dynamic factor K_v: reso"):
+    with pytest.warns(
+        jio.CaseWarning, match=r"\[rating\] ISO 6336-1:2019 dynamic factor K_v: reso"
+    ):
         cli.rating_outputs(case, str(tmp_path))
 
 
@@ -214,7 +216,9 @@ def test_case_file_rim_thickness_rates_y_b_and_warns_below_its_scope(tmp_path):
     assert thin["Y_B"] == pytest.approx([1.0, y_b], rel=1e-12)
     ratio = np.asarray(thin["sigma_F0_Pa"]) / np.asarray(solid["sigma_F0_Pa"])
     np.testing.assert_allclose(ratio, [1.0, y_b], rtol=1e-12)
-    with pytest.warns(jio.CaseWarning, match=r"\[rating\] ISO 6336-3 rim thickness factor Y_B"):
+    with pytest.warns(
+        jio.CaseWarning, match=r"\[rating\] ISO 6336-3:2019 rim thickness factor Y_B"
+    ):
         section(0.4 * 19.2)
 
 

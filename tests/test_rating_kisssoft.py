@@ -199,3 +199,142 @@ def test_life_factors_are_iso_power_laws():
     n = np.array([1e8, 1e9, 3e9])
     np.testing.assert_allclose(t.z_nt(n), (5e7 / n) ** 0.0307, rtol=3e-4)
     np.testing.assert_allclose(t.y_nt(n), (3e6 / n) ** 0.02, rtol=3e-4)
+
+
+# The whole spur rating of the sun/planet mesh of both planetary stages, the reports' sections
+# 1-4. The report rates each planet's mesh with the sun: F_t = T_sun/(p r_sun) with p = 3
+# planets, at the speeds relative to the carrier (n_sun − n_carrier = n_sun z_ring/(z_sun +
+# z_ring); the report's v and N_L are these), with a load sharing factor K_γ = 1.10 that
+# multiplies like K_A (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), σ_F ∝ K_A K_γ K_v K_Fβ K_Fα): jaxgear has
+# no K_γ, so it rates with K_A K_γ = 1.375 as its application factor (the same products).
+# The sun meets 3 planets a turn (N_L = 3 × turns); the planet's tooth is loaded on alternate
+# flanks by the sun and the ring, which the report rates with Y_M = 0.7 (jaxgear's
+# ToothLoading). K_Hβ (user specified there) and K_Hα = K_Fα = 1.00 are given; K_Fβ is
+# computed. The report's K_v (method B with its own gear body factor C_R = 0.862, which
+# jaxgear's K_v does not model) is printed to two digits only (1.06, 1.01), so it is recovered to
+# four from two other printed values of the same report, the contact stress at the operating
+# pitch circle σ_Hw = σ_H0 √(K_A K_γ K_v K_Hβ K_Hα) and σ_H0: K_v = (σ_Hw/σ_H0)²/(K_A K_γ K_Hβ
+# K_Hα) = 1.0612 and 1.0054 (each within the printed K_v's rounding). σ_Hw then checks only
+# σ_H0 again, but σ_F (through K_Fβ, not K_Hβ) checks the recovered K_v independently.
+def _spur_values(f_t, v, eps_a, alpha_wt, z_n, n_l, k_fb, bending, pitting):
+    """The printed values of one report as (symbol, printed, reader) rows."""
+    rows = [
+        ("F_t (N)", f_t, lambda r, p, o: 2 * o.torque / (2 * p.pitch_radii[0])),
+        ("v (m/s)", v, lambda r, p, o: o.speed * p.pitch_radii[0]),
+        ("eps_alpha", eps_a, lambda r, p, o: p.transverse_contact_ratio),
+        (
+            "alpha_wt (deg)",
+            alpha_wt,
+            lambda r, p, o: np.degrees(jg.RatingGeometry.of(p).derived().operating_pressure_angle),
+        ),
+        ("z_n", z_n, lambda r, p, o: r.bending.form.virtual_teeth),
+        ("N_L (1e6)", n_l, lambda r, p, o: r.pitting.cycles / 1e6),
+        ("K_Fbeta", k_fb, lambda r, p, o: r.factors.K_Fbeta),
+    ]
+    b = ("Y_F", "Y_S", "h_F (mm)", "alpha_Fen (deg)", "s_Fn (mm)", "rho_F (mm)", "Y_beta",
+         "Y_DT", "Y_B", "sigma_F0", "sigma_F", "Y_delta_rel_T", "Y_R_rel_T", "Y_X", "Y_NT", "Y_M",
+         "Y_ST", "sigma_FP", "sigma_FG", "S_F")
+    readers_b = {
+        "h_F (mm)": lambda r: r.bending.form.h_Fe * 1e3,
+        "alpha_Fen (deg)": lambda r: np.degrees(r.bending.form.alpha_Fen),
+        "s_Fn (mm)": lambda r: r.bending.form.s_Fn * 1e3,
+        "rho_F (mm)": lambda r: r.bending.form.rho_F * 1e3,
+    }
+    for name, printed in zip(b, bending, strict=True):
+        if name in readers_b:
+            get = readers_b[name]
+        elif name.startswith("sigma"):
+            get = (lambda n: lambda r: getattr(r.bending, n) / 1e6)(name)
+        else:
+            get = (lambda n: lambda r: getattr(r.bending, n))(name)
+        rows.append((name, printed, (lambda g: lambda r, p, o: g(r))(get)))
+    h = ("Z_H", "Z_E", "Z_epsilon", "Z_beta", "sigma_H0", "Z_BD", "sigma_H", "Z_L", "Z_v", "Z_R",
+         "Z_W", "Z_NT", "Z_X", "sigma_HP", "sigma_HG", "S_H")
+    for name, printed in zip(h, pitting, strict=True):
+        scale = 1e6 if name.startswith("sigma") else 1e3 if name == "Z_E" else 1.0
+        rows.append(
+            (name, printed, (lambda n, s: lambda r, p, o: getattr(r.pitting, n) / s)(name, scale))
+        )
+    return rows
+
+
+# (report, z (sun, planet), x, m_n mm, k m_n mm, b mm, T_sun N·m, z_ring, K_Hβ,
+#  (σ_Hw, σ_H0) N/mm², the printed rows)
+SPUR_REPORTS = [
+    (
+        "stage_02.rtf",
+        (18, 36), (0.389, 0.5039), 21.0, -1.750, 550.0, 162105.5, 93, 2.06, (994.13, 573.40),
+        _spur_values(
+            285900.438, 4.88, 1.370, 24.169, [18.0, 36.0], [7782.3, 1297.1], 1.94,
+            # Y_F, Y_S, h_F, α_Fen, s_Fn, ρ_F, Y_β, Y_DT, Y_B, σ_F0, σ_F, Y_δrelT, Y_RrelT,
+            # Y_X, Y_NT, Y_M, Y_ST, σ_FP, σ_FG, S_F
+            [[1.47, 1.38], [2.04, 2.18], [24.33, 25.73], [25.74, 24.68], [44.78, 47.70],
+             [9.52, 8.69], 1.00, 1.00, [1.00, 1.00], [73.95, 74.21], [209.38, 210.14],
+             [0.999, 1.002], [0.957, 0.957], [0.840, 0.840], [0.854, 0.886], [1.0, 0.7], 2.00,
+             [377.95, 275.24], [589.60, 429.38], [2.82, 2.04]],
+            # Z_H, Z_E, Z_ε, Z_β, σ_H0, Z_B/Z_D, σ_H, Z_L, Z_v, Z_R, Z_W, Z_NT, Z_X, σ_HP, σ_HG,
+            # S_H
+            [2.25, 189.81, 0.936, 1.000, 573.40, [1.08, 1.00], [1071.17, 994.13], 1.020, 0.982,
+             1.007, 1.000, [0.857, 0.905], 1.000, [1036.34, 1094.89], [1295.42, 1368.61],
+             [1.21, 1.38]],
+        ),
+    ),
+    (
+        "stage_01.rtf",
+        (19, 17), (0.617, 0.8021), 45.0, -10.861, 491.0, 999650.9, 56, 1.15, (958.15, 759.92),
+        _spur_values(
+            779454.877, 1.60, 1.115, 28.118, [19.0, 17.0], [1124.7, 419.0], 1.12,
+            [[1.56, 1.44], [2.06, 2.14], [64.83, 65.24], [30.75, 33.33], [101.18, 104.13],
+             [18.12, 17.19], 1.00, 1.00, [1.00, 1.00], [113.46, 108.94], [175.90, 168.90],
+             [1.003, 1.005], [0.957, 0.957], [0.800, 0.800], [0.888, 0.906], [1.0, 0.7], 2.00,
+             [375.71, 268.82], [586.11, 419.35], [3.33, 2.48]],
+            [2.06, 189.81, 0.981, 1.000, 759.92, [1.04, 1.05], [996.13, 1002.73], 1.020, 0.961,
+             1.024, 1.000, [0.909, 0.937], 1.000, [1094.89, 1128.55], [1368.61, 1410.69],
+             [1.37, 1.41]],
+        ),
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    "report, z, x, mn_mm, k_mm, b_mm, t_sun, z_ring, k_hb, sigma_hw_h0, printed", SPUR_REPORTS
+)
+def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_percent(
+    report, z, x, mn_mm, k_mm, b_mm, t_sun, z_ring, k_hb, sigma_hw_h0, printed
+):
+    """ISO 6336-2 and ISO 6336-3 method B (2006 edition) of a spur pair, every factor and stress
+    of the report's sections 1-4 (stage_02: 5000 kW, n_sun 294.5 1/min, T_sun 162 105.5 N·m;
+    stage_01: n_sun 47.8 1/min, T_sun 999 650.9 N·m; both 3 planets, K_A 1.25, K_γ 1.10,
+    175 200 h, 18CrNiMo7-6 case-hardened σ_Hlim 1500, σ_Flim 430 N/mm², ν_40 220 mm²/s, R_z 4.8
+    µm flank and 20 µm root, ISO 53 profile A, grade 6, S_Hmin 1.25, S_Fmin 1.56) within 0.5 %;
+    the sun is member 0 (the pinion of the rating), the planet member 1, the planet's values
+    those printed for its mesh with the sun."""
+    pair = _pair(z, x, mn_mm, 0.0, k_mm, b_mm)
+    k_a, k_gamma = 1.25, 1.10
+    sigma_hw, sigma_h0 = sigma_hw_h0
+    k_v = (sigma_hw / sigma_h0) ** 2 / (k_a * k_gamma * k_hb * 1.0)
+    settings = jg.RatingSettings(
+        material=jg.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
+        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        life=175_200 * 3600.0,
+        application_factor=k_a * k_gamma,
+        given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
+        min_safety_pitting=1.25,
+        min_safety_bending=1.56,
+        edition=jg.Edition2006(),
+        loading=jg.ToothLoading((3.0, 1.0), (1.0, 0.7)),
+    )
+    n_sun = 5000e3 / t_sun / RPM  # 1/min, from P = T ω
+    n_rel = n_sun * z_ring / (z[0] + z_ring)  # the sun relative to the carrier
+    op = jg.OperatingPoint(t_sun / 3, n_rel * RPM)
+    rating = RATE(jg.RatingGeometry.of(pair), op, settings)
+    bad = {}
+    for symbol, value, get in printed:
+        ours = np.atleast_1d(np.asarray(get(rating, pair, op), dtype=float))
+        want = np.broadcast_to(np.asarray(value, dtype=float), ours.shape)
+        if np.any(np.abs(ours / want - 1) > 5e-3):
+            bad[symbol] = (ours.tolist(), want.tolist())
+    assert not bad, (report, bad)
+    assert len(printed) == 43
+    assert rating.factors.sources["K_Fbeta"] == "ISO 6336-1 method B"
