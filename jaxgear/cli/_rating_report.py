@@ -19,16 +19,15 @@ import fem_prep
 
 from .. import (
     GearPair,
-    quasi_static,
     GivenFactors,
     face_load_factor,
+    quasi_static,
     rate,
     root_stress_map,
     tooth_geometry,
     transverse_factor_limits,
     transverse_load_factor,
 )
-from ._plots import savefig
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -42,20 +41,21 @@ from ..io import (
     spec_integrator,
     spec_window,
 )
+from ._plots import savefig
 
 __all__ = [
-    "ModelLoads",
     "ROOT_STRESS_RADII",
     "SCENE_MODELS",
+    "ModelLoads",
     "at_speed_sections",
     "body_stress_outputs",
     "fillet_table",
     "measured_dynamic_factor",
     "rating_lines",
     "rating_outputs",
-    "scene_loads",
     "root_stress_at_speed",
     "root_stress_outputs",
+    "scene_loads",
     "train_loads",
     "train_mesh_results",
     "write_rating_table",
@@ -101,6 +101,14 @@ _ROWS = [
 ]
 
 
+def _clause(part: str, key: str, text: str) -> str:
+    """The ISO 6336 column of the table's row of ``section[part][key]``: :data:`_ROWS`' text
+    (the standard's part and the factor's name). The place for an ISO-clause mapping of the
+    rating (clause numbers by summary key, from the rating modules, once they have one): look
+    ``key`` up there and add its clause to ``text``; every row goes through here."""
+    return text
+
+
 @functools.singledispatch
 def _value(v, scale) -> str:
     """A summary value as the table prints it: a number scaled to the table's unit."""
@@ -129,7 +137,8 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         "|---|---|---|---|",
     ]
     for part, key, symbol, scale, unit, clause in _ROWS:
-        out.append(f"| {symbol} | {_value(section[part][key], scale)} | {unit} | {clause} |")
+        value = _value(section[part][key], scale)
+        out.append(f"| {symbol} | {value} | {unit} | {_clause(part, key, clause)} |")
     for key, m in section.get("measured", {}).items():
         factor = section["factors"].get(key)  # K_Hbeta_rigid_mesh: reported only
         used = factor is not None and factor["source"] == USED
@@ -340,8 +349,13 @@ def _measured(rigid, model: ModelLoads | None, k: int) -> dict:
 
 
 def rating_outputs(
-    case: Case, out_dir: str, result=None, root_stress=None, model: ModelLoads | None = None,
-    *, write_table: bool = True
+    case: Case,
+    out_dir: str,
+    result=None,
+    root_stress=None,
+    model: ModelLoads | None = None,
+    *,
+    write_table: bool = True,
 ) -> dict | None:
     """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
     the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
@@ -436,7 +450,8 @@ def measured_dynamic_factor(
     ``speeds_rad_s``, the pinion's (a train: the input's) speeds, ``dynamic_factor``, a train's
     ``dynamic_factor_mesh`` of each mesh, ``model``, ``slices``) interpolated linearly at the
     rating's input speed, added to each mesh's ``rating.measured`` (the mesh rated again with
-    it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating
+    it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten (unless
+    ``write_table`` is False: ``jaxgear run`` writes it once, at its end). A rating
     speed outside the swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v
     and the sweep's dynamic factor are both the largest dynamic load of the mesh over its
     static one (the sweep's: the mesh force over a mesh period at steady state, of the scene's
@@ -640,7 +655,8 @@ def root_stress_at_speed(
     ``[scene]`` settings) run once at the speed of the sweep's largest dynamic factor
     (``dynamics["speed_of_max_rad_s"]``; a train's: of its worst mesh, the input's speed) with
     its cell loads recorded (:func:`jaxgear.dynamics.simulate`, ``Outputs(cell_loads=True)``),
-    then each mesh's map (:func:`at_speed_sections`); rewrites ``rating.md``. ``run``: that run
+    then each mesh's map (:func:`at_speed_sections`); rewrites ``rating.md`` (with
+    ``write_table``, as :func:`measured_dynamic_factor`). ``run``: that run
     when the caller has it already (the sweep's, at that speed, with its cell loads:
     :func:`jaxgear.cli.sweep.sweep_case_run`), else None: simulated here."""
     section = summary.get("rating") or {}
@@ -668,7 +684,7 @@ def at_speed_sections(
     case: Case, out_dir: str, section: dict, run, slices: int, table, *, write_table: bool = True
 ) -> dict:
     """Each mesh's root-stress map at speed into the case's ``rating`` ``section`` (returned;
-    ``rating.md`` rewritten): mesh k's cell loads of the dynamic run ``run`` (one speed,
+    ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run ``run`` (one speed,
     ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps times the plane FE
     fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
     :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh

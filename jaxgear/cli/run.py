@@ -93,7 +93,10 @@ def run_case(
     over the second: the quasi-static scene is periodic in the mesh period): their TE and mesh
     stiffness are added to the CSV files (``te_<model>_<contact>_modified[_at_rest]_m``,
     ``mesh_stiffness_<model>_...``) and drawn beside the rigid mesh's, each labelled with its
-    model. Every other file is the rigid mesh's (both bodies rigid), and says so.
+    model. Every other file is the rigid mesh's (both bodies rigid), and says so, but for a
+    ``[rating]``'s measured K_Hβ and K_Hα, read on the scene's load map (the rigid mesh's
+    beside them). ``rating.md`` is written here when ``complete`` (else by the step that
+    completes the run: :func:`jaxgear.cli.write_rating_table`).
 
     Returns:
         The summary dict (also in ``summary.json``).
