@@ -301,3 +301,38 @@ def test_docs_table_of_the_accessory_pair():
     np.testing.assert_allclose(got["mid-span"], got["rigid"], rtol=1e-9)
     np.testing.assert_allclose(got["rigid"], [1.000, 1.964], atol=5e-4)
     np.testing.assert_allclose(got["off-centre"], [1.203, 1.694], atol=5e-4)
+
+
+@pytest.mark.slow
+def test_train_run_rates_with_the_coupled_solve(tmp_path, monkeypatch):
+    """``jaxgear run``'s quasi-static files of the rated lumped idler train (the idler
+    off-centre on a 10 mm shaft, no lead modifications; the FE table a stub): each mesh's
+    ``rating.measured.K_Hbeta`` is the coupled solve's (solved again here with the run's
+    settings, 1e-12), ``K_Hbeta_rigid_mesh`` the mesh alone's (1 to 1e-12), and ``rating.md``
+    is written once (the run completes there)."""
+    d = _rated_train(tomllib.loads((ROOT / "examples" / "idler-train-lumped3d.toml").read_text()))
+    d["modifications"].pop("crowning", None)
+    d["scene"]["shafts"][1].update(diameter_mm=10.0, gear_positions_mm={"idler": 10.0})
+    case = jio.parse_train(d)
+    writes = []
+    real = _rating_report._write_table
+    monkeypatch.setattr(_rating_report, "_write_table", lambda *a: writes.append(a) or real(*a))
+    monkeypatch.setattr(run_module, "fillet_table", stub_table)
+    args = type("Args", (), {"quiet": True})()
+    summary = run_module.quasi_static_files(case.form, case, str(tmp_path), args, True)
+    res = jg.quasi_static(
+        case.static_train(),
+        case.mesh_modifications(),
+        case.torque,
+        positions_per_pitch=16,
+        periods=2,
+    )
+    m = summary["rating"]["measured"]
+    for k, mesh in enumerate(res.meshes):
+        assert m["K_Hbeta"]["value"][k] == pytest.approx(
+            float(jg.face_load_factor(mesh)), rel=1e-12
+        )
+        assert m["K_Hbeta_rigid_mesh"]["value"][k] == pytest.approx(1.0, abs=1e-12)
+        assert "coupled train: shafts and bearings" in m["K_Hbeta"]["source"][k]
+    assert len(writes) == 1
+    assert "K_Hbeta_rigid_mesh measured" in (tmp_path / "rating.md").read_text(encoding="utf-8")
