@@ -125,7 +125,8 @@ def test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says(tmp_path):
 def test_rigid_scene_reads_the_rigid_mesh_map():
     """A lead crowning of 10 µm on the rigid scene (both bodies rigid: the rigid mesh's model,
     deflection-free): the measured K_Hβ and K_Hα of the scene equal the rigid mesh's to 1e-12,
-    and K_Hβ is well above 1 (the crowning is read)."""
+    and K_Hβ is well above 1 (the crowning is read). A hybrid scene's result goes the same way
+    (``scene_loads``), its source naming the model and the speed."""
     d = rated_accessory_data(8, 16)
     d["modifications"]["crowning"] = {"depth_um": 10.0}
     case = jio.parse_case(d)
@@ -137,6 +138,12 @@ def test_rigid_scene_reads_the_rigid_mesh_map():
     for key in ("K_Hbeta", "K_Halpha"):
         assert m[key]["value"] == pytest.approx(m[f"{key}_rigid_mesh"]["value"], rel=1e-12)
     assert "rigid scene" in m["K_Hbeta"]["source"]
+    # a hybrid scene's result is read the same way, its model and speed named
+    hybrid = _rating_report.scene_loads({"model": "hybrid", "results": {"exact": scene}}, 50.0)
+    assert hybrid.results == tuple(scene.meshes)
+    assert hybrid.model == (
+        "hybrid scene: condensed bodies, shafts and bearings, at 50 rad/s (centrifugal loads)"
+    )
 
 
 def _rated_train(d: dict) -> dict:
