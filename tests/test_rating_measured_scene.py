@@ -216,10 +216,10 @@ def test_flexible_idler_shaft_raises_the_coupled_face_load_factor():
 def test_run_writes_the_scene_factors_and_rating_md_once(tmp_path, monkeypatch, capsys):
     """``jaxgear run`` on the rated accessory pair with its lumped scene (2 slices × 8
     positions; the sweep replaced by a given curve through the rating speed, the FE table by a
-    stub, the at-speed map by a marker; 14 s CPU, slow): ``rating.measured.K_Hbeta`` is the scene's own
-    quasi-static load map's (solved again here, 1e-12), ``K_Hbeta_rigid_mesh`` the rigid mesh's,
-    and ``rating.md`` is written once, at the end, from the final section (the measured K_v of
-    the sweep in it)."""
+    stub, the at-speed map by a marker; 14 s CPU, slow): ``rating.measured.K_Hbeta`` is the
+    scene's own quasi-static load map's (solved again here, 1e-12), ``K_Hbeta_rigid_mesh`` the
+    rigid mesh's, and ``rating.md`` is written once, at the end, from the final section (the
+    measured K_v of the sweep in it)."""
     d = rated_accessory_data(2, 8)
     d["scene"] = tomllib.loads(jio.embedded_case_text("accessory-spur"))["scene"]
     d["scene"]["pinion_shaft"]["gear_position_mm"] = 25.0  # a tilt: K_Hβ off 1

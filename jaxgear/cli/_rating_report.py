@@ -684,8 +684,9 @@ def at_speed_sections(
     case: Case, out_dir: str, section: dict, run, slices: int, table, *, write_table: bool = True
 ) -> dict:
     """Each mesh's root-stress map at speed into the case's ``rating`` ``section`` (returned;
-    ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run ``run`` (one speed,
-    ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps times the plane FE
+    ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run
+    ``run`` (one speed, ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps
+    times the plane FE
     fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
     :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh
     at the same ``slices`` (exact contact, its modifications, its driving gear's torque:
