@@ -31,6 +31,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         clear_outputs as clear_outputs,
     )
     from ._rating_report import (
+        ModelLoads as ModelLoads,
         at_speed_sections as at_speed_sections,
         body_stress_outputs as body_stress_outputs,
         fillet_table as fillet_table,
@@ -39,6 +40,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         root_stress_at_speed as root_stress_at_speed,
         root_stress_outputs as root_stress_outputs,
         train_mesh_results as train_mesh_results,
+        write_rating_table as write_rating_table,
     )
     from ._summary import result_summary as result_summary
     from .run import format_table as format_table, run_case as run_case
@@ -61,6 +63,7 @@ _EXPORTS = {
     "PLANETARY_FILES": "._paths",
     "TRAIN_FILES": "._paths",
     "clear_outputs": "._paths",
+    "ModelLoads": "._rating_report",
     "at_speed_sections": "._rating_report",
     "body_stress_outputs": "._rating_report",
     "measured_dynamic_factor": "._rating_report",
@@ -69,6 +72,7 @@ _EXPORTS = {
     "root_stress_at_speed": "._rating_report",
     "fillet_table": "._rating_report",
     "train_mesh_results": "._rating_report",
+    "write_rating_table": "._rating_report",
     "result_summary": "._summary",
     "format_table": ".run",
     "run_case": ".run",

@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import os
 import warnings
+from typing import NamedTuple
 
 import equinox as eqx
 import numpy as np
@@ -18,16 +19,15 @@ import fem_prep
 
 from .. import (
     GearPair,
-    quasi_static,
     GivenFactors,
     face_load_factor,
+    quasi_static,
     rate,
     root_stress_map,
     tooth_geometry,
     transverse_factor_limits,
     transverse_load_factor,
 )
-from ._plots import savefig
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -41,9 +41,12 @@ from ..io import (
     spec_integrator,
     spec_window,
 )
+from ._plots import savefig
 
 __all__ = [
     "ROOT_STRESS_RADII",
+    "SCENE_MODELS",
+    "ModelLoads",
     "at_speed_sections",
     "body_stress_outputs",
     "fillet_table",
@@ -52,7 +55,10 @@ __all__ = [
     "rating_outputs",
     "root_stress_at_speed",
     "root_stress_outputs",
+    "scene_loads",
+    "train_loads",
     "train_mesh_results",
+    "write_rating_table",
 ]
 
 _RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
@@ -95,6 +101,14 @@ _ROWS = [
 ]
 
 
+def _clause(part: str, key: str, text: str) -> str:
+    """The ISO 6336 column of the table's row of ``section[part][key]``: :data:`_ROWS`' text
+    (the standard's part and the factor's name). The place for an ISO-clause mapping of the
+    rating (clause numbers by summary key, from the rating modules, once they have one): look
+    ``key`` up there and add its clause to ``text``; every row goes through here."""
+    return text
+
+
 @functools.singledispatch
 def _value(v, scale) -> str:
     """A summary value as the table prints it: a number scaled to the table's unit."""
@@ -123,9 +137,11 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         "|---|---|---|---|",
     ]
     for part, key, symbol, scale, unit, clause in _ROWS:
-        out.append(f"| {symbol} | {_value(section[part][key], scale)} | {unit} | {clause} |")
+        value = _value(section[part][key], scale)
+        out.append(f"| {symbol} | {value} | {unit} | {_clause(part, key, clause)} |")
     for key, m in section.get("measured", {}).items():
-        used = section["factors"][key]["source"] == USED
+        factor = section["factors"].get(key)  # K_Hbeta_rigid_mesh: reported only
+        used = factor is not None and factor["source"] == USED
         note = "used above: [rating] use_measured" if used else "not used above"
         out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} ({note}) |")
     rs = section.get("root_stress")
@@ -199,12 +215,69 @@ def _write_table(out_dir: str, lines: list[str]) -> None:
         f.write("\n".join(lines) + "\n")
 
 
-MEASURED = "jaxgear load map (rigid mesh, exact contact, case modifications, mesh-period mean)"
+#: the model of the rigid mesh alone (both bodies rigid, no shafts), as a measured factor's
+#: source names it
+RIGID_MESH = "rigid mesh"
+MEASURED = (
+    "jaxgear load map ({model}, exact contact, case modifications, mesh-period mean): largest "
+    "load per unit face width over its mean"
+)
 USED = "measured (rating.measured, [rating] use_measured; K_Halpha/K_Falpha within ISO's limits)"
 MEASURED_ALPHA = (
-    "jaxgear load map (rigid mesh, exact contact, case modifications): largest mean line load "
+    "jaxgear load map ({model}, exact contact, case modifications): largest mean line load "
     "of one tooth pair over that of all loaded cells, max over a mesh period"
 )
+
+
+class ModelLoads(NamedTuple):
+    """The quasi-static load maps of the model a case runs, when it is more than the rigid mesh
+    (a lumped or hybrid pair scene, a coupled train): what ``jaxgear run`` already solved,
+    handed to :func:`rating_outputs` for the measured K_Hβ and K_Hα.
+
+    Attributes:
+        results: one one-mesh result per mesh of the case, in the case's mesh order, each with
+            ``line_load`` (N/m) and ``cell_mask`` (P, L, N) over whole mesh periods (a pair
+            scene's :class:`jaxgear.QuasiStaticResult`; a train's ``result.meshes[k]``).
+        model: what the model is, as the factors' ``source`` names it (e.g. "lumped scene:
+            shafts and bearings", "hybrid scene: condensed bodies", "coupled train: ...").
+    """
+
+    results: tuple
+    model: str
+
+
+#: what each pair scene model of ``jaxgear run`` is (:func:`jaxgear.cli.scene.scene_model`'s
+#: names), as a measured factor's source names it
+SCENE_MODELS = {
+    "lumped3d": "lumped scene: shafts and bearings",
+    "hybrid": "hybrid scene: condensed bodies, shafts and bearings",
+}
+
+
+def scene_loads(curves: dict | None, speed: float) -> ModelLoads | None:
+    """The :class:`ModelLoads` of a pair's quasi-static scene as ``jaxgear run`` solved it
+    (:func:`jaxgear.cli.scene.scene_outputs`' ``curves``: its ``model`` and its exact-contact
+    result with the case's modifications, at the case's ``speed`` (rad/s; a hybrid scene's
+    centrifugal loads)); None without a scene."""
+    if not curves:
+        return None
+    model = SCENE_MODELS[curves["model"]]
+    if curves["model"] == "hybrid" and speed > 0:
+        model += f", at {speed:.4g} rad/s (centrifugal loads)"
+    return ModelLoads(tuple(curves["results"]["exact"].meshes), model)
+
+
+def train_loads(case: Case, result) -> ModelLoads:
+    """The :class:`ModelLoads` of a train's coupled quasi-static solve ``result`` (every mesh
+    at once on the train's structure, exact contact, the case's modifications:
+    :func:`jaxgear.cli.train.run_train`'s), its model named by the train's scene."""
+    if case.flexible:
+        what = "condensed bodies, shafts and bearings"
+    elif case.lumped:
+        what = "shafts and bearings"
+    else:
+        what = "torsional"
+    return ModelLoads(tuple(result.meshes), f"coupled train: {what}")
 
 
 #: the given factors a measured one stands for (ISO 6336-1 method B: K_Fα = K_Hα; K_Fβ
@@ -250,28 +323,64 @@ def _(form: TrainForm, result) -> list:  # a train's: one per mesh
     return list(result)
 
 
-def _measured(result) -> dict:
+def _factors(result, model: str, suffix: str = "") -> dict:
+    """K_Hβ and K_Hα measured on one mesh's load map ``result`` of ``model`` (a source's name),
+    as ``rating.measured`` entries (keys with ``suffix``)."""
     return {
-        "K_Hbeta": {"value": float(face_load_factor(result)), "source": MEASURED},
-        "K_Halpha": {"value": float(transverse_load_factor(result)), "source": MEASURED_ALPHA},
+        f"K_Hbeta{suffix}": {
+            "value": float(face_load_factor(result)),
+            "source": MEASURED.format(model=model),
+        },
+        f"K_Halpha{suffix}": {
+            "value": float(transverse_load_factor(result)),
+            "source": MEASURED_ALPHA.format(model=model),
+        },
     }
 
 
-def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> dict | None:
+def _measured(rigid, model: ModelLoads | None, k: int) -> dict:
+    """Mesh ``k``'s ``rating.measured`` K_Hβ and K_Hα: of the model the case runs (``model``'s
+    result; without one, the rigid mesh ``rigid`` is that model), and beside them, when the
+    case runs more than the rigid mesh, the rigid mesh's as ``K_Hbeta_rigid_mesh``,
+    ``K_Halpha_rigid_mesh``."""
+    if model is None:
+        return _factors(rigid, RIGID_MESH)
+    return _factors(model.results[k], model.model) | _factors(rigid, RIGID_MESH, "_rigid_mesh")
+
+
+def rating_outputs(
+    case: Case,
+    out_dir: str,
+    result=None,
+    root_stress=None,
+    model: ModelLoads | None = None,
+    *,
+    write_table: bool = True,
+) -> dict | None:
     """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
     the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
     section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
     table per mesh.
 
     Args:
-        result: a pair's quasi-static result, or a train's tuple of one per mesh
-            (:func:`train_mesh_results`), for the sections' ``measured`` factors (K_Hβ:
-            :func:`jaxgear.face_load_factor`, K_Hα: :func:`jaxgear.transverse_load_factor`);
-            reported beside the ISO/given ones, and rated with in their place when ``[rating]
-            use_measured`` names them (the factors' source then "measured").
+        result: a pair's quasi-static result of its rigid mesh, or a train's tuple of one per
+            mesh (each mesh alone: :func:`train_mesh_results`), for the sections' ``measured``
+            factors (K_Hβ: :func:`jaxgear.face_load_factor`, K_Hα:
+            :func:`jaxgear.transverse_load_factor`); reported beside the ISO/given ones, and
+            rated with in their place when ``[rating] use_measured`` names them (the factors'
+            source then "measured").
         root_stress: with ``result``, a table of the FE fillet stress per unit load
             (``table(tooth, radii)``, e.g. :func:`fillet_table`): each mesh's root-stress map
             too (:func:`root_stress_outputs`; a train's plots ``root_stress_map_<mesh>.png``).
+        model: with ``result``, the load maps of the model the case runs when it is more than
+            the rigid mesh (:class:`ModelLoads`: a pair's lumped or hybrid scene, a train's
+            coupled solve), as solved already by the run: the measured ``K_Hbeta`` and
+            ``K_Halpha`` (the ones ``use_measured`` rates with) are then that model's, each
+            source naming it, and the rigid mesh's are kept beside them as
+            ``K_Hbeta_rigid_mesh`` and ``K_Halpha_rigid_mesh``. The root-stress map stays the
+            rigid mesh's.
+        write_table: write ``rating.md`` (``jaxgear run`` writes it once, at the end:
+            :func:`write_rating_table`).
     """
     rcs = ratings_of(case)
     if rcs is None:
@@ -286,7 +395,7 @@ def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> d
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
         section = rating.summary()
         if results is not None:
-            section["measured"] = _measured(results[k])
+            section["measured"] = _measured(results[k], model, k)
             section = _rated(rc, section)
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
@@ -302,28 +411,47 @@ def rating_outputs(case: Case, out_dir: str, result=None, root_stress=None) -> d
                 )
         sections.append(section)
     section, lines = _section_and_table(case.form, case, sections)
-    _write_table(out_dir, lines)
+    if write_table:
+        _write_table(out_dir, lines)
     return section
+
+
+def write_rating_table(case: Case, out_dir: str, section: dict) -> None:
+    """``rating.md`` of the case's final ``rating`` ``section`` (``summary.json``'s: a train's
+    per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
+    every step that adds to the section (the measured K_v, the root stress at speed)."""
+    _, lines = _section_and_table(case.form, case, _mesh_sections(case.form, section))
+    _write_table(out_dir, lines)
 
 
 def train_mesh_results(case: Case) -> tuple | None:
     """Each mesh's quasi-static result on its own rigid mesh (exact contact, its gears'
-    modifications, its driving gear's torque: :meth:`jaxgear.io.Case.mesh_case`), for a case
-    with ``[rating]`` (else None): the load maps a train's measured factors and root-stress
-    maps are read from, as a pair's are from its rigid mesh."""
+    modifications, its driving gear's torque, the case's positions per pitch over one mesh
+    period: :meth:`jaxgear.io.Case.mesh_case`), for a case with ``[rating]`` (else None): the
+    load maps a train's root-stress maps and its ``K_Hbeta_rigid_mesh``,
+    ``K_Halpha_rigid_mesh`` are read from, as a pair's are from its rigid mesh (the measured
+    ``K_Hbeta``, ``K_Halpha`` of ``jaxgear run`` are the coupled train's: :func:`train_loads`)."""
     if ratings_of(case) is None:
         return None
     cases = [case.mesh_case(k) for k in range(len(case.pairs))]
-    return tuple(quasi_static(c.mesh_model(), c.modifications, c.torque) for c in cases)
+    return tuple(
+        quasi_static(
+            c.mesh_model(), c.modifications, c.torque, positions_per_pitch=c.positions_per_pitch
+        )
+        for c in cases
+    )
 
 
-def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: dict) -> None:
+def measured_dynamic_factor(
+    case: Case, out_dir: str, summary: dict, dynamics: dict, *, write_table: bool = True
+) -> None:
     """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing), per
     mesh: the dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
     ``speeds_rad_s``, the pinion's (a train: the input's) speeds, ``dynamic_factor``, a train's
     ``dynamic_factor_mesh`` of each mesh, ``model``, ``slices``) interpolated linearly at the
     rating's input speed, added to each mesh's ``rating.measured`` (the mesh rated again with
-    it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten. A rating
+    it when ``[rating] use_measured`` names ``K_v``) and ``rating.md`` rewritten (unless
+    ``write_table`` is False: ``jaxgear run`` writes it once, at its end). A rating
     speed outside the swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v
     and the sweep's dynamic factor are both the largest dynamic load of the mesh over its
     static one (the sweep's: the mesh force over a mesh period at steady state, of the scene's
@@ -346,7 +474,7 @@ def measured_dynamic_factor(case: Case, out_dir: str, summary: dict, dynamics: d
         value = float(np.interp(speed, speeds, curve))
         sections[k].setdefault("measured", {})["K_v"] = {"value": value, "source": source}
         sections[k] = _rated(rcs[k], sections[k])
-    summary["rating"] = _write_sections(case, out_dir, sections)
+    summary["rating"] = _write_sections(case, out_dir, sections, write_table)
 
 
 def _input_speed(case: Case, rcs) -> float:
@@ -403,11 +531,12 @@ def _(form: TrainForm, section: dict) -> list[dict]:
     return [_pick(rest, k) for k in range(len(names))]
 
 
-def _write_sections(case: Case, out_dir: str, sections: list[dict]) -> dict:
+def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table: bool) -> dict:
     """The case's ``rating`` section of its meshes' ``sections`` (a train's per-mesh lists),
-    ``rating.md`` rewritten with them; returns the section."""
+    ``rating.md`` rewritten with them when ``write_table``; returns the section."""
     section, lines = _section_and_table(case.form, case, sections)
-    _write_table(out_dir, lines)
+    if write_table:
+        _write_table(out_dir, lines)
     return section
 
 
@@ -512,14 +641,22 @@ def _member_maps(pair, result, table) -> list:
 
 
 def root_stress_at_speed(
-    case: Case, out_dir: str, summary: dict, dynamics: dict, table=fillet_table, run=None
+    case: Case,
+    out_dir: str,
+    summary: dict,
+    dynamics: dict,
+    table=fillet_table,
+    run=None,
+    *,
+    write_table: bool = True,
 ) -> None:
     """The root-stress map at speed, for a case with ``[rating]`` and a speed sweep (else
     nothing): the case's dynamic model (the sweep's: ``dynamics["slices"]`` slices, the
     ``[scene]`` settings) run once at the speed of the sweep's largest dynamic factor
     (``dynamics["speed_of_max_rad_s"]``; a train's: of its worst mesh, the input's speed) with
     its cell loads recorded (:func:`jaxgear.dynamics.simulate`, ``Outputs(cell_loads=True)``),
-    then each mesh's map (:func:`at_speed_sections`); rewrites ``rating.md``. ``run``: that run
+    then each mesh's map (:func:`at_speed_sections`); rewrites ``rating.md`` (with
+    ``write_table``, as :func:`measured_dynamic_factor`). ``run``: that run
     when the caller has it already (the sweep's, at that speed, with its cell loads:
     :func:`jaxgear.cli.sweep.sweep_case_run`), else None: simulated here."""
     section = summary.get("rating") or {}
@@ -538,13 +675,18 @@ def root_stress_at_speed(
             outputs=Outputs(cell_loads=True),
             throw=False,
         )
-    summary["rating"] = at_speed_sections(case, out_dir, section, run, slices, table)
+    summary["rating"] = at_speed_sections(
+        case, out_dir, section, run, slices, table, write_table=write_table
+    )
 
 
-def at_speed_sections(case: Case, out_dir: str, section: dict, run, slices: int, table) -> dict:
+def at_speed_sections(
+    case: Case, out_dir: str, section: dict, run, slices: int, table, *, write_table: bool = True
+) -> dict:
     """Each mesh's root-stress map at speed into the case's ``rating`` ``section`` (returned;
-    ``rating.md`` rewritten): mesh k's cell loads of the dynamic run ``run`` (one speed,
-    ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps times the plane FE
+    ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run
+    ``run`` (one speed, ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps
+    times the plane FE
     fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
     :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh
     at the same ``slices`` (exact contact, its modifications, its driving gear's torque:
@@ -576,7 +718,7 @@ def at_speed_sections(case: Case, out_dir: str, section: dict, run, slices: int,
             "sweep's speed of the largest dynamic factor × the plane FE fillet stress per unit "
             "load; static: the rigid mesh's quasi-static map at the same slices",
         }
-    return _write_sections(case, out_dir, sections)
+    return _write_sections(case, out_dir, sections, write_table)
 
 
 #: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them

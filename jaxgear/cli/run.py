@@ -43,8 +43,10 @@ from ._rating_report import (
     measured_dynamic_factor,
     root_stress_at_speed,
     rating_outputs,
-    root_stress_outputs,
+    scene_loads,
+    train_loads,
     train_mesh_results,
+    write_rating_table,
 )
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .planetary_sweep import planetary_run_files, planetary_run_lines
@@ -91,7 +93,10 @@ def run_case(
     over the second: the quasi-static scene is periodic in the mesh period): their TE and mesh
     stiffness are added to the CSV files (``te_<model>_<contact>_modified[_at_rest]_m``,
     ``mesh_stiffness_<model>_...``) and drawn beside the rigid mesh's, each labelled with its
-    model. Every other file is the rigid mesh's (both bodies rigid), and says so.
+    model. Every other file is the rigid mesh's (both bodies rigid), and says so, but for a
+    ``[rating]``'s measured K_Hβ and K_Hα, read on the scene's load map (the rigid mesh's
+    beside them). ``rating.md`` is written here when ``complete`` (else by the step that
+    completes the run: :func:`jaxgear.cli.write_rating_table`).
 
     Returns:
         The summary dict (also in ``summary.json``).
@@ -261,10 +266,18 @@ def run_case(
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
         summary["deviations"] = deviation_outputs(case, mesh, os.path.join(out_dir, "deviations"))
     steps.close()
-    # [rating]: ISO 6336 load capacity, rating.md; K_Hβ measured on the rigid mesh's load map
-    rating = rating_outputs(case, out_dir, result=res["modified", "exact"])
+    # [rating]: ISO 6336 load capacity; K_Hβ, K_Hα measured on the load map of the model the
+    # case runs (its scene's, solved already, beside the rigid mesh's); the FE root stress;
+    # rating.md written by the step that completes the run
+    rating = rating_outputs(
+        case,
+        out_dir,
+        result=res["modified", "exact"],
+        root_stress=fillet_table,
+        model=scene_loads(scene, case.speed),
+        write_table=complete,
+    )
     if rating is not None:
-        root_stress_outputs(case, out_dir, res["modified", "exact"], rating)  # FE root stress
         summary["rating"] = rating
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
@@ -400,9 +413,10 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     if sweep:  # the case has a dynamic scene: add its dynamic factor curve
         dynamics, worst_run = _sweep_section(case, out, args.quiet)
         summary["dynamics"] = dynamics
-        measured_dynamic_factor(case, out, summary, dynamics)  # K_v measured, beside ISO's
+        # K_v measured, beside ISO's
+        measured_dynamic_factor(case, out, summary, dynamics, write_table=False)
         # the root-stress map at speed, from the sweep's run at that speed (not run again)
-        root_stress_at_speed(case, out, summary, dynamics, run=worst_run)
+        root_stress_at_speed(case, out, summary, dynamics, run=worst_run, write_table=False)
         write_json(summary_path, summary)
     if case.optimise is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
@@ -420,6 +434,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         }
         write_json(summary_path, summary)
     if not last:
+        if summary.get("rating") is not None:  # rating.md once, of the final section
+            write_rating_table(case, out, summary["rating"])
         summary["complete"] = True
         write_json(summary_path, summary)
     print("\n".join(run_lines(case.form, case, summary)))
@@ -460,6 +476,8 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
     if scene_section is not None:
         summary["quasi_static_scene"] = scene_section
         summary["complete"] = bool(complete)
+        if complete and summary.get("rating") is not None:  # the run ends here
+            write_rating_table(case, out, summary["rating"])
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 
@@ -468,8 +486,18 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
 def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     """A train's: every mesh at once on the train's structure (:func:`run_train`); with
     ``[rating]`` every mesh rated (``rating.md``, ``summary.json``'s ``rating``)."""
-    summary = run_train(case, out, show_progress=not args.quiet, complete=complete)
-    rating = rating_outputs(case, out, train_mesh_results(case), root_stress=fillet_table)
+    coupled = {}
+    summary = run_train(
+        case, out, show_progress=not args.quiet, complete=complete, results=coupled
+    )
+    rating = rating_outputs(  # measured K_Hβ, K_Hα: the coupled solve's, each mesh alone beside
+        case,
+        out,
+        train_mesh_results(case),
+        root_stress=fillet_table,
+        model=train_loads(case, coupled["exact"]),
+        write_table=complete,
+    )
     if rating is not None:
         summary["rating"] = rating
         write_json(os.path.join(out, "summary.json"), summary)

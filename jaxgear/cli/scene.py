@@ -149,7 +149,8 @@ def scene_outputs(
     maps and VTU files).
 
     ``curves``: a dict to fill with the scene's results, for ``te.csv``, ``mesh_stiffness.csv``
-    and their plots beside the rigid mesh's: ``model`` ("lumped3d" or "hybrid") and
+    and their plots beside the rigid mesh's, and for the rating's measured K_Hβ and K_Hα
+    (:func:`jaxgear.cli._rating_report.scene_loads`): ``model`` ("lumped3d" or "hybrid") and
     ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
     is not 0).
     """

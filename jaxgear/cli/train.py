@@ -21,7 +21,12 @@ __all__ = ["format_train_table", "run_train"]
 
 
 def run_train(
-    case: TrainCase, out_dir: str, *, show_progress: bool = True, complete: bool = True
+    case: TrainCase,
+    out_dir: str,
+    *,
+    show_progress: bool = True,
+    complete: bool = True,
+    results: dict | None = None,
 ) -> dict:
     """The quasi-static analysis of a train case, written to ``out_dir``.
 
@@ -39,6 +44,10 @@ def run_train(
     ``pressure_map_<driving>-<driven>.png`` per mesh and ``phasing.png``
     (layout and mesh phasing); with flexible gears ``body_<gear>.vtu`` per body, deformed at the
     position of the largest line load (``body_vtu`` in the summary).
+
+    ``results``: a dict to fill with the coupled quasi-static results of the case's
+    modifications (``"exact"``, ``"smooth"``: :class:`~jaxgear.QuasiStaticResult`, every mesh),
+    for the rating's measured factors (:func:`jaxgear.cli.rating_outputs`' ``model``).
 
     Returns:
         The summary dict (also in ``summary.json``).
@@ -65,6 +74,8 @@ def run_train(
                 periods=2 if span == 1 else span,
             )
             steps.update()
+    if results is not None:
+        results.update({m: res["modified", m] for m in ("exact", "smooth")})
     n_meshes = len(case.pairs)
     names = [case.mesh_name(k) for k in range(n_meshes)]
     pressure = {  # each mesh's Hertzian contact pressure
