@@ -178,7 +178,14 @@ def test_rating_outputs_write_the_table_and_the_summary_section(tmp_path):
     assert section["pitting"]["S_H"] == pytest.approx([1.02853, 1.08696], rel=5e-3)
     table = (tmp_path / "rating.md").read_text(encoding="utf-8")
     assert "| K_Hβ | 1.1600 (given) |" in table
-    assert "| S_F |" in table and "ISO 6336-3, safety factor for bending" in table
+    # each row names where the edition defines the factor (2019: the part; 2006's part 3: the
+    # clause its table of contents numbers, BS ISO 6336-3:2006 5.1 for S_F)
+    assert "| S_F |" in table and "| ISO 6336-3:2019, safety factor for bending |" in table
+    assert "| ISO 6336-1:2019, dynamic factor (method B) |" in table
+    cli.rating_outputs(jio.parse_case(_case(**{"rating/edition": 2006})), str(tmp_path))
+    old = (tmp_path / "rating.md").read_text(encoding="utf-8")
+    assert "| ISO 6336-3:2006 5.1, safety factor for bending |" in old
+    assert "| ISO 6336-3:2006 6.2, tooth form factor (method B) |" in old
     no_rating = _case()
     del no_rating["rating"], no_rating["operating"]["speed_rpm"]
     for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):

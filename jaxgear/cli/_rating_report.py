@@ -21,6 +21,7 @@ from .. import (
     GearPair,
     GivenFactors,
     face_load_factor,
+    factor_clause,
     quasi_static,
     rate,
     root_stress_map,
@@ -101,12 +102,11 @@ _ROWS = [
 ]
 
 
-def _clause(part: str, key: str, text: str) -> str:
-    """The ISO 6336 column of the table's row of ``section[part][key]``: :data:`_ROWS`' text
-    (the standard's part and the factor's name). The place for an ISO-clause mapping of the
-    rating (clause numbers by summary key, from the rating modules, once they have one): look
-    ``key`` up there and add its clause to ``text``; every row goes through here."""
-    return text
+def _clause(key: str, text: str, method: str) -> str:
+    """The ISO 6336 column of the table's row of summary key ``key``: where the rating's edition
+    ``method`` defines it (:func:`jaxgear.factor_clause`: part, edition and, where checked, the
+    clause) and :data:`_ROWS`' name of the factor."""
+    return f"{factor_clause(key, method)}, {text.split(', ', 1)[1]}"
 
 
 @functools.singledispatch
@@ -138,7 +138,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
     ]
     for part, key, symbol, scale, unit, clause in _ROWS:
         value = _value(section[part][key], scale)
-        out.append(f"| {symbol} | {value} | {unit} | {_clause(part, key, clause)} |")
+        out.append(f"| {symbol} | {value} | {unit} | {_clause(key, clause, section['method'])} |")
     for key, m in section.get("measured", {}).items():
         factor = section["factors"].get(key)  # K_Hbeta_rigid_mesh: reported only
         used = factor is not None and factor["source"] == USED
