@@ -66,6 +66,7 @@ SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3
 RECORDED = {
     ("run", "pair-relative"): "run-pair-relative",
     ("sweep", "pair-relative"): "sweep-pair-relative",
+    ("run", "train-torsional"): "run-train-torsional",  # its sweep: sweep-train-torsional's path
 }
 
 

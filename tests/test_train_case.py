@@ -10,7 +10,9 @@ circle), read against the engagement jumps of the quasi-static stiffness curves.
 
 from __future__ import annotations
 
+import contextlib
 import copy
+import io
 import json
 import math
 import pathlib
@@ -329,22 +331,42 @@ def test_train_case_refusals_are_one_line_in_file_units():
         _refused(change, message)
 
 
-def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys):
-    """``jaxgear run`` on a small train case file (2 slices, 8 positions per period, a short
-    sweep): summary.json holds a ``meshes`` entry per mesh with the pair keys of
-    ``quasi_static``, te.csv a column per mesh, a load map per mesh and the phasing figure; the
-    sweep has a dynamic factor per mesh whose worst is the scene's."""
+@pytest.fixture(scope="module")
+def branch_run(tmp_path_factory):
+    """``jaxgear run`` on the idler train whose input also drives an accessory (at 180°, loaded
+    with −30 N·m), small settings (2 slices, 48 positions per pitch, a short sweep): the case's
+    data, the output folder and what the run printed. One run read by the two tests below (each
+    asserts other outputs of it)."""
     data = _train_data()
     data["mesh"].update(slices=2, positions_per_pitch=PPP)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
-    text = case_toml(data)
-    path = tmp_path / "idler.toml"
-    path.write_text(text, "utf-8")
-    out = tmp_path / "out"
-    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
+    data["gears"].append(acc)
+    data["meshes"].append({"driving": "input", "driven": "accessory", "angle_deg": 180.0})
+    data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -30.0}]
+    folder = tmp_path_factory.mktemp("branch")
+    path = folder / "branch.toml"
+    path.write_text(case_toml(data), "utf-8")
+    out = folder / "out"
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        code = main(["run", str(path), "--out", str(out), "--quiet"])
+    assert code == 0
+    return data, out, printed.getvalue()
+
+
+def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(branch_run):
+    """``jaxgear run`` on a small train case file (the branching train of :func:`branch_run`):
+    summary.json holds a ``meshes`` entry per mesh with the pair keys of ``quasi_static``, te.csv
+    a column per mesh, a load map per mesh and the phasing figure; the sweep has a dynamic
+    factor per mesh whose worst is the scene's. (The balancing output torque without loads,
+    T z_out / z_in, is the power balance of test_jaxgear_run_on_an_input_driving_two_meshes
+    with no accessory load: one formula, asserted there.)"""
+    _, out, printed = branch_run
     summary = json.loads((out / "summary.json").read_text())
     assert summary["complete"] is True
-    assert [m["name"] for m in summary["meshes"]] == ["input-idler", "idler-output"]
+    names = ["input-idler", "idler-output", "input-accessory"]
+    assert [m["name"] for m in summary["meshes"]] == names
     for m in summary["meshes"]:
         assert set(m["quasi_static"]["exact"]) >= {
             "te_mean_m",
@@ -353,20 +375,19 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(tmp_path, capsys
             "max_line_load_N_per_m",
         }
         assert (out / f"load_map_{m['name']}.png").stat().st_size > 0
-    # the idler passes the normal force on: equal normal loads
+    # the idler passes the normal force on: equal normal loads in its two meshes
     loads = [m["normal_load_N"] for m in summary["meshes"]]
     assert loads[1] == pytest.approx(loads[0], rel=1e-12)
-    z = [g["teeth"] for g in summary["gears"]]
-    assert summary["operating"]["output_torque_Nm"] == pytest.approx(80.0 * z[2] / z[0])
     header = (out / "te.csv").read_text().splitlines()[0].split(",")
-    assert "transmission_error_exact_modified_idler-output_m" in header
+    for name in names:
+        assert f"transmission_error_exact_modified_{name}_m" in header
     assert (out / "phasing.png").stat().st_size > 0
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     per = np.asarray(sweep["dynamic_factor_mesh"])
-    assert per.shape == (30, 2)  # a train's default sweep: 30 speeds
+    assert per.shape == (30, 3)  # a train's default sweep: 30 speeds
     np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
-    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 2
-    assert "input-idler" in capsys.readouterr().out
+    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 3
+    assert "input-idler" in printed
 
 
 def test_an_implausible_train_warns_per_mesh():
@@ -451,21 +472,11 @@ def test_loads_are_refused_in_one_line():
     )
 
 
-def test_jaxgear_run_on_an_input_driving_two_meshes(tmp_path):
+def test_jaxgear_run_on_an_input_driving_two_meshes(branch_run):
     """The input drives the idler and an accessory (at 180°, loaded with −30 N·m): ``jaxgear
     run`` with its sweep completes, and the balancing output's torque is what the power balance
     written here leaves, T_out = −(T ω_0 + T_acc ω_acc)/ω_out."""
-    data = _train_data()
-    data["mesh"].update(slices=2, positions_per_pitch=PPP)
-    data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
-    acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
-    data["gears"].append(acc)
-    data["meshes"].append({"driving": "input", "driven": "accessory", "angle_deg": 180.0})
-    data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -30.0}]
-    path = tmp_path / "branch.toml"
-    path.write_text(case_toml(data), "utf-8")
-    out = tmp_path / "out"
-    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    data, out, _ = branch_run
     summary = json.loads((out / "summary.json").read_text())
     z = {g["name"]: g["teeth"] for g in data["gears"]}
     w_acc, w_out = z["input"] / z["accessory"], z["input"] / z["output"]  # per unit ω_0
