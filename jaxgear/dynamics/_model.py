@@ -451,7 +451,21 @@ def _static_rows(
     steps = jnp.arange(table.span)
     if table.span <= STATIC_BATCH:
         return jax.vmap(solve)(steps)
-    return jax.lax.map(solve, steps, batch_size=STATIC_BATCH)
+    if table.steps is None:
+        return jax.lax.map(solve, steps, batch_size=STATIC_BATCH)
+    # a traced N_s (MeshTable.steps): the batches that hold its span only (a traced count),
+    # the rows past it repeating the span's (the same solutions: the same cells)
+    n_batches = -(-table.span // STATIC_BATCH)
+    first = jax.eval_shape(jax.vmap(solve), steps[:STATIC_BATCH])
+    out = jax.tree.map(lambda s: jnp.zeros((n_batches,) + s.shape, s.dtype), first)
+
+    def batch(b, out):
+        sol = jax.vmap(solve)(b * STATIC_BATCH + jnp.arange(STATIC_BATCH))
+        return jax.tree.map(lambda o, x: o.at[b].set(x), out, sol)
+
+    out = jax.lax.fori_loop(0, -(-table.span_steps // STATIC_BATCH), batch, out)
+    rows = steps % table.span_steps
+    return jax.tree.map(lambda o: o.reshape((-1,) + o.shape[2:])[rows], out)
 
 
 def _k_ref(table: MeshTable):

@@ -309,7 +309,9 @@ def speed_sweep(
             the model kind's default, :func:`resolve_settings`). With automatic steps
             (``steps_per_period=None``) each speed gets its own N_s
             (:func:`auto_steps_per_period`, a power of two); speeds sharing an N_s are run
-            together (one compilation per distinct N_s); the kept histories of a sweep with
+            together (a lumped model with Newmark: one compiled program for every N_s,
+            :meth:`~jaxgear.dynamics.AbstractDynamicModel.prepare_steps`; else one compilation
+            per distinct N_s); the kept histories of a sweep with
             several N_s are subsampled to the smallest one (every speed's scalar outputs use its
             own full resolution); continuation carries the state across them.
         direction: how the speeds are passed (:class:`AbstractDirection`):
