@@ -11,12 +11,15 @@ programs are counted with JAX's monitoring events (one trace per compiled functi
 """
 
 import contextlib
+import pathlib
+import sys
 
 import jax
 import jax.monitoring
 import numpy as np
 import pytest
 
+import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.dynamics import (
     Batching,
@@ -27,10 +30,10 @@ from jaxgear.dynamics import (
     simulate,
     speed_sweep,
 )
-from jaxgear.scenes import TorsionalDynamics, disc_inertia
+from jaxgear.scenes import TorsionalDynamics, disc_inertia, torsional_train
 
 _TRACE_EVENT = "/jax/core/compile/jaxpr_trace_duration"
-RATIOS = (0.12, 0.3, 0.6, 1.0, 1.3)  # of the first critical speed: N_s 512, 256, 128, 64, 64
+RATIOS = (0.3, 0.6, 1.0, 1.3)  # of the first critical speed: N_s 256, 128, 64, 64
 WINDOW = SteadyState(4, 2)
 SCALARS = ("dynamic_factor", "dynamic_factor_tooth", "te_rms", "te_mean", "contact_loss")
 HISTORIES = ("mesh_force", "transmission_error", "time", "theta", "static_te")
@@ -66,12 +69,12 @@ def _speeds(model):
     return np.array(RATIOS) * float(model.critical_speeds(1)[0])
 
 
-def _same_as_alone(r, model, speeds, n_min):
-    """Each speed of the sweep ``r`` (histories at ``n_min`` steps per period) against the
-    speed run alone (``simulate``)."""
+def _same_as_alone(r, model, speeds, which, n_min):
+    """The speeds ``which`` (indices) of the sweep ``r`` (histories at ``n_min`` steps per
+    period) against each speed run alone (``simulate``: its own N_s's program)."""
     ns = np.asarray(r.steps_per_period)
-    for i, s in enumerate(speeds):
-        one = simulate(model, float(s), window=WINDOW)
+    for i in which:
+        one = simulate(model, float(speeds[i]), window=WINDOW)
         assert int(one.steps_per_period) == ns[i]
         for f in SCALARS:
             np.testing.assert_allclose(float(getattr(r, f)[i]), float(getattr(one, f)), rtol=1e-12)
@@ -86,18 +89,33 @@ def _same_as_alone(r, model, speeds, n_min):
         assert int(r.result[i]) == int(one.result) == 0
 
 
-def test_one_program_for_every_step_count(model):
+@pytest.fixture(scope="module")
+def sweep(model):
+    """The sweep of :data:`RATIOS` from fresh in-memory caches, with the names JAX traced."""
     speeds = _speeds(model)
-    ns = auto_steps_per_period(model, speeds)
-    assert len(set(ns.tolist())) >= 3, ns  # the sweep needs several programs without it
     jax.clear_caches()
     with traced() as names:
         r = speed_sweep(model, speeds, window=WINDOW).results
-    # one Newmark program (vmapped over the speeds of each N_s) and one table program
+    return speeds, r, names
+
+
+def test_one_program_for_every_step_count(model, sweep):
+    """Three N_s, one Newmark program (vmapped over each N_s's speeds) and one table program;
+    the speeds of N_s 128 (records thinned by 2) and 64 (the most padding) as run alone (the
+    256 one with the slow tier: one more pair of programs)."""
+    speeds, r, names = sweep
+    ns = auto_steps_per_period(model, speeds)
+    assert list(ns) == [256, 128, 64, 64]  # without it: three Newmark programs
     assert names.count("_vmapped") == 1, names
     assert names.count("_prepare") == 1, names
     assert list(np.asarray(r.steps_per_period)) == list(ns)
-    _same_as_alone(r, model, speeds, int(ns.min()))
+    _same_as_alone(r, model, speeds, [1, 2], 64)
+
+
+@pytest.mark.slow
+def test_largest_step_count_same_as_alone(model, sweep):
+    speeds, r, _ = sweep
+    _same_as_alone(r, model, speeds, [0, 3], 64)
 
 
 def test_chunked_sweep_same_as_whole(model):
@@ -117,11 +135,51 @@ def test_chunked_sweep_same_as_whole(model):
 
 @pytest.mark.slow
 def test_continuation_one_program_same_as_alone(model):
-    """Continuation up over runs of equal N_s: one scan program; the first speed from the
-    static equilibrium is the speed run alone."""
+    """Continuation up over runs of equal N_s: one scan program; the first speed, from the
+    static equilibrium, as run alone."""
     speeds = _speeds(model)
     jax.clear_caches()
     with traced() as names:
         r = speed_sweep(model, speeds, window=WINDOW, direction=Up()).results
     assert names.count("_scans") == 1, names
-    _same_as_alone(jax.tree.map(lambda a: a[:1], r), model, speeds[:1], 64)
+    assert list(np.asarray(r.steps_per_period)) == [256, 128, 64, 64]
+    assert np.all(np.asarray(r.result) == 0)
+    _same_as_alone(jax.tree.map(lambda a: a[:1], r), model, speeds[:1], [0], 64)
+
+
+@pytest.mark.slow
+def test_two_stage_train_traced_span(tmp_path):
+    """A two-stage train (20 → 40, then 30 → 45: mesh periods 3 : 4, D = 3, a span of 4 N_s
+    steps): N_s 768, 384, 192, static rows over spans of 3072, 1536 and 768 steps (batches of a
+    traced count past 1024), one program; every speed and mesh as run alone."""
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+    from test_train import FACE, TORQUE, _mesh, _pair
+
+    planes = (_mesh(20, 40), _mesh(30, 45))
+    pairs = (_pair(20, 40), _pair(30, 45))
+    disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731
+    inertias = [
+        disc(pairs[0].tip_radii[0]),
+        disc(pairs[0].tip_radii[1]) + disc(pairs[1].tip_radii[0]),
+        disc(pairs[1].tip_radii[1]),
+    ]
+    clock = (0.0, 0.3 * float(planes[1].mesh_period_angle))
+    train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), inertias, clock)
+    model = dynamic_model(train, jg.Modifications(), TORQUE)
+    speeds = np.array([0.1, 0.25, 0.6]) * float(model.modes.omega[1]) / 20
+    window = SteadyState(8, 4)
+    jax.clear_caches()
+    with traced() as names:
+        r = speed_sweep(model, speeds, window=window).results
+    ns = np.asarray(r.steps_per_period)
+    assert list(ns) == [768, 384, 192]
+    assert names.count("_vmapped") == 1 and names.count("_prepare") == 1, names
+    for i, s in enumerate(speeds):
+        one = simulate(model, float(s), window=window)
+        m = int(ns[i]) // 192
+        for a, b in zip(r.meshes, one.meshes, strict=True):
+            for f in SCALARS + ("static_force",):
+                np.testing.assert_allclose(float(getattr(a, f)[i]), float(getattr(b, f)), rtol=1e-12)
+            for f in ("mesh_force", "transmission_error", "static_te"):
+                x, y = np.asarray(getattr(a, f)[i]), np.asarray(getattr(b, f))[m - 1 :: m]
+                np.testing.assert_allclose(x, y, rtol=0, atol=1e-12 * np.max(np.abs(y)))
