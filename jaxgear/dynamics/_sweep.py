@@ -16,7 +16,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
-from .._util import check_integer, check_real
+from .._util import check_real
 from ._modal import ModalAnalysis, excited_omega, steps_for_mode
 from ._model import AbstractDynamicModel
 from ._result import SweepResult, checked, thinned
