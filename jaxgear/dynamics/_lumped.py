@@ -8,6 +8,7 @@ it through :meth:`DynamicModel.prepare`, :meth:`DynamicModel.independent` and
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import ClassVar
 
@@ -30,13 +31,14 @@ from ._model import (
     cell_geometry,
     deviation_periods,
     mesh_max,
+    mesh_rows,
     mesh_te,
     pressure_factors,
     split_cells,
     static_mesh_forces,
 )
-from ._newmark import LinearSystem, StepCells, newmark
-from ._result import Records, steady_state
+from ._newmark import LinearSystem, StepCells, newmark, newmark_counted
+from ._result import Records, steady_state, thinned
 from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
 
 __all__ = ["DynamicModel", "static_start"]
@@ -120,6 +122,35 @@ class DynamicModel(AbstractDynamicModel):
         cells = sum(p.n_lines * p.n_slices for p in self.scene.base_planes)
         cfg = _config(integrator, window, int(steps_per_period), outputs, cells=cells)
         return LumpedRun(_prep(self, law, cfg.steps_per_period), law, cfg)
+
+    def prepare_steps(self, integrator, law, window, steps, outputs, modes=None):
+        """Newmark: the table and static rows of each N_s of ``steps`` from one compiled
+        program (:attr:`MeshTable.steps`, the table of the largest N_s's size, its static rows
+        over the largest span), their runs from one program (the records of the largest N_s,
+        the histories at the smallest); None with a diffrax solver, or where a mesh's rows are
+        not in the same ratio to N_s at every N_s (:func:`mesh_rows`)."""
+        if not isinstance(integrator, Newmark):
+            return None
+        steps = sorted(int(n) for n in steps)
+        n_min, n_max = steps[0], steps[-1]
+        periods = self.span_periods()
+        top = mesh_rows(self.scene, self.mods, n_max, periods)
+        for n in steps:
+            if n_max % n or mesh_rows(self.scene, self.mods, n, periods) != tuple(
+                r * n // n_max for r in top
+            ):
+                return None
+        cells = sum(p.n_lines * p.n_slices for p in self.scene.base_planes)
+        cfg = _config(integrator, window, n_max, outputs, cells=cells)
+        cfg = dataclasses.replace(cfg, history_steps=n_min)
+
+        def at(n):
+            if int(n) not in steps:
+                raise ValueError(f"steps_per_period = {n}: allowed one of {steps}")
+            prep = _prep(self, law, n_max, steps=jnp.asarray(int(n)))
+            return LumpedRun(prep, law, cfg)
+
+        return at
 
     def independent(self, prepared, speeds, *, start=None, shard=False):
         prep, law, cfg = prepared.prep, prepared.law, prepared.cfg
@@ -216,9 +247,23 @@ def _newmark(
             out["p2"] = mesh_max(w * table.take(factors, j), table.sizes)
         return out
 
+    system = LinearSystem(Ks, M, model.damping, F, dofs=run.prep.dofs)
+    if table.steps is not None:  # a traced N_s: a traced step count, records in a buffer
+        size = cfg.keep_periods * cfg.steps_per_period
+        return newmark_counted(
+            system,
+            dt,
+            state,
+            start,
+            n_steps,
+            StepCells(table.at, run.law),
+            kept if record else None,
+            size,
+            checks=(check, None),
+        )
     rows = (jnp.arange(n_steps) + 1 + start)[None, :]
     return newmark(
-        LinearSystem(Ks, M, model.damping, F, dofs=run.prep.dofs),
+        system,
         dt,
         state,
         rows,
@@ -230,7 +275,9 @@ def _newmark(
 
 def _static_forces(model: DynamicModel, table: MeshTable, static):
     """Each mesh's static force F_s (N), (m,) (:func:`static_mesh_forces`), and its largest
-    quasi-static force on one contact line (N), (m,), over the span's steps."""
+    quasi-static force on one contact line (N), (m,), over the span's steps (a table of a
+    traced N_s: over the largest span, whose rows repeat the span of its N_s: the same means
+    and maxima)."""
     length = table.take(table.length, jnp.arange(table.span))  # (S, c)
     fm, lines = table.mesh_forces(static.static_force_density * length)  # (S, m), (S, L_k)
     max_lines = jnp.stack([jnp.max(f) for f in lines])
@@ -238,12 +285,16 @@ def _static_forces(model: DynamicModel, table: MeshTable, static):
 
 
 def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
-    P = cfg.steps_per_period
+    # a table of a traced N_s (MeshTable.steps, Newmark only): the step counts are traced, the
+    # K records of a buffer of the largest N_s's size hold the first n_keep, the statistics are
+    # masked to them and the histories thinned to cfg.history_steps
+    P = table.step_count
     period_angle = model.scene.base_planes[0].mesh_period_angle
     period = period_angle / speed
     dt = period / P
     n_keep = cfg.keep_periods * P
     n_trans = (cfg.periods - cfg.keep_periods) * P
+    K = cfg.keep_periods * cfg.steps_per_period  # the records (static)
     fs, static_lines = _static_forces(model, table, static)
     # the cells' base-plane coordinates at the table's rows (the same cells as the table's)
     track = cfg.cell_loads or cfg.pressure is not None
@@ -276,7 +327,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final, (fm, te, lines, reac, forces), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
-    j = jnp.arange(n_keep) + 1 + n_trans  # the kept steps
+    j = jnp.arange(K) + 1 + n_trans  # the kept steps
     mask = table.take(table.mask, j)  # (K, c)
     line_load = None
     if forces is not None:  # the line loads of the kept steps (N/m), (K, c)
@@ -292,8 +343,9 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         s, z = (table.take(g, j) for g in geometry[:2])
         cells = split_cells(line_load, s, z, mask, table.sizes)
     static_te = jax.vmap(mesh_te(model.scene, table.e_max[0]))(static.static_x)  # (S, m)
-    none = jnp.zeros((n_keep, 0), fm.dtype)
-    return steady_state(
+    none = jnp.zeros((K, 0), fm.dtype)
+    traced = table.steps is not None
+    response = steady_state(
         Records(
             speed=speed,
             time_step=dt,
@@ -306,7 +358,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
             transmission_error=te,
             line_force=lines,
             static_line_force=static_lines,
-            static_te=static_te[j % table.span],
+            static_te=static_te[j % table.span_steps],
             bearing_force=reac,
             bearing_force_static=static.static_x @ model.scene.reaction_matrix().T,
             omega_excited=excited_omega(model.modes),
@@ -315,12 +367,22 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
             code=code,
             rim=(none, none),
             states=states,
-            scene_steps=table.span,
+            scene_steps=table.span_steps,
             pressure=pressure,
             cells=cells,
             coast_force=coast if cfg.newmark else None,
+            kept=n_keep if traced else None,
         )
     )
+    if not traced:
+        return response
+    # the histories at N_s = cfg.history_steps: every m-th record, ending on each period's last
+    h = cfg.keep_periods * cfg.history_steps
+
+    def take(a, m):
+        return a[(jnp.arange(h) + 1) * m - 1]
+
+    return thinned(response, P // cfg.history_steps, take)
 
 
 def _prep(
@@ -329,10 +391,13 @@ def _prep(
     steps_per_period: int,
     own_periods: bool = True,
     condensed: bool = True,
+    steps=None,
 ) -> _Prepared:
     """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
     tabulated over its own period (``own_periods=False``: over the span, the long table), the
-    static rows solved on the condensed structure (``condensed=False``: on every coordinate)."""
+    static rows solved on the condensed structure (``condensed=False``: on every coordinate);
+    ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
+    the largest: :attr:`MeshTable.steps`)."""
     periods = model.span_periods()
     return _prepare(
         model.scene,
@@ -343,6 +408,7 @@ def _prep(
         periods,
         own_periods,
         condensed,
+        steps,
     )
 
 

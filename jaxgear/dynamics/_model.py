@@ -101,6 +101,13 @@ class MeshTable(eqx.Module):
         rows: static, the rows each mesh uses (its period in steps), a tuple of m ints.
         steps_per_period: static N_s.
         flank: +1 drive, −1 coast cells (:attr:`jaxgear.Cells.flank`), shape (R, c).
+        steps: None, or a table of a traced step count (one compiled program for every N_s of
+            a sweep, docs/dynamics.md "Time step and accuracy"): its N_s (int, <=
+            :attr:`steps_per_period`, which then holds the largest N_s the table is sized for;
+            every N_s of the sweep a power-of-two fraction of it). The table holds the rows of
+            N_s = ``steps`` first (mesh k uses its first ``rows[k]`` × steps /
+            steps_per_period), the rows after them unused; :meth:`cell_rows`,
+            :meth:`angle` and :attr:`span_steps` read it.
     """
 
     theta: Float[Array, " R"]
@@ -115,18 +122,35 @@ class MeshTable(eqx.Module):
     rows: tuple = eqx.field(static=True, default=())
     steps_per_period: int = eqx.field(static=True, default=0)
     flank: Float[Array, "R c"] | None = None
+    steps: Int[Array, ""] | None = None
 
     @property
     def span(self) -> int:
-        """Steps after which every mesh repeats together: lcm of :attr:`rows` (static)."""
+        """Steps after which every mesh repeats together: lcm of :attr:`rows` (static; with a
+        traced :attr:`steps`, the span of the largest N_s, :attr:`steps_per_period`)."""
         return math.lcm(*self.rows)
+
+    def _scaled(self, n):
+        """``n`` steps of N_s = :attr:`steps_per_period` at the table's N_s (:attr:`steps`)."""
+        return n if self.steps is None else n * self.steps // self.steps_per_period
+
+    @property
+    def span_steps(self):
+        """:attr:`span` at the table's N_s: static, or traced with a traced :attr:`steps`."""
+        return self._scaled(self.span)
+
+    @property
+    def step_count(self):
+        """The table's N_s: :attr:`steps_per_period`, or the traced :attr:`steps`."""
+        return self.steps_per_period if self.steps is None else self.steps
 
     def cell_rows(self, steps) -> Int[Array, "... c"]:
         """The table row each cell takes at the steps ``steps`` (int, shape (...)), (..., c):
         step mod the rows of its mesh."""
         steps = jnp.asarray(steps)
         per_cell = np.repeat(np.asarray(self.rows), [L * N for L, N in self.sizes])
-        return steps[..., None] % jnp.asarray(per_cell).reshape((1,) * steps.ndim + (-1,))
+        per_cell = self._scaled(jnp.asarray(per_cell))
+        return steps[..., None] % per_cell.reshape((1,) * steps.ndim + (-1,))
 
     def take(self, field, steps):
         """A per-cell field of the table (R, c, ...) at the steps ``steps`` (shape (...)):
@@ -146,8 +170,8 @@ class MeshTable(eqx.Module):
     def angle(self, steps) -> Array:
         """The scene angle of the steps ``steps`` (rad): ((j mod span) + ½) Δθ, the angle of
         the rows the steps take."""
-        j = (jnp.asarray(steps) % self.span).astype(self.theta.dtype) + 0.5
-        return j * self.period_angle / self.steps_per_period  # as the rows' θ
+        j = (jnp.asarray(steps) % self.span_steps).astype(self.theta.dtype) + 0.5
+        return j * self.period_angle / self.step_count  # as the rows' θ
 
     def _cell_fields(self):
         return (self.V, self.k, self.length, self.delta0, self.mask)
@@ -240,7 +264,9 @@ def mesh_table(
 
 
 @eqx.filter_jit
-def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTable:
+def _mesh_table(scene, mods, steps_per_period, periods, own_periods, steps=None) -> MeshTable:
+    # ``steps``: None, or a traced N_s <= steps_per_period (MeshTable.steps): the table of
+    # steps_per_period's size holding the rows of N_s = steps first
     planes = scene.base_planes
     mods = per_mesh_modifications(mods, len(planes))
     # one scene period: the first mesh's periods after which every mesh repeats (1 but for a
@@ -254,7 +280,8 @@ def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTabl
     n_rows = max(rows)
     dtype = planes[0].base_pitch.dtype
     # the angles of mesh_positions, (r + ½) Δθ
-    theta = (jnp.arange(n_rows, dtype=dtype) + 0.5) * planes[0].mesh_period_angle / steps_per_period
+    n_s = steps_per_period if steps is None else steps
+    theta = (jnp.arange(n_rows, dtype=dtype) + 0.5) * planes[0].mesh_period_angle / n_s
 
     def row(th):
         parts = mesh_separations(scene, mods, th)
@@ -268,7 +295,8 @@ def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTabl
     # quasi-static δ0 = max e(t) − e moves its reference with time, which would be a spurious
     # inertial excitation in dynamics. (A coast cell's δ0 = j_bn − e_ref − e: the shift has the
     # other sign.)
-    own = jnp.arange(n_rows)[:, None] < jnp.asarray(rows)[None, :]  # (R, m)
+    own_rows = jnp.asarray(rows) if steps is None else jnp.asarray(rows) * steps // steps_per_period
+    own = jnp.arange(n_rows)[:, None] < own_rows[None, :]  # (R, m)
     # (safe_max: jnp.max's value, a derivative that never divides by a zero count of maxima)
     e_ref = safe_max(jnp.where(own, e_max, -jnp.inf), axis=0)  # (m,)
     sizes = tuple((p.n_lines, p.n_slices) for p in planes)
@@ -287,6 +315,7 @@ def _mesh_table(scene, mods, steps_per_period, periods, own_periods) -> MeshTabl
         rows=rows,
         steps_per_period=int(steps_per_period),
         flank=flank if any(p.coast for p in planes) else None,
+        steps=steps,
     )
 
 
@@ -422,7 +451,21 @@ def _static_rows(
     steps = jnp.arange(table.span)
     if table.span <= STATIC_BATCH:
         return jax.vmap(solve)(steps)
-    return jax.lax.map(solve, steps, batch_size=STATIC_BATCH)
+    if table.steps is None:
+        return jax.lax.map(solve, steps, batch_size=STATIC_BATCH)
+    # a traced N_s (MeshTable.steps): the batches that hold its span only (a traced count),
+    # the rows past it repeating the span's (the same solutions: the same cells)
+    n_batches = -(-table.span // STATIC_BATCH)
+    first = jax.eval_shape(jax.vmap(solve), steps[:STATIC_BATCH])
+    out = jax.tree.map(lambda s: jnp.zeros((n_batches,) + s.shape, s.dtype), first)
+
+    def batch(b, out):
+        sol = jax.vmap(solve)(b * STATIC_BATCH + jnp.arange(STATIC_BATCH))
+        return jax.tree.map(lambda o, x: o.at[b].set(x), out, sol)
+
+    out = jax.lax.fori_loop(0, -(-table.span_steps // STATIC_BATCH), batch, out)
+    rows = steps % table.span_steps
+    return jax.tree.map(lambda o: o.reshape((-1,) + o.shape[2:])[rows], out)
 
 
 def _k_ref(table: MeshTable):
@@ -470,12 +513,15 @@ def _prepare(
     periods=None,
     own_periods: bool = True,
     condensed: bool = True,
+    steps=None,
 ):
     """Cell table and static rows over ``periods`` mesh periods (default the scene's;
     compiled once per scene structure, N_s and span; shared by the model build, every solver,
     direction and period count); ``own_periods``: :func:`mesh_table`'s; ``condensed``:
-    :func:`_static_rows`'."""
-    table = mesh_table(scene, mods, steps_per_period, periods, own_periods=own_periods)
+    :func:`_static_rows`'. ``steps``: None, or a traced N_s (:attr:`MeshTable.steps`; one
+    program for every N_s of a sweep, ``steps_per_period`` the largest): the static rows of
+    the largest span, those past N_s's span repeating its rows."""
+    table = _mesh_table(scene, mods, steps_per_period, periods, own_periods, steps)
     static = _static_rows(scene, table, torque, law, _k_ref(table), condensed)
     dofs = contact_coordinates(scene, table.V.shape[-1], condensed)
     return _Prepared(table, static.x, static.force_density, static.weight, static.result, dofs)
@@ -559,6 +605,23 @@ class AbstractDynamicModel(eqx.Module):
         (an int, resolved), with checked settings; ``modes``: the averaged modes when the step
         count was chosen from them (automatic steps), else None. Raises ``ValueError`` for a
         run that does not fit (before any work)."""
+
+    def prepare_steps(
+        self,
+        integrator: Integrator,
+        law: ContactLaw,
+        window: SteadyState,
+        steps: tuple[int, ...],
+        outputs: Outputs,
+        modes: ModalAnalysis | None = None,
+    ):
+        """One compiled program for the several step counts ``steps`` (the distinct automatic
+        N_s of a sweep, ascending): a function N_s ↦ what :meth:`prepare` returns, whose runs
+        (:meth:`independent`, :meth:`continuation`) share one compiled program (N_s an
+        argument of it, the records of a buffer of the largest N_s, the histories returned
+        at the smallest); or None where the kind cannot (each N_s its own program, by
+        :meth:`prepare`): the default. Raises ``ValueError`` as :meth:`prepare`."""
+        return None
 
     @abc.abstractmethod
     def independent(self, prepared, speeds, *, start=None, shard: bool = False):

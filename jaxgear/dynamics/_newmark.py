@@ -207,6 +207,59 @@ def newmark(
     return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
 
+def newmark_counted(
+    system: LinearSystem,
+    dt,
+    state,
+    first,
+    count,
+    cells: StepCells,
+    record: Callable[[Array, Array, Array, Any], Any] | None,
+    size: int = 0,
+    *,
+    checks: tuple = (None, None),
+):
+    """:func:`newmark` over a traced number of steps (one block, no mesh damping): the
+    entries ``first + 1``, ..., ``first + count`` (``count`` an int that may be traced, e.g. a
+    whole number of mesh periods of a step count N_s that is an argument of the compiled
+    program: one program serves every N_s of a sweep). ``lax.fori_loop`` with traced bounds; the
+    same step as :func:`newmark` (bit for bit the same arithmetic).
+
+    Args:
+        system, dt, state, cells, checks: as :func:`newmark` (``cells.at`` takes a step index;
+            the contact in coordinates: no window, no mesh damping).
+        first: the step before the first entry (int, may be traced).
+        count: the steps to run (int, may be traced), 0 <= count <= ``size`` when recording.
+        record: as :func:`newmark`, or None (a transient: nothing kept).
+        size: the length of the record buffer (static): the records of step i < ``count`` at
+            row i, the rows from ``count`` on zero.
+
+    Returns:
+        (the final state, the records with leading axis ``size``, or None).
+    """
+    K, M, C, F, mesh_damping, dofs = system
+    if mesh_damping is not None or jax.eval_shape(cells.at, first).idx is not None:
+        raise ValueError("newmark_counted: the contact in coordinates only (no window)")
+    loop = _Loop(_Coordinates(K, M, C, F, dt, dofs), cells, *checks)
+    blk, ok = loop.space.block(None)
+    first = jnp.asarray(first)
+    if record is None:
+
+        def body(i, carry):
+            return loop.step(carry, first + 1 + i, blk, ok, None)[0]
+
+        return jax.lax.fori_loop(0, count, body, state), None
+    shapes = jax.eval_shape(lambda c: loop.step(c, first + 1, blk, ok, record)[1], state)
+    buffer = jax.tree.map(lambda s: jnp.zeros((size,) + s.shape, s.dtype), shapes)
+
+    def body_rec(i, carry_buf):
+        carry, buf = carry_buf
+        carry, out = loop.step(carry, first + 1 + i, blk, ok, record)
+        return carry, jax.tree.map(lambda b, o: b.at[i].set(o), buf, out)
+
+    return jax.lax.fori_loop(0, count, body_rec, (state, buffer))
+
+
 class _Loop:
     """The Newmark loop of :func:`newmark` and :func:`newmark_modal` in any space (the
     coordinates, the cell space, a modal basis: :class:`_Space`): blocks of steps, each step's
@@ -219,24 +272,26 @@ class _Loop:
         self.space, self.cells_at, self.law = space, cells.at, cells.law
         self.check, self.block_check = check, block_check
 
-    def run_block(self, carry, p_in, keep):
+    def step(self, carry, entry, blk, ok, keep):
+        """One step from ``carry`` (the state, its result code and most contact passes) at
+        ``entry``, in a block of quantities ``blk`` (window inside it: ``ok``): (the new carry,
+        ``keep(X, Ẋ, P, entry)`` or None)."""
         space = self.space
+        *x, code, it = carry
+        xn, sol, P, inside = space.step(tuple(x), self.cells_at(entry), blk, self.law)
+        checked = None if self.check is None else self.check(xn[0], xn[1], P)
+        new = _step_result(sol, space.finite(xn), checked)
+        new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
+        carry = (*xn, _first(code, new), jnp.maximum(it, sol.iterations))
+        if keep is None:
+            return carry, None
+        X, Xd = space.observed(xn)
+        return carry, keep(X, Xd, P, entry)
+
+    def run_block(self, carry, p_in, keep):
         p, entries = p_in
-        blk, ok = space.block(p)
-
-        def step(carry, entry):
-            *x, code, it = carry
-            xn, sol, P, inside = space.step(tuple(x), self.cells_at(entry), blk, self.law)
-            checked = None if self.check is None else self.check(xn[0], xn[1], P)
-            new = _step_result(sol, space.finite(xn), checked)
-            new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
-            carry = (*xn, _first(code, new), jnp.maximum(it, sol.iterations))
-            if keep is None:
-                return carry, None
-            X, Xd = space.observed(xn)
-            return carry, keep(X, Xd, P, entry)
-
-        carry, out = jax.lax.scan(step, carry, entries)
+        blk, ok = self.space.block(p)
+        carry, out = jax.lax.scan(lambda c, e: self.step(c, e, blk, ok, keep), carry, entries)
         if self.block_check is not None:
             *x, code, it = carry
             carry = (*x, _first(code, self.block_check(x[0], x[1])), it)

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
 from .._results import DynamicsResult, error_if_failed
-from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean
+from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean, safe_sqrt
 from ._settings import UNDER_RESOLVED_STEPS
 
 __all__ = ["DynamicResponse", "DynamicResult", "MeshDynamics", "Records", "SweepResult"]
@@ -221,9 +221,11 @@ def checked(r: DynamicResponse, name: str) -> DynamicResponse:
     )
 
 
-def _impacts(in_contact) -> Int[Array, ""]:
-    """Re-contacts: steps in contact after a step out of contact, (K,) booleans."""
-    return jnp.sum(in_contact[1:] & ~in_contact[:-1])
+def _impacts(in_contact, valid=None) -> Int[Array, ""]:
+    """Re-contacts: steps in contact after a step out of contact, (K,) booleans (over the
+    ``valid`` (K,) records only; None: all)."""
+    new = in_contact[1:] & ~in_contact[:-1]
+    return jnp.sum(new if valid is None else new & valid[1:])
 
 
 class Records(eqx.Module):
@@ -250,6 +252,10 @@ class Records(eqx.Module):
         cells: None, or per mesh (line load (N/m), s (m), z (m), mask), each (K, L_k, N_k).
         coast_force: None, or each mesh's coast flanks' force (N), (K, m) (``mesh_force`` then
             the drive force less it): the coast share and the impact counts.
+        kept: None (all K records kept), or the number of valid records (int, traced) of a run
+            whose N_s is an argument of its program: the first ``kept`` of a buffer of K;
+            ``steps_per_period``, ``transient_steps`` and ``scene_steps`` are then traced too,
+            and the statistics are masked to the valid records.
     """
 
     speed: Float[Array, ""]
@@ -269,13 +275,66 @@ class Records(eqx.Module):
     iterations: Int[Array, ""]
     code: Int[Array, ""]
     rim: tuple
-    steps_per_period: int = eqx.field(static=True)
-    transient_steps: int = eqx.field(static=True)
+    steps_per_period: int | Int[Array, ""]
+    transient_steps: int | Int[Array, ""]
     states: Float[Array, "K n"] | None = None
-    scene_steps: int | None = eqx.field(static=True, default=None)
+    scene_steps: int | Int[Array, ""] | None = None
     pressure: tuple | None = None
     cells: tuple | None = None
     coast_force: Float[Array, "K m"] | None = None
+    kept: Int[Array, ""] | None = None
+
+    def valid(self, K: int):
+        """The valid records of K: None (all), or a (K,) mask."""
+        return None if self.kept is None else jnp.arange(K) < self.kept
+
+
+def _max(x, valid, axis=None):
+    """max of ``x`` over ``axis`` (None: all), over the ``valid`` (K,) leading entries only
+    (None: all)."""
+    if valid is not None:
+        x = jnp.where(valid.reshape(valid.shape + (1,) * (x.ndim - 1)), x, -jnp.inf)
+    return jnp.max(x, axis=axis)
+
+
+def _mean(x, valid):
+    """mean of ``x`` (K,) over its ``valid`` entries (None: all)."""
+    if valid is None:
+        return jnp.mean(x)
+    return jnp.sum(jnp.where(valid, x, 0)) / jnp.sum(valid)
+
+
+def _rms_about_mean(x, valid):
+    """:func:`jaxgear._util.rms_about_mean` of ``x`` (K,) over its ``valid`` entries."""
+    if valid is None:
+        return rms_about_mean(x)
+    d = x - _mean(x, valid)
+    return safe_sqrt(_mean(d * d, valid))
+
+
+def _history(r, take):
+    """``r`` (a :class:`DynamicResponse`, one speed or batched) with ``take`` applied to each of
+    its histories (the per-step records: times, angles, bearing forces, rim, states, each
+    mesh's forces, TE, line forces, static TE and cell loads)."""
+    hist = ("time", "theta", "bearing_force", "rim_radial", "rim_axial")
+    if r.states is not None:
+        hist += ("states",)
+    per_mesh = ("mesh_force", "transmission_error", "line_force", "static_te")
+    if r.meshes[0].line_load is not None:
+        per_mesh += ("line_load", "cell_s", "cell_z", "cell_mask")
+
+    def records(x):
+        leaves = [getattr(x, h) for h in hist]
+        return leaves + [getattr(mesh, h) for mesh in x.meshes for h in per_mesh]
+
+    return eqx.tree_at(records, r, [take(a) for a in records(r)])
+
+
+def thinned(r, m, take):
+    """``r`` keeping every m-th record (ending on each period's last step): ``take(a, m)`` of
+    each history; ``time_step`` becomes the spacing of the kept records, m Δt."""
+    r = _history(r, lambda a: take(a, m))
+    return eqx.tree_at(lambda x: x.time_step, r, r.time_step * m)
 
 
 def _mesh_dynamics(r: Records, k: int) -> MeshDynamics:
@@ -285,12 +344,20 @@ def _mesh_dynamics(r: Records, k: int) -> MeshDynamics:
     lines, static_line_force = r.line_force[k], r.static_line_force[k]
     P = r.steps_per_period if r.scene_steps is None else r.scene_steps
     coast = None if r.coast_force is None else r.coast_force[:, k]
+    K = fm.shape[0]
+    valid = r.valid(K)
     p_max = p_static = None
     if r.pressure is not None:
-        p_max, p_static = (jnp.sqrt(jnp.max(v[:, k])) for v in r.pressure)
+        p_max = jnp.sqrt(_max(r.pressure[0][:, k], valid))
+        p_static = jnp.sqrt(jnp.max(r.pressure[1][:, k]))
     cells = (None,) * 4 if r.cells is None else r.cells[k]
-    K = fm.shape[0]
-    if K >= 2 * P:
+    if valid is not None:  # the last two periods of the first ``kept`` records, masked
+        i = jnp.arange(K)
+        last = (i >= r.kept - P) & valid
+        d = jnp.abs(fm - fm[jnp.maximum(i - P, 0)])
+        periodicity = jnp.max(jnp.where(last, d, -jnp.inf)) / fs
+        periodicity = jnp.where(r.kept >= 2 * P, periodicity, jnp.nan)
+    elif K >= 2 * P:
         periodicity = jnp.max(jnp.abs(fm[K - P :] - fm[K - 2 * P : K - P])) / fs
     else:
         periodicity = jnp.asarray(jnp.nan, fm.dtype)
@@ -300,19 +367,19 @@ def _mesh_dynamics(r: Records, k: int) -> MeshDynamics:
     if coast is not None:  # fm = drive − coast: the flanks' own forces
         on_coast, on_drive = coast > thr, fm + coast > thr
         loss = ~on_coast & ~on_drive
-        share = jnp.mean(on_coast.astype(fm.dtype))
-        imp_d, imp_c = _impacts(on_drive), _impacts(on_coast)
+        share = _mean(on_coast.astype(fm.dtype), valid)
+        imp_d, imp_c = _impacts(on_drive, valid), _impacts(on_coast, valid)
     return MeshDynamics(
         mesh_force=fm,
         static_force=jnp.asarray(fs, fm.dtype),
         transmission_error=te,
         line_force=lines,
         static_te=r.static_te[:, k],
-        dynamic_factor=jnp.max(fm) / fs,
-        dynamic_factor_tooth=jnp.max(lines) / static_line_force,
-        te_rms=rms_about_mean(te),
-        te_mean=jnp.mean(te),
-        contact_loss=jnp.mean(loss.astype(fm.dtype)),
+        dynamic_factor=_max(fm, valid) / fs,
+        dynamic_factor_tooth=_max(lines, valid) / static_line_force,
+        te_rms=_rms_about_mean(te, valid),
+        te_mean=_mean(te, valid),
+        contact_loss=_mean(loss.astype(fm.dtype), valid),
         periodicity=periodicity,
         max_pressure=p_max,
         max_pressure_static=p_static,
@@ -333,6 +400,7 @@ def steady_state(r: Records) -> DynamicResponse:
     P = r.steps_per_period
     fm, te = r.mesh_force, r.transmission_error
     K = fm.shape[0]
+    valid = r.valid(K)
     finite = jnp.all(jnp.isfinite(fm)) & jnp.all(jnp.isfinite(te))
     code = jnp.where((r.code == 0) & ~finite, 2, r.code)
     meshes = tuple(_mesh_dynamics(r, k) for k in range(fm.shape[1]))
@@ -347,7 +415,7 @@ def steady_state(r: Records) -> DynamicResponse:
         time_step=jnp.asarray(time_step, fm.dtype),
         theta=r.theta,
         bearing_force=r.bearing_force,
-        bearing_force_max=jnp.max(jnp.abs(r.bearing_force), axis=0),
+        bearing_force_max=_max(jnp.abs(r.bearing_force), valid, axis=0),
         bearing_force_static=jnp.max(jnp.abs(r.bearing_force_static), axis=0),
         steps_per_period=jnp.asarray(P),
         steps_per_mode_period=per_mode,

@@ -499,6 +499,10 @@ class _Config:
     states: bool = False
     cell_loads: bool = False
     pressure: HertzPressure | None = None
+    #: None, or a run whose N_s is an argument of its compiled program (a sweep over several
+    #: automatic N_s; ``steps_per_period`` is then the largest, the record buffer's size): the
+    #: smallest N_s of the sweep, the resolution its histories are returned at
+    history_steps: int | None = None
 
     @property
     def newmark(self) -> bool:

@@ -16,10 +16,10 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
-from .._util import check_integer, check_real
+from .._util import check_real
 from ._modal import ModalAnalysis, excited_omega, steps_for_mode
 from ._model import AbstractDynamicModel
-from ._result import SweepResult, checked
+from ._result import SweepResult, checked, thinned
 from ._settings import (
     Batching,
     DiffraxIntegrator,
@@ -309,7 +309,9 @@ def speed_sweep(
             the model kind's default, :func:`resolve_settings`). With automatic steps
             (``steps_per_period=None``) each speed gets its own N_s
             (:func:`auto_steps_per_period`, a power of two); speeds sharing an N_s are run
-            together (one compilation per distinct N_s); the kept histories of a sweep with
+            together (a lumped model with Newmark: one compiled program for every N_s,
+            :meth:`~jaxgear.dynamics.AbstractDynamicModel.prepare_steps`; else one compilation
+            per distinct N_s); the kept histories of a sweep with
             several N_s are subsampled to the smallest one (every speed's scalar outputs use its
             own full resolution); continuation carries the state across them.
         direction: how the speeds are passed (:class:`AbstractDirection`):
@@ -362,7 +364,7 @@ def speed_sweep(
     chunk_size = None if traced else batching.chunk_size
     progress = batching.progress
 
-    def at_steps(n, modes=None) -> _Sweep:
+    def at_steps(n, modes=None, size=None) -> _Sweep:  # size: for one_program's
         prepared = model.prepare(integrator, law, window, int(n), outputs, modes)
         return _Sweep(model, prepared, batching.shard, chunk_size)
 
@@ -373,7 +375,16 @@ def speed_sweep(
     ns = auto_steps_per_period(model, np.asarray(speeds), modes)
     if np.all(ns == ns[0]):
         return _thrown(direction.sweep(at_steps(ns[0], modes).passes(speeds, progress)), throw)
-    return _thrown(direction.sweep(_MixedSteps(at_steps, modes, speeds, ns, progress)), throw)
+    # several N_s: one program for all where the kind can (N_s an argument of it), the speeds
+    # of each N_s in calls of one size (chunks: the batching's, or the largest group's)
+    steps = model.prepare_steps(integrator, law, window, tuple(np.unique(ns)), outputs, modes)
+
+    def one_program(n, modes=None, size=None) -> _Sweep:
+        return _Sweep(model, steps(int(n)), batching.shard, chunk_size or size)
+
+    make = at_steps if steps is None else one_program
+    mixed = _MixedSteps(make, modes, speeds, ns, progress, thinned=steps is not None)
+    return _thrown(direction.sweep(mixed), throw)
 
 
 def _thrown(res: SweepResult, throw: bool) -> SweepResult:
@@ -446,19 +457,7 @@ def _subsample(r, m: int):
     ``time_step`` becomes the spacing of the kept records, m Δt."""
     if m == 1:
         return r
-    hist = ("time", "theta", "bearing_force", "rim_radial", "rim_axial")
-    if r.states is not None:
-        hist += ("states",)
-    per_mesh = ("mesh_force", "transmission_error", "line_force", "static_te")
-    if r.meshes[0].line_load is not None:
-        per_mesh += ("line_load", "cell_s", "cell_z", "cell_mask")
-
-    def records(x):
-        leaves = [getattr(x, h) for h in hist]
-        return leaves + [getattr(mesh, h) for mesh in x.meshes for h in per_mesh]
-
-    r = eqx.tree_at(records, r, [np.asarray(a)[:, m - 1 :: m] for a in records(r)])
-    return eqx.tree_at(lambda x: x.time_step, r, np.asarray(r.time_step) * m)
+    return thinned(r, m, lambda a, m: np.asarray(a)[:, m - 1 :: m])
 
 
 class _Sweep:
@@ -554,21 +553,26 @@ class _Chunked(_Passes):
 
 class _MixedSteps(_Passes):
     """The passes of a sweep whose speeds have different automatic step counts ``ns`` (S,): the
-    speeds sharing an N_s run together (one compilation each, ``at_steps(n, modes)`` their
-    :class:`_Sweep`), the kept histories subsampled to the smallest N_s; continuation runs the
-    runs of equal N_s in sweep order, each from the previous run's last state;
-    ``progress(n_done)`` counts every speed run."""
+    speeds sharing an N_s run together (``at_steps(n, modes, size)`` their :class:`_Sweep`:
+    one compiled program for every N_s where the model kind takes N_s as an argument,
+    :meth:`~jaxgear.dynamics.AbstractDynamicModel.prepare_steps`, ``thinned``: its histories
+    come at the smallest N_s, its calls padded to ``size`` speeds; else one program per N_s),
+    the kept histories subsampled to the smallest N_s; continuation runs the runs of equal N_s
+    in sweep order, each from the previous run's last state; ``progress(n_done)`` counts every
+    speed run."""
 
-    def __init__(self, at_steps, modes, speeds, ns, progress):
+    def __init__(self, at_steps, modes, speeds, ns, progress, thinned: bool = False):
         self.at_steps, self.modes, self.speeds, self.ns = at_steps, modes, speeds, ns
         self.progress, self.n_min, self.done = progress, int(ns.min()), 0
         self.host_speeds = np.asarray(speeds)
+        self.thinned = thinned
 
-    def _records(self, idx, n, pass_, start=None):
+    def _records(self, idx, n, pass_, start=None, size=None):
         """The records of the speeds ``idx`` (indices into :attr:`speeds`, or a slice) at N_s =
-        ``n``: ``pass_(passes)`` of their :class:`_Passes`, subsampled, on the host (NumPy:
-        the runs of other N_s have other record lengths, and a compiled program per leaf
-        shape for these copies would cost more than the copies)."""
+        ``n``: ``pass_(passes)`` of their :class:`_Passes` (calls of ``size`` speeds where the
+        program takes N_s), subsampled, on the host (NumPy: the runs of other N_s have other
+        record lengths, and a compiled program per leaf shape for these copies would cost more
+        than the copies)."""
         base = self.done
 
         def tick(k):
@@ -576,15 +580,16 @@ class _MixedSteps(_Passes):
                 self.progress(base + k)
 
         speeds = jax.device_put(self.host_speeds[idx])
-        r = pass_(self.at_steps(n, self.modes).passes(speeds, tick, start))
+        r = pass_(self.at_steps(n, self.modes, size).passes(speeds, tick, start))
         self.done += int(speeds.shape[0])
-        return _subsample(_host(r), int(n) // self.n_min)
+        return _subsample(_host(r), 1 if self.thinned else int(n) // self.n_min)
 
     def independent(self):
         parts, order = [], []
-        for n in np.unique(self.ns):
-            idx = np.nonzero(self.ns == n)[0]
-            parts.append(self._records(idx, n, lambda p: p.independent()))
+        groups = [np.nonzero(self.ns == n)[0] for n in np.unique(self.ns)]
+        size = max(g.shape[0] for g in groups)
+        for idx in groups:
+            parts.append(self._records(idx, self.ns[idx[0]], lambda p: p.independent(), None, size))
             order.append(idx)
         inv = np.argsort(np.concatenate(order))
         return _device(jax.tree_util.tree_map(lambda *a: np.concatenate(a)[inv], *parts))
@@ -594,8 +599,10 @@ class _MixedSteps(_Passes):
         # continuing from the previous run's last state
         cuts = np.nonzero(np.diff(n_s))[0] + 1
         parts, start = [], None
-        for run in np.split(np.arange(order.shape[0]), cuts):
-            r = self._records(order[run], n_s[run[0]], lambda p: p.ascending(), start)
+        runs = np.split(np.arange(order.shape[0]), cuts)
+        size = max(run.shape[0] for run in runs)
+        for run in runs:
+            r = self._records(order[run], n_s[run[0]], lambda p: p.ascending(), start, size)
             ok = bool(r.result[-1] == 0)
             start = _device((r.final_state[0][-1], r.final_state[1][-1]))
             start = start if ok else None
