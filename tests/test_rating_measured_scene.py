@@ -19,6 +19,7 @@ References:
 
 import json
 import math
+import os
 import tomllib
 from pathlib import Path
 
@@ -32,7 +33,6 @@ import jaxgear.cli.run as run_module
 import jaxgear.cli.sweep as sweep_module
 import jaxgear.io as jio
 from jaxgear import cli
-from jaxgear.cli import _rating_report
 
 jax.config.update("jax_enable_x64", True)
 
@@ -108,7 +108,7 @@ def test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says(tmp_path):
     curves = {"model": "lumped3d", "results": {"exact": res}}
     with jax.disable_jit():  # the rating's values without its compilation
         section = cli.rating_outputs(
-            case, str(tmp_path), result=rigid, model=_rating_report.scene_loads(curves, 0.0)
+            case, str(tmp_path), result=rigid, model=cli.scene_loads(curves, 0.0)
         )
     m = section["measured"]
     assert m["K_Hbeta"]["value"] - 1 == pytest.approx(want - 1, rel=1e-3)
@@ -133,13 +133,13 @@ def test_rigid_scene_reads_the_rigid_mesh_map():
     mesh = case.mesh_model()
     scene = jg.quasi_static(jg.RigidMesh(mesh), case.modifications, case.torque, periods=1)
     rigid = jg.quasi_static(mesh, case.modifications, case.torque, periods=1)
-    m = _rating_report._measured(rigid, _rating_report.ModelLoads(scene.meshes, "rigid scene"), 0)
+    m = cli.measured_factors(rigid, cli.ModelLoads(scene.meshes, "rigid scene"), 0)
     assert m["K_Hbeta"]["value"] > 1.05
     for key in ("K_Hbeta", "K_Halpha"):
         assert m[key]["value"] == pytest.approx(m[f"{key}_rigid_mesh"]["value"], rel=1e-12)
     assert "rigid scene" in m["K_Hbeta"]["source"]
     # a hybrid scene's result is read the same way, its model and speed named
-    hybrid = _rating_report.scene_loads({"model": "hybrid", "results": {"exact": scene}}, 50.0)
+    hybrid = cli.scene_loads({"model": "hybrid", "results": {"exact": scene}}, 50.0)
     assert hybrid.results == tuple(scene.meshes)
     assert hybrid.model == (
         "hybrid scene: condensed bodies, shafts and bearings, at 50 rad/s (centrifugal loads)"
@@ -183,10 +183,10 @@ def test_rigid_train_measures_each_mesh_as_alone():
     d["modifications"]["crowning"] = {"depth_um": 10.0}
     case = jio.parse_train(d)
     res, alone = _coupled_and_alone(case)
-    loads = _rating_report.train_loads(case, res)
+    loads = cli.train_loads(case, res)
     assert loads.model == "coupled train: torsional"
     for k, one in enumerate(alone):
-        m = _rating_report._measured(one, loads, k)
+        m = cli.measured_factors(one, loads, k)
         assert m["K_Hbeta"]["value"] > 1.3  # the crowning
         for key in ("K_Hbeta", "K_Halpha"):
             assert m[key]["value"] == pytest.approx(m[f"{key}_rigid_mesh"]["value"], rel=1e-9)
@@ -204,10 +204,10 @@ def test_flexible_idler_shaft_raises_the_coupled_face_load_factor():
     d["scene"]["shafts"][1].update(diameter_mm=10.0, gear_positions_mm={"idler": 10.0})
     case = jio.parse_train(d)
     res, alone = _coupled_and_alone(case)
-    loads = _rating_report.train_loads(case, res)
+    loads = cli.train_loads(case, res)
     assert loads.model == "coupled train: shafts and bearings"
     for k, one in enumerate(alone):
-        m = _rating_report._measured(one, loads, k)
+        m = cli.measured_factors(one, loads, k)
         assert m["K_Hbeta_rigid_mesh"]["value"] == pytest.approx(1.0, abs=1e-12)
         assert m["K_Hbeta"]["value"] > m["K_Hbeta_rigid_mesh"]["value"] + 0.02
 
@@ -233,9 +233,7 @@ def test_run_writes_the_scene_factors_and_rating_md_once(tmp_path, monkeypatch, 
         assert not write_table
         summary["rating"]["root_stress"]["source"] += " (marked)"
 
-    writes = []
-    real = _rating_report._write_table
-    monkeypatch.setattr(_rating_report, "_write_table", lambda *a: writes.append(a) or real(*a))
+    writes = _count_writes(monkeypatch, "rating.md")
     monkeypatch.setattr(sweep_module, "sweep_case_run", no_sweep)
     monkeypatch.setattr(run_module, "fillet_table", stub_table)
     monkeypatch.setattr(run_module, "root_stress_at_speed", marked)
@@ -258,8 +256,23 @@ def test_run_writes_the_scene_factors_and_rating_md_once(tmp_path, monkeypatch, 
     assert "K_v" in m
     assert len(writes) == 1
     text = (out / "rating.md").read_text(encoding="utf-8")
-    assert text == "\n".join(_rating_report.rating_lines(rating, case.name)) + "\n"
+    assert text == "\n".join(cli.rating_lines(rating, case.name)) + "\n"
     assert "(marked)" in text and "| K_v measured |" in text
+
+
+def _count_writes(monkeypatch, name: str) -> list:
+    """The files named ``name`` the run writes, one entry per write (every output is written
+    atomically: a temporary file ``.tmp-<name>-*`` renamed onto it by ``os.replace``; the run's
+    move of its finished files from the staging folder is not a write)."""
+    writes, real = [], os.replace
+
+    def counted(src, dst, *args, **kwargs):
+        if os.path.basename(os.fspath(src)).startswith(f".tmp-{name}-"):
+            writes.append(dst)
+        return real(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(os, "replace", counted)
+    return writes
 
 
 def _toml(d: dict) -> str:
@@ -321,9 +334,7 @@ def test_train_run_rates_with_the_coupled_solve(tmp_path, monkeypatch):
     d["modifications"].pop("crowning", None)
     d["scene"]["shafts"][1].update(diameter_mm=10.0, gear_positions_mm={"idler": 10.0})
     case = jio.parse_train(d)
-    writes = []
-    real = _rating_report._write_table
-    monkeypatch.setattr(_rating_report, "_write_table", lambda *a: writes.append(a) or real(*a))
+    writes = _count_writes(monkeypatch, "rating.md")
     monkeypatch.setattr(run_module, "fillet_table", stub_table)
     args = type("Args", (), {"quiet": True})()
     summary = run_module.quasi_static_files(case.form, case, str(tmp_path), args, True)

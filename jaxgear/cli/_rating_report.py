@@ -52,6 +52,7 @@ __all__ = [
     "body_stress_outputs",
     "fillet_table",
     "measured_dynamic_factor",
+    "measured_factors",
     "rating_lines",
     "rating_outputs",
     "root_stress_at_speed",
@@ -338,7 +339,7 @@ def _factors(result, model: str, suffix: str = "") -> dict:
     }
 
 
-def _measured(rigid, model: ModelLoads | None, k: int) -> dict:
+def measured_factors(rigid, model: ModelLoads | None, k: int) -> dict:
     """Mesh ``k``'s ``rating.measured`` K_Hβ and K_Hα: of the model the case runs (``model``'s
     result; without one, the rigid mesh ``rigid`` is that model), and beside them, when the
     case runs more than the rigid mesh, the rigid mesh's as ``K_Hbeta_rigid_mesh``,
@@ -395,7 +396,7 @@ def rating_outputs(
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
         section = rating.summary()
         if results is not None:
-            section["measured"] = _measured(results[k], model, k)
+            section["measured"] = measured_factors(results[k], model, k)
             section = _rated(rc, section)
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
