@@ -192,16 +192,32 @@ def test_bad_ring_dynamics_keys_are_one_line(ring, words):
 
 
 @pytest.mark.slow
-def test_stiff_modal_ring_dynamic_factors_equal_the_rigid_ring(seq, seq_ring):
-    """Real contact (19/17/-53, uniform k0), 12 periods at 60 rad/s: the test ring 10^3
-    stiffer in 8 modes gives each mesh's dynamic factor of the rigid ring within 0.5 %."""
+def test_stiff_modal_ring_dynamic_factors_equal_the_rigid_ring(seq):
+    """Real contact (19/17/-53, uniform k0), 12 periods at 60 rad/s: the 53-tooth ring with a
+    9 mm rim on a housing of 1e11 Pa/m (the ring of tests/test_planetary_ring_dynamics.py,
+    with its stations' mass), made 10^3 stiffer and kept in 8 modes, gives each mesh's dynamic
+    factor of the rigid ring within 0.5 % (measured 0.06 %); the ring itself changes them by
+    more (by 20 %). (The coarse seq-test-ring on its soft test housing, 10^3 times softer, is
+    not stiff against real contact even at 10^3: its compliance / 10^3 still lowers the DF.)"""
     geo = geometry(**SEQ)
+    r_f, rim = float(geo.planet_ring.root_radii[1]), 0.009
+    body = fp.RingBody(
+        "seq-ring", r_f, r_f + rim, float(geo.planet_ring.gear.face_width), fp.Material(),
+        fp.MeshSettings(fp.Hex20(), size=rim, circumferential_size=0.012),
+        fp.Condensation(fp.CraigBampton(), fp.Distributing(), modes=4, teeth=53,
+                        axial_master_nodes=2),
+        fp.ElasticFoundation(1e11, 1e11, 1e11),
+    )
+    st = fp.ring_stations(body)
+    F, M = np.asarray(st.compliance), np.asarray(st.mass)
     meshes = jg.ContactMeshes.from_geometry(geo, seq.planet_angles, jg.Uniform(K0))
-    F, M = seq_ring
     rigid = _run(seq, jg.RigidRing(), meshes, periods=12)
     stiff = _run(seq, jg.CondensedRing(F / 1e3, M, modes=8), meshes, periods=12)
-    for a, b in zip(rigid.dynamic_factors, stiff.dynamic_factors, strict=True):
+    real = _run(seq, jg.CondensedRing(F, M, modes=8), meshes, periods=12)
+    for a, b, c in zip(rigid.dynamic_factors, stiff.dynamic_factors, real.dynamic_factors,
+                       strict=True):
         np.testing.assert_allclose(b, a, rtol=5e-3)
+        assert np.max(np.abs(np.asarray(c) / np.asarray(a) - 1)) > 5e-3
 
 
 @pytest.mark.slow
