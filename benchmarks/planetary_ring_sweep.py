@@ -86,11 +86,28 @@ def timed(c, speeds) -> dict:
         "max_dynamic_factor": s["max_dynamic_factor"],
         "max_dynamic_factor_mesh": s["max_dynamic_factor_mesh"],
         "max_k_gamma": s["max_k_gamma"],
+        "dynamic_factor_mesh_first_speed": s["dynamic_factor_mesh"][0],
         "result_nonzero": int(sum(1 for r in s["result"] if r)),
     }
     if "max_ring_deflection_m" in s:
         out["max_ring_deflection_m"] = s["max_ring_deflection_m"]
     return out
+
+
+def compare(p1: dict, part2: dict) -> dict:
+    """The modal ring against the station model with mass: the DF per mesh at the first speed
+    (relative difference) and the CPU per speed (the station run's less its compilation, the
+    modal sweep's second call: no compilation)."""
+    a = np.asarray(p1["modal"]["dynamic_factor_mesh_first_speed"])
+    b = np.asarray(p1["mass"]["dynamic_factor_mesh_first_speed"])
+    station = (p1["mass"]["cpu_s"] - p1["mass"]["compile_s"]) / p1["mass"]["speeds"]
+    modal = part2["second_call"]["cpu_s"] / part2["speeds"]
+    return {
+        "modal_vs_mass_first_speed_df_rel_diff": float(np.max(np.abs(a / b - 1))),
+        "station_mass_cpu_s_per_speed": station,
+        "modal_cpu_s_per_speed": modal,
+        "station_vs_modal_cpu_ratio_per_speed": station / modal,
+    }
 
 
 def main() -> None:
@@ -133,6 +150,8 @@ def main() -> None:
         part2["estimate_100_speeds_cpu_s"] = second["cpu_s"] * 100 / args.speeds
         part2["estimate_note"] = ("an estimate: the second call's CPU time scaled linearly to 100 "
                                   "speeds (the speeds are vmapped: the cost is per speed)")
+    if "part1_run_sweep_8_speeds" in result:
+        result.update(compare(result["part1_run_sweep_8_speeds"], part2))
     print("part2", json.dumps(part2), flush=True)
     result["part2_modal_sweep"] = part2
     result["load_average_1min"] = loads
