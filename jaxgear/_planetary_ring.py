@@ -22,7 +22,16 @@ displacements u (the ring frame's x, y at each station) as coordinates of consta
 rows gain ``-cos(beta_b) E_n`` with ``E_n = sum_k W_nk e_n^T`` on station k: the carrier angle
 moves the rows, not the ring's matrices. Eliminating u statically gives back ``w = C P``.
 The ring's coordinates live in the ring's frame: with the ring held they are inertial (no
-Coriolis or centripetal terms), and only the contacts move around them.
+Coriolis or centripetal terms), and only the contacts move around them. Each step the ring cells
+reach only the two stations about each planet (:meth:`CondensedRing.window`): the dynamics solve
+the contact on that window of coordinates (the cell space of :func:`jaxgear.dynamics.newmark`).
+
+With ``modes`` (and the mass) the ring's coordinates are its m lowest modes of (M_u, F^-1) plus
+the static correction of the ring's residual flexibility ``F - Phi_m Lambda_m^-1 Phi_m^T``
+(the mode-acceleration method, R. R. Craig & A. J. Kurdila, *Fundamentals of Structural
+Dynamics*, 2nd ed., 2006, §14.5; the basis of :mod:`jaxgear.dynamics._modal_basis`), integrated
+by :func:`jaxgear.dynamics.newmark_modal`: exact in statics at any m, the station model with
+every mode.
 """
 
 from __future__ import annotations
@@ -101,6 +110,18 @@ class AbstractRingModel(eqx.Module):
         """E (-, (n_planets, m)): each ring mesh's elastic ring displacement along its force,
         ``w_n = E_n u``, at the mesh travel ``travel`` (m)."""
 
+    def window(self, stage, travel) -> tuple[Array, Array] | None:
+        """``(idx, E_w)``: the ring coordinates the ring meshes reach at the mesh travel
+        ``travel`` (m), (w,) int, and E on them, (n_planets, w) (``E[:, idx] = E_w``, zero
+        elsewhere); None: the rows stay on every coordinate (a rigid ring)."""
+        return None
+
+    def modal_basis(self, dtype) -> tuple[Array, Array, Array] | None:
+        """``(T, D, G)``: the ring's kept modes T (2Z, m, mass-normalised), their static
+        correction D (2Z, m) and the residual flexibility G (m/N, (2Z, 2Z)) when the ring is
+        integrated in modal coordinates; None: on its own coordinates."""
+        return None
+
 
 class RigidRing(AbstractRingModel):
     """The lumped model's ring as it is: rigid, on its bearing and torsional supports (the
@@ -134,15 +155,25 @@ class CondensedRing(AbstractRingModel):
     (``fem_prep.ring_station_mass``: the condensed ring reduced statically onto its stations)
     so that its nodal-diameter modes respond.
 
+    With ``modes`` = m (and the mass) the dynamics integrate the ring in its m lowest modes
+    plus the static correction of the others (module docstring): the same ring, fewer
+    coordinates to step (m instead of 2Z); exact in statics, the station model with m = 2Z.
+
     Attributes:
         compliance: F (m/N), ``(Z, 2, Z, 2)``, symmetric positive definite as a ``2Z x 2Z``
             matrix.
-        mass: M_u (kg), ``(Z, 2, Z, 2)`` symmetric positive semi-definite, or None: a massless
+        mass: M_u (kg), ``(Z, 2, Z, 2)`` symmetric positive definite, or None: a massless
             (quasi-static) ring.
+        modes: m (static), 1..2Z: the ring's modes kept in the dynamics (needs ``mass``), or
+            None: its 2Z station displacements.
+
+    Raises:
+        ValueError: a shape, value or count out of range (one line).
     """
 
     compliance: Float[Array, "z 2 z 2"] = eqx.field(converter=as_float)
     mass: Float[Array, "z 2 z 2"] | None = eqx.field(converter=_optional_float, default=None)
+    modes: int | None = eqx.field(static=True, default=None)
 
     def __check_init__(self):
         F = self.compliance
@@ -159,6 +190,20 @@ class CondensedRing(AbstractRingModel):
                     "compliance's)"
                 )
             check_real("mass", self.mass, "kg", where="CondensedRing")
+        if self.modes is not None:
+            if self.mass is None:
+                raise ValueError(
+                    f"CondensedRing: modes = {self.modes} needs the ring's mass (allowed: None "
+                    "for a massless ring)"
+                )
+            z2 = 2 * F.shape[0]
+            if isinstance(self.modes, bool) or not isinstance(self.modes, int) or not (
+                1 <= self.modes <= z2
+            ):
+                raise ValueError(
+                    f"CondensedRing: modes = {self.modes!r} is out of range: allowed an integer "
+                    f"1..{z2} (2 x the {F.shape[0]} stations)"
+                )
 
     @property
     def stations(self) -> int:
@@ -204,6 +249,37 @@ class CondensedRing(AbstractRingModel):
 
     def contact_rows(self, stage, travel):
         return self.station_rows(stage, travel)
+
+    def window(self, stage, travel):
+        """The two stations about each planet (the hats' support): idx (4 n_planets,) the
+        (x, y) of stations k_n, k_n + 1 of planet n, E_w (n_planets, 4 n_planets) planet n's
+        ``(1 - xi) e_n, xi e_n`` on its four (module docstring)."""
+        z, n = self.stations, stage.n_planets
+        phi = ring_contact_angles(stage, travel)
+        t = jnp.mod(phi, 2 * math.pi) / (2 * math.pi / z)
+        k0 = jnp.floor(t)
+        xi = t - k0
+        k0 = k0.astype(jnp.int32) % z
+        st = jnp.stack([k0, (k0 + 1) % z], axis=-1)  # (n, 2)
+        idx = (2 * st[:, :, None] + jnp.arange(2, dtype=jnp.int32)[None, None, :]).reshape(-1)
+        w = jnp.stack([1 - xi, xi], axis=-1)[:, :, None] * ring_force_directions(stage, phi)[
+            :, None, :]  # (n, 2, 2)
+        E = jnp.eye(n, dtype=w.dtype)[:, :, None] * w.reshape(n, 1, 4)
+        return idx, E.reshape(n, 4 * n)
+
+    def modal_basis(self, dtype):
+        if self.modes is None:
+            return None
+        from .dynamics._modal_basis import static_correction  # (the dynamics import this module)
+
+        K, M, _ = self.dynamic_matrices(dtype, 0.0)
+        low = jnp.linalg.cholesky(M)
+        a = jnp.linalg.solve(low, jnp.linalg.solve(low, K).T)
+        _, vec = jnp.linalg.eigh(0.5 * (a + a.T))
+        phi = jnp.linalg.solve(low.T, vec)  # mass-normalised, ascending
+        T, Q = phi[:, : self.modes], phi[:, self.modes :]
+        D, G = static_correction(T, Q, K)
+        return T, D, G
 
     def augment(self, stage, k_b, f, V, ring_rows, travel):
         n = stage.n_planets

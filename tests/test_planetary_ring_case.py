@@ -133,24 +133,27 @@ def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
     vtu = (out / "ring.vtu").read_text()
     assert vtu.count('Name="mode_') == 8
     assert vtu.count(f'Name="{pr.DEFLECTION}"') == 1  # the deflected shape beside the modes
-    # the ring's Campbell diagram: every crossing at 2 pi f_n / (order Omega) of the input
-    # (ring fixed, carrier in: Omega is the input speed)
+    # the ring's Campbell diagram draws the one list of resonances: every crossing at
+    # 2 pi f_n / (order Omega) of the input (ring fixed, carrier in: Omega is the input speed)
     camp = ring["campbell"]
     assert (out / camp["file"]).stat().st_size > 10_000
-    for c in camp["crossings"]:
+    top = camp["input_speeds_rad_s"][1]
+    assert camp["shown"] == sum(1 for r in ring["resonances"] if r["input_speed_rad_s"] <= top)
+    for c in ring["resonances"]:
         assert c["input_speed_rad_s"] == pytest.approx(
             2 * np.pi * ring["nd_frequencies_Hz"][str(c["nd"])] / c["order"], rel=1e-12)
     # docs/planetary.md's figure: the n = 1 mode (195 Hz) meets the first harmonic's order
     # z_r + 1 = 54 near the 20 rad/s operating speed
     assert ring["nd_frequencies_Hz"]["1"] == pytest.approx(194.6, abs=0.5)
-    (near,) = [c for c in camp["crossings"] if (c["nd"], c["harmonic"], c["order"]) == (1, 1, 54)]
+    (near,) = [c for c in ring["resonances"]
+               if (c["nd"], c["harmonic"], c["order"]) == (1, 1, 54)]
     assert 20.0 < near["input_speed_rad_s"] < 25.0
 
 
 @pytest.mark.parametrize("fixed, per_input", [("ring", 28 / 120), ("carrier", 28 / 92)])
 def test_ring_campbell_lines_follow_the_moving_load_rule(tmp_path, fixed, per_input):
-    """ring_campbell.png's lines and crossings on the lumped lin-parker-1999 (28/92 teeth,
-    sun in, three planets; synthetic nodal-diameter frequencies, no condensation): the lines
+    """ring_campbell.png's lines and crossings (ring_crossings, the one list it draws) on the
+    lumped lin-parker-1999 (28/92 teeth, sun in, three planets; synthetic nodal-diameter frequencies, no condensation): the lines
     are the (n, h, order) for which N point loads moving round the ring with the h-th mesh
     harmonic have a circumferential harmonic ±n, found here by summing the planets' phasors
     exp(2 pi i (h z_r - s n) j / N) (not by the library's congruence); each crossing's input
@@ -171,13 +174,16 @@ def test_ring_campbell_lines_follow_the_moving_load_rule(tmp_path, fixed, per_in
                 total = sum(np.exp(2j * np.pi * (h * z_r - s * n) * j / n_p) for j in range(n_p))
                 if abs(total) > 1e-9 and h * z_r - s * n != 0:
                     want.add((n, h, abs(h * z_r - s * n)))
-    assert {(c["nd"], c["harmonic"], c["order"]) for c in got["lines"]} == want
+    # the one list the diagram draws (its lines, one crossing each) and the ring section reports
+    lines = pr.ring_crossings(case.form.spec, nd)
+    assert {(c["nd"], c["harmonic"], c["order"]) for c in lines} == want
+    assert len(lines) == len(want)
     top = got["input_speeds_rad_s"][1]
     expect = {(n, h, k): 2 * np.pi * nd[n] / (k * per_input) for n, h, k in want}
     shown = {k: v for k, v in expect.items() if v <= top}
     assert shown and any(h > 0 for _, h, _ in shown)
-    assert len(got["crossings"]) == len(shown)
-    for c in got["crossings"]:
-        assert c["input_speed_rad_s"] == pytest.approx(shown[(c["nd"], c["harmonic"],
-                                                               c["order"])], rel=1e-12)
+    assert got["shown"] == len(shown)
+    for c in lines:
+        assert c["input_speed_rad_s"] == pytest.approx(expect[(c["nd"], c["harmonic"],
+                                                                c["order"])], rel=1e-12)
     assert (tmp_path / "ring_campbell.png").stat().st_size > 10_000

@@ -32,7 +32,6 @@ from .. import (
     planetary_modes,
     planetary_quasi_static,
     quasi_static,
-    ring_excitation,
     ring_resonances,
 )
 from ..io import write_csv, write_json
@@ -52,6 +51,7 @@ __all__ = [
     "planetary_files",
     "planetary_lines",
     "ring_campbell",
+    "ring_crossings",
     "ring_operating_shape",
     "ring_section",
     "sharing_summary",
@@ -184,8 +184,9 @@ def ring_section(case, spec, stage, out: str) -> dict:
     mesh at the stage's mesh stiffness, sun free, ring and carrier held: the stage of
     :func:`sharing_summary`) at :data:`RING_POSITIONS` carrier positions over 1/N of a turn;
     the ring's deflection at the ring meshes; its lowest in-plane nodal-diameter frequencies
-    and which of them the planets' mesh harmonics excite, at which carrier speed
-    (:func:`jaxgear.ring_resonances`); ``ring.vtu`` (the ring's mode shapes and its deflected
+    and which of them the planets' mesh harmonics excite, at which carrier and input speed
+    (``resonances``, :func:`ring_crossings`: the one list that ``ring_campbell.png`` draws, its
+    ``campbell`` section saying how many lie in the drawn range); ``ring.vtu`` (the ring's mode shapes and its deflected
     shape at the first position, :func:`ring_operating_shape`); ``ring_campbell.png``."""
     rm = spec.ring_model
     st = rm.stations()
@@ -199,14 +200,14 @@ def ring_section(case, spec, stage, out: str) -> dict:
     rigid = planetary_quasi_static(model, held, ConstantMeshes(), torque, x, e, eps)
     flex = planetary_quasi_static(model, held, ConstantMeshes(), torque, x, e, eps,
                                   ring=rm.ring())
-    z_r = spec.teeth[2]
-    per_input = planet_pass_per_input(spec)
     prep = fem_prep.prepare_ring(rm.body)
     station = np.asarray(rm.ring().station_rows(held, x[0])).T @ np.asarray(
         flex.ring_mesh_forces[0])
     fem_prep.write_ring_vtu(prep, os.path.join(out, "ring.vtu"), n_modes=RING_VTU_MODES,
                             point_data={DEFLECTION: ring_operating_shape(prep, station)})
-    campbell = ring_campbell(case, spec, st.nd_frequencies, os.path.join(out, "ring_campbell.png"))
+    resonances = ring_crossings(spec, st.nd_frequencies)
+    campbell = ring_campbell(case, spec, st.nd_frequencies,
+                             os.path.join(out, "ring_campbell.png"), resonances)
     return {
         "body": rm.source,
         "stations": int(st.compliance.shape[0]),
@@ -216,10 +217,7 @@ def ring_section(case, spec, stage, out: str) -> dict:
         "ring_mesh_forces_condensed_N": np.asarray(flex.ring_mesh_forces).tolist(),
         "ring_deflection_max_m": float(np.max(np.abs(np.asarray(flex.ring_deflection)))),
         "nd_frequencies_Hz": {str(k): v for k, v in st.nd_frequencies.items()},
-        "resonances": [
-            {**r, "input_speed_rad_s": r["carrier_speed_hz"] * 2 * math.pi / per_input}
-            for r in ring_resonances(st.nd_frequencies, n, z_r, 2)
-        ] if per_input else [],
+        "resonances": resonances,
         "file": "ring.vtu",
         "vtu_deflection": f"{DEFLECTION}: the deflected shape at the first carrier position "
         "(the condensed solve's ring-mesh forces), beside the mode shapes",
@@ -256,36 +254,47 @@ def planet_pass_per_input(spec) -> float:
     return abs(w["carrier"] - w["ring"])
 
 
-def ring_campbell(case, spec, nd_frequencies: dict, path: str) -> dict:
+def ring_crossings(spec, nd_frequencies: dict) -> list[dict]:
+    """The one list of the ring's resonances with the planets' mesh harmonics (the ``ring``
+    section's ``resonances``, drawn by :func:`ring_campbell`): :func:`jaxgear.ring_resonances`
+    for h = 0..:data:`RING_HARMONICS` (h = 0: the mean loads carried round), each entry
+    ``nd``, ``harmonic``, ``order`` (|h z_r ∓ n|: a line of the Campbell diagram, the rule of
+    docs/planetary.md, "Which ring modes the planets excite"), ``frequency_hz`` (f_n),
+    ``carrier_speed_hz`` (the speed Ω/2π of the planets round the ring at the crossing, rev/s,
+    f_n / order) and ``input_speed_rad_s`` (2π f_n / (order Ω per input)), sorted by speed;
+    [] when the planets do not move round the ring."""
+    per_input = planet_pass_per_input(spec)
+    if not per_input:
+        return []
+    return [
+        {**r, "input_speed_rad_s": r["carrier_speed_hz"] * 2 * math.pi / per_input}
+        for r in ring_resonances(nd_frequencies, spec.n_planets, int(spec.teeth[2]),
+                                 RING_HARMONICS)
+    ]
+
+
+def ring_campbell(case, spec, nd_frequencies: dict, path: str,
+                  resonances: list | None = None) -> dict:
     """The ring's Campbell diagram against the input speed, drawn into ``path``: each
     nodal-diameter frequency f_n (Hz, ``nd_frequencies`` {n: f_n}; a ring held, its modes do not
     change with the speed) and the excitation lines of the rule of docs/planetary.md ("Which
     ring modes the planets excite", :func:`jaxgear.ring_excitation`): the mesh harmonic h of N
     planets moving round the ring at Ω = |ω_c − ω_r| excites the n-diameter mode where
     h z_r ∓ n ≡ 0 (mod N), at the frequency |h z_r ∓ n| Ω/2π, for h = 0..:data:`RING_HARMONICS`;
-    each line is drawn in its mode's colour and its crossing with f_n (a resonance) marked.
+    each line is drawn in its mode's colour and its crossing with f_n (a resonance) marked. The
+    lines and crossings are ``resonances`` (:func:`ring_crossings`; None: computed here): one
+    line per resonance, each line meeting its mode once.
 
-    Returns the section's keys: the file, the speed range, Ω per input speed, the lines
-    (nd, harmonic, order) and the crossings in the range (input speed, rad/s)."""
+    Returns the section's keys: the file, the speed range (input, rad/s), Ω per input speed and
+    ``shown``, how many of the ``resonances`` (the first, by speed) lie in the drawn range."""
     z_r, n = int(spec.teeth[2]), spec.n_planets
     per_input = planet_pass_per_input(spec)
+    if resonances is None:
+        resonances = ring_crossings(spec, nd_frequencies)
     nds = sorted(int(k) for k in nd_frequencies)
-    lines = []
-    for h in range(RING_HARMONICS + 1):
-        nd, order = ring_excitation(n, z_r, h, max(nds))
-        for m, k in zip(nd.tolist(), order.tolist(), strict=True):
-            line = {"nd": m, "harmonic": h, "order": k}
-            if m in nds and k > 0 and line not in lines:
-                lines.append(line)
-    crossing = [
-        {**line, "frequency_Hz": float(nd_frequencies[line["nd"]]),
-         "input_speed_rad_s": 2 * math.pi * float(nd_frequencies[line["nd"]])
-         / (line["order"] * per_input)}
-        for line in lines
-    ] if per_input else []
-    mesh = [c["input_speed_rad_s"] for c in crossing if c["harmonic"] > 0]
+    mesh = [c["input_speed_rad_s"] for c in resonances if c["harmonic"] > 0]
     top = max(1.5 * case.speed, 1.2 * max(mesh, default=0.0), 1e-9)
-    shown = [c for c in crossing if c["input_speed_rad_s"] <= top]
+    shown = [c for c in resonances if c["input_speed_rad_s"] <= top]
     fig, ax = new_figure()
     styles = {0: ":", 1: "--", 2: "-."}
     colours = {m: f"C{i % 10}" for i, m in enumerate(nds)}
@@ -293,14 +302,14 @@ def ring_campbell(case, spec, nd_frequencies: dict, path: str) -> dict:
     for m in nds:
         ax.axhline(nd_frequencies[m], color=colours[m], lw=1.4,
                    label=f"ND {m}: {nd_frequencies[m]:.4g} Hz")
-    for line in lines:
+    for line in resonances:
         ax.plot(speeds, line["order"] * per_input * speeds / (2 * math.pi),
                 styles.get(line["harmonic"], "-"), color=colours[line["nd"]], lw=0.8)
     for h in range(RING_HARMONICS + 1):
         ax.plot([], [], styles.get(h, "-"), color="0.3", lw=0.8,
                 label=f"h = {h}: |{h} z_r ∓ n| Ω/2π" if h else "h = 0: n Ω/2π (mean loads)")
     if shown:
-        ax.plot([c["input_speed_rad_s"] for c in shown], [c["frequency_Hz"] for c in shown],
+        ax.plot([c["input_speed_rad_s"] for c in shown], [c["frequency_hz"] for c in shown],
                 "o", mfc="none", color="k", label="resonance")
     if case.speed > 0:
         ax.axvline(case.speed, color="k", lw=0.8, ls=(0, (1, 3)),
@@ -317,8 +326,7 @@ def ring_campbell(case, spec, nd_frequencies: dict, path: str) -> dict:
         "file": "ring_campbell.png",
         "input_speeds_rad_s": [0.0, top],
         "planet_pass_speed_per_input": per_input,
-        "lines": lines,
-        "crossings": shown,
+        "shown": len(shown),
     }
 
 

@@ -11,7 +11,9 @@ rotation (a fixed member, or a driven one of large inertia), the planets and eve
 on their bearings; the meshes are the gears' contact cells (:class:`~jaxgear.ContactMeshes`,
 time-varying stiffness, contact loss) or, in the lumped form, the constant mesh springs
 (:class:`~jaxgear.ConstantMeshes`: no parametric excitation, a dynamic factor of 1 unless pin
-errors move the planets). At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
+errors move the planets). The ring is the case's (``[planetary.ring]``): rigid, or a condensed
+ring as its ``dynamics`` key says (massless, with mass, or modal;
+:meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
 travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
@@ -33,7 +35,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .. import PlanarPlanetary, planetary_modes
+from .. import PlanarPlanetary, RigidRing, planetary_modes
 from ..dynamics import (
     PlanetaryRun,
     order_spectrum,
@@ -150,7 +152,7 @@ def planetary_sweep(
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
     ``ring_spectrum`` (the ring transducer at the worst speed)."""
     t0 = time.perf_counter()
-    summary, (stage, meshes, run) = sweep_summary(
+    summary, (stage, meshes, run, ring) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
         keep_periods=keep_periods, slices=slices,
     )
@@ -160,7 +162,7 @@ def planetary_sweep(
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
         form, case, stage, meshes, run, summary["speed_of_max_rad_s"],
-        os.path.join(out_dir, "ring_spectrum.png"),
+        os.path.join(out_dir, "ring_spectrum.png"), ring,
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -180,21 +182,26 @@ def sweep_summary(
     slices: int | None = None,
 ) -> tuple[dict, tuple]:
     """The sweep of :func:`planetary_sweep` without its files, spectrum and Campbell diagram:
-    (``sweep.json``'s numbers, (the dynamic stage, its meshes, the run)).
+    (``sweep.json``'s numbers, (the dynamic stage, its meshes, the run, the ring model)).
 
     Keys: ``speeds_rad_s`` (input), ``carrier_speeds_rad_s``, ``mesh_frequency_Hz`` (carrier
     frame), ``mesh_names`` (``sun-planet 1..N``, then ``ring-planet 1..N``),
     ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
     load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (planar model at
-    the stage's constant mesh stiffness) and ``crossings``."""
+    the stage's constant mesh stiffness) and ``crossings``; ``ring_model`` (words) and ``ring``:
+    the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
+    ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
+    (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
+    maximum ``max_ring_deflection_m``."""
     spec, stage, meshes = _dynamic_setup(form, case, slices)
+    ring = spec.ring_model.dynamic_ring()
     run = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
-    r = _sweep(stage, meshes, run, carrier, mesh_speed)
+    r = _sweep(stage, meshes, run, carrier, mesh_speed, ring)
     df_s, df_r = (np.asarray(d) for d in r.dynamic_factors)
     per_mesh = np.concatenate([df_s, df_r], axis=1)  # (s, 2N)
     worst = per_mesh.max(axis=1)
@@ -209,6 +216,7 @@ def sweep_summary(
         "case": case.name,
         "kind": "planetary",
         "model": "planar (carrier frame)",
+        "ring_model": spec.ring_model.words(),
         "meshes": type(meshes).__name__,
         "speed_of": f"input ({spec.input.name.lower()})",
         "speeds_rad_s": speeds.tolist(),
@@ -231,7 +239,12 @@ def sweep_summary(
         "damping_ratio": float(run.damping_ratio),
         "natural_frequencies_Hz": natural.tolist(),
         "crossings": crossings(natural, f_mesh, speeds),
+        "ring": spec.ring_model.summary(),
     }
+    if spec.ring_model.flexible:
+        w = np.max(np.abs(np.asarray(r.ring_deflection)), axis=(1, 2))
+        summary["ring_deflection_max_m"] = w.tolist()
+        summary["max_ring_deflection_m"] = float(w.max())
     summary["platform"] = {
         "device": str(jax.devices()[0].platform),
         "dtype": str(np.asarray(r.time).dtype),
@@ -243,16 +256,17 @@ def sweep_summary(
         "nominal T_s/(N r_bs) (pin errors included); k_gamma: the most loaded planet's sun-mesh "
         "force over the planets' mean, largest over the kept periods"
     )
-    return summary, (stage, meshes, run)
+    return summary, (stage, meshes, run, ring)
 
 
-def _sweep(stage, meshes, run, carrier, mesh_speed):
+def _sweep(stage, meshes, run, carrier, mesh_speed, ring):
     """:func:`planetary_speed_sweep` when the ring is fixed (its mesh speed r_br |Ω|), else the
-    same run vmapped with the mesh speed given."""
+    same run vmapped with the mesh speed given; ``ring`` the ring model."""
     if math.isclose(float(mesh_speed[0]), float(stage.ring.base_radius) * abs(carrier[0]),
                     rel_tol=1e-12):
-        return planetary_speed_sweep(MODEL, stage, meshes, run, jnp.asarray(carrier))
-    one = jax.vmap(lambda om, v: planetary_dynamics(MODEL, stage, meshes, run, om, v))
+        return planetary_speed_sweep(MODEL, stage, meshes, run, jnp.asarray(carrier), ring=ring)
+    one = jax.vmap(lambda om, v: planetary_dynamics(MODEL, stage, meshes, run, om, v,
+                                                    ring=ring))
     return one(jnp.asarray(carrier), jnp.asarray(mesh_speed))
 
 
@@ -288,16 +302,19 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
         seen.add(k)
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
-    ax.set_title(f"{case.name}: dynamic factor per mesh (planar model, carrier frame)")
+    ax.set_title(f"{case.name}: dynamic factor per mesh (planar model, carrier frame, "
+                 f"{summary['ring_model']})")
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
 
 
-def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str) -> dict:
+def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
+                  ring=None) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
-    returns its keys: the mesh order's amplitude and the planet-pass sidebands'."""
+    returns its keys: the mesh order's amplitude and the planet-pass sidebands'. ``ring``: the
+    sweep's ring model (None: rigid)."""
     spec = form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
@@ -313,7 +330,8 @@ def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str) -> di
         radial_pin_errors=run.radial_pin_errors,
     )
     d = planetary_dynamics(MODEL, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
-                           jnp.asarray(spec.mesh_speed(speed)))
+                           jnp.asarray(spec.mesh_speed(speed)),
+                           ring=RigidRing() if ring is None else ring)
     theta = jnp.asarray(np.asarray(d.time) * rel)
     y = ring_transducer_signal(d.ring_mesh_forces, theta, stage.planet_angles)
     orders, amp = order_spectrum(y, run.steps_per_period * z_r)
@@ -363,7 +381,10 @@ def sweep_lines(case, s: dict) -> list[str]:
     line = (
         f"{case.name}: {len(s['speeds_rad_s'])} input speeds, max dynamic factor "
         f"{s['max_dynamic_factor']:.4f} ({worst}) at {s['speed_of_max_rad_s']:.4g} rad/s, "
-        f"max dynamic K_γ {s['max_k_gamma']:.4f}; first natural frequencies {nat} Hz; "
+        f"max dynamic K_γ {s['max_k_gamma']:.4f}; {s['ring_model']}"
+        + (f", ring deflection max {s['max_ring_deflection_m'] * 1e6:.3g} µm"
+           if "max_ring_deflection_m" in s else "")
+        + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
     )
     return [line]
@@ -389,6 +410,10 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_dynamic_factor_mesh": sw["max_dynamic_factor_mesh"],
         "k_gamma": sw["k_gamma"],
         "max_k_gamma": sw["max_k_gamma"],
+        "ring_model": sw["ring_model"],
+        "ring": sw["ring"],
+        **({"max_ring_deflection_m": sw["max_ring_deflection_m"]}
+           if "max_ring_deflection_m" in sw else {}),
         "files": ", ".join(f"sweep/{n}" for n in RUN_SWEEP_FILES),
     }
     summary["complete"] = bool(complete)
@@ -403,6 +428,9 @@ def planetary_run_lines(form, case, summary: dict) -> list[str]:
         f"dynamic factor ({d['model']}, {len(d['speeds_rad_s'])} {d['speed_of']} speeds "
         f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): max "
         f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
-        f"{d['max_k_gamma']:.4f} ({d['files']})"
+        f"{d['max_k_gamma']:.4f}, {d['ring_model']}"
+        + (f" (ring deflection max {d['max_ring_deflection_m'] * 1e6:.3g} µm)"
+           if "max_ring_deflection_m" in d else "")
+        + f" ({d['files']})"
     )
     return [*planetary_lines(form, case, summary), line]

@@ -28,7 +28,8 @@ from .._planetary_mesh import (
 )
 from .._planetary_ring import AbstractRingModel, RigidRing, modal_damping
 from .._util import as_float, check_instance, check_integer, check_real
-from ._newmark import LinearSystem, StepCells, newmark
+from ._modal_basis import ModalSpace, reduced_structure
+from ._newmark import LinearSystem, ModalSystem, StepCells, newmark, newmark_modal
 
 __all__ = [
     "PlanetaryDynamics",
@@ -167,6 +168,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     def travel(i):
         return (i + 0.5) * (p_b / S)
 
+    basis = ring.modal_basis(k_b.dtype)
+
     def cell_row(i):
         # the pins' offsets, and the sun's and ring's eccentricities turning with their members
         _, d_si, d_ri = pin_terms(model, stage, run.tangential_pin_errors,
@@ -174,22 +177,47 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         row = meshes.cell_row(model, stage, travel(i), (d_si, d_ri))
         if n_u == 0:
             return row
-        E = ring.contact_rows(stage, travel(i))
-        return row._replace(V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
+        if basis is None:  # the station model: the contact on every coordinate
+            E = ring.contact_rows(stage, travel(i))
+            return row._replace(V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
+        # modal: the ring cells reach the stage's coordinates and their planet's two
+        # stations, a window of coordinates (newmark_modal's cell space)
+        iu, E = ring.window(stage, travel(i))
+        idx = jnp.concatenate([jnp.arange(n_dof, dtype=iu.dtype), n_dof + iu])
+        return row._replace(idx=idx, V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
+
+    def full(row):  # a window's rows on every coordinate
+        if row.idx is None:
+            return row.V
+        return jnp.zeros((row.V.shape[0], n_dof + n_u), row.V.dtype).at[:, row.idx].add(row.V)
 
     row0 = cell_row(jnp.zeros_like(p_b))
-    static = solve_contact(system.K, system.F, row0.V, row0.k, row0.length, row0.delta0,
+    static = solve_contact(system.K, system.F, full(row0), row0.k, row0.length, row0.delta0,
                            row0.mask, law)
     zero = jnp.zeros_like(static.x)
-    state = (static.x, zero, zero, jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
     cells = StepCells(cell_row, law)
 
     def record(X, Xd, P, i):
         return X, meshes.mesh_forces(P), i, ring.contact_rows(stage, travel(i)) @ X[n_dof:]
 
-    final, (X, forces, i, w) = newmark(system, dt, state, steps, cells, record,
-                                    keep_blocks=run.keep_periods)
+    code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
+    if basis is None:
+        final, (X, forces, i, w) = newmark(system, dt, (static.x, zero, zero, *code), steps,
+                                           cells, record, keep_blocks=run.keep_periods)
+    else:  # the ring's kept modes and the static correction of the others
+        T_u, D_u, G_u = basis
+        D = jax.scipy.linalg.block_diag(jnp.eye(n_dof, dtype=k_b.dtype), D_u)
+        G = _with_ring(jnp.zeros((n_dof, n_dof), k_b.dtype), G_u)
+        Kr, Mr, Cr, structure = reduced_structure(ModalSpace(D, D[:, :0], D, G), *system[:4],
+                                                  True, True)
+        q0 = jnp.concatenate([static.x[:n_dof], T_u.T @ (m_u @ static.x[n_dof:])])
+        r0 = static.x - D @ q0  # G f of the static state: the residual's part
+        zq, zr = jnp.zeros_like(q0), jnp.zeros_like(r0)
+        final, (X, forces, i, w) = newmark_modal(
+            ModalSystem(Kr, Mr, Cr, D.T @ system.F, structure), dt,
+            (q0, zq, zq, r0, zr, zr, *code), steps, cells, record,
+            keep_blocks=run.keep_periods)
     n = stage.n_planets
     return PlanetaryDynamics(
         time=i * dt,
@@ -198,7 +226,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         sun_mesh_forces=forces[:, :n],
         ring_mesh_forces=forces[:, n:],
         static_force=run.sun_torque / (n * stage.sun.base_radius),
-        result=final[3],
+        result=final[-2],  # (the state's result code, before the contact passes)
         ring_deflection=w,
     )
 
