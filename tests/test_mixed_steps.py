@@ -4,7 +4,8 @@ A sweep whose speeds get several automatic N_s (:func:`jaxgear.dynamics.auto_ste
 runs them through one compiled program (N_s an argument of it: the mesh table of the largest
 N_s's size, a traced step count, masked statistics). The independent reference: each speed run
 alone by :func:`jaxgear.dynamics.simulate`, the per-N_s program (its own table, static step
-counts, unmasked statistics): the same steps, the same numbers (to 1e-12 relative; the
+counts, unmasked statistics): the same steps, the same numbers (to 1e-10 relative: the programs
+and the calls' batch sizes differ, so XLA's rounding differs, measured up to 1.3e-12; the
 histories of the sweep are every m-th record of the run alone, m = N_s / min N_s). The
 programs are counted with JAX's monitoring events (one trace per compiled function, after
 ``jax.clear_caches``: the persistent cache does not hide a trace).
@@ -65,6 +66,10 @@ def model():
     return dynamic_model(scene, case.modifications, case.torque)
 
 
+#: same steps, other programs and batch sizes: roundoff (measured up to 1.3e-12 relative)
+RTOL = 1e-10
+
+
 def _speeds(model):
     return np.array(RATIOS) * float(model.critical_speeds(1)[0])
 
@@ -77,15 +82,15 @@ def _same_as_alone(r, model, speeds, which, n_min):
         one = simulate(model, float(speeds[i]), window=WINDOW)
         assert int(one.steps_per_period) == ns[i]
         for f in SCALARS:
-            np.testing.assert_allclose(float(getattr(r, f)[i]), float(getattr(one, f)), rtol=1e-12)
-        # a fraction of F_s: a difference of forces, compared to 1e-12 F_s
-        np.testing.assert_allclose(float(r.periodicity[i]), float(one.periodicity), atol=1e-12)
+            np.testing.assert_allclose(float(getattr(r, f)[i]), float(getattr(one, f)), rtol=RTOL)
+        # a fraction of F_s: a difference of forces, compared to RTOL F_s
+        np.testing.assert_allclose(float(r.periodicity[i]), float(one.periodicity), atol=RTOL)
         m = int(ns[i]) // n_min
-        np.testing.assert_allclose(float(r.time_step[i]), float(one.time_step) * m, rtol=1e-12)
+        np.testing.assert_allclose(float(r.time_step[i]), float(one.time_step) * m, rtol=RTOL)
         for f in HISTORIES:
             a, b = np.asarray(getattr(r, f)[i]), np.asarray(getattr(one, f))[m - 1 :: m]
             assert a.shape == b.shape == (WINDOW.keep_periods * n_min,)
-            np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * np.max(np.abs(b)))
+            np.testing.assert_allclose(a, b, rtol=0, atol=RTOL * np.max(np.abs(b)))
         assert int(r.result[i]) == int(one.result) == 0
 
 
@@ -129,7 +134,7 @@ def test_chunked_sweep_same_as_whole(model):
     assert done[-1] == len(speeds)
     for f in SCALARS + HISTORIES:
         np.testing.assert_allclose(
-            np.asarray(getattr(chunked, f)), np.asarray(getattr(whole, f)), rtol=1e-12, atol=0
+            np.asarray(getattr(chunked, f)), np.asarray(getattr(whole, f)), rtol=RTOL, atol=0
         )
 
 
@@ -179,7 +184,7 @@ def test_two_stage_train_traced_span(tmp_path):
         m = int(ns[i]) // 192
         for a, b in zip(r.meshes, one.meshes, strict=True):
             for f in SCALARS + ("static_force",):
-                np.testing.assert_allclose(float(getattr(a, f)[i]), float(getattr(b, f)), rtol=1e-12)
+                np.testing.assert_allclose(float(getattr(a, f)[i]), float(getattr(b, f)), rtol=RTOL)
             for f in ("mesh_force", "transmission_error", "static_te"):
                 x, y = np.asarray(getattr(a, f)[i]), np.asarray(getattr(b, f))[m - 1 :: m]
-                np.testing.assert_allclose(x, y, rtol=0, atol=1e-12 * np.max(np.abs(y)))
+                np.testing.assert_allclose(x, y, rtol=0, atol=RTOL * np.max(np.abs(y)))

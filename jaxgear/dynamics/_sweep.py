@@ -551,6 +551,18 @@ class _Chunked(_Passes):
         return self._continuation(self.speeds, 0), _flip(self._continuation(self.speeds[::-1], S))
 
 
+def _call_size(counts, steps, slack: float = 1.1) -> int:
+    """Speeds per call of a one-program mixed sweep (every call one size: one program): the
+    largest size whose padded work, the steps run counting the padding of each group's last
+    call (sum over groups of N_s · ceil(count/size) · size), is within ``slack`` of the least.
+    Padding every group to the largest one instead could run several times the steps where a
+    small group has a large N_s. ``counts``, ``steps``: the speeds and N_s of each group."""
+    sizes = range(1, max(counts) + 1)
+    work = [sum(int(n) * -(-c // s) * s for c, n in zip(counts, steps)) for s in sizes]
+    least = min(work)
+    return max(s for s, w in zip(sizes, work) if w <= slack * least)
+
+
 class _MixedSteps(_Passes):
     """The passes of a sweep whose speeds have different automatic step counts ``ns`` (S,): the
     speeds sharing an N_s run together (``at_steps(n, modes, size)`` their :class:`_Sweep`:
@@ -587,7 +599,7 @@ class _MixedSteps(_Passes):
     def independent(self):
         parts, order = [], []
         groups = [np.nonzero(self.ns == n)[0] for n in np.unique(self.ns)]
-        size = max(g.shape[0] for g in groups)
+        size = _call_size([g.shape[0] for g in groups], [self.ns[g[0]] for g in groups])
         for idx in groups:
             parts.append(self._records(idx, self.ns[idx[0]], lambda p: p.independent(), None, size))
             order.append(idx)
@@ -600,7 +612,7 @@ class _MixedSteps(_Passes):
         cuts = np.nonzero(np.diff(n_s))[0] + 1
         parts, start = [], None
         runs = np.split(np.arange(order.shape[0]), cuts)
-        size = max(run.shape[0] for run in runs)
+        size = _call_size([run.shape[0] for run in runs], [n_s[run[0]] for run in runs])
         for run in runs:
             r = self._records(order[run], n_s[run[0]], lambda p: p.ascending(), start, size)
             ok = bool(r.result[-1] == 0)
