@@ -319,40 +319,43 @@ class BlockLanczos(EigenSolver):
         V = np.empty((n, cap))  # M-orthonormal basis
         T = np.empty((cap, cap))  # V^T M op M V (the projected operator)
         X = np.random.default_rng(0).standard_normal((n, p))
+        MX = M @ X
         m, worst = 0, np.inf
         while m + p <= cap:
-            X, MX = _m_orthonormalise(X, V[:, :m], M, m)
+            X, MX = _m_orthonormalise(X, MX, V[:, :m], M, m)
             V[:, m : m + p] = X
             W = op @ MX  # one solve of p right-hand sides
             C = V[:, : m + p].T @ (M @ W)
             T[: m + p, m : m + p] = C
             T[m : m + p, :m] = C[:m].T
             m += p
-            R = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block
+            X = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block R
+            MX = M @ X
             if m >= k:
                 theta, Y = np.linalg.eigh(0.5 * (T[:m, :m] + T[:m, :m].T))
                 theta, Y = theta[::-1][:k], Y[:, ::-1][:, :k]
-                Yl = Y[m - p : m]  # the last block's rows: the Ritz estimates
-                est = np.sqrt(np.maximum(np.einsum("ij,ij->j", Yl, (R.T @ (M @ R)) @ Yl), 0))
+                Yl = Y[m - p : m]  # the last block's rows: the Ritz estimates ‖R Yl‖_M
+                est = np.sqrt(np.maximum(np.einsum("ij,ij->j", Yl, (X.T @ MX) @ Yl), 0))
                 worst = float(np.max(est / np.abs(theta)))
                 if worst <= tol:
                     return sigma + 1.0 / theta, V[:, :m] @ Y
-            X = R
         raise SolverError(
             f"block Lanczos did not converge: largest Ritz estimate {worst:.3g} > tol = "
             f"{tol:g} after {m} basis vectors (max_columns = {cap})"
         )
 
 
-def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """``X`` M-orthogonalised against the M-orthonormal ``V`` and M-orthonormalised within
-    (classical Gram-Schmidt and Cholesky QR, twice), with ``M X``.
+def _m_orthonormalise(
+    X: np.ndarray, MX: np.ndarray, V: np.ndarray, M, m: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` and
+    M-orthonormalised within (classical Gram-Schmidt and Cholesky QR, twice), with its ``M X``:
+    one product with ``M`` per pass (``M (X R⁻¹) = (M X) R⁻¹``).
 
     Raises:
         SolverError: the block lost rank (an invariant subspace, or a dependent block).
     """
     for _ in range(2):
-        MX = M @ X
         if V.shape[1]:
             X = X - V @ (V.T @ MX)
             MX = M @ X
@@ -364,7 +367,8 @@ def _m_orthonormalise(X: np.ndarray, V: np.ndarray, M, m: int) -> tuple[np.ndarr
                 "vectors"
             ) from exc
         X = sla.solve_triangular(R, X.T, trans="T").T
-    return X, M @ X
+        MX = sla.solve_triangular(R, MX.T, trans="T").T
+    return X, MX
 
 
 def _relative_residuals(K, M, lam: np.ndarray, phi: np.ndarray, sigma: float) -> np.ndarray:
