@@ -104,7 +104,10 @@ from ._root_stress import (
     plane_strain_stress as plane_strain_stress,
 )
 from ._solver import (
+    BlockLanczos as BlockLanczos,
     CholmodFactor as CholmodFactor,
+    EigenSolver as EigenSolver,
+    Lanczos as Lanczos,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
     SparseFactor as SparseFactor,

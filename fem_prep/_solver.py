@@ -26,6 +26,7 @@ import importlib
 import os
 import warnings
 from collections.abc import Callable, Iterator
+from typing import ClassVar, final
 
 import numpy as np
 import scipy.linalg as sla
@@ -35,7 +36,10 @@ from threadpoolctl import threadpool_limits
 from tqdm import tqdm
 
 __all__ = [
+    "BlockLanczos",
     "CholmodFactor",
+    "EigenSolver",
+    "Lanczos",
     "SolverError",
     "SolverWarning",
     "SparseFactor",
@@ -232,32 +236,179 @@ def _available_factor() -> type[SupernodalFactor | CholmodFactor | SparseFactor]
     return SparseFactor
 
 
+class EigenSolver:
+    """An algorithm for the lowest modes of ``K φ = λ M φ`` in shift-invert mode (a kind: pass
+    an instance as :func:`shift_invert_modes`' ``solver``). Subclasses implement
+    :meth:`ritz`."""
+
+    name: ClassVar[str]
+
+    def ritz(
+        self, K, M, k: int, sigma: float, op: spla.LinearOperator, tol: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``k`` approximate eigenpairs ``(lam (k,), phi (n, k))`` (any order, any scaling);
+        ``op`` applies ``(K − σ M)⁻¹`` to a vector or a block ``(n, p)``.
+
+        Raises:
+            SolverError: no convergence.
+        """
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        return f"fem_prep.{type(self).__name__}()"
+
+
+@final
+class Lanczos(EigenSolver):
+    """SciPy's ``eigsh`` (ARPACK, implicitly restarted Lanczos) in shift-invert mode with the
+    factor as ``OPinv``: one vector per factor solve, ``ncv = max(2k + 1, k + 40)``. The
+    default."""
+
+    name: ClassVar[str] = "lanczos"
+
+    def ritz(self, K, M, k, sigma, op, tol):
+        n = K.shape[0]
+        ncv = min(n, max(2 * k + 1, k + 40))
+        try:
+            return spla.eigsh(K, k=k, M=M, sigma=sigma, OPinv=op, which="LM", ncv=ncv, tol=tol)
+        except spla.ArpackNoConvergence as exc:
+            raise SolverError(
+                f"eigsh did not converge: {len(exc.eigenvalues)} of {k} modes after the "
+                f"iteration limit (ncv = {ncv})"
+            ) from exc
+
+
+@final
+class BlockLanczos(EigenSolver):
+    """Block shift-invert Lanczos: the Krylov space of ``(K − σ M)⁻¹ M`` grown ``block``
+    vectors per factor solve (one ``solve`` call on an ``(n, block)`` right-hand side: BLAS-3 on
+    a supernodal factor), fully M-reorthogonalised (classical Gram-Schmidt and Cholesky QR, twice),
+    no restart; after each block a Rayleigh-Ritz step on the basis, stopped when the lowest ``k``
+    Ritz pairs meet ARPACK's criterion (the Ritz estimate ``‖(K − σM)⁻¹Mφ − θφ‖_M ≤ tol θ``,
+    ``θ = 1/(λ − σ)``, from the residual block: no extra products). Without convergence
+    within ``max_columns`` basis vectors (default ``4 k + 4 block``; memory ``n × max_columns``
+    doubles) it raises :class:`SolverError`, and :func:`shift_invert_modes` falls back to
+    :class:`Lanczos` with a :class:`SolverWarning`.
+
+    Args:
+        block: vectors per factor solve (>= 1).
+        max_columns: basis size limit (>= 1), or ``None``.
+
+    Raises:
+        ValueError: ``block < 1`` or ``max_columns < 1``.
+    """
+
+    name: ClassVar[str] = "block-lanczos"
+
+    def __init__(self, block: int = 8, max_columns: int | None = None):
+        if not (isinstance(block, int | np.integer) and block >= 1):
+            raise ValueError(f"block = {block!r}: an integer >= 1 (vectors per factor solve)")
+        if max_columns is not None and not (
+            isinstance(max_columns, int | np.integer) and max_columns >= 1
+        ):
+            raise ValueError(f"max_columns = {max_columns!r}: an integer >= 1 or None")
+        self.block, self.max_columns = int(block), max_columns
+
+    def __repr__(self) -> str:
+        return f"fem_prep.BlockLanczos(block={self.block}, max_columns={self.max_columns})"
+
+    def ritz(self, K, M, k, sigma, op, tol):
+        n = K.shape[0]
+        p = min(self.block, n)
+        cap = min(n, self.max_columns or 4 * k + 4 * p)
+        V = np.empty((n, cap))  # M-orthonormal basis
+        T = np.empty((cap, cap))  # V^T M op M V (the projected operator)
+        X = np.random.default_rng(0).standard_normal((n, p))
+        MX = M @ X
+        m, worst = 0, np.inf
+        while m + p <= cap:
+            X, MX = _m_orthonormalise(X, MX, V[:, :m], M, m)
+            V[:, m : m + p] = X
+            W = op @ MX  # one solve of p right-hand sides
+            C = V[:, : m + p].T @ (M @ W)
+            T[: m + p, m : m + p] = C
+            T[m : m + p, :m] = C[:m].T
+            m += p
+            X = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block R
+            MX = M @ X
+            if m >= k:
+                theta, Y = np.linalg.eigh(0.5 * (T[:m, :m] + T[:m, :m].T))
+                theta, Y = theta[::-1][:k], Y[:, ::-1][:, :k]
+                Yl = Y[m - p : m]  # the last block's rows: the Ritz estimates ‖R Yl‖_M
+                est = np.sqrt(np.maximum(np.einsum("ij,ij->j", Yl, (X.T @ MX) @ Yl), 0))
+                worst = float(np.max(est / np.abs(theta)))
+                if worst <= tol:
+                    return sigma + 1.0 / theta, V[:, :m] @ Y
+        raise SolverError(
+            f"block Lanczos did not converge: largest Ritz estimate {worst:.3g} > tol = "
+            f"{tol:g} after {m} basis vectors (max_columns = {cap})"
+        )
+
+
+def _m_orthonormalise(
+    X: np.ndarray, MX: np.ndarray, V: np.ndarray, M, m: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` and
+    M-orthonormalised within (classical Gram-Schmidt and Cholesky QR, twice), with its ``M X``:
+    one product with ``M`` per pass (``M (X R⁻¹) = (M X) R⁻¹``).
+
+    Raises:
+        SolverError: the block lost rank (an invariant subspace, or a dependent block).
+    """
+    for _ in range(2):
+        if V.shape[1]:
+            X = X - V @ (V.T @ MX)
+            MX = M @ X
+        try:
+            R = np.linalg.cholesky(0.5 * (X.T @ MX + MX.T @ X)).T
+        except np.linalg.LinAlgError as exc:
+            raise SolverError(
+                f"block Lanczos: the block of {X.shape[1]} vectors lost rank after {m} basis "
+                "vectors"
+            ) from exc
+        X = sla.solve_triangular(R, X.T, trans="T").T
+        MX = sla.solve_triangular(R, MX.T, trans="T").T
+    return X, MX
+
+
+def _relative_residuals(K, M, lam: np.ndarray, phi: np.ndarray, sigma: float) -> np.ndarray:
+    """``‖K φ − λ M φ‖ / (max(|λ|, |σ|) ‖M φ‖)`` per column (scale-free)."""
+    Mphi = M @ phi
+    scale = np.maximum(np.abs(lam), max(abs(sigma), 1e-30))
+    return np.linalg.norm(K @ phi - Mphi * lam, axis=0) / (scale * np.linalg.norm(Mphi, axis=0))
+
+
 def shift_invert_modes(
     K: sp.spmatrix,
     M: sp.spmatrix,
     k: int,
     *,
     sigma: float = 0.0,
-    factor: CholmodFactor | SparseFactor | None = None,
+    factor: CholmodFactor | SparseFactor | SupernodalFactor | None = None,
     tol: float = 1e-10,
     check: float = 1e-6,
     on_solve: Callable[[], None] | None = None,
+    solver: EigenSolver | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Lowest ``k`` modes of ``K φ = λ M φ`` by shift-invert Lanczos (SciPy ``eigsh``).
+    """Lowest ``k`` modes of ``K φ = λ M φ`` in shift-invert mode.
 
     Degenerate pairs (nodal-diameter modes of an axisymmetric body) are returned with both
     members: ARPACK's implicitly restarted Lanczos with ``ncv ≥ 2k + 1`` resolves them (checked
-    by the tests on an exactly axisymmetric disc).
+    by the tests on an exactly axisymmetric disc), and so does the block Lanczos (a block of
+    ``p ≥ 2`` vectors).
 
     Args:
         K, M: sparse symmetric stiffness/mass ``(n, n)``.
         k: number of modes.
         sigma: shift ((rad/s)²), negative for free structures (rigid-body modes).
         factor: a factorisation of ``K − σ M`` to reuse.
-        tol: ARPACK relative tolerance on the Ritz values.
+        tol: ARPACK relative tolerance on the Ritz values (:class:`Lanczos`).
         check: bound on the relative residual of every returned mode.
-        on_solve: called after each solve with the factorisation (one per Lanczos step: a
-            progress bar's hook; the solves are those without it).
+        on_solve: called after each factor solve (one per Lanczos step, one per block of the
+            block Lanczos: a progress bar's hook).
+        solver: the eigen-solver, :class:`Lanczos` (ARPACK ``eigsh``; ``None``: the default)
+            or :class:`BlockLanczos` (``block`` vectors per solve); a block solver that does not
+            converge falls back to :class:`Lanczos` with a :class:`SolverWarning` saying why.
 
     Returns:
         ``(lam, phi)``: eigenvalues ``(k,)`` ascending ((rad/s)²) and mass-normalised modes
@@ -265,7 +416,13 @@ def shift_invert_modes(
 
     Raises:
         SolverError: ARPACK did not converge, or a mode's residual exceeds ``check``.
+        ValueError: ``solver`` is not an eigen-solver.
     """
+    solver = Lanczos() if solver is None else solver
+    if not isinstance(solver, EigenSolver):
+        raise ValueError(
+            f"solver = {solver!r}; use fem_prep.Lanczos(), fem_prep.BlockLanczos() or None"
+        )
     n = K.shape[0]
     if k <= 0:
         return np.zeros(0), np.zeros((n, 0))
@@ -274,26 +431,29 @@ def shift_invert_modes(
         return lam[:k], phi[:, :k]
     if factor is None:
         factor = factorize((K - sigma * M).tocsr())
-    ncv = min(n, max(2 * k + 1, k + 40))
     op = _counted(factor.operator(), on_solve)
     try:
-        lam, phi = spla.eigsh(K, k=k, M=M, sigma=sigma, OPinv=op, which="LM", ncv=ncv, tol=tol)
-    except spla.ArpackNoConvergence as exc:
-        raise SolverError(
-            f"eigsh did not converge: {len(exc.eigenvalues)} of {k} modes after the iteration "
-            f"limit (ncv = {ncv})"
-        ) from exc
+        lam, phi = solver.ritz(K, M, k, sigma, op, tol)
+    except SolverError as exc:
+        if isinstance(solver, Lanczos):
+            raise
+        warnings.warn(
+            f"{solver!r} failed ({exc}): falling back to fem_prep.Lanczos (ARPACK eigsh)",
+            SolverWarning,
+            stacklevel=2,
+        )
+        lam, phi = Lanczos().ritz(K, M, k, sigma, op, tol)
     order = np.argsort(lam)
     lam, phi = lam[order], phi[:, order]
     Mphi = M @ phi
     mm = np.einsum("ij,ij->j", phi, Mphi)
     phi = phi / np.sqrt(mm)
     Mphi = Mphi / np.sqrt(mm)
-    scale = np.maximum(np.abs(lam), max(abs(sigma), 1e-30))
-    res = np.linalg.norm(K @ phi - Mphi * lam, axis=0) / (scale * np.linalg.norm(Mphi, axis=0))
+    res = _relative_residuals(K, M, lam, phi, sigma)
     if np.any(res > check):
         raise SolverError(
-            f"eigsh returned modes with relative residual up to {res.max():.3g} > {check:g}"
+            f"{solver.name} returned modes with relative residual up to {res.max():.3g} > "
+            f"{check:g}"
         )
     if sigma < 0 and k < n - 50:
         # a free structure: Lanczos can miss a member of the six-fold zero eigenvalue (it sees a
