@@ -44,7 +44,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._util import as_float, check_integer, check_real
+from ._util import as_float, check_integer, check_real, static_correction
 
 __all__ = [
     "AbstractRingModel",
@@ -270,7 +270,6 @@ class CondensedRing(AbstractRingModel):
     def modal_basis(self, dtype):
         if self.modes is None:
             return None
-        from .dynamics._modal_basis import static_correction  # (the dynamics import this module)
 
         K, M, _ = self.dynamic_matrices(dtype, 0.0)
         low = jnp.linalg.cholesky(M)

@@ -289,3 +289,23 @@ def only_where_needed(fn):
         return out, jax.tree_util.tree_map(lambda _: True, out)
 
     return g
+
+
+def static_correction(T, Q, K, correction: bool = True):
+    """The static correction of the kept directions T (n, m') for the stiffness K (n, n), Q
+    (n, n − m') the other directions (together M-orthonormal: the modal basis's split_modes):
+    (D (n, m'), G (n, n)).
+
+    G = Q (Qᵀ K Q)⁻¹ Qᵀ: the structure's flexibility on the M-orthogonal complement of the
+    kept directions (the residual flexibility; Craig & Kurdila §14.5), and D = T − G K T. Then
+    X = D q + G f solves the static K X = f exactly (block elimination of the complement:
+    Dᵀ K D q = Dᵀ f, Dᵀ K G = 0 as G K G = G), and with every mode kept D = T, G = 0: the full
+    model in modal coordinates. Tᵀ M D = I and Tᵀ M G = 0 (q = Tᵀ M X recovers the modal
+    coordinates). Without ``correction``: D = T, G = 0 (the truncated modal model)."""
+    n = T.shape[0]
+    if Q.shape[1] == 0 or not correction:
+        return T, jnp.zeros((n, n), T.dtype)
+    A = Q.T @ K @ Q
+    G = Q @ jnp.linalg.solve(0.5 * (A + A.T), Q.T)
+    G = 0.5 * (G + G.T)
+    return T - G @ (K @ T), G

@@ -23,6 +23,12 @@ def rated_accessory_data(slices: int, positions_per_pitch: int) -> dict:
     d = tomllib.loads(jio.embedded_case_text("accessory-spur"))
     d.pop("scene", None)
     d["mesh"].update(slices=slices, positions_per_pitch=positions_per_pitch)
+    return with_rating(d)
+
+
+def with_rating(d: dict) -> dict:
+    """The parsed case file ``d`` given the rating's keys (a case-hardened steel's σ_Hlim 1500 and
+    σ_Flim 430 MPa, 6000 1/min, 20 000 h, ISO VG 46, Rz 3/10 µm), changed in place and returned."""
     d["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
     d["operating"]["speed_rpm"] = 6000.0
     d["rating"] = {

@@ -11,14 +11,14 @@ programs are counted with JAX's monitoring events (one trace per compiled functi
 ``jax.clear_caches``: the persistent cache does not hide a trace).
 """
 
-import contextlib
 import pathlib
 import sys
 
 import jax
-import jax.monitoring
 import numpy as np
 import pytest
+
+from _tracing import traced
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -33,27 +33,10 @@ from jaxgear.dynamics import (
 )
 from jaxgear.scenes import TorsionalDynamics, disc_inertia, torsional_train
 
-_TRACE_EVENT = "/jax/core/compile/jaxpr_trace_duration"
 RATIOS = (0.3, 0.6, 1.0, 1.3)  # of the first critical speed: N_s 256, 128, 64, 64
 WINDOW = SteadyState(4, 2)
 SCALARS = ("dynamic_factor", "dynamic_factor_tooth", "te_rms", "te_mean", "contact_loss")
 HISTORIES = ("mesh_force", "transmission_error", "time", "theta", "static_te")
-
-
-@contextlib.contextmanager
-def traced():
-    """The names of the functions JAX traces inside the block."""
-    names = []
-
-    def listen(event, duration, **kwargs):
-        if event == _TRACE_EVENT:
-            names.append(kwargs.get("fun_name", "?"))
-
-    jax.monitoring.register_event_duration_secs_listener(listen)
-    try:
-        yield names
-    finally:
-        jax.monitoring.unregister_event_duration_listener(listen)
 
 
 @pytest.fixture(scope="module")

@@ -26,7 +26,7 @@ from pathlib import Path
 import jax
 import numpy as np
 import pytest
-from _rating_cases import rated_accessory_data, stub_table
+from _rating_cases import rated_accessory_data, stub_table, with_rating
 
 import jaxgear as jg
 import jaxgear.cli.run as run_module
@@ -147,16 +147,8 @@ def test_rigid_scene_reads_the_rigid_mesh_map():
 
 
 def _rated_train(d: dict) -> dict:
-    d["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)
-    d["operating"]["speed_rpm"] = 6000.0
-    d["rating"] = {
-        "life_h": 20000.0,
-        "viscosity_40C_mm2_s": 46.0,
-        "roughness_Rz_flank_um": 3.0,
-        "roughness_Rz_root_um": 10.0,
-    }
     d["mesh"].update(slices=8, positions_per_pitch=16)
-    return d
+    return with_rating(d)
 
 
 def _coupled_and_alone(case):

@@ -7,12 +7,13 @@ per traced function): after a first call with each kind of value (a Python float
 calls with new values must trace nothing at all.
 """
 
-import contextlib
 
-import jax.monitoring
+import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+
+from _tracing import traced
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
@@ -20,23 +21,6 @@ import jaxgear.io as jio
 import jaxgear.scenes as js
 import optimise as op
 
-_TRACE_EVENT = "/jax/core/compile/jaxpr_trace_duration"
-
-
-@contextlib.contextmanager
-def traced():
-    """The names of the functions JAX traces inside the block (a list, filled as it runs)."""
-    names = []
-
-    def listen(event, duration, **kwargs):
-        if event == _TRACE_EVENT:
-            names.append(kwargs.get("fun_name", "?"))
-
-    jax.monitoring.register_event_duration_secs_listener(listen)
-    try:
-        yield names
-    finally:
-        jax.monitoring.unregister_event_duration_listener(listen)
 
 
 def _first_then_none(call, first_args, new_args):

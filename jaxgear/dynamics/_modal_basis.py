@@ -24,6 +24,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._util import static_correction
 from ._newmark import ModalStructure
 
 __all__ = ["ModalSpace", "modal_space_of", "reduced_structure"]
@@ -37,7 +38,7 @@ class ModalSpace(NamedTuple):
             the r softest directions of K on the other modes (r = the scene's members: their
             free rotations, which K alone does not hold); m' = min(m + r, n).
         Q: (n, n − m') the other directions (M-orthonormal, M-orthogonal to T).
-        D: (n, m') T with its static residual (:func:`static_correction`), or None when the
+        D: (n, m') T with its static residual (:func:`jaxgear._util.static_correction`), or None when the
             structure's stiffness depends on the speed (``rotating_frame``: reduced per speed).
         G: (n, n) the residual flexibility, or None (as D).
     """
@@ -65,26 +66,6 @@ def split_modes(Phi, m: int, K, r: int):
     return jnp.concatenate([Phi[:, :m], Pt[:, :r]], axis=1), Pt[:, r:], sigma[r:]
 
 
-def static_correction(T, Q, K, correction: bool = True):
-    """The static correction of the kept directions T (n, m') for the stiffness K (n, n), Q
-    (n, n − m') the other directions (:func:`split_modes`; together M-orthonormal): (D (n, m'),
-    G (n, n)).
-
-    G = Q (Qᵀ K Q)⁻¹ Qᵀ: the structure's flexibility on the M-orthogonal complement of the
-    kept directions (the residual flexibility; Craig & Kurdila §14.5), and D = T − G K T. Then
-    X = D q + G f solves the static K X = f exactly (block elimination of the complement:
-    Dᵀ K D q = Dᵀ f, Dᵀ K G = 0 as G K G = G), and with every mode kept D = T, G = 0: the full
-    model in modal coordinates. Tᵀ M D = I and Tᵀ M G = 0 (q = Tᵀ M X recovers the modal
-    coordinates). Without ``correction``: D = T, G = 0 (the truncated modal model)."""
-    n = T.shape[0]
-    if Q.shape[1] == 0 or not correction:
-        return T, jnp.zeros((n, n), T.dtype)
-    A = Q.T @ K @ Q
-    G = Q @ jnp.linalg.solve(0.5 * (A + A.T), Q.T)
-    G = 0.5 * (G + G.T)
-    return T - G @ (K @ T), G
-
-
 def modal_space_of(
     K: Float[Array, "n n"],
     M: Float[Array, "n n"],
@@ -98,7 +79,7 @@ def modal_space_of(
     """The basis of the structure (K, M) with the averaged mesh stiffness ``Km`` (all (n, n),
     SI): the ``modes`` lowest modes of (M, K + Km) (Cholesky of M, a dense symmetric
     eigenproblem; M-orthonormal, ascending), with the ``members``' free rotations
-    (:func:`split_modes`), and their static correction for K (:func:`static_correction`;
+    (:func:`split_modes`), and their static correction for K (:func:`jaxgear._util.static_correction`;
     ``static=False``: the truncated basis, D = T, G = 0). ``per_speed``: K depends on the speed
     (the rotating frame), D and G are left None and reduced per speed
     (:func:`reduced_structure`)."""
