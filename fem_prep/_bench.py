@@ -137,11 +137,10 @@ def _case(
         K,
         M,
         mdofs,
-        method=CraigBampton(),
+        method=CraigBampton(eigen_solver=EIGEN[eigen]),
         n_modes=50,
         rotating=RotatingOperators(f=f),
         interior_factor=fac,
-        eigen_solver=EIGEN[eigen],
     )
     del fac
     out["condensation_s"] = time.perf_counter() - t0

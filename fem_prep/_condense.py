@@ -111,8 +111,6 @@ class Partition:
         b, i: boundary and interior DOF indices.
         Fii: the factorisation of ``K_ii``.
         progress: show progress bars.
-        eigen: the eigen-solver of the modal block (``None``: :func:`shift_invert_modes`'
-            default).
     """
 
     K: sp.csr_matrix
@@ -121,7 +119,6 @@ class Partition:
     i: np.ndarray
     Fii: CholmodFactor | SparseFactor | SupernodalFactor
     progress: bool = False
-    eigen: EigenSolver | None = None
 
     @property
     def n(self) -> int:
@@ -295,9 +292,18 @@ class Guyan(CondensationMethod):
 
 @final
 class CraigBampton(CondensationMethod):
-    """Fixed-interface modes ([CRA68], ``method = "craig-bampton"``, the default)."""
+    """Fixed-interface modes ([CRA68], ``method = "craig-bampton"``, the default).
+
+    Args:
+        eigen_solver: the eigen-solver of the modes (:class:`~fem_prep.Lanczos`, ARPACK
+            ``eigsh``, one vector per solve; ``None``: the default) or
+            :class:`~fem_prep.BlockLanczos` (a block of vectors per factor solve).
+    """
 
     name: ClassVar[str] = "craig-bampton"
+
+    def __init__(self, eigen_solver: EigenSolver | None = None):
+        self.eigen_solver = eigen_solver
 
     def n_columns(self, n_modes):
         return n_modes
@@ -311,7 +317,7 @@ class CraigBampton(CondensationMethod):
                 sigma=0.0,
                 factor=part.Fii,
                 on_solve=bar.update,
-                solver=part.eigen,
+                solver=self.eigen_solver,
             )
         H[part.i, part.nb :] = phi
         return H, np.sqrt(np.maximum(lam, 0)) / (2 * math.pi)
@@ -333,12 +339,14 @@ class Herting(CondensationMethod):
     Args:
         free_shift: shift (rad/s)^2 (negative) of the free-interface eigen-solve; default
             ``-1e-4`` x the median of ``diag(K)/diag(M)``.
+        eigen_solver: as :class:`CraigBampton`'s.
     """
 
     name: ClassVar[str] = "herting"
 
-    def __init__(self, free_shift: float | None = None):
+    def __init__(self, free_shift: float | None = None, eigen_solver: EigenSolver | None = None):
         self.free_shift = free_shift
+        self.eigen_solver = eigen_solver
 
     def n_columns(self, n_modes):
         return n_modes
@@ -359,7 +367,7 @@ class Herting(CondensationMethod):
                 sigma=free_shift,
                 factor=Ffree,
                 on_solve=bar.update,
-                solver=part.eigen,
+                solver=self.eigen_solver,
             )
         del Ffree
         # drop rigid-body modes (captured by the constraint modes)
@@ -411,7 +419,6 @@ def _condense(
     progress: bool = False,
     interior_factor: CholmodFactor | SparseFactor | SupernodalFactor | None = None,
     static_correction: bool = True,
-    eigen_solver: EigenSolver | None = None,
 ) -> Condensed:
     """Condense ``(K, M)`` onto ``master_dofs`` (+ ``n_modes`` modal DOFs), seed (2.3)-(2.5).
 
@@ -420,7 +427,8 @@ def _condense(
         master_dofs: boundary DOF indices ``(n_b,)``; they must restrain the rigid-body modes
             (``K_ii`` non-singular).
         method: :class:`Guyan`, :class:`CraigBampton` (``None``: the default) or
-            :class:`Herting`.
+            :class:`Herting` (a modal method with its eigen-solver: ``CraigBampton(
+            eigen_solver=fem_prep.BlockLanczos())``).
         n_modes: number of retained modes (ignored by Guyan).
         rotating: the centrifugal vector and rotating-frame matrices to condense
             (:class:`RotatingOperators`), or ``None``.
@@ -432,9 +440,6 @@ def _condense(
             bending modes and do not carry the in-plane static response to the centrifugal load,
             so without ψ the recovered interior field misses it (its frequency is listed in
             ``modes_hz``).
-        eigen_solver: the eigen-solver of the modes (:class:`~fem_prep.Lanczos`, ARPACK
-            ``eigsh``, one vector per solve; ``None``: the default) or
-            :class:`~fem_prep.BlockLanczos` (a block of vectors per factor solve).
 
     Returns:
         The :class:`Condensed` model; boundary DOFs first in the order of ``master_dofs``.
@@ -471,7 +476,7 @@ def _condense(
     # the factor holds K_ii; the eigen-solve takes products (InteriorBlock): no copy kept
     del Ki
     timings["factorisation_s"] = time.perf_counter() - t0
-    part = Partition(K, M, b, i, Fii, progress, eigen_solver)
+    part = Partition(K, M, b, i, Fii, progress)
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks; one column more is
     # reserved for the static correction vector (appended in place, not by a copy of H)

@@ -259,7 +259,7 @@ FACTOR_CLAUSES: dict[str, dict[str, str]] = {
 }
 
 
-def factor_clause(symbol: str, edition: AbstractEdition | str) -> str:
+def factor_clause(symbol: str, edition: str) -> str:
     """Where ISO 6336 defines a factor or stress of the rating: "ISO 6336-3:2006 6.2" (part,
     edition and clause), or "ISO 6336-2:2019" (the part alone, where the clause was not checked
     against the standard's contents; :attr:`AbstractEdition.clauses`).
@@ -269,12 +269,13 @@ def factor_clause(symbol: str, edition: AbstractEdition | str) -> str:
             :class:`jaxgear.PittingRating` or :class:`jaxgear.BendingRating` (``"Y_F"``,
             ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa`` suffix is
             dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
-        edition: the :class:`AbstractEdition`, or its label (:attr:`jaxgear.Rating.method`).
+        edition: the edition's label (:attr:`AbstractEdition.label`, :attr:`jaxgear.Rating.method`:
+            ``"ISO 6336:2019 method B"``).
 
     Raises:
         ValueError: an unknown symbol or edition, in one line naming the known ones.
     """
-    label = edition if isinstance(edition, str) else edition.label
+    label = edition
     if label not in FACTOR_CLAUSES:
         raise ValueError(
             f"factor_clause: edition = {label!r} is out of range: one of {sorted(FACTOR_CLAUSES)}"

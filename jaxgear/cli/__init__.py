@@ -33,8 +33,6 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from ._rating_report import (
         ModelLoads as ModelLoads,
         at_speed_sections as at_speed_sections,
-        body_stress_outputs as body_stress_outputs,
-        fillet_table as fillet_table,
         measured_dynamic_factor as measured_dynamic_factor,
         measured_factors as measured_factors,
         rating_lines as rating_lines,
@@ -45,6 +43,10 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         train_loads as train_loads,
         train_mesh_results as train_mesh_results,
         write_rating_table as write_rating_table,
+    )
+    from ._stress_outputs import (
+        body_stress_outputs as body_stress_outputs,
+        fillet_table as fillet_table,
     )
     from ._summary import result_summary as result_summary
     from .run import format_table as format_table, run_case as run_case
@@ -69,7 +71,7 @@ _EXPORTS = {
     "clear_outputs": "._paths",
     "ModelLoads": "._rating_report",
     "at_speed_sections": "._rating_report",
-    "body_stress_outputs": "._rating_report",
+    "body_stress_outputs": "._stress_outputs",
     "measured_dynamic_factor": "._rating_report",
     "measured_factors": "._rating_report",
     "rating_lines": "._rating_report",
@@ -78,7 +80,7 @@ _EXPORTS = {
     "rating_outputs": "._rating_report",
     "root_stress_outputs": "._rating_report",
     "root_stress_at_speed": "._rating_report",
-    "fillet_table": "._rating_report",
+    "fillet_table": "._stress_outputs",
     "train_mesh_results": "._rating_report",
     "write_rating_table": "._rating_report",
     "result_summary": "._summary",

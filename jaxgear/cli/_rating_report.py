@@ -12,13 +12,8 @@ from typing import NamedTuple
 
 import equinox as eqx
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
-
-import fem_prep
 
 from .. import (
-    GearPair,
     GivenFactors,
     face_load_factor,
     factor_clause,
@@ -42,15 +37,13 @@ from ..io import (
     spec_integrator,
     spec_window,
 )
-from ._plots import savefig
+from ._stress_outputs import active_radii, fillet_table, root_stress_plot
 
 __all__ = [
     "ROOT_STRESS_RADII",
     "SCENE_MODELS",
     "ModelLoads",
     "at_speed_sections",
-    "body_stress_outputs",
-    "fillet_table",
     "measured_dynamic_factor",
     "measured_factors",
     "rating_lines",
@@ -253,6 +246,8 @@ SCENE_MODELS = {
     "lumped3d": "lumped scene: shafts and bearings",
     "hybrid": "hybrid scene: condensed bodies, shafts and bearings",
 }
+#: what a scene model's load map includes at a speed ω > 0 (rad/s), after its words
+_AT_SPEED = {"lumped3d": "", "hybrid": ", at {:.4g} rad/s (centrifugal loads)"}
 
 
 def scene_loads(curves: dict | None, speed: float) -> ModelLoads | None:
@@ -262,9 +257,8 @@ def scene_loads(curves: dict | None, speed: float) -> ModelLoads | None:
     centrifugal loads)); None without a scene."""
     if not curves:
         return None
-    model = SCENE_MODELS[curves["model"]]
-    if curves["model"] == "hybrid" and speed > 0:
-        model += f", at {speed:.4g} rad/s (centrifugal loads)"
+    kind = curves["model"]
+    model = SCENE_MODELS[kind] + (_AT_SPEED[kind].format(speed) if speed > 0 else "")
     return ModelLoads(tuple(curves["results"]["exact"].meshes), model)
 
 
@@ -554,43 +548,11 @@ ROOT_STRESS = (
 )
 
 
-@functools.lru_cache(maxsize=32)
-def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
-    """The FE fillet stress per unit load at each of ``radii`` (m) of a tooth form
-    (:func:`fem_prep.fillet_influence`), cached for the process: one FE factorisation per tooth
-    form and radii (a train's gear of two meshes, a rerun of the same case)."""
-    return fem_prep.fillet_influence(tooth, np.asarray(radii))
-
-
-def _active_radii(pair: GearPair, member: int, n: int) -> tuple:
-    """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α)."""
-    ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
-    roll = np.linspace(min(ends), max(ends), n)
-    return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
-
-
-def _root_stress_plot(path: str, maps, title: str) -> None:
-    fig = Figure(figsize=(9, 3.8), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, 2, sharey=True)
-    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
-        m = np.asarray(rmap.mask)
-        s = np.asarray(rmap.cell_s)[m] * 1e3
-        z = np.asarray(rmap.cell_z)[m] * 1e3
-        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
-        ax.set_title(f"{tag} root stress (MPa)")
-        ax.set_xlabel("s of the load along the line of action (mm)")
-        fig.colorbar(sc, ax=ax)
-    axes[0].set_ylabel("z across the face (mm)")
-    fig.suptitle(title, fontsize=9)
-    savefig(fig, path)
-
-
 def _root_stress(pair, result, section, table, path: str, title: str, torque: float) -> None:
     """One mesh's root-stress map (:func:`root_stress_outputs`) into ``section`` and ``path``."""
     maps = []
     for i in (0, 1):
-        t = table(tooth_geometry(pair, i), _active_radii(pair, i, ROOT_STRESS_RADII))
+        t = table(tooth_geometry(pair, i), active_radii(pair, i, ROOT_STRESS_RADII))
         maps.append(root_stress_map(pair, result, i, t.roll, t.peak))
     peak = [float(m.max) for m in maps]
     iso = section["bending"]["sigma_F0_Pa"]
@@ -601,7 +563,7 @@ def _root_stress(pair, result, section, table, path: str, title: str, torque: fl
         "load_radii": ROOT_STRESS_RADII,
         "source": ROOT_STRESS,
     }
-    _root_stress_plot(
+    root_stress_plot(
         path,
         maps,
         f"{title}: root stress over a tooth passage at {torque:g} N·m (plane FE × quasi-static "
@@ -636,7 +598,7 @@ def _member_maps(pair, result, table) -> list:
     load cases per member, ``table`` as :func:`root_stress_outputs`)."""
     maps = []
     for i in (0, 1):
-        t = table(tooth_geometry(pair, i), _active_radii(pair, i, ROOT_STRESS_RADII))
+        t = table(tooth_geometry(pair, i), active_radii(pair, i, ROOT_STRESS_RADII))
         maps.append(root_stress_map(pair, result, i, t.roll, t.peak))
     return maps
 
@@ -720,33 +682,3 @@ def at_speed_sections(
             "load; static: the rigid mesh's quasi-static map at the same slices",
         }
     return _write_sections(case, out_dir, sections, write_table)
-
-
-#: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them
-_BODY_REGIONS = ("rim", "web", "hub", "pinion_rim")
-
-
-def body_stress_outputs(out_dir: str, flexible, x) -> tuple[dict, list[str]]:
-    """Rim and web stresses of each condensed body of a hybrid scene's quasi-static solution
-    (:func:`fem_prep.condensed_body_stress`: the body's corner field ``recovery @ q``, element
-    means, linear hexahedra), one evaluation per body, no JAX.
-
-    ``flexible``: ``(name, member, body)`` of each condensed body (a member's ``body_dofs``
-    pick its coordinates out of ``x``); ``x``: the scene's coordinates at one position
-    (``res.x[k]``, body frame; the tooth loads and, at speed, the centrifugal load).
-
-    Returns ``({name: {region: {"von_mises_Pa", "hoop_Pa"}}}, files)``: per body the largest
-    von Mises stress and the largest-magnitude hoop stress (signed, Pa) over the elements of
-    each region it has ("rim", "web", "hub", "pinion_rim"), and the ``body_<name>_stress.vtu``
-    files written to ``out_dir`` (cell data von_mises_Pa, hoop_Pa, radial_Pa, axial_Pa, region;
-    point data displacement, m; body frame)."""
-    out, files = {}, []
-    for name, member, body in flexible:
-        q = np.asarray(x, dtype=float)[np.asarray(member.body_dofs)]
-        u, stress = fem_prep.condensed_body_stress(body, q)
-        present = set(np.unique(stress.region).tolist())
-        out[name] = {r: stress.max_in(r) for r in _BODY_REGIONS if fem_prep.REGIONS[r] in present}
-        fname = f"body_{name}_stress.vtu"
-        fem_prep.write_stress_vtu(body, u, stress, os.path.join(out_dir, fname))
-        files.append(fname)
-    return out, files

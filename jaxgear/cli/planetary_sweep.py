@@ -381,13 +381,18 @@ def sweep_lines(case, s: dict) -> list[str]:
     line = (
         f"{case.name}: {len(s['speeds_rad_s'])} input speeds, max dynamic factor "
         f"{s['max_dynamic_factor']:.4f} ({worst}) at {s['speed_of_max_rad_s']:.4g} rad/s, "
-        f"max dynamic K_γ {s['max_k_gamma']:.4f}; {s['ring_model']}"
-        + (f", ring deflection max {s['max_ring_deflection_m'] * 1e6:.3g} µm"
-           if "max_ring_deflection_m" in s else "")
+        f"max dynamic K_γ {s['max_k_gamma']:.4f}; {_ring_words(s)}"
         + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
     )
     return [line]
+
+
+def _ring_words(s: dict) -> str:
+    """The sweep's ring model in words, with its largest deflection over the sweep where the
+    ring is flexible (``s``: ``sweep.json`` or the run's ``dynamics`` section)."""
+    w = s.get("max_ring_deflection_m")
+    return s["ring_model"] + ("" if w is None else f", ring deflection max {w * 1e6:.3g} µm")
 
 
 def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
@@ -412,8 +417,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_k_gamma": sw["max_k_gamma"],
         "ring_model": sw["ring_model"],
         "ring": sw["ring"],
-        **({"max_ring_deflection_m": sw["max_ring_deflection_m"]}
-           if "max_ring_deflection_m" in sw else {}),
+        **{k: sw[k] for k in ("max_ring_deflection_m",) if k in sw},  # a flexible ring's
         "files": ", ".join(f"sweep/{n}" for n in RUN_SWEEP_FILES),
     }
     summary["complete"] = bool(complete)
@@ -428,9 +432,6 @@ def planetary_run_lines(form, case, summary: dict) -> list[str]:
         f"dynamic factor ({d['model']}, {len(d['speeds_rad_s'])} {d['speed_of']} speeds "
         f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): max "
         f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
-        f"{d['max_k_gamma']:.4f}, {d['ring_model']}"
-        + (f" (ring deflection max {d['max_ring_deflection_m'] * 1e6:.3g} µm)"
-           if "max_ring_deflection_m" in d else "")
-        + f" ({d['files']})"
+        f"{d['max_k_gamma']:.4f}, {_ring_words(d)} ({d['files']})"
     )
     return [*planetary_lines(form, case, summary), line]

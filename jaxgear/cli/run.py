@@ -39,7 +39,6 @@ from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
 from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
 from ._rating_report import (
-    fillet_table,
     measured_dynamic_factor,
     root_stress_at_speed,
     rating_outputs,
@@ -48,6 +47,7 @@ from ._rating_report import (
     train_mesh_results,
     write_rating_table,
 )
+from ._stress_outputs import fillet_table
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from .planetary_sweep import planetary_run_files, planetary_run_lines
 from .scene import SCENE_LABELS

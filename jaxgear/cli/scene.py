@@ -17,7 +17,7 @@ from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
-from ._rating_report import body_stress_outputs
+from ._stress_outputs import body_stress_outputs
 from ._summary import result_summary
 
 __all__ = ["SCENE_LINES", "condensed_outputs", "scene_lines", "scene_model", "scene_outputs"]

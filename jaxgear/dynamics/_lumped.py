@@ -129,7 +129,7 @@ class DynamicModel(AbstractDynamicModel):
         over the largest span), their runs from one program (the records of the largest N_s,
         the histories at the smallest); None with a diffrax solver, or where a mesh's rows are
         not in the same ratio to N_s at every N_s (:func:`mesh_rows`)."""
-        if not isinstance(integrator, Newmark):
+        if not integrator.traced_steps:
             return None
         steps = sorted(int(n) for n in steps)
         n_min, n_max = steps[0], steps[-1]

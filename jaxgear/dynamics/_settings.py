@@ -216,6 +216,9 @@ class Newmark(eqx.Module):
 
     #: no step cap: Newmark takes exactly periods × N_s steps (:attr:`DiffraxIntegrator.max_steps`)
     max_steps: ClassVar[None] = None
+    #: its step count can be an argument of one compiled run (a mixed-N_s sweep, one program:
+    #: :meth:`~jaxgear.dynamics.AbstractDynamicModel.prepare_steps`)
+    traced_steps: ClassVar[bool] = True
 
     def __check_init__(self):
         _check_steps(self.steps_per_period)
@@ -257,6 +260,8 @@ class DiffraxIntegrator(eqx.Module):
     adaptive: bool = eqx.field(static=True)
     max_steps: int | None = eqx.field(static=True)
     adjoint: diffrax.AbstractAdjoint = eqx.field(static=True)
+    #: a diffrax solve's steps are fixed when it compiles (one program per N_s)
+    traced_steps: ClassVar[bool] = False
 
     def __init__(
         self,

@@ -1,0 +1,83 @@
+"""The stresses ``jaxgear run`` reports beside the rating: the plane FE tooth's fillet stress per
+unit load (:func:`fillet_table`) and the root-stress map plot, and the rim and web stresses of
+condensed bodies (:func:`body_stress_outputs`)."""
+
+from __future__ import annotations
+
+import functools
+import os
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+import fem_prep
+
+from .. import GearPair
+from ._plots import savefig
+
+__all__ = ["active_radii", "body_stress_outputs", "fillet_table", "root_stress_plot"]
+
+
+@functools.lru_cache(maxsize=32)
+def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
+    """The FE fillet stress per unit load at each of ``radii`` (m) of a tooth form
+    (:func:`fem_prep.fillet_influence`), cached for the process: one FE factorisation per tooth
+    form and radii (a train's gear of two meshes, a rerun of the same case)."""
+    return fem_prep.fillet_influence(tooth, np.asarray(radii))
+
+
+def active_radii(pair: GearPair, member: int, n: int) -> tuple:
+    """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α)."""
+    ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
+    roll = np.linspace(min(ends), max(ends), n)
+    return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
+
+
+def root_stress_plot(path: str, maps, title: str) -> None:
+    """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
+    line of action and the face width, side by side, saved to ``path``."""
+    fig = Figure(figsize=(9, 3.8), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 2, sharey=True)
+    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
+        m = np.asarray(rmap.mask)
+        s = np.asarray(rmap.cell_s)[m] * 1e3
+        z = np.asarray(rmap.cell_z)[m] * 1e3
+        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
+        ax.set_title(f"{tag} root stress (MPa)")
+        ax.set_xlabel("s of the load along the line of action (mm)")
+        fig.colorbar(sc, ax=ax)
+    axes[0].set_ylabel("z across the face (mm)")
+    fig.suptitle(title, fontsize=9)
+    savefig(fig, path)
+
+
+#: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them
+_BODY_REGIONS = ("rim", "web", "hub", "pinion_rim")
+
+
+def body_stress_outputs(out_dir: str, flexible, x) -> tuple[dict, list[str]]:
+    """Rim and web stresses of each condensed body of a hybrid scene's quasi-static solution
+    (:func:`fem_prep.condensed_body_stress`: the body's corner field ``recovery @ q``, element
+    means, linear hexahedra), one evaluation per body, no JAX.
+
+    ``flexible``: ``(name, member, body)`` of each condensed body (a member's ``body_dofs``
+    pick its coordinates out of ``x``); ``x``: the scene's coordinates at one position
+    (``res.x[k]``, body frame; the tooth loads and, at speed, the centrifugal load).
+
+    Returns ``({name: {region: {"von_mises_Pa", "hoop_Pa"}}}, files)``: per body the largest
+    von Mises stress and the largest-magnitude hoop stress (signed, Pa) over the elements of
+    each region it has ("rim", "web", "hub", "pinion_rim"), and the ``body_<name>_stress.vtu``
+    files written to ``out_dir`` (cell data von_mises_Pa, hoop_Pa, radial_Pa, axial_Pa, region;
+    point data displacement, m; body frame)."""
+    out, files = {}, []
+    for name, member, body in flexible:
+        q = np.asarray(x, dtype=float)[np.asarray(member.body_dofs)]
+        u, stress = fem_prep.condensed_body_stress(body, q)
+        present = set(np.unique(stress.region).tolist())
+        out[name] = {r: stress.max_in(r) for r in _BODY_REGIONS if fem_prep.REGIONS[r] in present}
+        fname = f"body_{name}_stress.vtu"
+        fem_prep.write_stress_vtu(body, u, stress, os.path.join(out_dir, fname))
+        files.append(fname)
+    return out, files
