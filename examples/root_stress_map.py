@@ -21,15 +21,12 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+from jaxgear import cli
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 
@@ -77,19 +74,12 @@ def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) 
             f"{sigma_f0 / 1e6:.1f} MPa (FE/ISO {float(rmap.max) / sigma_f0:.3f})"
         )
     (bench / "root_stress_map.json").write_text(json.dumps(out, indent=1) + "\n")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), sharey=True)
-    for ax, (tag, rmap) in zip(axes, maps.items(), strict=True):
-        m = np.asarray(rmap.mask)
-        s = np.asarray(rmap.cell_s)[m] * 1e3
-        z = np.asarray(rmap.cell_z)[m] * 1e3
-        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
-        ax.set_title(f"{tag} root stress (MPa)")
-        ax.set_xlabel("s of the load along the line of action (mm)")
-        fig.colorbar(sc, ax=ax)
-    axes[0].set_ylabel("z across the face (mm)")
-    fig.tight_layout()
-    fig.savefig(img / "root_stress_map.png", dpi=130)
-    plt.close(fig)
+    cli.plots.root_stress_plot(
+        img / "root_stress_map.png",
+        list(maps.values()),
+        f"{case.name}: root stress over a tooth passage at {case.torque:g} N·m (plane FE × "
+        "quasi-static cell loads)",
+    )
     return out
 
 

@@ -31,7 +31,7 @@ from jaxgear.dynamics import (
     simulate,
     speed_sweep,
 )
-from jaxgear.scenes import TorsionalDynamics, disc_inertia, torsional_train
+from jaxgear.scenes import TorsionalDynamics, disc_inertia
 
 RATIOS = (0.3, 0.6, 1.0, 1.3)  # of the first critical speed: N_s 256, 128, 64, 64
 WINDOW = SteadyState(4, 2)
@@ -141,18 +141,9 @@ def test_two_stage_train_traced_span(tmp_path):
     steps): N_s 768, 384, 192, static rows over spans of 3072, 1536 and 768 steps (batches of a
     traced count past 1024), one program; every speed and mesh as run alone."""
     sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-    from test_train import FACE, TORQUE, _mesh, _pair
+    from test_train import TORQUE, two_stage_train
 
-    planes = (_mesh(20, 40), _mesh(30, 45))
-    pairs = (_pair(20, 40), _pair(30, 45))
-    disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731
-    inertias = [
-        disc(pairs[0].tip_radii[0]),
-        disc(pairs[0].tip_radii[1]) + disc(pairs[1].tip_radii[0]),
-        disc(pairs[1].tip_radii[1]),
-    ]
-    clock = (0.0, 0.3 * float(planes[1].mesh_period_angle))
-    train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), inertias, clock)
+    train = two_stage_train()[2]
     model = dynamic_model(train, jg.Modifications(), TORQUE)
     speeds = np.array([0.1, 0.25, 0.6]) * float(model.modes.omega[1]) / 20
     window = SteadyState(8, 4)

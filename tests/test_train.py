@@ -310,6 +310,24 @@ def test_torsional_train_refuses_what_it_cannot_run():
         jd.simulate(model, 500.0, integrator=jd.Newmark(8), window=jd.SteadyState(40, 4))
 
 
+def two_stage_train(planes=None):
+    """The two-stage torsional train of these tests: 20 → 40 teeth, then a 30-tooth pinion on the
+    40's shaft (a compound gear: one rotation, both gears' inertia) → 45 teeth, solid steel discs
+    of the tip radii, the second mesh clocked by 0.3 of its period; ``planes`` (the two meshes'
+    :class:`jaxgear.MeshModel`) default to :func:`_mesh`'s. Returns (planes, pairs, train)."""
+    pairs = (_pair(20, 40), _pair(30, 45))
+    planes = (_mesh(20, 40), _mesh(30, 45)) if planes is None else planes
+    disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731
+    inertias = [
+        disc(pairs[0].tip_radii[0]),
+        disc(pairs[0].tip_radii[1]) + disc(pairs[1].tip_radii[0]),
+        disc(pairs[1].tip_radii[1]),
+    ]
+    clocking = 0.3 * float(planes[1].mesh_period_angle)
+    train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), inertias, (0.0, clocking))
+    return planes, pairs, train
+
+
 def test_two_stage_train_dynamics_converge_to_an_independent_reference():
     """A two-stage torsional train: 20 → 40 teeth, then a 30-tooth pinion on the 40's shaft (a
     compound gear: one rotation, both gears' inertia) → 45 teeth. Its meshes pass teeth at 20 Ω
@@ -319,16 +337,7 @@ def test_two_stage_train_dynamics_converge_to_an_independent_reference():
     steps per period, each mesh's exact stiffness at its own angle) within 2.5 % of its
     peak-to-peak at 256 Newmark steps per period and closer at 512 (measured 2.0/1.4 % and
     0.6/0.6 %), and each mesh's dynamic factor within 2 % at 512."""
-    planes = (_mesh(20, 40), _mesh(30, 45))
-    pairs = (_pair(20, 40), _pair(30, 45))
-    disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731
-    inertias = [
-        disc(pairs[0].tip_radii[0]),
-        disc(pairs[0].tip_radii[1]) + disc(pairs[1].tip_radii[0]),
-        disc(pairs[1].tip_radii[1]),
-    ]
-    clocking = 0.3 * float(planes[1].mesh_period_angle)
-    train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), inertias, (0.0, clocking))
+    planes, _, train = two_stage_train()
     assert train.scene_periods() == 4
     model = jd.dynamic_model(train, jg.Modifications(), TORQUE)
     speed = 0.3 * float(model.modes.omega[1]) / 20
@@ -457,17 +466,7 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
         jg.MeshModel.from_pair(p, *jg.stiffness_table(p, jg.Uniform(k0)), SLICES)
         for p in pairs
     )
-    disc = lambda r: disc_inertia(7800.0, r, FACE)  # noqa: E731
-    inertias = [
-        disc(pairs[0].tip_radii[0]),
-        disc(pairs[0].tip_radii[1]) + disc(pairs[1].tip_radii[0]),
-        disc(pairs[1].tip_radii[1]),
-    ]
-    train = torsional_train(
-        ((planes[0], (0, 1)), (planes[1], (1, 2))),
-        inertias,
-        (0.0, 0.3 * float(planes[1].mesh_period_angle)),
-    )
+    train = two_stage_train(planes)[2]
     # modal damping of 20 %: the stiffness jumps of uniform spur meshes excite strongly, and the
     # reference is linear (no contact loss at any of these speeds)
     model = jd.dynamic_model(train, jg.Modifications(), TORQUE, jio.Damping("modal", ratio=0.2))

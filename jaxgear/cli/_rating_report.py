@@ -37,7 +37,8 @@ from ..io import (
     spec_integrator,
     spec_window,
 )
-from ._stress_outputs import active_radii, fillet_table, root_stress_plot
+from ._plots import root_stress_plot
+from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
     "ROOT_STRESS_RADII",

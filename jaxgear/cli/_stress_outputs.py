@@ -1,6 +1,6 @@
 """The stresses ``jaxgear run`` reports beside the rating: the plane FE tooth's fillet stress per
-unit load (:func:`fillet_table`) and the root-stress map plot, and the rim and web stresses of
-condensed bodies (:func:`body_stress_outputs`)."""
+unit load (:func:`fillet_table`) over the active profile (:func:`active_radii`), and the rim
+and web stresses of condensed bodies (:func:`body_stress_outputs`)."""
 
 from __future__ import annotations
 
@@ -8,15 +8,12 @@ import functools
 import os
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 import fem_prep
 
 from .. import GearPair
-from ._plots import savefig
 
-__all__ = ["active_radii", "body_stress_outputs", "fillet_table", "root_stress_plot"]
+__all__ = ["active_radii", "body_stress_outputs", "fillet_table"]
 
 
 @functools.lru_cache(maxsize=32)
@@ -32,25 +29,6 @@ def active_radii(pair: GearPair, member: int, n: int) -> tuple:
     ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
     roll = np.linspace(min(ends), max(ends), n)
     return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
-
-
-def root_stress_plot(path: str, maps, title: str) -> None:
-    """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
-    line of action and the face width, side by side, saved to ``path``."""
-    fig = Figure(figsize=(9, 3.8), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, 2, sharey=True)
-    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
-        m = np.asarray(rmap.mask)
-        s = np.asarray(rmap.cell_s)[m] * 1e3
-        z = np.asarray(rmap.cell_z)[m] * 1e3
-        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
-        ax.set_title(f"{tag} root stress (MPa)")
-        ax.set_xlabel("s of the load along the line of action (mm)")
-        fig.colorbar(sc, ax=ax)
-    axes[0].set_ylabel("z across the face (mm)")
-    fig.suptitle(title, fontsize=9)
-    savefig(fig, path)
 
 
 #: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them

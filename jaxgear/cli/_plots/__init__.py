@@ -31,6 +31,7 @@ from ._quasi_static import (
     load_map_plot as load_map_plot,
     map_difference_plot as map_difference_plot,
     mesh_stiffness_plot as mesh_stiffness_plot,
+    root_stress_plot as root_stress_plot,
     te_coincide as te_coincide,
     te_spectrum_plot as te_spectrum_plot,
     train_phasing_plot as train_phasing_plot,

@@ -381,3 +381,22 @@ def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonic
     ax1.set_ylim(0.0, top * 1.35 or 1.0)
     ax1.grid(alpha=0.3)
     savefig(fig, path)
+
+
+def root_stress_plot(path: str, maps, title: str) -> None:
+    """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
+    line of action and the face width, side by side, saved to ``path``."""
+    fig = Figure(figsize=(9, 3.8), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 2, sharey=True)
+    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
+        m = np.asarray(rmap.mask)
+        s = np.asarray(rmap.cell_s)[m] * 1e3
+        z = np.asarray(rmap.cell_z)[m] * 1e3
+        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
+        ax.set_title(f"{tag} root stress (MPa)")
+        ax.set_xlabel("s of the load along the line of action (mm)")
+        fig.colorbar(sc, ax=ax)
+    axes[0].set_ylabel("z across the face (mm)")
+    fig.suptitle(title, fontsize=9)
+    savefig(fig, path)
