@@ -21,6 +21,7 @@
 
 from __future__ import annotations
 
+import abc
 import contextlib
 import importlib
 import os
@@ -236,13 +237,14 @@ def _available_factor() -> type[SupernodalFactor | CholmodFactor | SparseFactor]
     return SparseFactor
 
 
-class EigenSolver:
+class EigenSolver(abc.ABC):
     """An algorithm for the lowest modes of ``K φ = λ M φ`` in shift-invert mode (a kind: pass
     an instance as :func:`shift_invert_modes`' ``solver``). Subclasses implement
     :meth:`ritz`."""
 
     name: ClassVar[str]
 
+    @abc.abstractmethod
     def ritz(
         self, K, M, k: int, sigma: float, op: spla.LinearOperator, tol: float
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -252,7 +254,6 @@ class EigenSolver:
         Raises:
             SolverError: no convergence.
         """
-        raise NotImplementedError
 
     def __repr__(self) -> str:
         return f"fem_prep.{type(self).__name__}()"

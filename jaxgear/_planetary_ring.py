@@ -210,13 +210,19 @@ class CondensedRing(AbstractRingModel):
         """Z, the number of tooth stations."""
         return self.compliance.shape[0]
 
-    def hats(self, angles) -> Float[Array, "n z"]:
-        """W (n, Z): the stations' linear hats at ``angles`` (rad)."""
+    def hat_support(self, angles) -> tuple[Array, Array]:
+        """``(k0, xi)``: the station before each of ``angles`` (rad), (n,) int, and the
+        fraction of the way to the next one, (n,): the linear hats there are ``1 - xi`` on k0
+        and ``xi`` on k0 + 1 (mod Z)."""
         z = self.stations
         t = jnp.mod(angles, 2 * math.pi) / (2 * math.pi / z)
         k0 = jnp.floor(t)
-        xi = t - k0
-        k0 = k0.astype(jnp.int32) % z
+        return k0.astype(jnp.int32) % z, t - k0
+
+    def hats(self, angles) -> Float[Array, "n z"]:
+        """W (n, Z): the stations' linear hats at ``angles`` (rad)."""
+        z = self.stations
+        k0, xi = self.hat_support(angles)
         eye = jnp.eye(z, dtype=self.compliance.dtype)
         return (1 - xi)[:, None] * eye[k0] + xi[:, None] * eye[(k0 + 1) % z]
 
@@ -256,10 +262,7 @@ class CondensedRing(AbstractRingModel):
         ``(1 - xi) e_n, xi e_n`` on its four (module docstring)."""
         z, n = self.stations, stage.n_planets
         phi = ring_contact_angles(stage, travel)
-        t = jnp.mod(phi, 2 * math.pi) / (2 * math.pi / z)
-        k0 = jnp.floor(t)
-        xi = t - k0
-        k0 = k0.astype(jnp.int32) % z
+        k0, xi = self.hat_support(phi)
         st = jnp.stack([k0, (k0 + 1) % z], axis=-1)  # (n, 2)
         idx = (2 * st[:, :, None] + jnp.arange(2, dtype=jnp.int32)[None, None, :]).reshape(-1)
         w = jnp.stack([1 - xi, xi], axis=-1)[:, :, None] * ring_force_directions(stage, phi)[

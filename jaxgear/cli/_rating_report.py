@@ -551,10 +551,7 @@ ROOT_STRESS = (
 
 def _root_stress(pair, result, section, table, path: str, title: str, torque: float) -> None:
     """One mesh's root-stress map (:func:`root_stress_outputs`) into ``section`` and ``path``."""
-    maps = []
-    for i in (0, 1):
-        t = table(tooth_geometry(pair, i), active_radii(pair, i, ROOT_STRESS_RADII))
-        maps.append(root_stress_map(pair, result, i, t.roll, t.peak))
+    maps = _member_maps(pair, result, table)
     peak = [float(m.max) for m in maps]
     iso = section["bending"]["sigma_F0_Pa"]
     section["root_stress"] = {
