@@ -86,6 +86,7 @@ from ._planetary_analysis import (
     phasing_excites as phasing_excites,
     planetary_modes as planetary_modes,
 )
+from ._planetary_spatial import SpatialPlanetary as SpatialPlanetary
 from ._planetary_mesh import (
     AbstractPlanetaryMeshes as AbstractPlanetaryMeshes,
     ConstantMeshes as ConstantMeshes,

@@ -74,6 +74,14 @@ class PlanetaryMember(eqx.Module):
         torsional_stiffness: torsional stiffness to ground (N m/rad), shape ``()``: 0 for a free
             member, a large value for a fixed one (Lin & Parker's ``k_u`` is this over the
             base radius squared).
+        axial_stiffness: axial bearing stiffness (N/m), shape ``()``, along the stage axis (the
+            pin's, for a planet); used by :class:`~jaxgear.SpatialPlanetary` only.
+        tilt_stiffness: tilting bearing stiffnesses (N m/rad), shape ``(2,)``: about the
+            carrier frame's x and y (a central member), about the pin's zeta and eta (a planet,
+            relative to the carrier); :class:`~jaxgear.SpatialPlanetary` only.
+        diametral_inertia: moment of inertia about a diameter through the centre (kg m^2),
+            shape ``()``, for the tilts of :class:`~jaxgear.SpatialPlanetary`; ``None``
+            (default): half the polar inertia (a thin disc).
 
     Raises:
         ValueError: a mass, inertia or radius <= 0, a stiffness < 0 (one line naming it).
@@ -84,8 +92,17 @@ class PlanetaryMember(eqx.Module):
     base_radius: Float[Array, ""] = eqx.field(converter=as_float)
     bearing_stiffness: Float[Array, " 2"] = eqx.field(converter=_pair, default=0.0)
     torsional_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    axial_stiffness: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    tilt_stiffness: Float[Array, " 2"] = eqx.field(converter=_pair, default=0.0)
+    diametral_inertia: Float[Array, ""] | None = None
 
     def __check_init__(self):
+        for name, unit in (("axial_stiffness", "N/m"), ("tilt_stiffness", "N m/rad")):
+            value = getattr(self, name)
+            check_real(name, value, unit, lo=0.0, shape=jnp.shape(value), where="PlanetaryMember")
+        if self.diametral_inertia is not None:
+            check_real("diametral_inertia", self.diametral_inertia, "kg m^2", lo=0.0,
+                       lo_open=True, shape=(), where="PlanetaryMember")
         for name in ("mass", "polar_inertia", "base_radius"):
             check_real(
                 name, getattr(self, name), lo=0.0, lo_open=True, shape=(), where="PlanetaryMember"
@@ -108,10 +125,11 @@ class PlanetaryMember(eqx.Module):
         )
 
     @classmethod
-    def lumped(cls, mass, inertia_over_r2, base_radius, bearing, torsional_u=0.0):
+    def lumped(cls, mass, inertia_over_r2, base_radius, bearing, torsional_u=0.0, **spatial):
         """The member in Lin & Parker's units: ``inertia_over_r2`` = I/r^2 (kg), ``bearing``
         (N/m, one value for both directions or two), ``torsional_u`` = k_u (N/m, on the
-        coordinate u = r theta); converted to I = (I/r^2) r^2 and k_theta = k_u r^2."""
+        coordinate u = r theta); converted to I = (I/r^2) r^2 and k_theta = k_u r^2.
+        ``spatial``: ``axial_stiffness``, ``tilt_stiffness``, ``diametral_inertia`` (SI)."""
         r = as_float(base_radius)
         return cls(
             mass=mass,
@@ -119,7 +137,15 @@ class PlanetaryMember(eqx.Module):
             base_radius=r,
             bearing_stiffness=bearing,
             torsional_stiffness=as_float(torsional_u) * r**2,
+            **spatial,
         )
+
+    @property
+    def tilt_inertia(self) -> Float[Array, ""]:
+        """The diametral inertia (kg m^2): ``diametral_inertia``, or half the polar inertia."""
+        if self.diametral_inertia is None:
+            return 0.5 * self.polar_inertia
+        return as_float(self.diametral_inertia)
 
     @property
     def inertia_over_r2(self) -> Float[Array, ""]:
@@ -212,6 +238,14 @@ class PlanetaryStage(eqx.Module):
             action, shape ``()`` (every planet) or ``(n_planets,)``.
         eccentricities: the central members' eccentricities (:class:`Eccentricities`; none by
             default), used by the load sharing, the quasi-static solve and the dynamics.
+        helix_angle: base helix angle beta_b of the planets (rad), shape ``()``, in
+            (-pi/2, pi/2): positive for right-hand planets (then the sun is left-hand and the
+            ring right-hand), 0 (default) for a spur stage. Only
+            :class:`~jaxgear.SpatialPlanetary` uses it (the planar and torsional models are
+            spur).
+        face_width: the meshes' face width b (m), shape ``()``, >= 0 (default 0: the mesh
+            stiffness at one point): :class:`~jaxgear.SpatialPlanetary` spreads each mesh
+            stiffness uniformly over it, which gives the mesh its tilting stiffness k b^2/12.
 
     Raises:
         ValueError: fewer than one planet, an angle or stiffness out of range (one line).
@@ -236,8 +270,13 @@ class PlanetaryStage(eqx.Module):
     sun_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
     ring_mesh_stiffness: Float[Array, "*n_planets"] = eqx.field(converter=as_float)
     eccentricities: Eccentricities = eqx.field(default_factory=Eccentricities)
+    helix_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    face_width: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
 
     def __check_init__(self):
+        check_real("helix_angle", self.helix_angle, "rad", lo=-np.pi / 2, hi=np.pi / 2,
+                   lo_open=True, hi_open=True, shape=(), where="PlanetaryStage")
+        check_real("face_width", self.face_width, "m", lo=0.0, shape=(), where="PlanetaryStage")
         check_instance("eccentricities", self.eccentricities, Eccentricities,
                        "a jaxgear.Eccentricities", "PlanetaryStage")
         for name in ("sun", "ring", "carrier", "planet"):
@@ -447,6 +486,11 @@ class AbstractPlanetaryModel(eqx.Module):
         """(f, d_s, d_r): the load f (N, (n_dof,)) and the mesh-deflection offsets d_s, d_r
         (m, (n_planets,)) that planet-pin position errors cause: ``tangential_errors`` along
         eta, ``radial_errors`` along zeta (outward), both (m, (n_planets,))."""
+
+    def mode_types(self) -> tuple[str, str]:
+        """The names (:class:`~jaxgear.ModeType` values) of the modes in which only the
+        :meth:`central_rotations` move, and only the :meth:`central_translations`."""
+        return ("rotational", "translational")
 
     @eqx.filter_jit
     def mass_matrix(self, stage: PlanetaryStage) -> Float[Array, "n_dof n_dof"]:

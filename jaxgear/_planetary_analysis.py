@@ -33,10 +33,15 @@ class ModeType(enum.Enum):
     1999): ROTATIONAL (multiplicity 1, the central members rotate only, the planets move alike),
     TRANSLATIONAL (multiplicity 2, the central members translate only), PLANET (multiplicity
     N - 3, the central members still); MIXED where none holds (unequal spacing, an accidental
-    coincidence of two types)."""
+    coincidence of two types). In the 3D model (:class:`~jaxgear.SpatialPlanetary`; Eritenel &
+    Parker 2009) ROTATIONAL_AXIAL (multiplicity 1: the central members rotate and move axially
+    only) and TRANSLATIONAL_TILTING (multiplicity 2: they translate and tilt only) take the
+    places of the first two."""
 
     ROTATIONAL = "rotational"
     TRANSLATIONAL = "translational"
+    ROTATIONAL_AXIAL = "rotational-axial"
+    TRANSLATIONAL_TILTING = "translational-tilting"
     PLANET = "planet"
     MIXED = "mixed"
 
@@ -150,6 +155,14 @@ def classify_modes(
     trans = list(model.central_translations(stage))
     rot = list(model.central_rotations(stage))
     tol = rtol * max(float(f.max()), 1.0)
+    rotational, translational = (ModeType(name) for name in model.mode_types())
+    # (central translations move, central rotations move) -> type
+    types = {
+        (False, False): ModeType.PLANET,
+        (False, True): rotational,
+        (True, False): translational,
+        (True, True): ModeType.MIXED,
+    }
     groups, start = [], 0
     for j in range(1, len(f) + 1):
         if j == len(f) or f[j] - f[j - 1] > tol:
@@ -161,18 +174,9 @@ def classify_modes(
         total = np.sum(block**2)
         t_share = np.sum(block[trans] ** 2) / total
         r_share = np.sum(block[rot] ** 2) / total
-        kind = _TYPES[(bool(t_share > still), bool(r_share > still))]
+        kind = types[(bool(t_share > still), bool(r_share > still))]
         out += [(kind, len(g))] * len(g)
     return tuple(out)
-
-
-# (central translations move, central rotations move) -> type
-_TYPES = {
-    (False, False): ModeType.PLANET,
-    (False, True): ModeType.ROTATIONAL,
-    (True, False): ModeType.TRANSLATIONAL,
-    (True, True): ModeType.MIXED,
-}
 
 
 # -- mesh phasing ------------------------------------------------------------------------------

@@ -1,0 +1,285 @@
+"""The 3D lumped model of a helical planetary stage: six coordinates per member (three
+translations, three rotations), helical meshes whose normal has an axial component, bearings
+with translational, axial, tilting and torsional stiffnesses, in the carrier frame
+(docs/planetary.md, "The 3D lumped model").
+
+Sources: T. Eritenel and R. G. Parker, "Modal properties of three-dimensional helical planetary
+gears", J. Sound Vib. 325 (2009) 397-420 (the model and its three mode types); T. Eritenel and
+R. G. Parker, "Three-dimensional nonlinear vibration of gear pairs", J. Sound Vib. 331 (2012)
+3628-3648 (the mesh as a stiffness spread over the face: its translational and tilting parts);
+J. Lin and R. G. Parker (1999) for the planar part, which this model holds exactly at beta_b = 0.
+
+Conventions (those of :mod:`jaxgear._planetary`, with z along the stage axis, right-handed with
+the carrier frame's x, y). Each member's six coordinates, in this order:
+``(x, y, z, theta_x, theta_y, u)`` for a central member (translations in m along the carrier
+frame's axes, tilts in rad about x and y, u = r_b theta_z in m) and
+``(zeta, eta, z, theta_zeta, theta_eta, u)`` for a planet (along and about its radial and
+tangential directions e_zeta = (cos psi_n, sin psi_n), e_eta = (-sin psi_n, cos psi_n)). Members
+in the order carrier, ring, sun, planets; every member's centre (and bearing) in the mesh
+mid-plane z = 0.
+
+A rigid member's material point at the lever arm rho (from its centre) moves by
+``d + theta x rho`` with ``theta = (tilts, u / r_b)``. A mesh's deflection (compression
+positive) at the point ``rho + s e_z`` (s across the face) is the projection on the tooth
+normal n of the central member's motion less the planet's:
+
+    n_sn = cos beta_b (-sin(psi_n - a_s), cos(psi_n - a_s), 0) + sin beta_b e_z
+    n_rn = cos beta_b (-sin(psi_n + a_r), cos(psi_n + a_r), 0) - sin beta_b e_z
+
+(the transverse parts are Lin & Parker's lines of action; beta_b > 0 a right-hand planet, its
+normal's axial part of opposite signs at the sun and the ring side, as a helicoid's normal
+n_z = -(moment of n about the axis) / lead requires). The mesh point is the transverse pitch
+point seen by each member: rho = (r_b / cos a) e_zeta for the sun and the ring, -(r_bp / cos a_s)
+e_zeta and +(r_bp / cos a_r) e_zeta for the planet's sun and ring sides (they coincide for a
+stage whose radii fit; with them the u terms are Lin & Parker's exactly). The mesh stiffness k
+acts along n, spread uniformly over the face width b: two Gauss points s = +-b / (2 sqrt 3),
+k/2 each (exact for the linear deflection across the face: a tilting stiffness k b^2 / 12).
+
+The planet pin joins the carrier's material point at r_c e_zeta to the planet centre: stiffness
+(k_zeta, k_eta) = the planet's ``bearing_stiffness``, k_z its ``axial_stiffness``, and the
+relative tilts about e_zeta, e_eta its ``tilt_stiffness``. The central members' bearings act on
+their own coordinates (``bearing_stiffness`` on x, y; ``axial_stiffness`` on z;
+``tilt_stiffness`` on the tilts; ``torsional_stiffness`` on theta_z).
+
+Rotating frame: the Coriolis and centripetal terms of the translations in the plane (as the
+planar model's, per member ``G = [[0, -2m], [2m, 0]]`` on x, y and ``K_Omega = diag(m, m)``);
+the axial translation has none. The gyroscopic moments of the tilting members (which need each
+member's own spin, not the carrier's) are not modelled: G and K_Omega are 0 on the tilts and on
+z, as at the zero carrier speed of Eritenel & Parker's modal analysis.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _block_diag, _members
+from ._util import as_float
+
+__all__ = ["SpatialPlanetary"]
+
+DOF = 6  # per member
+
+
+def _size(stage: PlanetaryStage) -> int:
+    return DOF * (CENTRAL + stage.n_planets)
+
+
+def _skew(r):
+    """[r]x, so that ``_skew(r) @ w = r x w``; r (..., 3) -> (..., 3, 3)."""
+    z = jnp.zeros_like(r[..., 0])
+    return jnp.stack(
+        [
+            jnp.stack([z, -r[..., 2], r[..., 1]], -1),
+            jnp.stack([r[..., 2], z, -r[..., 0]], -1),
+            jnp.stack([-r[..., 1], r[..., 0], z], -1),
+        ],
+        -2,
+    )
+
+
+def _frames(stage: PlanetaryStage):
+    """(e_zeta, e_eta, e_z) of each planet, each (n, 3), in the carrier frame."""
+    psi = stage.planet_angles
+    zero, one = jnp.zeros_like(psi), jnp.ones_like(psi)
+    e_zeta = jnp.stack([jnp.cos(psi), jnp.sin(psi), zero], -1)
+    e_eta = jnp.stack([-jnp.sin(psi), jnp.cos(psi), zero], -1)
+    e_z = jnp.stack([zero, zero, one], -1)
+    return e_zeta, e_eta, e_z
+
+
+def _point_map(axes, rho, base_radius):
+    """(n, 3, 6): the displacement of the material point at the lever arm rho (n, 3) of a member
+    whose coordinates' axes are ``axes`` (n, 3, 3: columns the two in-plane axes and e_z):
+    ``d + theta x rho = E d - [rho]x theta``."""
+    rot = -_skew(rho)
+    tilt = rot @ axes[..., :2]
+    spin = rot[..., 2:3] / base_radius
+    return jnp.concatenate([axes, tilt, spin], -1)
+
+
+def _place(stage: PlanetaryStage, member, block):
+    """(n, k, n_dof) rows with ``block`` (n, k, 6) on member ``member`` (an index, or an (n,)
+    array of indices: one per planet row)."""
+    n, k = block.shape[:2]
+    out = jnp.zeros((n, k, _size(stage)), dtype=block.dtype)
+    cols = DOF * jnp.broadcast_to(jnp.asarray(member), (n,))[:, None] + jnp.arange(DOF)[None, :]
+    return out.at[jnp.arange(n)[:, None, None], jnp.arange(k)[None, :, None], cols[:, None, :]].set(
+        block
+    )
+
+
+def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side):
+    """(n, 2, n_dof): the deflection rows of the mesh of each planet with the central member
+    ``central`` (1 ring, 2 sun) at the two Gauss points across the face: its line of action at
+    the angle ``line`` (n,), ``sign_z`` the sign of the normal's axial part, ``angle`` the
+    pressure angle, ``side`` -1 (sun side of the planet) or +1 (ring side)."""
+    n = stage.n_planets
+    psi = stage.planet_angles
+    beta = stage.helix_angle
+    central_member = _members(stage)[central]
+    e_zeta, e_eta, e_z = _frames(stage)
+    normal = jnp.stack(
+        [
+            -jnp.cos(beta) * jnp.sin(line),
+            jnp.cos(beta) * jnp.cos(line),
+            sign_z * jnp.sin(beta) * jnp.ones_like(psi),
+        ],
+        -1,
+    )
+    eye = jnp.broadcast_to(jnp.eye(3, dtype=psi.dtype), (n, 3, 3))
+    planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)
+    rows = []
+    for s in (-1.0, 1.0):
+        across = s * stage.face_width / (2.0 * jnp.sqrt(3.0)) * e_z
+        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + across
+        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + across
+        a = jnp.einsum("ni,nij->nj", normal, _point_map(eye, rho_c, central_member.base_radius))
+        b = jnp.einsum(
+            "ni,nij->nj", normal, _point_map(planet_axes, rho_p, stage.planet.base_radius)
+        )
+        rows.append(
+            _place(stage, central, a[:, None]) - _place(stage, CENTRAL + jnp.arange(n), b[:, None])
+        )
+    return jnp.concatenate(rows, 1)
+
+
+def _pin_rows(stage: PlanetaryStage):
+    """(n, 5, n_dof): the pin's deflections (carrier less planet): translations along e_zeta,
+    e_eta, e_z (m), then the relative tilts about e_zeta, e_eta (rad)."""
+    n = stage.n_planets
+    e_zeta, e_eta, e_z = _frames(stage)
+    axes = jnp.stack([e_zeta, e_eta, e_z], -1)  # (n, 3, 3)
+    eye = jnp.broadcast_to(jnp.eye(3, dtype=e_z.dtype), (n, 3, 3))
+    r_c = stage.carrier.base_radius
+    carrier = jnp.einsum("nji,njk->nik", axes, _point_map(eye, r_c * e_zeta, r_c))
+    carrier_tilt = jnp.concatenate(
+        [jnp.zeros((n, 2, 3), dtype=e_z.dtype), jnp.swapaxes(axes[..., :2], 1, 2)[..., :2], 
+         jnp.zeros((n, 2, 1), dtype=e_z.dtype)], -1
+    )
+    planet = jnp.broadcast_to(jnp.eye(5, DOF, dtype=e_z.dtype), (n, 5, DOF))
+    central = jnp.concatenate([carrier, carrier_tilt], 1)
+    return _place(stage, 0, central) - _place(stage, CENTRAL + jnp.arange(n), planet)
+
+
+def _pin_stiffness(stage: PlanetaryStage):
+    p = stage.planet
+    return jnp.concatenate([p.bearing_stiffness, p.axial_stiffness[None], p.tilt_stiffness])
+
+
+class SpatialPlanetary(AbstractPlanetaryModel):
+    """The 3D lumped model of a helical planetary stage (Eritenel & Parker 2009): six
+    coordinates per member, 6 (3 + N) in all, in the carrier frame (module docstring of
+    :mod:`jaxgear._planetary_spatial` for the coordinates, the mesh normals and points, the
+    pins and bearings). It uses the stage's ``helix_angle`` and ``face_width`` and the
+    members' ``axial_stiffness``, ``tilt_stiffness`` and ``tilt_inertia``; at
+    ``helix_angle = 0`` the in-plane coordinates (x, y, u) are Lin & Parker's planar model
+    exactly and the axial-tilting ones decouple from them.
+
+    Mode types (:func:`~jaxgear.classify_modes`; Eritenel & Parker 2009, equally spaced
+    planets): ROTATIONAL_AXIAL (multiplicity 1: the central members rotate and move axially
+    only), TRANSLATIONAL_TILTING (multiplicity 2: they translate in the plane and tilt only),
+    PLANET (multiplicity N - 3: they stay still). :meth:`central_rotations` are therefore the
+    central members' z and u, :meth:`central_translations` their x, y and tilts.
+    """
+
+    def reduction(self, stage):
+        """T (3 (3 + N), 6 (3 + N)): the planar coordinates (x, y, u of each member) of q."""
+        members = jnp.arange(CENTRAL + stage.n_planets)
+        rows = 3 * members[:, None] + jnp.arange(3)[None, :]
+        cols = DOF * members[:, None] + jnp.array([0, 1, 5])[None, :]
+        t = jnp.zeros((3 * members.shape[0], _size(stage)), dtype=stage.planet_angles.dtype)
+        return t.at[rows.ravel(), cols.ravel()].set(1.0)
+
+    def dof_names(self, stage):
+        central = tuple(
+            f"{c}_{m}" for m in "crs" for c in ("x", "y", "z", "theta_x", "theta_y", "u")
+        )
+        planet = ("zeta", "eta", "z", "theta_zeta", "theta_eta", "u")
+        return central + tuple(f"{c}_{i + 1}" for i in range(stage.n_planets) for c in planet)
+
+    def central_translations(self, stage):
+        return tuple(DOF * m + k for m in range(CENTRAL) for k in (0, 1, 3, 4))
+
+    def central_rotations(self, stage):
+        return tuple(DOF * m + k for m in range(CENTRAL) for k in (2, 5))
+
+    def mode_types(self):
+        return ("rotational-axial", "translational-tilting")
+
+    @eqx.filter_jit
+    def mass_matrix(self, stage):
+        """M (kg, kg m^2 on the tilts): diag(m, m, m, I_d, I_d, I / r_b^2) per member."""
+        return jnp.diag(
+            jnp.concatenate(
+                [
+                    jnp.stack([m.mass, m.mass, m.mass, m.tilt_inertia, m.tilt_inertia,
+                               m.inertia_over_r2])
+                    for m in _members(stage)
+                ]
+            )
+        )
+
+    @eqx.filter_jit
+    def mesh_rows_across(self, stage: PlanetaryStage):
+        """(V_s, V_r), each (n_planets, 2, n_dof): the mesh deflections (m, compression
+        positive) at the two Gauss points across the face, ``delta = V q``."""
+        psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
+        v_s = _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0)
+        v_r = _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0)
+        return v_s, v_r
+
+    def mesh_deflection_rows(self, stage):
+        """(V_s, V_r), each (n_planets, n_dof): the mesh deflections at mid-face (m)."""
+        v_s, v_r = self.mesh_rows_across(stage)
+        return 0.5 * (v_s[:, 0] + v_s[:, 1]), 0.5 * (v_r[:, 0] + v_r[:, 1])
+
+    @eqx.filter_jit
+    def stiffness_matrix(self, stage):
+        """K (N/m on translations and u; N m/rad on the tilts): bearings, pins and meshes."""
+        diag = jnp.concatenate(
+            [
+                jnp.concatenate(
+                    [m.bearing_stiffness, m.axial_stiffness[None], m.tilt_stiffness,
+                     m.torsional_u[None]]
+                )
+                for m in _members(stage)[:CENTRAL]
+            ]
+        )
+        diag = jnp.concatenate(
+            [diag, jnp.zeros(DOF * stage.n_planets, dtype=diag.dtype)]
+        )
+        diag = diag.at[DOF * CENTRAL + 5 :: DOF].set(stage.planet.torsional_u)
+        pins = _pin_rows(stage)
+        k = jnp.diag(diag) + jnp.einsum("nki,k,nkj->ij", pins, _pin_stiffness(stage), pins)
+        v_s, v_r = self.mesh_rows_across(stage)
+        k_s, k_r = stage.mesh_stiffnesses()
+        k = k + 0.5 * jnp.einsum("nki,n,nkj->ij", v_s, k_s, v_s)
+        return k + 0.5 * jnp.einsum("nki,n,nkj->ij", v_r, k_r, v_r)
+
+    def gyroscopic_matrix(self, stage):
+        blocks = [
+            jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
+            .at[0, 1].set(-2.0 * m.mass).at[1, 0].set(2.0 * m.mass)
+            for m in _members(stage)
+        ]
+        return _block_diag(blocks)
+
+    def centripetal_matrix(self, stage):
+        zero = 0.0 * stage.planet.mass
+        return jnp.diag(
+            jnp.concatenate(
+                [jnp.stack([m.mass, m.mass, zero, zero, zero, zero]) for m in _members(stage)]
+            )
+        )
+
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        # the pin stands e further along eta (eps along zeta): its deflection is P q + e
+        e = jnp.broadcast_to(as_float(tangential_errors), (stage.n_planets,))
+        eps = jnp.broadcast_to(as_float(radial_errors), (stage.n_planets,))
+        pins = _pin_rows(stage)
+        k_pin = stage.planet.bearing_stiffness
+        f = -k_pin[1] * (e @ pins[:, 1]) - k_pin[0] * (eps @ pins[:, 0])
+        zero = jnp.zeros_like(e)
+        return f, zero, zero

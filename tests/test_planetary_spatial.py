@@ -1,0 +1,310 @@
+"""The 3D lumped model of a helical planetary stage (jaxgear.SpatialPlanetary) against references
+written here: Lin & Parker's planar model and a hand-assembled axial-tilting system at beta_b = 0,
+the mode structure Eritenel & Parker (2009) prove for equally spaced planets, the statics of a
+helical stage under a sun torque, the rigid-body motions of a free stage, and the stiffness as
+the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+
+A = np.radians(22.0)  # both pressure angles
+R_S, R_P = 0.03, 0.025  # base radii (m)
+R_C = (R_S + R_P) / np.cos(A)  # planet-circle radius: the radii fit (pitch points coincide)
+R_R = R_S + 2.0 * R_P
+K_MESH = 5e8
+
+
+def stage(n=4, beta=np.radians(20.0), width=0.03, angles=None, held=True, k_mesh=K_MESH,
+          k_ring=K_MESH):
+    m = jg.PlanetaryMember
+    g = 1.0 if held else 0.0
+    sun = m(1.5, 0.5 * 1.5 * R_S**2, R_S, 1e8 * g, 0.0, 5e7 * g, 1e6 * g, 9e-4)
+    ring = m(5.0, 5.0 * R_R**2, R_R, 1e9 * g, 1e9 * R_R**2 * g, 1e9 * g, 1e7 * g)
+    carrier = m(4.0, 0.6 * 4.0 * R_C**2, R_C, 1e8 * g, 1e8 * R_C**2 * g, 1e8 * g, 2e6 * g)
+    planet = m(0.8, 0.5 * 0.8 * R_P**2, R_P, (1e8, 1.3e8), 0.0, 5e7, (5e5, 6e5), 2e-4)
+    kw = dict(
+        sun=sun, ring=ring, carrier=carrier, planet=planet, sun_pressure_angle=A,
+        ring_pressure_angle=A, sun_mesh_stiffness=k_mesh, ring_mesh_stiffness=k_ring,
+        helix_angle=beta, face_width=width,
+    )
+    if angles is None:
+        return jg.PlanetaryStage.equally_spaced(n, **kw)
+    return jg.PlanetaryStage(planet_angles=angles, **kw)
+
+
+def frequencies(k, m):
+    lam = scipy.linalg.eigh(np.asarray(k), np.asarray(m), eigvals_only=True)
+    return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+
+
+def out_of_plane(st):
+    """The axial-tilting system of a spur stage written by hand: per member (z, tilt 1, tilt 2);
+    the meshes' tilting stiffness k b^2/12 on the relative tilt seen across the face, the pins'
+    axial and tilting springs, the central bearings."""
+    n, psi, b = st.n_planets, np.asarray(st.planet_angles), float(st.face_width)
+    size = 3 * (3 + n)
+    k = np.zeros((size, size))
+    mass = []
+    for j, mem in enumerate((st.carrier, st.ring, st.sun)):
+        t = np.asarray(mem.tilt_stiffness)
+        k[3 * j : 3 * j + 3, 3 * j : 3 * j + 3] += np.diag([float(mem.axial_stiffness), *t])
+    for mem in (st.carrier, st.ring, st.sun) + (st.planet,) * n:
+        mass += [float(mem.mass), float(mem.tilt_inertia), float(mem.tilt_inertia)]
+    p = st.planet
+    k_s, k_r = (np.broadcast_to(np.asarray(v), (n,)) for v in st.mesh_stiffnesses())
+    for i in range(n):
+        c, s = np.cos(psi[i]), np.sin(psi[i])
+        e_z, e_e = np.array([c, s]), np.array([-s, c])
+        pl = 9 + 3 * i
+        # pin, axial: z_c + r_c (theta_cx sin psi - theta_cy cos psi) - z_n
+        v = np.zeros(size)
+        v[[0, 1, 2, pl]] = [1.0, R_C * s, -R_C * c, -1.0]
+        k += float(p.axial_stiffness) * np.outer(v, v)
+        for axis, kt, col in ((e_z, p.tilt_stiffness[0], 1), (e_e, p.tilt_stiffness[1], 2)):
+            v = np.zeros(size)
+            v[[1, 2, pl + col]] = [axis[0], axis[1], -1.0]
+            k += float(kt) * np.outer(v, v)
+        # meshes: theta x e_z = (theta_y, -theta_x) for a central member, theta_eta e_zeta -
+        # theta_zeta e_eta for a planet; projected on the transverse line of action
+        for central, line, km in ((2, psi[i] - A, k_s[i]), (1, psi[i] + A, k_r[i])):
+            nt = np.array([-np.sin(line), np.cos(line)])
+            v = np.zeros(size)
+            v[3 * central + 1] = -nt[1]
+            v[3 * central + 2] = nt[0]
+            v[pl + 1] = nt @ e_e  # -(n . (-e_eta)) theta_zeta
+            v[pl + 2] = -(nt @ e_z)
+            k += km * b**2 / 12.0 * np.outer(v, v)
+    return k, np.diag(mass)
+
+
+def test_spur_decouples_into_planar_and_axial_tilting():
+    st = stage(n=4, beta=0.0, angles=np.array([0.0, 1.4, 3.3, 4.9]))
+    model = jg.SpatialPlanetary()
+    k, m = model.stiffness_matrix(st), model.mass_matrix(st)
+    t = np.asarray(model.reduction(st))
+    planar_idx = np.flatnonzero(t.sum(0))
+    other = np.setdiff1d(np.arange(k.shape[0]), planar_idx)
+    assert np.max(np.abs(np.asarray(k)[np.ix_(planar_idx, other)])) < 1e-12 * np.max(np.abs(k))
+    f3 = np.sort(frequencies(k, m))
+    planar = jg.PlanarPlanetary()
+    fp = frequencies(planar.stiffness_matrix(st), planar.mass_matrix(st))
+    fo = frequencies(*out_of_plane(st))
+    ref = np.sort(np.concatenate([fp, fo]))
+    np.testing.assert_allclose(f3, ref, rtol=1e-9, atol=1e-9 * ref.max())
+
+
+def _groups(f, rtol=1e-7):
+    groups, start = [], 0
+    for j in range(1, len(f) + 1):
+        if j == len(f) or f[j] - f[j - 1] > rtol * f[-1]:
+            groups.append(list(range(start, j)))
+            start = j
+    return groups
+
+
+@pytest.mark.parametrize("n", [3, 4, 5])
+def test_helical_mode_types_of_equally_spaced_planets(n):
+    # unequal sun and ring mesh stiffnesses: with equal ones (and equal pressure angles) the
+    # planets' tilt about e_zeta meets the central members only through the harmonics +-1 and
+    # appears, still centre, in the rotational-axial family too (a coincidence of the values)
+    st = stage(n=n, k_ring=6.5e8)
+    model = jg.SpatialPlanetary()
+    modes = jg.planetary_modes(model, st)
+    f = np.asarray(modes.frequencies)
+    phi = np.asarray(modes.shapes)
+    assert f[0] > 1.0  # every member held
+    # a rotational-axial mode can be nearly a planet mode (the planets' tilt about e_zeta,
+    # central amplitudes ~1e-4): "still" at the round-off level of the shares
+    types = jg.classify_modes(modes, model, st, still=1e-16)
+    # count the groups by frequency here (a tolerance), and the types by what moves
+    counts = {}
+    for g in _groups(f):
+        kind, mult = types[g[0]]
+        assert mult == len(g)
+        counts.setdefault(kind, []).append(len(g))
+    T = jg.ModeType
+    assert counts[T.ROTATIONAL_AXIAL] == [1] * 12
+    assert counts[T.TRANSLATIONAL_TILTING] == [2] * 12
+    assert counts.get(T.PLANET, []) == ([n - 3] * 6 if n > 3 else [])
+    assert T.MIXED not in counts
+    central = slice(0, 18)
+    for j, (kind, _) in enumerate(types):
+        shape = phi[:, j]
+        planets = shape[18:].reshape(n, 6)
+        scale = np.max(np.abs(shape))
+        if kind is T.ROTATIONAL_AXIAL:
+            # every planet moves alike in its own frame; the central members neither
+            # translate in the plane nor tilt
+            np.testing.assert_allclose(planets, planets[[0] * n], atol=1e-7 * scale)
+            assert np.max(np.abs(shape.reshape(-1, 6)[:3][:, [0, 1, 3, 4]])) < 1e-7 * scale
+            assert np.max(np.abs(shape.reshape(-1, 6)[:3][:, [2, 5]])) > 1e-9 * scale
+        elif kind is T.PLANET:
+            assert np.max(np.abs(shape[central])) < 1e-7 * scale
+        else:
+            # translational-tilting: the central members neither turn nor move axially, and
+            # the planets' motions sum to no net axial force or torque on the carrier
+            assert np.max(np.abs(shape.reshape(-1, 6)[:3][:, [2, 5]])) < 1e-7 * scale
+            np.testing.assert_allclose(planets[:, [2, 5]].sum(0), 0.0, atol=1e-7 * scale)
+
+
+def test_helical_statics_under_sun_torque():
+    """Ring held, carrier held in rotation, sun torque T: each sun mesh carries
+    F = T / (N r_bs cos beta) along the tooth normal, the sun's axial bearing takes
+    N F sin beta = T tan beta / r_bs, the ring's the opposite, each planet's pin a tilting
+    moment F sin beta (r_wr - r_ws) about e_eta; the sun and carrier do not tilt."""
+    n, beta, torque = 4, np.radians(25.0), 300.0
+    st = stage(n=n, beta=beta, width=0.0)
+    model = jg.SpatialPlanetary()
+    k = np.asarray(model.stiffness_matrix(st))
+    names = model.dof_names(st)
+    f = np.zeros(k.shape[0])
+    f[names.index("u_s")] = torque / R_S
+    q = np.linalg.solve(k, f)
+    v_s, v_r = (np.asarray(v) for v in model.mesh_deflection_rows(st))
+    force = K_MESH * (v_s @ q)
+    expected = torque / (n * R_S * np.cos(beta))
+    np.testing.assert_allclose(force, expected, rtol=1e-9)
+    np.testing.assert_allclose(K_MESH * (v_r @ q), expected, rtol=1e-6)  # planets turn freely
+    sun_axial = float(st.sun.axial_stiffness) * q[names.index("z_s")]
+    np.testing.assert_allclose(sun_axial, -torque * np.tan(beta) / R_S, rtol=1e-9)
+    ring_axial = float(st.ring.axial_stiffness) * q[names.index("z_r")]
+    np.testing.assert_allclose(ring_axial, torque * np.tan(beta) / R_S, rtol=1e-6)
+    for name in ("theta_x_s", "theta_y_s", "theta_x_c", "theta_y_c", "z_c"):
+        assert abs(q[names.index(name)]) < 1e-9 * np.max(np.abs(q))
+    r_wp = R_P / np.cos(A)
+    for i in range(n):
+        e_eta = np.array([-np.sin(st.planet_angles[i]), np.cos(st.planet_angles[i])])
+        carrier_tilt = e_eta @ q[[names.index("theta_x_c"), names.index("theta_y_c")]]
+        pin = float(st.planet.tilt_stiffness[1]) * (
+            carrier_tilt - q[names.index(f"theta_eta_{i + 1}")]
+        )
+        np.testing.assert_allclose(pin, -expected * np.sin(beta) * 2 * r_wp, rtol=1e-6)
+
+
+def test_free_stage_stiffness_is_psd_with_its_rigid_motions():
+    st = stage(n=4, held=False, angles=np.array([0.2, 1.9, 3.3, 4.9]))
+    model = jg.SpatialPlanetary()
+    k = np.asarray(model.stiffness_matrix(st))
+    np.testing.assert_allclose(k, k.T, rtol=0, atol=1e-12 * np.max(np.abs(k)))
+    lam = np.linalg.eigvalsh(0.5 * (k + k.T))
+    assert lam[0] > -1e-12 * lam[-1]
+    # the planar model's free motions (Lin & Parker's, checked as independent code), the three
+    # out-of-plane motions of the whole stage (z, tilts), and the screw motions of the sun and
+    # the ring along their helices (z with u = -z tan beta_b on the sun, +z tan beta_b on the
+    # ring: no mesh compresses)
+    planar = np.asarray(jg.PlanarPlanetary().stiffness_matrix(st))
+    lp = np.linalg.eigvalsh(planar)
+    null = int(np.sum(lam < 1e-10 * lam[-1]))
+    assert null == int(np.sum(lp < 1e-10 * lp[-1])) + 3 + 2
+    assert lam[null] > 1e-6 * lam[-1]
+    names = model.dof_names(st)
+    psi = np.asarray(st.planet_angles)
+
+    def rigid(d, w):
+        """the whole stage moving as one body: translation d, small rotation w (rad)."""
+        q = np.zeros(len(names))
+        for tag, r in (("c", R_C), ("r", R_R), ("s", R_S)):
+            q[[names.index(f"{c}_{tag}") for c in ("x", "y", "z")]] = d
+            q[[names.index(f"theta_{c}_{tag}") for c in "xy"]] = w[:2]
+            q[names.index(f"u_{tag}")] = r * w[2]
+        for i, p in enumerate(psi):
+            axes = np.array([[np.cos(p), np.sin(p), 0], [-np.sin(p), np.cos(p), 0], [0, 0, 1]])
+            centre = d + np.cross(w, R_C * axes[0])
+            q[[names.index(f"{c}_{i + 1}") for c in ("zeta", "eta", "z")]] = axes @ centre
+            q[[names.index(f"theta_{c}_{i + 1}") for c in ("zeta", "eta")]] = axes[:2] @ w
+            q[names.index(f"u_{i + 1}")] = R_P * w[2]
+        return q
+
+    for d, w in [((1, 0, 0), (0, 0, 0)), ((0, 1, 0), (0, 0, 0)), ((0, 0, 1), (0, 0, 0)),
+                 ((0, 0, 0), (1, 0, 0)), ((0, 0, 0), (0, 1, 0)), ((0, 0, 0), (0, 0, 1))]:
+        q = rigid(np.array(d, float), np.array(w, float))
+        assert np.linalg.norm(k @ q) < 1e-9 * np.max(np.abs(k)) * np.linalg.norm(q)
+    tan = np.tan(float(st.helix_angle))
+    for tag, sign in (("s", -1.0), ("r", 1.0)):
+        q = np.zeros(len(names))
+        q[names.index(f"z_{tag}")] = 1.0
+        q[names.index(f"u_{tag}")] = sign * tan
+        assert np.linalg.norm(k @ q) < 1e-9 * np.max(np.abs(k)) * np.linalg.norm(q)
+        q[names.index(f"u_{tag}")] = -sign * tan  # the other hand: not free
+        assert np.linalg.norm(k @ q) > 1e-3 * np.max(np.abs(k)) * np.linalg.norm(q)
+
+
+def test_stiffness_is_the_second_derivative_of_the_potential_energy():
+    """V(q) written from the rigid-body kinematics in the carrier frame: a point at rho of a
+    member moves by d + theta x rho; a mesh's deflection across the face delta(s) = delta_0 +
+    delta_1 s, its energy (k / b) int delta^2 ds / 2 = k (delta_0^2 + delta_1^2 b^2 / 12) / 2;
+    K_ij = V(e_i + e_j) - V(e_i) - V(e_j) (V quadratic)."""
+    psi = np.array([0.1, 1.7, 3.0, 4.6])
+    k_s, k_r = np.array([5e8, 4e8, 6e8, 4.5e8]), np.array([3.6e8, 4.8e8, 3.2e8, 4e8])
+    st = stage(angles=psi, beta=np.radians(-15.0), k_mesh=k_s, k_ring=k_r)
+    beta, b = float(st.helix_angle), float(st.face_width)
+    centrals = (st.carrier, st.ring, st.sun)
+    p = st.planet
+    ez = np.array([0.0, 0.0, 1.0])
+
+    def frame(ang):
+        return np.array([np.cos(ang), np.sin(ang), 0.0]), np.array([-np.sin(ang), np.cos(ang), 0])
+
+    def body(q, j):
+        """(translation, rotation) of member j in the carrier frame, each (batch, 3)."""
+        c = q[:, 6 * j : 6 * j + 6]
+        if j < 3:
+            r = float(centrals[j].base_radius)
+            return c[:, :3], np.stack([c[:, 3], c[:, 4], c[:, 5] / r], -1)
+        e1, e2 = frame(psi[j - 3])
+        d = np.outer(c[:, 0], e1) + np.outer(c[:, 1], e2) + np.outer(c[:, 2], ez)
+        return d, np.outer(c[:, 3], e1) + np.outer(c[:, 4], e2) + np.outer(c[:, 5] / R_P, ez)
+
+    def point(q, j, rho):
+        d, w = body(q, j)
+        return d + np.cross(w, rho)
+
+    def energy(q):
+        v = np.zeros(q.shape[0])
+        for j, mem in enumerate(centrals):
+            kb = np.concatenate([np.asarray(mem.bearing_stiffness), [float(mem.axial_stiffness)],
+                                 np.asarray(mem.tilt_stiffness), [float(mem.torsional_u)]])
+            v += 0.5 * (q[:, 6 * j : 6 * j + 6] ** 2) @ kb
+        kp = np.asarray(p.bearing_stiffness)
+        kt = np.asarray(p.tilt_stiffness)
+        for i, ang in enumerate(psi):
+            j = 3 + i
+            e1, e2 = frame(ang)
+            gap = point(q, 0, R_C * e1) - body(q, j)[0]
+            v += 0.5 * (kp[0] * (gap @ e1) ** 2 + kp[1] * (gap @ e2) ** 2
+                        + float(p.axial_stiffness) * (gap @ ez) ** 2)
+            tilt = body(q, 0)[1] - body(q, j)[1]
+            v += 0.5 * (kt[0] * (tilt @ e1) ** 2 + kt[1] * (tilt @ e2) ** 2)
+            for c, r_c, line, sz, side, km in (
+                (2, R_S, ang - A, 1.0, -1.0, k_s[i]),
+                (1, R_R, ang + A, -1.0, 1.0, k_r[i]),
+            ):
+                n = np.array([-np.cos(beta) * np.sin(line), np.cos(beta) * np.cos(line),
+                              sz * np.sin(beta)])
+                rho_c, rho_p = r_c / np.cos(A) * e1, side * R_P / np.cos(A) * e1
+                d0 = (point(q, c, rho_c) - point(q, j, rho_p)) @ n
+                d1 = (point(q, c, rho_c + ez) - point(q, j, rho_p + ez)) @ n - d0
+                v += 0.5 * km * (d0**2 + d1**2 * b**2 / 12.0)
+        return v
+
+    size = 6 * 7
+    eye = np.eye(size)
+    single = energy(eye)
+    pairs = energy((eye[:, None, :] + eye[None, :, :]).reshape(-1, size)).reshape(size, size)
+    ref = pairs - single[:, None] - single[None, :]
+    k = np.asarray(jg.SpatialPlanetary().stiffness_matrix(st))
+    np.testing.assert_allclose(k, ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
+
+
+def test_spatial_inputs_are_refused_in_one_line():
+    with pytest.raises(ValueError, match="helix_angle"):
+        stage(beta=2.0)
+    with pytest.raises(ValueError, match="face_width"):
+        stage(width=-1e-3)
+    with pytest.raises(ValueError, match="axial_stiffness"):
+        jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, -1.0)
+    with pytest.raises(ValueError, match="tilt_stiffness"):
+        jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, 0.0, (1.0, -1.0))
