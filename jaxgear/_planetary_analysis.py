@@ -40,10 +40,10 @@ class ModeType(enum.Enum):
 
     ROTATIONAL = "rotational"
     TRANSLATIONAL = "translational"
-    ROTATIONAL_AXIAL = "rotational-axial"
-    TRANSLATIONAL_TILTING = "translational-tilting"
     PLANET = "planet"
     MIXED = "mixed"
+    ROTATIONAL_AXIAL = "rotational-axial"
+    TRANSLATIONAL_TILTING = "translational-tilting"
 
 
 class PlanetaryModes(eqx.Module):

@@ -4,11 +4,14 @@ the mode structure Eritenel & Parker (2009) prove for equally spaced planets, th
 helical stage under a sun torque, the rigid-body motions of a free stage, and the stiffness as
 the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
 
+import tomllib
+
 import numpy as np
 import pytest
 import scipy.linalg
 
 import jaxgear as jg
+import jaxgear.io as jio
 
 A = np.radians(22.0)  # both pressure angles
 R_S, R_P = 0.03, 0.025  # base radii (m)
@@ -308,3 +311,49 @@ def test_spatial_inputs_are_refused_in_one_line():
         jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, -1.0)
     with pytest.raises(ValueError, match="tilt_stiffness"):
         jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, 0.0, (1.0, -1.0))
+
+
+def _lumped_case(**planetary):
+    data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
+    data["planetary"].update(planetary)
+    return data
+
+
+def test_case_keys_build_the_helical_stage():
+    data = _lumped_case(helix_angle_deg=-18.0, face_width_mm=40.0)
+    data["planetary"]["sun"].update(axial_N_per_um=50.0, tilt_Nm_per_rad=2e6,
+                                    diametral_inertia_kg_m2=3e-4)
+    data["planetary"]["planet"].update(pin_axial_N_per_um=80.0, pin_tilt_Nm_per_rad=4e5)
+    case = jio.parse_train(data)
+    st = case.form.spec.stage(case)
+    assert float(st.helix_angle) == pytest.approx(np.radians(-18.0), rel=1e-12)
+    assert float(st.face_width) == pytest.approx(0.04, rel=1e-12)
+    assert float(st.sun.axial_stiffness) == pytest.approx(5e7, rel=1e-12)
+    np.testing.assert_allclose(st.sun.tilt_stiffness, [2e6, 2e6], rtol=1e-12)
+    assert float(st.sun.tilt_inertia) == pytest.approx(3e-4, rel=1e-12)
+    assert float(st.ring.tilt_inertia) == pytest.approx(0.5 * float(st.ring.polar_inertia))
+    assert float(st.planet.axial_stiffness) == pytest.approx(8e7, rel=1e-12)
+    np.testing.assert_allclose(st.planet.tilt_stiffness, [4e5, 4e5], rtol=1e-12)
+    # without the new keys: a spur stage, no axial or tilting support
+    case0 = jio.parse_train(_lumped_case())
+    st0 = case0.form.spec.stage(case0)
+    assert float(st0.helix_angle) == 0.0 and float(st0.sun.axial_stiffness) == 0.0
+
+
+@pytest.mark.parametrize(
+    ("where", "key", "value", "words"),
+    [
+        (None, "helix_angle_deg", 95.0, "[planetary] helix_angle_deg = 95: out of range"),
+        (None, "face_width_mm", -1.0, "[planetary] face_width_mm = -1: out of range"),
+        ("sun", "axial_N_per_um", -2.0, "[planetary.sun] axial_N_per_um = -2: out of range"),
+        ("planet", "pin_tilt_Nm_per_rad", -1.0,
+         "[planetary.planet] pin_tilt_Nm_per_rad = -1: out of range"),
+    ],
+)
+def test_bad_spatial_keys_are_one_line(where, key, value, words):
+    data = _lumped_case()
+    (data["planetary"] if where is None else data["planetary"][where])[key] = value
+    with pytest.raises(Exception) as err:
+        jio.parse_train(data)
+    text = str(err.value)
+    assert words in text and "\n" not in text, text

@@ -124,6 +124,9 @@ class PlanetarySpec:
             :class:`~jaxgear.io._planetary_ring_spec.RingModelSpec`); rigid by default.
         eccentricities: the sun's, ring's and carrier's eccentricities (m) and phases (rad),
             in the order of :class:`~jaxgear.Eccentricities`' fields; none by default.
+        helix_angle: the planets' base helix angle beta_b (rad; positive: right-hand planets),
+            for :class:`~jaxgear.SpatialPlanetary`; 0 (spur) by default.
+        face_width: the meshes' face width (m), for :class:`~jaxgear.SpatialPlanetary`.
     """
 
     teeth: tuple
@@ -139,6 +142,8 @@ class PlanetarySpec:
     center_distance: float
     ring_model: RingModelSpec = dataclasses.field(default_factory=RigidRingSpec)
     eccentricities: tuple = (0.0,) * 6
+    helix_angle: float = 0.0
+    face_width: float = 0.0
 
     @property
     def eccentric(self) -> bool:
@@ -203,6 +208,8 @@ class PlanetarySpec:
             sun_mesh_stiffness=k_s,
             ring_mesh_stiffness=k_r,
             eccentricities=Eccentricities(*self.eccentricities),
+            helix_angle=self.helix_angle,
+            face_width=self.face_width,
         )
 
     def held_stage(self, stage: PlanetaryStage) -> PlanetaryStage:

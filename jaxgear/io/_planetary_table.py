@@ -44,6 +44,14 @@ each member gives ``base_radius_mm`` (the carrier's: the planet-circle radius),
 the assembly condition and the mesh phases only), ``sun_pressure_angle_deg``,
 ``ring_pressure_angle_deg`` and both mesh stiffnesses.
 
+**3D lumped model** (:class:`~jaxgear.SpatialPlanetary`; optional keys, 0 by default): in
+``[planetary]`` of the lumped form ``helix_angle_deg`` (the planets' base helix angle, positive
+for right-hand planets, in (-90, 90)) and ``face_width_mm`` (the meshes'); the gear form takes
+the base helix angle from the sun-planet geometry (its sign the gears' ``helix_angle_deg``'s)
+and the planet gear's face width. Each member table: ``axial_N_per_um`` (axial bearing),
+``tilt_Nm_per_rad`` (tilting, both axes), ``diametral_inertia_kg_m2`` (half the polar inertia if
+absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``.
+
 Validated whole before any work, one line per error in the file's units: the assembly condition
 ((z_s + z_r) ψ_n/360° integer), the three members distinct, the fixed member held in rotation
 (a torsional stiffness > 0), one pin error per planet, keys of one form only.
@@ -105,21 +113,38 @@ PLANETARY_KEYS = {
     "ring_teeth",
     "sun_pressure_angle_deg",
     "ring_pressure_angle_deg",
+    "helix_angle_deg",
+    "face_width_mm",
 }
 GEAR_FORM_KEYS = ("sun_gear", "planet_gear", "ring_gear", "center_distance_mm", "mesh_stiffness")
-LUMPED_FORM_KEYS = ("sun_teeth", "ring_teeth", "sun_pressure_angle_deg", "ring_pressure_angle_deg")
+LUMPED_FORM_KEYS = (
+    "sun_teeth",
+    "ring_teeth",
+    "sun_pressure_angle_deg",
+    "ring_pressure_angle_deg",
+    "helix_angle_deg",
+    "face_width_mm",
+)
 _BODY_KEYS = {
     "mass_kg",
     "inertia_kg_m2",
     "inertia_over_r2_kg",
     "base_radius_mm",
+    "diametral_inertia_kg_m2",
 }
 CENTRAL_KEYS = _BODY_KEYS | {
     "bearing_N_per_um",
     "torsional_stiffness_Nm_per_rad",
     "torsional_stiffness_N_per_um",
+    "axial_N_per_um",
+    "tilt_Nm_per_rad",
 }
-PLANET_KEYS = _BODY_KEYS | {"pin_radial_N_per_um", "pin_tangential_N_per_um"}
+PLANET_KEYS = _BODY_KEYS | {
+    "pin_radial_N_per_um",
+    "pin_tangential_N_per_um",
+    "pin_axial_N_per_um",
+    "pin_tilt_Nm_per_rad",
+}
 #: each member table's keys (the others: CENTRAL_KEYS)
 MEMBER_KEYS = {"planet": PLANET_KEYS, "ring": CENTRAL_KEYS | RING_MODEL_KEYS}
 
@@ -150,7 +175,28 @@ def _central(table: dict, name: str, base_radius: float | None) -> PlanetaryMemb
         base_radius=r,
         bearing_stiffness=bearing,
         torsional_stiffness=torsional,
+        **_spatial(table, where, ""),
     )
+
+
+def _spatial(table: dict, where: str, prefix: str) -> dict:
+    """The 3D model's keys of a member (:class:`~jaxgear.SpatialPlanetary`): the axial and
+    tilting stiffnesses (``axial_N_per_um``, ``tilt_Nm_per_rad``; a planet's ``pin_``-named)
+    and the diametral inertia (``diametral_inertia_kg_m2``; half the polar one if absent)."""
+    out = {
+        "axial_stiffness": sc.number(
+            table, f"{prefix}axial_N_per_um", where, 0.0, allowed="[0, 1e+09]"
+        )
+        * 1e6,
+        "tilt_stiffness": sc.number(
+            table, f"{prefix}tilt_Nm_per_rad", where, 0.0, allowed="[0, 1e+15]"
+        ),
+    }
+    if "diametral_inertia_kg_m2" in table:
+        out["diametral_inertia"] = sc.number(
+            table, "diametral_inertia_kg_m2", where, allowed="[1e-12, 1e+09]"
+        )
+    return out
 
 
 def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
@@ -161,7 +207,13 @@ def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
         sc.number(table, key, where, allowed="(0, 1e+09]") * 1e6
         for key in ("pin_radial_N_per_um", "pin_tangential_N_per_um")
     ]
-    return PlanetaryMember(mass=mass, polar_inertia=inertia, base_radius=r, bearing_stiffness=pin)
+    return PlanetaryMember(
+        mass=mass,
+        polar_inertia=inertia,
+        base_radius=r,
+        bearing_stiffness=pin,
+        **_spatial(table, where, "pin_"),
+    )
 
 
 def _base_radius(table: dict, where: str, from_gears: float | None) -> float:
@@ -361,6 +413,10 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         )
         a_w = geometry.center_distance
         pairs = (geometry.sun_planet, geometry.planet_ring)
+        helix = math.copysign(
+            abs(float(geometry.sun_planet.base_helix_angle)), gears[names[0]]["beta_deg"]
+        )
+        width = float(gears[names[1]]["member"].face_width)
     else:
         _refuse(t, GEAR_FORM_KEYS, "allowed only with [[gears]] (the gear form)")
         z_s = sc.number(t, "sun_teeth", "planetary", allowed="[3, 10000]", integer=True)
@@ -380,6 +436,10 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         )
         mesh_k = _given_stiffness(t, required=True)
         names, pairs, a_w, ring_root = (), (), None, None
+        helix = math.radians(
+            sc.number(t, "helix_angle_deg", "planetary", 0.0, allowed="(-90, 90)")
+        )
+        width = sc.number(t, "face_width_mm", "planetary", 0.0, allowed="[0, 1e+05]") * 1e-3
     psi = _angles(t, z_s, z_r)
     ring_model = parse_ring_model(tables["ring"], z_r, ring_root)
     members = {m: _central(tables[m], m, radii[m]) for m in MEMBERS}
@@ -409,6 +469,8 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         eccentricities=_eccentricities(t),
         center_distance=a_w,
         ring_model=ring_model,
+        helix_angle=helix,
+        face_width=width,
     )
     mods = base.pop("gear_modifications", ())
     idx = [index[nm] for nm in names]
