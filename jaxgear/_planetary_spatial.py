@@ -52,7 +52,6 @@ from __future__ import annotations
 
 import equinox as eqx
 import jax.numpy as jnp
-from jaxtyping import Array, Float
 
 from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _block_diag, _members
 from ._util import as_float
@@ -154,9 +153,10 @@ def _pin_rows(stage: PlanetaryStage):
     eye = jnp.broadcast_to(jnp.eye(3, dtype=e_z.dtype), (n, 3, 3))
     r_c = stage.carrier.base_radius
     carrier = jnp.einsum("nji,njk->nik", axes, _point_map(eye, r_c * e_zeta, r_c))
+    zeros = jnp.zeros((n, 2, 3), dtype=e_z.dtype)
+    # the carrier's tilts about e_zeta, e_eta: their x, y components on theta_x, theta_y
     carrier_tilt = jnp.concatenate(
-        [jnp.zeros((n, 2, 3), dtype=e_z.dtype), jnp.swapaxes(axes[..., :2], 1, 2)[..., :2], 
-         jnp.zeros((n, 2, 1), dtype=e_z.dtype)], -1
+        [zeros, jnp.swapaxes(axes[..., :2], 1, 2)[..., :2], zeros[..., :1]], -1
     )
     planet = jnp.broadcast_to(jnp.eye(5, DOF, dtype=e_z.dtype), (n, 5, DOF))
     central = jnp.concatenate([carrier, carrier_tilt], 1)
@@ -214,8 +214,9 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         return jnp.diag(
             jnp.concatenate(
                 [
-                    jnp.stack([m.mass, m.mass, m.mass, m.tilt_inertia, m.tilt_inertia,
-                               m.inertia_over_r2])
+                    jnp.stack(
+                        [m.mass, m.mass, m.mass, m.tilt_inertia, m.tilt_inertia, m.inertia_over_r2]
+                    )
                     for m in _members(stage)
                 ]
             )
@@ -241,15 +242,17 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         diag = jnp.concatenate(
             [
                 jnp.concatenate(
-                    [m.bearing_stiffness, m.axial_stiffness[None], m.tilt_stiffness,
-                     m.torsional_u[None]]
+                    [
+                        m.bearing_stiffness,
+                        m.axial_stiffness[None],
+                        m.tilt_stiffness,
+                        m.torsional_u[None],
+                    ]
                 )
                 for m in _members(stage)[:CENTRAL]
             ]
         )
-        diag = jnp.concatenate(
-            [diag, jnp.zeros(DOF * stage.n_planets, dtype=diag.dtype)]
-        )
+        diag = jnp.concatenate([diag, jnp.zeros(DOF * stage.n_planets, dtype=diag.dtype)])
         diag = diag.at[DOF * CENTRAL + 5 :: DOF].set(stage.planet.torsional_u)
         pins = _pin_rows(stage)
         k = jnp.diag(diag) + jnp.einsum("nki,k,nkj->ij", pins, _pin_stiffness(stage), pins)
@@ -261,7 +264,10 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     def gyroscopic_matrix(self, stage):
         blocks = [
             jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            .at[0, 1].set(-2.0 * m.mass).at[1, 0].set(2.0 * m.mass)
+            .at[0, 1]
+            .set(-2.0 * m.mass)
+            .at[1, 0]
+            .set(2.0 * m.mass)
             for m in _members(stage)
         ]
         return _block_diag(blocks)

@@ -18,21 +18,28 @@ R_S, R_P = 0.03, 0.025  # base radii (m)
 R_C = (R_S + R_P) / np.cos(A)  # planet-circle radius: the radii fit (pitch points coincide)
 R_R = R_S + 2.0 * R_P
 K_MESH = 5e8
+BETA = np.radians(20.0)
 
 
-def stage(n=4, beta=np.radians(20.0), width=0.03, angles=None, held=True, k_mesh=K_MESH,
-          k_ring=K_MESH):
+def stage(n=4, beta=BETA, width=0.03, angles=None, held=True, k_mesh=K_MESH, k_ring=K_MESH):
     m = jg.PlanetaryMember
     g = 1.0 if held else 0.0
     sun = m(1.5, 0.5 * 1.5 * R_S**2, R_S, 1e8 * g, 0.0, 5e7 * g, 1e6 * g, 9e-4)
     ring = m(5.0, 5.0 * R_R**2, R_R, 1e9 * g, 1e9 * R_R**2 * g, 1e9 * g, 1e7 * g)
     carrier = m(4.0, 0.6 * 4.0 * R_C**2, R_C, 1e8 * g, 1e8 * R_C**2 * g, 1e8 * g, 2e6 * g)
     planet = m(0.8, 0.5 * 0.8 * R_P**2, R_P, (1e8, 1.3e8), 0.0, 5e7, (5e5, 6e5), 2e-4)
-    kw = dict(
-        sun=sun, ring=ring, carrier=carrier, planet=planet, sun_pressure_angle=A,
-        ring_pressure_angle=A, sun_mesh_stiffness=k_mesh, ring_mesh_stiffness=k_ring,
-        helix_angle=beta, face_width=width,
-    )
+    kw = {
+        "sun": sun,
+        "ring": ring,
+        "carrier": carrier,
+        "planet": planet,
+        "sun_pressure_angle": A,
+        "ring_pressure_angle": A,
+        "sun_mesh_stiffness": k_mesh,
+        "ring_mesh_stiffness": k_ring,
+        "helix_angle": beta,
+        "face_width": width,
+    }
     if angles is None:
         return jg.PlanetaryStage.equally_spaced(n, **kw)
     return jg.PlanetaryStage(planet_angles=angles, **kw)
@@ -170,11 +177,11 @@ def test_helical_statics_under_sun_torque():
     force = K_MESH * (v_s @ q)
     expected = torque / (n * R_S * np.cos(beta))
     np.testing.assert_allclose(force, expected, rtol=1e-9)
-    np.testing.assert_allclose(K_MESH * (v_r @ q), expected, rtol=1e-6)  # planets turn freely
+    np.testing.assert_allclose(K_MESH * (v_r @ q), expected, rtol=1e-9)  # planets turn freely
     sun_axial = float(st.sun.axial_stiffness) * q[names.index("z_s")]
     np.testing.assert_allclose(sun_axial, -torque * np.tan(beta) / R_S, rtol=1e-9)
     ring_axial = float(st.ring.axial_stiffness) * q[names.index("z_r")]
-    np.testing.assert_allclose(ring_axial, torque * np.tan(beta) / R_S, rtol=1e-6)
+    np.testing.assert_allclose(ring_axial, torque * np.tan(beta) / R_S, rtol=1e-9)
     for name in ("theta_x_s", "theta_y_s", "theta_x_c", "theta_y_c", "z_c"):
         assert abs(q[names.index(name)]) < 1e-9 * np.max(np.abs(q))
     r_wp = R_P / np.cos(A)
@@ -184,7 +191,7 @@ def test_helical_statics_under_sun_torque():
         pin = float(st.planet.tilt_stiffness[1]) * (
             carrier_tilt - q[names.index(f"theta_eta_{i + 1}")]
         )
-        np.testing.assert_allclose(pin, -expected * np.sin(beta) * 2 * r_wp, rtol=1e-6)
+        np.testing.assert_allclose(pin, -expected * np.sin(beta) * 2 * r_wp, rtol=1e-9)
 
 
 def test_free_stage_stiffness_is_psd_with_its_rigid_motions():
@@ -221,8 +228,14 @@ def test_free_stage_stiffness_is_psd_with_its_rigid_motions():
             q[names.index(f"u_{i + 1}")] = R_P * w[2]
         return q
 
-    for d, w in [((1, 0, 0), (0, 0, 0)), ((0, 1, 0), (0, 0, 0)), ((0, 0, 1), (0, 0, 0)),
-                 ((0, 0, 0), (1, 0, 0)), ((0, 0, 0), (0, 1, 0)), ((0, 0, 0), (0, 0, 1))]:
+    for d, w in [
+        ((1, 0, 0), (0, 0, 0)),
+        ((0, 1, 0), (0, 0, 0)),
+        ((0, 0, 1), (0, 0, 0)),
+        ((0, 0, 0), (1, 0, 0)),
+        ((0, 0, 0), (0, 1, 0)),
+        ((0, 0, 0), (0, 0, 1)),
+    ]:
         q = rigid(np.array(d, float), np.array(w, float))
         assert np.linalg.norm(k @ q) < 1e-9 * np.max(np.abs(k)) * np.linalg.norm(q)
     tan = np.tan(float(st.helix_angle))
@@ -268,8 +281,14 @@ def test_stiffness_is_the_second_derivative_of_the_potential_energy():
     def energy(q):
         v = np.zeros(q.shape[0])
         for j, mem in enumerate(centrals):
-            kb = np.concatenate([np.asarray(mem.bearing_stiffness), [float(mem.axial_stiffness)],
-                                 np.asarray(mem.tilt_stiffness), [float(mem.torsional_u)]])
+            kb = np.concatenate(
+                [
+                    np.asarray(mem.bearing_stiffness),
+                    [float(mem.axial_stiffness)],
+                    np.asarray(mem.tilt_stiffness),
+                    [float(mem.torsional_u)],
+                ]
+            )
             v += 0.5 * (q[:, 6 * j : 6 * j + 6] ** 2) @ kb
         kp = np.asarray(p.bearing_stiffness)
         kt = np.asarray(p.tilt_stiffness)
@@ -277,16 +296,20 @@ def test_stiffness_is_the_second_derivative_of_the_potential_energy():
             j = 3 + i
             e1, e2 = frame(ang)
             gap = point(q, 0, R_C * e1) - body(q, j)[0]
-            v += 0.5 * (kp[0] * (gap @ e1) ** 2 + kp[1] * (gap @ e2) ** 2
-                        + float(p.axial_stiffness) * (gap @ ez) ** 2)
+            v += 0.5 * (
+                kp[0] * (gap @ e1) ** 2
+                + kp[1] * (gap @ e2) ** 2
+                + float(p.axial_stiffness) * (gap @ ez) ** 2
+            )
             tilt = body(q, 0)[1] - body(q, j)[1]
             v += 0.5 * (kt[0] * (tilt @ e1) ** 2 + kt[1] * (tilt @ e2) ** 2)
             for c, r_c, line, sz, side, km in (
                 (2, R_S, ang - A, 1.0, -1.0, k_s[i]),
                 (1, R_R, ang + A, -1.0, 1.0, k_r[i]),
             ):
-                n = np.array([-np.cos(beta) * np.sin(line), np.cos(beta) * np.cos(line),
-                              sz * np.sin(beta)])
+                n = np.array(
+                    [-np.cos(beta) * np.sin(line), np.cos(beta) * np.cos(line), sz * np.sin(beta)]
+                )
                 rho_c, rho_p = r_c / np.cos(A) * e1, side * R_P / np.cos(A) * e1
                 d0 = (point(q, c, rho_c) - point(q, j, rho_p)) @ n
                 d1 = (point(q, c, rho_c + ez) - point(q, j, rho_p + ez)) @ n - d0
@@ -321,8 +344,9 @@ def _lumped_case(**planetary):
 
 def test_case_keys_build_the_helical_stage():
     data = _lumped_case(helix_angle_deg=-18.0, face_width_mm=40.0)
-    data["planetary"]["sun"].update(axial_N_per_um=50.0, tilt_Nm_per_rad=2e6,
-                                    diametral_inertia_kg_m2=3e-4)
+    data["planetary"]["sun"].update(
+        axial_N_per_um=50.0, tilt_Nm_per_rad=2e6, diametral_inertia_kg_m2=3e-4
+    )
     data["planetary"]["planet"].update(pin_axial_N_per_um=80.0, pin_tilt_Nm_per_rad=4e5)
     case = jio.parse_train(data)
     st = case.form.spec.stage(case)
@@ -346,8 +370,12 @@ def test_case_keys_build_the_helical_stage():
         (None, "helix_angle_deg", 95.0, "[planetary] helix_angle_deg = 95: out of range"),
         (None, "face_width_mm", -1.0, "[planetary] face_width_mm = -1: out of range"),
         ("sun", "axial_N_per_um", -2.0, "[planetary.sun] axial_N_per_um = -2: out of range"),
-        ("planet", "pin_tilt_Nm_per_rad", -1.0,
-         "[planetary.planet] pin_tilt_Nm_per_rad = -1: out of range"),
+        (
+            "planet",
+            "pin_tilt_Nm_per_rad",
+            -1.0,
+            "[planetary.planet] pin_tilt_Nm_per_rad = -1: out of range",
+        ),
     ],
 )
 def test_bad_spatial_keys_are_one_line(where, key, value, words):
@@ -357,3 +385,15 @@ def test_bad_spatial_keys_are_one_line(where, key, value, words):
         jio.parse_train(data)
     text = str(err.value)
     assert words in text and "\n" not in text, text
+
+
+def test_load_sharing_on_the_3d_model_at_beta_zero_is_the_planar_one():
+    """load_sharing takes the 3D model: with pin errors and beta_b = 0 its mesh forces are the
+    planar model's (the planes decouple)."""
+    errors = np.array([20e-6, 0.0, -5e-6, 0.0])
+    st = stage(n=4, beta=0.0, angles=np.array([0.0, 1.4, 3.3, 4.9]))
+    planar = jg.load_sharing(jg.PlanarPlanetary(), st, 300.0, errors)
+    spatial = jg.load_sharing(jg.SpatialPlanetary(), st, 300.0, errors)
+    np.testing.assert_allclose(spatial.sun_mesh_forces, planar.sun_mesh_forces, rtol=1e-9)
+    np.testing.assert_allclose(spatial.ring_mesh_forces, planar.ring_mesh_forces, rtol=1e-9)
+    assert float(planar.k_gamma) > 1.05  # the errors do unshare the planets
