@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import abc
 import enum
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -455,7 +456,12 @@ class AbstractPlanetaryModel(eqx.Module):
     carrier frame, SI units on the coordinates (m for a translation or u = r theta); at the
     carrier speed Omega (rad/s) the free motion obeys
     ``M q'' + Omega G q' + (K - Omega^2 K_Omega) q = f``, f in N.
+
+    ``contact_solve``: whether the contact solve and the dynamics (cells on the transverse
+    lines of action: ``planetary_quasi_static``, ``planetary_dynamics``) take the model.
     """
+
+    contact_solve: ClassVar[bool] = True
 
     @abc.abstractmethod
     def reduction(self, stage: PlanetaryStage) -> Float[Array, "n_planar n_dof"]:

@@ -98,6 +98,11 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
 def structure_stiffness(model: AbstractPlanetaryModel, stage: PlanetaryStage):
     """K_b (N/m, (n_dof, n_dof)): the model's stiffness without the meshes (bearings, pins,
     torsional supports); the meshes come from the cells."""
+    if not model.contact_solve:
+        raise ValueError(
+            f"{type(model).__name__}: not in the contact solve nor the dynamics yet (allowed "
+            "PlanarPlanetary, TorsionalPlanetary)"
+        )
     zero = jnp.zeros((), dtype=stage.planet_angles.dtype)
     bare = eqx.tree_at(
         lambda s: (s.sun_mesh_stiffness, s.ring_mesh_stiffness), stage, (zero, zero)

@@ -50,6 +50,8 @@ z, as at the zero carrier speed of Eritenel & Parker's modal analysis.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax.numpy as jnp
 
@@ -182,7 +184,12 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     only), TRANSLATIONAL_TILTING (multiplicity 2: they translate in the plane and tilt only),
     PLANET (multiplicity N - 3: they stay still). :meth:`central_rotations` are therefore the
     central members' z and u, :meth:`central_translations` their x, y and tilts.
+
+    Not yet in the contact solve nor the dynamics (``planetary_quasi_static``,
+    ``planetary_dynamics`` refuse it: their cells lie on the transverse lines of action).
     """
+
+    contact_solve: ClassVar[bool] = False
 
     def reduction(self, stage):
         """T (3 (3 + N), 6 (3 + N)): the planar coordinates (x, y, u of each member) of q."""

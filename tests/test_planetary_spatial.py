@@ -397,3 +397,11 @@ def test_load_sharing_on_the_3d_model_at_beta_zero_is_the_planar_one():
     np.testing.assert_allclose(spatial.sun_mesh_forces, planar.sun_mesh_forces, rtol=1e-9)
     np.testing.assert_allclose(spatial.ring_mesh_forces, planar.ring_mesh_forces, rtol=1e-9)
     assert float(planar.k_gamma) > 1.05  # the errors do unshare the planets
+
+
+def test_the_contact_solve_refuses_the_3d_model_in_one_line():
+    with pytest.raises(ValueError, match="SpatialPlanetary: not in the contact solve") as err:
+        jg.planetary_quasi_static(
+            jg.SpatialPlanetary(), stage(), jg.ConstantMeshes(), 300.0, np.zeros(2)
+        )
+    assert "\n" not in str(err.value)

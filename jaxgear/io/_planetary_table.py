@@ -47,8 +47,8 @@ the assembly condition and the mesh phases only), ``sun_pressure_angle_deg``,
 **3D lumped model** (:class:`~jaxgear.SpatialPlanetary`; optional keys, 0 by default): in
 ``[planetary]`` of the lumped form ``helix_angle_deg`` (the planets' base helix angle, positive
 for right-hand planets, in (-90, 90)) and ``face_width_mm`` (the meshes'); the gear form takes
-the base helix angle from the sun-planet geometry (its sign the gears' ``helix_angle_deg``'s)
-and the planet gear's face width. Each member table: ``axial_N_per_um`` (axial bearing),
+the base helix angle from the sun-planet geometry (right-hand planets: the gears'
+``helix_angle_deg`` has no hand) and the planet gear's face width. Each member table: ``axial_N_per_um`` (axial bearing),
 ``tilt_Nm_per_rad`` (tilting, both axes), ``diametral_inertia_kg_m2`` (half the polar inertia if
 absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``.
 
@@ -413,9 +413,8 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         )
         a_w = geometry.center_distance
         pairs = (geometry.sun_planet, geometry.planet_ring)
-        helix = math.copysign(
-            abs(float(geometry.sun_planet.base_helix_angle)), gears[names[0]]["beta_deg"]
-        )
+        # the gears' helix_angle_deg has no hand: the planets are taken right-hand
+        helix = abs(float(geometry.sun_planet.base_helix_angle))
         width = float(gears[names[1]]["member"].face_width)
     else:
         _refuse(t, GEAR_FORM_KEYS, "allowed only with [[gears]] (the gear form)")
