@@ -41,11 +41,17 @@ relative tilts about e_zeta, e_eta its ``tilt_stiffness``. The central members' 
 their own coordinates (``bearing_stiffness`` on x, y; ``axial_stiffness`` on z;
 ``tilt_stiffness`` on the tilts; ``torsional_stiffness`` on theta_z).
 
-Rotating frame: the Coriolis and centripetal terms of the translations in the plane (as the
-planar model's, per member ``G = [[0, -2m], [2m, 0]]`` on x, y and ``K_Omega = diag(m, m)``);
-the axial translation has none. The gyroscopic moments of the tilting members (which need each
-member's own spin, not the carrier's) are not modelled: G and K_Omega are 0 on the tilts and on
-z, as at the zero carrier speed of Eritenel & Parker's modal analysis.
+Rotating frame (``M q'' + Omega G q' + (K - Omega^2 K_Omega) q = f``), every member taken as
+turning with the carrier, as the lumped models of the literature do (Lin & Parker 1999 for the
+translations; Eritenel & Parker 2009 for the tilts): the Coriolis and centripetal terms of the
+in-plane translations are the planar model's (per member ``G = [[0, -2m], [2m, 0]]`` on x, y,
+``K_Omega = diag(m, m)``; the axial translation has none); the tilts of an axisymmetric body
+(diametral inertia I_d, polar J) turning at Omega obey Euler's equations in the turning frame,
+``I_d theta_x'' - (2 I_d - J) Omega theta_y' + (J - I_d) Omega^2 theta_x = M_x`` and
+``I_d theta_y'' + (2 I_d - J) Omega theta_x' + (J - I_d) Omega^2 theta_y = M_y``: ``G = [[0,
+-(2 I_d - J)], [2 I_d - J, 0]]``, ``K_Omega = (I_d - J) I`` on the tilts (a planet's about
+e_zeta, e_eta, which turn with the carrier too). The gyroscopic moments of a member's spin
+relative to the carrier (J (omega - Omega)) are not modelled.
 """
 
 from __future__ import annotations
@@ -269,21 +275,35 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         return k + 0.5 * jnp.einsum("nki,n,nkj->ij", v_r, k_r, v_r)
 
     def gyroscopic_matrix(self, stage):
-        blocks = [
-            jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            .at[0, 1]
-            .set(-2.0 * m.mass)
-            .at[1, 0]
-            .set(2.0 * m.mass)
-            for m in _members(stage)
-        ]
-        return _block_diag(blocks)
+        """G: per member ``[[0, -2m], [2m, 0]]`` on the in-plane translations and
+        ``[[0, -(2 I_d - J)], [2 I_d - J, 0]]`` on the tilts (module docstring)."""
+
+        def block(m):
+            g = 2.0 * m.tilt_inertia - m.polar_inertia
+            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
+            z = z.at[0, 1].set(-2.0 * m.mass).at[1, 0].set(2.0 * m.mass)
+            return z.at[3, 4].set(-g).at[4, 3].set(g)
+
+        return _block_diag([block(m) for m in _members(stage)])
 
     def centripetal_matrix(self, stage):
+        """K_Omega: per member ``diag(m, m, 0, I_d - J, I_d - J, 0)`` (module docstring)."""
         zero = 0.0 * stage.planet.mass
         return jnp.diag(
             jnp.concatenate(
-                [jnp.stack([m.mass, m.mass, zero, zero, zero, zero]) for m in _members(stage)]
+                [
+                    jnp.stack(
+                        [
+                            m.mass,
+                            m.mass,
+                            zero,
+                            m.tilt_inertia - m.polar_inertia,
+                            m.tilt_inertia - m.polar_inertia,
+                            zero,
+                        ]
+                    )
+                    for m in _members(stage)
+                ]
             )
         )
 

@@ -405,3 +405,23 @@ def test_the_contact_solve_refuses_the_3d_model_in_one_line():
             jg.SpatialPlanetary(), stage(), jg.ConstantMeshes(), 300.0, np.zeros(2)
         )
     assert "\n" not in str(err.value)
+
+
+def test_a_tilting_member_turning_with_the_carrier_whirls_as_a_spinning_disc():
+    """The sun unmeshed (sun mesh stiffness 0) on its isotropic tilting bearing k_t, turning
+    with the carrier at Omega: in the inertial frame a disc spinning at Omega whirls at
+    omega = (+-J Omega + sqrt(J^2 Omega^2 + 4 I_d k_t)) / (2 I_d) (forward, backward: the
+    classic rotor on tilting springs); in the carrier frame the forward whirl is seen at
+    omega_f - Omega, the backward at omega_b + Omega. campbell's 3D frequencies hold both."""
+    st = stage(n=3, k_mesh=0.0)
+    omega = 500.0
+    f = np.asarray(jg.campbell(jg.SpatialPlanetary(), st, np.array([omega])))[0]
+    i_d, j, k_t = float(st.sun.tilt_inertia), float(st.sun.polar_inertia), 1e6
+    root = np.sqrt((j * omega) ** 2 + 4 * i_d * k_t)
+    w_f, w_b = (j * omega + root) / (2 * i_d), (-j * omega + root) / (2 * i_d)
+    for w in (abs(w_f - omega), w_b + omega):
+        hz = w / (2 * np.pi)
+        assert np.min(np.abs(f - hz)) < 1e-9 * hz, (hz, f[np.argmin(np.abs(f - hz))])
+    # without the rotating frame's terms the pair would sit at sqrt(k_t / I_d) -+ Omega
+    plain = np.sqrt(k_t / i_d)
+    assert np.min(np.abs(f - (plain - omega) / (2 * np.pi))) > 1e-3 * plain / (2 * np.pi)
