@@ -80,12 +80,15 @@ def section_factors(mn, an, s_fn, h_fe, rho_f, alpha_fen):
     return y_f, y_s, q_s
 
 
-def member_form(mn, an, beta, beta_b, z, x, hfp, rfp, d, da, eps_a) -> ToothFormFactors:
+def member_form(mn, an, beta, beta_b, z, x, rack, diameters, eps_a) -> ToothFormFactors:
     """Method B root geometry and Y_F, Y_S of external members (module docstring), each argument
     broadcast over the members: m_n, α_n, β, β_b (rad), tooth counts z (> 0), profile shifts x,
-    the rack's h_fP and ρ_fP (m), reference and tip diameters d, d_a (m) and the pair's ε_α (the
+    ``rack`` the generating rack's (h_fP, ρ_fP) (m), ``diameters`` the reference and tip
+    diameters (d, d_a) (m) and the pair's ε_α (the
     mating gear enters only through it: an external member of an internal pair is rated with
     the internal pair's ε_α)."""
+    hfp, rfp = rack
+    d, da = diameters
     cb = jnp.cos(beta_b)
     zn = z / (cb**2 * jnp.cos(beta))
     E = jnp.pi / 4 * mn - hfp * jnp.tan(an) - (1 - jnp.sin(an)) * rfp / jnp.cos(an)

@@ -179,10 +179,8 @@ class RatingGeometry(eqx.Module):
             g.base_helix_angle,
             z,
             self.profile_shift,
-            self.dedendum_coeff * mn,
-            self.fillet_radius_coeff * mn,
-            g.reference_diameter,
-            g.tip_diameter,
+            (self.dedendum_coeff * mn, self.fillet_radius_coeff * mn),
+            (g.reference_diameter, g.tip_diameter),
             g.transverse_contact_ratio,
         )
 
