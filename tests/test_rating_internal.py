@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.io as jio
 
 MM = 1e-3
 RATE = eqx.filter_jit(jg.rate)
@@ -165,3 +166,86 @@ def test_rate_refuses_what_is_no_rating_geometry_in_one_line():
         jg.InternalRatingGeometry.of(pair, "rack")
     with pytest.raises(ValueError, match=r"s_Fn"):
         jg.GivenRootSection(-1.0, 1.0, 1.0)
+
+
+STAGE2_RATING = """
+[rating]
+application_factor = 1.25
+K_gamma = 1.10
+K_v = 1.0612
+K_Hbeta = 1.15
+K_Halpha = 1.0
+K_Falpha = 1.0
+life_h = 175200.0
+viscosity_40C_mm2_s = 220.0
+roughness_Rz_flank_um = { sun2 = 4.8, planet2 = 4.8, ring2 = 8.0 }
+roughness_Rz_root_um = 20.0
+edition = 2006
+
+[rating.sun2-planet2]
+K_Hbeta = 2.06
+"""
+
+
+def _rated_stage2(tmp_path, extra=STAGE2_RATING):
+    """The embedded nrel-5mw-stage2 with its materials' strengths and a [rating] table."""
+    text = jio.embedded_case_text("nrel-5mw-stage2").replace(
+        "density_kg_m3 = 7850.0",
+        "density_kg_m3 = 7850.0\nsigma_H_lim_MPa = { sun2 = 1500.0, planet2 = 1500.0, ring2 = "
+        "700.0 }\nsigma_F_lim_MPa = { sun2 = 430.0, planet2 = 430.0, ring2 = 290.0 }",
+    )
+    path = tmp_path / "stage2.toml"
+    path.write_text(text + extra)
+    return jio.load_case(str(path))
+
+
+def test_planetary_stage_rates_both_meshes_per_planet_path_with_k_gamma(tmp_path):
+    """``jaxgear run``'s rating of a planetary stage (jaxgear.cli.planetary.rating_section) on
+    the embedded NREL 5 MW stage 2 with the KISSsoft report's load factors (K_A 1.25, K_γ 1.10,
+    K_v 1.0612, K_Hβ 2.06 and 1.15, K_Hα = K_Fα = 1, 2006 edition): the load path (the sun's torque per
+    planet, the speeds relative to the carrier, K_γ in the load) gives the report's σ_H0 and
+    σ_H of both meshes within 0.5 % (sun/planet 573.40, [1071.17, 994.13]; planet/ring 312.44,
+    404.76 N/mm²; the case's ring x is 0.1168 where the report has 0.1171); the ring is rated
+    as an internal gear; rating.md has a table per mesh."""
+    from jaxgear.cli.planetary import rating_section
+
+    case = _rated_stage2(tmp_path)
+    sec = rating_section(case, str(tmp_path), 1.0)
+    assert sec["meshes"] == ["sun2-planet2", "planet2-ring2"]
+    assert sec["K_gamma"]["value"] == [1.10, 1.10] and sec["K_gamma"]["source"] == ["given"] * 2
+    np.testing.assert_allclose(
+        np.asarray(sec["pitting"]["sigma_H0_Pa"]) / 1e6, [573.40, 312.44], rtol=5e-3
+    )
+    np.testing.assert_allclose(
+        np.asarray(sec["pitting"]["sigma_H_Pa"]) / 1e6,
+        [[1071.17, 994.13], [404.76, 404.76]],
+        rtol=5e-3,
+    )
+    assert sec["pitting"]["Z_BD"][1][1] == 1.0  # Z_D of the ring
+    md = (tmp_path / "rating.md").read_text()
+    assert "mesh sun2-planet2" in md and "mesh planet2-ring2" in md and "K_γ = 1.1000" in md
+
+
+def test_planetary_rating_takes_the_stages_k_gamma_when_not_given(tmp_path):
+    """Without ``[rating] K_gamma`` the section rates with the K_γ passed in (the run's planar
+    load sharing) and names its source; σ_H scales with √K_γ (K_γ multiplies the load as K_A,
+    the load factors given)."""
+    from jaxgear.cli.planetary import K_GAMMA_SOURCE, rating_section
+
+    free = _rated_stage2(tmp_path, STAGE2_RATING.replace("K_gamma = 1.10\n", ""))
+    sec = rating_section(free, str(tmp_path), 1.21)
+    assert sec["K_gamma"] == {"value": [1.21, 1.21], "source": [K_GAMMA_SOURCE] * 2}
+    np.testing.assert_allclose(
+        np.asarray(sec["pitting"]["sigma_H_Pa"]) / 1e6,
+        np.sqrt(1.21 / 1.10) * np.array([[1071.17, 994.13], [404.76, 404.76]]),
+        rtol=5e-3,
+    )
+
+
+def test_planetary_rating_refused_in_one_line_before_work(tmp_path):
+    """A [rating] key of a train's that a planetary stage does not know, and K_gamma out of its
+    range, name the key in one line at load time."""
+    with pytest.raises(ValueError, match=r"K_gamma"):
+        _rated_stage2(tmp_path, STAGE2_RATING.replace("K_gamma = 1.10", "K_gamma = 0.5"))
+    with pytest.raises(ValueError, match=r"wrong_key"):
+        _rated_stage2(tmp_path, STAGE2_RATING.replace("edition", "wrong_key = 1.0\nedition"))
