@@ -30,7 +30,11 @@ Keys (file units; ranges as checked)::
 
 A train file's ``[rating]`` is a pair's for every mesh (:func:`parse_train_rating`): per-gear
 values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replacing entries for
-one mesh; ``[operating] speed_rpm`` the input's speed.
+one mesh; ``[operating] speed_rpm`` the input's speed. A planetary stage's (gear form,
+:func:`parse_planetary_rating`) is a train's for its ``sun-planet`` and ``planet-ring`` meshes
+(the ring an internal gear: :class:`jaxgear.InternalRatingGeometry`, :data:`GEOMETRIES`) with
+``K_gamma`` (the load sharing factor, [1, 10]; default the run's computed one), each mesh at one
+planet path's mean load and its speed relative to the carrier.
 """
 
 from __future__ import annotations
