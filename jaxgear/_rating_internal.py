@@ -130,9 +130,10 @@ class InternalRatingGeometry(eqx.Module):
 
     Attributes:
         teeth: (z1, z2), z2 < 0 (ISO 21771), static.
-        normal_module, normal_pressure_angle, helix_angle, profile_shift (x1, x2; x2 in ISO
-            21771's sign), addendum_coeff, dedendum_coeff, fillet_radius_coeff, face_width,
-            rim_thickness, center_distance: as :class:`jaxgear.RatingGeometry`.
+        normal_module: m_n (m); the other macro parameters (normal_pressure_angle,
+            helix_angle, profile_shift (x1, x2; x2 in ISO 21771's sign), addendum_coeff,
+            dedendum_coeff, fillet_radius_coeff, face_width, rim_thickness, center_distance)
+            as :class:`jaxgear.RatingGeometry`.
         root_section: the internal gear's root section (:class:`AbstractRootSection`; default
             :class:`SubstituteRack`).
 
