@@ -127,6 +127,8 @@ from ._rating import (
 )
 from ._rating_bending import (
     ToothFormFactors as ToothFormFactors,
+    member_form as member_form,
+    section_factors as section_factors,
     tooth_form_factors as tooth_form_factors,
 )
 from ._rating_factors import (
@@ -137,10 +139,17 @@ from ._rating_factors import (
     transverse_load_factor as transverse_load_factor,
 )
 from ._rating_geometry import RatingGeometry as RatingGeometry
+from ._rating_internal import (
+    AbstractRootSection as AbstractRootSection,
+    GivenRootSection as GivenRootSection,
+    InternalRatingGeometry as InternalRatingGeometry,
+    SubstituteRack as SubstituteRack,
+)
 from ._rating_material import (
     AbstractTreatment as AbstractTreatment,
     CaseHardened as CaseHardened,
     Nitrided as Nitrided,
+    PairTreatment as PairTreatment,
     ThroughHardened as ThroughHardened,
 )
 from ._rating_settings import (

@@ -31,9 +31,10 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ._rating_bending import ToothFormFactors, tooth_form_factors
+from ._rating_bending import ToothFormFactors
 from ._rating_factors import LoadFactors, _contact_ratio_factor, _tangential_load, load_factors
 from ._rating_geometry import RatingGeometry
+from ._rating_internal import InternalRatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings, factor_clause
 from ._util import as_float, check_instance
 
@@ -44,8 +45,9 @@ Y_ST = 2.0  # ISO 6336-3: stress correction factor of the reference test gears
 
 
 class PittingRating(eqx.Module):
-    """ISO 6336-2 results: scalars Z_H, Z_E (√Pa), Z_epsilon, Z_beta, Z_L, Z_v, Z_R, Z_W, Z_X,
-    sigma_H0 (Pa); per gear (2,) Z_BD (Z_B, Z_D), Z_NT, sigma_H, sigma_HG, sigma_HP (Pa), S_H,
+    """ISO 6336-2 results: scalars Z_H, Z_E (√Pa), Z_epsilon, Z_beta, Z_L, Z_v, Z_R, Z_X,
+    sigma_H0 (Pa); per gear (2,) Z_BD (Z_B, Z_D), Z_NT, Z_W (work hardening, ISO 6336-2 clause
+    13: 1 but for a through-hardened gear against a surface-hardened one), sigma_H, sigma_HG, sigma_HP (Pa), S_H,
     cycles N_L."""
 
     Z_H: Array
@@ -187,22 +189,6 @@ class Rating(eqx.Module):
 # pitting (ISO 6336-2:2019)
 
 
-def _single_pair_factors(g, geometry):
-    """Z_B, Z_D (single pair tooth contact factors): M₁, M₂ at the inner points of single pair contact; spur max(1, M),
-    helical ε_β < 1 max(1, M − ε_β (M − 1)), ε_β >= 1: 1."""
-    z = jnp.asarray(geometry.teeth, dtype=g.center_distance.dtype)
-    ea, eb = g.transverse_contact_ratio, jnp.minimum(g.overlap_ratio, 1.0)
-    t = jnp.sqrt((g.tip_diameter / g.base_diameter) ** 2 - 1)
-    m1 = jnp.tan(g.operating_pressure_angle) / jnp.sqrt(
-        (t[0] - 2 * jnp.pi / z[0]) * (t[1] - (ea - 1) * 2 * jnp.pi / z[1])
-    )
-    m2 = jnp.tan(g.operating_pressure_angle) / jnp.sqrt(
-        (t[1] - 2 * jnp.pi / z[1]) * (t[0] - (ea - 1) * 2 * jnp.pi / z[0])
-    )
-    m = jnp.stack([m1, m2])
-    return jnp.maximum(1.0, m - eb * (m - 1))
-
-
 def _c_zl(sigma_h_lim):
     """C_ZL of the lubricant factor Z_L (σ_Hlim of the softer gear)."""
     s = sigma_h_lim * 1e-6
@@ -243,7 +229,7 @@ def pitting_rating(
     z_beta = 1 / jnp.sqrt(jnp.cos(geometry.helix_angle))
     s_h0 = z_h * z_e * z_eps * z_beta * jnp.sqrt(ft * (u + 1) / (d1 * b * u))
     k = factors.K_A * factors.K_v * factors.K_Hbeta * factors.K_Halpha
-    z_bd = _single_pair_factors(g, geometry)
+    z_bd = geometry.single_pair_factors(g)
     s_h = z_bd * s_h0 * jnp.sqrt(k)
     # permissible stress
     cycles = _cycles(settings, operating, u)
@@ -261,7 +247,7 @@ def pitting_rating(
     s = s_min * 1e-6
     czr = jnp.clip(0.32 - 0.0002 * s, 0.08, 0.15)
     z_r = (3e-6 / rz10) ** czr
-    z_w, z_x = as_float(1.0), as_float(1.0)
+    z_w, z_x = mat.treatment.work_hardening_factors(), as_float(1.0)
     s_hg = mat.sigma_h_lim * z_nt * z_l * z_v * z_r * z_w * z_x
     return PittingRating(
         Z_H=z_h,
@@ -291,7 +277,7 @@ def pitting_rating(
 def _cycles(settings: RatingSettings, operating: OperatingPoint, u):
     """Load cycles N_L (pinion, gear) over the life: turns × the rated flank's cycles per turn
     (:class:`jaxgear.ToothLoading`)."""
-    turns = jnp.stack([jnp.ones_like(u), 1 / u])
+    turns = jnp.stack([jnp.ones_like(u), 1 / jnp.abs(u)])  # u < 0: an internal pair
     per_turn = jnp.asarray(settings.loading.cycles_per_turn, dtype=turns.dtype) * turns
     return settings.life * operating.speed / (2 * jnp.pi) * per_turn
 
@@ -331,7 +317,7 @@ def bending_rating(
     g = geometry.derived()
     mat, lub = settings.material, settings.lubrication
     mn = geometry.normal_module
-    form = tooth_form_factors(geometry)
+    form = geometry.form_factors()
     ft = _tangential_load(g, operating)
     bw = geometry.face_width
     b = jnp.minimum(bw, bw[::-1] + 2 * mn)
@@ -377,10 +363,18 @@ def bending_rating(
 
 def rate(geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings) -> Rating:
     """The whole rating: :func:`load_factors`, :func:`pitting_rating`, :func:`bending_rating`
-    at one operating point (a pair's geometry: ``RatingGeometry.of(pair)``). Pure and jit-able
+    at one operating point (a pair's geometry: ``RatingGeometry.of(pair)``; an internal pair's
+    ``InternalRatingGeometry.of(pair)``, member 0 the pinion, member 1 the internal gear, with
+    the standard's internal-gear rules, :mod:`jaxgear._rating_internal`). Pure and jit-able
     (``eqx.filter_jit``); differentiable with respect to the array fields of the geometry, the
     operating point and the settings."""
-    check_instance("geometry", geometry, RatingGeometry, "a jaxgear.RatingGeometry", "rate")
+    check_instance(
+        "geometry",
+        geometry,
+        (RatingGeometry, InternalRatingGeometry),
+        "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry",
+        "rate",
+    )
     factors = load_factors(geometry, operating, settings)
     return Rating(
         factors,

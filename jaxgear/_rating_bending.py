@@ -29,9 +29,7 @@ from typing import NamedTuple
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._rating_geometry import RatingGeometry
-
-__all__ = ["ToothFormFactors", "tooth_form_factors"]
+__all__ = ["ToothFormFactors", "member_form", "section_factors", "tooth_form_factors"]
 
 #: Newton steps of the θ equation from π/6: θ is within 2e-16 rad of the root after 4 steps on
 #: every tooth tried (z_n 7 to 400, x −0.5 to 1, racks 1.0/0.1 to 1.4/0.39); 6 leave a margin
@@ -71,29 +69,27 @@ def _theta(G, H, zn):
     return t
 
 
-def tooth_form_factors(geometry: RatingGeometry) -> ToothFormFactors:
-    """Y_F and Y_S of ISO 6336-3:2019 method B for both members (module docstring), with the
-    geometry of the critical section.
+def section_factors(mn, an, s_fn, h_fe, rho_f, alpha_fen):
+    """Y_F, Y_S and q_s of a root section (ISO 6336-3 method B, any gear, external or internal):
+    Y_F = 6 (h_Fe/m_n) cos α_Fen / ((s_Fn/m_n)² cos α_n), Y_S = (1.2 + 0.13 L)
+    q_s^(1/(1.21 + 2.3/L)), L = s_Fn/h_Fe, q_s = s_Fn/(2 ρ_F) (SI, rad; broadcasting)."""
+    y_f = 6 * (h_fe / mn) * jnp.cos(alpha_fen) / ((s_fn / mn) ** 2 * jnp.cos(an))
+    L = s_fn / h_fe
+    q_s = s_fn / (2 * rho_f)
+    y_s = (1.2 + 0.13 * L) * q_s ** (1 / (1.21 + 2.3 / L))
+    return y_f, y_s, q_s
 
-    Args:
-        geometry: the pair's :class:`jaxgear.RatingGeometry` (external gears, no protuberance:
-            the generating rack's addendum h_fP = dedendum_coeff · m_n and tip radius ρ_fP =
-            fillet_radius_coeff · m_n).
 
-    Returns:
-        :class:`ToothFormFactors` (SI).
-
-    ISO's scope for Y_S is 1 <= q_s < 8; the values outside are returned (the case reader
-    warns).
-    """
-    g = geometry.derived()
-    mn, an = geometry.normal_module, geometry.normal_pressure_angle
-    beta = geometry.helix_angle
-    z = jnp.asarray(geometry.teeth, dtype=mn.dtype)
-    x = geometry.profile_shift
-    hfp = geometry.dedendum_coeff * mn
-    rfp = geometry.fillet_radius_coeff * mn
-    cb = jnp.cos(g.base_helix_angle)
+def member_form(mn, an, beta, beta_b, z, x, rack, diameters, eps_a) -> ToothFormFactors:
+    """Method B root geometry and Y_F, Y_S of external members (module docstring), each argument
+    broadcast over the members: m_n, α_n, β, β_b (rad), tooth counts z (> 0), profile shifts x,
+    ``rack`` the generating rack's (h_fP, ρ_fP) (m), ``diameters`` the reference and tip
+    diameters (d, d_a) (m) and the pair's ε_α (the
+    mating gear enters only through it: an external member of an internal pair is rated with
+    the internal pair's ε_α)."""
+    hfp, rfp = rack
+    d, da = diameters
+    cb = jnp.cos(beta_b)
     zn = z / (cb**2 * jnp.cos(beta))
     E = jnp.pi / 4 * mn - hfp * jnp.tan(an) - (1 - jnp.sin(an)) * rfp / jnp.cos(an)
     G = rfp / mn - hfp / mn + x
@@ -103,15 +99,14 @@ def tooth_form_factors(geometry: RatingGeometry) -> ToothFormFactors:
     rho_f = rfp + 2 * mn * G**2 / (jnp.cos(theta) * (zn * jnp.cos(theta) ** 2 - 2 * G))
     dn = mn * zn
     dbn = dn * jnp.cos(an)
-    dan = dn + g.tip_diameter - g.reference_diameter
-    eps_an = g.transverse_contact_ratio / cb**2
-    reach = jnp.sqrt(dan**2 / 4 - dbn**2 / 4) - jnp.pi * g.reference_diameter * jnp.cos(
-        beta
-    ) * jnp.cos(an) / z * (eps_an - 1)
+    dan = dn + da - d
+    eps_an = eps_a / cb**2
+    reach = jnp.sqrt(dan**2 / 4 - dbn**2 / 4) - jnp.pi * d * jnp.cos(beta) * jnp.cos(an) / z * (
+        eps_an - 1
+    )
     den = 2 * jnp.sqrt(reach**2 + dbn**2 / 4)
     aen = jnp.arccos(dbn / den)
-    inv = lambda a: jnp.tan(a) - a
-    gamma_e = (jnp.pi / 2 + 2 * x * jnp.tan(an)) / zn + inv(an) - inv(aen)
+    gamma_e = (jnp.pi / 2 + 2 * x * jnp.tan(an)) / zn + _inv(an) - _inv(aen)
     afen = aen - gamma_e
     h_fe = (
         mn
@@ -123,10 +118,7 @@ def tooth_form_factors(geometry: RatingGeometry) -> ToothFormFactors:
             + rfp / mn
         )
     )
-    y_f = 6 * (h_fe / mn) * jnp.cos(afen) / ((s_fn / mn) ** 2 * jnp.cos(an))
-    L = s_fn / h_fe
-    q_s = s_fn / (2 * rho_f)
-    y_s = (1.2 + 0.13 * L) * q_s ** (1 / (1.21 + 2.3 / L))
+    y_f, y_s, q_s = section_factors(mn, an, s_fn, h_fe, rho_f, afen)
     return ToothFormFactors(
         Y_F=y_f,
         Y_S=y_s,
@@ -139,3 +131,27 @@ def tooth_form_factors(geometry: RatingGeometry) -> ToothFormFactors:
         virtual_teeth=zn,
         eps_alpha_n=eps_an,
     )
+
+
+def _inv(a):
+    return jnp.tan(a) - a
+
+
+def tooth_form_factors(geometry) -> ToothFormFactors:
+    """Y_F and Y_S of ISO 6336-3:2019 method B for both members (module docstring), with the
+    geometry of the critical section.
+
+    Args:
+        geometry: the pair's :class:`jaxgear.RatingGeometry` (external gears, no protuberance:
+            the generating rack's addendum h_fP = dedendum_coeff · m_n and tip radius ρ_fP =
+            fillet_radius_coeff · m_n), or an internal pair's
+            :class:`jaxgear.InternalRatingGeometry` (the pinion as here, the internal gear by
+            its root section, :class:`jaxgear.SubstituteRack` or :class:`jaxgear.GivenRootSection`).
+
+    Returns:
+        :class:`ToothFormFactors` (SI).
+
+    ISO's scope for Y_S is 1 <= q_s < 8; the values outside are returned (the case reader
+    warns).
+    """
+    return geometry.form_factors()

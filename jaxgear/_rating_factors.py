@@ -50,9 +50,7 @@ def _tangential_load(g, operating: OperatingPoint):
 def _stiffness(geometry: RatingGeometry, g, settings: RatingSettings, specific_load):
     """c' and c_γα (N/m per m of face width), ISO 6336-1 method B (9.3), C_R = 1 (solid)."""
     beta = geometry.helix_angle
-    zn = jnp.asarray(geometry.teeth, dtype=beta.dtype) / (
-        jnp.cos(g.base_helix_angle) ** 2 * jnp.cos(beta)
-    )
+    zn = geometry.stiffness_teeth(g)
     x1, x2 = geometry.profile_shift[0], geometry.profile_shift[1]
     c = ISO_C
     q = (
@@ -81,7 +79,7 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
     mat, acc, tr = settings.material, settings.accuracy, settings.material.treatment
     dm = (g.tip_diameter + g.root_diameter) / 2
     m_star = jnp.pi / 8 * mat.density * dm**4 / g.base_diameter**2
-    m_red = m_star[0] * m_star[1] / (m_star[0] + m_star[1])
+    m_red = geometry.reduced_mass(m_star)
     n_ratio = operating.speed / (jnp.sqrt(cga / m_red) / geometry.teeth[0])
     sh = jnp.min(mat.sigma_h_lim)
     f_pb = acc.base_pitch - tr.running_in_alpha(acc.base_pitch, sh)

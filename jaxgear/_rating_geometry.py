@@ -19,6 +19,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._geometry import GearPair
+from ._rating_bending import ToothFormFactors, member_form
 from ._util import as_float, check_instance
 
 __all__ = ["RatingGeometry", "inverse_involute_jnp"]
@@ -163,3 +164,48 @@ class RatingGeometry(eqx.Module):
             face_width=b,
             gear_ratio=self.teeth[1] / self.teeth[0],
         )
+
+    # -- what the rating asks of a pair (jaxgear.InternalRatingGeometry answers the same) ------
+
+    def form_factors(self) -> ToothFormFactors:
+        """Y_F, Y_S and the root sections of both members (:func:`jaxgear.tooth_form_factors`)."""
+        g = self.derived()
+        z = jnp.asarray(self.teeth, dtype=self.normal_module.dtype)
+        mn = self.normal_module
+        return member_form(
+            mn,
+            self.normal_pressure_angle,
+            self.helix_angle,
+            g.base_helix_angle,
+            z,
+            self.profile_shift,
+            (self.dedendum_coeff * mn, self.fillet_radius_coeff * mn),
+            (g.reference_diameter, g.tip_diameter),
+            g.transverse_contact_ratio,
+        )
+
+    def single_pair_factors(self, g: Derived) -> Array:
+        """Z_B, Z_D (ISO 6336-2, single pair tooth contact factors): M₁, M₂ at the inner points
+        of single pair contact; spur max(1, M), helical ε_β < 1 max(1, M − ε_β (M − 1)),
+        ε_β >= 1: 1."""
+        z = jnp.asarray(self.teeth, dtype=g.center_distance.dtype)
+        ea, eb = g.transverse_contact_ratio, jnp.minimum(g.overlap_ratio, 1.0)
+        t = jnp.sqrt((g.tip_diameter / g.base_diameter) ** 2 - 1)
+        m1 = jnp.tan(g.operating_pressure_angle) / jnp.sqrt(
+            (t[0] - 2 * jnp.pi / z[0]) * (t[1] - (ea - 1) * 2 * jnp.pi / z[1])
+        )
+        m2 = jnp.tan(g.operating_pressure_angle) / jnp.sqrt(
+            (t[1] - 2 * jnp.pi / z[1]) * (t[0] - (ea - 1) * 2 * jnp.pi / z[0])
+        )
+        m = jnp.stack([m1, m2])
+        return jnp.maximum(1.0, m - eb * (m - 1))
+
+    def stiffness_teeth(self, g: Derived) -> Array:
+        """The virtual teeth (z_n1, z_n2) of ISO 6336-1 method B's single stiffness c'."""
+        z = jnp.asarray(self.teeth, dtype=g.center_distance.dtype)
+        return z / (jnp.cos(g.base_helix_angle) ** 2 * jnp.cos(self.helix_angle))
+
+    def reduced_mass(self, m_star: Array) -> Array:
+        """ISO 6336-1 method B's reduced mass per face width of the pair from the members'
+        m* = π/8 ρ d_m⁴/d_b² (kg/m): m*₁ m*₂/(m*₁ + m*₂)."""
+        return m_star[0] * m_star[1] / (m_star[0] + m_star[1])

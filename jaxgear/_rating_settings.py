@@ -135,7 +135,7 @@ class GearAccuracy(eqx.Module):
         tol = [
             iso1328_tolerances(
                 pair.normal_module,
-                m.teeth * pair.normal_module / math.cos(pair.helix_angle),
+                abs(m.teeth) * pair.normal_module / math.cos(pair.helix_angle),
                 m.face_width,
                 grade,
             )

@@ -303,7 +303,10 @@ def _set(path: str, value):
             "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form",
         ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
-        (_set("rating", {"application_factor": 1.25}), "[rating]: not in a planetary case"),
+        (  # a planetary [rating] is read whole: its missing keys named
+            _set("rating", {"application_factor": 1.25}),
+            "[material] sigma_H_lim_MPa: missing required key (the [rating] table needs it)",
+        ),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
         (
             _set("planetary/sun_eccentricity_um", -5.0),

@@ -338,3 +338,139 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
     assert not bad, (report, bad)
     assert len(printed) == 43
     assert rating.factors.sources["K_Fbeta"] == "ISO 6336-1 method B"
+
+
+# The internal planet/ring meshes of the same two reports (sections 1-4, the third column and
+# the planet's values after the slash). The ring (gear 3) is 34CrNiMo6 through hardened (σ_Hlim
+# 700, σ_Flim 290 N/mm², HB 240, yield point σ_0.2 1000 N/mm², R_z 8.0 µm flank and 20 µm root,
+# ISO 53 profile B 1.25/0.30/1.0, no tip alteration); the planet case-hardened as above
+# (jg.PairTreatment). Z_W = 1.135 of the ring is ISO 6336-2's work hardening factor of a
+# through-hardened gear against a surface-hardened one, 1.2 − (HB − 130)/1700; the ring's ρ' =
+# 0.0014 mm is ISO 6336-3's slip-layer thickness of through-hardened steel at σ_0.2 = 1000
+# N/mm² (Y_δrelT). The rating runs at the planet's speed relative to the carrier with the
+# planet's torque T_sun/p · z_planet/z_sun (the report's F_t and v are the sun mesh's, the same
+# at the reference circles of one module); the planet is member 0, its flank loaded once per
+# relative turn here (and by the sun on its other flank: Y_M = 0.7), the ring's tooth p = 3
+# times per relative turn of the planet carrier. K_v is recovered as for the sun mesh, from
+# the printed σ_Hw/σ_H0 of this mesh (stage_02 prints K_v = max(K_v12, K_v23) = 1.06, stage_01
+# K_v = 1.05 for this mesh). The ring's root section (s_Fn, ρ_F, dsFn) is the one the report
+# prints from its pinion-type cutter simulation (z0 = 30 and 36, x0 = 0), given with
+# jg.GivenRootSection: ISO's substitute rack (jg.SubstituteRack) is cruder; everything else —
+# d_en, α_Fen, h_F, Y_F, Y_S, the stresses and all the pitting factors — is computed.
+def _ring_values(eps_a, alpha_wt, n_l, k_fb, bending, pitting):
+    rows = [
+        ("eps_alpha", eps_a, lambda r, p, o: p.transverse_contact_ratio),
+        (
+            "alpha_wt (deg)",
+            alpha_wt,
+            lambda r, p, o: np.degrees(
+                jg.InternalRatingGeometry.of(p).derived().operating_pressure_angle
+            ),
+        ),
+        ("N_L (1e6)", n_l, lambda r, p, o: r.pitting.cycles / 1e6),
+        ("K_Fbeta", k_fb, lambda r, p, o: r.factors.K_Fbeta),
+    ]
+    return rows + _spur_values(1.0, 1.0, 1.0, 1.0, [1.0, 1.0], 1.0, 1.0, bending, pitting)[7:]
+
+
+# (report, z (sun, planet, ring), x (planet, ring), m_n mm, planet tip alteration mm, b mm,
+#  T_sun N·m, K_Hβ, (σ_Hw, σ_H0) N/mm², the ring's printed (s_Fn, ρ_F, dsFn) mm, rows)
+RING_REPORTS = [
+    (
+        "stage_02.rtf",
+        (18, 36, -93), (0.5039, 0.1171), 21.0, -1.750, 550.0, 162105.5, 1.15, (404.76, 312.44),
+        (56.76, 8.78, 1998.168),
+        _ring_values(
+            1.618, 15.630, [1297.1, 1506.3], 1.14,
+            [[1.01, 1.20], [2.48, 2.34], [18.48, 30.32], [22.21, 18.63], [47.70, 56.76],
+             [8.69, 8.78], 1.00, 1.00, [1.00, 1.00], [61.98, 69.12], [102.77, 114.61],
+             [1.002, 1.005], [0.957, 0.957], [0.840, 0.904], [0.886, 0.883], [0.7, 1.0], 2.00,
+             [275.24, 285.18], [429.38, 444.89], [4.18, 3.88]],
+            [2.85, 189.81, 0.891, 1.000, 312.44, [1.00, 1.00], [404.76, 404.76], 1.038, 0.961,
+             1.026, [1.000, 1.135], [0.905, 0.901], 1.000, [1110.71, 585.77], [1388.39, 732.21],
+             [3.43, 1.81]],
+        ),
+    ),
+    (
+        "stage_01.rtf",
+        (19, 17, -56), (0.8021, -0.5013), 45.0, -10.861, 491.0, 999650.9, 1.15, (758.46, 588.62),
+        (129.40, 22.24, 2673.522),
+        _ring_values(
+            1.278, 17.161, [419.0, 381.6], 1.12,
+            [[1.14, 1.27], [2.38, 2.13], [49.53, 78.40], [29.87, 19.59], [104.13, 129.40],
+             [17.19, 22.24], 1.00, 1.00, [1.00, 1.00], [95.70, 95.32], [154.50, 153.89],
+             [1.005, 1.003], [0.957, 0.957], [0.800, 0.850], [0.906, 0.907], [0.7, 1.0], 2.00,
+             [268.82, 275.09], [419.35, 429.14], [2.71, 2.79]],
+            [2.71, 189.81, 0.952, 1.000, 588.62, [1.00, 1.00], [758.46, 758.46], 1.038, 0.916,
+             1.025, [1.000, 1.135], [0.937, 0.940], 1.000, [1095.16, 581.89], [1368.95, 727.36],
+             [1.80, 0.96]],
+        ),
+    ),
+]
+
+
+def ring_mesh_rating(z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section):
+    """The planet/ring pair, settings and operating point of one report (comment above)."""
+    mm = 1e-3
+    planet = jg.Member(
+        z[1], x[0], addendum_coeff=1.0 + k_mm / mn_mm, dedendum_coeff=1.25,
+        fillet_radius_coeff=0.38, face_width=b_mm * mm,
+    )
+    ring = jg.Member(
+        z[2], x[1], dedendum_coeff=1.25, fillet_radius_coeff=0.30, face_width=b_mm * mm
+    )
+    pair = jg.InternalGearPair(planet, ring, mn_mm * mm, math.radians(20.0))
+    k_a, k_gamma = 1.25, 1.10
+    sigma_hw, sigma_h0 = sigma_hw_h0
+    k_v = (sigma_hw / sigma_h0) ** 2 / (k_a * k_gamma * k_hb * 1.0)
+    treatment = jg.PairTreatment(
+        jg.CaseHardened(), jg.ThroughHardened(slip_layer_m=0.0014e-3, brinell_hardness=240.0)
+    )
+    settings = jg.RatingSettings(
+        material=jg.RatingMaterial((1500e6, 700e6), (430e6, 290e6), 206e9, 0.3, 7830.0, treatment),
+        lubrication=jg.Lubrication(220e-6, np.array([4.8e-6, 8.0e-6]), 20e-6),
+        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        life=175_200 * 3600.0,
+        application_factor=k_a * k_gamma,
+        given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
+        min_safety_pitting=1.25,
+        min_safety_bending=1.56,
+        edition=jg.Edition2006(),
+        loading=jg.ToothLoading((1.0, 3.0), (0.7, 1.0)),
+    )
+    n_sun = 5000e3 / t_sun / RPM
+    n_carrier = n_sun * z[0] / (z[0] - z[2])  # ring fixed (Willis)
+    n_planet = (n_sun - n_carrier) * z[0] / z[1]  # relative to the carrier
+    op = jg.OperatingPoint(t_sun / 3 * z[1] / z[0], n_planet * RPM)
+    geometry = jg.InternalRatingGeometry.of(pair, jg.GivenRootSection(*(v * mm for v in section)))
+    return pair, geometry, op, settings
+
+
+@pytest.mark.parametrize(
+    "report, z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section, printed", RING_REPORTS
+)
+def test_kisssoft_spur_planet_ring_rating_every_printed_value_within_half_a_percent(
+    report, z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section, printed
+):
+    """ISO 6336-2 and -3 method B (2006 edition) of the internal planet/ring mesh: every factor
+    and stress the reports print for it (sections 1-4) within 0.5 %, both members."""
+    pair, geometry, op, settings = ring_mesh_rating(
+        z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section
+    )
+    rating = RATE(geometry, op, settings)
+    bad = {}
+    for symbol, value, get in printed:
+        ours = np.atleast_1d(np.asarray(get(rating, pair, op), dtype=float))
+        want = np.broadcast_to(np.asarray(value, dtype=float), ours.shape)
+        if np.any(np.abs(ours / want - 1) > 5e-3):
+            bad[symbol] = (ours.tolist(), want.tolist())
+    assert not bad, (report, bad)
+    assert len(printed) == 40
+    # F_t at the reference circles and v: the report's sun-mesh values
+    f_t = 2 * op.torque / (z[1] * mn_mm * 1e-3)
+    assert float(f_t) == pytest.approx({18: 285900.438, 19: 779454.877}[z[0]], rel=1e-5)
+    # the dedendum-side section the report prints as h_F*, s_Fn* (per m_n)
+    form = rating.bending.form
+    mn = mn_mm * 1e-3
+    hstar = {18: [0.880, 1.444], 19: [1.101, 1.742]}[z[0]]
+    np.testing.assert_allclose(form.h_Fe / mn, hstar, rtol=5e-3)

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 
+import equinox as eqx
 import numpy as np
 
 import fem_prep
@@ -32,11 +34,13 @@ from .. import (
     planetary_modes,
     planetary_quasi_static,
     quasi_static,
+    rate,
     ring_resonances,
 )
-from ..io import write_csv, write_json
+from ..io import CaseWarning, atomic_open, ratings_of, write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
+from ._rating_report import _stack, rating_lines
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
@@ -53,6 +57,7 @@ __all__ = [
     "ring_campbell",
     "ring_crossings",
     "ring_operating_shape",
+    "rating_section",
     "ring_section",
     "sharing_summary",
     "turn_sharing",
@@ -120,6 +125,9 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
+    rating = rating_section(case, out, summary["load_sharing"]["planar"]["k_gamma"])
+    if rating is not None:
+        summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
     write_json(os.path.join(out, "summary.json"), summary)
     return summary
@@ -449,6 +457,77 @@ def mesh_sections(case, out: str) -> dict:
     return res
 
 
+_RATE = eqx.filter_jit(rate)
+#: where a planetary mesh's K_γ comes from when ``[rating] K_gamma`` does not give it
+K_GAMMA_SOURCE = (
+    "jaxgear load sharing (planar lumped model, the case's pin errors): the most loaded planet "
+    "path's mesh force over the mean"
+)
+
+
+def rating_section(case, out: str, k_gamma: float) -> dict | None:
+    """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
+    (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
+    method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
+    K_gamma`` if given, else ``k_gamma``, the stage's planar load sharing with the pin errors)
+    multiplying the load as K_A does (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), σ_F ∝ K_A K_γ K_v K_Fβ
+    K_Fα; σ_H0, σ_F0 nominal, as ISO 6336-1 and the KISSsoft reports write it), at its driving
+    member's speed relative to the carrier; ``rating.md`` (one table per mesh)
+    written into ``out``; the ``summary.json`` section as a train's (per-mesh lists, ``meshes``
+    naming them) with ``K_gamma`` (value, source), ``torque_per_planet_path_Nm`` (the mean, before
+    K_γ) and ``speed_relative_to_carrier_rad_s``. ``None`` (nothing written) without
+    ``[rating]``."""
+    rcs = ratings_of(case)
+    if rcs is None:
+        return None
+    names = [case.mesh_name(k) for k in range(len(rcs))]
+    lines = [
+        f"# {case.name}: load capacity of every mesh of the planetary stage",
+        "",
+        "Each mesh rated for one planet path: the sun/planet mesh with the sun as the pinion, "
+        "the planet/ring mesh with the planet as the pinion and the ring as an internal gear "
+        "(ISO 6336-2/-3's internal-gear rules: Z_D = 1, the ring's root section at the 60° "
+        "tangent), at the path's mean load times the load sharing factor K_γ and at the "
+        "driving member's speed relative to the carrier. The planet's teeth are loaded on "
+        "alternate flanks by the sun and the ring: Y_M = 0.7 (ISO 6336-3, mean stress "
+        "influence factor); the sun's and the ring's meet every planet each relative turn.",
+        "",
+    ]
+    sections = []
+    for name, rc in zip(names, rcs, strict=True):
+        given = rc.k_gamma is not None
+        kg = float(rc.k_gamma) if given else float(k_gamma)
+        k_a = float(rc.settings.application_factor)
+        # K_γ multiplies the load as K_A does (ISO 6336-1: F_t K_A K_γ in every load factor
+        # and stress; σ_H0, σ_F0 at the nominal F_t of one planet path)
+        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, k_a * kg)
+        rating = _RATE(rc.geometry, rc.operating, settings)
+        for note in rating.scope_notes():
+            warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
+        section = rating.summary()
+        section["factors"]["K_A"] = {"value": k_a, "source": "given"}
+        section |= {
+            "K_gamma": {"value": kg, "source": "given" if given else K_GAMMA_SOURCE},
+            "torque_per_planet_path_Nm": float(rc.operating.torque),
+            "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
+        }
+        sections.append(section)
+        lines += rating_lines(section, f"{case.name}, mesh {name}", heading="##")
+        lines += [
+            "",
+            f"K_γ = {kg:.4f} ({section['K_gamma']['source']}), a factor of the load as K_A "
+            f"(one planet path: {section['torque_per_planet_path_Nm']:.6g} N·m on the pinion, "
+            "mean).",
+            "",
+        ]
+    with atomic_open(os.path.join(out, "rating.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    result = {"meshes": names} | _stack(sections[0], sections)
+    methods = result["method"]
+    result["method"] = methods[0] if len(set(methods)) == 1 else methods
+    return result
+
+
 def turn_words(sharing: dict) -> str:
     """The closing words of the load-sharing line: K_γ's largest over a turn with the
     eccentricities (none without)."""
@@ -486,6 +565,17 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
             f"{r['k_gamma_condensed']:.4f}, ring deflection max "
             f"{r['ring_deflection_max_m'] * 1e6:.3g} µm; {low}; {len(r['resonances'])} "
             "ND crossings with the planets' mesh harmonics (ring.vtu, ring_campbell.png)"
+        )
+    rt = summary.get("rating")
+    if rt is not None:
+        lines.append(
+            "rating (" + rt["method"] + "): " + "; ".join(
+                f"{name} S_H {min(h):.3g}, S_F {min(f):.3g} (K_γ {k:.4f})"
+                for name, h, f, k in zip(
+                    rt["meshes"], rt["pitting"]["S_H"], rt["bending"]["S_F"],
+                    rt["K_gamma"]["value"], strict=True,
+                )
+            ) + " (rating.md)"
         )
     for name, mesh in summary.get("meshes", {}).items():
         q = mesh["quasi_static"]

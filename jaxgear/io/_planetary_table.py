@@ -360,12 +360,11 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         SchemaError: one line, in the file's units (module docstring).
     """
     t = sc.subtable(data, "planetary", "", PLANETARY_KEYS, required=True)
-    for key in ("meshes", "scene", "rating"):
+    for key in ("meshes", "scene"):
         if key in data:
             raise sc.SchemaError(
                 f"[{key}]: not in a planetary case (allowed: [planetary] names the stage's "
-                "gears and meshes; its models are the lumped ones of [planetary]; a planetary "
-                "stage has no rating yet)"
+                "gears and meshes; its models are the lumped ones of [planetary])"
             )
     op = data.get("operating", {})
     for key in ("loads", "wrenches"):

@@ -30,7 +30,11 @@ Keys (file units; ranges as checked)::
 
 A train file's ``[rating]`` is a pair's for every mesh (:func:`parse_train_rating`): per-gear
 values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replacing entries for
-one mesh; ``[operating] speed_rpm`` the input's speed.
+one mesh; ``[operating] speed_rpm`` the input's speed. A planetary stage's (gear form,
+:func:`parse_planetary_rating`) is a train's for its ``sun-planet`` and ``planet-ring`` meshes
+(the ring an internal gear: :class:`jaxgear.InternalRatingGeometry`, :data:`GEOMETRIES`) with
+``K_gamma`` (the load sharing factor, [1, 10]; default the run's computed one), each mesh at one
+planet path's mean load and its speed relative to the carrier.
 """
 
 from __future__ import annotations
@@ -50,6 +54,8 @@ from .. import (
     GearAccuracy,
     GearPair,
     GivenFactors,
+    InternalGearPair,
+    InternalRatingGeometry,
     Lubrication,
     Nitrided,
     OperatingPoint,
@@ -60,6 +66,7 @@ from .. import (
     ToothLoading,
 )
 from ._case import PairForm, TrainForm
+from ._planetary_spec import PlanetaryForm
 
 __all__ = [
     "EDITIONS",
@@ -70,8 +77,10 @@ __all__ = [
     "TREATMENTS",
     "RatingCase",
     "check_rating",
+    "check_planetary_rating",
     "check_train_rating",
     "mesh_roles",
+    "parse_planetary_rating",
     "parse_rating",
     "parse_train_rating",
     "rating_of",
@@ -85,6 +94,9 @@ TREATMENTS = {
     "through_hardened": ThroughHardened,
     "nitrided": Nitrided,
 }
+#: a mesh's pair type → its rating geometry (an internal pair: ISO's internal-gear rules, the
+#: ring's root section ISO's substitute rack)
+GEOMETRIES = {GearPair: RatingGeometry.of, InternalGearPair: InternalRatingGeometry.of}
 #: ``[rating] edition`` years → the model's edition objects
 EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
@@ -122,6 +134,9 @@ class RatingCase:
     settings: RatingSettings
     #: the measured factors to rate with instead of ISO's (``[rating] use_measured``)
     use_measured: tuple[str, ...] = ()
+    #: a planetary mesh's given load sharing factor K_γ (``[rating] K_gamma``), or ``None``:
+    #: ``jaxgear run`` then takes the stage's computed one (planar model, pin errors)
+    k_gamma: float | None = None
 
 
 @functools.singledispatch
@@ -226,7 +241,7 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     )
     torque = sc.number(op, "torque_Nm", "operating")
     use = _use_measured(rt, given)
-    return RatingCase(RatingGeometry.of(pair), OperatingPoint(torque, speed), settings, use)
+    return RatingCase(GEOMETRIES[type(pair)](pair), OperatingPoint(torque, speed), settings, use)
 
 
 def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
@@ -388,6 +403,61 @@ def _refuse_unread(data: dict) -> None:
             raise sc.fail(table, key, "read by the [rating] table only: add one", data[table][key])
 
 
+def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
+    """Check a planetary stage's ``[rating]`` (the gear form) and build one :class:`RatingCase`
+    per mesh, ``sun-planet`` (the sun the pinion) and ``planet-ring`` (the planet the pinion, the
+    ring rated as an internal gear: :class:`jaxgear.InternalRatingGeometry`), each at one planet
+    path's mean load and its driving member's speed relative to the carrier
+    (:meth:`jaxgear.io.PlanetaryForm.mesh_case`). The keys are a train's (per-gear values a
+    number or a table by gear name, ``[rating.<mesh>]`` tables for one mesh) and
+    ``K_gamma`` (the load sharing factor, [1, 10]: the most loaded planet path over the mean,
+    which multiplies the rating's load; default: ``jaxgear run``'s planar load sharing with the
+    pin errors). Load cycles per relative turn: the sun's and the ring's teeth meet every
+    planet (p per turn), the planet's once; the planet's teeth are loaded on alternate flanks by
+    the sun and the ring, Y_M = 0.7 (ISO 6336-3, mean stress influence factor).
+
+    Raises:
+        SchemaError: as :func:`parse_train_rating`; a lumped stage (no gears to rate); one line.
+    """
+    if not case.pairs:
+        raise sc.fail(
+            "rating", None, "a lumped planetary stage ([planetary] without [[gears]]) has no "
+            "gears to rate: give the stage by its [[gears]]",
+        )
+    meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | {"K_gamma"})
+    k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
+    rt = {k: v for k, v in rt.items() if k != "K_gamma"}
+    own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
+    mat = data.get("material", {})
+    names = case.gear_names
+    n = float(case.form.spec.n_planets)
+    loading = (ToothLoading((n, 1.0), (1.0, 0.7)), ToothLoading((1.0, n), (0.7, 1.0)))
+    material = (case.youngs_modulus, case.poisson_ratio, case.density)
+    out = []
+    for k, ends in enumerate(case.gears):
+        one = case.mesh_case(k)
+        mesh_data = {
+            "rating": _mesh_table(rt, RATING_KEYS, "rating", names, ends) | own[meshes[k]],
+            "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
+            "operating": {"torque_Nm": one.torque, "speed_rad_s": one.speed},
+        }
+        rc = parse_rating(mesh_data, case.pairs[k], material)
+        settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
+        out.append(dataclasses.replace(rc, settings=settings, k_gamma=k_gamma))
+    return tuple(out)
+
+
+def check_planetary_rating(data: dict, case) -> None:
+    """The planetary reader's hook: a ``[rating]`` table checked whole
+    (:func:`parse_planetary_rating`), the rating's ``[material]``/``[operating]`` keys refused
+    without one."""
+    if "rating" in data:
+        parse_planetary_rating(data, case)
+        return
+    _refuse_unread(data)
+
+
 @functools.singledispatch
 def _ratings(form, case) -> tuple:
     raise TypeError(f"ratings_of: no rating for a case of form {type(form).__name__}")
@@ -401,6 +471,11 @@ def _(form: PairForm, case) -> tuple:
 @_ratings.register
 def _(form: TrainForm, case) -> tuple:
     return parse_train_rating(case.raw, case)
+
+
+@_ratings.register
+def _(form: PlanetaryForm, case) -> tuple:
+    return parse_planetary_rating(case.raw, case)
 
 
 def ratings_of(case) -> tuple[RatingCase, ...] | None:

@@ -110,7 +110,12 @@ from ._planetary_table import (
     planetary_mesh_settings,
 )
 from ._plausibility import CaseWarning, plausibility
-from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_train_rating
+from ._rating_table import (
+    MATERIAL_RATING_KEYS,
+    OPERATING_RATING_KEYS,
+    check_planetary_rating,
+    check_train_rating,
+)
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
 __all__ = ["is_train", "parse_train"]
@@ -415,6 +420,7 @@ def _planetary_case(data: dict, name: str) -> Case:
     }
     case = parse_planetary(data, base, gears, index)
     check_internal_stiffness(case, "[planetary]")
+    check_planetary_rating(data, case)  # [rating]: both meshes (ISO 6336, the ring internal)
     return case
 
 
