@@ -142,7 +142,12 @@ def classify_modes(
     Modes whose frequencies agree within ``rtol`` times the highest frequency form one group;
     in a group's mode shapes, the share of the squared amplitude on the central members'
     translations and rotations decides: both below ``still`` -> PLANET, rotations only ->
-    ROTATIONAL, translations only -> TRANSLATIONAL, else MIXED.
+    ROTATIONAL, translations only -> TRANSLATIONAL, else MIXED. A group with the central members
+    still in which every planet moves alike (each planet's coordinates the same to ``still``: the
+    planets' harmonic 0, the content of a rotational mode; a planet mode has none, Lin & Parker
+    1999, Eritenel & Parker 2009) is ROTATIONAL: e.g. the 3D model's mode in which the planets
+    all tilt about their radial axes against the meshes' tilting stiffness and the central
+    members do not move.
 
     Returns:
         One ``(ModeType, multiplicity)`` per mode, in the order of ``modes.frequencies``.
@@ -175,8 +180,24 @@ def classify_modes(
         t_share = np.sum(block[trans] ** 2) / total
         r_share = np.sum(block[rot] ** 2) / total
         kind = types[(bool(t_share > still), bool(r_share > still))]
+        if kind is ModeType.PLANET and _planets_alike(block, stage.n_planets, still):
+            kind = rotational
         out += [(kind, len(g))] * len(g)
     return tuple(out)
+
+
+def _planets_alike(block: np.ndarray, n_planets: int, still: float) -> bool:
+    """Whether the mode shapes ``block`` (n_dof, g) move every planet alike: the planets'
+    coordinates (the last ``n_planets`` equal blocks of the model's coordinates, planet by
+    planet) differ from their mean over the planets by a squared share below ``still``."""
+    total = np.sum(block**2)
+    n = block.shape[0]
+    per = n // (n_planets + 3)  # coordinates per member: 3 central members, then the planets
+    if n_planets < 2 or per * (n_planets + 3) != n:
+        return False
+    planets = block[n - n_planets * per :].reshape(n_planets, per, -1)
+    spread = np.sum((planets - planets.mean(axis=0)) ** 2)
+    return bool(np.sum(planets**2) / total > still and spread / total < still)
 
 
 # -- mesh phasing ------------------------------------------------------------------------------

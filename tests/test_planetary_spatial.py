@@ -4,14 +4,17 @@ the mode structure Eritenel & Parker (2009) prove for equally spaced planets, th
 helical stage under a sun torque, the rigid-body motions of a free stage, and the stiffness as
 the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
 
+import json
 import tomllib
 
 import numpy as np
 import pytest
 import scipy.linalg
+from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
+from jaxgear.cli import main
 
 A = np.radians(22.0)  # both pressure angles
 R_S, R_P = 0.03, 0.025  # base radii (m)
@@ -432,3 +435,27 @@ def test_a_tilting_member_turning_with_the_carrier_whirls_as_a_spinning_disc():
     # without the rotating frame's terms the pair would sit at sqrt(k_t / I_d) -+ Omega
     plain = np.sqrt(k_t / i_d)
     assert np.min(np.abs(f - (plain - omega) / (2 * np.pi))) > 1e-3 * plain / (2 * np.pi)
+
+
+def test_jaxgear_modes_lists_the_3d_modes_of_a_helical_stage(tmp_path):
+    """`jaxgear modes` on a helical lumped stage (three equally spaced planets) adds the 3D
+    model's modes: 6 (3 + N) of them with Eritenel & Parker's structure for N = 3 (no planet
+    modes, N - 3 = 0: 12 rotational-axial modes and 12 translational-tilting pairs), beside the
+    planar ones; a spur stage lists no 3D modes."""
+    data = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
+    for m in ("sun", "ring", "carrier"):
+        data["planetary"][m].update(axial_N_per_um=100.0, tilt_Nm_per_rad=1e6)
+    data["planetary"]["planet"].update(pin_axial_N_per_um=80.0, pin_tilt_Nm_per_rad=4e5)
+    path = tmp_path / "helical.toml"
+    path.write_text(case_toml(data))
+    assert main(["modes", str(path), "--out", str(tmp_path / "h")]) == 0
+    modes = json.loads((tmp_path / "h" / "modes.json").read_text())
+    spatial = modes["spatial"]
+    assert len(spatial) == 6 * (3 + 3) and len(modes["planar"]) == 3 * (3 + 3)
+    kinds = [(m["type"], m["multiplicity"]) for m in spatial]
+    assert kinds.count(("rotational-axial", 1)) == 12
+    assert kinds.count(("translational-tilting", 2)) == 24
+    assert not any(t == "planet" for t, _ in kinds)
+    path.write_text(case_toml(_lumped_case()))
+    assert main(["modes", str(path), "--out", str(tmp_path / "s")]) == 0
+    assert "spatial" not in json.loads((tmp_path / "s" / "modes.json").read_text())

@@ -34,7 +34,7 @@ from ..dynamics import DynamicModel, HybridModel
 from ..io import write_json
 from ._paths import check_output_dir, staged_outputs
 from .gearbox import chain_modes
-from .planetary import MODELS, mode_list
+from .planetary import mode_list, mode_models
 
 __all__ = [
     "DOF_GROUPS",
@@ -133,8 +133,9 @@ def _(form: case_io.PlanetaryForm, case) -> dict:
     return {
         "case": case.name,
         "model": "planetary (lumped)",
-        "classification": "Lin & Parker 1999: rotational, translational, planet",
-        **{name: mode_list(model, stage) for name, model in MODELS.items()},
+        "classification": "Lin & Parker 1999: rotational, translational, planet; 3D (helical): "
+        "Eritenel & Parker 2009: rotational-axial, translational-tilting, planet",
+        **{name: mode_list(model, stage) for name, model in mode_models(stage).items()},
     }
 
 

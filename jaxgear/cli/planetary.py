@@ -25,6 +25,7 @@ from .. import (
     ConstantMeshes,
     ModeType,
     PlanarPlanetary,
+    SpatialPlanetary,
     TorsionalPlanetary,
     campbell,
     classify_modes,
@@ -50,6 +51,7 @@ __all__ = [
     "lowest_frequency",
     "mesh_sections",
     "mode_list",
+    "mode_models",
     "phases_summary",
     "planet_pass_per_input",
     "planetary_files",
@@ -66,6 +68,16 @@ __all__ = [
 
 #: the lumped models run, by their name in the outputs
 MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
+
+
+def mode_models(stage) -> dict:
+    """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
+    (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
+    (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
+    The load sharing and the contact solves stay with :data:`MODELS`."""
+    if float(stage.helix_angle) == 0.0:
+        return MODELS
+    return {**MODELS, "spatial": SpatialPlanetary()}
 #: the mesh-frequency harmonics drawn on the Campbell diagram
 MESH_ORDERS = (1, 2, 3)
 #: a frequency below this share of the highest is a rigid mode's
@@ -112,12 +124,13 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
         "load_sharing": sharing_summary(spec, stage, torques),
         "mesh_phases": phases_summary(spec),
     }
-    modes = {name: mode_list(model, stage) for name, model in MODELS.items()}
+    modes = {name: mode_list(model, stage) for name, model in mode_models(stage).items()}
     write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
     summary["modes"] = {
         "file": "modes.json",
         **{f"{name}_lowest_Hz": lowest_frequency(v) for name, v in modes.items()},
-        "planar_type_counts": type_counts(modes["planar"]),
+        **{f"{name}_type_counts": type_counts(modes[name]) for name in ("planar", "spatial")
+           if name in modes},
     }
     summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
     if spec.ring_model.flexible:
