@@ -187,7 +187,9 @@ def compile_quasi_static(
     hybrid scene makes a longer compilation, once); the modifications become the design vector,
     the leaves of ``modifications`` (the template: its relief shapes, deviations present or not
     and array shapes are fixed, its values are the starting design ``design0``). The program is
-    compiled at the first call (JAX's persistent compilation cache applies).
+    compiled at the first call (JAX's persistent compilation cache applies); its part that depends
+    on neither the design nor the torque (cell layout, angles, the relief terms compiled in) is
+    evaluated then, once, and not at each call.
 
     Args:
         scene: a :class:`~jaxgear.scenes.Scene` or a :class:`MeshModel` (its rigid pair).

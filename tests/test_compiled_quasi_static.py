@@ -176,15 +176,11 @@ def _tip(mods, depth, extent):
     return eqx.tree_at(where, mods, (jnp.asarray(depth), jnp.asarray(extent)))
 
 
-@pytest.mark.parametrize("hoist", [True, False], ids=["hoisted", "plain-program"])
-def test_free_tip_curves_equal_quasi_static(setup, monkeypatch, hoist):
-    """The concrete-call program with its design- and torque-free part computed once (and, with
-    that split refused, the plain program) gives ``quasi_static``'s curves for two tip-relief
-    designs and two torques, and still refuses a bad torque or design shape in one line."""
-    import jaxgear._compiled as jc
-
-    if not hoist:  # the fallback: intermediates over the cap stay in the program
-        monkeypatch.setattr(jc, "_MAX_HOISTED_BYTES", 0)
+def test_free_tip_curves_equal_quasi_static(setup):
+    """The concrete-call program, its design- and torque-free part computed once at the first
+    call, gives ``quasi_static``'s curves for two tip-relief designs and two torques (the
+    residuals handed to the rest in the right order), and still refuses a bad torque or design
+    shape in one line."""
     mesh, mods, torque = setup
     f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=P).with_free(
         lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
