@@ -187,7 +187,9 @@ def compile_quasi_static(
     hybrid scene makes a longer compilation, once); the modifications become the design vector,
     the leaves of ``modifications`` (the template: its relief shapes, deviations present or not
     and array shapes are fixed, its values are the starting design ``design0``). The program is
-    compiled at the first call (JAX's persistent compilation cache applies).
+    compiled at the first call (JAX's persistent compilation cache applies); its part that depends
+    on neither the design nor the torque (cell layout, angles, the relief terms compiled in) is
+    evaluated then, once, and not at each call.
 
     Args:
         scene: a :class:`~jaxgear.scenes.Scene` or a :class:`MeshModel` (its rigid pair).
@@ -266,8 +268,9 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         res = _quasi_static(scene, mods, t, speed, theta, law, raise_, positions, checks)
         return pick(res), res.result
 
-    # concrete calls: no eqx.error_if in the program, the result codes read on the host
-    fast = jax.jit(lambda x, t: solve(x, t, False, False))
+    # concrete calls: no eqx.error_if in the program, the result codes read on the host; what
+    # does not depend on the design or the torque is computed once (_hoisted)
+    fast = _hoisted(lambda x, t: solve(x, t, False, False), design0)
     # traced calls (grad, vmap, an outer jit): the checks ride in the caller's program
     traced = jax.jit(lambda x, t: solve(x, t, throw, True)[0])
     return CompiledQuasiStatic(
@@ -282,6 +285,57 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         _coast=any(p.coast for p in scene.base_planes),
         _recompile=lambda free: _compile(setup, free),
     )
+
+
+_MAX_HOISTED_BYTES = 256 * 2**20  # larger intermediates stay in the program (memory)
+
+
+def _hoisted(fn: Callable, design0) -> Callable:
+    """``jax.jit(fn)`` for concrete ``(design, torque)``, with the part of ``fn`` that depends on
+    neither computed once, at the first call, and compiled in as constants.
+
+    XLA folds only small constants: the cell layout, the angles and the fixed relief terms of a
+    compiled-in scene would be recomputed at every call (a loop over designs hoists them, a
+    single call cannot). ``fn``'s jaxpr is split by data dependence (JAX's partial evaluation,
+    as in ``jax.linearize``), its design- and torque-free part evaluated once and its outputs
+    (the intermediates the rest needs) closed over: the same operations on the same values, so
+    the same results to the bit. Where JAX's internal partial evaluation is unavailable (its
+    module moved) or the intermediates exceed ``_MAX_HOISTED_BYTES``: the whole ``fn``."""
+    holder: list = []
+
+    def call(x, t):
+        if not holder:
+            holder.append(_split(fn, design0))
+        return holder[0](x, t)
+
+    return call
+
+
+def _split(fn: Callable, design0) -> Callable:
+    """The jitted ``fn(x, t)`` with its ``(x, t)``-free part evaluated once (see
+    :func:`_hoisted`)."""
+    dtype = design0.dtype
+    args = (jax.ShapeDtypeStruct(design0.shape, dtype), jax.ShapeDtypeStruct((), dtype))
+    try:
+        from jax._src import core
+        from jax._src.interpreters import partial_eval as pe
+
+        closed, shapes = jax.make_jaxpr(fn, return_shape=True)(*args)
+        known, rest, _, res = pe.partial_eval_jaxpr_nounits(closed, [True, True], True)
+        size = sum(math.prod(a.shape) * a.dtype.itemsize for a in res)
+        run_known, run_rest = core.jaxpr_as_fun(known), core.jaxpr_as_fun(rest)
+    except Exception:  # noqa: BLE001 -- an internal API that moved: the plain program
+        return jax.jit(fn)
+    if size > _MAX_HOISTED_BYTES:
+        return jax.jit(fn)
+    residuals = jax.jit(run_known)()
+    treedef = jax.tree_util.tree_structure(shapes)
+
+    def hot(x, t):
+        flat = run_rest(*residuals, jnp.asarray(x, dtype), jnp.asarray(t, dtype))
+        return jax.tree_util.tree_unflatten(treedef, flat)
+
+    return jax.jit(hot)
 
 
 def _free_leaves(free, template) -> Callable | None:

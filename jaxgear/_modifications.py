@@ -62,9 +62,22 @@ def _clamp(x, blend):
     """x ∈ ℝ clamped to [0, 1]; ``blend`` > 0 rounds the lower kink (x = 0) with a softplus of
     that width in x units, so the deviation of a fixed point is smooth in the relief parameters;
     0 keeps the sharp kink."""
-    safe = jnp.where(blend > 0, blend, 1.0)
-    x = jnp.where(blend > 0, safe * jax.nn.softplus(x / safe), jnp.maximum(x, 0.0))
+    if jnp.ndim(blend) == 0:  # one width: only the branch taken runs (a softplus at every
+        # cell costs an exp and a log1p each, most of a relief's time; a batched width, under
+        # vmap, becomes the select below)
+        x = jax.lax.cond(blend > 0, _softplus_clamp, _sharp_clamp, x, blend)
+    else:
+        x = jnp.where(blend > 0, _softplus_clamp(x, blend), _sharp_clamp(x, blend))
     return jnp.minimum(x, 1.0)
+
+
+def _softplus_clamp(x, blend):
+    safe = jnp.where(blend > 0, blend, 1.0)
+    return safe * jax.nn.softplus(x / safe)
+
+
+def _sharp_clamp(x, blend):
+    return jnp.maximum(x, 0.0)
 
 
 def _end_ramp(x, blend):

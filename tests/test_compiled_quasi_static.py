@@ -166,3 +166,31 @@ def test_free_leaves_are_the_design_and_the_others_fixed(setup):
         f.with_free(3)
     with pytest.raises(ValueError, match="free = "):
         f.with_free(lambda m: m.pinion.tip_relief_shape)
+
+
+def _tip(mods, depth, extent):
+    """``mods`` with the pinion's tip relief (depth, extent) replaced."""
+    import equinox as eqx
+
+    where = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)  # noqa: E731
+    return eqx.tree_at(where, mods, (jnp.asarray(depth), jnp.asarray(extent)))
+
+
+def test_free_tip_curves_equal_quasi_static(setup):
+    """The concrete-call program, its design- and torque-free part computed once at the first
+    call, gives ``quasi_static``'s curves for two tip-relief designs and two torques (the
+    residuals handed to the rest in the right order), and still refuses a bad torque or design
+    shape in one line."""
+    mesh, mods, torque = setup
+    f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=P).with_free(
+        lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+    )
+    for (depth, extent), t in (((22e-6, 0.31), torque), ((9e-6, 0.18), 0.6 * torque)):
+        ref = jg.quasi_static(mesh, _tip(mods, depth, extent), t, positions_per_pitch=P)
+        got = f(jnp.asarray([depth, extent]), t)
+        for name in ("transmission_error", "mesh_stiffness", "contact_length", "line_load"):
+            assert _rel(getattr(got, name), getattr(ref, name)) < 1e-12, name
+    with pytest.raises(ValueError, match=r"torque = -3.*allowed > 0"):
+        f(f.design0, -3.0)
+    with pytest.raises(ValueError, match=r"design has shape \(3,\): allowed \(2,\)"):
+        f(jnp.zeros(3), torque)
