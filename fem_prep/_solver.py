@@ -317,20 +317,25 @@ class BlockLanczos(EigenSolver):
         n = K.shape[0]
         p = min(self.block, n)
         cap = min(n, self.max_columns or 4 * k + 4 * p)
-        V = np.empty((n, cap))  # M-orthonormal basis
+        # the M-orthonormal basis V and M V (kept: one product with M per block, on the new
+        # residual block; the coefficients V^T M X are (M V)^T X); np.empty: the columns not
+        # reached take no memory
+        V, MV = np.empty((n, cap), order="F"), np.empty((n, cap), order="F")
         T = np.empty((cap, cap))  # V^T M op M V (the projected operator)
         X = np.random.default_rng(0).standard_normal((n, p))
         MX = M @ X
         m, worst = 0, np.inf
         while m + p <= cap:
-            X, MX = _m_orthonormalise(X, MX, V[:, :m], M, m)
-            V[:, m : m + p] = X
+            X, MX = _m_orthonormalise(X, MX, V[:, :m], MV[:, :m], m)
+            V[:, m : m + p], MV[:, m : m + p] = X, MX
             W = op @ MX  # one solve of p right-hand sides
-            C = V[:, : m + p].T @ (M @ W)
+            C = MV[:, : m + p].T @ W  # V^T M W
             T[: m + p, m : m + p] = C
             T[m : m + p, :m] = C[:m].T
             m += p
             X = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block R
+            # the block's one product with M, on the residual itself: M W − (M V) C would
+            # lose the residual's digits to cancellation once the Ritz pairs converge
             MX = M @ X
             if m >= k:
                 theta, Y = np.linalg.eigh(0.5 * (T[:m, :m] + T[:m, :m].T))
@@ -347,19 +352,22 @@ class BlockLanczos(EigenSolver):
 
 
 def _m_orthonormalise(
-    X: np.ndarray, MX: np.ndarray, V: np.ndarray, M, m: int
+    X: np.ndarray, MX: np.ndarray, V: np.ndarray, MV: np.ndarray, m: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` and
-    M-orthonormalised within (classical Gram-Schmidt and Cholesky QR, twice), with its ``M X``:
-    one product with ``M`` per pass (``M (X R⁻¹) = (M X) R⁻¹``).
+    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` (with ``M V``) and
+    M-orthonormalised within (Cholesky QR, twice), with its ``M X`` updated by the same
+    combinations (no product with ``M``: ``M (X − V C) = M X − (M V) C``, ``M (X R⁻¹) = (M X)
+    R⁻¹``). One Gram-Schmidt pass against ``V`` here: ``X`` is the Lanczos residual ``W − V C``,
+    already one classical Gram-Schmidt pass (the second makes the pair "twice is enough").
 
     Raises:
         SolverError: the block lost rank (an invariant subspace, or a dependent block).
     """
+    if V.shape[1]:
+        C = MV.T @ X
+        X = X - V @ C
+        MX = MX - MV @ C
     for _ in range(2):
-        if V.shape[1]:
-            X = X - V @ (V.T @ MX)
-            MX = M @ X
         try:
             R = np.linalg.cholesky(0.5 * (X.T @ MX + MX.T @ X)).T
         except np.linalg.LinAlgError as exc:
