@@ -321,22 +321,31 @@ class BlockLanczos(EigenSolver):
         # residual block; the coefficients V^T M X are (M V)^T X); np.empty: the columns not
         # reached take no memory
         V, MV = np.empty((n, cap), order="F"), np.empty((n, cap), order="F")
-        T = np.empty((cap, cap))  # V^T M op M V (the projected operator)
+        T = np.zeros((cap, cap))  # V^T M op M V (the projected operator)
         X = np.random.default_rng(0).standard_normal((n, p))
         MX = M @ X
         m, worst = 0, np.inf
         while m + p <= cap:
-            X, MX = _m_orthonormalise(X, MX, V[:, :m], MV[:, :m], m)
+            X, MX = _m_orthonormalise(X, MX, m)
             V[:, m : m + p], MV[:, m : m + p] = X, MX
             W = op @ MX  # one solve of p right-hand sides
-            C = MV[:, : m + p].T @ W  # V^T M W
-            T[: m + p, m : m + p] = C
-            T[m : m + p, :m] = C[:m].T
+            # the block three-term recurrence (T is block tridiagonal): the last two blocks
+            lo = max(0, m - p)
+            C = np.zeros((m + p, p))
+            C[lo:] = MV[:, lo : m + p].T @ W  # V^T M W
             m += p
-            X = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block R
+            X = W - V[:, lo:m] @ C[lo:]  # op M V = V T + R E^T (block Krylov): the residual R
             # the block's one product with M, on the residual itself: M W − (M V) C would
             # lose the residual's digits to cancellation once the Ritz pairs converge
             MX = M @ X
+            # full reorthogonalisation: one classical Gram-Schmidt pass against all of V (the
+            # recurrence's loss of orthogonality grows as the Ritz pairs converge)
+            D = MV[:, :m].T @ X
+            X -= V[:, :m] @ D
+            MX -= MV[:, :m] @ D
+            C += D
+            T[:m, m - p : m] = C
+            T[m - p : m, : m - p] = C[: m - p].T
             if m >= k:
                 theta, Y = np.linalg.eigh(0.5 * (T[:m, :m] + T[:m, :m].T))
                 theta, Y = theta[::-1][:k], Y[:, ::-1][:, :k]
@@ -351,22 +360,14 @@ class BlockLanczos(EigenSolver):
         )
 
 
-def _m_orthonormalise(
-    X: np.ndarray, MX: np.ndarray, V: np.ndarray, MV: np.ndarray, m: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` (with ``M V``) and
-    M-orthonormalised within (Cholesky QR, twice), with its ``M X`` updated by the same
-    combinations (no product with ``M``: ``M (X − V C) = M X − (M V) C``, ``M (X R⁻¹) = (M X)
-    R⁻¹``). One Gram-Schmidt pass against ``V`` here: ``X`` is the Lanczos residual ``W − V C``,
-    already one classical Gram-Schmidt pass (the second makes the pair "twice is enough").
+def _m_orthonormalise(X: np.ndarray, MX: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """``X`` (with ``M X``), already M-orthogonal to the basis, M-orthonormalised within
+    (Cholesky QR, twice), with its ``M X`` by the same combination (``M (X R⁻¹) = (M X) R⁻¹``:
+    no product with ``M``).
 
     Raises:
         SolverError: the block lost rank (an invariant subspace, or a dependent block).
     """
-    if V.shape[1]:
-        C = MV.T @ X
-        X = X - V @ C
-        MX = MX - MV @ C
     for _ in range(2):
         try:
             R = np.linalg.cholesky(0.5 * (X.T @ MX + MX.T @ X)).T
