@@ -283,13 +283,16 @@ class Lanczos(EigenSolver):
 class BlockLanczos(EigenSolver):
     """Block shift-invert Lanczos: the Krylov space of ``(K − σ M)⁻¹ M`` grown ``block``
     vectors per factor solve (one ``solve`` call on an ``(n, block)`` right-hand side: BLAS-3 on
-    a supernodal factor), fully M-reorthogonalised (classical Gram-Schmidt and Cholesky QR, twice),
-    no restart; after each block a Rayleigh-Ritz step on the basis, stopped when the lowest ``k``
-    Ritz pairs meet ARPACK's criterion (the Ritz estimate ``‖(K − σM)⁻¹Mφ − θφ‖_M ≤ tol θ``,
-    ``θ = 1/(λ − σ)``, from the residual block: no extra products). Without convergence
-    within ``max_columns`` basis vectors (default ``4 k + 4 block``; memory ``n × max_columns``
-    doubles) it raises :class:`SolverError`, and :func:`shift_invert_modes` falls back to
-    :class:`Lanczos` with a :class:`SolverWarning`.
+    a supernodal factor): the block three-term recurrence, then one classical Gram-Schmidt pass
+    against the whole basis (full M-reorthogonalisation) and Cholesky QR twice within the block,
+    with ``M V`` kept beside the basis ``V`` (one product with ``M`` per block), no restart;
+    after each block a Rayleigh-Ritz step on the basis, stopped when the lowest ``k`` Ritz pairs
+    meet ARPACK's criterion (the Ritz estimate ``‖(K − σM)⁻¹Mφ − θφ‖_M ≤ tol θ``, ``θ = 1/(λ −
+    σ)``, from the residual block: no extra products). Without convergence within
+    ``max_columns`` basis vectors (default ``max(8 k, 256) + 8 block``; memory ``2 n`` doubles
+    per basis vector reached: ``V`` and ``M V``) it raises :class:`SolverError`, and
+    :func:`shift_invert_modes` falls back to :class:`Lanczos` with a :class:`SolverWarning`.
+    The default eigen-solver of :class:`~fem_prep.CraigBampton`.
 
     Args:
         block: vectors per factor solve (>= 1).
@@ -316,7 +319,7 @@ class BlockLanczos(EigenSolver):
     def ritz(self, K, M, k, sigma, op, tol):
         n = K.shape[0]
         p = min(self.block, n)
-        cap = min(n, self.max_columns or 4 * k + 4 * p)
+        cap = min(n, self.max_columns or max(8 * k, 256) + 8 * p)
         # the M-orthonormal basis V and M V (kept: one product with M per block, on the new
         # residual block; the coefficients V^T M X are (M V)^T X); np.empty: the columns not
         # reached take no memory
