@@ -283,13 +283,16 @@ class Lanczos(EigenSolver):
 class BlockLanczos(EigenSolver):
     """Block shift-invert Lanczos: the Krylov space of ``(K − σ M)⁻¹ M`` grown ``block``
     vectors per factor solve (one ``solve`` call on an ``(n, block)`` right-hand side: BLAS-3 on
-    a supernodal factor), fully M-reorthogonalised (classical Gram-Schmidt and Cholesky QR, twice),
-    no restart; after each block a Rayleigh-Ritz step on the basis, stopped when the lowest ``k``
-    Ritz pairs meet ARPACK's criterion (the Ritz estimate ``‖(K − σM)⁻¹Mφ − θφ‖_M ≤ tol θ``,
-    ``θ = 1/(λ − σ)``, from the residual block: no extra products). Without convergence
-    within ``max_columns`` basis vectors (default ``4 k + 4 block``; memory ``n × max_columns``
-    doubles) it raises :class:`SolverError`, and :func:`shift_invert_modes` falls back to
-    :class:`Lanczos` with a :class:`SolverWarning`.
+    a supernodal factor): the block three-term recurrence, then one classical Gram-Schmidt pass
+    against the whole basis (full M-reorthogonalisation) and Cholesky QR twice within the block,
+    with ``M V`` kept beside the basis ``V`` (one product with ``M`` per block), no restart;
+    after each block a Rayleigh-Ritz step on the basis, stopped when the lowest ``k`` Ritz pairs
+    meet ARPACK's criterion (the Ritz estimate ``‖(K − σM)⁻¹Mφ − θφ‖_M ≤ tol θ``, ``θ = 1/(λ −
+    σ)``, from the residual block: no extra products). Without convergence within
+    ``max_columns`` basis vectors (default ``max(8 k, 256) + 8 block``; memory ``2 n`` doubles
+    per basis vector reached: ``V`` and ``M V``) it raises :class:`SolverError`, and
+    :func:`shift_invert_modes` falls back to :class:`Lanczos` with a :class:`SolverWarning`.
+    The default eigen-solver of :class:`~fem_prep.CraigBampton`.
 
     Args:
         block: vectors per factor solve (>= 1).
@@ -316,22 +319,36 @@ class BlockLanczos(EigenSolver):
     def ritz(self, K, M, k, sigma, op, tol):
         n = K.shape[0]
         p = min(self.block, n)
-        cap = min(n, self.max_columns or 4 * k + 4 * p)
-        V = np.empty((n, cap))  # M-orthonormal basis
-        T = np.empty((cap, cap))  # V^T M op M V (the projected operator)
+        cap = min(n, self.max_columns or max(8 * k, 256) + 8 * p)
+        # the M-orthonormal basis V and M V (kept: one product with M per block, on the new
+        # residual block; the coefficients V^T M X are (M V)^T X); np.empty: the columns not
+        # reached take no memory
+        V, MV = np.empty((n, cap), order="F"), np.empty((n, cap), order="F")
+        T = np.zeros((cap, cap))  # V^T M op M V (the projected operator)
         X = np.random.default_rng(0).standard_normal((n, p))
         MX = M @ X
         m, worst = 0, np.inf
         while m + p <= cap:
-            X, MX = _m_orthonormalise(X, MX, V[:, :m], M, m)
-            V[:, m : m + p] = X
+            X, MX = _m_orthonormalise(X, MX, m)
+            V[:, m : m + p], MV[:, m : m + p] = X, MX
             W = op @ MX  # one solve of p right-hand sides
-            C = V[:, : m + p].T @ (M @ W)
-            T[: m + p, m : m + p] = C
-            T[m : m + p, :m] = C[:m].T
+            # the block three-term recurrence (T is block tridiagonal): the last two blocks
+            lo = max(0, m - p)
+            C = np.zeros((m + p, p))
+            C[lo:] = MV[:, lo : m + p].T @ W  # V^T M W
             m += p
-            X = W - V[:, :m] @ C  # op M V = V T + R E^T (block Krylov): the residual block R
+            X = W - V[:, lo:m] @ C[lo:]  # op M V = V T + R E^T (block Krylov): the residual R
+            # the block's one product with M, on the residual itself: M W − (M V) C would
+            # lose the residual's digits to cancellation once the Ritz pairs converge
             MX = M @ X
+            # full reorthogonalisation: one classical Gram-Schmidt pass against all of V (the
+            # recurrence's loss of orthogonality grows as the Ritz pairs converge)
+            D = MV[:, :m].T @ X
+            X -= V[:, :m] @ D
+            MX -= MV[:, :m] @ D
+            C += D
+            T[:m, m - p : m] = C
+            T[m - p : m, : m - p] = C[: m - p].T
             if m >= k:
                 theta, Y = np.linalg.eigh(0.5 * (T[:m, :m] + T[:m, :m].T))
                 theta, Y = theta[::-1][:k], Y[:, ::-1][:, :k]
@@ -346,20 +363,15 @@ class BlockLanczos(EigenSolver):
         )
 
 
-def _m_orthonormalise(
-    X: np.ndarray, MX: np.ndarray, V: np.ndarray, M, m: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """``X`` (with ``M X``) M-orthogonalised against the M-orthonormal ``V`` and
-    M-orthonormalised within (classical Gram-Schmidt and Cholesky QR, twice), with its ``M X``:
-    one product with ``M`` per pass (``M (X R⁻¹) = (M X) R⁻¹``).
+def _m_orthonormalise(X: np.ndarray, MX: np.ndarray, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """``X`` (with ``M X``), already M-orthogonal to the basis, M-orthonormalised within
+    (Cholesky QR, twice), with its ``M X`` by the same combination (``M (X R⁻¹) = (M X) R⁻¹``:
+    no product with ``M``).
 
     Raises:
         SolverError: the block lost rank (an invariant subspace, or a dependent block).
     """
     for _ in range(2):
-        if V.shape[1]:
-            X = X - V @ (V.T @ MX)
-            MX = M @ X
         try:
             R = np.linalg.cholesky(0.5 * (X.T @ MX + MX.T @ X)).T
         except np.linalg.LinAlgError as exc:

@@ -76,7 +76,7 @@ def test_block_and_arpack_agree_and_the_block_solves_count_once_per_block(beam):
     la, pa = shift_invert_modes(beam["K"], beam["M"], K_MODES, solver=Lanczos())
     np.testing.assert_allclose(lb, la, rtol=1e-8)
     assert np.all(_mac(pb, pa, beam["M"]) > 0.999999)
-    # one hook call per solve of 8 right-hand sides: the basis is at most 4 k + 4 block wide
+    # one hook call per solve of 8 right-hand sides (the 648-DOF beam: at most 9 blocks)
     assert 2 <= len(calls) <= (4 * K_MODES + 4 * 8) // 8
 
 
@@ -121,3 +121,25 @@ def test_eigen_solver_arguments_are_checked():
     with pytest.raises(ValueError, match=r"solver = 'block'; use fem_prep.Lanczos\(\)"):
         shift_invert_modes(K, K, 3, solver="block")
     assert isinstance(Lanczos(), fem_prep.EigenSolver)
+
+
+def test_block_modes_are_m_orthonormal_and_k_diagonal(beam):
+    """The block recurrence keeps M V beside V (no product with M in the Gram-Schmidt passes):
+    the modes it returns are still M-orthonormal and K-orthogonal (Φᵀ M Φ = I, Φᵀ K Φ = Λ), as
+    exact eigenvectors are."""
+    lam, phi = shift_invert_modes(beam["K"], beam["M"], K_MODES, solver=BlockLanczos(block=4))
+    np.testing.assert_allclose(phi.T @ (beam["M"] @ phi), np.eye(K_MODES), atol=1e-9)
+    Kq = phi.T @ (beam["K"] @ phi)
+    np.testing.assert_allclose(Kq, np.diag(lam), atol=1e-9 * lam.max())
+
+
+def test_craig_bampton_defaults_to_the_block_solver(beam):
+    """CraigBampton() without an eigen-solver runs BlockLanczos (block of 8); its modal DOFs are
+    the clamped beam's modes (the dense reference), without a fallback."""
+    assert isinstance(CraigBampton().solver, BlockLanczos)
+    assert isinstance(CraigBampton(eigen_solver=Lanczos()).solver, Lanczos)
+    K, M = sp.csr_matrix(beam["Kfull"]), sp.csr_matrix(beam["Mfull"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", SolverWarning)
+        c = condense(K, M, beam["fixed"], n_modes=K_MODES)
+    np.testing.assert_allclose(c.modes_hz, np.sqrt(beam["lam"][:K_MODES]) / (2 * np.pi), rtol=1e-8)
