@@ -220,11 +220,8 @@ def test_recorded_states_and_the_band_dynamic_factor_bounds(accessory):
     steps, lies between the p-mean's bounds: max DF · (K S)^(-1/p) <= band <= max DF (the
     dynamic factors of the same sweep)."""
     case, scene = accessory
-    law = jg.SmoothContact(2e-7)  # the runs' law and N_s: one program of the table for all
-    model = dynamic_model(
-        scene, case.modifications, case.torque, positions_per_pitch=16, contact=law
-    )
-    kw = dict(contact=law, integrator=Newmark(16), window=SteadyState(6, 2))
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    kw = dict(contact=jg.SmoothContact(2e-7), integrator=Newmark(16), window=SteadyState(6, 2))
     r = simulate(model, 900.0, outputs=Outputs(states=True), **kw)
     assert r.states.shape == (32, scene.mass().shape[0])
     np.testing.assert_array_equal(np.asarray(r.states[-1]), np.asarray(r.final_state[0]))

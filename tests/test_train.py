@@ -279,7 +279,8 @@ def test_idler_train_dynamics_converge_to_an_independent_reference():
     inertias = [disc_inertia(7800.0, r, FACE) for r in radii]
     phase_b = 0.37 * float(planes[1].mesh_period_angle)
     train = torsional_train(((planes[0], (0, 1)), (planes[1], (1, 2))), inertias, (0.0, phase_b))
-    model = jd.dynamic_model(train, jg.Modifications(), TORQUE)
+    # built at the first run's N_s: the model and that run share one table program
+    model = jd.dynamic_model(train, jg.Modifications(), TORQUE, positions_per_pitch=256)
     speed = 0.6 * float(model.modes.omega[1]) / TEETH[0]
     periods = 30
     t_ref, x_ref = _rk4_reference(train, planes, model, TORQUE, speed, periods, 2048)
@@ -352,7 +353,8 @@ def test_two_stage_train_dynamics_converge_to_an_independent_reference():
     0.6/0.6 %), and each mesh's dynamic factor within 2 % at 512."""
     planes, _, train = two_stage_train()
     assert train.scene_periods() == 4
-    model = jd.dynamic_model(train, jg.Modifications(), TORQUE)
+    # built at the first run's N_s: the model and that run share one table program
+    model = jd.dynamic_model(train, jg.Modifications(), TORQUE, positions_per_pitch=256)
     speed = 0.3 * float(model.modes.omega[1]) / 20
     periods, keep = 24, 8
     t_ref, x_ref = _rk4_reference(train, planes, model, TORQUE, speed, periods, 2048)
