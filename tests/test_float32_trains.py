@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 #: the float32 tests the AVX2 subprocess runs again (node ids from the repository root), by
 #: tier: by default the ``two-stage`` train's torsional build and the renumbered free train (the
 #: free torsional trains, whose singular tangent stiffness made the result depend on the CPU;
-#: ≈ 12 s of CPU with the subprocess's start), in the slow tier also its lumped 3D build (its
+#: ≈ 13 s of CPU with the subprocess's start), in the slow tier also its lumped 3D build (its
 #: shafts and bearings make the stiffness regular; the idler train's cancellation is exact on
 #: any CPU)
 FLOAT32_TESTS = {
