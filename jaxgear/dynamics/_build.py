@@ -160,7 +160,7 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
     )
-    prep = _prepare(scene, mods, torque, law, positions_per_pitch)
+    prep = _prepare_rows(scene, mods, torque, law, positions_per_pitch)
     model = _averaged(scene, mods, torque, damping, prep, span)
     bad = jnp.any(prep.static_result != 0)
     kbar = eqx.error_if(
@@ -170,6 +170,17 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
         "(no contact or no convergence): check the load and the deviations",
     )
     return eqx.tree_at(lambda m: m.mesh_stiffness_mean, model, kbar)
+
+
+def _prepare_rows(scene, mods, torque, law, positions_per_pitch) -> _Prepared:
+    """:func:`_prepare` over the scene's period, called as a run's table is
+    (:meth:`DynamicModel.prepare`: every argument given, the scene's period written out), so
+    that a model built at ``positions_per_pitch`` and run at as many steps per period without
+    deviations compiles the table and static rows once, not twice (filter_jit keys on the
+    arguments as given)."""
+    return _prepare(
+        scene, mods, torque, law, int(positions_per_pitch), scene.scene_periods(), True, True, None
+    )
 
 
 @eqx.filter_jit
@@ -202,7 +213,7 @@ def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactL
     period at the model's torque, the table, and each cell's mesh index (c,)."""
     check_integer("positions_per_pitch", positions_per_pitch, 4)
     law = contact_law(contact, model.damping.dtype)
-    prep = _prepare(model.scene, model.mods, model.torque, law, int(positions_per_pitch))
+    prep = _prepare_rows(model.scene, model.mods, model.torque, law, positions_per_pitch)
     table = prep.table
     sizes = np.array([L * N for L, N in table.sizes])
     return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
