@@ -835,7 +835,7 @@ def test_failures_use_the_one_result_enumeration(setup):
     as the lumped one, raises with ``throw`` (a sweep reports; one simulation raises by
     default). One Newton step from the exact solution does not solve a smooth contact whose
     ramp (50 µm) is wider than the deflection, and does solve one of a 10 nm ramp (the width is
-    data, and the sweeps run one speed per call: one compiled program for every run here). The energy check (code 3) bounds the mesh force by
+    data: one compiled program for both). The energy check (code 3) bounds the mesh force by
     ``blowup`` F_s: a bound of half the static force stops a converged run."""
     case, scene = setup
     kw = {
@@ -843,16 +843,15 @@ def test_failures_use_the_one_result_enumeration(setup):
         "window": SteadyState(2, 1),
         "contact": jg.SmoothContact(5e-5, max_iterations=1),
     }
-    one = {"batching": Batching(chunk_size=1)}  # one speed per call: the single runs' program
-    sw = _sweep(scene, case.modifications, case.torque, [900.0], **one, **kw)
+    sw = _sweep(scene, case.modifications, case.torque, [900.0], **kw)
     assert int(sw.result[0]) == jg.DynamicsResult.contact_not_converged == 1
     # the same program (one Newton step) on a narrow ramp: the contact loop converges
     ok_kw = {**kw, "contact": jg.SmoothContact(1e-8, max_iterations=1)}
-    ok = _sweep(scene, case.modifications, case.torque, [900.0], **one, **ok_kw)
+    ok = _sweep(scene, case.modifications, case.torque, [900.0], **ok_kw)
     assert int(ok.result[0]) == jg.DynamicsResult.successful
     message = "contact loop did not converge"
     with pytest.raises(eqx.EquinoxRuntimeError, match=message):
-        _sweep(scene, case.modifications, case.torque, [900.0], throw=True, **one, **kw)
+        _sweep(scene, case.modifications, case.torque, [900.0], throw=True, **kw)
     with pytest.raises(eqx.EquinoxRuntimeError, match=message):
         _simulate(scene, case.modifications, case.torque, 900.0, **kw)
     r = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
