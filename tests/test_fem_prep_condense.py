@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from _fem_prep_wheel import prepared_wheel, wheel_text
 
 from fem_prep import (
     CraigBampton,
@@ -22,55 +23,12 @@ from fem_prep import (
 )
 
 
-def wheel_text(
-    holes=0,
-    method="craig-bampton",
-    modes=50,
-    coupling="rigid",
-    plain=False,
-    teeth=12,
-    rim_coupling="nodal",
-):
-    web = 10.0 if plain else 1.5
-    hub_r = 26.0 if plain else 12.0
-    return f"""
-name = "tiny"
-[body]
-bore_radius_mm = 8.0
-hub_outer_radius_mm = {hub_r}
-hub_width_mm = {10.0 if plain else 12.0}
-web_thickness_mm = {web}
-rim_inner_radius_mm = 26.0
-rim_outer_radius_mm = 30.0
-rim_width_mm = {10.0 if plain else 8.0}
-holes = {{ count = {holes}, center_radius_mm = 19.0, radius_mm = 4.0 }}
-[[bearings]]
-axial_position_mm = -5.0
-coupling = "{coupling}"
-[[bearings]]
-axial_position_mm = 5.0
-coupling = "{coupling}"
-[mesh]
-size_mm = 4.0
-circumferential_size_mm = 8.0
-[condensation]
-method = "{method}"
-modes = {modes}
-teeth = {teeth}
-axial_master_nodes = 3
-rim_coupling = "{rim_coupling}"
-[centrifugal]
-speed_rad_s = 2000.0
-"""
-
-
 @pytest.fixture(scope="module")
 def coupled():
-    body = parse_body(wheel_text())
-    bm = mesh_body(body)
-    ops = assemble_operators(bm.basis, body.material)
-    ms = select_masters(bm, body)
-    cp = couple_masters(bm, ops, ms)
+    """The small wheel's body, mesh, masters and coupled operators (those of the wheel prepared
+    once per process, tests/_fem_prep_wheel.py), and its master DOFs."""
+    p = prepared_wheel()
+    body, bm, ms, cp = p.body, p.mesh, p.masters, p.coupled
     rim = cp.rim_dofs.ravel()
     mdofs = np.concatenate([rim, cp.bearing_dofs.ravel()])
     return body, bm, ms, cp, mdofs
@@ -175,7 +133,7 @@ def test_condensed_stiffness_has_rigid_body_modes(coupling, rim):
 
 @pytest.fixture(scope="module")
 def prepared_cb():
-    return prepare(parse_body(wheel_text()))
+    return prepared_wheel()
 
 
 def test_first_20_frequencies_within_1_percent(prepared_cb):

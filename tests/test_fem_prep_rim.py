@@ -22,7 +22,7 @@ import pytest
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from _examples import load_example
-from test_fem_prep_condense import wheel_text
+from _fem_prep_wheel import wheel_text
 from test_fem_prep_physics import NU, E, _disc_text
 
 import fem_prep

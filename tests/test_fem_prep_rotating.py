@@ -39,21 +39,22 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 import skfem
-from test_fem_prep_condense import wheel_text
+from _fem_prep_wheel import prepared_wheel, wheel_text
 from test_fem_prep_io import _rewrite
 
-from fem_prep import FORMAT_VERSION, load_condensed, parse_body, prepare, save_condensed
+from fem_prep import FORMAT_VERSION, load_condensed, parse_body, save_condensed
 
 
 @pytest.fixture(scope="module")
 def prepared():
     """``prepared(coupling)``: the small Craig-Bampton wheel of test_fem_prep_condense with both
-    bearings rigid or averaging, prepared once per module."""
+    bearings rigid or averaging, prepared once per process (tests/_fem_prep_wheel.py: the rigid
+    one is test_fem_prep_condense's)."""
     cache = {}
 
     def get(coupling):
         if coupling not in cache:
-            cache[coupling] = prepare(parse_body(wheel_text(coupling=coupling)))
+            cache[coupling] = prepared_wheel(coupling=coupling)
         return cache[coupling]
 
     yield get

@@ -238,7 +238,7 @@ def pressure_responses(r, static: list[float]) -> dict:
     return out
 
 
-def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | None:
+def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz, states=False) -> dict | None:
     """The run at the speed of the largest dynamic factor (of the worst mesh, among the speeds
     that ran to the end), from the static equilibrium with the sweep's settings and its cell
     loads recorded (:func:`jaxgear.dynamics.simulate` with ``cell_loads=True``), and each
@@ -247,7 +247,9 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | Non
     positions per its pitch, title)], "run": the run (its ``speed``, rad/s)}``, or None when
     no speed ran to the end. The run is the one a caller needing the cell loads at that speed
     with the same settings reuses (``jaxgear run``'s root stress at speed,
-    :func:`jaxgear.cli.root_stress_at_speed`) instead of simulating it again."""
+    :func:`jaxgear.cli.root_stress_at_speed`) instead of simulating it again. ``states``: record
+    the states too (with ``--vtu-speed``: the outputs of :func:`vtu_series`'s run, so that the
+    two runs are one compiled program)."""
     df = worst(r, "dynamic_factor")
     ok = (np.asarray(r.result) == 0) & np.isfinite(df)
     if not ok.any():
@@ -260,7 +262,7 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz) -> dict | Non
         integrator=spec_integrator(spec),
         contact=law,
         window=spec_window(spec),
-        outputs=Outputs(cell_loads=True),
+        outputs=Outputs(cell_loads=True, states=states),
         throw=False,
     )
     n_s = int(one.steps_per_period)
@@ -309,14 +311,16 @@ def vtu_series(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible) ->
     """With ``vtu_speed``, the run at that speed with its states recorded, written as a VTU
     time series of every deformed body in ``out_dir``/vtu (a previous series removed), one
     file set per body named by its gear (``flexible``: :func:`flexible_gears`): the files,
-    relative to ``out_dir``; [] without."""
+    relative to ``out_dir``; [] without. The run records the cell loads too: the outputs of
+    :func:`dynamic_pressure_map`'s run with ``states``, whose compiled program it reuses when
+    the steps per period are the same."""
     if vtu_speed is None:
         return []
     n_vtu = spec.steps_per_period or auto_steps_per_period(model, [vtu_speed], modes)[0]
     one = simulate(
         model,
         float(vtu_speed),
-        outputs=Outputs(states=True),
+        outputs=Outputs(states=True, cell_loads=True),
         integrator=Newmark(int(n_vtu)),
         window=spec_window(spec),
         contact=law,

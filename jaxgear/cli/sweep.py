@@ -300,7 +300,10 @@ def sweep_case_run(
             }
         )
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
-    dyn_map = dynamic_pressure_map(case, model, spec, law, r, speeds, hertz)
+    # with a VTU series, the map's run records the states too: one program for both runs
+    dyn_map = dynamic_pressure_map(
+        case, model, spec, law, r, speeds, hertz, states=vtu_speed is not None
+    )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
     summary["elapsed_s"] = time.perf_counter() - t0
     summary["platform"] = {
