@@ -60,6 +60,40 @@ class Derived(NamedTuple):
     gear_ratio: float  # u = z2 / z1
 
 
+def pair_fields(pair) -> dict:
+    """The rating geometry's parameters of a pair (external or internal: ``pinion``, ``gear``,
+    module, angles, centre distance), per-gear values as ``(2,)`` arrays; the centre distance
+    kept only when it differs from the zero-backlash distance of the nominal teeth."""
+    members = (pair.pinion, pair.gear)
+    a0 = pair.zero_backlash_center_distance
+    fixed = abs(pair.center_distance - a0) > 1e-12 * a0
+
+    def two(name):
+        return as_float([getattr(m, name) for m in members])
+
+    return dict(
+        teeth=(int(pair.pinion.teeth), int(pair.gear.teeth)),
+        normal_module=as_float(pair.normal_module),
+        normal_pressure_angle=as_float(pair.normal_pressure_angle),
+        helix_angle=as_float(pair.helix_angle),
+        profile_shift=two("profile_shift"),
+        addendum_coeff=two("addendum_coeff"),
+        dedendum_coeff=two("dedendum_coeff"),
+        fillet_radius_coeff=two("fillet_radius_coeff"),
+        face_width=two("face_width"),
+        rim_thickness=tuple(m.rim_thickness for m in members),
+        center_distance=as_float(pair.center_distance) if fixed else None,
+    )
+
+
+def replace_fields(geometry, changes: dict):
+    """``geometry`` (an equinox module) with the array fields ``changes`` replaced."""
+    out = geometry
+    for name, value in changes.items():
+        out = eqx.tree_at(lambda g, n=name: getattr(g, n), out, as_float(value))
+    return out
+
+
 class RatingGeometry(eqx.Module):
     """The continuous macro parameters of an external pair, as arrays (differentiable).
 
@@ -97,35 +131,13 @@ class RatingGeometry(eqx.Module):
         """The parameters of ``pair`` (its centre distance kept only when it differs from the
         zero-backlash distance of the nominal teeth)."""
         check_instance("pair", pair, GearPair, "a jaxgear.GearPair", "RatingGeometry.of")
-        members = (pair.pinion, pair.gear)
-        a0 = pair.zero_backlash_center_distance
-        fixed = abs(pair.center_distance - a0) > 1e-12 * a0
-
-        def two(name):
-            return as_float([getattr(m, name) for m in members])
-
-        return cls(
-            teeth=(int(pair.pinion.teeth), int(pair.gear.teeth)),
-            normal_module=as_float(pair.normal_module),
-            normal_pressure_angle=as_float(pair.normal_pressure_angle),
-            helix_angle=as_float(pair.helix_angle),
-            profile_shift=two("profile_shift"),
-            addendum_coeff=two("addendum_coeff"),
-            dedendum_coeff=two("dedendum_coeff"),
-            fillet_radius_coeff=two("fillet_radius_coeff"),
-            face_width=two("face_width"),
-            rim_thickness=tuple(m.rim_thickness for m in members),
-            center_distance=as_float(pair.center_distance) if fixed else None,
-        )
+        return cls(**pair_fields(pair))
 
     def replace(self, **changes) -> RatingGeometry:
         """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``).
         Nothing is checked here (values may be traced): keep them a valid pair (no undercut,
         no jam at a fixed centre distance), as :class:`jaxgear.GearPair` would check."""
-        out = self
-        for name, value in changes.items():
-            out = eqx.tree_at(lambda g, n=name: getattr(g, n), out, as_float(value))
-        return out
+        return replace_fields(self, changes)
 
     def derived(self) -> Derived:
         """ISO 21771 geometry of the pair from the parameters (jnp; module docstring)."""

@@ -56,7 +56,7 @@ from jaxtyping import Array, Float
 
 from ._internal import InternalGearPair
 from ._rating_bending import ToothFormFactors, member_form, section_factors
-from ._rating_geometry import Derived, inverse_involute_jnp
+from ._rating_geometry import Derived, inverse_involute_jnp, pair_fields, replace_fields
 from ._util import as_float, check_instance, check_real
 
 __all__ = [
@@ -166,34 +166,11 @@ class InternalRatingGeometry(eqx.Module):
         check_instance(
             "root_section", root_section, AbstractRootSection, "a jaxgear root section", w
         )
-        members = (pair.pinion, pair.gear)
-        a0 = pair.zero_backlash_center_distance
-        fixed = abs(pair.center_distance - a0) > 1e-12 * a0
-
-        def two(name):
-            return as_float([getattr(m, name) for m in members])
-
-        return cls(
-            teeth=(int(pair.pinion.teeth), int(pair.gear.teeth)),
-            normal_module=as_float(pair.normal_module),
-            normal_pressure_angle=as_float(pair.normal_pressure_angle),
-            helix_angle=as_float(pair.helix_angle),
-            profile_shift=two("profile_shift"),
-            addendum_coeff=two("addendum_coeff"),
-            dedendum_coeff=two("dedendum_coeff"),
-            fillet_radius_coeff=two("fillet_radius_coeff"),
-            face_width=two("face_width"),
-            rim_thickness=tuple(m.rim_thickness for m in members),
-            center_distance=as_float(pair.center_distance) if fixed else None,
-            root_section=root_section,
-        )
+        return cls(**pair_fields(pair), root_section=root_section)
 
     def replace(self, **changes) -> InternalRatingGeometry:
         """A copy with some array fields replaced (as :meth:`jaxgear.RatingGeometry.replace`)."""
-        out = self
-        for name, value in changes.items():
-            out = eqx.tree_at(lambda g, n=name: getattr(g, n), out, as_float(value))
-        return out
+        return replace_fields(self, changes)
 
     def derived(self) -> Derived:
         """ISO 21771 geometry of the internal pair (jnp; the ring's diameters negative, the

@@ -89,33 +89,6 @@ __all__ = [
 #: ``[planetary] mesh_stiffness``: the name → where the lumped models' mesh stiffness comes from
 MESH_STIFFNESS = {"iso6336": ISO6336MeshStiffness, "mean": MeanMeshStiffness}
 MEMBERS = ("sun", "ring", "carrier")
-#: keys of [planetary] (both forms; a key of the other form is refused in one line)
-PLANETARY_KEYS = {
-    "sun_gear",
-    "planet_gear",
-    "ring_gear",
-    "sun",
-    "planet",
-    "ring",
-    "carrier",
-    "planets",
-    "planet_angles_deg",
-    "fixed",
-    "input",
-    "center_distance_mm",
-    "mesh_stiffness",
-    "sun_mesh_stiffness_N_per_um",
-    "ring_mesh_stiffness_N_per_um",
-    "tangential_pin_errors_um",
-    "radial_pin_errors_um",
-    *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
-    "sun_teeth",
-    "ring_teeth",
-    "sun_pressure_angle_deg",
-    "ring_pressure_angle_deg",
-    "helix_angle_deg",
-    "face_width_mm",
-}
 GEAR_FORM_KEYS = ("sun_gear", "planet_gear", "ring_gear", "center_distance_mm", "mesh_stiffness")
 LUMPED_FORM_KEYS = (
     "sun_teeth",
@@ -125,6 +98,24 @@ LUMPED_FORM_KEYS = (
     "helix_angle_deg",
     "face_width_mm",
 )
+#: keys of [planetary] (both forms; a key of the other form is refused in one line)
+PLANETARY_KEYS = {
+    *GEAR_FORM_KEYS,
+    *LUMPED_FORM_KEYS,
+    "sun",
+    "planet",
+    "ring",
+    "carrier",
+    "planets",
+    "planet_angles_deg",
+    "fixed",
+    "input",
+    "sun_mesh_stiffness_N_per_um",
+    "ring_mesh_stiffness_N_per_um",
+    "tangential_pin_errors_um",
+    "radial_pin_errors_um",
+    *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
+}
 _BODY_KEYS = {
     "mass_kg",
     "inertia_kg_m2",
