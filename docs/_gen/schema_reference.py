@@ -219,7 +219,7 @@ class Schema:
         return self.tables.setdefault(table_path(where, self.names), {})
 
     def key(self, where: str, key: str) -> KeyInfo:
-        key = NAME if key in self.names else str(key)
+        key = NAME if key in self.names else MESH if _is_mesh(str(key), self.names) else str(key)
         head, dot, leaf = key.rpartition(".")
         if dot and table_path(where, self.names) not in NAMED_KEYS:
             # an inline table's key as its messages write it: [body] holes.count
