@@ -347,7 +347,8 @@ class Herting(CondensationMethod):
     Args:
         free_shift: shift (rad/s)^2 (negative) of the free-interface eigen-solve; default
             ``-1e-4`` x the median of ``diag(K)/diag(M)``.
-        eigen_solver: as :class:`CraigBampton`'s.
+        eigen_solver: as :class:`CraigBampton`'s, but ``None`` runs :func:`shift_invert_modes`'
+            default (:class:`~fem_prep.Lanczos`, ARPACK ``eigsh``).
     """
 
     name: ClassVar[str] = "herting"

@@ -41,6 +41,7 @@ from ._plots import root_stress_plot
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
+    "RATE",
     "ROOT_STRESS_RADII",
     "SCENE_MODELS",
     "ModelLoads",
@@ -52,12 +53,15 @@ __all__ = [
     "root_stress_at_speed",
     "root_stress_outputs",
     "scene_loads",
+    "stacked_meshes",
     "train_loads",
     "train_mesh_results",
     "write_rating_table",
+    "write_rating_md",
 ]
 
-_RATE = eqx.filter_jit(rate)  # one compilation instead of ~300 eager dispatches
+#: jaxgear.rate compiled once (instead of ~300 eager dispatches), shared by every rating of a run
+RATE = eqx.filter_jit(rate)
 
 # (summary section, key, symbol, unit scale and name, clause)
 _ROWS = [
@@ -199,13 +203,21 @@ def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str
     ]
     for name, sec in zip(names, sections, strict=True):
         lines += rating_lines(sec, f"{case.name}, mesh {name}", heading="##") + [""]
+    return stacked_meshes(names, sections), lines
+
+
+def stacked_meshes(names: list[str], sections: list[dict]) -> dict:
+    """The ``rating`` section of several meshes (a train's, a planetary stage's): each summary
+    value as a per-mesh list, ``meshes`` naming them; ``method`` once when every mesh has the
+    same edition (a mesh's table may set another)."""
     out = {"meshes": names} | _stack(sections[0], sections)
-    methods = out["method"]  # one edition for every mesh (a mesh's table may set another)
+    methods = out["method"]
     out["method"] = methods[0] if len(set(methods)) == 1 else methods
-    return out, lines
+    return out
 
 
-def _write_table(out_dir: str, lines: list[str]) -> None:
+def write_rating_md(out_dir: str, lines: list[str]) -> None:
+    """``rating.md`` of ``lines``, written atomically into ``out_dir``."""
     with atomic_open(os.path.join(out_dir, "rating.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
 
@@ -296,7 +308,7 @@ def _rated(rc: RatingCase, section: dict) -> dict:
     for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):  # ISO's limits (clause 8)
         given[key] = None if given[key] is None else min(given[key], top)
     settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
-    out = _RATE(rc.geometry, rc.operating, settings).summary()
+    out = RATE(rc.geometry, rc.operating, settings).summary()
     for name in use:
         for f in _STANDS_FOR[name]:
             out["factors"][f]["source"] = USED
@@ -384,7 +396,7 @@ def rating_outputs(
     results = None if result is None else _per_mesh(case.form, result)
     sections = []
     for k, rc in enumerate(rcs):
-        rating = _RATE(rc.geometry, rc.operating, rc.settings)
+        rating = RATE(rc.geometry, rc.operating, rc.settings)
         label = case.mesh_label(k)
         for note in rating.scope_notes():
             where = f"[rating] {label}: " if label else "[rating] "
@@ -408,7 +420,7 @@ def rating_outputs(
         sections.append(section)
     section, lines = _section_and_table(case.form, case, sections)
     if write_table:
-        _write_table(out_dir, lines)
+        write_rating_md(out_dir, lines)
     return section
 
 
@@ -417,7 +429,7 @@ def write_rating_table(case: Case, out_dir: str, section: dict) -> None:
     per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
     every step that adds to the section (the measured K_v, the root stress at speed)."""
     _, lines = _section_and_table(case.form, case, _mesh_sections(case.form, section))
-    _write_table(out_dir, lines)
+    write_rating_md(out_dir, lines)
 
 
 def train_mesh_results(case: Case) -> tuple | None:
@@ -532,7 +544,7 @@ def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table:
     ``rating.md`` rewritten with them when ``write_table``; returns the section."""
     section, lines = _section_and_table(case.form, case, sections)
     if write_table:
-        _write_table(out_dir, lines)
+        write_rating_md(out_dir, lines)
     return section
 
 
@@ -588,7 +600,7 @@ def root_stress_outputs(
     adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
     path = os.path.join(out_dir, "root_stress_map.png")
     _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
-    _write_table(out_dir, rating_lines(section, case.name))
+    write_rating_md(out_dir, rating_lines(section, case.name))
 
 
 def _member_maps(pair, result, table) -> list:

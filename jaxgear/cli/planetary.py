@@ -35,13 +35,12 @@ from .. import (
     planetary_modes,
     planetary_quasi_static,
     quasi_static,
-    rate,
     ring_resonances,
 )
-from ..io import CaseWarning, atomic_open, ratings_of, write_csv, write_json
+from ..io import CaseWarning, ratings_of, write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
-from ._rating_report import _stack, rating_lines
+from ._rating_report import RATE, rating_lines, stacked_meshes, write_rating_md
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
@@ -470,7 +469,6 @@ def mesh_sections(case, out: str) -> dict:
     return res
 
 
-_RATE = eqx.filter_jit(rate)
 #: where a planetary mesh's K_γ comes from when ``[rating] K_gamma`` does not give it
 K_GAMMA_SOURCE = (
     "jaxgear load sharing (planar lumped model, the case's pin errors): the most loaded planet "
@@ -514,7 +512,7 @@ def rating_section(case, out: str, k_gamma: float) -> dict | None:
         # K_γ multiplies the load as K_A does (ISO 6336-1: F_t K_A K_γ in every load factor
         # and stress; σ_H0, σ_F0 at the nominal F_t of one planet path)
         settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, k_a * kg)
-        rating = _RATE(rc.geometry, rc.operating, settings)
+        rating = RATE(rc.geometry, rc.operating, settings)
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
         section = rating.summary()
@@ -533,12 +531,8 @@ def rating_section(case, out: str, k_gamma: float) -> dict | None:
             "mean).",
             "",
         ]
-    with atomic_open(os.path.join(out, "rating.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    result = {"meshes": names} | _stack(sections[0], sections)
-    methods = result["method"]
-    result["method"] = methods[0] if len(set(methods)) == 1 else methods
-    return result
+    write_rating_md(out, lines)
+    return stacked_meshes(names, sections)
 
 
 def turn_words(sharing: dict) -> str:
