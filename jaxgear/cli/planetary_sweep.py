@@ -34,6 +34,7 @@ import time
 import jax
 import jax.numpy as jnp
 import numpy as np
+from tqdm.auto import tqdm
 
 from .. import PlanarPlanetary, RigidRing, planetary_modes
 from ..dynamics import (
@@ -399,11 +400,19 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
     """``jaxgear run`` on a planetary case: the stage's files (:func:`~jaxgear.cli.planetary.
     planetary_files`), then a first-look sweep into ``out``/sweep (:func:`run_speeds`, the
     defaults of :func:`planetary_run`) and ``summary.json``'s ``dynamics``: the worst mesh's
-    dynamic factor per speed, each mesh's maximum, the largest dynamic K_γ."""
+    dynamic factor per speed, each mesh's maximum, the largest dynamic K_γ. A bar over the two
+    stages (unless ``args.quiet``)."""
+    speeds = run_speeds(case)
+    bar = tqdm(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
+    bar.set_postfix_str("load sharing, modes, Campbell, meshes, rating")
     summary = planetary_files(form, case, out, args, False)
+    bar.update()
+    bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
     sub = os.path.join(out, "sweep")
     os.makedirs(sub, exist_ok=True)
-    sw = planetary_sweep(form, case, run_speeds(case), sub)
+    sw = planetary_sweep(form, case, speeds, sub)
+    bar.update()
+    bar.close()
     summary["dynamics"] = {
         "model": sw["model"],
         "speed_of": sw["speed_of"],

@@ -109,6 +109,7 @@ def run_case(
     res = {}
     for label, mods in (("unmodified", none), ("modified", case.modifications)):
         for mode in ("exact", "smooth"):
+            steps.set_postfix_str(f"quasi-static, {label}, {mode} contact")
             res[label, mode] = quasi_static(
                 mesh,
                 mods,
@@ -120,17 +121,20 @@ def run_case(
             steps.update()
     torques = np.linspace(0.1, 2.0, harris_points) * case.torque
     torques[np.argmin(np.abs(torques - case.torque))] = case.torque  # a point of the Harris map
+    steps.set_postfix_str(f"Harris map, {harris_points} torques")
     harris = {
         label: harris_map(mesh, mods, torques, positions_per_pitch=ppp)
         for label, mods in (("unmodified", none), ("modified", case.modifications))
     }
     steps.update()
+    steps.set_postfix_str("contact pressure")
     pair = case.pair
     pressure = {
         key: contact_pressure(pair, r, case.youngs_modulus, case.poisson_ratio)
         for key, r in res.items()
     }
     steps.update()
+    steps.set_postfix_str("files and plots")
 
     summary = {
         "case": case.name,
@@ -264,6 +268,7 @@ def run_case(
     )
     steps.update()  # the four plots
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
+        steps.set_postfix_str("TE with the deviations per tooth")
         summary["deviations"] = deviation_outputs(case, mesh, os.path.join(out_dir, "deviations"))
     steps.close()
     # [rating]: ISO 6336 load capacity; K_Hβ, K_Hα measured on the load map of the model the

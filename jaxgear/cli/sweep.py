@@ -191,10 +191,13 @@ def sweep_case_run(
     modes = dynamics.mesh_averaged_modes(
         model, speed=case.speed, positions_per_pitch=spec.steps_per_period or 64, contact=law
     )
-    bar.set_postfix_str("")
+    # the first chunk compiles the sweep's program before any speed is done (no estimate yet)
+    bar.set_postfix_str("compiling the sweep, then the first speeds")
     last = [0]
 
     def progress(n):
+        if last[0] == 0:
+            bar.set_postfix_str("")
         bar.update(n - last[0] if n >= last[0] else n)
         last[0] = n
 
@@ -211,6 +214,9 @@ def sweep_case_run(
     )
     jax.block_until_ready(res)
     bar.close()
+    # what follows the speeds: a bar over its three stages (a second run at the worst speed)
+    post = tqdm(total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress)
+    post.set_postfix_str("modes at the speeds, static pressures")
     r = res.results
     # the lowest modes reported (0 Hz for the drive rotation)
     omega = np.asarray(modes.omega)[: kind.n_modes]
@@ -299,12 +305,16 @@ def sweep_case_run(
                 **(backlash_responses(d, "_down") if len(d.meshes) == 1 else {}),
             }
         )
+    post.update()
+    post.set_postfix_str("pressure map at the worst speed (one more run)")
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
     # with a VTU series, the map's run records the states too: one program for both runs
     dyn_map = dynamic_pressure_map(
         case, model, spec, law, r, speeds, hertz, states=vtu_speed is not None
     )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
+    post.update()
+    post.set_postfix_str("files and plots")
     summary["elapsed_s"] = time.perf_counter() - t0
     summary["platform"] = {
         "jax": jax.__version__,
@@ -315,6 +325,8 @@ def sweep_case_run(
     if dyn_map is not None:
         summary["pressure_map_dynamic"] = dyn_map["summary"]
     write_sweep(case, summary, out_dir, z1, dyn_map)
+    post.update()
+    post.close()
     return summary, None if dyn_map is None else dyn_map["run"]
 
 
