@@ -73,6 +73,33 @@ def trochoid_margin(z1: int, z2: int, ra1, ra2, rb1, rb2, a, alpha_w) -> float:
     return theta1 * z1 / abs(z2) - theta2
 
 
+def radial_assembly_margin(z1: int, z2: int, ra1, ra2, rb1, rb2, alpha_w) -> float:
+    """The radial-assembly (trimming) margin (rad) of an internal pair, KHK's and SDP/SI's
+    condition θ1 + inv α_a1 − inv α_w >= (|z2|/z1)(θ2 + inv α_a2 − inv α_w) written as
+    left − right, with
+
+        θ1 = asin √((1 − (cos α_a1/cos α_a2)²)/(1 − (z1/|z2|)²)),
+        θ2 = asin √(((cos α_a2/cos α_a1)² − 1)/((|z2|/z1)² − 1)),
+
+    α_ai = acos(r_bi/r_ai), α_w the operating pressure angle: >= 0 when the pinion can be moved
+    into (or out of) mesh along the line of centres; negative when its tips would cut the
+    ring's (trimming: the pair must be assembled axially, as planets usually are, and a pinion
+    cutter cannot be withdrawn radially). All radii positive (m), ``z2`` < 0; -inf where the
+    square roots leave [0, 1] (tip circles that do not allow the construction).
+    Source: SDP/SI, *Elements of Metric Gear Technology* (D785), eqs. (5-9), (5-10) and
+    Table 5-3a; KHK *Gear Technical Reference*, §4 "Internal gears"."""
+    inv_w = involute(alpha_w)
+    aa1, aa2 = math.acos(rb1 / ra1), math.acos(rb2 / ra2)
+    k = z1 / abs(z2)
+    s1 = (1 - (math.cos(aa1) / math.cos(aa2)) ** 2) / (1 - k**2)
+    s2 = ((math.cos(aa2) / math.cos(aa1)) ** 2 - 1) / (1 / k**2 - 1)
+    if not (0.0 <= s1 <= 1.0 and 0.0 <= s2 <= 1.0):
+        return -math.inf
+    theta1 = math.asin(math.sqrt(s1)) + involute(aa1) - inv_w
+    theta2 = math.asin(math.sqrt(s2)) + involute(aa2) - inv_w
+    return theta1 - theta2 / k
+
+
 @dataclasses.dataclass(frozen=True)
 class InternalGearPair:
     """Internal involute spur or helical gear pair (ISO 21771): an external pinion meshing
@@ -110,6 +137,8 @@ class InternalGearPair:
     ``transverse_contact_ratio`` ε_α = g_α/p_bt, ``overlap_ratio`` ε_β, ``face_width`` b,
     ``tip_root_clearances`` (c1 = r_f2 − a_w − r_a1: pinion tip to ring root; c2 = r_a2 −
     a_w − r_f1: ring tip to pinion root), ``trochoid_margin`` (:func:`trochoid_margin`, rad),
+    ``radial_assembly_margin`` (:func:`radial_assembly_margin`, rad: reported, not refused;
+    negative: the pinion goes in axially),
     ``mesh_period_angle`` 2π/z1; the backlash (ISO 21771 / DIN 3967 quantities, as
     :class:`~jaxgear.GearPair`'s): ``backlash_center_distance`` a_A, the zero-backlash distance
     of the thinned teeth (inv α_wtA = inv α_wt0 + (A_sn1 + A_sn2)/(m_n (z1 + z2))),
@@ -366,6 +395,8 @@ class InternalGearPair:
         set_("overlap_ratio", b * math.sin(beta) / (math.pi * mn))
         set_("tip_root_clearances", clear)
         set_("trochoid_margin", margin)
+        radial = radial_assembly_margin(z1, z2, ra[0], ra[1], rb[0], rb[1], awt)
+        set_("radial_assembly_margin", radial)
         set_("mesh_period_angle", 2 * math.pi / z1)
 
     @property
@@ -408,6 +439,9 @@ class InternalGearPair:
             "root_radii_m": list(self.root_radii),
             "tip_root_clearances_m": list(self.tip_root_clearances),
             "trochoid_margin_rad": self.trochoid_margin,
+            "radial_assembly_margin_rad": (
+                self.radial_assembly_margin if math.isfinite(self.radial_assembly_margin) else None
+            ),
             "face_width_m": self.face_width,
         }
 
