@@ -68,21 +68,17 @@ def _unoptimised_options() -> dict:
 
 
 def test_robust_gradient_is_finite_with_unoptimised_xla_code(setting):
-    """The robust gradient of a small case (1 slice, 2 realisations, 2 positions per pitch, at
-    x = (1.1, 0.3)) compiled by XLA's CPU backend at LLVM -O0 with its fusion emitters
-    (per-program compiler options, :func:`_unoptimised_options`) equals central differences of
-    the objective (h = 1e-5) to 1e-5 of its largest component. That program computes the masked
-    deviations that feed max_M e (seed (2.8)) in two kernels that round differently, so that at
-    some positions no cell equals the maximum: ``jnp.max``'s derivative, which divides by the
-    count of cells equal to it, is NaN there (checked on JAX 0.10.2 with safe_max replaced by
-    ``jnp.max``: [nan nan]); :func:`jaxgear._util.safe_max` falls back to the first maximum."""
-    case, _, sampler = setting
-    prob = op.make_problem(
-        case.mesh_model(slices=1),
-        jg.Modifications(),
-        case.torque,
-        "tip_relief.depth,tip_relief.extent",
-    )
+    """The robust gradient of a small case (the module's 4 slices, 2 realisations, 2 positions
+    per pitch, at x = (1.1, 0.3)) compiled by XLA's CPU backend at LLVM -O0 with its fusion
+    emitters (per-program compiler options, :func:`_unoptimised_options`) equals central
+    differences of the objective (h = 1e-5) to 1e-5 of its largest component. That program
+    computes the masked deviations that feed max_M e (seed (2.8)) in two kernels that round
+    differently, so that at some positions no cell equals the maximum: ``jnp.max``'s
+    derivative, which divides by the count of cells equal to it, is NaN there (checked on JAX
+    0.10.2 with safe_max replaced by ``jnp.max``: [nan nan]; finite with the suite's
+    element-wise emitter, which this test once ran and so could not fail);
+    :func:`jaxgear._util.safe_max` falls back to the first maximum."""
+    _, prob, sampler = setting
     # robust_problem's realisations and span (2 positions per pitch over the pinion's 45 teeth)
     # with scale 1 µm (its exact-contact scale is one more program to compile)
     keys = jax.vmap(lambda i: jax.random.fold_in(jax.random.key(1), i))(jnp.arange(2))
