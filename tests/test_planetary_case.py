@@ -305,7 +305,7 @@ def _set(path: str, value):
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (  # a planetary [rating] is read whole: its missing keys named
             _set("rating", {"application_factor": 1.25}),
-            "[material] sigma_H_lim_MPa: missing required key (the [rating] table needs it)",
+            "[rating] life_h: missing required key (the [rating] table needs it)",
         ),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
         (
