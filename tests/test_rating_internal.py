@@ -7,7 +7,6 @@ the work hardening factor's formula, and the gradients of S_H and S_F against ce
 differences. The published values (KISSsoft reports of the NREL 5 MW ring meshes) are in
 tests/test_rating_kisssoft.py."""
 
-import json
 import math
 
 import equinox as eqx
@@ -275,14 +274,3 @@ def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
     md = (tmp_path / "rating.md").read_text()
     assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
 
-
-@pytest.mark.slow  # the whole run of stage 1 (its sweep and plots); fast twin above
-def test_nrel_stage1_run_writes_the_rating(tmp_path):
-    from jaxgear.cli import main
-
-    out = tmp_path / "nrel"
-    assert main(["run", "nrel-5mw-planetary", "--out", str(out), "--quiet"]) == 0
-    summary = json.loads((out / "summary.json").read_text())
-    assert summary["rating"]["meshes"] == ["sun1-planet1", "planet1-ring1"]
-    md = (out / "rating.md").read_text()
-    assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
