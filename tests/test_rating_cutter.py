@@ -194,3 +194,22 @@ def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
         path.write_text(text.replace(old, new))
         with pytest.raises(ValueError, match=match):
             jio.load_case(str(path))
+
+
+def test_pair_case_treatment_list_and_hardness():
+    """A pair case's ``treatment = [pinion, gear]`` → jg.PairTreatment with the through-hardened
+    gear's ``brinell_hardness_HB`` (its Z_W 1.2 − (200 − 130)/1700 against the case-hardened
+    pinion); one name keeps one treatment; a list of three names is refused in one line."""
+    from _rating_cases import rated_accessory_data
+
+    d = rated_accessory_data(4, 8)
+    d["material"].update(treatment=["case_hardened", "through_hardened"],
+                         brinell_hardness_HB=[600.0, 200.0])
+    t = jio.rating_of(jio.parse_case(d)).settings.material.treatment
+    assert isinstance(t, jg.PairTreatment) and t.gear.brinell_hardness == 200.0
+    assert t.gear.work_hardening(t.pinion) == pytest.approx(1.2 - 70 / 1700, rel=1e-12)
+    d["material"].update(treatment="nitrided", brinell_hardness_HB=600.0)
+    assert isinstance(jio.rating_of(jio.parse_case(d)).settings.material.treatment, jg.Nitrided)
+    d["material"]["treatment"] = ["nitrided"] * 3
+    with pytest.raises(ValueError, match=r"\[material\] treatment = .*\[pinion, gear\] list"):
+        jio.parse_case(d)

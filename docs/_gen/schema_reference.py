@@ -44,7 +44,7 @@ TRACED = ("check_keys", "subtable", "number", "number_list", "choice", "boolean"
 UNIT_WORDS = {
     "mm": "mm", "um": "µm", "m": "m", "mm2": "mm²", "m2": "m²", "m3": "m³",
     "N": "N", "Nm": "N·m", "kg": "kg", "GPa": "GPa", "MPa": "MPa", "deg": "deg", "rad": "rad",
-    "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI",
+    "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI", "HB": "HB",
 }
 #: the second word of a two-word unit without ``per`` that divides (a rate, a density):
 #: ``_rad_s`` rad/s, ``_mm2_s`` mm²/s, ``_kg_m3`` kg/m³; any other pair multiplies (``_kg_m2``)

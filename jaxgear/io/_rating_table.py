@@ -277,13 +277,24 @@ def _(value, mat: dict) -> list[str]:
     return [sc.choice({"treatment": v}, "treatment", "material", TREATMENTS) for v in value]
 
 
+@functools.singledispatch
+def _optional_pair(value, mat: dict, key: str, allowed: str) -> list:
+    """An optional ``[material]`` number for both gears; absent: ``[None, None]``."""
+    v = sc.number(mat, key, "material", None, allowed=allowed)
+    return [v, v]
+
+
+@_optional_pair.register(list)
+def _(value, mat: dict, key: str, allowed: str) -> list:
+    """[pinion, gear]."""
+    return sc.number_list(mat, key, "material", None, length=2, allowed=allowed)
+
+
 def _treatment(mat: dict):
     """The pair's treatment object of ``[material] treatment`` and ``brinell_hardness_HB``:
     one treatment for both gears, or :class:`jaxgear.PairTreatment` when the gears differ."""
     names = _treatment_names(mat.get("treatment"), mat)
-    hb = [None, None]
-    if "brinell_hardness_HB" in mat:
-        hb = _pair_of(mat, "brinell_hardness_HB", "material", "[100, 700]")
+    hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")
     each = []
     for name, h in zip(names, hb, strict=True):
         try:
