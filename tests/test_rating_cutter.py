@@ -17,6 +17,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+from _rating_cases import rated_accessory_data
 
 MM = 1e-3
 A = math.radians(20.0)
@@ -200,8 +201,6 @@ def test_pair_case_treatment_list_and_hardness():
     """A pair case's ``treatment = [pinion, gear]`` → jg.PairTreatment with the through-hardened
     gear's ``brinell_hardness_HB`` (its Z_W 1.2 − (200 − 130)/1700 against the case-hardened
     pinion); one name keeps one treatment; a list of three names is refused in one line."""
-    from _rating_cases import rated_accessory_data
-
     d = rated_accessory_data(4, 8)
     d["material"].update(treatment=["case_hardened", "through_hardened"],
                          brinell_hardness_HB=[600.0, 200.0])
