@@ -2,9 +2,10 @@
 (jaxgear.ShaperCutterSection) against references written here independently: the ring's tooth
 space cut point by point (the cutter's tip rounding swept through the cutting mesh as a cloud
 of circle points, the space's boundary as the deepest cut per polar angle), the critical
-section read off that boundary at its 60° tangent and the fillet's radius from a circle through
-three of its points; the cutter's root form diameter against the KISSsoft reports of the NREL
-5 MW rings; the section's derivative against central differences; bad input in one line.
+section and the fillet's radius read off a quartic fitted through that boundary at its 60°
+tangent; the cutter's root form diameter against the KISSsoft reports of the NREL
+5 MW rings; the rating's derivative through the section against central differences; bad
+input in one line.
 The rating with this section against the reports' printed values is in
 tests/test_rating_kisssoft.py."""
 
@@ -142,24 +143,36 @@ def test_cutter_reproduces_the_reports_root_form_diameters():
         assert d_ff == pytest.approx(printed, abs=0.01)
 
 
-def test_section_derivative_against_central_differences():
-    """d s_Fn/d x2 and d ρ_F/d x2 (the implicit derivative through the 60° point) against
-    central differences (1e-6)."""
+def test_rating_derivative_through_the_cutter_section_against_central_differences():
+    """dS_F/dx2 and dS_H/dx2 of the whole rating (ISO 6336-1 method B factors) with the ring's
+    section from its cutter, by jax.jvp (the implicit derivative through the 60° point) against
+    central differences (float64, 1e-6); the ring's S_F moves with x2 through its section."""
     pair = _ring(-93, 0.1171, 21.0)
     geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(30))
+    settings = jg.RatingSettings(
+        material=jg.RatingMaterial(
+            (1500e6, 700e6), (430e6, 290e6),
+            treatment=jg.PairTreatment(jg.CaseHardened(), jg.ThroughHardened()),
+        ),
+        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        life=20_000 * 3600.0,
+        application_factor=1.25,
+    )
+    op = jg.OperatingPoint(2.0e5, 10.0)
 
-    def section(x2):
-        g = geometry.replace(profile_shift=geometry.profile_shift.at[1].set(x2))
-        s, rho, _ = g.root_section.section(g, g.derived())
-        return jax.numpy.stack([s, rho]) / MM
-
-    section = eqx.filter_jit(section)
+    def safety(x2):
+        g = geometry.replace(profile_shift=jax.numpy.stack([geometry.profile_shift[0], x2]))
+        r = jg.rate(g, op, settings)
+        return jax.numpy.concatenate([r.pitting.S_H, r.bending.S_F])
 
     x2 = geometry.profile_shift[1]
-    ad = eqx.filter_jit(jax.jacfwd(section))(x2)
-    h = 1e-5
-    fd = (section(x2 + h) - section(x2 - h)) / (2 * h)
-    np.testing.assert_allclose(ad, fd, rtol=1e-6)
+    both = jax.jit(lambda x: jax.jvp(safety, (x,), (jax.numpy.ones_like(x),)))
+    grad = np.asarray(both(x2)[1])
+    h = 1e-6
+    fd = (np.asarray(both(x2 + h)[0]) - np.asarray(both(x2 - h)[0])) / (2 * h)
+    np.testing.assert_allclose(grad, fd, rtol=1e-6, atol=1e-9)
+    assert abs(grad[3]) > 0.1  # the ring's S_F
 
 
 def test_bad_cutter_refused_in_one_line():
