@@ -143,6 +143,7 @@ from ._rating_internal import (
     AbstractRootSection as AbstractRootSection,
     GivenRootSection as GivenRootSection,
     InternalRatingGeometry as InternalRatingGeometry,
+    ShaperCutterSection as ShaperCutterSection,
     SubstituteRack as SubstituteRack,
 )
 from ._rating_material import (

@@ -214,3 +214,30 @@ def test_every_key_says_what_it_allows(references):
                 assert info.kind or info.allowed, (table, key)
     _, train = references
     assert train.tables["gears[]"]["hand"].allowed == {"'right', 'left'"}
+
+
+@pytest.mark.parametrize(
+    "key, printed",
+    [
+        ("viscosity_40C_mm2_s", "mm²/s"),
+        ("mesh_stiffness_N_per_um", "N/µm"),
+        ("torsional_stiffness_Nm_per_rad", "N·m/rad"),
+        ("c_N_per_mm_per_um", "N/mm/µm"),
+        ("damping_per_s", "1/s"),
+        ("inertia_kg_m2", "kg·m²"),
+        ("density_kg_m3", "kg/m³"),
+        ("speed_rad_s", "rad/s"),
+        ("face_width_mm", "mm"),
+        ("life_h", "h"),
+        ("teeth", ""),
+        ("min_safety_pitting", ""),
+    ],
+)
+def test_units_are_read_from_the_whole_suffix(key, printed):
+    """A key's unit is the run of unit words at its end (a compound unit whole: mm²/s, not the
+    last word's s)."""
+    assert sr.unit(key) == printed
+
+
+def test_train_reference_says_k_gamma_is_for_planetary_stages():
+    assert "planetary stages only" in sr.TRAIN_NOTES["rating"]

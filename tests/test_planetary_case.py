@@ -219,6 +219,10 @@ def test_nrel_stage_through_jaxgear_run(tmp_path, capsys):
     assert meshes["sun1-planet1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
     assert meshes["planet1-ring1"]["normal_load_N"] == pytest.approx(f, rel=1e-12)
     assert meshes["planet1-ring1"]["quasi_static"]["te_ptp_m"] > 0
+    # the stage is rated (its [rating]; values in tests/test_rating_internal.py): rating.md
+    assert summary["rating"]["meshes"] == ["sun1-planet1", "planet1-ring1"]
+    md = (out / "rating.md").read_text()
+    assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
 
 
 def test_mesh_stiffness_mean_of_the_mesh_model_against_the_contact_ratio():
@@ -305,7 +309,7 @@ def _set(path: str, value):
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (  # a planetary [rating] is read whole: its missing keys named
             _set("rating", {"application_factor": 1.25}),
-            "[material] sigma_H_lim_MPa: missing required key (the [rating] table needs it)",
+            "[rating] life_h: missing required key (the [rating] table needs it)",
         ),
         (_set("planetary/fixed", "moon"), "[planetary] fixed = 'moon'"),
         (

@@ -247,3 +247,30 @@ def test_planetary_rating_refused_in_one_line_before_work(tmp_path):
         _rated_stage2(tmp_path, STAGE2_RATING.replace("K_gamma = 1.10", "K_gamma = 0.5"))
     with pytest.raises(ValueError, match=r"wrong_key"):
         _rated_stage2(tmp_path, STAGE2_RATING.replace("edition", "wrong_key = 1.0\nedition"))
+
+
+def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
+    """The embedded nrel-5mw-planetary's ``[rating]`` (the KISSsoft report of stage 1: the
+    strengths, per-gear treatments, K_A, life, oil, roughness, profiles A and B, the 2006
+    edition; the ring's root section from the report's pinion-type cutter, z0 = 36) through
+    ``jaxgear run``'s rating section with the report's K_γ = 1.10: the nominal stresses that
+    do not depend on the ring's section are the report's within 0.5 % (σ_H0 759.92 and 588.62,
+    σ_F0 of the sun mesh 113.46 and 108.94, of the planet in the ring mesh 95.70 N/mm²; the
+    case's ring x is −0.5012, the report's −0.5013), the ring's σ_F0 is the cutter section's
+    (17.9 % over the report's 95.32, tests/test_rating_kisssoft.py); rating.md has a table
+    per mesh."""
+    from jaxgear.cli.planetary import rating_section
+
+    case = jio.load_case("nrel-5mw-planetary")
+    sec = rating_section(case, str(tmp_path), 1.10)
+    assert sec["meshes"] == ["sun1-planet1", "planet1-ring1"]
+    np.testing.assert_allclose(
+        np.asarray(sec["pitting"]["sigma_H0_Pa"]) / 1e6, [759.92, 588.62], rtol=5e-3
+    )
+    sigma_f0 = np.asarray(sec["bending"]["sigma_F0_Pa"]) / 1e6
+    np.testing.assert_allclose(sigma_f0[0], [113.46, 108.94], rtol=5e-3)
+    assert sigma_f0[1][0] == pytest.approx(95.70, rel=5e-3)
+    assert sigma_f0[1][1] == pytest.approx(95.32 * 1.179, rel=5e-3)
+    md = (tmp_path / "rating.md").read_text()
+    assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
+

@@ -39,26 +39,16 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: the helpers of fem_prep.checks that declare a key
 TRACED = ("check_keys", "subtable", "number", "number_list", "choice", "boolean", "string", "name")
 
-#: unit of a key from its name's suffix (units are in key names: README, STYLE)
-UNITS = (
-    ("_N_per_mm_per_um", "N/mm/µm"),
-    ("_Nm_per_rad", "N·m/rad"),
-    ("_N_per_um", "N/µm"),
-    ("_kg_m2", "kg·m²"),
-    ("_kg_m3", "kg/m³"),
-    ("_rad_s", "rad/s"),
-    ("_per_s", "1/s"),
-    ("_GPa", "GPa"),
-    ("_deg", "deg"),
-    ("_Nm", "N·m"),
-    ("_mm", "mm"),
-    ("_um", "µm"),
-    ("_kg", "kg"),
-    ("_Hz", "Hz"),
-    ("_SI", "SI"),
-    ("_N", "N"),
-    ("_s", "s"),
-)
+#: the unit words of key names (units are in key names: README, STYLE) and how they print; a
+#: key's unit is the longest run of these words (and ``per``) at its end, read by :func:`unit`
+UNIT_WORDS = {
+    "mm": "mm", "um": "µm", "m": "m", "mm2": "mm²", "m2": "m²", "m3": "m³",
+    "N": "N", "Nm": "N·m", "kg": "kg", "GPa": "GPa", "MPa": "MPa", "deg": "deg", "rad": "rad",
+    "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI", "HB": "HB",
+}
+#: the second word of a two-word unit without ``per`` that divides (a rate, a density):
+#: ``_rad_s`` rad/s, ``_mm2_s`` mm²/s, ``_kg_m3`` kg/m³; any other pair multiplies (``_kg_m2``)
+DIVIDING = {"s", "m3"}
 
 #: optional tables no embedded case holds, added to an embedded pair case to trace them
 SAMPLE_OVERLAYS: dict[str, str] = {
@@ -557,10 +547,31 @@ def trace_bodies() -> Schema:
 
 
 def unit(key: str) -> str:
-    for suffix, u in UNITS:
-        if key.endswith(suffix):
-            return u
-    return ""
+    """The unit a key's name ends in: ``viscosity_40C_mm2_s`` mm²/s, ``stiffness_N_per_um``
+    N/µm, ``torsional_stiffness_Nm_per_rad`` N·m/rad, ``c_N_per_mm_per_um`` N/mm/µm,
+    ``damping_per_s`` 1/s, ``inertia_kg_m2`` kg·m²; "" when it ends in none (a word of the
+    quantity's name is left in front)."""
+    words = key.split("_")
+    n = len(words)
+    while n > 1 and (words[n - 1] in UNIT_WORDS or words[n - 1] == "per"):
+        n -= 1
+    tail = words[n:]
+    while tail and tail[-1] == "per":  # "per" ends no unit
+        tail.pop()
+    if not tail:
+        return ""
+    groups, group = [], []
+    for w in tail:
+        if w == "per":
+            groups.append(group)
+            group = []
+        else:
+            group.append(UNIT_WORDS[w])
+    groups.append(group)
+    if len(groups) == 1 and len(tail) == 2 and tail[1] in DIVIDING:
+        groups = [[UNIT_WORDS[tail[0]]], [UNIT_WORDS[tail[1]]]]
+    text = ["·".join(g) for g in groups]
+    return "/".join([text[0] or "1", *text[1:]])
 
 
 def _cell(values: set, many: str = "depends on the case") -> str:
@@ -642,6 +653,14 @@ GEARBOX_NOTES = {
     "`[planetary]` table's).",
 }
 
+#: what the train page says of a table beyond its keys
+TRAIN_NOTES = {
+    "rating": "A train's `[rating]` rates every external mesh, a planetary stage's (gear form) "
+    "its `sun-planet` and `planet-ring` meshes. `K_gamma` (the load sharing factor K_γ) applies "
+    "to planetary stages only: a train without `[planetary]` refuses it (its meshes carry no "
+    "load sharing between paths).",
+}
+
 BODY_INTRO = """\
 Generated from the body-file validator (`fem_prep.schema.parse_body`) by
 `docs/_gen/schema_reference.py` each time the site is built: every key, its type, unit, default
@@ -654,7 +673,7 @@ def pages() -> dict[str, str]:
     pair, train = trace_cases()
     bodies = trace_bodies()
     case_page = markdown(pair, "Case-file reference: a gear pair", CASE_INTRO)
-    train_page = markdown(train, "Case-file reference: a gear train", CASE_INTRO)
+    train_page = markdown(train, "Case-file reference: a gear train", CASE_INTRO, TRAIN_NOTES)
     body_page = markdown(bodies, "Body-file reference (fem_prep)", BODY_INTRO)
     gearbox_page = markdown(trace_gearbox(), "Case-file reference: a gearbox", GEARBOX_INTRO,
                             GEARBOX_NOTES)

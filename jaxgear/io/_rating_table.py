@@ -8,7 +8,11 @@ Keys (file units; ranges as checked)::
     [material]
     sigma_H_lim_MPa = 1500.0        # σ_Hlim (ISO 6336-5), (0, 3000]; or [pinion, gear]
     sigma_F_lim_MPa = 430.0         # σ_Flim (ISO 6336-5), (0, 1500]; or [pinion, gear]
-    treatment = "case_hardened"     # | "through_hardened" | "nitrided" (life curves, ρ', Y_X)
+    treatment = "case_hardened"     # | "through_hardened" | "nitrided" (life curves, ρ', Y_X);
+                                    # or [pinion, gear]: each gear its own (jaxgear.PairTreatment)
+    brinell_hardness_HB = 240.0     # surface hardness HB, [100, 700]; or [pinion, gear]; read
+                                    # for a through-hardened gear's Z_W against a surface-
+                                    # hardened mate (ignored for surface-hardened gears)
     [operating]
     speed_rpm = 1165.9              # pinion speed of the rating, (0, 1e6] 1/min
                                     # (without it: speed_rad_s, which must then be > 0)
@@ -33,8 +37,10 @@ values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replaci
 one mesh; ``[operating] speed_rpm`` the input's speed. A planetary stage's (gear form,
 :func:`parse_planetary_rating`) is a train's for its ``sun-planet`` and ``planet-ring`` meshes
 (the ring an internal gear: :class:`jaxgear.InternalRatingGeometry`, :data:`GEOMETRIES`) with
-``K_gamma`` (the load sharing factor, [1, 10]; default the run's computed one), each mesh at one
-planet path's mean load and its speed relative to the carrier.
+``K_gamma`` (the load sharing factor, [1, 10]; default the run's computed one) and
+``ring_cutter_teeth`` (the ring's pinion-type cutter, [11, |z_ring| − 10]: its root section
+from the cutter, :class:`jaxgear.ShaperCutterSection`; default ISO's substitute rack), each mesh
+at one planet path's mean load and its speed relative to the carrier.
 """
 
 from __future__ import annotations
@@ -59,9 +65,11 @@ from .. import (
     Lubrication,
     Nitrided,
     OperatingPoint,
+    PairTreatment,
     RatingGeometry,
     RatingMaterial,
     RatingSettings,
+    ShaperCutterSection,
     ThroughHardened,
     ToothLoading,
 )
@@ -97,10 +105,18 @@ TREATMENTS = {
 #: a mesh's pair type → its rating geometry (an internal pair: ISO's internal-gear rules, the
 #: ring's root section ISO's substitute rack)
 GEOMETRIES = {GearPair: RatingGeometry.of, InternalGearPair: InternalRatingGeometry.of}
+#: a planetary mesh's pair type → its rating geometry with the ring's root section (``None``:
+#: the substitute rack; an external mesh has none)
+SECTIONED = {
+    GearPair: lambda pair, section: RatingGeometry.of(pair),
+    InternalGearPair: lambda pair, section: InternalRatingGeometry.of(pair, section),
+}
+#: the keys a planetary stage's ``[rating]`` adds to a train's
+PLANETARY_KEYS = {"K_gamma", "ring_cutter_teeth"}
 #: ``[rating] edition`` years → the model's edition objects
 EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
-MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment"}
+MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment", "brinell_hardness_HB"}
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: the factors jaxgear measures that ``[rating] use_measured`` may put in place of ISO's
@@ -202,7 +218,7 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         _need(rt, key, "rating")
     s_h = _pair_of(mat, "sigma_H_lim_MPa", "material", "(0, 3000]")
     s_f = _pair_of(mat, "sigma_F_lim_MPa", "material", "(0, 1500]")
-    treatment = TREATMENTS[sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")]()
+    treatment = _treatment(mat)
     speed = rating_speed(op)
     ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
     life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
@@ -242,6 +258,50 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     torque = sc.number(op, "torque_Nm", "operating")
     use = _use_measured(rt, given)
     return RatingCase(GEOMETRIES[type(pair)](pair), OperatingPoint(torque, speed), settings, use)
+
+
+@functools.singledispatch
+def _treatment_names(value, mat: dict) -> list[str]:
+    """``[material] treatment``: one name for both gears (default case-hardened)."""
+    return [sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")] * 2
+
+
+@_treatment_names.register(list)
+def _(value, mat: dict) -> list[str]:
+    """[pinion, gear] names."""
+    if len(value) != 2:
+        raise sc.fail(
+            "material", "treatment", f"a name or a [pinion, gear] list of two names of "
+            f"{', '.join(repr(c) for c in TREATMENTS)}", value,
+        )
+    return [sc.choice({"treatment": v}, "treatment", "material", TREATMENTS) for v in value]
+
+
+@functools.singledispatch
+def _optional_pair(value, mat: dict, key: str, allowed: str) -> list:
+    """An optional ``[material]`` number for both gears; absent: ``[None, None]``."""
+    v = sc.number(mat, key, "material", None, allowed=allowed)
+    return [v, v]
+
+
+@_optional_pair.register(list)
+def _(value, mat: dict, key: str, allowed: str) -> list:
+    """[pinion, gear]."""
+    return sc.number_list(mat, key, "material", None, length=2, allowed=allowed)
+
+
+def _treatment(mat: dict):
+    """The pair's treatment object of ``[material] treatment`` and ``brinell_hardness_HB``:
+    one treatment for both gears, or :class:`jaxgear.PairTreatment` when the gears differ."""
+    names = _treatment_names(mat.get("treatment"), mat)
+    hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")
+    each = []
+    for name, h in zip(names, hb, strict=True):
+        try:
+            each.append(TREATMENTS[name](**({} if h is None else {"brinell_hardness": h})))
+        except TypeError:  # surface hardened: its hardness does not enter the rating
+            each.append(TREATMENTS[name]())
+    return each[0] if each[0] == each[1] else PairTreatment(*each)
 
 
 def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
@@ -315,7 +375,14 @@ def _(value, key: str, where: str, names: tuple, ends: tuple[int, int]):
 
 
 #: the per-gear keys of a train's [rating] and [material]: a number or a table by gear name
-PER_GEAR = {"roughness_Rz_flank_um", "roughness_Rz_root_um", "sigma_H_lim_MPa", "sigma_F_lim_MPa"}
+PER_GEAR = {
+    "roughness_Rz_flank_um",
+    "roughness_Rz_root_um",
+    "sigma_H_lim_MPa",
+    "sigma_F_lim_MPa",
+    "treatment",
+    "brinell_hardness_HB",
+}
 
 
 def _mesh_table(table: dict, keys: set, where: str, names: tuple, ends) -> dict:
@@ -425,9 +492,15 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "gears to rate: give the stage by its [[gears]]",
         )
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | {"K_gamma"})
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS)
     k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
-    rt = {k: v for k, v in rt.items() if k != "K_gamma"}
+    z_ring = abs(case.pairs[-1].gear.teeth)
+    z0 = sc.number(
+        rt, "ring_cutter_teeth", "rating", None, allowed=f"[11, {z_ring - 10}]", integer=True,
+        note=" (the ring's pinion-type cutter: 11 to the ring's teeth less 10)",
+    )
+    section = None if z0 is None else ShaperCutterSection(z0)
+    rt = {k: v for k, v in rt.items() if k not in PLANETARY_KEYS}
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat = data.get("material", {})
     names = case.gear_names
@@ -444,7 +517,10 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
         }
         rc = parse_rating(mesh_data, case.pairs[k], material)
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
-        out.append(dataclasses.replace(rc, settings=settings, k_gamma=k_gamma))
+        geometry = SECTIONED[type(case.pairs[k])](case.pairs[k], section)
+        out.append(
+            dataclasses.replace(rc, geometry=geometry, settings=settings, k_gamma=k_gamma)
+        )
     return tuple(out)
 
 
