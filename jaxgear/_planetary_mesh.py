@@ -342,7 +342,6 @@ class ContactMeshes(AbstractPlanetaryMeshes):
                 theta
             )
             cb = jnp.cos(mesh.base_helix_angle)
-            shape = cells.s.shape  # (n_planets, n_lines, n_slices)
             across = cells.z[0] - 0.5 * mesh.face_width  # (n_lines, n_slices), every planet's
             V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :])
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)

@@ -644,3 +644,39 @@ def test_jaxgear_modes_lists_the_3d_modes_of_a_helical_stage(tmp_path):
     path.write_text(case_toml(_lumped_case()))
     assert main(["modes", str(path), "--out", str(tmp_path / "s")]) == 0
     assert "spatial" not in json.loads((tmp_path / "s" / "modes.json").read_text())
+
+
+def _helical_case(tmp_path):
+    data = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
+    for m in ("sun", "ring", "carrier"):
+        data["planetary"][m].update(axial_N_per_um=100.0, tilt_Nm_per_rad=1e6)
+    data["planetary"]["planet"].update(pin_axial_N_per_um=80.0, pin_tilt_Nm_per_rad=4e5)
+    data["planetary"]["tangential_pin_errors_um"] = [10.0, 0.0, 0.0]
+    return data
+
+
+@pytest.mark.slow  # ~9 s of CPU (the modes, Campbell and three solves); the properties: above
+def test_jaxgear_run_reports_the_3d_load_sharing_and_face_load(tmp_path):
+    """`jaxgear run`'s stage files on a helical lumped case (lin-parker-1999 at beta = 20 deg,
+    a 10 um pin error): summary.json's load sharing holds the 3D model's K_gamma beside the
+    planar and torsional ones, and `face_load` each mesh's K_Hbeta from the 3D contact solve
+    (ConstantMeshes at two Gauss points), whose K_gamma is the linear 3D solve's (every mesh
+    loaded: 1e-9); the printed lines name both. A spur case has neither."""
+    from jaxgear.cli.planetary import planetary_files, planetary_lines
+
+    data = _helical_case(tmp_path)
+    case = jio.parse_train(data)
+    summary = planetary_files(case.form, case, str(tmp_path), None, True)
+    ls = summary["load_sharing"]
+    assert set(ls) >= {"planar", "torsional", "spatial"}
+    assert ls["spatial"]["k_gamma"] > 1.01
+    fl = summary["face_load"]
+    assert fl["k_gamma"] == pytest.approx(ls["spatial"]["k_gamma"], rel=1e-9)
+    assert len(fl["k_h_beta"]) == 6 and 1.0 < fl["k_h_beta_max"] < 2.0
+    text = "\n".join(planetary_lines(case.form, case, summary))
+    assert ", 3D " in text and "K_Hβ" in text
+    written = json.loads((tmp_path / "summary.json").read_text())
+    assert written["face_load"]["k_h_beta"] == pytest.approx(fl["k_h_beta"], rel=1e-12)
+    spur = jio.parse_train(_lumped_case())
+    plain = planetary_files(spur.form, spur, str(tmp_path / "spur"), None, True)
+    assert "spatial" not in plain["load_sharing"] and "face_load" not in plain
