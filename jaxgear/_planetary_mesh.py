@@ -15,7 +15,9 @@ Lin 2004), and Delta_rs the sun–ring offset within a planet (:func:`sun_ring_o
 
 A cell's approach is the transverse mesh deflection of Lin & Parker's model times cos beta_b
 (the normal approach of a slice; the planar model keeps the transverse plane only), so the
-model's ``mesh_deflection_rows`` are the cells' structure vectors.
+model's ``mesh_deflection_rows`` are the cells' structure vectors; a model with tilts (the 3D
+:class:`~jaxgear.SpatialPlanetary`) gives each cell the deflection at its own axial position
+across the face (``model.face_rows``: (V + z W) q, z from the mesh mid-plane).
 """
 
 from __future__ import annotations
@@ -166,6 +168,13 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
     Attributes:
         base_pitch: p_b (m), the mesh travel of one period (it sets only the time scale of the
             dynamics).
+        face_points: static, the Gauss-Legendre points across the stage's face width at which
+            each spring acts (weights summing to 1; default 1: at mid-face). The 3D model
+            (:class:`~jaxgear.SpatialPlanetary`) needs 2 to hold its meshes' tilting stiffness
+            k b^2 / 12 (its stiffness matrix's two points); the planar and torsional models see
+            the same deflection across the face. A model whose springs act along the tooth
+            normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on the
+            transverse deflection, so that the forces are transverse.
     """
 
     base_pitch: Float[Array, ""] = eqx.field(converter=as_float, default=0.01)
@@ -377,7 +386,8 @@ class PlanetaryQuasiStatic(eqx.Module):
         sun_mesh_forces, ring_mesh_forces: transverse force on each planet's meshes (N,
             compression positive), (p, n_planets).
         sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
-            compression positive, the pin errors' offsets d included), (p, n_planets).
+            compression positive, the pin errors' offsets d included; mid-face, the 3D model's
+            normal deflection over cos beta_b), (p, n_planets).
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
         result: the contact solver's code at each position (0: converged), (p,).

@@ -51,7 +51,16 @@ in-plane translations are the planar model's (per member ``G = [[0, -2m], [2m, 0
 ``I_d theta_y'' + (2 I_d - J) Omega theta_x' + (J - I_d) Omega^2 theta_y = M_y``: ``G = [[0,
 -(2 I_d - J)], [2 I_d - J, 0]]``, ``K_Omega = (I_d - J) I`` on the tilts (a planet's about
 e_zeta, e_eta, which turn with the carrier too). The gyroscopic moments of a member's spin
-relative to the carrier (J (omega - Omega)) are not modelled.
+relative to the carrier, omega_r = omega - Omega, add ``-J omega_r`` to the tilts' gyroscopic
+coefficient and ``J omega_r Omega`` to their stiffness (:meth:`SpatialPlanetary.spin_matrices`;
+omega_r is set by the mesh travel speed v: v / r_bs for the sun, -v / r_br for the ring, -v /
+r_bp for the planets, 0 for the carrier).
+
+In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) a cell
+of a mesh at the axial position z (from the mesh mid-plane) sees the normal deflection of the
+points rho + z e_z (:meth:`SpatialPlanetary.face_rows`): the mesh point stays the transverse
+pitch point, the cells spread the mesh over the face, so that a member's tilt moves the load
+across it and the helical normals' axial parts load the axial supports.
 """
 
 from __future__ import annotations
