@@ -126,7 +126,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
         "load_sharing": sharing_summary(spec, stage, torques, mode_models(stage)),
         "mesh_phases": phases_summary(spec),
     }
-    if "spatial" in summary["load_sharing"]:
+    if float(stage.helix_angle) != 0.0:  # a helical stage: the 3D model's face load
         summary["face_load"] = face_load_section(spec, stage, torques)
     modes = {name: mode_list(model, stage) for name, model in mode_models(stage).items()}
     write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
@@ -599,7 +599,7 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         f"mesh frequency {p['mesh_frequency_carrier_frame_Hz']:.4g} Hz (carrier frame)",
         f"load sharing K_γ: planar {ls['planar']['k_gamma']:.4f}, torsional "
         f"{ls['torsional']['k_gamma']:.4f}"
-        + (f", 3D {ls['spatial']['k_gamma']:.4f}" if "spatial" in ls else "")
+        + ("" if ls.get("spatial") is None else f", 3D {ls['spatial']['k_gamma']:.4f}")
         + " (pin errors "
         f"{', '.join(f'{e * 1e6:g}' for e in ls['tangential_pin_errors_m'])} µm tangential)"
         + turn_words(ls),
