@@ -655,28 +655,36 @@ def _helical_case(tmp_path):
     return data
 
 
-@pytest.mark.slow  # ~9 s of CPU (the modes, Campbell and three solves); the properties: above
-def test_jaxgear_run_reports_the_3d_load_sharing_and_face_load(tmp_path):
-    """`jaxgear run`'s stage files on a helical lumped case (lin-parker-1999 at beta = 20 deg,
-    a 10 um pin error): summary.json's load sharing holds the 3D model's K_gamma beside the
-    planar and torsional ones, and `face_load` each mesh's K_Hbeta from the 3D contact solve
-    (ConstantMeshes at two Gauss points), whose K_gamma is the linear 3D solve's (every mesh
-    loaded: 1e-9); the printed lines name both. A spur case has neither."""
-    from jaxgear.cli.planetary import planetary_files, planetary_lines
-
+@pytest.mark.slow  # ~20 s of CPU (modes, Campbell, three solves, two sweeps); properties: above
+def test_jaxgear_run_reports_the_3d_load_sharing_face_load_and_sweep(tmp_path, capsys):
+    """`jaxgear run` on a helical lumped case (lin-parker-1999 at beta = 20 deg, a 10 um pin
+    error, every axial and tilting support given): summary.json's load sharing holds the 3D
+    model's K_gamma beside the planar and torsional ones, `face_load` each mesh's K_Hbeta from
+    the 3D contact solve (ConstantMeshes at two Gauss points), whose K_gamma is the linear 3D
+    solve's (every mesh loaded: 1e-9), and the dynamic-factor sweep runs the 3D model; the
+    printed lines name them. Without the supports (a free screw motion along the helices) the
+    3D sections are skipped in words and the sweep stays planar; a spur case has neither."""
     data = _helical_case(tmp_path)
-    case = jio.parse_train(data)
-    summary = planetary_files(case.form, case, str(tmp_path), None, True)
+    path = tmp_path / "helical.toml"
+    path.write_text(case_toml(data))
+    assert main(["run", str(path), "--out", str(tmp_path / "h")]) == 0
+    text = capsys.readouterr().out
+    summary = json.loads((tmp_path / "h" / "summary.json").read_text())
     ls = summary["load_sharing"]
     assert set(ls) >= {"planar", "torsional", "spatial"}
     assert ls["spatial"]["k_gamma"] > 1.01
     fl = summary["face_load"]
     assert fl["k_gamma"] == pytest.approx(ls["spatial"]["k_gamma"], rel=1e-9)
     assert len(fl["k_h_beta"]) == 6 and 1.0 < fl["k_h_beta_max"] < 2.0
-    text = "\n".join(planetary_lines(case.form, case, summary))
-    assert ", 3D " in text and "K_Hβ" in text
-    written = json.loads((tmp_path / "summary.json").read_text())
-    assert written["face_load"]["k_h_beta"] == pytest.approx(fl["k_h_beta"], rel=1e-12)
-    spur = jio.parse_train(_lumped_case())
-    plain = planetary_files(spur.form, spur, str(tmp_path / "spur"), None, True)
-    assert "spatial" not in plain["load_sharing"] and "face_load" not in plain
+    assert summary["dynamics"]["model"].startswith("3D")
+    assert ", 3D " in text and "K_Hβ" in text and "3D lumped" in text
+    bare = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
+    path.write_text(case_toml(bare))
+    assert main(["run", str(path), "--out", str(tmp_path / "b"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "b" / "summary.json").read_text())
+    assert "spatial" not in summary["load_sharing"] and "skipped" in summary["face_load"]
+    assert summary["dynamics"]["model"].startswith("planar")
+    path.write_text(case_toml(_lumped_case()))
+    assert main(["run", str(path), "--out", str(tmp_path / "s"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "s" / "summary.json").read_text())
+    assert "spatial" not in summary["load_sharing"] and "face_load" not in summary

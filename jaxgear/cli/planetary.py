@@ -62,7 +62,9 @@ __all__ = [
     "ring_operating_shape",
     "rating_section",
     "ring_section",
+    "sharing_models",
     "sharing_summary",
+    "spatial_model",
     "turn_sharing",
     "type_counts",
 ]
@@ -72,14 +74,42 @@ MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
 
 
 def mode_models(stage) -> dict:
-    """The models whose modes and load sharing a run lists, by name: :data:`MODELS`, and for a
-    helical stage (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
-    (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks;
-    its K_γ, and the face load of :func:`face_load_section`). The dynamics sweep and the
-    rating's K_γ stay planar."""
+    """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
+    (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
+    (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
+    Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
+    stage); the rating's K_γ stays planar."""
     if float(stage.helix_angle) == 0.0:
         return MODELS
     return {**MODELS, "spatial": SpatialPlanetary()}
+
+
+#: the smallest eigenvalue of the load-sharing stage's 3D stiffness, relative to its largest,
+#: below which a free motion is left (an axial or tilting support missing)
+HOLDS_3D = 1e-12
+
+
+def spatial_model(spec, stage) -> SpatialPlanetary | None:
+    """The 3D lumped model (:class:`jaxgear.SpatialPlanetary`) for a helical stage whose axial
+    and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
+    sharing_stage`: no free motion left, the smallest eigenvalue of its stiffness above
+    :data:`HOLDS_3D` times the largest; a member without an axial support screws freely along
+    its helix); None for a spur stage or one whose supports are not given (the case keys
+    ``axial_N_per_um``, ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``)."""
+    if float(stage.helix_angle) == 0.0:
+        return None
+    model = SpatialPlanetary()
+    lam = np.linalg.eigvalsh(np.asarray(model.stiffness_matrix(spec.sharing_stage(stage))))
+    return model if lam[0] > HOLDS_3D * lam[-1] else None
+
+
+def sharing_models(spec, stage) -> dict:
+    """The models of the run's load sharing, by name: :data:`MODELS`, and ``"spatial"`` where
+    :func:`spatial_model` gives it."""
+    model = spatial_model(spec, stage)
+    return MODELS if model is None else {**MODELS, "spatial": model}
+
+
 #: the mesh-frequency harmonics drawn on the Campbell diagram
 MESH_ORDERS = (1, 2, 3)
 #: a frequency below this share of the highest is a rigid mode's
@@ -123,7 +153,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
             },
         },
         "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
-        "load_sharing": sharing_summary(spec, stage, torques, mode_models(stage)),
+        "load_sharing": sharing_summary(spec, stage, torques, sharing_models(spec, stage)),
         "mesh_phases": phases_summary(spec),
     }
     if float(stage.helix_angle) != 0.0:  # a helical stage: the 3D model's face load
@@ -193,10 +223,15 @@ def face_load_section(spec, stage, torques: dict) -> dict:
     the stage of the load sharing, the sun's torque and the pin errors, at the mesh travel 0:
     each mesh's transverse force, its face load factor K_Hβ (ISO 6336-1's linear distribution
     across the face, from the members' tilts and the helical meshes' axial forces) and K_γ."""
+    model = spatial_model(spec, stage)
+    if model is None:
+        return {"skipped": "the 3D model's axial and tilting supports do not hold the stage: "
+                "give every member's axial_N_per_um and tilt_Nm_per_rad and the planets' "
+                "pin_axial_N_per_um and pin_tilt_Nm_per_rad"}
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
-    q = planetary_quasi_static(SpatialPlanetary(), held, ConstantMeshes(face_points=2),
+    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=2),
                                np.asarray(abs(torques["sun"])), np.zeros(1), e, eps)
     n = spec.n_planets
     k = np.asarray(q.k_h_beta)
@@ -608,8 +643,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
         + " (modes.json, campbell.png)",
     ]
-    fl = summary.get("face_load")
-    if fl is not None:
+    fl = summary.get("face_load", {})
+    if fl.get("k_h_beta") is not None:
         lines.append(
             f"face load factor K_Hβ (3D model, the members' tilts and the helical axial forces): "
             f"max {fl['k_h_beta_max']:.4f} ("
