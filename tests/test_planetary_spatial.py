@@ -688,3 +688,20 @@ def test_jaxgear_run_reports_the_3d_load_sharing_face_load_and_sweep(tmp_path, c
     assert main(["run", str(path), "--out", str(tmp_path / "s"), "--quiet"]) == 0
     summary = json.loads((tmp_path / "s" / "summary.json").read_text())
     assert "spatial" not in summary["load_sharing"] and "face_load" not in summary
+
+
+def test_the_run_takes_the_3d_model_only_where_its_supports_hold_the_stage(tmp_path):
+    """`jaxgear run`'s choice (cli.planetary.spatial_model): a helical stage with every axial and
+    tilting support given -> the 3D model; the same without them (each member free to screw
+    along its helix: the 3D stiffness of the load-sharing stage singular) or a spur stage ->
+    none (the run stays planar)."""
+    from jaxgear.cli.planetary import spatial_model
+
+    def choice(data):
+        case = jio.parse_train(data)
+        spec = case.form.spec
+        return spatial_model(spec, spec.stage(case))
+
+    assert isinstance(choice(_helical_case(tmp_path)), jg.SpatialPlanetary)
+    assert choice(_lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)) is None
+    assert choice(_lumped_case()) is None
