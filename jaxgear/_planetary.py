@@ -529,6 +529,29 @@ class AbstractPlanetaryModel(eqx.Module):
         v_s, v_r = mesh_rows(stage)
         return v_s @ t, v_r @ t
 
+    def face_rows(self, stage: PlanetaryStage):
+        """((V_s, W_s), (V_r, W_r)), each (n_planets, n_dof): the transverse mesh deflection
+        (m, compression positive) at the axial position z (m from the mesh mid-plane, along
+        the stage axis) is ``(V + z W) q`` (a cell's normal approach: cos beta_b times it).
+        Here the mid-face rows of :meth:`mesh_deflection_rows` and W = 0 (a model without
+        tilts sees the same deflection across the face)."""
+        v_s, v_r = self.mesh_deflection_rows(stage)
+        return (v_s, jnp.zeros_like(v_s)), (v_r, jnp.zeros_like(v_r))
+
+    def spring_cos(self, stage: PlanetaryStage) -> Float[Array, ""]:
+        """c (-): the stage's constant mesh stiffnesses act on c times the transverse
+        deflection of :meth:`face_rows` (1: on the transverse line of action)."""
+        return jnp.ones((), dtype=stage.planet_angles.dtype)
+
+    def spin_matrices(self, stage: PlanetaryStage):
+        """(G_v, K_v), each (n_dof, n_dof): the gyroscopic terms of the members' spin relative
+        to the carrier, which the mesh travel speed v (m/s) sets (the sun turns at v / r_bs
+        relative to the carrier): ``v G_v q'`` and ``Omega v K_v q`` join the left-hand side of
+        the equations of motion (N, or N m on a tilt). Zero here (no tilting coordinates)."""
+        n = self.reduction(stage).shape[1]
+        z = jnp.zeros((n, n), dtype=stage.planet_angles.dtype)
+        return z, z
+
 
 class PlanarPlanetary(AbstractPlanetaryModel):
     """The planar lumped model of Lin & Parker (1999): three coordinates per member (two

@@ -88,21 +88,28 @@ def campbell(
     model: AbstractPlanetaryModel,
     stage: PlanetaryStage,
     carrier_speeds: Float[Array, " n_speeds"],
+    mesh_speeds: Float[Array, " n_speeds"] | None = None,
 ) -> Float[Array, "n_speeds n_dof"]:
     """Natural frequencies in the carrier frame against the carrier speed, with the Coriolis
-    and centripetal terms (Cooley & Parker 2012): ``M q'' + Omega G q' + (K - Omega^2 K_Omega)
-    q = 0``. With ``K_e = K - Omega^2 K_Omega = S S`` (S its symmetric square root) and
-    ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real skew-symmetric matrix
-    ``[[0, S L^-T], [-L^-1 S, -Omega L^-1 G L^-T]]``, whose eigenvalues +-i omega come from the
-    Hermitian ``eigh`` (so it runs on every device and is differentiable at simple values).
+    and centripetal terms (Cooley & Parker 2012): ``M q'' + (Omega G + v G_v) q' + (K -
+    Omega^2 K_Omega + Omega v K_v) q = 0`` (G_v, K_v: the gyroscopic moments of the members'
+    spin relative to the carrier, :meth:`~jaxgear.AbstractPlanetaryModel.spin_matrices`; zero
+    but in :class:`~jaxgear.SpatialPlanetary`). With ``K_e = S S`` (S its symmetric square
+    root) and ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real
+    skew-symmetric matrix ``[[0, S L^-T], [-L^-1 S, -L^-1 (Omega G + v G_v) L^-T]]``, whose
+    eigenvalues +-i omega come from the Hermitian ``eigh`` (so it runs on every device and is
+    differentiable at simple values).
 
     Args:
         model, stage: as :func:`planetary_modes`.
         carrier_speeds: carrier speeds Omega (rad/s), shape ``(n_speeds,)``.
+        mesh_speeds: the mesh travel speed v (m/s) at each carrier speed, shape
+            ``(n_speeds,)`` (the sun turns at v / r_bs relative to the carrier; the ring held:
+            v = r_br Omega); None (default): 0, every member turning with the carrier.
 
     Returns:
-        Frequencies (Hz), shape ``(n_speeds, n_dof)``, ascending per speed; at Omega = 0 those
-        of :func:`planetary_modes`.
+        Frequencies (Hz), shape ``(n_speeds, n_dof)``, ascending per speed; at Omega = v = 0
+        those of :func:`planetary_modes`.
 
     Raises:
         EquinoxRuntimeError: a speed past divergence (K_e not positive semi-definite).
@@ -111,23 +118,27 @@ def campbell(
     k = model.stiffness_matrix(stage)
     g = model.gyroscopic_matrix(stage)
     kc = model.centripetal_matrix(stage)
+    g_v, k_v = model.spin_matrices(stage)
     low = jnp.linalg.cholesky(m)
     n = m.shape[0]
 
-    def one(omega):
-        lam, u = jnp.linalg.eigh(k - omega**2 * kc)
+    def one(omega, v):
+        lam, u = jnp.linalg.eigh(k - omega**2 * kc + omega * v * k_v)
         lam = eqx.error_if(
             lam, jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam)), "campbell: past divergence"
         )
         s = (u * jnp.sqrt(jnp.clip(lam, 0.0))[None, :]) @ u.T
         b = jnp.linalg.solve(low, s).T  # S L^-T
-        c = jnp.linalg.solve(low, jnp.linalg.solve(low, g).T).T  # L^-1 G L^-T
-        a = jnp.block([[jnp.zeros((n, n)), b], [-b.T, -omega * c]])
+        gyro = omega * g + v * g_v
+        c = jnp.linalg.solve(low, jnp.linalg.solve(low, gyro).T).T  # L^-1 G L^-T
+        a = jnp.block([[jnp.zeros((n, n)), b], [-b.T, -c]])
         w = jnp.linalg.eigvalsh(-1j * a)
         return w[n:] / (2.0 * jnp.pi)
 
     speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
-    return jax.vmap(one)(speeds)
+    v = jnp.zeros_like(speeds) if mesh_speeds is None else jnp.reshape(
+        as_float(mesh_speeds), (-1,))
+    return jax.vmap(one)(speeds, jnp.broadcast_to(v, speeds.shape))
 
 
 def classify_modes(

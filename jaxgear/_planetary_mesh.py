@@ -15,7 +15,9 @@ Lin 2004), and Delta_rs the sun–ring offset within a planet (:func:`sun_ring_o
 
 A cell's approach is the transverse mesh deflection of Lin & Parker's model times cos beta_b
 (the normal approach of a slice; the planar model keeps the transverse plane only), so the
-model's ``mesh_deflection_rows`` are the cells' structure vectors.
+model's ``mesh_deflection_rows`` are the cells' structure vectors; a model with tilts (the 3D
+:class:`~jaxgear.SpatialPlanetary`) gives each cell the deflection at its own axial position
+across the face (``model.face_rows``: (V + z W) q, z from the mesh mid-plane).
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ __all__ = [
     "ConstantMeshes",
     "ContactMeshes",
     "PlanetaryQuasiStatic",
+    "face_load_factor",
     "planetary_mesh_stiffness",
     "planetary_quasi_static",
     "structure_stiffness",
@@ -141,6 +144,12 @@ class AbstractPlanetaryMeshes(eqx.Module):
         travel ``positions`` (m, (p,)), each (p, n_planets): k_sn(x), k_rn(x) of every planet,
         phased."""
 
+    def face_positions(self, stage):
+        """(z, b): each cell's axial position across the face (m from the mesh mid-plane, along
+        the stage axis), (c,), and each mesh's face width (m), (2N,); None where the kind does
+        not place its cells across the face (then no face load factor is reported)."""
+        return None
+
     def positions(self, per_period: int, periods: int = 1) -> Float[Array, " p"]:
         """Mesh travels x (m) at the mid-points of ``per_period`` equal steps per mesh period,
         over ``periods`` periods."""
@@ -159,22 +168,43 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
     Attributes:
         base_pitch: p_b (m), the mesh travel of one period (it sets only the time scale of the
             dynamics).
+        face_points: static, the Gauss-Legendre points across the stage's face width at which
+            each spring acts (weights summing to 1; default 1: at mid-face). The 3D model
+            (:class:`~jaxgear.SpatialPlanetary`) needs 2 to hold its meshes' tilting stiffness
+            k b^2 / 12 (its stiffness matrix's two points); the planar and torsional models see
+            the same deflection across the face. A model whose springs act along the tooth
+            normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on the
+            transverse deflection, so that the forces are transverse.
     """
 
     base_pitch: Float[Array, ""] = eqx.field(converter=as_float, default=0.01)
+    face_points: int = eqx.field(static=True, default=1)
 
     def __check_init__(self):
         check_real("base_pitch", self.base_pitch, "m", lo=0.0, lo_open=True, shape=(),
                    where="ConstantMeshes")
+        check_integer("face_points", self.face_points, 1)
+
+    def _gauss(self, stage):
+        """The Gauss-Legendre points across the stage's face width (m from the mid-plane) and
+        their weights (summing to 1)."""
+        z, w = np.polynomial.legendre.leggauss(self.face_points)
+        return 0.5 * stage.face_width * jnp.asarray(z), jnp.asarray(0.5 * w)
 
     def cell_row(self, model, stage, x, offsets):
-        v_s, v_r = model.mesh_deflection_rows(stage)
+        # one cell per mesh and face point, point after point; the spring k acts on c times
+        # the transverse deflection (model.spring_cos): the cells carry it as k c^2 on the
+        # transverse deflection, so that their forces are the transverse mesh forces
+        (v_s, w_s), (v_r, w_r) = model.face_rows(stage)
         k_s, k_r = stage.mesh_stiffnesses()
         d_s, d_r = offsets
-        V = jnp.concatenate([v_s, v_r])
-        k = jnp.concatenate([k_s, k_r])
-        return CellRow(None, V, k, jnp.ones_like(k), -jnp.concatenate([d_s, d_r]),
-                       jnp.ones(k.shape, bool))
+        z, weight = self._gauss(stage)
+        V0, W = jnp.concatenate([v_s, v_r]), jnp.concatenate([w_s, w_r])
+        V = (V0[None] + z[:, None, None] * W[None]).reshape(-1, V0.shape[-1])
+        k = jnp.concatenate([k_s, k_r]) * model.spring_cos(stage) ** 2
+        k = (weight[:, None] * k[None]).reshape(-1)
+        d0 = jnp.tile(-jnp.concatenate([d_s, d_r]), self.face_points)
+        return CellRow(None, V, k, jnp.ones_like(k), d0, jnp.ones(k.shape, bool))
 
     def mesh_period(self):
         return self.base_pitch
@@ -182,10 +212,16 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
     def mesh_stiffness(self, model, stage, positions):
         k_s, k_r = stage.mesh_stiffnesses()
         p = (jnp.size(positions), stage.n_planets)
-        return jnp.broadcast_to(k_s, p), jnp.broadcast_to(k_r, p)
+        c2 = model.spring_cos(stage) ** 2
+        return jnp.broadcast_to(k_s * c2, p), jnp.broadcast_to(k_r * c2, p)
 
     def mesh_forces(self, forces):
-        return forces
+        return forces.reshape(forces.shape[:-1] + (self.face_points, -1)).sum(-2)
+
+    def face_positions(self, stage):
+        z, _ = self._gauss(stage)
+        n = 2 * stage.n_planets
+        return jnp.repeat(z, n), jnp.broadcast_to(stage.face_width, (n,))
 
 
 class ContactMeshes(AbstractPlanetaryMeshes):
@@ -288,23 +324,35 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         f_r = forces[..., n * c_s :].reshape(lead + (n, c_r)).sum(-1)
         return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
 
+    def face_positions(self, stage):
+        z = []
+        for mesh in (self.sun_mesh, self.ring_mesh):
+            across = mesh.cells(jnp.zeros_like(mesh.face_width)).z - 0.5 * mesh.face_width
+            z.append(jnp.tile(across.reshape(-1), stage.n_planets))
+        n = (stage.n_planets,)
+        b = jnp.concatenate([jnp.broadcast_to(m.face_width, n)
+                             for m in (self.sun_mesh, self.ring_mesh)])
+        return jnp.concatenate(z), b
+
     def cell_row(self, model, stage, x, offsets):
         p_b = self.sun_mesh.base_pitch
         t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
         t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
-        v_s, v_r = model.mesh_deflection_rows(stage)
+        # the transverse deflection at each cell's axial position (the cells' z runs along the
+        # stage axis from the face's side at z = 0): (V + (z - b/2) W) q
+        rows_s, rows_r = model.face_rows(stage)
         d_s, d_r = offsets
         parts = []
-        for mesh, mods, theta, v, d in (
-            (self.sun_mesh, self.sun_modifications, t_s, v_s, d_s),
-            (self.ring_mesh, self.ring_modifications, t_r, v_r, d_r),
+        for mesh, mods, theta, (v, w), d in (
+            (self.sun_mesh, self.sun_modifications, t_s, rows_s, d_s),
+            (self.ring_mesh, self.ring_modifications, t_r, rows_r, d_r),
         ):
             cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
                 theta
             )
             cb = jnp.cos(mesh.base_helix_angle)
-            shape = cells.s.shape  # (n_planets, n_lines, n_slices)
-            V = jnp.broadcast_to((cb * v)[:, None, None, :], shape + (v.shape[-1],))
+            across = cells.z[0] - 0.5 * mesh.face_width  # (n_lines, n_slices), every planet's
+            V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :])
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
@@ -338,12 +386,18 @@ class PlanetaryQuasiStatic(eqx.Module):
         sun_mesh_forces, ring_mesh_forces: transverse force on each planet's meshes (N,
             compression positive), (p, n_planets).
         sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
-            compression positive, the pin errors' offsets d included), (p, n_planets).
+            compression positive, the pin errors' offsets d included; mid-face, the 3D model's
+            normal deflection over cos beta_b), (p, n_planets).
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
         result: the contact solver's code at each position (0: converged), (p,).
         ring_deflection: the flexible ring's elastic displacement at each ring mesh along its
             force (m, relieving the mesh), (p, n_planets); zero for a rigid ring.
+        face_moments: the first moment of each mesh's transverse force across the face,
+            sum z F (N m; z the cells' axial positions from the mesh mid-plane, along the stage
+            axis), (p, 2N): sun meshes, then ring meshes; None where the meshes kind does not
+            place its cells across the face. face_widths: the meshes' face widths b (m), (2N,)
+            (None with it).
     """
 
     travel: Float[Array, " p"]
@@ -355,6 +409,21 @@ class PlanetaryQuasiStatic(eqx.Module):
     k_gamma: Float[Array, " p"]
     result: Array
     ring_deflection: Float[Array, "p n"] | None = None
+    face_moments: Float[Array, "p 2n"] | None = None
+    face_widths: Float[Array, " 2n"] | None = None
+
+    @property
+    def k_h_beta(self) -> Float[Array, " 2n"] | None:
+        """Each mesh's face load factor K_Hbeta (sun meshes, then ring meshes), (2N,), of its
+        mean line load distribution over the positions (a mesh period, or a hunting period:
+        the positions taken evenly), on ISO 6336-1's linear distribution
+        (:func:`face_load_factor`, from the mean force and mean first moment); None without
+        ``face_moments``."""
+        if self.face_moments is None:
+            return None
+        f = jnp.concatenate([self.sun_mesh_forces, self.ring_mesh_forces], axis=-1)
+        return face_load_factor(jnp.mean(f, axis=0), jnp.mean(self.face_moments, axis=0),
+                                self.face_widths)
 
     @property
     def k_gamma_max(self) -> Float[Array, ""]:
@@ -458,8 +527,9 @@ def planetary_quasi_static(
                                 "planetary_quasi_static")
     f = sun_load(model, stage, sun_torque, f_err)
     k_b = held_structure(model, stage, meshes, (d_s, d_r))
-    v_s, v_r = model.mesh_deflection_rows(stage)
+    (v_s, _), (v_r, _) = model.face_rows(stage)  # the transverse deflections at mid-face
     n = stage.n_planets
+    face = meshes.face_positions(stage)
 
     n_dof = k_b.shape[0]
 
@@ -472,11 +542,14 @@ def planetary_quasi_static(
         ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[n:])(jnp.zeros_like(row.k))
         K, fx, V = ring.augment(stage, k_b, f, row.V, ring_rows, x)
         sol = solve_contact(K, fx, V, row.k, row.length, row.delta0, row.mask, law)
-        forces = meshes.mesh_forces(sol.force_density * row.length)
+        cell_forces = sol.force_density * row.length
+        forces = meshes.mesh_forces(cell_forces)
         w = jnp.zeros(n, sol.x.dtype) if sol.x.shape[0] == n_dof else sol.x[n_dof:]
-        return sol.x[:n_dof], forces, sol.result, w, d_sx, d_rx
+        moments = (jnp.zeros(0, forces.dtype) if face is None
+                   else meshes.mesh_forces(cell_forces * face[0]))
+        return sol.x[:n_dof], forces, sol.result, w, d_sx, d_rx, moments
 
-    q, forces, result, w, d_s, d_r = jax.vmap(one)(as_float(positions))
+    q, forces, result, w, d_s, d_r, moments = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]
     return PlanetaryQuasiStatic(
         travel=as_float(positions),
@@ -488,4 +561,22 @@ def planetary_quasi_static(
         k_gamma=jnp.max(f_s, axis=-1) / jnp.mean(f_s, axis=-1),
         result=result,
         ring_deflection=w,
+        face_moments=None if face is None else moments,
+        face_widths=None if face is None else face[1],
     )
+
+
+def face_load_factor(forces, moments, widths):
+    """K_Hbeta (-) of a mesh from its force F and the first moment M = sum z F_c of its cells'
+    forces about the mid-plane (any consistent unit), across the face width b (m), on ISO
+    6336-1's face load factor (the line load linear across the face, the contact unilateral): the linear distribution of that F and M has the largest line load
+    F/b (1 + 6 |M| / (F b)) = F/b K_lin; where K_lin > 2 it would go negative at the other
+    end, and the contact shortens to a triangle of length L = b (4 - K_lin) / 2 with the same
+    F and M, whose K_Hbeta = 2 b / L = 4 / (4 - K_lin) (ISO 6336-1's two branches of
+    K_Hbeta: 1 + F_beta_y c / (2 F_m / b) and sqrt(2 F_beta_y c / (F_m / b)) for a mesh
+    misalignment F_beta_y on a spring bed c). 1 where F <= 0 or b = 0. Shapes broadcast, (..., 2N)."""
+    ok = (forces > 0) & (widths > 0)
+    safe = jnp.where(ok, forces * widths, 1.0)
+    k_lin = jnp.minimum(1.0 + 6.0 * jnp.abs(moments) / safe, 4.0 - 1e-12)
+    k = jnp.where(k_lin <= 2.0, k_lin, 4.0 / (4.0 - k_lin))
+    return jnp.where(ok, k, 1.0)

@@ -51,12 +51,19 @@ in-plane translations are the planar model's (per member ``G = [[0, -2m], [2m, 0
 ``I_d theta_y'' + (2 I_d - J) Omega theta_x' + (J - I_d) Omega^2 theta_y = M_y``: ``G = [[0,
 -(2 I_d - J)], [2 I_d - J, 0]]``, ``K_Omega = (I_d - J) I`` on the tilts (a planet's about
 e_zeta, e_eta, which turn with the carrier too). The gyroscopic moments of a member's spin
-relative to the carrier (J (omega - Omega)) are not modelled.
+relative to the carrier, omega_r = omega - Omega, add ``-J omega_r`` to the tilts' gyroscopic
+coefficient and ``J omega_r Omega`` to their stiffness (:meth:`SpatialPlanetary.spin_matrices`;
+omega_r is set by the mesh travel speed v: v / r_bs for the sun, -v / r_br for the ring, -v /
+r_bp for the planets, 0 for the carrier).
+
+In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) a cell
+of a mesh at the axial position z (from the mesh mid-plane) sees the normal deflection of the
+points rho + z e_z (:meth:`SpatialPlanetary.face_rows`): the mesh point stays the transverse
+pitch point, the cells spread the mesh over the face, so that a member's tilt moves the load
+across it and the helical normals' axial parts load the axial supports.
 """
 
 from __future__ import annotations
-
-from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -117,11 +124,12 @@ def _place(stage: PlanetaryStage, member, block):
     )
 
 
-def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side):
-    """(n, 2, n_dof): the deflection rows of the mesh of each planet with the central member
-    ``central`` (1 ring, 2 sun) at the two Gauss points across the face: its line of action at
-    the angle ``line`` (n,), ``sign_z`` the sign of the normal's axial part, ``angle`` the
-    pressure angle, ``side`` -1 (sun side of the planet) or +1 (ring side)."""
+def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, across):
+    """(n, k, n_dof): the deflection rows (along the tooth normal, m) of the mesh of each
+    planet with the central member ``central`` (1 ring, 2 sun) at the axial positions
+    ``across`` (k,) (m from the mid-plane, along e_z): its line of action at the angle ``line``
+    (n,), ``sign_z`` the sign of the normal's axial part, ``angle`` the pressure angle,
+    ``side`` -1 (sun side of the planet) or +1 (ring side)."""
     n = stage.n_planets
     psi = stage.planet_angles
     beta = stage.helix_angle
@@ -138,10 +146,9 @@ def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side):
     eye = jnp.broadcast_to(jnp.eye(3, dtype=psi.dtype), (n, 3, 3))
     planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)
     rows = []
-    for s in (-1.0, 1.0):
-        across = s * stage.face_width / (2.0 * jnp.sqrt(3.0)) * e_z
-        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + across
-        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + across
+    for s in across:
+        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + s * e_z
+        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + s * e_z
         a = jnp.einsum("ni,nij->nj", normal, _point_map(eye, rho_c, central_member.base_radius))
         b = jnp.einsum(
             "ni,nij->nj", normal, _point_map(planet_axes, rho_p, stage.planet.base_radius)
@@ -150,6 +157,15 @@ def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side):
             _place(stage, central, a[:, None]) - _place(stage, CENTRAL + jnp.arange(n), b[:, None])
         )
     return jnp.concatenate(rows, 1)
+
+
+def _both_meshes(stage: PlanetaryStage, across):
+    """(V_s, V_r), each (n, k, n_dof): both meshes' normal rows at the axial positions."""
+    psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
+    return (
+        _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0, across),
+        _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0, across),
+    )
 
 
 def _pin_rows(stage: PlanetaryStage):
@@ -191,11 +207,14 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     PLANET (multiplicity N - 3: they stay still). :meth:`central_rotations` are therefore the
     central members' z and u, :meth:`central_translations` their x, y and tilts.
 
-    Not yet in the contact solve nor the dynamics (``planetary_quasi_static``,
-    ``planetary_dynamics`` refuse it: their cells lie on the transverse lines of action).
+    In the contact solve and the dynamics (:func:`~jaxgear.planetary_quasi_static`,
+    :func:`~jaxgear.dynamics.planetary_dynamics`) each cell of a helical mesh sees the
+    deflection along the tooth normal at its own axial position across the face
+    (:meth:`face_rows`), so that a member's tilt moves the load across the face; a
+    :class:`~jaxgear.ConstantMeshes` spring is spread over the face by its ``face_points``
+    (2: the Gauss points of :meth:`stiffness_matrix`). The members' spin relative to the
+    carrier adds its gyroscopic moments (:meth:`spin_matrices`).
     """
-
-    contact_solve: ClassVar[bool] = False
 
     def reduction(self, stage):
         """T (3 (3 + N), 6 (3 + N)): the planar coordinates (x, y, u of each member) of q."""
@@ -239,10 +258,46 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     def mesh_rows_across(self, stage: PlanetaryStage):
         """(V_s, V_r), each (n_planets, 2, n_dof): the mesh deflections (m, compression
         positive) at the two Gauss points across the face, ``delta = V q``."""
-        psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
-        v_s = _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0)
-        v_r = _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0)
-        return v_s, v_r
+        gauss = stage.face_width / (2.0 * jnp.sqrt(3.0))
+        return _both_meshes(stage, (-gauss, gauss))
+
+    @eqx.filter_jit
+    def face_rows(self, stage):
+        """((V_s, W_s), (V_r, W_r)), each (n_planets, n_dof): the transverse-equivalent mesh
+        deflection at the axial position z (m from the mid-plane, along e_z) is ``(V + z W) q``:
+        the deflection along the tooth normal (at the transverse pitch point, module docstring)
+        divided by cos beta_b, so that a cell's normal approach is cos beta_b times it, as for
+        the planar model's transverse rows (``spring_cos``: cos beta_b)."""
+        mid, one = _both_meshes(stage, (0.0,)), _both_meshes(stage, (1.0,))
+        c = jnp.cos(stage.helix_angle)
+        return tuple((a[:, 0] / c, (b[:, 0] - a[:, 0]) / c) for a, b in zip(mid, one,
+                                                                            strict=True))
+
+    def spring_cos(self, stage):
+        """cos beta_b: the stage's mesh stiffnesses act along the tooth normal."""
+        return jnp.cos(stage.helix_angle)
+
+    def spin_matrices(self, stage):
+        """(G_v, K_v): the gyroscopic moments of each member's spin relative to the carrier,
+        omega_r = s v (per unit mesh speed v: s = 0 for the carrier, 1 / r_bs for the sun,
+        -1 / r_br for the ring and -1 / r_bp for each planet, the senses of the mesh travel):
+        per member ``G_v = [[0, J s], [-J s, 0]]`` and ``K_v = J s I`` on the two tilts. With
+        them the tilts of a member spinning at Omega + omega_r obey, in the frame turning at
+        Omega, ``I_d psi'' + i (2 I_d Omega - J (Omega + omega_r)) psi' + (k - I_d Omega^2 +
+        J (Omega + omega_r) Omega) psi = 0`` (psi = theta_x + i theta_y): the spinning disc's
+        forward and backward whirl seen from the carrier (module docstring)."""
+        spins = (0.0, -1.0 / stage.ring.base_radius, 1.0 / stage.sun.base_radius) + (
+            -1.0 / stage.planet.base_radius,
+        ) * stage.n_planets
+
+        def blocks(m, s):
+            j = m.polar_inertia * s
+            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
+            return z.at[3, 4].set(j).at[4, 3].set(-j), z.at[3, 3].set(j).at[4, 4].set(j)
+
+        g, k = zip(*(blocks(m, s) for m, s in zip(_members(stage), spins, strict=True)),
+                   strict=True)
+        return _block_diag(list(g)), _block_diag(list(k))
 
     def mesh_deflection_rows(self, stage):
         """(V_s, V_r), each (n_planets, n_dof): the mesh deflections at mid-face (m)."""

@@ -4,8 +4,11 @@ the mode structure Eritenel & Parker (2009) prove for equally spaced planets, th
 helical stage under a sun torque, the rigid-body motions of a free stage, and the stiffness as
 the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
 
+import dataclasses
 import json
 import tomllib
+
+import _planetary_stage as ps
 
 import numpy as np
 import pytest
@@ -409,12 +412,194 @@ def test_load_sharing_on_the_3d_model_at_beta_zero_is_the_planar_one():
     assert float(planar.k_gamma) > 1.05  # the errors do unshare the planets
 
 
-def test_the_contact_solve_refuses_the_3d_model_in_one_line():
-    with pytest.raises(ValueError, match="SpatialPlanetary: not in the contact solve") as err:
-        jg.planetary_quasi_static(
-            jg.SpatialPlanetary(), stage(), jg.ConstantMeshes(), 300.0, np.zeros(2)
-        )
-    assert "\n" not in str(err.value)
+# -- the contact solve (planetary_quasi_static) on the 3D model ---------------------------------
+
+
+def _with_supports(st, beta_b, axial, tilt):
+    """A stage of tests/_planetary_stage.py made 3D: base helix angle beta_b, the face width of
+    its gears, every member's axial (N/m) and tilting (N m/rad) support."""
+    rep = dataclasses.replace
+    kw = {"axial_stiffness": axial, "tilt_stiffness": tilt}
+    return rep(st, helix_angle=beta_b, face_width=ps.WIDTH, sun=rep(st.sun, **kw),
+               ring=rep(st.ring, **kw), carrier=rep(st.carrier, **kw),
+               planet=rep(st.planet, **kw))
+
+
+@pytest.fixture(scope="module")
+def helical():
+    """19/17/-53, 3 planets, beta = 15 deg, Uniform k0, 6 slices per contact line; the 3D stage
+    with stiff and with soft axial and tilting supports."""
+    geo = ps.geometry(**ps.SEQ, helix=np.radians(15.0))
+    st = ps.stage(geo, 3)
+    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=6)
+    beta_b = abs(float(geo.sun_planet.base_helix_angle))
+    return (geo, meshes, _with_supports(st, beta_b, ps.HELD, ps.HELD),
+            _with_supports(st, beta_b, 2e8, 2e5))
+
+
+def test_contact_solve_at_beta_zero_is_the_planar_one():
+    """Spur stage (19/17/-53, 2 slices per line so that the cells spread over the face), stiff
+    axial and tilting supports, a pin error: the 3D model's mesh forces, TE and K_gamma over the
+    period are the planar model's (the planes decouple; asserted 1e-9)."""
+    geo = ps.geometry(**ps.SEQ)
+    st = _with_supports(ps.stage(geo, 3), 0.0, ps.HELD, ps.HELD)
+    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
+    x = np.asarray(meshes.positions(4))
+    errors = np.array([15e-6, 0.0, -4e-6])
+    got = [jg.planetary_quasi_static(m, st, meshes, np.asarray(800.0), x, errors)
+           for m in (jg.PlanarPlanetary(), jg.SpatialPlanetary())]
+    planar, spatial = got
+    assert np.all(np.asarray(spatial.result) == 0)
+    for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma"):
+        a, b = np.asarray(getattr(spatial, name)), np.asarray(getattr(planar, name))
+        np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+    assert float(planar.k_gamma_max) > 1.05
+
+
+def test_constant_meshes_over_the_face_are_the_lumped_3d_stiffness():
+    """ConstantMeshes(face_points=2) on the 3D model, every mesh loaded, is load_sharing with
+    its stiffness matrix (the mesh spread over the face, Gauss points +-b/(2 sqrt 3)): the same
+    coordinates, and transverse mesh forces cos beta_b times its normal ones (1e-9)."""
+    errors = np.array([20e-6, 0.0, -5e-6, 0.0])
+    st = stage(n=4)
+    model = jg.SpatialPlanetary()
+    want = jg.load_sharing(model, st, 300.0, errors)
+    got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),
+                                    np.asarray(300.0), np.array([0.0, 1e-3]), errors)
+    c = np.cos(BETA)
+    for i in range(2):
+        # (the planets' rotation spring FLOATING_PLANET of the contact solve: ~1e-10 here)
+        np.testing.assert_allclose(got.sun_mesh_forces[i], c * want.sun_mesh_forces, rtol=1e-9)
+        np.testing.assert_allclose(got.ring_mesh_forces[i], c * want.ring_mesh_forces,
+                                   rtol=1e-9)
+        np.testing.assert_allclose(got.displacement[i], want.displacement, rtol=1e-9,
+                                   atol=1e-10 * np.abs(want.displacement).max())
+
+
+def _lines(s, g_alpha, p_b):
+    """Contact lines on [0, g_alpha] of a mesh whose lines sit at s + i p_b (any i)."""
+    s0 = np.mod(s, p_b)
+    return sum(((s0 + i * p_b >= 0.0) & (s0 + i * p_b <= g_alpha)).astype(float)
+               for i in range(-3, 8))
+
+
+def test_helical_k_gamma_with_one_pin_error_against_a_spring_model(helical):
+    """A 15 um tangential error on planet 1's pin, beta = 15 deg, stiff supports: a series-spring
+    model written here, each mesh's transverse stiffness cos^2 beta_b k0 sum l over the cells in
+    contact, the lines counted slice by slice on the helical layout (slice j's lines at s = x -
+    gamma p_b - z_j tan beta_b + i p_b), rigid centres and pins: F_j = k_j (u_s - e_j (cos a_s +
+    cos a_r)), k_j = k_sn k_rn / (k_sn + k_rn), sum F_j = T / r_bs. The 3D model's K_gamma within
+    1 % at every position."""
+    geo, meshes, stiff, _ = helical
+    sp, pr = geo.sun_planet, geo.planet_ring
+    p_b, beta_b = float(sp.base_pitch), float(stiff.helix_angle)
+    slices = 6
+    z = (np.arange(slices) + 0.5) * ps.WIDTH / slices
+    length = ps.WIDTH / slices / np.cos(beta_b)
+    g_s, g_r = np.asarray(meshes.sun_phases), np.asarray(meshes.ring_phases)
+    off = float(meshes.ring_offset)
+    errors = np.array([15e-6, 0.0, 0.0])
+    torque = 1000.0
+    c = np.cos(geo.sun_pressure_angle) + np.cos(geo.ring_pressure_angle)
+    r_s = float(sp.base_radii[0])
+    x = np.asarray(meshes.positions(6))
+    k_hand = []
+    for xi in x:
+        k = []
+        for shift, g_alpha in ((xi - g_s * p_b, sp.path_of_contact),
+                               (xi + off - g_r * p_b, pr.path_of_contact)):
+            n_lines = sum(_lines(shift - zj * np.tan(beta_b), float(g_alpha), p_b) for zj in z)
+            k.append(np.cos(beta_b) ** 2 * ps.K0 * length * n_lines)
+        k = k[0] * k[1] / (k[0] + k[1])
+        u_s = (torque / r_s + np.sum(k * errors * c)) / np.sum(k)
+        f = k * (u_s - errors * c)
+        assert f.min() > 0
+        k_hand.append(f.max() / f.mean())
+    k_hand = np.array(k_hand)
+    assert k_hand.max() > 1.1
+    got = jg.planetary_quasi_static(jg.SpatialPlanetary(), stiff, meshes, np.asarray(torque), x,
+                                    errors)
+    np.testing.assert_allclose(got.k_gamma, k_hand, rtol=1e-2)
+
+
+def test_helical_axial_force_balance_per_member(helical):
+    """Soft axial and tilting supports, beta = 15 deg, a pin error: on each member the helical
+    meshes' axial components (the transverse forces times tan beta_b, with the sign of the
+    normal's axial part: + on the sun, - on the ring) equal its bearing's reaction; each pin's
+    axial force, written from the carrier's point r_c e_zeta less the planet centre, equals the
+    planet's meshes' and the carrier's bearing takes the pins' sum (1e-9 of the axial load)."""
+    geo, meshes, _, soft = helical
+    model = jg.SpatialPlanetary()
+    x = np.asarray(meshes.positions(6))
+    got = jg.planetary_quasi_static(model, soft, meshes, np.asarray(1000.0), x,
+                                    np.array([15e-6, 0.0, 0.0]))
+    assert np.all(np.asarray(got.result) == 0)
+    tan = np.tan(float(soft.helix_angle))
+    names = model.dof_names(soft)
+    q = np.asarray(got.displacement)
+    f_s, f_r = np.asarray(got.sun_mesh_forces), np.asarray(got.ring_mesh_forces)
+    scale = tan * f_s.sum(1)
+    k_z = float(soft.sun.axial_stiffness)  # every member's (and pin's) the same here
+
+    def close(a, b):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * scale.max())
+
+    close(k_z * q[:, names.index("z_s")], -tan * f_s.sum(1))
+    close(k_z * q[:, names.index("z_r")], tan * f_r.sum(1))
+    pins = []
+    r_c = float(soft.carrier.base_radius)
+    for i, p in enumerate(np.asarray(soft.planet_angles)):
+        pin = k_z * (q[:, names.index("z_c")] + r_c * (np.sin(p) * q[:, names.index("theta_x_c")]
+                     - np.cos(p) * q[:, names.index("theta_y_c")]) - q[:, names.index(f"z_{i + 1}")])
+        close(pin, tan * (f_r[:, i] - f_s[:, i]))
+        pins.append(pin)
+    close(k_z * q[:, names.index("z_c")], -np.sum(pins, 0))
+    assert np.abs(q[:, names.index("z_s")]).max() > 1e-7  # a real axial motion
+
+
+def test_face_load_factor_of_a_tilted_mesh_against_the_iso_linear_distribution():
+    """ConstantMeshes(face_points=2) on the 3D model, soft tilting supports: each mesh's K_Hbeta
+    against ISO 6336-1's linear distribution written here, 1 + F_beta_y c / (2 F_m / b), with the
+    misalignment across the face F_beta_y = b |d delta / dz| from the members' relative tilt
+    (rigid-body kinematics: a point at rho + z e_z moves by d + w x (rho + z e_z), so the
+    normal deflection's slope is n . ((w_central - w_planet) x e_z)) and F_m / b = F_n / b,
+    c b = k (1e-9). The supports stiffened 10^4 times, K_Hbeta -> 1."""
+    st = stage(n=3, k_ring=6.5e8)
+    model = jg.SpatialPlanetary()
+    got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),
+                                    np.asarray(300.0), np.array([0.0]), np.zeros(3))
+    q = np.asarray(got.displacement[0])
+    b, beta = float(st.face_width), float(st.helix_angle)
+    ez = np.array([0.0, 0.0, 1.0])
+    names = model.dof_names(st)
+    k_s, k_r = (np.broadcast_to(np.asarray(v), (3,)) for v in st.mesh_stiffnesses())
+    want = []
+    for central, tag, sz, k, f_t in (("s", "s", 1.0, k_s, got.sun_mesh_forces[0]),
+                                     ("r", "r", -1.0, k_r, got.ring_mesh_forces[0])):
+        for i, p in enumerate(np.asarray(st.planet_angles)):
+            e1 = np.array([np.cos(p), np.sin(p), 0.0])
+            e2 = np.array([-np.sin(p), np.cos(p), 0.0])
+            line = p - A if central == "s" else p + A
+            n = np.array([-np.cos(beta) * np.sin(line), np.cos(beta) * np.cos(line),
+                          sz * np.sin(beta)])
+            w_c = np.array([q[names.index(f"theta_x_{tag}")], q[names.index(f"theta_y_{tag}")],
+                            0.0])
+            w_p = (q[names.index(f"theta_zeta_{i + 1}")] * e1
+                   + q[names.index(f"theta_eta_{i + 1}")] * e2)
+            slope = n @ np.cross(w_c - w_p, ez)  # the spin about e_z: no slope across the face
+            f_n = float(f_t[i]) / np.cos(beta)
+            want.append(1.0 + b * abs(slope) * k[i] / (2.0 * f_n))
+    want = np.array(want)
+    assert want.max() > 1.05 and want.max() < 2.0  # tilted, every Gauss point loaded
+    np.testing.assert_allclose(got.k_h_beta, want, rtol=1e-9)
+    stiff = dataclasses.replace(
+        st, **{m: dataclasses.replace(getattr(st, m),
+                                      tilt_stiffness=1e4 * getattr(st, m).tilt_stiffness,
+                                      axial_stiffness=1e4 * getattr(st, m).axial_stiffness)
+               for m in ("sun", "ring", "carrier", "planet")})
+    held = jg.planetary_quasi_static(model, stiff, jg.ConstantMeshes(face_points=2),
+                                     np.asarray(300.0), np.array([0.0]), np.zeros(3))
+    assert np.asarray(held.k_h_beta).max() < 1.0 + 0.01 * (want.max() - 1.0)
 
 
 def test_a_tilting_member_turning_with_the_carrier_whirls_as_a_spinning_disc():
@@ -459,3 +644,64 @@ def test_jaxgear_modes_lists_the_3d_modes_of_a_helical_stage(tmp_path):
     path.write_text(case_toml(_lumped_case()))
     assert main(["modes", str(path), "--out", str(tmp_path / "s")]) == 0
     assert "spatial" not in json.loads((tmp_path / "s" / "modes.json").read_text())
+
+
+def _helical_case(tmp_path):
+    data = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
+    for m in ("sun", "ring", "carrier"):
+        data["planetary"][m].update(axial_N_per_um=100.0, tilt_Nm_per_rad=1e6)
+    data["planetary"]["planet"].update(pin_axial_N_per_um=80.0, pin_tilt_Nm_per_rad=4e5)
+    data["planetary"]["tangential_pin_errors_um"] = [10.0, 0.0, 0.0]
+    return data
+
+
+@pytest.mark.slow  # ~20 s of CPU (modes, Campbell, three solves, two sweeps); properties: above
+def test_jaxgear_run_reports_the_3d_load_sharing_face_load_and_sweep(tmp_path, capsys):
+    """`jaxgear run` on a helical lumped case (lin-parker-1999 at beta = 20 deg, a 10 um pin
+    error, every axial and tilting support given): summary.json's load sharing holds the 3D
+    model's K_gamma beside the planar and torsional ones, `face_load` each mesh's K_Hbeta from
+    the 3D contact solve (ConstantMeshes at two Gauss points), whose K_gamma is the linear 3D
+    solve's (every mesh loaded: 1e-9), and the dynamic-factor sweep runs the 3D model; the
+    printed lines name them. Without the supports (a free screw motion along the helices) the
+    3D sections are skipped in words and the sweep stays planar; a spur case has neither."""
+    data = _helical_case(tmp_path)
+    path = tmp_path / "helical.toml"
+    path.write_text(case_toml(data))
+    assert main(["run", str(path), "--out", str(tmp_path / "h")]) == 0
+    text = capsys.readouterr().out
+    summary = json.loads((tmp_path / "h" / "summary.json").read_text())
+    ls = summary["load_sharing"]
+    assert set(ls) >= {"planar", "torsional", "spatial"}
+    assert ls["spatial"]["k_gamma"] > 1.01
+    fl = summary["face_load"]
+    assert fl["k_gamma"] == pytest.approx(ls["spatial"]["k_gamma"], rel=1e-9)
+    assert len(fl["k_h_beta"]) == 6 and 1.0 < fl["k_h_beta_max"] < 2.0
+    assert summary["dynamics"]["model"].startswith("3D")
+    assert ", 3D " in text and "K_Hβ" in text and "3D lumped" in text
+    bare = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
+    path.write_text(case_toml(bare))
+    assert main(["run", str(path), "--out", str(tmp_path / "b"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "b" / "summary.json").read_text())
+    assert "spatial" not in summary["load_sharing"] and "skipped" in summary["face_load"]
+    assert summary["dynamics"]["model"].startswith("planar")
+    path.write_text(case_toml(_lumped_case()))
+    assert main(["run", str(path), "--out", str(tmp_path / "s"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "s" / "summary.json").read_text())
+    assert "spatial" not in summary["load_sharing"] and "face_load" not in summary
+
+
+def test_the_run_takes_the_3d_model_only_where_its_supports_hold_the_stage(tmp_path):
+    """`jaxgear run`'s choice (cli.planetary.spatial_model): a helical stage with every axial and
+    tilting support given -> the 3D model; the same without them (each member free to screw
+    along its helix: the 3D stiffness of the load-sharing stage singular) or a spur stage ->
+    none (the run stays planar)."""
+    from jaxgear.cli.planetary import spatial_model
+
+    def choice(data):
+        case = jio.parse_train(data)
+        spec = case.form.spec
+        return spatial_model(spec, spec.stage(case))
+
+    assert isinstance(choice(_helical_case(tmp_path)), jg.SpatialPlanetary)
+    assert choice(_lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)) is None
+    assert choice(_lumped_case()) is None

@@ -1,6 +1,7 @@
 """``jaxgear run`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`): the speed
 ratio and member speeds (Willis), the load sharing among the planets with the pin errors
-(K_γ, both lumped models), the natural frequencies with their mode types, the mesh phases, the
+(K_γ, both lumped models, and for a helical stage the 3D model's with each mesh's face load
+factor K_Hβ), the natural frequencies with their mode types, the mesh phases, the
 Campbell diagram with the mesh orders in the carrier frame and, for a stage given by its gears,
 each of its two meshes' quasi-static TE and stiffness on the rigid mesh (the sun–planet and
 planet–ring meshes of one planet: the other planets' are the same up to phase).
@@ -47,6 +48,7 @@ __all__ = [
     "MESH_ORDERS",
     "MODELS",
     "campbell_section",
+    "face_load_section",
     "lowest_frequency",
     "mesh_sections",
     "mode_list",
@@ -60,7 +62,9 @@ __all__ = [
     "ring_operating_shape",
     "rating_section",
     "ring_section",
+    "sharing_models",
     "sharing_summary",
+    "spatial_model",
     "turn_sharing",
     "type_counts",
 ]
@@ -73,10 +77,39 @@ def mode_models(stage) -> dict:
     """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
     (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
     (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
-    The load sharing and the contact solves stay with :data:`MODELS`."""
+    Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
+    stage); the rating's K_γ stays planar."""
     if float(stage.helix_angle) == 0.0:
         return MODELS
     return {**MODELS, "spatial": SpatialPlanetary()}
+
+
+#: the smallest eigenvalue of the load-sharing stage's 3D stiffness, relative to its largest,
+#: below which a free motion is left (an axial or tilting support missing)
+HOLDS_3D = 1e-12
+
+
+def spatial_model(spec, stage) -> SpatialPlanetary | None:
+    """The 3D lumped model (:class:`jaxgear.SpatialPlanetary`) for a helical stage whose axial
+    and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
+    sharing_stage`: no free motion left, the smallest eigenvalue of its stiffness above
+    :data:`HOLDS_3D` times the largest; a member without an axial support screws freely along
+    its helix); None for a spur stage or one whose supports are not given (the case keys
+    ``axial_N_per_um``, ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``)."""
+    if float(stage.helix_angle) == 0.0:
+        return None
+    model = SpatialPlanetary()
+    lam = np.linalg.eigvalsh(np.asarray(model.stiffness_matrix(spec.sharing_stage(stage))))
+    return model if lam[0] > HOLDS_3D * lam[-1] else None
+
+
+def sharing_models(spec, stage) -> dict:
+    """The models of the run's load sharing, by name: :data:`MODELS`, and ``"spatial"`` where
+    :func:`spatial_model` gives it."""
+    model = spatial_model(spec, stage)
+    return MODELS if model is None else {**MODELS, "spatial": model}
+
+
 #: the mesh-frequency harmonics drawn on the Campbell diagram
 MESH_ORDERS = (1, 2, 3)
 #: a frequency below this share of the highest is a rigid mode's
@@ -120,9 +153,11 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
             },
         },
         "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
-        "load_sharing": sharing_summary(spec, stage, torques),
+        "load_sharing": sharing_summary(spec, stage, torques, sharing_models(spec, stage)),
         "mesh_phases": phases_summary(spec),
     }
+    if float(stage.helix_angle) != 0.0:  # a helical stage: the 3D model's face load
+        summary["face_load"] = face_load_section(spec, stage, torques)
     modes = {name: mode_list(model, stage) for name, model in mode_models(stage).items()}
     write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
     summary["modes"] = {
@@ -149,10 +184,17 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
 TURN_POSITIONS = 72
 
 
+#: the Gauss points across the face of a model's constant mesh springs, by its name in the
+#: outputs (:class:`jaxgear.ConstantMeshes` ``face_points``; 1 where not named): the 3D model
+#: spreads each mesh over the face as its stiffness matrix does
+FACE_POINTS = {"spatial": 2}
+
+
 def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
-    ({name: model kind}); with eccentricities (:class:`jaxgear.Eccentricities`, taken at the
-    mesh travel 0 in ``k_gamma``) also K_γ over a turn (:func:`turn_sharing`)."""
+    ({name: model kind}; the 3D model's mesh forces are along the tooth normal); with
+    eccentricities (:class:`jaxgear.Eccentricities`, taken at the mesh travel 0 in
+    ``k_gamma``) also K_γ over a turn (:func:`turn_sharing`)."""
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
@@ -169,19 +211,54 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
             "k_gamma": float(r.k_gamma),
         }
         if spec.eccentric:
-            out[name]["over_turn"] = turn_sharing(model, held, abs(torques["sun"]), e, eps)
+            out[name]["over_turn"] = turn_sharing(model, held, abs(torques["sun"]), e, eps,
+                                                  FACE_POINTS.get(name, 1))
     return out
 
 
-def turn_sharing(model, held, torque: float, e, eps) -> dict:
+def face_load_section(spec, stage, torques: dict) -> dict:
+    """A helical stage's face load (``summary.json``'s ``face_load``): the 3D model
+    (:class:`jaxgear.SpatialPlanetary`) solved with one unilateral spring per mesh spread over
+    the face (:class:`jaxgear.ConstantMeshes` at two Gauss points, the stage's mesh stiffness),
+    the stage of the load sharing, the sun's torque and the pin errors, at the mesh travel 0:
+    each mesh's transverse force, its face load factor K_Hβ (ISO 6336-1's linear distribution
+    across the face, from the members' tilts and the helical meshes' axial forces) and K_γ."""
+    model = spatial_model(spec, stage)
+    if model is None:
+        return {"skipped": "the 3D model's axial and tilting supports do not hold the stage: "
+                "give every member's axial_N_per_um and tilt_Nm_per_rad and the planets' "
+                "pin_axial_N_per_um and pin_tilt_Nm_per_rad"}
+    held = spec.sharing_stage(stage)
+    e = np.asarray(spec.tangential_pin_errors)
+    eps = np.asarray(spec.radial_pin_errors)
+    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=2),
+                               np.asarray(abs(torques["sun"])), np.zeros(1), e, eps)
+    n = spec.n_planets
+    k = np.asarray(q.k_h_beta)
+    return {
+        "model": "spatial (3D lumped), constant mesh springs at two Gauss points across the face",
+        "mesh_names": [f"sun-planet {i + 1}" for i in range(n)]
+        + [f"ring-planet {i + 1}" for i in range(n)],
+        "k_h_beta": k.tolist(),
+        "k_h_beta_max": float(k.max()),
+        "transverse_forces_N": np.concatenate(
+            [np.asarray(q.sun_mesh_forces[0]), np.asarray(q.ring_mesh_forces[0])]).tolist(),
+        "k_gamma": float(q.k_gamma[0]),
+        "face_width_m": float(stage.face_width),
+    }
+
+
+def turn_sharing(model, held, torque: float, e, eps, face_points: int = 1) -> dict:
     """K_γ at :data:`TURN_POSITIONS` positions over one turn of the ring relative to the carrier
     (one carrier turn when the ring is fixed; the sun, faster, turns z_r/z_s times relative to
     the carrier): the quasi-static solve with one unilateral spring per mesh
-    (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes`), the
-    eccentricities turning with their members."""
+    (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes` at
+    ``face_points`` Gauss points across the face), the eccentricities turning with their
+    members."""
     r_r = float(held.ring.base_radius)
     x = np.arange(TURN_POSITIONS) * 2 * math.pi * r_r / TURN_POSITIONS
-    q = planetary_quasi_static(model, held, ConstantMeshes(), np.asarray(torque), x, e, eps)
+    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=face_points),
+                               np.asarray(torque), x, e, eps)
     k = np.asarray(q.k_gamma)
     return {
         "mesh_travel_m": x.tolist(),
@@ -556,7 +633,9 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         f"the output turns {1 / p['speed_ratio']:.6g} × the input), "
         f"mesh frequency {p['mesh_frequency_carrier_frame_Hz']:.4g} Hz (carrier frame)",
         f"load sharing K_γ: planar {ls['planar']['k_gamma']:.4f}, torsional "
-        f"{ls['torsional']['k_gamma']:.4f} (pin errors "
+        f"{ls['torsional']['k_gamma']:.4f}"
+        + ("" if ls.get("spatial") is None else f", 3D {ls['spatial']['k_gamma']:.4f}")
+        + " (pin errors "
         f"{', '.join(f'{e * 1e6:g}' for e in ls['tangential_pin_errors_m'])} µm tangential)"
         + turn_words(ls),
         f"lowest natural frequency: planar {m['planar_lowest_Hz']:.5g} Hz, torsional "
@@ -564,6 +643,14 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
         + " (modes.json, campbell.png)",
     ]
+    fl = summary.get("face_load", {})
+    if fl.get("k_h_beta") is not None:
+        lines.append(
+            f"face load factor K_Hβ (3D model, the members' tilts and the helical axial forces): "
+            f"max {fl['k_h_beta_max']:.4f} ("
+            + ", ".join(f"{n} {k:.4f}" for n, k in zip(fl["mesh_names"], fl["k_h_beta"],
+                                                         strict=True)) + ")"
+        )
     r = summary.get("ring")
     if r is not None:
         low = ", ".join(f"ND{k} {f:.4g} Hz" for k, f in list(r["nd_frequencies_Hz"].items())[:4])

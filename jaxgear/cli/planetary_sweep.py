@@ -1,9 +1,10 @@
 """``jaxgear sweep`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`), and the
 sweep section of ``jaxgear run`` on one: :func:`jaxgear.dynamics.planetary_speed_sweep`'s
 Newmark in the carrier frame (planar model: Coriolis and centripetal terms at the carrier
-speed), every mesh at once, over the **input member's speeds** (rad/s, fixed frame, as the
-case's ``[operating] speed_rad_s``); the dynamic factor per mesh and the dynamic load sharing
-per speed, and the ring transducer's order spectrum at the worst speed.
+speed; for a helical stage whose axial and tilting supports hold it, the 3D model with the
+gyroscopic moments of the members' spin), every mesh at once, over the **input member's
+speeds** (rad/s, fixed frame, as the case's ``[operating] speed_rad_s``); the dynamic factor
+per mesh and the dynamic load sharing per speed, and the ring transducer's order spectrum at the worst speed.
 
 The dynamic stage is the load-sharing stage (:meth:`jaxgear.io.PlanetarySpec.sharing_stage`):
 the sun loaded by its torque |T_s| and free in rotation, the ring and the carrier held in
@@ -36,7 +37,7 @@ import jax.numpy as jnp
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import PlanarPlanetary, RigidRing, planetary_modes
+from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
 from ..dynamics import (
     PlanetaryRun,
     order_spectrum,
@@ -54,6 +55,7 @@ from .planetary import (
     campbell_section,
     planetary_files,
     planetary_lines,
+    spatial_model,
 )
 
 __all__ = [
@@ -85,8 +87,14 @@ RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "campbell.pn
                    "ring_spectrum.png")
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
-#: the dynamic model of the sweep
+#: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
+#: :func:`~jaxgear.cli.planetary.spatial_model`)
 MODEL = PlanarPlanetary()
+#: the sweep's model in words, by its kind
+MODEL_WORDS = {
+    PlanarPlanetary: "planar (carrier frame)",
+    SpatialPlanetary: "3D lumped (carrier frame, the spin's gyroscopic moments)",
+}
 
 
 def run_speeds(case) -> np.ndarray:
@@ -127,13 +135,23 @@ def planetary_run(
 
 
 def _dynamic_setup(form, case, slices=None):
-    """(spec, the dynamic stage, its meshes): ``slices`` per contact line (None: 1 for spur
-    gears, exact there, else the case's ``[mesh] slices``)."""
+    """(spec, the dynamic stage, its meshes, the model): ``slices`` per contact line (None: 1
+    for spur gears, exact there, else the case's ``[mesh] slices``); the model
+    :data:`MODEL`, or the 3D one for a helical stage whose supports hold it
+    (:func:`~jaxgear.cli.planetary.spatial_model`; its constant mesh springs, in the lumped
+    form, at two Gauss points across the face)."""
     spec = form.spec
-    stage = spec.sharing_stage(spec.stage(case))
+    full = spec.stage(case)
+    stage = spec.sharing_stage(full)
     spur = not case.pairs or float(case.pairs[0].helix_angle) == 0.0
     n = slices or (1 if spur else case.slices)
-    return spec, stage, spec.dynamic_meshes(case, n)
+    meshes = spec.dynamic_meshes(case, n)
+    model = spatial_model(spec, full)
+    if model is None:
+        return spec, stage, meshes, MODEL
+    if not case.pairs:  # the lumped form's springs spread over the face, as the 3D K's
+        meshes = ConstantMeshes(meshes.base_pitch, face_points=2)
+    return spec, stage, meshes, model
 
 
 def planetary_sweep(
@@ -153,7 +171,7 @@ def planetary_sweep(
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
     ``ring_spectrum`` (the ring transducer at the worst speed)."""
     t0 = time.perf_counter()
-    summary, (stage, meshes, run, ring) = sweep_summary(
+    summary, (stage, meshes, run, ring, model) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
         keep_periods=keep_periods, slices=slices,
     )
@@ -163,7 +181,7 @@ def planetary_sweep(
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
         form, case, stage, meshes, run, summary["speed_of_max_rad_s"],
-        os.path.join(out_dir, "ring_spectrum.png"), ring,
+        os.path.join(out_dir, "ring_spectrum.png"), ring, model,
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -189,20 +207,20 @@ def sweep_summary(
     frame), ``mesh_names`` (``sun-planet 1..N``, then ``ring-planet 1..N``),
     ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
-    load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (planar model at
+    load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
     the stage's constant mesh stiffness) and ``crossings``; ``ring_model`` (words) and ``ring``:
     the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
     maximum ``max_ring_deflection_m``."""
-    spec, stage, meshes = _dynamic_setup(form, case, slices)
+    spec, stage, meshes, model = _dynamic_setup(form, case, slices)
     ring = spec.ring_model.dynamic_ring()
     run = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
-    r = _sweep(stage, meshes, run, carrier, mesh_speed, ring)
+    r = _sweep(model, stage, meshes, run, carrier, mesh_speed, ring)
     df_s, df_r = (np.asarray(d) for d in r.dynamic_factors)
     per_mesh = np.concatenate([df_s, df_r], axis=1)  # (s, 2N)
     worst = per_mesh.max(axis=1)
@@ -210,13 +228,13 @@ def sweep_summary(
     i = int(np.nanargmax(worst))
     n = spec.n_planets
     names = [f"sun-planet {k + 1}" for k in range(n)] + [f"ring-planet {k + 1}" for k in range(n)]
-    f0 = np.asarray(planetary_modes(MODEL, stage).frequencies)
+    f0 = np.asarray(planetary_modes(model, stage).frequencies)
     natural = f0[f0 > RIGID_SHARE * max(float(f0.max()), 1.0)]
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
     summary = {
         "case": case.name,
         "kind": "planetary",
-        "model": "planar (carrier frame)",
+        "model": MODEL_WORDS[type(model)],
         "ring_model": spec.ring_model.words(),
         "meshes": type(meshes).__name__,
         "speed_of": f"input ({spec.input.name.lower()})",
@@ -257,16 +275,16 @@ def sweep_summary(
         "nominal T_s/(N r_bs) (pin errors included); k_gamma: the most loaded planet's sun-mesh "
         "force over the planets' mean, largest over the kept periods"
     )
-    return summary, (stage, meshes, run, ring)
+    return summary, (stage, meshes, run, ring, model)
 
 
-def _sweep(stage, meshes, run, carrier, mesh_speed, ring):
+def _sweep(model, stage, meshes, run, carrier, mesh_speed, ring):
     """:func:`planetary_speed_sweep` when the ring is fixed (its mesh speed r_br |Ω|), else the
     same run vmapped with the mesh speed given; ``ring`` the ring model."""
     if math.isclose(float(mesh_speed[0]), float(stage.ring.base_radius) * abs(carrier[0]),
                     rel_tol=1e-12):
-        return planetary_speed_sweep(MODEL, stage, meshes, run, jnp.asarray(carrier), ring=ring)
-    one = jax.vmap(lambda om, v: planetary_dynamics(MODEL, stage, meshes, run, om, v,
+        return planetary_speed_sweep(model, stage, meshes, run, jnp.asarray(carrier), ring=ring)
+    one = jax.vmap(lambda om, v: planetary_dynamics(model, stage, meshes, run, om, v,
                                                     ring=ring))
     return one(jnp.asarray(carrier), jnp.asarray(mesh_speed))
 
@@ -303,19 +321,19 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
         seen.add(k)
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
-    ax.set_title(f"{case.name}: dynamic factor per mesh (planar model, carrier frame, "
+    ax.set_title(f"{case.name}: dynamic factor per mesh ({summary['model']}, "
                  f"{summary['ring_model']})")
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
 
 
 def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
-                  ring=None) -> dict:
+                  ring=None, model=MODEL) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
     returns its keys: the mesh order's amplitude and the planet-pass sidebands'. ``ring``: the
-    sweep's ring model (None: rigid)."""
+    sweep's ring model (None: rigid); ``model`` its model kind."""
     spec = form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
@@ -330,7 +348,7 @@ def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
         tangential_pin_errors=run.tangential_pin_errors,
         radial_pin_errors=run.radial_pin_errors,
     )
-    d = planetary_dynamics(MODEL, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
+    d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
                            jnp.asarray(spec.mesh_speed(speed)),
                            ring=RigidRing() if ring is None else ring)
     theta = jnp.asarray(np.asarray(d.time) * rel)

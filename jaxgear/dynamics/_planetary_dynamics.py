@@ -1,12 +1,14 @@
 """Dynamics of a planetary stage in the carrier frame, every mesh at once (docs/planetary.md,
 "Dynamics in the carrier frame"): the one Newmark engine (:func:`jaxgear.dynamics.newmark`) on
 
-    M q'' + (C + Omega G) q' + (K_b - Omega^2 K_Omega) q + V^T P(V q - delta0) = f,
+    M q'' + (C + Omega G + v G_v) q' + (K_b - Omega^2 K_Omega + Omega v K_v) q
+        + V^T P(V q - delta0) = f,
 
 the 2N meshes' contact cells P (:class:`~jaxgear.ContactMeshes`: time-varying stiffness, loss
 of contact; or :class:`~jaxgear.ConstantMeshes`) at the mesh travel x = v t, the Coriolis and
-centripetal terms at the carrier speed Omega; the dynamic factor and dynamic load sharing per
-mesh; a speed sweep (``jax.vmap`` over the carrier speeds); the signal of a transducer fixed on
+centripetal terms at the carrier speed Omega (and, in the 3D model, the gyroscopic moments of
+the members' spin relative to the carrier, which v sets: ``model.spin_matrices``); the dynamic
+factor and dynamic load sharing per mesh; a speed sweep (``jax.vmap`` over the carrier speeds); the signal of a transducer fixed on
 the ring (the planet-pass modulation, McFadden & Smith 1985) and its order spectrum.
 """
 
@@ -150,10 +152,14 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     c = modal_damping(m, k_b + k_mean, run.damping_ratio)
     k_u, m_u, c_u = ring.dynamic_matrices(k_b.dtype, run.damping_ratio)
     n_dof, n_u = k_b.shape[0], k_u.shape[0]
+    # the members' spin relative to the carrier (its gyroscopic moments; zero but in the 3D
+    # model): v G_v q' and Omega v K_v q
+    g_v, k_v = model.spin_matrices(stage)
     system = LinearSystem(
-        K=_with_ring(k_b - omega**2 * model.centripetal_matrix(stage), k_u),
+        K=_with_ring(k_b - omega**2 * model.centripetal_matrix(stage) + omega * mesh_speed * k_v,
+                     k_u),
         M=_with_ring(m, m_u),
-        C=_with_ring(c + omega * model.gyroscopic_matrix(stage), c_u),
+        C=_with_ring(c + omega * model.gyroscopic_matrix(stage) + mesh_speed * g_v, c_u),
         F=jnp.concatenate([f, jnp.zeros(n_u, f.dtype)]),
     )
     # the ring meshes' transverse force per cell force (mesh_forces is linear), (n, c)
@@ -262,7 +268,10 @@ def planetary_dynamics(
 
     Args:
         model: the model kind (:class:`~jaxgear.PlanarPlanetary`: Coriolis and centripetal
-            terms; :class:`~jaxgear.TorsionalPlanetary`: none).
+            terms; :class:`~jaxgear.TorsionalPlanetary`: none;
+            :class:`~jaxgear.SpatialPlanetary`: the 3D model, its cells across the face, the
+            axial and tilting coordinates, and the gyroscopic moments of the members' spin
+            relative to the carrier at the mesh speed v).
         stage: the stage (ring or carrier held in rotation).
         meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
         run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
