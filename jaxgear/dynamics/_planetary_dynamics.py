@@ -191,8 +191,10 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             return row.V
         return jnp.zeros((row.V.shape[0], n_dof + n_u), row.V.dtype).at[:, row.idx].add(row.V)
 
+    load = _unbalance_load(model, stage, omega, mesh_speed, travel, n_u)
     row0 = cell_row(jnp.zeros_like(p_b))
-    static = solve_contact(system.K, system.F, full(row0), row0.k, row0.length, row0.delta0,
+    F0 = system.F if load is None else system.F + load(jnp.zeros_like(p_b))
+    static = solve_contact(system.K, F0, full(row0), row0.k, row0.length, row0.delta0,
                            row0.mask, law)
     zero = jnp.zeros_like(static.x)
     steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
@@ -204,7 +206,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     if basis is None:
         final, (X, forces, i, w) = newmark(system, dt, (static.x, zero, zero, *code), steps,
-                                           cells, record, keep_blocks=run.keep_periods)
+                                           cells, record, keep_blocks=run.keep_periods,
+                                           load=load)
     else:  # the ring's kept modes and the static correction of the others
         T_u, D_u, G_u = basis
         D = jax.scipy.linalg.block_diag(jnp.eye(n_dof, dtype=k_b.dtype), D_u)
@@ -217,7 +220,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         final, (X, forces, i, w) = newmark_modal(
             ModalSystem(Kr, Mr, Cr, D.T @ system.F, structure), dt,
             (q0, zq, zq, r0, zr, zr, *code), steps, cells, record,
-            keep_blocks=run.keep_periods)
+            keep_blocks=run.keep_periods, load=load)
     n = stage.n_planets
     return PlanetaryDynamics(
         time=i * dt,
@@ -229,6 +232,19 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         result=final[-2],  # (the state's result code, before the contact passes)
         ring_deflection=w,
     )
+
+
+def _unbalance_load(model, stage, omega, mesh_speed, travel, n_u):
+    """Step i ↦ the stage's mass unbalances' rotating forces (:class:`~jaxgear.Unbalances`)
+    on the coordinates (N; none on a flexible ring's), at the step's travel; None without."""
+    if stage.unbalances is None:
+        return None
+
+    def load(i):
+        f = stage.unbalances.load(model, stage, travel(i), omega, mesh_speed)
+        return jnp.concatenate([f, jnp.zeros(n_u, f.dtype)])
+
+    return load
 
 
 def _mesh_speed(stage, carrier_speed, mesh_speed):
