@@ -1,5 +1,5 @@
 """Runout and mass unbalance of a planetary stage's members (docs/planetary.md,
-"Eccentricities, planet runout and mass unbalance").
+"Eccentricities").
 
 :class:`Eccentricities`: each member's toothed centre stands off its axis of rotation (radial
 runout), in a direction that turns with the member; the meshes see it as offsets of their
@@ -16,16 +16,11 @@ omega = Omega + s v / r_b (s = +1 sun, -1 ring and planets, 0 carrier).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._util import as_float, check_real
-
-if TYPE_CHECKING:
-    from ._planetary import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = ["Eccentricities", "Unbalances"]
 
@@ -49,7 +44,7 @@ class Eccentricities(eqx.Module):
     """Eccentricities (radial runout) of the members: each member's toothed centre (the
     carrier's: the centre of its planet-pin circle) stands off its axis of rotation by an
     amplitude E (m) in a direction that turns with the member (docs/planetary.md,
-    "Eccentricities, planet runout and mass unbalance").
+    "Eccentricities").
 
     Conventions (the carrier frame of :class:`PlanetaryStage`): a central member's phase beta
     (rad) is the direction of the offset at the mesh travel x = 0, counter-clockwise from the
@@ -105,13 +100,13 @@ class Eccentricities(eqx.Module):
         check_per_planet("Eccentricities", "planet", self.planet, "m", n, lo=0.0)
         check_per_planet("Eccentricities", "planet_phase", self.planet_phase, "rad", n)
 
-    def pin_errors(self, stage: PlanetaryStage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
+    def pin_errors(self, stage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(tangential, radial): the carrier eccentricity as planet-pin errors (m, (n_planets,);
         along eta and zeta, as :func:`~jaxgear.load_sharing` takes them)."""
         a = self.carrier_phase - stage.planet_angles
         return self.carrier * jnp.sin(a), self.carrier * jnp.cos(a)
 
-    def mesh_offsets(self, stage: PlanetaryStage, travel) -> tuple[Float[Array, " n"], ...]:
+    def mesh_offsets(self, stage, travel) -> tuple[Float[Array, " n"], ...]:
         """(d_s, d_r): the sun's, the ring's and the planets' runouts as offsets of the
         sun-planet and ring-planet mesh deflections (m, compression positive, (n_planets,)) at
         the mesh travel ``travel`` (m, ``()``)."""
@@ -132,8 +127,8 @@ class Eccentricities(eqx.Module):
 class Unbalances(eqx.Module):
     """Mass unbalance of the members: each member's mass centre stands off its axis by e, an
     unbalance U = m e (kg m) that turns with the member; spinning at its absolute speed omega
-    it loads its axis with the rotating force U omega^2 (docs/planetary.md, "Eccentricities,
-    planet runout and mass unbalance"). In the carrier frame the mass centre's offset turns at
+    it loads its axis with the rotating force U omega^2 (docs/planetary.md, "Eccentricities").
+    In the carrier frame the mass centre's offset turns at
     omega - Omega, and the rotating frame's Coriolis and centripetal terms on it add up to
     exactly U omega^2 along the offset (m (d^2/dt^2 + 2 i Omega d/dt - Omega^2) e^(i (omega -
     Omega) t) = -m omega^2 e^(i (omega - Omega) t)), so the load is that force, turning with
@@ -180,7 +175,7 @@ class Unbalances(eqx.Module):
         check_per_planet("Unbalances", "planet", self.planet, "kg m", n, lo=0.0)
         check_per_planet("Unbalances", "planet_phase", self.planet_phase, "rad", n)
 
-    def planar_load(self, stage: PlanetaryStage, travel, carrier_speed, mesh_speed):
+    def planar_load(self, stage, travel, carrier_speed, mesh_speed):
         """The rotating forces (N) on the planar coordinates (3 (3 + N),; Lin & Parker's
         order) at the mesh travel ``travel`` (m), the carrier speed ``carrier_speed`` (rad/s)
         and the mesh travel speed ``mesh_speed`` (m/s)."""
@@ -200,7 +195,7 @@ class Unbalances(eqx.Module):
                              jnp.zeros_like(size_p)], axis=-1)
         return jnp.concatenate(parts + [planets.reshape(-1)])
 
-    def load(self, model: AbstractPlanetaryModel, stage: PlanetaryStage, travel,
+    def load(self, model, stage, travel,
              carrier_speed, mesh_speed) -> Float[Array, " n_dof"]:
         """:meth:`planar_load` on the model's coordinates (N, (n_dof,)): T^T f."""
         return model.reduction(stage).T @ self.planar_load(stage, travel, carrier_speed,
