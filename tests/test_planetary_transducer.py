@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-import fem_prep._ring_stations as rs
+import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
 from _planetary_stage import SEQ, geometry, stage
@@ -34,13 +34,13 @@ def ring_stations():
     """The embedded seq-test-ring's body (53 stations, a 9 mm rim) on a housing of 0.1 N/mm^3
     radially and 10 N/mm^3 tangentially and axially, condensed by fem_prep (a few seconds,
     then cached)."""
-    text = rs.embedded_ring_text("seq-test-ring")
+    text = fp.embedded_ring_text("seq-test-ring")
     head, tail = text.split("[support]")
     support = ('[support]\nkind = "elastic_foundation"\nradial_N_per_mm3 = 0.1\n'
                "tangential_N_per_mm3 = 10.0\naxial_N_per_mm3 = 10.0\n\n")
     body = parse_ring_body(head + support + "[mesh]" + tail.split("[mesh]")[1],
                            default_name="stiff-housed-test-ring", label="test ring")
-    return rs.ring_stations(body)
+    return fp.ring_stations(body)
 
 
 def _coupled_mode(st, ring, F, M, x, model=jg.PlanarPlanetary()):
