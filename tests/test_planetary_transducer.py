@@ -15,16 +15,17 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _planetary_stage import SEQ, geometry, stage
 
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
-from _planetary_stage import SEQ, geometry, stage
 from fem_prep.schema import parse_ring_body
 
 jax.config.update("jax_enable_x64", True)
 
 ZETA = 0.02
+PLANAR = jg.PlanarPlanetary()
 S = 24  # steps per mesh period (a multiple of the 3 planets)
 ORDER = 51  # |z_r - n| for n = 2, the mesh order's lower sideband
 
@@ -43,12 +44,13 @@ def ring_stations():
     return fp.ring_stations(body)
 
 
-def _coupled_mode(st, ring, F, M, x, model=jg.PlanarPlanetary()):
+def _coupled_mode(st, ring, F, M, x, model=None):
     """The coupled stage-and-ring mode that carries the ring's ND2 (written here): stiffness
     [[K_s, -V_r^T k E], [-E^T k V_r, F^-1 + E^T k E]] (the ring meshes' deflection V_r q - E u,
     E the station rows at the travel x), mass diag(M_s, M_u), damping diag(C_s, C_u) with
     C = M Phi diag(2 zeta omega) Phi^T M on the modes of each (the run's modal damping):
     (omega (rad/s), zeta) of the mode with the largest ring ND2 content."""
+    model = model or PLANAR
     Ms, Ks = np.asarray(model.mass_matrix(st)), np.asarray(model.stiffness_matrix(st))
     _, Vr = (np.asarray(v) for v in model.mesh_deflection_rows(st))
     k = np.asarray(st.mesh_stiffnesses()[1])
@@ -83,12 +85,12 @@ def _coupled_mode(st, ring, F, M, x, model=jg.PlanarPlanetary()):
     return w, float(-lam[j].real / w)
 
 
-def _probe_line(st, ring, geo, omega, periods=53 + 60, model=jg.PlanarPlanetary()):
+def _probe_line(st, ring, geo, omega, periods=53 + 60, model=None):
     """The order-ORDER amplitude (m) of a probe on the ring (station 0's radial displacement)
     over the last carrier turn (53 mesh periods), constant meshes, 1000 N m."""
     run = jd.PlanetaryRun(1000.0, steps_per_period=S, periods=periods, keep_periods=53,
                           damping_ratio=ZETA)
-    r = jd.planetary_dynamics(model, st,
+    r = jd.planetary_dynamics(model or PLANAR, st,
                               jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch), run,
                               jnp.asarray(omega), ring=ring)
     assert int(r.result) == 0
