@@ -254,3 +254,44 @@ def test_api_refusals():
         stage(4, jg.Eccentricities(planet=np.zeros(3)))
     with pytest.raises(ValueError, match=r"Unbalances: planet\[0\] = -1 kg m is out of range"):
         jg.Unbalances(planet=np.array([-1.0, 0, 0]))
+
+
+@pytest.mark.slow
+def test_unbalance_with_the_modal_ring_equals_the_station_model():
+    """The unbalance's load in newmark_modal (on the modes by D^T, on the static correction by
+    G) against the station model's coordinate solve (another formulation and solver of the same
+    equations): the embedded seq-test-ring with every mode (m = 2Z = 106), a sun and a planet
+    unbalance, 60 rad/s: the mesh forces and the coordinates to 1e-9 of the largest (forces
+    measured 9e-12); the unbalance moves the sun (x_s, y_s) against the run without it, by at least half the
+    rigid-support static estimate."""
+    import equinox as eqx
+    from _planetary_stage import SEQ, geometry, stage as gear_stage
+
+    import fem_prep as fp
+
+    geo = geometry(**SEQ)
+    st = eqx.tree_at(lambda s: s.unbalances, gear_stage(geo, 3, pin=3e8, sun_bearing=1e8),
+                     jg.Unbalances(sun=1e-4, planet=np.array([1e-5, 0, 0])),
+                     is_leaf=lambda x: x is None)
+    rings = fp.ring_stations(fp.load_ring_body("seq-test-ring"))
+    F, M = np.asarray(rings.compliance), np.asarray(rings.mass)
+    run = jd.PlanetaryRun(1000.0, steps_per_period=12, periods=6, keep_periods=2)
+    meshes = jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch)
+    modal = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+                                  ring=jg.CondensedRing(F, M, modes=106))
+    station = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+                                    ring=jg.CondensedRing(F, M))
+    assert int(modal.result) == 0 and int(station.result) == 0
+    want = np.asarray(station.sun_mesh_forces)
+    np.testing.assert_allclose(modal.sun_mesh_forces, want, rtol=0,
+                               atol=1e-9 * np.max(np.abs(want)))
+    # the unbalance shows: the forces differ from the run without it
+    plain = jd.planetary_dynamics(jg.PlanarPlanetary(), eqx.tree_at(
+        lambda s: s.unbalances, st, None), meshes, run, 60.0, ring=jg.CondensedRing(F, M))
+    X, X0 = np.asarray(station.displacement), np.asarray(plain.displacement)
+    np.testing.assert_allclose(modal.displacement, X, rtol=0, atol=1e-9 * np.max(np.abs(X)))
+    # the sun's whirl is at least of the order of U w_s^2 / (k_b + (N/2) k k / 2k), softer with
+    # the flexible ring and pins (rigid-support estimate written here)
+    w_s = 60.0 * (1 + float(st.ring.base_radius / st.sun.base_radius))
+    rigid = 1e-4 * w_s**2 / (1e8 + 1.5 * 5e8 / 2)
+    assert np.max(np.abs(X[:, 6:8] - X0[:, 6:8])) > 0.5 * rigid
