@@ -279,7 +279,8 @@ def planetary_dynamics(
     Args:
         model: the model kind (:class:`~jaxgear.PlanarPlanetary`: Coriolis and centripetal
             terms; :class:`~jaxgear.TorsionalPlanetary`: none).
-        stage: the stage (ring or carrier held in rotation).
+        stage: the stage (ring or carrier held in rotation); its ``unbalances``
+            (:class:`~jaxgear.Unbalances`) add their rotating forces at each step's travel.
         meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
         run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
         carrier_speed: Omega (rad/s), counter-clockwise positive.
