@@ -72,6 +72,7 @@ from ._planetary import (
     PlanetaryMember as PlanetaryMember,
     PlanetaryStage as PlanetaryStage,
     TorsionalPlanetary as TorsionalPlanetary,
+    Unbalances as Unbalances,
     check_assembly as check_assembly,
     speed_ratio as speed_ratio,
 )

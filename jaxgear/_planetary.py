@@ -41,6 +41,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from ._planetary_runout import Eccentricities, Unbalances
 from ._util import as_float, check_instance, check_integer, check_real
 
 __all__ = [
@@ -51,6 +52,7 @@ __all__ = [
     "PlanetaryMember",
     "PlanetaryStage",
     "TorsionalPlanetary",
+    "Unbalances",
     "check_assembly",
     "speed_ratio",
 ]
@@ -159,70 +161,6 @@ class PlanetaryMember(eqx.Module):
         return self.torsional_stiffness / self.base_radius**2
 
 
-class Eccentricities(eqx.Module):
-    """Eccentricities (radial runout) of the central members: each member's toothed centre
-    (the carrier's: the centre of its planet-pin circle) stands off its axis of rotation by an
-    amplitude E (m) in a direction that turns with the member (docs/planetary.md,
-    "Eccentricities").
-
-    Conventions (the carrier frame of :class:`PlanetaryStage`): the phase beta (rad) is the
-    direction of the offset at the mesh travel x = 0, counter-clockwise from the carrier's x
-    axis (through planet 1's centre when psi_1 = 0). The offset turns with its member relative
-    to the carrier: the sun's by +x / r_bs (the mesh travel's own definition), the ring's by
-    -x / r_br (it turns the other way), the carrier's not at all (its pins move with it). So a
-    sun eccentricity repeats once per turn of the sun relative to the carrier (z_s mesh
-    periods), a ring's once per turn of the ring relative to the carrier (z_r mesh periods;
-    with the ring fixed, once per carrier turn), and a carrier's is steady in the carrier frame:
-    it moves every pin by the same vector, the pin errors ``E sin(beta_c - psi_n)``
-    (tangential) and ``E cos(beta_c - psi_n)`` (radial). A sun's or ring's offset e = E (cos,
-    sin) of the angle above adds ``e . n`` to the compression of each of its meshes (n the
-    direction of the mesh's line of action in Lin & Parker's deflections: the rows of x, y in
-    :func:`mesh_rows`): ``E_s sin(beta_s + x / r_bs - psi_n + a_s)`` on the sun mesh of
-    planet n, ``E_r sin(beta_r - x / r_br - psi_n - a_r)`` on its ring mesh. The bearings act
-    on the axis (the model's x, y), the meshes on the toothed centre; the mass unbalance of an
-    eccentric member is not modelled.
-
-    Attributes:
-        sun, ring, carrier: the amplitudes E (m, >= 0), shape ``()``.
-        sun_phase, ring_phase, carrier_phase: the phases beta (rad), shape ``()``.
-
-    Raises:
-        ValueError: an amplitude < 0 or a value not finite (one line naming it).
-    """
-
-    sun: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    sun_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-
-    def __check_init__(self):
-        for name in ("sun", "ring", "carrier"):
-            check_real(name, getattr(self, name), "m", lo=0.0, shape=(), where="Eccentricities")
-            check_real(f"{name}_phase", getattr(self, f"{name}_phase"), "rad", shape=(),
-                       where="Eccentricities")
-
-    def pin_errors(self, stage: PlanetaryStage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
-        """(tangential, radial): the carrier eccentricity as planet-pin errors (m, (n_planets,);
-        along eta and zeta, as :func:`~jaxgear.load_sharing` takes them)."""
-        a = self.carrier_phase - stage.planet_angles
-        return self.carrier * jnp.sin(a), self.carrier * jnp.cos(a)
-
-    def mesh_offsets(self, stage: PlanetaryStage, travel) -> tuple[Float[Array, " n"], ...]:
-        """(d_s, d_r): the sun's and the ring's eccentricities as offsets of the sun-planet and
-        ring-planet mesh deflections (m, compression positive, (n_planets,)) at the mesh travel
-        ``travel`` (m, ``()``)."""
-        psi = stage.planet_angles
-        x = as_float(travel)
-        turn_s = self.sun_phase + x / stage.sun.base_radius
-        turn_r = self.ring_phase - x / stage.ring.base_radius
-        return (
-            self.sun * jnp.sin(turn_s - psi + stage.sun_pressure_angle),
-            self.ring * jnp.sin(turn_r - psi - stage.ring_pressure_angle),
-        )
-
-
 class PlanetaryStage(eqx.Module):
     """A simple planetary stage: sun, ring, carrier and N identical planets (the lumped form of
     Lin & Parker 1999; their Table 1 gives a worked example).
@@ -237,8 +175,10 @@ class PlanetaryStage(eqx.Module):
             sun-planet and ring-planet meshes, in (0, pi/2).
         sun_mesh_stiffness, ring_mesh_stiffness: constant mesh stiffness (N/m) on the line of
             action, shape ``()`` (every planet) or ``(n_planets,)``.
-        eccentricities: the central members' eccentricities (:class:`Eccentricities`; none by
-            default), used by the load sharing, the quasi-static solve and the dynamics.
+        eccentricities: the members' eccentricities (radial runout; :class:`Eccentricities`;
+            none by default), used by the load sharing, the quasi-static solve and the dynamics.
+        unbalances: the members' mass unbalances (:class:`Unbalances`), rotating forces in the
+            dynamics; None (default): none (the dynamics then carry no time-varying load).
         helix_angle: base helix angle beta_b of the planets (rad), shape ``()``, in
             (-pi/2, pi/2): positive for right-hand planets (then the sun is left-hand and the
             ring right-hand), 0 (default) for a spur stage. Only
@@ -273,6 +213,7 @@ class PlanetaryStage(eqx.Module):
     eccentricities: Eccentricities = eqx.field(default_factory=Eccentricities)
     helix_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     face_width: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    unbalances: Unbalances | None = None
 
     def __check_init__(self):
         check_real("helix_angle", self.helix_angle, "rad", lo=-np.pi / 2, hi=np.pi / 2,
@@ -280,6 +221,9 @@ class PlanetaryStage(eqx.Module):
         check_real("face_width", self.face_width, "m", lo=0.0, shape=(), where="PlanetaryStage")
         check_instance("eccentricities", self.eccentricities, Eccentricities,
                        "a jaxgear.Eccentricities", "PlanetaryStage")
+        if self.unbalances is not None:
+            check_instance("unbalances", self.unbalances, Unbalances, "a jaxgear.Unbalances",
+                           "PlanetaryStage")
         for name in ("sun", "ring", "carrier", "planet"):
             check_instance(
                 name,
@@ -298,6 +242,9 @@ class PlanetaryStage(eqx.Module):
         )
         if self.planet_angles.shape[0] < 1:
             raise ValueError("PlanetaryStage: planet_angles has 0 planets: allowed >= 1")
+        self.eccentricities.check_planets(self.planet_angles.shape[0])
+        if self.unbalances is not None:
+            self.unbalances.check_planets(self.planet_angles.shape[0])
         for name in ("sun_pressure_angle", "ring_pressure_angle"):
             check_real(
                 name,

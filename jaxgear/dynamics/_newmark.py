@@ -164,6 +164,7 @@ def newmark(
     *,
     checks: tuple = (None, None),
     keep_blocks: int | None = None,
+    load: Callable[[Any], Array] | None = None,
 ):
     """Integrate ``inputs``' steps by Newmark average acceleration with the contact loop.
 
@@ -188,6 +189,8 @@ def newmark(
             which the state crossed its bound.
         keep_blocks: record only the last ``keep_blocks`` blocks (the steady-state window: the
             blocks before integrate without records), or None: every block.
+        load: entry ↦ a load (n,) added to F at the step's end (a time-varying force: a
+            rotating unbalance), or None (F alone).
 
     Returns:
         (the final state, the records flattened over the recorded blocks, leading axis
@@ -203,7 +206,7 @@ def newmark(
         space = _Coordinates(K, M, C, F, dt, dofs)
     else:
         space = _Cells(K, M, C, F, dt, mesh_damping)
-    loop = _Loop(space, cells, *checks)
+    loop = _Loop(space, cells, *checks, load=load)
     return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
 
@@ -268,9 +271,9 @@ class _Loop:
     damping window), the records of the kept blocks and the ``block_check`` at each block's
     end."""
 
-    def __init__(self, space, cells, check, block_check):
+    def __init__(self, space, cells, check, block_check, load=None):
         self.space, self.cells_at, self.law = space, cells.at, cells.law
-        self.check, self.block_check = check, block_check
+        self.check, self.block_check, self.load = check, block_check, load
 
     def step(self, carry, entry, blk, ok, keep):
         """One step from ``carry`` (the state, its result code and most contact passes) at
@@ -278,7 +281,8 @@ class _Loop:
         ``keep(X, Ẋ, P, entry)`` or None)."""
         space = self.space
         *x, code, it = carry
-        xn, sol, P, inside = space.step(tuple(x), self.cells_at(entry), blk, self.law)
+        extra = None if self.load is None else self.load(entry)
+        xn, sol, P, inside = space.step(tuple(x), self.cells_at(entry), blk, self.law, extra)
         checked = None if self.check is None else self.check(xn[0], xn[1], P)
         new = _step_result(sol, space.finite(xn), checked)
         new = _first(new, jnp.where(inside & ok, 0, DynamicsResult.window_overflow))
@@ -341,10 +345,12 @@ class _Coordinates(_Space):
         self.Keff = K + self.a0 * M + self.a1 * C
         self.reduced = None if dofs is None else static_condensation(self.Keff, dofs)
 
-    def step(self, x, row, blk, law):
+    def step(self, x, row, blk, law, extra=None):
         X, Xd, Xdd = x
         v, u = self.known(X, Xd, Xdd)
         Feff = self.F + self.M @ u + self.C @ v
+        if extra is not None:
+            Feff = Feff + extra
         reduced = self.reduced
         if reduced is None:
             Ks, Fs, Vs = self.Keff, Feff, row.V
@@ -402,13 +408,15 @@ class _Cells(_Space):
         pos = jnp.full((self.n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
         return (U, B, c_m, project, GW, GU, Q, GUU, pos), ok
 
-    def step(self, x, row, blk, law):
+    def step(self, x, row, blk, law, extra=None):
         X, Xd, Xdd = x
         G, dtype = self.G, self.dtype
         v, u = self.known(X, Xd, Xdd)
         idx = row.idx
         inside = jnp.array(True)
         y = self.GF + self.GM @ u + self.GC @ v  # G F_eff
+        if extra is not None:
+            y = y + G @ extra
         if blk is None:
             Gw = G[idx[:, None], idx[None, :]]
             xs = y
@@ -477,6 +485,7 @@ def newmark_modal(
     *,
     checks: tuple = (None, None),
     keep_blocks: int | None = None,
+    load: Callable[[Any], Array] | None = None,
 ):
     """:func:`newmark` in a modal basis with the static correction of the cells: the same
     average-acceleration scheme and contact loop (the cells of each step solved exactly on their
@@ -505,7 +514,8 @@ def newmark_modal(
             or None.
         checks: (check, block_check): (q, q̇, P) ↦ a result code of the step, or None;
             (q, q̇) ↦ a result code at the end of each block (on the reduced state: the
-            kinetic energy is ½ q̇ᵀ M_r q̇), or None. keep_blocks: as :func:`newmark`.
+            kinetic energy is ½ q̇ᵀ M_r q̇), or None. keep_blocks, load: as :func:`newmark`
+            (the load on the coordinates: Dᵀ on the modes, G on the residual).
 
     Returns:
         As :func:`newmark`; the state as ``state``.
@@ -515,7 +525,7 @@ def newmark_modal(
     first = jax.tree.map(lambda x: x[0, 0], inputs)
     if jax.eval_shape(cells.at, first).idx is None:
         raise ValueError("the modal basis needs the cell space (a window of coordinates)")
-    loop = _Loop(_Modal(system, dt), cells, *checks)
+    loop = _Loop(_Modal(system, dt), cells, *checks, load=load)
     return _scan_blocks(loop.run_block, state, inputs, record, keep_blocks)
 
 
@@ -566,7 +576,7 @@ class _Modal(_Space):
         pos = jnp.full((self.n,), w, jnp.int32).at[U].set(jnp.arange(w, dtype=jnp.int32))
         return (U, B, c_m, DU, S, HUU, H2, Gp, Cp, pos), ok
 
-    def step(self, x, row, blk, law):
+    def step(self, x, row, blk, law, extra=None):
         q, qd, qdd, r, rd, rdd = x
         D, G, a0, a1, rho, dtype = self.D, self.G, self.a0, self.a1, self.rho, self.dtype
         v, u = self.known(q, qd, qdd)
@@ -574,6 +584,8 @@ class _Modal(_Space):
         r0 = self.xFr + (rho * self.beta_r) * vr  # the residual before the step's forces
         Gp, Cp = (self.Gr, self.Cr) if blk is None else blk[7:9]
         Feff = self.Fr + self.Mr @ u + Cp @ v
+        if extra is not None:  # a time-varying load: on the modes and the residual
+            Feff, r0 = Feff + D.T @ extra, r0 + rho * (G @ extra)
         qs = Gp @ Feff
         idx = row.idx
         inside = jnp.array(True)

@@ -197,8 +197,10 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             return row.V
         return jnp.zeros((row.V.shape[0], n_dof + n_u), row.V.dtype).at[:, row.idx].add(row.V)
 
+    load = _unbalance_load(model, stage, omega, mesh_speed, travel, n_u)
     row0 = cell_row(jnp.zeros_like(p_b))
-    static = solve_contact(system.K, system.F, full(row0), row0.k, row0.length, row0.delta0,
+    F0 = system.F if load is None else system.F + load(jnp.zeros_like(p_b))
+    static = solve_contact(system.K, F0, full(row0), row0.k, row0.length, row0.delta0,
                            row0.mask, law)
     zero = jnp.zeros_like(static.x)
     steps = (jnp.arange(B * S, dtype=p_b.dtype) + 1.0).reshape(B, S)
@@ -210,7 +212,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     if basis is None:
         final, (X, forces, i, w) = newmark(system, dt, (static.x, zero, zero, *code), steps,
-                                           cells, record, keep_blocks=run.keep_periods)
+                                           cells, record, keep_blocks=run.keep_periods,
+                                           load=load)
     else:  # the ring's kept modes and the static correction of the others
         T_u, D_u, G_u = basis
         D = jax.scipy.linalg.block_diag(jnp.eye(n_dof, dtype=k_b.dtype), D_u)
@@ -223,7 +226,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         final, (X, forces, i, w) = newmark_modal(
             ModalSystem(Kr, Mr, Cr, D.T @ system.F, structure), dt,
             (q0, zq, zq, r0, zr, zr, *code), steps, cells, record,
-            keep_blocks=run.keep_periods)
+            keep_blocks=run.keep_periods, load=load)
     n = stage.n_planets
     return PlanetaryDynamics(
         time=i * dt,
@@ -235,6 +238,19 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         result=final[-2],  # (the state's result code, before the contact passes)
         ring_deflection=w,
     )
+
+
+def _unbalance_load(model, stage, omega, mesh_speed, travel, n_u):
+    """Step i ↦ the stage's mass unbalances' rotating forces (:class:`~jaxgear.Unbalances`)
+    on the coordinates (N; none on a flexible ring's), at the step's travel; None without."""
+    if stage.unbalances is None:
+        return None
+
+    def load(i):
+        f = stage.unbalances.load(model, stage, travel(i), omega, mesh_speed)
+        return jnp.concatenate([f, jnp.zeros(n_u, f.dtype)])
+
+    return load
 
 
 def _mesh_speed(stage, carrier_speed, mesh_speed):
@@ -272,7 +288,8 @@ def planetary_dynamics(
             :class:`~jaxgear.SpatialPlanetary`: the 3D model, its cells across the face, the
             axial and tilting coordinates, and the gyroscopic moments of the members' spin
             relative to the carrier at the mesh speed v).
-        stage: the stage (ring or carrier held in rotation).
+        stage: the stage (ring or carrier held in rotation); its ``unbalances``
+            (:class:`~jaxgear.Unbalances`) add their rotating forces at each step's travel.
         meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
         run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
         carrier_speed: Omega (rad/s), counter-clockwise positive.

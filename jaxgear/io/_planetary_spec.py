@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from .._internal import PlanetaryGeometry
-from .._planetary import Central, Eccentricities, PlanetaryStage, speed_ratio
+from .._planetary import Central, Eccentricities, PlanetaryStage, Unbalances, speed_ratio
 from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
@@ -124,6 +124,10 @@ class PlanetarySpec:
             :class:`~jaxgear.io._planetary_ring_spec.RingModelSpec`); rigid by default.
         eccentricities: the sun's, ring's and carrier's eccentricities (m) and phases (rad),
             in the order of :class:`~jaxgear.Eccentricities`' fields; none by default.
+        planet_runout: (runouts (m), phases (rad)), one per planet (or empty: none), the
+            :class:`~jaxgear.Eccentricities`' ``planet`` and ``planet_phase``.
+        unbalances: the sun's, ring's, carrier's and planets' mass unbalances (kg m) and
+            phases (rad), in the order of :class:`~jaxgear.Unbalances`' fields; none by default.
         helix_angle: the planets' base helix angle beta_b (rad; positive: right-hand planets),
             for :class:`~jaxgear.SpatialPlanetary`; 0 (spur) by default.
         face_width: the meshes' face width (m), for :class:`~jaxgear.SpatialPlanetary`.
@@ -142,13 +146,20 @@ class PlanetarySpec:
     center_distance: float
     ring_model: RingModelSpec = dataclasses.field(default_factory=RigidRingSpec)
     eccentricities: tuple = (0.0,) * 6
+    planet_runout: tuple = ()
+    unbalances: tuple = (0.0,) * 8
     helix_angle: float = 0.0
     face_width: float = 0.0
 
     @property
     def eccentric(self) -> bool:
-        """Whether a central member has an eccentricity."""
-        return any(self.eccentricities[::2])
+        """Whether a member has an eccentricity (a planet: its runout)."""
+        return any(self.eccentricities[::2]) or any(self.planet_runout[0] if self.planet_runout else ())
+
+    @property
+    def unbalanced(self) -> bool:
+        """Whether a member has a mass unbalance."""
+        return any(np.any(np.asarray(u) != 0) for u in self.unbalances[::2])
 
     @property
     def n_planets(self) -> int:
@@ -207,7 +218,8 @@ class PlanetarySpec:
             ring_pressure_angle=self.pressure_angles[1],
             sun_mesh_stiffness=k_s,
             ring_mesh_stiffness=k_r,
-            eccentricities=Eccentricities(*self.eccentricities),
+            eccentricities=Eccentricities(*self.eccentricities, *self.planet_runout),
+            unbalances=Unbalances(*self.unbalances) if self.unbalanced else None,
             helix_angle=self.helix_angle,
             face_width=self.face_width,
         )

@@ -28,6 +28,10 @@ gears (ISO 6336-1 c_γα b, or the mean of the ``[mesh]`` stiffness model) or gi
     tangential_pin_errors_um = [20.0, 0.0, 0.0]   # optional, one per planet
     sun_eccentricity_um = 10.0         # optional: sun, ring, carrier (radial runout)
     sun_eccentricity_phase_deg = 0.0   # its direction at the start, from planet 1's
+    planet_runout_um = [12.0, 0.0, 0.0]          # optional, one per planet (radial runout)
+    planet_runout_phase_deg = [0.0, 0.0, 0.0]    # from each planet's radial direction
+    sun_unbalance_g_mm = 50.0          # optional: sun, ring, carrier (m e; the dynamics)
+    sun_unbalance_phase_deg = 0.0      # planet_unbalance_g_mm = [...]: one per planet
     [planetary.sun]                    # and ring, carrier, planet
     mass_kg = 1.0e3
     inertia_kg_m2 = 100.0              # or inertia_over_r2_kg (I/r_b², Lin & Parker's)
@@ -115,6 +119,9 @@ PLANETARY_KEYS = {
     "tangential_pin_errors_um",
     "radial_pin_errors_um",
     *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
+    "planet_runout_um",
+    "planet_runout_phase_deg",
+    *(f"{m}_unbalance{q}" for m in (*MEMBERS, "planet") for q in ("_g_mm", "_phase_deg")),
 }
 _BODY_KEYS = {
     "mass_kg",
@@ -324,6 +331,41 @@ def _eccentricities(t: dict) -> tuple:
     return tuple(out)
 
 
+def _per_planet(t: dict, key: str, n: int, scale: float, allowed: str) -> tuple:
+    """A list of one value per planet (0 by default), times ``scale`` (to SI)."""
+    v = sc.number_list(t, key, "planetary", [0.0] * n, length=n, allowed=allowed)
+    return tuple(x * scale for x in v)
+
+
+def _with_amplitude(t: dict, amp_key: str, phase_key: str) -> None:
+    if phase_key in t and amp_key not in t:
+        raise sc.fail("planetary", phase_key, f"given without {amp_key} (its amplitude)",
+                      t[phase_key])
+
+
+def _planet_runout(t: dict, n: int) -> tuple:
+    """``planet_runout_um`` and ``planet_runout_phase_deg``, one per planet, in SI (m, rad)."""
+    _with_amplitude(t, "planet_runout_um", "planet_runout_phase_deg")
+    return (_per_planet(t, "planet_runout_um", n, 1e-6, "[0, 1e+04]"),
+            _per_planet(t, "planet_runout_phase_deg", n, math.pi / 180, "[-360, 360]"))
+
+
+def _unbalances(t: dict, n: int) -> tuple:
+    """``<member>_unbalance_g_mm`` and ``<member>_unbalance_phase_deg`` of the sun, ring,
+    carrier (one value each) and the planets (one per planet), in SI as
+    :class:`jaxgear.Unbalances` takes them (kg m, rad)."""
+    out = []
+    for m in MEMBERS:
+        amp_key, phase_key = f"{m}_unbalance_g_mm", f"{m}_unbalance_phase_deg"
+        _with_amplitude(t, amp_key, phase_key)
+        out += [sc.number(t, amp_key, "planetary", 0.0, allowed="[0, 1e+09]") * 1e-6,
+                math.radians(sc.number(t, phase_key, "planetary", 0.0, allowed="[-360, 360]"))]
+    _with_amplitude(t, "planet_unbalance_g_mm", "planet_unbalance_phase_deg")
+    out += [_per_planet(t, "planet_unbalance_g_mm", n, 1e-6, "[0, 1e+09]"),
+            _per_planet(t, "planet_unbalance_phase_deg", n, math.pi / 180, "[-360, 360]")]
+    return tuple(out)
+
+
 def _refuse(t: dict, keys, why: str) -> None:
     for key in keys:
         if key in t:
@@ -456,6 +498,8 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         tangential_pin_errors=_pin_errors(t, "tangential_pin_errors_um", n),
         radial_pin_errors=_pin_errors(t, "radial_pin_errors_um", n),
         eccentricities=_eccentricities(t),
+        planet_runout=_planet_runout(t, n),
+        unbalances=_unbalances(t, n),
         center_distance=a_w,
         ring_model=ring_model,
         helix_angle=helix,
