@@ -562,7 +562,7 @@ def fillet_stress(
     """
     prof, (mesh, clamped, sm), size = _sector(geometry, size, rim_radius, n_teeth, form, support)
     _check_radii(prof, np.array([load_radius]), "fillet_stress")
-    sigma_t, mid, t, ib, U, (ends, centroid, loads, n) = _unit_loads(
+    sigma_t, mid, t, ib, U, (_ends, centroid, loads, n) = _unit_loads(
         prof, sm, mesh, clamped, np.array([float(load_radius)]), poisson_ratio
     )
     sigma_t = sigma_t[0]
