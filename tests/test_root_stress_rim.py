@@ -10,6 +10,7 @@ and unloads the tensile fillet (the comparison with Y_B: docs/rating.md)."""
 import math
 
 import pytest
+from _examples import load_example
 
 import fem_prep
 import jaxgear as jg
@@ -85,3 +86,17 @@ def test_ring_segment_refuses_bad_pitches():
     tooth, r = _tooth_and_load()
     with pytest.raises(ValueError, match=r"pitches = 41 is out of range, allowed < z = 40"):
         fem_prep.fillet_stress(tooth, r, rim_radius=0.03, support=fem_prep.RingSegment(41))
+
+
+@pytest.mark.slow
+def test_rim_example_writes_its_record_and_figure(tmp_path):
+    """examples/root_stress_rim.py at m_n/9 (about 20 s): its record and figure written, Y_B of
+    each row by ISO 6336-3's formula, the segments' ratios as the fast tests above state."""
+    out = load_example("root_stress_rim").main(tmp_path, size_per_module=1 / 9)
+    assert (tmp_path / "root_stress_rim.png").stat().st_size > 10_000
+    for row in out["rows"]:
+        x = row["s_R_over_h_t"]
+        assert row["Y_B"] == pytest.approx(1.0 if x >= 1.2 else 1.6 * math.log(2.242 / x))
+        assert 0.8 < row["ratio"]["3"] < 1.15 and 0.75 < row["ratio"]["5"] < 1.05, row
+    three = {row["s_R_over_h_t"]: row["ratio"]["3"] for row in out["rows"]}
+    assert three[0.8] < three[0.6] < three[0.5]
