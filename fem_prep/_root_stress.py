@@ -17,6 +17,13 @@ to the form circle). At a traction-free surface the stress is uniaxial along the
 tangential normal stress σ_t = tᵀσt and the largest principal stress σ₁ coincide there up to the
 recovery error (both are returned; their difference is a measure of it).
 
+The section (:class:`RootSection`): :class:`TransverseSection` (the member's own) or
+:class:`NormalSection` (ISO 6336-3's virtual spur gear of a helical member, z_n = z/(cos² β_b
+cos β), loaded at the same height on the tooth, per unit length along the helix). The rim
+(:class:`RimSupport`): :class:`ClampedBore` (the ring clamped at its inner radius, a solid
+blank) or :class:`RingSegment` (a segment of the ring of a few pitches, its sides clamped, its
+bore free: a thin rim that bends; docs/rating.md, "Root stress of a thin rim").
+
 Plane strain and plane stress give the same in-plane stresses for a body loaded by tractions
 alone; the clamp makes a small difference (Poisson's ratio enters), so ``poisson_ratio`` is an
 argument. Stresses are linear in the load: multiply by the load per unit face width (N/m).
