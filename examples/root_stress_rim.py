@@ -4,7 +4,8 @@ The plane FE tooth model (``fem_prep.fillet_stress``) of the 40-tooth gear of a 
 pair (m = 2 mm, α = 20°, ISO 53 profile A: ρ_fP = 0.38 m), loaded at its outer point of single
 pair contact, on a rim of thickness s_R = s_R/h_t × h_t below the root circle (h_t the tooth
 depth): a segment of the rim ring of 3 or 5 pitches, its sides clamped and its bore free
-(``fem_prep.RingSegment``). The ratio of its largest tensile fillet stress to that of the solid
+(``fem_prep.RingSegment``), or the whole ring on a web of 0.25 or 0.1 times the face width down
+to half the rim's inner radius (``fem_prep.WebbedRim``). The ratio of its largest tensile fillet stress to that of the solid
 blank (the ring clamped 3.5 m_n below the root circle, ``fem_prep.ClampedBore``) beside
 Y_B = 1.6 ln(2.242 h_t/s_R) (1 from s_R/h_t = 1.2 on; ISO 6336-3:2019).
 
@@ -31,7 +32,13 @@ import jaxgear as jg
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
 RATIOS = (0.5, 0.6, 0.8, 1.0, 1.2, 1.5, 2.0)
-PITCHES = (3, 5)
+#: the rim models: a segment with clamped sides and a free bore, or the ring on a web
+SUPPORTS = {
+    "segment of 3 pitches": fem_prep.RingSegment(3),
+    "segment of 5 pitches": fem_prep.RingSegment(5),
+    "web 0.25 b": fem_prep.WebbedRim(web=0.25),
+    "web 0.1 b": fem_prep.WebbedRim(web=0.1),
+}
 
 
 def y_b(ratio: float) -> float:
@@ -55,8 +62,11 @@ def tooth_and_load():
     return jg.tooth_geometry(pair, 1), math.hypot(roll, rb)
 
 
-def sweep(size_per_module: float = 1 / 18, ratios=RATIOS, pitches=PITCHES) -> dict:
-    """{"solid_Pa_per_N_m", "h_t_m", "rows": [{s_R/h_t, Y_B, pitches: {n: ratio}, angle_deg}]}."""
+def sweep(size_per_module: float = 1 / 18, ratios=RATIOS, supports=None) -> dict:
+    """{"solid_Pa_per_N_m", "h_t_m", "rows": [{s_R/h_t, Y_B, ratio: {model: σ/σ_solid},
+    tangent_angle_deg: {model: angle}}]} for the rim models ``supports`` (default
+    :data:`SUPPORTS`)."""
+    supports = SUPPORTS if supports is None else supports
     tooth, r = tooth_and_load()
     prof = fem_prep.tooth_profile(tooth)
     h_t = prof.tip_radius - prof.root_radius
@@ -65,16 +75,12 @@ def sweep(size_per_module: float = 1 / 18, ratios=RATIOS, pitches=PITCHES) -> di
     rows = []
     for x in ratios:
         row = {"s_R_over_h_t": x, "Y_B": y_b(x), "ratio": {}, "tangent_angle_deg": {}}
-        for n in pitches:
+        for name, support in supports.items():
             fs = fem_prep.fillet_stress(
-                tooth,
-                r,
-                size=size,
-                rim_radius=prof.root_radius - x * h_t,
-                support=fem_prep.RingSegment(n),
+                tooth, r, size=size, rim_radius=prof.root_radius - x * h_t, support=support
             )
-            row["ratio"][str(n)] = fs.peak / solid
-            row["tangent_angle_deg"][str(n)] = math.degrees(fs.peak_tangent_angle)
+            row["ratio"][name] = fs.peak / solid
+            row["tangent_angle_deg"][name] = math.degrees(fs.peak_tangent_angle)
         rows.append(row)
     return {"solid_Pa_per_N_m": solid, "h_t_m": h_t, "load_radius_m": r, "rows": rows}
 
@@ -101,9 +107,9 @@ def main(out_dir=None, size_per_module: float = 1 / 18) -> dict:
     x = np.array([row["s_R_over_h_t"] for row in record["rows"]])
     fine = np.linspace(0.5, 2.0, 200)
     ax.plot(fine, [y_b(v) for v in fine], "k-", label="ISO 6336-3 Y_B")
-    for n, style in zip(PITCHES, ("o-", "s--"), strict=True):
-        ratio = [row["ratio"][str(n)] for row in record["rows"]]
-        ax.plot(x, ratio, style, label=f"plane FE, rim segment of {n} pitches / solid blank")
+    for name, style in zip(SUPPORTS, ("o-", "s--", "^-", "v--"), strict=True):
+        ratio = [row["ratio"][name] for row in record["rows"]]
+        ax.plot(x, ratio, style, label=f"plane FE, {name} / solid blank")
     ax.axhline(1.0, color="0.6", lw=0.8)
     ax.set_xlabel("rim thickness s_R / tooth depth h_t")
     ax.set_ylabel("root stress / solid blank's")

@@ -105,6 +105,7 @@ from ._root_stress import (
     RingSegment as RingSegment,
     RootSection as RootSection,
     TransverseSection as TransverseSection,
+    WebbedRim as WebbedRim,
     fillet_influence as fillet_influence,
     fillet_stress as fillet_stress,
     plane_strain_stress as plane_strain_stress,

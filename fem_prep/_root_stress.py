@@ -42,6 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import skfem
+from skfem.helpers import ddot, eye, sym_grad, trace
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from ._solver import factorize
@@ -59,6 +60,7 @@ __all__ = [
     "RingSegment",
     "RootSection",
     "TransverseSection",
+    "WebbedRim",
     "fillet_influence",
     "fillet_stress",
     "plane_strain_stress",
@@ -125,12 +127,24 @@ class PlaneStrainStress:
         return np.stack([np.stack([sxx, sxy], -1), np.stack([sxy, syy], -1)], -2)
 
 
-def _solve(mesh, lam, mu, clamped, load_points, load_dirs):
+def _solve(mesh, lam, mu, clamped, load_points, load_dirs, thickness=None):
     """Quadratic plane-strain displacements (dof vectors, (n_dofs, n_loads)) under unit point
-    forces (one load case each, one factorisation)."""
-    ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
+    forces (one load case each, one factorisation). ``thickness``: None (uniform), or the
+    thickness ratio as a function of the radius (m) at the quadrature points."""
+    if thickness is None:
+        ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()))
+        K = skfem.asm(linear_elasticity(lam, mu), ib)
+    else:
+        ib = skfem.Basis(mesh, skfem.ElementVector(skfem.ElementTriP2()), intorder=6)
+
+        @skfem.BilinearForm
+        def form(u, v, w):
+            c = thickness(np.hypot(w.x[0], w.x[1]))
+            e = sym_grad(u)
+            return c * ddot(2 * mu * e + lam * eye(trace(e), 2), sym_grad(v))
+
+        K = form.assemble(ib)
     sb = skfem.Basis(mesh, skfem.ElementTriP2())
-    K = skfem.asm(linear_elasticity(lam, mu), ib)
     fixed = ib.get_dofs(clamped).all()
     free = np.setdiff1d(np.arange(ib.N), fixed)
     pl = sb.probes(np.asarray(load_points, dtype=float).T).tocoo()  # (n_loads, n_scalar)
@@ -346,8 +360,19 @@ class NormalSection(RootSection):
 
 
 class RimSupport(abc.ABC):
-    """How the plane model holds its rim: :class:`ClampedBore` (a solid blank) or
-    :class:`RingSegment` (a thin rim that bends)."""
+    """How the plane model holds its rim: :class:`ClampedBore` (a solid blank),
+    :class:`RingSegment` (a thin rim that bends between clamped cuts) or :class:`WebbedRim`
+    (a thin rim on a web)."""
+
+    def inner_radius(self, rim_radius: float) -> float:
+        """The radius (m) the mesh reaches down to, for a rim whose inner radius is
+        ``rim_radius``."""
+        return rim_radius
+
+    def thickness(self, rim_radius: float):
+        """None (a uniform thickness), or the thickness over the face width's as a function
+        of the radius (m)."""
+        return None
 
     @abc.abstractmethod
     def teeth(self, n_teeth: int) -> int:
@@ -409,19 +434,59 @@ class RingSegment(RimSupport):
         return mesh, lambda x: np.abs(np.abs(np.arctan2(x[0], x[1])) - half) < tol
 
 
+@dataclass(frozen=True)
+class WebbedRim(RimSupport):
+    """The whole rim ring on a web: below the rim's inner radius a web of ``web`` times the
+    face width (plane stiffness scaled by it) reaches down to ``bore`` times that radius,
+    where it is clamped (a central web seen in the transverse plane, in-plane: it holds the
+    rim's bore radially and tangentially all round, with a stiffness that falls with its
+    thickness). The web's edge is smeared over the elements that straddle the rim's inner
+    radius (each quadrature point takes the thickness of its radius).
+
+    Raises:
+        ValueError: ``web`` outside (0, 1] or ``bore`` outside (0.1, 1).
+    """
+
+    web: float = 0.25
+    bore: float = 0.5
+
+    def __post_init__(self):
+        if not 0 < self.web <= 1:
+            raise ValueError(f"WebbedRim: web = {self.web!r} is out of range, allowed (0, 1]")
+        if not 0.1 < self.bore < 1:
+            raise ValueError(f"WebbedRim: bore = {self.bore!r} is out of range, allowed (0.1, 1)")
+
+    def teeth(self, n_teeth):
+        return n_teeth
+
+    def inner_radius(self, rim_radius):
+        return self.bore * rim_radius
+
+    def hold(self, sm):
+        return ClampedBore().hold(sm)
+
+    def thickness(self, rim_radius):
+        web = self.web
+        return lambda r: np.where(r < rim_radius, web, 1.0)
+
+
 def _sector(geometry, size, rim_radius, n_teeth, form, support=None):
-    """The tooth profile, the meshed model ``(mesh, clamped, sm)`` and the element size."""
+    """The tooth profile, the meshed model ``(mesh, clamped, sm, thickness)`` and the element
+    size."""
     support = ClampedBore() if support is None else support
     if not isinstance(support, RimSupport):
-        raise ValueError(f"support = {support!r}; use fem_prep.ClampedBore() or RingSegment()")
+        raise ValueError(
+            f"support = {support!r}; use fem_prep.ClampedBore(), RingSegment() or WebbedRim()"
+        )
     prof = tooth_profile(geometry, form=form)
     mn = geometry.normal_module
     size = mn / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
     if rim_radius is None:
         rim_radius = max(prof.root_radius - DEFAULT_RIM_DEPTH * mn, 0.2 * prof.root_radius)
-    sm = mesh_sector(prof, rim_radius, size, n_teeth=support.teeth(n_teeth))
+    inner = support.inner_radius(rim_radius)
+    sm = mesh_sector(prof, inner, size, n_teeth=support.teeth(n_teeth))
     mesh, clamped = support.hold(sm)
-    return prof, (mesh, clamped, sm), size
+    return prof, (mesh, clamped, sm, support.thickness(rim_radius)), size
 
 
 def _check_radii(prof, radii, where):
@@ -467,14 +532,15 @@ class FilletInfluence:
         return np.max(self.sigma_t, axis=1)
 
 
-def _unit_loads(prof, sm, mesh, clamped, radii, poisson_ratio):
+def _unit_loads(prof, model, radii, poisson_ratio):
     """σ_t (n_loads, n) of unit loads at ``radii`` on the modelled tooth, the fillet edges'
     midpoints, tangents and the solve (one factorisation)."""
     rho = np.sqrt(radii**2 - prof.base_radius**2)
     _c, n, _m = _load_geometry(prof, rho)
+    mesh, clamped, sm, thickness = model
     loads = _on_flank(sm.flank, radii, 1e-9 * sm.size)
     lam, mu = lame_parameters(1.0, poisson_ratio)
-    ib, U = _solve(mesh, lam, mu, clamped, loads, n)
+    ib, U = _solve(mesh, lam, mu, clamped, loads, n, thickness)
     ends, mid, centroid = _fillet_edges(mesh, sm, prof)
     sigma_t, t = _surface_stress(mesh, ib, U, ends, poisson_ratio)
     return sigma_t, mid, t, ib, U, (ends, centroid, loads, n)
@@ -512,9 +578,9 @@ def fillet_influence(
     radii = np.sort(np.atleast_1d(np.asarray(load_radii, dtype=float)))
     _check_radii(tooth_profile(geometry, form=form), radii, "fillet_influence")
     model = section.tooth(geometry)
-    prof, (mesh, clamped, sm), size = _sector(model, size, rim_radius, n_teeth, form, support)
+    prof, fe, size = _sector(model, size, rim_radius, n_teeth, form, support)
     on_model = np.clip(section.radius(geometry, radii), prof.form_radius, prof.tip_radius)
-    sigma_t, mid, t, ib, _u, _rest = _unit_loads(prof, sm, mesh, clamped, on_model, poisson_ratio)
+    sigma_t, mid, t, ib, _u, _rest = _unit_loads(prof, fe, on_model, poisson_ratio)
     base = tooth_profile(geometry, form=form).base_radius
     return FilletInfluence(
         load_radius=radii,
@@ -556,8 +622,9 @@ def fillet_stress(
         form: the fillet (:class:`fem_prep.TrochoidFillet`,
             the default, or :class:`fem_prep.CircularFillet`).
         support: how the rim is held: :class:`ClampedBore` (the default: the ring clamped at
-            ``rim_radius``) or :class:`RingSegment` (a segment of the ring, its sides clamped,
-            its bore free: a thin rim that bends; ``n_teeth`` is then its ``pitches``).
+            ``rim_radius``), :class:`RingSegment` (a segment of the ring, its sides clamped,
+            its bore free: a thin rim that bends; ``n_teeth`` is then its ``pitches``) or
+            :class:`WebbedRim` (the ring on a web below ``rim_radius``, clamped at its bore).
 
     Returns:
         :class:`FilletStress`, stresses in Pa per N/m of normal load (per unit face width):
@@ -567,11 +634,12 @@ def fillet_stress(
         ValueError: ``load_radius`` outside the involute [r_F, r_a], or a bad ``size``,
             ``rim_radius``, ``n_teeth``, ``support`` (named, with the allowed range).
     """
-    prof, (mesh, clamped, sm), size = _sector(geometry, size, rim_radius, n_teeth, form, support)
+    prof, fe, size = _sector(geometry, size, rim_radius, n_teeth, form, support)
     _check_radii(prof, np.array([load_radius]), "fillet_stress")
     sigma_t, mid, t, ib, U, (_ends, centroid, loads, n) = _unit_loads(
-        prof, sm, mesh, clamped, np.array([float(load_radius)]), poisson_ratio
+        prof, fe, np.array([float(load_radius)]), poisson_ratio
     )
+    mesh = fe[0]
     sigma_t = sigma_t[0]
     lam, mu = lame_parameters(1.0, poisson_ratio)
     vertex = _vertex_stress(mesh, U[:, 0], lam, mu)
