@@ -96,9 +96,16 @@ from ._ring_stations import (
     ring_stations as ring_stations,
 )
 from ._root_stress import (
+    ClampedBore as ClampedBore,
     FilletInfluence as FilletInfluence,
     FilletStress as FilletStress,
+    NormalSection as NormalSection,
     PlaneStrainStress as PlaneStrainStress,
+    RimSupport as RimSupport,
+    RingSegment as RingSegment,
+    RootSection as RootSection,
+    TransverseSection as TransverseSection,
+    WebbedRim as WebbedRim,
     fillet_influence as fillet_influence,
     fillet_stress as fillet_stress,
     plane_strain_stress as plane_strain_stress,

@@ -67,7 +67,7 @@ __all__ = [
     "tooth_compliance",
 ]
 
-TOOTH_FE_VERSION = 1
+TOOTH_FE_VERSION = 2  # 2: equal diagonals split one way (the mesh no longer flips with rounding)
 DEFAULT_ELEMENTS_PER_MODULE = 6.0  # default element size m_n / 6 at the teeth
 DEFAULT_N_TEETH = 5
 DEFAULT_N_ROLL = 33
@@ -267,7 +267,7 @@ def mesh_sector(
     # split along the shorter diagonal, counter-clockwise triangles
     d02 = np.linalg.norm(p[q[:, 0]] - p[q[:, 2]], axis=1)
     d13 = np.linalg.norm(p[q[:, 1]] - p[q[:, 3]], axis=1)
-    use02 = d02 <= d13
+    use02 = d02 <= d13 * (1 + 1e-9)  # equal diagonals (polar cells): 02, whatever the rounding
     t = np.concatenate(
         [
             np.where(use02[:, None], q[:, [0, 1, 2]], q[:, [0, 1, 3]]),

@@ -60,7 +60,8 @@ class ToothGeometry:
     place that builds it from a :class:`jaxgear.GearPair`.
 
     Attributes:
-        teeth: z (integer >= 5).
+        teeth: z (integer >= 5; a real number >= 5 with ``helix_angle`` 0 for the virtual spur
+            gear of a helical one in its normal section, :meth:`virtual_spur`).
         normal_module: m_n (m), > 0.
         normal_pressure_angle: α_n (rad), in (0, 45°).
         helix_angle: β (rad), in [0, 45°); the transverse rack is used (exact, see module doc).
@@ -74,7 +75,7 @@ class ToothGeometry:
         ValueError: a parameter out of range, naming it, its value and the allowed range.
     """
 
-    teeth: int
+    teeth: int | float
     normal_module: float
     normal_pressure_angle: float
     helix_angle: float = 0.0
@@ -85,7 +86,9 @@ class ToothGeometry:
 
     def __post_init__(self):
         z = self.teeth
-        _check("teeth", z, isinstance(z, (int, np.integer)) and z >= 5, "an integer >= 5")
+        integer = isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer())
+        virtual = isinstance(z, float) and math.isfinite(z) and self.helix_angle == 0
+        _check("teeth", z, (integer or virtual) and z >= 5, "an integer >= 5")
         mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
         _check("normal_module", mn, mn > 0, "> 0")
         _check("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg in rad")
@@ -106,7 +109,29 @@ class ToothGeometry:
             "fillet_radius_coeff",
         ):
             object.__setattr__(self, name, float(getattr(self, name)))
-        object.__setattr__(self, "teeth", int(z))
+        object.__setattr__(self, "teeth", int(z) if integer else float(z))
+
+    def virtual_spur(self) -> ToothGeometry:
+        """The virtual spur gear of ISO 6336-3 method B in the normal section (ISO 6336-3:2019
+        (6.2)): z_n = z/(cos² β_b cos β), the normal module, pressure angle, profile shift and
+        rack coefficients, helix angle 0; itself for a spur gear. Its radii differ from the
+        transverse ones by the same amount, r_n − r = (z_n m_n − z m_t)/2, at the root, the
+        reference and the tip (ISO's d_an = d_n + d_a − d): heights on the tooth are kept."""
+        if self.helix_angle == 0:
+            return self
+        beta = self.helix_angle
+        beta_b = math.asin(math.sin(beta) * math.cos(self.normal_pressure_angle))
+        zn = self.teeth / (math.cos(beta_b) ** 2 * math.cos(beta))
+        return ToothGeometry(
+            float(zn),
+            self.normal_module,
+            self.normal_pressure_angle,
+            0.0,
+            self.profile_shift,
+            self.addendum_coeff,
+            self.dedendum_coeff,
+            self.fillet_radius_coeff,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,7 +158,7 @@ class ToothForm:
     root junction to form point, both included) for :meth:`half_thickness`.
     """
 
-    teeth: int
+    teeth: int | float
     root_radius: float
     tip_radius: float
     base_radius: float
@@ -344,7 +369,7 @@ def generate_tooth(
     segments.setflags(write=False)
     fillet.setflags(write=False)
     return ToothForm(
-        teeth=int(z),
+        teeth=z,
         root_radius=rf,
         tip_radius=ra,
         base_radius=rb,

@@ -7,7 +7,11 @@ transverse component of its normal load per unit face width is the cell's line l
 w/cos β_b of normal load per unit face width (the cell's contact length is (b/N)/cos β_b), times
 cos β_b for the transverse part. The fillet of that tooth in that slice then carries
 w · g(ρ), g(ρ) the largest fillet surface stress per unit load at roll distance ρ (Pa per N/m),
-interpolated linearly between the table's radii. Slices are independent (plane strain per
+interpolated linearly between the table's radii. For a helical member the table is that of ISO
+6336-3's normal section (``fillet_influence(..., section=fem_prep.NormalSection())``, what
+``jaxgear run`` uses): the virtual spur tooth loaded at the cell's height on the tooth, with
+w cos β/cos β_b per unit length along the helix folded into g, so the map is w · g(ρ) still
+(docs/rating.md, "Helical teeth in the normal section"). Slices are independent (plane strain per
 slice, as the thin-slice mesh stiffness): no coupling across the face width, and the load of a
 neighbouring tooth is not superposed on this tooth's fillet. Pure ``jax.numpy``: differentiable
 with respect to the loads, for quasi-static (:class:`jaxgear.MeshResult`) and dynamic cell loads

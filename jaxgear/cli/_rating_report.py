@@ -556,8 +556,9 @@ def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table:
 #: rating page of the documentation)
 ROOT_STRESS_RADII = 9
 ROOT_STRESS = (
-    "plane FE tooth (fem_prep.fillet_influence, m_n/18; transverse section) × the rigid mesh's "
-    "quasi-static cell loads (exact contact, case modifications), largest over the passage"
+    "plane FE tooth (fem_prep.fillet_influence, m_n/18; ISO's normal section: the virtual spur "
+    "tooth of a helical gear, each load at its height) × the rigid mesh's quasi-static cell "
+    "loads (exact contact, case modifications), largest over the passage"
 )
 
 

@@ -385,7 +385,8 @@ def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonic
 
 def root_stress_plot(path: str, maps, title: str) -> None:
     """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
-    line of action and the face width, side by side, saved to ``path``."""
+    line of action and the face width, side by side, each map's largest stress marked, saved to
+    ``path``."""
     fig = Figure(figsize=(9, 3.8), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, 2, sharey=True)
@@ -393,8 +394,11 @@ def root_stress_plot(path: str, maps, title: str) -> None:
         m = np.asarray(rmap.mask)
         s = np.asarray(rmap.cell_s)[m] * 1e3
         z = np.asarray(rmap.cell_z)[m] * 1e3
-        sc = ax.scatter(s, z, c=np.asarray(rmap.stress)[m] / 1e6, s=6, cmap="viridis")
-        ax.set_title(f"{tag} root stress (MPa)")
+        stress = np.asarray(rmap.stress)[m] / 1e6
+        sc = ax.scatter(s, z, c=stress, s=6, cmap="viridis")
+        k = int(np.argmax(stress))
+        ax.plot(s[k], z[k], "r*", ms=10)
+        ax.set_title(f"{tag} root stress (MPa), largest {stress[k]:.1f} (★)")
         ax.set_xlabel("s of the load along the line of action (mm)")
         fig.colorbar(sc, ax=ax)
     axes[0].set_ylabel("z across the face (mm)")
