@@ -102,7 +102,7 @@ class CompiledQuasiStatic(eqx.Module):
         x = jnp.asarray(np.concatenate(flat) if flat else np.zeros(0), self.design0.dtype)
         fixed = jax.tree_util.tree_leaves(self.modifications(x))
         if self._free is not None and not all(
-            np.array_equal(a, b) for a, b in zip(fixed, leaves, strict=True)
+            np.array_equal(a, b, equal_nan=True) for a, b in zip(fixed, leaves, strict=True)
         ):
             raise ValueError(
                 f"{_WHERE}: modifications differ from the template in a leaf that is not free: "
@@ -125,6 +125,26 @@ class CompiledQuasiStatic(eqx.Module):
         """
         return self._recompile(free)
 
+    def with_hoisting(self, max_bytes: int) -> CompiledQuasiStatic:
+        """The same solve with at most ``max_bytes`` bytes kept between calls for the part of
+        the program that depends on neither the design nor the torque (its outputs, computed
+        once at the first call; default 256 MiB). A larger part, or ``max_bytes = 0``, is
+        computed at every call instead: the same results, slower calls, less memory held. A new
+        program, compiled at its first call.
+
+        Raises:
+            ValueError: ``max_bytes`` not an integer >= 0 (one line).
+        """
+        if (
+            isinstance(max_bytes, bool)
+            or not isinstance(max_bytes, int | np.integer)
+            or max_bytes < 0
+        ):
+            raise ValueError(
+                f"{_WHERE}: max_bytes = {max_bytes!r}: allowed an integer >= 0 (bytes)"
+            )
+        return self._recompile(self._free, int(max_bytes))
+
     def modifications(self, design: Float[Array, " D"]) -> Modifications:
         """The :class:`Modifications` of a design vector ``(D,)`` (the inverse of
         :meth:`design_vector`)."""
@@ -134,8 +154,10 @@ class CompiledQuasiStatic(eqx.Module):
         # the per-call path is a plain closure (_lean_call): an eqx.Module attribute costs ~2 µs
         # and a bound method ~20 µs, against a ~60 µs solve; anything it does not take (a
         # Modifications, a NumPy design, a traced or bad input) goes through _call
-        out = self._lean(design, torque)
-        return _call(self, design, torque) if out is _NOT_LEAN else out
+        try:
+            return self._lean(design, torque)
+        except _NotLean:
+            return _call(self, design, torque)
 
 
 def _call(self: CompiledQuasiStatic, design, torque):
@@ -159,27 +181,28 @@ def _call(self: CompiledQuasiStatic, design, torque):
     return out
 
 
-_NOT_LEAN = object()  # _lean_call's "not mine": the general path takes the call
+class _NotLean(Exception):
+    """An input the lean per-call path does not take (the general path, :func:`_call`, does)."""
 
 
 def _lean_call(fast: Callable, shape: tuple, coast: bool, throw: bool) -> Callable:
     """The per-call path of the common call ``compiled(x, torque)``: ``x`` a concrete JAX array
     of the design's shape, ``torque`` a Python number in range (finite, > 0; != 0 with coast
-    flanks); ``_NOT_LEAN`` for any other input. With ``throw``, it waits for the program's
+    flanks); :class:`_NotLean` raised for any other input. With ``throw``, it waits for the program's
     one-integer failure flag and raises on a failed position (the flag read after the wait: a
     read of an unfinished array costs several µs more)."""
     array = type(jnp.zeros(()))
 
     def lean(design, torque):
         if type(design) is not array or design.shape != shape:
-            return _NOT_LEAN
+            raise _NotLean
         kind = type(torque)
         if not (
             (kind is float or kind is int)
             and (torque != 0 if coast else torque > 0)
             and torque - torque == 0  # finite
         ):
-            return _NOT_LEAN
+            raise _NotLean
         out, failed = fast(design, torque)
         if throw:
             _raise_if_flagged(failed)
@@ -281,14 +304,14 @@ def compile_quasi_static(
         theta = jnp.asarray(theta, dtype=dtype)
     positions = (int(positions_per_pitch), int(periods))
     pick = (lambda r: r) if output is None else output
-    setup = _Setup(scene, modifications, theta, speed, law, positions, pick, bool(throw))
+    setup = _Setup(scene, modifications, theta, speed, law, positions, pick, bool(throw), _HOIST)
     return _compile(setup, None)
 
 
 class _Setup(NamedTuple):
     """What :func:`compile_quasi_static` compiles in, checked: the scene, the template
     modifications, the angles (or None), the speed, the contact law, (positions per pitch,
-    periods), the output function and ``throw``."""
+    periods), the output function, ``throw`` and the hoisting bound (bytes)."""
 
     scene: Any
     modifications: Any
@@ -298,12 +321,13 @@ class _Setup(NamedTuple):
     positions: tuple
     pick: Callable
     throw: bool
+    hoist: int
 
 
 def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
     """The :class:`CompiledQuasiStatic` of ``setup`` with the design leaves ``free`` (a
     function of the template, None: every leaf)."""
-    scene, modifications, theta, speed, law, positions, pick, throw = setup
+    scene, modifications, theta, speed, law, positions, pick, throw, hoist_max = setup
     dtype = scene.base_planes[0].base_pitch.dtype
     where = _free_leaves(free, modifications)
     if where is None:  # every leaf: the template's own flattening
@@ -329,7 +353,7 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         out, codes = solve(x, t, False, False)
         return out, _failure_flag(codes)
 
-    fast = _hoisted(concrete, design0)
+    fast = _hoisted(concrete, design0, hoist_max)
     # traced calls (grad, vmap, an outer jit): the checks ride in the caller's program
     traced = jax.jit(lambda x, t: solve(x, t, throw, True)[0])
     coast = any(p.coast for p in scene.base_planes)
@@ -343,15 +367,15 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         _fast=fast,
         _traced=traced,
         _coast=coast,
-        _recompile=lambda free: _compile(setup, free),
+        _recompile=lambda free, hoist=hoist_max: _compile(setup._replace(hoist=hoist), free),
         _lean=_lean_call(fast, design0.shape, coast, throw),
     )
 
 
-_MAX_HOISTED_BYTES = 256 * 2**20  # larger intermediates stay in the program (memory)
+_HOIST = 256 * 2**20  # bytes kept by default for the hoisted part (memory)
 
 
-def _hoisted(fn: Callable, design0) -> Callable:
+def _hoisted(fn: Callable, design0, max_bytes: int) -> Callable:
     """``jax.jit(fn)`` for concrete ``(design, torque)``, with the part of ``fn`` that depends on
     neither computed once, at the first call, and compiled in as constants.
 
@@ -361,33 +385,35 @@ def _hoisted(fn: Callable, design0) -> Callable:
     as in ``jax.linearize``), its design- and torque-free part evaluated once and its outputs
     (the intermediates the rest needs) closed over: the same operations on the same values, so
     the same results to the bit. Where JAX's internal partial evaluation is unavailable (its
-    module moved) or the intermediates exceed ``_MAX_HOISTED_BYTES``: the whole ``fn``."""
+    module moved) or the intermediates exceed ``max_bytes``: the whole ``fn``."""
     holder: list = []
 
     def call(x, t):
         if not holder:
-            holder.append(_split(fn, design0))
+            holder.append(_split(fn, design0, max_bytes))
         return holder[0](x, t)
 
     return call
 
 
-def _split(fn: Callable, design0) -> Callable:
+def _split(fn: Callable, design0, max_bytes: int) -> Callable:
     """The jitted ``fn(x, t)`` with its ``(x, t)``-free part evaluated once (see
     :func:`_hoisted`)."""
     dtype = design0.dtype
     args = (jax.ShapeDtypeStruct(design0.shape, dtype), jax.ShapeDtypeStruct((), dtype))
+    if max_bytes <= 0:
+        return jax.jit(fn)
     try:
-        from jax._src import core
-        from jax._src.interpreters import partial_eval as pe
+        from jax._src.interpreters import partial_eval as pe  # no public partial evaluation
+        from jax.extend.core import jaxpr_as_fun
 
         closed, shapes = jax.make_jaxpr(fn, return_shape=True)(*args)
         known, rest, _, res = pe.partial_eval_jaxpr_nounits(closed, [True, True], True)
         size = sum(math.prod(a.shape) * a.dtype.itemsize for a in res)
-        run_known, run_rest = core.jaxpr_as_fun(known), core.jaxpr_as_fun(rest)
+        run_known, run_rest = jaxpr_as_fun(known), jaxpr_as_fun(rest)
     except Exception:  # noqa: BLE001 -- an internal API that moved: the plain program
         return jax.jit(fn)
-    if size > _MAX_HOISTED_BYTES:
+    if size > max_bytes:
         return jax.jit(fn)
     residuals = jax.jit(run_known)()
     treedef = jax.tree_util.tree_structure(shapes)
