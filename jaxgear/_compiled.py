@@ -20,6 +20,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.extend.core.primitives import jit_p
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array, Float
 
@@ -381,48 +382,116 @@ def _hoisted(fn: Callable, design0, max_bytes: int) -> Callable:
 
     XLA folds only small constants: the cell layout, the angles and the fixed relief terms of a
     compiled-in scene would be recomputed at every call (a loop over designs hoists them, a
-    single call cannot). ``fn``'s jaxpr is split by data dependence (JAX's partial evaluation,
-    as in ``jax.linearize``), its design- and torque-free part evaluated once and its outputs
-    (the intermediates the rest needs) closed over: the same operations on the same values, so
-    the same results to the bit. Where JAX's internal partial evaluation is unavailable (its
-    module moved) or the intermediates exceed ``max_bytes``: the whole ``fn``."""
+    single call cannot). ``fn``'s jaxpr is split by data dependence (:func:`_walk`, a partial
+    evaluation written on ``jax.extend.core``), its design- and torque-free part evaluated once
+    and its outputs (the intermediates the rest needs) closed over: the same operations on the
+    same values (results to round-off: XLA fuses the rest on its own). Where the split fails
+    (an equation it cannot bind) or the intermediates exceed ``max_bytes``: the whole ``fn``."""
     holder: list = []
 
     def call(x, t):
         if not holder:
-            holder.append(_split(fn, design0, max_bytes))
+            holder.append(_split(fn, design0, max_bytes, (x, t)))
         return holder[0](x, t)
 
     return call
 
 
-def _split(fn: Callable, design0, max_bytes: int) -> Callable:
+def _split(fn: Callable, design0, max_bytes: int, first_args: tuple) -> Callable:
     """The jitted ``fn(x, t)`` with its ``(x, t)``-free part evaluated once (see
-    :func:`_hoisted`)."""
+    :func:`_hoisted`); traced for ``first_args``, the first call's, here (a failed split gives
+    the plain program)."""
     dtype = design0.dtype
     args = (jax.ShapeDtypeStruct(design0.shape, dtype), jax.ShapeDtypeStruct((), dtype))
     if max_bytes <= 0:
         return jax.jit(fn)
     try:
-        from jax._src.interpreters import partial_eval as pe  # no public partial evaluation
-        from jax.extend.core import jaxpr_as_fun
-
         closed, shapes = jax.make_jaxpr(fn, return_shape=True)(*args)
-        known, rest, _, res = pe.partial_eval_jaxpr_nounits(closed, [True, True], True)
-        size = sum(math.prod(a.shape) * a.dtype.itemsize for a in res)
-        run_known, run_rest = jaxpr_as_fun(known), jaxpr_as_fun(rest)
-    except Exception:  # noqa: BLE001 -- an internal API that moved: the plain program
-        return jax.jit(fn)
-    if size > max_bytes:
-        return jax.jit(fn)
-    residuals = jax.jit(run_known)()
-    treedef = jax.tree_util.tree_structure(shapes)
+        treedef = jax.tree_util.tree_structure(shapes)
 
-    def hot(x, t):
-        flat = run_rest(*residuals, jnp.asarray(x, dtype), jnp.asarray(t, dtype))
-        return jax.tree_util.tree_unflatten(treedef, flat)
+        def known():
+            res: list = []
+            _walk(closed.jaxpr, closed.consts, [_UNKNOWN, _UNKNOWN], res, True)
+            return res
 
-    return jax.jit(hot)
+        residuals = jax.jit(known)()
+        if sum(r.nbytes for r in residuals) > max_bytes:
+            return jax.jit(fn)
+
+        def hot(x, t):
+            xt = [jnp.asarray(x, dtype), jnp.asarray(t, dtype)]
+            flat = _walk(closed.jaxpr, closed.consts, xt, iter(residuals), False)
+            return jax.tree_util.tree_unflatten(treedef, flat)
+
+        program = jax.jit(hot)
+        program.trace(*first_args)
+    except Exception:  # noqa: BLE001 -- an equation the split cannot handle: the plain program
+        return jax.jit(fn)
+    return program
+
+
+_UNKNOWN = object()  # first pass: a value that depends on the design or the torque
+_KNOWN = object()  # second pass: a value that does not (read from the residuals where needed)
+
+
+def _walk(jaxpr, consts, args, res, first: bool, top: bool = True) -> list:
+    """One pass over ``jaxpr`` (a ``jax.extend.core.Jaxpr``) split by data dependence on
+    ``args``. The first pass (``first``, ``args`` unknown) evaluates every equation whose inputs
+    are all known and appends to the list ``res`` each known value an unknown equation reads
+    (the residuals, once per jaxpr scope, in walk order); the second (``args`` the traced design
+    and torque, ``res`` an iterator over the residuals) binds the unknown equations only,
+    reading the residuals in the same order. A ``jit`` equation with inputs of both kinds is
+    walked into; any other equation with an unknown input, or with effects, is unknown as a
+    whole. Returns the outputs (top level: known ones as residuals)."""
+    env: dict = {}  # id of a variable -> its value (a literal is never bound: its .val)
+    taken: dict = {}  # id of a known variable -> its residual
+
+    def read(v):
+        return env[id(v)] if id(v) in env else v.val
+
+    def unknown(v, x) -> bool:
+        return x is _UNKNOWN if first else (id(v) in env and x is not _KNOWN)
+
+    def residual(v):
+        if id(v) not in env:  # a literal
+            return v.val
+        if id(v) not in taken:
+            x = env[id(v)] if first else next(res)
+            if first:
+                res.append(x)
+            elif (x.shape, x.dtype) != (v.aval.shape, v.aval.dtype):
+                raise ValueError(f"{_WHERE}: residuals out of order")
+            taken[id(v)] = x
+        return taken[id(v)]
+
+    def bind(vs, xs):
+        env.update((id(v), x) for v, x in zip(vs, xs))
+
+    bind(jaxpr.constvars, consts if first else [_KNOWN] * len(consts))
+    bind(jaxpr.invars, args)
+    for eqn in jaxpr.eqns:
+        ins = [read(v) for v in eqn.invars]
+        unk = [unknown(v, x) for v, x in zip(eqn.invars, ins)]
+        if not any(unk) and not eqn.effects:
+            outs = _bind(eqn, ins) if first else [_KNOWN] * len(eqn.outvars)
+        elif eqn.primitive is jit_p:
+            inner = eqn.params["jaxpr"]
+            sub = ins if first else [x if u else _KNOWN for x, u in zip(ins, unk)]
+            outs = _walk(inner.jaxpr, inner.consts, sub, res, first, top=False)
+        else:
+            vals = [x if u else residual(v) for v, x, u in zip(eqn.invars, ins, unk)]
+            outs = [_UNKNOWN] * len(eqn.outvars) if first else _bind(eqn, vals)
+        bind(eqn.outvars, outs)
+    outs = [read(v) for v in jaxpr.outvars]
+    if not top:  # known outputs stay known: the caller reads them as residuals where needed
+        return [x if first or unknown(v, x) else _KNOWN for v, x in zip(jaxpr.outvars, outs)]
+    return [x if unknown(v, x) else residual(v) for v, x in zip(jaxpr.outvars, outs)]
+
+
+def _bind(eqn, ins) -> list:
+    """The outputs of equation ``eqn`` on the values ``ins`` (as ``jax.core.eval_jaxpr``)."""
+    outs = eqn.primitive.bind(*ins, **eqn.primitive.get_bind_params(eqn.params))
+    return outs if eqn.primitive.multiple_results else [outs]
 
 
 def _free_leaves(free, template) -> Callable | None:
