@@ -291,6 +291,14 @@ def bench_quasi_static(
 
     # (b2) repeated single curves through a cached jax.jit; (c2) batched throughput -------------
     out["cached_jit"] = _cached_jit(mesh, mods, torque, width, P0, rep_jax, per_curve)
+    out["cached_jit"]["paired_cpu"] = _paired_cpu(
+        mesh,
+        mods,
+        torque,
+        P0,
+        lambda: bl.te_curve_numpy(bmesh, bmods, torque, "exact", width, P0),
+        rounds=3 if quick else 15,
+    )
     step("cached jit")
     out["batched"] = _batched(mesh, torque, P0, quick, per_curve)
     step("batched")
@@ -527,6 +535,64 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         "(64 such designs in one jitted lax.map, divided by 64)"
     )
     return out
+
+
+def _paired_cpu(mesh, mods, torque, P, baseline, rounds: int) -> dict:
+    """The public compiled call against the NumPy/brentq baseline in CPU time (``time.process_time``:
+    every thread of the process, robust to other jobs' load, unlike wall time), exact contact,
+    interleaved in ``rounds`` rounds (one baseline curve, then 20 calls of each public form and
+    one 64-design compute-only loop), min per call over the rounds."""
+    import jax
+    import jax.numpy as jnp
+
+    from jaxgear import compile_quasi_static, quasi_static
+
+    block = jax.block_until_ready
+    free = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+    whole = compile_quasi_static(mesh, mods, positions_per_pitch=P)
+    tip = compile_quasi_static(
+        mesh, mods, positions_per_pitch=P, output=lambda r: r.transmission_error
+    ).with_free(free)
+    xs = tip.design0[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
+    t = jnp.asarray(torque)
+    many = jax.jit(
+        lambda xs: jax.lax.map(
+            lambda x: quasi_static(mesh, tip.modifications(x), t, positions_per_pitch=P).te_rms,
+            xs,
+        )
+    )
+    calls = {  # name: (call, calls per round, curves per call)
+        "public_compiled_free_tip_te_only": (lambda: tip(tip.design0, torque), 20, 1),
+        "public_compiled_whole_result": (lambda: whole(whole.design0, torque), 20, 1),
+        "compute_per_curve_free_tip": (lambda: many(xs), 1, 64),
+    }
+    best = dict.fromkeys([*calls, "baseline"], float("inf"))
+    for fn, _, _ in calls.values():
+        block(fn())
+    baseline()
+    for _ in range(rounds):
+        c0 = time.process_time()
+        baseline()
+        best["baseline"] = min(best["baseline"], time.process_time() - c0)
+        for name, (fn, n, curves) in calls.items():
+            c0 = time.process_time()
+            for _ in range(n):
+                block(fn())
+            best[name] = min(best[name], (time.process_time() - c0) / (n * curves))
+    base = best["baseline"]
+    free_tip = best["public_compiled_free_tip_te_only"]
+    return {
+        "how": "CPU time (time.process_time, all threads) per curve, min over rounds; each "
+        "round: one baseline curve (NumPy/brentq, exact), 20 calls of the public compiled call "
+        "with a 2-leaf tip-relief design (with_free, TE only) and 20 with every modification "
+        "leaf a design variable (whole result), and 64 tip-relief designs in one jitted lax.map "
+        "(compute only, per curve)",
+        "rounds": rounds,
+        "cpu_s": best,
+        "ratio_public_compiled_free_tip": base / free_tip,
+        "ratio_public_compiled_whole_result": base / best["public_compiled_whole_result"],
+        "public_compiled_free_tip_over_compute": free_tip / best["compute_per_curve_free_tip"],
+    }
 
 
 def _compute_per_design(qs, mesh, compiled, torque, repeats: int) -> float:
@@ -772,6 +838,7 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
 
 def _table(out) -> str:
     pc, g = out["per_te_curve"], out["grid"]
+    cpu = out["cached_jit"]["paired_cpu"]
     opt = g["optimum"]
     lines = [
         (
@@ -837,6 +904,15 @@ def _table(out) -> str:
             f"{out['cached_jit']['exact']['public_compiled_free_tip_over_compute']:.2f}× its "
             "compute); plain "
             f"quasi_static {out['cached_jit']['exact']['public_quasi_static_s'] * 1e3:.3f}"
+        ),
+        (
+            "paired in CPU time (load-robust): public compiled free tip "
+            f"{cpu['cpu_s']['public_compiled_free_tip_te_only'] * 1e3:.3f} ms "
+            f"({cpu['ratio_public_compiled_free_tip']:.1f}× baseline, "
+            f"{cpu['public_compiled_free_tip_over_compute']:.2f}× its compute), whole result "
+            f"{cpu['cpu_s']['public_compiled_whole_result'] * 1e3:.3f} ms "
+            f"({cpu['ratio_public_compiled_whole_result']:.1f}×); baseline "
+            f"{cpu['cpu_s']['baseline'] * 1e3:.3f} ms"
         ),
         (
             f"batched exact curves: best {out['batched']['best_curves_per_s']:.0f} curves/s "

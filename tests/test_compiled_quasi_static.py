@@ -172,7 +172,7 @@ def _tip(mods, depth, extent):
     """``mods`` with the pinion's tip relief (depth, extent) replaced."""
     import equinox as eqx
 
-    where = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)  # noqa: E731
+    where = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
     return eqx.tree_at(where, mods, (jnp.asarray(depth), jnp.asarray(extent)))
 
 
@@ -203,7 +203,7 @@ def test_every_call_path_gives_quasi_static(setup):
     torque-free part computed once (``with_hoisting(0)``: the fallback when that part is too
     large or JAX's partial evaluation is unavailable; ``with_free`` keeps the choice)."""
     mesh, mods, torque = setup
-    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)  # noqa: E731
+    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
     ref = jg.quasi_static(mesh, _tip(mods, 22e-6, 0.31), 0.8 * torque, positions_per_pitch=P)
     x = np.asarray([22e-6, 0.31])
     te = jg.compile_quasi_static(
@@ -232,7 +232,7 @@ def test_a_failed_position_raises_as_quasi_static_does(setup):
     with pytest.raises(eqx.EquinoxRuntimeError, match="non-finite state") as ref:
         jg.quasi_static(mesh, bad, torque, positions_per_pitch=P)
     message = str(ref.value).split(": ", 1)[1]
-    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)  # noqa: E731
+    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
     f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=P, output=lambda r: r.te_rms)
     f = f.with_free(tip)
     for design in (jnp.asarray([np.nan, 0.31]), bad):
