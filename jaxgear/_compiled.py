@@ -54,10 +54,15 @@ class CompiledQuasiStatic(eqx.Module):
             one per mesh when the template was.
         torque: pinion torque (N·m), scalar, > 0 (!= 0 with coast flanks).
 
-    A call with concrete inputs runs the compiled program and reads its result codes
-    (``throw``: ``eqx.EquinoxRuntimeError`` on a failed position); under ``jax.grad``,
-    ``jax.vmap`` or ``jax.jit`` the same solve is traced into the caller's program (errors by
-    ``eqx.error_if``), so the call is differentiable in ``design`` and ``torque``.
+    A call with concrete inputs runs the compiled program and reads its result codes as one
+    integer (``throw``: ``eqx.EquinoxRuntimeError`` on a failed position, ``quasi_static``'s
+    message; ``throw=False``: no wait, the codes not read). The fastest call is
+    ``compiled(x, torque)`` with ``x`` a JAX array ``(D,)`` and ``torque`` a Python number:
+    it is checked in a few type and range tests; any other form (a NumPy design, a
+    :class:`Modifications`, a NumPy or JAX torque) takes the general checks, a few µs more.
+    Under ``jax.grad``, ``jax.vmap`` or ``jax.jit`` the same solve is traced into the caller's
+    program (errors by ``eqx.error_if``), so the call is differentiable in ``design`` and
+    ``torque``.
 
     Attributes:
         design0: the template's design vector ``(D,)``.
@@ -268,7 +273,8 @@ def compile_quasi_static(
     and array shapes are fixed, its values are the starting design ``design0``). The program is
     compiled at the first call (JAX's persistent compilation cache applies); its part that depends
     on neither the design nor the torque (cell layout, angles, the relief terms compiled in) is
-    evaluated then, once, and not at each call.
+    evaluated then, once, and not at each call (up to 256 MiB of it kept between calls:
+    :meth:`CompiledQuasiStatic.with_hoisting`).
 
     Args:
         scene: a :class:`~jaxgear.scenes.Scene` or a :class:`MeshModel` (its rigid pair).
