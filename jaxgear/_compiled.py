@@ -194,9 +194,9 @@ class _NotLean(Exception):
 def _lean_call(fast: Callable, shape: tuple, coast: bool, throw: bool) -> Callable:
     """The per-call path of the common call ``compiled(x, torque)``: ``x`` a concrete JAX array
     of the design's shape, ``torque`` a Python number in range (finite, > 0; != 0 with coast
-    flanks); :class:`_NotLean` raised for any other input. With ``throw``, it waits for the program's
-    one-integer failure flag and raises on a failed position (the flag read after the wait: a
-    read of an unfinished array costs several µs more)."""
+    flanks); :class:`_NotLean` raised for any other input. With ``throw``, it waits for the
+    program's one-integer failure flag and raises on a failed position (the flag read after the
+    wait: a read of an unfinished array costs several µs more)."""
     array = type(jnp.zeros(()))
 
     def lean(design, torque):
