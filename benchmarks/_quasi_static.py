@@ -291,6 +291,14 @@ def bench_quasi_static(
 
     # (b2) repeated single curves through a cached jax.jit; (c2) batched throughput -------------
     out["cached_jit"] = _cached_jit(mesh, mods, torque, width, P0, rep_jax, per_curve)
+    out["cached_jit"]["paired"] = _paired(
+        mesh,
+        mods,
+        torque,
+        P0,
+        lambda: bl.te_curve_numpy(bmesh, bmods, torque, "exact", width, P0),
+        rounds=3 if quick else 15,
+    )
     step("cached jit")
     out["batched"] = _batched(mesh, torque, P0, quick, per_curve)
     step("batched")
@@ -526,6 +534,72 @@ def _cached_jit(mesh, mods, torque, width, P, repeats, per_curve) -> dict:
         "optimisation (2 leaves, the others compiled in as constants), and its compute alone "
         "(64 such designs in one jitted lax.map, divided by 64)"
     )
+    return out
+
+
+def _paired(mesh, mods, torque, P, baseline, rounds: int) -> dict:
+    """The public compiled call against the NumPy/brentq baseline, interleaved in ``rounds``
+    rounds (each: one baseline curve, 20 calls of each public form, one 64-design compute-only
+    loop), min per curve over every call of wall time and of CPU time (``time.process_time``:
+    every thread of the process); pairing in one process keeps the ratios meaningful under
+    other jobs' load."""
+    import jax
+    import jax.numpy as jnp
+
+    from jaxgear import compile_quasi_static, quasi_static
+
+    block = jax.block_until_ready
+    free = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+    whole = compile_quasi_static(mesh, mods, positions_per_pitch=P)
+    tip = compile_quasi_static(
+        mesh, mods, positions_per_pitch=P, output=lambda r: r.transmission_error
+    ).with_free(free)
+    xs = tip.design0[None, :] * jnp.linspace(0.9, 1.1, 64)[:, None]
+    t = jnp.asarray(torque)
+    many = jax.jit(
+        lambda xs: jax.lax.map(
+            lambda x: quasi_static(mesh, tip.modifications(x), t, positions_per_pitch=P).te_rms,
+            xs,
+        )
+    )
+    calls = {  # name: (call, calls per round, curves per call)
+        "public_compiled_free_tip_te_only": (lambda: tip(tip.design0, torque), 20, 1),
+        "public_compiled_whole_result": (lambda: whole(whole.design0, torque), 20, 1),
+        "compute_per_curve_free_tip": (lambda: many(xs), 1, 64),
+        "baseline": (baseline, 1, 1),
+    }
+    wall = dict.fromkeys(calls, float("inf"))
+    cpu = dict(wall)
+    for fn, _, _ in calls.values():
+        block(fn())
+    for _ in range(rounds):
+        for name, (fn, n, curves) in calls.items():
+            for _ in range(n):
+                w0, c0 = time.perf_counter(), time.process_time()
+                block(fn())
+                wall[name] = min(wall[name], (time.perf_counter() - w0) / curves)
+                cpu[name] = min(cpu[name], (time.process_time() - c0) / curves)
+    out = {
+        "how": "min per curve over interleaved rounds, each: one baseline curve (NumPy/brentq, "
+        "exact), 20 calls of the public compiled call with a 2-leaf tip-relief design "
+        "(with_free, TE only, called as f(x, torque) with x a JAX array and torque a float), 20 "
+        "with every modification leaf a design variable (whole result), and 64 tip-relief "
+        "designs in one jitted lax.map (compute only, per curve); wall time and CPU time "
+        "(time.process_time, all threads)",
+        "rounds": rounds,
+        "wall_s": wall,
+        "cpu_s": cpu,
+    }
+    for clock in ("wall", "cpu"):
+        best = out[f"{clock}_s"]
+        out[clock] = {
+            "ratio_public_compiled_free_tip": best["baseline"]
+            / best["public_compiled_free_tip_te_only"],
+            "ratio_public_compiled_whole_result": best["baseline"]
+            / best["public_compiled_whole_result"],
+            "public_compiled_free_tip_over_compute": best["public_compiled_free_tip_te_only"]
+            / best["compute_per_curve_free_tip"],
+        }
     return out
 
 
@@ -772,6 +846,7 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
 
 def _table(out) -> str:
     pc, g = out["per_te_curve"], out["grid"]
+    cpu = out["cached_jit"]["paired"]
     opt = g["optimum"]
     lines = [
         (
@@ -837,6 +912,18 @@ def _table(out) -> str:
             f"{out['cached_jit']['exact']['public_compiled_free_tip_over_compute']:.2f}× its "
             "compute); plain "
             f"quasi_static {out['cached_jit']['exact']['public_quasi_static_s'] * 1e3:.3f}"
+        ),
+        (
+            "paired in one process (min per curve, wall / CPU): public compiled free tip "
+            f"{cpu['wall_s']['public_compiled_free_tip_te_only'] * 1e3:.3f} / "
+            f"{cpu['cpu_s']['public_compiled_free_tip_te_only'] * 1e3:.3f} ms "
+            f"({cpu['wall']['ratio_public_compiled_free_tip']:.1f}× / "
+            f"{cpu['cpu']['ratio_public_compiled_free_tip']:.1f}× baseline, "
+            f"{cpu['wall']['public_compiled_free_tip_over_compute']:.2f}× / "
+            f"{cpu['cpu']['public_compiled_free_tip_over_compute']:.2f}× its compute), whole "
+            f"result {cpu['wall_s']['public_compiled_whole_result'] * 1e3:.3f} ms "
+            f"({cpu['wall']['ratio_public_compiled_whole_result']:.1f}×); baseline "
+            f"{cpu['wall_s']['baseline'] * 1e3:.3f} ms"
         ),
         (
             f"batched exact curves: best {out['batched']['best_curves_per_s']:.0f} curves/s "

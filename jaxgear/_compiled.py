@@ -20,6 +20,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.extend.core.primitives import jit_p
 from jax.flatten_util import ravel_pytree
 from jaxtyping import Array, Float
 
@@ -53,10 +54,15 @@ class CompiledQuasiStatic(eqx.Module):
             one per mesh when the template was.
         torque: pinion torque (N·m), scalar, > 0 (!= 0 with coast flanks).
 
-    A call with concrete inputs runs the compiled program and reads its result codes
-    (``throw``: ``eqx.EquinoxRuntimeError`` on a failed position); under ``jax.grad``,
-    ``jax.vmap`` or ``jax.jit`` the same solve is traced into the caller's program (errors by
-    ``eqx.error_if``), so the call is differentiable in ``design`` and ``torque``.
+    A call with concrete inputs runs the compiled program and reads its result codes as one
+    integer (``throw``: ``eqx.EquinoxRuntimeError`` on a failed position, ``quasi_static``'s
+    message; ``throw=False``: no wait, the codes not read). The fastest call is
+    ``compiled(x, torque)`` with ``x`` a JAX array ``(D,)`` and ``torque`` a Python number:
+    it is checked in a few type and range tests; any other form (a NumPy design, a
+    :class:`Modifications`, a NumPy or JAX torque) takes the general checks, a few µs more.
+    Under ``jax.grad``, ``jax.vmap`` or ``jax.jit`` the same solve is traced into the caller's
+    program (errors by ``eqx.error_if``), so the call is differentiable in ``design`` and
+    ``torque``.
 
     Attributes:
         design0: the template's design vector ``(D,)``.
@@ -73,6 +79,7 @@ class CompiledQuasiStatic(eqx.Module):
     _traced: Callable = eqx.field(static=True)
     _coast: bool = eqx.field(static=True)
     _recompile: Callable = eqx.field(static=True)
+    _lean: Callable = eqx.field(static=True)
 
     @property
     def size(self) -> int:
@@ -101,7 +108,7 @@ class CompiledQuasiStatic(eqx.Module):
         x = jnp.asarray(np.concatenate(flat) if flat else np.zeros(0), self.design0.dtype)
         fixed = jax.tree_util.tree_leaves(self.modifications(x))
         if self._free is not None and not all(
-            np.array_equal(a, b) for a, b in zip(fixed, leaves, strict=True)
+            np.array_equal(a, b, equal_nan=True) for a, b in zip(fixed, leaves, strict=True)
         ):
             raise ValueError(
                 f"{_WHERE}: modifications differ from the template in a leaf that is not free: "
@@ -124,30 +131,107 @@ class CompiledQuasiStatic(eqx.Module):
         """
         return self._recompile(free)
 
+    def with_hoisting(self, max_bytes: int) -> CompiledQuasiStatic:
+        """The same solve with at most ``max_bytes`` bytes kept between calls for the part of
+        the program that depends on neither the design nor the torque (its outputs, computed
+        once at the first call; default 256 MiB). A larger part, or ``max_bytes = 0``, is
+        computed at every call instead: the same results, slower calls, less memory held. A new
+        program, compiled at its first call.
+
+        Raises:
+            ValueError: ``max_bytes`` not an integer >= 0 (one line).
+        """
+        if (
+            isinstance(max_bytes, bool)
+            or not isinstance(max_bytes, int | np.integer)
+            or max_bytes < 0
+        ):
+            raise ValueError(
+                f"{_WHERE}: max_bytes = {max_bytes!r}: allowed an integer >= 0 (bytes)"
+            )
+        return self._recompile(self._free, int(max_bytes))
+
     def modifications(self, design: Float[Array, " D"]) -> Modifications:
         """The :class:`Modifications` of a design vector ``(D,)`` (the inverse of
         :meth:`design_vector`)."""
         return self._rebuild(jnp.asarray(design, self.design0.dtype))
 
     def __call__(self, design, torque):
-        # the per-call path is kept lean (plain functions, no bound-method objects: an
-        # eqx.Module method looked up on an instance builds one, ~20 µs, a tenth of a solve)
-        as_mods = design is None or isinstance(design, _MODS)
-        if as_mods:
-            design = self.design_vector(design)
-        if jnp.shape(design) != self.design0.shape:
-            raise ValueError(
-                f"{_WHERE}: design has shape {jnp.shape(design)}: allowed "
-                f"({self.design0.shape[0]},), the design vector of the template modifications "
-                "(CompiledQuasiStatic.design_vector)"
-            )
-        if is_traced((design, torque)):
-            return self._traced(design, torque)
-        _check_torque(torque, self._coast)
-        out, codes = self._fast(design, torque)
-        if self.throw and np.asarray(codes).any():
-            raise_if_failed(codes, ContactResult, _WHERE)
+        # the per-call path is a plain closure (_lean_call): an eqx.Module attribute costs ~2 µs
+        # and a bound method ~20 µs, against a ~60 µs solve; anything it does not take (a
+        # Modifications, a NumPy design, a traced or bad input) goes through _call
+        try:
+            return self._lean(design, torque)
+        except _NotLean:
+            return _call(self, design, torque)
+
+
+def _call(self: CompiledQuasiStatic, design, torque):
+    """The general per-call path: a :class:`Modifications` flattened, the design's shape and the
+    torque checked, a traced input traced into the caller's program."""
+    as_mods = design is None or isinstance(design, _MODS)
+    if as_mods:
+        design = self.design_vector(design)
+    if jnp.shape(design) != self.design0.shape:
+        raise ValueError(
+            f"{_WHERE}: design has shape {jnp.shape(design)}: allowed "
+            f"({self.design0.shape[0]},), the design vector of the template modifications "
+            "(CompiledQuasiStatic.design_vector)"
+        )
+    if is_traced((design, torque)):
+        return self._traced(design, torque)
+    _check_torque(torque, self._coast)
+    out, failed = self._fast(design, torque)
+    if self.throw:
+        _raise_if_flagged(failed)
+    return out
+
+
+class _NotLean(Exception):
+    """An input the lean per-call path does not take (the general path, :func:`_call`, does)."""
+
+
+def _lean_call(fast: Callable, shape: tuple, coast: bool, throw: bool) -> Callable:
+    """The per-call path of the common call ``compiled(x, torque)``: ``x`` a concrete JAX array
+    of the design's shape, ``torque`` a Python number in range (finite, > 0; != 0 with coast
+    flanks); :class:`_NotLean` raised for any other input. With ``throw``, it waits for the
+    program's one-integer failure flag and raises on a failed position (the flag read after the
+    wait: a read of an unfinished array costs several µs more)."""
+    array = type(jnp.zeros(()))
+
+    def lean(design, torque):
+        if type(design) is not array or design.shape != shape:
+            raise _NotLean
+        kind = type(torque)
+        if not (
+            (kind is float or kind is int)
+            and (torque != 0 if coast else torque > 0)
+            and torque - torque == 0  # finite
+        ):
+            raise _NotLean
+        out, failed = fast(design, torque)
+        if throw:
+            _raise_if_flagged(failed)
         return out
+
+    return lean
+
+
+def _failure_flag(codes) -> Array:
+    """The result codes ``codes`` (integers >= 0) as one integer: bit k set when code k occurs
+    (one scalar read per call instead of the whole code array)."""
+    codes = jnp.ravel(codes).astype(jnp.int32)
+    return jnp.bitwise_or.reduce(jnp.left_shift(jnp.int32(1), codes))
+
+
+def _raise_if_flagged(failed) -> None:
+    """Raise :func:`~jaxgear._results.raise_if_failed`'s error of the codes in the flag
+    ``failed`` (:func:`_failure_flag`; bit 0, success, alone: no error)."""
+    failed.block_until_ready()
+    bits = int(np.asarray(failed))
+    if bits > 1:
+        codes = [k for k in range(bits.bit_length()) if bits >> k & 1]
+        raise_if_failed(np.asarray(codes), ContactResult, _WHERE)
 
 
 _MODS = (Modifications, tuple, list)
@@ -189,7 +273,8 @@ def compile_quasi_static(
     and array shapes are fixed, its values are the starting design ``design0``). The program is
     compiled at the first call (JAX's persistent compilation cache applies); its part that depends
     on neither the design nor the torque (cell layout, angles, the relief terms compiled in) is
-    evaluated then, once, and not at each call.
+    evaluated then, once, and not at each call (up to 256 MiB of it kept between calls:
+    :meth:`CompiledQuasiStatic.with_hoisting`).
 
     Args:
         scene: a :class:`~jaxgear.scenes.Scene` or a :class:`MeshModel` (its rigid pair).
@@ -226,14 +311,14 @@ def compile_quasi_static(
         theta = jnp.asarray(theta, dtype=dtype)
     positions = (int(positions_per_pitch), int(periods))
     pick = (lambda r: r) if output is None else output
-    setup = _Setup(scene, modifications, theta, speed, law, positions, pick, bool(throw))
+    setup = _Setup(scene, modifications, theta, speed, law, positions, pick, bool(throw), _HOIST)
     return _compile(setup, None)
 
 
 class _Setup(NamedTuple):
     """What :func:`compile_quasi_static` compiles in, checked: the scene, the template
     modifications, the angles (or None), the speed, the contact law, (positions per pitch,
-    periods), the output function and ``throw``."""
+    periods), the output function, ``throw`` and the hoisting bound (bytes)."""
 
     scene: Any
     modifications: Any
@@ -243,12 +328,13 @@ class _Setup(NamedTuple):
     positions: tuple
     pick: Callable
     throw: bool
+    hoist: int
 
 
 def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
     """The :class:`CompiledQuasiStatic` of ``setup`` with the design leaves ``free`` (a
     function of the template, None: every leaf)."""
-    scene, modifications, theta, speed, law, positions, pick, throw = setup
+    scene, modifications, theta, speed, law, positions, pick, throw, hoist_max = setup
     dtype = scene.base_planes[0].base_pitch.dtype
     where = _free_leaves(free, modifications)
     if where is None:  # every leaf: the template's own flattening
@@ -268,11 +354,16 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         res = _quasi_static(scene, mods, t, speed, theta, law, raise_, positions, checks)
         return pick(res), res.result
 
-    # concrete calls: no eqx.error_if in the program, the result codes read on the host; what
-    # does not depend on the design or the torque is computed once (_hoisted)
-    fast = _hoisted(lambda x, t: solve(x, t, False, False), design0)
+    # concrete calls: no eqx.error_if in the program, the result codes read on the host (as one
+    # integer flag); what does not depend on the design or the torque is computed once (_hoisted)
+    def concrete(x, t):
+        out, codes = solve(x, t, False, False)
+        return out, _failure_flag(codes)
+
+    fast = _hoisted(concrete, design0, hoist_max)
     # traced calls (grad, vmap, an outer jit): the checks ride in the caller's program
     traced = jax.jit(lambda x, t: solve(x, t, throw, True)[0])
+    coast = any(p.coast for p in scene.base_planes)
     return CompiledQuasiStatic(
         design0=design0,
         throw=throw,
@@ -282,60 +373,131 @@ def _compile(setup: _Setup, free: Callable | None) -> CompiledQuasiStatic:
         _shapes=tuple(jnp.shape(x) for x in leaves),
         _fast=fast,
         _traced=traced,
-        _coast=any(p.coast for p in scene.base_planes),
-        _recompile=lambda free: _compile(setup, free),
+        _coast=coast,
+        _recompile=lambda free, hoist=hoist_max: _compile(setup._replace(hoist=hoist), free),
+        _lean=_lean_call(fast, design0.shape, coast, throw),
     )
 
 
-_MAX_HOISTED_BYTES = 256 * 2**20  # larger intermediates stay in the program (memory)
+_HOIST = 256 * 2**20  # bytes kept by default for the hoisted part (memory)
 
 
-def _hoisted(fn: Callable, design0) -> Callable:
+def _hoisted(fn: Callable, design0, max_bytes: int) -> Callable:
     """``jax.jit(fn)`` for concrete ``(design, torque)``, with the part of ``fn`` that depends on
     neither computed once, at the first call, and compiled in as constants.
 
     XLA folds only small constants: the cell layout, the angles and the fixed relief terms of a
     compiled-in scene would be recomputed at every call (a loop over designs hoists them, a
-    single call cannot). ``fn``'s jaxpr is split by data dependence (JAX's partial evaluation,
-    as in ``jax.linearize``), its design- and torque-free part evaluated once and its outputs
-    (the intermediates the rest needs) closed over: the same operations on the same values, so
-    the same results to the bit. Where JAX's internal partial evaluation is unavailable (its
-    module moved) or the intermediates exceed ``_MAX_HOISTED_BYTES``: the whole ``fn``."""
+    single call cannot). ``fn``'s jaxpr is split by data dependence (:func:`_walk`, a partial
+    evaluation written on ``jax.extend.core``), its design- and torque-free part evaluated once
+    and its outputs (the intermediates the rest needs) closed over: the same operations on the
+    same values (results to round-off: XLA fuses the rest on its own). Where the split fails
+    (an equation it cannot bind) or the intermediates exceed ``max_bytes``: the whole ``fn``."""
     holder: list = []
 
     def call(x, t):
         if not holder:
-            holder.append(_split(fn, design0))
+            holder.append(_split(fn, design0, max_bytes, (x, t)))
         return holder[0](x, t)
 
     return call
 
 
-def _split(fn: Callable, design0) -> Callable:
+def _split(fn: Callable, design0, max_bytes: int, first_args: tuple) -> Callable:
     """The jitted ``fn(x, t)`` with its ``(x, t)``-free part evaluated once (see
-    :func:`_hoisted`)."""
+    :func:`_hoisted`); traced for ``first_args``, the first call's, here (a failed split gives
+    the plain program)."""
     dtype = design0.dtype
     args = (jax.ShapeDtypeStruct(design0.shape, dtype), jax.ShapeDtypeStruct((), dtype))
+    if max_bytes <= 0:
+        return jax.jit(fn)
     try:
-        from jax._src import core
-        from jax._src.interpreters import partial_eval as pe
-
         closed, shapes = jax.make_jaxpr(fn, return_shape=True)(*args)
-        known, rest, _, res = pe.partial_eval_jaxpr_nounits(closed, [True, True], True)
-        size = sum(math.prod(a.shape) * a.dtype.itemsize for a in res)
-        run_known, run_rest = core.jaxpr_as_fun(known), core.jaxpr_as_fun(rest)
-    except Exception:  # noqa: BLE001 -- an internal API that moved: the plain program
-        return jax.jit(fn)
-    if size > _MAX_HOISTED_BYTES:
-        return jax.jit(fn)
-    residuals = jax.jit(run_known)()
-    treedef = jax.tree_util.tree_structure(shapes)
+        treedef = jax.tree_util.tree_structure(shapes)
 
-    def hot(x, t):
-        flat = run_rest(*residuals, jnp.asarray(x, dtype), jnp.asarray(t, dtype))
-        return jax.tree_util.tree_unflatten(treedef, flat)
+        def known():
+            res: list = []
+            _walk(closed.jaxpr, closed.consts, [_UNKNOWN, _UNKNOWN], res, True)
+            return res
 
-    return jax.jit(hot)
+        residuals = jax.jit(known)()
+        if sum(r.nbytes for r in residuals) > max_bytes:
+            return jax.jit(fn)
+
+        def hot(x, t):
+            xt = [jnp.asarray(x, dtype), jnp.asarray(t, dtype)]
+            flat = _walk(closed.jaxpr, closed.consts, xt, iter(residuals), False)
+            return jax.tree_util.tree_unflatten(treedef, flat)
+
+        program = jax.jit(hot)
+        program.trace(*first_args)
+    except Exception:  # noqa: BLE001 -- an equation the split cannot handle: the plain program
+        return jax.jit(fn)
+    return program
+
+
+_UNKNOWN = object()  # first pass: a value that depends on the design or the torque
+_KNOWN = object()  # second pass: a value that does not (read from the residuals where needed)
+
+
+def _walk(jaxpr, consts, args, res, first: bool, top: bool = True) -> list:
+    """One pass over ``jaxpr`` (a ``jax.extend.core.Jaxpr``) split by data dependence on
+    ``args``. The first pass (``first``, ``args`` unknown) evaluates every equation whose inputs
+    are all known and appends to the list ``res`` each known value an unknown equation reads
+    (the residuals, once per jaxpr scope, in walk order); the second (``args`` the traced design
+    and torque, ``res`` an iterator over the residuals) binds the unknown equations only,
+    reading the residuals in the same order. A ``jit`` equation with inputs of both kinds is
+    walked into; any other equation with an unknown input, or with effects, is unknown as a
+    whole. Returns the outputs (top level: known ones as residuals)."""
+    env: dict = {}  # id of a variable -> its value (a literal is never bound: its .val)
+    taken: dict = {}  # id of a known variable -> its residual
+
+    def read(v):
+        return env[id(v)] if id(v) in env else v.val
+
+    def unknown(v, x) -> bool:
+        return x is _UNKNOWN if first else (id(v) in env and x is not _KNOWN)
+
+    def residual(v):
+        if id(v) not in env:  # a literal
+            return v.val
+        if id(v) not in taken:
+            x = env[id(v)] if first else next(res)
+            if first:
+                res.append(x)
+            elif (x.shape, x.dtype) != (v.aval.shape, v.aval.dtype):
+                raise ValueError(f"{_WHERE}: residuals out of order")
+            taken[id(v)] = x
+        return taken[id(v)]
+
+    def bind(vs, xs):
+        env.update((id(v), x) for v, x in zip(vs, xs))
+
+    bind(jaxpr.constvars, consts if first else [_KNOWN] * len(consts))
+    bind(jaxpr.invars, args)
+    for eqn in jaxpr.eqns:
+        ins = [read(v) for v in eqn.invars]
+        unk = [unknown(v, x) for v, x in zip(eqn.invars, ins)]
+        if not any(unk) and not eqn.effects:
+            outs = _bind(eqn, ins) if first else [_KNOWN] * len(eqn.outvars)
+        elif eqn.primitive is jit_p:
+            inner = eqn.params["jaxpr"]
+            sub = ins if first else [x if u else _KNOWN for x, u in zip(ins, unk)]
+            outs = _walk(inner.jaxpr, inner.consts, sub, res, first, top=False)
+        else:
+            vals = [x if u else residual(v) for v, x, u in zip(eqn.invars, ins, unk)]
+            outs = [_UNKNOWN] * len(eqn.outvars) if first else _bind(eqn, vals)
+        bind(eqn.outvars, outs)
+    outs = [read(v) for v in jaxpr.outvars]
+    if not top:  # known outputs stay known: the caller reads them as residuals where needed
+        return [x if first or unknown(v, x) else _KNOWN for v, x in zip(jaxpr.outvars, outs)]
+    return [x if unknown(v, x) else residual(v) for v, x in zip(jaxpr.outvars, outs)]
+
+
+def _bind(eqn, ins) -> list:
+    """The outputs of equation ``eqn`` on the values ``ins`` (as ``jax.core.eval_jaxpr``)."""
+    outs = eqn.primitive.bind(*ins, **eqn.primitive.get_bind_params(eqn.params))
+    return outs if eqn.primitive.multiple_results else [outs]
 
 
 def _free_leaves(free, template) -> Callable | None:

@@ -172,7 +172,7 @@ def _tip(mods, depth, extent):
     """``mods`` with the pinion's tip relief (depth, extent) replaced."""
     import equinox as eqx
 
-    where = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)  # noqa: E731
+    where = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
     return eqx.tree_at(where, mods, (jnp.asarray(depth), jnp.asarray(extent)))
 
 
@@ -194,3 +194,52 @@ def test_free_tip_curves_equal_quasi_static(setup):
         f(f.design0, -3.0)
     with pytest.raises(ValueError, match=r"design has shape \(3,\): allowed \(2,\)"):
         f(jnp.zeros(3), torque)
+
+
+def test_every_call_path_gives_quasi_static(setup):
+    """The three ways a concrete call runs give ``quasi_static``'s curve: a JAX design vector
+    with a Python torque (the lean per-call path), a NumPy design with a NumPy torque and a
+    :class:`Modifications` (the general path), and the program without its design- and
+    torque-free part computed once (``with_hoisting(0)``: the fallback when that part is too
+    large or JAX's partial evaluation is unavailable; ``with_free`` keeps the choice)."""
+    mesh, mods, torque = setup
+    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+    ref = jg.quasi_static(mesh, _tip(mods, 22e-6, 0.31), 0.8 * torque, positions_per_pitch=P)
+    x = np.asarray([22e-6, 0.31])
+    te = jg.compile_quasi_static(
+        mesh, mods, positions_per_pitch=P, output=lambda r: r.transmission_error
+    )
+    for f in (te.with_free(tip), te.with_hoisting(0).with_free(tip)):
+        for design, t in (
+            (jnp.asarray(x), 0.8 * torque),
+            (x, np.float64(0.8 * torque)),
+            (_tip(mods, 22e-6, 0.31), jnp.asarray(0.8 * torque)),
+        ):
+            assert _rel(f(design, t), ref.transmission_error) < 1e-12, type(design)
+    for bad in (-1, 1.5, True):
+        with pytest.raises(ValueError, match=rf"max_bytes = {bad}: allowed an integer >= 0"):
+            te.with_hoisting(bad)
+
+
+def test_a_failed_position_raises_as_quasi_static_does(setup):
+    """A NaN tip-relief depth makes a non-finite contact state: the compiled call raises
+    ``quasi_static``'s error (the same message) on the lean and the general path, and with
+    ``throw=False`` returns the non-finite result code at every position instead."""
+    import equinox as eqx
+
+    mesh, mods, torque = setup
+    bad = _tip(mods, np.nan, 0.31)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="non-finite state") as ref:
+        jg.quasi_static(mesh, bad, torque, positions_per_pitch=P)
+    message = str(ref.value).split(": ", 1)[1]
+    tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+    f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=P, output=lambda r: r.te_rms)
+    f = f.with_free(tip)
+    for design in (jnp.asarray([np.nan, 0.31]), bad):
+        with pytest.raises(eqx.EquinoxRuntimeError) as got:
+            f(design, torque)
+        assert str(got.value) == f"compiled quasi_static: {message}"
+    codes = jg.compile_quasi_static(
+        mesh, mods, positions_per_pitch=P, output=lambda r: r.result, throw=False
+    ).with_free(tip)(jnp.asarray([np.nan, 0.31]), torque)
+    np.testing.assert_array_equal(codes, int(jg.ContactResult.non_finite))
