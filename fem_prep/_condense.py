@@ -19,6 +19,7 @@ The master nodes and their couplings (bearings, rims) are in :mod:`._couplings`.
 
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 import functools
 import math
@@ -495,6 +496,7 @@ def _condense(
         Fii = interior_factor
     # the factor holds K_ii; the eigen-solve takes products (InteriorBlock): no copy kept
     del Ki
+    _trim_heap()
     timings["factorisation_s"] = time.perf_counter() - t0
     timings["factorisation_cpu_s"] = time.process_time() - c0
     part = Partition(K, M, b, i, Fii, progress)
@@ -570,8 +572,23 @@ def _condense(
     )
 
 
+def _trim_heap() -> None:
+    """Return the C heap's free pages to the operating system (glibc's ``malloc_trim``; nothing
+    where the C library has none). NumPy's mid-sized arrays live on that heap, and glibc keeps
+    what they freed: after the 186 k-DOF wheel's assembly and coupling the process held 1.40 GiB
+    of which 0.56 GiB was alive (tracemalloc), 0.63 GiB after the trim. The condensation's large
+    arrays are mapped apart from the heap and cannot reuse those pages, so without the trim they
+    add to the peak."""
+    try:
+        trim = ctypes.CDLL(None).malloc_trim
+    except (OSError, AttributeError, TypeError):  # no glibc (macOS, Windows, musl)
+        return
+    trim(0)
+
+
 @functools.wraps(_condense)
 def condense(*args, **kwargs) -> Condensed:
+    _trim_heap()
     with blas_threads():
         return _condense(*args, **kwargs)
 

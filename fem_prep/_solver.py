@@ -203,6 +203,7 @@ class PardisoFactor(_Factor):
     method = "pardiso"
     library = "pypardiso"
     block = 128  # columns per solve: BLAS-3 throughput, n x 128 doubles per block
+    _ps = None  # PARDISO's handle (pypardiso.PyPardisoSolver) once made
 
     def __init__(self, A: sp.spmatrix):
         pypardiso = _optional_module("pypardiso")
@@ -268,7 +269,7 @@ class PardisoFactor(_Factor):
         return self._call(33, b)
 
     def __del__(self):
-        if getattr(self, "_ps", None) is not None:
+        if self._ps is not None:
             self._call(-1, np.zeros((0, 1), order="F"))  # release PARDISO's memory
             self._ps = None
 
