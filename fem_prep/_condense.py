@@ -506,6 +506,7 @@ def _condense(
     if n_modes > 0:
         part = dataclasses.replace(part, modes=method.early_modes(part, n_modes))
     eigen_s, eigen_cpu_s = time.perf_counter() - t0, time.process_time() - c0
+    _trim_heap()  # the eigen-solver's freed blocks, before the basis and the solve blocks
 
     # static constraint modes G_ib = -K_ii^-1 K_ib, by column blocks; one column more is
     # reserved for the static correction vector (appended in place, not by a copy of H)

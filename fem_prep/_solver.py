@@ -202,7 +202,9 @@ class PardisoFactor(_Factor):
 
     method = "pardiso"
     library = "pypardiso"
-    block = 128  # columns per solve: BLAS-3 throughput, n x 128 doubles per block
+    # columns per solve: on the 168 k interior DOFs of the power wheel 256 columns took 8.1 s
+    # of CPU in blocks of 64, 8.4 s in blocks of 128 (0.33 GiB more peak), 9.8 s in blocks of 32
+    block = 64
     _ps = None  # PARDISO's handle (pypardiso.PyPardisoSolver) once made
 
     def __init__(self, A: sp.spmatrix):
