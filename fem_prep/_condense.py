@@ -520,7 +520,7 @@ def _condense(
     it = range(0, nb, blk)
     for c0 in tqdm(it, desc="constraint modes", disable=not progress, unit="block", leave=False):
         c1 = min(nb, c0 + blk)
-        # Fortran order: the layout CHOLMOD takes (no converted copy of each block)
+        # Fortran order: the layout CHOLMOD and PARDISO take (no converted copy of each block)
         H[i, c0:c1] = Fii.solve((-Kib[:, c0:c1]).toarray(order="F"))
     del Kib
     timings["static_modes_s"] = time.perf_counter() - t0
