@@ -115,6 +115,7 @@ from ._solver import (
     CholmodFactor as CholmodFactor,
     EigenSolver as EigenSolver,
     Lanczos as Lanczos,
+    PardisoFactor as PardisoFactor,
     SolverError as SolverError,
     SolverWarning as SolverWarning,
     SparseFactor as SparseFactor,

@@ -133,6 +133,12 @@ class CondensationMethod(Kind):
         modes set) from the structure split ``part`` (:class:`fem_prep._condense.Partition`);
         returns ``(H, modes_hz)``, the frequencies of the modes kept (Hz)."""
 
+    def early_modes(self, part, n_modes: int):
+        """Modes that need only the interior blocks, computed before the ``(n, n_b + ...)``
+        basis is allocated (so that the eigen-solver's workspace and the basis are not held
+        together) and handed to :meth:`modal_block` as ``part.modes``; ``None`` (the default):
+        :meth:`modal_block` computes its own."""
+
     @abc.abstractmethod
     def add_static_correction(self, part, H, modes_hz, f):
         """The basis and frequencies with the static correction vector of the load ``f``

@@ -103,7 +103,8 @@ class Prepared:
         rim_radial_displacement: mean radial displacement (m) at the rim outer radius, mid-face.
         rim_radial_displacement_condensed: the same from the condensed model (m).
         timings: wall time per step (s).
-        solver: the sparse factorisation library that ran (``"cholmod"`` or ``"superlu"``).
+        solver: the sparse factorisation library that ran (``"cholmod"``, ``"pardiso"`` or
+            ``"superlu"``).
         peak_memory_bytes: peak traced Python/NumPy allocation (bytes).
     """
 

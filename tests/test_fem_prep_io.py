@@ -210,7 +210,7 @@ def test_bench_quick_is_a_smoke_test(tmp_path):
     assert rec["quick"] and len(rec["cases"]) == 1
     case = rec["cases"][0]
     assert "error" not in case, case
-    assert case["solver"] == "cholmod"
+    assert case["solver"] in ("cholmod", "pardiso")
     assert case["n_master_dofs"] == QUICK_TEETH * 5 * 3 + 3 * 6
     assert rec["error_curve"]["modes"] == [0, 10]
     assert rec["error_curve"]["craig-bampton"][1] < rec["error_curve"]["craig-bampton"][0]
