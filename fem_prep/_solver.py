@@ -624,9 +624,10 @@ def _counted(op: spla.LinearOperator, on_solve: Callable[[], None] | None):
 class blas_threads:
     """Context manager setting the BLAS thread count (``threadpoolctl``).
 
-    ``n=None`` picks ``cpu_count − load average`` (at least 1): multithreaded BLAS on a busy
-    machine spin-waits and can be much slower than one thread. Does nothing when
-    ``OPENBLAS_NUM_THREADS`` or ``OMP_NUM_THREADS`` is set by the user.
+    ``n=None`` picks the CPUs the other processes leave, ``cpu_count − (load average − 1)``
+    (at least 1; the calling process, busy until now, is one unit of the load average):
+    multithreaded BLAS on a busy machine spin-waits and can be much slower than one thread.
+    Does nothing when ``OPENBLAS_NUM_THREADS`` or ``OMP_NUM_THREADS`` is set by the user.
     """
 
     def __init__(self, n: int | None = None):
@@ -637,7 +638,7 @@ class blas_threads:
                 load = os.getloadavg()[0]
             except OSError:
                 load = 0.0
-            self._n = max(1, min(cpus, int(cpus - load + 0.5)))
+            self._n = max(1, min(cpus, int(cpus - max(load - 1.0, 0.0) + 0.5)))
         self._limits = None
 
     def __enter__(self) -> blas_threads:
