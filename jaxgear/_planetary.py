@@ -409,6 +409,9 @@ class AbstractPlanetaryModel(eqx.Module):
     """
 
     contact_solve: ClassVar[bool] = True
+    #: the Gauss points across the face at which the model's constant mesh springs act
+    #: (:class:`~jaxgear.ConstantMeshes` ``face_points``): 1, the springs at mid-face
+    face_points: ClassVar[int] = 1
 
     @abc.abstractmethod
     def reduction(self, stage: PlanetaryStage) -> Float[Array, "n_planar n_dof"]:

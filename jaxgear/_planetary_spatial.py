@@ -65,6 +65,8 @@ across it and the helical normals' axial parts load the axial supports.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax.numpy as jnp
 
@@ -215,6 +217,8 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     (2: the Gauss points of :meth:`stiffness_matrix`). The members' spin relative to the
     carrier adds its gyroscopic moments (:meth:`spin_matrices`).
     """
+
+    face_points: ClassVar[int] = 2  # the Gauss points of stiffness_matrix's mesh springs
 
     def reduction(self, stage):
         """T (3 (3 + N), 6 (3 + N)): the planar coordinates (x, y, u of each member) of q."""

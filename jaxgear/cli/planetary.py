@@ -184,12 +184,6 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
 TURN_POSITIONS = 72
 
 
-#: the Gauss points across the face of a model's constant mesh springs, by its name in the
-#: outputs (:class:`jaxgear.ConstantMeshes` ``face_points``; 1 where not named): the 3D model
-#: spreads each mesh over the face as its stiffness matrix does
-FACE_POINTS = {"spatial": 2}
-
-
 def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
     ({name: model kind}; the 3D model's mesh forces are along the tooth normal); with
@@ -211,8 +205,7 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
             "k_gamma": float(r.k_gamma),
         }
         if spec.eccentric:
-            out[name]["over_turn"] = turn_sharing(model, held, abs(torques["sun"]), e, eps,
-                                                  FACE_POINTS.get(name, 1))
+            out[name]["over_turn"] = turn_sharing(model, held, abs(torques["sun"]), e, eps)
     return out
 
 
@@ -231,7 +224,7 @@ def face_load_section(spec, stage, torques: dict) -> dict:
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
-    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=2),
+    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=model.face_points),
                                np.asarray(abs(torques["sun"])), np.zeros(1), e, eps)
     n = spec.n_planets
     k = np.asarray(q.k_h_beta)
@@ -248,16 +241,16 @@ def face_load_section(spec, stage, torques: dict) -> dict:
     }
 
 
-def turn_sharing(model, held, torque: float, e, eps, face_points: int = 1) -> dict:
+def turn_sharing(model, held, torque: float, e, eps) -> dict:
     """K_γ at :data:`TURN_POSITIONS` positions over one turn of the ring relative to the carrier
     (one carrier turn when the ring is fixed; the sun, faster, turns z_r/z_s times relative to
     the carrier): the quasi-static solve with one unilateral spring per mesh
     (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes` at
-    ``face_points`` Gauss points across the face), the eccentricities turning with their
+    the model's ``face_points`` Gauss points across the face), the eccentricities turning with their
     members."""
     r_r = float(held.ring.base_radius)
     x = np.arange(TURN_POSITIONS) * 2 * math.pi * r_r / TURN_POSITIONS
-    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=face_points),
+    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=model.face_points),
                                np.asarray(torque), x, e, eps)
     k = np.asarray(q.k_gamma)
     return {

@@ -150,7 +150,7 @@ def _dynamic_setup(form, case, slices=None):
     if model is None:
         return spec, stage, meshes, MODEL
     if not case.pairs:  # the lumped form's springs spread over the face, as the 3D K's
-        meshes = ConstantMeshes(meshes.base_pitch, face_points=2)
+        meshes = ConstantMeshes(meshes.base_pitch, face_points=model.face_points)
     return spec, stage, meshes, model
 
 
