@@ -16,6 +16,8 @@ omega = Omega + s v / r_b (s = +1 sun, -1 ring and planets, 0 carrier).
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
@@ -40,7 +42,38 @@ def check_per_planet(where: str, name: str, value, unit: str, n: int, lo=None) -
         raise ValueError(f"{where}: {name} must have shape () or ({n},), got {jnp.shape(value)}")
 
 
-class Eccentricities(eqx.Module):
+class _PerMember(eqx.Module):
+    """A value and its phase for each member of a planetary stage (the sun, ring and carrier
+    one each, the planets one each or one for all), in :attr:`unit` and rad, with their checks:
+    the fields of :class:`Eccentricities` and :class:`Unbalances`."""
+
+    sun: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    sun_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    ring: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    ring_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    carrier: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    carrier_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
+    planet: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
+    planet_phase: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
+    unit: ClassVar[str]
+
+    def __check_init__(self):
+        where, unit = type(self).__name__, self.unit
+        for name in ("sun", "ring", "carrier"):
+            check_real(name, getattr(self, name), unit, lo=0.0, shape=(), where=where)
+            check_real(f"{name}_phase", getattr(self, f"{name}_phase"), "rad", shape=(),
+                       where=where)
+        check_real("planet", self.planet, unit, lo=0.0, where=where)
+        check_real("planet_phase", self.planet_phase, "rad", where=where)
+
+    def check_planets(self, n: int) -> None:
+        """Refuse (one line) a planet's value or phase that is not () or (n,)."""
+        where = type(self).__name__
+        check_per_planet(where, "planet", self.planet, self.unit, n, lo=0.0)
+        check_per_planet(where, "planet_phase", self.planet_phase, "rad", n)
+
+
+class Eccentricities(_PerMember):
     """Eccentricities (radial runout) of the members: each member's toothed centre (the
     carrier's: the centre of its planet-pin circle) stands off its axis of rotation by an
     amplitude E (m) in a direction that turns with the member (docs/planetary.md,
@@ -78,27 +111,7 @@ class Eccentricities(eqx.Module):
             value of the wrong length (:class:`PlanetaryStage`).
     """
 
-    sun: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    sun_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    planet: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
-    planet_phase: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
-
-    def __check_init__(self):
-        for name in ("sun", "ring", "carrier"):
-            check_real(name, getattr(self, name), "m", lo=0.0, shape=(), where="Eccentricities")
-            check_real(f"{name}_phase", getattr(self, f"{name}_phase"), "rad", shape=(),
-                       where="Eccentricities")
-        check_real("planet", self.planet, "m", lo=0.0, where="Eccentricities")
-        check_real("planet_phase", self.planet_phase, "rad", where="Eccentricities")
-
-    def check_planets(self, n: int) -> None:
-        """Refuse (one line) a planet's runout or phase that is not () or (n,)."""
-        check_per_planet("Eccentricities", "planet", self.planet, "m", n, lo=0.0)
-        check_per_planet("Eccentricities", "planet_phase", self.planet_phase, "rad", n)
+    unit: ClassVar[str] = "m"
 
     def pin_errors(self, stage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(tangential, radial): the carrier eccentricity as planet-pin errors (m, (n_planets,);
@@ -124,7 +137,7 @@ class Eccentricities(eqx.Module):
         )
 
 
-class Unbalances(eqx.Module):
+class Unbalances(_PerMember):
     """Mass unbalance of the members: each member's mass centre stands off its axis by e, an
     unbalance U = m e (kg m) that turns with the member; spinning at its absolute speed omega
     it loads its axis with the rotating force U omega^2 (docs/planetary.md, "Eccentricities").
@@ -153,27 +166,7 @@ class Unbalances(eqx.Module):
         ValueError: an unbalance < 0 or a value not finite (one line naming it).
     """
 
-    sun: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    sun_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    ring_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    carrier_phase: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
-    planet: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
-    planet_phase: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
-
-    def __check_init__(self):
-        for name in ("sun", "ring", "carrier"):
-            check_real(name, getattr(self, name), "kg m", lo=0.0, shape=(), where="Unbalances")
-            check_real(f"{name}_phase", getattr(self, f"{name}_phase"), "rad", shape=(),
-                       where="Unbalances")
-        check_real("planet", self.planet, "kg m", lo=0.0, where="Unbalances")
-        check_real("planet_phase", self.planet_phase, "rad", where="Unbalances")
-
-    def check_planets(self, n: int) -> None:
-        """Refuse (one line) a planet's unbalance or phase that is not () or (n,)."""
-        check_per_planet("Unbalances", "planet", self.planet, "kg m", n, lo=0.0)
-        check_per_planet("Unbalances", "planet_phase", self.planet_phase, "rad", n)
+    unit: ClassVar[str] = "kg m"
 
     def planar_load(self, stage, travel, carrier_speed, mesh_speed):
         """The rotating forces (N) on the planar coordinates (3 (3 + N),; Lin & Parker's
