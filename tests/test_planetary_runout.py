@@ -17,6 +17,7 @@ import scipy.linalg
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.cli.planetary as pr
 
 A_S, A_R = np.radians(24.6), np.radians(20.0)
 R_S, R_R, R_C, R_P = 77.4e-3 / 2, 275.0e-3 / 2, 176.8e-3 / 2, 100.3e-3 / 2
@@ -233,6 +234,17 @@ def test_case_keys_map_to_the_objects_and_bad_values_are_one_line():
     assert float(u.sun_phase) == pytest.approx(math.radians(-30.0))
     np.testing.assert_allclose(u.planet, [0, 3e-6, 0])
     assert case.form.spec.eccentric and case.form.spec.unbalanced
+    # summary.json echoes them in SI units: the planets' runout beside the central members'
+    # eccentricities, the unbalances in kg m
+    spec = case.form.spec
+    ecc = pr.sharing_summary(spec, st, spec.torques(case.torque),
+                             {"torsional": jg.TorsionalPlanetary()})["eccentricities"]
+    np.testing.assert_allclose(ecc["planet_m"], [12e-6, 0, 0])
+    np.testing.assert_allclose(ecc["planet_phase_rad"], [math.pi / 2, 0, 0])
+    echo = pr.unbalance_summary(spec)
+    assert echo["sun_kg_m"] == pytest.approx(50e-6) and echo["carrier_kg_m"] == pytest.approx(7e-6)
+    assert echo["sun_phase_rad"] == pytest.approx(math.radians(-30.0))
+    np.testing.assert_allclose(echo["planet_kg_m"], [0, 3e-6, 0])
     plain = jio.parse_train(_lin_parker())
     assert plain.form.spec.stage(plain).unbalances is None and not plain.form.spec.eccentric
     for keys, words in (

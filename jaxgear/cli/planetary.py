@@ -66,6 +66,7 @@ __all__ = [
     "sharing_summary",
     "spatial_model",
     "turn_sharing",
+    "unbalance_summary",
     "type_counts",
 ]
 
@@ -156,6 +157,8 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
         "load_sharing": sharing_summary(spec, stage, torques, sharing_models(spec, stage)),
         "mesh_phases": phases_summary(spec),
     }
+    if spec.unbalanced:
+        summary["unbalances"] = unbalance_summary(spec)
     if float(stage.helix_angle) != 0.0:  # a helical stage: the 3D model's face load
         summary["face_load"] = face_load_section(spec, stage, torques)
     modes = {name: mode_list(model, stage) for name, model in mode_models(stage).items()}
@@ -184,6 +187,18 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
 TURN_POSITIONS = 72
 
 
+def unbalance_summary(spec) -> dict:
+    """The mass unbalances the run's dynamics apply (``summary.json``'s ``unbalances``), as the
+    case gives them: U (kg m) and phases (rad) of the sun, ring, carrier and each planet
+    (:class:`jaxgear.Unbalances`' fields)."""
+    fields = ("sun", "sun_phase", "ring", "ring_phase", "carrier", "carrier_phase", "planet",
+              "planet_phase")
+    return {
+        f"{f}_{'rad' if f.endswith('phase') else 'kg_m'}": np.asarray(u).tolist()
+        for f, u in zip(fields, spec.unbalances, strict=True)
+    }
+
+
 def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
     ({name: model kind}; the 3D model's mesh forces are along the tooth normal); with
@@ -197,6 +212,10 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
         names = ("sun_m", "sun_phase_rad", "ring_m", "ring_phase_rad", "carrier_m",
                  "carrier_phase_rad")
         out["eccentricities"] = dict(zip(names, spec.eccentricities, strict=True))
+        if spec.planet_runout:
+            runout, phase = spec.planet_runout
+            out["eccentricities"]["planet_m"] = np.asarray(runout).tolist()
+            out["eccentricities"]["planet_phase_rad"] = np.asarray(phase).tolist()
     for name, model in models.items():
         r = load_sharing(model, held, abs(torques["sun"]), e, eps)
         out[name] = {
