@@ -155,8 +155,12 @@ def test_sweep_default_folder_leaves_the_run_sweep_alone(tmp_path, monkeypatch, 
     assert "sweep-250-1250.5-3" in capsys.readouterr().out
 
 
-def _settings(**kw):
+def _settings(small=False, **kw):
+    """The accessory-spur case and its optimise settings; ``small``: a coarser mesh (8 slices,
+    16 positions per pitch), where the property is the outputs' bookkeeping, not a value."""
     case = jio.load_case("accessory-spur")
+    if small:
+        case = case.replace(slices=8, positions_per_pitch=16)
     s = check_settings(settings_from_case(case), case)
     s.update(kw)
     return case, s
@@ -183,7 +187,7 @@ def test_interrupted_plots_leave_the_marker_until_a_run_finishes(tmp_path, monke
     def interrupted(*args, **kw):
         raise KeyboardInterrupt
 
-    case, settings = _settings(max_iterations=2)
+    case, settings = _settings(small=True, max_iterations=2)
     with monkeypatch.context() as mp:  # after the convergence plot, before optimum.json
         mp.setattr(plots, "harris_plot", interrupted)
         with pytest.raises(KeyboardInterrupt):
