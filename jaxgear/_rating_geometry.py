@@ -141,41 +141,7 @@ class RatingGeometry(eqx.Module):
 
     def derived(self) -> Derived:
         """ISO 21771 geometry of the pair from the parameters (jnp; module docstring)."""
-        z = jnp.asarray(self.teeth, dtype=self.normal_module.dtype)
-        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
-        x = self.profile_shift
-        mt = mn / jnp.cos(beta)
-        at = jnp.arctan(jnp.tan(an) / jnp.cos(beta))
-        d = z * mt
-        db = d * jnp.cos(at)
-        da = d + 2 * mn * (self.addendum_coeff + x)
-        df = d - 2 * mn * (self.dedendum_coeff - x)
-        if self.center_distance is None:
-            inv_awt = _inv(at) + 2 * jnp.tan(an) * (x[0] + x[1]) / (z[0] + z[1])
-            awt = inverse_involute_jnp(inv_awt)
-            a = (d[0] + d[1]) / 2 * jnp.cos(at) / jnp.cos(awt)
-        else:
-            a = self.center_distance
-            awt = jnp.arccos((db[0] + db[1]) / (2 * a))
-        roll_tip = jnp.sqrt(da**2 / 4 - db**2 / 4)
-        g_alpha = roll_tip[0] + roll_tip[1] - a * jnp.sin(awt)
-        eps_a = g_alpha / (jnp.pi * mt * jnp.cos(at))
-        b = jnp.minimum(self.face_width[0], self.face_width[1])
-        return Derived(
-            transverse_module=mt,
-            transverse_pressure_angle=at,
-            operating_pressure_angle=awt,
-            base_helix_angle=jnp.arctan(jnp.tan(beta) * jnp.cos(at)),
-            center_distance=a,
-            reference_diameter=d,
-            base_diameter=db,
-            tip_diameter=da,
-            root_diameter=df,
-            transverse_contact_ratio=eps_a,
-            overlap_ratio=b * jnp.sin(beta) / (jnp.pi * mn),
-            face_width=b,
-            gear_ratio=self.teeth[1] / self.teeth[0],
-        )
+        return pair_derived(self, 1.0)
 
     # -- what the rating asks of a pair (jaxgear.InternalRatingGeometry answers the same) ------
 
@@ -221,3 +187,45 @@ class RatingGeometry(eqx.Module):
         """ISO 6336-1 method B's reduced mass per face width of the pair from the members'
         m* = π/8 ρ d_m⁴/d_b² (kg/m): m*₁ m*₂/(m*₁ + m*₂)."""
         return m_star[0] * m_star[1] / (m_star[0] + m_star[1])
+
+
+def pair_derived(p, sign: float) -> Derived:
+    """ISO 21771 geometry of a pair of :class:`RatingGeometry`'s fields (jnp): ``sign`` +1 for
+    an external pair, -1 for an internal one (the ring's tooth count and diameters negative,
+    the centre distance positive: a_w = s (d₁ + d₂) cos α_t / (2 cos α_wt),
+    g_α = ρ_a1 + s ρ_a2 − s a_w sin α_wt)."""
+    z = jnp.asarray(p.teeth, dtype=p.normal_module.dtype)
+    mn, an, beta = p.normal_module, p.normal_pressure_angle, p.helix_angle
+    x = p.profile_shift
+    mt = mn / jnp.cos(beta)
+    at = jnp.arctan(jnp.tan(an) / jnp.cos(beta))
+    d = z * mt
+    db = d * jnp.cos(at)
+    da = d + 2 * mn * (p.addendum_coeff + x)
+    df = d - 2 * mn * (p.dedendum_coeff - x)
+    if p.center_distance is None:
+        inv_awt = _inv(at) + 2 * jnp.tan(an) * (x[0] + x[1]) / (z[0] + z[1])
+        awt = inverse_involute_jnp(inv_awt)
+        a = sign * (d[0] + d[1]) / 2 * jnp.cos(at) / jnp.cos(awt)
+    else:
+        a = p.center_distance
+        awt = jnp.arccos(sign * (db[0] + db[1]) / (2 * a))
+    roll_tip = jnp.sqrt(da**2 / 4 - db**2 / 4)
+    g_alpha = roll_tip[0] + sign * roll_tip[1] - sign * a * jnp.sin(awt)
+    eps_a = g_alpha / (jnp.pi * mt * jnp.cos(at))
+    b = jnp.minimum(p.face_width[0], p.face_width[1])
+    return Derived(
+        transverse_module=mt,
+        transverse_pressure_angle=at,
+        operating_pressure_angle=awt,
+        base_helix_angle=jnp.arctan(jnp.tan(beta) * jnp.cos(at)),
+        center_distance=a,
+        reference_diameter=d,
+        base_diameter=db,
+        tip_diameter=da,
+        root_diameter=df,
+        transverse_contact_ratio=eps_a,
+        overlap_ratio=b * jnp.sin(beta) / (jnp.pi * mn),
+        face_width=b,
+        gear_ratio=p.teeth[1] / p.teeth[0],
+    )

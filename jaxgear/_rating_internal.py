@@ -57,7 +57,13 @@ from jaxtyping import Array, Float
 
 from ._internal import InternalGearPair
 from ._rating_bending import ToothFormFactors, member_form, section_factors
-from ._rating_geometry import Derived, inverse_involute_jnp, pair_fields, replace_fields
+from ._rating_geometry import (
+    Derived,
+    inverse_involute_jnp,
+    pair_derived,
+    pair_fields,
+    replace_fields,
+)
 from ._util import as_float, check_instance, check_integer, check_real
 
 __all__ = [
@@ -326,41 +332,7 @@ class InternalRatingGeometry(eqx.Module):
     def derived(self) -> Derived:
         """ISO 21771 geometry of the internal pair (jnp; the ring's diameters negative, the
         centre distance positive; module docstring)."""
-        z = jnp.asarray(self.teeth, dtype=self.normal_module.dtype)
-        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
-        x = self.profile_shift
-        mt = mn / jnp.cos(beta)
-        at = jnp.arctan(jnp.tan(an) / jnp.cos(beta))
-        d = z * mt
-        db = d * jnp.cos(at)
-        da = d + 2 * mn * (self.addendum_coeff + x)
-        df = d - 2 * mn * (self.dedendum_coeff - x)
-        if self.center_distance is None:
-            inv_awt = _inv(at) + 2 * jnp.tan(an) * (x[0] + x[1]) / (z[0] + z[1])
-            awt = inverse_involute_jnp(inv_awt)
-            a = -(d[0] + d[1]) / 2 * jnp.cos(at) / jnp.cos(awt)
-        else:
-            a = self.center_distance
-            awt = jnp.arccos(-(db[0] + db[1]) / (2 * a))
-        roll_tip = jnp.sqrt(da**2 / 4 - db**2 / 4)
-        g_alpha = roll_tip[0] - roll_tip[1] + a * jnp.sin(awt)
-        eps_a = g_alpha / (jnp.pi * mt * jnp.cos(at))
-        b = jnp.minimum(self.face_width[0], self.face_width[1])
-        return Derived(
-            transverse_module=mt,
-            transverse_pressure_angle=at,
-            operating_pressure_angle=awt,
-            base_helix_angle=jnp.arctan(jnp.tan(beta) * jnp.cos(at)),
-            center_distance=a,
-            reference_diameter=d,
-            base_diameter=db,
-            tip_diameter=da,
-            root_diameter=df,
-            transverse_contact_ratio=eps_a,
-            overlap_ratio=b * jnp.sin(beta) / (jnp.pi * mn),
-            face_width=b,
-            gear_ratio=self.teeth[1] / self.teeth[0],
-        )
+        return pair_derived(self, -1.0)
 
     # -- what the rating asks of a pair (as jaxgear.RatingGeometry) --------------------------
 
