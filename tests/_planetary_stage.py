@@ -110,3 +110,30 @@ def rigid_path_forces(torque, r_sun, psi, a_s, a_r, k_s, k_r, sun_centre=(0.0, 0
     k_eq = k_s * k_r / (k_s + k_r)
     forces = torque / (len(psi) * r_sun) + k_eq * (c - c.mean())
     return forces, forces.max() / forces.mean()
+
+
+# Lin & Parker's example masses, inertias and base radii (sun, ring, carrier, planet), unequal
+# pressure angles: the lumped stage of the eccentricity, runout and unbalance tests
+A_S, A_R = np.radians(24.6), np.radians(20.0)
+R_S, R_R, R_C, R_P = 77.4e-3 / 2, 275.0e-3 / 2, 176.8e-3 / 2, 100.3e-3 / 2
+K_MESH = 5e8
+
+
+def lin_parker_stage(n, ecc=None, unb=None, sun_bearing=HELD, pin=HELD):
+    """n equally spaced planets; ring and carrier held (HELD), the pins of stiffness ``pin``,
+    the sun free to turn on its bearing ``sun_bearing``; eccentricities ``ecc`` (none by
+    default) and unbalances ``unb`` (None)."""
+    member = jg.PlanetaryMember.lumped
+    return jg.PlanetaryStage.equally_spaced(
+        n,
+        sun=member(0.4, 0.39, R_S, sun_bearing, 0.0),
+        ring=member(2.35, 3.0, R_R, HELD, HELD),
+        carrier=member(5.43, 6.29, R_C, HELD, HELD),
+        planet=member(0.66, 0.61, R_P, pin, 0.0),
+        sun_pressure_angle=A_S,
+        ring_pressure_angle=A_R,
+        sun_mesh_stiffness=K_MESH,
+        ring_mesh_stiffness=K_MESH,
+        eccentricities=jg.Eccentricities() if ecc is None else ecc,
+        unbalances=unb,
+    )

@@ -13,38 +13,16 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _planetary_stage import A_R, A_S, K_MESH, R_P, R_R, R_S, lin_parker_stage as stage
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 import jaxgear.cli.planetary as pr
 
-A_S, A_R = np.radians(24.6), np.radians(20.0)
-R_S, R_R, R_C, R_P = 77.4e-3 / 2, 275.0e-3 / 2, 176.8e-3 / 2, 100.3e-3 / 2
-K_MESH = 5e8
-HELD = 1e13
 TORQUE = 3000.0
 E = 30e-6  # m
 F_NOM = TORQUE / (4 * R_S)
-
-
-def stage(n=4, ecc=None, unb=None, sun_bearing=HELD):
-    """Lin & Parker's example masses and radii, unequal pressure angles; ring, carrier and pins
-    stiff (HELD), the sun free to turn on its bearing ``sun_bearing``."""
-    member = jg.PlanetaryMember.lumped
-    return jg.PlanetaryStage.equally_spaced(
-        n,
-        sun=member(0.4, 0.39, R_S, sun_bearing, 0.0),
-        ring=member(2.35, 3.0, R_R, HELD, HELD),
-        carrier=member(5.43, 6.29, R_C, HELD, HELD),
-        planet=member(0.66, 0.61, R_P, HELD, 0.0),
-        sun_pressure_angle=A_S,
-        ring_pressure_angle=A_R,
-        sun_mesh_stiffness=K_MESH,
-        ring_mesh_stiffness=K_MESH,
-        eccentricities=jg.Eccentricities() if ecc is None else ecc,
-        unbalances=unb,
-    )
 
 
 def spring_model(offsets, n):
