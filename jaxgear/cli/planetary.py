@@ -13,6 +13,7 @@ stiffness over two mesh periods).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import warnings
@@ -28,6 +29,7 @@ from .. import (
     PlanarPlanetary,
     SpatialPlanetary,
     TorsionalPlanetary,
+    Unbalances,
     campbell,
     classify_modes,
     contact_pressure,
@@ -191,11 +193,9 @@ def unbalance_summary(spec) -> dict:
     """The mass unbalances the run's dynamics apply (``summary.json``'s ``unbalances``), as the
     case gives them: U (kg m) and phases (rad) of the sun, ring, carrier and each planet
     (:class:`jaxgear.Unbalances`' fields)."""
-    fields = ("sun", "sun_phase", "ring", "ring_phase", "carrier", "carrier_phase", "planet",
-              "planet_phase")
     return {
-        f"{f}_{'rad' if f.endswith('phase') else 'kg_m'}": np.asarray(u).tolist()
-        for f, u in zip(fields, spec.unbalances, strict=True)
+        f"{f.name}_{'rad' if f.name.endswith('phase') else 'kg_m'}": np.asarray(u).tolist()
+        for f, u in zip(dataclasses.fields(Unbalances), spec.unbalances, strict=True)
     }
 
 
