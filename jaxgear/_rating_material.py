@@ -10,6 +10,15 @@ Sources (cited by the factors' titles): ISO 6336-2:2019, life factor Z_NT; ISO 6
 life factor Y_NT, relative notch sensitivity factor Y_δrelT (slip-layer thickness ρ'),
 relative surface factor Y_RrelT, size factor Y_X; ISO 6336-1:2019, running-in allowances y_α
 (dynamic and transverse load factors) and y_β (face load factor).
+
+ISO 6336-3's table of the slip-layer thickness ρ' (2006: 13.3, Y_δrelT method B) by
+material: grey cast iron (GG) 0.3124 mm at σ_B = 150 N/mm² and 0.3095 mm at σ_B = 300 N/mm²
+(with ferritic nodular iron); nitrided (NT, NV) 0.1005 mm; structural steel (St) 0.0833 mm at
+σ_S = 300 N/mm², 0.0445 mm at 400 N/mm²; through-hardened wrought steel (V; also malleable and
+perlitic or bainitic nodular iron) by its 0.2 % proof stress, 0.0281, 0.0194, 0.0064 and
+0.0014 mm at σ_0.2 = 500, 600, 800 and 1000 N/mm² (:data:`THROUGH_HARDENED_SLIP_LAYER`);
+case-hardened, induction or flame hardened (Eh, IF root) 0.0030 mm. The treatments here carry
+the rows of Eh, NT/NV and V; grey iron and structural steel are not kinds of this module.
 """
 
 from __future__ import annotations
@@ -19,15 +28,47 @@ from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 
 __all__ = [
+    "THROUGH_HARDENED_SLIP_LAYER",
     "AbstractTreatment",
     "CaseHardened",
     "Nitrided",
     "PairTreatment",
     "ThroughHardened",
     "life_curve",
+    "through_hardened_slip_layer",
 ]
+
+#: ISO 6336-3's slip-layer thickness ρ' of through-hardened wrought steel (V) by its 0.2 % proof
+#: stress (the standard's table of ρ', 2006: 13.3): (σ_0.2 Pa, ρ' m), σ_0.2 increasing
+THROUGH_HARDENED_SLIP_LAYER = (
+    (500e6, 0.0281e-3),
+    (600e6, 0.0194e-3),
+    (800e6, 0.0064e-3),
+    (1000e6, 0.0014e-3),
+)
+
+
+def through_hardened_slip_layer(proof_stress: float) -> float:
+    """ρ' (m) of through-hardened steel at its 0.2 % proof stress σ_0.2 (Pa): the rows of ISO
+    6336-3's table (:data:`THROUGH_HARDENED_SLIP_LAYER`) and linear between them (the standard
+    tabulates the rows only).
+
+    Raises:
+        ValueError: σ_0.2 outside the table, [500, 1000] N/mm² (one line naming the value).
+    """
+    lo, hi = THROUGH_HARDENED_SLIP_LAYER[0][0], THROUGH_HARDENED_SLIP_LAYER[-1][0]
+    v = float(proof_stress)
+    if not lo <= v <= hi:
+        raise ValueError(
+            f"ThroughHardened: proof_stress = {v:g} Pa is out of range, allowed [{lo:g}, {hi:g}] "
+            "Pa (the rows of ISO 6336-3's slip-layer table, σ_0.2 = 500 to 1000 N/mm²)"
+        )
+    s = [p[0] for p in THROUGH_HARDENED_SLIP_LAYER]
+    rho = [p[1] for p in THROUGH_HARDENED_SLIP_LAYER]
+    return float(np.interp(v, s, rho))
 
 
 def life_curve(cycles, points):
@@ -78,6 +119,14 @@ class AbstractTreatment(eqx.Module):
     #: a surface-hardened flank (case hardened, nitrided): work-hardens a softer mating gear
     surface_hardened: ClassVar[bool] = True
 
+    @classmethod
+    def of_material(cls, brinell_hardness=None, proof_stress=None) -> AbstractTreatment:
+        """This kind for a gear of surface hardness ``brinell_hardness`` (HB) and 0.2 % proof
+        stress ``proof_stress`` (Pa), either ``None`` when unknown (the case file's ``[material]``
+        keys): a surface-hardened kind has one ρ' for all hardnesses and no Z_W of its own, so
+        both go unused here (:class:`ThroughHardened` reads them)."""
+        return cls()
+
     def work_hardening(self, partner: AbstractTreatment):
         """Z_W of this gear meshing with ``partner`` (ISO 6336-2, work hardening factor): 1 but
         for a through-hardened gear with a given Brinell hardness against a surface-hardened
@@ -126,14 +175,50 @@ class CaseHardened(AbstractTreatment):
 
 class ThroughHardened(AbstractTreatment):
     """Through-hardened wrought steel (V), pitting not permitted: Z_NT as :class:`CaseHardened`;
-    Y_NT 2.5 at 10⁴, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' from the proof stress (``slip_layer_m``, m;
-    default 0.0281 mm, ISO 6336-3 at σ_0.2 = 600 N/mm²); ``brinell_hardness`` HB (or None)
-    for the work hardening factor Z_W against a surface-hardened mate (:meth:`work_hardening`); y_α = 160/σ_Hlim f_pb, y_β =
-    320/σ_Hlim F_βx (σ_Hlim in N/mm²); Y_X = 1.03 − 0.006 m_n (mm) in [0.85, 1]."""
+    Y_NT 2.5 at 10⁴, 1.0 at 3·10⁶, 0.85 at 10¹⁰; y_α = 160/σ_Hlim f_pb, y_β = 320/σ_Hlim F_βx
+    (σ_Hlim in N/mm²); Y_X = 1.03 − 0.006 m_n (mm) in [0.85, 1].
 
-    slip_layer_m: float = 0.0281e-3
-    brinell_hardness: float | None = None
+    Args:
+        slip_layer_m: ρ' (m) of Y_δrelT given directly; or
+        proof_stress: σ_0.2 (Pa), ρ' from ISO 6336-3's table (:func:`through_hardened_slip_layer`,
+            [500, 1000] N/mm²). Neither: ρ' = 0.0281 mm, the table's row σ_0.2 = 500 N/mm².
+        brinell_hardness: HB (or None), for the work hardening factor Z_W against a
+            surface-hardened mate (:meth:`work_hardening`).
+
+    Raises:
+        ValueError: both ``slip_layer_m`` and ``proof_stress``, a proof stress outside the
+            table, or ``slip_layer_m`` <= 0.
+    """
+
+    slip_layer_m: float
+    brinell_hardness: float | None
+    proof_stress: float | None
     surface_hardened: ClassVar[bool] = False
+
+    def __init__(self, slip_layer_m=None, brinell_hardness=None, proof_stress=None):
+        if proof_stress is not None:
+            if slip_layer_m is not None:
+                raise ValueError(
+                    "ThroughHardened: slip_layer_m and proof_stress both given: give one "
+                    "(ρ' directly, or σ_0.2 for ISO 6336-3's table)"
+                )
+            slip_layer_m = through_hardened_slip_layer(proof_stress)
+            proof_stress = float(proof_stress)
+        elif slip_layer_m is None:
+            slip_layer_m = THROUGH_HARDENED_SLIP_LAYER[0][1]
+        if not float(slip_layer_m) > 0:
+            raise ValueError(
+                f"ThroughHardened: slip_layer_m = {slip_layer_m!r} is out of range, allowed > 0 m"
+            )
+        self.slip_layer_m = float(slip_layer_m)
+        self.brinell_hardness = brinell_hardness
+        self.proof_stress = proof_stress
+
+    @classmethod
+    def of_material(cls, brinell_hardness=None, proof_stress=None) -> ThroughHardened:
+        """Z_W from ``brinell_hardness`` and ρ' from ``proof_stress`` (the table; ``None``: the
+        default ρ')."""
+        return cls(brinell_hardness=brinell_hardness, proof_stress=proof_stress)
 
     def work_hardening(self, partner: AbstractTreatment):
         """Z_W = 1.2 − (HB − 130)/1700 (HB clipped to [130, 470]) against a surface-hardened

@@ -345,9 +345,11 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
 # 700, σ_Flim 290 N/mm², HB 240, yield point σ_0.2 1000 N/mm², R_z 8.0 µm flank and 20 µm root,
 # ISO 53 profile B 1.25/0.30/1.0, no tip alteration); the planet case-hardened as above
 # (jg.PairTreatment). Z_W = 1.135 of the ring is ISO 6336-2's work hardening factor of a
-# through-hardened gear against a surface-hardened one, 1.2 − (HB − 130)/1700; the ring's ρ' =
-# 0.0014 mm is ISO 6336-3's slip-layer thickness of through-hardened steel at σ_0.2 = 1000
-# N/mm² (Y_δrelT). The rating runs at the planet's speed relative to the carrier with the
+# through-hardened gear against a surface-hardened one, 1.2 − (HB − 130)/1700; the ring's ρ'
+# (Y_δrelT) comes from its printed yield point through ISO 6336-3's slip-layer table
+# (jg.ThroughHardened(proof_stress=1000e6): the row σ_0.2 = 1000 N/mm², ρ' = 0.0014 mm; the
+# report's tensile strength, 1200 N/mm², lies outside the table, so the yield point is what
+# selects the row: the printed Y_δrelT 1.005 and 1.003 check it). The rating runs at the planet's speed relative to the carrier with the
 # planet's torque T_sun/p · z_planet/z_sun (the report's F_t and v are the sun mesh's, the same
 # at the reference circles of one module); the planet is member 0, its flank loaded once per
 # relative turn here (and by the sun on its other flank: Y_M = 0.7), the ring's tooth p = 3

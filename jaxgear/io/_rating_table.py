@@ -13,6 +13,10 @@ Keys (file units; ranges as checked)::
     brinell_hardness_HB = 240.0     # surface hardness HB, [100, 700]; or [pinion, gear]; read
                                     # for a through-hardened gear's Z_W against a surface-
                                     # hardened mate (ignored for surface-hardened gears)
+    proof_stress_MPa = 1000.0       # 0.2 % proof stress σ_0.2, [500, 1000] N/mm²; or [pinion,
+                                    # gear]; read for a through-hardened gear's slip-layer
+                                    # thickness ρ' (ISO 6336-3's table; default its 500 N/mm²
+                                    # row; surface-hardened gears have one ρ' for all)
     [operating]
     speed_rpm = 1165.9              # pinion speed of the rating, (0, 1e6] 1/min
                                     # (without it: speed_rad_s, which must then be > 0)
@@ -116,7 +120,13 @@ PLANETARY_KEYS = {"K_gamma", "ring_cutter_teeth"}
 #: ``[rating] edition`` years → the model's edition objects
 EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
-MATERIAL_RATING_KEYS = {"sigma_H_lim_MPa", "sigma_F_lim_MPa", "treatment", "brinell_hardness_HB"}
+MATERIAL_RATING_KEYS = {
+    "sigma_H_lim_MPa",
+    "sigma_F_lim_MPa",
+    "treatment",
+    "brinell_hardness_HB",
+    "proof_stress_MPa",
+}
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: the factors jaxgear measures that ``[rating] use_measured`` may put in place of ISO's
@@ -291,16 +301,16 @@ def _(value, mat: dict, key: str, allowed: str) -> list:
 
 
 def _treatment(mat: dict):
-    """The pair's treatment object of ``[material] treatment`` and ``brinell_hardness_HB``:
-    one treatment for both gears, or :class:`jaxgear.PairTreatment` when the gears differ."""
+    """The pair's treatment object of ``[material] treatment``, ``brinell_hardness_HB`` and
+    ``proof_stress_MPa`` (the last two read for a through-hardened gear only: its Z_W and its
+    slip-layer thickness ρ'): one treatment for both gears, or :class:`jaxgear.PairTreatment`
+    when the gears differ."""
     names = _treatment_names(mat.get("treatment"), mat)
     hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")
+    ps = _optional_pair(mat.get("proof_stress_MPa"), mat, "proof_stress_MPa", "[500, 1000]")
     each = []
-    for name, h in zip(names, hb, strict=True):
-        try:
-            each.append(TREATMENTS[name](**({} if h is None else {"brinell_hardness": h})))
-        except TypeError:  # surface hardened: its hardness does not enter the rating
-            each.append(TREATMENTS[name]())
+    for name, h, p in zip(names, hb, ps, strict=True):
+        each.append(TREATMENTS[name].of_material(h, None if p is None else p * 1e6))
     return each[0] if each[0] == each[1] else PairTreatment(*each)
 
 
@@ -382,6 +392,7 @@ PER_GEAR = {
     "sigma_F_lim_MPa",
     "treatment",
     "brinell_hardness_HB",
+    "proof_stress_MPa",
 }
 
 
