@@ -46,7 +46,8 @@ def _cutter_in_ring(z_c: int, z_2: int) -> jg.InternalGearPair:
 def _involute_interference(z_c: int, z_2: int) -> bool:
     """KHK's condition for an internal pair free of involute interference fails: z_c/z_2 <
     1 − tan α_a2/tan α_w (the ring's tip meets the cutter's line of action inside its base
-    circle), with the ring's tip radius z_2/2 − 1 and base radius z_2/2 cos α (in modules), α_w = α."""
+    circle), with the ring's tip radius z_2/2 − 1 and base radius z_2/2 cos α (in modules),
+    α_w = α."""
     tan_a2 = math.sqrt((z_2 / 2 - 1) ** 2 / (z_2 / 2 * math.cos(ALPHA)) ** 2 - 1)
     return z_c / z_2 < 1 - tan_a2 / math.tan(ALPHA)
 
