@@ -18,8 +18,9 @@ Part 2: the 100-speed sweep (0.2 to 1.2 x the operating speed) with the modal ri
 wall seconds (a first call compiles; the time of a second call is given too), or, with
 ``--speeds 10``, 10 speeds and the extrapolation to 100 stated as an estimate.
 
-Writes docs/bench/bench_planetary_ring_sweep.json. From the repository root:
-``python benchmarks/planetary_ring_sweep.py [--speeds 100]``.
+Writes docs/bench/bench_planetary_ring_sweep.json (or ``--out``), the machine as
+benchmarks/_timing.py's ``environment()``. From the repository root:
+``python -m benchmarks.planetary_ring_sweep [--speeds 100] [--skip-part1] [--out FILE]``.
 """
 
 from __future__ import annotations
@@ -28,7 +29,6 @@ import argparse
 import json
 import os
 import pathlib
-import platform
 import time
 import tomllib
 
@@ -40,6 +40,7 @@ import numpy as np  # noqa: E402
 from jax import monitoring  # noqa: E402
 
 import jaxgear.io as jio  # noqa: E402
+from benchmarks._timing import environment  # noqa: E402
 from jaxgear.cli.planetary_sweep import run_speeds, sweep_summary  # noqa: E402
 
 OUT = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "bench_planetary_ring_sweep.json"
@@ -114,13 +115,14 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--speeds", type=int, default=100)
     ap.add_argument("--skip-part1", action="store_true")
+    ap.add_argument("--out", type=pathlib.Path, default=OUT)
     args = ap.parse_args()
-    loads = [os.getloadavg()[0]]
+    machine = environment()
+    loads = [machine["load_average_at_start"][0]]
     result = {
         "what": __doc__.split("\n\n")[0],
         "case": CASE, "ring_body": BODY, "modes": MODES,
-        "jax": jax.__version__, "dtype": "float64", "device": jax.devices()[0].platform,
-        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs",
+        "machine": machine,
         "date_utc": time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
     }
     if not args.skip_part1:
@@ -155,9 +157,9 @@ def main() -> None:
     print("part2", json.dumps(part2), flush=True)
     result["part2_modal_sweep"] = part2
     result["load_average_1min"] = loads
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    OUT.write_text(json.dumps(result, indent=1) + "\n")
-    print("written", OUT)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(result, indent=1) + "\n")
+    print("written", args.out)
 
 
 if __name__ == "__main__":

@@ -5,18 +5,15 @@ the ratio shares the machine's load.
 
 Each model: one call to compile, then two runs of P1 and P2 mesh periods (best of three); the
 step cost is the difference of their times (wall and process CPU) over the difference of their
-step counts, so that compilation drops out. Writes docs/bench/planetary_spatial_step.json. Run
-from the repository root: ``python benchmarks/planetary_spatial_step.py``.
+step counts, so that compilation drops out (benchmarks/_step_cost.py). Writes
+docs/bench/planetary_spatial_step.json, the machine as benchmarks/_timing.py's ``environment()``.
+Run from the repository root: ``python -m benchmarks.planetary_spatial_step``.
 """
 
 from __future__ import annotations
 
 import json
-import os
 import pathlib
-import platform
-import subprocess
-import time
 
 import jax
 
@@ -26,7 +23,8 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
-import jaxgear.dynamics as jd  # noqa: E402
+from benchmarks._step_cost import step_cost  # noqa: E402
+from benchmarks._timing import environment  # noqa: E402
 
 OUT = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "planetary_spatial_step.json"
 MODULE, ALPHA, WIDTH, HELD = 3e-3, np.radians(20.0), 0.03, 1e13
@@ -64,36 +62,15 @@ def stage():
     return st, meshes
 
 
-def timed(fn):
-    t0, c0 = time.perf_counter(), time.process_time()
-    jax.block_until_ready(fn())
-    return time.perf_counter() - t0, time.process_time() - c0
-
-
 def main(out: pathlib.Path = OUT) -> dict:
+    machine = environment()
     st, meshes = stage()
     omega = jnp.asarray(600.0)
     rows = []
     for model in (jg.PlanarPlanetary(), jg.SpatialPlanetary()):
-        runs = {p: jd.PlanetaryRun(1000.0, steps_per_period=STEPS, periods=p, keep_periods=1)
-                for p in (P1, P2)}
-        first = timed(lambda r=runs[P1]: jd.planetary_dynamics(model, st, meshes, r, omega))
-        timed(lambda r=runs[P2]: jd.planetary_dynamics(model, st, meshes, r, omega))
-        best = {p: min(timed(lambda r=r: jd.planetary_dynamics(model, st, meshes, r, omega))
-                       for _ in range(3)) for p, r in runs.items()}
-        steps = (P2 - P1) * STEPS
-        rows.append({
-            "model": type(model).__name__,
-            "coordinates": int(model.mass_matrix(st).shape[0]),
-            "cells": int(meshes.cell_row(model, st, jnp.asarray(0.0),
-                                         (jnp.zeros(3), jnp.zeros(3))).k.shape[0]),
-            "step_wall_us": (best[P2][0] - best[P1][0]) / steps * 1e6,
-            "step_cpu_us": (best[P2][1] - best[P1][1]) / steps * 1e6,
-            "first_call_wall_s": first[0],
-            "first_call_cpu_s": first[1],
-        })
+        rows.append({"model": type(model).__name__,
+                     **step_cost(model, st, meshes, omega, 1000.0, STEPS, (P1, P2))})
         print(rows[-1], flush=True)
-    lscpu = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
     result = {
         "what": "carrier-frame Newmark step of a helical planetary stage, 3D lumped model "
                 "against the planar one on the same contact cells (exact contact), cost per "
@@ -102,16 +79,7 @@ def main(out: pathlib.Path = OUT) -> dict:
                  "3 planets, 600 rad/s",
         "cpu_ratio_3d_to_planar": rows[1]["step_cpu_us"] / rows[0]["step_cpu_us"],
         "wall_ratio_3d_to_planar": rows[1]["step_wall_us"] / rows[0]["step_wall_us"],
-        "machine": {
-            "platform": platform.platform(),
-            "cpu_count": os.cpu_count(),
-            "lscpu_model": next((ln.split(":", 1)[1].strip() for ln in lscpu.splitlines()
-                                 if ln.startswith("Model name")), None),
-            "load_average_1_5_15": list(os.getloadavg()),
-            "device": str(jax.devices()[0]),
-        },
-        "dtype": "float64",
-        "jax": jax.__version__,
+        "machine": machine,
         "rows": rows,
     }
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -4,17 +4,15 @@
 
 Each N: one call to compile, then two runs of P1 and P2 mesh periods; the step cost is the
 difference of their times (wall and process CPU) over the difference of their step counts, so
-that compilation and the fixed costs drop out. Writes docs/bench/planetary_step.json. Run from
-the repository root: ``python benchmarks/planetary_step.py``.
+that compilation and the fixed costs drop out (benchmarks/_step_cost.py). Writes
+docs/bench/planetary_step.json, the machine as benchmarks/_timing.py's ``environment()``. Run from
+the repository root: ``python -m benchmarks.planetary_step``.
 """
 
 from __future__ import annotations
 
 import json
-import os
 import pathlib
-import platform
-import time
 
 import jax
 
@@ -24,7 +22,8 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
-import jaxgear.dynamics as jd  # noqa: E402
+from benchmarks._step_cost import step_cost  # noqa: E402
+from benchmarks._timing import environment  # noqa: E402
 
 OUT = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "planetary_step.json"
 MODULE, ALPHA, WIDTH, HELD = 3e-3, np.radians(20.0), 0.03, 1e13
@@ -60,43 +59,15 @@ def stage(n):
     return st, meshes
 
 
-def timed(fn):
-    t0, c0 = time.perf_counter(), time.process_time()
-    out = fn()
-    jax.block_until_ready(out)
-    return time.perf_counter() - t0, time.process_time() - c0
-
-
 def main(out: pathlib.Path = OUT) -> dict:
+    machine = environment()
     model = jg.PlanarPlanetary()
     rows = []
     for n in (3, 4, 5, 6):
         st, meshes = stage(n)
         omega = jnp.asarray(2000.0 * float(meshes.mesh_period()) / float(st.ring.base_radius))
-        runs = {
-            p: jd.PlanetaryRun(800.0, steps_per_period=STEPS, periods=p, keep_periods=1)
-            for p in (P1, P2)
-        }
-        compile_s = {p: timed(lambda r=r: jd.planetary_dynamics(model, st, meshes, r, omega))[0]
-                     for p, r in runs.items()}
-        best = {}
-        for p, r in runs.items():
-            ts = [timed(lambda r=r: jd.planetary_dynamics(model, st, meshes, r, omega))
-                  for _ in range(3)]
-            best[p] = min(ts)  # (wall, cpu) of the fastest of three
-        steps = (P2 - P1) * STEPS
-        cells = int(meshes.cell_row(model, st, jnp.asarray(0.0),
-                                    (jnp.zeros(n), jnp.zeros(n))).k.shape[0])
-        rows.append(
-            {
-                "planets": n,
-                "coordinates": 3 * (3 + n),
-                "cells": cells,
-                "step_wall_us": (best[P2][0] - best[P1][0]) / steps * 1e6,
-                "step_cpu_us": (best[P2][1] - best[P1][1]) / steps * 1e6,
-                "first_call_s": compile_s[P1],
-            }
-        )
+        cost = step_cost(model, st, meshes, omega, 800.0, STEPS, (P1, P2))
+        rows.append({"planets": n, **cost})
         print(rows[-1], flush=True)
     base = rows[0]
     for r in rows:
@@ -107,15 +78,7 @@ def main(out: pathlib.Path = OUT) -> dict:
                 "of all 2N meshes, exact contact), cost per step from runs of "
                 f"{P1} and {P2} mesh periods of {STEPS} steps",
         "stage": f"{Z_S}/{Z_P}/-{Z_S + 2 * Z_P}, m 3 mm, b 30 mm, ISO 6336 stiffness, 1 slice",
-        "machine": {
-            "platform": platform.platform(),
-            "processor": platform.processor() or platform.machine(),
-            "cpu_count": os.cpu_count(),
-            "load_average_1_5_15": list(os.getloadavg()),
-            "device": str(jax.devices()[0]),
-        },
-        "dtype": "float64",
-        "jax": jax.__version__,
+        "machine": machine,
         "rows": rows,
     }
     out.parent.mkdir(parents=True, exist_ok=True)

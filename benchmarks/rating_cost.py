@@ -7,16 +7,16 @@ the quasi-static TE curve (``jaxgear.quasi_static``, exact contact), the rating
 (``jaxgear.rate`` under ``eqx.filter_jit``), the measured K_Hβ and K_Hα on the load map, the
 FE influence tables of both members (``fem_prep.fillet_influence``, 9 load radii each: once per
 tooth form) and the root-stress map of both members (``jaxgear.root_stress_map``, jitted) per
-mesh position. Writes docs/bench/rating_cost.json. Run from the repository root:
-``python benchmarks/rating_cost.py`` (about half a minute).
+mesh position. Writes docs/bench/rating_cost.json (or the file given), the machine as
+benchmarks/_timing.py's ``environment()``. Run from the repository root:
+``python -m benchmarks.rating_cost [FILE]`` (about half a minute).
 """
 
 from __future__ import annotations
 
 import json
-import os
 import pathlib
-import platform
+import sys
 import time
 
 import jax
@@ -28,6 +28,7 @@ import numpy as np
 
 import jaxgear as jg
 import jaxgear.io as jio
+from benchmarks._timing import environment
 from jaxgear.cli import fillet_table
 
 REPEATS = 5
@@ -54,7 +55,8 @@ def active_radii(pair: jg.GearPair, member: int) -> tuple:
     return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
 
 
-def main() -> None:
+def main(path: pathlib.Path = OUT) -> None:
+    machine = environment()
     case = jio.load_case("accessory-spur")
     pair, mods, torque = case.pair, case.modifications, case.torque
     mesh = case.mesh_model()
@@ -86,7 +88,7 @@ def main() -> None:
         "positions": positions,
         "repeats": REPEATS,
         "note": "wall seconds on a shared machine (load varies): compare the ratios",
-        "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
+        "machine": machine,
     }
     for key, fn, arg in (
         ("te_curve", te, mods),
@@ -103,9 +105,9 @@ def main() -> None:
     out["rating_over_te_curve"] = out["rating"]["best_s"] / te_s
     out["root_stress_map_per_position_s"] = out["root_stress_map_both_members"]["best_s"] / positions
     out["root_stress_map_over_te_curve"] = out["root_stress_map_both_members"]["best_s"] / te_s
-    OUT.write_text(json.dumps(out, indent=1) + "\n")
+    path.write_text(json.dumps(out, indent=1) + "\n")
     print(json.dumps(out, indent=1))
 
 
 if __name__ == "__main__":
-    main()
+    main(*map(pathlib.Path, sys.argv[1:2]))

@@ -62,23 +62,37 @@ def tooth_and_load():
     return jg.tooth_geometry(pair, 1), math.hypot(roll, rb)
 
 
-def sweep(size_per_module: float = 1 / 18, ratios=RATIOS, supports=None) -> dict:
-    """{"solid_Pa_per_N_m", "h_t_m", "rows": [{s_R/h_t, Y_B, ratio: {model: σ/σ_solid},
-    tangent_angle_deg: {model: angle}}]} for the rim models ``supports`` (default
-    :data:`SUPPORTS`)."""
-    supports = SUPPORTS if supports is None else supports
+def rim_model(size_per_module: float):
+    """The tooth of :func:`tooth_and_load` meshed with elements of ``size_per_module`` m_n:
+    (σ_solid, h_t, r, rim), σ_solid the solid blank's largest tensile fillet stress (Pa per N/m
+    of face), h_t the tooth depth (m), r the load radius (m) and ``rim(s_R/h_t, support)`` the
+    ``fem_prep.fillet_stress`` result on a rim of that thickness below the root circle, held by
+    ``support`` (a ``fem_prep.RimSupport``), on the same mesh size."""
     tooth, r = tooth_and_load()
     prof = fem_prep.tooth_profile(tooth)
     h_t = prof.tip_radius - prof.root_radius
     size = size_per_module * tooth.normal_module
     solid = fem_prep.fillet_stress(tooth, r, size=size).peak
+
+    def rim(ratio: float, support):
+        return fem_prep.fillet_stress(
+            tooth, r, size=size, rim_radius=prof.root_radius - ratio * h_t, support=support
+        )
+
+    return solid, h_t, r, rim
+
+
+def sweep(size_per_module: float = 1 / 18, ratios=RATIOS, supports=None) -> dict:
+    """{"solid_Pa_per_N_m", "h_t_m", "rows": [{s_R/h_t, Y_B, ratio: {model: σ/σ_solid},
+    tangent_angle_deg: {model: angle}}]} for the rim models ``supports`` (default
+    :data:`SUPPORTS`)."""
+    supports = SUPPORTS if supports is None else supports
+    solid, h_t, r, rim = rim_model(size_per_module)
     rows = []
     for x in ratios:
         row = {"s_R_over_h_t": x, "Y_B": y_b(x), "ratio": {}, "tangent_angle_deg": {}}
         for name, support in supports.items():
-            fs = fem_prep.fillet_stress(
-                tooth, r, size=size, rim_radius=prof.root_radius - x * h_t, support=support
-            )
+            fs = rim(x, support)
             row["ratio"][name] = fs.peak / solid
             row["tangent_angle_deg"][name] = math.degrees(fs.peak_tangent_angle)
         rows.append(row)

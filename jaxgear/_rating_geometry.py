@@ -19,14 +19,10 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._geometry import GearPair
-from ._rating_bending import ToothFormFactors, member_form
+from ._rating_bending import ToothFormFactors, _inv, member_form
 from ._util import as_float, check_instance
 
 __all__ = ["RatingGeometry", "inverse_involute_jnp"]
-
-
-def _inv(a):
-    return jnp.tan(a) - a
 
 
 def inverse_involute_jnp(value, iterations: int = 8):

@@ -56,7 +56,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from ._internal import InternalGearPair
-from ._rating_bending import ToothFormFactors, member_form, section_factors
+from ._rating_bending import ToothFormFactors, _inv, member_form, section_factors
 from ._rating_geometry import (
     Derived,
     inverse_involute_jnp,
@@ -73,10 +73,6 @@ __all__ = [
     "ShaperCutterSection",
     "SubstituteRack",
 ]
-
-
-def _inv(a):
-    return jnp.tan(a) - a
 
 
 class AbstractRootSection(eqx.Module):

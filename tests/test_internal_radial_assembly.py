@@ -1,20 +1,19 @@
-"""The radial-assembly ("trimming") margin of an internal pair (jaxgear._internal.
-radial_assembly_margin, the attribute InternalGearPair.radial_assembly_margin): against the
-published limits of SDP/SI's Table 5-3a (Elements of Metric Gear Technology, D785; KHK's
-Gear Technical Reference gives the same table), which lists, for a 20° pinion-type cutter of
-z_c teeth without profile shift cutting a standard internal gear, the fewest ring teeth z_2
-free of trimming interference."""
+"""The radial-assembly ("trimming") margin of an internal pair (InternalGearPair.
+radial_assembly_margin): against the published limits of SDP/SI's Table 5-3a (Elements of Metric
+Gear Technology, D785; KHK's Gear Technical Reference gives the same table), which lists, for a
+20° pinion-type cutter of z_c teeth without profile shift cutting a standard internal gear, the
+fewest ring teeth z_2 free of trimming interference; the table's cutter and ring are built as
+public internal pairs."""
 
 import math
 
-import numpy as np
 import pytest
 from _planetary_stage import geometry
 
 import jaxgear as jg
-from jaxgear._internal import radial_assembly_margin
 
 ALPHA = math.radians(20.0)
+MODULE = 1e-3
 
 # SDP/SI D785 Table 5-3a (α = 20°, x_c = x_2 = 0): cutter teeth z_c -> the smallest z_2
 TABLE_5_3A = {
@@ -24,30 +23,59 @@ TABLE_5_3A = {
 }  # fmt: skip
 
 
-def _standard_margin(z_c: int, z_2: int) -> float:
-    """The margin at the standard centre distance (module 1, α_w = α): the cutter's tip
-    radius z_c/2 + 1.25 (it cuts the ring's root, dedendum 1.25), the ring's z_2/2 - 1."""
-    rb = np.array([z_c, z_2]) / 2 * math.cos(ALPHA)
-    return radial_assembly_margin(z_c, -z_2, z_c / 2 + 1.25, z_2 / 2 - 1.0, rb[0], rb[1], ALPHA)
+def _cutter_in_ring(z_c: int, z_2: int) -> jg.InternalGearPair:
+    """The table's cutter (z_c teeth, addendum 1.25 m: its tip cuts the ring's root) in a
+    standard ring of z_2 teeth (addendum 1 m; dedendum 1.3 m, clear of the cutter's tip), at the
+    standard centre distance (α_w = α). The cutter's dedendum puts its form circle on its base
+    circle (the rack-generation undercut limit, ISO 21771), so that the ring's tip may meet its
+    whole involute: the cutter is a tool, its root plays no part, and the margin depends on
+    neither dedendum."""
+    form = z_c / 2 * math.sin(ALPHA) ** 2  # h = r sin² α: roll 0 at the form circle
+    fillet = 0.25
+    cutter = jg.Member(
+        z_c,
+        addendum_coeff=1.25,
+        dedendum_coeff=form + fillet * (1 - math.sin(ALPHA)) - 1e-9,
+        fillet_radius_coeff=fillet,
+        face_width=0.01,
+    )
+    ring = jg.Member(-z_2, addendum_coeff=1.0, dedendum_coeff=1.3, face_width=0.01)
+    return jg.InternalGearPair(cutter, ring, MODULE, ALPHA)
+
+
+def _involute_interference(z_c: int, z_2: int) -> bool:
+    """KHK's condition for an internal pair free of involute interference fails: z_c/z_2 <
+    1 − tan α_a2/tan α_w (the ring's tip meets the cutter's line of action inside its base
+    circle), with the ring's tip radius z_2/2 − 1 and base radius z_2/2 cos α (in modules),
+    α_w = α."""
+    tan_a2 = math.sqrt((z_2 / 2 - 1) ** 2 / (z_2 / 2 * math.cos(ALPHA)) ** 2 - 1)
+    return z_c / z_2 < 1 - tan_a2 / math.tan(ALPHA)
 
 
 @pytest.mark.parametrize("z_c", sorted(TABLE_5_3A))
 def test_published_trimming_limits(z_c):
-    """The margin is >= 0 at the table's z_2 and < 0 one tooth fewer (every entry but where
-    one fewer has no involute at the ring's tip: z_2 - 1 < 34, the table's limit there)."""
+    """The margin is >= 0 at the table's z_2 and < 0 one tooth fewer. The pairs of the smaller
+    cutters (z_c <= 22) also have involute interference by KHK's condition: InternalGearPair
+    refuses them, so the table is checked through the pair from z_c = 24 on (22 of its 31
+    rows)."""
     z_2 = TABLE_5_3A[z_c]
-    assert _standard_margin(z_c, z_2) >= 0.0
-    if (z_2 - 1) / 2 - 1.0 > (z_2 - 1) / 2 * math.cos(ALPHA):
-        assert _standard_margin(z_c, z_2 - 1) < 0.0
-    else:
-        assert z_2 == 34
+    if _involute_interference(z_c, z_2):
+        assert z_c <= 22
+        with pytest.raises(ValueError, match="involute interference"):
+            _cutter_in_ring(z_c, z_2)
+        return
+    assert not _involute_interference(z_c, z_2 - 1)
+    assert _cutter_in_ring(z_c, z_2).radial_assembly_margin >= 0.0
+    assert _cutter_in_ring(z_c, z_2 - 1).radial_assembly_margin < 0.0
 
 
 def test_the_pair_reports_its_margin_and_is_not_refused():
-    """The pair's attribute and summary key are the function at its own radii and operating
-    pressure angle: a planetary stage's planet-ring pair (19/17/-53, x 0.3/0.3) can be pushed
-    in radially; a pair of 7 teeth difference that passes every check (z1 = 20, ring addendum
-    0.6 m) cannot, and is still built (planets are mounted axially)."""
+    """A planetary stage's planet-ring pair (19/17/-53, x 0.3/0.3) can be pushed in radially; a
+    pair of 7 teeth difference that passes every check (z1 = 20, ring addendum 0.6 m) cannot,
+    and is still built (planets are mounted axially). The summary key is the attribute. The
+    operating pressure angle enters the margin (D785 (5-9), (5-10)) only through
+    (|z2|/z1 − 1) inv α_w: the same planet-ring pair 20 µm closer (the same radii, a smaller
+    α_w) changes it by exactly that."""
     pr = geometry(z_s=19, z_p=17, x_s=0.3, x_p=0.3).planet_ring
     tight = jg.InternalGearPair(
         jg.Member(20, face_width=0.02),
@@ -56,13 +84,16 @@ def test_the_pair_reports_its_margin_and_is_not_refused():
         ALPHA,
     )
     for pair, sign in ((pr, 1.0), (tight, -1.0)):
-        want = radial_assembly_margin(
-            pair.pinion.teeth,
-            pair.gear.teeth,
-            *pair.tip_radii,
-            *pair.base_radii,
-            pair.operating_pressure_angle,
-        )
-        assert pair.radial_assembly_margin == want
-        assert pair.summary()["radial_assembly_margin_rad"] == want
-        assert math.copysign(1.0, want) == sign and abs(want) > 1e-3
+        margin = pair.radial_assembly_margin
+        assert pair.summary()["radial_assembly_margin_rad"] == margin
+        assert math.copysign(1.0, margin) == sign and abs(margin) > 1e-3
+    closer = jg.InternalGearPair(
+        pr.pinion, pr.gear, pr.normal_module, pr.normal_pressure_angle,
+        center_distance=pr.center_distance - 20e-6,
+    )
+    assert closer.tip_radii == pr.tip_radii and closer.base_radii == pr.base_radii
+    inv = [math.tan(p.operating_pressure_angle) - p.operating_pressure_angle for p in (pr, closer)]
+    assert inv[0] - inv[1] > 1e-4
+    ratio = -pr.gear.teeth / pr.pinion.teeth
+    want = pr.radial_assembly_margin + (ratio - 1) * (inv[1] - inv[0])
+    assert closer.radial_assembly_margin == pytest.approx(want, rel=1e-12, abs=1e-15)

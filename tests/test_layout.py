@@ -256,9 +256,6 @@ PRIVATE_IN_TESTS = {
     # the maximum whose derivative survives XLA's unoptimised CPU code (max_M e of every cell
     # separation), its tie rule and values on small arrays
     ("test_safe_max.py", "jaxgear._util"),
-    # the radial-assembly (trimming) margin on the published cutter limits, whose tooth counts
-    # no InternalGearPair accepts (involute interference of the unshifted pairs)
-    ("test_internal_radial_assembly.py", "jaxgear._internal"),
 }
 
 

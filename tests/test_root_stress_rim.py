@@ -7,52 +7,30 @@ fillet for the root land (the rim's own bending). Between s_R/h_t = 2 and 0.8 it
 ISO 6336-3's Y_B rises: the plane segment's radial load bends the rim inwards under the tooth
 and unloads the tensile fillet (the comparison with Y_B: docs/rating.md)."""
 
+import functools
 import math
 
 import pytest
 from _examples import load_example
 
 import fem_prep
-import jaxgear as jg
 
 
-def _tooth_and_load():
-    """The 40-tooth gear of a standard 20/40 pair (m = 2 mm, α 20°, ρ_fP 0.38 m) and the radius
-    of its outer point of single pair contact (ISO 6336-3 method B's load point)."""
-    m = {"addendum_coeff": 1.0, "dedendum_coeff": 1.25, "fillet_radius_coeff": 0.38}
-    pair = jg.GearPair(
-        jg.Member(20, 0.0, face_width=0.04, **m),
-        jg.Member(40, 0.0, face_width=0.04, **m),
-        2e-3,
-        math.radians(20),
-    )
-    rb = float(pair.base_radii[1])
-    roll = math.sqrt(float(pair.tip_radii[1]) ** 2 - rb**2)
-    roll -= (float(pair.transverse_contact_ratio) - 1) * float(pair.base_pitch)
-    return jg.tooth_geometry(pair, 1), math.hypot(roll, rb)
+@functools.cache
+def _example():
+    """examples/root_stress_rim.py: the 40-tooth gear of a standard 20/40 pair (m = 2 mm, α 20°,
+    ρ_fP 0.38 m) loaded at its outer point of single pair contact (ISO 6336-3 method B's load
+    point), and its rim models."""
+    return load_example("root_stress_rim")
 
 
 def _ratios(thickness, size_per_module, pitches=3):
     """Fillet stress on rims of s_R/h_t = ``thickness`` over the solid blank's (same mesh size);
     ``pitches``: a RingSegment's, or a fem_prep.RimSupport itself."""
-    tooth, r = _tooth_and_load()
-    prof = fem_prep.tooth_profile(tooth)
-    h_t = prof.tip_radius - prof.root_radius
-    size = size_per_module * tooth.normal_module
-    solid = fem_prep.fillet_stress(tooth, r, size=size).peak
-    out = []
-    for x in thickness:
-        fs = fem_prep.fillet_stress(
-            tooth,
-            r,
-            size=size,
-            rim_radius=prof.root_radius - x * h_t,
-            support=pitches
-            if isinstance(pitches, fem_prep.RimSupport)
-            else fem_prep.RingSegment(pitches),
-        )
-        out.append(fs.peak / solid)
-    return out
+    solid, _, _, rim = _example().rim_model(size_per_module)
+    if not isinstance(pitches, fem_prep.RimSupport):
+        pitches = fem_prep.RingSegment(pitches)
+    return [rim(x, pitches).peak / solid for x in thickness]
 
 
 def test_a_thick_rim_gives_the_solid_blanks_fillet_stress():
@@ -110,7 +88,7 @@ def test_rim_on_a_web_converges_under_refinement():
 def test_ring_segment_refuses_bad_pitches():
     with pytest.raises(ValueError, match=r"^RingSegment: pitches = 4 is out of range, allowed odd"):
         fem_prep.RingSegment(4)
-    tooth, r = _tooth_and_load()
+    tooth, r = _example().tooth_and_load()
     with pytest.raises(ValueError, match=r"pitches = 41 is out of range, allowed < z = 40"):
         fem_prep.fillet_stress(tooth, r, rim_radius=0.03, support=fem_prep.RingSegment(41))
     with pytest.raises(ValueError, match=r"^WebbedRim: web = 0.0 is out of range, allowed"):

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the same names, for type checkers and editors
     from . import _plots as plots
-    from ._main import entry as entry, main as main, runtime_message as runtime_message
+    from ._main import main as main, runtime_message as runtime_message
     from ._optimise import (
         check_settings as check_settings,
         optimise_case as optimise_case,
@@ -44,6 +44,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         train_mesh_results as train_mesh_results,
         write_rating_table as write_rating_table,
     )
+    from ._start import entry as entry
     from ._stress_outputs import (
         body_stress_outputs as body_stress_outputs,
         fillet_table as fillet_table,
@@ -58,7 +59,7 @@ _MODULES = {"plots": "._plots"}
 
 #: every other public name of the package: the module that defines it
 _EXPORTS = {
-    "entry": "._main",
+    "entry": "._start",
     "main": "._main",
     "runtime_message": "._main",
     "check_settings": "._optimise",

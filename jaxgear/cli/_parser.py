@@ -13,10 +13,6 @@ import argparse
 import dataclasses
 from importlib.metadata import PackageNotFoundError, version
 
-from fem_prep import add_build_arguments
-
-from ._optimise_options import add_parsers as add_optimise_parsers
-
 __all__ = ["BENCHMARKS", "COMMANDS", "Command", "SOLVER_NAMES", "build_parser"]
 
 
@@ -87,6 +83,12 @@ def build_parser() -> argparse.ArgumentParser:
     """The parser of ``jaxgear``: one subparser per :data:`COMMANDS` entry; ``args.command`` is
     the subcommand's name; ``args.out`` and ``args.json`` are None where a command has no such
     option."""
+    # imported here, not with the table of commands: the console script reads COMMANDS before
+    # these imports (fem_prep, the optimisers; :mod:`jaxgear.cli._start`)
+    from fem_prep import add_build_arguments
+
+    from ._optimise_options import add_parsers as add_optimise_parsers
+
     p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
     p.set_defaults(out=None, json=None)
