@@ -12,6 +12,7 @@ and the embedded power-helical pair's rating."""
 
 from __future__ import annotations
 
+import json
 import math
 import re
 import types
@@ -284,3 +285,29 @@ def test_power_helical_rates_itself():
         f"S_F {s_f[0]:.3g} / {s_f[1]:.3g} (rating.md)"
     )
     assert cli.rating_run_line(None) == []
+
+
+@pytest.mark.slow  # the three stages' whole runs (two planetary sweeps): minutes on a loaded CPU;
+# fast twins: the carried point and the stage lines above
+def test_jaxgear_run_on_the_gearbox_rates_every_mesh_of_every_stage(tmp_path, capsys):
+    """``jaxgear run nrel-5mw-gearbox``: each stage's summary has its ``rating`` (the two
+    planetary stages' two meshes each, the helical stage's one) and its ``rating.md``; the
+    helical stage's safety factors are the stage case's own (its operating point carried from
+    the rotor, equal to the file's within 1e-4: tests/test_gearbox_case.py), so its report's
+    S_H 1.81/1.88 and S_F 3.26/3.09 within 0.5 %; stage 2's (K_γ given) its report's sun mesh
+    S_H 1.21/1.38 and S_F 2.82/2.04; each stage's line names its least S_H and S_F."""
+    out = tmp_path / "gearbox"
+    assert cli.main(["run", "nrel-5mw-gearbox", "--out", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    stages = json.loads((out / "summary.json").read_text(encoding="utf-8"))["stages"]
+    ratings = [s["summary"]["rating"] for s in stages]
+    assert [r["meshes"] for r in ratings[:2]] == [
+        ["sun1-planet1", "planet1-ring1"], ["sun2-planet2", "planet2-ring2"]
+    ]
+    for k in (1, 2, 3):
+        assert (out / f"stage{k}" / "rating.md").is_file()
+    np.testing.assert_allclose(ratings[2]["pitting"]["S_H"], [1.81, 1.88], rtol=5e-3)
+    np.testing.assert_allclose(ratings[2]["bending"]["S_F"], [3.26, 3.09], rtol=5e-3)
+    np.testing.assert_allclose(ratings[1]["pitting"]["S_H"][0], [1.21, 1.38], rtol=5e-3)
+    np.testing.assert_allclose(ratings[1]["bending"]["S_F"][0], [2.82, 2.04], rtol=5e-3)
+    assert printed.count("; rated: least S_H ") == 3
