@@ -642,7 +642,8 @@ case file (a planetary stage or a gear pair, whose own keys are in the pair and 
 references), the torsional stiffness of the shaft joining each stage to the previous one, and
 the operating point once, on the first stage's input; a pair stage also states which gear the
 previous stage drives, its gears' polar inertias and its mean mesh stiffness (see *Planetary
-stages*, "A gearbox of stages in series"). Unknown keys are errors."""
+stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its own case's
+`[rating]`, at the operating point the gearbox carries to it. Unknown keys are errors."""
 
 #: what the gearbox page says of a table beyond its keys
 GEARBOX_NOTES = {
