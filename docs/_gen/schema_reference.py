@@ -642,7 +642,8 @@ case file (a planetary stage or a gear pair, whose own keys are in the pair and 
 references), the torsional stiffness of the shaft joining each stage to the previous one, and
 the operating point once, on the first stage's input; a pair stage also states which gear the
 previous stage drives, its gears' polar inertias and its mean mesh stiffness (see *Planetary
-stages*, "A gearbox of stages in series"). Unknown keys are errors."""
+stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its own case's
+`[rating]`, at the operating point the gearbox carries to it. Unknown keys are errors."""
 
 #: what the gearbox page says of a table beyond its keys
 GEARBOX_NOTES = {
@@ -658,7 +659,12 @@ TRAIN_NOTES = {
     "rating": "A train's `[rating]` rates every external mesh, a planetary stage's (gear form) "
     "its `sun-planet` and `planet-ring` meshes. `K_gamma` (the load sharing factor K_γ) applies "
     "to planetary stages only: a train without `[planetary]` refuses it (its meshes carry no "
-    "load sharing between paths).",
+    "load sharing between paths); without it a planetary stage rates with the run's computed "
+    "K_γ. `ring_cutter_teeth` (z0), `ring_cutter_profile_shift` (x0, default 0) and "
+    "`ring_cutter_tip_radius_coeff` (the cutter's tip radius over m_n, default the ring's "
+    "`fillet_radius_coeff`) take the ring's root section from its pinion-type cutter "
+    "(`jaxgear.ShaperCutterSection`); without `ring_cutter_teeth`, ISO's substitute rack, and "
+    "the other two are refused.",
 }
 
 BODY_INTRO = """\

@@ -50,7 +50,12 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         fillet_table as fillet_table,
     )
     from ._summary import result_summary as result_summary
-    from .run import format_table as format_table, run_case as run_case
+    from .run import (
+        format_table as format_table,
+        rating_run_line as rating_run_line,
+        run_case as run_case,
+        train_rating_run_line as train_rating_run_line,
+    )
     from .scene import scene_outputs as scene_outputs
     from .train import format_train_table as format_train_table, run_train as run_train
 
@@ -79,6 +84,8 @@ _EXPORTS = {
     "scene_loads": "._rating_report",
     "train_loads": "._rating_report",
     "rating_outputs": "._rating_report",
+    "rating_run_line": ".run",
+    "train_rating_run_line": ".run",
     "root_stress_outputs": "._rating_report",
     "root_stress_at_speed": "._rating_report",
     "fillet_table": "._stress_outputs",

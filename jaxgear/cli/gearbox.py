@@ -1,6 +1,7 @@
 """``jaxgear run`` on a gearbox (a case of :class:`jaxgear.io.GearboxForm`): each stage's own
 run (its case at the operating point carried from the previous stage: a planetary stage's load
-sharing, meshes, modes and sweep, a pair's TE and load maps) into ``stage<k>/``, then the whole
+sharing, meshes, modes and sweep, a pair's TE and load maps, and each stage's ``[rating]``: every
+mesh of every rated stage, at the carried point) into ``stage<k>/``, then the whole
 chain's torsional natural frequencies (:func:`jaxgear.gearbox_modes`) with the stage that holds
 most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``."""
 
@@ -13,7 +14,7 @@ import numpy as np
 from .. import gearbox_modes
 from ..io import write_json
 
-__all__ = ["chain_modes", "gearbox_run_files", "gearbox_run_lines"]
+__all__ = ["chain_modes", "gearbox_run_files", "gearbox_run_lines", "least_safety"]
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -77,6 +78,17 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
     return result
 
 
+def least_safety(stage_summary: dict) -> str:
+    """The words a gearbox's stage line ends with when the stage is rated (its ``[rating]``,
+    at the carried operating point): the least S_H and S_F over its meshes and gears, and where
+    the stage's ``rating.md`` is; "" for a stage without a rating."""
+    rating = stage_summary.get("rating")
+    if rating is None:
+        return ""
+    h, f = (float(np.min(rating[p][k])) for p, k in (("pitting", "S_H"), ("bending", "S_F")))
+    return f"; rated: least S_H {h:.3g}, S_F {f:.3g} (rating.md)"
+
+
 def gearbox_run_lines(form, case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints for a gearbox (after each stage's own lines)."""
     g = summary["gearbox"]
@@ -89,7 +101,7 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
         lines.append(
             f"{s['stage']} ({s['case']}): in {s['input_speed_rad_s']:.6g} rad/s, "
             f"{s['input_torque_Nm']:.6g} N·m; out {s['output_speed_rad_s']:.6g} rad/s, "
-            f"{s['output_torque_Nm']:.6g} N·m ({s['folder']}/)"
+            f"{s['output_torque_Nm']:.6g} N·m ({s['folder']}/)" + least_safety(s["summary"])
         )
     elastic = [m for m in summary["torsional_modes"] if m["type"] != "rigid body"]
     lines.append(

@@ -56,10 +56,12 @@ from .train import format_train_table, run_train
 __all__ = [
     "RUN_SWEEP_SLICES",
     "format_table",
+    "rating_run_line",
     "result_summary",
     "run_case",
     "run_sweep_speeds",
     "stiffness_line",
+    "train_rating_run_line",
 ]
 
 # slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
@@ -524,6 +526,33 @@ def _(form: InternalMeshForm, case: Case, out: str, args, complete: bool) -> dic
     return run_case(case, out, show_progress=not args.quiet, complete=complete)
 
 
+def _pair_of(values) -> str:
+    return " / ".join(f"{v:.3g}" for v in values)
+
+
+def rating_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of a pair's ``rating`` section (nothing without one): the
+    safety factors S_H and S_F, pinion / gear."""
+    if section is None:
+        return []
+    h, f = (_pair_of(section[p][k]) for p, k in (("pitting", "S_H"), ("bending", "S_F")))
+    return [f"rating ({section['method']}, pinion / gear): S_H {h}, S_F {f} (rating.md)"]
+
+
+def train_rating_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of a train's ``rating`` section (nothing without one): each
+    mesh's S_H and S_F, driving / driven."""
+    if section is None:
+        return []
+    per = "; ".join(
+        f"{name} S_H {_pair_of(h)}, S_F {_pair_of(f)}"
+        for name, h, f in zip(
+            section["meshes"], section["pitting"]["S_H"], section["bending"]["S_F"], strict=True
+        )
+    )
+    return [f"rating ({section['method']}, driving / driven): {per} (rating.md)"]
+
+
 @functools.singledispatch
 def run_lines(form, case: Case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints at the end for a case of ``form``, from its ``summary``."""
@@ -550,7 +579,7 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
             f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
         )
-    return lines
+    return lines + rating_run_line(summary.get("rating"))
 
 
 @run_lines.register
@@ -577,7 +606,7 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
             "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
             f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
         )
-    return lines
+    return lines + train_rating_run_line(summary.get("rating"))
 
 
 run_lines.register(PlanetaryForm, planetary_run_lines)

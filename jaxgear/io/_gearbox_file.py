@@ -20,7 +20,9 @@ point given on the first stage's input and carried stage to stage by the stages'
     mesh_stiffness_N_per_um = 7668.0
 
 A planetary stage's input and output are its ``[planetary]`` table's; each stage's own
-``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's).
+``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's), also
+for its ``[rating]``: ``jaxgear run`` rates every mesh of every stage that has one, each at the
+carried point.
 """
 
 from __future__ import annotations
@@ -142,7 +144,7 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
         raise sc.fail(where, extra[0], "only for a pair stage", table[extra[0]])
     spec = form.spec
     model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output)
-    return case.replace(torque=torque, speed=speed), spec.ratio(), model
+    return _carried(case, speed, torque), spec.ratio(), model
 
 
 @_stage.register
@@ -159,7 +161,16 @@ def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque:
     # the pair's own operating point is its pinion's
     pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
     model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
-    return case.replace(speed=pinion[0], torque=pinion[1]), ratio, model
+    return _carried(case, *pinion), ratio, model
+
+
+def _carried(case: Case, speed: float, torque: float) -> Case:
+    """The stage's case at the carried operating point: its torque and speed, and its file's
+    ``[operating]`` (which its ``[rating]`` reads: a pair's rating speed and torque) replaced by
+    them (``speed_rpm`` dropped)."""
+    raw = dict(case.raw)
+    raw["operating"] = {"torque_Nm": torque, "speed_rad_s": speed}
+    return case.replace(speed=speed, torque=torque, raw=raw)
 
 
 def _stage_case(value: str, base: str | None, load_case) -> Case:
