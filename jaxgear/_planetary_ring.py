@@ -32,6 +32,14 @@ the static correction of the ring's residual flexibility ``F - Phi_m Lambda_m^-1
 Dynamics*, 2nd ed., 2006, §14.5; the basis of :mod:`jaxgear.dynamics._modal_basis`), integrated
 by :func:`jaxgear.dynamics.newmark_modal`: exact in statics at any m, the station model with
 every mode.
+
+The station mass reduces the condensed ring statically onto its stations (Guyan): the ring's
+motion between and behind the stations follows them, and its nodal-diameter modes come from
+above. :class:`CraigBamptonRing` adds the condensed ring's own dynamics inside the stations: its
+fixed-interface modes eta (the stations held) as coordinates that carry mass and stiffness and
+no contact (Craig & Bampton 1968 with the stations as the interface;
+``fem_prep.ring_craig_bampton``): the same statics, the ring's nodal-diameter frequencies
+converging to the condensed FE ring's own as the kept modes grow.
 """
 
 from __future__ import annotations

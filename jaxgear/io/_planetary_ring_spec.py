@@ -51,6 +51,9 @@ RING_MODEL_KEYS = {"model", "body", "dynamics", "modes", "integration_modes"}
 #: ``[planetary.ring] modes`` when ``dynamics = "modal"`` does not give it, and
 #: ``integration_modes`` when ``dynamics = "craig-bampton"`` does not
 DEFAULT_RING_MODES = 24
+#: fixed-interface modes whose eigenvalues differ by at most this share are a pair (one nodal
+#: diameter's two orientations), which ``modes`` may not split
+PAIR = 1e-6
 #: the largest relative difference between the ring body's and the ring gear's root radius
 ROOT_TOLERANCE = 0.02
 
@@ -103,6 +106,12 @@ def _craig_bampton(spec, st) -> CraigBamptonRing:
         raise sc.fail("planetary.ring", "modes", f"out of range, allowed [1, {m}] (the fixed-"
                       f"interface modes that ring body {spec.body.name!r} couples to its "
                       "stations)", spec.modes)
+    lam = st.interior_eigenvalues
+    if spec.modes is not None and spec.modes < m and (
+            lam[spec.modes] - lam[spec.modes - 1] <= PAIR * lam[spec.modes]):
+        raise sc.fail("planetary.ring", "modes", "splits a pair of equal-frequency fixed-"
+                      f"interface modes (a nodal-diameter pair; allowed {spec.modes - 1} or "
+                      f"{spec.modes + 1})", spec.modes)
     coords = 2 * st.compliance.shape[0] + (m if spec.modes is None else spec.modes)
     if spec.integration_modes > coords:
         raise sc.fail("planetary.ring", "integration_modes", f"out of range, allowed [1, "
