@@ -12,6 +12,7 @@ the rigid ring for the ring made 10^3 stiffer; the station ring with its Guyan m
 nodal-diameter crossing for what the interior modes change.
 """
 
+import itertools
 import json
 import math
 
@@ -20,13 +21,12 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from _planetary_stage import K0, SEQ, geometry, stage
 
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from _planetary_stage import K0, SEQ, geometry, stage
-from fem_prep._ring_stations import _station_map
 
 jax.config.update("jax_enable_x64", True)
 
@@ -39,6 +39,20 @@ COUPLED = 57  # ... of which this many couple to the stations (the others: out o
 @pytest.fixture(scope="module")
 def prep():
     return fp.prepare_ring(fp.load_ring_body(RING))
+
+
+def station_map(prep) -> np.ndarray:
+    """E (n_condensed, 2Z), written here from ring_master_compliance's definition: a station's
+    in-plane (x, y) displacement is the trapezoid-weighted mean over its axial masters (masters
+    first in the condensed coordinates, in the order of prep.master_dofs), zero on the modes."""
+    teeth, nax, _ = prep.master_dofs.shape
+    w = np.ones(nax) if nax == 1 else np.r_[0.5, np.ones(nax - 2), 0.5]
+    E = np.zeros((prep.condensed.K.shape[0], 2 * teeth))
+    for k in range(teeth):
+        for a in range(nax):
+            for d in range(2):
+                E[(k * nax + a) * 3 + d, 2 * k + d] = w[a] / w.sum()
+    return E
 
 
 @pytest.fixture(scope="module")
@@ -61,10 +75,11 @@ def test_cb_basis_is_the_condensed_ring_on_its_stations(prep, stations):
     F^-1: 1e-10 of |K_cb|), T^T M_c T = M_cb with I on the modes (1e-12); each kept mode solves
     the constrained eigenproblem (its residual K_c psi - lambda M_c psi lies in the span of the
     station map E, 1e-9); the statics on the stations (K_cb^-1's station block) are
-    ring_master_compliance's F (1e-10); the cached RingStations (built in another process: the
+    ring_master_compliance's F (1e-8 of |F|, F^-1 inverted back; measured 4e-11 to 2e-9 with
+    the BLAS threads); the cached RingStations (built in another process: the
     equal-frequency pairs of modes may come in another rotation, and BLAS's rounding differs)
-    give the same K_cb (1e-10), station mass (1e-8, F^-1 again; measured 3e-9), M_ue M_ue^T
-    (invariant to those rotations, 1e-10) and lowest 30 frequencies (1e-9)."""
+    give the same K_cb (1e-10), station mass and M_ue M_ue^T (invariant to those rotations; 1e-8,
+    both through Phi and F^-1 again: measured 3e-9) and lowest 30 frequencies (1e-9)."""
     c = prep.condensed
     K, M, T = fp.ring_craig_bampton(prep)
     F, _ = fp.ring_master_compliance(prep)
@@ -72,7 +87,7 @@ def test_cb_basis_is_the_condensed_ring_on_its_stations(prep, stations):
     F = F.reshape(z2, z2)
     m = K.shape[0] - z2
     assert m == COUPLED and T.shape == (c.K.shape[0], z2 + m)
-    E = _station_map(prep)
+    E = station_map(prep)
     np.testing.assert_allclose(E.T @ T, np.eye(z2, z2 + m), rtol=0, atol=1e-8)
     np.testing.assert_allclose(T.T @ c.K @ T, K, rtol=0, atol=1e-10 * np.abs(K).max())
     np.testing.assert_allclose(K[:z2, :z2], np.linalg.inv(F), rtol=0,
@@ -84,13 +99,13 @@ def test_cb_basis_is_the_condensed_ring_on_its_stations(prep, stations):
     along_e = E @ np.linalg.lstsq(E, resid, rcond=None)[0]
     assert np.abs(resid - along_e).max() < 1e-9 * np.abs(c.K @ psi).max()
     np.testing.assert_allclose(np.linalg.inv(K)[:z2, :z2], F, rtol=0,
-                               atol=1e-10 * np.abs(F).max())
+                               atol=1e-8 * np.abs(F).max())
     Ks, Ms = stations.craig_bampton()
     np.testing.assert_allclose(Ks, K, rtol=0, atol=1e-10 * np.abs(K).max())
     np.testing.assert_allclose(Ms[:z2, :z2], M[:z2, :z2], rtol=0, atol=1e-8 * np.abs(M).max())
     cs, cm = Ms[:z2, z2:], M[:z2, z2:]
     np.testing.assert_allclose(cs @ cs.T, cm @ cm.T, rtol=0,
-                               atol=1e-10 * np.abs(cm @ cm.T).max())
+                               atol=1e-8 * np.abs(cm @ cm.T).max())
     lo = [0, 29]
     np.testing.assert_allclose(sla.eigh(Ks, Ms, subset_by_index=lo, eigvals_only=True),
                                sla.eigh(K, M, subset_by_index=lo, eigvals_only=True), rtol=1e-9)
@@ -115,7 +130,7 @@ def test_cb_nd_frequencies_converge_to_the_condensed_rings_own(prep):
         errors.append(np.array([got[n] / ref[n] - 1 for n in sorted(ref)]))
         print("m", m, "max", np.abs(errors[-1]).max(), "rms", np.sqrt(np.mean(errors[-1] ** 2)))
     assert sorted(ref) == list(range(12))
-    for a, b in zip(errors, errors[1:], strict=False):
+    for a, b in itertools.pairwise(errors):
         assert np.all(b <= a + 1e-9)
         assert np.sqrt(np.mean(b**2)) < np.sqrt(np.mean(a**2))
     assert np.all(errors[0] > -1e-9)  # the station model from above
@@ -149,7 +164,7 @@ def test_cb_ring_matrices_rows_and_modal_basis(stations, seq):
     Fm = np.asarray(stations.compliance).reshape(z2, z2)
     for k in (8, n):
         r = jg.CraigBamptonRing.from_stations(stations, modes=k)
-        Tk, D, G = (np.asarray(a) for a in r.modal_basis(jnp.float64))
+        Tk, _, G = (np.asarray(a) for a in r.modal_basis(jnp.float64))
         np.testing.assert_allclose(Tk.T @ M @ Tk, np.eye(k), atol=1e-9)
         lam = np.diag(Tk.T @ K @ Tk)
         flex = (Tk / lam) @ Tk.T + G
