@@ -321,7 +321,7 @@ def test_cb_keys_map_to_the_cb_ring():
     spec = jio.parse_train(_nrel2(model="condensed", body=NREL2_RING, dynamics="craig-bampton",
                                   integration_modes=40)).form.spec.ring_model
     assert (spec.modes, spec.integration_modes) == (None, 40)
-    assert "every coupled fixed-interface modes" in spec.words()
+    assert "all coupled fixed-interface modes" in spec.words()
 
 
 @pytest.mark.parametrize("ring, words", [

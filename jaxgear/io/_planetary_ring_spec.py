@@ -128,7 +128,7 @@ _DYNAMICS = {
     "modal": (lambda spec, st: CondensedRing(st.compliance, st.mass, spec.modes),
               lambda spec: f"{spec.modes} modes"),
     "craig-bampton": (_craig_bampton, lambda spec: "Craig-Bampton, " + (
-        "every coupled" if spec.modes is None else str(spec.modes)) + " fixed-interface modes, "
+        "all coupled" if spec.modes is None else str(spec.modes)) + " fixed-interface modes, "
         f"{spec.integration_modes} modes integrated"),
 }
 #: ``[planetary.ring] dynamics``: how a condensed ring enters the sweep (module docstring)
