@@ -88,7 +88,8 @@ def timed(c, speeds) -> dict:
 
 
 def _sh(cmd: str) -> str:
-    return subprocess.run(cmd, shell=True, capture_output=True, text=True, check=False).stdout.strip()
+    out = subprocess.run(cmd, shell=True, capture_output=True, text=True, check=False)
+    return out.stdout.strip()
 
 
 def main() -> None:

@@ -75,9 +75,9 @@ def test_cb_basis_is_the_condensed_ring_on_its_stations(prep, stations):
     F^-1: 1e-10 of |K_cb|), T^T M_c T = M_cb with I on the modes (1e-12); each kept mode solves
     the constrained eigenproblem (its residual K_c psi - lambda M_c psi lies in the span of the
     station map E, 1e-9); the statics on the stations (K_cb^-1's station block) are
-    ring_master_compliance's F (1e-10 of |F|, measured 3e-12); the cached RingStations (built in another process: the
-    equal-frequency pairs of modes may come in another rotation, and BLAS's rounding differs)
-    give the same K_cb (1e-10), station mass and M_ue M_ue^T (invariant to those rotations; 1e-8,
+    ring_master_compliance's F (1e-10 of |F|, measured 3e-12); the cached RingStations (built
+    in another process: the equal-frequency pairs of modes may come in another rotation, and
+    BLAS's rounding differs) give the same K_cb (1e-10), station mass and M_ue M_ue^T (invariant to those rotations; 1e-8,
     both through Phi and F^-1 again: measured 3e-9) and lowest 30 frequencies (1e-9)."""
     c = prep.condensed
     K, M, T = fp.ring_craig_bampton(prep)
