@@ -77,8 +77,9 @@ def test_cb_basis_is_the_condensed_ring_on_its_stations(prep, stations):
     station map E, 1e-9); the statics on the stations (K_cb^-1's station block) are
     ring_master_compliance's F (1e-10 of |F|, measured 3e-12); the cached RingStations (built
     in another process: the equal-frequency pairs of modes may come in another rotation, and
-    BLAS's rounding differs) give the same K_cb (1e-10), station mass and M_ue M_ue^T (invariant to those rotations; 1e-8,
-    both through Phi and F^-1 again: measured 3e-9) and lowest 30 frequencies (1e-9)."""
+    BLAS's rounding differs) give the same K_cb (1e-10), station mass and M_ue M_ue^T
+    (invariant to those rotations; 1e-8, both through Phi and F^-1 again: measured 3e-9) and
+    lowest 30 frequencies (1e-9)."""
     c = prep.condensed
     K, M, T = fp.ring_craig_bampton(prep)
     F, _ = fp.ring_master_compliance(prep)
