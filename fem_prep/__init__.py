@@ -91,6 +91,8 @@ from ._ring_stations import (
     embedded_ring_text as embedded_ring_text,
     embedded_rings as embedded_rings,
     load_ring_body as load_ring_body,
+    ring_craig_bampton as ring_craig_bampton,
+    ring_interior_modes as ring_interior_modes,
     ring_nd_frequencies as ring_nd_frequencies,
     ring_station_mass as ring_station_mass,
     ring_stations as ring_stations,

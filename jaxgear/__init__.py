@@ -100,6 +100,7 @@ from ._planetary_mesh import (
 from ._planetary_ring import (
     AbstractRingModel as AbstractRingModel,
     CondensedRing as CondensedRing,
+    CraigBamptonRing as CraigBamptonRing,
     RigidRing as RigidRing,
     ring_contact_angles as ring_contact_angles,
     ring_excitation as ring_excitation,

@@ -32,6 +32,14 @@ the static correction of the ring's residual flexibility ``F - Phi_m Lambda_m^-1
 Dynamics*, 2nd ed., 2006, §14.5; the basis of :mod:`jaxgear.dynamics._modal_basis`), integrated
 by :func:`jaxgear.dynamics.newmark_modal`: exact in statics at any m, the station model with
 every mode.
+
+The station mass reduces the condensed ring statically onto its stations (Guyan): the ring's
+motion between and behind the stations follows them, and its nodal-diameter modes come from
+above. :class:`CraigBamptonRing` adds the condensed ring's own dynamics inside the stations: its
+fixed-interface modes eta (the stations held) as coordinates that carry mass and stiffness and
+no contact (Craig & Bampton 1968 with the stations as the interface;
+``fem_prep.ring_craig_bampton``): the same statics, the ring's nodal-diameter frequencies
+converging to the condensed FE ring's own as the kept modes grow.
 """
 
 from __future__ import annotations
@@ -49,6 +57,7 @@ from ._util import as_float, check_integer, check_real, static_correction
 __all__ = [
     "AbstractRingModel",
     "CondensedRing",
+    "CraigBamptonRing",
     "RigidRing",
     "ring_contact_angles",
     "ring_excitation",
@@ -90,7 +99,8 @@ def ring_force_directions(stage, angles) -> Float[Array, "n 2"]:
 
 class AbstractRingModel(eqx.Module):
     """How the ring gear deforms under the ring meshes in
-    :func:`~jaxgear.planetary_quasi_static` (:class:`RigidRing`, :class:`CondensedRing`)."""
+    :func:`~jaxgear.planetary_quasi_static` (:class:`RigidRing`, :class:`CondensedRing`,
+    :class:`CraigBamptonRing`)."""
 
     @abc.abstractmethod
     def augment(self, stage, k_b, f, V, ring_rows, travel):
@@ -117,9 +127,10 @@ class AbstractRingModel(eqx.Module):
         return None
 
     def modal_basis(self, dtype) -> tuple[Array, Array, Array] | None:
-        """``(T, D, G)``: the ring's kept modes T (2Z, m, mass-normalised), their static
-        correction D (2Z, m) and the residual flexibility G (m/N, (2Z, 2Z)) when the ring is
-        integrated in modal coordinates; None: on its own coordinates."""
+        """``(T, D, G)``: the ring's kept modes T (n_u, m, mass-normalised), their static
+        correction D (n_u, m) and the residual flexibility G (m/N, (n_u, n_u)) when the ring is
+        integrated in modal coordinates (n_u its coordinates: 2Z for :class:`CondensedRing`);
+        None: on its own coordinates."""
         return None
 
 
@@ -193,17 +204,21 @@ class CondensedRing(AbstractRingModel):
         if self.modes is not None:
             if self.mass is None:
                 raise ValueError(
-                    f"CondensedRing: modes = {self.modes} needs the ring's mass (allowed: None "
-                    "for a massless ring)"
+                    f"{type(self).__name__}: modes = {self.modes} needs the ring's mass "
+                    "(allowed: None for a massless ring)"
                 )
-            z2 = 2 * F.shape[0]
+            top, words = self._coordinates()
             if isinstance(self.modes, bool) or not isinstance(self.modes, int) or not (
-                1 <= self.modes <= z2
+                1 <= self.modes <= top
             ):
                 raise ValueError(
-                    f"CondensedRing: modes = {self.modes!r} is out of range: allowed an integer "
-                    f"1..{z2} (2 x the {F.shape[0]} stations)"
+                    f"{type(self).__name__}: modes = {self.modes!r} is out of range: allowed an "
+                    f"integer 1..{top} ({words})"
                 )
+
+    def _coordinates(self) -> tuple[int, str]:
+        """The ring's number of coordinates in the dynamics, and what they are (words)."""
+        return 2 * self.stations, f"2 x the {self.stations} stations"
 
     @property
     def stations(self) -> int:
@@ -293,6 +308,115 @@ class CondensedRing(AbstractRingModel):
         return K, jnp.concatenate([f, jnp.zeros(n, f.dtype)]), jnp.concatenate(
             [V, -ring_rows.T], axis=1
         )
+
+
+class CraigBamptonRing(CondensedRing):
+    """A flexible ring with its own dynamics inside the stations: the condensed FE ring reduced
+    Craig–Bampton style onto its Z stations' in-plane displacements u and its m lowest
+    fixed-interface modes eta (the stations held; ``fem_prep.ring_craig_bampton``, R. R. Craig
+    & M. C. C. Bampton, AIAA J. 6 (1968) 1313; the thesis's (2.3)-(2.5) with the stations as
+    the interface):
+
+        K = [[F^-1, 0], [0, diag(eigenvalues)]],    M = [[M_u, M_ue], [M_ue^T, I]]
+
+    on the coordinates (u, eta), M_u the stations' (Guyan) mass and M_ue the ``coupling``. The
+    ring meshes touch only u (the contact rows and the window are :class:`CondensedRing`'s,
+    zero on eta), the fixed-interface modes carry mass and stiffness only: the statics are the
+    station ring's at any m (eta carries no load and no static coupling), and as m grows the
+    ring's nodal-diameter modes fall from the station model's (Guyan: from above) to the
+    condensed FE ring's own.
+
+    In the dynamics (:func:`jaxgear.dynamics.planetary_dynamics`) the ring's coordinates are
+    (u, eta), 2Z + m of them, with modal damping at the run's ratio on the ring's own modes;
+    with ``modes`` = k (1..2Z + m) its k lowest modes plus the static correction of the others,
+    integrated by :func:`jaxgear.dynamics.newmark_modal` (as :class:`CondensedRing`). In
+    :func:`~jaxgear.planetary_quasi_static` it is the station ring (:meth:`augment`).
+
+    Attributes:
+        compliance: F (m/N), ``(Z, 2, Z, 2)``, symmetric positive definite as a ``2Z x 2Z``
+            matrix.
+        mass: M_u (kg), ``(Z, 2, Z, 2)`` symmetric positive definite (required).
+        modes: k (static), 1..2Z + m: the ring's modes kept in the dynamics, or None: its
+            2Z + m coordinates.
+        eigenvalues: Lambda ((rad/s)^2, (m,), m >= 0, each > 0): the fixed-interface modes'
+            (mass-normalised; ``fem_prep.RingStations.interior_eigenvalues``).
+        coupling: M_ue (kg^(1/2), ``(Z, 2, m)``): their mass coupling to the stations
+            (``fem_prep.RingStations.coupling``).
+
+    Raises:
+        ValueError: a shape, value or count out of range, or no mass (one line).
+    """
+
+    eigenvalues: Float[Array, " m"] | None = eqx.field(converter=_optional_float, default=None)
+    coupling: Float[Array, "z 2 m"] | None = eqx.field(converter=_optional_float, default=None)
+
+    def __check_init__(self):
+        name = "CraigBamptonRing"
+        if self.mass is None or self.eigenvalues is None or self.coupling is None:
+            raise ValueError(f"{name}: mass, eigenvalues and coupling are required (allowed: "
+                             "arrays; a massless ring is a CondensedRing)")
+        lam, z = self.eigenvalues, self.stations
+        if lam.ndim != 1 or self.coupling.shape != (z, 2, lam.shape[0]):
+            raise ValueError(
+                f"{name}: eigenvalues {lam.shape} and coupling {self.coupling.shape}: allowed "
+                f"(m,) and ({z}, 2, m)"
+            )
+        check_real("eigenvalues", lam, "(rad/s)^2", where=name)
+        check_real("coupling", self.coupling, "kg^(1/2)", where=name)
+        if lam.shape[0] and float(jnp.min(lam)) <= 0.0:
+            raise ValueError(f"{name}: eigenvalues min = {float(jnp.min(lam)):.6g}: allowed > 0")
+
+    @classmethod
+    def from_stations(cls, stations, interior: int | None = None,
+                      modes: int | None = None) -> CraigBamptonRing:
+        """The ring of a ``fem_prep.RingStations`` (:func:`fem_prep.ring_stations`) with its
+        ``interior`` lowest coupled fixed-interface modes (None: all of them) and ``modes`` as
+        the attribute.
+
+        Raises:
+            ValueError: ``interior`` outside 0..m, or no fixed-interface modes (one line).
+        """
+        lam, cpl = stations.interior_eigenvalues, stations.coupling
+        if lam is None or cpl is None:
+            raise ValueError("CraigBamptonRing.from_stations: the stations have no fixed-"
+                             "interface modes (allowed: fem_prep.ring_stations' RingStations)")
+        m = len(lam)
+        if interior is not None and (isinstance(interior, bool) or not isinstance(
+                interior, (int, np.integer)) or not 0 <= interior <= m):
+            raise ValueError(f"CraigBamptonRing.from_stations: interior = {interior!r} is out of "
+                             f"range: allowed an integer 0..{m} (the coupled fixed-interface "
+                             "modes)")
+        return cls(stations.compliance, stations.mass, modes, np.asarray(lam)[:interior],
+                   np.asarray(cpl)[:, :, :interior])
+
+    @property
+    def interior(self) -> int:
+        """m, the fixed-interface modes kept."""
+        return 0 if self.eigenvalues is None else self.eigenvalues.shape[0]
+
+    def _coordinates(self):
+        return 2 * self.stations + self.interior, (
+            f"2 x the {self.stations} stations + {self.interior} fixed-interface modes")
+
+    def dynamic_matrices(self, dtype, damping_ratio):
+        """``(K, M, C)`` on (u, eta) (class docstring), each (2Z + m, 2Z + m); C modal at
+        ``damping_ratio`` on the ring's own modes (:func:`modal_damping`)."""
+        z2, m = 2 * self.stations, self.interior
+        F = self.compliance.reshape(z2, z2).astype(dtype)
+        Ku = jnp.linalg.inv(0.5 * (F + F.T))
+        K = jnp.zeros((z2 + m, z2 + m), dtype)
+        K = K.at[:z2, :z2].set(0.5 * (Ku + Ku.T)).at[z2:, z2:].set(
+            jnp.diag(self.eigenvalues.astype(dtype)))
+        Mu = self.mass.reshape(z2, z2).astype(dtype)
+        cpl = self.coupling.reshape(z2, m).astype(dtype)
+        M = jnp.block([[0.5 * (Mu + Mu.T), cpl], [cpl.T, jnp.eye(m, dtype=dtype)]])
+        return K, M, modal_damping(M, K, damping_ratio)
+
+    def contact_rows(self, stage, travel):
+        """E (n_planets, 2Z + m): the station rows (:meth:`CondensedRing.station_rows`), zero
+        on the fixed-interface modes."""
+        E = self.station_rows(stage, travel)
+        return jnp.concatenate([E, jnp.zeros((E.shape[0], self.interior), E.dtype)], axis=1)
 
 
 def ring_excitation(

@@ -90,7 +90,9 @@ class PlanetaryDynamics(eqx.Module):
         time: time (s) of each recorded step, (t,).
         travel: mesh travel x = x_0 + v t (m), (t,).
         displacement: coordinates (m), (t, n_dof + m): the model's, then a flexible ring's m
-            = 2Z station displacements (x, y in the ring's frame; :class:`~jaxgear.CondensedRing`).
+            = 2Z station displacements (x, y in the ring's frame; :class:`~jaxgear.CondensedRing`)
+            and, for a :class:`~jaxgear.CraigBamptonRing`, its fixed-interface modes' amplitudes
+            (m kg^(1/2), mass-normalised).
         sun_mesh_forces, ring_mesh_forces: transverse mesh forces (N, compression positive),
             (t, n_planets).
         static_force: the nominal transverse mesh force T_s / (N r_bs) (N), ().
@@ -302,7 +304,9 @@ def planetary_dynamics(
             ring's displacement at the planet's moving position (the hats at the angle
             :func:`~jaxgear.ring_contact_angles`), so that the ring compliance coupling the
             ring meshes follows the carrier; a massless ring gives the quasi-static
-            compliance of :func:`~jaxgear.planetary_quasi_static` at every step.
+            compliance of :func:`~jaxgear.planetary_quasi_static` at every step; a
+            :class:`~jaxgear.CraigBamptonRing` adds its fixed-interface modes as coordinates
+            (mass and stiffness only: the ring cells reach the stations alone).
 
     Returns:
         :class:`PlanetaryDynamics`.
@@ -311,7 +315,8 @@ def planetary_dynamics(
                    "planetary_dynamics")
     check_instance("run", run, PlanetaryRun, "a jaxgear.dynamics.PlanetaryRun",
                    "planetary_dynamics")
-    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+    check_instance("ring", ring, AbstractRingModel,
+                   "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)",
                    "planetary_dynamics")
     v = _mesh_speed(stage, carrier_speed, mesh_speed)
     return _run(model, stage, meshes, run, carrier_speed, v, law, ring)
@@ -329,7 +334,8 @@ def planetary_speed_sweep(
 ) -> PlanetaryDynamics:
     """:func:`planetary_dynamics` at each carrier speed (rad/s, (s,), > 0; the ring held),
     vectorised with ``jax.vmap``: every field gains a leading axis (s,); ``ring`` as there."""
-    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+    check_instance("ring", ring, AbstractRingModel,
+                   "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)",
                    "planetary_speed_sweep")
     speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
 

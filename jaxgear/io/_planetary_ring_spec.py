@@ -1,6 +1,6 @@
 """The ring gear's model in a planetary case file: ``[planetary.ring] model`` and ``body``
-(docs/planetary.md, "A flexible ring gear"), mapped to :class:`~jaxgear.RigidRing` or
-:class:`~jaxgear.CondensedRing`.
+(docs/planetary.md, "A flexible ring gear"), mapped to :class:`~jaxgear.RigidRing`,
+:class:`~jaxgear.CondensedRing` or :class:`~jaxgear.CraigBamptonRing`.
 
 .. code-block:: toml
 
@@ -9,8 +9,12 @@
     model = "condensed"                # or "rigid" (the default)
     body = "seq-ring"                  # a ring body file (fem_prep) or an embedded ring's name
     dynamics = "modal"                 # the ring in the sweep: "quasi-static" (the default),
-                                       # "mass" or "modal"
-    modes = 24                         # "modal" only: the ring's modes kept, 1..2 Z (default 24)
+                                       # "mass", "modal" or "craig-bampton"
+    modes = 24                         # "modal": the ring's modes kept, 1..2 Z (default 24);
+                                       # "craig-bampton": its fixed-interface modes kept
+                                       # (default: every coupled one)
+    integration_modes = 24             # "craig-bampton" only: the Craig-Bampton ring's modes
+                                       # integrated in the sweep, 1..2 Z + modes (default 24)
 
 The ring body's tooth stations must be the ring gear's teeth and, with ``[[gears]]``, its root
 radius the ring gear's within :data:`ROOT_TOLERANCE`; refused in one line before any work.
@@ -20,7 +24,13 @@ radius the ring gear's within :data:`ROOT_TOLERANCE`; refused in one line before
 series with the ring meshes at every step), ``"mass"`` with its stations' (Guyan) mass and modal
 damping at the run's ratio (its nodal-diameter modes respond), ``"modal"`` the same ring in its
 ``modes`` lowest modes plus the static correction of the others
-(:class:`~jaxgear.CondensedRing` ``modes``).
+(:class:`~jaxgear.CondensedRing` ``modes``), ``"craig-bampton"`` the condensed ring reduced onto
+its stations and its ``modes`` lowest fixed-interface modes that couple to them
+(:class:`~jaxgear.CraigBamptonRing`: the ring's own dynamics inside the stations), integrated in
+its ``integration_modes`` lowest modes plus the static correction of the others. The count of
+coupled fixed-interface modes is known once the ring is condensed: ``modes`` is checked at
+parse time against the fixed-interface DOFs of the body's condensation (Z (3 n_axial - 2) +
+its modes) and, if the ring couples fewer, refused in one line when the sweep builds the ring.
 """
 
 from __future__ import annotations
@@ -31,17 +41,19 @@ import dataclasses
 import fem_prep
 from fem_prep import schema as sc
 
-from .._planetary_ring import AbstractRingModel, CondensedRing, RigidRing
+from .._planetary_ring import AbstractRingModel, CondensedRing, CraigBamptonRing, RigidRing
 
 __all__ = ["RING_DYNAMICS", "RING_MODELS", "CondensedRingSpec", "RigidRingSpec", "RingModelSpec",
            "parse_ring_model"]
 
 #: the ring model's keys in ``[planetary.ring]``
-RING_MODEL_KEYS = {"model", "body", "dynamics", "modes"}
-#: ``[planetary.ring] dynamics``: how a condensed ring enters the sweep (module docstring)
-RING_DYNAMICS = ("quasi-static", "mass", "modal")
-#: ``[planetary.ring] modes`` when ``dynamics = "modal"`` does not give it
+RING_MODEL_KEYS = {"model", "body", "dynamics", "modes", "integration_modes"}
+#: ``[planetary.ring] modes`` when ``dynamics = "modal"`` does not give it, and
+#: ``integration_modes`` when ``dynamics = "craig-bampton"`` does not
 DEFAULT_RING_MODES = 24
+#: fixed-interface modes whose eigenvalues differ by at most this share are a pair (one nodal
+#: diameter's two orientations), which ``modes`` may not split
+PAIR = 1e-6
 #: the largest relative difference between the ring body's and the ring gear's root radius
 ROOT_TOLERANCE = 0.02
 
@@ -86,6 +98,43 @@ class RigidRingSpec(RingModelSpec):
         return "rigid ring"
 
 
+def _craig_bampton(spec, st) -> CraigBamptonRing:
+    """The sweep's :class:`~jaxgear.CraigBamptonRing`; ``modes`` or ``integration_modes`` beyond
+    what the condensed ring has refused in one line (module docstring)."""
+    m = len(st.interior_eigenvalues)
+    if spec.modes is not None and spec.modes > m:
+        raise sc.fail("planetary.ring", "modes", f"out of range, allowed [1, {m}] (the fixed-"
+                      f"interface modes that ring body {spec.body.name!r} couples to its "
+                      "stations)", spec.modes)
+    lam = st.interior_eigenvalues
+    if spec.modes is not None and spec.modes < m and (
+            lam[spec.modes] - lam[spec.modes - 1] <= PAIR * lam[spec.modes]):
+        raise sc.fail("planetary.ring", "modes", "splits a pair of equal-frequency fixed-"
+                      f"interface modes (a nodal-diameter pair; allowed {spec.modes - 1} or "
+                      f"{spec.modes + 1})", spec.modes)
+    coords = 2 * st.compliance.shape[0] + (m if spec.modes is None else spec.modes)
+    if spec.integration_modes > coords:
+        raise sc.fail("planetary.ring", "integration_modes", f"out of range, allowed [1, "
+                      f"{coords}] (2 x the stations + the fixed-interface modes kept)",
+                      spec.integration_modes)
+    return CraigBamptonRing.from_stations(st, spec.modes, spec.integration_modes)
+
+
+#: ``[planetary.ring] dynamics``: the name -> (the sweep's ring from the spec and its
+#: :class:`fem_prep.RingStations`, its words) (module docstring)
+_DYNAMICS = {
+    "quasi-static": (lambda spec, st: CondensedRing(st.compliance), lambda spec: "massless"),
+    "mass": (lambda spec, st: CondensedRing(st.compliance, st.mass), lambda spec: "with mass"),
+    "modal": (lambda spec, st: CondensedRing(st.compliance, st.mass, spec.modes),
+              lambda spec: f"{spec.modes} modes"),
+    "craig-bampton": (_craig_bampton, lambda spec: "Craig-Bampton, " + (
+        "all coupled" if spec.modes is None else str(spec.modes)) + " fixed-interface modes, "
+        f"{spec.integration_modes} modes integrated"),
+}
+#: ``[planetary.ring] dynamics``: how a condensed ring enters the sweep (module docstring)
+RING_DYNAMICS = tuple(_DYNAMICS)
+
+
 @dataclasses.dataclass(frozen=True)
 class CondensedRingSpec(RingModelSpec):
     """A flexible ring: its body (:class:`fem_prep.RingBody`) named by ``body``, condensed on its
@@ -96,6 +145,7 @@ class CondensedRingSpec(RingModelSpec):
     source: str
     dynamics: str = "quasi-static"
     modes: int | None = None
+    integration_modes: int | None = None
     flexible = True
 
     def stations(self) -> fem_prep.RingStations:
@@ -106,25 +156,22 @@ class CondensedRingSpec(RingModelSpec):
         return CondensedRing(st.compliance, st.mass if with_mass else None)
 
     def dynamic_ring(self):
-        if self.dynamics == "quasi-static":
-            return self.ring()
-        st = self.stations()
-        return CondensedRing(st.compliance, st.mass, self.modes)
+        return _DYNAMICS[self.dynamics][0](self, self.stations())
 
     def summary(self):
         out = {"model": "condensed", "body": self.source, "dynamics": self.dynamics}
         if self.modes is not None:
             out["modes"] = self.modes
+        if self.integration_modes is not None:
+            out["integration_modes"] = self.integration_modes
         return out
 
     def words(self):
-        kind = {"quasi-static": "massless", "mass": "with mass",
-                "modal": f"{self.modes} modes"}[self.dynamics]
-        return f"condensed ring {self.source} ({kind})"
+        return f"condensed ring {self.source} ({_DYNAMICS[self.dynamics][1](self)})"
 
 
 def _rigid(t: dict, where: str, z_r: int, root_radius: float | None) -> RingModelSpec:
-    for key in ("body", "dynamics", "modes"):
+    for key in ("body", "dynamics", "modes", "integration_modes"):
         if key in t:
             raise sc.fail(where, key, 'allowed only with model = "condensed"', t[key])
     return RigidRingSpec()
@@ -154,13 +201,44 @@ def _condensed(t: dict, where: str, z_r: int, root_radius: float | None) -> Ring
                 f"from the ring gear's root radius {root_radius * 1e3:.6g} mm by "
                 f"{100 * diff:.3g} % (allowed: within {100 * ROOT_TOLERANCE:g} %)", source)
     dynamics = sc.choice(t, "dynamics", where, RING_DYNAMICS, "quasi-static")
-    modes = None
-    if dynamics == "modal":
-        modes = sc.number(t, "modes", where, DEFAULT_RING_MODES, allowed=f"[1, {2 * teeth}]",
-                          integer=True, note=f" (2 x the ring body's {teeth} tooth stations)")
-    elif "modes" in t:
-        raise sc.fail(where, "modes", 'allowed only with dynamics = "modal"', t["modes"])
-    return CondensedRingSpec(body, source, dynamics, modes)
+    modes, integration = _MODE_KEYS.get(dynamics, _no_modes)(t, where, body)
+    return CondensedRingSpec(body, source, dynamics, modes, integration)
+
+
+def _no_modes(t: dict, where: str, body) -> tuple[None, None]:
+    if "modes" in t:
+        raise sc.fail(where, "modes", 'allowed only with dynamics = "modal" or "craig-bampton"',
+                      t["modes"])
+    if "integration_modes" in t:
+        raise sc.fail(where, "integration_modes", 'allowed only with dynamics = "craig-bampton"',
+                      t["integration_modes"])
+    return None, None
+
+
+def _modal_modes(t: dict, where: str, body) -> tuple[int, None]:
+    if "integration_modes" in t:
+        raise sc.fail(where, "integration_modes", 'allowed only with dynamics = "craig-bampton"',
+                      t["integration_modes"])
+    teeth = body.condensation.teeth
+    return sc.number(t, "modes", where, DEFAULT_RING_MODES, allowed=f"[1, {2 * teeth}]",
+                     integer=True, note=f" (2 x the ring body's {teeth} tooth stations)"), None
+
+
+def _craig_bampton_modes(t: dict, where: str, body) -> tuple[int | None, int]:
+    c = body.condensation
+    top = c.teeth * (3 * c.axial_master_nodes - 2) + c.modes  # the fixed-interface DOFs
+    modes = sc.number(t, "modes", where, None, allowed=f"[1, {top}]", integer=True,
+                      note=f" (the fixed-interface DOFs of ring body {body.name!r}: its "
+                      f"{c.teeth} stations' axial masters and {c.modes} modes)")
+    coords = 2 * c.teeth + (top if modes is None else modes)
+    integration = sc.number(t, "integration_modes", where, min(DEFAULT_RING_MODES, coords),
+                            allowed=f"[1, {coords}]", integer=True,
+                            note=f" (2 x the {c.teeth} stations + the fixed-interface modes)")
+    return modes, integration
+
+
+#: ``dynamics`` -> the parser of its ``modes`` and ``integration_modes`` (the others: none)
+_MODE_KEYS = {"modal": _modal_modes, "craig-bampton": _craig_bampton_modes}
 
 
 #: ``[planetary.ring] model``: the name → its parser (table, where, z_r, root radius (m) or None)
