@@ -14,6 +14,8 @@ worker process of each mode (this module's :func:`worker`) and alternates blocks
 * ``compute_free_tip``: 64 tip-relief designs in one jitted ``lax.map``, per curve (the
   program's work without any per-call cost);
 * ``dispatch_identity``: a jitted identity of the same ``(x, torque)`` (dispatch alone);
+* ``public_quasi_static`` and ``batched_256_torques`` (per curve: 256 torques in one jitted
+  ``lax.map`` in chunks of 8): what the dispatch mode does to the rest of the work;
 * ``baseline``: the NumPy/brentq curve (:mod:`benchmarks._baseline`);
 * ``closure_<option>``: a ``jax.jit`` of the free-tip curve compiled with per-program XLA
   options (``compiler_options``), the per-program alternatives to the dispatch mode.
@@ -70,8 +72,24 @@ def _bootstrap(mode: str) -> str:
 def _reps(quick: bool) -> dict:
     """Calls per block of each candidate (name: calls)."""
     if quick:
-        return {"public": 60, "whole": 30, "compute": 2, "identity": 60, "baseline": 1, "opt": 30}
-    return {"public": 300, "whole": 100, "compute": 5, "identity": 300, "baseline": 3, "opt": 100}
+        return {
+            "public": 60,
+            "whole": 30,
+            "compute": 2,
+            "identity": 60,
+            "baseline": 1,
+            "opt": 30,
+            "plain": 10,
+        }
+    return {
+        "public": 300,
+        "whole": 100,
+        "compute": 5,
+        "identity": 300,
+        "baseline": 3,
+        "opt": 100,
+        "plain": 30,
+    }
 
 
 def _setup(case: str, quick: bool) -> tuple[dict, dict]:
@@ -105,6 +123,13 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
         )
     )
     ident = jax.jit(lambda x, t: (x, t))
+    # what the setting does to other work: the plain quasi_static call and a batched map
+    ts = jnp.linspace(0.5, 1.5, 256) * torque
+    batched = jax.jit(
+        lambda ts: jax.lax.map(
+            lambda t: quasi_static(mesh, mods, t, positions_per_pitch=P).te_rms, ts, batch_size=8
+        )
+    )
     bmesh, bmods = bl.baseline_mesh(c), bl.mods_params(mods)
     reps = _reps(quick)
     block = jax.block_until_ready
@@ -113,6 +138,12 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
         "public_whole_result": (lambda: whole(x0, torque), reps["whole"], 1),
         "compute_free_tip": (lambda: many(xs), reps["compute"], 64),
         "dispatch_identity": (lambda: ident(x, torque), reps["identity"], 1),
+        "public_quasi_static": (
+            lambda: quasi_static(mesh, mods, torque, positions_per_pitch=P),
+            reps["plain"],
+            1,
+        ),
+        "batched_256_torques": (lambda: batched(ts), reps["compute"], 256),
         "baseline": (
             lambda: bl.te_curve_numpy(bmesh, bmods, torque, "exact", c.smooth_width, P),
             reps["baseline"],
@@ -303,9 +334,9 @@ def paired_dispatch_modes(case: str = "accessory-spur", quick: bool = False) -> 
         "the median wall time per curve of its calls (seconds_per_curve; also their minimum, "
         "seconds_per_curve_block_min, and the CPU time per curve); median and inter-quartile "
         "range (q1, q3) over the blocks, ratios formed within each block (from the block "
-        "medians; _from_block_minima: from the block minima, the less load-sensitive under "
-        "other jobs' load, where a 5 ms baseline curve is preempted more often than a 0.07 ms "
-        "call)",
+        "medians; _from_block_minima: from the block minima; _cpu: of the CPU times, the "
+        "least load-sensitive under other jobs' load, where a 5 ms baseline curve is preempted "
+        "far more often than a 0.07 ms call)",
         "blocks": blocks,
         "load_average_1min_per_block": loads,
         "modes": {},
@@ -328,6 +359,10 @@ def paired_dispatch_modes(case: str = "accessory-spur", quick: bool = False) -> 
             rec[f"ratio_baseline_over_public_whole_result{tail}"] = _stats(
                 base / per["public_whole_result"]
             )
+        cpu = {k: np.asarray([r["cpu"][k] for r in rows[m]]) for k in rows[m][0]["cpu"]}
+        rec["ratio_baseline_over_public_free_tip_cpu"] = _stats(
+            cpu["baseline"] / cpu["public_free_tip"]
+        )
         ratio = np.asarray(rec["ratio_baseline_over_public_free_tip"]["per_block"])
         over = np.asarray(rec["public_free_tip_over_compute"]["per_block"])
         rec["blocks_meeting_50x"] = int(np.sum(ratio >= 50.0))

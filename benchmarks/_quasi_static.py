@@ -447,9 +447,9 @@ def bench_quasi_static(
 
 def _block_targets(blocks: dict) -> dict:
     """The per-curve targets of the interleaved blocks (``per_curve_blocks``), per dispatch
-    mode: the free-tip public call's ratio to the baseline and its time over its compute, as
-    median and lower/upper quartile over the blocks, and whether each target holds in the
-    median and in the worse quartile."""
+    mode: the free-tip public call's ratio to the baseline (wall time; CPU time, the robust one
+    under load) and its time over its compute, as median and quartiles over the blocks, and
+    whether each target holds in the median and in the worse quartile."""
     out = {}
     for mode, rec in blocks["modes"].items():
         ratio = rec["ratio_baseline_over_public_free_tip"]
@@ -458,10 +458,13 @@ def _block_targets(blocks: dict) -> dict:
         out[f"{key}_ratio_median"] = ratio["median"]
         out[f"{key}_ratio_q1"] = ratio["q1"]
         out[f"{key}_ratio_q3"] = ratio["q3"]
+        out[f"{key}_ratio_cpu_median"] = rec["ratio_baseline_over_public_free_tip_cpu"]["median"]
+        out[f"{key}_ratio_cpu_q1"] = rec["ratio_baseline_over_public_free_tip_cpu"]["q1"]
         out[f"{key}_over_compute_median"] = over["median"]
         out[f"{key}_over_compute_q3"] = over["q3"]
         out[f"meets_{key}_ratio_median"] = ratio["median"] >= 50.0
         out[f"meets_{key}_ratio_q1"] = ratio["q1"] >= 50.0
+        out[f"meets_{key}_ratio_cpu_q1"] = out[f"{key}_ratio_cpu_q1"] >= 50.0
         out[f"meets_{key}_over_compute_median"] = over["median"] <= 2.0
         out[f"meets_{key}_over_compute_q3"] = over["q3"] <= 2.0
     return out
@@ -985,7 +988,8 @@ def _block_lines(blocks: dict) -> list[str]:
         lines.append(
             f"  {mode:5s} dispatch: call {ms(t['public_free_tip'])}, compute "
             f"{ms(t['compute_free_tip'])}, baseline {ms(t['baseline'])}; "
-            f"{x(rec['ratio_baseline_over_public_free_tip'], 1)}× baseline, "
+            f"{x(rec['ratio_baseline_over_public_free_tip'], 1)}× baseline (CPU time "
+            f"{x(rec['ratio_baseline_over_public_free_tip_cpu'], 1)}×), "
             f"{x(rec['public_free_tip_over_compute'], 2)}× compute; whole result "
             f"{ms(t['public_whole_result'])}; program on the {rec['anatomy'].get('program_ran_on')}"
         )
