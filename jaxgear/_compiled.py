@@ -293,10 +293,10 @@ def compile_quasi_static(
     loop of small calls runs faster with JAX's synchronous CPU dispatch, set in the script before
     its first JAX computation: ``jax.config.update("jax_cpu_enable_async_dispatch", False)``
     (JAX 0.10 reads no environment variable for it; once the backend has started it has no
-    effect); the program then runs on the calling thread (docs/benchmarks.md, "quasi-static":
-    the free-tip call of the accessory pair 0.069 ms, 1.4x its compute, against 0.115 ms by
-    default, on a loaded 2-core machine). The results are the same. It is a setting for such a
-    loop, not a default: jaxgear never sets it.
+    effect); the program then runs on the calling thread (measured: the documentation's
+    quasi-static benchmark, the free-tip call of the accessory pair 0.069 ms, 1.4x its compute,
+    against 0.115 ms by default on a loaded 2-core machine). The results are the same. It is a
+    setting for such a loop, not a default: jaxgear never sets it.
 
     Returns:
         The :class:`CompiledQuasiStatic` callable ``(design, torque)``, every leaf of the
