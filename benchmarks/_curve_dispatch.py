@@ -291,6 +291,8 @@ class _Worker:
 
     def read(self) -> dict:
         line = self.proc.stdout.readline()
+        while line and not line.startswith("{"):  # anything else a library printed
+            line = self.proc.stdout.readline()
         if not line:
             self.proc.wait()
             self.err.seek(0)
@@ -306,7 +308,11 @@ class _Worker:
             except (OSError, subprocess.TimeoutExpired):
                 self.proc.kill()
                 self.proc.wait()
-        self.err.close()
+        for stream in (self.proc.stdin, self.proc.stdout, self.err):
+            try:
+                stream.close()
+            except OSError:  # a broken pipe of a stopped worker: nothing left to flush
+                pass
 
 
 def paired_dispatch_modes(case: str = "accessory-spur", quick: bool = False) -> dict:
