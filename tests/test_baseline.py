@@ -153,6 +153,13 @@ def test_bench_quick(tmp_path):
     for mode in ("exact", "smooth"):
         assert saved["cached_jit"][mode]["best_s"] > 0
     assert saved["batched"]["best_curves_per_s"] > 0
+    # the per-curve blocks: the public call equals quasi_static in both dispatch modes, makes one
+    # program execution, and synchronous dispatch did take effect (the program on the caller)
+    for mode, where in (("async", "runtime threads"), ("sync", "calling thread")):
+        rec = saved["per_curve_blocks"]["modes"][mode]
+        assert rec["public_free_tip_max_rel_diff_te_to_quasi_static"] <= 1e-12
+        assert rec["anatomy"]["program_executions_per_call"] == 1.0
+        assert rec["anatomy"]["program_ran_on"] == where
     assert not list(tmp_path.glob(".tmp-*"))
 
 

@@ -1,6 +1,9 @@
 """``jaxgear.compile_quasi_static``: the same curves as ``quasi_static``, differentiable, and
 one-line errors for bad input."""
 
+import subprocess
+import sys
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -243,3 +246,50 @@ def test_a_failed_position_raises_as_quasi_static_does(setup):
         mesh, mods, positions_per_pitch=P, output=lambda r: r.result, throw=False
     ).with_free(tip)(jnp.asarray([np.nan, 0.31]), torque)
     np.testing.assert_array_equal(codes, int(jg.ContactResult.non_finite))
+
+
+_SYNC_SCRIPT = """
+import jax
+jax.config.update("jax_enable_x64", True)
+jax.config.update("jax_cpu_enable_async_dispatch", False)
+import jax.numpy as jnp, numpy as np, equinox as eqx
+import jaxgear as jg, jaxgear.io as jio
+
+c = jio.load_case("accessory-spur")
+mesh, mods, torque = c.mesh_model(slices=10), c.modifications, float(c.torque)
+tip = lambda m: (m.pinion.tip_relief_depth, m.pinion.tip_relief_extent)
+f = jg.compile_quasi_static(mesh, mods, positions_per_pitch=16).with_free(tip)
+worst = 0.0
+for (depth, extent), t in (((22e-6, 0.31), torque), ((9e-6, 0.18), 0.6 * torque)):
+    m = eqx.tree_at(tip, mods, (jnp.asarray(depth), jnp.asarray(extent)))
+    ref = jg.quasi_static(mesh, m, t, positions_per_pitch=16)
+    got = f(jnp.asarray([depth, extent]), t)
+    for name in ("transmission_error", "mesh_stiffness", "contact_length", "line_load"):
+        a, b = np.asarray(getattr(got, name)), np.asarray(getattr(ref, name))
+        worst = max(worst, float(np.max(np.abs(a - b)) / np.max(np.abs(b))))
+try:
+    f(jnp.asarray([np.nan, 0.31]), torque)
+    raised = False
+except eqx.EquinoxRuntimeError:
+    raised = True
+print(repr(worst), raised)
+"""
+
+
+@pytest.mark.slow
+def test_synchronous_cpu_dispatch_gives_quasi_static():
+    """The documented setting for a loop of small calls, JAX's synchronous CPU dispatch (set
+    before the backend starts, so in a fresh process): the compiled call still gives
+    ``quasi_static``'s curves for two designs and torques and still raises on a failed position
+    (the default tests check the same with JAX's default dispatch)."""
+    done = subprocess.run(
+        [sys.executable, "-c", _SYNC_SCRIPT],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    worst, raised = done.stdout.split()[-2:]
+    assert float(worst) < 1e-12
+    assert raised == "True"
