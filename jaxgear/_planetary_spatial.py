@@ -126,31 +126,29 @@ def _place(stage: PlanetaryStage, member, block):
     )
 
 
-def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, across):
+def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, points):
     """(n, k, n_dof): the deflection rows (along the tooth normal, m) of the mesh of each
-    planet with the central member ``central`` (1 ring, 2 sun) at the axial positions
-    ``across`` (k,) (m from the mid-plane, along e_z): its line of action at the angle ``line``
-    (n,), ``sign_z`` the sign of the normal's axial part, ``angle`` the pressure angle,
-    ``side`` -1 (sun side of the planet) or +1 (ring side)."""
+    planet with the central member ``central`` (1 ring, 2 sun) at the points ``points`` (k
+    pairs (sigma, z), m) of its plane of action: sigma along the line of action from the
+    transverse pitch point, in the sense the contact travels (``sign_z`` times the line's
+    direction: the sun's push for the sun mesh, the planet's on the ring for the ring mesh),
+    z along e_z from the mid-plane. Its line of action at the angle ``line`` (n,), ``sign_z``
+    the sign of the normal's axial part, ``angle`` the pressure angle, ``side`` -1 (sun side of
+    the planet) or +1 (ring side)."""
     n = stage.n_planets
     psi = stage.planet_angles
     beta = stage.helix_angle
     central_member = _members(stage)[central]
     e_zeta, e_eta, e_z = _frames(stage)
-    normal = jnp.stack(
-        [
-            -jnp.cos(beta) * jnp.sin(line),
-            jnp.cos(beta) * jnp.cos(line),
-            sign_z * jnp.sin(beta) * jnp.ones_like(psi),
-        ],
-        -1,
-    )
+    direction = jnp.stack([-jnp.sin(line), jnp.cos(line), jnp.zeros_like(psi)], -1)
+    normal = jnp.cos(beta) * direction + sign_z * jnp.sin(beta) * e_z
     eye = jnp.broadcast_to(jnp.eye(3, dtype=psi.dtype), (n, 3, 3))
     planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)
     rows = []
-    for s in across:
-        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + s * e_z
-        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + s * e_z
+    for sigma, z in points:
+        shift = sigma * sign_z * direction + z * e_z
+        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + shift
+        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + shift
         a = jnp.einsum("ni,nij->nj", normal, _point_map(eye, rho_c, central_member.base_radius))
         b = jnp.einsum(
             "ni,nij->nj", normal, _point_map(planet_axes, rho_p, stage.planet.base_radius)
@@ -161,13 +159,22 @@ def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, a
     return jnp.concatenate(rows, 1)
 
 
-def _both_meshes(stage: PlanetaryStage, across):
-    """(V_s, V_r), each (n, k, n_dof): both meshes' normal rows at the axial positions."""
+def _both_meshes(stage: PlanetaryStage, points):
+    """(V_s, V_r), each (n, k, n_dof): both meshes' normal rows at the points (sigma, z)."""
     psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
     return (
-        _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0, across),
-        _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0, across),
+        _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0, points),
+        _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0, points),
     )
+
+
+def _transverse_slopes(stage: PlanetaryStage, point):
+    """((V_s, D_s), (V_r, D_r)), each (n_planets, n_dof): the transverse-equivalent rows (the
+    normal ones over cos beta_b) at the pitch point and their change per metre towards
+    ``point`` ((sigma, z) = (1, 0) or (0, 1))."""
+    mid, one = _both_meshes(stage, ((0.0, 0.0),)), _both_meshes(stage, (point,))
+    c = jnp.cos(stage.helix_angle)
+    return tuple((a[:, 0] / c, (b[:, 0] - a[:, 0]) / c) for a, b in zip(mid, one, strict=True))
 
 
 def _pin_rows(stage: PlanetaryStage):
@@ -263,7 +270,7 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         """(V_s, V_r), each (n_planets, 2, n_dof): the mesh deflections (m, compression
         positive) at the two Gauss points across the face, ``delta = V q``."""
         gauss = stage.face_width / (2.0 * jnp.sqrt(3.0))
-        return _both_meshes(stage, (-gauss, gauss))
+        return _both_meshes(stage, ((0.0, -gauss), (0.0, gauss)))
 
     @eqx.filter_jit
     def face_rows(self, stage):
@@ -272,10 +279,21 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         the deflection along the tooth normal (at the transverse pitch point, module docstring)
         divided by cos beta_b, so that a cell's normal approach is cos beta_b times it, as for
         the planar model's transverse rows (``spring_cos``: cos beta_b)."""
-        mid, one = _both_meshes(stage, (0.0,)), _both_meshes(stage, (1.0,))
-        c = jnp.cos(stage.helix_angle)
-        return tuple((a[:, 0] / c, (b[:, 0] - a[:, 0]) / c) for a, b in zip(mid, one,
-                                                                            strict=True))
+        return _transverse_slopes(stage, (0.0, 1.0))
+
+    @eqx.filter_jit
+    def line_rows(self, stage):
+        """(X_s, X_r), each (n_planets, n_dof): the change of :meth:`face_rows`' transverse-
+        equivalent deflection per metre of a point's offset sigma along the line of action from
+        the transverse pitch point, in the sense the contact travels (the sun's push on the
+        planet for a sun mesh, the planet's on the ring for a ring mesh): a cell at (sigma, z)
+        sees ``(V + z W + sigma X) q``. Only the normal's axial part gives it a moment arm
+        (sin beta_b sigma about the axis normal to the plane of action): zero for a spur stage,
+        and the u columns are those of the pitch point (the line of action is at r_b from the
+        axis wherever the point sits on it). Source: the contact lines in the plane of action
+        of Eritenel & Parker 2009 (their mesh force at the centre of stiffness on the line of
+        action; docs/planetary.md, "The 3D lumped model")."""
+        return tuple(x for _, x in _transverse_slopes(stage, (1.0, 0.0)))
 
     def spring_cos(self, stage):
         """cos beta_b: the stage's mesh stiffnesses act along the tooth normal."""

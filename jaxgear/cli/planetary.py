@@ -62,6 +62,7 @@ __all__ = [
     "ring_campbell",
     "ring_crossings",
     "ring_operating_shape",
+    "rating_k_gamma",
     "rating_section",
     "ring_section",
     "sharing_models",
@@ -81,7 +82,7 @@ def mode_models(stage) -> dict:
     (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
     (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
     Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
-    stage); the rating's K_γ stays planar."""
+    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`)."""
     if float(stage.helix_angle) == 0.0:
         return MODELS
     return {**MODELS, "spatial": SpatialPlanetary()}
@@ -177,7 +178,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
-    rating = rating_section(case, out, summary["load_sharing"]["planar"]["k_gamma"])
+    rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]))
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
@@ -563,13 +564,30 @@ K_GAMMA_SOURCE = (
     "jaxgear load sharing (planar lumped model, the case's pin errors): the most loaded planet "
     "path's mesh force over the mean"
 )
+#: the same from the 3D lumped model (a helical stage whose supports hold it)
+K_GAMMA_SOURCE_3D = (
+    "jaxgear load sharing (3D lumped model of the helical stage on its axial and tilting "
+    "supports, the case's pin errors): the most loaded planet path's mesh force over the mean"
+)
 
 
-def rating_section(case, out: str, k_gamma: float) -> dict | None:
+def rating_k_gamma(sharing: dict) -> tuple[float, str]:
+    """(K_γ, source) for the rating when ``[rating] K_gamma`` does not give it, from the run's
+    load sharing (``summary.json``'s ``load_sharing``, :func:`sharing_summary`): the 3D model's
+    (:data:`K_GAMMA_SOURCE_3D`) where the run has it (a helical stage whose axial and tilting
+    supports hold it, :func:`spatial_model`), else the planar model's (:data:`K_GAMMA_SOURCE`);
+    each at the travel 0 with the case's pin errors and eccentricities."""
+    if "spatial" in sharing:
+        return float(sharing["spatial"]["k_gamma"]), K_GAMMA_SOURCE_3D
+    return float(sharing["planar"]["k_gamma"]), K_GAMMA_SOURCE
+
+
+def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE) -> dict | None:
     """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
     (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
     method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
-    K_gamma`` if given, else ``k_gamma``, the stage's planar load sharing with the pin errors)
+    K_gamma`` if given, else ``k_gamma``, the stage's load sharing with the pin errors, whose
+    origin ``source`` names: :func:`rating_k_gamma`)
     multiplying the load as K_A does (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), σ_F ∝ K_A K_γ K_v K_Fβ
     K_Fα; σ_H0, σ_F0 nominal, as ISO 6336-1 and the KISSsoft reports write it), at its driving
     member's speed relative to the carrier; ``rating.md`` (one table per mesh)
@@ -607,12 +625,13 @@ def rating_section(case, out: str, k_gamma: float) -> dict | None:
         section = rating.summary()
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
         section |= {
-            "K_gamma": {"value": kg, "source": "given" if given else K_GAMMA_SOURCE},
+            "K_gamma": {"value": kg, "source": "given" if given else source},
             "torque_per_planet_path_Nm": float(rc.operating.torque),
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }
         sections.append(section)
         lines += rating_lines(section, f"{case.name}, mesh {name}", heading="##")
+        lines.append(f"| K_γ | {kg:.4f} |  | {section['K_gamma']['source']} |")
         lines += [
             "",
             f"K_γ = {kg:.4f} ({section['K_gamma']['source']}), a factor of the load as K_A "
