@@ -37,6 +37,7 @@ import enum
 from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -384,13 +385,7 @@ def _planar_centripetal(stage):
 
 
 def _block_diag(blocks):
-    n = sum(b.shape[0] for b in blocks)
-    out = jnp.zeros((n, n), dtype=blocks[0].dtype)
-    i = 0
-    for b in blocks:
-        out = out.at[i : i + b.shape[0], i : i + b.shape[0]].set(b)
-        i += b.shape[0]
-    return out
+    return jax.scipy.linalg.block_diag(*blocks)
 
 
 # -- model kinds -------------------------------------------------------------------------------

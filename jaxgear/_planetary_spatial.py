@@ -70,7 +70,7 @@ from typing import ClassVar
 import equinox as eqx
 import jax.numpy as jnp
 
-from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _block_diag, _members
+from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _members
 from ._util import as_float
 
 __all__ = ["SpatialPlanetary"]
@@ -106,24 +106,47 @@ def _frames(stage: PlanetaryStage):
 
 
 def _point_map(axes, rho, base_radius):
-    """(n, 3, 6): the displacement of the material point at the lever arm rho (n, 3) of a member
-    whose coordinates' axes are ``axes`` (n, 3, 3: columns the two in-plane axes and e_z):
-    ``d + theta x rho = E d - [rho]x theta``."""
+    """(..., 3, 6): the displacement of the material point at the lever arm rho (..., 3) of a
+    member whose coordinates' axes are ``axes`` (..., 3, 3, broadcasting: columns the two
+    in-plane axes and e_z): ``d + theta x rho = E d - [rho]x theta``."""
     rot = -_skew(rho)
     tilt = rot @ axes[..., :2]
     spin = rot[..., 2:3] / base_radius
-    return jnp.concatenate([axes, tilt, spin], -1)
+    return jnp.concatenate([jnp.broadcast_to(axes, rot.shape), tilt, spin], -1)
 
 
-def _place(stage: PlanetaryStage, member, block):
-    """(n, k, n_dof) rows with ``block`` (n, k, 6) on member ``member`` (an index, or an (n,)
-    array of indices: one per planet row)."""
+def _per_member(stage: PlanetaryStage, value):
+    """(3 + N,): ``value(member)`` of each member, in the coordinates' order."""
+    return jnp.stack([jnp.asarray(value(m)) for m in _members(stage)])
+
+
+def _blocks(*parts):
+    """(n_dof, n_dof): the block-diagonal matrix whose member j's 6 x 6 block holds, for each
+    pair (values, (row, col)) of ``parts``, values[j] at (row, col)."""
+    values = parts[0::2]
+    n = values[0].shape[0]
+    block = jnp.zeros((n, DOF, DOF), dtype=values[0].dtype)
+    for v, (r, c) in zip(values, parts[1::2], strict=True):
+        unit = jnp.zeros((1, DOF, DOF), dtype=v.dtype).at[0, r, c].set(1.0)
+        block = block + v[:, None, None] * unit
+    eye = jnp.eye(n, dtype=block.dtype)
+    return jnp.einsum("ab,aij->aibj", eye, block).reshape(n * DOF, n * DOF)
+
+
+def _on_member(stage: PlanetaryStage, member: int, block):
+    """(n, k, n_dof) rows with ``block`` (n, k, 6) on the coordinates of member ``member``."""
     n, k = block.shape[:2]
-    out = jnp.zeros((n, k, _size(stage)), dtype=block.dtype)
-    cols = DOF * jnp.broadcast_to(jnp.asarray(member), (n,))[:, None] + jnp.arange(DOF)[None, :]
-    return out.at[jnp.arange(n)[:, None, None], jnp.arange(k)[None, :, None], cols[:, None, :]].set(
-        block
-    )
+    before = jnp.zeros((n, k, DOF * member), dtype=block.dtype)
+    after = jnp.zeros((n, k, _size(stage) - DOF * (member + 1)), dtype=block.dtype)
+    return jnp.concatenate([before, block, after], -1)
+
+
+def _on_planets(stage: PlanetaryStage, block):
+    """(n, k, n_dof) rows with ``block`` (n, k, 6) on row n's planet's coordinates."""
+    n, k = block.shape[:2]
+    eye = jnp.eye(n, dtype=block.dtype)
+    planets = (eye[:, None, :, None] * block[:, :, None, :]).reshape(n, k, n * DOF)
+    return jnp.concatenate([jnp.zeros((n, k, DOF * CENTRAL), dtype=block.dtype), planets], -1)
 
 
 def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, points):
@@ -135,28 +158,23 @@ def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, p
     z along e_z from the mid-plane. Its line of action at the angle ``line`` (n,), ``sign_z``
     the sign of the normal's axial part, ``angle`` the pressure angle, ``side`` -1 (sun side of
     the planet) or +1 (ring side)."""
-    n = stage.n_planets
     psi = stage.planet_angles
     beta = stage.helix_angle
     central_member = _members(stage)[central]
     e_zeta, e_eta, e_z = _frames(stage)
     direction = jnp.stack([-jnp.sin(line), jnp.cos(line), jnp.zeros_like(psi)], -1)
     normal = jnp.cos(beta) * direction + sign_z * jnp.sin(beta) * e_z
-    eye = jnp.broadcast_to(jnp.eye(3, dtype=psi.dtype), (n, 3, 3))
-    planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)
-    rows = []
-    for sigma, z in points:
-        shift = sigma * sign_z * direction + z * e_z
-        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + shift
-        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + shift
-        a = jnp.einsum("ni,nij->nj", normal, _point_map(eye, rho_c, central_member.base_radius))
-        b = jnp.einsum(
-            "ni,nij->nj", normal, _point_map(planet_axes, rho_p, stage.planet.base_radius)
-        )
-        rows.append(
-            _place(stage, central, a[:, None]) - _place(stage, CENTRAL + jnp.arange(n), b[:, None])
-        )
-    return jnp.concatenate(rows, 1)
+    sigma, z = (jnp.asarray(v, dtype=psi.dtype) for v in zip(*points, strict=True))
+    shift = (sigma[None, :, None] * (sign_z * direction)[:, None, :]
+             + z[None, :, None] * e_z[:, None, :])  # (n, k, 3)
+    rho_c = (central_member.base_radius / jnp.cos(angle) * e_zeta)[:, None, :] + shift
+    rho_p = (side * stage.planet.base_radius / jnp.cos(angle) * e_zeta)[:, None, :] + shift
+    eye = jnp.eye(3, dtype=psi.dtype)
+    planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)[:, None]  # (n, 1, 3, 3)
+    a = jnp.einsum("ni,nkij->nkj", normal, _point_map(eye, rho_c, central_member.base_radius))
+    b = jnp.einsum("ni,nkij->nkj", normal,
+                   _point_map(planet_axes, rho_p, stage.planet.base_radius))
+    return _on_member(stage, central, a) - _on_planets(stage, b)
 
 
 def _both_meshes(stage: PlanetaryStage, points):
@@ -172,9 +190,9 @@ def _transverse_slopes(stage: PlanetaryStage, point):
     """((V_s, D_s), (V_r, D_r)), each (n_planets, n_dof): the transverse-equivalent rows (the
     normal ones over cos beta_b) at the pitch point and their change per metre towards
     ``point`` ((sigma, z) = (1, 0) or (0, 1))."""
-    mid, one = _both_meshes(stage, ((0.0, 0.0),)), _both_meshes(stage, (point,))
     c = jnp.cos(stage.helix_angle)
-    return tuple((a[:, 0] / c, (b[:, 0] - a[:, 0]) / c) for a, b in zip(mid, one, strict=True))
+    return tuple((r[:, 0] / c, (r[:, 1] - r[:, 0]) / c)
+                 for r in _both_meshes(stage, ((0.0, 0.0), point)))
 
 
 def _pin_rows(stage: PlanetaryStage):
@@ -183,7 +201,7 @@ def _pin_rows(stage: PlanetaryStage):
     n = stage.n_planets
     e_zeta, e_eta, e_z = _frames(stage)
     axes = jnp.stack([e_zeta, e_eta, e_z], -1)  # (n, 3, 3)
-    eye = jnp.broadcast_to(jnp.eye(3, dtype=e_z.dtype), (n, 3, 3))
+    eye = jnp.eye(3, dtype=e_z.dtype)
     r_c = stage.carrier.base_radius
     carrier = jnp.einsum("nji,njk->nik", axes, _point_map(eye, r_c * e_zeta, r_c))
     zeros = jnp.zeros((n, 2, 3), dtype=e_z.dtype)
@@ -193,7 +211,7 @@ def _pin_rows(stage: PlanetaryStage):
     )
     planet = jnp.broadcast_to(jnp.eye(5, DOF, dtype=e_z.dtype), (n, 5, DOF))
     central = jnp.concatenate([carrier, carrier_tilt], 1)
-    return _place(stage, 0, central) - _place(stage, CENTRAL + jnp.arange(n), planet)
+    return _on_member(stage, 0, central) - _on_planets(stage, planet)
 
 
 def _pin_stiffness(stage: PlanetaryStage):
@@ -308,18 +326,11 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         Omega, ``I_d psi'' + i (2 I_d Omega - J (Omega + omega_r)) psi' + (k - I_d Omega^2 +
         J (Omega + omega_r) Omega) psi = 0`` (psi = theta_x + i theta_y): the spinning disc's
         forward and backward whirl seen from the carrier (module docstring)."""
-        spins = (0.0, -1.0 / stage.ring.base_radius, 1.0 / stage.sun.base_radius) + (
-            -1.0 / stage.planet.base_radius,
-        ) * stage.n_planets
-
-        def blocks(m, s):
-            j = m.polar_inertia * s
-            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            return z.at[3, 4].set(j).at[4, 3].set(-j), z.at[3, 3].set(j).at[4, 4].set(j)
-
-        g, k = zip(*(blocks(m, s) for m, s in zip(_members(stage), spins, strict=True)),
-                   strict=True)
-        return _block_diag(list(g)), _block_diag(list(k))
+        spins = jnp.stack([jnp.zeros_like(stage.ring.base_radius), -1.0 / stage.ring.base_radius,
+                           1.0 / stage.sun.base_radius]
+                          + [-1.0 / stage.planet.base_radius] * stage.n_planets)
+        j = _per_member(stage, lambda m: m.polar_inertia) * spins
+        return _blocks(j, (3, 4), -j, (4, 3)), _blocks(j, (3, 3), j, (4, 4))
 
     def mesh_deflection_rows(self, stage):
         """(V_s, V_r), each (n_planets, n_dof): the mesh deflections at mid-face (m)."""
@@ -354,14 +365,9 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     def gyroscopic_matrix(self, stage):
         """G: per member ``[[0, -2m], [2m, 0]]`` on the in-plane translations and
         ``[[0, -(2 I_d - J)], [2 I_d - J, 0]]`` on the tilts (module docstring)."""
-
-        def block(m):
-            g = 2.0 * m.tilt_inertia - m.polar_inertia
-            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            z = z.at[0, 1].set(-2.0 * m.mass).at[1, 0].set(2.0 * m.mass)
-            return z.at[3, 4].set(-g).at[4, 3].set(g)
-
-        return _block_diag([block(m) for m in _members(stage)])
+        mass = _per_member(stage, lambda m: m.mass)
+        g = _per_member(stage, lambda m: 2.0 * m.tilt_inertia - m.polar_inertia)
+        return _blocks(-2.0 * mass, (0, 1), 2.0 * mass, (1, 0), -g, (3, 4), g, (4, 3))
 
     def centripetal_matrix(self, stage):
         """K_Omega: per member ``diag(m, m, 0, I_d - J, I_d - J, 0)`` (module docstring)."""
