@@ -56,11 +56,21 @@ coefficient and ``J omega_r Omega`` to their stiffness (:meth:`SpatialPlanetary.
 omega_r is set by the mesh travel speed v: v / r_bs for the sun, -v / r_br for the ring, -v /
 r_bp for the planets, 0 for the carrier).
 
-In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) a cell
-of a mesh at the axial position z (from the mesh mid-plane) sees the normal deflection of the
-points rho + z e_z (:meth:`SpatialPlanetary.face_rows`): the mesh point stays the transverse
-pitch point, the cells spread the mesh over the face, so that a member's tilt moves the load
-across it and the helical normals' axial parts load the axial supports.
+In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) each
+cell of a mesh acts at its own contact point: P = C + sigma t + z e_z, C the transverse pitch
+point, z the cell's axial position from the mesh mid-plane, sigma = s - s_C its place on the
+path of contact (s, from the pair's engagement point) less the pitch point's, t the sense the
+contact travels (the sun's push on the planet for a sun mesh, the planet's on the ring for a
+ring mesh). Its normal deflection is linear in (sigma, z): ``(V + z W + sigma X) q`` on the
+transverse-equivalent rows (:meth:`SpatialPlanetary.face_rows`, :meth:`SpatialPlanetary.
+line_rows`). With e_perp = d x e_z (d the line of action's transverse direction) the relative
+tilt theta_perp = (theta_central - theta_planet) . e_perp moves it by (sigma sin beta_b - z cos
+beta_b) theta_perp: the coordinate along the contact lines, whose moment arms across the face
+and along the line of action the tilts see (the translations and the spin do not: every point
+of the line of action is at r_b from the axis). Summed over the cells this is Eritenel &
+Parker's (2009) mesh: the resultant at the centre of stiffness with the tilting stiffness of the
+lines' spread. The lumped :meth:`SpatialPlanetary.stiffness_matrix` (and
+:class:`~jaxgear.ConstantMeshes`) keeps the mesh at the pitch point, spread over the face.
 """
 
 from __future__ import annotations
@@ -236,8 +246,9 @@ class SpatialPlanetary(AbstractPlanetaryModel):
 
     In the contact solve and the dynamics (:func:`~jaxgear.planetary_quasi_static`,
     :func:`~jaxgear.dynamics.planetary_dynamics`) each cell of a helical mesh sees the
-    deflection along the tooth normal at its own axial position across the face
-    (:meth:`face_rows`), so that a member's tilt moves the load across the face; a
+    deflection along the tooth normal at its own contact point, its axial position across the
+    face and its place along the line of action (:meth:`face_rows`, :meth:`line_rows`), so
+    that a member's tilt moves the load along the contact lines; a
     :class:`~jaxgear.ConstantMeshes` spring is spread over the face by its ``face_points``
     (2: the Gauss points of :meth:`stiffness_matrix`). The members' spin relative to the
     carrier adds its gyroscopic moments (:meth:`spin_matrices`).

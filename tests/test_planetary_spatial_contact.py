@@ -68,7 +68,8 @@ def test_cell_springs_at_their_contact_points_against_the_contact_lines(tilting)
     def rows(x):
         row = meshes.cell_row(model, st, x, (zero, zero))
         kl = jnp.where(row.mask, row.k * row.length, 0.0)
-        force = jax.jacobian(meshes.mesh_forces)(kl) * kl[None, :]  # (2N, c): cos beta_b k l per cell
+        # (2N, c): each mesh's cells, cos beta_b k l
+        force = jax.jacobian(meshes.mesh_forces)(kl) * kl[None, :]
         return jnp.einsum("ci,c,cj->ij", row.V, kl, row.V), force @ row.V
 
     tilts = _zeta_tilts(model, st)

@@ -95,8 +95,8 @@ def test_the_rating_takes_k_gamma_from_the_3d_model_where_the_run_uses_it():
     load-sharing section): a helical stage on its axial and tilting supports -> the 3D model's,
     load_sharing(SpatialPlanetary(), ...) on the load-sharing stage (1e-12), named as such;
     without the supports, or spur -> the planar model's."""
-    from jaxgear.cli.planetary import (K_GAMMA_SOURCE, K_GAMMA_SOURCE_3D, rating_k_gamma,
-                                       sharing_models, sharing_summary)
+    from jaxgear.cli.planetary import (K_GAMMA_SOURCES, rating_k_gamma, sharing_models,
+                                       sharing_summary)
 
     def chosen(data, names):
         case = jio.parse_train(data)
@@ -115,22 +115,24 @@ def test_the_rating_takes_k_gamma_from_the_3d_model_where_the_run_uses_it():
     (k, source), direct = chosen(_supported(_lumped_case(helix_angle_deg=20.0,
                                                           face_width_mm=30.0)),
                                  ("planar", "spatial"))
-    assert source == K_GAMMA_SOURCE_3D and k == pytest.approx(direct["spatial"], rel=1e-12)
+    assert source == K_GAMMA_SOURCES["spatial"] and "3D" in source
+    assert k == pytest.approx(direct["spatial"], rel=1e-12)
     assert abs(direct["spatial"] - direct["planar"]) > 1e-4  # the choice matters
     bare = _lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)
     bare["planetary"]["tangential_pin_errors_um"] = [10.0, 0.0, 0.0]
     (k, source), direct = chosen(bare, ("planar",))
-    assert source == K_GAMMA_SOURCE and k == pytest.approx(direct["planar"], rel=1e-12)
+    assert source == K_GAMMA_SOURCES["planar"] and k == pytest.approx(direct["planar"], rel=1e-12)
 
 
 def test_the_rating_report_names_the_k_gamma_source(tmp_path):
     """rating_section with the 3D model's K_gamma: summary's K_gamma source and rating.md's
     table row (value, source column) name it (the embedded nrel-5mw-planetary, K_gamma not
     given in its [rating])."""
-    from jaxgear.cli.planetary import K_GAMMA_SOURCE_3D, rating_section
+    from jaxgear.cli.planetary import K_GAMMA_SOURCES, rating_section
 
+    spatial = K_GAMMA_SOURCES["spatial"]
     sec = rating_section(jio.load_case("nrel-5mw-planetary"), str(tmp_path), 1.2,
-                         K_GAMMA_SOURCE_3D)
-    assert sec["K_gamma"] == {"value": [1.2, 1.2], "source": [K_GAMMA_SOURCE_3D] * 2}
+                         spatial)
+    assert sec["K_gamma"] == {"value": [1.2, 1.2], "source": [spatial] * 2}
     md = (tmp_path / "rating.md").read_text()
-    assert md.count(f"| K_γ | 1.2000 |  | {K_GAMMA_SOURCE_3D} |") == 2
+    assert md.count(f"| K_γ | 1.2000 |  | {spatial} |") == 2
