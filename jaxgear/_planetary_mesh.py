@@ -224,6 +224,14 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         return jnp.repeat(z, n), jnp.broadcast_to(stage.face_width, (n,))
 
 
+def _hand(stage):
+    """+1 for right-hand planets (the stage's helix_angle >= 0), -1 for left-hand: the pairs lay
+    their contact lines out as s = roll - z |tan beta_b| (z from the face's side), which in the
+    stage's frame runs along +e_z for right-hand planets and along -e_z for left-hand ones (the
+    lines lie in the plane of action perpendicular to the tooth normal)."""
+    return jnp.where(stage.helix_angle < 0, -1.0, 1.0)
+
+
 class ContactMeshes(AbstractPlanetaryMeshes):
     """The 2N meshes from real contact: the sun–planet pair's and the planet–ring pair's cells
     (:class:`~jaxgear.MeshModel`), with their modifications, phased per planet.
@@ -336,7 +344,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
     def face_positions(self, stage):
         z = []
         for mesh in (self.sun_mesh, self.ring_mesh):
-            across = mesh.cells(jnp.zeros_like(mesh.face_width)).z - 0.5 * mesh.face_width
+            cells_z = mesh.cells(jnp.zeros_like(mesh.face_width)).z
+            across = _hand(stage) * (cells_z - 0.5 * mesh.face_width)
             z.append(jnp.tile(across.reshape(-1), stage.n_planets))
         n = (stage.n_planets,)
         b = jnp.concatenate([jnp.broadcast_to(m.face_width, n)
@@ -348,8 +357,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
         t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
         # the transverse deflection at each cell's contact point (the cells' z runs along the
-        # stage axis from the face's side at z = 0, their s along the path of contact):
-        # (V + (z - b/2) W + (s - s_pitch) X) q
+        # stage axis from the face's side at z = 0, against it for left-hand planets; their s
+        # along the path of contact): (V + (z - b/2) W + (s - s_pitch) X) q
         rows_s, rows_r = model.face_rows(stage)
         x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
@@ -363,7 +372,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
                 theta
             )
             cb = jnp.cos(mesh.base_helix_angle)
-            across = cells.z[0] - 0.5 * mesh.face_width  # (n_lines, n_slices), every planet's
+            # (n_lines, n_slices), every planet's; mirrored for left-hand planets
+            across = _hand(stage) * (cells.z[0] - 0.5 * mesh.face_width)
             along = cells.s - pitch  # (n_planets, n_lines, n_slices)
             V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :]
                       + along[..., None] * x_line[:, None, None, :])

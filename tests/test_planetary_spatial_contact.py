@@ -6,6 +6,7 @@ here from the geometry (tests/test_planetary_spatial_dynamics.py: Reference, its
 potential energy, each cell at the pinion's tangent point plus its roll towards the pitch point)."""
 
 import copy
+import dataclasses
 
 import equinox as eqx
 import jax
@@ -141,3 +142,31 @@ def test_pitch_points_are_the_pinions_roll_at_the_pitch_point(tilting):
         r_b1, alpha = float(pair.base_radii[0]), float(pair.operating_pressure_angle)
         assert got == pytest.approx(r_b1 * np.tan(alpha) - float(pair.start_roll), rel=1e-12)
         assert 0.0 < got < float(pair.path_of_contact)
+
+
+def test_a_left_hand_stage_is_the_mirror_of_the_right_hand_one(tilting):
+    """The stage mirrored through its mid-plane (z -> -z) turns right-hand planets into left-hand
+    ones (helix_angle -beta_b) and leaves every force alone: the cells' stiffness and the linear
+    solve under the sun torque give the same transverse mesh forces (1e-9), the axial
+    translations and the tilts mirrored (z -> -z; a tilt theta -> (-theta_x, -theta_y))."""
+    geo, st, meshes = tilting
+    model = jg.SpatialPlanetary()
+    left = dataclasses.replace(st, helix_angle=-st.helix_angle)
+    zero = np.zeros(st.n_planets)
+    x = 0.37 * float(geo.sun_planet.base_pitch)
+
+    @eqx.filter_jit
+    def solve(s):
+        row = meshes.cell_row(model, s, x, (zero, zero))
+        kl = jnp.where(row.mask, row.k * row.length, 0.0)
+        bare = dataclasses.replace(s, sun_mesh_stiffness=0.0, ring_mesh_stiffness=0.0)
+        k = model.stiffness_matrix(bare) + jnp.einsum("ci,c,cj->ij", row.V, kl, row.V)
+        f = jnp.zeros(k.shape[0]).at[6 * 2 + 5].set(TORQUE / s.sun.base_radius)  # u_s
+        q = jnp.linalg.solve(k, f)
+        return q, (jax.jacobian(meshes.mesh_forces)(kl) * kl[None, :]) @ row.V @ q
+
+    out = [tuple(np.asarray(a) for a in solve(s)) for s in (st, left)]
+    (q_r, f_r), (q_l, f_l) = out
+    np.testing.assert_allclose(f_l, f_r, rtol=1e-9)
+    mirror = np.tile([1.0, 1.0, -1.0, -1.0, -1.0, 1.0], q_r.shape[0] // 6)
+    np.testing.assert_allclose(q_l, mirror * q_r, rtol=0, atol=1e-9 * np.abs(q_r).max())
