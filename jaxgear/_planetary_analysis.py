@@ -220,7 +220,7 @@ def _harmonic_projectors(model, stage, n_dof: int):
     per = n_dof // (n + 3)
     psi = np.asarray(stage.planet_angles, dtype=float)
     turns = np.sort(np.mod(psi - psi[0], 2 * np.pi)) * n / (2 * np.pi)
-    if n < 3 or per * (n + 3) != n_dof or np.max(np.abs(turns - np.arange(n))) > 1e-9:
+    if n < 3 or per * (n + 3) != n_dof or np.max(np.abs(turns - np.arange(n))) > 1e-6:
         return None
     trans = list(model.central_translations(stage))
     rot = list(model.central_rotations(stage))
