@@ -1,5 +1,5 @@
 """Cost of a carrier-frame Newmark step of a helical planetary stage, the 3D lumped model
-(jaxgear.SpatialPlanetary: 6 (3 + N) coordinates, cells at their axial positions, the spin's
+(jaxgear.SpatialPlanetary: 6 (3 + N) coordinates, cells at their contact points, the spin's
 gyroscopic moments) against the planar model (3 (3 + N)) on the same cells, in one run so that
 the ratio shares the machine's load.
 

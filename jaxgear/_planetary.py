@@ -37,6 +37,7 @@ import enum
 from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -384,13 +385,7 @@ def _planar_centripetal(stage):
 
 
 def _block_diag(blocks):
-    n = sum(b.shape[0] for b in blocks)
-    out = jnp.zeros((n, n), dtype=blocks[0].dtype)
-    i = 0
-    for b in blocks:
-        out = out.at[i : i + b.shape[0], i : i + b.shape[0]].set(b)
-        i += b.shape[0]
-    return out
+    return jax.scipy.linalg.block_diag(*blocks)
 
 
 # -- model kinds -------------------------------------------------------------------------------
@@ -463,12 +458,15 @@ class AbstractPlanetaryModel(eqx.Module):
     def error_terms(self, stage: PlanetaryStage, tangential_errors, radial_errors, travel=0.0):
         """(f, d_s, d_r) of :meth:`pin_error_terms` with the stage's eccentricities at the mesh
         travel ``travel`` (m) added (:class:`Eccentricities`): the carrier's as pin errors, the
-        sun's and the ring's as mesh-deflection offsets (their constant meshes' reaction in f,
-        as the torsional model's pin errors)."""
+        sun's and the ring's (and the planets' runouts) as offsets of the deflections of
+        :meth:`mesh_deflection_rows` (their constant meshes' reaction in f, as the torsional
+        model's pin errors). Those offsets are in-plane: a deflection along a helical tooth
+        normal sees :meth:`spring_cos` (cos beta_b) times the transverse offset."""
         ecc = stage.eccentricities
         e_t, e_r = ecc.pin_errors(stage)
         f, d_s, d_r = self.pin_error_terms(stage, tangential_errors + e_t, radial_errors + e_r)
-        o_s, o_r = ecc.mesh_offsets(stage, travel)
+        c = self.spring_cos(stage)
+        o_s, o_r = (c * o for o in ecc.mesh_offsets(stage, travel))
         v_s, v_r = self.mesh_deflection_rows(stage)
         k_s, k_r = stage.mesh_stiffnesses()
         return f - v_s.T @ (k_s * o_s) - v_r.T @ (k_r * o_r), d_s + o_s, d_r + o_r
@@ -487,6 +485,14 @@ class AbstractPlanetaryModel(eqx.Module):
         tilts sees the same deflection across the face)."""
         v_s, v_r = self.mesh_deflection_rows(stage)
         return (v_s, jnp.zeros_like(v_s)), (v_r, jnp.zeros_like(v_r))
+
+    def line_rows(self, stage: PlanetaryStage):
+        """(X_s, X_r), each (n_planets, n_dof): the change of :meth:`face_rows`' deflection per
+        metre of a cell's offset along the line of action from the transverse pitch point
+        (``(V + z W + sigma X) q``). Zero here: a point moved along the line of action keeps
+        its moment arm about the axis, and a model without tilts has no other."""
+        v_s, v_r = self.mesh_deflection_rows(stage)
+        return jnp.zeros_like(v_s), jnp.zeros_like(v_r)
 
     def spring_cos(self, stage: PlanetaryStage) -> Float[Array, ""]:
         """c (-): the stage's constant mesh stiffnesses act on c times the transverse

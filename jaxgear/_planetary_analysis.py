@@ -150,51 +150,110 @@ def classify_modes(
 ) -> tuple[tuple[ModeType, int], ...]:
     """The type and multiplicity of each mode (host-side, NumPy; not traced).
 
-    Modes whose frequencies agree within ``rtol`` times the highest frequency form one group;
-    in a group's mode shapes, the share of the squared amplitude on the central members'
-    translations and rotations decides: both below ``still`` -> PLANET, rotations only ->
-    ROTATIONAL, translations only -> TRANSLATIONAL, else MIXED. A group with the central members
-    still in which every planet moves alike (each planet's coordinates the same to ``still``: the
-    planets' harmonic 0, the content of a rotational mode; a planet mode has none, Lin & Parker
-    1999, Eritenel & Parker 2009) is ROTATIONAL: e.g. the 3D model's mode in which the planets
-    all tilt about their radial axes against the meshes' tilting stiffness and the central
-    members do not move.
+    Modes whose frequencies agree within ``rtol`` times the highest frequency form one group.
+    For N >= 3 equally spaced planets each group is typed by projecting its span on the three
+    subspaces that the stage's cyclic symmetry keeps apart (Lin & Parker 1999; Eritenel &
+    Parker 2009 for the 3D model): ROTATIONAL (the central members' rotations, and the
+    planets' motions of harmonic 0: every planet alike in its own frame), TRANSLATIONAL (the
+    central members' translations, and the planets' harmonic 1: p_n = a cos psi_n + b sin
+    psi_n) and PLANET (the central members still, the planets' other harmonics; also harmonic
+    1 in a model without central translations, the torsional one). Each of these subspaces is
+    invariant under M and K, so a group's span is the sum of its parts in each: the part's
+    dimension is the number of modes of that type at that frequency, which also types a group
+    in which modes of two types share a frequency (the 3D model's planets tilting alike about
+    their radial axes and a planet mode, at N >= 4). A group whose projections are not 0 or 1
+    within ``still`` (the eigenvalues of Q^T P Q, Q an orthonormal basis of its span) is MIXED.
+
+    Otherwise (unequal spacing, fewer than three planets) the share of the group's squared
+    amplitude on the central members' translations and rotations decides: both below
+    ``still`` -> PLANET, rotations only -> ROTATIONAL, translations only -> TRANSLATIONAL, else
+    MIXED; a group with the central members still in which every planet moves alike is
+    ROTATIONAL.
 
     Returns:
-        One ``(ModeType, multiplicity)`` per mode, in the order of ``modes.frequencies``.
+        One ``(ModeType, multiplicity)`` per mode, in the order of ``modes.frequencies``: the
+        multiplicity of its type within its group of equal frequencies (a group of two types
+        lists its rotational modes first, then translational, then planet; its shapes are any
+        basis of the group).
     """
     check_instance(
         "model", model, AbstractPlanetaryModel, "a planetary model kind", "classify_modes"
     )
     f = np.asarray(modes.frequencies)
     phi = np.asarray(modes.shapes)
-    trans = list(model.central_translations(stage))
-    rot = list(model.central_rotations(stage))
     tol = rtol * max(float(f.max()), 1.0)
     rotational, translational = (ModeType(name) for name in model.mode_types())
-    # (central translations move, central rotations move) -> type
+    groups, start = [], 0
+    for j in range(1, len(f) + 1):
+        if j == len(f) or f[j] - f[j - 1] > tol:
+            groups.append(range(start, j))
+            start = j
+    projectors = _harmonic_projectors(model, stage, phi.shape[0])
+    out = []
+    for g in groups:
+        block = phi[:, list(g)]
+        if projectors is None:
+            kind = _by_shares(block, model, stage, still, rotational, translational)
+            out += [(kind, len(g))] * len(g)
+            continue
+        q, _ = np.linalg.qr(block)
+        dims = []
+        for p in projectors:
+            lam = np.linalg.eigvalsh(q.T @ p @ q)
+            if np.any(np.minimum(np.abs(lam), np.abs(1.0 - lam)) > still):
+                dims = None
+                break
+            dims.append(int(np.sum(lam > 0.5)))
+        if dims is None or sum(dims) != len(g):
+            out += [(ModeType.MIXED, len(g))] * len(g)
+            continue
+        for kind, d in zip((rotational, translational, ModeType.PLANET), dims, strict=True):
+            out += [(kind, d)] * d
+    return tuple(out)
+
+
+def _harmonic_projectors(model, stage, n_dof: int):
+    """(P_rot, P_trans, P_planet), each (n_dof, n_dof), orthogonal projectors summing to the
+    identity (:func:`classify_modes`), or None where the planets are not N >= 3 equally spaced
+    (their harmonics then mix the types) or the coordinates are not per member alike."""
+    n = stage.n_planets
+    per = n_dof // (n + 3)
+    psi = np.asarray(stage.planet_angles, dtype=float)
+    turns = np.sort(np.mod(psi - psi[0], 2 * np.pi)) * n / (2 * np.pi)
+    if n < 3 or per * (n + 3) != n_dof or np.max(np.abs(turns - np.arange(n))) > 1e-6:
+        return None
+    trans = list(model.central_translations(stage))
+    rot = list(model.central_rotations(stage))
+    harmonic0 = np.full((n, n), 1.0 / n)
+    basis = np.stack([np.cos(psi), np.sin(psi)], -1) * np.sqrt(2.0 / n)
+    harmonic1 = basis @ basis.T
+    eye = np.eye(per)
+    out = []
+    for idx, planets in ((rot, harmonic0), (trans, harmonic1)):
+        p = np.zeros((n_dof, n_dof))
+        p[idx, idx] = 1.0
+        if idx:  # without central translations (torsional) harmonic 1 is a planet mode's
+            p[3 * per :, 3 * per :] = np.kron(planets, eye)
+        out.append(p)
+    return out[0], out[1], np.eye(n_dof) - out[0] - out[1]
+
+
+def _by_shares(block, model, stage, still, rotational, translational) -> ModeType:
+    """A group's type from the share of its squared amplitude on the central members'
+    translations and rotations (:func:`classify_modes`, unequal spacing)."""
+    total = np.sum(block**2)
+    t_share = np.sum(block[list(model.central_translations(stage))] ** 2) / total
+    r_share = np.sum(block[list(model.central_rotations(stage))] ** 2) / total
     types = {
         (False, False): ModeType.PLANET,
         (False, True): rotational,
         (True, False): translational,
         (True, True): ModeType.MIXED,
     }
-    groups, start = [], 0
-    for j in range(1, len(f) + 1):
-        if j == len(f) or f[j] - f[j - 1] > tol:
-            groups.append(range(start, j))
-            start = j
-    out = []
-    for g in groups:
-        block = phi[:, list(g)]
-        total = np.sum(block**2)
-        t_share = np.sum(block[trans] ** 2) / total
-        r_share = np.sum(block[rot] ** 2) / total
-        kind = types[(bool(t_share > still), bool(r_share > still))]
-        if kind is ModeType.PLANET and _planets_alike(block, stage.n_planets, still):
-            kind = rotational
-        out += [(kind, len(g))] * len(g)
-    return tuple(out)
+    kind = types[(bool(t_share > still), bool(r_share > still))]
+    if kind is ModeType.PLANET and _planets_alike(block, stage.n_planets, still):
+        kind = rotational
+    return kind
 
 
 def _planets_alike(block: np.ndarray, n_planets: int, still: float) -> bool:

@@ -224,6 +224,14 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         return jnp.repeat(z, n), jnp.broadcast_to(stage.face_width, (n,))
 
 
+def _hand(stage):
+    """+1 for right-hand planets (the stage's helix_angle >= 0), -1 for left-hand: the pairs lay
+    their contact lines out as s = roll - z |tan beta_b| (z from the face's side), which in the
+    stage's frame runs along +e_z for right-hand planets and along -e_z for left-hand ones (the
+    lines lie in the plane of action perpendicular to the tooth normal)."""
+    return jnp.where(stage.helix_angle < 0, -1.0, 1.0)
+
+
 class ContactMeshes(AbstractPlanetaryMeshes):
     """The 2N meshes from real contact: the sun–planet pair's and the planet–ring pair's cells
     (:class:`~jaxgear.MeshModel`), with their modifications, phased per planet.
@@ -238,6 +246,11 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
             (:func:`~jaxgear.mesh_phases`).
         ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
+        pitch_points: (2,): where each pair's transverse pitch point sits on its path of
+            contact (m, s from the pair's engagement point: the pinion's roll r_b1 tan a_w less
+            its start roll), the sun pair's then the ring pair's; a cell at s lies
+            s - pitch_point along the line of action from the pitch point (the 3D model's
+            moment arms, ``model.line_rows``).
     """
 
     sun_mesh: MeshModel
@@ -247,6 +260,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
     sun_phases: Float[Array, " n_planets"] = eqx.field(converter=as_float)
     ring_phases: Float[Array, " n_planets"] = eqx.field(converter=as_float)
     ring_offset: Float[Array, ""] = eqx.field(converter=as_float)
+    pitch_points: Float[Array, " 2"] = eqx.field(converter=as_float)
 
     def __check_init__(self):
         for name in ("sun_mesh", "ring_mesh"):
@@ -299,7 +313,10 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             s, k = stiffness_table(pair, stiffness, **table)
             meshes.append(MeshModel.from_pair(pair, s, k, n_slices))
         g_s, g_r = mesh_phases(z_s, z_r, psi)
-        return cls(meshes[0], meshes[1], mods[0], mods[1], g_s, g_r, sun_ring_offset(geometry))
+        pitch = [float(p.base_radii[0]) * math.tan(float(p.operating_pressure_angle))
+                 - float(p.start_roll) for p in (sp, pr)]
+        return cls(meshes[0], meshes[1], mods[0], mods[1], g_s, g_r, sun_ring_offset(geometry),
+                   pitch)
 
     def mesh_period(self):
         return self.sun_mesh.base_pitch
@@ -327,7 +344,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
     def face_positions(self, stage):
         z = []
         for mesh in (self.sun_mesh, self.ring_mesh):
-            across = mesh.cells(jnp.zeros_like(mesh.face_width)).z - 0.5 * mesh.face_width
+            cells_z = mesh.cells(jnp.zeros_like(mesh.face_width)).z
+            across = _hand(stage) * (cells_z - 0.5 * mesh.face_width)
             z.append(jnp.tile(across.reshape(-1), stage.n_planets))
         n = (stage.n_planets,)
         b = jnp.concatenate([jnp.broadcast_to(m.face_width, n)
@@ -338,21 +356,27 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         p_b = self.sun_mesh.base_pitch
         t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
         t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
-        # the transverse deflection at each cell's axial position (the cells' z runs along the
-        # stage axis from the face's side at z = 0): (V + (z - b/2) W) q
+        # the transverse deflection at each cell's contact point (the cells' z runs along the
+        # stage axis from the face's side at z = 0, against it for left-hand planets; their s
+        # along the path of contact): (V + (z - b/2) W + (s - s_pitch) X) q
         rows_s, rows_r = model.face_rows(stage)
+        x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
         parts = []
-        for mesh, mods, theta, (v, w), d in (
-            (self.sun_mesh, self.sun_modifications, t_s, rows_s, d_s),
-            (self.ring_mesh, self.ring_modifications, t_r, rows_r, d_r),
+        for mesh, mods, theta, (v, w), x_line, pitch, d in (
+            (self.sun_mesh, self.sun_modifications, t_s, rows_s, x_s, self.pitch_points[0], d_s),
+            (self.ring_mesh, self.ring_modifications, t_r, rows_r, x_r, self.pitch_points[1],
+             d_r),
         ):
             cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
                 theta
             )
             cb = jnp.cos(mesh.base_helix_angle)
-            across = cells.z[0] - 0.5 * mesh.face_width  # (n_lines, n_slices), every planet's
-            V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :])
+            # (n_lines, n_slices), every planet's; mirrored for left-hand planets
+            across = _hand(stage) * (cells.z[0] - 0.5 * mesh.face_width)
+            along = cells.s - pitch  # (n_planets, n_lines, n_slices)
+            V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :]
+                      + along[..., None] * x_line[:, None, None, :])
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
@@ -434,7 +458,8 @@ class PlanetaryQuasiStatic(eqx.Module):
 def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str, travel=0.0):
     """(f, d_s, d_r) of the pin errors and the stage's eccentricities at the mesh travel
     ``travel`` (m) for the cells, after the shape checks (one-line errors naming the argument):
-    the offsets d_s, d_r of :meth:`~jaxgear.AbstractPlanetaryModel.error_terms` and its load f
+    the offsets d_s, d_r of :meth:`~jaxgear.AbstractPlanetaryModel.error_terms` made
+    transverse (over ``model.spring_cos``) and its load f
     without the meshes' share (the torsional model's f is -V^T k d, the constant meshes'
     reaction to the offsets, which the cells make themselves: f + V_s^T k_s d_s + V_r^T k_r d_r
     is the pins' share; it does not depend on the travel, the offsets do)."""
@@ -450,7 +475,10 @@ def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str
     f, d_s, d_r = model.error_terms(stage, e, eps, travel)
     v_s, v_r = model.mesh_deflection_rows(stage)
     k_s, k_r = stage.mesh_stiffnesses()
-    return f + v_s.T @ (k_s * d_s) + v_r.T @ (k_r * d_r), d_s, d_r
+    # the cells take transverse offsets: error_terms' are on the model's mesh deflections
+    # (the 3D model's along the tooth normal, spring_cos times the transverse ones)
+    c = model.spring_cos(stage)
+    return f + v_s.T @ (k_s * d_s) + v_r.T @ (k_r * d_r), d_s / c, d_r / c
 
 
 #: the spring (relative to the mean mesh stiffness) that holds a planet's rotation when both its

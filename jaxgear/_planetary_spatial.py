@@ -56,11 +56,21 @@ coefficient and ``J omega_r Omega`` to their stiffness (:meth:`SpatialPlanetary.
 omega_r is set by the mesh travel speed v: v / r_bs for the sun, -v / r_br for the ring, -v /
 r_bp for the planets, 0 for the carrier).
 
-In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) a cell
-of a mesh at the axial position z (from the mesh mid-plane) sees the normal deflection of the
-points rho + z e_z (:meth:`SpatialPlanetary.face_rows`): the mesh point stays the transverse
-pitch point, the cells spread the mesh over the face, so that a member's tilt moves the load
-across it and the helical normals' axial parts load the axial supports.
+In the contact solve and the dynamics (``planetary_quasi_static``, ``planetary_dynamics``) each
+cell of a mesh acts at its own contact point: P = C + sigma t + z e_z, C the transverse pitch
+point, z the cell's axial position from the mesh mid-plane, sigma = s - s_C its place on the
+path of contact (s, from the pair's engagement point) less the pitch point's, t the sense the
+contact travels (the sun's push on the planet for a sun mesh, the planet's on the ring for a
+ring mesh). Its normal deflection is linear in (sigma, z): ``(V + z W + sigma X) q`` on the
+transverse-equivalent rows (:meth:`SpatialPlanetary.face_rows`, :meth:`SpatialPlanetary.
+line_rows`). With e_perp = d x e_z (d the line of action's transverse direction) the relative
+tilt theta_perp = (theta_central - theta_planet) . e_perp moves it by (sigma sin beta_b - z cos
+beta_b) theta_perp: the coordinate along the contact lines, whose moment arms across the face
+and along the line of action the tilts see (the translations and the spin do not: every point
+of the line of action is at r_b from the axis). Summed over the cells this is Eritenel &
+Parker's (2009) mesh: the resultant at the centre of stiffness with the tilting stiffness of the
+lines' spread. The lumped :meth:`SpatialPlanetary.stiffness_matrix` (and
+:class:`~jaxgear.ConstantMeshes`) keeps the mesh at the pitch point, spread over the face.
 """
 
 from __future__ import annotations
@@ -70,7 +80,7 @@ from typing import ClassVar
 import equinox as eqx
 import jax.numpy as jnp
 
-from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _block_diag, _members
+from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _members
 from ._util import as_float
 
 __all__ = ["SpatialPlanetary"]
@@ -106,68 +116,93 @@ def _frames(stage: PlanetaryStage):
 
 
 def _point_map(axes, rho, base_radius):
-    """(n, 3, 6): the displacement of the material point at the lever arm rho (n, 3) of a member
-    whose coordinates' axes are ``axes`` (n, 3, 3: columns the two in-plane axes and e_z):
-    ``d + theta x rho = E d - [rho]x theta``."""
+    """(..., 3, 6): the displacement of the material point at the lever arm rho (..., 3) of a
+    member whose coordinates' axes are ``axes`` (..., 3, 3, broadcasting: columns the two
+    in-plane axes and e_z): ``d + theta x rho = E d - [rho]x theta``."""
     rot = -_skew(rho)
     tilt = rot @ axes[..., :2]
     spin = rot[..., 2:3] / base_radius
-    return jnp.concatenate([axes, tilt, spin], -1)
+    return jnp.concatenate([jnp.broadcast_to(axes, rot.shape), tilt, spin], -1)
 
 
-def _place(stage: PlanetaryStage, member, block):
-    """(n, k, n_dof) rows with ``block`` (n, k, 6) on member ``member`` (an index, or an (n,)
-    array of indices: one per planet row)."""
+def _per_member(stage: PlanetaryStage, value):
+    """(3 + N,): ``value(member)`` of each member, in the coordinates' order."""
+    return jnp.stack([jnp.asarray(value(m)) for m in _members(stage)])
+
+
+def _blocks(*parts):
+    """(n_dof, n_dof): the block-diagonal matrix whose member j's 6 x 6 block holds, for each
+    pair (values, (row, col)) of ``parts``, values[j] at (row, col)."""
+    values = parts[0::2]
+    n = values[0].shape[0]
+    block = jnp.zeros((n, DOF, DOF), dtype=values[0].dtype)
+    for v, (r, c) in zip(values, parts[1::2], strict=True):
+        unit = jnp.zeros((1, DOF, DOF), dtype=v.dtype).at[0, r, c].set(1.0)
+        block = block + v[:, None, None] * unit
+    eye = jnp.eye(n, dtype=block.dtype)
+    return jnp.einsum("ab,aij->aibj", eye, block).reshape(n * DOF, n * DOF)
+
+
+def _on_member(stage: PlanetaryStage, member: int, block):
+    """(n, k, n_dof) rows with ``block`` (n, k, 6) on the coordinates of member ``member``."""
     n, k = block.shape[:2]
-    out = jnp.zeros((n, k, _size(stage)), dtype=block.dtype)
-    cols = DOF * jnp.broadcast_to(jnp.asarray(member), (n,))[:, None] + jnp.arange(DOF)[None, :]
-    return out.at[jnp.arange(n)[:, None, None], jnp.arange(k)[None, :, None], cols[:, None, :]].set(
-        block
-    )
+    before = jnp.zeros((n, k, DOF * member), dtype=block.dtype)
+    after = jnp.zeros((n, k, _size(stage) - DOF * (member + 1)), dtype=block.dtype)
+    return jnp.concatenate([before, block, after], -1)
 
 
-def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, across):
+def _on_planets(stage: PlanetaryStage, block):
+    """(n, k, n_dof) rows with ``block`` (n, k, 6) on row n's planet's coordinates."""
+    n, k = block.shape[:2]
+    eye = jnp.eye(n, dtype=block.dtype)
+    planets = (eye[:, None, :, None] * block[:, :, None, :]).reshape(n, k, n * DOF)
+    return jnp.concatenate([jnp.zeros((n, k, DOF * CENTRAL), dtype=block.dtype), planets], -1)
+
+
+def _mesh_rows(stage: PlanetaryStage, central: int, line, sign_z, angle, side, points):
     """(n, k, n_dof): the deflection rows (along the tooth normal, m) of the mesh of each
-    planet with the central member ``central`` (1 ring, 2 sun) at the axial positions
-    ``across`` (k,) (m from the mid-plane, along e_z): its line of action at the angle ``line``
-    (n,), ``sign_z`` the sign of the normal's axial part, ``angle`` the pressure angle,
-    ``side`` -1 (sun side of the planet) or +1 (ring side)."""
-    n = stage.n_planets
+    planet with the central member ``central`` (1 ring, 2 sun) at the points ``points`` (k
+    pairs (sigma, z), m) of its plane of action: sigma along the line of action from the
+    transverse pitch point, in the sense the contact travels (``sign_z`` times the line's
+    direction: the sun's push for the sun mesh, the planet's on the ring for the ring mesh),
+    z along e_z from the mid-plane. Its line of action at the angle ``line`` (n,), ``sign_z``
+    the sign of the normal's axial part, ``angle`` the pressure angle, ``side`` -1 (sun side of
+    the planet) or +1 (ring side)."""
     psi = stage.planet_angles
     beta = stage.helix_angle
     central_member = _members(stage)[central]
     e_zeta, e_eta, e_z = _frames(stage)
-    normal = jnp.stack(
-        [
-            -jnp.cos(beta) * jnp.sin(line),
-            jnp.cos(beta) * jnp.cos(line),
-            sign_z * jnp.sin(beta) * jnp.ones_like(psi),
-        ],
-        -1,
-    )
-    eye = jnp.broadcast_to(jnp.eye(3, dtype=psi.dtype), (n, 3, 3))
-    planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)
-    rows = []
-    for s in across:
-        rho_c = central_member.base_radius / jnp.cos(angle) * e_zeta + s * e_z
-        rho_p = side * stage.planet.base_radius / jnp.cos(angle) * e_zeta + s * e_z
-        a = jnp.einsum("ni,nij->nj", normal, _point_map(eye, rho_c, central_member.base_radius))
-        b = jnp.einsum(
-            "ni,nij->nj", normal, _point_map(planet_axes, rho_p, stage.planet.base_radius)
-        )
-        rows.append(
-            _place(stage, central, a[:, None]) - _place(stage, CENTRAL + jnp.arange(n), b[:, None])
-        )
-    return jnp.concatenate(rows, 1)
+    direction = jnp.stack([-jnp.sin(line), jnp.cos(line), jnp.zeros_like(psi)], -1)
+    normal = jnp.cos(beta) * direction + sign_z * jnp.sin(beta) * e_z
+    sigma, z = (jnp.asarray(v, dtype=psi.dtype) for v in zip(*points, strict=True))
+    shift = (sigma[None, :, None] * (sign_z * direction)[:, None, :]
+             + z[None, :, None] * e_z[:, None, :])  # (n, k, 3)
+    rho_c = (central_member.base_radius / jnp.cos(angle) * e_zeta)[:, None, :] + shift
+    rho_p = (side * stage.planet.base_radius / jnp.cos(angle) * e_zeta)[:, None, :] + shift
+    eye = jnp.eye(3, dtype=psi.dtype)
+    planet_axes = jnp.stack([e_zeta, e_eta, e_z], -1)[:, None]  # (n, 1, 3, 3)
+    a = jnp.einsum("ni,nkij->nkj", normal, _point_map(eye, rho_c, central_member.base_radius))
+    b = jnp.einsum("ni,nkij->nkj", normal,
+                   _point_map(planet_axes, rho_p, stage.planet.base_radius))
+    return _on_member(stage, central, a) - _on_planets(stage, b)
 
 
-def _both_meshes(stage: PlanetaryStage, across):
-    """(V_s, V_r), each (n, k, n_dof): both meshes' normal rows at the axial positions."""
+def _both_meshes(stage: PlanetaryStage, points):
+    """(V_s, V_r), each (n, k, n_dof): both meshes' normal rows at the points (sigma, z)."""
     psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
     return (
-        _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0, across),
-        _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0, across),
+        _mesh_rows(stage, 2, psi - a_s, 1.0, a_s, -1.0, points),
+        _mesh_rows(stage, 1, psi + a_r, -1.0, a_r, 1.0, points),
     )
+
+
+def _transverse_slopes(stage: PlanetaryStage, point):
+    """((V_s, D_s), (V_r, D_r)), each (n_planets, n_dof): the transverse-equivalent rows (the
+    normal ones over cos beta_b) at the pitch point and their change per metre towards
+    ``point`` ((sigma, z) = (1, 0) or (0, 1))."""
+    c = jnp.cos(stage.helix_angle)
+    return tuple((r[:, 0] / c, (r[:, 1] - r[:, 0]) / c)
+                 for r in _both_meshes(stage, ((0.0, 0.0), point)))
 
 
 def _pin_rows(stage: PlanetaryStage):
@@ -176,7 +211,7 @@ def _pin_rows(stage: PlanetaryStage):
     n = stage.n_planets
     e_zeta, e_eta, e_z = _frames(stage)
     axes = jnp.stack([e_zeta, e_eta, e_z], -1)  # (n, 3, 3)
-    eye = jnp.broadcast_to(jnp.eye(3, dtype=e_z.dtype), (n, 3, 3))
+    eye = jnp.eye(3, dtype=e_z.dtype)
     r_c = stage.carrier.base_radius
     carrier = jnp.einsum("nji,njk->nik", axes, _point_map(eye, r_c * e_zeta, r_c))
     zeros = jnp.zeros((n, 2, 3), dtype=e_z.dtype)
@@ -186,7 +221,7 @@ def _pin_rows(stage: PlanetaryStage):
     )
     planet = jnp.broadcast_to(jnp.eye(5, DOF, dtype=e_z.dtype), (n, 5, DOF))
     central = jnp.concatenate([carrier, carrier_tilt], 1)
-    return _place(stage, 0, central) - _place(stage, CENTRAL + jnp.arange(n), planet)
+    return _on_member(stage, 0, central) - _on_planets(stage, planet)
 
 
 def _pin_stiffness(stage: PlanetaryStage):
@@ -211,8 +246,9 @@ class SpatialPlanetary(AbstractPlanetaryModel):
 
     In the contact solve and the dynamics (:func:`~jaxgear.planetary_quasi_static`,
     :func:`~jaxgear.dynamics.planetary_dynamics`) each cell of a helical mesh sees the
-    deflection along the tooth normal at its own axial position across the face
-    (:meth:`face_rows`), so that a member's tilt moves the load across the face; a
+    deflection along the tooth normal at its own contact point, its axial position across the
+    face and its place along the line of action (:meth:`face_rows`, :meth:`line_rows`), so
+    that a member's tilt moves the load along the contact lines; a
     :class:`~jaxgear.ConstantMeshes` spring is spread over the face by its ``face_points``
     (2: the Gauss points of :meth:`stiffness_matrix`). The members' spin relative to the
     carrier adds its gyroscopic moments (:meth:`spin_matrices`).
@@ -263,7 +299,7 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         """(V_s, V_r), each (n_planets, 2, n_dof): the mesh deflections (m, compression
         positive) at the two Gauss points across the face, ``delta = V q``."""
         gauss = stage.face_width / (2.0 * jnp.sqrt(3.0))
-        return _both_meshes(stage, (-gauss, gauss))
+        return _both_meshes(stage, ((0.0, -gauss), (0.0, gauss)))
 
     @eqx.filter_jit
     def face_rows(self, stage):
@@ -272,10 +308,21 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         the deflection along the tooth normal (at the transverse pitch point, module docstring)
         divided by cos beta_b, so that a cell's normal approach is cos beta_b times it, as for
         the planar model's transverse rows (``spring_cos``: cos beta_b)."""
-        mid, one = _both_meshes(stage, (0.0,)), _both_meshes(stage, (1.0,))
-        c = jnp.cos(stage.helix_angle)
-        return tuple((a[:, 0] / c, (b[:, 0] - a[:, 0]) / c) for a, b in zip(mid, one,
-                                                                            strict=True))
+        return _transverse_slopes(stage, (0.0, 1.0))
+
+    @eqx.filter_jit
+    def line_rows(self, stage):
+        """(X_s, X_r), each (n_planets, n_dof): the change of :meth:`face_rows`' transverse-
+        equivalent deflection per metre of a point's offset sigma along the line of action from
+        the transverse pitch point, in the sense the contact travels (the sun's push on the
+        planet for a sun mesh, the planet's on the ring for a ring mesh): a cell at (sigma, z)
+        sees ``(V + z W + sigma X) q``. Only the normal's axial part gives it a moment arm
+        (sin beta_b sigma about the axis normal to the plane of action): zero for a spur stage,
+        and the u columns are those of the pitch point (the line of action is at r_b from the
+        axis wherever the point sits on it). Source: the contact lines in the plane of action
+        of Eritenel & Parker 2009 (their mesh force at the centre of stiffness on the line of
+        action; docs/planetary.md, "The 3D lumped model")."""
+        return tuple(x for _, x in _transverse_slopes(stage, (1.0, 0.0)))
 
     def spring_cos(self, stage):
         """cos beta_b: the stage's mesh stiffnesses act along the tooth normal."""
@@ -290,18 +337,11 @@ class SpatialPlanetary(AbstractPlanetaryModel):
         Omega, ``I_d psi'' + i (2 I_d Omega - J (Omega + omega_r)) psi' + (k - I_d Omega^2 +
         J (Omega + omega_r) Omega) psi = 0`` (psi = theta_x + i theta_y): the spinning disc's
         forward and backward whirl seen from the carrier (module docstring)."""
-        spins = (0.0, -1.0 / stage.ring.base_radius, 1.0 / stage.sun.base_radius) + (
-            -1.0 / stage.planet.base_radius,
-        ) * stage.n_planets
-
-        def blocks(m, s):
-            j = m.polar_inertia * s
-            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            return z.at[3, 4].set(j).at[4, 3].set(-j), z.at[3, 3].set(j).at[4, 4].set(j)
-
-        g, k = zip(*(blocks(m, s) for m, s in zip(_members(stage), spins, strict=True)),
-                   strict=True)
-        return _block_diag(list(g)), _block_diag(list(k))
+        spins = jnp.stack([jnp.zeros_like(stage.ring.base_radius), -1.0 / stage.ring.base_radius,
+                           1.0 / stage.sun.base_radius]
+                          + [-1.0 / stage.planet.base_radius] * stage.n_planets)
+        j = _per_member(stage, lambda m: m.polar_inertia) * spins
+        return _blocks(j, (3, 4), -j, (4, 3)), _blocks(j, (3, 3), j, (4, 4))
 
     def mesh_deflection_rows(self, stage):
         """(V_s, V_r), each (n_planets, n_dof): the mesh deflections at mid-face (m)."""
@@ -336,14 +376,9 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     def gyroscopic_matrix(self, stage):
         """G: per member ``[[0, -2m], [2m, 0]]`` on the in-plane translations and
         ``[[0, -(2 I_d - J)], [2 I_d - J, 0]]`` on the tilts (module docstring)."""
-
-        def block(m):
-            g = 2.0 * m.tilt_inertia - m.polar_inertia
-            z = jnp.zeros((DOF, DOF), dtype=stage.planet_angles.dtype)
-            z = z.at[0, 1].set(-2.0 * m.mass).at[1, 0].set(2.0 * m.mass)
-            return z.at[3, 4].set(-g).at[4, 3].set(g)
-
-        return _block_diag([block(m) for m in _members(stage)])
+        mass = _per_member(stage, lambda m: m.mass)
+        g = _per_member(stage, lambda m: 2.0 * m.tilt_inertia - m.polar_inertia)
+        return _blocks(-2.0 * mass, (0, 1), 2.0 * mass, (1, 0), -g, (3, 4), g, (4, 3))
 
     def centripetal_matrix(self, stage):
         """K_Omega: per member ``diag(m, m, 0, I_d - J, I_d - J, 0)`` (module docstring)."""

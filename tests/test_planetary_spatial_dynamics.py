@@ -57,7 +57,9 @@ class Reference:
     member (x, y, z, tilt, tilt, u = r_b theta_z) along the carrier frame's axes (central) or
     the planet's (zeta, eta, e_z); a point at rho of a member moves by d + w x rho."""
 
-    def __init__(self, st, geo, meshes, slices):
+    def __init__(self, st, geo, meshes, slices, at_pitch=False):
+        """``at_pitch``: every cell at its mesh's transverse pitch point (the model before the
+        cells had their contact points), to show what the contact points change."""
         self.st, self.geo, self.meshes, self.slices = st, geo, meshes, slices
         self.n = st.n_planets
         self.size = 6 * (3 + self.n)
@@ -68,15 +70,20 @@ class Reference:
         self.m = np.diag(np.concatenate([
             [float(m.mass)] * 3 + [float(m.tilt_inertia)] * 2
             + [float(m.polar_inertia) / float(m.base_radius) ** 2] for m in self.members]))
-        # the cells: (mesh, slice) -> normal deflection row at the slice's axial position
+        # the cells: (mesh, slice) -> the normal deflection rows at the slice's axial position
+        # on the pinion's tangent point and their change per metre of the pinion's roll
+        # (the deflection is linear in the point: row(roll) = rows + roll * slopes)
         b = ps.WIDTH
         self.z = (np.arange(slices) + 0.5) * b / slices  # from the face's side, as the cells
         rows = np.zeros((2 * self.n, slices, self.size))
+        slopes = np.zeros((2 * self.n, slices, self.size))
         for i in range(self.size):
             q = np.eye(self.size)[i]
             for j, zj in enumerate(self.z):
-                rows[:, j, i] = self._mesh_deflections(q, zj - b / 2)
-        self.rows = rows
+                rows[:, j, i] = self._mesh_deflections(q, zj - b / 2, 0.0)
+                slopes[:, j, i] = self._mesh_deflections(q, zj - b / 2, 1.0) - rows[:, j, i]
+        self.rows, self.slopes = rows, slopes
+        self.at_pitch = at_pitch
 
     def frame(self, j):
         if j < 3:
@@ -118,21 +125,33 @@ class Reference:
         return np.array([[energy(eye[i] + eye[j]) - one[i] - one[j] for j in range(self.size)]
                          for i in range(self.size)])
 
-    def _mesh_deflections(self, q, z):
-        """The 2N normal deflections (sun meshes, then ring meshes) at the axial position z."""
+    def _mesh_deflections(self, q, z, roll):
+        """The 2N normal deflections (sun meshes, then ring meshes) at the point of each plane
+        of action at the axial position z whose roll distance from the pinion's tangent point
+        (the sun's for a sun mesh, the planet's for a ring mesh) is ``roll``: the tangent point
+        T on the pinion's base circle, where the line of action touches it, and the unit
+        vector from T through the pitch point C (which divides the centre line as the base
+        radii do); the point T + roll (C - T) / |C - T| + z e_z."""
         a_s, a_r = self.geo.sun_pressure_angle, self.geo.ring_pressure_angle
+        r_c = float(self.st.carrier.base_radius)
+        r_p = float(self.st.planet.base_radius)
         out = []
-        for central, angle, sz, side in ((2, a_s, 1.0, -1.0), (1, a_r, -1.0, 1.0)):
-            r_c = float(self.members[central].base_radius)
-            r_p = float(self.st.planet.base_radius)
+        for central, angle, sz in ((2, a_s, 1.0), (1, a_r, -1.0)):
+            r_m = float(self.members[central].base_radius)
             for i, p in enumerate(self.psi):
                 line = p - angle if central == 2 else p + angle
                 n = np.array([-np.cos(self.beta) * np.sin(line),
                               np.cos(self.beta) * np.cos(line), sz * np.sin(self.beta)])
                 e1 = np.array([np.cos(p), np.sin(p), 0.0])
-                rho_c = r_c / np.cos(angle) * e1 + z * EZ
-                rho_p = side * r_p / np.cos(angle) * e1 + z * EZ
-                out.append((self.point(q, central, rho_c) - self.point(q, 3 + i, rho_p)) @ n)
+                pitch = r_m / np.cos(angle) * e1
+                if central == 2:  # the sun is the pinion: its own tangent point
+                    tangent = r_m * np.array([np.cos(line), np.sin(line), 0.0])
+                else:  # the planet is the pinion: its tangent point on the ring's side
+                    tangent = r_c * e1 + r_p * np.array([np.cos(line), np.sin(line), 0.0])
+                u = (pitch - tangent) / np.linalg.norm(pitch - tangent)
+                point = tangent + roll * u + z * EZ
+                out.append((self.point(q, central, point)
+                            - self.point(q, 3 + i, point - r_c * e1)) @ n)
         return np.array(out)
 
     def rotating(self, omega, v):
@@ -161,41 +180,45 @@ class Reference:
     def cells(self, x):
         """(K_mesh, force rows (2N, n_dof)) at the mesh travel x: each slice's lines counted
         on the helical layout (s = x - gamma p_b - z tan beta_b + i p_b, plus the ring mesh's
-        offset), each cell k0 l along the normal, the mesh's transverse force cos beta_b times
-        the cells' normal forces."""
+        offset), each cell k0 l along the normal at its contact point (the pinion's roll
+        start_roll + s; ``at_pitch``: the pitch point's roll r_b1 tan alpha), the mesh's
+        transverse force cos beta_b times the cells' normal forces."""
         sp, pr = self.geo.sun_planet, self.geo.planet_ring
         p_b = float(sp.base_pitch)
         length = ps.WIDTH / self.slices / np.cos(self.beta)
         shifts = np.concatenate([x - np.asarray(self.meshes.sun_phases) * p_b,
                                  x + float(self.meshes.ring_offset)
                                  - np.asarray(self.meshes.ring_phases) * p_b])
-        g_a = [float(sp.path_of_contact)] * self.n + [float(pr.path_of_contact)] * self.n
+        pairs = [sp] * self.n + [pr] * self.n
         k = np.zeros((self.size, self.size))
         force = np.zeros((2 * self.n, self.size))
         for mesh in range(2 * self.n):
+            pair = pairs[mesh]
+            g_a, start = float(pair.path_of_contact), float(pair.start_roll)
+            pitch_roll = float(pair.base_radii[0]) * np.tan(float(pair.operating_pressure_angle))
             for j, zj in enumerate(self.z):
                 s0 = np.mod(shifts[mesh] - zj * np.tan(self.beta), p_b)
-                lines = sum(float(0.0 <= s0 + i * p_b <= g_a[mesh]) for i in range(-3, 8))
-                kc = ps.K0 * length * lines
-                row = self.rows[mesh, j]
-                k += kc * np.outer(row, row)
-                force[mesh] += np.cos(self.beta) * kc * row
+                for i in range(-3, 8):
+                    s = s0 + i * p_b
+                    if not 0.0 <= s <= g_a:
+                        continue
+                    roll = pitch_roll if self.at_pitch else start + s
+                    row = self.rows[mesh, j] + roll * self.slopes[mesh, j]
+                    k += ps.K0 * length * np.outer(row, row)
+                    force[mesh] += np.cos(self.beta) * ps.K0 * length * row
         return k, force
 
-    def mean_cells(self):
-        """The cells' stiffness over a period: each slice's lines on average eps_alpha."""
-        eps = ([self.geo.sun_planet.transverse_contact_ratio] * self.n
-               + [self.geo.planet_ring.transverse_contact_ratio] * self.n)
-        length = ps.WIDTH / self.slices / np.cos(self.beta)
-        return sum(ps.K0 * length * eps[m] * np.outer(r, r)
-                   for m in range(2 * self.n) for r in self.rows[m])
+    def mean_cells(self, steps):
+        """The cells' stiffness over a period, at the steps' travels (i + 1/2) p_b / steps."""
+        p_b = float(self.geo.sun_planet.base_pitch)
+        return np.mean([self.cells((i + 0.5) * p_b / steps)[0] for i in range(steps)], axis=0)
 
     def dynamic_factors(self, omega, v, steps, periods, keep, spin=True):
         """Per-mesh DF (sun meshes, then ring meshes) over the last ``keep`` periods, from the
         library's start (the static state at the travel x0 = p_b / (2 steps), at rest), the same
         modal damping (ZETA on the modes of M and K_b plus the cells' mean stiffness); ``spin``
         False: without the gyroscopic moments of the spin relative to the carrier."""
-        lam, phi = eigh(self.k + self.mean_cells(), self.m)
+        lam, phi = eigh(self.k + self.mean_cells(steps), self.m)
         c = self.m @ phi @ np.diag(2 * ZETA * np.sqrt(np.clip(lam, 0, None))) @ phi.T @ self.m
         g, k_frame = self.rotating(omega, v if spin else 0.0)
         f = np.zeros(self.size)
@@ -270,7 +293,8 @@ def _against_reference(geo, st, slices, omega, steps, periods, keep):
 def test_helical_dynamics_against_the_reference(helical):
     """beta = 15 deg, 2 slices per line, 600 rad/s carrier speed (mesh frequency 5.06 kHz; the
     rotating frame and the spin terms in both), 384 steps per mesh period, 10 periods from the
-    same start: per-mesh DF within 2 % (measured 0.26-0.84 %; 1.0-2.5 % at 128 steps). (The
+    same start, the cells at their contact points in both: per-mesh DF within 2 % (measured
+    0.11-0.76 %; with every cell at the pitch point 0.26-0.84 %, 1.0-2.5 % at 128 steps). (The
     spin terms move the reference's DF by 0.1-0.8 % here: campbell's whirl tests below check
     them.) Slow, as every Newmark run of the 3D model: its compilation alone takes ~7 s."""
     geo, st = helical

@@ -16,9 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-import warnings
 
-import equinox as eqx
 import numpy as np
 
 import fem_prep
@@ -40,13 +38,20 @@ from .. import (
     quasi_static,
     ring_resonances,
 )
-from ..io import CaseWarning, ratings_of, write_csv, write_json
+from ..io import write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
-from ._rating_report import RATE, rating_lines, stacked_meshes, write_rating_md
+from ._planetary_rating import (
+    K_GAMMA_SOURCE,
+    K_GAMMA_SOURCES,
+    rating_k_gamma,
+    rating_section,
+)
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
+    "K_GAMMA_SOURCE",
+    "K_GAMMA_SOURCES",
     "MESH_ORDERS",
     "MODELS",
     "campbell_section",
@@ -62,6 +67,7 @@ __all__ = [
     "ring_campbell",
     "ring_crossings",
     "ring_operating_shape",
+    "rating_k_gamma",
     "rating_section",
     "ring_section",
     "sharing_models",
@@ -81,7 +87,7 @@ def mode_models(stage) -> dict:
     (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
     (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
     Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
-    stage); the rating's K_γ stays planar."""
+    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`)."""
     if float(stage.helix_angle) == 0.0:
         return MODELS
     return {**MODELS, "spatial": SpatialPlanetary()}
@@ -177,7 +183,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
-    rating = rating_section(case, out, summary["load_sharing"]["planar"]["k_gamma"])
+    rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]))
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
@@ -556,72 +562,6 @@ def mesh_sections(case, out: str) -> dict:
             "file": f"mesh_{name}.csv",
         }
     return res
-
-
-#: where a planetary mesh's K_γ comes from when ``[rating] K_gamma`` does not give it
-K_GAMMA_SOURCE = (
-    "jaxgear load sharing (planar lumped model, the case's pin errors): the most loaded planet "
-    "path's mesh force over the mean"
-)
-
-
-def rating_section(case, out: str, k_gamma: float) -> dict | None:
-    """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
-    (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
-    method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
-    K_gamma`` if given, else ``k_gamma``, the stage's planar load sharing with the pin errors)
-    multiplying the load as K_A does (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), σ_F ∝ K_A K_γ K_v K_Fβ
-    K_Fα; σ_H0, σ_F0 nominal, as ISO 6336-1 and the KISSsoft reports write it), at its driving
-    member's speed relative to the carrier; ``rating.md`` (one table per mesh)
-    written into ``out``; the ``summary.json`` section as a train's (per-mesh lists, ``meshes``
-    naming them) with ``K_gamma`` (value, source), ``torque_per_planet_path_Nm`` (the mean, before
-    K_γ) and ``speed_relative_to_carrier_rad_s``. ``None`` (nothing written) without
-    ``[rating]``."""
-    rcs = ratings_of(case)
-    if rcs is None:
-        return None
-    names = [case.mesh_name(k) for k in range(len(rcs))]
-    lines = [
-        f"# {case.name}: load capacity of every mesh of the planetary stage",
-        "",
-        "Each mesh rated for one planet path: the sun/planet mesh with the sun as the pinion, "
-        "the planet/ring mesh with the planet as the pinion and the ring as an internal gear "
-        "(ISO 6336-2/-3's internal-gear rules: Z_D = 1, the ring's root section at the 60° "
-        "tangent), at the path's mean load times the load sharing factor K_γ and at the "
-        "driving member's speed relative to the carrier. The planet's teeth are loaded on "
-        "alternate flanks by the sun and the ring: Y_M = 0.7 (ISO 6336-3, mean stress "
-        "influence factor); the sun's and the ring's meet every planet each relative turn.",
-        "",
-    ]
-    sections = []
-    for name, rc in zip(names, rcs, strict=True):
-        given = rc.k_gamma is not None
-        kg = float(rc.k_gamma) if given else float(k_gamma)
-        k_a = float(rc.settings.application_factor)
-        # K_γ multiplies the load as K_A does (ISO 6336-1: F_t K_A K_γ in every load factor
-        # and stress; σ_H0, σ_F0 at the nominal F_t of one planet path)
-        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, k_a * kg)
-        rating = RATE(rc.geometry, rc.operating, settings)
-        for note in rating.scope_notes():
-            warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
-        section = rating.summary()
-        section["factors"]["K_A"] = {"value": k_a, "source": "given"}
-        section |= {
-            "K_gamma": {"value": kg, "source": "given" if given else K_GAMMA_SOURCE},
-            "torque_per_planet_path_Nm": float(rc.operating.torque),
-            "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
-        }
-        sections.append(section)
-        lines += rating_lines(section, f"{case.name}, mesh {name}", heading="##")
-        lines += [
-            "",
-            f"K_γ = {kg:.4f} ({section['K_gamma']['source']}), a factor of the load as K_A "
-            f"(one planet path: {section['torque_per_planet_path_Nm']:.6g} N·m on the pinion, "
-            "mean).",
-            "",
-        ]
-    write_rating_md(out, lines)
-    return stacked_meshes(names, sections)
 
 
 def turn_words(sharing: dict) -> str:
