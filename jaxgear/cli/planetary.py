@@ -41,6 +41,7 @@ from .. import (
 from ..io import write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
+from ._rating_report import RATE  # the compiled rating (tests use the run's program)
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
@@ -54,6 +55,7 @@ __all__ = [
     "K_GAMMA_SOURCES",
     "MESH_ORDERS",
     "MODELS",
+    "RATE",
     "campbell_section",
     "face_load_section",
     "lowest_frequency",
