@@ -40,7 +40,7 @@ def _ring(zr, xr, mn, rho=0.30):
     return jg.InternalGearPair(planet, ring, mn * MM, A)
 
 
-def _cut_space(zr, xr, mn, z0, rho_s):
+def _cut_space(zr, xr, mn, z0, rho_s, x0=0.0, bins=1201):
     """The ring's tooth space cut by the cutter (mm), drawn here: the cutter's tooth outline
     (involute flanks to the tip rounding, tangent to the tip circle) swept through the cutting
     mesh at the zero-backlash distance, the cutter's tip circle cutting the root circle
@@ -49,15 +49,15 @@ def _cut_space(zr, xr, mn, z0, rho_s):
     rho = rho_s * mn
     r_f = zr * mn / 2 + mn * (1.25 - xr)
     a_w = A
-    for _ in range(60):  # inv α_w = inv α + 2 tan α x/(z0 − z): Newton by hand
-        f = inv(a_w) - inv(A) - 2 * math.tan(A) * xr / (z0 - zr)
+    for _ in range(60):  # inv α_w = inv α + 2 tan α (x0 + x)/(z0 − z): Newton by hand
+        f = inv(a_w) - inv(A) - 2 * math.tan(A) * (x0 + xr) / (z0 - zr)
         a_w -= f / math.tan(a_w) ** 2
     a0 = mn * (zr - z0) / 2 * math.cos(A) / math.cos(a_w)
     ra0 = r_f - a0
     rb0 = mn * z0 / 2 * math.cos(A)
     # the tip rounding: the circle of radius rho tangent to the tip circle and the involute,
     # found by bisection on the involute's roll (distance of its centre to the tip circle)
-    half0 = (math.pi / 2) / z0 + inv(A)  # the tooth's half angle at the base circle
+    half0 = (math.pi / 2 + 2 * x0 * math.tan(A)) / z0 + inv(A)  # half angle at the base circle
     def centre(t):  # the involute's point at roll t (rad) and the point rho inside it
         phi = half0 - t  # its base-circle tangent point, toward the tooth's centre line
         b = rb0 * np.array([math.sin(phi), math.cos(phi)])
@@ -78,7 +78,7 @@ def _cut_space(zr, xr, mn, z0, rho_s):
     x = a0 * np.sin(psi)[:, None] + cs[:, None] * circle[0] + sn[:, None] * circle[1]
     y = a0 * np.cos(psi)[:, None] - sn[:, None] * circle[0] + cs[:, None] * circle[1]
     r, ang = np.hypot(x, y).ravel(), np.arctan2(x, y).ravel()
-    bins = np.linspace(0.0, math.pi / zr, 1201)
+    bins = np.linspace(0.0, math.pi / zr, bins)
     k = np.digitize(ang, bins)
     rmax = np.full(bins.size + 1, np.nan)
     np.fmax.at(rmax, k, r)
@@ -86,21 +86,22 @@ def _cut_space(zr, xr, mn, z0, rho_s):
     return mid, rmax[1:-1]
 
 
-@pytest.mark.parametrize("zr, xr, mn, z0", [(-93, 0.1171, 21.0, 30), (-56, -0.5013, 45.0, 36)])
-def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
-    """s_Fn, d_sFn and ρ_F of jg.ShaperCutterSection against the tooth space cut point by point
-    (:func:`_cut_space`): the boundary's point where its tangent makes 60° with the centre line
-    of the tooth at π/|z| (s_Fn 2 × its distance from that line, d_sFn 2 × its radius) and
-    the fillet's radius of curvature there, both from a quartic fitted through the boundary's
-    points of tangent 45° to 75° (1e-3, 1e-5 and 2e-2 for the sampled cut)."""
-    ang, r = _cut_space(zr, xr, mn, z0, 0.30)
+def _reference_section(zr, xr, mn, z0, rho_s, x0=0.0, bins=1201):
+    """(s_Fn, d_sFn, ρ_F) (mm) of the tooth space cut point by point (:func:`_cut_space`): the
+    boundary's point where its tangent makes 60° with the centre line of the tooth at π/|z|
+    (s_Fn 2 × its distance from that line, d_sFn 2 × its radius) and the fillet's radius of
+    curvature there, both from a quartic fitted through the boundary's points of tangent 45°
+    to 75°."""
+    ang, r = _cut_space(zr, xr, mn, z0, rho_s, x0, bins)
     ok = np.isfinite(r)
     ang, r = ang[ok], r[ok]
     x, y = r * np.sin(ang), r * np.cos(ang)
     c = math.pi / abs(zr)  # into the frame of the tooth beside the space
     u = np.cos(c) * x - np.sin(c) * y
     v = np.sin(c) * x + np.cos(c) * y
-    keep = v > r.max() - 3 * 0.30 * mn  # the fillet, by the root
+    # the fillet, by the root, on the tooth's side of the deepest point (beyond it, toward the
+    # space's centre, the tip circle cuts the root circle)
+    keep = (v > r.max() - 3 * max(rho_s, 0.3) * mn) & (u > u[np.argmax(r)])
     u, v = u[keep], v[keep]
     tilt = np.degrees(np.arctan2(np.abs(np.gradient(u)), np.abs(np.gradient(v))))
     near = (tilt > 45.0) & (tilt < 75.0)  # a quartic v(u) through the fillet's points there
@@ -113,12 +114,20 @@ def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
     assert len(u60) == 1
     u60 = u60[0]
     v60, slope, curve = fit(u60), d1(u60), d2(u60)
+    return 2 * abs(u60), 2 * math.hypot(u60, v60), (1 + slope**2) ** 1.5 / abs(curve)
+
+
+@pytest.mark.parametrize("zr, xr, mn, z0", [(-93, 0.1171, 21.0, 30), (-56, -0.5013, 45.0, 36)])
+def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
+    """s_Fn, d_sFn and ρ_F of jg.ShaperCutterSection against the tooth space cut point by point
+    (:func:`_reference_section`; 1e-3, 1e-5 and 2e-2 for the sampled cut)."""
+    ref_s, ref_d, ref_rho = _reference_section(zr, xr, mn, z0, 0.30)
     pair = _ring(zr, xr, mn)
     geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(z0))
     s_fn, rho_f, d_s = (float(t) / MM for t in _section(geometry))
-    assert s_fn == pytest.approx(2 * abs(u60), rel=1e-3)
-    assert d_s == pytest.approx(2 * math.hypot(u60, v60), rel=1e-5)
-    assert rho_f == pytest.approx((1 + slope**2) ** 1.5 / abs(curve), rel=2e-2)
+    assert s_fn == pytest.approx(ref_s, rel=1e-3)
+    assert d_s == pytest.approx(ref_d, rel=1e-5)
+    assert rho_f == pytest.approx(ref_rho, rel=2e-2)
 
 
 def test_cutter_reproduces_the_reports_root_form_diameters():
@@ -181,9 +190,8 @@ def test_bad_cutter_refused_in_one_line():
     with pytest.raises(ValueError, match=r"tip_radius_coeff = -0.1"):
         jg.ShaperCutterSection(30, tip_radius_coeff=-0.1)
     pair = _ring(-93, 0.1171, 21.0)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(90))
     with pytest.raises(ValueError, match=r"teeth = 90 is out of range.*\|z2\| - 10"):
-        _section(geometry)
+        jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(90))
 
 
 def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
