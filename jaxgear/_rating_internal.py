@@ -49,11 +49,12 @@ planetary stages").
 from __future__ import annotations
 
 import abc
+import itertools
 
 import equinox as eqx
 import jax
-import numpy as np
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from ._internal import InternalGearPair
@@ -171,9 +172,8 @@ def _cutter(mn, an, z0, x0, rho_a0, zr, x2, r_f):
     t = rb0 * _e(psi_b - tan_p)
     q0 = p + rho_a0 * (t - p) / (rb0 * tan_p)
     eta = jnp.arctan2(q0[0], q0[1])
-    code = jnp.where(
-        inv_w <= 0, 1, jnp.where(rc <= rb0, 2, jnp.where(eta < 0, 3, jnp.where(
-            rc <= a0 * z0 / (zr - z0), 4, 0)))
+    code = jnp.select(  # the first that holds (jaxgear.CutterResult)
+        [inv_w <= 0, rc <= rb0, eta < 0, rc <= a0 * z0 / (zr - z0)], [1, 2, 3, 4], 0
     )
     return a0, rc, eta, code
 
@@ -248,10 +248,7 @@ def shaper_cut_section(mn, an, z0, x0, rho_a0, zr, x2, r_f):
     rho_f = jnp.abs(r_q - rho_a0 * jnp.sign(n @ v2))
     s_fn = 2 * jnp.abs(_cross(pt, u))
     bad = (code != 0) | ~jnp.any(change)
-    nan = jnp.full_like(s_fn, jnp.nan)
-    return (
-        jnp.where(bad, nan, s_fn), jnp.where(bad, nan, rho_f), jnp.where(bad, nan, jnp.linalg.norm(pt))
-    )
+    return tuple(jnp.where(bad, jnp.nan, v) for v in (s_fn, rho_f, jnp.linalg.norm(pt)))
 
 
 class ShaperCutterSection(AbstractRootSection):
@@ -274,6 +271,12 @@ class ShaperCutterSection(AbstractRootSection):
     printed ρ_F (0.418 and 0.494 m_n) is not the generated fillet's curvature (which is ρ_a0
     plus the trochoid's, 0.371 and 0.302 m_n), nor the rack's ρ_fP; σ_F0 of the rings comes out
     3.6 % and 18 % over the report's (the rack: 20 % and 37 %; docs/rating.md).
+
+    A cutter that cannot generate the ring's fillet up to its 60° section (no cutting mesh, a
+    pointed tooth at the tip circle that cuts the root, its rounding's centre below its base
+    circle or inside the cutting pitch circle: :func:`shaper_cut_section`) is refused by
+    :meth:`check` (called by :meth:`InternalRatingGeometry.of`) in one line; traced, its
+    section is NaN and :meth:`result` gives the :class:`jaxgear.CutterResult` code.
     """
 
     teeth: int = eqx.field(static=True)
@@ -383,7 +386,7 @@ def _interval(values, digits) -> str | None:
         return None
     values = sorted(values)
     pieces, start = [], values[0]
-    step = min((b - a for a, b in zip(values, values[1:])), default=1.0)
+    step = min((b - a for a, b in itertools.pairwise(values)), default=1.0)
     for a, b in zip(values, values[1:] + [None]):
         if b is None or b - a > 1.5 * step:
             pieces.append(f"[{start:.{digits}f}, {a:.{digits}f}]")

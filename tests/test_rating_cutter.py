@@ -240,7 +240,7 @@ def test_probe_grid_is_physical_or_refused():
         r_f = abs(float(g.root_diameter[1])) / 2
         for z0 in teeth:
             @jax.jit
-            def grid(xs, rs, z0=z0):
+            def grid(xs, rs, z0=z0, geometry=geometry, g=g):
                 def one(x0, r):
                     cutter = jg.ShaperCutterSection(z0, x0, r)
                     return jax.numpy.stack(cutter.section(geometry, g)), cutter.result(geometry)
@@ -276,7 +276,7 @@ def test_probe_grid_rating_form_factors():
         zr = abs(pair.gear.teeth)
         plain = jg.InternalRatingGeometry.of(pair)
         for z0 in range(11, zr - 9, 6):
-            def f(x0, rho, z0=z0):
+            def f(x0, rho, z0=z0, plain=plain, mn=mn):
                 cutter = jg.ShaperCutterSection(z0, x0, rho)
                 t = jg.tooth_form_factors(jg.InternalRatingGeometry(
                     **{k: getattr(plain, k) for k in plain.__dataclass_fields__
@@ -405,8 +405,8 @@ def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
         ('ring1 = "through_hardened" }', 'ring1 = "glass" }', r"\[material\] treatment = 'glass'"),
         ("ring_cutter_teeth = 36", "ring_cutter_teeth = 50", r"ring_cutter_teeth = 50.*\[11, 46\]"),
         ("ring_cutter_profile_shift = 0.0", "ring_cutter_profile_shift = -0.6",
-         r"^\[rating\] ring_cutter_profile_shift = -0\.6: this cutter \(z0 = 36, .*cannot "
-         r"generate the ring's fillet: .*pitch circle.*; allowed \[-0\.10, 0\.44\]$"),
+         (r"^\[rating\] ring_cutter_profile_shift = -0\.6: this cutter \(z0 = 36, .*cannot "
+          r"generate the ring's fillet: .*pitch circle.*; allowed \[-0\.10, 0\.44\]$")),
         ("ring1 = 240.0 }", "ring1 = 40.0 }", r"brinell_hardness_HB"),
     ]:
         path = tmp_path / "c.toml"
