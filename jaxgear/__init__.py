@@ -184,7 +184,11 @@ from ._robust import (
     sample_metrics as sample_metrics,
     sample_statistics as sample_statistics,
 )
-from ._results import ContactResult as ContactResult, DynamicsResult as DynamicsResult
+from ._results import (
+    ContactResult as ContactResult,
+    CutterResult as CutterResult,
+    DynamicsResult as DynamicsResult,
+)
 from ._root_stress import RootStressMap as RootStressMap, root_stress_map as root_stress_map
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (

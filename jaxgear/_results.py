@@ -16,7 +16,13 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-__all__ = ["ContactResult", "DynamicsResult", "error_if_failed", "raise_if_failed"]
+__all__ = [
+    "ContactResult",
+    "CutterResult",
+    "DynamicsResult",
+    "error_if_failed",
+    "raise_if_failed",
+]
 
 
 class _Result(enum.IntEnum):
@@ -51,6 +57,17 @@ class DynamicsResult(_Result):
     blow_up = 3
     ode_failed = 4
     window_overflow = 5
+
+
+class CutterResult(_Result):
+    """Whether a pinion-type cutter can generate an internal gear's fillet up to its 60° section
+    (:meth:`jaxgear.ShaperCutterSection.result`; where it cannot, the section is NaN)."""
+
+    successful = 0
+    no_cutting_mesh = 1
+    rounding_below_base_circle = 2
+    pointed_tip = 3
+    rounding_inside_pitch_circle = 4
 
 
 def error_if_failed(x, result, enum_cls: type[_Result], where: str):
@@ -97,5 +114,17 @@ _MESSAGES = {
         4: "ODE solver failed (max_steps reached or step size collapsed)",
         5: "a contact cell left the window of master DOFs that the mesh damping updates"
         " (an internal error of the hybrid scene's window estimate)",
+    },
+    "CutterResult": {
+        0: "the cutter generates the fillet",
+        1: "no cutting mesh: inv α_w0 = inv α_n + 2 tan α_n (x0 + x2)/(z0 − |z2|) <= 0 (the"
+        " profile shifts too large for the tooth-count difference)",
+        2: "the cutter's tip rounding ends below its base circle (its tip circle, set to cut the"
+        " ring's root circle, is too low for an involute above the rounding)",
+        3: "the cutter's tooth is pointed at the tip circle that cuts the ring's root circle"
+        " (its two tip roundings overlap)",
+        4: "the centre of the cutter's tip rounding lies inside the cutting mesh's pitch circle:"
+        " the rounding does not generate the fillet up to its 60° tangent (the internal"
+        " analogue of ISO 6336-3's G < 0 of the generating rack)",
     },
 }

@@ -258,7 +258,10 @@ def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
     σ_F0 of the sun mesh 113.46 and 108.94, of the planet in the ring mesh 95.70 N/mm²; the
     case's ring x is −0.5012, the report's −0.5013), the ring's σ_F0 is the cutter section's
     (17.9 % over the report's 95.32, tests/test_rating_kisssoft.py); rating.md has a table
-    per mesh."""
+    per mesh. The ring's Y_δrelT: ISO 6336-3's (1 + √(ρ' χ*))/(1 + √(ρ' χ*_T)) by hand at the
+    case's yield point (proof_stress_MPa = 1000: ρ' = 0.0014 mm) with the rating's q_s
+    (1e-12), and over the printed 1.003 by under 1.1 % (the cutter section's ρ_F, 39 % under
+    the printed, raises its q_s: with the printed section it is 1.0026, as printed)."""
     from jaxgear.cli.planetary import rating_section
 
     case = jio.load_case("nrel-5mw-planetary")
@@ -273,4 +276,12 @@ def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
     assert sigma_f0[1][1] == pytest.approx(95.32 * 1.179, rel=5e-3)
     md = (tmp_path / "rating.md").read_text()
     assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
+    ring = jio.ratings_of(case)[1]
+    assert ring.settings.material.treatment.gear.slip_layer == pytest.approx(0.0014e-3)
+    q_s = float(jg.rate(ring.geometry, ring.operating, ring.settings).bending.form.q_s[1])
+    rho = 0.0014  # mm
+    by_hand = (1 + math.sqrt(rho * (1 + 2 * q_s) / 5)) / (1 + math.sqrt(rho * 1.2))
+    y_delta = sec["bending"]["Y_delta_rel_T"][1][1]
+    assert y_delta == pytest.approx(by_hand, rel=1e-12)
+    assert 1.0 < y_delta / 1.003 < 1.011
 

@@ -516,7 +516,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
     rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS)
     k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
-    section = _ring_cutter(rt, abs(case.pairs[-1].gear.teeth))
+    section = _ring_cutter(rt, case.pairs[-1])
     rt = {k: v for k, v in rt.items() if k not in PLANETARY_KEYS}
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat = data.get("material", {})
@@ -541,12 +541,17 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     return tuple(out)
 
 
-def _ring_cutter(rt: dict, z_ring: int) -> ShaperCutterSection | None:
+def _ring_cutter(rt: dict, ring_pair) -> ShaperCutterSection | None:
     """The ring's root section of ``[rating] ring_cutter_teeth`` (z0, [11, |z_ring| − 10]),
     ``ring_cutter_profile_shift`` (x0, [−1, 1.5], default 0) and
     ``ring_cutter_tip_radius_coeff`` (ρ_a0/m_n, (0, 0.6], default the ring's
     ``fillet_radius_coeff``): :class:`jaxgear.ShaperCutterSection`; ``None`` (ISO's substitute
-    rack) without ``ring_cutter_teeth``, which the other two keys need."""
+    rack) without ``ring_cutter_teeth``, which the other two keys need. A cutter that cannot
+    generate the ring's fillet up to its 60° section (:meth:`jaxgear.ShaperCutterSection.limit`:
+    no cutting mesh, a pointed cutter tooth, its tip rounding's centre below its base circle or
+    inside the cutting pitch circle) is refused in one line naming the key to change, its value
+    and the range of it that does, before any work."""
+    z_ring = abs(ring_pair.gear.teeth)
     z0 = sc.number(
         rt, "ring_cutter_teeth", "rating", None, allowed=f"[11, {z_ring - 10}]", integer=True,
         note=" (the ring's pinion-type cutter: 11 to the ring's teeth less 10)",
@@ -560,7 +565,16 @@ def _ring_cutter(rt: dict, z_ring: int) -> ShaperCutterSection | None:
                     "rating", key, "describes the ring's cutter: give ring_cutter_teeth too", v
                 )
         return None
-    return ShaperCutterSection(z0, 0.0 if x0 is None else x0, rho)
+    section = ShaperCutterSection(z0, 0.0 if x0 is None else x0, rho)
+    found = section.limit(InternalRatingGeometry.of(ring_pair))
+    if found is not None:
+        name, value, problem, allowed = found
+        raise sc.fail(
+            "rating", f"ring_cutter_{name}", f"this cutter (z0 = {z0}, x0 = "
+            f"{float(section.profile_shift):g}, rho_a0/m_n = {'the default' if rho is None else rho}"
+            f") cannot generate the ring's fillet: {problem}; allowed {allowed}", value,
+        )
+    return section
 
 
 def check_planetary_rating(data: dict, case) -> None:
