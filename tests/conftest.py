@@ -56,8 +56,9 @@ def _xla_accepts(flag: str) -> bool:
 #   the element-wise route);
 # - one LLVM module per program (XLA splits it into parts compiled in parallel threads, which
 #   costs CPU to clone and link, and gains nothing on a machine whose cores the xdist workers
-#   already fill) and LLVM's expensive passes left out (the programs run at -O0 anyway): about
-#   8 % less CPU on a mixed group of test files (docs/bench/suite_profile.json, "xla_flags").
+#   already fill) and LLVM's expensive passes left out (the programs run at -O0 anyway): 3-9 %
+#   less CPU on the test files measured, the same compilations (docs/bench/suite_profile.json,
+#   "xla_flags"), and a third fewer memory maps (the release below comes later).
 _XLA_TEST_FLAGS = (
     "--xla_cpu_use_fusion_emitters=false",
     "--xla_cpu_parallel_codegen_split_count=1",
