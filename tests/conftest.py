@@ -45,15 +45,33 @@ def _xla_accepts(flag: str) -> bool:
     return r.returncode == 0
 
 
-# XLA's CPU backend emits its fusions with the element-wise IR emitter instead of the newer
-# MLIR fusion emitters: the same HLO and the same IEEE operations, with about 40 % less CPU
-# spent compiling (on the 2-core CI machine, jaxlib 0.10.2: the first 174 tests of the suite's
-# "other" files 352 → 205 CPU s, tests/test_optimise_dynamic.py and tests/test_gradients.py in
-# paired runs 82 → 47 CPU s). Only where this jaxlib knows the flag (XLA is retiring
-# the element-wise route); an XLA_FLAGS that names it is kept (=true: XLA's default).
-_FUSION = "--xla_cpu_use_fusion_emitters=false"
-if "xla_cpu_use_fusion_emitters" not in os.environ.get("XLA_FLAGS", "") and _xla_accepts(_FUSION):
-    os.environ["XLA_FLAGS"] = f"{os.environ.get('XLA_FLAGS', '')} {_FUSION}".strip()
+# Settings of XLA's CPU compiler that cut the CPU it spends compiling the test programs without
+# changing their IEEE arithmetic (the same HLO, the same operations): each is added only where
+# this jaxlib knows the flag (a child process tries them, once per run), and an XLA_FLAGS that
+# names a flag is kept (its value there wins).
+# - the element-wise IR emitter for the fusions instead of the newer MLIR fusion emitters: about
+#   40 % less CPU compiling (on the 2-core CI machine, jaxlib 0.10.2: the first 174 tests of the
+#   suite's "other" files 352 → 205 CPU s, tests/test_optimise_dynamic.py and
+#   tests/test_gradients.py in paired runs 82 → 47 CPU s; =true: XLA's default, XLA is retiring
+#   the element-wise route);
+# - one LLVM module per program (XLA splits it into parts compiled in parallel threads, which
+#   costs CPU to clone and link, and gains nothing on a machine whose cores the xdist workers
+#   already fill) and LLVM's expensive passes left out (the programs run at -O0 anyway): 3-9 %
+#   less CPU on the test files measured, the same compilations (docs/bench/suite_profile.json,
+#   "xla_flags"), and a third fewer memory maps (the release below comes later).
+_XLA_TEST_FLAGS = (
+    "--xla_cpu_use_fusion_emitters=false",
+    "--xla_cpu_parallel_codegen_split_count=1",
+    "--xla_llvm_disable_expensive_passes=true",
+)
+_new_flags = [
+    f for f in _XLA_TEST_FLAGS if f[2:].split("=")[0] not in os.environ.get("XLA_FLAGS", "")
+]
+if _new_flags:
+    _accepted = _new_flags if _xla_accepts(" ".join(_new_flags)) else []
+    _accepted = _accepted or [f for f in _new_flags if _xla_accepts(f)]
+    if _accepted:
+        os.environ["XLA_FLAGS"] = " ".join([os.environ.get("XLA_FLAGS", ""), *_accepted]).strip()
 
 import jax  # noqa: E402
 from jax import monitoring
