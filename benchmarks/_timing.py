@@ -75,3 +75,33 @@ def environment() -> dict:
         "python": platform.python_version(),
         "machine": platform.machine(),
     }
+
+
+class CompileCounter:
+    """XLA backend compilations in this process and their seconds, counted from JAX's monitoring
+    events (``/jax/core/compile/backend_compile_duration``) since the counter was made."""
+
+    EVENT = "/jax/core/compile/backend_compile_duration"
+
+    def __init__(self):
+        from jax import monitoring
+
+        self.count, self.seconds = 0, 0.0
+        monitoring.register_event_duration_secs_listener(self._on_duration)
+
+    def _on_duration(self, name, secs, **_):
+        if name == self.EVENT:
+            self.count += 1
+            self.seconds += secs
+
+    def timed(self, fn):
+        """``fn()`` once: (its result, {cpu_s, wall_s, xla_compilations, compile_s} of the call)."""
+        n0, s0 = self.count, self.seconds
+        t, w = time.process_time(), time.perf_counter()
+        out = fn()
+        return out, {
+            "cpu_s": time.process_time() - t,
+            "wall_s": time.perf_counter() - w,
+            "xla_compilations": self.count - n0,
+            "compile_s": self.seconds - s0,
+        }

@@ -14,15 +14,16 @@ process, each twice (modal, CB, modal, CB: the first call of the first compiles 
 they share, the second calls compile nothing): CPU and wall seconds, XLA compilations, the DF
 per mesh and speed (largest relative difference).
 
-Writes docs/bench/bench_planetary_ring_cb.json (machine from ``lscpu``, load from ``uptime``,
-dtype, JAX version). From the repository root: ``python benchmarks/planetary_ring_cb.py``.
+Writes docs/bench/bench_planetary_ring_cb.json (the machine as benchmarks/_timing.py's
+``environment()``: CPU, dtype, JAX version, load; the load average after each part). From the
+repository root: ``python -m benchmarks.planetary_ring_cb``.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import pathlib
-import subprocess
 import time
 import tomllib
 
@@ -31,25 +32,15 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 import numpy as np  # noqa: E402
-from jax import monitoring  # noqa: E402
 
 import fem_prep  # noqa: E402
 import jaxgear.io as jio  # noqa: E402
+from benchmarks._timing import CompileCounter, environment  # noqa: E402
 from jaxgear.cli.planetary_sweep import run_speeds, sweep_summary  # noqa: E402
 
 OUT = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "bench_planetary_ring_cb.json"
 CASE, BODY, N_MODES = "nrel-5mw-stage2", "nrel-5mw-stage2-ring", 40
-COMPILE = "/jax/core/compile/backend_compile_duration"
-_compiles = [0, 0.0]
-
-
-def _on_duration(name, secs, **_):
-    if name == COMPILE:
-        _compiles[0] += 1
-        _compiles[1] += secs
-
-
-monitoring.register_event_duration_secs_listener(_on_duration)
+COMPILES = CompileCounter()
 
 
 def case(dynamics: str):
@@ -71,14 +62,9 @@ def nd_errors() -> dict:
 
 
 def timed(c, speeds) -> dict:
-    n0, s0 = _compiles
-    t, w = time.process_time(), time.perf_counter()
-    s, _ = sweep_summary(c.form, c, speeds)
+    s, timing = COMPILES.timed(lambda: sweep_summary(c.form, c, speeds)[0])
     return {
-        "cpu_s": time.process_time() - t,
-        "wall_s": time.perf_counter() - w,
-        "xla_compilations": _compiles[0] - n0,
-        "compile_s": _compiles[1] - s0,
+        **timing,
         "ring_model": s["ring_model"],
         "dynamic_factor_mesh": s["dynamic_factor_mesh"],
         "max_dynamic_factor": s["max_dynamic_factor"],
@@ -87,31 +73,26 @@ def timed(c, speeds) -> dict:
     }
 
 
-def _sh(cmd: str) -> str:
-    out = subprocess.run(cmd, shell=True, capture_output=True, text=True, check=False)
-    return out.stdout.strip()
-
-
 def main() -> None:
-    loads = [_sh("uptime")]
+    machine = environment()
+    loads = [machine["load_average_at_start"]]
     result = {
         "what": __doc__.split("\n\n")[0],
         "case": CASE, "ring_body": BODY,
-        "jax": jax.__version__, "dtype": "float64", "device": jax.devices()[0].platform,
-        "lscpu": _sh("lscpu | grep -E 'Model name|^CPU\\(s\\)|Thread|MHz'"),
+        "machine": machine,
         "date_utc": time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
     }
     t = time.process_time()
     result["part1_nd_frequencies"] = nd_errors()
     result["part1_cpu_s"] = time.process_time() - t
-    loads.append(_sh("uptime"))
+    loads.append(list(os.getloadavg()))
     part2 = {}
     for call in ("first", "second"):
         for name in ("modal", "craig-bampton"):
             c = case(name)
             key = f"{name}_{call}_call"
             part2[key] = timed(c, run_speeds(c))
-            loads.append(_sh("uptime"))
+            loads.append(list(os.getloadavg()))
             print(key, {k: v for k, v in part2[key].items() if k != "dynamic_factor_mesh"},
                   flush=True)
     a = np.asarray(part2["craig-bampton_second_call"]["dynamic_factor_mesh"])
@@ -120,7 +101,7 @@ def main() -> None:
     part2["cpu_ratio_cb_over_modal_second_calls"] = (
         part2["craig-bampton_second_call"]["cpu_s"] / part2["modal_second_call"]["cpu_s"])
     result["part2_sweep_8_speeds"] = part2
-    result["uptime"] = loads
+    result["load_average"] = loads
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text(json.dumps(result, indent=1) + "\n")
     print("written", OUT, "df diff", part2["df_rel_diff_max"])

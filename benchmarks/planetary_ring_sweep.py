@@ -37,25 +37,14 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 import numpy as np  # noqa: E402
-from jax import monitoring  # noqa: E402
 
 import jaxgear.io as jio  # noqa: E402
-from benchmarks._timing import environment  # noqa: E402
+from benchmarks._timing import CompileCounter, environment  # noqa: E402
 from jaxgear.cli.planetary_sweep import run_speeds, sweep_summary  # noqa: E402
 
 OUT = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "bench_planetary_ring_sweep.json"
 CASE, BODY, MODES = "nrel-5mw-stage2", "nrel-5mw-stage2-ring", 24
-COMPILE = "/jax/core/compile/backend_compile_duration"
-_compiles = [0, 0.0]
-
-
-def _on_duration(name, secs, **_):
-    if name == COMPILE:
-        _compiles[0] += 1
-        _compiles[1] += secs
-
-
-monitoring.register_event_duration_secs_listener(_on_duration)
+COMPILES = CompileCounter()
 
 
 def case(dynamics: str | None):
@@ -75,14 +64,9 @@ STATION_SPEEDS = 1
 
 def timed(c, speeds) -> dict:
     """One sweep_summary of case ``c`` at ``speeds``: CPU, wall, compilations, its numbers."""
-    n0, s0 = _compiles
-    t, w = time.process_time(), time.perf_counter()
-    s, _ = sweep_summary(c.form, c, speeds)
+    s, timing = COMPILES.timed(lambda: sweep_summary(c.form, c, speeds)[0])
     out = {
-        "cpu_s": time.process_time() - t,
-        "wall_s": time.perf_counter() - w,
-        "xla_compilations": _compiles[0] - n0,
-        "compile_s": _compiles[1] - s0,
+        **timing,
         "speeds": len(speeds),
         "max_dynamic_factor": s["max_dynamic_factor"],
         "max_dynamic_factor_mesh": s["max_dynamic_factor_mesh"],
