@@ -137,3 +137,30 @@ def lin_parker_stage(n, ecc=None, unb=None, sun_bearing=HELD, pin=HELD):
         eccentricities=jg.Eccentricities() if ecc is None else ecc,
         unbalances=unb,
     )
+
+
+#: the flexible-ring dynamics tests' operating point: sun torque (N m) and planet 1's
+#: tangential pin error (m)
+RING_TORQUE = 1000.0
+RING_PIN_ERRORS = np.array([15e-6, 0.0, 0.0])
+
+
+def ring_run(st, ring, meshes=None, omega=60.0, periods=6, steps=24, keep=3):
+    """planetary_dynamics of stage ``st`` with ``ring`` (planar model, constant meshes unless
+    given) at the carrier speed ``omega`` (rad/s), 5 % damping; asserts it succeeded."""
+    import jaxgear.dynamics as jd
+
+    run = jd.PlanetaryRun(RING_TORQUE, steps_per_period=steps, periods=periods,
+                          keep_periods=keep, damping_ratio=0.05,
+                          tangential_pin_errors=RING_PIN_ERRORS)
+    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
+                              jnp.asarray(omega), ring=ring)
+    assert int(r.result) == 0
+    return r
+
+
+def mesh_force_error(r, ref) -> float:
+    """The largest mesh-force difference over the largest mesh force (-)."""
+    got = np.concatenate([r.sun_mesh_forces, r.ring_mesh_forces], axis=1)
+    want = np.concatenate([ref.sun_mesh_forces, ref.ring_mesh_forces], axis=1)
+    return float(np.max(np.abs(got - want)) / np.max(np.abs(want)))

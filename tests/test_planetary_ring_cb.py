@@ -21,17 +21,16 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg as sla
-from _planetary_stage import K0, SEQ, geometry, stage
+from _planetary_stage import K0, RING_PIN_ERRORS, RING_TORQUE, SEQ, geometry, stage
+from _planetary_stage import mesh_force_error as _error
+from _planetary_stage import ring_run as _run
 
 import fem_prep as fp
 import jaxgear as jg
-import jaxgear.dynamics as jd
 import jaxgear.io as jio
 
 jax.config.update("jax_enable_x64", True)
 
-TORQUE = 1000.0  # N m on the sun
-PIN_ERRORS = np.array([15e-6, 0.0, 0.0])  # m, tangential, planet 1
 RING = "seq-test-ring"  # 53 stations, 2 axial master planes, 4 FE modes: 216 fixed-interface
 COUPLED = 57  # ... of which this many couple to the stations (the others: out of plane)
 
@@ -206,22 +205,6 @@ def test_bad_interior_count_is_one_line(stations):
         stations.craig_bampton(58)
 
 
-def _run(st, ring, meshes=None, omega=60.0, periods=6, steps=24, keep=3):
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=steps, periods=periods, keep_periods=keep,
-                          damping_ratio=0.05, tangential_pin_errors=PIN_ERRORS)
-    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
-                              jnp.asarray(omega), ring=ring)
-    assert int(r.result) == 0
-    return r
-
-
-def _error(r, ref) -> float:
-    """The largest mesh-force difference over the largest mesh force (-)."""
-    got = np.concatenate([r.sun_mesh_forces, r.ring_mesh_forces], axis=1)
-    want = np.concatenate([ref.sun_mesh_forces, ref.ring_mesh_forces], axis=1)
-    return float(np.max(np.abs(got - want)) / np.max(np.abs(want)))
-
-
 def test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution(seq, stations):
     """At 1e-6 rad/s over three mesh periods the CB ring (7 fixed-interface modes, on all its
     coordinates: the coordinate-space solve, as the station ring's zero-speed test) gives
@@ -231,7 +214,7 @@ def test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution(seq, stat
     ring = jg.CraigBamptonRing.from_stations(stations, 7)
     got = _run(seq, ring, omega=1e-6, periods=3, steps=16)
     static = jg.planetary_quasi_static(jg.PlanarPlanetary(), seq, jg.ConstantMeshes(),
-                                       np.asarray(TORQUE), got.travel, PIN_ERRORS,
+                                       np.asarray(RING_TORQUE), got.travel, RING_PIN_ERRORS,
                                        ring=jg.CondensedRing(stations.compliance))
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-8)

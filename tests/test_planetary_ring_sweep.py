@@ -20,15 +20,13 @@ import pytest
 
 import fem_prep as fp
 import jaxgear as jg
-import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from _planetary_stage import K0, SEQ, geometry, stage
+from _planetary_stage import K0, SEQ, geometry, ring_run, stage
+from _planetary_stage import mesh_force_error as _error
 from jaxgear.cli import main
 
 jax.config.update("jax_enable_x64", True)
 
-TORQUE = 1000.0  # N m on the sun
-PIN_ERRORS = np.array([15e-6, 0.0, 0.0])  # m, tangential, planet 1
 OMEGA = 60.0  # rad/s, carrier
 
 
@@ -46,19 +44,7 @@ def seq_ring():
 
 
 def _run(st, ring, meshes=None, periods=6):
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=24, periods=periods, keep_periods=3,
-                          damping_ratio=0.05, tangential_pin_errors=PIN_ERRORS)
-    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
-                              jnp.asarray(OMEGA), ring=ring)
-    assert int(r.result) == 0
-    return r
-
-
-def _error(r, ref) -> float:
-    """The largest mesh-force difference over the largest mesh force (-)."""
-    got = np.concatenate([r.sun_mesh_forces, r.ring_mesh_forces], axis=1)
-    want = np.concatenate([ref.sun_mesh_forces, ref.ring_mesh_forces], axis=1)
-    return float(np.max(np.abs(got - want)) / np.max(np.abs(want)))
+    return ring_run(st, ring, meshes, OMEGA, periods)
 
 
 @pytest.fixture(scope="module")

@@ -8,18 +8,9 @@ multiplicity N - 3) hold there too; the shared group is checked here by its own 
 
 import numpy as np
 import pytest
-from test_planetary_spatial import stage
+from test_planetary_spatial import _groups, stage
 
 import jaxgear as jg
-
-
-def _groups(f, rtol=1e-7):
-    groups, start = [], 0
-    for j in range(1, len(f) + 1):
-        if j == len(f) or f[j] - f[j - 1] > rtol * f[-1]:
-            groups.append(list(range(start, j)))
-            start = j
-    return groups
 
 
 @pytest.mark.parametrize("n", [4, 5])
