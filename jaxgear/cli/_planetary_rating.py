@@ -6,14 +6,28 @@ supports, else the planar model's)."""
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import equinox as eqx
 
 from ..io import CaseWarning, ratings_of
-from ._rating_report import RATE, rating_lines, stacked_meshes, write_rating_md
+from ._rating_report import (
+    RATE,
+    rated_with_measured,
+    rating_lines,
+    stacked_meshes,
+    write_rating_md,
+)
 
-__all__ = ["K_GAMMA_SOURCE", "K_GAMMA_SOURCES", "rating_k_gamma", "rating_section"]
+__all__ = [
+    "FACE_LOAD_SOURCE",
+    "K_GAMMA_SOURCE",
+    "K_GAMMA_SOURCES",
+    "measured_k_h_beta",
+    "rating_k_gamma",
+    "rating_section",
+]
 
 #: where a planetary mesh's K_γ comes from when ``[rating] K_gamma`` does not give it
 K_GAMMA_SOURCE = (
@@ -29,6 +43,31 @@ K_GAMMA_SOURCES = {
 }
 
 
+#: where a planetary mesh's measured K_Hβ comes from (``summary.json``'s ``face_load``:
+#: :func:`jaxgear.cli.planetary.face_load_section`), ``{n}`` the number of planets
+FACE_LOAD_SOURCE = (
+    "jaxgear face load (3D lumped model of the helical stage on its axial and tilting supports, "
+    "constant mesh springs at two Gauss points across the face, the case's pin errors): ISO "
+    "6336-1's linear distribution across the face from the members' tilts and the helical axial "
+    "forces, the largest of the {n} planets' meshes"
+)
+
+
+def measured_k_h_beta(face_load: dict | None) -> list[dict] | None:
+    """The ``rating.measured`` K_Hβ of the stage's two rated meshes (``sun-planet``,
+    ``planet-ring``) from the run's ``face_load`` section (its ``k_h_beta``: the n sun/planet
+    meshes, then the n ring/planet meshes): each the largest over the planets (the rating is of
+    the most loaded path, as K_γ), with :data:`FACE_LOAD_SOURCE`; ``None`` where the run has no
+    face load (a spur stage; a helical stage whose supports do not hold it: ``skipped``)."""
+    k = (face_load or {}).get("k_h_beta")
+    if k is None:
+        return None
+    n = len(k) // 2
+    source = FACE_LOAD_SOURCE.format(n=n)
+    return [{"value": float(max(k[:n])), "source": source},
+            {"value": float(max(k[n:])), "source": source}]
+
+
 def rating_k_gamma(sharing: dict) -> tuple[float, str]:
     """(K_γ, source) for the rating when ``[rating] K_gamma`` does not give it, from the run's
     load sharing (``summary.json``'s ``load_sharing``, :func:`jaxgear.cli.planetary.
@@ -41,7 +80,7 @@ def rating_k_gamma(sharing: dict) -> tuple[float, str]:
 
 
 def rating_section(case, out: str, k_gamma: float,
-                   source: str = K_GAMMA_SOURCE) -> dict | None:
+                   source: str = K_GAMMA_SOURCE, face_load: dict | None = None) -> dict | None:
     """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
     (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
     method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
@@ -52,7 +91,11 @@ def rating_section(case, out: str, k_gamma: float,
     member's speed relative to the carrier; ``rating.md`` (one table per mesh)
     written into ``out``; the ``summary.json`` section as a train's (per-mesh lists, ``meshes``
     naming them) with ``K_gamma`` (value, source), ``torque_per_planet_path_Nm`` (the mean, before
-    K_γ) and ``speed_relative_to_carrier_rad_s``. ``None`` (nothing written) without
+    K_γ) and ``speed_relative_to_carrier_rad_s``. With the run's ``face_load`` (a helical stage
+    on its supports: :func:`jaxgear.cli.planetary.face_load_section`), each mesh's
+    ``measured.K_Hbeta`` (:func:`measured_k_h_beta`), reported in ``rating.md`` beside ISO's and
+    rated with in its place when ``[rating] use_measured`` names it, as a pair's
+    (:func:`jaxgear.cli._rating_report.rated_with_measured`). ``None`` (nothing written) without
     ``[rating]``."""
     rcs = ratings_of(case)
     if rcs is None:
@@ -70,8 +113,16 @@ def rating_section(case, out: str, k_gamma: float,
         "influence factor); the sun's and the ring's meet every planet each relative turn.",
         "",
     ]
+    measured = measured_k_h_beta(face_load)
+    named = dict.fromkeys(n for rc in rcs for n in rc.use_measured)
+    unmeasured = [n for n in named if measured is None or n != "K_Hbeta"]
+    if unmeasured:
+        warnings.warn(
+            f"[rating] use_measured: {', '.join(unmeasured)} not measured on a planetary "
+            "stage's meshes (K_Hbeta only, of a helical stage on its axial and tilting "
+            "supports): rated with ISO's", CaseWarning, stacklevel=2)
     sections = []
-    for name, rc in zip(names, rcs, strict=True):
+    for k, (name, rc) in enumerate(zip(names, rcs, strict=True)):
         given = rc.k_gamma is not None
         kg = float(rc.k_gamma) if given else float(k_gamma)
         k_a = float(rc.settings.application_factor)
@@ -82,6 +133,9 @@ def rating_section(case, out: str, k_gamma: float,
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
         section = rating.summary()
+        if measured is not None:
+            section["measured"] = {"K_Hbeta": measured[k]}
+            section = rated_with_measured(dataclasses.replace(rc, settings=settings), section)
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
         section |= {
             "K_gamma": {"value": kg, "source": "given" if given else source},

@@ -48,6 +48,7 @@ __all__ = [
     "at_speed_sections",
     "measured_dynamic_factor",
     "measured_factors",
+    "rated_with_measured",
     "rating_lines",
     "rating_outputs",
     "root_stress_at_speed",
@@ -293,10 +294,12 @@ def train_loads(case: Case, result) -> ModelLoads:
 _STANDS_FOR = {"K_Hbeta": ("K_Hbeta",), "K_Halpha": ("K_Halpha", "K_Falpha"), "K_v": ("K_v",)}
 
 
-def _rated(rc: RatingCase, section: dict) -> dict:
+def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     """The section rated again with the measured factors ``rc.use_measured`` names that
     ``section["measured"]`` holds in place of ISO's (their source "measured"); the section's
-    other entries (``measured``, ``root_stress``) kept. Nothing to use: the section itself."""
+    other entries (``measured``, ``root_stress``) kept. Nothing to use: the section itself.
+    Rated on ``rc``'s settings (a planetary mesh's with K_γ folded into K_A:
+    :func:`jaxgear.cli.planetary.rating_section`)."""
     measured = section.get("measured", {})
     use = {n: measured[n]["value"] for n in rc.use_measured if n in measured}
     if not use:
@@ -404,7 +407,7 @@ def rating_outputs(
         section = rating.summary()
         if results is not None:
             section["measured"] = measured_factors(results[k], model, k)
-            section = _rated(rc, section)
+            section = rated_with_measured(rc, section)
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
                 title = f"{case.name}{' ' + label if label else ''}"
@@ -481,7 +484,7 @@ def measured_dynamic_factor(
         )
         value = float(np.interp(speed, speeds, curve))
         sections[k].setdefault("measured", {})["K_v"] = {"value": value, "source": source}
-        sections[k] = _rated(rcs[k], sections[k])
+        sections[k] = rated_with_measured(rcs[k], sections[k])
     summary["rating"] = _write_sections(case, out_dir, sections, write_table)
 
 

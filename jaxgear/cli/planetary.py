@@ -185,7 +185,8 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
-    rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]))
+    rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
+                            face_load=summary.get("face_load"))
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
