@@ -164,3 +164,40 @@ def mesh_force_error(r, ref) -> float:
     got = np.concatenate([r.sun_mesh_forces, r.ring_mesh_forces], axis=1)
     want = np.concatenate([ref.sun_mesh_forces, ref.ring_mesh_forces], axis=1)
     return float(np.max(np.abs(got - want)) / np.max(np.abs(want)))
+
+
+def frequency_groups(f, rtol=1e-7):
+    """Index groups of the sorted frequencies ``f`` that agree within ``rtol`` of the largest."""
+    groups, start = [], 0
+    for j in range(1, len(f) + 1):
+        if j == len(f) or f[j] - f[j - 1] > rtol * f[-1]:
+            groups.append(list(range(start, j)))
+            start = j
+    return groups
+
+
+def seq_ring_case() -> dict:
+    """A small stage (19/17/-53 teeth, m 3 mm, b 30 mm, 3 planets, ring fixed, carrier in) whose
+    ring is the embedded coarse test ring, and a 3 um tangential error on planet 1's pin (every
+    mesh stays loaded), as a case-file dict."""
+    def gear(name, teeth, x):
+        return {"name": name, "teeth": teeth, "normal_module_mm": 3.0,
+                "normal_pressure_angle_deg": 20.0, "profile_shift": x, "face_width_mm": 30.0}
+
+    member = {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}
+    return {
+        "name": "seq-flexible-ring",
+        "gears": [gear("sun", 19, 0.3), gear("planet", 17, 0.3), gear("ring", -53, -0.9)],
+        "mesh": {"stiffness": "iso6336", "positions_per_pitch": 8},
+        "operating": {"torque_Nm": 1000.0, "speed_rad_s": 20.0},
+        "planetary": {
+            "sun_gear": "sun", "planet_gear": "planet", "ring_gear": "ring", "planets": 3,
+            "fixed": "ring", "input": "carrier", "tangential_pin_errors_um": [3.0, 0.0, 0.0],
+            "sun": {**member, "bearing_N_per_um": 1e4},  # held: a floating sun shares evenly
+            "ring": {"mass_kg": 6.0, "inertia_kg_m2": 0.05, "bearing_N_per_um": 1e4,
+                     "torsional_stiffness_Nm_per_rad": 1e10, "model": "condensed",
+                     "body": "seq-test-ring"},
+            "carrier": {**member, "bearing_N_per_um": 1e4},
+            "planet": {**member, "pin_radial_N_per_um": 1e4, "pin_tangential_N_per_um": 1e4},
+        },
+    }

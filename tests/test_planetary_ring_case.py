@@ -13,6 +13,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
+from _planetary_stage import seq_ring_case
 from _toml import case_toml
 from jaxgear.cli import main, planetary as pr
 
@@ -79,32 +80,6 @@ def test_bad_ring_keys_are_one_line_before_any_work(tmp_path, capsys, ring, word
     assert not out.exists()
 
 
-def _seq_case() -> dict:
-    """A small stage (19/17/-53 teeth, m 3 mm, b 30 mm, 3 planets, ring fixed, carrier in) whose
-    ring is the embedded coarse test ring, a 3 um tangential error on planet 1 (every mesh stays loaded)'s pin."""
-    def gear(name, teeth, x):
-        return {"name": name, "teeth": teeth, "normal_module_mm": 3.0,
-                "normal_pressure_angle_deg": 20.0, "profile_shift": x, "face_width_mm": 30.0}
-
-    member = {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}
-    return {
-        "name": "seq-flexible-ring",
-        "gears": [gear("sun", 19, 0.3), gear("planet", 17, 0.3), gear("ring", -53, -0.9)],
-        "mesh": {"stiffness": "iso6336", "positions_per_pitch": 8},
-        "operating": {"torque_Nm": 1000.0, "speed_rad_s": 20.0},
-        "planetary": {
-            "sun_gear": "sun", "planet_gear": "planet", "ring_gear": "ring", "planets": 3,
-            "fixed": "ring", "input": "carrier", "tangential_pin_errors_um": [3.0, 0.0, 0.0],
-            "sun": {**member, "bearing_N_per_um": 1e4},  # held: a floating sun shares evenly
-            "ring": {"mass_kg": 6.0, "inertia_kg_m2": 0.05, "bearing_N_per_um": 1e4,
-                     "torsional_stiffness_Nm_per_rad": 1e10, "model": "condensed",
-                     "body": "seq-test-ring"},
-            "carrier": {**member, "bearing_N_per_um": 1e4},
-            "planet": {**member, "pin_radial_N_per_um": 1e4, "pin_tangential_N_per_um": 1e4},
-        },
-    }
-
-
 @pytest.mark.slow
 def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
     """jaxgear run on a small stage with the coarse test ring (30 s under load: the run's own
@@ -114,7 +89,7 @@ def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
     flexible ring relieves planet 1; the ring's deflection at the ring meshes is the station
     compliance's C P within 1e-9 at the first position), ring.vtu with its mode shapes."""
     path = tmp_path / "seq.toml"
-    path.write_text(case_toml(_seq_case()))
+    path.write_text(case_toml(seq_ring_case()))
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())

@@ -24,6 +24,7 @@ import scipy.linalg as sla
 from _planetary_stage import K0, RING_PIN_ERRORS, RING_TORQUE, SEQ, geometry, stage
 from _planetary_stage import mesh_force_error as _error
 from _planetary_stage import ring_run as _run
+from _planetary_stage import seq_ring_case
 
 import fem_prep as fp
 import jaxgear as jg
@@ -332,9 +333,8 @@ def test_more_modes_than_the_ring_couples_is_one_line(stations):
     """modes within the body's fixed-interface DOFs (216) but beyond the 57 that couple, or
     splitting a pair of equal-frequency modes: refused in one line when the sweep builds the
     ring (the count needs the condensed ring)."""
-    from test_planetary_ring_case import _seq_case
 
-    data = _seq_case()
+    data = seq_ring_case()
     data["planetary"]["ring"].update(dynamics="craig-bampton", modes=100)
     spec = jio.parse_train(data).form.spec.ring_model
     with pytest.raises(jio.SchemaError) as err:
@@ -360,13 +360,12 @@ def test_sweep_with_a_cb_ring_end_to_end(tmp_path):
     speeds: sweep.json names the ring model; its dynamic factors are the modal station ring's
     (24 of its 106 modes) within 1 % (the same ring, another basis; measured 1.2e-4)."""
     from _toml import case_toml
-    from test_planetary_ring_case import _seq_case
 
     from jaxgear.cli import main
 
     out = {}
     for name in ("craig-bampton", "modal"):
-        data = _seq_case()
+        data = seq_ring_case()
         data["planetary"]["ring"].update(dynamics=name)
         path = tmp_path / f"{name}.toml"
         path.write_text(case_toml(data))

@@ -21,7 +21,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
-from _planetary_stage import K0, SEQ, geometry, ring_run, stage
+from _planetary_stage import K0, SEQ, geometry, ring_run, seq_ring_case, stage
 from _planetary_stage import mesh_force_error as _error
 from jaxgear.cli import main
 
@@ -211,12 +211,11 @@ def test_sweep_with_a_modal_ring_end_to_end(tmp_path):
     """jaxgear sweep on the small stage of tests/test_planetary_ring_case.py with its coarse
     ring in 24 modes, two speeds: sweep.json names the ring, its deflection per speed is the
     recorded one; the rigid ring's sweep differs (the ring is in the sweep)."""
-    from test_planetary_ring_case import _seq_case
     from _toml import case_toml
 
     out = {}
     for name, extra in (("modal", {"dynamics": "modal"}), ("rigid", None)):
-        data = _seq_case()
+        data = seq_ring_case()
         ring = data["planetary"]["ring"]
         if extra is None:
             ring.pop("model"), ring.pop("body")

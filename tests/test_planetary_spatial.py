@@ -112,15 +112,6 @@ def test_spur_decouples_into_planar_and_axial_tilting():
     np.testing.assert_allclose(f3, ref, rtol=1e-9, atol=1e-9 * ref.max())
 
 
-def _groups(f, rtol=1e-7):
-    groups, start = [], 0
-    for j in range(1, len(f) + 1):
-        if j == len(f) or f[j] - f[j - 1] > rtol * f[-1]:
-            groups.append(list(range(start, j)))
-            start = j
-    return groups
-
-
 @pytest.mark.parametrize("n", [3, 4, 5])
 def test_helical_mode_types_of_equally_spaced_planets(n):
     # unequal sun and ring mesh stiffnesses: with equal ones (and equal pressure angles) the
@@ -138,7 +129,7 @@ def test_helical_mode_types_of_equally_spaced_planets(n):
     types = jg.classify_modes(modes, model, st)
     # count the groups by frequency here (a tolerance), and the types by what moves
     counts = {}
-    for g in _groups(f):
+    for g in ps.frequency_groups(f):
         kind, mult = types[g[0]]
         assert mult == len(g)
         counts.setdefault(kind, []).append(len(g))

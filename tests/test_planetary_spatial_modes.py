@@ -8,7 +8,8 @@ multiplicity N - 3) hold there too; the shared group is checked here by its own 
 
 import numpy as np
 import pytest
-from test_planetary_spatial import _groups, stage
+from _planetary_stage import frequency_groups
+from test_planetary_spatial import stage
 
 import jaxgear as jg
 
@@ -35,7 +36,7 @@ def test_a_rotational_axial_mode_sharing_a_planet_modes_frequency_is_typed_by_pr
     f = np.asarray(modes.frequencies)
     phi = np.asarray(modes.shapes)
     psi = np.asarray(st.planet_angles)
-    shared = [g for g in _groups(f) if len({kinds[j] for j in g}) > 1]
+    shared = [g for g in frequency_groups(f) if len({kinds[j] for j in g}) > 1]
     assert len(shared) == 1
     g = shared[0]
     assert len(g) == n - 2
