@@ -147,6 +147,8 @@ from .schema import (
     parse_body as parse_body,
 )
 from .tooth_form import (
+    InternalToothGeometry as InternalToothGeometry,
+    ShaperCutter as ShaperCutter,
     ToothForm as ToothForm,
     ToothGeometry as ToothGeometry,
     generate_tooth as generate_tooth,

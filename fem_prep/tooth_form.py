@@ -34,7 +34,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ToothForm", "ToothGeometry", "generate_tooth", "involute"]
+__all__ = [
+    "InternalToothGeometry",
+    "ShaperCutter",
+    "ToothForm",
+    "ToothGeometry",
+    "generate_tooth",
+    "involute",
+]
 
 SEGMENT_ROOT, SEGMENT_FILLET, SEGMENT_INVOLUTE, SEGMENT_TIP = 0, 1, 2, 3
 
@@ -132,6 +139,140 @@ class ToothGeometry:
             self.dedendum_coeff,
             self.fillet_radius_coeff,
         )
+
+
+
+@dataclass(frozen=True)
+class ShaperCutter:
+    """A pinion-type (shaper) cutter that generates an internal gear's teeth, made to the ring's
+    basic rack: same module and pressure angle.
+
+    Attributes:
+        teeth: z0 (integer >= 11).
+        profile_shift: x0 (multiplies m_n), in [-1, 1.5].
+        tip_radius_coeff: ρ_a0 / m_n of the cutter's tip rounding, in (0, 0.6]; ``None``: the
+            ring's ``fillet_radius_coeff`` (the rack the cutter is made to).
+
+    The cutter's tip circle is chosen so that it cuts the ring's root circle r_f2 (ISO 21771),
+    at the zero-backlash distance of the cutting mesh (as :class:`jaxgear.ShaperCutterSection`).
+
+    Raises:
+        ValueError: a parameter out of range, naming it, its value and the allowed range.
+    """
+
+    teeth: int
+    profile_shift: float = 0.0
+    tip_radius_coeff: float | None = None
+
+    def __post_init__(self):
+        z0 = self.teeth
+        _check("teeth", z0, isinstance(z0, (int, np.integer)) and z0 >= 11, "an integer >= 11")
+        x0 = self.profile_shift
+        _check("profile_shift", x0, -1.0 <= x0 <= 1.5, "[-1, 1.5]")
+        rho = self.tip_radius_coeff
+        if rho is not None:
+            _check("tip_radius_coeff", rho, 0.0 < rho <= 0.6, "(0, 0.6]")
+            object.__setattr__(self, "tip_radius_coeff", float(rho))
+        object.__setattr__(self, "teeth", int(z0))
+        object.__setattr__(self, "profile_shift", float(x0))
+
+
+@dataclass(frozen=True)
+class InternalToothGeometry:
+    """One internal gear's tooth geometry (a ring; ISO 21771 notation, SI units, angles in rad).
+
+    Attributes:
+        teeth: z (ISO 21771: negative for an internal gear), an integer <= -16 (or a real number
+            <= -16 with ``helix_angle`` 0 for a virtual spur gear).
+        normal_module, normal_pressure_angle, helix_angle: as :class:`ToothGeometry`.
+        profile_shift: x in ISO 21771's sign (positive thickens the ring's teeth, moving its tip
+            circle inwards), in (-1.5, 1.5).
+        addendum_coeff: h_a* > 0: tip radius r_a = |r| − m_n (h_a* + x) (inside).
+        dedendum_coeff: h_f* > 0: root radius r_f = |r| + m_n (h_f* − x) (outside).
+        fillet_radius_coeff: ρ_fP / m_n of the basic rack (>= 0).
+        cutter: the :class:`ShaperCutter` that generates the teeth (its z0 <= |z| − 10), or
+            ``None`` (no cutter data: a tooth form that needs one refuses in one line).
+
+    The radii (transverse, magnitudes) are properties: :attr:`reference_radius`,
+    :attr:`base_radius`, :attr:`tip_radius` (< reference), :attr:`root_radius` (> reference).
+
+    A tooth-form table of an internal tooth (the dict a fillet form's ``table`` returns for
+    this geometry) has ``root_radius`` r_f and ``tip_radius`` r_a (r_a < r_f), ``base_radius``,
+    ``form_radius`` (where the involute meets the fillet, r_a < r_F < r_f), ``r_tab`` (m,
+    increasing from r_a to r_f) and ``psi_tab``: the tooth's polar half angle ψ(r) (rad,
+    increasing with r, at most π/|z|), the tooth centre line on +y, the gear centre at the
+    origin, the right flank at x = r sin ψ(r) > 0.
+
+    Raises:
+        ValueError: a parameter out of range, naming it, its value and the allowed range.
+    """
+
+    teeth: int | float
+    normal_module: float
+    normal_pressure_angle: float
+    helix_angle: float = 0.0
+    profile_shift: float = 0.0
+    addendum_coeff: float = 1.0
+    dedendum_coeff: float = 1.25
+    fillet_radius_coeff: float = 0.25
+    cutter: ShaperCutter | None = None
+
+    def __post_init__(self):
+        z = self.teeth
+        integer = isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer())
+        virtual = isinstance(z, float) and math.isfinite(z) and self.helix_angle == 0
+        _check("teeth", z, (integer or virtual) and z <= -16, "an integer <= -16 (ISO 21771)")
+        # the rack checks are ToothGeometry's (the same fields and ranges)
+        ToothGeometry(
+            16,
+            self.normal_module,
+            self.normal_pressure_angle,
+            self.helix_angle,
+            self.profile_shift,
+            self.addendum_coeff,
+            self.dedendum_coeff,
+            self.fillet_radius_coeff,
+        )
+        c = self.cutter
+        if c is not None:
+            _check("cutter", c, isinstance(c, ShaperCutter), "a fem_prep.ShaperCutter or None")
+            _check("cutter.teeth", c.teeth, c.teeth <= -z - 10, f"<= |z| - 10 = {-z - 10:g}")
+        for name in (
+            "normal_module",
+            "normal_pressure_angle",
+            "helix_angle",
+            "profile_shift",
+            "addendum_coeff",
+            "dedendum_coeff",
+            "fillet_radius_coeff",
+        ):
+            object.__setattr__(self, name, float(getattr(self, name)))
+        object.__setattr__(self, "teeth", int(z) if integer else float(z))
+
+    @property
+    def transverse_pressure_angle(self) -> float:
+        """α_t (rad): tan α_t = tan α_n / cos β."""
+        return math.atan(math.tan(self.normal_pressure_angle) / math.cos(self.helix_angle))
+
+    @property
+    def reference_radius(self) -> float:
+        """|r| = |z| m_n / (2 cos β) (m)."""
+        return -self.teeth * self.normal_module / (2 * math.cos(self.helix_angle))
+
+    @property
+    def base_radius(self) -> float:
+        """r_b = |r| cos α_t (m)."""
+        return self.reference_radius * math.cos(self.transverse_pressure_angle)
+
+    @property
+    def tip_radius(self) -> float:
+        """r_a = |r| − m_n (h_a* + x) (m), inside the reference circle."""
+        return self.reference_radius - self.normal_module * (self.addendum_coeff + self.profile_shift)
+
+    @property
+    def root_radius(self) -> float:
+        """r_f = |r| + m_n (h_f* − x) (m), outside the reference circle."""
+        return self.reference_radius + self.normal_module * (self.dedendum_coeff - self.profile_shift)
 
 
 @dataclass(frozen=True, eq=False)
