@@ -46,7 +46,12 @@ from ._pressure import relative_radius
 from ._stiffness import iso6336_virtual_teeth
 from ._util import check_instance, check_integer, check_real
 
-__all__ = ["InternalGearPair", "PlanetaryGeometry", "planetary_geometry"]
+__all__ = [
+    "InternalGearPair",
+    "PlanetaryGeometry",
+    "internal_tooth_geometry",
+    "planetary_geometry",
+]
 
 
 def _require(name: str, value, ok: bool, allowed: str) -> None:
@@ -447,6 +452,34 @@ class InternalGearPair:
 
 
 @relative_radius.register
+def internal_tooth_geometry(pair: InternalGearPair, cutter=None):
+    """The ring's :class:`fem_prep.InternalToothGeometry` of ``pair`` (its gear member), with the
+    generating ``cutter`` (a :class:`fem_prep.ShaperCutter` or ``None``): the one place that
+    builds it from an :class:`InternalGearPair`, as :func:`jaxgear._stiffness.tooth_geometry`
+    does for external members.
+
+    Raises:
+        ValueError: a parameter out of range, named ``gear.<name>`` (or ``gear.cutter...``).
+    """
+    from fem_prep.tooth_form import InternalToothGeometry  # lazy: fem_prep imports SciPy
+
+    m = pair.gear
+    try:
+        return InternalToothGeometry(
+            int(m.teeth),
+            float(pair.normal_module),
+            float(pair.normal_pressure_angle),
+            float(pair.helix_angle),
+            float(m.profile_shift),
+            float(m.addendum_coeff),
+            float(m.dedendum_coeff),
+            float(m.fillet_radius_coeff),
+            cutter,
+        )
+    except ValueError as err:
+        raise ValueError(f"gear.{err}") from None
+
+
 def _internal_relative_radius(pair: InternalGearPair, s):
     """The concave ring flank: R = ρ1 ρ2/(ρ2 − ρ1) (relative curvature 1/ρ1 − 1/ρ2) in the
     normal plane, ρ1 = (ρ_A + s)/cos β_b, ρ2 = (ρ_A + s + a_w sin α_wt)/cos β_b."""
