@@ -41,6 +41,7 @@ from ._geometry import (
 )
 from ._internal import (
     InternalGearPair as InternalGearPair,
+    internal_tooth_geometry as internal_tooth_geometry,
     PlanetaryGeometry as PlanetaryGeometry,
     planetary_geometry as planetary_geometry,
 )

@@ -8,7 +8,6 @@ import pytest
 
 import fem_prep
 import jaxgear as jg
-from jaxgear._internal import internal_tooth_geometry
 
 
 @pytest.mark.parametrize("x2, beta", [(0.0, 0.0), (0.4, 0.0), (-0.2, math.radians(12.0))])
@@ -16,7 +15,7 @@ def test_radii_match_the_internal_pair(x2, beta):
     mn, an = 3e-3, math.radians(20.0)
     ring = jg.Member(-90, profile_shift=x2, face_width=0.02)
     pair = jg.InternalGearPair(jg.Member(25, 0.4, face_width=0.02), ring, mn, an, beta)
-    g = internal_tooth_geometry(pair, fem_prep.ShaperCutter(30))
+    g = jg.internal_tooth_geometry(pair, fem_prep.ShaperCutter(30))
     assert (g.teeth, g.profile_shift, g.helix_angle) == (-90, x2, beta)
     assert g.tip_radius == pytest.approx(pair.tip_radii[1], rel=1e-12)
     assert g.root_radius == pytest.approx(pair.root_radii[1], rel=1e-12)
@@ -51,4 +50,4 @@ def test_pair_refusal_names_the_gear():
         jg.Member(25, 0.4, face_width=0.02), jg.Member(-90, face_width=0.02), 3e-3, 0.35
     )
     with pytest.raises(ValueError, match=r"^gear.cutter.teeth = 85 is out of range"):
-        internal_tooth_geometry(pair, fem_prep.ShaperCutter(85))
+        jg.internal_tooth_geometry(pair, fem_prep.ShaperCutter(85))
