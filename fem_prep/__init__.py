@@ -64,6 +64,11 @@ from ._io import (
     write_vtu as write_vtu,
 )
 from ._mesh import BodyMesh as BodyMesh, mesh_body as mesh_body
+from ._internal_tooth import (
+    InternalToothForm as InternalToothForm,
+    ShaperFillet as ShaperFillet,
+    generate_internal_tooth as generate_internal_tooth,
+)
 from ._modal import (
     ModeFamily as ModeFamily,
     critical_speeds as critical_speeds,
