@@ -97,6 +97,8 @@ class InternalToothForm:
         fillet: ``(n_fillet + 1, 2)``, the right fillet from the root junction to the form
             point (both included).
         cutter_center_distance: a0 (m) of the cutting mesh; cutter_tip_radius: r_a0 (m).
+        rounding_angles: (t_F, π/2), the ellipse angles of the cutter's tip rounding that
+            generate the form point and the root junction (:meth:`fillet_point`).
     """
 
     teeth: int | float
@@ -113,8 +115,8 @@ class InternalToothForm:
     fillet: np.ndarray
     cutter_center_distance: float
     cutter_tip_radius: float
+    rounding_angles: tuple
     _envelope: Callable = field(repr=False)
-    _t_range: tuple = field(repr=False)
 
     def involute_half_angle(self, r) -> np.ndarray:
         """ψ(r) (rad) of the involute at radius r (m): s_t/(2|r|) − inv α_t + inv α_r,
@@ -169,7 +171,7 @@ class InternalToothForm:
         Raises:
             ValueError: no fillet point with that tangent angle.
         """
-        t_f, t_root = self._t_range
+        t_f, t_root = self.rounding_angles
 
         def g(t):  # tangent ⟂ normal; its angle to +y (the centre line) less ``angle``
             _, n = self._envelope(np.array([t]))
@@ -456,7 +458,7 @@ def generate_internal_tooth(
         cutter_center_distance=a0,
         cutter_tip_radius=cut["ra0"],
         _envelope=envelope,
-        _t_range=(t_f, math.pi / 2),
+        rounding_angles=(t_f, math.pi / 2),
     )
 
 
@@ -468,6 +470,7 @@ def _internal_table(form: InternalToothForm) -> dict:
     psi = np.concatenate([form.involute_half_angle(r_inv), np.arctan2(fil[:, 0], fil[:, 1])])
     ok = np.concatenate([[True], np.diff(r) > 1e-12 * r[-1]])
     r, psi = r[ok], np.maximum.accumulate(psi[ok])
+    r[-1] = form.root_radius  # the root junction, on the root circle up to round-off
     return {
         "root_radius": float(form.root_radius),
         "tip_radius": float(form.tip_radius),
