@@ -12,7 +12,11 @@ side of the flank from the centre line, where the external tooth's lies on the n
 load's line crosses the tooth centre line at r_load = r_b/cos(α_r + ψ) > r, at the angle
 α_p = α_r + ψ to the centre line's normal (external: α_r − ψ), its radial component pressing
 the tooth onto its root as on an external tooth. The beam runs from the root circle inwards to
-that crossing, u = r_f − r_load, with the chordal thickness d(y) = 2 x(r_f − y) of the
+that crossing, u = r_f − r_load (the part of the tooth between the crossing and the contact,
+whose moment has the other sign, is left out as Weber leaves it out of external teeth: the
+crossing lies between the root and the contact's section on both; near the root of a small ring
+the crossing can fall outside the root circle, and u is then 0: no bending, the shear,
+compression and foundation terms of a load at the root), with the chordal thickness d(y) = 2 x(r_f − y) of the
 generated tooth; the integrals are (1.2)'s (:func:`jaxgear._stiffness.beam_compliance`). The
 foundation is Weber's half plane (1.3) with S the ring's root chord (the ring's rim is the body
 below, i.e. outside, the root circle; a thin rim adds its own compliance, which the FE ring of
@@ -69,12 +73,13 @@ def ring_form(pair: InternalGearPair, ring_cutter):
 
 
 def ring_load(pair: InternalGearPair, form, rho):
-    """(u, α_p): the cantilever length u = r_f − r_b/cos(α_r + ψ(r)) (m) and the load's angle
-    α_p = α_r + ψ(r) to the centre line's normal (rad) at the ring's roll distances ``rho``."""
+    """(u, α_p): the cantilever length u = r_f − r_b/cos(α_r + ψ(r)) (m, 0 where the load's
+    line crosses the centre line outside the root circle) and the load's angle α_p = α_r + ψ(r)
+    to the centre line's normal (rad) at the ring's roll distances ``rho``."""
     rb, rf = pair.base_radii[1], pair.root_radii[1]
     r = np.hypot(rho, rb)
     alpha_p = np.arctan2(rho, rb) + form.involute_half_angle(r)
-    return rf - rb / np.cos(alpha_p), alpha_p
+    return np.maximum(rf - rb / np.cos(alpha_p), 0.0), alpha_p
 
 
 @member_compliance.register
@@ -95,13 +100,6 @@ def _internal_member_compliance(
     rho = np.asarray(rho, dtype=float)
     u, alpha_p = ring_load(pair, form, rho)
     rf = form.root_radius
-    if np.any(u <= 0) or np.any(rf - u < form.tip_radius):
-        raise ValueError(
-            "member_compliance: rho = {:.6g}..{:.6g} m is out of range for the ring: its load "
-            "line must cross the tooth centre line between the tip and root circles".format(
-                float(rho.min()), float(rho.max())
-            )
-        )
     c = beam_compliance(u, lambda y: 2 * form.half_thickness(rf - y), alpha_p, E, nu, n_quad)
     s_root = 2 * float(form.half_thickness(rf))
     cos2, tan2 = np.cos(alpha_p) ** 2, np.tan(alpha_p) ** 2
