@@ -156,3 +156,18 @@ def test_refusals_in_one_line():
     ext = jg.GearPair(jg.Member(20, face_width=0.01), jg.Member(40, face_width=0.01), 2e-3, A)
     np.testing.assert_array_equal(jg.stiffness_table(ext, jg.Weber(ring_cutter=cutter))[1],
                                   jg.stiffness_table(ext, jg.Weber())[1])
+
+
+def test_case_file_with_weber_and_an_internal_mesh_is_refused_in_one_line():
+    """A case file cannot give the ring's cutter yet: ``[mesh] stiffness = "weber"`` with an
+    internal mesh is refused in one line naming the key, before any work."""
+    import tomllib
+
+    import jaxgear.io as jio
+
+    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
+    data.setdefault("mesh", {})["stiffness"] = "weber"
+    with pytest.raises(ValueError, match=r"^\[mesh\] stiffness = 'weber': 'weber' cannot take it: "
+                       r"Weber: ring_cutter = None .*allowed 'uniform' or 'iso6336'$") as info:
+        jio.parse_train(data)
+    assert "\n" not in str(info.value)

@@ -577,16 +577,24 @@ def _geometry(t: dict, gears: dict):
 
 def check_internal_stiffness(case: Case, where: str) -> None:
     """The ``[mesh]`` stiffness model must have an internal-gear form when a mesh is internal
-    (``uniform`` or ``iso6336``), refused in one line before any work."""
-    if (
-        any(isinstance(p, InternalGearPair) for p in case.pairs)
-        and not case.stiffness.internal_teeth
-    ):
+    (``uniform`` or ``iso6336``; ``weber`` needs the ring's cutter, which the case file does not
+    give yet: :meth:`jaxgear.AbstractStiffness.check_pair`), refused in one line before any
+    work."""
+    internal = [p for p in case.pairs if isinstance(p, InternalGearPair)]
+    if not internal:
+        return
+    problem = f"{case.stiffness.name!r} has no internal-gear form"
+    try:
+        ok = case.stiffness.internal_teeth and all(
+            case.stiffness.check_pair(p) is None for p in internal
+        )
+    except ValueError as err:
+        ok, problem = False, f"{case.stiffness.name!r} cannot take it: {err}"
+    if not ok:
         raise sc.fail(
             "mesh",
             "stiffness",
-            f"{case.stiffness.name!r} has no internal-gear form ({where} has an internal gear); "
-            "allowed 'uniform' or 'iso6336'",
+            f"{problem} ({where} has an internal gear); allowed 'uniform' or 'iso6336'",
             case.stiffness.name,
         )
 
