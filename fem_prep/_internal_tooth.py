@@ -266,6 +266,9 @@ def _cutting(g: InternalToothGeometry, z0: int, x0: float, rho_coeff: float) -> 
         return float(res.fun), float(res.x)
 
     hi = psi_b0 - involute(math.acos(rb0 / rc))
+    if least(-math.pi / z0)[0] < 0:  # no room for the rounding even across the tooth's centre
+        cut.update(eta=-1.0)
+        return cut
     eta = brentq(lambda e: least(e)[0], -math.pi / z0, hi, xtol=1e-15, rtol=1e-15)
     s_f = least(eta)[1]
     cut.update(eta=eta, contact_radius=float(gap(eta, np.array(s_f))[1]))

@@ -213,7 +213,9 @@ class Weber(AbstractStiffness):
         )
 
     def check_pair(self, pair):
-        """An internal pair needs the ring's cutter, one that cuts it (one line, before work)."""
+        """An internal ``pair`` needs the ring's cutter, one that cuts it, and a foundation
+        with a ring form (its :meth:`~jaxgear.AbstractFoundation.ring_compliance` refuses at
+        once otherwise): one ``ValueError`` line, before any work."""
         ring_form(pair, self.ring_cutter)
         self.foundation.member(1).ring_compliance(np.zeros(1), 1.0, np.ones(1), 1.0, 0.0)
 
