@@ -340,7 +340,7 @@ def generate_internal_tooth(
     if problem is not None:
         raise ValueError(
             f"cutter.profile_shift = {c.profile_shift:g} cannot cut the ring (cutter.teeth = "
-            f"{z0}, tip_radius_coeff = {rho_coeff:g}): {problem}; allowed "
+            f"{z0}, cutter.tip_radius_coeff = {rho_coeff:g}): {problem}; allowed "
             + _allowed_x0(g, z0, rho_coeff)
         )
     a0, rw0, eta, ax, ay = cut["a0"], cut["rw0"], cut["eta"], cut.get("ax"), cut.get("ay")
@@ -406,8 +406,9 @@ def generate_internal_tooth(
     if not (disc_ok and np.all(np.diff(rfil) < 0) and r_form < rf):
         raise ValueError(
             f"cutter.profile_shift = {c.profile_shift:g} cannot cut the ring (cutter.teeth = "
-            f"{z0}, tip_radius_coeff = {rho_coeff:g}): the generated fillet is not monotonic in "
-            "radius (the cutter's rounding interferes); allowed " + _allowed_x0(g, z0, rho_coeff)
+            f"{z0}, cutter.tip_radius_coeff = {rho_coeff:g}): the generated fillet is not "
+            "monotonic in radius (the cutter's rounding interferes); allowed "
+            + _allowed_x0(g, z0, rho_coeff)
         )
     if not ra < r_form:
         raise ValueError(

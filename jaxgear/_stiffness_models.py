@@ -91,6 +91,11 @@ class AbstractStiffness(eqx.Module):
         """Refuse, in one ``ValueError`` line before any work, an internal ``pair`` this model
         cannot tabulate (nothing here)."""
 
+    def with_ring_cutter(self, cutter) -> AbstractStiffness:
+        """The model with the internal gear's pinion-type cutter (a :class:`fem_prep.ShaperCutter`)
+        for a model that generates the ring's teeth (:class:`Weber`); this one unchanged."""
+        return self
+
     def mean_estimate(self, pair: GearPair, youngs_modulus: float) -> float:
         """A cheap estimate of the mean mesh stiffness (N/m) without the table, for plausibility
         checks: ISO 6336-1 c_γα b scaled by E / 210 GPa (the Weber profile of the embedded cases
@@ -221,6 +226,9 @@ class Weber(AbstractStiffness):
 
     def without_body(self, flexible):
         return Weber(self.foundation.without_body(flexible), self.ring_cutter)
+
+    def with_ring_cutter(self, cutter):
+        return Weber(self.foundation, cutter)
 
     def summary(self):
         return {**super().summary(), "foundation": self.foundation.name}

@@ -158,16 +158,47 @@ def test_refusals_in_one_line():
                                   jg.stiffness_table(ext, jg.Weber())[1])
 
 
-def test_case_file_with_weber_and_an_internal_mesh_is_refused_in_one_line():
-    """A case file cannot give the ring's cutter yet: ``[mesh] stiffness = "weber"`` with an
-    internal mesh is refused in one line naming the key, before any work."""
+def test_case_file_ring_cutter_keys():
+    """The ring's ``[[gears]]`` entry gives its cutter (``cutter_teeth``, ``cutter_profile_shift``,
+    ``cutter_tip_radius_coeff``): ``[mesh] stiffness = "weber"`` then builds
+    ``Weber(ring_cutter=ShaperCutter(...))`` and both meshes of the NREL stage 1 tabulate
+    (Weber over ISO 6336's mean: 1.33 sun–planet, 1.21 ring–planet at the case's load). Without
+    the keys, with the keys on an external gear, a key without ``cutter_teeth``, out of range,
+    or a cutter that cannot cut the ring: one line naming the key, before any work."""
+    import copy
     import tomllib
 
     import jaxgear.io as jio
 
-    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
-    data.setdefault("mesh", {})["stiffness"] = "weber"
-    with pytest.raises(ValueError, match=r"^\[mesh\] stiffness = 'weber': 'weber' cannot take it: "
-                       r"Weber: ring_cutter = None .*allowed 'uniform' or 'iso6336'$") as info:
-        jio.parse_train(data)
-    assert "\n" not in str(info.value)
+    base = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
+
+    def case(gear="ring1", **keys):
+        data = copy.deepcopy(base)
+        data["mesh"]["stiffness"] = "weber"
+        next(g for g in data["gears"] if g["name"] == gear).update(keys)
+        return data
+
+    parsed = jio.parse_train(case(cutter_teeth=36))
+    assert parsed.stiffness == jg.Weber(ring_cutter=fp.ShaperCutter(36, 0.0, None))
+    ratios = [
+        np.trapezoid(m.stiffness_k, m.stiffness_s) / np.trapezoid(i.stiffness_k, i.stiffness_s)
+        for m, i in zip(parsed.mesh_models(), jio.parse_train(base).mesh_models(), strict=True)
+    ]
+    np.testing.assert_allclose(ratios, [1.33, 1.21], atol=0.01)
+    for data, pattern in (
+        (case(), r"^\[mesh\] stiffness = 'weber': 'weber' cannot take it: Weber: ring_cutter = "
+                 r"None .*allowed 'uniform', 'iso6336', or 'weber' with the internal gear's "
+                 r"cutter_teeth \(\[\[gears\]\]\)$"),
+        (case("sun1", cutter_teeth=30), r"^\[gears\.sun1\] cutter_teeth = 30: belongs to an "
+                                        r"internal gear"),
+        (case(cutter_profile_shift=0.2), r"^\[gears\.ring1\] cutter_profile_shift = 0\.2: "
+                                         r".*give cutter_teeth too$"),
+        (case(cutter_teeth=50), r"^\[gears\.ring1\] cutter_teeth = 50: out of range, allowed "
+                                r"\[11, 46\]$"),
+        (case(cutter_teeth=36, cutter_profile_shift=1.5),
+         r"^\[gears\.ring1\] cutter_profile_shift = 1\.5 cannot cut the ring .*no cutting "
+         r"mesh.*allowed cutter_profile_shift in \[-0\.10, 0\.44\]"),
+    ):
+        with pytest.raises(ValueError, match=pattern) as info:
+            jio.parse_train(data)
+        assert "\n" not in str(info.value)
