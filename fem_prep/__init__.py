@@ -51,6 +51,11 @@ from ._couplings import (
     select_masters as select_masters,
 )
 from ._elements import Hex20 as Hex20, Hex27 as Hex27
+from ._internal_tooth import (
+    InternalToothForm as InternalToothForm,
+    ShaperFillet as ShaperFillet,
+    generate_internal_tooth as generate_internal_tooth,
+)
 from ._io import (
     FORMAT_VERSION as FORMAT_VERSION,
     CondensedBody as CondensedBody,

@@ -213,6 +213,20 @@ class AbstractFoundation(eqx.Module):
         """The foundation of ``member`` (0 pinion, 1 gear): this one for both."""
         return self
 
+    def ring_compliance(self, c, s_root: float, u, cos2_over_e, tan2) -> np.ndarray:
+        """The compliance ``c`` of an internal gear's tooth (a ring's) with this foundation's
+        term added; arguments as :meth:`add_compliance`, ``s_root`` the chordal tooth thickness
+        at the root circle (m).
+
+        Raises:
+            ValueError: a foundation derived for external gear bodies (this default).
+        """
+        raise ValueError(
+            f"foundation = {self.name!r} is out of range for an internal gear's teeth: allowed "
+            "WeberFoundation() (Weber's half-plane) or NoFoundation() (Sainsot et al.'s fit is "
+            "derived for external gear bodies on a bore)"
+        )
+
     def without_body(self, flexible: tuple[bool, bool]) -> AbstractFoundation:
         """The foundations with a flexible member's (a condensed FE body, whose rim supplies the
         body compliance, seed remark after (2.31)) replaced by :class:`NoFoundation`."""
@@ -232,6 +246,11 @@ class WeberFoundation(AbstractFoundation):
     def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
         s_fd = float(_chordal_thickness(pair, member, np.array([pair.root_radii[member]]))[0])
         return c + _foundation_term(_WEBER_FOUNDATION, u / s_fd, cos2_over_e, tan2)
+
+    def ring_compliance(self, c, s_root, u, cos2_over_e, tan2):
+        """Weber's half-plane term for a ring's tooth, S = its root chord (a ring's rim is the
+        body below its root circle; Weber's half plane, as for external teeth)."""
+        return c + _foundation_term(_WEBER_FOUNDATION, u / s_root, cos2_over_e, tan2)
 
 
 class SainsotFoundation(AbstractFoundation):
@@ -256,6 +275,9 @@ class NoFoundation(AbstractFoundation):
     fe_body: ClassVar[bool] = False
 
     def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
+        return c
+
+    def ring_compliance(self, c, s_root, u, cos2_over_e, tan2):
         return c
 
 
@@ -293,6 +315,9 @@ class MemberFoundations(AbstractFoundation):
 
     def add_compliance(self, c, pair, member, u, cos2_over_e, tan2):
         return self.member(member).add_compliance(c, pair, member, u, cos2_over_e, tan2)
+
+    def ring_compliance(self, c, s_root, u, cos2_over_e, tan2):
+        return self.gear.ring_compliance(c, s_root, u, cos2_over_e, tan2)
 
 
 @functools.singledispatch
@@ -444,6 +469,7 @@ def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.polynomial.legendre.leggauss(n)
 
 
+@functools.singledispatch
 def member_compliance(
     pair: GearPair,
     member: int,
@@ -452,6 +478,8 @@ def member_compliance(
     nu: float,
     foundation: AbstractFoundation,
     n_quad: int = 400,
+    *,
+    ring_cutter=None,
 ) -> np.ndarray:
     """Bending + shear + compression (seed (1.2)) and foundation (seed (1.3)) compliance of one
     tooth of the pair (``member`` 0 pinion, 1 gear), Hertz not included (the pair's Weber
@@ -465,9 +493,20 @@ def member_compliance(
         foundation: the gear-body term (:class:`WeberFoundation`, :class:`SainsotFoundation`,
             :class:`NoFoundation`, or a :class:`MemberFoundations`).
         n_quad: Gauss-Legendre points of the cantilever integrals.
+        ring_cutter: the :class:`fem_prep.ShaperCutter` that generated the internal gear of an
+            :class:`~jaxgear.InternalGearPair` (its ``member`` 1; required there, ignored for
+            external teeth). The ring's tooth (``jaxgear/_weber_internal.py``): the cantilever
+            from its root circle r_f inwards to where the line of action crosses its centre
+            line, r_b/cos(α_r + ψ(r)) (ψ the internal tooth's half angle, ISO 21771), on the
+            half thickness of :func:`fem_prep.generate_internal_tooth`; the same (1.2)
+            integrals; the foundation's :meth:`AbstractFoundation.ring_compliance`.
 
     Returns:
         compliance per unit face width, (m/N)·m, shape (n,), along the transverse line of action.
+
+    Raises:
+        ValueError: (internal pairs) ``ring_cutter`` None, a cutter that cannot cut the ring,
+            or a foundation without an internal form (:class:`SainsotFoundation`).
     """
     rb = pair.base_radii[member]
     rf = pair.root_radii[member]
@@ -478,20 +517,32 @@ def member_compliance(
     )  # load angle to the centre-line normal
     r_load = rb / np.cos(alpha_p)  # where the line of action crosses the tooth centre line
     u = r_load - rf  # cantilever length from the root circle
-    # Gauss-Legendre on [0, u] for each contact point (integrands smooth on the involute part)
+    c = beam_compliance(u, lambda y: _chordal_thickness(pair, member, rf + y), alpha_p, E, nu,
+                        n_quad)
+    cos2, tan2 = np.cos(alpha_p) ** 2, np.tan(alpha_p) ** 2
+    return foundation.add_compliance(c, pair, member, u, cos2 / E, tan2)
+
+
+def beam_compliance(u, thickness, alpha_p, E, nu, n_quad: int = 400) -> np.ndarray:
+    """Weber's cantilever, seed (1.2): bending, shear and compression of a tooth slice of unit
+    width loaded at distance u from its root circle at angle α_p to the centre line's normal,
+    ``cos²α_p/E [12 (1 − ν²) ∫ (u − y)²/d³ dy + (2.4 (1 + ν) + (1 − ν²) tan²α_p) ∫ dy/d]``
+    over y ∈ [0, u] (Gauss–Legendre, ``n_quad`` points), d(y) = ``thickness(y)`` (m, the
+    chordal thickness at distance y from the root circle along the centre line; any shape).
+    Returns (m/N)·m, the shape of ``u``."""
     xg, wg = _gauss_legendre(n_quad)
     y = 0.5 * (xg[None, :] + 1.0) * u[:, None]
     w = 0.5 * wg[None, :] * u[:, None]
-    d = _chordal_thickness(pair, member, rf + y)
+    d = thickness(y)
     i_bend = np.sum(w * (u[:, None] - y) ** 2 / d**3, axis=1)
     i_shear = np.sum(w / d, axis=1)
     cos2 = np.cos(alpha_p) ** 2
     tan2 = np.tan(alpha_p) ** 2
     # (1.2): 10.92 = 12(1-ν²) and 3.1(1 + 0.294 tan²) = 2.4(1+ν) + (1-ν²) tan² for ν = 0.3
-    c = cos2 / E * (12 * (1 - nu**2) * i_bend + (2.4 * (1 + nu) + (1 - nu**2) * tan2) * i_shear)
-    return foundation.add_compliance(c, pair, member, u, cos2 / E, tan2)
+    return cos2 / E * (12 * (1 - nu**2) * i_bend + (2.4 * (1 + nu) + (1 - nu**2) * tan2) * i_shear)
 
 
+@functools.singledispatch
 def weber_profile(
     pair: GearPair,
     s: np.ndarray,
@@ -499,6 +550,8 @@ def weber_profile(
     poisson_ratio: float,
     line_load: float,
     foundation: AbstractFoundation = WeberFoundation(),  # noqa: B008 (an immutable module)
+    *,
+    ring_cutter=None,
 ) -> np.ndarray:
     """Weber–Banaschek stiffness per unit contact-line length along the line of action.
 
@@ -513,6 +566,10 @@ def weber_profile(
             ``Member.bore_radius``) or :class:`NoFoundation` (drop it when a condensed FE body
             supplies the body compliance, (2.31) remark), or a :class:`MemberFoundations` of
             one per member.
+        ring_cutter: an :class:`~jaxgear.InternalGearPair`'s ring cutter
+            (:func:`member_compliance`; ignored for external pairs). The internal pair's
+            Hertzian term (1.1) takes the concave ring flank, ρ_eq = ρ1 ρ2/(ρ2 − ρ1), and the
+            ring's distance d_2 = r sin ψ(r) from the contact point to its tooth centre line.
 
     Returns:
         k(s) (N/m per m of contact line), shape (n,), flank-normal.
@@ -530,15 +587,22 @@ def weber_profile(
         for i, (rho, rb) in enumerate(((rho1, pair.base_radii[0]), (rho2, pair.base_radii[1])))
     ]
     rho_eq = rho1 * rho2 / (rho1 + rho2)
+    k_transverse = 1.0 / (c + hertz_compliance(rho_eq, d_i[0], d_i[1], line_load, E, nu))
+    return k_transverse / math.cos(pair.base_helix_angle)
+
+
+def hertz_compliance(rho_eq, d1, d2, line_load, E, nu) -> np.ndarray:
+    """Weber's Hertzian approach, seed (1.1): 4 (1 − ν²)/(π E) (ln(2 √(d1 d2)/a_H) −
+    ν/(2 (1 − ν))), a_H = √(8 w ρ_eq (1 − ν²)/(π E)) the half width of the contact at line load
+    w (N/m), ρ_eq (m) the equivalent radius, d1, d2 (m) the contact point's distances to the
+    two teeth's centre lines. Returns (m/N)·m."""
     a_h = np.sqrt(8 * line_load * rho_eq * (1 - nu**2) / (math.pi * E))
-    c_hertz = (
+    return (
         4
         * (1 - nu**2)
         / (math.pi * E)
-        * (np.log(2 * np.sqrt(d_i[0] * d_i[1]) / a_h) - nu / (2 * (1 - nu)))
+        * (np.log(2 * np.sqrt(d1 * d2) / a_h) - nu / (2 * (1 - nu)))
     )
-    k_transverse = 1.0 / (c + c_hertz)
-    return k_transverse / math.cos(pair.base_helix_angle)
 
 
 def tooth_mass(pair: GearPair, member: int, density: float, width: float) -> tuple[float, float]:

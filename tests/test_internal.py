@@ -409,8 +409,11 @@ def test_iso6336_single_stiffness_with_the_internal_gear_rule():
     assert jg.iso6336_mesh_stiffness(p) == pytest.approx(c_mesh, rel=1e-13)
     _, k = jg.stiffness_table(p, jg.ISO6336(), youngs_modulus=206e9)
     np.testing.assert_allclose(k, c_mesh / p.transverse_contact_ratio, rtol=1e-13)
-    with pytest.raises(ValueError, match="model = 'weber' is out of range for an InternalGearPair"):
+    # Weber needs the ring's cutter for an internal pair (tests/test_weber_internal.py)
+    with pytest.raises(ValueError, match="ring_cutter = None is out of range for an InternalGearPair"):
         jg.stiffness_table(p, jg.Weber())
+    with pytest.raises(ValueError, match="model = 'fe2d' is out of range for an InternalGearPair"):
+        jg.stiffness_table(p, jg.FE2D())
 
 
 def test_hertz_pressure_on_the_concave_flank_against_iso6336_2():

@@ -363,6 +363,12 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
             data.pop(k, None)
         data.update(extra)
         yield data, None
+    # a planetary ring with its pinion-type cutter (the Weber model of its teeth)
+    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
+    data["mesh"]["stiffness"] = "weber"
+    ring = next(g for g in data["gears"] if g["name"] == data["planetary"]["ring_gear"])
+    ring.update(cutter_teeth=36, cutter_profile_shift=0.0, cutter_tip_radius_coeff=0.3)
+    yield data, None
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}

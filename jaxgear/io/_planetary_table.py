@@ -577,23 +577,94 @@ def _geometry(t: dict, gears: dict):
 
 def check_internal_stiffness(case: Case, where: str) -> None:
     """The ``[mesh]`` stiffness model must have an internal-gear form when a mesh is internal
-    (``uniform`` or ``iso6336``), refused in one line before any work."""
-    if (
-        any(isinstance(p, InternalGearPair) for p in case.pairs)
-        and not case.stiffness.internal_teeth
-    ):
+    (``uniform``, ``iso6336``, or ``weber`` with the internal gear's cutter, its ``[[gears]]``
+    ``cutter_*`` keys: :meth:`jaxgear.AbstractStiffness.check_pair`), refused in one line
+    before any work."""
+    internal = [p for p in case.pairs if isinstance(p, InternalGearPair)]
+    if not internal:
+        return
+    problem = f"{case.stiffness.name!r} has no internal-gear form"
+    try:
+        ok = case.stiffness.internal_teeth and all(
+            case.stiffness.check_pair(p) is None for p in internal
+        )
+    except ValueError as err:
+        ok, problem = False, f"{case.stiffness.name!r} cannot take it: {err}"
+    if not ok:
         raise sc.fail(
             "mesh",
             "stiffness",
-            f"{case.stiffness.name!r} has no internal-gear form ({where} has an internal gear); "
-            "allowed 'uniform' or 'iso6336'",
+            f"{problem} ({where} has an internal gear); allowed 'uniform', 'iso6336', or "
+            "'weber' with the internal gear's cutter_teeth ([[gears]])",
             case.stiffness.name,
         )
 
 
-def planetary_mesh_settings(data: dict, mesh: dict) -> dict:
-    """A planetary case's mesh settings: ``[mesh]``'s, the stiffness model ISO 6336 unless the
-    file names one (the default FE model has no internal-gear form)."""
+def planetary_mesh_settings(data: dict, mesh: dict, gears: dict) -> dict:
+    """A planetary case's (or an internal mesh's) mesh settings: ``[mesh]``'s, the stiffness
+    model ISO 6336 unless the file names one (the default FE model has no internal-gear form),
+    given the internal gear's cutter (its ``[[gears]]`` entry's ``cutter_*`` keys,
+    :func:`gear_cutter`; :meth:`jaxgear.AbstractStiffness.with_ring_cutter`)."""
     if "stiffness" not in data.get("mesh", {}):
         return {**mesh, "stiffness": ISO6336()}
+    cutters = [g["cutter"] for g in gears.values() if g.get("cutter") is not None]
+    if cutters:  # one internal gear per case (a planetary stage's ring, an internal mesh's)
+        return {**mesh, "stiffness": mesh["stiffness"].with_ring_cutter(cutters[0])}
     return mesh
+
+
+#: an internal gear's ``[[gears]]`` keys of its pinion-type cutter (:func:`gear_cutter`)
+CUTTER_KEYS = ("cutter_teeth", "cutter_profile_shift", "cutter_tip_radius_coeff")
+
+
+def gear_cutter(table: dict, where: str, member, module_mm, alpha_deg, beta_deg):
+    """The pinion-type cutter of an internal gear's ``[[gears]]`` entry, a
+    :class:`fem_prep.ShaperCutter` (``None`` without the keys): ``cutter_teeth`` z0 (integer,
+    [11, |z| − 10]), ``cutter_profile_shift`` x0 ([−1, 1.5], default 0),
+    ``cutter_tip_radius_coeff`` ρ_a0/m_n ((0, 0.6], default the gear's ``fillet_radius_coeff``),
+    the same ranges as ``[rating] ring_cutter_*``. The Weber stiffness model generates the
+    ring's teeth with it (:func:`fem_prep.generate_internal_tooth`), which is tried here: a
+    cutter that cannot cut the ring is refused in one line, before any work.
+
+    Raises:
+        SchemaError: the keys on an external gear, ``cutter_profile_shift`` or
+            ``cutter_tip_radius_coeff`` without ``cutter_teeth``, a value out of range, a
+            cutter that cannot cut the ring (naming the key and the values that work).
+    """
+    given = [k for k in CUTTER_KEYS if k in table]
+    if not given:
+        return None
+    # the gear's own table accepts them (as _member's for the member keys)
+    sc.check_keys({k: table[k] for k in given}, set(CUTTER_KEYS), where)
+    if member.teeth > 0:
+        raise sc.fail(
+            where, given[0], "belongs to an internal gear (teeth < 0): its pinion-type cutter",
+            table[given[0]],
+        )
+    import fem_prep  # lazy: SciPy
+
+    z = -member.teeth
+    if "cutter_teeth" not in table:
+        raise sc.fail(
+            where, given[0], "describes the internal gear's cutter: give cutter_teeth too",
+            table[given[0]],
+        )
+    z0 = sc.number(table, "cutter_teeth", where, allowed=f"[11, {z - 10}]", integer=True)
+    x0 = sc.number(table, "cutter_profile_shift", where, 0.0, allowed="[-1, 1.5]")
+    rho = sc.number(
+        table, "cutter_tip_radius_coeff", where, None, allowed="(0, 0.6]",
+        note=" (default: the gear's fillet_radius_coeff)",
+    )
+    cutter = fem_prep.ShaperCutter(int(z0), x0, rho)
+    try:
+        fem_prep.generate_internal_tooth(
+            fem_prep.InternalToothGeometry(
+                member.teeth, module_mm * 1e-3, math.radians(alpha_deg), math.radians(beta_deg),
+                member.profile_shift, member.addendum_coeff, member.dedendum_coeff,
+                member.fillet_radius_coeff, cutter,
+            ),
+            n_fillet=8, n_involute=2, n_tip=0,
+        )
+    except ValueError as err:
+        raise sc.SchemaError(f"[{where}] {str(err).replace('cutter.', 'cutter_')}") from None
+    return cutter

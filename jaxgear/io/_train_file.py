@@ -61,7 +61,8 @@ a mesh's ``driven`` gear only, its ``driving`` mate an external gear inside it, 
 :class:`~jaxgear.InternalGearPair`. A train with an internal mesh has that one mesh and no
 ``[scene]`` (``jaxgear run`` writes the rigid mesh's quasi-static files, as a pair's), and its
 ``[mesh] stiffness`` must have an internal-gear form (``uniform``, or ``iso6336``, the default
-there). A planetary stage names its sun, planet and ring gears in ``[planetary]``
+there, or ``weber`` with the internal gear's cutter: its ``cutter_teeth``,
+``cutter_profile_shift`` and ``cutter_tip_radius_coeff``). A planetary stage names its sun, planet and ring gears in ``[planetary]``
 (jaxgear/io/_planetary_table.py) instead of ``[[meshes]]``.
 
 A helical gear may state its ``hand = "right"`` or ``"left"``; by default the input is
@@ -104,7 +105,9 @@ from ._case_file import (
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
+    CUTTER_KEYS,
     check_internal_stiffness,
+    gear_cutter,
     is_planetary,
     parse_planetary,
     planetary_mesh_settings,
@@ -141,6 +144,7 @@ _GEAR_KEYS = {
     "normal_pressure_angle_deg",
     "helix_angle_deg",
     *_MEMBER_KEYS,
+    *CUTTER_KEYS,
 }
 _MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
 _WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
@@ -196,6 +200,7 @@ def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
     if internal:
         member = dataclasses.replace(member, teeth=teeth)
     return name, {
+        "cutter": gear_cutter(table, where, member, module, alpha, beta),
         "member": member,
         "module_mm": module,
         "alpha_deg": alpha,
@@ -416,7 +421,9 @@ def _planetary_case(data: dict, name: str) -> Case:
         "gear_modifications": (
             _modifications(data.get("modifications", {}), names, modules) if names else ()
         ),
-        **planetary_mesh_settings(data, parse_mesh_settings(data, min(modules or [1.0]) * 1e-3)),
+        **planetary_mesh_settings(
+            data, parse_mesh_settings(data, min(modules or [1.0]) * 1e-3), gears
+        ),
     }
     case = parse_planetary(data, base, gears, index)
     check_internal_stiffness(case, "[planetary]")
@@ -566,7 +573,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         )
     mesh = parse_mesh_settings(data, min(p.normal_module for p in pairs))
     if internal:  # the default FE model has no internal-gear form
-        mesh = planetary_mesh_settings(data, mesh)
+        mesh = planetary_mesh_settings(data, mesh, gears)
     mods = _modifications(
         data.get("modifications", {}), names, [gears[n]["module_mm"] for n in names]
     )
