@@ -617,6 +617,33 @@ def planetary_mesh_settings(data: dict, mesh: dict, gears: dict) -> dict:
 CUTTER_KEYS = ("cutter_teeth", "cutter_profile_shift", "cutter_tip_radius_coeff")
 
 
+def cutter_values(table: dict, where: str, teeth: int) -> tuple | None:
+    """(z0, x0, ρ_a0/m_n or ``None``) of the cutter keys of an internal gear's ``[[gears]]``
+    entry (``table``, named ``where``; ``teeth`` its |z|), ``None`` without them: the ranges of
+    :func:`gear_cutter`, which also tries the cutter; the rating reads the same values
+    (:func:`jaxgear.io._rating_table.ring_cutter`).
+
+    Raises:
+        SchemaError: ``cutter_profile_shift`` or ``cutter_tip_radius_coeff`` without
+            ``cutter_teeth``, a value out of range (one line naming the key).
+    """
+    given = [k for k in CUTTER_KEYS if k in table]
+    if not given:
+        return None
+    if "cutter_teeth" not in table:
+        raise sc.fail(
+            where, given[0], "describes the internal gear's cutter: give cutter_teeth too",
+            table[given[0]],
+        )
+    z0 = sc.number(table, "cutter_teeth", where, allowed=f"[11, {teeth - 10}]", integer=True)
+    x0 = sc.number(table, "cutter_profile_shift", where, 0.0, allowed="[-1, 1.5]")
+    rho = sc.number(
+        table, "cutter_tip_radius_coeff", where, None, allowed="(0, 0.6]",
+        note=" (default: the gear's fillet_radius_coeff)",
+    )
+    return int(z0), x0, rho
+
+
 def gear_cutter(table: dict, where: str, member, module_mm, alpha_deg, beta_deg):
     """The pinion-type cutter of an internal gear's ``[[gears]]`` entry, a
     :class:`fem_prep.ShaperCutter` (``None`` without the keys): ``cutter_teeth`` z0 (integer,
@@ -643,19 +670,7 @@ def gear_cutter(table: dict, where: str, member, module_mm, alpha_deg, beta_deg)
         )
     import fem_prep  # lazy: SciPy
 
-    z = -member.teeth
-    if "cutter_teeth" not in table:
-        raise sc.fail(
-            where, given[0], "describes the internal gear's cutter: give cutter_teeth too",
-            table[given[0]],
-        )
-    z0 = sc.number(table, "cutter_teeth", where, allowed=f"[11, {z - 10}]", integer=True)
-    x0 = sc.number(table, "cutter_profile_shift", where, 0.0, allowed="[-1, 1.5]")
-    rho = sc.number(
-        table, "cutter_tip_radius_coeff", where, None, allowed="(0, 0.6]",
-        note=" (default: the gear's fillet_radius_coeff)",
-    )
-    cutter = fem_prep.ShaperCutter(int(z0), x0, rho)
+    cutter = fem_prep.ShaperCutter(*cutter_values(table, where, -member.teeth))
     try:
         fem_prep.generate_internal_tooth(
             fem_prep.InternalToothGeometry(

@@ -85,6 +85,7 @@ from .. import (
 )
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
+from ._planetary_table import CUTTER_KEYS, cutter_values
 
 __all__ = [
     "EDITIONS",
@@ -94,16 +95,18 @@ __all__ = [
     "RATING_KEYS",
     "TREATMENTS",
     "RatingCase",
-    "check_rating",
     "check_planetary_rating",
+    "check_rating",
     "check_train_rating",
     "mesh_roles",
+    "older_ring_cutter",
     "parse_planetary_rating",
     "parse_rating",
     "parse_train_rating",
     "rating_of",
     "rating_speed",
     "ratings_of",
+    "ring_cutter",
 ]
 
 #: ``[material] treatment`` names → the model's treatment objects
@@ -121,13 +124,15 @@ SECTIONED = {
     GearPair: lambda pair, section: RatingGeometry.of(pair),
     InternalGearPair: lambda pair, section: InternalRatingGeometry.of(pair, section),
 }
-#: the keys a planetary stage's ``[rating]`` adds to a train's
-PLANETARY_KEYS = {
-    "K_gamma",
+#: the older spelling, in a planetary stage's ``[rating]``, of the ring's ``[[gears]]`` cutter
+#: keys (:data:`jaxgear.io._planetary_table.CUTTER_KEYS`, in their order; :func:`ring_cutter`)
+RING_CUTTER_KEYS = (
     "ring_cutter_teeth",
     "ring_cutter_profile_shift",
     "ring_cutter_tip_radius_coeff",
-}
+)
+#: the keys a planetary stage's ``[rating]`` adds to a train's
+PLANETARY_KEYS = {"K_gamma", *RING_CUTTER_KEYS}
 #: ``[rating] edition`` years → the model's edition objects
 EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
@@ -516,7 +521,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
     rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS)
     k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
-    section = _ring_cutter(rt, case.pairs[-1])
+    section = ring_cutter(data, case)
     rt = {k: v for k, v in rt.items() if k not in PLANETARY_KEYS}
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat = data.get("material", {})
@@ -541,17 +546,67 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     return tuple(out)
 
 
-def _ring_cutter(rt: dict, ring_pair) -> ShaperCutterSection | None:
-    """The ring's root section of ``[rating] ring_cutter_teeth`` (z0, [11, |z_ring| − 10]),
-    ``ring_cutter_profile_shift`` (x0, [−1, 1.5], default 0) and
-    ``ring_cutter_tip_radius_coeff`` (ρ_a0/m_n, (0, 0.6], default the ring's
-    ``fillet_radius_coeff``): :class:`jaxgear.ShaperCutterSection`; ``None`` (ISO's substitute
-    rack) without ``ring_cutter_teeth``, which the other two keys need. A cutter that cannot
-    generate the ring's fillet up to its 60° section (:meth:`jaxgear.ShaperCutterSection.limit`:
-    no cutting mesh, a pointed cutter tooth, its tip rounding's centre below its base circle or
-    inside the cutting pitch circle) is refused in one line naming the key to change, its value
-    and the range of it that does, before any work."""
-    z_ring = abs(ring_pair.gear.teeth)
+def _ring_table(data: dict, case) -> tuple[str, dict]:
+    """The name and the ``[[gears]]`` entry of a planetary stage's ring (its planet-ring mesh's
+    driven gear)."""
+    ring = case.gear_names[case.gears[-1][1]]
+    tables = data.get("gears", [])
+    return ring, next((t for t in tables if isinstance(t, dict) and t.get("name") == ring), {})
+
+
+def ring_cutter(data: dict, case) -> ShaperCutterSection | None:
+    """The ring's pinion-type cutter of a planetary stage as the rating's root section
+    (:class:`jaxgear.ShaperCutterSection`), ``None`` (ISO's substitute rack) without one.
+
+    One source: the ring's ``[[gears]]`` entry, ``cutter_teeth`` (z0, [11, |z_ring| − 10]),
+    ``cutter_profile_shift`` (x0, [−1, 1.5], default 0), ``cutter_tip_radius_coeff``
+    (ρ_a0/m_n, (0, 0.6], default the ring's ``fillet_radius_coeff``), which the Weber stiffness
+    model reads too (:func:`jaxgear.io._planetary_table.gear_cutter`); or their older spelling
+    ``[rating] ring_cutter_teeth``, ``ring_cutter_profile_shift``,
+    ``ring_cutter_tip_radius_coeff`` (same ranges; the other two need ``ring_cutter_teeth``),
+    which then reaches the stiffness model too (:func:`older_ring_cutter`).
+
+    Raises:
+        SchemaError: the cutter in both places (whatever the values), naming a key of each; a
+            bad value; a cutter that cannot generate the ring's fillet up to its 60° section
+            (:meth:`jaxgear.ShaperCutterSection.limit`: no cutting mesh, a pointed cutter
+            tooth, its tip rounding's centre below its base circle or inside the cutting pitch
+            circle), naming the key to change, its value and the range of it that does; one
+            line, before any work.
+    """
+    ring, table = _ring_table(data, case)
+    rt = data.get("rating", {})
+    new = [k for k in CUTTER_KEYS if k in table]
+    old = [k for k in RING_CUTTER_KEYS if k in rt]
+    if new and old:
+        raise sc.SchemaError(
+            f"[rating] {old[0]} = {sc.fmt(rt[old[0]])} and [gears.{ring}] {new[0]} = "
+            f"{sc.fmt(table[new[0]])}: the ring's cutter is given twice; give it once, on the "
+            "ring's [[gears]] entry (cutter_teeth, cutter_profile_shift, "
+            "cutter_tip_radius_coeff; [rating] ring_cutter_* is their older spelling)"
+        )
+    z_ring = abs(case.pairs[-1].gear.teeth)
+    where, prefix = "rating", "ring_cutter_"
+    z0, x0, rho = _older_cutter_values(rt, z_ring)  # (None, None, None) where not given
+    if new:
+        where, prefix = f"gears.{ring}", "cutter_"
+        z0, x0, rho = cutter_values(table, where, z_ring)
+    if z0 is None:
+        return None
+    section = ShaperCutterSection(z0, 0.0 if x0 is None else x0, rho)
+    found = section.limit(InternalRatingGeometry.of(case.pairs[-1]))
+    if found is not None:
+        name, value, problem, allowed = found
+        raise sc.fail(
+            where, f"{prefix}{name}", f"this cutter (z0 = {z0}, x0 = "
+            f"{float(section.profile_shift):g}, rho_a0/m_n = {'the default' if rho is None else rho}"
+            f") cannot generate the ring's fillet: {problem}; allowed {allowed}", value,
+        )
+    return section
+
+
+def _older_cutter_values(rt: dict, z_ring: int) -> tuple:
+    """(z0, x0, ρ_a0/m_n) of ``[rating] ring_cutter_*`` (each ``None`` where not given)."""
     z0 = sc.number(
         rt, "ring_cutter_teeth", "rating", None, allowed=f"[11, {z_ring - 10}]", integer=True,
         note=" (the ring's pinion-type cutter: 11 to the ring's teeth less 10)",
@@ -564,17 +619,22 @@ def _ring_cutter(rt: dict, ring_pair) -> ShaperCutterSection | None:
                 raise sc.fail(
                     "rating", key, "describes the ring's cutter: give ring_cutter_teeth too", v
                 )
+    return z0, x0, rho
+
+
+def older_ring_cutter(data: dict, case):
+    """The ring's cutter given by the older ``[rating] ring_cutter_*`` keys of a planetary
+    stage (gear form), as the stiffness model takes it (a :class:`fem_prep.ShaperCutter`:
+    :meth:`jaxgear.AbstractStiffness.with_ring_cutter`), ``None`` where they are not given
+    (the ring's ``[[gears]]`` entry then gives it, or nothing does). Call it after
+    :func:`check_planetary_rating`, which checks them."""
+    rt = data.get("rating", {})
+    if not case.pairs or "ring_cutter_teeth" not in rt:
         return None
-    section = ShaperCutterSection(z0, 0.0 if x0 is None else x0, rho)
-    found = section.limit(InternalRatingGeometry.of(ring_pair))
-    if found is not None:
-        name, value, problem, allowed = found
-        raise sc.fail(
-            "rating", f"ring_cutter_{name}", f"this cutter (z0 = {z0}, x0 = "
-            f"{float(section.profile_shift):g}, rho_a0/m_n = {'the default' if rho is None else rho}"
-            f") cannot generate the ring's fillet: {problem}; allowed {allowed}", value,
-        )
-    return section
+    import fem_prep  # lazy: SciPy
+
+    z0, x0, rho = _older_cutter_values(rt, abs(case.pairs[-1].gear.teeth))
+    return fem_prep.ShaperCutter(z0, 0.0 if x0 is None else x0, rho)
 
 
 def check_planetary_rating(data: dict, case) -> None:

@@ -118,6 +118,7 @@ from ._rating_table import (
     OPERATING_RATING_KEYS,
     check_planetary_rating,
     check_train_rating,
+    older_ring_cutter,
 )
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 
@@ -426,8 +427,12 @@ def _planetary_case(data: dict, name: str) -> Case:
         ),
     }
     case = parse_planetary(data, base, gears, index)
+    # [rating]: both meshes (ISO 6336, the ring internal), the ring's cutter given once
+    check_planetary_rating(data, case)
+    older = older_ring_cutter(data, case)  # [rating] ring_cutter_*: the stiffness model's too
+    if older is not None:
+        case = case.replace(stiffness=case.stiffness.with_ring_cutter(older))
     check_internal_stiffness(case, "[planetary]")
-    check_planetary_rating(data, case)  # [rating]: both meshes (ISO 6336, the ring internal)
     return case
 
 
