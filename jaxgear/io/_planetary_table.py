@@ -649,9 +649,11 @@ def gear_cutter(table: dict, where: str, member, module_mm, alpha_deg, beta_deg)
     :class:`fem_prep.ShaperCutter` (``None`` without the keys): ``cutter_teeth`` z0 (integer,
     [11, |z| − 10]), ``cutter_profile_shift`` x0 ([−1, 1.5], default 0),
     ``cutter_tip_radius_coeff`` ρ_a0/m_n ((0, 0.6], default the gear's ``fillet_radius_coeff``),
-    the same ranges as ``[rating] ring_cutter_*``. The Weber stiffness model generates the
-    ring's teeth with it (:func:`fem_prep.generate_internal_tooth`), which is tried here: a
-    cutter that cannot cut the ring is refused in one line, before any work.
+    the one place of the ring's cutter in a case file (``[rating] ring_cutter_*``, same
+    ranges, the older spelling). The Weber stiffness model generates the ring's teeth with it
+    (:func:`fem_prep.generate_internal_tooth`), which is tried here: a cutter that cannot cut
+    the ring is refused in one line, before any work; a planetary stage's rating takes its
+    root section from it (:func:`jaxgear.io._rating_table.ring_cutter`).
 
     Raises:
         SchemaError: the keys on an external gear, ``cutter_profile_shift`` or

@@ -62,8 +62,10 @@ a mesh's ``driven`` gear only, its ``driving`` mate an external gear inside it, 
 ``[scene]`` (``jaxgear run`` writes the rigid mesh's quasi-static files, as a pair's), and its
 ``[mesh] stiffness`` must have an internal-gear form (``uniform``, or ``iso6336``, the default
 there, or ``weber`` with the internal gear's cutter: its ``cutter_teeth``,
-``cutter_profile_shift`` and ``cutter_tip_radius_coeff``). A planetary stage names its sun, planet and ring gears in ``[planetary]``
-(jaxgear/io/_planetary_table.py) instead of ``[[meshes]]``.
+``cutter_profile_shift`` and ``cutter_tip_radius_coeff``; ``fe2d``: not yet). A planetary stage
+names its sun, planet and ring gears in ``[planetary]`` (jaxgear/io/_planetary_table.py) instead
+of ``[[meshes]]``; its ring's cutter keys serve the rating too (``[rating] ring_cutter_*``, the
+older spelling, serve the stiffness model too; both refused).
 
 A helical gear may state its ``hand = "right"`` or ``"left"``; by default the input is
 left-handed (a pair case's pinion), a driven gear takes its mate's other hand and a later gear on
