@@ -162,14 +162,16 @@ class PlanetaryTeeth(eqx.Module):
         """(sun tooth, planet tooth) of the contact lines ``line`` (the cells' line indices,
         any shape) of each planet's sun mesh at the mesh travel ``x`` (m), each
         (n_planets, *line.shape)."""
-        arc = (x - self.sun_phases * self.base_pitch).reshape((-1,) + (1,) * jnp.ndim(line))
+        line = jnp.asarray(line)[None]
+        arc = (x - self.sun_phases * self.base_pitch).reshape((-1,) + (1,) * (line.ndim - 1))
         return self.sun_pair_teeth(_pair_index(arc, line, self.base_pitch))
 
     def ring_mesh_teeth(self, x, line) -> tuple[Int[Array, "n ..."], Int[Array, "n ..."]]:
         """(planet tooth, ring tooth) of the contact lines ``line`` of each planet's ring mesh at
         the mesh travel ``x`` (m), each (n_planets, *line.shape)."""
+        line = jnp.asarray(line)[None]
         arc = x + self.ring_offset - self.ring_phases * self.base_pitch
-        arc = arc.reshape((-1,) + (1,) * jnp.ndim(line))
+        arc = arc.reshape((-1,) + (1,) * (line.ndim - 1))
         return self.ring_pair_teeth(_pair_index(arc, line, self.base_pitch))
 
 
