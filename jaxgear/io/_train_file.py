@@ -102,6 +102,7 @@ from ._case_file import (
     parse_torque,
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
+from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
     check_internal_stiffness,
@@ -131,6 +132,7 @@ _TOP_KEYS = {
     "scene",
     "planetary",
     "rating",
+    "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -419,6 +421,13 @@ def _planetary_case(data: dict, name: str) -> Case:
         **planetary_mesh_settings(data, parse_mesh_settings(data, min(modules or [1.0]) * 1e-3)),
     }
     case = parse_planetary(data, base, gears, index)
+    if "deviations" in data:  # per tooth, over the hunting period: the gear form only
+        if not case.pairs:
+            raise sc.fail("", "deviations", "allowed only with [[gears]] (the gear form: the "
+                          "deviations are the gears' teeth)", "[deviations]")
+        devs, settings = parse_planetary_deviations(data["deviations"], case.pairs,
+                                                    case.form.spec.n_planets)
+        case = dataclasses.replace(case, deviations=devs, deviation_settings=settings)
     check_internal_stiffness(case, "[planetary]")
     check_planetary_rating(data, case)  # [rating]: both meshes (ISO 6336, the ring internal)
     return case
@@ -443,6 +452,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "operating", "", op_keys, required=True)
     if is_planetary(data):
         return _planetary_case(data, name)
+    if "deviations" in data:
+        raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
+                      "a planetary stage's with [[gears]])", "[deviations]")
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}
