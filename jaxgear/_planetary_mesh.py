@@ -255,7 +255,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         sun_mesh: the sun–planet mesh (pinion: the sun). ring_mesh: the planet–ring mesh
             (pinion: the planet). Both must have the same base pitch.
         sun_modifications, ring_modifications: their flank modifications (no per-tooth
-            deviations: the planets' tooth indices are not tracked).
+            deviations: a pair's deviations do not follow the stage's teeth; the stage's
+            are :class:`~jaxgear.DeviationMeshes`).
         sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
             (:func:`~jaxgear.mesh_phases`).
         ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
@@ -284,8 +285,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             check_instance(name, mods, Modifications, "a jaxgear.Modifications", "ContactMeshes")
             if mods.deviations is not None:
                 raise ValueError(
-                    f"ContactMeshes: {name}.deviations is set: per-tooth deviations are not "
-                    "modelled in a planetary stage (allowed None)"
+                    f"ContactMeshes: {name}.deviations is set: a pair's deviations do not "
+                    "follow a stage's teeth (allowed None; jaxgear.DeviationMeshes takes "
+                    "every sun, planet and ring tooth's)"
                 )
         if self.sun_mesh.coast or self.ring_mesh.coast:
             raise ValueError("ContactMeshes: coast flanks are not modelled (allowed coast=False)")

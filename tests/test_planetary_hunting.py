@@ -393,3 +393,121 @@ def test_bad_inputs_are_one_line(seq):
             make()
         msg = str(err.value)
         assert words in msg and "\n" not in msg, msg
+
+
+EXAMPLE = "examples/planetary-hunting.toml"
+
+
+def _example():
+    import pathlib
+    import tomllib
+
+    root = pathlib.Path(__file__).resolve().parent.parent
+    return tomllib.loads((root / EXAMPLE).read_text("utf-8")), root
+
+
+def test_case_keys_draw_every_member_in_order_and_refuse_in_one_line():
+    """examples/planetary-hunting.toml: class 6 drawn with default_rng(1) in the order sun,
+    planet 1, 2, 3, ring (each from its own ISO 1328-1 tolerances, redrawn here), planet 2's
+    pitch deviations replaced by the file's, no runout (the stage's); revolutions "hunting" is
+    17119 mesh periods (901 sun turns); bad keys and values are one line naming them."""
+    import copy
+
+    import jaxgear.io as jio
+
+    data, _ = _example()
+    case = jio.parse_train(copy.deepcopy(data))
+    devs, st = case.deviations, case.deviation_settings
+    assert isinstance(devs, jg.PlanetaryDeviations)
+    assert st["mesh_periods"] == 2 * Z_S and st["hunting_periods"] == 17119
+    rng = np.random.default_rng(1)
+    sp = case.pairs[0]
+    for member, z in ((devs.sun, Z_S), *((devs.planet(i), Z_P) for i in range(3)),
+                      (devs.ring, Z_R)):
+        tol = jg.iso1328_tolerances(3e-3, z * 3e-3, 0.03, 6)
+        want = jg.sample_gear_deviations(rng, z, tol)
+        assert float(member.runout) == 0.0
+        for name in ("profile_slope", "profile_form", "helix_slope", "helix_form"):
+            np.testing.assert_allclose(getattr(member, name), getattr(want, name), rtol=1e-12)
+        if member is not devs.planet(1):
+            np.testing.assert_allclose(member.single_pitch, want.single_pitch, rtol=1e-12)
+    given = np.zeros(Z_P)
+    given[5], given[6] = 4e-6, -4e-6
+    np.testing.assert_allclose(devs.planet(1).single_pitch, given, atol=1e-18)
+    assert float(sp.transverse_pressure_angle) == float(devs.sun.reference_pressure_angle)
+    hunting = copy.deepcopy(data)
+    hunting["deviations"]["revolutions"] = "hunting"
+    st = jio.parse_train(hunting).deviation_settings
+    assert (st["revolutions_count"], st["mesh_periods"]) == (901, 17119)
+
+    def bad(change, words):
+        d = copy.deepcopy(data)
+        change(d)
+        with pytest.raises(ValueError) as err:
+            jio.parse_train(d)
+        msg = str(err.value)
+        assert all(w in msg for w in words) and "\n" not in msg, msg
+
+    bad(lambda d: d["deviations"].update(planet_4={}), ["planet_4", "allowed"])
+    bad(lambda d: d["deviations"]["planet_2"].update(runout_um=5.0),
+        ["[deviations.planet_2] runout_um", "planet_runout_um"])
+    bad(lambda d: d["deviations"]["planet_2"].update(pitch_um=[1.0] * Z_P), ["sum to 17"])
+    bad(lambda d: d["deviations"].update(sun={"pitch_um": [0.0] * 18}), ["pitch_um"])
+    bad(lambda d: d["deviations"].update(revolutions="hunting", positions_per_pitch=64),
+        ["revolutions", "allowed <= 400000"])
+    bad(lambda d: d["deviations"].update(revolutions=0), ["revolutions = 0"])
+
+
+def test_deviations_refused_in_a_train_and_in_the_lumped_form():
+    """[deviations] in a gear train's file and in a planetary stage given in the lumped form
+    (no teeth): one line each, before any work."""
+    import tomllib
+
+    import jaxgear.io as jio
+
+    for name, words in (("accessory-idler-train", "not in a gear train's case"),
+                        ("lin-parker-1999", "allowed only with [[gears]]")):
+        data = tomllib.loads(jio.embedded_case_text(name))
+        data["deviations"] = {"grade": 6}
+        with pytest.raises(ValueError) as err:
+            jio.parse_train(data)
+        msg = str(err.value)
+        assert "[deviations]" in msg and words in msg and "\n" not in msg, msg
+
+
+@pytest.mark.slow
+def test_jaxgear_run_writes_the_hunting_span(tmp_path, capsys):
+    """``jaxgear run`` on examples/planetary-hunting.toml: hunting.csv and hunting.png, the
+    summary's span (2 sun turns = 38 mesh periods at 4 positions, of a hunting period of
+    17119), K_gamma over it equal to the planar solve of the stage with the case's deviations
+    written here from the public API, the printed line."""
+    import json
+
+    import jaxgear.io as jio
+    from jaxgear.cli import main
+
+    _, root = _example()
+    out = tmp_path / "run"
+    assert main(["run", str(root / EXAMPLE), "--out", str(out), "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "deviations per tooth (grade 6, seed 1): 38 mesh periods" in printed
+    h = json.loads((out / "summary.json").read_text())["hunting"]
+    assert (h["mesh_periods"], h["hunting_periods"], h["positions"]) == (38, 17119, 152)
+    assert h["unconverged_positions"] == 0 and (out / "hunting.png").stat().st_size > 0
+    table = np.genfromtxt(out / "hunting.csv", delimiter=",", names=True)
+    case = jio.load_case(str(root / EXAMPLE))
+    spec = case.form.spec
+    geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
+    contact = spec.dynamic_meshes(case, 1)
+    meshes = jg.DeviationMeshes(contact, jg.PlanetaryTeeth.from_geometry(
+        geo, np.asarray(spec.planet_angles)), case.deviations)
+    x = np.asarray(contact.positions(4, 38))
+    r = jg.planetary_quasi_static(jg.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
+                                  meshes, np.asarray(abs(spec.torques(case.torque)["sun"])), x,
+                                  np.asarray(spec.tangential_pin_errors),
+                                  np.asarray(spec.radial_pin_errors))
+    np.testing.assert_allclose(table["mesh_travel_m"], x, rtol=1e-10)  # the CSV: 12 digits
+    np.testing.assert_allclose(table["k_gamma"], r.k_gamma, rtol=1e-9)
+    np.testing.assert_allclose(table["ring_te_m_planet_2"], r.ring_te[:, 1], rtol=1e-9,
+                               atol=1e-15)
+    assert h["k_gamma_max"] == pytest.approx(float(np.max(r.k_gamma)), rel=1e-12)
