@@ -210,7 +210,7 @@ class PlanetaryDeviations(eqx.Module):
             check_instance(name, g, GearDeviations, allowed, "PlanetaryDeviations")
             try:
                 runout = float(g.runout)
-            except (TypeError, Exception):  # traced: not known here
+            except (TypeError, jax.errors.ConcretizationTypeError):  # traced: not known here
                 continue
             if runout != 0.0:
                 raise ValueError(

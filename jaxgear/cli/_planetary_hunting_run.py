@@ -37,7 +37,7 @@ def hunting_section(case, spec, stage, out: str) -> dict:
         ``summary.json``'s ``hunting``: the settings, the span (mesh periods, sun turns relative
         to the carrier, carrier turns relative to the fixed member), K_γ over the span (max,
         mean) and per planet its largest sun-mesh force, each mesh's TE peak-to-peak and rms,
-        the values used per member (µm), the ISO tolerances of the grade.
+        the values used per member (µm), the ISO tolerances of the grade (None without).
     """
     st = case.deviation_settings
     ppp, periods = st["positions_per_pitch"], st["mesh_periods"]
@@ -116,9 +116,8 @@ def hunting_section(case, spec, stage, out: str) -> dict:
         "ring_te_rms_m": rms(te_r),
         "values": values,
         "files": "hunting.csv, hunting.png",
+        "tolerances_um": st.get("tolerances_um"),  # the grade's (None without one)
     }
-    if "tolerances_um" in st:
-        out_d["tolerances_um"] = st["tolerances_um"]
     return out_d
 
 

@@ -26,6 +26,8 @@ __all__ = ["MAX_STAGE_POSITIONS", "parse_planetary_deviations"]
 MAX_STAGE_POSITIONS = 400_000
 #: a member's keys: the pair's, without the runout (the stage's eccentricities carry it)
 STAGE_MEMBER_KEYS = _DEV_MEMBER_KEYS - {"runout_um", "runout_phase_deg"}
+#: where a member's runout goes instead ([planetary]; a planet's: planet_runout_um)
+RUNOUT_KEYS = {"sun": "sun_eccentricity_um", "ring": "ring_eccentricity_um"}
 
 
 def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[PlanetaryDeviations,
@@ -100,9 +102,9 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
     for tag, member, z in members:
         for key in ("runout_um", "runout_phase_deg"):
             if isinstance(table.get(tag), dict) and key in table[tag]:
-                own = "planet_runout_um" if tag.startswith("planet") else f"{tag}_eccentricity_um"
                 raise sc.fail(f"deviations.{tag}", key, "not here in a planetary stage (allowed: "
-                              f"the stage's runout, [planetary] {own})", table[tag][key])
+                              "the stage's runout, [planetary] "
+                              f"{RUNOUT_KEYS.get(tag, 'planet_runout_um')})", table[tag][key])
         spec = sc.subtable(table, tag, "deviations", STAGE_MEMBER_KEYS)
         kw: dict[str, Any] = {}
         if grade is not None:
