@@ -31,6 +31,7 @@ fixed, H / z_s. The planet count does not enter: each planet's teeth are tracked
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -272,6 +273,7 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     contact: ContactMeshes
     teeth: PlanetaryTeeth
     deviations: PlanetaryDeviations
+    one_period: ClassVar[bool] = False  # the teeth change from one mesh period to the next
 
     def __check_init__(self):
         check_instance("contact", self.contact, ContactMeshes, "a jaxgear.ContactMeshes",

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import abc
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -123,8 +124,11 @@ class AbstractPlanetaryMeshes(eqx.Module):
     """How the 2N meshes of a stage are represented: contact cells at each mesh travel x (m).
 
     The cells are ordered mesh after mesh: the N sun–planet meshes (planets 1..N), then the N
-    ring–planet meshes.
+    ring–planet meshes. ``one_period`` (class constant): whether the cells repeat every mesh
+    period (what the dynamics assume, laying out one period's rows).
     """
+
+    one_period: ClassVar[bool] = True
 
     @abc.abstractmethod
     def cell_row(self, model, stage, x, offsets) -> CellRow:

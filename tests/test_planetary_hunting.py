@@ -12,6 +12,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxgear as jg
+import jaxgear.dynamics as jd
 from _planetary_stage import K0, SEQ, geometry, rigid_path_forces, stage
 
 jax.config.update("jax_enable_x64", True)
@@ -387,6 +388,11 @@ def test_bad_inputs_are_one_line(seq):
          "ring.runout"),
         (lambda: jg.PlanetaryDeviations(sun=np.zeros(19)), "sun"),
         (lambda: jg.planetary_hunting_periods(19, 0, 53), "z_planet"),
+        # the dynamics lay out one mesh period's cells: refused, not repeated silently
+        (lambda: jd.planetary_dynamics(
+            jg.TorsionalPlanetary(), st, jg.DeviationMeshes(contact, teeth, _deviations()),
+            jd.PlanetaryRun(TORQUE, steps_per_period=8, periods=2, keep_periods=1),
+            jax.numpy.asarray(60.0)), "change from one mesh period to the next"),
     ]
     for make, words in cases:
         with pytest.raises(ValueError) as err:
