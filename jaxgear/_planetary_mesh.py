@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import abc
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -82,9 +83,15 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
     """
     check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
                    "sun_ring_offset")
+    return float(np.mod(sun_ring_travel(geometry), float(geometry.planet_ring.base_pitch)))
+
+
+def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
+    """Delta_rs before its reduction modulo p_b (m): for one planet tooth, how far its contact
+    line on the ring mesh runs ahead of its contact line on the sun mesh (exact modulo a planet
+    turn, z_p p_b: the tooth bookkeeping of :class:`~jaxgear.PlanetaryTeeth`)."""
     sp, pr = geometry.sun_planet, geometry.planet_ring
     r_bp = float(pr.base_radii[0])
-    p_b = float(pr.base_pitch)
     s_bp = float(sp.base_thickness[1])
     a_s, a_r = float(sp.operating_pressure_angle), float(pr.operating_pressure_angle)
     delta = (
@@ -95,7 +102,7 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
         - float(pr.start_roll)
         - float(geometry.center_distance) * math.sin(a_s)
     )
-    return float(np.mod(delta, p_b))
+    return float(delta)
 
 
 def structure_stiffness(model: AbstractPlanetaryModel, stage: PlanetaryStage):
@@ -117,8 +124,11 @@ class AbstractPlanetaryMeshes(eqx.Module):
     """How the 2N meshes of a stage are represented: contact cells at each mesh travel x (m).
 
     The cells are ordered mesh after mesh: the N sun–planet meshes (planets 1..N), then the N
-    ring–planet meshes.
+    ring–planet meshes. ``one_period`` (class constant): whether the cells repeat every mesh
+    period (what the dynamics assume, laying out one period's rows).
     """
+
+    one_period: ClassVar[bool] = True
 
     @abc.abstractmethod
     def cell_row(self, model, stage, x, offsets) -> CellRow:
@@ -149,6 +159,13 @@ class AbstractPlanetaryMeshes(eqx.Module):
         the stage axis), (c,), and each mesh's face width (m), (2N,); None where the kind does
         not place its cells across the face (then no face load factor is reported)."""
         return None
+
+    def te_offsets(self, stage, x) -> tuple[Array, Array]:
+        """(o_s, o_r): what each mesh's transmission error leaves out at the mesh travel ``x``
+        (m, transverse, (n_planets,) each): 0 here; the per-tooth deviations' material on the
+        teeth in contact for :class:`~jaxgear.DeviationMeshes` (the pair's TE less max e)."""
+        zero = jnp.zeros((stage.n_planets,), jnp.result_type(x, float))
+        return zero, zero
 
     def positions(self, per_period: int, periods: int = 1) -> Float[Array, " p"]:
         """Mesh travels x (m) at the mid-points of ``per_period`` equal steps per mesh period,
@@ -242,7 +259,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         sun_mesh: the sun–planet mesh (pinion: the sun). ring_mesh: the planet–ring mesh
             (pinion: the planet). Both must have the same base pitch.
         sun_modifications, ring_modifications: their flank modifications (no per-tooth
-            deviations: the planets' tooth indices are not tracked).
+            deviations: a pair's deviations do not follow the stage's teeth; the stage's
+            are :class:`~jaxgear.DeviationMeshes`).
         sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
             (:func:`~jaxgear.mesh_phases`).
         ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
@@ -271,8 +289,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             check_instance(name, mods, Modifications, "a jaxgear.Modifications", "ContactMeshes")
             if mods.deviations is not None:
                 raise ValueError(
-                    f"ContactMeshes: {name}.deviations is set: per-tooth deviations are not "
-                    "modelled in a planetary stage (allowed None)"
+                    f"ContactMeshes: {name}.deviations is set: a pair's deviations do not "
+                    "follow a stage's teeth (allowed None; jaxgear.DeviationMeshes takes "
+                    "every sun, planet and ring tooth's)"
                 )
         if self.sun_mesh.coast or self.ring_mesh.coast:
             raise ValueError("ContactMeshes: coast flanks are not modelled (allowed coast=False)")
@@ -411,7 +430,9 @@ class PlanetaryQuasiStatic(eqx.Module):
             compression positive), (p, n_planets).
         sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
             compression positive, the pin errors' offsets d included; mid-face, the 3D model's
-            normal deflection over cos beta_b), (p, n_planets).
+            normal deflection over cos beta_b), (p, n_planets); with per-tooth deviations
+            (:class:`~jaxgear.DeviationMeshes`) less their largest material on the cells in
+            contact over cos beta_b, as a pair's TE (u X - max e) / cos beta_b.
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
         result: the contact solver's code at each position (0: converged), (p,).
@@ -575,7 +596,8 @@ def planetary_quasi_static(
         w = jnp.zeros(n, sol.x.dtype) if sol.x.shape[0] == n_dof else sol.x[n_dof:]
         moments = (jnp.zeros(0, forces.dtype) if face is None
                    else meshes.mesh_forces(cell_forces * face[0]))
-        return sol.x[:n_dof], forces, sol.result, w, d_sx, d_rx, moments
+        o_s, o_r = meshes.te_offsets(stage, x)  # material on the teeth in contact (0: none)
+        return sol.x[:n_dof], forces, sol.result, w, d_sx - o_s, d_rx - o_r, moments
 
     q, forces, result, w, d_s, d_r, moments = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]

@@ -8,7 +8,8 @@ planet–ring meshes of one planet: the other planets' are the same up to phase)
 
 Files (atomically, into the run's folder): ``summary.json``, ``modes.json``, ``campbell.png``
 and, with gears, ``mesh_<sun>-<planet>.csv`` and ``mesh_<planet>-<ring>.csv`` (TE and mesh
-stiffness over two mesh periods).
+stiffness over two mesh periods); with ``[deviations]``, ``hunting.csv`` and ``hunting.png``
+(K_γ and every mesh's TE with the deviations of every tooth over the hunting period).
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ from ._planetary_rating import (
     rating_k_gamma,
     rating_section,
 )
+from ._planetary_hunting_run import hunting_line, hunting_section
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
@@ -182,6 +184,8 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
     if spec.ring_model.flexible:
         summary["ring"] = ring_section(case, spec, stage, out)
+    if case.deviations is not None:  # [deviations]: every tooth's, over the hunting period
+        summary["hunting"] = hunting_section(case, spec, stage, out)
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
@@ -615,6 +619,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
             f"{r['ring_deflection_max_m'] * 1e6:.3g} µm; {low}; {len(r['resonances'])} "
             "ND crossings with the planets' mesh harmonics (ring.vtu, ring_campbell.png)"
         )
+    if summary.get("hunting") is not None:
+        lines.append(hunting_line(summary["hunting"]))
     rt = summary.get("rating")
     if rt is not None:
         lines.append(

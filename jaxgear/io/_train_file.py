@@ -103,6 +103,7 @@ from ._case_file import (
     parse_torque,
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
+from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
     CUTTER_KEYS,
@@ -134,6 +135,7 @@ _TOP_KEYS = {
     "scene",
     "planetary",
     "rating",
+    "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -426,6 +428,13 @@ def _planetary_case(data: dict, name: str) -> Case:
         ),
     }
     case = parse_planetary(data, base, gears, index)
+    if "deviations" in data:  # per tooth, over the hunting period: the gear form only
+        if not case.pairs:
+            raise sc.fail("", "deviations", "allowed only with [[gears]] (the gear form: the "
+                          "deviations are the gears' teeth)", "[deviations]")
+        devs, settings = parse_planetary_deviations(data["deviations"], case.pairs,
+                                                    case.form.spec.n_planets)
+        case = dataclasses.replace(case, deviations=devs, deviation_settings=settings)
     check_internal_stiffness(case, "[planetary]")
     check_planetary_rating(data, case)  # [rating]: both meshes (ISO 6336, the ring internal)
     return case
@@ -450,6 +459,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "operating", "", op_keys, required=True)
     if is_planetary(data):
         return _planetary_case(data, name)
+    if "deviations" in data:
+        raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
+                      "a planetary stage's with [[gears]])", "[deviations]")
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}
