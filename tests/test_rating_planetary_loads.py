@@ -179,10 +179,11 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
     """nrel-5mw-planetary (2 slices and 16 positions, and (slow) the run's resolution: 40
     slices, 32 positions; the real FE tables):
     the sun's and the planet's largest FE root stress in the sun/planet mesh, the planet's in the
-    planet/ring mesh, each below ISO's sigma_F0 by 1 to 20 % (docs/rating.md: the FE is below
-    ISO's by 1 to 18 % on spur teeth; 3 planets and a floating sun share equally, K_gamma 1,
-    and the unmodified spur meshes share evenly between pairs, K_Halpha 1), the ring's not
-    computed (None) with its plot panel saying so; root_stress_map_<mesh>.png written."""
+    planet/ring mesh, FE/ISO sigma_F0 in (0.8, 1): the band docs/rating.md gives and
+    tests/test_rating_examples.py asserts for a pair's map (the FE below ISO's by 1 to 18 % on
+    spur teeth; here 3 planets and a floating sun share equally, K_gamma 1, and the unmodified
+    spur meshes share evenly between pairs, K_Halpha 1, so the map is at ISO's load); the
+    ring's not computed (None); root_stress_map_<mesh>.png written."""
     from jaxgear.cli.planetary import measured_k_h_alpha, rating_section
 
     case = jio.load_case("nrel-5mw-planetary")
@@ -195,7 +196,7 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
         sec = rating_section(case, str(tmp_path), 1.0, loads=loads)
     rs = sec["root_stress"]
     ratios = [rs["fe_over_iso"][0][0], rs["fe_over_iso"][0][1], rs["fe_over_iso"][1][0]]
-    assert all(0.80 < r < 0.99 for r in ratios), ratios
+    assert all(0.8 < r < 1.0 for r in ratios), ratios
     assert rs["max_Pa"][1][1] is None and rs["fe_over_iso"][1][1] is None
     for k, name in enumerate(sec["meshes"]):
         assert rs["file"][k] == f"root_stress_map_{name}.png"

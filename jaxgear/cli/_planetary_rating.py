@@ -172,8 +172,8 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
                       CaseWarning, stacklevel=2)
         return None
     kinds = []
-    for (cells, _), w in zip(jax.vmap(meshes.planet_cells)(x),
-                             meshes.split_cells(q.cell_line_load), strict=True):
+    for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(q.cell_line_load),
+                             strict=True):
         w, s, z, m = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask))
         kinds.append(tuple(MeshLoads(w[:, i], s[:, i], z[:, i], m[:, i])
                            for i in range(spec.n_planets)))
@@ -182,6 +182,13 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
     return StageLoads(tuple(kinds), forces, source)
+
+
+@eqx.filter_jit
+def _planet_cells(meshes, x):
+    """:meth:`jaxgear.ContactMeshes.planet_cells` at every travel of ``x`` (one compiled
+    program: eagerly, its vmap costs seconds of dispatch)."""
+    return jax.vmap(meshes.planet_cells)(x)
 
 
 def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
