@@ -146,9 +146,10 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
     (:class:`jaxgear.ContactMeshes` of :meth:`jaxgear.io.PlanetarySpec.dynamic_meshes`: the
     case's ``[mesh]`` stiffness model, slices and positions per pitch, each pair's
     modifications, the planets phased; each mesh the model its pair case builds,
-    :meth:`jaxgear.io.Case.mesh_model`: the stiffness table at the mean planet load), with the load-sharing model whose K_γ the rating takes
-    (of ``models``, {name: model}: the last of :data:`K_GAMMA_SOURCES` present, as
-    :func:`rating_k_gamma`), on the load-sharing stage (the sun loaded by its torque, ring and
+    :meth:`jaxgear.io.Case.mesh_model`: the stiffness table at the mean planet load), with the
+    load-sharing model whose K_γ the rating takes (of ``models``, {name: model}: the last of
+    :data:`K_GAMMA_SOURCES` present, as :func:`rating_k_gamma`; the ring rigid, as there), on
+    the load-sharing stage (the sun loaded by its torque, ring and
     carrier held) with the case's pin errors and eccentricities, exact contact
     (:func:`jaxgear.planetary_quasi_static`): each planet's sun/planet and planet/ring cell
     loads. None for a stage without gears, or (with a one-line ``CaseWarning``) where the
