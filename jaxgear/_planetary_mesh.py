@@ -32,7 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._baseplane import CellRow, MeshModel
+from ._baseplane import CellRow, Cells, MeshModel
 from ._contact import AbstractContactLaw, ExactContact, solve_contact
 from ._internal import PlanetaryGeometry
 from ._modifications import Modifications
@@ -352,13 +352,40 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         return k[:, :n], k[:, n:]
 
     def mesh_forces(self, forces):
-        c_s = self.sun_mesh.n_lines * self.sun_mesh.n_slices
-        c_r = self.ring_mesh.n_lines * self.ring_mesh.n_slices
-        n = self.sun_phases.shape[0]
-        lead = forces.shape[:-1]
-        f_s = forces[..., : n * c_s].reshape(lead + (n, c_s)).sum(-1)
-        f_r = forces[..., n * c_s :].reshape(lead + (n, c_r)).sum(-1)
+        f_s, f_r = (f.sum(axis=(-2, -1)) for f in self.split_cells(forces))
         return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
+
+    def split_cells(self, values) -> tuple[Array, Array]:
+        """A per-cell array of the stage's cell rows (..., c) (:meth:`cell_row`'s order: every
+        planet's sun-mesh cells, then every planet's ring-mesh cells, each mesh's
+        (n_lines, n_slices) read row by row; e.g. :attr:`PlanetaryQuasiStatic.cell_line_load`)
+        split into the sun meshes' (..., n_planets, n_lines, n_slices) and the ring meshes'."""
+        n = self.sun_phases.shape[0]
+        c_s = n * self.sun_mesh.n_lines * self.sun_mesh.n_slices
+        lead = values.shape[:-1]
+        return tuple(
+            part.reshape(lead + (n, mesh.n_lines, mesh.n_slices))
+            for part, mesh in ((values[..., :c_s], self.sun_mesh),
+                               (values[..., c_s:], self.ring_mesh))
+        )
+
+    def planet_cells(self, x) -> tuple[tuple[Cells, Array], tuple[Cells, Array]]:
+        """Every planet's cells at the mesh travel ``x`` (m, a scalar): ((cells, δ0) of the sun
+        meshes, (cells, δ0) of the ring meshes), each field of shape (n_planets, n_lines,
+        n_slices): each pair's :class:`~jaxgear.Cells` at the planet's mesh angle (module
+        docstring: the phases gamma_sn, gamma_rn and the sun–ring offset) with its
+        modifications' initial separation δ0 (m)."""
+        p_b = self.sun_mesh.base_pitch
+        t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
+        t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
+        out = []
+        for mesh, mods, theta in ((self.sun_mesh, self.sun_modifications, t_s),
+                                  (self.ring_mesh, self.ring_modifications, t_r)):
+            cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
+                theta
+            )
+            out.append((cells, delta0))
+        return tuple(out)
 
     def face_positions(self, stage):
         z = []
@@ -372,9 +399,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         return jnp.concatenate(z), b
 
     def cell_row(self, model, stage, x, offsets):
-        p_b = self.sun_mesh.base_pitch
-        t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
-        t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
+        (cells_s, d0_s), (cells_r, d0_r) = self.planet_cells(x)
         # the transverse deflection at each cell's contact point (the cells' z runs along the
         # stage axis from the face's side at z = 0, against it for left-hand planets; their s
         # along the path of contact): (V + (z - b/2) W + (s - s_pitch) X) q
@@ -382,14 +407,10 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
         parts = []
-        for mesh, mods, theta, (v, w), x_line, pitch, d in (
-            (self.sun_mesh, self.sun_modifications, t_s, rows_s, x_s, self.pitch_points[0], d_s),
-            (self.ring_mesh, self.ring_modifications, t_r, rows_r, x_r, self.pitch_points[1],
-             d_r),
+        for mesh, cells, delta0, (v, w), x_line, pitch, d in (
+            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s),
+            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r),
         ):
-            cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
-                theta
-            )
             cb = jnp.cos(mesh.base_helix_angle)
             # (n_lines, n_slices), every planet's; mirrored for left-hand planets
             across = _hand(stage) * (cells.z[0] - 0.5 * mesh.face_width)
@@ -443,6 +464,10 @@ class PlanetaryQuasiStatic(eqx.Module):
             axis), (p, 2N): sun meshes, then ring meshes; None where the meshes kind does not
             place its cells across the face. face_widths: the meshes' face widths b (m), (2N,)
             (None with it).
+        cell_line_load: each cell's line load (N/m, the contact solution's force per unit
+            contact length, 0 off contact), (p, c) in the order of the meshes kind's cell rows
+            (:class:`ContactMeshes`: split per mesh and planet by
+            :meth:`ContactMeshes.split_cells`, placed by :meth:`ContactMeshes.planet_cells`).
     """
 
     travel: Float[Array, " p"]
@@ -456,6 +481,7 @@ class PlanetaryQuasiStatic(eqx.Module):
     ring_deflection: Float[Array, "p n"] | None = None
     face_moments: Float[Array, "p 2n"] | None = None
     face_widths: Float[Array, " 2n"] | None = None
+    cell_line_load: Float[Array, "p c"] | None = None
 
     @property
     def k_h_beta(self) -> Float[Array, " 2n"] | None:
@@ -597,9 +623,10 @@ def planetary_quasi_static(
         moments = (jnp.zeros(0, forces.dtype) if face is None
                    else meshes.mesh_forces(cell_forces * face[0]))
         o_s, o_r = meshes.te_offsets(stage, x)  # material on the teeth in contact (0: none)
-        return sol.x[:n_dof], forces, sol.result, w, d_sx - o_s, d_rx - o_r, moments
+        return (sol.x[:n_dof], forces, sol.result, w, d_sx - o_s, d_rx - o_r, moments,
+                sol.force_density)
 
-    q, forces, result, w, d_s, d_r, moments = jax.vmap(one)(as_float(positions))
+    q, forces, result, w, d_s, d_r, moments, loads = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]
     return PlanetaryQuasiStatic(
         travel=as_float(positions),
@@ -613,6 +640,7 @@ def planetary_quasi_static(
         ring_deflection=w,
         face_moments=None if face is None else moments,
         face_widths=None if face is None else face[1],
+        cell_line_load=loads,
     )
 
 

@@ -39,15 +39,18 @@ from .. import (
     quasi_static,
     ring_resonances,
 )
-from ..io import write_csv, write_json
+from ..io import ratings_of, write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._rating_report import RATE  # the compiled rating (tests use the run's program)
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
+    measured_k_h_alpha,
     rating_k_gamma,
     rating_section,
+    stage_loads,
+    stage_root_stress,
 )
 from ._planetary_hunting_run import hunting_line, hunting_section
 from ._summary import environment_summary, mesh_settings_summary, result_summary
@@ -61,6 +64,7 @@ __all__ = [
     "campbell_section",
     "face_load_section",
     "lowest_frequency",
+    "measured_k_h_alpha",
     "mesh_sections",
     "mode_list",
     "mode_models",
@@ -77,6 +81,8 @@ __all__ = [
     "sharing_models",
     "sharing_summary",
     "spatial_model",
+    "stage_loads",
+    "stage_root_stress",
     "turn_sharing",
     "unbalance_summary",
     "type_counts",
@@ -139,6 +145,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     speeds = spec.speeds(case.speed)
     torques = spec.torques(case.torque)
     k_s, k_r = (float(np.max(np.asarray(k))) for k in stage.mesh_stiffnesses())
+    models = sharing_models(spec, stage)
     summary = {
         "case": case.name,
         "complete": bool(complete),
@@ -166,7 +173,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
             },
         },
         "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
-        "load_sharing": sharing_summary(spec, stage, torques, sharing_models(spec, stage)),
+        "load_sharing": sharing_summary(spec, stage, torques, models),
         "mesh_phases": phases_summary(spec),
     }
     if spec.unbalanced:
@@ -189,8 +196,9 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
+    loads = None if ratings_of(case) is None else stage_loads(case, spec, stage, models)
     rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
-                            face_load=summary.get("face_load"))
+                            face_load=summary.get("face_load"), loads=loads)
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
