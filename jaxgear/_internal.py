@@ -451,7 +451,6 @@ class InternalGearPair:
         }
 
 
-@relative_radius.register
 def internal_tooth_geometry(pair: InternalGearPair, cutter=None):
     """The ring's :class:`fem_prep.InternalToothGeometry` of ``pair`` (its gear member), with the
     generating ``cutter`` (a :class:`fem_prep.ShaperCutter` or ``None``): the one place that
@@ -480,6 +479,7 @@ def internal_tooth_geometry(pair: InternalGearPair, cutter=None):
         raise ValueError(f"gear.{err}") from None
 
 
+@relative_radius.register
 def _internal_relative_radius(pair: InternalGearPair, s):
     """The concave ring flank: R = ρ1 ρ2/(ρ2 − ρ1) (relative curvature 1/ρ1 − 1/ρ2) in the
     normal plane, ρ1 = (ρ_A + s)/cos β_b, ρ2 = (ρ_A + s + a_w sin α_wt)/cos β_b."""
