@@ -97,6 +97,7 @@ from ._ring_stations import (
     ring_station_mass as ring_station_mass,
     ring_stations as ring_stations,
 )
+from ._internal_fe import DEFAULT_RING_DEPTH as DEFAULT_RING_DEPTH  # registers the ring's FE
 from ._root_stress import (
     ClampedBore as ClampedBore,
     FilletInfluence as FilletInfluence,
@@ -134,6 +135,9 @@ from ._tooth_fe import (
 )
 from ._tooth_profile import (
     CircularFillet as CircularFillet,
+    FilletForm as FilletForm,
+    InternalCircularFillet as InternalCircularFillet,
+    InternalToothProfile as InternalToothProfile,
     ToothProfile as ToothProfile,
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
