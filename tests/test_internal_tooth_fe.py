@@ -14,6 +14,7 @@ is more compliant, the tooth-only part does not depend on it; (f) the fillet str
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -280,3 +281,30 @@ def test_fe2d_ring_rim_thickness_and_bad_rim(cache):
         fem_prep.tooth_compliance(g, rim_radius=0.9 * g.root_radius)
     with pytest.raises(ValueError, match="support"):
         fem_prep.tooth_compliance(g, support="clamped")
+
+
+def test_ring_root_stress_map_of_cell_loads():
+    """jaxgear.root_stress_map on the ring (member 1) of an internal pair: each loaded cell's
+    stress is its line load times the ring's unit-load fillet peak at the cell's ring roll
+    distance ρ2 = √(r² − r_b2²) of the contact radius (computed here from the geometry, not from
+    roll_distance), interpolated in the fem_prep table; cells off the flank carry none."""
+    pair = _pair()
+    ring = jg.internal_tooth_geometry(pair)
+    prof = fem_prep.tooth_profile(ring)
+    radii = np.linspace(prof.tip_radius, prof.form_radius, 5)
+    table = fem_prep.fillet_influence(ring, radii, size=3e-3 / 4)
+    sc = np.linspace(0.0, pair.path_of_contact, 12).reshape(3, 2, 2)
+    mask = np.ones(sc.shape, bool)
+    mask[0, 0, 0] = False
+    cells = SimpleNamespace(
+        line_load=np.full(sc.shape, 2e5), cell_s=sc, cell_z=np.zeros(sc.shape), cell_mask=mask
+    )
+    smap = jg.root_stress_map(pair, cells, 1, table.roll, table.peak)
+    rho1 = pair.start_roll + sc
+    r2 = np.hypot(rho1 + pair.center_distance * math.sin(pair.operating_pressure_angle),
+                  pair.base_radii[1])
+    rho2 = np.sqrt(r2**2 - pair.base_radii[1] ** 2)
+    expect = np.where(mask, 2e5 * np.interp(rho2, table.roll, table.peak), 0.0)
+    assert table.roll[0] <= rho2.min() and rho2.max() <= table.roll[-1]
+    np.testing.assert_allclose(np.asarray(smap.stress), expect, rtol=1e-6)
+    assert float(smap.max) == pytest.approx(expect.max(), rel=1e-6)
