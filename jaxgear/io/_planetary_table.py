@@ -577,7 +577,7 @@ def _geometry(t: dict, gears: dict):
 
 def check_internal_stiffness(case: Case, where: str) -> None:
     """The ``[mesh]`` stiffness model must have an internal-gear form when a mesh is internal
-    (``uniform`` or ``iso6336``), refused in one line before any work."""
+    (``uniform``, ``iso6336`` or ``fe2d``), refused in one line before any work."""
     if (
         any(isinstance(p, InternalGearPair) for p in case.pairs)
         and not case.stiffness.internal_teeth
@@ -586,7 +586,7 @@ def check_internal_stiffness(case: Case, where: str) -> None:
             "mesh",
             "stiffness",
             f"{case.stiffness.name!r} has no internal-gear form ({where} has an internal gear); "
-            "allowed 'uniform' or 'iso6336'",
+            "allowed 'uniform', 'iso6336' or 'fe2d'",
             case.stiffness.name,
         )
 
