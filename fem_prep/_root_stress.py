@@ -28,6 +28,10 @@ Plane strain and plane stress give the same in-plane stresses for a body loaded 
 alone; the clamp makes a small difference (Poisson's ratio enters), so ``poisson_ratio`` is an
 argument. Stresses are linear in the load: multiply by the load per unit face width (N/m).
 
+An :class:`~fem_prep.InternalToothGeometry` (a ring's tooth) is modelled the same way on its ring
+(:mod:`fem_prep._internal_fe`): the rim lies outside the root circle, :class:`ClampedBore` clamps
+the ring's outer face, :class:`RingSegment` holds a segment by its sides (transverse section only).
+
 Everything here is NumPy/SciPy/scikit-fem (fem_prep never imports JAX).
 
 Source of the comparison: ISO 6336-3:2019, method B (σ_F0 = F_t/(b m_n) Y_F Y_S at the 30°

@@ -32,7 +32,8 @@ selects the circular-arc fillet approximation that ``weber`` used before the rac
 :data:`TOOTH_FE_VERSION`), normalised by E (the compliance of a linear body clamped on part of its
 boundary is exactly proportional to 1/E).
 
-Everything here is NumPy/SciPy/scikit-fem (never JAX); a constant for jaxgear.
+Internal teeth (a ring's): :mod:`fem_prep._internal_fe` registers their mesh, load geometry and
+compliance on :func:`mesh_sector` and :func:`tooth_compliance`.  NumPy/SciPy/scikit-fem only.
 """
 
 from __future__ import annotations
