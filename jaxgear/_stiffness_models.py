@@ -214,6 +214,10 @@ class FE2D(AbstractStiffness):
         foundation: a member whose foundation is :class:`~jaxgear.NoFoundation` gets its
             tooth-only FE compliance (a condensed FE body supplies the rest); any other gives the
             FE tooth + body down to the bore (:func:`~jaxgear.bore_radius`).
+        ring_support: how an internal pair's ring is held (``fem_prep.tooth_compliance``'s
+            ``support``): ``None`` (its outer face clamped) or ``fem_prep.RingSegment(p)`` (a
+            segment of p pitches held at its radial sides, its outer face free: the ring's
+            bending between supports p pitches apart); unused for external pairs.
 
     Raises:
         ValueError: ``size`` not a finite number > 0, ``foundation`` not a foundation object.
@@ -221,6 +225,7 @@ class FE2D(AbstractStiffness):
 
     size: float | None = None
     foundation: AbstractFoundation = WeberFoundation()
+    ring_support: object = eqx.field(default=None, static=True)
     name: ClassVar[str] = "fe2d"
     hertz: ClassVar[bool] = True
     internal_teeth: ClassVar[bool] = True
@@ -239,10 +244,10 @@ class FE2D(AbstractStiffness):
         rho = [pair.roll_distance(s, i) for i in (0, 1)]
         c = np.zeros_like(s)
         for i in (0, 1):
-            geometry, rim = _fe_member(pair, i)
+            geometry, held = _fe_member(pair, i, self.ring_support)
             fe = fem_prep.tooth_compliance(
                 geometry,
-                rim_radius=rim,
+                **held,
                 youngs_modulus=E,
                 poisson_ratio=nu,
                 size=self.size,
@@ -253,7 +258,7 @@ class FE2D(AbstractStiffness):
         return 1.0 / (c + c_hertz) / cb
 
     def without_body(self, flexible):
-        return FE2D(self.size, self.foundation.without_body(flexible))
+        return FE2D(self.size, self.foundation.without_body(flexible), self.ring_support)
 
     def summary(self):
         return {
@@ -264,21 +269,22 @@ class FE2D(AbstractStiffness):
 
 
 @functools.singledispatch
-def _fe_member(pair: GearPair, member: int):
-    """The FE tooth of member 0 (pinion) or 1 (gear) and its clamped rim radius (m)."""
-    return tooth_geometry(pair, member), bore_radius(pair, member)
+def _fe_member(pair: GearPair, member: int, ring_support=None):
+    """The FE tooth of member 0 (pinion) or 1 (gear) and how it is held (the keywords of
+    ``fem_prep.tooth_compliance``: its clamped rim radius, m)."""
+    return tooth_geometry(pair, member), {"rim_radius": bore_radius(pair, member)}
 
 
 @_fe_member.register
-def _fe_internal_member(pair: InternalGearPair, member: int):
-    """The planet as an external member; the ring's internal tooth on its ring, clamped at
-    r_f2 + ``rim_thickness`` (``None``: the FE model's default, r_f2 + 3.5 m_n)."""
+def _fe_internal_member(pair: InternalGearPair, member: int, ring_support=None):
+    """The planet as an external member; the ring's internal tooth on its ring, its outer face
+    at r_f2 + ``rim_thickness`` (``None``: the FE model's default, r_f2 + 3.5 m_n), held by
+    ``ring_support``."""
     if member == 0:
-        return tooth_geometry(pair, 0), bore_radius(pair, 0)
+        return tooth_geometry(pair, 0), {"rim_radius": bore_radius(pair, 0)}
     s_r = pair.gear.rim_thickness
-    return internal_tooth_geometry(pair), (
-        None if s_r is None else pair.root_radii[1] + float(s_r)
-    )
+    rim = None if s_r is None else pair.root_radii[1] + float(s_r)
+    return internal_tooth_geometry(pair), {"rim_radius": rim, "support": ring_support}
 
 
 @functools.singledispatch

@@ -337,3 +337,16 @@ def test_ring_root_stress_against_iso6336_3_substitute_rack():
     Asserted: both in (0.75, 0.95), increasing with |z2|."""
     small, large = _fe_over_iso(-70), _fe_over_iso(-140)
     assert 0.75 < small < large < 0.95, (small, large)
+
+
+def test_fe2d_ring_on_segment_supports(cache):
+    """FE2D(ring_support=RingSegment(5)): the ring held at the sides of a 5-pitch segment, its
+    outer face free. A thin ring (s_R = 1.5 m_n) bends between the supports: the mesh is more
+    compliant than with the ring clamped outside, and more than a thick ring (6 m_n) on the
+    same supports; the planet's side is unchanged (the same external model)."""
+    seg = jg.FE2D(size=1e-3, ring_support=fem_prep.RingSegment(5))
+    thin_seg = _mean_over_iso(_pair(4.5e-3), seg)
+    thick_seg = _mean_over_iso(_pair(18e-3), seg)
+    thin_held = _mean_over_iso(_pair(4.5e-3), jg.FE2D(size=1e-3))
+    assert thin_seg < thick_seg and thin_seg < thin_held
+    assert seg.without_body((False, True)).ring_support == fem_prep.RingSegment(5)
