@@ -345,6 +345,11 @@ class NormalSection(RootSection):
     name = "normal"
 
     def tooth(self, geometry):
+        if not isinstance(geometry, ToothGeometry):
+            raise ValueError(
+                f"section = NormalSection() is out of range for {type(geometry).__name__}: "
+                "allowed TransverseSection() (an internal tooth's normal section is not built)"
+            )
         return geometry.virtual_spur()
 
     def radius(self, geometry, radius):

@@ -282,6 +282,8 @@ def test_fe2d_ring_rim_thickness_and_bad_rim(cache):
         fem_prep.tooth_compliance(g, rim_radius=0.9 * g.root_radius)
     with pytest.raises(ValueError, match="support"):
         fem_prep.tooth_compliance(g, support="clamped")
+    with pytest.raises(ValueError, match=r"^section = NormalSection\(\) is out of range"):
+        fem_prep.fillet_influence(g, [0.03], section=fem_prep.NormalSection())
 
 
 def test_ring_root_stress_map_of_cell_loads():
