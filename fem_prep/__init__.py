@@ -51,6 +51,7 @@ from ._couplings import (
     select_masters as select_masters,
 )
 from ._elements import Hex20 as Hex20, Hex27 as Hex27
+from ._internal_fe import DEFAULT_RING_DEPTH as DEFAULT_RING_DEPTH  # registers the ring's FE
 from ._io import (
     FORMAT_VERSION as FORMAT_VERSION,
     CondensedBody as CondensedBody,
@@ -97,7 +98,6 @@ from ._ring_stations import (
     ring_station_mass as ring_station_mass,
     ring_stations as ring_stations,
 )
-from ._internal_fe import DEFAULT_RING_DEPTH as DEFAULT_RING_DEPTH  # registers the ring's FE
 from ._root_stress import (
     ClampedBore as ClampedBore,
     FilletInfluence as FilletInfluence,

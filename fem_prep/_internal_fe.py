@@ -36,6 +36,7 @@ import math
 import numpy as np
 import skfem
 
+from ._root_stress import ClampedBore, RimSupport
 from ._tooth_fe import (
     DEFAULT_N_TEETH,
     SectorMesh,
@@ -47,7 +48,6 @@ from ._tooth_fe import (
     tabulate,
     tooth_compliance,
 )
-from ._root_stress import ClampedBore, RimSupport
 from ._tooth_profile import InternalToothProfile, tooth_profile
 from .tooth_form import InternalToothGeometry
 

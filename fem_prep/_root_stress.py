@@ -585,7 +585,9 @@ def fillet_influence(
     _check_radii(tooth_profile(geometry, form=form), radii, "fillet_influence")
     model = section.tooth(geometry)
     prof, fe, size = _sector(model, size, rim_radius, n_teeth, form, support)
-    on_model = np.clip(section.radius(geometry, radii), *sorted((prof.form_radius, prof.tip_radius)))
+    on_model = np.clip(
+        section.radius(geometry, radii), *sorted((prof.form_radius, prof.tip_radius))
+    )
     sigma_t, mid, t, ib, _u, _rest = _unit_loads(prof, fe, on_model, poisson_ratio)
     base = tooth_profile(geometry, form=form).base_radius
     return FilletInfluence(

@@ -50,8 +50,8 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 import skfem
+from scipy.spatial import cKDTree
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 from tqdm import tqdm
 

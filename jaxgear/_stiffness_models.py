@@ -238,8 +238,10 @@ class FE2D(AbstractStiffness):
     def profile(self, pair, s, conditions):
         import fem_prep  # lazy: SciPy and scikit-fem only when the FE model runs
 
-        E, nu, cb = conditions.youngs_modulus, conditions.poisson_ratio, math.cos(
-            pair.base_helix_angle
+        E, nu, cb = (
+            conditions.youngs_modulus,
+            conditions.poisson_ratio,
+            math.cos(pair.base_helix_angle),
         )
         rho = [pair.roll_distance(s, i) for i in (0, 1)]
         c = np.zeros_like(s)
@@ -293,9 +295,7 @@ def _hertz_compliance(pair: GearPair, s, E, nu, line_load):
     path: 1/k_t − (tooth terms)."""
     cb = math.cos(pair.base_helix_angle)
     none = NoFoundation()
-    c_none = sum(
-        member_compliance(pair, i, pair.roll_distance(s, i), E, nu, none) for i in (0, 1)
-    )
+    c_none = sum(member_compliance(pair, i, pair.roll_distance(s, i), E, nu, none) for i in (0, 1))
     return 1.0 / (cb * weber_profile(pair, s, E, nu, line_load, none)) - c_none
 
 

@@ -142,8 +142,9 @@ def test_tooth_only_agrees_with_the_tooth_clamped_at_its_root():
     the rigid-motion fit leaves in)."""
     g = _ring()
     prof = fem_prep.tooth_profile(g)
-    t = fem_prep.tooth_compliance(g, size=1e-3 / 8, use_cache=False,
-                                  model=fem_prep.SectorModel(n_roll=9))
+    t = fem_prep.tooth_compliance(
+        g, size=1e-3 / 8, use_cache=False, model=fem_prep.SectorModel(n_roll=9)
+    )
     rho = t.roll[:5]
     C, n, M = _independent_load_geometry(prof, rho)
     assert np.all(np.hypot(M[:, 0], M[:, 1]) < prof.root_radius)
@@ -153,7 +154,12 @@ def test_tooth_only_agrees_with_the_tooth_clamped_at_its_root():
     inward = np.array([0.0, 0.5 * (prof.root_radius + prof.tip_radius)]) - C
     loads = C + 1e-6 * size * inward / np.linalg.norm(inward, axis=1)[:, None]
     U, _ = fem_prep.plane_strain_point_loads(
-        sm.mesh, E, NU, lambda x: np.hypot(x[0], x[1]) > outer - 0.5 * depth, loads, n,
+        sm.mesh,
+        E,
+        NU,
+        lambda x: np.hypot(x[0], x[1]) > outer - 0.5 * depth,
+        loads,
+        n,
         M[:, None, :],
     )
     clamped = np.sum(U[:, 0, :] * n, axis=1)
@@ -170,8 +176,14 @@ def test_thinner_ring_on_segment_supports_is_more_compliant():
     rf = fem_prep.tooth_profile(g).root_radius
     model = fem_prep.SectorModel(n_roll=5)
     seg = [
-        fem_prep.tooth_compliance(g, rim_radius=rf + d * 1e-3, size=1e-3 / 4, use_cache=False,
-                                  model=model, support=fem_prep.RingSegment(5))
+        fem_prep.tooth_compliance(
+            g,
+            rim_radius=rf + d * 1e-3,
+            size=1e-3 / 4,
+            use_cache=False,
+            model=model,
+            support=fem_prep.RingSegment(5),
+        )
         for d in (1.5, 2.5, 3.5, 6.0)
     ]
     full = np.array([t.compliance.mean() for t in seg])
@@ -180,8 +192,9 @@ def test_thinner_ring_on_segment_supports_is_more_compliant():
     assert full[0] > 2 * full[-1]
     assert np.all(np.abs(tooth / tooth[-1] - 1) < 0.04), tooth
     held = [
-        fem_prep.tooth_compliance(g, rim_radius=rf + d * 1e-3, size=1e-3 / 4, use_cache=False,
-                                  model=model).compliance.mean()
+        fem_prep.tooth_compliance(
+            g, rim_radius=rf + d * 1e-3, size=1e-3 / 4, use_cache=False, model=model
+        ).compliance.mean()
         for d in (1.5, 6.0)
     ]
     assert held[0] < held[1] < full[-1]
@@ -198,8 +211,10 @@ def test_fillet_stress_converges_and_is_tensile_on_the_loaded_side():
     assert a.peak > 0 and abs(a.peak / b.peak - 1) < 0.025
     assert b.sigma_1.max() > a.sigma_1.max()
     assert math.radians(20) < b.peak_tangent_angle < math.radians(85)
-    assert np.all(np.abs(np.hypot(b.points[:, 0], b.points[:, 1]) - prof.root_radius)
-                  <= prof.root_radius - prof.form_radius + 1e-12)
+    assert np.all(
+        np.abs(np.hypot(b.points[:, 0], b.points[:, 1]) - prof.root_radius)
+        <= prof.root_radius - prof.form_radius + 1e-12
+    )
 
 
 @pytest.mark.slow
@@ -217,9 +232,10 @@ def test_fillet_stress_three_meshes():
 def _peak_ratio(z):
     ring, gear = _ring(-z), fem_prep.ToothGeometry(z, 1e-3, ALPHA)
     r = z * 1e-3 / 2
-    return fem_prep.fillet_stress(ring, r - 0.5e-3).peak / fem_prep.fillet_stress(
-        gear, r + 0.5e-3
-    ).peak
+    return (
+        fem_prep.fillet_stress(ring, r - 0.5e-3).peak
+        / fem_prep.fillet_stress(gear, r + 0.5e-3).peak
+    )
 
 
 def test_ring_root_stress_near_the_external_tooth_of_the_same_rack():
@@ -304,8 +320,9 @@ def test_ring_root_stress_map_of_cell_loads():
     )
     smap = jg.root_stress_map(pair, cells, 1, table.roll, table.peak)
     rho1 = pair.start_roll + sc
-    r2 = np.hypot(rho1 + pair.center_distance * math.sin(pair.operating_pressure_angle),
-                  pair.base_radii[1])
+    r2 = np.hypot(
+        rho1 + pair.center_distance * math.sin(pair.operating_pressure_angle), pair.base_radii[1]
+    )
     rho2 = np.sqrt(r2**2 - pair.base_radii[1] ** 2)
     expect = np.where(mask, 2e5 * np.interp(rho2, table.roll, table.peak), 0.0)
     assert table.roll[0] <= rho2.min() and rho2.max() <= table.roll[-1]
