@@ -282,7 +282,7 @@ def test_fe2d_on_an_internal_pair_against_iso6336(cache):
     assert internal > external
     _, k_tooth = jg.stiffness_table(pair, jg.FE2D(foundation=jg.NoFoundation()))
     assert np.all(k_tooth > k)
-    with pytest.raises(ValueError, match="'weber' is out of range for an InternalGearPair"):
+    with pytest.raises(ValueError, match="ring_cutter = None is out of range for an Internal"):
         jg.stiffness_table(pair, jg.Weber())
 
 

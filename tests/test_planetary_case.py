@@ -304,7 +304,7 @@ def _set(path: str, value):
         ),
         (
             _set("mesh/stiffness", "weber"),
-            "[mesh] stiffness = 'weber': 'weber' has no internal-gear form",
+            "[mesh] stiffness = 'weber': 'weber' cannot take it: Weber: ring_cutter = None",
         ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (  # a planetary [rating] is read whole: its missing keys named
