@@ -56,6 +56,7 @@ from ._internal_tooth import (
     ShaperFillet as ShaperFillet,
     generate_internal_tooth as generate_internal_tooth,
 )
+from ._internal_fe import DEFAULT_RING_DEPTH as DEFAULT_RING_DEPTH  # registers the ring's FE
 from ._io import (
     FORMAT_VERSION as FORMAT_VERSION,
     CondensedBody as CondensedBody,
@@ -139,6 +140,9 @@ from ._tooth_fe import (
 )
 from ._tooth_profile import (
     CircularFillet as CircularFillet,
+    FilletForm as FilletForm,
+    InternalCircularFillet as InternalCircularFillet,
+    InternalToothProfile as InternalToothProfile,
     ToothProfile as ToothProfile,
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,

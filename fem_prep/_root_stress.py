@@ -28,6 +28,10 @@ Plane strain and plane stress give the same in-plane stresses for a body loaded 
 alone; the clamp makes a small difference (Poisson's ratio enters), so ``poisson_ratio`` is an
 argument. Stresses are linear in the load: multiply by the load per unit face width (N/m).
 
+An :class:`~fem_prep.InternalToothGeometry` (a ring's tooth) is modelled the same way on its ring
+(:mod:`fem_prep._internal_fe`): the rim lies outside the root circle, :class:`ClampedBore` clamps
+the ring's outer face, :class:`RingSegment` holds a segment by its sides (transverse section only).
+
 Everything here is NumPy/SciPy/scikit-fem (fem_prep never imports JAX).
 
 Source of the comparison: ISO 6336-3:2019, method B (σ_F0 = F_t/(b m_n) Y_F Y_S at the 30°
@@ -46,7 +50,7 @@ from skfem.helpers import ddot, eye, sym_grad, trace
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from ._solver import factorize
-from ._tooth_fe import _load_geometry, _on_flank, mesh_sector
+from ._tooth_fe import _load_geometry, _on_flank, mesh_sector, rim_face
 from ._tooth_profile import FilletForm, ToothProfile, tooth_profile
 from .tooth_form import ToothGeometry
 
@@ -266,12 +270,8 @@ def _fillet_edges(m, sm, prof: ToothProfile):
     mid = 0.5 * (m.p[:, ends[0]] + m.p[:, ends[1]])
     r = np.hypot(mid[0], mid[1])
     psi = np.arctan2(mid[0], mid[1])
-    sel = (
-        (psi > 0)
-        & (psi < math.pi / prof.teeth)
-        & (r > 0.5 * (sm.rim_radius + prof.root_radius))
-        & (r < prof.form_radius)
-    )
+    rf = prof.root_radius  # between the root and the form circle (external or internal)
+    sel = (psi > 0) & (psi < math.pi / prof.teeth) & (np.abs(r - rf) < abs(prof.form_radius - rf))
     order = np.argsort(-psi[sel])
     cells = m.f2t[0, bf[sel][order]]
     centroid = m.p[:, m.t[:, cells]].mean(axis=1)
@@ -345,6 +345,11 @@ class NormalSection(RootSection):
     name = "normal"
 
     def tooth(self, geometry):
+        if not isinstance(geometry, ToothGeometry):
+            raise ValueError(
+                f"section = NormalSection() is out of range for {type(geometry).__name__}: "
+                "allowed TransverseSection() (an internal tooth's normal section is not built)"
+            )
         return geometry.virtual_spur()
 
     def radius(self, geometry, radius):
@@ -393,8 +398,7 @@ class ClampedBore(RimSupport):
         return n_teeth
 
     def hold(self, sm):
-        r_int = sm.rim_radius * (1 + 1e-9)
-        return sm.mesh, lambda x: np.hypot(x[0], x[1]) < r_int
+        return sm.mesh, rim_face(sm)
 
 
 @dataclass(frozen=True)
@@ -481,8 +485,9 @@ def _sector(geometry, size, rim_radius, n_teeth, form, support=None):
     prof = tooth_profile(geometry, form=form)
     mn = geometry.normal_module
     size = mn / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
-    if rim_radius is None:
-        rim_radius = max(prof.root_radius - DEFAULT_RIM_DEPTH * mn, 0.2 * prof.root_radius)
+    if rim_radius is None:  # the rim below an external tooth's root, above an internal one's
+        depth = math.copysign(DEFAULT_RIM_DEPTH * mn, prof.root_radius - prof.tip_radius)
+        rim_radius = max(prof.root_radius + depth, 0.2 * prof.root_radius)
     inner = support.inner_radius(rim_radius)
     sm = mesh_sector(prof, inner, size, n_teeth=support.teeth(n_teeth))
     mesh, clamped = support.hold(sm)
@@ -490,11 +495,12 @@ def _sector(geometry, size, rim_radius, n_teeth, form, support=None):
 
 
 def _check_radii(prof, radii, where):
-    bad = radii[(radii < prof.form_radius) | (radii > prof.tip_radius)]
+    lo, hi = sorted((prof.form_radius, prof.tip_radius))
+    bad = radii[(radii < lo) | (radii > hi)]
     if len(bad):
         raise ValueError(
             f"{where}: load_radius = {float(bad[0])!r} m is out of range, allowed "
-            f"[{prof.form_radius:.6g}, {prof.tip_radius:.6g}] (form to tip circle)"
+            f"[{lo:.6g}, {hi:.6g}] (the involute, between the form and the tip circle)"
         )
 
 
@@ -579,7 +585,9 @@ def fillet_influence(
     _check_radii(tooth_profile(geometry, form=form), radii, "fillet_influence")
     model = section.tooth(geometry)
     prof, fe, size = _sector(model, size, rim_radius, n_teeth, form, support)
-    on_model = np.clip(section.radius(geometry, radii), prof.form_radius, prof.tip_radius)
+    on_model = np.clip(
+        section.radius(geometry, radii), *sorted((prof.form_radius, prof.tip_radius))
+    )
     sigma_t, mid, t, ib, _u, _rest = _unit_loads(prof, fe, on_model, poisson_ratio)
     base = tooth_profile(geometry, form=form).base_radius
     return FilletInfluence(

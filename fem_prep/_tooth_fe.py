@@ -32,11 +32,13 @@ selects the circular-arc fillet approximation that ``weber`` used before the rac
 :data:`TOOTH_FE_VERSION`), normalised by E (the compliance of a linear body clamped on part of its
 boundary is exactly proportional to 1/E).
 
-Everything here is NumPy/SciPy/scikit-fem (never JAX); a constant for jaxgear.
+Internal teeth (a ring's): :mod:`fem_prep._internal_fe` registers their mesh, load geometry and
+compliance on :func:`mesh_sector` and :func:`tooth_compliance`.  NumPy/SciPy/scikit-fem only.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -49,11 +51,12 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 import skfem
+from scipy.spatial import cKDTree
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 from tqdm import tqdm
 
 from ._solver import factorize
-from ._tooth_profile import FilletForm, ToothProfile, TrochoidFillet, tooth_profile
+from ._tooth_profile import FilletForm, ToothProfile, tooth_profile
 from .files import atomic_open, fem_prep_cache_dir
 from .tooth_form import ToothGeometry
 
@@ -145,6 +148,7 @@ def _top_radius_local(prof: ToothProfile, psi_p: float, phi):
     return np.where(a <= psi_p, r_p, np.where(a >= prof.root_half_angle, prof.root_radius, lower))
 
 
+@functools.singledispatch
 def mesh_sector(
     prof: ToothProfile,
     rim_radius: float,
@@ -176,6 +180,9 @@ def mesh_sector(
 
     Raises:
         ValueError: ``rim_radius`` not in (0, r_f), non-positive ``size`` or ``n_teeth``.
+
+    An :class:`~fem_prep.InternalToothProfile` (a ring's teeth, pointing inwards) is meshed on
+    the ring ``r_f <= r <= rim_radius`` (its outer face; :mod:`fem_prep._internal_fe`).
     """
     rf, ra, z = prof.root_radius, prof.tip_radius, prof.teeth
     if not 0 < rim_radius < rf:
@@ -371,6 +378,7 @@ def plane_strain_point_loads(
 # tooth compliance along the involute
 
 
+@functools.singledispatch
 def _load_geometry(prof: ToothProfile, rho: np.ndarray):
     """Contact point C, load direction n (into the tooth, along the line of action) and the
     measuring point M (line of action ∩ tooth centre line) on the right flank of tooth 0."""
@@ -388,7 +396,8 @@ def _load_geometry(prof: ToothProfile, rho: np.ndarray):
 
 def _on_flank(flank: np.ndarray, r_c: np.ndarray, inset: float) -> np.ndarray:
     """Points of the polyline ``flank`` (vertices at increasing radii) at radii ``r_c``, moved
-    ``inset`` (m) towards the tooth centre line (-x) so that they lie inside a triangle."""
+    ``inset`` (m) towards the middle of the tooth's centre line (the tooth's inside, for an
+    external and an internal tooth alike) so that they lie inside a triangle."""
     rv = np.hypot(flank[:, 0], flank[:, 1])
     k = np.clip(np.searchsorted(rv, r_c) - 1, 0, len(rv) - 2)
     p0, d = flank[k], flank[k + 1] - flank[k]
@@ -397,10 +406,11 @@ def _on_flank(flank: np.ndarray, r_c: np.ndarray, inset: float) -> np.ndarray:
     c = np.sum(p0 * p0, 1) - r_c**2
     t = np.clip((-b + np.sqrt(np.maximum(b * b - 4 * a * c, 0.0))) / (2 * a), 0.0, 1.0)
     pts = p0 + t[:, None] * d
-    pts[:, 0] -= inset
-    return pts
+    inward = np.array([0.0, 0.5 * (rv[0] + rv[-1])]) - pts
+    return pts + inset * inward / np.linalg.norm(inward, axis=1)[:, None]
 
 
+@functools.singledispatch
 def _root_chord(prof: ToothProfile, size: float, n: int = 16):
     """Gauss points (n, 2) and weights (n,) on the root chord of tooth 0 (between the fillet/
     root-circle tangency points), pulled slightly inwards so that they lie in the mesh."""
@@ -429,24 +439,36 @@ def _rigid_fit(Q: np.ndarray, w: np.ndarray, U: np.ndarray, M: np.ndarray) -> np
     return np.stack([tx - om * dm[:, 1], ty + om * dm[:, 0]], -1)
 
 
-def _compute(prof: ToothProfile, rim_radius, nu, size, n_teeth, n_roll, progress):
-    """E-normalised compliances E·c (dimensionless per unit width) at n_roll roll distances."""
+def rim_face(sm: SectorMesh):
+    """The clamp predicate of the rim's far face (the bore of an external member, the outer
+    face of a ring): the facets whose two vertices lie on the circle ``sm.rim_radius``, found
+    by their midpoints (a predicate on facet midpoints (2, n), as scikit-fem calls it)."""
+    m, tol = sm.mesh, 1e-9 * sm.rim_radius
+    on = np.abs(np.hypot(m.p[0], m.p[1]) - sm.rim_radius) < tol
+    f = m.facets[:, on[m.facets[0]] & on[m.facets[1]]]
+    tree = cKDTree((0.5 * (m.p[:, f[0]] + m.p[:, f[1]])).T)
+    return lambda x: tree.query(np.asarray(x).T)[0] < tol
+
+
+def _compute(prof: ToothProfile, rim_radius, nu, size, n_teeth, n_roll, progress, hold=None):
+    """E-normalised compliances E·c (dimensionless per unit width) at n_roll roll distances;
+    ``hold(sm) -> (mesh, clamped)`` a rim support's (None: the rim's far face clamped)."""
     off = None if progress is None else not progress  # None: shown on a terminal only
     steps = tqdm(total=3, desc=f"fe2d z={prof.teeth}", disable=off, unit="step")
     t0 = time.perf_counter()
     sm = mesh_sector(prof, rim_radius, size, n_teeth=n_teeth)
+    mesh, clamped = (sm.mesh, rim_face(sm)) if hold is None else hold(sm)
     steps.update()
-    rho = np.linspace(prof.form_roll, prof.tip_roll, n_roll)
+    rho = np.linspace(*sorted((prof.form_roll, prof.tip_roll)), n_roll)
     _C, n, M = _load_geometry(prof, rho)
     loads = _on_flank(sm.flank, np.hypot(rho, prof.base_radius), 1e-9 * size)
     Q, wq = _root_chord(prof, size)
     probes = np.concatenate([M[:, None, :], np.broadcast_to(Q, (n_roll, *Q.shape))], axis=1)
-    r_int = rim_radius * (1 + 1e-9)
     U, info = plane_strain_point_loads(
-        sm.mesh,
+        mesh,
         1.0,
         nu,
-        lambda x: np.hypot(x[0], x[1]) < r_int,
+        clamped,
         loads,
         n,
         probes,
@@ -544,15 +566,17 @@ class SectorModel:
     Attributes:
         n_teeth: teeth modelled on the rim ring (the middle one is loaded; clipped to z).
         n_roll: number of load positions, equally spaced in roll distance (>= 4).
-        form: the fillet (:class:`~fem_prep.TrochoidFillet`, the default, or
-            :class:`~fem_prep.CircularFillet`; see :func:`~fem_prep.tooth_profile`).
+        form: the fillet (:class:`~fem_prep.TrochoidFillet`, or
+            :class:`~fem_prep.CircularFillet`; ``None``: the member's default, see
+            :func:`~fem_prep.tooth_profile`).
     """
 
     n_teeth: int = DEFAULT_N_TEETH
     n_roll: int = DEFAULT_N_ROLL
-    form: FilletForm = field(default_factory=TrochoidFillet)
+    form: FilletForm | None = None
 
 
+@functools.singledispatch
 def tooth_compliance(
     geometry: ToothGeometry,
     *,
@@ -588,16 +612,26 @@ def tooth_compliance(
         ValueError: a rim radius outside (0, r_f), a non-positive size, fewer than 4 roll
             positions.
     """
-    g = geometry
     model = SectorModel() if model is None else model
-    n_teeth, n_roll = model.n_teeth, model.n_roll
-    prof = tooth_profile(g, form=model.form)
+    prof = tooth_profile(geometry, form=model.form)
     rim = 0.5 * prof.root_radius if rim_radius is None else float(rim_radius)
-    h = g.normal_module / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
     if not 0 < rim < prof.root_radius:
         raise ValueError(
             f"rim_radius = {rim!r} m must lie in (0, {prof.root_radius:.6g}) (the root radius)"
         )
+    material = (youngs_modulus, poisson_ratio)
+    return tabulate(geometry, prof, rim, material, size, model, (use_cache, progress, None), {})
+
+
+def tabulate(g, prof, rim, material, size, model, options, key_extra) -> ToothCompliance:
+    """:func:`tooth_compliance` of the profile ``prof`` of the member ``g`` on the rim whose far
+    face is at ``rim`` (m, checked by the caller): ``material`` = (E, ν), ``options`` =
+    (use_cache, progress, hold) (``hold``: a rim support's, None: the far face clamped),
+    ``key_extra`` more inputs of the cache key (the support's among them)."""
+    use_cache, progress, hold = options
+    youngs_modulus, poisson_ratio = material
+    n_teeth, n_roll = model.n_teeth, model.n_roll
+    h = g.normal_module / DEFAULT_ELEMENTS_PER_MODULE if size is None else float(size)
     if not h > 0 or not math.isfinite(h):
         raise ValueError(f"size = {h!r} m must be > 0")
     if n_roll < 4:
@@ -615,9 +649,10 @@ def tooth_compliance(
         "rim_radius": rim,
         "poisson_ratio": float(poisson_ratio),
         "size": h,
-        "n_teeth": int(min(n_teeth, g.teeth)),
+        "n_teeth": int(min(n_teeth, prof.teeth)),
         "n_roll": int(n_roll),
         "form": prof.source,
+        **key_extra,
     }
     key = _key(inputs)
     path = cache_dir() / f"{key}.npz"
@@ -625,7 +660,7 @@ def tooth_compliance(
     hit = data is not None
     if not hit:
         rho, r_load, cE, cE_tooth, info = _compute(
-            prof, rim, poisson_ratio, h, inputs["n_teeth"], n_roll, progress
+            prof, rim, poisson_ratio, h, inputs["n_teeth"], n_roll, progress, hold
         )
         data = {
             "format_version": np.array(TOOTH_FE_VERSION),

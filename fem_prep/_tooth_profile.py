@@ -10,6 +10,7 @@ more compliant on ROSS's gear).  NumPy only (never JAX); a constant for jaxgear.
 from __future__ import annotations
 
 import abc
+import functools
 import math
 from dataclasses import dataclass
 from typing import ClassVar, final
@@ -17,9 +18,17 @@ from typing import ClassVar, final
 import numpy as np
 
 from ._kinds import Kind
-from .tooth_form import ToothGeometry, generate_tooth, involute
+from .tooth_form import InternalToothGeometry, ToothGeometry, generate_tooth, involute
 
-__all__ = ["CircularFillet", "FilletForm", "ToothProfile", "TrochoidFillet", "tooth_profile"]
+__all__ = [
+    "CircularFillet",
+    "FilletForm",
+    "InternalCircularFillet",
+    "InternalToothProfile",
+    "ToothProfile",
+    "TrochoidFillet",
+    "tooth_profile",
+]
 
 
 # ------------------------------------------------------------------------------------------
@@ -70,6 +79,110 @@ class ToothProfile:
     def tip_roll(self) -> float:
         """Roll distance ρ_a (m) of the tip."""
         return math.sqrt(self.tip_radius**2 - self.base_radius**2)
+
+
+@dataclass(frozen=True)
+class InternalToothProfile(ToothProfile):
+    """An internal gear's (a ring's) transverse tooth form as a polar table: the tooth points
+    inwards, its tip circle inside its root circle (SI units, angles in rad).
+
+    The fields are :class:`ToothProfile`'s with the internal tooth's contract
+    (:class:`~fem_prep.InternalToothGeometry`): ``teeth`` |z|; ``tip_radius`` r_a <
+    ``form_radius`` r_F < ``root_radius`` r_f; ``r_tab`` increasing from r_a to r_f and
+    ``psi_tab`` the half angle ψ(r), increasing with r (the tooth widens towards its root);
+    ``root_half_angle`` ψ_f = ψ(r_f) <= π/|z|, where the fillet meets the root circle.  The
+    concave right flank is ``x = r sin ψ(r), y = r cos ψ(r)``, the ring's centre at the origin;
+    its roll distances grow from the tip (:attr:`tip_roll`) to the form circle
+    (:attr:`form_roll`).
+    """
+
+    def r_of_psi(self, psi):
+        """Radius (m) of the flank/fillet at half angle ψ (rad), ψ in [ψ(r_a), ψ_f]."""
+        return np.interp(psi, self.psi_tab, self.r_tab)
+
+    def mirrored(self, radius: float) -> ToothProfile:
+        """The external tooth of the radial mirror r' = ``radius`` − r (``radius`` > r_f): the
+        same half angles at the mirrored radii, root r' = radius − r_f, tip r' = radius − r_a
+        (the plane mesh of an internal tooth is the mesh of this one, its vertices mapped back;
+        :func:`fem_prep.mesh_sector`).  ``base_radius`` is 0 (no involute of its own)."""
+        c = float(radius)
+        return ToothProfile(
+            teeth=self.teeth,
+            root_radius=c - self.root_radius,
+            tip_radius=c - self.tip_radius,
+            base_radius=0.0,
+            form_radius=c - self.form_radius,
+            root_half_angle=self.root_half_angle,
+            r_tab=c - self.r_tab[::-1],
+            psi_tab=self.psi_tab[::-1],
+            source=self.source,
+        )
+
+
+def _internal_circular_table(g: InternalToothGeometry) -> dict:
+    """ψ(r) table of an internal tooth: the exact involute (ISO 21771: ψ(r) = s_t/(2|r|) −
+    inv α_t + inv α_r, the ring's tooth thickness s_t = m_t (π/2 + 2 x tan α_n)) and a circular
+    arc of radius ρ_fP tangent to it and to the root circle (inside it, in the tooth space);
+    ρ_fP is reduced to the full round of the space bottom where it does not fit."""
+    z = abs(g.teeth)
+    mn, an, x = g.normal_module, g.normal_pressure_angle, g.profile_shift
+    _mt, at, r, rb, st = _transverse(z, mn, an, g.helix_angle, x)
+    ra, rf = g.tip_radius, g.root_radius
+    if not ra > rb:
+        raise ValueError(
+            f"addendum_coeff = {g.addendum_coeff!r} is out of range: the tip radius "
+            f"{ra * 1e3:.6g} mm must exceed the base radius {rb * 1e3:.6g} mm"
+        )
+    k = st / (2 * r) - float(involute(at))
+
+    def psi_inv(rr):
+        return k + involute(np.arccos(np.clip(rb / rr, -1.0, 1.0)))
+
+    def arc(rho):
+        """Tangency radius r_q on the involute, arc centre P, root tangency angle ψ_f."""
+        from scipy.optimize import brentq  # lazy: only the internal tooth needs it
+
+        def centre(rq):
+            psi = float(psi_inv(rq))
+            al = math.acos(rb / rq)
+            q = rq * np.array([math.sin(psi), math.cos(psi)])
+            t = rb * np.array([math.sin(psi + al), math.cos(psi + al)])
+            return q, q + rho * (t - q) / np.linalg.norm(t - q)
+
+        rq = brentq(lambda v: np.linalg.norm(centre(v)[1]) - (rf - rho), ra, rf, xtol=1e-15)
+        q, p = centre(rq)
+        return rq, q, p, math.atan2(p[0], p[1])
+
+    rho = g.fillet_radius_coeff * mn
+    if rho > 0 and arc(rho)[3] > math.pi / z:  # the full round: ψ_f = π/|z|
+        lo, hi = 0.0, rho
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if arc(mid)[3] <= math.pi / z else (lo, mid)
+        rho = lo
+    if rho > 0:
+        r_form, q, p, _psi_f = arc(rho)
+        a0 = math.atan2(*(q - p)[::-1])
+        turn = (math.atan2(p[1], p[0]) - a0 + math.pi) % (2 * math.pi) - math.pi
+        th = a0 + turn * np.linspace(0.0, 1.0, 400)  # dense in r at the root tangency
+        pts = p[None, :] + rho * np.stack([np.cos(th), np.sin(th)], -1)
+        r_arc = np.hypot(pts[:, 0], pts[:, 1])[1:]
+        psi_arc = np.arctan2(pts[:, 0], pts[:, 1])[1:]
+        r_arc[-1] = rf
+    else:
+        r_form, r_arc, psi_arc = rf, np.zeros(0), np.zeros(0)
+    r_inv = np.linspace(ra, r_form, 400)
+    r_tab = np.concatenate([r_inv, r_arc])
+    psi_tab = np.concatenate([psi_inv(r_inv), psi_arc])
+    ok = np.concatenate([[True], np.diff(r_tab) > 1e-12 * rf])
+    return {
+        "root_radius": rf,
+        "tip_radius": ra,
+        "base_radius": rb,
+        "form_radius": float(r_form),
+        "r_tab": r_tab[ok],
+        "psi_tab": np.minimum(np.maximum.accumulate(psi_tab[ok]), math.pi / z),
+    }
 
 
 def _transverse(teeth, mn, an, beta, x):
@@ -185,6 +298,21 @@ class CircularFillet(FilletForm):
         )
 
 
+@final
+class InternalCircularFillet(FilletForm):
+    """An internal tooth's fillet as a circular arc of radius ρ_fP = ``fillet_radius_coeff`` ·
+    m_n tangent to the involute and to the root circle (reduced to the full round of the space
+    bottom where it does not fit): the internal analogue of :class:`CircularFillet`, a stand-in
+    for the shaper-generated fillet. Its :meth:`table` takes an
+    :class:`~fem_prep.InternalToothGeometry`."""
+
+    name: ClassVar[str] = "internal_circular_fillet"
+
+    def table(self, geometry):
+        return _internal_circular_table(geometry)
+
+
+@functools.singledispatch
 def tooth_profile(geometry: ToothGeometry, *, form: FilletForm | None = None) -> ToothProfile:
     """The transverse tooth form of one member (ISO 21771 notation).
 
@@ -211,6 +339,25 @@ def tooth_profile(geometry: ToothGeometry, *, form: FilletForm | None = None) ->
     return ToothProfile(
         teeth=g.teeth,
         root_half_angle=float(tab["psi_tab"][0]),
+        source=str(form),
+        **tab,
+    )
+
+
+@tooth_profile.register
+def _internal_tooth_profile(
+    geometry: InternalToothGeometry, *, form: FilletForm | None = None
+) -> InternalToothProfile:
+    """The transverse tooth form of an internal gear: an :class:`InternalToothProfile` (``form``:
+    a :class:`FilletForm` whose ``table`` takes an :class:`~fem_prep.InternalToothGeometry`;
+    ``None``: :class:`InternalCircularFillet`)."""
+    form = InternalCircularFillet() if form is None else form
+    if not isinstance(form, FilletForm):
+        raise ValueError(f"form = {form!r}; use a fem_prep fillet form of an internal tooth")
+    tab = form.table(geometry)
+    return InternalToothProfile(
+        teeth=abs(geometry.teeth),
+        root_half_angle=float(tab["psi_tab"][-1]),
         source=str(form),
         **tab,
     )

@@ -98,6 +98,12 @@ from ._planetary_mesh import (
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,
 )
+from ._planetary_hunting import (
+    DeviationMeshes as DeviationMeshes,
+    PlanetaryDeviations as PlanetaryDeviations,
+    PlanetaryTeeth as PlanetaryTeeth,
+    planetary_hunting_periods as planetary_hunting_periods,
+)
 from ._planetary_ring import (
     AbstractRingModel as AbstractRingModel,
     CondensedRing as CondensedRing,

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import abc
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -31,7 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._baseplane import CellRow, MeshModel
+from ._baseplane import CellRow, Cells, MeshModel
 from ._contact import AbstractContactLaw, ExactContact, solve_contact
 from ._internal import PlanetaryGeometry
 from ._modifications import Modifications
@@ -82,9 +83,15 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
     """
     check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
                    "sun_ring_offset")
+    return float(np.mod(sun_ring_travel(geometry), float(geometry.planet_ring.base_pitch)))
+
+
+def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
+    """Delta_rs before its reduction modulo p_b (m): for one planet tooth, how far its contact
+    line on the ring mesh runs ahead of its contact line on the sun mesh (exact modulo a planet
+    turn, z_p p_b: the tooth bookkeeping of :class:`~jaxgear.PlanetaryTeeth`)."""
     sp, pr = geometry.sun_planet, geometry.planet_ring
     r_bp = float(pr.base_radii[0])
-    p_b = float(pr.base_pitch)
     s_bp = float(sp.base_thickness[1])
     a_s, a_r = float(sp.operating_pressure_angle), float(pr.operating_pressure_angle)
     delta = (
@@ -95,7 +102,7 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
         - float(pr.start_roll)
         - float(geometry.center_distance) * math.sin(a_s)
     )
-    return float(np.mod(delta, p_b))
+    return float(delta)
 
 
 def structure_stiffness(model: AbstractPlanetaryModel, stage: PlanetaryStage):
@@ -117,8 +124,11 @@ class AbstractPlanetaryMeshes(eqx.Module):
     """How the 2N meshes of a stage are represented: contact cells at each mesh travel x (m).
 
     The cells are ordered mesh after mesh: the N sun–planet meshes (planets 1..N), then the N
-    ring–planet meshes.
+    ring–planet meshes. ``one_period`` (class constant): whether the cells repeat every mesh
+    period (what the dynamics assume, laying out one period's rows).
     """
+
+    one_period: ClassVar[bool] = True
 
     @abc.abstractmethod
     def cell_row(self, model, stage, x, offsets) -> CellRow:
@@ -149,6 +159,13 @@ class AbstractPlanetaryMeshes(eqx.Module):
         the stage axis), (c,), and each mesh's face width (m), (2N,); None where the kind does
         not place its cells across the face (then no face load factor is reported)."""
         return None
+
+    def te_offsets(self, stage, x) -> tuple[Array, Array]:
+        """(o_s, o_r): what each mesh's transmission error leaves out at the mesh travel ``x``
+        (m, transverse, (n_planets,) each): 0 here; the per-tooth deviations' material on the
+        teeth in contact for :class:`~jaxgear.DeviationMeshes` (the pair's TE less max e)."""
+        zero = jnp.zeros((stage.n_planets,), jnp.result_type(x, float))
+        return zero, zero
 
     def positions(self, per_period: int, periods: int = 1) -> Float[Array, " p"]:
         """Mesh travels x (m) at the mid-points of ``per_period`` equal steps per mesh period,
@@ -242,7 +259,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         sun_mesh: the sun–planet mesh (pinion: the sun). ring_mesh: the planet–ring mesh
             (pinion: the planet). Both must have the same base pitch.
         sun_modifications, ring_modifications: their flank modifications (no per-tooth
-            deviations: the planets' tooth indices are not tracked).
+            deviations: a pair's deviations do not follow the stage's teeth; the stage's
+            are :class:`~jaxgear.DeviationMeshes`).
         sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
             (:func:`~jaxgear.mesh_phases`).
         ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
@@ -271,8 +289,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             check_instance(name, mods, Modifications, "a jaxgear.Modifications", "ContactMeshes")
             if mods.deviations is not None:
                 raise ValueError(
-                    f"ContactMeshes: {name}.deviations is set: per-tooth deviations are not "
-                    "modelled in a planetary stage (allowed None)"
+                    f"ContactMeshes: {name}.deviations is set: a pair's deviations do not "
+                    "follow a stage's teeth (allowed None; jaxgear.DeviationMeshes takes "
+                    "every sun, planet and ring tooth's)"
                 )
         if self.sun_mesh.coast or self.ring_mesh.coast:
             raise ValueError("ContactMeshes: coast flanks are not modelled (allowed coast=False)")
@@ -333,13 +352,40 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         return k[:, :n], k[:, n:]
 
     def mesh_forces(self, forces):
-        c_s = self.sun_mesh.n_lines * self.sun_mesh.n_slices
-        c_r = self.ring_mesh.n_lines * self.ring_mesh.n_slices
-        n = self.sun_phases.shape[0]
-        lead = forces.shape[:-1]
-        f_s = forces[..., : n * c_s].reshape(lead + (n, c_s)).sum(-1)
-        f_r = forces[..., n * c_s :].reshape(lead + (n, c_r)).sum(-1)
+        f_s, f_r = (f.sum(axis=(-2, -1)) for f in self.split_cells(forces))
         return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
+
+    def split_cells(self, values) -> tuple[Array, Array]:
+        """A per-cell array of the stage's cell rows (..., c) (:meth:`cell_row`'s order: every
+        planet's sun-mesh cells, then every planet's ring-mesh cells, each mesh's
+        (n_lines, n_slices) read row by row; e.g. :attr:`PlanetaryQuasiStatic.cell_line_load`)
+        split into the sun meshes' (..., n_planets, n_lines, n_slices) and the ring meshes'."""
+        n = self.sun_phases.shape[0]
+        c_s = n * self.sun_mesh.n_lines * self.sun_mesh.n_slices
+        lead = values.shape[:-1]
+        return tuple(
+            part.reshape(lead + (n, mesh.n_lines, mesh.n_slices))
+            for part, mesh in ((values[..., :c_s], self.sun_mesh),
+                               (values[..., c_s:], self.ring_mesh))
+        )
+
+    def planet_cells(self, x) -> tuple[tuple[Cells, Array], tuple[Cells, Array]]:
+        """Every planet's cells at the mesh travel ``x`` (m, a scalar): ((cells, δ0) of the sun
+        meshes, (cells, δ0) of the ring meshes), each field of shape (n_planets, n_lines,
+        n_slices): each pair's :class:`~jaxgear.Cells` at the planet's mesh angle (module
+        docstring: the phases gamma_sn, gamma_rn and the sun–ring offset) with its
+        modifications' initial separation δ0 (m)."""
+        p_b = self.sun_mesh.base_pitch
+        t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
+        t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
+        out = []
+        for mesh, mods, theta in ((self.sun_mesh, self.sun_modifications, t_s),
+                                  (self.ring_mesh, self.ring_modifications, t_r)):
+            cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
+                theta
+            )
+            out.append((cells, delta0))
+        return tuple(out)
 
     def face_positions(self, stage):
         z = []
@@ -353,9 +399,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         return jnp.concatenate(z), b
 
     def cell_row(self, model, stage, x, offsets):
-        p_b = self.sun_mesh.base_pitch
-        t_s = (x - self.sun_phases * p_b) / self.sun_mesh.base_radius_pinion
-        t_r = (x + self.ring_offset - self.ring_phases * p_b) / self.ring_mesh.base_radius_pinion
+        (cells_s, d0_s), (cells_r, d0_r) = self.planet_cells(x)
         # the transverse deflection at each cell's contact point (the cells' z runs along the
         # stage axis from the face's side at z = 0, against it for left-hand planets; their s
         # along the path of contact): (V + (z - b/2) W + (s - s_pitch) X) q
@@ -363,14 +407,10 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
         parts = []
-        for mesh, mods, theta, (v, w), x_line, pitch, d in (
-            (self.sun_mesh, self.sun_modifications, t_s, rows_s, x_s, self.pitch_points[0], d_s),
-            (self.ring_mesh, self.ring_modifications, t_r, rows_r, x_r, self.pitch_points[1],
-             d_r),
+        for mesh, cells, delta0, (v, w), x_line, pitch, d in (
+            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s),
+            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r),
         ):
-            cells, _, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(mesh, mods, t))(
-                theta
-            )
             cb = jnp.cos(mesh.base_helix_angle)
             # (n_lines, n_slices), every planet's; mirrored for left-hand planets
             across = _hand(stage) * (cells.z[0] - 0.5 * mesh.face_width)
@@ -411,7 +451,9 @@ class PlanetaryQuasiStatic(eqx.Module):
             compression positive), (p, n_planets).
         sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
             compression positive, the pin errors' offsets d included; mid-face, the 3D model's
-            normal deflection over cos beta_b), (p, n_planets).
+            normal deflection over cos beta_b), (p, n_planets); with per-tooth deviations
+            (:class:`~jaxgear.DeviationMeshes`) less their largest material on the cells in
+            contact over cos beta_b, as a pair's TE (u X - max e) / cos beta_b.
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
         result: the contact solver's code at each position (0: converged), (p,).
@@ -422,6 +464,10 @@ class PlanetaryQuasiStatic(eqx.Module):
             axis), (p, 2N): sun meshes, then ring meshes; None where the meshes kind does not
             place its cells across the face. face_widths: the meshes' face widths b (m), (2N,)
             (None with it).
+        cell_line_load: each cell's line load (N/m, the contact solution's force per unit
+            contact length, 0 off contact), (p, c) in the order of the meshes kind's cell rows
+            (:class:`ContactMeshes`: split per mesh and planet by
+            :meth:`ContactMeshes.split_cells`, placed by :meth:`ContactMeshes.planet_cells`).
     """
 
     travel: Float[Array, " p"]
@@ -435,6 +481,7 @@ class PlanetaryQuasiStatic(eqx.Module):
     ring_deflection: Float[Array, "p n"] | None = None
     face_moments: Float[Array, "p 2n"] | None = None
     face_widths: Float[Array, " 2n"] | None = None
+    cell_line_load: Float[Array, "p c"] | None = None
 
     @property
     def k_h_beta(self) -> Float[Array, " 2n"] | None:
@@ -575,9 +622,11 @@ def planetary_quasi_static(
         w = jnp.zeros(n, sol.x.dtype) if sol.x.shape[0] == n_dof else sol.x[n_dof:]
         moments = (jnp.zeros(0, forces.dtype) if face is None
                    else meshes.mesh_forces(cell_forces * face[0]))
-        return sol.x[:n_dof], forces, sol.result, w, d_sx, d_rx, moments
+        o_s, o_r = meshes.te_offsets(stage, x)  # material on the teeth in contact (0: none)
+        return (sol.x[:n_dof], forces, sol.result, w, d_sx - o_s, d_rx - o_r, moments,
+                sol.force_density)
 
-    q, forces, result, w, d_s, d_r, moments = jax.vmap(one)(as_float(positions))
+    q, forces, result, w, d_s, d_r, moments, loads = jax.vmap(one)(as_float(positions))
     f_s, f_r = forces[:, :n], forces[:, n:]
     return PlanetaryQuasiStatic(
         travel=as_float(positions),
@@ -591,6 +640,7 @@ def planetary_quasi_static(
         ring_deflection=w,
         face_moments=None if face is None else moments,
         face_widths=None if face is None else face[1],
+        cell_line_load=loads,
     )
 
 

@@ -26,6 +26,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
 from ._geometry import GearPair
+from ._internal import InternalGearPair
 from ._util import check_instance
 
 __all__ = ["RootStressMap", "root_stress_map"]
@@ -79,7 +80,10 @@ def root_stress_map(
     (module docstring).
 
     Args:
-        pair: the :class:`jaxgear.GearPair` of the result.
+        pair: the :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the
+            result (the ring is member 1: its table from ``fem_prep.fillet_influence`` of
+            :func:`jaxgear.internal_tooth_geometry`, its roll distances
+            :meth:`~jaxgear.InternalGearPair.roll_distance`'s).
         result: one mesh's cell loads: ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and
             ``cell_mask`` of shape (P, L, N) (a :class:`jaxgear.MeshResult`, a one-mesh
             quasi-static result, or dynamic cell loads with the same fields).
@@ -97,7 +101,13 @@ def root_stress_map(
     Raises:
         ValueError: ``member`` not 0 or 1, or the tables of different lengths.
     """
-    check_instance("pair", pair, GearPair, "a jaxgear.GearPair", "root_stress_map")
+    check_instance(
+        "pair",
+        pair,
+        (GearPair, InternalGearPair),
+        "a jaxgear.GearPair or InternalGearPair",
+        "root_stress_map",
+    )
     if member not in (0, 1):
         raise ValueError(f"root_stress_map: member = {member!r} is out of range, allowed 0 or 1")
     rt, sp = jnp.asarray(roll_table), jnp.asarray(stress_per_load)

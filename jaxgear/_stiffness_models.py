@@ -19,11 +19,12 @@ import equinox as eqx
 import numpy as np
 
 from ._geometry import GearPair
-from ._internal import InternalGearPair
+from ._internal import InternalGearPair, internal_tooth_geometry
 from ._stiffness import (
     AbstractFoundation,
     NoFoundation,
     WeberFoundation,
+    _half_thickness_angle as half_thickness_angle,
     bore_radius,
     iso6336_mesh_stiffness,
     member_compliance,
@@ -239,11 +240,22 @@ class FE2D(AbstractStiffness):
     cached by input hash) plus Weber's Hertzian approach (1.1), exactly as
     :func:`~jaxgear.weber_profile`'s.
 
+    An :class:`~jaxgear.InternalGearPair` is accepted: the pinion (planet) as above, the ring's
+    internal tooth on its ring (:func:`fem_prep.tooth_compliance` of
+    :func:`~jaxgear.internal_tooth_geometry`, the ring's outer face clamped at r_f2 + s_R with
+    the ring's ``Member.rim_thickness`` s_R, default r_f2 + 3.5 m_n), and Weber's Hertzian
+    approach (1.1) with the concave flank's relative radius ρ1 ρ2/(ρ2 − ρ1) and the ring's depth
+    d2 = r sin ψ(r) to its tooth centre line (docs/planetary.md, "Internal gears").
+
     Attributes:
         size: FE element size (m) > 0; ``None``: m_n / 6.
         foundation: a member whose foundation is :class:`~jaxgear.NoFoundation` gets its
             tooth-only FE compliance (a condensed FE body supplies the rest); any other gives the
             FE tooth + body down to the bore (:func:`~jaxgear.bore_radius`).
+        ring_support: how an internal pair's ring is held (``fem_prep.tooth_compliance``'s
+            ``support``): ``None`` (its outer face clamped) or ``fem_prep.RingSegment(p)`` (a
+            segment of p pitches held at its radial sides, its outer face free: the ring's
+            bending between supports p pitches apart); unused for external pairs.
 
     Raises:
         ValueError: ``size`` not a finite number > 0, ``foundation`` not a foundation object.
@@ -251,8 +263,10 @@ class FE2D(AbstractStiffness):
 
     size: float | None = None
     foundation: AbstractFoundation = WeberFoundation()
+    ring_support: object = eqx.field(default=None, static=True)
     name: ClassVar[str] = "fe2d"
     hertz: ClassVar[bool] = True
+    internal_teeth: ClassVar[bool] = True
 
     def __check_init__(self):
         if self.size is not None:
@@ -262,30 +276,29 @@ class FE2D(AbstractStiffness):
     def profile(self, pair, s, conditions):
         import fem_prep  # lazy: SciPy and scikit-fem only when the FE model runs
 
-        E, nu, cb = conditions.youngs_modulus, conditions.poisson_ratio, math.cos(
-            pair.base_helix_angle
+        E, nu, cb = (
+            conditions.youngs_modulus,
+            conditions.poisson_ratio,
+            math.cos(pair.base_helix_angle),
         )
         rho = [pair.roll_distance(s, i) for i in (0, 1)]
         c = np.zeros_like(s)
         for i in (0, 1):
+            geometry, held = _fe_member(pair, i, self.ring_support)
             fe = fem_prep.tooth_compliance(
-                tooth_geometry(pair, i),
-                rim_radius=bore_radius(pair, i),
+                geometry,
+                **held,
                 youngs_modulus=E,
                 poisson_ratio=nu,
                 size=self.size,
                 progress=None,
             )
             c = c + fe(rho[i], tooth_only=not self.foundation.member(i).fe_body)
-        # Weber's Hertzian approach, from weber_profile's own code path: 1/k_t − (tooth terms)
-        none = NoFoundation()
-        c_none = sum(member_compliance(pair, i, rho[i], E, nu, none) for i in (0, 1))
-        k_none = weber_profile(pair, s, E, nu, conditions.line_load, none)
-        c_hertz = 1.0 / (cb * k_none) - c_none
+        c_hertz = _hertz_compliance(pair, s, E, nu, conditions.line_load)
         return 1.0 / (c + c_hertz) / cb
 
     def without_body(self, flexible):
-        return FE2D(self.size, self.foundation.without_body(flexible))
+        return FE2D(self.size, self.foundation.without_body(flexible), self.ring_support)
 
     def summary(self):
         return {
@@ -293,6 +306,52 @@ class FE2D(AbstractStiffness):
             "foundation": self.foundation.name,
             "fe2d_size_m": self.size,
         }
+
+
+@functools.singledispatch
+def _fe_member(pair: GearPair, member: int, ring_support=None):
+    """The FE tooth of member 0 (pinion) or 1 (gear) and how it is held (the keywords of
+    ``fem_prep.tooth_compliance``: its clamped rim radius, m)."""
+    return tooth_geometry(pair, member), {"rim_radius": bore_radius(pair, member)}
+
+
+@_fe_member.register
+def _fe_internal_member(pair: InternalGearPair, member: int, ring_support=None):
+    """The planet as an external member; the ring's internal tooth on its ring, its outer face
+    at r_f2 + ``rim_thickness`` (``None``: the FE model's default, r_f2 + 3.5 m_n), held by
+    ``ring_support``."""
+    if member == 0:
+        return tooth_geometry(pair, 0), {"rim_radius": bore_radius(pair, 0)}
+    s_r = pair.gear.rim_thickness
+    rim = None if s_r is None else pair.root_radii[1] + float(s_r)
+    return internal_tooth_geometry(pair), {"rim_radius": rim, "support": ring_support}
+
+
+@functools.singledispatch
+def _hertz_compliance(pair: GearPair, s, E, nu, line_load):
+    """Weber's Hertzian approach (1.1) (m/N per m, transverse), from weber_profile's own code
+    path: 1/k_t − (tooth terms)."""
+    cb = math.cos(pair.base_helix_angle)
+    none = NoFoundation()
+    c_none = sum(member_compliance(pair, i, pair.roll_distance(s, i), E, nu, none) for i in (0, 1))
+    return 1.0 / (cb * weber_profile(pair, s, E, nu, line_load, none)) - c_none
+
+
+@_hertz_compliance.register
+def _internal_hertz_compliance(pair: InternalGearPair, s, E, nu, line_load):
+    """Weber's (1.1) on the concave ring flank: 4(1 − ν²)/(π E) [ln(2 √(d1 d2)/a_H) −
+    ν/(2(1 − ν))], a_H = √(8 w R (1 − ν²)/(π E)), R = ρ1 ρ2/(ρ2 − ρ1) (transverse), d_i = r
+    sin ψ(r) the contact point's distance to each tooth's centre line (the ring's ψ from its
+    FE tooth form)."""
+    import fem_prep  # lazy: SciPy only when the FE model runs
+
+    rho1, rho2 = (pair.roll_distance(s, i) for i in (0, 1))
+    r1, r2 = np.hypot(rho1, pair.base_radii[0]), np.hypot(rho2, pair.base_radii[1])
+    d1 = r1 * np.sin(half_thickness_angle(pair, 0, r1))
+    d2 = r2 * np.sin(fem_prep.tooth_profile(internal_tooth_geometry(pair)).psi(r2))
+    a_h = np.sqrt(8 * line_load * rho1 * rho2 / (rho2 - rho1) * (1 - nu**2) / (math.pi * E))
+    log = np.log(2 * np.sqrt(d1 * d2) / a_h) - nu / (2 * (1 - nu))
+    return 4 * (1 - nu**2) / (math.pi * E) * log
 
 
 @functools.singledispatch
@@ -305,8 +364,7 @@ def _internal_pair_model(pair: InternalGearPair, model: AbstractStiffness) -> No
     if not model.internal_teeth:
         raise ValueError(
             f"stiffness_table: model = {model.name!r} is out of range for an InternalGearPair: "
-            "allowed 'uniform', 'iso6336' or 'weber' (with the ring's cutter; the FE tooth "
-            "model of internal teeth is not built yet)"
+            "allowed 'uniform', 'iso6336', 'weber' (with the ring's cutter) or 'fe2d'"
         )
     model.check_pair(pair)
 

@@ -77,7 +77,7 @@ def with_meshes(st, k_s, k_r):
 
 
 def rigid_path_forces(torque, r_sun, psi, a_s, a_r, k_s, k_r, sun_centre=(0.0, 0.0),
-                      ring_centre=(0.0, 0.0), pins=None):
+                      ring_centre=(0.0, 0.0), pins=None, mesh_offsets=(0.0, 0.0)):
     """An independent spring model of load sharing, written from the geometry of the forces
     (not from the library's matrices): rigid centres and pins, ring and carrier held, the sun
     free to turn only. Planet j at psi_j (unit vectors r_j outward, t_j counter-clockwise).
@@ -93,7 +93,10 @@ def rigid_path_forces(torque, r_sun, psi, a_s, a_r, k_s, k_r, sun_centre=(0.0, 0
     c_sj = s . n_j - p_j . n_j and c_rj = g . m_j - p_j . m_j. The planet's moment balance
     k_s (u_s + u_j + c_sj) = k_r (-u_j + c_rj) puts the two meshes in series:
     F_j = k_eq (u_s + c_sj + c_rj), k_eq = k_s k_r / (k_s + k_r), and the sun's
-    sum F_j = T / r_s gives F_j = T / (N r_s) + k_eq (c_j - mean c), c_j = c_sj + c_rj.
+    sum F_j = T / r_s gives u_s = (T / r_s - sum k_eq c) / sum k_eq, c_j = c_sj + c_rj (with
+    equal k_eq: F_j = T / (N r_s) + k_eq (c_j - mean c)). ``mesh_offsets`` (c_s, c_r) (m, ()
+    or (N,)): further compressions of each path's sun and ring mesh (material on the teeth in
+    contact), added to c_sj and c_rj; ``k_s``, ``k_r``: () or (N,).
 
     Returns:
         (F (N, (N,)), K_gamma = max F / mean F).
@@ -107,8 +110,13 @@ def rigid_path_forces(torque, r_sun, psi, a_s, a_r, k_s, k_r, sun_centre=(0.0, 0
         np.asarray(pins)[:, :1] * t + np.asarray(pins)[:, 1:] * r)
     c = (n @ np.asarray(sun_centre) - np.sum(p * n, -1)) + (
         m @ np.asarray(ring_centre) - np.sum(p * m, -1))
-    k_eq = k_s * k_r / (k_s + k_r)
-    forces = torque / (len(psi) * r_sun) + k_eq * (c - c.mean())
+    c = c + np.asarray(mesh_offsets[0]) + np.asarray(mesh_offsets[1])
+    k_eq = np.broadcast_to(k_s * k_r / (k_s + k_r), c.shape)
+    if np.all(k_eq == k_eq[0]):
+        forces = torque / (len(psi) * r_sun) + k_eq * (c - c.mean())
+    else:
+        u_s = (torque / r_sun - np.sum(k_eq * c)) / np.sum(k_eq)
+        forces = k_eq * (u_s + c)
     return forces, forces.max() / forces.mean()
 
 

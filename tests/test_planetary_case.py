@@ -303,8 +303,8 @@ def _set(path: str, value):
             "[planetary.sun] base_radius_mm = 400: allowed only in the lumped form",
         ),
         (
-            _set("mesh/stiffness", "fe2d"),
-            "[mesh] stiffness = 'fe2d': 'fe2d' has no internal-gear form",
+            _set("mesh/stiffness", "weber"),
+            "[mesh] stiffness = 'weber': 'weber' cannot take it: Weber: ring_cutter = None",
         ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
         (  # a planetary [rating] is read whole: its missing keys named

@@ -139,13 +139,12 @@ def test_internal_mesh_stiffness_against_iso6336():
 
 
 def test_refusals_in_one_line():
-    """An internal pair with Weber and no cutter, with Sainsot's foundation, a non-cutter, and
-    FE2D (not built yet for internal teeth) refuse in one line before any work."""
+    """An internal pair with Weber and no cutter, with Sainsot's foundation, and a non-cutter
+    refuse in one line before any work."""
     pair, cutter = _nrel_stage2()
     for model, pattern in (
         (jg.Weber(), r"^Weber: ring_cutter = None is out of range for an InternalGearPair"),
         (jg.Weber(jg.SainsotFoundation(), cutter), r"^foundation = 'sainsot' is out of range"),
-        (jg.FE2D(), r"^stiffness_table: model = 'fe2d' is out of range.*'weber'"),
     ):
         with pytest.raises(ValueError, match=pattern) as info:
             jg.stiffness_table(pair, model)
@@ -189,7 +188,8 @@ def test_case_file_ring_cutter_keys():
     np.testing.assert_allclose(ratios, [1.33, 1.21], atol=0.01)
     for data, pattern in (
         (case(), r"^\[mesh\] stiffness = 'weber': 'weber' cannot take it: Weber: ring_cutter = "
-                 r"None .*allowed 'uniform', 'iso6336', or 'weber' with the internal gear's "
+                 r"None .*allowed 'uniform', 'iso6336', 'fe2d', or 'weber' with the internal "
+                 r"gear's "
                  r"cutter_teeth \(\[\[gears\]\]\)$"),
         (case("sun1", cutter_teeth=30), r"^\[gears\.sun1\] cutter_teeth = 30: belongs to an "
                                         r"internal gear"),

@@ -369,6 +369,15 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     ring = next(g for g in data["gears"] if g["name"] == data["planetary"]["ring_gear"])
     ring.update(cutter_teeth=36, cutter_profile_shift=0.0, cutter_tip_radius_coeff=0.3)
     yield data, None
+    # a planetary stage's [deviations]: every member's table with every key
+    data = tomllib.loads((ROOT / "examples" / "planetary-hunting.toml").read_text("utf-8"))
+    for member, teeth in (("sun", 19), ("planet_1", 17), ("planet_2", 17), ("planet_3", 17),
+                          ("ring", 53)):
+        data["deviations"][member] = {
+            "pitch_um": [0.0] * teeth, "profile_slope_um": 1.0, "profile_form_um": 1.0,
+            "helix_slope_um": 1.0, "helix_form_um": 1.0,
+        }
+    yield data, str(ROOT / "examples")
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}

@@ -96,8 +96,9 @@ TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vt
 OUTPUT_FILES["run"] += TRAIN_FILES
 # what ``jaxgear run`` writes for a planetary stage ([planetary]) besides summary.json: the modes
 # with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves,
-# a flexible ring's mode shapes
-PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu", "ring_campbell.png")
+# a flexible ring's mode shapes, the span with every tooth's deviations ([deviations])
+PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu", "ring_campbell.png",
+                   "hunting.csv", "hunting.png")
 OUTPUT_FILES["run"] += PLANETARY_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

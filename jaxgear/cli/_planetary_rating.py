@@ -7,26 +7,42 @@ supports, else the planar model's)."""
 from __future__ import annotations
 
 import dataclasses
+import os
 import warnings
+from typing import NamedTuple
 
 import equinox as eqx
+import jax
+import numpy as np
 
+from .. import planetary_quasi_static, root_stress_map, tooth_geometry, transverse_load_factor
 from ..io import CaseWarning, ratings_of
+from ._plots import root_stress_plot
 from ._rating_report import (
     RATE,
+    ROOT_STRESS_RADII,
     rated_with_measured,
     rating_lines,
     stacked_meshes,
     write_rating_md,
 )
+from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
     "FACE_LOAD_SOURCE",
     "K_GAMMA_SOURCE",
     "K_GAMMA_SOURCES",
+    "RING_ROOT_STRESS",
+    "STAGE_ALPHA_SOURCE",
+    "STAGE_ROOT_STRESS",
+    "MeshLoads",
+    "StageLoads",
+    "measured_k_h_alpha",
     "measured_k_h_beta",
     "rating_k_gamma",
     "rating_section",
+    "stage_loads",
+    "stage_root_stress",
 ]
 
 #: where a planetary mesh's K_γ comes from when ``[rating] K_gamma`` does not give it
@@ -68,6 +84,178 @@ def measured_k_h_beta(face_load: dict | None) -> list[dict] | None:
             {"value": float(max(k[n:])), "source": source}]
 
 
+#: the stage's quasi-static solve that the rating's measured K_Hα and root-stress maps read
+#: (:func:`stage_loads`), as their sources name it
+STAGE_LOADS = (
+    "jaxgear stage quasi-static ({model} lumped model on the gears' contact cells, the planets "
+    "phased: {slices} slices, {positions} positions over a mesh period, exact contact, the "
+    "case's modifications and pin errors)"
+)
+#: where a planetary mesh's measured K_Hα comes from (:func:`measured_k_h_alpha`)
+STAGE_ALPHA_SOURCE = (
+    "{source}: largest mean line load of one tooth pair over that of all loaded cells, max over "
+    "a mesh period, the largest of the {n} planets' meshes"
+)
+#: where a planetary mesh's root-stress map comes from (:func:`stage_root_stress`)
+STAGE_ROOT_STRESS = (
+    "plane FE tooth (fem_prep.fillet_influence, m_n/18, ISO's normal section) × the cell loads "
+    "of planet {planet}'s mesh (the largest mean mesh force of the {n}), {source}, largest over "
+    "the passage"
+)
+#: the ring's entry in the planet/ring mesh's root stress: its internal tooth has no FE model
+#: yet (the one place it is decided: :func:`_member_table`)
+RING_ROOT_STRESS = "not computed (internal tooth FE model)"
+
+
+class MeshLoads(NamedTuple):
+    """One planet's one mesh of the stage's quasi-static solve, with the fields of a one-mesh
+    result (what :func:`jaxgear.transverse_load_factor` and :func:`jaxgear.root_stress_map`
+    read): ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and ``cell_mask``, each of shape
+    (P, n_lines, n_slices) over the positions; s, z in the mesh pair's base plane (the
+    :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the case's mesh)."""
+
+    line_load: np.ndarray
+    cell_s: np.ndarray
+    cell_z: np.ndarray
+    cell_mask: np.ndarray
+
+
+class StageLoads(NamedTuple):
+    """The stage's quasi-static loads per mesh kind (:func:`stage_loads`).
+
+    Attributes:
+        meshes: (sun/planet, planet/ring): each a tuple of one :class:`MeshLoads` per planet.
+        forces: (sun/planet, planet/ring): each planet's mesh force (N, transverse, the mean
+            over the positions), (n_planets,).
+        source: :data:`STAGE_LOADS` filled in.
+    """
+
+    meshes: tuple
+    forces: tuple
+    source: str
+
+    def most_loaded(self, k: int) -> int:
+        """The planet (0-based) whose mesh of kind ``k`` carries the largest mean force, the
+        first of those within 1e-9 of it (equal sharing: planet 1, not round-off's pick)."""
+        f = np.asarray(self.forces[k])
+        return int(np.argmax(f >= f.max() * (1 - 1e-9)))
+
+
+def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
+    """The stage's quasi-static solve over one mesh period on the gears' contact cells
+    (:class:`jaxgear.ContactMeshes` of :meth:`jaxgear.io.PlanetarySpec.dynamic_meshes`: the
+    case's ``[mesh]`` stiffness model, slices and positions per pitch, each pair's
+    modifications, the planets phased; each mesh the model its pair case builds,
+    :meth:`jaxgear.io.Case.mesh_model`: the stiffness table at the mean planet load), with the
+    load-sharing model whose K_γ the rating takes (of ``models``, {name: model}: the last of
+    :data:`K_GAMMA_SOURCES` present, as :func:`rating_k_gamma`; the ring rigid, as there), on
+    the load-sharing stage (the sun loaded by its torque, ring and
+    carrier held) with the case's pin errors and eccentricities, exact contact
+    (:func:`jaxgear.planetary_quasi_static`): each planet's sun/planet and planet/ring cell
+    loads. None for a stage without gears, or (with a one-line ``CaseWarning``) where the
+    contact solve fails at a position."""
+    if not case.pairs:
+        return None
+    name = [n for n in K_GAMMA_SOURCES if n in models][-1]
+    # each mesh's own model, as its pair case builds it (the stiffness table at the mean planet
+    # load, E and ν of the case: Case.mesh_model), phased as the stage's dynamics
+    meshes = eqx.tree_at(lambda m: (m.sun_mesh, m.ring_mesh), spec.dynamic_meshes(case),
+                         tuple(case.mesh_case(k).mesh_model() for k in (0, 1)))
+    x = meshes.positions(case.positions_per_pitch)
+    q = planetary_quasi_static(
+        models[name], spec.sharing_stage(stage), meshes,
+        np.asarray(abs(spec.torques(case.torque)["sun"])), x,
+        np.asarray(spec.tangential_pin_errors), np.asarray(spec.radial_pin_errors),
+    )
+    if np.any(np.asarray(q.result) != 0):
+        warnings.warn("[rating] the stage's quasi-static solve on the contact cells did not "
+                      "converge at every position: no measured K_Halpha, no root-stress map",
+                      CaseWarning, stacklevel=2)
+        return None
+    kinds = []
+    for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(q.cell_line_load),
+                             strict=True):
+        w, s, z, m = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask))
+        kinds.append(tuple(MeshLoads(w[:, i], s[:, i], z[:, i], m[:, i])
+                           for i in range(spec.n_planets)))
+    forces = tuple(np.mean(np.asarray(f), axis=0)
+                   for f in (q.sun_mesh_forces, q.ring_mesh_forces))
+    source = STAGE_LOADS.format(model=name, slices=case.slices,
+                                positions=case.positions_per_pitch)
+    return StageLoads(tuple(kinds), forces, source)
+
+
+@eqx.filter_jit
+def _planet_cells(meshes, x):
+    """:meth:`jaxgear.ContactMeshes.planet_cells` at every travel of ``x`` (one compiled
+    program: eagerly, its vmap costs seconds of dispatch)."""
+    return jax.vmap(meshes.planet_cells)(x)
+
+
+def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
+    """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
+    (:func:`stage_loads`): each planet's mesh measured as a pair's
+    (:func:`jaxgear.transverse_load_factor`: the load sharing between the tooth pairs in
+    contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE`; None without
+    loads."""
+    if loads is None:
+        return None
+    source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))
+    return [{"value": max(float(transverse_load_factor(m)) for m in kind), "source": source}
+            for kind in loads.meshes]
+
+
+def _member_table(pair, member: int, table):
+    """The FE fillet stress per unit load of ``member`` (0, 1) of a stage mesh's ``pair``
+    (``table(tooth, radii)`` as :func:`jaxgear.cli.root_stress_outputs`'s, over the member's
+    active profile), or None for an internal gear's tooth (the ring: :data:`RING_ROOT_STRESS`,
+    no FE model of it yet; where its table will plug in)."""
+    if member == 1 and pair.gear.teeth < 0:
+        return None
+    return table(tooth_geometry(pair, member), active_radii(pair, member, ROOT_STRESS_RADII))
+
+
+def stage_root_stress(case, out: str, k: int, section: dict, loads: StageLoads,
+                      table=fillet_table) -> None:
+    """Mesh ``k``'s root-stress map (0 sun/planet, 1 planet/ring) into its rating ``section``
+    and ``root_stress_map_<mesh>.png`` in ``out``: the most loaded planet's cell loads of the
+    stage's quasi-static solve (:func:`stage_loads`, :meth:`StageLoads.most_loaded`) times each
+    member's FE fillet stress per unit load (:func:`jaxgear.root_stress_map`,
+    :data:`~jaxgear.cli.ROOT_STRESS_RADII` load cases per member, ``table`` by default the
+    process-cached :func:`jaxgear.cli.fillet_table`), as a pair's
+    (:func:`jaxgear.cli.root_stress_outputs`): ``root_stress.{max_Pa, iso_sigma_F0_Pa,
+    fe_over_iso}`` per member [pinion, gear] (the ring's None: :data:`RING_ROOT_STRESS`),
+    ``load_radii``, ``planet`` (1-based), ``file``, ``source``. The FE stress includes what the
+    planet's loads include (its share K_γ of the sun torque, the sharing between tooth pairs,
+    the modifications); σ_F0 is ISO's nominal one at the mean planet path's load."""
+    pair, planet = case.pairs[k], loads.most_loaded(k)
+    mesh = loads.meshes[k][planet]
+    maps = []
+    for i in (0, 1):
+        t = _member_table(pair, i, table)
+        maps.append(None if t is None else root_stress_map(pair, mesh, i, t.roll, t.peak))
+    peak = [None if m is None else float(m.max) for m in maps]
+    iso = section["bending"]["sigma_F0_Pa"]
+    name = case.mesh_name(k)
+    section["root_stress"] = {
+        "max_Pa": peak,
+        "iso_sigma_F0_Pa": iso,
+        "fe_over_iso": [None if p is None else p / q for p, q in zip(peak, iso, strict=True)],
+        "load_radii": ROOT_STRESS_RADII,
+        "planet": planet + 1,
+        "file": f"root_stress_map_{name}.png",
+        "source": STAGE_ROOT_STRESS.format(planet=planet + 1, n=len(loads.meshes[k]),
+                                           source=loads.source),
+    }
+    gears = [case.gear_names[g] for g in case.gears[k]]
+    names = [g if m is not None else f"{g}: root stress\n{RING_ROOT_STRESS}"
+             for g, m in zip(gears, maps, strict=True)]
+    root_stress_plot(
+        os.path.join(out, section["root_stress"]["file"]), maps,
+        f"{case.name} {name}: root stress over a tooth passage, planet {planet + 1} (the most "
+        "loaded; plane FE × the stage's quasi-static cell loads)", names)
+
+
 def rating_k_gamma(sharing: dict) -> tuple[float, str]:
     """(K_γ, source) for the rating when ``[rating] K_gamma`` does not give it, from the run's
     load sharing (``summary.json``'s ``load_sharing``, :func:`jaxgear.cli.planetary.
@@ -79,8 +267,9 @@ def rating_k_gamma(sharing: dict) -> tuple[float, str]:
     return float(sharing[name]["k_gamma"]), K_GAMMA_SOURCES[name]
 
 
-def rating_section(case, out: str, k_gamma: float,
-                   source: str = K_GAMMA_SOURCE, face_load: dict | None = None) -> dict | None:
+def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
+                   face_load: dict | None = None, loads: StageLoads | None = None,
+                   table=fillet_table) -> dict | None:
     """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
     (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
     method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
@@ -95,8 +284,10 @@ def rating_section(case, out: str, k_gamma: float,
     on its supports: :func:`jaxgear.cli.planetary.face_load_section`), each mesh's
     ``measured.K_Hbeta`` (:func:`measured_k_h_beta`), reported in ``rating.md`` beside ISO's and
     rated with in its place when ``[rating] use_measured`` names it, as a pair's
-    (:func:`jaxgear.cli._rating_report.rated_with_measured`). ``None`` (nothing written) without
-    ``[rating]``."""
+    (:func:`jaxgear.cli._rating_report.rated_with_measured`). With the stage's quasi-static
+    ``loads`` (:func:`stage_loads`), each mesh's ``measured.K_Halpha`` (:func:`measured_k_h_alpha`,
+    the same use) and its root-stress map (:func:`stage_root_stress`, ``table`` the FE fillet
+    stress per unit load). ``None`` (nothing written) without ``[rating]``."""
     rcs = ratings_of(case)
     if rcs is None:
         return None
@@ -113,14 +304,15 @@ def rating_section(case, out: str, k_gamma: float,
         "influence factor); the sun's and the ring's meet every planet each relative turn.",
         "",
     ]
-    measured = measured_k_h_beta(face_load)
+    measured = {key: v for key, v in (("K_Hbeta", measured_k_h_beta(face_load)),
+                                      ("K_Halpha", measured_k_h_alpha(loads))) if v is not None}
     named = dict.fromkeys(n for rc in rcs for n in rc.use_measured)
-    unmeasured = [n for n in named if measured is None or n != "K_Hbeta"]
+    unmeasured = [n for n in named if n not in measured]
     if unmeasured:
         warnings.warn(
-            f"[rating] use_measured: {', '.join(unmeasured)} not measured on a planetary "
-            "stage's meshes (K_Hbeta only, of a helical stage on its axial and tilting "
-            "supports): rated with ISO's", CaseWarning, stacklevel=2)
+            f"[rating] use_measured: {', '.join(unmeasured)} not measured on this planetary "
+            "stage's meshes (K_Halpha of a stage given by its gears, K_Hbeta of a helical stage "
+            "on its axial and tilting supports): rated with ISO's", CaseWarning, stacklevel=2)
     sections = []
     for k, (name, rc) in enumerate(zip(names, rcs, strict=True)):
         given = rc.k_gamma is not None
@@ -133,9 +325,11 @@ def rating_section(case, out: str, k_gamma: float,
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
         section = rating.summary()
-        if measured is not None:
-            section["measured"] = {"K_Hbeta": measured[k]}
+        if measured:
+            section["measured"] = {key: v[k] for key, v in measured.items()}
             section = rated_with_measured(dataclasses.replace(rc, settings=settings), section)
+        if loads is not None:
+            stage_root_stress(case, out, k, section, loads, table)
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
         section |= {
             "K_gamma": {"value": kg, "source": "given" if given else source},

@@ -121,8 +121,8 @@ def _(v, scale) -> str:  # a load factor with its source
 
 
 @_value.register(list)
-def _(v, scale) -> str:  # per gear
-    return " / ".join(f"{x * scale:.4g}" for x in v)
+def _(v, scale) -> str:  # per gear (None: not computed, e.g. a ring's FE root stress)
+    return " / ".join("not computed" if x is None else f"{x * scale:.4g}" for x in v)
 
 
 def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]:

@@ -28,10 +28,12 @@ def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
 
 
 def active_radii(pair: GearPair, member: int, n: int) -> tuple:
-    """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α)."""
+    """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α),
+    the outer end held at the tip circle (its radius from the roll differs by round-off)."""
     ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
     roll = np.linspace(min(ends), max(ends), n)
-    return tuple(float(r) for r in np.hypot(roll, float(pair.base_radii[member])))
+    radii = np.minimum(np.hypot(roll, float(pair.base_radii[member])), pair.tip_radii[member])
+    return tuple(float(r) for r in radii)
 
 
 #: the body regions whose largest stresses ``body_stress_outputs`` reports, where the body has them

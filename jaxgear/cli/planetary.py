@@ -8,7 +8,8 @@ planet–ring meshes of one planet: the other planets' are the same up to phase)
 
 Files (atomically, into the run's folder): ``summary.json``, ``modes.json``, ``campbell.png``
 and, with gears, ``mesh_<sun>-<planet>.csv`` and ``mesh_<planet>-<ring>.csv`` (TE and mesh
-stiffness over two mesh periods).
+stiffness over two mesh periods); with ``[deviations]``, ``hunting.csv`` and ``hunting.png``
+(K_γ and every mesh's TE with the deviations of every tooth over the hunting period).
 """
 
 from __future__ import annotations
@@ -38,16 +39,20 @@ from .. import (
     quasi_static,
     ring_resonances,
 )
-from ..io import write_csv, write_json
+from ..io import ratings_of, write_csv, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._rating_report import RATE  # the compiled rating (tests use the run's program)
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
+    measured_k_h_alpha,
     rating_k_gamma,
     rating_section,
+    stage_loads,
+    stage_root_stress,
 )
+from ._planetary_hunting_run import hunting_line, hunting_section
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
@@ -59,6 +64,7 @@ __all__ = [
     "campbell_section",
     "face_load_section",
     "lowest_frequency",
+    "measured_k_h_alpha",
     "mesh_sections",
     "mode_list",
     "mode_models",
@@ -75,6 +81,8 @@ __all__ = [
     "sharing_models",
     "sharing_summary",
     "spatial_model",
+    "stage_loads",
+    "stage_root_stress",
     "turn_sharing",
     "unbalance_summary",
     "type_counts",
@@ -137,6 +145,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     speeds = spec.speeds(case.speed)
     torques = spec.torques(case.torque)
     k_s, k_r = (float(np.max(np.asarray(k))) for k in stage.mesh_stiffnesses())
+    models = sharing_models(spec, stage)
     summary = {
         "case": case.name,
         "complete": bool(complete),
@@ -164,7 +173,7 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
             },
         },
         "operating": {"torque_Nm": case.torque, "speed_rad_s": case.speed},
-        "load_sharing": sharing_summary(spec, stage, torques, sharing_models(spec, stage)),
+        "load_sharing": sharing_summary(spec, stage, torques, models),
         "mesh_phases": phases_summary(spec),
     }
     if spec.unbalanced:
@@ -182,11 +191,14 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
     summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
     if spec.ring_model.flexible:
         summary["ring"] = ring_section(case, spec, stage, out)
+    if case.deviations is not None:  # [deviations]: every tooth's, over the hunting period
+        summary["hunting"] = hunting_section(case, spec, stage, out)
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
+    loads = None if ratings_of(case) is None else stage_loads(case, spec, stage, models)
     rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
-                            face_load=summary.get("face_load"))
+                            face_load=summary.get("face_load"), loads=loads)
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
@@ -615,6 +627,8 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
             f"{r['ring_deflection_max_m'] * 1e6:.3g} µm; {low}; {len(r['resonances'])} "
             "ND crossings with the planets' mesh harmonics (ring.vtu, ring_campbell.png)"
         )
+    if summary.get("hunting") is not None:
+        lines.append(hunting_line(summary["hunting"]))
     rt = summary.get("rating")
     if rt is not None:
         lines.append(

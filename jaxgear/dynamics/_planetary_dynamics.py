@@ -138,6 +138,12 @@ def _with_ring(A, B):
 
 
 def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
+    if not meshes.one_period:  # one period's rows are laid out and repeated below
+        raise ValueError(
+            f"planetary_dynamics: meshes {type(meshes).__name__} change from one mesh period to "
+            "the next (per-tooth deviations), out of range: allowed meshes that repeat every "
+            "mesh period (ContactMeshes, ConstantMeshes); planetary_quasi_static takes them"
+        )
     m = model.mass_matrix(stage)
     f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
                                 "planetary_dynamics")

@@ -27,7 +27,12 @@ from .._robust import (
 )
 from ._modifications_table import _depth_range
 
-__all__ = ["DEVIATION_KINDS", "deviation_kinds_from_names", "parse_deviations"]
+__all__ = [
+    "DEVIATION_KINDS",
+    "deviation_kinds_from_names",
+    "member_values",
+    "parse_deviations",
+]
 
 #: ``[robust] kinds`` names: the deviations a sampler draws
 DEVIATION_KINDS = {
@@ -77,6 +82,43 @@ def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", n
     if np.ndim(spec[key]):  # an array: one value per tooth
         return np.asarray(sc.number_list(spec, key, where, length=z, allowed=allowed)) * 1e-6
     return sc.number(spec, key, where, allowed=allowed, note=note) * 1e-6
+
+
+def member_values(spec: dict, where: str, z: int, signed: str, positive: str,
+                  note: str) -> dict[str, Any]:
+    """The values a member's table ``[deviations.<member>]`` gives (µm, deg → m, rad), as
+    :class:`~jaxgear.GearDeviations` keywords: ``pitch_um`` (single pitch deviations, one per
+    tooth, closing: Σ = 0), ``runout_um``, ``runout_phase_deg`` and the per-tooth (or every
+    tooth's) profile and helix slopes and forms; ``signed`` / ``positive``: the allowed ranges
+    of signed and positive depths (``note``: why).
+
+    Raises:
+        SchemaError: wrong types, values out of range, arrays of another length than ``z``,
+            pitch deviations that do not close."""
+    kw: dict[str, Any] = {}
+    if "pitch_um" in spec:
+        fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z, allowed=signed))
+        fpt = fpt * 1e-6
+        if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
+            raise sc.fail(
+                where,
+                "pitch_um",
+                f"out of range: the single pitch deviations sum to {fpt.sum() * 1e6:.6g} µm, "
+                "allowed a sum of 0 (they close around the gear)",
+                spec["pitch_um"],
+            )
+        kw["single_pitch"] = fpt
+    if "runout_um" in spec:
+        kw["runout"] = sc.number(spec, "runout_um", where, allowed=positive, note=note) * 1e-6
+    if "runout_phase_deg" in spec:
+        kw["runout_phase"] = math.radians(
+            sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
+        )
+    for f in _PER_TOOTH:
+        v = _per_tooth(spec, f"{f}_um", where, z, signed, note)
+        if v is not None:
+            kw[f] = v
+    return kw
 
 
 def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
@@ -151,28 +193,7 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
                 f: np.asarray(getattr(drawn, f))
                 for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
             }
-        if "pitch_um" in spec:
-            fpt = np.asarray(sc.number_list(spec, "pitch_um", where, length=z, allowed=signed))
-            fpt = fpt * 1e-6
-            if abs(fpt.sum()) * 1e6 > PITCH_CLOSURE_UM:
-                raise sc.fail(
-                    where,
-                    "pitch_um",
-                    f"out of range: the single pitch deviations sum to {fpt.sum() * 1e6:.6g} µm, "
-                    "allowed a sum of 0 (they close around the gear)",
-                    spec["pitch_um"],
-                )
-            kw["single_pitch"] = fpt
-        if "runout_um" in spec:
-            kw["runout"] = sc.number(spec, "runout_um", where, allowed=positive, note=note) * 1e-6
-        if "runout_phase_deg" in spec:
-            kw["runout_phase"] = math.radians(
-                sc.number(spec, "runout_phase_deg", where, allowed="[-360, 360]")
-            )
-        for f in _PER_TOOTH:
-            v = _per_tooth(spec, f"{f}_um", where, z, signed, note)
-            if v is not None:
-                kw[f] = v
+        kw.update(member_values(spec, where, z, signed, positive, note))
         if not kw and grade is None:
             members.append(None)
             continue

@@ -577,8 +577,8 @@ def _geometry(t: dict, gears: dict):
 
 def check_internal_stiffness(case: Case, where: str) -> None:
     """The ``[mesh]`` stiffness model must have an internal-gear form when a mesh is internal
-    (``uniform``, ``iso6336``, or ``weber`` with the internal gear's cutter, its ``[[gears]]``
-    ``cutter_*`` keys: :meth:`jaxgear.AbstractStiffness.check_pair`), refused in one line
+    (``uniform``, ``iso6336``, ``fe2d``, or ``weber`` with the internal gear's cutter, its
+    ``[[gears]]`` ``cutter_*`` keys: :meth:`jaxgear.AbstractStiffness.check_pair`), refused in one line
     before any work."""
     internal = [p for p in case.pairs if isinstance(p, InternalGearPair)]
     if not internal:
@@ -594,8 +594,8 @@ def check_internal_stiffness(case: Case, where: str) -> None:
         raise sc.fail(
             "mesh",
             "stiffness",
-            f"{problem} ({where} has an internal gear); allowed 'uniform', 'iso6336', or "
-            "'weber' with the internal gear's cutter_teeth ([[gears]])",
+            f"{problem} ({where} has an internal gear); allowed 'uniform', 'iso6336', 'fe2d', "
+            "or 'weber' with the internal gear's cutter_teeth ([[gears]])",
             case.stiffness.name,
         )
 

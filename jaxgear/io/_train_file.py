@@ -60,9 +60,9 @@ An internal gear (a ring) has a negative ``teeth`` (ISO 21771, e.g. ``teeth = -5
 a mesh's ``driven`` gear only, its ``driving`` mate an external gear inside it, and the mesh an
 :class:`~jaxgear.InternalGearPair`. A train with an internal mesh has that one mesh and no
 ``[scene]`` (``jaxgear run`` writes the rigid mesh's quasi-static files, as a pair's), and its
-``[mesh] stiffness`` must have an internal-gear form (``uniform``, or ``iso6336``, the default
-there, or ``weber`` with the internal gear's cutter: its ``cutter_teeth``,
-``cutter_profile_shift`` and ``cutter_tip_radius_coeff``; ``fe2d``: not yet). A planetary stage
+``[mesh] stiffness`` must have an internal-gear form (``uniform``, ``iso6336``, the default
+there, ``fe2d``, or ``weber`` with the internal gear's cutter: its ``cutter_teeth``,
+``cutter_profile_shift`` and ``cutter_tip_radius_coeff``). A planetary stage
 names its sun, planet and ring gears in ``[planetary]`` (jaxgear/io/_planetary_table.py) instead
 of ``[[meshes]]``; its ring's cutter keys serve the rating too (``[rating] ring_cutter_*``, the
 older spelling, serve the stiffness model too; both refused).
@@ -105,6 +105,7 @@ from ._case_file import (
     parse_torque,
 )
 from ._modifications_table import _MOD_KEYS, _member_mods
+from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
     CUTTER_KEYS,
@@ -137,6 +138,7 @@ _TOP_KEYS = {
     "scene",
     "planetary",
     "rating",
+    "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -429,6 +431,13 @@ def _planetary_case(data: dict, name: str) -> Case:
         ),
     }
     case = parse_planetary(data, base, gears, index)
+    if "deviations" in data:  # per tooth, over the hunting period: the gear form only
+        if not case.pairs:
+            raise sc.fail("", "deviations", "allowed only with [[gears]] (the gear form: the "
+                          "deviations are the gears' teeth)", "[deviations]")
+        devs, settings = parse_planetary_deviations(data["deviations"], case.pairs,
+                                                    case.form.spec.n_planets)
+        case = dataclasses.replace(case, deviations=devs, deviation_settings=settings)
     # [rating]: both meshes (ISO 6336, the ring internal), the ring's cutter given once
     check_planetary_rating(data, case)
     older = older_ring_cutter(data, case)  # [rating] ring_cutter_*: the stiffness model's too
@@ -457,6 +466,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "operating", "", op_keys, required=True)
     if is_planetary(data):
         return _planetary_case(data, name)
+    if "deviations" in data:
+        raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
+                      "a planetary stage's with [[gears]])", "[deviations]")
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     shaft_names: dict[str, int] = {}

@@ -383,14 +383,19 @@ def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonic
     savefig(fig, path)
 
 
-def root_stress_plot(path: str, maps, title: str) -> None:
+def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> None:
     """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
     line of action and the face width, side by side, each map's largest stress marked, saved to
-    ``path``."""
+    ``path``; ``names`` the two members' (a map ``None``: its panel says why, e.g. "ring: not
+    computed (internal tooth FE model)")."""
     fig = Figure(figsize=(9, 3.8), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, 2, sharey=True)
-    for ax, tag, rmap in zip(axes, ("pinion", "gear"), maps, strict=True):
+    for ax, tag, rmap in zip(axes, names, maps, strict=True):
+        if rmap is None:
+            ax.text(0.5, 0.5, tag, ha="center", va="center", transform=ax.transAxes)
+            ax.set_axis_off()
+            continue
         m = np.asarray(rmap.mask)
         s = np.asarray(rmap.cell_s)[m] * 1e3
         z = np.asarray(rmap.cell_z)[m] * 1e3

@@ -1,0 +1,141 @@
+"""``[deviations]`` of a planetary stage's case file (the gear form): ISO 1328-1 deviations per
+tooth of the sun, each planet and the ring, drawn from a grade or given, and the span of the
+quasi-static over the stage's hunting period (docs/planetary.md, "Per-tooth deviations and the
+hunting period"). The keys are the pair's ``[deviations]`` keys (jaxgear/io/_deviations_table.py)
+with the members ``[deviations.sun]``, ``[deviations.planet_1]`` … ``[deviations.planet_N]`` and
+``[deviations.ring]``; runout is the stage's (``[planetary]`` eccentricities and planet runout)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from fem_prep import schema as sc
+
+from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
+from .._planetary_hunting import PlanetaryDeviations, planetary_hunting_periods
+from ._deviations_table import _DEV_MEMBER_KEYS, member_values
+from ._modifications_table import _depth_range
+
+__all__ = ["MAX_STAGE_POSITIONS", "parse_planetary_deviations"]
+
+#: the most positions a stage's deviation span may ask for (sun turns × z_s × positions per
+#: pitch): each position is a contact solve of all 2N meshes
+MAX_STAGE_POSITIONS = 400_000
+#: a member's keys: the pair's, without the runout (the stage's eccentricities carry it)
+STAGE_MEMBER_KEYS = _DEV_MEMBER_KEYS - {"runout_um", "runout_phase_deg"}
+#: where a member's runout goes instead ([planetary]; a planet's: planet_runout_um)
+RUNOUT_KEYS = {"sun": "sun_eccentricity_um", "ring": "ring_eccentricity_um"}
+
+
+def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[PlanetaryDeviations,
+                                                                             dict]:
+    """``[deviations]`` of a planetary case → (:class:`~jaxgear.PlanetaryDeviations`, the run
+    settings).
+
+    ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every member's pitch, profile
+    and helix deviations (:func:`~jaxgear.sample_gear_deviations`, NumPy ``default_rng(seed)``:
+    the sun, planet 1 … planet N, then the ring; the drawn runout set to 0); the member tables
+    give values (µm) that replace the drawn ones key by key, or, without a grade, are the only
+    deviations (the other members perfect).
+
+    Args:
+        table: the ``[deviations]`` table. pairs: (sun–planet pair, planet–ring pair).
+        n_planets: N.
+
+    Settings returned (case-file units): ``grade`` (or None), ``seed``, ``revolutions`` (turns
+    of the sun relative to the carrier, an integer or ``"hunting"``: H / z_s, H =
+    lcm(z_s, z_p, z_r) mesh periods), ``revolutions_count``, ``mesh_periods`` (the span),
+    ``hunting_periods`` (H), ``positions_per_pitch`` (default 4), ``tolerances_um`` per member
+    (with a grade).
+
+    Raises:
+        SchemaError: one line (unknown keys, wrong types, values out of range, arrays of another
+            length than the member's teeth, pitch deviations that do not close, a span of more
+            than :data:`MAX_STAGE_POSITIONS` positions).
+    """
+    if not isinstance(table, dict):
+        raise sc.fail("", "deviations", "must be a table", table)
+    planets = [f"planet_{i + 1}" for i in range(n_planets)]
+    sc.check_keys(table, {"grade", "seed", "revolutions", "positions_per_pitch", "sun", "ring",
+                          *planets}, "deviations")
+    sp, pr = pairs
+    z_s, z_p, z_r = int(sp.pinion.teeth), int(sp.gear.teeth), -int(pr.gear.teeth)
+    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
+    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
+    hunting = planetary_hunting_periods(z_s, z_p, z_r)
+    rev = table.get("revolutions", "hunting")
+    if rev == "hunting":
+        count = hunting // z_s
+    else:
+        if isinstance(rev, str):
+            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
+        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
+        rev = count
+    ppp = sc.number(table, "positions_per_pitch", "deviations", 4, allowed=">= 2", integer=True)
+    if count * z_s * ppp > MAX_STAGE_POSITIONS:
+        raise sc.fail(
+            "deviations",
+            "revolutions",
+            f"out of range: {count} sun turns × {z_s} teeth × {ppp} positions per pitch is "
+            f"{count * z_s * ppp} positions, allowed <= {MAX_STAGE_POSITIONS} (lower "
+            "positions_per_pitch or give a number of revolutions)",
+            rev,
+        )
+    signed, note = _depth_range(sp.normal_module * 1e3, signed=True)
+    positive, _ = _depth_range(sp.normal_module * 1e3)
+    members = [("sun", sp.pinion, z_s), *((p, sp.gear, z_p) for p in planets),
+               ("ring", pr.gear, z_r)]
+    if grade is not None:
+        lo, hi = ISO1328_SCOPE["teeth"]
+        for tag, z in (("sun", z_s), ("planet", z_p), ("ring", z_r)):
+            if not lo <= z <= hi:
+                raise sc.fail(tag, "teeth", f"out of range with [deviations] grade = {grade}, "
+                              f"allowed [{lo}, {hi}] (the scope of ISO 1328-1; give the "
+                              "deviations per member without a grade instead)", z)
+    rng = np.random.default_rng(seed)
+    alpha = float(sp.transverse_pressure_angle)
+    out: dict[str, GearDeviations | None] = {}
+    tolerances = {}
+    for tag, member, z in members:
+        for key in ("runout_um", "runout_phase_deg"):
+            if isinstance(table.get(tag), dict) and key in table[tag]:
+                raise sc.fail(f"deviations.{tag}", key, "not here in a planetary stage (allowed: "
+                              "the stage's runout, [planetary] "
+                              f"{RUNOUT_KEYS.get(tag, 'planet_runout_um')})", table[tag][key])
+        spec = sc.subtable(table, tag, "deviations", STAGE_MEMBER_KEYS)
+        kw: dict[str, Any] = {}
+        if grade is not None:
+            d = z * sp.normal_module / math.cos(sp.helix_angle)
+            try:
+                tol = iso1328_tolerances(sp.normal_module, d, member.face_width, grade)
+            except ValueError as err:
+                raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
+            tolerances[tag] = tol.as_um()
+            drawn = sample_gear_deviations(rng, z, tol, alpha)
+            kw = {f: np.asarray(getattr(drawn, f)) for f in (
+                "single_pitch", "profile_slope", "profile_form", "helix_slope", "helix_form")}
+        kw.update(member_values(spec, f"deviations.{tag}", z, signed, positive, note))
+        if not kw:
+            out[tag] = None
+            continue
+        kw.setdefault("single_pitch", np.zeros(z))
+        out[tag] = GearDeviations(**kw, reference_pressure_angle=alpha)
+    planet_devs = tuple(out[p] for p in planets)
+    deviations = PlanetaryDeviations(
+        sun=out["sun"], planets=planet_devs if any(g is not None for g in planet_devs) else (),
+        ring=out["ring"])
+    settings = {
+        "grade": grade,
+        "seed": seed,
+        "revolutions": rev,
+        "revolutions_count": int(count),
+        "mesh_periods": int(count * z_s),
+        "hunting_periods": int(hunting),
+        "positions_per_pitch": ppp,
+    }
+    if tolerances:
+        settings["tolerances_um"] = tolerances
+    return deviations, settings
