@@ -264,6 +264,14 @@ def _set(path: str, value):
     return change
 
 
+def _weber_without_the_rings_cutter(data):
+    """``[mesh] stiffness = "weber"`` on the stage whose ring's [[gears]] entry gives no cutter."""
+    data["mesh"]["stiffness"] = "weber"
+    ring = next(g for g in data["gears"] if g["name"] == data["planetary"]["ring_gear"])
+    for key in ("cutter_teeth", "cutter_profile_shift", "cutter_tip_radius_coeff"):
+        ring.pop(key)
+
+
 @pytest.mark.parametrize(
     "change, words",
     [
@@ -303,7 +311,7 @@ def _set(path: str, value):
             "[planetary.sun] base_radius_mm = 400: allowed only in the lumped form",
         ),
         (
-            _set("mesh/stiffness", "weber"),
+            _weber_without_the_rings_cutter,
             "[mesh] stiffness = 'weber': 'weber' cannot take it: Weber: ring_cutter = None",
         ),
         (_set("scene", {"model": "torsional"}), "[scene]: not in a planetary case"),
