@@ -105,6 +105,20 @@ def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
     return float(delta)
 
 
+def _check_stage(geometry: PlanetaryGeometry, planet_angles) -> np.ndarray:
+    """The planet angles (rad, (n_planets,)) of a stage that assembles, its pairs of one base
+    pitch; one line otherwise."""
+    sp, pr = geometry.sun_planet, geometry.planet_ring
+    psi = np.asarray(planet_angles, dtype=float)
+    check_assembly(int(sp.pinion.teeth), -int(pr.gear.teeth), psi)
+    if not math.isclose(float(sp.base_pitch), float(pr.base_pitch), rel_tol=1e-9):
+        raise ValueError(
+            f"ContactMeshes: the base pitches differ ({float(sp.base_pitch)!r} m, "
+            f"{float(pr.base_pitch)!r} m): allowed one module and pressure angle"
+        )
+    return psi
+
+
 def structure_stiffness(model: AbstractPlanetaryModel, stage: PlanetaryStage):
     """K_b (N/m, (n_dof, n_dof)): the model's stiffness without the meshes (bearings, pins,
     torsional supports); the meshes come from the cells."""
@@ -307,9 +321,10 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         **table,
     ) -> ContactMeshes:
         """The meshes of the stage ``geometry`` with planets at ``planet_angles`` (rad,
-        (n_planets,), assembly checked), each mesh's stiffness table from ``stiffness``
-        (:func:`~jaxgear.stiffness_table`, ``table``: its keywords), ``n_slices`` slices per
-        contact line, ``modifications`` (sun pair's, ring pair's; None: none).
+        (n_planets,), assembly checked), both tables from ``stiffness`` and the same keywords
+        ``table`` (:func:`~jaxgear.stiffness_table`), ``n_slices`` slices per contact line,
+        ``modifications`` (sun pair's, ring pair's; None: none). Each mesh at its own load (a
+        case's pairs, :meth:`jaxgear.io.Case.mesh_model`): :meth:`from_models`.
 
         Raises:
             ValueError: planets that cannot be assembled, a bad stiffness model for internal
@@ -317,21 +332,46 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         """
         check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
                        "ContactMeshes.from_geometry")
+        _check_stage(geometry, planet_angles)
+        meshes = tuple(MeshModel.from_pair(p, *stiffness_table(p, stiffness, **table), n_slices)
+                       for p in (geometry.sun_planet, geometry.planet_ring))
+        return cls.from_models(geometry, planet_angles, meshes, modifications)
+
+    @classmethod
+    def from_models(
+        cls,
+        geometry: PlanetaryGeometry,
+        planet_angles,
+        meshes: tuple[MeshModel, MeshModel],
+        modifications: tuple[Modifications, Modifications] | None = None,
+    ) -> ContactMeshes:
+        """The meshes of the stage ``geometry`` with planets at ``planet_angles`` (rad,
+        (n_planets,), assembly checked) from ready mesh models ``meshes`` (the sun pair's, the
+        ring pair's :class:`~jaxgear.MeshModel`, built by :meth:`jaxgear.MeshModel.from_pair` on
+        ``geometry.sun_planet`` and ``geometry.planet_ring``: their stiffness tables and slices
+        as given) and ``modifications`` (sun pair's, ring pair's; None: none).
+
+        Raises:
+            ValueError: planets that cannot be assembled, the pairs' base pitches different, a
+                model whose pinion base radius or path of contact is not its pair's (one line).
+        """
+        where = "ContactMeshes.from_models"
+        check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
+                       where)
+        psi = _check_stage(geometry, planet_angles)
         sp, pr = geometry.sun_planet, geometry.planet_ring
-        z_s, z_r = int(sp.pinion.teeth), -int(pr.gear.teeth)
-        psi = np.asarray(planet_angles, dtype=float)
-        check_assembly(z_s, z_r, psi)
-        if not math.isclose(float(sp.base_pitch), float(pr.base_pitch), rel_tol=1e-9):
-            raise ValueError(
-                f"ContactMeshes: the base pitches differ ({float(sp.base_pitch)!r} m, "
-                f"{float(pr.base_pitch)!r} m): allowed one module and pressure angle"
-            )
+        if len(meshes) != 2:
+            raise ValueError(f"{where}: meshes has {len(meshes)} entries: allowed 2 (sun, ring)")
+        for i, (mesh, pair) in enumerate(zip(meshes, (sp, pr), strict=True)):
+            check_instance(f"meshes[{i}]", mesh, MeshModel, "a jaxgear.MeshModel", where)
+            for field, want in (("base_radius_pinion", float(pair.base_radii[0])),
+                                ("path_of_contact", float(pair.path_of_contact))):
+                got = float(getattr(mesh, field))
+                if not math.isclose(got, want, rel_tol=1e-6):
+                    raise ValueError(f"{where}: meshes[{i}].{field} = {got!r} m: allowed its "
+                                     f"pair's {want!r} m (another pair's model)")
         mods = (Modifications(), Modifications()) if modifications is None else modifications
-        meshes = []
-        for pair in (sp, pr):
-            s, k = stiffness_table(pair, stiffness, **table)
-            meshes.append(MeshModel.from_pair(pair, s, k, n_slices))
-        g_s, g_r = mesh_phases(z_s, z_r, psi)
+        g_s, g_r = mesh_phases(int(sp.pinion.teeth), -int(pr.gear.teeth), psi)
         pitch = [float(p.base_radii[0]) * math.tan(float(p.operating_pressure_angle))
                  - float(p.start_roll) for p in (sp, pr)]
         return cls(meshes[0], meshes[1], mods[0], mods[1], g_s, g_r, sun_ring_offset(geometry),

@@ -157,10 +157,7 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
     if not case.pairs:
         return None
     name = [n for n in K_GAMMA_SOURCES if n in models][-1]
-    # each mesh's own model, as its pair case builds it (the stiffness table at the mean planet
-    # load, E and ν of the case: Case.mesh_model), phased as the stage's dynamics
-    meshes = eqx.tree_at(lambda m: (m.sun_mesh, m.ring_mesh), spec.dynamic_meshes(case),
-                         tuple(case.mesh_case(k).mesh_model() for k in (0, 1)))
+    meshes = spec.dynamic_meshes(case, case.slices)
     x = meshes.positions(case.positions_per_pitch)
     q = planetary_quasi_static(
         models[name], spec.sharing_stage(stage), meshes,

@@ -263,21 +263,26 @@ class PlanetarySpec:
 
 
     def dynamic_meshes(self, case: Case, n_slices: int = 1) -> AbstractPlanetaryMeshes:
-        """The 2N meshes of the stage's dynamics (:func:`jaxgear.dynamics.planetary_dynamics`):
-        with gears, :class:`~jaxgear.ContactMeshes` from the two pairs (the case's ``[mesh]``
-        stiffness model and each pair's modifications, ``n_slices`` slices per contact line,
-        phased per planet); in the lumped form, :class:`~jaxgear.ConstantMeshes` at the base
-        pitch p_b = 2π r_bs / z_s (so that the mesh frequency is z_s |ω_s − ω_c| / 2π)."""
+        """The 2N meshes of the stage's dynamics (:func:`jaxgear.dynamics.planetary_dynamics`)
+        and of its quasi-static solves on contact cells: with gears,
+        :class:`~jaxgear.ContactMeshes` of the two pairs' own models
+        (:meth:`~jaxgear.io.Case.mesh_model` of each :meth:`~jaxgear.io.Case.mesh_case`: the
+        case's ``[mesh]`` stiffness model at the case's E and ν, each mesh's table at its own
+        mean planet load, with the ISO 6336-1 low-load factor of ``iso6336``; the same models as
+        the pair outputs and the rating), ``n_slices`` slices per contact line, each pair's
+        modifications, phased per planet; in the lumped form, :class:`~jaxgear.ConstantMeshes`
+        at the base pitch p_b = 2π r_bs / z_s (so that the mesh frequency is z_s |ω_s − ω_c| /
+        2π)."""
         if not case.pairs:
             sun = self.members["sun"]
             return ConstantMeshes(2.0 * math.pi * float(sun.base_radius) / self.teeth[0])
         geometry = PlanetaryGeometry(case.pairs[0], case.pairs[1], self.center_distance, 0.0)
-        return ContactMeshes.from_geometry(
+        ones = [case.mesh_case(k) for k in (0, 1)]
+        return ContactMeshes.from_models(
             geometry,
             np.asarray(self.planet_angles),
-            case.stiffness,
-            n_slices,
-            (case.mesh_case(0).modifications, case.mesh_case(1).modifications),
+            tuple(one.mesh_model(n_slices) for one in ones),
+            tuple(one.modifications for one in ones),
         )
 
     def mesh_speed(self, input_speed: float) -> float:
