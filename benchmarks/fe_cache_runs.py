@@ -102,6 +102,7 @@ def main(argv=None) -> int:
     p.add_argument("--out", required=True, help="the JSON record to write")
     a = p.parse_args(argv)
     env = environment()
+    env["runs_dtype"] = "float64 (jaxgear run enables jax_enable_x64)"
     env["lscpu"] = subprocess.run(["lscpu"], capture_output=True, text=True, check=False).stdout
     env["uptime_at_start"] = subprocess.run(
         ["uptime"], capture_output=True, text=True, check=False
