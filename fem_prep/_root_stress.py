@@ -72,7 +72,7 @@ __all__ = [
 
 DEFAULT_ELEMENTS_PER_MODULE = 18.0  # element size m_n/18 at the teeth: peak within 0.1 % of m_n/27
 DEFAULT_RIM_DEPTH = 3.5  # rim depth below the root circle, in modules (s_R/h_t ≈ 1.5: solid)
-FILLET_FE_VERSION = 1  # of the cached influence tables (cached_fillet_influence): bump on a change
+FILLET_FE_VERSION = 1  # of cached_fillet_influence's tables: bump when their values change
 
 
 class PlaneStrainStress:

@@ -134,8 +134,8 @@ def cached_fillet_influence(geometry, load_radii, **options) -> FilletInfluence:
     The cache: ``fillet_cache_dir() / "<key>.npz"`` under ``$FEM_PREP_CACHE`` (default
     ``~/.cache/jaxgear/fem_prep``), keyed by every input (module docstring), written atomically
     (concurrent runs leave one whole file); a truncated, corrupt or stale file is solved again
-    and replaced (:mod:`fem_prep._fe_cache`). A table read back equals the solved one bit for
-    bit.
+    and replaced (docs/fem_prep.md, "The FE table cache"). A table read back equals the solved
+    one bit for bit; a cache folder that cannot be written is a ``UserWarning``.
 
     Returns:
         The :class:`FilletInfluence`, with ``cache_hit`` (read from the cache) and ``key``.
