@@ -118,6 +118,7 @@ from ._root_stress import (
     fillet_stress as fillet_stress,
     plane_strain_stress as plane_strain_stress,
 )
+from ._root_stress_cache import cached_fillet_influence as cached_fillet_influence
 from ._solver import (
     BlockLanczos as BlockLanczos,
     CholmodFactor as CholmodFactor,

@@ -72,6 +72,7 @@ __all__ = [
 
 DEFAULT_ELEMENTS_PER_MODULE = 18.0  # element size m_n/18 at the teeth: peak within 0.1 % of m_n/27
 DEFAULT_RIM_DEPTH = 3.5  # rim depth below the root circle, in modules (s_R/h_t ≈ 1.5: solid)
+FILLET_FE_VERSION = 1  # of cached_fillet_influence's tables: bump when their values change
 
 
 class PlaneStrainStress:
@@ -520,6 +521,8 @@ class FilletInfluence:
         size: element size (m). n_dofs: degrees of freedom.
         model_radius: (n_loads,) the loads' radii on the modelled tooth (m; the virtual spur
             tooth's in the normal section). section: the :class:`RootSection`'s name.
+        cache_hit: whether the table came from the disk cache. key: its cache key (""
+            uncached); both set by :func:`fem_prep.cached_fillet_influence`.
     """
 
     load_radius: np.ndarray
@@ -531,6 +534,8 @@ class FilletInfluence:
     n_dofs: int
     model_radius: np.ndarray | None = None
     section: str = "transverse"
+    cache_hit: bool = False
+    key: str = ""
 
     @property
     def peak(self) -> np.ndarray:

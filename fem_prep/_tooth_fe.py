@@ -39,11 +39,9 @@ compliance on :func:`mesh_sector` and :func:`tooth_compliance`.  NumPy/SciPy/sci
 from __future__ import annotations
 
 import functools
-import hashlib
 import json
 import math
 import time
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -55,9 +53,9 @@ from scipy.spatial import cKDTree
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 from tqdm import tqdm
 
+from ._fe_cache import cache_key as _key, load_entry, store_entry, table_dir
 from ._solver import factorize
 from ._tooth_profile import FilletForm, ToothProfile, tooth_profile
-from .files import atomic_open, fem_prep_cache_dir
 from .tooth_form import ToothGeometry
 
 __all__ = [
@@ -540,23 +538,7 @@ class ToothCompliance:
 
 def cache_dir() -> Path:
     """``fem_prep.cache_dir() / "tooth_fe"``."""
-    return fem_prep_cache_dir() / "tooth_fe"
-
-
-def _key(inputs: dict) -> str:
-    text = json.dumps(inputs, sort_keys=True)
-    return hashlib.sha256(text.encode()).hexdigest()[:32]
-
-
-def _load_cached(path: Path, key: str):
-    try:
-        with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            data = {k: z[k] for k in z.files}
-        if str(data["key"]) != key or int(data["format_version"]) != TOOTH_FE_VERSION:
-            return None
-        return data
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
-        return None
+    return table_dir("tooth_fe")
 
 
 @dataclass(frozen=True)
@@ -656,7 +638,7 @@ def tabulate(g, prof, rim, material, size, model, options, key_extra) -> ToothCo
     }
     key = _key(inputs)
     path = cache_dir() / f"{key}.npz"
-    data = _load_cached(path, key) if use_cache else None
+    data = load_entry(path, key, TOOTH_FE_VERSION, inputs) if use_cache else None
     hit = data is not None
     if not hit:
         rho, r_load, cE, cE_tooth, info = _compute(
@@ -673,9 +655,7 @@ def tabulate(g, prof, rim, material, size, model, options, key_extra) -> ToothCo
             "compliance_tooth_E": cE_tooth,
         }
         if use_cache:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            with atomic_open(path, "wb") as fh:
-                np.savez(fh, **data)
+            store_entry(path, data)
     E = float(youngs_modulus)
     return ToothCompliance(
         roll=np.asarray(data["roll"], dtype=float),

@@ -21,10 +21,12 @@ def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
     """The FE fillet stress per unit transverse line load at each of ``radii`` (m, on the
     member's transverse flank) of a tooth form (:func:`fem_prep.fillet_influence`) in ISO's
     normal section (:class:`fem_prep.NormalSection`: the virtual spur tooth of a helical gear,
-    loaded at the same height; a spur gear's own tooth), cached for the process: one FE
-    factorisation per tooth form and radii (a train's gear of two meshes, a rerun of the same
-    case)."""
-    return fem_prep.fillet_influence(tooth, np.asarray(radii), section=fem_prep.NormalSection())
+    loaded at the same height; a spur gear's own tooth), cached for the process and on disk
+    (:func:`fem_prep.cached_fillet_influence`, under ``$FEM_PREP_CACHE``): one FE factorisation
+    per tooth form and radii, ever (a train's gear of two meshes, a later run of the case)."""
+    return fem_prep.cached_fillet_influence(
+        tooth, np.asarray(radii), section=fem_prep.NormalSection()
+    )
 
 
 def active_radii(pair: GearPair, member: int, n: int) -> tuple:
