@@ -23,16 +23,24 @@ def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
     normal section (:class:`fem_prep.NormalSection`: the virtual spur tooth of a helical gear,
     loaded at the same height; a spur gear's own tooth), cached for the process: one FE
     factorisation per tooth form and radii (a train's gear of two meshes, a rerun of the same
-    case)."""
-    return fem_prep.fillet_influence(tooth, np.asarray(radii), section=fem_prep.NormalSection())
+    case). An internal tooth (:class:`fem_prep.InternalToothGeometry`, its form the one its
+    cutter generates) in its transverse section: it has no virtual spur gear yet (a spur ring's
+    transverse section is ISO's)."""
+    internal = isinstance(tooth, fem_prep.InternalToothGeometry)
+    section = fem_prep.TransverseSection() if internal else fem_prep.NormalSection()
+    return fem_prep.fillet_influence(tooth, np.asarray(radii), section=section)
 
 
 def active_radii(pair: GearPair, member: int, n: int) -> tuple:
     """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α),
-    the outer end held at the tip circle (its radius from the roll differs by round-off)."""
+    the tip end held at the tip circle (its radius from the roll differs by round-off; an
+    internal gear's tip circle is its smallest radius)."""
     ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
     roll = np.linspace(min(ends), max(ends), n)
-    radii = np.minimum(np.hypot(roll, float(pair.base_radii[member])), pair.tip_radii[member])
+    radii = np.hypot(roll, float(pair.base_radii[member]))
+    tip = float(pair.tip_radii[member])
+    internal = member == 1 and pair.gear.teeth < 0
+    radii = np.maximum(radii, tip) if internal else np.minimum(radii, tip)
     return tuple(float(r) for r in radii)
 
 
