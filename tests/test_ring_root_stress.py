@@ -174,8 +174,6 @@ def test_fe2d_takes_the_ring_cutter(cache):
     cutter), its stiffness a little different from the stand-in's; the Hertzian term reads
     the generated form, on the involute equal to the closed form of the contact point's depth;
     a cutter that cannot cut the ring, or not a cutter, refused in one line."""
-    from jaxgear._stiffness_models import _hertz_compliance
-
     pair = _pair(-60)
     cutter = fem_prep.ShaperCutter(18, 0.0, 0.25)
     model = jg.FE2D(size=1e-3, ring_cutter=cutter)
@@ -188,10 +186,18 @@ def test_fe2d_takes_the_ring_cutter(cache):
     # at this coarse size (m/3) the two forms' meshes differ by less than 1 % (the fine
     # comparison: test_generated_ring_compliance_converges_under_refinement)
     assert 1e-3 < np.max(np.abs(k_gen / k_stand - 1)) < 0.05
-    s = np.linspace(0.0, float(pair.path_of_contact), 5)
-    got = _hertz_compliance(pair, s, 210e9, 0.3, 2e5, cutter)
-    form = fem_prep.generate_internal_tooth(jg.internal_tooth_geometry(pair, cutter))
+    # the Hertzian term: 1/(k cos β_b) less the two members' FE compliances (the cached tables
+    # FE2D read: the same inputs, the same cache entries)
+    s, k = jg.stiffness_table(pair, model, n_points=5, line_load=2e5)
     rho1, rho2 = (np.asarray(pair.roll_distance(s, i)) for i in (0, 1))
+    ring = jg.internal_tooth_geometry(pair, cutter)
+    planet_fe = fem_prep.tooth_compliance(
+        jg.tooth_geometry(pair, 0), rim_radius=0.5 * float(pair.root_radii[0]), size=1e-3
+    )
+    ring_fe = fem_prep.tooth_compliance(ring, size=1e-3)
+    got = 1 / k - planet_fe(rho1) - ring_fe(rho2)
+    assert len(list(cache.glob("*.npz"))) == n_files + 1  # no new entry: FE2D's own
+    form = fem_prep.generate_internal_tooth(ring)
     r1 = np.hypot(rho1, float(pair.base_radii[0]))
     r2 = np.hypot(rho2, float(pair.base_radii[1]))
     planet = fem_prep.tooth_profile(jg.tooth_geometry(pair, 0))

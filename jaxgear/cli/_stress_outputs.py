@@ -26,9 +26,19 @@ def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
     case). An internal tooth (:class:`fem_prep.InternalToothGeometry`, its form the one its
     cutter generates) in its transverse section: it has no virtual spur gear yet (a spur ring's
     transverse section is ISO's)."""
-    internal = isinstance(tooth, fem_prep.InternalToothGeometry)
-    section = fem_prep.TransverseSection() if internal else fem_prep.NormalSection()
-    return fem_prep.fillet_influence(tooth, np.asarray(radii), section=section)
+    return fem_prep.fillet_influence(tooth, np.asarray(radii), section=_iso_section(tooth))
+
+
+@functools.singledispatch
+def _iso_section(tooth) -> fem_prep.RootSection:
+    """The section an external tooth's fillet table is computed in: ISO's normal section."""
+    return fem_prep.NormalSection()
+
+
+@_iso_section.register
+def _ring_section(tooth: fem_prep.InternalToothGeometry) -> fem_prep.RootSection:
+    """An internal tooth's: its transverse section (no virtual spur gear of a ring yet)."""
+    return fem_prep.TransverseSection()
 
 
 def active_radii(pair: GearPair, member: int, n: int) -> tuple:
