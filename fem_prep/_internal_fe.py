@@ -3,7 +3,8 @@ pairs; docs/planetary.md, "Internal gears").
 
 The transverse section of a ring, per unit face width, plane strain: ``n_teeth`` internal teeth
 (pointing inwards, tip circle r_a inside root circle r_f) of the ring's tooth form
-(:class:`~fem_prep.InternalToothProfile`) on the complete ring ``r_f <= r <= R``, its outer face
+(:class:`~fem_prep.InternalToothProfile`: the one its cutter generates where the geometry has
+one, else the stand-in circular fillet) on the complete ring ``r_f <= r <= R``, its outer face
 R (``rim_radius``) clamped (a ring held in a stiff housing), the teeth outside the modelled
 sector left off, as the external model (:mod:`fem_prep._tooth_fe`) does with its bore.  With
 :class:`~fem_prep.RingSegment` (root stress) a segment of the ring is kept, its radial sides
@@ -48,7 +49,8 @@ from ._tooth_fe import (
     tabulate,
     tooth_compliance,
 )
-from ._tooth_profile import InternalToothProfile, tooth_profile
+from ._internal_tooth import ShaperFillet
+from ._tooth_profile import FilletForm, InternalCircularFillet, InternalToothProfile, tooth_profile
 from .tooth_form import InternalToothGeometry
 
 __all__ = ["DEFAULT_RING_DEPTH"]
@@ -56,6 +58,32 @@ __all__ = ["DEFAULT_RING_DEPTH"]
 #: default ring depth below the root circle, R − r_f, in normal modules (a ring that is solid in
 #: ISO 6336-3's sense, s_R > 1.2 h_t, as the external root-stress model's 3.5 m_n rim)
 DEFAULT_RING_DEPTH = 3.5
+
+
+@tooth_profile.register
+def _internal_tooth_profile(
+    geometry: InternalToothGeometry, *, form: FilletForm | None = None
+) -> InternalToothProfile:
+    """The transverse tooth form of an internal gear: an :class:`InternalToothProfile` (``form``:
+    a :class:`FilletForm` whose ``table`` takes an :class:`~fem_prep.InternalToothGeometry`;
+    ``None``: the form the geometry's ``cutter`` generates, :class:`~fem_prep.ShaperFillet`,
+    where it has one, else the stand-in :class:`~fem_prep.InternalCircularFillet`).
+
+    Raises:
+        ValueError: ``form`` not a :class:`FilletForm`; a cutter that cannot cut the ring
+            (:func:`~fem_prep.generate_internal_tooth`'s one line).
+    """
+    if form is None:
+        form = InternalCircularFillet() if geometry.cutter is None else ShaperFillet()
+    if not isinstance(form, FilletForm):
+        raise ValueError(f"form = {form!r}; use a fem_prep fillet form of an internal tooth")
+    tab = form.table(geometry)
+    return InternalToothProfile(
+        teeth=abs(geometry.teeth),
+        root_half_angle=float(tab["psi_tab"][-1]),
+        source=str(form),
+        **tab,
+    )
 
 
 def _map_back(p: np.ndarray, c: float) -> np.ndarray:
@@ -157,7 +185,8 @@ def _internal_tooth_compliance(
             (:data:`DEFAULT_RING_DEPTH`).
         youngs_modulus, poisson_ratio, size, use_cache, progress: as the external model's.
         model: :class:`SectorModel`; its ``form`` a fillet form of an internal tooth (``None``:
-            :class:`~fem_prep.InternalCircularFillet`).
+            the generated :class:`~fem_prep.ShaperFillet` where ``geometry`` has a cutter, else
+            the stand-in :class:`~fem_prep.InternalCircularFillet`).
         support: how the ring is held: :class:`~fem_prep.ClampedBore` (``None``, the default:
             its outer face clamped, a ring in a stiff housing) or :class:`~fem_prep.RingSegment`
             (a segment of ``pitches`` pitches, its radial sides clamped, its outer face free: a

@@ -342,22 +342,3 @@ def tooth_profile(geometry: ToothGeometry, *, form: FilletForm | None = None) ->
         source=str(form),
         **tab,
     )
-
-
-@tooth_profile.register
-def _internal_tooth_profile(
-    geometry: InternalToothGeometry, *, form: FilletForm | None = None
-) -> InternalToothProfile:
-    """The transverse tooth form of an internal gear: an :class:`InternalToothProfile` (``form``:
-    a :class:`FilletForm` whose ``table`` takes an :class:`~fem_prep.InternalToothGeometry`;
-    ``None``: :class:`InternalCircularFillet`)."""
-    form = InternalCircularFillet() if form is None else form
-    if not isinstance(form, FilletForm):
-        raise ValueError(f"form = {form!r}; use a fem_prep fillet form of an internal tooth")
-    tab = form.table(geometry)
-    return InternalToothProfile(
-        teeth=abs(geometry.teeth),
-        root_half_angle=float(tab["psi_tab"][-1]),
-        source=str(form),
-        **tab,
-    )

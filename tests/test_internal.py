@@ -9,6 +9,7 @@ u < 0."""
 
 import math
 import types
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -412,8 +413,15 @@ def test_iso6336_single_stiffness_with_the_internal_gear_rule():
     # Weber needs the ring's cutter for an internal pair (tests/test_weber_internal.py)
     with pytest.raises(ValueError, match="ring_cutter = None is out of range for an InternalGearPair"):
         jg.stiffness_table(p, jg.Weber())
-    with pytest.raises(ValueError, match="model = 'fe2d' is out of range for an InternalGearPair"):
-        jg.stiffness_table(p, jg.FE2D())
+    # a model without an internal-gear form (a user's, internal_teeth False) is refused
+    class ExternalOnly(jg.AbstractStiffness):
+        name: ClassVar[str] = "external-only"
+
+        def profile(self, pair, s, conditions):
+            return np.full_like(s, 1e10)
+
+    with pytest.raises(ValueError, match="model = 'external-only' is out of range for an Internal"):
+        jg.stiffness_table(p, ExternalOnly())
 
 
 def test_hertz_pressure_on_the_concave_flank_against_iso6336_2():

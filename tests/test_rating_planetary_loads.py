@@ -165,7 +165,7 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
                                np.minimum(measured, caps), rtol=1e-12)
     md = (tmp_path / "rating.md").read_text()
     assert md.count("| K_Halpha measured |") == 2
-    assert md.count("| σ_F,FE max | ") == 2 and "not computed" in md
+    assert md.count("| σ_F,FE max | ") == 2 and "not computed" not in md  # the ring: its cutter
     case_v = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"])
     with pytest.warns(CaseWarning, match=r"use_measured: K_v not measured on this planetary"):
         rating_section(case_v, str(tmp_path), 1.0, loads=loads, table=stub_table)
@@ -183,7 +183,9 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
     tests/test_rating_examples.py asserts for a pair's map (the FE below ISO's by 1 to 18 % on
     spur teeth; here 3 planets and a floating sun share equally, K_gamma 1, and the unmodified
     spur meshes share evenly between pairs, K_Halpha 1, so the map is at ISO's load); the
-    ring's not computed (None); root_stress_map_<mesh>.png written."""
+    ring's on the form its cutter generates (z0 = 36) over σ_F0 with the same cutter, in the
+    same band (0.845 measured at the coarse resolution; tests/test_ring_root_stress.py);
+    root_stress_map_<mesh>.png written."""
     from jaxgear.cli.planetary import measured_k_h_alpha, rating_section
 
     case = jio.load_case("nrel-5mw-planetary")
@@ -195,9 +197,9 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
         warnings.simplefilter("ignore", CaseWarning)
         sec = rating_section(case, str(tmp_path), 1.0, loads=loads)
     rs = sec["root_stress"]
-    ratios = [rs["fe_over_iso"][0][0], rs["fe_over_iso"][0][1], rs["fe_over_iso"][1][0]]
+    ratios = [rs["fe_over_iso"][0][0], rs["fe_over_iso"][0][1], rs["fe_over_iso"][1][0],
+              rs["fe_over_iso"][1][1]]
     assert all(0.8 < r < 1.0 for r in ratios), ratios
-    assert rs["max_Pa"][1][1] is None and rs["fe_over_iso"][1][1] is None
     for k, name in enumerate(sec["meshes"]):
         assert rs["file"][k] == f"root_stress_map_{name}.png"
         assert (tmp_path / rs["file"][k]).stat().st_size > 10_000

@@ -23,18 +23,37 @@ def fillet_table(tooth, radii: tuple) -> fem_prep.FilletInfluence:
     normal section (:class:`fem_prep.NormalSection`: the virtual spur tooth of a helical gear,
     loaded at the same height; a spur gear's own tooth), cached for the process and on disk
     (:func:`fem_prep.cached_fillet_influence`, under ``$FEM_PREP_CACHE``): one FE factorisation
-    per tooth form and radii, ever (a train's gear of two meshes, a later run of the case)."""
+    per tooth form and radii, ever (a train's gear of two meshes, a later run of the case). An
+    internal tooth (:class:`fem_prep.InternalToothGeometry`, its form the one its cutter
+    generates) in its transverse section: it has no virtual spur gear yet (a spur ring's
+    transverse section is ISO's)."""
     return fem_prep.cached_fillet_influence(
-        tooth, np.asarray(radii), section=fem_prep.NormalSection()
+        tooth, np.asarray(radii), section=_iso_section(tooth)
     )
+
+
+@functools.singledispatch
+def _iso_section(tooth) -> fem_prep.RootSection:
+    """The section an external tooth's fillet table is computed in: ISO's normal section."""
+    return fem_prep.NormalSection()
+
+
+@_iso_section.register
+def _ring_section(tooth: fem_prep.InternalToothGeometry) -> fem_prep.RootSection:
+    """An internal tooth's: its transverse section (no virtual spur gear of a ring yet)."""
+    return fem_prep.TransverseSection()
 
 
 def active_radii(pair: GearPair, member: int, n: int) -> tuple:
     """``n`` radii (m) over the member's active profile (roll distances of s = 0 and s = g_α),
-    the outer end held at the tip circle (its radius from the roll differs by round-off)."""
+    the tip end held at the tip circle (its radius from the roll differs by round-off; an
+    internal gear's tip circle is its smallest radius)."""
     ends = [pair.roll_distance(s, member) for s in (0.0, float(pair.path_of_contact))]
     roll = np.linspace(min(ends), max(ends), n)
-    radii = np.minimum(np.hypot(roll, float(pair.base_radii[member])), pair.tip_radii[member])
+    radii = np.hypot(roll, float(pair.base_radii[member]))
+    tip = float(pair.tip_radii[member])
+    internal = member == 1 and pair.gear.teeth < 0
+    radii = np.maximum(radii, tip) if internal else np.minimum(radii, tip)
     return tuple(float(r) for r in radii)
 
 

@@ -387,7 +387,7 @@ def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> N
     """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
     line of action and the face width, side by side, each map's largest stress marked, saved to
     ``path``; ``names`` the two members' (a map ``None``: its panel says why, e.g. "ring: not
-    computed (internal tooth FE model)")."""
+    computed (no ring cutter)")."""
     fig = Figure(figsize=(9, 3.8), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, 2, sharey=True)
