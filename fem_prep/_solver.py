@@ -276,8 +276,8 @@ class PardisoFactor(_Factor):
             self._ps = None
 
 
-#: the MKL runtime library the first PARDISO handle of this process loaded (its path), named
-#: to the later ones through pypardiso's PYPARDISO_MKL_RT
+#: the MKL runtime library (its path) of pypardiso's import-time handle or of the first PARDISO
+#: handle made here, named to the later ones through pypardiso's PYPARDISO_MKL_RT
 _MKL_RT: list[str] = []
 
 
@@ -285,9 +285,14 @@ def _pardiso_solver(pypardiso):
     """``pypardiso.PyPardisoSolver(mtype=2)`` with MKL located once per process: pypardiso looks
     for ``mkl_rt`` at each construction and, where the linker does not find it (the ``mkl``
     wheel in a virtual environment), searches the environment's library folders recursively
-    (about 0.2 s of CPU per handle; 25 handles took 6 of the 24 CPU s of three fem_prep test
-    files). Later handles get the first one's library through ``PYPARDISO_MKL_RT``, set only
+    (0.2-0.4 s of CPU per handle; 25 handles took 6 of the 24 CPU s of three fem_prep test
+    files). The handles get the library of the one pypardiso makes as it is imported
+    (``pypardiso.ps``) or of the first one made here through ``PYPARDISO_MKL_RT``, set only
     while they are made; a ``PYPARDISO_MKL_RT`` of the caller's is left as it is."""
+    if not _MKL_RT:
+        name = getattr(getattr(getattr(pypardiso, "ps", None), "libmkl", None), "_name", None)
+        if isinstance(name, str):
+            _MKL_RT.append(name)
     if _MKL_RT and "PYPARDISO_MKL_RT" not in os.environ:
         os.environ["PYPARDISO_MKL_RT"] = _MKL_RT[0]
         try:
