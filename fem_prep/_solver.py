@@ -276,8 +276,8 @@ class PardisoFactor(_Factor):
             self._ps = None
 
 
-#: the MKL runtime library (its path) of pypardiso's import-time handle or of the first PARDISO
-#: handle made here, named to the later ones through pypardiso's PYPARDISO_MKL_RT
+#: the MKL runtime library (its path) of pypardiso's import-time handle, named to the handles
+#: made here through pypardiso's PYPARDISO_MKL_RT
 _MKL_RT: list[str] = []
 
 
@@ -287,23 +287,17 @@ def _pardiso_solver(pypardiso):
     wheel in a virtual environment), searches the environment's library folders recursively
     (0.2-0.4 s of CPU per handle; 25 handles took 6 of the 24 CPU s of three fem_prep test
     files). The handles get the library of the one pypardiso makes as it is imported
-    (``pypardiso.ps``) or of the first one made here through ``PYPARDISO_MKL_RT``, set only
-    while they are made; a ``PYPARDISO_MKL_RT`` of the caller's is left as it is."""
+    (``pypardiso.ps``) through ``PYPARDISO_MKL_RT``, set only while they are made; a
+    ``PYPARDISO_MKL_RT`` of the caller's is left as it is and used."""
     if not _MKL_RT:
-        name = getattr(getattr(getattr(pypardiso, "ps", None), "libmkl", None), "_name", None)
-        if isinstance(name, str):
-            _MKL_RT.append(name)
-    if _MKL_RT and "PYPARDISO_MKL_RT" not in os.environ:
-        os.environ["PYPARDISO_MKL_RT"] = _MKL_RT[0]
-        try:
-            return pypardiso.PyPardisoSolver(mtype=2)
-        finally:
-            os.environ.pop("PYPARDISO_MKL_RT", None)
-    ps = pypardiso.PyPardisoSolver(mtype=2)
-    name = getattr(getattr(ps, "libmkl", None), "_name", None)
-    if isinstance(name, str) and not _MKL_RT:
-        _MKL_RT.append(name)
-    return ps
+        _MKL_RT.append(pypardiso.ps.libmkl._name)
+    if os.environ.get("PYPARDISO_MKL_RT"):
+        return pypardiso.PyPardisoSolver(mtype=2)
+    os.environ["PYPARDISO_MKL_RT"] = _MKL_RT[0]
+    try:
+        return pypardiso.PyPardisoSolver(mtype=2)
+    finally:
+        del os.environ["PYPARDISO_MKL_RT"]
 
 
 def _optional_module(name: str):

@@ -1,7 +1,7 @@
-"""PARDISO handles after the first find MKL through the first one's library: pypardiso's search
-of the environment's library folders (a recursive glob) runs at most once per process, the
-caller's environment is left as it was, and a PYPARDISO_MKL_RT of the caller's wins. The solves
-are checked against a dense solve (1e-12 relative)."""
+"""PARDISO factors find MKL through the library pypardiso loaded as it was imported: pypardiso's
+search of the environment's library folders (a recursive glob) runs for none of them, the
+caller's environment is left as it was, and a PYPARDISO_MKL_RT of the caller's is the one used.
+The solves are checked against a dense solve (1e-12 relative)."""
 
 import glob
 import importlib.util
@@ -23,11 +23,11 @@ def _spd(n=40, seed=0):
     return (A @ A.T + 10.0 * sp.eye(n)).tocsr()
 
 
-def test_later_handles_skip_the_library_search(monkeypatch):
-    import fem_prep._solver as solver
+def test_factors_skip_the_library_search(monkeypatch):
+    import pypardiso
 
+    assert os.path.exists(pypardiso.ps.libmkl._name)  # the import-time handle's library
     monkeypatch.delenv("PYPARDISO_MKL_RT", raising=False)
-    monkeypatch.setattr(solver, "_MKL_RT", [])
     searches = []
     real_glob = glob.glob
 
@@ -39,21 +39,14 @@ def test_later_handles_skip_the_library_search(monkeypatch):
     A = _spd()
     b = np.random.default_rng(1).standard_normal((A.shape[0], 3))
     want = np.linalg.solve(A.toarray(), b)
-    first = PardisoFactor(A)
-    after_first = len(searches)
-    assert len(solver._MKL_RT) == 1 and os.path.exists(solver._MKL_RT[0])
     for _ in range(3):
         f = PardisoFactor(A)
         np.testing.assert_allclose(f.solve(b), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
-    assert len(searches) == after_first  # no search after the first handle
+    assert searches == []
     assert "PYPARDISO_MKL_RT" not in os.environ
-    np.testing.assert_allclose(first.solve(b), want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
 
 
 def test_the_callers_library_setting_wins(monkeypatch):
-    import fem_prep._solver as solver
-
-    monkeypatch.setattr(solver, "_MKL_RT", ["/nonexistent/libmkl_rt.so"])
     monkeypatch.setenv("PYPARDISO_MKL_RT", "/nonexistent/callers_mkl_rt.so")
     with pytest.raises(OSError, match="callers_mkl_rt"):
         PardisoFactor(_spd())
