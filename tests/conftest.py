@@ -73,6 +73,20 @@ if _new_flags:
     if _accepted:
         os.environ["XLA_FLAGS"] = " ".join([os.environ.get("XLA_FLAGS", ""), *_accepted]).strip()
 
+# pypardiso looks for MKL's runtime library as it is imported (a recursive search of the
+# environment's library folders where the linker does not find it, as in a venv: 0.2-0.4 CPU s
+# and a few subprocesses); named here once, the xdist workers and the subprocesses the tests
+# start (CLI runs, the docs build) inherit it (fem_prep's later PARDISO handles reuse their
+# process's first library anyway: fem_prep._solver._pardiso_solver)
+if "PYPARDISO_MKL_RT" not in os.environ:
+    try:
+        import pypardiso
+    except ImportError:  # pragma: no cover - no MKL wheel (not x86-64)
+        pypardiso = None
+    _mkl = getattr(getattr(getattr(pypardiso, "ps", None), "libmkl", None), "_name", None)
+    if isinstance(_mkl, str):
+        os.environ["PYPARDISO_MKL_RT"] = _mkl
+
 import jax  # noqa: E402
 from jax import monitoring
 

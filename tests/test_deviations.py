@@ -113,21 +113,33 @@ def test_iso1328_rounding_rules(value, rounded):
 MODULES_MM = "0.5 0.6 0.8 1 1.25 1.5 2 2.5 3 4 5 6 8 10 12 16 20 25 32 40 50 60 70".split()
 
 
-def _half_up(v: fractions.Fraction) -> fractions.Fraction:
-    """5.2.3 on an exact value (µm): > 10 to 1, 5 to 10 to 0.5, < 5 to 0.1, halves up."""
-    q = fractions.Fraction(1) if v > 10 else fractions.Fraction(1, 2 if v >= 5 else 10)
-    return math.floor(v / q + fractions.Fraction(1, 2)) * q
+#: the common denominator of the scan's exact values (µm): m_n in 0.01 mm, the constants of
+#: (5), (7), (8) in 0.001 µm per mm, and a step (√2)^(A−5) down to 1/4 (class 1)
+DEN = 100 * 1000 * 4
 
 
-def _exact_um(m: fractions.Fraction, d: fractions.Fraction, grade: int) -> dict:
-    """f_pT (5), f_HαT (7), f_fαT (8) in µm as exact fractions (mm in; an even A − 5, whose
-    step (√2)^(A−5) is a power of 2): the values whose ties a scan can find."""
-    step = fractions.Fraction(2) ** ((grade - 5) // 2)
-    F = fractions.Fraction
+def _half_up(n: int, below: bool = False) -> int:
+    """5.2.3 on the exact value n / DEN µm (an integer numerator; ``below``: on a value just
+    below it): > 10 to 1, 5 to 10 to 0.5, < 5 to 0.1, halves up; the rounded value's numerator
+    over DEN (integer arithmetic: floor((v + q/2) / q) q with q = Q / DEN)."""
+    if below:  # n − δ, 0 < δ << 1: the class of n unless n is a class's lower end
+        Q = DEN if n > 10 * DEN else DEN // (2 if n > 5 * DEN else 10)
+        return ((2 * n + Q) // (2 * Q) - ((2 * n + Q) % (2 * Q) == 0)) * Q
+    Q = DEN if n > 10 * DEN else DEN // (2 if n >= 5 * DEN else 10)
+    return (2 * n + Q) // (2 * Q) * Q
+
+
+def _exact_num(m: int, z: int, grade: int) -> dict:
+    """f_pT (5), f_HαT (7), f_fαT (8) as exact numerators over DEN (m_n in 0.01 mm, d = z m_n;
+    an even A − 5, whose step (√2)^(A−5) = 2^k, k >= −2, is a power of 2): the values whose
+    ties a scan can find."""
+    k = (grade - 5) // 2
+    four_step = 4 * 2**k  # 4 · 2^k, an integer for k >= −2
+    d = z * m
     return {
-        "f_pT": (F("0.001") * d + F("0.4") * m + 5) * step,
-        "f_HaT": (F("0.4") * m + F("0.001") * d + 4) * step,
-        "f_faT": (F("0.55") * m + 5) * step,
+        "f_pT": (d + 400 * m + 500_000) * four_step,
+        "f_HaT": (400 * m + d + 400_000) * four_step,
+        "f_faT": (550 * m + 500_000) * four_step,
     }
 
 
@@ -136,26 +148,30 @@ def test_iso1328_rounding_ties_round_half_up():
     m_n 8 mm, z 97, class 1: f_fαT = 9.4 / 4 = 2.35 → 2.4 µm, and m_n 1 mm, z 100, class 3:
     f_pT = 5.5 / 2 = 2.75 → 2.8 µm; and every value of a scan of 23 modules × z 5-200 (spur,
     d = z m_n, passed in metres as floats) equals its exact rational value rounded half up
-    (computed here with fractions): 3 392 ties of f_pT, f_HαT, f_fαT, 1 597 of them in classes
-    1 and 3, where the binary (√2)^(A−5), a bit below 1/4 or 1/2, rounded 1 588 down."""
+    (computed here in integers over a common denominator); 3 392 ties of f_pT, f_HαT, f_fαT,
+    1 597 of them in classes 1 and 3, where the binary (√2)^(A−5), a bit below 1/4 or 1/2,
+    rounded 1 588 down."""
     t = jg.iso1328_tolerances(8e-3, 97 * 8e-3, 20e-3, 1).as_um()
     assert t["f_faT"] == 2.4
     t = jg.iso1328_tolerances(1e-3, 100 * 1e-3, 20e-3, 3).as_um()
     assert t["f_pT"] == 2.8
+    assert _half_up(235 * DEN // 100) == 24 * DEN // 10  # 2.35 -> 2.4 (a tie, up)
+    assert _half_up(235 * DEN // 100, below=True) == 23 * DEN // 10
     ties = 0
     for grade in (1, 3, 5, 7, 9, 11):
         for text in MODULES_MM:
             m = fractions.Fraction(text)
+            m100 = int(m * 100)
+            assert m100 == m * 100
             for z in range(5, 201):
-                d = z * m
-                if d < 5:
+                if z * m < 5:
                     continue
                 got = jg.iso1328_tolerances(float(m) * 1e-3, z * float(m) * 1e-3, 20e-3, grade)
                 um = got.as_um()
-                for key, exact in _exact_um(m, d, grade).items():
-                    jump = _half_up(exact) - _half_up(exact - fractions.Fraction(1, 10**9))
-                    ties += jump != 0  # a tie: the rounding jumps at the value
-                    assert um[key] == float(_half_up(exact)), (text, z, grade, key, exact)
+                for key, exact in _exact_num(m100, z, grade).items():
+                    rounded = _half_up(exact)
+                    ties += rounded != _half_up(exact, below=True)  # the rounding jumps there
+                    assert um[key] == rounded / DEN, (text, z, grade, key, exact)
     assert ties == 3392
 
 
