@@ -55,6 +55,7 @@ from .tooth_form import (
     SEGMENT_ROOT,
     SEGMENT_TIP,
     InternalToothGeometry,
+    check_radii,
     involute,
 )
 
@@ -139,14 +140,8 @@ class InternalToothForm:
         Raises:
             ValueError: a radius outside [r_a, r_f].
         """
-        r = np.asarray(r, dtype=float)
         ra, rf = self.tip_radius, self.root_radius
-        if r.size and (np.min(r) < ra * (1 - 1e-12) or np.max(r) > rf * (1 + 1e-12)):
-            raise ValueError(
-                f"half_thickness: radius {float(np.min(r)):.9g}..{float(np.max(r)):.9g} m is out "
-                f"of range: allowed [{ra:.9g}, {rf:.9g}] m (tip to root radius)"
-            )
-        r = np.clip(r, ra, rf)
+        r = check_radii(r, ra, rf, "tip to root radius")
         rr = np.hypot(self.fillet[:, 0], self.fillet[:, 1])
         fil = np.interp(
             np.sqrt(np.maximum(rf - r, 0.0)), np.sqrt(np.maximum(rf - rr, 0.0)), self.fillet[:, 0]

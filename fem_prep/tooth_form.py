@@ -56,6 +56,39 @@ def involute(alpha):
     return np.tan(alpha) - alpha
 
 
+#: the rack and pair fields of a tooth geometry after its tooth count, in the constructor's order
+RACK_FIELDS = (
+    "normal_module",
+    "normal_pressure_angle",
+    "helix_angle",
+    "profile_shift",
+    "addendum_coeff",
+    "dedendum_coeff",
+    "fillet_radius_coeff",
+)
+
+
+def _tooth_count(z, helix_angle, ok, allowed: str) -> int | float:
+    """The tooth count ``z`` as an int (a real number for a spur virtual gear, ``helix_angle``
+    0), refused in one line unless ``ok(z)``."""
+    integer = isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer())
+    virtual = isinstance(z, float) and math.isfinite(z) and helix_angle == 0
+    _check("teeth", z, (integer or virtual) and ok(z), allowed)
+    return int(z) if integer else float(z)
+
+
+def check_radii(r, lo: float, hi: float, span: str) -> np.ndarray:
+    """``r`` (m) as a float array clipped to [lo, hi], refused in one line (``half_thickness``'s
+    message, ``span`` naming the ends) where it leaves that range by more than round-off."""
+    r = np.asarray(r, dtype=float)
+    if r.size and (np.min(r) < lo * (1 - 1e-12) or np.max(r) > hi * (1 + 1e-12)):
+        raise ValueError(
+            f"half_thickness: radius {float(np.min(r)):.9g}..{float(np.max(r)):.9g} m is out "
+            f"of range: allowed [{lo:.9g}, {hi:.9g}] m ({span})"
+        )
+    return np.clip(r, lo, hi)
+
+
 @dataclass(frozen=True)
 class ToothGeometry:
     """One member's tooth geometry: the gear and its ISO 53 generating rack (ISO 21771 notation,
@@ -92,10 +125,7 @@ class ToothGeometry:
     fillet_radius_coeff: float = 0.25
 
     def __post_init__(self):
-        z = self.teeth
-        integer = isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer())
-        virtual = isinstance(z, float) and math.isfinite(z) and self.helix_angle == 0
-        _check("teeth", z, (integer or virtual) and z >= 5, "an integer >= 5")
+        z = _tooth_count(self.teeth, self.helix_angle, lambda z: z >= 5, "an integer >= 5")
         mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
         _check("normal_module", mn, mn > 0, "> 0")
         _check("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg in rad")
@@ -106,17 +136,9 @@ class ToothGeometry:
         _check("dedendum_coeff", self.dedendum_coeff, self.dedendum_coeff > 0, "> 0")
         rho = self.fillet_radius_coeff
         _check("fillet_radius_coeff", rho, rho >= 0, ">= 0")
-        for name in (
-            "normal_module",
-            "normal_pressure_angle",
-            "helix_angle",
-            "profile_shift",
-            "addendum_coeff",
-            "dedendum_coeff",
-            "fillet_radius_coeff",
-        ):
+        for name in RACK_FIELDS:
             object.__setattr__(self, name, float(getattr(self, name)))
-        object.__setattr__(self, "teeth", int(z) if integer else float(z))
+        object.__setattr__(self, "teeth", z)
 
     def virtual_spur(self) -> ToothGeometry:
         """The virtual spur gear of ISO 6336-3 method B in the normal section (ISO 6336-3:2019
@@ -218,36 +240,18 @@ class InternalToothGeometry:
     cutter: ShaperCutter | None = None
 
     def __post_init__(self):
-        z = self.teeth
-        integer = isinstance(z, (int, np.integer)) or (isinstance(z, float) and z.is_integer())
-        virtual = isinstance(z, float) and math.isfinite(z) and self.helix_angle == 0
-        _check("teeth", z, (integer or virtual) and z <= -16, "an integer <= -16 (ISO 21771)")
-        # the rack checks are ToothGeometry's (the same fields and ranges)
-        ToothGeometry(
-            16,
-            self.normal_module,
-            self.normal_pressure_angle,
-            self.helix_angle,
-            self.profile_shift,
-            self.addendum_coeff,
-            self.dedendum_coeff,
-            self.fillet_radius_coeff,
+        z = _tooth_count(
+            self.teeth, self.helix_angle, lambda z: z <= -16, "an integer <= -16 (ISO 21771)"
         )
+        # the rack checks are ToothGeometry's (the same fields and ranges)
+        rack = ToothGeometry(16, *(getattr(self, name) for name in RACK_FIELDS))
         c = self.cutter
         if c is not None:
             _check("cutter", c, isinstance(c, ShaperCutter), "a fem_prep.ShaperCutter or None")
             _check("cutter.teeth", c.teeth, c.teeth <= -z - 10, f"<= |z| - 10 = {-z - 10:g}")
-        for name in (
-            "normal_module",
-            "normal_pressure_angle",
-            "helix_angle",
-            "profile_shift",
-            "addendum_coeff",
-            "dedendum_coeff",
-            "fillet_radius_coeff",
-        ):
-            object.__setattr__(self, name, float(getattr(self, name)))
-        object.__setattr__(self, "teeth", int(z) if integer else float(z))
+        for name in RACK_FIELDS:
+            object.__setattr__(self, name, getattr(rack, name))
+        object.__setattr__(self, "teeth", z)
 
     @property
     def transverse_pressure_angle(self) -> float:
@@ -345,14 +349,8 @@ class ToothForm:
         Raises:
             ValueError: a radius outside [r_f, r_a].
         """
-        r = np.asarray(r, dtype=float)
         rf, ra = self.root_radius, self.tip_radius
-        if r.size and (np.min(r) < rf * (1 - 1e-12) or np.max(r) > ra * (1 + 1e-12)):
-            raise ValueError(
-                f"half_thickness: radius {float(np.min(r)):.9g}..{float(np.max(r)):.9g} m is out "
-                f"of range: allowed [{rf:.9g}, {ra:.9g}] m (root to tip radius)"
-            )
-        r = np.clip(r, rf, ra)
+        r = check_radii(r, rf, ra, "root to tip radius")
         rr = np.hypot(self.fillet[:, 0], self.fillet[:, 1])
         fil = np.interp(
             np.sqrt(np.maximum(r - rf, 0.0)),

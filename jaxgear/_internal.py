@@ -43,7 +43,7 @@ from ._geometry import (
     involute,
 )
 from ._pressure import relative_radius
-from ._stiffness import iso6336_virtual_teeth
+from ._stiffness import iso6336_virtual_teeth, member_tooth_geometry
 from ._util import check_instance, check_integer, check_real
 
 __all__ = [
@@ -462,21 +462,7 @@ def internal_tooth_geometry(pair: InternalGearPair, cutter=None):
     """
     from fem_prep.tooth_form import InternalToothGeometry  # lazy: fem_prep imports SciPy
 
-    m = pair.gear
-    try:
-        return InternalToothGeometry(
-            int(m.teeth),
-            float(pair.normal_module),
-            float(pair.normal_pressure_angle),
-            float(pair.helix_angle),
-            float(m.profile_shift),
-            float(m.addendum_coeff),
-            float(m.dedendum_coeff),
-            float(m.fillet_radius_coeff),
-            cutter,
-        )
-    except ValueError as err:
-        raise ValueError(f"gear.{err}") from None
+    return member_tooth_geometry(InternalToothGeometry, pair, 1, cutter)
 
 
 @relative_radius.register

@@ -118,9 +118,17 @@ def tooth_geometry(pair: GearPair, member: int):
     """
     from fem_prep.tooth_form import ToothGeometry  # lazy: fem_prep's __init__ imports SciPy
 
+    return member_tooth_geometry(ToothGeometry, pair, member)
+
+
+def member_tooth_geometry(cls, pair, member: int, *extra):
+    """``cls(teeth, m_n, α_n, β, x, h_a*, h_f*, ρ_fP*, *extra)`` of member 0 (pinion) or 1
+    (gear) of ``pair`` (a :class:`fem_prep.ToothGeometry`, or an internal gear's
+    :class:`fem_prep.InternalToothGeometry` with its cutter in ``extra``), its errors prefixed
+    ``pinion.`` or ``gear.``."""
     m = (pair.pinion, pair.gear)[member]
     try:
-        return ToothGeometry(
+        return cls(
             int(m.teeth),
             float(pair.normal_module),
             float(pair.normal_pressure_angle),
@@ -129,6 +137,7 @@ def tooth_geometry(pair: GearPair, member: int):
             float(m.addendum_coeff),
             float(m.dedendum_coeff),
             float(m.fillet_radius_coeff),
+            *extra,
         )
     except ValueError as err:
         raise ValueError(f"{('pinion', 'gear')[member]}.{err}") from None
