@@ -48,7 +48,7 @@ from typing import Callable, ClassVar, final
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ._tooth_profile import FilletForm
+from ._tooth_profile import FilletForm, form_table
 from .tooth_form import (
     SEGMENT_FILLET,
     SEGMENT_INVOLUTE,
@@ -470,14 +470,7 @@ def _internal_table(form: InternalToothForm) -> dict:
     ok = np.concatenate([[True], np.diff(r) > 1e-12 * r[-1]])
     r, psi = r[ok], np.maximum.accumulate(psi[ok])
     r[-1] = form.root_radius  # the root junction, on the root circle up to round-off
-    return {
-        "root_radius": float(form.root_radius),
-        "tip_radius": float(form.tip_radius),
-        "base_radius": float(form.base_radius),
-        "form_radius": float(form.form_radius),
-        "r_tab": r,
-        "psi_tab": np.minimum(psi, math.pi / form.teeth),
-    }
+    return form_table(form, r, psi)
 
 
 @final

@@ -246,14 +246,19 @@ def _form_table(form) -> dict:
     r = np.concatenate([r_fil, r_inv])
     psi = np.concatenate([psi_fil, form.involute_half_angle(r_inv)])
     ok = np.concatenate([[True], np.diff(r) > 1e-12 * r[-1]])
-    r, psi = r[ok], np.minimum.accumulate(psi[ok])
+    return form_table(form, r[ok], np.minimum.accumulate(psi[ok]))
+
+
+def form_table(form, r: np.ndarray, psi: np.ndarray) -> dict:
+    """The ψ(r) table dict of a generated tooth ``form`` (external or internal: its radii) with
+    radii ``r`` (m, increasing) and half angles ``psi`` (rad), capped at π/|z|."""
     return {
         "root_radius": float(form.root_radius),
         "tip_radius": float(form.tip_radius),
         "base_radius": float(form.base_radius),
         "form_radius": float(form.form_radius),
         "r_tab": r,
-        "psi_tab": np.minimum(psi, math.pi / form.teeth),
+        "psi_tab": np.minimum(psi, math.pi / abs(form.teeth)),
     }
 
 
