@@ -49,7 +49,8 @@ CUTTER = fem_prep.ShaperCutter(36, 0.0, 0.3)  # the report's cutter: z0, x0, ρ_
 
 @functools.cache
 def case() -> jio.Case:
-    """The embedded case (parsed once per process: its ring rating generates the cutter's fillet)."""
+    """The embedded case, parsed once per process (its ring rating generates the cutter's
+    fillet)."""
     return jio.load_case(CASE)
 
 
@@ -182,7 +183,8 @@ def main(out_dir=None, n_points: int = 65, n_loads: int = 5, size: float | None 
     plot(img / "internal_mesh.png", result)
     for name, m in result["stiffness"]["models"].items():
         print(f"{name}: mean k over ISO c_γα {m['mean_over_iso']:.3f}")
-    print(f"stand-in fillet peak / generated: {result['fillet']['stand_in_over_generated_peak']:.4f}")
+    ratio = result["fillet"]["stand_in_over_generated_peak"]
+    print(f"stand-in fillet peak / generated: {ratio:.4f}")
     return result
 
 

@@ -15,7 +15,7 @@ import jaxgear as jg
 
 def test_internal_mesh_example(tmp_path):
     example = load_example("internal_mesh")
-    out = example.main(tmp_path, n_points=17, n_loads=3)
+    out = example.main(tmp_path, n_points=17, n_loads=2)
     png = (tmp_path / "internal_mesh.png").read_bytes()
     assert png.startswith(b"\x89PNG\r\n\x1a\n") and len(png) > 50_000
     assert (tmp_path / "internal_mesh.json").stat().st_size > 1000
