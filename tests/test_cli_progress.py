@@ -103,4 +103,4 @@ def test_planetary_run_bar_over_its_stages(tmp_path, capsys, monkeypatch):
     states = _states(capsys.readouterr().err, f"jaxgear run {case.name}")
     assert _estimated(states, 2) == {1}
     text = "\n".join(states)
-    assert "load sharing, modes, Campbell" in text and "dynamic sweep, 8 speeds" in text
+    assert "load sharing, modes, Campbell" in text and "dynamic sweep, 9 speeds" in text

@@ -445,8 +445,14 @@ def test_nrel_stage2_through_jaxgear_run(tmp_path, capsys):
     # no pin error and a floating sun: the planets share equally (K_gamma 1)
     assert summary["load_sharing"]["planar"]["k_gamma"] == pytest.approx(1.0, abs=1e-9)
     d = summary["dynamics"]
-    assert len(d["speeds_rad_s"]) == 8 and d["max_dynamic_factor"] >= 1.0
+    assert len(d["speeds_rad_s"]) == 9 and d["max_dynamic_factor"] >= 1.0
     assert {p.name for p in (out / "sweep").iterdir()} >= {"sweep.json", "ring_spectrum.png"}
+    # the sweep includes the operating speed, and each rated mesh's measured K_v is its kind's
+    # largest dynamic factor there (equal sharing: no static share to divide by)
+    i = d["speeds_rad_s"].index(pytest.approx(summary["operating"]["speed_rad_s"], rel=1e-12))
+    df = json.loads((out / "sweep" / "sweep.json").read_text())["dynamic_factor_mesh"][i]
+    k_v = summary["rating"]["measured"]["K_v"]["value"]
+    assert k_v == pytest.approx([max(df[:3]), max(df[3:])], abs=1e-12)
 
 
 def test_eccentricities_from_a_case_file_over_a_turn_against_the_spring_model():

@@ -32,6 +32,7 @@ from ._plots import root_stress_plot
 from ._rating_report import (
     RATE,
     ROOT_STRESS_RADII,
+    _mesh_curves,
     rated_with_measured,
     rating_lines,
     stacked_meshes,
@@ -46,10 +47,12 @@ __all__ = [
     "RING_ROOT_STRESS",
     "STAGE_ALPHA_SOURCE",
     "STAGE_ROOT_STRESS",
+    "SWEEP_K_V_SOURCE",
     "MeshLoads",
     "StageLoads",
     "measured_k_h_alpha",
     "measured_k_h_beta",
+    "measured_k_v",
     "rating_k_gamma",
     "rating_section",
     "stage_loads",
@@ -93,6 +96,51 @@ def measured_k_h_beta(face_load: dict | None) -> list[dict] | None:
     source = FACE_LOAD_SOURCE.format(n=n)
     return [{"value": float(max(k[:n])), "source": source},
             {"value": float(max(k[n:])), "source": source}]
+
+
+#: where a planetary mesh's measured K_v comes from (:func:`measured_k_v`)
+SWEEP_K_V_SOURCE = (
+    "jaxgear planetary speed sweep ({model}, {ring}, {count} input speeds {lo:.4g}–{hi:.4g} "
+    "rad/s, the case's pin errors): each planet's mesh's dynamic factor interpolated linearly "
+    "at the operating input speed {speed:.4g} rad/s, over its static share of the mean path "
+    "load ({sharing} load sharing, K_γ's), the largest of the {n} planets' meshes"
+)
+
+
+def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] | None:
+    """The ``rating.measured`` K_v of the stage's two rated meshes (``sun-planet``,
+    ``planet-ring``) from the planetary speed sweep ``sweep`` (``sweep.json``'s content,
+    :func:`jaxgear.cli.planetary_sweep.sweep_summary`: ``speeds_rad_s`` of the input,
+    ``dynamic_factor_mesh`` (s, 2N), the n sun/planet meshes then the n ring/planet meshes,
+    each the largest mesh force over the nominal T_s/(N r_bs)) at the operating input
+    ``speed`` (rad/s, the case's ``[operating] speed_rad_s``), as a pair's
+    (:func:`jaxgear.cli.measured_dynamic_factor`: each mesh's curve interpolated linearly,
+    nothing outside the swept range). Each planet j's mesh is divided by its static share
+    s_j = F_j / mean(F) of the run's load sharing ``sharing`` (``summary.json``'s
+    ``load_sharing``: the model whose K_γ the rating takes, :func:`rating_k_gamma`), so that
+    K_v is the mesh's dynamic load over its static one (ISO 6336-1) and the rating's
+    K_γ K_v does not count the static unequal sharing twice; with equal sharing s_j = 1. The
+    largest over the planets, with :data:`SWEEP_K_V_SOURCE`. None without a sweep or outside
+    its speeds."""
+    if sweep is None:
+        return None
+    speeds = np.asarray(sweep["speeds_rad_s"], dtype=float)
+    if not speeds[0] <= speed <= speeds[-1]:
+        return None
+    curves = _mesh_curves(sweep, len(sweep["mesh_names"]))
+    n = len(curves) // 2
+    name = [m for m in K_GAMMA_SOURCES if m in sharing][-1]
+    source = SWEEP_K_V_SOURCE.format(
+        model=sweep["model"], ring=sweep["ring_model"], count=speeds.size, lo=speeds[0],
+        hi=speeds[-1], speed=speed, sharing=name, n=n)
+    out = []
+    for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
+        f = np.abs(np.asarray(sharing[name][key], dtype=float))
+        share = f / f.mean()
+        value = max(float(np.interp(speed, speeds, curves[kind * n + j])) / share[j]
+                    for j in range(n) if share[j] > 0)
+        out.append({"value": value, "source": source})
+    return out
 
 
 #: the stage's quasi-static solve that the rating's measured K_Hα and root-stress maps read
@@ -330,7 +378,7 @@ def rating_k_gamma(sharing: dict) -> tuple[float, str]:
 
 def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
                    face_load: dict | None = None, loads: StageLoads | None = None,
-                   table=fillet_table) -> dict | None:
+                   table=fillet_table, k_v: list[dict] | None = None) -> dict | None:
     """``[rating]`` of a planetary stage (:func:`jaxgear.io.parse_planetary_rating`): each mesh
     (``sun-planet``, ``planet-ring``: the ring rated as an internal gear) rated by ISO 6336
     method B at one planet path's mean load with the load sharing factor K_γ (``[rating]
@@ -348,7 +396,9 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
     (:func:`jaxgear.cli._rating_report.rated_with_measured`). With the stage's quasi-static
     ``loads`` (:func:`stage_loads`), each mesh's ``measured.K_Halpha`` (:func:`measured_k_h_alpha`,
     the same use) and its root-stress map (:func:`stage_root_stress`, ``table`` the FE fillet
-    stress per unit load). ``None`` (nothing written) without ``[rating]``."""
+    stress per unit load). With ``k_v`` (:func:`measured_k_v`: the run's planetary speed
+    sweep), each mesh's ``measured.K_v``, the same use. ``None`` (nothing written) without
+    ``[rating]``."""
     rcs = ratings_of(case)
     if rcs is None:
         return None
@@ -366,14 +416,16 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         "",
     ]
     measured = {key: v for key, v in (("K_Hbeta", measured_k_h_beta(face_load)),
-                                      ("K_Halpha", measured_k_h_alpha(loads))) if v is not None}
+                                      ("K_Halpha", measured_k_h_alpha(loads)),
+                                      ("K_v", k_v)) if v is not None}
     named = dict.fromkeys(n for rc in rcs for n in rc.use_measured)
     unmeasured = [n for n in named if n not in measured]
     if unmeasured:
         warnings.warn(
             f"[rating] use_measured: {', '.join(unmeasured)} not measured on this planetary "
             "stage's meshes (K_Halpha of a stage given by its gears, K_Hbeta of a helical stage "
-            "on its axial and tilting supports): rated with ISO's", CaseWarning, stacklevel=2)
+            "on its axial and tilting supports, K_v by jaxgear run's speed sweep): rated with "
+            "ISO's", CaseWarning, stacklevel=2)
     sections = []
     for k, (name, rc) in enumerate(zip(names, rcs, strict=True)):
         given = rc.k_gamma is not None

@@ -47,6 +47,7 @@ from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
     measured_k_h_alpha,
+    measured_k_v,
     rating_k_gamma,
     rating_section,
     stage_loads,
@@ -65,6 +66,7 @@ __all__ = [
     "face_load_section",
     "lowest_frequency",
     "measured_k_h_alpha",
+    "measured_k_v",
     "mesh_sections",
     "mode_list",
     "mode_models",
@@ -137,9 +139,12 @@ RIGID_SHARE = 1e-6
 CAMPBELL_SPEEDS = 41
 
 
-def planetary_files(form, case, out: str, args, complete: bool) -> dict:
+def planetary_files(form, case, out: str, args, complete: bool,
+                    sweep: dict | None = None) -> dict:
     """The files of a planetary case (module docstring) into ``out``; returns the summary
-    (``"complete": complete``)."""
+    (``"complete": complete``). With ``sweep`` (the run's planetary speed sweep, ``sweep.json``'s
+    content: :func:`jaxgear.cli.planetary_sweep.planetary_sweep`), the rating's measured K_v
+    (:func:`measured_k_v`)."""
     spec = form.spec
     stage = spec.stage(case)
     speeds = spec.speeds(case.speed)
@@ -198,7 +203,8 @@ def planetary_files(form, case, out: str, args, complete: bool) -> dict:
         summary["mesh"] = mesh_settings_summary(case)
     loads = None if ratings_of(case) is None else stage_loads(case, spec, stage, models)
     rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
-                            face_load=summary.get("face_load"), loads=loads)
+                            face_load=summary.get("face_load"), loads=loads,
+                            k_v=measured_k_v(sweep, case.speed, summary["load_sharing"]))
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)

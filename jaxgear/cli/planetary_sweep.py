@@ -79,6 +79,7 @@ DEFAULT_STEPS = 64
 #: mesh periods integrated per speed (the first ones settle the transient)
 DEFAULT_PERIODS = 40
 #: ``jaxgear run``'s first-look sweep: this many input speeds from 0.2 to 1.2 × the operating one
+#: (and the operating one: :func:`run_speeds`)
 RUN_SPEEDS = (0.2, 1.2, 8)
 #: planet-pass sidebands marked on each side of a mesh order in ``ring_spectrum.png``
 SPECTRUM_SIDEBANDS = 3
@@ -98,9 +99,12 @@ MODEL_WORDS = {
 
 
 def run_speeds(case) -> np.ndarray:
-    """``jaxgear run``'s speeds (rad/s of the input): :data:`RUN_SPEEDS` × the operating speed."""
+    """``jaxgear run``'s speeds (rad/s of the input, increasing): :data:`RUN_SPEEDS` × the
+    operating speed, and the operating speed itself (the rating's measured K_v is the sweep
+    there, not a straight line between speeds ~15 % apart:
+    :func:`~jaxgear.cli.planetary.measured_k_v`)."""
     lo, hi, n = RUN_SPEEDS
-    return np.linspace(lo, hi, n) * case.speed
+    return np.union1d(np.linspace(lo, hi, n), [1.0]) * case.speed
 
 
 def planetary_run(
@@ -415,20 +419,20 @@ def _ring_words(s: dict) -> str:
 
 
 def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
-    """``jaxgear run`` on a planetary case: the stage's files (:func:`~jaxgear.cli.planetary.
-    planetary_files`), then a first-look sweep into ``out``/sweep (:func:`run_speeds`, the
-    defaults of :func:`planetary_run`) and ``summary.json``'s ``dynamics``: the worst mesh's
-    dynamic factor per speed, each mesh's maximum, the largest dynamic K_γ. A bar over the two
-    stages (unless ``args.quiet``)."""
+    """``jaxgear run`` on a planetary case: a first-look sweep into ``out``/sweep
+    (:func:`run_speeds`, the defaults of :func:`planetary_run`), then the stage's files
+    (:func:`~jaxgear.cli.planetary.planetary_files`, the rating's measured K_v from the sweep)
+    and ``summary.json``'s ``dynamics``: the worst mesh's dynamic factor per speed, each mesh's
+    maximum, the largest dynamic K_γ. A bar over the two stages (unless ``args.quiet``)."""
     speeds = run_speeds(case)
     bar = tqdm(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
-    bar.set_postfix_str("load sharing, modes, Campbell, meshes, rating")
-    summary = planetary_files(form, case, out, args, False)
-    bar.update()
     bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
     sub = os.path.join(out, "sweep")
     os.makedirs(sub, exist_ok=True)
     sw = planetary_sweep(form, case, speeds, sub)
+    bar.update()
+    bar.set_postfix_str("load sharing, modes, Campbell, meshes, rating")
+    summary = planetary_files(form, case, out, args, False, sw)  # the rating's measured K_v
     bar.update()
     bar.close()
     summary["dynamics"] = {

@@ -1,0 +1,171 @@
+"""The planetary rating's measured K_v (jaxgear.cli.planetary.measured_k_v): the dynamic
+factor of `jaxgear run`'s planetary speed sweep at the operating input speed, interpolated
+linearly as a pair's (jaxgear.cli.measured_dynamic_factor), each planet's mesh over its static
+share of the mean path load, the largest over the planets; reported per rated mesh beside ISO's
+K_v and rated with in its place only where `[rating] use_measured` names it."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import jaxgear.io as jio
+from jaxgear.io import CaseWarning
+
+#: a three-planet sweep as sweep.json writes it: 4 input speeds, per speed the 3 sun/planet
+#: meshes then the 3 ring/planet meshes (values chosen so that the largest planet differs
+#: between the speeds and between the kinds)
+SPEEDS = [100.0, 200.0, 300.0, 400.0]
+DF = [
+    [1.02, 1.03, 1.01, 1.04, 1.02, 1.03],
+    [1.10, 1.20, 1.15, 1.08, 1.30, 1.12],
+    [1.40, 1.25, 1.35, 1.22, 1.18, 1.45],
+    [1.05, 1.06, 1.07, 1.09, 1.08, 1.02],
+]
+SWEEP = {
+    "model": "planar lumped model",
+    "ring_model": "rigid ring",
+    "speeds_rad_s": SPEEDS,
+    "mesh_names": [f"sun-planet {k}" for k in (1, 2, 3)] + [f"ring-planet {k}" for k in (1, 2, 3)],
+    "dynamic_factor_mesh": DF,
+}
+EQUAL = {"planar": {"sun_mesh_forces_N": [5e4] * 3, "ring_mesh_forces_N": [5e4] * 3,
+                    "k_gamma": 1.0}}
+
+
+def _by_hand(speed, j, share=1.0):
+    """Mesh j's dynamic factor at ``speed`` written out: the straight line between the two
+    swept speeds around it, over the planet's static share."""
+    i = int(np.searchsorted(SPEEDS, speed)) - 1
+    t = (speed - SPEEDS[i]) / (SPEEDS[i + 1] - SPEEDS[i])
+    return (DF[i][j] + t * (DF[i + 1][j] - DF[i][j])) / share
+
+
+def test_k_v_is_the_largest_planets_interpolated_dynamic_factor():
+    """Equal sharing: each kind's K_v is the largest of its 3 planets' dynamic factors, each the
+    straight line between the neighbouring swept speeds (1e-12); outside the swept speeds
+    nothing (None), as a pair's."""
+    from jaxgear.cli.planetary import measured_k_v
+
+    for speed in (237.5, 180.0, 300.0, 100.0):
+        k = measured_k_v(SWEEP, speed, EQUAL)
+        sun = max(_by_hand(speed, j) for j in range(3))
+        ring = max(_by_hand(speed, j) for j in range(3, 6))
+        assert k[0]["value"] == pytest.approx(sun, abs=1e-12)
+        assert k[1]["value"] == pytest.approx(ring, abs=1e-12)
+        assert "planar lumped model" in k[0]["source"] and "3 planets" in k[0]["source"]
+    assert measured_k_v(SWEEP, 99.0, EQUAL) is None and measured_k_v(SWEEP, 401.0, EQUAL) is None
+    assert measured_k_v(None, 200.0, EQUAL) is None
+
+
+def test_unequal_sharing_divides_each_planet_by_its_static_share():
+    """With pin errors the planets' static loads differ (F_j = s_j × mean): the sweep's dynamic
+    factor (over the mean path load) of planet j is divided by s_j, so K_v is the mesh's
+    dynamic load over its own static one and K_γ K_v does not count s_j twice. The load-sharing
+    model taken is the rating's K_γ's (the 3D one where present)."""
+    from jaxgear.cli.planetary import measured_k_v
+
+    f = np.array([1.12, 0.95, 0.93]) * 4e4
+    share = f / f.mean()
+    sharing = {"planar": EQUAL["planar"],
+               "spatial": {"sun_mesh_forces_N": f.tolist(), "ring_mesh_forces_N": (-f).tolist(),
+                           "k_gamma": float(share.max())}}
+    k = measured_k_v(SWEEP, 237.5, sharing)
+    for kind in (0, 1):
+        want = max(_by_hand(237.5, 3 * kind + j, share[j]) for j in range(3))
+        assert k[kind]["value"] == pytest.approx(want, abs=1e-12)
+    assert "spatial load sharing" in k[0]["source"]
+
+
+def _case(tmp_path, rating_extra=""):
+    """The embedded nrel-5mw-planetary with ``rating_extra`` in its [rating] table."""
+    text = jio.embedded_case_text("nrel-5mw-planetary")
+    path = tmp_path / "stage1.toml"
+    path.write_text(text.replace("\n[rating]", "\n[rating]\n" + rating_extra, 1))
+    return jio.load_case(str(path))
+
+
+def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
+    """Reported beside ISO's (not used) by default; `use_measured = ["K_v"]` (the other load
+    factors given, so that only K_v moves): σ_F ∝ K_v and σ_H ∝ √K_v against the ISO rating
+    (σ_F = σ_F0 K_A K_γ K_v K_Fβ K_Fα, σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα); 1e-10), the source and
+    rating.md's row saying it was used. Without a sweep: a one-line warning naming K_v."""
+    from jaxgear.cli.planetary import rating_section
+
+    k_v = [{"value": 1.31, "source": "stub"}, {"value": 1.17, "source": "stub"}]
+    given = 'K_Hbeta = 1.15\nK_Fbeta = 1.12\nK_Halpha = 1.0\nK_Falpha = 1.0\n'  # within ISO's limits
+    plain = rating_section(_case(tmp_path, given), str(tmp_path), 1.1, k_v=k_v)
+    assert plain["measured"]["K_v"]["value"] == [1.31, 1.17]
+    assert (tmp_path / "rating.md").read_text().count("| K_v measured | ") == 2
+    case = _case(tmp_path, given + 'use_measured = ["K_v"]\n')
+    with pytest.warns(CaseWarning, match=r"use_measured: K_v not measured"):
+        iso = rating_section(case, str(tmp_path), 1.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CaseWarning)
+        sec = rating_section(case, str(tmp_path), 1.1, k_v=k_v)
+    md = (tmp_path / "rating.md").read_text()
+    ratio = np.array([1.31, 1.17]) / np.asarray(iso["factors"]["K_v"]["value"])
+    assert sec["factors"]["K_v"]["value"] == pytest.approx([1.31, 1.17], abs=1e-12)
+    np.testing.assert_allclose(np.asarray(sec["bending"]["sigma_F_Pa"]),
+                               np.asarray(iso["bending"]["sigma_F_Pa"]) * ratio[:, None],
+                               rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(sec["pitting"]["sigma_H_Pa"]),
+                               np.asarray(iso["pitting"]["sigma_H_Pa"])
+                               * np.sqrt(ratio)[:, None], rtol=1e-10)
+    assert sec["K_gamma"] == iso["K_gamma"]
+    assert md.count("| K_v measured | ") == 2 and "(used above: [rating] use_measured) |" in md
+
+
+def test_the_run_hands_its_sweep_to_the_rating(tmp_path, monkeypatch):
+    """`jaxgear run` on a planetary case sweeps first and hands the sweep to the stage's files
+    (whose rating takes its K_v from it); the stages replaced by stand-ins."""
+    import jaxgear.cli.planetary_sweep as cli_planetary
+
+    case = jio.load_case("lin-parker-1999")
+    sweep = dict.fromkeys(["model", "speed_of", "speeds_rad_s", "dynamic_factor",
+                           "max_dynamic_factor", "speed_of_max_rad_s", "mesh_names",
+                           "max_dynamic_factor_mesh", "k_gamma", "max_k_gamma",
+                           "ring_model", "ring"])
+    seen = []
+    monkeypatch.setattr(cli_planetary, "planetary_sweep", lambda *a: sweep)
+    monkeypatch.setattr(cli_planetary, "planetary_files",
+                        lambda *a: seen.append(a) or {"case": case.name})
+
+    class Args:
+        quiet = True
+
+    cli_planetary.planetary_run_files(case.form, case, str(tmp_path), Args(), True)
+    assert seen[0][-1] is sweep
+
+
+@pytest.mark.slow
+def test_embedded_stage_k_v_is_the_sweep_at_the_operating_speed(tmp_path):
+    """nrel-5mw-planetary, swept by the planetary dynamic model at `jaxgear run`'s speeds around
+    the operating one (0.914, 1 and 1.057 of it: the run's sweep includes the operating speed):
+    each kind's K_v is the largest planet's dynamic factor (over its static share) at the
+    operating speed (1e-12); interpolated between its neighbours alone (the 8-speed grid) it
+    lies within the planets' factors there, at most the larger of the two speeds' largest (a
+    maximum of straight lines is convex)."""
+    from jaxgear.cli.planetary import measured_k_v, sharing_models, sharing_summary
+    from jaxgear.cli.planetary_sweep import run_speeds, sweep_summary
+
+    case = jio.load_case("nrel-5mw-planetary")
+    spec = case.form.spec
+    stage = spec.stage(case)
+    s = run_speeds(case)
+    i = int(np.argmin(np.abs(s - case.speed)))
+    assert s[i] == pytest.approx(case.speed, rel=1e-12) and s.size == 9
+    sw, _ = sweep_summary(case.form, case, s[i - 1:i + 2])
+    sharing = sharing_summary(spec, stage, spec.torques(case.torque),
+                              sharing_models(spec, stage))
+    df = np.asarray(sw["dynamic_factor_mesh"])  # (3, 2N)
+    apart = sw | {"speeds_rad_s": [s[i - 1], s[i + 1]], "dynamic_factor_mesh": df[[0, 2]]}
+    k, k_apart = (measured_k_v(w, case.speed, sharing) for w in (sw, apart))
+    name = [m for m in ("planar", "spatial") if m in sharing][-1]
+    n = spec.n_planets
+    for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
+        f = np.abs(np.asarray(sharing[name][key]))
+        d = df[:, kind * n:(kind + 1) * n] / (f / f.mean())
+        assert k[kind]["value"] == pytest.approx(d[1].max(), abs=1e-12)
+        ends = d[[0, 2]]
+        assert ends.min() <= k_apart[kind]["value"] <= ends.max(axis=1).max() + 1e-12
