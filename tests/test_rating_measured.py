@@ -107,6 +107,27 @@ def test_use_measured_k_v_from_the_sweep(tmp_path):
     assert summary["rating"]["pitting"]["sigma_H_Pa"] != section["pitting"]["sigma_H_Pa"]
 
 
+def test_use_measured_keeps_a_given_transverse_factor(tmp_path):
+    """A given K_Hα is rated as given when another factor is measured: ISO 6336-1's clause 8
+    limits bound the measured K_Hα (and ISO's own), not a value the case gives."""
+    d = _case(**{"rating/use_measured": ["K_v"], "rating/K_Halpha": 3.0})
+    case = jio.parse_case(d)
+    section = cli.rating_outputs(case, str(tmp_path))
+    assert section["factors"]["K_Halpha"]["value"] == pytest.approx(3.0, rel=1e-12)
+    dynamics = {"model": "torsional", "slices": 8, "speeds_rad_s": [30.0, 40.0, 50.0]}
+    dynamics["dynamic_factor"] = [1.10, 1.30, 1.20]
+    summary = {"rating": section}
+    cli.measured_dynamic_factor(case, str(tmp_path), summary, dynamics)
+    f = summary["rating"]["factors"]
+    assert f["K_v"]["source"].startswith("measured")
+    assert f["K_Halpha"]["value"] == pytest.approx(3.0, rel=1e-12)  # above ISO's 2.63
+    # σ_H ∝ √(K_v K_Hα): only K_v changed
+    ratio = f["K_v"]["value"] / section["factors"]["K_v"]["value"]
+    np.testing.assert_allclose(summary["rating"]["pitting"]["sigma_H_Pa"],
+                               np.asarray(section["pitting"]["sigma_H_Pa"]) * math.sqrt(ratio),
+                               rtol=1e-9)
+
+
 @pytest.mark.parametrize(
     ("use", "message"),
     [

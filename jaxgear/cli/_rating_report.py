@@ -307,9 +307,10 @@ def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
     for name, value in use.items():
         given.update(dict.fromkeys(_STANDS_FOR[name], value))
-    h_max, f_max = (float(v) for v in transverse_factor_limits(rc.geometry))
-    for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):  # ISO's limits (clause 8)
-        given[key] = None if given[key] is None else min(given[key], top)
+    if "K_Halpha" in use:  # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given
+        h_max, f_max = (float(v) for v in transverse_factor_limits(rc.geometry))  # one as given
+        for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):
+            given[key] = min(given[key], top)
     settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
     out = RATE(rc.geometry, rc.operating, settings).summary()
     for name in use:
