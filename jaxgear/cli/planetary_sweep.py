@@ -166,10 +166,10 @@ def step_resolution(model, stage, f_mesh, steps: int, n_planets: int) -> dict:
     resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
     if not resolved:
         warnings.warn(
-            f"--steps-per-period = {steps}: {n_min:.3g} time steps per period of the stage's "
-            f"highest natural frequency {f_max:.4g} Hz at the lowest speed's mesh frequency "
-            f"{lo:.4g} Hz (< {STEPS_PER_TOP_PERIOD}: the dynamic factor is under-estimated); "
-            f"--steps-per-period >= {need} resolves it",
+            f"--steps-per-period = {steps}: time step under-resolved, n = {n_min:.3g} steps "
+            f"per period of the stage's highest natural frequency {f_max:.4g} Hz at the lowest "
+            f"speed's mesh frequency {lo:.4g} Hz (< {STEPS_PER_TOP_PERIOD}: the dynamic factor "
+            f"comes out low); --steps-per-period >= {need} resolves it",
             CaseWarning, stacklevel=3)
     return {"f_max_Hz": f_max, "steps_per_top_period_min": n_min, "resolved": resolved,
             "steps_per_period_resolved": need}
