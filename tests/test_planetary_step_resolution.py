@@ -18,7 +18,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import planetary_sweep as ps
-from jaxgear.cli._planetary_rating import measured_k_v
+from jaxgear.cli.planetary import measured_k_v
 
 RUN = {"periods": 2, "keep_periods": 1}
 
