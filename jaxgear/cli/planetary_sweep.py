@@ -163,6 +163,8 @@ def step_resolution(model, stage, f_mesh, steps: int, n_planets: int) -> dict:
     lo = float(np.min(np.asarray(f_mesh, dtype=float)))
     n_min = steps * lo / f_max
     need = n_planets * math.ceil(STEPS_PER_TOP_PERIOD * f_max / lo / n_planets)
+    while need * lo / f_max < STEPS_PER_TOP_PERIOD:  # the same test as n's, rounding included
+        need += n_planets
     resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
     if not resolved:
         warnings.warn(
