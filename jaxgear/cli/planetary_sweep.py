@@ -70,8 +70,8 @@ __all__ = [
     "planetary_run_lines",
     "planetary_sweep",
     "run_speeds",
-    "sweep_lines",
     "step_resolution",
+    "sweep_lines",
     "sweep_summary",
 ]
 
@@ -80,7 +80,7 @@ __all__ = [
 DEFAULT_STEPS = 64
 #: the fewest Newmark steps per period of the stage's highest natural frequency below which
 #: the sweep warns (:func:`step_resolution`): the average-acceleration rule has no numerical
-#: damping but lengthens a period T by about (π dt / T)² / 12 and filters what it cannot resolve
+#: damping but lengthens a period T by about (2π dt / T)² / 12 and filters what it cannot resolve
 STEPS_PER_TOP_PERIOD = 10
 #: mesh periods integrated per speed (the first ones settle the transient)
 DEFAULT_PERIODS = 40
@@ -252,8 +252,8 @@ def sweep_summary(
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
     load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
     the stage's constant mesh stiffness) and ``crossings``; ``steps_resolution``
-    (:func:`step_resolution`, its ``CaseWarning`` before the sweep); ``ring_model`` (words) and ``ring``:
-    the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
+    (:func:`step_resolution`, its ``CaseWarning`` before the sweep); ``ring_model`` (words) and
+    ``ring``: the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
     maximum ``max_ring_deflection_m``."""
