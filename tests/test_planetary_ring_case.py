@@ -80,6 +80,8 @@ def test_bad_ring_keys_are_one_line_before_any_work(tmp_path, capsys, ring, word
     assert not out.exists()
 
 
+# a first-look step: the sweep warns that it under-resolves the top mode (tests/test_planetary_step_resolution.py)
+@pytest.mark.filterwarnings("ignore:.*time step under-resolved")
 @pytest.mark.slow
 def test_a_condensed_ring_run_end_to_end(tmp_path, capsys):
     """jaxgear run on a small stage with the coarse test ring (30 s under load: the run's own

@@ -358,6 +358,8 @@ def test_more_modes_than_the_ring_couples_is_one_line(stations):
     assert isinstance(ring, jg.CraigBamptonRing) and ring.interior == 57 and ring.modes == 24
 
 
+# a first-look step: the sweep warns that it under-resolves the top mode (tests/test_planetary_step_resolution.py)
+@pytest.mark.filterwarnings("ignore:.*time step under-resolved")
 @pytest.mark.slow
 def test_sweep_with_a_cb_ring_end_to_end(tmp_path):
     """jaxgear sweep on the small stage of tests/test_planetary_ring_case.py with its coarse

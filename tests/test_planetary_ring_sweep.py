@@ -206,6 +206,8 @@ def test_stiff_modal_ring_dynamic_factors_equal_the_rigid_ring(seq):
         assert np.max(np.abs(np.asarray(c) / np.asarray(a) - 1)) > 5e-3
 
 
+# a first-look step: the sweep warns that it under-resolves the top mode (tests/test_planetary_step_resolution.py)
+@pytest.mark.filterwarnings("ignore:.*time step under-resolved")
 @pytest.mark.slow
 def test_sweep_with_a_modal_ring_end_to_end(tmp_path):
     """jaxgear sweep on the small stage of tests/test_planetary_ring_case.py with its coarse

@@ -647,6 +647,8 @@ def _helical_case(tmp_path):
     return data
 
 
+# a first-look step: the sweep warns that it under-resolves the top mode (tests/test_planetary_step_resolution.py)
+@pytest.mark.filterwarnings("ignore:.*time step under-resolved")
 @pytest.mark.slow  # ~20 s of CPU (modes, Campbell, three solves, two sweeps); properties: above
 def test_jaxgear_run_reports_the_3d_load_sharing_face_load_and_sweep(tmp_path, capsys):
     """`jaxgear run` on a helical lumped case (lin-parker-1999 at beta = 20 deg, a 10 um pin

@@ -105,6 +105,11 @@ SWEEP_K_V_SOURCE = (
     "at the operating input speed {speed:.4g} rad/s, over its static share of the mean path "
     "load ({sharing} load sharing, K_γ's), the largest of the {n} planets' meshes"
 )
+#: appended to :data:`SWEEP_K_V_SOURCE` where the sweep's step does not resolve the stage's
+#: highest natural frequency (``steps_resolution``,
+#: :func:`jaxgear.cli.planetary_sweep.step_resolution`)
+UNRESOLVED_K_V = (" (time step under-resolved: n = {n:.3g} steps per period of {f:.4g} Hz at "
+                  "the lowest speed, < 10; --steps-per-period >= {need} resolves it)")
 
 
 def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] | None:
@@ -120,7 +125,8 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     ``load_sharing``: the model whose K_γ the rating takes, :func:`rating_k_gamma`), so that
     K_v is the mesh's dynamic load over its static one (ISO 6336-1) and the rating's
     K_γ K_v does not count the static unequal sharing twice; with equal sharing s_j = 1. The
-    largest over the planets, with :data:`SWEEP_K_V_SOURCE`. None without a sweep or outside
+    largest over the planets, with :data:`SWEEP_K_V_SOURCE` (and :data:`UNRESOLVED_K_V` where
+    the sweep's ``steps_resolution`` is not resolved). None without a sweep or outside
     its speeds."""
     if sweep is None:
         return None
@@ -133,6 +139,10 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     source = SWEEP_K_V_SOURCE.format(
         model=sweep["model"], ring=sweep["ring_model"], count=speeds.size, lo=speeds[0],
         hi=speeds[-1], speed=speed, sharing=name, n=n)
+    res = sweep.get("steps_resolution")
+    if res is not None and not res["resolved"]:
+        source += UNRESOLVED_K_V.format(n=res["steps_per_top_period_min"], f=res["f_max_Hz"],
+                                        need=res["steps_per_period_resolved"])
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
         f = np.abs(np.asarray(sharing[name][key], dtype=float))

@@ -31,6 +31,7 @@ import math
 import os
 import platform
 import time
+import warnings
 
 import jax
 import jax.numpy as jnp
@@ -45,7 +46,7 @@ from ..dynamics import (
     planetary_speed_sweep,
     ring_transducer_signal,
 )
-from ..io import write_json
+from ..io import CaseWarning, write_json
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._sweep_json import write_sweep_csv
@@ -69,6 +70,7 @@ __all__ = [
     "planetary_run_lines",
     "planetary_sweep",
     "run_speeds",
+    "step_resolution",
     "sweep_lines",
     "sweep_summary",
 ]
@@ -76,6 +78,10 @@ __all__ = [
 #: Newmark steps per mesh period (rounded up to a multiple of the planet count, so that the
 #: planets' phases fall on the steps, :func:`jaxgear.dynamics.planetary_dynamics`)
 DEFAULT_STEPS = 64
+#: the fewest Newmark steps per period of the stage's highest natural frequency below which
+#: the sweep warns (:func:`step_resolution`): the average-acceleration rule has no numerical
+#: damping but lengthens a period T by about (2π dt / T)² / 12 and filters what it cannot resolve
+STEPS_PER_TOP_PERIOD = 10
 #: mesh periods integrated per speed (the first ones settle the transient)
 DEFAULT_PERIODS = 40
 #: ``jaxgear run``'s first-look sweep: this many input speeds from 0.2 to 1.2 × the operating one
@@ -136,6 +142,39 @@ def planetary_run(
         tangential_pin_errors=np.asarray(spec.tangential_pin_errors),
         radial_pin_errors=np.asarray(spec.radial_pin_errors),
     )
+
+
+def step_resolution(model, stage, f_mesh, steps: int, n_planets: int) -> dict:
+    """Whether the sweep's time step resolves the stage's highest natural frequency f_max
+    (Hz: :func:`jaxgear.planetary_modes` of ``model`` on ``stage``, the stage as ``jaxgear
+    modes`` and the Campbell diagram take it, members on their supports): at mesh frequency
+    f_mesh (Hz, the swept speeds', (s,)) and ``steps`` per mesh period, n = steps f_mesh /
+    f_max steps per period of f_max. Below :data:`STEPS_PER_TOP_PERIOD` at the lowest swept
+    speed, Newmark's average acceleration (no numerical damping, period elongation) filters
+    those modes (the impacts of teeth entering mesh) and the dynamic factor comes out low:
+    one ``CaseWarning`` line naming ``--steps-per-period`` (a planetary case has no key for it),
+    its value, f_max and the steps per mesh period (a multiple of ``n_planets``) that give
+    n >= 10 there.
+
+    Returns ``sweep.json``'s ``steps_resolution``: ``f_max_Hz``, ``steps_per_top_period_min``
+    (n at the lowest speed), ``resolved`` (bool), ``steps_per_period_resolved`` (that
+    suggestion)."""
+    f_max = float(np.max(np.asarray(planetary_modes(model, stage).frequencies)))
+    lo = float(np.min(np.asarray(f_mesh, dtype=float)))
+    n_min = steps * lo / f_max
+    need = n_planets * math.ceil(STEPS_PER_TOP_PERIOD * f_max / lo / n_planets)
+    while need * lo / f_max < STEPS_PER_TOP_PERIOD:  # the same test as n's, rounding included
+        need += n_planets
+    resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
+    if not resolved:
+        warnings.warn(
+            f"--steps-per-period = {steps}: time step under-resolved, n = {n_min:.3g} steps "
+            f"per period of the stage's highest natural frequency {f_max:.4g} Hz at the lowest "
+            f"speed's mesh frequency {lo:.4g} Hz (< {STEPS_PER_TOP_PERIOD}: the dynamic factor "
+            f"comes out low); --steps-per-period >= {need} resolves it",
+            CaseWarning, stacklevel=3)
+    return {"f_max_Hz": f_max, "steps_per_top_period_min": n_min, "resolved": resolved,
+            "steps_per_period_resolved": need}
 
 
 def _dynamic_setup(form, case, slices=None):
@@ -212,8 +251,9 @@ def sweep_summary(
     ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
     load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
-    the stage's constant mesh stiffness) and ``crossings``; ``ring_model`` (words) and ``ring``:
-    the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
+    the stage's constant mesh stiffness) and ``crossings``; ``steps_resolution``
+    (:func:`step_resolution`, its ``CaseWarning`` before the sweep); ``ring_model`` (words) and
+    ``ring``: the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
     maximum ``max_ring_deflection_m``."""
@@ -221,6 +261,9 @@ def sweep_summary(
     ring = spec.ring_model.dynamic_ring()
     run = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
+    f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
+    resolution = step_resolution(model, spec.stage(case), speeds * f_mesh, run.steps_per_period,
+                                 spec.n_planets)  # before the work: its warning first
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
@@ -234,7 +277,6 @@ def sweep_summary(
     names = [f"sun-planet {k + 1}" for k in range(n)] + [f"ring-planet {k + 1}" for k in range(n)]
     f0 = np.asarray(planetary_modes(model, stage).frequencies)
     natural = f0[f0 > RIGID_SHARE * max(float(f0.max()), 1.0)]
-    f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
     summary = {
         "case": case.name,
         "kind": "planetary",
@@ -259,6 +301,7 @@ def sweep_summary(
         "steps_per_period": run.steps_per_period,
         "periods": run.periods,
         "keep_periods": run.keep_periods,
+        "steps_resolution": resolution,
         "damping_ratio": float(run.damping_ratio),
         "natural_frequencies_Hz": natural.tolist(),
         "crossings": crossings(natural, f_mesh, speeds),
@@ -446,6 +489,8 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_dynamic_factor_mesh": sw["max_dynamic_factor_mesh"],
         "k_gamma": sw["k_gamma"],
         "max_k_gamma": sw["max_k_gamma"],
+        "steps_per_period": sw["steps_per_period"],
+        "steps_resolution": sw["steps_resolution"],
         "ring_model": sw["ring_model"],
         "ring": sw["ring"],
         **{k: sw[k] for k in ("max_ring_deflection_m",) if k in sw},  # a flexible ring's
