@@ -307,10 +307,10 @@ def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
     for name, value in use.items():
         given.update(dict.fromkeys(_STANDS_FOR[name], value))
-    if "K_Halpha" in use:  # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given
-        h_max, f_max = (float(v) for v in transverse_factor_limits(rc.geometry))  # one as given
-        for key, top in (("K_Halpha", h_max), ("K_Falpha", f_max)):
-            given[key] = min(given[key], top)
+    # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given one is rated as given
+    limits = dict(zip(("K_Halpha", "K_Falpha"), transverse_factor_limits(rc.geometry)))
+    for key in limits.keys() & {f for name in use for f in _STANDS_FOR[name]}:
+        given[key] = min(given[key], float(limits[key]))
     settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
     out = RATE(rc.geometry, rc.operating, settings).summary()
     for name in use:
