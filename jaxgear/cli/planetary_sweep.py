@@ -351,7 +351,8 @@ def crossings(natural, f_mesh: float, speeds) -> list[dict]:
 
 def dynamic_factor_plot(case, summary: dict, path: str) -> None:
     """Each mesh's dynamic factor and the dynamic K_γ against the input speed, the mesh-order
-    crossings of the natural frequencies as vertical lines."""
+    crossings of the natural frequencies as vertical lines; an under-resolved time step
+    (``steps_resolution``) said in the title."""
     fig, ax = new_figure()
     s = np.asarray(summary["speeds_rad_s"])
     df = np.asarray(summary["dynamic_factor_mesh"])
@@ -368,8 +369,13 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
         seen.add(k)
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
+    res = summary.get("steps_resolution") or {}
+    flag = ("" if res.get("resolved", True) else
+            f"\ntime step under-resolved, dynamic factors low: "
+            f"{res['steps_per_top_period_min']:.2g} steps per period of {res['f_max_Hz']:.0f} Hz"
+            f"\n(--steps-per-period >= {res['steps_per_period_resolved']} resolves it)")
     ax.set_title(f"{case.name}: dynamic factor per mesh ({summary['model']}, "
-                 f"{summary['ring_model']})")
+                 f"{summary['ring_model']}){flag}", fontsize=10)
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
 
