@@ -100,6 +100,7 @@ from ._planetary_mesh import (
 )
 from ._planetary_hunting import (
     DeviationMeshes as DeviationMeshes,
+    PlanetFlanks as PlanetFlanks,
     PlanetaryDeviations as PlanetaryDeviations,
     PlanetaryTeeth as PlanetaryTeeth,
     planetary_hunting_periods as planetary_hunting_periods,

@@ -30,6 +30,7 @@ fixed, H / z_s. The planet count does not enter: each planet's teeth are tracked
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import ClassVar
 
@@ -52,6 +53,7 @@ from ._util import as_float, check_instance, check_integer, safe_max
 
 __all__ = [
     "DeviationMeshes",
+    "PlanetFlanks",
     "PlanetaryDeviations",
     "PlanetaryTeeth",
     "planetary_hunting_periods",
@@ -176,26 +178,86 @@ class PlanetaryTeeth(eqx.Module):
         return self.ring_pair_teeth(_pair_index(arc, line, self.base_pitch))
 
 
+class PlanetFlanks(eqx.Module):
+    """A planet's ISO 1328-1 deviations per flank (ISO 1328-1 measures and tolerances the left
+    and right flanks separately): a :class:`~jaxgear.GearDeviations` or None (a perfect flank)
+    for each.
+
+    The planet's tooth k has two working flanks: the one facing counter-clockwise, which the sun
+    loads (read in the planet's sun mesh), and the one facing clockwise, which the ring loads
+    (read in its ring mesh); teeth numbered as :class:`PlanetaryTeeth`, the same k on both.
+    Each flank's values follow :class:`~jaxgear.GearDeviations` on that flank: positive adds
+    material on it, its cumulative pitch F_p,k from its own tooth 0. A tooth thicker by t: +t on
+    both flanks (``PlanetFlanks.both``, the same as one ``GearDeviations`` for the planet); a
+    tooth moved by f towards its sun-side flank (an indexing error): +f on ``sun_flank``, -f on
+    ``ring_flank``. Runout belongs to the stage's :class:`~jaxgear.Eccentricities` (0 here).
+
+    Attributes:
+        sun_flank, ring_flank: :class:`~jaxgear.GearDeviations` or None, with the planet's
+            tooth count (checked by :class:`DeviationMeshes`).
+
+    Raises:
+        ValueError: a flank that is not a GearDeviations or None (one line).
+    """
+
+    sun_flank: GearDeviations | None = None
+    ring_flank: GearDeviations | None = None
+
+    def __check_init__(self):
+        for name in ("sun_flank", "ring_flank"):
+            g = getattr(self, name)
+            if g is not None:
+                check_instance(name, g, GearDeviations, "a jaxgear.GearDeviations or None",
+                               "PlanetFlanks")
+
+    @classmethod
+    def both(cls, deviations: GearDeviations | None) -> PlanetFlanks:
+        """The same values on both flanks (e.g. tooth-thickness errors)."""
+        return cls(deviations, deviations)
+
+    def summary(self) -> dict:
+        """Per flank, :meth:`jaxgear.GearDeviations.summary` (None for a perfect flank)."""
+        return {name: None if g is None else g.summary()
+                for name, g in (("sun_flank", self.sun_flank), ("ring_flank", self.ring_flank))}
+
+
+@functools.singledispatch
+def _planet_flanks(g) -> tuple:
+    """(sun flank, ring flank) of a planet entry: None, both None (other types are refused by
+    :class:`PlanetaryDeviations`)."""
+    return None, None
+
+
+@_planet_flanks.register
+def _(g: GearDeviations) -> tuple:
+    return g, g
+
+
+@_planet_flanks.register
+def _(g: PlanetFlanks) -> tuple:
+    return g.sun_flank, g.ring_flank
+
+
 class PlanetaryDeviations(eqx.Module):
     """ISO 1328-1 per-tooth deviations of a stage's gears (``None``: a perfect gear), in the
     conventions of :class:`~jaxgear.GearDeviations` (positive adds material on the working
     flank; teeth numbered as :class:`PlanetaryTeeth`).
 
-    A planet works on both flanks: its deviations are read on each flank as ISO 1328-1 measures
-    that flank (the sun loads the flanks facing counter-clockwise, the ring those facing
-    clockwise), the same values on both (a tooth's thickness error; an indexing error that moves
-    a whole tooth adds material on one flank and removes it on the other: two
-    :class:`PlanetaryDeviations` runs do not give it). Runout is the stage's
-    :class:`~jaxgear.Eccentricities` (sun, ring and planet runout): here it must be 0.
+    A planet works on both flanks (the sun loads the flanks facing counter-clockwise, the ring
+    those facing clockwise). Its entry is either one :class:`~jaxgear.GearDeviations`, read on
+    each flank as ISO 1328-1 measures that flank with the same values on both (a tooth's
+    thickness error), or a :class:`PlanetFlanks` with each flank's own values (measured flanks
+    differ; an indexing error that moves a whole tooth adds material on one flank and removes it
+    on the other). Runout is the stage's :class:`~jaxgear.Eccentricities` (sun, ring and planet
+    runout): here it must be 0.
 
     Attributes:
         sun, ring: :class:`~jaxgear.GearDeviations` or None.
-        planets: one :class:`~jaxgear.GearDeviations` or None per planet (a tuple; empty: all
-            perfect).
+        planets: per planet a :class:`~jaxgear.GearDeviations`, a :class:`PlanetFlanks` or
+            None (a tuple; empty: all perfect).
 
     Raises:
-        ValueError: (one line) a member that is not a GearDeviations or None, or a runout that is
-            not 0.
+        ValueError: (one line) a member that is not one of those, or a runout that is not 0.
     """
 
     sun: GearDeviations | None = None
@@ -203,12 +265,16 @@ class PlanetaryDeviations(eqx.Module):
     ring: GearDeviations | None = None
 
     def __check_init__(self):
-        allowed = "a jaxgear.GearDeviations or None"
-        for name, g in (("sun", self.sun), ("ring", self.ring),
-                        *((f"planets[{i}]", g) for i, g in enumerate(self.planets))):
-            if g is None:
-                continue
-            check_instance(name, g, GearDeviations, allowed, "PlanetaryDeviations")
+        for name, g in (("sun", self.sun), ("ring", self.ring)):
+            if g is not None:
+                check_instance(name, g, GearDeviations, "a jaxgear.GearDeviations or None",
+                               "PlanetaryDeviations")
+        for i, g in enumerate(self.planets):
+            if g is not None:
+                check_instance(f"planets[{i}]", g, (GearDeviations, PlanetFlanks),
+                               "a jaxgear.GearDeviations, a jaxgear.PlanetFlanks or None",
+                               "PlanetaryDeviations")
+        for name, g in self._members():
             try:
                 runout = float(g.runout)
             except (TypeError, jax.errors.ConcretizationTypeError):  # traced: not known here
@@ -219,6 +285,15 @@ class PlanetaryDeviations(eqx.Module):
                     "0 (a member's runout is the stage's jaxgear.Eccentricities)"
                 )
 
+    def _members(self):
+        """(name, GearDeviations) of every member and planet flank given (not None)."""
+        out = [("sun", self.sun), ("ring", self.ring)]
+        for i, g in enumerate(self.planets):
+            s, r = _planet_flanks(g)
+            out += ([(f"planets[{i}]", s)] if s is r else
+                    [(f"planets[{i}].sun_flank", s), (f"planets[{i}].ring_flank", r)])
+        return [(name, g) for name, g in out if g is not None]
+
     def check(self, teeth: tuple[int, int, int], n_planets: int) -> None:
         """Refuse, eagerly (one line naming the member), per-tooth arrays whose lengths are not
         the stage's tooth counts ``teeth`` (z_s, z_p, z_r), or a planets tuple that is neither
@@ -228,18 +303,22 @@ class PlanetaryDeviations(eqx.Module):
                 f"PlanetaryDeviations: planets has {len(self.planets)} entries, out of range: "
                 f"allowed 0 or one per planet ({n_planets})"
             )
-        members = (("sun", self.sun, teeth[0]), ("ring", self.ring, teeth[2]),
-                   *((f"planets[{i}]", g, teeth[1]) for i, g in enumerate(self.planets)))
-        for name, g, z in members:
-            if g is not None and g.teeth != z:
+        count = {"sun": teeth[0], "ring": teeth[2]}
+        for name, g in self._members():
+            z = count.get(name, teeth[1])
+            if g.teeth != z:
                 raise ValueError(
                     f"PlanetaryDeviations: {name} has {g.teeth} teeth, out of range: allowed one "
                     f"value per tooth ({z} teeth)"
                 )
 
-    def planet(self, n: int) -> GearDeviations | None:
-        """Planet n's deviations (0-based), None for a perfect planet."""
+    def planet(self, n: int) -> GearDeviations | PlanetFlanks | None:
+        """Planet n's entry (0-based) as given, None for a perfect planet."""
         return self.planets[n] if self.planets else None
+
+    def planet_flanks(self, n: int) -> tuple[GearDeviations | None, GearDeviations | None]:
+        """Planet n's (sun flank, ring flank) deviations (0-based; None: a perfect flank)."""
+        return _planet_flanks(self.planet(n))
 
 
 def _flank(dev: GearDeviations | None, tooth, u, zeta):
@@ -254,8 +333,8 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     """The 2N meshes from real contact (:class:`~jaxgear.ContactMeshes`) with the per-tooth
     deviations of the teeth in contact at each mesh travel (:class:`PlanetaryTeeth`): each cell's
     initial separation less the deviations' material e_d of its two teeth (sun mesh: the sun's
-    flank at roll fraction u, the planet's at 1 - u; ring mesh: the planet's at u, the ring's at
-    1 - u; u = s / g_alpha, zeta = z / b), e_d along the line of action times cos beta_b as for a
+    flank at roll fraction u, the planet's sun-side flank at 1 - u; ring mesh: the planet's
+    ring-side flank at u, the ring's at 1 - u; u = s / g_alpha, zeta = z / b), e_d along the line of action times cos beta_b as for a
     pair. With every deviation 0 the meshes are the contact meshes exactly.
 
     Build with :meth:`from_geometry` (or from a :class:`~jaxgear.ContactMeshes` and its
@@ -331,9 +410,13 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
         t_s = (x - c.sun_phases * p_b) / c.sun_mesh.base_radius_pinion
         t_r = (x + c.ring_offset - c.ring_phases * p_b) / c.ring_mesh.base_radius_pinion
         out = []
-        for mesh, mods, theta, teeth_of, sun_side in (
-            (c.sun_mesh, c.sun_modifications, t_s, teeth.sun_pair_teeth, True),
-            (c.ring_mesh, c.ring_modifications, t_r, teeth.ring_pair_teeth, False),
+        # per mesh kind, the (first, second) member of planet n: the sun and the planet's sun
+        # flank; the planet's ring flank and the ring
+        sun_members = lambda n: (dev.sun, dev.planet_flanks(n)[0])  # noqa: E731
+        ring_members = lambda n: (dev.planet_flanks(n)[1], dev.ring)  # noqa: E731
+        for mesh, mods, theta, teeth_of, members in (
+            (c.sun_mesh, c.sun_modifications, t_s, teeth.sun_pair_teeth, sun_members),
+            (c.ring_mesh, c.ring_modifications, t_r, teeth.ring_pair_teeth, ring_members),
         ):
             cells, e_max, delta0 = jax.vmap(lambda t, mesh=mesh, mods=mods: separation(
                 mesh, mods, t))(theta)
@@ -345,7 +428,7 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
             # planet's at u, the ring's at 1 - u (each member's roll from its own root)
             e = []
             for n in range(teeth.n_planets):
-                d1, d2 = (dev.sun, dev.planet(n)) if sun_side else (dev.planet(n), dev.ring)
+                d1, d2 = members(n)
                 e.append(_flank(d1, first[n], u[n], zeta[n])
                          + _flank(d2, second[n], 1.0 - u[n], zeta[n]))
             mask = cells.mask.reshape(teeth.n_planets, -1)

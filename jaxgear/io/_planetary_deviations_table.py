@@ -3,7 +3,9 @@ tooth of the sun, each planet and the ring, drawn from a grade or given, and the
 quasi-static over the stage's hunting period (docs/planetary.md, "Per-tooth deviations and the
 hunting period"). The keys are the pair's ``[deviations]`` keys (jaxgear/io/_deviations_table.py)
 with the members ``[deviations.sun]``, ``[deviations.planet_1]`` … ``[deviations.planet_N]`` and
-``[deviations.ring]``; runout is the stage's (``[planetary]`` eccentricities and planet runout)."""
+``[deviations.ring]``; a planet's two flanks either share its table or each has its own,
+``[deviations.planet_N.sun_flank]`` and ``[deviations.planet_N.ring_flank]``; runout is the
+stage's (``[planetary]`` eccentricities and planet runout)."""
 
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ import numpy as np
 from fem_prep import schema as sc
 
 from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
-from .._planetary_hunting import PlanetaryDeviations, planetary_hunting_periods
+from .._planetary_hunting import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
 from ._deviations_table import _DEV_MEMBER_KEYS, member_values
 from ._modifications_table import _depth_range
 
@@ -28,6 +30,8 @@ MAX_STAGE_POSITIONS = 400_000
 STAGE_MEMBER_KEYS = _DEV_MEMBER_KEYS - {"runout_um", "runout_phase_deg"}
 #: where a member's runout goes instead ([planetary]; a planet's: planet_runout_um)
 RUNOUT_KEYS = {"sun": "sun_eccentricity_um", "ring": "ring_eccentricity_um"}
+#: a planet's flank tables: the flanks the sun loads, those the ring loads
+FLANKS = ("sun_flank", "ring_flank")
 
 
 def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[PlanetaryDeviations,
@@ -37,9 +41,14 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
 
     ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every member's pitch, profile
     and helix deviations (:func:`~jaxgear.sample_gear_deviations`, NumPy ``default_rng(seed)``:
-    the sun, planet 1 … planet N, then the ring; the drawn runout set to 0); the member tables
-    give values (µm) that replace the drawn ones key by key, or, without a grade, are the only
-    deviations (the other members perfect).
+    the sun, the sun-side flanks of planet 1 … planet N, the ring, then the ring-side flanks of
+    planet 1 … planet N: ISO 1328-1 tolerances each flank, so a planet's two flanks are drawn
+    independently; the drawn runout set to 0); the member tables give values (µm) that replace
+    the drawn ones key by key, or, without a grade, are the only deviations (the other members
+    perfect). A planet's table gives values for both flanks, or its ``sun_flank`` and
+    ``ring_flank`` tables each flank's (:class:`~jaxgear.PlanetFlanks`; not both forms in one
+    planet). Without a grade and without flank tables a planet is one
+    :class:`~jaxgear.GearDeviations` (both flanks the same).
 
     Args:
         table: the ``[deviations]`` table. pairs: (sun–planet pair, planet–ring pair).
@@ -53,8 +62,9 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
 
     Raises:
         SchemaError: one line (unknown keys, wrong types, values out of range, arrays of another
-            length than the member's teeth, pitch deviations that do not close, a span of more
-            than :data:`MAX_STAGE_POSITIONS` positions).
+            length than the member's teeth, pitch deviations that do not close, a planet's values
+            given both in its table and in its flank tables, a span of more than
+            :data:`MAX_STAGE_POSITIONS` positions).
     """
     if not isinstance(table, dict):
         raise sc.fail("", "deviations", "must be a table", table)
@@ -97,32 +107,48 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
                               "deviations per member without a grade instead)", z)
     rng = np.random.default_rng(seed)
     alpha = float(sp.transverse_pressure_angle)
-    out: dict[str, GearDeviations | None] = {}
     tolerances = {}
-    for tag, member, z in members:
-        for key in ("runout_um", "runout_phase_deg"):
-            if isinstance(table.get(tag), dict) and key in table[tag]:
-                raise sc.fail(f"deviations.{tag}", key, "not here in a planetary stage (allowed: "
-                              "the stage's runout, [planetary] "
-                              f"{RUNOUT_KEYS.get(tag, 'planet_runout_um')})", table[tag][key])
-        spec = sc.subtable(table, tag, "deviations", STAGE_MEMBER_KEYS)
-        kw: dict[str, Any] = {}
-        if grade is not None:
-            d = z * sp.normal_module / math.cos(sp.helix_angle)
-            try:
-                tol = iso1328_tolerances(sp.normal_module, d, member.face_width, grade)
-            except ValueError as err:
-                raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
-            tolerances[tag] = tol.as_um()
-            drawn = sample_gear_deviations(rng, z, tol, alpha)
-            kw = {f: np.asarray(getattr(drawn, f)) for f in (
-                "single_pitch", "profile_slope", "profile_form", "helix_slope", "helix_form")}
-        kw.update(member_values(spec, f"deviations.{tag}", z, signed, positive, note))
-        if not kw:
-            out[tag] = None
+    drawn: dict[tuple[str, str | None], dict] = {}
+    # the draw order: sun, the planets' sun-side flanks, ring, the planets' ring-side flanks
+    order = [(tag, member, z, None if tag in ("sun", "ring") else "sun_flank")
+             for tag, member, z in members]
+    order += [(p, sp.gear, z_p, "ring_flank") for p in planets]
+    for tag, member, z, flank in order if grade is not None else ():
+        d = z * sp.normal_module / math.cos(sp.helix_angle)
+        try:
+            tol = iso1328_tolerances(sp.normal_module, d, member.face_width, grade)
+        except ValueError as err:
+            raise sc.fail("deviations", "grade", f"{tag}: {err}", grade) from None
+        tolerances[tag] = tol.as_um()
+        g = sample_gear_deviations(rng, z, tol, alpha)
+        drawn[tag, flank] = {f: np.asarray(getattr(g, f)) for f in (
+            "single_pitch", "profile_slope", "profile_form", "helix_slope", "helix_form")}
+    out: dict[str, Any] = {}
+    for tag, _, z in members:
+        planet = tag in planets
+        allowed = STAGE_MEMBER_KEYS | set(FLANKS) if planet else STAGE_MEMBER_KEYS
+        _refuse_runout(table.get(tag), f"deviations.{tag}", tag)
+        spec = sc.subtable(table, tag, "deviations", allowed)
+        given = member_values(spec, f"deviations.{tag}", z, signed, positive, note)
+        flanks = {}
+        for flank in FLANKS if planet else ():
+            _refuse_runout(spec.get(flank), f"deviations.{tag}.{flank}", tag)
+            sub = sc.subtable(spec, flank, f"deviations.{tag}", STAGE_MEMBER_KEYS)
+            flanks[flank] = member_values(sub, f"deviations.{tag}.{flank}", z, signed,
+                                          positive, note) if flank in spec else None
+        per_flank = any(v is not None for v in flanks.values())
+        flat = sorted(STAGE_MEMBER_KEYS & set(spec))
+        if per_flank and flat:
+            raise sc.fail(f"deviations.{tag}", flat[0], "not beside its flank tables (allowed: "
+                          f"the values of both flanks in [deviations.{tag}], or each flank's "
+                          f"in [deviations.{tag}.sun_flank] / [deviations.{tag}.ring_flank], "
+                          "not both)", spec[flat[0]])
+        if not planet or (grade is None and not per_flank):
+            out[tag] = _gear({**drawn.get((tag, None), {}), **given}, z, alpha)
             continue
-        kw.setdefault("single_pitch", np.zeros(z))
-        out[tag] = GearDeviations(**kw, reference_pressure_angle=alpha)
+        out[tag] = PlanetFlanks(*(
+            _gear({**drawn.get((tag, f), {}), **given, **(flanks[f] or {})}, z, alpha)
+            for f in FLANKS))
     planet_devs = tuple(out[p] for p in planets)
     deviations = PlanetaryDeviations(
         sun=out["sun"], planets=planet_devs if any(g is not None for g in planet_devs) else (),
@@ -139,3 +165,22 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
     if tolerances:
         settings["tolerances_um"] = tolerances
     return deviations, settings
+
+
+def _refuse_runout(spec, where: str, tag: str) -> None:
+    """Refuse a member's (or a planet flank's) runout keys: the stage's eccentricities carry
+    it (one line naming the key to use)."""
+    for key in ("runout_um", "runout_phase_deg"):
+        if isinstance(spec, dict) and key in spec:
+            raise sc.fail(where, key, "not here in a planetary stage (allowed: the stage's "
+                          f"runout, [planetary] {RUNOUT_KEYS.get(tag, 'planet_runout_um')})",
+                          spec[key])
+
+
+def _gear(kw: dict, z: int, alpha: float) -> GearDeviations | None:
+    """A member's (or flank's) :class:`~jaxgear.GearDeviations` from its keywords, None for
+    none (a perfect member)."""
+    if not kw:
+        return None
+    kw.setdefault("single_pitch", np.zeros(z))
+    return GearDeviations(**kw, reference_pressure_angle=alpha)
