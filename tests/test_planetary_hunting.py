@@ -414,9 +414,10 @@ def _example():
 
 def test_case_keys_draw_every_member_in_order_and_refuse_in_one_line():
     """examples/planetary-hunting.toml: class 6 drawn with default_rng(1) in the order sun,
-    planet 1, 2, 3, ring (each from its own ISO 1328-1 tolerances, redrawn here), planet 2's
-    pitch deviations replaced by the file's, no runout (the stage's); revolutions "hunting" is
-    17119 mesh periods (901 sun turns); bad keys and values are one line naming them."""
+    the sun-side flanks of planet 1, 2, 3, ring, then their ring-side flanks (each from its own
+    ISO 1328-1 tolerances, redrawn here), planet 2's pitch deviations replaced by the file's
+    on both flanks, no runout (the stage's); revolutions "hunting" is 17119 mesh periods (901
+    sun turns); bad keys and values are one line naming them."""
     import copy
 
     import jaxgear.io as jio
@@ -428,18 +429,20 @@ def test_case_keys_draw_every_member_in_order_and_refuse_in_one_line():
     assert st["mesh_periods"] == 2 * Z_S and st["hunting_periods"] == 17119
     rng = np.random.default_rng(1)
     sp = case.pairs[0]
-    for member, z in ((devs.sun, Z_S), *((devs.planet(i), Z_P) for i in range(3)),
-                      (devs.ring, Z_R)):
+    planet_2 = (devs.planet(1).sun_flank, devs.planet(1).ring_flank)
+    for member, z in ((devs.sun, Z_S), *((devs.planet(i).sun_flank, Z_P) for i in range(3)),
+                      (devs.ring, Z_R), *((devs.planet(i).ring_flank, Z_P) for i in range(3))):
         tol = jg.iso1328_tolerances(3e-3, z * 3e-3, 0.03, 6)
         want = jg.sample_gear_deviations(rng, z, tol)
         assert float(member.runout) == 0.0
         for name in ("profile_slope", "profile_form", "helix_slope", "helix_form"):
             np.testing.assert_allclose(getattr(member, name), getattr(want, name), rtol=1e-12)
-        if member is not devs.planet(1):
+        if all(member is not g for g in planet_2):
             np.testing.assert_allclose(member.single_pitch, want.single_pitch, rtol=1e-12)
     given = np.zeros(Z_P)
     given[5], given[6] = 4e-6, -4e-6
-    np.testing.assert_allclose(devs.planet(1).single_pitch, given, atol=1e-18)
+    for g in planet_2:
+        np.testing.assert_allclose(g.single_pitch, given, atol=1e-18)
     assert float(sp.transverse_pressure_angle) == float(devs.sun.reference_pressure_angle)
     hunting = copy.deepcopy(data)
     hunting["deviations"]["revolutions"] = "hunting"
