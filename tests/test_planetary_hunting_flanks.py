@@ -64,8 +64,9 @@ def _flanks(sun_flank=None, ring_flank=None, sun_profile=0.0, ring_profile=0.0):
                                   _gear(Z_R, profile=ring_profile))
 
 
-def _solve(model, st, meshes, x, errors=np.zeros(3)):
+def _solve(model, st, meshes, x, errors=None):
     assert len(x) == N_POS
+    errors = np.zeros(3) if errors is None else errors
     r = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), np.asarray(x), errors)
     assert np.all(np.asarray(r.result) == 0)
     return r
@@ -74,7 +75,7 @@ def _solve(model, st, meshes, x, errors=np.zeros(3)):
 @pytest.fixture(scope="module")
 def nominal(seq):
     """The contact meshes' solve (torsional, no deviation) over 20 mesh periods."""
-    geo, st, contact, teeth = seq
+    _, st, contact, _ = seq
     x = np.asarray(contact.positions(3, 20))
     return x, _solve(jg.TorsionalPlanetary(), st, contact, x)
 
@@ -156,7 +157,7 @@ def test_a_thickness_error_on_both_flanks_is_the_single_table_form(seq, nominal)
     as equal values on both flanks (PlanetFlanks and PlanetFlanks.both), give the single
     GearDeviations form's forces, TE and K_gamma (1e-12); the thickness is seen on both
     lines."""
-    geo, st, contact, teeth = seq
+    _, st, contact, teeth = seq
     x, nominal = nominal
     thick = _one_tooth(Z_P, 5, F)
     slope = np.linspace(-2e-6, 3e-6, Z_P)
@@ -230,7 +231,7 @@ def test_k_gamma_with_one_flank_pitch_errors_against_a_spring_model(seq, drawn_d
 
 
 def test_bad_flanks_are_one_line(seq):
-    geo, st, contact, teeth = seq
+    _, _, contact, teeth = seq
     cases = [
         (lambda: jg.PlanetFlanks(sun_flank=np.zeros(Z_P)), "sun_flank"),
         (lambda: jg.PlanetaryDeviations(planets=(None, jg.PlanetFlanks(
