@@ -186,7 +186,7 @@ class PlanetFlanks(eqx.Module):
     The planet's tooth k has two working flanks: the one facing counter-clockwise, which the sun
     loads (read in the planet's sun mesh), and the one facing clockwise, which the ring loads
     (read in its ring mesh); teeth numbered as :class:`PlanetaryTeeth`, the same k on both.
-    Each flank's values follow :class:`~jaxgear.GearDeviations` on that flank: positive adds
+    Each flank's values (m) follow :class:`~jaxgear.GearDeviations` on that flank: positive adds
     material on it, its cumulative pitch F_p,k from its own tooth 0. A tooth thicker by t: +t on
     both flanks (``PlanetFlanks.both``, the same as one ``GearDeviations`` for the planet); a
     tooth moved by f towards its sun-side flank (an indexing error): +f on ``sun_flank``, -f on
