@@ -35,10 +35,10 @@ from ._rating_report import (
     RATE,
     ROOT_STRESS_RADII,
     _mesh_curves,
+    _pick,
     rated_with_measured,
     rating_lines,
     stacked_meshes,
-    unstacked_meshes,
     write_rating_md,
 )
 from ._stress_outputs import active_radii, fillet_table
@@ -634,8 +634,8 @@ def _mesh_at_speed(case, out: str, k: int, section: dict, at: StageAtSpeed, tabl
     root_stress_plot(
         os.path.join(out, section["root_stress"]["at_speed"]["file"]),
         [None if m is None else _period_envelope(m, at.steps_per_period) for m in maps],
-        f"{case.name} {name}: root stress at {at.speed:.4g} rad/s (input), planet {planet + 1}, "
-        "largest over the kept periods at each position (plane FE × the dynamic cell loads)",
+        f"{case.name} {name} at {at.speed:.4g} rad/s (input): root stress, planet {planet + 1}, "
+        "largest over the kept periods (FE × dynamic cell loads)",
         names)
 
 
@@ -656,9 +656,11 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     (``root_stress_map_<mesh>_speed.png``: each cell's largest stress over the kept periods),
     ``speed_of``, ``static_of`` (rating.md's words); a ring without its cutter ``None`` as in
     the quasi-static map. Unchanged without a quasi-static root-stress map."""
-    if "root_stress" not in rating:
+    if rating.get("root_stress") is None:
         return rating
-    names, sections = unstacked_meshes(rating)
+    rest = dict(rating)
+    names = rest.pop("meshes")  # each mesh's own section (the inverse of stacked_meshes)
+    sections = [_pick(rest, k) for k in range(len(names))]
     for k, section in enumerate(sections):
         _mesh_at_speed(case, out, k, section, at, table)
     write_rating_md(out, stage_rating_lines(case, sections))

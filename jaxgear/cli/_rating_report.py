@@ -57,7 +57,6 @@ __all__ = [
     "stacked_meshes",
     "train_loads",
     "train_mesh_results",
-    "unstacked_meshes",
     "write_rating_table",
     "write_rating_md",
 ]
@@ -154,22 +153,17 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         out.append(f"| σ_F,FE max / σ_F0 | {_value(rs['fe_over_iso'], 1)} |  | FE over ISO |")
         fast = rs.get("at_speed")
         if fast is not None:
-            out += _at_speed_rows(fast)
+            speed_of = fast.get("speed_of", "the sweep's speed of its largest dynamic factor")
+            out.append(
+                f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
+                f"{fast['speed_rad_s']:.4g} rad/s ({speed_of}; this mesh's dynamic factor there "
+                f"{fast['dynamic_factor']:.3f}, tooth {fast['dynamic_factor_tooth']:.3f}) |"
+            )
+            static_of = fast.get("static_of", f"the same {fast['slices']} slices, quasi-static "
+                                 "rigid mesh")  # a planetary mesh's say which planet and solve
+            out.append(f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | {static_of} "
+                       "|")
     return out
-
-
-def _at_speed_rows(fast: dict) -> list[str]:
-    """``rating.md``'s two rows of a mesh's root stress at speed (``root_stress.at_speed``: a
-    pair's or a train's mesh at the sweep's speed of its largest dynamic factor; a planetary
-    mesh's, whose ``speed_of`` and ``static_of`` say which speed, planet and static solve)."""
-    speed_of = fast.get("speed_of", "the sweep's speed of its largest dynamic factor")
-    static_of = fast.get("static_of", f"the same {fast['slices']} slices, quasi-static rigid mesh")
-    return [
-        f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
-        f"{fast['speed_rad_s']:.4g} rad/s ({speed_of}; this mesh's dynamic factor there "
-        f"{fast['dynamic_factor']:.3f}, tooth {fast['dynamic_factor_tooth']:.3f}) |",
-        f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | {static_of} |",
-    ]
 
 
 @functools.singledispatch
@@ -544,14 +538,9 @@ def _(form: PairForm, section: dict) -> list[dict]:
 
 @_mesh_sections.register
 def _(form: TrainForm, section: dict) -> list[dict]:
-    return unstacked_meshes(section)[1]
-
-
-def unstacked_meshes(section: dict) -> tuple[list[str], list[dict]]:
-    """(names, sections): the inverse of :func:`stacked_meshes`, each mesh's own section."""
     rest = dict(section)
     names = rest.pop("meshes")
-    return names, [_pick(rest, k) for k in range(len(names))]
+    return [_pick(rest, k) for k in range(len(names))]
 
 
 def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table: bool) -> dict:

@@ -74,7 +74,7 @@ def planetary_rated_run_files(form, case, out: str, args, complete: bool,
     rewritten. ``table``: the FE fillet stress per unit load (:func:`jaxgear.cli.fillet_table`)."""
     summary = planetary_run_files(form, case, out, args, complete)
     rating = summary.get("rating")
-    if rating is None or "root_stress" not in rating:
+    if rating is None or rating.get("root_stress") is None:
         return summary
     at = run_at_speed(form, case, case.speed, summary["dynamics"]["steps_per_period"])
     summary["rating"] = rating_at_speed(case, out, rating, at, table)
