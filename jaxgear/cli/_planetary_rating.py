@@ -530,7 +530,7 @@ class StageAtSpeed(NamedTuple):
             over the kept steps (N), (n_planets,).
         nominal_force: T_s / (N r_bs) (N), what the sweep's dynamic factors divide by.
         static: :class:`StageLoads` of the stage's quasi-static solve at the same slices and
-            mesh travels (one mesh period).
+            mesh travels (one mesh period); None where its contact solve failed.
         speed: the run's input speed (rad/s). result: its result code (0: successful).
         slices: slices per contact line. steps_per_period: Newmark steps per mesh period.
         source: :data:`STAGE_AT_SPEED` filled in.
@@ -655,8 +655,9 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     ``planet``, ``static_planet`` (1-based), ``steps_per_period``, ``file``
     (``root_stress_map_<mesh>_speed.png``: each cell's largest stress over the kept periods),
     ``speed_of``, ``static_of`` (rating.md's words); a ring without its cutter ``None`` as in
-    the quasi-static map. Unchanged without a quasi-static root-stress map."""
-    if rating.get("root_stress") is None:
+    the quasi-static map. Unchanged without a quasi-static root-stress map, or without the
+    static solve beside the run (its contact solve failed: :func:`stage_loads`' warning)."""
+    if rating.get("root_stress") is None or at.static is None:
         return rating
     rest = dict(rating)
     names = rest.pop("meshes")  # each mesh's own section (the inverse of stacked_meshes)
