@@ -330,3 +330,17 @@ def test_condensed_ring_stage_reaches_the_condensed_quasi_static_limit():
         a, b = slow.static.meshes[1][j].line_load, rigid.meshes[1][j].line_load
         worst = max(worst, np.max(np.abs(a - b)) / b.max())
     assert worst > 1e-3
+
+
+def test_a_run_without_cell_forces_is_refused_in_one_line():
+    """stage_at_speed of a run recorded without ``cell_loads``: one line naming cell_forces and
+    what is allowed, before any work."""
+    from jaxgear.cli.planetary_speed import stage_at_speed
+
+    z = np.zeros((4, 3))
+    dyn = jd.PlanetaryDynamics(np.zeros(4), np.zeros(4), np.zeros((4, 9)), z, z,
+                               np.asarray(1.0), np.asarray(0), z)
+    assert dyn.cell_forces is None
+    with pytest.raises(ValueError, match=r"^stage_at_speed: dynamics.cell_forces is None: "
+                       r"allowed a run of PlanetaryRun\(cell_loads=True\)$"):
+        stage_at_speed(None, None, None, {}, dyn, None, {})
