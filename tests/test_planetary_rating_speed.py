@@ -44,8 +44,8 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
     cell forces (N) of each planet's sun and ring mesh, summed here, times cos(beta_b), are the
     recorded mesh forces (1e-10 of the largest) at a real speed and at 1e-7 rad/s; at 1e-7 rad/s
     they are the quasi-static solve's cell loads (line load times the cell length (b/N)/cos
-    beta_b) at the same travels
-    (1e-6 of the largest); never negative; a run without ``cell_loads`` records none."""
+    beta_b) at the same travels (1e-6 of the largest), at 30 rad/s not (1e-3); never negative;
+    ``cell_loads`` off by default."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
     meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0), n_slices=2)
