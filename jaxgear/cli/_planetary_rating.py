@@ -20,6 +20,8 @@ import fem_prep
 
 from .. import (
     InternalGearPair,
+    RigidRing,
+    RootStressMap,
     ShaperCutterSection,
     internal_tooth_geometry,
     planetary_quasi_static,
@@ -33,6 +35,7 @@ from ._rating_report import (
     RATE,
     ROOT_STRESS_RADII,
     _mesh_curves,
+    _pick,
     rated_with_measured,
     rating_lines,
     stacked_meshes,
@@ -46,16 +49,21 @@ __all__ = [
     "K_GAMMA_SOURCES",
     "RING_ROOT_STRESS",
     "STAGE_ALPHA_SOURCE",
+    "STAGE_AT_SPEED",
     "STAGE_ROOT_STRESS",
     "SWEEP_K_V_SOURCE",
     "MeshLoads",
+    "StageAtSpeed",
     "StageLoads",
     "measured_k_h_alpha",
     "measured_k_h_beta",
     "measured_k_v",
+    "rating_at_speed",
     "rating_k_gamma",
     "rating_section",
+    "stage_at_speed",
     "stage_loads",
+    "stage_rating_lines",
     "stage_root_stress",
 ]
 
@@ -183,13 +191,22 @@ class MeshLoads(NamedTuple):
     """One planet's one mesh of the stage's quasi-static solve, with the fields of a one-mesh
     result (what :func:`jaxgear.transverse_load_factor` and :func:`jaxgear.root_stress_map`
     read): ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and ``cell_mask``, each of shape
-    (P, n_lines, n_slices) over the positions; s, z in the mesh pair's base plane (the
-    :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the case's mesh)."""
+    (P, n_lines, n_slices) over the positions (or a dynamic run's kept steps); s, z in the mesh
+    pair's base plane (the :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the
+    case's mesh); ``cell_length`` (m, the cells' lengths along their contact lines: line load ×
+    length is the cell's force, N) or None."""
 
     line_load: np.ndarray
     cell_s: np.ndarray
     cell_z: np.ndarray
     cell_mask: np.ndarray
+    cell_length: np.ndarray | None = None
+
+    def tooth_force(self) -> float:
+        """The largest force of one tooth pair over the positions (N, flank-normal: its
+        contact line's cells' forces summed across the face)."""
+        f = np.where(self.cell_mask, self.line_load * self.cell_length, 0.0)
+        return float(np.max(np.sum(f, axis=-1)))
 
 
 class StageLoads(NamedTuple):
@@ -213,7 +230,7 @@ class StageLoads(NamedTuple):
         return int(np.argmax(f >= f.max() * (1 - 1e-9)))
 
 
-def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
+def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None:
     """The stage's quasi-static solve over one mesh period on the gears' contact cells
     (:class:`jaxgear.ContactMeshes` of :meth:`jaxgear.io.PlanetarySpec.dynamic_meshes`: the
     case's ``[mesh]`` stiffness model, slices and positions per pitch, each pair's
@@ -223,9 +240,9 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
     :data:`K_GAMMA_SOURCES` present, as :func:`rating_k_gamma`; the ring rigid, as there), on
     the load-sharing stage (the sun loaded by its torque, ring and
     carrier held) with the case's pin errors and eccentricities, exact contact
-    (:func:`jaxgear.planetary_quasi_static`): each planet's sun/planet and planet/ring cell
-    loads. None for a stage without gears, or (with a one-line ``CaseWarning``) where the
-    contact solve fails at a position."""
+    (:func:`jaxgear.planetary_quasi_static`; ``ring`` its ring model, None: rigid): each
+    planet's sun/planet and planet/ring cell loads. None for a stage without gears, or (with a
+    one-line ``CaseWarning``) where the contact solve fails at a position."""
     if not case.pairs:
         return None
     name = [n for n in K_GAMMA_SOURCES if n in models][-1]
@@ -235,23 +252,35 @@ def stage_loads(case, spec, stage, models: dict) -> StageLoads | None:
         models[name], spec.sharing_stage(stage), meshes,
         np.asarray(abs(spec.torques(case.torque)["sun"])), x,
         np.asarray(spec.tangential_pin_errors), np.asarray(spec.radial_pin_errors),
+        ring=RigidRing() if ring is None else ring,
     )
     if np.any(np.asarray(q.result) != 0):
         warnings.warn("[rating] the stage's quasi-static solve on the contact cells did not "
                       "converge at every position: no measured K_Halpha, no root-stress map",
                       CaseWarning, stacklevel=2)
         return None
-    kinds = []
-    for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(q.cell_line_load),
-                             strict=True):
-        w, s, z, m = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask))
-        kinds.append(tuple(MeshLoads(w[:, i], s[:, i], z[:, i], m[:, i])
-                           for i in range(spec.n_planets)))
+    kinds = _mesh_loads(meshes, x, q.cell_line_load, spec.n_planets)
     forces = tuple(np.mean(np.asarray(f), axis=0)
                    for f in (q.sun_mesh_forces, q.ring_mesh_forces))
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
     return StageLoads(tuple(kinds), forces, source)
+
+
+def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
+    """(sun/planet, planet/ring): each a tuple of the ``n`` planets' :class:`MeshLoads` of the
+    cells' line loads ``values`` (N/m, (p, c) in the cell rows' order; with ``per_length`` the
+    cells' forces, N, divided here by their lengths) at the mesh travels ``x`` (m, (p,)),
+    placed by :meth:`jaxgear.ContactMeshes.planet_cells`."""
+    kinds = []
+    for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(values),
+                             strict=True):
+        w, s, z, m, c = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask, cells.length))
+        if per_length:
+            w = np.where(m & (c > 0), w / np.where(c > 0, c, 1.0), 0.0)
+        kinds.append(tuple(MeshLoads(w[:, i], s[:, i], z[:, i], m[:, i], c[:, i])
+                           for i in range(n)))
+    return tuple(kinds)
 
 
 @eqx.filter_jit
@@ -413,18 +442,6 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
     if rcs is None:
         return None
     names = [case.mesh_name(k) for k in range(len(rcs))]
-    lines = [
-        f"# {case.name}: load capacity of every mesh of the planetary stage",
-        "",
-        "Each mesh rated for one planet path: the sun/planet mesh with the sun as the pinion, "
-        "the planet/ring mesh with the planet as the pinion and the ring as an internal gear "
-        "(ISO 6336-2/-3's internal-gear rules: Z_D = 1, the ring's root section at the 60° "
-        "tangent), at the path's mean load times the load sharing factor K_γ and at the "
-        "driving member's speed relative to the carrier. The planet's teeth are loaded on "
-        "alternate flanks by the sun and the ring: Y_M = 0.7 (ISO 6336-3, mean stress "
-        "influence factor); the sun's and the ring's meet every planet each relative turn.",
-        "",
-    ]
     measured = {key: v for key, v in (("K_Hbeta", measured_k_h_beta(face_load)),
                                       ("K_Halpha", measured_k_h_alpha(loads)),
                                       ("K_v", k_v)) if v is not None}
@@ -460,7 +477,28 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }
         sections.append(section)
-        lines += rating_lines(section, f"{case.name}, mesh {name}", heading="##")
+    write_rating_md(out, stage_rating_lines(case, sections))
+    return stacked_meshes(names, sections)
+
+
+def stage_rating_lines(case, sections: list[dict]) -> list[str]:
+    """``rating.md`` of a planetary stage: one table per mesh of its ``sections`` (each mesh's
+    own rating section, :func:`rating_section`'s before stacking), with its K_γ row."""
+    lines = [
+        f"# {case.name}: load capacity of every mesh of the planetary stage",
+        "",
+        "Each mesh rated for one planet path: the sun/planet mesh with the sun as the pinion, "
+        "the planet/ring mesh with the planet as the pinion and the ring as an internal gear "
+        "(ISO 6336-2/-3's internal-gear rules: Z_D = 1, the ring's root section at the 60° "
+        "tangent), at the path's mean load times the load sharing factor K_γ and at the "
+        "driving member's speed relative to the carrier. The planet's teeth are loaded on "
+        "alternate flanks by the sun and the ring: Y_M = 0.7 (ISO 6336-3, mean stress "
+        "influence factor); the sun's and the ring's meet every planet each relative turn.",
+        "",
+    ]
+    for k, section in enumerate(sections):
+        kg = section["K_gamma"]["value"]
+        lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##")
         lines.append(f"| K_γ | {kg:.4f} |  | {section['K_gamma']['source']} |")
         lines += [
             "",
@@ -469,5 +507,162 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "mean).",
             "",
         ]
-    write_rating_md(out, lines)
+    return lines
+
+
+#: where a planetary mesh's root-stress map at speed comes from (:func:`stage_at_speed`)
+STAGE_AT_SPEED = (
+    "the stage's dynamic run ({model}, {ring}, {slices} slices, {steps} steps per mesh period, "
+    "{periods} periods, the last {keep} kept; Newmark, exact contact, the case's modifications "
+    "and pin errors) at the operating input speed {speed:.4g} rad/s: its cell loads at the kept "
+    "steps × the plane FE fillet stress per unit load; static: the stage's quasi-static solve "
+    "at the same slices and mesh travels"
+)
+
+
+class StageAtSpeed(NamedTuple):
+    """The stage's cell loads over the kept steps of one dynamic run (:func:`stage_at_speed`).
+
+    Attributes:
+        meshes: (sun/planet, planet/ring): each a tuple of one :class:`MeshLoads` per planet,
+            over the kept steps (t, n_lines, n_slices).
+        peak_forces: (sun/planet, planet/ring): each planet's largest transverse mesh force
+            over the kept steps (N), (n_planets,).
+        nominal_force: T_s / (N r_bs) (N), what the sweep's dynamic factors divide by.
+        static: :class:`StageLoads` of the stage's quasi-static solve at the same slices and
+            mesh travels (one mesh period); None where its contact solve failed.
+        speed: the run's input speed (rad/s). result: its result code (0: successful).
+        slices: slices per contact line. steps_per_period: Newmark steps per mesh period.
+        source: :data:`STAGE_AT_SPEED` filled in.
+    """
+
+    meshes: tuple
+    peak_forces: tuple
+    nominal_force: float
+    static: StageLoads
+    speed: float
+    result: int
+    slices: int
+    steps_per_period: int
+    source: str
+
+    def most_loaded(self, k: int) -> int:
+        """The planet (0-based) whose mesh of kind ``k`` carries the largest force at speed, the
+        first of those within 1e-9 of it (as :meth:`StageLoads.most_loaded`)."""
+        f = np.asarray(self.peak_forces[k])
+        return int(np.argmax(f >= f.max() * (1 - 1e-9)))
+
+
+def stage_at_speed(case, spec, stage, models: dict, dynamics, meshes, words: dict,
+                   ring=None) -> StageAtSpeed:
+    """The stage's cell loads at speed from one dynamic run ``dynamics``
+    (:class:`jaxgear.dynamics.PlanetaryDynamics` of ``meshes``, a
+    :class:`~jaxgear.ContactMeshes`, with ``PlanetaryRun(cell_loads=True)``): each cell's line
+    load, its force over its length (N/m), placed at each kept step's travel by
+    :meth:`jaxgear.ContactMeshes.planet_cells`; beside it the stage's quasi-static solve
+    (:func:`stage_loads` with ``models``, the ring model ``ring``, None: rigid) at the same
+    slices and the same travels modulo the mesh period (``positions_per_pitch`` = the run's
+    steps per period: both at the mid-points (i + 1/2) p_b / S). ``words``: ``model``,
+    ``ring``, ``periods``, ``keep`` and ``speed`` (rad/s, the input's) for
+    :data:`STAGE_AT_SPEED`. Raises ``ValueError`` (one line) for a run without cell forces."""
+    if dynamics.cell_forces is None:
+        raise ValueError("stage_at_speed: dynamics.cell_forces is None: allowed a run of "
+                         "PlanetaryRun(cell_loads=True)")
+    x = np.asarray(dynamics.travel)
+    slices = int(meshes.sun_mesh.n_slices)
+    steps = x.size // int(words["keep"])
+    kinds = _mesh_loads(meshes, x, dynamics.cell_forces, spec.n_planets, per_length=True)
+    static = stage_loads(case.replace(slices=slices, positions_per_pitch=steps), spec, stage,
+                         models, ring)
+    peaks = tuple(np.max(np.asarray(f), axis=0)
+                  for f in (dynamics.sun_mesh_forces, dynamics.ring_mesh_forces))
+    source = STAGE_AT_SPEED.format(slices=slices, steps=steps, **words)
+    return StageAtSpeed(kinds, peaks, float(dynamics.static_force), static,
+                        float(words["speed"]), int(dynamics.result), slices, steps, source)
+
+
+def _period_envelope(rmap, steps: int):
+    """A map over the kept steps reduced to one mesh period (the cells repeat every period):
+    each cell's largest stress over the kept periods, the last period's cells (what
+    ``root_stress_map_<mesh>_speed.png`` draws)."""
+    def last(a):
+        a = np.asarray(a)
+        return a.reshape((-1, steps) + a.shape[1:])[-1]
+
+    stress = np.asarray(rmap.stress)
+    stress = stress.reshape((-1, steps) + stress.shape[1:]).max(axis=0)
+    return RootStressMap(stress, last(rmap.roll), last(rmap.cell_s), last(rmap.cell_z),
+                         last(rmap.mask))
+
+
+def _mesh_at_speed(case, out: str, k: int, section: dict, at: StageAtSpeed, table) -> None:
+    """Mesh ``k``'s ``root_stress.at_speed`` (:func:`rating_at_speed`) into its ``section`` and
+    ``root_stress_map_<mesh>_speed.png`` into ``out``."""
+    pair, rating, name = case.pairs[k], ratings_of(case)[k], case.mesh_name(k)
+    planet, still = at.most_loaded(k), at.static.most_loaded(k)
+    fast, rest = at.meshes[k][planet], at.static.meshes[k][still]
+    maps, static = [], []
+    for i in (0, 1):
+        tooth = _member_tooth(pair, i, rating)
+        t = _member_table(pair, i, table, tooth)
+        maps.append(None if t is None else root_stress_map(pair, fast, i, t.roll, t.peak))
+        static.append(None if t is None else root_stress_map(pair, rest, i, t.roll, t.peak))
+    peak = [None if m is None else float(m.max) for m in maps]
+    still_peak = [None if m is None else float(m.max) for m in static]
+    section["root_stress"]["at_speed"] = {
+        "speed_rad_s": at.speed,
+        "max_Pa": peak,
+        "static_max_Pa": still_peak,
+        "ratio": [None if a is None else a / b for a, b in zip(peak, still_peak, strict=True)],
+        "dynamic_factor": float(at.peak_forces[k][planet]) / at.nominal_force,
+        "dynamic_factor_tooth": fast.tooth_force() / rest.tooth_force(),
+        "planet": planet + 1,
+        "static_planet": still + 1,
+        "slices": at.slices,
+        "steps_per_period": at.steps_per_period,
+        "result": at.result,
+        "file": f"root_stress_map_{name}_speed.png",
+        "speed_of": f"the operating input speed, planet {planet + 1}: the largest mesh force "
+                    "at speed",
+        "static_of": f"the stage's quasi-static solve at the same {at.slices} slices and mesh "
+                     f"travels, planet {still + 1}",
+        "source": at.source,
+    }
+    gears = [case.gear_names[g] for g in case.gears[k]]
+    names = [g if m is not None else f"{g}: root stress\n{RING_ROOT_STRESS}"
+             for g, m in zip(gears, maps, strict=True)]
+    root_stress_plot(
+        os.path.join(out, section["root_stress"]["at_speed"]["file"]),
+        [None if m is None else _period_envelope(m, at.steps_per_period) for m in maps],
+        f"{case.name} {name} at {at.speed:.4g} rad/s (input): root stress, planet {planet + 1}, "
+        "largest over the kept periods (FE × dynamic cell loads)",
+        names)
+
+
+def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
+                    table=fillet_table) -> dict:
+    """The stage's ``rating`` section (:func:`rating_section`'s, stacked per mesh) with each
+    mesh's root stress at speed (returned; ``rating.md`` rewritten): the loads ``at``
+    (:func:`stage_at_speed`) of the planet whose mesh carries the largest force at speed
+    (:meth:`StageAtSpeed.most_loaded`, per mesh kind) times each member's FE fillet stress per
+    unit load (:func:`jaxgear.root_stress_map`, the same tables as the quasi-static map,
+    ``table``), and the static map of the quasi-static solve at the same slices and travels
+    (its most loaded planet). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
+    (:func:`jaxgear.cli.at_speed_sections`: ``speed_rad_s`` (the input's), ``max_Pa``,
+    ``static_max_Pa``, ``ratio`` per member [pinion, gear], ``dynamic_factor`` (the planet's
+    largest mesh force over T_s/(N r_bs), the sweep's definition), ``dynamic_factor_tooth``
+    (its largest tooth force over the static one), ``slices``, ``result``, ``source``) and
+    ``planet``, ``static_planet`` (1-based), ``steps_per_period``, ``file``
+    (``root_stress_map_<mesh>_speed.png``: each cell's largest stress over the kept periods),
+    ``speed_of``, ``static_of`` (rating.md's words); a ring without its cutter ``None`` as in
+    the quasi-static map. Unchanged without a quasi-static root-stress map, or without the
+    static solve beside the run (its contact solve failed: :func:`stage_loads`' warning)."""
+    if rating.get("root_stress") is None or at.static is None:
+        return rating
+    rest = dict(rating)
+    names = rest.pop("meshes")  # each mesh's own section (the inverse of stacked_meshes)
+    sections = [_pick(rest, k) for k in range(len(names))]
+    for k, section in enumerate(sections):
+        _mesh_at_speed(case, out, k, section, at, table)
+    write_rating_md(out, stage_rating_lines(case, sections))
     return stacked_meshes(names, sections)

@@ -153,16 +153,16 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         out.append(f"| σ_F,FE max / σ_F0 | {_value(rs['fe_over_iso'], 1)} |  | FE over ISO |")
         fast = rs.get("at_speed")
         if fast is not None:
+            speed_of = fast.get("speed_of", "the sweep's speed of its largest dynamic factor")
             out.append(
                 f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
-                f"{fast['speed_rad_s']:.4g} rad/s (the sweep's speed of its largest dynamic "
-                f"factor; this mesh's dynamic factor there {fast['dynamic_factor']:.3f}, tooth "
-                f"{fast['dynamic_factor_tooth']:.3f}) |"
+                f"{fast['speed_rad_s']:.4g} rad/s ({speed_of}; this mesh's dynamic factor there "
+                f"{fast['dynamic_factor']:.3f}, tooth {fast['dynamic_factor_tooth']:.3f}) |"
             )
-            out.append(
-                f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | the same "
-                f"{fast['slices']} slices, quasi-static rigid mesh |"
-            )
+            static_of = fast.get("static_of", f"the same {fast['slices']} slices, quasi-static "
+                                 "rigid mesh")  # a planetary mesh's say which planet and solve
+            out.append(f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | {static_of} "
+                       "|")
     return out
 
 

@@ -49,7 +49,8 @@ from ._rating_report import (
 )
 from ._stress_outputs import fillet_table
 from ._summary import environment_summary, mesh_settings_summary, result_summary
-from .planetary_sweep import planetary_run_files, planetary_run_lines
+from .planetary_speed import planetary_rated_run_files
+from .planetary_sweep import planetary_run_lines
 from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
@@ -511,8 +512,9 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     return summary
 
 
-# a planetary stage's files and lines, with its first-look sweep (cli/planetary_sweep.py)
-quasi_static_files.register(PlanetaryForm, planetary_run_files)
+# a planetary stage's files and lines, with its first-look sweep (cli/planetary_sweep.py) and
+# its root stress at speed (cli/planetary_speed.py)
+quasi_static_files.register(PlanetaryForm, planetary_rated_run_files)
 
 
 @quasi_static_files.register

@@ -57,6 +57,9 @@ class PlanetaryRun(eqx.Module):
             :func:`~jaxgear.load_sharing` (the stage's eccentricities,
             :class:`~jaxgear.Eccentricities`, are added at each step, turning with their
             members).
+        cell_loads: also record every cell's force at the kept steps
+            (:attr:`PlanetaryDynamics.cell_forces`; static, default False: a sweep keeps none,
+            memory ∝ kept steps × cells × speeds).
 
     Raises:
         ValueError: a count or ratio out of range (one line).
@@ -69,6 +72,7 @@ class PlanetaryRun(eqx.Module):
     damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
     tangential_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
     radial_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
+    cell_loads: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
         check_integer("steps_per_period", self.steps_per_period, 8)
@@ -100,6 +104,13 @@ class PlanetaryDynamics(eqx.Module):
             :class:`~jaxgear.DynamicsResult`), ().
         ring_deflection: the flexible ring's elastic displacement at each ring mesh along its
             force (m, relieving the mesh), (t, n_planets); zero for a rigid ring.
+        cell_forces: each cell's contact force (N, flank-normal, compression positive; 0 off
+            contact), (t, c), in the order of the meshes kind's cell rows
+            (:meth:`~jaxgear.ContactMeshes.split_cells` splits it per mesh and planet,
+            :meth:`~jaxgear.ContactMeshes.planet_cells` at ``travel`` places the cells and
+            gives their lengths: the line load is force / length); ``meshes.mesh_forces`` of it
+            is the mesh forces above. None unless the run asks for it
+            (``PlanetaryRun(cell_loads=True)``).
     """
 
     time: Float[Array, " t"]
@@ -110,6 +121,7 @@ class PlanetaryDynamics(eqx.Module):
     static_force: Float[Array, ""]
     result: Array
     ring_deflection: Float[Array, "t n"]
+    cell_forces: Float[Array, "t c"] | None = None
 
     @property
     def dynamic_factors(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
@@ -215,11 +227,12 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     cells = StepCells(cell_row, law)
 
     def record(X, Xd, P, i):
-        return X, meshes.mesh_forces(P), i, ring.contact_rows(stage, travel(i)) @ X[n_dof:]
+        w = ring.contact_rows(stage, travel(i)) @ X[n_dof:]
+        return X, meshes.mesh_forces(P), i, w, (P if run.cell_loads else None)
 
     code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
     if basis is None:
-        final, (X, forces, i, w) = newmark(system, dt, (static.x, zero, zero, *code), steps,
+        final, (X, forces, i, w, P) = newmark(system, dt, (static.x, zero, zero, *code), steps,
                                            cells, record, keep_blocks=run.keep_periods,
                                            load=load)
     else:  # the ring's kept modes and the static correction of the others
@@ -231,7 +244,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         q0 = jnp.concatenate([static.x[:n_dof], T_u.T @ (m_u @ static.x[n_dof:])])
         r0 = static.x - D @ q0  # G f of the static state: the residual's part
         zq, zr = jnp.zeros_like(q0), jnp.zeros_like(r0)
-        final, (X, forces, i, w) = newmark_modal(
+        final, (X, forces, i, w, P) = newmark_modal(
             ModalSystem(Kr, Mr, Cr, D.T @ system.F, structure), dt,
             (q0, zq, zq, r0, zr, zr, *code), steps, cells, record,
             keep_blocks=run.keep_periods, load=load)
@@ -245,6 +258,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         static_force=run.sun_torque / (n * stage.sun.base_radius),
         result=final[-2],  # (the state's result code, before the contact passes)
         ring_deflection=w,
+        cell_forces=P,
     )
 
 
