@@ -88,10 +88,10 @@ def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     case = jio.load_case("lin-parker-1999")
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
-    assert ps.carrier_periodic(stage, jg.RigidRing())
+    assert ps.carrier_periodic(stage, False) and not ps.carrier_periodic(stage, True)
     ecc = eqx.tree_at(lambda s: s.eccentricities,
                       stage, jg.Eccentricities(sun=20e-6, sun_phase=0.3))
-    assert not ps.carrier_periodic(ecc, jg.RigidRing())
+    assert not ps.carrier_periodic(ecc, False)
     modes = jd.planetary_mesh_modes(jg.PlanarPlanetary(), stage,
                                     jg.ConstantMeshes(2 * math.pi * 38.7e-3 / 28),
                                     jd.PlanetaryRun(10.0))
@@ -129,7 +129,7 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)
     model, ring = jg.PlanarPlanetary(), jg.RigidRing()
-    assert ps.carrier_periodic(stage, ring)
+    assert ps.carrier_periodic(stage, False)
     z_r = 53
     w = spec.speeds(30.0)
     run = jd.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
@@ -147,9 +147,9 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
     last = f[-SMALL_S:]
     assert np.max(np.abs(f - np.tile(last, (z_r, 1)))) < 1e-9 * nominal
     settled = (np.asarray(d.time[-SMALL_S:]), last)
-    a = ps.ring_spectrum(case.form, case, stage, meshes, run, 30.0, str(tmp_path / "a.png"),
+    a = ps.ring_spectrum(case, stage, meshes, run, 30.0, str(tmp_path / "a.png"),
                          ring, model, settled)
-    b = ps.ring_spectrum(case.form, case, stage, meshes, run, 30.0, str(tmp_path / "b.png"),
+    b = ps.ring_spectrum(case, stage, meshes, run, 30.0, str(tmp_path / "b.png"),
                          ring, model, None)
     assert a["turn"] != b["turn"]
     top = max(b["sideband_amplitudes_N"] + [b["mean_N"]])
@@ -165,10 +165,11 @@ def test_the_default_step_converges_at_a_low_speed(small_case):
     """The small contact-cell stage at 10 rad/s of the carrier, a third of its operating speed
     (f_max / f_mesh = 109: the default gives 6144 steps per mesh period, 67 per period of
     f_max): its largest dynamic factor is within 2 % of the Richardson extrapolation of the
-    runs at 2 and 4 times its step (first order; the three agree in direction), settled (the
-    last kept period repeats the one before to 1e-3 of the nominal force) and its four-period
-    dynamic factor is the two-period one. The default under-resolved first-look step of
-    before (66 steps) was 20 % low here."""
+    runs at 2 and 4 times its step (first order; converging), settled (the last kept period
+    repeats the one before to 1e-3 of the nominal force) and its four-period dynamic factor is
+    the two-period one. Measured (float64, CPU): 2.3029, 2.3051, 2.3059 at 6144, 12288, 24576
+    steps, extrapolated 2.3068 (the default 0.17 % low); periodicity 4.5e-8; the former
+    default of 66 steps over 40 periods gave 1.392 (40 % low), 264 steps 1.673."""
     case = small_case
     speed = np.array([10.0])
     default, _ = ps.sweep_summary(case.form, case, speed)

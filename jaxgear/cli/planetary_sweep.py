@@ -38,9 +38,7 @@ import os
 import platform
 import time
 import warnings
-from typing import NamedTuple
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -48,18 +46,27 @@ from tqdm.auto import tqdm
 
 from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
 from ..dynamics import (
-    MESH_ENERGY_MIN,
     MIN_STEPS_PER_PERIOD,
-    UNDER_RESOLVED_STEPS,
     PlanetaryRun,
-    excited_omega,
     order_spectrum,
     planetary_dynamics,
     planetary_mesh_modes,
     ring_transducer_signal,
-    steps_for_mode,
 )
 from ..io import CaseWarning, write_json
+from ._planetary_steps import (
+    KEEP_OTHER,
+    KEEP_PERIODIC,
+    SETTLE_TOL,
+    SETTLED_TOL,
+    STEPS_PER_TOP_PERIOD,
+    TimePlan,
+    carrier_periodic,
+    speed_run,
+    step_resolution,
+    steps_sweep,
+    time_plan,
+)
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._sweep_json import write_sweep_csv
@@ -95,26 +102,6 @@ __all__ = [
     "time_plan",
 ]
 
-#: the fewest Newmark steps per period of the highest mode the meshes excite below which a
-#: sweep warns (:func:`step_resolution`): the pairs' ``under_resolved`` bound
-#: (:data:`jaxgear.dynamics.UNDER_RESOLVED_STEPS`); the default step gives at least
-#: :data:`jaxgear.dynamics.STEPS_PER_MODE` (:func:`time_plan`)
-STEPS_PER_TOP_PERIOD = UNDER_RESOLVED_STEPS
-#: the transient's amplitude left, relative to its start, when the kept periods begin: the
-#: settling time t_s = ln(1 / SETTLE_TOL) / (ζ ω_min) of the slowest decaying mode the meshes
-#: excite (:func:`time_plan`); the run starts from the quasi-static state, an error of about
-#: the dynamic part of the mesh force, so the kept forces carry ~0.1 % of it (checked: the
-#: last kept period against the one before, :data:`SETTLED_TOL`)
-SETTLE_TOL = 1e-3
-#: kept mesh periods of a stage whose steady state repeats every mesh period in the carrier
-#: frame (:func:`carrier_periodic`): the last one against the one before is the settled check
-KEEP_PERIODIC = 2
-#: kept mesh periods otherwise (eccentricities, unbalances and a flexible ring turn relative to
-#: the carrier: the forces repeat over a member's turn, not a mesh period)
-KEEP_OTHER = 4
-#: the periodicity (max |F(last kept period) - F(the one before)| over the nominal mesh
-#: force) above which a speed of a carrier-periodic stage is not settled: one ``CaseWarning``
-SETTLED_TOL = 1e-2
 #: ``jaxgear run``'s first-look sweep: this many input speeds from 0.2 to 1.2 × the operating one
 #: (and the operating one: :func:`run_speeds`)
 RUN_SPEEDS = (0.2, 1.2, 8)
@@ -173,89 +160,6 @@ def planetary_run(
     )
 
 
-def carrier_periodic(stage, ring) -> bool:
-    """Whether the stage's steady state repeats every mesh period in the carrier frame: a
-    rigid ring (:class:`~jaxgear.RigidRing`), no eccentricity or runout of any member and no
-    unbalance (concrete values). Then the only time dependence left is each mesh's stiffness
-    along its travel, periodic in the base pitch whatever the planets' angles and pin errors
-    (constant offsets in that frame); the forces of one settled mesh period give any number
-    of them (:func:`ring_spectrum`)."""
-    if not isinstance(ring, RigidRing) or stage.unbalances is not None:
-        return False
-    e = stage.eccentricities
-    if e is None:
-        return True
-    return all(not np.any(np.asarray(a)) for a in (e.sun, e.ring, e.carrier, e.planet))
-
-
-class TimePlan(NamedTuple):
-    """The time discretisation of a sweep (:func:`time_plan`), per input speed.
-
-    Attributes:
-        steps: Newmark steps per mesh period N_s, int (s,).
-        periods: mesh periods integrated, int (s,) (the settling ones, then ``keep``).
-        keep: mesh periods kept (the steady-state window).
-        f_max_Hz: the highest natural frequency the meshes excite (Hz).
-        f_min_Hz: the lowest natural frequency the meshes excite (Hz).
-        settle_s: the settling time t_s (s).
-        automatic: (steps, periods) from the rule (not given).
-    """
-
-    steps: np.ndarray
-    periods: np.ndarray
-    keep: int
-    f_max_Hz: float
-    f_min_Hz: float
-    settle_s: float
-    automatic: tuple
-
-
-def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_ratio: float,
-              periodic: bool, steps=None, periods=None, keep=None) -> TimePlan:
-    """The sweep's steps and span at each input speed, from the stage's modes (``modes``:
-    :func:`~jaxgear.dynamics.planetary_mesh_modes` of the run, the mesh-averaged system):
-
-    * N_s = the smallest N × 2^j >= max(64, 40 f_max / f_mesh) (the pairs' rule,
-      :func:`~jaxgear.dynamics.steps_for_mode`; N = ``n_planets``, so that the planets'
-      phases fall on the steps), f_max the highest mode storing >= 5 % of its strain energy
-      in the meshes (:func:`~jaxgear.dynamics.excited_omega`), f_mesh = ``mesh_frequency``
-      (Hz per rad/s of the input) × speed;
-    * periods = keep + ceil(t_s f_mesh), t_s = ln(1 / :data:`SETTLE_TOL`) / (ζ ω_min), ω_min
-      the lowest mode the meshes excite (>= 5 % of its strain energy in them, as f_max: a
-      mode of the members on their bearings that the meshes barely strain is barely started
-      by the run's quasi-static start, and the settled check measures what is left),
-      ζ = ``damping_ratio``;
-    * keep = :data:`KEEP_PERIODIC` where ``periodic`` (:func:`carrier_periodic`), else
-      :data:`KEEP_OTHER`.
-
-    ``steps``, ``periods``, ``keep`` given (the command line's): used at every speed.
-
-    Raises:
-        ValueError: a speed would need more than 2^22 steps per mesh period (one line).
-    """
-    sp = np.asarray(speeds, dtype=float)
-    rigid = np.asarray(modes.rigid)
-    omega = np.asarray(modes.omega)
-    w_max = float(excited_omega(modes))
-    excited = ~rigid & (np.asarray(modes.mesh_energy) >= MESH_ENERGY_MIN)
-    w_min = float(np.min(omega[excited])) if np.any(excited) else w_max
-    f_mesh = sp * float(mesh_frequency)
-    if steps is None:
-        ns = steps_for_mode(w_max, 1.0 / float(mesh_frequency), sp, 1.0, n_planets)
-    else:
-        ns = np.full(sp.shape, int(steps))
-    keep = keep or (KEEP_PERIODIC if periodic else KEEP_OTHER)
-    if periods is not None:
-        keep = min(keep, int(periods))
-    settle = math.log(1.0 / SETTLE_TOL) / (float(damping_ratio) * w_min)
-    if periods is None:
-        pe = keep + np.ceil(settle * f_mesh).astype(int)
-    else:
-        pe = np.full(sp.shape, int(periods))
-    return TimePlan(ns.astype(int), pe.astype(int), int(keep), w_max / (2 * math.pi),
-                    w_min / (2 * math.pi), settle, (steps is None, periods is None))
-
-
 def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
                     keep_periods=None, slices=None) -> TimePlan:
     """The :class:`TimePlan` that :func:`sweep_summary` runs ``case`` with at the input
@@ -263,49 +167,17 @@ def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
     integrating: the modes of the sweep's dynamic stage
     (:func:`~jaxgear.dynamics.planetary_mesh_modes`, the case's pin errors)."""
     spec, stage, meshes, model = _dynamic_setup(form, case, slices)
-    ring = spec.ring_model.dynamic_ring()
     base = planetary_run(form, case, steps_per_period, periods, keep_periods)
     return _plan(spec, stage, meshes, model, base, np.asarray(speeds, dtype=float),
-                 carrier_periodic(stage, ring), steps_per_period, periods, keep_periods)
+                 (steps_per_period, periods, keep_periods))
 
 
-def _plan(spec, stage, meshes, model, base, speeds, periodic, steps, periods, keep):
+def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
+    """:func:`time_plan` of the sweep's dynamic stage; ``given``: (steps, periods, keep)."""
     modes = planetary_mesh_modes(model, stage, meshes, base, MIN_STEPS_PER_PERIOD)
     return time_plan(modes, speeds, spec.mesh_frequency(1.0), spec.n_planets,
-                     float(base.damping_ratio), periodic, steps, periods, keep)
-
-
-def step_resolution(plan: TimePlan, f_mesh, n_planets: int) -> dict:
-    """Whether the sweep's time step resolves the highest natural frequency the meshes excite
-    (``plan.f_max_Hz``, :func:`time_plan`): at mesh frequency f_mesh (Hz, the swept speeds',
-    (s,)) and ``plan.steps`` per mesh period, n = N_s f_mesh / f_max steps per period of
-    f_max. Below :data:`STEPS_PER_TOP_PERIOD` (20, the pairs' bound) at some speed,
-    Newmark's average acceleration (no numerical damping, period elongation) filters those
-    modes (the impacts of teeth entering mesh) and the dynamic factor comes out low: one
-    ``CaseWarning`` line naming ``--steps-per-period`` (a planetary case has no key for it),
-    its value, f_max and the default step at the lowest speed (which resolves every speed).
-    The default (no ``--steps-per-period``) gives n >= 40 at every speed.
-
-    Returns ``sweep.json``'s ``steps_resolution``: ``f_max_Hz``, ``steps_per_top_period_min``
-    (the least n over the speeds), ``resolved`` (bool), ``steps_per_period_resolved`` (the
-    rule's N_s at the lowest speed), ``automatic`` (the rule's steps)."""
-    f = np.asarray(f_mesh, dtype=float)
-    n = plan.steps * f / plan.f_max_Hz
-    i = int(np.argmin(f))
-    need = int(steps_for_mode(2 * math.pi * plan.f_max_Hz, 1.0, f[i:i + 1], 1.0, n_planets)[0])
-    n_min = float(np.min(n))
-    resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
-    if not resolved:
-        warnings.warn(
-            f"--steps-per-period = {int(plan.steps[0])}: time step under-resolved, n = "
-            f"{n_min:.3g} steps per period of the highest natural frequency the meshes excite "
-            f"{plan.f_max_Hz:.4g} Hz at the lowest speed's mesh frequency {f[i]:.4g} Hz "
-            f"(< {STEPS_PER_TOP_PERIOD}: the dynamic factor comes out low); "
-            f"--steps-per-period >= {need} resolves it (or leave it out: the default does)",
-            CaseWarning, stacklevel=3)
-    return {"f_max_Hz": plan.f_max_Hz, "steps_per_top_period_min": n_min,
-            "resolved": resolved, "steps_per_period_resolved": need,
-            "automatic": bool(plan.automatic[0])}
+                     float(base.damping_ratio), carrier_periodic(stage, spec.ring_model.flexible),
+                     *given)
 
 
 def _dynamic_setup(form, case, slices=None):
@@ -354,7 +226,7 @@ def planetary_sweep(
         case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
-        form, case, stage, meshes, run, summary["speed_of_max_rad_s"],
+        case, stage, meshes, run, summary["speed_of_max_rad_s"],
         os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled,
     )
     summary["elapsed_s"] = time.perf_counter() - t0
@@ -401,14 +273,14 @@ def sweep_summary(
     base = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
-    periodic = carrier_periodic(stage, ring)
-    plan = _plan(spec, stage, meshes, model, base, speeds, periodic, steps_per_period, periods,
-                 keep_periods)
+    periodic = carrier_periodic(stage, spec.ring_model.flexible)
+    plan = _plan(spec, stage, meshes, model, base, speeds,
+                 (steps_per_period, periods, keep_periods))
     resolution = step_resolution(plan, speeds * f_mesh, spec.n_planets)  # before the work
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
-    run, r = _steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring)
+    run, r = steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring)
     n = spec.n_planets
     f_all = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], -1)
     fs = float(np.asarray(r.static_force).reshape(-1)[0])
@@ -428,7 +300,7 @@ def sweep_summary(
     period_of = run.periods * run.steps_per_period / plan.steps  # mesh periods integrated
     worst = per_mesh.max(axis=1)
     i = int(np.nanargmax(worst))
-    run_i = _speed_run(base, plan, i)
+    run_i = speed_run(base, plan, i)
     settled_turn = None
     if periodic:  # the worst speed's last mesh period: the ring spectrum's turn from it
         last = slice(-int(plan.steps[i]), None)
@@ -498,40 +370,6 @@ def sweep_summary(
     return summary, (stage, meshes, run_i, ring, model, settled_turn)
 
 
-def _steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed, ring):
-    """Every speed in one compiled program, each at its own step (``PlanetaryRun.mesh_steps``
-    = N_s, traced): blocks of the smallest N_s, as many as the longest settling (t_s over the
-    speed's step, the largest over the speeds) plus ``keep`` periods of the largest N_s, the
-    last ``keep`` of the largest N_s recorded (every speed's last ``keep`` mesh periods in
-    them). Returns (the run of the blocks, the :class:`~jaxgear.dynamics.PlanetaryDynamics`
-    with a leading speed axis)."""
-    block = int(plan.steps.min())
-    top = int(plan.steps.max())
-    settle = int(np.max((plan.periods - plan.keep) * plan.steps))
-    keep_blocks = plan.keep * top // block
-    run = PlanetaryRun(
-        base.sun_torque, steps_per_period=block, periods=-(-settle // block) + keep_blocks,
-        keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
-        tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
-    )
-    one = jax.vmap(lambda om, v, n_s: planetary_dynamics(
-        model, stage, meshes, eqx.tree_at(lambda r: r.mesh_steps, run, n_s,
-                                          is_leaf=lambda x: x is None), om, v, ring=ring))
-    steps = jnp.asarray(plan.steps, dtype=jnp.asarray(carrier).dtype)
-    return run, one(jnp.asarray(carrier), jnp.asarray(mesh_speed), steps)
-
-
-def _speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:
-    """Speed ``i``'s own run: its N_s, periods and the kept ones (the integrated spectrum's)."""
-    return PlanetaryRun(
-        base.sun_torque, steps_per_period=int(plan.steps[i]), periods=int(plan.periods[i]),
-        keep_periods=plan.keep, damping_ratio=base.damping_ratio,
-        tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
-    )
-
-
 def crossings(natural, f_mesh: float, speeds) -> list[dict]:
     """Where a mesh order k (:data:`MESH_ORDERS`) meets a natural frequency f within the
     swept input speeds: ω_in = f / (k f_mesh) (``f_mesh``: Hz per rad/s of the input)."""
@@ -576,8 +414,8 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
     legend_below_and_save(fig, ax, path, None)
 
 
-def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
-                  ring=None, model=MODEL, settled=None) -> dict:
+def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
+                  settled=None) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
@@ -586,9 +424,9 @@ def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
     model kind. ``settled``: None, or (time (s), ring-mesh forces (N)) of one settled mesh
     period, (S,) and (S, N), of a stage periodic in the carrier frame
     (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
-    integration; equal to the integrated turn, ``tests/test_planetary_step_plan.py``); else
-    the turn is integrated, ``run``'s settling periods then z_r kept ones (z_r S steps)."""
-    spec = form.spec
+    integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
+    else the turn is integrated, ``run``'s settling periods then z_r kept ones (z_r S steps)."""
+    spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
     rel = w["carrier"] - w["ring"]
