@@ -29,10 +29,11 @@ from jaxgear.cli import planetary_sweep as ps
 
 
 def _reference_plan(case, speeds):
-    """(N_s (s,), periods (s,), f_max, f_min) of lin-parker-1999 (constant mesh springs: the
-    mesh-averaged stiffness is the springs') written here: the planar modes of the stage the
-    sweep integrates (ring and carrier held, the sun free), the mesh's strain-energy share
-    phi^T (K - K_b) phi / omega^2 with K_b the stage without its mesh springs."""
+    """(N_s (s,), periods (s,), f_max, f_min, every frequency) of lin-parker-1999 (constant mesh
+    springs: the mesh-averaged stiffness is the springs') written here: the planar modes of the
+    stage the sweep integrates (ring and carrier held, the sun free), the mesh's strain-energy
+    share phi^T (K - K_b) phi / omega^2 with K_b the stage without its mesh springs; f_max and
+    f_min the highest and lowest of the modes with a share >= 5 %."""
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
     model = jg.PlanarPlanetary()
@@ -44,8 +45,9 @@ def _reference_plan(case, speeds):
     k_mesh = np.asarray(model.stiffness_matrix(stage)) - np.asarray(model.stiffness_matrix(bare))
     elastic = f > 1e-6 * f.max()
     share = np.einsum("ij,ik,kj->j", phi, k_mesh, phi) / np.where(elastic, (2 * np.pi * f)**2, 1)
-    f_max = float(f[elastic & (share >= 0.05)].max())
-    f_min = float(f[elastic].min())
+    excited = elastic & (share >= 0.05)
+    f_max = float(f[excited].max())
+    f_min = float(f[excited].min())
     z_s, z_r = 28, 92
     f_mesh = np.asarray(speeds) * z_s * (1.0 - z_s / (z_s + z_r)) / (2 * math.pi)  # Willis
     steps = []
