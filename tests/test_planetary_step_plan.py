@@ -86,7 +86,8 @@ def test_the_default_step_and_span_follow_the_stage_modes():
 
 def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     """A sun eccentricity turns relative to the carrier: the stage is no longer periodic in
-    the mesh period (carrier_periodic False), four periods are kept."""
+    the mesh period (carrier_periodic False, nor with a flexible ring), four periods are kept,
+    and the ring spectrum's turn is integrated at a step that keeps it within 2^16 steps."""
     case = jio.load_case("lin-parker-1999")
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
@@ -99,6 +100,9 @@ def test_eccentricities_keep_four_periods_and_integrate_the_turn():
                                     jd.PlanetaryRun(10.0))
     plan = ps.time_plan(modes, [100.0], spec.mesh_frequency(1.0), 3, 0.05, False)
     assert plan.keep == 4
+    # such a stage's ring spectrum integrates its turn (z_r mesh periods) within 2^16 steps:
+    # the largest 3 x 2^j <= 65536 / 53 = 1236.5 is 768; a step within it is kept
+    assert ps.turn_steps(6144, 53, 3) == 768 and ps.turn_steps(96, 53, 3) == 96
 
 
 # steps per mesh period of the spectrum's check: few (the identity holds at any step), but not

@@ -100,6 +100,7 @@ __all__ = [
     "sweep_summary",
     "sweep_time_plan",
     "time_plan",
+    "turn_steps",
 ]
 
 #: ``jaxgear run``'s first-look sweep: this many input speeds from 0.2 to 1.2 × the operating one
@@ -110,6 +111,10 @@ SPECTRUM_SIDEBANDS = 3
 #: the files of ``jaxgear run``'s sweep/ of a planetary stage
 RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "campbell.png",
                    "ring_spectrum.png")
+#: the most Newmark steps of a ring spectrum's integrated turn (a stage not periodic in the
+#: carrier frame: :func:`turn_steps`): the turn's records (every coordinate of a flexible ring
+#: at every step) stay within ~100 MB
+TURN_MAX_STEPS = 2**16
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
 #: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
@@ -425,16 +430,21 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     period, (S,) and (S, N), of a stage periodic in the carrier frame
     (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
     integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
-    else the turn is integrated, ``run``'s settling periods then z_r kept ones (z_r S steps)."""
+    else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
+    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`)."""
     spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
     rel = w["carrier"] - w["ring"]
-    time_turn, forces = (_integrated_turn(stage, meshes, run, spec, speed, ring, model)
-                         if settled is None else _repeated_turn(*settled, z_r))
+    if settled is None:
+        steps = turn_steps(run.steps_per_period, z_r, spec.n_planets)
+        time_turn, forces = _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps)
+    else:
+        steps = run.steps_per_period
+        time_turn, forces = _repeated_turn(*settled, z_r)
     theta = jnp.asarray(time_turn * rel)
     y = ring_transducer_signal(jnp.asarray(forces), theta, stage.planet_angles)
-    orders, amp = order_spectrum(y, run.steps_per_period * z_r)
+    orders, amp = order_spectrum(y, steps * z_r)
     n = spec.n_planets
     # with the planets' window, the mesh order's energy appears at the multiples of N about
     # it (McFadden & Smith 1985): the orders j N within SPECTRUM_SIDEBANDS N of z_r
@@ -471,6 +481,7 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         "sideband_amplitudes_N": [float(amp[m]) for m in near],
         "mean_N": float(amp[0]),
         "turn": "one settled mesh period repeated" if settled is not None else "integrated",
+        "turn_steps_per_period": int(steps),
     }
 
 
@@ -482,15 +493,27 @@ def _repeated_turn(time_one, forces_one, z_r: int):
     return time_one[0] + dt * np.arange(z_r * S), np.tile(forces_one, (z_r, 1))
 
 
-def _integrated_turn(stage, meshes, run, spec, speed, ring, model):
-    """(time (s), ring-mesh forces (N)) of one turn integrated: ``run``'s settling periods,
-    then z_r kept mesh periods at its step."""
+def turn_steps(steps: int, z_r: int, n_planets: int) -> int:
+    """The steps per mesh period of an integrated turn (z_r mesh periods): the sweep's
+    ``steps``, or, where the turn would exceed :data:`TURN_MAX_STEPS`, the largest
+    ``n_planets`` × 2^j within it (at least 8 n_planets; the spectrum of such a stage is then
+    a coarser look than its sweep, ``ring_spectrum``'s ``turn_steps_per_period`` says)."""
+    n = int(steps)
+    while n * z_r > TURN_MAX_STEPS and n % 2 == 0 and n // 2 >= 8 * n_planets:
+        n //= 2
+    return n
+
+
+def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
+    """(time (s), ring-mesh forces (N)) of one turn integrated: ``run``'s settling time, then
+    z_r kept mesh periods, at ``steps`` per mesh period."""
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
+    settle = math.ceil((run.periods - run.keep_periods) * run.steps_per_period / steps)
     one_turn = PlanetaryRun(
         run.sun_torque,
-        steps_per_period=run.steps_per_period,
-        periods=run.periods - run.keep_periods + z_r,
+        steps_per_period=steps,
+        periods=settle + z_r,
         keep_periods=z_r,
         damping_ratio=run.damping_ratio,
         tangential_pin_errors=run.tangential_pin_errors,
