@@ -95,9 +95,12 @@ pin_radial_N_per_um = {PLANET[2]}
 pin_tangential_N_per_um = {PLANET[3]}
 """
 
-# the runs here check definitions on a few coarse steps, on purpose: the sweep's warning that
-# they do not resolve the stage's top mode (tests/test_planetary_step_resolution.py) is expected
-pytestmark = pytest.mark.filterwarnings("ignore:.*time step under-resolved")
+# the runs here check definitions on a few coarse steps and periods, on purpose: the sweep's
+# warnings that they do not resolve the stage's top mode (tests/test_planetary_step_resolution.py)
+# and that six periods at that step are not settled (tests/test_planetary_step_plan.py) are
+# expected
+pytestmark = [pytest.mark.filterwarnings("ignore:.*time step under-resolved"),
+              pytest.mark.filterwarnings("ignore:.*not settled")]
 
 SPEEDS = np.array([20.0, 45.0])  # rad/s of the carrier
 RUN = {"steps_per_period": 24, "periods": 6, "keep_periods": 2}

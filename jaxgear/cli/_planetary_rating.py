@@ -117,7 +117,7 @@ SWEEP_K_V_SOURCE = (
 #: highest natural frequency (``steps_resolution``,
 #: :func:`jaxgear.cli.planetary_sweep.step_resolution`)
 UNRESOLVED_K_V = (" (time step under-resolved: n = {n:.3g} steps per period of {f:.4g} Hz at "
-                  "the lowest speed, < 10; --steps-per-period >= {need} resolves it)")
+                  "the lowest speed, < 20; --steps-per-period >= {need} resolves it)")
 
 
 def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] | None:

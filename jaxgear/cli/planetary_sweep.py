@@ -1,5 +1,5 @@
 """``jaxgear sweep`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`), and the
-sweep section of ``jaxgear run`` on one: :func:`jaxgear.dynamics.planetary_speed_sweep`'s
+sweep section of ``jaxgear run`` on one: :func:`jaxgear.dynamics.planetary_dynamics`'s
 Newmark in the carrier frame (planar model: Coriolis and centripetal terms at the carrier
 speed; for a helical stage whose axial and tilting supports hold it, the 3D model with the
 gyroscopic moments of the members' spin), every mesh at once, over the **input member's
@@ -16,6 +16,12 @@ errors move the planets). The ring is the case's (``[planetary.ring]``): rigid, 
 ring as its ``dynamics`` key says (massless, with mass, or modal;
 :meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
 travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
+
+The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
+step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
+the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
+one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`), the settled state
+checked.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
 ``dynamic_factor.png`` (each mesh's dynamic factor against the input speed, the natural
@@ -40,13 +46,27 @@ from tqdm.auto import tqdm
 
 from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
 from ..dynamics import (
+    MIN_STEPS_PER_PERIOD,
     PlanetaryRun,
     order_spectrum,
     planetary_dynamics,
-    planetary_speed_sweep,
+    planetary_mesh_modes,
     ring_transducer_signal,
 )
 from ..io import CaseWarning, write_json
+from ._planetary_steps import (
+    KEEP_OTHER,
+    KEEP_PERIODIC,
+    SETTLE_TOL,
+    SETTLED_TOL,
+    STEPS_PER_TOP_PERIOD,
+    TimePlan,
+    carrier_periodic,
+    speed_run,
+    step_resolution,
+    steps_sweep,
+    time_plan,
+)
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._sweep_json import write_sweep_csv
@@ -60,11 +80,16 @@ from .planetary import (
 )
 
 __all__ = [
-    "DEFAULT_PERIODS",
-    "DEFAULT_STEPS",
+    "KEEP_OTHER",
+    "KEEP_PERIODIC",
     "RUN_SPEEDS",
     "RUN_SWEEP_FILES",
+    "SETTLED_TOL",
+    "SETTLE_TOL",
     "SPECTRUM_SIDEBANDS",
+    "STEPS_PER_TOP_PERIOD",
+    "TimePlan",
+    "carrier_periodic",
     "planetary_run",
     "planetary_run_files",
     "planetary_run_lines",
@@ -73,17 +98,11 @@ __all__ = [
     "step_resolution",
     "sweep_lines",
     "sweep_summary",
+    "sweep_time_plan",
+    "time_plan",
+    "turn_steps",
 ]
 
-#: Newmark steps per mesh period (rounded up to a multiple of the planet count, so that the
-#: planets' phases fall on the steps, :func:`jaxgear.dynamics.planetary_dynamics`)
-DEFAULT_STEPS = 64
-#: the fewest Newmark steps per period of the stage's highest natural frequency below which
-#: the sweep warns (:func:`step_resolution`): the average-acceleration rule has no numerical
-#: damping but lengthens a period T by about (2π dt / T)² / 12 and filters what it cannot resolve
-STEPS_PER_TOP_PERIOD = 10
-#: mesh periods integrated per speed (the first ones settle the transient)
-DEFAULT_PERIODS = 40
 #: ``jaxgear run``'s first-look sweep: this many input speeds from 0.2 to 1.2 × the operating one
 #: (and the operating one: :func:`run_speeds`)
 RUN_SPEEDS = (0.2, 1.2, 8)
@@ -92,6 +111,10 @@ SPECTRUM_SIDEBANDS = 3
 #: the files of ``jaxgear run``'s sweep/ of a planetary stage
 RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "campbell.png",
                    "ring_spectrum.png")
+#: the most Newmark steps of a ring spectrum's integrated turn (a stage not periodic in the
+#: carrier frame: :func:`turn_steps`): the turn's records (every coordinate of a flexible ring
+#: at every step) stay within ~100 MB
+TURN_MAX_STEPS = 2**16
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
 #: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
@@ -118,63 +141,48 @@ def planetary_run(
 ) -> PlanetaryRun:
     """The :class:`~jaxgear.dynamics.PlanetaryRun` of a sweep of ``case``: the sun's torque
     |T_s| (Willis, from the input torque), the case's pin errors, damping ratio 0.05, and the
-    options given (None: :data:`DEFAULT_STEPS` rounded up to a multiple of N,
-    :data:`DEFAULT_PERIODS`, 4 kept periods). One-line ``ValueError`` naming the option."""
+    options given; None takes a placeholder (64 steps, 2 periods, 1 kept) that
+    :func:`time_plan` replaces speed by speed. One-line ``ValueError`` naming the option,
+    before any work."""
     spec = form.spec
-    n = spec.n_planets
     given = {"--steps-per-period": steps_per_period, "--periods": periods,
              "--keep-periods": keep_periods}
     for name, v in given.items():
         if v is not None and v < 1:
             raise ValueError(f"{name} = {v}: out of range, allowed >= 1")
-    steps = steps_per_period or n * -(-DEFAULT_STEPS // n)
-    if steps < 8:
-        raise ValueError(f"--steps-per-period = {steps}: out of range, allowed >= 8")
-    periods = periods or DEFAULT_PERIODS
-    keep = keep_periods or min(4, periods)
-    if keep > periods:
-        raise ValueError(f"--keep-periods = {keep}: out of range, allowed <= --periods = {periods}")
+    if steps_per_period is not None and steps_per_period < 8:
+        raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8")
+    if keep_periods is not None and periods is not None and keep_periods > periods:
+        raise ValueError(f"--keep-periods = {keep_periods}: out of range, allowed <= "
+                         f"--periods = {periods}")
     return PlanetaryRun(
         abs(spec.torques(case.torque)["sun"]),
-        steps_per_period=steps,
-        periods=periods,
-        keep_periods=keep,
+        steps_per_period=steps_per_period or MIN_STEPS_PER_PERIOD,
+        periods=periods or max(2, keep_periods or 1),
+        keep_periods=keep_periods or 1,
         tangential_pin_errors=np.asarray(spec.tangential_pin_errors),
         radial_pin_errors=np.asarray(spec.radial_pin_errors),
     )
 
 
-def step_resolution(model, stage, f_mesh, steps: int, n_planets: int) -> dict:
-    """Whether the sweep's time step resolves the stage's highest natural frequency f_max
-    (Hz: :func:`jaxgear.planetary_modes` of ``model`` on ``stage``, the stage as ``jaxgear
-    modes`` and the Campbell diagram take it, members on their supports): at mesh frequency
-    f_mesh (Hz, the swept speeds', (s,)) and ``steps`` per mesh period, n = steps f_mesh /
-    f_max steps per period of f_max. Below :data:`STEPS_PER_TOP_PERIOD` at the lowest swept
-    speed, Newmark's average acceleration (no numerical damping, period elongation) filters
-    those modes (the impacts of teeth entering mesh) and the dynamic factor comes out low:
-    one ``CaseWarning`` line naming ``--steps-per-period`` (a planetary case has no key for it),
-    its value, f_max and the steps per mesh period (a multiple of ``n_planets``) that give
-    n >= 10 there.
+def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
+                    keep_periods=None, slices=None) -> TimePlan:
+    """The :class:`TimePlan` that :func:`sweep_summary` runs ``case`` with at the input
+    ``speeds`` (rad/s, (s,)) and the options given (None: the rule, :func:`time_plan`), without
+    integrating: the modes of the sweep's dynamic stage
+    (:func:`~jaxgear.dynamics.planetary_mesh_modes`, the case's pin errors)."""
+    spec, stage, meshes, model = _dynamic_setup(form, case, slices)
+    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
+    return _plan(spec, stage, meshes, model, base, np.asarray(speeds, dtype=float),
+                 (steps_per_period, periods, keep_periods))
 
-    Returns ``sweep.json``'s ``steps_resolution``: ``f_max_Hz``, ``steps_per_top_period_min``
-    (n at the lowest speed), ``resolved`` (bool), ``steps_per_period_resolved`` (that
-    suggestion)."""
-    f_max = float(np.max(np.asarray(planetary_modes(model, stage).frequencies)))
-    lo = float(np.min(np.asarray(f_mesh, dtype=float)))
-    n_min = steps * lo / f_max
-    need = n_planets * math.ceil(STEPS_PER_TOP_PERIOD * f_max / lo / n_planets)
-    while need * lo / f_max < STEPS_PER_TOP_PERIOD:  # the same test as n's, rounding included
-        need += n_planets
-    resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
-    if not resolved:
-        warnings.warn(
-            f"--steps-per-period = {steps}: time step under-resolved, n = {n_min:.3g} steps "
-            f"per period of the stage's highest natural frequency {f_max:.4g} Hz at the lowest "
-            f"speed's mesh frequency {lo:.4g} Hz (< {STEPS_PER_TOP_PERIOD}: the dynamic factor "
-            f"comes out low); --steps-per-period >= {need} resolves it",
-            CaseWarning, stacklevel=3)
-    return {"f_max_Hz": f_max, "steps_per_top_period_min": n_min, "resolved": resolved,
-            "steps_per_period_resolved": need}
+
+def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
+    """:func:`time_plan` of the sweep's dynamic stage; ``given``: (steps, periods, keep)."""
+    modes = planetary_mesh_modes(model, stage, meshes, base, MIN_STEPS_PER_PERIOD)
+    return time_plan(modes, speeds, spec.mesh_frequency(1.0), spec.n_planets,
+                     float(base.damping_ratio), carrier_periodic(stage, spec.ring_model.flexible),
+                     *given)
 
 
 def _dynamic_setup(form, case, slices=None):
@@ -214,7 +222,7 @@ def planetary_sweep(
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
     ``ring_spectrum`` (the ring transducer at the worst speed)."""
     t0 = time.perf_counter()
-    summary, (stage, meshes, run, ring, model) = sweep_summary(
+    summary, (stage, meshes, run, ring, model, settled) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
         keep_periods=keep_periods, slices=slices,
     )
@@ -223,8 +231,8 @@ def planetary_sweep(
         case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
-        form, case, stage, meshes, run, summary["speed_of_max_rad_s"],
-        os.path.join(out_dir, "ring_spectrum.png"), ring, model,
+        case, stage, meshes, run, summary["speed_of_max_rad_s"],
+        os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled,
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -244,36 +252,73 @@ def sweep_summary(
     slices: int | None = None,
 ) -> tuple[dict, tuple]:
     """The sweep of :func:`planetary_sweep` without its files, spectrum and Campbell diagram:
-    (``sweep.json``'s numbers, (the dynamic stage, its meshes, the run, the ring model)).
+    (``sweep.json``'s numbers, (the dynamic stage, its meshes, the worst speed's run, the ring
+    model, the model, the worst speed's last kept mesh period (time (s), ring-mesh forces (N))
+    where the stage is carrier-periodic, else None)).
 
     Keys: ``speeds_rad_s`` (input), ``carrier_speeds_rad_s``, ``mesh_frequency_Hz`` (carrier
     frame), ``mesh_names`` (``sun-planet 1..N``, then ``ring-planet 1..N``),
     ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
     nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
     load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
-    the stage's constant mesh stiffness) and ``crossings``; ``steps_resolution``
-    (:func:`step_resolution`, its ``CaseWarning`` before the sweep); ``ring_model`` (words) and
+    the stage's constant mesh stiffness) and ``crossings``; the time discretisation
+    (:func:`time_plan`, every speed in one compiled program at its own step): ``steps_per_period``
+    and ``periods`` per speed (N_s, the mesh periods integrated), ``keep_periods``,
+    ``steps_resolution`` (:func:`step_resolution`, its ``CaseWarning`` before the sweep),
+    ``settling`` (``f_min_Hz``, ``settle_s``, ``tolerance``, ``carrier_periodic``,
+    ``automatic``), ``periodicity`` per speed (max |F(last kept period) − F(the one before)|
+    over the nominal force; None with one kept period) and ``settled`` (False, with one
+    ``CaseWarning``, where a carrier-periodic stage's exceeds :data:`SETTLED_TOL`); ``ring_model`` (words) and
     ``ring``: the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
     maximum ``max_ring_deflection_m``."""
     spec, stage, meshes, model = _dynamic_setup(form, case, slices)
     ring = spec.ring_model.dynamic_ring()
-    run = planetary_run(form, case, steps_per_period, periods, keep_periods)
+    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
     speeds = np.asarray(speeds, dtype=float)
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
-    resolution = step_resolution(model, spec.stage(case), speeds * f_mesh, run.steps_per_period,
-                                 spec.n_planets)  # before the work: its warning first
+    periodic = carrier_periodic(stage, spec.ring_model.flexible)
+    plan = _plan(spec, stage, meshes, model, base, speeds,
+                 (steps_per_period, periods, keep_periods))
+    resolution = step_resolution(plan, speeds * f_mesh, spec.n_planets)  # before the work
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
-    r = _sweep(model, stage, meshes, run, carrier, mesh_speed, ring)
-    df_s, df_r = (np.asarray(d) for d in r.dynamic_factors)
-    per_mesh = np.concatenate([df_s, df_r], axis=1)  # (s, 2N)
-    worst = per_mesh.max(axis=1)
-    k_gamma = np.asarray(r.k_gamma)
-    i = int(np.nanargmax(worst))
+    run, r = steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring)
     n = spec.n_planets
+    f_all = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], -1)
+    fs = float(np.asarray(r.static_force).reshape(-1)[0])
+    n_s = speeds.size
+    per_mesh, k_gamma = np.zeros((n_s, 2 * n)), np.zeros(n_s)
+    periodicity, deflection = np.full(n_s, np.nan), np.zeros(n_s)
+    for k in range(n_s):  # each speed's own last `keep` mesh periods of the common record
+        S = int(plan.steps[k])
+        f = f_all[k, -plan.keep * S:]
+        per_mesh[k] = f.max(axis=0) / fs
+        sun = f[:, :n]
+        k_gamma[k] = np.max(sun.max(axis=1) / sun.mean(axis=1))
+        if plan.keep >= 2:
+            periodicity[k] = np.max(np.abs(f[-S:] - f[-2 * S:-S])) / fs
+        deflection[k] = np.max(np.abs(np.asarray(r.ring_deflection[k, -plan.keep * S:])))
+    code = np.asarray(r.result).astype(int)
+    period_of = run.periods * run.steps_per_period / plan.steps  # mesh periods integrated
+    worst = per_mesh.max(axis=1)
+    i = int(np.nanargmax(worst))
+    run_i = speed_run(base, plan, i)
+    settled_turn = None
+    if periodic:  # the worst speed's last mesh period: the ring spectrum's turn from it
+        last = slice(-int(plan.steps[i]), None)
+        settled_turn = (np.asarray(r.time[i, last]), np.asarray(r.ring_mesh_forces[i, last]))
+    unsettled = periodic and plan.keep >= 2 and bool(np.nanmax(periodicity) > SETTLED_TOL)
+    if unsettled:
+        k = int(np.nanargmax(periodicity))
+        warnings.warn(
+            f"speed {speeds[k]:.4g} rad/s: not settled, the last kept mesh period differs from "
+            f"the one before by {periodicity[k]:.3g} of the nominal mesh force (> "
+            f"{SETTLED_TOL}; --periods {int(period_of[k])}): a longer transient or a response "
+            "that does not repeat every mesh period (contact loss near a resonance); "
+            "--periods larger tells which", CaseWarning, stacklevel=2)
     names = [f"sun-planet {k + 1}" for k in range(n)] + [f"ring-planet {k + 1}" for k in range(n)]
     f0 = np.asarray(planetary_modes(model, stage).frequencies)
     natural = f0[f0 > RIGID_SHARE * max(float(f0.max()), 1.0)]
@@ -295,22 +340,27 @@ def sweep_summary(
         "speed_of_max_rad_s": float(speeds[i]),
         "max_dynamic_factor_mesh": per_mesh.max(axis=0).tolist(),
         "max_k_gamma": float(k_gamma.max()),
-        "result": np.asarray(r.result).astype(int).tolist(),
+        "result": code.tolist(),
         "sun_torque_Nm": float(run.sun_torque),
-        "nominal_mesh_force_N": float(np.asarray(r.static_force).reshape(-1)[0]),
-        "steps_per_period": run.steps_per_period,
-        "periods": run.periods,
-        "keep_periods": run.keep_periods,
+        "nominal_mesh_force_N": fs,
+        "steps_per_period": plan.steps.tolist(),
+        "periods": period_of.tolist(),
+        "keep_periods": plan.keep,
         "steps_resolution": resolution,
+        "settling": {
+            "f_min_Hz": plan.f_min_Hz, "settle_s": plan.settle_s, "tolerance": SETTLE_TOL,
+            "carrier_periodic": periodic, "automatic": bool(plan.automatic[1]),
+        },
+        "periodicity": [None if math.isnan(v) else float(v) for v in periodicity],
+        "settled": not unsettled,
         "damping_ratio": float(run.damping_ratio),
         "natural_frequencies_Hz": natural.tolist(),
         "crossings": crossings(natural, f_mesh, speeds),
         "ring": spec.ring_model.summary(),
     }
     if spec.ring_model.flexible:
-        w = np.max(np.abs(np.asarray(r.ring_deflection)), axis=(1, 2))
-        summary["ring_deflection_max_m"] = w.tolist()
-        summary["max_ring_deflection_m"] = float(w.max())
+        summary["ring_deflection_max_m"] = deflection.tolist()
+        summary["max_ring_deflection_m"] = float(deflection.max())
     summary["platform"] = {
         "device": str(jax.devices()[0].platform),
         "dtype": str(np.asarray(r.time).dtype),
@@ -322,18 +372,7 @@ def sweep_summary(
         "nominal T_s/(N r_bs) (pin errors included); k_gamma: the most loaded planet's sun-mesh "
         "force over the planets' mean, largest over the kept periods"
     )
-    return summary, (stage, meshes, run, ring, model)
-
-
-def _sweep(model, stage, meshes, run, carrier, mesh_speed, ring):
-    """:func:`planetary_speed_sweep` when the ring is fixed (its mesh speed r_br |Ω|), else the
-    same run vmapped with the mesh speed given; ``ring`` the ring model."""
-    if math.isclose(float(mesh_speed[0]), float(stage.ring.base_radius) * abs(carrier[0]),
-                    rel_tol=1e-12):
-        return planetary_speed_sweep(model, stage, meshes, run, jnp.asarray(carrier), ring=ring)
-    one = jax.vmap(lambda om, v: planetary_dynamics(model, stage, meshes, run, om, v,
-                                                    ring=ring))
-    return one(jnp.asarray(carrier), jnp.asarray(mesh_speed))
+    return summary, (stage, meshes, run_i, ring, model, settled_turn)
 
 
 def crossings(natural, f_mesh: float, speeds) -> list[dict]:
@@ -380,33 +419,32 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
     legend_below_and_save(fig, ax, path, None)
 
 
-def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
-                  ring=None, model=MODEL) -> dict:
+def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
+                  settled=None) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
-    returns its keys: the mesh order's amplitude and the planet-pass sidebands'. ``ring``: the
-    sweep's ring model (None: rigid); ``model`` its model kind."""
-    spec = form.spec
+    returns its keys: the mesh order's amplitude and the planet-pass sidebands', and how the
+    turn was had (``turn``). ``ring``: the sweep's ring model (None: rigid); ``model`` its
+    model kind. ``settled``: None, or (time (s), ring-mesh forces (N)) of one settled mesh
+    period, (S,) and (S, N), of a stage periodic in the carrier frame
+    (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
+    integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
+    else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
+    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`)."""
+    spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
     rel = w["carrier"] - w["ring"]
-    settle = run.periods - run.keep_periods
-    one_turn = PlanetaryRun(
-        run.sun_torque,
-        steps_per_period=run.steps_per_period,
-        periods=settle + z_r,
-        keep_periods=z_r,
-        damping_ratio=run.damping_ratio,
-        tangential_pin_errors=run.tangential_pin_errors,
-        radial_pin_errors=run.radial_pin_errors,
-    )
-    d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
-                           jnp.asarray(spec.mesh_speed(speed)),
-                           ring=RigidRing() if ring is None else ring)
-    theta = jnp.asarray(np.asarray(d.time) * rel)
-    y = ring_transducer_signal(d.ring_mesh_forces, theta, stage.planet_angles)
-    orders, amp = order_spectrum(y, run.steps_per_period * z_r)
+    if settled is None:
+        steps = turn_steps(run.steps_per_period, z_r, spec.n_planets)
+        time_turn, forces = _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps)
+    else:
+        steps = run.steps_per_period
+        time_turn, forces = _repeated_turn(*settled, z_r)
+    theta = jnp.asarray(time_turn * rel)
+    y = ring_transducer_signal(jnp.asarray(forces), theta, stage.planet_angles)
+    orders, amp = order_spectrum(y, steps * z_r)
     n = spec.n_planets
     # with the planets' window, the mesh order's energy appears at the multiples of N about
     # it (McFadden & Smith 1985): the orders j N within SPECTRUM_SIDEBANDS N of z_r
@@ -442,7 +480,49 @@ def ring_spectrum(form, case, stage, meshes, run, speed: float, path: str,
         "sideband_orders": near,
         "sideband_amplitudes_N": [float(amp[m]) for m in near],
         "mean_N": float(amp[0]),
+        "turn": "one settled mesh period repeated" if settled is not None else "integrated",
+        "turn_steps_per_period": int(steps),
     }
+
+
+def _repeated_turn(time_one, forces_one, z_r: int):
+    """(time (s), forces) of z_r mesh periods from one settled period's (S,), (S, N): the
+    times continue with the step dt, the forces repeat."""
+    S = time_one.shape[0]
+    dt = (time_one[-1] - time_one[0]) / (S - 1)
+    return time_one[0] + dt * np.arange(z_r * S), np.tile(forces_one, (z_r, 1))
+
+
+def turn_steps(steps: int, z_r: int, n_planets: int) -> int:
+    """The steps per mesh period of an integrated turn (z_r mesh periods): the sweep's
+    ``steps``, or, where the turn would exceed :data:`TURN_MAX_STEPS`, the largest
+    ``n_planets`` × 2^j within it (at least 8 n_planets; the spectrum of such a stage is then
+    a coarser look than its sweep, ``ring_spectrum``'s ``turn_steps_per_period`` says)."""
+    n = int(steps)
+    while n * z_r > TURN_MAX_STEPS and n % 2 == 0 and n // 2 >= 8 * n_planets:
+        n //= 2
+    return n
+
+
+def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
+    """(time (s), ring-mesh forces (N)) of one turn integrated: ``run``'s settling time, then
+    z_r kept mesh periods, at ``steps`` per mesh period."""
+    z_r = int(spec.teeth[2])
+    w = spec.speeds(speed)
+    settle = math.ceil((run.periods - run.keep_periods) * run.steps_per_period / steps)
+    one_turn = PlanetaryRun(
+        run.sun_torque,
+        steps_per_period=steps,
+        periods=settle + z_r,
+        keep_periods=z_r,
+        damping_ratio=run.damping_ratio,
+        tangential_pin_errors=run.tangential_pin_errors,
+        radial_pin_errors=run.radial_pin_errors,
+    )
+    d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
+                           jnp.asarray(spec.mesh_speed(speed)),
+                           ring=RigidRing() if ring is None else ring)
+    return np.asarray(d.time), np.asarray(d.ring_mesh_forces)
 
 
 def sweep_lines(case, s: dict) -> list[str]:
@@ -497,6 +577,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_k_gamma": sw["max_k_gamma"],
         "steps_per_period": sw["steps_per_period"],
         "steps_resolution": sw["steps_resolution"],
+        **{k: sw[k] for k in ("periods", "settled") if k in sw},  # the span, its check
         "ring_model": sw["ring_model"],
         "ring": sw["ring"],
         **{k: sw[k] for k in ("max_ring_deflection_m",) if k in sw},  # a flexible ring's

@@ -86,6 +86,7 @@ from ._planetary_dynamics import (
     PlanetaryRun as PlanetaryRun,
     order_spectrum as order_spectrum,
     planetary_dynamics as planetary_dynamics,
+    planetary_mesh_modes as planetary_mesh_modes,
     planetary_speed_sweep as planetary_speed_sweep,
     ring_transducer_signal as ring_transducer_signal,
 )

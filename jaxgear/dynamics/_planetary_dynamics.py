@@ -14,6 +14,8 @@ the ring (the planet-pass modulation, McFadden & Smith 1985) and its order spect
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -30,6 +32,7 @@ from .._planetary_mesh import (
 )
 from .._planetary_ring import AbstractRingModel, RigidRing, modal_damping
 from .._util import as_float, check_instance, check_integer, check_real
+from ._modal import ModalAnalysis, modal_analysis
 from ._modal_basis import ModalSpace, reduced_structure
 from ._newmark import LinearSystem, ModalSystem, StepCells, newmark, newmark_modal
 
@@ -38,6 +41,7 @@ __all__ = [
     "PlanetaryRun",
     "order_spectrum",
     "planetary_dynamics",
+    "planetary_mesh_modes",
     "planetary_speed_sweep",
     "ring_transducer_signal",
 ]
@@ -60,6 +64,10 @@ class PlanetaryRun(eqx.Module):
         cell_loads: also record every cell's force at the kept steps
             (:attr:`PlanetaryDynamics.cell_forces`; static, default False: a sweep keeps none,
             memory ∝ kept steps × cells × speeds).
+        mesh_steps: Newmark steps per mesh period (a traced number, so that runs of other
+            steps share one compiled program: a sweep's speeds each at its own step), or None:
+            ``steps_per_period``. Given, ``periods`` and ``keep_periods`` count blocks of
+            ``steps_per_period`` steps, not mesh periods (the time step p_b / (mesh_steps v)).
 
     Raises:
         ValueError: a count or ratio out of range (one line).
@@ -73,6 +81,7 @@ class PlanetaryRun(eqx.Module):
     tangential_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
     radial_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
     cell_loads: bool = eqx.field(static=True, default=False)
+    mesh_steps: Float[Array, ""] | None = None
 
     def __check_init__(self):
         check_integer("steps_per_period", self.steps_per_period, 8)
@@ -164,10 +173,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     k_b = held_structure(model, stage, meshes, offsets)
     p_b = meshes.mesh_period()
     S, B = run.steps_per_period, run.periods
-    x_one = meshes.positions(S, 1)
-    rows = jax.vmap(lambda x: meshes.cell_row(model, stage, x, offsets))(x_one)
-    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-    k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+    k_mean, rows = _mean_mesh_stiffness(model, stage, meshes, offsets, S)
     omega = as_float(carrier_speed)
     c = modal_damping(m, k_b + k_mean, run.damping_ratio)
     k_u, m_u, c_u = ring.dynamic_matrices(k_b.dtype, run.damping_ratio)
@@ -186,13 +192,14 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
     ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[stage.n_planets:])(
         jnp.zeros(rows.k.shape[1], rows.k.dtype)
     )
-    dt = p_b / (S * mesh_speed)
+    per_mesh = S if run.mesh_steps is None else run.mesh_steps  # steps per mesh period
+    dt = p_b / (per_mesh * mesh_speed)
     # step i at the travel x = (i + 1/2) p_b / S, mid-points as :func:`jaxgear.mesh_positions`:
     # never on the instant a line enters (s = 0) when the planets' phases are multiples of
     # 1/S, where rounding would decide planet by planet; the run starts from the quasi-static
     # state at x = p_b / (2 S), at rest
     def travel(i):
-        return (i + 0.5) * (p_b / S)
+        return (i + 0.5) * (p_b / per_mesh)
 
     basis = ring.modal_basis(k_b.dtype)
 
@@ -260,6 +267,55 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         ring_deflection=w,
         cell_forces=P,
     )
+
+
+def _mean_mesh_stiffness(model, stage, meshes, offsets, positions: int):
+    """(K̄_m, the cell rows): the meshes' stiffness matrix averaged over ``positions``
+    mid-points of one mesh period (N/m, (n_dof, n_dof)), the matrix the run's modal damping
+    and :func:`planetary_mesh_modes` add to K_b."""
+    x_one = meshes.positions(positions, 1)
+    rows = jax.vmap(lambda x: meshes.cell_row(model, stage, x, offsets))(x_one)
+    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+    return jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0), rows
+
+
+class _StageParts(NamedTuple):
+    """M and K_b of a stage in the form :func:`~jaxgear.dynamics.modal_analysis` reads."""
+
+    m: Array
+    k_b: Array
+
+    def mass(self):
+        return self.m
+
+    def stiffness_parts(self):
+        return {"structure": self.k_b}
+
+
+@eqx.filter_jit
+def planetary_mesh_modes(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    run: PlanetaryRun,
+    positions: int = 64,
+) -> ModalAnalysis:
+    """The modes of the mesh-averaged system of a planetary run, (M, K_b + K̄_m): K_b the
+    stage's structure with the run's pin errors (bearings, pins, the held members' holds),
+    K̄_m the 2N meshes' cell stiffness averaged over ``positions`` points of a mesh period
+    (the system whose modes the run's modal damping C takes; the pairs' mesh-averaged modes,
+    docs/dynamics.md "Time step and accuracy"), through
+    :func:`~jaxgear.dynamics.modal_analysis`: ``energy`` rows ``("mesh", "structure")``, the
+    mesh's share of each mode's strain energy (seed (2.36)), so that
+    :func:`~jaxgear.dynamics.excited_omega` picks the highest mode the meshes excite (a held
+    member turning against its stiff hold stores < 5 % in the meshes and is not one). Shapes
+    (n_dof,) and (n_dof, n_dof), the stage's coordinates (a flexible ring's are not in it)."""
+    m = model.mass_matrix(stage)
+    _, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
+                            "planetary_mesh_modes")
+    k_b = held_structure(model, stage, meshes, (d_s, d_r))
+    k_mean, _ = _mean_mesh_stiffness(model, stage, meshes, (d_s, d_r), positions)
+    return modal_analysis(_StageParts(m, k_b), k_mean)
 
 
 def _unbalance_load(model, stage, omega, mesh_speed, travel, n_u):

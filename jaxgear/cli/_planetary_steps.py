@@ -1,0 +1,212 @@
+"""The time discretisation of a planetary sweep (:mod:`jaxgear.cli.planetary_sweep`) from the
+stage's modes, with the pairs' rule and constants (docs/planetary.md, "Time step and span of a
+sweep"; docs/dynamics.md, "Time step and accuracy"): the steps per mesh period at each speed,
+the span from the damping's settling time, the kept periods, the check of the step against the
+highest mode the meshes excite, and every speed run in one compiled program at its own step."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import NamedTuple
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..dynamics import (
+    MESH_ENERGY_MIN,
+    UNDER_RESOLVED_STEPS,
+    PlanetaryRun,
+    excited_omega,
+    planetary_dynamics,
+    steps_for_mode,
+)
+from ..io import CaseWarning
+
+__all__ = [
+    "KEEP_OTHER",
+    "KEEP_PERIODIC",
+    "SETTLED_TOL",
+    "SETTLE_TOL",
+    "STEPS_PER_TOP_PERIOD",
+    "TimePlan",
+    "carrier_periodic",
+    "steps_sweep",
+    "speed_run",
+    "step_resolution",
+    "time_plan",
+]
+
+#: the fewest Newmark steps per period of the highest mode the meshes excite below which a
+#: sweep warns (:func:`step_resolution`): the pairs' ``under_resolved`` bound
+#: (:data:`jaxgear.dynamics.UNDER_RESOLVED_STEPS`); the default step gives at least
+#: :data:`jaxgear.dynamics.STEPS_PER_MODE` (:func:`time_plan`)
+STEPS_PER_TOP_PERIOD = UNDER_RESOLVED_STEPS
+#: the transient's amplitude left, relative to its start, when the kept periods begin: the
+#: settling time t_s = ln(1 / SETTLE_TOL) / (ζ ω_min) of the slowest decaying mode the meshes
+#: excite (:func:`time_plan`); the run starts from the quasi-static state, an error of about
+#: the dynamic part of the mesh force, so the kept forces carry ~0.1 % of it (checked: the
+#: last kept period against the one before, :data:`SETTLED_TOL`)
+SETTLE_TOL = 1e-3
+#: kept mesh periods of a stage whose steady state repeats every mesh period in the carrier
+#: frame (:func:`carrier_periodic`): the last one against the one before is the settled check
+KEEP_PERIODIC = 2
+#: kept mesh periods otherwise (eccentricities, unbalances and a flexible ring turn relative to
+#: the carrier: the forces repeat over a member's turn, not a mesh period)
+KEEP_OTHER = 4
+#: the periodicity (max |F(last kept period) - F(the one before)| over the nominal mesh
+#: force) above which a speed of a carrier-periodic stage is not settled: one ``CaseWarning``
+SETTLED_TOL = 1e-2
+
+
+def carrier_periodic(stage, flexible_ring: bool) -> bool:
+    """Whether the stage's steady state repeats every mesh period in the carrier frame: a
+    rigid ring (not ``flexible_ring``: a condensed ring's stations turn relative to the
+    carrier), no eccentricity or runout of any member and no unbalance (concrete values).
+    Then the only time dependence left is each mesh's stiffness along its travel, periodic in
+    the base pitch whatever the planets' angles and pin errors (constant offsets in that
+    frame); the forces of one settled mesh period give any number of them
+    (:func:`~jaxgear.cli.planetary_sweep.ring_spectrum`)."""
+    if flexible_ring or stage.unbalances is not None:
+        return False
+    e = stage.eccentricities
+    if e is None:
+        return True
+    return all(not np.any(np.asarray(a)) for a in (e.sun, e.ring, e.carrier, e.planet))
+
+
+class TimePlan(NamedTuple):
+    """The time discretisation of a sweep (:func:`time_plan`), per input speed.
+
+    Attributes:
+        steps: Newmark steps per mesh period N_s, int (s,).
+        periods: mesh periods integrated, int (s,) (the settling ones, then ``keep``).
+        keep: mesh periods kept (the steady-state window).
+        f_max_Hz: the highest natural frequency the meshes excite (Hz).
+        f_min_Hz: the lowest natural frequency the meshes excite (Hz).
+        settle_s: the settling time t_s (s).
+        automatic: (steps, periods) from the rule (not given).
+    """
+
+    steps: np.ndarray
+    periods: np.ndarray
+    keep: int
+    f_max_Hz: float
+    f_min_Hz: float
+    settle_s: float
+    automatic: tuple
+
+
+def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_ratio: float,
+              periodic: bool, steps=None, periods=None, keep=None) -> TimePlan:
+    """The sweep's steps and span at each input speed, from the stage's modes (``modes``:
+    :func:`~jaxgear.dynamics.planetary_mesh_modes` of the run, the mesh-averaged system):
+
+    * N_s = the smallest N × 2^j >= max(64, 40 f_max / f_mesh) (the pairs' rule,
+      :func:`~jaxgear.dynamics.steps_for_mode`; N = ``n_planets``, so that the planets'
+      phases fall on the steps), f_max the highest mode storing >= 5 % of its strain energy
+      in the meshes (:func:`~jaxgear.dynamics.excited_omega`), f_mesh = ``mesh_frequency``
+      (Hz per rad/s of the input) × speed;
+    * periods = keep + ceil(t_s f_mesh), t_s = ln(1 / :data:`SETTLE_TOL`) / (ζ ω_min), ω_min
+      the lowest mode the meshes excite (>= 5 % of its strain energy in them, as f_max: a
+      mode of the members on their bearings that the meshes barely strain is barely started
+      by the run's quasi-static start, and the settled check measures what is left),
+      ζ = ``damping_ratio``;
+    * keep = :data:`KEEP_PERIODIC` where ``periodic`` (:func:`carrier_periodic`), else
+      :data:`KEEP_OTHER`.
+
+    ``steps``, ``periods``, ``keep`` given (the command line's): used at every speed.
+
+    Raises:
+        ValueError: a speed would need more than 2^22 steps per mesh period (one line).
+    """
+    sp = np.asarray(speeds, dtype=float)
+    rigid = np.asarray(modes.rigid)
+    omega = np.asarray(modes.omega)
+    w_max = float(excited_omega(modes))
+    excited = ~rigid & (np.asarray(modes.mesh_energy) >= MESH_ENERGY_MIN)
+    w_min = float(np.min(omega[excited])) if np.any(excited) else w_max
+    f_mesh = sp * float(mesh_frequency)
+    if steps is None:
+        ns = steps_for_mode(w_max, 1.0 / float(mesh_frequency), sp, 1.0, n_planets)
+    else:
+        ns = np.full(sp.shape, int(steps))
+    keep = keep or (KEEP_PERIODIC if periodic else KEEP_OTHER)
+    if periods is not None:
+        keep = min(keep, int(periods))
+    settle = math.log(1.0 / SETTLE_TOL) / (float(damping_ratio) * w_min)
+    if periods is None:
+        pe = keep + np.ceil(settle * f_mesh).astype(int)
+    else:
+        pe = np.full(sp.shape, int(periods))
+    return TimePlan(ns.astype(int), pe.astype(int), int(keep), w_max / (2 * math.pi),
+                    w_min / (2 * math.pi), settle, (steps is None, periods is None))
+
+
+def step_resolution(plan: TimePlan, f_mesh, n_planets: int) -> dict:
+    """Whether the sweep's time step resolves the highest natural frequency the meshes excite
+    (``plan.f_max_Hz``, :func:`time_plan`): at mesh frequency f_mesh (Hz, the swept speeds',
+    (s,)) and ``plan.steps`` per mesh period, n = N_s f_mesh / f_max steps per period of
+    f_max. Below :data:`STEPS_PER_TOP_PERIOD` (20, the pairs' bound) at some speed,
+    Newmark's average acceleration (no numerical damping, period elongation) filters those
+    modes (the impacts of teeth entering mesh) and the dynamic factor comes out low: one
+    ``CaseWarning`` line naming ``--steps-per-period`` (a planetary case has no key for it),
+    its value, f_max and the default step at the lowest speed (which resolves every speed).
+    The default (no ``--steps-per-period``) gives n >= 40 at every speed.
+
+    Returns ``sweep.json``'s ``steps_resolution``: ``f_max_Hz``, ``steps_per_top_period_min``
+    (the least n over the speeds), ``resolved`` (bool), ``steps_per_period_resolved`` (the
+    rule's N_s at the lowest speed), ``automatic`` (the rule's steps)."""
+    f = np.asarray(f_mesh, dtype=float)
+    n = plan.steps * f / plan.f_max_Hz
+    i = int(np.argmin(f))
+    need = int(steps_for_mode(2 * math.pi * plan.f_max_Hz, 1.0, f[i:i + 1], 1.0, n_planets)[0])
+    n_min = float(np.min(n))
+    resolved = bool(n_min >= STEPS_PER_TOP_PERIOD)
+    if not resolved:
+        warnings.warn(
+            f"--steps-per-period = {int(plan.steps[0])}: time step under-resolved, n = "
+            f"{n_min:.3g} steps per period of the highest natural frequency the meshes excite "
+            f"{plan.f_max_Hz:.4g} Hz at the lowest speed's mesh frequency {f[i]:.4g} Hz "
+            f"(< {STEPS_PER_TOP_PERIOD}: the dynamic factor comes out low); "
+            f"--steps-per-period >= {need} resolves it (or leave it out: the default does)",
+            CaseWarning, stacklevel=3)
+    return {"f_max_Hz": plan.f_max_Hz, "steps_per_top_period_min": n_min,
+            "resolved": resolved, "steps_per_period_resolved": need,
+            "automatic": bool(plan.automatic[0])}
+
+
+def steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed, ring):
+    """Every speed in one compiled program, each at its own step (``PlanetaryRun.mesh_steps``
+    = N_s, traced): blocks of the smallest N_s, as many as the longest settling (t_s over the
+    speed's step, the largest over the speeds) plus ``keep`` periods of the largest N_s, the
+    last ``keep`` of the largest N_s recorded (every speed's last ``keep`` mesh periods in
+    them). Returns (the run of the blocks, the :class:`~jaxgear.dynamics.PlanetaryDynamics`
+    with a leading speed axis)."""
+    block = int(plan.steps.min())
+    top = int(plan.steps.max())
+    settle = int(np.max((plan.periods - plan.keep) * plan.steps))
+    keep_blocks = plan.keep * top // block
+    run = PlanetaryRun(
+        base.sun_torque, steps_per_period=block, periods=-(-settle // block) + keep_blocks,
+        keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
+        tangential_pin_errors=base.tangential_pin_errors,
+        radial_pin_errors=base.radial_pin_errors,
+    )
+    one = jax.vmap(lambda om, v, n_s: planetary_dynamics(
+        model, stage, meshes, eqx.tree_at(lambda r: r.mesh_steps, run, n_s,
+                                          is_leaf=lambda x: x is None), om, v, ring=ring))
+    steps = jnp.asarray(plan.steps, dtype=jnp.asarray(carrier).dtype)
+    return run, one(jnp.asarray(carrier), jnp.asarray(mesh_speed), steps)
+
+
+def speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:
+    """Speed ``i``'s own run: its N_s, periods and the kept ones (the integrated spectrum's)."""
+    return PlanetaryRun(
+        base.sun_torque, steps_per_period=int(plan.steps[i]), periods=int(plan.periods[i]),
+        keep_periods=plan.keep, damping_ratio=base.damping_ratio,
+        tangential_pin_errors=base.tangential_pin_errors,
+        radial_pin_errors=base.radial_pin_errors,
+    )
