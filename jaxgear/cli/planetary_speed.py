@@ -27,7 +27,14 @@ from ._planetary_rating import (
 )
 from ._stress_outputs import fillet_table
 from .planetary import sharing_models
-from .planetary_sweep import MODEL_WORDS, _dynamic_setup, planetary_run, planetary_run_files
+from ._planetary_steps import speed_run
+from .planetary_sweep import (
+    MODEL_WORDS,
+    _dynamic_setup,
+    planetary_run,
+    planetary_run_files,
+    sweep_time_plan,
+)
 
 __all__ = [
     "STAGE_AT_SPEED",
@@ -47,14 +54,16 @@ def run_at_speed(form, case, speed: float, steps_per_period: int | None = None,
     """The stage's cell loads at the input speed ``speed`` (rad/s, fixed frame, as the case's
     ``[operating] speed_rad_s``): the planetary sweep's dynamic stage, meshes, model and ring
     (:func:`jaxgear.cli.planetary_sweep.sweep_summary`'s: ``slices`` None: 1 for spur gears,
-    else the case's) and its run (:func:`jaxgear.cli.planetary_sweep.planetary_run` with the
-    options given, None: its defaults) with ``cell_loads=True``, at the carrier speed and mesh
-    speed of ``speed`` (Willis), then :func:`stage_at_speed` (the quasi-static solve beside it
+    else the case's) and the sweep's run at that speed (the options given, None: the sweep's
+    rule, :func:`jaxgear.cli.planetary_sweep.sweep_time_plan`) with ``cell_loads=True``, at
+    the carrier speed and mesh speed of ``speed`` (Willis), then :func:`stage_at_speed` (the quasi-static solve beside it
     with the same ring: a flexible ring's static condensed ring)."""
     spec, stage, meshes, model = _dynamic_setup(form, case, slices)
     ring = spec.ring_model.dynamic_ring()
-    run = dataclasses.replace(planetary_run(form, case, steps_per_period, periods, keep_periods),
-                              cell_loads=True)
+    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
+    plan = sweep_time_plan(form, case, [speed], steps_per_period=steps_per_period,
+                           periods=periods, keep_periods=keep_periods, slices=slices)
+    run = dataclasses.replace(speed_run(base, plan, 0), cell_loads=True)
     carrier = speed * spec.speeds(1.0)["carrier"]
     dyn = planetary_dynamics(model, stage, meshes, run, np.asarray(carrier),
                              np.asarray(speed * spec.mesh_speed(1.0)), ring=ring)
@@ -70,13 +79,13 @@ def planetary_rated_run_files(form, case, out: str, args, complete: bool,
     """``jaxgear run`` on a planetary case (:func:`jaxgear.cli.planetary_sweep.
     planetary_run_files`), then, where the stage's rating has its quasi-static root-stress
     map, the root stress at speed at the operating input speed (:func:`run_at_speed` with the
-    sweep's steps per mesh period, :func:`rating_at_speed`): ``summary.json`` and ``rating.md``
+    sweep's time step and span at that speed, :func:`rating_at_speed`): ``summary.json`` and ``rating.md``
     rewritten. ``table``: the FE fillet stress per unit load (:func:`jaxgear.cli.fillet_table`)."""
     summary = planetary_run_files(form, case, out, args, complete)
     rating = summary.get("rating")
     if rating is None or rating.get("root_stress") is None:
         return summary
-    at = run_at_speed(form, case, case.speed, summary["dynamics"]["steps_per_period"])
+    at = run_at_speed(form, case, case.speed)
     summary["rating"] = rating_at_speed(case, out, rating, at, table)
     write_json(os.path.join(out, "summary.json"), summary)
     return summary
