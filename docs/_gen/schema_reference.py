@@ -378,6 +378,12 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
             "helix_slope_um": 1.0, "helix_form_um": 1.0,
         }
     yield data, str(ROOT / "examples")
+    # each planet's two flanks with their own tables, every key
+    data = copy.deepcopy(data)
+    for planet in ("planet_1", "planet_2", "planet_3"):
+        values = data["deviations"].pop(planet)
+        data["deviations"][planet] = {"sun_flank": dict(values), "ring_flank": dict(values)}
+    yield data, str(ROOT / "examples")
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}
