@@ -274,8 +274,9 @@ def test_nrel_stage1_quasi_static_limit_and_the_fe_map_at_speed(tmp_path):
 def test_jaxgear_run_nrel_stage1_reports_the_root_stress_at_speed(tmp_path):
     """`jaxgear run nrel-5mw-planetary` (its first-look sweep, the run's resolution): each
     mesh's rating.root_stress.at_speed at the operating input speed with the sweep's steps per
-    period, the map at speed written, rating.md's rows; the dynamic factor of the mapped planet's
-    mesh equals the sweep's at the operating speed (the same run: 1e-9)."""
+    period there, the map at speed written, rating.md's rows; the dynamic factor of the mapped
+    planet's mesh equals the sweep's at the operating speed within the settling rule's 1e-3 (the
+    same step, its own span: the sweep's speeds share the longest one; measured 1.5e-4)."""
     from jaxgear.cli import main
 
     out = tmp_path / "out"
@@ -287,14 +288,14 @@ def test_jaxgear_run_nrel_stage1_reports_the_root_stress_at_speed(tmp_path):
     rs = summary["rating"]["root_stress"]["at_speed"]
     case = jio.load_case("nrel-5mw-planetary")
     assert rs["speed_rad_s"] == [case.speed] * 2
-    assert rs["steps_per_period"] == [summary["dynamics"]["steps_per_period"]] * 2
     assert rs["result"] == [0, 0]
     sweep = json.loads((run_dir / "sweep" / "sweep.json").read_text())
     i = int(np.argmin(np.abs(np.asarray(sweep["speeds_rad_s"]) - case.speed)))
+    assert rs["steps_per_period"] == [summary["dynamics"]["steps_per_period"][i]] * 2
     df = np.asarray(sweep["dynamic_factor_mesh"])[i]
     n = case.form.spec.n_planets
     for k in (0, 1):
-        assert rs["dynamic_factor"][k] == pytest.approx(df[k * n:(k + 1) * n].max(), rel=1e-9)
+        assert rs["dynamic_factor"][k] == pytest.approx(df[k * n:(k + 1) * n].max(), rel=1e-3)
         assert (run_dir / rs["file"][k]).stat().st_size > 10_000
     md = (run_dir / "rating.md").read_text()
     assert md.count("| σ_F,FE max at speed |") == 2
