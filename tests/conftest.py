@@ -87,6 +87,24 @@ if "PYPARDISO_MKL_RT" not in os.environ:
     if isinstance(_mkl, str):
         os.environ["PYPARDISO_MKL_RT"] = _mkl
 
+# One BLAS and OpenMP thread per test process (OpenBLAS under NumPy and SciPy, MKL under
+# PARDISO): the suite runs in two xdist workers on the 2-core CI machine, where a second BLAS
+# thread per worker finds no free core and spin-waits; its results are the same to round-off
+# (a multithreaded product sums in the same order per output block). On the 2-core machine at
+# load 4-5: tests/test_hybrid_composite.py 30.4 → 13.9 CPU s, its NumPy reference's dense
+# solves (docs/bench/suite_profile.json, "s40_cuts"). The workers and the subprocesses the
+# tests start inherit the variables; this process loaded NumPy already (a pytest plugin
+# imports it), so its libraries are limited at run time too (threadpoolctl, as fem_prep's
+# ``blas_threads`` does, which leaves a set OPENBLAS_NUM_THREADS or OMP_NUM_THREADS alone).
+# A thread count set in the environment is kept.
+_THREAD_VARS = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+if not any(os.environ.get(v) for v in _THREAD_VARS):
+    from threadpoolctl import threadpool_limits
+
+    for _var in _THREAD_VARS:
+        os.environ[_var] = "1"
+    threadpool_limits(limits=1)
+
 import jax  # noqa: E402
 from jax import monitoring
 
