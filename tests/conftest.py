@@ -22,7 +22,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # the subprocesses the tests start inherit it): most of the suite's time is compiling programs
 # that then run a few steps. The unoptimised code keeps IEEE arithmetic, so its results are the
 # optimised code's to round-off, but it may compute one value in two kernels that round
-# differently (jaxgear._util.safe_max is the derivative of a maximum that survives it;
+# differently (jaxgear.safe_max is the derivative of a maximum that survives it;
 # test_optimise_robust checks the robust gradient at this level). An XLA_FLAGS that names the
 # level is kept (--xla_backend_optimization_level=3: XLA's default pipeline).
 if "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):

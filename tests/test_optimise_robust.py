@@ -82,7 +82,7 @@ def test_robust_gradient_is_finite_with_unoptimised_xla_code(setting):
     derivative, which divides by the count of cells equal to it, is NaN there (checked on JAX
     0.10.2 with safe_max replaced by ``jnp.max``: [nan nan]; finite with the suite's
     element-wise emitter, which this test once ran and so could not fail);
-    :func:`jaxgear._util.safe_max` falls back to the first maximum."""
+    :func:`jaxgear.safe_max` falls back to the first maximum."""
     _, prob, sampler = setting
     # robust_problem's realisations and span (2 positions per pitch over the pinion's 45 teeth)
     # with scale 1 µm (its exact-contact scale is one more program to compile)
