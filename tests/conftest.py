@@ -1,5 +1,5 @@
-"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one JAX
-persistent compilation cache for the test run; one fresh fem_prep cache for the run's condensed
+"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib, one BLAS
+thread per process; one JAX persistent compilation cache for the test run; one fresh fem_prep cache for the run's condensed
 test bodies (shared by the xdist workers too); JAX's compiled executables released between
 families of test modules above a bound of memory maps."""
 
@@ -89,14 +89,14 @@ if "PYPARDISO_MKL_RT" not in os.environ:
 
 # One BLAS and OpenMP thread per test process (OpenBLAS under NumPy and SciPy, MKL under
 # PARDISO): the suite runs in two xdist workers on the 2-core CI machine, where a second BLAS
-# thread per worker finds no free core and spin-waits; its results are the same to round-off
-# (a multithreaded product sums in the same order per output block). On the 2-core machine at
-# load 4-5: tests/test_hybrid_composite.py 30.4 → 13.9 CPU s, its NumPy reference's dense
-# solves (docs/bench/suite_profile.json, "s40_cuts"). The workers and the subprocesses the
-# tests start inherit the variables; this process loaded NumPy already (a pytest plugin
-# imports it), so its libraries are limited at run time too (threadpoolctl, as fem_prep's
-# ``blas_threads`` does, which leaves a set OPENBLAS_NUM_THREADS or OMP_NUM_THREADS alone).
-# A thread count set in the environment is kept.
+# thread finds no free core (the other worker, XLA's compiler) and spin-waits. The results are
+# the same to round-off. Paired on the 2-core machine (docs/bench/suite_profile.json,
+# "blas_threads_2026_11_27"): tests/test_hybrid_composite.py 30.4 → 13.9 CPU s (its NumPy
+# reference's dense solves), the fem_prep and hybrid train files not otherwise changed 8 %
+# less. The workers and the subprocesses the tests start inherit the variables; this process
+# loaded NumPy already (jaxtyping's pytest plugin imports it), so its libraries are limited at
+# run time too (threadpoolctl, as fem_prep's ``blas_threads`` does; that one leaves a set
+# OPENBLAS_NUM_THREADS or OMP_NUM_THREADS alone). A thread count set in the environment is kept.
 _THREAD_VARS = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
 if not any(os.environ.get(v) for v in _THREAD_VARS):
     from threadpoolctl import threadpool_limits
