@@ -1,7 +1,7 @@
 """Test configuration: float64 on, strict rank promotion, non-interactive matplotlib, one BLAS
-thread per process; one JAX persistent compilation cache for the test run; one fresh fem_prep cache for the run's condensed
-test bodies (shared by the xdist workers too); JAX's compiled executables released between
-families of test modules above a bound of memory maps."""
+thread per process; one JAX persistent compilation cache for the test run; one fresh fem_prep
+cache for the run's condensed test bodies (shared by the xdist workers too); JAX's compiled
+executables released between families of test modules above a bound of memory maps."""
 
 import collections
 import gc
