@@ -396,13 +396,14 @@ def _old_circular_arc_thickness(pair, member, r):
     r_form = max(math.hypot(pair.form_roll[member], rb), rb)
     r = np.asarray(r, dtype=float)
     r_inv = np.maximum(r, r_form)
-    # the involute's half angle ψ(r) = s_t/(2 r) + inv α_t − inv α_r (ISO 21771), at r = r_p
-    inv = lambda a: np.tan(a) - a  # noqa: E731
+    # the involute's half angle ψ(r) = s_t/(2 r_p) + inv α_t − inv α_r (ISO 21771; s_t the
+    # transverse tooth thickness on the pitch circle r_p, cos α_r = r_b/r)
     alpha_r = np.arccos(np.clip(rb / r_inv, -1.0, 1.0))
+    alpha_t = pair.transverse_pressure_angle
     psi = (
         pair.reference_thickness[member] / (2 * pair.pitch_radii[member])
-        + inv(pair.transverse_pressure_angle)
-        - inv(alpha_r)
+        + (math.tan(alpha_t) - alpha_t)
+        - (np.tan(alpha_r) - alpha_r)
     )
     half = r_inv * np.sin(psi)
     m = (pair.pinion, pair.gear)[member]
