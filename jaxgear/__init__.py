@@ -226,6 +226,7 @@ from ._stiffness_models import (
     Weber as Weber,
     stiffness_table as stiffness_table,
 )
+from ._util import safe_max as safe_max
 from .scenes import (
     Grounded as Grounded,
     RigidMesh as RigidMesh,

@@ -193,13 +193,26 @@ def _safe_sqrt_jvp(primals, tangents):
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(1,))
 def safe_max(x, axis: int | None = None):
-    """``jnp.max(x, axis)`` whose derivative never divides by zero: the tangent is the mean of
-    the tangents at the elements equal to the maximum (``jnp.max``'s rule), or the tangent at
-    the first maximum (``jnp.argmax``) where no element compares equal to it. ``jnp.max``'s rule
-    divides by that count, and a compiled program may compute the operand of the comparison and
-    of the reduction in two kernels that round differently (XLA's CPU backend at
-    ``--xla_backend_optimization_level=0``), making it 0 and the gradient NaN. ``axis``: None
-    (all elements) or one axis."""
+    """``jnp.max(x, axis)`` whose derivative never divides by zero, for objectives written on
+    results (the maximum line load, the peak-to-peak TE, the largest flank deviation of a
+    cell set: :attr:`QuasiStaticResult.max_line_load` and ``te_ptp`` use it).
+
+    The value is ``jnp.max``'s. The tangent is the mean of the tangents at the elements equal
+    to the maximum (``jnp.max``'s rule: ties share it evenly), or the tangent at the first
+    maximum (``jnp.argmax``) where no element compares equal to it. ``jnp.max``'s rule divides
+    by that count, and a compiled program may compute the operand of the comparison and of the
+    reduction in two kernels that round differently (XLA's CPU backend at
+    ``--xla_backend_optimization_level=0``), making it 0 and the gradient NaN.
+
+    Args:
+        x: array of any shape and unit; masked elements as ``-inf`` (they get a zero tangent
+            unless every element of the reduction is masked).
+        axis: None (all elements: a scalar) or one axis (negative counts from the end): the
+            shape of ``x`` without that axis.
+
+    Returns:
+        the maximum, in the unit of ``x``; forward and reverse mode differentiable in ``x``.
+    """
     return jnp.max(x, axis=axis)
 
 

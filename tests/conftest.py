@@ -1,7 +1,7 @@
-"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib; one JAX
-persistent compilation cache for the test run; one fresh fem_prep cache for the run's condensed
-test bodies (shared by the xdist workers too); JAX's compiled executables released between
-families of test modules above a bound of memory maps."""
+"""Test configuration: float64 on, strict rank promotion, non-interactive matplotlib, one BLAS
+thread per process; one JAX persistent compilation cache for the test run; one fresh fem_prep
+cache for the run's condensed test bodies (shared by the xdist workers too); JAX's compiled
+executables released between families of test modules above a bound of memory maps."""
 
 import collections
 import gc
@@ -22,7 +22,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 # the subprocesses the tests start inherit it): most of the suite's time is compiling programs
 # that then run a few steps. The unoptimised code keeps IEEE arithmetic, so its results are the
 # optimised code's to round-off, but it may compute one value in two kernels that round
-# differently (jaxgear._util.safe_max is the derivative of a maximum that survives it;
+# differently (jaxgear.safe_max is the derivative of a maximum that survives it;
 # test_optimise_robust checks the robust gradient at this level). An XLA_FLAGS that names the
 # level is kept (--xla_backend_optimization_level=3: XLA's default pipeline).
 if "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
@@ -86,6 +86,24 @@ if "PYPARDISO_MKL_RT" not in os.environ:
     _mkl = getattr(getattr(getattr(pypardiso, "ps", None), "libmkl", None), "_name", None)
     if isinstance(_mkl, str):
         os.environ["PYPARDISO_MKL_RT"] = _mkl
+
+# One BLAS and OpenMP thread per test process (OpenBLAS under NumPy and SciPy, MKL under
+# PARDISO): the suite runs in two xdist workers on the 2-core CI machine, where a second BLAS
+# thread finds no free core (the other worker, XLA's compiler) and spin-waits. The results are
+# the same to round-off. Paired on the 2-core machine (docs/bench/suite_profile.json,
+# "blas_threads_2026_11_27"): tests/test_hybrid_composite.py 30.4 → 13.9 CPU s (its NumPy
+# reference's dense solves), the fem_prep and hybrid train files not otherwise changed 8 %
+# less. The workers and the subprocesses the tests start inherit the variables; this process
+# loaded NumPy already (jaxtyping's pytest plugin imports it), so its libraries are limited at
+# run time too (threadpoolctl, as fem_prep's ``blas_threads`` does; that one leaves a set
+# OPENBLAS_NUM_THREADS or OMP_NUM_THREADS alone). A thread count set in the environment is kept.
+_THREAD_VARS = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "OMP_NUM_THREADS")
+if not any(os.environ.get(v) for v in _THREAD_VARS):
+    from threadpoolctl import threadpool_limits
+
+    for _var in _THREAD_VARS:
+        os.environ[_var] = "1"
+    threadpool_limits(limits=1)
 
 import jax  # noqa: E402
 from jax import monitoring

@@ -245,7 +245,9 @@ PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
 # reached through): each a white-box check with no public way to the same assertion.
 PRIVATE_IN_TESTS = {
-    # the exact tooth form, its fillet resolution and the old arc thickness patched in
+    # the Weber model's fillet resolution and the old arc thickness patched in (the tooth form
+    # itself, its root angle and the member compliance are public: jaxgear.tooth_geometry,
+    # sainsot_fit_check, member_compliance)
     ("test_tooth_form.py", "jaxgear._stiffness"),
     # the factored cell-space solve of a cached hybrid scene on synthetic problems (every route:
     # Schur on D, on A, a cached line) against solve_contact_cells, without an FE body
@@ -253,9 +255,6 @@ PRIVATE_IN_TESTS = {
     # the gathered evaluation under vmap (the cached exact and smooth solves' later passes) on a
     # toy function: none, some, one and two chunks, nested vmap
     ("test_cell_factor.py", "jaxgear._util"),
-    # the maximum whose derivative survives XLA's unoptimised CPU code (max_M e of every cell
-    # separation), its tie rule and values on small arrays
-    ("test_safe_max.py", "jaxgear._util"),
 }
 
 

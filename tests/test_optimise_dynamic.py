@@ -39,9 +39,10 @@ def test_dynamic_factor_gradient_matches_finite_differences(problem):
     import jax
 
     x = jnp.asarray([0.5])
-    # the differences' values from the gradient's own programs (value_and_grad at x ± h): one
-    # compilation of the hybrid sweep for both sides of the comparison instead of two
-    value_and_grad = jax.value_and_grad(lambda v: problem.value(v))
+    # the differences' values from the gradient's own program (value_and_grad at x ± h), one
+    # compiled program: the reverse pass and the hybrid sweep compiled together (eager, the
+    # sweep's forward and its transpose were two programs)
+    value_and_grad = jax.jit(jax.value_and_grad(lambda v: problem.value(v)))
     g = float(value_and_grad(x)[1][0])
     h = 1e-4
     fd = (float(value_and_grad(x + h)[0]) - float(value_and_grad(x - h)[0])) / (2 * h)

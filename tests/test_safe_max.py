@@ -1,4 +1,4 @@
-"""jaxgear._util.safe_max: jnp.max's values, and its derivative (the mean of the tangents at
+"""jaxgear.safe_max: jnp.max's values, and its derivative (the mean of the tangents at
 the elements equal to the maximum) against central differences and the tie rule written out."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxgear._util import safe_max
+from jaxgear import safe_max
 
 
 def test_safe_max_values_are_jnp_max():

@@ -20,7 +20,8 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 import jaxgear as jg
-import jaxgear._stiffness as stf  # white-box: the tooth form and its terms (test_layout.py)
+import jaxgear._stiffness as stf  # white-box: the Weber model's fillet resolution and the
+# thickness it integrates, patched (test_layout.py)
 import jaxgear.io as jio
 from fem_prep.tooth_form import ToothForm, ToothGeometry, generate_tooth
 
@@ -160,17 +161,21 @@ def test_helical_fillet_is_the_envelope_of_the_transverse_rack_rounding(name):
 
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_radii_and_form_circle_agree_with_gear_pair(name):
-    """r_f, r_a, r_b, r and the form circle (ISO 21771 (88)-(90), ``GearPair.form_roll``)."""
+    """r_f, r_a, r_b, r and the form circle (ISO 21771 (88)-(90), ``GearPair.form_roll``) of
+    the tooth generated from the pair's :func:`jaxgear.tooth_geometry` as the Weber model
+    generates it (200 fillet points per flank), and the root angle θ_f the Sainsot foundation
+    reads (:func:`jaxgear.sainsot_fit_check`) is its root half angle."""
     pair = jio.load_case(name).pair
+    theta_f = [m["theta_f"] for m in jg.sainsot_fit_check(pair)]
     for i, member in enumerate((pair.pinion, pair.gear)):
-        form = stf._tooth_form(pair, i)
+        form = generate_tooth(jg.tooth_geometry(pair, i), n_fillet=200, n_involute=2, n_tip=0)
         assert form.root_radius == pytest.approx(pair.root_radii[i], rel=1e-14)
         assert form.tip_radius == pytest.approx(pair.tip_radii[i], rel=1e-14)
         assert form.base_radius == pytest.approx(pair.base_radii[i], rel=1e-14)
         assert form.pitch_radius == pytest.approx(pair.pitch_radii[i], rel=1e-14)
         ref = math.hypot(pair.form_roll[i], pair.base_radii[i])
         assert form.form_radius == pytest.approx(ref, rel=1e-14)
-        assert stf._root_angle(pair, i) == form.root_half_angle
+        assert theta_f[i] == form.root_half_angle
         # the generated form point is on the involute (the rounding meets the straight flank)
         pt = form.fillet[-1]
         assert np.hypot(*pt) == pytest.approx(ref, rel=1e-13)
@@ -391,7 +396,16 @@ def _old_circular_arc_thickness(pair, member, r):
     r_form = max(math.hypot(pair.form_roll[member], rb), rb)
     r = np.asarray(r, dtype=float)
     r_inv = np.maximum(r, r_form)
-    half = r_inv * np.sin(stf._half_thickness_angle(pair, member, r_inv))
+    # the involute's half angle ψ(r) = s_t/(2 r_p) + inv α_t − inv α_r (ISO 21771; s_t the
+    # transverse tooth thickness on the pitch circle r_p, cos α_r = r_b/r)
+    alpha_r = np.arccos(np.clip(rb / r_inv, -1.0, 1.0))
+    alpha_t = pair.transverse_pressure_angle
+    psi = (
+        pair.reference_thickness[member] / (2 * pair.pitch_radii[member])
+        + (math.tan(alpha_t) - alpha_t)
+        - (np.tan(alpha_r) - alpha_r)
+    )
+    half = r_inv * np.sin(psi)
     m = (pair.pinion, pair.gear)[member]
     rho = min(m.fillet_radius_coeff * pair.normal_module, max(r_form - rf, 0.0))
     t = np.clip(r - rf, 0.0, rho)
@@ -447,9 +461,9 @@ def test_per_member_foundation_is_the_series_combination():
     assert np.all(k["weber"] < mixed) and np.all(mixed < k["none"])
     # series: 1/k = cos β_b (c_Hertz + c_1 + c_2); adding the pinion's foundation compliance only
     rho1 = pair.roll_distance(s, 0)
-    dc1 = stf.member_compliance(
+    dc1 = jg.member_compliance(
         pair, 0, rho1, E, nu, jg.WeberFoundation()
-    ) - stf.member_compliance(pair, 0, rho1, E, nu, jg.NoFoundation())
+    ) - jg.member_compliance(pair, 0, rho1, E, nu, jg.NoFoundation())
     expected = 1 / (1 / k["none"] + math.cos(pair.base_helix_angle) * dc1)
     np.testing.assert_allclose(mixed, expected, rtol=1e-12)
     # the table and the helper accept the same forms
@@ -475,6 +489,5 @@ def test_tooth_form_errors_name_the_member():
         normal_module=2e-3,
         normal_pressure_angle=20 * DEG,
     )
-    stf._generated_tooth.cache_clear()
     with pytest.raises(ValueError, match=r"^gear\.fillet_radius_coeff = 0\.6 is out of range"):
         jg.stiffness_table(pair, jg.Weber())
