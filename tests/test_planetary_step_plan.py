@@ -267,3 +267,41 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
         df[grouped] = np.array([f.max(axis=0) / rec.static_force for f in rec.forces])
     assert df[True].max() > 1.5  # dynamic: the teeth entering mesh ring the stage
     np.testing.assert_allclose(df[True], df[False], rtol=0, atol=ps.SETTLED_TOL)
+
+
+@pytest.mark.slow  # two compiled runs of the station model (~10 s of CPU each)
+def test_the_ring_cell_space_is_the_coordinate_solve_at_a_sweep_step(tmp_path):
+    """The flexible ring's station model (the small stage with the coarse test ring, 53
+    stations, massless) at 21 rad/s of the carrier and 768 steps per mesh period (the
+    spectrum turn's step, the coarsest a sweep takes here): each step's contact solved in the
+    cell space (``ring_cell_space``, the sweep's) gives the coordinate solve's mesh forces and
+    ring deflections to 1e-8 of the nominal force and of the largest deflection."""
+    import sys
+
+    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
+    from _planetary_stage import seq_ring_case
+    from _toml import case_toml
+
+    path = tmp_path / "seq.toml"
+    path.write_text(case_toml(seq_ring_case()))
+    case = jio.load_case(str(path))
+    spec, stage, meshes, model = ps._dynamic_setup(case.form, case)
+    ring = spec.ring_model.dynamic_ring()
+    base = ps.planetary_run(case.form, case)
+    w = spec.speeds(21.0)
+    out = {}
+    for cells in (False, True):
+        run = jd.PlanetaryRun(base.sun_torque, steps_per_period=768, periods=3, keep_periods=1,
+                              tangential_pin_errors=base.tangential_pin_errors,
+                              radial_pin_errors=base.radial_pin_errors, ring_cell_space=cells)
+        out[cells] = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(w["carrier"]),
+                                           jnp.asarray(spec.mesh_speed(21.0)), ring=ring)
+    a, b = out[False], out[True]
+    nominal = float(a.static_force)
+    for f in ("sun_mesh_forces", "ring_mesh_forces"):
+        assert np.max(np.abs(np.asarray(getattr(a, f)) - np.asarray(getattr(b, f)))) \
+            < 1e-8 * nominal
+    w_a = np.asarray(a.ring_deflection)
+    assert np.max(np.abs(w_a)) > 0
+    assert np.max(np.abs(w_a - np.asarray(b.ring_deflection))) < 1e-8 * np.max(np.abs(w_a))
+    assert int(a.result) == int(b.result) == 0

@@ -255,7 +255,7 @@ def _one_program(model, stage, meshes, base, plan: TimePlan, idx, carrier, mesh_
         base.sun_torque, steps_per_period=block, periods=-(-settle // block) + keep_blocks,
         keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
         tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
+        radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )
     one = jax.vmap(lambda om, v, n_s: planetary_dynamics(
         model, stage, meshes, eqx.tree_at(lambda r: r.mesh_steps, run, n_s,
@@ -270,5 +270,5 @@ def speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:
         base.sun_torque, steps_per_period=int(plan.steps[i]), periods=int(plan.periods[i]),
         keep_periods=plan.keep, damping_ratio=base.damping_ratio,
         tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
+        radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )

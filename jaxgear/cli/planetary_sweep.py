@@ -518,7 +518,7 @@ def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
         keep_periods=z_r,
         damping_ratio=run.damping_ratio,
         tangential_pin_errors=run.tangential_pin_errors,
-        radial_pin_errors=run.radial_pin_errors,
+        radial_pin_errors=run.radial_pin_errors, ring_cell_space=run.ring_cell_space,
     )
     d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
                            jnp.asarray(spec.mesh_speed(speed)),
