@@ -26,7 +26,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
-from jaxgear.cli import _planetary_steps as st, planetary_sweep as ps
+from jaxgear.cli import planetary_sweep as ps
 
 
 def _reference_plan(case, speeds):
@@ -205,7 +205,9 @@ def _lumped_sweep_parts(speeds):
     data["planetary"].update(tangential_pin_errors_um=[10.0, 0.0, 0.0],
                              sun_eccentricity_um=20.0, sun_eccentricity_phase_deg=30.0)
     case = jio.parse_train(data)
-    spec, stage, meshes, model = ps._dynamic_setup(case.form, case)
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)
     base = ps.planetary_run(case.form, case)
     speeds = np.asarray(speeds)
     return (model, stage, meshes, base, speeds * spec.speeds(1.0)["carrier"],
@@ -222,7 +224,7 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     model, stage, meshes, base, carrier, v, ring = _lumped_sweep_parts(speeds)
     plan = ps.TimePlan(np.array([24, 12, 12]), np.array([6, 5, 4]), 2, 1.0, 1.0, 0.0,
                        (False, False))
-    got = st.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
+    got = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
     # the two speeds of 12 steps share a program: both integrate the longer span, 5 periods
     own = [6, 5, 5]
     assert got.programs == 2 and list(got.periods) == own
@@ -239,8 +241,8 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
         assert got.forces[k].shape == f.shape == (2 * int(plan.steps[k]), 6)
         assert np.max(np.abs(got.forces[k] - f)) < 1e-9 * nominal
         np.testing.assert_allclose(got.time[k], np.asarray(d.time), rtol=1e-12)
-    assert st.speed_groups(plan, False)[0].tolist() == [0, 1, 2]
-    assert [g.tolist() for g in st.speed_groups(plan, True)] == [[1, 2], [0]]
+    assert ps.speed_groups(plan, False)[0].tolist() == [0, 1, 2]
+    assert [g.tolist() for g in ps.speed_groups(plan, True)] == [[1, 2], [0]]
 
 
 @pytest.mark.slow  # three compiled runs of the contact-cell stage, ~30 s of CPU; fast twin:
@@ -253,7 +255,9 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
     tolerance (SETTLED_TOL of the nominal force): what is left of the transient after the
     rule's settling time, not the schedule, sets the difference (measured: 1.2e-4, float64)."""
     case = small_case
-    spec, stage, meshes, model = ps._dynamic_setup(case.form, case)
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
     base = ps.planetary_run(case.form, case)
     speeds = np.array([15.0, 45.0])
     plan = ps.sweep_time_plan(case.form, case, speeds)._replace(steps=np.array([192, 96]))
@@ -262,7 +266,7 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
     ring = spec.ring_model.dynamic_ring()
     df = {}
     for grouped in (True, False):
-        rec = st.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
+        rec = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
         assert rec.programs == (2 if grouped else 1) and not rec.result.any()
         df[grouped] = np.array([f.max(axis=0) / rec.static_force for f in rec.forces])
     assert df[True].max() > 1.5  # dynamic: the teeth entering mesh ring the stage
@@ -276,16 +280,15 @@ def test_the_ring_cell_space_is_the_coordinate_solve_at_a_sweep_step(tmp_path):
     spectrum turn's step, the coarsest a sweep takes here): each step's contact solved in the
     cell space (``ring_cell_space``, the sweep's) gives the coordinate solve's mesh forces and
     ring deflections to 1e-8 of the nominal force and of the largest deflection."""
-    import sys
-
-    sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent))
     from _planetary_stage import seq_ring_case
     from _toml import case_toml
 
     path = tmp_path / "seq.toml"
     path.write_text(case_toml(seq_ring_case()))
     case = jio.load_case(str(path))
-    spec, stage, meshes, model = ps._dynamic_setup(case.form, case)
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
     ring = spec.ring_model.dynamic_ring()
     base = ps.planetary_run(case.form, case)
     w = spec.speeds(21.0)

@@ -72,7 +72,7 @@ class PlanetaryRun(eqx.Module):
             contact in the cell space (G = K_eff⁻¹ once, two n² products a step) instead of
             factoring all its coordinates per contact pass (static, default False). For the
             short steps of a resolved sweep (the sweep sets it: forces within 4·10⁻⁹ of the
-            coordinate solve's, about 3 x cheaper a step); at long steps (carrier speeds near
+            coordinate solve's, half the CPU time of a speed); at long steps (carrier speeds near
             zero) the explicit inverse loses accuracy (docs/planetary.md, "The flexible ring
             in the dynamics").
 
