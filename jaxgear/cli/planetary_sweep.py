@@ -20,8 +20,8 @@ travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.sp
 The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
 step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
 the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
-one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`), the settled state
-checked.
+one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`; a flexible ring's
+speeds one program per N_s, :func:`speed_groups`), the settled state checked.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
 ``dynamic_factor.png`` (each mesh's dynamic factor against the input speed, the natural
