@@ -15,6 +15,7 @@ the teeth entering mesh switch the stiffness, Newmark is first order at those in
 from __future__ import annotations
 
 import math
+import tomllib
 
 import equinox as eqx
 import jax
@@ -194,3 +195,116 @@ def test_the_default_step_converges_at_a_low_speed(small_case):
     four, _ = ps.sweep_summary(case.form, case, speed, keep_periods=4)
     assert four["max_dynamic_factor"] == pytest.approx(df[n], rel=1e-3)
     jax.clear_caches()
+
+
+def _lumped_sweep_parts(speeds):
+    """The lumped lin-parker-1999 (constant mesh springs) with a turning sun eccentricity and
+    a pin error, as the sweep sets it up: (model, stage, meshes, base run, carrier (s,), mesh
+    speed (s,), ring)."""
+    data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
+    data["planetary"].update(tangential_pin_errors_um=[10.0, 0.0, 0.0],
+                             sun_eccentricity_um=20.0, sun_eccentricity_phase_deg=30.0)
+    case = jio.parse_train(data)
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)
+    base = ps.planetary_run(case.form, case)
+    speeds = np.asarray(speeds)
+    return (model, stage, meshes, base, speeds * spec.speeds(1.0)["carrier"],
+            speeds * spec.mesh_speed(1.0), spec.ring_model.dynamic_ring())
+
+
+def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
+    """Grouped by N_s (the flexible ring's sweep), each speed integrates its own group's span
+    at its own step: its kept forces equal planetary_dynamics called here on a run of the
+    speed's N_s, the group's periods and the kept periods (the lumped lin-parker-1999 with a turning sun
+    eccentricity, so that the kept window's place matters), to 1e-9 of the nominal force; one
+    program per N_s (not grouped: one)."""
+    speeds = [150.0, 300.0, 900.0]
+    model, stage, meshes, base, carrier, v, ring = _lumped_sweep_parts(speeds)
+    plan = ps.TimePlan(np.array([24, 12, 12]), np.array([6, 5, 4]), 2, 1.0, 1.0, 0.0,
+                       (False, False))
+    got = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
+    # the two speeds of 12 steps share a program: both integrate the longer span, 5 periods
+    own = [6, 5, 5]
+    assert got.programs == 2 and list(got.periods) == own
+    for k in range(3):
+        run = jd.PlanetaryRun(base.sun_torque, steps_per_period=int(plan.steps[k]),
+                              periods=own[k], keep_periods=2,
+                              tangential_pin_errors=base.tangential_pin_errors,
+                              radial_pin_errors=base.radial_pin_errors)
+        d = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(carrier[k]),
+                                  jnp.asarray(v[k]))
+        f = np.concatenate([np.asarray(d.sun_mesh_forces), np.asarray(d.ring_mesh_forces)], 1)
+        nominal = float(d.static_force)
+        assert got.static_force == pytest.approx(nominal, rel=1e-12)
+        assert got.forces[k].shape == f.shape == (2 * int(plan.steps[k]), 6)
+        assert np.max(np.abs(got.forces[k] - f)) < 1e-9 * nominal
+        np.testing.assert_allclose(got.time[k], np.asarray(d.time), rtol=1e-12)
+    assert ps.speed_groups(plan, False)[0].tolist() == [0, 1, 2]
+    assert [g.tolist() for g in ps.speed_groups(plan, True)] == [[1, 2], [0]]
+
+
+@pytest.mark.slow  # three compiled runs of the contact-cell stage, ~30 s of CPU; fast twin:
+# test_a_grouped_sweep_runs_each_speed_on_its_own_plan (the grouped records, the lumped stage)
+def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
+    """The small contact-cell stage (a 10 um pin error: periodic in the carrier frame) at 15
+    and 45 rad/s, 192 and 96 steps per mesh period, the rule's periods: grouped by N_s (two
+    programs, each speed its own span) and in one program (the fast speed integrating the
+    slow one's span, about 3 x its own), each mesh's dynamic factor agrees to the settled
+    tolerance (SETTLED_TOL of the nominal force): what is left of the transient after the
+    rule's settling time, not the schedule, sets the difference (measured: 1.2e-4, float64)."""
+    case = small_case
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
+    base = ps.planetary_run(case.form, case)
+    speeds = np.array([15.0, 45.0])
+    plan = ps.sweep_time_plan(case.form, case, speeds)._replace(steps=np.array([192, 96]))
+    carrier = speeds * spec.speeds(1.0)["carrier"]
+    v = speeds * spec.mesh_speed(1.0)
+    ring = spec.ring_model.dynamic_ring()
+    df = {}
+    for grouped in (True, False):
+        rec = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
+        assert rec.programs == (2 if grouped else 1) and not rec.result.any()
+        df[grouped] = np.array([f.max(axis=0) / rec.static_force for f in rec.forces])
+    assert df[True].max() > 1.5  # dynamic: the teeth entering mesh ring the stage
+    np.testing.assert_allclose(df[True], df[False], rtol=0, atol=ps.SETTLED_TOL)
+
+
+@pytest.mark.slow  # two compiled runs of the station model (~10 s of CPU each)
+def test_the_ring_cell_space_is_the_coordinate_solve_at_a_sweep_step(tmp_path):
+    """The flexible ring's station model (the small stage with the coarse test ring, 53
+    stations, massless) at 21 rad/s of the carrier and 768 steps per mesh period (the
+    spectrum turn's step, the coarsest a sweep takes here): each step's contact solved in the
+    cell space (``ring_cell_space``, the sweep's) gives the coordinate solve's mesh forces and
+    ring deflections to 1e-8 of the nominal force and of the largest deflection."""
+    from _planetary_stage import seq_ring_case
+    from _toml import case_toml
+
+    path = tmp_path / "seq.toml"
+    path.write_text(case_toml(seq_ring_case()))
+    case = jio.load_case(str(path))
+    spec, model = case.form.spec, jg.PlanarPlanetary()
+    stage = spec.sharing_stage(spec.stage(case))
+    meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
+    ring = spec.ring_model.dynamic_ring()
+    base = ps.planetary_run(case.form, case)
+    w = spec.speeds(21.0)
+    out = {}
+    for cells in (False, True):
+        run = jd.PlanetaryRun(base.sun_torque, steps_per_period=768, periods=3, keep_periods=1,
+                              tangential_pin_errors=base.tangential_pin_errors,
+                              radial_pin_errors=base.radial_pin_errors, ring_cell_space=cells)
+        out[cells] = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(w["carrier"]),
+                                           jnp.asarray(spec.mesh_speed(21.0)), ring=ring)
+    a, b = out[False], out[True]
+    nominal = float(a.static_force)
+    for f in ("sun_mesh_forces", "ring_mesh_forces"):
+        assert np.max(np.abs(np.asarray(getattr(a, f)) - np.asarray(getattr(b, f)))) \
+            < 1e-8 * nominal
+    w_a = np.asarray(a.ring_deflection)
+    assert np.max(np.abs(w_a)) > 0
+    assert np.max(np.abs(w_a - np.asarray(b.ring_deflection))) < 1e-8 * np.max(np.abs(w_a))
+    assert int(a.result) == int(b.result) == 0

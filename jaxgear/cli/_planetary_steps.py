@@ -31,9 +31,11 @@ __all__ = [
     "SETTLED_TOL",
     "SETTLE_TOL",
     "STEPS_PER_TOP_PERIOD",
+    "SweepRecords",
     "TimePlan",
     "carrier_periodic",
     "steps_sweep",
+    "speed_groups",
     "speed_run",
     "step_resolution",
     "time_plan",
@@ -178,27 +180,88 @@ def step_resolution(plan: TimePlan, f_mesh, n_planets: int) -> dict:
             "automatic": bool(plan.automatic[0])}
 
 
-def steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed, ring):
-    """Every speed in one compiled program, each at its own step (``PlanetaryRun.mesh_steps``
-    = N_s, traced): blocks of the smallest N_s, as many as the longest settling (t_s over the
-    speed's step, the largest over the speeds) plus ``keep`` periods of the largest N_s, the
-    last ``keep`` of the largest N_s recorded (every speed's last ``keep`` mesh periods in
-    them). Returns (the run of the blocks, the :class:`~jaxgear.dynamics.PlanetaryDynamics`
-    with a leading speed axis)."""
-    block = int(plan.steps.min())
-    top = int(plan.steps.max())
-    settle = int(np.max((plan.periods - plan.keep) * plan.steps))
+class SweepRecords(NamedTuple):
+    """Each speed's kept record of :func:`steps_sweep` (its last ``keep`` mesh periods).
+
+    Attributes:
+        periods: mesh periods each speed integrated, float (s,) (the rule's, or more where
+            it shares a program with a slower speed).
+        time: per speed, the kept steps' times (s), (keep N_s,).
+        forces: per speed, the sun-mesh then ring-mesh transverse forces (N), (keep N_s, 2N).
+        deflection: per speed, the ring's elastic displacement at the ring meshes (m),
+            (keep N_s, N) (zeros for a rigid ring).
+        result: each speed's result code, int (s,).
+        static_force: the nominal mesh force T_s / (N r_bs) (N).
+        programs: the compiled programs the sweep ran (1, or one per N_s where grouped).
+    """
+
+    periods: np.ndarray
+    time: list
+    forces: list
+    deflection: list
+    result: np.ndarray
+    static_force: float
+    programs: int
+
+
+def speed_groups(plan: TimePlan, grouped: bool) -> list:
+    """The speeds' indices per compiled program of :func:`steps_sweep`: all in one, or, where
+    ``grouped``, one program per N_s (increasing N_s), so that only the slow speeds pay their
+    long kept windows and settling in the largest N_s's steps. Grouped is the flexible ring's
+    (a step costs more than a rigid ring's, a compilation about the same: 62 s of CPU against
+    79 s in one program on the small test stage's 9 speeds; a rigid ring's sweep is cheaper in
+    one program: docs/planetary.md, "Time step and span of a sweep")."""
+    steps = np.asarray(plan.steps)
+    if not grouped:
+        return [np.arange(steps.size)]
+    return [np.flatnonzero(steps == n) for n in np.unique(steps)]
+
+
+def steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed, ring,
+                grouped: bool = False) -> SweepRecords:
+    """The speeds of each group of :func:`speed_groups` in one compiled program, each at its
+    own step (``PlanetaryRun.mesh_steps`` = N_s, traced): blocks of the group's smallest N_s,
+    as many as its longest settling (t_s over the speed's step, the largest over the group's
+    speeds) plus ``keep`` periods of its largest N_s, the last ``keep`` of the largest N_s
+    recorded (every speed's last ``keep`` mesh periods in them). ``carrier``, ``mesh_speed``:
+    (s,), rad/s and m/s. Returns each speed's last ``keep`` mesh periods
+    (:class:`SweepRecords`)."""
+    s = np.asarray(plan.steps).size
+    periods, result = np.zeros(s), np.zeros(s, dtype=int)
+    time, forces, deflection = [None] * s, [None] * s, [None] * s
+    groups = speed_groups(plan, grouped)
+    for idx in groups:
+        run, r = _one_program(model, stage, meshes, base, plan, idx, np.asarray(carrier)[idx],
+                              np.asarray(mesh_speed)[idx], ring)
+        f = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], -1)
+        t, w, code = np.asarray(r.time), np.asarray(r.ring_deflection), np.asarray(r.result)
+        fs = float(np.asarray(r.static_force).reshape(-1)[0])
+        for j, k in enumerate(idx):
+            kept = slice(-plan.keep * int(plan.steps[k]), None)
+            time[k], forces[k], deflection[k] = t[j, kept], f[j, kept], w[j, kept]
+            periods[k] = run.periods * run.steps_per_period / plan.steps[k]
+            result[k] = int(code[j])
+    return SweepRecords(periods, time, forces, deflection, result, fs, len(groups))
+
+
+def _one_program(model, stage, meshes, base, plan: TimePlan, idx, carrier, mesh_speed, ring):
+    """(the run of the blocks, the :class:`~jaxgear.dynamics.PlanetaryDynamics` with a leading
+    speed axis) of the speeds ``idx`` in one compiled program (:func:`steps_sweep`)."""
+    steps_i = np.asarray(plan.steps)[idx]
+    block = int(steps_i.min())
+    top = int(steps_i.max())
+    settle = int(np.max((np.asarray(plan.periods)[idx] - plan.keep) * steps_i))
     keep_blocks = plan.keep * top // block
     run = PlanetaryRun(
         base.sun_torque, steps_per_period=block, periods=-(-settle // block) + keep_blocks,
         keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
         tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
+        radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )
     one = jax.vmap(lambda om, v, n_s: planetary_dynamics(
         model, stage, meshes, eqx.tree_at(lambda r: r.mesh_steps, run, n_s,
                                           is_leaf=lambda x: x is None), om, v, ring=ring))
-    steps = jnp.asarray(plan.steps, dtype=jnp.asarray(carrier).dtype)
+    steps = jnp.asarray(steps_i, dtype=jnp.asarray(carrier).dtype)
     return run, one(jnp.asarray(carrier), jnp.asarray(mesh_speed), steps)
 
 
@@ -208,5 +271,5 @@ def speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:
         base.sun_torque, steps_per_period=int(plan.steps[i]), periods=int(plan.periods[i]),
         keep_periods=plan.keep, damping_ratio=base.damping_ratio,
         tangential_pin_errors=base.tangential_pin_errors,
-        radial_pin_errors=base.radial_pin_errors,
+        radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )

@@ -20,8 +20,8 @@ travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.sp
 The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
 step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
 the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
-one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`), the settled state
-checked.
+one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`; a flexible ring's
+speeds one program per N_s, :func:`speed_groups`), the settled state checked.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
 ``dynamic_factor.png`` (each mesh's dynamic factor against the input speed, the natural
@@ -60,8 +60,10 @@ from ._planetary_steps import (
     SETTLE_TOL,
     SETTLED_TOL,
     STEPS_PER_TOP_PERIOD,
+    SweepRecords,
     TimePlan,
     carrier_periodic,
+    speed_groups,
     speed_run,
     step_resolution,
     steps_sweep,
@@ -88,6 +90,7 @@ __all__ = [
     "SETTLE_TOL",
     "SPECTRUM_SIDEBANDS",
     "STEPS_PER_TOP_PERIOD",
+    "SweepRecords",
     "TimePlan",
     "carrier_periodic",
     "planetary_run",
@@ -95,7 +98,9 @@ __all__ = [
     "planetary_run_lines",
     "planetary_sweep",
     "run_speeds",
+    "speed_groups",
     "step_resolution",
+    "steps_sweep",
     "sweep_lines",
     "sweep_summary",
     "sweep_time_plan",
@@ -285,31 +290,32 @@ def sweep_summary(
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
-    run, r = steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring)
+    flexible = spec.ring_model.flexible
+    rec = steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring,
+                      grouped=flexible)
     n = spec.n_planets
-    f_all = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], -1)
-    fs = float(np.asarray(r.static_force).reshape(-1)[0])
+    fs = rec.static_force
     n_s = speeds.size
     per_mesh, k_gamma = np.zeros((n_s, 2 * n)), np.zeros(n_s)
     periodicity, deflection = np.full(n_s, np.nan), np.zeros(n_s)
-    for k in range(n_s):  # each speed's own last `keep` mesh periods of the common record
+    for k in range(n_s):  # each speed's own last `keep` mesh periods
         S = int(plan.steps[k])
-        f = f_all[k, -plan.keep * S:]
+        f = rec.forces[k]
         per_mesh[k] = f.max(axis=0) / fs
         sun = f[:, :n]
         k_gamma[k] = np.max(sun.max(axis=1) / sun.mean(axis=1))
         if plan.keep >= 2:
             periodicity[k] = np.max(np.abs(f[-S:] - f[-2 * S:-S])) / fs
-        deflection[k] = np.max(np.abs(np.asarray(r.ring_deflection[k, -plan.keep * S:])))
-    code = np.asarray(r.result).astype(int)
-    period_of = run.periods * run.steps_per_period / plan.steps  # mesh periods integrated
+        deflection[k] = np.max(np.abs(rec.deflection[k]))
+    code = rec.result
+    period_of = rec.periods  # mesh periods integrated
     worst = per_mesh.max(axis=1)
     i = int(np.nanargmax(worst))
     run_i = speed_run(base, plan, i)
     settled_turn = None
     if periodic:  # the worst speed's last mesh period: the ring spectrum's turn from it
         last = slice(-int(plan.steps[i]), None)
-        settled_turn = (np.asarray(r.time[i, last]), np.asarray(r.ring_mesh_forces[i, last]))
+        settled_turn = (rec.time[i][last], rec.forces[i][last, n:])
     unsettled = periodic and plan.keep >= 2 and bool(np.nanmax(periodicity) > SETTLED_TOL)
     if unsettled:
         k = int(np.nanargmax(periodicity))
@@ -341,7 +347,7 @@ def sweep_summary(
         "max_dynamic_factor_mesh": per_mesh.max(axis=0).tolist(),
         "max_k_gamma": float(k_gamma.max()),
         "result": code.tolist(),
-        "sun_torque_Nm": float(run.sun_torque),
+        "sun_torque_Nm": float(base.sun_torque),
         "nominal_mesh_force_N": fs,
         "steps_per_period": plan.steps.tolist(),
         "periods": period_of.tolist(),
@@ -353,7 +359,7 @@ def sweep_summary(
         },
         "periodicity": [None if math.isnan(v) else float(v) for v in periodicity],
         "settled": not unsettled,
-        "damping_ratio": float(run.damping_ratio),
+        "damping_ratio": float(base.damping_ratio),
         "natural_frequencies_Hz": natural.tolist(),
         "crossings": crossings(natural, f_mesh, speeds),
         "ring": spec.ring_model.summary(),
@@ -363,7 +369,7 @@ def sweep_summary(
         summary["max_ring_deflection_m"] = float(deflection.max())
     summary["platform"] = {
         "device": str(jax.devices()[0].platform),
-        "dtype": str(np.asarray(r.time).dtype),
+        "dtype": str(rec.time[0].dtype),
         "python": platform.python_version(),
     }
     summary["notes"] = (
@@ -517,7 +523,7 @@ def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
         keep_periods=z_r,
         damping_ratio=run.damping_ratio,
         tangential_pin_errors=run.tangential_pin_errors,
-        radial_pin_errors=run.radial_pin_errors,
+        radial_pin_errors=run.radial_pin_errors, ring_cell_space=run.ring_cell_space,
     )
     d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
                            jnp.asarray(spec.mesh_speed(speed)),

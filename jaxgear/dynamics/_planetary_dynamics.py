@@ -68,6 +68,13 @@ class PlanetaryRun(eqx.Module):
             steps share one compiled program: a sweep's speeds each at its own step), or None:
             ``steps_per_period``. Given, ``periods`` and ``keep_periods`` count blocks of
             ``steps_per_period`` steps, not mesh periods (the time step p_b / (mesh_steps v)).
+        ring_cell_space: a flexible ring's station model (no ``modes``) solves each step's
+            contact in the cell space (G = K_eff⁻¹ once, two n² products a step) instead of
+            factoring all its coordinates per contact pass (static, default False). For the
+            short steps of a resolved sweep (the sweep sets it: forces within 4·10⁻⁹ of the
+            coordinate solve's, half the CPU time of a speed); at long steps (carrier speeds near
+            zero) the explicit inverse loses accuracy (docs/planetary.md, "The flexible ring
+            in the dynamics").
 
     Raises:
         ValueError: a count or ratio out of range (one line).
@@ -82,6 +89,7 @@ class PlanetaryRun(eqx.Module):
     radial_pin_errors: Float[Array, "*n"] = eqx.field(converter=as_float, default=0.0)
     cell_loads: bool = eqx.field(static=True, default=False)
     mesh_steps: Float[Array, ""] | None = None
+    ring_cell_space: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
         check_integer("steps_per_period", self.steps_per_period, 8)
@@ -212,7 +220,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             return row
         if basis is None:  # the station model: the contact on every coordinate
             E = ring.contact_rows(stage, travel(i))
-            return row._replace(V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
+            idx = jnp.arange(n_dof + n_u) if run.ring_cell_space else None  # the cell space
+            return row._replace(idx=idx, V=jnp.concatenate([row.V, -ring_rows.T @ E], axis=1))
         # modal: the ring cells reach the stage's coordinates and their planet's two
         # stations, a window of coordinates (newmark_modal's cell space)
         iu, E = ring.window(stage, travel(i))
