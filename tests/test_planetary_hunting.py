@@ -346,29 +346,48 @@ def test_k_gamma_with_a_pin_error_and_deviations_against_a_spring_model(seq, dra
     devs = _deviations(planets=planets, profile=slope)
     meshes = jg.DeviationMeshes(contact, teeth, devs)
     errors = np.array([6e-6, 0.0, 0.0])
-    x = np.asarray(contact.positions(4, 15))
-    psi = np.asarray(st.planet_angles)
     cum = [np.cumsum(p) - p[0] for p in planets]
     g_s, g_r = sp.path_of_contact, pr.path_of_contact
-    forces, k_hand = [], []
+
+    # the sun's flank at roll u = s / g, the planet's at 1 - u (it is the driven gear)
+    def sun_material(n, s, t, k):
+        return slope[Z_S][t] * (s / g_s - 0.5) + cum[n][k]
+
+    def ring_material(n, s, k, u):
+        return cum[n][k] + slope[Z_R][u] * (1 - s / g_r - 0.5)
+
+    assert_spring_model(seq, drawn_d, meshes, errors, sun_material, ring_material)
+
+
+def assert_spring_model(seq, drawn_d, meshes, errors, sun_material, ring_material):
+    """At 4 x 15 travels, the series-spring model of tests/_planetary_stage.py with each mesh's
+    offset the mean material of its lines in contact (uniform k0 b per line; the teeth and rolls
+    counted by :func:`enumerate_teeth`; ``sun_material(n, s, sun tooth, planet tooth)`` and
+    ``ring_material(n, s, planet tooth, ring tooth)`` give a line's material, m) against
+    ``meshes``' quasi-static solve with the pin ``errors``: forces and K_gamma within 1e-6
+    (torsional model), K_gamma within 1 % (planar, stiff pins)."""
+    geo, st, contact, _ = seq
+    sp = geo.sun_planet
+    x = np.asarray(contact.positions(4, 15))
+    psi = np.asarray(st.planet_angles)
+    pins = np.stack([errors, np.zeros(3)], axis=1)
+    forces = []
     for xi in x:
         c_s, c_r, k_s, k_r = [], [], [], []
         for n, (s_lines, r_lines) in enumerate(enumerate_teeth(geo, psi, drawn_d, xi)):
-            # the sun's flank at roll u = s / g, the planet's at 1 - u (it is the driven gear)
-            e_s = [slope[Z_S][t] * (s / g_s - 0.5) + cum[n][k] for s, t, k in s_lines]
-            e_r = [cum[n][k] + slope[Z_R][u] * (1 - s / g_r - 0.5) for s, k, u in r_lines]
+            e_s = [sun_material(n, s, t, k) for s, t, k in s_lines]
+            e_r = [ring_material(n, s, k, u) for s, k, u in r_lines]
             k_s.append(K0 * 0.03 * len(e_s))
             k_r.append(K0 * 0.03 * len(e_r))
             c_s.append(np.mean(e_s))  # equal line stiffnesses: the mean of the lines'
             c_r.append(np.mean(e_r))
         # the pin error moves planet 1 tangentially: c = -p . n (sun), -p . m (ring)
-        pins = np.stack([errors, np.zeros(3)], axis=1)
-        f_pin, _ = rigid_path_forces(TORQUE, sp.base_radii[0], psi, geo.sun_pressure_angle,
-                                     geo.ring_pressure_angle, np.array(k_s), np.array(k_r),
-                                     pins=pins, mesh_offsets=(np.array(c_s), np.array(c_r)))
-        forces.append(f_pin)
-        k_hand.append(f_pin.max() / f_pin.mean())
-    forces, k_hand = np.array(forces), np.array(k_hand)
+        f, _ = rigid_path_forces(TORQUE, sp.base_radii[0], psi, geo.sun_pressure_angle,
+                                 geo.ring_pressure_angle, np.array(k_s), np.array(k_r),
+                                 pins=pins, mesh_offsets=(np.array(c_s), np.array(c_r)))
+        forces.append(f)
+    forces = np.array(forces)
+    k_hand = forces.max(axis=1) / forces.mean(axis=1)
     assert forces.min() > 0 and np.ptp(k_hand) > 0.02
     got = _solve(jg.TorsionalPlanetary(), st, meshes, x, errors)
     np.testing.assert_allclose(got.sun_mesh_forces, forces, rtol=1e-6)
