@@ -99,9 +99,24 @@ def body_outputs(out_dir, scene, bodies, res, k: int, names=None):
     return vtu, stress, stress_files
 
 
+#: positions whose largest line load is within this relative distance of the largest count as
+#: tied: a load plateau (one tooth pair carrying the whole load) repeats the same peak over many
+#: positions to round-off, and np.argmax's pick among them moved with BLAS threading
+PEAK_RTOL = 1e-9
+
+
+def first_peak(peak) -> int:
+    """The first index of ``peak`` (1-D) within :data:`PEAK_RTOL` of its largest value: the
+    position a body's deformation and stresses are reported at, the same whatever round-off
+    decides among a plateau's equal peaks."""
+    peak = np.asarray(peak)
+    top = peak.max()
+    return int(np.flatnonzero(peak >= top - PEAK_RTOL * abs(top))[0])
+
+
 def peak_position(res) -> int:
-    """The position index of a one-mesh result's largest line load."""
-    return int(np.argmax(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1)))
+    """The position index of a one-mesh result's largest line load (:func:`first_peak`)."""
+    return first_peak(np.asarray(res.line_load).reshape(res.line_load.shape[0], -1).max(axis=1))
 
 
 def write_contact_vtu(out_dir, scene, res, pressure, k: int) -> list[str]:

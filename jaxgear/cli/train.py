@@ -15,7 +15,7 @@ from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
-from .scene import body_outputs
+from .scene import body_outputs, first_peak
 
 __all__ = ["format_train_table", "run_train"]
 
@@ -243,7 +243,7 @@ def run_train(
             [np.asarray(m.line_load).reshape(theta.size, -1).max(axis=1) for m in qs.meshes], 0
         )
         names_of = {g: n for g, n in enumerate(case.gear_names)}
-        k = int(np.argmax(peak))
+        k = first_peak(peak)  # the first of a plateau's equal peaks, not round-off's pick
         # with the rim and web stresses there, as a pair's hybrid scene reports them
         summary["body_vtu"], summary["body_stress"], summary["body_stress_vtu"] = body_outputs(
             out_dir, scene, bodies, qs, k, names_of
