@@ -23,13 +23,18 @@ TORQUE = 1000.0
 N_POS = 60  # every solve below has this many positions: one compiled program for the file
 
 
-@pytest.fixture(scope="module")
-def seq():
+def seq_stage():
+    """The SEQ stage's (geometry, three-planet stage, uniform contact meshes, tooth bookkeeping)."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
     contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     teeth = jg.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
     return geo, st, contact, teeth
+
+
+@pytest.fixture(scope="module")
+def seq():
+    return seq_stage()
 
 
 def _inv(a):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from _planetary_stage import K0, SEQ, geometry, stage
+from _planetary_stage import SEQ, geometry
 from test_planetary_hunting import (
     N_POS,
     TORQUE,
@@ -27,6 +27,7 @@ from test_planetary_hunting import (
     _one_tooth,
     assert_spring_model,
     drawn_sun_ring_travel,
+    seq_stage,
 )
 
 jax.config.update("jax_enable_x64", True)
@@ -36,11 +37,7 @@ F = 4e-6  # m: the tooth's deviation
 
 @pytest.fixture(scope="module")
 def seq():
-    geo = geometry(**SEQ)
-    st = stage(geo, 3)
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
-    teeth = jg.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
-    return geo, st, contact, teeth
+    return seq_stage()
 
 
 @pytest.fixture(scope="module")

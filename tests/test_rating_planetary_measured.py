@@ -26,6 +26,20 @@ def _case(tmp_path, rating_extra=""):
     return jio.load_case(str(path))
 
 
+def iso_and_measured(case, tmp_path, factor: str, **measured):
+    """The rating of ``case`` (its ``use_measured`` naming ``factor``, K_γ 1.1) without the
+    measurement (ISO's factor, with the one-line warning naming it) and with ``measured`` (the
+    run's measurement, no warning): (ISO's section, the measured one, its rating.md)."""
+    from jaxgear.cli.planetary import rating_section
+
+    with pytest.warns(CaseWarning, match=rf"use_measured: {factor} not measured"):
+        iso = rating_section(case, str(tmp_path), 1.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CaseWarning)
+        sec = rating_section(case, str(tmp_path), 1.1, **measured)
+    return iso, sec, (tmp_path / "rating.md").read_text()
+
+
 def test_the_rating_reports_each_meshs_largest_face_load_k_hbeta_not_used(tmp_path):
     """With the run's face_load, each rated mesh carries measured.K_Hbeta = the largest of the
     planets' values of its kind (sun/planet: the first n, planet/ring: the last n), its source
@@ -59,15 +73,8 @@ def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
     other factors unchanged), K_γ still in the load (K_A as given), the factor's source and
     rating.md's row saying it was used. Without a face_load (a spur run) it stays ISO's, with a
     one-line warning naming the factor."""
-    from jaxgear.cli.planetary import rating_section
-
     case = _case(tmp_path, 'use_measured = ["K_Hbeta"]\n')
-    with pytest.warns(CaseWarning, match=r"use_measured: K_Hbeta not measured"):
-        iso = rating_section(case, str(tmp_path), 1.1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", CaseWarning)
-        sec = rating_section(case, str(tmp_path), 1.1, face_load=FACE_LOAD)
-    md = (tmp_path / "rating.md").read_text()
+    iso, sec, md = iso_and_measured(case, tmp_path, "K_Hbeta", face_load=FACE_LOAD)
     k_iso = np.asarray(iso["factors"]["K_Hbeta"]["value"])
     assert sec["factors"]["K_Hbeta"]["value"] == pytest.approx([1.34, 1.18], rel=1e-6)
     assert all(s.startswith("measured (rating.measured, [rating] use_measured")

@@ -4,13 +4,11 @@ linearly as a pair's (jaxgear.cli.measured_dynamic_factor), each planet's mesh o
 share of the mean path load, the largest over the planets; reported per rated mesh beside ISO's
 K_v and rated with in its place only where `[rating] use_measured` names it."""
 
-import warnings
-
 import numpy as np
 import pytest
 
 import jaxgear.io as jio
-from jaxgear.io import CaseWarning
+from test_rating_planetary_measured import _case, iso_and_measured
 
 #: a three-planet sweep as sweep.json writes it: 4 input speeds, per speed the 3 sun/planet
 #: meshes then the 3 ring/planet meshes (values chosen so that the largest planet differs
@@ -77,14 +75,6 @@ def test_unequal_sharing_divides_each_planet_by_its_static_share():
     assert "spatial load sharing" in k[0]["source"]
 
 
-def _case(tmp_path, rating_extra=""):
-    """The embedded nrel-5mw-planetary with ``rating_extra`` in its [rating] table."""
-    text = jio.embedded_case_text("nrel-5mw-planetary")
-    path = tmp_path / "stage1.toml"
-    path.write_text(text.replace("\n[rating]", "\n[rating]\n" + rating_extra, 1))
-    return jio.load_case(str(path))
-
-
 def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
     """Reported beside ISO's (not used) by default; `use_measured = ["K_v"]` (the other load
     factors given, so that only K_v moves): σ_F ∝ K_v and σ_H ∝ √K_v against the ISO rating
@@ -98,12 +88,7 @@ def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
     assert plain["measured"]["K_v"]["value"] == [1.31, 1.17]
     assert (tmp_path / "rating.md").read_text().count("| K_v measured | ") == 2
     case = _case(tmp_path, given + 'use_measured = ["K_v"]\n')
-    with pytest.warns(CaseWarning, match=r"use_measured: K_v not measured"):
-        iso = rating_section(case, str(tmp_path), 1.1)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", CaseWarning)
-        sec = rating_section(case, str(tmp_path), 1.1, k_v=k_v)
-    md = (tmp_path / "rating.md").read_text()
+    iso, sec, md = iso_and_measured(case, tmp_path, "K_v", k_v=k_v)
     ratio = np.array([1.31, 1.17]) / np.asarray(iso["factors"]["K_v"]["value"])
     assert sec["factors"]["K_v"]["value"] == pytest.approx([1.31, 1.17], abs=1e-12)
     np.testing.assert_allclose(np.asarray(sec["bending"]["sigma_F_Pa"]),
