@@ -42,6 +42,7 @@ from ._rating_report import (
     write_rating_md,
 )
 from ._stress_outputs import active_radii, fillet_table
+from .scene import first_peak
 
 __all__ = [
     "FACE_LOAD_SOURCE",
@@ -225,9 +226,9 @@ class StageLoads(NamedTuple):
 
     def most_loaded(self, k: int) -> int:
         """The planet (0-based) whose mesh of kind ``k`` carries the largest mean force, the
-        first of those within 1e-9 of it (equal sharing: planet 1, not round-off's pick)."""
-        f = np.asarray(self.forces[k])
-        return int(np.argmax(f >= f.max() * (1 - 1e-9)))
+        first of those within 1e-9 of it (equal sharing: planet 1, not round-off's pick:
+        :func:`jaxgear.cli.scene.first_peak`)."""
+        return first_peak(self.forces[k])
 
 
 def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None:
@@ -549,8 +550,7 @@ class StageAtSpeed(NamedTuple):
     def most_loaded(self, k: int) -> int:
         """The planet (0-based) whose mesh of kind ``k`` carries the largest force at speed, the
         first of those within 1e-9 of it (as :meth:`StageLoads.most_loaded`)."""
-        f = np.asarray(self.peak_forces[k])
-        return int(np.argmax(f >= f.max() * (1 - 1e-9)))
+        return first_peak(self.peak_forces[k])
 
 
 def stage_at_speed(case, spec, stage, models: dict, dynamics, meshes, words: dict,
