@@ -25,15 +25,15 @@ from ._planetary_rating import (
     rating_at_speed,
     stage_at_speed,
 )
+from ._planetary_steps import speed_run
 from ._stress_outputs import fillet_table
 from .planetary import sharing_models
-from ._planetary_steps import speed_run
 from .planetary_sweep import (
     MODEL_WORDS,
     _dynamic_setup,
+    _plan,
     planetary_run,
     planetary_run_files,
-    sweep_time_plan,
 )
 
 __all__ = [
@@ -56,13 +56,14 @@ def run_at_speed(form, case, speed: float, steps_per_period: int | None = None,
     (:func:`jaxgear.cli.planetary_sweep.sweep_summary`'s: ``slices`` None: 1 for spur gears,
     else the case's) and the sweep's run at that speed (the options given, None: the sweep's
     rule, :func:`jaxgear.cli.planetary_sweep.sweep_time_plan`) with ``cell_loads=True``, at
-    the carrier speed and mesh speed of ``speed`` (Willis), then :func:`stage_at_speed` (the quasi-static solve beside it
-    with the same ring: a flexible ring's static condensed ring)."""
+    the carrier speed and mesh speed of ``speed`` (Willis), then :func:`stage_at_speed` (the
+    quasi-static solve beside it with the same ring: a flexible ring's static condensed
+    ring)."""
     spec, stage, meshes, model = _dynamic_setup(form, case, slices)
     ring = spec.ring_model.dynamic_ring()
     base = planetary_run(form, case, steps_per_period, periods, keep_periods)
-    plan = sweep_time_plan(form, case, [speed], steps_per_period=steps_per_period,
-                           periods=periods, keep_periods=keep_periods, slices=slices)
+    plan = _plan(spec, stage, meshes, model, base, np.array([float(speed)]),
+                 (steps_per_period, periods, keep_periods))
     run = dataclasses.replace(speed_run(base, plan, 0), cell_loads=True)
     carrier = speed * spec.speeds(1.0)["carrier"]
     dyn = planetary_dynamics(model, stage, meshes, run, np.asarray(carrier),
