@@ -29,7 +29,7 @@ import jaxgear.io as jio
 from jaxgear.cli import planetary_sweep as ps
 
 
-def _reference_plan(case, speeds):
+def reference_plan(case, speeds):
     """(N_s (s,), periods (s,), f_max, f_min, every frequency) of lin-parker-1999 (constant mesh
     springs: the mesh-averaged stiffness is the springs') written here: the planar modes of the
     stage the sweep integrates (ring and carrier held, the sun free), the mesh's strain-energy
@@ -70,7 +70,7 @@ def test_the_default_step_and_span_follow_the_stage_modes():
     are used at every speed."""
     case = jio.load_case("lin-parker-1999")
     speeds = np.array([30.0, 100.0, 300.0])
-    steps, periods, f_max, f_min, f = _reference_plan(case, speeds)
+    steps, periods, f_max, f_min, f = reference_plan(case, speeds)
     plan = ps.sweep_time_plan(case.form, case, speeds)
     assert plan.f_max_Hz == pytest.approx(f_max, rel=1e-9)
     assert plan.f_min_Hz == pytest.approx(f_min, rel=1e-9)

@@ -20,7 +20,7 @@ import pytest
 import jaxgear.io as jio
 from jaxgear.cli import planetary_sweep as ps
 from jaxgear.cli.planetary import measured_k_v
-from test_planetary_step_plan import _reference_plan
+from test_planetary_step_plan import reference_plan
 
 RUN = {"periods": 2, "keep_periods": 1}
 
@@ -33,7 +33,7 @@ def lumped():
     (z_s + z_r) (Willis, ring fixed), written here."""
     data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
     case = jio.parse_train(data)
-    f_max = _reference_plan(case, [1.0])[2]
+    f_max = reference_plan(case, [1.0])[2]
     z_s, z_r = 28, 92
     per = z_s * (1.0 - z_s / (z_s + z_r)) / (2 * math.pi)
     return case, f_max, per

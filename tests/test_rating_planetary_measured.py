@@ -17,7 +17,7 @@ from jaxgear.io import CaseWarning
 FACE_LOAD = {"k_h_beta": [1.21, 1.34, 1.27, 1.12, 1.05, 1.18]}
 
 
-def _case(tmp_path, rating_extra=""):
+def rated_case(tmp_path, rating_extra=""):
     """The embedded nrel-5mw-planetary (spur, ISO's K_Hbeta), ``rating_extra`` added to its
     [rating] table."""
     text = jio.embedded_case_text("nrel-5mw-planetary")
@@ -48,7 +48,7 @@ def test_the_rating_reports_each_meshs_largest_face_load_k_hbeta_not_used(tmp_pa
     it). No face_load, or a skipped one: no measured entry, no row."""
     from jaxgear.cli.planetary import rating_section
 
-    case = _case(tmp_path)
+    case = rated_case(tmp_path)
     bare = rating_section(case, str(tmp_path), 1.1)
     md_bare = (tmp_path / "rating.md").read_text()
     sec = rating_section(case, str(tmp_path), 1.1, face_load=FACE_LOAD)
@@ -73,7 +73,7 @@ def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
     other factors unchanged), K_γ still in the load (K_A as given), the factor's source and
     rating.md's row saying it was used. Without a face_load (a spur run) it stays ISO's, with a
     one-line warning naming the factor."""
-    case = _case(tmp_path, 'use_measured = ["K_Hbeta"]\n')
+    case = rated_case(tmp_path, 'use_measured = ["K_Hbeta"]\n')
     iso, sec, md = iso_and_measured(case, tmp_path, "K_Hbeta", face_load=FACE_LOAD)
     k_iso = np.asarray(iso["factors"]["K_Hbeta"]["value"])
     assert sec["factors"]["K_Hbeta"]["value"] == pytest.approx([1.34, 1.18], rel=1e-6)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import jaxgear.io as jio
-from test_rating_planetary_measured import _case, iso_and_measured
+from test_rating_planetary_measured import iso_and_measured, rated_case
 
 #: a three-planet sweep as sweep.json writes it: 4 input speeds, per speed the 3 sun/planet
 #: meshes then the 3 ring/planet meshes (values chosen so that the largest planet differs
@@ -84,10 +84,10 @@ def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
 
     k_v = [{"value": 1.31, "source": "stub"}, {"value": 1.17, "source": "stub"}]
     given = 'K_Hbeta = 1.15\nK_Fbeta = 1.12\nK_Halpha = 1.0\nK_Falpha = 1.0\n'  # within ISO's limits
-    plain = rating_section(_case(tmp_path, given), str(tmp_path), 1.1, k_v=k_v)
+    plain = rating_section(rated_case(tmp_path, given), str(tmp_path), 1.1, k_v=k_v)
     assert plain["measured"]["K_v"]["value"] == [1.31, 1.17]
     assert (tmp_path / "rating.md").read_text().count("| K_v measured | ") == 2
-    case = _case(tmp_path, given + 'use_measured = ["K_v"]\n')
+    case = rated_case(tmp_path, given + 'use_measured = ["K_v"]\n')
     iso, sec, md = iso_and_measured(case, tmp_path, "K_v", k_v=k_v)
     ratio = np.array([1.31, 1.17]) / np.asarray(iso["factors"]["K_v"]["value"])
     assert sec["factors"]["K_v"]["value"] == pytest.approx([1.31, 1.17], abs=1e-12)
