@@ -20,9 +20,9 @@ __all__ = [
     "atomic_write",
     "check_output_dir",
     "check_output_file",
-    "fem_prep_cache_dir",
     "embedded_names",
     "embedded_text",
+    "fem_prep_cache_dir",
     "print_or_write",
     "record_outputs",
     "recorded_outputs",
@@ -59,13 +59,40 @@ def recorded_outputs(folder) -> list[str]:
     return [line for line in text.splitlines() if line and not line.startswith("#")]
 
 
+def _recording_folder(path) -> str | None:
+    """The innermost recording folder (:func:`record_outputs`) that holds ``path``, if any."""
+    target = os.path.abspath(path)
+    holders = [f for f in _RECORDING if target.startswith(f.rstrip(os.sep) + os.sep)]
+    return max(holders, key=len) if holders else None
+
+
+def _check_inside(path) -> None:
+    """Refuse to write ``path`` when it lies in a recording folder (an output folder,
+    :func:`record_outputs`) but its own folder leads out of it through a symbolic link
+    (``out/sweep -> ../elsewhere``): a command writes only inside its output folder.
+
+    Raises:
+        ValueError: one line naming the path, the link's target and the output folder.
+    """
+    folder = _recording_folder(path)
+    if folder is None:
+        return
+    root = os.path.realpath(folder)
+    where = os.path.dirname(os.path.abspath(path))
+    real = os.path.realpath(where)
+    if real != root and not real.startswith(root.rstrip(os.sep) + os.sep):
+        raise ValueError(
+            f"{path}: {where} leads to {real}, outside the output folder {folder}, through a "
+            "symbolic link (a command writes only inside its output folder): remove the link"
+        )
+
+
 def _record(path: Path) -> None:
     """List a written file in the manifest of the innermost recording folder that holds it."""
     target = os.path.abspath(path)
-    holders = [f for f in _RECORDING if target.startswith(f.rstrip(os.sep) + os.sep)]
-    if not holders:
+    folder = _recording_folder(target)
+    if folder is None:
         return
-    folder = max(holders, key=len)
     rel = os.path.relpath(target, folder)
     if rel in recorded_outputs(folder):
         return
@@ -81,6 +108,7 @@ def _record(path: Path) -> None:
 @contextlib.contextmanager
 def _atomic_path(path) -> Iterator[Path]:
     path = Path(os.fspath(path))
+    _check_inside(path)  # before anything is made through a link out of an output folder
     directory = path.absolute().parent
     directory.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".tmp-{path.name}-", suffix=".tmp", dir=directory)

@@ -7,6 +7,7 @@ and file checks are fem_prep's (:mod:`fem_prep.schema`), shared with ``fem-prep`
 from __future__ import annotations
 
 import contextlib
+import glob
 import os
 import re
 import shutil
@@ -19,6 +20,7 @@ __all__ = [
     "OUTPUT_FILES",
     "PLANETARY_FILES",
     "TRAIN_FILES",
+    "check_no_link_out",
     "check_output_dir",
     "check_output_file",
     "clear_outputs",
@@ -130,18 +132,22 @@ def _inside(folder: str, name: str) -> str | None:
     return path
 
 
-def _remove_outputs(folder, patterns, keep=()) -> list[str]:
-    """Delete the files the manifest of ``folder`` lists under one of ``patterns`` (but the
-    names in ``keep``), and their leftover temporary files; returns the paths removed."""
-    removed = []
+def _listed_outputs(folder, patterns, keep=()) -> list[str]:
+    """The names the manifest of ``folder`` lists under one of ``patterns`` (but those in
+    ``keep``) whose file (or link) lies inside the folder (:func:`_inside`)."""
     listed = set(sc.recorded_outputs(folder)) - set(keep)
+    names = []
     for pattern in patterns:
         for name in sorted(n for n in listed if _matches(n, pattern)):
             p = _inside(folder, name)
-            if p is not None and (os.path.isfile(p) or os.path.islink(p)):
-                with contextlib.suppress(FileNotFoundError):
-                    os.unlink(p)
-                    removed.append(p)
+            if p is not None and (os.path.isfile(p) or os.path.islink(p)) and name not in names:
+                names.append(name)
+    return names
+
+
+def _remove_temporary(folder, patterns) -> None:
+    """Delete the leftover temporary files (``.tmp-<name>-*.tmp``) of ``patterns`` in ``folder``."""
+    for pattern in patterns:
         sub, base = os.path.split(pattern)
         d = os.path.join(folder, sub)
         if os.path.isdir(d) and _inside(folder, os.path.join(sub, "x")) is not None:
@@ -149,18 +155,83 @@ def _remove_outputs(folder, patterns, keep=()) -> list[str]:
                 if _matches(other, f".tmp-{base}-*.tmp"):
                     with contextlib.suppress(OSError):
                         os.unlink(os.path.join(d, other))
+
+
+def _remove_outputs(folder, patterns, keep=()) -> list[str]:
+    """Delete the files the manifest of ``folder`` lists under one of ``patterns`` (but the
+    names in ``keep``), and their leftover temporary files; returns the paths removed."""
+    removed = []
+    for name in _listed_outputs(folder, patterns, keep):
+        p = os.path.join(folder, name)
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(p)
+            removed.append(p)
+    _remove_temporary(folder, patterns)
     return removed
+
+
+#: subfolders a command writes besides those its output names hold (:func:`subfolders`): a
+#: gearbox's stages, ``stage<k>/`` (:meth:`jaxgear.io.GearboxForm.stage_name`), each with a
+#: run's own subfolders
+EXTRA_SUBFOLDERS: dict[str, tuple[str, ...]] = {"run": ("stage*",)}
+
+
+def subfolders(command: str) -> list[str]:
+    """The subfolders (relative, "/"-separated, ``*`` within one name) that ``command`` may
+    write into: those of its output names (:data:`OUTPUT_FILES`), every level of them, and
+    :data:`EXTRA_SUBFOLDERS` with theirs under each."""
+    own = {os.path.dirname(p) for p in OUTPUT_FILES[command]} - {""}
+    extra = EXTRA_SUBFOLDERS.get(command, ())
+    subs = own | set(extra) | {f"{e}/{s}" for e in extra for s in own}
+    levels = set()
+    for sub in subs:
+        parts = sub.split("/")
+        levels |= {"/".join(parts[:i]) for i in range(1, len(parts) + 1)}
+    return sorted(levels)
+
+
+def _within(path: str, root: str) -> bool:
+    """Whether the resolved ``path`` is the resolved ``root`` or lies under it."""
+    return path == root or path.startswith(root.rstrip(os.sep) + os.sep)
+
+
+def check_no_link_out(folder, command: str, option: str = "--out") -> None:
+    """Refuse an output folder in which a subfolder that ``command`` writes (:func:`subfolders`:
+    ``sweep/``, ``optimise/``, ``scene/``, ``vtu/``, a gearbox's ``stage<k>/``, ...) leads out
+    of it through a symbolic link (``out/sweep -> ../elsewhere``): jaxgear writes and deletes
+    only inside the output folder, never through a link out of it, so that the files behind
+    the link stay the user's. Checked before any work (:func:`staged_outputs`,
+    :func:`clear_outputs`); a link that stays inside the folder is followed; the output folder
+    itself may be a link (the user named it).
+
+    Raises:
+        ValueError: one line ``{option} FOLDER: PATH is a symbolic link to TARGET, outside
+            the output folder ...``.
+    """
+    folder = os.fspath(folder)
+    root = os.path.realpath(folder)
+    for sub in subfolders(command):
+        for path in sorted(glob.glob(os.path.join(glob.escape(folder), *sub.split("/")))):
+            real = os.path.realpath(path)
+            if not _within(real, root):
+                raise ValueError(
+                    f"{option} {folder}: {path} is a symbolic link to {real}, outside the output "
+                    "folder (jaxgear writes only inside it, never through a link): remove the "
+                    f"link or choose another {option}"
+                )
 
 
 def clear_outputs(folder, command: str) -> list[str]:
     """Delete the files that an earlier run wrote into ``folder`` and start recording this run's.
 
-    Only files that the folder's manifest (``.jaxgear-outputs``, written as the files are
-    written: :func:`fem_prep.schema.record_outputs`) lists AND that bear one of ``command``'s
-    output names (:func:`_matches`) AND that lie inside the folder (no link out of it followed)
-    are deleted, with their leftover temporary files: a user's own files in the folder stay,
-    even those with an output name (a run overwrites those it writes itself). Returns the paths
-    removed."""
+    Refuses first (:func:`check_no_link_out`) a folder whose subfolders that ``command`` writes
+    lead out of it through a link. Only files that the folder's manifest (``.jaxgear-outputs``,
+    written as the files are written: :func:`fem_prep.schema.record_outputs`) lists AND that
+    bear one of ``command``'s output names (:func:`_matches`) AND that lie inside the folder
+    (no link out of it followed) are deleted, with their leftover temporary files: a user's own
+    files in the folder stay, even those with an output name (a run overwrites those it writes
+    itself). Returns the paths removed."""
+    check_no_link_out(folder, command)
     removed = _remove_outputs(folder, OUTPUT_FILES[command])
     with contextlib.suppress(FileNotFoundError):  # this run starts a new list
         os.unlink(os.path.join(folder, sc.OUTPUT_MANIFEST))
@@ -169,6 +240,12 @@ def clear_outputs(folder, command: str) -> list[str]:
 
 
 STAGING_PREFIX = ".jaxgear-staging-"
+#: the hidden folder, inside the output folder, that holds an earlier run's files while a
+#: ``--keep-partial`` run writes in place (:func:`staged_outputs`)
+EARLIER_PREFIX = ".jaxgear-earlier-"
+#: the failures of a run that are a refusal of its input (the CLI's one line and exit status 2,
+#: :mod:`jaxgear.cli._main`): a ``--keep-partial`` run refused so gives the earlier results back
+REFUSALS = (ValueError, TypeError)
 
 
 @contextlib.contextmanager
@@ -177,13 +254,23 @@ def staged_outputs(folder, command: str, *, keep_partial: bool = False):
     moved in place only when the block ends without an error (the earlier run's files of
     ``command`` then deleted, :func:`clear_outputs`' rules); a failed or interrupted run
     leaves the earlier results as they were and no file of its own (``folder`` removed again
-    when this made it and it is empty). With ``keep_partial``, ``folder`` itself: its earlier
-    files are deleted first and a failed run leaves what it wrote (``jaxgear run
-    --keep-partial``: with its incomplete ``summary.json``)."""
+    when this made it and it is empty).
+
+    With ``keep_partial``, ``folder`` itself (``jaxgear run --keep-partial``): the earlier
+    files are set aside (a hidden folder inside ``folder``) and the run writes in place; a run
+    that completes, or fails otherwise than by a refusal of its input (an interruption, a
+    solver's failure, a full disk), leaves what it wrote (with its incomplete ``summary.json``)
+    and the earlier files are deleted; a run refused for its input (:data:`REFUSALS`, whenever
+    the refusal comes) gets the earlier files back as they were, byte for byte, and leaves none
+    of its own.
+
+    Either way, a folder whose subfolders that ``command`` writes lead out of it through a
+    symbolic link is refused before anything is written (:func:`check_no_link_out`).
+    """
     folder = os.fspath(folder)
+    check_no_link_out(folder, command)
     if keep_partial:
-        clear_outputs(folder, command)
-        yield folder
+        yield from _in_place(folder, command)
         return
     made = not os.path.isdir(folder)
     os.makedirs(folder, exist_ok=True)
@@ -199,10 +286,73 @@ def staged_outputs(folder, command: str, *, keep_partial: bool = False):
                 os.rmdir(folder)  # only when empty: the run failed before any file
 
 
+def _in_place(folder: str, command: str):
+    """:func:`staged_outputs` with ``keep_partial`` (a generator: its body)."""
+    aside = _set_aside(folder, command)
+    sc.record_outputs(folder)
+    try:
+        yield folder
+    except REFUSALS:
+        _remove_own(folder)
+        if aside is not None:
+            _move_tree(aside, folder)
+        raise
+    finally:
+        if aside is not None:
+            shutil.rmtree(aside, ignore_errors=True)
+
+
+def _remove_own(folder: str) -> None:
+    """Delete every file that this run's manifest of ``folder`` lists (inside the folder), and
+    the manifest."""
+    for name in sc.recorded_outputs(folder):
+        parts = name.split("/")
+        if any(part in ("", ".", "..") for part in parts) or "\0" in name:
+            continue
+        p = _inside(folder, name)
+        if p is not None and (os.path.isfile(p) or os.path.islink(p)):
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(p)
+    with contextlib.suppress(FileNotFoundError):
+        os.unlink(os.path.join(folder, sc.OUTPUT_MANIFEST))
+
+
+def _set_aside(folder: str, command: str) -> str | None:
+    """Move the earlier run's files of ``command`` in ``folder`` (:func:`clear_outputs`' rules)
+    and its manifest into a new hidden folder inside it; returns that folder (None when there
+    was nothing to move). Their leftover temporary files are deleted."""
+    names = _listed_outputs(folder, OUTPUT_FILES[command])
+    manifest = os.path.join(folder, sc.OUTPUT_MANIFEST)
+    _remove_temporary(folder, OUTPUT_FILES[command])
+    if not names and not os.path.lexists(manifest):
+        return None
+    aside = tempfile.mkdtemp(prefix=EARLIER_PREFIX, dir=folder)
+    for name in [*names, sc.OUTPUT_MANIFEST]:
+        src = os.path.join(folder, name)
+        if os.path.lexists(src):
+            dest = os.path.join(aside, name)
+            os.makedirs(os.path.dirname(dest), exist_ok=True)
+            os.replace(src, dest)
+    return aside
+
+
+def _move_tree(src: str, folder: str) -> None:
+    """Move every file under ``src`` to the same relative path in ``folder``."""
+    for root, dirs, files in os.walk(src):
+        dirs.sort()
+        for f in files:
+            rel = os.path.relpath(os.path.join(root, f), src)
+            dest = os.path.join(folder, rel)
+            os.makedirs(os.path.dirname(dest), exist_ok=True)
+            os.replace(os.path.join(root, f), dest)
+
+
 def _commit(work: str, folder: str, command: str) -> None:
     """Move the files of the staging folder ``work`` into ``folder``, delete the earlier run's
     files of ``command`` that this run did not write again, and list this run's files in the
-    folder's manifest."""
+    folder's manifest. A file whose place in ``folder`` leads out of it through a symbolic
+    link (one made while the run ran: :func:`check_no_link_out` refused those before) is
+    refused before any file moves."""
     new = []
     for root, dirs, files in os.walk(work):
         dirs.sort()
@@ -210,6 +360,13 @@ def _commit(work: str, folder: str, command: str) -> None:
             if f == sc.OUTPUT_MANIFEST or f.startswith(".tmp-"):
                 continue
             new.append(os.path.relpath(os.path.join(root, f), work).replace(os.sep, "/"))
+    for name in new:
+        if _inside(folder, name) is None:
+            where = os.path.dirname(os.path.join(folder, name))
+            raise ValueError(
+                f"--out {folder}: {where} leads to {os.path.realpath(where)}, outside the output "
+                "folder, through a symbolic link (jaxgear writes only inside it): remove the link"
+            )
     manifest = os.path.join(folder, sc.OUTPUT_MANIFEST)
     old = sc.recorded_outputs(folder)
     # while the files move, the manifest lists both runs' (an interruption leaves none unlisted)

@@ -421,7 +421,10 @@ def _planetary_case(data: dict, name: str) -> Case:
         "poisson_ratio": nu,
         "density": rho,
         "torque": sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+12]"),
-        "speed": sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]"),
+        # required and > 0: a stage's run sweeps the speeds around it (its dynamic factor and
+        # measured K_v), the mesh frequency and the rating are at it
+        "speed": sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]",
+                           note=" (a planetary stage's run sweeps around it)"),
         "raw": data,
         "gear_modifications": (
             _modifications(data.get("modifications", {}), names, modules) if names else ()
