@@ -258,6 +258,30 @@ def pytest_collection_modifyitems(config, items):
     items.sort(key=key)
 
 
+def _say_collected(config, n: int) -> None:
+    """Print ``collected N tests`` (the tests that will run, after ``-m``'s deselection) on a
+    line of its own before the first result, also under ``-q`` and xdist (the README's test
+    command: its count up front)."""
+    reporter = config.pluginmanager.get_plugin("terminalreporter")
+    if reporter is not None and not getattr(config, "_said_collected", False):
+        config._said_collected = True
+        reporter.ensure_newline()
+        reporter.write_line(f"collected {n} tests")
+
+
+def pytest_collection_finish(session):
+    """Without xdist (or in its workers, which print nothing): :func:`_say_collected`."""
+    if not getattr(session.config, "workerinput", None):
+        _say_collected(session.config, len(session.items))
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_node_collection_finished(node, ids):
+    """xdist's controller, when the first worker has collected (every worker collects the same
+    tests): :func:`_say_collected`."""
+    _say_collected(node.config, len(ids))
+
+
 _last_family = [None]
 
 # The process's memory maps above which a new family releases the compiled programs (the

@@ -12,6 +12,9 @@ import csv
 import math
 import pathlib
 import re
+import shlex
+import subprocess
+import sys
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -232,6 +235,31 @@ def test_license_and_thesis_citation():
         "thin-rimmed/-webbed gears*, PhD thesis, INSA Lyon, 2017" in flat
     )
     assert "the seed" not in flat.lower() and "FEM_PREP_CACHE" in flat
+
+
+def test_readme_test_command_is_ci_and_prints_its_count_first(tmp_path):
+    """README: "CI runs exactly this, `.ci/run`" and "It prints `collected N tests` first": the
+    README's test command is .ci/run's line; run on one test (a subprocess, the command's own
+    options: -q and two xdist workers), the count is printed before the first result."""
+    readme = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    command = readme[4]
+    assert command.startswith('pip install -e ".[test]" && python -m pytest ')
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8").splitlines()
+    assert command in ci
+    pytest_part = shlex.split(command.split(" && ", 1)[1])
+    assert pytest_part[:3] == ["python", "-m", "pytest"]
+    node = "tests/test_structure_counts.py::test_counts_each_kind_of_place_and_leaves_out_checks"
+    args = pytest_part[3:]
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", *args, "-p", "no:cacheprovider", "--basetemp",
+         str(tmp_path / "base"), node],
+        cwd=ROOT, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+    lines = done.stdout.splitlines()
+    assert "collected 1 tests" in lines, done.stdout
+    first_result = next(i for i, line in enumerate(lines) if line.startswith("."))
+    assert lines.index("collected 1 tests") < first_result
 
 
 def test_moved_claims_are_still_stated():

@@ -126,8 +126,9 @@ def _add_run(sub) -> None:
         "--keep-partial",
         action="store_true",
         help="write into the output folder as the run goes and keep what a failed or "
-        "interrupted run wrote, summary.json saying \"complete\": false (default: the files "
-        "appear when the run completes; a failed run leaves the earlier results)",
+        "interrupted run wrote, summary.json saying \"complete\": false (a run refused for "
+        "its input still leaves the earlier results; default: the files appear when the run "
+        "completes; a failed run leaves the earlier results)",
     )
 
 

@@ -113,11 +113,17 @@ def _matches(name: str, pattern: str) -> bool:
     parts, a ``*`` matching any characters of one part but "/"; never a name with an empty,
     "." or ".." part or a leading "/" (a manifest is input: ``load_map_/../../x.png`` is no
     output name)."""
-    parts = name.split("/")
-    if any(part in ("", ".", "..") for part in parts) or "\0" in name:
+    if not _plain(name):
         return False
     rx = "[^/]*".join(re.escape(piece) for piece in pattern.split("*"))
     return re.fullmatch(rx, name) is not None
+
+
+def _plain(name: str) -> bool:
+    """Whether the manifest ``name`` is a plain relative path: no empty, "." or ".." part, no
+    leading "/", no NUL (a manifest is input)."""
+    parts = name.split("/")
+    return not (any(part in ("", ".", "..") for part in parts) or "\0" in name)
 
 
 def _inside(folder: str, name: str) -> str | None:
@@ -305,10 +311,7 @@ def _in_place(folder: str, command: str):
 def _remove_own(folder: str) -> None:
     """Delete every file that this run's manifest of ``folder`` lists (inside the folder), and
     the manifest."""
-    for name in sc.recorded_outputs(folder):
-        parts = name.split("/")
-        if any(part in ("", ".", "..") for part in parts) or "\0" in name:
-            continue
+    for name in filter(_plain, sc.recorded_outputs(folder)):
         p = _inside(folder, name)
         if p is not None and (os.path.isfile(p) or os.path.islink(p)):
             with contextlib.suppress(FileNotFoundError):

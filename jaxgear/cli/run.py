@@ -374,7 +374,8 @@ def run_command(args) -> int:
     The files are written into a staging folder and moved into the output folder only when the
     run completes (:func:`~jaxgear.cli._paths.staged_outputs`): a failed or interrupted run
     leaves the earlier results; ``--keep-partial`` writes into the folder itself and leaves
-    what a failed run wrote, with ``summary.json`` saying ``"complete": false``."""
+    what a failed run wrote, with ``summary.json`` saying ``"complete": false`` (but a run
+    refused for its input, whose earlier results come back as they were)."""
     case = case_io.load_case(args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
     settings = optimise_settings(case)  # checked before anything is computed
