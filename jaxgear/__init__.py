@@ -11,6 +11,11 @@ Float64 is not switched on here: the CLI, the tests and the examples do it
 from importlib.metadata import PackageNotFoundError, version as _version
 
 from ._baseplane import CellRow as CellRow, Cells as Cells, MeshModel as MeshModel
+from ._cell_factor import (
+    CellFactor as CellFactor,
+    line_factors as line_factors,
+    solve_factored_cells as solve_factored_cells,
+)
 from ._compiled import (
     CompiledQuasiStatic as CompiledQuasiStatic,
     compile_quasi_static as compile_quasi_static,

@@ -34,7 +34,7 @@ import jax.numpy as jnp
 from ._contact import ContactSolution, ExactContact, _finish
 from ._util import only_where_needed
 
-__all__ = ["CellFactor", "solve_factored_cells"]
+__all__ = ["CellFactor", "line_factors", "solve_factored_cells"]
 
 _EXACT = ExactContact()  # the law _finish reads (φ = max(0, Δ))
 
@@ -241,8 +241,16 @@ def line_factors(B, E, kl, mask, lines):
     and on the padding), and YF (1 + G, c, r), R(S E) on the full set and with each line out.
 
     Args:
-        B: (c, c). E: (c, r). kl: k l (N/m), zero off the flanks (c,). mask: cells on the
-            flanks (c,). lines: each line's cells (G, g) (padding c).
+        B: (I + S_F C S_F)⁻¹ of the full contact set, (c, c) (dimensionless). E: the cells'
+            rigid-body approach per unit amplitude, (c, r). kl: k l (N/m), zero off the
+            flanks (c,). mask: cells on the flanks (c,), bool. lines: each line's cells (G, g)
+            (padding c).
+
+    Returns:
+        (K_line (G, c, g), YF (1 + G, c, r)): :class:`CellFactor`'s ``K_line`` and ``YF``.
+
+    No value checks (traced arrays, a scene's cached constants): a compliance C that is not
+    symmetric positive semidefinite gives NaN factors, not an error.
     """
     B, E, kl, mask, lines = (jnp.asarray(x) for x in (B, E, kl, mask, lines))
     c = B.shape[0]
@@ -300,6 +308,12 @@ def solve_factored_cells(
 
     Returns:
         (solution, P (N), α), as :func:`jaxgear.solve_contact_cells`.
+
+    Example:
+        ``line_factors`` once per position, then ``solve_factored_cells(CellFactor(B, C, E,
+        kl, mask, lines, *line_factors(B, E, kl, mask, lines)), a, b, k, 100)``; under
+        ``jax.vmap`` over gaps and loads, the factorisation runs only where a position needs
+        it (tests/test_cell_factor.py).
     """
     B, C, E, kl, mask = factor.B, factor.C, factor.E, factor.kl, factor.mask
     lines, K_line, YF = factor.lines, factor.K_line, factor.YF

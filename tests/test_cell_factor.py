@@ -1,5 +1,5 @@
-"""The exact cell-space contact solve on a factored full contact set (jaxgear._cell_factor)
-against the independent solve that factors every active-set pass
+"""The exact cell-space contact solve on a factored full contact set
+(:func:`jaxgear.solve_factored_cells`) against the independent solve that factors every active-set pass
 (:func:`jaxgear.solve_contact_cells`), on synthetic problems: every cell in contact, a few
 cells out (Schur complement on the dropped cells), most cells out (factorisation of the active
 ones), one whole contact line out (its cached inverse), with and without the lines cached;
@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-from jaxgear._cell_factor import CellFactor, line_factors, solve_factored_cells
-from jaxgear._util import only_where_needed
+from jaxgear import CellFactor, line_factors, solve_factored_cells
 
 C_CELLS = 14
 LINES = np.arange(C_CELLS).reshape(2, C_CELLS // 2)  # two contact lines of 7 cells
@@ -157,31 +156,40 @@ def test_vmapped_batch_factors_only_where_needed_and_equals_each_solve():
     np.testing.assert_allclose(np.asarray(batched), single, rtol=1e-10)
 
 
+# one compiled program for every batch below (the same shapes): the factored solve under vmap
+# over gaps, and the reference solve of each problem
+_C, _K, _LENGTH, _MASK, _E, _KL, _B = _problem(1, seed=7)
+_FACTOR = CellFactor(_B, _C, _E, _KL, _MASK, LINES, *line_factors(_B, _E, _KL, _MASK, LINES))
+_BATCHED = jax.jit(
+    jax.vmap(lambda a, b: solve_factored_cells(_FACTOR, a, b, _K, 100)[1:], (0, None))
+)
+_REFERENCE = jax.jit(lambda a, b: jg.solve_contact_cells(
+    jnp.asarray(_C), a, jnp.asarray(_E), b, jnp.asarray(_K), jnp.asarray(_LENGTH),
+    jnp.asarray(_MASK), jg.ExactContact(),
+)[1:])  # fmt: skip
+
+
 @pytest.mark.parametrize("n_need", [0, 3, 8, 13, 20])
-def test_only_where_needed_under_vmap_equals_the_select(n_need):
-    """The gathered evaluation under vmap (chunks of 8) gives fn where needed and the default
-    elsewhere, for none, some, one chunk exactly, two chunks and every position, also nested in
-    an outer vmap; unbatched it is the cond."""
-    # each output one correctly rounded operation (2x exact): equal bit for bit on any machine
-    g = only_where_needed(lambda x, y: (2.0 * x + y, x[0] * y))
+def test_factorisation_only_where_needed_under_vmap(n_need):
+    """A batch of 20 problems of which ``n_need`` need a factorisation (a few cells out of
+    contact: a Schur complement on them) and the others none (every cell in contact: products
+    only): none, some, one chunk of 8 exactly, two chunks and every position of the gathered
+    evaluation under vmap; each answer is its own reference solve's."""
     rng = np.random.default_rng(n_need)
     need = np.zeros(20, bool)
     need[rng.permutation(20)[:n_need]] = True
-    x = jnp.asarray(rng.normal(size=(20, 3)))
-    y = jnp.asarray(rng.normal(size=(20, 3)))
-    default = (jnp.full(3, -1.0), jnp.zeros(3))
-    out = jax.jit(jax.vmap(g, (0, None, 0, 0)))(jnp.asarray(need), default, x, y)
-    expect = (
-        np.where(need[:, None], 2.0 * x + y, -1.0),
-        np.where(need[:, None], np.asarray(x)[:, :1] * np.asarray(y), 0.0),
-    )
-    for o, e in zip(out, expect, strict=True):
-        np.testing.assert_array_equal(np.asarray(o), e)
-    outer = jax.vmap(jax.vmap(g, (0, None, 0, None)), (None, None, None, 0))
-    both = outer(jnp.asarray(need), default, x, y[:2, :])
-    for j in range(2):
-        one = jax.vmap(g, (0, None, 0, None))(jnp.asarray(need), default, x, y[j])
-        for o, e in zip(both, one, strict=True):
-            np.testing.assert_array_equal(np.asarray(o[j]), np.asarray(e))
-    single = g(jnp.asarray(need[0]), default, x[0], y[0])
-    np.testing.assert_array_equal(np.asarray(single[0]), expect[0][0])
+    z = np.linspace(0.0, 1.0, C_CELLS)
+    rows = [
+        5e-6 - (6e-6 + 0.3e-6 * i) * z**4 if need[i] else 5e-6 + (1e-8 + 1e-9 * i) * z
+        for i in range(20)
+    ]
+    A = jnp.asarray(np.stack(rows))
+    b = jnp.asarray([60.0])
+    p, al = _BATCHED(A, b)
+    for i, a in enumerate(A):
+        p_ref, al_ref = _REFERENCE(a, b)
+        in_contact = np.asarray(p_ref)[_MASK] > 0
+        assert bool(np.all(in_contact)) != bool(need[i])  # the kind of problem intended
+        scale = np.abs(np.asarray(p_ref)).max()
+        np.testing.assert_allclose(p[i], p_ref, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(al[i], al_ref, rtol=1e-12, atol=0)

@@ -249,12 +249,6 @@ PRIVATE_IN_TESTS = {
     # itself, its root angle and the member compliance are public: jaxgear.tooth_geometry,
     # sainsot_fit_check, member_compliance)
     ("test_tooth_form.py", "jaxgear._stiffness"),
-    # the factored cell-space solve of a cached hybrid scene on synthetic problems (every route:
-    # Schur on D, on A, a cached line) against solve_contact_cells, without an FE body
-    ("test_cell_factor.py", "jaxgear._cell_factor"),
-    # the gathered evaluation under vmap (the cached exact and smooth solves' later passes) on a
-    # toy function: none, some, one and two chunks, nested vmap
-    ("test_cell_factor.py", "jaxgear._util"),
 }
 
 
