@@ -313,7 +313,7 @@ def solve_factored_cells(
         ``line_factors`` once per position, then ``solve_factored_cells(CellFactor(B, C, E,
         kl, mask, lines, *line_factors(B, E, kl, mask, lines)), a, b, k, 100)``; under
         ``jax.vmap`` over gaps and loads, the factorisation runs only where a position needs
-        it (tests/test_cell_factor.py).
+        it.
     """
     B, C, E, kl, mask = factor.B, factor.C, factor.E, factor.kl, factor.mask
     lines, K_line, YF = factor.lines, factor.K_line, factor.YF

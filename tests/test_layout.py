@@ -244,12 +244,7 @@ def test_installed_modules_neither_name_benchmarks_nor_read_tests():
 PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
 # reached through): each a white-box check with no public way to the same assertion.
-PRIVATE_IN_TESTS = {
-    # the Weber model's fillet resolution and the old arc thickness patched in (the tooth form
-    # itself, its root angle and the member compliance are public: jaxgear.tooth_geometry,
-    # sainsot_fit_check, member_compliance)
-    ("test_tooth_form.py", "jaxgear._stiffness"),
-}
+PRIVATE_IN_TESTS: set[tuple[str, str]] = set()  # none since session 41
 
 
 def _private(dotted: str) -> bool:
