@@ -149,14 +149,36 @@ class GearAccuracy(eqx.Module):
         )
 
 
+#: the range of a given load factor (:class:`GivenFactors`): ISO 6336-1's load factors are
+#: >= 1 (each the ratio of a peak load to its mean); above 10 no gear is rated (the case file's
+#: ``[rating] K_v``... range, [1, 10])
+GIVEN_FACTOR_RANGE = (1.0, 10.0)
+
+
 class GivenFactors(eqx.Module):
-    """Load factors given by the user (``None``: computed by ISO 6336-1 method B)."""
+    """Load factors given by the user (``None``: computed by ISO 6336-1 method B). A given
+    K_Hβ carries to K_Fβ (K_Fβ = K_Hβ^N_F, ISO 6336-1 clause 7) and a given K_Hα to K_Fα
+    (K_Fα = K_Hα within K_Fα's upper limit, ISO 6336-1 8.3.4) unless those are given too.
+
+    Raises:
+        ValueError: a factor that is not a real number in [1, 10] (NaN and ±inf included), in
+            one line naming it and its value; a traced value (under ``jit``/``grad``) has its
+            shape checked only.
+    """
 
     K_v: float | None = None
     K_Hbeta: float | None = None
     K_Fbeta: float | None = None
     K_Halpha: float | None = None
     K_Falpha: float | None = None
+
+    def __check_init__(self):
+        lo, hi = GIVEN_FACTOR_RANGE
+        for name in ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha"):
+            value = getattr(self, name)
+            if value is not None:
+                check_real(name, value, "", lo=lo, hi=hi, shape=(), shape_text="a scalar",
+                           where="GivenFactors")
 
 
 class AbstractEdition(eqx.Module):
@@ -165,6 +187,11 @@ class AbstractEdition(eqx.Module):
     both). A kind, passed as an object (:attr:`RatingSettings.edition`)."""
 
     label: eqx.AbstractClassVar[str]
+    #: the factors whose formula in this edition no published worked example confirms (the
+    #: attribute names of :class:`jaxgear.PittingRating`, :class:`jaxgear.BendingRating` and
+    #: :class:`jaxgear.LoadFactors`; empty where every factor was checked against one):
+    #: :attr:`jaxgear.Rating.unconfirmed` carries them to the result and its report
+    unconfirmed: eqx.AbstractClassVar[tuple[str, ...]]
     #: where each factor and stress of the rating is defined in this edition: symbol (the
     #: attribute names of :class:`jaxgear.LoadFactors`, :class:`jaxgear.PittingRating`,
     #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
@@ -231,6 +258,7 @@ class Edition2006(AbstractEdition):
     Y_β and σ_F0 of a KISSsoft report to ISO 6336:2006 (docs/rating.md)."""
 
     label: ClassVar[str] = "ISO 6336:2006 method B"
+    unconfirmed: ClassVar[tuple[str, ...]] = ()
     clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_3_2006)
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
@@ -245,6 +273,8 @@ class Edition2019(AbstractEdition):
     (:class:`Edition2006`)."""
 
     label: ClassVar[str] = "ISO 6336:2019 method B"
+    #: Y_β's 1/cos³β term: no printed worked example of the 2019 edition was found
+    unconfirmed: ClassVar[tuple[str, ...]] = ("Y_beta",)
     clauses: ClassVar[dict[str, str]] = _clauses(2019, {})
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
@@ -363,3 +393,25 @@ class RatingSettings(eqx.Module):
     min_safety_bending: float = 1.0
     edition: AbstractEdition = Edition2019()
     loading: ToothLoading = ToothLoading()
+
+    def __check_init__(self):
+        """One ``ValueError`` line naming the argument, its value and the allowed range: life
+        > 0 s, application_factor >= 1 (ISO 6336-1's K_A), tip_relief None or >= 0 m,
+        min_safety_* > 0, and each part of its kind (a traced number: its shape only)."""
+        w = "RatingSettings"
+        for name, kind, allowed in (
+            ("material", RatingMaterial, "a jaxgear.RatingMaterial"),
+            ("lubrication", Lubrication, "a jaxgear.Lubrication"),
+            ("accuracy", GearAccuracy, "a jaxgear.GearAccuracy (e.g. GearAccuracy.from_grade)"),
+            ("given", GivenFactors, "a jaxgear.GivenFactors"),
+            ("edition", AbstractEdition, "jaxgear.Edition2019() or jaxgear.Edition2006()"),
+            ("loading", ToothLoading, "a jaxgear.ToothLoading"),
+        ):
+            check_instance(name, getattr(self, name), kind, allowed, w)
+        scalar = {"shape": (), "shape_text": "a scalar", "where": w}
+        check_real("life", self.life, "s", lo=0.0, lo_open=True, **scalar)
+        check_real("application_factor", self.application_factor, "", lo=1.0, **scalar)
+        if self.tip_relief is not None:
+            check_real("tip_relief", self.tip_relief, "m", lo=0.0, **scalar)
+        for name in ("min_safety_pitting", "min_safety_bending"):
+            check_real(name, getattr(self, name), "", lo=0.0, lo_open=True, **scalar)
