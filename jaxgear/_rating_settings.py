@@ -149,21 +149,16 @@ class GearAccuracy(eqx.Module):
         )
 
 
-#: the range of a given load factor (:class:`GivenFactors`): ISO 6336-1's load factors are
-#: >= 1 (each the ratio of a peak load to its mean); above 10 no gear is rated (the case file's
-#: ``[rating] K_v``... range, [1, 10])
-GIVEN_FACTOR_RANGE = (1.0, 10.0)
-
-
 class GivenFactors(eqx.Module):
     """Load factors given by the user (``None``: computed by ISO 6336-1 method B). A given
     K_Hβ carries to K_Fβ (K_Fβ = K_Hβ^N_F, ISO 6336-1 clause 7) and a given K_Hα to K_Fα
     (K_Fα = K_Hα within K_Fα's upper limit, ISO 6336-1 8.3.4) unless those are given too.
 
     Raises:
-        ValueError: a factor that is not a real number in [1, 10] (NaN and ±inf included), in
-            one line naming it and its value; a traced value (under ``jit``/``grad``) has its
-            shape checked only.
+        ValueError: a factor that is not a finite real number >= 1 (ISO 6336-1's load factors
+            are each a peak load over its mean; NaN and ±inf included), in one line naming it
+            and its value; a traced value (under ``jit``/``grad``) has its shape checked only.
+            (The case file's given factors are also bounded above, [1, 10].)
     """
 
     K_v: float | None = None
@@ -173,11 +168,10 @@ class GivenFactors(eqx.Module):
     K_Falpha: float | None = None
 
     def __check_init__(self):
-        lo, hi = GIVEN_FACTOR_RANGE
         for name in ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha"):
             value = getattr(self, name)
             if value is not None:
-                check_real(name, value, "", lo=lo, hi=hi, shape=(), shape_text="a scalar",
+                check_real(name, value, "", lo=1.0, shape=(), shape_text="a scalar",
                            where="GivenFactors")
 
 
