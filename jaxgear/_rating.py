@@ -40,7 +40,6 @@ from ._rating_factors import (
     load_factors,
 )
 from ._rating_geometry import RatingGeometry
-from ._rating_internal import InternalRatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings, factor_clause
 from ._util import as_float
 

@@ -314,9 +314,11 @@ class PairTreatment(AbstractTreatment):
         for name in ("pinion", "gear"):
             value = getattr(self, name)
             if isinstance(value, PairTreatment):
-                check_instance(name, value, (), "one gear's treatment (not a PairTreatment): "
-                               "CaseHardened(), ThroughHardened(...) or Nitrided()",
-                               "PairTreatment")
+                raise ValueError(
+                    f"PairTreatment: {name} = PairTreatment(...) is out of range: allowed one "
+                    "gear's treatment (not a PairTreatment): CaseHardened(), ThroughHardened(...) "
+                    "or Nitrided()"
+                )
             check_instance(name, value, AbstractTreatment, "a jaxgear rating treatment: "
                            "CaseHardened(), ThroughHardened(...) or Nitrided()", "PairTreatment")
 

@@ -89,7 +89,7 @@ def test_material_and_surface_out_of_their_range_refused(path, value, needles):
 )
 def test_material_and_surface_at_the_range_ends_accepted(path, value):
     rc = jio.rating_of(jio.parse_case(_rated(**{path: value})))
-    table, key = path.split("__")
+    key = path.split("__")[1]
     got = {
         "sigma_H_lim_MPa": rc.settings.material.sigma_h_lim * 1e-6,
         "sigma_F_lim_MPa": rc.settings.material.sigma_f_lim * 1e-6,

@@ -70,7 +70,6 @@ import equinox as eqx
 from fem_prep import schema as sc
 
 from .. import (
-    CaseHardened,
     Edition2006,
     Edition2019,
     GearAccuracy,
@@ -79,19 +78,23 @@ from .. import (
     InternalGearPair,
     InternalRatingGeometry,
     Lubrication,
-    Nitrided,
     OperatingPoint,
-    PairTreatment,
     RatingGeometry,
     RatingMaterial,
     RatingSettings,
     ShaperCutterSection,
-    ThroughHardened,
     ToothLoading,
 )
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
+from ._rating_material_table import (
+    TREATMENTS,
+    pair_of,
+    refuse_unread_material,
+    treatment_names,
+    treatment_of,
+)
 
 __all__ = [
     "EDITIONS",
@@ -115,12 +118,6 @@ __all__ = [
     "ring_cutter",
 ]
 
-#: ``[material] treatment`` names → the model's treatment objects
-TREATMENTS = {
-    "case_hardened": CaseHardened,
-    "through_hardened": ThroughHardened,
-    "nitrided": Nitrided,
-}
 #: a mesh's pair type → its rating geometry (an internal pair: ISO's internal-gear rules, the
 #: ring's root section ISO's substitute rack)
 GEOMETRIES = {GearPair: RatingGeometry.of, InternalGearPair: InternalRatingGeometry.of}
@@ -170,32 +167,6 @@ RATING_KEYS = {
     *GIVEN,
 }
 RPM = 2 * math.pi / 60
-#: the ranges of a material's and a surface's keys (file units) and where they come from, the
-#: note each range message and the case-file reference print: key → (range, note)
-MATERIAL_RANGES = {
-    "sigma_H_lim_MPa": (
-        "[200, 2000]",
-        " (ISO 6336-5's material lines span about 270 N/mm², normalized cast steel ML, to "
-        "1650 N/mm², case-hardened ME; with margin)",
-    ),
-    "sigma_F_lim_MPa": (
-        "[30, 800]",
-        " (ISO 6336-5's material lines span about 46 N/mm², grey cast iron ML, to 525 N/mm², "
-        "case-hardened ME; with margin; σ_Flim, not σ_FE = 2 σ_Flim)",
-    ),
-    "roughness_Rz_flank_um": (
-        "[0.1, 50]",
-        " (finished flanks: superfinished below 1 µm, ground about 1 to 4 µm, hobbed or "
-        "shaped about 8 to 25 µm; ISO 6336-2's Z_R = 1 at its test gears' R_z10 = 3 µm)",
-    ),
-    "roughness_Rz_root_um": (
-        "[0.1, 100]",
-        " (root fillets: ground about 1 to 6 µm, hobbed or shaped about 10 to 40 µm; ISO "
-        "6336-3's Y_RrelT = 1 at its test gears' R_z = 10 µm)",
-    ),
-}
-
-
 @dataclasses.dataclass(frozen=True)
 class RatingCase:
     """A case's rating, ready for :func:`jaxgear.rate` (``rate(geometry, operating,
@@ -209,26 +180,6 @@ class RatingCase:
     #: a planetary mesh's given load sharing factor K_γ (``[rating] K_gamma``), or ``None``:
     #: ``jaxgear run`` then takes the stage's computed one (planar model, pin errors)
     k_gamma: float | None = None
-
-
-@functools.singledispatch
-def _per_gear(value, table: dict, key: str, where: str, allowed: str, note: str) -> list[float]:
-    """A number for both gears (any other type: :func:`fem_prep.schema.number` names it)."""
-    v = sc.number(table, key, where, allowed=allowed, note=note)
-    return [v, v]
-
-
-@_per_gear.register(list)
-def _(value, table: dict, key: str, where: str, allowed: str, note: str) -> list[float]:
-    """[pinion, gear]."""
-    return sc.number_list(table, key, where, length=2, allowed=allowed, note=note)
-
-
-def _pair_of(table: dict, key: str, where: str) -> list[float]:
-    """A number or a [pinion, gear] list of two numbers (file units) in its
-    :data:`MATERIAL_RANGES` range; the key required."""
-    allowed, note = MATERIAL_RANGES[key]
-    return _per_gear(table.get(key), table, key, where, allowed, note)
 
 
 def _need(table: dict, key: str, where: str) -> None:
@@ -270,33 +221,8 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     """
     rc = _mesh_rating(data, pair, material)
     mat = data.get("material", {})
-    refuse_unread_material(mat, [_treatment_names(mat.get("treatment"), mat)])
+    refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
     return rc
-
-
-def refuse_unread_material(mat: dict, meshes: list) -> None:
-    """Refuse, in one line, a ``[material]`` key that no gear of the rated ``meshes`` (each its
-    [pinion, gear] treatment names, :data:`TREATMENTS`) reads: ``proof_stress_MPa`` without a
-    through-hardened gear (only its slip-layer thickness ρ' reads it; a surface-hardened
-    treatment has one ρ' for all), ``brinell_hardness_HB`` without a mesh of a through-hardened
-    gear and a surface-hardened one (only that gear's work hardening factor Z_W reads it)."""
-    kinds = [tuple(TREATMENTS[n] for n in names) for names in meshes]
-    used = sorted({n for names in meshes for n in names})
-    told = f"([material] treatment: {', '.join(used)})"
-    if "proof_stress_MPa" in mat and all(k.surface_hardened for pair in kinds for k in pair):
-        raise sc.fail(
-            "material", "proof_stress_MPa", "not read: it selects a through-hardened gear's "
-            f"slip-layer thickness ρ' (ISO 6336-3), and no gear is through_hardened {told}; "
-            "remove it, or give the gear treatment = 'through_hardened'", mat["proof_stress_MPa"],
-        )
-    if "brinell_hardness_HB" in mat and not any(
-        a.surface_hardened != b.surface_hardened for a, b in kinds
-    ):
-        raise sc.fail(
-            "material", "brinell_hardness_HB", "not read: it gives the work hardening factor "
-            "Z_W of a through-hardened gear meshing with a surface-hardened one (ISO 6336-2), "
-            f"and no mesh has one {told}; remove it", mat["brinell_hardness_HB"],
-        )
 
 
 def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
@@ -309,15 +235,15 @@ def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         _need(mat, key, "material")
     for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
         _need(rt, key, "rating")
-    s_h = _pair_of(mat, "sigma_H_lim_MPa", "material")
-    s_f = _pair_of(mat, "sigma_F_lim_MPa", "material")
-    treatment = _treatment(mat)
+    s_h = pair_of(mat, "sigma_H_lim_MPa", "material")
+    s_f = pair_of(mat, "sigma_F_lim_MPa", "material")
+    treatment = treatment_of(mat)
     speed = rating_speed(op)
     ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
     life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
     nu40 = sc.number(rt, "viscosity_40C_mm2_s", "rating", allowed="[1, 10000]") * 1e-6
-    rz_flank = _pair_of(rt, "roughness_Rz_flank_um", "rating")
-    rz_root = _pair_of(rt, "roughness_Rz_root_um", "rating")
+    rz_flank = pair_of(rt, "roughness_Rz_flank_um", "rating")
+    rz_root = pair_of(rt, "roughness_Rz_root_um", "rating")
     grade = sc.number(rt, "accuracy_grade", "rating", 6, allowed="[1, 11]", integer=True)
     ca = sc.number(rt, "tip_relief_um", "rating", None, allowed="[0, 1000]")
     s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
@@ -351,50 +277,6 @@ def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     torque = sc.number(op, "torque_Nm", "operating")
     use = _use_measured(rt, given)
     return RatingCase(GEOMETRIES[type(pair)](pair), OperatingPoint(torque, speed), settings, use)
-
-
-@functools.singledispatch
-def _treatment_names(value, mat: dict) -> list[str]:
-    """``[material] treatment``: one name for both gears (default case-hardened)."""
-    return [sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")] * 2
-
-
-@_treatment_names.register(list)
-def _(value, mat: dict) -> list[str]:
-    """[pinion, gear] names."""
-    if len(value) != 2:
-        raise sc.fail(
-            "material", "treatment", f"a name or a [pinion, gear] list of two names of "
-            f"{', '.join(repr(c) for c in TREATMENTS)}", value,
-        )
-    return [sc.choice({"treatment": v}, "treatment", "material", TREATMENTS) for v in value]
-
-
-@functools.singledispatch
-def _optional_pair(value, mat: dict, key: str, allowed: str) -> list:
-    """An optional ``[material]`` number for both gears; absent: ``[None, None]``."""
-    v = sc.number(mat, key, "material", None, allowed=allowed)
-    return [v, v]
-
-
-@_optional_pair.register(list)
-def _(value, mat: dict, key: str, allowed: str) -> list:
-    """[pinion, gear]."""
-    return sc.number_list(mat, key, "material", None, length=2, allowed=allowed)
-
-
-def _treatment(mat: dict):
-    """The pair's treatment object of ``[material] treatment``, ``brinell_hardness_HB`` and
-    ``proof_stress_MPa`` (the last two read for a through-hardened gear only: its Z_W and its
-    slip-layer thickness ρ'): one treatment for both gears, or :class:`jaxgear.PairTreatment`
-    when the gears differ."""
-    names = _treatment_names(mat.get("treatment"), mat)
-    hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")
-    ps = _optional_pair(mat.get("proof_stress_MPa"), mat, "proof_stress_MPa", "[500, 1000]")
-    each = []
-    for name, h, p in zip(names, hb, ps, strict=True):
-        each.append(TREATMENTS[name].of_material(h, None if p is None else p * 1e6))
-    return each[0] if each[0] == each[1] else PairTreatment(*each)
 
 
 def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
@@ -546,7 +428,7 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
-        treatments.append(_treatment_names(mesh_data["material"].get("treatment"),
+        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
     refuse_unread_material(mat, treatments)
     return tuple(out)
@@ -608,7 +490,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "operating": {"torque_Nm": one.torque, "speed_rad_s": one.speed},
         }
         rc = _mesh_rating(mesh_data, case.pairs[k], material)
-        treatments.append(_treatment_names(mesh_data["material"].get("treatment"),
+        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
         geometry = SECTIONED[type(case.pairs[k])](case.pairs[k], section)
