@@ -1,5 +1,6 @@
 """Issue 69 §3, rating inputs (round 5 of the edges): a material's and a surface's values in the
-ranges they can have (ISO 6336-5's material lines, finished flanks' roughness), keys that nothing
+ranges they can have (ISO 6336-5's material lines, finished flanks' roughness; case file and
+API alike), keys that nothing
 reads refused, ``use_measured`` a stage cannot measure refused before work, the rating objects of
 the Python API refusing bad values and wrong kinds at construction in one line naming the
 argument; a given K_Hα carried to K_Fα (ISO 6336-1 8.3.4); the edition's unconfirmed factors as
@@ -253,6 +254,13 @@ def _settings(**kw):
         (lambda: jg.GivenFactors(K_Falpha=math.inf), ("K_Falpha = inf",)),
         (lambda: jg.GivenFactors(K_Halpha="1.1"), ("K_Halpha = '1.1' is not a number",)),
         (lambda: jg.GivenFactors(K_Fbeta=[1.1, 1.2]), ("K_Fbeta must have shape a scalar",)),
+        (lambda: jg.RatingMaterial(1e-300, 430e6),
+         ("RatingMaterial: sigma_h_lim = 1e-300 Pa", "[2e+08, 2e+09] Pa")),
+        (lambda: jg.RatingMaterial(1500e6, [430e6, 1050e6]),
+         ("RatingMaterial: sigma_f_lim[1] = 1.05e+09 Pa", "[3e+07, 8e+08] Pa")),
+        (lambda: jg.Lubrication(220e-6, 1e-300, 10e-6),
+         ("Lubrication: roughness_flank = 1e-300 m", "[1e-07, 5e-05] m")),
+        (lambda: jg.Lubrication(220e-6, 3e-6, 1e-3), ("roughness_root = 0.001 m",)),
         (lambda: _settings(life=-1), ("RatingSettings: life = -1 s", "> 0 s")),
         (lambda: _settings(application_factor=0.5),
          ("RatingSettings: application_factor = 0.5", ">= 1")),
@@ -288,6 +296,8 @@ def test_rating_objects_refuse_bad_values_at_construction(make, needles):
 def test_rating_objects_at_the_range_ends_construct():
     jg.GivenFactors(K_v=1.0, K_Hbeta=12.0, K_Fbeta=1, K_Halpha=np.float32(1.5), K_Falpha=None)
     _settings(life=1.0, application_factor=1.0, tip_relief=0.0, min_safety_pitting=1e-3)
+    jg.RatingMaterial([200e6, 2000e6], [30e6, 800e6])
+    jg.Lubrication(220e-6, [0.1e-6, 50e-6], [0.1e-6, 100e-6])
     assert jg.ThroughHardened(brinell_hardness=100).work_hardening(jg.CaseHardened()) == 1.2
     assert jg.ThroughHardened(brinell_hardness=700.0).brinell_hardness == 700.0
     jg.PairTreatment(jg.CaseHardened(), jg.ThroughHardened(proof_stress=1000e6))

@@ -14,6 +14,7 @@ import functools
 from fem_prep import schema as sc
 
 from .. import CaseHardened, Nitrided, PairTreatment, ThroughHardened
+from .._rating_settings import RATING_RANGES
 
 __all__ = [
     "MATERIAL_RANGES",
@@ -31,37 +32,18 @@ TREATMENTS = {
     "nitrided": Nitrided,
 }
 
-#: the ranges of a material's and a surface's keys (file units) and where they come from, the
-#: note each range message and the case-file reference print: key → (range, note)
+#: the ranges of a material's and a surface's keys in file units, with where they come from
+#: (:data:`jaxgear._rating_settings.RATING_RANGES`, SI), the note each range message and the case-file reference
+#: print: key → (range, note)
 MATERIAL_RANGES = {
-    "sigma_H_lim_MPa": (
-        "[200, 2000]",
-        (
-            " (ISO 6336-5's material lines span about 270 N/mm², normalized cast steel ML, to "
-            "1650 N/mm², case-hardened ME; with margin)"
-        ),
-    ),
-    "sigma_F_lim_MPa": (
-        "[30, 800]",
-        (
-            " (ISO 6336-5's material lines span about 46 N/mm², grey cast iron ML, to 525 N/mm², "
-            "case-hardened ME; with margin; σ_Flim, not σ_FE = 2 σ_Flim)"
-        ),
-    ),
-    "roughness_Rz_flank_um": (
-        "[0.1, 50]",
-        (
-            " (finished flanks: superfinished below 1 µm, ground about 1 to 4 µm, hobbed or "
-            "shaped about 8 to 25 µm; ISO 6336-2's Z_R = 1 at its test gears' R_z10 = 3 µm)"
-        ),
-    ),
-    "roughness_Rz_root_um": (
-        "[0.1, 100]",
-        (
-            " (root fillets: ground about 1 to 6 µm, hobbed or shaped about 10 to 40 µm; ISO "
-            "6336-3's Y_RrelT ≈ 1 at its test gears' R_z = 10 µm)"
-        ),
-    ),
+    key: (f"[{RATING_RANGES[name][0] * scale:g}, {RATING_RANGES[name][1] * scale:g}]",
+          f" ({RATING_RANGES[name][2]})")
+    for key, name, scale in (
+        ("sigma_H_lim_MPa", "sigma_h_lim", 1e-6),
+        ("sigma_F_lim_MPa", "sigma_f_lim", 1e-6),
+        ("roughness_Rz_flank_um", "roughness_flank", 1e6),
+        ("roughness_Rz_root_um", "roughness_root", 1e6),
+    )
 }
 
 
