@@ -373,8 +373,10 @@ def number_list(
     min_length: int = 0,
     length: int | None = None,
     allowed: str | Interval | None = None,
+    note: str = "",
 ) -> list[float]:
-    """An array of finite numbers (each checked against ``allowed``)."""
+    """An array of finite numbers (each checked against ``allowed``; ``note`` is appended to the
+    range message, as :func:`number`'s)."""
     if key not in table:
         if default is MISSING:
             raise fail(where, key, "missing required key")
@@ -392,7 +394,7 @@ def number_list(
         if not finite(x):
             raise fail(where, key, "must be an array of finite numbers", v)
         if x not in rng:
-            raise fail(where, key, f"element {fmt(x)} out of range, allowed {rng}", v)
+            raise fail(where, key, f"element {fmt(x)} out of range, allowed {rng}{note}", v)
         out.append(float(x))
     return out
 

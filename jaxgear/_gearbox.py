@@ -26,7 +26,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._planetary import Central, PlanetaryStage, TorsionalPlanetary
-from ._util import as_float
+from ._util import as_float, check_instance
 
 __all__ = [
     "AbstractGearboxStage",
@@ -177,7 +177,12 @@ class GearboxModes(eqx.Module):
 def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
     """The undamped natural modes of the chain, ``K phi = omega^2 M phi`` (symmetric form by
     the Cholesky factor of M, ``jnp.linalg.eigh``); a free chain (no member held) has one
-    rigid-body mode at 0 Hz."""
+    rigid-body mode at 0 Hz.
+
+    Raises:
+        ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
+    check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
+                   "gearbox_modes")
     m, k = chain.matrices()
     low = jnp.linalg.cholesky(m)
     a = jnp.linalg.solve(low, jnp.linalg.solve(low, k).T)

@@ -60,6 +60,16 @@ class PlanetaryModes(eqx.Module):
     shapes: Float[Array, "n_dof n_dof"]
 
 
+def check_model_stage(where: str, model, stage) -> None:
+    """Refuse, in one ``ValueError`` line naming the argument, a ``model`` that is not a
+    planetary model kind (:class:`~jaxgear.AbstractPlanetaryModel`: an object such as
+    ``jaxgear.PlanarPlanetary()``, not its name) or a ``stage`` that is not a
+    :class:`~jaxgear.PlanetaryStage`."""
+    check_instance("model", model, AbstractPlanetaryModel, "a planetary model object: "
+                   "jaxgear.PlanarPlanetary(), TorsionalPlanetary() or SpatialPlanetary()", where)
+    check_instance("stage", stage, PlanetaryStage, "a jaxgear.PlanetaryStage", where)
+
+
 @eqx.filter_jit
 def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> PlanetaryModes:
     """The undamped natural modes at zero carrier speed: ``K phi = omega^2 M phi`` solved as the
@@ -73,7 +83,11 @@ def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> Pla
 
     Returns:
         :class:`PlanetaryModes`.
+
+    Raises:
+        ValueError: ``model`` or ``stage`` of the wrong kind (:func:`check_model_stage`).
     """
+    check_model_stage("planetary_modes", model, stage)
     m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
     low = jnp.linalg.cholesky(m)
@@ -113,7 +127,9 @@ def campbell(
 
     Raises:
         EquinoxRuntimeError: a speed past divergence (K_e not positive semi-definite).
+        ValueError: ``model`` or ``stage`` of the wrong kind (:func:`check_model_stage`).
     """
+    check_model_stage("campbell", model, stage)
     m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
     g = model.gyroscopic_matrix(stage)

@@ -374,8 +374,16 @@ class CraigBamptonRing(CondensedRing):
         the attribute.
 
         Raises:
-            ValueError: ``interior`` outside 0..m, or no fixed-interface modes (one line).
+            ValueError: ``stations`` not a ``fem_prep.RingStations``, ``interior`` outside
+                0..m, or no fixed-interface modes (one line).
         """
+        fields = ("interior_eigenvalues", "coupling", "compliance", "mass")
+        if not all(hasattr(stations, f) for f in fields):
+            raise ValueError(
+                f"CraigBamptonRing.from_stations: stations = {stations!r:.60} "
+                f"({type(stations).__name__}) is out of range: allowed a fem_prep.RingStations "
+                "(fem_prep.ring_stations)"
+            )
         lam, cpl = stations.interior_eigenvalues, stations.coupling
         if lam is None or cpl is None:
             raise ValueError("CraigBamptonRing.from_stations: the stations have no fixed-"

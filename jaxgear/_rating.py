@@ -32,11 +32,16 @@ import jax.numpy as jnp
 from jaxtyping import Array
 
 from ._rating_bending import ToothFormFactors
-from ._rating_factors import LoadFactors, _contact_ratio_factor, _tangential_load, load_factors
+from ._rating_factors import (
+    LoadFactors,
+    _contact_ratio_factor,
+    _tangential_load,
+    check_rating_arguments,
+    load_factors,
+)
 from ._rating_geometry import RatingGeometry
-from ._rating_internal import InternalRatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings, factor_clause
-from ._util import as_float, check_instance
+from ._util import as_float
 
 __all__ = ["BendingRating", "PittingRating", "Rating", "bending_rating", "pitting_rating", "rate"]
 
@@ -103,6 +108,11 @@ class Rating(eqx.Module):
     pitting: PittingRating
     bending: BendingRating
     method: str = eqx.field(static=True, default=METHOD)
+    #: the factors whose formula in this edition (:attr:`method`) no published worked example
+    #: confirms (:attr:`jaxgear.AbstractEdition.unconfirmed`: ``("Y_beta",)`` for
+    #: :class:`jaxgear.Edition2019`, ``()`` for :class:`jaxgear.Edition2006`), attribute names
+    #: of :attr:`pitting`, :attr:`bending` and :attr:`factors`, for the report to state
+    unconfirmed: tuple[str, ...] = eqx.field(static=True, default=())
 
     def scope_notes(self) -> list[str]:
         """Where the inputs leave the standard's scope, one line each naming the part, edition and
@@ -211,6 +221,7 @@ def pitting_rating(
     Returns:
         :class:`PittingRating` (stresses in Pa, Z_E in √Pa).
     """
+    check_rating_arguments("pitting_rating", geometry, operating, settings)
     if factors is None:
         factors = load_factors(geometry, operating, settings)
     g = geometry.derived()
@@ -312,6 +323,7 @@ def bending_rating(
     Returns:
         :class:`BendingRating` (stresses in Pa).
     """
+    check_rating_arguments("bending_rating", geometry, operating, settings)
     if factors is None:
         factors = load_factors(geometry, operating, settings)
     g = geometry.derived()
@@ -368,17 +380,12 @@ def rate(geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSe
     the standard's internal-gear rules, :mod:`jaxgear._rating_internal`). Pure and jit-able
     (``eqx.filter_jit``); differentiable with respect to the array fields of the geometry, the
     operating point and the settings."""
-    check_instance(
-        "geometry",
-        geometry,
-        (RatingGeometry, InternalRatingGeometry),
-        "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry",
-        "rate",
-    )
+    check_rating_arguments("rate", geometry, operating, settings)
     factors = load_factors(geometry, operating, settings)
     return Rating(
         factors,
         pitting_rating(geometry, operating, settings, factors),
         bending_rating(geometry, operating, settings, factors),
         settings.edition.label,
+        tuple(settings.edition.unconfirmed),
     )

@@ -12,11 +12,13 @@ import jax.numpy as jnp
 from jaxtyping import Array
 
 from ._rating_geometry import RatingGeometry
+from ._rating_internal import InternalRatingGeometry
 from ._rating_settings import OperatingPoint, RatingSettings
-from ._util import as_float
+from ._util import as_float, check_instance
 
 __all__ = [
     "LoadFactors",
+    "check_rating_arguments",
     "face_load_factor",
     "load_factors",
     "transverse_factor_limits",
@@ -145,11 +147,29 @@ def _transverse_factors(geometry, g, settings, cga, f_th_per_b):
     return kh, kf
 
 
+def check_rating_arguments(where: str, geometry, operating, settings) -> None:
+    """Refuse, in one ``ValueError`` line naming the argument, a rating's ``geometry`` that is
+    not a :class:`jaxgear.RatingGeometry` (or :class:`jaxgear.InternalRatingGeometry`), an
+    ``operating`` point that is not an :class:`OperatingPoint` or ``settings`` that are not
+    :class:`RatingSettings` (before any of their fields is read)."""
+    check_instance("geometry", geometry, (RatingGeometry, InternalRatingGeometry),
+                   "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry", where)
+    check_instance("operating", operating, OperatingPoint,
+                   "a jaxgear.OperatingPoint(torque, speed)", where)
+    check_instance("settings", settings, RatingSettings, "a jaxgear.RatingSettings", where)
+
+
 def load_factors(
     geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings
 ) -> LoadFactors:
     """K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα at the operating point (module docstring; ISO 6336-1:2019
-    clauses 6, 7, 8, method B); given factors replace computed ones."""
+    clauses 6, 7, 8, method B); given factors replace computed ones. A given K_Hβ carries to
+    K_Fβ (K_Fβ = K_Hβ^N_F, clause 7) and a given K_Hα to K_Fα (K_Fα = K_Hα, 8.3.4, within
+    K_Fα's limits [1, ε_γ/(0.25 ε_α + 0.75)]) unless they are given too.
+
+    Raises:
+        ValueError: an argument of the wrong kind (:func:`check_rating_arguments`)."""
+    check_rating_arguments("load_factors", geometry, operating, settings)
     given = settings.given
     g = geometry.derived()
     ka = as_float(settings.application_factor)
@@ -166,7 +186,11 @@ def load_factors(
     n_f = bh**2 / (1 + bh + bh**2)
     kfb = khb**n_f if given.K_Fbeta is None else as_float(given.K_Fbeta)
     kha, kfa = _transverse_factors(geometry, g, settings, cga, line * kv * khb)
-    kha = kha if given.K_Halpha is None else as_float(given.K_Halpha)
+    if given.K_Halpha is not None:
+        kha = as_float(given.K_Halpha)
+        # ISO 6336-1 8.3.4: K_Fα = K_Hα, within [1, ε_γ/(0.25 ε_α + 0.75)]
+        ea, eg = g.transverse_contact_ratio, g.transverse_contact_ratio + g.overlap_ratio
+        kfa = jnp.clip(kha, 1.0, eg / (0.25 * ea + 0.75))
     kfa = kfa if given.K_Falpha is None else as_float(given.K_Falpha)
     iso = "ISO 6336-1 method B"
     sources = {"K_A": "given"} | {
@@ -195,7 +219,8 @@ def face_load_factor(result) -> Array:
     """
     w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
     face = jnp.mean(jnp.sum(w, axis=-2), axis=0)  # (N,): mean over positions, summed lines
-    return jnp.max(face) / jnp.mean(face)
+    # max/mean >= 1 but for round-off (a uniform load's mean one ulp above its max)
+    return jnp.maximum(jnp.max(face) / jnp.mean(face), 1.0)
 
 
 def transverse_load_factor(result, loaded: float = 1e-2) -> Array:

@@ -30,6 +30,8 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
+from ._util import check_instance, check_real
+
 __all__ = [
     "THROUGH_HARDENED_SLIP_LAYER",
     "AbstractTreatment",
@@ -40,6 +42,12 @@ __all__ = [
     "life_curve",
     "through_hardened_slip_layer",
 ]
+
+#: the Brinell hardness a rated steel can have (HB; the case file's ``brinell_hardness_HB``):
+#: ISO 6336-5's material lines span about 110 HB (normalized low-carbon steel) to 700 (a
+#: case-hardened surface, 60 HRC, beyond the Brinell scale's own reach; Z_W clips HB to
+#: [130, 470])
+BRINELL_RANGE = (100.0, 700.0)
 
 #: ISO 6336-3's slip-layer thickness ρ' of through-hardened wrought steel (V) by its 0.2 % proof
 #: stress (the standard's table of ρ', 2006: 13.3): (σ_0.2 Pa, ρ' m), σ_0.2 increasing
@@ -187,7 +195,9 @@ class ThroughHardened(AbstractTreatment):
 
     Raises:
         ValueError: both ``slip_layer_m`` and ``proof_stress``, a proof stress outside the
-            table, or ``slip_layer_m`` <= 0.
+            table, ``slip_layer_m`` <= 0, a ``brinell_hardness`` outside [100, 700] HB
+            (:data:`BRINELL_RANGE`), or any of them not a finite real number; one line naming
+            the argument.
     """
 
     slip_layer_m: float
@@ -196,20 +206,27 @@ class ThroughHardened(AbstractTreatment):
     surface_hardened: ClassVar[bool] = False
 
     def __init__(self, slip_layer_m=None, brinell_hardness=None, proof_stress=None):
+        w = "ThroughHardened"
+        if brinell_hardness is not None:
+            lo, hi = BRINELL_RANGE
+            check_real("brinell_hardness", brinell_hardness, "HB", lo=lo, hi=hi, shape=(),
+                       shape_text="a scalar", where=w)
+            brinell_hardness = float(brinell_hardness)
         if proof_stress is not None:
             if slip_layer_m is not None:
                 raise ValueError(
                     "ThroughHardened: slip_layer_m and proof_stress both given: give one "
                     "(ρ' directly, or σ_0.2 for ISO 6336-3's table)"
                 )
+            check_real("proof_stress", proof_stress, "Pa", lo=THROUGH_HARDENED_SLIP_LAYER[0][0],
+                       hi=THROUGH_HARDENED_SLIP_LAYER[-1][0], shape=(), shape_text="a scalar",
+                       where=w)
             slip_layer_m = through_hardened_slip_layer(proof_stress)
             proof_stress = float(proof_stress)
         elif slip_layer_m is None:
             slip_layer_m = THROUGH_HARDENED_SLIP_LAYER[0][1]
-        if not float(slip_layer_m) > 0:
-            raise ValueError(
-                f"ThroughHardened: slip_layer_m = {slip_layer_m!r} is out of range, allowed > 0 m"
-            )
+        check_real("slip_layer_m", slip_layer_m, "m", lo=0.0, lo_open=True, shape=(),
+                   shape_text="a scalar", where=w)
         self.slip_layer_m = float(slip_layer_m)
         self.brinell_hardness = brinell_hardness
         self.proof_stress = proof_stress
@@ -292,6 +309,18 @@ class PairTreatment(AbstractTreatment):
 
     pinion: AbstractTreatment
     gear: AbstractTreatment
+
+    def __check_init__(self):
+        for name in ("pinion", "gear"):
+            value = getattr(self, name)
+            if isinstance(value, PairTreatment):
+                raise ValueError(
+                    f"PairTreatment: {name} = PairTreatment(...) is out of range: allowed one "
+                    "gear's treatment (not a PairTreatment): CaseHardened(), ThroughHardened(...) "
+                    "or Nitrided()"
+                )
+            check_instance(name, value, AbstractTreatment, "a jaxgear rating treatment: "
+                           "CaseHardened(), ThroughHardened(...) or Nitrided()", "PairTreatment")
 
     def _each(self, name, value):
         v = jnp.broadcast_to(jnp.asarray(value), (2,))

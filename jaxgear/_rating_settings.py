@@ -21,6 +21,7 @@ from ._util import as_float, check_instance, check_real
 
 __all__ = [
     "FACTOR_CLAUSES",
+    "RATING_RANGES",
     "AbstractEdition",
     "Edition2006",
     "Edition2019",
@@ -33,6 +34,39 @@ __all__ = [
     "ToothLoading",
     "factor_clause",
 ]
+
+
+#: the ranges a gear material's strength numbers and its surfaces' roughness can have (SI:
+#: Pa, m), each with where it comes from: name → (lo, hi, source). :class:`RatingMaterial` and
+#: :class:`Lubrication` refuse values outside them, the case file's keys too (in its units,
+#: the source in the message and the reference: ``jaxgear.io``)
+RATING_RANGES = {
+    "sigma_h_lim": (
+        200e6, 2000e6,
+        "ISO 6336-5's material lines span about 270 N/mm², normalized cast steel ML, to "
+        "1650 N/mm², case-hardened ME; with margin",
+    ),
+    "sigma_f_lim": (
+        30e6, 800e6,
+        "ISO 6336-5's material lines span about 46 N/mm², grey cast iron ML, to 525 N/mm², "
+        "case-hardened ME; with margin; σ_Flim, not σ_FE = 2 σ_Flim",
+    ),
+    "roughness_flank": (
+        0.1e-6, 50e-6,
+        "finished flanks: superfinished below 1 µm, ground about 1 to 4 µm, hobbed or shaped "
+        "about 8 to 25 µm; ISO 6336-2's Z_R = 1 at its test gears' R_z10 = 3 µm",
+    ),
+    "roughness_root": (
+        0.1e-6, 100e-6,
+        "root fillets: ground about 1 to 6 µm, hobbed or shaped about 10 to 40 µm; ISO "
+        "6336-3's Y_RrelT ≈ 1 at its test gears' R_z = 10 µm",
+    ),
+}
+
+
+def _check_range(name: str, value, unit: str, where: str) -> None:
+    lo, hi, _ = RATING_RANGES[name]
+    check_real(name, value, unit, lo=lo, hi=hi, where=where)
 
 
 class OperatingPoint(eqx.Module):
@@ -54,9 +88,9 @@ class RatingMaterial(eqx.Module):
 
     Attributes:
         sigma_h_lim: σ_Hlim (Pa), (pinion, gear): the allowable contact stress number (ISO
-            6336-5).
+            6336-5), [200, 2000] N/mm² (:data:`RATING_RANGES`).
         sigma_f_lim: σ_Flim (Pa), (pinion, gear): the nominal bending stress number
-            (σ_FE = Y_ST σ_Flim, Y_ST = 2).
+            (σ_FE = Y_ST σ_Flim, Y_ST = 2), [30, 800] N/mm².
         youngs_modulus: Young's modulus (Pa), both gears.
         poisson_ratio: Poisson's ratio, both gears.
         density: density (kg/m³), both gears.
@@ -81,10 +115,10 @@ class RatingMaterial(eqx.Module):
         treatment: AbstractTreatment | None = None,
     ):
         w = "RatingMaterial"
+        _check_range("sigma_h_lim", sigma_h_lim, "Pa", w)  # as given (float32 flushes 1e-300)
+        _check_range("sigma_f_lim", sigma_f_lim, "Pa", w)
         sh = jnp.broadcast_to(as_float(sigma_h_lim), (2,))
         sf = jnp.broadcast_to(as_float(sigma_f_lim), (2,))
-        check_real("sigma_h_lim", sh, "Pa", lo=0.0, lo_open=True, where=w)
-        check_real("sigma_f_lim", sf, "Pa", lo=0.0, lo_open=True, where=w)
         check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w)
         check_real("poisson_ratio", poisson_ratio, "", lo=0.0, hi=0.5, hi_open=True, where=w)
         check_real("density", density, "kg/m³", lo=0.0, lo_open=True, where=w)
@@ -99,7 +133,8 @@ class RatingMaterial(eqx.Module):
 
 class Lubrication(eqx.Module):
     """Lubricant and surfaces: ``viscosity_40`` ν₄₀ (m²/s; ISO VG 220 is 220e-6),
-    ``roughness_flank`` and ``roughness_root`` R_z (m), (pinion, gear)."""
+    ``roughness_flank`` ([0.1, 50] µm) and ``roughness_root`` ([0.1, 100] µm) R_z (m),
+    (pinion, gear) (:data:`RATING_RANGES`). A value out of range: one ``ValueError`` line."""
 
     viscosity_40: Float[Array, ""]
     roughness_flank: Float[Array, 2]
@@ -108,10 +143,10 @@ class Lubrication(eqx.Module):
     def __init__(self, viscosity_40, roughness_flank, roughness_root):
         w = "Lubrication"
         check_real("viscosity_40", viscosity_40, "m²/s", lo=0.0, lo_open=True, where=w)
+        _check_range("roughness_flank", roughness_flank, "m", w)
+        _check_range("roughness_root", roughness_root, "m", w)
         rf = jnp.broadcast_to(as_float(roughness_flank), (2,))
         rr = jnp.broadcast_to(as_float(roughness_root), (2,))
-        check_real("roughness_flank", rf, "m", lo=0.0, lo_open=True, where=w)
-        check_real("roughness_root", rr, "m", lo=0.0, lo_open=True, where=w)
         self.viscosity_40, self.roughness_flank, self.roughness_root = (
             as_float(viscosity_40),
             rf,
@@ -150,13 +185,29 @@ class GearAccuracy(eqx.Module):
 
 
 class GivenFactors(eqx.Module):
-    """Load factors given by the user (``None``: computed by ISO 6336-1 method B)."""
+    """Load factors given by the user (``None``: computed by ISO 6336-1 method B). A given
+    K_Hβ carries to K_Fβ (K_Fβ = K_Hβ^N_F, ISO 6336-1 clause 7) and a given K_Hα to K_Fα
+    (K_Fα = K_Hα within K_Fα's upper limit, ISO 6336-1 8.3.4) unless those are given too.
+
+    Raises:
+        ValueError: a factor that is not a finite real number >= 1 (ISO 6336-1's load factors
+            are each a peak load over its mean; NaN and ±inf included), in one line naming it
+            and its value; a traced value (under ``jit``/``grad``) has its shape checked only.
+            (The case file's given factors are also bounded above, [1, 10].)
+    """
 
     K_v: float | None = None
     K_Hbeta: float | None = None
     K_Fbeta: float | None = None
     K_Halpha: float | None = None
     K_Falpha: float | None = None
+
+    def __check_init__(self):
+        for name in ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha"):
+            value = getattr(self, name)
+            if value is not None:
+                check_real(name, value, "", lo=1.0, shape=(), shape_text="a scalar",
+                           where="GivenFactors")
 
 
 class AbstractEdition(eqx.Module):
@@ -165,6 +216,11 @@ class AbstractEdition(eqx.Module):
     both). A kind, passed as an object (:attr:`RatingSettings.edition`)."""
 
     label: eqx.AbstractClassVar[str]
+    #: the factors whose formula in this edition no published worked example confirms (the
+    #: attribute names of :class:`jaxgear.PittingRating`, :class:`jaxgear.BendingRating` and
+    #: :class:`jaxgear.LoadFactors`; empty where every factor was checked against one):
+    #: :attr:`jaxgear.Rating.unconfirmed` carries them to the result and its report
+    unconfirmed: eqx.AbstractClassVar[tuple[str, ...]]
     #: where each factor and stress of the rating is defined in this edition: symbol (the
     #: attribute names of :class:`jaxgear.LoadFactors`, :class:`jaxgear.PittingRating`,
     #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
@@ -231,6 +287,7 @@ class Edition2006(AbstractEdition):
     Y_β and σ_F0 of a KISSsoft report to ISO 6336:2006 (docs/rating.md)."""
 
     label: ClassVar[str] = "ISO 6336:2006 method B"
+    unconfirmed: ClassVar[tuple[str, ...]] = ()
     clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_3_2006)
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
@@ -245,6 +302,8 @@ class Edition2019(AbstractEdition):
     (:class:`Edition2006`)."""
 
     label: ClassVar[str] = "ISO 6336:2019 method B"
+    #: Y_β's 1/cos³β term: no printed worked example of the 2019 edition was found
+    unconfirmed: ClassVar[tuple[str, ...]] = ("Y_beta",)
     clauses: ClassVar[dict[str, str]] = _clauses(2019, {})
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
@@ -363,3 +422,25 @@ class RatingSettings(eqx.Module):
     min_safety_bending: float = 1.0
     edition: AbstractEdition = Edition2019()
     loading: ToothLoading = ToothLoading()
+
+    def __check_init__(self):
+        """One ``ValueError`` line naming the argument, its value and the allowed range: life
+        > 0 s, application_factor >= 1 (ISO 6336-1's K_A), tip_relief None or >= 0 m,
+        min_safety_* > 0, and each part of its kind (a traced number: its shape only)."""
+        w = "RatingSettings"
+        for name, kind, allowed in (
+            ("material", RatingMaterial, "a jaxgear.RatingMaterial"),
+            ("lubrication", Lubrication, "a jaxgear.Lubrication"),
+            ("accuracy", GearAccuracy, "a jaxgear.GearAccuracy (e.g. GearAccuracy.from_grade)"),
+            ("given", GivenFactors, "a jaxgear.GivenFactors"),
+            ("edition", AbstractEdition, "jaxgear.Edition2019() or jaxgear.Edition2006()"),
+            ("loading", ToothLoading, "a jaxgear.ToothLoading"),
+        ):
+            check_instance(name, getattr(self, name), kind, allowed, w)
+        scalar = {"shape": (), "shape_text": "a scalar", "where": w}
+        check_real("life", self.life, "s", lo=0.0, lo_open=True, **scalar)
+        check_real("application_factor", self.application_factor, "", lo=1.0, **scalar)
+        if self.tip_relief is not None:
+            check_real("tip_relief", self.tip_relief, "m", lo=0.0, **scalar)
+        for name in ("min_safety_pitting", "min_safety_bending"):
+            check_real(name, getattr(self, name), "", lo=0.0, lo_open=True, **scalar)

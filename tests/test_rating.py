@@ -296,7 +296,7 @@ def test_scope_notes_name_the_clause():
     [
         (lambda: jg.OperatingPoint(-1.0, 10.0), "OperatingPoint: torque = -1 N·m is out of range"),
         (lambda: jg.OperatingPoint(1.0, 0.0), "OperatingPoint: speed = 0 rad/s is out of range"),
-        (lambda: jg.RatingMaterial(0.0, 4e8), "RatingMaterial: sigma_h_lim[0] = 0 Pa is out of"),
+        (lambda: jg.RatingMaterial(0.0, 4e8), "RatingMaterial: sigma_h_lim = 0 Pa is out of"),
         (lambda: jg.RatingMaterial(1e9, 4e8, poisson_ratio=0.5), "poisson_ratio = 0.5 is out of"),
         (lambda: jg.RatingMaterial(1e9, 4e8, treatment="Eh"), "treatment = 'Eh' (str) is out of"),
         (lambda: jg.Lubrication(-1e-6, 1e-6, 1e-6), "Lubrication: viscosity_40 = -1e-06 m²/s"),

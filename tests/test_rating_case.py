@@ -113,7 +113,7 @@ def test_case_without_rating_has_none():
         ({"rating/roughness_Rz_root_um": [10.0]}, "[rating] roughness_Rz_root_um"),
         (
             {"material/sigma_H_lim_MPa": -1.0},
-            "[material] sigma_H_lim_MPa = -1: out of range, allowed (0, 3000]",
+            "[material] sigma_H_lim_MPa = -1: out of range, allowed [200, 2000]",
         ),
         ({"material/treatment": "carburised"}, "[material] treatment = 'carburised': allowed"),
         ({"operating/speed_rpm": None}, "[operating] speed_rpm: missing required key"),

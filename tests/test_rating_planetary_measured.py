@@ -26,6 +26,18 @@ def rated_case(tmp_path, rating_extra=""):
     return jio.load_case(str(path))
 
 
+def helical_rated_case(rating_extra: dict):
+    """nrel-5mw-planetary made helical (β = 8°, its own zero-backlash centre distance), whose
+    K_Hbeta the run measures (a spur stage's ``use_measured = ["K_Hbeta"]`` is refused at
+    load), ``rating_extra`` added to its [rating] table."""
+    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
+    for g in data["gears"]:
+        g["helix_angle_deg"] = 8.0
+    del data["planetary"]["center_distance_mm"]
+    data["rating"].update(rating_extra)
+    return jio.parse_train(data)
+
+
 def iso_and_measured(case, tmp_path, factor: str, **measured):
     """The rating of ``case`` (its ``use_measured`` naming ``factor``, K_γ 1.1) without the
     measurement (ISO's factor, with the one-line warning naming it) and with ``measured`` (the
@@ -71,9 +83,10 @@ def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
     """`[rating] use_measured = ["K_Hbeta"]`: each mesh rated with its measured K_Hbeta in place
     of ISO's, σ_H scaling by √(K_Hβ measured / K_Hβ ISO) (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), the
     other factors unchanged), K_γ still in the load (K_A as given), the factor's source and
-    rating.md's row saying it was used. Without a face_load (a spur run) it stays ISO's, with a
-    one-line warning naming the factor."""
-    case = rated_case(tmp_path, 'use_measured = ["K_Hbeta"]\n')
+    rating.md's row saying it was used. Without a face_load (a helical stage whose supports do
+    not hold it) it stays ISO's, with a one-line warning naming the factor; a spur stage's is
+    refused at load (tests/test_edges_round5_rating.py)."""
+    case = helical_rated_case({"use_measured": ["K_Hbeta"]})
     iso, sec, md = iso_and_measured(case, tmp_path, "K_Hbeta", face_load=FACE_LOAD)
     k_iso = np.asarray(iso["factors"]["K_Hbeta"]["value"])
     assert sec["factors"]["K_Hbeta"]["value"] == pytest.approx([1.34, 1.18], rel=1e-6)

@@ -301,7 +301,7 @@ class _Recorder:
                 rng += f", length {kw['length']}"
             elif kw.get("min_length"):
                 rng += f", at least {kw['min_length']} values"
-            info.allowed.add(rng)
+            info.allowed.add(rng + kw.get("note", ""))
         elif name == "boolean":
             info.kind.add("boolean")
         else:  # string, name

@@ -305,8 +305,8 @@ def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     if not use:
         return section
     given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
-    for name, value in use.items():
-        given.update(dict.fromkeys(_STANDS_FOR[name], value))
+    for name, value in use.items():  # ISO's factors are >= 1 (GivenFactors refuses less)
+        given.update(dict.fromkeys(_STANDS_FOR[name], max(value, 1.0)))
     # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given one is rated as given
     limits = dict(zip(("K_Halpha", "K_Falpha"), transverse_factor_limits(rc.geometry)))
     for key in limits.keys() & {f for name in use for f in _STANDS_FOR[name]}:

@@ -6,26 +6,30 @@ objects (:class:`jaxgear.RatingGeometry`, :class:`jaxgear.OperatingPoint`,
 Keys (file units; ranges as checked)::
 
     [material]
-    sigma_H_lim_MPa = 1500.0        # σ_Hlim (ISO 6336-5), (0, 3000]; or [pinion, gear]
-    sigma_F_lim_MPa = 430.0         # σ_Flim (ISO 6336-5), (0, 1500]; or [pinion, gear]
+    sigma_H_lim_MPa = 1500.0        # σ_Hlim (ISO 6336-5), [200, 2000]; or [pinion, gear]
+    sigma_F_lim_MPa = 430.0         # σ_Flim (ISO 6336-5), [30, 800]; or [pinion, gear]
+                                    # (ranges: ISO 6336-5's material lines with margin,
+                                    # MATERIAL_RANGES)
     treatment = "case_hardened"     # | "through_hardened" | "nitrided" (life curves, ρ', Y_X);
                                     # or [pinion, gear]: each gear its own (jaxgear.PairTreatment)
     brinell_hardness_HB = 240.0     # surface hardness HB, [100, 700]; or [pinion, gear]; read
                                     # for a through-hardened gear's Z_W against a surface-
-                                    # hardened mate (ignored for surface-hardened gears)
+                                    # hardened mate only: refused where no mesh has one
     proof_stress_MPa = 1000.0       # 0.2 % proof stress σ_0.2, [500, 1000] N/mm²; or [pinion,
                                     # gear]; read for a through-hardened gear's slip-layer
                                     # thickness ρ' (ISO 6336-3's table; default its 500 N/mm²
-                                    # row; surface-hardened gears have one ρ' for all)
+                                    # row; surface-hardened gears have one ρ' for all): refused
+                                    # where no gear is through-hardened
     [operating]
     speed_rpm = 1165.9              # pinion speed of the rating, (0, 1e6] 1/min
-                                    # (without it: speed_rad_s, which must then be > 0)
+                                    # (without it: speed_rad_s, which must then be > 0); not in
+                                    # a planetary stage (refused: its speed is speed_rad_s)
     [rating]                        # ISO 6336:2019 method B
     application_factor = 1.25       # K_A, [1, 10], default 1
     life_h = 175200.0               # required life, (0, 1e7] h
     viscosity_40C_mm2_s = 220.0     # ν_40, [1, 1e4] mm²/s
-    roughness_Rz_flank_um = 4.8     # R_z of the flanks, (0, 100] µm; or [pinion, gear]
-    roughness_Rz_root_um = 20.0     # R_z of the root fillets, (0, 200] µm; or [pinion, gear]
+    roughness_Rz_flank_um = 4.8     # R_z of the flanks, [0.1, 50] µm; or [pinion, gear]
+    roughness_Rz_root_um = 20.0     # R_z of the root fillets, [0.1, 100] µm; or [pinion, gear]
     accuracy_grade = 6              # ISO 1328-1 flank tolerance class, 1..11, default 6
     tip_relief_um = 20.0            # C_a of K_v, [0, 1000] µm; default: the running-in C_ay
     min_safety_pitting = 1.0        # S_Hmin, [0.5, 10], default 1
@@ -66,7 +70,6 @@ import equinox as eqx
 from fem_prep import schema as sc
 
 from .. import (
-    CaseHardened,
     Edition2006,
     Edition2019,
     GearAccuracy,
@@ -75,19 +78,23 @@ from .. import (
     InternalGearPair,
     InternalRatingGeometry,
     Lubrication,
-    Nitrided,
     OperatingPoint,
-    PairTreatment,
     RatingGeometry,
     RatingMaterial,
     RatingSettings,
     ShaperCutterSection,
-    ThroughHardened,
     ToothLoading,
 )
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
+from ._rating_material_table import (
+    TREATMENTS,
+    pair_of,
+    refuse_unread_material,
+    treatment_names,
+    treatment_of,
+)
 
 __all__ = [
     "EDITIONS",
@@ -111,12 +118,6 @@ __all__ = [
     "ring_cutter",
 ]
 
-#: ``[material] treatment`` names → the model's treatment objects
-TREATMENTS = {
-    "case_hardened": CaseHardened,
-    "through_hardened": ThroughHardened,
-    "nitrided": Nitrided,
-}
 #: a mesh's pair type → its rating geometry (an internal pair: ISO's internal-gear rules, the
 #: ring's root section ISO's substitute rack)
 GEOMETRIES = {GearPair: RatingGeometry.of, InternalGearPair: InternalRatingGeometry.of}
@@ -166,8 +167,6 @@ RATING_KEYS = {
     *GIVEN,
 }
 RPM = 2 * math.pi / 60
-
-
 @dataclasses.dataclass(frozen=True)
 class RatingCase:
     """A case's rating, ready for :func:`jaxgear.rate` (``rate(geometry, operating,
@@ -181,24 +180,6 @@ class RatingCase:
     #: a planetary mesh's given load sharing factor K_γ (``[rating] K_gamma``), or ``None``:
     #: ``jaxgear run`` then takes the stage's computed one (planar model, pin errors)
     k_gamma: float | None = None
-
-
-@functools.singledispatch
-def _per_gear(value, table: dict, key: str, where: str, allowed: str) -> list[float]:
-    """A number for both gears (any other type: :func:`fem_prep.schema.number` names it)."""
-    v = sc.number(table, key, where, allowed=allowed)
-    return [v, v]
-
-
-@_per_gear.register(list)
-def _(value, table: dict, key: str, where: str, allowed: str) -> list[float]:
-    """[pinion, gear]."""
-    return sc.number_list(table, key, where, length=2, allowed=allowed)
-
-
-def _pair_of(table: dict, key: str, where: str, allowed: str) -> list[float]:
-    """A number or a [pinion, gear] list of two numbers (file units); the key required."""
-    return _per_gear(table.get(key), table, key, where, allowed)
 
 
 def _need(table: dict, key: str, where: str) -> None:
@@ -235,8 +216,18 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
 
     Raises:
         SchemaError: a missing key (named), a value out of range (key, value, allowed range in
-            the file's units), unknown keys; one line.
+            the file's units), unknown keys, a ``[material]`` key that neither gear reads
+            (:func:`refuse_unread_material`); one line.
     """
+    rc = _mesh_rating(data, pair, material)
+    mat = data.get("material", {})
+    refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
+    return rc
+
+
+def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
+    """:func:`parse_rating` of one mesh, its ``[material]`` keys' use left to the caller (a
+    train's or a stage's shared keys are read by some of its meshes only)."""
     rt = sc.subtable(data, "rating", "", RATING_KEYS)
     mat = data.get("material", {})
     op = data.get("operating", {})
@@ -244,15 +235,15 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         _need(mat, key, "material")
     for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
         _need(rt, key, "rating")
-    s_h = _pair_of(mat, "sigma_H_lim_MPa", "material", "(0, 3000]")
-    s_f = _pair_of(mat, "sigma_F_lim_MPa", "material", "(0, 1500]")
-    treatment = _treatment(mat)
+    s_h = pair_of(mat, "sigma_H_lim_MPa", "material")
+    s_f = pair_of(mat, "sigma_F_lim_MPa", "material")
+    treatment = treatment_of(mat)
     speed = rating_speed(op)
     ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
     life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
     nu40 = sc.number(rt, "viscosity_40C_mm2_s", "rating", allowed="[1, 10000]") * 1e-6
-    rz_flank = _pair_of(rt, "roughness_Rz_flank_um", "rating", "(0, 100]")
-    rz_root = _pair_of(rt, "roughness_Rz_root_um", "rating", "(0, 200]")
+    rz_flank = pair_of(rt, "roughness_Rz_flank_um", "rating")
+    rz_root = pair_of(rt, "roughness_Rz_root_um", "rating")
     grade = sc.number(rt, "accuracy_grade", "rating", 6, allowed="[1, 11]", integer=True)
     ca = sc.number(rt, "tip_relief_um", "rating", None, allowed="[0, 1000]")
     s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
@@ -286,50 +277,6 @@ def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     torque = sc.number(op, "torque_Nm", "operating")
     use = _use_measured(rt, given)
     return RatingCase(GEOMETRIES[type(pair)](pair), OperatingPoint(torque, speed), settings, use)
-
-
-@functools.singledispatch
-def _treatment_names(value, mat: dict) -> list[str]:
-    """``[material] treatment``: one name for both gears (default case-hardened)."""
-    return [sc.choice(mat, "treatment", "material", TREATMENTS, "case_hardened")] * 2
-
-
-@_treatment_names.register(list)
-def _(value, mat: dict) -> list[str]:
-    """[pinion, gear] names."""
-    if len(value) != 2:
-        raise sc.fail(
-            "material", "treatment", f"a name or a [pinion, gear] list of two names of "
-            f"{', '.join(repr(c) for c in TREATMENTS)}", value,
-        )
-    return [sc.choice({"treatment": v}, "treatment", "material", TREATMENTS) for v in value]
-
-
-@functools.singledispatch
-def _optional_pair(value, mat: dict, key: str, allowed: str) -> list:
-    """An optional ``[material]`` number for both gears; absent: ``[None, None]``."""
-    v = sc.number(mat, key, "material", None, allowed=allowed)
-    return [v, v]
-
-
-@_optional_pair.register(list)
-def _(value, mat: dict, key: str, allowed: str) -> list:
-    """[pinion, gear]."""
-    return sc.number_list(mat, key, "material", None, length=2, allowed=allowed)
-
-
-def _treatment(mat: dict):
-    """The pair's treatment object of ``[material] treatment``, ``brinell_hardness_HB`` and
-    ``proof_stress_MPa`` (the last two read for a through-hardened gear only: its Z_W and its
-    slip-layer thickness ρ'): one treatment for both gears, or :class:`jaxgear.PairTreatment`
-    when the gears differ."""
-    names = _treatment_names(mat.get("treatment"), mat)
-    hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")
-    ps = _optional_pair(mat.get("proof_stress_MPa"), mat, "proof_stress_MPa", "[500, 1000]")
-    each = []
-    for name, h, p in zip(names, hb, ps, strict=True):
-        each.append(TREATMENTS[name].of_material(h, None if p is None else p * 1e6))
-    return each[0] if each[0] == each[1] else PairTreatment(*each)
 
 
 def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
@@ -468,7 +415,7 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
     torques = case.mesh_torques
     driving, driven = mesh_roles(case)
     material = (case.youngs_modulus, case.poisson_ratio, case.density)
-    out = []
+    out, treatments = [], []
     for k, (g, h) in enumerate(case.gears):
         ends = (g, h)
         shared = _mesh_table(rt, RATING_KEYS, "rating", names, ends)
@@ -477,10 +424,13 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
-        rc = parse_rating(mesh_data, case.pairs[k], material)
+        rc = _mesh_rating(mesh_data, case.pairs[k], material)
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
+        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
+                                           mesh_data["material"]))
+    refuse_unread_material(mat, treatments)
     return tuple(out)
 
 
@@ -531,7 +481,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     n = float(case.form.spec.n_planets)
     loading = (ToothLoading((n, 1.0), (1.0, 0.7)), ToothLoading((1.0, n), (0.7, 1.0)))
     material = (case.youngs_modulus, case.poisson_ratio, case.density)
-    out = []
+    out, treatments = [], []
     for k, ends in enumerate(case.gears):
         one = case.mesh_case(k)
         mesh_data = {
@@ -539,12 +489,23 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": one.torque, "speed_rad_s": one.speed},
         }
-        rc = parse_rating(mesh_data, case.pairs[k], material)
+        rc = _mesh_rating(mesh_data, case.pairs[k], material)
+        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
+                                           mesh_data["material"]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
         geometry = SECTIONED[type(case.pairs[k])](case.pairs[k], section)
         out.append(
             dataclasses.replace(rc, geometry=geometry, settings=settings, k_gamma=k_gamma)
         )
+    refuse_unread_material(mat, treatments)
+    for name, rc in zip(meshes, out, strict=True):
+        if "K_Hbeta" in rc.use_measured and float(case.pairs[0].helix_angle) == 0.0:
+            where = f"rating.{name}" if "use_measured" in own[name] else "rating"
+            raise sc.fail(
+                where, "use_measured", "K_Hbeta is measured on a helical stage only (the 3D "
+                "model's face load; a spur stage has none, and would be rated with ISO's K_Hβ): "
+                "remove it", list(rc.use_measured),
+            )
     return tuple(out)
 
 
@@ -640,9 +601,17 @@ def older_ring_cutter(data: dict, case):
 
 
 def check_planetary_rating(data: dict, case) -> None:
-    """The planetary reader's hook: a ``[rating]`` table checked whole
-    (:func:`parse_planetary_rating`), the rating's ``[material]``/``[operating]`` keys refused
-    without one."""
+    """The planetary reader's hook: ``[operating] speed_rpm`` refused (a stage's speed is
+    ``speed_rad_s`` of its input member, which its rating reads too: each mesh at its speed
+    relative to the carrier), a ``[rating]`` table checked whole
+    (:func:`parse_planetary_rating`), the rating's ``[material]`` keys refused without one."""
+    op = data.get("operating", {})
+    if "speed_rpm" in op:
+        raise sc.fail(
+            "operating", "speed_rpm", "not read in a planetary stage: its speed is "
+            "speed_rad_s, of the input member (the rating takes each mesh's speed relative to "
+            "the carrier from it); give speed_rad_s = rpm × π/30", op["speed_rpm"],
+        )
     if "rating" in data:
         parse_planetary_rating(data, case)
         return
