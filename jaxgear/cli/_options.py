@@ -1,16 +1,18 @@
 """Command-line options that need no case file: ranges, counts and output paths, checked before
-JAX or the model is imported (one-line ``ValueError`` messages)."""
+JAX or the model is imported (one-line ``ValueError`` messages). NumPy and the output paths'
+checks (fem_prep) are imported where used: ``jaxgear cases`` imports this module and neither."""
 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ._paths import check_output_dir, check_output_file
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = [
     "EXTENT_BOUNDS",
+    "RPM",
     "MAX_SPEED",
     "MAX_SPEEDS",
     "check_options",
@@ -26,6 +28,31 @@ EXTENT_BOUNDS = (0.02, 0.98)
 # (rad/s, about 955 000 rpm: beyond any gear; the time step count bounds the low end per case)
 MAX_SPEEDS = 10_000
 MAX_SPEED = 1e5
+
+#: rad/s per 1/min (rpm): ``--speeds-rpm`` and ``--speed-rpm`` are read in rpm and carried on in
+#: rad/s, the unit of the API and of ``--speeds``/``--speed``
+RPM = math.pi / 30
+
+
+def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool) -> None:
+    """``args.<rpm>`` (1/min: a number, or a ``START:STOP:N`` range checked as ``--<rpm>``
+    with its values in rpm) carried to ``args.<rad_s>`` in rad/s; nothing when not given.
+    argparse keeps the two options apart (one or the other)."""
+    value = getattr(args, rpm, None)
+    if value is None:
+        return
+    option = "--" + rpm.replace("_", "-")
+    if not is_range:
+        if not math.isfinite(value):
+            raise ValueError(f"{option} {value}: expected a finite speed in 1/min")
+        setattr(args, rad_s, value * RPM)
+        return
+    a, b, n = parse_range(value, option, positive=True, min_points=2)
+    if n > 1 and b > MAX_SPEED / RPM:
+        raise ValueError(
+            f"{option} {value!r}: STOP = {b:.6g} rpm, allowed <= {MAX_SPEED / RPM:.6g} rpm"
+        )
+    setattr(args, rad_s, f"{a * RPM!r}:{b * RPM!r}:{n}")
 
 
 def parse_range(
@@ -57,6 +84,8 @@ def parse_range(
 
 def range_values(text: str, option: str, **checks) -> np.ndarray:
     """The values of a checked ``START:STOP:N`` range, ``linspace(START, STOP, N)``."""
+    import numpy as np
+
     a, b, n = parse_range(text, option, **checks)
     return np.linspace(a, b, n)
 
@@ -93,7 +122,10 @@ def _check_robust(args) -> None:
 
 
 def _check_optimise(args) -> None:
-    """``jaxgear optimise``: the iteration bound, the torque range of ``robust_te_rms``."""
+    """``jaxgear optimise``: the iteration bound, the torque range of ``robust_te_rms``; the
+    speeds given in rpm carried to rad/s."""
+    _rpm_to_rad_s(args, "speed_rpm", "speed", is_range=False)
+    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True)
     if args.max_iterations is not None and args.max_iterations < 1:
         raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")
     if args.torques is not None:
@@ -113,7 +145,10 @@ def _check_master_curve(args) -> None:
 
 
 def _check_sweep(args) -> None:
-    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range."""
+    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range; the
+    speeds given in rpm carried to rad/s."""
+    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True)
+    _rpm_to_rad_s(args, "vtu_speed_rpm", "vtu_speed", is_range=False)
     a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
     if n > MAX_SPEEDS:
         raise ValueError(
@@ -162,6 +197,8 @@ def check_options(args) -> None:
     """Check the command-line options that need no case file (ranges, counts, output paths);
     raises ValueError with a one-line message. Runs before JAX or the model is imported."""
     _CHECKS.get(args.command, _no_checks)(args)
+    if args.out is not None or args.json is not None:
+        from ._paths import check_output_dir, check_output_file
     if args.out is not None:
         check_output_dir(args.out)
     if args.json is not None:
