@@ -1,6 +1,6 @@
 """A case's one-line description (its teeth, module, torque, stiffness model and scene), as
 :mod:`jaxgear.cli.cases` lists it: computed from the loaded case (the model), checked against the
-listing's stored lines (tests/test_cli_start.py)."""
+listing's stored lines by the tests)."""
 
 from __future__ import annotations
 
