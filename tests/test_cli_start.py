@@ -89,16 +89,16 @@ def test_cases_lists_kind_rating_and_run_time(capsys):
 
     assert main(["cases"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[0].split()[:5] == ["NAME", "KIND", "RATED", "RUN", "1st/2nd"]
+    assert out[0].split()[:4] == ["NAME", "RATED", "RUN", "1st/2nd"]
     rows = {line.split()[0]: line.split() for line in out[1:-1]}
     names = sorted(p.stem for p in (ROOT / "jaxgear" / "cases").glob("*.toml"))
     assert sorted(rows) == names  # every embedded case, one row each
-    # by hand, from the case files: kind, and [rating] present
-    assert rows["accessory-spur"][1:3] == ["pair", "-"]
-    assert rows["power-helical"][1:3] == ["pair", "yes"]
-    assert rows["accessory-idler-train"][1:3] == ["train", "-"]
-    assert rows["nrel-5mw-planetary"][1:3] == ["planetary", "yes"]
-    assert rows["nrel-5mw-gearbox"][1:5] == ["gearbox", "3", "of", "3"]
+    # by hand, from the case files: [rating] present
+    assert rows["accessory-spur"][1] == "-"
+    assert rows["accessory-idler-train"][1] == "-"
+    assert rows["power-helical"][1] == "yes"
+    assert rows["nrel-5mw-planetary"][1] == "yes"
+    assert rows["nrel-5mw-gearbox"][1:4] == ["3", "of", "3"]
     for line in out[1:-1]:  # a run time for each: seconds, first run >= second
         found = re.search(r"  ~?(\d+)/(\d+) s  ", line)
         assert found, line
@@ -108,15 +108,25 @@ def test_cases_lists_kind_rating_and_run_time(capsys):
 
 
 def test_cases_lines_are_the_loaded_cases():
-    """The listing's stored description of each case is what the loaded case gives (a case
-    file changed: update jaxgear/cli/cases.py's CASE_INDEX)."""
+    """The listing's stored description of each case is what the loaded case gives, and its
+    rating what the file holds (a ``[rating]`` table; a gearbox: its stages'); a case file
+    changed: update jaxgear/cli/cases.py's CASE_INDEX."""
+    import tomllib
+
     import jaxgear.io as jio
     from jaxgear.cli import case_line
     from jaxgear.cli.cases import CASE_INDEX
 
+    def data(name):
+        return tomllib.loads((ROOT / "jaxgear" / "cases" / f"{name}.toml").read_text("utf-8"))
+
     assert sorted(CASE_INDEX) == sorted(jio.list_cases())
     for name in jio.list_cases():
         assert CASE_INDEX[name][0] == case_line(jio.load_case(name)), name
+        stages = [s["case"] for s in data(name).get("stages", [])]
+        rated = sum("rating" in data(s) for s in stages)
+        expect = "yes" if "rating" in data(name) else f"{rated} of {len(stages)} stages"
+        assert CASE_INDEX[name][1] == (expect if expect != "0 of 0 stages" else "-"), name
 
 
 @pytest.mark.parametrize(

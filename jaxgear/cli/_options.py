@@ -38,7 +38,7 @@ def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool) -> None:
     """``args.<rpm>`` (1/min: a number, or a ``START:STOP:N`` range checked as ``--<rpm>``
     with its values in rpm) carried to ``args.<rad_s>`` in rad/s; nothing when not given.
     argparse keeps the two options apart (one or the other)."""
-    value = getattr(args, rpm, None)
+    value = getattr(args, rpm)
     if value is None:
         return
     option = "--" + rpm.replace("_", "-")

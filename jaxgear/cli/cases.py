@@ -1,15 +1,14 @@
-"""``jaxgear cases``: the embedded cases as a table (kind, rated or not, run time, what each is),
+"""``jaxgear cases``: the embedded cases as a table (rated or not, run time, what each is),
 or one case's file (printed or written).
 
-The listing reads the case files' text only (no model, no JAX: it answers at once); what each
-case is (:func:`jaxgear.cli.case_line` of the loaded case) and how long its ``jaxgear run``
-takes are stored in :data:`CASE_INDEX` (the lines are checked against the loaded cases by the
-tests; the times are measured, see there)."""
+The listing reads the case folder's names only (no model, no JAX: it answers at once); what
+each case is (:func:`jaxgear.cli.case_line` of the loaded case), whether it is rated and how
+long its ``jaxgear run`` takes are stored in :data:`CASE_INDEX` (the lines and ratings are
+checked against the case files by the tests; the times are measured: :data:`MEASURED`)."""
 
 from __future__ import annotations
 
 import importlib.resources
-import tomllib
 
 __all__ = ["CASE_INDEX", "MEASURED", "case_table", "run_cases"]
 
@@ -21,17 +20,20 @@ MEASURED = (
     "of docs/bench/bench_run_cases.json, 2026-11-26)"
 )
 
-#: name -> (what the case is: :func:`jaxgear.cli.case_line`; first run, s; second run, s;
-#: measured, else estimated: :data:`MEASURED`)
-CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
+#: name -> (what the case is: :func:`jaxgear.cli.case_line`; rated: ``yes`` where its file has
+#: ``[rating]`` (``jaxgear run`` writes rating.md), a gearbox's rated stages, else ``-``; first
+#: run, s; second run, s; measured, else estimated: :data:`MEASURED`)
+CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
     "accessory-idler-train": (
         "train z 45/61/86, m_n 1.5 mm, T 80 N·m (input), weber stiffness, torsional scene",
+        "-",
         23,
         12,
         True,
     ),
     "accessory-spur": (
         "z 45/86, m_n 1.5 mm, β 0.0°, T 80 N·m, weber stiffness, lumped3d scene",
+        "-",
         26,
         15,
         True,
@@ -39,12 +41,14 @@ CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
     "accessory-spur-flexible": (
         "z 45/86, m_n 1.5 mm, β 0.0°, T 80 N·m, weber stiffness, lumped3d scene with condensed "
         "bodies",
+        "-",
         19,
         14,
         True,
     ),
     "flexible-idler": (
         "train z 45/61/86, m_n 1.5 mm, T 80 N·m (input), weber stiffness, lumped3d scene",
+        "-",
         16,
         10,
         True,
@@ -52,6 +56,7 @@ CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
     "lin-parker-1999": (
         "planetary z sun 28, ring 92 (lumped), 3 planets, ring fixed, sun → carrier, T 100 N·m "
         "(input)",
+        "-",
         7,
         6,
         False,
@@ -59,30 +64,35 @@ CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
     "nrel-5mw-gearbox": (
         "gearbox of 3 stages (nrel-5mw-planetary, nrel-5mw-stage2, nrel-5mw-stage3), ratio "
         "1:96.3542",
+        "3 of 3 stages",
         44,
         26,
         True,
     ),
     "nrel-5mw-planetary": (
         "planetary z 19/17/-56, 3 planets, ring fixed, carrier → sun, T 3.946e+06 N·m (input)",
+        "yes",
         9,
         8,
         False,
     ),
     "nrel-5mw-stage2": (
         "planetary z 18/36/-93, 3 planets, ring fixed, carrier → sun, T 999650 N·m (input)",
+        "yes",
         27,
         14,
         True,
     ),
     "nrel-5mw-stage3": (
         "z 24/95, m_n 14 mm, β 10.0°, T 40953 N·m, iso6336 stiffness",
+        "yes",
         13,
         11,
         True,
     ),
     "power-helical": (
         "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness",
+        "yes",
         12,
         10,
         True,
@@ -90,6 +100,7 @@ CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
     "power-helical-flexible": (
         "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness, lumped3d scene with condensed "
         "bodies",
+        "-",
         24,
         16,
         True,
@@ -97,6 +108,7 @@ CASE_INDEX: dict[str, tuple[str, float, float, bool]] = {
     "two-stage": (
         "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
         "(hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
+        "-",
         74,
         65,
         True,
@@ -109,48 +121,19 @@ def _folder():
     return importlib.resources.files("jaxgear") / "cases"
 
 
-def _kind(data: dict) -> str:
-    """A case file's kind by its tables: gearbox (``[[stages]]``), planetary (``[planetary]``),
-    train (``[[gears]]``/``[[meshes]]``), else pair (:func:`jaxgear.io.load_case` reads them so)."""
-    if "stages" in data:
-        return "gearbox"
-    if "planetary" in data:
-        return "planetary"
-    return "train" if "gears" in data or "meshes" in data else "pair"
-
-
-def _rated(data: dict, files: dict[str, dict]) -> str:
-    """``yes`` for a case with ``[rating]`` (``jaxgear run`` writes rating.md), a gearbox's
-    rated stages (``2 of 3 stages``), else ``-``."""
-    if "rating" in data:
-        return "yes"
-    stages = data.get("stages")
-    if isinstance(stages, list):
-        rated = sum("rating" in files.get(s.get("case"), {}) for s in stages if isinstance(s, dict))
-        return f"{rated} of {len(stages)} stages" if rated else "-"
-    return "-"
-
-
 def case_table() -> list[str]:
-    """The lines of ``jaxgear cases``: a header, one row per embedded case (name, kind, rated,
-    run time of its first and second ``jaxgear run`` from :data:`CASE_INDEX`, what it is), and
-    a note on where the times come from. Reads the files' text only."""
-    folder = _folder()
-    files = {
-        p.name[:-5]: tomllib.loads(p.read_text("utf-8"))
-        for p in sorted(folder.iterdir(), key=lambda p: p.name[:-5])
-        if p.name.endswith(".toml")
-    }
-    rows = [("NAME", "KIND", "RATED", "RUN 1st/2nd", "WHAT")]
-    for name, data in files.items():
-        what, first, second, measured = CASE_INDEX.get(name, ("", None, None, False))
-        if first is None:
-            run = "?"
-        else:
-            run = ("" if measured else "~") + f"{first:.0f}/{second:.0f} s"
-        rows.append((name, _kind(data), _rated(data, files), run, what))
-    widths = [max(len(r[k]) for r in rows) for k in range(4)]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(r[:4], widths)) + "  " + r[4] for r in rows]
+    """The lines of ``jaxgear cases``: a header, one row per embedded case (name, rated, run
+    time of its first and second ``jaxgear run``, what it is: :data:`CASE_INDEX`; a case not
+    in it, ``?``), and a note on where the times come from. Reads the folder's names only."""
+    # fem_prep.schema.embedded_names' rule (fem_prep itself not imported: seconds)
+    names = sorted(p.name[:-5] for p in _folder().iterdir() if p.name.endswith(".toml"))
+    rows = [("NAME", "RATED", "RUN 1st/2nd", "WHAT")]
+    for name in names:
+        what, rated, first, second, measured = CASE_INDEX.get(name, ("?", "?", 0, 0, False))
+        run = ("" if measured else "~") + f"{first:.0f}/{second:.0f} s"
+        rows.append((name, rated, run, what))
+    widths = [max(len(r[k]) for r in rows) for k in range(3)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(r[:3], widths)) + "  " + r[3] for r in rows]
     lines.append(
         "RUN: jaxgear run CASE, first run / second run (compilation cache filled), idle 2-core "
         "CPU; '~' an estimate. RATED: writes rating.md."
