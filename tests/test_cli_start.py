@@ -176,3 +176,14 @@ def test_speeds_in_rpm(tmp_path, capsys):
     assert main(["sweep", "accessory-spur", "--speeds-rpm", "0:3000:3", "--out", out]) == 2
     assert "--speeds-rpm '0:3000:3': values must be > 0" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_the_installed_script_is_the_deferring_one():
+    """The console script ``jaxgear`` runs :mod:`jaxgear_start` (installed as a module of its
+    own beside the packages): ``jaxgear.cli:entry`` would load the model before parsing."""
+    import tomllib
+
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    assert project["project"]["scripts"]["jaxgear"] == "jaxgear_start:entry"
+    assert "jaxgear_start" in project["tool"]["setuptools"]["py-modules"]
+    assert (ROOT / "jaxgear_start.py").is_file()
