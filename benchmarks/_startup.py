@@ -59,7 +59,9 @@ def _one(tree: str, args: tuple[str, ...]) -> dict:
     if os.waitstatus_to_exitcode(status) != 0:
         raise RuntimeError(f"jaxgear {' '.join(args)} failed in {tree}: {err[-500:]}")
     modules = {
-        line.rsplit("|", 1)[1].strip() for line in err.splitlines() if line.startswith("import time:")
+        line.rsplit("|", 1)[1].strip()
+        for line in err.splitlines()
+        if line.startswith("import time:")
     }
     return {
         "wall_s": wall,

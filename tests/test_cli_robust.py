@@ -12,10 +12,10 @@ import subprocess
 import sys
 import time
 
-import fem_prep.schema  # noqa: F401 - the CLI imports the output paths' checks on first use: not timed below
 import numpy as np
 import pytest
 
+import fem_prep.schema  # noqa: F401 - the CLI imports the path checks on first use: not timed
 from jaxgear.cli import main
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

@@ -130,8 +130,8 @@ def test_cases_lines_are_the_loaded_cases():
 
 
 @pytest.mark.parametrize(
-    "command", ["run", "cases", "bench", "prep", "sweep", "modes", "robust", "optimise",
-                "master-curve"]
+    "command",
+    ["run", "cases", "bench", "prep", "sweep", "modes", "robust", "optimise", "master-curve"],
 )
 def test_every_command_help_has_an_example_and_describes_every_option(command, capsys):
     from jaxgear.cli import main
@@ -163,13 +163,39 @@ def test_speeds_in_rpm(tmp_path, capsys):
     from jaxgear.cli import main
 
     out = str(tmp_path / "o")
-    assert main(["sweep", "accessory-spur", "--speeds-rpm", "1000:3000:3", "--vtu-speed", "1",
-                 "--out", out]) == 2
+    assert (
+        main(
+            [
+                "sweep",
+                "accessory-spur",
+                "--speeds-rpm",
+                "1000:3000:3",
+                "--vtu-speed",
+                "1",
+                "--out",
+                out,
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     lo, hi = 1000 * 2 * math.pi / 60, 3000 * 2 * math.pi / 60
     assert f"[{lo:.6g}, {hi:.6g}] rad/s" in err, err
-    assert main(["sweep", "accessory-spur", "--speeds-rpm", "1000:3000:3", "--vtu-speed-rpm",
-                 "4000", "--out", out]) == 2
+    assert (
+        main(
+            [
+                "sweep",
+                "accessory-spur",
+                "--speeds-rpm",
+                "1000:3000:3",
+                "--vtu-speed-rpm",
+                "4000",
+                "--out",
+                out,
+            ]
+        )
+        == 2
+    )
     assert "--vtu-speed" in capsys.readouterr().err
     assert main(["sweep", "accessory-spur", "--speeds", "1:2:3", "--speeds-rpm", "1:2:3"]) == 2
     assert "not allowed with argument --speeds" in capsys.readouterr().err

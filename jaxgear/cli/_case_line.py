@@ -66,5 +66,3 @@ def _(form: PlanetaryForm, case: Case) -> str:
 def _(form: GearboxForm, case: Case) -> str:
     stages = ", ".join(s.case.name for s in form.stages)
     return f"gearbox of {len(form.stages)} stages ({stages}), ratio 1:{1 / form.ratio():.6g}"
-
-

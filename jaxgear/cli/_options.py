@@ -12,9 +12,9 @@ if TYPE_CHECKING:
 
 __all__ = [
     "EXTENT_BOUNDS",
-    "RPM",
     "MAX_SPEED",
     "MAX_SPEEDS",
+    "RPM",
     "check_options",
     "parse_range",
     "range_values",

@@ -24,8 +24,8 @@ __all__ = [
     "ALL",
     "BENCHMARKS",
     "COMMANDS",
-    "Command",
     "SOLVER_NAMES",
+    "Command",
     "build_parser",
     "command_of",
 ]
