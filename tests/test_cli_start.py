@@ -159,7 +159,8 @@ def test_robust_help_shows_defaults(capsys):
 
 def test_speeds_in_rpm(tmp_path, capsys):
     """``--speeds-rpm`` is read in 1/min and carried on in rad/s (2π/60 per rpm): a VTU speed
-    outside the band shows the band in rad/s; the two forms of one option go not together."""
+    in rad/s outside the band shows the band in rad/s, one in rpm in rpm; the bound on the top
+    speed in rpm; the two forms of one option go not together."""
     from jaxgear.cli import main
 
     out = str(tmp_path / "o")
@@ -196,7 +197,13 @@ def test_speeds_in_rpm(tmp_path, capsys):
         )
         == 2
     )
-    assert "--vtu-speed" in capsys.readouterr().err
+    # in the option's own unit
+    assert "--vtu-speed-rpm 4000: out of range, allowed a speed of the sweep, [1000, 3000] rpm" in (
+        capsys.readouterr().err
+    )
+    assert main(["sweep", "accessory-spur", "--speeds-rpm", "1000:2000000:3", "--out", out]) == 2
+    top = 1e5 * 60 / (2 * math.pi)  # the pinion speed bound, 1e5 rad/s, in rpm
+    assert f"STOP = 2e+06 rpm, allowed <= {top:.6g} rpm" in capsys.readouterr().err
     assert main(["sweep", "accessory-spur", "--speeds", "1:2:3", "--speeds-rpm", "1:2:3"]) == 2
     assert "not allowed with argument --speeds" in capsys.readouterr().err
     assert main(["sweep", "accessory-spur", "--speeds-rpm", "0:3000:3", "--out", out]) == 2

@@ -34,7 +34,7 @@ MAX_SPEED = 1e5
 RPM = math.pi / 30
 
 
-def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool) -> None:
+def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool, min_points: int = 1) -> None:
     """``args.<rpm>`` (1/min: a number, or a ``START:STOP:N`` range checked as ``--<rpm>``
     with its values in rpm) carried to ``args.<rad_s>`` in rad/s; nothing when not given.
     argparse keeps the two options apart (one or the other)."""
@@ -47,11 +47,7 @@ def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool) -> None:
             raise ValueError(f"{option} {value}: expected a finite speed in 1/min")
         setattr(args, rad_s, value * RPM)
         return
-    a, b, n = parse_range(value, option, positive=True, min_points=2)
-    if n > 1 and b > MAX_SPEED / RPM:
-        raise ValueError(
-            f"{option} {value!r}: STOP = {b:.6g} rpm, allowed <= {MAX_SPEED / RPM:.6g} rpm"
-        )
+    a, b, n = parse_range(value, option, positive=True, min_points=min_points)
     setattr(args, rad_s, f"{a * RPM!r}:{b * RPM!r}:{n}")
 
 
@@ -144,21 +140,30 @@ def _check_master_curve(args) -> None:
         raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
 
 
+def _speed_option(args, name: str) -> tuple[str, object, str, float]:
+    """(the option as given, its value, its unit, rad/s per unit) of ``--NAME`` (rad/s) or
+    ``--NAME-rpm`` (1/min), whichever was given (argparse keeps them apart)."""
+    rpm = getattr(args, f"{name}_rpm")
+    option = "--" + name.replace("_", "-")
+    if rpm is not None:
+        return f"{option}-rpm", rpm, "rpm", RPM
+    return option, getattr(args, name), "rad/s", 1.0
+
+
 def _check_sweep(args) -> None:
-    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range; the
-    speeds given in rpm carried to rad/s."""
-    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True)
-    _rpm_to_rad_s(args, "vtu_speed_rpm", "vtu_speed", is_range=False)
-    a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
+    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range, each
+    message in the option's own unit; the speeds given in rpm then carried to rad/s."""
+    option, text, unit, scale = _speed_option(args, "speeds")
+    a, b, n = parse_range(text, option, positive=True, min_points=2)
     if n > MAX_SPEEDS:
         raise ValueError(
-            f"--speeds {args.speeds!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
+            f"{option} {text!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
             "per speed: split the band into several sweeps)"
         )
-    if b > MAX_SPEED:
+    if b * scale > MAX_SPEED:
         raise ValueError(
-            f"--speeds {args.speeds!r}: STOP = {b:.6g} rad/s, allowed <= {MAX_SPEED:.0e} "
-            "rad/s (pinion speed)"
+            f"{option} {text!r}: STOP = {b:.6g} {unit}, allowed <= {MAX_SPEED / scale:.6g} "
+            f"{unit} (pinion speed)"
         )
     for opt, lo, hi in (
         ("periods", 2, 10**6),
@@ -172,12 +177,15 @@ def _check_sweep(args) -> None:
     p, k = args.periods, args.keep_periods
     if p is not None and k is not None and k > p:
         raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
-    v = args.vtu_speed
-    if v is not None and not (math.isfinite(v) and a <= v <= b):
+    vtu, v, vtu_unit, vtu_scale = _speed_option(args, "vtu_speed")
+    if v is not None and not (math.isfinite(v) and a * scale <= v * vtu_scale <= b * scale):
+        lo, hi = a * scale / vtu_scale, b * scale / vtu_scale
         raise ValueError(
-            f"--vtu-speed {v:.6g}: out of range, allowed a speed of the sweep, "
-            f"[{a:.6g}, {b:.6g}] rad/s"
+            f"{vtu} {v:.6g}: out of range, allowed a speed of the sweep, "
+            f"[{lo:.6g}, {hi:.6g}] {vtu_unit}"
         )
+    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True, min_points=2)
+    _rpm_to_rad_s(args, "vtu_speed_rpm", "vtu_speed", is_range=False)
 
 
 def _no_checks(args) -> None:
