@@ -4,7 +4,7 @@ neither JAX, equinox, the optimisers nor fem_prep (checked in ``sys.modules`` of
 ``jaxgear`` script runs: ``import jaxgear_start; jaxgear_start.entry()``); a command that
 computes says it is starting before the model loads (the order of stderr's lines under ``python
 -X importtime``: each imported module's line goes to stderr as its import ends). No time is
-asserted here (benchmarks/_startup.py measures it). ``jaxgear cases`` lists kind, rating and run
+asserted here (benchmarks/_startup.py measures it). ``jaxgear cases`` lists rating and run
 time; every subcommand's help has an example; speeds are taken in rpm too."""
 
 import math
@@ -84,7 +84,7 @@ def test_help_prints_no_start_line():
     assert proc.stderr == ""
 
 
-def test_cases_lists_kind_rating_and_run_time(capsys):
+def test_cases_lists_rating_and_run_time(capsys):
     from jaxgear.cli import main
 
     assert main(["cases"]) == 0
