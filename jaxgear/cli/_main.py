@@ -1,5 +1,11 @@
 """Command line: ``jaxgear run | cases | optimise | master-curve | sweep | modes | robust | bench | prep``.
 
+The command line is parsed and its options checked before the model is imported: this module
+imports neither JAX nor equinox, so that ``jaxgear --help``, ``--version``, a subcommand's
+``--help`` (but ``optimise``'s and ``master-curve``'s, whose choices are :mod:`jaxgear.io`'s
+names) and ``jaxgear cases`` answer at once (the console script, :mod:`jaxgear_start`, defers
+the model package itself, and :func:`main` loads it for a command that needs it).
+
 The CLI is an entry point, so it switches float64 on (library modules never do) and JAX's
 persistent compilation cache (:mod:`.xla_cache`: ``~/.cache/jaxgear/xla``, ``$JAXGEAR_XLA_CACHE``
 to move it or ``off``). Every command
@@ -15,13 +21,10 @@ import os
 import re
 import sys
 import warnings
-
-import equinox as eqx
-import jax
+from collections.abc import Callable
 
 from ._options import check_options
-from ._parser import COMMANDS, build_parser
-from .xla_cache import enable as enable_xla_cache
+from ._parser import COMMANDS, build_parser, command_of
 
 __all__ = ["main", "runtime_message"]
 
@@ -39,9 +42,20 @@ def _dispatch(args) -> int:
     command that computes with JAX (before its first compilation: a second run compiles
     nothing again)."""
     if COMMANDS[args.command].jax:
+        import jax
+
+        from .xla_cache import enable as enable_xla_cache
+
         jax.config.update("jax_enable_x64", True)
         enable_xla_cache()
     return _command(args.command)(args)
+
+
+def _equinox_runtime_error(err: BaseException) -> bool:
+    """Whether ``err`` is equinox's runtime error (a failure inside compiled code); equinox is
+    not imported for it (a command that never loaded it raised none)."""
+    eqx = sys.modules.get("equinox")
+    return eqx is not None and isinstance(err, eqx.EquinoxRuntimeError)
 
 
 def runtime_message(err: BaseException) -> str:
@@ -94,16 +108,30 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
         pass
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(
+    argv: list[str] | None = None, load_model: Callable[[str], None] | None = None
+) -> int:
     """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted).
+
+    ``load_model(command)``: called once a command that needs the model
+    (:attr:`~jaxgear.cli._parser.Command.model`) has its options checked, or before the
+    parser of one whose options need it (``optimise``, ``master-curve``); the console script
+    passes the function that loads the model package it deferred. None: the model is
+    loaded already (``from jaxgear.cli import main``).
 
     Library warnings reach the user as one line ``jaxgear: warning: …`` on stderr.
     """
     saved = warnings.showwarning
     warnings.showwarning = _show_warning
+    argv = sys.argv[1:] if argv is None else list(argv)
+    name = command_of(argv)
+    command = COMMANDS.get(name)
     try:
+        if command is not None and command.model_options and load_model is not None:
+            load_model(name)  # the parser's choices are jaxgear.io's names
+            load_model = None
         try:
-            args = build_parser().parse_args(argv)
+            args = build_parser(name).parse_args(argv)
         except SystemExit as err:  # --help, --version (0), or argparse's usage error (2)
             return int(err.code or 0)
         try:
@@ -111,13 +139,17 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError as err:
             return fail(str(err))
         try:
+            if COMMANDS[args.command].model and load_model is not None:
+                load_model(args.command)
             status = _dispatch(args)
             sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
             return status
         except (ValueError, FileNotFoundError, NotADirectoryError, PermissionError) as err:
             return fail(str(err))
-        except eqx.EquinoxRuntimeError as err:
-            return fail(runtime_message(err))
+        except Exception as err:
+            if _equinox_runtime_error(err):
+                return fail(runtime_message(err))
+            raise
     except KeyboardInterrupt:
         _close_bars()
         print("\njaxgear: interrupted", file=sys.stderr)
@@ -131,8 +163,9 @@ def main(argv: list[str] | None = None) -> int:
         warnings.showwarning = saved
 
 
-def entry() -> None:  # pragma: no cover - console-script wrapper
-    status = main()
+def entry(load_model: Callable[[str], None] | None = None) -> None:  # pragma: no cover
+    """The console script's body: :func:`main` on ``sys.argv``, then exit with its status."""
+    status = main(None, load_model)
     if status == 130:
         # interrupted: XLA may still run threads of the abandoned computation, and tearing the
         # interpreter down under them can crash; the files are closed and complete, so leave now

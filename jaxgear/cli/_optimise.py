@@ -1,7 +1,8 @@
 """``jaxgear optimise`` and ``jaxgear master-curve``: files and plots.
 
 Entry points: :func:`run_optimise` and :func:`run_master_curve` (``args`` from the parsers of
-:func:`jaxgear.cli._optimise_options.add_parsers`). The settings are names (options and the
+:func:`jaxgear.cli._optimise_options.add_optimise_arguments` and
+``add_master_curve_arguments``). The settings are names (options and the
 case's ``[optimise]``); :mod:`jaxgear.io` maps them to objects (:func:`jaxgear.io.case_problem`,
 :func:`jaxgear.io.optimiser_from_name`), and the report's sections that differ between
 objectives dispatch on the objective's type (``functools.singledispatch``).
@@ -49,13 +50,14 @@ from ..io import (
     write_json,
 )
 from . import _plots
-from ._optimise_options import add_parsers
+from ._optimise_options import add_master_curve_arguments, add_optimise_arguments
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, clear_outputs
 
 __all__ = [
     "PARTIAL",
-    "add_parsers",
+    "add_master_curve_arguments",
+    "add_optimise_arguments",
     "check_settings",
     "optimise_case",
     "run_master_curve",
@@ -512,8 +514,8 @@ def _pair_case(name_or_path: str, command: str):
 
 
 def run_optimise(args) -> int:
-    """``jaxgear optimise``: the entry point (``args`` from :func:`add_parsers`' ``optimise``
-    parser); returns the exit status."""
+    """``jaxgear optimise``: the entry point (``args`` from the parser of
+    :func:`add_optimise_arguments`); returns the exit status."""
     case = _pair_case(args.case, "optimise")
     settings = check_settings(settings_from_case(case, args), case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
@@ -612,8 +614,8 @@ def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) 
 
 
 def run_master_curve(args) -> int:
-    """``jaxgear master-curve``: the entry point (``args`` from :func:`add_parsers`'
-    ``master-curve`` parser); returns the exit status."""
+    """``jaxgear master-curve``: the entry point (``args`` from the parser of
+    :func:`add_master_curve_arguments`); returns the exit status."""
     extents = range_values(args.extents, "--extents")
     case = _pair_case(args.case, "master-curve")
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))

@@ -9,14 +9,13 @@ from optimise import VARIABLES
 
 from ..io import OBJECTIVES, OPTIMISERS, STATISTICS
 
-__all__ = ["add_parsers"]
+__all__ = ["add_master_curve_arguments", "add_optimise_arguments"]
 
 
-def add_parsers(sub) -> None:
-    """Add the ``optimise`` and ``master-curve`` subcommands to an argparse subparsers object
-    (their implementations: :func:`jaxgear.cli._optimise.run_optimise` and
-    :func:`jaxgear.cli._optimise.run_master_curve`)."""
-    o = sub.add_parser("optimise", help="gradient-based optimisation of tooth modifications")
+def add_optimise_arguments(o) -> None:
+    """Add the options of ``jaxgear optimise`` to its argparse parser (its implementation:
+    :func:`jaxgear.cli._optimise.run_optimise`). Speeds in rad/s (``--speed``, ``--speeds``)
+    or in 1/min (``--speed-rpm``, ``--speeds-rpm``), one or the other."""
     o.add_argument("case", help="TOML case file or embedded case name")
     o.add_argument(
         "--objective",
@@ -35,36 +34,63 @@ def add_parsers(sub) -> None:
     o.add_argument(
         "--vars",
         help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
-        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.)",
+        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.; default: the "
+        "case's [optimise] vars, else tip_relief.depth,tip_relief.extent)",
     )
-    o.add_argument("--torques", help="START:STOP:N torque range (N·m) for robust_te_rms")
     o.add_argument(
+        "--torques", help="START:STOP:N torque range (N·m) of the robust_te_rms objective"
+    )
+    speed = o.add_mutually_exclusive_group()
+    speed.add_argument(
         "--speed",
         type=float,
         help="pinion speed (rad/s): optimise on the hybrid scene at that speed, centrifugal loads "
-        "included (a case with [scene.gear_body] or [scene.pinion_body])",
+        "included (a case with [scene.gear_body] or [scene.pinion_body]; default: at rest)",
+    )
+    speed.add_argument(
+        "--speed-rpm",
+        type=float,
+        metavar="SPEED_RPM",
+        help="the same in 1/min (rpm, the case files' speed_rpm), instead of --speed",
     )
     o.add_argument(
         "--lp-order",
         type=float,
         help="p of the line_load_lp objective, in [1, 64] (default 8)",
     )
-    o.add_argument(
+    speeds = o.add_mutually_exclusive_group()
+    speeds.add_argument(
         "--speeds",
         help="START:STOP:N pinion speed band (rad/s) of the dynamic_factor objective (hybrid "
         "Newmark on a case with condensed bodies)",
     )
+    speeds.add_argument(
+        "--speeds-rpm",
+        metavar="SPEEDS_RPM",
+        help="the same in 1/min (rpm), instead of --speeds",
+    )
     o.add_argument(
-        "--reduce", choices=list(STATISTICS), help="robust objective: worst case or mean"
+        "--reduce",
+        choices=list(STATISTICS),
+        help="robust_te_rms: worst case or mean over the torques (default: the case's "
+        "[optimise], else the worst case)",
     )
     o.add_argument("--method", choices=list(OPTIMISERS), help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
     o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
-    o.add_argument("--quiet", action="store_true")
-    m = sub.add_parser(
-        "master-curve", help="Master Curve: optimal tip relief depth for each extent"
+    o.add_argument(
+        "--quiet", action="store_true", help="no progress bar (the result lines are printed)"
     )
+
+
+def add_master_curve_arguments(m) -> None:
+    """Add the options of ``jaxgear master-curve`` to its argparse parser (its implementation:
+    :func:`jaxgear.cli._optimise.run_master_curve`)."""
     m.add_argument("case", help="TOML case file or embedded case name")
-    m.add_argument("--extents", default="0.05:0.6:12", help="START:STOP:N relief extents Γ")
+    m.add_argument(
+        "--extents",
+        default="0.05:0.6:12",
+        help="START:STOP:N relief extents Γ (default: 0.05:0.6:12)",
+    )
     m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
     m.add_argument("--quiet", action="store_true", help="no progress bar")

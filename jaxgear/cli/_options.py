@@ -1,18 +1,20 @@
 """Command-line options that need no case file: ranges, counts and output paths, checked before
-JAX or the model is imported (one-line ``ValueError`` messages)."""
+JAX or the model is imported (one-line ``ValueError`` messages). NumPy and the output paths'
+checks (fem_prep) are imported where used: ``jaxgear cases`` imports this module and neither."""
 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from ._paths import check_output_dir, check_output_file
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = [
     "EXTENT_BOUNDS",
     "MAX_SPEED",
     "MAX_SPEEDS",
+    "RPM",
     "check_options",
     "parse_range",
     "range_values",
@@ -26,6 +28,27 @@ EXTENT_BOUNDS = (0.02, 0.98)
 # (rad/s, about 955 000 rpm: beyond any gear; the time step count bounds the low end per case)
 MAX_SPEEDS = 10_000
 MAX_SPEED = 1e5
+
+#: rad/s per 1/min (rpm): ``--speeds-rpm`` and ``--speed-rpm`` are read in rpm and carried on in
+#: rad/s, the unit of the API and of ``--speeds``/``--speed``
+RPM = math.pi / 30
+
+
+def _rpm_to_rad_s(args, rpm: str, rad_s: str, *, is_range: bool, min_points: int = 1) -> None:
+    """``args.<rpm>`` (1/min: a number, or a ``START:STOP:N`` range checked as ``--<rpm>``
+    with its values in rpm) carried to ``args.<rad_s>`` in rad/s; nothing when not given.
+    argparse keeps the two options apart (one or the other)."""
+    value = getattr(args, rpm)
+    if value is None:
+        return
+    option = "--" + rpm.replace("_", "-")
+    if not is_range:
+        if not math.isfinite(value):
+            raise ValueError(f"{option} {value}: expected a finite speed in 1/min")
+        setattr(args, rad_s, value * RPM)
+        return
+    a, b, n = parse_range(value, option, positive=True, min_points=min_points)
+    setattr(args, rad_s, f"{a * RPM!r}:{b * RPM!r}:{n}")
 
 
 def parse_range(
@@ -57,6 +80,8 @@ def parse_range(
 
 def range_values(text: str, option: str, **checks) -> np.ndarray:
     """The values of a checked ``START:STOP:N`` range, ``linspace(START, STOP, N)``."""
+    import numpy as np
+
     a, b, n = parse_range(text, option, **checks)
     return np.linspace(a, b, n)
 
@@ -93,7 +118,10 @@ def _check_robust(args) -> None:
 
 
 def _check_optimise(args) -> None:
-    """``jaxgear optimise``: the iteration bound, the torque range of ``robust_te_rms``."""
+    """``jaxgear optimise``: the iteration bound, the torque range of ``robust_te_rms``; the
+    speeds given in rpm carried to rad/s."""
+    _rpm_to_rad_s(args, "speed_rpm", "speed", is_range=False)
+    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True)
     if args.max_iterations is not None and args.max_iterations < 1:
         raise ValueError(f"--max-iterations {args.max_iterations}: must be >= 1")
     if args.torques is not None:
@@ -112,18 +140,30 @@ def _check_master_curve(args) -> None:
         raise ValueError(f"--extents {args.extents!r}: extents must lie in [{lo}, {hi}]")
 
 
+def _speed_option(args, name: str) -> tuple[str, object, str, float]:
+    """(the option as given, its value, its unit, rad/s per unit) of ``--NAME`` (rad/s) or
+    ``--NAME-rpm`` (1/min), whichever was given (argparse keeps them apart)."""
+    rpm = getattr(args, f"{name}_rpm")
+    option = "--" + name.replace("_", "-")
+    if rpm is not None:
+        return f"{option}-rpm", rpm, "rpm", RPM
+    return option, getattr(args, name), "rad/s", 1.0
+
+
 def _check_sweep(args) -> None:
-    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range."""
-    a, b, n = parse_range(args.speeds, "--speeds", positive=True, min_points=2)
+    """``jaxgear sweep``: the speeds, the integration counts and the VTU speed in range, each
+    message in the option's own unit; the speeds given in rpm then carried to rad/s."""
+    option, text, unit, scale = _speed_option(args, "speeds")
+    a, b, n = parse_range(text, option, positive=True, min_points=2)
     if n > MAX_SPEEDS:
         raise ValueError(
-            f"--speeds {args.speeds!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
+            f"{option} {text!r}: N = {n} speeds, allowed <= {MAX_SPEEDS} (one run "
             "per speed: split the band into several sweeps)"
         )
-    if b > MAX_SPEED:
+    if b * scale > MAX_SPEED:
         raise ValueError(
-            f"--speeds {args.speeds!r}: STOP = {b:.6g} rad/s, allowed <= {MAX_SPEED:.0e} "
-            "rad/s (pinion speed)"
+            f"{option} {text!r}: STOP = {b:.6g} {unit}, allowed <= {MAX_SPEED / scale:.6g} "
+            f"{unit} (pinion speed)"
         )
     for opt, lo, hi in (
         ("periods", 2, 10**6),
@@ -137,12 +177,15 @@ def _check_sweep(args) -> None:
     p, k = args.periods, args.keep_periods
     if p is not None and k is not None and k > p:
         raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
-    v = args.vtu_speed
-    if v is not None and not (math.isfinite(v) and a <= v <= b):
+    vtu, v, vtu_unit, vtu_scale = _speed_option(args, "vtu_speed")
+    if v is not None and not (math.isfinite(v) and a * scale <= v * vtu_scale <= b * scale):
+        lo, hi = a * scale / vtu_scale, b * scale / vtu_scale
         raise ValueError(
-            f"--vtu-speed {v:.6g}: out of range, allowed a speed of the sweep, "
-            f"[{a:.6g}, {b:.6g}] rad/s"
+            f"{vtu} {v:.6g}: out of range, allowed a speed of the sweep, "
+            f"[{lo:.6g}, {hi:.6g}] {vtu_unit}"
         )
+    _rpm_to_rad_s(args, "speeds_rpm", "speeds", is_range=True, min_points=2)
+    _rpm_to_rad_s(args, "vtu_speed_rpm", "vtu_speed", is_range=False)
 
 
 def _no_checks(args) -> None:
@@ -162,6 +205,8 @@ def check_options(args) -> None:
     """Check the command-line options that need no case file (ranges, counts, output paths);
     raises ValueError with a one-line message. Runs before JAX or the model is imported."""
     _CHECKS.get(args.command, _no_checks)(args)
+    if args.out is not None or args.json is not None:
+        from ._paths import check_output_dir, check_output_file
     if args.out is not None:
         check_output_dir(args.out)
     if args.json is not None:

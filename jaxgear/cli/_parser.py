@@ -5,33 +5,54 @@ Every subcommand's options are declared here and nothing is computed (``optimise
 optimiser names from :mod:`jaxgear.io`). Each command is a name in :data:`COMMANDS`, mapped to the function that
 runs it as ``"module:function"``; :func:`jaxgear.cli.main` imports that module once, after the
 options are checked (:func:`._options.check_options`).
+
+This module imports neither the model nor JAX: :func:`build_parser` adds the options of the
+one subcommand on the command line (:func:`command_of`), so that ``jaxgear --help`` and a
+subcommand's ``--help`` need nothing else (``optimise``'s and ``master-curve``'s need
+:mod:`jaxgear.io`, :attr:`Command.model_options`). Speeds: ``--speeds``/``--speed`` in rad/s,
+``--speeds-rpm``/``--speed-rpm`` in 1/min (the case files' ``speed_rpm``), one or the other.
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import textwrap
 from importlib.metadata import PackageNotFoundError, version
 
-__all__ = ["BENCHMARKS", "COMMANDS", "Command", "SOLVER_NAMES", "build_parser"]
+__all__ = [
+    "ALL",
+    "BENCHMARKS",
+    "COMMANDS",
+    "SOLVER_NAMES",
+    "Command",
+    "build_parser",
+    "command_of",
+]
 
 
 @dataclasses.dataclass(frozen=True)
 class Command:
     """A subcommand: ``target``, the function that runs it (``"module:function"``, called with
-    the parsed arguments, returns the exit status) and whether it computes with JAX (float64
-    and the persistent compilation cache are switched on before it runs: all but ``prep``)."""
+    the parsed arguments, returns the exit status); whether it computes with JAX (float64
+    and the persistent compilation cache are switched on before it runs: all but ``prep`` and
+    ``cases``); whether it needs the model (the package :mod:`jaxgear`, JAX and equinox,
+    loaded before it runs: all but ``cases``, which reads the case files' text only); whether
+    its options need it (``optimise``, ``master-curve``: their choices are :mod:`jaxgear.io`'s
+    names, loaded before their parser is built, ``--help`` included)."""
 
     target: str
     jax: bool = True
+    model: bool = True
+    model_options: bool = False
 
 
 #: every subcommand by its name on the command line
 COMMANDS = {
     "run": Command("jaxgear.cli.run:run_command"),
-    "cases": Command("jaxgear.cli.cases:run_cases"),
-    "optimise": Command("jaxgear.cli._optimise:run_optimise"),
-    "master-curve": Command("jaxgear.cli._optimise:run_master_curve"),
+    "cases": Command("jaxgear.cli.cases:run_cases", jax=False, model=False),
+    "optimise": Command("jaxgear.cli._optimise:run_optimise", model_options=True),
+    "master-curve": Command("jaxgear.cli._optimise:run_master_curve", model_options=True),
     "sweep": Command("jaxgear.cli.sweep:run_sweep"),
     "modes": Command("jaxgear.cli.modes:run_modes"),
     "robust": Command("jaxgear.cli.robust:run_robust"),
@@ -79,38 +100,90 @@ def _version() -> str:
         return "unknown"
 
 
-def build_parser() -> argparse.ArgumentParser:
+#: :func:`build_parser`'s ``command`` for a parser with every subcommand's options
+ALL = "*"
+
+#: one command per subcommand: what ``jaxgear COMMAND --help`` shows under "example"
+EXAMPLES = {
+    "run": "jaxgear run power-helical --out results/ph",
+    "cases": "jaxgear cases accessory-spur --write my-case.toml",
+    "bench": "jaxgear bench xla-cache --quick",
+    "prep": "jaxgear prep accessory-wheel --quiet",
+    "sweep": "jaxgear sweep my-case.toml --speeds-rpm 2000:30000:60   # or --speeds in rad/s",
+    "modes": "jaxgear modes lin-parker-1999",
+    "robust": "jaxgear robust accessory-spur --grade 6 --samples 100",
+    "optimise": "jaxgear optimise accessory-spur --vars tip_relief.depth,tip_relief.extent",
+    "master-curve": "jaxgear master-curve accessory-spur --extents 0.1:0.5:9",
+}
+
+
+def command_of(argv: list[str]) -> str | None:
+    """The subcommand a command line names: its first word (``jaxgear``'s own options,
+    ``--help`` and ``--version``, take no value), or None when it names none."""
+    return next((a for a in argv if not a.startswith("-")), None)
+
+
+def _subparser(sub, name: str, help: str, description: str | None = None):
+    """``sub.add_parser`` with the house's help layout: the example of :data:`EXAMPLES` under
+    the options, the description as written (its line breaks kept)."""
+    return sub.add_parser(
+        name,
+        help=help,
+        description=textwrap.fill(description or help[:1].upper() + help[1:] + ".", 79),
+        epilog=f"example:\n  {EXAMPLES[name]}",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+
+
+def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
     """The parser of ``jaxgear``: one subparser per :data:`COMMANDS` entry; ``args.command`` is
     the subcommand's name; ``args.out`` and ``args.json`` are None where a command has no such
-    option."""
-    # imported here, not with the table of commands: the console script reads COMMANDS before
-    # these imports (fem_prep, the optimisers; :mod:`jaxgear.cli._start`)
-    from fem_prep import add_build_arguments
-
-    from ._optimise_options import add_parsers as add_optimise_parsers
-
-    p = argparse.ArgumentParser(prog="jaxgear", description="Differentiable gear dynamics in JAX.")
+    option. ``command``: the subcommand whose options are added (:func:`command_of` of the
+    command line; None: none, for ``jaxgear --help``); :data:`ALL` (default) every one's,
+    ``optimise``'s and ``master-curve``'s loading the model (:attr:`Command.model_options`)."""
+    p = argparse.ArgumentParser(
+        prog="jaxgear",
+        description=textwrap.fill(
+            "Differentiable gear dynamics in JAX. Speeds: --speeds/--speed in rad/s, "
+            "--speeds-rpm/--speed-rpm in 1/min (as the case files' speed_rpm).",
+            79,
+        ),
+        epilog="example:\n  jaxgear cases                  # the embedded cases\n"
+        "  jaxgear run accessory-spur     # analyse one (jaxgear-out/accessory-spur/)\n"
+        "  jaxgear COMMAND --help         # a command's options, with an example",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
     p.set_defaults(out=None, json=None)
-    sub = p.add_subparsers(dest="command", required=True)
-    _add_run(sub)
-    _add_cases(sub)
-    _add_bench(sub)
-    pr = sub.add_parser("prep", help="fem_prep: mesh and condense a gear body (= fem-prep build)")
-    add_build_arguments(pr)
-    _add_sweep(sub)
-    _add_modes(sub)
-    _add_robust(sub)
-    add_optimise_parsers(sub)
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, add in _ADDERS.items():
+        parser = _subparser(sub, name, *_HELP[name])
+        if command == ALL or command == name:
+            add(parser)
     return p
 
 
-def _add_run(sub) -> None:
-    r = sub.add_parser(
-        "run",
-        help="the main job: quasi-static analysis of a case, and the speed sweep and "
-        "optimisation its [scene] and [optimise] ask for",
-    )
+def _add_prep(pr) -> None:
+    # imported here: fem_prep's options are read for ``jaxgear prep`` only
+    from fem_prep import add_build_arguments
+
+    add_build_arguments(pr)
+
+
+def _add_optimise(o) -> None:
+    # imported here: the choices are jaxgear.io's names (the model is loaded for these)
+    from ._optimise_options import add_optimise_arguments
+
+    add_optimise_arguments(o)
+
+
+def _add_master_curve(m) -> None:
+    from ._optimise_options import add_master_curve_arguments
+
+    add_master_curve_arguments(m)
+
+
+def _add_run(r) -> None:
     r.add_argument(
         "case",
         nargs="?",
@@ -132,21 +205,19 @@ def _add_run(sub) -> None:
     )
 
 
-def _add_cases(sub) -> None:
-    c = sub.add_parser("cases", help="list the embedded cases, or print / write one")
-    c.add_argument("name", nargs="?", help="an embedded case: print its case file")
+def _add_cases(c) -> None:
+    c.add_argument(
+        "name", nargs="?", help="an embedded case: print its case file (default: list them all)"
+    )
     c.add_argument("--write", metavar="FILE", help="write the case file to FILE instead")
     c.add_argument("--force", action="store_true", help="replace FILE if it exists")
 
 
-def _add_bench(sub) -> None:
-    b = sub.add_parser(
-        "bench",
-        help="benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "
-        "checkout)",
-    )
+def _add_bench(b) -> None:
     b.add_argument("what", choices=list(BENCHMARKS), help="which benchmark")
-    b.add_argument("--out", default="jaxgear-out/bench", help="output folder")
+    b.add_argument(
+        "--out", default="jaxgear-out/bench", help="output folder (default: jaxgear-out/bench)"
+    )
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
     b.add_argument(
         "--cases",
@@ -155,13 +226,17 @@ def _add_bench(sub) -> None:
     )
 
 
-def _add_sweep(sub) -> None:
-    s = sub.add_parser("sweep", help="dynamic factor vs speed (Newmark/diffrax, [scene] table)")
+def _add_sweep(s) -> None:
     s.add_argument("case", help="TOML case file or embedded case name")
-    s.add_argument(
+    speeds = s.add_mutually_exclusive_group(required=True)
+    speeds.add_argument(
         "--speeds",
-        required=True,
-        help="START:STOP:N pinion speeds (rad/s; a planetary stage: its input member's)",
+        help="START:STOP:N pinion speeds in rad/s (a planetary stage: its input member's)",
+    )
+    speeds.add_argument(
+        "--speeds-rpm",
+        metavar="SPEEDS_RPM",
+        help="the same in 1/min (rpm, the case files' speed_rpm), instead of --speeds",
     )
     s.add_argument(
         "--direction",
@@ -174,21 +249,38 @@ def _add_sweep(sub) -> None:
         choices=SOLVER_NAMES,
         help="time integrator (default: [scene.integration] solver, else newmark)",
     )
-    s.add_argument("--contact", choices=["exact", "smooth"], help="contact law")
-    s.add_argument("--periods", type=int, help="mesh periods per speed")
-    s.add_argument("--keep-periods", type=int, help="steady-state periods kept")
+    s.add_argument(
+        "--contact",
+        choices=["exact", "smooth"],
+        help="contact law (default: [scene] contact, else exact)",
+    )
+    s.add_argument(
+        "--periods", type=int, help="mesh periods per speed (default: [scene.integration])"
+    )
+    s.add_argument(
+        "--keep-periods",
+        type=int,
+        help="steady-state periods kept, the last of --periods (default: [scene.integration])",
+    )
     s.add_argument(
         "--steps-per-period",
         type=int,
         help="time steps per mesh period (default: [scene.integration], else automatic: 40 per "
         "period of the highest mode the mesh excites, at least 64 per mesh period)",
     )
-    s.add_argument("--slices", type=int, help="override [mesh] slices")
-    s.add_argument(
+    s.add_argument("--slices", type=int, help="slices across the face (default: [mesh] slices)")
+    vtu = s.add_mutually_exclusive_group()
+    vtu.add_argument(
         "--vtu-speed",
         type=float,
         help="pinion speed (rad/s): VTU time series (vtu/body_<member>.pvd) of the condensed "
         "bodies over the kept periods at that speed",
+    )
+    vtu.add_argument(
+        "--vtu-speed-rpm",
+        type=float,
+        metavar="VTU_SPEED_RPM",
+        help="the same in 1/min (rpm), instead of --vtu-speed",
     )
     s.add_argument(
         "--out",
@@ -198,25 +290,28 @@ def _add_sweep(sub) -> None:
     s.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _add_modes(sub) -> None:
-    m = sub.add_parser(
-        "modes", help="natural frequencies (Hz) with their mode types, for any case (modes.json)"
-    )
+def _add_modes(m) -> None:
     m.add_argument("case", help="TOML case file or embedded case name")
     m.add_argument("--out", help="output folder (default: jaxgear-out/<case>/modes/)")
     m.add_argument("--quiet", action="store_true", help="no progress output")
 
 
-def _add_robust(sub) -> None:
-    r = sub.add_parser(
-        "robust",
-        help="Monte Carlo over ISO 1328-1 deviations: TE, line load and dynamic-factor "
-        "distributions with percentiles ([robust] table)",
-    )
+def _add_robust(r) -> None:
     r.add_argument("case", help="TOML case file or embedded case name")
-    r.add_argument("--grade", type=int, help="ISO 1328-1 flank tolerance class 1-11")
-    r.add_argument("--samples", type=int, help="number of realisations (>= 2)")
-    r.add_argument("--seed", type=int, help="random seed (>= 0)")
+    r.add_argument(
+        "--grade",
+        type=int,
+        help="ISO 1328-1 flank tolerance class 1-11 (default: [robust] grade, else "
+        "[deviations] grade)",
+    )
+    r.add_argument(
+        "--samples",
+        type=int,
+        help="number of realisations, >= 2 (default: [robust] samples, else 200)",
+    )
+    r.add_argument(
+        "--seed", type=int, help="random seed, >= 0 (default: [robust] seed, else 0)"
+    )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/robust/)")
     r.add_argument(
         "--coordinator-address",
@@ -225,3 +320,50 @@ def _add_robust(sub) -> None:
     r.add_argument("--num-processes", type=int, help="jax.distributed: processes (one per host)")
     r.add_argument("--process-id", type=int, help="jax.distributed: this process, 0 … N-1")
     r.add_argument("--quiet", action="store_true", help="no summary line")
+
+
+#: each subcommand's one-line help (``jaxgear --help``) and, where it says more, description
+_HELP = {
+    "run": (
+        "the main job: quasi-static analysis of a case, and the speed sweep and optimisation "
+        "its [scene] and [optimise] ask for",
+    ),
+    "cases": (
+        "list the embedded cases (kind, rated or not, run time), or print / write one",
+    ),
+    "bench": (
+        "benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "
+        "checkout)",
+    ),
+    "prep": ("fem_prep: mesh and condense a gear body (= fem-prep build)",),
+    "sweep": (
+        "dynamic factor vs speed (Newmark/diffrax, [scene] table)",
+        "Dynamic factor vs speed (Newmark/diffrax, the case's [scene] table). Speeds in rad/s "
+        "(--speeds) or in 1/min (--speeds-rpm, as the case files' speed_rpm).",
+    ),
+    "modes": ("natural frequencies (Hz) with their mode types, for any case (modes.json)",),
+    "robust": (
+        "Monte Carlo over ISO 1328-1 deviations: TE, line load and dynamic-factor "
+        "distributions with percentiles ([robust] table)",
+    ),
+    "optimise": (
+        "gradient-based optimisation of tooth modifications",
+        "Gradient-based optimisation of tooth modifications (the case's [optimise] table, the "
+        "options below override it). Speeds in rad/s (--speed, --speeds) or in 1/min "
+        "(--speed-rpm, --speeds-rpm, as the case files' speed_rpm).",
+    ),
+    "master-curve": ("Master Curve: optimal tip relief depth for each extent",),
+}
+
+#: each subcommand's options, in the order ``jaxgear --help`` lists the subcommands
+_ADDERS = {
+    "run": _add_run,
+    "cases": _add_cases,
+    "bench": _add_bench,
+    "prep": _add_prep,
+    "sweep": _add_sweep,
+    "modes": _add_modes,
+    "robust": _add_robust,
+    "optimise": _add_optimise,
+    "master-curve": _add_master_curve,
+}

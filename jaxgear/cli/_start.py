@@ -1,16 +1,17 @@
-"""The console script ``jaxgear`` (``jaxgear = "jaxgear.cli:entry"``): a command that computes
-says so on stderr before the command line's own imports (the option checks' ``fem_prep``, the
-optimisers and :mod:`jaxgear.io` behind the parser's optimise options, the command's module and
-matplotlib) and its first compilation, which together take seconds; then
-:func:`jaxgear.cli._main.entry` runs it.
+"""The console script's command line (``jaxgear``, through :mod:`jaxgear_start`, which defers
+the model package): parsed and checked first, then, for a command that needs the model, one
+line ``jaxgear COMMAND: starting (loading and compiling)...`` on stderr before the model (JAX,
+equinox, the optimisers) is loaded and the command compiles, which together take seconds;
+:func:`jaxgear.cli._main.main` runs it.
 
-Only the model itself (``import jaxgear``: JAX and equinox) is loaded before this line: the
-console script imports this package, and Python imports the parent package first.
+``jaxgear --help``, ``--version``, a subcommand's ``--help`` (but ``optimise``'s and
+``master-curve``'s) and ``jaxgear cases`` load neither the model nor JAX.
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 
 from ._parser import COMMANDS
 
@@ -20,15 +21,24 @@ __all__ = ["entry"]
 _SILENT = frozenset({"-h", "--help", "--quiet"})
 
 
-def entry() -> None:  # pragma: no cover - console-script wrapper (run in a subprocess)
-    """``jaxgear [COMMAND] ...``: for a command that computes with JAX (every one but ``prep``)
-    one line ``jaxgear COMMAND: starting...`` on stderr, unless ``--help`` or ``--quiet`` is
-    given; then the command (exit status as :func:`jaxgear.cli.main`)."""
+def entry(load_model: Callable[[], None] | None = None) -> None:  # pragma: no cover
+    """``jaxgear [COMMAND] ...``: the command line of ``sys.argv``, its exit status as
+    :func:`jaxgear.cli.main`'s. ``load_model``: loads the model package the console script
+    deferred (None: it is loaded), called once, when a command needs it; for a command that
+    computes with JAX (every one but ``prep`` and ``cases``) the start line comes first,
+    unless ``--help`` or ``--quiet`` is given."""
     argv = sys.argv[1:]
-    command = COMMANDS.get(argv[0]) if argv else None
-    if command is not None and command.jax and not _SILENT & set(argv):
-        print(f"jaxgear {argv[0]}: starting (loading and compiling)...", file=sys.stderr,
-              flush=True)
+
+    def load(command: str) -> None:
+        if COMMANDS[command].jax and not _SILENT & set(argv):
+            print(
+                f"jaxgear {command}: starting (loading and compiling)...",
+                file=sys.stderr,
+                flush=True,
+            )
+        if load_model is not None:
+            load_model()
+
     from ._main import entry as run
 
-    run()
+    run(load)

@@ -1,84 +1,157 @@
-"""``jaxgear cases``: the embedded cases, one line each, or one case's file (printed or written)."""
+"""``jaxgear cases``: the embedded cases as a table (rated or not, run time, what each is),
+or one case's file (printed or written).
+
+The listing reads the case folder's names only (no model, no JAX: it answers at once); what
+each case is (:func:`jaxgear.cli.case_line` of the loaded case), whether it is rated and how
+long its ``jaxgear run`` takes are stored in :data:`CASE_INDEX` (the lines and ratings are
+checked against the case files by the tests; the times are measured: :data:`MEASURED`)."""
 
 from __future__ import annotations
 
-import functools
+import importlib.resources
 
-from fem_prep.schema import print_or_write
+__all__ = ["CASE_INDEX", "MEASURED", "case_table", "run_cases"]
 
-from .. import io as case_io
-from ..io import Case, GearboxForm, PairForm, PlanetaryForm, TrainForm
-from ._case_kinds import gear_glossary
+#: where :data:`CASE_INDEX`'s run times come from
+MEASURED = (
+    "wall time of `jaxgear run CASE --quiet`, first run (empty compilation cache) and second, on "
+    "an idle 2-core CPU (AMD EPYC), measured 2026-11-27 (docs/bench/bench_run_cases_idle*.json); "
+    "'~' marks an estimate (measured under load: idle wall time taken as 3/4 of the CPU seconds "
+    "of docs/bench/bench_run_cases.json, 2026-11-26)"
+)
 
-__all__ = ["case_line", "run_cases"]
+#: name -> (what the case is: :func:`jaxgear.cli.case_line`; rated: ``yes`` where its file has
+#: ``[rating]`` (``jaxgear run`` writes rating.md), a gearbox's rated stages, else ``-``; first
+#: run, s; second run, s; measured, else estimated: :data:`MEASURED`)
+CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
+    "accessory-idler-train": (
+        "train z 45/61/86, m_n 1.5 mm, T 80 N·m (input), weber stiffness, torsional scene",
+        "-",
+        23,
+        12,
+        True,
+    ),
+    "accessory-spur": (
+        "z 45/86, m_n 1.5 mm, β 0.0°, T 80 N·m, weber stiffness, lumped3d scene",
+        "-",
+        26,
+        15,
+        True,
+    ),
+    "accessory-spur-flexible": (
+        "z 45/86, m_n 1.5 mm, β 0.0°, T 80 N·m, weber stiffness, lumped3d scene with condensed "
+        "bodies",
+        "-",
+        19,
+        14,
+        True,
+    ),
+    "flexible-idler": (
+        "train z 45/61/86, m_n 1.5 mm, T 80 N·m (input), weber stiffness, lumped3d scene",
+        "-",
+        16,
+        10,
+        True,
+    ),
+    "lin-parker-1999": (
+        "planetary z sun 28, ring 92 (lumped), 3 planets, ring fixed, sun → carrier, T 100 N·m "
+        "(input)",
+        "-",
+        7,
+        6,
+        False,
+    ),
+    "nrel-5mw-gearbox": (
+        "gearbox of 3 stages (nrel-5mw-planetary, nrel-5mw-stage2, nrel-5mw-stage3), ratio "
+        "1:96.3542",
+        "3 of 3 stages",
+        44,
+        26,
+        True,
+    ),
+    "nrel-5mw-planetary": (
+        "planetary z 19/17/-56, 3 planets, ring fixed, carrier → sun, T 3.946e+06 N·m (input)",
+        "yes",
+        9,
+        8,
+        False,
+    ),
+    "nrel-5mw-stage2": (
+        "planetary z 18/36/-93, 3 planets, ring fixed, carrier → sun, T 999650 N·m (input)",
+        "yes",
+        27,
+        14,
+        True,
+    ),
+    "nrel-5mw-stage3": (
+        "z 24/95, m_n 14 mm, β 10.0°, T 40953 N·m, iso6336 stiffness",
+        "yes",
+        13,
+        11,
+        True,
+    ),
+    "power-helical": (
+        "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness",
+        "yes",
+        12,
+        10,
+        True,
+    ),
+    "power-helical-flexible": (
+        "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness, lumped3d scene with condensed "
+        "bodies",
+        "-",
+        24,
+        16,
+        True,
+    ),
+    "two-stage": (
+        "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
+        "(hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
+        "-",
+        74,
+        65,
+        True,
+    ),
+}
 
 
-def case_line(case: Case) -> str:
-    """What ``jaxgear cases`` prints after a case's name: its teeth, module, torque, stiffness
-    model and scene, as its file wrote its gears (:attr:`~jaxgear.io.Case.form`: a pair's, a
-    train's)."""
-    return form_line(case.form, case)
+def _folder():
+    """The embedded cases' folder (as :func:`jaxgear.io.list_cases` reads it)."""
+    return importlib.resources.files("jaxgear") / "cases"
 
 
-@functools.singledispatch
-def form_line(form, case: Case) -> str:
-    """:func:`case_line` for a case of ``form`` (:class:`~jaxgear.io.CaseForm`)."""
-    raise TypeError(f"jaxgear cases: no line for a case of form {type(form).__name__}")
-
-
-@form_line.register
-def _(form: PairForm, case: Case) -> str:
-    scene = case.scene
-    return (
-        f"z {case.pair.pinion.teeth}/{case.pair.gear.teeth}, "
-        f"m_n {case.pair.normal_module * 1e3:g} mm, "
-        f"β {case.raw['pair'].get('helix_angle_deg', 0)}°, "
-        f"T {case.torque:g} N·m, {case.stiffness_model} stiffness"
-        + (f", {scene.model} scene" if scene is not None else "")
-        + (" with condensed bodies" if scene is not None and scene.hybrid else "")
+def case_table() -> list[str]:
+    """The lines of ``jaxgear cases``: a header, one row per embedded case (name, rated, run
+    time of its first and second ``jaxgear run``, what it is: :data:`CASE_INDEX`; a case not
+    in it, ``?``), and a note on where the times come from. Reads the folder's names only."""
+    # fem_prep.schema.embedded_names' rule (fem_prep itself not imported: seconds)
+    names = sorted(p.name[:-5] for p in _folder().iterdir() if p.name.endswith(".toml"))
+    rows = [("NAME", "RATED", "RUN 1st/2nd", "WHAT")]
+    for name in names:
+        what, rated, first, second, measured = CASE_INDEX.get(name, ("?", "?", 0, 0, False))
+        run = ("" if measured else "~") + f"{first:.0f}/{second:.0f} s"
+        rows.append((name, rated, run, what))
+    widths = [max(len(r[k]) for r in rows) for k in range(3)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(r[:3], widths)) + "  " + r[3] for r in rows]
+    lines.append(
+        "RUN: jaxgear run CASE, first run / second run (compilation cache filled), idle 2-core "
+        "CPU; '~' an estimate. RATED: writes rating.md."
     )
-
-
-@form_line.register
-def _(form: TrainForm, case: Case) -> str:
-    teeth = "/".join(str(m.teeth) for m in case.members())  # its gears' teeth, input first
-    modules = dict.fromkeys(f"{p.normal_module * 1e3:g}" for p in case.pairs)
-    glossary = gear_glossary(case.gear_names)
-    return (
-        f"train z {teeth}, m_n {'/'.join(modules)} mm, "
-        f"T {case.torque:g} N·m (input), {case.stiffness_model} stiffness"
-        + (f", {case.scene.model} scene" if case.scene is not None else "")
-        + (f" ({glossary})" if glossary else "")
-    )
-
-
-@form_line.register
-def _(form: PlanetaryForm, case: Case) -> str:
-    z_s, z_p, z_r = form.spec.teeth
-    teeth = f"{z_s}/{z_p}/-{z_r}" if z_p is not None else f"sun {z_s}, ring {z_r} (lumped)"
-    return (
-        f"planetary z {teeth}, {form.spec.n_planets} planets, {form.spec.fixed.name.lower()} "
-        f"fixed, {form.spec.input.name.lower()} → {form.spec.output.name.lower()}, "
-        f"T {case.torque:g} N·m (input)"
-    )
-
-
-@form_line.register
-def _(form: GearboxForm, case: Case) -> str:
-    stages = ", ".join(s.case.name for s in form.stages)
-    return f"gearbox of {len(form.stages)} stages ({stages}), ratio 1:{1 / form.ratio():.6g}"
+    return lines
 
 
 def run_cases(args) -> int:
-    """``jaxgear cases``: one line per embedded case; with NAME its case file (to stdout or,
+    """``jaxgear cases``: the table of :func:`case_table`; with NAME its case file (to stdout or,
     with ``--write FILE``, to a new file to start from: ``jaxgear run FILE`` runs it)."""
     if args.name is None:
         if args.write is not None:
             raise ValueError("--write needs a case NAME (jaxgear cases NAME --write FILE)")
-        for name in case_io.list_cases():
-            print(f"{name:24s} {case_line(case_io.load_case(name))}")
+        print("\n".join(case_table()))
         return 0
-    text = case_io.embedded_case_text(args.name)
+    from fem_prep.schema import embedded_text, print_or_write  # fem_prep: for a file only
+
+    text = embedded_text(_folder(), args.name, "case")
     what = f"embedded case {args.name!r}"
     print_or_write(text, args.write, force=args.force, what=what, next_command="jaxgear run")
     return 0
