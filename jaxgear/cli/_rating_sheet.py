@@ -67,6 +67,12 @@ def _values(v, scale: float = 1.0) -> str:
     return number(None if v is None else float(v) * scale)
 
 
+def _source(src: str) -> str:
+    """A factor's source as ``rating.md`` prints it: "given", ISO's, or "measured" (the
+    summary's long words of a measured factor rated with, ``[rating] use_measured``)."""
+    return "measured, [rating] use_measured" if src.startswith("measured") else src
+
+
 def _printed(v) -> str:
     """A published value as the report printed it (its own rounding: 0.827, not 0.8270)."""
     if isinstance(v, list):
@@ -264,7 +270,7 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
     t = _Table(None)
     tr = _treatments(mat.treatment)
     t.row("heat treatment", "", " / ".join(_treatment_name(x) for x in tr), "",
-          "ISO 6336-5 (its life curves: Z_NT, Y_NT)")
+          f"ISO 6336-5; its life curves: {ref('Z_NT')}, {ref('Y_NT')}")
     hb = [getattr(x, "brinell_hardness", None) for x in tr]
     t.row("Brinell hardness (through hardened)", "HB",
           " / ".join("—" if h is None else number(h) for h in hb), "", f"{ref('Z_W')}, Z_W")
@@ -343,7 +349,7 @@ def _factor_rows(t: _Table, section: dict, rating, method: str) -> None:
            if np.asarray(v).ndim == 0}
     for key, what in _FACTORS:
         f = section["factors"][key]
-        value = f"{number(f['value'])} ({f['source']})"
+        value = f"{number(f['value'])} ({_source(f['source'])})"
         t.row(what, SYMBOLS[key], value, "", reference(key, method), key)
         if key == "K_A":
             _k_gamma_row(t, section, method)
@@ -496,7 +502,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     column where ``inputs.published`` has them. Every row of the rating's tables names its ISO
     6336 part, edition and clause (:func:`reference`)."""
     method = section["method"]
-    h = heading + "#"
+    h = heading  # each table's heading one level below the title's
     out = [f"{heading} {case_name}: load capacity, {method}", ""]
     out.append(f"Edition: ISO 6336-1, -2 and -3:{_year(method)}, method B (strength numbers of "
                "ISO 6336-5). Per-gear values as pinion / gear; stresses in N/mm² (summary.json: "
@@ -510,8 +516,9 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     out.append("")
     pub = inputs.published if inputs is not None else None
     if pub is not None:
-        out += [f"Published values: {inputs.report}, as printed (its rounding); its inputs "
-                "are this case's unless the case file says otherwise.", ""]
+        out += [f"Published values: {inputs.report}, as printed (its rounding). Where this "
+                "case's inputs differ from the report's (the case file's comments say which, "
+                "e.g. a K_γ or a load factor the report was given), so do the values.", ""]
     rating = None
     if inputs is not None:
         rating = _rated(inputs, section)
@@ -520,7 +527,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     if rating is None:
         for key, what in _FACTORS:
             f = section["factors"][key]
-            t.row(what, SYMBOLS[key], f"{number(f['value'])} ({f['source']})", "",
+            t.row(what, SYMBOLS[key], f"{number(f['value'])} ({_source(f['source'])})", "",
                   reference(key, method), key)
             if key == "K_A":
                 _k_gamma_row(t, section, method)
