@@ -30,7 +30,13 @@ LOW_LOAD = 1e5  # N/m = 100 N/mm
 
 class LoadFactors(eqx.Module):
     """K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα (scalars) and ``sources`` (static: symbol → "given" or
-    "ISO 6336-1 method B"), with the intermediate values of their clauses (``details``)."""
+    "ISO 6336-1 method B"), with the intermediate values of their clauses (``details``, SI,
+    method B's whether or not the factor is given): K_v's ``resonance_ratio_N``,
+    ``resonance_ratio_N_S``, ``reduced_mass_kg_per_m``, ``C_a_m`` (tip relief), ``f_pb_eff_m``,
+    ``f_falpha_eff_m`` (less running-in), ``B_p``, ``B_f``, ``B_k``; K_Hβ's ``F_m_per_b_N_per_m``,
+    ``F_betax_m``, ``F_betay_m``, ``c_gamma_beta_N_per_m2``; ``c_prime_N_per_m2``,
+    ``c_gamma_alpha_N_per_m2`` (clause 9) and K_Fβ's exponent ``N_F`` (``rating.md`` prints
+    them)."""
 
     K_A: Array
     K_v: Array

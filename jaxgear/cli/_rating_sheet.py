@@ -53,8 +53,9 @@ def number(x) -> str:
     x = float(x)
     if x == 0.0 or not math.isfinite(x):
         return f"{x:g}"
-    if 1e-3 <= abs(x) < 1e6:
-        return f"{x:.{max(0, 3 - math.floor(math.log10(abs(x))))}f}"
+    r = float(f"{x:.4g}")  # rounded first: 0.99999 prints 1.000, not 1.0000
+    if 1e-3 <= abs(r) < 1e6:
+        return f"{r:.{max(0, 3 - math.floor(math.log10(abs(r))))}f}"
     return f"{x:.3e}"
 
 
