@@ -17,7 +17,6 @@ from .. import (
     GivenFactors,
     face_load_factor,
     quasi_static,
-    rate,
     root_stress_map,
     tooth_geometry,
     transverse_factor_limits,
@@ -61,6 +60,7 @@ __all__ = [
     "write_rating_table",
     "write_rating_md",
 ]
+
 
 def _lines(case: Case, k: int, section: dict, title: str, heading: str = "#") -> list[str]:
     """Mesh ``k``'s ``rating.md`` lines (:func:`rating_lines`, with its inputs:

@@ -247,7 +247,7 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
     rc, method, pub = inputs.rc, section["method"], inputs.published
     g, s = rc.geometry, inputs.rc.settings
     d = g.derived()
-    ref = lambda k: reference(k, method)  # noqa: E731
+    ref = lambda k: reference(k, method)
     geo = "ISO 21771 (input)"
     out = []
     t = _Table(pub)

@@ -70,8 +70,8 @@ from ._planetary_steps import (
     time_plan,
 )
 from ._plots import new_figure
-from ._rating_sheet import sweep_excitation
 from ._plots._figure import legend_below_and_save
+from ._rating_sheet import sweep_excitation
 from ._sweep_json import write_sweep_csv
 from .planetary import (
     MESH_ORDERS,
