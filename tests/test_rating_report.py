@@ -256,3 +256,31 @@ def test_docs_describe_the_report(tmp_path):
     md = _report("nrel-5mw-stage3", tmp_path)
     for words in ("published", "pass", "Factors whose formula", "↳"):
         assert words in md
+
+
+def test_pair_measured_k_v_says_whether_it_is_comparable(tmp_path):
+    """A pair's measured K_v (a speed sweep's dynamic factor at the rating speed) carries
+    ``comparable`` and ``note`` from its mesh frequency z₁ n₁ against ISO 6336-1's mesh
+    resonance z₁ n_E1 (f_mesh/f_E1 = ISO's N): nrel-5mw-stage3 at N = 0.419 (ISO's
+    ↳ row) not comparable, power-helical at N = 3.54 comparable; rating.md prints the note in
+    its K_v measured row."""
+    for name, n_iso, comparable in (("nrel-5mw-stage3", 0.4188, False),
+                                    ("power-helical", 3.542, True)):
+        case = jio.load_case(name)
+        out = tmp_path / name
+        out.mkdir()
+        summary = {"rating": cli.rating_outputs(case, str(out))}
+        speed = float(jio.ratings_of(case)[0].operating.speed)
+        dynamics = {"speeds_rad_s": [0.5 * speed, 2 * speed], "dynamic_factor": [1.3, 1.3],
+                    "model": "stub", "slices": 2}
+        cli.measured_dynamic_factor(case, str(out), summary, dynamics)
+        k_v = summary["rating"]["measured"]["K_v"]
+        assert k_v["value"] == pytest.approx(1.3) and k_v["comparable"] is comparable
+        z1 = case.pair.pinion.teeth
+        f_mesh = z1 * speed / (2 * math.pi)
+        m = re.search(r"mesh frequency ([\d.e+]+) Hz = ([\d.]+) × ", k_v["note"])
+        assert float(m[1]) == pytest.approx(f_mesh, rel=5e-4)
+        assert float(m[2]) == pytest.approx(n_iso, rel=5e-4)
+        assert k_v["note"].startswith("comparable" if comparable else "not comparable")
+        md = (out / "rating.md").read_text(encoding="utf-8")
+        assert "| K_v measured | 1.300 | " in md and k_v["note"] in md
