@@ -32,7 +32,13 @@ LOW_LOAD = 1e5  # N/m = 100 N/mm
 
 class LoadFactors(eqx.Module):
     """K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα (scalars) and ``sources`` (static: symbol → "given" or
-    "ISO 6336-1 method B"), with the intermediate values of their clauses (``details``)."""
+    "ISO 6336-1 method B"), with the intermediate values of their clauses (``details``, SI,
+    method B's whether or not the factor is given): K_v's ``resonance_ratio_N``,
+    ``resonance_ratio_N_S``, ``reduced_mass_kg_per_m``, ``C_a_m`` (tip relief), ``f_pb_eff_m``,
+    ``f_falpha_eff_m`` (less running-in), ``B_p``, ``B_f``, ``B_k``; K_Hβ's ``F_m_per_b_N_per_m``,
+    ``F_betax_m``, ``F_betay_m``, ``c_gamma_beta_N_per_m2``; ``c_prime_N_per_m2``,
+    ``c_gamma_alpha_N_per_m2`` (clause 9) and K_Fβ's exponent ``N_F`` (``rating.md`` prints
+    them)."""
 
     K_A: Array
     K_v: Array
@@ -112,18 +118,31 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
         sub,
         jnp.where(n_ratio <= 1.15, main, jnp.where(n_ratio < 1.5, inter, super_)),
     )
-    return kv, {"resonance_ratio_N": n_ratio, "reduced_mass_kg_per_m": m_red, "C_a_m": ca}
+    return kv, {
+        "resonance_ratio_N": n_ratio,
+        "resonance_ratio_N_S": n_s,
+        "reduced_mass_kg_per_m": m_red,
+        "C_a_m": ca,
+        "f_pb_eff_m": f_pb,
+        "f_falpha_eff_m": f_fa,
+        "B_p": bp,
+        "B_f": bf,
+        "B_k": bk,
+    }
 
 
 def _face_factor(settings, cga, f_m_per_b):
     """K_Hβ (ISO 6336-1 clause 7): F_βx = f_Hβ, at least 0.005 µm per N/mm of F_m/b (5e-12 m²/N); F_βy =
     F_βx − y_β (running-in); c_γβ = 0.85 c_γα; K_Hβ = 1 + F_βy c_γβ/(2 F_m/b) up to 2, else
-    √(2 F_βy c_γβ/(F_m/b)) (F_m = F_t K_A K_v)."""
+    √(2 F_βy c_γβ/(F_m/b)) (F_m = F_t K_A K_v). Returns K_Hβ and its intermediate values
+    (``F_betax_m``, ``F_betay_m``, ``c_gamma_beta_N_per_m2``, ``F_m_per_b_N_per_m``)."""
     acc, tr = settings.accuracy, settings.material.treatment
     f_bx = jnp.maximum(acc.helix_slope, 5e-12 * f_m_per_b)
     f_by = f_bx - tr.running_in_beta(f_bx, jnp.min(settings.material.sigma_h_lim))
     t = f_by * 0.85 * cga / f_m_per_b
-    return jnp.where(t <= 2.0, 1 + t / 2, jnp.sqrt(2 * jnp.maximum(t, 2.0)))
+    k = jnp.where(t <= 2.0, 1 + t / 2, jnp.sqrt(2 * jnp.maximum(t, 2.0)))
+    return k, {"F_betax_m": f_bx, "F_betay_m": f_by, "c_gamma_beta_N_per_m2": 0.85 * cga,
+               "F_m_per_b_N_per_m": f_m_per_b}
 
 
 def _transverse_factors(geometry, g, settings, cga, f_th_per_b):
@@ -178,9 +197,8 @@ def load_factors(
     c1, cga = _stiffness(geometry, g, settings, line)
     kv_iso, details = _dynamic_factor(geometry, g, operating, settings, (c1, cga), line)
     kv = kv_iso if given.K_v is None else as_float(given.K_v)
-    khb = (
-        _face_factor(settings, cga, line * kv) if given.K_Hbeta is None else as_float(given.K_Hbeta)
-    )
+    khb_iso, face = _face_factor(settings, cga, line * kv)
+    khb = khb_iso if given.K_Hbeta is None else as_float(given.K_Hbeta)
     h = (g.tip_diameter - g.root_diameter) / 2
     bh = jnp.maximum(jnp.min(geometry.face_width / h), 3.0)
     n_f = bh**2 / (1 + bh + bh**2)
@@ -197,7 +215,7 @@ def load_factors(
         k: ("given" if getattr(given, k) is not None else iso)
         for k in ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
     }
-    details = details | {"c_prime_N_per_m2": c1, "c_gamma_alpha_N_per_m2": cga, "N_F": n_f}
+    details = details | face | {"c_prime_N_per_m2": c1, "c_gamma_alpha_N_per_m2": cga, "N_F": n_f}
     return LoadFactors(ka, kv, khb, kfb, kha, kfa, details, sources)
 
 

@@ -256,9 +256,10 @@ _PART |= {"sigma_H_lim": 5, "sigma_F_lim": 5}
 # sensitivity factor Y_δrelT: Method B, 14.3 Relative surface factor Y_RrelT: Method B,
 # 15 Size factor Y_X"; the BSI shop's page of BS ISO 6336-3:2006, e.g.
 # https://shop.standards.ie/en-ie/standards/bs-iso-6336-3-2006-226269_saig_bsi_bsi_531028).
-# No table of contents of parts 1, 2 and 5, nor of the 2019 edition, was found to check
-# against: those name the part alone (the σ_F0 and σ_FG that 5.2 and 5.3 hold are not named in
-# the contents, so they too name the part alone).
+# No table of contents of parts 1 and 5 of 2006, nor of parts 2 and 3 of 2019, was found to
+# check against: those name the part alone (the σ_F0 and σ_FG that 5.2 and 5.3 hold are not
+# named in the contents, so they too name the part alone; rating.md gives such a row the other
+# edition's clause, labelled so: jaxgear.cli's report).
 _CLAUSES_3_2006 = {
     "S_F": "5.1", "sigma_F": "5.2", "sigma_FP": "5.3", "Y_F": "6.2", "Y_S": "7.2",
     "Y_ST": "7.4", "Y_beta": "8.2", "Y_B": "9.2", "Y_DT": "10.2", "sigma_F_lim": "11.2",
@@ -266,12 +267,36 @@ _CLAUSES_3_2006 = {
 }
 
 
+# ISO 6336-2:2006's clauses, as the BSI lists the contents of BS ISO 6336-2:2006 (the same shop
+# as part 3's, https://shop.standards.ie/en-ie/standards/bs-iso-6336-2-2006-226264_saig_bsi_bsi_531017:
+# "5.2 Safety factor for surface durability S_H, 5.3 Contact stress σ_H, 5.4 Permissible contact
+# stress σ_HP, 6.1 Zone factor Z_H, 6.2 Single pair tooth contact factors Z_B and Z_D for
+# ε_α <= 2, 7 Elasticity factor Z_E, 8.1 Determination of contact ratio factor Z_ε, 9 Helix
+# angle factor Z_β, 10.1 Allowable stress numbers σ_Hlim for Method B, 11.2 Life factor Z_NT:
+# Method B, 12.3 factors Z_L, Z_v and Z_R: Method B, 13.2 Work hardening factor Z_W: Method B,
+# 14 Size factor Z_X").
+_CLAUSES_2_2006 = {
+    "S_H": "5.2", "sigma_H": "5.3", "sigma_HP": "5.4", "Z_H": "6.1", "Z_BD": "6.2", "Z_E": "7",
+    "Z_epsilon": "8.1", "Z_beta": "9", "Z_NT": "11.2", "Z_L": "12.3", "Z_v": "12.3",
+    "Z_R": "12.3", "Z_W": "13.2", "Z_X": "14",
+}
+# ISO 6336-1:2019's clauses of the load factors: "5 Application factor K_A" and "6 Internal
+# dynamic factor K_v" as its text numbers them, 7 (face load factors K_Hβ, K_Fβ) and 8
+# (transverse load factors K_Hα, K_Fα) as the clauses jaxgear's formulas are written from
+# (jaxgear._rating_factors).
+_CLAUSES_1_2019 = {
+    "K_A": "5", "K_v": "6", "K_Hbeta": "7", "K_Fbeta": "7", "K_Halpha": "8", "K_Falpha": "8",
+}
+
+
 def _clauses(year: int, checked: dict[str, str]) -> dict[str, str]:
-    """symbol → "ISO 6336-<part>:<year>[ <clause>]" (σ_Hlim, σ_Flim: ISO 6336-5, no year)."""
+    """symbol → "ISO 6336-<part>:<year>[ <clause>]" (σ_Hlim, σ_Flim: ISO 6336-5, no year);
+    ``checked`` the clauses of the edition's parts 1-3 that were checked (symbols are unique
+    across the parts)."""
     out = {}
     for symbol, part in _PART.items():
         head = "ISO 6336-5" if part == 5 else f"ISO 6336-{part}:{year}"
-        clause = checked.get(symbol) if part == 3 else None
+        clause = checked.get(symbol) if part != 5 else None
         out[symbol] = f"{head} {clause}" if clause else head
     return out
 
@@ -288,7 +313,7 @@ class Edition2006(AbstractEdition):
 
     label: ClassVar[str] = "ISO 6336:2006 method B"
     unconfirmed: ClassVar[tuple[str, ...]] = ()
-    clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_3_2006)
+    clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_2_2006 | _CLAUSES_3_2006)
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
         return _y_beta_2006(overlap_ratio, helix_angle)
@@ -304,7 +329,7 @@ class Edition2019(AbstractEdition):
     label: ClassVar[str] = "ISO 6336:2019 method B"
     #: Y_β's 1/cos³β term: no printed worked example of the 2019 edition was found
     unconfirmed: ClassVar[tuple[str, ...]] = ("Y_beta",)
-    clauses: ClassVar[dict[str, str]] = _clauses(2019, {})
+    clauses: ClassVar[dict[str, str]] = _clauses(2019, _CLAUSES_1_2019)
 
     def helix_angle_factor(self, overlap_ratio, helix_angle):
         beta = jnp.minimum(helix_angle, jnp.pi / 6)

@@ -180,7 +180,7 @@ def test_rating_at_speed_ratio_is_the_largest_line_loads_ratio_with_a_flat_table
     md = (tmp_path / "rating.md").read_text()
     assert md.count("| σ_F,FE max at speed |") == 2
     assert md.count("| σ_F,FE at speed / static |") == 2
-    assert "planet 2: the largest mesh force at speed" in md and md.count("| K_γ |") == 2
+    assert "planet 2: the largest mesh force at speed" in md and md.count("| K_γ | ") == 2
     for name in rs["file"]:
         assert (tmp_path / name).stat().st_size > 10_000
 

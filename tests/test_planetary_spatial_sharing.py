@@ -135,4 +135,4 @@ def test_the_rating_report_names_the_k_gamma_source(tmp_path):
                          spatial)
     assert sec["K_gamma"] == {"value": [1.2, 1.2], "source": [spatial] * 2}
     md = (tmp_path / "rating.md").read_text()
-    assert md.count(f"| K_γ | 1.2000 |  | {spatial} |") == 2
+    assert md.count(f"| K_γ | 1.200 ({spatial}) |") == 2

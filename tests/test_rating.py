@@ -282,7 +282,7 @@ def test_scope_notes_name_the_clause():
     n = float(base.factors.details["resonance_ratio_N"])  # N is proportional to the speed
     at_resonance = RATE(geometry, jg.OperatingPoint(9000.0, op.speed / n), settings)
     (note,) = at_resonance.scope_notes()
-    assert "ISO 6336-1:2019 dynamic factor K_v: resonance ratio N = 1 " in note
+    assert "ISO 6336-1:2019 6 dynamic factor K_v: resonance ratio N = 1 " in note
     # the gear cut by a sharp rack (ρ_fP = 0) with x2 = 0.5: q_s = 14.7 (q_s is the tooth's
     # alone; the same static structure, so no recompilation)
     sharp = geometry.replace(fillet_radius_coeff=[0.39, 0.0], profile_shift=[0.145, 0.5])

@@ -221,7 +221,7 @@ def test_planetary_stage_rates_both_meshes_per_planet_path_with_k_gamma(tmp_path
     )
     assert sec["pitting"]["Z_BD"][1][1] == 1.0  # Z_D of the ring
     md = (tmp_path / "rating.md").read_text()
-    assert "mesh sun2-planet2" in md and "mesh planet2-ring2" in md and "K_γ = 1.1000" in md
+    assert "mesh sun2-planet2" in md and "mesh planet2-ring2" in md and "| K_γ | 1.100 (given) |" in md
 
 
 def test_planetary_rating_takes_the_stages_k_gamma_when_not_given(tmp_path):

@@ -89,7 +89,7 @@ def test_use_measured_rates_with_the_measured_factors(tmp_path):
         section["pitting"]["S_H"], np.asarray(iso["pitting"]["S_H"]) / math.sqrt(ratio), rtol=1e-9
     )
     table = (tmp_path / "rating.md").read_text(encoding="utf-8")
-    assert "| K_Halpha measured | 1.2500 |" in table and "used above: [rating] use_measured" in table
+    assert "| K_Hα measured | 1.250 |" in table and "| yes: [rating] use_measured |" in table
     assert section["measured"]["K_Halpha"]["value"] == pytest.approx(k_ha, rel=1e-12)
 
 

@@ -119,7 +119,7 @@ def test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says(tmp_path):
     assert "rigid mesh" in m["K_Hbeta_rigid_mesh"]["source"]
     assert section["factors"]["K_Hbeta"]["value"] == m["K_Hbeta"]["value"]  # rates with it
     table = (tmp_path / "rating.md").read_text(encoding="utf-8")
-    assert "| K_Hbeta_rigid_mesh measured | 1.0000 |" in table
+    assert "| K_Hβ measured, rigid mesh | 1.000 |" in table
 
 
 def test_rigid_scene_reads_the_rigid_mesh_map():
@@ -248,7 +248,7 @@ def test_run_writes_the_scene_factors_and_rating_md_once(tmp_path, monkeypatch, 
     assert "K_v" in m
     assert len(writes) == 1
     text = (out / "rating.md").read_text(encoding="utf-8")
-    assert text == "\n".join(cli.rating_lines(rating, case.name)) + "\n"
+    assert text == "\n".join(cli.rating_table_lines(case, rating)) + "\n"
     assert "(marked)" in text and "| K_v measured |" in text
 
 
@@ -345,4 +345,4 @@ def test_train_run_rates_with_the_coupled_solve(tmp_path, monkeypatch):
         assert m["K_Hbeta_rigid_mesh"]["value"][k] == pytest.approx(1.0, abs=1e-12)
         assert "coupled train: shafts and bearings" in m["K_Hbeta"]["source"][k]
     assert len(writes) == 1
-    assert "K_Hbeta_rigid_mesh measured" in (tmp_path / "rating.md").read_text(encoding="utf-8")
+    assert "K_Hβ measured, rigid mesh" in (tmp_path / "rating.md").read_text(encoding="utf-8")

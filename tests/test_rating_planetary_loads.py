@@ -164,7 +164,7 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
     np.testing.assert_allclose(sec["factors"]["K_Halpha"]["value"],
                                np.minimum(measured, caps), rtol=1e-12)
     md = (tmp_path / "rating.md").read_text()
-    assert md.count("| K_Halpha measured |") == 2
+    assert md.count("| K_Hα measured |") == 2
     assert md.count("| σ_F,FE max | ") == 2 and "not computed" not in md  # the ring: its cutter
     case_v = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"])
     with pytest.warns(CaseWarning, match=r"use_measured: K_v not measured on this planetary"):

@@ -71,12 +71,12 @@ def test_the_rating_reports_each_meshs_largest_face_load_k_hbeta_not_used(tmp_pa
                for s in m["source"])
     assert sec["factors"] == bare["factors"] and sec["pitting"] == bare["pitting"]
     for v in (1.34, 1.18):
-        assert f"| K_Hbeta measured | {v:.4f} |  | " in md
-    assert md.count("(not used above) |") == 2
-    assert "measured" not in bare and "K_Hbeta measured" not in md_bare
+        assert f"| K_Hβ measured | {v:#.4g} | " in md
+    assert md.count("| no (reported only) |") == 2
+    assert "measured" not in bare and "K_Hβ measured" not in md_bare
     skipped = rating_section(case, str(tmp_path), 1.1, face_load={"skipped": "no supports"})
     assert "measured" not in skipped
-    assert "K_Hbeta measured" not in (tmp_path / "rating.md").read_text()
+    assert "K_Hβ measured" not in (tmp_path / "rating.md").read_text()
 
 
 def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
@@ -99,7 +99,7 @@ def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
         np.asarray(iso["pitting"]["sigma_H_Pa"]) * np.sqrt(np.array([1.34, 1.18]) / k_iso)[:, None],
         rtol=1e-5,
     )
-    assert md.count("(used above: [rating] use_measured) |") == 2
+    assert md.count("| yes: [rating] use_measured |") == 2
 
 
 def test_a_helical_stage_on_its_supports_rates_with_its_own_face_load(tmp_path):
@@ -127,4 +127,4 @@ def test_a_helical_stage_on_its_supports_rates_with_its_own_face_load(tmp_path):
                                rtol=1e-12)
     md = (tmp_path / "rating.md").read_text()
     for v in sec["measured"]["K_Hbeta"]["value"]:
-        assert f"| K_Hbeta measured | {v:.4f} |  | " in md
+        assert f"| K_Hβ measured | {v:#.4g} | " in md

@@ -98,7 +98,7 @@ def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
                                np.asarray(iso["pitting"]["sigma_H_Pa"])
                                * np.sqrt(ratio)[:, None], rtol=1e-10)
     assert sec["K_gamma"] == iso["K_gamma"]
-    assert md.count("| K_v measured | ") == 2 and "(used above: [rating] use_measured) |" in md
+    assert md.count("| K_v measured | ") == 2 and "| yes: [rating] use_measured |" in md
 
 
 def test_the_run_hands_its_sweep_to_the_rating(tmp_path, monkeypatch):

@@ -195,7 +195,7 @@ def test_train_rating_outputs_per_mesh_lists_and_a_table_per_mesh(tmp_path):
     json.dumps(section)
     table = (tmp_path / "rating.md").read_text(encoding="utf-8")
     assert table.count("\n## ") == 2
-    assert "mesh idler-output" in table and "| Y_M | 0.7 / 1 |" in table
+    assert "mesh idler-output" in table and "| Y_M | 0.7000 / 1.000 |" in table
 
 
 def test_train_measured_factors_and_root_stress_per_mesh(tmp_path):

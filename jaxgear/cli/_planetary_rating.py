@@ -37,10 +37,10 @@ from ._rating_report import (
     _mesh_curves,
     _pick,
     rated_with_measured,
-    rating_lines,
     stacked_meshes,
     write_rating_md,
 )
+from ._rating_sheet import inputs_of, k_v_note, rating_lines
 from ._stress_outputs import active_radii, fillet_table
 from .scene import first_peak
 
@@ -135,7 +135,9 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     K_v is the mesh's dynamic load over its static one (ISO 6336-1) and the rating's
     K_γ K_v does not count the static unequal sharing twice; with equal sharing s_j = 1. The
     largest over the planets, with :data:`SWEEP_K_V_SOURCE` (and :data:`UNRESOLVED_K_V` where
-    the sweep's ``steps_resolution`` is not resolved). None without a sweep or outside
+    the sweep's ``steps_resolution`` is not resolved), ``comparable`` and ``note``: whether it
+    is comparable with ISO's K_v, from the mesh frequency at ``speed`` against the sweep model's
+    first mode (:func:`jaxgear.cli._rating_sheet.k_v_note`). None without a sweep or outside
     its speeds."""
     if sweep is None:
         return None
@@ -152,13 +154,19 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     if res is not None and not res["resolved"]:
         source += UNRESOLVED_K_V.format(n=res["steps_per_top_period_min"], f=res["f_max_Hz"],
                                         need=res["steps_per_period_resolved"])
+    cause = {}
+    if sweep.get("mesh_frequency_Hz") and sweep.get("natural_frequencies_Hz"):
+        mesh_hz = float(np.interp(speed, speeds, np.asarray(sweep["mesh_frequency_Hz"])))
+        comparable, note = k_v_note(mesh_hz, float(sweep["natural_frequencies_Hz"][0]),
+                                    "the sweep model's first mode")
+        cause = {"comparable": comparable, "note": note}
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
         f = np.abs(np.asarray(sharing[name][key], dtype=float))
         share = f / f.mean()
         value = max(float(np.interp(speed, speeds, curves[kind * n + j])) / share[j]
                     for j in range(n) if share[j] > 0)
-        out.append({"value": value, "source": source})
+        out.append({"value": value, "source": source, **cause})
     return out
 
 
@@ -497,17 +505,14 @@ def stage_rating_lines(case, sections: list[dict]) -> list[str]:
         "influence factor); the sun's and the ring's meet every planet each relative turn.",
         "",
     ]
+    rcs = ratings_of(case)
     for k, section in enumerate(sections):
         kg = section["K_gamma"]["value"]
-        lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##")
-        lines.append(f"| K_γ | {kg:.4f} |  | {section['K_gamma']['source']} |")
-        lines += [
-            "",
-            f"K_γ = {kg:.4f} ({section['K_gamma']['source']}), a factor of the load as K_A "
-            f"(one planet path: {section['torque_per_planet_path_Nm']:.6g} N·m on the pinion, "
-            "mean).",
-            "",
-        ]
+        rc = rcs[k]
+        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings,
+                               float(rc.settings.application_factor) * kg)
+        lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##",
+                              inputs=inputs_of(case, k, rc, settings))
     return lines
 
 

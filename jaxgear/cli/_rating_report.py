@@ -16,9 +16,7 @@ import numpy as np
 from .. import (
     GivenFactors,
     face_load_factor,
-    factor_clause,
     quasi_static,
-    rate,
     root_stress_map,
     tooth_geometry,
     transverse_factor_limits,
@@ -38,6 +36,7 @@ from ..io import (
     spec_window,
 )
 from ._plots import root_stress_plot
+from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
@@ -51,6 +50,7 @@ __all__ = [
     "rated_with_measured",
     "rating_lines",
     "rating_outputs",
+    "rating_table_lines",
     "root_stress_at_speed",
     "root_stress_outputs",
     "scene_loads",
@@ -61,109 +61,12 @@ __all__ = [
     "write_rating_md",
 ]
 
-#: jaxgear.rate compiled once (instead of ~300 eager dispatches), shared by every rating of a run
-RATE = eqx.filter_jit(rate)
 
-# (summary section, key, symbol, unit scale and name, clause)
-_ROWS = [
-    ("factors", "K_A", "K_A", 1, "", "ISO 6336-1, application factor"),
-    ("factors", "K_v", "K_v", 1, "", "ISO 6336-1, dynamic factor (method B)"),
-    ("factors", "K_Hbeta", "K_Hβ", 1, "", "ISO 6336-1, face load factor (contact)"),
-    ("factors", "K_Fbeta", "K_Fβ", 1, "", "ISO 6336-1, face load factor (root), K_Hβ^N_F"),
-    ("factors", "K_Halpha", "K_Hα", 1, "", "ISO 6336-1, transverse load factor (method B)"),
-    ("factors", "K_Falpha", "K_Fα", 1, "", "ISO 6336-1, transverse load factor (method B)"),
-    ("pitting", "Z_H", "Z_H", 1, "", "ISO 6336-2, zone factor"),
-    ("pitting", "Z_E_sqrt_Pa", "Z_E", 1e-3, "√(N/mm²)", "ISO 6336-2, elasticity factor"),
-    ("pitting", "Z_epsilon", "Z_ε", 1, "", "ISO 6336-2, contact ratio factor"),
-    ("pitting", "Z_beta", "Z_β", 1, "", "ISO 6336-2, helix angle factor"),
-    ("pitting", "Z_BD", "Z_B, Z_D", 1, "", "ISO 6336-2, single pair tooth contact factors"),
-    ("pitting", "sigma_H0_Pa", "σ_H0", 1e-6, "N/mm²", "ISO 6336-2, nominal contact stress"),
-    ("pitting", "sigma_H_Pa", "σ_H", 1e-6, "N/mm²", "ISO 6336-2, contact stress"),
-    ("pitting", "Z_NT", "Z_NT", 1, "", "ISO 6336-2, life factor"),
-    ("pitting", "Z_L", "Z_L", 1, "", "ISO 6336-2, lubricant factor"),
-    ("pitting", "Z_v", "Z_v", 1, "", "ISO 6336-2, velocity factor"),
-    ("pitting", "Z_R", "Z_R", 1, "", "ISO 6336-2, roughness factor"),
-    ("pitting", "sigma_HP_Pa", "σ_HP", 1e-6, "N/mm²", "ISO 6336-2, permissible contact stress"),
-    ("pitting", "S_H", "S_H", 1, "", "ISO 6336-2, safety factor for pitting"),
-    ("bending", "Y_F", "Y_F", 1, "", "ISO 6336-3, tooth form factor (method B)"),
-    ("bending", "Y_S", "Y_S", 1, "", "ISO 6336-3, stress correction factor (method B)"),
-    ("bending", "Y_beta", "Y_β", 1, "", "ISO 6336-3, helix angle factor"),
-    ("bending", "Y_B", "Y_B", 1, "", "ISO 6336-3, rim thickness factor"),
-    ("bending", "Y_DT", "Y_DT", 1, "", "ISO 6336-3, deep tooth factor"),
-    ("bending", "sigma_F0_Pa", "σ_F0", 1e-6, "N/mm²", "ISO 6336-3, nominal tooth root stress"),
-    ("bending", "sigma_F_Pa", "σ_F", 1e-6, "N/mm²", "ISO 6336-3, tooth root stress"),
-    ("bending", "Y_NT", "Y_NT", 1, "", "ISO 6336-3, life factor"),
-    ("bending", "Y_delta_rel_T", "Y_δrelT", 1, "", "ISO 6336-3, relative notch sensitivity"),
-    ("bending", "Y_R_rel_T", "Y_RrelT", 1, "", "ISO 6336-3, relative surface factor"),
-    ("bending", "Y_X", "Y_X", 1, "", "ISO 6336-3, size factor"),
-    ("bending", "Y_M", "Y_M", 1, "", "ISO 6336-3:2019, mean stress influence factor"),
-    ("bending", "sigma_FP_Pa", "σ_FP", 1e-6, "N/mm²", "ISO 6336-3, permissible root stress"),
-    ("bending", "S_F", "S_F", 1, "", "ISO 6336-3, safety factor for bending"),
-]
-
-
-def _clause(key: str, text: str, method: str) -> str:
-    """The ISO 6336 column of the table's row of summary key ``key``: where the rating's edition
-    ``method`` defines it (:func:`jaxgear.factor_clause`: part, edition and, where checked, the
-    clause) and :data:`_ROWS`' name of the factor."""
-    return f"{factor_clause(key, method)}, {text.split(', ', 1)[1]}"
-
-
-@functools.singledispatch
-def _value(v, scale) -> str:
-    """A summary value as the table prints it: a number scaled to the table's unit."""
-    return f"{v * scale:.4g}"
-
-
-@_value.register(dict)
-def _(v, scale) -> str:  # a load factor with its source
-    return f"{v['value']:.4f} ({v['source']})"
-
-
-@_value.register(list)
-def _(v, scale) -> str:  # per gear (None: not computed, e.g. a ring's FE root stress)
-    return " / ".join("not computed" if x is None else f"{x * scale:.4g}" for x in v)
-
-
-def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]:
-    """``rating.md``: a Markdown table of the section's factors and stresses (one mesh's
-    section; ``heading`` the title's Markdown level)."""
-    out = [
-        f"{heading} {case_name}: load capacity, {section['method']}",
-        "",
-        "Per-gear values as pinion / gear. Stresses in N/mm² (summary.json: Pa).",
-        "",
-        "| symbol | value | unit | ISO 6336 |",
-        "|---|---|---|---|",
-    ]
-    for part, key, symbol, scale, unit, clause in _ROWS:
-        value = _value(section[part][key], scale)
-        out.append(f"| {symbol} | {value} | {unit} | {_clause(key, clause, section['method'])} |")
-    for key, m in section.get("measured", {}).items():
-        factor = section["factors"].get(key)  # K_Hbeta_rigid_mesh: reported only
-        used = factor is not None and factor["source"] == USED
-        note = "used above: [rating] use_measured" if used else "not used above"
-        out.append(f"| {key} measured | {m['value']:.4f} |  | {m['source']} ({note}) |")
-    rs = section.get("root_stress")
-    if rs is not None:
-        out.append(
-            f"| σ_F,FE max | {_value(rs['max_Pa'], 1e-6)} | N/mm² | {rs['source']} (not used "
-            "above) |"
-        )
-        out.append(f"| σ_F,FE max / σ_F0 | {_value(rs['fe_over_iso'], 1)} |  | FE over ISO |")
-        fast = rs.get("at_speed")
-        if fast is not None:
-            speed_of = fast.get("speed_of", "the sweep's speed of its largest dynamic factor")
-            out.append(
-                f"| σ_F,FE max at speed | {_value(fast['max_Pa'], 1e-6)} | N/mm² | at "
-                f"{fast['speed_rad_s']:.4g} rad/s ({speed_of}; this mesh's dynamic factor there "
-                f"{fast['dynamic_factor']:.3f}, tooth {fast['dynamic_factor_tooth']:.3f}) |"
-            )
-            static_of = fast.get("static_of", f"the same {fast['slices']} slices, quasi-static "
-                                 "rigid mesh")  # a planetary mesh's say which planet and solve
-            out.append(f"| σ_F,FE at speed / static | {_value(fast['ratio'], 1)} |  | {static_of} "
-                       "|")
-    return out
+def _lines(case: Case, k: int, section: dict, title: str, heading: str = "#") -> list[str]:
+    """Mesh ``k``'s ``rating.md`` lines (:func:`rating_lines`, with its inputs:
+    :func:`jaxgear.cli._rating_sheet.inputs_of`)."""
+    rc = ratings_of(case)[k]
+    return rating_lines(section, title, heading, inputs_of(case, k, rc))
 
 
 @functools.singledispatch
@@ -185,7 +88,7 @@ def _section_and_table(form, case: Case, sections: list[dict]) -> tuple[dict, li
 @_section_and_table.register
 def _(form: PairForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
     """A pair: its one mesh's section, the case's table."""
-    return sections[0], rating_lines(sections[0], case.name)
+    return sections[0], _lines(case, 0, sections[0], case.name)
 
 
 @_section_and_table.register
@@ -202,8 +105,8 @@ def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str
         "flanks: Y_M = 0.7 (ISO 6336-3:2019, mean stress influence factor).",
         "",
     ]
-    for name, sec in zip(names, sections, strict=True):
-        lines += rating_lines(sec, f"{case.name}, mesh {name}", heading="##") + [""]
+    for k, (name, sec) in enumerate(zip(names, sections, strict=True)):
+        lines += _lines(case, k, sec, f"{case.name}, mesh {name}", heading="##") + [""]
     return stacked_meshes(names, sections), lines
 
 
@@ -432,8 +335,15 @@ def write_rating_table(case: Case, out_dir: str, section: dict) -> None:
     """``rating.md`` of the case's final ``rating`` ``section`` (``summary.json``'s: a train's
     per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
     every step that adds to the section (the measured K_v, the root stress at speed)."""
-    _, lines = _section_and_table(case.form, case, _mesh_sections(case.form, section))
-    write_rating_md(out_dir, lines)
+    write_rating_md(out_dir, rating_table_lines(case, section))
+
+
+def rating_table_lines(case: Case, section: dict) -> list[str]:
+    """The lines of ``rating.md`` of a pair's or a train's ``rating`` ``section``
+    (``summary.json``'s; a train's per-mesh lists): each mesh's report
+    (:func:`jaxgear.cli._rating_sheet.rating_lines` with the case's inputs and published
+    values), what :func:`write_rating_table` writes."""
+    return _section_and_table(case.form, case, _mesh_sections(case.form, section))[1]
 
 
 def train_mesh_results(case: Case) -> tuple | None:
@@ -467,7 +377,9 @@ def measured_dynamic_factor(
     speed outside the swept range adds nothing (the sweep says nothing there). ISO 6336-1's K_v
     and the sweep's dynamic factor are both the largest dynamic load of the mesh over its
     static one (the sweep's: the mesh force over a mesh period at steady state, of the scene's
-    model, over the static mesh force; a train's each mesh's own: :func:`_mesh_curves`)."""
+    model, over the static mesh force; a train's each mesh's own: :func:`_mesh_curves`). Each
+    entry says whether it is comparable with ISO's (``comparable``, ``note``: the mesh
+    frequency against ISO's mesh resonance, :func:`jaxgear.cli._rating_sheet.k_v_note`)."""
     rcs = ratings_of(case)
     if rcs is None:
         return
@@ -484,7 +396,12 @@ def measured_dynamic_factor(
             + (f" of the input (mesh {label}'s dynamic factor)" if label else "")
         )
         value = float(np.interp(speed, speeds, curve))
-        sections[k].setdefault("measured", {})["K_v"] = {"value": value, "source": source}
+        rc = rcs[k]
+        n = float(RATE(rc.geometry, rc.operating, rc.settings).factors.details["resonance_ratio_N"])
+        mesh_hz = rc.geometry.teeth[0] * float(rc.operating.speed) / (2 * np.pi)
+        comparable, note = k_v_note(mesh_hz, mesh_hz / n, "ISO 6336-1's mesh resonance z₁ n_E1")
+        sections[k].setdefault("measured", {})["K_v"] = {
+            "value": value, "source": source, "comparable": comparable, "note": note}
         sections[k] = rated_with_measured(rcs[k], sections[k])
     summary["rating"] = _write_sections(case, out_dir, sections, write_table)
 
@@ -605,7 +522,7 @@ def root_stress_outputs(
     adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
     path = os.path.join(out_dir, "root_stress_map.png")
     _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
-    write_rating_md(out_dir, rating_lines(section, case.name))
+    write_rating_md(out_dir, _lines(case, 0, section, case.name))
 
 
 def _member_maps(pair, result, table) -> list:

@@ -71,6 +71,7 @@ from ._planetary_steps import (
 )
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
+from ._rating_sheet import sweep_excitation
 from ._sweep_json import write_sweep_csv
 from .planetary import (
     MESH_ORDERS,
@@ -364,6 +365,10 @@ def sweep_summary(
         "crossings": crossings(natural, f_mesh, speeds),
         "ring": spec.ring_model.summary(),
     }
+    if natural.size:  # what the factors are where every mesh frequency is far below the modes
+        note = sweep_excitation(speeds * f_mesh, float(natural[0]))
+        if note is not None:
+            summary["excitation"] = note
     if spec.ring_model.flexible:
         summary["ring_deflection_max_m"] = deflection.tolist()
         summary["max_ring_deflection_m"] = float(deflection.max())
@@ -543,7 +548,7 @@ def sweep_lines(case, s: dict) -> list[str]:
         + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
     )
-    return [line]
+    return [line] + ([f"  note: {s['excitation']}"] if "excitation" in s else [])
 
 
 def _ring_words(s: dict) -> str:
@@ -587,6 +592,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "ring_model": sw["ring_model"],
         "ring": sw["ring"],
         **{k: sw[k] for k in ("max_ring_deflection_m",) if k in sw},  # a flexible ring's
+        **{k: sw[k] for k in ("excitation",) if k in sw},  # far below the first mode
         "files": ", ".join(f"sweep/{n}" for n in RUN_SWEEP_FILES),
     }
     summary["complete"] = bool(complete)
@@ -603,4 +609,5 @@ def planetary_run_lines(form, case, summary: dict) -> list[str]:
         f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
         f"{d['max_k_gamma']:.4f}, {_ring_words(d)} ({d['files']})"
     )
-    return [*planetary_lines(form, case, summary), line]
+    note = [f"  note: {d['excitation']}"] if "excitation" in d else []
+    return [*planetary_lines(form, case, summary), line, *note]

@@ -32,6 +32,7 @@ from ._load import (
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,
     load_case as load_case,
+    published_rating as published_rating,
 )
 from ._modifications_table import parse_modifications as parse_modifications
 from ._names import (

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import importlib.resources
 import os
+import tomllib
 
 from fem_prep import schema as sc
 
@@ -12,7 +14,7 @@ from ._case_file import parse_case
 from ._gearbox_file import is_gearbox, parse_gearbox
 from ._train_file import is_train, parse_train
 
-__all__ = ["embedded_case_text", "list_cases", "load_case"]
+__all__ = ["embedded_case_text", "list_cases", "load_case", "published_rating"]
 
 
 def _embedded():
@@ -31,6 +33,26 @@ def embedded_case_text(name: str) -> str:
         FileNotFoundError: ``name`` is not an embedded case (the message lists them).
     """
     return sc.embedded_text(_embedded(), name, "case")
+
+
+@functools.cache
+def _published() -> dict:
+    """Every table of the embedded published ratings (``cases/published/*.toml``), by case."""
+    out = {}
+    for f in sorted((_embedded() / "published").iterdir(), key=lambda f: f.name):
+        if f.name.endswith(".toml"):
+            out |= tomllib.loads(f.read_text(encoding="utf-8"))
+    return out
+
+
+def published_rating(case_name: str) -> dict | None:
+    """The values a published rating report prints for the case named ``case_name`` (an
+    embedded case whose ``[rating]`` inputs are that report's: the NREL 5 MW stages and their
+    KISSsoft reports, ``jaxgear/cases/published/``), or None: ``{"report": its citation,
+    <mesh name>: {symbol: value or [pinion, gear]}}`` (a pair's one mesh ``"mesh"``; stresses
+    in N/mm², keys ending ``_MPa``; Z_E in √(N/mm²); N_L in cycles). ``jaxgear run`` prints them
+    beside its own in ``rating.md``."""
+    return _published().get(case_name)
 
 
 def load_case(name_or_path: str | os.PathLike) -> Case:
