@@ -351,48 +351,47 @@ def _k_gamma_row(t: _Table, section: dict, method: str) -> None:
           f"σ_F: {reference('sigma_F', method)})", "K_gamma")
 
 
+#: the intermediate values of ISO 6336-1 method B printed (rows marked ↳) after a load factor's
+#: row: (symbol, what, key in :attr:`jaxgear.RatingFactors.details`, scale to the unit, unit)
+_INTERMEDIATES = {
+    "K_v": (
+        ("N", "resonance ratio n₁/n_E1", "resonance_ratio_N", 1, ""),
+        ("N_S", "lower limit of the main resonance range", "resonance_ratio_N_S", 1, ""),
+        ("m_red", "reduced mass per face width", "reduced_mass_kg_per_m", 1, "kg/m"),
+        ("c'", "single stiffness", "c_prime_N_per_m2", 1e-9, "N/(mm·µm)"),
+        ("c_γα", "mesh stiffness", "c_gamma_alpha_N_per_m2", 1e-9, "N/(mm·µm)"),
+        ("f_pb,eff", "f_pb less running-in y_p", "f_pb_eff_m", 1e6, "µm"),
+        ("f_fα,eff", "f_fα less running-in y_f", "f_falpha_eff_m", 1e6, "µm"),
+        ("B_p", "non-dimensional pitch deviation", "B_p", 1, ""),
+        ("B_f", "non-dimensional profile deviation", "B_f", 1, ""),
+        ("B_k", "non-dimensional tip relief", "B_k", 1, ""),
+    ),
+    "K_Hbeta": (
+        ("F_m/b", "mean transverse load per face width F_t K_A K_v/b", "F_m_per_b_N_per_m",
+         1e-3, "N/mm"),
+        ("F_βx", "initial equivalent misalignment (f_Hβ; f_sh = 0)", "F_betax_m", 1e6, "µm"),
+        ("F_βy", "effective equivalent misalignment (F_βx − y_β)", "F_betay_m", 1e6, "µm"),
+        ("c_γβ", "mesh stiffness 0.85 c_γα", "c_gamma_beta_N_per_m2", 1e-9, "N/(mm·µm)"),
+    ),
+    "K_Fbeta": (("N_F", "exponent of K_Fβ = K_Hβ^N_F", "N_F", 1, ""),),
+}
+
+
 def _factor_rows(t: _Table, section: dict, rating, method: str) -> None:
-    """The load factors, with the intermediate values behind K_v and K_Hβ (ISO's, computed
-    whether or not the factor is given) after their rows."""
-    det = {k: float(np.asarray(v)) for k, v in rating.factors.details.items()
-           if np.asarray(v).ndim == 0}
+    """The load factors, K_γ after K_A (a planetary mesh's), and with a ``rating`` (None: the
+    factors only) the intermediate values behind K_v, K_Hβ and K_Fβ (ISO's, computed whether
+    or not the factor is given) after their rows (:data:`_INTERMEDIATES`)."""
+    det = {} if rating is None else {
+        k: float(np.asarray(v)) for k, v in rating.factors.details.items()
+        if np.asarray(v).ndim == 0}
     for key, what in _FACTORS:
         f = section["factors"][key]
         value = f"{number(f['value'])} ({_source(f['source'])})"
         t.row(what, SYMBOLS[key], value, "", reference(key, method), key)
         if key == "K_A":
             _k_gamma_row(t, section, method)
-        if key == "K_v":
-            ref = reference("K_v", method)
-            for sym, name, k, scale, unit in (
-                ("N", "resonance ratio n₁/n_E1", "resonance_ratio_N", 1, ""),
-                ("N_S", "lower limit of the main resonance range", "resonance_ratio_N_S", 1, ""),
-                ("m_red", "reduced mass per face width", "reduced_mass_kg_per_m", 1, "kg/m"),
-                ("c'", "single stiffness", "c_prime_N_per_m2", 1e-9, "N/(mm·µm)"),
-                ("c_γα", "mesh stiffness", "c_gamma_alpha_N_per_m2", 1e-9, "N/(mm·µm)"),
-                ("f_pb,eff", "f_pb less running-in y_p", "f_pb_eff_m", 1e6, "µm"),
-                ("f_fα,eff", "f_fα less running-in y_f", "f_falpha_eff_m", 1e6, "µm"),
-                ("B_p", "non-dimensional pitch deviation", "B_p", 1, ""),
-                ("B_f", "non-dimensional profile deviation", "B_f", 1, ""),
-                ("B_k", "non-dimensional tip relief", "B_k", 1, ""),
-            ):
-                t.row(f"↳ {name}", sym, number(det[k] * scale), unit, ref)
-        if key == "K_Hbeta":
-            ref = reference("K_Hbeta", method)
-            for sym, name, k, scale, unit in (
-                ("F_m/b", "mean transverse load per face width F_t K_A K_v/b",
-                 "F_m_per_b_N_per_m", 1e-3, "N/mm"),
-                ("F_βx", "initial equivalent misalignment (f_Hβ; f_sh = 0)", "F_betax_m", 1e6,
-                 "µm"),
-                ("F_βy", "effective equivalent misalignment (F_βx − y_β)", "F_betay_m", 1e6,
-                 "µm"),
-                ("c_γβ", "mesh stiffness 0.85 c_γα", "c_gamma_beta_N_per_m2", 1e-9,
-                 "N/(mm·µm)"),
-            ):
-                t.row(f"↳ {name}", sym, number(det[k] * scale), unit, ref)
-        if key == "K_Fbeta":
-            t.row("↳ exponent of K_Fβ = K_Hβ^N_F", "N_F", number(det["N_F"]), "",
-                  reference("K_Fbeta", method))
+        for sym, name, k, scale, unit in _INTERMEDIATES.get(key, ()) if det else ():
+            t.row(f"↳ {name}", sym, number(det[k] * scale), unit, reference(key, method))
 
 
 #: a mesh frequency below this share of the first mode is far below resonance: there ISO 6336-1's
@@ -436,25 +435,25 @@ def sweep_excitation(mesh_hz, first_hz: float) -> str | None:
             "and ring the mesh), not comparable with ISO's K_v")
 
 
-def measured_note(key: str, measured: dict) -> str:
-    """Where a measured factor comes from and whether it is comparable with ISO's: its
-    ``note`` where the run gave one (a K_v's, from the mesh frequency against the first mode),
-    else the standing words for its kind."""
-    if "note" in measured:
-        return measured["note"]
-    base = key.removesuffix("_rigid_mesh")
-    if base == "K_Hbeta":
-        return ("comparable in kind (the largest load per face width over the mean), not in "
+#: the standing words on a measured factor's cause and comparability, by the factor it measures
+_MEASURED_CAUSE = {
+    "K_Hbeta": ("comparable in kind (the largest load per face width over the mean), not in "
                 "cause: ISO's comes from the misalignment F_βy of the accuracy grade's f_Hβ "
                 "(no shaft deflection); the measured one from the model's deflections and the "
                 "case's lead modifications, with no helix deviation (a crowning raises it on an "
-                "aligned mesh)")
-    if base == "K_Halpha":
-        return ("comparable in kind (load sharing between the pairs in contact), not in cause: "
-                "ISO's comes from the pitch deviation f_pb; the measured one from the case's "
-                "profile modifications under exact contact, with no pitch deviation (a tip "
-                "relief the load does not close raises it); rated within ISO's limits")
-    return ""
+                "aligned mesh)"),
+    "K_Halpha": ("comparable in kind (load sharing between the pairs in contact), not in cause: "
+                 "ISO's comes from the pitch deviation f_pb; the measured one from the case's "
+                 "profile modifications under exact contact, with no pitch deviation (a tip "
+                 "relief the load does not close raises it); rated within ISO's limits"),
+}
+
+
+def measured_note(key: str, measured: dict) -> str:
+    """Where a measured factor comes from and whether it is comparable with ISO's: its
+    ``note`` where the run gave one (a K_v's, from the mesh frequency against the first mode),
+    else the standing words for its kind (:data:`_MEASURED_CAUSE`)."""
+    return measured.get("note") or _MEASURED_CAUSE.get(key.removesuffix("_rigid_mesh"), "")
 
 
 def _measured_lines(section: dict, heading: str) -> list[str]:
@@ -533,15 +532,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
         rating = _rated(inputs, section)
         out += _inputs_tables(inputs, section, rating, h)
     t = _Table(pub)
-    if rating is None:
-        for key, what in _FACTORS:
-            f = section["factors"][key]
-            t.row(what, SYMBOLS[key], f"{number(f['value'])} ({_source(f['source'])})", "",
-                  reference(key, method), key)
-            if key == "K_A":
-                _k_gamma_row(t, section, method)
-    else:
-        _factor_rows(t, section, rating, method)
+    _factor_rows(t, section, rating, method)
     out += t.lines("Load factors", h, None if rating is None else (
         "Rows marked ↳ are the intermediate values of ISO 6336-1 method B behind the factor "
         "above them (computed from the inputs even where the factor is given or measured)."))
