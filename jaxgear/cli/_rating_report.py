@@ -38,6 +38,7 @@ from ..io import (
     spec_window,
 )
 from ._plots import root_stress_plot
+from ._rating_inputs import modification_inputs, modification_line
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
@@ -132,7 +133,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#") -> list[str]
         f"{heading} {case_name}: load capacity, {section['method']}",
         "",
         "Per-gear values as pinion / gear. Stresses in N/mm² (summary.json: Pa).",
-        "",
+        *modification_line(section),  # a blank line, then ISO's modification inputs and one
         "| symbol | value | unit | ISO 6336 |",
         "|---|---|---|---|",
     ]
@@ -405,7 +406,7 @@ def rating_outputs(
         for note in rating.scope_notes():
             where = f"[rating] {label}: " if label else "[rating] "
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
-        section = rating.summary()
+        section = rating.summary() | {"modification_inputs": modification_inputs(rc, rating)}
         if results is not None:
             section["measured"] = measured_factors(results[k], model, k)
             section = rated_with_measured(rc, section)
