@@ -18,8 +18,8 @@ the least is the pinion's S_H, about 1.4 with the measured K_Hβ). Prints start 
 writes ``rating_optimise.json``, ``rating_optimise.png`` (the safety factors and the TE RMS)
 and ``power-helical-optimum.toml`` (``jaxgear run`` takes it) into the output folder, by
 default ``jaxgear-out/rating_optimise`` (nothing under docs/ unless that is the folder given).
-Run from anywhere: ``python examples/rating_optimise.py [out_dir]`` (about 3.5 minutes on 2 loaded
-cores at the default 10 slices and 16 positions per pitch).
+Run from anywhere: ``python examples/rating_optimise.py [out_dir]`` (about 3.5 minutes on 2
+loaded cores at the default 10 slices and 16 positions per pitch).
 """
 
 from __future__ import annotations

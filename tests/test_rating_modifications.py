@@ -231,3 +231,49 @@ def test_optimise_write_saves_the_optimum_as_a_case_file_that_loads_back(tmp_pat
         assert len(err.splitlines()) == 1 and re.search(message, err), err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["designs", "o", "ph.toml"]
     assert sorted(p.name for p in new.parent.iterdir()) == ["new.toml"]
+
+
+def test_a_design_is_written_into_the_modifications_tables_it_reads_from():
+    """The text writer on a case with common and per-member tables between other tables: a
+    variable on both members over a per-member entry is written per member, each member's
+    other keys kept (its own entry replaces the common one whole, as the reader takes it); a
+    pinion-only value splits the common entry; an entry equal on both members is written once;
+    the other tables (before and after, ``[[...]]`` arrays too) and comments kept; the text
+    reads back (tomllib) to exactly these tables; an inline ``modifications = {...}`` refused."""
+    text = """# a comment kept
+name = "t"
+[modifications]
+tip_relief = { depth_um = 10.0, extent = 0.2 }
+crowning = { depth_um = 5.0 }
+[modifications.gear]
+tip_relief = { depth_um = 7.0, extent = 0.3, shape = "parabolic" }
+[[gears]]
+name = "a"
+[rating]
+life_h = 1.0
+"""
+    table = tomllib.loads(text)["modifications"]
+    values = {
+        (("pinion", "gear"), "tip_relief", "depth_um"): 12.345678901234567,
+        (("pinion",), "crowning", "depth_um"): 2.5,
+    }
+    new = jio.modifications_with(table, values)
+    assert new == {
+        "pinion": {
+            "tip_relief": {"depth_um": 12.345678901234567, "extent": 0.2},
+            "crowning": {"depth_um": 2.5},
+        },
+        "gear": {
+            "tip_relief": {"depth_um": 12.345678901234567, "extent": 0.3, "shape": "parabolic"},
+            "crowning": {"depth_um": 5.0},
+        },
+    }
+    same = jio.modifications_with(table, {(("gear",), "tip_relief", "extent"): 0.2})
+    assert same["crowning"] == {"depth_um": 5.0} and "crowning" not in same.get("gear", {})
+    out = jio.case_text_with_modifications(text, new)
+    parsed = tomllib.loads(out)
+    assert parsed["modifications"] == new
+    assert parsed["gears"] == [{"name": "a"}] and parsed["rating"] == {"life_h": 1.0}
+    assert out.startswith("# a comment kept\nname = \"t\"\n")
+    with pytest.raises(ValueError, match=r"dotted or inline key"):
+        jio.case_text_with_modifications('name = "t"\nmodifications = { crowning = {} }\n', new)

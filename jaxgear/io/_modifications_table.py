@@ -157,8 +157,10 @@ def modifications_with(table: dict | None, values: dict) -> dict:
     equal for both members is written once, under ``[modifications]``, else under
     ``[modifications.pinion]``/``[modifications.gear]``."""
     table = table or {}
-    common = {k: dict(v) for k, v in table.items() if k not in _MEMBERS}
-    each = {m: {**common, **{k: dict(v) for k, v in table.get(m, {}).items()}} for m in _MEMBERS}
+    common = {k: v for k, v in table.items() if k not in _MEMBERS}
+    each = {  # each member's own copy of every entry
+        m: {k: dict(v) for k, v in {**common, **table.get(m, {})}.items()} for m in _MEMBERS
+    }
     for (members, mod, key), value in values.items():
         for m in members:
             each[m].setdefault(mod, {})[key] = float(value)
@@ -244,6 +246,7 @@ def case_text_with_modifications(text: str, table: dict) -> str:
             "the case file gives [modifications] as a dotted or inline key: write it as a "
             "[modifications] table to have the design written back"
         )
-    out = body + "\n\n# the design written by jaxgear optimise --write\n" + modifications_toml(table)
+    note = "\n\n# the design written by jaxgear optimise --write\n"
+    out = body + note + modifications_toml(table)
     tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
     return out
