@@ -335,6 +335,15 @@ class Modifications(eqx.Module):
         """The same modification on both members."""
         return cls(pinion=member, gear=member)
 
+    def rating_inputs(self) -> tuple[Float[Array, ""], Float[Array, ""]]:
+        """ISO 6336-1's modification inputs of the pair: the tip relief C_a (m; K_v's B_k,
+        clause 6) and the crowning C_β (m; K_Hβ's B₂, clause 7), each the larger of the two
+        members' ``tip_relief_depth`` and ``crowning_depth`` (0: none). Differentiable in the
+        depths (almost everywhere)."""
+        ca = jnp.maximum(self.pinion.tip_relief_depth, self.gear.tip_relief_depth)
+        cb = jnp.maximum(self.pinion.crowning_depth, self.gear.crowning_depth)
+        return ca, cb
+
     def deviation(
         self, s_fraction: Float[Array, "..."], zeta: Float[Array, "..."]
     ) -> Float[Array, "..."]:

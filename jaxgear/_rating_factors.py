@@ -93,7 +93,7 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
     f_pb = acc.base_pitch - tr.running_in_alpha(acc.base_pitch, sh)
     f_fa = acc.profile_form - tr.running_in_alpha(acc.profile_form, sh)
     if settings.tip_relief is None:
-        ca = ((sh * 1e-6 / 97.0 - 18.45) ** 2 / 18.0 + 1.5) * 1e-6
+        ca = settings.running_in_tip_relief()
     else:
         ca = settings.tip_relief
     bp, bf = c1 * f_pb / line_load, c1 * f_fa / line_load
@@ -131,13 +131,24 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
     }
 
 
+def helix_modification_factor(settings: RatingSettings) -> Array:
+    """B₂ of ISO 6336-1 clause 7's initial mesh misalignment F_βx = 1.33 B₁ f_sh + B₂ f_ma
+    (here f_sh = 0, f_ma = f_Hβ): 0.5 for a lead crowning C_β (``settings.crowning``) at
+    least f_Hβ/2 deep (the depth the standard's crowning offsets: C_β ≈ F_βx/2), 1 without
+    (a shallower crowning counts as none)."""
+    cb = 0.0 if settings.crowning is None else settings.crowning
+    return jnp.where(cb >= 0.5 * settings.accuracy.helix_slope, 0.5, 1.0)
+
+
 def _face_factor(settings, cga, f_m_per_b):
-    """K_Hβ (ISO 6336-1 clause 7): F_βx = f_Hβ, at least 0.005 µm per N/mm of F_m/b (5e-12 m²/N); F_βy =
-    F_βx − y_β (running-in); c_γβ = 0.85 c_γα; K_Hβ = 1 + F_βy c_γβ/(2 F_m/b) up to 2, else
+    """K_Hβ (ISO 6336-1 clause 7): F_βx = B₂ f_Hβ (:func:`helix_modification_factor`: 0.5 with
+    a crowning, else 1), at least 0.005 µm per N/mm of F_m/b (5e-12 m²/N); F_βy = F_βx − y_β
+    (running-in); c_γβ = 0.85 c_γα; K_Hβ = 1 + F_βy c_γβ/(2 F_m/b) up to 2, else
     √(2 F_βy c_γβ/(F_m/b)) (F_m = F_t K_A K_v). Returns K_Hβ and its intermediate values
     (``F_betax_m``, ``F_betay_m``, ``c_gamma_beta_N_per_m2``, ``F_m_per_b_N_per_m``)."""
     acc, tr = settings.accuracy, settings.material.treatment
-    f_bx = jnp.maximum(acc.helix_slope, 5e-12 * f_m_per_b)
+    b2 = helix_modification_factor(settings)
+    f_bx = jnp.maximum(b2 * acc.helix_slope, 5e-12 * f_m_per_b)
     f_by = f_bx - tr.running_in_beta(f_bx, jnp.min(settings.material.sigma_h_lim))
     t = f_by * 0.85 * cga / f_m_per_b
     k = jnp.where(t <= 2.0, 1 + t / 2, jnp.sqrt(2 * jnp.maximum(t, 2.0)))
@@ -215,7 +226,12 @@ def load_factors(
         k: ("given" if getattr(given, k) is not None else iso)
         for k in ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
     }
-    details = details | face | {"c_prime_N_per_m2": c1, "c_gamma_alpha_N_per_m2": cga, "N_F": n_f}
+    details = details | face | {
+        "c_prime_N_per_m2": c1,
+        "c_gamma_alpha_N_per_m2": cga,
+        "N_F": n_f,
+        "B_2": helix_modification_factor(settings),
+    }
     return LoadFactors(ka, kv, khb, kfb, kha, kfa, details, sources)
 
 

@@ -434,6 +434,10 @@ class RatingSettings(eqx.Module):
             :class:`Edition2019`, or :class:`Edition2006` to compare with ratings to it).
         loading: :class:`ToothLoading`, load cycles per turn and Y_M per gear (default: a
             pair's, one cycle per turn, one-way bending).
+        crowning: C_β (m), the lead crowning of K_Hβ (ISO 6336-1 clause 7: F_βx = B₂ f_Hβ
+            with B₂ = 0.5 for crowning, at least f_Hβ/2 deep, 1 without); ``None`` or 0: none.
+            A case file derives ``tip_relief`` and ``crowning`` from its ``[modifications]``
+            (:meth:`jaxgear.Modifications.rating_inputs`).
     """
 
     material: RatingMaterial
@@ -447,10 +451,11 @@ class RatingSettings(eqx.Module):
     min_safety_bending: float = 1.0
     edition: AbstractEdition = Edition2019()
     loading: ToothLoading = ToothLoading()
+    crowning: float | None = None
 
     def __check_init__(self):
         """One ``ValueError`` line naming the argument, its value and the allowed range: life
-        > 0 s, application_factor >= 1 (ISO 6336-1's K_A), tip_relief None or >= 0 m,
+        > 0 s, application_factor >= 1 (ISO 6336-1's K_A), tip_relief and crowning None or >= 0 m,
         min_safety_* > 0, and each part of its kind (a traced number: its shape only)."""
         w = "RatingSettings"
         for name, kind, allowed in (
@@ -465,7 +470,29 @@ class RatingSettings(eqx.Module):
         scalar = {"shape": (), "shape_text": "a scalar", "where": w}
         check_real("life", self.life, "s", lo=0.0, lo_open=True, **scalar)
         check_real("application_factor", self.application_factor, "", lo=1.0, **scalar)
-        if self.tip_relief is not None:
-            check_real("tip_relief", self.tip_relief, "m", lo=0.0, **scalar)
+        for name in ("tip_relief", "crowning"):
+            if getattr(self, name) is not None:
+                check_real(name, getattr(self, name), "m", lo=0.0, **scalar)
         for name in ("min_safety_pitting", "min_safety_bending"):
             check_real(name, getattr(self, name), "", lo=0.0, lo_open=True, **scalar)
+
+    def running_in_tip_relief(self) -> Float[Array, ""]:
+        """The running-in tip relief C_ay (m) that K_v takes without a tip relief: (σ_Hlim/97 −
+        18.45)²/18 + 1.5 µm, σ_Hlim (N/mm²) the smaller of the gears' (ISO 6336-1 clause 6)."""
+        sh = jnp.min(self.material.sigma_h_lim)
+        return ((sh * 1e-6 / 97.0 - 18.45) ** 2 / 18.0 + 1.5) * 1e-6
+
+    def with_modifications(self, modifications) -> RatingSettings:
+        """These settings with ISO 6336-1's modification inputs of a design: ``tip_relief`` C_a
+        and ``crowning`` C_β of ``modifications`` (a :class:`jaxgear.Modifications`; the larger
+        member's depths, :meth:`jaxgear.Modifications.rating_inputs`), C_a the running-in C_ay
+        where the design has no tip relief. Differentiable in the depths (the load-capacity
+        objective rates each design so: ``optimise.LeastSafetyFactor``)."""
+        ca, cb = modifications.rating_inputs()
+        relief = jnp.where(ca > 0, ca, self.running_in_tip_relief())
+        return eqx.tree_at(
+            lambda s: (s.tip_relief, s.crowning),
+            self,
+            (relief, cb),
+            is_leaf=lambda x: x is None,
+        )

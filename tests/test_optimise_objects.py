@@ -106,8 +106,8 @@ def test_statistics_reduce_as_named():
 def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
     """LeastSafetyFactor on the rated accessory pair (2 slices, 8 positions): its value is
     1/S̃ with S̃ = −log Σ exp(−κ S)/κ written here in NumPy over the four safety factors of
-    ``jaxgear.rate`` given the K_Hβ and K_Hα measured on the same quasi-static result (K_Fα
-    capped at ISO 6336-1's limit, K_Hα too); S̃ lies within log(4)/κ below the least S; a TE
+    ``jaxgear.rate`` given the K_Hβ measured on the same quasi-static result (K_Hα, K_Fα
+    ISO 6336-1's method B); S̃ lies within log(4)/κ below the least S; a TE
     limit at half the TE RMS adds ``penalty`` × 1² exactly."""
     rcase = rated_accessory_case(2, 8)
     rating = jio.rating_of(rcase)
@@ -116,15 +116,7 @@ def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
     )
     least = jio.objective_from_name("least_safety", rcase.torque, rating=rating)
     khb = float(jg.face_load_factor(res))
-    kha = float(jg.transverse_load_factor(res))
-    h_max, f_max = (float(v) for v in jg.transverse_factor_limits(rating.geometry))
-    given = jg.GivenFactors(
-        K_v=rating.settings.given.K_v,
-        K_Hbeta=khb,
-        K_Fbeta=rating.settings.given.K_Fbeta,
-        K_Halpha=min(kha, h_max),
-        K_Falpha=min(kha, f_max),
-    )
+    given = jg.GivenFactors(K_Hbeta=khb)  # K_Hα, K_Fα: ISO's method B
     r = jg.rate(
         rating.geometry, rating.operating, eqx.tree_at(lambda s: s.given, rating.settings, given)
     )

@@ -1,14 +1,14 @@
 """``jaxgear optimise --objective least_safety`` (and ``[optimise] objective = "least_safety"``,
 ``te_limit_um``): the name maps to optimise.LeastSafetyFactor on the case's ``[rating]``; the
-problem's value is 1/soft-min of the safety factors rated by jaxgear.rate with the K_Hβ and
-K_Hα measured on the load map (computed here from the load map, not by the objective); a case
+problem's value is 1/soft-min of the safety factors rated by jaxgear.rate with the K_Hβ
+measured on the load map and the design's tip relief and crowning as ISO's C_a and C_β
+(computed here from the load map and the depths, not by the objective); a case
 without ``[rating]`` and a TE limit on another objective are refused in one line before any
 work; and (slow) the CLI's optimum raises the least safety factor of a misaligned spur pair,
 re-rated here by jaxgear.rate at the start and at the optimum, with the TE RMS under its limit.
 
 References: jaxgear.rate (checked against ISO/TR 6336-30 and KISSsoft in tests/test_rating*.py)
-with the measured factors given, K_Hα and K_Fα held within ISO 6336-1:2019 clause 8's limits
-written out for a spur pair (1/Z_ε² = 3/(4 − ε_α) and ε_α/(0.25 ε_α + 0.75)); the soft minimum
+with the measured K_Hβ given; the soft minimum
 −log Σ exp(−κ S)/κ written with numpy."""
 
 import json
@@ -46,8 +46,8 @@ def _data(slices, ppp, optimise=None):
 
 def _by_hand(case, mods, contact=None):
     """(S_H pinion, S_H gear, S_F pinion, S_F gear) and the TE RMS of ``mods``: jg.rate with
-    the K_Hβ and K_Hα of the quasi-static load map given, K_Hα and K_Fα within ISO's spur
-    limits."""
+    the K_Hβ of the quasi-static load map given, K_Hα ISO's, and the design's tip relief and
+    crowning (the larger member's depths) as ISO's C_a and C_β."""
     res = jg.quasi_static(
         case.mesh_model(),
         mods,
@@ -56,14 +56,15 @@ def _by_hand(case, mods, contact=None):
         contact=contact or jg.ExactContact(),
     )
     rc = jio.rating_of(case)
-    ea = float(case.pair.transverse_contact_ratio)
-    kha = float(jg.transverse_load_factor(res))
-    given = jg.GivenFactors(
-        K_Hbeta=float(jg.face_load_factor(res)),
-        K_Halpha=min(kha, 3 / (4 - ea)),
-        K_Falpha=min(kha, ea / (0.25 * ea + 0.75)),
+    relief = max(float(mods.pinion.tip_relief_depth), float(mods.gear.tip_relief_depth))
+    crowning = max(float(mods.pinion.crowning_depth), float(mods.gear.crowning_depth))
+    settings = eqx.tree_at(
+        lambda s: (s.given, s.tip_relief, s.crowning),
+        rc.settings,
+        (jg.GivenFactors(K_Hbeta=float(jg.face_load_factor(res))), relief, crowning),
+        is_leaf=lambda x: x is None,
     )
-    r = jg.rate(rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given))
+    r = jg.rate(rc.geometry, rc.operating, settings)
     s = np.concatenate([np.asarray(r.pitting.S_H), np.asarray(r.bending.S_F)])
     return s, float(res.te_rms)
 

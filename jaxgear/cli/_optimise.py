@@ -43,22 +43,26 @@ from ..io import (
     TrainForm,
     atomic_open,
     case_problem,
+    case_text_with_modifications,
+    embedded_case_text,
     load_case,
     optimiser_from_name,
     rating_of,
     static_scene,
+    write_design_case,
     write_json,
 )
 from . import _plots
 from ._optimise_options import add_master_curve_arguments, add_optimise_arguments
 from ._options import parse_range, range_values
-from ._paths import check_output_dir, clear_outputs
+from ._paths import check_output_dir, check_output_file, clear_outputs
 
 __all__ = [
     "PARTIAL",
     "add_master_curve_arguments",
     "add_optimise_arguments",
     "check_settings",
+    "check_write",
     "optimise_case",
     "run_master_curve",
     "run_optimise",
@@ -164,19 +168,21 @@ def _objective_report(objective, problem, designs: dict) -> dict:
 @_objective_report.register
 def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
     """``rating``: the start's and the optimum's rating in exact contact (sharp relief starts),
-    with the K_Hβ and K_Hα measured on the load map (the objective's rating), and the TE limit.
+    with the K_Hβ measured on the load map and the design's C_a, C_β (the objective's
+    rating), and the TE limit.
     """
     sharp = problem.sharp()
     rated = {}
     for label, x in designs.items():
+        mods = sharp.modifications(jnp.asarray(x))
         res = jg.quasi_static(
             sharp.mesh,
-            sharp.modifications(jnp.asarray(x)),
+            mods,
             sharp.design_torque,
             speed=sharp.speed,
             positions_per_pitch=sharp.positions_per_pitch,
         )
-        r = objective.rating(res)
+        r = objective.rating(res, mods)
         s_h = np.asarray(r.pitting.S_H, dtype=float)
         s_f = np.asarray(r.bending.S_F, dtype=float)
         rated[label] = {
@@ -190,9 +196,9 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
     limit = objective.te_limit
     rated["te_limit_m"] = None if limit is None else float(limit)
     rated["notes"] = (
-        "ISO 6336:2019 method B with K_Hbeta and K_Halpha (K_Falpha) measured on the exact-contact "
-        "load map at the design torque (K_Halpha, K_Falpha within ISO 6336-1 clause 8's limits); "
-        "S_H, S_F as [pinion, gear]"
+        "ISO 6336:2019 method B with K_Hbeta measured on the exact-contact load map at the "
+        "design torque, the design's tip relief and crowning as ISO's C_a and C_beta, K_Halpha "
+        "ISO's (K_Halpha_measured is reported, not rated with); S_H, S_F as [pinion, gear]"
     )
     return {"rating": rated}
 
@@ -513,11 +519,38 @@ def _pair_case(name_or_path: str, command: str):
     return case
 
 
+def _case_text(name_or_path: str) -> str:
+    """The TOML text of a case: its file's, or the embedded case's."""
+    if os.path.isfile(name_or_path):
+        with open(name_or_path, encoding="utf-8") as f:
+            return f.read()
+    return embedded_case_text(name_or_path)
+
+
+def check_write(path: str | None, name_or_path: str) -> str | None:
+    """``--write PATH``, checked before any work: a ``.toml`` file name whose folder can be
+    written, and a case whose ``[modifications]`` can be rewritten. Returns ``path``.
+
+    Raises:
+        ValueError: one line naming ``--write`` and the path."""
+    if path is None:
+        return None
+    if not str(path).endswith(".toml"):
+        raise ValueError(f"--write {path}: a case file name ending in .toml")
+    folder = os.path.dirname(os.path.abspath(path))
+    if os.path.exists(folder) and not os.path.isdir(folder):
+        raise ValueError(f"--write {path}: its folder {folder} is a file")
+    check_output_file(path, "--write")
+    case_text_with_modifications(_case_text(name_or_path), {})  # the form can be rewritten
+    return path
+
+
 def run_optimise(args) -> int:
     """``jaxgear optimise``: the entry point (``args`` from the parser of
     :func:`add_optimise_arguments`); returns the exit status."""
     case = _pair_case(args.case, "optimise")
     settings = check_settings(settings_from_case(case, args), case)
+    write_to = check_write(args.write, args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep, problem = _optimise(case, settings, out, progress=not args.quiet)
@@ -532,6 +565,14 @@ def run_optimise(args) -> int:
     if not rep["converged"]:
         print(f"  not converged: stopped at the iteration cap ({rep['iterations']} iterations)")
     print(f"written to {out}/")
+    if write_to is not None:
+        try:
+            write_design_case(
+                write_to, _case_text(args.case), case, problem, rep["final"]["parameters"]
+            )
+        except ValueError as err:
+            raise ValueError(f"--write {write_to}: {err}") from None
+        print(f"the optimum written as a case file: {write_to} (jaxgear run {write_to})")
     return 0
 
 

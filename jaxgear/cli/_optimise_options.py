@@ -79,6 +79,12 @@ def add_optimise_arguments(o) -> None:
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
     o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
     o.add_argument(
+        "--write",
+        metavar="NEW.toml",
+        help="also write the optimum as a case file: the case with its [modifications] set to "
+        "the optimum (every other line kept), loadable by jaxgear run NEW.toml",
+    )
+    o.add_argument(
         "--quiet", action="store_true", help="no progress bar (the result lines are printed)"
     )
 

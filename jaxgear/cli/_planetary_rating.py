@@ -31,6 +31,7 @@ from .. import (
 )
 from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
+from ._rating_inputs import modification_inputs
 from ._rating_report import (
     RATE,
     ROOT_STRESS_RADII,
@@ -474,6 +475,7 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
         section = rating.summary()
+        section["modification_inputs"] = modification_inputs(rc, rating)
         if measured:
             section["measured"] = {key: v[k] for key, v in measured.items()}
             section = rated_with_measured(dataclasses.replace(rc, settings=settings), section)

@@ -37,6 +37,7 @@ from ..io import (
 )
 from ._plots import root_stress_plot
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
+from ._rating_inputs import modification_inputs
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
@@ -308,7 +309,7 @@ def rating_outputs(
         for note in rating.scope_notes():
             where = f"[rating] {label}: " if label else "[rating] "
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
-        section = rating.summary()
+        section = rating.summary() | {"modification_inputs": modification_inputs(rc, rating)}
         if results is not None:
             section["measured"] = measured_factors(results[k], model, k)
             section = rated_with_measured(rc, section)

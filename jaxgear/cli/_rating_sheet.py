@@ -19,6 +19,7 @@ import numpy as np
 
 from .. import Edition2006, Edition2019, GivenFactors, PairTreatment, factor_clause, rate
 from ..io import RatingCase
+from ._rating_inputs import modification_line
 
 __all__ = [
     "RATE",
@@ -522,6 +523,7 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     out.append("Factors whose formula no published worked example confirms: "
                + ("; ".join(unconfirmed) if unconfirmed else "none") + ".")
     out.append("")
+    out += modification_line(section)[1:]  # ISO's tip relief and crowning inputs, their source
     pub = inputs.published if inputs is not None else None
     if pub is not None:
         out += [f"Published values: {inputs.report}, as printed (its rounding). Where this "

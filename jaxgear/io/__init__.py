@@ -34,7 +34,11 @@ from ._load import (
     load_case as load_case,
     published_rating as published_rating,
 )
-from ._modifications_table import parse_modifications as parse_modifications
+from ._modifications_table import (
+    case_text_with_modifications as case_text_with_modifications,
+    modifications_with as modifications_with,
+    parse_modifications as parse_modifications,
+)
 from ._names import (
     contact_law_from_name as contact_law_from_name,
     foundation_from_name as foundation_from_name,
@@ -57,8 +61,10 @@ from ._problem import (
     OPTIMISERS as OPTIMISERS,
     STATISTICS as STATISTICS,
     case_problem as case_problem,
+    design_case_text as design_case_text,
     objective_from_name as objective_from_name,
     optimiser_from_name as optimiser_from_name,
+    write_design_case as write_design_case,
 )
 from ._rating_table import (
     TREATMENTS as TREATMENTS,

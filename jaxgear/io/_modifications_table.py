@@ -3,7 +3,10 @@ member), depths in µm within one normal module."""
 
 from __future__ import annotations
 
+import functools
 import itertools
+import re
+import tomllib
 from typing import Any
 
 import numpy as np
@@ -20,7 +23,15 @@ from .._modifications import (
     ParabolicRelief,
 )
 
-__all__ = ["END_RELIEF_EDGES", "RELIEF_SHAPES", "parse_modifications"]
+__all__ = [
+    "END_RELIEF_EDGES",
+    "FILE_KEYS",
+    "RELIEF_SHAPES",
+    "case_text_with_modifications",
+    "modifications_toml",
+    "modifications_with",
+    "parse_modifications",
+]
 
 #: ``tip_relief``/``root_relief`` ``shape`` names
 RELIEF_SHAPES = {"linear": LinearRelief(), "parabolic": ParabolicRelief()}
@@ -126,3 +137,116 @@ def parse_modifications(table: dict, module_mm: float | None = None) -> Modifica
             _member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module_mm)
         )
     return Modifications(pinion=members[0], gear=members[1])
+
+
+# ------------------------------------------------------------------------------------------
+# writing a design back: a case file's [modifications] with new values
+
+#: the ``[modifications]`` key of each design-variable quantity (``tip_relief.depth`` →
+#: ``tip_relief``'s ``depth_um``)
+FILE_KEYS = {"depth": "depth_um", "extent": "extent"}
+_MEMBERS = ("pinion", "gear")
+_HEADER = re.compile(r"^\s*\[\[?\s*\"?([A-Za-z_][A-Za-z0-9_-]*)\"?\s*(?:\.|\])")
+
+
+def modifications_with(table: dict | None, values: dict) -> dict:
+    """The ``[modifications]`` table ``table`` (a case file's, file units; None: none) with
+    ``values`` written in: ``{(members, modification, key): value}``, e.g.
+    ``{(("pinion", "gear"), "tip_relief", "depth_um"): 12.5}``. Each member's entries are the
+    common ones with its own over them (as :func:`parse_modifications` reads them); an entry
+    equal for both members is written once, under ``[modifications]``, else under
+    ``[modifications.pinion]``/``[modifications.gear]``."""
+    table = table or {}
+    common = {k: v for k, v in table.items() if k not in _MEMBERS}
+    each = {  # each member's own copy of every entry
+        m: {k: dict(v) for k, v in {**common, **table.get(m, {})}.items()} for m in _MEMBERS
+    }
+    for (members, mod, key), value in values.items():
+        for m in members:
+            each[m].setdefault(mod, {})[key] = float(value)
+    out: dict = {}
+    for mod in dict.fromkeys([*each["pinion"], *each["gear"]]):
+        p, g = each["pinion"].get(mod), each["gear"].get(mod)
+        if p == g:
+            out[mod] = p
+        else:
+            for m, entry in (("pinion", p), ("gear", g)):
+                if entry is not None:
+                    out.setdefault(m, {})[mod] = entry
+    return out
+
+
+@functools.singledispatch
+def _toml_value(v) -> str:
+    raise TypeError(f"modifications: cannot write {v!r} as TOML")
+
+
+@_toml_value.register(bool)
+def _(v) -> str:
+    return "true" if v else "false"
+
+
+@_toml_value.register(int)
+def _(v) -> str:
+    return str(v)
+
+
+@_toml_value.register(float)
+def _(v) -> str:
+    return repr(v)  # reads back to the same double
+
+
+@_toml_value.register(str)
+def _(v) -> str:
+    return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+@_toml_value.register(list)
+@_toml_value.register(tuple)
+def _(v) -> str:
+    return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+
+
+@_toml_value.register(dict)
+def _(v) -> str:
+    return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
+
+
+def modifications_toml(table: dict) -> str:
+    """``[modifications]`` (and its member tables) as TOML text, each modification an inline
+    table, floats written in full (``repr``: they read back to the same double)."""
+    lines = ["[modifications]"]
+    lines += [f"{k} = {_toml_value(v)}" for k, v in table.items() if k not in _MEMBERS]
+    for m in _MEMBERS:
+        if m in table:
+            lines += ["", f"[modifications.{m}]"]
+            lines += [f"{k} = {_toml_value(v)}" for k, v in table[m].items()]
+    return "\n".join(lines) + "\n"
+
+
+def case_text_with_modifications(text: str, table: dict) -> str:
+    """A case file's TOML ``text`` with its ``[modifications]`` tables (and member sub-tables)
+    replaced by ``table`` (:func:`modifications_toml`), appended at the end; every other line,
+    comments included, kept.
+
+    Raises:
+        ValueError: the case writes its modifications in a form this cannot replace (a dotted
+            or inline ``modifications`` key outside a ``[modifications]`` header).
+    """
+    kept, skipping = [], False
+    for line in text.splitlines():
+        head = _HEADER.match(line)
+        if head is not None:
+            skipping = head.group(1) == "modifications"
+        if not skipping:
+            kept.append(line)
+    body = "\n".join(kept).rstrip("\n")
+    if "modifications" in tomllib.loads(body):
+        raise ValueError(
+            "the case file gives [modifications] as a dotted or inline key: write it as a "
+            "[modifications] table to have the design written back"
+        )
+    note = "\n\n# the design written by jaxgear optimise --write\n"
+    out = body + note + modifications_toml(table)
+    tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
+    return out

@@ -19,9 +19,12 @@ import optimistix as optx
 
 import jaxgear as jg
 import optimise as op
+from fem_prep.schema import atomic_write
 from optimise import Problem, make_problem
 
 from ._case import Case
+from ._load import load_case
+from ._modifications_table import case_text_with_modifications, modifications_with
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
@@ -29,8 +32,10 @@ __all__ = [
     "OPTIMISERS",
     "STATISTICS",
     "case_problem",
+    "design_case_text",
     "objective_from_name",
     "optimiser_from_name",
+    "write_design_case",
 ]
 
 # ``reduce = "..."``: the statistic over the torques of robust_te_rms
@@ -200,3 +205,42 @@ def case_problem(
         smoothing=op.Smoothing(**smoothing),
         **problem_settings,
     )
+
+
+# -- a design written back as a case file ------------------------------------------------------
+def design_case_text(text: str, case: Case, problem: Problem, parameters: dict) -> str:
+    """The case file ``text`` (of ``case``) with the design ``parameters`` (case-file units by
+    variable name, :meth:`optimise.Problem.to_physical`: ``depth_um`` for depths, fractions
+    for extents) written into its ``[modifications]`` (each variable on its members; every
+    other entry and line, comments included, kept: :func:`case_text_with_modifications`)."""
+    values = {}
+    for var in problem.variables:
+        mod, quantity = var.base.split(".")
+        key = "depth_um" if quantity == "depth" else "extent"
+        values[(var.members, mod, key)] = parameters[var.name]
+    table = modifications_with(case.raw.get("modifications"), values)
+    return case_text_with_modifications(text, table)
+
+
+def write_design_case(path, text: str, case: Case, problem: Problem, parameters: dict) -> Case:
+    """Write the case file ``text`` (of ``case``) with the design ``parameters`` as its
+    ``[modifications]`` (:func:`design_case_text`; full precision) to ``path``, atomically:
+    the new file is loaded (:func:`load_case`, relative paths from its own folder) before it
+    replaces anything at ``path``. Returns the loaded case, whose modifications are the design.
+
+    Raises:
+        ValueError: the case's modifications cannot be rewritten, or the written case does not
+            load (one line): nothing is left at ``path``."""
+    new = design_case_text(text, case, problem, parameters)
+    loaded = []
+
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(new)
+        try:
+            loaded.append(load_case(tmp))
+        except (ValueError, FileNotFoundError) as err:
+            raise ValueError(f"the design's case does not load: {err}") from None
+
+    atomic_write(path, write)
+    return loaded[0]

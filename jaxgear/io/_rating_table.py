@@ -31,7 +31,10 @@ Keys (file units; ranges as checked)::
     roughness_Rz_flank_um = 4.8     # R_z of the flanks, [0.1, 50] µm; or [pinion, gear]
     roughness_Rz_root_um = 20.0     # R_z of the root fillets, [0.1, 100] µm; or [pinion, gear]
     accuracy_grade = 6              # ISO 1328-1 flank tolerance class, 1..11, default 6
-    tip_relief_um = 20.0            # C_a of K_v, [0, 1000] µm; default: the running-in C_ay
+    tip_relief_um = 20.0            # C_a of K_v, [0, 1000] µm; default: the case's
+                                    # [modifications] tip relief (the larger member's depth),
+                                    # without one the running-in C_ay. K_Hβ's crowning C_β is
+                                    # the case's [modifications] crowning (the larger member's)
     min_safety_pitting = 1.0        # S_Hmin, [0.5, 10], default 1
     min_safety_bending = 1.0        # S_Fmin, [0.5, 10], default 1
     edition = 2019                  # ISO 6336 edition, 2019 | 2006 (Y_β), default 2019
@@ -88,6 +91,7 @@ from .. import (
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
+from ._rating_inputs import modification_inputs
 from ._rating_material_table import (
     TREATMENTS,
     pair_of,
@@ -180,6 +184,9 @@ class RatingCase:
     #: a planetary mesh's given load sharing factor K_γ (``[rating] K_gamma``), or ``None``:
     #: ``jaxgear run`` then takes the stage's computed one (planar model, pin errors)
     k_gamma: float | None = None
+    #: ISO 6336-1's modification inputs and where they come from: ``tip_relief_m`` (C_a of
+    #: K_v) and ``crowning_m`` (C_β of K_Hβ), each with its ``*_source`` (:func:`modification_inputs`)
+    modification_inputs: dict = dataclasses.field(default_factory=dict)
 
 
 def _need(table: dict, key: str, where: str) -> None:
@@ -206,26 +213,33 @@ def rating_speed(op: dict) -> float:
     return speed
 
 
-def parse_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
+def parse_rating(
+    data: dict, pair: GearPair, material: tuple[float, float, float], modifications=None
+) -> RatingCase:
     """Check a case's ``[rating]`` with its ``[material]`` and ``[operating]`` rating keys (module
     docstring) and build the :class:`RatingCase`.
 
     Args:
         data: the parsed case TOML (a dict) with a ``rating`` table.
         pair: the case's gear pair. material: (E Pa, ν, ρ kg/m³) of ``[material]``.
+        modifications: the rated mesh's :class:`jaxgear.Modifications` (the case's
+            ``[modifications]``), or None: ISO's tip relief C_a and crowning C_β are derived
+            from it (:func:`modification_inputs`; ``[rating] tip_relief_um`` overrides C_a).
 
     Raises:
         SchemaError: a missing key (named), a value out of range (key, value, allowed range in
             the file's units), unknown keys, a ``[material]`` key that neither gear reads
             (:func:`refuse_unread_material`); one line.
     """
-    rc = _mesh_rating(data, pair, material)
+    rc = _mesh_rating(data, pair, material, modifications)
     mat = data.get("material", {})
     refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
     return rc
 
 
-def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> RatingCase:
+def _mesh_rating(
+    data: dict, pair: GearPair, material: tuple[float, float, float], modifications=None
+) -> RatingCase:
     """:func:`parse_rating` of one mesh, its ``[material]`` keys' use left to the caller (a
     train's or a stage's shared keys are read by some of its meshes only)."""
     rt = sc.subtable(data, "rating", "", RATING_KEYS)
@@ -255,6 +269,7 @@ def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     )
     if year not in EDITIONS:
         raise sc.fail("rating", "edition", f"out of range, allowed [2006, 2019]{years}", year)
+    inputs = modification_inputs(None if ca is None else ca * 1e-6, modifications)
     E, nu, rho = material
     try:
         accuracy = GearAccuracy.from_grade(pair, grade)
@@ -269,14 +284,21 @@ def _mesh_rating(data: dict, pair: GearPair, material: tuple[float, float, float
         life=life,
         application_factor=ka,
         given=GivenFactors(**given),
-        tip_relief=None if ca is None else ca * 1e-6,
+        tip_relief=inputs["tip_relief_m"],
         min_safety_pitting=s_hmin,
         min_safety_bending=s_fmin,
         edition=EDITIONS[year](),
+        crowning=inputs["crowning_m"],
     )
     torque = sc.number(op, "torque_Nm", "operating")
     use = _use_measured(rt, given)
-    return RatingCase(GEOMETRIES[type(pair)](pair), OperatingPoint(torque, speed), settings, use)
+    return RatingCase(
+        GEOMETRIES[type(pair)](pair),
+        OperatingPoint(torque, speed),
+        settings,
+        use,
+        modification_inputs=inputs,
+    )
 
 
 def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
@@ -311,7 +333,7 @@ def rating_of(case) -> RatingCase | None:
     if "rating" not in case.raw:
         return None
     material = (case.youngs_modulus, case.poisson_ratio, case.density)
-    return parse_rating(case.raw, case.pair, material)
+    return parse_rating(case.raw, case.pair, material, case.modifications)
 
 
 # ------------------------------------------------------------------------------------------
@@ -424,7 +446,7 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
-        rc = _mesh_rating(mesh_data, case.pairs[k], material)
+        rc = _mesh_rating(mesh_data, case.pairs[k], material, case.mesh_modifications()[k])
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
@@ -489,7 +511,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": one.torque, "speed_rad_s": one.speed},
         }
-        rc = _mesh_rating(mesh_data, case.pairs[k], material)
+        rc = _mesh_rating(mesh_data, case.pairs[k], material, one.modifications)
         treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
