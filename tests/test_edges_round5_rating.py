@@ -6,6 +6,7 @@ the Python API refusing bad values and wrong kinds at construction in one line n
 argument; a given K_Hα carried to K_Fα (ISO 6336-1 8.3.4); the edition's unconfirmed factors as
 data on the rating."""
 
+import dataclasses
 import math
 import tomllib
 
@@ -325,8 +326,7 @@ def test_given_factors_traced_under_grad_and_jit(rated):
 
     @jax.jit
     def with_life(life):
-        s = jg.RatingSettings(settings.material, settings.lubrication, settings.accuracy, life,
-                              given=settings.given)
+        s = dataclasses.replace(settings, life=life)  # constructed anew: its checks run
         return jg.rate(geometry, op, s).bending.S_F
 
     np.testing.assert_allclose(with_life(settings.life), jg.rate(geometry, op, settings).bending.S_F,

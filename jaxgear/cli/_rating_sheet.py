@@ -370,7 +370,7 @@ _INTERMEDIATES = {
     "K_Hbeta": (
         ("F_m/b", "mean transverse load per face width F_t K_A K_v/b", "F_m_per_b_N_per_m",
          1e-3, "N/mm"),
-        ("F_βx", "initial equivalent misalignment (f_Hβ; f_sh = 0)", "F_betax_m", 1e6, "µm"),
+        ("F_βx", "initial equivalent misalignment (B₂ f_Hβ; f_sh = 0)", "F_betax_m", 1e6, "µm"),
         ("F_βy", "effective equivalent misalignment (F_βx − y_β)", "F_betay_m", 1e6, "µm"),
         ("c_γβ", "mesh stiffness 0.85 c_γα", "c_gamma_beta_N_per_m2", 1e-9, "N/(mm·µm)"),
     ),
