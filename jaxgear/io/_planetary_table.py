@@ -69,10 +69,12 @@ import numpy as np
 
 from fem_prep import schema as sc
 
+from .._geometry import GearPair
 from .._internal import InternalGearPair, planetary_geometry
-from .._planetary import Central, PlanetaryMember, check_assembly
+from .._planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
+from . import _case_file  # its MIN_LINE_LOAD_N_PER_MM (it imports this module: by attribute)
 from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
 from ._planetary_spec import (
     GivenMeshStiffness,
@@ -85,10 +87,27 @@ from ._planetary_spec import (
 __all__ = [
     "MESH_STIFFNESS",
     "check_internal_stiffness",
+    "check_ring_teeth",
     "is_planetary",
     "parse_planetary",
     "planetary_mesh_settings",
 ]
+
+#: the lumped models' given mesh stiffnesses (N/µm on the line of action): a plastic gear of a
+#: millimetre's face width (~0.2 N/µm) down by two hundred, up to c' ~ 20 N/mm/µm over 50 m
+#: of face (the gearbox file's mesh_stiffness_N_per_um); the planet pins' and a held member's
+#: torsional support (on u = r_b θ) take the same lower end
+MESH_STIFFNESS_N_PER_UM = "[0.001, 1e+06]"
+MIN_SUPPORT_N_PER_UM = 1e-3
+#: the lumped form's operating transverse pressure angles (deg): the pairs' normal pressure
+#: angle [10, 40] (PRESSURE_ANGLE_RANGE_DEG) turned transverse at helix angles up to 45°
+#: (atan(tan 40° / cos 45°) = 49.97°)
+PRESSURE_ANGLE_DEG = "[10, 50]"
+#: the fewest planet teeth of the lumped form, z_p ≈ (z_r − z_s)/2 (the sun's lower end)
+MIN_PLANET_TEETH = 3
+#: the lumped form's torque floor: the nominal sun-mesh deflection F/k_s at least 1e-7 µm (the
+#: pairs' line-load floor MIN_LINE_LOAD_N_PER_MM gives about that; below, round-off)
+MIN_DEFLECTION_M = 1e-13
 
 #: ``[planetary] mesh_stiffness``: the name → where the lumped models' mesh stiffness comes from
 MESH_STIFFNESS = {"iso6336": ISO6336MeshStiffness, "mean": MeanMeshStiffness}
@@ -202,7 +221,7 @@ def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
     r = _base_radius(table, where, base_radius)
     mass, inertia = _body(table, where, r)
     pin = [
-        sc.number(table, key, where, allowed="(0, 1e+09]") * 1e6
+        sc.number(table, key, where, allowed=f"[{MIN_SUPPORT_N_PER_UM:g}, 1e+09]") * 1e6
         for key in ("pin_radial_N_per_um", "pin_tangential_N_per_um")
     ]
     return PlanetaryMember(
@@ -376,7 +395,7 @@ def _given_stiffness(t: dict, required: bool) -> GivenMeshStiffness | None:
     keys = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
     if not required and not any(k in t for k in keys):
         return None
-    vals = [sc.number(t, k, "planetary", allowed="(0, 1e+09]") * 1e6 for k in keys]
+    vals = [sc.number(t, k, "planetary", allowed=MESH_STIFFNESS_N_PER_UM) * 1e6 for k in keys]
     return GivenMeshStiffness(*vals)
 
 
@@ -455,14 +474,16 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
             t,
             "ring_teeth",
             "planetary",
-            allowed=f"[{z_s + 1}, 10000]",
+            allowed=f"[{z_s + 2 * MIN_PLANET_TEETH}, 10000]",
             integer=True,
-            note=" (above sun_teeth)",
+            note=f" (sun_teeth + 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)/2 "
+            f">= {MIN_PLANET_TEETH} teeth)",
         )
         z_p = None
         radii = dict.fromkeys((*MEMBERS, "planet"))
         alphas = tuple(
-            math.radians(sc.number(t, k, "planetary", allowed="(0, 90)"))
+            math.radians(sc.number(t, k, "planetary", allowed=PRESSURE_ANGLE_DEG,
+                                   note=" (deg, operating transverse)"))
             for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg")
         )
         mesh_k = _given_stiffness(t, required=True)
@@ -477,14 +498,11 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
     members["planet"] = _planet(tables["planet"], radii["planet"])
     if a_w is None:
         a_w = float(members["carrier"].base_radius)
-    held = members[fixed.name.lower()]
-    if float(held.torsional_stiffness) <= 0:
-        raise sc.fail(
-            f"planetary.{fixed.name.lower()}",
-            "torsional_stiffness_Nm_per_rad",
-            "missing: the fixed member needs a torsional stiffness > 0 (its support; or "
-            "torsional_stiffness_N_per_um)",
-        )
+    _check_held(tables[fixed.name.lower()], members[fixed.name.lower()], fixed.name.lower())
+    if not gears:
+        _check_lumped_radii(members, alphas)
+    _check_spacing(t, psi, a_w, float(geometry.sun_planet.tip_radii[1]) if gears
+                   else float(members["planet"].base_radius), "tip" if gears else "base")
     n = len(psi)
     spec = PlanetarySpec(
         teeth=(z_s, z_p, z_r),
@@ -505,6 +523,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         helix_angle=helix,
         face_width=width,
     )
+    _check_torque(base["torque"], spec, pairs, mesh_k)
     mods = base.pop("gear_modifications", ())
     idx = [index[nm] for nm in names]
     return Case(
@@ -516,6 +535,121 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         form=PlanetaryForm(spec),
         **base,
     )
+
+
+def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:
+    """The fixed member held in rotation: a torsional stiffness of at least
+    :data:`MIN_SUPPORT_N_PER_UM` on u = r_b θ (k_θ >= 1e3 N/m × r_b²), in the units of the key
+    given (one line)."""
+    where = f"planetary.{name}"
+    r = float(member.base_radius)
+    k_u = float(member.torsional_stiffness) / r**2 * 1e-6  # N/µm on u
+    if k_u >= MIN_SUPPORT_N_PER_UM * (1 - 1e-12):
+        return
+    if "torsional_stiffness_N_per_um" in table:
+        key, lo = "torsional_stiffness_N_per_um", f"{MIN_SUPPORT_N_PER_UM:g}"
+    else:
+        key, lo = "torsional_stiffness_Nm_per_rad", f"{MIN_SUPPORT_N_PER_UM * 1e6 * r**2:.6g}"
+    what = (f"out of range, allowed >= {lo} (the fixed member is held: at least "
+            f"{MIN_SUPPORT_N_PER_UM:g} N/µm on u = r_b θ, r_b = {r * 1e3:.6g} mm)")
+    if key not in table:
+        raise sc.fail(where, "torsional_stiffness_Nm_per_rad", "missing: the fixed member needs "
+                      "a torsional stiffness (its support; or torsional_stiffness_N_per_um), "
+                      f"allowed >= {lo}")
+    raise sc.fail(where, key, what, table[key])
+
+
+def _check_lumped_radii(members: dict, alphas: tuple) -> None:
+    """The lumped form's base radii of a stage that can exist (one line, mm): the ring's
+    operating pitch radius r_br/cos α_r beyond the sun's and the planet's r_b/cos α_s (the
+    ring surrounds them), the planet circle a (the carrier's base_radius_mm) between them
+    (a = r_s' + r_p' exceeds r_s' and r_p'; the planets' centres inside the ring)."""
+    r = {m: float(members[m].base_radius) for m in members}
+    cs, cr = math.cos(alphas[0]), math.cos(alphas[1])
+    inner = max(r["sun"], r["planet"]) / cs  # m: the sun's or the planet's pitch radius
+    ring = r["ring"] / cr
+    if not ring > inner:
+        which = "sun" if r["sun"] >= r["planet"] else "planet"
+        raise sc.fail(
+            "planetary.ring", "base_radius_mm",
+            f"out of range, allowed > {inner * cr * 1e3:.6g} (the ring surrounds the sun and "
+            f"the planets: its operating pitch radius r_b/cos α_r beyond the {which}'s "
+            f"r_b/cos α_s = {inner * 1e3:.6g} mm)", r["ring"] * 1e3)
+    if not inner < r["carrier"] < ring:
+        raise sc.fail(
+            "planetary.carrier", "base_radius_mm",
+            f"out of range, allowed ({inner * 1e3:.6g}, {ring * 1e3:.6g}) (the planet circle: "
+            "beyond the sun's and the planet's operating pitch radii r_b/cos α_s, inside the "
+            "ring's r_b/cos α_r)", r["carrier"] * 1e3)
+
+
+def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> None:
+    """No two planets overlap: adjacent centres 2 a sin(Δψ/2) apart on the planet circle of
+    radius a (m) at least twice the planets' ``which`` radius (m): their tip circles (the gear
+    form) or base circles (the lumped form, which has no tip) must not intersect (one line
+    naming ``planets`` or ``planet_angles_deg``, mm)."""
+    if len(psi) < 2:
+        return
+    i, j, d = closest_planets(psi, a)
+    if d >= 2.0 * radius:
+        return
+    key = "planets" if "planets" in t else "planet_angles_deg"
+    most = max_planets(a, radius)
+    hint = f"; allowed planets <= {most}" if most is not None else ""
+    raise sc.fail(
+        "planetary", key,
+        f"planets {i + 1} and {j + 1} (at {math.degrees(psi[i]):.6g}° and "
+        f"{math.degrees(psi[j]):.6g}°) overlap: their centres are {d * 1e3:.6g} mm apart on the "
+        f"planet circle of radius {a * 1e3:.6g} mm, allowed >= 2 × the planet's {which} radius "
+        f"= {2 * radius * 1e3:.6g} mm (their {which} circles must not intersect{hint})",
+        t[key])
+
+
+def _check_torque(torque: float, spec: PlanetarySpec, pairs: tuple, mesh_k) -> None:
+    """``[operating] torque_Nm`` at least the torque that strains the sun meshes measurably:
+    with gears, the pairs' floor, a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on each sun mesh
+    (F_n = |T_s| / (N r_bs cos β_b)); in the lumped form, a nominal sun-mesh deflection
+    |T_s| / (N r_bs k_s) of :data:`MIN_DEFLECTION_M` (one line)."""
+    z_s, _, z_r = spec.teeth
+    per_sun = abs(spec.tooth_count(spec.input) / z_s)  # |T_in / T_s|
+    r_bs, n = float(spec.members["sun"].base_radius), spec.n_planets
+    if pairs:
+        sp = pairs[0]
+        floor = _case_file.MIN_LINE_LOAD_N_PER_MM
+        t_min = floor * 1e3 * sp.face_width * n * r_bs * math.cos(sp.base_helix_angle) * per_sun
+        why = f"a line load F_n/b of {floor:g} N/mm on each sun mesh"
+    else:
+        t_min = MIN_DEFLECTION_M * mesh_k.sun * n * r_bs * per_sun
+        why = (f"a sun-mesh deflection of {MIN_DEFLECTION_M * 1e6:g} µm at "
+               "sun_mesh_stiffness_N_per_um")
+    t_min = float(f"{t_min:.3g}")
+    if torque < t_min:
+        raise sc.fail("operating", "torque_Nm", f"out of range, allowed [{t_min:.3g}, 1e+12] "
+                      f"({why})", torque)
+
+
+def check_ring_teeth(data: dict) -> None:
+    """The gear form's ring larger than its sun, refused in one line on the ring's ``teeth``
+    before its ``[[gears]]`` entry (its cutter keys, whose range follows |z|) is read: a ring
+    of no more teeth than the sun cannot surround it. Reads the raw file; anything malformed
+    is left to the parser."""
+    t = data.get("planetary")
+    gears = data.get("gears")
+    if not isinstance(t, dict) or not isinstance(gears, list):
+        return
+    by_name = {g.get("name"): (i, g) for i, g in enumerate(gears) if isinstance(g, dict)}
+    try:
+        (_, sun), (k, ring) = by_name[t["sun_gear"]], by_name[t["ring_gear"]]
+    except (KeyError, TypeError):
+        return
+    z_s, z_r = sun.get("teeth"), ring.get("teeth")
+    if not all(isinstance(z, int) and not isinstance(z, bool) for z in (z_s, z_r)):
+        return
+    if z_r < 0 < z_s and -z_r <= z_s:
+        raise sc.fail(
+            f"gears.{t['ring_gear']}", "teeth",
+            f"a ring of {-z_r} teeth cannot surround the sun {t['sun_gear']!r} of {z_s}: "
+            f"allowed <= {-(z_s + 1)} (more teeth than the sun's; internal: negative)", z_r)
 
 
 def _geometry(t: dict, gears: dict):
@@ -560,6 +694,8 @@ def _geometry(t: dict, gears: dict):
                 "it)"
             )
     cd = sc.number(t, "center_distance_mm", "planetary", None, allowed="(0, 1e+06]")
+    if cd is not None:
+        _check_center_distance(t, g, cd)
     try:
         geometry = planetary_geometry(
             g[0]["member"],
@@ -573,6 +709,26 @@ def _geometry(t: dict, gears: dict):
     except (ValueError, ArithmeticError) as err:
         raise sc.SchemaError(f"[planetary] {' / '.join(names)}: {sc.g6(str(err))}") from None
     return geometry, tuple(names), g[1]["member"].teeth
+
+
+def _check_center_distance(t: dict, g: list, cd: float) -> None:
+    """``center_distance_mm`` between the sun pair's zero-backlash distance (closer, its teeth
+    jam) and the ring pair's (farther, the ring's jam; :func:`jaxgear.planetary_geometry`), in
+    mm (the range rounded inwards to the µm); the pairs' own checks otherwise."""
+    args = (g[0]["module_mm"] * 1e-3, math.radians(g[0]["alpha_deg"]),
+            math.radians(g[0]["beta_deg"]))
+    try:
+        low = GearPair(g[0]["member"], g[1]["member"], *args).backlash_center_distance
+        high = InternalGearPair(g[1]["member"], g[2]["member"], *args).backlash_center_distance
+    except (ValueError, ArithmeticError):
+        return  # the geometry's own message (planetary_geometry)
+    lo_mm, hi_mm = math.ceil(low * 1e6) / 1e3, math.floor(high * 1e6) / 1e3
+    if low <= high and not low <= cd * 1e-3 <= high:
+        raise sc.fail(
+            "planetary", "center_distance_mm",
+            f"out of range, allowed [{lo_mm:.3f}, {hi_mm:.3f}] (from the sun pair's "
+            "zero-backlash distance, closer its teeth jam, to the ring pair's, farther the "
+            "ring's teeth jam)", t["center_distance_mm"])
 
 
 def check_internal_stiffness(case: Case, where: str) -> None:
@@ -635,6 +791,11 @@ def cutter_values(table: dict, where: str, teeth: int) -> tuple | None:
             where, given[0], "describes the internal gear's cutter: give cutter_teeth too",
             table[given[0]],
         )
+    if teeth - 10 < 11:
+        raise sc.fail(where, "cutter_teeth", f"the internal gear's {teeth} teeth are too few "
+                      "for a pinion-type cutter of at least 11 teeth (allowed: cutter_teeth in "
+                      "[11, |teeth| − 10], a gear of at least 21 teeth; or leave the cutter "
+                      "keys out)", table["cutter_teeth"])
     z0 = sc.number(table, "cutter_teeth", where, allowed=f"[11, {teeth - 10}]", integer=True)
     x0 = sc.number(table, "cutter_profile_shift", where, 0.0, allowed="[-1, 1.5]")
     rho = sc.number(
