@@ -550,10 +550,10 @@ def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:
                                                  "1e+20")}
     given = [k for k in ranges if k in table]
     if not given:
-        lo = ranges["torsional_stiffness_Nm_per_rad"][0]
         raise sc.fail(where, "torsional_stiffness_Nm_per_rad", "missing: the fixed member needs "
-                      "a torsional stiffness (its support; or torsional_stiffness_N_per_um), "
-                      f"allowed >= {lo}")
+                      "a torsional stiffness (its support), allowed >= "
+                      f"{ranges['torsional_stiffness_Nm_per_rad'][0]} (or "
+                      f"torsional_stiffness_N_per_um >= {MIN_SUPPORT_N_PER_UM:g})")
     lo, hi = ranges[given[0]]
     sc.number(table, given[0], where, allowed=f"[{lo}, {hi}]", note=note)
 
