@@ -57,8 +57,16 @@ the base helix angle from the sun-planet geometry (right-hand planets: the gears
 absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``.
 
 Validated whole before any work, one line per error in the file's units: the assembly condition
-((z_s + z_r) ψ_n/360° integer), the three members distinct, the fixed member held in rotation
-(a torsional stiffness > 0), one pin error per planet, keys of one form only.
+((z_s + z_r) ψ_n/360° integer), planets that do not overlap (adjacent centres 2 a sin(Δψ/2)
+at least twice the planet's tip radius, in the lumped form its base radius), the lumped form's
+radii (the ring's operating pitch radius r_b/cos α_r beyond the sun's and the planet's
+r_b/cos α_s, the planet circle between them; ring_teeth >= sun_teeth + 6), the gear form's
+ring with more teeth than its sun and ``center_distance_mm`` between the two pairs'
+zero-backlash distances, the three members distinct, the fixed member held in rotation (at
+least 0.001 N/µm on u = r_b θ), plausible mesh and pin stiffnesses ([0.001, 1e6] N/µm,
+[0.001, 1e9] N/µm), operating pressure angles ([10, 50]°) and a torque floor (the pairs' line
+load of 1e-6 N/mm on each sun mesh; in the lumped form a sun-mesh deflection of 1e-7 µm), one
+pin error per planet, keys of one form only.
 """
 
 from __future__ import annotations
