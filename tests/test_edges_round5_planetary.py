@@ -195,6 +195,35 @@ def test_embedded_planetary_cases_still_load():
         assert jio.load_case(name).name == name
 
 
+# the gearbox's torque floor: stage 2's line load of 1e-6 N/mm on each of its 3 sun meshes
+# (b 550 mm, r_bs = 18 × 21 cos 20° / 2 mm, its input the carrier: T_c = T_s (18 + 93)/18),
+# carried through stage 1's speed-up 1 + 56/19 (its output torque the input's over it)
+GEARBOX_FLOOR = (1e-6 * 1e3 * 0.55 * 3 * 18 * 21e-3 * math.cos(math.radians(20.0)) / 2
+                 * (18 + 93) / 18 * (1 + 56 / 19))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "needles"),
+    [
+        ("torque_Nm = 3.946e6", "torque_Nm = 5e-324",
+         ("[operating] torque_Nm = 4.94066e-324: out of range, allowed "
+          f"[{GEARBOX_FLOOR:.3g}, 1e+09]", "stage 2")),
+        ("torque_Nm = 3.946e6", "torque_Nm = 1e-3",
+         (f"[operating] torque_Nm = 0.001: out of range, allowed [{GEARBOX_FLOOR:.3g}",)),
+        ("mesh_stiffness_N_per_um = 7668.0", "mesh_stiffness_N_per_um = 1e-300",
+         ("[stages[2]] mesh_stiffness_N_per_um = 1e-300: out of range, allowed [0.001, 1e+06]",)),
+    ],
+    ids=["torque-denormal", "torque-1e-3", "mesh-1e-300"],
+)
+def test_gearbox_absurd_values(tmp_path, old, new, needles):
+    _refused(tmp_path, "nrel-5mw-gearbox", ((old, new),), needles)
+
+
+def test_gearbox_torque_above_its_floor(tmp_path):
+    case = _load(tmp_path, "nrel-5mw-gearbox", ("torque_Nm = 3.946e6", "torque_Nm = 0.01"))
+    assert case.torque == pytest.approx(0.01)
+
+
 def test_gearbox_whose_stage_is_itself(tmp_path):
     """It read as 'not valid TOML: nested too deeply' (a RecursionError)."""
     path = tmp_path / "loop.toml"

@@ -96,6 +96,7 @@ __all__ = [
     "MESH_STIFFNESS",
     "check_internal_stiffness",
     "check_ring_teeth",
+    "torque_floor",
     "is_planetary",
     "parse_planetary",
     "planetary_mesh_settings",
@@ -531,7 +532,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         helix_angle=helix,
         face_width=width,
     )
-    _check_torque(data["operating"], spec, pairs, mesh_k)
+    _check_torque(data["operating"], spec, pairs)
     mods = base.pop("gear_modifications", ())
     idx = [index[nm] for nm in names]
     return Case(
@@ -612,11 +613,11 @@ def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> 
         t[key])
 
 
-def _check_torque(op: dict, spec: PlanetarySpec, pairs: tuple, mesh_k) -> None:
-    """``[operating] torque_Nm`` at least the torque that strains the sun meshes measurably:
-    with gears, the pairs' floor, a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on each sun mesh
+def torque_floor(spec: PlanetarySpec, pairs: tuple) -> tuple[float, str]:
+    """(the least input torque (N·m), why) that strains the stage's sun meshes measurably: with
+    gears, the pairs' floor, a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on each sun mesh
     (F_n = |T_s| / (N r_bs cos β_b)); in the lumped form, a nominal sun-mesh deflection
-    |T_s| / (N r_bs k_s) of :data:`MIN_DEFLECTION_M` (one line)."""
+    |T_s| / (N r_bs k_s) of :data:`MIN_DEFLECTION_M`; |T_s| = |T_in z_s / z_in| (Willis)."""
     z_s = spec.teeth[0]
     per_sun = abs(spec.tooth_count(spec.input) / z_s)  # |T_in / T_s|
     r_bs, n = float(spec.members["sun"].base_radius), spec.n_planets
@@ -624,11 +625,15 @@ def _check_torque(op: dict, spec: PlanetarySpec, pairs: tuple, mesh_k) -> None:
         sp = pairs[0]
         floor = _case_file.MIN_LINE_LOAD_N_PER_MM
         t_min = floor * 1e3 * sp.face_width * n * r_bs * math.cos(sp.base_helix_angle) * per_sun
-        why = f"a line load F_n/b of {floor:g} N/mm on each sun mesh"
-    else:
-        t_min = MIN_DEFLECTION_M * mesh_k.sun * n * r_bs * per_sun
-        why = (f"a sun-mesh deflection of {MIN_DEFLECTION_M * 1e6:g} µm at "
-               "sun_mesh_stiffness_N_per_um")
+        return t_min, f"a line load F_n/b of {floor:g} N/mm on each sun mesh"
+    t_min = MIN_DEFLECTION_M * spec.mesh_stiffness.sun * n * r_bs * per_sun
+    return t_min, (f"a sun-mesh deflection of {MIN_DEFLECTION_M * 1e6:g} µm at "
+                   "sun_mesh_stiffness_N_per_um")
+
+
+def _check_torque(op: dict, spec: PlanetarySpec, pairs: tuple) -> None:
+    """``[operating] torque_Nm`` at least :func:`torque_floor` (one line)."""
+    t_min, why = torque_floor(spec, pairs)
     sc.number(op, "torque_Nm", "operating", allowed=f"[{float(f'{t_min:.3g}'):.3g}, 1e+12]",
               note=f" ({why})")
 
