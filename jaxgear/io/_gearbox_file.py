@@ -41,9 +41,9 @@ from .._gearbox import (
     PlanetaryGearboxStage,
 )
 from ._case import Case, CaseForm, PairForm
-from ._case_file import MIN_LINE_LOAD_N_PER_MM
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 

@@ -82,7 +82,7 @@ from .._internal import InternalGearPair, planetary_geometry
 from .._planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
-from . import _case_file  # its MIN_LINE_LOAD_N_PER_MM (it imports this module: by attribute)
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
 from ._planetary_spec import (
     GivenMeshStiffness,
@@ -623,7 +623,7 @@ def torque_floor(spec: PlanetarySpec, pairs: tuple) -> tuple[float, str]:
     r_bs, n = float(spec.members["sun"].base_radius), spec.n_planets
     if pairs:
         sp = pairs[0]
-        floor = _case_file.MIN_LINE_LOAD_N_PER_MM
+        floor = MIN_LINE_LOAD_N_PER_MM
         t_min = floor * 1e3 * sp.face_width * n * r_bs * math.cos(sp.base_helix_angle) * per_sun
         return t_min, f"a line load F_n/b of {floor:g} N/mm on each sun mesh"
     t_min = MIN_DEFLECTION_M * spec.mesh_stiffness.sun * n * r_bs * per_sun
