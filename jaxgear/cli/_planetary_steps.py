@@ -37,10 +37,10 @@ __all__ = [
     "TimePlan",
     "carrier_periodic",
     "check_plan_size",
-    "steps_sweep",
     "speed_groups",
     "speed_run",
     "step_resolution",
+    "steps_sweep",
     "time_plan",
 ]
 

@@ -82,7 +82,6 @@ from .._internal import InternalGearPair, planetary_geometry
 from .._planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
-from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
 from ._planetary_spec import (
     GivenMeshStiffness,
@@ -91,15 +90,16 @@ from ._planetary_spec import (
     PlanetaryForm,
     PlanetarySpec,
 )
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 
 __all__ = [
     "MESH_STIFFNESS",
     "check_internal_stiffness",
     "check_ring_teeth",
-    "torque_floor",
     "is_planetary",
     "parse_planetary",
     "planetary_mesh_settings",
+    "torque_floor",
 ]
 
 #: the lumped models' given mesh stiffnesses (N/µm on the line of action): a plastic gear of a
@@ -649,7 +649,7 @@ def check_ring_teeth(data: dict) -> None:
         return
     by_name = {g.get("name"): (i, g) for i, g in enumerate(gears) if isinstance(g, dict)}
     try:
-        (_, sun), (k, ring) = by_name[t["sun_gear"]], by_name[t["ring_gear"]]
+        (_, sun), (_, ring) = by_name[t["sun_gear"]], by_name[t["ring_gear"]]
     except (KeyError, TypeError):
         return
     z_s, z_r = sun.get("teeth"), ring.get("teeth")

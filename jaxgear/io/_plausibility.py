@@ -9,10 +9,10 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ._case import Case
 from .._stiffness import SainsotFoundation, sainsot_fit_check
 from .._stiffness_models import Weber, stiffness_table
 from ..scenes import disc_inertia
+from ._case import Case
 
 __all__ = ["MIN_LINE_LOAD_N_PER_MM", "CaseWarning", "mean_static_deflection", "plausibility"]
 
