@@ -43,7 +43,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._planetary_runout import Eccentricities, Unbalances
-from ._util import as_float, check_instance, check_integer, check_real
+from ._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
     "AbstractPlanetaryModel",
@@ -55,6 +55,7 @@ __all__ = [
     "TorsionalPlanetary",
     "Unbalances",
     "check_assembly",
+    "closest_planets",
     "speed_ratio",
 ]
 
@@ -190,7 +191,9 @@ class PlanetaryStage(eqx.Module):
             stiffness uniformly over it, which gives the mesh its tilting stiffness k b^2/12.
 
     Raises:
-        ValueError: fewer than one planet, an angle or stiffness out of range (one line).
+        ValueError: fewer than one planet, an angle or stiffness out of range, planets whose
+            base circles overlap (adjacent centres closer than 2 r_bp, coinciding planets;
+            :func:`closest_planets`) (one line).
 
     Example:
         >>> lumped = PlanetaryMember.lumped  # Lin & Parker's Table 1 system, 4 planets
@@ -266,12 +269,40 @@ class PlanetaryStage(eqx.Module):
                     f"PlanetaryStage: {name} must have shape () or ({n},), got {jnp.shape(value)}"
                 )
             check_real(name, value, "N/m", lo=0.0, where="PlanetaryStage")
+        self._check_spacing()
+
+    def _check_spacing(self) -> None:
+        """Refuse planets whose base circles overlap (the tip circles, larger, overlap more):
+        adjacent centres 2 a sin(Δψ/2) apart on the carrier's circle of radius a must be at
+        least 2 r_bp apart (:func:`closest_planets`); coinciding planets are 0 apart."""
+        a, r_p = self.carrier.base_radius, self.planet.base_radius
+        if self.n_planets < 2 or any(is_traced(v) for v in (self.planet_angles, a, r_p)):
+            return
+        i, j, d = closest_planets(self.planet_angles, float(a))
+        if d < 2.0 * float(r_p):
+            raise ValueError(
+                f"PlanetaryStage: planets {i + 1} and {j + 1} (planet_angles "
+                f"{float(self.planet_angles[i]):.6g}, {float(self.planet_angles[j]):.6g} rad) "
+                f"overlap: their centres are {d:.6g} m apart on the carrier's circle of radius "
+                f"{float(a):.6g} m, allowed >= 2 x the planet's base radius = "
+                f"{2.0 * float(r_p):.6g} m (their base circles must not intersect)"
+            )
 
     @classmethod
     def equally_spaced(cls, n_planets: int, **members_and_meshes) -> PlanetaryStage:
         """The stage with ``n_planets`` planets at psi_n = 2 pi (n - 1) / N (planet 1 on the
         x axis); the other fields as keywords."""
         check_integer("n_planets", n_planets, 1)
+        carrier, planet = members_and_meshes.get("carrier"), members_and_meshes.get("planet")
+        if isinstance(carrier, PlanetaryMember) and isinstance(planet, PlanetaryMember):
+            most = max_planets(carrier.base_radius, planet.base_radius)
+            if most is not None and n_planets > most:
+                raise ValueError(
+                    f"PlanetaryStage.equally_spaced: n_planets = {n_planets} is out of range: "
+                    f"allowed [1, {most}] (planets of base radius "
+                    f"{float(planet.base_radius):.6g} m on the circle of radius "
+                    f"{float(carrier.base_radius):.6g} m: more would overlap)"
+                )
         angles = 2.0 * np.pi * np.arange(n_planets) / n_planets
         return cls(planet_angles=angles, **members_and_meshes)
 
@@ -646,3 +677,36 @@ def check_assembly(z_sun: int, z_ring: int, planet_angles) -> None:
             f"assembled: (z_sun + z_ring) psi/360 = {turns[i]:.6g} must be an integer "
             f"(z_sun = {z_sun}, z_ring = {z_ring})"
         )
+
+
+def closest_planets(planet_angles, carrier_radius: float) -> tuple[int, int, float]:
+    """The two closest planets of a stage and their centres' distance: (i, j, d), planets i
+    and j (0-based, i < j) at angles psi (rad, (n_planets,), n_planets >= 2) on the circle of
+    radius ``carrier_radius`` a (m), d = 2 a |sin((psi_j - psi_i)/2)| (m), the chord of the
+    smallest angular gap (adjacent angles, sorted modulo 2 pi). Two planets of radius r
+    overlap where d < 2 r: the stage's spacing check (:class:`PlanetaryStage` with the base
+    radius; the case files and :class:`~jaxgear.ContactMeshes` with the tip radius)."""
+    psi = np.asarray(planet_angles, dtype=float).reshape(-1)
+    wrapped = np.mod(psi, 2.0 * np.pi)
+    order = np.argsort(wrapped, kind="stable")
+    gaps = np.diff(np.concatenate([wrapped[order], wrapped[order[:1]] + 2.0 * np.pi]))
+    k = int(np.argmin(gaps))
+    i, j = sorted((int(order[k]), int(order[(k + 1) % psi.size])))
+    return i, j, float(2.0 * carrier_radius * abs(np.sin(gaps[k] / 2.0)))
+
+
+def max_planets(carrier_radius, planet_radius) -> int | None:
+    """The most equally spaced planets of radius r (m) whose circles do not overlap on the
+    circle of radius a (m): the largest N with 2 a sin(pi/N) >= 2 r (None: values traced or
+    not finite)."""
+    if is_traced(carrier_radius) or is_traced(planet_radius):
+        return None
+    a, r = float(carrier_radius), float(planet_radius)
+    if not (np.isfinite(a) and np.isfinite(r)) or a <= 0 or r <= 0:
+        return None
+    if r >= a:
+        return 1
+    n = int(np.floor(np.pi / np.arcsin(r / a)))
+    while n > 1 and 2 * a * np.sin(np.pi / n) < 2 * r:  # rounding at the boundary
+        n -= 1
+    return max(n, 1)

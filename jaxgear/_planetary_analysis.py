@@ -97,7 +97,13 @@ def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> Pla
     return PlanetaryModes(jnp.sqrt(jnp.clip(lam, 0.0)) / (2.0 * jnp.pi), shapes)
 
 
-@eqx.filter_jit
+#: the carrier speeds :func:`campbell` takes (rad/s, either sense): the case files' and the
+#: command line's bound on speeds (1e5 rad/s, about 955 000 rpm: beyond any gear)
+MAX_CARRIER_SPEED = 1e5
+#: the mesh travel speeds it takes (m/s, either sense): beyond any gear's pitch-line velocity
+MAX_MESH_SPEED = 1e5
+
+
 def campbell(
     model: AbstractPlanetaryModel,
     stage: PlanetaryStage,
@@ -126,10 +132,23 @@ def campbell(
         those of :func:`planetary_modes`.
 
     Raises:
+        ValueError: a speed not finite or beyond :data:`MAX_CARRIER_SPEED` (rad/s) or
+            :data:`MAX_MESH_SPEED` (m/s), one line naming the argument (values not traced).
         EquinoxRuntimeError: a speed past divergence (K_e not positive semi-definite).
         ValueError: ``model`` or ``stage`` of the wrong kind (:func:`check_model_stage`).
     """
     check_model_stage("campbell", model, stage)
+    check_real("carrier_speeds", carrier_speeds, "rad/s", lo=-MAX_CARRIER_SPEED,
+               hi=MAX_CARRIER_SPEED, where="campbell")
+    if mesh_speeds is not None:
+        check_real("mesh_speeds", mesh_speeds, "m/s", lo=-MAX_MESH_SPEED, hi=MAX_MESH_SPEED,
+                   where="campbell")
+    return _campbell(model, stage, carrier_speeds, mesh_speeds)
+
+
+@eqx.filter_jit
+def _campbell(model, stage, carrier_speeds, mesh_speeds):
+    """:func:`campbell`'s compiled body."""
     m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
     g = model.gyroscopic_matrix(stage)
@@ -353,7 +372,6 @@ class LoadSharing(eqx.Module):
     k_gamma: Float[Array, ""]
 
 
-@eqx.filter_jit
 def load_sharing(
     model: AbstractPlanetaryModel,
     stage: PlanetaryStage,
@@ -387,9 +405,13 @@ def load_sharing(
         :class:`LoadSharing`.
 
     Raises:
-        ValueError: an error array of the wrong shape (trace time).
+        ValueError: an error array of the wrong shape (trace time); a sun torque not > 0 (no
+            nominal load to share: K_γ is the most loaded planet's share of it) or not finite,
+            a pin error or travel not finite (values not traced; one line naming the argument).
         EquinoxRuntimeError: a singular stiffness (a member free to turn).
     """
+    check_real("sun_torque", sun_torque, "N m", lo=0.0, lo_open=True, shape=(),
+               where="load_sharing")
     n = stage.n_planets
     check_real(
         "tangential_pin_errors",
@@ -402,8 +424,15 @@ def load_sharing(
     check_real("radial_pin_errors", radial_pin_errors, "m", where="load_sharing")
     if jnp.size(radial_pin_errors) not in (1, n):
         raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
-    e = as_float(tangential_pin_errors)
     check_real("travel", travel, "m", shape=(), where="load_sharing")
+    return _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors,
+                         travel)
+
+
+@eqx.filter_jit
+def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors, travel):
+    """:func:`load_sharing`'s compiled body (its arguments checked)."""
+    e = as_float(tangential_pin_errors)
     f_err, d_s, d_r = model.error_terms(stage, e, as_float(radial_pin_errors), travel)
     k = model.stiffness_matrix(stage)
     names = model.dof_names(stage)

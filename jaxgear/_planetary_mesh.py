@@ -36,7 +36,7 @@ from ._baseplane import CellRow, Cells, MeshModel
 from ._contact import AbstractContactLaw, ExactContact, solve_contact
 from ._internal import PlanetaryGeometry
 from ._modifications import Modifications
-from ._planetary import AbstractPlanetaryModel, PlanetaryStage, check_assembly
+from ._planetary import AbstractPlanetaryModel, PlanetaryStage, check_assembly, closest_planets
 from ._planetary_analysis import mesh_phases
 from ._planetary_ring import AbstractRingModel, RigidRing
 from ._quasi_static import separation
@@ -106,11 +106,23 @@ def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
 
 
 def _check_stage(geometry: PlanetaryGeometry, planet_angles) -> np.ndarray:
-    """The planet angles (rad, (n_planets,)) of a stage that assembles, its pairs of one base
-    pitch; one line otherwise."""
+    """The planet angles (rad, (n_planets,)) of a stage that assembles, whose planets' tip
+    circles do not intersect (adjacent centres 2 a_w sin(Δψ/2) >= 2 r_ap apart,
+    :func:`~jaxgear._planetary.closest_planets`), its pairs of one base pitch; one line
+    otherwise."""
     sp, pr = geometry.sun_planet, geometry.planet_ring
     psi = np.asarray(planet_angles, dtype=float)
     check_assembly(int(sp.pinion.teeth), -int(pr.gear.teeth), psi)
+    if psi.size > 1:
+        r_a = float(sp.tip_radii[1])
+        i, j, d = closest_planets(psi, float(geometry.center_distance))
+        if d < 2.0 * r_a:
+            raise ValueError(
+                f"ContactMeshes: planets {i + 1} and {j + 1} (planet_angles {psi[i]:.6g}, "
+                f"{psi[j]:.6g} rad) overlap: their centres are {d:.6g} m apart, allowed >= 2 x "
+                f"the planet's tip radius = {2.0 * r_a:.6g} m (their tip circles must not "
+                "intersect)"
+            )
     if not math.isclose(float(sp.base_pitch), float(pr.base_pitch), rel_tol=1e-9):
         raise ValueError(
             f"ContactMeshes: the base pitches differ ({float(sp.base_pitch)!r} m, "
@@ -327,8 +339,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         case's pairs, :meth:`jaxgear.io.Case.mesh_model`): :meth:`from_models`.
 
         Raises:
-            ValueError: planets that cannot be assembled, a bad stiffness model for internal
-                teeth, or the pairs' base pitches different (one line each).
+            ValueError: planets that cannot be assembled or whose tip circles overlap, a bad
+                stiffness model for internal teeth, or the pairs' base pitches different (one
+                line each).
         """
         check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
                        "ContactMeshes.from_geometry")
@@ -352,7 +365,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         as given) and ``modifications`` (sun pair's, ring pair's; None: none).
 
         Raises:
-            ValueError: planets that cannot be assembled, the pairs' base pitches different, a
+            ValueError: planets that cannot be assembled or whose tip circles overlap, the
+                pairs' base pitches different, a
                 model whose pinion base radius or path of contact is not its pair's (one line).
         """
         where = "ContactMeshes.from_models"

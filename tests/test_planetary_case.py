@@ -289,7 +289,7 @@ def _weber_without_the_rings_cutter(data):
         (
             _set("planetary/ring/torsional_stiffness_Nm_per_rad", None),
             "[planetary.ring] torsional_stiffness_Nm_per_rad: missing: the fixed member needs a "
-            "torsional stiffness > 0",
+            "torsional stiffness (its support), allowed >= 1401.89",
         ),
         (_set("planetary/input", "ring"), "[planetary] input = 'ring': is the fixed member"),
         (

@@ -18,6 +18,7 @@ __all__ = [
     "pair_teeth",
     "per_mesh_keys",
     "pressure_curves",
+    "refuse_stages",
 ]
 
 
@@ -89,3 +90,17 @@ def pressure_curves(case, summary: dict) -> list[tuple]:
         (name, [row[k] for row in per], summary["max_contact_pressure_static_mesh_Pa"][k])
         for k, name in enumerate(summary["mesh_names"])
     ]
+
+
+def refuse_stages(case, command: str) -> None:
+    """Refuse, in one line, a planetary stage or a gearbox given to a command of one gear
+    pair (``jaxgear robust``, ``jaxgear optimise``): the command does not take them yet."""
+    from ..io import GearboxForm, PlanetaryForm  # the command's own import time
+
+    what = {PlanetaryForm: "planetary stages", GearboxForm: "gearboxes"}.get(type(case.form))
+    if what is not None:
+        kind = "a planetary stage ([planetary])" if what[0] == "p" else "a gearbox ([[stages]])"
+        raise ValueError(
+            f"jaxgear {command} does not take {what} yet: case {case.name!r} is {kind}; run it "
+            "with jaxgear run or jaxgear sweep (allowed: a pair case)"
+        )

@@ -53,6 +53,7 @@ from ..io import (
     write_json,
 )
 from . import _plots
+from ._case_kinds import refuse_stages
 from ._optimise_options import add_master_curve_arguments, add_optimise_arguments
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, check_output_file, clear_outputs
@@ -511,6 +512,7 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
 def _pair_case(name_or_path: str, command: str):
     """The pair case a command optimises; a train case is refused in one line."""
     case = load_case(name_or_path)
+    refuse_stages(case, command)
     if isinstance(case.form, TrainForm):
         raise ValueError(
             f"jaxgear {command} optimises a gear pair; {case.name!r} is a train case: run "

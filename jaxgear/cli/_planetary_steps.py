@@ -7,6 +7,7 @@ highest mode the meshes excite, and every speed run in one compiled program at i
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from typing import NamedTuple
 
@@ -16,6 +17,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..dynamics import (
+    MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,
     UNDER_RESOLVED_STEPS,
     PlanetaryRun,
@@ -34,10 +36,11 @@ __all__ = [
     "SweepRecords",
     "TimePlan",
     "carrier_periodic",
-    "steps_sweep",
+    "check_plan_size",
     "speed_groups",
     "speed_run",
     "step_resolution",
+    "steps_sweep",
     "time_plan",
 ]
 
@@ -263,6 +266,47 @@ def _one_program(model, stage, meshes, base, plan: TimePlan, idx, carrier, mesh_
                                           is_leaf=lambda x: x is None), om, v, ring=ring))
     steps = jnp.asarray(steps_i, dtype=jnp.asarray(carrier).dtype)
     return run, one(jnp.asarray(carrier), jnp.asarray(mesh_speed), steps)
+
+
+def _memory_bytes() -> float:
+    """The machine's physical memory (bytes); inf where the platform does not tell."""
+    try:
+        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        return float("inf")
+
+
+def check_plan_size(plan: TimePlan, speeds, groups, values: int, given: dict) -> None:
+    """Refuse, before any integration, a sweep that cannot finish: the Newmark steps a speed
+    takes in its program (:func:`steps_sweep`: the group's longest settling plus ``keep``
+    periods of its largest N_s) above :data:`~jaxgear.dynamics.MAX_STEPS_PER_SPEED` (the
+    pairs' bound), or the kept records of a program (``keep`` × its largest N_s steps × its
+    speeds × ``values`` float64) above half the machine's memory. ``groups``:
+    :func:`speed_groups`; ``given``: the command-line options given (``--periods`` ...: value,
+    None where not given). One line naming the option (``--speeds`` where the steps and span
+    are all the automatic rule's), its value and the allowed range."""
+    name = next((k for k, v in given.items() if v is not None), None)
+    blame = f"{name} = {given[name]}" if name else "--speeds (the automatic time plan)"
+    sp = np.asarray(speeds, dtype=float)
+    for idx in groups:
+        steps = np.asarray(plan.steps)[idx]
+        top = int(steps.max())
+        settle = (np.asarray(plan.periods)[idx] - plan.keep) * steps
+        total = int(settle.max()) + plan.keep * top
+        if total > MAX_STEPS_PER_SPEED:
+            k = idx[int(np.argmax(settle + plan.keep * steps))]
+            raise ValueError(
+                f"{blame}: out of range: {total:.3g} time steps per speed ({int(plan.periods[k])} "
+                f"mesh periods of {int(plan.steps[k])} steps at {sp[k]:.6g} rad/s), allowed <= "
+                f"{MAX_STEPS_PER_SPEED:.3g} (fewer --periods or --steps-per-period, or leave them "
+                "out: the automatic plan)")
+        need = 8.0 * plan.keep * top * len(idx) * values
+        have = 0.5 * _memory_bytes()
+        if need > have:
+            raise ValueError(
+                f"{blame}: out of range: the kept records of {len(idx)} speeds need about "
+                f"{need / 1e9:.3g} GB, allowed <= {have / 1e9:.3g} GB (half this machine's "
+                "memory): fewer --keep-periods, --steps-per-period or speeds")
 
 
 def speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:

@@ -46,6 +46,7 @@ from tqdm.auto import tqdm
 
 from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
 from ..dynamics import (
+    MAX_STEPS_PER_SPEED,
     MIN_STEPS_PER_PERIOD,
     PlanetaryRun,
     order_spectrum,
@@ -63,6 +64,7 @@ from ._planetary_steps import (
     SweepRecords,
     TimePlan,
     carrier_periodic,
+    check_plan_size,
     speed_groups,
     speed_run,
     step_resolution,
@@ -161,6 +163,17 @@ def planetary_run(
     if keep_periods is not None and periods is not None and keep_periods > periods:
         raise ValueError(f"--keep-periods = {keep_periods}: out of range, allowed <= "
                          f"--periods = {periods}")
+    # the pairs' bound (jaxgear.cli.sweep.sweep_spec), at the fewest steps a period can take;
+    # the time plan checks the steps it takes (check_plan_size)
+    steps = steps_per_period or MIN_STEPS_PER_PERIOD
+    for name, count in (("--periods", periods), ("--keep-periods", keep_periods)):
+        if count is not None and count * steps > MAX_STEPS_PER_SPEED:
+            at = (f"{steps} time steps per mesh period (--steps-per-period)" if steps_per_period
+                  else f"at least {steps} time steps per mesh period (automatic)")
+            raise ValueError(
+                f"{name} = {count}: out of range, allowed <= {MAX_STEPS_PER_SPEED // steps} with "
+                f"{at}: {count * steps:.3g} time steps per speed, allowed <= "
+                f"{MAX_STEPS_PER_SPEED:.3g} (fewer periods or steps per period)")
     return PlanetaryRun(
         abs(spec.torques(case.torque)["sun"]),
         steps_per_period=steps_per_period or MIN_STEPS_PER_PERIOD,
@@ -184,11 +197,22 @@ def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
 
 
 def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
-    """:func:`time_plan` of the sweep's dynamic stage; ``given``: (steps, periods, keep)."""
+    """:func:`time_plan` of the sweep's dynamic stage; ``given``: (steps, periods, keep);
+    a plan that cannot run refused in one line naming the option
+    (:func:`~jaxgear.cli._planetary_steps.check_plan_size`), before any integration."""
     modes = planetary_mesh_modes(model, stage, meshes, base, MIN_STEPS_PER_PERIOD)
-    return time_plan(modes, speeds, spec.mesh_frequency(1.0), spec.n_planets,
+    plan = time_plan(modes, speeds, spec.mesh_frequency(1.0), spec.n_planets,
                      float(base.damping_ratio), carrier_periodic(stage, spec.ring_model.flexible),
                      *given)
+    flexible = spec.ring_model.flexible
+    # recorded per step: the coordinates (a flexible ring's 2 z_r stations too), the 2N mesh
+    # forces, N ring deflections, time and travel
+    values = (int(np.asarray(modes.omega).size) + 2 * spec.teeth[2] * flexible
+              + 3 * spec.n_planets + 2)
+    check_plan_size(plan, speeds, speed_groups(plan, flexible), values,
+                    dict(zip(("--periods", "--steps-per-period", "--keep-periods"),
+                             (given[1], given[0], given[2]), strict=True)))
+    return plan
 
 
 def _dynamic_setup(form, case, slices=None):

@@ -30,6 +30,7 @@ from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
 from .. import io as case_io
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
+from ._case_kinds import refuse_stages
 from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs
 from ._plots import new_figure, savefig
 
@@ -40,6 +41,7 @@ ROBUST_FILES = OUTPUT_FILES["robust"]
 
 
 def _settings(case, args) -> dict:
+    refuse_stages(case, "robust")
     if isinstance(case.form, TrainForm):
         raise ValueError(
             f"case {case.name!r}: a gear train ([[gears]], [[meshes]]); jaxgear robust samples "

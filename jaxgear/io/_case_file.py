@@ -23,7 +23,7 @@ from ._deviations_table import parse_deviations
 from ._modifications_table import parse_modifications
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
 from ._optimise_table import parse_optimise
-from ._plausibility import CaseWarning, plausibility
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
 from ._scene_table import parse_scene
@@ -103,7 +103,6 @@ PRESSURE_ANGLE_RANGE_DEG = "[10, 40]"  # below: undercut (z_min = 66 at 10°); a
 MIN_FACE_WIDTH_MODULE = 0.1  # face width >= 0.1 m_n ...
 MAX_FACE_WIDTH_MODULE = 100.0  # ... and <= 100 m_n (usual b/m_n: 6 to 40)
 MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal module
-MIN_LINE_LOAD_N_PER_MM = 1e-6  # torque: F_n/b >= 1e-6 N/mm (δ_m ~ 1e-7 µm; below, round-off)
 CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-backlash one is it
 MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
 MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)

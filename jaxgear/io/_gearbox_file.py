@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import os
 
 from fem_prep import schema as sc
@@ -41,6 +42,8 @@ from .._gearbox import (
 )
 from ._case import Case, CaseForm, PairForm
 from ._planetary_spec import PlanetaryForm
+from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
@@ -151,10 +154,10 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
 def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque: float):
     side = PAIR_INPUTS[sc.choice(table, "input", where, tuple(PAIR_INPUTS))]
     inertias = [
-        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="(0, 1e+09]")
+        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
         for g in ("pinion", "gear")
     ]
-    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed="(0, 1e+06]")
+    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
     pair = case.pair
     z = (pair.pinion.teeth, pair.gear.teeth)
     ratio = z[1 - side] / z[side]  # ω_in/ω_out
@@ -162,6 +165,33 @@ def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque:
     pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
     model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
     return _carried(case, *pinion), ratio, model
+
+
+def _stage_floor(stage: GearboxStage) -> float:
+    """The least input torque (N·m) of a stage that strains its meshes measurably: a
+    planetary stage's :func:`torque_floor`, a pair's line load of ``MIN_LINE_LOAD_N_PER_MM``
+    on its pinion (:func:`jaxgear.io._case_file.parse_torque`), carried to the stage's input
+    (the wheel's: over the ratio's inverse)."""
+    case = stage.case
+    if isinstance(case.form, PlanetaryForm):
+        return torque_floor(case.form.spec, case.pairs)[0]
+    pair = case.pair
+    pinion = (MIN_LINE_LOAD_N_PER_MM * 1e3 * pair.face_width * pair.base_radii[0]
+              * math.cos(pair.base_helix_angle))
+    return pinion / stage.ratio if stage.torsional.input == 1 else pinion
+
+
+def _check_torque(op: dict, stages: list) -> None:
+    """The gearbox's ``[operating] torque_Nm`` at least the torque that carries each stage's
+    own floor (:func:`_stage_floor`) to it: stage k's input torque is the gearbox's times the
+    ratios before it (lossless); one line."""
+    floors, carried = [], 1.0
+    for s in stages:
+        floors.append(_stage_floor(s) / carried)
+        carried *= s.ratio
+    k = max(range(len(floors)), key=floors.__getitem__)
+    sc.number(op, "torque_Nm", "operating", allowed=f"[{float(f'{floors[k]:.3g}'):.3g}, 1e+09]",
+              note=f" (stage {k + 1}'s floor: its meshes strained measurably)")
 
 
 def _carried(case: Case, speed: float, torque: float) -> Case:
@@ -207,6 +237,7 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         staged, ratio, model = _stage(case.form, case, t, where, speed, torque)
         stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model))
         speed, torque = stages[-1].output_speed, stages[-1].output_torque
+    _check_torque(op, stages)
     first = stages[0].case
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages))

@@ -65,7 +65,22 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
         SchemaError (a ``ValueError``): non-UTF-8 bytes or TOML syntax errors (naming the
             file), schema/range errors (see :func:`parse_case`); one line each.
     """
+    return _load(name_or_path, ())
+
+
+def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
+    """:func:`load_case`, ``chain`` the gearbox files (resolved paths, embedded names) that
+    led here: a stage that is one of them (a gearbox whose stage is itself, or a cycle of
+    gearbox files) is refused in one line before it recurses."""
     label = str(name_or_path)
+    key = os.path.realpath(name_or_path) if os.path.isfile(name_or_path) else label
+    if key in chain:
+        names = [os.path.basename(c) for c in (*chain, key)]
+        raise sc.SchemaError(
+            f"[[stages]] case = {label!r}: a gearbox that contains itself (the stages "
+            f"{' → '.join(names)} come back to it); allowed a stage that is a planetary stage "
+            "or a pair case"
+        )
     if os.path.isfile(name_or_path):
         with open(name_or_path, "rb") as f:
             raw = f.read()
@@ -82,7 +97,7 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
         )
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_gearbox(data):
-        return parse_gearbox(data, default, base, load_case)
+        return parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
     if is_train(data):
         return parse_train(data, default, base)
     return parse_case(data, default, base)

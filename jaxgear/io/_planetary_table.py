@@ -57,8 +57,16 @@ the base helix angle from the sun-planet geometry (right-hand planets: the gears
 absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``.
 
 Validated whole before any work, one line per error in the file's units: the assembly condition
-((z_s + z_r) ψ_n/360° integer), the three members distinct, the fixed member held in rotation
-(a torsional stiffness > 0), one pin error per planet, keys of one form only.
+((z_s + z_r) ψ_n/360° integer), planets that do not overlap (adjacent centres 2 a sin(Δψ/2)
+at least twice the planet's tip radius, in the lumped form its base radius), the lumped form's
+radii (the ring's operating pitch radius r_b/cos α_r beyond the sun's and the planet's
+r_b/cos α_s, the planet circle between them; ring_teeth >= sun_teeth + 6), the gear form's
+ring with more teeth than its sun and ``center_distance_mm`` between the two pairs'
+zero-backlash distances, the three members distinct, the fixed member held in rotation (at
+least 0.001 N/µm on u = r_b θ), plausible mesh and pin stiffnesses ([0.001, 1e6] N/µm,
+[0.001, 1e9] N/µm), operating pressure angles ([10, 50]°) and a torque floor (the pairs' line
+load of 1e-6 N/mm on each sun mesh; in the lumped form a sun-mesh deflection of 1e-7 µm), one
+pin error per planet, keys of one form only.
 """
 
 from __future__ import annotations
@@ -69,8 +77,9 @@ import numpy as np
 
 from fem_prep import schema as sc
 
+from .._geometry import GearPair
 from .._internal import InternalGearPair, planetary_geometry
-from .._planetary import Central, PlanetaryMember, check_assembly
+from .._planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
 from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
@@ -81,14 +90,33 @@ from ._planetary_spec import (
     PlanetaryForm,
     PlanetarySpec,
 )
+from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 
 __all__ = [
     "MESH_STIFFNESS",
     "check_internal_stiffness",
+    "check_ring_teeth",
     "is_planetary",
     "parse_planetary",
     "planetary_mesh_settings",
+    "torque_floor",
 ]
+
+#: the lumped models' given mesh stiffnesses (N/µm on the line of action): a plastic gear of a
+#: millimetre's face width (~0.2 N/µm) down by two hundred, up to c' ~ 20 N/mm/µm over 50 m
+#: of face (the gearbox file's mesh_stiffness_N_per_um); the planet pins' and a held member's
+#: torsional support (on u = r_b θ) take the same lower end
+MESH_STIFFNESS_N_PER_UM = "[0.001, 1e+06]"
+MIN_SUPPORT_N_PER_UM = 1e-3
+#: the lumped form's operating transverse pressure angles (deg): the pairs' normal pressure
+#: angle [10, 40] (PRESSURE_ANGLE_RANGE_DEG) turned transverse at helix angles up to 45°
+#: (atan(tan 40° / cos 45°) = 49.97°)
+PRESSURE_ANGLE_DEG = "[10, 50]"
+#: the fewest planet teeth of the lumped form, z_p ≈ (z_r − z_s)/2 (the sun's lower end)
+MIN_PLANET_TEETH = 3
+#: the lumped form's torque floor: the nominal sun-mesh deflection F/k_s at least 1e-7 µm (the
+#: pairs' line-load floor MIN_LINE_LOAD_N_PER_MM gives about that; below, round-off)
+MIN_DEFLECTION_M = 1e-13
 
 #: ``[planetary] mesh_stiffness``: the name → where the lumped models' mesh stiffness comes from
 MESH_STIFFNESS = {"iso6336": ISO6336MeshStiffness, "mean": MeanMeshStiffness}
@@ -202,7 +230,7 @@ def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
     r = _base_radius(table, where, base_radius)
     mass, inertia = _body(table, where, r)
     pin = [
-        sc.number(table, key, where, allowed="(0, 1e+09]") * 1e6
+        sc.number(table, key, where, allowed=f"[{MIN_SUPPORT_N_PER_UM:g}, 1e+09]") * 1e6
         for key in ("pin_radial_N_per_um", "pin_tangential_N_per_um")
     ]
     return PlanetaryMember(
@@ -376,7 +404,7 @@ def _given_stiffness(t: dict, required: bool) -> GivenMeshStiffness | None:
     keys = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
     if not required and not any(k in t for k in keys):
         return None
-    vals = [sc.number(t, k, "planetary", allowed="(0, 1e+09]") * 1e6 for k in keys]
+    vals = [sc.number(t, k, "planetary", allowed=MESH_STIFFNESS_N_PER_UM) * 1e6 for k in keys]
     return GivenMeshStiffness(*vals)
 
 
@@ -455,14 +483,16 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
             t,
             "ring_teeth",
             "planetary",
-            allowed=f"[{z_s + 1}, 10000]",
+            allowed=f"[{z_s + 2 * MIN_PLANET_TEETH}, 10000]",
             integer=True,
-            note=" (above sun_teeth)",
+            note=f" (sun_teeth + 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)/2 "
+            f">= {MIN_PLANET_TEETH} teeth)",
         )
         z_p = None
         radii = dict.fromkeys((*MEMBERS, "planet"))
         alphas = tuple(
-            math.radians(sc.number(t, k, "planetary", allowed="(0, 90)"))
+            math.radians(sc.number(t, k, "planetary", allowed=PRESSURE_ANGLE_DEG,
+                                   note=" (deg, operating transverse)"))
             for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg")
         )
         mesh_k = _given_stiffness(t, required=True)
@@ -477,14 +507,11 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
     members["planet"] = _planet(tables["planet"], radii["planet"])
     if a_w is None:
         a_w = float(members["carrier"].base_radius)
-    held = members[fixed.name.lower()]
-    if float(held.torsional_stiffness) <= 0:
-        raise sc.fail(
-            f"planetary.{fixed.name.lower()}",
-            "torsional_stiffness_Nm_per_rad",
-            "missing: the fixed member needs a torsional stiffness > 0 (its support; or "
-            "torsional_stiffness_N_per_um)",
-        )
+    _check_held(tables[fixed.name.lower()], members[fixed.name.lower()], fixed.name.lower())
+    if not gears:
+        _check_lumped_radii(members, alphas)
+    _check_spacing(t, psi, a_w, float(geometry.sun_planet.tip_radii[1]) if gears
+                   else float(members["planet"].base_radius), "tip" if gears else "base")
     n = len(psi)
     spec = PlanetarySpec(
         teeth=(z_s, z_p, z_r),
@@ -505,6 +532,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         helix_angle=helix,
         face_width=width,
     )
+    _check_torque(data["operating"], spec, pairs)
     mods = base.pop("gear_modifications", ())
     idx = [index[nm] for nm in names]
     return Case(
@@ -516,6 +544,122 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         form=PlanetaryForm(spec),
         **base,
     )
+
+
+def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:
+    """The fixed member held in rotation: a torsional stiffness of at least
+    :data:`MIN_SUPPORT_N_PER_UM` on u = r_b θ (k_θ >= 1e3 N/m × r_b²), in the units of the key
+    given (one line)."""
+    where = f"planetary.{name}"
+    r = float(member.base_radius)
+    note = (f" (the fixed member is held: at least {MIN_SUPPORT_N_PER_UM:g} N/µm on u = r_b θ, "
+            f"r_b = {r * 1e3:.6g} mm)")
+    ranges = {"torsional_stiffness_N_per_um": (f"{MIN_SUPPORT_N_PER_UM:g}", "1e+09"),
+              "torsional_stiffness_Nm_per_rad": (f"{MIN_SUPPORT_N_PER_UM * 1e6 * r**2:.6g}",
+                                                 "1e+20")}
+    given = [k for k in ranges if k in table]
+    if not given:
+        raise sc.fail(where, "torsional_stiffness_Nm_per_rad", "missing: the fixed member needs "
+                      "a torsional stiffness (its support), allowed >= "
+                      f"{ranges['torsional_stiffness_Nm_per_rad'][0]} (or "
+                      f"torsional_stiffness_N_per_um >= {MIN_SUPPORT_N_PER_UM:g})")
+    lo, hi = ranges[given[0]]
+    sc.number(table, given[0], where, allowed=f"[{lo}, {hi}]", note=note)
+
+
+def _check_lumped_radii(members: dict, alphas: tuple) -> None:
+    """The lumped form's base radii of a stage that can exist (one line, mm): the ring's
+    operating pitch radius r_br/cos α_r beyond the sun's and the planet's r_b/cos α_s (the
+    ring surrounds them), the planet circle a (the carrier's base_radius_mm) between them
+    (a = r_s' + r_p' exceeds r_s' and r_p'; the planets' centres inside the ring)."""
+    r = {m: float(members[m].base_radius) for m in members}
+    cs, cr = math.cos(alphas[0]), math.cos(alphas[1])
+    inner = max(r["sun"], r["planet"]) / cs  # m: the sun's or the planet's pitch radius
+    ring = r["ring"] / cr
+    if not ring > inner:
+        which = "sun" if r["sun"] >= r["planet"] else "planet"
+        raise sc.fail(
+            "planetary.ring", "base_radius_mm",
+            f"out of range, allowed > {inner * cr * 1e3:.6g} (the ring surrounds the sun and "
+            f"the planets: its operating pitch radius r_b/cos α_r beyond the {which}'s "
+            f"r_b/cos α_s = {inner * 1e3:.6g} mm)", r["ring"] * 1e3)
+    if not inner < r["carrier"] < ring:
+        raise sc.fail(
+            "planetary.carrier", "base_radius_mm",
+            f"out of range, allowed ({inner * 1e3:.6g}, {ring * 1e3:.6g}) (the planet circle: "
+            "beyond the sun's and the planet's operating pitch radii r_b/cos α_s, inside the "
+            "ring's r_b/cos α_r)", r["carrier"] * 1e3)
+
+
+def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> None:
+    """No two planets overlap: adjacent centres 2 a sin(Δψ/2) apart on the planet circle of
+    radius a (m) at least twice the planets' ``which`` radius (m): their tip circles (the gear
+    form) or base circles (the lumped form, which has no tip) must not intersect (one line
+    naming ``planets`` or ``planet_angles_deg``, mm)."""
+    if len(psi) < 2:
+        return
+    i, j, d = closest_planets(psi, a)
+    if d >= 2.0 * radius:
+        return
+    key = "planets" if "planets" in t else "planet_angles_deg"
+    most = max_planets(a, radius)
+    hint = f"; allowed planets <= {most}" if most is not None else ""
+    raise sc.fail(
+        "planetary", key,
+        f"planets {i + 1} and {j + 1} (at {math.degrees(psi[i]):.6g}° and "
+        f"{math.degrees(psi[j]):.6g}°) overlap: their centres are {d * 1e3:.6g} mm apart on the "
+        f"planet circle of radius {a * 1e3:.6g} mm, allowed >= 2 × the planet's {which} radius "
+        f"= {2 * radius * 1e3:.6g} mm (their {which} circles must not intersect{hint})",
+        t[key])
+
+
+def torque_floor(spec: PlanetarySpec, pairs: tuple) -> tuple[float, str]:
+    """(the least input torque (N·m), why) that strains the stage's sun meshes measurably: with
+    gears, the pairs' floor, a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on each sun mesh
+    (F_n = |T_s| / (N r_bs cos β_b)); in the lumped form, a nominal sun-mesh deflection
+    |T_s| / (N r_bs k_s) of :data:`MIN_DEFLECTION_M`; |T_s| = |T_in z_s / z_in| (Willis)."""
+    z_s = spec.teeth[0]
+    per_sun = abs(spec.tooth_count(spec.input) / z_s)  # |T_in / T_s|
+    r_bs, n = float(spec.members["sun"].base_radius), spec.n_planets
+    if pairs:
+        sp = pairs[0]
+        floor = MIN_LINE_LOAD_N_PER_MM
+        t_min = floor * 1e3 * sp.face_width * n * r_bs * math.cos(sp.base_helix_angle) * per_sun
+        return t_min, f"a line load F_n/b of {floor:g} N/mm on each sun mesh"
+    t_min = MIN_DEFLECTION_M * spec.mesh_stiffness.sun * n * r_bs * per_sun
+    return t_min, (f"a sun-mesh deflection of {MIN_DEFLECTION_M * 1e6:g} µm at "
+                   "sun_mesh_stiffness_N_per_um")
+
+
+def _check_torque(op: dict, spec: PlanetarySpec, pairs: tuple) -> None:
+    """``[operating] torque_Nm`` at least :func:`torque_floor` (one line)."""
+    t_min, why = torque_floor(spec, pairs)
+    sc.number(op, "torque_Nm", "operating", allowed=f"[{float(f'{t_min:.3g}'):.3g}, 1e+12]",
+              note=f" ({why})")
+
+
+def check_ring_teeth(data: dict) -> None:
+    """The gear form's ring larger than its sun, refused in one line on the ring's ``teeth``
+    before its ``[[gears]]`` entry (its cutter keys, whose range follows |z|) is read: a ring
+    of no more teeth than the sun cannot surround it. Reads the raw file; anything malformed
+    is left to the parser."""
+    t = data.get("planetary")
+    gears = data.get("gears")
+    if not isinstance(t, dict) or not isinstance(gears, list):
+        return
+    by_name = {g.get("name"): (i, g) for i, g in enumerate(gears) if isinstance(g, dict)}
+    try:
+        (_, sun), (_, ring) = by_name[t["sun_gear"]], by_name[t["ring_gear"]]
+    except (KeyError, TypeError):
+        return
+    z_s, z_r = sun.get("teeth"), ring.get("teeth")
+    if not all(isinstance(z, int) and not isinstance(z, bool) for z in (z_s, z_r)):
+        return
+    if z_r < 0 < z_s and -z_r <= z_s:
+        raise sc.fail(
+            f"gears.{t['ring_gear']}", "teeth",
+            f"a ring of {-z_r} teeth cannot surround the sun {t['sun_gear']!r} of {z_s}: "
+            f"allowed <= {-(z_s + 1)} (more teeth than the sun's; internal: negative)", z_r)
 
 
 def _geometry(t: dict, gears: dict):
@@ -560,6 +704,8 @@ def _geometry(t: dict, gears: dict):
                 "it)"
             )
     cd = sc.number(t, "center_distance_mm", "planetary", None, allowed="(0, 1e+06]")
+    if cd is not None:
+        _check_center_distance(t, g, cd)
     try:
         geometry = planetary_geometry(
             g[0]["member"],
@@ -573,6 +719,26 @@ def _geometry(t: dict, gears: dict):
     except (ValueError, ArithmeticError) as err:
         raise sc.SchemaError(f"[planetary] {' / '.join(names)}: {sc.g6(str(err))}") from None
     return geometry, tuple(names), g[1]["member"].teeth
+
+
+def _check_center_distance(t: dict, g: list, cd: float) -> None:
+    """``center_distance_mm`` between the sun pair's zero-backlash distance (closer, its teeth
+    jam) and the ring pair's (farther, the ring's jam; :func:`jaxgear.planetary_geometry`), in
+    mm (the range rounded inwards to the µm); the pairs' own checks otherwise."""
+    args = (g[0]["module_mm"] * 1e-3, math.radians(g[0]["alpha_deg"]),
+            math.radians(g[0]["beta_deg"]))
+    try:
+        low = GearPair(g[0]["member"], g[1]["member"], *args).backlash_center_distance
+        high = InternalGearPair(g[1]["member"], g[2]["member"], *args).backlash_center_distance
+    except (ValueError, ArithmeticError):
+        return  # the geometry's own message (planetary_geometry)
+    lo_mm, hi_mm = math.ceil(low * 1e6) / 1e3, math.floor(high * 1e6) / 1e3
+    if low <= high and not low <= cd * 1e-3 <= high:
+        raise sc.fail(
+            "planetary", "center_distance_mm",
+            f"out of range, allowed [{lo_mm:.3f}, {hi_mm:.3f}] (from the sun pair's "
+            "zero-backlash distance, closer its teeth jam, to the ring pair's, farther the "
+            "ring's teeth jam)", t["center_distance_mm"])
 
 
 def check_internal_stiffness(case: Case, where: str) -> None:
@@ -635,6 +801,11 @@ def cutter_values(table: dict, where: str, teeth: int) -> tuple | None:
             where, given[0], "describes the internal gear's cutter: give cutter_teeth too",
             table[given[0]],
         )
+    if teeth - 10 < 11:
+        raise sc.fail(where, "cutter_teeth", f"the internal gear's {teeth} teeth are too few "
+                      "for a pinion-type cutter of at least 11 teeth (allowed: cutter_teeth in "
+                      "[11, |teeth| − 10], a gear of at least 21 teeth; or leave the cutter "
+                      "keys out)", table["cutter_teeth"])
     z0 = sc.number(table, "cutter_teeth", where, allowed=f"[11, {teeth - 10}]", integer=True)
     x0 = sc.number(table, "cutter_profile_shift", where, 0.0, allowed="[-1, 1.5]")
     rho = sc.number(

@@ -9,12 +9,12 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ._case import Case
 from .._stiffness import SainsotFoundation, sainsot_fit_check
 from .._stiffness_models import Weber, stiffness_table
 from ..scenes import disc_inertia
+from ._case import Case
 
-__all__ = ["CaseWarning", "mean_static_deflection", "plausibility"]
+__all__ = ["MIN_LINE_LOAD_N_PER_MM", "CaseWarning", "mean_static_deflection", "plausibility"]
 
 
 class CaseWarning(UserWarning):
@@ -26,6 +26,9 @@ class CaseWarning(UserWarning):
 # plausibility thresholds (CaseWarning), documented in README.md
 RELIEF_RATIO_WARN = 10.0  # a relief/crowning depth above 10 δ_m
 MIN_DEFLECTION_UM = 0.01  # δ_m below 0.01 µm: torque too small
+# the torque floor of a case (refused below; the pairs', trains' and planetary stages'): a line
+# load F_n/b >= 1e-6 N/mm (δ_m ~ 1e-7 µm; below, round-off)
+MIN_LINE_LOAD_N_PER_MM = 1e-6
 MAX_LINE_LOAD_N_PER_MM = 2000.0  # F_n / b above what case-hardened steel teeth carry
 MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
 SMOOTH_WIDTH_WARN = 1.0  # CaseWarning: w above δ_m

@@ -110,6 +110,7 @@ from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
     CUTTER_KEYS,
     check_internal_stiffness,
+    check_ring_teeth,
     gear_cutter,
     is_planetary,
     parse_planetary,
@@ -407,6 +408,7 @@ def _planetary_case(data: dict, name: str) -> Case:
     modifications and input torque and speed read as a train's."""
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
+    check_ring_teeth(data)  # before the ring's cutter keys, whose range follows its teeth
     if "gears" in data:
         for i, table in enumerate(_array_of_tables(data, "gears", 3)):
             gear_name, gear = _gear(table, i, index)
