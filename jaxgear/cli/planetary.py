@@ -539,8 +539,9 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     ax.set_xlabel(f"input ({spec.input.name.lower()}) speed (rad/s)")
     ax.set_ylabel("frequency in the carrier frame (Hz)")
     ax.set_title(
-        f"{case.name}: Campbell diagram, {spec.n_planets} planets, "
-        f"{spec.fixed.name.lower()} fixed, {spec.output.name.lower()} (output) held"
+        f"{case.name}: Campbell diagram, {spec.n_planets} planets; modes of the stage with "
+        f"the {spec.fixed.name.lower()} (fixed) and the {spec.output.name.lower()} (output) "
+        "held in rotation, the input free"
     )
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)

@@ -42,6 +42,7 @@ import warnings
 import jax
 import jax.numpy as jnp
 import numpy as np
+from matplotlib.transforms import blended_transform_factory
 from tqdm.auto import tqdm
 
 from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
@@ -90,6 +91,7 @@ __all__ = [
     "SETTLE_TOL",
     "SPECTRUM_SIDEBANDS",
     "STEPS_PER_TOP_PERIOD",
+    "SWEEP_FILES",
     "SweepRecords",
     "TimePlan",
     "carrier_periodic",
@@ -113,15 +115,23 @@ __all__ = [
 RUN_SPEEDS = (0.2, 1.2, 8)
 #: planet-pass sidebands marked on each side of a mesh order in ``ring_spectrum.png``
 SPECTRUM_SIDEBANDS = 3
-#: the files of ``jaxgear run``'s sweep/ of a planetary stage
-RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "campbell.png",
-                   "ring_spectrum.png")
+#: the files of ``jaxgear run``'s sweep/ of a planetary stage (its Campbell diagram is the
+#: run's own ``campbell.png``, one folder up: the same figure, not written twice)
+RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "ring_spectrum.png")
+#: the files of ``jaxgear sweep`` on a planetary stage
+SWEEP_FILES = (*RUN_SWEEP_FILES, "campbell.png")
 #: the most Newmark steps of a ring spectrum's integrated turn (a stage not periodic in the
 #: carrier frame: :func:`turn_steps`): the turn's records (every coordinate of a flexible ring
 #: at every step) stay within ~100 MB
 TURN_MAX_STEPS = 2**16
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
+#: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
+#: to its mean (round-off: the lumped form's constant springs) and no pin error moves a planet:
+#: nothing excites the stage, its dynamic factors and K_γ are 1 (:func:`excitation`)
+NO_EXCITATION_TOL = 1e-9
+#: mesh travels per mesh period at which :func:`excitation` reads the meshes' stiffness
+EXCITATION_POSITIONS = 16
 #: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
 #: :func:`~jaxgear.cli.planetary.spatial_model`)
 MODEL = PlanarPlanetary()
@@ -220,24 +230,29 @@ def planetary_sweep(
     periods: int | None = None,
     keep_periods: int | None = None,
     slices: int | None = None,
+    campbell_file: str | None = None,
 ) -> dict:
     """Sweep the input speeds ``speeds`` (rad/s, (s,), > 0) of a planetary case (module
-    docstring) and write its files into ``out_dir``; returns ``sweep.json``'s content.
+    docstring) and write its files into ``out_dir`` (:data:`SWEEP_FILES`); returns
+    ``sweep.json``'s content.
 
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
-    ``ring_spectrum`` (the ring transducer at the worst speed)."""
+    ``ring_spectrum`` (the ring transducer at the worst speed). ``campbell_file``: where the
+    same Campbell diagram is written already, relative to ``out_dir`` (``jaxgear run``'s
+    ``../campbell.png``): not drawn again, ``campbell`` names it."""
     t0 = time.perf_counter()
     summary, (stage, meshes, run, ring, model, settled) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
         keep_periods=keep_periods, slices=slices,
     )
     spec = form.spec
-    summary["campbell"] = campbell_section(
+    summary["campbell"] = campbell_file or campbell_section(
         case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
         case, stage, meshes, run, summary["speed_of_max_rad_s"],
         os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled,
+        excited=summary["excitation"]["excited"],
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -309,8 +324,16 @@ def sweep_summary(
         deflection[k] = np.max(np.abs(rec.deflection[k]))
     code = rec.result
     period_of = rec.periods  # mesh periods integrated
+    excite = excitation(model, stage, meshes, spec)
+    if not excite["excited"]:  # the response is the static one: round-off is all that moves
+        excite["round_off_deviation"] = float(np.nanmax(np.abs(
+            np.concatenate([per_mesh.ravel(), k_gamma]) - 1.0)))
+        per_mesh[:], k_gamma[:] = 1.0, 1.0
     worst = per_mesh.max(axis=1)
-    i = int(np.nanargmax(worst))
+    # the worst speed (the ring spectrum's); with nothing to excite, the operating speed's
+    # nearest (not one chosen by round-off)
+    i = (int(np.nanargmax(worst)) if excite["excited"] else
+         int(np.argmin(np.abs(speeds - case.speed))))
     run_i = speed_run(base, plan, i)
     settled_turn = None
     if periodic:  # the worst speed's last mesh period: the ring spectrum's turn from it
@@ -346,6 +369,7 @@ def sweep_summary(
         "speed_of_max_rad_s": float(speeds[i]),
         "max_dynamic_factor_mesh": per_mesh.max(axis=0).tolist(),
         "max_k_gamma": float(k_gamma.max()),
+        "excitation": excite,
         "result": code.tolist(),
         "sun_torque_Nm": float(base.sun_torque),
         "nominal_mesh_force_N": fs,
@@ -381,6 +405,31 @@ def sweep_summary(
     return summary, (stage, meshes, run_i, ring, model, settled_turn)
 
 
+def excitation(model, stage, meshes, spec) -> dict:
+    """Whether anything excites the sweep's stage: ``mesh_stiffness_variation`` (the largest
+    (max − min)/mean of a mesh's stiffness over one mesh period, at
+    :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.AbstractPlanetaryMeshes.mesh_stiffness`),
+    ``pin_errors`` (any non-zero pin error) and ``excited``: False where the variation is below
+    :data:`NO_EXCITATION_TOL` (round-off) and no pin error moves a planet, the lumped form's
+    constant springs: the stage then answers its static load, every dynamic factor and K_γ
+    is 1 and ``words`` says so (``sweep.json``'s ``excitation``)."""
+    k_s, k_r = meshes.mesh_stiffness(model, stage, meshes.positions(EXCITATION_POSITIONS))
+    k = np.concatenate([np.asarray(k_s), np.asarray(k_r)], axis=1)
+    mean = np.abs(k.mean(axis=0))
+    variation = float(np.max((k.max(axis=0) - k.min(axis=0)) / np.where(mean > 0, mean, 1.0)))
+    pins = bool(np.any(np.asarray(spec.tangential_pin_errors) != 0)
+                or np.any(np.asarray(spec.radial_pin_errors) != 0))
+    excited = pins or not variation < NO_EXCITATION_TOL
+    return {
+        "mesh_stiffness_variation": variation,
+        "pin_errors": pins,
+        "excited": excited,
+        "words": None if excited else (
+            "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, "
+            "K_γ = 1"),
+    }
+
+
 def crossings(natural, f_mesh: float, speeds) -> list[dict]:
     """Where a mesh order k (:data:`MESH_ORDERS`) meets a natural frequency f within the
     swept input speeds: ω_in = f / (k f_mesh) (``f_mesh``: Hz per rad/s of the input)."""
@@ -402,15 +451,28 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
     s = np.asarray(summary["speeds_rad_s"])
     df = np.asarray(summary["dynamic_factor_mesh"])
     n = df.shape[1] // 2
-    for j, name in enumerate(summary["mesh_names"]):
-        ax.plot(s, df[:, j], "o-" if j < n else "s--", ms=3, lw=1.0, label=name)
-    ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
+    quiet = (summary.get("excitation") or {}).get("words")
+    if quiet:  # nothing excites the stage: one line at 1, not the meshes' round-off
+        ax.plot(s, np.ones_like(s), "o-", color="k", ms=3, lw=1.0,
+                label="every mesh's dynamic factor and K_γ: 1")
+        ax.set_ylim(0.9, 1.1)
+        ax.ticklabel_format(axis="y", useOffset=False)
+        ax.text(0.5, 0.75, quiet, transform=ax.transAxes, ha="center", va="center",
+                fontsize=9, bbox={"facecolor": "white", "edgecolor": "0.6"})
+    else:
+        for j, name in enumerate(summary["mesh_names"]):
+            ax.plot(s, df[:, j], "o-" if j < n else "s--", ms=3, lw=1.0, label=name)
+        ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
     styles = {1: "tab:red", 2: "tab:purple", 3: "tab:brown"}
     seen = set()
-    for c in summary["crossings"]:
+    trans = blended_transform_factory(ax.transData, ax.transAxes)
+    for c in summary["crossings"]:  # every line labelled at its top
         k = c["order"]
         ax.axvline(c["speed_rad_s"], color=styles.get(k, "0.5"), lw=0.7, ls="-.",
                    label=None if k in seen else f"mesh order {k} × natural frequency")
+        ax.text(c["speed_rad_s"], 0.985, f"{c['frequency_Hz']:.0f} Hz / {k}", transform=trans,
+                rotation=90, fontsize=7, color=styles.get(k, "0.35"), va="top", ha="center",
+                bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"})
         seen.add(k)
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
@@ -419,14 +481,15 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
             f"\ntime step under-resolved, dynamic factors low: "
             f"{res['steps_per_top_period_min']:.2g} steps per period of {res['f_max_Hz']:.0f} Hz"
             f"\n(--steps-per-period >= {res['steps_per_period_resolved']} resolves it)")
-    ax.set_title(f"{case.name}: dynamic factor per mesh ({summary['model']}, "
+    ax.set_title(f"{case.name}: " + ("no excitation, dynamic factor = 1 " if quiet else
+                 "dynamic factor per mesh ") + f"({summary['model']}, "
                  f"{summary['ring_model']}){flag}", fontsize=10)
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
 
 
 def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
-                  settled=None) -> dict:
+                  settled=None, *, excited: bool = True) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
@@ -437,7 +500,9 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
     integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
     else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
-    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`)."""
+    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`).
+    ``excited`` False (:func:`excitation`): the title says the stage has nothing to excite
+    (``speed``: the operating speed's, the planets' passing alone shows)."""
     spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
@@ -473,7 +538,9 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         ax.set_ylim(peak * SPECTRUM_RANGE, peak * 2.0)
     ax.set_xlabel("order of the carrier's turn relative to the ring (-)")
     ax.set_ylabel("amplitude (kN)")
-    ax.set_title(f"{case.name}: ring transducer at {speed:.4g} rad/s (input), one carrier turn")
+    ax.set_title(f"{case.name}: ring transducer at {speed:.4g} rad/s (input), one carrier turn"
+                 + ("" if excited else "; no excitation (constant mesh stiffness): the "
+                    "operating speed, the planets' passing only"))
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
     near = [m for m in marks if 0 < m < len(amp)]
@@ -488,6 +555,7 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         "mean_N": float(amp[0]),
         "turn": "one settled mesh period repeated" if settled is not None else "integrated",
         "turn_steps_per_period": int(steps),
+        "speed_chosen": "worst dynamic factor" if excited else "operating (no excitation)",
     }
 
 
@@ -536,10 +604,13 @@ def sweep_lines(case, s: dict) -> list[str]:
     i = int(np.argmax(s["dynamic_factor"]))
     worst = s["mesh_names"][int(np.argmax(s["dynamic_factor_mesh"][i]))]
     nat = ", ".join(f"{f:.4g}" for f in s["natural_frequencies_Hz"][:6])
+    quiet = (s.get("excitation") or {}).get("words")
     line = (
-        f"{case.name}: {len(s['speeds_rad_s'])} input speeds, max dynamic factor "
-        f"{s['max_dynamic_factor']:.4f} ({worst}) at {s['speed_of_max_rad_s']:.4g} rad/s, "
-        f"max dynamic K_γ {s['max_k_gamma']:.4f}; {_ring_words(s)}"
+        f"{case.name}: {len(s['speeds_rad_s'])} input speeds, "
+        + (quiet if quiet else
+           f"max dynamic factor {s['max_dynamic_factor']:.4f} ({worst}) at "
+           f"{s['speed_of_max_rad_s']:.4g} rad/s, max dynamic K_γ {s['max_k_gamma']:.4f}")
+        + f"; {_ring_words(s)}"
         + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
     )
@@ -564,7 +635,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
     bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
     sub = os.path.join(out, "sweep")
     os.makedirs(sub, exist_ok=True)
-    sw = planetary_sweep(form, case, speeds, sub)
+    sw = planetary_sweep(form, case, speeds, sub, campbell_file="../campbell.png")
     bar.update()
     bar.set_postfix_str("load sharing, modes, Campbell, meshes, rating")
     summary = planetary_files(form, case, out, args, False, sw)  # the rating's measured K_v
@@ -581,6 +652,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_dynamic_factor_mesh": sw["max_dynamic_factor_mesh"],
         "k_gamma": sw["k_gamma"],
         "max_k_gamma": sw["max_k_gamma"],
+        "excitation": sw["excitation"],
         "steps_per_period": sw["steps_per_period"],
         "steps_resolution": sw["steps_resolution"],
         **{k: sw[k] for k in ("periods", "settled") if k in sw},  # the span, its check
@@ -597,10 +669,13 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
 def planetary_run_lines(form, case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints for a planetary case: the stage's lines and the sweep's."""
     d = summary["dynamics"]
+    quiet = (d.get("excitation") or {}).get("words")
     line = (
         f"dynamic factor ({d['model']}, {len(d['speeds_rad_s'])} {d['speed_of']} speeds "
-        f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): max "
-        f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
-        f"{d['max_k_gamma']:.4f}, {_ring_words(d)} ({d['files']})"
+        f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): "
+        + (quiet if quiet else
+           f"max {d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, "
+           f"dynamic K_γ max {d['max_k_gamma']:.4f}")
+        + f", {_ring_words(d)} ({d['files']})"
     )
     return [*planetary_lines(form, case, summary), line]

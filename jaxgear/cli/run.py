@@ -57,6 +57,7 @@ from .train import format_train_table, run_train
 __all__ = [
     "RUN_SWEEP_SLICES",
     "format_table",
+    "has_modifications",
     "rating_run_line",
     "result_summary",
     "run_case",
@@ -67,6 +68,29 @@ __all__ = [
 
 # slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
 RUN_SWEEP_SLICES = 8
+# the deviations a MemberModification adds: all zero = no modifications
+_MODIFYING = ("tip_relief_depth", "root_relief_depth", "crowning_depth", "end_relief_depth",
+              "helix_slope_deviation", "profile_deviation")
+
+
+#: what the rigid mesh's and a scene's "mesh stiffness" curves are (``mesh_stiffness.png``'s note)
+SCENE_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells. Rigid mesh: the cells carry the whole tooth "
+    "compliance (tooth, foundation, contact).\nA condensed body's cells leave out its "
+    "foundation term (its FE rim carries that compliance): higher K, not the whole mesh's "
+    "stiffness (T/TE is)."
+)
+
+
+def has_modifications(mods: Modifications) -> bool:
+    """Whether ``mods`` modifies a flank (a non-zero relief or crowning depth, helix slope or
+    profile deviation on either member): a case without any has its "modified" results equal
+    to the unmodified ones, and the table and the figures show them once."""
+    return any(
+        bool(np.any(np.asarray(getattr(m, name)) != 0))
+        for m in (mods.pinion, mods.gear)
+        for name in _MODIFYING
+    )
 
 
 def run_case(
@@ -159,6 +183,7 @@ def run_case(
             "te_ptp_modified_m": harris["modified"].tolist(),
         },
         "environment": environment_summary(mesh.base_pitch.dtype),
+        "modified": has_modifications(case.modifications),
     }
     if case.coast:  # backlash and the coast flanks (docs/backlash.md)
         summary["backlash"] = {
@@ -203,17 +228,20 @@ def run_case(
 
     period = 2 * math.pi / pair.pinion.teeth
     x = theta / period
-    designs = ("unmodified", "modified")
+    modified = summary["modified"]
+    # without modifications the modified curves are the unmodified ones: drawn once
+    designs = ({"unmodified": "unmodified", "modified": "modified"} if modified else
+               {"unmodified": "no modifications"})
     rigid = "rigid mesh" if scene_res else ""  # a case with a scene: say which model
     te_curves = {
-        f"{rigid} {lab}".strip(): {
+        f"{rigid} {words}".strip(): {
             m: np.asarray(res[lab, m].transmission_error) for m in ("exact", "smooth")
         }
-        for lab in designs
+        for lab, words in designs.items()
     }
     k_curves = {
-        f"{rigid} {lab} (loaded cells)".strip(): np.asarray(res[lab, "exact"].mesh_stiffness)
-        for lab in designs
+        f"{rigid} {words} (loaded cells)".strip(): np.asarray(res[lab, "exact"].mesh_stiffness)
+        for lab, words in designs.items()
     }
     what = ""
     if scene_res:
@@ -225,8 +253,10 @@ def run_case(
             k_curves[f"{label} modified (loaded cells)"] = by_contact["exact"][1]
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
     k_note = te_note = None
+    if scene_res:  # the two stiffnesses are not the same quantity: say what each is
+        k_note = SCENE_STIFFNESS_NOTE
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
-        k_note = (
+        k_note = (k_note + "\n" if k_note else "") + (
             f"helical: K jumps by one slice's stiffness when one of the {case.slices} slices of "
             "a contact line enters or leaves contact\n(the path's ends; with relief, its start: "
             "one-position spikes); smaller with more [mesh] slices"
@@ -264,7 +294,7 @@ def run_case(
         [
             ("no relief", harris["unmodified"], "o-"),
             ("case modifications", harris["modified"], "s-"),
-        ],
+        ] if modified else [("no modifications (the case has none)", harris["unmodified"], "o-")],
         design_torque=case.torque,
         ylabel="TE peak-to-peak (µm), exact contact",
         title=f"{case.name}: Harris map (rigid mesh)",
@@ -357,7 +387,10 @@ def format_table(summary: dict, stiffness: AbstractStiffness) -> str:
         stiffness_line(stiffness),
         f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
     ]
-    for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
+    rows = (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified"))
+    if not summary.get("modified", True):  # no modifications: the rows once
+        rows = (("quasi_static", "no modifications"),)
+    for key, lab in rows:
         for m in ("exact", "smooth"):
             q = summary[key][m]
             lines.append(

@@ -15,6 +15,7 @@ from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from ._sweep_json import column_tag
 from .scene import body_outputs, first_peak
 
 __all__ = ["format_train_table", "run_train"]
@@ -173,7 +174,7 @@ def run_train(
 
     def columns(field: str, unit: str) -> dict:
         return {
-            f"{field}_{m}_{lab}_{names[k]}_{unit}": np.asarray(
+            f"{field}_{m}_{lab}_{column_tag(names[k])}_{unit}": np.asarray(
                 getattr(res[lab, m].meshes[k], field)
             )
             for k in range(n_meshes)

@@ -233,9 +233,6 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     shown = [c for c in summary["critical_speeds"] if sp.min() <= c["speed_rad_s"] <= sp.max()]
     peaks = name_peaks(sp, df, cands)
     top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]  # the peaks named
-    named = {
-        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
-    }
     rest = [p for p in peaks if p not in top]
     if rest:
         ax.plot(
@@ -249,9 +246,9 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
         )
     crit_texts = []
     for c in shown:
+        # every line labelled at its top (also where a named peak's label names it: the peak
+        # label may stand away from its line)
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
-        if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
-            continue
         crit_texts.append(
             ax.text(
                 c["speed_rad_s"],
