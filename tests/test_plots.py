@@ -121,7 +121,8 @@ def test_dynamic_factor_peak_named_after_the_coinciding_mode(tmp_path):
     (p,) = peaks
     assert p["speed_rad_s"] == pytest.approx(speed, abs=6.0)
     assert (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) == (2, 1)
-    assert p["name"] == "mode 2 (2\u2009500 Hz) × H1"
+    # named 1-based, as `jaxgear modes` numbers it (index 2: mode 3)
+    assert p["name"] == "mode 3 (2\u2009500 Hz) × H1"
     # a peak at mode 1 × H2 (157 rad/s) is named so, not after mode 2 × H3 nearby (262 rad/s)
     speed = 2 * math.pi * 1000.0 / (2 * Z1)
     (p,) = plots.name_peaks(

@@ -18,7 +18,6 @@ import warnings
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
 
 import jaxgear as jg
 from optimise import (
@@ -52,6 +51,7 @@ from . import _plots
 from ._optimise_options import add_parsers
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, clear_outputs
+from ._progress import progress as progress_bar
 
 __all__ = [
     "PARTIAL",
@@ -271,7 +271,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     slots = tip_relief_slots(problem.names)
     two_d = slots is not None and _has_map(objective)
     # after the optimiser: exact-contact values, the Harris map and (2 variables) the 41×41 map
-    post = tqdm(
+    post = progress_bar(
         total=3 if two_d else 2,
         desc="optimise: exact values, Harris map" + (", 41×41 map" if two_d else ""),
         disable=not progress,
@@ -543,7 +543,8 @@ def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) 
         relief_blend=0.0,
         bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
     )
-    bar = tqdm(total=2, desc="master curve: optimum per extent, 41×41 map", disable=not progress)
+    bar = progress_bar(total=2, desc="master curve: optimum per extent, 41×41 map",
+                       disable=not progress)
     mc = master_curve(problem, extents)
     bar.update()
     eps = case.pair.transverse_contact_ratio

@@ -6,9 +6,8 @@ import importlib.util
 import sys
 from pathlib import Path
 
-from fem_prep import run_build
-
 import jaxgear
+from fem_prep import run_build
 
 from ._parser import BENCHMARKS
 from ._paths import clear_outputs

@@ -40,9 +40,7 @@ from .. import (
     ring_resonances,
 )
 from ..io import ratings_of, write_csv, write_json
-from ._plots import new_figure
-from ._plots._figure import legend_below_and_save
-from ._rating_report import RATE  # the compiled rating (tests use the run's program)
+from ._planetary_hunting_run import hunting_line, hunting_section
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
@@ -53,7 +51,9 @@ from ._planetary_rating import (
     stage_loads,
     stage_root_stress,
 )
-from ._planetary_hunting_run import hunting_line, hunting_section
+from ._plots import new_figure
+from ._plots._figure import legend_below_and_save
+from ._rating_report import RATE  # the compiled rating (tests use the run's program)
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [

@@ -43,9 +43,15 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
-from tqdm.auto import tqdm
 
-from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
+from .. import (
+    AbstractPlanetaryMeshes,
+    ConstantMeshes,
+    PlanarPlanetary,
+    RigidRing,
+    SpatialPlanetary,
+    planetary_modes,
+)
 from ..dynamics import (
     MIN_STEPS_PER_PERIOD,
     PlanetaryRun,
@@ -72,6 +78,7 @@ from ._planetary_steps import (
 )
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
+from ._progress import progress
 from ._sweep_json import write_sweep_csv
 from .planetary import (
     MESH_ORDERS,
@@ -409,9 +416,11 @@ def excitation(model, stage, meshes, spec) -> dict:
     """Whether anything excites the sweep's stage: ``mesh_stiffness_variation`` (the largest
     (max − min)/mean of a mesh's stiffness over one mesh period, at
     :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.AbstractPlanetaryMeshes.mesh_stiffness`),
-    ``pin_errors`` (any non-zero pin error) and ``excited``: False where the variation is below
-    :data:`NO_EXCITATION_TOL` (round-off) and no pin error moves a planet, the lumped form's
-    constant springs: the stage then answers its static load, every dynamic factor and K_γ
+    ``pin_errors`` (any non-zero pin error), ``eccentricities`` (a member's or a planet's
+    runout), ``flexible_ring`` (a condensed ring: the planets pass its cells), ``te_offsets``
+    (meshes whose TE leaves material out: the deviations per tooth) and ``excited``: False
+    where the variation is below :data:`NO_EXCITATION_TOL` (round-off) and none of the others
+    is there, the lumped form's constant springs: the stage then answers its static load, every dynamic factor and K_γ
     is 1 and ``words`` says so (``sweep.json``'s ``excitation``)."""
     k_s, k_r = meshes.mesh_stiffness(model, stage, meshes.positions(EXCITATION_POSITIONS))
     k = np.concatenate([np.asarray(k_s), np.asarray(k_r)], axis=1)
@@ -419,10 +428,14 @@ def excitation(model, stage, meshes, spec) -> dict:
     variation = float(np.max((k.max(axis=0) - k.min(axis=0)) / np.where(mean > 0, mean, 1.0)))
     pins = bool(np.any(np.asarray(spec.tangential_pin_errors) != 0)
                 or np.any(np.asarray(spec.radial_pin_errors) != 0))
-    excited = pins or not variation < NO_EXCITATION_TOL
+    others = {"eccentricities": bool(spec.eccentric),  # turning once per turn
+              "flexible_ring": bool(spec.ring_model.flexible),  # the planets pass its cells
+              "te_offsets": type(meshes).te_offsets is not AbstractPlanetaryMeshes.te_offsets}
+    excited = pins or any(others.values()) or not variation < NO_EXCITATION_TOL
     return {
         "mesh_stiffness_variation": variation,
         "pin_errors": pins,
+        **others,
         "excited": excited,
         "words": None if excited else (
             "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, "
@@ -631,7 +644,7 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
     and ``summary.json``'s ``dynamics``: the worst mesh's dynamic factor per speed, each mesh's
     maximum, the largest dynamic K_γ. A bar over the two stages (unless ``args.quiet``)."""
     speeds = run_speeds(case)
-    bar = tqdm(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
+    bar = progress(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
     bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
     sub = os.path.join(out, "sweep")
     os.makedirs(sub, exist_ok=True)

@@ -10,13 +10,12 @@ import os
 from typing import NamedTuple
 
 import numpy as np
-from tqdm.auto import tqdm
 
-from .. import contact_pressure, load_map, quasi_static
-from .. import dynamics, io as case_io
+from .. import contact_pressure, dynamics, io as case_io, load_map, quasi_static
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
+from ._progress import progress as progress_bar
 from ._stress_outputs import body_stress_outputs
 from ._summary import result_summary
 
@@ -171,7 +170,7 @@ def scene_outputs(
     """
     hybrid = case.scene.hybrid
     n_steps = (6 if case.speed > 0 else 5) if hybrid else 3
-    bar = tqdm(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
+    bar = progress_bar(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
     # the case's [mesh] slices as they are (not capped); a hybrid case's
     # slices must nest in its bodies' axial rim faces (static_scene says so otherwise)
     slices = case.slices
@@ -214,7 +213,7 @@ class _SceneRun(NamedTuple):
 
     case: Case
     out_dir: str
-    bar: tqdm
+    bar: object  # its progress bar (jaxgear.cli._progress.progress)
     curves: dict | None
 
 

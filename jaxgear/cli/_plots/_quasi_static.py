@@ -83,12 +83,27 @@ def mesh_stiffness_plot(
     path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
 ) -> list[str]:
     """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
-    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot."""
+    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot. Curves that
+    coincide (within :data:`TE_COINCIDE_SHARE` of the plotted range, a line's width) are drawn
+    once, their legend entry naming them all (``A = B (coincide)``); the others each in their
+    own colour and dash, so that one on top of another still shows."""
     fig, ax = new_figure()
     colors = ("C0", "C3", "C2", "C1", "C4", "C5")
-    styles = ("-", "-", "--", ":", "-.", "--")  # a curve on top of another one still shows
-    for (lab, k), color, ls in zip(curves.items(), colors, styles, strict=False):
-        ax.plot(x, np.asarray(k) / 1e6, ls, color=color, label=lab)
+    styles = ("-", "--", "-.", ":", "-", "--")  # a curve on top of another one still shows
+    n_per_um = {lab: np.asarray(k) / 1e6 for lab, k in curves.items()}
+    allv = np.concatenate(list(n_per_um.values())) if n_per_um else np.zeros(1)
+    span = float(np.ptp(allv)) or float(np.max(np.abs(allv))) or 1.0
+    groups: list[tuple[list[str], np.ndarray]] = []
+    for lab, k in n_per_um.items():
+        same = next((g for g in groups if g[1].shape == k.shape
+                     and np.max(np.abs(g[1] - k)) <= TE_COINCIDE_SHARE * span), None)
+        if same is None:
+            groups.append(([lab], k))
+        else:
+            same[0].append(lab)
+    for (labs, k), color, ls in zip(groups, colors, styles, strict=False):
+        label = labs[0] if len(labs) == 1 else " = ".join(labs) + " (coincide)"
+        ax.plot(x, k, ls, color=color, label=label)
     ax.set_xlabel(f"{driver} position (mesh periods)")
     ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
     ax.set_title(title)

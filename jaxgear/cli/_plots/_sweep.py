@@ -22,6 +22,7 @@ __all__ = [
     "coincidence_name",
     "coincidences",
     "dynamic_factor_plot",
+    "mode_number",
     "name_peaks",
     "pressure_speed_plot",
 ]
@@ -142,9 +143,17 @@ def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05)
     return sorted(out.values(), key=lambda c: c["speed_rad_s"])
 
 
+def mode_number(c: dict) -> int:
+    """A coincidence's mode as the figures and ``jaxgear modes`` number it: 1-based (the
+    ``mode`` of ``sweep.json``'s ``critical_speeds`` is the 0-based index into the modal
+    analysis' frequencies, rigid modes included, as ``modes.json``'s list)."""
+    return int(c["mode"]) + 1
+
+
 def coincidence_name(c: dict) -> str:
     mesh = f" of {c['mesh']}" if "mesh" in c else ""
-    return f"mode {c['mode']} ({hz_text(c['frequency_Hz'])} Hz) × H{c['harmonic']}{mesh}"
+    return (f"mode {mode_number(c)} ({hz_text(c['frequency_Hz'])} Hz) × "
+            f"H{c['harmonic']}{mesh}")
 
 
 def _distance(c: dict, speed: float) -> float:
@@ -253,7 +262,7 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
             ax.text(
                 c["speed_rad_s"],
                 0.985,
-                f"mode {c['mode']} × H{c['harmonic']}",
+                f"mode {mode_number(c)} × H{c['harmonic']}",
                 transform=trans,
                 rotation=90,
                 fontsize=7,
