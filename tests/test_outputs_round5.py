@@ -120,10 +120,150 @@ def test_a_wrapped_title_keeps_units_with_their_numbers():
     unit or after a ≥ sign (today "5 %" ends a line with "5" and starts the next with "%")."""
     fig, ax = _figure.new_figure()
     words = "power-helical: Campbell diagram, modes with ≥ 1% mesh strain energy (black ≥ 5 %)"
-    for pad in range(0, 40):  # wherever the break falls, "%" never starts a line
+    for pad in range(40):  # wherever the break falls, "%" never starts a line
         ax.set_title("x" * pad + " " + words)
         _figure.wrap_titles(fig)
         lines = ax.get_title().splitlines()
         assert len(lines) >= 1
         assert not any(line.lstrip().startswith(("%", "µm")) for line in lines)
         assert not any(line.rstrip().endswith("≥") for line in lines)
+
+
+def test_the_planetary_campbell_title_says_what_is_held(lin_parker, tmp_path, monkeypatch):
+    """The Campbell diagram's title: the fixed member and the output held in rotation for the
+    modes, the input free (today "ring fixed, carrier (output) held", which reads as a
+    contradiction)."""
+    from jaxgear.cli import planetary
+
+    figs = _capture(monkeypatch, planetary)
+    spec = lin_parker.form.spec
+    planetary.campbell_section(lin_parker, spec, spec.stage(lin_parker), str(tmp_path / "c.png"))
+    (_, ax, _, _), = figs
+    title = " ".join(ax.get_title().split())
+    assert "the ring (fixed) and the carrier (output) held in rotation, the input free" in title
+    assert "(output) held\"" not in title and not title.endswith("(output) held")
+
+
+def test_run_writes_one_campbell_file(lin_parker):
+    """jaxgear run's sweep/ holds no second, identical campbell.png: the run's own is named."""
+    assert "campbell.png" not in ps.RUN_SWEEP_FILES and "campbell.png" in ps.SWEEP_FILES
+
+
+def test_plain_progress_lines_on_a_redirected_stream():
+    """On a stream that is not a terminal, nested bars print plain lines: no carriage return,
+    no escape code, no blank line; each state once, with its count and estimate."""
+    import io
+
+    from jaxgear.cli._progress import progress
+
+    log = io.StringIO()
+    outer = progress(total=3, desc="outer", file=log, mininterval=0)
+    for k in range(3):
+        inner = progress(total=2, desc="inner", file=log, leave=False, position=1, mininterval=0)
+        inner.update(2)
+        inner.close()
+        outer.set_postfix_str(f"stage {k}")
+        outer.update()
+    outer.close()
+    text = log.getvalue()
+    assert "\r" not in text and "\x1b" not in text
+    lines = text.split("\n")
+    assert lines[-1] == "" and all(lines[:-1]), lines
+    assert all(line.startswith(("outer:", "inner:")) for line in lines[:-1])
+    assert any(re.search(r"outer:.*\|\s*3/3 \[.*stage 2", line) for line in lines)
+    assert all(a != b for a, b in zip(lines, lines[1:], strict=False))  # no state twice
+
+
+def test_modes_are_numbered_alike_in_the_figures_and_jaxgear_modes():
+    """A coincidence with mode index 2 (0-based into the modal analysis, as sweep.json keeps
+    it) is named "mode 3" in the figures, the number `jaxgear modes` prints on that mode's row
+    (today the figures print "mode 2", one off)."""
+    from jaxgear.cli._plots._sweep import coincidence_name
+    from jaxgear.cli.modes import mode_table
+
+    freqs = [0.0, 1200.0, 2500.0, 4100.0]
+    data = {"case": "x", "classification": "c",
+            "modes": [{"frequency_Hz": f, "type": "t"} for f in freqs]}
+    rows = mode_table(data)
+    printed = {float(r.split()[1]): int(r.split()[0]) for r in rows if r.split()[0].isdigit()}
+    c = {"mode": 2, "harmonic": 1, "frequency_Hz": 2500.0}
+    number = int(re.match(r"mode (\d+) ", coincidence_name(c)).group(1))
+    assert number == printed[2500.0] == 3
+
+
+def _table_summary(te_rms_mod, te_rms_unmod):
+    q = {"te_mean_m": 1e-6, "te_ptp_m": 1e-6, "mesh_stiffness_mean_N_per_m": 3e8,
+         "max_line_load_N_per_m": 2e5}
+    return {
+        "case": "x",
+        "geometry": {"transverse_contact_ratio": 1.5, "overlap_ratio": 0.0,
+                     "center_distance_m": 0.1, "base_pitch_m": 0.004},
+        "operating": {"torque_Nm": 310.0},
+        "quasi_static": {m: {**q, "te_rms_m": te_rms_mod} for m in ("exact", "smooth")},
+        "quasi_static_unmodified": {m: {**q, "te_rms_m": te_rms_unmod}
+                                    for m in ("exact", "smooth")},
+    }
+
+
+def test_no_modified_rows_without_modifications():
+    """A case without modifications prints its rows once ("no modifications"), not an
+    "unmodified" and an identical "modified" pair; a case whose modifications raise the TE RMS
+    says by how much (power-helical's: 0.3655/0.1024 = 3.57×)."""
+    import jaxgear as jg
+    from jaxgear.cli.run import format_table, has_modifications
+
+    assert not has_modifications(jg.Modifications())
+    assert has_modifications(jg.Modifications.symmetric(
+        jg.MemberModification(tip_relief_depth=10e-6)))
+    assert has_modifications(jg.Modifications(gear=jg.MemberModification(crowning_depth=5e-6)))
+    weber = jg.Weber()
+    rows = format_table(_table_summary(1e-7, 1e-7), weber, modified=False).splitlines()[3:]
+    assert [r.split("  ")[0] for r in rows] == ["no modifications exact",
+                                                "no modifications smooth"]
+    text = format_table(_table_summary(3.6552661e-7, 1.0237222e-7), weber)
+    assert "raise the TE RMS 3.57× over the unmodified flanks at 310 N·m" in text
+    assert "raise" not in format_table(_table_summary(0.5e-7, 1e-7), weber)
+
+
+def test_coinciding_stiffness_curves_are_drawn_once_and_named(tmp_path):
+    """mesh_stiffness.png: two equal curves are one line whose legend names both (today the
+    second, drawn solid on top, hides the first); different curves each their own style."""
+    from jaxgear.cli._plots import _quasi_static as qs
+
+    x = np.linspace(0.0, 2.0, 50)
+    k = 3e8 + 1e7 * np.sin(2 * np.pi * x)
+    labels = qs.mesh_stiffness_plot(tmp_path / "k.png", x, {"a": k, "b": k.copy(),
+                                                            "c": 1.2 * k}, title="t")
+    assert labels == ["a = b (coincide)", "c"]
+
+
+def test_the_stiffness_note_and_the_train_figures_name_their_model():
+    """What each stiffness curve is (a condensed body's cells leave out its foundation term),
+    and flexible-idler's figures name the model they show."""
+    from jaxgear.cli.run import LUMPED_STIFFNESS_NOTE, SCENE_STIFFNESS_NOTE
+    from jaxgear.cli.train import train_model_words
+
+    assert "leave out its foundation term" in SCENE_STIFFNESS_NOTE
+    assert "shafts and bearings are not in it" in LUMPED_STIFFNESS_NOTE
+    case = jio.load_case("flexible-idler")
+    bodies = [None if n != "idler" else object() for n in case.gear_names]
+    assert train_model_words(case, bodies) == "lumped 3D train, idler a condensed FE body"
+    assert train_model_words(jio.load_case("accessory-idler-train")).endswith("train")
+
+
+def test_the_dynamic_pressure_map_explains_its_zero_bands():
+    """The map's colour of 0 MPa has a legend entry: no contact at any kept step (a relief's
+    zone or contact loss)."""
+    import os
+    import tempfile
+
+    from jaxgear.cli._plots._quasi_static import load_map_plot
+    from jaxgear.cli._sweep_json import DYNAMIC_ZERO
+
+    with tempfile.TemporaryDirectory() as d:
+        pc = load_map_plot(os.path.join(d, "m.png"), np.linspace(0, 5e-3, 6),
+                           np.linspace(0, 1e-2, 3), np.ones((5, 2)) * 1e9, title="t",
+                           zero_label=DYNAMIC_ZERO, unit=1e6)
+    (leg,) = pc.figure.legends
+    assert [t.get_text() for t in leg.get_texts()] == [DYNAMIC_ZERO]
+    assert "contact_loss" in DYNAMIC_ZERO

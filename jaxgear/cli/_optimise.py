@@ -51,7 +51,7 @@ from . import _plots
 from ._optimise_options import add_parsers
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, clear_outputs
-from ._progress import progress as progress_bar
+from ._progress import inner_bars, progress as progress_bar
 
 __all__ = [
     "PARTIAL",
@@ -258,7 +258,8 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     }
     write_json(partial, marker)
     res = minimise(
-        problem, x0, solver, max_iterations=settings["max_iterations"], progress=progress
+        problem, x0, solver, max_iterations=settings["max_iterations"],
+        progress=inner_bars(progress)
     )
     marker.update(
         stage="post-processing (exact values, plots)",

@@ -10,7 +10,7 @@ import sys
 
 from tqdm import tqdm as _tqdm
 
-__all__ = ["PLAIN_INTERVAL_S", "PlainProgress", "progress"]
+__all__ = ["PLAIN_INTERVAL_S", "PlainProgress", "inner_bars", "progress"]
 
 #: the least time (s) between two plain lines of one bar (a stage change always prints)
 PLAIN_INTERVAL_S = 1.0
@@ -61,3 +61,10 @@ def progress(*args, **kwargs) -> _tqdm:
 
         return tqdm(*args, **kwargs)
     return PlainProgress(*args, **kwargs)
+
+
+def inner_bars(show: bool) -> bool:
+    """Whether fem-prep's and the optimiser's own tqdm bars (nested under the command's, drawn
+    with cursor moves) are shown: ``show`` on a terminal or in a notebook, never on a redirected
+    stderr, where the command's bar prints its plain lines alone."""
+    return bool(show) and _terminal(sys.stderr)

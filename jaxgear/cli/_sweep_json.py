@@ -58,6 +58,10 @@ __all__ = [
     "write_sweep_csv",
 ]
 
+#: what the dynamic pressure map's bands of 0 MPa are (its legend)
+DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone, or the "
+                "teeth losing contact in the dynamic response: sweep.json's contact_loss)")
+
 # the lowest elastic modes of a hybrid structure searched for each condensed gear's
 # nodal-diameter families (seed (3.9))
 ND_MODES = 40
@@ -403,4 +407,5 @@ def sweep_plots(
             title=title,
             label="max contact pressure (MPa)",
             unit=1e6,
+            zero_label=DYNAMIC_ZERO,
         )

@@ -81,6 +81,13 @@ SCENE_STIFFNESS_NOTE = (
 )
 
 
+#: the same for a scene without condensed bodies (its cells are the rigid mesh's)
+LUMPED_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells (tooth, foundation, contact); the scene's shafts "
+    "and bearings are not in it"
+)
+
+
 def has_modifications(mods: Modifications) -> bool:
     """Whether ``mods`` modifies a flank (a non-zero relief or crowning depth, helix slope or
     profile deviation on either member): a case without any has its "modified" results equal
@@ -251,8 +258,8 @@ def run_case(
             k_curves[f"{label} modified (loaded cells)"] = by_contact["exact"][1]
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
     k_note = te_note = None
-    if scene_res:  # the two stiffnesses are not the same quantity: say what each is
-        k_note = SCENE_STIFFNESS_NOTE
+    if scene_res:  # say what each stiffness is (a condensed body's is not the rigid mesh's)
+        k_note = SCENE_STIFFNESS_NOTE if case.flexible else LUMPED_STIFFNESS_NOTE
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
         k_note = (k_note + "\n" if k_note else "") + (
             f"helical: K jumps by one slice's stiffness when one of the {case.slices} slices of "

@@ -15,7 +15,7 @@ from .. import contact_pressure, dynamics, io as case_io, load_map, quasi_static
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
-from ._progress import progress as progress_bar
+from ._progress import inner_bars, progress as progress_bar
 from ._stress_outputs import body_stress_outputs
 from ._summary import result_summary
 
@@ -177,7 +177,7 @@ def scene_outputs(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached)")
-        bodies = case_io.load_bodies(case.scene, progress=progress)
+        bodies = case_io.load_bodies(case.scene, progress=inner_bars(progress))
         bar.update()
     bar.set_postfix_str("building the scene")
     scene, bodies = case_io.static_scene(case, slices=slices, bodies=bodies)

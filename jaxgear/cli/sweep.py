@@ -21,7 +21,7 @@ from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
-from ._progress import progress as progress_bar
+from ._progress import inner_bars, progress as progress_bar
 from ._sweep_json import (
     ND_MODES,
     backlash_responses,
@@ -178,7 +178,7 @@ def sweep_case_run(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
-        bodies = case_io.load_bodies(spec, progress=show_progress)
+        bodies = case_io.load_bodies(spec, progress=inner_bars(show_progress))
     else:
         bar.set_postfix_str("building the model (modes, damping)")
     model, spec = case_io.build_dynamic_model(case, spec, slices=slices, bodies=bodies)

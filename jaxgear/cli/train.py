@@ -13,7 +13,7 @@ from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
-from ._progress import progress
+from ._progress import inner_bars, progress
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 from ._sweep_json import column_tag
 from .scene import body_outputs, first_peak
@@ -69,7 +69,7 @@ def run_train(
     os.makedirs(out_dir, exist_ok=True)
     steps = progress(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
     steps.set_postfix_str("meshes and layout")
-    bodies = load_bodies(case.scene, progress=show_progress) if case.flexible else None
+    bodies = load_bodies(case.scene, progress=inner_bars(show_progress)) if case.flexible else None
     scene = case.static_train(bodies=bodies)
     layout = case.layout()
     steps.update()

@@ -121,10 +121,12 @@ def load_map_plot(
     vmax: float | None = None,
     label: str = "max line load (N/mm)",
     unit: float = 1e3,
+    zero_label: str | None = None,
 ):
     """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs
     (``label`` and ``unit``, the SI value of one displayed unit, for another field: the contact
-    pressure in MPa, 1e6).
+    pressure in MPa, 1e6). ``zero_label``: a legend entry below the axes for the colour of 0
+    (what the bands of no load are, a dynamic map's contact loss).
 
     The colour scale runs from 0 to ``vmax`` (SI; default: the map's maximum): maps that are
     to be compared (a body at rest and at speed) pass the same ``vmax``. Returns the image's
@@ -143,6 +145,9 @@ def load_map_plot(
         vmax=max(vmax, 1e-12) / unit,
     )
     fig.colorbar(pc, ax=ax, label=label)
+    if zero_label:
+        zero = mpatches.Patch(facecolor=pc.cmap(0.0), edgecolor="0.5", label=zero_label)
+        fig.legend(handles=[zero], loc="outside lower center", fontsize=8, frameon=False)
     finish(
         fig,
         ax,
@@ -199,6 +204,7 @@ def face_map(
     title: str,
     label: str = "max line load (N/mm)",
     unit: float = 1e3,
+    zero_label: str | None = None,
 ):
     """One field of one mesh over a tooth's passage (roll position along the line of action ×
     face width), as :func:`~jaxgear.load_map` bins it: the line load (``field`` None, N/m) or a
@@ -207,7 +213,7 @@ def face_map(
     or a dynamic one recorded with ``cell_loads`` (K, L, N); ``positions_per_pitch``: the
     result's steps per period of that mesh (the step of its contact lines along s).
     ``label``/``unit`` as :func:`load_map_plot`. The one plot of the quasi-static and the
-    dynamic pressure maps."""
+    dynamic pressure maps; ``zero_label`` as :func:`load_map_plot`'s."""
     s_edges, z, grid = load_map(
         result, positions_per_pitch, pair.base_pitch, pair.path_of_contact, field=field
     )
@@ -220,6 +226,7 @@ def face_map(
         title=title,
         label=label,
         unit=unit,
+        zero_label=zero_label,
     )
 
 
