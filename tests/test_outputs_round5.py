@@ -7,6 +7,7 @@ curve of a flexible case is. Titles and labels are read back from the matplotlib
 from __future__ import annotations
 
 import csv
+import itertools
 import re
 import tomllib
 
@@ -171,7 +172,7 @@ def test_plain_progress_lines_on_a_redirected_stream():
     assert lines[-1] == "" and all(lines[:-1]), lines
     assert all(line.startswith(("outer:", "inner:")) for line in lines[:-1])
     assert any(re.search(r"outer:.*\|\s*3/3 \[.*stage 2", line) for line in lines)
-    assert all(a != b for a, b in zip(lines, lines[1:], strict=False))  # no state twice
+    assert all(a != b for a, b in itertools.pairwise(lines))  # no state twice
 
 
 def test_modes_are_numbered_alike_in_the_figures_and_jaxgear_modes():
@@ -267,3 +268,92 @@ def test_the_dynamic_pressure_map_explains_its_zero_bands():
     (leg,) = pc.figure.legends
     assert [t.get_text() for t in leg.get_texts()] == [DYNAMIC_ZERO]
     assert "contact_loss" in DYNAMIC_ZERO
+
+
+# -- the 3D planetary mesh's tilting stiffness ------------------------------------------------
+
+BETA_B = np.radians(28.5)
+FACE = 0.03  # m
+K_S, K_R = 5e8, 6e8  # N/m along the tooth normal
+
+
+def _spatial_stage(**tilts):
+    import jaxgear as jg
+
+    lumped = jg.PlanetaryMember.lumped
+    return jg.PlanetaryStage(
+        sun=lumped(0.4, 0.39, 0.0387, 1e8), ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
+        carrier=lumped(5.43, 6.29, 0.0884, 1e8), planet=lumped(0.66, 0.61, 0.05015, 1e8),
+        planet_angles=np.radians([0.0, 100.0, 230.0]), sun_pressure_angle=np.radians(24.6),
+        ring_pressure_angle=np.radians(22.0), sun_mesh_stiffness=K_S, ring_mesh_stiffness=K_R,
+        helix_angle=BETA_B, face_width=FACE, **tilts)
+
+
+def _tilt_entry(stage, member):
+    """K's entry on ``member``'s (``"s"`` sun, ``"r"`` ring) tilt about x."""
+    import jaxgear as jg
+
+    model = jg.SpatialPlanetary()
+    i = model.dof_names(stage).index(f"theta_x_{member}")
+    return float(np.asarray(model.stiffness_matrix(stage))[i, i])
+
+
+@pytest.mark.parametrize("member", ["s", "r"])
+def test_the_mesh_tilting_stiffness_is_k_b2_cos2_beta_over_12(member):
+    """The tilting stiffness a mesh adds to its central member's tilt about x, written here:
+    a tilt theta about e_perp = d x e_z (d the transverse line of action (-sin φ, cos φ, 0),
+    φ = ψ_n − α_s for a sun mesh, ψ_n + α_r for a ring mesh) moves the face point z by
+    z cos β_b theta along the tooth normal, so over the face (k/b) ∫ (z cos β_b)² dz =
+    k b² cos²β_b / 12 per unit theta_perp², and theta_perp = theta_x cos φ. Removing it
+    (kappa = 0) lowers K_xx by Σ_n k b² cos²β_b/12 cos²φ_n (the docs said k b²/12: 1/cos²β_b
+    = 1.30× that at 28.5°); a given kappa replaces it: K_xx(kappa) − K_xx(0) = Σ_n kappa
+    cos²φ_n."""
+    psi = np.radians([0.0, 100.0, 230.0])
+    phi = psi - np.radians(24.6) if member == "s" else psi + np.radians(22.0)
+    k = K_S if member == "s" else K_R
+    key = "sun_mesh_tilt_stiffness" if member == "s" else "ring_mesh_tilt_stiffness"
+    spread = _tilt_entry(_spatial_stage(), member)
+    none = _tilt_entry(_spatial_stage(**{key: 0.0}), member)
+    expected = k * FACE**2 * np.cos(BETA_B) ** 2 / 12 * np.sum(np.cos(phi) ** 2)
+    assert spread - none == pytest.approx(expected, rel=1e-9)
+    kappa = 2.0e4  # N m/rad
+    given = _tilt_entry(_spatial_stage(**{key: kappa}), member)
+    assert given - none == pytest.approx(kappa * np.sum(np.cos(phi) ** 2), rel=1e-9)
+
+
+def test_the_mesh_tilting_stiffness_from_a_case_file(tmp_path):
+    """[planetary] sun_/ring_mesh_tilt_stiffness_Nm_per_rad reach the stage (N·m/rad); a
+    negative value is refused in one line naming the key."""
+    data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
+    data["planetary"].update(sun_mesh_tilt_stiffness_Nm_per_rad=2.0e4,
+                             ring_mesh_tilt_stiffness_Nm_per_rad=3.0e4)
+    case = jio.parse_train(data)
+    stage = case.form.spec.stage(case)
+    assert float(stage.sun_mesh_tilt_stiffness) == 2.0e4
+    assert float(stage.ring_mesh_tilt_stiffness) == 3.0e4
+    data["planetary"]["ring_mesh_tilt_stiffness_Nm_per_rad"] = -1.0
+    with pytest.raises(ValueError, match="ring_mesh_tilt_stiffness_Nm_per_rad.*-1.*allowed"):
+        jio.parse_train(data)
+    plain = jio.load_case("lin-parker-1999")
+    assert plain.form.spec.stage(plain).sun_mesh_tilt_stiffness is None
+
+
+def test_the_lumped_springs_hold_the_given_tilting_stiffness():
+    """ConstantMeshes' two springs per mesh (the sweep's, the load sharing's) sit at the same
+    points as the matrix's: the cells' stiffness Σ k_c V_c V_cᵀ equals the mesh part of
+    SpatialPlanetary's K (K less its bearings and pins: K with zero mesh stiffness)."""
+    import dataclasses
+
+    import jaxgear as jg
+
+    model = jg.SpatialPlanetary()
+    stage = _spatial_stage(sun_mesh_tilt_stiffness=2.0e4, ring_mesh_tilt_stiffness=3.0e4)
+    meshes = jg.ConstantMeshes(0.01, face_points=model.face_points)
+    zero = (np.zeros(3), np.zeros(3))
+    row = meshes.cell_row(model, stage, 0.0, zero)
+    V, k = np.asarray(row.V), np.asarray(row.k * row.length)
+    cells = np.einsum("ci,c,cj->ij", V, k, V)
+    bare = dataclasses.replace(stage, sun_mesh_stiffness=0.0, ring_mesh_stiffness=0.0)
+    mesh_part = np.asarray(model.stiffness_matrix(stage)) - np.asarray(
+        model.stiffness_matrix(bare))
+    np.testing.assert_allclose(cells, mesh_part, atol=1e-9 * np.abs(mesh_part).max())
