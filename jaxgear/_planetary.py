@@ -599,7 +599,25 @@ class TorsionalPlanetary(AbstractPlanetaryModel):
     """The torsional model (Kahraman 1994): one rotation per member, ``(u_c, u_r, u_s, u_1..
     u_N)``; the members' centres and the planet pins are rigid (the planet centre moves with the
     carrier, eta_n = u_c). A rotation about the stage axis has no Coriolis nor centripetal term:
-    G = K_Omega = 0."""
+    G = K_Omega = 0.
+
+    Conventions a reader comparing with the literature needs (the matrices are T^T M T and
+    T^T K T of :class:`PlanarPlanetary`'s with this constraint T, :meth:`reduction`):
+
+    * u = r_b theta for every member (m), the carrier's u_c = r_c theta_c at the planet-circle
+      radius r_c (its ``base_radius``); positive counter-clockwise.
+    * The carrier enters each mesh through the planet centre's tangential motion eta_n = u_c,
+      projected on the line of action: delta_sn = u_s + u_n - u_c cos a_s and delta_rn = u_r -
+      u_n - u_c cos a_r (compression positive; Lin & Parker's planar deflections with
+      x = y = zeta = 0). Forms that write the carrier as r_c theta_c cos a, or that leave out
+      the cos a, differ from this by that factor.
+    * The planets' mass rides on the carrier: the planet centres move with it (eta_n = u_c),
+      so the carrier's mass on u_c is I_c / r_c^2 + N m_p (m_p the planet's ``mass``), and
+      each planet keeps only its rotation's I_p / r_p^2 on u_n. Models that leave the planets'
+      translation out of the carrier's inertia give a higher carrier mode.
+
+    Source: A. Kahraman, "Natural modes of planetary gear trains", J. Sound Vib. 173 (1994)
+    125-130; J. Lin and R. G. Parker (1999) for the deflections."""
 
     def reduction(self, stage):
         n = stage.n_planets

@@ -357,3 +357,23 @@ def test_the_lumped_springs_hold_the_given_tilting_stiffness():
     mesh_part = np.asarray(model.stiffness_matrix(stage)) - np.asarray(
         model.stiffness_matrix(bare))
     np.testing.assert_allclose(cells, mesh_part, atol=1e-9 * np.abs(mesh_part).max())
+
+
+def test_the_torsional_models_conventions():
+    """What TorsionalPlanetary's docstring and docs/planetary.md say, against numbers written
+    here: the carrier's mass on u_c is I_c/r_c² + N m_p (the planets' mass rides on it), and
+    the carrier enters the sun and ring meshes as −u_c cos α_s and −u_c cos α_r."""
+    import jaxgear as jg
+
+    stage = _spatial_stage()
+    model = jg.TorsionalPlanetary()
+    m = np.asarray(model.mass_matrix(stage))
+    assert m[0, 0] == pytest.approx(6.29 + 3 * 0.66, rel=1e-12)  # I_c/r_c² + N m_p
+    assert m[3, 3] == pytest.approx(0.61, rel=1e-12)  # a planet: I_p/r_p² alone
+    v_s, v_r = (np.asarray(v) for v in model.mesh_deflection_rows(stage))
+    np.testing.assert_allclose(v_s[:, 0], -np.cos(np.radians(24.6)), rtol=1e-12)
+    np.testing.assert_allclose(v_r[:, 0], -np.cos(np.radians(22.0)), rtol=1e-12)
+    np.testing.assert_allclose(v_s[:, 2], 1.0)  # u_s
+    np.testing.assert_allclose(v_s[:, 3:], np.eye(3))  # + u_n
+    np.testing.assert_allclose(v_r[:, 1], 1.0)  # u_r
+    np.testing.assert_allclose(v_r[:, 3:], -np.eye(3))  # − u_n
