@@ -377,3 +377,53 @@ def test_the_torsional_models_conventions():
     np.testing.assert_allclose(v_s[:, 3:], np.eye(3))  # + u_n
     np.testing.assert_allclose(v_r[:, 1], 1.0)  # u_r
     np.testing.assert_allclose(v_r[:, 3:], -np.eye(3))  # − u_n
+
+
+# -- the documentation's references ------------------------------------------------------------
+
+
+def test_the_api_pages_are_grouped_by_task():
+    """The jaxgear API page: a section per task (geometry, stiffness, quasi-statics, planetary
+    stages, rating...), every public name in exactly one, none left to "Other" in the five
+    model packages; quasi_static under "Contact and quasi-statics", among the first third of
+    the page's names (today #84 of 171, after the private modules' import order)."""
+    from docs._gen import api_pages
+
+    for module in ("jaxgear", "jaxgear.scenes", "jaxgear.dynamics", "jaxgear.io", "optimise"):
+        names, _ = api_pages.public_names(module)
+        groups = api_pages.sections(module, names)
+        assert "Other" not in [t for t, _ in groups], module
+        flat = [n for _, g in groups for n in g]
+        assert sorted(flat) == sorted(names) and len(flat) == len(set(flat)), module
+    names, _ = api_pages.public_names("jaxgear")
+    groups = dict(api_pages.sections("jaxgear", names))
+    assert "quasi_static" in groups["Contact and quasi-statics"]
+    assert "GearPair" in groups["Geometry"] and "PlanetaryStage" in groups["Planetary stages"]
+    assert "rate" in groups["Load capacity (ISO 6336)"]
+    order = [n for g in groups.values() for n in g]
+    assert order.index("quasi_static") < len(order) / 3
+    text = api_pages.page("jaxgear", "the model")
+    assert "## Geometry" in text and "## Planetary stages" in text
+    assert text.index("## Contact and quasi-statics") < text.index("::: jaxgear.quasi_static")
+
+
+def test_the_case_file_reference_shows_the_optimise_defaults():
+    """[optimise] in the case-file reference: its keys with defaults show them (objective
+    'te_rms', method 'lbfgs', reduce 'max', max_iterations 100, lp_order 8), none of them
+    "required" (every one is optional); the defaults are the ones jaxgear optimise takes."""
+    from docs._gen import schema_reference
+    from jaxgear.cli._optimise import settings_from_case
+
+    text = schema_reference.pages()["case-file.md"]
+    table = text.split("## `[optimise]`", 1)[1].split("\n## ", 1)[0]
+    rows = {r.split("|")[1].strip(" `"): [c.strip() for c in r.split("|")[2:-1]]
+            for r in table.splitlines() if r.startswith("| `")}
+    assert not [k for k, r in rows.items() if "required" in r], rows
+    assert rows["objective"][2] == "'te_rms'" and rows["method"][2] == "'lbfgs'"
+    assert rows["reduce"][2] == "'max'" and rows["max_iterations"][2] == "100"
+    assert rows["lp_order"][2] == "8"
+    settings = settings_from_case(jio.load_case("power-helical"))
+    case_table = jio.load_case("power-helical").optimise or {}
+    for key in ("objective", "method", "reduce", "max_iterations"):
+        if key not in case_table:
+            assert repr(settings[key]) == rows[key][2] or str(settings[key]) == rows[key][2]

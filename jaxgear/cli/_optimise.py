@@ -37,6 +37,7 @@ from optimise import (
 )
 
 from ..io import (
+    OPTIMISE_DEFAULTS,
     Case,
     TrainForm,
     atomic_open,
@@ -85,18 +86,19 @@ def settings_from_case(case: Case, args=None) -> dict:
     def get(key, default):
         return given.get(key, table.get(key, default))
 
+    d = OPTIMISE_DEFAULTS  # one home: the case-file reference shows the same defaults
     return {
-        "objective": get("objective", "te_rms"),
-        "vars": get("vars", "tip_relief.depth,tip_relief.extent"),
-        "torques": get("torques", None),
-        "reduce": get("reduce", "max"),
-        "method": get("method", "lbfgs"),
-        "max_iterations": int(get("max_iterations", 100)),
+        "objective": get("objective", d["objective"]),
+        "vars": get("vars", d["vars"]),
+        "torques": get("torques", d["torques"]),
+        "reduce": get("reduce", d["reduce"]),
+        "method": get("method", d["method"]),
+        "max_iterations": int(get("max_iterations", d["max_iterations"])),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
         "speed": given.get("speed"),
-        "speeds": get("speeds", None),
-        "lp_order": get("lp_order", None),
-        "te_limit_um": get("te_limit_um", None),
+        "speeds": get("speeds", d["speeds"]),
+        "lp_order": get("lp_order", None),  # None: the objective's own (8)
+        "te_limit_um": get("te_limit_um", d["te_limit_um"]),
     }
 
 
