@@ -59,8 +59,8 @@ __all__ = [
 ]
 
 #: what the dynamic pressure map's bands of 0 MPa are (its legend)
-DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone, or the "
-                "teeth losing contact in the dynamic response: sweep.json's contact_loss)")
+DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone,\n"
+                "or the teeth losing contact in the dynamic response: sweep.json's contact_loss)")
 
 # the lowest elastic modes of a hybrid structure searched for each condensed gear's
 # nodal-diameter families (seed (3.9))

@@ -291,7 +291,8 @@ def run_case(
         pressure["modified", "exact"].max_pressure,
         pair,
         ppp,
-        f"of {case.name} over a tooth passage (rigid mesh, exact, modified)",
+        f"of {case.name} over a tooth passage (rigid mesh, exact, "
+        f"{'modified' if modified else 'no modifications'})",
     )
     harris_plot(
         os.path.join(out_dir, "harris_map.png"),
