@@ -96,14 +96,18 @@ def test_the_unexcited_sweep_says_df_1(lin_parker, tmp_path, monkeypatch):
 
 
 def test_every_crossing_line_is_labelled(tmp_path, monkeypatch):
-    """The planetary dynamic-factor plot: one text label per crossing line (frequency and
-    order), not one legend entry per order only."""
+    """The planetary dynamic-factor plot: every crossing line labelled at its top (frequency
+    and order), lines closer than a label's width under one label, not one legend entry per
+    order only; meshes whose curves coincide drawn once and named together (today the last
+    planet's curve hides the others')."""
     figs = _capture(monkeypatch, ps)
     crossings = [{"order": 3, "frequency_Hz": 743.2, "speed_rad_s": 72.5},
                  {"order": 3, "frequency_Hz": 1102.0, "speed_rad_s": 107.6},
                  {"order": 2, "frequency_Hz": 743.2, "speed_rad_s": 108.8}]
-    summary = {"speeds_rad_s": [20.0, 120.0], "dynamic_factor_mesh": [[1.1, 1.2], [1.3, 1.0]],
-               "mesh_names": ["sun-planet 1", "ring-planet 1"], "k_gamma": [1.0, 1.0],
+    df = [[1.1, 1.1, 1.2, 1.25], [1.3, 1.3, 1.0, 1.0]]
+    summary = {"speeds_rad_s": [20.0, 120.0], "dynamic_factor_mesh": df,
+               "mesh_names": ["sun-planet 1", "sun-planet 2", "ring-planet 1", "ring-planet 2"],
+               "k_gamma": [1.0, 1.0],
                "crossings": crossings, "speed_of": "input (sun)", "model": "planar",
                "ring_model": "rigid ring"}
 
@@ -111,9 +115,11 @@ def test_every_crossing_line_is_labelled(tmp_path, monkeypatch):
         name = "x"
 
     ps.dynamic_factor_plot(Case, summary, str(tmp_path / "df.png"))
-    (_, ax, _, _), = figs
+    (_, ax, labels, _), = figs
     texts = sorted(t.get_text() for t in ax.texts)
-    assert texts == ["1102 Hz / 3", "743 Hz / 2", "743 Hz / 3"]
+    assert texts == ["1102 Hz / 3, 743 Hz / 2", "743 Hz / 3"]  # 107.6 and 108.8 rad/s: one
+    assert labels[:3] == ["sun-planet 1, 2 (coincide)", "ring-planet 1", "ring-planet 2"]
+    assert len([ln for ln in ax.lines if ln.get_xdata()[0] == 20.0]) == 4  # 3 meshes, K_γ
 
 
 def test_a_wrapped_title_keeps_units_with_their_numbers():

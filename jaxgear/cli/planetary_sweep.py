@@ -133,6 +133,10 @@ SWEEP_FILES = (*RUN_SWEEP_FILES, "campbell.png")
 TURN_MAX_STEPS = 2**16
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
+#: per-mesh dynamic-factor curves closer than this share of the plotted range are drawn once
+COINCIDE_SHARE = 1e-3
+#: crossing lines closer than this share of the speed range share one label (7 pt text)
+LABEL_GAP = 0.015
 #: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
 #: to its mean (round-off: the lumped form's constant springs) and no pin error moves a planet:
 #: nothing excites the stage, its dynamic factors and K_γ are 1 (:func:`excitation`)
@@ -457,9 +461,12 @@ def crossings(natural, f_mesh: float, speeds) -> list[dict]:
 
 
 def dynamic_factor_plot(case, summary: dict, path: str) -> None:
-    """Each mesh's dynamic factor and the dynamic K_γ against the input speed, the mesh-order
-    crossings of the natural frequencies as vertical lines; an under-resolved time step
-    (``steps_resolution``) said in the title."""
+    """Each mesh's dynamic factor and the dynamic K_γ against the input speed (meshes whose
+    curves coincide, within :data:`COINCIDE_SHARE` of the range, drawn once and named
+    together), the mesh-order crossings of the natural frequencies as vertical lines, each
+    labelled with its frequency and order (lines closer than :data:`LABEL_GAP` of the speed
+    range under one label); an under-resolved time step (``steps_resolution``) said in the
+    title; a stage with nothing to excite (``excitation``) one line at 1 and the words."""
     fig, ax = new_figure()
     s = np.asarray(summary["speeds_rad_s"])
     df = np.asarray(summary["dynamic_factor_mesh"])
@@ -472,21 +479,45 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
         ax.ticklabel_format(axis="y", useOffset=False)
         ax.text(0.5, 0.75, quiet, transform=ax.transAxes, ha="center", va="center",
                 fontsize=9, bbox={"facecolor": "white", "edgecolor": "0.6"})
-    else:
-        for j, name in enumerate(summary["mesh_names"]):
-            ax.plot(s, df[:, j], "o-" if j < n else "s--", ms=3, lw=1.0, label=name)
+    else:  # meshes whose curves coincide (planets sharing alike) drawn once, named together
+        span = float(np.ptp(df)) or 1.0
+        groups: list[list[int]] = []
+        for j in range(df.shape[1]):
+            same = next((g for g in groups if (g[0] < n) == (j < n) and np.max(
+                np.abs(df[:, g[0]] - df[:, j])) <= COINCIDE_SHARE * span), None)
+            if same is None:
+                groups.append([j])
+            else:
+                same.append(j)
+        names = summary["mesh_names"]
+        for g in groups:
+            label = names[g[0]] if len(g) == 1 else (
+                names[g[0]].rsplit(" ", 1)[0] + " " + ", ".join(
+                    names[j].rsplit(" ", 1)[1] for j in g) + " (coincide)")
+            ax.plot(s, df[:, g[0]], "o-" if g[0] < n else "s--", ms=3, lw=1.0, label=label)
         ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
     styles = {1: "tab:red", 2: "tab:purple", 3: "tab:brown"}
     seen = set()
     trans = blended_transform_factory(ax.transData, ax.transAxes)
-    for c in summary["crossings"]:  # every line labelled at its top
-        k = c["order"]
-        ax.axvline(c["speed_rad_s"], color=styles.get(k, "0.5"), lw=0.7, ls="-.",
-                   label=None if k in seen else f"mesh order {k} × natural frequency")
-        ax.text(c["speed_rad_s"], 0.985, f"{c['frequency_Hz']:.0f} Hz / {k}", transform=trans,
-                rotation=90, fontsize=7, color=styles.get(k, "0.35"), va="top", ha="center",
-                bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"})
-        seen.add(k)
+    lo, hi = float(np.min(s)), float(np.max(s))
+    cross = sorted(summary["crossings"], key=lambda c: c["speed_rad_s"])
+    clusters: list[list[dict]] = []  # lines closer than a label's width share one label
+    for c in cross:
+        if clusters and c["speed_rad_s"] - clusters[-1][-1]["speed_rad_s"] < LABEL_GAP * (
+                hi - lo or 1.0):
+            clusters[-1].append(c)
+        else:
+            clusters.append([c])
+    for cl in clusters:  # every line labelled at its top
+        for c in cl:
+            k = c["order"]
+            ax.axvline(c["speed_rad_s"], color=styles.get(k, "0.5"), lw=0.7, ls="-.",
+                       label=None if k in seen else f"mesh order {k} × natural frequency")
+            seen.add(k)
+        text = ", ".join(f"{c['frequency_Hz']:.0f} Hz / {c['order']}" for c in cl)
+        ax.text(cl[0]["speed_rad_s"], 0.985, text, transform=trans, rotation=90, fontsize=7,
+                color=styles.get(cl[0]["order"], "0.35") if len(cl) == 1 else "0.3", va="top",
+                ha="center", bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"})
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
     res = summary.get("steps_resolution") or {}
