@@ -506,3 +506,26 @@ def test_dynamic_factor_names_at_most_three_peaks_without_overlap(tmp_path, figu
         assert not any(b.overlaps(o) for o in boxes[i + 1 :])
     marked = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
     assert len(marked) == 1 and len(marked[0].get_xdata()) == 2
+
+
+def test_every_critical_speed_line_is_labelled(tmp_path, monkeypatch):
+    """Each critical-speed line in range carries a label at its top, also the lines whose
+    coincidence a peak's label names (those: their harmonic, "H1", above it; today they had
+    none: one of three lines labelled on the default case's plot). Modes numbered from 1."""
+    from jaxgear.cli._plots import _sweep
+
+    figs = []
+    real = _sweep.savefig
+    monkeypatch.setattr(_sweep, "savefig", lambda fig, path: (figs.append(fig), real(fig, path)))
+    speed = 2 * math.pi * 2500.0 / (1 * Z1)  # mode index 2 × H1, a named peak
+    summary = _sweep_summary(df_peak_speed=speed + 3.0)
+    plots.dynamic_factor_plot(tmp_path / "df.png", summary)
+    (fig,) = figs
+    ax = fig.axes[0]
+    sp = summary["speeds_rad_s"]
+    shown = [c for c in summary["critical_speeds"] if sp[0] <= c["speed_rad_s"] <= sp[-1]]
+    lines = [t.get_text() for t in ax.texts if t.get_rotation() == 90.0]
+    assert len(lines) == len(shown) >= 3
+    assert "H1" in lines  # the named peak's line
+    assert all(re.fullmatch(r"(mode [1-4] × )?H[1-3]", t) for t in lines), lines
+    assert "mode 2 × H2" in lines  # index 1: mode 2, as jaxgear modes numbers it

@@ -253,16 +253,21 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
             mfc="none",
             label=f"smaller peak (the {PEAKS_NAMED} highest are named)",
         )
+    named = {  # the coincidences the peak labels name: their lines labelled short
+        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
+    }
     crit_texts = []
     for c in shown:
-        # every line labelled at its top (also where a named peak's label names it: the peak
-        # label may stand away from its line)
+        # every line labelled at its top (also where a named peak's label names it, which may
+        # stand away from its line: then its harmonic only, above that label)
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
+        short = (c["mode"], c["harmonic"]) in named  # a peak's label names it below
         crit_texts.append(
             ax.text(
                 c["speed_rad_s"],
                 0.985,
-                f"mode {mode_number(c)} × H{c['harmonic']}",
+                # a line a peak's label names: its short name, above that label
+                f"H{c['harmonic']}" if short else f"mode {mode_number(c)} × H{c['harmonic']}",
                 transform=trans,
                 rotation=90,
                 fontsize=7,
