@@ -6,8 +6,9 @@ import importlib.util
 import sys
 from pathlib import Path
 
-import jaxgear
 from fem_prep import run_build
+
+import jaxgear
 
 from ._parser import BENCHMARKS
 from ._paths import clear_outputs

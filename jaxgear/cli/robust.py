@@ -21,13 +21,13 @@ from .. import (
     DeviationSampler,
     Modifications,
     QuasiStaticMetrics,
-    io as case_io,
     mesh_positions,
     quasi_static,
     robust_samples,
     sample_statistics,
 )
 from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
+from .. import io as case_io
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
 from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs

@@ -11,7 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .. import contact_pressure, dynamics, io as case_io, load_map, quasi_static
+from .. import contact_pressure, load_map, quasi_static
+from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots

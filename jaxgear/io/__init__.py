@@ -28,11 +28,6 @@ from ._deviations_table import (
     deviation_kinds_from_names as deviation_kinds_from_names,
     parse_deviations as parse_deviations,
 )
-from ._gearbox_file import (
-    PAIR_INPUTS as PAIR_INPUTS,
-    GearboxForm as GearboxForm,
-    GearboxStage as GearboxStage,
-)
 from ._load import (
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,
@@ -44,16 +39,21 @@ from ._names import (
     foundation_from_name as foundation_from_name,
     stiffness_from_name as stiffness_from_name,
 )
+from ._gearbox_file import (
+    PAIR_INPUTS as PAIR_INPUTS,
+    GearboxForm as GearboxForm,
+    GearboxStage as GearboxStage,
+)
 from ._optimise_table import (
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
     parse_optimise as parse_optimise,
 )
+from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._planetary_spec import (
     InternalMeshForm as InternalMeshForm,
     PlanetaryForm as PlanetaryForm,
     PlanetarySpec as PlanetarySpec,
 )
-from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._problem import (
     OBJECTIVES as OBJECTIVES,
     OPTIMISERS as OPTIMISERS,
