@@ -197,14 +197,11 @@ class PlanetaryStage(eqx.Module):
             e_z normal to its plane of action (d the line of action's transverse direction):
             a tilt theta_perp moves a point z across the face by -z cos(beta_b) theta_perp
             along the normal (23 % less than k b^2 / 12 at beta_b = 28.5 deg).
-        sun_mesh_tilt_stiffness, ring_mesh_tilt_stiffness: the sun-planet and ring-planet
-            meshes' tilting stiffness kappa (N m/rad, about e_perp as above), shape ``()``,
-            >= 0, as published lumped models give one (Eritenel & Parker 2009); None
-            (default): k b^2 cos^2(beta_b) / 12 from the face width. Given, the mesh's
-            stiffness is spread over the width b_kappa with k b_kappa^2 cos^2(beta_b) / 12 =
-            kappa (:meth:`mesh_face_widths`): :class:`~jaxgear.SpatialPlanetary`'s matrix and
-            :class:`~jaxgear.ConstantMeshes`' springs; contact meshes take theirs from their
-            cells. Only the 3D model has tilts.
+        sun_mesh_tilt_stiffness, ring_mesh_tilt_stiffness: each mesh's tilting stiffness
+            kappa (N m/rad, about e_perp), shape ``()``, >= 0, as published models give one
+            (Eritenel & Parker 2009); None (default): k b^2 cos^2(beta_b) / 12. Given, k is
+            spread over b_kappa with k b_kappa^2 cos^2(beta_b) / 12 = kappa
+            (:meth:`mesh_face_widths`; the 3D matrix and ConstantMeshes' springs).
 
     Raises:
         ValueError: fewer than one planet, an angle or stiffness out of range (one line).
@@ -601,23 +598,14 @@ class TorsionalPlanetary(AbstractPlanetaryModel):
     carrier, eta_n = u_c). A rotation about the stage axis has no Coriolis nor centripetal term:
     G = K_Omega = 0.
 
-    Conventions a reader comparing with the literature needs (the matrices are T^T M T and
-    T^T K T of :class:`PlanarPlanetary`'s with this constraint T, :meth:`reduction`):
-
-    * u = r_b theta for every member (m), the carrier's u_c = r_c theta_c at the planet-circle
-      radius r_c (its ``base_radius``); positive counter-clockwise.
-    * The carrier enters each mesh through the planet centre's tangential motion eta_n = u_c,
-      projected on the line of action: delta_sn = u_s + u_n - u_c cos a_s and delta_rn = u_r -
-      u_n - u_c cos a_r (compression positive; Lin & Parker's planar deflections with
-      x = y = zeta = 0). Forms that write the carrier as r_c theta_c cos a, or that leave out
-      the cos a, differ from this by that factor.
-    * The planets' mass rides on the carrier: the planet centres move with it (eta_n = u_c),
-      so the carrier's mass on u_c is I_c / r_c^2 + N m_p (m_p the planet's ``mass``), and
-      each planet keeps only its rotation's I_p / r_p^2 on u_n. Models that leave the planets'
-      translation out of the carrier's inertia give a higher carrier mode.
-
-    Source: A. Kahraman, "Natural modes of planetary gear trains", J. Sound Vib. 173 (1994)
-    125-130; J. Lin and R. G. Parker (1999) for the deflections."""
+    Conventions (the matrices are T^T M T, T^T K T of :class:`PlanarPlanetary`'s, T the
+    constraint, :meth:`reduction`): u = r_b theta, the carrier's u_c = r_c theta_c at the
+    planet circle; the carrier enters each mesh as the planet centre's eta_n = u_c on the line
+    of action, delta_sn = u_s + u_n - u_c cos a_s, delta_rn = u_r - u_n - u_c cos a_r (forms
+    without the cos a differ by it); the planets' mass rides on the carrier (their centres move
+    with it): its mass on u_c is I_c / r_c^2 + N m_p, a planet keeps I_p / r_p^2 on u_n (a
+    model without it has a higher carrier mode). Source: A. Kahraman, J. Sound Vib. 173 (1994)
+    125-130; Lin & Parker (1999) for the deflections."""
 
     def reduction(self, stage):
         n = stage.n_planets

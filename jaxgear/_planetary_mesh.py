@@ -201,11 +201,9 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
             dynamics).
         face_points: static, the Gauss-Legendre points across the stage's face width at which
             each spring acts (weights summing to 1; default 1: at mid-face). The 3D model
-            (:class:`~jaxgear.SpatialPlanetary`) needs 2 to hold its meshes' tilting stiffness
-            k b^2 cos^2(beta_b) / 12 (its stiffness matrix's two points; the points span each
-            mesh's :meth:`~jaxgear.PlanetaryStage.mesh_face_widths`, the face width or the width
-            of a given tilting stiffness); the planar and torsional models see
-            the same deflection across the face. A model whose springs act along the tooth
+            (:class:`~jaxgear.SpatialPlanetary`) needs 2 for its meshes' tilting stiffness
+            (its matrix's two points, across :meth:`~jaxgear.PlanetaryStage.mesh_face_widths`);
+            the planar and torsional models see the same deflection across the face. A model whose springs act along the tooth
             normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on the
             transverse deflection, so that the forces are transverse.
     """
@@ -220,11 +218,10 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
 
     def _gauss(self, stage):
         """The Gauss-Legendre points across each mesh's spread width (m from the mid-plane,
-        (face_points, 2N): :meth:`~jaxgear.PlanetaryStage.mesh_face_widths`, sun meshes then
-        ring meshes) and their weights (face_points,), summing to 1."""
+        (face_points, 2N), sun meshes then ring) and their weights, summing to 1."""
         z, w = np.polynomial.legendre.leggauss(self.face_points)
-        widths = jnp.concatenate(stage.mesh_face_widths())
-        return 0.5 * jnp.asarray(z)[:, None] * widths[None], jnp.asarray(0.5 * w)
+        return (0.5 * jnp.asarray(z)[:, None] * jnp.concatenate(stage.mesh_face_widths())[None],
+                jnp.asarray(0.5 * w))
 
     def cell_row(self, model, stage, x, offsets):
         # one cell per mesh and face point, point after point; the spring k acts on c times
@@ -254,9 +251,8 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         return forces.reshape(forces.shape[:-1] + (self.face_points, -1)).sum(-2)
 
     def face_positions(self, stage):
-        z, _ = self._gauss(stage)
-        n = 2 * stage.n_planets
-        return z.reshape(-1), jnp.broadcast_to(stage.face_width, (n,))
+        return (self._gauss(stage)[0].reshape(-1),
+                jnp.broadcast_to(stage.face_width, (2 * stage.n_planets,)))
 
 
 def _hand(stage):

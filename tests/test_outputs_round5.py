@@ -15,8 +15,7 @@ import numpy as np
 import pytest
 
 import jaxgear.io as jio
-from jaxgear.cli import planetary_sweep as ps
-from jaxgear.cli._plots import _figure
+from jaxgear.cli import planetary_sweep as ps, plots
 
 pytestmark = [pytest.mark.filterwarnings("ignore:.*time step under-resolved"),
               pytest.mark.filterwarnings("ignore:.*not settled")]
@@ -45,10 +44,20 @@ def lin_parker():
     return jio.load_case("lin-parker-1999")
 
 
+def _sweep_stage(case):
+    """(spec, the sweep's dynamic stage, its meshes, the planar model) of a lumped case, through
+    the public API (as planetary_sweep builds them)."""
+    import jaxgear as jg
+
+    spec = case.form.spec
+    return (spec, spec.sharing_stage(spec.stage(case)), spec.dynamic_meshes(case, 1),
+            jg.PlanarPlanetary())
+
+
 def test_lin_parker_has_nothing_to_excite(lin_parker):
     """The lumped form's constant springs: the meshes' stiffness over a mesh period varies by
     0 relative to its mean (round-off at most), no pin error, no eccentricity: not excited."""
-    spec, stage, meshes, model = ps._dynamic_setup(lin_parker.form, lin_parker)
+    spec, stage, meshes, model = _sweep_stage(lin_parker)
     e = ps.excitation(model, stage, meshes, spec)
     assert e["mesh_stiffness_variation"] < 1e-12
     assert e["excited"] is False and "no excitation" in e["words"]
@@ -61,7 +70,7 @@ def test_a_pin_error_or_an_eccentricity_is_an_excitation(lin_parker):
         data = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))
         data["planetary"].update(extra)
         case = jio.parse_train(data)
-        spec, stage, meshes, model = ps._dynamic_setup(case.form, case)
+        spec, stage, meshes, model = _sweep_stage(case)
         assert ps.excitation(model, stage, meshes, spec)["excited"] is True, extra
 
 
@@ -125,11 +134,11 @@ def test_every_crossing_line_is_labelled(tmp_path, monkeypatch):
 def test_a_wrapped_title_keeps_units_with_their_numbers():
     """A title wider than its axes is wrapped at spaces, but never between a number and its
     unit or after a ≥ sign (today "5 %" ends a line with "5" and starts the next with "%")."""
-    fig, ax = _figure.new_figure()
+    fig, ax = plots.new_figure()
     words = "power-helical: Campbell diagram, modes with ≥ 1% mesh strain energy (black ≥ 5 %)"
     for pad in range(40):  # wherever the break falls, "%" never starts a line
         ax.set_title("x" * pad + " " + words)
-        _figure.wrap_titles(fig)
+        plots.wrap_titles(fig)
         lines = ax.get_title().splitlines()
         assert len(lines) >= 1
         assert not any(line.lstrip().startswith(("%", "µm")) for line in lines)
@@ -161,7 +170,7 @@ def test_plain_progress_lines_on_a_redirected_stream():
     no escape code, no blank line; each state once, with its count and estimate."""
     import io
 
-    from jaxgear.cli._progress import progress
+    from jaxgear.cli import progress
 
     log = io.StringIO()
     outer = progress(total=3, desc="outer", file=log, mininterval=0)
@@ -185,7 +194,8 @@ def test_modes_are_numbered_alike_in_the_figures_and_jaxgear_modes():
     """A coincidence with mode index 2 (0-based into the modal analysis, as sweep.json keeps
     it) is named "mode 3" in the figures, the number `jaxgear modes` prints on that mode's row
     (today the figures print "mode 2", one off)."""
-    from jaxgear.cli._plots._sweep import coincidence_name
+    from jaxgear.cli.plots import coincidence_name
+
     from jaxgear.cli.modes import mode_table
 
     freqs = [0.0, 1200.0, 2500.0, 4100.0]
@@ -235,11 +245,9 @@ def test_no_modified_rows_without_modifications():
 def test_coinciding_stiffness_curves_are_drawn_once_and_named(tmp_path):
     """mesh_stiffness.png: two equal curves are one line whose legend names both (today the
     second, drawn solid on top, hides the first); different curves each their own style."""
-    from jaxgear.cli._plots import _quasi_static as qs
-
     x = np.linspace(0.0, 2.0, 50)
     k = 3e8 + 1e7 * np.sin(2 * np.pi * x)
-    labels = qs.mesh_stiffness_plot(tmp_path / "k.png", x, {"a": k, "b": k.copy(),
+    labels = plots.mesh_stiffness_plot(tmp_path / "k.png", x, {"a": k, "b": k.copy(),
                                                             "c": 1.2 * k}, title="t")
     assert labels == ["a = b (coincide)", "c"]
 
@@ -264,8 +272,7 @@ def test_the_dynamic_pressure_map_explains_its_zero_bands():
     import os
     import tempfile
 
-    from jaxgear.cli._plots._quasi_static import load_map_plot
-    from jaxgear.cli._sweep_json import DYNAMIC_ZERO
+    from jaxgear.cli.plots import DYNAMIC_ZERO, load_map_plot
 
     with tempfile.TemporaryDirectory() as d:
         pc = load_map_plot(os.path.join(d, "m.png"), np.linspace(0, 5e-3, 6),
@@ -418,7 +425,7 @@ def test_the_case_file_reference_shows_the_optimise_defaults():
     'te_rms', method 'lbfgs', reduce 'max', max_iterations 100, lp_order 8), none of them
     "required" (every one is optional); the defaults are the ones jaxgear optimise takes."""
     from docs._gen import schema_reference
-    from jaxgear.cli._optimise import settings_from_case
+    from jaxgear.cli import settings_from_case
 
     text = schema_reference.pages()["case-file.md"]
     table = text.split("## `[optimise]`", 1)[1].split("\n## ", 1)[0]

@@ -512,11 +512,16 @@ def test_every_critical_speed_line_is_labelled(tmp_path, monkeypatch):
     """Each critical-speed line in range carries a label at its top, also the lines whose
     coincidence a peak's label names (those: their harmonic, "H1", above it; today they had
     none: one of three lines labelled on the default case's plot). Modes numbered from 1."""
-    from jaxgear.cli._plots import _sweep
+    import matplotlib.figure
 
     figs = []
-    real = _sweep.savefig
-    monkeypatch.setattr(_sweep, "savefig", lambda fig, path: (figs.append(fig), real(fig, path)))
+    real = matplotlib.figure.Figure.savefig
+
+    def keep(fig, *args, **kw):
+        figs.append(fig)
+        return real(fig, *args, **kw)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
     speed = 2 * math.pi * 2500.0 / (1 * Z1)  # mode index 2 × H1, a named peak
     summary = _sweep_summary(df_peak_speed=speed + 3.0)
     plots.dynamic_factor_plot(tmp_path / "df.png", summary)

@@ -38,14 +38,14 @@ class PlainProgress(_tqdm):
         return True
 
     def close(self):
-        if not getattr(self, "disable", True) and self.leave is not False:
+        if not self.__dict__.get("disable", True) and self.leave is not False:
             self.display()  # the final state, once
         self.sp = None  # tqdm's close: nothing more to clear or to end with a newline
         super().close()
 
 
 def _terminal(file) -> bool:
-    if "ipykernel" in sys.modules:  # a notebook: tqdm.auto's widget
+    if sys.modules.get("ipykernel") is not None:  # a notebook: tqdm.auto's widget
         return True
     try:
         return bool(file.isatty())

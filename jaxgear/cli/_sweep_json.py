@@ -32,7 +32,13 @@ from ._case_kinds import (
     per_mesh_keys,
     pressure_curves,
 )
-from ._plots import campbell_plot, dynamic_factor_plot, face_map, pressure_speed_plot
+from ._plots import (
+    DYNAMIC_ZERO,
+    campbell_plot,
+    dynamic_factor_plot,
+    face_map,
+    pressure_speed_plot,
+)
 from .scene import write_body_series
 
 __all__ = [
@@ -57,10 +63,6 @@ __all__ = [
     "write_sweep",
     "write_sweep_csv",
 ]
-
-#: what the dynamic pressure map's bands of 0 MPa are (its legend)
-DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone,\n"
-                "or the teeth losing contact in the dynamic response: sweep.json's contact_loss)")
 
 # the lowest elastic modes of a hybrid structure searched for each condensed gear's
 # nodal-diameter families (seed (3.9))

@@ -45,7 +45,6 @@ import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
 from .. import (
-    AbstractPlanetaryMeshes,
     ConstantMeshes,
     PlanarPlanetary,
     RigidRing,
@@ -64,12 +63,14 @@ from ..io import CaseWarning, write_json
 from ._planetary_steps import (
     KEEP_OTHER,
     KEEP_PERIODIC,
+    NO_EXCITATION_TOL,
     SETTLE_TOL,
     SETTLED_TOL,
     STEPS_PER_TOP_PERIOD,
     SweepRecords,
     TimePlan,
     carrier_periodic,
+    excitation,
     speed_groups,
     speed_run,
     step_resolution,
@@ -137,12 +138,6 @@ SPECTRUM_RANGE = 1e-7
 COINCIDE_SHARE = 1e-3
 #: crossing lines closer than this share of the speed range share one label (7 pt text)
 LABEL_GAP = 0.015
-#: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
-#: to its mean (round-off: the lumped form's constant springs) and no pin error moves a planet:
-#: nothing excites the stage, its dynamic factors and K_γ are 1 (:func:`excitation`)
-NO_EXCITATION_TOL = 1e-9
-#: mesh travels per mesh period at which :func:`excitation` reads the meshes' stiffness
-EXCITATION_POSITIONS = 16
 #: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
 #: :func:`~jaxgear.cli.planetary.spatial_model`)
 MODEL = PlanarPlanetary()
@@ -263,7 +258,6 @@ def planetary_sweep(
     summary["ring_spectrum"] = ring_spectrum(
         case, stage, meshes, run, summary["speed_of_max_rad_s"],
         os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled,
-        excited=summary["excitation"]["excited"],
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -416,37 +410,6 @@ def sweep_summary(
     return summary, (stage, meshes, run_i, ring, model, settled_turn)
 
 
-def excitation(model, stage, meshes, spec) -> dict:
-    """Whether anything excites the sweep's stage: ``mesh_stiffness_variation`` (the largest
-    (max − min)/mean of a mesh's stiffness over one mesh period, at
-    :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.AbstractPlanetaryMeshes.mesh_stiffness`),
-    ``pin_errors`` (any non-zero pin error), ``eccentricities`` (a member's or a planet's
-    runout), ``flexible_ring`` (a condensed ring: the planets pass its cells), ``te_offsets``
-    (meshes whose TE leaves material out: the deviations per tooth) and ``excited``: False
-    where the variation is below :data:`NO_EXCITATION_TOL` (round-off) and none of the others
-    is there, the lumped form's constant springs: the stage then answers its static load, every dynamic factor and K_γ
-    is 1 and ``words`` says so (``sweep.json``'s ``excitation``)."""
-    k_s, k_r = meshes.mesh_stiffness(model, stage, meshes.positions(EXCITATION_POSITIONS))
-    k = np.concatenate([np.asarray(k_s), np.asarray(k_r)], axis=1)
-    mean = np.abs(k.mean(axis=0))
-    variation = float(np.max((k.max(axis=0) - k.min(axis=0)) / np.where(mean > 0, mean, 1.0)))
-    pins = bool(np.any(np.asarray(spec.tangential_pin_errors) != 0)
-                or np.any(np.asarray(spec.radial_pin_errors) != 0))
-    others = {"eccentricities": bool(spec.eccentric),  # turning once per turn
-              "flexible_ring": bool(spec.ring_model.flexible),  # the planets pass its cells
-              "te_offsets": type(meshes).te_offsets is not AbstractPlanetaryMeshes.te_offsets}
-    excited = pins or any(others.values()) or not variation < NO_EXCITATION_TOL
-    return {
-        "mesh_stiffness_variation": variation,
-        "pin_errors": pins,
-        **others,
-        "excited": excited,
-        "words": None if excited else (
-            "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, "
-            "K_γ = 1"),
-    }
-
-
 def crossings(natural, f_mesh: float, speeds) -> list[dict]:
     """Where a mesh order k (:data:`MESH_ORDERS`) meets a natural frequency f within the
     swept input speeds: ω_in = f / (k f_mesh) (``f_mesh``: Hz per rad/s of the input)."""
@@ -533,7 +496,7 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
 
 
 def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
-                  settled=None, *, excited: bool = True) -> dict:
+                  settled=None) -> dict:
     """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
@@ -545,8 +508,9 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
     else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
     :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`).
-    ``excited`` False (:func:`excitation`): the title says the stage has nothing to excite
-    (``speed``: the operating speed's, the planets' passing alone shows)."""
+    Where the mesh order's amplitude is round-off (below :data:`NO_EXCITATION_TOL` of the mean
+    load: nothing excites the meshes, :func:`excitation`), the title says so: the planets'
+    passing alone shows."""
     spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
@@ -582,9 +546,10 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         ax.set_ylim(peak * SPECTRUM_RANGE, peak * 2.0)
     ax.set_xlabel("order of the carrier's turn relative to the ring (-)")
     ax.set_ylabel("amplitude (kN)")
+    excited = not (z_r < len(amp) and amp[z_r] < NO_EXCITATION_TOL * abs(amp[0]))
     ax.set_title(f"{case.name}: ring transducer at {speed:.4g} rad/s (input), one carrier turn"
-                 + ("" if excited else "; no excitation (constant mesh stiffness): the "
-                    "operating speed, the planets' passing only"))
+                 + ("" if excited else "; no excitation (the mesh orders are round-off): the "
+                    "planets' passing only"))
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
     near = [m for m in marks if 0 < m < len(amp)]
@@ -599,7 +564,7 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         "mean_N": float(amp[0]),
         "turn": "one settled mesh period repeated" if settled is not None else "integrated",
         "turn_steps_per_period": int(steps),
-        "speed_chosen": "worst dynamic factor" if excited else "operating (no excitation)",
+        "mesh_orders_excited": bool(excited),
     }
 
 

@@ -15,6 +15,9 @@ from ... import load_map
 from ._figure import finish, legend_below_and_save, new_figure, savefig
 
 __all__ = [
+    "DYNAMIC_ZERO",
+    "LUMPED_STIFFNESS_NOTE",
+    "SCENE_STIFFNESS_NOTE",
     "TE_COINCIDE_SHARE",
     "face_map",
     "face_maps",
@@ -28,6 +31,26 @@ __all__ = [
     "transmission_error_plot",
 ]
 
+
+#: what the rigid mesh's and a scene's "mesh stiffness" curves are (``mesh_stiffness.png``'s note)
+SCENE_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells. Rigid mesh: the cells carry the whole tooth "
+    "compliance (tooth, foundation, contact).\nA condensed body's cells leave out its "
+    "foundation term (its FE rim carries that compliance): higher K, not the whole mesh's "
+    "stiffness (T/TE is)."
+)
+
+
+#: the same for a scene without condensed bodies (its cells are the rigid mesh's)
+LUMPED_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells (tooth, foundation, contact); the scene's shafts "
+    "and bearings are not in it"
+)
+
+
+#: what the dynamic pressure map's bands of 0 MPa are (its legend)
+DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone,\n"
+                "or the teeth losing contact in the dynamic response: sweep.json's contact_loss)")
 
 #: exact and smooth TE are drawn as one curve when they differ by less than this share of the
 #: plotted TE range (about the width of a line on a FIGSIZE figure)
