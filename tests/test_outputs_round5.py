@@ -194,9 +194,9 @@ def test_modes_are_numbered_alike_in_the_figures_and_jaxgear_modes():
     """A coincidence with mode index 2 (0-based into the modal analysis, as sweep.json keeps
     it) is named "mode 3" in the figures, the number `jaxgear modes` prints on that mode's row
     (today the figures print "mode 2", one off)."""
-    from jaxgear.cli.plots import coincidence_name
-
     from jaxgear.cli.modes import mode_table
+
+    coincidence_name = plots.coincidence_name
 
     freqs = [0.0, 1200.0, 2500.0, 4100.0]
     data = {"case": "x", "classification": "c",
@@ -272,7 +272,7 @@ def test_the_dynamic_pressure_map_explains_its_zero_bands():
     import os
     import tempfile
 
-    from jaxgear.cli.plots import DYNAMIC_ZERO, load_map_plot
+    DYNAMIC_ZERO, load_map_plot = plots.DYNAMIC_ZERO, plots.load_map_plot
 
     with tempfile.TemporaryDirectory() as d:
         pc = load_map_plot(os.path.join(d, "m.png"), np.linspace(0, 5e-3, 6),
