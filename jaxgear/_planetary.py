@@ -60,6 +60,11 @@ __all__ = [
 ]
 
 
+def _optional(value) -> Float[Array, ""] | None:
+    """None stays None (the field's default), a number becomes a float array."""
+    return None if value is None else as_float(value)
+
+
 def _pair(value) -> Float[Array, " 2"]:
     """One stiffness for both directions, or two."""
     return jnp.broadcast_to(as_float(value), (2,))
@@ -188,7 +193,16 @@ class PlanetaryStage(eqx.Module):
             spur).
         face_width: the meshes' face width b (m), shape ``()``, >= 0 (default 0: the mesh
             stiffness at one point): :class:`~jaxgear.SpatialPlanetary` spreads each mesh
-            stiffness uniformly over it, which gives the mesh its tilting stiffness k b^2/12.
+            stiffness k (along the tooth normal) uniformly over it, which gives the mesh the
+            tilting stiffness k b^2 cos^2(beta_b) / 12 (N m/rad) about the axis e_perp = d x
+            e_z normal to its plane of action (d the line of action's transverse direction):
+            a tilt theta_perp moves a point z across the face by -z cos(beta_b) theta_perp
+            along the normal (23 % less than k b^2 / 12 at beta_b = 28.5 deg).
+        sun_mesh_tilt_stiffness, ring_mesh_tilt_stiffness: each mesh's tilting stiffness
+            kappa (N m/rad, about e_perp), shape ``()``, >= 0, as published models give one
+            (Eritenel & Parker 2009); None (default): k b^2 cos^2(beta_b) / 12. Given, k is
+            spread over b_kappa with k b_kappa^2 cos^2(beta_b) / 12 = kappa
+            (:meth:`mesh_face_widths`; the 3D matrix and ConstantMeshes' springs).
 
     Raises:
         ValueError: fewer than one planet, an angle or stiffness out of range, planets whose
@@ -218,11 +232,19 @@ class PlanetaryStage(eqx.Module):
     helix_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     face_width: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     unbalances: Unbalances | None = None
+    sun_mesh_tilt_stiffness: Float[Array, ""] | None = eqx.field(converter=_optional,
+                                                                  default=None)
+    ring_mesh_tilt_stiffness: Float[Array, ""] | None = eqx.field(converter=_optional,
+                                                                   default=None)
 
     def __check_init__(self):
         check_real("helix_angle", self.helix_angle, "rad", lo=-np.pi / 2, hi=np.pi / 2,
                    lo_open=True, hi_open=True, shape=(), where="PlanetaryStage")
         check_real("face_width", self.face_width, "m", lo=0.0, shape=(), where="PlanetaryStage")
+        for name in ("sun_mesh_tilt_stiffness", "ring_mesh_tilt_stiffness"):
+            if getattr(self, name) is not None:
+                check_real(name, getattr(self, name), "N m/rad", lo=0.0, shape=(),
+                           where="PlanetaryStage")
         check_instance("eccentricities", self.eccentricities, Eccentricities,
                        "a jaxgear.Eccentricities", "PlanetaryStage")
         if self.unbalances is not None:
@@ -310,6 +332,27 @@ class PlanetaryStage(eqx.Module):
     def n_planets(self) -> int:
         """Number of planets N (static)."""
         return self.planet_angles.shape[0]
+
+    def mesh_face_widths(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
+        """(b_s, b_r), each (n_planets,): the width (m) across the face over which each
+        planet's sun and ring mesh stiffness is spread (:class:`~jaxgear.SpatialPlanetary`'s
+        two Gauss points at +-b / (2 sqrt 3), :class:`~jaxgear.ConstantMeshes`' points): the
+        face width, or where the mesh's tilting stiffness kappa is given, sqrt(12 kappa / (k
+        cos^2 beta_b)), so that its tilting stiffness k b^2 cos^2(beta_b) / 12 is kappa (0
+        where k = 0)."""
+        n = (self.n_planets,)
+        c2 = jnp.cos(self.helix_angle) ** 2
+
+        def width(k, kappa):
+            if kappa is None:
+                return jnp.broadcast_to(self.face_width, n)
+            loaded = k > 0
+            return jnp.where(loaded, jnp.sqrt(12.0 * kappa / jnp.where(loaded, k * c2, 1.0)),
+                             0.0)
+
+        k_s, k_r = self.mesh_stiffnesses()
+        return (width(k_s, self.sun_mesh_tilt_stiffness),
+                width(k_r, self.ring_mesh_tilt_stiffness))
 
     def mesh_stiffnesses(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(k_sn, k_rn): the sun-planet and ring-planet mesh stiffness of each planet (N/m)."""
@@ -584,7 +627,16 @@ class TorsionalPlanetary(AbstractPlanetaryModel):
     """The torsional model (Kahraman 1994): one rotation per member, ``(u_c, u_r, u_s, u_1..
     u_N)``; the members' centres and the planet pins are rigid (the planet centre moves with the
     carrier, eta_n = u_c). A rotation about the stage axis has no Coriolis nor centripetal term:
-    G = K_Omega = 0."""
+    G = K_Omega = 0.
+
+    Conventions (the matrices are T^T M T, T^T K T of :class:`PlanarPlanetary`'s, T the
+    constraint, :meth:`reduction`): u = r_b theta, the carrier's u_c = r_c theta_c at the
+    planet circle; the carrier enters each mesh as the planet centre's eta_n = u_c on the line
+    of action, delta_sn = u_s + u_n - u_c cos a_s, delta_rn = u_r - u_n - u_c cos a_r (forms
+    without the cos a differ by it); the planets' mass rides on the carrier (their centres move
+    with it): its mass on u_c is I_c / r_c^2 + N m_p, a planet keeps I_p / r_p^2 on u_n (a
+    model without it has a higher carrier mode). Source: A. Kahraman, J. Sound Vib. 173 (1994)
+    125-130; Lin & Parker (1999) for the deflections."""
 
     def reduction(self, stage):
         n = stage.n_planets

@@ -213,9 +213,9 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
             dynamics).
         face_points: static, the Gauss-Legendre points across the stage's face width at which
             each spring acts (weights summing to 1; default 1: at mid-face). The 3D model
-            (:class:`~jaxgear.SpatialPlanetary`) needs 2 to hold its meshes' tilting stiffness
-            k b^2 / 12 (its stiffness matrix's two points); the planar and torsional models see
-            the same deflection across the face. A model whose springs act along the tooth
+            (:class:`~jaxgear.SpatialPlanetary`) needs 2 for its meshes' tilting stiffness
+            (its matrix's two points, across :meth:`~jaxgear.PlanetaryStage.mesh_face_widths`);
+            the planar and torsional models see the same deflection across the face. A model whose springs act along the tooth
             normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on the
             transverse deflection, so that the forces are transverse.
     """
@@ -229,10 +229,11 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         check_integer("face_points", self.face_points, 1)
 
     def _gauss(self, stage):
-        """The Gauss-Legendre points across the stage's face width (m from the mid-plane) and
-        their weights (summing to 1)."""
+        """The Gauss-Legendre points across each mesh's spread width (m from the mid-plane,
+        (face_points, 2N), sun meshes then ring) and their weights, summing to 1."""
         z, w = np.polynomial.legendre.leggauss(self.face_points)
-        return 0.5 * stage.face_width * jnp.asarray(z), jnp.asarray(0.5 * w)
+        return (0.5 * jnp.asarray(z)[:, None] * jnp.concatenate(stage.mesh_face_widths())[None],
+                jnp.asarray(0.5 * w))
 
     def cell_row(self, model, stage, x, offsets):
         # one cell per mesh and face point, point after point; the spring k acts on c times
@@ -243,7 +244,7 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         d_s, d_r = offsets
         z, weight = self._gauss(stage)
         V0, W = jnp.concatenate([v_s, v_r]), jnp.concatenate([w_s, w_r])
-        V = (V0[None] + z[:, None, None] * W[None]).reshape(-1, V0.shape[-1])
+        V = (V0[None] + z[:, :, None] * W[None]).reshape(-1, V0.shape[-1])
         k = jnp.concatenate([k_s, k_r]) * model.spring_cos(stage) ** 2
         k = (weight[:, None] * k[None]).reshape(-1)
         d0 = jnp.tile(-jnp.concatenate([d_s, d_r]), self.face_points)
@@ -262,9 +263,8 @@ class ConstantMeshes(AbstractPlanetaryMeshes):
         return forces.reshape(forces.shape[:-1] + (self.face_points, -1)).sum(-2)
 
     def face_positions(self, stage):
-        z, _ = self._gauss(stage)
-        n = 2 * stage.n_planets
-        return jnp.repeat(z, n), jnp.broadcast_to(stage.face_width, (n,))
+        return (self._gauss(stage)[0].reshape(-1),
+                jnp.broadcast_to(stage.face_width, (2 * stage.n_planets,)))
 
 
 def _hand(stage):

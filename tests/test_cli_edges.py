@@ -130,7 +130,7 @@ def test_run_sweep_slices_are_recorded(monkeypatch, tmp_path, capsys):
 
     monkeypatch.setattr(run_module, "run_case", lambda case, out, **kw: {"case": case.name})
     monkeypatch.setattr(scene_module, "scene_outputs", lambda *a, **kw: {})
-    monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness: "")
+    monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness, *modified: "")
     monkeypatch.setattr(scene_module, "scene_lines", lambda s: [])
     monkeypatch.setattr(sweep_module, "sweep_case_run", fake_sweep)  # (summary, worst run)
     out = tmp_path / "o"

@@ -92,9 +92,11 @@ def test_planetary_run_bar_over_its_stages(tmp_path, capsys, monkeypatch):
         *("model", "speed_of", "speeds_rad_s", "dynamic_factor", "max_dynamic_factor"),
         *("speed_of_max_rad_s", "mesh_names", "max_dynamic_factor_mesh", "k_gamma"),
         *("max_k_gamma", "ring_model", "ring", "steps_per_period", "steps_resolution"),
+        "excitation",
     ]
     monkeypatch.setattr(cli_planetary, "planetary_files", lambda *a: {"case": case.name})
-    monkeypatch.setattr(cli_planetary, "planetary_sweep", lambda *a: dict.fromkeys(sweep_keys))
+    monkeypatch.setattr(cli_planetary, "planetary_sweep",
+                        lambda *a, **kw: dict.fromkeys(sweep_keys))
 
     class Args:
         quiet = False

@@ -35,7 +35,7 @@ def _fake_run_case(case, out, **kw):
 @pytest.fixture
 def quick_run(monkeypatch):
     monkeypatch.setattr(run_module, "run_case", _fake_run_case)
-    monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness: "")
+    monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness, *modified: "")
 
 
 def _listed(folder):

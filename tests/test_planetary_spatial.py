@@ -58,8 +58,9 @@ def frequencies(k, m):
 
 def out_of_plane(st):
     """The axial-tilting system of a spur stage written by hand: per member (z, tilt 1, tilt 2);
-    the meshes' tilting stiffness k b^2/12 on the relative tilt seen across the face, the pins'
-    axial and tilting springs, the central bearings."""
+    the meshes' tilting stiffness k b^2/12 (k b^2 cos^2 beta_b / 12 at beta_b = 0) on the
+    relative tilt seen across the face, the pins' axial and tilting springs, the central
+    bearings."""
     n, psi, b = st.n_planets, np.asarray(st.planet_angles), float(st.face_width)
     size = 3 * (3 + n)
     k = np.zeros((size, size))

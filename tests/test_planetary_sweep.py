@@ -177,7 +177,7 @@ def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
 @pytest.mark.slow
 def test_the_files_and_keys(swept):
     _, out, s = swept
-    assert {p.name for p in out.iterdir()} == set(ps.RUN_SWEEP_FILES)
+    assert {p.name for p in out.iterdir()} == set(ps.SWEEP_FILES)
     on_disk = json.loads((out / "sweep.json").read_text())
     assert on_disk["mesh_names"] == [f"sun-planet {k}" for k in (1, 2, 3)] + [
         f"ring-planet {k}" for k in (1, 2, 3)
@@ -197,7 +197,7 @@ def test_jaxgear_sweep_end_to_end_and_refusals(case_path, tmp_path, capsys):
     assert main(argv) == 0
     printed = capsys.readouterr().out
     assert "small-stage: 2 input speeds, max dynamic factor" in printed
-    assert set(ps.RUN_SWEEP_FILES) <= {p.name for p in out.iterdir()}
+    assert set(ps.SWEEP_FILES) <= {p.name for p in out.iterdir()}
     assert json.loads((out / "sweep.json").read_text())["speeds_rad_s"] == [20.0, 45.0]
     for extra, words in (
         (["--vtu-speed", "30"], "--vtu-speed = 30.0: a planetary stage's sweep has no such"),

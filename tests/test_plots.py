@@ -121,7 +121,8 @@ def test_dynamic_factor_peak_named_after_the_coinciding_mode(tmp_path):
     (p,) = peaks
     assert p["speed_rad_s"] == pytest.approx(speed, abs=6.0)
     assert (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) == (2, 1)
-    assert p["name"] == "mode 2 (2\u2009500 Hz) × H1"
+    # named 1-based, as `jaxgear modes` numbers it (index 2: mode 3)
+    assert p["name"] == "mode 3 (2\u2009500 Hz) × H1"
     # a peak at mode 1 × H2 (157 rad/s) is named so, not after mode 2 × H3 nearby (262 rad/s)
     speed = 2 * math.pi * 1000.0 / (2 * Z1)
     (p,) = plots.name_peaks(
@@ -505,3 +506,31 @@ def test_dynamic_factor_names_at_most_three_peaks_without_overlap(tmp_path, figu
         assert not any(b.overlaps(o) for o in boxes[i + 1 :])
     marked = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
     assert len(marked) == 1 and len(marked[0].get_xdata()) == 2
+
+
+def test_every_critical_speed_line_is_labelled(tmp_path, monkeypatch):
+    """Each critical-speed line in range carries a label at its top, also the lines whose
+    coincidence a peak's label names (those: their harmonic, "H1", above it; today they had
+    none: one of three lines labelled on the default case's plot). Modes numbered from 1."""
+    import matplotlib.figure
+
+    figs = []
+    real = matplotlib.figure.Figure.savefig
+
+    def keep(fig, *args, **kw):
+        figs.append(fig)
+        return real(fig, *args, **kw)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
+    speed = 2 * math.pi * 2500.0 / (1 * Z1)  # mode index 2 × H1, a named peak
+    summary = _sweep_summary(df_peak_speed=speed + 3.0)
+    plots.dynamic_factor_plot(tmp_path / "df.png", summary)
+    (fig,) = figs
+    ax = fig.axes[0]
+    sp = summary["speeds_rad_s"]
+    shown = [c for c in summary["critical_speeds"] if sp[0] <= c["speed_rad_s"] <= sp[-1]]
+    lines = [t.get_text() for t in ax.texts if t.get_rotation() == 90.0]
+    assert len(lines) == len(shown) >= 3
+    assert "H1" in lines  # the named peak's line
+    assert all(re.fullmatch(r"(mode [1-4] × )?H[1-3]", t) for t in lines), lines
+    assert "mode 2 × H2" in lines  # index 1: mode 2, as jaxgear modes numbers it

@@ -380,7 +380,8 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(branch_run):
     assert loads[1] == pytest.approx(loads[0], rel=1e-12)
     header = (out / "te.csv").read_text().splitlines()[0].split(",")
     for name in names:
-        assert f"transmission_error_exact_modified_{name}_m" in header
+        # the mesh's name in snake case (input-idler -> input_idler)
+        assert f"transmission_error_exact_modified_{name.replace('-', '_')}_m" in header
     assert (out / "phasing.png").stat().st_size > 0
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     per = np.asarray(sweep["dynamic_factor_mesh"])

@@ -1,6 +1,8 @@
 """The API reference pages: one page per public package, one mkdocstrings entry per public
 name (the names its ``__init__`` re-exports, ``from ._x import A as A``), so that a new public
-name gets its entry without editing a page."""
+name gets its entry without editing a page; on each page the names are grouped by task
+(:data:`SECTIONS`: geometry, mesh stiffness, quasi-statics, planetary stages, rating, …), a
+section per task, not in the order of the private modules."""
 
 from __future__ import annotations
 
@@ -21,6 +23,76 @@ PACKAGES = (
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
 )
+
+
+#: the sections of a package's page, by task, in reading order: (title, the private modules
+#: whose public names it holds, by their last dotted part; a prefix ends with ``*``). A name
+#: whose module no section names goes to "Other" (a new module shows up, never disappears).
+SECTIONS = {
+    "jaxgear": (
+        ("Geometry", ("_geometry", "_internal", "_backlash")),
+        ("Contact and quasi-statics", ("_quasi_static", "_contact", "_compiled", "_results",
+                                       "_maps", "_pressure", "_spectrum")),
+        ("Mesh stiffness", ("_stiffness", "_stiffness_models", "_baseplane", "_cell_factor",
+                            "_weber_internal")),
+        ("Modifications and deviations", ("_modifications", "_deviations")),
+        ("Scenes (re-exported)", ("_scene", "_rigid", "_torsional")),
+        ("Root stress", ("_root_stress",)),
+        ("Planetary stages", ("_planetary*",)),
+        ("Load capacity (ISO 6336)", ("_rating*",)),
+        ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
+        ("Gearbox", ("_gearbox",)),
+    ),
+    "jaxgear.scenes": (
+        ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),
+        ("Shafts and meshes", ("_shaft", "_gear_mesh", "_window_compliance")),
+        ("Condensed bodies (hybrid)", ("_hybrid", "_interface")),
+        ("Trains", ("_train",)),
+    ),
+    "jaxgear.dynamics": (
+        ("Simulation", ("_simulate", "_model", "_build", "_lumped", "_settings", "_result",
+                        "_newmark", "_damping", "_bearings")),
+        ("Speed sweeps", ("_sweep", "_robust")),
+        ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
+        ("Condensed bodies (hybrid)", ("_hybrid*",)),
+        ("Planetary stages", ("_planetary_dynamics",)),
+    ),
+    "jaxgear.io": (
+        ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
+        ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
+                                   "_planetary_spec", "_train_file", "_gearbox_file")),
+        ("Tables of a case file", ("_deviations_table", "_modifications_table",
+                                   "_optimise_table", "_rating_table", "_robust_table")),
+        ("Writing files", ("_writers",)),
+    ),
+    "optimise": (
+        ("Objectives", ("_objectives", "_safety")),
+        ("Problems and variables", ("_problem", "_variables")),
+        ("Minimisers", ("_minimise", "_master_curve", "_robust")),
+    ),
+}
+
+
+def _matches(module: str, patterns) -> bool:
+    last = module.rsplit(".", 1)[-1]
+    return any(last == p or (p.endswith("*") and last.startswith(p[:-1])) for p in patterns)
+
+
+def sections(module_name: str, names: list[str]) -> list[tuple[str, list[str]]]:
+    """``names`` (public names of ``module_name``, in their export order) grouped by task
+    (:data:`SECTIONS`), each section's names in export order; empty sections left out."""
+    module = importlib.import_module(module_name)
+    owner = {n: getattr(getattr(module, n), "__module__", "") or "" for n in names}
+    out, placed = [], set()
+    for title, patterns in SECTIONS.get(module_name, ()):
+        got = [n for n in names if n not in placed and _matches(owner[n], patterns)]
+        placed.update(got)
+        if got:
+            out.append((title, got))
+    rest = [n for n in names if n not in placed]
+    if rest:
+        out.append(("Other" if out else "", rest))
+    return out
 
 
 def public_names(module_name: str) -> tuple[list[str], list[str]]:
@@ -61,9 +133,25 @@ def page(module_name: str, summary: str) -> str:
             + ".",
             "",
         ]
-    for name in callables:
-        out += [f"::: {module_name}.{name}", ""]
+    groups = sections(module_name, callables)
+    if len(groups) > 1:  # a contents line, then a section per task
+        out += ["Sections: " + ", ".join(f"[{t}](#{_anchor(t)})" for t, _ in groups) + ".", ""]
+    for title, names in groups:
+        if title and len(groups) > 1:
+            out += [f"## {title}", ""]
+        for name in names:
+            out += [f"::: {module_name}.{name}"]
+            if len(groups) > 1:
+                out += ["    options:", "      heading_level: 3"]
+            out += [""]
     return "\n".join(out)
+
+
+def _anchor(title: str) -> str:
+    """The id mkdocs' toc gives a heading (lower case, runs of other characters one ``-``)."""
+    import re
+
+    return re.sub(r"[^\w]+", "-", title.lower()).strip("-")
 
 
 def pages() -> dict[str, str]:

@@ -25,6 +25,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         settings_from_case as settings_from_case,
     )
     from ._options import range_values as range_values
+    from ._progress import progress as progress
     from ._paths import (
         OUTPUT_FILES as OUTPUT_FILES,
         PLANETARY_FILES as PLANETARY_FILES,
@@ -75,6 +76,7 @@ _EXPORTS = {
     "settings_from_case": "._optimise",
     "range_values": "._options",
     "OUTPUT_FILES": "._paths",
+    "progress": "._progress",
     "PLANETARY_FILES": "._paths",
     "TRAIN_FILES": "._paths",
     "clear_outputs": "._paths",

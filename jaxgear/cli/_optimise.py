@@ -19,7 +19,6 @@ import warnings
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
 
 import jaxgear as jg
 from optimise import (
@@ -39,6 +38,7 @@ from optimise import (
 )
 
 from ..io import (
+    OPTIMISE_DEFAULTS,
     Case,
     TrainForm,
     atomic_open,
@@ -57,6 +57,7 @@ from ._case_kinds import refuse_stages
 from ._optimise_options import add_master_curve_arguments, add_optimise_arguments
 from ._options import parse_range, range_values
 from ._paths import check_output_dir, check_output_file, clear_outputs
+from ._progress import inner_bars, progress as progress_bar
 
 __all__ = [
     "PARTIAL",
@@ -92,18 +93,19 @@ def settings_from_case(case: Case, args=None) -> dict:
     def get(key, default):
         return given.get(key, table.get(key, default))
 
+    d = OPTIMISE_DEFAULTS  # one home: the case-file reference shows the same defaults
     return {
-        "objective": get("objective", "te_rms"),
-        "vars": get("vars", "tip_relief.depth,tip_relief.extent"),
-        "torques": get("torques", None),
-        "reduce": get("reduce", "max"),
-        "method": get("method", "lbfgs"),
-        "max_iterations": int(get("max_iterations", 100)),
+        "objective": get("objective", d["objective"]),
+        "vars": get("vars", d["vars"]),
+        "torques": get("torques", d["torques"]),
+        "reduce": get("reduce", d["reduce"]),
+        "method": get("method", d["method"]),
+        "max_iterations": int(get("max_iterations", d["max_iterations"])),
         "bounds": {k: tuple(v) for k, v in (table.get("bounds") or {}).items()},
         "speed": given.get("speed"),
-        "speeds": get("speeds", None),
-        "lp_order": get("lp_order", None),
-        "te_limit_um": get("te_limit_um", None),
+        "speeds": get("speeds", d["speeds"]),
+        "lp_order": get("lp_order", None),  # None: the objective's own (8)
+        "te_limit_um": get("te_limit_um", d["te_limit_um"]),
     }
 
 
@@ -267,7 +269,8 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     }
     write_json(partial, marker)
     res = minimise(
-        problem, x0, solver, max_iterations=settings["max_iterations"], progress=progress
+        problem, x0, solver, max_iterations=settings["max_iterations"],
+        progress=inner_bars(progress)
     )
     marker.update(
         stage="post-processing (exact values, plots)",
@@ -280,7 +283,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     slots = tip_relief_slots(problem.names)
     two_d = slots is not None and _has_map(objective)
     # after the optimiser: exact-contact values, the Harris map and (2 variables) the 41×41 map
-    post = tqdm(
+    post = progress_bar(
         total=3 if two_d else 2,
         desc="optimise: exact values, Harris map" + (", 41×41 map" if two_d else ""),
         disable=not progress,
@@ -588,7 +591,8 @@ def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) 
         relief_blend=0.0,
         bounds={"tip_relief.depth": (0.0, 4.0), "tip_relief.extent": (0.02, 0.98)},
     )
-    bar = tqdm(total=2, desc="master curve: optimum per extent, 41×41 map", disable=not progress)
+    bar = progress_bar(total=2, desc="master curve: optimum per extent, 41×41 map",
+                       disable=not progress)
     mc = master_curve(problem, extents)
     bar.update()
     eps = case.pair.transverse_contact_ratio

@@ -16,6 +16,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .. import AbstractPlanetaryMeshes
 from ..dynamics import (
     MAX_STEPS_PER_SPEED,
     MESH_ENERGY_MIN,
@@ -28,8 +29,10 @@ from ..dynamics import (
 from ..io import CaseWarning
 
 __all__ = [
+    "EXCITATION_POSITIONS",
     "KEEP_OTHER",
     "KEEP_PERIODIC",
+    "NO_EXCITATION_TOL",
     "SETTLED_TOL",
     "SETTLE_TOL",
     "STEPS_PER_TOP_PERIOD",
@@ -37,6 +40,7 @@ __all__ = [
     "TimePlan",
     "carrier_periodic",
     "check_plan_size",
+    "excitation",
     "speed_groups",
     "speed_run",
     "step_resolution",
@@ -317,3 +321,42 @@ def speed_run(base, plan: TimePlan, i: int) -> PlanetaryRun:
         tangential_pin_errors=base.tangential_pin_errors,
         radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )
+
+
+#: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
+#: to its mean (round-off: the lumped form's constant springs) and no pin error moves a planet:
+#: nothing excites the stage, its dynamic factors and K_γ are 1 (:func:`excitation`)
+NO_EXCITATION_TOL = 1e-9
+#: mesh travels per mesh period at which :func:`excitation` reads the meshes' stiffness
+EXCITATION_POSITIONS = 16
+
+
+def excitation(model, stage, meshes, spec) -> dict:
+    """Whether anything excites the sweep's stage: ``mesh_stiffness_variation`` (the largest
+    (max − min)/mean of a mesh's stiffness over one mesh period, at
+    :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.AbstractPlanetaryMeshes.mesh_stiffness`),
+    ``pin_errors`` (any non-zero pin error), ``eccentricities`` (a member's or a planet's
+    runout), ``flexible_ring`` (a condensed ring: the planets pass its cells), ``te_offsets``
+    (meshes whose TE leaves material out: the deviations per tooth) and ``excited``: False
+    where the variation is below :data:`NO_EXCITATION_TOL` (round-off) and none of the others
+    is there, the lumped form's constant springs: the stage then answers its static load, every dynamic factor and K_γ
+    is 1 and ``words`` says so (``sweep.json``'s ``excitation``)."""
+    k_s, k_r = meshes.mesh_stiffness(model, stage, meshes.positions(EXCITATION_POSITIONS))
+    k = np.concatenate([np.asarray(k_s), np.asarray(k_r)], axis=1)
+    mean = np.abs(k.mean(axis=0))
+    variation = float(np.max((k.max(axis=0) - k.min(axis=0)) / np.where(mean > 0, mean, 1.0)))
+    pins = bool(np.any(np.asarray(spec.tangential_pin_errors) != 0)
+                or np.any(np.asarray(spec.radial_pin_errors) != 0))
+    others = {"eccentricities": bool(spec.eccentric),  # turning once per turn
+              "flexible_ring": bool(spec.ring_model.flexible),  # the planets pass its cells
+              "te_offsets": type(meshes).te_offsets is not AbstractPlanetaryMeshes.te_offsets}
+    excited = pins or any(others.values()) or not variation < NO_EXCITATION_TOL
+    return {
+        "mesh_stiffness_variation": variation,
+        "pin_errors": pins,
+        **others,
+        "excited": excited,
+        "words": None if excited else (
+            "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, "
+            "K_γ = 1"),
+    }

@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+import re
 
 import numpy as np
 
@@ -31,7 +32,13 @@ from ._case_kinds import (
     per_mesh_keys,
     pressure_curves,
 )
-from ._plots import campbell_plot, dynamic_factor_plot, face_map, pressure_speed_plot
+from ._plots import (
+    DYNAMIC_ZERO,
+    campbell_plot,
+    dynamic_factor_plot,
+    face_map,
+    pressure_speed_plot,
+)
 from .scene import write_body_series
 
 __all__ = [
@@ -40,6 +47,7 @@ __all__ = [
     "backlash_responses",
     "bearing_names",
     "clean",
+    "column_tag",
     "dynamic_pressure_map",
     "flexible_gears",
     "hybrid_static_pressures",
@@ -345,11 +353,17 @@ def write_sweep(case, summary: dict, out_dir: str, z1: int, dyn_map: dict | None
     sweep_plots(summary, out_dir, z1=z1, dyn_map=dyn_map, pressure=pressure)
 
 
+def column_tag(name: str) -> str:
+    """A mesh or gear name as a CSV column's part: lower snake case, every run of characters
+    other than letters and digits one ``_`` (``sun-planet 1`` -> ``sun_planet_1``)."""
+    return re.sub(r"[^0-9a-z]+", "_", name.lower()).strip("_")
+
+
 def write_sweep_csv(path: str, summary: dict) -> list[str]:
     """``sweep.csv`` beside ``sweep.json``: a row per speed, a column per per-speed number of the
     summary (its key, SI units as the key says; a per-mesh or per-gear list gives a column per
-    entry, ``<key>_<mesh name>`` or ``<key>_<index>``); empty values (NaN) where a speed has
-    none. Returns the header."""
+    entry, ``<key>_<mesh name>`` or ``<key>_<index>``, the mesh name in snake case:
+    :func:`column_tag`); empty values (NaN) where a speed has none. Returns the header."""
     speeds = summary["speeds_rad_s"]
     n = len(speeds)
     names = summary.get("mesh_names")
@@ -368,7 +382,8 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
             width = len(v[0])
             if not all(isinstance(x, int | float) or x is None for e in v for x in e):
                 continue
-            tags = names if names and len(names) == width else [str(j) for j in range(width)]
+            tags = ([column_tag(t) for t in names] if names and len(names) == width
+                    else [str(j) for j in range(width)])
             for j in range(width):
                 header.append(f"{key}_{tags[j]}")
                 cols.append([number(e[j]) for e in v])
@@ -394,4 +409,5 @@ def sweep_plots(
             title=title,
             label="max contact pressure (MPa)",
             unit=1e6,
+            zero_label=DYNAMIC_ZERO,
         )

@@ -153,7 +153,8 @@ def mode_table(data: dict) -> list[str]:
     """The printed table of ``modes.json``'s content: one row per mode (a planetary stage's:
     per model, a degenerate pair on one row with its multiplicity)."""
     lists = {k: v for k, v in data.items() if isinstance(v, list)}
-    lines = [f"{data['case']}: natural frequencies ({data['classification']})"]
+    lines = [f"{data['case']}: natural frequencies ({data['classification']}; # from 1, "
+             "as the sweep's figures number the modes)"]
     for name, rows in lists.items():
         lines.append(f"{name}:" if len(lists) > 1 else "")
         lines.append(f"{'#':>4} {'frequency (Hz)':>16}  type")

@@ -40,9 +40,7 @@ from .. import (
     ring_resonances,
 )
 from ..io import ratings_of, write_csv, write_json
-from ._plots import new_figure
-from ._plots._figure import legend_below_and_save
-from ._rating_report import RATE  # the compiled rating (tests use the run's program)
+from ._planetary_hunting_run import hunting_line, hunting_section
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
     K_GAMMA_SOURCES,
@@ -53,7 +51,9 @@ from ._planetary_rating import (
     stage_loads,
     stage_root_stress,
 )
-from ._planetary_hunting_run import hunting_line, hunting_section
+from ._plots import new_figure
+from ._plots._figure import legend_below_and_save
+from ._rating_report import RATE  # the compiled rating (tests use the run's program)
 from ._summary import environment_summary, mesh_settings_summary, result_summary
 
 __all__ = [
@@ -539,8 +539,9 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     ax.set_xlabel(f"input ({spec.input.name.lower()}) speed (rad/s)")
     ax.set_ylabel("frequency in the carrier frame (Hz)")
     ax.set_title(
-        f"{case.name}: Campbell diagram, {spec.n_planets} planets, "
-        f"{spec.fixed.name.lower()} fixed, {spec.output.name.lower()} (output) held"
+        f"{case.name}: Campbell diagram, {spec.n_planets} planets; modes of the stage with "
+        f"the {spec.fixed.name.lower()} (fixed) and the {spec.output.name.lower()} (output) "
+        "held in rotation, the input free"
     )
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)

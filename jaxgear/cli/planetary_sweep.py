@@ -42,9 +42,15 @@ import warnings
 import jax
 import jax.numpy as jnp
 import numpy as np
-from tqdm.auto import tqdm
+from matplotlib.transforms import blended_transform_factory
 
-from .. import ConstantMeshes, PlanarPlanetary, RigidRing, SpatialPlanetary, planetary_modes
+from .. import (
+    ConstantMeshes,
+    PlanarPlanetary,
+    RigidRing,
+    SpatialPlanetary,
+    planetary_modes,
+)
 from ..dynamics import (
     MAX_STEPS_PER_SPEED,
     MIN_STEPS_PER_PERIOD,
@@ -58,6 +64,7 @@ from ..io import CaseWarning, write_json
 from ._planetary_steps import (
     KEEP_OTHER,
     KEEP_PERIODIC,
+    NO_EXCITATION_TOL,
     SETTLE_TOL,
     SETTLED_TOL,
     STEPS_PER_TOP_PERIOD,
@@ -65,6 +72,7 @@ from ._planetary_steps import (
     TimePlan,
     carrier_periodic,
     check_plan_size,
+    excitation,
     speed_groups,
     speed_run,
     step_resolution,
@@ -74,6 +82,7 @@ from ._planetary_steps import (
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._rating_sheet import sweep_excitation
+from ._progress import progress
 from ._sweep_json import write_sweep_csv
 from .planetary import (
     MESH_ORDERS,
@@ -93,6 +102,7 @@ __all__ = [
     "SETTLE_TOL",
     "SPECTRUM_SIDEBANDS",
     "STEPS_PER_TOP_PERIOD",
+    "SWEEP_FILES",
     "SweepRecords",
     "TimePlan",
     "carrier_periodic",
@@ -116,15 +126,21 @@ __all__ = [
 RUN_SPEEDS = (0.2, 1.2, 8)
 #: planet-pass sidebands marked on each side of a mesh order in ``ring_spectrum.png``
 SPECTRUM_SIDEBANDS = 3
-#: the files of ``jaxgear run``'s sweep/ of a planetary stage
-RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "campbell.png",
-                   "ring_spectrum.png")
+#: the files of ``jaxgear run``'s sweep/ of a planetary stage (its Campbell diagram is the
+#: run's own ``campbell.png``, one folder up: the same figure, not written twice)
+RUN_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png", "ring_spectrum.png")
+#: the files of ``jaxgear sweep`` on a planetary stage
+SWEEP_FILES = (*RUN_SWEEP_FILES, "campbell.png")
 #: the most Newmark steps of a ring spectrum's integrated turn (a stage not periodic in the
 #: carrier frame: :func:`turn_steps`): the turn's records (every coordinate of a flexible ring
 #: at every step) stay within ~100 MB
 TURN_MAX_STEPS = 2**16
 #: the lowest amplitude drawn in ``ring_spectrum.png``, relative to its largest (log scale)
 SPECTRUM_RANGE = 1e-7
+#: per-mesh dynamic-factor curves closer than this share of the plotted range are drawn once
+COINCIDE_SHARE = 1e-3
+#: crossing lines closer than this share of the speed range share one label (7 pt text)
+LABEL_GAP = 0.015
 #: the dynamic model of the sweep (a helical stage whose supports hold it: the 3D model,
 #: :func:`~jaxgear.cli.planetary.spatial_model`)
 MODEL = PlanarPlanetary()
@@ -245,19 +261,23 @@ def planetary_sweep(
     periods: int | None = None,
     keep_periods: int | None = None,
     slices: int | None = None,
+    campbell_file: str | None = None,
 ) -> dict:
     """Sweep the input speeds ``speeds`` (rad/s, (s,), > 0) of a planetary case (module
-    docstring) and write its files into ``out_dir``; returns ``sweep.json``'s content.
+    docstring) and write its files into ``out_dir`` (:data:`SWEEP_FILES`); returns
+    ``sweep.json``'s content.
 
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
-    ``ring_spectrum`` (the ring transducer at the worst speed)."""
+    ``ring_spectrum`` (the ring transducer at the worst speed). ``campbell_file``: where the
+    same Campbell diagram is written already, relative to ``out_dir`` (``jaxgear run``'s
+    ``../campbell.png``): not drawn again, ``campbell`` names it."""
     t0 = time.perf_counter()
     summary, (stage, meshes, run, ring, model, settled) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
         keep_periods=keep_periods, slices=slices,
     )
     spec = form.spec
-    summary["campbell"] = campbell_section(
+    summary["campbell"] = campbell_file or campbell_section(
         case, spec, spec.stage(case), os.path.join(out_dir, "campbell.png")
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
@@ -334,8 +354,16 @@ def sweep_summary(
         deflection[k] = np.max(np.abs(rec.deflection[k]))
     code = rec.result
     period_of = rec.periods  # mesh periods integrated
+    excite = excitation(model, stage, meshes, spec)
+    if not excite["excited"]:  # the response is the static one: round-off is all that moves
+        excite["round_off_deviation"] = float(np.nanmax(np.abs(
+            np.concatenate([per_mesh.ravel(), k_gamma]) - 1.0)))
+        per_mesh[:], k_gamma[:] = 1.0, 1.0
     worst = per_mesh.max(axis=1)
-    i = int(np.nanargmax(worst))
+    # the worst speed (the ring spectrum's); with nothing to excite, the operating speed's
+    # nearest (not one chosen by round-off)
+    i = (int(np.nanargmax(worst)) if excite["excited"] else
+         int(np.argmin(np.abs(speeds - case.speed))))
     run_i = speed_run(base, plan, i)
     settled_turn = None
     if periodic:  # the worst speed's last mesh period: the ring spectrum's turn from it
@@ -371,6 +399,7 @@ def sweep_summary(
         "speed_of_max_rad_s": float(speeds[i]),
         "max_dynamic_factor_mesh": per_mesh.max(axis=0).tolist(),
         "max_k_gamma": float(k_gamma.max()),
+        "excitation": excite,
         "result": code.tolist(),
         "sun_torque_Nm": float(base.sun_torque),
         "nominal_mesh_force_N": fs,
@@ -389,10 +418,10 @@ def sweep_summary(
         "crossings": crossings(natural, f_mesh, speeds),
         "ring": spec.ring_model.summary(),
     }
-    if natural.size:  # what the factors are where every mesh frequency is far below the modes
-        note = sweep_excitation(speeds * f_mesh, float(natural[0]))
-        if note is not None:
-            summary["excitation"] = note
+    # what the factors are where every mesh frequency is far below the modes (None: not so)
+    excite["far_below_resonance"] = (
+        sweep_excitation(speeds * f_mesh, float(natural[0]))
+        if natural.size and excite["words"] is None else None)
     if spec.ring_model.flexible:
         summary["ring_deflection_max_m"] = deflection.tolist()
         summary["max_ring_deflection_m"] = float(deflection.max())
@@ -424,23 +453,63 @@ def crossings(natural, f_mesh: float, speeds) -> list[dict]:
 
 
 def dynamic_factor_plot(case, summary: dict, path: str) -> None:
-    """Each mesh's dynamic factor and the dynamic K_γ against the input speed, the mesh-order
-    crossings of the natural frequencies as vertical lines; an under-resolved time step
-    (``steps_resolution``) said in the title."""
+    """Each mesh's dynamic factor and the dynamic K_γ against the input speed (meshes whose
+    curves coincide, within :data:`COINCIDE_SHARE` of the range, drawn once and named
+    together), the mesh-order crossings of the natural frequencies as vertical lines, each
+    labelled with its frequency and order (lines closer than :data:`LABEL_GAP` of the speed
+    range under one label); an under-resolved time step (``steps_resolution``) said in the
+    title; a stage with nothing to excite (``excitation``) one line at 1 and the words."""
     fig, ax = new_figure()
     s = np.asarray(summary["speeds_rad_s"])
     df = np.asarray(summary["dynamic_factor_mesh"])
     n = df.shape[1] // 2
-    for j, name in enumerate(summary["mesh_names"]):
-        ax.plot(s, df[:, j], "o-" if j < n else "s--", ms=3, lw=1.0, label=name)
-    ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
+    quiet = (summary.get("excitation") or {}).get("words")
+    if quiet:  # nothing excites the stage: one line at 1, not the meshes' round-off
+        ax.plot(s, np.ones_like(s), "o-", color="k", ms=3, lw=1.0,
+                label="every mesh's dynamic factor and K_γ: 1")
+        ax.set_ylim(0.9, 1.1)
+        ax.ticklabel_format(axis="y", useOffset=False)
+        ax.text(0.5, 0.75, quiet, transform=ax.transAxes, ha="center", va="center",
+                fontsize=9, bbox={"facecolor": "white", "edgecolor": "0.6"})
+    else:  # meshes whose curves coincide (planets sharing alike) drawn once, named together
+        span = float(np.ptp(df)) or 1.0
+        groups: list[list[int]] = []
+        for j in range(df.shape[1]):
+            same = next((g for g in groups if (g[0] < n) == (j < n) and np.max(
+                np.abs(df[:, g[0]] - df[:, j])) <= COINCIDE_SHARE * span), None)
+            if same is None:
+                groups.append([j])
+            else:
+                same.append(j)
+        names = summary["mesh_names"]
+        for g in groups:
+            label = names[g[0]] if len(g) == 1 else (
+                names[g[0]].rsplit(" ", 1)[0] + " " + ", ".join(
+                    names[j].rsplit(" ", 1)[1] for j in g) + " (coincide)")
+            ax.plot(s, df[:, g[0]], "o-" if g[0] < n else "s--", ms=3, lw=1.0, label=label)
+        ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
     styles = {1: "tab:red", 2: "tab:purple", 3: "tab:brown"}
     seen = set()
-    for c in summary["crossings"]:
-        k = c["order"]
-        ax.axvline(c["speed_rad_s"], color=styles.get(k, "0.5"), lw=0.7, ls="-.",
-                   label=None if k in seen else f"mesh order {k} × natural frequency")
-        seen.add(k)
+    trans = blended_transform_factory(ax.transData, ax.transAxes)
+    lo, hi = float(np.min(s)), float(np.max(s))
+    cross = sorted(summary["crossings"], key=lambda c: c["speed_rad_s"])
+    clusters: list[list[dict]] = []  # lines closer than a label's width share one label
+    for c in cross:
+        if clusters and c["speed_rad_s"] - clusters[-1][-1]["speed_rad_s"] < LABEL_GAP * (
+                hi - lo or 1.0):
+            clusters[-1].append(c)
+        else:
+            clusters.append([c])
+    for cl in clusters:  # every line labelled at its top
+        for c in cl:
+            k = c["order"]
+            ax.axvline(c["speed_rad_s"], color=styles.get(k, "0.5"), lw=0.7, ls="-.",
+                       label=None if k in seen else f"mesh order {k} × natural frequency")
+            seen.add(k)
+        text = ", ".join(f"{c['frequency_Hz']:.0f} Hz / {c['order']}" for c in cl)
+        ax.text(cl[0]["speed_rad_s"], 0.985, text, transform=trans, rotation=90, fontsize=7,
+                color=styles.get(cl[0]["order"], "0.35") if len(cl) == 1 else "0.3", va="top",
+                ha="center", bbox={"boxstyle": "square,pad=0.15", "fc": "white", "ec": "none"})
     ax.set_xlabel(f"{summary['speed_of']} speed (rad/s)")
     ax.set_ylabel("dynamic factor, K_γ (-)")
     res = summary.get("steps_resolution") or {}
@@ -448,7 +517,8 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
             f"\ntime step under-resolved, dynamic factors low: "
             f"{res['steps_per_top_period_min']:.2g} steps per period of {res['f_max_Hz']:.0f} Hz"
             f"\n(--steps-per-period >= {res['steps_per_period_resolved']} resolves it)")
-    ax.set_title(f"{case.name}: dynamic factor per mesh ({summary['model']}, "
+    ax.set_title(f"{case.name}: " + ("no excitation, dynamic factor = 1 " if quiet else
+                 "dynamic factor per mesh ") + f"({summary['model']}, "
                  f"{summary['ring_model']}){flag}", fontsize=10)
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
@@ -466,7 +536,10 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
     integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
     else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
-    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`)."""
+    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`).
+    Where the mesh order's amplitude is round-off (below :data:`NO_EXCITATION_TOL` of the mean
+    load: nothing excites the meshes, :func:`excitation`), the title says so: the planets'
+    passing alone shows."""
     spec = case.form.spec
     z_r = int(spec.teeth[2])
     w = spec.speeds(speed)
@@ -502,7 +575,10 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         ax.set_ylim(peak * SPECTRUM_RANGE, peak * 2.0)
     ax.set_xlabel("order of the carrier's turn relative to the ring (-)")
     ax.set_ylabel("amplitude (kN)")
-    ax.set_title(f"{case.name}: ring transducer at {speed:.4g} rad/s (input), one carrier turn")
+    excited = not (z_r < len(amp) and amp[z_r] < NO_EXCITATION_TOL * abs(amp[0]))
+    ax.set_title(f"{case.name}: ring transducer at {speed:.4g} rad/s (input), one carrier turn"
+                 + ("" if excited else "; no excitation (the mesh orders are round-off): the "
+                    "planets' passing only"))
     ax.grid(alpha=0.3)
     legend_below_and_save(fig, ax, path, None)
     near = [m for m in marks if 0 < m < len(amp)]
@@ -517,6 +593,7 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
         "mean_N": float(amp[0]),
         "turn": "one settled mesh period repeated" if settled is not None else "integrated",
         "turn_steps_per_period": int(steps),
+        "mesh_orders_excited": bool(excited),
     }
 
 
@@ -565,14 +642,18 @@ def sweep_lines(case, s: dict) -> list[str]:
     i = int(np.argmax(s["dynamic_factor"]))
     worst = s["mesh_names"][int(np.argmax(s["dynamic_factor_mesh"][i]))]
     nat = ", ".join(f"{f:.4g}" for f in s["natural_frequencies_Hz"][:6])
+    quiet = (s.get("excitation") or {}).get("words")
     line = (
-        f"{case.name}: {len(s['speeds_rad_s'])} input speeds, max dynamic factor "
-        f"{s['max_dynamic_factor']:.4f} ({worst}) at {s['speed_of_max_rad_s']:.4g} rad/s, "
-        f"max dynamic K_γ {s['max_k_gamma']:.4f}; {_ring_words(s)}"
+        f"{case.name}: {len(s['speeds_rad_s'])} input speeds, "
+        + (quiet if quiet else
+           f"max dynamic factor {s['max_dynamic_factor']:.4f} ({worst}) at "
+           f"{s['speed_of_max_rad_s']:.4g} rad/s, max dynamic K_γ {s['max_k_gamma']:.4f}")
+        + f"; {_ring_words(s)}"
         + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
     )
-    return [line] + ([f"  note: {s['excitation']}"] if "excitation" in s else [])
+    note = s["excitation"].get("far_below_resonance")
+    return [line] + ([f"  note: {note}"] if note else [])
 
 
 def _ring_words(s: dict) -> str:
@@ -589,11 +670,11 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
     and ``summary.json``'s ``dynamics``: the worst mesh's dynamic factor per speed, each mesh's
     maximum, the largest dynamic K_γ. A bar over the two stages (unless ``args.quiet``)."""
     speeds = run_speeds(case)
-    bar = tqdm(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
+    bar = progress(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
     bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
     sub = os.path.join(out, "sweep")
     os.makedirs(sub, exist_ok=True)
-    sw = planetary_sweep(form, case, speeds, sub)
+    sw = planetary_sweep(form, case, speeds, sub, campbell_file="../campbell.png")
     bar.update()
     bar.set_postfix_str("load sharing, modes, Campbell, meshes, rating")
     summary = planetary_files(form, case, out, args, False, sw)  # the rating's measured K_v
@@ -610,13 +691,13 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_dynamic_factor_mesh": sw["max_dynamic_factor_mesh"],
         "k_gamma": sw["k_gamma"],
         "max_k_gamma": sw["max_k_gamma"],
+        "excitation": sw["excitation"],
         "steps_per_period": sw["steps_per_period"],
         "steps_resolution": sw["steps_resolution"],
         **{k: sw[k] for k in ("periods", "settled") if k in sw},  # the span, its check
         "ring_model": sw["ring_model"],
         "ring": sw["ring"],
         **{k: sw[k] for k in ("max_ring_deflection_m",) if k in sw},  # a flexible ring's
-        **{k: sw[k] for k in ("excitation",) if k in sw},  # far below the first mode
         "files": ", ".join(f"sweep/{n}" for n in RUN_SWEEP_FILES),
     }
     summary["complete"] = bool(complete)
@@ -627,11 +708,15 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
 def planetary_run_lines(form, case, summary: dict) -> list[str]:
     """What ``jaxgear run`` prints for a planetary case: the stage's lines and the sweep's."""
     d = summary["dynamics"]
+    quiet = (d.get("excitation") or {}).get("words")
     line = (
         f"dynamic factor ({d['model']}, {len(d['speeds_rad_s'])} {d['speed_of']} speeds "
-        f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): max "
-        f"{d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, dynamic K_γ max "
-        f"{d['max_k_gamma']:.4f}, {_ring_words(d)} ({d['files']})"
+        f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): "
+        + (quiet if quiet else
+           f"max {d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, "
+           f"dynamic K_γ max {d['max_k_gamma']:.4f}")
+        + f", {_ring_words(d)} ({d['files']})"
     )
-    note = [f"  note: {d['excitation']}"] if "excitation" in d else []
+    far = d["excitation"].get("far_below_resonance")
+    note = [f"  note: {far}"] if far else []
     return [*planetary_lines(form, case, summary), line, *note]

@@ -8,18 +8,14 @@ import math
 import os
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from .. import (
-    FE2D,
-    AbstractStiffness,
     Modifications,
-    Weber,
     contact_pressure,
     harris_map,
+    io as case_io,
     quasi_static,
 )
-from .. import io as case_io
 from ..io import (
     Case,
     GearboxForm,
@@ -31,24 +27,38 @@ from ..io import (
     write_csv,
     write_json,
 )
-from . import scene as cli_scene
-from . import sweep as cli_sweep
+from . import scene as cli_scene, sweep as cli_sweep
 from ._deviation_run import deviation_line, deviation_outputs
-from .gearbox import gearbox_run_files, gearbox_run_lines
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
-from ._plots import face_maps, harris_plot, mesh_stiffness_plot, transmission_error_plot
+from ._plots import (
+    LUMPED_STIFFNESS_NOTE,
+    SCENE_STIFFNESS_NOTE,
+    face_maps,
+    harris_plot,
+    mesh_stiffness_plot,
+    transmission_error_plot,
+)
+from ._progress import progress
 from ._rating_report import (
     measured_dynamic_factor,
-    root_stress_at_speed,
     rating_outputs,
+    root_stress_at_speed,
     scene_loads,
     train_loads,
     train_mesh_results,
     write_rating_table,
 )
 from ._stress_outputs import fillet_table
-from ._summary import environment_summary, mesh_settings_summary, result_summary
+from ._summary import (
+    environment_summary,
+    format_table,
+    has_modifications,
+    mesh_settings_summary,
+    result_summary,
+    stiffness_line,
+)
+from .gearbox import gearbox_run_files, gearbox_run_lines
 from .planetary_speed import planetary_rated_run_files
 from .planetary_sweep import planetary_run_lines
 from .scene import SCENE_LABELS
@@ -108,7 +118,7 @@ def run_case(
     mesh = case.mesh_model()
     ppp = case.positions_per_pitch
     none = Modifications()
-    steps = tqdm(total=7, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    steps = progress(total=7, desc=f"jaxgear run {case.name}", disable=not show_progress)
     res = {}
     for label, mods in (("unmodified", none), ("modified", case.modifications)):
         for mode in ("exact", "smooth"):
@@ -203,17 +213,20 @@ def run_case(
 
     period = 2 * math.pi / pair.pinion.teeth
     x = theta / period
-    designs = ("unmodified", "modified")
+    modified = has_modifications(case.modifications)
+    # without modifications the modified curves are the unmodified ones: drawn once
+    designs = ({"unmodified": "unmodified", "modified": "modified"} if modified else
+               {"unmodified": "no modifications"})
     rigid = "rigid mesh" if scene_res else ""  # a case with a scene: say which model
     te_curves = {
-        f"{rigid} {lab}".strip(): {
+        f"{rigid} {words}".strip(): {
             m: np.asarray(res[lab, m].transmission_error) for m in ("exact", "smooth")
         }
-        for lab in designs
+        for lab, words in designs.items()
     }
     k_curves = {
-        f"{rigid} {lab} (loaded cells)".strip(): np.asarray(res[lab, "exact"].mesh_stiffness)
-        for lab in designs
+        f"{rigid} {words} (loaded cells)".strip(): np.asarray(res[lab, "exact"].mesh_stiffness)
+        for lab, words in designs.items()
     }
     what = ""
     if scene_res:
@@ -225,8 +238,10 @@ def run_case(
             k_curves[f"{label} modified (loaded cells)"] = by_contact["exact"][1]
         what = f"\nrigid mesh and {SCENE_LABELS[model]}"
     k_note = te_note = None
+    if scene_res:  # say what each stiffness is (a condensed body's is not the rigid mesh's)
+        k_note = SCENE_STIFFNESS_NOTE if case.flexible else LUMPED_STIFFNESS_NOTE
     if pair.overlap_ratio > 0:  # helical: the slices' steps are the model's, not an error
-        k_note = (
+        k_note = (k_note + "\n" if k_note else "") + (
             f"helical: K jumps by one slice's stiffness when one of the {case.slices} slices of "
             "a contact line enters or leaves contact\n(the path's ends; with relief, its start: "
             "one-position spikes); smaller with more [mesh] slices"
@@ -256,7 +271,8 @@ def run_case(
         pressure["modified", "exact"].max_pressure,
         pair,
         ppp,
-        f"of {case.name} over a tooth passage (rigid mesh, exact, modified)",
+        f"of {case.name} over a tooth passage (rigid mesh, exact, "
+        f"{'modified' if modified else 'no modifications'})",
     )
     harris_plot(
         os.path.join(out_dir, "harris_map.png"),
@@ -264,7 +280,7 @@ def run_case(
         [
             ("no relief", harris["unmodified"], "o-"),
             ("case modifications", harris["modified"], "s-"),
-        ],
+        ] if modified else [("no modifications (the case has none)", harris["unmodified"], "o-")],
         design_torque=case.torque,
         ylabel="TE peak-to-peak (µm), exact contact",
         title=f"{case.name}: Harris map (rigid mesh)",
@@ -323,49 +339,6 @@ def _scene_states(columns: dict) -> dict:
         contact, _, state = key.split("_", 1)[1].partition("_modified")
         out.setdefault(state.lstrip("_"), {})[contact] = curves
     return out
-
-
-@functools.singledispatch
-def stiffness_line(model: AbstractStiffness) -> str:
-    """Which mesh stiffness model ran, as ``jaxgear run``'s table says it (by the model's type:
-    its foundation term, the FE model's element size)."""
-    return f"mesh stiffness model: {model.name}"
-
-
-@stiffness_line.register
-def _(model: Weber) -> str:
-    return f"mesh stiffness model: weber (foundation {model.foundation.name})"
-
-
-@stiffness_line.register
-def _(model: FE2D) -> str:
-    part = "tooth + body to the bore" if model.foundation.fe_body else "tooth only"
-    size = "m_n/6" if model.size is None else f"{model.size * 1e6:g} µm"
-    return f"mesh stiffness model: fe2d (plane-strain FE, {part}, element size {size})"
-
-
-def format_table(summary: dict, stiffness: AbstractStiffness) -> str:
-    """A short plain-text table of the main figures of a pair's ``summary``, run with the mesh
-    stiffness model ``stiffness`` (:func:`stiffness_line`)."""
-    g = summary["geometry"]
-    lines = [
-        (
-            f"case {summary['case']}: ε_α = {g['transverse_contact_ratio']:.4f}, "
-            f"ε_β = {g['overlap_ratio']:.4f}, a_w = {g['center_distance_m'] * 1e3:.4f} mm, "
-            f"p_bt = {g['base_pitch_m'] * 1e3:.4f} mm, T = {summary['operating']['torque_Nm']:g} N·m"
-        ),
-        stiffness_line(stiffness),
-        f"{'':24s}{'TE mean µm':>12s}{'TE rms µm':>12s}{'TE ptp µm':>12s}{'K mean N/µm':>13s}{'max N/mm':>10s}",
-    ]
-    for key, lab in (("quasi_static_unmodified", "unmodified"), ("quasi_static", "modified")):
-        for m in ("exact", "smooth"):
-            q = summary[key][m]
-            lines.append(
-                f"{lab + ' ' + m:24s}{q['te_mean_m'] * 1e6:12.4f}{q['te_rms_m'] * 1e6:12.4f}"
-                f"{q['te_ptp_m'] * 1e6:12.4f}{q['mesh_stiffness_mean_N_per_m'] / 1e6:13.2f}"
-                f"{q['max_line_load_N_per_m'] / 1e3:10.1f}"
-            )
-    return "\n".join(lines)
 
 
 def run_command(args) -> int:
@@ -564,7 +537,7 @@ def run_lines(form, case: Case, summary: dict) -> list[str]:
 
 @run_lines.register
 def _(form: PairForm, case: Case, summary: dict) -> list[str]:
-    lines = [format_table(summary, case.stiffness)]
+    lines = [format_table(summary, case.stiffness, has_modifications(case.modifications))]
     if case.deviations is not None:  # run_case added the span with the deviations
         lines.append(deviation_line(summary["deviations"]))
     if case.lumped:
@@ -618,7 +591,7 @@ run_lines.register(GearboxForm, gearbox_run_lines)
 
 @run_lines.register
 def _(form: InternalMeshForm, case: Case, summary: dict) -> list[str]:
-    return [format_table(summary, case.stiffness)]
+    return [format_table(summary, case.stiffness, has_modifications(case.modifications))]
 
 
 @functools.singledispatch

@@ -10,13 +10,13 @@ import os
 from typing import NamedTuple
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from .. import contact_pressure, load_map, quasi_static
 from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
+from ._progress import inner_bars, progress as progress_bar
 from ._stress_outputs import body_stress_outputs
 from ._summary import result_summary
 
@@ -171,14 +171,14 @@ def scene_outputs(
     """
     hybrid = case.scene.hybrid
     n_steps = (6 if case.speed > 0 else 5) if hybrid else 3
-    bar = tqdm(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
+    bar = progress_bar(total=n_steps, desc=f"jaxgear run {case.name}: scene", disable=not progress)
     # the case's [mesh] slices as they are (not capped); a hybrid case's
     # slices must nest in its bodies' axial rim faces (static_scene says so otherwise)
     slices = case.slices
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached)")
-        bodies = case_io.load_bodies(case.scene, progress=progress)
+        bodies = case_io.load_bodies(case.scene, progress=inner_bars(progress))
         bar.update()
     bar.set_postfix_str("building the scene")
     scene, bodies = case_io.static_scene(case, slices=slices, bodies=bodies)
@@ -214,7 +214,7 @@ class _SceneRun(NamedTuple):
 
     case: Case
     out_dir: str
-    bar: tqdm
+    bar: object  # its progress bar (jaxgear.cli._progress.progress)
     curves: dict | None
 
 

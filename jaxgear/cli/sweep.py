@@ -16,12 +16,12 @@ import warnings
 
 import jax
 import numpy as np
-from tqdm.auto import tqdm
 
 from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
 from ._options import range_values
 from ._paths import check_output_dir, staged_outputs
+from ._progress import inner_bars, progress as progress_bar
 from ._sweep_json import (
     ND_MODES,
     backlash_responses,
@@ -169,7 +169,7 @@ def sweep_case_run(
     hybrid = spec.hybrid  # condensed bodies to load before the model is built
     t0 = time.perf_counter()
     n_dirs = SWEEPS_PER_DIRECTION[direction]
-    bar = tqdm(
+    bar = progress_bar(
         total=n_dirs * speeds.size,
         desc=f"jaxgear sweep {case.name}" + (" (hybrid)" if hybrid else ""),
         unit="speed",
@@ -178,7 +178,7 @@ def sweep_case_run(
     bodies = None
     if hybrid:
         bar.set_postfix_str("condensed bodies (fem-prep: built once, then cached), the scene")
-        bodies = case_io.load_bodies(spec, progress=show_progress)
+        bodies = case_io.load_bodies(spec, progress=inner_bars(show_progress))
     else:
         bar.set_postfix_str("building the model (modes, damping)")
     model, spec = case_io.build_dynamic_model(case, spec, slices=slices, bodies=bodies)
@@ -215,7 +215,7 @@ def sweep_case_run(
     jax.block_until_ready(res)
     bar.close()
     # what follows the speeds: a bar over its three stages (a second run at the worst speed)
-    post = tqdm(total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress)
+    post = progress_bar(total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress)
     post.set_postfix_str("modes at the speeds, static pressures")
     r = res.results
     # the lowest modes reported (0 Hz for the drive rotation)

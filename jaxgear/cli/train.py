@@ -7,17 +7,31 @@ import json
 import os
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from .. import Modifications, contact_pressure, quasi_static
 from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
+from ._progress import inner_bars, progress
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from ._sweep_json import column_tag
 from .scene import body_outputs, first_peak
 
-__all__ = ["format_train_table", "run_train"]
+__all__ = ["format_train_table", "run_train", "train_model_words"]
+
+
+def train_model_words(case, bodies=None) -> str:
+    """The model a train's quasi-static figures show, in words: ``torsional train``, ``lumped
+    3D train (shafts, bearings)`` or, with condensed FE bodies, ``lumped 3D train, <gear>
+    a condensed FE body`` (``bodies``: per gear, None for a rigid one)."""
+    if not case.lumped:
+        return "torsional train"
+    if not case.flexible or bodies is None:
+        return "lumped 3D train (shafts, bearings)"
+    flex = [n for n, b in zip(case.gear_names, bodies, strict=False) if b is not None]
+    return "lumped 3D train, " + ", ".join(flex) + (" a condensed FE body" if len(flex) == 1
+                                                    else " condensed FE bodies")
 
 
 def run_train(
@@ -53,9 +67,9 @@ def run_train(
         The summary dict (also in ``summary.json``).
     """
     os.makedirs(out_dir, exist_ok=True)
-    steps = tqdm(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
+    steps = progress(total=6, desc=f"jaxgear run {case.name}", disable=not show_progress)
     steps.set_postfix_str("meshes and layout")
-    bodies = load_bodies(case.scene, progress=show_progress) if case.flexible else None
+    bodies = load_bodies(case.scene, progress=inner_bars(show_progress)) if case.flexible else None
     scene = case.static_train(bodies=bodies)
     layout = case.layout()
     steps.update()
@@ -173,7 +187,7 @@ def run_train(
 
     def columns(field: str, unit: str) -> dict:
         return {
-            f"{field}_{m}_{lab}_{names[k]}_{unit}": np.asarray(
+            f"{field}_{m}_{lab}_{column_tag(names[k])}_{unit}": np.asarray(
                 getattr(res[lab, m].meshes[k], field)
             )
             for k in range(n_meshes)
@@ -202,6 +216,7 @@ def run_train(
         )
     )
     glossary = _gear_glossary(case)
+    model = train_model_words(case, bodies)  # which model every figure shows
     transmission_error_plot(
         os.path.join(out_dir, "transmission_error.png"),
         x[win],
@@ -212,7 +227,7 @@ def run_train(
             for k in range(n_meshes)
         },
         title=f"{case.name}: transmission error per mesh at {case.torque:g} N·m (input), "
-        f"modified{shown}{glossary}",
+        f"modified, {model}{shown}{glossary}",
         driver="input",
     )
     mesh_stiffness_plot(
@@ -223,8 +238,11 @@ def run_train(
             for k in range(n_meshes)
             for lab in designs
         },
-        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells)"
-        f"{shown}{glossary}",
+        title=f"{case.name}: mesh stiffness per mesh ({case.stiffness_model}, loaded cells), "
+        f"{model}{shown}{glossary}",
+        note=(None if not case.flexible else
+              "K = Σ k l over the loaded cells; a condensed body's cells leave out its foundation "
+              "term (its FE rim carries that compliance):\nnot the whole mesh's stiffness"),
         driver="input",
     )
     for k, pair in enumerate(case.pairs):
@@ -235,7 +253,7 @@ def run_train(
             pressure[("modified", "exact"), k].max_pressure,
             pair,
             ppp,
-            f"of {case.name}'s {names[k]} (exact, modified)",
+            f"of {case.name}'s {names[k]} (exact, modified, {model})",
         )
     if case.flexible:  # each body deformed where the largest line load of any mesh is
         qs = res["modified", "exact"]

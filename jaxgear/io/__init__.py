@@ -49,7 +49,10 @@ from ._gearbox_file import (
     GearboxForm as GearboxForm,
     GearboxStage as GearboxStage,
 )
-from ._optimise_table import parse_optimise as parse_optimise
+from ._optimise_table import (
+    OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
+    parse_optimise as parse_optimise,
+)
 from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._planetary_spec import (
     InternalMeshForm as InternalMeshForm,

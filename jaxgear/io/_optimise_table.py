@@ -9,7 +9,22 @@ from typing import Any
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
-__all__ = ["parse_optimise"]
+__all__ = ["OPTIMISE_DEFAULTS", "parse_optimise"]
+
+#: what ``jaxgear optimise`` takes for a key that neither the command line nor the case's
+#: ``[optimise]`` gives (None: none, or the objective's own: ``lp_order`` 8, no TE limit); the
+#: case-file reference shows them
+OPTIMISE_DEFAULTS = {
+    "objective": "te_rms",
+    "vars": "tip_relief.depth,tip_relief.extent",
+    "torques": None,
+    "reduce": "max",
+    "method": "lbfgs",
+    "max_iterations": 100,
+    "speeds": None,
+    "lp_order": 8.0,
+    "te_limit_um": None,
+}
 
 _OPTIMISE_KEYS = {
     "objective",
@@ -23,7 +38,7 @@ _OPTIMISE_KEYS = {
     "speeds",
     "te_limit_um",
 }
-_DEFAULT_VARS = ("tip_relief.depth", "tip_relief.extent")
+_DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
 
 
 @functools.singledispatch
@@ -55,18 +70,20 @@ def parse_optimise(table) -> dict:
     sc.check_keys(table, _OPTIMISE_KEYS, w)
     out: dict[str, Any] = {}
     if "objective" in table:
-        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES)
+        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES, OPTIMISE_DEFAULTS["objective"])
     if "reduce" in table:
-        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"))
+        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"), OPTIMISE_DEFAULTS["reduce"])
     if "method" in table:
-        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"))
+        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"), OPTIMISE_DEFAULTS["method"])
     if "max_iterations" in table:
         out["max_iterations"] = sc.number(
-            table, "max_iterations", w, allowed="[1, 1e+06]", integer=True
+            table, "max_iterations", w, OPTIMISE_DEFAULTS["max_iterations"], allowed="[1, 1e+06]",
+            integer=True,
         )
 
     if "lp_order" in table:
-        out["lp_order"] = float(sc.number(table, "lp_order", w, allowed="[1, 64]"))
+        out["lp_order"] = float(sc.number(table, "lp_order", w, OPTIMISE_DEFAULTS["lp_order"],
+                                             allowed="[1, 64]"))
         if out.get("objective", "line_load_lp") != "line_load_lp":
             raise sc.fail(
                 w,
@@ -77,7 +94,8 @@ def parse_optimise(table) -> dict:
 
     # the TE RMS limit of the least_safety objective, as jaxgear optimise --te-limit-um
     if "te_limit_um" in table:
-        out["te_limit_um"] = float(sc.number(table, "te_limit_um", w, allowed="(0, 1e+04]"))
+        out["te_limit_um"] = float(sc.number(table, "te_limit_um", w, None,
+                                                allowed="(0, 1e+04]"))
         if out.get("objective") != "least_safety":
             raise sc.fail(
                 w,

@@ -131,6 +131,9 @@ class PlanetarySpec:
         helix_angle: the planets' base helix angle beta_b (rad; positive: right-hand planets),
             for :class:`~jaxgear.SpatialPlanetary`; 0 (spur) by default.
         face_width: the meshes' face width (m), for :class:`~jaxgear.SpatialPlanetary`.
+        mesh_tilt_stiffness: (sun mesh, ring mesh) tilting stiffness (N m/rad) or None each
+            (k b² cos²β_b/12 from the face width), :class:`~jaxgear.PlanetaryStage`'s
+            ``sun_mesh_tilt_stiffness``, ``ring_mesh_tilt_stiffness``.
     """
 
     teeth: tuple
@@ -150,6 +153,7 @@ class PlanetarySpec:
     unbalances: tuple = (0.0,) * 8
     helix_angle: float = 0.0
     face_width: float = 0.0
+    mesh_tilt_stiffness: tuple = (None, None)
 
     @property
     def eccentric(self) -> bool:
@@ -222,6 +226,8 @@ class PlanetarySpec:
             unbalances=Unbalances(*self.unbalances) if self.unbalanced else None,
             helix_angle=self.helix_angle,
             face_width=self.face_width,
+            sun_mesh_tilt_stiffness=self.mesh_tilt_stiffness[0],
+            ring_mesh_tilt_stiffness=self.mesh_tilt_stiffness[1],
         )
 
     def held_stage(self, stage: PlanetaryStage) -> PlanetaryStage:

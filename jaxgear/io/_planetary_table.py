@@ -54,7 +54,10 @@ for right-hand planets, in (-90, 90)) and ``face_width_mm`` (the meshes'); the g
 the base helix angle from the sun-planet geometry (right-hand planets: the gears'
 ``helix_angle_deg`` has no hand) and the planet gear's face width. Each member table: ``axial_N_per_um`` (axial bearing),
 ``tilt_Nm_per_rad`` (tilting, both axes), ``diametral_inertia_kg_m2`` (half the polar inertia if
-absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``.
+absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``. The meshes' tilting
+stiffness is k b² cos²β_b/12 from the face width unless ``[planetary]``
+``sun_mesh_tilt_stiffness_Nm_per_rad`` / ``ring_mesh_tilt_stiffness_Nm_per_rad`` give it (as
+published models do; :class:`~jaxgear.PlanetaryStage`).
 
 Validated whole before any work, one line per error in the file's units: the assembly condition
 ((z_s + z_r) ψ_n/360° integer), planets that do not overlap (adjacent centres 2 a sin(Δψ/2)
@@ -130,6 +133,8 @@ LUMPED_FORM_KEYS = (
     "helix_angle_deg",
     "face_width_mm",
 )
+#: the meshes' optional tilting stiffnesses (N·m/rad; the 3D model's, both forms)
+MESH_TILT_KEYS = ("sun_mesh_tilt_stiffness_Nm_per_rad", "ring_mesh_tilt_stiffness_Nm_per_rad")
 #: keys of [planetary] (both forms; a key of the other form is refused in one line)
 PLANETARY_KEYS = {
     *GEAR_FORM_KEYS,
@@ -144,6 +149,7 @@ PLANETARY_KEYS = {
     "input",
     "sun_mesh_stiffness_N_per_um",
     "ring_mesh_stiffness_N_per_um",
+    *MESH_TILT_KEYS,
     "tangential_pin_errors_um",
     "radial_pin_errors_um",
     *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
@@ -531,6 +537,9 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         ring_model=ring_model,
         helix_angle=helix,
         face_width=width,
+        mesh_tilt_stiffness=tuple(
+            sc.number(t, k, "planetary", None, allowed="[0, 1e+15]") for k in MESH_TILT_KEYS
+        ),
     )
     _check_torque(data["operating"], spec, pairs)
     mods = base.pop("gear_modifications", ())

@@ -15,6 +15,7 @@ from ._figure import (
     FIGSIZE as FIGSIZE,
     new_figure as new_figure,
     savefig as savefig,
+    wrap_titles as wrap_titles,
 )
 from ._optimisation import (
     OBJECTIVE_WORDS as OBJECTIVE_WORDS,
@@ -24,6 +25,9 @@ from ._optimisation import (
     optimiser_path_plot as optimiser_path_plot,
 )
 from ._quasi_static import (
+    DYNAMIC_ZERO as DYNAMIC_ZERO,
+    LUMPED_STIFFNESS_NOTE as LUMPED_STIFFNESS_NOTE,
+    SCENE_STIFFNESS_NOTE as SCENE_STIFFNESS_NOTE,
     TE_COINCIDE_SHARE as TE_COINCIDE_SHARE,
     face_map as face_map,
     face_maps as face_maps,
@@ -44,6 +48,7 @@ from ._sweep import (
     coincidence_name as coincidence_name,
     coincidences as coincidences,
     dynamic_factor_plot as dynamic_factor_plot,
+    mode_number as mode_number,
     name_peaks as name_peaks,
     pressure_speed_plot as pressure_speed_plot,
 )

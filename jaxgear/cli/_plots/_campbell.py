@@ -129,7 +129,7 @@ def campbell_plot(
     mode_labels = []
     y_free = -np.inf  # the lowest place for the next label
     for g in groups:
-        ids = ", ".join(str(i) for i, _, _ in g)
+        ids = ", ".join(str(i + 1) for i, _, _ in g)  # 1-based, as `jaxgear modes`
         hz = ", ".join(hz_text(f) for _, f, _ in g)
         y = max(g[-1][1] + 0.006 * f_top, y_free)
         y_free = y + 0.055 * f_top

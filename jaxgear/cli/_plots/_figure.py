@@ -4,6 +4,7 @@ below the axes, sized to the figure."""
 
 from __future__ import annotations
 
+import re
 import sys
 import textwrap
 
@@ -40,16 +41,27 @@ def new_figure(figsize=FIGSIZE):
     return fig, fig.add_subplot()
 
 
+#: (pattern, replacement) pairs that tie a unit to its number and a sign to what follows with a
+#: no-break space before a title is wrapped (textwrap breaks at ASCII spaces only)
+NO_BREAK = (
+    (r"(?<=\d) (%|µm|mm|Hz|rad/s|N·m|N/µm|kN|MPa)(?=\W|$)", "\u00a0\\1"),
+    (r"([≥≤<>=]) (?=\S)", "\\1\u00a0"),
+)
+
+
 def wrap_titles(fig) -> None:
     """Break each axes title wider than its axes into lines (a long case name or model
     description would otherwise run past the figure's edges, which constrained layout does
-    not prevent): about 0.55 em per character of the title's font."""
+    not prevent): about 0.55 em per character of the title's font. A unit or a sign keeps to
+    its number (``5 %``, ``≥ 5``, ``20 µm``: no-break spaces, :data:`NO_BREAK`)."""
     width_pt = fig.get_figwidth() * 72.0
     for ax in fig.axes:
         title = ax.title
         text = title.get_text()
         chars = int(width_pt * ax.get_position().width / (0.55 * title.get_fontsize()))
         if len(text.splitlines()) == 1 and len(text) > chars > 20:
+            for before, after in NO_BREAK:
+                text = re.sub(before, after, text)
             title.set_text(textwrap.fill(text, chars))
 
 

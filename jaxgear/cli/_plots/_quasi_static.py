@@ -15,6 +15,9 @@ from ... import load_map
 from ._figure import finish, legend_below_and_save, new_figure, savefig
 
 __all__ = [
+    "DYNAMIC_ZERO",
+    "LUMPED_STIFFNESS_NOTE",
+    "SCENE_STIFFNESS_NOTE",
     "TE_COINCIDE_SHARE",
     "face_map",
     "face_maps",
@@ -28,6 +31,26 @@ __all__ = [
     "transmission_error_plot",
 ]
 
+
+#: what the rigid mesh's and a scene's "mesh stiffness" curves are (``mesh_stiffness.png``'s note)
+SCENE_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells. Rigid mesh: the cells carry the whole tooth "
+    "compliance (tooth, foundation, contact).\nA condensed body's cells leave out its "
+    "foundation term (its FE rim carries that compliance): higher K, not the whole mesh's "
+    "stiffness (T/TE is)."
+)
+
+
+#: the same for a scene without condensed bodies (its cells are the rigid mesh's)
+LUMPED_STIFFNESS_NOTE = (
+    "K = Σ k l over the loaded contact cells (tooth, foundation, contact); the scene's shafts "
+    "and bearings are not in it"
+)
+
+
+#: what the dynamic pressure map's bands of 0 MPa are (its legend)
+DYNAMIC_ZERO = ("0 MPa: no contact there at any kept step (a relief's unloaded zone,\n"
+                "or the teeth losing contact in the dynamic response: sweep.json's contact_loss)")
 
 #: exact and smooth TE are drawn as one curve when they differ by less than this share of the
 #: plotted TE range (about the width of a line on a FIGSIZE figure)
@@ -83,12 +106,27 @@ def mesh_stiffness_plot(
     path, x, curves: dict, *, title: str, driver: str = "pinion", note: str | None = None
 ) -> list[str]:
     """Mesh stiffness (N/µm) against the ``driver``'s position (the pinion's, a train's
-    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot."""
+    input's); ``curves``: ``{label: K (N/m)}``; ``note``: a line under the plot. Curves that
+    coincide (within :data:`TE_COINCIDE_SHARE` of the plotted range, a line's width) are drawn
+    once, their legend entry naming them all (``A = B (coincide)``); the others each in their
+    own colour and dash, so that one on top of another still shows."""
     fig, ax = new_figure()
     colors = ("C0", "C3", "C2", "C1", "C4", "C5")
-    styles = ("-", "-", "--", ":", "-.", "--")  # a curve on top of another one still shows
-    for (lab, k), color, ls in zip(curves.items(), colors, styles, strict=False):
-        ax.plot(x, np.asarray(k) / 1e6, ls, color=color, label=lab)
+    styles = ("-", "--", "-.", ":", "-", "--")  # a curve on top of another one still shows
+    n_per_um = {lab: np.asarray(k) / 1e6 for lab, k in curves.items()}
+    allv = np.concatenate(list(n_per_um.values())) if n_per_um else np.zeros(1)
+    span = float(np.ptp(allv)) or float(np.max(np.abs(allv))) or 1.0
+    groups: list[tuple[list[str], np.ndarray]] = []
+    for lab, k in n_per_um.items():
+        same = next((g for g in groups if g[1].shape == k.shape
+                     and np.max(np.abs(g[1] - k)) <= TE_COINCIDE_SHARE * span), None)
+        if same is None:
+            groups.append(([lab], k))
+        else:
+            same[0].append(lab)
+    for (labs, k), color, ls in zip(groups, colors, styles, strict=False):
+        label = labs[0] if len(labs) == 1 else " = ".join(labs) + " (coincide)"
+        ax.plot(x, k, ls, color=color, label=label)
     ax.set_xlabel(f"{driver} position (mesh periods)")
     ax.set_ylabel("mesh stiffness K(θ) (N/µm)")
     ax.set_title(title)
@@ -106,10 +144,12 @@ def load_map_plot(
     vmax: float | None = None,
     label: str = "max line load (N/mm)",
     unit: float = 1e3,
+    zero_label: str | None = None,
 ):
     """Max line load (N/mm) over the line of action (s) and the face width (z); SI inputs
     (``label`` and ``unit``, the SI value of one displayed unit, for another field: the contact
-    pressure in MPa, 1e6).
+    pressure in MPa, 1e6). ``zero_label``: a legend entry below the axes for the colour of 0
+    (what the bands of no load are, a dynamic map's contact loss).
 
     The colour scale runs from 0 to ``vmax`` (SI; default: the map's maximum): maps that are
     to be compared (a body at rest and at speed) pass the same ``vmax``. Returns the image's
@@ -128,6 +168,9 @@ def load_map_plot(
         vmax=max(vmax, 1e-12) / unit,
     )
     fig.colorbar(pc, ax=ax, label=label)
+    if zero_label:
+        zero = mpatches.Patch(facecolor=pc.cmap(0.0), edgecolor="0.5", label=zero_label)
+        fig.legend(handles=[zero], loc="outside lower center", fontsize=8, frameon=False)
     finish(
         fig,
         ax,
@@ -184,6 +227,7 @@ def face_map(
     title: str,
     label: str = "max line load (N/mm)",
     unit: float = 1e3,
+    zero_label: str | None = None,
 ):
     """One field of one mesh over a tooth's passage (roll position along the line of action ×
     face width), as :func:`~jaxgear.load_map` bins it: the line load (``field`` None, N/m) or a
@@ -192,7 +236,7 @@ def face_map(
     or a dynamic one recorded with ``cell_loads`` (K, L, N); ``positions_per_pitch``: the
     result's steps per period of that mesh (the step of its contact lines along s).
     ``label``/``unit`` as :func:`load_map_plot`. The one plot of the quasi-static and the
-    dynamic pressure maps."""
+    dynamic pressure maps; ``zero_label`` as :func:`load_map_plot`'s."""
     s_edges, z, grid = load_map(
         result, positions_per_pitch, pair.base_pitch, pair.path_of_contact, field=field
     )
@@ -205,6 +249,7 @@ def face_map(
         title=title,
         label=label,
         unit=unit,
+        zero_label=zero_label,
     )
 
 

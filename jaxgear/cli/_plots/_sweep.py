@@ -22,6 +22,7 @@ __all__ = [
     "coincidence_name",
     "coincidences",
     "dynamic_factor_plot",
+    "mode_number",
     "name_peaks",
     "pressure_speed_plot",
 ]
@@ -142,9 +143,17 @@ def coincidences(summary: dict, harmonics=(1, 2, 3, 4), min_share: float = 0.05)
     return sorted(out.values(), key=lambda c: c["speed_rad_s"])
 
 
+def mode_number(c: dict) -> int:
+    """A coincidence's mode as the figures and ``jaxgear modes`` number it: 1-based (the
+    ``mode`` of ``sweep.json``'s ``critical_speeds`` is the 0-based index into the modal
+    analysis' frequencies, rigid modes included, as ``modes.json``'s list)."""
+    return int(c["mode"]) + 1
+
+
 def coincidence_name(c: dict) -> str:
     mesh = f" of {c['mesh']}" if "mesh" in c else ""
-    return f"mode {c['mode']} ({hz_text(c['frequency_Hz'])} Hz) × H{c['harmonic']}{mesh}"
+    return (f"mode {mode_number(c)} ({hz_text(c['frequency_Hz'])} Hz) × "
+            f"H{c['harmonic']}{mesh}")
 
 
 def _distance(c: dict, speed: float) -> float:
@@ -233,9 +242,6 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     shown = [c for c in summary["critical_speeds"] if sp.min() <= c["speed_rad_s"] <= sp.max()]
     peaks = name_peaks(sp, df, cands)
     top = sorted(peaks, key=lambda p: -p["value"])[:PEAKS_NAMED]  # the peaks named
-    named = {
-        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
-    }
     rest = [p for p in peaks if p not in top]
     if rest:
         ax.plot(
@@ -247,16 +253,21 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
             mfc="none",
             label=f"smaller peak (the {PEAKS_NAMED} highest are named)",
         )
+    named = {  # the coincidences the peak labels name: their lines labelled short
+        (p["coincidence"]["mode"], p["coincidence"]["harmonic"]) for p in top if p["coincidence"]
+    }
     crit_texts = []
     for c in shown:
+        # every line labelled at its top (also where a named peak's label names it, which may
+        # stand away from its line: then its harmonic only, above that label)
         ax.axvline(c["speed_rad_s"], color="0.55", ls="--", lw=0.8, zorder=0)
-        if (c["mode"], c["harmonic"]) in named:  # the peak's label names it
-            continue
+        short = (c["mode"], c["harmonic"]) in named  # a peak's label names it below
         crit_texts.append(
             ax.text(
                 c["speed_rad_s"],
                 0.985,
-                f"mode {c['mode']} × H{c['harmonic']}",
+                # a line a peak's label names: its short name, above that label
+                f"H{c['harmonic']}" if short else f"mode {mode_number(c)} × H{c['harmonic']}",
                 transform=trans,
                 rotation=90,
                 fontsize=7,
