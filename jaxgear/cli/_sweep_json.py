@@ -10,12 +10,14 @@ import functools
 import math
 import os
 
+import jax
 import numpy as np
 
 from .. import contact_pressure, quasi_static
 from ..dynamics import (
     Newmark,
     Outputs,
+    SteadyState,
     auto_steps_per_period,
     gear_nodal_diameter_resonances,
     rim_stations,
@@ -238,7 +240,9 @@ def pressure_responses(r, static: list[float]) -> dict:
     return out
 
 
-def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz, states=False) -> dict | None:
+def dynamic_pressure_map(
+    case, model, spec, law, r, speeds, hertz, states=False, window=None
+) -> dict | None:
     """The run at the speed of the largest dynamic factor (of the worst mesh, among the speeds
     that ran to the end), from the static equilibrium with the sweep's settings and its cell
     loads recorded (:func:`jaxgear.dynamics.simulate` with ``cell_loads=True``), and each
@@ -249,19 +253,26 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz, states=False)
     with the same settings reuses (``jaxgear run``'s root stress at speed,
     :func:`jaxgear.cli.root_stress_at_speed`) instead of simulating it again. ``states``: record
     the states too (with ``--vtu-speed``: the outputs of :func:`vtu_series`'s run, so that the
-    two runs are one compiled program)."""
+    two runs are one compiled program). ``window``: a settled sweep's window (periods; None:
+    the case's span from the static equilibrium): the run starts from the sweep's final state
+    at that speed and runs one window (its steady state, already settled)."""
     df = worst(r, "dynamic_factor")
     ok = (np.asarray(r.result) == 0) & np.isfinite(df)
     if not ok.any():
         return None
     i = int(np.argmax(np.where(ok, df, -np.inf)))
     speed = float(speeds[i])
+    start, span = None, spec_window(spec)
+    if window is not None:  # one more window from the settled state at that speed
+        start = tuple(jax.device_put(np.asarray(a)[i]) for a in r.final_state[:2])
+        span = SteadyState(max(int(window), 2), spec.keep_periods)
     one = simulate(
         model,
         speed,
         integrator=spec_integrator(spec),
         contact=law,
-        window=spec_window(spec),
+        window=span,
+        state0=start,
         outputs=Outputs(cell_loads=True, states=states),
         throw=False,
     )
@@ -361,7 +372,10 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
     for key, v in summary.items():
         if key == "speeds_rad_s" or not isinstance(v, list) or len(v) != n:
             continue
-        if all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
+        if key.startswith("settled") and all(isinstance(e, bool) or e is None for e in v):
+            header.append(key)  # whether each speed settled: 1 or 0 (empty: not checked)
+            cols.append([number(None if e is None else int(e)) for e in v])
+        elif all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
             header.append(key)
             cols.append([number(e) for e in v])
         elif all(isinstance(e, list) for e in v) and len({len(e) for e in v}) == 1:
