@@ -317,7 +317,14 @@ def sweep_case_run(
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
     # with a VTU series, the map's run records the states too: one program for both runs
     dyn_map = dynamic_pressure_map(
-        case, model, spec, law, r, speeds, hertz, states=vtu_speed is not None,
+        case,
+        model,
+        spec,
+        law,
+        r,
+        speeds,
+        hertz,
+        states=vtu_speed is not None,
         window=None if settled is None else settled[0].window,
     )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
@@ -373,24 +380,12 @@ def settled_keys(r, settled, speeds, spec) -> dict:
     numbers: t_s, the mode that sets it, the window, the tolerance, each speed's cap). Where
     ``periods`` are given, the span is honoured and ``settled`` is the records' periodicity
     (the last kept period against the one before, None where the kept periods hold fewer than
-    two of the scene's) within :data:`jaxgear.dynamics.SETTLED_TOL`, one ``CaseWarning``
-    above it."""
+    two of the scene's) within :data:`jaxgear.dynamics.SETTLED_TOL` (``jaxgear sweep`` prints
+    how many are not; a settled sweep warns at a speed that reaches its cap unsettled)."""
     tol = dynamics.SETTLED_TOL
     if settled is None:
         per = worst(r, "periodicity")
         flags = [None if not math.isfinite(v) else bool(v <= tol) for v in per]
-        bad = [i for i, f in enumerate(flags) if f is False]
-        if bad:
-            k = max(bad, key=lambda i: per[i])
-            warnings.warn(
-                f"speed {speeds[k]:.6g} rad/s (and {len(bad) - 1} more): not settled, the last "
-                f"kept mesh period differs from the one before by {per[k]:.3g} of the static "
-                f"mesh force (> {tol:g}): raise periods (--periods, [scene.integration] "
-                f"periods = {spec.periods}) or leave it out (\"auto\": each speed runs until "
-                "it settles)",
-                case_io.CaseWarning,
-                stacklevel=3,
-            )
         span = case_io.spec_window(spec).periods
         return {"settled": flags, "periods_run": [int(span)] * len(flags)}
     up = settled[0]
@@ -464,6 +459,14 @@ def sweep_command(form, case, speeds, args) -> int:
         f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
         f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
     )
+    n_open = sum(1 for v in s.get("settled", ()) if v is False)
+    if n_open:
+        print(
+            f"{n_open} of {len(df)} speeds not settled (sweep.json settled, periodicity: the "
+            f"last kept period against the one before > {dynamics.SETTLED_TOL:g} of the static "
+            f'mesh force): raise --periods, or leave periods "auto" (each speed until it '
+            "settles)"
+        )
     n_under = sum(s.get("under_resolved", ()))
     if n_under:
         warnings.warn(

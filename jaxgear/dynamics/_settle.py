@@ -218,8 +218,9 @@ def settled_sweep(
             state = (state[0], state[1] * (s / last_speed))
         prev = None
         for b in range(int(blocks[i])):
-            r = _host(model.independent(prepare(int(ns[i])), jnp.asarray(s, model.dtype),
-                                        start=state))
+            r = _host(
+                model.independent(prepare(int(ns[i])), jnp.asarray(s, model.dtype), start=state)
+            )
             periods[i] = (b + 1) * block
             if int(r.result) != 0:
                 state = None
