@@ -25,6 +25,7 @@ from ._modal import ModalAnalysis, excited_omega
 from ._model import AbstractDynamicModel
 from ._result import SweepResult
 from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, Newmark, Outputs, SteadyState
+from ._sweep import _host, _subsample, auto_steps_per_period, resolve_settings
 
 __all__ = [
     "CAP_FACTOR",
@@ -156,8 +157,6 @@ def settled_sweep(
         ValueError: a model that does not continue, speeds not ascending or not > 0, a
             ``tol`` <= 0, bad settings (before any work).
     """
-    from ._sweep import _host, auto_steps_per_period, resolve_settings
-
     if not model.continues:
         raise ValueError(
             f"model = {type(model).__name__}: a settled sweep continues from speed to speed; "
@@ -235,8 +234,6 @@ def settled_sweep(
             prev = fm
         last_speed = s
         if thin and int(ns[i]) != n_min:
-            from ._sweep import _subsample
-
             one = jax.tree.map(lambda a: np.asarray(a)[None], r)
             r = jax.tree.map(lambda a: a[0], _subsample(one, int(ns[i]) // n_min))
         records[i] = r
