@@ -84,14 +84,25 @@ def settling_time(modes, damping_ratio) -> tuple[float, float]:
     return math.log(1.0 / SETTLE_TOL) / float(rate[i]), float(omega[i])
 
 
+def _state_change(end, start, mass, stiffness, k_mesh: float, static_forces) -> float:
+    """The mesh force a window's change of state could carry, over the smallest static mesh
+    force: E = ½ ΔẊᵀ M ΔẊ + ½ ΔXᵀ K̄ ΔX of Δ = end − start ((X, Ẋ) at the same mesh position:
+    zero on a periodic orbit), and a mesh spring of stiffness k̄ holding all of it carries at
+    most √(2 k̄ E) (K̄ = K_s + K̄_m the mesh-averaged stiffness, k̄ the mean mesh stiffness)."""
+    dx = np.asarray(end[0]) - np.asarray(start[0])
+    dv = np.asarray(end[1]) - np.asarray(start[1])
+    energy = 0.5 * (dv @ mass @ dv + dx @ stiffness @ dx)
+    return float(np.sqrt(2.0 * k_mesh * max(energy, 0.0)) / np.min(static_forces))
+
+
 class SettledSweep(NamedTuple):
     """A sweep run until each speed settled (:func:`settled_sweep`).
 
     Attributes:
         sweep: the :class:`SweepResult` (each speed's last window; ``down`` None).
         periods: mesh periods (of the first mesh) each speed ran, int (S,).
-        change: max over the kept steps and meshes of |F_m(window) − F_m(window before)| / F_s
-            of each speed's last two windows (-), (S,); NaN where the speed failed.
+        change: the change of each speed's last window over the static mesh force (-), (S,)
+            (:func:`settled_sweep`); NaN where the speed failed.
         settled: ``change`` <= ``tol``, bool (S,).
         cap: the most periods a speed may run, int (S,): :data:`CAP_FACTOR` times the span of
             an independent run at that speed (``keep + ceil(t_s f_mesh)``), in whole windows,
@@ -121,7 +132,7 @@ def settled_sweep(
     integrator: Newmark | None = None,
     contact=None,
     keep_periods: int | None = None,
-    outputs: Outputs = Outputs(),
+    outputs: Outputs | None = None,
     descending: bool = False,
     tol: float = SETTLED_TOL,
     progress=None,
@@ -131,20 +142,25 @@ def settled_sweep(
     from the static equilibrium, each next one from the previous speed's final state, its
     vibration velocity scaled by the ratio of the speeds (the same response over the mesh
     angle); each speed runs windows of ``window`` mesh periods (``keep_periods`` kept, rounded
-    up to the scene's period) from its own last state until the kept mesh forces of a window
-    differ from those of the window before by at most ``tol`` of each mesh's static force, or
-    until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
+    up to the scene's period: each window ends at the mesh position where it began) from its
+    own last state until settled: the change of a window, at most ``tol`` of each mesh's static
+    force, is the largest of the last kept period against the one before (the records'
+    periodicity, where they hold two scene periods), and the kept forces against the window
+    before's or, for a continued speed's first window, the mesh force its change of state could
+    carry (:func:`_state_change`: zero on a periodic orbit, whose state repeats at the same mesh
+    position); or until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
     ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios), at least
     four windows. A speed at its cap unsettled:
     one ``UserWarning`` line naming it, its change and the ``periods`` that run it longer. So
     the settling is paid once (at the first speed, the slowest: the fewest periods), and a
-    speed whose neighbour's state is close settles in two windows.
+    speed whose neighbour's state is close settles in one window.
 
     Args:
         model: a lumped :class:`~jaxgear.dynamics.DynamicModel` (one that
             :attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`).
         speeds: pinion (input) speeds (rad/s) > 0, ascending, concrete, (S,).
-        integrator, contact, outputs: as :func:`~jaxgear.dynamics.speed_sweep` (automatic
+        integrator, contact, outputs: as :func:`~jaxgear.dynamics.speed_sweep` (None: its
+            defaults; automatic
             steps: each speed its own N_s, the histories at the smallest).
         keep_periods: the kept periods (default the model's, 4), >= the scene's period.
         descending: continue from the last speed down (records in the order of ``speeds``).
@@ -174,7 +190,7 @@ def settled_sweep(
     q = model.span_periods()
     block = q * -(-keep // q)  # a whole number of scene periods: each window ends where it began
     integrator, law, window, outputs = resolve_settings(
-        model, integrator, contact, SteadyState(max(block, 2), keep), outputs
+        model, integrator, contact, SteadyState(max(block, 2), keep), outputs or Outputs()
     )
     modes = model.averaged_modes()
     t_s, w_min = settling_time(modes, modal_damping_ratios(modes, model.damping))
@@ -210,6 +226,9 @@ def settled_sweep(
     records: list = [None] * sp.size
     periods = np.zeros(sp.size, dtype=int)
     change = np.full(sp.size, np.nan)
+    mass = np.asarray(model.scene.mass())
+    stiff = np.asarray(model.scene.stiffness()) + np.asarray(modes.mesh_stiffness)
+    k_mesh = float(model.mesh_stiffness_mean)
     state, last_speed = None, None
     for done, i in enumerate(order):
         s = float(sp[i])
@@ -224,13 +243,17 @@ def settled_sweep(
             if int(r.result) != 0:
                 state = None
                 break
-            fm = np.stack([np.asarray(m.mesh_force) / float(m.static_force) for m in r.meshes])
-            state = (jax.device_put(r.final_state[0]), jax.device_put(r.final_state[1]))
-            if prev is not None:  # and the last kept period against the one before
-                per = max(float(np.nan_to_num(m.periodicity)) for m in r.meshes)
+            fs = np.asarray([float(m.static_force) for m in r.meshes])
+            fm = np.stack([np.asarray(m.mesh_force) / f for m, f in zip(r.meshes, fs)])
+            # the last kept period against the one before (NaN: fewer than two scene periods)
+            per = max(float(np.nan_to_num(m.periodicity)) for m in r.meshes)
+            if prev is not None:  # the window's forces against the window before's
                 change[i] = max(float(np.max(np.abs(fm - prev))), per)
-                if change[i] <= tol:
-                    break
+            elif state is not None:  # a continued speed's first window: its end state
+                change[i] = max(_state_change(r.final_state, state, mass, stiff, k_mesh, fs), per)
+            state = (jax.device_put(r.final_state[0]), jax.device_put(r.final_state[1]))
+            if change[i] <= tol:
+                break
             prev = fm
         last_speed = s
         if thin and int(ns[i]) != n_min:
