@@ -4,7 +4,8 @@ after: ``periods = "auto"``, each speed by continuation until it settles), each 
 process with an empty compilation cache of its own: wall and CPU seconds (user + system of the
 child, ``resource.getrusage``) and the 1-minute load average before and after each run (the
 machine may be shared: CPU seconds are the comparable figure). Writes
-docs/bench/bench_settled_sweeps.json (with machine, dtype, JAX version) unless ``--json``.
+the JSON given by ``--json`` (machine, dtype, JAX version; docs/bench/bench_settled_sweeps.json
+holds the figures measured by hand for issue 69).
 
     python benchmarks/settled_sweeps.py --before /tmp/base --after . [--cases a b ...]
 
@@ -23,7 +24,9 @@ import tempfile
 import time
 from pathlib import Path
 
-CASES = ["accessory-spur", "power-helical", "accessory-idler-train", "nrel-5mw-stage3", "two-stage"]
+#: the embedded cases whose ``jaxgear run`` sweeps (a ``[scene]`` without condensed bodies;
+#: power-helical and nrel-5mw-stage3 have none: ``jaxgear sweep`` runs theirs)
+CASES = ["accessory-spur", "accessory-idler-train", "two-stage"]
 
 
 def one_run(src: str, case: str) -> dict:
@@ -70,7 +73,7 @@ def main() -> None:
     p.add_argument("--before", required=True, help="source tree of the fixed spans")
     p.add_argument("--after", default=".", help="source tree of the settled sweeps")
     p.add_argument("--cases", nargs="*", default=CASES)
-    p.add_argument("--json", default="docs/bench/bench_settled_sweeps.json")
+    p.add_argument("--json", default="bench_settled_sweeps_run.json")
     a = p.parse_args()
     import jax
 
