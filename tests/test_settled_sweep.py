@@ -134,3 +134,22 @@ def test_sweep_json_says_whether_each_speed_settled(tmp_path):
     f = json.loads((tmp_path / "fixed" / "sweep.json").read_text())
     assert f["periods"] == 6 and f["periods_run"] == [6, 6]
     assert f["settled"] == [p <= 1e-2 for p in f["periodicity"]]
+
+
+def test_a_speed_at_its_cap_unsettled_gets_one_line_naming_it_and_the_option():
+    from types import SimpleNamespace
+
+    s = jd.SettledSweep(
+        sweep=SimpleNamespace(speeds=np.array([300.0, 600.0, 900.0])),
+        periods=np.array([8, 40, 12]),
+        change=np.array([0.004, 0.031, np.nan]),  # the third failed (its result code says so)
+        settled=np.array([True, False, False]),
+        cap=np.array([16, 40, 48]),
+        settle_s=0.01,
+        f_min_Hz=100.0,
+        window=4,
+        keep=4,
+    )
+    (line,) = jd.unsettled_lines(s)
+    assert line.startswith("speed 600 rad/s: not settled after 40 mesh periods")
+    assert "0.031" in line and "--periods 80" in line and "[scene.integration] periods" in line

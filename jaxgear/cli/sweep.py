@@ -11,6 +11,7 @@ import functools
 import math
 import os
 import platform
+import sys
 import time
 import warnings
 
@@ -367,6 +368,9 @@ def settled_sweeps(model, speeds, spec, law, outputs, direction: str, progress) 
                 progress=lambda i, base=k * n: progress(base + i),
             )
         )
+    for run in runs:  # one line per speed at its cap unsettled (stderr, as the CLI's warnings)
+        for line in dynamics.unsettled_lines(run):
+            print(f"jaxgear: warning: {line}", file=sys.stderr, flush=True)
     down = runs[1].sweep.results if len(runs) == 2 else None
     return dynamics.SweepResult(runs[0].sweep.speeds, runs[0].sweep.results, down), tuple(runs)
 

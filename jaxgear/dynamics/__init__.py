@@ -123,6 +123,7 @@ from ._settle import (
     modal_damping_ratios as modal_damping_ratios,
     settled_sweep as settled_sweep,
     settling_time as settling_time,
+    unsettled_lines as unsettled_lines,
 )
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
 from ._sweep import (

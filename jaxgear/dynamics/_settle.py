@@ -14,7 +14,6 @@ mesh force."""
 from __future__ import annotations
 
 import math
-import warnings
 from typing import NamedTuple
 
 import jax
@@ -35,6 +34,7 @@ __all__ = [
     "modal_damping_ratios",
     "settled_sweep",
     "settling_time",
+    "unsettled_lines",
 ]
 
 #: the transient's amplitude left, relative to its start, when the kept periods begin: the
@@ -95,6 +95,19 @@ def _state_change(end, start, mass, stiffness, k_mesh: float, static_forces) -> 
     return float(np.sqrt(2.0 * k_mesh * max(energy, 0.0)) / np.min(static_forces))
 
 
+def unsettled_lines(s: "SettledSweep", tol: float = SETTLED_TOL) -> list[str]:
+    """One line per speed of the settled sweep ``s`` that reached its cap unsettled: the
+    speed, its periods, its change over the static mesh force and the ``periods`` that run
+    every speed longer (the case file's key and ``--periods``)."""
+    sp = np.asarray(s.sweep.speeds)
+    return [
+        f"speed {sp[i]:.6g} rad/s: not settled after {int(s.periods[i])} mesh periods, its kept "
+        f"forces change by {s.change[i]:.3g} of the static mesh force (> {tol:g}): run every "
+        f"speed longer with --periods {2 * int(s.periods[i])} ([scene.integration] periods)"
+        for i in np.flatnonzero(~s.settled & np.isfinite(s.change))
+    ]
+
+
 class SettledSweep(NamedTuple):
     """A sweep run until each speed settled (:func:`settled_sweep`).
 
@@ -150,8 +163,9 @@ def settled_sweep(
     carry (:func:`_state_change`: zero on a periodic orbit, whose state repeats at the same mesh
     position); or until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
     ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios), at least
-    four windows. A speed at its cap unsettled:
-    one ``UserWarning`` line naming it, its change and the ``periods`` that run it longer. So
+    four windows. A speed at its cap unsettled has ``settled`` False (``jaxgear sweep`` and
+    ``jaxgear run`` print one warning line per such speed, naming its change and the
+    ``periods`` that run it longer; :func:`unsettled_lines`). So
     the settling is paid once (at the first speed, the slowest: the fewest periods), and a
     speed whose neighbour's state is close settles in one window.
 
@@ -265,15 +279,6 @@ def settled_sweep(
     results = jax.tree.map(lambda *a: jax.device_put(np.stack(a)), *records)
     settled = np.asarray(change <= tol)
     cap = blocks * block
-    for i in np.flatnonzero(~settled & np.isfinite(change)):
-        warnings.warn(
-            f"speed {sp[i]:.6g} rad/s: not settled after {int(periods[i])} mesh periods, the kept "
-            f"forces change by {change[i]:.3g} of the static mesh force from one window to the "
-            f"next (> {tol:g}): run it longer with periods >= {2 * int(periods[i])} "
-            "(--periods, [scene.integration] periods)",
-            UserWarning,
-            stacklevel=2,
-        )
     return SettledSweep(
         SweepResult(jnp.asarray(sp, model.dtype), results),
         periods,
