@@ -19,11 +19,13 @@ import numpy as np
 from .. import AbstractPlanetaryMeshes
 from ..dynamics import (
     MAX_STEPS_PER_SPEED,
-    MESH_ENERGY_MIN,
+    SETTLE_TOL,
+    SETTLED_TOL,
     UNDER_RESOLVED_STEPS,
     PlanetaryRun,
     excited_omega,
     planetary_dynamics,
+    settling_time,
     steps_for_mode,
 )
 from ..io import CaseWarning
@@ -53,22 +55,17 @@ __all__ = [
 #: (:data:`jaxgear.dynamics.UNDER_RESOLVED_STEPS`); the default step gives at least
 #: :data:`jaxgear.dynamics.STEPS_PER_MODE` (:func:`time_plan`)
 STEPS_PER_TOP_PERIOD = UNDER_RESOLVED_STEPS
-#: the transient's amplitude left, relative to its start, when the kept periods begin: the
-#: settling time t_s = ln(1 / SETTLE_TOL) / (ζ ω_min) of the slowest decaying mode the meshes
-#: excite (:func:`time_plan`); the run starts from the quasi-static state, an error of about
-#: the dynamic part of the mesh force, so the kept forces carry ~0.1 % of it (checked: the
-#: last kept period against the one before, :data:`SETTLED_TOL`)
-SETTLE_TOL = 1e-3
+#: SETTLE_TOL (the transient's amplitude left when the kept periods begin) and SETTLED_TOL (the
+#: periodicity above which a speed is not settled): the pairs' and trains' rule,
+#: :func:`jaxgear.dynamics.settling_time` (docs/dynamics.md, "Settled sweeps"); the run starts
+#: from the quasi-static state, an error of about the dynamic part of the mesh force, so the
+#: kept forces carry ~0.1 % of it (checked: the last kept period against the one before)
 #: kept mesh periods of a stage whose steady state repeats every mesh period in the carrier
 #: frame (:func:`carrier_periodic`): the last one against the one before is the settled check
 KEEP_PERIODIC = 2
 #: kept mesh periods otherwise (eccentricities, unbalances and a flexible ring turn relative to
 #: the carrier: the forces repeat over a member's turn, not a mesh period)
 KEEP_OTHER = 4
-#: the periodicity (max |F(last kept period) - F(the one before)| over the nominal mesh
-#: force) above which a speed of a carrier-periodic stage is not settled: one ``CaseWarning``
-SETTLED_TOL = 1e-2
-
 
 def carrier_periodic(stage, flexible_ring: bool) -> bool:
     """Whether the stage's steady state repeats every mesh period in the carrier frame: a
@@ -132,11 +129,8 @@ def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_rati
         ValueError: a speed would need more than 2^22 steps per mesh period (one line).
     """
     sp = np.asarray(speeds, dtype=float)
-    rigid = np.asarray(modes.rigid)
-    omega = np.asarray(modes.omega)
     w_max = float(excited_omega(modes))
-    excited = ~rigid & (np.asarray(modes.mesh_energy) >= MESH_ENERGY_MIN)
-    w_min = float(np.min(omega[excited])) if np.any(excited) else w_max
+    settle, w_min = settling_time(modes, float(damping_ratio))
     f_mesh = sp * float(mesh_frequency)
     if steps is None:
         ns = steps_for_mode(w_max, 1.0 / float(mesh_frequency), sp, 1.0, n_planets)
@@ -145,7 +139,6 @@ def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_rati
     keep = keep or (KEEP_PERIODIC if periodic else KEEP_OTHER)
     if periods is not None:
         keep = min(keep, int(periods))
-    settle = math.log(1.0 / SETTLE_TOL) / (float(damping_ratio) * w_min)
     if periods is None:
         pe = keep + np.ceil(settle * f_mesh).astype(int)
     else:

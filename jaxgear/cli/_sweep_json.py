@@ -11,12 +11,14 @@ import math
 import os
 import re
 
+import jax
 import numpy as np
 
 from .. import contact_pressure, quasi_static
 from ..dynamics import (
     Newmark,
     Outputs,
+    SteadyState,
     auto_steps_per_period,
     gear_nodal_diameter_resonances,
     rim_stations,
@@ -246,7 +248,9 @@ def pressure_responses(r, static: list[float]) -> dict:
     return out
 
 
-def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz, states=False) -> dict | None:
+def dynamic_pressure_map(
+    case, model, spec, law, r, speeds, hertz, states=False, window=None
+) -> dict | None:
     """The run at the speed of the largest dynamic factor (of the worst mesh, among the speeds
     that ran to the end), from the static equilibrium with the sweep's settings and its cell
     loads recorded (:func:`jaxgear.dynamics.simulate` with ``cell_loads=True``), and each
@@ -257,19 +261,26 @@ def dynamic_pressure_map(case, model, spec, law, r, speeds, hertz, states=False)
     with the same settings reuses (``jaxgear run``'s root stress at speed,
     :func:`jaxgear.cli.root_stress_at_speed`) instead of simulating it again. ``states``: record
     the states too (with ``--vtu-speed``: the outputs of :func:`vtu_series`'s run, so that the
-    two runs are one compiled program)."""
+    two runs are one compiled program). ``window``: a settled sweep's window (periods; None:
+    the case's span from the static equilibrium): the run starts from the sweep's final state
+    at that speed and runs one window (its steady state, already settled)."""
     df = worst(r, "dynamic_factor")
     ok = (np.asarray(r.result) == 0) & np.isfinite(df)
     if not ok.any():
         return None
     i = int(np.argmax(np.where(ok, df, -np.inf)))
     speed = float(speeds[i])
+    start, span = None, spec_window(spec)
+    if window is not None:  # one more window from the settled state at that speed
+        start = tuple(jax.device_put(np.asarray(a)[i]) for a in r.final_state[:2])
+        span = SteadyState(max(int(window), 2), spec.keep_periods)
     one = simulate(
         model,
         speed,
         integrator=spec_integrator(spec),
         contact=law,
-        window=spec_window(spec),
+        window=span,
+        state0=start,
         outputs=Outputs(cell_loads=True, states=states),
         throw=False,
     )
@@ -359,6 +370,15 @@ def column_tag(name: str) -> str:
     return re.sub(r"[^0-9a-z]+", "_", name.lower()).strip("_")
 
 
+def _flags(v: list) -> list:
+    """Booleans as 1 and 0 (None kept: not checked)."""
+    return [None if e is None else int(e) for e in v]
+
+
+#: the per-speed flags sweep.csv writes as numbers (1 or 0; the other booleans are left out)
+CSV_AS_NUMBERS = {"settled": _flags, "settled_down": _flags}
+
+
 def write_sweep_csv(path: str, summary: dict) -> list[str]:
     """``sweep.csv`` beside ``sweep.json``: a row per speed, a column per per-speed number of the
     summary (its key, SI units as the key says; a per-mesh or per-gear list gives a column per
@@ -375,6 +395,7 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
     for key, v in summary.items():
         if key == "speeds_rad_s" or not isinstance(v, list) or len(v) != n:
             continue
+        v = CSV_AS_NUMBERS.get(key, list)(v)  # whether each speed settled: 1 or 0
         if all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
             header.append(key)
             cols.append([number(e) for e in v])

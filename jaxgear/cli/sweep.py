@@ -11,6 +11,7 @@ import functools
 import math
 import os
 import platform
+import sys
 import time
 import warnings
 
@@ -85,7 +86,7 @@ def sweep_spec(
             return "--" + key.replace("_", "-")
         return f"[scene.integration] {key}"
 
-    if spec.keep_periods > spec.periods:
+    if spec.periods is not None and spec.keep_periods > spec.periods:
         raise ValueError(
             f"{name('keep_periods')} = {spec.keep_periods}: out of range, allowed <= "
             f"{name('periods')} = {spec.periods}"
@@ -98,7 +99,8 @@ def sweep_spec(
             "kept periods must hold every mesh position)"
         )
     steps = spec.steps_per_period or dynamics.MIN_STEPS_PER_PERIOD
-    if spec.periods * steps > dynamics.MAX_STEPS_PER_SPEED:
+    # periods "auto": a settled sweep bounds each speed's windows itself
+    if spec.periods is not None and spec.periods * steps > dynamics.MAX_STEPS_PER_SPEED:
         at = (
             f"{steps} time steps per mesh period ({name('steps_per_period')})"
             if spec.steps_per_period
@@ -202,16 +204,21 @@ def sweep_case_run(
         last[0] = n
 
     hertz = dynamics.HertzPressure(tuple(case.pairs), case.youngs_modulus, case.poisson_ratio)
-    res = dynamics.speed_sweep(
-        model,
-        speeds,
-        direction=dynamics.DIRECTIONS[direction],
-        batching=dynamics.Batching(kind.chunk_size(speeds.size), progress),
-        integrator=case_io.spec_integrator(spec),
-        contact=law,
-        window=case_io.spec_window(spec),
-        outputs=dynamics.Outputs(pressure=hertz),
-    )
+    outputs = dynamics.Outputs(pressure=hertz)
+    settled = None
+    if spec.periods is None and model.continues:  # run each speed until it settles
+        res, settled = settled_sweeps(model, speeds, spec, law, outputs, direction, progress)
+    else:
+        res = dynamics.speed_sweep(
+            model,
+            speeds,
+            direction=dynamics.DIRECTIONS[direction],
+            batching=dynamics.Batching(kind.chunk_size(speeds.size), progress),
+            integrator=case_io.spec_integrator(spec),
+            contact=law,
+            window=case_io.spec_window(spec),
+            outputs=outputs,
+        )
     jax.block_until_ready(res)
     bar.close()
     # what follows the speeds: a bar over its three stages (a second run at the worst speed)
@@ -230,7 +237,7 @@ def sweep_case_run(
         "contact": spec.contact,
         "direction": direction,
         "steps_per_period": spec.steps_per_period or "auto",
-        "periods": spec.periods,
+        "periods": spec.periods or "auto",
         "keep_periods": spec.keep_periods,
         "damping": spec.damping_model,
         "torque_Nm": case.torque,
@@ -280,6 +287,7 @@ def sweep_case_run(
             "result": [int(v) for v in np.asarray(r.result)],
         }
     )
+    summary.update(settled_keys(r, settled, speeds, spec))
     summary.update(kind.rim_keys(r, flexible, z1))
     summary.update(
         {
@@ -310,7 +318,15 @@ def sweep_case_run(
     # the pressure map at the speed of the largest dynamic factor: one more run, cell loads on
     # with a VTU series, the map's run records the states too: one program for both runs
     dyn_map = dynamic_pressure_map(
-        case, model, spec, law, r, speeds, hertz, states=vtu_speed is not None
+        case,
+        model,
+        spec,
+        law,
+        r,
+        speeds,
+        hertz,
+        states=vtu_speed is not None,
+        window=None if settled is None else settled[0].window,
     )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
     post.update()
@@ -328,6 +344,72 @@ def sweep_case_run(
     post.update()
     post.close()
     return summary, None if dyn_map is None else dyn_map["run"]
+
+
+def settled_sweeps(model, speeds, spec, law, outputs, direction: str, progress) -> tuple:
+    """The sweep of a case whose ``periods`` are ``"auto"``: each speed run until it settles,
+    by continuation (:func:`jaxgear.dynamics.settled_sweep`): up for ``independent`` and ``up``
+    (the first speed from the static equilibrium, the slowest: it pays the settling once), down
+    for ``down``, both for ``both``. Returns (:class:`~jaxgear.dynamics.SweepResult`, the
+    :class:`~jaxgear.dynamics.SettledSweep` of each pass: (up or down,) or (up, down))."""
+    passes = {"independent": (False,), "up": (False,), "down": (True,), "both": (False, True)}
+    n = speeds.size
+    runs = []
+    for k, descending in enumerate(passes[direction]):
+        runs.append(
+            dynamics.settled_sweep(
+                model,
+                speeds,
+                integrator=case_io.spec_integrator(spec),
+                contact=law,
+                keep_periods=spec.keep_periods,
+                outputs=outputs,
+                descending=descending,
+                progress=lambda i, base=k * n: progress(base + i),
+            )
+        )
+    for run in runs:  # one line per speed at its cap unsettled (stderr, as the CLI's warnings)
+        for line in dynamics.unsettled_lines(run):
+            print(f"jaxgear: warning: {line}", file=sys.stderr, flush=True)
+    down = runs[1].sweep.results if len(runs) == 2 else None
+    return dynamics.SweepResult(runs[0].sweep.speeds, runs[0].sweep.results, down), tuple(runs)
+
+
+def settled_keys(r, settled, speeds, spec) -> dict:
+    """``sweep.json``'s keys of whether each speed settled: ``settled`` (bool per speed),
+    ``periods_run`` (mesh periods each speed ran) and, for a settled sweep (``periods =
+    "auto"``, ``settled`` its :class:`~jaxgear.dynamics.SettledSweep` passes), ``settle_change``
+    (the change of the kept forces from one window to the next, or of the last kept period
+    from the one before where larger, over the static mesh force) and ``settle`` (the rule's
+    numbers: t_s, the mode that sets it, the window, the tolerance, each speed's cap). Where
+    ``periods`` are given, the span is honoured and ``settled`` is the records' periodicity
+    (the last kept period against the one before, None where the kept periods hold fewer than
+    two of the scene's) within :data:`jaxgear.dynamics.SETTLED_TOL` (``jaxgear sweep`` prints
+    how many are not; a settled sweep warns at a speed that reaches its cap unsettled)."""
+    tol = dynamics.SETTLED_TOL
+    if settled is None:
+        per = worst(r, "periodicity")
+        flags = [None if not math.isfinite(v) else bool(v <= tol) for v in per]
+        span = case_io.spec_window(spec).periods
+        return {"settled": flags, "periods_run": [int(span)] * len(flags)}
+    up = settled[0]
+    out = {
+        "settled": [bool(v) for v in up.settled],
+        "periods_run": [int(v) for v in up.periods],
+        "settle_change": clean(up.change),
+        "settle": {
+            "settle_s": up.settle_s,
+            "f_min_Hz": up.f_min_Hz,
+            "tolerance": dynamics.SETTLE_TOL,
+            "settled_tolerance": tol,
+            "window_periods": up.window,
+            "cap_periods": [int(v) for v in up.cap],
+        },
+    }
+    if len(settled) == 2:
+        out["settled_down"] = [bool(v) for v in settled[1].settled]
+        out["periods_run_down"] = [int(v) for v in settled[1].periods]
+    return out
 
 
 def default_sweep_dir(case_name: str, speeds) -> str:
@@ -381,6 +463,14 @@ def sweep_command(form, case, speeds, args) -> int:
         f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
         f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
     )
+    n_open = sum(1 for v in s.get("settled", ()) if v is False)
+    if n_open:
+        print(
+            f"{n_open} of {len(df)} speeds not settled (sweep.json settled, periodicity: the "
+            f"last kept period against the one before > {dynamics.SETTLED_TOL:g} of the static "
+            f'mesh force): raise --periods, or leave periods "auto" (each speed until it '
+            "settles)"
+        )
     n_under = sum(s.get("under_resolved", ()))
     if n_under:
         warnings.warn(

@@ -116,6 +116,15 @@ from ._settings import (
 )
 from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
 from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
+from ._settle import (
+    SETTLE_TOL as SETTLE_TOL,
+    SETTLED_TOL as SETTLED_TOL,
+    SettledSweep as SettledSweep,
+    modal_damping_ratios as modal_damping_ratios,
+    settled_sweep as settled_sweep,
+    settling_time as settling_time,
+    unsettled_lines as unsettled_lines,
+)
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
 from ._sweep import (
     DIRECTIONS as DIRECTIONS,

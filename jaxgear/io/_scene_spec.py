@@ -53,7 +53,7 @@ class SceneSpec:
     solver: str = "newmark"
     contact: str = "exact"
     steps_per_period: int | None = None  # None: automatic (auto_steps_per_period)
-    periods: int = 60
+    periods: int | None = None  # None: automatic (settled sweeps, docs/dynamics.md)
     keep_periods: int = 4
     rtol: float = 1e-6
     atol: float = 1e-6
@@ -111,9 +111,19 @@ def _diffrax_integrator(spec: SceneSpec) -> DiffraxIntegrator:
 INTEGRATORS = {"newmark": _newmark_integrator}
 
 
+#: the periods a run integrates before its kept ones where ``periods = "auto"`` and the run is
+#: not a settled sweep (:func:`jaxgear.dynamics.settled_sweep`: a hybrid model's sweep, one
+#: speed from the static equilibrium): the former default span, 60 with 4 kept
+FIXED_TRANSIENT_PERIODS = 56
+
+
 def spec_window(spec: SceneSpec) -> SteadyState:
-    """The steady-state window of a case's ``[scene.integration]`` table."""
-    return SteadyState(spec.periods, spec.keep_periods)
+    """The steady-state window of a case's ``[scene.integration]`` table (``periods =
+    "auto"``: :data:`FIXED_TRANSIENT_PERIODS` before the kept ones)."""
+    periods = spec.periods
+    if periods is None:
+        periods = spec.keep_periods + FIXED_TRANSIENT_PERIODS
+    return SteadyState(periods, spec.keep_periods)
 
 
 #: the damping models a case file (``[scene.damping] model``) or :func:`Damping` names; each

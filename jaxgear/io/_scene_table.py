@@ -24,7 +24,7 @@
     solver = "newmark"                   # or a diffrax solver: tsit5, dopri5, kvaerno5, ...
     contact = "exact"                    # or "smooth" (width: [mesh] smooth_width_um)
     steps_per_period = "auto"           # or an integer: time steps per mesh period (see docs)
-    periods = 60
+    periods = "auto"                     # or an integer: mesh periods per speed (see docs)
     keep_periods = 4
     rtol = 1e-6                          # diffrax PID controller (scaled state)
     atol = 1e-6
@@ -301,14 +301,19 @@ def parse_dynamics_settings(table: dict) -> dict:
         kw["steps_per_period"] = None
     elif isinstance(spp, str):
         raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
+    periods = g.get("periods", "auto")
+    if periods == "auto":  # run each speed until it settles (the default, docs/dynamics.md)
+        kw["periods"] = None
+    elif isinstance(periods, str):
+        raise sc.fail(w, "periods", "allowed 'auto' or an integer in [2, 1e+06]", periods)
     for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
         if key in g and key not in kw:
             kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)
-    if kw.get("keep_periods", 4) > kw.get("periods", 60):
+    if kw.get("periods") is not None and kw.get("keep_periods", 4) > kw["periods"]:
         raise sc.fail(
             w,
             "keep_periods",
-            f"out of range, allowed <= periods = {kw.get('periods', 60)}",
+            f"out of range, allowed <= periods = {kw['periods']}",
             kw.get("keep_periods", 4),
         )
     for key in ("rtol", "atol"):

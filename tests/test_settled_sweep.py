@@ -1,0 +1,155 @@
+"""Sweeps that settle before they are read (issue 69 §5, docs/dynamics.md "Settled sweeps"): the
+settling time of the slowest decaying mode the meshes excite, the modal damping ratios it reads,
+a pair's settled sweep against runs four times longer, and the case file's ``periods = "auto"``
+with sweep.json's ``settled`` per speed."""
+
+import json
+import math
+from typing import NamedTuple
+
+import numpy as np
+import pytest
+
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+from jaxgear.cli import main
+from jaxgear.dynamics import Newmark, SteadyState
+from jaxgear.io import build_dynamic_model, parse_scene
+
+
+class _Modes(NamedTuple):
+    omega: np.ndarray
+    rigid: np.ndarray
+    mesh_energy: np.ndarray
+
+
+def test_settling_time_is_the_slowest_decay_of_the_modes_the_meshes_excite():
+    # a rigid mode, a slow mode with 3 % of its strain energy in the meshes (not excited), and
+    # two excited modes: t_s = ln(1000) / min(ξ ω) over the two excited ones
+    modes = _Modes(
+        omega=np.array([0.0, 100.0, 2000.0, 5000.0]),
+        rigid=np.array([True, False, False, False]),
+        mesh_energy=np.array([0.0, 0.03, 0.5, 0.2]),
+    )
+    xi = np.array([np.nan, 0.001, 0.05, 0.01])
+    t_s, w = jd.settling_time(modes, xi)
+    assert w == 5000.0  # ξω: 100 (2000 × 0.05) against 50 (5000 × 0.01)
+    assert t_s == pytest.approx(math.log(1000.0) / 50.0, rel=1e-12)
+    # one ratio for every mode (the planetary stages'): the lowest excited mode
+    t_s, w = jd.settling_time(modes, 0.02)
+    assert (w, t_s) == (2000.0, pytest.approx(math.log(1000.0) / 40.0, rel=1e-12))
+    # undamped: never settles
+    assert jd.settling_time(modes, 0.0)[0] == math.inf
+
+
+def test_modal_damping_ratios_of_a_rayleigh_damping():
+    # two masses on springs, C = a M + b K: ξ_i = a / (2 ω_i) + b ω_i / 2 (Rayleigh)
+    m = np.diag([2.0, 3.0])
+    k = np.array([[5e6, -2e6], [-2e6, 2e6]])
+    a, b = 40.0, 2e-5
+    w2, v = np.linalg.eigh(np.linalg.solve(np.sqrt(m), np.linalg.solve(np.sqrt(m), k).T).T)
+    shapes = np.linalg.solve(np.sqrt(m), v)  # mass-normalised
+    omega = np.sqrt(w2)
+    modes = _Modes(omega, np.array([False, False]), np.array([1.0, 1.0]))
+
+    class WithShapes(NamedTuple):
+        omega: np.ndarray
+        rigid: np.ndarray
+        mesh_energy: np.ndarray
+        shapes: np.ndarray
+
+    xi = jd.modal_damping_ratios(WithShapes(*modes, shapes), a * m + b * k)
+    np.testing.assert_allclose(xi, a / (2 * omega) + b * omega / 2, rtol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def pair_model():
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    spec = parse_scene({"integration": {"steps_per_period": 32}})  # composite damping
+    return build_dynamic_model(case, spec)[0], case
+
+
+def test_settled_dynamic_factor_agrees_with_a_run_four_times_longer(pair_model):
+    model, case = pair_model
+    law = case.contact_law("exact")
+    speeds = np.linspace(300.0, 1800.0, 6)
+    s = jd.settled_sweep(model, speeds, integrator=Newmark(32), contact=law, keep_periods=4)
+    assert s.settled.all() and (s.change <= 1e-2).all()
+    assert (s.periods % s.window == 0).all() and (s.periods <= s.cap).all()
+    # every speed from the static equilibrium for four times the most periods a speed ran
+    long = jd.speed_sweep(
+        model,
+        speeds,
+        integrator=Newmark(32),
+        contact=law,
+        window=SteadyState(4 * int(s.periods.max()), 4),
+    ).results
+    df = np.asarray(s.sweep.results.dynamic_factor)
+    # the tolerance: the settled check's, 1e-2 of the static mesh force
+    np.testing.assert_allclose(df, np.asarray(long.dynamic_factor), atol=1e-2, rtol=0)
+    # the span the rule gives an independent run: keep + ceil(t_s f_mesh), f_mesh = Ω z1 / 2π
+    z1 = case.pairs[0].pinion.teeth
+    rule = 4 + np.ceil(s.settle_s * speeds * z1 / (2 * math.pi))
+    assert (s.cap >= 2 * rule).all()
+
+
+def test_settled_sweep_refuses_speeds_not_ascending(pair_model):
+    with pytest.raises(ValueError, match="ascending"):
+        jd.settled_sweep(pair_model[0], [900.0, 300.0])
+
+
+def test_case_file_periods_auto_and_bad_values():
+    assert parse_scene({}).periods is None  # the default: each speed until it settles
+    assert parse_scene({"integration": {"periods": "auto"}}).periods is None
+    assert parse_scene({"integration": {"periods": 40}}).periods == 40
+    with pytest.raises(ValueError, match=r"periods.*'auto' or an integer"):
+        parse_scene({"integration": {"periods": "long"}})
+
+
+@pytest.mark.slow
+def test_sweep_json_says_whether_each_speed_settled(tmp_path):
+    out = tmp_path / "sw"
+    argv = ["sweep", "accessory-spur", "--speeds", "400:800:2", "--slices", "2"]
+    main([*argv, "--out", str(out), "--quiet"])
+    s = json.loads((out / "sweep.json").read_text())
+    assert s["periods"] == "auto"
+    assert s["settled"] == [True, True]
+    assert all(c <= 1e-2 for c in s["settle_change"])
+    assert all(p % s["settle"]["window_periods"] == 0 for p in s["periods_run"])
+    header = (out / "sweep.csv").read_text().splitlines()[0].split(",")
+    assert {"settled", "periods_run", "settle_change", "periodicity"} <= set(header)
+    # explicit periods: honoured, and whether each speed settled reported
+    main(
+        [
+            *argv,
+            "--periods",
+            "6",
+            "--keep-periods",
+            "2",
+            "--out",
+            str(tmp_path / "fixed"),
+            "--quiet",
+        ]
+    )
+    f = json.loads((tmp_path / "fixed" / "sweep.json").read_text())
+    assert f["periods"] == 6 and f["periods_run"] == [6, 6]
+    assert f["settled"] == [p <= 1e-2 for p in f["periodicity"]]
+
+
+def test_a_speed_at_its_cap_unsettled_gets_one_line_naming_it_and_the_option():
+    from types import SimpleNamespace
+
+    s = jd.SettledSweep(
+        sweep=SimpleNamespace(speeds=np.array([300.0, 600.0, 900.0])),
+        periods=np.array([8, 40, 12]),
+        change=np.array([0.004, 0.031, np.nan]),  # the third failed (its result code says so)
+        settled=np.array([True, False, False]),
+        cap=np.array([16, 40, 48]),
+        settle_s=0.01,
+        f_min_Hz=100.0,
+        window=4,
+        keep=4,
+    )
+    (line,) = jd.unsettled_lines(s)
+    assert line.startswith("speed 600 rad/s: not settled after 40 mesh periods")
+    assert "0.031" in line and "--periods 80" in line and "[scene.integration] periods" in line
