@@ -111,9 +111,9 @@ def test_the_run_hands_its_sweep_to_the_rating(tmp_path, monkeypatch):
                            "max_dynamic_factor", "speed_of_max_rad_s", "mesh_names",
                            "max_dynamic_factor_mesh", "k_gamma", "max_k_gamma",
                            "ring_model", "ring", "steps_per_period",
-                           "steps_resolution"])
+                           "steps_resolution", "excitation"])
     seen = []
-    monkeypatch.setattr(cli_planetary, "planetary_sweep", lambda *a: sweep)
+    monkeypatch.setattr(cli_planetary, "planetary_sweep", lambda *a, **kw: sweep)
     monkeypatch.setattr(cli_planetary, "planetary_files",
                         lambda *a: seen.append(a) or {"case": case.name})
 

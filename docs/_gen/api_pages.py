@@ -52,7 +52,7 @@ SECTIONS = {
     "jaxgear.dynamics": (
         ("Simulation", ("_simulate", "_model", "_build", "_lumped", "_settings", "_result",
                         "_newmark", "_damping", "_bearings")),
-        ("Speed sweeps", ("_sweep", "_robust")),
+        ("Speed sweeps", ("_sweep", "_robust", "_settle")),
         ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
         ("Condensed bodies (hybrid)", ("_hybrid*",)),
         ("Planetary stages", ("_planetary_dynamics",)),
@@ -62,7 +62,7 @@ SECTIONS = {
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
-                                   "_optimise_table", "_rating_table", "_robust_table")),
+                                   "_optimise_table", "_rating*", "_robust_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (
