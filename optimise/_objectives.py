@@ -208,7 +208,13 @@ class AbstractQuasiStaticObjective(AbstractObjective):
         :class:`optimise.Problem` (None for the unmodified design's scale)."""
 
     def at_torque(self, problem, mods, torque, contact):
-        r = jg.quasi_static(
+        return self.of_result(self.solve(problem, mods, torque, contact), problem)
+
+    @staticmethod
+    def solve(problem, mods, torque, contact) -> jg.QuasiStaticResult:
+        """The quasi-static solve of design ``mods`` at ``torque`` on ``problem``'s mesh, speed
+        and positions (what :meth:`at_torque` rates)."""
+        return jg.quasi_static(
             problem.mesh,
             mods,
             torque,
@@ -216,7 +222,6 @@ class AbstractQuasiStaticObjective(AbstractObjective):
             contact=contact,
             positions_per_pitch=problem.positions_per_pitch,
         )
-        return self.of_result(r, problem)
 
     def scale(self, unmodified):
         return float(self.of_result(unmodified, None))

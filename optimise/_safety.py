@@ -115,15 +115,7 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
     def at_torque(self, problem, mods, torque, contact):
         """The objective of design ``mods`` at ``torque``: its quasi-static result rated with
         the design's own tip relief and crowning (:meth:`rating`)."""
-        r = jg.quasi_static(
-            problem.mesh,
-            mods,
-            torque,
-            speed=problem.speed,
-            contact=contact,
-            positions_per_pitch=problem.positions_per_pitch,
-        )
-        return self._value(r, mods)
+        return self._value(self.solve(problem, mods, torque, contact), mods)
 
     def of_result(self, result, problem):
         """The objective of ``result`` rated with the settings' own tip relief and crowning
