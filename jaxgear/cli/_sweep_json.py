@@ -370,15 +370,6 @@ def column_tag(name: str) -> str:
     return re.sub(r"[^0-9a-z]+", "_", name.lower()).strip("_")
 
 
-def _flags(v: list) -> list:
-    """Booleans as 1 and 0 (None kept: not checked)."""
-    return [None if e is None else int(e) for e in v]
-
-
-#: the per-speed flags sweep.csv writes as numbers (1 or 0; the other booleans are left out)
-CSV_AS_NUMBERS = {"settled": _flags, "settled_down": _flags}
-
-
 def write_sweep_csv(path: str, summary: dict) -> list[str]:
     """``sweep.csv`` beside ``sweep.json``: a row per speed, a column per per-speed number of the
     summary (its key, SI units as the key says; a per-mesh or per-gear list gives a column per
@@ -395,8 +386,10 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
     for key, v in summary.items():
         if key == "speeds_rad_s" or not isinstance(v, list) or len(v) != n:
             continue
-        v = CSV_AS_NUMBERS.get(key, list)(v)  # whether each speed settled: 1 or 0
-        if all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
+        if key.startswith("settled") and all(isinstance(e, bool) or e is None for e in v):
+            header.append(key)  # whether each speed settled: 1 or 0 (empty: not checked)
+            cols.append([number(None if e is None else int(e)) for e in v])
+        elif all(isinstance(e, int | float) and not isinstance(e, bool) or e is None for e in v):
             header.append(key)
             cols.append([number(e) for e in v])
         elif all(isinstance(e, list) for e in v) and len({len(e) for e in v}) == 1:
