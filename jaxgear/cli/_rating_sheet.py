@@ -18,7 +18,7 @@ import equinox as eqx
 import numpy as np
 
 from .. import Edition2006, Edition2019, GivenFactors, PairTreatment, factor_clause, rate
-from ..io import RatingCase
+from ..io import RatingCase, published_rating
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -591,8 +591,6 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
 def inputs_of(case, k: int, rc: RatingCase, settings=None) -> ReportInputs:
     """Mesh ``k``'s :class:`ReportInputs` of ``case`` (a pair's one mesh: ``"mesh"`` in the
     published tables)."""
-    from ..io import published_rating
-
     pub = published_rating(case.name)
     mesh = None if pub is None else pub.get(case.mesh_name(k), pub.get("mesh"))
     gears = tuple(case.gear_names[g] for g in case.gears[k])
