@@ -12,6 +12,9 @@ same inputs, so that the ratios are measured in one run:
    problems): quasi-static TE metrics and dynamic factors per realisation, ``robust_samples``.
 4. **Hybrid sweep**: the test pair with its condensed flexible wheel (287 condensed DOFs), the
    modal-basis Newmark over speeds (``jax.lax.map``: one speed's effective compliance at a time).
+5. **Planetary sweep**: a 3-planet planar stage (``benchmarks/planetary_step.py``'s: 18
+   coordinates, the contact cells of its 6 meshes, exact contact), the carrier-frame Newmark
+   over carrier speeds in one ``vmap`` (``planetary_speed_sweep``), fixed steps.
 
 Each row: wall time of the workload after a compiling call (min of repeats,
 ``jax.block_until_ready``), the compile time (first call minus the steady time), the throughput,
@@ -185,11 +188,39 @@ def _hybrid_sweep(quick, dev):
     return {**best, "rows": rows, "condensed_dofs": int(bodies[-1].K.shape[0])}, values
 
 
+def _planetary_sweep(quick, dev):
+    import jax.numpy as jnp
+
+    import jaxgear as jg
+
+    from .planetary_step import stage
+
+    st, meshes = stage(3)
+    sweep_fn = getattr(jg, "planetary_speed_sweep", None) or jg.dynamics.planetary_speed_sweep
+    run_cls = getattr(jg, "PlanetaryRun", None) or jg.dynamics.PlanetaryRun
+    run = run_cls(sun_torque=800.0, steps_per_period=64, periods=4 if quick else 40,
+                  keep_periods=2, damping_ratio=0.05)
+    # carrier speeds whose mesh frequency spans 0.2..2 kHz (z_r = 84 teeth, ring held)
+    rows, values = [], None
+    for n in (8,) if quick else (64, 512, 2048):
+        speeds = jnp.asarray(np.linspace(0.2e3, 2.0e3, n) * 2.0 * np.pi / 84.0)
+
+        def sweep(speeds=speeds):
+            out = sweep_fn(jg.PlanarPlanetary(), st, meshes, run, speeds)
+            return jnp.concatenate(out.dynamic_factors, axis=-1)
+
+        first, steady, df = _timed(sweep, 1)
+        row, values = _row(n, "speeds", first, steady, df, steps_per_speed=64 * run.periods)
+        rows.append(row)
+    return {**rows[-1], "rows": rows}, values
+
+
 WORKLOADS = {
     "te_curves": _te_curves,
     "lumped_sweep": _lumped_sweep,
     "monte_carlo": _monte_carlo,
     "hybrid_sweep": _hybrid_sweep,
+    "planetary_sweep": _planetary_sweep,
 }
 
 
