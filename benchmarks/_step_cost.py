@@ -14,7 +14,7 @@ import time
 import jax
 import jax.numpy as jnp
 
-import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 
 __all__ = ["step_cost", "timed"]
 
@@ -28,7 +28,7 @@ def timed(fn) -> tuple[float, float]:
 
 def step_cost(model, stage, meshes, omega, torque: float, steps_per_period: int,
               periods: tuple[int, int], repeats: int = 3) -> dict:
-    """The Newmark step cost of ``jaxgear.dynamics.planetary_dynamics(model, stage, meshes,
+    """The Newmark step cost of ``jaxgear.planetary.planetary_dynamics(model, stage, meshes,
     run, omega)`` with ``run = PlanetaryRun(torque, steps_per_period, periods=p,
     keep_periods=1)`` for p in ``periods`` = (p1, p2), p2 > p1 (module docstring).
 
@@ -38,11 +38,11 @@ def step_cost(model, stage, meshes, omega, torque: float, steps_per_period: int,
         call of the p1 run)}.
     """
     p1, p2 = periods
-    runs = {p: jd.PlanetaryRun(torque, steps_per_period=steps_per_period, periods=p,
+    runs = {p: jp.PlanetaryRun(torque, steps_per_period=steps_per_period, periods=p,
                                keep_periods=1) for p in (p1, p2)}
-    first = {p: timed(lambda r=r: jd.planetary_dynamics(model, stage, meshes, r, omega))
+    first = {p: timed(lambda r=r: jp.planetary_dynamics(model, stage, meshes, r, omega))
              for p, r in runs.items()}
-    best = {p: min(timed(lambda r=r: jd.planetary_dynamics(model, stage, meshes, r, omega))
+    best = {p: min(timed(lambda r=r: jp.planetary_dynamics(model, stage, meshes, r, omega))
                    for _ in range(repeats)) for p, r in runs.items()}
     steps = (p2 - p1) * steps_per_period
     n = stage.n_planets

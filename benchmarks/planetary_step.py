@@ -1,6 +1,6 @@
 """Cost of a carrier-frame Newmark step of a planetary stage against its number of planets
 (3 to 6), the planar model (3 (3 + N) coordinates) with every mesh's contact cells
-(jaxgear.dynamics.planetary_dynamics), in one run so that the ratios share the machine's load.
+(jaxgear.planetary.planetary_dynamics), in one run so that the ratios share the machine's load.
 
 Each N: one call to compile, then two runs of P1 and P2 mesh periods; the step cost is the
 difference of their times (wall and process CPU) over the difference of their step counts, so

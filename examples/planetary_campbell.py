@@ -2,8 +2,8 @@
 
 Lin & Parker's (1999, Table 1) four-planet stage with its carrier held by a torsional stiffness,
 planar model (`jaxgear.PlanarPlanetary`, 21 coordinates): the natural frequencies in the carrier
-frame against the carrier speed (`jaxgear.campbell`, Coriolis and centripetal terms), each
-frequency at rest marked with its type (`jaxgear.classify_modes`: rotational, translational pair,
+frame against the carrier speed (`jaxgear.planetary.campbell`, Coriolis and centripetal terms), each
+frequency at rest marked with its type (`jaxgear.planetary.classify_modes`: rotational, translational pair,
 planet mode), and the shape of the lowest mode of each type. A translational pair, one frequency
 at rest, splits with the speed. Writes docs/bench/planetary_campbell.png. Run from the
 repository root: ``python examples/planetary_campbell.py``.
@@ -23,6 +23,7 @@ matplotlib.use("Agg")  # files only
 import matplotlib.pyplot as plt  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
+import jaxgear.planetary as jp  # noqa: E402
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 COLOURS = {"rotational": "C0", "translational": "C3", "planet": "C2", "mixed": "C7"}
@@ -90,10 +91,10 @@ def main(out_dir=DOCS, speed_max: float = 3000.0, n_speeds: int = 61, f_max: flo
     held = stage()
     model = jg.PlanarPlanetary()
     modes = jg.planetary_modes(model, held)
-    types = jg.classify_modes(modes, model, held)
+    types = jp.classify_modes(modes, model, held)
     f0 = np.asarray(modes.frequencies)
     speeds = np.linspace(0.0, speed_max, n_speeds)  # carrier speed (rad/s)
-    f = np.asarray(jg.campbell(model, held, speeds))  # (n_speeds, 21) Hz, ascending
+    f = np.asarray(jp.campbell(model, held, speeds))  # (n_speeds, 21) Hz, ascending
     out = {"speeds": speeds, "campbell": f, "frequencies": f0, "types": types}
     if out_dir is None:
         return out

@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
-import jaxgear.dynamics as jd  # noqa: E402
+import jaxgear.planetary as jp  # noqa: E402
 
 ROOT = pathlib.Path(__file__).parents[1] / "docs"
 MODULE, ALPHA, WIDTH, DENSITY = 3e-3, np.radians(20.0), 0.03, 7850.0
@@ -104,7 +104,7 @@ def main(out_dir: pathlib.Path = ROOT) -> dict:
     out = {"stage": "19/17/-53, m 3 mm, b 30 mm, 3 planets, ring held", "torque_Nm": TORQUE}
     # 1. mesh stiffness over a mesh period, phased
     x = meshes.positions(48)
-    k_s, k_r = jg.planetary_mesh_stiffness(model, stage, meshes, x)
+    k_s, k_r = jp.planetary_mesh_stiffness(model, stage, meshes, x)
     # 2. quasi-static load sharing with a 30 um tangential pin error on planet 1
     errors = np.array([-30e-6, 0.0, 0.0])
     qs = jg.planetary_quasi_static(model, stage, meshes, np.asarray(TORQUE), x, errors)
@@ -121,9 +121,9 @@ def main(out_dir: pathlib.Path = ROOT) -> dict:
     # steps per period a multiple of N: the planets' phases fall on steps, so that the discrete
     # system keeps the stage's cyclic symmetry (else Newmark's first-order error at the stiffness
     # jumps differs from planet to planet)
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=96, periods=80, keep_periods=KEEP,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=96, periods=80, keep_periods=KEEP,
                           damping_ratio=0.04, tangential_pin_errors=errors)
-    sweep = jd.planetary_speed_sweep(model, stage, meshes, run, speeds)
+    sweep = jp.planetary_speed_sweep(model, stage, meshes, run, speeds)
     df_s, df_r = (np.asarray(d) for d in sweep.dynamic_factors)
     k_dyn = np.asarray(sweep.k_gamma)
     assert np.all(np.asarray(sweep.result) == 0)
@@ -141,32 +141,32 @@ def main(out_dir: pathlib.Path = ROOT) -> dict:
     # at a mesh frequency where every mesh stays in contact
     cancel = {}
     f_demo = 1500.0
-    run1 = jd.PlanetaryRun(TORQUE, steps_per_period=96, periods=200, keep_periods=KEEP,
+    run1 = jp.PlanetaryRun(TORQUE, steps_per_period=96, periods=200, keep_periods=KEEP,
                            damping_ratio=0.04)
     for name, (z_s, z_p, x_s, x_p, n) in {"sequential 19/17/-53 N=3": (19, 17, 0.3, 0.3, 3),
                                           "in phase 20/16/-52 N=4": (20, 16, 0.2, 0.2, 4)}.items():
         g, st, ms = stage_of(z_s, z_p, x_s, x_p, n)
         omega = f_demo * float(ms.mesh_period()) / float(st.ring.base_radius)
-        d = jd.planetary_dynamics(model, st, ms, run1, jnp.asarray(omega))
+        d = jp.planetary_dynamics(model, st, ms, run1, jnp.asarray(omega))
         psi_s = np.asarray(st.planet_angles) - g.sun_pressure_angle
         f = np.asarray(d.sun_mesh_forces)
         rows = {}
         for ell in (1, 2, 3, 4):
             force, torque = net_sun_force(f, psi_s, ell, KEEP)
             rows[ell] = {"net_force": force, "net_torque": torque,
-                         "rule": jg.phasing_excites(z_s, n, ell).value}
+                         "rule": jp.phasing_excites(z_s, n, ell).value}
         cancel[name] = rows
         cancel[name]["min_mesh_force_N"] = float(min(f.min(), np.asarray(d.ring_mesh_forces).min()))
     out[f"net_sun_force_at_{f_demo:.0f}Hz"] = cancel
     # 5. the ring transducer over one carrier turn (z_r mesh periods)
     z_r, per = 53, 48
-    run2 = jd.PlanetaryRun(TORQUE, steps_per_period=per, periods=z_r + 200, keep_periods=z_r,
+    run2 = jp.PlanetaryRun(TORQUE, steps_per_period=per, periods=z_r + 200, keep_periods=z_r,
                            damping_ratio=0.04)
     omega = f_demo * p_b / r_r
-    d = jd.planetary_dynamics(model, stage, meshes, run2, jnp.asarray(omega))
+    d = jp.planetary_dynamics(model, stage, meshes, run2, jnp.asarray(omega))
     theta_c = np.asarray(d.time) * omega
-    y = jd.ring_transducer_signal(d.ring_mesh_forces, jnp.asarray(theta_c), stage.planet_angles)
-    orders, amp = jd.order_spectrum(y, per * z_r)
+    y = jp.ring_transducer_signal(d.ring_mesh_forces, jnp.asarray(theta_c), stage.planet_angles)
+    orders, amp = jp.order_spectrum(y, per * z_r)
     band = (orders > z_r - 12) & (orders < z_r + 12)
     top = np.argsort(amp * band)[::-1][:6]
     out["transducer"] = {

@@ -1,8 +1,10 @@
 """jaxgear: differentiable gear dynamics in JAX.
 
 The model API (everything else lives in private modules). Subpackages: :mod:`jaxgear.scenes`
-(structures), :mod:`jaxgear.dynamics` (time integration, sweeps), :mod:`jaxgear.io` (case files,
-atomic writers); the application (:mod:`jaxgear.cli`) is not imported here.
+(structures), :mod:`jaxgear.dynamics` (time integration, sweeps), :mod:`jaxgear.planetary`
+(planetary stages: the names a user reaches for first are re-exported here, the rest lives
+there), :mod:`jaxgear.io` (case files, atomic writers); the application (:mod:`jaxgear.cli`) is
+not imported here.
 
 Float64 is not switched on here: the CLI, the tests and the examples do it
 (``jax.config.update("jax_enable_x64", True)``), or set ``JAX_ENABLE_X64=1``.
@@ -70,54 +72,23 @@ from ._gearbox import (
     PlanetaryGearboxStage as PlanetaryGearboxStage,
     gearbox_modes as gearbox_modes,
 )
-from ._planetary import (
+from .planetary import (
     AbstractPlanetaryModel as AbstractPlanetaryModel,
     Central as Central,
-    Eccentricities as Eccentricities,
-    PlanarPlanetary as PlanarPlanetary,
-    PlanetaryMember as PlanetaryMember,
-    PlanetaryStage as PlanetaryStage,
-    TorsionalPlanetary as TorsionalPlanetary,
-    Unbalances as Unbalances,
-    check_assembly as check_assembly,
-    speed_ratio as speed_ratio,
-)
-from ._planetary_analysis import (
-    LoadSharing as LoadSharing,
-    ModeType as ModeType,
-    campbell as campbell,
-    PlanetaryModes as PlanetaryModes,
-    classify_modes as classify_modes,
-    load_sharing as load_sharing,
-    mesh_phases as mesh_phases,
-    phasing_excites as phasing_excites,
-    planetary_modes as planetary_modes,
-)
-from ._planetary_spatial import SpatialPlanetary as SpatialPlanetary
-from ._planetary_mesh import (
-    AbstractPlanetaryMeshes as AbstractPlanetaryMeshes,
     ConstantMeshes as ConstantMeshes,
     ContactMeshes as ContactMeshes,
+    LoadSharing as LoadSharing,
+    PlanarPlanetary as PlanarPlanetary,
+    PlanetaryMember as PlanetaryMember,
+    PlanetaryModes as PlanetaryModes,
     PlanetaryQuasiStatic as PlanetaryQuasiStatic,
-    planetary_mesh_stiffness as planetary_mesh_stiffness,
+    PlanetaryStage as PlanetaryStage,
+    SpatialPlanetary as SpatialPlanetary,
+    TorsionalPlanetary as TorsionalPlanetary,
+    load_sharing as load_sharing,
+    planetary_modes as planetary_modes,
     planetary_quasi_static as planetary_quasi_static,
-    sun_ring_offset as sun_ring_offset,
-)
-from ._planetary_hunting import (
-    DeviationMeshes as DeviationMeshes,
-    PlanetFlanks as PlanetFlanks,
-    PlanetaryDeviations as PlanetaryDeviations,
-    PlanetaryTeeth as PlanetaryTeeth,
-    planetary_hunting_periods as planetary_hunting_periods,
-)
-from ._planetary_ring import (
-    AbstractRingModel as AbstractRingModel,
-    CondensedRing as CondensedRing,
-    CraigBamptonRing as CraigBamptonRing,
-    RigidRing as RigidRing,
-    ring_contact_angles as ring_contact_angles,
-    ring_excitation as ring_excitation,
-    ring_resonances as ring_resonances,
+    speed_ratio as speed_ratio,
 )
 from ._pressure import (
     ContactPressure as ContactPressure,

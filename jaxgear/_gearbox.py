@@ -25,7 +25,7 @@ import jax.scipy.linalg
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._planetary import Central, PlanetaryStage, TorsionalPlanetary
+from .planetary import Central, PlanetaryStage, TorsionalPlanetary
 from ._util import as_float, check_instance
 
 __all__ = [

@@ -6,6 +6,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 
 HELD = 1e13  # N/m on a translation or on u = r theta: "rigid"
 MODULE, ALPHA_N, WIDTH = 3e-3, np.radians(20.0), 0.03
@@ -142,7 +143,7 @@ def lin_parker_stage(n, ecc=None, unb=None, sun_bearing=HELD, pin=HELD):
         ring_pressure_angle=A_R,
         sun_mesh_stiffness=K_MESH,
         ring_mesh_stiffness=K_MESH,
-        eccentricities=jg.Eccentricities() if ecc is None else ecc,
+        eccentricities=jp.Eccentricities() if ecc is None else ecc,
         unbalances=unb,
     )
 
@@ -156,12 +157,10 @@ RING_PIN_ERRORS = np.array([15e-6, 0.0, 0.0])
 def ring_run(st, ring, meshes=None, omega=60.0, periods=6, steps=24, keep=3):
     """planetary_dynamics of stage ``st`` with ``ring`` (planar model, constant meshes unless
     given) at the carrier speed ``omega`` (rad/s), 5 % damping; asserts it succeeded."""
-    import jaxgear.dynamics as jd
-
-    run = jd.PlanetaryRun(RING_TORQUE, steps_per_period=steps, periods=periods,
+    run = jp.PlanetaryRun(RING_TORQUE, steps_per_period=steps, periods=periods,
                           keep_periods=keep, damping_ratio=0.05,
                           tangential_pin_errors=RING_PIN_ERRORS)
-    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
+    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
                               jnp.asarray(omega), ring=ring)
     assert int(r.result) == 0
     return r

@@ -6,7 +6,7 @@ every kind of case.
   loaded mesh stiffness along the flank normal, the inertias the solid discs of the tip radius
   and face width that a case without inertias gets: I = ρ π b r_a⁴ / 2), to 1e-9;
 * a planetary stage (``lin-parker-1999``): the modes and types of Lin & Parker's Table 1
-  system built here by hand (tests/test_planetary.py) with :func:`jaxgear.classify_modes`, and
+  system built here by hand (tests/test_planetary.py) with :func:`jaxgear.planetary.classify_modes`, and
   the paper's printed frequencies;
 * a lumped 3D pair: the kinetic-energy shares of each mode sum to 1, its type is the largest;
 * every embedded case lists modes (slow: the models of the trains and the flexible cases take
@@ -24,6 +24,7 @@ from test_planetary import PRINTED, lin_parker_stage
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.cli import main, modes as cm
 
 
@@ -52,7 +53,7 @@ def test_a_planetary_stage_against_the_classification_and_the_paper(tmp_path, ca
     stage = lin_parker_stage(3)
     for name, model in (("planar", jg.PlanarPlanetary()), ("torsional", jg.TorsionalPlanetary())):
         m = jg.planetary_modes(model, stage)
-        types = jg.classify_modes(m, model, stage)
+        types = jp.classify_modes(m, model, stage)
         got = data[name]
         np.testing.assert_allclose([r["frequency_Hz"] for r in got], m.frequencies, rtol=1e-9,
                                    atol=1e-3)

@@ -12,6 +12,7 @@ import pytest
 import scipy.linalg
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 
 ALPHA = np.radians(24.6)
 
@@ -63,36 +64,36 @@ def test_lin_parker_example_frequencies_and_mode_types(n):
     model = jg.PlanarPlanetary()
     modes = jg.planetary_modes(model, stage)
     f = np.asarray(modes.frequencies)
-    types = jg.classify_modes(modes, model, stage)
+    types = jp.classify_modes(modes, model, stage)
     by = {
         t: sorted({round(float(x), 6) for x, (tt, _) in zip(f, types, strict=True) if tt == t})
-        for t in jg.ModeType
+        for t in jp.ModeType
     }
-    mult = {t: {m for tt, m in types if tt == t} for t in jg.ModeType}
+    mult = {t: {m for tt, m in types if tt == t} for t in jp.ModeType}
     rot, tra, pla = PRINTED[n]
     # the structure Lin & Parker prove: 6 rotational (multiplicity 1), 6 translational pairs,
     # 3 planet-mode frequencies of multiplicity N - 3, nothing mixed
     assert len(f) == 3 * (n + 3)
-    assert len(by[jg.ModeType.ROTATIONAL]) == 6 and mult[jg.ModeType.ROTATIONAL] == {1}
-    assert len(by[jg.ModeType.TRANSLATIONAL]) == 6 and mult[jg.ModeType.TRANSLATIONAL] == {2}
-    assert len(by[jg.ModeType.PLANET]) == (3 if n > 3 else 0)
-    assert mult[jg.ModeType.PLANET] <= {n - 3}
-    assert not by[jg.ModeType.MIXED]
+    assert len(by[jp.ModeType.ROTATIONAL]) == 6 and mult[jp.ModeType.ROTATIONAL] == {1}
+    assert len(by[jp.ModeType.TRANSLATIONAL]) == 6 and mult[jp.ModeType.TRANSLATIONAL] == {2}
+    assert len(by[jp.ModeType.PLANET]) == (3 if n > 3 else 0)
+    assert mult[jp.ModeType.PLANET] <= {n - 3}
+    assert not by[jp.ModeType.MIXED]
     # the printed frequencies (0.1 Hz rounding; three of N = 4's differ by up to 0.04 %)
     for computed, printed in (
-        (by[jg.ModeType.ROTATIONAL], rot),
-        (by[jg.ModeType.TRANSLATIONAL], tra),
-        (by[jg.ModeType.PLANET], pla),
+        (by[jp.ModeType.ROTATIONAL], rot),
+        (by[jp.ModeType.TRANSLATIONAL], tra),
+        (by[jp.ModeType.PLANET], pla),
     ):
         np.testing.assert_allclose(computed, printed, rtol=5e-4, atol=0.06)
     # planet modes: the central members still; mass-normalised shapes
     phi = np.asarray(modes.shapes)
     m = np.asarray(model.mass_matrix(stage))
     np.testing.assert_allclose(phi.T @ m @ phi, np.eye(len(f)), atol=1e-9)
-    planet = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.PLANET]
+    planet = [j for j, (t, _) in enumerate(types) if t == jp.ModeType.PLANET]
     assert np.abs(phi[:9, planet]).max(initial=0.0) < 1e-9 * np.abs(phi).max()
     # rotational modes: every planet moves alike in its own (zeta, eta, u)
-    rotational = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.ROTATIONAL]
+    rotational = [j for j, (t, _) in enumerate(types) if t == jp.ModeType.ROTATIONAL]
     planets = phi[9:, rotational].reshape(n, 3, -1)
     np.testing.assert_allclose(
         planets, np.broadcast_to(planets[:1], planets.shape), atol=1e-9 * np.abs(phi).max()
@@ -217,7 +218,7 @@ def test_planar_model_against_an_independent_numpy_eigen_solution(n):
 def test_campbell_against_a_point_mass_in_a_rotating_frame():
     """The carrier-frame equations of each mass, m (x'' - 2 Omega y' - Omega^2 x) = F_x,
     m (y'' + 2 Omega x' - Omega^2 y) = F_y, written here with the independent M, K: the
-    first-order eigenvalues (``numpy.linalg.eig``) against :func:`jaxgear.campbell` (skew
+    first-order eigenvalues (``numpy.linalg.eig``) against :func:`jaxgear.planetary.campbell` (skew
     form, Hermitian ``eigh``), 0 to 800 rad/s; the translational pairs split with speed."""
     rng = np.random.default_rng(7)
     stage, (m_ref, k_ref) = _random_stage(rng, 4, np.arange(4) * np.pi / 2)
@@ -243,15 +244,15 @@ def test_campbell_against_a_point_mass_in_a_rotating_frame():
         assert np.abs(lam.real).max() < 1e-6 * np.abs(lam).max()  # stable: pure imaginary
         want.append(np.sort(np.abs(lam.imag))[::2] / (2 * np.pi))
     model = jg.PlanarPlanetary()
-    got = np.asarray(jg.campbell(model, stage, speeds))
+    got = np.asarray(jp.campbell(model, stage, speeds))
     np.testing.assert_allclose(got, np.array(want), rtol=1e-9)
     g = np.asarray(model.gyroscopic_matrix(stage))
     np.testing.assert_array_equal(g, -g.T)
     # identical, equally spaced planets: a translational pair at rest splits at speed
     alike = cooley_parker_stage(4)  # isotropic bearings, every member held in rotation
-    rest, fast = np.asarray(jg.campbell(model, alike, np.array([0.0, 800.0])))
-    types = jg.classify_modes(jg.planetary_modes(model, alike), model, alike)
-    pair = [j for j, (t, _) in enumerate(types) if t == jg.ModeType.TRANSLATIONAL][:2]
+    rest, fast = np.asarray(jp.campbell(model, alike, np.array([0.0, 800.0])))
+    types = jp.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    pair = [j for j, (t, _) in enumerate(types) if t == jp.ModeType.TRANSLATIONAL][:2]
     assert rest[pair[1]] - rest[pair[0]] < 1e-9 * rest[pair[0]]
     assert fast[pair[1]] - fast[pair[0]] > 1e-3 * rest[pair[0]]
 
@@ -260,7 +261,7 @@ def test_campbell_refuses_a_speed_past_divergence():
     """Lin & Parker's example leaves the carrier free to turn: with the planets' centripetal
     term the rigid rotation has negative stiffness at any speed."""
     with pytest.raises(eqx.EquinoxRuntimeError, match="past divergence"):
-        jg.campbell(jg.PlanarPlanetary(), lin_parker_stage(3), np.array([100.0]))
+        jp.campbell(jg.PlanarPlanetary(), lin_parker_stage(3), np.array([100.0]))
 
 
 def test_torsional_model_against_kahramans_form():
@@ -298,9 +299,9 @@ def test_torsional_model_against_kahramans_form():
     alike = jg.PlanetaryStage(
         **{**_fields(stage), "sun_mesh_stiffness": 4e8, "ring_mesh_stiffness": 5e8}
     )
-    types = jg.classify_modes(jg.planetary_modes(model, alike), model, alike)
-    assert [t for t, _ in types].count(jg.ModeType.ROTATIONAL) == 4
-    assert {m for t, m in types if t == jg.ModeType.PLANET} == {n - 1}  # planets alone
+    types = jp.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    assert [t for t, _ in types].count(jp.ModeType.ROTATIONAL) == 4
+    assert {m for t, m in types if t == jp.ModeType.PLANET} == {n - 1}  # planets alone
 
 
 # -- kinematics --------------------------------------------------------------------------------
@@ -338,7 +339,7 @@ def test_torsional_rigid_mode_is_the_willis_ratio():
         sun_mesh_stiffness=4e8,
         ring_mesh_stiffness=4e8,
     )
-    jg.check_assembly(zs, zr, stage.planet_angles)
+    jp.check_assembly(zs, zr, stage.planet_angles)
     model = jg.TorsionalPlanetary()
     modes = jg.planetary_modes(model, stage)
     assert float(modes.frequencies[0]) < 1e-6 * float(modes.frequencies[1])
@@ -351,10 +352,10 @@ def test_torsional_rigid_mode_is_the_willis_ratio():
 
 
 def test_assembly_condition_and_input_errors():
-    jg.check_assembly(19, 56, 2 * np.pi * np.arange(3) / 3)  # 75 / 3 = 25
+    jp.check_assembly(19, 56, 2 * np.pi * np.arange(3) / 3)  # 75 / 3 = 25
     with pytest.raises(ValueError, match=r"planet 2 at 90 deg cannot be assembled"):
-        jg.check_assembly(19, 56, 2 * np.pi * np.arange(4) / 4)  # 75 / 4
-    jg.check_assembly(20, 70, np.radians([0.0, 120.0, 236.0]))  # 90 * 236 / 360 = 59
+        jp.check_assembly(19, 56, 2 * np.pi * np.arange(4) / 4)  # 75 / 4
+    jp.check_assembly(20, 70, np.radians([0.0, 120.0, 236.0]))  # 90 * 236 / 360 = 59
     with pytest.raises(ValueError, match=r"PlanetaryMember: mass = -1 kg|mass = -1 is out"):
         jg.PlanetaryMember(mass=-1.0, polar_inertia=1.0, base_radius=0.1)
     with pytest.raises(ValueError, match="sun_pressure_angle = 1.6 rad is out of range"):
@@ -400,7 +401,7 @@ def test_float32_runs(what):
                     jg.load_sharing(model, stage, 200.0, errors).k_gamma,
                 )
                 if what == "modes_and_load_sharing"
-                else (jg.campbell(model, stage, np.array([0.0, 300.0])),)
+                else (jp.campbell(model, stage, np.array([0.0, 300.0])),)
             )
     for low, high in zip(out[False], out[True], strict=True):
         assert low.dtype == np.float32
@@ -474,9 +475,9 @@ def test_cooley_parker_example_at_rest(n):
     digit = 10.0 ** (np.floor(np.log10(printed)) - 3)  # 4 significant digits
     # within 0.6 of the printed last digit (one value, 1.2805 at N = 5, rounds the other way)
     assert np.all(np.abs(got - printed) <= 0.6 * digit), np.abs(got - printed) / digit
-    types = jg.classify_modes(modes, jg.PlanarPlanetary(), stage)
-    assert [t for t, _ in types].count(jg.ModeType.ROTATIONAL) == 6
-    assert [t for t, _ in types].count(jg.ModeType.PLANET) == 3 * (n - 3)
+    types = jp.classify_modes(modes, jg.PlanarPlanetary(), stage)
+    assert [t for t, _ in types].count(jp.ModeType.ROTATIONAL) == 6
+    assert [t for t, _ in types].count(jp.ModeType.PLANET) == 3 * (n - 3)
 
 
 def test_one_trace_for_new_values_and_vmap_over_a_stiffness():

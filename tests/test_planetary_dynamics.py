@@ -1,4 +1,4 @@
-"""Planetary dynamics in the carrier frame (jaxgear.dynamics.planetary_dynamics): against a
+"""Planetary dynamics in the carrier frame (jaxgear.planetary.planetary_dynamics): against a
 reference written here from scratch (Kahraman's torsional equations with the ring and carrier
 rigidly held, the meshes' stiffness k0 b n(t) from the contact lines counted here, integrated by
 scipy's DOP853 segment by segment between the instants a line enters or leaves), per-mesh DF
@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import eigh
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 from _planetary_stage import K0, SEQ, WIDTH, counted_stiffness, geometry, stage
 
 jax.config.update("jax_enable_x64", True)
@@ -122,10 +122,10 @@ def test_torsional_dynamics_near_a_resonance_against_the_reference(seq):
     """Fast twin of the sweep below: one speed, the mesh frequency at 0.9 of the first mode."""
     geo, st, meshes = seq
     _, _, freqs = reference(geo, st, meshes, 1.0, 1, 1)
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
     omega = _speed(st, meshes, 0.9 * freqs[0])
-    got = jd.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(omega))
+    got = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(omega))
     assert int(got.result) == 0
     df = _check_against_reference(geo, st, meshes, got, omega)
     assert df.max() > 2.4  # amplified near the resonance (DF 2.58 in the reference)
@@ -136,10 +136,10 @@ def test_torsional_speed_sweep_against_the_reference(seq):
     """Mesh frequencies 0.5, 0.9 and 1.6 times the first mode's, vmapped in one sweep."""
     geo, st, meshes = seq
     _, _, freqs = reference(geo, st, meshes, 1.0, 1, 1)
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
     speeds = jnp.array([_speed(st, meshes, r * freqs[0]) for r in (0.5, 0.9, 1.6)])
-    got = jd.planetary_speed_sweep(jg.TorsionalPlanetary(), st, meshes, run, speeds)
+    got = jp.planetary_speed_sweep(jg.TorsionalPlanetary(), st, meshes, run, speeds)
     assert np.all(np.asarray(got.result) == 0)
     for i, omega in enumerate(np.asarray(speeds)):
         one = jax.tree.map(lambda a, i=i: a[i], got)
@@ -151,11 +151,11 @@ def test_zero_speed_limit_torsional(seq):
     the recorded forces are the quasi-static ones at the same travels, to 1e-8 (the difference
     falls as (S Omega)^2: the inertia of Newmark's steps)."""
     geo, st, meshes = seq
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=0.0)
     model = jg.TorsionalPlanetary()
     # a float64 speed, as the resonance test's: the same compiled run
-    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(np.float64(1e-7)))
+    got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(np.float64(1e-7)))
     static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel[::96],
                                        np.zeros(3))
     np.testing.assert_allclose(got.sun_mesh_forces[::96], static.sun_mesh_forces, rtol=1e-8)
@@ -170,10 +170,10 @@ def test_zero_speed_limit_is_the_quasi_static_solution(seq):
     dt >> their period; at 1e-4 rad/s 2e-7)."""
     geo, st, meshes = seq
     errors = np.array([10e-6, 0.0, 0.0])
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=32, periods=3, keep_periods=1,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=32, periods=3, keep_periods=1,
                           damping_ratio=ZETA, tangential_pin_errors=errors)
     model = jg.PlanarPlanetary()
-    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6))
+    got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6))
     assert int(got.result) == 0
     static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel, errors)
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
@@ -205,7 +205,7 @@ def test_net_mesh_excitation_cancellation_follows_the_phasing_rule(params, n):
     meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     per = 48
     x = np.asarray(meshes.positions(per))
-    k_s, k_r = jg.planetary_mesh_stiffness(jg.TorsionalPlanetary(), st, meshes, x)
+    k_s, k_r = jp.planetary_mesh_stiffness(jg.TorsionalPlanetary(), st, meshes, x)
     f = np.asarray(k_s)  # (per, n)
     for i, xi in enumerate(x):
         want_s, want_r = counted_stiffness(geo, meshes, xi)
@@ -220,9 +220,9 @@ def test_net_mesh_excitation_cancellation_follows_the_phasing_rule(params, n):
     torq = np.abs(_harmonics(torque, 4)) / (n * one)
     assert one.min() > 1e-3 * f.mean()  # every harmonic present in one mesh
     for ell in range(1, 5):
-        kind = jg.phasing_excites(params["z_s"], n, ell)
-        force_on = kind is jg.ModeType.TRANSLATIONAL
-        torque_on = kind is jg.ModeType.ROTATIONAL
+        kind = jp.phasing_excites(params["z_s"], n, ell)
+        force_on = kind is jp.ModeType.TRANSLATIONAL
+        torque_on = kind is jp.ModeType.ROTATIONAL
         assert (force[ell - 1] > 0.5) if force_on else (force[ell - 1] < 1e-9), (ell, kind)
         assert (torq[ell - 1] > 0.99) if torque_on else (torq[ell - 1] < 1e-9), (ell, kind)
 
@@ -239,8 +239,8 @@ def test_ring_transducer_sidebands_at_multiples_of_the_planet_count(seq):
                                     np.zeros(3))
     forces = np.tile(np.asarray(res.ring_mesh_forces), (z_r, 1))  # one carrier turn
     theta_c = 2 * np.pi * (np.arange(per * z_r) + 0.5) / (per * z_r)
-    y = jd.ring_transducer_signal(jnp.asarray(forces), jnp.asarray(theta_c), st.planet_angles)
-    orders, amp = jd.order_spectrum(y, per * z_r)
+    y = jp.ring_transducer_signal(jnp.asarray(forces), jnp.asarray(theta_c), st.planet_angles)
+    orders, amp = jp.order_spectrum(y, per * z_r)
     k = np.rint(orders).astype(int)
     assert np.allclose(orders, k)
     off = amp[(k % 3 != 0)]
@@ -248,9 +248,9 @@ def test_ring_transducer_sidebands_at_multiples_of_the_planet_count(seq):
     assert amp[53] < 1e-9 * amp.max() and amp[51] > 1e-3 * amp.max()
     assert amp[54] > 1e-3 * amp.max()
     # a planet-pass window of one planet alone (no phasing) puts a line at the mesh order
-    single = jd.ring_transducer_signal(jnp.asarray(forces[:, :1]), jnp.asarray(theta_c),
+    single = jp.ring_transducer_signal(jnp.asarray(forces[:, :1]), jnp.asarray(theta_c),
                                        st.planet_angles[:1])
-    _, amp1 = jd.order_spectrum(single, per * z_r)
+    _, amp1 = jp.order_spectrum(single, per * z_r)
     assert amp1[53] > 1e-2 * amp1.max()
 
 
@@ -356,9 +356,9 @@ def test_planar_dynamics_at_speed_against_a_rotating_frame_reference():
     want = integrate(omega) / (TORQUE / (n * r_s))
     still = integrate(0.0) / (TORQUE / (n * r_s))
     assert np.abs(still / want - 1).max() > 0.03  # the rotating-frame terms matter here
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
-    got = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, jnp.asarray(omega))
+    got = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, jnp.asarray(omega))
     assert int(got.result) == 0 and float(got.sun_mesh_forces.min()) > 0
     df = np.concatenate([np.asarray(d) for d in got.dynamic_factors])
     np.testing.assert_allclose(df, want, rtol=0.01)

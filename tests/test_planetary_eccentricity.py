@@ -1,4 +1,4 @@
-"""Eccentricities of the sun, ring and carrier (jaxgear.Eccentricities) in the load sharing:
+"""Eccentricities of the sun, ring and carrier (jaxgear.planetary.Eccentricities) in the load sharing:
 K_gamma over a turn against an independent spring model written from the geometry of the mesh
 forces (tests/_planetary_stage.py: rigid_path_forces), the floating sun that absorbs a sun
 eccentricity, a gradient against a central difference, and the refusals."""
@@ -12,7 +12,7 @@ from _planetary_stage import A_R, A_S, K_MESH, R_R, R_S, rigid_path_forces
 from _planetary_stage import lin_parker_stage as stage
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 
 TORQUE = 3000.0
 E = 30e-6  # m
@@ -48,7 +48,7 @@ def test_sun_eccentricity_over_a_turn_against_the_spring_model():
     """The sun's toothed centre turns with the sun, +x / r_bs relative to the carrier: K_gamma
     repeats once per relative turn of the sun."""
     beta, n = 0.7, 4
-    st = stage(n, jg.Eccentricities(sun=E, sun_phase=beta))
+    st = stage(n, jp.Eccentricities(sun=E, sun_phase=beta))
     x = turn(R_S)
     want = []
     for xi in x:
@@ -71,7 +71,7 @@ def test_ring_eccentricity_over_a_turn_against_the_spring_model():
     """The ring's toothed centre turns -x / r_br relative to the carrier (with the ring fixed:
     once per carrier turn)."""
     beta = -1.1
-    st = stage(4, jg.Eccentricities(ring=E, ring_phase=beta))
+    st = stage(4, jp.Eccentricities(ring=E, ring_phase=beta))
     x = turn(R_R)
     for model, rtol in MODELS:
         got = _sharing(model, st, x)
@@ -89,7 +89,7 @@ def test_carrier_eccentricity_is_steady_in_the_carrier_frame_and_adds_to_pin_err
     beta = 2.0
     e_vec = E * np.array([np.cos(beta), np.sin(beta)])
     pin_error = np.array([15e-6, 0.0, 0.0, 0.0])
-    st = stage(4, jg.Eccentricities(carrier=E, carrier_phase=beta))
+    st = stage(4, jp.Eccentricities(carrier=E, carrier_phase=beta))
     psi = np.asarray(st.planet_angles)
     t = np.stack([-np.sin(psi), np.cos(psi)], -1)
     r = np.stack([np.cos(psi), np.sin(psi)], -1)
@@ -108,7 +108,7 @@ def test_carrier_eccentricity_is_steady_in_the_carrier_frame_and_adds_to_pin_err
 def test_a_floating_sun_absorbs_a_sun_eccentricity():
     """A sun free to translate follows its own runout (the literature's reason to float the
     sun): K_gamma = 1 at every position, with four planets too; held, it is not."""
-    ecc = jg.Eccentricities(sun=E, sun_phase=0.3)
+    ecc = jp.Eccentricities(sun=E, sun_phase=0.3)
     x = turn(R_S, 8)
     model = jg.PlanarPlanetary()
     for n in (3, 4):
@@ -121,7 +121,7 @@ def test_a_floating_sun_absorbs_a_sun_eccentricity():
 
 def test_k_gamma_gradient_with_respect_to_the_eccentricity():
     def k_gamma(e):
-        st = stage(4, jg.Eccentricities(sun=e, sun_phase=0.4), pin=1e8)
+        st = stage(4, jp.Eccentricities(sun=e, sun_phase=0.4), pin=1e8)
         return jg.load_sharing(jg.PlanarPlanetary(), st, TORQUE, jnp.zeros(4)).k_gamma
 
     e, h = 20e-6, 1e-8
@@ -132,9 +132,9 @@ def test_k_gamma_gradient_with_respect_to_the_eccentricity():
 
 def test_refusals():
     with pytest.raises(ValueError, match=r"Eccentricities: sun = -1e-06 m is out of range"):
-        jg.Eccentricities(sun=-1e-6)
+        jp.Eccentricities(sun=-1e-6)
     with pytest.raises(ValueError, match="carrier_phase"):
-        jg.Eccentricities(carrier_phase=np.inf)
+        jp.Eccentricities(carrier_phase=np.inf)
     with pytest.raises(ValueError, match="eccentricities"):
         stage(3, ecc=(1e-6, 0.0))
     with pytest.raises(ValueError, match="travel"):
@@ -147,11 +147,11 @@ def test_dynamics_at_a_crawl_follow_the_turning_eccentricity():
     turn of the sun relative to the carrier (28 mesh periods of one spring per mesh) the
     recorded mesh forces are the spring model's at the same travels (torsional model)."""
     beta = 0.7
-    st = stage(3, jg.Eccentricities(sun=E, sun_phase=beta))
+    st = stage(3, jp.Eccentricities(sun=E, sun_phase=beta))
     meshes = jg.ConstantMeshes(2 * np.pi * R_S / 28)
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=12, periods=28, keep_periods=28,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=12, periods=28, keep_periods=28,
                           damping_ratio=0.05)
-    got = jd.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(1e-7))
+    got = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(1e-7))
     assert int(got.result) == 0
     x = np.asarray(got.travel)
     assert x[-1] - x[0] == pytest.approx(2 * np.pi * R_S, rel=0.01)  # a turn of the sun

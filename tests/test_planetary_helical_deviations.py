@@ -1,4 +1,4 @@
-"""Per-tooth deviations on a helical planetary stage (jaxgear.DeviationMeshes with slices across
+"""Per-tooth deviations on a helical planetary stage (jaxgear.planetary.DeviationMeshes with slices across
 the face): a helix slope deviation on one planet tooth's sun-side flank, the line-load map of
 every mesh against a spring model written here (each cell a spring k0 l on its contact line, the
 cells counted here from the base-plane geometry of a helical mesh, the planets' paths in series
@@ -12,6 +12,7 @@ import pytest
 
 import _planetary_stage as ps
 import jaxgear as jg
+import jaxgear.planetary as jp
 
 jax.config.update("jax_enable_x64", True)
 
@@ -80,17 +81,17 @@ def helical():
     st = ps.stage(geo, 3)
     contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
                                              n_slices=SLICES)
-    teeth = jg.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
+    teeth = jp.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
     x = np.linspace(4.6, 9.1, 12) * float(geo.sun_planet.base_pitch)
 
     def solve(f_hb):
         hs = np.zeros(17)
         hs[TOOTH] = f_hb
         zero = lambda z: jg.GearDeviations(np.zeros(z))  # noqa: E731
-        planets = (jg.PlanetFlanks(jg.GearDeviations(np.zeros(17), helix_slope=hs), zero(17)),
-                   *(jg.PlanetFlanks(zero(17), zero(17)) for _ in range(2)))
-        meshes = jg.DeviationMeshes(contact, teeth,
-                                    jg.PlanetaryDeviations(zero(19), planets, zero(53)))
+        planets = (jp.PlanetFlanks(jg.GearDeviations(np.zeros(17), helix_slope=hs), zero(17)),
+                   *(jp.PlanetFlanks(zero(17), zero(17)) for _ in range(2)))
+        meshes = jp.DeviationMeshes(contact, teeth,
+                                    jp.PlanetaryDeviations(zero(19), planets, zero(53)))
         r = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, meshes,
                                       np.asarray(TORQUE), x)
         assert np.all(np.asarray(r.result) == 0)

@@ -1,5 +1,5 @@
-"""Per-tooth deviations of a planetary stage over its hunting period (jaxgear.PlanetaryTeeth,
-jaxgear.DeviationMeshes): the tooth bookkeeping against an enumeration written here (the sun's
+"""Per-tooth deviations of a planetary stage over its hunting period (jaxgear.planetary.PlanetaryTeeth,
+jaxgear.planetary.DeviationMeshes): the tooth bookkeeping against an enumeration written here (the sun's
 and the ring's teeth rolled along their base circles to each planet's line of action, a planet
 tooth's two flanks drawn as involutes and cut with both lines), one planet tooth's pitch
 deviation seen exactly where that tooth is in mesh (sun and ring, that planet), the hunting
@@ -12,7 +12,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 from _planetary_stage import K0, SEQ, geometry, rigid_path_forces, stage
 
 jax.config.update("jax_enable_x64", True)
@@ -28,7 +28,7 @@ def seq_stage():
     geo = geometry(**SEQ)
     st = stage(geo, 3)
     contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
-    teeth = jg.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
+    teeth = jp.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
     return geo, st, contact, teeth
 
 
@@ -180,7 +180,7 @@ def test_bookkeeping_against_teeth_counted_here(seq, drawn_d):
     geo, st, contact, teeth = seq
     p_b = float(contact.sun_mesh.base_pitch)
     assert teeth.teeth == (Z_S, Z_P, Z_R)
-    assert jg.planetary_hunting_periods(Z_S, Z_P, Z_R) == teeth.hunting_periods == 17119
+    assert jp.planetary_hunting_periods(Z_S, Z_P, Z_R) == teeth.hunting_periods == 17119
     d_lib = float(contact.ring_offset)
     assert min(abs(d_lib - np.mod(drawn_d, p_b)), p_b - abs(d_lib - np.mod(drawn_d, p_b))) < 1e-9
     rng = np.random.default_rng(3)
@@ -212,7 +212,7 @@ def _deviations(sun=None, planets=None, ring=None, profile=None):
     g = lambda v, z: jg.GearDeviations(np.zeros(z) if v is None else v,  # noqa: E731
                                        profile_slope=0.0 if profile is None else profile[z])
     planets = planets or [None] * 3
-    return jg.PlanetaryDeviations(g(sun, Z_S), tuple(g(p, Z_P) for p in planets), g(ring, Z_R))
+    return jp.PlanetaryDeviations(g(sun, Z_S), tuple(g(p, Z_P) for p in planets), g(ring, Z_R))
 
 
 def _solve(model, st, meshes, x, errors=np.zeros(3)):
@@ -235,7 +235,7 @@ def test_zero_deviations_are_the_contact_meshes(seq, nominal):
     model = jg.TorsionalPlanetary()
     for c, e, want in ((contact, np.zeros(3), plain), (relieved, errors, None)):
         want = want or _solve(model, st, c, x, e)
-        got = _solve(model, st, jg.DeviationMeshes(c, teeth, _deviations()), x, e)
+        got = _solve(model, st, jp.DeviationMeshes(c, teeth, _deviations()), x, e)
         for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma",
                      "displacement"):
             w, g = np.asarray(getattr(want, name)), np.asarray(getattr(got, name))
@@ -273,7 +273,7 @@ def test_one_planet_tooth_is_seen_where_it_meshes_and_every_planet_turn(seq, dra
     f = 4e-6
     p_b = float(contact.sun_mesh.base_pitch)
     devs = _deviations(planets=[None, _one_tooth(Z_P, 5, f), None])
-    meshes = jg.DeviationMeshes(contact, teeth, devs)
+    meshes = jp.DeviationMeshes(contact, teeth, devs)
     model = jg.TorsionalPlanetary()
     x, nominal = nominal  # 20 mesh periods: the tooth passes both meshes
     got = _solve(model, st, meshes, x)
@@ -321,7 +321,7 @@ def test_hunting_period_and_no_shorter_one(seq):
     geo, st, contact, teeth = seq
     p_b = float(contact.sun_mesh.base_pitch)
     sun, *planets, ring = _drawn(7)
-    meshes = jg.DeviationMeshes(contact, teeth, _deviations(sun, planets, ring))
+    meshes = jp.DeviationMeshes(contact, teeth, _deviations(sun, planets, ring))
     h = teeth.hunting_periods
     base = np.asarray(contact.positions(4, 3)) + 3 * p_b
     shifts = [0, h, h // 19, h // 17, h // 53]
@@ -349,7 +349,7 @@ def test_k_gamma_with_a_pin_error_and_deviations_against_a_spring_model(seq, dra
     slope = {Z_S: np.linspace(-3e-6, 3e-6, Z_S), Z_R: np.linspace(2e-6, -2e-6, Z_R)}
     slope[Z_P] = np.zeros(Z_P)
     devs = _deviations(planets=planets, profile=slope)
-    meshes = jg.DeviationMeshes(contact, teeth, devs)
+    meshes = jp.DeviationMeshes(contact, teeth, devs)
     errors = np.array([6e-6, 0.0, 0.0])
     cum = [np.cumsum(p) - p[0] for p in planets]
     g_s, g_r = sp.path_of_contact, pr.path_of_contact
@@ -404,18 +404,18 @@ def assert_spring_model(seq, drawn_d, meshes, errors, sun_material, ring_materia
 def test_bad_inputs_are_one_line(seq):
     geo, st, contact, teeth = seq
     cases = [
-        (lambda: jg.DeviationMeshes(contact, teeth, jg.PlanetaryDeviations(
+        (lambda: jp.DeviationMeshes(contact, teeth, jp.PlanetaryDeviations(
             sun=jg.GearDeviations(np.zeros(18)))), "sun has 18 teeth"),
-        (lambda: jg.DeviationMeshes(contact, teeth, jg.PlanetaryDeviations(
+        (lambda: jp.DeviationMeshes(contact, teeth, jp.PlanetaryDeviations(
             planets=(None, None))), "planets has 2 entries"),
-        (lambda: jg.PlanetaryDeviations(ring=jg.GearDeviations(np.zeros(53), runout=1e-6)),
+        (lambda: jp.PlanetaryDeviations(ring=jg.GearDeviations(np.zeros(53), runout=1e-6)),
          "ring.runout"),
-        (lambda: jg.PlanetaryDeviations(sun=np.zeros(19)), "sun"),
-        (lambda: jg.planetary_hunting_periods(19, 0, 53), "z_planet"),
+        (lambda: jp.PlanetaryDeviations(sun=np.zeros(19)), "sun"),
+        (lambda: jp.planetary_hunting_periods(19, 0, 53), "z_planet"),
         # the dynamics lay out one mesh period's cells: refused, not repeated silently
-        (lambda: jd.planetary_dynamics(
-            jg.TorsionalPlanetary(), st, jg.DeviationMeshes(contact, teeth, _deviations()),
-            jd.PlanetaryRun(TORQUE, steps_per_period=8, periods=2, keep_periods=1),
+        (lambda: jp.planetary_dynamics(
+            jg.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, _deviations()),
+            jp.PlanetaryRun(TORQUE, steps_per_period=8, periods=2, keep_periods=1),
             jax.numpy.asarray(60.0)), "change from one mesh period to the next"),
     ]
     for make, words in cases:
@@ -449,7 +449,7 @@ def test_case_keys_draw_every_member_in_order_and_refuse_in_one_line():
     data, _ = _example()
     case = jio.parse_train(copy.deepcopy(data))
     devs, st = case.deviations, case.deviation_settings
-    assert isinstance(devs, jg.PlanetaryDeviations)
+    assert isinstance(devs, jp.PlanetaryDeviations)
     assert st["mesh_periods"] == 2 * Z_S and st["hunting_periods"] == 17119
     rng = np.random.default_rng(1)
     sp = case.pairs[0]
@@ -534,7 +534,7 @@ def test_jaxgear_run_writes_the_hunting_span(tmp_path, capsys):
     spec = case.form.spec
     geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
     contact = spec.dynamic_meshes(case, 1)
-    meshes = jg.DeviationMeshes(contact, jg.PlanetaryTeeth.from_geometry(
+    meshes = jp.DeviationMeshes(contact, jp.PlanetaryTeeth.from_geometry(
         geo, np.asarray(spec.planet_angles)), case.deviations)
     x = np.asarray(contact.positions(4, 38))
     r = jg.planetary_quasi_static(jg.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),

@@ -1,5 +1,5 @@
-"""A planet's two flanks with their own deviations (jaxgear.PlanetFlanks in
-jaxgear.PlanetaryDeviations): a deviation on one planet tooth's ring-side flank seen in that
+"""A planet's two flanks with their own deviations (jaxgear.planetary.PlanetFlanks in
+jaxgear.planetary.PlanetaryDeviations): a deviation on one planet tooth's ring-side flank seen in that
 planet's ring mesh only, at the travels where that tooth is on the ring line (counted by the
 enumeration of tests/test_planetary_hunting.py), and nowhere in the sun meshes; an indexing
 error (one flank +f, the other -f) loading the planet on the sun line and unloading it on the
@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from _planetary_stage import SEQ, geometry
 from test_planetary_hunting import (
     N_POS,
@@ -55,9 +56,9 @@ def _flanks(sun_flank=None, ring_flank=None, sun_profile=0.0, ring_profile=0.0):
     planet single pitch deviations or None."""
     sun_flank = sun_flank or [None] * 3
     ring_flank = ring_flank or [None] * 3
-    planets = tuple(jg.PlanetFlanks(_gear(Z_P, s), _gear(Z_P, r))
+    planets = tuple(jp.PlanetFlanks(_gear(Z_P, s), _gear(Z_P, r))
                     for s, r in zip(sun_flank, ring_flank, strict=True))
-    return jg.PlanetaryDeviations(_gear(Z_S, profile=sun_profile), planets,
+    return jp.PlanetaryDeviations(_gear(Z_S, profile=sun_profile), planets,
                                   _gear(Z_R, profile=ring_profile))
 
 
@@ -95,7 +96,7 @@ def test_a_ring_flank_deviation_is_seen_in_that_planets_ring_mesh_only(seq, draw
     geo, st, contact, teeth = seq
     model = jg.TorsionalPlanetary()
     devs = _flanks(ring_flank=[None, _one_tooth(Z_P, 5, F), None])
-    meshes = jg.DeviationMeshes(contact, teeth, devs)
+    meshes = jp.DeviationMeshes(contact, teeth, devs)
     x, nominal = nominal
     on_sun, on_ring = _contact_windows(geo, np.asarray(st.planet_angles), drawn_d, x, 1, 5)
     assert on_sun.sum() >= 3 and on_ring.sum() >= 3 and not np.any(on_sun & on_ring)
@@ -140,7 +141,7 @@ def test_an_indexing_error_loads_on_one_line_and_unloads_on_the_other(seq, drawn
     tooth = _one_tooth(Z_P, 5, F)
     devs = _flanks(sun_flank=[None, tooth, None], ring_flank=[None, -tooth, None])
     x, nominal = nominal
-    got = _solve(jg.TorsionalPlanetary(), st, jg.DeviationMeshes(contact, teeth, devs), x)
+    got = _solve(jg.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, devs), x)
     d_f, _ = _changes(got, nominal)
     on_sun, on_ring = _contact_windows(geo, np.asarray(st.planet_angles), drawn_d, x, 1, 5)
     assert np.all(d_f[on_sun, 1] > 1e-3 * TORQUE) and np.all(d_f[on_ring, 1] < -1e-3 * TORQUE)
@@ -158,17 +159,17 @@ def test_a_thickness_error_on_both_flanks_is_the_single_table_form(seq, nominal)
     x, nominal = nominal
     thick = _one_tooth(Z_P, 5, F)
     slope = np.linspace(-2e-6, 3e-6, Z_P)
-    single = jg.PlanetaryDeviations(planets=(None, _gear(Z_P, thick),
+    single = jp.PlanetaryDeviations(planets=(None, _gear(Z_P, thick),
                                              _gear(Z_P, profile=slope)))
     # the file's structure (one compiled program with the other tests' solves)
-    flanks = jg.PlanetaryDeviations(_gear(Z_S), (
-        jg.PlanetFlanks(_gear(Z_P), _gear(Z_P)),
-        jg.PlanetFlanks(_gear(Z_P, thick), _gear(Z_P, thick)),
-        jg.PlanetFlanks.both(_gear(Z_P, profile=slope))), _gear(Z_R))
+    flanks = jp.PlanetaryDeviations(_gear(Z_S), (
+        jp.PlanetFlanks(_gear(Z_P), _gear(Z_P)),
+        jp.PlanetFlanks(_gear(Z_P, thick), _gear(Z_P, thick)),
+        jp.PlanetFlanks.both(_gear(Z_P, profile=slope))), _gear(Z_R))
     assert single.planet_flanks(0) == (None, None)
     model = jg.TorsionalPlanetary()
-    want = _solve(model, st, jg.DeviationMeshes(contact, teeth, single), x)
-    got = _solve(model, st, jg.DeviationMeshes(contact, teeth, flanks), x)
+    want = _solve(model, st, jp.DeviationMeshes(contact, teeth, single), x)
+    got = _solve(model, st, jp.DeviationMeshes(contact, teeth, flanks), x)
     for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma"):
         w, g = np.asarray(getattr(want, name)), np.asarray(getattr(got, name))
         np.testing.assert_allclose(g, w, rtol=1e-12, atol=1e-12 * np.abs(w).max())
@@ -196,7 +197,7 @@ def test_k_gamma_with_one_flank_pitch_errors_against_a_spring_model(seq, drawn_d
     ring_flanks = [_class6(rng, Z_P) for _ in range(3)]
     s_slope, r_slope = np.linspace(-3e-6, 3e-6, Z_S), np.linspace(2e-6, -2e-6, Z_R)
     devs = _flanks(ring_flank=ring_flanks, sun_profile=s_slope, ring_profile=r_slope)
-    meshes = jg.DeviationMeshes(contact, teeth, devs)
+    meshes = jp.DeviationMeshes(contact, teeth, devs)
     errors = np.array([6e-6, 0.0, 0.0])
     cum = [np.cumsum(p) - p[0] for p in ring_flanks]
     g_s, g_r = sp.path_of_contact, pr.path_of_contact
@@ -213,13 +214,13 @@ def test_k_gamma_with_one_flank_pitch_errors_against_a_spring_model(seq, drawn_d
 def test_bad_flanks_are_one_line(seq):
     _, _, contact, teeth = seq
     cases = [
-        (lambda: jg.PlanetFlanks(sun_flank=np.zeros(Z_P)), "sun_flank"),
-        (lambda: jg.PlanetaryDeviations(planets=(None, jg.PlanetFlanks(
+        (lambda: jp.PlanetFlanks(sun_flank=np.zeros(Z_P)), "sun_flank"),
+        (lambda: jp.PlanetaryDeviations(planets=(None, jp.PlanetFlanks(
             ring_flank=jg.GearDeviations(np.zeros(Z_P), runout=1e-6)), None)),
          "planets[1].ring_flank.runout"),
-        (lambda: jg.DeviationMeshes(contact, teeth, jg.PlanetaryDeviations(planets=(
-            None, None, jg.PlanetFlanks(None, _gear(16))))), "planets[2].ring_flank has 16"),
-        (lambda: jg.PlanetaryDeviations(planets=(np.zeros(Z_P),)), "PlanetFlanks or None"),
+        (lambda: jp.DeviationMeshes(contact, teeth, jp.PlanetaryDeviations(planets=(
+            None, None, jp.PlanetFlanks(None, _gear(16))))), "planets[2].ring_flank has 16"),
+        (lambda: jp.PlanetaryDeviations(planets=(np.zeros(Z_P),)), "PlanetFlanks or None"),
     ]
     for make, words in cases:
         with pytest.raises(ValueError) as err:
@@ -280,7 +281,7 @@ def test_case_flank_tables_draw_each_flank_and_refuse_in_one_line():
     flat["deviations"]["planet_2"] = {"pitch_um": pitch, "helix_slope_um": 1.5}
     g_flat = jio.parse_train(flat).deviations.planet(1)
     g_split = jio.parse_train(split).deviations.planet(1)
-    assert isinstance(g_flat, jg.GearDeviations) and isinstance(g_split, jg.PlanetFlanks)
+    assert isinstance(g_flat, jg.GearDeviations) and isinstance(g_split, jp.PlanetFlanks)
     for g in (g_split.sun_flank, g_split.ring_flank):
         for f in ("single_pitch", "helix_slope", "profile_slope"):
             np.testing.assert_array_equal(getattr(g, f), getattr(g_flat, f))

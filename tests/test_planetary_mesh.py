@@ -10,6 +10,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from _planetary_stage import INPHASE, K0, SEQ, counted_stiffness, geometry, stage, with_meshes
 
 jax.config.update("jax_enable_x64", True)
@@ -101,7 +102,7 @@ ALPHA_N = np.radians(20.0)
 )
 def test_sun_ring_offset_against_contact_points_on_drawn_flanks(params):
     geo = geometry(**params)
-    want = jg.sun_ring_offset(geo)
+    want = jp.sun_ring_offset(geo)
     for c0 in (0.0, 0.1234):  # whatever the planet's angle
         got, p_b, s_sun, s_ring = _drawn_offset(geo, c0)
         d = abs(got - want)
@@ -156,7 +157,7 @@ def test_planet_forces_follow_the_mesh_phases(seq):
     model = jg.PlanarPlanetary()
     x = meshes.positions(PER_PERIOD)
     got = jg.planetary_quasi_static(model, st, meshes, np.asarray(400.0), x, np.zeros(3))
-    g_s, g_r = jg.mesh_phases(19, 53, st.planet_angles)
+    g_s, g_r = jp.mesh_phases(19, 53, st.planet_angles)
     assert np.allclose(g_s, [0, 1 / 3, 2 / 3]) and np.allclose(g_r, g_s)
     f_s, f_r = np.asarray(got.sun_mesh_forces), np.asarray(got.ring_mesh_forces)
     assert np.ptp(f_s[:, 0]) > 0.2 * f_s.mean()  # a real variation to follow

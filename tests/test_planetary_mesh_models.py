@@ -29,8 +29,8 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 
 jax.config.update("jax_enable_x64", True)
 
@@ -230,10 +230,10 @@ def test_the_dynamics_at_zero_speed_give_the_rating_stage_loads():
     radial = np.asarray(spec.radial_pin_errors)
     torque = T_LOW * Z_S / (Z_S + Z_R)
     steps = case.positions_per_pitch
-    run = jd.PlanetaryRun(torque, steps_per_period=steps, periods=2, keep_periods=1,
+    run = jp.PlanetaryRun(torque, steps_per_period=steps, periods=2, keep_periods=1,
                           damping_ratio=0.05, tangential_pin_errors=errors,
                           radial_pin_errors=radial)
-    got = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(1e-6))
+    got = jp.planetary_dynamics(model, stage, meshes, run, jnp.asarray(1e-6))
     assert int(got.result) == 0
     geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
     ref = jg.ContactMeshes.from_models(

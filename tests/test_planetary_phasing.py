@@ -6,7 +6,7 @@ measured here by summing the N mesh forces (their directions and phases) over a 
 import numpy as np
 import pytest
 
-import jaxgear as jg
+import jaxgear.planetary as jp
 
 ALPHA_S = np.radians(22.0)
 
@@ -17,7 +17,7 @@ def test_phases_on_the_turning_sun_tooth_pattern():
     z_s psi / 2 pi (mod 1)."""
     zs, zr, n = 25, 71, 4
     psi = 2 * np.pi * np.arange(n) / n
-    gamma_s, gamma_r = jg.mesh_phases(zs, zr, psi)
+    gamma_s, gamma_r = jp.mesh_phases(zs, zr, psi)
 
     def state(position, phi):  # where a sun tooth stands, in tooth pitches
         return np.mod(zs * (position - phi) / (2 * np.pi), 1.0)
@@ -61,8 +61,8 @@ def _rule(z, n, harmonic):
 )
 def test_net_mesh_force_harmonics_follow_the_phasing_rule(zs, zr, n):
     psi = 2 * np.pi * np.arange(n) / n
-    jg.check_assembly(zs, zr, psi)
-    gamma_s, gamma_r = jg.mesh_phases(zs, zr, psi)
+    jp.check_assembly(zs, zr, psi)
+    gamma_s, gamma_r = jp.mesh_phases(zs, zr, psi)
     sun_dirs = np.stack([-np.sin(psi - ALPHA_S), np.cos(psi - ALPHA_S)], axis=1)
     ring_dirs = np.stack([-np.sin(psi + ALPHA_S), np.cos(psi + ALPHA_S)], axis=1)
     seen = set()
@@ -75,22 +75,22 @@ def test_net_mesh_force_harmonics_follow_the_phasing_rule(zs, zr, n):
             if torque_on:
                 assert torque == pytest.approx(n, rel=1e-9)  # all N add up
         expected = (
-            jg.ModeType.ROTATIONAL
+            jp.ModeType.ROTATIONAL
             if torque_on
-            else jg.ModeType.TRANSLATIONAL
+            else jp.ModeType.TRANSLATIONAL
             if force_on
-            else jg.ModeType.PLANET
+            else jp.ModeType.PLANET
         )
-        assert jg.phasing_excites(zs, n, harmonic) == expected
+        assert jp.phasing_excites(zs, n, harmonic) == expected
         seen.add(expected)
     if zs % n == 0:  # in phase: no net force at any harmonic, the torque at every one
-        assert seen == {jg.ModeType.ROTATIONAL}
+        assert seen == {jp.ModeType.ROTATIONAL}
     if (zs, n) == (27, 5):
-        assert jg.ModeType.PLANET in seen
+        assert jp.ModeType.PLANET in seen
 
 
 def test_phasing_input_errors():
     with pytest.raises(ValueError, match="n_planets = 2 is out of range"):
-        jg.phasing_excites(20, 2, 1)
+        jp.phasing_excites(20, 2, 1)
     with pytest.raises(ValueError, match="z_ring = 20 is out of range"):
-        jg.mesh_phases(20, 20, [0.0, 1.0])
+        jp.mesh_phases(20, 20, [0.0, 1.0])

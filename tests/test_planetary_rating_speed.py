@@ -1,5 +1,5 @@
 """The planetary stages' tooth-root stress at speed (docs/rating.md, "Root stress at speed"):
-the cells' forces recorded by the planetary dynamics (jaxgear.dynamics.PlanetaryRun
+the cells' forces recorded by the planetary dynamics (jaxgear.planetary.PlanetaryRun
 ``cell_loads=True``, PlanetaryDynamics.cell_forces) and the rating's map at speed
 (jaxgear.cli.planetary_speed: run_at_speed, stage_at_speed, rating_at_speed).
 
@@ -32,6 +32,7 @@ from _rating_cases import Table, stub_table
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.io import CaseWarning
 
 jax.config.update("jax_enable_x64", True)
@@ -50,7 +51,7 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
     st = stage(geo, 3)
     meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0), n_slices=2)
     errors = np.array([10e-6, 0.0, 0.0])
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=12, periods=3, keep_periods=1,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=12, periods=3, keep_periods=1,
                           tangential_pin_errors=errors, cell_loads=True)
     model = jg.TorsionalPlanetary()
     n, lines, slices = 3, meshes.sun_mesh.n_lines, meshes.sun_mesh.n_slices
@@ -58,7 +59,7 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
     assert meshes.ring_mesh.n_lines * meshes.ring_mesh.n_slices == per
     cos_b = math.cos(float(meshes.sun_mesh.base_helix_angle))
     for speed in (1e-7, 30.0):
-        got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(speed))
+        got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(speed))
         assert int(got.result) == 0
         p = np.asarray(got.cell_forces)
         assert p.shape == (12, 2 * n * per) and p.min() >= 0.0
@@ -77,7 +78,7 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
             slow = p
         else:  # at speed the loads are not the static ones
             assert np.max(np.abs(p - slow)) > 1e-3 * slow.max()
-    plain = jd.PlanetaryRun(TORQUE, steps_per_period=12, periods=3, keep_periods=1)
+    plain = jp.PlanetaryRun(TORQUE, steps_per_period=12, periods=3, keep_periods=1)
     assert plain.cell_loads is False
 
 
@@ -339,7 +340,7 @@ def test_a_run_without_cell_forces_is_refused_in_one_line():
     from jaxgear.cli.planetary_speed import stage_at_speed
 
     z = np.zeros((4, 3))
-    dyn = jd.PlanetaryDynamics(np.zeros(4), np.zeros(4), np.zeros((4, 9)), z, z,
+    dyn = jp.PlanetaryDynamics(np.zeros(4), np.zeros(4), np.zeros((4, 9)), z, z,
                                np.asarray(1.0), np.asarray(0), z)
     assert dyn.cell_forces is None
     with pytest.raises(ValueError, match=r"^stage_at_speed: dynamics.cell_forces is None: "

@@ -1,6 +1,6 @@
-"""The flexible ring gear of a planetary stage (jaxgear.CondensedRing in
+"""The flexible ring gear of a planetary stage (jaxgear.planetary.CondensedRing in
 jaxgear.planetary_quasi_static) and the resonance rule of the ring's nodal-diameter modes
-(jaxgear.ring_excitation).
+(jaxgear.planetary.ring_excitation).
 
 References: springs in series (a ring compliance c at each planet's station adds 1 / k_r + c);
 the rigid ring (the flexible ring 10^3 stiffer, within 0.5 %); the FE ring's static solve under
@@ -17,6 +17,7 @@ import pytest
 
 import fem_prep as fp
 import jaxgear as jg
+import jaxgear.planetary as jp
 from _planetary_stage import K0, SEQ, geometry, stage
 from jaxgear.cli import planetary as pr
 
@@ -77,7 +78,7 @@ def test_station_compliance_adds_in_series(seq):
     x = np.array([0.0])
     model = jg.PlanarPlanetary()
     flex = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
-                                     ring=jg.CondensedRing(F))
+                                     ring=jp.CondensedRing(F))
     k_r = float(st.ring_mesh_stiffness)
     series = jg.planetary_quasi_static(model, with_ring_k(st, 1 / (1 / k_r + c)),
                                        jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
@@ -107,9 +108,9 @@ def test_stiff_flexible_ring_equals_rigid_ring_and_soft_one_lowers_k_gamma(seq, 
     x = np.linspace(0.0, st.ring.base_radius * 2 * math.pi / 6, 7)
     rigid = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
     stiff = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
-                                      ring=jg.CondensedRing(F / 1e3))
+                                      ring=jp.CondensedRing(F / 1e3))
     soft = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
-                                     ring=jg.CondensedRing(F))
+                                     ring=jp.CondensedRing(F))
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.k_gamma, rigid.k_gamma, rtol=5e-3)
@@ -133,9 +134,9 @@ def test_stiff_flexible_ring_equals_rigid_ring_with_real_contact(seq, fe_ring):
     model = jg.PlanarPlanetary()
     rigid = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS)
     stiff = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
-                                      ring=jg.CondensedRing(F / 1e3))
+                                      ring=jp.CondensedRing(F / 1e3))
     soft = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
-                                     ring=jg.CondensedRing(F))
+                                     ring=jp.CondensedRing(F))
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
     assert float(rigid.k_gamma_max) == pytest.approx(1.7306, abs=1e-3)
@@ -150,14 +151,14 @@ def test_ring_deflections_and_support_reactions_from_the_fe_ring(seq, bolted_rin
     moment about the axis), both to 1e-9."""
     _, st = seq
     prep, F = bolted_ring
-    ring = jg.CondensedRing(F)
+    ring = jp.CondensedRing(F)
     x = np.array([0.0, 0.0123])
     got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE, x,
                                     PIN_ERRORS, ring=ring)
     teeth, nax, _ = prep.master_dofs.shape
     for i, xi in enumerate(x):
         P = np.asarray(got.ring_mesh_forces[i])
-        phi = np.asarray(jg.ring_contact_angles(st, xi))
+        phi = np.asarray(jp.ring_contact_angles(st, xi))
         # hats and directions written here: station k at 2 pi k / 53, e = (sin, -cos)(phi + a_r)
         t = np.mod(phi, 2 * math.pi) / (2 * math.pi / teeth)
         k0 = np.floor(t).astype(int)
@@ -197,7 +198,7 @@ def test_the_deflected_shape_written_to_ring_vtu(seq, bolted_ring):
     seats' reactions balance the mesh forces written here from their angles (force, 1e-9)."""
     _, st = seq
     prep, F = bolted_ring
-    ring = jg.CondensedRing(F)
+    ring = jp.CondensedRing(F)
     x = np.array([0.0, 0.0123])  # as the test above: the same compiled solve
     got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE, x,
                                     PIN_ERRORS, ring=ring)
@@ -212,7 +213,7 @@ def test_the_deflected_shape_written_to_ring_vtu(seq, bolted_ring):
                                atol=1e-12 * np.abs(u).max())
     um = _masters(prep, loads)[prep.master_dofs].mean(axis=1)  # (teeth, 3): face mean
     np.testing.assert_allclose(E @ um[:, :2].ravel(), got.ring_deflection[0], rtol=1e-9)
-    phi = np.asarray(jg.ring_contact_angles(st, 0.0)) + float(st.ring_pressure_angle)
+    phi = np.asarray(jp.ring_contact_angles(st, 0.0)) + float(st.ring_pressure_angle)
     applied = (P[:, None] * np.stack([np.sin(phi), -np.cos(phi)], 1)).sum(0)
     r = prep.support_reactions(u.ravel()).reshape(-1, 3)
     np.testing.assert_allclose(r.sum(0)[:2] + applied, 0.0, atol=1e-9 * np.abs(P).sum())
@@ -239,7 +240,7 @@ def test_excitation_rule_against_a_fourier_decomposition(n_planets, ring_teeth):
     theta = 2 * math.pi * (t[:, None] + np.arange(n_planets)[None, :] / n_planets)
     for h in range(h_max + 1):
         load = np.cos(h * ring_teeth * theta)  # (n_t, N)
-        nd, order = jg.ring_excitation(n_planets, ring_teeth, h, max_nd)
+        nd, order = jp.ring_excitation(n_planets, ring_teeth, h, max_nd)
         for n in range(max_nd + 1):
             # the cos and sin harmonics of the load distribution, as time series
             c = (load * np.cos(n * theta)).sum(1) / math.pi
@@ -255,32 +256,32 @@ def test_excitation_rule_against_a_fourier_decomposition(n_planets, ring_teeth):
 
 def test_excitation_rule_examples():
     # 3 planets, 53 teeth: 53 = 2 (mod 3); h = 1 excites n = 2 (53 - 2 = 51) and n = 1 (54)
-    nd, order = jg.ring_excitation(3, 53, 1, 4)
+    nd, order = jp.ring_excitation(3, 53, 1, 4)
     assert nd.tolist() == [1, 2, 4] and order.tolist() == [54, 51, 57]
     # mean forces (h = 0): the multiples of N at n Omega
-    nd, order = jg.ring_excitation(4, 52, 0, 9)
+    nd, order = jp.ring_excitation(4, 52, 0, 9)
     assert nd.tolist() == [0, 4, 4, 8, 8] and order.tolist() == [0, 4, 4, 8, 8]
     with pytest.raises(ValueError, match="n_planets"):
-        jg.ring_excitation(0, 53, 1, 4)
+        jp.ring_excitation(0, 53, 1, 4)
 
 
 def test_ring_resonances_by_hand():
     """3 planets, 53 teeth, the n = 2 mode at 320 Hz: h = 1 drives it at order 51 (53 - 2 = 51 =
     0 mod 3), h = 2 at order 108 (106 + 2 = 108 = 0 mod 3; 104 is not): carrier speeds 320 / 51
     and 320 / 108 rev/s; h = 0 never (2 is not a multiple of 3)."""
-    got = jg.ring_resonances({2: 320.0}, 3, 53, harmonics=2)
+    got = jp.ring_resonances({2: 320.0}, 3, 53, harmonics=2)
     assert [(r["harmonic"], r["order"]) for r in got] == [(2, 108), (1, 51)]
     assert got[0]["carrier_speed_hz"] == pytest.approx(320.0 / 108, rel=1e-15)
     assert got[1]["carrier_speed_hz"] == pytest.approx(320.0 / 51, rel=1e-15)
     # 3 planets, the n = 3 mode: h = 0 at 3 Omega, h = 1 at 53 -/+ 3 = 50, 56 (neither = 0 mod 3)
-    got = jg.ring_resonances({3: 900.0}, 3, 53, harmonics=1)
+    got = jp.ring_resonances({3: 900.0}, 3, 53, harmonics=1)
     assert [(r["harmonic"], r["order"]) for r in got] == [(0, 3)]
 
 
 def test_bad_ring_inputs_one_line(seq):
     _, st = seq
     with pytest.raises(ValueError, match="compliance"):
-        jg.CondensedRing(np.zeros((4, 2, 5, 2)))
+        jp.CondensedRing(np.zeros((4, 2, 5, 2)))
     with pytest.raises(ValueError, match="ring"):
         jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE,
                                   np.array([0.0]), ring="flexible")

@@ -1,5 +1,5 @@
 """The ring's model in a planetary case file ([planetary.ring] model, body): the names mapped to
-jaxgear.RigidRing / CondensedRing by jaxgear.io, and the refusals in one line before any work
+jaxgear.planetary.RigidRing / CondensedRing by jaxgear.io, and the refusals in one line before any work
 (an unknown model, a missing or unknown body, a body with a rigid ring, a ring body whose tooth
 count or root radius disagree with the ring gear)."""
 
@@ -13,6 +13,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from _planetary_stage import seq_ring_case
 from _toml import case_toml
 from jaxgear.cli import main, planetary as pr
@@ -33,14 +34,14 @@ def test_names_map_to_ring_objects(tmp_path):
     """No model: the rigid ring; model = "condensed" with the embedded NREL stage-2 ring: its
     body (93 stations, the ring gear's root radius within 2 %), not built until asked."""
     rigid = jio.load_case(NREL2).form.spec.ring_model
-    assert not rigid.flexible and isinstance(rigid.ring(), jg.RigidRing)
+    assert not rigid.flexible and isinstance(rigid.ring(), jp.RigidRing)
     case = jio.load_case(_with_ring(tmp_path, model="condensed", body=NREL2_RING))
     spec = case.form.spec.ring_model
     assert spec.flexible and spec.body == fp.load_ring_body(NREL2_RING)
     assert spec.body.condensation.teeth == 93
     assert spec.body.root_radius == pytest.approx(float(case.pairs[1].root_radii[1]), rel=1e-4)
     explicit = jio.load_case(_with_ring(tmp_path, model="rigid")).form.spec.ring_model
-    assert isinstance(explicit.ring(), jg.RigidRing)
+    assert isinstance(explicit.ring(), jp.RigidRing)
 
 
 def test_a_ring_body_file_by_path(tmp_path):

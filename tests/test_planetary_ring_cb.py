@@ -1,6 +1,6 @@
 """The flexible ring's own dynamics inside its stations: the condensed FE ring reduced
 Craig–Bampton style onto its Z stations and its fixed-interface modes
-(fem_prep.ring_craig_bampton, jaxgear.CraigBamptonRing, [planetary.ring] dynamics =
+(fem_prep.ring_craig_bampton, jaxgear.planetary.CraigBamptonRing, [planetary.ring] dynamics =
 "craig-bampton").
 
 References: the condensed FE ring itself (prep.condensed: K_c, M_c, its own eigen-solution and
@@ -29,6 +29,7 @@ from _planetary_stage import seq_ring_case
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 
 jax.config.update("jax_enable_x64", True)
 
@@ -140,20 +141,20 @@ def test_cb_nd_frequencies_converge_to_the_condensed_rings_own(prep):
 
 
 def test_cb_ring_matrices_rows_and_modal_basis(stations, seq):
-    """jaxgear.CraigBamptonRing from the cached stations: its (K, M) are fem_prep's K_cb, M_cb
+    """jaxgear.planetary.CraigBamptonRing from the cached stations: its (K, M) are fem_prep's K_cb, M_cb
     (RingStations.craig_bampton, numpy; 1e-12); the contact rows are the station ring's with
     zeros on the fixed-interface modes and the window's rows put on every coordinate equal them
     (1e-15); its modal basis at k = 8 and 2Z + m is mass-normalised and exact in statics (the
     kept modes' flexibility plus G is K^-1, whose station block is F: 1e-8 of |F|, as the
     station ring's modal basis)."""
-    ring = jg.CraigBamptonRing.from_stations(stations)
+    ring = jp.CraigBamptonRing.from_stations(stations)
     K, M, _ = (np.asarray(a) for a in ring.dynamic_matrices(jnp.float64, 0.05))
     Ks, Ms = stations.craig_bampton()
     np.testing.assert_allclose(K, Ks, rtol=0, atol=1e-12 * np.abs(K).max())
     np.testing.assert_allclose(M, Ms, rtol=0, atol=1e-12 * np.abs(M).max())
     z2, n = 2 * ring.stations, K.shape[0]
     assert n == z2 + COUPLED and ring.interior == COUPLED
-    station = jg.CondensedRing(stations.compliance)
+    station = jp.CondensedRing(stations.compliance)
     for x in np.linspace(0.0, 0.05, 4):
         rows = np.asarray(ring.contact_rows(seq, x))
         np.testing.assert_allclose(rows[:, :z2], station.station_rows(seq, x), rtol=0, atol=0)
@@ -164,7 +165,7 @@ def test_cb_ring_matrices_rows_and_modal_basis(stations, seq):
         np.testing.assert_allclose(full, rows, rtol=0, atol=1e-15)
     Fm = np.asarray(stations.compliance).reshape(z2, z2)
     for k in (8, n):
-        r = jg.CraigBamptonRing.from_stations(stations, modes=k)
+        r = jp.CraigBamptonRing.from_stations(stations, modes=k)
         Tk, _, G = (np.asarray(a) for a in r.modal_basis(jnp.float64))
         np.testing.assert_allclose(Tk.T @ M @ Tk, np.eye(k), atol=1e-9)
         lam = np.diag(Tk.T @ K @ Tk)
@@ -178,7 +179,7 @@ def _synthetic(z=16, m=3, modes=None, **kw):
     Mu = np.einsum("kl,ab->kalb", 0.05 * np.eye(z), np.eye(2))
     args = dict(eigenvalues=np.full(m, 1e9), coupling=np.full((z, 2, m), 1e-3))
     args.update(kw)
-    return jg.CraigBamptonRing(F, Mu, modes, **args)
+    return jp.CraigBamptonRing(F, Mu, modes, **args)
 
 
 @pytest.mark.parametrize("kw, words", [
@@ -201,7 +202,7 @@ def test_bad_cb_rings_are_one_line(kw, words):
 def test_bad_interior_count_is_one_line(stations):
     with pytest.raises(ValueError, match=r"interior = 58 is out of range: allowed an integer "
                        r"0\.\.57 \(the coupled fixed-interface modes\)"):
-        jg.CraigBamptonRing.from_stations(stations, 58)
+        jp.CraigBamptonRing.from_stations(stations, 58)
     with pytest.raises(ValueError, match=r"craig_bampton: modes = 58 is out of range"):
         stations.craig_bampton(58)
 
@@ -218,11 +219,11 @@ def test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution(seq, stat
     gives planetary_quasi_static's mesh forces and ring deflections with the station ring's
     compliance F at the same travels, to 1e-8: the fixed-interface modes add no static
     flexibility."""
-    ring = jg.CraigBamptonRing.from_stations(stations)
+    ring = jp.CraigBamptonRing.from_stations(stations)
     got = _run(seq, ring, omega=1e-6, **CB_RUN)
     static = jg.planetary_quasi_static(jg.PlanarPlanetary(), seq, jg.ConstantMeshes(),
                                        np.asarray(RING_TORQUE), got.travel, RING_PIN_ERRORS,
-                                       ring=jg.CondensedRing(stations.compliance))
+                                       ring=jp.CondensedRing(stations.compliance))
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-8)
     w = np.asarray(static.ring_deflection)
@@ -232,7 +233,7 @@ def test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution(seq, stat
 
 def _stiffer(st, factor, modes):
     """The condensed ring ``factor`` times stiffer (F / factor, Lambda x factor, same mass)."""
-    return jg.CraigBamptonRing(np.asarray(st.compliance) / factor, st.mass, modes,
+    return jp.CraigBamptonRing(np.asarray(st.compliance) / factor, st.mass, modes,
                                np.asarray(st.interior_eigenvalues) * factor, st.coupling)
 
 
@@ -240,7 +241,7 @@ def test_stiff_cb_ring_equals_the_rigid_ring(seq, stations):
     """The condensed ring made 10^3 stiffer (all its coupled fixed-interface modes, in 8 modes
     plus the static correction), constant meshes, 60 rad/s, a pin error: the rigid ring's mesh
     forces within 0.5 % (measured 0.14 %); the ring itself changes them by more (13 %)."""
-    rigid = _run(seq, jg.RigidRing())
+    rigid = _run(seq, jp.RigidRing())
     stiff = _run(seq, _stiffer(stations, 1e3, 8))
     soft = _run(seq, _stiffer(stations, 1.0, 8))
     print("stiff", _error(stiff, rigid), "soft", _error(soft, rigid))
@@ -251,7 +252,7 @@ def test_stiff_cb_ring_equals_the_rigid_ring(seq, stations):
 def _nd2_crossing(stations) -> float:
     """The carrier speed (rad/s) at which the first mesh harmonic of the 3 planets meets the
     ring's 2-diameter mode (order 53 - 2 = 51; ring_resonances)."""
-    hit = [r for r in jg.ring_resonances(stations.nd_frequencies, 3, 53, 1)
+    hit = [r for r in jp.ring_resonances(stations.nd_frequencies, 3, 53, 1)
            if r["nd"] == 2 and r["harmonic"] == 1]
     assert hit and hit[0]["order"] == 51
     return 2 * math.pi * hit[0]["carrier_speed_hz"]
@@ -263,9 +264,9 @@ def test_cb_and_station_ring_at_the_nd2_crossing_constant_meshes(seq, stations):
     station ring with its Guyan mass give mesh forces within 1e-3 (measured 6e-5: this coarse
     ring's station model is within 7e-5 of its own ND frequencies)."""
     omega = _nd2_crossing(stations)
-    station = _run(seq, jg.CondensedRing(stations.compliance, stations.mass), omega=omega,
+    station = _run(seq, jp.CondensedRing(stations.compliance, stations.mass), omega=omega,
                    **CB_RUN)
-    cb = _run(seq, jg.CraigBamptonRing.from_stations(stations), omega=omega, **CB_RUN)
+    cb = _run(seq, jp.CraigBamptonRing.from_stations(stations), omega=omega, **CB_RUN)
     print("CB vs station", _error(cb, station))
     assert _error(cb, station) < 1e-3
 
@@ -279,9 +280,9 @@ def test_cb_and_station_ring_at_the_nd2_crossing_real_contact(seq, stations):
     the largest; the ND-2 frequencies differ by 7e-7)."""
     omega = _nd2_crossing(stations)
     meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), seq.planet_angles, jg.Uniform(K0))
-    station = _run(seq, jg.CondensedRing(stations.compliance, stations.mass), meshes, omega,
+    station = _run(seq, jp.CondensedRing(stations.compliance, stations.mass), meshes, omega,
                    periods=12)
-    cb = _run(seq, jg.CraigBamptonRing.from_stations(stations), meshes, omega, periods=12)
+    cb = _run(seq, jp.CraigBamptonRing.from_stations(stations), meshes, omega, periods=12)
     for a, b in zip(station.dynamic_factors, cb.dynamic_factors, strict=True):
         print("DF station", np.asarray(a), "CB", np.asarray(b))
         np.testing.assert_allclose(b, a, rtol=5e-3)
@@ -355,7 +356,7 @@ def test_more_modes_than_the_ring_couples_is_one_line(stations):
         jio.parse_train(data).form.spec.ring_model.dynamic_ring()
     data["planetary"]["ring"].update(modes=57)
     ring = jio.parse_train(data).form.spec.ring_model.dynamic_ring()
-    assert isinstance(ring, jg.CraigBamptonRing) and ring.interior == 57 and ring.modes == 24
+    assert isinstance(ring, jp.CraigBamptonRing) and ring.interior == 57 and ring.modes == 24
 
 
 # a first-look step: the sweep warns that it under-resolves the top mode (tests/test_planetary_step_resolution.py)

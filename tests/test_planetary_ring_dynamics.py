@@ -1,5 +1,5 @@
-"""The flexible ring gear in the carrier-frame dynamics (jaxgear.dynamics.planetary_dynamics with
-ring=jaxgear.CondensedRing): the ring's station displacements as coordinates, the contacts moving
+"""The flexible ring gear in the carrier-frame dynamics (jaxgear.planetary.planetary_dynamics with
+ring=jaxgear.planetary.CondensedRing): the ring's station displacements as coordinates, the contacts moving
 around it with the carrier.
 
 References: the zero-speed limit is the quasi-static solution of jaxgear.planetary_quasi_static
@@ -18,6 +18,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 from _planetary_stage import K0, SEQ, geometry, stage
 
 jax.config.update("jax_enable_x64", True)
@@ -47,12 +48,12 @@ def test_zero_speed_limit_is_the_flexible_quasi_static_solution(seq):
     ring), the recorded mesh forces and ring deflections are planetary_quasi_static's with the
     same ring at the same travels, to 1e-8."""
     _, st = seq
-    ring = jg.CondensedRing(coupled_compliance(53))
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=16, periods=3, keep_periods=3,
+    ring = jp.CondensedRing(coupled_compliance(53))
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=3, keep_periods=3,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
     model = jg.PlanarPlanetary()
     meshes = jg.ConstantMeshes()
-    got = jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6), ring=ring)
+    got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6), ring=ring)
     assert int(got.result) == 0
     static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel,
                                        PIN_ERRORS, ring=ring)
@@ -87,7 +88,7 @@ def test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes(seq, fe_compliance)
     dynamic load sharing K_gamma; sun and pins held, as the quasi-static test of
     tests/test_planetary_ring.py), its deflections positive (relieving)."""
     st = stage(seq[0], 3)
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=16, periods=4, keep_periods=2,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=4, keep_periods=2,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
     model = jg.PlanarPlanetary()
     meshes = jg.ConstantMeshes()
@@ -103,9 +104,9 @@ def _three_rings(model, st, meshes, run, fe_compliance, omega=60.0):
     made 10^3 stiffer and the FE ring itself (massless, compliance ``fe_compliance``)."""
     omega = jnp.asarray(omega)
     return tuple(
-        jd.planetary_dynamics(model, st, meshes, run, omega, **ring)
-        for ring in ({}, {"ring": jg.CondensedRing(fe_compliance / 1e3)},
-                     {"ring": jg.CondensedRing(fe_compliance)})
+        jp.planetary_dynamics(model, st, meshes, run, omega, **ring)
+        for ring in ({}, {"ring": jp.CondensedRing(fe_compliance / 1e3)},
+                     {"ring": jp.CondensedRing(fe_compliance)})
     )
 
 
@@ -116,7 +117,7 @@ def test_stiff_fe_ring_dynamics_equals_the_rigid_ring(seq, fe_compliance):
     dynamic factor of every mesh within 0.5 %, while the real ring changes them by more."""
     geo, st = seq
     meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=24, periods=12, keep_periods=3,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=24, periods=12, keep_periods=3,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
     model = jg.PlanarPlanetary()
     rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)

@@ -1,4 +1,4 @@
-"""The flexible ring in the sweep: the ring's modal coordinates (jaxgear.CondensedRing(F, mass,
+"""The flexible ring in the sweep: the ring's modal coordinates (jaxgear.planetary.CondensedRing(F, mass,
 modes=m): its m lowest modes of the station model plus the static correction of the others,
 integrated by jaxgear.dynamics.newmark_modal) and the case keys that put a condensed ring into
 ``jaxgear run``'s and ``jaxgear sweep``'s dynamic-factor sweep ([planetary.ring] dynamics,
@@ -21,6 +21,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from _planetary_stage import K0, SEQ, geometry, ring_run, seq_ring_case, stage
 from _planetary_stage import mesh_force_error as _error
 from jaxgear.cli import main
@@ -50,7 +51,7 @@ def _run(st, ring, meshes=None, periods=6):
 @pytest.fixture(scope="module")
 def station(seq, seq_ring):
     """The station model of the ring with its mass (no modes): the reference."""
-    return _run(seq, jg.CondensedRing(*seq_ring))
+    return _run(seq, jp.CondensedRing(*seq_ring))
 
 
 def test_modal_basis_is_exact_in_statics_and_the_window_is_the_station_rows(seq, seq_ring):
@@ -65,7 +66,7 @@ def test_modal_basis_is_exact_in_statics_and_the_window_is_the_station_rows(seq,
     z2 = F.shape[0] * 2
     Fm, Mm = F.reshape(z2, z2), M.reshape(z2, z2)
     for m in (8, z2):
-        T, D, G = (np.asarray(a) for a in jg.CondensedRing(F, M, modes=m).modal_basis(
+        T, D, G = (np.asarray(a) for a in jp.CondensedRing(F, M, modes=m).modal_basis(
             jnp.float64))
         np.testing.assert_allclose(T.T @ Mm @ T, np.eye(m), atol=1e-9)
         lam = np.diag(T.T @ np.linalg.inv(Fm) @ T)
@@ -74,7 +75,7 @@ def test_modal_basis_is_exact_in_statics_and_the_window_is_the_station_rows(seq,
         np.testing.assert_allclose(D, T, rtol=0, atol=1e-9 * np.max(np.abs(T)))
         if m == z2:
             assert np.max(np.abs(G)) < 1e-9 * np.max(np.abs(Fm))
-    ring = jg.CondensedRing(F)
+    ring = jp.CondensedRing(F)
     for x in np.linspace(0.0, 0.05, 6):
         idx, Ew = ring.window(seq, x)
         full = np.zeros((3, z2))
@@ -87,7 +88,7 @@ def test_all_modes_equal_the_station_model(seq, seq_ring, station):
     """m = 2Z = 106 modes (no residual), constant meshes, 60 rad/s, a pin error: the mesh
     forces, the ring deflections and every coordinate of the station model, to 1e-9
     (measured 1e-11)."""
-    r = _run(seq, jg.CondensedRing(*seq_ring, modes=106))
+    r = _run(seq, jp.CondensedRing(*seq_ring, modes=106))
     assert _error(r, station) < 1e-9
     w = np.asarray(station.ring_deflection)
     np.testing.assert_allclose(r.ring_deflection, w, rtol=0, atol=1e-9 * np.max(np.abs(w)))
@@ -100,7 +101,7 @@ def test_modal_ring_converges_as_modes_grow(seq, seq_ring, station):
     """m = 8, 16, 32 of the 106 modes (with the static correction): the mesh-force error
     against the station model decreases monotonically, each step at least 3 times, and is
     below 2e-3 at m = 32 (measured 4.1e-2, 1.1e-2, 8.9e-4; 64 modes: 2.4e-5)."""
-    errors = [_error(_run(seq, jg.CondensedRing(*seq_ring, modes=m)), station)
+    errors = [_error(_run(seq, jp.CondensedRing(*seq_ring, modes=m)), station)
               for m in (8, 16, 32)]
     print("errors", errors)
     assert errors[0] > 3 * errors[1] > 9 * errors[2]
@@ -113,9 +114,9 @@ def test_stiff_modal_ring_equals_the_rigid_ring(seq, seq_ring):
     meshes: the rigid ring's mesh forces within 0.5 % (measured 0.14 %); the ring itself
     changes them by more (13 %)."""
     F, M = seq_ring
-    rigid = _run(seq, jg.RigidRing())
-    stiff = _run(seq, jg.CondensedRing(F / 1e3, M, modes=8))
-    soft = _run(seq, jg.CondensedRing(F, M, modes=8))
+    rigid = _run(seq, jp.RigidRing())
+    stiff = _run(seq, jp.CondensedRing(F / 1e3, M, modes=8))
+    soft = _run(seq, jp.CondensedRing(F, M, modes=8))
     print("stiff", _error(stiff, rigid), "soft", _error(soft, rigid))
     assert _error(stiff, rigid) < 5e-3
     assert _error(soft, rigid) > 5e-3
@@ -130,9 +131,9 @@ def test_bad_modes_are_one_line(modes, words):
     F = np.einsum("kl,ab->kalb", 3e-9 * np.eye(16), np.eye(2))
     M = np.einsum("kl,ab->kalb", 0.05 * np.eye(16), np.eye(2))
     with pytest.raises(ValueError, match=words.replace("(", r"\(").replace(")", r"\)")):
-        jg.CondensedRing(F, M, modes=modes)
+        jp.CondensedRing(F, M, modes=modes)
     with pytest.raises(ValueError, match="modes = 4 needs the ring's mass"):
-        jg.CondensedRing(F, modes=4)
+        jp.CondensedRing(F, modes=4)
 
 
 NREL2, NREL2_RING = "nrel-5mw-stage2", "nrel-5mw-stage2-ring"
@@ -157,7 +158,7 @@ def test_ring_dynamics_keys_map_to_ring_objects():
                            ).form.spec.ring_model
     assert spec.modes == 24
     rigid = jio.parse_train(_nrel2()).form.spec.ring_model
-    assert isinstance(rigid.dynamic_ring(), jg.RigidRing) and rigid.words() == "rigid ring"
+    assert isinstance(rigid.dynamic_ring(), jp.RigidRing) and rigid.words() == "rigid ring"
 
 
 @pytest.mark.parametrize("ring, words", [
@@ -197,9 +198,9 @@ def test_stiff_modal_ring_dynamic_factors_equal_the_rigid_ring(seq):
     st = fp.ring_stations(body)
     F, M = np.asarray(st.compliance), np.asarray(st.mass)
     meshes = jg.ContactMeshes.from_geometry(geo, seq.planet_angles, jg.Uniform(K0))
-    rigid = _run(seq, jg.RigidRing(), meshes, periods=12)
-    stiff = _run(seq, jg.CondensedRing(F / 1e3, M, modes=8), meshes, periods=12)
-    real = _run(seq, jg.CondensedRing(F, M, modes=8), meshes, periods=12)
+    rigid = _run(seq, jp.RigidRing(), meshes, periods=12)
+    stiff = _run(seq, jp.CondensedRing(F / 1e3, M, modes=8), meshes, periods=12)
+    real = _run(seq, jp.CondensedRing(F, M, modes=8), meshes, periods=12)
     for a, b, c in zip(rigid.dynamic_factors, stiff.dynamic_factors, real.dynamic_factors,
                        strict=True):
         np.testing.assert_allclose(b, a, rtol=5e-3)

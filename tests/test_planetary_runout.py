@@ -1,5 +1,5 @@
-"""A planet's own runout (jaxgear.Eccentricities.planet) and the members' mass unbalance
-(jaxgear.Unbalances): K_gamma over a planet turn against a spring model written here from the
+"""A planet's own runout (jaxgear.planetary.Eccentricities.planet) and the members' mass unbalance
+(jaxgear.planetary.Unbalances): K_gamma over a planet turn against a spring model written here from the
 directions of the forces on the planet; the unbalance's response far from resonance against the
 static deflection U omega^2 / k (k written here from the geometry), near a translational mode
 against the single-mode estimate of the modal damping, and its line at the member's own order;
@@ -18,6 +18,7 @@ from _planetary_stage import A_R, A_S, K_MESH, R_P, R_R, R_S, lin_parker_stage a
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 import jaxgear.cli.planetary as pr
 
 TORQUE = 3000.0
@@ -55,7 +56,7 @@ def test_planet_runout_over_a_planet_turn_against_the_spring_model():
     external planet the other way). K_gamma over one planet turn: torsional model exact
     (1e-9), planar (pins and bearings 1e13 N/m) within 1e-3 of the mean force and 1 %."""
     beta, n = 0.4, 4
-    ecc = jg.Eccentricities(planet=np.array([E, 0, 0, 0]), planet_phase=beta)
+    ecc = jp.Eccentricities(planet=np.array([E, 0, 0, 0]), planet_phase=beta)
     st = stage(n, ecc)
     x = np.arange(24) * 2 * np.pi * R_P / 24
     want_f, want_k = [], []
@@ -83,10 +84,10 @@ def test_planet_runout_in_the_dynamics_at_a_crawl():
     """planetary_dynamics at 1e-7 rad/s over one planet turn (8 mesh periods of the constant
     meshes): the recorded forces are the spring model's at the recorded travels (1e-8)."""
     beta, n = -1.0, 4
-    st = stage(n, jg.Eccentricities(planet=np.array([0, E, 0, 0]), planet_phase=beta))
+    st = stage(n, jp.Eccentricities(planet=np.array([0, E, 0, 0]), planet_phase=beta))
     meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
-    run = jd.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=12, periods=8, keep_periods=8)
-    r = jd.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, 1e-7)
+    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=12, periods=8, keep_periods=8)
+    r = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, 1e-7)
     assert int(r.result) == 0
     for xi, f in zip(np.asarray(r.travel)[::5], np.asarray(r.sun_mesh_forces)[::5]):
         a = beta - xi / R_P
@@ -115,15 +116,15 @@ def test_sun_unbalance_far_from_resonance_is_the_static_deflection():
     unbalance; and the spectrum of x_s + i y_s has its line at order +1 of the sun's turn
     relative to the carrier."""
     n, k_b, U, beta = 4, 1e8, 2e-5, 0.3
-    st = stage(n, unb=jg.Unbalances(sun=U, sun_phase=beta), sun_bearing=k_b)
+    st = stage(n, unb=jp.Unbalances(sun=U, sun_phase=beta), sun_bearing=k_b)
     omega = 250.0
     w_s = omega * (1 + R_R / R_S)
     k = k_b + n / 2 * K_MESH / 2
     assert w_s / math.sqrt(k / 0.4) < 0.04  # far below the sun's translation on k
     meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)  # 8 periods per sun turn
-    run = jd.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8,
+    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8,
                           damping_ratio=0.05)
-    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, omega)
+    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, omega)
     assert int(r.result) == 0
     turn = beta + np.asarray(r.travel) / R_S
     c, spectrum = _whirl(r, (6, 7), turn)
@@ -140,10 +141,10 @@ def test_planet_unbalance_whirls_backwards_at_the_planet_order():
     in series with the carrier's translation, or with its torsion), smaller; the other planets,
     not loaded by it, respond less."""
     n = 4
-    st = stage(n, unb=jg.Unbalances(planet=np.array([2e-5, 0, 0, 0])))
+    st = stage(n, unb=jp.Unbalances(planet=np.array([2e-5, 0, 0, 0])))
     meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
-    run = jd.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8)
-    r = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 250.0)
+    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8)
+    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 250.0)
     assert int(r.result) == 0
     turn = -np.asarray(r.travel) / R_P
     c1, s1 = _whirl(r, (9, 10), turn)
@@ -162,7 +163,7 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
     mode within 1 % (the Newmark period error and the start's transient). The unbalance is
     small enough for every mesh to stay loaded."""
     n, k_b, U, zeta = 4, 1e8, 2e-7, 0.05
-    st = stage(n, unb=jg.Unbalances(sun=U), sun_bearing=k_b)
+    st = stage(n, unb=jp.Unbalances(sun=U), sun_bearing=k_b)
     model = jg.PlanarPlanetary()
     M = np.asarray(model.mass_matrix(st))
     K = np.asarray(model.stiffness_matrix(st))
@@ -183,9 +184,9 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
     single, every = response(pair), response(range(len(w)))
     # the carrier fixed, the sun spun at wn: v = r_bs wn; 8 mesh periods per sun turn
     meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)
-    run = jd.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=8 * 30,
+    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=8 * 30,
                           keep_periods=8, damping_ratio=zeta)
-    r = jd.planetary_dynamics(model, st, meshes, run, 0.0, mesh_speed=R_S * wn)
+    r = jp.planetary_dynamics(model, st, meshes, run, 0.0, mesh_speed=R_S * wn)
     assert int(r.result) == 0
     c, spectrum = _whirl(r, (6, 7), np.asarray(r.travel) / R_S)
     assert abs(c) == pytest.approx(abs(every), rel=1e-2)
@@ -241,9 +242,9 @@ def test_case_keys_map_to_the_objects_and_bad_values_are_one_line():
 
 def test_api_refusals():
     with pytest.raises(ValueError, match="Eccentricities: planet must have shape"):
-        stage(4, jg.Eccentricities(planet=np.zeros(3)))
+        stage(4, jp.Eccentricities(planet=np.zeros(3)))
     with pytest.raises(ValueError, match=r"Unbalances: planet\[0\] = -1 kg m is out of range"):
-        jg.Unbalances(planet=np.array([-1.0, 0, 0]))
+        jp.Unbalances(planet=np.array([-1.0, 0, 0]))
 
 
 @pytest.mark.slow
@@ -261,23 +262,23 @@ def test_unbalance_with_the_modal_ring_equals_the_station_model():
 
     geo = geometry(**SEQ)
     st = eqx.tree_at(lambda s: s.unbalances, gear_stage(geo, 3, pin=3e8, sun_bearing=1e8),
-                     jg.Unbalances(sun=1e-4, planet=np.array([1e-5, 0, 0])),
+                     jp.Unbalances(sun=1e-4, planet=np.array([1e-5, 0, 0])),
                      is_leaf=lambda x: x is None)
     rings = fp.ring_stations(fp.load_ring_body("seq-test-ring"))
     F, M = np.asarray(rings.compliance), np.asarray(rings.mass)
-    run = jd.PlanetaryRun(1000.0, steps_per_period=12, periods=6, keep_periods=2)
+    run = jp.PlanetaryRun(1000.0, steps_per_period=12, periods=6, keep_periods=2)
     meshes = jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch)
-    modal = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
-                                  ring=jg.CondensedRing(F, M, modes=106))
-    station = jd.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
-                                    ring=jg.CondensedRing(F, M))
+    modal = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+                                  ring=jp.CondensedRing(F, M, modes=106))
+    station = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+                                    ring=jp.CondensedRing(F, M))
     assert int(modal.result) == 0 and int(station.result) == 0
     want = np.asarray(station.sun_mesh_forces)
     np.testing.assert_allclose(modal.sun_mesh_forces, want, rtol=0,
                                atol=1e-9 * np.max(np.abs(want)))
     # the unbalance shows: the forces differ from the run without it
-    plain = jd.planetary_dynamics(jg.PlanarPlanetary(), eqx.tree_at(
-        lambda s: s.unbalances, st, None), meshes, run, 60.0, ring=jg.CondensedRing(F, M))
+    plain = jp.planetary_dynamics(jg.PlanarPlanetary(), eqx.tree_at(
+        lambda s: s.unbalances, st, None), meshes, run, 60.0, ring=jp.CondensedRing(F, M))
     X, X0 = np.asarray(station.displacement), np.asarray(plain.displacement)
     np.testing.assert_allclose(modal.displacement, X, rtol=0, atol=1e-9 * np.max(np.abs(X)))
     # the sun's whirl is at least of the order of U w_s^2 / (k_b + (N/2) k k / 2k), softer with

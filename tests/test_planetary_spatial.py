@@ -17,6 +17,7 @@ from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.cli import main
 
 A = np.radians(22.0)  # both pressure angles
@@ -127,14 +128,14 @@ def test_helical_mode_types_of_equally_spaced_planets(n):
     # a rotational-axial mode can be nearly a planet mode (the planets' tilt about e_zeta,
     # central amplitudes ~1e-4): classify_modes types it by its planets' harmonic 0 (the
     # projection on the rotational subspace), not by how little the central members move
-    types = jg.classify_modes(modes, model, st)
+    types = jp.classify_modes(modes, model, st)
     # count the groups by frequency here (a tolerance), and the types by what moves
     counts = {}
     for g in ps.frequency_groups(f):
         kind, mult = types[g[0]]
         assert mult == len(g)
         counts.setdefault(kind, []).append(len(g))
-    T = jg.ModeType
+    T = jp.ModeType
     assert counts[T.ROTATIONAL_AXIAL] == [1] * 12
     assert counts[T.TRANSLATIONAL_TILTING] == [2] * 12
     assert counts.get(T.PLANET, []) == ([n - 3] * 6 if n > 3 else [])
@@ -603,7 +604,7 @@ def test_a_tilting_member_turning_with_the_carrier_whirls_as_a_spinning_disc():
     omega_f - Omega, the backward at omega_b + Omega. campbell's 3D frequencies hold both."""
     st = stage(n=3, k_mesh=0.0)
     omega = 500.0
-    f = np.asarray(jg.campbell(jg.SpatialPlanetary(), st, np.array([omega])))[0]
+    f = np.asarray(jp.campbell(jg.SpatialPlanetary(), st, np.array([omega])))[0]
     i_d, j, k_t = float(st.sun.tilt_inertia), float(st.sun.polar_inertia), 1e6
     root = np.sqrt((j * omega) ** 2 + 4 * i_d * k_t)
     w_f, w_b = (j * omega + root) / (2 * i_d), (-j * omega + root) / (2 * i_d)

@@ -1,5 +1,5 @@
 """The 3D lumped model of a helical planetary stage (jaxgear.SpatialPlanetary) in the carrier-frame
-dynamics (jaxgear.dynamics.planetary_dynamics) and with the gyroscopic moments of the members'
+dynamics (jaxgear.planetary.planetary_dynamics) and with the gyroscopic moments of the members'
 spin relative to the carrier: against a reference written here from the rigid-body kinematics
 (its own mass, bearing and pin stiffness, rotating-frame and spin matrices, each cell's row at
 its axial position, the lines counted slice by slice, scipy DOP853 between the instants a line
@@ -19,6 +19,7 @@ from scipy.linalg import eigh
 import _planetary_stage as ps
 import jaxgear as jg
 import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 from test_planetary_dynamics import _integrate
 from test_planetary_spatial import stage as lumped_stage
 
@@ -169,12 +170,12 @@ class Reference:
             -1.0 / float(self.st.planet.base_radius)] * self.n
         for j, (mem, s) in enumerate(zip(self.members, spins, strict=True)):
             o = 6 * j
-            mass, i_d, jp = float(mem.mass), float(mem.tilt_inertia), float(mem.polar_inertia)
+            mass, i_d, i_p = float(mem.mass), float(mem.tilt_inertia), float(mem.polar_inertia)
             g[o, o + 1], g[o + 1, o] = -2 * mass * omega, 2 * mass * omega
             k[o, o] = k[o + 1, o + 1] = -mass * omega**2
-            gyro = 2 * i_d * omega - jp * (omega + s * v)
+            gyro = 2 * i_d * omega - i_p * (omega + s * v)
             g[o + 3, o + 4], g[o + 4, o + 3] = -gyro, gyro
-            k[o + 3, o + 3] = k[o + 4, o + 4] = jp * (omega + s * v) * omega - i_d * omega**2
+            k[o + 3, o + 3] = k[o + 4, o + 4] = i_p * (omega + s * v) * omega - i_d * omega**2
         return g, k
 
     def cells(self, x):
@@ -265,9 +266,9 @@ def test_reference_matrices_are_the_library_ones():
 
 
 def _run(model, st, meshes, omega, steps, periods, keep):
-    run = jd.PlanetaryRun(TORQUE, steps_per_period=steps, periods=periods, keep_periods=keep,
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=steps, periods=periods, keep_periods=keep,
                           damping_ratio=ZETA)
-    return jd.planetary_dynamics(model, st, meshes, run, jnp.asarray(omega))
+    return jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(omega))
 
 
 @pytest.fixture(scope="module")
@@ -343,14 +344,14 @@ def test_a_spinning_member_whirls_forward_and_backward(omega, spin_rel):
     st = lumped_stage(n=3, k_mesh=0.0)
     model = jg.SpatialPlanetary()
     r_s = float(st.sun.base_radius)
-    f = np.asarray(jg.campbell(model, st, np.array([omega]), np.array([r_s * spin_rel])))[0]
+    f = np.asarray(jp.campbell(model, st, np.array([omega]), np.array([r_s * spin_rel])))[0]
     i_d, j, k_t = float(st.sun.tilt_inertia), float(st.sun.polar_inertia), 1e6
     w_f, w_b = _whirl(j, i_d, k_t, omega + spin_rel)
     for w in (abs(w_f - omega), w_b + omega):
         hz = w / (2 * np.pi)
         assert np.min(np.abs(f - hz)) < 1e-9 * hz, (hz, f[np.argmin(np.abs(f - hz))])
     np.testing.assert_allclose(w_f - w_b, j * (omega + spin_rel) / i_d, rtol=1e-12)
-    plain = np.asarray(jg.campbell(model, st, np.array([omega])))[0]  # spin with the carrier
+    plain = np.asarray(jp.campbell(model, st, np.array([omega])))[0]  # spin with the carrier
     w_f0, _ = _whirl(j, i_d, k_t, omega)
     assert np.min(np.abs(plain - abs(w_f0 - omega) / (2 * np.pi))) < 1e-9 * w_f0
     assert np.min(np.abs(plain - abs(w_f - omega) / (2 * np.pi))) > 1e-3 * w_f / (2 * np.pi)
@@ -371,10 +372,10 @@ def test_a_planet_tilt_pair_splits_with_the_spin():
     r_p = float(st.planet.base_radius)
     i_d, j = float(st.planet.tilt_inertia), float(st.planet.polar_inertia)
     still = np.sqrt(k_t / i_d) / (2 * np.pi)
-    f0 = np.asarray(jg.campbell(model, st, np.array([0.0])))[0]
+    f0 = np.asarray(jp.campbell(model, st, np.array([0.0])))[0]
     assert np.sum(np.abs(f0 - still) < 2e-6 * still) == 2 * 3
     v = 200.0  # the planets spin at 8000 rad/s
-    f = np.asarray(jg.campbell(model, st, np.array([0.0]), np.array([v])))[0]
+    f = np.asarray(jp.campbell(model, st, np.array([0.0]), np.array([v])))[0]
     w_f, w_b = _whirl(j, i_d, k_t, -v / r_p)
     got = []
     for w in (abs(w_f), abs(w_b)):

@@ -1,4 +1,4 @@
-"""Mode types of the 3D lumped model (jaxgear.classify_modes on jaxgear.SpatialPlanetary) where
+"""Mode types of the 3D lumped model (jaxgear.planetary.classify_modes on jaxgear.SpatialPlanetary) where
 two types share a frequency: with equal sun and ring mesh stiffnesses and pressure angles the
 planets' tilt about their radial axes meets the central members only through the harmonics +-1,
 so its harmonic-0 mode (rotational-axial, central members all but still) has the frequency of a
@@ -12,6 +12,7 @@ from _planetary_stage import frequency_groups
 from test_planetary_spatial import stage
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 
 
 @pytest.mark.parametrize("n", [4, 5])
@@ -26,8 +27,8 @@ def test_a_rotational_axial_mode_sharing_a_planet_modes_frequency_is_typed_by_pr
     st = stage(n=n)  # k_ring = k_sun
     model = jg.SpatialPlanetary()
     modes = jg.planetary_modes(model, st)
-    types = jg.classify_modes(modes, model, st)
-    T = jg.ModeType
+    types = jp.classify_modes(modes, model, st)
+    T = jp.ModeType
     kinds = [k for k, _ in types]
     assert kinds.count(T.ROTATIONAL_AXIAL) == 12
     assert kinds.count(T.TRANSLATIONAL_TILTING) == 24
@@ -64,5 +65,5 @@ def test_unequal_spacing_keeps_the_share_rule():
     central members' shares as before (mixed modes appear, N = 4 at 0, 1.4, 3.3, 4.9 rad)."""
     st = stage(n=4, angles=np.array([0.0, 1.4, 3.3, 4.9]))
     model = jg.SpatialPlanetary()
-    types = jg.classify_modes(jg.planetary_modes(model, st), model, st)
-    assert jg.ModeType.MIXED in {k for k, _ in types}
+    types = jp.classify_modes(jg.planetary_modes(model, st), model, st)
+    assert jp.ModeType.MIXED in {k for k, _ in types}

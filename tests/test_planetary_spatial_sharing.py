@@ -15,6 +15,7 @@ from _planetary_stage import lin_parker_stage as stage
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 
 TORQUE = 3000.0
 E = 30e-6  # m
@@ -39,7 +40,7 @@ def test_sun_eccentricity_on_the_3d_model_against_the_series_spring_model():
     taken transverse on the normal deflection (the spread cos beta_b times too small: a spring
     model with k cos beta_b) would be off by more than 1 % in K_gamma."""
     beta0 = 0.7
-    st = helical(stage(4, jg.Eccentricities(sun=E, sun_phase=beta0)))
+    st = helical(stage(4, jp.Eccentricities(sun=E, sun_phase=beta0)))
     x = np.arange(12) * 2 * np.pi * R_S / 12
     got = jax.vmap(lambda xi: jg.load_sharing(jg.SpatialPlanetary(), st, TORQUE, jnp.zeros(4),
                                               travel=xi))(jnp.asarray(x))
@@ -65,7 +66,7 @@ def test_the_contact_solve_with_eccentricities_is_unchanged_by_the_normal_offset
     ones by cos beta_b): with one constant spring per mesh at two Gauss points and every mesh
     loaded it is load_sharing on the same stage, its transverse forces cos beta_b times the
     normal ones (1e-6: the planets' rotation spring of the contact solve)."""
-    st = helical(stage(4, jg.Eccentricities(sun=E, sun_phase=0.7, ring=20e-6, ring_phase=-1.0)))
+    st = helical(stage(4, jp.Eccentricities(sun=E, sun_phase=0.7, ring=20e-6, ring_phase=-1.0)))
     model = jg.SpatialPlanetary()
     x = np.array([0.0, 3e-3, 11e-3])
     qs = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),

@@ -26,6 +26,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.cli import planetary_sweep as ps
 
 
@@ -94,11 +95,11 @@ def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     stage = spec.sharing_stage(spec.stage(case))
     assert ps.carrier_periodic(stage, False) and not ps.carrier_periodic(stage, True)
     ecc = eqx.tree_at(lambda s: s.eccentricities,
-                      stage, jg.Eccentricities(sun=20e-6, sun_phase=0.3))
+                      stage, jp.Eccentricities(sun=20e-6, sun_phase=0.3))
     assert not ps.carrier_periodic(ecc, False)
-    modes = jd.planetary_mesh_modes(jg.PlanarPlanetary(), stage,
+    modes = jp.planetary_mesh_modes(jg.PlanarPlanetary(), stage,
                                     jg.ConstantMeshes(2 * math.pi * 38.7e-3 / 28),
-                                    jd.PlanetaryRun(10.0))
+                                    jp.PlanetaryRun(10.0))
     plan = ps.time_plan(modes, [100.0], spec.mesh_frequency(1.0), 3, 0.05, False)
     assert plan.keep == 4
     # such a stage's ring spectrum integrates its turn (z_r mesh periods) within 2^16 steps:
@@ -135,19 +136,19 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)
-    model, ring = jg.PlanarPlanetary(), jg.RigidRing()
+    model, ring = jg.PlanarPlanetary(), jp.RigidRing()
     assert ps.carrier_periodic(stage, False)
     z_r = 53
     w = spec.speeds(30.0)
-    run = jd.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
+    run = jp.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
                           periods=settle + 1, keep_periods=1,
                           tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
                           radial_pin_errors=np.zeros(3))
     # the turn as ring_spectrum integrates it (the same compiled run)
-    turn = jd.PlanetaryRun(run.sun_torque, steps_per_period=SMALL_S, periods=settle + z_r,
+    turn = jp.PlanetaryRun(run.sun_torque, steps_per_period=SMALL_S, periods=settle + z_r,
                            keep_periods=z_r, tangential_pin_errors=run.tangential_pin_errors,
                            radial_pin_errors=run.radial_pin_errors)
-    d = jd.planetary_dynamics(model, stage, meshes, turn, jnp.asarray(w["carrier"]),
+    d = jp.planetary_dynamics(model, stage, meshes, turn, jnp.asarray(w["carrier"]),
                               jnp.asarray(spec.mesh_speed(30.0)), ring=ring)
     f = np.asarray(d.ring_mesh_forces)
     nominal = float(d.static_force)
@@ -229,11 +230,11 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     own = [6, 5, 5]
     assert got.programs == 2 and list(got.periods) == own
     for k in range(3):
-        run = jd.PlanetaryRun(base.sun_torque, steps_per_period=int(plan.steps[k]),
+        run = jp.PlanetaryRun(base.sun_torque, steps_per_period=int(plan.steps[k]),
                               periods=own[k], keep_periods=2,
                               tangential_pin_errors=base.tangential_pin_errors,
                               radial_pin_errors=base.radial_pin_errors)
-        d = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(carrier[k]),
+        d = jp.planetary_dynamics(model, stage, meshes, run, jnp.asarray(carrier[k]),
                                   jnp.asarray(v[k]))
         f = np.concatenate([np.asarray(d.sun_mesh_forces), np.asarray(d.ring_mesh_forces)], 1)
         nominal = float(d.static_force)
@@ -294,10 +295,10 @@ def test_the_ring_cell_space_is_the_coordinate_solve_at_a_sweep_step(tmp_path):
     w = spec.speeds(21.0)
     out = {}
     for cells in (False, True):
-        run = jd.PlanetaryRun(base.sun_torque, steps_per_period=768, periods=3, keep_periods=1,
+        run = jp.PlanetaryRun(base.sun_torque, steps_per_period=768, periods=3, keep_periods=1,
                               tangential_pin_errors=base.tangential_pin_errors,
                               radial_pin_errors=base.radial_pin_errors, ring_cell_space=cells)
-        out[cells] = jd.planetary_dynamics(model, stage, meshes, run, jnp.asarray(w["carrier"]),
+        out[cells] = jp.planetary_dynamics(model, stage, meshes, run, jnp.asarray(w["carrier"]),
                                            jnp.asarray(spec.mesh_speed(21.0)), ring=ring)
     a, b = out[False], out[True]
     nominal = float(a.static_force)

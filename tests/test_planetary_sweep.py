@@ -1,5 +1,5 @@
 """``jaxgear sweep`` on a planetary stage (jaxgear/cli/planetary_sweep.py): the sweep's dynamic
-factors at each input speed are :func:`jaxgear.dynamics.planetary_dynamics` called through the
+factors at each input speed are :func:`jaxgear.planetary.planetary_dynamics` called through the
 Python API on a stage built here by hand (the pairs from :func:`jaxgear.planetary_geometry`, the
 carrier speed and the mesh speed from Willis by hand), to 1e-12; the files are written into a
 staging folder and moved in place (none left on a refused option); the command line end to end.
@@ -24,6 +24,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.cli import main, planetary_sweep as ps
 
 M, B, ALPHA = 3e-3, 0.03, math.radians(20.0)
@@ -148,7 +149,7 @@ def _by_hand(case):
         ring_mesh_stiffness=K_MESH * 1e6,
     )
     meshes = jg.ContactMeshes.from_geometry(geo, stage.planet_angles, jg.Uniform(case.stiffness.k0))
-    run = jd.PlanetaryRun(T_IN * Z_S / (Z_S + Z_R), tangential_pin_errors=np.array([10e-6, 0, 0]),
+    run = jp.PlanetaryRun(T_IN * Z_S / (Z_S + Z_R), tangential_pin_errors=np.array([10e-6, 0, 0]),
                           **RUN)
     return stage, meshes, run, r_r
 
@@ -162,7 +163,7 @@ def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
     case, _, s = swept
     stage, meshes, run, r_r = _by_hand(case)
     for i, w in enumerate(SPEEDS):
-        d = jd.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes, run, jnp.asarray(w),
+        d = jp.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes, run, jnp.asarray(w),
                                   jnp.asarray(r_r * w))
         df_s, df_r = (np.asarray(x) for x in d.dynamic_factors)
         np.testing.assert_allclose(s["dynamic_factor_mesh"][i], np.concatenate([df_s, df_r]),
@@ -231,10 +232,10 @@ def _lumped_by_hand():
     stage = jg.PlanetaryStage.equally_spaced(
         3, **m, sun_pressure_angle=alpha, ring_pressure_angle=alpha, sun_mesh_stiffness=5e8,
         ring_mesh_stiffness=5e8,
-        eccentricities=jg.Eccentricities(sun=LP_ECC, sun_phase=math.radians(LP_PHASE)))
+        eccentricities=jp.Eccentricities(sun=LP_ECC, sun_phase=math.radians(LP_PHASE)))
     z_s, z_r = LP_TEETH
     meshes = jg.ConstantMeshes(2 * math.pi * LP["sun"][2] / z_s)
-    run = jd.PlanetaryRun(LP_TORQUE, tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
+    run = jp.PlanetaryRun(LP_TORQUE, tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
                           radial_pin_errors=np.zeros(3), **LP_RUN)
     return stage, meshes, run
 
@@ -259,7 +260,7 @@ def test_the_lumped_sweep_is_planetary_dynamics_at_each_speed():
     omega_c = LP_SPEEDS * z_s / (z_s + z_r)  # Willis, ring fixed
     v = r_s * (LP_SPEEDS - omega_c)  # the sun's speed relative to the carrier times r_bs
     # vmapped as a sweep runs it (the compiled run is shared; its inputs are built here)
-    runs = jax.vmap(lambda om, vi: jd.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes,
+    runs = jax.vmap(lambda om, vi: jp.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes,
                                                          run, om, vi))(jnp.asarray(omega_c),
                                                                        jnp.asarray(v))
     for i, w in enumerate(LP_SPEEDS):

@@ -3,7 +3,7 @@
 stiffly in the tangential and axial directions (so that the ND >= 2 flexural modes are the
 lowest and isolated: the soft test housing's ND0/ND1 on the foundation no longer come first).
 The planets' loads pass the ring's 53 teeth one by one; with three planets the ring's ND2 mode
-is driven at the order 53 - 2 = 51 (the mesh order's lower sideband; jg.ring_resonances lists
+is driven at the order 53 - 2 = 51 (the mesh order's lower sideband; jp.ring_resonances lists
 it). The probe's order-51 line (the radial displacement of one tooth station, a transducer fixed
 on the ring) grows between a speed below the crossing and the crossing by the single-mode
 estimate of the coupled ring-and-stage mode, its damping ratio from the run's modal damping;
@@ -20,6 +20,7 @@ from _planetary_stage import SEQ, geometry, stage
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
+import jaxgear.planetary as jp
 from fem_prep.schema import parse_ring_body
 
 jax.config.update("jax_enable_x64", True)
@@ -88,15 +89,15 @@ def _coupled_mode(st, ring, F, M, x, model=None):
 def _probe_line(st, ring, geo, omega, periods=53 + 60, model=None):
     """The order-ORDER amplitude (m) of a probe on the ring (station 0's radial displacement)
     over the last carrier turn (53 mesh periods), constant meshes, 1000 N m."""
-    run = jd.PlanetaryRun(1000.0, steps_per_period=S, periods=periods, keep_periods=53,
+    run = jp.PlanetaryRun(1000.0, steps_per_period=S, periods=periods, keep_periods=53,
                           damping_ratio=ZETA)
-    r = jd.planetary_dynamics(model or PLANAR, st,
+    r = jp.planetary_dynamics(model or PLANAR, st,
                               jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch), run,
                               jnp.asarray(omega), ring=ring)
     assert int(r.result) == 0
     z2 = 2 * ring.stations
     probe = np.asarray(r.displacement)[:, -z2]  # station 0 at angle 0: x is radial
-    orders, amp = jd.order_spectrum(probe - probe.mean(), S * 53)
+    orders, amp = jp.order_spectrum(probe - probe.mean(), S * 53)
     assert orders[ORDER] == ORDER
     return amp[ORDER], amp
 
@@ -115,7 +116,7 @@ def _growth(ring_stations, scale=1.0, w=None):
     F, M = np.asarray(ring_stations.compliance) * scale, np.asarray(ring_stations.mass)
     geo = geometry(**SEQ)
     st = stage(geo, 3, pin=3e8, sun_bearing=1e8, k_mesh=K_MESH)
-    ring = jg.CondensedRing(F, M, modes=24)
+    ring = jp.CondensedRing(F, M, modes=24)
     x = np.linspace(0.0, geo.planet_ring.base_pitch, 3, endpoint=False)
     modes = np.array([_coupled_mode(st, ring, F, M, xi) for xi in x])
     w_c, zeta_c = modes.mean(axis=0)
@@ -136,11 +137,11 @@ def test_the_campbell_crossing_and_the_coupled_nd2_mode(ring_stations):
     5 %; with stiff meshes (5e8 N/m) the planets stiffen it by more than 3 %."""
     nd = ring_stations.nd_frequencies
     assert nd[2] < 0.8 * min(f for n, f in nd.items() if n != 2)
-    hits = [h for h in jg.ring_resonances(nd, 3, 53, 1) if h["nd"] == 2]
+    hits = [h for h in jp.ring_resonances(nd, 3, 53, 1) if h["nd"] == 2]
     assert [(h["harmonic"], h["order"]) for h in hits] == [(1, ORDER)]
     F, M = np.asarray(ring_stations.compliance), np.asarray(ring_stations.mass)
     geo = geometry(**SEQ)
-    ring = jg.CondensedRing(F, M, modes=24)
+    ring = jp.CondensedRing(F, M, modes=24)
     own = 2 * np.pi * nd[2]
     w, zeta = _coupled_mode(stage(geo, 3, pin=3e8, sun_bearing=1e8, k_mesh=K_MESH), ring, F, M,
                             0.0)
@@ -152,7 +153,7 @@ def test_the_campbell_crossing_and_the_coupled_nd2_mode(ring_stations):
 @pytest.mark.slow
 def test_ring_nd2_resonance_grows_the_probe_sideband_by_the_single_mode_estimate(
         ring_stations):
-    """The Campbell list (jg.ring_resonances: three planets, 53 teeth, harmonic 1) puts ND2 at
+    """The Campbell list (jp.ring_resonances: three planets, 53 teeth, harmonic 1) puts ND2 at
     order 51; the coupled stage-and-ring mode that carries ND2 lies within 1.5 % of the ring's
     own (the list's crossing); the probe's order-51 line grows from 0.8 of the crossing speed to
     the crossing by the single-mode estimate |1 - r^2 + 2 i zeta r| / (2 zeta), zeta the coupled
@@ -161,7 +162,7 @@ def test_ring_nd2_resonance_grows_the_probe_sideband_by_the_single_mode_estimate
     growth."""
     nd = ring_stations.nd_frequencies
     assert nd[2] < 0.8 * min(f for n, f in nd.items() if n != 2)  # ND2 lowest, isolated
-    hits = [h for h in jg.ring_resonances(nd, 3, 53, 1) if h["nd"] == 2]
+    hits = [h for h in jp.ring_resonances(nd, 3, 53, 1) if h["nd"] == 2]
     assert [(h["harmonic"], h["order"]) for h in hits] == [(1, ORDER)]
     (w_c, zeta_c), growth = _growth(ring_stations)
     campbell = 2 * np.pi * hits[0]["carrier_speed_hz"] * ORDER

@@ -10,13 +10,8 @@ import os
 
 import numpy as np
 
-from .. import (
-    DeviationMeshes,
-    PlanarPlanetary,
-    PlanetaryGeometry,
-    PlanetaryTeeth,
-    planetary_quasi_static,
-)
+from .. import PlanetaryGeometry
+from ..planetary import DeviationMeshes, PlanarPlanetary, PlanetaryTeeth, planetary_quasi_static
 from ..io import write_csv
 from ._plots._hunting import hunting_plot
 
@@ -30,7 +25,7 @@ def hunting_section(case, spec, stage, out: str) -> dict:
     """Solve the planar model of the stage of the load sharing (:meth:`PlanetarySpec.
     sharing_stage`: sun free, ring and carrier held) under the sun's torque, with the pin errors
     and eccentricities, its 2N meshes from real contact with every tooth's deviations
-    (:class:`~jaxgear.DeviationMeshes`, exact contact), over the case's deviation span, and
+    (:class:`~jaxgear.planetary.DeviationMeshes`, exact contact), over the case's deviation span, and
     write ``hunting.csv`` and ``hunting.png`` into ``out``.
 
     Returns:

@@ -20,15 +20,14 @@ import fem_prep
 
 from .. import (
     InternalGearPair,
-    RigidRing,
     RootStressMap,
     ShaperCutterSection,
     internal_tooth_geometry,
-    planetary_quasi_static,
     root_stress_map,
     tooth_geometry,
     transverse_load_factor,
 )
+from ..planetary import RigidRing, planetary_quasi_static
 from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
@@ -563,7 +562,7 @@ class StageAtSpeed(NamedTuple):
 def stage_at_speed(case, spec, stage, models: dict, dynamics, meshes, words: dict,
                    ring=None) -> StageAtSpeed:
     """The stage's cell loads at speed from one dynamic run ``dynamics``
-    (:class:`jaxgear.dynamics.PlanetaryDynamics` of ``meshes``, a
+    (:class:`jaxgear.planetary.PlanetaryDynamics` of ``meshes``, a
     :class:`~jaxgear.ContactMeshes`, with ``PlanetaryRun(cell_loads=True)``): each cell's line
     load, its force over its length (N/m), placed at each kept step's travel by
     :meth:`jaxgear.ContactMeshes.planet_cells`; beside it the stage's quasi-static solve

@@ -16,18 +16,16 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .. import AbstractPlanetaryMeshes
 from ..dynamics import (
     MAX_STEPS_PER_SPEED,
     SETTLE_TOL,
     SETTLED_TOL,
     UNDER_RESOLVED_STEPS,
-    PlanetaryRun,
     excited_omega,
-    planetary_dynamics,
     settling_time,
     steps_for_mode,
 )
+from ..planetary import AbstractPlanetaryMeshes, PlanetaryRun, planetary_dynamics
 from ..io import CaseWarning
 
 __all__ = [
@@ -108,7 +106,7 @@ class TimePlan(NamedTuple):
 def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_ratio: float,
               periodic: bool, steps=None, periods=None, keep=None) -> TimePlan:
     """The sweep's steps and span at each input speed, from the stage's modes (``modes``:
-    :func:`~jaxgear.dynamics.planetary_mesh_modes` of the run, the mesh-averaged system):
+    :func:`~jaxgear.planetary.planetary_mesh_modes` of the run, the mesh-averaged system):
 
     * N_s = the smallest N × 2^j >= max(64, 40 f_max / f_mesh) (the pairs' rule,
       :func:`~jaxgear.dynamics.steps_for_mode`; N = ``n_planets``, so that the planets'
@@ -245,7 +243,7 @@ def steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed,
 
 
 def _one_program(model, stage, meshes, base, plan: TimePlan, idx, carrier, mesh_speed, ring):
-    """(the run of the blocks, the :class:`~jaxgear.dynamics.PlanetaryDynamics` with a leading
+    """(the run of the blocks, the :class:`~jaxgear.planetary.PlanetaryDynamics` with a leading
     speed axis) of the speeds ``idx`` in one compiled program (:func:`steps_sweep`)."""
     steps_i = np.asarray(plan.steps)[idx]
     block = int(steps_i.min())
@@ -327,7 +325,7 @@ EXCITATION_POSITIONS = 16
 def excitation(model, stage, meshes, spec) -> dict:
     """Whether anything excites the sweep's stage: ``mesh_stiffness_variation`` (the largest
     (max − min)/mean of a mesh's stiffness over one mesh period, at
-    :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.AbstractPlanetaryMeshes.mesh_stiffness`),
+    :data:`EXCITATION_POSITIONS` travels, :meth:`~jaxgear.planetary.AbstractPlanetaryMeshes.mesh_stiffness`),
     ``pin_errors`` (any non-zero pin error), ``eccentricities`` (a member's or a planet's
     runout), ``flexible_ring`` (a condensed ring: the planets pass its cells), ``te_offsets``
     (meshes whose TE leaves material out: the deviations per tooth) and ``excited``: False

@@ -5,7 +5,7 @@ case, written to ``modes.json`` (atomically, into ``--out``, default
 By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
 
 * **a planetary stage** (:class:`~jaxgear.io.PlanetaryForm`): the lumped planar and torsional
-  models' modes (:func:`jaxgear.planetary_modes`), typed by :func:`jaxgear.classify_modes`
+  models' modes (:func:`jaxgear.planetary_modes`), typed by :func:`jaxgear.planetary.classify_modes`
   (rotational, translational, planet; Lin & Parker 1999), with their multiplicities — the same
   lists as ``jaxgear run``'s ``modes.json``;
 * **pairs and trains** (torsional and lumped 3D scenes, the case's ``[scene]``, else the

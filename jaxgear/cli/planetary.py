@@ -22,7 +22,8 @@ import numpy as np
 
 import fem_prep
 
-from .. import (
+from .. import contact_pressure, quasi_static
+from ..planetary import (
     ConstantMeshes,
     ModeType,
     PlanarPlanetary,
@@ -31,12 +32,10 @@ from .. import (
     Unbalances,
     campbell,
     classify_modes,
-    contact_pressure,
     load_sharing,
     mesh_phases,
     planetary_modes,
     planetary_quasi_static,
-    quasi_static,
     ring_resonances,
 )
 from ..io import ratings_of, write_csv, write_json
@@ -219,7 +218,7 @@ TURN_POSITIONS = 72
 def unbalance_summary(spec) -> dict:
     """The mass unbalances the run's dynamics apply (``summary.json``'s ``unbalances``), as the
     case gives them: U (kg m) and phases (rad) of the sun, ring, carrier and each planet
-    (:class:`jaxgear.Unbalances`' fields)."""
+    (:class:`jaxgear.planetary.Unbalances`' fields)."""
     return {
         f"{f.name}_{'rad' if f.name.endswith('phase') else 'kg_m'}": np.asarray(u).tolist()
         for f, u in zip(dataclasses.fields(Unbalances), spec.unbalances, strict=True)
@@ -229,7 +228,7 @@ def unbalance_summary(spec) -> dict:
 def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     """Load sharing under the sun's torque with the pin errors, per model of ``models``
     ({name: model kind}; the 3D model's mesh forces are along the tooth normal); with
-    eccentricities (:class:`jaxgear.Eccentricities`, taken at the mesh travel 0 in
+    eccentricities (:class:`jaxgear.planetary.Eccentricities`, taken at the mesh travel 0 in
     ``k_gamma``) also K_γ over a turn (:func:`turn_sharing`)."""
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
@@ -392,7 +391,7 @@ def planet_pass_per_input(spec) -> float:
 
 def ring_crossings(spec, nd_frequencies: dict) -> list[dict]:
     """The one list of the ring's resonances with the planets' mesh harmonics (the ``ring``
-    section's ``resonances``, drawn by :func:`ring_campbell`): :func:`jaxgear.ring_resonances`
+    section's ``resonances``, drawn by :func:`ring_campbell`): :func:`jaxgear.planetary.ring_resonances`
     for h = 0..:data:`RING_HARMONICS` (h = 0: the mean loads carried round), each entry
     ``nd``, ``harmonic``, ``order`` (|h z_r ∓ n|: a line of the Campbell diagram, the rule of
     docs/planetary.md, "Which ring modes the planets excite"), ``frequency_hz`` (f_n),
@@ -414,7 +413,7 @@ def ring_campbell(case, spec, nd_frequencies: dict, path: str,
     """The ring's Campbell diagram against the input speed, drawn into ``path``: each
     nodal-diameter frequency f_n (Hz, ``nd_frequencies`` {n: f_n}; a ring held, its modes do not
     change with the speed) and the excitation lines of the rule of docs/planetary.md ("Which
-    ring modes the planets excite", :func:`jaxgear.ring_excitation`): the mesh harmonic h of N
+    ring modes the planets excite", :func:`jaxgear.planetary.ring_excitation`): the mesh harmonic h of N
     planets moving round the ring at Ω = |ω_c − ω_r| excites the n-diameter mode where
     h z_r ∓ n ≡ 0 (mod N), at the frequency |h z_r ∓ n| Ω/2π, for h = 0..:data:`RING_HARMONICS`;
     each line is drawn in its mode's colour and its crossing with f_n (a resonance) marked. The

@@ -1,7 +1,7 @@
 """``jaxgear run`` on a planetary stage with ``[rating]``: after the first-look sweep and the
 stage's files (:func:`jaxgear.cli.planetary_sweep.planetary_run_files`), the tooth-root stress
 at speed: the sweep's dynamic model run once more at the operating input speed with its cells'
-forces recorded (:class:`jaxgear.dynamics.PlanetaryRun` ``cell_loads=True``), the most loaded
+forces recorded (:class:`jaxgear.planetary.PlanetaryRun` ``cell_loads=True``), the most loaded
 planet's meshes mapped with the FE fillet tables of the quasi-static map, beside the stage's
 quasi-static solve at the same slices and travels (docs/rating.md, "Root stress at speed"):
 ``rating.root_stress.at_speed`` per mesh, two rows per mesh in ``rating.md`` and
@@ -15,7 +15,7 @@ import os
 
 import numpy as np
 
-from ..dynamics import planetary_dynamics
+from ..planetary import planetary_dynamics
 from ..io import write_json
 from ._planetary_rating import (
     STAGE_AT_SPEED,

@@ -1,5 +1,5 @@
 """``jaxgear sweep`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`), and the
-sweep section of ``jaxgear run`` on one: :func:`jaxgear.dynamics.planetary_dynamics`'s
+sweep section of ``jaxgear run`` on one: :func:`jaxgear.planetary.planetary_dynamics`'s
 Newmark in the carrier frame (planar model: Coriolis and centripetal terms at the carrier
 speed; for a helical stage whose axial and tilting supports hold it, the 3D model with the
 gyroscopic moments of the members' spin), every mesh at once, over the **input member's
@@ -20,7 +20,7 @@ travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.sp
 The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
 step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
 the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
-one compiled program (:attr:`~jaxgear.dynamics.PlanetaryRun.mesh_steps`; a flexible ring's
+one compiled program (:attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`; a flexible ring's
 speeds one program per N_s, :func:`speed_groups`), the settled state checked.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
@@ -44,20 +44,17 @@ import jax.numpy as jnp
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from .. import (
+from ..dynamics import MAX_STEPS_PER_SPEED, MIN_STEPS_PER_PERIOD
+from ..planetary import (
     ConstantMeshes,
     PlanarPlanetary,
+    PlanetaryRun,
     RigidRing,
     SpatialPlanetary,
-    planetary_modes,
-)
-from ..dynamics import (
-    MAX_STEPS_PER_SPEED,
-    MIN_STEPS_PER_PERIOD,
-    PlanetaryRun,
     order_spectrum,
     planetary_dynamics,
     planetary_mesh_modes,
+    planetary_modes,
     ring_transducer_signal,
 )
 from ..io import CaseWarning, write_json
@@ -163,7 +160,7 @@ def run_speeds(case) -> np.ndarray:
 def planetary_run(
     form, case, steps_per_period=None, periods=None, keep_periods=None
 ) -> PlanetaryRun:
-    """The :class:`~jaxgear.dynamics.PlanetaryRun` of a sweep of ``case``: the sun's torque
+    """The :class:`~jaxgear.planetary.PlanetaryRun` of a sweep of ``case``: the sun's torque
     |T_s| (Willis, from the input torque), the case's pin errors, damping ratio 0.05, and the
     options given; None takes a placeholder (64 steps, 2 periods, 1 kept) that
     :func:`time_plan` replaces speed by speed. One-line ``ValueError`` naming the option,
@@ -205,7 +202,7 @@ def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
     """The :class:`TimePlan` that :func:`sweep_summary` runs ``case`` with at the input
     ``speeds`` (rad/s, (s,)) and the options given (None: the rule, :func:`time_plan`), without
     integrating: the modes of the sweep's dynamic stage
-    (:func:`~jaxgear.dynamics.planetary_mesh_modes`, the case's pin errors)."""
+    (:func:`~jaxgear.planetary.planetary_mesh_modes`, the case's pin errors)."""
     spec, stage, meshes, model = _dynamic_setup(form, case, slices)
     base = planetary_run(form, case, steps_per_period, periods, keep_periods)
     return _plan(spec, stage, meshes, model, base, np.asarray(speeds, dtype=float),
@@ -526,7 +523,7 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
 
 def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
                   settled=None) -> dict:
-    """The ring transducer (:func:`~jaxgear.dynamics.ring_transducer_signal`, at angle 0) at
+    """The ring transducer (:func:`~jaxgear.planetary.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
     returns its keys: the mesh order's amplitude and the planet-pass sidebands', and how the

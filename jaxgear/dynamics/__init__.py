@@ -75,20 +75,15 @@ from ._model import (
     mesh_table as mesh_table,
     span_periods as span_periods,
 )
+from ._modal_basis import ModalSpace as ModalSpace, reduced_structure as reduced_structure
 from ._newmark import (
     LinearSystem as LinearSystem,
     MeshDamping as MeshDamping,
+    ModalStructure as ModalStructure,
+    ModalSystem as ModalSystem,
     StepCells as StepCells,
     newmark as newmark,
-)
-from ._planetary_dynamics import (
-    PlanetaryDynamics as PlanetaryDynamics,
-    PlanetaryRun as PlanetaryRun,
-    order_spectrum as order_spectrum,
-    planetary_dynamics as planetary_dynamics,
-    planetary_mesh_modes as planetary_mesh_modes,
-    planetary_speed_sweep as planetary_speed_sweep,
-    ring_transducer_signal as ring_transducer_signal,
+    newmark_modal as newmark_modal,
 )
 from ._result import (
     DynamicResponse as DynamicResponse,

@@ -17,7 +17,7 @@ import numpy as np
 from fem_prep import schema as sc
 
 from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
-from .._planetary_hunting import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
+from ..planetary import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
 from ._deviations_table import _DEV_MEMBER_KEYS, member_values
 from ._modifications_table import _depth_range
 
@@ -36,7 +36,7 @@ FLANKS = ("sun_flank", "ring_flank")
 
 def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[PlanetaryDeviations,
                                                                              dict]:
-    """``[deviations]`` of a planetary case → (:class:`~jaxgear.PlanetaryDeviations`, the run
+    """``[deviations]`` of a planetary case → (:class:`~jaxgear.planetary.PlanetaryDeviations`, the run
     settings).
 
     ``grade`` (ISO 1328-1 flank tolerance class, 1 to 11) draws every member's pitch, profile
@@ -46,7 +46,7 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
     independently; the drawn runout set to 0); the member tables give values (µm) that replace
     the drawn ones key by key, or, without a grade, are the only deviations (the other members
     perfect). A planet's table gives values for both flanks, or its ``sun_flank`` and
-    ``ring_flank`` tables each flank's (:class:`~jaxgear.PlanetFlanks`; not both forms in one
+    ``ring_flank`` tables each flank's (:class:`~jaxgear.planetary.PlanetFlanks`; not both forms in one
     planet). Without a grade and without flank tables a planet is one
     :class:`~jaxgear.GearDeviations` (both flanks the same).
 

@@ -1,6 +1,6 @@
 """The ring gear's model in a planetary case file: ``[planetary.ring] model`` and ``body``
-(docs/planetary.md, "A flexible ring gear"), mapped to :class:`~jaxgear.RigidRing`,
-:class:`~jaxgear.CondensedRing` or :class:`~jaxgear.CraigBamptonRing`.
+(docs/planetary.md, "A flexible ring gear"), mapped to :class:`~jaxgear.planetary.RigidRing`,
+:class:`~jaxgear.planetary.CondensedRing` or :class:`~jaxgear.planetary.CraigBamptonRing`.
 
 .. code-block:: toml
 
@@ -24,9 +24,9 @@ radius the ring gear's within :data:`ROOT_TOLERANCE`; refused in one line before
 series with the ring meshes at every step), ``"mass"`` with its stations' (Guyan) mass and modal
 damping at the run's ratio (its nodal-diameter modes respond), ``"modal"`` the same ring in its
 ``modes`` lowest modes plus the static correction of the others
-(:class:`~jaxgear.CondensedRing` ``modes``), ``"craig-bampton"`` the condensed ring reduced onto
+(:class:`~jaxgear.planetary.CondensedRing` ``modes``), ``"craig-bampton"`` the condensed ring reduced onto
 its stations and its ``modes`` lowest fixed-interface modes that couple to them
-(:class:`~jaxgear.CraigBamptonRing`: the ring's own dynamics inside the stations), integrated in
+(:class:`~jaxgear.planetary.CraigBamptonRing`: the ring's own dynamics inside the stations), integrated in
 its ``integration_modes`` lowest modes plus the static correction of the others. The count of
 coupled fixed-interface modes is known once the ring is condensed: ``modes`` is checked at
 parse time against the fixed-interface DOFs of the body's condensation (Z (3 n_axial - 2) +
@@ -41,7 +41,7 @@ import dataclasses
 import fem_prep
 from fem_prep import schema as sc
 
-from .._planetary_ring import AbstractRingModel, CondensedRing, CraigBamptonRing, RigidRing
+from ..planetary import AbstractRingModel, CondensedRing, CraigBamptonRing, RigidRing
 
 __all__ = ["RING_DYNAMICS", "RING_MODELS", "CondensedRingSpec", "RigidRingSpec", "RingModelSpec",
            "parse_ring_model"]
@@ -99,7 +99,7 @@ class RigidRingSpec(RingModelSpec):
 
 
 def _craig_bampton(spec, st) -> CraigBamptonRing:
-    """The sweep's :class:`~jaxgear.CraigBamptonRing`; ``modes`` or ``integration_modes`` beyond
+    """The sweep's :class:`~jaxgear.planetary.CraigBamptonRing`; ``modes`` or ``integration_modes`` beyond
     what the condensed ring has refused in one line (module docstring)."""
     m = len(st.interior_eigenvalues)
     if spec.modes is not None and spec.modes > m:

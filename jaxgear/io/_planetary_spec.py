@@ -17,8 +17,8 @@ import math
 import numpy as np
 
 from .._internal import PlanetaryGeometry
-from .._planetary import Central, Eccentricities, PlanetaryStage, Unbalances, speed_ratio
-from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
+from ..planetary import Central, Eccentricities, PlanetaryStage, Unbalances, speed_ratio
+from ..planetary import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
 from ._case import Case, CaseForm, PairForm, TrainForm
@@ -123,11 +123,11 @@ class PlanetarySpec:
         ring_model: the ring's model (``[planetary.ring] model``,
             :class:`~jaxgear.io._planetary_ring_spec.RingModelSpec`); rigid by default.
         eccentricities: the sun's, ring's and carrier's eccentricities (m) and phases (rad),
-            in the order of :class:`~jaxgear.Eccentricities`' fields; none by default.
+            in the order of :class:`~jaxgear.planetary.Eccentricities`' fields; none by default.
         planet_runout: (runouts (m), phases (rad)), one per planet (or empty: none), the
-            :class:`~jaxgear.Eccentricities`' ``planet`` and ``planet_phase``.
+            :class:`~jaxgear.planetary.Eccentricities`' ``planet`` and ``planet_phase``.
         unbalances: the sun's, ring's, carrier's and planets' mass unbalances (kg m) and
-            phases (rad), in the order of :class:`~jaxgear.Unbalances`' fields; none by default.
+            phases (rad), in the order of :class:`~jaxgear.planetary.Unbalances`' fields; none by default.
         helix_angle: the planets' base helix angle beta_b (rad; positive: right-hand planets),
             for :class:`~jaxgear.SpatialPlanetary`; 0 (spur) by default.
         face_width: the meshes' face width (m), for :class:`~jaxgear.SpatialPlanetary`.
@@ -269,7 +269,7 @@ class PlanetarySpec:
 
 
     def dynamic_meshes(self, case: Case, n_slices: int = 1) -> AbstractPlanetaryMeshes:
-        """The 2N meshes of the stage's dynamics (:func:`jaxgear.dynamics.planetary_dynamics`)
+        """The 2N meshes of the stage's dynamics (:func:`jaxgear.planetary.planetary_dynamics`)
         and of its quasi-static solves on contact cells: with gears,
         :class:`~jaxgear.ContactMeshes` of the two pairs' own models
         (:meth:`~jaxgear.io.Case.mesh_model` of each :meth:`~jaxgear.io.Case.mesh_case`: the

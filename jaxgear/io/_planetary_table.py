@@ -82,7 +82,7 @@ from fem_prep import schema as sc
 
 from .._geometry import GearPair
 from .._internal import InternalGearPair, planetary_geometry
-from .._planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
+from ..planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
 from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
@@ -351,7 +351,7 @@ def _pin_errors(t: dict, key: str, n: int) -> tuple:
 
 def _eccentricities(t: dict) -> tuple:
     """``<member>_eccentricity_um`` and ``<member>_eccentricity_phase_deg`` of the sun, ring and
-    carrier, in SI as :class:`jaxgear.Eccentricities` takes them (sun, sun_phase, ring,
+    carrier, in SI as :class:`jaxgear.planetary.Eccentricities` takes them (sun, sun_phase, ring,
     ring_phase, carrier, carrier_phase); a phase without its amplitude is refused."""
     out = []
     for m in ("sun", "ring", "carrier"):
@@ -387,7 +387,7 @@ def _planet_runout(t: dict, n: int) -> tuple:
 def _unbalances(t: dict, n: int) -> tuple:
     """``<member>_unbalance_g_mm`` and ``<member>_unbalance_phase_deg`` of the sun, ring,
     carrier (one value each) and the planets (one per planet), in SI as
-    :class:`jaxgear.Unbalances` takes them (kg m, rad)."""
+    :class:`jaxgear.planetary.Unbalances` takes them (kg m, rad)."""
     out = []
     for m in MEMBERS:
         amp_key, phase_key = f"{m}_unbalance_g_mm", f"{m}_unbalance_phase_deg"

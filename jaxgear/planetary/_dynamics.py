@@ -23,18 +23,26 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
-from .._planetary import AbstractPlanetaryModel, PlanetaryStage
-from .._planetary_mesh import (
+from .._util import as_float, check_instance, check_integer, check_real
+from ..dynamics import (
+    LinearSystem,
+    ModalAnalysis,
+    ModalSpace,
+    ModalSystem,
+    StepCells,
+    modal_analysis,
+    newmark,
+    newmark_modal,
+    reduced_structure,
+)
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
+from ._meshes import (
     AbstractPlanetaryMeshes,
     held_structure,
     pin_terms,
     sun_load,
 )
-from .._planetary_ring import AbstractRingModel, RigidRing, modal_damping
-from .._util import as_float, check_instance, check_integer, check_real
-from ._modal import ModalAnalysis, modal_analysis
-from ._modal_basis import ModalSpace, reduced_structure
-from ._newmark import LinearSystem, ModalSystem, StepCells, newmark, newmark_modal
+from ._ring import AbstractRingModel, RigidRing, modal_damping
 
 __all__ = [
     "PlanetaryDynamics",
@@ -59,7 +67,7 @@ class PlanetaryRun(eqx.Module):
             C = M Phi diag(2 zeta omega) Phi^T M (seed (2.35)).
         tangential_pin_errors, radial_pin_errors: planet-pin errors (m), () or (n_planets,), as
             :func:`~jaxgear.load_sharing` (the stage's eccentricities,
-            :class:`~jaxgear.Eccentricities`, are added at each step, turning with their
+            :class:`~jaxgear.planetary.Eccentricities`, are added at each step, turning with their
             members).
         cell_loads: also record every cell's force at the kept steps
             (:attr:`PlanetaryDynamics.cell_forces`; static, default False: a sweep keeps none,
@@ -111,8 +119,8 @@ class PlanetaryDynamics(eqx.Module):
         time: time (s) of each recorded step, (t,).
         travel: mesh travel x = x_0 + v t (m), (t,).
         displacement: coordinates (m), (t, n_dof + m): the model's, then a flexible ring's m
-            = 2Z station displacements (x, y in the ring's frame; :class:`~jaxgear.CondensedRing`)
-            and, for a :class:`~jaxgear.CraigBamptonRing`, its fixed-interface modes' amplitudes
+            = 2Z station displacements (x, y in the ring's frame; :class:`~jaxgear.planetary.CondensedRing`)
+            and, for a :class:`~jaxgear.planetary.CraigBamptonRing`, its fixed-interface modes' amplitudes
             (m kg^(1/2), mass-normalised).
         sun_mesh_forces, ring_mesh_forces: transverse mesh forces (N, compression positive),
             (t, n_planets).
@@ -328,7 +336,7 @@ def planetary_mesh_modes(
 
 
 def _unbalance_load(model, stage, omega, mesh_speed, travel, n_u):
-    """Step i ↦ the stage's mass unbalances' rotating forces (:class:`~jaxgear.Unbalances`)
+    """Step i ↦ the stage's mass unbalances' rotating forces (:class:`~jaxgear.planetary.Unbalances`)
     on the coordinates (N; none on a flexible ring's), at the step's travel; None without."""
     if stage.unbalances is None:
         return None
@@ -376,21 +384,21 @@ def planetary_dynamics(
             axial and tilting coordinates, and the gyroscopic moments of the members' spin
             relative to the carrier at the mesh speed v).
         stage: the stage (ring or carrier held in rotation); its ``unbalances``
-            (:class:`~jaxgear.Unbalances`) add their rotating forces at each step's travel.
+            (:class:`~jaxgear.planetary.Unbalances`) add their rotating forces at each step's travel.
         meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
         run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
         carrier_speed: Omega (rad/s), counter-clockwise positive.
         mesh_speed: v (m/s), the mesh travel speed; None: the ring held, v = r_br |Omega|
             (mesh frequency v / p_b = z_r |Omega| / 2 pi).
         law: the contact law.
-        ring: :class:`~jaxgear.RigidRing` (the lumped ring, the default) or a flexible
-            :class:`~jaxgear.CondensedRing`: its 2Z station displacements join the coordinates
+        ring: :class:`~jaxgear.planetary.RigidRing` (the lumped ring, the default) or a flexible
+            :class:`~jaxgear.planetary.CondensedRing`: its 2Z station displacements join the coordinates
             (stiffness F^-1, its stations' mass if given), and each ring mesh's cells see the
             ring's displacement at the planet's moving position (the hats at the angle
-            :func:`~jaxgear.ring_contact_angles`), so that the ring compliance coupling the
+            :func:`~jaxgear.planetary.ring_contact_angles`), so that the ring compliance coupling the
             ring meshes follows the carrier; a massless ring gives the quasi-static
             compliance of :func:`~jaxgear.planetary_quasi_static` at every step; a
-            :class:`~jaxgear.CraigBamptonRing` adds its fixed-interface modes as coordinates
+            :class:`~jaxgear.planetary.CraigBamptonRing` adds its fixed-interface modes as coordinates
             (mass and stiffness only: the ring cells reach the stations alone).
 
     Returns:
@@ -398,7 +406,7 @@ def planetary_dynamics(
     """
     check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
                    "planetary_dynamics")
-    check_instance("run", run, PlanetaryRun, "a jaxgear.dynamics.PlanetaryRun",
+    check_instance("run", run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun",
                    "planetary_dynamics")
     check_instance("ring", ring, AbstractRingModel,
                    "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)",

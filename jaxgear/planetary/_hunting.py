@@ -40,16 +40,16 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float, Int
 
-from ._baseplane import CellRow
-from ._deviations import GearDeviations
-from ._internal import PlanetaryGeometry
-from ._modifications import Modifications
-from ._planetary import check_assembly
-from ._planetary_analysis import mesh_phases
-from ._planetary_mesh import AbstractPlanetaryMeshes, ContactMeshes, sun_ring_travel
-from ._quasi_static import separation
-from ._stiffness_models import AbstractStiffness
-from ._util import as_float, check_instance, check_integer, safe_max
+from .._baseplane import CellRow
+from .._deviations import GearDeviations
+from .._internal import PlanetaryGeometry
+from .._modifications import Modifications
+from ._stage import check_assembly
+from ._analysis import mesh_phases
+from ._meshes import AbstractPlanetaryMeshes, ContactMeshes, sun_ring_travel
+from .._quasi_static import separation
+from .._stiffness_models import AbstractStiffness
+from .._util import as_float, check_instance, check_integer, safe_max
 
 __all__ = [
     "DeviationMeshes",
@@ -190,7 +190,7 @@ class PlanetFlanks(eqx.Module):
     material on it, its cumulative pitch F_p,k from its own tooth 0. A tooth thicker by t: +t on
     both flanks (``PlanetFlanks.both``, the same as one ``GearDeviations`` for the planet); a
     tooth moved by f towards its sun-side flank (an indexing error): +f on ``sun_flank``, -f on
-    ``ring_flank``. Runout belongs to the stage's :class:`~jaxgear.Eccentricities` (0 here).
+    ``ring_flank``. Runout belongs to the stage's :class:`~jaxgear.planetary.Eccentricities` (0 here).
 
     Attributes:
         sun_flank, ring_flank: :class:`~jaxgear.GearDeviations` or None, with the planet's
@@ -248,7 +248,7 @@ class PlanetaryDeviations(eqx.Module):
     each flank as ISO 1328-1 measures that flank with the same values on both (a tooth's
     thickness error), or a :class:`PlanetFlanks` with each flank's own values (measured flanks
     differ; an indexing error that moves a whole tooth adds material on one flank and removes it
-    on the other). Runout is the stage's :class:`~jaxgear.Eccentricities` (sun, ring and planet
+    on the other). Runout is the stage's :class:`~jaxgear.planetary.Eccentricities` (sun, ring and planet
     runout): here it must be 0.
 
     Attributes:
@@ -272,7 +272,7 @@ class PlanetaryDeviations(eqx.Module):
         for i, g in enumerate(self.planets):
             if g is not None:
                 check_instance(f"planets[{i}]", g, (GearDeviations, PlanetFlanks),
-                               "a jaxgear.GearDeviations, a jaxgear.PlanetFlanks or None",
+                               "a jaxgear.GearDeviations, a jaxgear.planetary.PlanetFlanks or None",
                                "PlanetaryDeviations")
         for name, g in self._members():
             try:
@@ -282,7 +282,7 @@ class PlanetaryDeviations(eqx.Module):
             if runout != 0.0:
                 raise ValueError(
                     f"PlanetaryDeviations: {name}.runout = {runout!r} m is out of range: allowed "
-                    "0 (a member's runout is the stage's jaxgear.Eccentricities)"
+                    "0 (a member's runout is the stage's jaxgear.planetary.Eccentricities)"
                 )
 
     def _members(self):
@@ -357,10 +357,10 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     def __check_init__(self):
         check_instance("contact", self.contact, ContactMeshes, "a jaxgear.ContactMeshes",
                        "DeviationMeshes")
-        check_instance("teeth", self.teeth, PlanetaryTeeth, "a jaxgear.PlanetaryTeeth",
+        check_instance("teeth", self.teeth, PlanetaryTeeth, "a jaxgear.planetary.PlanetaryTeeth",
                        "DeviationMeshes")
         check_instance("deviations", self.deviations, PlanetaryDeviations,
-                       "a jaxgear.PlanetaryDeviations", "DeviationMeshes")
+                       "a jaxgear.planetary.PlanetaryDeviations", "DeviationMeshes")
         if self.teeth.n_planets != self.contact.sun_phases.shape[0]:
             raise ValueError(
                 f"DeviationMeshes: teeth has {self.teeth.n_planets} planets, out of range: "

@@ -1,6 +1,6 @@
 """Analyses of a lumped planetary stage: natural modes with their types (Lin & Parker 1999),
 the mesh phases (Parker & Lin 2004) and the quasi-static load sharing with planet-pin errors
-(ISO 6336-1's K_gamma). Conventions: :mod:`jaxgear._planetary` and docs/planetary.md."""
+(ISO 6336-1's K_gamma). Conventions: :mod:`jaxgear.planetary._stage` and docs/planetary.md."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._planetary import AbstractPlanetaryModel, PlanetaryStage
-from ._util import as_float, check_instance, check_integer, check_real
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
+from .._util import as_float, check_instance, check_integer, check_real
 
 __all__ = [
     "LoadSharing",
@@ -316,7 +316,7 @@ def mesh_phases(z_sun: int, z_ring: int, planet_angles) -> tuple[np.ndarray, np.
     the sun-planet mesh of planet n repeats planet 1's a time ``gamma_sn T_m`` later:
     ``k_sn(t) = k_s1(t - gamma_sn T_m)``, ``gamma_sn = frac(z_s psi_n / 2 pi)``; the ring-planet
     meshes ``gamma_rn = frac(-z_r psi_n / 2 pi)``. When the planets can be assembled
-    (:func:`~jaxgear.check_assembly`) the two are equal. For the clockwise sense, take
+    (:func:`~jaxgear.planetary.check_assembly`) the two are equal. For the clockwise sense, take
     ``1 - gamma`` (mod 1). ``planet_angles`` (rad), shape ``(n_planets,)``, planet 1 the
     reference.
 
@@ -397,7 +397,7 @@ def load_sharing(
             unchanged to first order (its mesh offsets -eps sin a_s and +eps sin a_r cancel
             along a planet's path).
         travel: the mesh travel x (m) at which the stage's eccentricities
-            (:class:`~jaxgear.Eccentricities`, turning with their members) are taken; 0 by
+            (:class:`~jaxgear.planetary.Eccentricities`, turning with their members) are taken; 0 by
             default (their phases' origin). Without eccentricities the result does not depend
             on it.
 

@@ -10,7 +10,7 @@ relative to the carrier by phi, every mesh's contact lines travel ``x = r_bs phi
 line of action (the ring's, turning the other way, as fast: r_bp phi_p = r_bs phi). At the mesh
 travel x, planet n's sun mesh has its contact lines at ``s = x - gamma_sn p_b`` and its ring mesh
 at ``s = x + Delta_rs - gamma_rn p_b`` (mod p_b; s from each pair's engagement point, as
-:meth:`~jaxgear.MeshModel.cells`), gamma_sn, gamma_rn from :func:`~jaxgear.mesh_phases` (Parker &
+:meth:`~jaxgear.MeshModel.cells`), gamma_sn, gamma_rn from :func:`~jaxgear.planetary.mesh_phases` (Parker &
 Lin 2004), and Delta_rs the sun–ring offset within a planet (:func:`sun_ring_offset`).
 
 A cell's approach is the transverse mesh deflection of Lin & Parker's model times cos beta_b
@@ -32,16 +32,16 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._baseplane import CellRow, Cells, MeshModel
-from ._contact import AbstractContactLaw, ExactContact, solve_contact
-from ._internal import PlanetaryGeometry
-from ._modifications import Modifications
-from ._planetary import AbstractPlanetaryModel, PlanetaryStage, check_assembly, closest_planets
-from ._planetary_analysis import mesh_phases
-from ._planetary_ring import AbstractRingModel, RigidRing
-from ._quasi_static import separation
-from ._stiffness_models import AbstractStiffness, stiffness_table
-from ._util import as_float, check_instance, check_integer, check_real
+from .._baseplane import CellRow, Cells, MeshModel
+from .._contact import AbstractContactLaw, ExactContact, solve_contact
+from .._internal import PlanetaryGeometry
+from .._modifications import Modifications
+from ._stage import AbstractPlanetaryModel, PlanetaryStage, check_assembly, closest_planets
+from ._analysis import mesh_phases
+from ._ring import AbstractRingModel, RigidRing
+from .._quasi_static import separation
+from .._stiffness_models import AbstractStiffness, stiffness_table
+from .._util import as_float, check_instance, check_integer, check_real
 
 __all__ = [
     "AbstractPlanetaryMeshes",
@@ -89,7 +89,7 @@ def sun_ring_offset(geometry: PlanetaryGeometry) -> float:
 def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
     """Delta_rs before its reduction modulo p_b (m): for one planet tooth, how far its contact
     line on the ring mesh runs ahead of its contact line on the sun mesh (exact modulo a planet
-    turn, z_p p_b: the tooth bookkeeping of :class:`~jaxgear.PlanetaryTeeth`)."""
+    turn, z_p p_b: the tooth bookkeeping of :class:`~jaxgear.planetary.PlanetaryTeeth`)."""
     sp, pr = geometry.sun_planet, geometry.planet_ring
     r_bp = float(pr.base_radii[0])
     s_bp = float(sp.base_thickness[1])
@@ -108,7 +108,7 @@ def sun_ring_travel(geometry: PlanetaryGeometry) -> float:
 def _check_stage(geometry: PlanetaryGeometry, planet_angles) -> np.ndarray:
     """The planet angles (rad, (n_planets,)) of a stage that assembles, whose planets' tip
     circles do not intersect (adjacent centres 2 a_w sin(Δψ/2) >= 2 r_ap apart,
-    :func:`~jaxgear._planetary.closest_planets`), its pairs of one base pitch; one line
+    :func:`~jaxgear.planetary._stage.closest_planets`), its pairs of one base pitch; one line
     otherwise."""
     sp, pr = geometry.sun_planet, geometry.planet_ring
     psi = np.asarray(planet_angles, dtype=float)
@@ -189,7 +189,7 @@ class AbstractPlanetaryMeshes(eqx.Module):
     def te_offsets(self, stage, x) -> tuple[Array, Array]:
         """(o_s, o_r): what each mesh's transmission error leaves out at the mesh travel ``x``
         (m, transverse, (n_planets,) each): 0 here; the per-tooth deviations' material on the
-        teeth in contact for :class:`~jaxgear.DeviationMeshes` (the pair's TE less max e)."""
+        teeth in contact for :class:`~jaxgear.planetary.DeviationMeshes` (the pair's TE less max e)."""
         zero = jnp.zeros((stage.n_planets,), jnp.result_type(x, float))
         return zero, zero
 
@@ -286,9 +286,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             (pinion: the planet). Both must have the same base pitch.
         sun_modifications, ring_modifications: their flank modifications (no per-tooth
             deviations: a pair's deviations do not follow the stage's teeth; the stage's
-            are :class:`~jaxgear.DeviationMeshes`).
+            are :class:`~jaxgear.planetary.DeviationMeshes`).
         sun_phases, ring_phases: gamma_sn, gamma_rn (fractions of a mesh period), (n_planets,)
-            (:func:`~jaxgear.mesh_phases`).
+            (:func:`~jaxgear.planetary.mesh_phases`).
         ring_offset: Delta_rs (m), :func:`sun_ring_offset`.
         pitch_points: (2,): where each pair's transverse pitch point sits on its path of
             contact (m, s from the pair's engagement point: the pinion's roll r_b1 tan a_w less
@@ -316,7 +316,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             if mods.deviations is not None:
                 raise ValueError(
                     f"ContactMeshes: {name}.deviations is set: a pair's deviations do not "
-                    "follow a stage's teeth (allowed None; jaxgear.DeviationMeshes takes "
+                    "follow a stage's teeth (allowed None; jaxgear.planetary.DeviationMeshes takes "
                     "every sun, planet and ring tooth's)"
                 )
         if self.sun_mesh.coast or self.ring_mesh.coast:
@@ -506,7 +506,7 @@ class PlanetaryQuasiStatic(eqx.Module):
         sun_te, ring_te: each mesh's transmission error, its transverse deflection V q + d (m,
             compression positive, the pin errors' offsets d included; mid-face, the 3D model's
             normal deflection over cos beta_b), (p, n_planets); with per-tooth deviations
-            (:class:`~jaxgear.DeviationMeshes`) less their largest material on the cells in
+            (:class:`~jaxgear.planetary.DeviationMeshes`) less their largest material on the cells in
             contact over cos beta_b, as a pair's TE (u X - max e) / cos beta_b.
         k_gamma: the mesh load factor at each position (ISO 6336-1, AGMA 6123): the most
             loaded planet's sun-mesh force over their mean, (p,).
@@ -635,11 +635,11 @@ def planetary_quasi_static(
             hunting period: as many mesh periods as it holds).
         tangential_pin_errors, radial_pin_errors: planet-pin position errors (m), () or
             (n_planets,), as :func:`~jaxgear.load_sharing`; the stage's eccentricities
-            (:class:`~jaxgear.Eccentricities`) are added at each position, turning with their
+            (:class:`~jaxgear.planetary.Eccentricities`) are added at each position, turning with their
             members.
         law: the contact law.
-        ring: the ring gear: :class:`~jaxgear.RigidRing` (the lumped ring, the default) or a
-            flexible :class:`~jaxgear.CondensedRing`, whose compliance at the ring meshes
+        ring: the ring gear: :class:`~jaxgear.planetary.RigidRing` (the lumped ring, the default) or a
+            flexible :class:`~jaxgear.planetary.CondensedRing`, whose compliance at the ring meshes
             follows the planets around it (its N displacements join the contact problem).
 
     Returns:
@@ -650,7 +650,7 @@ def planetary_quasi_static(
     """
     check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
                    "planetary_quasi_static")
-    check_instance("ring", ring, AbstractRingModel, "a jaxgear.RigidRing or CondensedRing",
+    check_instance("ring", ring, AbstractRingModel, "a jaxgear.planetary.RigidRing or CondensedRing",
                    "planetary_quasi_static")
     f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
                                 "planetary_quasi_static")

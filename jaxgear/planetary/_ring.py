@@ -16,7 +16,7 @@ ring mesh's approach loses the ring's displacement there, ``w_n = sum_m C_nm P_m
 transverse ring-mesh forces, N): the contact problem gains N coordinates w with the stiffness
 ``C^-1`` and the ring cells' rows ``-cos(beta_b)`` on their planet's w.
 
-In the dynamics (:func:`jaxgear.dynamics.planetary_dynamics`) the ring keeps its 2Z station
+In the dynamics (:func:`jaxgear.planetary.planetary_dynamics`) the ring keeps its 2Z station
 displacements u (the ring frame's x, y at each station) as coordinates of constant stiffness
 ``F^-1`` (and, given, the stations' mass: the ring's nodal-diameter modes), and the ring cells'
 rows gain ``-cos(beta_b) E_n`` with ``E_n = sum_k W_nk e_n^T`` on station k: the carrier angle
@@ -52,7 +52,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._util import as_float, check_integer, check_real, static_correction
+from .._util import as_float, check_integer, check_real, static_correction
 
 __all__ = [
     "AbstractRingModel",
@@ -326,7 +326,7 @@ class CraigBamptonRing(CondensedRing):
     ring's nodal-diameter modes fall from the station model's (Guyan: from above) to the
     condensed FE ring's own.
 
-    In the dynamics (:func:`jaxgear.dynamics.planetary_dynamics`) the ring's coordinates are
+    In the dynamics (:func:`jaxgear.planetary.planetary_dynamics`) the ring's coordinates are
     (u, eta), 2Z + m of them, with modal damping at the run's ratio on the ring's own modes;
     with ``modes`` = k (1..2Z + m) its k lowest modes plus the static correction of the others,
     integrated by :func:`jaxgear.dynamics.newmark_modal` (as :class:`CondensedRing`). In

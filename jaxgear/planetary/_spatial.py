@@ -9,7 +9,7 @@ R. G. Parker, "Three-dimensional nonlinear vibration of gear pairs", J. Sound Vi
 3628-3648 (the mesh as a stiffness spread over the face: its translational and tilting parts);
 J. Lin and R. G. Parker (1999) for the planar part, which this model holds exactly at beta_b = 0.
 
-Conventions (those of :mod:`jaxgear._planetary`, with z along the stage axis, right-handed with
+Conventions (those of :mod:`jaxgear.planetary._stage`, with z along the stage axis, right-handed with
 the carrier frame's x, y). Each member's six coordinates, in this order:
 ``(x, y, z, theta_x, theta_y, u)`` for a central member (translations in m along the carrier
 frame's axes, tilts in rad about x and y, u = r_b theta_z in m) and
@@ -86,8 +86,8 @@ from typing import ClassVar
 import equinox as eqx
 import jax.numpy as jnp
 
-from ._planetary import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _members
-from ._util import as_float
+from ._stage import CENTRAL, AbstractPlanetaryModel, PlanetaryStage, _members
+from .._util import as_float
 
 __all__ = ["SpatialPlanetary"]
 
@@ -241,20 +241,20 @@ def _pin_stiffness(stage: PlanetaryStage):
 class SpatialPlanetary(AbstractPlanetaryModel):
     """The 3D lumped model of a helical planetary stage (Eritenel & Parker 2009): six
     coordinates per member, 6 (3 + N) in all, in the carrier frame (module docstring of
-    :mod:`jaxgear._planetary_spatial` for the coordinates, the mesh normals and points, the
+    :mod:`jaxgear.planetary._spatial` for the coordinates, the mesh normals and points, the
     pins and bearings). It uses the stage's ``helix_angle`` and ``face_width`` and the
     members' ``axial_stiffness``, ``tilt_stiffness`` and ``tilt_inertia``; at
     ``helix_angle = 0`` the in-plane coordinates (x, y, u) are Lin & Parker's planar model
     exactly and the axial-tilting ones decouple from them.
 
-    Mode types (:func:`~jaxgear.classify_modes`; Eritenel & Parker 2009, equally spaced
+    Mode types (:func:`~jaxgear.planetary.classify_modes`; Eritenel & Parker 2009, equally spaced
     planets): ROTATIONAL_AXIAL (multiplicity 1: the central members rotate and move axially
     only), TRANSLATIONAL_TILTING (multiplicity 2: they translate in the plane and tilt only),
     PLANET (multiplicity N - 3: they stay still). :meth:`central_rotations` are therefore the
     central members' z and u, :meth:`central_translations` their x, y and tilts.
 
     In the contact solve and the dynamics (:func:`~jaxgear.planetary_quasi_static`,
-    :func:`~jaxgear.dynamics.planetary_dynamics`) each cell of a helical mesh sees the
+    :func:`~jaxgear.planetary.planetary_dynamics`) each cell of a helical mesh sees the
     deflection along the tooth normal at its own contact point, its axial position across the
     face and its place along the line of action (:meth:`face_rows`, :meth:`line_rows`), so
     that a member's tilt moves the load along the contact lines; a

@@ -42,8 +42,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._planetary_runout import Eccentricities, Unbalances
-from ._util import as_float, check_instance, check_integer, check_real, is_traced
+from ._runout import Eccentricities, Unbalances
+from .._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
     "AbstractPlanetaryModel",
@@ -246,9 +246,9 @@ class PlanetaryStage(eqx.Module):
                 check_real(name, getattr(self, name), "N m/rad", lo=0.0, shape=(),
                            where="PlanetaryStage")
         check_instance("eccentricities", self.eccentricities, Eccentricities,
-                       "a jaxgear.Eccentricities", "PlanetaryStage")
+                       "a jaxgear.planetary.Eccentricities", "PlanetaryStage")
         if self.unbalances is not None:
-            check_instance("unbalances", self.unbalances, Unbalances, "a jaxgear.Unbalances",
+            check_instance("unbalances", self.unbalances, Unbalances, "a jaxgear.planetary.Unbalances",
                            "PlanetaryStage")
         for name in ("sun", "ring", "carrier", "planet"):
             check_instance(
@@ -513,7 +513,7 @@ class AbstractPlanetaryModel(eqx.Module):
         eta, ``radial_errors`` along zeta (outward), both (m, (n_planets,))."""
 
     def mode_types(self) -> tuple[str, str]:
-        """The names (:class:`~jaxgear.ModeType` values) of the modes in which only the
+        """The names (:class:`~jaxgear.planetary.ModeType` values) of the modes in which only the
         :meth:`central_rotations` move, and only the :meth:`central_translations`."""
         return ("rotational", "translational")
 

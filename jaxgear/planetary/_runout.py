@@ -22,7 +22,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._util import as_float, check_real
+from .._util import as_float, check_real
 
 __all__ = ["Eccentricities", "Unbalances"]
 

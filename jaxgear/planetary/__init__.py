@@ -1,0 +1,83 @@
+"""Planetary stages: the stage and its model kinds, its meshes, ring, runout, per-tooth
+deviations, modal analysis and load sharing, and its carrier-frame dynamics (docs/planetary.md).
+
+The names a user reaches for first (the stage, its members, the model kinds, the mesh kinds,
+:func:`planetary_quasi_static`, :func:`load_sharing`, :func:`planetary_modes`) are re-exported
+from :mod:`jaxgear` too; the rest lives here only. Modules:
+
+- ``_stage``: :class:`PlanetaryStage`, :class:`PlanetaryMember`, the model kinds
+  (:class:`TorsionalPlanetary`, :class:`PlanarPlanetary`), the Willis speed ratio and the
+  assembly condition;
+- ``_spatial``: :class:`SpatialPlanetary` (six coordinates per member);
+- ``_meshes``: the meshes as cells (:class:`ConstantMeshes`, :class:`ContactMeshes`), the
+  sun–ring offset, the quasi-static solve;
+- ``_ring``: the flexible ring (:class:`RigidRing`, :class:`CondensedRing`,
+  :class:`CraigBamptonRing`);
+- ``_runout``: eccentricities and unbalances; ``_hunting``: per-tooth deviations and the
+  hunting period;
+- ``_analysis``: modes, mode types, Campbell diagram, mesh phasing, load sharing;
+- ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
+  :func:`planetary_mesh_modes`, the ring transducer and the order spectrum (on
+  :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with).
+"""
+
+from ._analysis import (
+    LoadSharing as LoadSharing,
+    ModeType as ModeType,
+    PlanetaryModes as PlanetaryModes,
+    campbell as campbell,
+    classify_modes as classify_modes,
+    load_sharing as load_sharing,
+    mesh_phases as mesh_phases,
+    phasing_excites as phasing_excites,
+    planetary_modes as planetary_modes,
+)
+from ._dynamics import (
+    PlanetaryDynamics as PlanetaryDynamics,
+    PlanetaryRun as PlanetaryRun,
+    order_spectrum as order_spectrum,
+    planetary_dynamics as planetary_dynamics,
+    planetary_mesh_modes as planetary_mesh_modes,
+    planetary_speed_sweep as planetary_speed_sweep,
+    ring_transducer_signal as ring_transducer_signal,
+)
+from ._hunting import (
+    DeviationMeshes as DeviationMeshes,
+    PlanetaryDeviations as PlanetaryDeviations,
+    PlanetaryTeeth as PlanetaryTeeth,
+    PlanetFlanks as PlanetFlanks,
+    planetary_hunting_periods as planetary_hunting_periods,
+)
+from ._meshes import (
+    AbstractPlanetaryMeshes as AbstractPlanetaryMeshes,
+    ConstantMeshes as ConstantMeshes,
+    ContactMeshes as ContactMeshes,
+    PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    planetary_mesh_stiffness as planetary_mesh_stiffness,
+    planetary_quasi_static as planetary_quasi_static,
+    sun_ring_offset as sun_ring_offset,
+)
+from ._ring import (
+    AbstractRingModel as AbstractRingModel,
+    CondensedRing as CondensedRing,
+    CraigBamptonRing as CraigBamptonRing,
+    RigidRing as RigidRing,
+    ring_contact_angles as ring_contact_angles,
+    ring_excitation as ring_excitation,
+    ring_resonances as ring_resonances,
+)
+from ._spatial import SpatialPlanetary as SpatialPlanetary
+from ._stage import (
+    AbstractPlanetaryModel as AbstractPlanetaryModel,
+    Central as Central,
+    Eccentricities as Eccentricities,
+    PlanarPlanetary as PlanarPlanetary,
+    PlanetaryMember as PlanetaryMember,
+    PlanetaryStage as PlanetaryStage,
+    TorsionalPlanetary as TorsionalPlanetary,
+    Unbalances as Unbalances,
+    check_assembly as check_assembly,
+    closest_planets as closest_planets,
+    max_planets as max_planets,
+    speed_ratio as speed_ratio,
+)
