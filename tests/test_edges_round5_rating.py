@@ -340,7 +340,7 @@ def test_functions_refuse_arguments_of_the_wrong_kind(rated):
         (lambda: jg.rate(geometry, op, "x"), "rate: settings = 'x' (str)"),
         (lambda: jg.rate("x", op, settings), "rate: geometry = 'x'"),
         (lambda: jg.rate(geometry, (10.0, 100.0), settings), "rate: operating = (10.0, 100.0)"),
-        (lambda: jg.load_factors(geometry, op, None), "load_factors: settings = None"),
+        (lambda: jg.rating.load_factors(geometry, op, None), "load_factors: settings = None"),
         (lambda: jg.pitting_rating(geometry, None, settings), "pitting_rating: operating = None"),
         (lambda: jg.bending_rating(geometry, op, {}), "bending_rating: settings = {}"),
         (lambda: jg.planetary_modes("planar", stage), "planetary_modes: model = 'planar'"),
@@ -400,7 +400,7 @@ def test_rating_names_the_editions_unconfirmed_factors():
                        helix_angle=beta)
     geometry, op = jg.RatingGeometry.of(pair), jg.OperatingPoint(300.0, 300.0)
     r19 = jg.rate(geometry, op, _settings())
-    r06 = jg.rate(geometry, op, _settings(edition=jg.Edition2006()))
+    r06 = jg.rate(geometry, op, _settings(edition=jg.rating.Edition2006()))
     assert (r19.method, r19.unconfirmed) == ("ISO 6336:2019 method B", ("Y_beta",))
     assert (r06.method, r06.unconfirmed) == ("ISO 6336:2006 method B", ())
     assert float(r19.bending.Y_beta / r06.bending.Y_beta) == pytest.approx(

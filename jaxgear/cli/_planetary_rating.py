@@ -21,14 +21,11 @@ import fem_prep
 from .. import (
     InternalGearPair,
     RigidRing,
-    RootStressMap,
-    ShaperCutterSection,
     internal_tooth_geometry,
     planetary_quasi_static,
-    root_stress_map,
     tooth_geometry,
-    transverse_load_factor,
 )
+from ..rating import RootStressMap, ShaperCutterSection, root_stress_map, transverse_load_factor
 from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
@@ -199,7 +196,7 @@ RING_ROOT_STRESS = "not computed (no ring cutter)"
 
 class MeshLoads(NamedTuple):
     """One planet's one mesh of the stage's quasi-static solve, with the fields of a one-mesh
-    result (what :func:`jaxgear.transverse_load_factor` and :func:`jaxgear.root_stress_map`
+    result (what :func:`jaxgear.rating.transverse_load_factor` and :func:`jaxgear.rating.root_stress_map`
     read): ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and ``cell_mask``, each of shape
     (P, n_lines, n_slices) over the positions (or a dynamic run's kept steps); s, z in the mesh
     pair's base plane (the :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the
@@ -303,7 +300,7 @@ def _planet_cells(meshes, x):
 def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
     (:func:`stage_loads`): each planet's mesh measured as a pair's
-    (:func:`jaxgear.transverse_load_factor`: the load sharing between the tooth pairs in
+    (:func:`jaxgear.rating.transverse_load_factor`: the load sharing between the tooth pairs in
     contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE`; None without
     loads."""
     if loads is None:
@@ -322,7 +319,7 @@ def section_cutter(root_section):
 
 @section_cutter.register
 def _shaper_section_cutter(root_section: ShaperCutterSection):
-    """:class:`jaxgear.ShaperCutterSection`'s cutter (z0, x0, ρ_a0/m_n): the one ISO's σ_F0 of
+    """:class:`jaxgear.rating.ShaperCutterSection`'s cutter (z0, x0, ρ_a0/m_n): the one ISO's σ_F0 of
     the ring is computed with."""
     rho = root_section.tip_radius_coeff
     return fem_prep.ShaperCutter(
@@ -375,7 +372,7 @@ def stage_root_stress(case, out: str, k: int, section: dict, loads: StageLoads,
     """Mesh ``k``'s root-stress map (0 sun/planet, 1 planet/ring) into its rating ``section``
     and ``root_stress_map_<mesh>.png`` in ``out``: the most loaded planet's cell loads of the
     stage's quasi-static solve (:func:`stage_loads`, :meth:`StageLoads.most_loaded`) times each
-    member's FE fillet stress per unit load (:func:`jaxgear.root_stress_map`,
+    member's FE fillet stress per unit load (:func:`jaxgear.rating.root_stress_map`,
     :data:`~jaxgear.cli.ROOT_STRESS_RADII` load cases per member, ``table`` by default the
     process-cached :func:`jaxgear.cli.fillet_table`), as a pair's
     (:func:`jaxgear.cli.root_stress_outputs`): ``root_stress.{max_Pa, iso_sigma_F0_Pa,
@@ -652,7 +649,7 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     mesh's root stress at speed (returned; ``rating.md`` rewritten): the loads ``at``
     (:func:`stage_at_speed`) of the planet whose mesh carries the largest force at speed
     (:meth:`StageAtSpeed.most_loaded`, per mesh kind) times each member's FE fillet stress per
-    unit load (:func:`jaxgear.root_stress_map`, the same tables as the quasi-static map,
+    unit load (:func:`jaxgear.rating.root_stress_map`, the same tables as the quasi-static map,
     ``table``), and the static map of the quasi-static solve at the same slices and travels
     (its most loaded planet). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
     (:func:`jaxgear.cli.at_speed_sections`: ``speed_rad_s`` (the input's), ``max_Pa``,

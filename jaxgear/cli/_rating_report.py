@@ -13,15 +13,7 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import (
-    GivenFactors,
-    face_load_factor,
-    quasi_static,
-    root_stress_map,
-    tooth_geometry,
-    transverse_factor_limits,
-    transverse_load_factor,
-)
+from .. import GivenFactors, quasi_static, tooth_geometry
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -34,6 +26,12 @@ from ..io import (
     ratings_of,
     spec_integrator,
     spec_window,
+)
+from ..rating import (
+    face_load_factor,
+    root_stress_map,
+    transverse_factor_limits,
+    transverse_load_factor,
 )
 from ._plots import root_stress_plot
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
@@ -281,8 +279,8 @@ def rating_outputs(
     Args:
         result: a pair's quasi-static result of its rigid mesh, or a train's tuple of one per
             mesh (each mesh alone: :func:`train_mesh_results`), for the sections' ``measured``
-            factors (K_Hβ: :func:`jaxgear.face_load_factor`, K_Hα:
-            :func:`jaxgear.transverse_load_factor`); reported beside the ISO/given ones, and
+            factors (K_Hβ: :func:`jaxgear.rating.face_load_factor`, K_Hα:
+            :func:`jaxgear.rating.transverse_load_factor`); reported beside the ISO/given ones, and
             rated with in their place when ``[rating] use_measured`` names them (the factors'
             source then "measured").
         root_stress: with ``result``, a table of the FE fillet stress per unit load
@@ -510,7 +508,7 @@ def root_stress_outputs(
     """The root-stress map of a one-mesh case with ``[rating]`` (``section``: its
     :func:`rating_outputs` section, completed here): each cell's load of ``result`` (the rigid
     mesh's quasi-static result at the case torque) times the plane FE tooth's fillet stress per
-    unit load at the cell's position (:func:`jaxgear.root_stress_map`,
+    unit load at the cell's position (:func:`jaxgear.rating.root_stress_map`,
     :data:`ROOT_STRESS_RADII` load cases per member, cached per tooth form by
     :func:`fillet_table`). Adds ``section["root_stress"]``: ``max_Pa`` (the largest root stress
     of each gear over the passage, [pinion, gear]), ``iso_sigma_F0_Pa`` (ISO 6336-3's nominal
@@ -583,7 +581,7 @@ def at_speed_sections(
     ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run
     ``run`` (one speed, ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps
     times the plane FE
-    fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
+    fillet stress per unit load (:func:`jaxgear.rating.root_stress_map`, ``table`` as
     :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh
     at the same ``slices`` (exact contact, its modifications, its driving gear's torque:
     :meth:`jaxgear.io.Case.mesh_case`). Adds ``root_stress.at_speed`` to each mesh's section:

@@ -17,8 +17,9 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import Edition2006, Edition2019, GivenFactors, PairTreatment, factor_clause, rate
+from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating
+from ..rating import Edition2006, Edition2019, factor_clause
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -85,7 +86,7 @@ def _printed(v) -> str:
 # ------------------------------------------------------------------------------------------
 # the edition
 
-#: what each factor an edition leaves unconfirmed (:attr:`jaxgear.AbstractEdition.unconfirmed`)
+#: what each factor an edition leaves unconfirmed (:attr:`jaxgear.rating.AbstractEdition.unconfirmed`)
 #: stands for, as the report prints it
 _UNCONFIRMED_WHY = {
     "Y_beta": "Y_β (ISO 6336-3:2019, helix angle factor): the 1/cos³β term of the 2019 edition "
@@ -96,7 +97,7 @@ _UNCONFIRMED_WHY = {
 
 def unconfirmed_factors(method: str) -> list[str]:
     """The factors of the edition ``method`` (:attr:`jaxgear.Rating.method`) whose formula no
-    published worked example confirms (the edition's :attr:`~jaxgear.AbstractEdition.unconfirmed`,
+    published worked example confirms (the edition's :attr:`~jaxgear.rating.AbstractEdition.unconfirmed`,
     the same tuple :attr:`jaxgear.Rating.unconfirmed` carries), one line each (empty: all
     confirmed)."""
     edition = next((e for e in (Edition2006, Edition2019) if e.label == method), None)
@@ -115,7 +116,7 @@ _WITHIN = {"sigma_H0": "sigma_H", "sigma_HG": "sigma_HP", "sigma_F0": "sigma_F",
 
 def reference(key: str, method: str) -> str:
     """The ISO 6336 reference of a row: part, edition and clause of ``key`` in the edition
-    ``method`` (:func:`jaxgear.factor_clause`); where this edition's clause was not checked,
+    ``method`` (:func:`jaxgear.rating.factor_clause`); where this edition's clause was not checked,
     the other edition's clause labelled with its year ("ISO 6336-2:2019 (2006 ed. 6.1)"); a
     quantity defined in another's formula ("σ_H0" in σ_H's) names that clause ("in 5.3")."""
     key = key.removesuffix("_sqrt_Pa").removesuffix("_Pa")
@@ -175,7 +176,7 @@ def _treatment_name(t) -> str:
 
 def _rated(inputs: ReportInputs, section: dict):
     """The rating of the section again (its given and measured factors given), for the
-    intermediate values of K_v and K_Hβ (:attr:`jaxgear.LoadFactors.details`)."""
+    intermediate values of K_v and K_Hβ (:attr:`jaxgear.rating.LoadFactors.details`)."""
     settings = inputs.rc.settings if inputs.settings is None else inputs.settings
     given = {k: float(f["value"]) for k, f in section["factors"].items()
              if k != "K_A" and f["source"] != ISO_SOURCE}

@@ -11,10 +11,10 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ._rating_geometry import RatingGeometry
-from ._rating_internal import InternalRatingGeometry
-from ._rating_settings import OperatingPoint, RatingSettings
-from ._util import as_float, check_instance
+from ._geometry import RatingGeometry
+from ._internal import InternalRatingGeometry
+from ._settings import OperatingPoint, RatingSettings
+from .._util import as_float, check_instance
 
 __all__ = [
     "LoadFactors",

@@ -14,10 +14,10 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._deviations import iso1328_tolerances
-from ._geometry import GearPair
-from ._rating_material import AbstractTreatment, CaseHardened
-from ._util import as_float, check_instance, check_real
+from .._deviations import iso1328_tolerances
+from .._geometry import GearPair
+from ._material import AbstractTreatment, CaseHardened
+from .._util import as_float, check_instance, check_real
 
 __all__ = [
     "FACTOR_CLAUSES",
@@ -218,11 +218,11 @@ class AbstractEdition(eqx.Module):
     label: eqx.AbstractClassVar[str]
     #: the factors whose formula in this edition no published worked example confirms (the
     #: attribute names of :class:`jaxgear.PittingRating`, :class:`jaxgear.BendingRating` and
-    #: :class:`jaxgear.LoadFactors`; empty where every factor was checked against one):
+    #: :class:`jaxgear.rating.LoadFactors`; empty where every factor was checked against one):
     #: :attr:`jaxgear.Rating.unconfirmed` carries them to the result and its report
     unconfirmed: eqx.AbstractClassVar[tuple[str, ...]]
     #: where each factor and stress of the rating is defined in this edition: symbol (the
-    #: attribute names of :class:`jaxgear.LoadFactors`, :class:`jaxgear.PittingRating`,
+    #: attribute names of :class:`jaxgear.rating.LoadFactors`, :class:`jaxgear.PittingRating`,
     #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
     #: 6.2", or the part alone where the clause could not be checked (:func:`factor_clause`)
     clauses: eqx.AbstractClassVar[dict[str, str]]
@@ -283,7 +283,7 @@ _CLAUSES_2_2006 = {
 # ISO 6336-1:2019's clauses of the load factors: "5 Application factor K_A" and "6 Internal
 # dynamic factor K_v" as its text numbers them, 7 (face load factors K_Hβ, K_Fβ) and 8
 # (transverse load factors K_Hα, K_Fα) as the clauses jaxgear's formulas are written from
-# (jaxgear._rating_factors).
+# (jaxgear.rating's load factors).
 _CLAUSES_1_2019 = {
     "K_A": "5", "K_v": "6", "K_Hbeta": "7", "K_Fbeta": "7", "K_Halpha": "8", "K_Falpha": "8",
 }
@@ -349,7 +349,7 @@ def factor_clause(symbol: str, edition: str) -> str:
     against the standard's contents; :attr:`AbstractEdition.clauses`).
 
     Args:
-        symbol: an attribute name of :class:`jaxgear.LoadFactors`,
+        symbol: an attribute name of :class:`jaxgear.rating.LoadFactors`,
             :class:`jaxgear.PittingRating` or :class:`jaxgear.BendingRating` (``"Y_F"``,
             ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa`` suffix is
             dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
@@ -463,7 +463,7 @@ class RatingSettings(eqx.Module):
             ("lubrication", Lubrication, "a jaxgear.Lubrication"),
             ("accuracy", GearAccuracy, "a jaxgear.GearAccuracy (e.g. GearAccuracy.from_grade)"),
             ("given", GivenFactors, "a jaxgear.GivenFactors"),
-            ("edition", AbstractEdition, "jaxgear.Edition2019() or jaxgear.Edition2006()"),
+            ("edition", AbstractEdition, "jaxgear.rating.Edition2019() or jaxgear.rating.Edition2006()"),
             ("loading", ToothLoading, "a jaxgear.ToothLoading"),
         ):
             check_instance(name, getattr(self, name), kind, allowed, w)

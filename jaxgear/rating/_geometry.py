@@ -18,9 +18,9 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._geometry import GearPair
-from ._rating_bending import ToothFormFactors, _inv, member_form
-from ._util import as_float, check_instance
+from .._geometry import GearPair
+from ._bending import ToothFormFactors, _inv, member_form
+from .._util import as_float, check_instance
 
 __all__ = ["RatingGeometry", "inverse_involute_jnp"]
 
@@ -142,7 +142,7 @@ class RatingGeometry(eqx.Module):
     # -- what the rating asks of a pair (jaxgear.InternalRatingGeometry answers the same) ------
 
     def form_factors(self) -> ToothFormFactors:
-        """Y_F, Y_S and the root sections of both members (:func:`jaxgear.tooth_form_factors`)."""
+        """Y_F, Y_S and the root sections of both members (:func:`jaxgear.rating.tooth_form_factors`)."""
         g = self.derived()
         z = jnp.asarray(self.teeth, dtype=self.normal_module.dtype)
         mn = self.normal_module

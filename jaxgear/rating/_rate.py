@@ -11,7 +11,7 @@ Pitting (ISO 6336-2:2019)::
     σ_H  = Z_B,D σ_H0 √(K_A K_v K_Hβ K_Hα)                       (pinion Z_B, gear Z_D)
     σ_HG = σ_Hlim Z_NT Z_L Z_v Z_R Z_W Z_X,  σ_HP = σ_HG / S_Hmin,  S_H = σ_HG / σ_H
 
-Bending (ISO 6336-3:2019; Y_F, Y_S: :func:`jaxgear.tooth_form_factors`)::
+Bending (ISO 6336-3:2019; Y_F, Y_S: :func:`jaxgear.rating.tooth_form_factors`)::
 
     σ_F0 = F_t / (b m_n) Y_F Y_S Y_β Y_B Y_DT,   σ_F = σ_F0 K_A K_v K_Fβ K_Fα
     σ_FG = σ_Flim Y_ST Y_NT Y_δrelT Y_RrelT Y_X Y_M,  σ_FP = σ_FG / S_Fmin,  S_F = σ_FG / σ_F
@@ -31,17 +31,17 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ._rating_bending import ToothFormFactors
-from ._rating_factors import (
+from ._bending import ToothFormFactors
+from ._factors import (
     LoadFactors,
     _contact_ratio_factor,
     _tangential_load,
     check_rating_arguments,
     load_factors,
 )
-from ._rating_geometry import RatingGeometry
-from ._rating_settings import OperatingPoint, RatingSettings, factor_clause
-from ._util import as_float
+from ._geometry import RatingGeometry
+from ._settings import OperatingPoint, RatingSettings, factor_clause
+from .._util import as_float
 
 __all__ = ["BendingRating", "PittingRating", "Rating", "bending_rating", "pitting_rating", "rate"]
 
@@ -78,7 +78,7 @@ class BendingRating(eqx.Module):
     """ISO 6336-3 results, per gear (2,): Y_F, Y_S, Y_B, Y_NT, Y_delta_rel_T, Y_R_rel_T, Y_X,
     Y_M (mean stress influence factor, :class:`jaxgear.ToothLoading`), sigma_F0, sigma_F,
     sigma_FG, sigma_FP (Pa), S_F; scalars Y_beta, Y_DT, Y_ST; ``form`` the
-    :class:`jaxgear.ToothFormFactors`."""
+    :class:`jaxgear.rating.ToothFormFactors`."""
 
     Y_F: Array
     Y_S: Array
@@ -109,14 +109,14 @@ class Rating(eqx.Module):
     bending: BendingRating
     method: str = eqx.field(static=True, default=METHOD)
     #: the factors whose formula in this edition (:attr:`method`) no published worked example
-    #: confirms (:attr:`jaxgear.AbstractEdition.unconfirmed`: ``("Y_beta",)`` for
-    #: :class:`jaxgear.Edition2019`, ``()`` for :class:`jaxgear.Edition2006`), attribute names
+    #: confirms (:attr:`jaxgear.rating.AbstractEdition.unconfirmed`: ``("Y_beta",)`` for
+    #: :class:`jaxgear.rating.Edition2019`, ``()`` for :class:`jaxgear.rating.Edition2006`), attribute names
     #: of :attr:`pitting`, :attr:`bending` and :attr:`factors`, for the report to state
     unconfirmed: tuple[str, ...] = eqx.field(static=True, default=())
 
     def scope_notes(self) -> list[str]:
         """Where the inputs leave the standard's scope, one line each naming the part, edition and
-        (where checked, :func:`jaxgear.factor_clause`) clause, e.g. "ISO 6336-3:2006 9.2 rim
+        (where checked, :func:`jaxgear.rating.factor_clause`) clause, e.g. "ISO 6336-3:2006 9.2 rim
         thickness factor Y_B: ..." (empty when none): Y_S's 1 <= q_s < 8 (ISO 6336-3, stress
         correction factor), K_v's main
         resonance range 0.85 < N < 1.15 (ISO 6336-1, dynamic factor; noted whether K_v is
@@ -313,8 +313,8 @@ def bending_rating(
 ) -> BendingRating:
     """ISO 6336-3:2019 method B at the operating point (module docstring).
 
-    Y_β of the settings' edition (:class:`jaxgear.Edition2019`: (1 − ε_β β/120°)/cos³ β,
-    :class:`jaxgear.Edition2006`: 1 − ε_β β/120°; ε_β <= 1, β <= 30°);
+    Y_β of the settings' edition (:class:`jaxgear.rating.Edition2019`: (1 − ε_β β/120°)/cos³ β,
+    :class:`jaxgear.rating.Edition2006`: 1 − ε_β β/120°; ε_β <= 1, β <= 30°);
     Y_DT = 1 but for flank tolerance classes <= 4 with ε_αn > 2.05 (deep tooth factor);
     Y_δrelT = (1 + √(ρ' χ*))/(1 + √(ρ' χ*_T)), χ* = (1 + 2 q_s)/5 mm⁻¹, χ*_T = 1.2 mm⁻¹
     (method B); Y_RrelT, Y_X and Y_NT from the material's treatment; the face width
@@ -377,7 +377,7 @@ def rate(geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSe
     """The whole rating: :func:`load_factors`, :func:`pitting_rating`, :func:`bending_rating`
     at one operating point (a pair's geometry: ``RatingGeometry.of(pair)``; an internal pair's
     ``InternalRatingGeometry.of(pair)``, member 0 the pinion, member 1 the internal gear, with
-    the standard's internal-gear rules, :mod:`jaxgear._rating_internal`). Pure and jit-able
+    the standard's internal-gear rules, :class:`jaxgear.rating.InternalRatingGeometry`). Pure and jit-able
     (``eqx.filter_jit``); differentiable with respect to the array fields of the geometry, the
     operating point and the settings."""
     check_rating_arguments("rate", geometry, operating, settings)

@@ -20,7 +20,7 @@ Internal-gear rules:
   (one base pitch below its tip), the same relative-curvature ratio as the external M₁, here
   with ρ2 = ρ1 + a_w sin α_wt; Z_D = 1 for the internal gear (ISO 6336-2, single pair tooth
   contact factors: "for internal gears Z_D = 1").
-* The pinion's Y_F, Y_S: the external method B (:func:`jaxgear.member_form`) with the internal
+* The pinion's Y_F, Y_S: the external method B (:func:`jaxgear.rating.member_form`) with the internal
   pair's ε_α (the load at the pinion's outer point of single contact of this mesh).
 * The internal gear's Y_F, Y_S (ISO 6336-3, method B, internal gears): the critical section
   where the fillet's tangent makes 60° with the tooth centre line (30° for external teeth); its
@@ -57,17 +57,17 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._internal import InternalGearPair
-from ._rating_bending import ToothFormFactors, _inv, member_form, section_factors
-from ._rating_geometry import (
+from .._internal import InternalGearPair
+from ._bending import ToothFormFactors, _inv, member_form, section_factors
+from ._geometry import (
     Derived,
     inverse_involute_jnp,
     pair_derived,
     pair_fields,
     replace_fields,
 )
-from ._results import CutterResult
-from ._util import as_float, check_instance, check_integer, check_real, is_traced
+from .._results import CutterResult
+from .._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
     "AbstractRootSection",

@@ -1,0 +1,64 @@
+"""Load capacity: ISO 6336 method B ratings of external and internal pairs.
+
+One rating at an operating point: :func:`rate` (load factors, pitting, bending) of a pair's
+rating geometry (:class:`RatingGeometry`, :class:`InternalRatingGeometry`) under
+:class:`RatingSettings` (material, lubrication, accuracy, life, the edition). The tooth form
+factors (ISO 6336-3), the load factors (ISO 6336-1, with K_Hβ and K_Hα from a contact solution)
+and the finite-element root-stress map live here too. What a user reaches for first (``rate``,
+``pitting_rating``, ``bending_rating``, the results, the settings and material classes, the
+geometries) is re-exported at :mod:`jaxgear`'s top level; the rest is reached as
+``jaxgear.rating.X``.
+"""
+
+from ._bending import (
+    ToothFormFactors as ToothFormFactors,
+    member_form as member_form,
+    section_factors as section_factors,
+    tooth_form_factors as tooth_form_factors,
+)
+from ._factors import (
+    LoadFactors as LoadFactors,
+    face_load_factor as face_load_factor,
+    load_factors as load_factors,
+    transverse_factor_limits as transverse_factor_limits,
+    transverse_load_factor as transverse_load_factor,
+)
+from ._geometry import RatingGeometry as RatingGeometry
+from ._internal import (
+    AbstractRootSection as AbstractRootSection,
+    GivenRootSection as GivenRootSection,
+    InternalRatingGeometry as InternalRatingGeometry,
+    ShaperCutterSection as ShaperCutterSection,
+    SubstituteRack as SubstituteRack,
+)
+from ._material import (
+    AbstractTreatment as AbstractTreatment,
+    CaseHardened as CaseHardened,
+    Nitrided as Nitrided,
+    PairTreatment as PairTreatment,
+    ThroughHardened as ThroughHardened,
+)
+from ._rate import (
+    BendingRating as BendingRating,
+    PittingRating as PittingRating,
+    Rating as Rating,
+    bending_rating as bending_rating,
+    pitting_rating as pitting_rating,
+    rate as rate,
+)
+from ._root_stress import RootStressMap as RootStressMap, root_stress_map as root_stress_map
+from ._settings import (
+    FACTOR_CLAUSES as FACTOR_CLAUSES,
+    RATING_RANGES as RATING_RANGES,
+    AbstractEdition as AbstractEdition,
+    Edition2006 as Edition2006,
+    Edition2019 as Edition2019,
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    Lubrication as Lubrication,
+    OperatingPoint as OperatingPoint,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
+    ToothLoading as ToothLoading,
+    factor_clause as factor_clause,
+)
