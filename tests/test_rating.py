@@ -336,7 +336,7 @@ def test_rim_thickness_factor_of_a_thin_rimmed_gear():
     assert "ISO 6336-3:2019 rim thickness factor Y_B: gear rim s_R/h_t = 0.4 is outside" in note
     # the 2006 edition's notes name the clause its table of contents gives (9.2)
     old = eqx.tree_at(lambda r: r.bending.Y_B, rating, y_b_04)
-    old = dataclasses.replace(old, method=jg.rating.Edition2006.label)
+    old = dataclasses.replace(old, standard=jg.rating.Edition2006())
     (note,) = old.scope_notes()
     assert note.startswith("ISO 6336-3:2006 9.2 rim thickness factor Y_B: gear rim"), note
 

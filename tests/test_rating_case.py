@@ -82,9 +82,9 @@ def test_case_rating_is_the_api_rating():
     assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
     assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
     assert float(rc.geometry.center_distance) == pytest.approx(0.5)
-    assert isinstance(rc.settings.edition, jg.rating.Edition2019)  # the default
+    assert isinstance(rc.settings.standard, jg.rating.Edition2019)  # the default
     old = jio.rating_of(jio.parse_case(_case(**{"rating/edition": 2006})))
-    assert isinstance(old.settings.edition, jg.rating.Edition2006)
+    assert isinstance(old.settings.standard, jg.rating.Edition2006)
 
 
 def test_case_without_rating_has_none():

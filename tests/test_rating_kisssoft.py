@@ -61,7 +61,7 @@ def _stage_03():
         given=jg.GivenFactors(K_v=1.092, K_Hbeta=1.15, K_Halpha=1.069, K_Falpha=1.069),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.rating.Edition2006(),
+        standard=jg.rating.Edition2006(),
     )
     return pair, settings, jg.OperatingPoint(40953.0, 1165.9 * RPM)
 
@@ -145,7 +145,7 @@ def test_2019_edition_differs_from_2006_by_the_helix_factor_alone():
     pair, settings, op = _stage_03()
     geometry = jg.RatingGeometry.of(pair)
     old = RATE(geometry, op, settings)
-    new = RATE(geometry, op, eqx.tree_at(lambda s: s.edition, settings, jg.rating.Edition2019()))
+    new = RATE(geometry, op, eqx.tree_at(lambda s: s.standard, settings, jg.rating.Edition2019()))
     ratio = 1 / math.cos(math.radians(10.0)) ** 3
     np.testing.assert_allclose(new.bending.sigma_F0 / old.bending.sigma_F0, ratio, rtol=1e-12)
     np.testing.assert_allclose(new.bending.S_F * ratio, old.bending.S_F, rtol=1e-12)
@@ -322,7 +322,7 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
         given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.rating.Edition2006(),
+        standard=jg.rating.Edition2006(),
         loading=jg.ToothLoading((3.0, 1.0), (1.0, 0.7)),
     )
     n_sun = 5000e3 / t_sun / RPM  # 1/min, from P = T ω
@@ -437,7 +437,7 @@ def ring_mesh_rating(z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section)
         given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.rating.Edition2006(),
+        standard=jg.rating.Edition2006(),
         loading=jg.ToothLoading((1.0, 3.0), (0.7, 1.0)),
     )
     n_sun = 5000e3 / t_sun / RPM

@@ -25,7 +25,14 @@ from .. import (
     planetary_quasi_static,
     tooth_geometry,
 )
-from ..rating import RootStressMap, ShaperCutterSection, root_stress_map, transverse_load_factor
+from ..rating import (
+    RootStressMap,
+    ShaperCutterSection,
+    planet_dynamic_factor,
+    planet_transverse_factor,
+    root_stress_map,
+    with_load_sharing,
+)
 from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
@@ -160,10 +167,8 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
         cause = {"comparable": comparable, "note": note}
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
-        f = np.abs(np.asarray(sharing[name][key], dtype=float))
-        share = f / f.mean()
-        value = max(float(np.interp(speed, speeds, curves[kind * n + j])) / share[j]
-                    for j in range(n) if share[j] > 0)
+        per_planet = np.stack(curves[kind * n:(kind + 1) * n], axis=1)  # (speeds, planets)
+        value = planet_dynamic_factor(speeds, per_planet, speed, sharing[name][key])
         out.append({"value": value, "source": source, **cause})
     return out
 
@@ -306,8 +311,7 @@ def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     if loads is None:
         return None
     source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))
-    return [{"value": max(float(transverse_load_factor(m)) for m in kind), "source": source}
-            for kind in loads.meshes]
+    return [{"value": planet_transverse_factor(kind), "source": source} for kind in loads.meshes]
 
 
 @functools.singledispatch
@@ -465,9 +469,8 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         given = rc.k_gamma is not None
         kg = float(rc.k_gamma) if given else float(k_gamma)
         k_a = float(rc.settings.application_factor)
-        # K_γ multiplies the load as K_A does (ISO 6336-1: F_t K_A K_γ in every load factor
-        # and stress; σ_H0, σ_F0 at the nominal F_t of one planet path)
-        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, k_a * kg)
+        # K_γ multiplies the load as K_A does (jaxgear.rating.with_load_sharing)
+        settings = with_load_sharing(rc.settings, kg)
         rating = RATE(rc.geometry, rc.operating, settings)
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
@@ -508,8 +511,7 @@ def stage_rating_lines(case, sections: list[dict]) -> list[str]:
     for k, section in enumerate(sections):
         kg = section["K_gamma"]["value"]
         rc = rcs[k]
-        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings,
-                               float(rc.settings.application_factor) * kg)
+        settings = with_load_sharing(rc.settings, kg)
         lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##",
                               inputs=inputs_of(case, k, rc, settings))
     return lines

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import GivenFactors, quasi_static, tooth_geometry
+from .. import quasi_static, tooth_geometry
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -28,10 +28,11 @@ from ..io import (
     spec_window,
 )
 from ..rating import (
+    dynamic_factor_at,
     face_load_factor,
     root_stress_map,
-    transverse_factor_limits,
     transverse_load_factor,
+    with_measured,
 )
 from ._plots import root_stress_plot
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
@@ -191,11 +192,6 @@ def train_loads(case: Case, result) -> ModelLoads:
     return ModelLoads(tuple(result.meshes), f"coupled train: {what}")
 
 
-#: the given factors a measured one stands for (ISO 6336-1 method B: K_Fα = K_Hα; K_Fβ
-#: follows from K_Hβ as ISO's, K_Hβ^N_F)
-_STANDS_FOR = {"K_Hbeta": ("K_Hbeta",), "K_Halpha": ("K_Halpha", "K_Falpha"), "K_v": ("K_v",)}
-
-
 def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     """The section rated again with the measured factors ``rc.use_measured`` names that
     ``section["measured"]`` holds in place of ISO's (their source "measured"); the section's
@@ -206,17 +202,12 @@ def rated_with_measured(rc: RatingCase, section: dict) -> dict:
     use = {n: measured[n]["value"] for n in rc.use_measured if n in measured}
     if not use:
         return section
-    given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
-    for name, value in use.items():  # ISO's factors are >= 1 (GivenFactors refuses less)
-        given.update(dict.fromkeys(_STANDS_FOR[name], max(value, 1.0)))
-    # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given one is rated as given
-    limits = dict(zip(("K_Halpha", "K_Falpha"), transverse_factor_limits(rc.geometry)))
-    for key in limits.keys() & {f for name in use for f in _STANDS_FOR[name]}:
-        given[key] = min(given[key], float(limits[key]))
-    settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
+    # the model's settings with them given (jaxgear.rating.with_measured: as the standard ties
+    # them, ISO's K_Fα = K_Hα within its limits); the factors they set are sourced "measured"
+    settings = with_measured(rc.geometry, rc.settings, use)
     out = RATE(rc.geometry, rc.operating, settings).summary()
     for name in use:
-        for f in _STANDS_FOR[name]:
+        for f in rc.settings.standard.measured_factors(name):
             out["factors"][f]["source"] = USED
     return section | out
 
@@ -394,7 +385,7 @@ def measured_dynamic_factor(
             f"interpolated at {speed:.4g} rad/s"
             + (f" of the input (mesh {label}'s dynamic factor)" if label else "")
         )
-        value = float(np.interp(speed, speeds, curve))
+        value = dynamic_factor_at(speeds, curve, speed)
         rc = rcs[k]
         n = float(RATE(rc.geometry, rc.operating, rc.settings).factors.details["resonance_ratio_N"])
         mesh_hz = rc.geometry.teeth[0] * float(rc.operating.speed) / (2 * np.pi)

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating
-from ..rating import Edition2006, Edition2019, factor_clause
+from ..rating import FACTOR_CLAUSES, Edition2006, Edition2019, factor_clause
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -31,6 +31,7 @@ __all__ = [
     "number",
     "rating_lines",
     "reference",
+    "standard_lines",
     "sweep_excitation",
     "unconfirmed_factors",
     "verdict",
@@ -510,8 +511,14 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     factors, pitting and bending, S_H and S_F against S_Hmin and S_Fmin with their verdicts, the
     measured factors with their causes, the FE root stress; the published report's values in a
     column where ``inputs.published`` has them. Every row of the rating's tables names its ISO
-    6336 part, edition and clause (:func:`reference`)."""
+    6336 part, edition and clause (:func:`reference`). A section of another standard than
+    ISO 6336's editions (:class:`jaxgear.rating.AbstractRatingStandard`): its values as its
+    summary gives them (:func:`standard_lines`)."""
     method = section["method"]
+    if method not in FACTOR_CLAUSES:
+        settings = None if inputs is None else (
+            inputs.rc.settings if inputs.settings is None else inputs.settings)
+        return standard_lines(section, case_name, heading, settings)
     h = heading  # each table's heading one level below the title's
     out = [f"{heading} {case_name}: load capacity, {method}", ""]
     out.append(f"Edition: ISO 6336-1, -2 and -3:{_year(method)}, method B (strength numbers of "
@@ -584,6 +591,49 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
                 f"{verdict(p['S_H'], s_h)} | {reference('S_H', method)} |",
                 f"| S_F | {_values(b['S_F'])} | S_Fmin = {number(s_f)} | "
                 f"{verdict(b['S_F'], s_f)} | {reference('S_F', method)} |", ""]
+    out += _measured_lines(section, h)
+    out += _root_stress_lines(section, h)
+    return out
+
+
+def _generic_rows(values: dict) -> list[str]:
+    """A summary table's rows as they are: its key (a stress's ``_Pa`` in N/mm²), its values."""
+    out = []
+    for key, v in values.items():
+        if key.endswith("_Pa"):
+            out.append(f"| {key.removesuffix('_Pa')} | {_values(v, 1e-6)} | N/mm² |")
+        else:
+            out.append(f"| {key} | {_values(v)} |  |")
+    return out
+
+
+def standard_lines(section: dict, case_name: str, heading: str = "#",
+                   settings=None) -> list[str]:
+    """``rating.md`` of one mesh's ``section`` rated to a standard other than ISO 6336's
+    editions (:class:`jaxgear.rating.AbstractRatingStandard`, its
+    :meth:`~jaxgear.rating.AbstractRatingStandard.summary`): the load factors with their
+    sources, the pitting and bending values as the standard names them (stresses in N/mm²),
+    S_H and S_F against the settings' minimums with their verdicts (with ``settings``), the
+    measured factors and the FE root stress."""
+    h = heading
+    out = [f"{heading} {case_name}: load capacity, {section['method']}", "",
+           "Per-gear values as pinion / gear; stresses in N/mm² (summary.json: Pa); four "
+           "significant digits; each value as the standard's summary names it.", ""]
+    out += [f"{h}# Load factors", "", "| symbol | value | source |", "|---|---|---|"]
+    out += [f"| {SYMBOLS.get(k, k)} | {number(f['value'])} | {_source(f['source'])} |"
+            for k, f in section["factors"].items()] + [""]
+    for title, key in (("Pitting", "pitting"), ("Bending", "bending")):
+        out += [f"{h}# {title}", "", "| quantity | value | unit |", "|---|---|---|"]
+        out += _generic_rows(section[key]) + [""]
+    if settings is not None:
+        p, b = section["pitting"], section["bending"]
+        s_h, s_f = float(settings.min_safety_pitting), float(settings.min_safety_bending)
+        out += [f"{h}# Safety against the required minimum", "",
+                "| safety factor | value | required minimum | verdict |", "|---|---|---|---|",
+                f"| S_H | {_values(p['S_H'])} | S_Hmin = {number(s_h)} | "
+                f"{verdict(p['S_H'], s_h)} |",
+                f"| S_F | {_values(b['S_F'])} | S_Fmin = {number(s_f)} | "
+                f"{verdict(b['S_F'], s_f)} |", ""]
     out += _measured_lines(section, h)
     out += _root_stress_lines(section, h)
     return out

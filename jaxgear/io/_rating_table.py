@@ -85,7 +85,8 @@ from .. import (
     RatingSettings,
     ToothLoading,
 )
-from ..rating import Edition2006, Edition2019, ShaperCutterSection
+from .._util import check_instance
+from ..rating import AbstractRatingStandard, Edition2006, Edition2019, ShaperCutterSection
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
@@ -285,7 +286,7 @@ def _mesh_rating(
         tip_relief=inputs["tip_relief_m"],
         min_safety_pitting=s_hmin,
         min_safety_bending=s_fmin,
-        edition=EDITIONS[year](),
+        standard=EDITIONS[year](),
         crowning=inputs["crowning_m"],
     )
     torque = sc.number(op, "torque_Nm", "operating")
@@ -660,7 +661,18 @@ def _(form: PlanetaryForm, case) -> tuple:
 
 def ratings_of(case) -> tuple[RatingCase, ...] | None:
     """Each mesh's :class:`RatingCase` of a case with ``[rating]`` (a pair: one; a train: one
-    per mesh, in the order of its meshes), ``None`` without one."""
+    per mesh, in the order of its meshes), ``None`` without one; each rated to the case's
+    :attr:`~jaxgear.io.Case.rating_standard` where it gives one (an object,
+    :class:`jaxgear.rating.AbstractRatingStandard`), else to the ``[rating] edition``'s."""
     if "rating" not in case.raw:
         return None
-    return _ratings(case.form, case)
+    rcs = _ratings(case.form, case)
+    standard = case.rating_standard
+    if standard is None:
+        return rcs
+    check_instance("rating_standard", standard, AbstractRatingStandard,
+                   "a jaxgear.rating.AbstractRatingStandard", "ratings_of")
+    return tuple(
+        dataclasses.replace(rc, settings=eqx.tree_at(lambda s: s.standard, rc.settings, standard))
+        for rc in rcs
+    )
