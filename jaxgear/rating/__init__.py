@@ -28,7 +28,10 @@ from ._factors import (
     transverse_factor_limits as transverse_factor_limits,
     transverse_load_factor as transverse_load_factor,
 )
-from ._geometry import RatingGeometry as RatingGeometry
+from ._geometry import (
+    AbstractRatingGeometry as AbstractRatingGeometry,
+    RatingGeometry as RatingGeometry,
+)
 from ._internal import (
     AbstractRootSection as AbstractRootSection,
     GivenRootSection as GivenRootSection,

@@ -9,8 +9,7 @@ import equinox as eqx
 
 from .._util import check_instance
 from ._factors import LoadFactors
-from ._geometry import RatingGeometry
-from ._internal import InternalRatingGeometry
+from ._geometry import AbstractRatingGeometry
 from ._settings import OperatingPoint, RatingSettings
 from ._standard import AbstractRatingStandard
 
@@ -66,10 +65,11 @@ class Rating(eqx.Module):
 
 def check_rating_arguments(where: str, geometry, operating, settings) -> None:
     """Refuse, in one ``ValueError`` line naming the argument, a rating's ``geometry`` that is
-    not a :class:`jaxgear.RatingGeometry` (or :class:`jaxgear.InternalRatingGeometry`), an
+    not a :class:`jaxgear.rating.AbstractRatingGeometry` (:class:`jaxgear.RatingGeometry`,
+    :class:`jaxgear.InternalRatingGeometry`), an
     ``operating`` point that is not an :class:`jaxgear.OperatingPoint` or ``settings`` that are
     not :class:`jaxgear.RatingSettings` (before any of their fields is read)."""
-    check_instance("geometry", geometry, (RatingGeometry, InternalRatingGeometry),
+    check_instance("geometry", geometry, AbstractRatingGeometry,
                    "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry", where)
     check_instance("operating", operating, OperatingPoint,
                    "a jaxgear.OperatingPoint(torque, speed)", where)
