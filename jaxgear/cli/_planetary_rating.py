@@ -41,7 +41,7 @@ from ._rating_report import (
     ROOT_STRESS_RADII,
     _mesh_curves,
     _pick,
-    rated_with_measured,
+    measured_rating,
     stacked_meshes,
     write_rating_md,
 )
@@ -464,7 +464,7 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "stage's meshes (K_Halpha of a stage given by its gears, K_Hbeta of a helical stage "
             "on its axial and tilting supports, K_v by jaxgear run's speed sweep): rated with "
             "ISO's", CaseWarning, stacklevel=2)
-    sections = []
+    sections, ratings = [], []
     for k, (name, rc) in enumerate(zip(names, rcs, strict=True)):
         given = rc.k_gamma is not None
         kg = float(rc.k_gamma) if given else float(k_gamma)
@@ -478,7 +478,8 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         section["modification_inputs"] = modification_inputs(rc, rating)
         if measured:
             section["measured"] = {key: v[k] for key, v in measured.items()}
-            section = rated_with_measured(dataclasses.replace(rc, settings=settings), section)
+            section, rating = measured_rating(dataclasses.replace(rc, settings=settings), section,
+                                              rating)
         if loads is not None:
             stage_root_stress(case, out, k, section, loads, table)
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
@@ -488,13 +489,15 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }
         sections.append(section)
-    write_rating_md(out, stage_rating_lines(case, sections))
+        ratings.append(rating)
+    write_rating_md(out, stage_rating_lines(case, sections, ratings))
     return stacked_meshes(names, sections)
 
 
-def stage_rating_lines(case, sections: list[dict]) -> list[str]:
+def stage_rating_lines(case, sections: list[dict], ratings=None) -> list[str]:
     """``rating.md`` of a planetary stage: one table per mesh of its ``sections`` (each mesh's
-    own rating section, :func:`rating_section`'s before stacking), with its K_γ row."""
+    own rating section, :func:`rating_section`'s before stacking), with its K_γ row;
+    ``ratings``: each section's :class:`jaxgear.Rating` (None: rated again for the report)."""
     lines = [
         f"# {case.name}: load capacity of every mesh of the planetary stage",
         "",
@@ -512,8 +515,9 @@ def stage_rating_lines(case, sections: list[dict]) -> list[str]:
         kg = section["K_gamma"]["value"]
         rc = rcs[k]
         settings = with_load_sharing(rc.settings, kg)
+        rating = None if ratings is None else ratings[k]
         lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##",
-                              inputs=inputs_of(case, k, rc, settings))
+                              inputs=inputs_of(case, k, rc, settings, rating))
     return lines
 
 

@@ -157,6 +157,9 @@ class ReportInputs(NamedTuple):
         published: the values the case's published report prints for this mesh
             (:func:`jaxgear.io.published_rating`'s mesh table) or None; ``report``: its
             citation.
+        rating: the :class:`jaxgear.Rating` whose summary the section is (its given and
+            measured factors in it), for the intermediate values of K_v and K_Hβ; None: rated
+            again from the section (a report written from ``summary.json``'s section alone).
     """
 
     rc: RatingCase
@@ -164,6 +167,7 @@ class ReportInputs(NamedTuple):
     settings: object = None
     published: dict | None = None
     report: str | None = None
+    rating: object = None
 
 
 def _treatments(t) -> list:
@@ -176,8 +180,11 @@ def _treatment_name(t) -> str:
 
 
 def _rated(inputs: ReportInputs, section: dict):
-    """The rating of the section again (its given and measured factors given), for the
-    intermediate values of K_v and K_Hβ (:attr:`jaxgear.rating.LoadFactors.details`)."""
+    """The rating the section is the summary of, for the intermediate values of K_v and K_Hβ
+    (:attr:`jaxgear.rating.LoadFactors.details`): ``inputs.rating`` where the caller has it,
+    else the section rated again (its given and measured factors given)."""
+    if inputs.rating is not None:
+        return inputs.rating
     settings = inputs.rc.settings if inputs.settings is None else inputs.settings
     given = {k: float(f["value"]) for k, f in section["factors"].items()
              if k != "K_A" and f["source"] != ISO_SOURCE}
@@ -639,10 +646,11 @@ def standard_lines(section: dict, case_name: str, heading: str = "#",
     return out
 
 
-def inputs_of(case, k: int, rc: RatingCase, settings=None) -> ReportInputs:
+def inputs_of(case, k: int, rc: RatingCase, settings=None, rating=None) -> ReportInputs:
     """Mesh ``k``'s :class:`ReportInputs` of ``case`` (a pair's one mesh: ``"mesh"`` in the
-    published tables)."""
+    published tables); ``rating``: the :class:`jaxgear.Rating` of its section, if at hand."""
     pub = published_rating(case.name)
     mesh = None if pub is None else pub.get(case.mesh_name(k), pub.get("mesh"))
     gears = tuple(case.gear_names[g] for g in case.gears[k])
-    return ReportInputs(rc, gears, settings, mesh, None if mesh is None else pub["report"])
+    return ReportInputs(rc, gears, settings, mesh, None if mesh is None else pub["report"],
+                        rating)
