@@ -6,7 +6,7 @@ Timed, each compiled first and then the best of ``REPEATS`` runs (``block_until_
 the quasi-static TE curve (``jaxgear.quasi_static``, exact contact), the rating
 (``jaxgear.rate`` under ``eqx.filter_jit``), the measured K_Hβ and K_Hα on the load map, the
 FE influence tables of both members (``fem_prep.fillet_influence``, 9 load radii each: once per
-tooth form) and the root-stress map of both members (``jaxgear.root_stress_map``, jitted) per
+tooth form) and the root-stress map of both members (``jaxgear.rating.root_stress_map``, jitted) per
 mesh position. Writes docs/bench/rating_cost.json (or the file given), the machine as
 benchmarks/_timing.py's ``environment()``. Run from the repository root:
 ``python -m benchmarks.rating_cost [FILE]`` (about half a minute).
@@ -74,12 +74,12 @@ def main(path: pathlib.Path = OUT) -> None:
     )
     operating = jg.OperatingPoint(torque, 6000 * 2 * np.pi / 60)
     rate = eqx.filter_jit(jg.rate)
-    measured = eqx.filter_jit(lambda r: (jg.face_load_factor(r), jg.transverse_load_factor(r)))
+    measured = eqx.filter_jit(lambda r: (jg.rating.face_load_factor(r), jg.rating.transverse_load_factor(r)))
     t = time.perf_counter()
     tables = [fillet_table(jg.tooth_geometry(pair, i), active_radii(pair, i)) for i in (0, 1)]
     fe = time.perf_counter() - t
     maps = eqx.filter_jit(
-        lambda r: [jg.root_stress_map(pair, r, i, tb.roll, tb.peak).max for i, tb in
+        lambda r: [jg.rating.root_stress_map(pair, r, i, tb.roll, tb.peak).max for i, tb in
                    zip((0, 1), tables, strict=True)]
     )
     out = {

@@ -67,7 +67,7 @@ def rate_case(case: jio.Case) -> dict:
         case.mesh_model(), case.modifications, case.torque,
         positions_per_pitch=case.positions_per_pitch,
     )
-    khb = float(jg.face_load_factor(res))
+    khb = float(jg.rating.face_load_factor(res))
     given = eqx.tree_at(lambda s: s.given, rc.settings, jg.GivenFactors(K_Hbeta=khb))
     measured = jg.rate(rc.geometry, rc.operating, given)
 

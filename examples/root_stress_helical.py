@@ -125,8 +125,8 @@ def main(out_dir=None, n_radii: int = 17, slices: int | None = None) -> dict:
             "Y_S": float(rating["Y_S"][i]),
         }
         for name, res in results.items():
-            rmap = jg.root_stress_map(pair, res, i, normal.roll, normal.peak)
-            old = jg.root_stress_map(pair, res, i, transverse.roll, transverse.peak)
+            rmap = jg.rating.root_stress_map(pair, res, i, normal.roll, normal.peak)
+            old = jg.rating.root_stress_map(pair, res, i, transverse.roll, transverse.peak)
             k = int(np.argmax(np.asarray(rmap.stress)))
             roll = float(np.asarray(rmap.roll).ravel()[k])
             r = math.hypot(roll, float(pair.base_radii[i]))

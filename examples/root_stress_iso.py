@@ -98,7 +98,7 @@ def main(out_dir=None, pairs=None) -> list[dict]:
     rows, curves = [], {}
     for name in PAIRS if pairs is None else pairs:
         pair = PAIRS[name]
-        form = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+        form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
         for i, tag in enumerate(("pinion", "gear")):
             iso = (
                 6

@@ -1,7 +1,7 @@
 """The root-stress map of the accessory spur pair over a tooth's passage: each cell's load of the
 quasi-static load map (exact contact, the case's tip relief, 80 N·m) times the plane FE tooth's
 fillet stress per unit load at the cell's position (``fem_prep.fillet_influence``, 17 load radii
-over each member's active profile, element size m_n/18), :func:`jaxgear.root_stress_map`.
+over each member's active profile, element size m_n/18), :func:`jaxgear.rating.root_stress_map`.
 
 Prints the largest root stress of each gear beside ISO 6336-3's nominal σ_F0 (method B, load at
 the outer point of single pair contact, no load factor) and writes docs/img/root_stress_map.png
@@ -51,7 +51,7 @@ def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) 
     case = jio.load_case("accessory-spur")
     pair = case.pair
     res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque)
-    form = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
     ft = 2 * case.torque / (2 * pair.pitch_radii[0])
     b = pair.face_width
     out, maps = {}, {}
@@ -59,7 +59,7 @@ def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) 
         radii = active_radii(pair, i, n_radii)
         size = None if size_per_module is None else size_per_module * pair.normal_module
         table = fem_prep.fillet_influence(jg.tooth_geometry(pair, i), radii, size=size)
-        rmap = jg.root_stress_map(pair, res, i, table.roll, table.peak)
+        rmap = jg.rating.root_stress_map(pair, res, i, table.roll, table.peak)
         maps[tag] = rmap
         sigma_f0 = ft / (b * pair.normal_module) * float(form.Y_F[i] * form.Y_S[i])
         out[tag] = {

@@ -176,7 +176,7 @@ class ShaperCutter:
             ring's ``fillet_radius_coeff`` (the rack the cutter is made to).
 
     The cutter's tip circle is chosen so that it cuts the ring's root circle r_f2 (ISO 21771),
-    at the zero-backlash distance of the cutting mesh (as :class:`jaxgear.ShaperCutterSection`).
+    at the zero-backlash distance of the cutting mesh (as :class:`jaxgear.rating.ShaperCutterSection`).
 
     Raises:
         ValueError: a parameter out of range, naming it, its value and the allowed range.

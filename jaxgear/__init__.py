@@ -2,9 +2,9 @@
 
 The model API (everything else lives in private modules). Subpackages: :mod:`jaxgear.scenes`
 (structures), :mod:`jaxgear.dynamics` (time integration, sweeps), :mod:`jaxgear.planetary`
-(planetary stages: the names a user reaches for first are re-exported here, the rest lives
-there), :mod:`jaxgear.io` (case files, atomic writers); the application (:mod:`jaxgear.cli`) is
-not imported here.
+(planetary stages), :mod:`jaxgear.rating` (load capacity, ISO 6336), :mod:`jaxgear.io` (case
+files, atomic writers): the names a user reaches for first are re-exported here, the rest lives
+in its subpackage; the application (:mod:`jaxgear.cli`) is not imported here.
 
 Float64 is not switched on here: the CLI, the tests and the examples do it
 (``jax.config.update("jax_enable_x64", True)``), or set ``JAX_ENABLE_X64=1``.
@@ -103,55 +103,26 @@ from ._quasi_static import (
     quasi_static as quasi_static,
     separation as separation,
 )
-from ._rating import (
+from .rating import (
     BendingRating as BendingRating,
+    CaseHardened as CaseHardened,
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    InternalRatingGeometry as InternalRatingGeometry,
+    Lubrication as Lubrication,
+    Nitrided as Nitrided,
+    OperatingPoint as OperatingPoint,
+    PairTreatment as PairTreatment,
     PittingRating as PittingRating,
     Rating as Rating,
+    RatingGeometry as RatingGeometry,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
+    ThroughHardened as ThroughHardened,
+    ToothLoading as ToothLoading,
     bending_rating as bending_rating,
     pitting_rating as pitting_rating,
     rate as rate,
-)
-from ._rating_bending import (
-    ToothFormFactors as ToothFormFactors,
-    member_form as member_form,
-    section_factors as section_factors,
-    tooth_form_factors as tooth_form_factors,
-)
-from ._rating_factors import (
-    LoadFactors as LoadFactors,
-    face_load_factor as face_load_factor,
-    load_factors as load_factors,
-    transverse_factor_limits as transverse_factor_limits,
-    transverse_load_factor as transverse_load_factor,
-)
-from ._rating_geometry import RatingGeometry as RatingGeometry
-from ._rating_internal import (
-    AbstractRootSection as AbstractRootSection,
-    GivenRootSection as GivenRootSection,
-    InternalRatingGeometry as InternalRatingGeometry,
-    ShaperCutterSection as ShaperCutterSection,
-    SubstituteRack as SubstituteRack,
-)
-from ._rating_material import (
-    AbstractTreatment as AbstractTreatment,
-    CaseHardened as CaseHardened,
-    Nitrided as Nitrided,
-    PairTreatment as PairTreatment,
-    ThroughHardened as ThroughHardened,
-)
-from ._rating_settings import (
-    FACTOR_CLAUSES as FACTOR_CLAUSES,
-    AbstractEdition as AbstractEdition,
-    Edition2006 as Edition2006,
-    Edition2019 as Edition2019,
-    GearAccuracy as GearAccuracy,
-    GivenFactors as GivenFactors,
-    Lubrication as Lubrication,
-    OperatingPoint as OperatingPoint,
-    RatingMaterial as RatingMaterial,
-    RatingSettings as RatingSettings,
-    ToothLoading as ToothLoading,
-    factor_clause as factor_clause,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,
@@ -173,7 +144,6 @@ from ._results import (
     CutterResult as CutterResult,
     DynamicsResult as DynamicsResult,
 )
-from ._root_stress import RootStressMap as RootStressMap, root_stress_map as root_stress_map
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
     AbstractFoundation as AbstractFoundation,

@@ -61,7 +61,7 @@ class DynamicsResult(_Result):
 
 class CutterResult(_Result):
     """Whether a pinion-type cutter can generate an internal gear's fillet up to its 60° section
-    (:meth:`jaxgear.ShaperCutterSection.result`; where it cannot, the section is NaN)."""
+    (:meth:`jaxgear.rating.ShaperCutterSection.result`; where it cannot, the section is NaN)."""
 
     successful = 0
     no_cutting_mesh = 1

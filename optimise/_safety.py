@@ -3,13 +3,13 @@ modifications, under a transmission-error constraint (docs/rating.md, "Optimisin
 safety factor").
 
 The modifications act on the rating in two ways. Through the load map: the face load factor
-K_Hβ (:func:`jaxgear.face_load_factor`: a crowning or a helix correction that meets a
+K_Hβ (:func:`jaxgear.rating.face_load_factor`: a crowning or a helix correction that meets a
 misalignment evens the face load) is measured on the quasi-static result and rates the pair in
 place of ISO 6336-1's (K_Fβ = K_Hβ^N_F). And through ISO's own modification inputs, as
 ``jaxgear run`` rates a case file: the design's tip relief is K_v's C_a (B_k: a relief matched
 to the tooth deflection lowers K_v) and its crowning K_Hβ's C_β
 (:meth:`jaxgear.RatingSettings.with_modifications`). K_Hα and K_Fα are ISO 6336-1's method B,
-not the load sharing measured on the load map (:func:`jaxgear.transverse_load_factor`): that
+not the load sharing measured on the load map (:func:`jaxgear.rating.transverse_load_factor`): that
 measure rises with any tip relief even on perfect gears (the relieved pair takes less load
 where two pairs are in contact, so the other carries more per unit length than the mean,
 while no pair ever carries more than the single pair contact that Z_ε, Z_B and Y_F already
@@ -88,7 +88,7 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
         old = self.settings.given
         given = jg.GivenFactors(
             K_v=old.K_v,
-            K_Hbeta=jg.face_load_factor(result),
+            K_Hbeta=jg.rating.face_load_factor(result),
             K_Fbeta=old.K_Fbeta,
             K_Halpha=old.K_Halpha,
             K_Falpha=old.K_Falpha,

@@ -269,7 +269,7 @@ def _settings(**kw):
         (lambda: _settings(min_safety_bending=0.0), ("min_safety_bending = 0", "> 0")),
         (lambda: _settings(tip_relief=-1e-6), ("tip_relief = -1e-06 m", ">= 0 m")),
         (lambda: _settings(given={"K_v": 1.1}), ("given = ", "jaxgear.GivenFactors")),
-        (lambda: _settings(edition=2006), ("edition = 2006", "Edition2006()")),
+        (lambda: _settings(standard=2006), ("standard = 2006", "Edition2019()")),
         (lambda: _settings(material=None), ("material = None",)),
         (lambda: jg.ThroughHardened(brinell_hardness=-5),
          ("ThroughHardened: brinell_hardness = -5 HB", "[100, 700] HB")),
@@ -341,7 +341,7 @@ def test_functions_refuse_arguments_of_the_wrong_kind(rated):
         (lambda: jg.rate(geometry, op, "x"), "rate: settings = 'x' (str)"),
         (lambda: jg.rate("x", op, settings), "rate: geometry = 'x'"),
         (lambda: jg.rate(geometry, (10.0, 100.0), settings), "rate: operating = (10.0, 100.0)"),
-        (lambda: jg.load_factors(geometry, op, None), "load_factors: settings = None"),
+        (lambda: jg.rating.load_factors(geometry, op, None), "load_factors: settings = None"),
         (lambda: jg.pitting_rating(geometry, None, settings), "pitting_rating: operating = None"),
         (lambda: jg.bending_rating(geometry, op, {}), "bending_rating: settings = {}"),
         (lambda: jg.planetary_modes("planar", stage), "planetary_modes: model = 'planar'"),
@@ -401,7 +401,7 @@ def test_rating_names_the_editions_unconfirmed_factors():
                        helix_angle=beta)
     geometry, op = jg.RatingGeometry.of(pair), jg.OperatingPoint(300.0, 300.0)
     r19 = jg.rate(geometry, op, _settings())
-    r06 = jg.rate(geometry, op, _settings(edition=jg.Edition2006()))
+    r06 = jg.rate(geometry, op, _settings(standard=jg.rating.Edition2006()))
     assert (r19.method, r19.unconfirmed) == ("ISO 6336:2019 method B", ("Y_beta",))
     assert (r06.method, r06.unconfirmed) == ("ISO 6336:2006 method B", ())
     assert float(r19.bending.Y_beta / r06.bending.Y_beta) == pytest.approx(

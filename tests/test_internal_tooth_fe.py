@@ -9,7 +9,7 @@ at z = +400 (separately validated: Timoshenko, Sainsot, ISO 6336-3), closer than
 a load geometry written independently; (e) the ring's rim: on segment supports a thinner ring
 is more compliant, the tooth-only part does not depend on it; (f) the fillet stress converging;
 (g) FE2D on an internal pair against ISO 6336-1's c_γα; (h) the ring's root stress against ISO
-6336-3 method B on its substitute rack and jaxgear.root_stress_map on the ring.
+6336-3 method B on its substitute rack and jaxgear.rating.root_stress_map on the ring.
 """
 
 from __future__ import annotations
@@ -299,7 +299,7 @@ def test_fe2d_ring_rim_thickness_and_bad_rim(cache):
 
 
 def test_ring_root_stress_map_of_cell_loads():
-    """jaxgear.root_stress_map on the ring (member 1) of an internal pair: each loaded cell's
+    """jaxgear.rating.root_stress_map on the ring (member 1) of an internal pair: each loaded cell's
     stress is its line load times the ring's unit-load fillet peak at the cell's ring roll
     distance ρ2 = √(r² − r_b2²) of the contact radius (computed here from the geometry, not from
     roll_distance), interpolated in the fem_prep table; cells off the flank carry none."""
@@ -314,7 +314,7 @@ def test_ring_root_stress_map_of_cell_loads():
     cells = SimpleNamespace(
         line_load=np.full(sc.shape, 2e5), cell_s=sc, cell_z=np.zeros(sc.shape), cell_mask=mask
     )
-    smap = jg.root_stress_map(pair, cells, 1, table.roll, table.peak)
+    smap = jg.rating.root_stress_map(pair, cells, 1, table.roll, table.peak)
     rho1 = pair.start_roll + sc
     r2 = np.hypot(
         rho1 + pair.center_distance * math.sin(pair.operating_pressure_angle), pair.base_radii[1]

@@ -115,7 +115,7 @@ def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
         rcase.mesh_model(), rcase.modifications, rcase.torque, positions_per_pitch=8
     )
     least = jio.objective_from_name("least_safety", rcase.torque, rating=rating)
-    khb = float(jg.face_load_factor(res))
+    khb = float(jg.rating.face_load_factor(res))
     given = jg.GivenFactors(K_Hbeta=khb)  # K_Hα, K_Fα: ISO's method B
     r = jg.rate(
         rating.geometry, rating.operating, eqx.tree_at(lambda s: s.given, rating.settings, given)

@@ -218,7 +218,7 @@ def test_tooth_form_factors_agree_with_the_generated_tooth(z1, z2, x1, x2, rho):
     m = {"addendum_coeff": 1.0, "dedendum_coeff": 1.25, "face_width": 0.02}
     m["fillet_radius_coeff"] = rho
     pair = jg.GearPair(jg.Member(z1, x1, **m), jg.Member(z2, x2, **m), 2e-3, math.radians(20))
-    closed = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+    closed = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
     for i in (0, 1):
         measured = _generated_form_factors(pair, i)
         for name, value in measured.items():
@@ -336,38 +336,38 @@ def test_rim_thickness_factor_of_a_thin_rimmed_gear():
     assert "ISO 6336-3:2019 rim thickness factor Y_B: gear rim s_R/h_t = 0.4 is outside" in note
     # the 2006 edition's notes name the clause its table of contents gives (9.2)
     old = eqx.tree_at(lambda r: r.bending.Y_B, rating, y_b_04)
-    old = dataclasses.replace(old, method=jg.Edition2006.label)
+    old = dataclasses.replace(old, standard=jg.rating.Edition2006())
     (note,) = old.scope_notes()
     assert note.startswith("ISO 6336-3:2006 9.2 rim thickness factor Y_B: gear rim"), note
 
 
 def test_every_factor_names_its_part_and_the_checked_clauses_of_iso_6336_3_2006():
-    """jg.factor_clause: every field of the rating's results names its ISO 6336 part and edition
+    """jg.rating.factor_clause: every field of the rating's results names its ISO 6336 part and edition
     (load factors part 1, pitting part 2, bending part 3); the 2006 edition's bending clauses
     are those of ISO 6336-3:2006's table of contents (BS ISO 6336-3:2006 as the BSI lists its
     contents: 6.2 "Calculation of the form factor, Y_F: Method B", 7.2 Y_S method B, 8.2 Y_β by
     calculation, 9.2 Y_B, 10.2 Y_DT, 12.2 Y_NT method B, 13.3 Y_δrelT method B, 14.3 Y_RrelT
     method B, 15 Y_X, 5.1 S_F, 5.2 σ_F, 5.3 σ_FP, 7.4 Y_ST), typed here from that listing; the
     rest, unchecked, name the part alone; an unknown symbol is a one-line error."""
-    for edition, year in ((jg.Edition2006(), 2006), (jg.Edition2019(), 2019)):
-        for cls, part in ((jg.LoadFactors, 1), (jg.PittingRating, 2), (jg.BendingRating, 3)):
+    for edition, year in ((jg.rating.Edition2006(), 2006), (jg.rating.Edition2019(), 2019)):
+        for cls, part in ((jg.rating.LoadFactors, 1), (jg.PittingRating, 2), (jg.BendingRating, 3)):
             for name in (f.name for f in dataclasses.fields(cls)):
                 if name in ("details", "sources", "form", "cycles"):
                     continue
-                assert jg.factor_clause(name, edition.label).startswith(f"ISO 6336-{part}:{year}"), name
-        assert jg.factor_clause("sigma_H_lim", edition.label) == "ISO 6336-5"
-        assert jg.FACTOR_CLAUSES[edition.label] == type(edition).clauses
+                assert jg.rating.factor_clause(name, edition.label).startswith(f"ISO 6336-{part}:{year}"), name
+        assert jg.rating.factor_clause("sigma_H_lim", edition.label) == "ISO 6336-5"
+        assert jg.rating.FACTOR_CLAUSES[edition.label] == type(edition).clauses
     toc = {
         "Y_F": "6.2", "Y_S": "7.2", "Y_ST": "7.4", "Y_beta": "8.2", "Y_B": "9.2", "Y_DT": "10.2",
         "Y_NT": "12.2", "Y_delta_rel_T": "13.3", "Y_R_rel_T": "14.3", "Y_X": "15", "S_F": "5.1",
         "sigma_F": "5.2", "sigma_FP": "5.3",
     }
     for symbol, clause in toc.items():
-        assert jg.factor_clause(symbol, "ISO 6336:2006 method B") == f"ISO 6336-3:2006 {clause}"
-    assert jg.factor_clause("sigma_F0_Pa", jg.Edition2006.label) == "ISO 6336-3:2006"  # unchecked
-    assert jg.factor_clause("Y_F", jg.Edition2019.label) == "ISO 6336-3:2019"
-    assert jg.factor_clause("Z_E_sqrt_Pa", jg.Edition2019.label) == "ISO 6336-2:2019"
+        assert jg.rating.factor_clause(symbol, "ISO 6336:2006 method B") == f"ISO 6336-3:2006 {clause}"
+    assert jg.rating.factor_clause("sigma_F0_Pa", jg.rating.Edition2006.label) == "ISO 6336-3:2006"  # unchecked
+    assert jg.rating.factor_clause("Y_F", jg.rating.Edition2019.label) == "ISO 6336-3:2019"
+    assert jg.rating.factor_clause("Z_E_sqrt_Pa", jg.rating.Edition2019.label) == "ISO 6336-2:2019"
     for bad, words in (("Y_Q", "symbol = 'Y_Q' is out of range"), ("Y_F", "edition = 'x'")):
         with pytest.raises(ValueError) as err:
-            jg.factor_clause(bad, "x" if bad == "Y_F" else jg.Edition2019.label)
+            jg.rating.factor_clause(bad, "x" if bad == "Y_F" else jg.rating.Edition2019.label)
         assert words in str(err.value) and "\n" not in str(err.value)

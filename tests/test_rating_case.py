@@ -82,9 +82,9 @@ def test_case_rating_is_the_api_rating():
     assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
     assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
     assert float(rc.geometry.center_distance) == pytest.approx(0.5)
-    assert isinstance(rc.settings.edition, jg.Edition2019)  # the default
+    assert isinstance(rc.settings.standard, jg.rating.Edition2019)  # the default
     old = jio.rating_of(jio.parse_case(_case(**{"rating/edition": 2006})))
-    assert isinstance(old.settings.edition, jg.Edition2006)
+    assert isinstance(old.settings.standard, jg.rating.Edition2006)
 
 
 def test_case_without_rating_has_none():
@@ -281,7 +281,7 @@ def test_measured_face_load_factor_of_a_crowned_spur_pair(tmp_path):
     lines = mask.any(axis=-1).sum(axis=-1).mean()
     f_n = case.torque / case.pair.base_radii[0]
     want = 1 + k * lines * b * (c.mean() - c.min()) / f_n
-    assert float(jg.face_load_factor(res)) == pytest.approx(want, rel=1e-6)
+    assert float(jg.rating.face_load_factor(res)) == pytest.approx(want, rel=1e-6)
     section = cli.rating_outputs(case, str(tmp_path), result=res)
     assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(want, rel=1e-6)
     assert "| K_Hβ measured |" in (tmp_path / "rating.md").read_text(encoding="utf-8")
@@ -301,7 +301,7 @@ def test_measured_face_load_factor_by_hand(tmp_path):
     mask = np.array([[[1, 1, 1], [1, 1, 1]], [[1, 1, 1], [0, 0, 0]]], dtype=bool)
     # slices: position 0 -> (2, 3, 3), position 1 -> (2, 2, 2); mean (2, 2.5, 2.5): 2.5/(7/3)
     loads = _Loads(w, mask)
-    assert float(jg.face_load_factor(loads)) == pytest.approx(2.5 / (7 / 3), rel=1e-12)
+    assert float(jg.rating.face_load_factor(loads)) == pytest.approx(2.5 / (7 / 3), rel=1e-12)
     section = cli.rating_outputs(jio.parse_case(_case()), str(tmp_path), result=loads)
     assert section["measured"]["K_Hbeta"]["value"] == pytest.approx(2.5 / (7 / 3), rel=1e-12)
     assert section["factors"]["K_Hbeta"]["value"] == 1.16  # the given one rates; measured beside

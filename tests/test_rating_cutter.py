@@ -1,5 +1,5 @@
 """The internal gear's root section from its pinion-type (shaper) cutter
-(jaxgear.ShaperCutterSection) against references written here independently: the ring's tooth
+(jaxgear.rating.ShaperCutterSection) against references written here independently: the ring's tooth
 space cut point by point (the cutter's tip rounding swept through the cutting mesh as a cloud
 of circle points, the space's boundary as the deepest cut per polar angle), the critical
 section and the fillet's radius read off a quartic fitted through that boundary at its 60°
@@ -172,11 +172,11 @@ def _envelope_section(zr, xr, mn, z0, rho_s, x0=0.0, n=40001):
 
 @pytest.mark.parametrize("zr, xr, mn, z0", [(-93, 0.1171, 21.0, 30), (-56, -0.5013, 45.0, 36)])
 def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
-    """s_Fn, d_sFn and ρ_F of jg.ShaperCutterSection against the tooth space cut point by point
+    """s_Fn, d_sFn and ρ_F of jg.rating.ShaperCutterSection against the tooth space cut point by point
     (:func:`_reference_section`; 1e-3, 1e-5 and 2e-2 for the sampled cut)."""
     ref_s, ref_d, ref_rho = _reference_section(zr, xr, mn, z0, 0.30)
     pair = _ring(zr, xr, mn)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(z0))
+    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
     s_fn, rho_f, d_s = (float(t) / MM for t in _section(geometry))
     assert s_fn == pytest.approx(ref_s, rel=1e-3)
     assert d_s == pytest.approx(ref_d, rel=1e-5)
@@ -195,7 +195,7 @@ def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
     ],
 )
 def test_section_is_the_numerical_envelope_of_the_tip_rounding(zr, xr, mn, z0, x0, rho_s):
-    """s_Fn, d_sFn and ρ_F of jg.ShaperCutterSection against the fillet taken as the envelope
+    """s_Fn, d_sFn and ρ_F of jg.rating.ShaperCutterSection against the fillet taken as the envelope
     of the cutter's tip rounding numerically (:func:`_envelope_section`: 40001 circle
     positions, neighbouring circles intersected, the 60° point interpolated, the curvature
     from three points): 1e-6, 1e-8 and 2e-3. Among them the large cutters (z0 close to
@@ -204,7 +204,7 @@ def test_section_is_the_numerical_envelope_of_the_tip_rounding(zr, xr, mn, z0, x
     returned sections tens of modules wide."""
     ref_s, ref_d, ref_rho = _envelope_section(zr, xr, mn, z0, rho_s, x0)
     geometry = jg.InternalRatingGeometry.of(
-        _ring(zr, xr, mn, rho_s), jg.ShaperCutterSection(z0, x0, rho_s)
+        _ring(zr, xr, mn, rho_s), jg.rating.ShaperCutterSection(z0, x0, rho_s)
     )
     s_fn, rho_f, d_s = (float(t) / MM for t in _section(geometry))
     assert s_fn == pytest.approx(ref_s, rel=1e-6)
@@ -217,7 +217,7 @@ def test_probe_grid_is_physical_or_refused():
     """Over a grid of cutters on the rings of the NREL 5 MW cases (z0 = 11, 47, 83 on stage 2's
     ring, 11, 35, 41 on stage 1's, the largest where the probe found sections tens of modules
     wide; x0 in {−0.2, −0.1, 0, 0.25, 0.5, 1, 1.5}; ρ_a0/m_n in {0.02, 0.1, 0.3, 0.6}) every
-    section is either refused (jg.ShaperCutterSection.result nonzero, the section NaN) or
+    section is either refused (jg.rating.ShaperCutterSection.result nonzero, the section NaN) or
     physical against bounds drawn from the ring alone: the chord s_Fn between the ring's tooth
     thickness on its reference circle m (π/2 + 2 x2 tan α) and the pitch chord at its radius,
     ρ_F at least the rounding's ρ_a0 and under 2 m_n, the chord's ends within the dedendum
@@ -243,7 +243,7 @@ def test_probe_grid_is_physical_or_refused():
             @jax.jit
             def grid(xs, rs, z0=z0, geometry=geometry, g=g):
                 def one(x0, r):
-                    cutter = jg.ShaperCutterSection(z0, x0, r)
+                    cutter = jg.rating.ShaperCutterSection(z0, x0, r)
                     return jax.numpy.stack(cutter.section(geometry, g)), cutter.result(geometry)
 
                 return jax.vmap(jax.vmap(one, (None, 0)), (0, None))(xs, rs)
@@ -265,9 +265,9 @@ def test_probe_grid_is_physical_or_refused():
 
 @pytest.mark.slow
 def test_probe_grid_rating_form_factors():
-    """The probe itself (its Y_F through jg.tooth_form_factors, vmapped over x0 and ρ_a0 per
+    """The probe itself (its Y_F through jg.rating.tooth_form_factors, vmapped over x0 and ρ_a0 per
     z0): 0 < Y_F < 5 and 1 < s_Fn/m_n < 6 wherever the section is finite; NaN exactly where
-    jg.ShaperCutterSection.result is nonzero, and jg.InternalRatingGeometry.of refuses those
+    jg.rating.ShaperCutterSection.result is nonzero, and jg.InternalRatingGeometry.of refuses those
     cutters in one line."""
     xs = jax.numpy.array([0.0, 0.25, 0.5, 1.0, 1.5, -0.1, -0.2])
     rs = jax.numpy.array([0.02, 0.1, 0.3, 0.6])
@@ -278,8 +278,8 @@ def test_probe_grid_rating_form_factors():
         plain = jg.InternalRatingGeometry.of(pair)
         for z0 in range(11, zr - 9, 6):
             def f(x0, rho, z0=z0, plain=plain, mn=mn):
-                cutter = jg.ShaperCutterSection(z0, x0, rho)
-                t = jg.tooth_form_factors(jg.InternalRatingGeometry(
+                cutter = jg.rating.ShaperCutterSection(z0, x0, rho)
+                t = jg.rating.tooth_form_factors(jg.InternalRatingGeometry(
                     **{k: getattr(plain, k) for k in plain.__dataclass_fields__
                        if k != "root_section"}, root_section=cutter))
                 return jax.numpy.stack([t.s_Fn[1] / mn, t.Y_F[1]]), cutter.result(plain)
@@ -291,7 +291,7 @@ def test_probe_grid_rating_form_factors():
             assert ((out[~bad][:, 0] > 1) & (out[~bad][:, 0] < 6)).all()
             assert ((out[~bad][:, 1] > 0) & (out[~bad][:, 1] < 5)).all()
             for i, j in zip(*np.nonzero(bad)):
-                cutter = jg.ShaperCutterSection(z0, float(xs[i]), float(rs[j]))
+                cutter = jg.rating.ShaperCutterSection(z0, float(xs[i]), float(rs[j]))
                 with pytest.raises(ValueError, match=r"cannot generate the ring's fillet"):
                     jg.InternalRatingGeometry.of(pair, cutter)
 
@@ -301,22 +301,22 @@ def test_cutter_that_cannot_cut_the_fillet_refused_in_one_line():
     the cutting pitch circle): refused at construction naming x0 and the x0 that work with
     z0 = 41 and ρ_a0 = 0.1 m_n, their edges checked one step either side (beyond 0.80 no
     cutting mesh: inv α_w0 <= 0); under jit the
-    section is NaN and jg.ShaperCutterSection.result gives the code."""
+    section is NaN and jg.rating.ShaperCutterSection.result gives the code."""
     pair = jio.load_case("nrel-5mw-planetary").pairs[1]
-    bad = jg.ShaperCutterSection(41, -0.1, 0.1)
+    bad = jg.rating.ShaperCutterSection(41, -0.1, 0.1)
     with pytest.raises(ValueError, match=r"^ShaperCutterSection: profile_shift = -0\.1 cannot "
                        r"generate.*pitch circle.*; allowed \[-0\.02, 0\.80\]$") as info:
         jg.InternalRatingGeometry.of(pair, bad)
     assert "\n" not in str(info.value)
     plain = jg.InternalRatingGeometry.of(pair)
-    codes = [int(jg.ShaperCutterSection(41, x, 0.1).result(plain)) for x in (-0.03, -0.02,
+    codes = [int(jg.rating.ShaperCutterSection(41, x, 0.1).result(plain)) for x in (-0.03, -0.02,
                                                                               0.80, 0.81)]
     assert codes == [jg.CutterResult.rounding_inside_pitch_circle, 0, 0,
                      jg.CutterResult.no_cutting_mesh]
 
     @jax.jit
     def traced(x0):
-        cutter = jg.ShaperCutterSection(41, x0, 0.1)
+        cutter = jg.rating.ShaperCutterSection(41, x0, 0.1)
         return cutter.section(plain, plain.derived()), cutter.result(plain)
 
     section, code = traced(-0.1)
@@ -326,7 +326,7 @@ def test_cutter_that_cannot_cut_the_fillet_refused_in_one_line():
 
 
 def test_cutter_reproduces_the_reports_root_form_diameters():
-    """The cutter as jg.ShaperCutterSection sets it (zero-backlash cutting distance, its tip
+    """The cutter as jg.rating.ShaperCutterSection sets it (zero-backlash cutting distance, its tip
     circle cutting the ring's root circle) gives the root form diameter the KISSsoft reports
     print for the NREL 5 MW rings' pinion-type cutters (d_Ff 1987.879 and 2662.682 mm, z0 = 30
     and 36, x0 = 0, ρ_a0 = 0.3 m_n) within 0.01 mm: the ring's point cut by the end of the
@@ -352,7 +352,7 @@ def test_rating_derivative_through_the_cutter_section_against_central_difference
     section from its cutter, by jax.jvp (the implicit derivative through the 60° point) against
     central differences (float64, 1e-6); the ring's S_F moves with x2 through its section."""
     pair = _ring(-93, 0.1171, 21.0)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(30))
+    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(30))
     settings = jg.RatingSettings(
         material=jg.RatingMaterial(
             (1500e6, 700e6), (430e6, 290e6),
@@ -381,18 +381,18 @@ def test_rating_derivative_through_the_cutter_section_against_central_difference
 
 def test_bad_cutter_refused_in_one_line():
     with pytest.raises(ValueError, match=r"teeth = 5 is out of range"):
-        jg.ShaperCutterSection(5)
+        jg.rating.ShaperCutterSection(5)
     with pytest.raises(ValueError, match=r"tip_radius_coeff = -0.1"):
-        jg.ShaperCutterSection(30, tip_radius_coeff=-0.1)
+        jg.rating.ShaperCutterSection(30, tip_radius_coeff=-0.1)
     pair = _ring(-93, 0.1171, 21.0)
     with pytest.raises(ValueError, match=r"teeth = 90 is out of range.*\|z2\| - 10"):
-        jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(90))
+        jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(90))
 
 
 def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
     """``[material] treatment`` per gear (a table by gear name) maps to jg.PairTreatment, the
     through-hardened ring's ``brinell_hardness_HB`` to its Z_W (1.2 − (240 − 130)/1700, ISO
-    6336-2), ``[rating] ring_cutter_teeth`` to jg.ShaperCutterSection; bad values in one line."""
+    6336-2), ``[rating] ring_cutter_teeth`` to jg.rating.ShaperCutterSection; bad values in one line."""
     case = jio.load_case("nrel-5mw-planetary")
     sun_mesh, ring_mesh = jio.ratings_of(case)
     t = ring_mesh.settings.material.treatment

@@ -49,13 +49,13 @@ def test_rating_profile_shift_example_writes_slopes_that_match_central_differenc
 def test_root_stress_iso_example_on_the_iso_53_pair_is_within_five_percent_of_iso(tmp_path):
     """The standard 20/40 pair (ISO 53 profile A, x = 0) alone: the FE peak per unit load is
     within 5 % below ISO 6336-3 method B's σ_F0 (docs/rating.md: −1.2 % and −3.7 %), and the
-    record's ISO value is σ_F0 = 6 cos α_Fen h_Fe/s_Fn² Y_S of jg.tooth_form_factors."""
+    record's ISO value is σ_F0 = 6 cos α_Fen h_Fe/s_Fn² Y_S of jg.rating.tooth_form_factors."""
     ex = load_example("root_stress_iso")
     name = "standard 20/40, x = 0"
     rows = ex.main(tmp_path, [name])
     assert (tmp_path / "root_stress_fillet.png").stat().st_size > 10_000
     assert _record(tmp_path / "root_stress_iso.json") == rows
-    form = jg.tooth_form_factors(jg.RatingGeometry.of(ex.PAIRS[name]))
+    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(ex.PAIRS[name]))
     assert [r["member"] for r in rows] == ["pinion", "gear"]
     for i, r in enumerate(rows):
         assert _finite([v for v in r.values() if isinstance(v, float)])
@@ -68,14 +68,14 @@ def test_root_stress_map_example_with_five_load_radii_is_below_iso(tmp_path):
     """The accessory pair's map with 5 load radii per member and elements of m_n/9 (17 and
     m_n/18 in docs; the peak moves by about 2 % from m_n/9 to m_n/13.5, docs/rating.md): FE
     largest root stress over ISO's σ_F0 (no load factor) between 0.8 and 1.0 (docs/rating.md
-    at 17 radii: 0.896 and 0.849), σ_F0 = F_t/(b m_n) Y_F Y_S of jg.tooth_form_factors."""
+    at 17 radii: 0.896 and 0.849), σ_F0 = F_t/(b m_n) Y_F Y_S of jg.rating.tooth_form_factors."""
     ex = load_example("root_stress_map")
     out = ex.main(tmp_path, n_radii=5, size_per_module=1 / 9)
     assert (tmp_path / "root_stress_map.png").stat().st_size > 10_000
     assert _record(tmp_path / "root_stress_map.json") == out
     case = ex.jio.load_case("accessory-spur")
     pair = case.pair
-    form = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
     ft = case.torque / pair.pitch_radii[0]
     for i, tag in enumerate(("pinion", "gear")):
         r = out[tag]
@@ -121,7 +121,7 @@ def test_rating_optimise_example_rates_the_case_file_it_writes(tmp_path):
         settings = eqx.tree_at(
             lambda s: (s.given, s.tip_relief, s.crowning),
             rc.settings,
-            (jg.GivenFactors(K_Hbeta=float(jg.face_load_factor(res))),
+            (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))),
              design["tip_relief.depth"] * 1e-6, crowning if crowning > 0 else None),
             is_leaf=lambda x: x is None,
         )

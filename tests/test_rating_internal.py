@@ -44,7 +44,7 @@ def _settings(pair):
 
 
 def test_substitute_rack_section_is_the_drawn_rack_tooth_at_its_60_degree_tangent():
-    """s_Fn and the chord's depth of jg.SubstituteRack against a rack tooth drawn here: the
+    """s_Fn and the chord's depth of jg.rating.SubstituteRack against a rack tooth drawn here: the
     flank line at α_n through half a pitch's quarter at the reference line, the tip rounding
     ρ_fP found as the circle tangent to that line and to the root line, sampled, and the point
     where its tangent makes 60° with the centre line located by interpolation."""
@@ -61,7 +61,7 @@ def test_substitute_rack_section_is_the_drawn_rack_tooth_at_its_60_degree_tangen
     s_drawn, depth_drawn = 2 * u[i], hfp - v[i]
     pair = _pair()
     geometry = jg.InternalRatingGeometry.of(pair)
-    s_fn, rho_f, d_s = jg.SubstituteRack().section(geometry, geometry.derived())
+    s_fn, rho_f, d_s = jg.rating.SubstituteRack().section(geometry, geometry.derived())
     assert float(s_fn) == pytest.approx(s_drawn * MM, rel=1e-6)
     assert float(rho_f) == pytest.approx(rfp * MM, rel=1e-12)
     assert float((2 * pair.root_radii[1] - d_s) / 2) == pytest.approx(depth_drawn * MM, rel=1e-4)
@@ -80,8 +80,8 @@ def test_ring_load_direction_and_moment_arm_against_the_drawn_flank(zr, xr):
                  mn=21.0 if zr == -93 else 45.0, k=-1.75 if zr == -93 else -10.861)
     mn = pair.normal_module
     section = (2.7 * mn, 0.42 * mn, 2 * pair.root_radii[1] - 0.2 * mn)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.GivenRootSection(*section))
-    form = jg.tooth_form_factors(geometry)
+    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*section))
+    form = jg.rating.tooth_form_factors(geometry)
     # drawn: the load point
     rb1, rb2 = pair.base_radii
     roll1 = math.sqrt(pair.tip_radii[0] ** 2 - rb1**2) - pair.base_pitch
@@ -165,7 +165,7 @@ def test_rate_refuses_what_is_no_rating_geometry_in_one_line():
     with pytest.raises(ValueError, match=r"root_section"):
         jg.InternalRatingGeometry.of(pair, "rack")
     with pytest.raises(ValueError, match=r"s_Fn"):
-        jg.GivenRootSection(-1.0, 1.0, 1.0)
+        jg.rating.GivenRootSection(-1.0, 1.0, 1.0)
 
 
 STAGE2_RATING = """

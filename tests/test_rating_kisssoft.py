@@ -10,7 +10,7 @@ external sun/planet meshes). The printed values are typed in below with the repo
 each is asserted within 0.5 % (the issue's tolerance; a value printed with three digits, e.g.
 Y_F = 1.18, carries up to 0.42 % of rounding).
 
-The report rates to the 2006 edition, so the rating runs with ``jg.Edition2006()`` (Y_β =
+The report rates to the 2006 edition, so the rating runs with ``jg.rating.Edition2006()`` (Y_β =
 1 − ε_β β/120°); the report's own load factors K_v = 1.092, K_Hβ = 1.15 (user specified there),
 K_Hα = K_Fα = 1.069 are given (its K_v comes from a gear body factor C_R = 0.898 and bored blanks,
 which jaxgear's method B K_v does not model), and K_Fβ = 1.136 is computed from K_Hβ.
@@ -61,7 +61,7 @@ def _stage_03():
         given=jg.GivenFactors(K_v=1.092, K_Hbeta=1.15, K_Halpha=1.069, K_Falpha=1.069),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.Edition2006(),
+        standard=jg.rating.Edition2006(),
     )
     return pair, settings, jg.OperatingPoint(40953.0, 1165.9 * RPM)
 
@@ -145,7 +145,7 @@ def test_2019_edition_differs_from_2006_by_the_helix_factor_alone():
     pair, settings, op = _stage_03()
     geometry = jg.RatingGeometry.of(pair)
     old = RATE(geometry, op, settings)
-    new = RATE(geometry, op, eqx.tree_at(lambda s: s.edition, settings, jg.Edition2019()))
+    new = RATE(geometry, op, eqx.tree_at(lambda s: s.standard, settings, jg.rating.Edition2019()))
     ratio = 1 / math.cos(math.radians(10.0)) ** 3
     np.testing.assert_allclose(new.bending.sigma_F0 / old.bending.sigma_F0, ratio, rtol=1e-12)
     np.testing.assert_allclose(new.bending.S_F * ratio, old.bending.S_F, rtol=1e-12)
@@ -182,7 +182,7 @@ def test_kisssoft_spur_sun_planet_tooth_form_within_half_a_percent(
     """Y_F, Y_S and the root section of the external sun/planet mesh of the planetary stages
     (spur, large profile shifts, tip shortening), the report's section 3."""
     pair = _pair(z, x, mn_mm, 0.0, k_mm, 491.0)
-    f = jg.tooth_form_factors(jg.RatingGeometry.of(pair))
+    f = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
     mn = mn_mm * 1e-3
     ours = np.stack(
         [f.Y_F, f.Y_S, f.h_Fe / mn, f.s_Fn / mn, f.rho_F / mn, np.degrees(f.alpha_Fen)], -1
@@ -322,7 +322,7 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
         given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.Edition2006(),
+        standard=jg.rating.Edition2006(),
         loading=jg.ToothLoading((3.0, 1.0), (1.0, 0.7)),
     )
     n_sun = 5000e3 / t_sun / RPM  # 1/min, from P = T ω
@@ -357,7 +357,7 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
 # the printed σ_Hw/σ_H0 of this mesh (stage_02 prints K_v = max(K_v12, K_v23) = 1.06, stage_01
 # K_v = 1.05 for this mesh). The ring's root section (s_Fn, ρ_F, dsFn) is the one the report
 # prints from its pinion-type cutter simulation (z0 = 30 and 36, x0 = 0), given with
-# jg.GivenRootSection: ISO's substitute rack (jg.SubstituteRack) is cruder; everything else —
+# jg.rating.GivenRootSection: ISO's substitute rack (jg.rating.SubstituteRack) is cruder; everything else —
 # d_en, α_Fen, h_F, Y_F, Y_S, the stresses and all the pitting factors — is computed.
 def _ring_values(eps_a, alpha_wt, n_l, k_fb, bending, pitting):
     rows = [
@@ -437,14 +437,14 @@ def ring_mesh_rating(z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section)
         given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
-        edition=jg.Edition2006(),
+        standard=jg.rating.Edition2006(),
         loading=jg.ToothLoading((1.0, 3.0), (0.7, 1.0)),
     )
     n_sun = 5000e3 / t_sun / RPM
     n_carrier = n_sun * z[0] / (z[0] - z[2])  # ring fixed (Willis)
     n_planet = (n_sun - n_carrier) * z[0] / z[1]  # relative to the carrier
     op = jg.OperatingPoint(t_sun / 3 * z[1] / z[0], n_planet * RPM)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.GivenRootSection(*(v * mm for v in section)))
+    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*(v * mm for v in section)))
     return pair, geometry, op, settings
 
 
@@ -478,7 +478,7 @@ def test_kisssoft_spur_planet_ring_rating_every_printed_value_within_half_a_perc
     np.testing.assert_allclose(form.h_Fe / mn, hstar, rtol=5e-3)
 
 
-# The ring's root section from the reports' own pinion-type cutters (jg.ShaperCutterSection:
+# The ring's root section from the reports' own pinion-type cutters (jg.rating.ShaperCutterSection:
 # z0 = 30 and 36, x0 = 0, ρ_a0 = 0.3 m_n, the tip circle cutting the ring's root circle, which
 # reproduces the reports' root form diameters d_Ff 1987.879 and 2662.682 mm within 0.01 mm,
 # tests/test_rating_cutter.py) in place of the printed section: the chord's diameter d_sFn is
@@ -509,7 +509,7 @@ def test_kisssoft_ring_section_from_the_reports_cutter(
     pair, given, op, settings = ring_mesh_rating(
         z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section
     )
-    geometry = jg.InternalRatingGeometry.of(pair, jg.ShaperCutterSection(z0))
+    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
     ours = RATE(geometry, op, settings)
     form = ours.bending.form
     mm = 1e-3

@@ -1,4 +1,4 @@
-"""K_Hα measured on the load map (jaxgear.transverse_load_factor: ISO 6336-1:2019 clause 8's
+"""K_Hα measured on the load map (jaxgear.rating.transverse_load_factor: ISO 6336-1:2019 clause 8's
 load sharing between the pairs in contact, as the largest mean line load of one tooth pair over
 that of all loaded cells) and ``[rating] use_measured``: the rating redone with the measured
 factors in place of ISO's.
@@ -36,9 +36,9 @@ def test_transverse_load_factor_by_hand():
     does not count -> 1. K_Hα = 4/3."""
     w = np.array([[[2.0, 2.0], [1.0, 1.0]], [[3.0, 3.0], [7.0, 7.0]], [[4.0, 4.0], [0.0, 0.0]]])
     mask = np.array([[[1, 1], [1, 1]], [[1, 1], [0, 0]], [[1, 1], [1, 1]]], dtype=bool)
-    assert float(jg.transverse_load_factor(_Loads(w, mask))) == pytest.approx(4 / 3, rel=1e-12)
+    assert float(jg.rating.transverse_load_factor(_Loads(w, mask))) == pytest.approx(4 / 3, rel=1e-12)
     even = np.ones((2, 2, 3))
-    assert float(jg.transverse_load_factor(_Loads(even, even > 0))) == 1.0
+    assert float(jg.rating.transverse_load_factor(_Loads(even, even > 0))) == 1.0
 
 
 def test_transverse_load_factor_of_a_tip_relieved_uniform_spur_pair():
@@ -58,7 +58,7 @@ def test_transverse_load_factor_of_a_tip_relieved_uniform_spur_pair():
     e = depth * np.clip((s - (1 - extent) * g) / (extent * g), 0.0, None)  # the pinion's tip
     double = m.sum(axis=1) == 2
     want = 1 + k0 * pair.face_width * np.max(np.where(m & double[:, None], e, 0.0)) / f_n
-    assert float(jg.transverse_load_factor(res)) == pytest.approx(want, rel=1e-9)
+    assert float(jg.rating.transverse_load_factor(res)) == pytest.approx(want, rel=1e-9)
 
 
 def _loads():
@@ -72,7 +72,7 @@ def _loads():
 
 def test_use_measured_rates_with_the_measured_factors(tmp_path):
     loads, k_hb, k_ha = _loads()
-    assert float(jg.transverse_load_factor(loads)) == pytest.approx(k_ha, rel=1e-12)
+    assert float(jg.rating.transverse_load_factor(loads)) == pytest.approx(k_ha, rel=1e-12)
     iso = cli.rating_outputs(jio.parse_case(_case(**{"rating/K_Hbeta": None})), str(tmp_path))
     d = _case(**{"rating/K_Hbeta": None, "rating/use_measured": ["K_Hbeta", "K_Halpha"]})
     section = cli.rating_outputs(jio.parse_case(d), str(tmp_path), result=loads)
@@ -146,7 +146,7 @@ def test_bad_use_measured_is_one_line(use, message):
 def test_2019_helix_angle_factor_holds_beta_at_30_degrees():
     """ISO 6336-3:2019 Y_β = (1 − ε_β β/120°)/cos³ β with ε_β ≤ 1 and β ≤ 30° in both terms:
     by hand at 10° and ε_β 0.6, and above the limits (35°, ε_β 1.4) the value of 30° and 1."""
-    e = jg.Edition2019()
+    e = jg.rating.Edition2019()
     b10 = math.radians(10.0)
     assert float(e.helix_angle_factor(0.6, b10)) == pytest.approx(
         (1 - 0.6 * 10 / 120) / math.cos(b10) ** 3, rel=1e-12
@@ -161,6 +161,6 @@ def test_transverse_factor_limits_by_hand():
     Z_ε² = (4 − ε_α)/3."""
     pair = jio.load_case("accessory-spur").pair
     ea = float(pair.transverse_contact_ratio)
-    h, f = jg.transverse_factor_limits(jg.RatingGeometry.of(pair))
+    h, f = jg.rating.transverse_factor_limits(jg.RatingGeometry.of(pair))
     assert float(h) == pytest.approx(3 / (4 - ea), rel=1e-9)
     assert float(f) == pytest.approx(ea / (0.25 * ea + 0.75), rel=1e-9)

@@ -240,9 +240,9 @@ def test_run_writes_the_scene_factors_and_rating_md_once(tmp_path, monkeypatch, 
         case.mesh_model(), case.modifications, case.torque, positions_per_pitch=8
     )
     m = rating["measured"]
-    assert m["K_Hbeta"]["value"] == pytest.approx(float(jg.face_load_factor(res)), rel=1e-12)
+    assert m["K_Hbeta"]["value"] == pytest.approx(float(jg.rating.face_load_factor(res)), rel=1e-12)
     assert m["K_Hbeta_rigid_mesh"]["value"] == pytest.approx(
-        float(jg.face_load_factor(rigid)), rel=1e-12
+        float(jg.rating.face_load_factor(rigid)), rel=1e-12
     )
     assert m["K_Hbeta"]["value"] > m["K_Hbeta_rigid_mesh"]["value"] + 1e-3
     assert "K_v" in m
@@ -307,9 +307,9 @@ def test_docs_table_of_the_accessory_pair():
         case = jio.parse_case(d)
         scene, _ = jio.static_scene(case, slices=case.slices)
         res = jg.quasi_static(scene, case.modifications, case.torque, positions_per_pitch=64)
-        got[name] = (float(jg.face_load_factor(res)), float(jg.transverse_load_factor(res)))
+        got[name] = (float(jg.rating.face_load_factor(res)), float(jg.rating.transverse_load_factor(res)))
     rigid = jg.quasi_static(case.mesh_model(), case.modifications, case.torque, periods=2)
-    got["rigid"] = (float(jg.face_load_factor(rigid)), float(jg.transverse_load_factor(rigid)))
+    got["rigid"] = (float(jg.rating.face_load_factor(rigid)), float(jg.rating.transverse_load_factor(rigid)))
     np.testing.assert_allclose(got["mid-span"], got["rigid"], rtol=1e-9)
     np.testing.assert_allclose(got["rigid"], [1.000, 1.964], atol=5e-4)
     np.testing.assert_allclose(got["off-centre"], [1.203, 1.694], atol=5e-4)
@@ -340,7 +340,7 @@ def test_train_run_rates_with_the_coupled_solve(tmp_path, monkeypatch):
     m = summary["rating"]["measured"]
     for k, mesh in enumerate(res.meshes):
         assert m["K_Hbeta"]["value"][k] == pytest.approx(
-            float(jg.face_load_factor(mesh)), rel=1e-12
+            float(jg.rating.face_load_factor(mesh)), rel=1e-12
         )
         assert m["K_Hbeta_rigid_mesh"]["value"][k] == pytest.approx(1.0, abs=1e-12)
         assert "coupled train: shafts and bearings" in m["K_Hbeta"]["source"][k]

@@ -150,7 +150,7 @@ def test_least_safety_rates_each_design_with_its_own_relief_and_iso_k_halpha():
     settings = eqx.tree_at(
         lambda s: (s.given, s.tip_relief, s.crowning),
         rc.settings,
-        (jg.GivenFactors(K_Hbeta=float(jg.face_load_factor(res))), 14e-6, 7e-6),
+        (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), 14e-6, 7e-6),
         is_leaf=lambda x: x is None,
     )
     ref = jg.rate(rc.geometry, rc.operating, settings)

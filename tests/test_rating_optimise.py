@@ -70,7 +70,7 @@ def test_least_safety_objective_by_hand():
 
 def test_safety_factors_derivative_wrt_crowning_matches_central_differences():
     """S_H and S_F of both gears rated with the K_Hβ measured on the smooth-law load map
-    (``jg.face_load_factor``, given to ``jg.rate``, as the objective does) are
+    (``jg.rating.face_load_factor``, given to ``jg.rate``, as the objective does) are
     differentiable with respect to a tooth modification: on the misaligned spur pair of the slow
     test below (12 µm helix slope deviation, 3 slices, 8 positions), their derivative with
     respect to the pinion crowning depth (one jitted ``jax.jvp``) against central differences
@@ -86,7 +86,7 @@ def test_safety_factors_derivative_wrt_crowning_matches_central_differences():
         pinion = jg.MemberModification(helix_slope_deviation=12e-6, crowning_depth=crowning, **tip)
         mods = jg.Modifications(pinion, jg.MemberModification(**tip))
         res = jg.quasi_static(mesh, mods, case.torque, positions_per_pitch=8, contact=law)
-        given = jg.GivenFactors(K_Hbeta=jg.face_load_factor(res))
+        given = jg.GivenFactors(K_Hbeta=jg.rating.face_load_factor(res))
         rating = jg.rate(
             rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given)
         )

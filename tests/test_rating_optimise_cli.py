@@ -61,7 +61,7 @@ def _by_hand(case, mods, contact=None):
     settings = eqx.tree_at(
         lambda s: (s.given, s.tip_relief, s.crowning),
         rc.settings,
-        (jg.GivenFactors(K_Hbeta=float(jg.face_load_factor(res))), relief, crowning),
+        (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), relief, crowning),
         is_leaf=lambda x: x is None,
     )
     r = jg.rate(rc.geometry, rc.operating, settings)

@@ -1,7 +1,7 @@
 """The planetary rating's measured K_Halpha and root-stress maps (jaxgear.cli.planetary:
 stage_loads, rating_section): the stage's quasi-static solve on the gears' contact cells, each
-planet's mesh measured as a pair's (jaxgear.transverse_load_factor), the most loaded planet's cell
-loads mapped with the plane FE fillet stress (jaxgear.root_stress_map).
+planet's mesh measured as a pair's (jaxgear.rating.transverse_load_factor), the most loaded planet's cell
+loads mapped with the plane FE fillet stress (jaxgear.rating.root_stress_map).
 
 References, independent of the stage code:
 - the same GearPair run as a pair (jaxgear.quasi_static on the mesh's rigid mesh) at the mesh's
@@ -82,7 +82,7 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
     """Every planet's sun mesh and ring mesh of the in-phase stage 2 (a 60 µm tip relief on the
     sun, iso6336 stiffness): cell line loads equal to the pair's run alone at the mean planet
     load (1e-9 of the largest), so the measured K_Halpha of both meshes equals the pair's
-    jaxgear.transverse_load_factor (1e-9) and exceeds 1 on the relieved sun mesh; the
+    jaxgear.rating.transverse_load_factor (1e-9) and exceeds 1 on the relieved sun mesh; the
     sun/planet root-stress map's maximum equals the pair's map at the same loads (stub FE table,
     1e-9), both members."""
     from jaxgear.cli.planetary import measured_k_h_alpha, stage_root_stress
@@ -96,7 +96,7 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
         for planet in loads.meshes[k]:
             np.testing.assert_allclose(planet.line_load, w, rtol=0, atol=1e-9 * w.max())
             np.testing.assert_array_equal(planet.cell_mask, np.asarray(pair_res.cell_mask))
-        want.append(float(jg.transverse_load_factor(pair_res)))
+        want.append(float(jg.rating.transverse_load_factor(pair_res)))
     got = [m["value"] for m in measured_k_h_alpha(loads)]
     np.testing.assert_allclose(got, want, rtol=1e-9)
     assert got[0] > 1.05  # the relief shifts load between the sun mesh's pairs
@@ -109,7 +109,7 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
         ends = [float(pair.roll_distance(x, i)) for x in (0.0, float(pair.path_of_contact))]
         radii = np.hypot(np.linspace(min(ends), max(ends), 5), float(pair.base_radii[i]))
         t = stub_table(jg.tooth_geometry(pair, i), radii)
-        by_pair.append(float(jg.root_stress_map(pair, sun, i, t.roll, t.peak).max))
+        by_pair.append(float(jg.rating.root_stress_map(pair, sun, i, t.roll, t.peak).max))
     np.testing.assert_allclose(sec["root_stress"]["max_Pa"], by_pair, rtol=1e-9)
     assert sec["root_stress"]["planet"] == 1  # equal shares: the first planet
 
@@ -146,7 +146,7 @@ def test_k_h_alpha_of_a_uniform_stage_mesh_against_the_closed_form():
 
 def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
     """`use_measured = ["K_Halpha"]`: each mesh rated with its measured K_Halpha (within ISO's
-    limits, jg.transverse_factor_limits) in place of ISO's, K_Falpha with it; no warning (the
+    limits, jg.rating.transverse_factor_limits) in place of ISO's, K_Falpha with it; no warning (the
     stage measures it). K_v named too: the one-line warning names K_v only."""
     from jaxgear.cli.planetary import rating_section
 
@@ -157,7 +157,7 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
         warnings.filterwarnings("ignore", category=CaseWarning)
         sec = rating_section(case, str(tmp_path), 1.0, loads=loads, table=stub_table)
     measured = sec["measured"]["K_Halpha"]["value"]
-    caps = [float(jg.transverse_factor_limits(rc.geometry)[0]) for rc in jio.ratings_of(case)]
+    caps = [float(jg.rating.transverse_factor_limits(rc.geometry)[0]) for rc in jio.ratings_of(case)]
     for key in ("K_Halpha", "K_Falpha"):
         f = sec["factors"][key]
         assert all(s.startswith("measured (rating.measured") for s in f["source"])

@@ -93,7 +93,7 @@ def test_a_train_rates_every_mesh_and_matches_iso_by_hand_on_the_idler_mesh():
     assert float(rc.geometry.derived().transverse_contact_ratio) == pytest.approx(eps_a, rel=1e-9)
     assert float(r.pitting.sigma_H0) == pytest.approx(s_h0, rel=1e-6)
     # σ_F0 = F_t/(b m_n) Y_F Y_S per gear (face widths 10.5 and 9.5 mm: b ≤ b_mate + 2 m_n)
-    form = jg.tooth_form_factors(rc.geometry)
+    form = jg.rating.tooth_form_factors(rc.geometry)
     for i, b in enumerate((10.5e-3, 9.5e-3)):
         ref = ft / (b * 1.5e-3) * float(form.Y_F[i]) * float(form.Y_S[i])
         assert float(r.bending.sigma_F0[i]) == pytest.approx(ref, rel=1e-9)

@@ -1,6 +1,6 @@
 """One source for a planetary stage's ring cutter in a case file: the ring's ``[[gears]]`` entry
 (``cutter_teeth``, ``cutter_profile_shift``, ``cutter_tip_radius_coeff``) gives the pinion-type
-cutter to both the rating's root section (:class:`jaxgear.ShaperCutterSection`) and the Weber
+cutter to both the rating's root section (:class:`jaxgear.rating.ShaperCutterSection`) and the Weber
 stiffness model (``Weber(ring_cutter=...)``); the older ``[rating] ring_cutter_*`` spelling is
 still read, for both, and the two spellings together are refused in one line."""
 
@@ -66,7 +66,7 @@ def test_one_cutter_in_gears_reaches_the_rating_and_weber():
                                      cutter_tip_radius_coeff=rho))
         assert case.stiffness == jg.Weber(ring_cutter=fp.ShaperCutter(z0, x0, rho))
         section = jio.ratings_of(case)[1].geometry.root_section
-        assert isinstance(section, jg.ShaperCutterSection)
+        assert isinstance(section, jg.rating.ShaperCutterSection)
         assert (section.teeth, float(section.profile_shift), float(section.tip_radius_coeff)) == (
             z0, x0, rho)
     case = jio.parse_train(_data("nrel-5mw-stage2", cutter_teeth=31))

@@ -4,13 +4,13 @@ root-stress map in the planetary rating.
 
 References, independent of the code under test:
 - ISO 6336-3 method B's sigma_F0 of the internal gear with its root section from the same
-  cutter (jaxgear.ShaperCutterSection: the 60-degree section of the cutter's envelope, written
+  cutter (jaxgear.rating.ShaperCutterSection: the 60-degree section of the cutter's envelope, written
   in JAX separately from fem_prep's NumPy generation), against the FE fillet peak under the load
   at ISO's outer point of single pair contact; the external teeth give FE/ISO 0.8-1.0
   (docs/rating.md);
 - the involute's closed form (ISO 21771, InternalToothForm.half_thickness) for the Hertzian term;
 - convergence of the FE compliance and fillet stress under mesh refinement;
-- jaxgear.root_stress_map of the ring pair run alone at the same cell loads (the planetary map).
+- jaxgear.rating.root_stress_map of the ring pair run alone at the same cell loads (the planetary map).
 """
 
 from __future__ import annotations
@@ -70,7 +70,7 @@ def _fe_over_iso(pair, cutter, size=None, stand_in=False):
     method B with the root section of the same cutter (σ_F0 = F_t/(b m_n) Y_F Y_S, F_t = F_bt cos
     α_t: σ_FE/σ_F0 = g m_n/(cos α_t Y_F Y_S)); ``stand_in``: also the stand-in fillet's FE over
     the same σ_F0 (else None)."""
-    section = jg.ShaperCutterSection(
+    section = jg.rating.ShaperCutterSection(
         cutter.teeth, cutter.profile_shift, cutter.tip_radius_coeff
     )
     ff = jg.InternalRatingGeometry.of(pair, section).form_factors()
@@ -232,7 +232,7 @@ def _loads(case):
 def test_planetary_ring_map_equals_the_pairs(tmp_path):
     """nrel-5mw-stage2 (in phase, no pin errors: every ring mesh carries the pair's loads, as
     tests/test_rating_planetary_loads.py shows): the planet/ring mesh's ring map maximum equals
-    jaxgear.root_stress_map of the InternalGearPair run alone (its rigid mesh, the mean planet
+    jaxgear.rating.root_stress_map of the InternalGearPair run alone (its rigid mesh, the mean planet
     load) at the same positions, with the same FE table (a stub, linear in the roll: exact at
     any radius), 1e-9; the table is asked for the ring cut by the rating's cutter (z0 = 30,
     ρ_a0 = 0.3 m_n) over radii on its active profile (r_a up). Without a cutter: the ring's
@@ -263,7 +263,7 @@ def test_planetary_ring_map_equals_the_pairs(tmp_path):
     alone = jg.quasi_static(one.mesh_model(), one.modifications, one.torque,
                             theta=(x + shift) / float(pair.base_radii[0]))
     t = stub_table(ring, radii)
-    want = float(jg.root_stress_map(pair, alone, 1, t.roll, t.peak).max)
+    want = float(jg.rating.root_stress_map(pair, alone, 1, t.roll, t.peak).max)
     assert sec["root_stress"]["max_Pa"][1] == pytest.approx(want, rel=1e-9)
     assert sec["root_stress"]["fe_over_iso"][1] == pytest.approx(want, rel=1e-9)
     bare = _stage2(cutter=False)

@@ -88,7 +88,7 @@ def test_fillet_stress_of_a_standard_tooth_agrees_with_iso_method_b():
     on sharper fillets, ρ_fP = 0.25 m_n, FE is 9 to 18 % below ISO: docs/rating.md). The peak
     lies above the 30° tangent (41° and 45°), as photoelastic and FE studies find."""
     pair = _spur_20_40()
-    form = eqx.filter_jit(jg.tooth_form_factors)(jg.RatingGeometry.of(pair))  # 5 s op by op
+    form = eqx.filter_jit(jg.rating.tooth_form_factors)(jg.RatingGeometry.of(pair))  # 5 s op by op
     for i in (0, 1):
         iso = 6 * math.cos(float(form.alpha_Fen[i])) * float(form.h_Fe[i])
         iso *= float(form.Y_S[i]) / float(form.s_Fn[i]) ** 2
@@ -117,7 +117,7 @@ class _Cells(NamedTuple):
 
 
 def test_root_stress_map_is_each_cells_load_times_the_fe_fillet_stress_there():
-    """The map of a load distribution (jaxgear.root_stress_map) with the influence table of
+    """The map of a load distribution (jaxgear.rating.root_stress_map) with the influence table of
     fem_prep.fillet_influence (9 load radii over the pinion's active profile, one factorisation)
     against a separate FE solve with the load at one cell's own radius (fem_prep.fillet_stress):
     the table interpolated between its radii is within 0.5 % there; cells off the flanks and
@@ -136,7 +136,7 @@ def test_root_stress_map_is_each_cells_load_times_the_fe_fillet_stress_there():
         cell_z=np.zeros_like(s),
         cell_mask=np.array([[[True, True], [True, True], [False, False]]]),
     )
-    rmap = jg.root_stress_map(pair, cells, 0, table.roll, table.peak)
+    rmap = jg.rating.root_stress_map(pair, cells, 0, table.roll, table.peak)
     rho = pair.start_roll + float(s[0, 0, 0])
     direct = fem_prep.fillet_stress(tooth, math.hypot(rho, pair.base_radii[0]), size=size)
     np.testing.assert_allclose(rmap.stress[0, 0], np.array([2e5, 1e5]) * direct.peak, rtol=5e-3)

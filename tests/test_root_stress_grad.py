@@ -34,7 +34,7 @@ def test_soft_root_stress_maximum_gradient_matches_central_differences():
     def maps(depth, width):
         tip = jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.25)
         res = jg.quasi_static(mesh, jg.Modifications.symmetric(tip), case.torque, contact=contact)
-        out = [jg.root_stress_map(pair, res, m, table[m].roll, table[m].peak) for m in (0, 1)]
+        out = [jg.rating.root_stress_map(pair, res, m, table[m].roll, table[m].peak) for m in (0, 1)]
         soft = jnp.stack([m.soft_max(w) for m, w in zip(out, width, strict=True)])
         return soft, jnp.stack([m.max for m in out])
 
@@ -60,6 +60,6 @@ def test_soft_root_stress_maximum_gradient_matches_central_differences():
 
 def test_soft_max_refuses_a_width_not_positive():
     zeros = np.zeros((1, 1, 1))
-    m = jg.RootStressMap(zeros, zeros, zeros, zeros, zeros > 0)
+    m = jg.rating.RootStressMap(zeros, zeros, zeros, zeros, zeros > 0)
     with pytest.raises(ValueError, match=r"^RootStressMap.soft_max: width = 0.0 is out of range"):
         m.soft_max(0.0)

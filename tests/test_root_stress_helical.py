@@ -85,14 +85,14 @@ def test_beta_to_zero_reproduces_the_spur_map():
         )
         plain = fem_prep.fillet_influence(tooth, radii, size=size)
         np.testing.assert_array_equal(normal.sigma_t, plain.sigma_t)
-        ref = jg.root_stress_map(spur, cells, member, normal.roll, normal.peak)
+        ref = jg.rating.root_stress_map(spur, cells, member, normal.roll, normal.peak)
         hel = fem_prep.fillet_influence(
             jg.tooth_geometry(helix, member),
             _radii(helix, member, 5),
             size=size,
             section=fem_prep.NormalSection(),
         )
-        got = jg.root_stress_map(helix, cells, member, hel.roll, hel.peak)
+        got = jg.rating.root_stress_map(helix, cells, member, hel.roll, hel.peak)
         assert float(ref.max) > 0
         np.testing.assert_allclose(got.stress, ref.stress, rtol=1e-9)
 
@@ -112,7 +112,7 @@ def _oblique_line_maxima(sizes):
         t = fem_prep.fillet_influence(
             tooth, radii, size=pair.normal_module * size, section=fem_prep.NormalSection()
         )
-        peaks.append(float(jg.root_stress_map(pair, cells, 0, t.roll, t.peak).max))
+        peaks.append(float(jg.rating.root_stress_map(pair, cells, 0, t.roll, t.peak).max))
     return peaks
 
 
@@ -165,7 +165,7 @@ def test_load_height_along_an_oblique_contact_line_by_hand():
     table = fem_prep.fillet_influence(
         tooth, _radii(pair, 0, 17), size=size, section=fem_prep.NormalSection()
     )
-    rmap = jg.root_stress_map(pair, mapped, 0, table.roll, table.peak)
+    rmap = jg.rating.root_stress_map(pair, mapped, 0, table.roll, table.peak)
     np.testing.assert_allclose(np.asarray(rmap.roll)[line], roll_hand, rtol=1e-12)
     on = np.nonzero(mask[line])[0]
     virtual = tooth.virtual_spur()

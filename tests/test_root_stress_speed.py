@@ -1,4 +1,4 @@
-"""The root-stress map at speed (docs/rating.md, "Root stress at speed"): jaxgear.root_stress_map
+"""The root-stress map at speed (docs/rating.md, "Root stress at speed"): jaxgear.rating.root_stress_map
 takes a dynamic run's cell loads (K kept steps × L lines × N slices) as it takes a quasi-static
 load map. Fast: the map is linear in the loads (loads scaled by c give c × the map, 1e-12) and,
 for a record whose loads at each step are the static ones scaled by a factor f_k (the loads a
@@ -48,18 +48,18 @@ def test_root_stress_map_is_linear_and_follows_scaled_dynamic_loads():
         rb = pair.base_radii[member]
         roll = np.asarray(pair.roll_distance(static.cell_s, member))
         table = stub_table(tooth, np.hypot(np.linspace(roll.min(), roll.max(), 9), rb))
-        base = jg.root_stress_map(pair, static, member, table.roll, table.peak)
+        base = jg.rating.root_stress_map(pair, static, member, table.roll, table.peak)
         # linear: c × the loads, c × the map
         for c in (0.5, 1.7):
             scaled = Cells(c * static.line_load, static.cell_s, static.cell_z, static.cell_mask)
-            got = jg.root_stress_map(pair, scaled, member, table.roll, table.peak)
+            got = jg.rating.root_stress_map(pair, scaled, member, table.roll, table.peak)
             np.testing.assert_allclose(got.stress, c * np.asarray(base.stress), rtol=1e-12)
         # a dynamic record: each step the static loads of its position × f_k
         f = np.array([1.0, 1.3, 0.8, 1.45, 1.1, 0.9])
         dyn = Cells(
             f[:, None, None] * static.line_load, static.cell_s, static.cell_z, static.cell_mask
         )
-        got = jg.root_stress_map(pair, dyn, member, table.roll, table.peak)
+        got = jg.rating.root_stress_map(pair, dyn, member, table.roll, table.peak)
         # the stub table g(ρ) = 1e3 ρ by hand: stress = w g(ρ) on the loaded flank cells
         by_hand = np.where(static.cell_mask, f[:, None, None] * static.line_load, 0) * 1e3 * roll
         np.testing.assert_allclose(got.stress, by_hand, rtol=1e-12)

@@ -24,6 +24,7 @@ PACKAGES = (
         "jaxgear.planetary.md",
         "planetary stages: model kinds, meshes, ring, deviations, modes, dynamics",
     ),
+    ("jaxgear.rating", "jaxgear.rating.md", "load capacity: ISO 6336 ratings, load factors, root stress"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -31,8 +32,10 @@ PACKAGES = (
 
 
 #: the sections of a package's page, by task, in reading order: (title, the private modules
-#: whose public names it holds, by their last dotted part; a prefix ends with ``*``). A name
-#: whose module no section names goes to "Other" (a new module shows up, never disappears).
+#: whose public names it holds, by their last dotted part; a prefix ends with ``*``; a pattern
+#: with a dot, ``rating.*``, matches the last two parts and is tried before the plain ones, so
+#: that ``jaxgear.rating._geometry`` is not taken for ``jaxgear._geometry``). A name whose
+#: module no section names goes to "Other" (a new module shows up, never disappears).
 SECTIONS = {
     "jaxgear": (
         ("Geometry", ("_geometry", "_internal", "_backlash")),
@@ -42,10 +45,9 @@ SECTIONS = {
                             "_weber_internal")),
         ("Modifications and deviations", ("_modifications", "_deviations")),
         ("Scenes (re-exported)", ("_scene", "_rigid", "_torsional")),
-        ("Root stress", ("_root_stress",)),
         ("Planetary stages (re-exported from jaxgear.planetary)",
          ("_stage", "_spatial", "_meshes", "_analysis")),
-        ("Load capacity (ISO 6336)", ("_rating*",)),
+        ("Load capacity (ISO 6336; the rating subpackage)", ("rating.*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
         ("Gearbox", ("_gearbox",)),
     ),
@@ -69,6 +71,13 @@ SECTIONS = {
         ("Modes, phasing and load sharing", ("_analysis",)),
         ("Dynamics", ("_dynamics",)),
     ),
+    "jaxgear.rating": (
+        ("Rating", ("_rate", "_settings", "_material")),
+        ("Standards (the seam; ISO 6336's editions)", ("_standard", "_iso6336")),
+        ("Geometry and tooth form", ("_geometry", "_internal", "_bending")),
+        ("Load factors, measured factors", ("_factors", "_measured")),
+        ("Root stress", ("_root_stress",)),
+    ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
@@ -86,8 +95,11 @@ SECTIONS = {
 
 
 def _matches(module: str, patterns) -> bool:
-    last = module.rsplit(".", 1)[-1]
-    return any(last == p or (p.endswith("*") and last.startswith(p[:-1])) for p in patterns)
+    def one(p):
+        tail = ".".join(module.split(".")[-(p.count(".") + 1):])
+        return tail == p or (p.endswith("*") and tail.startswith(p[:-1]))
+
+    return any(one(p) for p in patterns)
 
 
 def sections(module_name: str, names: list[str]) -> list[tuple[str, list[str]]]:
@@ -95,12 +107,16 @@ def sections(module_name: str, names: list[str]) -> list[tuple[str, list[str]]]:
     (:data:`SECTIONS`), each section's names in export order; empty sections left out."""
     module = importlib.import_module(module_name)
     owner = {n: getattr(getattr(module, n), "__module__", "") or "" for n in names}
-    out, placed = [], set()
-    for title, patterns in SECTIONS.get(module_name, ()):
-        got = [n for n in names if n not in placed and _matches(owner[n], patterns)]
-        placed.update(got)
-        if got:
-            out.append((title, got))
+    spec = SECTIONS.get(module_name, ())
+    got: dict[str, list[str]] = {title: [] for title, _ in spec}
+    placed = set()
+    for dotted in (True, False):  # the dotted patterns first (see SECTIONS)
+        for title, patterns in spec:
+            mine = [p for p in patterns if ("." in p) == dotted]
+            new = [n for n in names if n not in placed and _matches(owner[n], mine)]
+            placed.update(new)
+            got[title] += new
+    out = [(t, sorted(got[t], key=names.index)) for t, _ in spec if got[t]]
     rest = [n for n in names if n not in placed]
     if rest:
         out.append(("Other" if out else "", rest))

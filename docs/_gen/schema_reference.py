@@ -682,7 +682,7 @@ TRAIN_NOTES = {
     "to planetary stages only: a train without `[planetary]` refuses it (its meshes carry no "
     "load sharing between paths); without it a planetary stage rates with the run's computed "
     "K_γ. The ring's root section comes from its pinion-type cutter "
-    "(`jaxgear.ShaperCutterSection`), given on the ring's `[[gears]]` entry (`cutter_teeth`, "
+    "(`jaxgear.rating.ShaperCutterSection`), given on the ring's `[[gears]]` entry (`cutter_teeth`, "
     "`cutter_profile_shift`, `cutter_tip_radius_coeff`); `ring_cutter_teeth` (z0), "
     "`ring_cutter_profile_shift` (x0, default 0) and `ring_cutter_tip_radius_coeff` (the "
     "cutter's tip radius over m_n, default the ring's `fillet_radius_coeff`) are their older "

@@ -192,8 +192,8 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
             "S_H": s_h.tolist(),
             "S_F": s_f.tolist(),
             "least_S": float(min(s_h.min(), s_f.min())),
-            "K_Hbeta_measured": float(jg.face_load_factor(res)),
-            "K_Halpha_measured": float(jg.transverse_load_factor(res)),
+            "K_Hbeta_measured": float(jg.rating.face_load_factor(res)),
+            "K_Halpha_measured": float(jg.rating.transverse_load_factor(res)),
             "te_rms_m": float(res.te_rms),
         }
     limit = objective.te_limit

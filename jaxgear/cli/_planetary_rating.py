@@ -20,12 +20,16 @@ import fem_prep
 
 from .. import (
     InternalGearPair,
+    internal_tooth_geometry,
+    tooth_geometry,
+)
+from ..rating import (
     RootStressMap,
     ShaperCutterSection,
-    internal_tooth_geometry,
+    planet_dynamic_factor,
+    planet_transverse_factor,
     root_stress_map,
-    tooth_geometry,
-    transverse_load_factor,
+    with_load_sharing,
 )
 from ..planetary import RigidRing, planetary_quasi_static
 from ..io import CaseWarning, ratings_of
@@ -36,7 +40,7 @@ from ._rating_report import (
     ROOT_STRESS_RADII,
     _mesh_curves,
     _pick,
-    rated_with_measured,
+    measured_rating,
     stacked_meshes,
     write_rating_md,
 )
@@ -162,10 +166,8 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
         cause = {"comparable": comparable, "note": note}
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
-        f = np.abs(np.asarray(sharing[name][key], dtype=float))
-        share = f / f.mean()
-        value = max(float(np.interp(speed, speeds, curves[kind * n + j])) / share[j]
-                    for j in range(n) if share[j] > 0)
+        per_planet = np.stack(curves[kind * n:(kind + 1) * n], axis=1)  # (speeds, planets)
+        value = planet_dynamic_factor(speeds, per_planet, speed, sharing[name][key])
         out.append({"value": value, "source": source, **cause})
     return out
 
@@ -198,7 +200,7 @@ RING_ROOT_STRESS = "not computed (no ring cutter)"
 
 class MeshLoads(NamedTuple):
     """One planet's one mesh of the stage's quasi-static solve, with the fields of a one-mesh
-    result (what :func:`jaxgear.transverse_load_factor` and :func:`jaxgear.root_stress_map`
+    result (what :func:`jaxgear.rating.transverse_load_factor` and :func:`jaxgear.rating.root_stress_map`
     read): ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and ``cell_mask``, each of shape
     (P, n_lines, n_slices) over the positions (or a dynamic run's kept steps); s, z in the mesh
     pair's base plane (the :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the
@@ -302,14 +304,13 @@ def _planet_cells(meshes, x):
 def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
     (:func:`stage_loads`): each planet's mesh measured as a pair's
-    (:func:`jaxgear.transverse_load_factor`: the load sharing between the tooth pairs in
+    (:func:`jaxgear.rating.transverse_load_factor`: the load sharing between the tooth pairs in
     contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE`; None without
     loads."""
     if loads is None:
         return None
     source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))
-    return [{"value": max(float(transverse_load_factor(m)) for m in kind), "source": source}
-            for kind in loads.meshes]
+    return [{"value": planet_transverse_factor(kind), "source": source} for kind in loads.meshes]
 
 
 @functools.singledispatch
@@ -321,7 +322,7 @@ def section_cutter(root_section):
 
 @section_cutter.register
 def _shaper_section_cutter(root_section: ShaperCutterSection):
-    """:class:`jaxgear.ShaperCutterSection`'s cutter (z0, x0, ρ_a0/m_n): the one ISO's σ_F0 of
+    """:class:`jaxgear.rating.ShaperCutterSection`'s cutter (z0, x0, ρ_a0/m_n): the one ISO's σ_F0 of
     the ring is computed with."""
     rho = root_section.tip_radius_coeff
     return fem_prep.ShaperCutter(
@@ -374,7 +375,7 @@ def stage_root_stress(case, out: str, k: int, section: dict, loads: StageLoads,
     """Mesh ``k``'s root-stress map (0 sun/planet, 1 planet/ring) into its rating ``section``
     and ``root_stress_map_<mesh>.png`` in ``out``: the most loaded planet's cell loads of the
     stage's quasi-static solve (:func:`stage_loads`, :meth:`StageLoads.most_loaded`) times each
-    member's FE fillet stress per unit load (:func:`jaxgear.root_stress_map`,
+    member's FE fillet stress per unit load (:func:`jaxgear.rating.root_stress_map`,
     :data:`~jaxgear.cli.ROOT_STRESS_RADII` load cases per member, ``table`` by default the
     process-cached :func:`jaxgear.cli.fillet_table`), as a pair's
     (:func:`jaxgear.cli.root_stress_outputs`): ``root_stress.{max_Pa, iso_sigma_F0_Pa,
@@ -462,14 +463,13 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "stage's meshes (K_Halpha of a stage given by its gears, K_Hbeta of a helical stage "
             "on its axial and tilting supports, K_v by jaxgear run's speed sweep): rated with "
             "ISO's", CaseWarning, stacklevel=2)
-    sections = []
+    sections, ratings = [], []
     for k, (name, rc) in enumerate(zip(names, rcs, strict=True)):
         given = rc.k_gamma is not None
         kg = float(rc.k_gamma) if given else float(k_gamma)
         k_a = float(rc.settings.application_factor)
-        # K_γ multiplies the load as K_A does (ISO 6336-1: F_t K_A K_γ in every load factor
-        # and stress; σ_H0, σ_F0 at the nominal F_t of one planet path)
-        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, k_a * kg)
+        # K_γ multiplies the load as K_A does (jaxgear.rating.with_load_sharing)
+        settings = with_load_sharing(rc.settings, kg)
         rating = RATE(rc.geometry, rc.operating, settings)
         for note in rating.scope_notes():
             warnings.warn(f"[rating] {name}: {note}", CaseWarning, stacklevel=2)
@@ -477,7 +477,8 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         section["modification_inputs"] = modification_inputs(rc, rating)
         if measured:
             section["measured"] = {key: v[k] for key, v in measured.items()}
-            section = rated_with_measured(dataclasses.replace(rc, settings=settings), section)
+            section, rating = measured_rating(dataclasses.replace(rc, settings=settings), section,
+                                              rating)
         if loads is not None:
             stage_root_stress(case, out, k, section, loads, table)
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
@@ -487,13 +488,15 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }
         sections.append(section)
-    write_rating_md(out, stage_rating_lines(case, sections))
+        ratings.append(rating)
+    write_rating_md(out, stage_rating_lines(case, sections, ratings))
     return stacked_meshes(names, sections)
 
 
-def stage_rating_lines(case, sections: list[dict]) -> list[str]:
+def stage_rating_lines(case, sections: list[dict], ratings=None) -> list[str]:
     """``rating.md`` of a planetary stage: one table per mesh of its ``sections`` (each mesh's
-    own rating section, :func:`rating_section`'s before stacking), with its K_γ row."""
+    own rating section, :func:`rating_section`'s before stacking), with its K_γ row;
+    ``ratings``: each section's :class:`jaxgear.Rating` (None: rated again for the report)."""
     lines = [
         f"# {case.name}: load capacity of every mesh of the planetary stage",
         "",
@@ -510,10 +513,10 @@ def stage_rating_lines(case, sections: list[dict]) -> list[str]:
     for k, section in enumerate(sections):
         kg = section["K_gamma"]["value"]
         rc = rcs[k]
-        settings = eqx.tree_at(lambda s: s.application_factor, rc.settings,
-                               float(rc.settings.application_factor) * kg)
+        settings = with_load_sharing(rc.settings, kg)
+        rating = None if ratings is None else ratings[k]
         lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##",
-                              inputs=inputs_of(case, k, rc, settings))
+                              inputs=inputs_of(case, k, rc, settings, rating))
     return lines
 
 
@@ -651,7 +654,7 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     mesh's root stress at speed (returned; ``rating.md`` rewritten): the loads ``at``
     (:func:`stage_at_speed`) of the planet whose mesh carries the largest force at speed
     (:meth:`StageAtSpeed.most_loaded`, per mesh kind) times each member's FE fillet stress per
-    unit load (:func:`jaxgear.root_stress_map`, the same tables as the quasi-static map,
+    unit load (:func:`jaxgear.rating.root_stress_map`, the same tables as the quasi-static map,
     ``table``), and the static map of the quasi-static solve at the same slices and travels
     (its most loaded planet). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
     (:func:`jaxgear.cli.at_speed_sections`: ``speed_rad_s`` (the input's), ``max_Pa``,

@@ -9,12 +9,14 @@ from ..io import RatingCase
 __all__ = ["modification_inputs", "modification_line"]
 
 
-def modification_inputs(rc: RatingCase, rating) -> dict:
+def modification_inputs(rc: RatingCase, rating) -> dict | None:
     """The ``rating`` section's ``modification_inputs``: ISO 6336-1's tip relief C_a (K_v) and
     crowning C_β (K_Hβ) the mesh was rated with, in µm (C_a: the running-in C_ay where the
     case gives none), each with its source (``rc.modification_inputs``: the case's
     ``[modifications]`` or ``[rating] tip_relief_um``), and K_Hβ's B₂ (0.5 with the crowning,
-    1 without)."""
+    1 without); None for a standard whose load factors have no tip relief C_a (not ISO 6336's)."""
+    if "C_a_m" not in rating.factors.details:  # a standard without ISO's inputs
+        return None
     m = rc.modification_inputs
     cb = m.get("crowning_m")
     return {

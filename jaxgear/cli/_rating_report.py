@@ -13,15 +13,7 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import (
-    GivenFactors,
-    face_load_factor,
-    quasi_static,
-    root_stress_map,
-    tooth_geometry,
-    transverse_factor_limits,
-    transverse_load_factor,
-)
+from .. import quasi_static, tooth_geometry
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -34,6 +26,13 @@ from ..io import (
     ratings_of,
     spec_integrator,
     spec_window,
+)
+from ..rating import (
+    dynamic_factor_at,
+    face_load_factor,
+    root_stress_map,
+    transverse_load_factor,
+    with_measured,
 )
 from ._plots import root_stress_plot
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
@@ -48,6 +47,7 @@ __all__ = [
     "at_speed_sections",
     "measured_dynamic_factor",
     "measured_factors",
+    "measured_rating",
     "rated_with_measured",
     "rating_lines",
     "rating_outputs",
@@ -63,11 +63,13 @@ __all__ = [
 ]
 
 
-def _lines(case: Case, k: int, section: dict, title: str, heading: str = "#") -> list[str]:
+def _lines(case: Case, k: int, section: dict, title: str, heading: str = "#",
+           rating=None) -> list[str]:
     """Mesh ``k``'s ``rating.md`` lines (:func:`rating_lines`, with its inputs:
-    :func:`jaxgear.cli._rating_sheet.inputs_of`)."""
+    :func:`jaxgear.cli._rating_sheet.inputs_of`; ``rating`` the :class:`jaxgear.Rating` of
+    ``section`` where the caller has it, else the report rates the section again)."""
     rc = ratings_of(case)[k]
-    return rating_lines(section, title, heading, inputs_of(case, k, rc))
+    return rating_lines(section, title, heading, inputs_of(case, k, rc, rating=rating))
 
 
 @functools.singledispatch
@@ -82,18 +84,23 @@ def _(first, values: list):
 
 
 @functools.singledispatch
-def _section_and_table(form, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+def _section_and_table(form, case: Case, sections: list[dict],
+                       ratings=None) -> tuple[dict, list[str]]:
+    """The case's ``rating`` section and ``rating.md`` lines of its meshes' ``sections``
+    (``ratings``: each section's :class:`jaxgear.Rating`, or None: rated again for the
+    report)."""
     raise TypeError(f"rating_outputs: no rating report for a case of form {type(form).__name__}")
 
 
 @_section_and_table.register
-def _(form: PairForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+def _(form: PairForm, case: Case, sections: list[dict], ratings=None) -> tuple[dict, list[str]]:
     """A pair: its one mesh's section, the case's table."""
-    return sections[0], _lines(case, 0, sections[0], case.name)
+    rating = None if ratings is None else ratings[0]
+    return sections[0], _lines(case, 0, sections[0], case.name, rating=rating)
 
 
 @_section_and_table.register
-def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str]]:
+def _(form: TrainForm, case: Case, sections: list[dict], ratings=None) -> tuple[dict, list[str]]:
     """A train: per-mesh lists (``meshes`` names them, in the order of ``[[meshes]]``; per-gear
     values [driving, driven] per mesh); ``rating.md`` one section per mesh."""
     names = [case.mesh_name(k) for k in range(len(sections))]
@@ -107,7 +114,9 @@ def _(form: TrainForm, case: Case, sections: list[dict]) -> tuple[dict, list[str
         "",
     ]
     for k, (name, sec) in enumerate(zip(names, sections, strict=True)):
-        lines += _lines(case, k, sec, f"{case.name}, mesh {name}", heading="##") + [""]
+        rating = None if ratings is None else ratings[k]
+        lines += _lines(case, k, sec, f"{case.name}, mesh {name}", heading="##",
+                        rating=rating) + [""]
     return stacked_meshes(names, sections), lines
 
 
@@ -193,34 +202,32 @@ def train_loads(case: Case, result) -> ModelLoads:
     return ModelLoads(tuple(result.meshes), f"coupled train: {what}")
 
 
-#: the given factors a measured one stands for (ISO 6336-1 method B: K_Fα = K_Hα; K_Fβ
-#: follows from K_Hβ as ISO's, K_Hβ^N_F)
-_STANDS_FOR = {"K_Hbeta": ("K_Hbeta",), "K_Halpha": ("K_Halpha", "K_Falpha"), "K_v": ("K_v",)}
-
-
 def rated_with_measured(rc: RatingCase, section: dict) -> dict:
-    """The section rated again with the measured factors ``rc.use_measured`` names that
-    ``section["measured"]`` holds in place of ISO's (their source "measured"); the section's
-    other entries (``measured``, ``root_stress``) kept. Nothing to use: the section itself.
-    Rated on ``rc``'s settings (a planetary mesh's with K_γ folded into K_A:
+    """:func:`measured_rating`'s section."""
+    return measured_rating(rc, section)[0]
+
+
+def measured_rating(rc: RatingCase, section: dict, rating=None) -> tuple:
+    """(section, rating): the section rated again with the measured factors ``rc.use_measured``
+    names that ``section["measured"]`` holds in place of the standard's (their source
+    "measured"; :func:`jaxgear.rating.with_measured`), the section's other entries
+    (``measured``, ``root_stress``) kept, and the :class:`jaxgear.Rating` it is the summary of.
+    Nothing to use: the section itself and ``rating`` (the section's own rating, if the caller
+    has it). Rated on ``rc``'s settings (a planetary mesh's with K_γ folded into K_A:
     :func:`jaxgear.cli.planetary.rating_section`)."""
     measured = section.get("measured", {})
     use = {n: measured[n]["value"] for n in rc.use_measured if n in measured}
     if not use:
-        return section
-    given = {f: getattr(rc.settings.given, f) for f in GivenFactors.__dataclass_fields__}
-    for name, value in use.items():  # ISO's factors are >= 1 (GivenFactors refuses less)
-        given.update(dict.fromkeys(_STANDS_FOR[name], max(value, 1.0)))
-    # the measured K_Hα, K_Fα within ISO's limits (clause 8); a given one is rated as given
-    limits = dict(zip(("K_Halpha", "K_Falpha"), transverse_factor_limits(rc.geometry)))
-    for key in limits.keys() & {f for name in use for f in _STANDS_FOR[name]}:
-        given[key] = min(given[key], float(limits[key]))
-    settings = eqx.tree_at(lambda s: s.given, rc.settings, GivenFactors(**given))
-    out = RATE(rc.geometry, rc.operating, settings).summary()
+        return section, rating
+    # the model's settings with them given (jaxgear.rating.with_measured: as the standard ties
+    # them, ISO's K_Fα = K_Hα within its limits); the factors they set are sourced "measured"
+    settings = with_measured(rc.geometry, rc.settings, use)
+    rated = RATE(rc.geometry, rc.operating, settings)
+    out = rated.summary()
     for name in use:
-        for f in _STANDS_FOR[name]:
+        for f in rc.settings.standard.measured_factors(name):
             out["factors"][f]["source"] = USED
-    return section | out
+    return section | out, rated
 
 
 @functools.singledispatch
@@ -281,8 +288,8 @@ def rating_outputs(
     Args:
         result: a pair's quasi-static result of its rigid mesh, or a train's tuple of one per
             mesh (each mesh alone: :func:`train_mesh_results`), for the sections' ``measured``
-            factors (K_Hβ: :func:`jaxgear.face_load_factor`, K_Hα:
-            :func:`jaxgear.transverse_load_factor`); reported beside the ISO/given ones, and
+            factors (K_Hβ: :func:`jaxgear.rating.face_load_factor`, K_Hα:
+            :func:`jaxgear.rating.transverse_load_factor`); reported beside the ISO/given ones, and
             rated with in their place when ``[rating] use_measured`` names them (the factors'
             source then "measured").
         root_stress: with ``result``, a table of the FE fillet stress per unit load
@@ -302,7 +309,7 @@ def rating_outputs(
     if rcs is None:
         return None
     results = None if result is None else _per_mesh(case.form, result)
-    sections = []
+    sections, ratings = [], []
     for k, rc in enumerate(rcs):
         rating = RATE(rc.geometry, rc.operating, rc.settings)
         label = case.mesh_label(k)
@@ -312,7 +319,7 @@ def rating_outputs(
         section = rating.summary() | {"modification_inputs": modification_inputs(rc, rating)}
         if results is not None:
             section["measured"] = measured_factors(results[k], model, k)
-            section = rated_with_measured(rc, section)
+            section, rating = measured_rating(rc, section, rating)
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
                 title = f"{case.name}{' ' + label if label else ''}"
@@ -326,7 +333,8 @@ def rating_outputs(
                     float(rc.operating.torque),
                 )
         sections.append(section)
-    section, lines = _section_and_table(case.form, case, sections)
+        ratings.append(rating)
+    section, lines = _section_and_table(case.form, case, sections, ratings)
     if write_table:
         write_rating_md(out_dir, lines)
     return section
@@ -389,6 +397,7 @@ def measured_dynamic_factor(
     if not speeds[0] <= speed <= speeds[-1]:
         return
     sections = _mesh_sections(case.form, summary["rating"])
+    ratings = []
     for k, curve in enumerate(_mesh_curves(dynamics, len(rcs))):
         label = case.mesh_label(k)
         source = (
@@ -396,15 +405,17 @@ def measured_dynamic_factor(
             f"interpolated at {speed:.4g} rad/s"
             + (f" of the input (mesh {label}'s dynamic factor)" if label else "")
         )
-        value = float(np.interp(speed, speeds, curve))
+        value = dynamic_factor_at(speeds, curve, speed)
         rc = rcs[k]
-        n = float(RATE(rc.geometry, rc.operating, rc.settings).factors.details["resonance_ratio_N"])
+        rating = RATE(rc.geometry, rc.operating, rc.settings)
+        n = float(rating.factors.details["resonance_ratio_N"])
         mesh_hz = rc.geometry.teeth[0] * float(rc.operating.speed) / (2 * np.pi)
         comparable, note = k_v_note(mesh_hz, mesh_hz / n, "ISO 6336-1's mesh resonance z₁ n_E1")
         sections[k].setdefault("measured", {})["K_v"] = {
             "value": value, "source": source, "comparable": comparable, "note": note}
-        sections[k] = rated_with_measured(rcs[k], sections[k])
-    summary["rating"] = _write_sections(case, out_dir, sections, write_table)
+        sections[k], rated = measured_rating(rcs[k], sections[k])
+        ratings.append(rated)  # None: the section was not rated again here
+    summary["rating"] = _write_sections(case, out_dir, sections, write_table, ratings)
 
 
 def _input_speed(case: Case, rcs) -> float:
@@ -461,10 +472,12 @@ def _(form: TrainForm, section: dict) -> list[dict]:
     return [_pick(rest, k) for k in range(len(names))]
 
 
-def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table: bool) -> dict:
+def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table: bool,
+                    ratings=None) -> dict:
     """The case's ``rating`` section of its meshes' ``sections`` (a train's per-mesh lists),
-    ``rating.md`` rewritten with them when ``write_table``; returns the section."""
-    section, lines = _section_and_table(case.form, case, sections)
+    ``rating.md`` rewritten with them when ``write_table`` (``ratings``: each section's
+    :class:`jaxgear.Rating` or None, as :func:`_section_and_table`); returns the section."""
+    section, lines = _section_and_table(case.form, case, sections, ratings)
     if write_table:
         write_rating_md(out_dir, lines)
     return section
@@ -510,7 +523,7 @@ def root_stress_outputs(
     """The root-stress map of a one-mesh case with ``[rating]`` (``section``: its
     :func:`rating_outputs` section, completed here): each cell's load of ``result`` (the rigid
     mesh's quasi-static result at the case torque) times the plane FE tooth's fillet stress per
-    unit load at the cell's position (:func:`jaxgear.root_stress_map`,
+    unit load at the cell's position (:func:`jaxgear.rating.root_stress_map`,
     :data:`ROOT_STRESS_RADII` load cases per member, cached per tooth form by
     :func:`fillet_table`). Adds ``section["root_stress"]``: ``max_Pa`` (the largest root stress
     of each gear over the passage, [pinion, gear]), ``iso_sigma_F0_Pa`` (ISO 6336-3's nominal
@@ -523,7 +536,7 @@ def root_stress_outputs(
     adds K_A K_v K_Fβ K_Fα). A train: ``rating_outputs(..., root_stress=fillet_table)``."""
     path = os.path.join(out_dir, "root_stress_map.png")
     _root_stress(case.pair, result, section, table, path, case.name, float(case.torque))
-    write_rating_md(out_dir, _lines(case, 0, section, case.name))
+    write_rating_md(out_dir, _lines(case, 0, section, case.name))  # rated from the section
 
 
 def _member_maps(pair, result, table) -> list:
@@ -583,7 +596,7 @@ def at_speed_sections(
     ``rating.md`` rewritten with ``write_table``): mesh k's cell loads of the dynamic run
     ``run`` (one speed, ``Outputs(cell_loads=True)``: ``run.meshes[k]``) at its kept steps
     times the plane FE
-    fillet stress per unit load (:func:`jaxgear.root_stress_map`, ``table`` as
+    fillet stress per unit load (:func:`jaxgear.rating.root_stress_map`, ``table`` as
     :func:`root_stress_outputs`), and beside it the quasi-static map of the mesh's rigid mesh
     at the same ``slices`` (exact contact, its modifications, its driving gear's torque:
     :meth:`jaxgear.io.Case.mesh_case`). Adds ``root_stress.at_speed`` to each mesh's section:

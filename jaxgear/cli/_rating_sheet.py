@@ -17,8 +17,9 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import Edition2006, Edition2019, GivenFactors, PairTreatment, factor_clause, rate
+from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating
+from ..rating import FACTOR_CLAUSES, Edition2006, Edition2019, factor_clause
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -30,6 +31,7 @@ __all__ = [
     "number",
     "rating_lines",
     "reference",
+    "standard_lines",
     "sweep_excitation",
     "unconfirmed_factors",
     "verdict",
@@ -85,7 +87,7 @@ def _printed(v) -> str:
 # ------------------------------------------------------------------------------------------
 # the edition
 
-#: what each factor an edition leaves unconfirmed (:attr:`jaxgear.AbstractEdition.unconfirmed`)
+#: what each factor an edition leaves unconfirmed (:attr:`jaxgear.rating.AbstractEdition.unconfirmed`)
 #: stands for, as the report prints it
 _UNCONFIRMED_WHY = {
     "Y_beta": "Y_β (ISO 6336-3:2019, helix angle factor): the 1/cos³β term of the 2019 edition "
@@ -96,7 +98,7 @@ _UNCONFIRMED_WHY = {
 
 def unconfirmed_factors(method: str) -> list[str]:
     """The factors of the edition ``method`` (:attr:`jaxgear.Rating.method`) whose formula no
-    published worked example confirms (the edition's :attr:`~jaxgear.AbstractEdition.unconfirmed`,
+    published worked example confirms (the edition's :attr:`~jaxgear.rating.AbstractEdition.unconfirmed`,
     the same tuple :attr:`jaxgear.Rating.unconfirmed` carries), one line each (empty: all
     confirmed)."""
     edition = next((e for e in (Edition2006, Edition2019) if e.label == method), None)
@@ -115,7 +117,7 @@ _WITHIN = {"sigma_H0": "sigma_H", "sigma_HG": "sigma_HP", "sigma_F0": "sigma_F",
 
 def reference(key: str, method: str) -> str:
     """The ISO 6336 reference of a row: part, edition and clause of ``key`` in the edition
-    ``method`` (:func:`jaxgear.factor_clause`); where this edition's clause was not checked,
+    ``method`` (:func:`jaxgear.rating.factor_clause`); where this edition's clause was not checked,
     the other edition's clause labelled with its year ("ISO 6336-2:2019 (2006 ed. 6.1)"); a
     quantity defined in another's formula ("σ_H0" in σ_H's) names that clause ("in 5.3")."""
     key = key.removesuffix("_sqrt_Pa").removesuffix("_Pa")
@@ -155,6 +157,9 @@ class ReportInputs(NamedTuple):
         published: the values the case's published report prints for this mesh
             (:func:`jaxgear.io.published_rating`'s mesh table) or None; ``report``: its
             citation.
+        rating: the :class:`jaxgear.Rating` whose summary the section is (its given and
+            measured factors in it), for the intermediate values of K_v and K_Hβ; None: rated
+            again from the section (a report written from ``summary.json``'s section alone).
     """
 
     rc: RatingCase
@@ -162,6 +167,7 @@ class ReportInputs(NamedTuple):
     settings: object = None
     published: dict | None = None
     report: str | None = None
+    rating: object = None
 
 
 def _treatments(t) -> list:
@@ -174,8 +180,11 @@ def _treatment_name(t) -> str:
 
 
 def _rated(inputs: ReportInputs, section: dict):
-    """The rating of the section again (its given and measured factors given), for the
-    intermediate values of K_v and K_Hβ (:attr:`jaxgear.LoadFactors.details`)."""
+    """The rating the section is the summary of, for the intermediate values of K_v and K_Hβ
+    (:attr:`jaxgear.rating.LoadFactors.details`): ``inputs.rating`` where the caller has it,
+    else the section rated again (its given and measured factors given)."""
+    if inputs.rating is not None:
+        return inputs.rating
     settings = inputs.rc.settings if inputs.settings is None else inputs.settings
     given = {k: float(f["value"]) for k, f in section["factors"].items()
              if k != "K_A" and f["source"] != ISO_SOURCE}
@@ -509,8 +518,14 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     factors, pitting and bending, S_H and S_F against S_Hmin and S_Fmin with their verdicts, the
     measured factors with their causes, the FE root stress; the published report's values in a
     column where ``inputs.published`` has them. Every row of the rating's tables names its ISO
-    6336 part, edition and clause (:func:`reference`)."""
+    6336 part, edition and clause (:func:`reference`). A section of another standard than
+    ISO 6336's editions (:class:`jaxgear.rating.AbstractRatingStandard`): its values as its
+    summary gives them (:func:`standard_lines`)."""
     method = section["method"]
+    if method not in FACTOR_CLAUSES:
+        settings = None if inputs is None else (
+            inputs.rc.settings if inputs.settings is None else inputs.settings)
+        return standard_lines(section, case_name, heading, settings)
     h = heading  # each table's heading one level below the title's
     out = [f"{heading} {case_name}: load capacity, {method}", ""]
     out.append(f"Edition: ISO 6336-1, -2 and -3:{_year(method)}, method B (strength numbers of "
@@ -588,10 +603,54 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
     return out
 
 
-def inputs_of(case, k: int, rc: RatingCase, settings=None) -> ReportInputs:
+def _generic_rows(values: dict) -> list[str]:
+    """A summary table's rows as they are: its key (a stress's ``_Pa`` in N/mm²), its values."""
+    out = []
+    for key, v in values.items():
+        if key.endswith("_Pa"):
+            out.append(f"| {key.removesuffix('_Pa')} | {_values(v, 1e-6)} | N/mm² |")
+        else:
+            out.append(f"| {key} | {_values(v)} |  |")
+    return out
+
+
+def standard_lines(section: dict, case_name: str, heading: str = "#",
+                   settings=None) -> list[str]:
+    """``rating.md`` of one mesh's ``section`` rated to a standard other than ISO 6336's
+    editions (:class:`jaxgear.rating.AbstractRatingStandard`, its
+    :meth:`~jaxgear.rating.AbstractRatingStandard.summary`): the load factors with their
+    sources, the pitting and bending values as the standard names them (stresses in N/mm²),
+    S_H and S_F against the settings' minimums with their verdicts (with ``settings``), the
+    measured factors and the FE root stress."""
+    h = heading
+    out = [f"{heading} {case_name}: load capacity, {section['method']}", "",
+           "Per-gear values as pinion / gear; stresses in N/mm² (summary.json: Pa); four "
+           "significant digits; each value as the standard's summary names it.", ""]
+    out += [f"{h}# Load factors", "", "| symbol | value | source |", "|---|---|---|"]
+    out += [f"| {SYMBOLS.get(k, k)} | {number(f['value'])} | {_source(f['source'])} |"
+            for k, f in section["factors"].items()] + [""]
+    for title, key in (("Pitting", "pitting"), ("Bending", "bending")):
+        out += [f"{h}# {title}", "", "| quantity | value | unit |", "|---|---|---|"]
+        out += _generic_rows(section[key]) + [""]
+    if settings is not None:
+        p, b = section["pitting"], section["bending"]
+        s_h, s_f = float(settings.min_safety_pitting), float(settings.min_safety_bending)
+        out += [f"{h}# Safety against the required minimum", "",
+                "| safety factor | value | required minimum | verdict |", "|---|---|---|---|",
+                f"| S_H | {_values(p['S_H'])} | S_Hmin = {number(s_h)} | "
+                f"{verdict(p['S_H'], s_h)} |",
+                f"| S_F | {_values(b['S_F'])} | S_Fmin = {number(s_f)} | "
+                f"{verdict(b['S_F'], s_f)} |", ""]
+    out += _measured_lines(section, h)
+    out += _root_stress_lines(section, h)
+    return out
+
+
+def inputs_of(case, k: int, rc: RatingCase, settings=None, rating=None) -> ReportInputs:
     """Mesh ``k``'s :class:`ReportInputs` of ``case`` (a pair's one mesh: ``"mesh"`` in the
-    published tables)."""
+    published tables); ``rating``: the :class:`jaxgear.Rating` of its section, if at hand."""
     pub = published_rating(case.name)
     mesh = None if pub is None else pub.get(case.mesh_name(k), pub.get("mesh"))
     gears = tuple(case.gear_names[g] for g in case.gears[k])
-    return ReportInputs(rc, gears, settings, mesh, None if mesh is None else pub["report"])
+    return ReportInputs(rc, gears, settings, mesh, None if mesh is None else pub["report"],
+                        rating)

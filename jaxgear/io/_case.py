@@ -206,6 +206,10 @@ class Case(MeshSettings):
         form: how the case file wrote its gears (:class:`CaseForm`: :class:`TrainForm` by
             default, :class:`PairForm` a pair file's): the meshes' names and labels in the
             outputs, and the scene builders.
+        rating_standard: the rating standard every mesh of ``[rating]`` is rated to, an object
+            (:class:`jaxgear.rating.AbstractRatingStandard`), given in Python
+            (``case.replace(rating_standard=...)``); None: the one ``[rating] edition`` names
+            (:func:`jaxgear.io.ratings_of`).
     """
 
     name: str
@@ -231,6 +235,7 @@ class Case(MeshSettings):
     coast: bool = False
     optimise: dict | None = None
     form: CaseForm = TrainForm()
+    rating_standard: Any = None
 
     @classmethod
     def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:

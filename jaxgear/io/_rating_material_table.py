@@ -14,7 +14,7 @@ import functools
 from fem_prep import schema as sc
 
 from .. import CaseHardened, Nitrided, PairTreatment, ThroughHardened
-from .._rating_settings import RATING_RANGES
+from ..rating import RATING_RANGES
 
 __all__ = [
     "MATERIAL_RANGES",
@@ -33,7 +33,7 @@ TREATMENTS = {
 }
 
 #: the ranges of a material's and a surface's keys in file units, with where they come from
-#: (:data:`jaxgear._rating_settings.RATING_RANGES`, SI), the note each range message and the case-file reference
+#: (:data:`jaxgear.rating.RATING_RANGES`, SI), the note each range message and the case-file reference
 #: print: key → (range, note)
 MATERIAL_RANGES = {
     key: (f"[{RATING_RANGES[name][0] * scale:g}, {RATING_RANGES[name][1] * scale:g}]",

@@ -429,7 +429,7 @@ def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonic
 
 
 def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> None:
-    """The pinion's and the gear's root-stress maps (:class:`jaxgear.RootStressMap`, MPa) over the
+    """The pinion's and the gear's root-stress maps (:class:`jaxgear.rating.RootStressMap`, MPa) over the
     line of action and the face width, side by side, each map's largest stress marked, saved to
     ``path``; ``names`` the two members' (a map ``None``: its panel says why, e.g. "ring: not
     computed (no ring cutter)")."""

@@ -146,7 +146,7 @@ def tooth_form_factors(geometry) -> ToothFormFactors:
             the generating rack's addendum h_fP = dedendum_coeff · m_n and tip radius ρ_fP =
             fillet_radius_coeff · m_n), or an internal pair's
             :class:`jaxgear.InternalRatingGeometry` (the pinion as here, the internal gear by
-            its root section, :class:`jaxgear.SubstituteRack` or :class:`jaxgear.GivenRootSection`).
+            its root section, :class:`jaxgear.rating.SubstituteRack` or :class:`jaxgear.rating.GivenRootSection`).
 
     Returns:
         :class:`ToothFormFactors` (SI).

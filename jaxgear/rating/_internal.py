@@ -20,7 +20,7 @@ Internal-gear rules:
   (one base pitch below its tip), the same relative-curvature ratio as the external M₁, here
   with ρ2 = ρ1 + a_w sin α_wt; Z_D = 1 for the internal gear (ISO 6336-2, single pair tooth
   contact factors: "for internal gears Z_D = 1").
-* The pinion's Y_F, Y_S: the external method B (:func:`jaxgear.member_form`) with the internal
+* The pinion's Y_F, Y_S: the external method B (:func:`jaxgear.rating.member_form`) with the internal
   pair's ε_α (the load at the pinion's outer point of single contact of this mesh).
 * The internal gear's Y_F, Y_S (ISO 6336-3, method B, internal gears): the critical section
   where the fillet's tangent makes 60° with the tooth centre line (30° for external teeth); its
@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import abc
 import itertools
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -57,17 +58,11 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._internal import InternalGearPair
-from ._rating_bending import ToothFormFactors, _inv, member_form, section_factors
-from ._rating_geometry import (
-    Derived,
-    inverse_involute_jnp,
-    pair_derived,
-    pair_fields,
-    replace_fields,
-)
-from ._results import CutterResult
-from ._util import as_float, check_instance, check_integer, check_real, is_traced
+from .._internal import InternalGearPair
+from ._bending import ToothFormFactors, _inv, member_form, section_factors
+from ._geometry import AbstractRatingGeometry, Derived, inverse_involute_jnp, pair_fields
+from .._results import CutterResult
+from .._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
     "AbstractRootSection",
@@ -394,16 +389,13 @@ def _interval(values, digits) -> str | None:
     return " or ".join(pieces)
 
 
-class InternalRatingGeometry(eqx.Module):
+class InternalRatingGeometry(AbstractRatingGeometry):
     """The continuous macro parameters of an internal pair, as arrays (differentiable): member 0
-    the external pinion (planet), member 1 the internal gear (ring).
+    the external pinion (planet), member 1 the internal gear (ring); the fields of
+    :class:`jaxgear.rating.AbstractRatingGeometry` (``teeth`` (z1, z2) with z2 < 0, x2 in
+    ISO 21771's sign) and its root section.
 
     Attributes:
-        teeth: (z1, z2), z2 < 0 (ISO 21771), static.
-        normal_module: m_n (m); the other macro parameters (normal_pressure_angle,
-            helix_angle, profile_shift (x1, x2; x2 in ISO 21771's sign), addendum_coeff,
-            dedendum_coeff, fillet_radius_coeff, face_width, rim_thickness, center_distance)
-            as :class:`jaxgear.RatingGeometry`.
         root_section: the internal gear's root section (:class:`AbstractRootSection`; default
             :class:`SubstituteRack`).
 
@@ -411,18 +403,8 @@ class InternalRatingGeometry(eqx.Module):
     rates it (module docstring for the internal-gear rules).
     """
 
-    teeth: tuple[int, int] = eqx.field(static=True)
-    normal_module: Float[Array, ""]
-    normal_pressure_angle: Float[Array, ""]
-    helix_angle: Float[Array, ""]
-    profile_shift: Float[Array, 2]
-    addendum_coeff: Float[Array, 2]
-    dedendum_coeff: Float[Array, 2]
-    fillet_radius_coeff: Float[Array, 2]
-    face_width: Float[Array, 2]
-    rim_thickness: tuple = eqx.field(static=True)
-    center_distance: Float[Array, ""] | None
     root_section: AbstractRootSection
+    sign: ClassVar[float] = -1.0
 
     @classmethod
     def of(
@@ -439,15 +421,6 @@ class InternalRatingGeometry(eqx.Module):
         geometry = cls(**pair_fields(pair), root_section=root_section)
         root_section.check(geometry)
         return geometry
-
-    def replace(self, **changes) -> InternalRatingGeometry:
-        """A copy with some array fields replaced (as :meth:`jaxgear.RatingGeometry.replace`)."""
-        return replace_fields(self, changes)
-
-    def derived(self) -> Derived:
-        """ISO 21771 geometry of the internal pair (jnp; the ring's diameters negative, the
-        centre distance positive; module docstring)."""
-        return pair_derived(self, -1.0)
 
     # -- what the rating asks of a pair (as jaxgear.RatingGeometry) --------------------------
 

@@ -12,17 +12,18 @@ Sources: ISO 21771:2007 (involute geometry, profile shift, operating pressure an
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import abc
+from typing import ClassVar, NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._geometry import GearPair
-from ._rating_bending import ToothFormFactors, _inv, member_form
-from ._util import as_float, check_instance
+from .._geometry import GearPair
+from ._bending import ToothFormFactors, _inv, member_form
+from .._util import as_float, check_instance
 
-__all__ = ["RatingGeometry", "inverse_involute_jnp"]
+__all__ = ["AbstractRatingGeometry", "RatingGeometry", "inverse_involute_jnp"]
 
 
 def inverse_involute_jnp(value, iterations: int = 8):
@@ -90,11 +91,17 @@ def replace_fields(geometry, changes: dict):
     return out
 
 
-class RatingGeometry(eqx.Module):
-    """The continuous macro parameters of an external pair, as arrays (differentiable).
+class AbstractRatingGeometry(eqx.Module):
+    """The continuous macro parameters of a pair as the rating reads them, as arrays
+    (differentiable): one geometry whose kinds are the external pair
+    (:class:`RatingGeometry`) and the internal pair (:class:`jaxgear.InternalRatingGeometry`:
+    member 1 the internal gear). The fields and the ISO 21771 geometry are the kinds' common
+    part (:meth:`derived`, with the kind's :attr:`sign`); each kind answers what the rating asks
+    of a pair by its own rules (:meth:`form_factors`, :meth:`single_pair_factors`,
+    :meth:`stiffness_teeth`, :meth:`reduced_mass`).
 
     Attributes:
-        teeth: (z1, z2), static.
+        teeth: (z1, z2), static (an internal gear's z2 < 0, ISO 21771).
         normal_module: m_n (m). normal_pressure_angle: α_n (rad). helix_angle: β (rad).
         profile_shift: (x1, x2). addendum_coeff, dedendum_coeff: (h_a*, h_f*) per member (the
             dedendum coefficient is the generating rack's addendum h_fP/m_n).
@@ -104,10 +111,8 @@ class RatingGeometry(eqx.Module):
             blank; static).
         center_distance: a_w (m), or ``None``: the zero-backlash distance of the profile shifts
             (ISO 21771 (40)), which then moves with them.
-
-    Build it from a :class:`jaxgear.GearPair` with :meth:`of` (a pair built without a centre
-    distance gives ``None`` here); :func:`eqx.tree_at` or :meth:`replace` change a parameter,
-    e.g. for a gradient with respect to x1.
+        sign: +1 for an external pair, -1 for an internal one (a class constant: the ring's
+            tooth count and diameters negative, the centre distance positive).
     """
 
     teeth: tuple[int, int] = eqx.field(static=True)
@@ -121,6 +126,49 @@ class RatingGeometry(eqx.Module):
     face_width: Float[Array, 2]
     rim_thickness: tuple = eqx.field(static=True)
     center_distance: Float[Array, ""] | None
+    sign: eqx.AbstractClassVar[float]
+
+    def replace(self, **changes):
+        """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``).
+        Nothing is checked here (values may be traced): keep them a valid pair (no undercut,
+        no jam at a fixed centre distance), as :class:`jaxgear.GearPair` would check."""
+        return replace_fields(self, changes)
+
+    def derived(self) -> Derived:
+        """ISO 21771 geometry of the pair from the parameters (jnp; :func:`pair_derived` with
+        the kind's :attr:`sign`)."""
+        return pair_derived(self, self.sign)
+
+    # -- what the rating asks of a pair, by the kind's rules ------------------------------
+
+    @abc.abstractmethod
+    def form_factors(self) -> ToothFormFactors:
+        """Y_F, Y_S and the root sections of both members (ISO 6336-3 method B)."""
+
+    @abc.abstractmethod
+    def single_pair_factors(self, g: Derived) -> Array:
+        """Z_B, Z_D (ISO 6336-2, single pair tooth contact factors), (2,)."""
+
+    @abc.abstractmethod
+    def stiffness_teeth(self, g: Derived) -> Array:
+        """The virtual teeth (z_n1, z_n2) of ISO 6336-1 method B's single stiffness c'."""
+
+    @abc.abstractmethod
+    def reduced_mass(self, m_star: Array) -> Array:
+        """ISO 6336-1 method B's reduced mass per face width (kg/m) from the members'
+        m* = π/8 ρ d_m⁴/d_b²."""
+
+
+class RatingGeometry(AbstractRatingGeometry):
+    """The continuous macro parameters of an external pair, as arrays (differentiable): the
+    fields of :class:`AbstractRatingGeometry`.
+
+    Build it from a :class:`jaxgear.GearPair` with :meth:`of` (a pair built without a centre
+    distance gives ``None`` here); :func:`eqx.tree_at` or :meth:`replace` change a parameter,
+    e.g. for a gradient with respect to x1.
+    """
+
+    sign: ClassVar[float] = 1.0
 
     @classmethod
     def of(cls, pair: GearPair) -> RatingGeometry:
@@ -129,20 +177,8 @@ class RatingGeometry(eqx.Module):
         check_instance("pair", pair, GearPair, "a jaxgear.GearPair", "RatingGeometry.of")
         return cls(**pair_fields(pair))
 
-    def replace(self, **changes) -> RatingGeometry:
-        """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``).
-        Nothing is checked here (values may be traced): keep them a valid pair (no undercut,
-        no jam at a fixed centre distance), as :class:`jaxgear.GearPair` would check."""
-        return replace_fields(self, changes)
-
-    def derived(self) -> Derived:
-        """ISO 21771 geometry of the pair from the parameters (jnp; module docstring)."""
-        return pair_derived(self, 1.0)
-
-    # -- what the rating asks of a pair (jaxgear.InternalRatingGeometry answers the same) ------
-
     def form_factors(self) -> ToothFormFactors:
-        """Y_F, Y_S and the root sections of both members (:func:`jaxgear.tooth_form_factors`)."""
+        """Y_F, Y_S and the root sections of both members (:func:`jaxgear.rating.tooth_form_factors`)."""
         g = self.derived()
         z = jnp.asarray(self.teeth, dtype=self.normal_module.dtype)
         mn = self.normal_module

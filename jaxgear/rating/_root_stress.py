@@ -25,9 +25,9 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
-from ._geometry import GearPair
-from ._internal import InternalGearPair
-from ._util import check_instance
+from .._geometry import GearPair
+from .._internal import InternalGearPair
+from .._util import check_instance
 
 __all__ = ["RootStressMap", "root_stress_map"]
 

@@ -1,30 +1,26 @@
-"""Settings and operating point of the ISO 6336 rating (:func:`jaxgear.rate`): the material,
-lubrication, accuracy, life and given load factors (:class:`RatingSettings`), and the operating
+"""Settings and operating point of a rating (:func:`jaxgear.rate`): the material,
+lubrication, accuracy, life, given load factors and the standard (:class:`RatingSettings`), and the operating
 point (:class:`OperatingPoint`), an argument of the rating, never a field of its settings. SI
 units; each constructor refuses bad input in one line naming the parameter, its value and the
 allowed range."""
 
 from __future__ import annotations
 
-import abc
 import math
-from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from ._deviations import iso1328_tolerances
-from ._geometry import GearPair
-from ._rating_material import AbstractTreatment, CaseHardened
-from ._util import as_float, check_instance, check_real
+from .._deviations import iso1328_tolerances
+from .._geometry import GearPair
+from ._iso6336 import Edition2019
+from ._material import AbstractTreatment, CaseHardened
+from ._standard import AbstractRatingStandard
+from .._util import as_float, check_instance, check_real
 
 __all__ = [
-    "FACTOR_CLAUSES",
     "RATING_RANGES",
-    "AbstractEdition",
-    "Edition2006",
-    "Edition2019",
     "GearAccuracy",
     "GivenFactors",
     "Lubrication",
@@ -32,7 +28,6 @@ __all__ = [
     "RatingMaterial",
     "RatingSettings",
     "ToothLoading",
-    "factor_clause",
 ]
 
 
@@ -210,169 +205,6 @@ class GivenFactors(eqx.Module):
                            where="GivenFactors")
 
 
-class AbstractEdition(eqx.Module):
-    """The edition of ISO 6336 a rating follows, where the editions differ in what jaxgear
-    computes: the helix angle factor Y_β of ISO 6336-3 (every other factor is the same in
-    both). A kind, passed as an object (:attr:`RatingSettings.edition`)."""
-
-    label: eqx.AbstractClassVar[str]
-    #: the factors whose formula in this edition no published worked example confirms (the
-    #: attribute names of :class:`jaxgear.PittingRating`, :class:`jaxgear.BendingRating` and
-    #: :class:`jaxgear.LoadFactors`; empty where every factor was checked against one):
-    #: :attr:`jaxgear.Rating.unconfirmed` carries them to the result and its report
-    unconfirmed: eqx.AbstractClassVar[tuple[str, ...]]
-    #: where each factor and stress of the rating is defined in this edition: symbol (the
-    #: attribute names of :class:`jaxgear.LoadFactors`, :class:`jaxgear.PittingRating`,
-    #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
-    #: 6.2", or the part alone where the clause could not be checked (:func:`factor_clause`)
-    clauses: eqx.AbstractClassVar[dict[str, str]]
-
-    @abc.abstractmethod
-    def helix_angle_factor(self, overlap_ratio, helix_angle):
-        """Y_β (-) from ε_β and β (rad)."""
-
-
-# The part of ISO 6336 that defines each factor (1: load factors, 2: pitting, 3: bending, 5:
-# the strength numbers); the material's σ_Hlim and σ_Flim are ISO 6336-5's.
-_PART = dict.fromkeys(("K_A", "K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha"), 1)
-_PART |= dict.fromkeys(
-    ("Z_H", "Z_E", "Z_epsilon", "Z_beta", "Z_BD", "Z_NT", "Z_L", "Z_v", "Z_R", "Z_W", "Z_X",
-     "sigma_H0", "sigma_H", "sigma_HG", "sigma_HP", "S_H"),
-    2,
-)
-_PART |= dict.fromkeys(
-    ("Y_F", "Y_S", "Y_beta", "Y_B", "Y_DT", "Y_ST", "Y_NT", "Y_delta_rel_T", "Y_R_rel_T", "Y_X",
-     "Y_M", "sigma_F0", "sigma_F", "sigma_FG", "sigma_FP", "S_F"),
-    3,
-)
-_PART |= {"sigma_H_lim": 5, "sigma_F_lim": 5}
-
-# ISO 6336-3:2006's clauses, as its table of contents numbers them (BS ISO 6336-3:2006, the
-# BSI's listing of its contents: "5.1 Safety factor for bending strength S_F, 5.2 Tooth root
-# stress σ_F, 5.3 Permissible bending stress σ_FP, 6.2 Calculation of the form factor Y_F:
-# Method B, 7.2 Stress correction factor Y_S: Method B, 7.4 ... Y_ST ..., 8 Helix angle factor
-# Y_β, 8.2 Determination by calculation, 9.2 (Y_B), 10.2 (Y_DT), 11.2 Reference stress, with
-# values σ_Flim and σ_FE for Method B, 12.2 Life factor Y_NT: Method B, 13.3 Relative notch
-# sensitivity factor Y_δrelT: Method B, 14.3 Relative surface factor Y_RrelT: Method B,
-# 15 Size factor Y_X"; the BSI shop's page of BS ISO 6336-3:2006, e.g.
-# https://shop.standards.ie/en-ie/standards/bs-iso-6336-3-2006-226269_saig_bsi_bsi_531028).
-# No table of contents of parts 1 and 5 of 2006, nor of parts 2 and 3 of 2019, was found to
-# check against: those name the part alone (the σ_F0 and σ_FG that 5.2 and 5.3 hold are not
-# named in the contents, so they too name the part alone; rating.md gives such a row the other
-# edition's clause, labelled so: jaxgear.cli's report).
-_CLAUSES_3_2006 = {
-    "S_F": "5.1", "sigma_F": "5.2", "sigma_FP": "5.3", "Y_F": "6.2", "Y_S": "7.2",
-    "Y_ST": "7.4", "Y_beta": "8.2", "Y_B": "9.2", "Y_DT": "10.2", "sigma_F_lim": "11.2",
-    "Y_NT": "12.2", "Y_delta_rel_T": "13.3", "Y_R_rel_T": "14.3", "Y_X": "15",
-}
-
-
-# ISO 6336-2:2006's clauses, as the BSI lists the contents of BS ISO 6336-2:2006 (the same shop
-# as part 3's, https://shop.standards.ie/en-ie/standards/bs-iso-6336-2-2006-226264_saig_bsi_bsi_531017:
-# "5.2 Safety factor for surface durability S_H, 5.3 Contact stress σ_H, 5.4 Permissible contact
-# stress σ_HP, 6.1 Zone factor Z_H, 6.2 Single pair tooth contact factors Z_B and Z_D for
-# ε_α <= 2, 7 Elasticity factor Z_E, 8.1 Determination of contact ratio factor Z_ε, 9 Helix
-# angle factor Z_β, 10.1 Allowable stress numbers σ_Hlim for Method B, 11.2 Life factor Z_NT:
-# Method B, 12.3 factors Z_L, Z_v and Z_R: Method B, 13.2 Work hardening factor Z_W: Method B,
-# 14 Size factor Z_X").
-_CLAUSES_2_2006 = {
-    "S_H": "5.2", "sigma_H": "5.3", "sigma_HP": "5.4", "Z_H": "6.1", "Z_BD": "6.2", "Z_E": "7",
-    "Z_epsilon": "8.1", "Z_beta": "9", "Z_NT": "11.2", "Z_L": "12.3", "Z_v": "12.3",
-    "Z_R": "12.3", "Z_W": "13.2", "Z_X": "14",
-}
-# ISO 6336-1:2019's clauses of the load factors: "5 Application factor K_A" and "6 Internal
-# dynamic factor K_v" as its text numbers them, 7 (face load factors K_Hβ, K_Fβ) and 8
-# (transverse load factors K_Hα, K_Fα) as the clauses jaxgear's formulas are written from
-# (jaxgear._rating_factors).
-_CLAUSES_1_2019 = {
-    "K_A": "5", "K_v": "6", "K_Hbeta": "7", "K_Fbeta": "7", "K_Halpha": "8", "K_Falpha": "8",
-}
-
-
-def _clauses(year: int, checked: dict[str, str]) -> dict[str, str]:
-    """symbol → "ISO 6336-<part>:<year>[ <clause>]" (σ_Hlim, σ_Flim: ISO 6336-5, no year);
-    ``checked`` the clauses of the edition's parts 1-3 that were checked (symbols are unique
-    across the parts)."""
-    out = {}
-    for symbol, part in _PART.items():
-        head = "ISO 6336-5" if part == 5 else f"ISO 6336-{part}:{year}"
-        clause = checked.get(symbol) if part != 5 else None
-        out[symbol] = f"{head} {clause}" if clause else head
-    return out
-
-
-def _y_beta_2006(overlap_ratio, helix_angle):
-    """1 − ε_β β/120° with ε_β ≤ 1 and β ≤ 30°."""
-    beta_deg = jnp.minimum(helix_angle * 180 / jnp.pi, 30.0)
-    return 1 - jnp.minimum(overlap_ratio, 1.0) * beta_deg / 120.0
-
-
-class Edition2006(AbstractEdition):
-    """ISO 6336-3:2006: Y_β = 1 − ε_β β/120° (ε_β ≤ 1, β ≤ 30°). Checked against the printed
-    Y_β and σ_F0 of a KISSsoft report to ISO 6336:2006 (docs/rating.md)."""
-
-    label: ClassVar[str] = "ISO 6336:2006 method B"
-    unconfirmed: ClassVar[tuple[str, ...]] = ()
-    clauses: ClassVar[dict[str, str]] = _clauses(2006, _CLAUSES_2_2006 | _CLAUSES_3_2006)
-
-    def helix_angle_factor(self, overlap_ratio, helix_angle):
-        return _y_beta_2006(overlap_ratio, helix_angle)
-
-
-class Edition2019(AbstractEdition):
-    """ISO 6336-3:2019: Y_β = (1 − ε_β β/120°)/cos³ β, with ε_β ≤ 1 and β ≤ 30° in both terms
-    (above 30° the factor is that of 30°). No printed worked example of the 2019 edition was
-    found to check it against (docs/rating.md); two independent public implementations of the
-    2019 edition write the same formula, the limits included. The 2006 term is checked
-    (:class:`Edition2006`)."""
-
-    label: ClassVar[str] = "ISO 6336:2019 method B"
-    #: Y_β's 1/cos³β term: no printed worked example of the 2019 edition was found
-    unconfirmed: ClassVar[tuple[str, ...]] = ("Y_beta",)
-    clauses: ClassVar[dict[str, str]] = _clauses(2019, _CLAUSES_1_2019)
-
-    def helix_angle_factor(self, overlap_ratio, helix_angle):
-        beta = jnp.minimum(helix_angle, jnp.pi / 6)
-        return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(beta) ** 3
-
-
-#: The clauses of each edition by its label (:attr:`jaxgear.Rating.method`): label → symbol →
-#: "ISO 6336-3:2006 6.2" (:attr:`AbstractEdition.clauses`)
-FACTOR_CLAUSES: dict[str, dict[str, str]] = {
-    e.label: e.clauses for e in (Edition2006, Edition2019)
-}
-
-
-def factor_clause(symbol: str, edition: str) -> str:
-    """Where ISO 6336 defines a factor or stress of the rating: "ISO 6336-3:2006 6.2" (part,
-    edition and clause), or "ISO 6336-2:2019" (the part alone, where the clause was not checked
-    against the standard's contents; :attr:`AbstractEdition.clauses`).
-
-    Args:
-        symbol: an attribute name of :class:`jaxgear.LoadFactors`,
-            :class:`jaxgear.PittingRating` or :class:`jaxgear.BendingRating` (``"Y_F"``,
-            ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa`` suffix is
-            dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
-        edition: the edition's label (:attr:`AbstractEdition.label`, :attr:`jaxgear.Rating.method`:
-            ``"ISO 6336:2019 method B"``).
-
-    Raises:
-        ValueError: an unknown symbol or edition, in one line naming the known ones.
-    """
-    label = edition
-    if label not in FACTOR_CLAUSES:
-        raise ValueError(
-            f"factor_clause: edition = {label!r} is out of range: one of {sorted(FACTOR_CLAUSES)}"
-        )
-    clauses = FACTOR_CLAUSES[label]
-    key = symbol.removesuffix("_sqrt_Pa").removesuffix("_Pa")
-    if key not in clauses:
-        raise ValueError(
-            f"factor_clause: symbol = {symbol!r} is out of range: one of {sorted(clauses)}"
-        )
-    return clauses[key]
-
-
 #: ISO 6336-3:2019's mean stress influence factor Y_M for a tooth loaded on both flanks in
 #: turn (an idler: stress ratio R ≈ −1.2), its method C value; one-way bending (R = 0): 1
 IDLER_MEAN_STRESS_FACTOR = 0.7
@@ -430,8 +262,10 @@ class RatingSettings(eqx.Module):
         given: :class:`GivenFactors`. tip_relief: C_a (m) of K_v; ``None``: the running-in
             value C_ay = (σ_Hlim/97 − 18.45)²/18 + 1.5 µm (σ_Hlim in N/mm², ISO 6336-1 clause 6).
         min_safety_pitting, min_safety_bending: S_Hmin, S_Fmin (σ_HP = σ_HG/S_Hmin; 1 default).
-        edition: the ISO 6336 edition (:class:`AbstractEdition`; default
-            :class:`Edition2019`, or :class:`Edition2006` to compare with ratings to it).
+        standard: the rating standard and its edition, a kind passed as an object
+            (:class:`jaxgear.rating.AbstractRatingStandard`): default
+            :class:`jaxgear.rating.Edition2019` (ISO 6336:2019), or
+            :class:`jaxgear.rating.Edition2006` to compare with ratings to it.
         loading: :class:`ToothLoading`, load cycles per turn and Y_M per gear (default: a
             pair's, one cycle per turn, one-way bending).
         crowning: C_β (m), the lead crowning of K_Hβ (ISO 6336-1 clause 7: F_βx = B₂ f_Hβ
@@ -449,7 +283,7 @@ class RatingSettings(eqx.Module):
     tip_relief: float | None = None
     min_safety_pitting: float = 1.0
     min_safety_bending: float = 1.0
-    edition: AbstractEdition = Edition2019()
+    standard: AbstractRatingStandard = Edition2019()
     loading: ToothLoading = ToothLoading()
     crowning: float | None = None
 
@@ -463,7 +297,8 @@ class RatingSettings(eqx.Module):
             ("lubrication", Lubrication, "a jaxgear.Lubrication"),
             ("accuracy", GearAccuracy, "a jaxgear.GearAccuracy (e.g. GearAccuracy.from_grade)"),
             ("given", GivenFactors, "a jaxgear.GivenFactors"),
-            ("edition", AbstractEdition, "jaxgear.Edition2019() or jaxgear.Edition2006()"),
+            ("standard", AbstractRatingStandard,
+             "a jaxgear.rating.AbstractRatingStandard (jaxgear.rating.Edition2019(), ...)"),
             ("loading", ToothLoading, "a jaxgear.ToothLoading"),
         ):
             check_instance(name, getattr(self, name), kind, allowed, w)

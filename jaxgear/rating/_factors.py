@@ -11,16 +11,12 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from ._rating_geometry import RatingGeometry
-from ._rating_internal import InternalRatingGeometry
-from ._rating_settings import OperatingPoint, RatingSettings
-from ._util import as_float, check_instance
+from .._util import as_float
 
 __all__ = [
     "LoadFactors",
-    "check_rating_arguments",
     "face_load_factor",
-    "load_factors",
+    "iso6336_load_factors",
     "transverse_factor_limits",
     "transverse_load_factor",
 ]
@@ -177,29 +173,14 @@ def _transverse_factors(geometry, g, settings, cga, f_th_per_b):
     return kh, kf
 
 
-def check_rating_arguments(where: str, geometry, operating, settings) -> None:
-    """Refuse, in one ``ValueError`` line naming the argument, a rating's ``geometry`` that is
-    not a :class:`jaxgear.RatingGeometry` (or :class:`jaxgear.InternalRatingGeometry`), an
-    ``operating`` point that is not an :class:`OperatingPoint` or ``settings`` that are not
-    :class:`RatingSettings` (before any of their fields is read)."""
-    check_instance("geometry", geometry, (RatingGeometry, InternalRatingGeometry),
-                   "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry", where)
-    check_instance("operating", operating, OperatingPoint,
-                   "a jaxgear.OperatingPoint(torque, speed)", where)
-    check_instance("settings", settings, RatingSettings, "a jaxgear.RatingSettings", where)
-
-
-def load_factors(
-    geometry: RatingGeometry, operating: OperatingPoint, settings: RatingSettings
-) -> LoadFactors:
+def iso6336_load_factors(geometry, operating, settings) -> LoadFactors:
     """K_A, K_v, K_Hβ, K_Fβ, K_Hα, K_Fα at the operating point (module docstring; ISO 6336-1:2019
     clauses 6, 7, 8, method B); given factors replace computed ones. A given K_Hβ carries to
     K_Fβ (K_Fβ = K_Hβ^N_F, clause 7) and a given K_Hα to K_Fα (K_Fα = K_Hα, 8.3.4, within
     K_Fα's limits [1, ε_γ/(0.25 ε_α + 0.75)]) unless they are given too.
 
-    Raises:
-        ValueError: an argument of the wrong kind (:func:`check_rating_arguments`)."""
-    check_rating_arguments("load_factors", geometry, operating, settings)
+    The ISO 6336 editions' :meth:`~jaxgear.rating.AbstractRatingStandard.load_factors`; its
+    arguments checked by the caller (:func:`jaxgear.rating.load_factors`)."""
     given = settings.given
     g = geometry.derived()
     ka = as_float(settings.application_factor)

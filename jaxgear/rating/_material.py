@@ -30,7 +30,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from ._util import check_instance, check_real
+from .._util import check_instance, check_real
 
 __all__ = [
     "THROUGH_HARDENED_SLIP_LAYER",
