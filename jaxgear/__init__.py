@@ -41,6 +41,7 @@ from ._deviations import (
     sample_gear_deviations as sample_gear_deviations,
 )
 from ._geometry import (
+    AbstractGearPair as AbstractGearPair,
     GearPair as GearPair,
     Member as Member,
     inverse_involute as inverse_involute,

@@ -10,13 +10,15 @@ III-5 for the reference pairs. Conventions: docs/design.md, "Base plane and sign
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import math
+from typing import ClassVar
 
 from ._backlash import backlashes, base_thicknesses, thinned_involute
 from ._util import check_instance, check_integer, check_real
 
-__all__ = ["Member", "GearPair", "involute", "inverse_involute"]
+__all__ = ["AbstractGearPair", "GearPair", "Member", "inverse_involute", "involute"]
 
 
 def involute(alpha: float) -> float:
@@ -146,44 +148,60 @@ def check_member_ranges(tag: str, m: Member, mn: float, require=_require) -> Non
     )
 
 
-@dataclasses.dataclass(frozen=True)
-class GearPair:
-    """External involute spur or helical gear pair; member 1 (pinion) drives.
+#: the members' names, in the pair's order (member 0 drives)
+_TAGS = ("pinion", "gear")
 
-    Construct with the input data; every derived quantity is a read-only attribute computed in
-    ``__post_init__`` (SI units, angles in rad). Validation raises ``ValueError`` naming the
-    parameter, its value and the allowed range: non-positive sizes, tip below the base circle,
-    pointed tips, undercut (involute form circle below the base circle), interference (active
-    profile starting below the form circle), transverse contact ratio below 1, a centre distance
-    below the zero-backlash distance.
+
+@dataclasses.dataclass(frozen=True)
+class AbstractGearPair(abc.ABC):
+    """An involute spur or helical gear pair (ISO 21771); member 0 (the pinion, external) drives.
+    The one home of the pair geometry both kinds share; a kind is a subclass:
+    :class:`GearPair` (external) and :class:`~jaxgear.InternalGearPair` (the gear an internal
+    gear, its ``teeth`` negative as ISO 21771 writes them). ``isinstance(p, AbstractGearPair)``
+    accepts either; ``isinstance(p, GearPair)`` still means an external pair.
+
+    Construct a kind with the input data; every derived quantity is a read-only attribute
+    computed in ``__post_init__`` (SI units, angles in rad; radii and the centre distance
+    positive, ISO 21771's convention). Every check raises one ``ValueError`` line naming the
+    parameter, its value and the allowed range, before anything downstream is computed.
 
     Args:
-        pinion, gear: the two members (pinion = driving member 1).
-        normal_module: m_n (m).
-        normal_pressure_angle: α_n (rad).
-        helix_angle: β (rad), >= 0; 0 for spur gears.
+        pinion, gear: the two :class:`Member` (the pinion the driving member 1).
+        normal_module: m_n (m). normal_pressure_angle: α_n (rad), in (0, 45°).
+        helix_angle: β (rad), in [0, 45°); 0 for spur gears.
         center_distance: operating centre distance a_w (m); ``None`` for the zero-backlash
-            distance from the profile shifts (ISO 21771 (40)).
+            distance of the nominal teeth (ISO 21771 (40)); the allowed side is the kind's.
 
-    Derived attributes (all SI): ``transverse_module``, ``transverse_pressure_angle`` α_t,
-    ``operating_pressure_angle`` α_wt, ``center_distance`` a_w, ``pitch_radii`` (r1, r2),
-    ``base_radii`` (r_b1, r_b2), ``tip_radii``, ``root_radii``, ``form_roll`` (roll distance ρ_F
-    of the form circle from the base tangent point, per member), ``base_pitch`` p_bt,
-    ``base_helix_angle`` β_b, ``path_of_contact`` g_α, ``transverse_contact_ratio`` ε_α,
-    ``overlap_ratio`` ε_β, ``face_width`` b (overlap of the two face widths),
-    ``start_roll`` (roll distance of the pinion's start of active profile from its tangent
-    point T1; the line-of-action coordinate s = 0 of docs/design.md, "Base plane and sign
-    conventions" sits there).
+    Derived attributes, the same formulas for both kinds with σ = +1 (external) or −1
+    (internal), the sign of the gear's tooth count (ISO 21771): ``transverse_module`` m_t =
+    m_n/cos β, ``transverse_pressure_angle`` α_t, ``operating_pressure_angle`` α_wt (inv α_wt0
+    = inv α_t + 2 tan α_n (x1 + x2)/(z1 + z2)), ``center_distance`` a_w,
+    ``zero_backlash_center_distance``, ``backlash_center_distance`` (the zero-backlash distance
+    of the thinned teeth: 2 x tan α_n + A_sn/m_n per member), ``pitch_radii`` r_i = |z_i| m_t/2,
+    ``base_radii`` r_bi = r_i cos α_t, ``tip_radii`` r_ai = r_i + σ_i m_n (h_a* + x),
+    ``root_radii`` r_fi = r_i − σ_i m_n (h_f* − x) (an internal gear's tip circle inside, its
+    root circle outside), ``reference_thickness`` s_t = m_t (π/2 + 2 x tan α_n),
+    ``tip_thickness``, ``form_roll`` (the roll distance of each rack-generated member's form
+    circle from its tangent point, ISO 21771 (88)-(90); ``None`` for an internal gear),
+    ``line_length`` T1T2 = a_w sin α_wt, ``start_roll`` (the pinion's start of active profile
+    from T1: the line-of-action coordinate s = 0 of docs/design.md, "Base plane and sign
+    conventions"), ``path_of_contact`` g_α, ``base_pitch`` p_bt = π m_t cos α_t,
+    ``base_helix_angle`` β_b, ``transverse_contact_ratio`` ε_α = g_α/p_bt (>= 1),
+    ``overlap_ratio`` ε_β = b sin β/(π m_n), ``face_width`` b (the overlap of the two),
+    ``mesh_period_angle`` 2π/z1; the backlash (ISO 21771 / DIN 3967, docs/backlash.md):
+    ``base_thickness`` (s_b1, s_b2), ``transverse_backlash`` j_bt (its formula the kind's),
+    ``circumferential_backlash`` j_wt = j_bt/cos α_wt, ``normal_backlash`` j_bn = j_bt cos β_b.
 
-    Backlash (ISO 21771 / DIN 3967; docs/backlash.md) from the operating centre distance and the
-    members' ``tooth_thickness_allowance`` A_sn (m, negative thins): ``transverse_backlash``
-    j_bt = p_bt − s_b1 − s_b2 + 2 (r_b1 + r_b2) inv α_wt, the gap between the coast flanks
-    along the transverse line of action (s_bi = m_t cos α_t (π/2 + 2 x_i tan α_n + A_sni/m_n +
-    z_i inv α_t), the base-circle tooth thicknesses), ``circumferential_backlash`` j_wt =
-    j_bt / cos α_wt (on the operating pitch circle), ``normal_backlash`` j_bn = j_bt cos β_b
-    (normal to the flanks, what a feeler gauge reads); all 0 for zero allowances at the
-    zero-backlash centre distance. ``backlash_center_distance``: the zero-backlash distance of
-    the thinned teeth (ISO 21771 (40) with 2 x tan α_n + A_sn/m_n per member).
+    Shared checks: types and finite numbers; sizes and coefficients (:func:`check_member_ranges`);
+    inv α_wt > 0; root radius > 0, tip radius > base radius (both members: an internal gear's
+    involute exists only outside its base circle), a bore inside the root circle; no pointed
+    tip; no undercut of a rack-generated member; ε_α >= 1.
+
+    What a kind supplies (the physics that differs): ``_gear_sign`` σ2; ``_check_member`` (the
+    kind's tooth-count rules); ``_centre_lever`` a_w cos α_wt (r_b1 ± r_b2 in its rounding) and
+    ``_operating`` (the side of the zero-backlash distance where the teeth have backlash);
+    ``_contact`` (the start of active profile, g_α and the interference checks); ``_backlash``
+    (s_b and j_bt); ``_finish`` (the kind's own checks after ε_α and its own attributes).
     """
 
     pinion: Member
@@ -193,157 +211,157 @@ class GearPair:
     helix_angle: float = 0.0
     center_distance: float | None = None
 
-    def __post_init__(self) -> None:  # noqa: C901 - a flat list of checks reads best
-        # types and finite numbers first (a NaN, an infinity or a string would pass or break
-        # the range checks below), one line naming the attribute
-        for tag in ("pinion", "gear"):
-            check_instance(tag, getattr(self, tag), Member, "a jaxgear.Member", "GearPair")
+    #: σ2, the sign of the gear's tooth count (ISO 21771): +1 external, −1 internal
+    _gear_sign: ClassVar[int]
+    #: the head of the pair's one-line messages ("" for none)
+    _prefix: ClassVar[str] = ""
+
+    def _require(self, name: str, value, ok: bool, allowed: str) -> None:
+        if not ok:
+            head = f"{self._prefix}: " * bool(self._prefix)
+            raise ValueError(f"{head}{name} = {value!r} is out of range: allowed {allowed}")
+
+    def _check_inputs(self) -> None:
+        """Types and finite numbers first (a NaN, an infinity or a string would pass or break
+        the range checks), then the ranges; one line naming the attribute."""
+        for tag in _TAGS:
+            check_instance(tag, getattr(self, tag), Member, "a jaxgear.Member", type(self).__name__)
             m = getattr(self, tag)
-            check_integer(f"{tag}.teeth", m.teeth, 5)
+            self._check_member(tag, m)
             for name in _REAL_FIELDS:
                 v = getattr(m, name)
                 if v is not None:
-                    check_real(f"{tag}.{name}", v, _UNITS.get(name, ""), shape=())
+                    check_real(
+                        f"{tag}.{name}", v, _UNITS.get(name, ""), shape=(), where=self._prefix
+                    )
         for name in ("normal_module", "normal_pressure_angle", "helix_angle", "center_distance"):
             if getattr(self, name) is not None:
-                check_real(name, getattr(self, name), _UNITS[name], shape=())
+                check_real(name, getattr(self, name), _UNITS[name], shape=(), where=self._prefix)
         mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
-        _require("normal_module", mn, mn > 0, "> 0")
-        _require("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg")
-        _require("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg")
-        for tag, m in (("pinion", self.pinion), ("gear", self.gear)):
-            _require(
-                f"{tag}.teeth", m.teeth, int(m.teeth) == m.teeth and m.teeth >= 5, "an integer >= 5"
-            )
-            check_member_ranges(tag, m, mn, _require)
+        self._require("normal_module", mn, mn > 0, "> 0")
+        self._require("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg")
+        self._require("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg")
+        for tag in _TAGS:
+            check_member_ranges(tag, getattr(self, tag), mn, self._require)
+
+    def __post_init__(self) -> None:
+        self._check_inputs()
+        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
+        members = (self.pinion, self.gear)
+        sign = (1, self._gear_sign)
         z1, z2 = self.pinion.teeth, self.gear.teeth
         x1, x2 = self.pinion.profile_shift, self.gear.profile_shift
         mt = mn / math.cos(beta)
         at = math.atan(math.tan(an) / math.cos(beta))
-        r = (z1 * mt / 2.0, z2 * mt / 2.0)
+        r = (z1 * mt / 2.0, abs(z2) * mt / 2.0)
         rb = (r[0] * math.cos(at), r[1] * math.cos(at))
+        # ISO 21771 (40), z2 < 0 for an internal gear (then z1 + z2 < 0 turns the bounds)
         inv_awt0 = involute(at) + 2.0 * math.tan(an) * (x1 + x2) / (z1 + z2)
-        _require(
+        rel = ">" if z1 + z2 > 0 else "<"
+        self._require(
             "profile_shift (x1 + x2)",
             x1 + x2,
             inv_awt0 > 0,
-            f"> {-(z1 + z2) * involute(at) / (2 * math.tan(an)):.4f}",
+            f"{rel} {-(z1 + z2) * involute(at) / (2 * math.tan(an)):.4f} (inv α_wt > 0)",
         )
         awt0 = inverse_involute(inv_awt0)
-        a0 = (r[0] + r[1]) * math.cos(at) / math.cos(awt0)
+        lever = self._centre_lever(r, rb, at)
+        a0 = lever / math.cos(awt0)
         # zero backlash with the thinned teeth: ISO 21771 (40) with 2 x tan α_n + A_sn / m_n
         allowances = self.pinion.tooth_thickness_allowance + self.gear.tooth_thickness_allowance
         inv_awtA = thinned_involute(inv_awt0, allowances, mn, z1 + z2)
-        _require(
+        self._require(
             "tooth_thickness_allowance (pinion + gear)",
             allowances,
             inv_awtA > 0,
-            f"> {-(inv_awt0 * (z1 + z2) * mn):.6g} m",
+            f"{rel} {-(inv_awt0 * (z1 + z2) * mn):.6g} m (inv α_wt > 0)",
         )
-        aA = (r[0] + r[1]) * math.cos(at) / math.cos(inverse_involute(inv_awtA))
-        if self.center_distance is None:
-            a, awt = a0, awt0
-            # thickened teeth (A_sn1 + A_sn2 > 0) do not fit at a0: no backlash to clamp to 0
-            _require(
-                JAM,
-                allowances,
-                aA <= a0 * (1 + 1e-9),
-                f"<= 0 m (the teeth jam at the zero-backlash distance {a0 * 1e3:.6f} mm of the "
-                f"nominal teeth); or give center_distance >= {aA * 1e3:.6f} mm",
-            )
-        else:
-            a = float(self.center_distance)
-            _require(
-                "center_distance",
-                a,
-                a >= aA * (1 - 1e-9),
-                f">= {aA * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)",
-            )
-            awt = math.acos(min(1.0, (rb[0] + rb[1]) / a))
-        members = (self.pinion, self.gear)
-        ra = tuple(r[i] + mn * (m.addendum_coeff + m.profile_shift) for i, m in enumerate(members))
-        rf = tuple(r[i] - mn * (m.dedendum_coeff - m.profile_shift) for i, m in enumerate(members))
-        for i, tag in enumerate(("pinion", "gear")):
-            _require(
+        aA = lever / math.cos(inverse_involute(inv_awtA))
+        a, awt = self._operating(a0, awt0, aA, allowances, rb)
+        ra = tuple(
+            r[i] + sign[i] * mn * (m.addendum_coeff + m.profile_shift)
+            for i, m in enumerate(members)
+        )
+        rf = tuple(
+            r[i] - sign[i] * mn * (m.dedendum_coeff - m.profile_shift)
+            for i, m in enumerate(members)
+        )
+        for i, (tag, m) in enumerate(zip(_TAGS, members)):
+            inside = sign[i] < 0  # an internal gear: its tip circle inside, its root outside
+            self._require(
                 f"{tag}.root radius (from dedendum_coeff and profile_shift)",
                 rf[i],
                 rf[i] > 0,
                 "> 0",
             )
-            _require(
-                f"{tag}.tip radius (from addendum_coeff and profile_shift)",
+            self._require(
+                f"{tag}.tip radius (from addendum_coeff and profile_shift"
+                + ": the ring's tip circle must stay outside its base circle)" * inside
+                + ")" * (not inside),
                 ra[i],
                 ra[i] > rb[i],
-                f"> base radius {rb[i] * 1e3:.4f} mm",
+                f"> base radius {rb[i] * 1e3:.4f} mm"
+                + f" (lower {tag}.addendum_coeff or {tag}.profile_shift)" * inside,
             )
-            bore = members[i].bore_radius
-            if bore is not None:
-                _require(
+            if m.bore_radius is not None:
+                self._require(
                     f"{tag}.bore_radius",
-                    bore,
-                    0 < bore < rf[i],
+                    m.bore_radius,
+                    0 < m.bore_radius < rf[i],
                     f"(0, {rf[i]:.6g}) m (below the root radius)",
                 )
-        # transverse tooth thickness at the reference circle and at the tip (ISO 21771)
+        # transverse tooth thickness at the reference circle and at the tip (ISO 21771); an
+        # internal gear's tooth is thinnest at its tip, inside: its involute terms turn sign
         st = tuple(mt * (math.pi / 2 + 2 * m.profile_shift * math.tan(an)) for m in members)
         tip_thickness = []
-        for i, tag in enumerate(("pinion", "gear")):
+        for i, (tag, m) in enumerate(zip(_TAGS, members)):
             aa = math.acos(rb[i] / ra[i])
-            sa = 2 * ra[i] * (st[i] / (2 * r[i]) + involute(at) - involute(aa))
-            _require(
+            sa = 2 * ra[i] * (st[i] / (2 * r[i]) + sign[i] * involute(at) - sign[i] * involute(aa))
+            self._require(
                 f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth)",
-                members[i].addendum_coeff,
+                m.addendum_coeff,
                 sa > 0,
                 "a tip tooth thickness > 0",
             )
             tip_thickness.append(sa)
-        # form circle of the generating rack (ISO 21771 (88)-(90)): roll distance from T
+        # form circle of the generating rack (ISO 21771 (88)-(90)): roll distance from T; an
+        # internal gear is cut by a pinion cutter (its form: fem_prep.InternalToothGeometry)
         form_roll = []
-        for i, (tag, m) in enumerate(zip(("pinion", "gear"), members)):
+        for i, (tag, m) in enumerate(zip(_TAGS, members)):
+            if sign[i] < 0:
+                form_roll.append(None)
+                continue
             h = mn * (
                 m.dedendum_coeff - m.profile_shift - m.fillet_radius_coeff * (1 - math.sin(an))
             )
             rho_f = r[i] * math.sin(at) - h / math.sin(at)
-            _require(
+            self._require(
                 f"{tag}.profile_shift (undercut: form circle roll {rho_f * 1e3:.4f} mm)",
                 m.profile_shift,
                 rho_f >= 0,
                 "large enough that the involute starts above the base circle (no undercut)",
             )
             form_roll.append(rho_f)
-        t1t2 = a * math.sin(awt)
+        line = a * math.sin(awt)  # T1T2
         roll_tip = (math.sqrt(ra[0] ** 2 - rb[0] ** 2), math.sqrt(ra[1] ** 2 - rb[1] ** 2))
-        start = (t1t2 - roll_tip[1], t1t2 - roll_tip[0])  # start of active profile, each member
-        for i, tag in enumerate(("pinion", "gear")):
-            other = "gear" if i == 0 else "pinion"
-            _require(
-                f"{other}.addendum_coeff (interference: {tag} active profile starts "
-                f"{start[i] * 1e3:.4f} mm from its tangent point, below the form circle "
-                f"{form_roll[i] * 1e3:.4f} mm)",
-                members[1 - i].addendum_coeff,
-                start[i] >= form_roll[i] - 1e-12,
-                "small enough to avoid interference",
-            )
-        g_alpha = roll_tip[0] + roll_tip[1] - t1t2
+        start, g_alpha = self._contact(line, roll_tip, form_roll, a, ra, rf)
         pbt = math.pi * mt * math.cos(at)
         eps_a = g_alpha / pbt
-        _require("transverse contact ratio", eps_a, eps_a >= 1.0, ">= 1 (increase addenda)")
+        self._require("transverse contact ratio", eps_a, eps_a >= 1.0, ">= 1 (increase addenda)")
         b = min(self.pinion.face_width, self.gear.face_width)
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 - frozen dataclass
+        beta_b = math.atan(math.tan(beta) * math.cos(at))
+        sb, jbt = self._backlash(r, rb, st, mt, at, awt, inv_awtA)
+        set_ = lambda k, v: object.__setattr__(self, k, v)
         set_("transverse_module", mt)
         set_("transverse_pressure_angle", at)
         set_("operating_pressure_angle", awt)
         set_("center_distance", a)
         set_("zero_backlash_center_distance", a0)
         set_("backlash_center_distance", aA)
-        # backlash along the transverse line of action: the base pitch less the base-circle
-        # thicknesses, carried to the operating pressure angle (docs/backlash.md)
-        sb = base_thicknesses(members, mt, at, an, mn, involute(at))
-        jbt, jwt, jbn = backlashes(sb, rb, mt, at, awt, involute(awt), beta)
         set_("base_thickness", sb)
         set_("transverse_backlash", jbt)
-        set_("circumferential_backlash", jwt)
-        set_("normal_backlash", jbn)
+        set_("circumferential_backlash", jbt / math.cos(awt))
+        set_("normal_backlash", jbt * math.cos(beta_b))
         set_("pitch_radii", r)
         set_("base_radii", rb)
         set_("tip_radii", ra)
@@ -351,34 +369,69 @@ class GearPair:
         set_("reference_thickness", st)
         set_("tip_thickness", tuple(tip_thickness))
         set_("form_roll", tuple(form_roll))
-        set_("start_roll", start[0])
+        set_("line_length", line)
+        set_("start_roll", start)
         set_("base_pitch", pbt)
-        set_("base_helix_angle", math.atan(math.tan(beta) * math.cos(at)))
+        set_("base_helix_angle", beta_b)
         set_("path_of_contact", g_alpha)
         set_("transverse_contact_ratio", eps_a)
         set_("face_width", b)
         set_("overlap_ratio", b * math.sin(beta) / (math.pi * mn))
         set_("mesh_period_angle", 2 * math.pi / z1)
+        self._finish()
+
+    # -- what a kind supplies ------------------------------------------------------------------
+
+    @abc.abstractmethod
+    def _check_member(self, tag: str, member: Member) -> None:
+        """The kind's rules for one member (its tooth count, ...), one line each."""
+
+    @abc.abstractmethod
+    def _centre_lever(self, r, rb, at: float) -> float:
+        """a_w cos α_wt (m), the same for every centre distance: r_b1 + r_b2 (external),
+        r_b2 − r_b1 (internal)."""
+
+    @abc.abstractmethod
+    def _operating(self, a0: float, awt0: float, aA: float, allowances: float, rb) -> tuple:
+        """(a_w, α_wt): the given ``center_distance`` checked on the side where the teeth have
+        backlash (``aA`` the zero-backlash distance of the thinned teeth), or ``a0``, ``awt0``."""
+
+    @abc.abstractmethod
+    def _contact(self, line: float, roll_tip, form_roll, a: float, ra, rf) -> tuple:
+        """(start_roll, g_α) from T1T2 and the tips' roll distances from their tangent points,
+        with the kind's interference checks (against ``form_roll``)."""
+
+    @abc.abstractmethod
+    def _backlash(self, r, rb, st, mt: float, at: float, awt: float, inv_awtA: float) -> tuple:
+        """(s_b, j_bt): the base thicknesses (s_b1, s_b2) and the transverse backlash (m)."""
+
+    def _finish(self) -> None:
+        """The kind's checks after the contact ratio and its own attributes; none here."""
+
+    # -- shared methods ------------------------------------------------------------------------
 
     @property
     def total_contact_ratio(self) -> float:
+        """ε_γ = ε_α + ε_β."""
         return self.transverse_contact_ratio + self.overlap_ratio
 
     @property
     def gear_ratio(self) -> float:
-        """u = z2 / z1."""
+        """u = z2/z1 (negative for an internal pair, ISO 21771 and ISO 6336)."""
         return self.gear.teeth / self.pinion.teeth
 
     def roll_distance(self, s, member: int):
         """Roll distance ρ (m) of base-plane coordinate ``s`` on member 0 (pinion) or 1 (gear).
 
         ρ is measured along the line of action from the member's base tangent point; the contact
-        point's radius is √(ρ² + r_b²) and its radius of curvature is ρ.
+        point's radius is √(ρ² + r_b²) and its radius of curvature is ρ: ρ1 = ρ_A + s and
+        ρ2 = T1T2 − σ2 ρ1 (external: the tangent points on either side of the pitch point;
+        internal: on the same side, ρ2 = ρ1 + T1T2, the ring's concave flank).
         """
         rho1 = self.start_roll + s
         if member == 0:
             return rho1
-        return self.center_distance * math.sin(self.operating_pressure_angle) - rho1
+        return self.line_length - self._gear_sign * rho1
 
     def summary(self) -> dict:
         """Derived geometry as a JSON-ready dict (SI units)."""
@@ -396,3 +449,91 @@ class GearPair:
             "root_radii_m": list(self.root_radii),
             "face_width_m": self.face_width,
         }
+
+
+@dataclasses.dataclass(frozen=True)
+class GearPair(AbstractGearPair):
+    """External involute spur or helical gear pair; member 1 (pinion) drives. The shared
+    geometry, attributes and checks are :class:`AbstractGearPair`'s; here what is external.
+
+    Args:
+        pinion, gear: the two members (pinion = driving member 1), teeth >= 5 each.
+        normal_module: m_n (m).
+        normal_pressure_angle: α_n (rad).
+        helix_angle: β (rad), >= 0; 0 for spur gears.
+        center_distance: operating centre distance a_w (m), >= ``backlash_center_distance``
+            (closer, the teeth jam); ``None`` for the zero-backlash distance from the profile
+            shifts (ISO 21771 (40)).
+
+    External: a_w = (r1 + r2) cos α_t/cos α_wt; the tangent points T1, T2 on either side of the
+    pitch point, g_α = √(r_a1² − r_b1²) + √(r_a2² − r_b2²) − a_w sin α_wt and ``start_roll`` =
+    T1T2 − √(r_a2² − r_b2²); interference checked both ways (each member's active profile
+    starts above its form circle, ``form_roll`` (ρ_F1, ρ_F2)).
+
+    Backlash (ISO 21771 / DIN 3967; docs/backlash.md) from the operating centre distance and the
+    members' ``tooth_thickness_allowance`` A_sn (m, negative thins): ``transverse_backlash``
+    j_bt = p_bt − s_b1 − s_b2 + 2 (r_b1 + r_b2) inv α_wt, the gap between the coast flanks
+    along the transverse line of action (s_bi = m_t cos α_t (π/2 + 2 x_i tan α_n + A_sni/m_n +
+    z_i inv α_t), the base-circle tooth thicknesses), ``circumferential_backlash`` j_wt =
+    j_bt / cos α_wt (on the operating pitch circle), ``normal_backlash`` j_bn = j_bt cos β_b
+    (normal to the flanks, what a feeler gauge reads); all 0 for zero allowances at the
+    zero-backlash centre distance. ``backlash_center_distance``: the zero-backlash distance of
+    the thinned teeth (ISO 21771 (40) with 2 x tan α_n + A_sn/m_n per member).
+
+    Raises:
+        ValueError: non-positive sizes, tip below the base circle, pointed tips, undercut
+            (involute form circle below the base circle), interference (active profile
+            starting below the form circle), transverse contact ratio below 1, a centre
+            distance below the zero-backlash distance; one line naming the parameter, its
+            value and the allowed range.
+    """
+
+    _gear_sign: ClassVar[int] = 1
+
+    def _check_member(self, tag, member):
+        check_integer(f"{tag}.teeth", member.teeth, 5)
+
+    def _centre_lever(self, r, rb, at):
+        return (r[0] + r[1]) * math.cos(at)
+
+    def _operating(self, a0, awt0, aA, allowances, rb):
+        if self.center_distance is None:
+            # thickened teeth (A_sn1 + A_sn2 > 0) do not fit at a0: no backlash to clamp to 0
+            self._require(
+                JAM,
+                allowances,
+                aA <= a0 * (1 + 1e-9),
+                f"<= 0 m (the teeth jam at the zero-backlash distance {a0 * 1e3:.6f} mm of the "
+                f"nominal teeth); or give center_distance >= {aA * 1e3:.6f} mm",
+            )
+            return a0, awt0
+        a = float(self.center_distance)
+        self._require(
+            "center_distance",
+            a,
+            a >= aA * (1 - 1e-9),
+            f">= {aA * 1e3:.6f} mm (zero-backlash distance; closer, the teeth jam)",
+        )
+        return a, math.acos(min(1.0, (rb[0] + rb[1]) / a))
+
+    def _contact(self, line, roll_tip, form_roll, a, ra, rf):
+        start = (line - roll_tip[1], line - roll_tip[0])  # start of active profile, each member
+        for i, tag in enumerate(_TAGS):
+            other = _TAGS[1 - i]
+            self._require(
+                f"{other}.addendum_coeff (interference: {tag} active profile starts "
+                f"{start[i] * 1e3:.4f} mm from its tangent point, below the form circle "
+                f"{form_roll[i] * 1e3:.4f} mm)",
+                (self.pinion, self.gear)[1 - i].addendum_coeff,
+                start[i] >= form_roll[i] - 1e-12,
+                "small enough to avoid interference",
+            )
+        return start[0], roll_tip[0] + roll_tip[1] - line
+
+    def _backlash(self, r, rb, st, mt, at, awt, inv_awtA):
+        # the base pitch less the base-circle thicknesses, carried to the operating pressure
+        # angle (docs/backlash.md)
+        mn, an, beta = self.normal_module, self.normal_pressure_angle, self.helix_angle
+        sb = base_thicknesses((self.pinion, self.gear), mt, at, an, mn, involute(at))
+        jbt, _, _ = backlashes(sb, rb, mt, at, awt, involute(awt), beta)
+        return sb, jbt

@@ -18,7 +18,7 @@ from typing import ClassVar
 import equinox as eqx
 import numpy as np
 
-from ._geometry import GearPair
+from ._geometry import AbstractGearPair, GearPair
 from ._internal import InternalGearPair, internal_tooth_geometry
 from ._stiffness import (
     AbstractFoundation,
@@ -78,7 +78,9 @@ class AbstractStiffness(eqx.Module):
     internal_teeth: ClassVar[bool] = False
 
     @abc.abstractmethod
-    def profile(self, pair: GearPair, s: np.ndarray, conditions: MeshConditions) -> np.ndarray:
+    def profile(
+        self, pair: AbstractGearPair, s: np.ndarray, conditions: MeshConditions
+    ) -> np.ndarray:
         """k(s) (N/m per m of contact line) at base-plane coordinates ``s`` (m), shape (n,),
         s ∈ [0, g_α]; returns shape (n,)."""
 
@@ -97,7 +99,7 @@ class AbstractStiffness(eqx.Module):
         for a model that generates the ring's teeth (:class:`Weber`); this one unchanged."""
         return self
 
-    def mean_estimate(self, pair: GearPair, youngs_modulus: float) -> float:
+    def mean_estimate(self, pair: AbstractGearPair, youngs_modulus: float) -> float:
         """A cheap estimate of the mean mesh stiffness (N/m) without the table, for plausibility
         checks: ISO 6336-1 c_γα b scaled by E / 210 GPa (the Weber profile of the embedded cases
         agrees with it within about 25 %)."""
@@ -338,9 +340,10 @@ class FE2D(AbstractStiffness):
 
 
 @functools.singledispatch
-def _fe_member(pair: GearPair, member: int, ring_support=None, ring_cutter=None):
+def _fe_member(pair: AbstractGearPair, member: int, ring_support=None, ring_cutter=None):
     """The FE tooth of member 0 (pinion) or 1 (gear) and how it is held (the keywords of
-    ``fem_prep.tooth_compliance``: its clamped rim radius, m)."""
+    ``fem_prep.tooth_compliance``: its clamped rim radius, m): an external member's, of either
+    kind of pair."""
     return tooth_geometry(pair, member), {"rim_radius": bore_radius(pair, member)}
 
 
@@ -350,8 +353,8 @@ def _fe_internal_member(pair: InternalGearPair, member: int, ring_support=None, 
     ``ring_cutter``: fem_prep's default form of a geometry with a cutter), its outer face at
     r_f2 + ``rim_thickness`` (``None``: the FE model's default, r_f2 + 3.5 m_n), held by
     ``ring_support``."""
-    if member == 0:
-        return tooth_geometry(pair, 0), {"rim_radius": bore_radius(pair, 0)}
+    if member == 0:  # the planet: an external member
+        return _fe_member.dispatch(AbstractGearPair)(pair, 0)
     s_r = pair.gear.rim_thickness
     rim = None if s_r is None else pair.root_radii[1] + float(s_r)
     geometry = internal_tooth_geometry(pair, ring_cutter)
@@ -402,7 +405,7 @@ def _internal_pair_model(pair: InternalGearPair, model: AbstractStiffness) -> No
 
 
 def stiffness_table(
-    pair: GearPair,
+    pair: AbstractGearPair,
     model: AbstractStiffness,
     *,
     youngs_modulus: float = 210e9,
@@ -414,7 +417,8 @@ def stiffness_table(
     """Tabulate k(s) (N/m²) of ``model`` on ``n_points`` equally spaced s ∈ [0, g_α].
 
     Args:
-        pair: the gear pair.
+        pair: the gear pair, of either kind (:class:`~jaxgear.GearPair`,
+            :class:`~jaxgear.InternalGearPair`).
         model: the stiffness model, e.g. ``jaxgear.Weber(jaxgear.SainsotFoundation())``.
         youngs_modulus: E (Pa); poisson_ratio: ν.
         line_load: transverse load per unit face width (N/m) of the Hertzian term (``Weber``,
@@ -429,15 +433,14 @@ def stiffness_table(
 
     Raises:
         ValueError: a ``model`` that is not an :class:`AbstractStiffness`, a ``pair`` that is not
-            a :class:`GearPair`, a material, load or size that is not a finite number in range,
-            ``n_points`` not an integer >= 2 (one line naming the argument); a model that gives
+            a :class:`~jaxgear.AbstractGearPair` (a GearPair or InternalGearPair), a material,
+            load or size that is not a finite number in range, ``n_points`` not an integer >= 2
+            (one line naming the argument); a model that gives
             non-positive or non-finite values (pointed or undercut teeth, or a load whose
             Hertzian contact is wider than the teeth).
     """
     where = "stiffness_table"
-    check_instance(
-        "pair", pair, (GearPair, InternalGearPair), "a jaxgear.GearPair or InternalGearPair", where
-    )
+    check_instance("pair", pair, AbstractGearPair, "a jaxgear.GearPair or InternalGearPair", where)
     check_instance(
         "model",
         model,

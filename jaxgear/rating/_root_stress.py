@@ -25,8 +25,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float
 
-from .._geometry import GearPair
-from .._internal import InternalGearPair
+from .._geometry import AbstractGearPair
 from .._util import check_instance
 
 __all__ = ["RootStressMap", "root_stress_map"]
@@ -74,7 +73,7 @@ class RootStressMap(eqx.Module):
 
 
 def root_stress_map(
-    pair: GearPair, result, member: int, roll_table, stress_per_load
+    pair: AbstractGearPair, result, member: int, roll_table, stress_per_load
 ) -> RootStressMap:
     """The root-stress map of ``member`` (0 pinion, 1 gear) under the cell loads of ``result``
     (module docstring).
@@ -104,7 +103,7 @@ def root_stress_map(
     check_instance(
         "pair",
         pair,
-        (GearPair, InternalGearPair),
+        AbstractGearPair,
         "a jaxgear.GearPair or InternalGearPair",
         "root_stress_map",
     )
