@@ -21,7 +21,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 APP = ("jaxgear.cli", "jaxgear.io", "benchmarks", "matplotlib")
-MODEL_SUBPACKAGES = ("jaxgear.scenes", "jaxgear.dynamics", "jaxgear.io")
+MODEL_SUBPACKAGES = ("jaxgear.scenes", "jaxgear.dynamics", "jaxgear.io", "jaxgear.gearbox")
 FORBIDDEN_IN_MODEL = (
     "argparse",
     "matplotlib",

@@ -41,7 +41,7 @@ SECTIONS = {
         ("Planetary stages", ("_planetary*",)),
         ("Load capacity (ISO 6336)", ("_rating*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
-        ("Gearbox", ("_gearbox",)),
+        ("Gearbox", ("_chain", "_coupled")),
     ),
     "jaxgear.scenes": (
         ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),

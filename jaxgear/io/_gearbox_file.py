@@ -34,7 +34,7 @@ import os
 
 from fem_prep import schema as sc
 
-from .._gearbox import (
+from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
     PairGearboxStage,

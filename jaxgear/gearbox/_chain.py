@@ -25,8 +25,8 @@ import jax.scipy.linalg
 import numpy as np
 from jaxtyping import Array, Float
 
-from ._planetary import Central, PlanetaryStage, TorsionalPlanetary
-from ._util import as_float, check_instance
+from .._planetary import Central, PlanetaryStage, TorsionalPlanetary
+from .._util import as_float, check_instance
 
 __all__ = [
     "AbstractGearboxStage",
