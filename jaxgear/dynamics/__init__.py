@@ -84,6 +84,9 @@ from ._newmark import (
 from ._planetary_dynamics import (
     PlanetaryDynamics as PlanetaryDynamics,
     PlanetaryRun as PlanetaryRun,
+    PlanetaryStageSystem as PlanetaryStageSystem,
+    planetary_cell_row as planetary_cell_row,
+    planetary_stage_system as planetary_stage_system,
     order_spectrum as order_spectrum,
     planetary_dynamics as planetary_dynamics,
     planetary_mesh_modes as planetary_mesh_modes,

@@ -14,3 +14,14 @@ from ._chain import (
     PlanetaryGearboxStage as PlanetaryGearboxStage,
     gearbox_modes as gearbox_modes,
 )
+from ._coupled import (
+    CoupledModes as CoupledModes,
+    GearboxDynamics as GearboxDynamics,
+    GearboxRun as GearboxRun,
+    coordinate_names as coordinate_names,
+    coupled_mode_table as coupled_mode_table,
+    gearbox_coupled_modes as gearbox_coupled_modes,
+    gearbox_dynamics as gearbox_dynamics,
+    gearbox_speed_sweep as gearbox_speed_sweep,
+    mesh_names as mesh_names,
+)
