@@ -310,7 +310,7 @@ def gearbox_dynamics(
         :class:`GearboxDynamics`; ``dynamic_factors`` per mesh in :func:`mesh_names`' order.
 
     Raises:
-        TypeError: an argument of another kind (one line).
+        ValueError: an argument of another kind (one line).
         ValueError: ``input_speed`` zero or not finite (one line).
     """
     _check(chain, run, law, "gearbox_dynamics")
@@ -405,7 +405,7 @@ def gearbox_coupled_modes(chain: GearboxTorsional, run: GearboxRun) -> CoupledMo
     frame's terms are left out (the modes at rest).
 
     Raises:
-        TypeError: an argument of another kind (one line)."""
+        ValueError: an argument of another kind (one line)."""
     _check(chain, run, ExactContact(), "gearbox_coupled_modes")
     return _coupled_modes(chain, run)
 
