@@ -31,7 +31,12 @@ from .._planetary import AbstractPlanetaryModel, Central, PlanetaryStage, Torsio
 from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes
 from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import PlanetaryRun, planetary_cell_row, planetary_stage_system
+from ..dynamics import (
+    PlanetaryRun,
+    modal_analysis,
+    planetary_cell_row,
+    planetary_stage_system,
+)
 
 __all__ = [
     "AbstractGearboxStage",
@@ -391,24 +396,35 @@ class GearboxModes(eqx.Module):
     stage_energy: Float[Array, "s n"]
 
 
+class _ChainParts(eqx.Module):
+    """The chain's M and K in the form :func:`~jaxgear.dynamics.modal_analysis` reads."""
+
+    m: Array
+    k: Array
+
+    def mass(self):
+        return self.m
+
+    def stiffness_parts(self):
+        return {"structure": self.k}
+
+
 @eqx.filter_jit
 def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
-    """The undamped natural modes of the chain, ``K phi = omega^2 M phi`` (symmetric form by
-    the Cholesky factor of M, ``jnp.linalg.eigh``); a free chain (no member held) has one
-    rigid-body mode at 0 Hz.
+    """The undamped natural modes of the chain, ``K phi = omega^2 M phi``, through
+    :func:`jaxgear.dynamics.modal_analysis` (the one modal solve: Cholesky factor of M,
+    ``jnp.linalg.eigh``); a free chain (no member held) has one rigid-body mode at 0 Hz.
 
     Raises:
         ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
     check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
                    "gearbox_modes")
     m, k = chain.matrices()
-    low = jnp.linalg.cholesky(m)
-    a = jnp.linalg.solve(low, jnp.linalg.solve(low, k).T)
-    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
-    shapes = jnp.linalg.solve(low.T, vec)
+    modes = modal_analysis(_ChainParts(m, k), jnp.zeros_like(k))
+    shapes = modes.shapes
     energy = shapes * (m @ shapes)  # each coordinate's share (M diagonal per stage block)
     owner = np.asarray(chain.stage_of_dof())  # static: the indicator of each stage's rotations
     belongs = jnp.asarray(owner[None, :] == np.arange(len(chain.stages))[:, None], energy.dtype)
     per_stage = belongs @ energy
     per_stage = per_stage / per_stage.sum(axis=0, keepdims=True)
-    return GearboxModes(jnp.sqrt(jnp.clip(lam, 0.0)) / (2.0 * jnp.pi), shapes, per_stage)
+    return GearboxModes(modes.frequency, shapes, per_stage)
