@@ -31,12 +31,6 @@ from .._planetary import AbstractPlanetaryModel, Central, PlanetaryStage, Torsio
 from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes
 from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import (
-    PlanetaryRun,
-    modal_analysis,
-    planetary_cell_row,
-    planetary_stage_system,
-)
 
 __all__ = [
     "AbstractGearboxStage",
@@ -130,7 +124,7 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
     output: Central = eqx.field(static=True)
     meshes: AbstractPlanetaryMeshes | None = None
     model: AbstractPlanetaryModel = TorsionalPlanetary()
-    run: PlanetaryRun | None = None
+    run: "PlanetaryRun | None" = None  # jaxgear.dynamics.PlanetaryRun: its pin errors
 
     def __check_init__(self):
         if self.input == self.output:
@@ -153,6 +147,8 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return ConstantMeshes() if self.meshes is None else self.meshes
 
     def _run(self):
+        from ..dynamics import PlanetaryRun  # (jaxgear's import does not load the dynamics)
+
         return PlanetaryRun(0.0) if self.run is None else self.run
 
     def _scale(self):
@@ -173,6 +169,8 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return names.index(key[self.input]), names.index(key[self.output])
 
     def dynamic_parts(self, positions):
+        from ..dynamics import planetary_stage_system
+
         parts = planetary_stage_system(self.model, self.stage, self._meshes(), self._run(),
                                        positions)
         r = self._scale()
@@ -180,6 +178,8 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return rr * parts.m, rr * parts.k_b, rr * parts.k_mean, r * parts.f
 
     def cell_row(self, x):
+        from ..dynamics import planetary_cell_row
+
         row = planetary_cell_row(self.model, self.stage, self._meshes(), self._run(), x)
         return row._replace(V=row.V * self._scale()[None, :])
 
@@ -419,6 +419,8 @@ def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
         ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
     check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
                    "gearbox_modes")
+    from ..dynamics import modal_analysis
+
     m, k = chain.matrices()
     modes = modal_analysis(_ChainParts(m, k), jnp.zeros_like(k))
     shapes = modes.shapes

@@ -29,7 +29,6 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
-from ..dynamics import LinearSystem, ModalAnalysis, StepCells, modal_analysis, newmark
 from ._chain import GearboxTorsional
 
 __all__ = [
@@ -228,6 +227,10 @@ def _time_plan(chain, run) -> tuple[int, float]:
 
 def _modes(m, k, k_mean):
     """modal_analysis of (M, K + K̄_m), the mesh part K̄_m."""
+    # jaxgear.dynamics imported here: ``import jaxgear`` (which holds the chain's names) does
+    # not load the dynamics
+    from ..dynamics import modal_analysis
+
     return modal_analysis(_Parts(m, k), k_mean)
 
 
@@ -244,6 +247,8 @@ class _Parts(eqx.Module):
 
 @eqx.filter_jit
 def _run(chain, run, input_speed, law, block, fast):
+    from ..dynamics import LinearSystem, StepCells, newmark
+
     m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
     modes = _modes(m, k, k_mean)
     phi, w = modes.shapes, modes.omega
@@ -354,7 +359,7 @@ class CoupledModes(eqx.Module):
         stage_energy: each stage's share of each mode's kinetic energy (-), (n_stages, n).
     """
 
-    analysis: ModalAnalysis
+    analysis: "ModalAnalysis"  # jaxgear.dynamics.ModalAnalysis
     mesh_energy: Float[Array, "m n"]
     joint_energy: Float[Array, "j n"]
     stage_energy: Float[Array, "s n"]
