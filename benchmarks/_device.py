@@ -196,8 +196,8 @@ def _planetary_sweep(quick, dev):
     from .planetary_step import stage
 
     st, meshes = stage(3)
-    sweep_fn = getattr(jg, "planetary_speed_sweep", None) or jg.dynamics.planetary_speed_sweep
-    run_cls = getattr(jg, "PlanetaryRun", None) or jg.dynamics.PlanetaryRun
+    sweep_fn = jg.planetary.planetary_speed_sweep
+    run_cls = jg.planetary.PlanetaryRun
     run = run_cls(sun_torque=800.0, steps_per_period=64, periods=4 if quick else 40,
                   keep_periods=2, damping_ratio=0.05)
     # carrier speeds whose mesh frequency spans 0.2..2 kHz (z_r = 84 teeth, ring held)

@@ -65,7 +65,7 @@ from ._modifications import (
     Modifications as Modifications,
     ParabolicRelief as ParabolicRelief,
 )
-from ._gearbox import (
+from .gearbox import (
     AbstractGearboxStage as AbstractGearboxStage,
     GearboxModes as GearboxModes,
     GearboxTorsional as GearboxTorsional,

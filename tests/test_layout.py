@@ -26,6 +26,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.dynamics",
     "jaxgear.planetary",
     "jaxgear.rating",
+    "jaxgear.gearbox",
     "jaxgear.io",
 )
 FORBIDDEN_IN_MODEL = (

@@ -49,7 +49,7 @@ SECTIONS = {
          ("_stage", "_spatial", "_meshes", "_analysis")),
         ("Load capacity (ISO 6336; the rating subpackage)", ("rating.*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
-        ("Gearbox", ("_gearbox",)),
+        ("Gearbox", ("_chain", "_coupled")),
     ),
     "jaxgear.scenes": (
         ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),

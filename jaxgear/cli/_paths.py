@@ -102,6 +102,10 @@ OUTPUT_FILES["run"] += TRAIN_FILES
 PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu", "ring_campbell.png",
                    "hunting.csv", "hunting.png")
 OUTPUT_FILES["run"] += PLANETARY_FILES
+# what ``jaxgear run`` writes for a gearbox ([[stages]]) besides modes.json and its stages'
+# folders: the coupled model's sweep and modes, its dynamic factors' figure
+GEARBOX_FILES = ("coupled.json", "coupled.png")
+OUTPUT_FILES["run"] += GEARBOX_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
     f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations") for n in OUTPUT_FILES[sub]

@@ -3,7 +3,11 @@ run (its case at the operating point carried from the previous stage: a planetar
 sharing, meshes, modes and sweep, a pair's TE and load maps, and each stage's ``[rating]``: every
 mesh of every rated stage, at the carried point) into ``stage<k>/``, then the whole
 chain's torsional natural frequencies (:func:`jaxgear.gearbox_modes`) with the stage that holds
-most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``."""
+most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``; then the coupled
+model (:mod:`jaxgear.gearbox`: every stage on its contact cells in one Newmark run) swept over
+the operating range: every mesh's dynamic factor against the input speed and the coupled modes
+with their type and the mesh holding most strain energy (``summary.json``'s ``coupled``,
+``coupled.json``, ``coupled.png``)."""
 
 from __future__ import annotations
 
@@ -12,9 +16,24 @@ import os
 import numpy as np
 
 from .. import gearbox_modes
+from ..gearbox import (
+    GearboxRun,
+    coupled_mode_table,
+    gearbox_coupled_modes,
+    gearbox_speed_sweep,
+    mesh_names,
+)
 from ..io import write_json
+from ._plots import new_figure, savefig
 
-__all__ = ["chain_modes", "gearbox_run_files", "gearbox_run_lines", "least_safety"]
+__all__ = ["chain_modes", "coupled_sweep", "gearbox_run_files", "gearbox_run_lines",
+           "least_safety"]
+
+#: the coupled sweep's input speeds, as fractions of the operating point's input speed
+COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
+#: the coupled run's time plan: steps per period of the fastest mesh, blocks (the slowest
+#: mesh's periods) integrated and recorded (a first look: docs/gearbox.md, "Cost")
+COUPLED_RUN = {"steps_per_period": 16, "periods": 3, "keep_periods": 1, "mean_positions": 32}
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -63,6 +82,7 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         )
     modes = chain_modes(form)
     write_json(os.path.join(out, "modes.json"), {"case": case.name, "torsional_chain": modes})
+    coupled = coupled_sweep(form, out)
     result = {
         "case": case.name,
         "complete": complete,
@@ -73,8 +93,51 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         },
         "stages": stages,
         "torsional_modes": modes,
+        "coupled": coupled,
     }
     write_json(os.path.join(out, "summary.json"), result)
+    return result
+
+
+def coupled_sweep(form, out: str) -> dict:
+    """The coupled model over the operating range (:data:`COUPLED_SPEEDS` of the first stage's
+    input speed, the gearbox's torque): every mesh's dynamic factor (max / static from the
+    torque ratios) at each speed, and the coupled modes; the last stage's output held by the
+    last shaft's stiffness (the generator is not in the chain). Written to ``coupled.json`` and
+    ``coupled.png``; returns the summary's ``coupled`` section."""
+    chain = form.coupled()
+    first = form.stages[0]
+    shafts = [s.shaft_stiffness for s in form.stages[1:]]
+    hold = shafts[-1] if shafts else 1e9
+    run = GearboxRun(first.input_torque, hold, **COUPLED_RUN)
+    speeds = first.input_speed * COUPLED_SPEEDS
+    res = gearbox_speed_sweep(chain, run, speeds)
+    names = list(mesh_names(chain))
+    df = np.asarray(res.dynamic_factors)
+    result = {
+        "input_speeds_rad_s": [float(w) for w in speeds],
+        "input_torque_Nm": float(first.input_torque),
+        "output_hold_Nm_per_rad": float(hold),
+        "time_plan": dict(COUPLED_RUN),
+        "mesh_names": names,
+        "static_force_N": [float(f) for f in np.asarray(res.static_forces)[0]],
+        "dynamic_factor_mesh": df.tolist(),
+        "mesh_speeds_m_s": np.asarray(res.mesh_speeds).tolist(),
+        "result": [int(r) for r in np.asarray(res.result)],
+        "max_dynamic_factor": float(np.max(df)),
+        "worst_mesh": names[int(np.argmax(np.max(df, axis=0)))],
+        "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, run)),
+    }
+    write_json(os.path.join(out, "coupled.json"), result)
+    fig, ax = new_figure()
+    for j, name in enumerate(names):
+        ax.plot(speeds, df[:, j], "o-" if "sun" in name else ("s--" if "ring" in name else "^-"),
+                ms=3, lw=1.0, label=name)
+    ax.set_xlabel("input speed (rad/s)")
+    ax.set_ylabel("dynamic factor (max / static)")
+    ax.set_title("coupled gearbox: every mesh in one run")
+    ax.legend(fontsize=6, ncol=2)
+    savefig(fig, os.path.join(out, "coupled.png"))
     return result
 
 
@@ -110,4 +173,14 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
         + (" ..." if len(elastic) > 6 else "")
         + " (modes.json)"
     )
+    c = summary.get("coupled")
+    if c is not None:
+        lines.append(
+            f"coupled model (every mesh in one run, {len(c['input_speeds_rad_s'])} input speeds "
+            f"{c['input_speeds_rad_s'][0]:.4g}-{c['input_speeds_rad_s'][-1]:.4g} rad/s): "
+            f"largest dynamic factor {c['max_dynamic_factor']:.4g} ({c['worst_mesh']}); "
+            "modes " + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}, {m['mesh']})"
+                                 for m in c["modes"][:4] if m["type"] != "rigid body")
+            + " (coupled.json, coupled.png)"
+        )
     return lines

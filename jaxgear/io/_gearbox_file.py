@@ -34,7 +34,7 @@ import os
 
 from fem_prep import schema as sc
 
-from .._gearbox import (
+from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
     PairGearboxStage,
@@ -127,6 +127,25 @@ class GearboxForm(CaseForm):
             tuple(s.torsional for s in self.stages),
             tuple(s.shaft_stiffness for s in self.stages[1:]),
         )
+
+
+    def coupled(self, slices: int = 1) -> GearboxTorsional:
+        """The chain with every stage on its contact cells, for the coupled dynamic model
+        (:func:`jaxgear.gearbox.gearbox_dynamics`): a planetary stage's
+        :meth:`~jaxgear.io.PlanetaryForm`'s dynamic meshes (its pairs' own models, phased per
+        planet; the torsional model), a pair's :meth:`~jaxgear.io.Case.mesh_model` and its
+        modifications, ``slices`` slices per contact line."""
+        stages = []
+        for s in self.stages:
+            t = s.torsional
+            if isinstance(t, PlanetaryGearboxStage):
+                meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
+                stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes))
+            else:
+                stages.append(PairGearboxStage(t.inertias, t.base_radii, t.mesh_stiffness,
+                                               t.input, s.case.mesh_model(slices),
+                                               s.case.modifications))
+        return GearboxTorsional(tuple(stages), self.torsional().shaft_stiffnesses)
 
 
 def is_gearbox(data: dict) -> bool:

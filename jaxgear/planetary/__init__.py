@@ -35,10 +35,13 @@ from ._analysis import (
 from ._dynamics import (
     PlanetaryDynamics as PlanetaryDynamics,
     PlanetaryRun as PlanetaryRun,
+    PlanetaryStageSystem as PlanetaryStageSystem,
     order_spectrum as order_spectrum,
     planetary_dynamics as planetary_dynamics,
     planetary_mesh_modes as planetary_mesh_modes,
+    planetary_cell_row as planetary_cell_row,
     planetary_speed_sweep as planetary_speed_sweep,
+    planetary_stage_system as planetary_stage_system,
     ring_transducer_signal as ring_transducer_signal,
 )
 from ._hunting import (

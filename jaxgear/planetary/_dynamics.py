@@ -14,7 +14,7 @@ the ring (the planet-pass modulation, McFadden & Smith 1985) and its order spect
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import equinox as eqx
 import jax
@@ -22,6 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._baseplane import CellRow
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
 from ..dynamics import (
@@ -47,6 +48,9 @@ from ._ring import AbstractRingModel, RigidRing, modal_damping
 __all__ = [
     "PlanetaryDynamics",
     "PlanetaryRun",
+    "PlanetaryStageSystem",
+    "planetary_cell_row",
+    "planetary_stage_system",
     "order_spectrum",
     "planetary_dynamics",
     "planetary_mesh_modes",
@@ -181,15 +185,9 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             "the next (per-tooth deviations), out of range: allowed meshes that repeat every "
             "mesh period (ContactMeshes, ConstantMeshes); planetary_quasi_static takes them"
         )
-    m = model.mass_matrix(stage)
-    f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
-                                "planetary_dynamics")
-    f = sun_load(model, stage, run.sun_torque, f_err)
-    offsets = (d_s, d_r)
-    k_b = held_structure(model, stage, meshes, offsets)
-    p_b = meshes.mesh_period()
     S, B = run.steps_per_period, run.periods
-    k_mean, rows = _mean_mesh_stiffness(model, stage, meshes, offsets, S)
+    m, k_b, f, k_mean, rows = planetary_stage_system(model, stage, meshes, run, S)
+    p_b = meshes.mesh_period()
     omega = as_float(carrier_speed)
     c = modal_damping(m, k_b + k_mean, run.damping_ratio)
     k_u, m_u, c_u = ring.dynamic_matrices(k_b.dtype, run.damping_ratio)
@@ -221,9 +219,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
 
     def cell_row(i):
         # the pins' offsets, and the sun's and ring's eccentricities turning with their members
-        _, d_si, d_ri = pin_terms(model, stage, run.tangential_pin_errors,
-                                  run.radial_pin_errors, "planetary_dynamics", travel(i))
-        row = meshes.cell_row(model, stage, travel(i), (d_si, d_ri))
+        row = planetary_cell_row(model, stage, meshes, run, travel(i))
         if n_u == 0:
             return row
         if basis is None:  # the station model: the contact on every coordinate
@@ -294,6 +290,51 @@ def _mean_mesh_stiffness(model, stage, meshes, offsets, positions: int):
     rows = jax.vmap(lambda x: meshes.cell_row(model, stage, x, offsets))(x_one)
     kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
     return jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0), rows
+
+
+class PlanetaryStageSystem(NamedTuple):
+    """A planetary stage's linear parts in its model's coordinates (:func:`planetary_stage_system`).
+
+    Attributes:
+        m: M (kg), (n_dof, n_dof).
+        k_b: K_b (N/m): bearings, pins, the held members' holds and the floating planets' hold
+            (no mesh), (n_dof, n_dof).
+        f: the load (N): the run's sun torque on u_s and the pin errors' share, (n_dof,).
+        k_mean: K̄_m (N/m), the 2N meshes' cell stiffness averaged over a mesh period,
+            (n_dof, n_dof).
+        rows: the cell rows at those positions (a :class:`~jaxgear.CellRow` with a leading
+            axis (positions,)).
+    """
+
+    m: Array
+    k_b: Array
+    f: Array
+    k_mean: Array
+    rows: Any
+
+
+def planetary_stage_system(model, stage, meshes, run, positions: int) -> PlanetaryStageSystem:
+    """The stage's M, K_b, load f and mean mesh stiffness K̄_m over ``positions`` mid-points of
+    a mesh period (static int): the linear part of :func:`planetary_dynamics`' system, which a
+    gearbox (:mod:`jaxgear.gearbox`) joins to other stages. ``run``: :class:`PlanetaryRun`
+    (its sun torque and pin errors)."""
+    m = model.mass_matrix(stage)
+    f_err, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
+                                "planetary_dynamics")
+    f = sun_load(model, stage, run.sun_torque, f_err)
+    offsets = (d_s, d_r)
+    k_b = held_structure(model, stage, meshes, offsets)
+    k_mean, rows = _mean_mesh_stiffness(model, stage, meshes, offsets, positions)
+    return PlanetaryStageSystem(m, k_b, f, k_mean, rows)
+
+
+def planetary_cell_row(model, stage, meshes, run, x) -> CellRow:
+    """The 2N meshes' cells at the mesh travel ``x`` (m) on the stage's coordinates, with the
+    run's pin errors and the stage's eccentricities turning with their members at that
+    travel: one step's cell row of :func:`planetary_dynamics` (a rigid ring's)."""
+    _, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
+                            "planetary_dynamics", x)
+    return meshes.cell_row(model, stage, x, (d_s, d_r))
 
 
 class _StageParts(NamedTuple):

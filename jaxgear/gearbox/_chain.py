@@ -1,0 +1,438 @@
+"""A gearbox of stages in series as one torsional lumped model: each stage's torsional model (a
+planetary stage's :class:`~jaxgear.TorsionalPlanetary`, a parallel pair's two rotations joined
+by its mesh) in absolute rotations, the stages joined by the torsional stiffnesses of the shafts
+that carry one stage's output member to the next stage's input member.
+
+Coordinates: one rotation theta (rad) per member, every rotation positive in the same sense
+about the common axis direction (a parallel pair's wheel and pinion included); M in kg m^2,
+K in N m/rad. A planetary stage's model is :class:`~jaxgear.TorsionalPlanetary`'s, whose
+coordinates are u = r theta (m) with r the member's ``base_radius`` (the carrier's: the planet
+circle), so that its blocks here are R M R and R K R, R = diag(r). A parallel pair's mesh
+deflection along its line of action is r_b1 theta_1 + r_b2 theta_2 (the two gears turn in
+opposite senses), its mesh stiffness k: K = k [r_b1 r_b1, r_b1 r_b2; r_b1 r_b2, r_b2 r_b2].
+A shaft of torsional stiffness k_t between coordinates i and j adds k_t (theta_i - theta_j)^2 / 2
+to the strain energy.
+"""
+
+from __future__ import annotations
+
+import abc
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import jax.scipy.linalg
+import numpy as np
+from jaxtyping import Array, Float
+
+from .._baseplane import CellRow, MeshModel
+from .._modifications import Modifications
+from ..planetary import (
+    AbstractPlanetaryMeshes,
+    AbstractPlanetaryModel,
+    Central,
+    ConstantMeshes,
+    PlanetaryStage,
+    TorsionalPlanetary,
+)
+from .._quasi_static import separation
+from .._util import as_float, check_instance
+
+__all__ = [
+    "AbstractGearboxStage",
+    "GearboxModes",
+    "GearboxTorsional",
+    "PairGearboxStage",
+    "PlanetaryGearboxStage",
+    "gearbox_modes",
+]
+
+
+class AbstractGearboxStage(eqx.Module):
+    """One stage of a gearbox in the torsional chain: its members' rotations, its matrices, and
+    which of them are its input and output members."""
+
+    @abc.abstractmethod
+    def dof_names(self) -> tuple[str, ...]:
+        """One name per rotation of the stage, in order."""
+
+    @abc.abstractmethod
+    def matrices(self) -> tuple[Float[Array, "n n"], Float[Array, "n n"]]:
+        """(M, K): kg m^2 and N m/rad, on the stage's rotations (rad)."""
+
+    @abc.abstractmethod
+    def ends(self) -> tuple[int, int]:
+        """(input, output): the indices of the input and output members' rotations."""
+
+    # -- the coupled dynamic model (:func:`~jaxgear.gearbox.gearbox_dynamics`) ----------------
+
+    def coordinates(self) -> tuple[str, ...]:
+        """The stage's coordinates in the coupled dynamic model (rad for a rotation, m for a
+        translation); default: :meth:`dof_names` (a torsional stage)."""
+        return self.dof_names()
+
+    def coordinate_ends(self) -> tuple[int, int]:
+        """:meth:`ends` in :meth:`coordinates` (the rotations the shafts join)."""
+        return self.ends()
+
+    @abc.abstractmethod
+    def dynamic_parts(self, positions: int):
+        """(M, K_s, K̄_m, F): mass, structure stiffness without the meshes, the meshes' cell
+        stiffness averaged over ``positions`` mid-points of a mesh period, and the stage's own
+        constant load (pin errors; N or N m), on :meth:`coordinates`."""
+
+    @abc.abstractmethod
+    def cell_row(self, x) -> CellRow:
+        """The stage's contact cells at its mesh travel ``x`` (m) on :meth:`coordinates`
+        (every mesh's, in :meth:`mesh_names`' order)."""
+
+    @abc.abstractmethod
+    def mesh_forces(self, forces) -> Float[Array, "... m"]:
+        """Each mesh's transverse force (N, compression positive), (..., m), from the cell
+        forces (N, (..., c))."""
+
+    @abc.abstractmethod
+    def mesh_names(self) -> tuple[str, ...]:
+        """One name per mesh."""
+
+    @abc.abstractmethod
+    def mesh_period(self) -> Float[Array, ""]:
+        """p_b (m): the mesh travel of one mesh period."""
+
+    @abc.abstractmethod
+    def kinematics(self, input_speed, input_torque):
+        """(output speed (rad/s), output torque (N m), mesh travel speed v (m/s), each mesh's
+        static transverse force (N, (m,))) at the input member's speed (rad/s) and torque
+        (N m, its magnitude carried; the stage's drive flanks are the ones it loads)."""
+
+    def excited(self) -> bool:
+        """Whether the stage's meshes vary along the mesh travel (contact cells): a stage of
+        constant springs sets no time scale of a run."""
+        return True
+
+    def speed_terms(self, carrier_speed):
+        """(C_Omega, K_Omega): the rotating frame's damping and stiffness terms (Coriolis,
+        centripetal) on :meth:`coordinates` at the stage's carrier speed (rad/s); zero for a
+        torsional stage."""
+        n = len(self.coordinates())
+        z = jnp.zeros((n, n))
+        return z, z
+
+
+class PlanetaryGearboxStage(AbstractGearboxStage):
+    """A planetary stage in the chain (:class:`~jaxgear.TorsionalPlanetary`, Kahraman 1994:
+    rotations of carrier, ring, sun and the N planets); ``input``/``output``: which central
+    members (:class:`~jaxgear.Central`) the shafts join. A fixed member is held by its
+    ``torsional_stiffness`` in ``stage``."""
+
+    stage: PlanetaryStage
+    input: Central = eqx.field(static=True)
+    output: Central = eqx.field(static=True)
+    meshes: AbstractPlanetaryMeshes | None = None
+    model: AbstractPlanetaryModel = TorsionalPlanetary()
+    run: "PlanetaryRun | None" = None  # jaxgear.planetary.PlanetaryRun: its pin errors
+
+    def __check_init__(self):
+        if self.input == self.output:
+            raise ValueError(f"PlanetaryGearboxStage: input = output = {self.input!r}: allowed "
+                             "two different central members")
+        if self.meshes is not None:
+            check_instance("meshes", self.meshes, AbstractPlanetaryMeshes,
+                           "a planetary meshes kind (ContactMeshes, ConstantMeshes)",
+                           "PlanetaryGearboxStage")
+        check_instance("model", self.model, AbstractPlanetaryModel,
+                       "a planetary model kind (TorsionalPlanetary, PlanarPlanetary)",
+                       "PlanetaryGearboxStage")
+        if not self.model.contact_solve:
+            raise ValueError(f"PlanetaryGearboxStage: model {type(self.model).__name__} has no "
+                             "contact cells: allowed TorsionalPlanetary, PlanarPlanetary")
+
+    # -- the coupled model: the stage's model in its carrier frame, its rotations u = r theta
+    # scaled to theta (rad) so that the shafts join rotations; translations stay in m
+    def _meshes(self):
+        return ConstantMeshes() if self.meshes is None else self.meshes
+
+    def _run(self):
+        from ..planetary import PlanetaryRun
+
+        return PlanetaryRun(0.0) if self.run is None else self.run
+
+    def _scale(self):
+        st = self.stage
+        radius = {"c": st.carrier.base_radius, "r": st.ring.base_radius,
+                  "s": st.sun.base_radius}
+        r = [radius.get(n[2:], st.planet.base_radius) if n.startswith("u_") else 1.0
+             for n in self.model.dof_names(st)]
+        return jnp.stack([jnp.asarray(v, dtype=st.planet_angles.dtype) for v in r])
+
+    def coordinates(self):
+        return tuple(("theta_" + n[2:]) if n.startswith("u_") else n
+                     for n in self.model.dof_names(self.stage))
+
+    def coordinate_ends(self):
+        names = self.model.dof_names(self.stage)
+        key = {Central.CARRIER: "u_c", Central.RING: "u_r", Central.SUN: "u_s"}
+        return names.index(key[self.input]), names.index(key[self.output])
+
+    def dynamic_parts(self, positions):
+        from ..planetary import planetary_stage_system
+
+        parts = planetary_stage_system(self.model, self.stage, self._meshes(), self._run(),
+                                       positions)
+        r = self._scale()
+        rr = r[:, None] * r[None, :]
+        return rr * parts.m, rr * parts.k_b, rr * parts.k_mean, r * parts.f
+
+    def cell_row(self, x):
+        from ..planetary import planetary_cell_row
+
+        row = planetary_cell_row(self.model, self.stage, self._meshes(), self._run(), x)
+        return row._replace(V=row.V * self._scale()[None, :])
+
+    def mesh_forces(self, forces):
+        return self._meshes().mesh_forces(forces)
+
+    def mesh_names(self):
+        n = self.stage.n_planets
+        return (tuple(f"sun-planet {i + 1}" for i in range(n))
+                + tuple(f"ring-planet {i + 1}" for i in range(n)))
+
+    def mesh_period(self):
+        return self._meshes().mesh_period()
+
+    def excited(self):
+        return not isinstance(self._meshes(), ConstantMeshes)
+
+    def _speeds(self, input_speed):
+        """(omega_c, omega_r, omega_s) from Willis on base radii (r_bs w_s + r_br w_r =
+        (r_bs + r_br) w_c; the radii are in the tooth counts' ratio), the third member held."""
+        st = self.stage
+        r_s, r_r = st.sun.base_radius, st.ring.base_radius
+        held = ({Central.CARRIER, Central.RING, Central.SUN} - {self.input, self.output}).pop()
+        # w = (w_c, w_r, w_s): Willis, the held member at 0, the input member at input_speed
+        a = jnp.array([[-(r_s + r_r), r_r, r_s], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+        idx = {Central.CARRIER: 0, Central.RING: 1, Central.SUN: 2}
+        a = a.at[1, idx[held]].set(1.0).at[2, idx[self.input]].set(1.0)
+        w = jnp.linalg.solve(a, jnp.stack([0.0 * input_speed, 0.0 * input_speed, input_speed]))
+        return w, idx
+
+    def kinematics(self, input_speed, input_torque):
+        st = self.stage
+        w, idx = self._speeds(as_float(input_speed))
+        out_speed = w[idx[self.output]]
+        # power: |T_out| = |T_in w_in / w_out|; the sun's torque T_s = r_bs (over the torque's
+        # lever of the input member: r_bs, r_br or r_bs + r_br) T_in; each mesh N r_bs F = T_s
+        r_s, r_r = st.sun.base_radius, st.ring.base_radius
+        lever = {Central.SUN: r_s, Central.RING: r_r, Central.CARRIER: r_s + r_r}[self.input]
+        torque = jnp.abs(as_float(input_torque))
+        out_torque = torque * jnp.abs(as_float(input_speed) / out_speed)
+        f = torque / (lever * st.n_planets)
+        v = r_s * jnp.abs(w[2] - w[0])  # the mesh travel in the carrier frame
+        return out_speed, out_torque, v, jnp.full((2 * st.n_planets,), f)
+
+    def speed_terms(self, carrier_speed):
+        r = self._scale()
+        rr = r[:, None] * r[None, :]
+        st = self.stage
+        return (carrier_speed * rr * self.model.gyroscopic_matrix(st),
+                -carrier_speed**2 * rr * self.model.centripetal_matrix(st))
+
+    def carrier_speed(self, input_speed):
+        """The carrier's speed (rad/s) at the input member's ``input_speed``."""
+        return self._speeds(as_float(input_speed))[0][0]
+
+    def dof_names(self):
+        return ("theta_c", "theta_r", "theta_s") + tuple(
+            f"theta_{i + 1}" for i in range(self.stage.n_planets)
+        )
+
+    def matrices(self):
+        model, st = TorsionalPlanetary(), self.stage
+        r = jnp.concatenate(
+            [
+                jnp.stack([st.carrier.base_radius, st.ring.base_radius, st.sun.base_radius]),
+                jnp.broadcast_to(st.planet.base_radius, (st.n_planets,)),
+            ]
+        )
+        scale = r[:, None] * r[None, :]
+        return scale * model.mass_matrix(st), scale * model.stiffness_matrix(st)
+
+    def ends(self):
+        # TorsionalPlanetary's order: u_c, u_r, u_s (Central's carrier, ring, sun)
+        order = {Central.CARRIER: 0, Central.RING: 1, Central.SUN: 2}
+        return order[self.input], order[self.output]
+
+
+class PairGearboxStage(AbstractGearboxStage):
+    """A parallel pair in the chain: pinion and wheel rotations (rad), their polar inertias
+    (kg m^2, shape (2,)), base radii (m, shape (2,)) and the mean mesh stiffness along the line
+    of action (N/m); ``input``: 0 when the pinion is driven by the previous stage, 1 the wheel
+    (the other gear is the output)."""
+
+    inertias: Float[Array, " 2"] = eqx.field(converter=as_float)
+    base_radii: Float[Array, " 2"] = eqx.field(converter=as_float)
+    mesh_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
+    input: int = eqx.field(static=True, default=1)
+    mesh: MeshModel | None = None
+    modifications: Modifications = Modifications()
+
+    def __check_init__(self):
+        if self.input not in (0, 1):
+            raise ValueError(f"input = {self.input!r}: out of range, allowed 0 (pinion), 1 (wheel)")
+        if self.mesh is not None:
+            check_instance("mesh", self.mesh, MeshModel, "a jaxgear.MeshModel",
+                           "PairGearboxStage")
+            if self.mesh.coast:
+                raise ValueError("PairGearboxStage: mesh.coast = True: allowed False (the "
+                                 "coupled model carries the loaded flanks)")
+
+    # -- the coupled model: the pair's cells (or its constant spring ``mesh_stiffness``, one
+    # cell of unit length) on the deflection cos(beta_b) (r_b1 theta_1 + r_b2 theta_2)
+    def dynamic_parts(self, positions):
+        m, _ = self.matrices()
+        x = self.mesh_period() * (jnp.arange(positions) + 0.5) / positions
+        rows = jax.vmap(self.cell_row)(x)
+        kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+        k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+        z = jnp.zeros_like(m)
+        return m, z, k_mean, jnp.zeros(2, m.dtype)
+
+    def cell_row(self, x):
+        r = self.base_radii
+        if self.mesh is None:
+            one = jnp.ones((1,), r.dtype)
+            return CellRow(None, r[None, :], self.mesh_stiffness * one, one, 0.0 * one,
+                           jnp.ones((1,), bool))
+        cells, _, delta0 = separation(self.mesh, self.modifications,
+                                      x / self.mesh.base_radius_pinion)
+        v = jnp.cos(self.mesh.base_helix_angle) * r
+        V = jnp.broadcast_to(v, cells.s.shape + (2,))
+        return CellRow.of(cells, V, delta0)
+
+    def mesh_forces(self, forces):
+        c = 1.0 if self.mesh is None else jnp.cos(self.mesh.base_helix_angle)
+        return c * jnp.sum(forces, axis=-1, keepdims=True)
+
+    def mesh_names(self):
+        return ("pair",)
+
+    def mesh_period(self):
+        if self.mesh is None:
+            return jnp.asarray(0.01, self.base_radii.dtype)  # sets no time scale (no cells)
+        return self.mesh.base_pitch
+
+    def excited(self):
+        return self.mesh is not None
+
+    def kinematics(self, input_speed, input_torque):
+        r_in, r_out = self.base_radii[self.input], self.base_radii[1 - self.input]
+        w = as_float(input_speed)
+        torque = jnp.abs(as_float(input_torque))
+        return (-w * r_in / r_out, torque * r_out / r_in, r_in * jnp.abs(w),
+                jnp.reshape(torque / r_in, (1,)))
+
+    def dof_names(self):
+        return ("theta_pinion", "theta_wheel")
+
+    def matrices(self):
+        r = self.base_radii
+        return jnp.diag(self.inertias), self.mesh_stiffness * jnp.outer(r, r)
+
+    def ends(self):
+        return self.input, 1 - self.input
+
+
+class GearboxTorsional(eqx.Module):
+    """Stages in series (:class:`AbstractGearboxStage`), stage k's output member joined to stage
+    k+1's input member by a shaft of torsional stiffness ``shaft_stiffnesses[k]`` (N m/rad,
+    shape (n_stages - 1,)). The chain's coordinates are the stages' in order."""
+
+    stages: tuple[AbstractGearboxStage, ...]
+    shaft_stiffnesses: Float[Array, " n_shafts"] = eqx.field(converter=as_float)
+
+    def __check_init__(self):
+        if len(self.stages) < 1:
+            raise ValueError("stages: empty, allowed at least one stage")
+        if self.shaft_stiffnesses.shape != (len(self.stages) - 1,):
+            raise ValueError(
+                f"shaft_stiffnesses: shape {self.shaft_stiffnesses.shape}, allowed "
+                f"({len(self.stages) - 1},) (one per pair of consecutive stages)"
+            )
+
+    def offsets(self) -> tuple[int, ...]:
+        """Where each stage's rotations start in the chain's coordinates."""
+        out, n = [], 0
+        for s in self.stages:
+            out.append(n)
+            n += len(s.dof_names())
+        return tuple(out)
+
+    def dof_names(self) -> tuple[str, ...]:
+        """``"<k>:<name>"`` per coordinate, k the stage's index from 1."""
+        return tuple(f"{k + 1}:{n}" for k, s in enumerate(self.stages) for n in s.dof_names())
+
+    def stage_of_dof(self) -> tuple[int, ...]:
+        """Each coordinate's stage index (from 0)."""
+        return tuple(k for k, s in enumerate(self.stages) for _ in s.dof_names())
+
+    @eqx.filter_jit
+    def matrices(self) -> tuple[Float[Array, "n n"], Float[Array, "n n"]]:
+        """(M, K) of the chain: kg m^2, N m/rad."""
+        blocks = [s.matrices() for s in self.stages]
+        mass = jax.scipy.linalg.block_diag(*[m for m, _ in blocks])
+        stiff = jax.scipy.linalg.block_diag(*[k for _, k in blocks])
+        # the shafts: twist b theta, b = e_out(k) - e_in(k + 1), strain energy k_t (b theta)^2 / 2
+        offsets = self.offsets()
+        b = np.zeros((len(self.stages) - 1, mass.shape[0]))
+        for j in range(len(self.stages) - 1):
+            b[j, offsets[j] + self.stages[j].ends()[1]] = 1.0
+            b[j, offsets[j + 1] + self.stages[j + 1].ends()[0]] = -1.0
+        b = jnp.asarray(b, dtype=mass.dtype)
+        stiff = stiff + b.T @ (self.shaft_stiffnesses[:, None] * b)
+        return mass, stiff
+
+
+class GearboxModes(eqx.Module):
+    """The chain's natural modes: ``frequencies`` (Hz, ascending, shape (n,)), ``shapes``
+    (rad, (n, n), column j mass-normalised: phi^T M phi = I) and ``stage_energy`` ((n_stages, n):
+    each mode's kinetic energy share per stage, columns summing to 1)."""
+
+    frequencies: Float[Array, " n"]
+    shapes: Float[Array, "n n"]
+    stage_energy: Float[Array, "s n"]
+
+
+class _ChainParts(eqx.Module):
+    """The chain's M and K in the form :func:`~jaxgear.dynamics.modal_analysis` reads."""
+
+    m: Array
+    k: Array
+
+    def mass(self):
+        return self.m
+
+    def stiffness_parts(self):
+        return {"structure": self.k}
+
+
+@eqx.filter_jit
+def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
+    """The undamped natural modes of the chain, ``K phi = omega^2 M phi``, through
+    :func:`jaxgear.dynamics.modal_analysis` (the one modal solve: Cholesky factor of M,
+    ``jnp.linalg.eigh``); a free chain (no member held) has one rigid-body mode at 0 Hz.
+
+    Raises:
+        ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
+    check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
+                   "gearbox_modes")
+    from ..dynamics import modal_analysis
+
+    m, k = chain.matrices()
+    modes = modal_analysis(_ChainParts(m, k), jnp.zeros_like(k))
+    shapes = modes.shapes
+    energy = shapes * (m @ shapes)  # each coordinate's share (M diagonal per stage block)
+    owner = np.asarray(chain.stage_of_dof())  # static: the indicator of each stage's rotations
+    belongs = jnp.asarray(owner[None, :] == np.arange(len(chain.stages))[:, None], energy.dtype)
+    per_stage = belongs @ energy
+    per_stage = per_stage / per_stage.sum(axis=0, keepdims=True)
+    return GearboxModes(modes.frequency, shapes, per_stage)

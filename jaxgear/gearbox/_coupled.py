@@ -1,0 +1,449 @@
+"""A gearbox as one dynamic model: every stage's contact cells in one Newmark run (docs/gearbox.md,
+"The coupled model").
+
+The stages of a :class:`~jaxgear.gearbox.GearboxTorsional` (their coordinates,
+:meth:`~jaxgear.gearbox.AbstractGearboxStage.coordinates`: rotations in rad, a planetary stage's
+translations in m in its own carrier frame) are stacked block after block; the shafts join one
+stage's output rotation to the next stage's input rotation (torsional stiffness, massless); the
+first stage's input member carries the input torque T and the last stage's output member is
+held by a torsional spring ``output_stiffness`` to ground:
+
+    M q'' + (C + C_Omega) q' + (K_s + K_shafts + K_hold + K_Omega) q + sum_k V_k^T P_k = F,
+
+with stage k's cells P_k at its own mesh travel x_k = v_k t, v_k its mesh speed at the operating
+point (:meth:`~jaxgear.gearbox.AbstractGearboxStage.kinematics` from the input speed, stage by
+stage), C the modal damping on the modes of (M, K + K̄_m), K̄_m every mesh's cell stiffness
+averaged over its own mesh period (block-diagonal). Each stage's flanks are the ones the input
+torque loads: a stage whose meshes the torque would open is taken on its other flanks (its rows'
+sign flipped; a spur stage's flanks are alike).
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from .._baseplane import CellRow
+from .._contact import AbstractContactLaw, ExactContact, solve_contact
+from .._util import as_float, check_instance, check_integer, check_real
+from ._chain import GearboxTorsional
+
+__all__ = [
+    "CoupledModes",
+    "coordinate_names",
+    "mesh_names",
+    "GearboxDynamics",
+    "GearboxRun",
+    "coupled_mode_table",
+    "gearbox_coupled_modes",
+    "gearbox_dynamics",
+    "gearbox_speed_sweep",
+]
+
+
+class GearboxRun(eqx.Module):
+    """How a coupled gearbox run is loaded and integrated.
+
+    Attributes:
+        input_torque: T (N m) on the first stage's input member (its magnitude: each stage's
+            loaded flanks follow from it).
+        output_stiffness: the torsional spring (N m/rad, > 0) that holds the last stage's output
+            member to ground (the load).
+        steps_per_period: Newmark steps per mesh period of the fastest excited mesh (static,
+            >= 8); the time step is that period over it.
+        periods: blocks integrated (static, >= 1), a block the slowest excited mesh's period
+            (rounded to whole steps).
+        keep_periods: the last blocks recorded (static, 1..periods).
+        damping_ratio: zeta (-), modal damping on every mode of (M, K + K̄_m).
+        mean_positions: the mesh positions per period over which K̄_m is averaged (static).
+    """
+
+    input_torque: Float[Array, ""] = eqx.field(converter=as_float)
+    output_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
+    steps_per_period: int = eqx.field(static=True, default=32)
+    periods: int = eqx.field(static=True, default=40)
+    keep_periods: int = eqx.field(static=True, default=2)
+    damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
+    mean_positions: int = eqx.field(static=True, default=64)
+
+    def __check_init__(self):
+        check_integer("steps_per_period", self.steps_per_period, 8)
+        check_integer("periods", self.periods, 1)
+        check_integer("keep_periods", self.keep_periods, 1)
+        check_integer("mean_positions", self.mean_positions, 1)
+        if self.keep_periods > self.periods:
+            raise ValueError(f"GearboxRun: keep_periods = {self.keep_periods} is out of range: "
+                             f"allowed 1..periods = {self.periods}")
+        check_real("input_torque", self.input_torque, "N m", shape=(), where="GearboxRun")
+        check_real("output_stiffness", self.output_stiffness, "N m/rad", lo=0.0, lo_open=True,
+                   shape=(), where="GearboxRun")
+        check_real("damping_ratio", self.damping_ratio, lo=0.0, hi=1.0, shape=(),
+                   where="GearboxRun")
+
+
+class GearboxDynamics(eqx.Module):
+    """The recorded steady state of a coupled run (the last ``keep_periods`` blocks).
+
+    Attributes:
+        time: s, (t,).
+        displacement: the coupled coordinates (rad or m), (t, n).
+        mesh_forces: every mesh's transverse force (N, compression positive), (t, m), stage
+            after stage in :func:`mesh_names`' order.
+        static_forces: each mesh's static force from the torque ratios (N), (m,).
+        dynamic_factors: max over the recorded window of the mesh force / its static force (-),
+            (m,).
+        mesh_speeds: each stage's mesh travel speed v_k (m/s), (n_stages,).
+        result: the run's result code (0: successful; :class:`~jaxgear.DynamicsResult`), ().
+    """
+
+    time: Float[Array, " t"]
+    displacement: Float[Array, "t n"]
+    mesh_forces: Float[Array, "t m"]
+    static_forces: Float[Array, " m"]
+    dynamic_factors: Float[Array, " m"]
+    mesh_speeds: Float[Array, " s"]
+    result: Array
+
+
+def mesh_names(chain: GearboxTorsional) -> tuple[str, ...]:
+    """``"<k>:<mesh>"`` per mesh of the coupled model, k the stage's index from 1."""
+    return tuple(f"{k + 1}:{n}" for k, s in enumerate(chain.stages) for n in s.mesh_names())
+
+
+def coordinate_names(chain: GearboxTorsional) -> tuple[str, ...]:
+    """``"<k>:<coordinate>"`` per coordinate of the coupled model."""
+    return tuple(f"{k + 1}:{n}" for k, s in enumerate(chain.stages) for n in s.coordinates())
+
+
+def _offsets(chain):
+    out, n = [], 0
+    for s in chain.stages:
+        out.append(n)
+        n += len(s.coordinates())
+    return out, n
+
+
+def _kinematics(chain, input_speed, input_torque):
+    """Per stage: (input speed, mesh speed, static mesh forces); the speeds carried stage by
+    stage through the shafts (a shaft's two ends turn alike)."""
+    w, t = as_float(input_speed), as_float(input_torque)
+    out = []
+    for s in chain.stages:
+        w_out, t_out, v, f = s.kinematics(w, t)
+        out.append((w, v, f))
+        w, t = w_out, t_out
+    return out
+
+
+def _assemble(chain, run, input_speed):
+    """The coupled system's parts at one input speed: (M, K (structure, shafts, hold, rotating
+    frame), C_Omega, F, K̄_m, the cells' function of time (s) before the flank signs, the
+    stages' mesh speeds, the static forces)."""
+    offsets, n = _offsets(chain)
+    blocks = [s.dynamic_parts(run.mean_positions) for s in chain.stages]
+    dtype = blocks[0][0].dtype
+    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)  # noqa: E731
+    m = embed([b[0] for b in blocks])
+    k_s = embed([b[1] for b in blocks])
+    k_mean = embed([b[2] for b in blocks])
+    f = jnp.concatenate([b[3] for b in blocks])
+    kin = _kinematics(chain, input_speed, run.input_torque)
+    c_w, k_w = [], []
+    for s, (w, _, _) in zip(chain.stages, kin, strict=True):
+        carrier = s.carrier_speed(w) if hasattr(s, "carrier_speed") else jnp.zeros((), dtype)
+        c_k, k_k = s.speed_terms(carrier)
+        c_w.append(c_k)
+        k_w.append(k_k)
+    c_omega, k_omega = embed(c_w), embed(k_w)
+    # shafts: twist b q, b = e_out(k) - e_in(k + 1); the hold: the last output member
+    b = np.zeros((len(chain.stages), n))
+    for j in range(len(chain.stages) - 1):
+        b[j, offsets[j] + chain.stages[j].coordinate_ends()[1]] = 1.0
+        b[j, offsets[j + 1] + chain.stages[j + 1].coordinate_ends()[0]] = -1.0
+    b[-1, offsets[-1] + chain.stages[-1].coordinate_ends()[1]] = 1.0
+    b = jnp.asarray(b, dtype)
+    springs = jnp.concatenate([chain.shaft_stiffnesses, run.output_stiffness[None]])
+    k_joint = b.T @ (springs[:, None] * b)
+    i_in = offsets[0] + chain.stages[0].coordinate_ends()[0]
+    f = f.at[i_in].add(jnp.abs(run.input_torque))
+    k = k_s + k_joint + k_omega
+    speeds = jnp.stack([v for _, v, _ in kin])
+    static = jnp.concatenate([fk for _, _, fk in kin])
+
+    def cells(t):
+        rows = []
+        for s, off, (_, v, _) in zip(chain.stages, offsets, kin, strict=True):
+            r = s.cell_row(v * t)
+            V = jnp.zeros((r.V.shape[0], n), r.V.dtype).at[:, off:off + r.V.shape[1]].set(r.V)
+            rows.append(r._replace(V=V))
+        return rows
+
+    return m, k, k_s + k_joint, c_omega, f, k_mean, cells, speeds, static
+
+
+def _flank_signs(chain, k, f, k_mean, rows):
+    """+1 or -1 per stage: the sign of the stage's mesh deflections under the static load with
+    the mean mesh stiffness (its loaded flanks)."""
+    q = jnp.linalg.solve(k + k_mean, f)
+    signs = []
+    for r in rows:
+        kl = jnp.where(r.mask, r.k * r.length, 0.0)
+        signs.append(jnp.where(jnp.sum(kl * (r.V @ q)) < 0, -1.0, 1.0))
+    return signs
+
+
+def _signed(rows, signs):
+    return CellRow(None, *(jnp.concatenate(f) for f in zip(
+        *[r._replace(V=s * r.V, idx=None)[1:] for r, s in zip(rows, signs, strict=True)],
+        strict=True)))
+
+
+def _split_forces(chain, P):
+    out, c0 = [], 0
+    for s, c in zip(chain.stages, _cell_counts(chain), strict=True):
+        out.append(s.mesh_forces(P[..., c0:c0 + c]))
+        c0 += c
+    return jnp.concatenate(out, axis=-1)
+
+
+def _cell_counts(chain):
+    return [int(s.cell_row(jnp.zeros(())).k.shape[0]) for s in chain.stages]
+
+
+def _time_plan(chain, run) -> tuple[int, float]:
+    """(steps per block, the fastest excited mesh's period per unit of 1 / input speed): host
+    side (the periods' ratios do not depend on the speed, all speeds scale together)."""
+    kin = _kinematics(chain, 1.0, 1.0)
+    periods = [float(s.mesh_period() / v) for s, (_, v, _) in zip(chain.stages, kin, strict=True)
+               if s.excited()]
+    if not periods:
+        periods = [float(chain.stages[0].mesh_period() / kin[0][1])]
+    fast, slow = min(periods), max(periods)
+    return max(1, round(run.steps_per_period * slow / fast)), fast
+
+
+def _modes(m, k, k_mean):
+    """modal_analysis of (M, K + K̄_m), the mesh part K̄_m."""
+    # jaxgear.dynamics imported here: ``import jaxgear`` (which holds the chain's names) does
+    # not load the dynamics
+    from ..dynamics import modal_analysis
+
+    return modal_analysis(_Parts(m, k), k_mean)
+
+
+class _Parts(eqx.Module):
+    m: Array
+    k: Array
+
+    def mass(self):
+        return self.m
+
+    def stiffness_parts(self):
+        return {"structure": self.k}
+
+
+@eqx.filter_jit
+def _run(chain, run, input_speed, law, block, fast):
+    from ..dynamics import LinearSystem, StepCells, newmark
+
+    m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
+    modes = _modes(m, k, k_mean)
+    phi, w = modes.shapes, modes.omega
+    mphi = m @ phi
+    c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
+    dt = fast / (run.steps_per_period * jnp.abs(as_float(input_speed)))
+    signs = _flank_signs(chain, k, f, k_mean, cells(0.5 * dt))
+
+    def row(i):
+        return _signed(cells((i + 0.5) * dt), signs)
+
+    r0 = row(jnp.zeros_like(dt))
+    start = solve_contact(k, f, r0.V, r0.k, r0.length, r0.delta0, r0.mask, law)
+    system = LinearSystem(K=k, M=m, C=c + c_omega, F=f)
+    B = run.periods
+    steps = (jnp.arange(B * block, dtype=dt.dtype) + 1.0).reshape(B, block)
+    zero = jnp.zeros_like(start.x)
+    code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
+
+    def record(X, Xd, P, i):
+        return X, _split_forces(chain, P), i
+
+    final, (X, forces, i) = newmark(system, dt, (start.x, zero, zero, *code), steps,
+                                    StepCells(row, law), record, keep_blocks=run.keep_periods)
+    return GearboxDynamics(
+        time=(i + 0.5) * dt,
+        displacement=X,
+        mesh_forces=forces,
+        static_forces=static,
+        dynamic_factors=jnp.max(forces, axis=0) / static,
+        mesh_speeds=speeds,
+        result=final[-2],
+    )
+
+
+def _check(chain, run, law, where):
+    check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional", where)
+    check_instance("run", run, GearboxRun, "a jaxgear.gearbox.GearboxRun", where)
+    check_instance("law", law, AbstractContactLaw, "a jaxgear contact law", where)
+
+
+def gearbox_dynamics(
+    chain: GearboxTorsional,
+    run: GearboxRun,
+    input_speed: float,
+    law: AbstractContactLaw = ExactContact(),
+) -> GearboxDynamics:
+    """The steady response of the whole gearbox at one input speed: one Newmark run (average
+    acceleration, :func:`jaxgear.dynamics.newmark`) of the coupled system (module docstring)
+    with every mesh's contact cells at once, each stage's at its own mesh travel x_k = v_k t,
+    from the quasi-static state at t = dt / 2 at rest; the last ``run.keep_periods`` blocks
+    recorded.
+
+    Args:
+        chain: the stages and shafts (:class:`~jaxgear.gearbox.GearboxTorsional`); a stage's
+            meshes are its contact cells (a planetary stage's ``meshes``, a pair's ``mesh``) or,
+            without them, its constant mesh springs.
+        run: :class:`GearboxRun` (torque, output hold, steps, damping).
+        input_speed: the first stage's input member's speed (rad/s, != 0); the other members'
+            speeds follow from the stages' kinematics (Willis for a planetary stage).
+        law: the contact law.
+
+    Returns:
+        :class:`GearboxDynamics`; ``dynamic_factors`` per mesh in :func:`mesh_names`' order.
+
+    Raises:
+        ValueError: an argument of another kind (one line).
+        ValueError: ``input_speed`` zero or not finite (one line).
+    """
+    _check(chain, run, law, "gearbox_dynamics")
+    check_real("input_speed", input_speed, "rad/s", shape=(), where="gearbox_dynamics")
+    if float(input_speed) == 0.0:
+        raise ValueError("gearbox_dynamics: input_speed = 0 rad/s: allowed a nonzero speed")
+    block, fast = _time_plan(chain, run)
+    return _run(chain, run, as_float(input_speed), law, block, fast)
+
+
+@eqx.filter_jit
+def _sweep(chain, run, speeds, law, block, fast):
+    return jax.vmap(lambda w: _run(chain, run, w, law, block, fast))(speeds)
+
+
+def gearbox_speed_sweep(
+    chain: GearboxTorsional,
+    run: GearboxRun,
+    input_speeds: Float[Array, " s"],
+    law: AbstractContactLaw = ExactContact(),
+) -> GearboxDynamics:
+    """:func:`gearbox_dynamics` at each input speed (rad/s, (s,), nonzero), vectorised with
+    ``jax.vmap``: every field gains a leading axis (s,)."""
+    _check(chain, run, law, "gearbox_speed_sweep")
+    speeds = jnp.reshape(as_float(input_speeds), (-1,))
+    check_real("input_speeds", speeds, "rad/s", shape=(None,), where="gearbox_speed_sweep")
+    if not bool(jnp.all(speeds != 0.0)):
+        raise ValueError("gearbox_speed_sweep: an input speed of 0 rad/s: allowed nonzero speeds")
+    block, fast = _time_plan(chain, run)
+    return _sweep(chain, run, speeds, law, block, fast)
+
+
+class CoupledModes(eqx.Module):
+    """The coupled gearbox's modes on (M, K + K̄_m) (:func:`gearbox_coupled_modes`).
+
+    Attributes:
+        analysis: :class:`~jaxgear.dynamics.ModalAnalysis` (``frequency`` Hz, ``shapes``
+            mass-normalised, ``energy`` rows ("mesh", "structure")).
+        mesh_energy: each mesh's share of each mode's strain energy (-), (m, n).
+        joint_energy: each shaft's (then the output hold's) share (-), (n_stages, n).
+        stage_energy: each stage's share of each mode's kinetic energy (-), (n_stages, n).
+    """
+
+    analysis: "ModalAnalysis"  # jaxgear.dynamics.ModalAnalysis
+    mesh_energy: Float[Array, "m n"]
+    joint_energy: Float[Array, "j n"]
+    stage_energy: Float[Array, "s n"]
+
+
+@eqx.filter_jit
+def _coupled_modes(chain, run):
+    speed = jnp.ones(())
+    m, _, k, _, _, k_mean, cells, _, _ = _assemble(chain, run, speed)
+    # the per-mesh mean stiffness: each stage's rows over its own mesh period
+    offsets, n = _offsets(chain)
+    modes = _modes(m, k, k_mean)
+    phi = modes.shapes
+    strain = jnp.einsum("in,ij,jn->n", phi, k + k_mean, phi)
+    strain = jnp.where(modes.rigid, 1.0, strain)
+    mesh_e = []
+    for s, off in zip(chain.stages, offsets, strict=True):
+        P = run.mean_positions
+        x = s.mesh_period() * (jnp.arange(P) + 0.5) / P
+        rows = jax.vmap(s.cell_row)(x)
+        kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)  # (p, c)
+        d = jnp.einsum("pci,in->pcn", rows.V, phi[off:off + rows.V.shape[-1]])
+        cell_e = jnp.mean(kl[..., None] * d**2, axis=0)  # (c, n)
+        member = jax.jacobian(s.mesh_forces)(jnp.zeros(kl.shape[1], kl.dtype)) != 0  # (m, c)
+        mesh_e.append(member.astype(kl.dtype) @ cell_e)
+    mesh_e = jnp.concatenate(mesh_e) / strain[None]
+    # joints: the shafts and the hold, b q twist
+    b = np.zeros((len(chain.stages), n))
+    for j in range(len(chain.stages) - 1):
+        b[j, offsets[j] + chain.stages[j].coordinate_ends()[1]] = 1.0
+        b[j, offsets[j + 1] + chain.stages[j + 1].coordinate_ends()[0]] = -1.0
+    b[-1, offsets[-1] + chain.stages[-1].coordinate_ends()[1]] = 1.0
+    springs = jnp.concatenate([chain.shaft_stiffnesses, run.output_stiffness[None]])
+    joint_e = springs[:, None] * (jnp.asarray(b, phi.dtype) @ phi) ** 2 / strain[None]
+    owner = np.repeat(np.arange(len(chain.stages)), [len(s.coordinates()) for s in chain.stages])
+    belongs = jnp.asarray(owner[None, :] == np.arange(len(chain.stages))[:, None], phi.dtype)
+    kinetic = belongs @ (phi * (m @ phi))
+    kinetic = kinetic / kinetic.sum(axis=0, keepdims=True)
+    return CoupledModes(modes, mesh_e, joint_e, kinetic)
+
+
+def gearbox_coupled_modes(chain: GearboxTorsional, run: GearboxRun) -> CoupledModes:
+    """The natural modes of the coupled gearbox (the system a :func:`gearbox_dynamics` run's
+    modal damping takes): (M, K + K̄_m) with the shafts, the output hold ``run.output_stiffness``
+    and every mesh's cell stiffness averaged over its mesh period, through
+    :func:`jaxgear.dynamics.modal_analysis` (one modal solve), with each mesh's and joint's share
+    of the strain energy (seed (2.36)) and each stage's share of the kinetic energy. The rotating
+    frame's terms are left out (the modes at rest).
+
+    Raises:
+        ValueError: an argument of another kind (one line)."""
+    _check(chain, run, ExactContact(), "gearbox_coupled_modes")
+    return _coupled_modes(chain, run)
+
+
+def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dict]:
+    """One row per mode (host side): ``frequency_Hz``, ``type`` ("rigid body", ``"mesh"`` where
+    the meshes hold most of its strain energy, ``"shaft <k>-<k+1>"`` or ``"output hold"``
+    where a joint does, else ``"structure"``), ``mesh`` (the mesh holding most strain energy,
+    :func:`mesh_names`), ``mesh_energy`` (its share), ``stage`` (the stage holding most kinetic
+    energy, from 1)."""
+    names = mesh_names(chain)
+    joints = [f"shaft {j + 1}-{j + 2}" for j in range(len(chain.stages) - 1)] + ["output hold"]
+    f = np.asarray(modes.analysis.frequency)
+    rigid = np.asarray(modes.analysis.rigid)
+    me, je = np.asarray(modes.mesh_energy), np.asarray(modes.joint_energy)
+    ke = np.asarray(modes.stage_energy)
+    rows = []
+    for j in range(f.size):
+        mesh_total, joint_best = me[:, j].sum(), int(np.argmax(je[:, j]))
+        if rigid[j]:
+            kind = "rigid body"
+        elif mesh_total >= max(je[joint_best, j], 1.0 - mesh_total - je[:, j].sum()):
+            kind = "mesh"
+        elif je[joint_best, j] >= 1.0 - mesh_total - je[:, j].sum():
+            kind = joints[joint_best]
+        else:
+            kind = "structure"
+        best = int(np.argmax(me[:, j]))
+        rows.append({
+            "frequency_Hz": float(f[j]),
+            "type": kind,
+            "mesh": names[best],
+            "mesh_energy": float(me[best, j]),
+            "stage": int(np.argmax(ke[:, j])) + 1,
+        })
+    return rows

@@ -1,0 +1,190 @@
+"""The coupled gearbox (jaxgear.gearbox.gearbox_dynamics and its modes; docs/gearbox.md): the
+inter-stage shaft's limits, the torsional chain's modes, a stage excited alone against its own
+dynamics, and the quasi-static limit, on the two-stage example (examples/gearbox_two_stage.py:
+a planetary stage, ring held, carrier in, sun out, whose sun drives a spur pair)."""
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+from jaxgear import gearbox as gb
+from _examples import load_example
+
+EX = load_example("gearbox_two_stage")
+K_U = EX.K_U
+Z_S, Z_P, Z_R, Z_G, Z_PIN = 20, 30, 80, 32, 24
+RB = 0.5 * 4e-3 * math.cos(math.radians(20.0))  # base radius per tooth (m)
+# transverse contact ratios of the standard spur pairs (tips r + m; the ring's r - m): the
+# rectangular waves' means, k_u b eps
+EPS_SP = (math.sqrt(44**2 - (40 * math.cos(math.radians(20))) ** 2)
+          + math.sqrt(64**2 - (60 * math.cos(math.radians(20))) ** 2)
+          - 100 * math.sin(math.radians(20))) / (math.pi * 4 * math.cos(math.radians(20)))
+EPS_RP = (math.sqrt(64**2 - (60 * math.cos(math.radians(20))) ** 2)
+          - math.sqrt(156**2 - (160 * math.cos(math.radians(20))) ** 2)
+          + 100 * math.sin(math.radians(20))) / (math.pi * 4 * math.cos(math.radians(20)))
+EPS_PAIR = (math.sqrt(52**2 - (48 * math.cos(math.radians(20))) ** 2)
+            + math.sqrt(68**2 - (64 * math.cos(math.radians(20))) ** 2)
+            - 112 * math.sin(math.radians(20))) / (math.pi * 4 * math.cos(math.radians(20)))
+
+
+def _hz(m, k):
+    lam = scipy.linalg.eigh(k, m, eigvals_only=True)
+    return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+
+
+def _reference_blocks(shaft, output=5e5):
+    """The two-stage system's (M, K) on (theta_c, theta_r, theta_s, theta_1..4, theta_pinion,
+    theta_gear), written here from the spec: Kahraman's torsional deflections
+    delta_sn = r_s th_s + r_p th_n - r_c cos(a) th_c, delta_rn = r_r th_r - r_p th_n - r_c cos(a)
+    th_c (pressure angle 20 deg both), each mesh at its mean k_u b eps, the ring's hold, the
+    pair's k_u b eps on r_pin th_pin + r_gear th_gear, the shaft sun-gear and the pinion's hold."""
+    r_s, r_p, r_r, r_c = Z_S * RB, Z_P * RB, Z_R * RB, 0.1
+    ca = math.cos(math.radians(20.0))
+    n = 9
+    m = np.diag([0.5 + 4 * 4.44 * r_c**2, 2.0, 1.6e-3, 8e-3, 8e-3, 8e-3, 8e-3, 5.2e-3, 0.0165])
+    k = np.zeros((n, n))
+    k_s, k_r = K_U * 0.05 * EPS_SP, K_U * 0.05 * EPS_RP
+    for j in range(4):
+        v = np.zeros(n)
+        v[[0, 2, 3 + j]] = [-r_c * ca, r_s, r_p]
+        k += k_s * np.outer(v, v)
+        v = np.zeros(n)
+        v[[0, 1, 3 + j]] = [-r_c * ca, r_r, -r_p]
+        k += k_r * np.outer(v, v)
+    k[1, 1] += 1e9
+    v = np.zeros(n)
+    v[[7, 8]] = [Z_PIN * RB, Z_G * RB]
+    k += K_U * 0.08 * EPS_PAIR * np.outer(v, v)
+    v = np.zeros(n)
+    v[[2, 8]] = [1.0, -1.0]
+    k += shaft * np.outer(v, v)
+    k[7, 7] += output
+    return m, k
+
+
+def test_contact_ratios_of_the_example_are_the_spec_ones():
+    chain, _ = EX.two_stage()
+    meshes = chain.stages[0].meshes
+    pair = chain.stages[1].mesh
+    for mesh, eps in ((meshes.sun_mesh, EPS_SP), (meshes.ring_mesh, EPS_RP), (pair, EPS_PAIR)):
+        assert float(mesh.path_of_contact / mesh.base_pitch) == pytest.approx(eps, rel=1e-9)
+
+
+@pytest.mark.parametrize("factor", [1e-3, 1e3])
+def test_shaft_limits(factor):
+    """Soft shaft (k_t -> 0): the stages' own modes (stage 1 with its carrier and sun free, ring
+    held: the train's kinematic freedom, a mode -> 0 Hz as sqrt(k_t); stage 2 with its gear
+    free, pinion held); stiff
+    (k_t -> inf): the sun and the gear one body (the constrained system) and one mode -> inf.
+    The coupled model's mesh-averaged modes tend to them, closer at 1e3 than at 1e1."""
+    errors, low = [], []
+    for f in (factor ** (1 / 3), factor):
+        shaft = 5e5 * f
+        chain, run = EX.two_stage(shaft=shaft, mean_positions=4096)
+        got = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+        m, k = _reference_blocks(shaft)
+        if f < 1:  # the blocks without the shaft, and the shaft mode
+            k0 = k.copy()
+            k0[2, 2] -= shaft
+            k0[8, 8] -= shaft
+            k0[2, 8] += shaft
+            k0[8, 2] += shaft
+            limit = np.sort(np.concatenate([_hz(m[:7, :7], k0[:7, :7]),
+                                            _hz(m[7:, 7:], k0[7:, 7:])]))
+            # stage 1 alone keeps its kinematic freedom (ring held, carrier, planets and sun
+            # turning as the train): limit[0] = 0, the coupled mode -> 0 as sqrt(k_t)
+            assert limit[0] < 1e-6 * limit[-1]
+            low.append(got[0])
+            errors.append(np.max(np.abs(got[1:] / limit[1:] - 1)))
+        else:  # theta_gear = theta_s: T maps 8 coordinates to 9
+            t = np.zeros((9, 8))
+            t[:8, :8] = np.eye(8)
+            t[8, 2] = 1.0
+            limit = _hz(t.T @ m @ t, t.T @ k @ t)
+            errors.append(np.max(np.abs(got[:-1] / limit - 1)))
+    assert errors[1] < 3e-3, errors
+    assert errors[1] < 0.1 * errors[0], errors
+    if low:  # sqrt(k_t): 100 x softer, 10 x lower
+        assert low[1] / low[0] == pytest.approx(0.1, rel=5e-2)
+
+
+def test_torsional_stages_give_the_torsional_chain():
+    """Constant meshes (no cells): the coupled modes of nrel-5mw-gearbox's chain are
+    jaxgear.gearbox_modes' (the torsional chain's) to 1e-9, the output hold nearly free."""
+    chain = jio.load_case("nrel-5mw-gearbox").form.torsional()
+    want = np.asarray(jg.gearbox_modes(chain).frequencies)
+    run = gb.GearboxRun(1e6, 1e-6)
+    got = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+    elastic = want > 1e-3
+    assert got[0] < 1e-3 and want[0] < 1e-3
+    np.testing.assert_allclose(got[elastic], want[elastic], rtol=1e-9)
+
+
+def test_stage_alone_equals_its_own_dynamics():
+    """Stage 1 alone (sun in, carrier out held by a spring): the coupled run's mesh forces are
+    jaxgear.planetary.planetary_dynamics' of the stage with its carrier held by that spring."""
+    chain, _ = EX.two_stage()
+    p = chain.stages[0]
+    k_c = 2e7
+    one = gb.GearboxTorsional((gb.PlanetaryGearboxStage(p.stage, jg.Central.SUN,
+                                                         jg.Central.CARRIER, p.meshes),), [])
+    run = gb.GearboxRun(1000.0, k_c, steps_per_period=32, periods=30, keep_periods=2,
+                        mean_positions=32)  # planetary_dynamics averages over its steps
+    omega_c = 40.0
+    r_s, r_r = float(p.stage.sun.base_radius), float(p.stage.ring.base_radius)
+    got = gb.gearbox_dynamics(one, run, omega_c * (1 + r_r / r_s))
+    held = eqx.tree_at(lambda st: st.carrier, p.stage,
+                       jg.PlanetaryMember(10.0, 0.5, 0.1, torsional_stiffness=k_c))
+    own = jg.planetary.planetary_dynamics(jg.TorsionalPlanetary(), held, p.meshes,
+                                jg.planetary.PlanetaryRun(1000.0, 32, 30, 2), omega_c)
+    want = np.concatenate([own.sun_mesh_forces, own.ring_mesh_forces], axis=1)
+    assert int(got.result) == 0 and int(own.result) == 0
+    np.testing.assert_allclose(np.asarray(got.mesh_forces), want, rtol=1e-7,
+                               atol=1e-9 * float(np.max(want)))
+
+
+def test_quasi_static_limit_gives_the_torque_ratios():
+    """At a carrier speed whose mesh frequencies lie far below every mode (0.5 rad/s: 6.4 and
+    12.7 Hz against 448 Hz and up), each mesh force is the static one from the torque ratios
+    (the chain is statically determinate: the planets' equilibrium sets the sun's torque
+    5000 / (1 + z_r / z_s)) but for the short ring after each change of the number of tooth
+    pairs (a stiffness step, which no speed smooths: the deflection must jump, so that the
+    maximum is not the static force at any speed): the median over the recorded window
+    within 1e-4 (at 2 rad/s, 1.5e-3: the ring's share of the period grows with the speed),
+    the mean within 1e-6 (the inertia forces average out over a steady period)."""
+    chain, run = EX.two_stage(steps_per_period=2048, periods=3, keep_periods=2)
+    out = gb.gearbox_dynamics(chain, run, 0.5)
+    t_sun = 5000.0 / (1 + Z_R / Z_S)
+    want = np.array([t_sun / (4 * Z_S * RB)] * 8 + [t_sun / (Z_G * RB)])
+    np.testing.assert_allclose(np.asarray(out.static_forces), want, rtol=1e-12)
+    f = np.asarray(out.mesh_forces)
+    assert int(out.result) == 0
+    np.testing.assert_allclose(np.median(f, axis=0), want, rtol=1e-4)
+    np.testing.assert_allclose(np.mean(f, axis=0), want, rtol=1e-6)
+
+
+def test_sweep_is_each_speed_run_alone():
+    """The vmapped sweep is the single runs at its speeds (the engine's vectorisation)."""
+    chain, run = EX.two_stage(periods=4, keep_periods=1)
+    speeds = jnp.array([30.0, 70.0])
+    sweep = gb.gearbox_speed_sweep(chain, run, speeds)
+    for i, w in enumerate(speeds):
+        one = gb.gearbox_dynamics(chain, run, w)
+        np.testing.assert_allclose(sweep.dynamic_factors[i], one.dynamic_factors, rtol=1e-9)
+
+
+def test_bad_inputs_one_line():
+    chain, run = EX.two_stage()
+    with pytest.raises(ValueError, match="output_stiffness"):
+        gb.GearboxRun(1.0, 0.0)
+    with pytest.raises(ValueError, match="input_speed"):
+        gb.gearbox_dynamics(chain, run, 0.0)
+    with pytest.raises(ValueError, match="chain"):
+        gb.gearbox_dynamics("box", run, 1.0)
