@@ -1,0 +1,655 @@
+"""An independent continuous-time reference for the two-stage coupled example (a planetary stage,
+ring held, carrier in, sun out, then a parallel spur pair on the sun's shaft), written with NumPy
+and SciPy only (no jaxgear import), for the comparison of per-mesh dynamic factors with jaxgear's
+coupled model (the shared specification of session 42; docs/bench/two_stage_reference.json).
+
+Everything is derived here from first principles; the sources are cited where used.
+
+Geometry (ISO 21771:2007, 5.3-5.4 and 6; F. L. Litvin & A. Fuentes, "Gear Geometry and Applied
+Theory", 2nd ed., ch. 10 and 11). Standard spur gears (no profile shift, centre distance
+a = m (z2 +- z1) / 2, operating pressure angle = alpha): pitch radius r = m z / 2, base radius
+r_b = r cos alpha, tip radius r_a = r + m for an external gear and r_a = r - m for the internal
+ring (its tip circle lies inside its pitch circle), base pitch p_b = pi m cos alpha. Path of
+contact (the segment of the line of action between the two tip circles) and transverse contact
+ratio eps = g / p_b:
+
+    external: g = sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a sin alpha
+    internal: g = sqrt(r_a1^2 - r_b1^2) - sqrt(r_a2^2 - r_b2^2) + a sin alpha   (2: the ring)
+
+(ISO 21771 eq. (141)/(142) with alpha_wt = alpha). For the specification's gears: sun-planet
+eps = 1.6052, ring-planet 1.9382, gear-pinion 1.6348.
+
+Contact length. With a constant stiffness k_u per unit contact length the mesh force is
+F = max(0, k_u L(s) delta), L = b n(s), s (m) the travel of the contact lines along the line of
+action measured from the engagement point (the start of the active path) modulo p_b: the line
+at s and the one at s + p_b are both on the path when s <= g - p_b, so that for 1 < eps < 2
+
+    n(s) = 2 for 0 <= s mod p_b < g - p_b,  1 otherwise,
+
+a rectangular wave of period p_b (one mesh period = one base pitch of travel) between floor(eps)
+and ceil(eps) pairs with mean eps. The pair count changes at the travel, so L jumps in time: as
+the mesh deflection delta is continuous, the force of a mesh jumps by the ratio of its pair
+counts (F(t+) = 2 F(t-) where a pair enters), at any speed, even the slowest. The maximum force
+of a period, and so the dynamic factor, therefore tends to ceil(eps)/floor(eps) = 2 (not 1) as
+the speed tends to zero, while the quasi-static force (the limit between the jumps) and the
+period mean of every force equal the static force (below).
+
+Kinematics (Willis, ring held): sun speed omega_s = (1 + z_r/z_s) Omega_c; the sun turns relative
+to the carrier at (z_r/z_s) Omega_c, so the stage-1 contact lines travel at v1 = r_bs (z_r/z_s)
+Omega_c (= r_bp times the planet's spin relative to the carrier = r_br Omega_c), mesh frequency
+z_r Omega_c / 2 pi; the pair's at v2 = r_bg omega_s, mesh frequency 32 * 5 Omega_c / 2 pi, twice
+stage 1's, so that the coupled steady state repeats every stage-1 mesh period T1 = p_b / v1.
+
+Lines of action and phasing. Angles counter-clockwise (CCW), planet 1 on the carrier's x axis,
+the carrier input torque CCW. In the carrier frame the sun turns CCW and is the driven member:
+the planet loads the sun's clockwise-facing flanks, the ring loads the planet's CW-facing...
+precisely: the sun-planet line of action touches the sun's base circle at the angle +alpha
+(from the sun's centre) and the planet's at pi + alpha (from the planet's centre); the
+ring-planet line touches the planet's base circle at -alpha and the ring's at -alpha. Writing
+a flank's contact point as its roll distance from the planet's tangent point (the involute's
+unwound string, Litvin & Fuentes ch. 10), with tau a planet tooth's centre angle, theta_p the
+planet's rotation relative to the carrier, psi_b = pi/z_p + 2 inv(alpha) the base thickness
+angle (standard tooth, zero backlash):
+
+    sun line:  sigma_s = r_bp (pi + alpha + psi_b/2 - tau - theta_p)   (engages at the sun's tip,
+               sigma_s = a sin alpha - sqrt(r_as^2 - r_bs^2), and runs to the planet's tip)
+    ring line: sigma_r = r_bp (tau + psi_b/2 + theta_p + alpha)        (engages at the planet's
+               tip, sigma_r = sqrt(r_ap^2 - r_bp^2), and runs to the ring's tip)
+
+so that, measured from each engagement point, the ring mesh of a planet runs ahead of its sun
+mesh by
+
+    Delta_rs = sqrt(r_ap^2 - r_bp^2) + a sin alpha - sqrt(r_as^2 - r_bs^2)
+               - r_bp (pi + 2 alpha) - s_bp     (mod p_b),   s_bp = r_bp psi_b,
+
+independent of tau and theta_p (pi r_bp = z_p p_b / 2: zero for an even z_p, half a pitch for an
+odd one). For the specification: Delta_rs = 6.4747 mm = 0.5483 p_b (Parker & Lin's sun-ring
+phase gamma_rs, R. G. Parker and J. Lin, "Mesh phasing relationships in planetary and epicyclic
+gears", J. Mech. Des. 126 (2004) 365-370, there derived for the sun-driving direction). Check:
+the sun-driving load direction (the sun pushes the planet) is this one mirrored and run
+backwards in time, which maps each s to g - s: its offset is g_r - g_s - Delta_rs = 9.266 mm
+(mod p_b); this file's Delta_rs belongs to the carrier-in, sun-out direction of the
+specification (the planet pushes the sun) and differs from it.
+
+Planet n at psi_n: turning the whole picture by psi_n shows that its sun mesh is planet 1's
+with the sun turned back by psi_n, s_sn = s_s1 - (z_s psi_n / 2 pi) p_b, and its ring mesh planet
+1's with the ring turned back by psi_n, s_rn = s_r1 + (z_r psi_n / 2 pi) p_b (the ring turns CW
+relative to the carrier) (Parker & Lin 2004, eqs. (8)-(9): gamma_sn = z_s psi_n / 2 pi,
+gamma_rn = -z_r psi_n / 2 pi in their sign convention). Here z_s psi_n / 2 pi = 5 (n-1) and
+z_r psi_n / 2 pi = 20 (n-1) are integers: all four planets mesh in phase. The pair's travel at
+the instant planet 1's sun mesh engages is a free choice of assembly (``pair_offset``, default 0:
+both engage at t = 0).
+
+Model (torsional, absolute rotations theta (rad, CCW, deviations from the nominal rigid motion);
+Kahraman, J. Sound Vib. 173 (1994) 125-130; Lin & Parker, J. Vib. Acoust. 121 (1999) 316-321, eqs.
+(1)-(4) without translations). Coordinates: carrier, ring, sun, planets 1-4, pair gear, pair
+pinion (9). Mesh deflections along each line of action, compression positive (from the contact
+points' tangential displacements projected on the line of action; r_cb = a cos alpha =
+r_bs + r_bp = r_br - r_bp):
+
+    sun mesh n:  delta_sn = r_cb theta_c - r_bs theta_s - r_bp theta_n
+    ring mesh n: delta_rn = r_cb theta_c + r_bp theta_n - r_br theta_r
+    pair:        delta_p  = r_bg theta_g + r_bpin theta_pin
+
+(a rigid rotation of the whole stage gives delta_sn = delta_rn = 0). Mass: the planets' masses
+ride on the carrier (J_c,eff = J_c + N m_p a^2), each planet's own inertia on its absolute
+rotation. Structure: the ring hold k_r theta_r, the shaft k_sh (theta_s - theta_g), the output
+hold k_o theta_pin. Equations of motion
+
+    M theta'' + C theta' + K_s theta + sum_m g_m^T F_m = f,   F_m = max(0, k_u b n_m(t) g_m theta),
+
+f the carrier torque on the carrier. Statics: F_sn = F_rn = T_c / (2 N r_cb) = T_sun / (N r_bs)
+(T_sun = T_c / (1 + z_r/z_s)), F_p = T_sun / r_bg, whatever the stiffness (each planet's torque
+balance sets F_sn = F_rn, the carrier's their sum, the shaft's the pair's), and the period
+means of the forces in a periodic steady state equal these values at any speed (the same
+balances averaged over a period, where the inertia and damping terms average to zero).
+
+Damping: modal, C = M Phi diag(2 zeta omega) Phi^T M on the modes of (M, K_s + K_mesh_mean),
+Phi^T M Phi = I, K_mesh_mean = sum_m k_u b eps_m g_m^T g_m (the pair count's mean is eps).
+
+Integration: scipy.integrate.solve_ivp (DOP853, rtol 1e-10) in segments between the instants
+where a pair count changes (known in advance from the nominal travel), so that the right-hand
+side is smooth in every segment but for a loss of contact (the max(0, .) kink, which the step
+control resolves); from the static equilibrium at t = 0 at rest, period after period until
+the per-mesh maximum forces and the state at the period's end change by less than ``tol``
+(relative) from one period to the next. The dynamic factor of a mesh is its maximum force over
+the last period (continuous time: both one-sided limits at every jump, a dense grid of every
+segment, refined by a bounded scalar search) over its static force.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import pathlib
+import sys
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.linalg import eigh
+from scipy.optimize import minimize_scalar
+
+__all__ = [
+    "DEFAULT_CARRIER_SPEEDS",
+    "SpurPair",
+    "SteadyState",
+    "TwoStageReference",
+    "harmonic_steady_state",
+    "reference_dynamic_factors",
+    "spur_pair",
+    "steady_state",
+]
+
+DOF_NAMES = ("carrier", "ring", "sun", "planet1", "planet2", "planet3", "planet4", "gear",
+             "pinion")
+
+
+def involute(alpha: float) -> float:
+    """inv(alpha) = tan(alpha) - alpha (ISO 21771 eq. (23))."""
+    return math.tan(alpha) - alpha
+
+
+@dataclasses.dataclass(frozen=True)
+class SpurPair:
+    """A standard spur pair at the standard centre distance (SI: m, rad).
+
+    Attributes:
+        z1, z2: tooth numbers (member 1 external; member 2 the internal ring if ``internal``).
+        module: m (m). pressure_angle: alpha (rad). face_width: b (m). internal: bool.
+    """
+
+    z1: int
+    z2: int
+    module: float
+    pressure_angle: float
+    face_width: float
+    internal: bool = False
+
+    @property
+    def pitch_radii(self) -> tuple[float, float]:
+        return self.module * self.z1 / 2, self.module * self.z2 / 2
+
+    @property
+    def base_radii(self) -> tuple[float, float]:
+        c = math.cos(self.pressure_angle)
+        return tuple(r * c for r in self.pitch_radii)
+
+    @property
+    def tip_radii(self) -> tuple[float, float]:
+        """r + m (external), r - m (the internal ring's, inside its pitch circle)."""
+        r1, r2 = self.pitch_radii
+        return r1 + self.module, (r2 - self.module if self.internal else r2 + self.module)
+
+    @property
+    def centre_distance(self) -> float:
+        r1, r2 = self.pitch_radii
+        return r2 - r1 if self.internal else r1 + r2
+
+    @property
+    def base_pitch(self) -> float:
+        """p_b = pi m cos alpha (m)."""
+        return math.pi * self.module * math.cos(self.pressure_angle)
+
+    @property
+    def tip_rolls(self) -> tuple[float, float]:
+        """sqrt(r_a^2 - r_b^2) of each member (m): the tip point's distance from the member's
+        tangent point on the line of action."""
+        return tuple(math.sqrt(ra**2 - rb**2) for ra, rb in zip(self.tip_radii, self.base_radii))
+
+    @property
+    def path_length(self) -> float:
+        """g (m), ISO 21771 eqs. (141) (external) / (142) (internal) at alpha_w = alpha."""
+        t1, t2 = self.tip_rolls
+        asa = self.centre_distance * math.sin(self.pressure_angle)
+        return t1 - t2 + asa if self.internal else t1 + t2 - asa
+
+    @property
+    def contact_ratio(self) -> float:
+        """Transverse contact ratio eps = g / p_b (-)."""
+        return self.path_length / self.base_pitch
+
+    @property
+    def base_thickness_1(self) -> float:
+        """Base tooth thickness of member 1 (m): r_b1 (pi / z1 + 2 inv alpha) (standard tooth,
+        s = pi m / 2 on the pitch circle; ISO 21771 eq. (44) with x = 0)."""
+        return self.base_radii[0] * (math.pi / self.z1 + 2 * involute(self.pressure_angle))
+
+    def check(self) -> None:
+        """ValueError where the path leaves the involutes (interference) or 1 < eps < 2 fails."""
+        t1, t2 = self.tip_rolls
+        asa = self.centre_distance * math.sin(self.pressure_angle)
+        # external: each tip point short of the other member's tangent point; internal: the
+        # ring's tip point beyond the planet's tangent point (Litvin & Fuentes ch. 10)
+        ok = t2 >= asa if self.internal else (t1 <= asa and t2 <= asa)
+        if not ok or not 1.0 < self.contact_ratio < 2.0:
+            raise ValueError(f"SpurPair: z = ({self.z1}, {self.z2}): path outside the involutes "
+                             f"or eps = {self.contact_ratio:.4f} outside (1, 2)")
+
+    def pairs(self, s):
+        """n(s): pairs in contact at the travel s (m) from the engagement point (1 < eps < 2)."""
+        return np.where(np.mod(s, self.base_pitch) < self.path_length - self.base_pitch, 2, 1)
+
+
+def spur_pair(z1, z2, module=4e-3, pressure_angle=math.radians(20.0), face_width=0.05,
+              internal=False) -> SpurPair:
+    p = SpurPair(int(z1), int(z2), float(module), float(pressure_angle), float(face_width),
+                 bool(internal))
+    p.check()
+    return p
+
+
+@dataclasses.dataclass(frozen=True)
+class TwoStageReference:
+    """The specification's system (SI). Defaults: the shared spec of session 42."""
+
+    module: float = 4e-3
+    pressure_angle: float = math.radians(20.0)
+    z_sun: int = 20
+    z_planet: int = 30
+    z_ring: int = 80
+    planet_angles_deg: tuple = (0.0, 90.0, 180.0, 270.0)
+    face_width_1: float = 0.050
+    z_gear: int = 32
+    z_pinion: int = 24
+    face_width_2: float = 0.080
+    j_sun: float = 1.6e-3
+    j_planet: float = 8.0e-3
+    j_carrier: float = 0.5
+    j_ring: float = 2.0
+    m_planet: float = 4.44
+    j_gear: float = 0.0165
+    j_pinion: float = 5.2e-3
+    k_ring_hold: float = 1e9
+    k_shaft: float = 5e5
+    k_output_hold: float = 5e5
+    k_u: float = 1.4e10
+    carrier_torque: float = 5000.0
+    damping_ratio: float = 0.05
+    pair_offset: float = 0.0  # the pair's travel (m) when planet 1's sun mesh engages
+    sun_ring_offset: float | None = None  # Delta_rs (m); None: derived (module docstring)
+
+    # -- geometry -----------------------------------------------------------------------------
+    @property
+    def sun_planet(self) -> SpurPair:
+        return spur_pair(self.z_sun, self.z_planet, self.module, self.pressure_angle,
+                         self.face_width_1)
+
+    @property
+    def planet_ring(self) -> SpurPair:
+        return spur_pair(self.z_planet, self.z_ring, self.module, self.pressure_angle,
+                         self.face_width_1, internal=True)
+
+    @property
+    def gear_pinion(self) -> SpurPair:
+        return spur_pair(self.z_gear, self.z_pinion, self.module, self.pressure_angle,
+                         self.face_width_2)
+
+    @property
+    def planet_angles(self) -> np.ndarray:
+        return np.radians(np.asarray(self.planet_angles_deg, float))
+
+    @property
+    def n_planets(self) -> int:
+        return len(self.planet_angles_deg)
+
+    @property
+    def derived_sun_ring_offset(self) -> float:
+        """Delta_rs (m, in [0, p_b)) for the carrier-in, sun-out load direction (module
+        docstring)."""
+        sp, pr = self.sun_planet, self.planet_ring
+        a, al = sp.centre_distance, self.pressure_angle
+        r_bp = sp.base_radii[1]
+        s_bp = r_bp * (math.pi / self.z_planet + 2 * involute(al))
+        d = (pr.tip_rolls[0] + a * math.sin(al) - sp.tip_rolls[0]
+             - r_bp * (math.pi + 2 * al) - s_bp)
+        return float(np.mod(d, sp.base_pitch))
+
+    @property
+    def offsets(self) -> np.ndarray:
+        """Each mesh's travel from its engagement point at t = 0 (m), shape (2N + 1,): sun
+        meshes, ring meshes, pair (module docstring)."""
+        pb = self.sun_planet.base_pitch
+        psi = self.planet_angles
+        d_rs = self.derived_sun_ring_offset if self.sun_ring_offset is None else (
+            self.sun_ring_offset)
+        g_s = self.z_sun * psi / (2 * np.pi)
+        g_r = self.z_ring * psi / (2 * np.pi)
+        return np.concatenate([np.mod(-g_s * pb, pb), np.mod(d_rs + g_r * pb, pb),
+                               [self.pair_offset]])
+
+    # -- matrices -----------------------------------------------------------------------------
+    @property
+    def mass_matrix(self) -> np.ndarray:
+        n = self.n_planets
+        a = self.sun_planet.centre_distance
+        j = [self.j_carrier + n * self.m_planet * a**2, self.j_ring, self.j_sun,
+             *([self.j_planet] * n), self.j_gear, self.j_pinion]
+        return np.diag(j)
+
+    @property
+    def structure_stiffness(self) -> np.ndarray:
+        n = self.n_planets
+        K = np.zeros((n + 5, n + 5))
+        K[1, 1] += self.k_ring_hold
+        s, g = 2, n + 3
+        K[np.ix_([s, g], [s, g])] += self.k_shaft * np.array([[1.0, -1.0], [-1.0, 1.0]])
+        K[n + 4, n + 4] += self.k_output_hold
+        return K
+
+    @property
+    def mesh_rows(self) -> np.ndarray:
+        """G (2N + 1, N + 5): delta = G theta (m), compression positive (module docstring)."""
+        n = self.n_planets
+        sp, pr, gp = self.sun_planet, self.planet_ring, self.gear_pinion
+        r_bs, r_bp = sp.base_radii
+        r_br = pr.base_radii[1]
+        G = np.zeros((2 * n + 1, n + 5))
+        for i in range(n):
+            G[i, 0] = r_bs + r_bp
+            G[i, 2] = -r_bs
+            G[i, 3 + i] = -r_bp
+            G[n + i, 0] = r_br - r_bp
+            G[n + i, 3 + i] = r_bp
+            G[n + i, 1] = -r_br
+        G[2 * n, n + 3], G[2 * n, n + 4] = gp.base_radii
+        return G
+
+    @property
+    def load(self) -> np.ndarray:
+        f = np.zeros(self.n_planets + 5)
+        f[0] = self.carrier_torque
+        return f
+
+    @property
+    def pair_stiffness(self) -> np.ndarray:
+        """k_u b per mesh (N/m per pair in contact), (2N + 1,)."""
+        n = self.n_planets
+        return self.k_u * np.array([self.face_width_1] * 2 * n + [self.face_width_2])
+
+    @property
+    def pairs_list(self) -> list[SpurPair]:
+        n = self.n_planets
+        return [self.sun_planet] * n + [self.planet_ring] * n + [self.gear_pinion]
+
+    @property
+    def mean_mesh_stiffness(self) -> np.ndarray:
+        """k_u b eps per mesh (N/m), (2N + 1,)."""
+        return self.pair_stiffness * np.array([p.contact_ratio for p in self.pairs_list])
+
+    def stiffness_matrix(self, k_mesh) -> np.ndarray:
+        G = self.mesh_rows
+        return self.structure_stiffness + G.T @ (np.asarray(k_mesh)[:, None] * G)
+
+    def modes(self):
+        """(omega (rad/s), Phi mass-normalised) of (M, K_s + K_mesh_mean)."""
+        w2, phi = eigh(self.stiffness_matrix(self.mean_mesh_stiffness), self.mass_matrix)
+        return np.sqrt(w2), phi
+
+    @property
+    def modes_hz(self) -> np.ndarray:
+        return self.modes()[0] / (2 * np.pi)
+
+    def mesh_energy_fractions(self) -> np.ndarray:
+        """Per mode, the share of the strain energy stored in the meshes (-), (n_dof,)."""
+        _, phi = self.modes()
+        G, k = self.mesh_rows, self.mean_mesh_stiffness
+        mesh = np.sum(k[:, None] * (G @ phi) ** 2, axis=0)
+        total = np.einsum("im,ij,jm->m", phi, self.stiffness_matrix(k), phi)
+        return mesh / total
+
+    @property
+    def damping_matrix(self) -> np.ndarray:
+        w, phi = self.modes()
+        M = self.mass_matrix
+        return M @ phi @ np.diag(2 * self.damping_ratio * w) @ phi.T @ M
+
+    # -- statics and kinematics ---------------------------------------------------------------
+    @property
+    def static_forces(self) -> np.ndarray:
+        """The torque-ratio transverse forces (N), (2N + 1,): T_sun / (N r_bs) on every stage-1
+        mesh, T_sun / r_bg on the pair, T_sun = T_c / (1 + z_r / z_s)."""
+        n = self.n_planets
+        t_sun = self.carrier_torque / (1 + self.z_ring / self.z_sun)
+        f1 = t_sun / (n * self.sun_planet.base_radii[0])
+        return np.array([f1] * 2 * n + [t_sun / self.gear_pinion.base_radii[0]])
+
+    def travel_speeds(self, carrier_speed: float) -> np.ndarray:
+        """Contact-line travel speed of every mesh (m/s), (2N + 1,)."""
+        n = self.n_planets
+        v1 = self.sun_planet.base_radii[0] * self.z_ring / self.z_sun * carrier_speed
+        v2 = self.gear_pinion.base_radii[0] * (1 + self.z_ring / self.z_sun) * carrier_speed
+        return np.array([v1] * 2 * n + [v2])
+
+    def mesh_period(self, carrier_speed: float) -> float:
+        """T1 = p_b / v1 (s): stage 1's mesh period, the coupled steady state's period."""
+        return self.sun_planet.base_pitch / self.travel_speeds(carrier_speed)[0]
+
+    def mesh_stiffness(self, t, carrier_speed: float) -> np.ndarray:
+        """k_u b n_m(s_m(t)) (N/m), (2N + 1,) at one time t (s)."""
+        s = self.offsets + self.travel_speeds(carrier_speed) * t
+        n = np.array([p.pairs(si) for p, si in zip(self.pairs_list, s)], float)
+        return self.pair_stiffness * n
+
+    def switch_times(self, carrier_speed: float) -> np.ndarray:
+        """Instants in [0, T1) where a pair count changes (s), sorted, with 0 and T1 added."""
+        T = self.mesh_period(carrier_speed)
+        v = self.travel_speeds(carrier_speed)
+        times = {0.0, T}
+        for p, s0, vi in zip(self.pairs_list, self.offsets, v):
+            pb = p.base_pitch
+            for edge in (0.0, p.path_length - pb):
+                t = np.mod(edge - s0, pb) / vi
+                while t < T * (1 - 1e-12):
+                    times.add(float(t))
+                    t += pb / vi
+        ts = np.array(sorted(times))
+        keep = np.concatenate([[True], np.diff(ts) > 1e-12 * T])
+        return ts[keep]
+
+    def static_solution(self, t: float = 0.0, carrier_speed: float = 1.0) -> np.ndarray:
+        """theta (rad) at rest under the carrier torque with the stiffness at t (right limit)."""
+        T = self.mesh_period(carrier_speed)
+        k = self.mesh_stiffness(t + 1e-9 * T, carrier_speed)
+        return np.linalg.solve(self.stiffness_matrix(k), self.load)
+
+
+# -- integration --------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class SteadyState:
+    """The last period of a run: segments (t0, t1, k_mesh, dense solution), the period T (s),
+    the periods run and the last relative change; ``forces(t)`` gives the mesh forces."""
+
+    model: TwoStageReference
+    period: float
+    segments: list
+    periods: int
+    change: float
+    rows: np.ndarray
+
+    def _seg(self, t):
+        for t0, t1, k, sol in self.segments:
+            if t <= t1:
+                return t0, t1, k, sol
+        return self.segments[-1]
+
+    def forces_in_segment(self, seg, t) -> np.ndarray:
+        """Mesh forces (N), (2N + 1, len(t)), with the segment's stiffness."""
+        t0, t1, k, sol = seg
+        theta = sol(np.clip(t, t0, t1))[: self.rows.shape[1]]
+        return np.maximum(0.0, k[:, None] * (self.rows @ theta))
+
+    def max_forces(self, grid: int = 64, refine: bool = True) -> np.ndarray:
+        """Each mesh's maximum force over the period (N), (2N + 1,): both one-sided limits at
+        the segment ends, a grid of ``grid`` points per segment, refined by a bounded scalar
+        search around the grid's maximum."""
+        best = np.zeros(self.rows.shape[0])
+        for seg in self.segments:
+            t0, t1 = seg[0], seg[1]
+            ts = np.linspace(t0, t1, grid + 1)
+            F = self.forces_in_segment(seg, ts)
+            for m in range(F.shape[0]):
+                i = int(np.argmax(F[m]))
+                fm = F[m, i]
+                if refine and 0 < i < grid:
+                    r = minimize_scalar(
+                        lambda t: -self.forces_in_segment(seg, np.array([t]))[m, 0],
+                        bounds=(ts[i - 1], ts[i + 1]), method="bounded",
+                        options={"xatol": 1e-12 * self.period})
+                    fm = max(fm, -r.fun)
+                best[m] = max(best[m], fm)
+        return best
+
+    def mean_forces(self, grid: int = 256) -> np.ndarray:
+        """Each mesh's period-mean force (N), (2N + 1,) (Simpson's rule per segment)."""
+        from scipy.integrate import simpson
+
+        tot = np.zeros(self.rows.shape[0])
+        for seg in self.segments:
+            ts = np.linspace(seg[0], seg[1], 2 * grid + 1)
+            tot += simpson(self.forces_in_segment(seg, ts), x=ts, axis=1)
+        return tot / self.period
+
+    def sample(self, times) -> tuple[np.ndarray, np.ndarray]:
+        """(theta (n_dof, t), forces (2N + 1, t)) at times in [0, T] (right-continuous)."""
+        out_th, out_f = [], []
+        for t in np.atleast_1d(times):
+            seg = None
+            for s in self.segments:
+                if s[0] <= t < s[1] or s is self.segments[-1]:
+                    seg = s
+                    break
+            th = seg[3](np.clip(t, seg[0], seg[1]))[: self.rows.shape[1]]
+            out_th.append(th)
+            out_f.append(np.maximum(0.0, seg[2] * (self.rows @ th)))
+        return np.array(out_th).T, np.array(out_f).T
+
+
+def _integrate(model: TwoStageReference, period: float, breaks, k_of_t, forcing=None, *,
+               tol=1e-7, rtol=1e-10, method="DOP853", min_periods=3, max_periods=4000,
+               y0=None) -> SteadyState:
+    """Period after period from y0 (default: the static state at rest) until the maximum forces
+    and the end state change by less than ``tol`` (relative) over one period."""
+    M = model.mass_matrix
+    Minv = np.diag(1.0 / np.diag(M))
+    C = model.damping_matrix
+    Ks = model.structure_stiffness
+    G = model.mesh_rows
+    f0 = model.load
+    nd = M.shape[0]
+    if y0 is None:
+        th0 = np.linalg.solve(model.stiffness_matrix(k_of_t(0.5 * (breaks[0] + breaks[1]))), f0)
+        y0 = np.concatenate([th0, np.zeros(nd)])
+    scale_th = max(np.max(np.abs(y0[:nd])), 1e-6)
+    w_max = float(model.modes()[0].max())
+    atol = np.concatenate([np.full(nd, 1e-3 * rtol * scale_th),
+                           np.full(nd, 1e-3 * rtol * scale_th * w_max)])
+    fscale = model.static_forces
+    ks = [k_of_t(0.5 * (a + b)) for a, b in zip(breaks[:-1], breaks[1:])]
+
+    def rhs_factory(k, t_base):
+        def rhs(t, y):
+            th, v = y[:nd], y[nd:]
+            F = np.maximum(0.0, k * (G @ th))
+            acc = f0 - C @ v - Ks @ th - G.T @ F
+            if forcing is not None:
+                acc = acc + forcing(t + t_base)
+            return np.concatenate([v, Minv @ acc])
+        return rhs
+
+    prev_max, prev_end, change = None, None, np.inf
+    y = np.asarray(y0, float)
+    for p in range(1, max_periods + 1):
+        y_start = y.copy()
+        segs = []
+        for (a, b), k in zip(zip(breaks[:-1], breaks[1:]), ks):
+            sol = solve_ivp(rhs_factory(k, 0.0), (a, b), y, method=method, rtol=rtol,
+                            atol=atol, dense_output=True)
+            if not sol.success:
+                raise RuntimeError(f"solve_ivp failed: {sol.message}")
+            y = sol.y[:, -1]
+            segs.append((a, b, k, sol.sol))
+        st = SteadyState(model, period, segs, p, change, G)
+        mx = st.max_forces(grid=16, refine=False)
+        if prev_max is not None:
+            d_f = np.max(np.abs(mx - prev_max) / fscale)
+            d_y = np.max(np.abs(y[:nd] - y_start[:nd])) / scale_th
+            change = max(d_f, d_y)
+            st.change = change
+            if p >= min_periods and change < tol:
+                return st
+        prev_max = mx
+    raise RuntimeError(f"no periodic steady state in {max_periods} periods (change {change:.2e})")
+
+
+def steady_state(model: TwoStageReference, carrier_speed: float, **kw) -> SteadyState:
+    """The periodic steady state at one carrier speed (rad/s) with the time-varying meshes."""
+    if not (carrier_speed > 0 and math.isfinite(carrier_speed)):
+        raise ValueError(f"steady_state: carrier_speed = {carrier_speed!r} rad/s is out of "
+                         "range: allowed a finite value > 0")
+    T = model.mesh_period(carrier_speed)
+    breaks = model.switch_times(carrier_speed)
+    return _integrate(model, T, breaks, lambda t: model.mesh_stiffness(t, carrier_speed), **kw)
+
+
+def harmonic_steady_state(model: TwoStageReference, amplitude, omega: float, pieces: int = 8,
+                          **kw) -> SteadyState:
+    """The steady state with constant mean mesh stiffness and an added torque
+    ``amplitude * sin(omega t)`` (N m, (n_dof,)) at omega (rad/s): a check of the integrator
+    against the frequency response (K - omega^2 M + i omega C)^-1 (tests)."""
+    T = 2 * np.pi / omega
+    amp = np.asarray(amplitude, float)
+    km = model.mean_mesh_stiffness
+    return _integrate(model, T, np.linspace(0.0, T, pieces + 1), lambda t: km,
+                      forcing=lambda t: amp * np.sin(omega * t), **kw)
+
+
+def reference_dynamic_factors(carrier_speeds, model: TwoStageReference | None = None,
+                              **kw) -> dict:
+    """Per-mesh dynamic factors of the specification's system at the carrier speeds (rad/s).
+
+    Returns a dict: "sun" (S, N) and "ring" (S, N): max force over the steady period / static
+    force of each planet's sun-planet and ring-planet mesh; "pair" (S,); "static": the static
+    forces (N) {"sun", "ring", "pair"}; "modes_Hz": natural frequencies (Hz) of
+    (M, K_s + K_mesh_mean); "mean_ratio" (S, 2N + 1): the period-mean force / static force
+    (1 in a periodic steady state, a check); "periods" (S,): periods integrated;
+    "carrier_speeds" (S,); "mesh_frequency_Hz" (S,): stage 1's, z_r Omega_c / 2 pi.
+    """
+    model = model or TwoStageReference()
+    speeds = np.atleast_1d(np.asarray(carrier_speeds, float))
+    n = model.n_planets
+    F0 = model.static_forces
+    dfs, means, periods = [], [], []
+    for w in speeds:
+        st = steady_state(model, float(w), **kw)
+        dfs.append(st.max_forces() / F0)
+        means.append(st.mean_forces() / F0)
+        periods.append(st.periods)
+    dfs = np.array(dfs)
+    return {
+        "sun": dfs[:, :n],
+        "ring": dfs[:, n:2 * n],
+        "pair": dfs[:, 2 * n],
+        "static": {"sun": float(F0[0]), "ring": float(F0[n]), "pair": float(F0[2 * n])},
+        "modes_Hz": model.modes_hz,
+        "mean_ratio": np.array(means),
+        "periods": np.array(periods),
+        "carrier_speeds": speeds,
+        "mesh_frequency_Hz": model.z_ring * speeds / (2 * np.pi),
+    }
+
+
+DEFAULT_CARRIER_SPEEDS = None  # set below, after the modes are known
+
+
+def _main(argv=None) -> int:
+    model = TwoStageReference()
+    res = reference_dynamic_factors(DEFAULT_CARRIER_SPEEDS, model)
+    print(res)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(_main())
