@@ -315,8 +315,9 @@ class TwoStageReference:
             self.sun_ring_offset)
         g_s = self.z_sun * psi / (2 * np.pi)
         g_r = self.z_ring * psi / (2 * np.pi)
-        return np.concatenate([np.mod(-g_s * pb, pb), np.mod(d_rs + g_r * pb, pb),
-                               [self.pair_offset]])
+        off = np.concatenate([-g_s * pb, d_rs + g_r * pb, [self.pair_offset]])
+        frac = np.mod(np.round(off / pb, 9), 1.0)  # whole pitches' round-off to 0
+        return frac * pb
 
     # -- matrices -----------------------------------------------------------------------------
     @property
@@ -468,12 +469,10 @@ class SteadyState:
     periods: int
     change: float
     rows: np.ndarray
+    f_max: float = 0.0  # the highest natural frequency (Hz): sets the grids
 
-    def _seg(self, t):
-        for t0, t1, k, sol in self.segments:
-            if t <= t1:
-                return t0, t1, k, sol
-        return self.segments[-1]
+    def _grid(self, t0, t1, at_least):
+        return max(at_least, int(math.ceil(24 * (t1 - t0) * self.f_max)))
 
     def forces_in_segment(self, seg, t) -> np.ndarray:
         """Mesh forces (N), (2N + 1, len(t)), with the segment's stiffness."""
@@ -483,17 +482,18 @@ class SteadyState:
 
     def max_forces(self, grid: int = 64, refine: bool = True) -> np.ndarray:
         """Each mesh's maximum force over the period (N), (2N + 1,): both one-sided limits at
-        the segment ends, a grid of ``grid`` points per segment, refined by a bounded scalar
-        search around the grid's maximum."""
+        the segment ends, a grid of at least ``grid`` points per segment and 24 per period of
+        the highest mode, refined by a bounded scalar search around the grid's maximum."""
         best = np.zeros(self.rows.shape[0])
         for seg in self.segments:
             t0, t1 = seg[0], seg[1]
-            ts = np.linspace(t0, t1, grid + 1)
+            n = self._grid(t0, t1, grid)
+            ts = np.linspace(t0, t1, n + 1)
             F = self.forces_in_segment(seg, ts)
             for m in range(F.shape[0]):
                 i = int(np.argmax(F[m]))
                 fm = F[m, i]
-                if refine and 0 < i < grid:
+                if refine and 0 < i < n:
                     r = minimize_scalar(
                         lambda t: -self.forces_in_segment(seg, np.array([t]))[m, 0],
                         bounds=(ts[i - 1], ts[i + 1]), method="bounded",
@@ -503,12 +503,14 @@ class SteadyState:
         return best
 
     def mean_forces(self, grid: int = 256) -> np.ndarray:
-        """Each mesh's period-mean force (N), (2N + 1,) (Simpson's rule per segment)."""
+        """Each mesh's period-mean force (N), (2N + 1,) (Simpson's rule per segment, at least
+        24 points per period of the highest mode)."""
         from scipy.integrate import simpson
 
         tot = np.zeros(self.rows.shape[0])
         for seg in self.segments:
-            ts = np.linspace(seg[0], seg[1], 2 * grid + 1)
+            n = self._grid(seg[0], seg[1], grid)
+            ts = np.linspace(seg[0], seg[1], 2 * n + 1)
             tot += simpson(self.forces_in_segment(seg, ts), x=ts, axis=1)
         return tot / self.period
 
@@ -516,11 +518,7 @@ class SteadyState:
         """(theta (n_dof, t), forces (2N + 1, t)) at times in [0, T] (right-continuous)."""
         out_th, out_f = [], []
         for t in np.atleast_1d(times):
-            seg = None
-            for s in self.segments:
-                if s[0] <= t < s[1] or s is self.segments[-1]:
-                    seg = s
-                    break
+            seg = next((g for g in self.segments if g[0] <= t < g[1]), self.segments[-1])
             th = seg[3](np.clip(t, seg[0], seg[1]))[: self.rows.shape[1]]
             out_th.append(th)
             out_f.append(np.maximum(0.0, seg[2] * (self.rows @ th)))
@@ -528,10 +526,14 @@ class SteadyState:
 
 
 def _integrate(model: TwoStageReference, period: float, breaks, k_of_t, forcing=None, *,
-               tol=1e-7, rtol=1e-10, method="DOP853", min_periods=3, max_periods=4000,
+               tol=1e-6, rtol=1e-10, method="DOP853", min_periods=3, max_periods=4000,
                y0=None) -> SteadyState:
     """Period after period from y0 (default: the static state at rest) until the maximum forces
-    and the end state change by less than ``tol`` (relative) over one period."""
+    (relative to the static forces) and the end state (relative to its largest rotation) change
+    by less than ``tol`` over one period. The transient decays geometrically, by a factor rho
+    per period, so the distance to the periodic state is about change / (1 - rho); the slowest
+    mode (448 Hz at zeta = 0.05) gives 1 - rho >= 0.02 up to a mesh frequency of 7 kHz, so
+    tol = 1e-6 leaves the dynamic factors within about 5e-5 of the periodic state's."""
     M = model.mass_matrix
     Minv = np.diag(1.0 / np.diag(M))
     C = model.damping_matrix
@@ -559,28 +561,47 @@ def _integrate(model: TwoStageReference, period: float, breaks, k_of_t, forcing=
             return np.concatenate([v, Minv @ acc])
         return rhs
 
-    prev_max, prev_end, change = None, None, np.inf
-    y = np.asarray(y0, float)
-    for p in range(1, max_periods + 1):
-        y_start = y.copy()
-        segs = []
+    def jac_factory(k):
+        # exact while every mesh is in contact (an implicit method's Newton matrix otherwise)
+        A = np.zeros((2 * nd, 2 * nd))
+        A[:nd, nd:] = np.eye(nd)
+        A[nd:, :nd] = -Minv @ (Ks + G.T @ (k[:, None] * G))
+        A[nd:, nd:] = -Minv @ C
+        return A
+
+    def one_period(y, dense):
+        """(end state, forces at both ends of every segment (2 n_seg, 2N + 1), segments)."""
+        segs, ends = [], []
         for (a, b), k in zip(zip(breaks[:-1], breaks[1:]), ks):
+            extra = {} if method in ("DOP853", "RK45") else {"jac": jac_factory(k)}
             sol = solve_ivp(rhs_factory(k, 0.0), (a, b), y, method=method, rtol=rtol,
-                            atol=atol, dense_output=True)
+                            atol=atol, dense_output=dense, **extra)
             if not sol.success:
                 raise RuntimeError(f"solve_ivp failed: {sol.message}")
+            ends.append(np.maximum(0.0, k * (G @ y[:nd])))
             y = sol.y[:, -1]
+            ends.append(np.maximum(0.0, k * (G @ y[:nd])))
             segs.append((a, b, k, sol.sol))
-        st = SteadyState(model, period, segs, p, change, G)
-        mx = st.max_forces(grid=16, refine=False)
-        if prev_max is not None:
-            d_f = np.max(np.abs(mx - prev_max) / fscale)
-            d_y = np.max(np.abs(y[:nd] - y_start[:nd])) / scale_th
-            change = max(d_f, d_y)
-            st.change = change
-            if p >= min_periods and change < tol:
-                return st
-        prev_max = mx
+        return y, np.array(ends), segs
+
+    def change_of(y_a, y_b, f_a, f_b):
+        return max(np.max(np.abs(f_b - f_a) / fscale),
+                   np.max(np.abs(y_b[:nd] - y_a[:nd])) / scale_th)
+
+    y = np.asarray(y0, float)
+    f_prev, change = None, np.inf
+    for p in range(1, max_periods + 1):
+        y_start = y
+        y, f_ends, _ = one_period(y, dense=False)
+        if f_prev is not None:
+            change = change_of(y_start, y, f_prev, f_ends)
+            if p >= min_periods - 1 and change < tol:
+                # one more period, with its dense output: the steady period
+                y_last, f_last, segs = one_period(y, dense=True)
+                return SteadyState(model, period, segs, p + 1,
+                                   change_of(y, y_last, f_ends, f_last), G,
+                                   w_max / (2 * np.pi))
+        f_prev = f_ends
     raise RuntimeError(f"no periodic steady state in {max_periods} periods (change {change:.2e})")
 
 
@@ -607,47 +628,159 @@ def harmonic_steady_state(model: TwoStageReference, amplitude, omega: float, pie
 
 
 def reference_dynamic_factors(carrier_speeds, model: TwoStageReference | None = None,
-                              **kw) -> dict:
+                              samples_per_period: int | None = None, **kw) -> dict:
     """Per-mesh dynamic factors of the specification's system at the carrier speeds (rad/s).
 
-    Returns a dict: "sun" (S, N) and "ring" (S, N): max force over the steady period / static
-    force of each planet's sun-planet and ring-planet mesh; "pair" (S,); "static": the static
-    forces (N) {"sun", "ring", "pair"}; "modes_Hz": natural frequencies (Hz) of
-    (M, K_s + K_mesh_mean); "mean_ratio" (S, 2N + 1): the period-mean force / static force
-    (1 in a periodic steady state, a check); "periods" (S,): periods integrated;
-    "carrier_speeds" (S,); "mesh_frequency_Hz" (S,): stage 1's, z_r Omega_c / 2 pi.
+    Args:
+        carrier_speeds: Omega_c (rad/s), > 0, shape (S,) or ().
+        model: the system (default: the specification's).
+        samples_per_period: also give the factors from the forces sampled at the S_p instants
+            (i + 1/2) T1 / S_p of the steady period (as a fixed-step integrator with S_p steps
+            per stage-1 mesh period samples them): "sun_sampled", "ring_sampled",
+            "pair_sampled".
+        **kw: to the period-by-period integration (tol, rtol, method, min_periods, max_periods).
+
+    Returns:
+        a dict: "sun" (S, N) and "ring" (S, N): each planet's sun-planet and ring-planet mesh's
+        maximum force over the steady period (continuous time, the jump instants included) /
+        its static force; "pair" (S,); "static": the static forces (N) {"sun", "ring",
+        "pair"}; "modes_Hz": the natural frequencies (Hz) of (M, K_s + K_mesh_mean), (n_dof,);
+        "mesh_energy": each mode's share of strain energy in the meshes; "mean_ratio"
+        (S, 2N + 1): period-mean force / static force (1 in a periodic steady state: a check);
+        "pre_entry_ratio" (S, 2N + 1): the largest force just before a pair enters / static
+        (the factor is 2 x this where the entry jump sets the maximum); "periods" (S,);
+        "change" (S,): the last period-to-period change; "carrier_speeds" (S,);
+        "mesh_frequency_Hz" (S,): stage 1's, z_r Omega_c / 2 pi.
+
+    Raises:
+        ValueError: a speed not finite or <= 0.
     """
     model = model or TwoStageReference()
     speeds = np.atleast_1d(np.asarray(carrier_speeds, float))
+    bad = [w for w in speeds if not (math.isfinite(w) and w > 0)]
+    if bad:
+        raise ValueError(f"reference_dynamic_factors: carrier_speeds = {bad[0]!r} rad/s is out "
+                         "of range: allowed finite values > 0")
     n = model.n_planets
     F0 = model.static_forces
-    dfs, means, periods = [], [], []
+    out = {k: [] for k in ("df", "mean", "pre", "periods", "change", "sampled")}
     for w in speeds:
         st = steady_state(model, float(w), **kw)
-        dfs.append(st.max_forces() / F0)
-        means.append(st.mean_forces() / F0)
-        periods.append(st.periods)
-    dfs = np.array(dfs)
-    return {
-        "sun": dfs[:, :n],
-        "ring": dfs[:, n:2 * n],
-        "pair": dfs[:, 2 * n],
+        out["df"].append(st.max_forces() / F0)
+        out["mean"].append(st.mean_forces() / F0)
+        out["pre"].append(_pre_entry(model, st, float(w)) / F0)
+        out["periods"].append(st.periods)
+        out["change"].append(st.change)
+        if samples_per_period:
+            ts = (np.arange(samples_per_period) + 0.5) * st.period / samples_per_period
+            out["sampled"].append(st.sample(ts)[1].max(axis=1) / F0)
+    df = np.array(out["df"])
+    res = {
+        "sun": df[:, :n],
+        "ring": df[:, n:2 * n],
+        "pair": df[:, 2 * n],
         "static": {"sun": float(F0[0]), "ring": float(F0[n]), "pair": float(F0[2 * n])},
         "modes_Hz": model.modes_hz,
-        "mean_ratio": np.array(means),
-        "periods": np.array(periods),
+        "mesh_energy": model.mesh_energy_fractions(),
+        "mean_ratio": np.array(out["mean"]),
+        "pre_entry_ratio": np.array(out["pre"]),
+        "periods": np.array(out["periods"]),
+        "change": np.array(out["change"]),
         "carrier_speeds": speeds,
         "mesh_frequency_Hz": model.z_ring * speeds / (2 * np.pi),
     }
+    if samples_per_period:
+        sm = np.array(out["sampled"])
+        res.update(sun_sampled=sm[:, :n], ring_sampled=sm[:, n:2 * n], pair_sampled=sm[:, 2 * n])
+    return res
 
 
-DEFAULT_CARRIER_SPEEDS = None  # set below, after the modes are known
+def _pre_entry(model: TwoStageReference, st: SteadyState, carrier_speed: float) -> np.ndarray:
+    """Each mesh's largest force at the left limit of an instant where one of its pairs enters
+    (N), (2N + 1,)."""
+    v = model.travel_speeds(carrier_speed)
+    out = np.zeros(len(v))
+    for m, (p, s0, vi) in enumerate(zip(model.pairs_list, model.offsets, v)):
+        t = np.mod(-s0, p.base_pitch) / vi
+        while t < st.period * (1 - 1e-12):
+            # the segment ending at t (the last one for an entry at t = 0: periodicity)
+            seg = next((g for g in st.segments if abs(g[1] - t) <= 1e-12 * st.period),
+                       st.segments[-1])
+            out[m] = max(out[m], st.forces_in_segment(seg, np.array([seg[1]]))[m, 0])
+            t += p.base_pitch / vi
+    return out
+
+
+# The stage-1 mesh frequency z_r Omega_c / 2 pi = 12.73 Omega_c Hz of each default speed, against
+# the modes of the specification's system (448.5, 1199.2, 3137.5, 4389.8, 4996.4 x3, 5492.3,
+# 11022.6 Hz; mesh-dominated, i.e. over half their strain energy in the meshes: 4389.8, the three
+# planet modes at 4996.4 (orthogonal to the in-phase meshing: not excited), 5492.3, 11022.6):
+#   3 rad/s   ->   38 Hz  slow (quasi-static: 1/115 of the lowest mode)
+#   170       -> 2165 Hz  the pair's mesh frequency (2 x) 1.4 % below the 4389.8 Hz mode
+#   260       -> 3310 Hz  between the 3137.5 and 4389.8 Hz modes
+#   338       -> 4304 Hz  2.0 % below the 4389.8 Hz mode (within 5 % of a resonance)
+#   370       -> 4711 Hz  between 4389.8 and 4996.4
+#   392       -> 4991 Hz  on the planet modes (not excited: a check of the phasing)
+#   431       -> 5487 Hz  0.1 % below the 5492.3 Hz mode
+#   510       -> 6494 Hz  above the three
+DEFAULT_CARRIER_SPEEDS = (3.0, 170.0, 260.0, 338.0, 370.0, 392.0, 431.0, 510.0)
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {k: _jsonable(v) for k, v in x.items()}
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    return x
 
 
 def _main(argv=None) -> int:
+    """Print the table and write docs/bench/two_stage_reference.json (from the checkout root)."""
+    import time
+
     model = TwoStageReference()
-    res = reference_dynamic_factors(DEFAULT_CARRIER_SPEEDS, model)
-    print(res)
+    t0 = time.perf_counter()
+    res = reference_dynamic_factors(DEFAULT_CARRIER_SPEEDS, model, samples_per_period=64)
+    wall = time.perf_counter() - t0
+    geo = {name: {"contact_ratio": p.contact_ratio, "path_length_m": p.path_length,
+                  "base_radii_m": p.base_radii, "tip_radii_m": p.tip_radii,
+                  "centre_distance_m": p.centre_distance, "base_pitch_m": p.base_pitch}
+           for name, p in (("sun_planet", model.sun_planet), ("planet_ring", model.planet_ring),
+                           ("gear_pinion", model.gear_pinion))}
+    print("modes (Hz):", " ".join(f"{f:.1f}" for f in res["modes_Hz"]))
+    print("mesh energy share:", " ".join(f"{e:.2f}" for e in res["mesh_energy"]))
+    print("contact ratios:", {k: round(v["contact_ratio"], 4) for k, v in geo.items()})
+    print(f"sun-ring offset {model.derived_sun_ring_offset * 1e3:.4f} mm "
+          f"({model.derived_sun_ring_offset / model.sun_planet.base_pitch:.4f} p_b)")
+    print("static forces (N):", res["static"])
+    print(f"{'Omega_c':>8} {'f_mesh1':>8} {'DF sun':>8} {'DF ring':>8} {'DF pair':>8} "
+          f"{'sun@64':>8} {'ring@64':>8} {'pair@64':>8} {'periods':>7}")
+    for i, w in enumerate(res["carrier_speeds"]):
+        print(f"{w:8.1f} {res['mesh_frequency_Hz'][i]:8.1f} {res['sun'][i, 0]:8.4f} "
+              f"{res['ring'][i, 0]:8.4f} {res['pair'][i]:8.4f} {res['sun_sampled'][i, 0]:8.4f} "
+              f"{res['ring_sampled'][i, 0]:8.4f} {res['pair_sampled'][i]:8.4f} "
+              f"{res['periods'][i]:7d}")
+    data = {
+        "what": "two-stage coupled example, independent numpy/scipy reference "
+                "(benchmarks/_two_stage_reference.py): per-mesh dynamic factors",
+        "spec": "session 42 shared spec (two_stage_spec.md)",
+        "integrator": "scipy solve_ivp DOP853 rtol 1e-10, segmented at the stiffness jumps, "
+                      "from the static state until the period-to-period change < 1e-6",
+        "df_definition": "max over the steady stage-1 mesh period of the mesh force (continuous "
+                         "time, jump instants included) / static force; *_sampled: the max of "
+                         "the forces at (i + 1/2) T1 / 64",
+        "sun_ring_offset_m": model.derived_sun_ring_offset,
+        "pair_offset_m": model.pair_offset,
+        "geometry": geo,
+        "wall_s": wall,
+        **_jsonable(res),
+    }
+    out = pathlib.Path("docs/bench/two_stage_reference.json")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(data, indent=1) + "\n", encoding="utf-8")
+    print(f"wrote {out} ({wall:.0f} s)")
     return 0
 
 
