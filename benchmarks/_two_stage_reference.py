@@ -316,7 +316,8 @@ class TwoStageReference:
         g_s = self.z_sun * psi / (2 * np.pi)
         g_r = self.z_ring * psi / (2 * np.pi)
         off = np.concatenate([-g_s * pb, d_rs + g_r * pb, [self.pair_offset]])
-        frac = np.mod(np.round(off / pb, 9), 1.0)  # whole pitches' round-off to 0
+        frac = np.mod(off / pb, 1.0)
+        frac[(frac < 1e-9) | (frac > 1 - 1e-9)] = 0.0  # whole pitches (round-off) to 0
         return frac * pb
 
     # -- matrices -----------------------------------------------------------------------------
