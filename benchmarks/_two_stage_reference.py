@@ -17,7 +17,7 @@ ratio eps = g / p_b:
     internal: g = sqrt(r_a1^2 - r_b1^2) - sqrt(r_a2^2 - r_b2^2) + a sin alpha   (2: the ring)
 
 (ISO 21771 eq. (141)/(142) with alpha_wt = alpha). For the specification's gears: sun-planet
-eps = 1.6052, ring-planet 1.9382, gear-pinion 1.6348.
+eps = 1.6052, ring-planet 1.9380, gear-pinion 1.6348.
 
 Contact length. With a constant stiffness k_u per unit contact length the mesh force is
 F = max(0, k_u L(s) delta), L = b n(s), s (m) the travel of the contact lines along the line of
@@ -41,11 +41,10 @@ z_r Omega_c / 2 pi; the pair's at v2 = r_bg omega_s, mesh frequency 32 * 5 Omega
 stage 1's, so that the coupled steady state repeats every stage-1 mesh period T1 = p_b / v1.
 
 Lines of action and phasing. Angles counter-clockwise (CCW), planet 1 on the carrier's x axis,
-the carrier input torque CCW. In the carrier frame the sun turns CCW and is the driven member:
-the planet loads the sun's clockwise-facing flanks, the ring loads the planet's CW-facing...
-precisely: the sun-planet line of action touches the sun's base circle at the angle +alpha
-(from the sun's centre) and the planet's at pi + alpha (from the planet's centre); the
-ring-planet line touches the planet's base circle at -alpha and the ring's at -alpha. Writing
+the carrier input torque CCW. In the carrier frame the sun turns CCW and is driven (the planet
+pushes it CCW), the ring turns CW and drives the planet: the sun-planet line of action touches
+the sun's base circle at the angle +alpha (from the sun's centre) and the planet's at
+pi + alpha (from the planet's centre); the ring-planet line touches the planet's base circle at -alpha and the ring's at -alpha. Writing
 a flank's contact point as its roll distance from the planet's tangent point (the involute's
 unwound string, Litvin & Fuentes ch. 10), with tau a planet tooth's centre angle, theta_p the
 planet's rotation relative to the carrier, psi_b = pi/z_p + 2 inv(alpha) the base thickness
@@ -63,12 +62,12 @@ mesh by
                - r_bp (pi + 2 alpha) - s_bp     (mod p_b),   s_bp = r_bp psi_b,
 
 independent of tau and theta_p (pi r_bp = z_p p_b / 2: zero for an even z_p, half a pitch for an
-odd one). For the specification: Delta_rs = 6.4747 mm = 0.5483 p_b (Parker & Lin's sun-ring
+odd one). For the specification: Delta_rs = 6.4751 mm = 0.5483 p_b (Parker & Lin's sun-ring
 phase gamma_rs, R. G. Parker and J. Lin, "Mesh phasing relationships in planetary and epicyclic
 gears", J. Mech. Des. 126 (2004) 365-370, there derived for the sun-driving direction). Check:
 the sun-driving load direction (the sun pushes the planet) is this one mirrored and run
-backwards in time, which maps each s to g - s: its offset is g_r - g_s - Delta_rs = 9.266 mm
-(mod p_b); this file's Delta_rs belongs to the carrier-in, sun-out direction of the
+backwards in time, which maps each s to g - s: its offset is g_r - g_s - Delta_rs = 9.2638 mm
+(mod p_b; tests/test_two_stage_reference.py derives Delta_rs this second way); this file's Delta_rs belongs to the carrier-in, sun-out direction of the
 specification (the planet pushes the sun) and differs from it.
 
 Planet n at psi_n: turning the whole picture by psi_n shows that its sun mesh is planet 1's
@@ -120,6 +119,7 @@ segment, refined by a bounded scalar search) over its static force.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 import pathlib
@@ -231,8 +231,12 @@ class SpurPair:
         return np.where(np.mod(s, self.base_pitch) < self.path_length - self.base_pitch, 2, 1)
 
 
-def spur_pair(z1, z2, module=4e-3, pressure_angle=math.radians(20.0), face_width=0.05,
+_ALPHA_20 = math.radians(20.0)
+
+
+def spur_pair(z1, z2, module=4e-3, pressure_angle=_ALPHA_20, face_width=0.05,
               internal=False) -> SpurPair:
+    """A checked :class:`SpurPair` (ValueError: interference or eps outside (1, 2))."""
     p = SpurPair(int(z1), int(z2), float(module), float(pressure_angle), float(face_width),
                  bool(internal))
     p.check()
@@ -473,7 +477,7 @@ class SteadyState:
     f_max: float = 0.0  # the highest natural frequency (Hz): sets the grids
 
     def _grid(self, t0, t1, at_least):
-        return max(at_least, int(math.ceil(24 * (t1 - t0) * self.f_max)))
+        return max(at_least, math.ceil(24 * (t1 - t0) * self.f_max))
 
     def forces_in_segment(self, seg, t) -> np.ndarray:
         """Mesh forces (N), (2N + 1, len(t)), with the segment's stiffness."""
@@ -496,12 +500,22 @@ class SteadyState:
                 fm = F[m, i]
                 if refine and 0 < i < n:
                     r = minimize_scalar(
-                        lambda t: -self.forces_in_segment(seg, np.array([t]))[m, 0],
+                        lambda t, seg=seg, m=m: -self.forces_in_segment(
+                            seg, np.array([t]))[m, 0],
                         bounds=(ts[i - 1], ts[i + 1]), method="bounded",
                         options={"xatol": 1e-12 * self.period})
                     fm = max(fm, -r.fun)
                 best[m] = max(best[m], fm)
         return best
+
+    def min_forces(self, grid: int = 64) -> np.ndarray:
+        """Each mesh's minimum force over the period on the grid of :meth:`max_forces` (N),
+        (2N + 1,): 0 where the mesh loses contact."""
+        low = np.full(self.rows.shape[0], np.inf)
+        for seg in self.segments:
+            ts = np.linspace(seg[0], seg[1], self._grid(seg[0], seg[1], grid) + 1)
+            low = np.minimum(low, self.forces_in_segment(seg, ts).min(axis=1))
+        return low
 
     def mean_forces(self, grid: int = 256) -> np.ndarray:
         """Each mesh's period-mean force (N), (2N + 1,) (Simpson's rule per segment, at least
@@ -550,7 +564,7 @@ def _integrate(model: TwoStageReference, period: float, breaks, k_of_t, forcing=
     atol = np.concatenate([np.full(nd, 1e-3 * rtol * scale_th),
                            np.full(nd, 1e-3 * rtol * scale_th * w_max)])
     fscale = model.static_forces
-    ks = [k_of_t(0.5 * (a + b)) for a, b in zip(breaks[:-1], breaks[1:])]
+    ks = [k_of_t(0.5 * (a + b)) for a, b in itertools.pairwise(breaks)]
 
     def rhs_factory(k, t_base):
         def rhs(t, y):
@@ -573,7 +587,7 @@ def _integrate(model: TwoStageReference, period: float, breaks, k_of_t, forcing=
     def one_period(y, dense):
         """(end state, forces at both ends of every segment (2 n_seg, 2N + 1), segments)."""
         segs, ends = [], []
-        for (a, b), k in zip(zip(breaks[:-1], breaks[1:]), ks):
+        for (a, b), k in zip(itertools.pairwise(breaks), ks, strict=True):
             extra = {} if method in ("DOP853", "RK45") else {"jac": jac_factory(k)}
             sol = solve_ivp(rhs_factory(k, 0.0), (a, b), y, method=method, rtol=rtol,
                             atol=atol, dense_output=dense, **extra)
@@ -646,7 +660,8 @@ def reference_dynamic_factors(carrier_speeds, model: TwoStageReference | None = 
         maximum force over the steady period (continuous time, the jump instants included) /
         its static force; "pair" (S,); "static": the static forces (N) {"sun", "ring",
         "pair"}; "modes_Hz": the natural frequencies (Hz) of (M, K_s + K_mesh_mean), (n_dof,);
-        "mesh_energy": each mode's share of strain energy in the meshes; "mean_ratio"
+        "mesh_energy": each mode's share of strain energy in the meshes; "min_ratio"
+        (S, 2N + 1): minimum force / static (0: the mesh loses contact); "mean_ratio"
         (S, 2N + 1): period-mean force / static force (1 in a periodic steady state: a check);
         "pre_entry_ratio" (S, 2N + 1): the largest force just before a pair enters / static
         (the factor is 2 x this where the entry jump sets the maximum); "periods" (S,);
@@ -664,10 +679,11 @@ def reference_dynamic_factors(carrier_speeds, model: TwoStageReference | None = 
                          "of range: allowed finite values > 0")
     n = model.n_planets
     F0 = model.static_forces
-    out = {k: [] for k in ("df", "mean", "pre", "periods", "change", "sampled")}
+    out = {k: [] for k in ("df", "min", "mean", "pre", "periods", "change", "sampled")}
     for w in speeds:
         st = steady_state(model, float(w), **kw)
         out["df"].append(st.max_forces() / F0)
+        out["min"].append(st.min_forces() / F0)
         out["mean"].append(st.mean_forces() / F0)
         out["pre"].append(_pre_entry(model, st, float(w)) / F0)
         out["periods"].append(st.periods)
@@ -683,6 +699,7 @@ def reference_dynamic_factors(carrier_speeds, model: TwoStageReference | None = 
         "static": {"sun": float(F0[0]), "ring": float(F0[n]), "pair": float(F0[2 * n])},
         "modes_Hz": model.modes_hz,
         "mesh_energy": model.mesh_energy_fractions(),
+        "min_ratio": np.array(out["min"]),
         "mean_ratio": np.array(out["mean"]),
         "pre_entry_ratio": np.array(out["pre"]),
         "periods": np.array(out["periods"]),
@@ -737,6 +754,11 @@ def _jsonable(x):
     return x
 
 
+def _lost(min_ratio) -> str:
+    lost = [n for n, j in (("sun", 0), ("ring", 4), ("pair", 8)) if min_ratio[j] == 0]
+    return ",".join(lost) or "-"
+
+
 def _main(argv=None) -> int:
     """Print the table and write docs/bench/two_stage_reference.json (from the checkout root)."""
     import time
@@ -757,12 +779,12 @@ def _main(argv=None) -> int:
           f"({model.derived_sun_ring_offset / model.sun_planet.base_pitch:.4f} p_b)")
     print("static forces (N):", res["static"])
     print(f"{'Omega_c':>8} {'f_mesh1':>8} {'DF sun':>8} {'DF ring':>8} {'DF pair':>8} "
-          f"{'sun@64':>8} {'ring@64':>8} {'pair@64':>8} {'periods':>7}")
+          f"{'sun@64':>8} {'ring@64':>8} {'pair@64':>8} {'periods':>7} {'contact loss':>12}")
     for i, w in enumerate(res["carrier_speeds"]):
         print(f"{w:8.1f} {res['mesh_frequency_Hz'][i]:8.1f} {res['sun'][i, 0]:8.4f} "
               f"{res['ring'][i, 0]:8.4f} {res['pair'][i]:8.4f} {res['sun_sampled'][i, 0]:8.4f} "
               f"{res['ring_sampled'][i, 0]:8.4f} {res['pair_sampled'][i]:8.4f} "
-              f"{res['periods'][i]:7d}")
+              f"{res['periods'][i]:7d} {_lost(res['min_ratio'][i]):>12}")
     data = {
         "what": "two-stage coupled example, independent numpy/scipy reference "
                 "(benchmarks/_two_stage_reference.py): per-mesh dynamic factors",
