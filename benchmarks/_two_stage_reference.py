@@ -44,7 +44,8 @@ Lines of action and phasing. Angles counter-clockwise (CCW), planet 1 on the car
 the carrier input torque CCW. In the carrier frame the sun turns CCW and is driven (the planet
 pushes it CCW), the ring turns CW and drives the planet: the sun-planet line of action touches
 the sun's base circle at the angle +alpha (from the sun's centre) and the planet's at
-pi + alpha (from the planet's centre); the ring-planet line touches the planet's base circle at -alpha and the ring's at -alpha. Writing
+pi + alpha (from the planet's centre); the ring-planet line touches the planet's base circle
+at -alpha and the ring's at -alpha. Writing
 a flank's contact point as its roll distance from the planet's tangent point (the involute's
 unwound string, Litvin & Fuentes ch. 10), with tau a planet tooth's centre angle, theta_p the
 planet's rotation relative to the carrier, psi_b = pi/z_p + 2 inv(alpha) the base thickness
@@ -67,14 +68,16 @@ phase gamma_rs, R. G. Parker and J. Lin, "Mesh phasing relationships in planetar
 gears", J. Mech. Des. 126 (2004) 365-370, there derived for the sun-driving direction). Check:
 the sun-driving load direction (the sun pushes the planet) is this one mirrored and run
 backwards in time, which maps each s to g - s: its offset is g_r - g_s - Delta_rs = 9.2638 mm
-(mod p_b; tests/test_two_stage_reference.py derives Delta_rs this second way); this file's Delta_rs belongs to the carrier-in, sun-out direction of the
-specification (the planet pushes the sun) and differs from it.
+(mod p_b; tests/test_two_stage_reference.py derives Delta_rs this second way); this file's
+Delta_rs belongs to the carrier-in, sun-out direction of the specification (the planet pushes
+the sun) and differs from it.
 
 Planet n at psi_n: turning the whole picture by psi_n shows that its sun mesh is planet 1's
 with the sun turned back by psi_n, s_sn = s_s1 - (z_s psi_n / 2 pi) p_b, and its ring mesh planet
 1's with the ring turned back by psi_n, s_rn = s_r1 + (z_r psi_n / 2 pi) p_b (the ring turns CW
-relative to the carrier) (Parker & Lin 2004, eqs. (8)-(9): gamma_sn = z_s psi_n / 2 pi,
-gamma_rn = -z_r psi_n / 2 pi in their sign convention). Here z_s psi_n / 2 pi = 5 (n-1) and
+relative to the carrier): Parker & Lin's (2004) relative phases gamma_sn = z_s psi_n / 2 pi and
+gamma_rn = -z_r psi_n / 2 pi (mod 1, fractions of a mesh period; their signs follow the sense of
+rotation). Here z_s psi_n / 2 pi = 5 (n-1) and
 z_r psi_n / 2 pi = 20 (n-1) are integers: all four planets mesh in phase. The pair's travel at
 the instant planet 1's sun mesh engages is a free choice of assembly (``pair_offset``, default 0:
 both engage at t = 0).
