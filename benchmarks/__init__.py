@@ -45,6 +45,14 @@ from ._processes import free_port as free_port, run_processes as run_processes
 from ._quasi_static import bench_quasi_static as bench_quasi_static
 from ._robust import bench_robust as bench_robust
 from ._stiffness import bench_stiffness as bench_stiffness
+from ._two_stage_reference import (
+    DEFAULT_CARRIER_SPEEDS as TWO_STAGE_SPEEDS,
+    TwoStageReference as TwoStageReference,
+    harmonic_steady_state as two_stage_harmonic_state,
+    reference_dynamic_factors as two_stage_dynamic_factors,
+    spur_pair as reference_spur_pair,
+    steady_state as two_stage_steady_state,
+)
 from ._train_cost import bench_trains as bench_trains, train_cost_chart as train_cost_chart
 from ._xla_cache import (
     bench_xla_cache as bench_xla_cache,
