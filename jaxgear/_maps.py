@@ -12,6 +12,7 @@ import numpy as np
 from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
 from ._quasi_static import QuasiStaticResult, quasi_static
+from ._results import ContactResult, raise_if_failed
 from .scenes import cache_window_compliance
 
 __all__ = ["harris_map", "load_map"]
@@ -70,8 +71,13 @@ def harris_map(
     mesh = cache_window_compliance(mesh, positions_per_pitch=positions_per_pitch)
 
     def ptp(t):
-        return quasi_static(
-            mesh, mods, t, contact=contact, positions_per_pitch=positions_per_pitch
-        ).te_ptp
+        r = quasi_static(
+            mesh, mods, t, contact=contact, positions_per_pitch=positions_per_pitch, throw=False
+        )
+        return r.te_ptp, r.result
 
-    return np.asarray(jax.vmap(ptp)(jnp.asarray(torques)))
+    te, result = jax.vmap(ptp)(jnp.asarray(torques))
+    # the result codes read on the host: the vmapped solve then holds no eqx.error_if callback,
+    # which JAX's persistent compilation cache does not store (a second run reads it back)
+    raise_if_failed(result, ContactResult, "harris_map")
+    return np.asarray(te)

@@ -40,6 +40,8 @@ START = "jaxgear run: starting (loading and compiling)..."
         ["robust", "--help"],
         ["modes", "--help"],
         ["cases", "--help"],
+        ["optimise", "--help"],
+        ["master-curve", "--help"],
     ],
 )
 def test_help_version_and_cases_load_no_model(args):
@@ -74,6 +76,49 @@ def test_run_says_it_is_starting_before_the_model_loads(tmp_path):
     assert own and lines[own[0]] == START, lines[-5:]
     for module in ("jax", "equinox", "jaxgear.io"):
         assert imported[module] > own[0], module
+
+
+def test_optimise_choices_are_the_model_names():
+    """``optimise``'s choices are declared without the model (so that its ``--help`` loads
+    none): those its help shows are the names :mod:`jaxgear.io` and :mod:`optimise` map to
+    objects."""
+    import optimise
+
+    import jaxgear.io as jio
+
+    proc = subprocess.run(
+        [sys.executable, "-c", ENTRY, "optimise", "--help"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=300,
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    text = " ".join(proc.stdout.split())
+
+    def choices(option):
+        found = re.search(re.escape(option) + r" \{([^}]*)\}", text)
+        assert found, option
+        return set(found[1].split(","))
+
+    assert choices("--objective") == set(jio.OBJECTIVES)
+    assert choices("--method") == set(jio.OPTIMISERS)
+    assert choices("--reduce") == set(jio.STATISTICS)
+    listed = re.search(r"\(allowed: ([^)]*), optionally", text)
+    assert listed and set(listed[1].split(", ")) == set(optimise.VARIABLES)
+
+
+def test_optimise_refuses_an_unknown_objective_before_the_model_loads():
+    proc = subprocess.run(
+        [sys.executable, "-c", PROBE, "optimise", "accessory-spur", "--objective", "nope"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        timeout=300,
+    )
+    assert proc.returncode == 2
+    assert "--objective" in proc.stderr and "te_rms" in proc.stderr
+    assert proc.stderr.strip().splitlines()[-1] == "LOADED"  # refused before any import
 
 
 def test_help_prints_no_start_line():

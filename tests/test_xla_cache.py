@@ -32,6 +32,9 @@ with open(sys.argv[1], "w") as f:
 HITS = "/jax/compilation_cache/cache_hits"
 MISSES = "/jax/compilation_cache/cache_misses"  # a program compiled and written to the cache
 USING = "/jax/compilation_cache/tasks_using_cache"
+# every program asked of the cache: those not read back were compiled in the run (a program
+# JAX does not write, one holding a Python callback such as eqx.error_if's, is one each run)
+REQUESTS = "/jax/compilation_cache/compile_requests_use_cache"
 
 
 def _run(tmp_path, cache, name):
@@ -69,6 +72,8 @@ def test_second_run_compiles_nothing_again(tmp_path):
     assert second.get(USING) == 1
     assert second.get(MISSES, 0) == 0  # nothing the first run cached was compiled again
     assert second.get(HITS, 0) == written + first.get(HITS, 0)
+    # and nothing was compiled at all: every program asked for was read back
+    assert second.get(REQUESTS, 0) == second.get(HITS, 0)
     # read-back programs give the same numbers as freshly compiled ones
     assert json.loads((out2 / "summary.json").read_text()) == json.loads(
         (out1 / "summary.json").read_text()

@@ -2,8 +2,7 @@
 
 The command line is parsed and its options checked before the model is imported: this module
 imports neither JAX nor equinox, so that ``jaxgear --help``, ``--version``, a subcommand's
-``--help`` (but ``optimise``'s and ``master-curve``'s, whose choices are :mod:`jaxgear.io`'s
-names) and ``jaxgear cases`` answer at once (the console script, :mod:`jaxgear_start`, defers
+``--help`` and ``jaxgear cases`` answer at once (the console script, :mod:`jaxgear_start`, defers
 the model package itself, and :func:`main` loads it for a command that needs it).
 
 The CLI is an entry point, so it switches float64 on (library modules never do) and JAX's
@@ -114,8 +113,7 @@ def main(
     """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted).
 
     ``load_model(command)``: called once a command that needs the model
-    (:attr:`~jaxgear.cli._parser.Command.model`) has its options checked, or before the
-    parser of one whose options need it (``optimise``, ``master-curve``); the console script
+    (:attr:`~jaxgear.cli._parser.Command.model`) has its options checked; the console script
     passes the function that loads the model package it deferred. None: the model is
     loaded already (``from jaxgear.cli import main``).
 
@@ -124,14 +122,9 @@ def main(
     saved = warnings.showwarning
     warnings.showwarning = _show_warning
     argv = sys.argv[1:] if argv is None else list(argv)
-    name = command_of(argv)
-    command = COMMANDS.get(name)
     try:
-        if command is not None and command.model_options and load_model is not None:
-            load_model(name)  # the parser's choices are jaxgear.io's names
-            load_model = None
         try:
-            args = build_parser(name).parse_args(argv)
+            args = build_parser(command_of(argv)).parse_args(argv)
         except SystemExit as err:  # --help, --version (0), or argparse's usage error (2)
             return int(err.code or 0)
         try:

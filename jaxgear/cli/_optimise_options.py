@@ -1,15 +1,47 @@
 """The options of ``jaxgear optimise`` and ``jaxgear master-curve`` (argparse only: the commands
-themselves live in :mod:`._optimise`, loaded when they run). The choices are the names
-:mod:`jaxgear.io` maps to objects (objectives, statistics, optimisers) and the design-variable
-names of :mod:`optimise`."""
+themselves live in :mod:`._optimise`, loaded when they run). This module imports neither the
+model nor JAX, so that both commands' ``--help`` answers at once and their options are checked
+before the model loads: the choices are the names as the command line shows them, of what
+:mod:`jaxgear.io` maps to objects (``OBJECTIVES``, ``STATISTICS``, ``OPTIMISERS``) and of
+:data:`optimise.VARIABLES` (the design variables); the test suite holds each tuple here to
+the keys there."""
 
 from __future__ import annotations
 
-from optimise import VARIABLES
+__all__ = [
+    "OBJECTIVE_NAMES",
+    "OPTIMISER_NAMES",
+    "STATISTIC_NAMES",
+    "VARIABLE_NAMES",
+    "add_master_curve_arguments",
+    "add_optimise_arguments",
+]
 
-from ..io import OBJECTIVES, OPTIMISERS, STATISTICS
-
-__all__ = ["add_master_curve_arguments", "add_optimise_arguments"]
+#: ``--objective``: the keys of :data:`jaxgear.io.OBJECTIVES`
+OBJECTIVE_NAMES = (
+    "te_rms",
+    "te_ptp",
+    "robust_te_rms",
+    "max_line_load",
+    "load_centroid",
+    "line_load_lp",
+    "dynamic_factor",
+    "least_safety",
+)
+#: ``--reduce``: the keys of :data:`jaxgear.io.STATISTICS`
+STATISTIC_NAMES = ("max", "mean")
+#: ``--method``: the keys of :data:`jaxgear.io.OPTIMISERS`
+OPTIMISER_NAMES = ("lbfgs", "adam")
+#: ``--vars``: the keys of :data:`optimise.VARIABLES`
+VARIABLE_NAMES = (
+    "tip_relief.depth",
+    "tip_relief.extent",
+    "root_relief.depth",
+    "root_relief.extent",
+    "crowning.depth",
+    "end_relief.depth",
+    "end_relief.extent",
+)
 
 
 def add_optimise_arguments(o) -> None:
@@ -19,7 +51,7 @@ def add_optimise_arguments(o) -> None:
     o.add_argument("case", help="TOML case file or embedded case name")
     o.add_argument(
         "--objective",
-        choices=list(OBJECTIVES),
+        choices=OBJECTIVE_NAMES,
         help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
         "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
         "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
@@ -34,7 +66,7 @@ def add_optimise_arguments(o) -> None:
     o.add_argument(
         "--vars",
         help="comma-separated design variables, e.g. tip_relief.depth,tip_relief.extent "
-        f"(allowed: {', '.join(VARIABLES)}, optionally prefixed pinion./gear.; default: the "
+        f"(allowed: {', '.join(VARIABLE_NAMES)}, optionally prefixed pinion./gear.; default: the "
         "case's [optimise] vars, else tip_relief.depth,tip_relief.extent)",
     )
     o.add_argument(
@@ -71,11 +103,11 @@ def add_optimise_arguments(o) -> None:
     )
     o.add_argument(
         "--reduce",
-        choices=list(STATISTICS),
+        choices=STATISTIC_NAMES,
         help="robust_te_rms: worst case or mean over the torques (default: the case's "
         "[optimise], else the worst case)",
     )
-    o.add_argument("--method", choices=list(OPTIMISERS), help="optimiser (default lbfgs)")
+    o.add_argument("--method", choices=OPTIMISER_NAMES, help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
     o.add_argument("--out", help="output folder (default jaxgear-out/<case>/optimise)")
     o.add_argument(

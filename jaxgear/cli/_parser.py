@@ -1,15 +1,13 @@
 """The ``jaxgear`` command line's options and its table of commands.
 
 Every subcommand's options are declared here and nothing is computed (``optimise`` and
-``master-curve`` declare theirs in :mod:`._optimise_options`, which reads the objective and
-optimiser names from :mod:`jaxgear.io`). Each command is a name in :data:`COMMANDS`, mapped to the function that
+``master-curve`` declare theirs in :mod:`._optimise_options`, which imports nothing either). Each command is a name in :data:`COMMANDS`, mapped to the function that
 runs it as ``"module:function"``; :func:`jaxgear.cli.main` imports that module once, after the
 options are checked (:func:`._options.check_options`).
 
 This module imports neither the model nor JAX: :func:`build_parser` adds the options of the
 one subcommand on the command line (:func:`command_of`), so that ``jaxgear --help`` and a
-subcommand's ``--help`` need nothing else (``optimise``'s and ``master-curve``'s need
-:mod:`jaxgear.io`, :attr:`Command.model_options`). Speeds: ``--speeds``/``--speed`` in rad/s,
+subcommand's ``--help`` need nothing else. Speeds: ``--speeds``/``--speed`` in rad/s,
 ``--speeds-rpm``/``--speed-rpm`` in 1/min (the case files' ``speed_rpm``), one or the other.
 """
 
@@ -37,22 +35,20 @@ class Command:
     the parsed arguments, returns the exit status); whether it computes with JAX (float64
     and the persistent compilation cache are switched on before it runs: all but ``prep`` and
     ``cases``); whether it needs the model (the package :mod:`jaxgear`, JAX and equinox,
-    loaded before it runs: all but ``cases``, which reads the case files' text only); whether
-    its options need it (``optimise``, ``master-curve``: their choices are :mod:`jaxgear.io`'s
-    names, loaded before their parser is built, ``--help`` included)."""
+    loaded before it runs, its options checked: all but ``cases``, which reads the case files'
+    text only)."""
 
     target: str
     jax: bool = True
     model: bool = True
-    model_options: bool = False
 
 
 #: every subcommand by its name on the command line
 COMMANDS = {
     "run": Command("jaxgear.cli.run:run_command"),
     "cases": Command("jaxgear.cli.cases:run_cases", jax=False, model=False),
-    "optimise": Command("jaxgear.cli._optimise:run_optimise", model_options=True),
-    "master-curve": Command("jaxgear.cli._optimise:run_master_curve", model_options=True),
+    "optimise": Command("jaxgear.cli._optimise:run_optimise"),
+    "master-curve": Command("jaxgear.cli._optimise:run_master_curve"),
     "sweep": Command("jaxgear.cli.sweep:run_sweep"),
     "modes": Command("jaxgear.cli.modes:run_modes"),
     "robust": Command("jaxgear.cli.robust:run_robust"),
@@ -139,8 +135,7 @@ def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
     """The parser of ``jaxgear``: one subparser per :data:`COMMANDS` entry; ``args.command`` is
     the subcommand's name; ``args.out`` and ``args.json`` are None where a command has no such
     option. ``command``: the subcommand whose options are added (:func:`command_of` of the
-    command line; None: none, for ``jaxgear --help``); :data:`ALL` (default) every one's,
-    ``optimise``'s and ``master-curve``'s loading the model (:attr:`Command.model_options`)."""
+    command line; None: none, for ``jaxgear --help``); :data:`ALL` (default) every one's."""
     p = argparse.ArgumentParser(
         prog="jaxgear",
         description=textwrap.fill(
@@ -171,7 +166,6 @@ def _add_prep(pr) -> None:
 
 
 def _add_optimise(o) -> None:
-    # imported here: the choices are jaxgear.io's names (the model is loaded for these)
     from ._optimise_options import add_optimise_arguments
 
     add_optimise_arguments(o)

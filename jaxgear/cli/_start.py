@@ -4,8 +4,8 @@ line ``jaxgear COMMAND: starting (loading and compiling)...`` on stderr before t
 equinox, the optimisers) is loaded and the command compiles, which together take seconds;
 :func:`jaxgear.cli._main.main` runs it.
 
-``jaxgear --help``, ``--version``, a subcommand's ``--help`` (but ``optimise``'s and
-``master-curve``'s) and ``jaxgear cases`` load neither the model nor JAX.
+``jaxgear --help``, ``--version``, every subcommand's ``--help`` and ``jaxgear cases`` load
+neither the model nor JAX.
 """
 
 from __future__ import annotations

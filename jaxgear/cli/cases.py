@@ -16,8 +16,12 @@ __all__ = ["CASE_INDEX", "MEASURED", "case_table", "run_cases"]
 MEASURED = (
     "wall time of `jaxgear run CASE --quiet`, first run (empty compilation cache) and second, on "
     "an idle 2-core CPU (AMD EPYC), measured 2026-11-27 (docs/bench/bench_run_cases_idle*.json); "
-    "'~' marks an estimate (measured under load: idle wall time taken as 3/4 of the CPU seconds "
-    "of docs/bench/bench_run_cases.json, 2026-11-26)"
+    "'~' marks an estimate from the CPU seconds (user + system) of both runs measured on the same "
+    "machine under load (1-minute load average 2.6-13.6) on 2026-11-28 "
+    "(docs/bench/bench_run_cases_loaded_s42.json): idle wall time taken as 0.76 of the first "
+    "run's CPU seconds and 0.85 of the second's, the medians of those ratios over the cases "
+    "measured idle (0.71-0.80 and 0.77-1.02). Under load, wall time is several times longer "
+    "(nrel-5mw-planetary: 703 s and 217 s at a load of 8-14)"
 )
 
 #: name -> (what the case is: :func:`jaxgear.cli.case_line`; rated: ``yes`` where its file has
@@ -57,8 +61,8 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         "planetary z sun 28, ring 92 (lumped), 3 planets, ring fixed, sun → carrier, T 100 N·m "
         "(input)",
         "-",
-        7,
-        6,
+        17,
+        15,
         False,
     ),
     "nrel-5mw-gearbox": (
@@ -72,8 +76,8 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
     "nrel-5mw-planetary": (
         "planetary z 19/17/-56, 3 planets, ring fixed, carrier → sun, T 3.946e+06 N·m (input)",
         "yes",
-        9,
-        8,
+        76,
+        37,
         False,
     ),
     "nrel-5mw-stage2": (
@@ -135,8 +139,9 @@ def case_table() -> list[str]:
     widths = [max(len(r[k]) for r in rows) for k in range(3)]
     lines = ["  ".join(c.ljust(w) for c, w in zip(r[:3], widths)) + "  " + r[3] for r in rows]
     lines.append(
-        "RUN: jaxgear run CASE, first run / second run (compilation cache filled), idle 2-core "
-        "CPU; '~' an estimate. RATED: writes rating.md."
+        "RUN: jaxgear run CASE, first run / second run (compilation cache filled), wall seconds "
+        "on an idle 2-core CPU (several times longer on a loaded one); '~' an estimate from CPU "
+        "seconds measured under load. RATED: writes rating.md."
     )
     return lines
 

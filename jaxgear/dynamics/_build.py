@@ -18,7 +18,7 @@ from jaxtyping import Array, Float
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._modifications import Modifications
 from .._quasi_static import check_operating, per_mesh_modifications
-from .._util import check_instance, check_integer
+from .._util import check_instance, check_integer, is_traced
 from ..scenes import DynamicScene, HybridPair, HybridScene
 from ._hybrid import HybridModel
 from ._lumped import DynamicModel
@@ -156,19 +156,26 @@ def _(
 
 
 def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
-    # checks on traced values (jit/vmap/grad-safe): eqx.error_if raises EquinoxRuntimeError
+    failed = (
+        "dynamic_model: the static contact solve failed at some mesh positions "
+        "(no contact or no convergence): check the load and the deviations"
+    )
+    # Concrete inputs (no outer jit, vmap or grad): the torque was checked by check_operating
+    # and the static solve's result codes are read here, on the host: an eqx.error_if on a
+    # concrete value compiles a program of its own that holds a Python callback, which JAX's
+    # persistent compilation cache does not store (a second CLI run compiled it again).
+    if not is_traced((scene, mods, torque)):
+        prep = _prepare_rows(scene, mods, torque, law, positions_per_pitch)
+        if np.any(np.asarray(prep.static_result) != 0):
+            raise eqx.EquinoxRuntimeError(failed)
+        return _averaged(scene, mods, torque, damping, prep, span)
+    # traced values (jit/vmap/grad): eqx.error_if raises EquinoxRuntimeError
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
     )
     prep = _prepare_rows(scene, mods, torque, law, positions_per_pitch)
     model = _averaged(scene, mods, torque, damping, prep, span)
-    bad = jnp.any(prep.static_result != 0)
-    kbar = eqx.error_if(
-        model.mesh_stiffness_mean,
-        bad,
-        "dynamic_model: the static contact solve failed at some mesh positions "
-        "(no contact or no convergence): check the load and the deviations",
-    )
+    kbar = eqx.error_if(model.mesh_stiffness_mean, jnp.any(prep.static_result != 0), failed)
     return eqx.tree_at(lambda m: m.mesh_stiffness_mean, model, kbar)
 
 

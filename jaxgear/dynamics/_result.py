@@ -9,8 +9,8 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from .._results import DynamicsResult, error_if_failed
-from .._util import of_the_one_mesh, only_one_mesh, rms_about_mean, safe_sqrt
+from .._results import DynamicsResult, error_if_failed, raise_if_failed
+from .._util import is_traced, of_the_one_mesh, only_one_mesh, rms_about_mean, safe_sqrt
 from ._settings import UNDER_RESOLVED_STEPS
 
 __all__ = ["DynamicResponse", "DynamicResult", "MeshDynamics", "Records", "SweepResult"]
@@ -211,7 +211,13 @@ class SweepResult(eqx.Module):
 def checked(r: DynamicResponse, name: str) -> DynamicResponse:
     """``r`` raising ``eqx.EquinoxRuntimeError`` where its result code is not 0, the check
     riding on every mesh's dynamic factor and on the code (what a caller reads: under a
-    caller's ``jax.jit`` a check on an output nobody reads would be dropped)."""
+    caller's ``jax.jit`` a check on an output nobody reads would be dropped). A concrete ``r``
+    (no caller's trace) is checked on the host: an ``eqx.error_if`` on concrete values compiles
+    a program of its own holding a Python callback, which JAX's persistent compilation cache
+    never stores (each run compiled it again)."""
+    if not is_traced(r.result):
+        raise_if_failed(r.result, DynamicsResult, name)
+        return r
 
     def guarded(x):
         return [m.dynamic_factor for m in x.meshes] + [x.result]
