@@ -76,6 +76,8 @@ from ._stage import (
     PlanetaryStage as PlanetaryStage,
     TorsionalPlanetary as TorsionalPlanetary,
     Unbalances as Unbalances,
+    central_speeds as central_speeds,
+    central_torques as central_torques,
     check_assembly as check_assembly,
     closest_planets as closest_planets,
     max_planets as max_planets,
