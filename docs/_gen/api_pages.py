@@ -43,8 +43,7 @@ SECTIONS = {
         ("Modifications and deviations", ("_modifications", "_deviations")),
         ("Scenes (re-exported)", ("_scene", "_rigid", "_torsional")),
         ("Root stress", ("_root_stress",)),
-        ("Planetary stages (re-exported from jaxgear.planetary)",
-         ("_stage", "_spatial", "_meshes", "_analysis")),
+        ("Planetary stages", ("_stage", "_spatial", "_meshes", "_analysis")),
         ("Load capacity (ISO 6336)", ("_rating*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
         ("Gearbox", ("_gearbox",)),
@@ -68,6 +67,7 @@ SECTIONS = {
         ("Flexible ring", ("_ring",)),
         ("Modes, phasing and load sharing", ("_analysis",)),
         ("Dynamics", ("_dynamics",)),
+        ("Time plan of a sweep", ("_plan",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
