@@ -15,6 +15,7 @@ __all__ = [
     "check_instance",
     "check_integer",
     "check_real",
+    "closest_circles",
     "is_traced",
     "of_the_one_mesh",
     "only_one_mesh",
@@ -322,3 +323,29 @@ def static_correction(T, Q, K, correction: bool = True):
     G = Q @ jnp.linalg.solve(0.5 * (A + A.T), Q.T)
     G = 0.5 * (G + G.T)
     return T - G @ (K @ T), G
+
+
+def closest_circles(centres, radii, pairs=None) -> tuple[int, int, float] | None:
+    """Of the circles of ``radii`` r (m, (n,)) at ``centres`` (m, (n, 2), in one plane), the
+    pair of the least clearance d − r_i − r_j: (i, j, d), 0-based, i < j, d the centres'
+    distance (m); among ``pairs`` ((i, j) with i < j; None: every pair), None where there is
+    none. Two gears in one plane that do not mesh must not overlap, d >= r_i + r_j: the one
+    rule of a train's layout (its non-meshing gears in one plane, tip radii;
+    :mod:`jaxgear.io`'s train case files) and of a planetary stage's planets
+    (:func:`jaxgear.planetary.closest_planets`). Clearances equal to 1e-12 of the largest
+    distance count as a tie, won by the first pair in (i, j) order (equally spaced planets:
+    planets 1 and 2, not a pair chosen by round-off)."""
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    r = np.asarray(radii, dtype=float).reshape(-1)
+    n = c.shape[0]
+    if pairs is None:
+        pairs = [(i, j) for i in range(n) for j in range(i + 1, n)]
+    pairs = sorted((min(p), max(p)) for p in pairs)
+    if not pairs:
+        return None
+    ij = np.asarray(pairs, dtype=int).reshape(-1, 2)
+    d = np.hypot(*(c[ij[:, 1]] - c[ij[:, 0]]).T)
+    clear = d - r[ij[:, 0]] - r[ij[:, 1]]
+    tol = 1e-12 * max(float(np.max(d)), float(np.max(np.abs(r))), 1e-300)
+    k = int(np.flatnonzero(clear <= clear.min() + tol)[0])
+    return int(ij[k, 0]), int(ij[k, 1]), float(d[k])

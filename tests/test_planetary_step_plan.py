@@ -1,5 +1,5 @@
 """The planetary sweep's time discretisation from the stage's modes
-(:func:`jaxgear.cli.planetary_sweep.time_plan`): N_s = the smallest N × 2^j >= max(64,
+(:func:`jaxgear.planetary.time_plan`): N_s = the smallest N × 2^j >= max(64,
 40 f_max / f_mesh) per speed, periods = keep + ceil(t_s f_mesh) with t_s = ln(1e3) / (ζ ω_min);
 the settled state (the last kept mesh period against the one before); the ring spectrum's turn
 from one settled mesh period where the stage repeats every mesh period in the carrier frame;
@@ -93,14 +93,14 @@ def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     case = jio.load_case("lin-parker-1999")
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
-    assert ps.carrier_periodic(stage, False) and not ps.carrier_periodic(stage, True)
+    assert jp.carrier_periodic(stage, False) and not jp.carrier_periodic(stage, True)
     ecc = eqx.tree_at(lambda s: s.eccentricities,
                       stage, jp.Eccentricities(sun=20e-6, sun_phase=0.3))
-    assert not ps.carrier_periodic(ecc, False)
+    assert not jp.carrier_periodic(ecc, False)
     modes = jp.planetary_mesh_modes(jg.PlanarPlanetary(), stage,
                                     jg.ConstantMeshes(2 * math.pi * 38.7e-3 / 28),
                                     jp.PlanetaryRun(10.0))
-    plan = ps.time_plan(modes, [100.0], spec.mesh_frequency(1.0), 3, 0.05, False)
+    plan = jp.time_plan(modes, [100.0], spec.mesh_frequency(1.0), 3, 0.05, False)
     assert plan.keep == 4
     # such a stage's ring spectrum integrates its turn (z_r mesh periods) within 2^16 steps:
     # the largest 3 x 2^j <= 65536 / 53 = 1236.5 is 768; a step within it is kept
@@ -137,7 +137,7 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)
     model, ring = jg.PlanarPlanetary(), jp.RigidRing()
-    assert ps.carrier_periodic(stage, False)
+    assert jp.carrier_periodic(stage, False)
     z_r = 53
     w = spec.speeds(30.0)
     run = jp.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
@@ -223,9 +223,9 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     program per N_s (not grouped: one)."""
     speeds = [150.0, 300.0, 900.0]
     model, stage, meshes, base, carrier, v, ring = _lumped_sweep_parts(speeds)
-    plan = ps.TimePlan(np.array([24, 12, 12]), np.array([6, 5, 4]), 2, 1.0, 1.0, 0.0,
+    plan = jp.TimePlan(np.array([24, 12, 12]), np.array([6, 5, 4]), 2, 1.0, 1.0, 0.0,
                        (False, False))
-    got = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
+    got = jp.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
     # the two speeds of 12 steps share a program: both integrate the longer span, 5 periods
     own = [6, 5, 5]
     assert got.programs == 2 and list(got.periods) == own
@@ -242,8 +242,8 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
         assert got.forces[k].shape == f.shape == (2 * int(plan.steps[k]), 6)
         assert np.max(np.abs(got.forces[k] - f)) < 1e-9 * nominal
         np.testing.assert_allclose(got.time[k], np.asarray(d.time), rtol=1e-12)
-    assert ps.speed_groups(plan, False)[0].tolist() == [0, 1, 2]
-    assert [g.tolist() for g in ps.speed_groups(plan, True)] == [[1, 2], [0]]
+    assert jp.speed_groups(plan, False)[0].tolist() == [0, 1, 2]
+    assert [g.tolist() for g in jp.speed_groups(plan, True)] == [[1, 2], [0]]
 
 
 @pytest.mark.slow  # three compiled runs of the contact-cell stage, ~30 s of CPU; fast twin:
@@ -267,11 +267,11 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
     ring = spec.ring_model.dynamic_ring()
     df = {}
     for grouped in (True, False):
-        rec = ps.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
+        rec = jp.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
         assert rec.programs == (2 if grouped else 1) and not rec.result.any()
         df[grouped] = np.array([f.max(axis=0) / rec.static_force for f in rec.forces])
     assert df[True].max() > 1.5  # dynamic: the teeth entering mesh ring the stage
-    np.testing.assert_allclose(df[True], df[False], rtol=0, atol=ps.SETTLED_TOL)
+    np.testing.assert_allclose(df[True], df[False], rtol=0, atol=jd.SETTLED_TOL)
 
 
 @pytest.mark.slow  # two compiled runs of the station model (~10 s of CPU each)

@@ -1,4 +1,4 @@
-"""The planetary sweep's time-step check (:func:`jaxgear.cli.planetary_sweep.step_resolution`):
+"""The planetary sweep's time-step check (:func:`jaxgear.planetary.step_resolution`, its warning in ``jaxgear sweep``):
 n = S f_mesh / f_max Newmark steps per period of the highest natural frequency the meshes excite
 f_max, at the lowest swept speed; below 20 (the pairs' ``under_resolved`` bound) one
 ``CaseWarning`` line names ``--steps-per-period``, its value, f_max and the default step there
@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear.cli import planetary_sweep as ps
 from jaxgear.cli.planetary import measured_k_v
 from test_planetary_step_plan import reference_plan
@@ -76,7 +77,7 @@ def test_the_warning_fires_below_twenty_steps_per_top_period_and_names_the_defau
     assert plan.steps.tolist() == [96, 96]
     with warnings.catch_warnings():
         warnings.simplefilter("error", jio.CaseWarning)
-        r3 = ps.step_resolution(plan, speeds * per, 3)
+        r3 = jp.step_resolution(plan, speeds * per, 3)
     assert r3["resolved"] and r3["automatic"] and r3["steps_per_top_period_min"] >= 40
 
 

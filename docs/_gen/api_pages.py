@@ -45,8 +45,7 @@ SECTIONS = {
                             "_weber_internal")),
         ("Modifications and deviations", ("_modifications", "_deviations")),
         ("Scenes (re-exported)", ("_scene", "_rigid", "_torsional")),
-        ("Planetary stages (re-exported from jaxgear.planetary)",
-         ("_stage", "_spatial", "_meshes", "_analysis")),
+        ("Planetary stages", ("_stage", "_spatial", "_meshes", "_analysis")),
         ("Load capacity (ISO 6336; the rating subpackage)", ("rating.*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
         ("Gearbox", ("_chain", "_coupled")),
@@ -70,6 +69,7 @@ SECTIONS = {
         ("Flexible ring", ("_ring",)),
         ("Modes, phasing and load sharing", ("_analysis",)),
         ("Dynamics", ("_dynamics",)),
+        ("Time plan of a sweep", ("_plan",)),
     ),
     "jaxgear.rating": (
         ("Rating", ("_rate", "_settings", "_material")),

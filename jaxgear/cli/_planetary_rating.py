@@ -120,7 +120,7 @@ SWEEP_K_V_SOURCE = (
 )
 #: appended to :data:`SWEEP_K_V_SOURCE` where the sweep's step does not resolve the stage's
 #: highest natural frequency (``steps_resolution``,
-#: :func:`jaxgear.cli.planetary_sweep.step_resolution`)
+#: :func:`jaxgear.planetary.step_resolution`)
 UNRESOLVED_K_V = (" (time step under-resolved: n = {n:.3g} steps per period of {f:.4g} Hz at "
                   "the lowest speed, < 20; --steps-per-period >= {need} resolves it)")
 

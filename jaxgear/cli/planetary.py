@@ -34,6 +34,7 @@ from ..planetary import (
     classify_modes,
     load_sharing,
     mesh_phases,
+    planetary_model_for,
     planetary_modes,
     planetary_quasi_static,
     ring_resonances,
@@ -104,23 +105,14 @@ def mode_models(stage) -> dict:
     return {**MODELS, "spatial": SpatialPlanetary()}
 
 
-#: the smallest eigenvalue of the load-sharing stage's 3D stiffness, relative to its largest,
-#: below which a free motion is left (an axial or tilting support missing)
-HOLDS_3D = 1e-12
-
-
 def spatial_model(spec, stage) -> SpatialPlanetary | None:
     """The 3D lumped model (:class:`jaxgear.SpatialPlanetary`) for a helical stage whose axial
     and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
-    sharing_stage`: no free motion left, the smallest eigenvalue of its stiffness above
-    :data:`HOLDS_3D` times the largest; a member without an axial support screws freely along
-    its helix); None for a spur stage or one whose supports are not given (the case keys
-    ``axial_N_per_um``, ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``)."""
-    if float(stage.helix_angle) == 0.0:
-        return None
-    model = SpatialPlanetary()
-    lam = np.linalg.eigvalsh(np.asarray(model.stiffness_matrix(spec.sharing_stage(stage))))
-    return model if lam[0] > HOLDS_3D * lam[-1] else None
+    sharing_stage`; the model's choice, :func:`jaxgear.planetary.planetary_model_for`); None
+    for a spur stage or one whose supports are not given (the case keys ``axial_N_per_um``,
+    ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``)."""
+    model = planetary_model_for(spec.sharing_stage(stage))
+    return model if isinstance(model, SpatialPlanetary) else None
 
 
 def sharing_models(spec, stage) -> dict:

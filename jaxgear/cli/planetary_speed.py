@@ -15,7 +15,7 @@ import os
 
 import numpy as np
 
-from ..planetary import planetary_dynamics
+from ..planetary import planetary_dynamics, speed_run
 from ..io import write_json
 from ._planetary_rating import (
     STAGE_AT_SPEED,
@@ -25,7 +25,7 @@ from ._planetary_rating import (
     rating_at_speed,
     stage_at_speed,
 )
-from ._planetary_steps import speed_run
+
 from ._stress_outputs import fillet_table
 from .planetary import sharing_models
 from .planetary_sweep import (

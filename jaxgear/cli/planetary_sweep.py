@@ -44,38 +44,29 @@ import jax.numpy as jnp
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from ..dynamics import MAX_STEPS_PER_SPEED, MIN_STEPS_PER_PERIOD
+from ..dynamics import MAX_STEPS_PER_SPEED, MIN_STEPS_PER_PERIOD, SETTLE_TOL, SETTLED_TOL
+from ..io import CaseWarning, write_json
 from ..planetary import (
+    NO_EXCITATION_TOL,
     ConstantMeshes,
     PlanarPlanetary,
     PlanetaryRun,
     RigidRing,
     SpatialPlanetary,
-    order_spectrum,
-    planetary_dynamics,
-    planetary_mesh_modes,
-    planetary_modes,
-    ring_transducer_signal,
-)
-from ..io import CaseWarning, write_json
-from ._planetary_steps import (
-    KEEP_OTHER,
-    KEEP_PERIODIC,
-    NO_EXCITATION_TOL,
-    SETTLE_TOL,
-    SETTLED_TOL,
-    STEPS_PER_TOP_PERIOD,
-    SweepRecords,
     TimePlan,
     carrier_periodic,
-    check_plan_size,
     excitation,
+    order_spectrum,
+    plan_sweep,
+    planetary_dynamics,
+    planetary_modes,
+    ring_transducer_signal,
     speed_groups,
     speed_run,
-    step_resolution,
     steps_sweep,
-    time_plan,
+    sweep_factors,
 )
+from ._planetary_steps import check_plan_size, resolution_checked
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._rating_sheet import sweep_excitation
@@ -91,30 +82,18 @@ from .planetary import (
 )
 
 __all__ = [
-    "KEEP_OTHER",
-    "KEEP_PERIODIC",
     "RUN_SPEEDS",
     "RUN_SWEEP_FILES",
-    "SETTLED_TOL",
-    "SETTLE_TOL",
     "SPECTRUM_SIDEBANDS",
-    "STEPS_PER_TOP_PERIOD",
     "SWEEP_FILES",
-    "SweepRecords",
-    "TimePlan",
-    "carrier_periodic",
     "planetary_run",
     "planetary_run_files",
     "planetary_run_lines",
     "planetary_sweep",
     "run_speeds",
-    "speed_groups",
-    "step_resolution",
-    "steps_sweep",
     "sweep_lines",
     "sweep_summary",
     "sweep_time_plan",
-    "time_plan",
     "turn_steps",
 ]
 
@@ -210,14 +189,13 @@ def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
 
 
 def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
-    """:func:`time_plan` of the sweep's dynamic stage; ``given``: (steps, periods, keep);
-    a plan that cannot run refused in one line naming the option
+    """The sweep's dynamic stage's time plan (:func:`jaxgear.planetary.plan_sweep`, the
+    model's preparation step); ``given``: (steps, periods, keep); a plan that cannot run
+    refused in one line naming the option
     (:func:`~jaxgear.cli._planetary_steps.check_plan_size`), before any integration."""
-    modes = planetary_mesh_modes(model, stage, meshes, base, MIN_STEPS_PER_PERIOD)
-    plan = time_plan(modes, speeds, spec.mesh_frequency(1.0), spec.n_planets,
-                     float(base.damping_ratio), carrier_periodic(stage, spec.ring_model.flexible),
-                     *given)
     flexible = spec.ring_model.flexible
+    plan, modes = plan_sweep(model, stage, meshes, base, speeds, spec.mesh_frequency(1.0),
+                             flexible, *given, min_steps=MIN_STEPS_PER_PERIOD)
     # recorded per step: the coordinates (a flexible ring's 2 z_r stations too), the 2N mesh
     # forces, N ring deflections, time and travel
     values = (int(np.asarray(modes.omega).size) + 2 * spec.teeth[2] * flexible
@@ -328,7 +306,7 @@ def sweep_summary(
     periodic = carrier_periodic(stage, spec.ring_model.flexible)
     plan = _plan(spec, stage, meshes, model, base, speeds,
                  (steps_per_period, periods, keep_periods))
-    resolution = step_resolution(plan, speeds * f_mesh, spec.n_planets)  # before the work
+    resolution = resolution_checked(plan, speeds * f_mesh, spec.n_planets)  # before the work
     per_input = spec.speeds(1.0)
     carrier = speeds * per_input["carrier"]
     mesh_speed = speeds * spec.mesh_speed(1.0)
@@ -337,21 +315,12 @@ def sweep_summary(
                       grouped=flexible)
     n = spec.n_planets
     fs = rec.static_force
-    n_s = speeds.size
-    per_mesh, k_gamma = np.zeros((n_s, 2 * n)), np.zeros(n_s)
-    periodicity, deflection = np.full(n_s, np.nan), np.zeros(n_s)
-    for k in range(n_s):  # each speed's own last `keep` mesh periods
-        S = int(plan.steps[k])
-        f = rec.forces[k]
-        per_mesh[k] = f.max(axis=0) / fs
-        sun = f[:, :n]
-        k_gamma[k] = np.max(sun.max(axis=1) / sun.mean(axis=1))
-        if plan.keep >= 2:
-            periodicity[k] = np.max(np.abs(f[-S:] - f[-2 * S:-S])) / fs
-        deflection[k] = np.max(np.abs(rec.deflection[k]))
+    per_mesh, k_gamma, periodicity, deflection = sweep_factors(rec, plan, n)
     code = rec.result
     period_of = rec.periods  # mesh periods integrated
-    excite = excitation(model, stage, meshes, spec)
+    excite = excitation(model, stage, meshes, base, flexible)
+    excite["words"] = None if excite["excited"] else (
+        "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, K_γ = 1")
     if not excite["excited"]:  # the response is the static one: round-off is all that moves
         excite["round_off_deviation"] = float(np.nanmax(np.abs(
             np.concatenate([per_mesh.ravel(), k_gamma]) - 1.0)))

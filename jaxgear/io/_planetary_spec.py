@@ -5,7 +5,8 @@ the form of a train of one internal mesh (:class:`InternalMeshForm`).
 
 Sign conventions: speeds and torques in the fixed frame, positive in the input's direction of
 motion; the Willis relation z_s ω_s + z_r ω_r = (z_s + z_r) ω_c (z_r the ring's tooth count,
-positive here); the torques T_s : T_r : T_c = z_s : z_r : −(z_s + z_r) (lossless).
+positive here) and the torques T_s : T_r : T_c = z_s : z_r : −(z_s + z_r) (lossless) are the
+model's (:func:`jaxgear.planetary.central_speeds`, :func:`jaxgear.planetary.central_torques`).
 """
 
 from __future__ import annotations
@@ -17,8 +18,18 @@ import math
 import numpy as np
 
 from .._internal import PlanetaryGeometry
-from ..planetary import Central, Eccentricities, PlanetaryStage, Unbalances, speed_ratio
-from ..planetary import AbstractPlanetaryMeshes, ConstantMeshes, ContactMeshes
+from ..planetary import (
+    AbstractPlanetaryMeshes,
+    Central,
+    ConstantMeshes,
+    ContactMeshes,
+    Eccentricities,
+    PlanetaryStage,
+    Unbalances,
+    central_speeds,
+    central_torques,
+    speed_ratio,
+)
 from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
 from ._case import Case, CaseForm, PairForm, TrainForm
@@ -169,20 +180,12 @@ class PlanetarySpec:
     def n_planets(self) -> int:
         return len(self.planet_angles)
 
-    def tooth_count(self, member: Central) -> float:
-        """z of the Willis torque balance: z_s, z_r, −(z_s + z_r) for the carrier."""
-        z_s, _, z_r = self.teeth
-        return (z_s, z_r, -(z_s + z_r))[member]
-
     def speeds(self, input_speed: float) -> dict:
         """Each central member's speed (rad/s, fixed frame) and the planet's (absolute and
         relative to the carrier), the input at ``input_speed``, the fixed member at rest
-        (Willis: z_s ω_s + z_r ω_r = (z_s + z_r) ω_c)."""
+        (Willis, :func:`jaxgear.planetary.central_speeds`)."""
         z_s, z_p, z_r = self.teeth
-        a = np.array([[z_s, z_r, -(z_s + z_r)], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
-        a[1, self.fixed], a[2, self.input] = 1.0, 1.0
-        w = np.linalg.solve(a, [0.0, 0.0, input_speed])
-        w[self.fixed] = 0.0
+        w = central_speeds(z_s, z_r, self.fixed, self.input, input_speed)
         out = {m.name.lower(): float(w[m]) for m in Central}
         if z_p is not None:
             rel = -(w[Central.SUN] - w[Central.CARRIER]) * z_s / z_p
@@ -191,10 +194,11 @@ class PlanetarySpec:
         return out
 
     def torques(self, input_torque: float) -> dict:
-        """Each central member's torque (N·m), the input's ``input_torque``: T_m = T_in z_m /
-        z_in (lossless; their sum 0)."""
-        z_in = self.tooth_count(self.input)
-        return {m.name.lower(): input_torque * self.tooth_count(m) / z_in for m in Central}
+        """Each central member's torque (N·m), the input's ``input_torque`` (lossless:
+        :func:`jaxgear.planetary.central_torques`; their sum 0)."""
+        z_s, _, z_r = self.teeth
+        t = central_torques(z_s, z_r, self.input, input_torque)
+        return {m.name.lower(): float(t[m]) for m in Central}
 
     def ratio(self) -> float:
         """The Willis speed ratio ω_input/ω_output (:func:`jaxgear.speed_ratio`)."""

@@ -627,8 +627,7 @@ def torque_floor(spec: PlanetarySpec, pairs: tuple) -> tuple[float, str]:
     gears, the pairs' floor, a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on each sun mesh
     (F_n = |T_s| / (N r_bs cos β_b)); in the lumped form, a nominal sun-mesh deflection
     |T_s| / (N r_bs k_s) of :data:`MIN_DEFLECTION_M`; |T_s| = |T_in z_s / z_in| (Willis)."""
-    z_s = spec.teeth[0]
-    per_sun = abs(spec.tooth_count(spec.input) / z_s)  # |T_in / T_s|
+    per_sun = abs(1.0 / spec.torques(1.0)["sun"])  # |T_in / T_s|
     r_bs, n = float(spec.members["sun"].base_radius), spec.n_planets
     if pairs:
         sp = pairs[0]

@@ -90,6 +90,7 @@ from fem_prep import schema as sc
 
 from .._geometry import GearPair
 from .._internal import InternalGearPair
+from .._util import closest_circles
 from ..scenes import train_hands
 from ._case import Case, TrainForm
 from ._case_file import (
@@ -388,18 +389,19 @@ def _check_overlap(case: Case) -> None:
 
     for g, h in case.gears:
         plane[root(h)] = root(g)
-    for i in range(n):
-        for j in range(i + 1, n):
-            if frozenset((i, j)) in meshing or root(i) != root(j):
-                continue
-            d = math.dist(layout.centres[i][:2], layout.centres[j][:2])
-            if d < radii[i] + radii[j]:
-                a, b = case.gear_names[i], case.gear_names[j]
-                raise sc.SchemaError(
-                    f"[[meshes]] angle_deg: gears {a!r} and {b!r} overlap (centres "
-                    f"{d * 1e3:.6g} mm apart, tip radii {radii[i] * 1e3:.6g} + "
-                    f"{radii[j] * 1e3:.6g} mm); turn a mesh's angle_deg"
-                )
+    apart = [(i, j) for i in range(n) for j in range(i + 1, n)
+             if frozenset((i, j)) not in meshing and root(i) == root(j)]
+    worst = closest_circles([c[:2] for c in layout.centres], radii, apart)
+    if worst is None:
+        return
+    i, j, d = worst
+    if d < radii[i] + radii[j]:
+        a, b = case.gear_names[i], case.gear_names[j]
+        raise sc.SchemaError(
+            f"[[meshes]] angle_deg: gears {a!r} and {b!r} overlap (centres "
+            f"{d * 1e3:.6g} mm apart, tip radii {radii[i] * 1e3:.6g} + "
+            f"{radii[j] * 1e3:.6g} mm); turn a mesh's angle_deg"
+        )
 
 
 def _planetary_case(data: dict, name: str) -> Case:

@@ -18,7 +18,12 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
 - ``_analysis``: modes, mode types, Campbell diagram, mesh phasing, load sharing;
 - ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
   :func:`planetary_mesh_modes`, the ring transducer and the order spectrum (on
-  :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with).
+  :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with);
+- ``_plan``: the time plan of a run over speeds (:func:`plan_sweep`, :func:`time_plan`: steps
+  per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
+  factors read from its records (:func:`sweep_factors`), whether anything excites the stage
+  (:func:`excitation`) and the lumped model a stage's supports allow
+  (:func:`planetary_model_for`).
 """
 
 from ._analysis import (
@@ -60,6 +65,29 @@ from ._meshes import (
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,
 )
+from ._plan import (
+    EXCITATION_POSITIONS as EXCITATION_POSITIONS,
+    HOLDS_3D as HOLDS_3D,
+    KEEP_OTHER as KEEP_OTHER,
+    KEEP_PERIODIC as KEEP_PERIODIC,
+    NO_EXCITATION_TOL as NO_EXCITATION_TOL,
+    STEPS_PER_TOP_PERIOD as STEPS_PER_TOP_PERIOD,
+    SweepFactors as SweepFactors,
+    SweepRecords as SweepRecords,
+    TimePlan as TimePlan,
+    carrier_periodic as carrier_periodic,
+    eccentric as eccentric,
+    excitation as excitation,
+    holds_stage as holds_stage,
+    plan_sweep as plan_sweep,
+    planetary_model_for as planetary_model_for,
+    speed_groups as speed_groups,
+    speed_run as speed_run,
+    step_resolution as step_resolution,
+    steps_sweep as steps_sweep,
+    sweep_factors as sweep_factors,
+    time_plan as time_plan,
+)
 from ._ring import (
     AbstractRingModel as AbstractRingModel,
     CondensedRing as CondensedRing,
@@ -79,6 +107,8 @@ from ._stage import (
     PlanetaryStage as PlanetaryStage,
     TorsionalPlanetary as TorsionalPlanetary,
     Unbalances as Unbalances,
+    central_speeds as central_speeds,
+    central_torques as central_torques,
     check_assembly as check_assembly,
     closest_planets as closest_planets,
     max_planets as max_planets,

@@ -43,7 +43,14 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._runout import Eccentricities, Unbalances
-from .._util import as_float, check_instance, check_integer, check_real, is_traced
+from .._util import (
+    as_float,
+    check_instance,
+    check_integer,
+    check_real,
+    closest_circles,
+    is_traced,
+)
 
 __all__ = [
     "AbstractPlanetaryModel",
@@ -55,6 +62,8 @@ __all__ = [
     "TorsionalPlanetary",
     "Unbalances",
     "check_assembly",
+    "central_speeds",
+    "central_torques",
     "closest_planets",
     "speed_ratio",
 ]
@@ -685,12 +694,53 @@ class Central(enum.IntEnum):
     CARRIER = 2
 
 
+def central_speeds(
+    z_sun: int, z_ring: int, fixed: Central, driver: Central, speed: float = 1.0
+) -> np.ndarray:
+    """The central members' speeds (rad/s, fixed frame; (3,): sun, ring, carrier, in
+    :class:`Central`'s order) with ``fixed`` at rest and ``driver`` at ``speed``: the Willis
+    relation ``z_s omega_s + z_r omega_r = (z_s + z_r) omega_c`` (``z_ring`` the ring's number of
+    internal teeth, positive here), solved here once for the library and the case files
+    (:func:`speed_ratio`, :meth:`jaxgear.io.PlanetarySpec.speeds`).
+
+    Raises:
+        ValueError: a tooth count < 3, ``z_ring <= z_sun``, or ``fixed`` the ``driver``.
+    """
+    check_integer("z_sun", z_sun, 3)
+    check_integer("z_ring", z_ring, int(z_sun) + 1)
+    fixed, driver = Central(fixed), Central(driver)
+    if fixed == driver:
+        raise ValueError(
+            f"central_speeds: fixed = driver = {fixed.name}: allowed two different members"
+        )
+    a = np.zeros((3, 3))
+    a[0] = [z_sun, z_ring, -(z_sun + z_ring)]  # Willis
+    a[1, fixed] = 1.0
+    a[2, driver] = 1.0
+    w = np.linalg.solve(a, [0.0, 0.0, float(speed)])
+    w[fixed] = 0.0
+    return w
+
+
+def central_torques(z_sun: int, z_ring: int, driver: Central, torque: float) -> np.ndarray:
+    """The central members' torques (N m; (3,): sun, ring, carrier) with ``torque`` on the
+    ``driver``: the lossless balance T_s : T_r : T_c = z_s : z_r : -(z_s + z_r) that goes with
+    Willis' speeds (:func:`central_speeds`; the torques sum to 0, their power too).
+
+    Raises:
+        ValueError: a tooth count < 3, ``z_ring <= z_sun``.
+    """
+    check_integer("z_sun", z_sun, 3)
+    check_integer("z_ring", z_ring, int(z_sun) + 1)
+    z = (z_sun, z_ring, -(z_sun + z_ring))
+    z_in = z[Central(driver)]
+    return np.array([torque * z_m / z_in for z_m in z])
+
+
 def speed_ratio(z_sun: int, z_ring: int, fixed: Central, driver: Central, driven: Central) -> float:
-    """The Willis speed ratio omega_driver / omega_driven with ``fixed`` held, from
-    ``z_s omega_s + z_r omega_r = (z_s + z_r) omega_c`` (Willis; ``z_ring`` the ring's number of
-    internal teeth, positive here, negative in ISO 21771's formulas). Ring fixed, sun driving
-    the carrier: 1 + z_r/z_s; carrier fixed, sun to ring: -z_r/z_s; sun fixed, ring to
-    carrier: 1 + z_s/z_r.
+    """The Willis speed ratio omega_driver / omega_driven with ``fixed`` held
+    (:func:`central_speeds`). Ring fixed, sun driving the carrier: 1 + z_r/z_s; carrier fixed,
+    sun to ring: -z_r/z_s; sun fixed, ring to carrier: 1 + z_s/z_r.
 
     Raises:
         ValueError: a tooth count < 3, ``z_ring <= z_sun``, or two of the members the same.
@@ -703,11 +753,7 @@ def speed_ratio(z_sun: int, z_ring: int, fixed: Central, driver: Central, driven
             f"speed_ratio: fixed, driver, driven = {tuple(r.name for r in roles)}"
             " must be three different members"
         )
-    a = np.zeros((3, 3))
-    a[0] = [z_sun, z_ring, -(z_sun + z_ring)]  # Willis
-    a[1, roles[0]] = 1.0
-    a[2, roles[1]] = 1.0
-    w = np.linalg.solve(a, [0.0, 0.0, 1.0])
+    w = central_speeds(z_sun, z_ring, roles[0], roles[1])
     return float(w[roles[1]] / w[roles[2]])
 
 
@@ -734,17 +780,15 @@ def check_assembly(z_sun: int, z_ring: int, planet_angles) -> None:
 def closest_planets(planet_angles, carrier_radius: float) -> tuple[int, int, float]:
     """The two closest planets of a stage and their centres' distance: (i, j, d), planets i
     and j (0-based, i < j) at angles psi (rad, (n_planets,), n_planets >= 2) on the circle of
-    radius ``carrier_radius`` a (m), d = 2 a |sin((psi_j - psi_i)/2)| (m), the chord of the
-    smallest angular gap (adjacent angles, sorted modulo 2 pi). Two planets of radius r
-    overlap where d < 2 r: the stage's spacing check (:class:`PlanetaryStage` with the base
-    radius; the case files and :class:`~jaxgear.ContactMeshes` with the tip radius)."""
+    radius ``carrier_radius`` a (m), d (m) their centres' distance, 2 a |sin((psi_j - psi_i)/2)|
+    (:func:`jaxgear._util.closest_circles`, the rule of every gear layout: two gears in one
+    plane that do not mesh must not overlap). Two planets of radius r overlap where d < 2 r:
+    the stage's spacing check (:class:`PlanetaryStage` with the base radius; the case files and
+    :class:`~jaxgear.ContactMeshes` with the tip radius)."""
     psi = np.asarray(planet_angles, dtype=float).reshape(-1)
-    wrapped = np.mod(psi, 2.0 * np.pi)
-    order = np.argsort(wrapped, kind="stable")
-    gaps = np.diff(np.concatenate([wrapped[order], wrapped[order[:1]] + 2.0 * np.pi]))
-    k = int(np.argmin(gaps))
-    i, j = sorted((int(order[k]), int(order[(k + 1) % psi.size])))
-    return i, j, float(2.0 * carrier_radius * abs(np.sin(gaps[k] / 2.0)))
+    a = float(carrier_radius)
+    centres = a * np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+    return closest_circles(centres, np.zeros(psi.size))
 
 
 def max_planets(carrier_radius, planet_radius) -> int | None:
