@@ -46,7 +46,7 @@ SECTIONS = {
         ("Modifications and deviations", ("_modifications", "_deviations")),
         ("Scenes (re-exported)", ("_scene", "_rigid", "_torsional")),
         ("Planetary stages", ("_stage", "_spatial", "_meshes", "_analysis")),
-        ("Load capacity (ISO 6336; the rating subpackage)", ("rating.*",)),
+        ("Load capacity (ISO 6336)", ("rating.*",)),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
         ("Gearbox", ("_chain", "_coupled")),
     ),
