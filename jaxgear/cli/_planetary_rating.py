@@ -25,6 +25,7 @@ from .. import (
     planetary_quasi_static,
     tooth_geometry,
 )
+from ..io import CaseWarning, ratings_of
 from ..rating import (
     RootStressMap,
     ShaperCutterSection,
@@ -33,7 +34,6 @@ from ..rating import (
     root_stress_map,
     with_load_sharing,
 )
-from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_report import (

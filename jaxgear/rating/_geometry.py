@@ -20,8 +20,8 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._geometry import GearPair
-from ._bending import ToothFormFactors, _inv, member_form
 from .._util import as_float, check_instance
+from ._bending import ToothFormFactors, _inv, member_form
 
 __all__ = ["AbstractRatingGeometry", "RatingGeometry", "inverse_involute_jnp"]
 

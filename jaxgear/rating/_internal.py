@@ -59,10 +59,10 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._internal import InternalGearPair
-from ._bending import ToothFormFactors, _inv, member_form, section_factors
-from ._geometry import AbstractRatingGeometry, Derived, inverse_involute_jnp, pair_fields
 from .._results import CutterResult
 from .._util import as_float, check_instance, check_integer, check_real, is_traced
+from ._bending import ToothFormFactors, _inv, member_form, section_factors
+from ._geometry import AbstractRatingGeometry, Derived, inverse_involute_jnp, pair_fields
 
 __all__ = [
     "AbstractRootSection",
