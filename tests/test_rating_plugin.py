@@ -14,11 +14,11 @@ from typing import ClassVar
 import equinox as eqx
 import jax.numpy as jnp
 import pytest
+from _rating_cases import rated_accessory_data
 from jaxtyping import Array
 
 import jaxgear as jg
 import jaxgear.io as jio
-from _rating_cases import rated_accessory_data
 from jaxgear import cli
 
 Y_TOY = 2.5  # the toy standard's one tooth form factor

@@ -73,7 +73,7 @@ SECTIONS = {
     ),
     "jaxgear.rating": (
         ("Rating", ("_rate", "_settings", "_material")),
-        ("Standards (the seam; ISO 6336's editions)", ("_standard", "_iso6336")),
+        ("Rating standards and the ISO 6336 editions", ("_standard", "_iso6336")),
         ("Geometry and tooth form", ("_geometry", "_internal", "_bending")),
         ("Load factors, measured factors", ("_factors", "_measured")),
         ("Root stress", ("_root_stress",)),

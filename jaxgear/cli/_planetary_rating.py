@@ -23,6 +23,7 @@ from .. import (
     internal_tooth_geometry,
     tooth_geometry,
 )
+from ..io import CaseWarning, ratings_of
 from ..rating import (
     RootStressMap,
     ShaperCutterSection,
@@ -32,7 +33,6 @@ from ..rating import (
     with_load_sharing,
 )
 from ..planetary import RigidRing, planetary_quasi_static
-from ..io import CaseWarning, ratings_of
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_report import (

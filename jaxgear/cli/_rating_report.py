@@ -10,7 +10,6 @@ import os
 import warnings
 from typing import NamedTuple
 
-import equinox as eqx
 import numpy as np
 
 from .. import quasi_static, tooth_geometry
@@ -35,8 +34,8 @@ from ..rating import (
     with_measured,
 )
 from ._plots import root_stress_plot
-from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
 from ._rating_inputs import modification_inputs
+from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [

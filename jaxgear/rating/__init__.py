@@ -39,13 +39,6 @@ from ._internal import (
     ShaperCutterSection as ShaperCutterSection,
     SubstituteRack as SubstituteRack,
 )
-from ._material import (
-    AbstractTreatment as AbstractTreatment,
-    CaseHardened as CaseHardened,
-    Nitrided as Nitrided,
-    PairTreatment as PairTreatment,
-    ThroughHardened as ThroughHardened,
-)
 from ._iso6336 import (
     FACTOR_CLAUSES as FACTOR_CLAUSES,
     AbstractEdition as AbstractEdition,
@@ -54,6 +47,13 @@ from ._iso6336 import (
     Edition2019 as Edition2019,
     PittingRating as PittingRating,
     factor_clause as factor_clause,
+)
+from ._material import (
+    AbstractTreatment as AbstractTreatment,
+    CaseHardened as CaseHardened,
+    Nitrided as Nitrided,
+    PairTreatment as PairTreatment,
+    ThroughHardened as ThroughHardened,
 )
 from ._measured import (
     dynamic_factor_at as dynamic_factor_at,

@@ -46,12 +46,12 @@ class LoadFactors(eqx.Module):
     sources: dict = eqx.field(static=True)
 
 
-def _tangential_load(g, operating: OperatingPoint):
+def _tangential_load(g, operating):
     """F_t = 2 T₁/d₁ (N) at the reference circle; ``g`` the derived geometry."""
     return 2 * operating.torque / g.reference_diameter[0]
 
 
-def _stiffness(geometry: RatingGeometry, g, settings: RatingSettings, specific_load):
+def _stiffness(geometry, g, settings, specific_load):
     """c' and c_γα (N/m per m of face width), ISO 6336-1 method B (9.3), C_R = 1 (solid)."""
     beta = geometry.helix_angle
     zn = geometry.stiffness_teeth(g)
@@ -127,7 +127,7 @@ def _dynamic_factor(geometry, g, operating, settings, stiffness, line_load):
     }
 
 
-def helix_modification_factor(settings: RatingSettings) -> Array:
+def helix_modification_factor(settings) -> Array:
     """B₂ of ISO 6336-1 clause 7's initial mesh misalignment F_βx = 1.33 B₁ f_sh + B₂ f_ma
     (here f_sh = 0, f_ma = f_Hβ): 0.5 for a lead crowning C_β (``settings.crowning``) at
     least f_Hβ/2 deep (the depth the standard's crowning offsets: C_β ≈ F_βx/2), 1 without
@@ -268,7 +268,7 @@ def transverse_load_factor(result, loaded: float = 1e-2) -> Array:
     return jnp.maximum(jnp.max(ratio), 1.0)
 
 
-def transverse_factor_limits(geometry: RatingGeometry) -> tuple[Array, Array]:
+def transverse_factor_limits(geometry) -> tuple[Array, Array]:
     """ISO 6336-1:2019 clause 8's upper limits of K_Hα and K_Fα: ε_γ/(ε_α Z_ε²) (the whole
     load on one pair at the critical point) and ε_γ/(0.25 ε_α + 0.75). A measured K_Hα
     (:func:`transverse_load_factor`) rates within them: beyond, the load sharing it measures

@@ -13,15 +13,15 @@ Sources: ISO 21771:2007 (involute geometry, profile shift, operating pressure an
 from __future__ import annotations
 
 import abc
-from typing import ClassVar, NamedTuple
+from typing import NamedTuple
 
 import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._geometry import GearPair
-from ._bending import ToothFormFactors, _inv, member_form
 from .._util import as_float, check_instance
+from ._bending import ToothFormFactors, _inv, member_form
 
 __all__ = ["AbstractRatingGeometry", "RatingGeometry", "inverse_involute_jnp"]
 
@@ -96,8 +96,9 @@ class AbstractRatingGeometry(eqx.Module):
     (differentiable): one geometry whose kinds are the external pair
     (:class:`RatingGeometry`) and the internal pair (:class:`jaxgear.InternalRatingGeometry`:
     member 1 the internal gear). The fields and the ISO 21771 geometry are the kinds' common
-    part (:meth:`derived`, with the kind's :attr:`sign`); each kind answers what the rating asks
-    of a pair by its own rules (:meth:`form_factors`, :meth:`single_pair_factors`,
+    part (:func:`pair_derived`, which each kind's :meth:`derived` calls with its sign: +1
+    external, -1 internal, the ring's tooth count and diameters negative); each kind answers
+    what the rating asks of a pair by its own rules (:meth:`form_factors`, :meth:`single_pair_factors`,
     :meth:`stiffness_teeth`, :meth:`reduced_mass`).
 
     Attributes:
@@ -111,8 +112,6 @@ class AbstractRatingGeometry(eqx.Module):
             blank; static).
         center_distance: a_w (m), or ``None``: the zero-backlash distance of the profile shifts
             (ISO 21771 (40)), which then moves with them.
-        sign: +1 for an external pair, -1 for an internal one (a class constant: the ring's
-            tooth count and diameters negative, the centre distance positive).
     """
 
     teeth: tuple[int, int] = eqx.field(static=True)
@@ -126,7 +125,6 @@ class AbstractRatingGeometry(eqx.Module):
     face_width: Float[Array, 2]
     rim_thickness: tuple = eqx.field(static=True)
     center_distance: Float[Array, ""] | None
-    sign: eqx.AbstractClassVar[float]
 
     def replace(self, **changes):
         """A copy with some array fields replaced (``profile_shift=...``, ``face_width=...``).
@@ -134,12 +132,11 @@ class AbstractRatingGeometry(eqx.Module):
         no jam at a fixed centre distance), as :class:`jaxgear.GearPair` would check."""
         return replace_fields(self, changes)
 
-    def derived(self) -> Derived:
-        """ISO 21771 geometry of the pair from the parameters (jnp; :func:`pair_derived` with
-        the kind's :attr:`sign`)."""
-        return pair_derived(self, self.sign)
-
     # -- what the rating asks of a pair, by the kind's rules ------------------------------
+
+    @abc.abstractmethod
+    def derived(self) -> Derived:
+        """ISO 21771 geometry of the pair from the parameters (jnp; :func:`pair_derived`)."""
 
     @abc.abstractmethod
     def form_factors(self) -> ToothFormFactors:
@@ -168,14 +165,16 @@ class RatingGeometry(AbstractRatingGeometry):
     e.g. for a gradient with respect to x1.
     """
 
-    sign: ClassVar[float] = 1.0
-
     @classmethod
     def of(cls, pair: GearPair) -> RatingGeometry:
         """The parameters of ``pair`` (its centre distance kept only when it differs from the
         zero-backlash distance of the nominal teeth)."""
         check_instance("pair", pair, GearPair, "a jaxgear.GearPair", "RatingGeometry.of")
         return cls(**pair_fields(pair))
+
+    def derived(self) -> Derived:
+        """ISO 21771 geometry of the pair from the parameters (jnp; module docstring)."""
+        return pair_derived(self, 1.0)
 
     def form_factors(self) -> ToothFormFactors:
         """Y_F, Y_S and the root sections of both members (:func:`jaxgear.rating.tooth_form_factors`)."""

@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import abc
 import itertools
-from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -59,10 +58,16 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._internal import InternalGearPair
-from ._bending import ToothFormFactors, _inv, member_form, section_factors
-from ._geometry import AbstractRatingGeometry, Derived, inverse_involute_jnp, pair_fields
 from .._results import CutterResult
 from .._util import as_float, check_instance, check_integer, check_real, is_traced
+from ._bending import ToothFormFactors, _inv, member_form, section_factors
+from ._geometry import (
+    AbstractRatingGeometry,
+    Derived,
+    inverse_involute_jnp,
+    pair_derived,
+    pair_fields,
+)
 
 __all__ = [
     "AbstractRootSection",
@@ -404,7 +409,6 @@ class InternalRatingGeometry(AbstractRatingGeometry):
     """
 
     root_section: AbstractRootSection
-    sign: ClassVar[float] = -1.0
 
     @classmethod
     def of(
@@ -421,6 +425,11 @@ class InternalRatingGeometry(AbstractRatingGeometry):
         geometry = cls(**pair_fields(pair), root_section=root_section)
         root_section.check(geometry)
         return geometry
+
+    def derived(self) -> Derived:
+        """ISO 21771 geometry of the internal pair (jnp; the ring's diameters negative, the
+        centre distance positive; module docstring)."""
+        return pair_derived(self, -1.0)
 
     # -- what the rating asks of a pair (as jaxgear.RatingGeometry) --------------------------
 

@@ -14,10 +14,10 @@ from jaxtyping import Array, Float
 
 from .._deviations import iso1328_tolerances
 from .._geometry import GearPair
+from .._util import as_float, check_instance, check_real
 from ._iso6336 import Edition2019
 from ._material import AbstractTreatment, CaseHardened
 from ._standard import AbstractRatingStandard
-from .._util import as_float, check_instance, check_real
 
 __all__ = [
     "RATING_RANGES",
