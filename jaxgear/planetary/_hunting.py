@@ -354,6 +354,12 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     deviations: PlanetaryDeviations
     one_period: ClassVar[bool] = False  # the teeth change from one mesh period to the next
 
+    def other_flanks(self):
+        raise ValueError(
+            "DeviationMeshes.other_flanks: per-tooth deviations are bookkept on the flanks the "
+            "sun drives (allowed: ContactMeshes or ConstantMeshes with the planets driving)"
+        )
+
     def __check_init__(self):
         check_instance("contact", self.contact, ContactMeshes, "a jaxgear.ContactMeshes",
                        "DeviationMeshes")

@@ -167,6 +167,13 @@ class AbstractPlanetaryMeshes(eqx.Module):
     def mesh_period(self) -> Float[Array, ""]:
         """p_b (m): the mesh travel of one mesh period."""
 
+    def other_flanks(self) -> AbstractPlanetaryMeshes:
+        """The meshes with the load on the other flanks (the planets driving the sun); the
+        default, for meshes that do not depend on where the contact lines are (ConstantMeshes):
+        the same meshes. Meshes whose phasing depends on the loaded flanks override it
+        (:meth:`ContactMeshes.other_flanks`); a kind that cannot raises ``ValueError``."""
+        return self
+
     @abc.abstractmethod
     def mesh_forces(self, forces) -> Float[Array, "... 2n"]:
         """Transverse mesh forces (N, compression positive), (..., 2N), from the cell forces
@@ -393,6 +400,28 @@ class ContactMeshes(AbstractPlanetaryMeshes):
 
     def mesh_period(self):
         return self.sun_mesh.base_pitch
+
+    def other_flanks(self) -> ContactMeshes:
+        """The meshes with the load on the other flanks: the planets driving the sun (carrier
+        in and sun out, ring held; or the sun's torque reversed), where :meth:`from_geometry`
+        loads the flanks the sun drives.
+
+        For teeth whose two flanks are alike (symmetric tooth form and modifications), the
+        other-flank picture is the drive-flank one mirrored and run backwards in time, which
+        maps every contact line's s (from its engagement point) to g - s, g the pair's path of
+        contact: each mesh's stiffness pattern and the planets' phases gamma_sn, gamma_rn keep
+        their form, and only the sun–ring offset within a planet changes,
+
+            Delta_rs' = g_r - g_s - Delta_rs   (mod p_b),
+
+        (checked against a direct derivation on the loaded flanks, the independent two-stage
+        reference of docs/gearbox.md: 6.4751 mm = 0.5483 p_b for its 20/30/80 stage, against
+        9.2638 mm with the sun driving). The cells keep their drive-flank rows; the
+        caller flips their sign (the force along the other line of action). Asymmetric
+        modifications are not mirrored (the drive flank's stand for the other's)."""
+        g_s, g_r = self.sun_mesh.path_of_contact, self.ring_mesh.path_of_contact
+        offset = jnp.mod(g_r - g_s - self.ring_offset, self.mesh_period())
+        return eqx.tree_at(lambda m: m.ring_offset, self, offset)
 
     def mesh_stiffness(self, model, stage, positions):
         zero = jnp.zeros((stage.n_planets,), dtype=self.ring_offset.dtype)
