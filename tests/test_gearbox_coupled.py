@@ -4,6 +4,7 @@ dynamics, and the quasi-static limit, on the two-stage example (examples/gearbox
 a planetary stage, ring held, carrier in, sun out, whose sun drives a spur pair)."""
 
 import math
+import pathlib
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -188,3 +189,23 @@ def test_bad_inputs_one_line():
         gb.gearbox_dynamics(chain, run, 0.0)
     with pytest.raises(ValueError, match="chain"):
         gb.gearbox_dynamics("box", run, 1.0)
+
+
+def test_the_case_file_builds_the_example():
+    """tests/data/gearbox/two-stage-gearbox.toml (the same gearbox as case files: a planetary
+    case, a pair case, the gearbox's [[stages]]) gives, through jaxgear.io's GearboxForm.coupled,
+    the model the example builds in Python: the same coupled modes and the same cells."""
+    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                             / "two-stage-gearbox.toml"))
+    chain = case.form.coupled()
+    ex, run = EX.two_stage()
+    f_case = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+    f_ex = np.asarray(gb.gearbox_coupled_modes(ex, run).analysis.frequency)
+    np.testing.assert_allclose(f_case, f_ex, rtol=1e-10)
+    for a, b in zip(chain.stages, ex.stages, strict=True):
+        for x in (0.0, 3.1e-3, 7.7e-3):
+            ra, rb = a.cell_row(x), b.cell_row(x)
+            np.testing.assert_array_equal(np.asarray(ra.mask), np.asarray(rb.mask))
+            np.testing.assert_allclose(np.asarray(ra.V), np.asarray(rb.V), rtol=1e-12)
+            np.testing.assert_allclose(np.asarray(ra.k * ra.length), np.asarray(rb.k * rb.length),
+                                       rtol=1e-12)
