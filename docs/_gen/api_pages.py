@@ -19,6 +19,7 @@ PACKAGES = (
     ),
     ("jaxgear.scenes", "jaxgear.scenes.md", "the structures the contact acts on"),
     ("jaxgear.dynamics", "jaxgear.dynamics.md", "time integration, modal analysis, speed sweeps"),
+    ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -56,6 +57,10 @@ SECTIONS = {
         ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
         ("Condensed bodies (hybrid)", ("_hybrid*",)),
         ("Planetary stages", ("_planetary_dynamics",)),
+    ),
+    "jaxgear.gearbox": (
+        ("The stages and the torsional chain", ("_chain",)),
+        ("The coupled dynamic model", ("_coupled",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
