@@ -20,6 +20,8 @@ sign flipped; a spur stage's flanks are alike).
 
 from __future__ import annotations
 
+import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -53,9 +55,15 @@ class GearboxRun(eqx.Module):
         output_stiffness: the torsional spring (N m/rad, > 0) that holds the last stage's output
             member to ground (the load).
         steps_per_period: Newmark steps per mesh period of the fastest excited mesh (static,
-            >= 8); the time step is that period over it.
+            >= 8); the time step is that period over it. None: automatic, at least
+            :data:`STEPS_PER_MODE` steps per period of the highest coupled mode whose strain
+            energy the meshes hold >= :data:`MESH_SHARE` (:func:`gearbox_coupled_modes`) at the
+            lowest speed of the run or sweep (the spur meshes' stiffness steps ring every
+            mode, and average acceleration leaves an under-resolved one undamped).
         periods: blocks integrated (static, >= 1), a block the slowest excited mesh's period
-            (rounded to whole steps).
+            (rounded to whole steps). None: automatic, the recorded blocks after
+            :data:`SETTLE` time constants 1 / (zeta omega_1) of the lowest elastic coupled mode
+            at the highest speed of the run or sweep.
         keep_periods: the last blocks recorded (static, 1..periods).
         damping_ratio: zeta (-), modal damping on every mode of (M, K + K̄_m).
         mean_positions: the mesh positions per period over which K̄_m is averaged (static).
@@ -63,18 +71,20 @@ class GearboxRun(eqx.Module):
 
     input_torque: Float[Array, ""] = eqx.field(converter=as_float)
     output_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
-    steps_per_period: int = eqx.field(static=True, default=32)
-    periods: int = eqx.field(static=True, default=40)
+    steps_per_period: int | None = eqx.field(static=True, default=32)
+    periods: int | None = eqx.field(static=True, default=40)
     keep_periods: int = eqx.field(static=True, default=2)
     damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
     mean_positions: int = eqx.field(static=True, default=64)
 
     def __check_init__(self):
-        check_integer("steps_per_period", self.steps_per_period, 8)
-        check_integer("periods", self.periods, 1)
+        if self.steps_per_period is not None:
+            check_integer("steps_per_period", self.steps_per_period, 8)
+        if self.periods is not None:
+            check_integer("periods", self.periods, 1)
         check_integer("keep_periods", self.keep_periods, 1)
         check_integer("mean_positions", self.mean_positions, 1)
-        if self.keep_periods > self.periods:
+        if self.periods is not None and self.keep_periods > self.periods:
             raise ValueError(f"GearboxRun: keep_periods = {self.keep_periods} is out of range: "
                              f"allowed 1..periods = {self.periods}")
         check_real("input_torque", self.input_torque, "N m", shape=(), where="GearboxRun")
@@ -213,16 +223,38 @@ def _cell_counts(chain):
     return [int(s.cell_row(jnp.zeros(())).k.shape[0]) for s in chain.stages]
 
 
-def _time_plan(chain, run) -> tuple[int, float]:
-    """(steps per block, the fastest excited mesh's period per unit of 1 / input speed): host
-    side (the periods' ratios do not depend on the speed, all speeds scale together)."""
+#: the automatic time step's steps per period of the highest mode the meshes excite
+STEPS_PER_MODE = 40
+#: a mode the meshes excite: they hold at least this share of its strain energy
+MESH_SHARE = 0.05
+#: the automatic run's settling: time constants 1 / (zeta omega_1) before the recorded window
+SETTLE = 8.0
+
+
+def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
+    """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
+    unit of 1 / input speed): host side (the periods' ratios do not depend on the speed, all
+    speeds scale together; ``speeds``: the input speeds, for the automatic step)."""
     kin = _kinematics(chain, 1.0, 1.0)
     periods = [float(s.mesh_period() / v) for s, (_, v, _) in zip(chain.stages, kin, strict=True)
                if s.excited()]
     if not periods:
         periods = [float(chain.stages[0].mesh_period() / kin[0][1])]
     fast, slow = min(periods), max(periods)
-    return max(1, round(run.steps_per_period * slow / fast)), fast
+    steps, blocks = run.steps_per_period, run.periods
+    if steps is None or blocks is None:
+        modes = _coupled_modes(chain, run)
+        f = np.asarray(modes.analysis.frequency)
+        w = np.abs(np.asarray(speeds, dtype=float))
+    if steps is None:
+        excited = np.asarray(modes.mesh_energy).sum(axis=0) >= MESH_SHARE
+        f_max = float(np.max(f[excited], initial=0.0))
+        steps = max(8, math.ceil(STEPS_PER_MODE * f_max * fast / float(np.min(w))))
+    if blocks is None:  # SETTLE time constants of the lowest elastic mode, then the window
+        f_1 = float(np.min(f[~np.asarray(modes.analysis.rigid)]))
+        tau = 1.0 / (float(run.damping_ratio) * 2.0 * math.pi * f_1)
+        blocks = math.ceil(SETTLE * tau / (slow / float(np.max(w)))) + run.keep_periods
+    return steps, max(1, round(steps * slow / fast)), fast, blocks
 
 
 def _modes(m, k, k_mean):
@@ -246,7 +278,7 @@ class _Parts(eqx.Module):
 
 
 @eqx.filter_jit
-def _run(chain, run, input_speed, law, block, fast):
+def _run(chain, run, input_speed, law, S, block, fast, B):
     from ..dynamics import LinearSystem, StepCells, newmark
 
     m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
@@ -254,7 +286,7 @@ def _run(chain, run, input_speed, law, block, fast):
     phi, w = modes.shapes, modes.omega
     mphi = m @ phi
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
-    dt = fast / (run.steps_per_period * jnp.abs(as_float(input_speed)))
+    dt = fast / (S * jnp.abs(as_float(input_speed)))
     signs = _flank_signs(chain, k, f, k_mean, cells(0.5 * dt))
 
     def row(i):
@@ -263,7 +295,6 @@ def _run(chain, run, input_speed, law, block, fast):
     r0 = row(jnp.zeros_like(dt))
     start = solve_contact(k, f, r0.V, r0.k, r0.length, r0.delta0, r0.mask, law)
     system = LinearSystem(K=k, M=m, C=c + c_omega, F=f)
-    B = run.periods
     steps = (jnp.arange(B * block, dtype=dt.dtype) + 1.0).reshape(B, block)
     zero = jnp.zeros_like(start.x)
     code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
@@ -322,13 +353,13 @@ def gearbox_dynamics(
     check_real("input_speed", input_speed, "rad/s", shape=(), where="gearbox_dynamics")
     if float(input_speed) == 0.0:
         raise ValueError("gearbox_dynamics: input_speed = 0 rad/s: allowed a nonzero speed")
-    block, fast = _time_plan(chain, run)
-    return _run(chain, run, as_float(input_speed), law, block, fast)
+    S, block, fast, B = _time_plan(chain, run, [input_speed])
+    return _run(chain, run, as_float(input_speed), law, S, block, fast, B)
 
 
 @eqx.filter_jit
-def _sweep(chain, run, speeds, law, block, fast):
-    return jax.vmap(lambda w: _run(chain, run, w, law, block, fast))(speeds)
+def _sweep(chain, run, speeds, law, S, block, fast, B):
+    return jax.vmap(lambda w: _run(chain, run, w, law, S, block, fast, B))(speeds)
 
 
 def gearbox_speed_sweep(
@@ -344,8 +375,8 @@ def gearbox_speed_sweep(
     check_real("input_speeds", speeds, "rad/s", shape=(None,), where="gearbox_speed_sweep")
     if not bool(jnp.all(speeds != 0.0)):
         raise ValueError("gearbox_speed_sweep: an input speed of 0 rad/s: allowed nonzero speeds")
-    block, fast = _time_plan(chain, run)
-    return _sweep(chain, run, speeds, law, block, fast)
+    S, block, fast, B = _time_plan(chain, run, speeds)
+    return _sweep(chain, run, speeds, law, S, block, fast, B)
 
 
 class CoupledModes(eqx.Module):
