@@ -225,3 +225,26 @@ def test_automatic_time_plan_converges():
     assert fine.time.shape[0] == 2 * per_block
     np.testing.assert_allclose(np.asarray(auto.dynamic_factors),
                                np.asarray(fine.dynamic_factors), rtol=1.5e-2)
+
+
+def test_jaxgear_runs_coupled_section(tmp_path):
+    """jaxgear run's coupled section of a gearbox (jaxgear.cli.gearbox.coupled_sweep) on the
+    two-stage case file: coupled.json and coupled.png written, the nine meshes named, their
+    static forces the torque ratios', the modes typed, the resolution reported."""
+    from jaxgear.cli.gearbox import coupled_sweep
+
+    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                             / "two-stage-gearbox.toml"))
+    c = coupled_sweep(case.form, str(tmp_path))
+    assert (tmp_path / "coupled.png").is_file() and (tmp_path / "coupled.json").is_file()
+    assert len(c["mesh_names"]) == 9 and c["mesh_names"][-1] == "2:pair"
+    t_sun = 5000.0 / (1 + Z_R / Z_S)
+    np.testing.assert_allclose(c["static_force_N"], [t_sun / (4 * Z_S * RB)] * 8
+                               + [t_sun / (Z_G * RB)], rtol=1e-12)
+    assert set(c["result"]) == {0}
+    assert np.asarray(c["dynamic_factor_mesh"]).shape == (len(c["input_speeds_rad_s"]), 9)
+    # the sun-planet mode (11036 Hz with the meshes averaged finely; the command averages over
+    # 32 positions a period)
+    assert c["highest_excited_mode_Hz"] == pytest.approx(11036.06, rel=1e-2)
+    assert {m["type"] for m in c["modes"]} <= {"mesh", "structure", "shaft 1-2", "output hold",
+                                               "rigid body"}

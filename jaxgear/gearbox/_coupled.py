@@ -450,8 +450,8 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
     """One row per mode (host side): ``frequency_Hz``, ``type`` ("rigid body", ``"mesh"`` where
     the meshes hold most of its strain energy, ``"shaft <k>-<k+1>"`` or ``"output hold"``
     where a joint does, else ``"structure"``), ``mesh`` (the mesh holding most strain energy,
-    :func:`mesh_names`), ``mesh_energy`` (its share), ``stage`` (the stage holding most kinetic
-    energy, from 1)."""
+    :func:`mesh_names`), ``mesh_energy`` (its share), ``mesh_total`` (every mesh's), ``stage``
+    (the stage holding most kinetic energy, from 1)."""
     names = mesh_names(chain)
     joints = [f"shaft {j + 1}-{j + 2}" for j in range(len(chain.stages) - 1)] + ["output hold"]
     f = np.asarray(modes.analysis.frequency)
@@ -475,6 +475,7 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
             "type": kind,
             "mesh": names[best],
             "mesh_energy": float(me[best, j]),
+            "mesh_total": float(mesh_total),
             "stage": int(np.argmax(ke[:, j])) + 1,
         })
     return rows
