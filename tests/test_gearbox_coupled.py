@@ -248,3 +248,30 @@ def test_jaxgear_runs_coupled_section(tmp_path):
     assert c["highest_excited_mode_Hz"] == pytest.approx(11036.06, rel=1e-2)
     assert {m["type"] for m in c["modes"]} <= {"mesh", "structure", "shaft 1-2", "output hold",
                                                "rigid body"}
+
+
+def test_planar_stage_soft_shaft_limit():
+    """A planar planetary stage (PlanarPlanetary: translations in its carrier frame, bearings
+    1e8 N/m) joined by a shaft 10³ softer than the example's: the coupled modes tend to the
+    stage's own mesh-averaged modes (jaxgear.dynamics.planetary_mesh_modes, its kinematic
+    freedom the one mode -> 0) and the pair's two (gear free, pinion held; the 2 x 2 problem
+    written here)."""
+    chain, run = EX.two_stage(shaft=5e2, mean_positions=64)
+    p = chain.stages[0]
+
+    def bear(m):
+        return eqx.tree_at(lambda x: x.bearing_stiffness, m, jnp.array([1e8, 1e8]))
+
+    st = eqx.tree_at(lambda s: (s.sun, s.ring, s.carrier, s.planet), p.stage,
+                     tuple(bear(m) for m in (p.stage.sun, p.stage.ring, p.stage.carrier,
+                                             p.stage.planet)))
+    planar = gb.PlanetaryGearboxStage(st, p.input, p.output, p.meshes, jg.PlanarPlanetary())
+    coupled = gb.GearboxTorsional((planar, chain.stages[1]), chain.shaft_stiffnesses)
+    got = np.asarray(gb.gearbox_coupled_modes(coupled, run).analysis.frequency)
+    own = np.asarray(jd.planetary_mesh_modes(jg.PlanarPlanetary(), st, p.meshes,
+                                             jd.PlanetaryRun(0.0, 64)).frequency)
+    r = np.array([Z_PIN * RB, Z_G * RB])
+    k_pair = K_U * 0.08 * EPS_PAIR * np.outer(r, r) + np.diag([5e5, 0.0])
+    limit = np.sort(np.concatenate([own, _hz(np.diag([5.2e-3, 0.0165]), k_pair)]))
+    assert own[0] < 1e-6 * own[-1] and got[0] < 0.1 * got[1]  # ~ sqrt(k_t): 20 Hz
+    np.testing.assert_allclose(got[1:], limit[1:], rtol=3e-3)
