@@ -11,12 +11,12 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _examples import load_example
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear import gearbox as gb
-from _examples import load_example
 
 EX = load_example("gearbox_two_stage")
 K_U = EX.K_U

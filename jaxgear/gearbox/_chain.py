@@ -17,6 +17,7 @@ to the strain energy.
 from __future__ import annotations
 
 import abc
+from typing import TYPE_CHECKING
 
 import equinox as eqx
 import jax
@@ -31,6 +32,9 @@ from .._planetary import AbstractPlanetaryModel, Central, PlanetaryStage, Torsio
 from .._planetary_mesh import AbstractPlanetaryMeshes, ConstantMeshes
 from .._quasi_static import separation
 from .._util import as_float, check_instance
+
+if TYPE_CHECKING:  # jaxgear.dynamics is imported where used (import jaxgear does not load it)
+    from ..dynamics import PlanetaryRun
 
 __all__ = [
     "AbstractGearboxStage",
@@ -124,7 +128,7 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
     output: Central = eqx.field(static=True)
     meshes: AbstractPlanetaryMeshes | None = None
     model: AbstractPlanetaryModel = TorsionalPlanetary()
-    run: "PlanetaryRun | None" = None  # jaxgear.dynamics.PlanetaryRun: its pin errors
+    run: PlanetaryRun | None = None  # jaxgear.dynamics.PlanetaryRun: its pin errors
 
     def __check_init__(self):
         if self.input == self.output:

@@ -21,6 +21,7 @@ sign flipped; a spur stage's flanks are alike).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import equinox as eqx
 import jax
@@ -33,16 +34,19 @@ from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
 from ._chain import GearboxTorsional
 
+if TYPE_CHECKING:  # jaxgear.dynamics is imported where used (import jaxgear does not load it)
+    from ..dynamics import ModalAnalysis
+
 __all__ = [
     "CoupledModes",
-    "coordinate_names",
-    "mesh_names",
     "GearboxDynamics",
     "GearboxRun",
+    "coordinate_names",
     "coupled_mode_table",
     "gearbox_coupled_modes",
     "gearbox_dynamics",
     "gearbox_speed_sweep",
+    "mesh_names",
 ]
 
 
@@ -155,7 +159,7 @@ def _assemble(chain, run, input_speed):
     offsets, n = _offsets(chain)
     blocks = [s.dynamic_parts(run.mean_positions) for s in chain.stages]
     dtype = blocks[0][0].dtype
-    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)  # noqa: E731
+    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)
     m = embed([b[0] for b in blocks])
     k_s = embed([b[1] for b in blocks])
     k_mean = embed([b[2] for b in blocks])
@@ -390,7 +394,7 @@ class CoupledModes(eqx.Module):
         stage_energy: each stage's share of each mode's kinetic energy (-), (n_stages, n).
     """
 
-    analysis: "ModalAnalysis"  # jaxgear.dynamics.ModalAnalysis
+    analysis: ModalAnalysis  # jaxgear.dynamics.ModalAnalysis
     mesh_energy: Float[Array, "m n"]
     joint_energy: Float[Array, "j n"]
     stage_energy: Float[Array, "s n"]
@@ -399,7 +403,7 @@ class CoupledModes(eqx.Module):
 @eqx.filter_jit
 def _coupled_modes(chain, run):
     speed = jnp.ones(())
-    m, _, k, _, _, k_mean, cells, _, _ = _assemble(chain, run, speed)
+    m, _, k, _, _, k_mean, _, _, _ = _assemble(chain, run, speed)
     # the per-mesh mean stiffness: each stage's rows over its own mesh period
     offsets, n = _offsets(chain)
     modes = _modes(m, k, k_mean)
