@@ -22,10 +22,10 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import jaxgear.io as jio  # noqa: E402
-from benchmarks._timing import environment  # noqa: E402
-from jaxgear import gearbox as gb  # noqa: E402
-from jaxgear.cli.gearbox import coupled_sweep  # noqa: E402
+import jaxgear.io as jio
+from benchmarks._timing import environment
+from jaxgear import gearbox as gb
+from jaxgear.cli.gearbox import coupled_sweep
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

@@ -4,18 +4,19 @@ dynamics, and the quasi-static limit, on the two-stage example (examples/gearbox
 a planetary stage, ring held, carrier in, sun out, whose sun drives a spur pair)."""
 
 import math
+import pathlib
 
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _examples import load_example
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear import gearbox as gb
-from _examples import load_example
 
 EX = load_example("gearbox_two_stage")
 K_U = EX.K_U
@@ -188,3 +189,89 @@ def test_bad_inputs_one_line():
         gb.gearbox_dynamics(chain, run, 0.0)
     with pytest.raises(ValueError, match="chain"):
         gb.gearbox_dynamics("box", run, 1.0)
+
+
+def test_the_case_file_builds_the_example():
+    """tests/data/gearbox/two-stage-gearbox.toml (the same gearbox as case files: a planetary
+    case, a pair case, the gearbox's [[stages]]) gives, through jaxgear.io's GearboxForm.coupled,
+    the model the example builds in Python: the same coupled modes and the same cells."""
+    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                             / "two-stage-gearbox.toml"))
+    chain = case.form.coupled()
+    ex, run = EX.two_stage()
+    f_case = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+    f_ex = np.asarray(gb.gearbox_coupled_modes(ex, run).analysis.frequency)
+    np.testing.assert_allclose(f_case, f_ex, rtol=1e-10)
+    for a, b in zip(chain.stages, ex.stages, strict=True):
+        for x in (0.0, 3.1e-3, 7.7e-3):
+            ra, rb = a.cell_row(x), b.cell_row(x)
+            np.testing.assert_array_equal(np.asarray(ra.mask), np.asarray(rb.mask))
+            np.testing.assert_allclose(np.asarray(ra.V), np.asarray(rb.V), rtol=1e-12)
+            np.testing.assert_allclose(np.asarray(ra.k * ra.length), np.asarray(rb.k * rb.length),
+                                       rtol=1e-12)
+
+
+def test_automatic_time_plan_converges():
+    """The automatic plan (40 steps per period of the highest mode the meshes excite, 8 time
+    constants of the lowest to settle) against twice its steps: every mesh's dynamic factor
+    within 1.5 % (the peaks of the ring after each stiffness step converge as the step's
+    square), at 100 rad/s, near the pair's resonance."""
+    chain, run = EX.two_stage(steps_per_period=None, periods=None, keep_periods=1)
+    auto = gb.gearbox_dynamics(chain, run, 100.0)
+    per_block = auto.time.shape[0]  # one recorded block: 2 S steps (stage 2 meshes twice as fast)
+    _, finer = EX.two_stage(steps_per_period=per_block, periods=None, keep_periods=1)
+    fine = gb.gearbox_dynamics(chain, finer, 100.0)
+    assert int(auto.result) == 0 and int(fine.result) == 0
+    assert fine.time.shape[0] == 2 * per_block
+    np.testing.assert_allclose(np.asarray(auto.dynamic_factors),
+                               np.asarray(fine.dynamic_factors), rtol=1.5e-2)
+
+
+def test_jaxgear_runs_coupled_section(tmp_path):
+    """jaxgear run's coupled section of a gearbox (jaxgear.cli.gearbox.coupled_sweep) on the
+    two-stage case file: coupled.json and coupled.png written, the nine meshes named, their
+    static forces the torque ratios', the modes typed, the resolution reported."""
+    from jaxgear.cli.gearbox import coupled_sweep
+
+    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                             / "two-stage-gearbox.toml"))
+    c = coupled_sweep(case.form, str(tmp_path))
+    assert (tmp_path / "coupled.png").is_file() and (tmp_path / "coupled.json").is_file()
+    assert len(c["mesh_names"]) == 9 and c["mesh_names"][-1] == "2:pair"
+    t_sun = 5000.0 / (1 + Z_R / Z_S)
+    np.testing.assert_allclose(c["static_force_N"], [t_sun / (4 * Z_S * RB)] * 8
+                               + [t_sun / (Z_G * RB)], rtol=1e-12)
+    assert set(c["result"]) == {0}
+    assert np.asarray(c["dynamic_factor_mesh"]).shape == (len(c["input_speeds_rad_s"]), 9)
+    # the sun-planet mode (11036 Hz with the meshes averaged finely; the command averages over
+    # 32 positions a period)
+    assert c["highest_excited_mode_Hz"] == pytest.approx(11036.06, rel=1e-2)
+    assert {m["type"] for m in c["modes"]} <= {"mesh", "structure", "shaft 1-2", "output hold",
+                                               "rigid body"}
+
+
+def test_planar_stage_soft_shaft_limit():
+    """A planar planetary stage (PlanarPlanetary: translations in its carrier frame, bearings
+    1e8 N/m) joined by a shaft 10³ softer than the example's: the coupled modes tend to the
+    stage's own mesh-averaged modes (jaxgear.dynamics.planetary_mesh_modes, its kinematic
+    freedom the one mode -> 0) and the pair's two (gear free, pinion held; the 2 x 2 problem
+    written here)."""
+    chain, run = EX.two_stage(shaft=5e2, mean_positions=64)
+    p = chain.stages[0]
+
+    def bear(m):
+        return eqx.tree_at(lambda x: x.bearing_stiffness, m, jnp.array([1e8, 1e8]))
+
+    st = eqx.tree_at(lambda s: (s.sun, s.ring, s.carrier, s.planet), p.stage,
+                     tuple(bear(m) for m in (p.stage.sun, p.stage.ring, p.stage.carrier,
+                                             p.stage.planet)))
+    planar = gb.PlanetaryGearboxStage(st, p.input, p.output, p.meshes, jg.PlanarPlanetary())
+    coupled = gb.GearboxTorsional((planar, chain.stages[1]), chain.shaft_stiffnesses)
+    got = np.asarray(gb.gearbox_coupled_modes(coupled, run).analysis.frequency)
+    own = np.asarray(jd.planetary_mesh_modes(jg.PlanarPlanetary(), st, p.meshes,
+                                             jd.PlanetaryRun(0.0, 64)).frequency)
+    r = np.array([Z_PIN * RB, Z_G * RB])
+    k_pair = K_U * 0.08 * EPS_PAIR * np.outer(r, r) + np.diag([5e5, 0.0])
+    limit = np.sort(np.concatenate([own, _hz(np.diag([5.2e-3, 0.0165]), k_pair)]))
+    assert own[0] < 1e-6 * own[-1] and got[0] < 0.1 * got[1]  # ~ sqrt(k_t): 20 Hz
+    np.testing.assert_allclose(got[1:], limit[1:], rtol=3e-3)

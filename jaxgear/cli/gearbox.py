@@ -128,6 +128,14 @@ def coupled_sweep(form, out: str) -> dict:
         "worst_mesh": names[int(np.argmax(np.max(df, axis=0)))],
         "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, run)),
     }
+    # the resolution of the highest mode the meshes excite (its mesh share >= 5 %): the
+    # automatic plan (GearboxRun(steps_per_period=None)) takes 40 steps per its period
+    excited = [m["frequency_Hz"] for m in result["modes"]
+               if m["type"] != "rigid body" and m["mesh_total"] >= 0.05]
+    dt = np.asarray(res.time)[:, 1] - np.asarray(res.time)[:, 0]
+    f_exc = max(excited, default=0.0)
+    result["highest_excited_mode_Hz"] = f_exc
+    result["steps_per_mode_period"] = [float(1.0 / (d * f_exc)) if f_exc else None for d in dt]
     write_json(os.path.join(out, "coupled.json"), result)
     fig, ax = new_figure()
     for j, name in enumerate(names):
@@ -178,7 +186,11 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
         lines.append(
             f"coupled model (every mesh in one run, {len(c['input_speeds_rad_s'])} input speeds "
             f"{c['input_speeds_rad_s'][0]:.4g}-{c['input_speeds_rad_s'][-1]:.4g} rad/s): "
-            f"largest dynamic factor {c['max_dynamic_factor']:.4g} ({c['worst_mesh']}); "
+            f"largest dynamic factor {c['max_dynamic_factor']:.4g} ({c['worst_mesh']}"
+            + (f"; first look: {min(c['steps_per_mode_period']):.3g} steps per period of the "
+               f"{c['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite"
+               if c.get("steps_per_mode_period") and None not in c["steps_per_mode_period"]
+               else "") + "); "
             "modes " + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}, {m['mesh']})"
                                  for m in c["modes"][:4] if m["type"] != "rigid body")
             + " (coupled.json, coupled.png)"

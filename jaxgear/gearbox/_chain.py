@@ -17,7 +17,6 @@ to the strain energy.
 from __future__ import annotations
 
 import abc
-
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -27,16 +26,20 @@ from jaxtyping import Array, Float
 
 from .._baseplane import CellRow, MeshModel
 from .._modifications import Modifications
+from .._quasi_static import separation
+from .._util import as_float, check_instance
+from ..dynamics import modal_analysis
 from ..planetary import (
     AbstractPlanetaryMeshes,
     AbstractPlanetaryModel,
     Central,
     ConstantMeshes,
+    PlanetaryRun,
     PlanetaryStage,
     TorsionalPlanetary,
+    planetary_cell_row,
+    planetary_stage_system,
 )
-from .._quasi_static import separation
-from .._util import as_float, check_instance
 
 __all__ = [
     "AbstractGearboxStage",
@@ -130,7 +133,7 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
     output: Central = eqx.field(static=True)
     meshes: AbstractPlanetaryMeshes | None = None
     model: AbstractPlanetaryModel = TorsionalPlanetary()
-    run: "PlanetaryRun | None" = None  # jaxgear.planetary.PlanetaryRun: its pin errors
+    run: PlanetaryRun | None = None  # jaxgear.planetary.PlanetaryRun: its pin errors
 
     def __check_init__(self):
         if self.input == self.output:
@@ -153,7 +156,6 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return ConstantMeshes() if self.meshes is None else self.meshes
 
     def _run(self):
-        from ..planetary import PlanetaryRun
 
         return PlanetaryRun(0.0) if self.run is None else self.run
 
@@ -175,7 +177,6 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return names.index(key[self.input]), names.index(key[self.output])
 
     def dynamic_parts(self, positions):
-        from ..planetary import planetary_stage_system
 
         parts = planetary_stage_system(self.model, self.stage, self._meshes(), self._run(),
                                        positions)
@@ -184,7 +185,6 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return rr * parts.m, rr * parts.k_b, rr * parts.k_mean, r * parts.f
 
     def cell_row(self, x):
-        from ..planetary import planetary_cell_row
 
         row = planetary_cell_row(self.model, self.stage, self._meshes(), self._run(), x)
         return row._replace(V=row.V * self._scale()[None, :])
@@ -425,7 +425,6 @@ def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
         ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
     check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
                    "gearbox_modes")
-    from ..dynamics import modal_analysis
 
     m, k = chain.matrices()
     modes = modal_analysis(_ChainParts(m, k), jnp.zeros_like(k))

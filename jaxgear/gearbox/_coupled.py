@@ -20,6 +20,7 @@ sign flipped; a spur stage's flanks are alike).
 
 from __future__ import annotations
 
+import math
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -29,18 +30,19 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
+from ..dynamics import LinearSystem, ModalAnalysis, StepCells, modal_analysis, newmark
 from ._chain import GearboxTorsional
 
 __all__ = [
     "CoupledModes",
-    "coordinate_names",
-    "mesh_names",
     "GearboxDynamics",
     "GearboxRun",
+    "coordinate_names",
     "coupled_mode_table",
     "gearbox_coupled_modes",
     "gearbox_dynamics",
     "gearbox_speed_sweep",
+    "mesh_names",
 ]
 
 
@@ -53,9 +55,15 @@ class GearboxRun(eqx.Module):
         output_stiffness: the torsional spring (N m/rad, > 0) that holds the last stage's output
             member to ground (the load).
         steps_per_period: Newmark steps per mesh period of the fastest excited mesh (static,
-            >= 8); the time step is that period over it.
+            >= 8); the time step is that period over it. None: automatic, at least
+            :data:`STEPS_PER_MODE` steps per period of the highest coupled mode whose strain
+            energy the meshes hold >= :data:`MESH_SHARE` (:func:`gearbox_coupled_modes`) at the
+            lowest speed of the run or sweep (the spur meshes' stiffness steps ring every
+            mode, and average acceleration leaves an under-resolved one undamped).
         periods: blocks integrated (static, >= 1), a block the slowest excited mesh's period
-            (rounded to whole steps).
+            (rounded to whole steps). None: automatic, the recorded blocks after
+            :data:`SETTLE` time constants 1 / (zeta omega_1) of the lowest elastic coupled mode
+            at the highest speed of the run or sweep.
         keep_periods: the last blocks recorded (static, 1..periods).
         damping_ratio: zeta (-), modal damping on every mode of (M, K + K̄_m).
         mean_positions: the mesh positions per period over which K̄_m is averaged (static).
@@ -63,18 +71,20 @@ class GearboxRun(eqx.Module):
 
     input_torque: Float[Array, ""] = eqx.field(converter=as_float)
     output_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
-    steps_per_period: int = eqx.field(static=True, default=32)
-    periods: int = eqx.field(static=True, default=40)
+    steps_per_period: int | None = eqx.field(static=True, default=32)
+    periods: int | None = eqx.field(static=True, default=40)
     keep_periods: int = eqx.field(static=True, default=2)
     damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
     mean_positions: int = eqx.field(static=True, default=64)
 
     def __check_init__(self):
-        check_integer("steps_per_period", self.steps_per_period, 8)
-        check_integer("periods", self.periods, 1)
+        if self.steps_per_period is not None:
+            check_integer("steps_per_period", self.steps_per_period, 8)
+        if self.periods is not None:
+            check_integer("periods", self.periods, 1)
         check_integer("keep_periods", self.keep_periods, 1)
         check_integer("mean_positions", self.mean_positions, 1)
-        if self.keep_periods > self.periods:
+        if self.periods is not None and self.keep_periods > self.periods:
             raise ValueError(f"GearboxRun: keep_periods = {self.keep_periods} is out of range: "
                              f"allowed 1..periods = {self.periods}")
         check_real("input_torque", self.input_torque, "N m", shape=(), where="GearboxRun")
@@ -145,7 +155,7 @@ def _assemble(chain, run, input_speed):
     offsets, n = _offsets(chain)
     blocks = [s.dynamic_parts(run.mean_positions) for s in chain.stages]
     dtype = blocks[0][0].dtype
-    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)  # noqa: E731
+    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)
     m = embed([b[0] for b in blocks])
     k_s = embed([b[1] for b in blocks])
     k_mean = embed([b[2] for b in blocks])
@@ -213,23 +223,44 @@ def _cell_counts(chain):
     return [int(s.cell_row(jnp.zeros(())).k.shape[0]) for s in chain.stages]
 
 
-def _time_plan(chain, run) -> tuple[int, float]:
-    """(steps per block, the fastest excited mesh's period per unit of 1 / input speed): host
-    side (the periods' ratios do not depend on the speed, all speeds scale together)."""
+#: the automatic time step's steps per period of the highest mode the meshes excite
+STEPS_PER_MODE = 40
+#: a mode the meshes excite: they hold at least this share of its strain energy
+MESH_SHARE = 0.05
+#: the automatic run's settling: time constants 1 / (zeta omega_1) before the recorded window
+SETTLE = 8.0
+
+
+def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
+    """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
+    unit of 1 / input speed): host side (the periods' ratios do not depend on the speed, all
+    speeds scale together; ``speeds``: the input speeds, for the automatic step)."""
     kin = _kinematics(chain, 1.0, 1.0)
     periods = [float(s.mesh_period() / v) for s, (_, v, _) in zip(chain.stages, kin, strict=True)
                if s.excited()]
     if not periods:
         periods = [float(chain.stages[0].mesh_period() / kin[0][1])]
     fast, slow = min(periods), max(periods)
-    return max(1, round(run.steps_per_period * slow / fast)), fast
+    steps, blocks = run.steps_per_period, run.periods
+    if steps is None or blocks is None:
+        modes = _coupled_modes(chain, run)
+        f = np.asarray(modes.analysis.frequency)
+        w = np.abs(np.asarray(speeds, dtype=float))
+    if steps is None:
+        excited = np.asarray(modes.mesh_energy).sum(axis=0) >= MESH_SHARE
+        f_max = float(np.max(f[excited], initial=0.0))
+        steps = max(8, math.ceil(STEPS_PER_MODE * f_max * fast / float(np.min(w))))
+    if blocks is None:  # SETTLE time constants of the lowest elastic mode, then the window
+        f_1 = float(np.min(f[~np.asarray(modes.analysis.rigid)]))
+        tau = 1.0 / (float(run.damping_ratio) * 2.0 * math.pi * f_1)
+        blocks = math.ceil(SETTLE * tau / (slow / float(np.max(w)))) + run.keep_periods
+    return steps, max(1, round(steps * slow / fast)), fast, blocks
 
 
 def _modes(m, k, k_mean):
     """modal_analysis of (M, K + K̄_m), the mesh part K̄_m."""
     # jaxgear.dynamics imported here: ``import jaxgear`` (which holds the chain's names) does
     # not load the dynamics
-    from ..dynamics import modal_analysis
 
     return modal_analysis(_Parts(m, k), k_mean)
 
@@ -246,15 +277,14 @@ class _Parts(eqx.Module):
 
 
 @eqx.filter_jit
-def _run(chain, run, input_speed, law, block, fast):
-    from ..dynamics import LinearSystem, StepCells, newmark
+def _run(chain, run, input_speed, law, S, block, fast, B):
 
     m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
     modes = _modes(m, k, k_mean)
     phi, w = modes.shapes, modes.omega
     mphi = m @ phi
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
-    dt = fast / (run.steps_per_period * jnp.abs(as_float(input_speed)))
+    dt = fast / (S * jnp.abs(as_float(input_speed)))
     signs = _flank_signs(chain, k, f, k_mean, cells(0.5 * dt))
 
     def row(i):
@@ -263,7 +293,6 @@ def _run(chain, run, input_speed, law, block, fast):
     r0 = row(jnp.zeros_like(dt))
     start = solve_contact(k, f, r0.V, r0.k, r0.length, r0.delta0, r0.mask, law)
     system = LinearSystem(K=k, M=m, C=c + c_omega, F=f)
-    B = run.periods
     steps = (jnp.arange(B * block, dtype=dt.dtype) + 1.0).reshape(B, block)
     zero = jnp.zeros_like(start.x)
     code = (jnp.array(0, jnp.int32), jnp.array(0, jnp.int32))
@@ -322,13 +351,13 @@ def gearbox_dynamics(
     check_real("input_speed", input_speed, "rad/s", shape=(), where="gearbox_dynamics")
     if float(input_speed) == 0.0:
         raise ValueError("gearbox_dynamics: input_speed = 0 rad/s: allowed a nonzero speed")
-    block, fast = _time_plan(chain, run)
-    return _run(chain, run, as_float(input_speed), law, block, fast)
+    S, block, fast, B = _time_plan(chain, run, [input_speed])
+    return _run(chain, run, as_float(input_speed), law, S, block, fast, B)
 
 
 @eqx.filter_jit
-def _sweep(chain, run, speeds, law, block, fast):
-    return jax.vmap(lambda w: _run(chain, run, w, law, block, fast))(speeds)
+def _sweep(chain, run, speeds, law, S, block, fast, B):
+    return jax.vmap(lambda w: _run(chain, run, w, law, S, block, fast, B))(speeds)
 
 
 def gearbox_speed_sweep(
@@ -344,8 +373,8 @@ def gearbox_speed_sweep(
     check_real("input_speeds", speeds, "rad/s", shape=(None,), where="gearbox_speed_sweep")
     if not bool(jnp.all(speeds != 0.0)):
         raise ValueError("gearbox_speed_sweep: an input speed of 0 rad/s: allowed nonzero speeds")
-    block, fast = _time_plan(chain, run)
-    return _sweep(chain, run, speeds, law, block, fast)
+    S, block, fast, B = _time_plan(chain, run, speeds)
+    return _sweep(chain, run, speeds, law, S, block, fast, B)
 
 
 class CoupledModes(eqx.Module):
@@ -359,7 +388,7 @@ class CoupledModes(eqx.Module):
         stage_energy: each stage's share of each mode's kinetic energy (-), (n_stages, n).
     """
 
-    analysis: "ModalAnalysis"  # jaxgear.dynamics.ModalAnalysis
+    analysis: ModalAnalysis  # jaxgear.dynamics.ModalAnalysis
     mesh_energy: Float[Array, "m n"]
     joint_energy: Float[Array, "j n"]
     stage_energy: Float[Array, "s n"]
@@ -368,7 +397,7 @@ class CoupledModes(eqx.Module):
 @eqx.filter_jit
 def _coupled_modes(chain, run):
     speed = jnp.ones(())
-    m, _, k, _, _, k_mean, cells, _, _ = _assemble(chain, run, speed)
+    m, _, k, _, _, k_mean, _, _, _ = _assemble(chain, run, speed)
     # the per-mesh mean stiffness: each stage's rows over its own mesh period
     offsets, n = _offsets(chain)
     modes = _modes(m, k, k_mean)
@@ -419,8 +448,8 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
     """One row per mode (host side): ``frequency_Hz``, ``type`` ("rigid body", ``"mesh"`` where
     the meshes hold most of its strain energy, ``"shaft <k>-<k+1>"`` or ``"output hold"``
     where a joint does, else ``"structure"``), ``mesh`` (the mesh holding most strain energy,
-    :func:`mesh_names`), ``mesh_energy`` (its share), ``stage`` (the stage holding most kinetic
-    energy, from 1)."""
+    :func:`mesh_names`), ``mesh_energy`` (its share), ``mesh_total`` (every mesh's), ``stage``
+    (the stage holding most kinetic energy, from 1)."""
     names = mesh_names(chain)
     joints = [f"shaft {j + 1}-{j + 2}" for j in range(len(chain.stages) - 1)] + ["output hold"]
     f = np.asarray(modes.analysis.frequency)
@@ -444,6 +473,7 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
             "type": kind,
             "mesh": names[best],
             "mesh_energy": float(me[best, j]),
+            "mesh_total": float(mesh_total),
             "stage": int(np.argmax(ke[:, j])) + 1,
         })
     return rows

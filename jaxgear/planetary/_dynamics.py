@@ -49,12 +49,12 @@ __all__ = [
     "PlanetaryDynamics",
     "PlanetaryRun",
     "PlanetaryStageSystem",
-    "planetary_cell_row",
-    "planetary_stage_system",
     "order_spectrum",
+    "planetary_cell_row",
     "planetary_dynamics",
     "planetary_mesh_modes",
     "planetary_speed_sweep",
+    "planetary_stage_system",
     "ring_transducer_signal",
 ]
 
