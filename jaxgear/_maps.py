@@ -5,13 +5,11 @@ from __future__ import annotations
 
 import math
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 
 from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
-from ._quasi_static import QuasiStaticResult, quasi_static
+from ._quasi_static import QuasiStaticResult, at_torques
 from ._results import ContactResult, raise_if_failed
 from .scenes import cache_window_compliance
 
@@ -70,14 +68,15 @@ def harris_map(
     the same values)."""
     mesh = cache_window_compliance(mesh, positions_per_pitch=positions_per_pitch)
 
-    def ptp(t):
-        r = quasi_static(
-            mesh, mods, t, contact=contact, positions_per_pitch=positions_per_pitch, throw=False
-        )
-        return r.te_ptp, r.result
-
-    te, result = jax.vmap(ptp)(jnp.asarray(torques))
-    # the result codes read on the host: the vmapped solve then holds no eqx.error_if callback,
-    # which JAX's persistent compilation cache does not store (a second run reads it back)
+    # the torques checked and the result codes read on the host: the vmapped solve holds no
+    # eqx.error_if callback, which JAX's persistent compilation cache does not store
+    te, result = at_torques(
+        mesh,
+        mods,
+        torques,
+        lambda r: r.te_ptp,
+        contact=contact,
+        positions_per_pitch=positions_per_pitch,
+    )
     raise_if_failed(result, ContactResult, "harris_map")
     return np.asarray(te)

@@ -5,7 +5,9 @@ from __future__ import annotations
 import functools
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
 from ._backlash import check_no_coast, flank_separation
@@ -309,6 +311,51 @@ def check_operating(
             raise ValueError(f"{where}: theta must have shape (n,) [rad] with n >= 1, got (0,)")
     if speed is not None:
         check_real("speed", speed, "rad/s", lo=0.0, shape=(), where=where)
+
+
+def at_torques(
+    scene: Scene | MeshModel,
+    modifications: Modifications | None,
+    torques,
+    read,
+    *,
+    contact: ContactLaw = ExactContact(),
+    positions_per_pitch: int = 64,
+):
+    """:func:`quasi_static` at rest over one mesh period at each of the pinion torques
+    ``torques`` (N·m, (T,), concrete), side by side (``jax.vmap``), with ``throw=False``:
+    (``read`` of each torque's :class:`QuasiStaticResult`, its arrays leading with T; the result
+    codes, (T, P)), the caller reading the codes (:func:`raise_if_failed`). The
+    torques are checked here, on the host (finite, > 0), as a concrete torque is, so that the
+    vmapped solve holds no ``eqx.error_if`` of a traced torque (a Python callback: JAX's
+    persistent compilation cache never stores such a program, and each run compiled it again).
+
+    Raises:
+        ValueError: torques not a non-empty 1-D array of finite values > 0 (N·m); the inputs
+            :func:`quasi_static` refuses."""
+    t = np.asarray(torques, dtype=float)
+    if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or not np.all(t > 0):
+        raise ValueError(
+            f"torques = {torques!r}: allowed a non-empty 1-D array of finite pinion torques > 0 "
+            "(N·m)"
+        )
+    check_positions(positions_per_pitch, 1)
+    check_operating("quasi_static", scene, modifications, float(t[0]))
+    planes = scene.base_planes
+    modifications = per_mesh_modifications(modifications, len(planes))
+    for plane, mods in zip(planes, modifications, strict=True):
+        if mods.deviations is not None:
+            mods.deviations.check(plane)
+    dtype = planes[0].base_pitch.dtype
+    speed = jnp.asarray(0.0, dtype=dtype)
+    law = contact_law(contact, dtype)
+    positions = (int(positions_per_pitch), 1)
+
+    def one(torque):
+        r = _quasi_static(scene, modifications, torque, speed, None, law, False, positions, False)
+        return read(r), r.result
+
+    return jax.vmap(one)(jnp.asarray(t, dtype=dtype))
 
 
 def quasi_static(

@@ -82,9 +82,8 @@ def test_optimise_choices_are_the_model_names():
     """``optimise``'s choices are declared without the model (so that its ``--help`` loads
     none): those its help shows are the names :mod:`jaxgear.io` and :mod:`optimise` map to
     objects."""
-    import optimise
-
     import jaxgear.io as jio
+    import optimise
 
     proc = subprocess.run(
         [sys.executable, "-c", ENTRY, "optimise", "--help"],

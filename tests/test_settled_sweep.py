@@ -153,3 +153,30 @@ def test_a_speed_at_its_cap_unsettled_gets_one_line_naming_it_and_the_option():
     (line,) = jd.unsettled_lines(s)
     assert line.startswith("speed 600 rad/s: not settled after 40 mesh periods")
     assert "0.031" in line and "--periods 80" in line and "[scene.integration] periods" in line
+
+
+@pytest.mark.slow
+def test_two_stage_settled_dynamic_factor_agrees_with_a_run_four_times_longer():
+    # the embedded two-stage train (its meshes repeat together every 127 periods of the first:
+    # one window = 127 periods), coarse (2 slices, 35 steps per HST period: a whole 127 per LST
+    # period), at three of jaxgear run's top speeds, where its settling time is longest
+    case = jio.load_case("two-stage").replace(slices=2)
+    model = build_dynamic_model(case)[0]
+    law = case.contact_law("exact")
+    speeds = np.array([2800.0, 2900.0, 3000.0])
+    s = jd.settled_sweep(model, speeds, integrator=Newmark(35), contact=law, keep_periods=127)
+    assert s.window == 127 and s.settled.all() and (s.change <= 1e-2).all()
+    # every speed from the static equilibrium for four times the most periods a speed ran
+    long = jd.speed_sweep(
+        model,
+        speeds,
+        integrator=Newmark(35),
+        contact=law,
+        window=SteadyState(4 * int(s.periods.max()), 127),
+    ).results
+    # the long runs are settled by the rule (t_s f_mesh periods, f_mesh = Ω z1 / 2π, the
+    # input's 28 teeth, decay the transient to 1e-3): their kept window starts after it
+    assert 4 * s.periods.max() - 127 >= (s.settle_s * speeds * 28 / (2 * math.pi)).max()
+    for settled, reference in zip(s.sweep.results.meshes, long.meshes, strict=True):
+        df, ref = np.asarray(settled.dynamic_factor), np.asarray(reference.dynamic_factor)
+        np.testing.assert_allclose(df, ref, atol=1e-2, rtol=0)

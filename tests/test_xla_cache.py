@@ -159,3 +159,15 @@ def test_cli_default_folder_and_off(tmp_path):
         assert proc.returncode == 2 and "no-such.toml" in proc.stderr, proc.stderr[-2000:]
         made = (tmp_path / home / ".cache" / "jaxgear" / "xla").is_dir()
         assert made == (not extra)
+
+
+def test_harris_map_refuses_bad_torques_in_one_line():
+    """harris_map checks its torques on the host (its vmapped solve then holds no callback that
+    the cache cannot store): a torque <= 0 or not finite is refused before any solve."""
+    import jaxgear as jg
+    import jaxgear.io as jio
+
+    mesh = jio.load_case("power-helical").replace(slices=2).mesh_model()
+    for bad in ([100.0, -5.0], [float("nan")], []):
+        with pytest.raises(ValueError, match=r"^torques = .*allowed a non-empty 1-D array"):
+            jg.harris_map(mesh, jg.Modifications(), bad, positions_per_pitch=8)

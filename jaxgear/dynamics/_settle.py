@@ -161,7 +161,12 @@ def settled_sweep(
     periodicity, where they hold two scene periods), and the kept forces against the window
     before's or, for a continued speed's first window, the mesh force its change of state could
     carry (:func:`_state_change`: zero on a periodic orbit, whose state repeats at the same mesh
-    position); or until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
+    position). Where the kept periods hold one scene period (the records have no periodicity,
+    e.g. a train whose meshes repeat together only after the whole window), every window but
+    the very first from rest is judged by its own return, its end state against its start,
+    over 1 − ρ (ρ = SETTLE_TOL^(T_w / t_s), the slowest excited mode's decay over the window's
+    T_w: the transient its records can still hold), so that such a speed settles in two
+    windows (the speed change's transient in the first) rather than three; or until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
     ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios), at least
     four windows. A speed at its cap unsettled has ``settled`` False (``jaxgear sweep`` and
     ``jaxgear run`` print one warning line per such speed, naming its change and the
@@ -248,6 +253,10 @@ def settled_sweep(
         s = float(sp[i])
         if state is not None:  # the same response over the mesh angle: Ẋ ∝ Ω
             state = (state[0], state[1] * (s / last_speed))
+        # the slowest excited mode's decay over one window at this speed: ρ = SETTLE_TOL^(T_w /
+        # t_s) (T_w = block mesh periods); a window whose end state returns to its start within
+        # d has at most d / (1 - ρ) of transient left at its start (a contraction by ρ)
+        rho = SETTLE_TOL ** (block * angle / s / t_s) if math.isfinite(t_s) else 1.0
         prev = None
         for b in range(int(blocks[i])):
             r = _host(
@@ -260,8 +269,16 @@ def settled_sweep(
             fs = np.asarray([float(m.static_force) for m in r.meshes])
             fm = np.stack([np.asarray(m.mesh_force) / f for m, f in zip(r.meshes, fs)])
             # the last kept period against the one before (NaN: fewer than two scene periods)
-            per = max(float(np.nan_to_num(m.periodicity)) for m in r.meshes)
-            if prev is not None:  # the window's forces against the window before's
+            periodic = [float(m.periodicity) for m in r.meshes]
+            per = max(float(np.nan_to_num(v)) for v in periodic)
+            if state is not None and not any(np.isfinite(periodic)):
+                # a window of one scene period (the kept periods hold one: no periodicity of
+                # the records, and the window before's records begin with the transient of the
+                # speed change): the window's own return, its end state against its start,
+                # over 1 - ρ (the transient its records can still hold)
+                back = _state_change(r.final_state, state, mass, stiff, k_mesh, fs)
+                change[i] = back / (1.0 - rho) if rho < 1.0 else math.inf
+            elif prev is not None:  # the window's forces against the window before's
                 change[i] = max(float(np.max(np.abs(fm - prev))), per)
             elif state is not None:  # a continued speed's first window: its end state
                 change[i] = max(_state_change(r.final_state, state, mass, stiff, k_mesh, fs), per)
