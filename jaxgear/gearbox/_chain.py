@@ -89,6 +89,13 @@ class AbstractGearboxStage(eqx.Module):
         """The stage's contact cells at its mesh travel ``x`` (m) on :meth:`coordinates`
         (every mesh's, in :meth:`mesh_names`' order)."""
 
+    def on_flanks(self, sign) -> AbstractGearboxStage:
+        """The stage with its cells placed for the flanks the load is on: ``sign`` (traced,
+        +1 or -1) the sign of its mesh deflections under the static load (-1: the other flanks
+        than its cells' own). The default: the same cells (a pair's two flanks alike; the
+        coupled model flips their rows' sign)."""
+        return self
+
     @abc.abstractmethod
     def mesh_forces(self, forces) -> Float[Array, "... m"]:
         """Each mesh's transverse force (N, compression positive), (..., m), from the cell
@@ -191,6 +198,18 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
 
     def mesh_forces(self, forces):
         return self._meshes().mesh_forces(forces)
+
+    def on_flanks(self, sign):
+        """The stage on the flanks its static load takes: with ``sign`` < 0 (the planets drive
+        the sun: carrier in and sun out) its meshes' :meth:`~jaxgear.ContactMeshes.other_flanks`
+        (the sun-ring phase within a planet of the other flanks), chosen leaf by leaf so that
+        ``sign`` may be traced."""
+        if self.meshes is None:
+            return self
+        other = self.meshes.other_flanks()
+        meshes = jax.tree.map(lambda a, b: jnp.where(sign < 0, b, a) if eqx.is_array(a) else a,
+                              self.meshes, other)
+        return eqx.tree_at(lambda s: s.meshes, self, meshes)
 
     def mesh_names(self):
         n = self.stage.n_planets

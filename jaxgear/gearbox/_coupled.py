@@ -129,8 +129,12 @@ def coordinate_names(chain: GearboxTorsional) -> tuple[str, ...]:
 
 
 def _offsets(chain):
+    return _offsets_of(chain.stages)
+
+
+def _offsets_of(stages):
     out, n = [], 0
-    for s in chain.stages:
+    for s in stages:
         out.append(n)
         n += len(s.coordinates())
     return out, n
@@ -183,15 +187,23 @@ def _assemble(chain, run, input_speed):
     speeds = jnp.stack([v for _, v, _ in kin])
     static = jnp.concatenate([fk for _, _, fk in kin])
 
+    return m, k, k_s + k_joint, c_omega, f, k_mean, _cells(chain.stages, kin), speeds, static
+
+
+def _cells(stages, kin):
+    """The cells' function of time (s): each stage's cell row at its own mesh travel v_k t, on
+    the coupled coordinates."""
+    offsets, n = _offsets_of(stages)
+
     def cells(t):
         rows = []
-        for s, off, (_, v, _) in zip(chain.stages, offsets, kin, strict=True):
+        for s, off, (_, v, _) in zip(stages, offsets, kin, strict=True):
             r = s.cell_row(v * t)
             V = jnp.zeros((r.V.shape[0], n), r.V.dtype).at[:, off:off + r.V.shape[1]].set(r.V)
             rows.append(r._replace(V=V))
         return rows
 
-    return m, k, k_s + k_joint, c_omega, f, k_mean, cells, speeds, static
+    return cells
 
 
 def _flank_signs(chain, k, f, k_mean, rows):
@@ -286,6 +298,10 @@ def _run(chain, run, input_speed, law, S, block, fast, B):
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
     dt = fast / (S * jnp.abs(as_float(input_speed)))
     signs = _flank_signs(chain, k, f, k_mean, cells(0.5 * dt))
+    # each stage's cells for its loaded flanks (a planetary stage whose planets drive the sun:
+    # its sun-ring phase, ContactMeshes.other_flanks), the rows' sign flipped below
+    cells = _cells([s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)],
+                   _kinematics(chain, input_speed, run.input_torque))
 
     def row(i):
         return _signed(cells((i + 0.5) * dt), signs)
