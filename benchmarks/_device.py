@@ -15,6 +15,9 @@ same inputs, so that the ratios are measured in one run:
 5. **Planetary sweep**: a 3-planet planar stage (``benchmarks/planetary_step.py``'s: 18
    coordinates, the contact cells of its 6 meshes, exact contact), the carrier-frame Newmark
    over carrier speeds in one ``vmap`` (``planetary_speed_sweep``), fixed steps.
+6. **Gearbox sweep**: the two-stage coupled gearbox (``examples/gearbox_two_stage.py``: a
+   4-planet torsional stage whose sun drives a spur pair through a shaft, 9 meshes' cells in one
+   Newmark run), ``gearbox_speed_sweep`` (one ``vmap`` over carrier speeds), fixed steps.
 
 Each row: wall time of the workload after a compiling call (min of repeats,
 ``jax.block_until_ready``), the compile time (first call minus the steady time), the throughput,
@@ -215,12 +218,40 @@ def _planetary_sweep(quick, dev):
     return {**rows[-1], "rows": rows}, values
 
 
+def _gearbox_sweep(quick, dev):
+    import importlib.util
+
+    import jax.numpy as jnp
+
+    from jaxgear import gearbox as gb
+
+    spec = importlib.util.spec_from_file_location(
+        "gearbox_two_stage", ROOT / "examples" / "gearbox_two_stage.py")
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    chain, run = example.two_stage(steps_per_period=64, periods=2 if quick else 20,
+                                   keep_periods=1)
+    rows, values = [], None
+    for n in (4,) if quick else (64, 256, 1024):
+        speeds = jnp.asarray(np.linspace(150.0, 520.0, n))  # carrier rad/s: 1.9-6.6 kHz meshes
+
+        def sweep(speeds=speeds):
+            return gb.gearbox_speed_sweep(chain, run, speeds).dynamic_factors
+
+        first, steady, df = _timed(sweep, 1)
+        row, values = _row(n, "speeds", first, steady, df,
+                           steps_per_speed=2 * 64 * run.periods)
+        rows.append(row)
+    return {**rows[-1], "rows": rows}, values
+
+
 WORKLOADS = {
     "te_curves": _te_curves,
     "lumped_sweep": _lumped_sweep,
     "monte_carlo": _monte_carlo,
     "hybrid_sweep": _hybrid_sweep,
     "planetary_sweep": _planetary_sweep,
+    "gearbox_sweep": _gearbox_sweep,
 }
 
 
