@@ -537,7 +537,11 @@ class AbstractDynamicModel(eqx.Module):
     Implementations: :class:`~jaxgear.dynamics.DynamicModel` (lumped scenes: the cells in
     coordinates on a mesh table, Newmark or a diffrax solver) and
     :class:`~jaxgear.dynamics.HybridModel` (condensed FE bodies: Newmark in the cell space or
-    a modal basis, the damping built per speed).
+    a modal basis, the damping built per speed), and
+    :class:`jaxgear.planetary.PlanetaryModel` (a planetary stage in its carrier frame; its
+    response is the stage's :class:`jaxgear.planetary.PlanetaryDynamics`, not a
+    :class:`~jaxgear.dynamics.DynamicResponse`: the response type is the kind's, named by
+    its :meth:`independent`).
 
     A run is two calls: :meth:`prepare` (the speed-independent work at one resolved step count:
     the checked run settings, a lumped model's mesh table and static rows, a hybrid model's
@@ -664,7 +668,9 @@ class AbstractDynamicModel(eqx.Module):
 
     @abc.abstractmethod
     def independent(self, prepared, speeds, *, start=None, shard: bool = False):
-        """:class:`~jaxgear.dynamics.DynamicResponse` at each of ``speeds`` (S,) (leading axis S)
+        """The kind's response (a pair's and a train's: :class:`~jaxgear.dynamics.DynamicResponse`;
+        a planetary stage's: :class:`jaxgear.planetary.PlanetaryDynamics`; each with a
+        ``result`` code) at each of ``speeds`` (S,) (leading axis S)
         or at one scalar speed (no leading axis), each from ``start`` ((X, Ẋ), the kind's own
         start when None); ``shard``: spread the speeds over the local devices."""
 
