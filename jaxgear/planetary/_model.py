@@ -85,7 +85,8 @@ class PlanetaryModel(AbstractDynamicModel):
 
     Raises:
         ValueError: a kind, stage, meshes, run or ring of another type, ``carrier_per_input``
-            zero, ``mesh_speed_per_input`` not > 0 (one line).
+            zero without a ``mesh_speed_per_input``, ``mesh_speed_per_input`` not > 0 (one
+            line).
     """
 
     scene: PlanetaryStage
@@ -131,12 +132,12 @@ class PlanetaryModel(AbstractDynamicModel):
         check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)
         check_instance("ring", self.ring, AbstractRingModel,
                        "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)", where)
-        if not float(self.carrier_per_input) != 0.0:
+        v = self.mesh_speed_per_input
+        if v is None and not float(self.carrier_per_input) != 0.0:
             raise ValueError(
                 f"carrier_per_input = {float(self.carrier_per_input)!r}: out of range, allowed "
-                "!= 0 (the carrier held: no carrier-frame speed)"
+                "!= 0 where mesh_speed_per_input is None (the ring held: v = r_br |Ω|)"
             )
-        v = self.mesh_speed_per_input
         if v is not None and not float(v) > 0.0:
             raise ValueError(
                 f"mesh_speed_per_input = {float(v)!r} m/s per rad/s: out of range, allowed > 0"
