@@ -537,7 +537,11 @@ class AbstractDynamicModel(eqx.Module):
     Implementations: :class:`~jaxgear.dynamics.DynamicModel` (lumped scenes: the cells in
     coordinates on a mesh table, Newmark or a diffrax solver) and
     :class:`~jaxgear.dynamics.HybridModel` (condensed FE bodies: Newmark in the cell space or
-    a modal basis, the damping built per speed).
+    a modal basis, the damping built per speed), and
+    :class:`jaxgear.planetary.PlanetaryModel` (a planetary stage in its carrier frame; its
+    response is the stage's :class:`jaxgear.planetary.PlanetaryDynamics`, not a
+    :class:`~jaxgear.dynamics.DynamicResponse`: the response type is the kind's, named by
+    its :meth:`independent`).
 
     A run is two calls: :meth:`prepare` (the speed-independent work at one resolved step count:
     the checked run settings, a lumped model's mesh table and static rows, a hybrid model's
@@ -565,6 +569,45 @@ class AbstractDynamicModel(eqx.Module):
     def dtype(self):
         """The floating dtype of the model's arrays (its scene's)."""
         return self.scene.base_planes[0].base_pitch.dtype
+
+    # What the engine entries (resolve_settings, auto_steps_per_period, the settled sweep)
+    # read of the model's meshes: by default its scene's, a kind without a scene (a planetary
+    # stage) answers them itself.
+
+    def mesh_count(self) -> int:
+        """The meshes m of the model (static): the records' per-mesh outputs."""
+        return len(self.scene.base_planes)
+
+    def scene_periods(self) -> int:
+        """Periods of the first mesh after which every mesh repeats together (static;
+        :meth:`~jaxgear.scenes.Scene.scene_periods`)."""
+        return self.scene.scene_periods()
+
+    def coast_flanks(self) -> bool:
+        """Whether a mesh has coast flanks (backlash; static)."""
+        return any(p.coast for p in self.scene.base_planes)
+
+    def mesh_period_angle(self):
+        """θ_m: the speed's member's rotation (rad) over one period of the first mesh (2π/z1
+        for a pair): f_mesh = Ω / θ_m at speed Ω (rad/s). Concrete or traced."""
+        return self.scene.base_planes[0].mesh_period_angle
+
+    def mesh_rates(self) -> list[float]:
+        """Each mesh's periods per period of the first, m floats (1 for a pair; concrete:
+        a traced model raises JAX's concretization error): its angle's rate over its own
+        period."""
+        planes = self.scene.base_planes
+        angle = float(planes[0].mesh_period_angle)
+        return [
+            (float(b) - float(a)) * angle / float(p.mesh_period_angle)
+            for a, b, p in zip(
+                self.scene.mesh_angles(0.0), self.scene.mesh_angles(1.0), planes, strict=True
+            )
+        ]
+
+    def structure_matrices(self) -> tuple:
+        """(M, K_s): the structure's mass and stiffness (no mesh), each (n, n)."""
+        return self.scene.mass(), self.scene.stiffness()
 
     @abc.abstractmethod
     def default_settings(self) -> tuple[Integrator, ContactLaw, SteadyState]:
@@ -625,7 +668,9 @@ class AbstractDynamicModel(eqx.Module):
 
     @abc.abstractmethod
     def independent(self, prepared, speeds, *, start=None, shard: bool = False):
-        """:class:`~jaxgear.dynamics.DynamicResponse` at each of ``speeds`` (S,) (leading axis S)
+        """The kind's response (a pair's and a train's: :class:`~jaxgear.dynamics.DynamicResponse`;
+        a planetary stage's: :class:`jaxgear.planetary.PlanetaryDynamics`; each with a
+        ``result`` code) at each of ``speeds`` (S,) (leading axis S)
         or at one scalar speed (no leading axis), each from ``start`` ((X, Ẋ), the kind's own
         start when None); ``shard``: spread the speeds over the local devices."""
 

@@ -213,7 +213,7 @@ def settled_sweep(
     )
     modes = model.averaged_modes()
     t_s, w_min = settling_time(modes, modal_damping_ratios(modes, model.damping))
-    angle = float(model.scene.base_planes[0].mesh_period_angle)
+    angle = float(model.mesh_period_angle())
     if integrator.steps_per_period is None:
         ns = np.asarray(auto_steps_per_period(model, sp, modes), dtype=int)
     else:
@@ -245,8 +245,9 @@ def settled_sweep(
     records: list = [None] * sp.size
     periods = np.zeros(sp.size, dtype=int)
     change = np.full(sp.size, np.nan)
-    mass = np.asarray(model.scene.mass())
-    stiff = np.asarray(model.scene.stiffness()) + np.asarray(modes.mesh_stiffness)
+    mass, structure = model.structure_matrices()
+    mass = np.asarray(mass)
+    stiff = np.asarray(structure) + np.asarray(modes.mesh_stiffness)
     k_mesh = float(model.mesh_stiffness_mean)
     state, last_speed = None, None
     for done, i in enumerate(order):

@@ -156,7 +156,7 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
     if window.keep_periods < q:
         why = (
             f"the meshes repeat together every {q} periods of the first mesh (a two-stage train)"
-            if q == model.scene.scene_periods()
+            if q == model.scene_periods()
             else f"the manufacturing deviations span {q} mesh periods (dynamic_model's "
             "revolutions, or the hunting period of the deviating gears)"
         )
@@ -164,12 +164,12 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
             f"window keep_periods = {window.keep_periods}: {why}; allowed keep_periods >= {q}, "
             "so that the kept steps hold every mesh position"
         )
-    if isinstance(integrator, DiffraxIntegrator) and any(p.coast for p in model.scene.base_planes):
+    if isinstance(integrator, DiffraxIntegrator) and model.coast_flanks():
         raise ValueError(
             "integrator: a diffrax solver with backlash (coast flanks) is not modelled: use "
             "jaxgear.dynamics.Newmark"
         )
-    outputs = check_outputs(outputs, len(model.scene.base_planes))
+    outputs = check_outputs(outputs, model.mesh_count())
     if outputs.states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
     return integrator, contact_law(contact, model.dtype), window, outputs
@@ -227,15 +227,9 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     try:
         sp = np.asarray(speeds, dtype=float)
         w = float(excited_omega(mesh_averaged_modes(model) if modes is None else modes))
-        planes = model.scene.base_planes
-        angle = float(planes[0].mesh_period_angle)
+        angle = float(model.mesh_period_angle())
         # each mesh's periods per period of the first: its angle's rate over its period
-        rates = [
-            (float(b) - float(a)) * angle / float(p.mesh_period_angle)
-            for a, b, p in zip(
-                model.scene.mesh_angles(0.0), model.scene.mesh_angles(1.0), planes, strict=True
-            )
-        ]
+        rates = [float(r) for r in model.mesh_rates()]
     except (jax.errors.TracerArrayConversionError, jax.errors.ConcretizationTypeError) as err:
         raise ValueError(
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "

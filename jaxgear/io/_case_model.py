@@ -7,9 +7,18 @@ from __future__ import annotations
 import functools
 import math
 
+import numpy as np
+
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from ..dynamics import bearing_forces, dynamic_model
+from ..planetary import (
+    ConstantMeshes,
+    PlanetaryModel,
+    PlanetaryRun,
+    SpatialPlanetary,
+    planetary_model_for,
+)
 from ..scenes import (
     Material,
     TorsionalDynamics,
@@ -39,7 +48,9 @@ def build_dynamic_model(
     (:class:`~jaxgear.io.PairForm`) as ``[scene] model`` names it (:data:`PAIR_SCENES`), a
     train's (:class:`~jaxgear.io.TrainForm`) its train (:meth:`Case.dynamic_train`: torsional
     or lumped 3D; with flexible gears :meth:`Case.hybrid_train`, a hybrid model), the input
-    torque on its input gear.
+    torque on its input gear; a planetary stage's (:class:`~jaxgear.io.PlanetaryForm`) a
+    :class:`~jaxgear.planetary.PlanetaryModel` of its load-sharing stage, whose speed is the
+    input member's and whose response is :class:`~jaxgear.planetary.PlanetaryDynamics`.
 
     Inertias default to solid discs of the tip radius and the member's face width with the case
     density. ``bodies``: the condensed bodies (pinion, gear) already loaded (default: the
@@ -85,10 +96,41 @@ def _pair_model(form: PairForm, case: Case, spec: SceneSpec, slices, bodies):
 
 @_case_model.register
 def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, bodies):
-    raise ValueError(PLANETARY_NO_SCENE)
+    """A planetary case's dynamic model: the :class:`~jaxgear.planetary.PlanetaryModel` of its
+    load-sharing stage (:meth:`PlanetarySpec.sharing_stage`: the sun loaded by |T_s| (Willis,
+    from the input torque) and free in rotation, the ring and the carrier held), its dynamic
+    meshes (:meth:`PlanetarySpec.dynamic_meshes`, ``slices`` per contact line, default 1 for a
+    spur stage, else the case's), the lumped model kind
+    :func:`~jaxgear.planetary.planetary_model_for` picks (a 3D model's constant springs, in
+    the lumped form, at its Gauss points across the face), the case's pin errors and ring
+    model (``[planetary.ring]``), the damping ratio 0.05; its speed is the input member's
+    (the carrier's and the mesh travel's per input speed from Willis). ``spec`` and
+    ``bodies`` are not used (a stage has no ``[scene]``)."""
+    p = form.spec
+    stage = p.sharing_stage(p.stage(case))
+    spur = not case.pairs or float(case.pairs[0].helix_angle) == 0.0
+    meshes = p.dynamic_meshes(case, slices or (1 if spur else case.slices))
+    kind = planetary_model_for(stage)
+    if isinstance(kind, SpatialPlanetary) and not case.pairs:
+        meshes = ConstantMeshes(meshes.base_pitch, face_points=kind.face_points)
+    run = PlanetaryRun(
+        abs(p.torques(case.torque)["sun"]),
+        tangential_pin_errors=np.asarray(p.tangential_pin_errors),
+        radial_pin_errors=np.asarray(p.radial_pin_errors),
+    )
+    return PlanetaryModel(
+        kind,
+        stage,
+        meshes,
+        run,
+        carrier_per_input=p.speeds(1.0)["carrier"],
+        mesh_speed_per_input=p.mesh_speed(1.0),
+        ring=p.ring_model.dynamic_ring(),
+    )
 
 
-#: a planetary stage's refusal of the scene-based commands (sweep, robust), one line
+#: a planetary stage's refusal of the scene-based static solves (:func:`static_scene`), one
+#: line
 PLANETARY_NO_SCENE = (
     "[planetary]: no dynamic scene of a planetary stage yet (allowed: jaxgear run, which "
     "writes its lumped models' modes, Campbell diagram and load sharing)"

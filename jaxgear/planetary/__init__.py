@@ -19,6 +19,9 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
 - ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
   :func:`planetary_mesh_modes`, the ring transducer and the order spectrum (on
   :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with);
+- ``_model``: :class:`PlanetaryModel`, the stage's dynamics as a
+  :class:`jaxgear.dynamics.AbstractDynamicModel` (:func:`jaxgear.dynamics.simulate` and
+  :func:`jaxgear.dynamics.speed_sweep` run it);
 - ``_plan``: the time plan of a run over speeds (:func:`plan_sweep`, :func:`time_plan`: steps
   per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
@@ -64,6 +67,10 @@ from ._meshes import (
     planetary_mesh_stiffness as planetary_mesh_stiffness,
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,
+)
+from ._model import (
+    PlanetaryModel as PlanetaryModel,
+    PlanetaryPrepared as PlanetaryPrepared,
 )
 from ._plan import (
     EXCITATION_POSITIONS as EXCITATION_POSITIONS,

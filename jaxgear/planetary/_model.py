@@ -1,0 +1,296 @@
+"""A planetary stage's dynamics as a dynamics engine (docs/planetary.md, "Dynamics in the
+carrier frame"): :class:`PlanetaryModel`, the :class:`~jaxgear.dynamics.AbstractDynamicModel`
+of :func:`~jaxgear.planetary.planetary_dynamics`, so that :func:`jaxgear.dynamics.simulate`
+and :func:`jaxgear.dynamics.speed_sweep`, the automatic step
+(:func:`jaxgear.dynamics.auto_steps_per_period`: the rule of
+:func:`~jaxgear.planetary.time_plan`) and the mesh-averaged modes
+(:func:`jaxgear.dynamics.mesh_averaged_modes`: :func:`~jaxgear.planetary.planetary_mesh_modes`)
+serve a stage as they serve pairs and trains.
+
+The speed of the entries is the **input member's** speed ω_in (rad/s, fixed frame): the carrier
+turns at Ω = ``carrier_per_input`` ω_in and the meshes travel at v = ``mesh_speed_per_input``
+ω_in (Willis, the case's roles); by default the carrier is the input and the ring is held
+(Ω = ω_in, v = r_br |Ω|, :func:`~jaxgear.planetary.planetary_dynamics`' own default).
+
+The response of a run is the stage's :class:`~jaxgear.planetary.PlanetaryDynamics` (each
+mesh's force over the kept periods, the dynamic factors per mesh, K_γ), not a pair's
+:class:`~jaxgear.dynamics.DynamicResponse`: :meth:`PlanetaryModel.independent` documents it."""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from .._contact import ContactLaw, ExactContact
+from .._util import as_float, check_instance
+from ..dynamics import AbstractDynamicModel, ModalAnalysis, Newmark, Outputs, SteadyState
+from ._dynamics import (
+    PlanetaryDynamics,
+    PlanetaryRun,
+    planetary_dynamics,
+    planetary_mesh_modes,
+    planetary_stage_system,
+)
+from ._meshes import AbstractPlanetaryMeshes
+from ._plan import KEEP_OTHER, KEEP_PERIODIC, carrier_periodic
+from ._ring import AbstractRingModel, RigidRing
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
+
+__all__ = ["PlanetaryModel", "PlanetaryPrepared"]
+
+#: the mesh periods a planetary run integrates by default (:class:`PlanetaryRun`'s)
+DEFAULT_PERIODS = 40
+
+
+class PlanetaryPrepared(eqx.Module):
+    """A planetary run's speed-independent part (:meth:`PlanetaryModel.prepare`): the
+    :class:`~jaxgear.planetary.PlanetaryRun` of its step count and window, the contact law,
+    and ``steps``: None, or the N_s of a run that shares one compiled program with other step
+    counts (:meth:`PlanetaryModel.prepare_steps`: ``run`` counts blocks of the smallest N_s,
+    :attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`)."""
+
+    run: PlanetaryRun
+    law: ContactLaw
+    steps: int | None = eqx.field(static=True, default=None)
+
+
+class PlanetaryModel(AbstractDynamicModel):
+    """A planetary stage's carrier-frame dynamics (:func:`~jaxgear.planetary.planetary_dynamics`:
+    Newmark on the 2N meshes' contact cells, the Coriolis and centripetal terms at the carrier
+    speed) as an :class:`~jaxgear.dynamics.AbstractDynamicModel`.
+
+    Attributes:
+        kind: the lumped model kind (:class:`~jaxgear.planetary.TorsionalPlanetary`,
+            :class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.SpatialPlanetary`; a case's:
+            :func:`~jaxgear.planetary.planetary_model_for`).
+        stage: the stage (ring or carrier held in rotation).
+        meshes: :class:`~jaxgear.planetary.ContactMeshes` or
+            :class:`~jaxgear.planetary.ConstantMeshes` (meshes that repeat every mesh period).
+        run: the sun torque (N m), damping ratio and pin errors (m) of the runs
+            (:class:`~jaxgear.planetary.PlanetaryRun`; its step counts are replaced by the
+            run's integrator and window).
+        carrier_per_input: Ω / ω_in (-), the carrier's speed per input speed (fixed frame).
+        mesh_speed_per_input: v / ω_in (m/s per rad/s), the mesh travel speed per input speed;
+            None: the ring held, v = r_br |Ω|.
+        ring: :class:`~jaxgear.planetary.RigidRing` (default) or a flexible ring model.
+
+    ``scene`` (and :attr:`stage`) is the stage and ``torque`` the sun torque T_s (N m): the
+    engine entries read neither (they ask the model's methods); ``mods`` is None (a stage's
+    deviations live in its meshes).
+
+    Raises:
+        ValueError: a kind, stage, meshes, run or ring of another type, ``carrier_per_input``
+            zero without a ``mesh_speed_per_input``, ``mesh_speed_per_input`` not > 0 (one
+            line).
+    """
+
+    scene: PlanetaryStage
+    mods: None
+    torque: Float[Array, ""]
+    kind: AbstractPlanetaryModel
+    meshes: AbstractPlanetaryMeshes
+    run: PlanetaryRun
+    carrier_per_input: Float[Array, ""]
+    mesh_speed_per_input: Float[Array, ""] | None
+    ring: AbstractRingModel
+
+    def __init__(
+        self,
+        kind: AbstractPlanetaryModel,
+        stage: PlanetaryStage,
+        meshes: AbstractPlanetaryMeshes,
+        run: PlanetaryRun,
+        carrier_per_input=1.0,
+        mesh_speed_per_input=None,
+        ring: AbstractRingModel = RigidRing(),
+    ):
+        self.kind, self.scene, self.meshes, self.run, self.ring = kind, stage, meshes, run, ring
+        self.mods = None
+        self.torque = getattr(run, "sun_torque", None)
+        self.carrier_per_input = as_float(carrier_per_input)
+        self.mesh_speed_per_input = (
+            None if mesh_speed_per_input is None else as_float(mesh_speed_per_input)
+        )
+
+    #: a planetary run starts from the quasi-static state at its first travel: no
+    #: continuation from one speed to the next
+    continues: ClassVar[bool] = False
+
+    def __check_init__(self):
+        where = "PlanetaryModel"
+        check_instance("kind", self.kind, AbstractPlanetaryModel,
+                       "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
+                       "SpatialPlanetary)", where)
+        check_instance("stage", self.stage, PlanetaryStage, "a jaxgear.PlanetaryStage", where)
+        check_instance("meshes", self.meshes, AbstractPlanetaryMeshes,
+                       "a planetary meshes kind", where)
+        check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)
+        check_instance("ring", self.ring, AbstractRingModel,
+                       "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)", where)
+        v = self.mesh_speed_per_input
+        if v is None and not float(self.carrier_per_input) != 0.0:
+            raise ValueError(
+                f"carrier_per_input = {float(self.carrier_per_input)!r}: out of range, allowed "
+                "!= 0 where mesh_speed_per_input is None (the ring held: v = r_br |Ω|)"
+            )
+        if v is not None and not float(v) > 0.0:
+            raise ValueError(
+                f"mesh_speed_per_input = {float(v)!r} m/s per rad/s: out of range, allowed > 0"
+            )
+
+    # --- what the engine entries read ------------------------------------------------------
+
+    @property
+    def stage(self) -> PlanetaryStage:
+        """The stage (the model's ``scene``)."""
+        return self.scene
+
+    @property
+    def mesh(self):
+        raise AttributeError("PlanetaryModel: a planetary stage has no pair mesh model (mesh)")
+
+    @property
+    def static_force(self) -> Float[Array, ""]:
+        """The nominal transverse mesh force T_s / (N r_bs) (N)."""
+        return self.run.sun_torque / (self.stage.n_planets * self.stage.sun.base_radius)
+
+    @property
+    def dtype(self):
+        return self.run.sun_torque.dtype
+
+    def mesh_count(self) -> int:
+        """2N: the sun meshes, then the ring meshes."""
+        return 2 * self.stage.n_planets
+
+    def scene_periods(self) -> int:
+        return 1  # every mesh passes teeth at the same rate
+
+    def coast_flanks(self) -> bool:
+        return False
+
+    def _mesh_speed(self, speed):
+        """v (m/s) at input speed ``speed`` (rad/s)."""
+        if self.mesh_speed_per_input is None:
+            return self.stage.ring.base_radius * jnp.abs(self.carrier_per_input * speed)
+        return self.mesh_speed_per_input * speed
+
+    def mesh_period_angle(self):
+        """The input's rotation over one mesh period (rad): p_b / (v / ω_in) (p_b the base
+        pitch; f_mesh = v / p_b)."""
+        return self.meshes.mesh_period() / self._mesh_speed(1.0)
+
+    def mesh_rates(self) -> list[float]:
+        return [1.0] * self.mesh_count()
+
+    def structure_matrices(self) -> tuple:
+        """(M, K_b): the stage's mass and its structure without the meshes (the run's pin
+        errors' offsets in the holds), each (n_dof, n_dof)."""
+        s = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, 1)
+        return s.m, s.k_b
+
+    # --- the engine ------------------------------------------------------------------------
+
+    def default_settings(self):
+        """Newmark with automatic steps (the pairs' rule with N_s a multiple of the planet
+        count, :func:`~jaxgear.planetary.time_plan`'s), the exact contact law, and 40 mesh
+        periods with :data:`~jaxgear.planetary.KEEP_PERIODIC` (2) kept where the stage repeats
+        every mesh period in the carrier frame (:func:`~jaxgear.planetary.carrier_periodic`),
+        else :data:`~jaxgear.planetary.KEEP_OTHER` (4)."""
+        flexible = not isinstance(self.ring, RigidRing)
+        keep = KEEP_PERIODIC if carrier_periodic(self.stage, flexible) else KEEP_OTHER
+        return Newmark(), ExactContact(), SteadyState(DEFAULT_PERIODS, keep)
+
+    def check_integrator(self, integrator) -> None:
+        if not isinstance(integrator, Newmark) or integrator.basis is not None:
+            raise ValueError(
+                f"integrator = {integrator!r}: a planetary stage runs Newmark in coordinates "
+                "(allowed jaxgear.dynamics.Newmark(steps_per_period), no basis)"
+            )
+
+    def span_periods(self) -> int:
+        return 1
+
+    def steps_multiple(self) -> int:
+        """N: the planets' phases fall on the steps (:func:`~jaxgear.planetary.time_plan`)."""
+        return int(self.stage.n_planets)
+
+    def averaged_modes(
+        self, *, speed=0.0, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+    ) -> ModalAnalysis:
+        """:func:`~jaxgear.planetary.planetary_mesh_modes` of the stage at
+        ``positions_per_pitch`` travels of a mesh period (``speed`` and ``contact`` not
+        used: the meshes' cells are averaged loaded or not, as the run's damping takes them)."""
+        return planetary_mesh_modes(self.kind, self.stage, self.meshes, self.run,
+                                    int(positions_per_pitch))
+
+    def _run_of(self, steps: int, periods: int, keep: int, outputs: Outputs) -> PlanetaryRun:
+        base = self.run
+        return PlanetaryRun(
+            base.sun_torque, steps_per_period=int(steps), periods=int(periods),
+            keep_periods=int(keep), damping_ratio=base.damping_ratio,
+            tangential_pin_errors=base.tangential_pin_errors,
+            radial_pin_errors=base.radial_pin_errors, cell_loads=bool(outputs.cell_loads),
+            ring_cell_space=True,
+        )
+
+    @staticmethod
+    def _check_outputs(outputs: Outputs) -> None:
+        if outputs.states or outputs.pressure is not None:
+            raise ValueError(
+                "outputs: a planetary run records its coordinates always and no Hertzian "
+                "pressure (allowed Outputs(cell_loads=...))"
+            )
+
+    def prepare(self, integrator, law, window, steps_per_period, outputs, modes=None):
+        """The :class:`PlanetaryPrepared` of ``steps_per_period`` steps per mesh period and the
+        ``window`` (its periods and kept periods); ``outputs.cell_loads`` records the cells'
+        forces (:attr:`~jaxgear.planetary.PlanetaryDynamics.cell_forces`).
+
+        Raises:
+            ValueError: ``outputs`` asking for states or a pressure; N_s < 8."""
+        self._check_outputs(outputs)
+        run = self._run_of(steps_per_period, window.periods, window.keep_periods, outputs)
+        return PlanetaryPrepared(run, law)
+
+    def prepare_steps(self, integrator, law, window, steps, outputs, modes=None):
+        """One compiled program for the step counts ``steps`` (ascending): blocks of the
+        smallest N_s, the window's periods and kept periods of the largest
+        (:func:`~jaxgear.planetary.steps_sweep`'s form), each speed at its own N_s
+        (:attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`): a speed at N_s runs and keeps
+        N_top / N_s times the window's mesh periods (the same steps)."""
+        self._check_outputs(outputs)
+        lo, top = int(min(steps)), int(max(steps))
+        blocks = top // lo
+        run = self._run_of(lo, window.periods * blocks, window.keep_periods * blocks, outputs)
+        return lambda n: PlanetaryPrepared(run, law, int(n))
+
+    def independent(self, prepared, speeds, *, start=None, shard: bool = False):
+        """The stage's :class:`~jaxgear.planetary.PlanetaryDynamics` (the response type of
+        this kind: its records of the kept periods, ``dynamic_factors`` per mesh, ``k_gamma``,
+        ``result``) at each input speed of ``speeds`` (rad/s, (S,): every field with a
+        leading axis S, ``jax.vmap``) or at one scalar speed, each from the quasi-static
+        state at its first travel. ``shard`` is not used (one device).
+
+        Raises:
+            ValueError: a ``start`` state (a planetary run starts from its quasi-static
+                state)."""
+        if start is not None:
+            raise ValueError("start: a planetary run starts from its quasi-static state "
+                             "(allowed None)")
+        run = prepared.run
+        if prepared.steps is not None:
+            n = jnp.asarray(prepared.steps, self.dtype)
+            run = eqx.tree_at(lambda r: r.mesh_steps, run, n, is_leaf=lambda x: x is None)
+
+        def one(speed) -> PlanetaryDynamics:
+            return planetary_dynamics(self.kind, self.stage, self.meshes, run,
+                                      self.carrier_per_input * speed, self._mesh_speed(speed),
+                                      prepared.law, self.ring)
+
+        speeds = jnp.asarray(speeds, self.dtype)
+        return one(speeds) if speeds.ndim == 0 else jax.vmap(one)(speeds)
