@@ -143,12 +143,13 @@ def campbell(
     if mesh_speeds is not None:
         check_real("mesh_speeds", mesh_speeds, "m/s", lo=-MAX_MESH_SPEED, hi=MAX_MESH_SPEED,
                    where="campbell")
-    # concrete inputs: the divergence check read on the host (an eqx.error_if compiles a
-    # program holding a Python callback, which JAX's persistent compilation cache never
-    # stores: each CLI run compiled it again); traced (a caller's jit/vmap/grad): eqx.error_if
-    traced = is_traced((model, stage, carrier_speeds, mesh_speeds))
-    freqs, diverged = _campbell(model, stage, carrier_speeds, mesh_speeds, traced)
-    if not traced and bool(np.any(np.asarray(diverged))):
+    freqs, diverged = _campbell(model, stage, carrier_speeds, mesh_speeds)
+    # under a caller's jit/vmap/grad: eqx.error_if on the frequencies; else read on the host
+    # (an eqx.error_if on concrete values compiles a program holding a Python callback, which
+    # JAX's persistent compilation cache never stores: each CLI run compiled it again)
+    if is_traced(diverged):
+        return eqx.error_if(freqs, jnp.any(diverged), _PAST_DIVERGENCE)
+    if bool(np.any(np.asarray(diverged))):
         raise eqx.EquinoxRuntimeError(_PAST_DIVERGENCE)
     return freqs
 
@@ -157,9 +158,9 @@ _PAST_DIVERGENCE = "campbell: past divergence"
 
 
 @eqx.filter_jit
-def _campbell(model, stage, carrier_speeds, mesh_speeds, throw):
-    """:func:`campbell`'s compiled body: (frequencies, whether each speed is past divergence);
-    ``throw`` (static): the check as ``eqx.error_if`` on the frequencies too."""
+def _campbell(model, stage, carrier_speeds, mesh_speeds):
+    """:func:`campbell`'s compiled body: (frequencies, whether each speed is past divergence,
+    K_e not positive semi-definite)."""
     m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
     g = model.gyroscopic_matrix(stage)
@@ -171,8 +172,6 @@ def _campbell(model, stage, carrier_speeds, mesh_speeds, throw):
     def one(omega, v):
         lam, u = jnp.linalg.eigh(k - omega**2 * kc + omega * v * k_v)
         diverged = jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam))
-        if throw:
-            lam = eqx.error_if(lam, diverged, _PAST_DIVERGENCE)
         s = (u * jnp.sqrt(jnp.clip(lam, 0.0))[None, :]) @ u.T
         b = jnp.linalg.solve(low, s).T  # S L^-T
         gyro = omega * g + v * g_v
@@ -436,13 +435,14 @@ def load_sharing(
     if jnp.size(radial_pin_errors) not in (1, n):
         raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
     check_real("travel", travel, "m", shape=(), where="load_sharing")
-    # concrete inputs: the singularity check read on the host (an eqx.error_if compiles a
-    # program holding a Python callback, which JAX's persistent compilation cache never
-    # stores: each CLI run compiled it again); traced (a caller's jit/vmap/grad): eqx.error_if
-    args = (model, stage, sun_torque, tangential_pin_errors, radial_pin_errors, travel)
-    traced = is_traced(args)
-    r, singular = _load_sharing(*args, traced)
-    if not traced and bool(singular):
+    r, singular = _load_sharing(model, stage, sun_torque, tangential_pin_errors,
+                                radial_pin_errors, travel)
+    # under a caller's jit/vmap/grad: eqx.error_if on every output; else read on the host (an
+    # eqx.error_if on concrete values compiles a program holding a Python callback, which JAX's
+    # persistent compilation cache never stores: each CLI run compiled it again)
+    if is_traced(singular):
+        return eqx.error_if(r, jnp.any(singular), _SINGULAR)
+    if bool(singular):
         raise eqx.EquinoxRuntimeError(_SINGULAR)
     return r
 
@@ -454,11 +454,9 @@ _SINGULAR = (
 
 
 @eqx.filter_jit
-def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors, travel,
-                  throw):
+def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors, travel):
     """:func:`load_sharing`'s compiled body (its arguments checked): (the
-    :class:`LoadSharing`, whether the stiffness is singular); ``throw`` (static): the check as
-    ``eqx.error_if`` on the displacement too."""
+    :class:`LoadSharing`, whether the stiffness is singular)."""
     e = as_float(tangential_pin_errors)
     f_err, d_s, d_r = model.error_terms(stage, e, as_float(radial_pin_errors), travel)
     k = model.stiffness_matrix(stage)
@@ -470,8 +468,6 @@ def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_er
     eps = jnp.finfo(k.dtype).eps
     q = jnp.linalg.solve(k, f)
     singular = (lam[0] <= 100 * k.shape[0] * eps * lam[-1]) | ~jnp.all(jnp.isfinite(q))
-    if throw:
-        q = eqx.error_if(q, singular, _SINGULAR)
     v_s, v_r = model.mesh_deflection_rows(stage)
     k_s, k_r = stage.mesh_stiffnesses()
     f_s = k_s * (v_s @ q + d_s)
