@@ -23,6 +23,7 @@ from typing import ClassVar
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from ._deviations import Deviations
@@ -271,7 +272,9 @@ class MemberModification(eqx.Module):
                 where="MemberModification",
             )
         roll = self.profile_deviation_roll
-        if not is_traced(roll) and not bool(jnp.all(jnp.diff(roll) > 0)):
+        # NumPy on the host: jnp here compiled three programs at import (the class-level
+        # default Modifications()), before the CLI switches JAX's persistent cache on
+        if not is_traced(roll) and not bool(np.all(np.diff(np.asarray(roll)) > 0)):
             raise ValueError(
                 f"MemberModification: profile_deviation_roll = {roll.tolist()} is out of range: "
                 "allowed strictly ascending roll fractions"

@@ -37,7 +37,7 @@ USING = "/jax/compilation_cache/tasks_using_cache"
 REQUESTS = "/jax/compilation_cache/compile_requests_use_cache"
 
 
-def _run(tmp_path, cache, name):
+def _run(tmp_path, cache, name, case="accessory-spur"):
     env = dict(os.environ)
     env.pop("JAX_COMPILATION_CACHE_DIR", None)  # the CLI switches the cache on, not JAX's env
     env["JAXGEAR_XLA_CACHE"] = str(cache)
@@ -46,7 +46,7 @@ def _run(tmp_path, cache, name):
     env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
     out = tmp_path / name
     events = tmp_path / f"{name}.json"
-    args = ["run", "accessory-spur", "--out", str(out), "--quiet"]
+    args = ["run", case, "--out", str(out), "--quiet"]
     proc = subprocess.run(
         [sys.executable, "-c", PROBE, str(events), *args],
         env=env,
@@ -80,6 +80,96 @@ def test_second_run_compiles_nothing_again(tmp_path):
     )
     for name in ("te.csv", "mesh_stiffness.csv"):
         assert (out2 / name).read_bytes() == (out1 / name).read_bytes()
+
+
+def test_second_planetary_run_compiles_nothing_again(tmp_path):
+    """The planetary case lin-parker-1999 (modes, Campbell diagram, load sharing, the carrier-
+    frame sweep; about 30 s for both runs): its second run reads back every program the first
+    one compiled (its load sharing and Campbell checks are read on the host, not by programs
+    holding a Python callback, which JAX never writes to the cache) and gives the same
+    numbers."""
+    cache = tmp_path / "xla"
+    out1, first = _run(tmp_path, cache, "first", "lin-parker-1999")
+    written = first.get(MISSES, 0)
+    assert written > 0
+    assert first.get(REQUESTS, 0) == written  # every program it compiled was written
+    out2, second = _run(tmp_path, cache, "second", "lin-parker-1999")
+    assert second.get(MISSES, 0) == 0
+    assert second.get(REQUESTS, 0) == second.get(HITS, 0) == written
+    for name in ("modes.json", "summary.json", "sweep/sweep.csv"):
+        assert (out2 / name).read_bytes() == (out1 / name).read_bytes(), name
+    sweeps = [json.loads((o / "sweep" / "sweep.json").read_text()) for o in (out1, out2)]
+    for s in sweeps:
+        s.pop("elapsed_s")  # wall time of the sweep, the one entry that differs
+    assert sweeps[0] == sweeps[1]
+
+
+def test_import_compiles_nothing():
+    """``import jaxgear`` (and the CLI, case reader and subpackages) compiles no program: one
+    compiled at import precedes the CLI's switching the persistent cache on, so that every run
+    compiled it again (a class-level default built with jnp at import did)."""
+    code = (
+        "import sys\n"
+        "from jax import monitoring\n"
+        "n = []\n"
+        "monitoring.register_event_duration_secs_listener(\n"
+        "    lambda name, secs, **kw: n.append(name)\n"
+        "    if name == '/jax/core/compile/backend_compile_duration' else None)\n"
+        "import jaxgear, jaxgear.cli, jaxgear.io, jaxgear.dynamics, jaxgear.planetary\n"
+        "import jaxgear.gearbox, jaxgear.scenes, jaxgear.rating\n"
+        "print(len(n))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if not k.startswith("JAX_")}
+    proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                          check=False)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.split() == ["0"]
+
+
+def test_planetary_checks_under_a_callers_jit():
+    """load_sharing and campbell read their checks on the host for concrete inputs; under a
+    caller's ``eqx.filter_jit`` (traced inputs) the same refusals come from ``eqx.error_if``, and the
+    values are those of the concrete call (both balance the sun torque)."""
+    import equinox as eqx
+    import numpy as np
+    from _planetary_stage import lin_parker_stage
+
+    import jaxgear as jg
+    import jaxgear.planetary as jp
+
+    held = lin_parker_stage(3)  # ring and carrier held, the sun free to turn
+    free = eqx.tree_at(lambda s: s.carrier.torsional_stiffness, held, 0.0)  # a mechanism
+    model = jg.PlanarPlanetary()
+    zeros = np.zeros(3)
+    for f in (
+        lambda t: jg.load_sharing(model, free, t, zeros).k_gamma,
+        eqx.filter_jit(lambda t: jg.load_sharing(model, free, t, zeros).k_gamma),
+    ):
+        with pytest.raises(eqx.EquinoxRuntimeError, match="stiffness is singular"):
+            f(100.0)
+    # the carrier free with the planets' centripetal term: past divergence (at 1000 rad/s
+    # beyond the check's 1e-9 of the held members' 1e13 N/m)
+    for f in (
+        lambda w: jp.campbell(model, free, w),
+        eqx.filter_jit(lambda w: jp.campbell(model, free, w)),
+    ):
+        with pytest.raises(eqx.EquinoxRuntimeError, match="past divergence"):
+            f(np.array([50.0, 1000.0]))
+    errors = np.array([12e-6, 0.0, -5e-6])
+    for r in (
+        jg.load_sharing(model, held, 500.0, errors),
+        eqx.filter_jit(lambda t, e: jg.load_sharing(model, held, t, e))(500.0, errors),
+    ):
+        # the sun's moment balance: its meshes' forces along their lines of action, on its
+        # base radius, carry the sun torque; the pin errors share it unequally
+        total = float(np.sum(r.sun_mesh_forces)) * float(held.sun.base_radius)
+        assert total == pytest.approx(500.0, rel=1e-9)
+        assert float(r.k_gamma) > 1.01
+    # and the host-checked campbell of the held stage runs (its rest frequencies: the modes')
+    rest = np.asarray(jp.campbell(model, held, np.array([0.0])))[0]
+    np.testing.assert_allclose(
+        rest, np.sort(np.asarray(jg.planetary_modes(model, held).frequencies)), rtol=1e-9
+    )
 
 
 def test_folder_option_and_default(monkeypatch, tmp_path):

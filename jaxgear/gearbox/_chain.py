@@ -293,7 +293,7 @@ class PairGearboxStage(AbstractGearboxStage):
     mesh_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
     input: int = eqx.field(static=True, default=1)
     mesh: MeshModel | None = None
-    modifications: Modifications = Modifications()
+    modifications: Modifications = eqx.field(default_factory=Modifications)
 
     def __check_init__(self):
         if self.input not in (0, 1):

@@ -13,7 +13,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
-from .._util import as_float, check_instance, check_integer, check_real
+from .._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
     "LoadSharing",
@@ -143,12 +143,24 @@ def campbell(
     if mesh_speeds is not None:
         check_real("mesh_speeds", mesh_speeds, "m/s", lo=-MAX_MESH_SPEED, hi=MAX_MESH_SPEED,
                    where="campbell")
-    return _campbell(model, stage, carrier_speeds, mesh_speeds)
+    freqs, diverged = _campbell(model, stage, carrier_speeds, mesh_speeds)
+    # under a caller's jit/vmap/grad: eqx.error_if on the frequencies; else read on the host
+    # (an eqx.error_if on concrete values compiles a program holding a Python callback, which
+    # JAX's persistent compilation cache never stores: each CLI run compiled it again)
+    if is_traced(diverged):
+        return eqx.error_if(freqs, jnp.any(diverged), _PAST_DIVERGENCE)
+    if bool(np.any(np.asarray(diverged))):
+        raise eqx.EquinoxRuntimeError(_PAST_DIVERGENCE)
+    return freqs
+
+
+_PAST_DIVERGENCE = "campbell: past divergence"
 
 
 @eqx.filter_jit
 def _campbell(model, stage, carrier_speeds, mesh_speeds):
-    """:func:`campbell`'s compiled body."""
+    """:func:`campbell`'s compiled body: (frequencies, whether each speed is past divergence,
+    K_e not positive semi-definite)."""
     m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
     g = model.gyroscopic_matrix(stage)
@@ -159,16 +171,14 @@ def _campbell(model, stage, carrier_speeds, mesh_speeds):
 
     def one(omega, v):
         lam, u = jnp.linalg.eigh(k - omega**2 * kc + omega * v * k_v)
-        lam = eqx.error_if(
-            lam, jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam)), "campbell: past divergence"
-        )
+        diverged = jnp.min(lam) < -1e-9 * jnp.max(jnp.abs(lam))
         s = (u * jnp.sqrt(jnp.clip(lam, 0.0))[None, :]) @ u.T
         b = jnp.linalg.solve(low, s).T  # S L^-T
         gyro = omega * g + v * g_v
         c = jnp.linalg.solve(low, jnp.linalg.solve(low, gyro).T).T  # L^-1 G L^-T
         a = jnp.block([[jnp.zeros((n, n)), b], [-b.T, -c]])
         w = jnp.linalg.eigvalsh(-1j * a)
-        return w[n:] / (2.0 * jnp.pi)
+        return w[n:] / (2.0 * jnp.pi), diverged
 
     speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
     v = jnp.zeros_like(speeds) if mesh_speeds is None else jnp.reshape(
@@ -425,13 +435,28 @@ def load_sharing(
     if jnp.size(radial_pin_errors) not in (1, n):
         raise ValueError(f"load_sharing: radial_pin_errors must have shape () or ({n},)")
     check_real("travel", travel, "m", shape=(), where="load_sharing")
-    return _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors,
-                         travel)
+    r, singular = _load_sharing(model, stage, sun_torque, tangential_pin_errors,
+                                radial_pin_errors, travel)
+    # under a caller's jit/vmap/grad: eqx.error_if on every output; else read on the host (an
+    # eqx.error_if on concrete values compiles a program holding a Python callback, which JAX's
+    # persistent compilation cache never stores: each CLI run compiled it again)
+    if is_traced(singular):
+        return eqx.error_if(r, jnp.any(singular), _SINGULAR)
+    if bool(singular):
+        raise eqx.EquinoxRuntimeError(_SINGULAR)
+    return r
+
+
+_SINGULAR = (
+    "load_sharing: the stiffness is singular (or too ill-conditioned for this precision): "
+    "hold the ring or the carrier"
+)
 
 
 @eqx.filter_jit
 def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_errors, travel):
-    """:func:`load_sharing`'s compiled body (its arguments checked)."""
+    """:func:`load_sharing`'s compiled body (its arguments checked): (the
+    :class:`LoadSharing`, whether the stiffness is singular)."""
     e = as_float(tangential_pin_errors)
     f_err, d_s, d_r = model.error_terms(stage, e, as_float(radial_pin_errors), travel)
     k = model.stiffness_matrix(stage)
@@ -442,14 +467,9 @@ def _load_sharing(model, stage, sun_torque, tangential_pin_errors, radial_pin_er
     lam = jnp.linalg.eigvalsh(k)
     eps = jnp.finfo(k.dtype).eps
     q = jnp.linalg.solve(k, f)
-    q = eqx.error_if(
-        q,
-        (lam[0] <= 100 * k.shape[0] * eps * lam[-1]) | ~jnp.all(jnp.isfinite(q)),
-        "load_sharing: the stiffness is singular (or too ill-conditioned for this precision): "
-        "hold the ring or the carrier",
-    )
+    singular = (lam[0] <= 100 * k.shape[0] * eps * lam[-1]) | ~jnp.all(jnp.isfinite(q))
     v_s, v_r = model.mesh_deflection_rows(stage)
     k_s, k_r = stage.mesh_stiffnesses()
     f_s = k_s * (v_s @ q + d_s)
     f_r = k_r * (v_r @ q + d_r)
-    return LoadSharing(q, f_s, f_r, jnp.max(f_s) / jnp.mean(f_s))
+    return LoadSharing(q, f_s, f_r, jnp.max(f_s) / jnp.mean(f_s)), singular
