@@ -567,24 +567,35 @@ def shift_invert_modes(
     if factor is None:
         factor = factorize((K - sigma * M).tocsr())
     op = _counted(factor.operator(), on_solve)
-    try:
-        lam, phi = solver.ritz(K, M, k, sigma, op, tol)
-    except SolverError as exc:
-        if isinstance(solver, Lanczos):
-            raise
-        warnings.warn(
-            f"{solver!r} failed ({exc}): falling back to fem_prep.Lanczos (ARPACK eigsh)",
-            SolverWarning,
-            stacklevel=2,
-        )
-        lam, phi = Lanczos().ritz(K, M, k, sigma, op, tol)
-    order = np.argsort(lam)
-    lam, phi = lam[order], phi[:, order]
-    Mphi = M @ phi
-    mm = np.einsum("ij,ij->j", phi, Mphi)
-    phi = phi / np.sqrt(mm)
-    Mphi = Mphi / np.sqrt(mm)
+
+    def modes(tol):
+        try:
+            lam, phi = solver.ritz(K, M, k, sigma, op, tol)
+        except SolverError as exc:
+            if isinstance(solver, Lanczos):
+                raise
+            warnings.warn(
+                f"{solver!r} failed ({exc}): falling back to fem_prep.Lanczos (ARPACK eigsh)",
+                SolverWarning,
+                stacklevel=3,
+            )
+            lam, phi = Lanczos().ritz(K, M, k, sigma, op, tol)
+        order = np.argsort(lam)
+        lam, phi = lam[order], phi[:, order]
+        Mphi = M @ phi
+        mm = np.einsum("ij,ij->j", phi, Mphi)
+        return lam, phi / np.sqrt(mm), Mphi / np.sqrt(mm)
+
+    lam, phi, Mphi = modes(tol)
     res = _relative_residuals(K, M, lam, phi, sigma)
+    if np.any(res > check) and not isinstance(solver, Lanczos):
+        # the block solver stops on its Ritz estimates in the shifted-inverted space, which
+        # bound the residual of K phi - lam M phi only up to the spectrum's spread (on a
+        # 4176-DOF disc: estimates <= 1e-10 left residuals of 8e-7 to 1.5e-6, by the
+        # factorisation's library and the machine; 1e-13 left 1e-10, ARPACK's): once more,
+        # 1000x tighter, before the check refuses
+        lam, phi, Mphi = modes(tol * 1e-3)
+        res = _relative_residuals(K, M, lam, phi, sigma)
     if np.any(res > check):
         raise SolverError(
             f"{solver.name} returned modes with relative residual up to {res.max():.3g} > "

@@ -253,7 +253,7 @@ def test_jaxgear_runs_coupled_section(tmp_path):
 def test_planar_stage_soft_shaft_limit():
     """A planar planetary stage (PlanarPlanetary: translations in its carrier frame, bearings
     1e8 N/m) joined by a shaft 10³ softer than the example's: the coupled modes tend to the
-    stage's own mesh-averaged modes (jaxgear.dynamics.planetary_mesh_modes, its kinematic
+    stage's own mesh-averaged modes (jaxgear.planetary.planetary_mesh_modes, its kinematic
     freedom the one mode -> 0) and the pair's two (gear free, pinion held; the 2 x 2 problem
     written here)."""
     chain, run = EX.two_stage(shaft=5e2, mean_positions=64)
@@ -268,8 +268,8 @@ def test_planar_stage_soft_shaft_limit():
     planar = gb.PlanetaryGearboxStage(st, p.input, p.output, p.meshes, jg.PlanarPlanetary())
     coupled = gb.GearboxTorsional((planar, chain.stages[1]), chain.shaft_stiffnesses)
     got = np.asarray(gb.gearbox_coupled_modes(coupled, run).analysis.frequency)
-    own = np.asarray(jd.planetary_mesh_modes(jg.PlanarPlanetary(), st, p.meshes,
-                                             jd.PlanetaryRun(0.0, 64)).frequency)
+    own = np.asarray(jg.planetary.planetary_mesh_modes(jg.PlanarPlanetary(), st, p.meshes,
+                                             jg.planetary.PlanetaryRun(0.0, 64)).frequency)
     r = np.array([Z_PIN * RB, Z_G * RB])
     k_pair = K_U * 0.08 * EPS_PAIR * np.outer(r, r) + np.diag([5e5, 0.0])
     limit = np.sort(np.concatenate([own, _hz(np.diag([5.2e-3, 0.0165]), k_pair)]))

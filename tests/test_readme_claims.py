@@ -24,7 +24,14 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 import optimise as op
-from jaxgear.cli import OUTPUT_FILES, PLANETARY_FILES, TRAIN_FILES, result_summary, run_case
+from jaxgear.cli import (
+    GEARBOX_FILES,
+    OUTPUT_FILES,
+    PLANETARY_FILES,
+    TRAIN_FILES,
+    result_summary,
+    run_case,
+)
 from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
 from jaxgear.io import build_dynamic_model, quasi_static_scene
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
@@ -53,8 +60,9 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     for name in OUTPUT_FILES["run"]:
         # sweep/ and optimise/ come only with a [scene] / [optimise], rating.md with a
         # [rating] (and the root-stress maps); TRAIN_FILES with a train, PLANETARY_FILES with a
-        # [planetary] stage
-        if "/" not in name and name not in TRAIN_FILES + PLANETARY_FILES and not name.startswith(("rating", "root_stress")):
+        # [planetary] stage, GEARBOX_FILES with a gearbox
+        skip = TRAIN_FILES + PLANETARY_FILES + GEARBOX_FILES
+        if "/" not in name and name not in skip and not name.startswith(("rating", "root_stress")):
             assert (tmp_path / name).stat().st_size > 0, name
     env = summary["environment"]
     assert env["jaxgear"] == jg.__version__ and env["jax"] and env["python"]

@@ -67,6 +67,11 @@ ITERATION_KEYS = ("iterations",)
 # largest value; it is compared to 1e-9 of F_s (scale 1)
 SCALES = {
     "periodicity": 1.0,
+    # a settled window's change (end state against start state over the static force, divided
+    # by 1 - rho): a difference of nearly equal states like the periodicity, its round-off about
+    # 1e-12 of the force, so compared to 1e-9 absolute, scale 1 (it moved 1e-9 to 4e-9 of itself
+    # between two machines at the same commit)
+    "settle_change": 1.0,
     # a relative error of the Ritz modes (about 1e-6) from eigenvalues that agree to round-off:
     # its last digits follow the BLAS threads' summation order (1.67e-5 of it with
     # OPENBLAS_NUM_THREADS=1), so it is compared to 1e-9 absolute, its natural scale 1

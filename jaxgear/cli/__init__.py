@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
     from ._options import range_values as range_values
     from ._progress import progress as progress
     from ._paths import (
+        GEARBOX_FILES as GEARBOX_FILES,
         OUTPUT_FILES as OUTPUT_FILES,
         PLANETARY_FILES as PLANETARY_FILES,
         TRAIN_FILES as TRAIN_FILES,
@@ -76,6 +77,7 @@ _EXPORTS = {
     "settings_from_case": "._optimise",
     "range_values": "._options",
     "OUTPUT_FILES": "._paths",
+    "GEARBOX_FILES": "._paths",
     "progress": "._progress",
     "PLANETARY_FILES": "._paths",
     "TRAIN_FILES": "._paths",
