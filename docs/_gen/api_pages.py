@@ -69,7 +69,7 @@ SECTIONS = {
         ("Meshes and quasi-statics", ("_meshes", "_hunting")),
         ("Flexible ring", ("_ring",)),
         ("Modes, phasing and load sharing", ("_analysis",)),
-        ("Dynamics", ("_dynamics",)),
+        ("Dynamics and the engine model", ("_dynamics", "_model")),
         ("Time plan of a sweep", ("_plan",)),
     ),
     "jaxgear.rating": (
