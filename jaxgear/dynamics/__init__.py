@@ -60,6 +60,7 @@ from ._modal import (
     campbell_coincidences as campbell_coincidences,
     excited_omega as excited_omega,
     gear_nodal_diameter_resonances as gear_nodal_diameter_resonances,
+    matrix_modal_analysis as matrix_modal_analysis,
     modal_analysis as modal_analysis,
     modes_at_speed as modes_at_speed,
     nodal_diameter_modes as nodal_diameter_modes,

@@ -28,6 +28,7 @@ __all__ = [
     "modal_analysis",
     "modes_at_speed",
     "gear_nodal_diameter_resonances",
+    "matrix_modal_analysis",
     "nodal_diameter_modes",
     "nodal_diameter_resonances",
     "steps_for_mode",
@@ -98,6 +99,31 @@ def modal_analysis(scene: DynamicScene, mesh_stiffness: Float[Array, "n n"]) -> 
         mesh_stiffness=mesh_stiffness,
         parts=tuple(parts),
     )
+
+
+class _Matrices(eqx.Module):
+    """A mass and a structure stiffness in the form :func:`modal_analysis` reads."""
+
+    m: Array
+    k: Array
+
+    def mass(self):
+        return self.m
+
+    def stiffness_parts(self):
+        return {"structure": self.k}
+
+
+def matrix_modal_analysis(
+    mass: Float[Array, "n n"],
+    structure: Float[Array, "n n"],
+    mesh_stiffness: Float[Array, "n n"],
+) -> ModalAnalysis:
+    """:func:`modal_analysis` of a system given by its matrices (a planetary stage's or a
+    gearbox's, which are not scenes): mass M (kg or kg m²), the structure's stiffness K_s and
+    the mesh-averaged stiffness K̄_m (units of K), all (n, n); energy rows ``("mesh",
+    "structure")``."""
+    return modal_analysis(_Matrices(mass, structure), mesh_stiffness)
 
 
 class ModesAtSpeed(eqx.Module):

@@ -17,6 +17,7 @@ to the strain energy.
 from __future__ import annotations
 
 import abc
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -28,7 +29,7 @@ from .._baseplane import CellRow, MeshModel
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import modal_analysis
+from ..dynamics import matrix_modal_analysis
 from ..planetary import (
     AbstractPlanetaryMeshes,
     AbstractPlanetaryModel,
@@ -421,19 +422,6 @@ class GearboxModes(eqx.Module):
     stage_energy: Float[Array, "s n"]
 
 
-class _ChainParts(eqx.Module):
-    """The chain's M and K in the form :func:`~jaxgear.dynamics.modal_analysis` reads."""
-
-    m: Array
-    k: Array
-
-    def mass(self):
-        return self.m
-
-    def stiffness_parts(self):
-        return {"structure": self.k}
-
-
 @eqx.filter_jit
 def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
     """The undamped natural modes of the chain, ``K phi = omega^2 M phi``, through
@@ -446,7 +434,7 @@ def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
                    "gearbox_modes")
 
     m, k = chain.matrices()
-    modes = modal_analysis(_ChainParts(m, k), jnp.zeros_like(k))
+    modes = matrix_modal_analysis(m, k, jnp.zeros_like(k))
     shapes = modes.shapes
     energy = shapes * (m @ shapes)  # each coordinate's share (M diagonal per stage block)
     owner = np.asarray(chain.stage_of_dof())  # static: the indicator of each stage's rotations

@@ -21,6 +21,7 @@ sign flipped; a spur stage's flanks are alike).
 from __future__ import annotations
 
 import math
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -30,7 +31,7 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
-from ..dynamics import LinearSystem, ModalAnalysis, StepCells, modal_analysis, newmark
+from ..dynamics import LinearSystem, ModalAnalysis, StepCells, matrix_modal_analysis, newmark
 from ._chain import GearboxTorsional
 
 __all__ = [
@@ -269,30 +270,11 @@ def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
     return steps, max(1, round(steps * slow / fast)), fast, blocks
 
 
-def _modes(m, k, k_mean):
-    """modal_analysis of (M, K + K̄_m), the mesh part K̄_m."""
-    # jaxgear.dynamics imported here: ``import jaxgear`` (which holds the chain's names) does
-    # not load the dynamics
-
-    return modal_analysis(_Parts(m, k), k_mean)
-
-
-class _Parts(eqx.Module):
-    m: Array
-    k: Array
-
-    def mass(self):
-        return self.m
-
-    def stiffness_parts(self):
-        return {"structure": self.k}
-
-
 @eqx.filter_jit
 def _run(chain, run, input_speed, law, S, block, fast, B):
 
     m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
-    modes = _modes(m, k, k_mean)
+    modes = matrix_modal_analysis(m, k, k_mean)
     phi, w = modes.shapes, modes.omega
     mphi = m @ phi
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
@@ -416,7 +398,7 @@ def _coupled_modes(chain, run):
     m, _, k, _, _, k_mean, _, _, _ = _assemble(chain, run, speed)
     # the per-mesh mean stiffness: each stage's rows over its own mesh period
     offsets, n = _offsets(chain)
-    modes = _modes(m, k, k_mean)
+    modes = matrix_modal_analysis(m, k, k_mean)
     phi = modes.shapes
     strain = jnp.einsum("in,ij,jn->n", phi, k + k_mean, phi)
     strain = jnp.where(modes.rigid, 1.0, strain)

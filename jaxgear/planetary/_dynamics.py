@@ -31,12 +31,11 @@ from ..dynamics import (
     ModalSpace,
     ModalSystem,
     StepCells,
-    modal_analysis,
+    matrix_modal_analysis,
     newmark,
     newmark_modal,
     reduced_structure,
 )
-from ._stage import AbstractPlanetaryModel, PlanetaryStage
 from ._meshes import (
     AbstractPlanetaryMeshes,
     held_structure,
@@ -44,6 +43,7 @@ from ._meshes import (
     sun_load,
 )
 from ._ring import AbstractRingModel, RigidRing, modal_damping
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = [
     "PlanetaryDynamics",
@@ -337,19 +337,6 @@ def planetary_cell_row(model, stage, meshes, run, x) -> CellRow:
     return meshes.cell_row(model, stage, x, (d_s, d_r))
 
 
-class _StageParts(NamedTuple):
-    """M and K_b of a stage in the form :func:`~jaxgear.dynamics.modal_analysis` reads."""
-
-    m: Array
-    k_b: Array
-
-    def mass(self):
-        return self.m
-
-    def stiffness_parts(self):
-        return {"structure": self.k_b}
-
-
 @eqx.filter_jit
 def planetary_mesh_modes(
     model: AbstractPlanetaryModel,
@@ -373,7 +360,7 @@ def planetary_mesh_modes(
                             "planetary_mesh_modes")
     k_b = held_structure(model, stage, meshes, (d_s, d_r))
     k_mean, _ = _mean_mesh_stiffness(model, stage, meshes, (d_s, d_r), positions)
-    return modal_analysis(_StageParts(m, k_b), k_mean)
+    return matrix_modal_analysis(m, k_b, k_mean)
 
 
 def _unbalance_load(model, stage, omega, mesh_speed, travel, n_u):
