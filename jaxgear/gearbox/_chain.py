@@ -208,8 +208,11 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         if self.meshes is None:
             return self
         other = self.meshes.other_flanks()
-        meshes = jax.tree.map(lambda a, b: jnp.where(sign < 0, b, a) if eqx.is_array(a) else a,
-                              self.meshes, other)
+        # only the leaves the other flanks change are selected (the rest are the same arrays:
+        # the tables are not copied)
+        meshes = jax.tree.map(
+            lambda a, b: jnp.where(sign < 0, b, a) if eqx.is_array(a) and a is not b else a,
+            self.meshes, other)
         return eqx.tree_at(lambda s: s.meshes, self, meshes)
 
     def mesh_names(self):
