@@ -3,7 +3,9 @@
 * the torsional chain (:class:`GearboxTorsional`) and its modes (:func:`gearbox_modes`);
 * the coupled dynamic model (:func:`gearbox_dynamics`, :func:`gearbox_speed_sweep`,
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
-  (docs/gearbox.md).
+  (docs/gearbox.md);
+* a stage kind added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
+  planets) in ``_compound``.
 """
 
 from ._chain import (
@@ -13,6 +15,10 @@ from ._chain import (
     PairGearboxStage as PairGearboxStage,
     PlanetaryGearboxStage as PlanetaryGearboxStage,
     gearbox_modes as gearbox_modes,
+)
+from ._compound import (
+    CompoundPlanetaryStage as CompoundPlanetaryStage,
+    stepped_planet_phases as stepped_planet_phases,
 )
 from ._coupled import (
     CoupledModes as CoupledModes,
