@@ -240,34 +240,37 @@ def test_quasi_static_torque_balance_of_a_coupled_run():
     f = np.asarray(out.mesh_forces)
     np.testing.assert_allclose(np.mean(f, axis=0), want, rtol=1e-5)
     carrier = k_out * np.mean(np.asarray(out.displacement)[:, 0])
-    assert -carrier == pytest.approx(torque * (1 + Z_R * Z_P1 / (Z_S * Z_P2)), rel=1e-5)
+    assert carrier == pytest.approx(torque * (1 + Z_R * Z_P1 / (Z_S * Z_P2)), rel=1e-5)
 
 
 def test_coupled_run_of_the_stage_driving_a_pair():
-    """The stepped stage (carrier in 5000 N m, ring held, sun out: its planets drive the sun,
-    the other flanks) whose sun drives a spur pair 32 / 24 through a shaft: one Newmark run
-    settles (the dynamic factors of 40 and of 80 blocks agree within 0.5 %), every factor
-    finite and above 1 - 1e-3, the static forces the torque ratios'."""
+    """The stepped stage (carrier in 5000 N m at 10 rad/s, ring held, sun out: its planets drive
+    the sun, the other flanks) whose sun drives a spur pair 36 / 24 through a shaft, every mesh on
+    its contact cells. The three mesh frequencies stand 15 : 11 : 32.5 (sun : ring : pair), so
+    the whole excitation repeats every 30 sun-mesh periods; with 36 steps per pair period a block
+    (the sun mesh's period) is 78 whole steps. One Newmark run settles: the dynamic factors over
+    a window of one whole pattern (30 blocks) after 60 and after 90 blocks agree within 1e-4;
+    every factor is finite and above 1; the static forces are the torque ratios'."""
     stage = _stage(C.CARRIER, C.SUN)
-    pair = jg.GearPair(jg.Member(24, face_width=0.08), jg.Member(32, face_width=0.08), M_N, ALPHA)
+    pair = jg.GearPair(jg.Member(24, face_width=0.08), jg.Member(36, face_width=0.08), M_N, ALPHA)
     mesh = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(K_U)), 1)
-    par = gb.PairGearboxStage((5.2e-3, 0.0165), pair.base_radii, K_U * 0.08 * 1.6, input=1,
+    par = gb.PairGearboxStage((5.2e-3, 0.02), pair.base_radii, K_U * 0.08 * 1.6, input=1,
                               mesh=mesh)
     chain = gb.GearboxTorsional((stage, par), [5e5])
     assert gb.mesh_names(chain)[-1] == "2:pair" and len(gb.mesh_names(chain)) == 9
     dfs = []
-    for periods in (40, 80):
-        run = gb.GearboxRun(5000.0, 5e5, steps_per_period=32, periods=periods, keep_periods=4)
-        out = gb.gearbox_dynamics(chain, run, 30.0)
-        assert int(out.result) == 0
+    for periods in (90, 120):
+        run = gb.GearboxRun(5000.0, 5e5, steps_per_period=36, periods=periods, keep_periods=30)
+        out = gb.gearbox_dynamics(chain, run, 10.0)
+        assert int(out.result) == 0 and out.time.shape == (30 * 78,)
         dfs.append(np.asarray(out.dynamic_factors))
     t_sun = 5000.0 / (1 + Z_R * Z_P1 / (Z_S * Z_P2))
     f_s = t_sun / (4 * Z_S * RB)
     np.testing.assert_allclose(np.asarray(out.static_forces),
-                               [f_s] * 4 + [f_s * Z_P1 / Z_P2] * 4 + [t_sun / (32 * RB)],
+                               [f_s] * 4 + [f_s * Z_P1 / Z_P2] * 4 + [t_sun / (36 * RB)],
                                rtol=1e-12)
-    assert np.all(np.isfinite(dfs[1])) and np.all(dfs[1] > 1 - 1e-3)
-    np.testing.assert_allclose(dfs[0], dfs[1], rtol=5e-3)
+    assert np.all(np.isfinite(dfs[1])) and np.all(dfs[1] > 1.0)
+    np.testing.assert_allclose(dfs[0], dfs[1], rtol=1e-4)
 
 
 def test_bad_inputs_one_line():
