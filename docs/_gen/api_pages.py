@@ -82,6 +82,7 @@ SECTIONS = {
     "jaxgear.gearbox": (
         ("The stages and the torsional chain", ("_chain",)),
         ("The coupled dynamic model", ("_coupled",)),
+        ("A stage kind: the compound planetary stage (stepped planets)", ("_compound",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
