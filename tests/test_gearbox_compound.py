@@ -281,7 +281,7 @@ def test_bad_inputs_one_line():
     with pytest.raises(ValueError, match="r_bp1 / r_bs"):
         gb.CompoundPlanetaryStage((20, 30, 22, 72), (0.04, 0.05, 0.04, 0.12), 0.1, INERTIAS, M_P,
                                   [0.0], (1e8, 1e8), 1e9, C.SUN, C.CARRIER)
-    sun, ring = _meshes(_pairs())
+    sun, _ = _meshes(_pairs())
     with pytest.raises(ValueError, match="ring_mesh"):
         gb.CompoundPlanetaryStage.from_pairs(*_pairs(), [0.0], INERTIAS, M_P, (1e8, 1e8), 1e9,
                                              C.SUN, C.CARRIER, (sun, None))

@@ -72,7 +72,6 @@ from ._chain import AbstractGearboxStage
 __all__ = ["CompoundPlanetaryStage", "stepped_planet_phases"]
 
 _INDEX = {Central.CARRIER: 0, Central.RING: 1, Central.SUN: 2}
-_NAMES = {Central.CARRIER: "carrier", Central.RING: "ring", Central.SUN: "sun"}
 
 
 def stepped_planet_phases(teeth, planet_angles) -> tuple[Array, Array]:
@@ -141,7 +140,7 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
             (its pinion base radius), coast flanks, per-tooth deviations (one line each).
     """
 
-    teeth: tuple[int, int, int, int] = eqx.field(static=True)
+    teeth: tuple[int, int, int, int] = eqx.field(static=True, converter=tuple)
     base_radii: Float[Array, " 4"] = eqx.field(converter=as_float)
     center_distance: Float[Array, ""] = eqx.field(converter=as_float)
     inertias: Float[Array, " 4"] = eqx.field(converter=as_float)
