@@ -3,7 +3,10 @@
 * the torsional chain (:class:`GearboxTorsional`) and its modes (:func:`gearbox_modes`);
 * the coupled dynamic model (:func:`gearbox_dynamics`, :func:`gearbox_speed_sweep`,
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
-  (docs/gearbox.md).
+  (docs/gearbox.md);
+* what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
+  stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
+  (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
 """
 
 from ._chain import (
@@ -24,4 +27,17 @@ from ._coupled import (
     gearbox_dynamics as gearbox_dynamics,
     gearbox_speed_sweep as gearbox_speed_sweep,
     mesh_names as mesh_names,
+)
+from ._spectrum import (
+    HousingSignals as HousingSignals,
+    HousingSpectrum as HousingSpectrum,
+    amplitude_spectrum as amplitude_spectrum,
+    campbell_crossings as campbell_crossings,
+    carrier_frequencies as carrier_frequencies,
+    housing_lines as housing_lines,
+    housing_signals as housing_signals,
+    housing_spectrum as housing_spectrum,
+    line_amplitudes as line_amplitudes,
+    mesh_frequencies as mesh_frequencies,
+    ring_window as ring_window,
 )
