@@ -137,7 +137,7 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     lines p f_c with p = 0 (mod 4), of two-sided amplitude N sum_m a_m c_(p - m z_r), c_k the
     window's Fourier coefficients: at the mesh frequency 79 f_c nothing, the largest line at
     80 f_c (k = +1) and a smaller one at 76 f_c (k = -3): McFadden and Smith's asymmetry."""
-    chain, hs = sequential
+    _chain, hs = sequential
     sig = hs.signals
     t = np.asarray(sig.time)
     fc = float(hs.carrier_frequency[0])
@@ -163,7 +163,7 @@ def test_ring_support_and_bearing(sequential):
     """The ring's mean support reaction is the ring meshes' mean force (the ring at rest on
     average: k_t theta_r = r_br sum_n F_rn); the ring point adds the window's share W / 4 pi of
     it; the pair's bearing force is its mesh force (torsional pair, centres held)."""
-    chain, hs = sequential
+    _chain, hs = sequential
     sig = hs.signals
     f = np.asarray(hs.dynamics.mesh_forces)
     assert np.mean(sig.ring_support) == pytest.approx(np.mean(f[:, 4:8].sum(axis=1)), rel=1e-9)
@@ -187,7 +187,7 @@ def test_housing_lines_positions():
 
 def test_refusals():
     chain, run = two_stage()
-    with pytest.raises(ValueError, match="ring_stage"):
+    with pytest.raises(TypeError, match="ring_stage"):
         gb.housing_spectrum(chain, run, 60.0, ring_stage=1)
     with pytest.raises(ValueError, match="input_speed"):
         gb.housing_spectrum(chain, run, 0.0)

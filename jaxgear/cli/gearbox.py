@@ -261,8 +261,8 @@ def housing_point_spectrum(form, case, out: str) -> dict:
         "carrier_frequency_Hz": [float(v) for v in hs.carrier_frequency],
         "lines": rows,
         "spectrum": {"frequency_Hz": fr.tolist(), "ring_point_N": ar.tolist(),
-                     "bearing_N": ab.tolist(), "peak_hold_bins": int(round(
-                         (fr[1] - fr[0]) / (hs.frequency[1] - hs.frequency[0])))},
+                     "bearing_N": ab.tolist(), "peak_hold_bins": round(
+                         (fr[1] - fr[0]) / (hs.frequency[1] - hs.frequency[0]))},
         "spectrum_fine": {"frequency_Hz": hs.frequency[near].tolist(),
                           "ring_point_N": hs.ring_point[near].tolist()},
     }

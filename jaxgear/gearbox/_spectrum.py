@@ -214,14 +214,14 @@ def _defaults(chain, ring_stage, bearing_stage, where):
     bearing_stage = _stage_index(chain, bearing_stage, "bearing_stage")
     s = chain.stages[ring_stage]
     if not isinstance(s, PlanetaryGearboxStage):
-        raise ValueError(f"{where}: ring_stage = {ring_stage} is a {type(s).__name__}: allowed "
+        raise TypeError(f"{where}: ring_stage = {ring_stage} is a {type(s).__name__}: allowed "
                          "a planetary stage")
     if Central.RING in (s.input, s.output):
         raise ValueError(f"{where}: ring_stage = {ring_stage}: its ring turns (input or output)"
                          ": allowed a stage whose ring is held (the housing mount)")
     b = chain.stages[bearing_stage]
     if not isinstance(b, PairGearboxStage):
-        raise ValueError(f"{where}: bearing_stage = {bearing_stage} is a {type(b).__name__}: "
+        raise TypeError(f"{where}: bearing_stage = {bearing_stage} is a {type(b).__name__}: "
                          "allowed a parallel pair stage")
     return ring_stage, bearing_stage
 
@@ -253,8 +253,9 @@ def housing_signals(
         :class:`HousingSignals`.
 
     Raises:
-        ValueError: a stage index out of range or of the wrong kind, a ring that turns, a
-            width outside (0, 2 pi] (one line).
+        ValueError: a stage index out of range, a ring that turns, a width outside
+            (0, 2 pi] (one line).
+        TypeError: a stage of the wrong kind (one line).
     """
     where = "housing_signals"
     ring_stage, bearing_stage = _defaults(chain, ring_stage, bearing_stage, where)
@@ -351,7 +352,7 @@ def housing_lines(chain: GearboxTorsional, input_speed, harmonics=(1, 2, 3), sid
             if k == ring_stage and f_c > 0.0:
                 order = c / f_c  # h z_r
                 for p in sorted({math.floor(order / n + 1e-9), math.ceil(order / n - 1e-9)}):
-                    off = int(round(p * n - order))
+                    off = round(p * n - order)
                     out.append({"frequency_Hz": p * pp, "stage": k + 1, "harmonic": h,
                                 "sideband": off, "kind": "McFadden-Smith",
                                 "label": f"{p}×{n}fc{k + 1}"})
@@ -401,7 +402,7 @@ def housing_spectrum(
     chain: GearboxTorsional,
     run: GearboxRun,
     input_speed: float,
-    law: AbstractContactLaw = ExactContact(),
+    law: AbstractContactLaw = ExactContact(),  # noqa: B008 - an immutable module
     *,
     revolutions: int = 2,
     steps_per_period: int = 8,
@@ -438,6 +439,7 @@ def housing_spectrum(
 
     Raises:
         ValueError: an argument out of range or of another kind (one line), before any run.
+        TypeError: ``ring_stage`` or ``bearing_stage`` a stage of the wrong kind (one line).
     """
     where = "housing_spectrum"
     _check(chain, run, law, where)
