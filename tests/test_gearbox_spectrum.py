@@ -99,17 +99,18 @@ def test_campbell_crossings_slopes_and_labels():
 
 def test_spectrum_recovers_synthetic_lines():
     """Lines of known amplitude, one on the record's grid, two off it, and a DC: read back at
-    their frequencies (Hann: exact on the grid, 1e-3 off it here), and the FFT's peak bins."""
+    their frequencies (Hann: the grid's lines to the off-grid lines' sidelobes, which fall as
+    1 / k^3 over k bins: 1e-6 here; 1e-3 off the grid), and the FFT's peak bins."""
     T, n = 2.0, 4000
     t = 0.3 + np.arange(n) * T / n
     lines = [(0.0, 1.5), (50.0, 2.0), (123.3, 0.7), (300.77, 0.05)]
     x = sum(a * np.cos(2 * np.pi * f * t + 0.4 * i) for i, (f, a) in enumerate(lines))
     got = gb.line_amplitudes(t, x, [f for f, _ in lines])
-    np.testing.assert_allclose(got[:2], [1.5, 2.0], rtol=1e-9)
+    np.testing.assert_allclose(got[:2], [1.5, 2.0], rtol=1e-6)
     np.testing.assert_allclose(got[2:], [0.7, 0.05], rtol=1e-3)
     f, a = gb.amplitude_spectrum(t, x)
     assert f[1] == pytest.approx(1 / T)
-    assert a[np.argmin(abs(f - 50.0))] == pytest.approx(2.0, rel=1e-9)
+    assert a[np.argmin(abs(f - 50.0))] == pytest.approx(2.0, rel=1e-6)
     rect = gb.line_amplitudes(t, x, [50.0], window="rect")
     assert rect[0] == pytest.approx(2.0, rel=2e-3)
     with pytest.raises(ValueError, match="window"):
@@ -147,7 +148,8 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     amp = gb.line_amplitudes(t, sig.ring_meshes, p * fc)
     n, zr, width = 4, 79, math.pi
     kept = p % n == 0
-    assert np.max(amp[~kept]) < 1e-9 * np.max(amp)
+    # (the rest: the start's transient after 8 time constants, a few 1e-9 of the largest)
+    assert np.max(amp[~kept]) < 1e-7 * np.max(amp)
     assert p[np.argmax(amp)] == 80
     # the amplitudes predicted from planet 1's own ring force and the window
     f1 = np.asarray(hs.dynamics.mesh_forces)[:, n]
@@ -155,7 +157,8 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     a_m = np.array([np.mean(f1 * np.exp(-1j * m * zr * 2 * np.pi * fc * t)) for m in ms])
     pred = np.array([2 * abs(n * np.sum(a_m * window_coefficients(width, q - ms * zr)))
                      for q in p[kept]])
-    np.testing.assert_allclose(amp[kept], pred, rtol=1e-6, atol=1e-9 * pred.max())
+    # to 1e-6 of the largest line (the sampled window's aliased tail, the transient's rest)
+    np.testing.assert_allclose(amp[kept], pred, rtol=1e-6, atol=1e-6 * pred.max())
     assert amp[p == 80][0] > 3 * amp[p == 76][0]
 
 

@@ -174,7 +174,7 @@ def coupled_sweep(form, out: str) -> dict:
 CAMPBELL_HARMONICS = (1, 2, 3)
 #: the housing spectrum's run: carrier revolutions recorded and steps per period of the fastest
 #: mesh (docs/gearbox.md, "Campbell diagram and housing spectrum": its orders' convergence)
-SPECTRUM_RUN = {"revolutions": 2, "steps_per_period": 8}
+SPECTRUM_RUN = {"revolutions": 2, "steps_per_period": 16}
 #: the ring-mount window's width (deg): a planet is seen while within 90° of the sensor
 WINDOW_DEG = 180.0
 #: the stored spectra: at most this many points (peak-hold over groups of bins); around stage
