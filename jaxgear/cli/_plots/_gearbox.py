@@ -19,6 +19,24 @@ STAGE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown
 HARMONIC_STYLES = ("-", "--", ":", "-.")
 
 
+def _spread(freqs, lo, hi, gap=0.06):
+    """The labels' heights: the frequencies, pushed apart to ``gap`` decades at least (log
+    axis from ``lo`` to ``hi``), in order."""
+    y = np.log10(np.asarray(freqs, dtype=float))
+    order = np.argsort(y)
+    z = y[order].copy()
+    for i in range(1, z.size):
+        z[i] = max(z[i], z[i - 1] + gap)
+    over = z[-1] - np.log10(hi) + gap if z.size else 0.0
+    if over > 0:  # shift the crowded top down, keeping the gaps
+        z -= over
+        for i in range(z.size - 2, -1, -1):
+            z[i] = min(z[i], z[i + 1] - gap)
+    out = np.empty_like(z)
+    out[order] = z
+    return 10.0 ** np.maximum(out, np.log10(lo))
+
+
 def gearbox_campbell_plot(path, data: dict) -> None:
     """The coupled Campbell diagram: stage k's mesh harmonics f = h f_k(1) Omega (Hz, log
     scale) against the input speed Omega (rad/s), the coupled modes as horizontal lines each
@@ -36,11 +54,13 @@ def gearbox_campbell_plot(path, data: dict) -> None:
             ax.plot(s, h * slope * s, HARMONIC_STYLES[i % len(HARMONIC_STYLES)],
                     color=STAGE_COLOURS[k % len(STAGE_COLOURS)], lw=1.1,
                     label=f"stage {k + 1}: {h}× mesh ({h * slope:.4g} Hz per rad/s)")
-    for m in modes:
+    for m, y in zip(modes, _spread([m["frequency_Hz"] for m in modes], f_lo, f_hi),
+                    strict=True):
         f = m["frequency_Hz"]
         ax.axhline(f, color="0.6", lw=0.6, zorder=0)
-        ax.text(top * 1.01, f, f"{f:.0f} Hz {m['type']} ({m['mesh']})", fontsize=6,
-                va="center", ha="left", clip_on=False)
+        ax.annotate(f"{f:.0f} Hz {m['type']} ({m['mesh']})", (top, f), (top * 1.01, y),
+                    fontsize=6, va="center", ha="left", annotation_clip=False,
+                    arrowprops={"arrowstyle": "-", "color": "0.6", "lw": 0.5})
     for c in data["crossings"]:
         strong = c["marked"]
         ax.plot(c["speed_rad_s"], c["frequency_Hz"], "o", ms=5 if strong else 3,
@@ -114,6 +134,6 @@ def housing_spectrum_plot(path, data: dict) -> None:
     axes[2].set_xlabel("frequency (Hz)")
     axes[0].legend(fontsize=7, ncols=3, loc="upper right")
     fig.suptitle(f"{data['case']}: force at housing-fixed points, input "
-                 f"{data['input_speed_rad_s']:.4g} rad/s, {data['revolutions']} carrier "
+                 f"{data['input_speed_rad_s']:.4g} rad/s, {data['time_plan']['revolutions']} carrier "
                  f"revolutions, Hann", fontsize=10)
     savefig(fig, path)
