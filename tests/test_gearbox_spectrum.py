@@ -185,7 +185,7 @@ def test_housing_lines_positions():
     assert got[("McFadden-Smith", 1, 0)] == pytest.approx(80 * fc)
     assert got[("planet pass", 1, 1)] == pytest.approx(84 * fc)
     assert got[("planet pass", 2, -1)] == pytest.approx(160 * fc - 4 * fc)
-    assert ("mesh", 1, 0) not in got  # kept once, as the McFadden-Smith line
+    assert got[("mesh", 1, 0)] == got[("McFadden-Smith", 1, 0)]
 
 
 def test_refusals():
@@ -198,3 +198,32 @@ def test_refusals():
         gb.housing_spectrum(chain, run, 60.0, revolutions=0)
     with pytest.raises(ValueError, match="max_speed"):
         gb.campbell_crossings(chain, None, -1.0)
+
+
+def test_jaxgear_run_campbell_and_housing_spectrum(tmp_path):
+    """jaxgear run's Campbell and housing-spectrum sections of a gearbox on the two-stage case
+    file (20/30/-80, 4 planets, carrier in at 100 rad/s; the pair's 32-tooth wheel on the sun):
+    files written; the mesh orders' slopes 80 / 2 pi and 32 (1 + 80/20) / 2 pi Hz per rad/s;
+    z_r = 80 = 0 (mod 4): the McFadden-Smith line is the mesh frequency itself; the bearing's
+    orders the pair's harmonics."""
+    from jaxgear.cli.gearbox import coupled_campbell, housing_point_spectrum
+    from jaxgear.io import load_case
+
+    case = load_case(str(ROOT / "tests" / "data" / "gearbox" / "two-stage-gearbox.toml"))
+    c = coupled_campbell(case.form, case, str(tmp_path))
+    h = housing_point_spectrum(case.form, case, str(tmp_path))
+    for name in ("campbell.json", "campbell.png", "housing_spectrum.json",
+                 "housing_spectrum.png"):
+        assert (tmp_path / name).is_file()
+    import json
+
+    data = json.loads((tmp_path / "campbell.json").read_text())
+    np.testing.assert_allclose(data["mesh_Hz_per_rad_s"], [80 / (2 * np.pi), 160 / (2 * np.pi)],
+                               rtol=1e-12)
+    assert c["crossings"] == len(data["crossings"])
+    fc = 100.0 / (2 * np.pi)
+    assert h["planet_pass_Hz"] == pytest.approx(4 * fc)
+    assert [r["offset_fc"] for r in h["mcfadden_smith_lines"]] == [0]
+    assert h["mcfadden_smith_lines"][0]["frequency_Hz"] == pytest.approx(80 * fc)
+    np.testing.assert_allclose([r["frequency_Hz"] for r in h["bearing_orders"]],
+                               [160 * fc * k for k in (1, 2, 3)], rtol=1e-12)

@@ -270,7 +270,7 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     housing_spectrum_plot(os.path.join(out, "housing_spectrum.png"), data)
     ms = [r for r in rows if r["kind"] == "McFadden-Smith" and r["stage"] == k + 1
           and r["harmonic"] == 1]
-    strongest = max(rows, key=lambda r: r["bearing"])
+    own = [r for r in rows if r["kind"] == "mesh" and r["stage"] == b + 1]
     return {
         "input_speed_rad_s": w,
         "ring_stage": k + 1,
@@ -281,9 +281,8 @@ def housing_point_spectrum(form, case, out: str) -> dict:
         "ring_mesh_line_N": float(line_amplitudes(sig.time, sig.ring_point, [f1])[0]),
         "mcfadden_smith_lines": [{"frequency_Hz": r["frequency_Hz"], "offset_fc": r["sideband"],
                                   "ring_N": r["ring"]} for r in ms],
-        "bearing_strongest": {"label": strongest["label"],
-                              "frequency_Hz": strongest["frequency_Hz"],
-                              "bearing_N": strongest["bearing"]},
+        "bearing_orders": [{"label": r["label"], "frequency_Hz": float(r["frequency_Hz"]),
+                            "bearing_N": r["bearing"]} for r in own],
         "time_step_s": hs.time_step,
     }
 
@@ -348,13 +347,12 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
     if hs is not None:
         ms = ", ".join(f"{r['frequency_Hz']:.4g} Hz ({r['offset_fc']:+d} f_c) {r['ring_N']:.3g} N"
                        for r in hs["mcfadden_smith_lines"])
-        s = hs["bearing_strongest"]
+        own = ", ".join(f"{r['label']} {r['frequency_Hz']:.4g} Hz {r['bearing_N']:.3g} N"
+                        for r in hs["bearing_orders"])
         lines.append(
             f"housing spectrum at {hs['input_speed_rad_s']:.4g} rad/s: stage "
             f"{hs['ring_stage']}'s ring mount, "
             f"planet pass {hs['planet_pass_Hz']:.4g} Hz, lines {ms} beside the mesh frequency "
             f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
-            f"{hs['bearing_stage']}'s bearing strongest {s['label']} {s['frequency_Hz']:.4g} Hz "
-            f"{s['bearing_N']:.3g} N "
-            "(housing_spectrum.png)")
+            f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
     return lines

@@ -329,7 +329,7 @@ def housing_lines(chain: GearboxTorsional, input_speed, harmonics=(1, 2, 3), sid
 
     Returns: dicts ``frequency_Hz``, ``stage`` (the order's, from 1), ``harmonic``,
     ``sideband`` (j, or the offset p N - h z_r in carrier orders for "McFadden-Smith"),
-    ``kind``, ``label``; by frequency, duplicates (within 1e-9 relative) kept once."""
+    ``kind``, ``label``; by frequency (a frequency two rows share is listed under each)."""
     if ring_stage is None:
         ring_stage = next(k for k, s in enumerate(chain.stages)
                           if isinstance(s, PlanetaryGearboxStage))
@@ -358,14 +358,7 @@ def housing_lines(chain: GearboxTorsional, input_speed, harmonics=(1, 2, 3), sid
                                 "label": f"{p}×{n}fc{k + 1}"})
     out = [r for r in out if r["frequency_Hz"] > 0.0]
     out.sort(key=lambda r: r["frequency_Hz"])
-    kept = []
-    for r in out:
-        if kept and abs(r["frequency_Hz"] - kept[-1]["frequency_Hz"]) <= 1e-9 * r["frequency_Hz"]:
-            if r["kind"] == "McFadden-Smith":
-                kept[-1] = r
-            continue
-        kept.append(r)
-    return kept
+    return out
 
 
 class HousingSpectrum(eqx.Module):
