@@ -117,12 +117,12 @@ def test_spectrum_recovers_synthetic_lines():
         gb.line_amplitudes(t, x, [1.0], window="flat")
 
 
-def window_coefficients(width, ks):
-    """c_k = (1 / 2 pi) integral of w(phi) exp(-i k phi), the Hann window of ``width``
-    (quadrature)."""
-    phi = np.linspace(-width / 2, width / 2, 200001)
-    w = np.cos(np.pi * phi / width) ** 2
-    return np.array([np.trapezoid(w * np.exp(-1j * k * phi), phi) for k in ks]) / (2 * np.pi)
+def window_coefficients(power, ks):
+    """c_k = (1 / 2 pi) integral of w(phi) exp(-i k phi) of the planet-pass window
+    w = ((1 + cos phi) / 2)^p = cos^2p(phi / 2) = 4^-p sum_j C(2p, j) exp(i (j - p) phi):
+    C(2p, p + k) / 4^p for |k| <= p, else 0."""
+    return np.array([math.comb(2 * power, power + k) / 4.0**power if abs(k) <= power else 0.0
+                     for k in ks])
 
 
 @pytest.fixture(scope="module")
@@ -136,8 +136,9 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     (ring held, carrier at f_c): planet n's ring force is planet 1's a quarter revolution on,
     F_rn(t) = sum_m a_m exp(i m z_r (psi_n + omega_c t)), so the windowed sum holds only the
     lines p f_c with p = 0 (mod 4), of two-sided amplitude N sum_m a_m c_(p - m z_r), c_k the
-    window's Fourier coefficients: at the mesh frequency 79 f_c nothing, the largest line at
-    80 f_c (k = +1) and a smaller one at 76 f_c (k = -3): McFadden and Smith's asymmetry."""
+    window's Fourier coefficients (the window ((1 + cos phi) / 2)^4: |k| <= 4): at the mesh
+    frequency 79 f_c nothing, the largest line at 80 f_c (k = +1, c = 56/256) and a smaller one
+    at 76 f_c (k = -3, c = 8/256): McFadden and Smith's asymmetry; none at 84 f_c (k = 5)."""
     _chain, hs = sequential
     sig = hs.signals
     t = np.asarray(sig.time)
@@ -146,7 +147,7 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     assert (t[-1] - t[0] + hs.time_step) * fc == pytest.approx(2.0, rel=1e-12)  # 2 revolutions
     p = np.arange(40, 130)
     amp = gb.line_amplitudes(t, sig.ring_meshes, p * fc)
-    n, zr, width = 4, 79, math.pi
+    n, zr, power = 4, 79, 4
     kept = p % n == 0
     # (the rest: the start's transient after 8 time constants, a few 1e-9 of the largest)
     assert np.max(amp[~kept]) < 1e-7 * np.max(amp)
@@ -155,22 +156,24 @@ def test_ring_point_lines_mcfadden_smith(sequential):
     f1 = np.asarray(hs.dynamics.mesh_forces)[:, n]
     ms = np.arange(-2, 3)
     a_m = np.array([np.mean(f1 * np.exp(-1j * m * zr * 2 * np.pi * fc * t)) for m in ms])
-    pred = np.array([2 * abs(n * np.sum(a_m * window_coefficients(width, q - ms * zr)))
+    pred = np.array([2 * abs(n * np.sum(a_m * window_coefficients(power, q - ms * zr)))
                      for q in p[kept]])
     # to 1e-6 of the largest line (the sampled window's aliased tail, the transient's rest)
     np.testing.assert_allclose(amp[kept], pred, rtol=1e-6, atol=1e-6 * pred.max())
     assert amp[p == 80][0] > 3 * amp[p == 76][0]
+    assert amp[p == 84][0] < 1e-7 * amp[p == 80][0]
 
 
 def test_ring_support_and_bearing(sequential):
     """The ring's mean support reaction is the ring meshes' mean force (the ring at rest on
-    average: k_t theta_r = r_br sum_n F_rn); the ring point adds the window's share W / 4 pi of
-    it; the pair's bearing force is its mesh force (torsional pair, centres held)."""
+    average: k_t theta_r = r_br sum_n F_rn); the ring point adds the window's share, its mean
+    C(8, 4) / 4^4 = 70/256; the pair's bearing force is its mesh force (torsional pair, centres held)."""
     _chain, hs = sequential
     sig = hs.signals
     f = np.asarray(hs.dynamics.mesh_forces)
     assert np.mean(sig.ring_support) == pytest.approx(np.mean(f[:, 4:8].sum(axis=1)), rel=1e-9)
-    np.testing.assert_allclose(sig.ring_point, sig.ring_meshes + sig.ring_support / 4, rtol=1e-12)
+    np.testing.assert_allclose(sig.ring_point, sig.ring_meshes + sig.ring_support * 70 / 256,
+                               rtol=1e-12)
     np.testing.assert_allclose(sig.bearing, f[:, 8], rtol=1e-12)
 
 
@@ -198,6 +201,10 @@ def test_refusals():
         gb.housing_spectrum(chain, run, 60.0, revolutions=0)
     with pytest.raises(ValueError, match="max_speed"):
         gb.campbell_crossings(chain, None, -1.0)
+    with pytest.raises(ValueError, match="modes"):
+        gb.campbell_crossings(chain, None, 1.0)
+    with pytest.raises(TypeError, match="ring_stage"):
+        gb.housing_lines(chain, 60.0, ring_stage=1)
 
 
 def test_jaxgear_run_campbell_and_housing_spectrum(tmp_path):

@@ -33,6 +33,7 @@ from ..gearbox import (
     line_amplitudes,
     mesh_frequencies,
     mesh_names,
+    window_share,
 )
 from ..io import write_json
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
@@ -175,8 +176,8 @@ CAMPBELL_HARMONICS = (1, 2, 3)
 #: the housing spectrum's run: carrier revolutions recorded and steps per period of the fastest
 #: mesh (docs/gearbox.md, "Campbell diagram and housing spectrum": its orders' convergence)
 SPECTRUM_RUN = {"revolutions": 2, "steps_per_period": 16}
-#: the ring-mount window's width (deg): a planet is seen while within 90° of the sensor
-WINDOW_DEG = 180.0
+#: the ring-mount window's power p: ((1 + cos phi) / 2)^p (jaxgear.planetary.ring_transducer_signal)
+WINDOW_POWER = 4
 #: the stored spectra: at most this many points (peak-hold over groups of bins); around stage
 #: 1's mesh frequency (± 5 planet-pass frequencies) every bin
 SPECTRUM_POINTS = 3000
@@ -217,7 +218,7 @@ def _peak_hold(f, a, points):
 def housing_point_spectrum(form, case, out: str) -> dict:
     """The force spectrum at stage 1's ring mount and the parallel stage's bearing from one
     coupled run at the rated input speed (:func:`jaxgear.gearbox.housing_spectrum`,
-    :data:`SPECTRUM_RUN`, a Hann window of :data:`WINDOW_DEG` on the ring), with every
+    :data:`SPECTRUM_RUN`, the planet-pass window's power :data:`WINDOW_POWER`), with every
     stage's mesh harmonics, the planet-pass sidebands and the McFadden-Smith lines read at
     their frequencies (:func:`jaxgear.gearbox.housing_lines`). Written to
     ``housing_spectrum.json`` and ``housing_spectrum.png``; returns the summary's
@@ -228,9 +229,8 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     pairs = [i for i, s in enumerate(chain.stages) if isinstance(s, PairGearboxStage)]
     if not planetary or not pairs:
         return None
-    width = np.radians(WINDOW_DEG)
     w = float(first.input_speed)
-    hs = housing_spectrum(chain, run, w, window_width=width, **SPECTRUM_RUN)
+    hs = housing_spectrum(chain, run, w, window_power=WINDOW_POWER, **SPECTRUM_RUN)
     sig = hs.signals
     lines = housing_lines(chain, w)
     f = [r["frequency_Hz"] for r in lines]
@@ -252,8 +252,8 @@ def housing_point_spectrum(form, case, out: str) -> dict:
         "ring_stage": k + 1,
         "bearing_stage": b + 1,
         "planets": n,
-        "window_width_deg": WINDOW_DEG,
-        "support_share": float(width / (4 * np.pi)),
+        "window_power": WINDOW_POWER,
+        "support_share": window_share(WINDOW_POWER),
         "time_plan": dict(SPECTRUM_RUN, time_step_s=hs.time_step, settle_s=hs.settle_time,
                           record_s=float(sig.time[-1] - sig.time[0] + hs.time_step)),
         "result": int(hs.dynamics.result),

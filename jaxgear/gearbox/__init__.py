@@ -39,5 +39,5 @@ from ._spectrum import (
     housing_spectrum as housing_spectrum,
     line_amplitudes as line_amplitudes,
     mesh_frequencies as mesh_frequencies,
-    ring_window as ring_window,
+    window_share as window_share,
 )

@@ -21,15 +21,17 @@ the planet's angular distance from it,
     s(t) = sum_n w(psi_n + theta_c(t) - theta_s) F_rn(t) + a R(t),
 
 with psi_n the planet's angle in the carrier, theta_c(t) = omega_c t the carrier's nominal
-angle (rad, fixed frame, positive in the stages' common sense), w a Hann window of width W
-centred on the sensor, w(phi) = cos^2(pi phi / W) for |phi| <= W / 2 (phi wrapped to
-(-pi, pi]), else 0, and R(t) = k_t theta_r(t) / r_br the ring's torsional support reaction as
-a tangential force at its base circle (the torsional model's ring hold k_t), shared by the
-sensor in the window's proportion a = (1 / 2 pi) integral of w = W / (4 pi). For identical,
+angle (rad, fixed frame, positive in the stages' common sense), w the planet-pass window of
+:func:`jaxgear.planetary.ring_transducer_signal` (the one home of the windowed sum),
+w(phi) = ((1 + cos phi) / 2)^p, whose Fourier coefficients are c_k = C(2p, p + k) / 4^p for
+|k| <= p and 0 beyond, and R(t) = k_t theta_r(t) / r_br the ring's torsional support reaction
+as a tangential force at its base circle (the torsional model's ring hold k_t), shared by the
+sensor in the window's proportion a = (1 / 2 pi) integral of w = c_0 = C(2p, p) / 4^p. For
+identical,
 equally spaced planets with z_r the ring's teeth and N planets, the ring-held stage's part of
 s holds lines only at p f_c with p = 0 mod N (f_c = omega_c / 2 pi): around the mesh harmonic
-h z_r f_c only at h z_r + k with k = -h z_r (mod N); the mesh frequency itself is absent unless
-z_r = 0 (mod N).
+h z_r f_c only at h z_r + k with k = -h z_r (mod N) and |k| <= p; the mesh frequency itself is
+absent unless z_r = 0 (mod N).
 
 A parallel pair's bearing: its gears' centres are held (the torsional pair), so each gear's
 bearing carries the mesh force; its component along the line of action equals the pair's
@@ -46,11 +48,12 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import AbstractContactLaw, ExactContact
-from .._util import as_float, check_integer, check_real
-from ..planetary import Central
+from .._util import as_float, check_instance, check_integer, check_real
+from ..planetary import Central, ring_transducer_signal
 from ._chain import GearboxTorsional, PairGearboxStage, PlanetaryGearboxStage
 from ._coupled import (
     SETTLE,
+    CoupledModes,
     GearboxDynamics,
     GearboxRun,
     _check,
@@ -73,7 +76,7 @@ __all__ = [
     "housing_spectrum",
     "line_amplitudes",
     "mesh_frequencies",
-    "ring_window",
+    "window_share",
 ]
 
 #: a crossing whose mode holds at least this share of its strain energy in the exciting stage's
@@ -136,10 +139,13 @@ def campbell_crossings(chain: GearboxTorsional, modes, max_speed: float,
         (that share >= :data:`CROSSING_SHARE`).
 
     Raises:
-        ValueError: ``max_speed`` not positive, a harmonic not a positive integer (one line).
+        ValueError: ``max_speed`` not positive, ``modes`` not a CoupledModes, a harmonic not a
+            positive integer (one line).
     """
     check_real("max_speed", max_speed, "rad/s", lo=0.0, lo_open=True, shape=(),
                where="campbell_crossings")
+    check_instance("modes", modes, CoupledModes, "a jaxgear.gearbox.CoupledModes",
+                   "campbell_crossings")
     for h in harmonics:
         check_integer("harmonics", h, 1)
     slope = np.asarray(mesh_frequencies(chain, 1.0))  # Hz per rad/s
@@ -168,14 +174,6 @@ def campbell_crossings(chain: GearboxTorsional, modes, max_speed: float,
     return sorted(out, key=lambda c: c["speed_rad_s"])
 
 
-def ring_window(angle, width):
-    """The transmission-path window w (-) of a planet at ``angle`` (rad, any shape) from the
-    sensor: a Hann window of ``width`` W (rad), cos^2(pi phi / W) for |phi| <= W / 2, phi the
-    angle wrapped to (-pi, pi], else 0; its mean over the circle is W / (4 pi)."""
-    phi = jnp.angle(jnp.exp(1j * as_float(angle)))
-    return jnp.where(jnp.abs(phi) <= 0.5 * width, jnp.cos(jnp.pi * phi / width) ** 2, 0.0)
-
-
 class HousingSignals(eqx.Module):
     """The forces a housing-fixed point sees (:func:`housing_signals`).
 
@@ -195,6 +193,13 @@ class HousingSignals(eqx.Module):
     ring_meshes: Float[Array, " t"]
     ring_support: Float[Array, " t"]
     bearing: Float[Array, " t"]
+
+
+def window_share(window_power: int) -> float:
+    """a = (1 / 2 pi) integral of ((1 + cos phi) / 2)^p over the circle = C(2p, p) / 4^p (-):
+    the share of the ring's support reaction the ring-mount sensor takes (the window's mean)."""
+    check_integer("window_power", window_power, 1)
+    return math.comb(2 * window_power, window_power) / 4.0**window_power
 
 
 def _defaults(chain, ring_stage, bearing_stage, where):
@@ -230,7 +235,7 @@ def housing_signals(
     chain: GearboxTorsional,
     dynamics: GearboxDynamics,
     input_speed,
-    window_width: float = math.pi,
+    window_power: int = 4,
     sensor_angle: float = 0.0,
     ring_stage: int | None = None,
     bearing_stage: int | None = None,
@@ -242,7 +247,8 @@ def housing_signals(
         dynamics: a :func:`~jaxgear.gearbox.gearbox_dynamics` result (one speed: ``time``
             (t,), ``mesh_forces`` (t, m), ``displacement`` (t, n)).
         input_speed: its input speed (rad/s).
-        window_width: W (rad, in (0, 2 pi]), the Hann window's width.
+        window_power: p (>= 1), the planet-pass window's sharpness
+            (:func:`jaxgear.planetary.ring_transducer_signal`).
         sensor_angle: theta_s (rad), the sensor's angle on the ring in the fixed frame, from
             the carrier's angle 0 at t = 0.
         ring_stage: the planetary stage with the ring mount (index; None: the first planetary
@@ -253,14 +259,13 @@ def housing_signals(
         :class:`HousingSignals`.
 
     Raises:
-        ValueError: a stage index out of range, a ring that turns, a width outside
-            (0, 2 pi] (one line).
+        ValueError: a stage index out of range, a ring that turns, ``window_power`` not a
+            positive integer (one line).
         TypeError: a stage of the wrong kind (one line).
     """
     where = "housing_signals"
     ring_stage, bearing_stage = _defaults(chain, ring_stage, bearing_stage, where)
-    check_real("window_width", window_width, "rad", lo=0.0, lo_open=True, hi=2 * math.pi,
-               shape=(), where=where)
+    share = window_share(window_power)
     check_real("sensor_angle", sensor_angle, "rad", shape=(), where=where)
     s = chain.stages[ring_stage]
     st = s.stage
@@ -269,13 +274,11 @@ def housing_signals(
     omega_c = 2.0 * jnp.pi * carrier_frequencies(chain, input_speed)[ring_stage]
     cols = _stage_meshes(chain, ring_stage)[n:]  # the ring-planet meshes
     f_ring = dynamics.mesh_forces[:, cols]  # (t, N)
-    angle = st.planet_angles[None, :] + omega_c * t[:, None] - sensor_angle
-    w = ring_window(angle, window_width)
-    meshes = jnp.sum(w * f_ring, axis=1)
+    meshes = ring_transducer_signal(f_ring, omega_c * t, st.planet_angles, sensor_angle,
+                                    window_power)
     i_r = coordinate_names(chain).index(f"{ring_stage + 1}:theta_r")
     support = st.ring.torsional_stiffness * dynamics.displacement[:, i_r] / st.ring.base_radius
     support = support * jnp.sign(jnp.mean(support)) * jnp.sign(jnp.mean(jnp.sum(f_ring, 1)))
-    share = window_width / (4.0 * math.pi)
     bearing = dynamics.mesh_forces[:, _stage_meshes(chain, bearing_stage)[0]]
     return HousingSignals(t, meshes + share * support, meshes, support, bearing)
 
@@ -331,9 +334,15 @@ def housing_lines(chain: GearboxTorsional, input_speed, harmonics=(1, 2, 3), sid
     ``sideband`` (j, or the offset p N - h z_r in carrier orders for "McFadden-Smith"),
     ``kind``, ``label``; by frequency (a frequency two rows share is listed under each)."""
     if ring_stage is None:
-        ring_stage = next(k for k, s in enumerate(chain.stages)
-                          if isinstance(s, PlanetaryGearboxStage))
+        ring_stage = next((k for k, s in enumerate(chain.stages)
+                           if isinstance(s, PlanetaryGearboxStage)), None)
+        if ring_stage is None:
+            raise ValueError("housing_lines: chain has no planetary stage: allowed a chain with "
+                             "one (the ring mount)")
     ring_stage = _stage_index(chain, ring_stage, "ring_stage")
+    if not isinstance(chain.stages[ring_stage], PlanetaryGearboxStage):
+        raise TypeError(f"housing_lines: ring_stage = {ring_stage} is a "
+                        f"{type(chain.stages[ring_stage]).__name__}: allowed a planetary stage")
     f_m = np.asarray(mesh_frequencies(chain, input_speed))
     f_c = abs(float(carrier_frequencies(chain, input_speed)[ring_stage]))
     n = chain.stages[ring_stage].stage.n_planets
@@ -399,7 +408,7 @@ def housing_spectrum(
     *,
     revolutions: int = 2,
     steps_per_period: int = 8,
-    window_width: float = math.pi,
+    window_power: int = 4,
     sensor_angle: float = 0.0,
     ring_stage: int | None = None,
     bearing_stage: int | None = None,
@@ -424,7 +433,7 @@ def housing_spectrum(
         revolutions: R, recorded carrier revolutions (static, >= 1).
         steps_per_period: steps per period of the fastest excited mesh (static, >= 4; the orders'
             amplitudes' convergence with it is the caller's to check: docs/gearbox.md).
-        window_width, sensor_angle, ring_stage, bearing_stage: :func:`housing_signals`.
+        window_power, sensor_angle, ring_stage, bearing_stage: :func:`housing_signals`.
         window: ``"hann"`` or ``"rect"`` (:func:`amplitude_spectrum`).
 
     Returns:
@@ -443,8 +452,7 @@ def housing_spectrum(
     check_integer("steps_per_period", steps_per_period, 4)
     _window(2, window)
     ring_stage, bearing_stage = _defaults(chain, ring_stage, bearing_stage, where)
-    check_real("window_width", window_width, "rad", lo=0.0, lo_open=True, hi=2 * math.pi,
-               shape=(), where=where)
+    window_share(window_power)
     w = float(input_speed)
     f_m = np.asarray(mesh_frequencies(chain, w))
     f_c = np.asarray(carrier_frequencies(chain, w))
@@ -464,7 +472,7 @@ def housing_spectrum(
                       mean_positions=run.mean_positions)
     # _run's time step is fast / (S |omega|): S = 1 and fast = dt |omega| give dt exactly
     dyn = _run(chain, plan, as_float(w), law, 1, block, dt * abs(w), settle + keep)
-    sig = housing_signals(chain, dyn, w, window_width, sensor_angle, ring_stage, bearing_stage)
+    sig = housing_signals(chain, dyn, w, window_power, sensor_angle, ring_stage, bearing_stage)
     freq, ring = amplitude_spectrum(sig.time, sig.ring_point, window)
     _, bearing = amplitude_spectrum(sig.time, sig.bearing, window)
     return HousingSpectrum(sig, freq, ring, bearing, f_m, f_c, dyn, dt, settle * block * dt)

@@ -118,7 +118,7 @@ def housing_spectrum_plot(path, data: dict) -> None:
     f1 = mesh_f[k]
     fine = data["spectrum_fine"]
     _band(axes[0], f, ring, 0.0, hi, data["lines"], mesh_f,
-          f"ring mount of stage {k + 1} (window width {data['window_width_deg']:.0f}°): "
+          f"ring mount of stage {k + 1} (window ((1 + cos φ)/2)^{data['window_power']}): "
           "every stage's orders")
     _band(axes[1], np.asarray(fine["frequency_Hz"]), np.asarray(fine["ring_point_N"]),
           f1 - 4.5 * n * fc, f1 + 4.5 * n * fc, data["lines"], mesh_f,
