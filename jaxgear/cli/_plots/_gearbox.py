@@ -135,5 +135,5 @@ def housing_spectrum_plot(path, data: dict) -> None:
     axes[0].legend(fontsize=7, ncols=3, loc="upper right")
     fig.suptitle(f"{data['case']}: force at housing-fixed points, input "
                  f"{data['input_speed_rad_s']:.4g} rad/s, {data['time_plan']['revolutions']} carrier "
-                 f"revolutions, Hann", fontsize=10)
+                 f"revolutions (FFT, Hann-windowed)", fontsize=10)
     savefig(fig, path)
