@@ -25,7 +25,7 @@ PACKAGES = (
         "planetary stages: model kinds, meshes, ring, deviations, modes, dynamics",
     ),
     ("jaxgear.rating", "jaxgear.rating.md", "load capacity: ISO 6336 ratings, load factors, root stress"),
-    ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model"),
+    ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -83,6 +83,7 @@ SECTIONS = {
         ("The stages and the torsional chain", ("_chain",)),
         ("The coupled dynamic model", ("_coupled",)),
         ("A stage kind: the compound planetary stage (stepped planets)", ("_compound",)),
+        ("Campbell diagram and housing spectrum", ("_spectrum",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),

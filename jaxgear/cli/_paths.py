@@ -103,8 +103,10 @@ PLANETARY_FILES = ("modes.json", "campbell.png", "mesh_*.csv", "ring.vtu", "ring
                    "hunting.csv", "hunting.png")
 OUTPUT_FILES["run"] += PLANETARY_FILES
 # what ``jaxgear run`` writes for a gearbox ([[stages]]) besides modes.json and its stages'
-# folders: the coupled model's sweep and modes, its dynamic factors' figure
-GEARBOX_FILES = ("coupled.json", "coupled.png")
+# folders: the coupled model's sweep and modes, its dynamic factors' figure, its Campbell diagram
+# (campbell.png: a planetary stage's name, above) and the housing-point spectrum
+GEARBOX_FILES = ("coupled.json", "coupled.png", "campbell.json", "housing_spectrum.json",
+                 "housing_spectrum.png")
 OUTPUT_FILES["run"] += GEARBOX_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(

@@ -7,7 +7,11 @@ most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``; th
 model (:mod:`jaxgear.gearbox`: every stage on its contact cells in one Newmark run) swept over
 the operating range: every mesh's dynamic factor against the input speed and the coupled modes
 with their type and the mesh holding most strain energy (``summary.json``'s ``coupled``,
-``coupled.json``, ``coupled.png``)."""
+``coupled.json``, ``coupled.png``); the coupled Campbell diagram (every stage's mesh orders
+against the coupled modes, ``campbell.json``, ``campbell.png``) and the force spectrum at two
+housing-fixed points, stage 1's ring mount and the parallel stage's bearing, from one coupled
+run at the rated input speed (``housing_spectrum.json``, ``housing_spectrum.png``; the
+summary's ``campbell`` and ``housing_spectrum``)."""
 
 from __future__ import annotations
 
@@ -18,16 +22,24 @@ import numpy as np
 from .. import gearbox_modes
 from ..gearbox import (
     GearboxRun,
+    PairGearboxStage,
+    PlanetaryGearboxStage,
+    campbell_crossings,
     coupled_mode_table,
     gearbox_coupled_modes,
     gearbox_speed_sweep,
+    housing_lines,
+    housing_spectrum,
+    line_amplitudes,
+    mesh_frequencies,
     mesh_names,
+    window_share,
 )
 from ..io import write_json
-from ._plots import new_figure, savefig
+from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
 
-__all__ = ["chain_modes", "coupled_sweep", "gearbox_run_files", "gearbox_run_lines",
-           "least_safety"]
+__all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
+           "gearbox_run_lines", "housing_point_spectrum", "least_safety"]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
@@ -83,6 +95,8 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
     modes = chain_modes(form)
     write_json(os.path.join(out, "modes.json"), {"case": case.name, "torsional_chain": modes})
     coupled = coupled_sweep(form, out)
+    campbell = coupled_campbell(form, case, out)
+    spectrum = housing_point_spectrum(form, case, out)
     result = {
         "case": case.name,
         "complete": complete,
@@ -94,9 +108,21 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         "stages": stages,
         "torsional_modes": modes,
         "coupled": coupled,
+        "campbell": campbell,
+        "housing_spectrum": spectrum,
     }
     write_json(os.path.join(out, "summary.json"), result)
     return result
+
+
+def _coupled_setup(form):
+    """(the coupled chain, its GearboxRun (:data:`COUPLED_RUN`), the first stage, the output
+    hold: the last shaft's stiffness)."""
+    chain = form.coupled()
+    first = form.stages[0]
+    shafts = [s.shaft_stiffness for s in form.stages[1:]]
+    hold = shafts[-1] if shafts else 1e9
+    return chain, GearboxRun(first.input_torque, hold, **COUPLED_RUN), first, hold
 
 
 def coupled_sweep(form, out: str) -> dict:
@@ -105,11 +131,7 @@ def coupled_sweep(form, out: str) -> dict:
     torque ratios) at each speed, and the coupled modes; the last stage's output held by the
     last shaft's stiffness (the generator is not in the chain). Written to ``coupled.json`` and
     ``coupled.png``; returns the summary's ``coupled`` section."""
-    chain = form.coupled()
-    first = form.stages[0]
-    shafts = [s.shaft_stiffness for s in form.stages[1:]]
-    hold = shafts[-1] if shafts else 1e9
-    run = GearboxRun(first.input_torque, hold, **COUPLED_RUN)
+    chain, run, first, hold = _coupled_setup(form)
     speeds = first.input_speed * COUPLED_SPEEDS
     res = gearbox_speed_sweep(chain, run, speeds)
     names = list(mesh_names(chain))
@@ -147,6 +169,122 @@ def coupled_sweep(form, out: str) -> dict:
     ax.legend(fontsize=6, ncol=2)
     savefig(fig, os.path.join(out, "coupled.png"))
     return result
+
+
+#: the Campbell diagram's mesh harmonics
+CAMPBELL_HARMONICS = (1, 2, 3)
+#: the housing spectrum's run: carrier revolutions recorded and steps per period of the fastest
+#: mesh (docs/gearbox.md, "Campbell diagram and housing spectrum": its orders' convergence)
+SPECTRUM_RUN = {"revolutions": 2, "steps_per_period": 16}
+#: the ring-mount window's power p: ((1 + cos phi) / 2)^p (jaxgear.planetary.ring_transducer_signal)
+WINDOW_POWER = 4
+#: the stored spectra: at most this many points (peak-hold over groups of bins); around stage
+#: 1's mesh frequency (± 5 planet-pass frequencies) every bin
+SPECTRUM_POINTS = 3000
+
+
+def coupled_campbell(form, case, out: str) -> dict:
+    """The coupled Campbell diagram over 0 to the largest of :data:`COUPLED_SPEEDS` × the rated
+    input speed: each stage's mesh harmonics :data:`CAMPBELL_HARMONICS` against the coupled
+    modes (at rest), every crossing with the mode's type, its mesh and the exciting stage's
+    share of its strain energy (:func:`jaxgear.gearbox.campbell_crossings`). Written to
+    ``campbell.json`` and ``campbell.png``; returns the summary's ``campbell`` section."""
+    chain, run, first, _ = _coupled_setup(form)
+    modes = gearbox_coupled_modes(chain, run)
+    top = float(first.input_speed * COUPLED_SPEEDS[-1])
+    crossings = campbell_crossings(chain, modes, top, CAMPBELL_HARMONICS)
+    data = {
+        "case": case.name,
+        "operating_speed_rad_s": float(first.input_speed),
+        "max_speed_rad_s": top,
+        "harmonics": list(CAMPBELL_HARMONICS),
+        "mesh_Hz_per_rad_s": [float(v) for v in np.asarray(mesh_frequencies(chain, 1.0))],
+        "modes": coupled_mode_table(chain, modes),
+        "crossings": crossings,
+    }
+    write_json(os.path.join(out, "campbell.json"), data)
+    gearbox_campbell_plot(os.path.join(out, "campbell.png"), data)
+    marked = [c for c in crossings if c["marked"]]
+    near = min(marked, key=lambda c: abs(c["speed_rad_s"] - first.input_speed), default=None)
+    return {"crossings": len(crossings), "marked": len(marked), "nearest_to_rated": near}
+
+
+def _peak_hold(f, a, points):
+    g = max(1, -(-f.size // points))
+    n = f.size // g * g
+    return f[:n].reshape(-1, g)[:, 0], a[:n].reshape(-1, g).max(axis=1)
+
+
+def housing_point_spectrum(form, case, out: str) -> dict:
+    """The force spectrum at stage 1's ring mount and the parallel stage's bearing from one
+    coupled run at the rated input speed (:func:`jaxgear.gearbox.housing_spectrum`,
+    :data:`SPECTRUM_RUN`, the planet-pass window's power :data:`WINDOW_POWER`), with every
+    stage's mesh harmonics, the planet-pass sidebands and the McFadden-Smith lines read at
+    their frequencies (:func:`jaxgear.gearbox.housing_lines`). Written to
+    ``housing_spectrum.json`` and ``housing_spectrum.png``; returns the summary's
+    ``housing_spectrum`` section (None for a gearbox without a planetary and a parallel
+    stage)."""
+    chain, run, first, _ = _coupled_setup(form)
+    planetary = [i for i, s in enumerate(chain.stages) if isinstance(s, PlanetaryGearboxStage)]
+    pairs = [i for i, s in enumerate(chain.stages) if isinstance(s, PairGearboxStage)]
+    if not planetary or not pairs:
+        return None
+    w = float(first.input_speed)
+    hs = housing_spectrum(chain, run, w, window_power=WINDOW_POWER, **SPECTRUM_RUN)
+    sig = hs.signals
+    lines = housing_lines(chain, w)
+    f = [r["frequency_Hz"] for r in lines]
+    ring = line_amplitudes(sig.time, sig.ring_point, f)
+    bearing = line_amplitudes(sig.time, sig.bearing, f)
+    rows = [dict(r, ring=float(a), bearing=float(b)) for r, a, b in zip(lines, ring, bearing,
+                                                                       strict=True)]
+    k, b = planetary[0], pairs[-1]
+    n = chain.stages[k].stage.n_planets
+    fc, f1 = abs(float(hs.carrier_frequency[k])), float(hs.mesh_frequency[k])
+    top = 3.3 * float(np.max(hs.mesh_frequency))
+    keep = hs.frequency <= top
+    fr, ar = _peak_hold(hs.frequency[keep], hs.ring_point[keep], SPECTRUM_POINTS)
+    _, ab = _peak_hold(hs.frequency[keep], hs.bearing[keep], SPECTRUM_POINTS)
+    near = np.abs(hs.frequency - f1) <= 5 * n * fc
+    data = {
+        "case": case.name,
+        "input_speed_rad_s": w,
+        "ring_stage": k + 1,
+        "bearing_stage": b + 1,
+        "planets": n,
+        "window_power": WINDOW_POWER,
+        "support_share": window_share(WINDOW_POWER),
+        "time_plan": dict(SPECTRUM_RUN, time_step_s=hs.time_step, settle_s=hs.settle_time,
+                          record_s=float(sig.time[-1] - sig.time[0] + hs.time_step)),
+        "result": int(hs.dynamics.result),
+        "mesh_frequency_Hz": [float(v) for v in hs.mesh_frequency],
+        "carrier_frequency_Hz": [float(v) for v in hs.carrier_frequency],
+        "lines": rows,
+        "spectrum": {"frequency_Hz": fr.tolist(), "ring_point_N": ar.tolist(),
+                     "bearing_N": ab.tolist(), "peak_hold_bins": round(
+                         (fr[1] - fr[0]) / (hs.frequency[1] - hs.frequency[0]))},
+        "spectrum_fine": {"frequency_Hz": hs.frequency[near].tolist(),
+                          "ring_point_N": hs.ring_point[near].tolist()},
+    }
+    write_json(os.path.join(out, "housing_spectrum.json"), data)
+    housing_spectrum_plot(os.path.join(out, "housing_spectrum.png"), data)
+    ms = [r for r in rows if r["kind"] == "McFadden-Smith" and r["stage"] == k + 1
+          and r["harmonic"] == 1]
+    own = [r for r in rows if r["kind"] == "mesh" and r["stage"] == b + 1]
+    return {
+        "input_speed_rad_s": w,
+        "ring_stage": k + 1,
+        "bearing_stage": b + 1,
+        "carrier_Hz": fc,
+        "planet_pass_Hz": n * fc,
+        "ring_mesh_Hz": f1,
+        "ring_mesh_line_N": float(line_amplitudes(sig.time, sig.ring_point, [f1])[0]),
+        "mcfadden_smith_lines": [{"frequency_Hz": r["frequency_Hz"], "offset_fc": r["sideband"],
+                                  "ring_N": r["ring"]} for r in ms],
+        "bearing_orders": [{"label": r["label"], "frequency_Hz": float(r["frequency_Hz"]),
+                            "bearing_N": r["bearing"]} for r in own],
+        "time_step_s": hs.time_step,
+    }
 
 
 def least_safety(stage_summary: dict) -> str:
@@ -195,4 +333,26 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
                                  for m in c["modes"][:4] if m["type"] != "rigid body")
             + " (coupled.json, coupled.png)"
         )
+    cb = summary.get("campbell")
+    if cb is not None:
+        near = cb["nearest_to_rated"]
+        lines.append(
+            f"coupled Campbell diagram: {cb['crossings']} crossings of the mesh orders with the "
+            f"coupled modes, {cb['marked']} with >= 5 % of the mode's strain energy in the "
+            "exciting stage's meshes"
+            + (f"; nearest the rated speed: stage {near['stage']}'s {near['harmonic']}× mesh at "
+               f"{near['speed_rad_s']:.4g} rad/s, {near['frequency_Hz']:.4g} Hz "
+               f"({near['type']}, {near['mesh']})" if near else "") + " (campbell.png)")
+    hs = summary.get("housing_spectrum")
+    if hs is not None:
+        ms = ", ".join(f"{r['frequency_Hz']:.4g} Hz ({r['offset_fc']:+d} f_c) {r['ring_N']:.3g} N"
+                       for r in hs["mcfadden_smith_lines"])
+        own = ", ".join(f"{r['label']} {r['frequency_Hz']:.4g} Hz {r['bearing_N']:.3g} N"
+                        for r in hs["bearing_orders"])
+        lines.append(
+            f"housing spectrum at {hs['input_speed_rad_s']:.4g} rad/s: stage "
+            f"{hs['ring_stage']}'s ring mount, "
+            f"planet pass {hs['planet_pass_Hz']:.4g} Hz, lines {ms} beside the mesh frequency "
+            f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
+            f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
     return lines

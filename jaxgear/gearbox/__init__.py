@@ -6,6 +6,9 @@
   (docs/gearbox.md);
 * a stage kind added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
   planets) in ``_compound``.
+* what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
+  stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
+  (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
 """
 
 from ._chain import (
@@ -30,4 +33,17 @@ from ._coupled import (
     gearbox_dynamics as gearbox_dynamics,
     gearbox_speed_sweep as gearbox_speed_sweep,
     mesh_names as mesh_names,
+)
+from ._spectrum import (
+    HousingSignals as HousingSignals,
+    HousingSpectrum as HousingSpectrum,
+    amplitude_spectrum as amplitude_spectrum,
+    campbell_crossings as campbell_crossings,
+    carrier_frequencies as carrier_frequencies,
+    housing_lines as housing_lines,
+    housing_signals as housing_signals,
+    housing_spectrum as housing_spectrum,
+    line_amplitudes as line_amplitudes,
+    mesh_frequencies as mesh_frequencies,
+    window_share as window_share,
 )

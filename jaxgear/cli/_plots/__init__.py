@@ -6,7 +6,8 @@ with :func:`savefig` (atomic, PNG, 120 dpi). Figures are built on the Agg canvas
 plotting never changes the process's pyplot backend (a notebook keeps its inline figures). One
 module per what they draw: the figure itself (``_figure``), ``jaxgear run``'s quasi-static
 curves and maps (``_quasi_static``), the sweep's dynamic factor and pressures (``_sweep``), its
-Campbell diagram (``_campbell``), the optimisation's (``_optimisation``).
+Campbell diagram (``_campbell``), the coupled gearbox's Campbell diagram and housing spectrum
+(``_gearbox``), the optimisation's (``_optimisation``).
 """
 
 from ._campbell import campbell_plot as campbell_plot, harmonic_crossings as harmonic_crossings
@@ -16,6 +17,10 @@ from ._figure import (
     new_figure as new_figure,
     savefig as savefig,
     wrap_titles as wrap_titles,
+)
+from ._gearbox import (
+    gearbox_campbell_plot as gearbox_campbell_plot,
+    housing_spectrum_plot as housing_spectrum_plot,
 )
 from ._optimisation import (
     OBJECTIVE_WORDS as OBJECTIVE_WORDS,
