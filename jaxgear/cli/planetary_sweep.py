@@ -1,6 +1,8 @@
 """``jaxgear sweep`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`), and the
-sweep section of ``jaxgear run`` on one: :func:`jaxgear.planetary.planetary_dynamics`'s
-Newmark in the carrier frame (planar model: Coriolis and centripetal terms at the carrier
+sweep section of ``jaxgear run`` on one: the case's dynamic model
+(:func:`jaxgear.io.build_dynamic_model`, a :class:`jaxgear.planetary.PlanetaryModel`) run by
+:func:`jaxgear.dynamics.speed_sweep` (:func:`jaxgear.planetary.sweep_records`), Newmark in the
+carrier frame (planar model: Coriolis and centripetal terms at the carrier
 speed; for a helical stage whose axial and tilting supports hold it, the 3D model with the
 gyroscopic moments of the members' spin), every mesh at once, over the **input member's
 speeds** (rad/s, fixed frame, as the case's ``[operating] speed_rad_s``); the dynamic factor
@@ -17,11 +19,13 @@ ring as its ``dynamics`` key says (massless, with mass, or modal;
 :meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
 travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
 
-The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
-step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
-the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
+The time discretisation is the model's (:meth:`~jaxgear.planetary.PlanetaryModel.time_plan`,
+docs/planetary.md "Time step and span of a sweep"): each speed its own N_s (>= 40 steps per
+period of the highest mode the meshes excite, the pairs' rule), a span from the damping's
+settling time (the engine's automatic window, ``SteadyState(periods=None)``), every speed in
 one compiled program (:attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`; a flexible ring's
-speeds one program per N_s, :func:`speed_groups`), the settled state checked.
+speeds one program per N_s, :func:`speed_groups`), the settled state checked. This module
+keeps the options' checks, the warnings naming them, the output sections and the plots.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
 ``dynamic_factor.png`` (each mesh's dynamic factor against the input speed, the natural
@@ -155,6 +159,8 @@ def planetary_run(
     for name, v in given.items():
         if v is not None and v < 1:
             raise ValueError(f"{name} = {v}: out of range, allowed >= 1")
+    if periods is not None and periods < 2:  # the engine's window (jaxgear.dynamics.SteadyState)
+        raise ValueError(f"--periods = {periods}: out of range, allowed >= 2")
     if steps_per_period is not None and steps_per_period < 8:
         raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8")
     if keep_periods is not None and periods is not None and keep_periods > periods:
