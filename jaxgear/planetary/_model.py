@@ -64,9 +64,6 @@ from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = ["PlanetaryModel", "PlanetaryPrepared", "PlanetarySpan", "sweep_records"]
 
-#: the mesh periods a planetary run integrates by default (:class:`PlanetaryRun`'s)
-DEFAULT_PERIODS = 40
-
 
 class PlanetaryPrepared(eqx.Module):
     """A planetary run's speed-independent part (:meth:`PlanetaryModel.prepare`): the
@@ -233,13 +230,14 @@ class PlanetaryModel(AbstractDynamicModel):
 
     def default_settings(self):
         """Newmark with automatic steps (the pairs' rule with N_s a multiple of the planet
-        count, :func:`~jaxgear.planetary.time_plan`'s), the exact contact law, and 40 mesh
-        periods with :data:`~jaxgear.planetary.KEEP_PERIODIC` (2) kept where the stage repeats
-        every mesh period in the carrier frame (:func:`~jaxgear.planetary.carrier_periodic`),
-        else :data:`~jaxgear.planetary.KEEP_OTHER` (4)."""
-        flexible = not isinstance(self.ring, RigidRing)
-        keep = KEEP_PERIODIC if carrier_periodic(self.stage, flexible) else KEEP_OTHER
-        return Newmark(), ExactContact(), SteadyState(DEFAULT_PERIODS, keep)
+        count, :func:`~jaxgear.planetary.time_plan`'s), the exact contact law, and the
+        automatic span (:meth:`sweep_window`: each speed's settling time in whole mesh periods,
+        :meth:`resolve_window`) with :data:`~jaxgear.planetary.KEEP_PERIODIC` (2) kept where
+        the stage repeats every mesh period in the carrier frame
+        (:func:`~jaxgear.planetary.carrier_periodic`), else
+        :data:`~jaxgear.planetary.KEEP_OTHER` (4): a run with every setting left out is
+        ``jaxgear sweep``'s at that speed."""
+        return Newmark(), ExactContact(), self.sweep_window()
 
     def flexible_ring(self) -> bool:
         """Whether the ring is a condensed (flexible) one."""
