@@ -241,6 +241,10 @@ def test_dynamics_entries():
         "simulate: speed must have shape () [rad/s], got (2,)",
     )
     _refused(lambda: jd.speed_sweep(model, [100.0, INF], **kw), "speeds[1] = inf rad/s")
+    # the automatic span is a planetary stage's (automatic_span): refused here before any run
+    auto = dict(integrator=jd.Newmark(16), window=jd.SteadyState(None, 2))
+    _refused(lambda: jd.simulate(model, 100.0, **auto), "window periods = None", ">= 2")
+    _refused(lambda: jd.speed_sweep(model, [100.0], **auto), "window periods = None")
     mods = case.modifications
     _refused(lambda: jd.dynamic_model(scene, mods, -5.0), "dynamic_model: torque = -5 N·m")
     _refused(lambda: jd.dynamic_model(scene, "tip", 80.0), "dynamic_model: mods = 'tip'")

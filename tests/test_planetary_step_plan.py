@@ -86,6 +86,23 @@ def test_the_default_step_and_span_follow_the_stage_modes():
     assert given.automatic == (False, False)
 
 
+def test_the_engines_automatic_span_is_the_rule():
+    """The case's dynamic model (jaxgear.io.build_dynamic_model, what jaxgear sweep runs)
+    resolves the engine's automatic window, SteadyState(periods=None), its default, at the
+    steps written here to the periods written here (keep + ceil(t_s f_mesh)), and its sweep
+    window keeps two periods (a rigid ring, no eccentricity), at most the periods given."""
+    case = jio.load_case("lin-parker-1999")
+    model, _ = jio.build_dynamic_model(case)
+    speeds = np.array([30.0, 100.0, 300.0])
+    steps, periods, *_ = reference_plan(case, speeds)
+    window = model.sweep_window()
+    assert window == jd.SteadyState(None, 2) and model.sweep_window(3, 5).keep_periods == 3
+    assert model.default_settings()[2] == window  # a run with no window: jaxgear sweep's
+    span = model.resolve_window(window, speeds, steps)
+    assert span.steps == tuple(int(n) for n in steps)
+    assert span.periods == tuple(int(p) for p in periods) and span.keep_periods == 2
+
+
 def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     """A sun eccentricity turns relative to the carrier: the stage is no longer periodic in
     the mesh period (carrier_periodic False, nor with a flexible ring), four periods are kept,

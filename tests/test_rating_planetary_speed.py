@@ -147,7 +147,8 @@ def test_embedded_stage_k_v_is_the_sweep_at_the_operating_speed(tmp_path):
     sharing = sharing_summary(spec, stage, spec.torques(case.torque),
                               sharing_models(spec, stage))
     df = np.asarray(sw["dynamic_factor_mesh"])  # (3, 2N)
-    apart = sw | {"speeds_rad_s": [s[i - 1], s[i + 1]], "dynamic_factor_mesh": df[[0, 2]]}
+    apart = sw | {"speeds_rad_s": [s[i - 1], s[i + 1]], "dynamic_factor_mesh": df[[0, 2]],
+                  "mesh_frequency_Hz": [sw["mesh_frequency_Hz"][k] for k in (0, 2)]}
     k, k_apart = (measured_k_v(w, case.speed, sharing) for w in (sw, apart))
     name = [m for m in ("planar", "spatial") if m in sharing][-1]
     n = spec.n_planets

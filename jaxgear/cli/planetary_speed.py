@@ -10,13 +10,12 @@ quasi-static solve at the same slices and travels (docs/rating.md, "Root stress 
 
 from __future__ import annotations
 
-import dataclasses
 import os
 
 import numpy as np
 
-from ..planetary import planetary_dynamics, speed_run
-from ..io import write_json
+from ..dynamics import Newmark, Outputs, SteadyState, simulate
+from ..io import build_dynamic_model, write_json
 from ._planetary_rating import (
     STAGE_AT_SPEED,
     MeshLoads,
@@ -30,7 +29,6 @@ from ._stress_outputs import fillet_table
 from .planetary import sharing_models
 from .planetary_sweep import (
     MODEL_WORDS,
-    _dynamic_setup,
     _plan,
     planetary_run,
     planetary_run_files,
@@ -59,18 +57,17 @@ def run_at_speed(form, case, speed: float, steps_per_period: int | None = None,
     the carrier speed and mesh speed of ``speed`` (Willis), then :func:`stage_at_speed` (the
     quasi-static solve beside it with the same ring: a flexible ring's static condensed
     ring)."""
-    spec, stage, meshes, model = _dynamic_setup(form, case, slices)
-    ring = spec.ring_model.dynamic_ring()
-    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
-    plan = _plan(spec, stage, meshes, model, base, np.array([float(speed)]),
-                 (steps_per_period, periods, keep_periods))
-    run = dataclasses.replace(speed_run(base, plan, 0), cell_loads=True)
-    carrier = speed * spec.speeds(1.0)["carrier"]
-    dyn = planetary_dynamics(model, stage, meshes, run, np.asarray(carrier),
-                             np.asarray(speed * spec.mesh_speed(1.0)), ring=ring)
+    spec = form.spec
+    planetary_run(form, case, steps_per_period, periods, keep_periods)  # the options' checks
+    model, _ = build_dynamic_model(case, slices=slices)
+    plan = _plan(spec, model, np.array([float(speed)]), (steps_per_period, periods, keep_periods))
+    window = SteadyState(int(plan.periods[0]), plan.keep)
+    dyn = simulate(model, float(speed), integrator=Newmark(int(plan.steps[0])), window=window,
+                   outputs=Outputs(cell_loads=True))
+    meshes = model.meshes
     full = spec.stage(case)
-    words = {"model": MODEL_WORDS[type(model)], "ring": spec.ring_model.words(),
-             "periods": run.periods, "keep": run.keep_periods, "speed": float(speed)}
+    words = {"model": MODEL_WORDS[type(model.kind)], "ring": spec.ring_model.words(),
+             "periods": window.periods, "keep": window.keep_periods, "speed": float(speed)}
     return stage_at_speed(case, spec, full, sharing_models(spec, full), dyn, meshes, words,
                           spec.ring_model.ring())
 

@@ -1,6 +1,8 @@
 """``jaxgear sweep`` on a planetary stage (a case of :class:`jaxgear.io.PlanetaryForm`), and the
-sweep section of ``jaxgear run`` on one: :func:`jaxgear.planetary.planetary_dynamics`'s
-Newmark in the carrier frame (planar model: Coriolis and centripetal terms at the carrier
+sweep section of ``jaxgear run`` on one: the case's dynamic model
+(:func:`jaxgear.io.build_dynamic_model`, a :class:`jaxgear.planetary.PlanetaryModel`) run by
+:func:`jaxgear.dynamics.speed_sweep` (:func:`jaxgear.planetary.sweep_records`), Newmark in the
+carrier frame (planar model: Coriolis and centripetal terms at the carrier
 speed; for a helical stage whose axial and tilting supports hold it, the 3D model with the
 gyroscopic moments of the members' spin), every mesh at once, over the **input member's
 speeds** (rad/s, fixed frame, as the case's ``[operating] speed_rad_s``); the dynamic factor
@@ -17,11 +19,13 @@ ring as its ``dynamics`` key says (massless, with mass, or modal;
 :meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
 travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
 
-The time discretisation follows the stage's modes (:func:`time_plan`, docs/planetary.md "Time
-step and span of a sweep"): each speed its own N_s (>= 40 steps per period of the highest mode
-the meshes excite, the pairs' rule), a span from the damping's settling time, every speed in
+The time discretisation is the model's (:meth:`~jaxgear.planetary.PlanetaryModel.time_plan`,
+docs/planetary.md "Time step and span of a sweep"): each speed its own N_s (>= 40 steps per
+period of the highest mode the meshes excite, the pairs' rule), a span from the damping's
+settling time (the engine's automatic window, ``SteadyState(periods=None)``), every speed in
 one compiled program (:attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`; a flexible ring's
-speeds one program per N_s, :func:`speed_groups`), the settled state checked.
+speeds one program per N_s, :func:`speed_groups`), the settled state checked. This module
+keeps the options' checks, the warnings naming them, the output sections and the plots.
 
 Files (atomically, into the sweep's folder): ``sweep.json``, ``sweep.csv``,
 ``dynamic_factor.png`` (each mesh's dynamic factor against the input speed, the natural
@@ -44,12 +48,20 @@ import jax.numpy as jnp
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from ..dynamics import MAX_STEPS_PER_SPEED, MIN_STEPS_PER_PERIOD, SETTLE_TOL, SETTLED_TOL
-from ..io import CaseWarning, write_json
+from ..dynamics import (
+    MAX_STEPS_PER_SPEED,
+    MIN_STEPS_PER_PERIOD,
+    SETTLE_TOL,
+    SETTLED_TOL,
+    Newmark,
+    SteadyState,
+    simulate,
+)
+from ..io import CaseWarning, build_dynamic_model, write_json
 from ..planetary import (
     NO_EXCITATION_TOL,
-    ConstantMeshes,
     PlanarPlanetary,
+    PlanetaryModel,
     PlanetaryRun,
     RigidRing,
     SpatialPlanetary,
@@ -57,14 +69,12 @@ from ..planetary import (
     carrier_periodic,
     excitation,
     order_spectrum,
-    plan_sweep,
-    planetary_dynamics,
     planetary_modes,
     ring_transducer_signal,
     speed_groups,
     speed_run,
-    steps_sweep,
     sweep_factors,
+    sweep_records,
 )
 from ._planetary_steps import check_plan_size, resolution_checked
 from ._plots import new_figure
@@ -78,7 +88,6 @@ from .planetary import (
     campbell_section,
     planetary_files,
     planetary_lines,
-    spatial_model,
 )
 
 __all__ = [
@@ -150,6 +159,8 @@ def planetary_run(
     for name, v in given.items():
         if v is not None and v < 1:
             raise ValueError(f"{name} = {v}: out of range, allowed >= 1")
+    if periods is not None and periods < 2:  # the engine's window (jaxgear.dynamics.SteadyState)
+        raise ValueError(f"--periods = {periods}: out of range, allowed >= 2")
     if steps_per_period is not None and steps_per_period < 8:
         raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8")
     if keep_periods is not None and periods is not None and keep_periods > periods:
@@ -179,23 +190,22 @@ def planetary_run(
 def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
                     keep_periods=None, slices=None) -> TimePlan:
     """The :class:`TimePlan` that :func:`sweep_summary` runs ``case`` with at the input
-    ``speeds`` (rad/s, (s,)) and the options given (None: the rule, :func:`time_plan`), without
-    integrating: the modes of the sweep's dynamic stage
-    (:func:`~jaxgear.planetary.planetary_mesh_modes`, the case's pin errors)."""
-    spec, stage, meshes, model = _dynamic_setup(form, case, slices)
-    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
-    return _plan(spec, stage, meshes, model, base, np.asarray(speeds, dtype=float),
+    ``speeds`` (rad/s, (s,)) and the options given (None: the rule), without integrating: the
+    case's dynamic model's (:func:`jaxgear.io.build_dynamic_model`,
+    :meth:`jaxgear.planetary.PlanetaryModel.time_plan`)."""
+    planetary_run(form, case, steps_per_period, periods, keep_periods)  # the options' checks
+    dyn, _ = build_dynamic_model(case, slices=slices)
+    return _plan(form.spec, dyn, np.asarray(speeds, dtype=float),
                  (steps_per_period, periods, keep_periods))
 
 
-def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
-    """The sweep's dynamic stage's time plan (:func:`jaxgear.planetary.plan_sweep`, the
-    model's preparation step); ``given``: (steps, periods, keep); a plan that cannot run
-    refused in one line naming the option
+def _plan(spec, dyn, speeds, given) -> TimePlan:
+    """The time plan of the dynamic model ``dyn`` (:meth:`jaxgear.planetary.PlanetaryModel.
+    time_plan`, the model's preparation step); ``given``: (steps, periods, keep); a plan that
+    cannot run refused in one line naming the option
     (:func:`~jaxgear.cli._planetary_steps.check_plan_size`), before any integration."""
-    flexible = spec.ring_model.flexible
-    plan, modes = plan_sweep(model, stage, meshes, base, speeds, spec.mesh_frequency(1.0),
-                             flexible, *given, min_steps=MIN_STEPS_PER_PERIOD)
+    flexible = dyn.flexible_ring()
+    plan, modes = dyn.time_plan(speeds, given[0], dyn.sweep_window(given[1], given[2]))
     # recorded per step: the coordinates (a flexible ring's 2 z_r stations too), the 2N mesh
     # forces, N ring deflections, time and travel
     values = (int(np.asarray(modes.omega).size) + 2 * spec.teeth[2] * flexible
@@ -204,26 +214,6 @@ def _plan(spec, stage, meshes, model, base, speeds, given) -> TimePlan:
                     dict(zip(("--periods", "--steps-per-period", "--keep-periods"),
                              (given[1], given[0], given[2]), strict=True)))
     return plan
-
-
-def _dynamic_setup(form, case, slices=None):
-    """(spec, the dynamic stage, its meshes, the model): ``slices`` per contact line (None: 1
-    for spur gears, exact there, else the case's ``[mesh] slices``); the model
-    :data:`MODEL`, or the 3D one for a helical stage whose supports hold it
-    (:func:`~jaxgear.cli.planetary.spatial_model`; its constant mesh springs, in the lumped
-    form, at two Gauss points across the face)."""
-    spec = form.spec
-    full = spec.stage(case)
-    stage = spec.sharing_stage(full)
-    spur = not case.pairs or float(case.pairs[0].helix_angle) == 0.0
-    n = slices or (1 if spur else case.slices)
-    meshes = spec.dynamic_meshes(case, n)
-    model = spatial_model(spec, full)
-    if model is None:
-        return spec, stage, meshes, MODEL
-    if not case.pairs:  # the lumped form's springs spread over the face, as the 3D K's
-        meshes = ConstantMeshes(meshes.base_pitch, face_points=model.face_points)
-    return spec, stage, meshes, model
 
 
 def planetary_sweep(
@@ -298,21 +288,18 @@ def sweep_summary(
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
     maximum ``max_ring_deflection_m``."""
-    spec, stage, meshes, model = _dynamic_setup(form, case, slices)
-    ring = spec.ring_model.dynamic_ring()
-    base = planetary_run(form, case, steps_per_period, periods, keep_periods)
+    spec = form.spec
+    planetary_run(form, case, steps_per_period, periods, keep_periods)  # the options' checks
+    dyn, _ = build_dynamic_model(case, slices=slices)
+    stage, meshes, ring, model, base = dyn.stage, dyn.meshes, dyn.ring, dyn.kind, dyn.run
     speeds = np.asarray(speeds, dtype=float)
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
-    periodic = carrier_periodic(stage, spec.ring_model.flexible)
-    plan = _plan(spec, stage, meshes, model, base, speeds,
-                 (steps_per_period, periods, keep_periods))
+    flexible = dyn.flexible_ring()
+    periodic = carrier_periodic(stage, flexible)
+    plan = _plan(spec, dyn, speeds, (steps_per_period, periods, keep_periods))
     resolution = resolution_checked(plan, speeds * f_mesh, spec.n_planets)  # before the work
-    per_input = spec.speeds(1.0)
-    carrier = speeds * per_input["carrier"]
-    mesh_speed = speeds * spec.mesh_speed(1.0)
-    flexible = spec.ring_model.flexible
-    rec = steps_sweep(model, stage, meshes, base, plan, carrier, mesh_speed, ring,
-                      grouped=flexible)
+    carrier = speeds * spec.speeds(1.0)["carrier"]
+    rec = sweep_records(dyn, speeds, plan)
     n = spec.n_planets
     fs = rec.static_force
     per_mesh, k_gamma, periodicity, deflection = sweep_factors(rec, plan, n)
@@ -586,20 +573,11 @@ def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
     """(time (s), ring-mesh forces (N)) of one turn integrated: ``run``'s settling time, then
     z_r kept mesh periods, at ``steps`` per mesh period."""
     z_r = int(spec.teeth[2])
-    w = spec.speeds(speed)
     settle = math.ceil((run.periods - run.keep_periods) * run.steps_per_period / steps)
-    one_turn = PlanetaryRun(
-        run.sun_torque,
-        steps_per_period=steps,
-        periods=settle + z_r,
-        keep_periods=z_r,
-        damping_ratio=run.damping_ratio,
-        tangential_pin_errors=run.tangential_pin_errors,
-        radial_pin_errors=run.radial_pin_errors, ring_cell_space=run.ring_cell_space,
-    )
-    d = planetary_dynamics(model, stage, meshes, one_turn, jnp.asarray(w["carrier"]),
-                           jnp.asarray(spec.mesh_speed(speed)),
-                           ring=RigidRing() if ring is None else ring)
+    dyn = PlanetaryModel(model, stage, meshes, run, spec.speeds(1.0)["carrier"],
+                         spec.mesh_speed(1.0), RigidRing() if ring is None else ring)
+    d = simulate(dyn, float(speed), integrator=Newmark(int(steps)),
+                 window=SteadyState(settle + z_r, z_r))
     return np.asarray(d.time), np.asarray(d.ring_mesh_forces)
 
 

@@ -649,6 +649,18 @@ class AbstractDynamicModel(eqx.Module):
         count was chosen from them (automatic steps), else None. Raises ``ValueError`` for a
         run that does not fit (before any work)."""
 
+    #: whether the kind resolves a window of automatic span (``SteadyState(periods=None)``,
+    #: :meth:`resolve_window`)
+    automatic_span: ClassVar[bool] = False
+
+    def resolve_window(self, window: SteadyState, speeds, steps, modes=None):
+        """The window of a run over the concrete ``speeds`` (S,) at the step counts ``steps``
+        (S,) where ``window.periods`` is None (the automatic span; :attr:`automatic_span`
+        kinds only, the engine refuses it for the others before any work): what
+        :meth:`prepare` and :meth:`prepare_steps` take; ``modes``: the averaged modes where
+        the engine computed them, else None. The default returns ``window``."""
+        return window
+
     def prepare_steps(
         self,
         integrator: Integrator,

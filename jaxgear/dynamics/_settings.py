@@ -310,7 +310,11 @@ class SteadyState(eqx.Module):
     RMS values are taken over those).
 
     Attributes:
-        periods: mesh periods integrated, an integer >= 2.
+        periods: mesh periods integrated, an integer >= 2; or None: the model's automatic
+            span, its settling time at each speed then ``keep_periods``, resolved over the
+            run's speeds and step counts by the model
+            (:meth:`~jaxgear.dynamics.AbstractDynamicModel.resolve_window`; the kinds with
+            :attr:`~jaxgear.dynamics.AbstractDynamicModel.automatic_span`: a planetary stage).
         keep_periods: mesh periods kept at the end, an integer in [1, periods] (the lumped
             dynamics need >= 2: their periodicity compares the last two).
 
@@ -318,12 +322,14 @@ class SteadyState(eqx.Module):
         ValueError: counts out of those ranges.
     """
 
-    periods: int = eqx.field(default=60, static=True)
+    periods: int | None = eqx.field(default=60, static=True)
     keep_periods: int = eqx.field(default=4, static=True)
 
     def __check_init__(self):
-        check_integer("periods", self.periods, 2)
         check_integer("keep_periods", self.keep_periods, 1)
+        if self.periods is None:
+            return
+        check_integer("periods", self.periods, 2)
         if self.keep_periods > self.periods:
             raise ValueError(
                 f"keep_periods = {self.keep_periods} must be <= periods = {self.periods}"

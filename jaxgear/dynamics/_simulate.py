@@ -16,7 +16,7 @@ from ._settings import (
     SteadyState,
     _config,
 )
-from ._sweep import auto_steps_per_period, resolve_settings
+from ._sweep import _resolved, auto_steps_per_period, resolve_settings
 
 __all__ = ["simulate", "simulate_on_table"]
 
@@ -74,6 +74,8 @@ def simulate(
     if steps_per_period is None:
         modes = model.averaged_modes()
         steps_per_period = int(auto_steps_per_period(model, speed, modes))
+    if window.periods is None:
+        window = _resolved(model, window, speed, steps_per_period, modes)
     prepared = model.prepare(integrator, law, window, steps_per_period, outputs, modes)
     dtype = model.dtype
     if state0 is not None:

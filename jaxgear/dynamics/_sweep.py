@@ -169,6 +169,11 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
             "integrator: a diffrax solver with backlash (coast flanks) is not modelled: use "
             "jaxgear.dynamics.Newmark"
         )
+    if window.periods is None and not model.automatic_span:
+        raise ValueError(
+            f"window periods = None (the automatic span): a {type(model).__name__} has no "
+            "settling rule; allowed an integer >= 2"
+        )
     outputs = check_outputs(outputs, model.mesh_count())
     if outputs.states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")
@@ -363,10 +368,14 @@ def speed_sweep(
         return _Sweep(model, prepared, batching.shard, chunk_size)
 
     if integrator.steps_per_period is not None:
+        if window.periods is None:
+            window = _resolved(model, window, speeds, integrator.steps_per_period, None)
         passes = at_steps(integrator.steps_per_period).passes(speeds, progress)
         return _thrown(direction.sweep(passes), throw)
     modes = model.averaged_modes()
     ns = auto_steps_per_period(model, np.asarray(speeds), modes)
+    if window.periods is None:
+        window = _resolved(model, window, speeds, ns, modes)
     if np.all(ns == ns[0]):
         return _thrown(direction.sweep(at_steps(ns[0], modes).passes(speeds, progress)), throw)
     # several N_s: one program for all where the kind can (N_s an argument of it), the speeds
@@ -379,6 +388,19 @@ def speed_sweep(
     make = at_steps if steps is None else one_program
     mixed = _MixedSteps(make, modes, speeds, ns, progress, thinned=steps is not None)
     return _thrown(direction.sweep(mixed), throw)
+
+
+def _resolved(model: Model, window: SteadyState, speeds, steps, modes):
+    """:meth:`~jaxgear.dynamics.AbstractDynamicModel.resolve_window` of an automatic span over
+    the concrete ``speeds`` at ``steps`` (an int: every speed's, or (S,))."""
+    if isinstance(speeds, jax.core.Tracer):
+        raise ValueError(
+            "window periods = None (the automatic span) needs concrete speeds: under jax.jit, "
+            "jax.vmap or jax.grad pass a window of whole periods"
+        )
+    sp = np.atleast_1d(np.asarray(speeds, dtype=float))
+    ns = np.broadcast_to(np.asarray(steps, dtype=int), sp.shape)
+    return model.resolve_window(window, sp, ns, modes)
 
 
 def _thrown(res: SweepResult, throw: bool) -> SweepResult:

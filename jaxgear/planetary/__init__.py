@@ -71,6 +71,8 @@ from ._meshes import (
 from ._model import (
     PlanetaryModel as PlanetaryModel,
     PlanetaryPrepared as PlanetaryPrepared,
+    PlanetarySpan as PlanetarySpan,
+    sweep_records as sweep_records,
 )
 from ._plan import (
     EXCITATION_POSITIONS as EXCITATION_POSITIONS,
@@ -85,8 +87,11 @@ from ._plan import (
     carrier_periodic as carrier_periodic,
     eccentric as eccentric,
     excitation as excitation,
+    grouped_records as grouped_records,
     holds_stage as holds_stage,
     plan_sweep as plan_sweep,
+    program_span as program_span,
+    settled_periods as settled_periods,
     planetary_model_for as planetary_model_for,
     speed_groups as speed_groups,
     speed_run as speed_run,

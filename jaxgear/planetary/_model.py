@@ -27,7 +27,18 @@ from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact
 from .._util import as_float, check_instance
-from ..dynamics import AbstractDynamicModel, ModalAnalysis, Newmark, Outputs, SteadyState
+import numpy as np
+
+from ..dynamics import (
+    AbstractDynamicModel,
+    ModalAnalysis,
+    Newmark,
+    Outputs,
+    SteadyState,
+    auto_steps_per_period,
+    settling_time,
+    speed_sweep,
+)
 from ._dynamics import (
     PlanetaryDynamics,
     PlanetaryRun,
@@ -36,14 +47,22 @@ from ._dynamics import (
     planetary_stage_system,
 )
 from ._meshes import AbstractPlanetaryMeshes
-from ._plan import KEEP_OTHER, KEEP_PERIODIC, carrier_periodic
+from ._plan import (
+    KEEP_OTHER,
+    KEEP_PERIODIC,
+    SweepRecords,
+    TimePlan,
+    carrier_periodic,
+    grouped_records,
+    program_span,
+    settled_periods,
+    speed_groups,
+    time_plan,
+)
 from ._ring import AbstractRingModel, RigidRing
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
-__all__ = ["PlanetaryModel", "PlanetaryPrepared"]
-
-#: the mesh periods a planetary run integrates by default (:class:`PlanetaryRun`'s)
-DEFAULT_PERIODS = 40
+__all__ = ["PlanetaryModel", "PlanetaryPrepared", "PlanetarySpan", "sweep_records"]
 
 
 class PlanetaryPrepared(eqx.Module):
@@ -56,6 +75,17 @@ class PlanetaryPrepared(eqx.Module):
     run: PlanetaryRun
     law: ContactLaw
     steps: int | None = eqx.field(static=True, default=None)
+
+
+class PlanetarySpan(eqx.Module):
+    """The automatic span of a planetary run (``SteadyState(periods=None)``) resolved over its
+    speeds (:meth:`PlanetaryModel.resolve_window`): each speed's step count N_s and mesh
+    periods (its settling time's whole mesh periods, then ``keep_periods``:
+    :func:`~jaxgear.planetary.settled_periods`), static tuples (s,)."""
+
+    steps: tuple = eqx.field(static=True)
+    periods: tuple = eqx.field(static=True)
+    keep_periods: int = eqx.field(static=True)
 
 
 class PlanetaryModel(AbstractDynamicModel):
@@ -120,6 +150,9 @@ class PlanetaryModel(AbstractDynamicModel):
     #: a planetary run starts from the quasi-static state at its first travel: no
     #: continuation from one speed to the next
     continues: ClassVar[bool] = False
+    #: ``SteadyState(periods=None)``: the span from the stage's settling time
+    #: (:meth:`resolve_window`, :func:`~jaxgear.planetary.time_plan`'s rule)
+    automatic_span: ClassVar[bool] = True
 
     def __check_init__(self):
         where = "PlanetaryModel"
@@ -197,13 +230,59 @@ class PlanetaryModel(AbstractDynamicModel):
 
     def default_settings(self):
         """Newmark with automatic steps (the pairs' rule with N_s a multiple of the planet
-        count, :func:`~jaxgear.planetary.time_plan`'s), the exact contact law, and 40 mesh
-        periods with :data:`~jaxgear.planetary.KEEP_PERIODIC` (2) kept where the stage repeats
-        every mesh period in the carrier frame (:func:`~jaxgear.planetary.carrier_periodic`),
-        else :data:`~jaxgear.planetary.KEEP_OTHER` (4)."""
-        flexible = not isinstance(self.ring, RigidRing)
-        keep = KEEP_PERIODIC if carrier_periodic(self.stage, flexible) else KEEP_OTHER
-        return Newmark(), ExactContact(), SteadyState(DEFAULT_PERIODS, keep)
+        count, :func:`~jaxgear.planetary.time_plan`'s), the exact contact law, and the
+        automatic span (:meth:`sweep_window`: each speed's settling time in whole mesh periods,
+        :meth:`resolve_window`) with :data:`~jaxgear.planetary.KEEP_PERIODIC` (2) kept where
+        the stage repeats every mesh period in the carrier frame
+        (:func:`~jaxgear.planetary.carrier_periodic`), else
+        :data:`~jaxgear.planetary.KEEP_OTHER` (4): a run with every setting left out is
+        ``jaxgear sweep``'s at that speed."""
+        return Newmark(), ExactContact(), self.sweep_window()
+
+    def flexible_ring(self) -> bool:
+        """Whether the ring is a condensed (flexible) one."""
+        return not isinstance(self.ring, RigidRing)
+
+    def sweep_window(self, periods: int | None = None, keep: int | None = None) -> SteadyState:
+        """The window of a sweep (:func:`~jaxgear.planetary.time_plan`'s rule): ``periods``
+        None the automatic span, ``keep`` None :data:`~jaxgear.planetary.KEEP_PERIODIC` (2)
+        where the stage is :func:`~jaxgear.planetary.carrier_periodic`, else
+        :data:`~jaxgear.planetary.KEEP_OTHER` (4), at most ``periods``."""
+        periodic = carrier_periodic(self.stage, self.flexible_ring())
+        keep = keep or (KEEP_PERIODIC if periodic else KEEP_OTHER)
+        if periods is not None:
+            keep = min(keep, int(periods))
+        return SteadyState(periods, keep)
+
+    def time_plan(self, speeds, steps: int | None = None,
+                  window: SteadyState | None = None) -> tuple[TimePlan, ModalAnalysis]:
+        """The :class:`~jaxgear.planetary.TimePlan` of a run over the input ``speeds`` (rad/s,
+        (s,)) and the mesh-averaged modes it reads (:meth:`averaged_modes`): ``steps`` None
+        the automatic step (:func:`~jaxgear.dynamics.auto_steps_per_period`, the rule of
+        :func:`~jaxgear.planetary.time_plan`), ``window`` (default :meth:`sweep_window`) its
+        periods (None: the automatic span) and kept periods. Nothing integrated."""
+        window = self.sweep_window() if window is None else window
+        modes = self.averaged_modes()
+        sp = np.asarray(speeds, dtype=float)
+        plan = time_plan(modes, sp, 1.0 / float(self.mesh_period_angle()),
+                         self.stage.n_planets, float(self.run.damping_ratio),
+                         carrier_periodic(self.stage, self.flexible_ring()), steps,
+                         window.periods, window.keep_periods)
+        if steps is None:  # the engine's own rule (the same, on the mesh period's angle)
+            plan = plan._replace(steps=auto_steps_per_period(self, sp, modes).astype(int))
+        return plan, modes
+
+    def resolve_window(self, window, speeds, steps, modes=None) -> PlanetarySpan:
+        """The automatic span at the concrete ``speeds`` (S,) and step counts ``steps`` (S,):
+        each speed's settling time t_s (:func:`~jaxgear.dynamics.settling_time` of ``modes``,
+        default :meth:`averaged_modes`, at the run's damping ratio) in whole mesh periods, then
+        ``window.keep_periods`` (:class:`PlanetarySpan`)."""
+        modes = self.averaged_modes() if modes is None else modes
+        settle, _ = settling_time(modes, float(self.run.damping_ratio))
+        f_mesh = np.asarray(speeds, dtype=float) * (1.0 / float(self.mesh_period_angle()))
+        periods = settled_periods(settle, f_mesh, window.keep_periods)
+        return PlanetarySpan(tuple(int(n) for n in np.asarray(steps)),
+                             tuple(int(p) for p in periods), int(window.keep_periods))
 
     def check_integrator(self, integrator) -> None:
         if not isinstance(integrator, Newmark) or integrator.basis is not None:
@@ -254,7 +333,12 @@ class PlanetaryModel(AbstractDynamicModel):
         Raises:
             ValueError: ``outputs`` asking for states or a pressure; N_s < 8."""
         self._check_outputs(outputs)
-        run = self._run_of(steps_per_period, window.periods, window.keep_periods, outputs)
+        periods = window.periods
+        if isinstance(window, PlanetarySpan):  # the longest span of the speeds at this N_s
+            own = [p for n, p in zip(window.steps, window.periods, strict=True)
+                   if n == int(steps_per_period)]
+            periods = max(own or window.periods)
+        run = self._run_of(steps_per_period, periods, window.keep_periods, outputs)
         return PlanetaryPrepared(run, law)
 
     def prepare_steps(self, integrator, law, window, steps, outputs, modes=None):
@@ -264,9 +348,13 @@ class PlanetaryModel(AbstractDynamicModel):
         (:attr:`~jaxgear.planetary.PlanetaryRun.mesh_steps`): a speed at N_s runs and keeps
         N_top / N_s times the window's mesh periods (the same steps)."""
         self._check_outputs(outputs)
-        lo, top = int(min(steps)), int(max(steps))
-        blocks = top // lo
-        run = self._run_of(lo, window.periods * blocks, window.keep_periods * blocks, outputs)
+        if isinstance(window, PlanetarySpan):  # the longest settling, keep periods of N_top
+            lo, blocks, keep_blocks = program_span(window.steps, window.periods,
+                                                   window.keep_periods)
+        else:
+            lo, top = int(min(steps)), int(max(steps))
+            blocks, keep_blocks = window.periods * (top // lo), window.keep_periods * (top // lo)
+        run = self._run_of(lo, blocks, keep_blocks, outputs)
         return lambda n: PlanetaryPrepared(run, law, int(n))
 
     def independent(self, prepared, speeds, *, start=None, shard: bool = False):
@@ -294,3 +382,24 @@ class PlanetaryModel(AbstractDynamicModel):
 
         speeds = jnp.asarray(speeds, self.dtype)
         return one(speeds) if speeds.ndim == 0 else jax.vmap(one)(speeds)
+
+
+def sweep_records(model: PlanetaryModel, speeds, plan: TimePlan,
+                  grouped: bool | None = None) -> SweepRecords:
+    """The records of a sweep of ``model`` over the input ``speeds`` (rad/s, (s,)) on its
+    ``plan`` (:meth:`PlanetaryModel.time_plan`), through :func:`jaxgear.dynamics.speed_sweep`:
+    the plan's steps (automatic or given) and span (automatic, or the given periods), each
+    group of :func:`~jaxgear.planetary.speed_groups` one sweep (one compiled program, each
+    speed at its own N_s: :meth:`PlanetaryModel.prepare_steps`); ``grouped`` None: one
+    program per N_s for a flexible ring, one for all speeds otherwise. Each speed's own last
+    ``plan.keep`` mesh periods (:class:`~jaxgear.planetary.SweepRecords`, the input of
+    :func:`~jaxgear.planetary.sweep_factors`)."""
+    sp = np.asarray(speeds, dtype=float)
+    grouped = model.flexible_ring() if grouped is None else bool(grouped)
+    integrator = Newmark(None if plan.automatic[0] else int(plan.steps[0]))
+    window = SteadyState(None if plan.automatic[1] else int(plan.periods[0]), plan.keep)
+
+    def program(idx):
+        return speed_sweep(model, sp[idx], integrator=integrator, window=window).results
+
+    return grouped_records(plan, speed_groups(plan, grouped), program)

@@ -46,10 +46,13 @@ __all__ = [
     "carrier_periodic",
     "eccentric",
     "excitation",
+    "grouped_records",
     "holds_stage",
     "plan_sweep",
     "planetary_model_for",
+    "program_span",
     "speed_groups",
+    "settled_periods",
     "speed_run",
     "step_resolution",
     "steps_sweep",
@@ -155,11 +158,31 @@ def time_plan(modes, speeds, mesh_frequency: float, n_planets: int, damping_rati
     if periods is not None:
         keep = min(keep, int(periods))
     if periods is None:
-        pe = keep + np.ceil(settle * f_mesh).astype(int)
+        pe = settled_periods(settle, f_mesh, keep)
     else:
         pe = np.full(sp.shape, int(periods))
     return TimePlan(ns.astype(int), pe.astype(int), int(keep), w_max / (2 * math.pi),
                     w_min / (2 * math.pi), settle, (steps is None, periods is None))
+
+
+def settled_periods(settle_s: float, f_mesh, keep: int) -> np.ndarray:
+    """The automatic span of :func:`time_plan` at mesh frequencies ``f_mesh`` (Hz, (s,)):
+    ``keep`` + ceil(t_s f_mesh) mesh periods, t_s = ``settle_s`` the settling time (s)."""
+    return keep + np.ceil(settle_s * np.asarray(f_mesh, dtype=float)).astype(int)
+
+
+def program_span(steps, periods, keep: int) -> tuple[int, int, int]:
+    """The one compiled program of speeds at the step counts ``steps`` (N_s, (s,)) and spans
+    ``periods`` (mesh periods, (s,)) with ``keep`` kept periods (:func:`steps_sweep`):
+    (block, blocks integrated, blocks kept), a block the smallest N_s steps: as many blocks as
+    the longest settling ((periods − keep) N_s, the largest over the speeds) plus ``keep``
+    periods of the largest N_s, whose last ``keep`` N_top steps are recorded (every speed's
+    last ``keep`` mesh periods in them)."""
+    steps_i = np.asarray(steps)
+    block, top = int(steps_i.min()), int(steps_i.max())
+    settle = int(np.max((np.asarray(periods) - keep) * steps_i))
+    keep_blocks = keep * top // block
+    return block, -(-settle // block) + keep_blocks, keep_blocks
 
 
 def plan_sweep(
@@ -258,20 +281,36 @@ def steps_sweep(model, stage, meshes, base, plan: TimePlan, carrier, mesh_speed,
     recorded (every speed's last ``keep`` mesh periods in them). ``carrier``, ``mesh_speed``:
     (s,), rad/s and m/s. Returns each speed's last ``keep`` mesh periods
     (:class:`SweepRecords`)."""
+    groups = speed_groups(plan, grouped)
+
+    def program(idx):
+        run, r = _one_program(model, stage, meshes, base, plan, idx, np.asarray(carrier)[idx],
+                              np.asarray(mesh_speed)[idx], ring)
+        return r
+
+    return grouped_records(plan, groups, program)
+
+
+def grouped_records(plan: TimePlan, groups, program) -> SweepRecords:
+    """The :class:`SweepRecords` of the speeds of ``groups`` (index arrays, each one compiled
+    program, :func:`program_span`): ``program(idx)`` the group's
+    :class:`~jaxgear.planetary.PlanetaryDynamics` (leading speed axis), each speed's own last
+    ``plan.keep`` mesh periods of ``plan.steps`` steps taken from its kept records."""
     s = np.asarray(plan.steps).size
     periods, result = np.zeros(s), np.zeros(s, dtype=int)
     time, forces, deflection = [None] * s, [None] * s, [None] * s
-    groups = speed_groups(plan, grouped)
+    fs = None
     for idx in groups:
-        run, r = _one_program(model, stage, meshes, base, plan, idx, np.asarray(carrier)[idx],
-                              np.asarray(mesh_speed)[idx], ring)
+        r = program(idx)
+        block, blocks, _ = program_span(np.asarray(plan.steps)[idx],
+                                        np.asarray(plan.periods)[idx], plan.keep)
         f = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], -1)
         t, w, code = np.asarray(r.time), np.asarray(r.ring_deflection), np.asarray(r.result)
         fs = float(np.asarray(r.static_force).reshape(-1)[0])
         for j, k in enumerate(idx):
             kept = slice(-plan.keep * int(plan.steps[k]), None)
             time[k], forces[k], deflection[k] = t[j, kept], f[j, kept], w[j, kept]
-            periods[k] = run.periods * run.steps_per_period / plan.steps[k]
+            periods[k] = blocks * block / plan.steps[k]
             result[k] = int(code[j])
     return SweepRecords(periods, time, forces, deflection, result, fs, len(groups))
 
@@ -280,13 +319,9 @@ def _one_program(model, stage, meshes, base, plan: TimePlan, idx, carrier, mesh_
     """(the run of the blocks, the :class:`~jaxgear.planetary.PlanetaryDynamics` with a leading
     speed axis) of the speeds ``idx`` in one compiled program (:func:`steps_sweep`)."""
     steps_i = np.asarray(plan.steps)[idx]
-    block = int(steps_i.min())
-    top = int(steps_i.max())
-    settle = int(np.max((np.asarray(plan.periods)[idx] - plan.keep) * steps_i))
-    keep_blocks = plan.keep * top // block
+    block, blocks, keep_blocks = program_span(steps_i, np.asarray(plan.periods)[idx], plan.keep)
     run = PlanetaryRun(
-        base.sun_torque, steps_per_period=block, periods=-(-settle // block) + keep_blocks,
-        keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
+        base.sun_torque, steps_per_period=block, periods=blocks, keep_periods=keep_blocks, damping_ratio=base.damping_ratio,
         tangential_pin_errors=base.tangential_pin_errors,
         radial_pin_errors=base.radial_pin_errors, ring_cell_space=True,
     )
