@@ -31,9 +31,14 @@ __all__ = ["chain_modes", "coupled_sweep", "gearbox_run_files", "gearbox_run_lin
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
-#: the coupled run's time plan: steps per period of the fastest mesh, blocks (the slowest
-#: mesh's periods) integrated and recorded (a first look: docs/gearbox.md, "Cost")
-COUPLED_RUN = {"steps_per_period": 16, "periods": 3, "keep_periods": 1, "mean_positions": 32}
+#: the coupled run's time plan (GearboxRun's automatic one, its constants measured on
+#: nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost"): 24 steps per period of the
+#: highest mode the meshes excite at the lowest speed, 3 time constants of the lowest elastic
+#: mode to settle from the quasi-static start, then 4 blocks (the slowest mesh's periods)
+#: recorded; every mesh's dynamic factor within 2 % of a run with twice the steps and twice
+#: the settling and window (tests/test_gearbox_coupled.py, slow)
+COUPLED_RUN = {"steps_per_period": None, "periods": None, "steps_per_mode": 24, "settle": 3.0,
+               "keep_periods": 4, "mean_positions": 32}
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -119,6 +124,8 @@ def coupled_sweep(form, out: str) -> dict:
         "input_torque_Nm": float(first.input_torque),
         "output_hold_Nm_per_rad": float(hold),
         "time_plan": dict(COUPLED_RUN),
+        "steps_integrated": int(np.asarray(res.steps)[0]),
+        "steps_recorded": int(np.asarray(res.time).shape[1]),
         "mesh_names": names,
         "static_force_N": [float(f) for f in np.asarray(res.static_forces)[0]],
         "dynamic_factor_mesh": df.tolist(),
@@ -187,8 +194,9 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"coupled model (every mesh in one run, {len(c['input_speeds_rad_s'])} input speeds "
             f"{c['input_speeds_rad_s'][0]:.4g}-{c['input_speeds_rad_s'][-1]:.4g} rad/s): "
             f"largest dynamic factor {c['max_dynamic_factor']:.4g} ({c['worst_mesh']}"
-            + (f"; first look: {min(c['steps_per_mode_period']):.3g} steps per period of the "
-               f"{c['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite"
+            + (f"; {min(c['steps_per_mode_period']):.3g} steps per period of the "
+               f"{c['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite, "
+               f"{c['steps_integrated']} steps a speed"
                if c.get("steps_per_mode_period") and None not in c["steps_per_mode_period"]
                else "") + "); "
             "modes " + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}, {m['mesh']})"
