@@ -10,7 +10,8 @@
 2. The two-stage example's single run (examples/gearbox_two_stage.py), first and second call in
    this process.
 
-Writes docs/bench/bench_gearbox_coupled.json (the machine as benchmarks/_timing.py's
+Writes docs/bench/bench_gearbox_coupled.json and docs/img/gearbox_coupled_df.png (the second
+run's coupled.png) (the machine as benchmarks/_timing.py's
 ``environment()``, with the 1-minute load average before each run: the timings are only as
 idle as the machine was). From the repository root: ``python -m benchmarks.gearbox_coupled``.
 """
@@ -21,6 +22,7 @@ import json
 import os
 import pathlib
 import runpy
+import shutil
 import sys
 import tempfile
 import time
@@ -87,6 +89,9 @@ def main() -> dict:
         cache = os.path.join(work, "xla")
         for call in ("first", "second"):
             row = _cli_run("nrel-5mw-gearbox", cache, work, call)
+            if call == "second":  # the docs' figure (docs/gearbox.md) from this run
+                shutil.copyfile(os.path.join(work, call, "coupled.png"),
+                                ROOT / "docs" / "img" / "gearbox_coupled_df.png")
             out[f"nrel_run_{call}"] = row
             print(f"nrel-5mw-gearbox {call}: {row['wall_s']:.1f} s wall ({row['cpu_s']:.1f} s "
                   f"CPU); coupled section {row['coupled_wall_s']:.1f} s wall "
