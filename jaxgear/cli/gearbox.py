@@ -108,8 +108,10 @@ def coupled_sweep(form, out: str) -> dict:
     """The coupled model over the operating range (:data:`COUPLED_SPEEDS` of the first stage's
     input speed, the gearbox's torque): every mesh's dynamic factor (max / static from the
     torque ratios) at each speed, and the coupled modes; the last stage's output held by the
-    last shaft's stiffness (the generator is not in the chain). Written to ``coupled.json`` and
-    ``coupled.png``; returns the summary's ``coupled`` section."""
+    last shaft's stiffness (the generator is not in the chain); on :data:`COUPLED_RUN`'s plan,
+    the steps integrated and the spread of the recorded window's two halves reported beside
+    the factors. Written to ``coupled.json`` and ``coupled.png``; returns the summary's
+    ``coupled`` section."""
     chain = form.coupled()
     first = form.stages[0]
     shafts = [s.shaft_stiffness for s in form.stages[1:]]
@@ -136,7 +138,7 @@ def coupled_sweep(form, out: str) -> dict:
         "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, run)),
     }
     # the resolution of the highest mode the meshes excite (its mesh share >= 5 %): the
-    # automatic plan (GearboxRun(steps_per_period=None)) takes 40 steps per its period
+    # automatic plan takes COUPLED_RUN's steps_per_mode per its period at the lowest speed
     excited = [m["frequency_Hz"] for m in result["modes"]
                if m["type"] != "rigid body" and m["mesh_total"] >= 0.05]
     dt = np.asarray(res.time)[:, 1] - np.asarray(res.time)[:, 0]
