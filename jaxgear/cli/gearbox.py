@@ -43,9 +43,15 @@ __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_file
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
-#: the coupled run's time plan: steps per period of the fastest mesh, blocks (the slowest
-#: mesh's periods) integrated and recorded (a first look: docs/gearbox.md, "Cost")
-COUPLED_RUN = {"steps_per_period": 16, "periods": 3, "keep_periods": 1, "mean_positions": 32}
+#: the coupled run's time plan (GearboxRun's automatic one, its constants measured on
+#: nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost"): 24 steps per period of the
+#: highest mode the meshes excite at the lowest speed, 3 time constants of the lowest elastic
+#: mode to settle from the quasi-static start, then 4 blocks (the slowest mesh's periods)
+#: recorded; every mesh's dynamic factor within 0.73 % of a run with twice the steps, and
+#: within 4.3 % of one with twice the steps, settling and window (the window's own spread: the
+#: response is quasi-periodic)
+COUPLED_RUN = {"steps_per_period": None, "periods": None, "steps_per_mode": 24, "settle": 3.0,
+               "keep_periods": 4, "mean_positions": 32}
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -129,8 +135,10 @@ def coupled_sweep(form, out: str) -> dict:
     """The coupled model over the operating range (:data:`COUPLED_SPEEDS` of the first stage's
     input speed, the gearbox's torque): every mesh's dynamic factor (max / static from the
     torque ratios) at each speed, and the coupled modes; the last stage's output held by the
-    last shaft's stiffness (the generator is not in the chain). Written to ``coupled.json`` and
-    ``coupled.png``; returns the summary's ``coupled`` section."""
+    last shaft's stiffness (the generator is not in the chain); on :data:`COUPLED_RUN`'s plan,
+    the steps integrated and the spread of the recorded window's two halves reported beside
+    the factors. Written to ``coupled.json`` and ``coupled.png``; returns the summary's
+    ``coupled`` section."""
     chain, run, first, hold = _coupled_setup(form)
     speeds = first.input_speed * COUPLED_SPEEDS
     res = gearbox_speed_sweep(chain, run, speeds)
@@ -141,6 +149,8 @@ def coupled_sweep(form, out: str) -> dict:
         "input_torque_Nm": float(first.input_torque),
         "output_hold_Nm_per_rad": float(hold),
         "time_plan": dict(COUPLED_RUN),
+        "steps_integrated": int(np.asarray(res.steps)[0]),
+        "steps_recorded": int(np.asarray(res.time).shape[1]),
         "mesh_names": names,
         "static_force_N": [float(f) for f in np.asarray(res.static_forces)[0]],
         "dynamic_factor_mesh": df.tolist(),
@@ -151,13 +161,20 @@ def coupled_sweep(form, out: str) -> dict:
         "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, run)),
     }
     # the resolution of the highest mode the meshes excite (its mesh share >= 5 %): the
-    # automatic plan (GearboxRun(steps_per_period=None)) takes 40 steps per its period
+    # automatic plan takes COUPLED_RUN's steps_per_mode per its period at the lowest speed
     excited = [m["frequency_Hz"] for m in result["modes"]
                if m["type"] != "rigid body" and m["mesh_total"] >= 0.05]
     dt = np.asarray(res.time)[:, 1] - np.asarray(res.time)[:, 0]
     f_exc = max(excited, default=0.0)
     result["highest_excited_mode_Hz"] = f_exc
     result["steps_per_mode_period"] = [float(1.0 / (d * f_exc)) if f_exc else None for d in dt]
+    # the window's own uncertainty: a quasi-periodic response (the stages' mesh periods are
+    # incommensurate), whose maximum over the recorded window's two halves differs
+    f = np.asarray(res.mesh_forces)
+    half = f.shape[1] // 2
+    peak = [np.max(f[:, :half], axis=1), np.max(f[:, half:], axis=1)]
+    result["window_halves_spread"] = np.max(np.abs(peak[0] - peak[1])
+                                            / np.maximum(peak[0], peak[1]), axis=1).tolist()
     write_json(os.path.join(out, "coupled.json"), result)
     fig, ax = new_figure()
     for j, name in enumerate(names):
@@ -325,8 +342,9 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"coupled model (every mesh in one run, {len(c['input_speeds_rad_s'])} input speeds "
             f"{c['input_speeds_rad_s'][0]:.4g}-{c['input_speeds_rad_s'][-1]:.4g} rad/s): "
             f"largest dynamic factor {c['max_dynamic_factor']:.4g} ({c['worst_mesh']}"
-            + (f"; first look: {min(c['steps_per_mode_period']):.3g} steps per period of the "
-               f"{c['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite"
+            + (f"; {min(c['steps_per_mode_period']):.3g} steps per period of the "
+               f"{c['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite, "
+               f"{c['steps_integrated']} steps a speed"
                if c.get("steps_per_mode_period") and None not in c["steps_per_mode_period"]
                else "") + "); "
             "modes " + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}, {m['mesh']})"

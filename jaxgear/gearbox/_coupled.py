@@ -46,6 +46,13 @@ __all__ = [
     "mesh_names",
 ]
 
+#: the automatic time step's steps per period of the highest mode the meshes excite
+STEPS_PER_MODE = 40
+#: a mode the meshes excite: they hold at least this share of its strain energy
+MESH_SHARE = 0.05
+#: the automatic run's settling: time constants 1 / (zeta omega_1) before the recorded window
+SETTLE = 8.0
+
 
 class GearboxRun(eqx.Module):
     """How a coupled gearbox run is loaded and integrated.
@@ -57,17 +64,22 @@ class GearboxRun(eqx.Module):
             member to ground (the load).
         steps_per_period: Newmark steps per mesh period of the fastest excited mesh (static,
             >= 8); the time step is that period over it. None: automatic, at least
-            :data:`STEPS_PER_MODE` steps per period of the highest coupled mode whose strain
+            ``steps_per_mode`` steps per period of the highest coupled mode whose strain
             energy the meshes hold >= :data:`MESH_SHARE` (:func:`gearbox_coupled_modes`) at the
             lowest speed of the run or sweep (the spur meshes' stiffness steps ring every
             mode, and average acceleration leaves an under-resolved one undamped).
         periods: blocks integrated (static, >= 1), a block the slowest excited mesh's period
             (rounded to whole steps). None: automatic, the recorded blocks after
-            :data:`SETTLE` time constants 1 / (zeta omega_1) of the lowest elastic coupled mode
-            at the highest speed of the run or sweep.
+            ``settle`` time constants 1 / (zeta omega_1) of the lowest elastic coupled mode
+            at the highest speed of the run or sweep (the run starts from the quasi-static
+            state, so that the transient is the dynamic part alone).
         keep_periods: the last blocks recorded (static, 1..periods).
         damping_ratio: zeta (-), modal damping on every mode of (M, K + K̄_m).
         mean_positions: the mesh positions per period over which K̄_m is averaged (static).
+        steps_per_mode: the automatic step's steps per period of the highest excited mode
+            (static, >= 4; default :data:`STEPS_PER_MODE`).
+        settle: the automatic span's settling, in time constants 1 / (zeta omega_1) (static,
+            >= 0; default :data:`SETTLE`).
     """
 
     input_torque: Float[Array, ""] = eqx.field(converter=as_float)
@@ -77,6 +89,8 @@ class GearboxRun(eqx.Module):
     keep_periods: int = eqx.field(static=True, default=2)
     damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
     mean_positions: int = eqx.field(static=True, default=64)
+    steps_per_mode: int = eqx.field(static=True, default=STEPS_PER_MODE)
+    settle: float = eqx.field(static=True, default=SETTLE)
 
     def __check_init__(self):
         if self.steps_per_period is not None:
@@ -85,6 +99,11 @@ class GearboxRun(eqx.Module):
             check_integer("periods", self.periods, 1)
         check_integer("keep_periods", self.keep_periods, 1)
         check_integer("mean_positions", self.mean_positions, 1)
+        check_integer("steps_per_mode", self.steps_per_mode, 4)
+        if not (isinstance(self.settle, (int, float)) and math.isfinite(self.settle)
+                and self.settle >= 0.0):
+            raise ValueError(f"GearboxRun: settle = {self.settle!r} is out of range: allowed a "
+                             "finite number of time constants >= 0")
         if self.periods is not None and self.keep_periods > self.periods:
             raise ValueError(f"GearboxRun: keep_periods = {self.keep_periods} is out of range: "
                              f"allowed 1..periods = {self.periods}")
@@ -108,6 +127,9 @@ class GearboxDynamics(eqx.Module):
             (m,).
         mesh_speeds: each stage's mesh travel speed v_k (m/s), (n_stages,).
         result: the run's result code (0: successful; :class:`~jaxgear.DynamicsResult`), ().
+        steps: the Newmark steps integrated, settling and recorded window together (-), ()
+            (the time plan, :class:`GearboxRun`'s ``steps_per_period`` and ``periods`` or
+            their automatic values).
     """
 
     time: Float[Array, " t"]
@@ -117,6 +139,7 @@ class GearboxDynamics(eqx.Module):
     dynamic_factors: Float[Array, " m"]
     mesh_speeds: Float[Array, " s"]
     result: Array
+    steps: Array
 
 
 def mesh_names(chain: GearboxTorsional) -> tuple[str, ...]:
@@ -236,13 +259,6 @@ def _cell_counts(chain):
     return [int(s.cell_row(jnp.zeros(())).k.shape[0]) for s in chain.stages]
 
 
-#: the automatic time step's steps per period of the highest mode the meshes excite
-STEPS_PER_MODE = 40
-#: a mode the meshes excite: they hold at least this share of its strain energy
-MESH_SHARE = 0.05
-#: the automatic run's settling: time constants 1 / (zeta omega_1) before the recorded window
-SETTLE = 8.0
-
 
 def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
     """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
@@ -262,11 +278,11 @@ def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
     if steps is None:
         excited = np.asarray(modes.mesh_energy).sum(axis=0) >= MESH_SHARE
         f_max = float(np.max(f[excited], initial=0.0))
-        steps = max(8, math.ceil(STEPS_PER_MODE * f_max * fast / float(np.min(w))))
-    if blocks is None:  # SETTLE time constants of the lowest elastic mode, then the window
+        steps = max(8, math.ceil(run.steps_per_mode * f_max * fast / float(np.min(w))))
+    if blocks is None:  # settle time constants of the lowest elastic mode, then the window
         f_1 = float(np.min(f[~np.asarray(modes.analysis.rigid)]))
         tau = 1.0 / (float(run.damping_ratio) * 2.0 * math.pi * f_1)
-        blocks = math.ceil(SETTLE * tau / (slow / float(np.max(w)))) + run.keep_periods
+        blocks = math.ceil(run.settle * tau / (slow / float(np.max(w)))) + run.keep_periods
     return steps, max(1, round(steps * slow / fast)), fast, blocks
 
 
@@ -308,6 +324,7 @@ def _run(chain, run, input_speed, law, S, block, fast, B):
         dynamic_factors=jnp.max(forces, axis=0) / static,
         mesh_speeds=speeds,
         result=final[-2],
+        steps=jnp.asarray(B * block, jnp.int32),
     )
 
 
