@@ -1,6 +1,6 @@
 """``jaxgear bench device``: the batched workloads on the CPU and on an accelerator, in one run.
 
-The four workloads where a user waits for many independent evaluations, each timed on every
+The six workloads where a user waits for many independent evaluations, each timed on every
 platform JAX sees (the CPU always; a GPU when one is present), in the same process, with the
 same inputs, so that the ratios are measured in one run:
 

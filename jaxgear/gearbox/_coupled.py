@@ -178,8 +178,8 @@ def _kinematics(chain, input_speed, input_torque):
 
 def _assemble(chain, run, input_speed):
     """The coupled system's parts at one input speed: (M, K (structure, shafts, hold, rotating
-    frame), C_Omega, F, K̄_m, the cells' function of time (s) before the flank signs, the
-    stages' mesh speeds, the static forces)."""
+    frame), C_Omega, F, K̄_m, the stages' kinematics (:func:`_kinematics`), the stages' mesh
+    speeds, the static forces)."""
     offsets, n = _offsets(chain)
     blocks = [s.dynamic_parts(run.mean_positions) for s in chain.stages]
     dtype = blocks[0][0].dtype
@@ -211,7 +211,7 @@ def _assemble(chain, run, input_speed):
     speeds = jnp.stack([v for _, v, _ in kin])
     static = jnp.concatenate([fk for _, _, fk in kin])
 
-    return m, k, k_s + k_joint, c_omega, f, k_mean, _cells(chain.stages, kin), speeds, static
+    return m, k, k_s + k_joint, c_omega, f, k_mean, kin, speeds, static
 
 
 def _cells(stages, kin):
@@ -289,17 +289,16 @@ def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
 @eqx.filter_jit
 def _run(chain, run, input_speed, law, S, block, fast, B):
 
-    m, k, _, c_omega, f, k_mean, cells, speeds, static = _assemble(chain, run, input_speed)
+    m, k, _, c_omega, f, k_mean, kin, speeds, static = _assemble(chain, run, input_speed)
     modes = matrix_modal_analysis(m, k, k_mean)
     phi, w = modes.shapes, modes.omega
     mphi = m @ phi
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
     dt = fast / (S * jnp.abs(as_float(input_speed)))
-    signs = _flank_signs(chain, k, f, k_mean, cells(0.5 * dt))
+    signs = _flank_signs(chain, k, f, k_mean, _cells(chain.stages, kin)(0.5 * dt))
     # each stage's cells for its loaded flanks (a planetary stage whose planets drive the sun:
     # its sun-ring phase, ContactMeshes.other_flanks), the rows' sign flipped below
-    cells = _cells([s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)],
-                   _kinematics(chain, input_speed, run.input_torque))
+    cells = _cells([s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)], kin)
 
     def row(i):
         return _signed(cells((i + 0.5) * dt), signs)

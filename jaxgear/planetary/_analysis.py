@@ -13,6 +13,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
+from ..dynamics import matrix_modal_analysis
 from .._util import as_float, check_instance, check_integer, check_real, is_traced
 
 __all__ = [
@@ -50,8 +51,9 @@ class PlanetaryModes(eqx.Module):
     """Natural modes of a stage model.
 
     Attributes:
-        frequencies: natural frequencies (Hz), shape ``(n_dof,)``, ascending (a rigid-body
-            mode gives 0; a tiny negative eigenvalue from round-off is clipped to 0).
+        frequencies: natural frequencies (Hz), shape ``(n_dof,)``, ascending; a rigid-body
+            mode gives 0: an eigenvalue omega^2 <= 1e-9 times the largest is one (round-off
+            either side of 0), the rule of :func:`~jaxgear.dynamics.modal_analysis`.
         shapes: mode shapes, shape ``(n_dof, n_dof)``, column j for ``frequencies[j]``, in the
             model's coordinates (m), mass-normalised: ``shapes.T M shapes = I``.
     """
@@ -72,9 +74,11 @@ def check_model_stage(where: str, model, stage) -> None:
 
 @eqx.filter_jit
 def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> PlanetaryModes:
-    """The undamped natural modes at zero carrier speed: ``K phi = omega^2 M phi`` solved as the
-    symmetric problem ``L^-1 K L^-T`` (M = L L^T, Cholesky) with ``jnp.linalg.eigh``; jit-able
-    and differentiable in the stage's values (away from repeated frequencies).
+    """The undamped natural modes at zero carrier speed: ``K phi = omega^2 M phi`` (K with the
+    stage's constant mesh springs) through :func:`~jaxgear.dynamics.matrix_modal_analysis`, the
+    modal solve of every model (the symmetric problem ``L^-1 K L^-T``, M = L L^T, Cholesky, with
+    ``jnp.linalg.eigh``; its rigid-body rule, :class:`PlanetaryModes`); jit-able and
+    differentiable in the stage's values (away from repeated and zero frequencies).
 
     Args:
         model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
@@ -88,13 +92,10 @@ def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> Pla
         ValueError: ``model`` or ``stage`` of the wrong kind (:func:`check_model_stage`).
     """
     check_model_stage("planetary_modes", model, stage)
-    m = model.mass_matrix(stage)
     k = model.stiffness_matrix(stage)
-    low = jnp.linalg.cholesky(m)
-    a = jnp.linalg.solve(low, jnp.linalg.solve(low, k).T)
-    lam, vec = jnp.linalg.eigh(0.5 * (a + a.T))
-    shapes = jnp.linalg.solve(low.T, vec)
-    return PlanetaryModes(jnp.sqrt(jnp.clip(lam, 0.0)) / (2.0 * jnp.pi), shapes)
+    # the stage's constant mesh springs are in K already: no separate mesh-averaged part
+    modes = matrix_modal_analysis(model.mass_matrix(stage), k, jnp.zeros_like(k))
+    return PlanetaryModes(modes.frequency, modes.shapes)
 
 
 #: the carrier speeds :func:`campbell` takes (rad/s, either sense): the case files' and the
