@@ -327,6 +327,7 @@ def sweep_case_run(
         hertz,
         states=vtu_speed is not None,
         window=None if settled is None else settled[0].window,
+        phase=None if settled is None else settled[0].phase,
     )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
     post.update()

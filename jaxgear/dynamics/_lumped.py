@@ -163,6 +163,21 @@ class DynamicModel(AbstractDynamicModel):
             return jax.tree_util.tree_map(lambda a: a[: speeds.shape[0]], r)
         return _vmapped(self, prep, speeds, start, law, cfg)
 
+    def independent_at(self, prepared, speed, step, start):
+        """One speed (a scalar, rad/s) from ``start`` = (X, Ẋ) at the scene's step ``step``
+        (an int, 0 <= step < the span's steps: the state at that mesh position, the run's
+        first step ending at ``step + 1``; :meth:`independent` starts at step 0), Newmark
+        only: a settled sweep's (:func:`~jaxgear.dynamics.settled_sweep`) windows after a
+        transient shorter than the scene's period. The records, the kept steps' angles and
+        the final state are those of the steps the run took."""
+        if not prepared.cfg.newmark:
+            raise ValueError(
+                f"integrator = {prepared.cfg!r}: a run from a step other than 0 is Newmark's "
+                "(allowed a Newmark integrator)"
+            )
+        row = jnp.asarray(step, jnp.int32)
+        return _single_at(self, prepared.prep, speed, start, row, prepared.law, prepared.cfg)
+
     def continuation(self, prepared, speeds, *, start=None):
         start = _static_start(prepared.prep) if start is None else start
         return _scans(self, prepared.prep, speeds, start, prepared.law, prepared.cfg)
@@ -182,9 +197,9 @@ class LumpedRun(eqx.Module):
 # integrators
 
 
-def _with_acceleration(model, table, X, Xd, law):
+def _with_acceleration(model, table, X, Xd, law, row=0):
     scene = model.scene
-    r = table.at(0)
+    r = table.at(row)
     f = jnp.where(r.mask, r.k * r.length * _phi(r.V @ X - r.delta0, law)[0], 0.0)
     Xdd = jnp.linalg.solve(
         scene.mass(),
@@ -284,7 +299,9 @@ def _static_forces(model: DynamicModel, table: MeshTable, static):
     return static_mesh_forces(model.scene, model.torque, fm), max_lines
 
 
-def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
+def _one_speed(
+    model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law, row0=0
+):
     # a table of a traced N_s (MeshTable.steps, Newmark only): the step counts are traced, the
     # K records of a buffer of the largest N_s's size hold the first n_keep, the statistics are
     # masked to them and the histories thinned to cfg.history_steps
@@ -308,9 +325,9 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         # transient ended (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
         run = LumpedRun(static, law, cfg)
-        carry, _ = _newmark(model, run, dt, carry0, (0, n_trans), fs)
+        carry, _ = _newmark(model, run, dt, carry0, (row0, n_trans), fs)
         carry, rec = _newmark(
-            model, run, dt, carry, (n_trans, n_keep), fs, record=True, factors=factors
+            model, run, dt, carry, (row0 + n_trans, n_keep), fs, record=True, factors=factors
         )
         fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
         coast = rec.get("coast")
@@ -327,7 +344,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final, (fm, te, lines, reac, forces), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
-    j = jnp.arange(K) + 1 + n_trans  # the kept steps
+    j = jnp.arange(K) + 1 + n_trans + row0  # the kept steps
     mask = table.take(table.mask, j)  # (K, c)
     line_load = None
     if forces is not None:  # the line loads of the kept steps (N/m), (K, c)
@@ -449,6 +466,15 @@ def _single(model: DynamicModel, prep: _Prepared, speed, state0, law: ContactLaw
     """One speed from ``state0`` = (X, Ẋ)."""
     start, _ = _starts(model, prep, state0, law)
     return _one_speed(model, prep.table, prep, speed, start, cfg, law)
+
+
+@eqx.filter_jit
+def _single_at(
+    model: DynamicModel, prep: _Prepared, speed, state0, row, law: ContactLaw, cfg: _Config
+):
+    """One speed from ``state0`` = (X, Ẋ) at the table's step ``row`` (traced int)."""
+    start = _with_acceleration(model, prep.table, state0[0], state0[1], law, row)
+    return _one_speed(model, prep.table, prep, speed, start, cfg, law, row)
 
 
 @eqx.filter_jit
