@@ -400,8 +400,11 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
             width = len(v[0])
             if not all(isinstance(x, int | float) or x is None for e in v for x in e):
                 continue
-            tags = ([column_tag(t) for t in names] if names and len(names) == width
-                    else [str(j) for j in range(width)])
+            tags = (
+                [column_tag(t) for t in names]
+                if names and len(names) == width
+                else [str(j) for j in range(width)]
+            )
             for j in range(width):
                 header.append(f"{key}_{tags[j]}")
                 cols.append([number(e[j]) for e in v])

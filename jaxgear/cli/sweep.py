@@ -222,7 +222,9 @@ def sweep_case_run(
     jax.block_until_ready(res)
     bar.close()
     # what follows the speeds: a bar over its three stages (a second run at the worst speed)
-    post = progress_bar(total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress)
+    post = progress_bar(
+        total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress
+    )
     post.set_postfix_str("modes at the speeds, static pressures")
     r = res.results
     # the lowest modes reported (0 Hz for the drive rotation)

@@ -48,7 +48,7 @@ SETTLED_TOL = 1e-2
 #: (:func:`settled_sweep`)
 CAP_FACTOR = 2
 #: where a window holds one scene period (judged by its return), a continued speed first runs
-#: block // LEAD_DIVISOR mesh periods (at least 2) unrecorded, its windows then from that mesh
+#: block // LEAD_DIVISOR mesh periods (at least 1) unrecorded, its windows then from that mesh
 #: position (:func:`settled_sweep`)
 LEAD_DIVISOR = 8
 
@@ -300,39 +300,29 @@ def settled_sweep(
     stiff = np.asarray(structure) + np.asarray(modes.mesh_stiffness)
     k_mesh = float(model.mesh_stiffness_mean)
     # records of one scene period (judged by their return) on Newmark: a continued speed's
-    # transient runs `lead` periods, shorter than a window, its windows then from that position
+    # first window runs after a lead of `lead` periods, every window from the mesh position
+    # `phase` (one compiled program: DynamicModel.independent_at)
     by_return = keep < 2 * q  # the records hold one scene period: no periodicity
-    lead = 0
-    if by_return and isinstance(integrator, Newmark) and hasattr(model, "independent_at"):
-        lead = max(block // LEAD_DIVISOR, 2)
-    lead_prepared: dict = {}
+    at = by_return and isinstance(integrator, Newmark) and hasattr(model, "independent_at")
+    lead = max(block // LEAD_DIVISOR, 1) if at else 0
     phases = np.zeros(sp.size, dtype=int)
     phase = 0  # the mesh position (periods of the first mesh) of `state`
 
-    def run(n: int, speed: float, state, phase: int):
-        if phase == 0:
-            return model.independent(prepare(n), jnp.asarray(speed, model.dtype), start=state)
-        return model.independent_at(prepare(n), jnp.asarray(speed, model.dtype), phase * n, state)
+    def run(n: int, speed: float, state, phase: int, ahead: int):
+        """(the window's response, the state where its window starts)."""
+        v = jnp.asarray(speed, model.dtype)
+        if not at:
+            return model.independent(prepare(n), v, start=state), state
+        return model.independent_at(prepare(n), v, phase * n, state, ahead * n)
 
     state, last_speed = None, None
     for done, i in enumerate(order):
         s = float(sp[i])
+        led = 0  # the lead this speed runs (a continued speed's)
         if state is not None:  # the same response over the mesh angle: Ẋ ∝ Ω
             state = (state[0], state[1] * (s / last_speed))
-        ran = 0
-        if state is not None and lead:
-            n = int(ns[i])
-            if n not in lead_prepared:
-                lead_prepared[n] = model.prepare(
-                    integrator, law, SteadyState(max(lead, 2), 2), n, Outputs(), modes
-                )
-            t = model.independent_at(
-                lead_prepared[n], jnp.asarray(s, model.dtype), phase * n, state
-            )
-            if int(t.result) == 0:
-                state = (jax.device_put(t.final_state[0]), jax.device_put(t.final_state[1]))
-                phase = (phase + lead) % q
-                ran = lead
+            led = lead
+        ahead = led
         # the slowest excited mode's decay over one window at this speed: ρ = SETTLE_TOL^(T_w /
         # t_s) (T_w = block mesh periods); a window whose end state returns to its start within
         # d has at most d / (1 - ρ) of transient left at its start (a contraction by ρ)
@@ -340,11 +330,15 @@ def settled_sweep(
         fly = _free_decay(modes, ratios, mass, block * angle / s) if by_return else None
         prev = None
         for b in range(int(blocks[i])):
-            r = _host(run(int(ns[i]), s, state, phase))
-            periods[i] = ran + (b + 1) * block
+            r, begin = run(int(ns[i]), s, state, phase, ahead)
+            r = _host(r)
+            periods[i] = led + (b + 1) * block
             if int(r.result) != 0:
                 state, phase = None, 0
                 break
+            if ahead:  # the window began after the lead: judged from there
+                phase, ahead = (phase + lead) % q, 0
+                state = begin
             fs = np.asarray([float(m.static_force) for m in r.meshes])
             fm = np.stack([np.asarray(m.mesh_force) / f for m, f in zip(r.meshes, fs)])
             # the last kept period against the one before (NaN: fewer than two scene periods)

@@ -91,7 +91,7 @@ def simulate(
     if start_period:
         r = model.independent_at(
             prepared, jnp.asarray(speed, dtype), int(start_period) * steps_per_period, state0
-        )
+        )[0]
     else:
         r = model.independent(prepared, jnp.asarray(speed, dtype), start=state0)
     return checked(r, "simulate") if throw else r
