@@ -166,17 +166,67 @@ def test_two_stage_settled_dynamic_factor_agrees_with_a_run_four_times_longer():
     speeds = np.array([2800.0, 2900.0, 3000.0])
     s = jd.settled_sweep(model, speeds, integrator=Newmark(35), contact=law, keep_periods=127)
     assert s.window == 127 and s.settled.all() and (s.change <= 1e-2).all()
-    # every speed from the static equilibrium for four times the most periods a speed ran
+    # every speed from the static equilibrium for four times the most periods a speed ran, or
+    # longer where the rule asks more: the long runs are settled by the rule (t_s f_mesh
+    # periods, f_mesh = Ω z1 / 2π, the input's 28 teeth, decay the transient to 1e-3), their
+    # kept window starting after it (the lead and the windows' modal estimate let the settled
+    # sweep run fewer periods than a quarter of that)
+    rule = math.ceil((s.settle_s * speeds * 28 / (2 * math.pi)).max())
+    span = max(4 * int(s.periods.max()), 127 * -(-(rule + 127) // 127))
     long = jd.speed_sweep(
         model,
         speeds,
         integrator=Newmark(35),
         contact=law,
-        window=SteadyState(4 * int(s.periods.max()), 127),
+        window=SteadyState(span, 127),
     ).results
-    # the long runs are settled by the rule (t_s f_mesh periods, f_mesh = Ω z1 / 2π, the
-    # input's 28 teeth, decay the transient to 1e-3): their kept window starts after it
-    assert 4 * s.periods.max() - 127 >= (s.settle_s * speeds * 28 / (2 * math.pi)).max()
+    assert span - 127 >= rule
     for settled, reference in zip(s.sweep.results.meshes, long.meshes, strict=True):
         df, ref = np.asarray(settled.dynamic_factor), np.asarray(reference.dynamic_factor)
         np.testing.assert_allclose(df, ref, atol=1e-2, rtol=0)
+
+
+@pytest.mark.slow
+def test_a_run_split_at_a_mesh_position_follows_the_unsplit_run():
+    # simulate(start_period=p) from the state a run ends in at mesh position p continues that
+    # run: p + 2 × 127 periods in one run (the reference) against p + 127 (ending at position
+    # p of the 127-period scene), then 127 from position p, on a train whose meshes repeat
+    # together only after 127 periods (two-stage, coarse)
+    case = jio.load_case("two-stage").replace(slices=2)
+    model = build_dynamic_model(case)[0]
+    law = case.contact_law("exact")
+    speed, p, k = 1500.0, 5, 127
+    kw = {"integrator": Newmark(35), "contact": law}
+    whole = jd.simulate(model, speed, window=SteadyState(p + 2 * k, k), **kw)
+    first = jd.simulate(model, speed, window=SteadyState(p + k, k), **kw)
+    rest = jd.simulate(
+        model,
+        speed,
+        window=SteadyState(k, k),
+        state0=first.final_state[:2],
+        start_period=p,
+        **kw,
+    )
+    scale = float(np.max(np.abs(np.asarray(whole.final_state[0]))))
+    np.testing.assert_allclose(rest.final_state[0], whole.final_state[0], rtol=0, atol=1e-9 * scale)
+    for a, b in zip(rest.meshes, whole.meshes, strict=True):
+        f_s = float(b.static_force)
+        np.testing.assert_allclose(a.mesh_force, b.mesh_force, rtol=0, atol=1e-9 * f_s)
+    np.testing.assert_allclose(rest.theta, whole.theta, rtol=1e-12)
+    # and started at position 0 instead, the same state is off the run (the position matters)
+    off = jd.simulate(model, speed, window=SteadyState(k, k), state0=first.final_state[:2], **kw)
+    assert float(np.max(np.abs(np.asarray(off.final_state[0]) - whole.final_state[0]))) > (
+        1e-6 * scale
+    )
+    # from the static start (no state0) or a negative position: refused before any work
+    with pytest.raises(ValueError, match="start_period"):
+        jd.simulate(model, speed, window=SteadyState(k, k), start_period=3, **kw)
+    with pytest.raises(ValueError, match="start_period"):
+        jd.simulate(
+            model,
+            speed,
+            window=SteadyState(k, k),
+            **kw,
+            state0=first.final_state[:2],
+            start_period=-1,
+        )

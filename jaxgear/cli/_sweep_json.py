@@ -249,7 +249,7 @@ def pressure_responses(r, static: list[float]) -> dict:
 
 
 def dynamic_pressure_map(
-    case, model, spec, law, r, speeds, hertz, states=False, window=None
+    case, model, spec, law, r, speeds, hertz, states=False, window=None, phase=None
 ) -> dict | None:
     """The run at the speed of the largest dynamic factor (of the worst mesh, among the speeds
     that ran to the end), from the static equilibrium with the sweep's settings and its cell
@@ -263,17 +263,20 @@ def dynamic_pressure_map(
     the states too (with ``--vtu-speed``: the outputs of :func:`vtu_series`'s run, so that the
     two runs are one compiled program). ``window``: a settled sweep's window (periods; None:
     the case's span from the static equilibrium): the run starts from the sweep's final state
-    at that speed and runs one window (its steady state, already settled)."""
+    at that speed and runs one window (its steady state, already settled); ``phase``: the
+    sweep's :attr:`~jaxgear.dynamics.SettledSweep.phase` (the mesh position of each speed's
+    final state, None: 0)."""
     df = worst(r, "dynamic_factor")
     ok = (np.asarray(r.result) == 0) & np.isfinite(df)
     if not ok.any():
         return None
     i = int(np.argmax(np.where(ok, df, -np.inf)))
     speed = float(speeds[i])
-    start, span = None, spec_window(spec)
+    start, span, at = None, spec_window(spec), 0
     if window is not None:  # one more window from the settled state at that speed
         start = tuple(jax.device_put(np.asarray(a)[i]) for a in r.final_state[:2])
         span = SteadyState(max(int(window), 2), spec.keep_periods)
+        at = 0 if phase is None else int(phase[i])
     one = simulate(
         model,
         speed,
@@ -283,6 +286,7 @@ def dynamic_pressure_map(
         state0=start,
         outputs=Outputs(cell_loads=True, states=states),
         throw=False,
+        start_period=at,
     )
     n_s = int(one.steps_per_period)
     scene = model.scene
@@ -396,8 +400,11 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
             width = len(v[0])
             if not all(isinstance(x, int | float) or x is None for e in v for x in e):
                 continue
-            tags = ([column_tag(t) for t in names] if names and len(names) == width
-                    else [str(j) for j in range(width)])
+            tags = (
+                [column_tag(t) for t in names]
+                if names and len(names) == width
+                else [str(j) for j in range(width)]
+            )
             for j in range(width):
                 header.append(f"{key}_{tags[j]}")
                 cols.append([number(e[j]) for e in v])

@@ -222,7 +222,9 @@ def sweep_case_run(
     jax.block_until_ready(res)
     bar.close()
     # what follows the speeds: a bar over its three stages (a second run at the worst speed)
-    post = progress_bar(total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress)
+    post = progress_bar(
+        total=3, desc=f"jaxgear sweep {case.name}: outputs", disable=not show_progress
+    )
     post.set_postfix_str("modes at the speeds, static pressures")
     r = res.results
     # the lowest modes reported (0 Hz for the drive rotation)
@@ -327,6 +329,7 @@ def sweep_case_run(
         hertz,
         states=vtu_speed is not None,
         window=None if settled is None else settled[0].window,
+        phase=None if settled is None else settled[0].phase,
     )
     summary.update(kind.closing_keys(model, bodies, spec, law, modes, vtu_speed, out_dir, flexible))
     post.update()

@@ -163,6 +163,25 @@ class DynamicModel(AbstractDynamicModel):
             return jax.tree_util.tree_map(lambda a: a[: speeds.shape[0]], r)
         return _vmapped(self, prep, speeds, start, law, cfg)
 
+    def independent_at(self, prepared, speed, step, start, lead=0):
+        """One speed (a scalar, rad/s) from ``start`` = (X, Ẋ) at the scene's step ``step``
+        (an int >= 0: the state at that mesh position, the run's first step ending at
+        ``step + 1``; :meth:`independent` starts at step 0; None: the static equilibrium at
+        step 0's position), after ``lead`` steps unrecorded
+        (an int >= 0) before the run's window, Newmark only: a settled sweep's windows
+        (:func:`~jaxgear.dynamics.settled_sweep`), every one of them one compiled program
+        (``step`` and ``lead`` are arguments of it). Returns (the response, as
+        :meth:`independent`'s, of the window that starts at step ``step + lead``; (X, Ẋ)
+        where that window starts, after the lead)."""
+        if not prepared.cfg.newmark:
+            raise ValueError(
+                f"integrator = {prepared.cfg!r}: a run from a step other than 0 is Newmark's "
+                "(allowed a Newmark integrator)"
+            )
+        start = _static_start(prepared.prep) if start is None else start
+        row, lead = jnp.asarray(step, jnp.int32), jnp.asarray(lead, jnp.int32)
+        return _single_at(self, prepared.prep, speed, start, row, lead, prepared.law, prepared.cfg)
+
     def continuation(self, prepared, speeds, *, start=None):
         start = _static_start(prepared.prep) if start is None else start
         return _scans(self, prepared.prep, speeds, start, prepared.law, prepared.cfg)
@@ -177,14 +196,13 @@ class LumpedRun(eqx.Module):
     cfg: _Config = eqx.field(static=True)
 
 
-
 # --------------------------------------------------------------------------------------------
 # integrators
 
 
-def _with_acceleration(model, table, X, Xd, law):
+def _with_acceleration(model, table, X, Xd, law, row=0):
     scene = model.scene
-    r = table.at(0)
+    r = table.at(row)
     f = jnp.where(r.mask, r.k * r.length * _phi(r.V @ X - r.delta0, law)[0], 0.0)
     Xdd = jnp.linalg.solve(
         scene.mass(),
@@ -203,6 +221,7 @@ def _newmark(
     *,
     record: bool = False,
     factors=None,
+    counted: bool = False,
 ):
     """Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in coordinates)
     of the prepared ``run`` (its table, the coordinates each step's contact is condensed onto,
@@ -248,7 +267,7 @@ def _newmark(
         return out
 
     system = LinearSystem(Ks, M, model.damping, F, dofs=run.prep.dofs)
-    if table.steps is not None:  # a traced N_s: a traced step count, records in a buffer
+    if table.steps is not None or counted:  # a traced step count, records in a buffer
         size = cfg.keep_periods * cfg.steps_per_period
         return newmark_counted(
             system,
@@ -284,7 +303,17 @@ def _static_forces(model: DynamicModel, table: MeshTable, static):
     return static_mesh_forces(model.scene, model.torque, fm), max_lines
 
 
-def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg: _Config, law):
+def _one_speed(
+    model: DynamicModel,
+    table: MeshTable,
+    static,
+    speed,
+    state,
+    cfg: _Config,
+    law,
+    row0=0,
+    lead=None,
+):
     # a table of a traced N_s (MeshTable.steps, Newmark only): the step counts are traced, the
     # K records of a buffer of the largest N_s's size hold the first n_keep, the statistics are
     # masked to them and the histories thinned to cfg.history_steps
@@ -308,9 +337,13 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         # transient ended (memory ∝ keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
         run = LumpedRun(static, law, cfg)
-        carry, _ = _newmark(model, run, dt, carry0, (0, n_trans), fs)
+        if lead is not None:  # `lead` steps (traced) before the window, from step row0
+            carry0, _ = _newmark(model, run, dt, carry0, (row0, lead), fs, counted=True)
+            row0 = row0 + lead
+            lead_end = carry0[:2]
+        carry, _ = _newmark(model, run, dt, carry0, (row0, n_trans), fs)
         carry, rec = _newmark(
-            model, run, dt, carry, (n_trans, n_keep), fs, record=True, factors=factors
+            model, run, dt, carry, (row0 + n_trans, n_keep), fs, record=True, factors=factors
         )
         fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
         coast = rec.get("coast")
@@ -327,7 +360,7 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         final, (fm, te, lines, reac, forces), code, it = _diffrax(
             model, table, speed, dt, state, cfg, law, fs
         )
-    j = jnp.arange(K) + 1 + n_trans  # the kept steps
+    j = jnp.arange(K) + 1 + n_trans + row0  # the kept steps
     mask = table.take(table.mask, j)  # (K, c)
     line_load = None
     if forces is not None:  # the line loads of the kept steps (N/m), (K, c)
@@ -375,14 +408,15 @@ def _one_speed(model: DynamicModel, table: MeshTable, static, speed, state, cfg:
         )
     )
     if not traced:
-        return response
+        return response if lead is None else (response, lead_end)
     # the histories at N_s = cfg.history_steps: every m-th record, ending on each period's last
     h = cfg.keep_periods * cfg.history_steps
 
     def take(a, m):
         return a[(jnp.arange(h) + 1) * m - 1]
 
-    return thinned(response, P // cfg.history_steps, take)
+    response = thinned(response, P // cfg.history_steps, take)
+    return response if lead is None else (response, lead_end)
 
 
 def _prep(
@@ -449,6 +483,16 @@ def _single(model: DynamicModel, prep: _Prepared, speed, state0, law: ContactLaw
     """One speed from ``state0`` = (X, Ẋ)."""
     start, _ = _starts(model, prep, state0, law)
     return _one_speed(model, prep.table, prep, speed, start, cfg, law)
+
+
+@eqx.filter_jit
+def _single_at(
+    model: DynamicModel, prep: _Prepared, speed, state0, row, lead, law: ContactLaw, cfg: _Config
+):
+    """One speed from ``state0`` = (X, Ẋ) at the table's step ``row``, ``lead`` steps before
+    its window (traced ints): (the response, the state where its window starts)."""
+    start = _with_acceleration(model, prep.table, state0[0], state0[1], law, row)
+    return _one_speed(model, prep.table, prep, speed, start, cfg, law, row, lead)
 
 
 @eqx.filter_jit

@@ -47,6 +47,10 @@ SETTLED_TOL = 1e-2
 #: a speed of a settled sweep runs at most CAP_FACTOR times the span of an independent run
 #: (:func:`settled_sweep`)
 CAP_FACTOR = 2
+#: where a window holds one scene period (judged by its return), a continued speed first runs
+#: block // LEAD_DIVISOR mesh periods (at least 1) unrecorded, its windows then from that mesh
+#: position (:func:`settled_sweep`)
+LEAD_DIVISOR = 8
 
 
 def modal_damping_ratios(modes: ModalAnalysis, damping) -> np.ndarray:
@@ -95,6 +99,38 @@ def _state_change(end, start, mass, stiffness, k_mesh: float, static_forces) -> 
     return float(np.sqrt(2.0 * k_mesh * max(energy, 0.0)) / np.min(static_forces))
 
 
+def _free_decay(modes, ratios, mass, t_w):
+    """The modal free decay over a window of t_w seconds: (Φ, ΦᵀM, G), G (n, 2, 2) per mode,
+    G_i = E_i (E_i − I)⁻¹ with E_i = exp(A_i t_w), A_i = [[0, 1], [−ω_i², −2 ξ_i ω_i]] the
+    mode's free vibration in (q_i, q̇_i) (ξ_i its damping ratio); zero for rigid modes. A
+    transient e₀ that decays freely over the window, e₁ = E e₀, leaves a return
+    Δ = e₁ − e₀ = (E − I) e₀, so e₁ = G Δ (:func:`_shoot`)."""
+    phi = np.asarray(modes.shapes, dtype=float)
+    om = np.asarray(modes.omega, dtype=float)
+    rigid = np.asarray(modes.rigid) | ~(om > 0)
+    g = np.zeros((om.size, 2, 2))
+    for i in np.flatnonzero(~rigid):
+        w, z = om[i], float(np.nan_to_num(ratios[i]))
+        a = np.array([[0.0, 1.0], [-w * w, -2.0 * z * w]])
+        lam, vec = np.linalg.eig(a * t_w)
+        e = np.real(vec @ np.diag(np.exp(lam)) @ np.linalg.inv(vec))
+        g[i] = e @ np.linalg.pinv(e - np.eye(2))
+    return phi, phi.T @ mass, g
+
+
+def _shoot(end, start, fly):
+    """A window's end state less the transient it still holds, estimated from its return
+    (end − start at the same mesh position) by the modes' free decay (:func:`_free_decay`):
+    the next window's start, closer to the periodic orbit (the modal damping model and the
+    mesh-averaged modes are an approximation: the next window is judged by its own return as
+    every window, so the estimate decides only how many windows a speed runs)."""
+    phi, pm, g = fly
+    dq, dv = pm @ (end[0] - start[0]), pm @ (end[1] - start[1])
+    e = np.einsum("nij,nj->ni", g, np.stack([dq, dv], axis=1))
+    dtype = np.asarray(end[0]).dtype
+    return (end[0] - phi @ e[:, 0]).astype(dtype), (end[1] - phi @ e[:, 1]).astype(dtype)
+
+
 def unsettled_lines(s: "SettledSweep", tol: float = SETTLED_TOL) -> list[str]:
     """One line per speed of the settled sweep ``s`` that reached its cap unsettled: the
     speed, its periods, its change over the static mesh force and the ``periods`` that run
@@ -119,12 +155,17 @@ class SettledSweep(NamedTuple):
         settled: ``change`` <= ``tol``, bool (S,).
         cap: the most periods a speed may run, int (S,): :data:`CAP_FACTOR` times the span of
             an independent run at that speed (``keep + ceil(t_s f_mesh)``), in whole windows,
-            at least four.
+            at least four, plus the lead (:func:`settled_sweep`; 0 where windows are judged
+            by their periodicity).
         settle_s: the settling time t_s (s) (:func:`settling_time`).
         f_min_Hz: the frequency of the mode that sets it (Hz).
         window: the periods of one window (a whole number of the scene's period), the last
             ``keep`` of them recorded.
         keep: the kept periods.
+        phase: the mesh position of each speed's windows and final state, in whole periods
+            of the first mesh from the scene's start, int (S,) (0 unless a lead ran:
+            :func:`settled_sweep`); a run continuing from ``sweep.results.final_state``
+            starts there (:func:`~jaxgear.dynamics.simulate`'s ``start_period``).
     """
 
     sweep: SweepResult
@@ -136,6 +177,7 @@ class SettledSweep(NamedTuple):
     f_min_Hz: float
     window: int
     keep: int
+    phase: np.ndarray | None = None
 
 
 def settled_sweep(
@@ -165,8 +207,15 @@ def settled_sweep(
     e.g. a train whose meshes repeat together only after the whole window), every window but
     the very first from rest is judged by its own return, its end state against its start,
     over 1 − ρ (ρ = SETTLE_TOL^(T_w / t_s), the slowest excited mode's decay over the window's
-    T_w: the transient its records can still hold), so that such a speed settles in two
-    windows (the speed change's transient in the first) rather than three; or until its cap: :data:`CAP_FACTOR` times the span an independent run needs (``keep +
+    T_w: the transient its records can still hold). There (Newmark), a continued speed first
+    runs a lead of ``window // LEAD_DIVISOR`` periods unrecorded (the speed change's fast
+    transient, the heavily damped mesh modes', dies in it), its windows then from the mesh
+    position where the lead ended (``phase``); a window that does not return within ``tol``
+    hands the next one its end state less the transient the modes' free decay over the window
+    leaves in it, estimated from its return (:func:`_shoot`), so that such a speed settles in
+    the lead and two windows rather than three (the next window is judged by its own return:
+    the estimate decides only how many windows run); or until its cap: :data:`CAP_FACTOR`
+    times the span an independent run needs (``keep +
     ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios), at least
     four windows. A speed at its cap unsettled has ``settled`` False (``jaxgear sweep`` and
     ``jaxgear run`` print one warning line per such speed, naming its change and the
@@ -212,7 +261,8 @@ def settled_sweep(
         model, integrator, contact, SteadyState(max(block, 2), keep), outputs or Outputs()
     )
     modes = model.averaged_modes()
-    t_s, w_min = settling_time(modes, modal_damping_ratios(modes, model.damping))
+    ratios = modal_damping_ratios(modes, model.damping)
+    t_s, w_min = settling_time(modes, ratios)
     angle = float(model.mesh_period_angle())
     if integrator.steps_per_period is None:
         ns = np.asarray(auto_steps_per_period(model, sp, modes), dtype=int)
@@ -249,30 +299,53 @@ def settled_sweep(
     mass = np.asarray(mass)
     stiff = np.asarray(structure) + np.asarray(modes.mesh_stiffness)
     k_mesh = float(model.mesh_stiffness_mean)
+    # records of one scene period (judged by their return) on Newmark: a continued speed's
+    # first window runs after a lead of `lead` periods, every window from the mesh position
+    # `phase` (one compiled program: DynamicModel.independent_at)
+    by_return = keep < 2 * q  # the records hold one scene period: no periodicity
+    at = by_return and isinstance(integrator, Newmark) and hasattr(model, "independent_at")
+    lead = max(block // LEAD_DIVISOR, 1) if at else 0
+    phases = np.zeros(sp.size, dtype=int)
+    phase = 0  # the mesh position (periods of the first mesh) of `state`
+
+    def run(n: int, speed: float, state, phase: int, ahead: int):
+        """(the window's response, the state where its window starts)."""
+        v = jnp.asarray(speed, model.dtype)
+        if not at:
+            return model.independent(prepare(n), v, start=state), state
+        return model.independent_at(prepare(n), v, phase * n, state, ahead * n)
+
     state, last_speed = None, None
     for done, i in enumerate(order):
         s = float(sp[i])
+        led = 0  # the lead this speed runs (a continued speed's)
         if state is not None:  # the same response over the mesh angle: Ẋ ∝ Ω
             state = (state[0], state[1] * (s / last_speed))
+            led = lead
+        ahead = led
         # the slowest excited mode's decay over one window at this speed: ρ = SETTLE_TOL^(T_w /
         # t_s) (T_w = block mesh periods); a window whose end state returns to its start within
         # d has at most d / (1 - ρ) of transient left at its start (a contraction by ρ)
         rho = SETTLE_TOL ** (block * angle / s / t_s) if math.isfinite(t_s) else 1.0
+        fly = _free_decay(modes, ratios, mass, block * angle / s) if by_return else None
         prev = None
         for b in range(int(blocks[i])):
-            r = _host(
-                model.independent(prepare(int(ns[i])), jnp.asarray(s, model.dtype), start=state)
-            )
-            periods[i] = (b + 1) * block
+            r, begin = run(int(ns[i]), s, state, phase, ahead)
+            r = _host(r)
+            periods[i] = led + (b + 1) * block
             if int(r.result) != 0:
-                state = None
+                state, phase = None, 0
                 break
+            if ahead:  # the window began after the lead: judged from there
+                phase, ahead = (phase + lead) % q, 0
+                state = begin
             fs = np.asarray([float(m.static_force) for m in r.meshes])
             fm = np.stack([np.asarray(m.mesh_force) / f for m, f in zip(r.meshes, fs)])
             # the last kept period against the one before (NaN: fewer than two scene periods)
             periodic = [float(m.periodicity) for m in r.meshes]
             per = max(float(np.nan_to_num(v)) for v in periodic)
-            if state is not None and not any(np.isfinite(periodic)):
+            judged = state is not None and not any(np.isfinite(periodic))
+            if judged:
                 # a window of one scene period (the kept periods hold one: no periodicity of
                 # the records, and the window before's records begin with the transient of the
                 # speed change): the window's own return, its end state against its start,
@@ -283,11 +356,15 @@ def settled_sweep(
                 change[i] = max(float(np.max(np.abs(fm - prev))), per)
             elif state is not None:  # a continued speed's first window: its end state
                 change[i] = max(_state_change(r.final_state, state, mass, stiff, k_mesh, fs), per)
-            state = (jax.device_put(r.final_state[0]), jax.device_put(r.final_state[1]))
+            end = (np.asarray(r.final_state[0]), np.asarray(r.final_state[1]))
+            if judged and not change[i] <= tol:  # the next window from the estimated orbit
+                end = _shoot(end, (np.asarray(state[0]), np.asarray(state[1])), fly)
+            state = (jax.device_put(end[0]), jax.device_put(end[1]))
             if change[i] <= tol:
                 break
             prev = fm
         last_speed = s
+        phases[i] = phase
         if thin and int(ns[i]) != n_min:
             one = jax.tree.map(lambda a: np.asarray(a)[None], r)
             r = jax.tree.map(lambda a: a[0], _subsample(one, int(ns[i]) // n_min))
@@ -296,7 +373,7 @@ def settled_sweep(
             progress(done + 1)
     results = jax.tree.map(lambda *a: jax.device_put(np.stack(a)), *records)
     settled = np.asarray(change <= tol)
-    cap = blocks * block
+    cap = blocks * block + lead
     return SettledSweep(
         SweepResult(jnp.asarray(sp, model.dtype), results),
         periods,
@@ -307,4 +384,5 @@ def settled_sweep(
         w_min / (2 * math.pi),
         int(block),
         keep,
+        phases,
     )

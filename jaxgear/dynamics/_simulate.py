@@ -5,7 +5,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 
 from .._contact import ContactLaw, ExactContact
-from .._util import check_real
+from .._util import check_integer, check_real
 from ._lumped import DynamicModel, LumpedRun, _prep
 from ._model import AbstractDynamicModel
 from ._result import DynamicResponse, checked
@@ -31,6 +31,7 @@ def simulate(
     state0=None,
     outputs: Outputs = Outputs(),
     throw: bool = True,
+    start_period: int = 0,
 ) -> DynamicResponse:
     """Steady-state dynamic response at one pinion speed.
 
@@ -55,6 +56,9 @@ def simulate(
             code 3). Default: none of them, blowup 100.
         throw: raise ``eqx.EquinoxRuntimeError`` on a non-zero result (``eqx.error_if``: works
             under ``jax.jit``, ``jax.vmap`` and ``jax.grad`` too).
+        start_period: the mesh position of ``state0``, whole periods of the first mesh from
+            the scene's start (an int >= 0; a lumped model with Newmark and a ``state0``: a
+            settled sweep's final state, :attr:`SettledSweep.phase`); default 0.
 
     Returns:
         :class:`DynamicResponse`.
@@ -70,6 +74,12 @@ def simulate(
     integrator, law, window, outputs = settings
     if state0 is not None and not model.continues:
         raise ValueError("state0: a hybrid model starts from its quasi-static state (allowed None)")
+    check_integer("start_period", start_period, 0)
+    if start_period and (state0 is None or not isinstance(integrator, Newmark)):
+        raise ValueError(
+            f"start_period = {start_period}: a Newmark run from a state0 only (allowed 0 "
+            "without a state0 or with a diffrax solver)"
+        )
     steps_per_period, modes = integrator.steps_per_period, None
     if steps_per_period is None:
         modes = model.averaged_modes()
@@ -80,7 +90,12 @@ def simulate(
     dtype = model.dtype
     if state0 is not None:
         state0 = (jnp.asarray(state0[0], dtype), jnp.asarray(state0[1], dtype))
-    r = model.independent(prepared, jnp.asarray(speed, dtype), start=state0)
+    if start_period:
+        r = model.independent_at(
+            prepared, jnp.asarray(speed, dtype), int(start_period) * steps_per_period, state0
+        )[0]
+    else:
+        r = model.independent(prepared, jnp.asarray(speed, dtype), start=state0)
     return checked(r, "simulate") if throw else r
 
 
