@@ -20,13 +20,10 @@ MEASURED = (
     "machine under load (1-minute load average 2.6-13.6) on 2026-11-28 "
     "(docs/bench/bench_run_cases_loaded_s42.json): idle wall time taken as 0.76 of the first "
     "run's CPU seconds and 0.85 of the second's, the medians of those ratios over the cases "
-    "measured idle (0.71-0.80 and 0.77-1.02); two-stage (its settled sweep) measured idle on "
+    "measured idle (0.71-0.80 and 0.77-1.02); two-stage and nrel-5mw-gearbox measured idle on "
     "2026-11-28 on that day's host of the 2-core VM (an Intel Xeon, about 2x the AMD EPYC's "
-    "speed on the test suite): 103.3/94.5 s (at a load of 2.3-3.0 on the AMD EPYC: 145/138 s, "
-    "docs/bench/bench_run_cases_two_stage_settled.json), then '~' 95/88 s: those times times the "
-    "CPU ratios of the session-43 settled sweep (a lead after each speed change) against the "
-    "code before, measured side by side under load (1-minute load 2.5-11.7) on 2026-11-28, "
-    "0.917 first and 0.929 second (166.5/152.7 and 140.2/130.3 CPU s). Under load, wall time is "
+    "speed on the test suite; docs/benchmarks.md, docs/bench/bench_gearbox_coupled.json). "
+    "Under load, wall time is "
     "several times longer (nrel-5mw-planetary: 703 s and 217 s at a load of 8-14)"
 )
 
@@ -75,8 +72,8 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         "gearbox of 3 stages (nrel-5mw-planetary, nrel-5mw-stage2, nrel-5mw-stage3), ratio "
         "1:96.3542",
         "3 of 3 stages",
-        44,
-        26,
+        104,
+        58,
         True,
     ),
     "nrel-5mw-planetary": (
@@ -119,9 +116,9 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
         "(hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
         "-",
-        95,
-        88,
-        False,
+        108,
+        87,
+        True,
     ),
 }
 
