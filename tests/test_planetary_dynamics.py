@@ -383,3 +383,44 @@ def _integrate(k_eff, c_eff, m, f, kmesh, x0, speed, cuts, t_keep, size, n):
         if hi > t_keep:
             peaks = np.maximum(peaks, (k[:, None] * (v @ sol.y[:size])).max(axis=1))
     return peaks
+
+
+def test_quasi_static_speed_resolved_engagement_jump_floating_sun():
+    """Issue 68's diagnostic on a floating sun (planar model, no sun bearing, a 10 µm pin
+    error) at a mesh frequency of 40 Hz, far below the stage's mesh modes (2.9 to 12 kHz), the
+    step resolving them (dt f = 12 kHz / (40 Hz x 9000) = 1/30). Constant meshes: the dynamic
+    K_γ is 1 (a floating sun between equally spaced planets balances only equal mesh forces, so
+    the pin error cannot unload a planet; the sun's centripetal load m_s Ω² e is 2e-8 of the
+    mesh force here), to 1e-6. Contact meshes (one or two lines of uniform stiffness: k steps by
+    r = 2 as a line enters): each planet's time-mean sun-mesh force is the quasi-static solve's
+    at the same travels (1e-6 of the nominal force: no 2 : 1 : 1 split), the largest force over
+    the nominal is r (the deflection is continuous across an instantaneous stiffness step, so
+    the entering line takes its share at once and the mesh force jumps by k_after / k_before:
+    measured 1.998, within 1 %), and the per-instant K_γ is 3 r / (r + 2) = 1.5 (the other two
+    planets at their nominal force at that instant; measured 1.502, within 1 %)."""
+    geo = geometry(**SEQ)
+    st = stage(geo, 3, sun_bearing=0.0)
+    errors = np.array([10e-6, 0.0, 0.0])
+    model = jg.PlanarPlanetary()
+    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    k_s, _ = jp.planetary_mesh_stiffness(model, st, contact, contact.positions(960))
+    k1 = np.asarray(k_s)[:, 0]
+    r = float(np.max(np.roll(k1, -1) / k1))
+    assert r == pytest.approx(2.0, rel=1e-9)  # one line to two of the same stiffness
+    run = jp.PlanetaryRun(TORQUE, steps_per_period=9000, periods=3, keep_periods=2,
+                          damping_ratio=ZETA, tangential_pin_errors=errors)
+    omega = jnp.asarray(_speed(st, contact, 40.0))
+    fs = TORQUE / (3 * float(st.sun.base_radius))
+    const = jp.planetary_dynamics(model, st, jg.ConstantMeshes(contact.mesh_period()), run,
+                                  omega)
+    assert float(const.k_gamma) == pytest.approx(1.0, abs=1e-6)
+    got = jp.planetary_dynamics(model, st, contact, run, omega)
+    assert int(got.result) == 0
+    f = np.asarray(got.sun_mesh_forces)
+    static = jg.planetary_quasi_static(model, st, contact, np.asarray(TORQUE), got.travel,
+                                       errors)
+    fq = np.asarray(static.sun_mesh_forces)
+    np.testing.assert_allclose(f.mean(axis=0), fq.mean(axis=0), atol=1e-6 * fs)
+    assert fq.max() / fs == pytest.approx(1.0, abs=1e-6)  # quasi-statically no peak
+    assert f.max() / fs == pytest.approx(r, rel=0.01)
+    assert float(got.k_gamma) == pytest.approx(3 * r / (r + 2), rel=0.01)
