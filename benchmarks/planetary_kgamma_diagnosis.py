@@ -54,7 +54,17 @@ def report(tag, m, meshes, speed, steps, pin=True):
           f"{f.max() / f.mean(1).max():.4f} | DF per planet {np.round(f.max(0) / fs, 4)} | "
           f"median/F0 {np.round(np.median(f, 0) / fs, 4)}")
     print(f"    at the K_γ instant: F/F0 = {np.round(f[k] / fs, 4)} (quasi-static there "
-          f"{np.round(fq[k] / fs, 4)})")
+          f"{np.round(fq[k] / fs, 4)}); peak-based K_γ max_j DF_j / mean_j DF_j "
+          f"{np.max(f.max(0)) / np.mean(f.max(0)):.4f}")
+    # where each planet's peak falls: steps after its sun mesh's stiffness steps up
+    k_s, _ = (np.asarray(a) for a in meshes.mesh_stiffness(m.kind, m.stage, d.travel))
+    for j in range(f.shape[1]):
+        ups = np.flatnonzero(k_s[1:, j] > k_s[:-1, j] * (1 + 1e-6)) + 1
+        p = int(np.argmax(f[:, j]))
+        lag = p - ups[ups <= p].max() if np.any(ups <= p) else None
+        print(f"    planet {j}: peak at step {p}, {lag} steps after its sun mesh's stiffness "
+              f"step up (x{k_s[p, j] / k_s[p - 1, j] if lag == 0 else float('nan'):.3f} there); "
+              f"F/F0 one step before {f[p - 1, j] / fs:.4f}" if p > 0 else "")
     print(f"  quasi-static: K_γ per instant {np.max(fq.max(1) / fq.mean(1)):.4f} | shares "
           f"{np.round(fq.mean(0) / fq.mean(), 4)} | max/F0 {np.round(fq.max(0) / fs, 4)} | "
           f"max|dyn - qs|/F0 {np.abs(f - fq).max() / fs:.4f} | "
