@@ -21,11 +21,15 @@ import time
 import jax
 
 jax.config.update("jax_enable_x64", True)
-import numpy as np  # noqa: E402
+import numpy as np
 
-from jaxgear.io import build_dynamic_model, load_case  # noqa: E402
-from jaxgear.planetary import (  # noqa: E402
-    ConstantMeshes, PlanetaryRun, planetary_dynamics, planetary_quasi_static)
+from jaxgear.io import build_dynamic_model, load_case
+from jaxgear.planetary import (
+    ConstantMeshes,
+    PlanetaryRun,
+    planetary_dynamics,
+    planetary_quasi_static,
+)
 
 PERIODS, KEEP = 3, 2
 
