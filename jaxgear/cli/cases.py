@@ -22,7 +22,8 @@ MEASURED = (
     "run's CPU seconds and 0.85 of the second's, the medians of those ratios over the cases "
     "measured idle (0.71-0.80 and 0.77-1.02); two-stage and nrel-5mw-gearbox measured idle on "
     "2026-11-28 on that day's host of the 2-core VM (an Intel Xeon, about 2x the AMD EPYC's "
-    "speed on the test suite; docs/benchmarks.md, docs/bench/bench_gearbox_coupled.json). "
+    "speed on the test suite; docs/bench/bench_gearbox_coupled.json, and the two-stage "
+    "timings beside docs/bench/bench_run_cases_two_stage_settled.json). "
     "Under load, wall time is "
     "several times longer (nrel-5mw-planetary: 703 s and 217 s at a load of 8-14)"
 )
