@@ -6,6 +6,7 @@ model's time-averaged mesh stiffness, modes and damping, with their per-mesh spl
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -24,7 +25,15 @@ from ._hybrid import HybridModel
 from ._lumped import DynamicModel
 from ._damping import AbstractDamping, CompositeDamping, RayleighDamping, damping_matrix
 from ._modal import modal_analysis
-from ._model import AbstractDynamicModel, _mean_mesh_matrix, _prepare, _Prepared, deviations_in
+from ._model import (
+    AbstractDynamicModel,
+    _held_or_prepare,
+    _HeldTable,
+    _mean_mesh_matrix,
+    _prepare,
+    _Prepared,
+    deviations_in,
+)
 
 __all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means"]
 
@@ -168,7 +177,12 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
         prep = _prepare_rows(scene, mods, torque, law, positions_per_pitch)
         if np.any(np.asarray(prep.static_result) != 0):
             raise eqx.EquinoxRuntimeError(failed)
-        return _averaged(scene, mods, torque, damping, prep, span)
+        model = _averaged(scene, mods, torque, damping, prep, span)
+        # the model holds these rows: its runs at this law and N_s reuse them (DynamicModel.held)
+        inputs = (model.scene, model.mods, model.torque)
+        periods = scene.scene_periods()
+        held = _HeldTable(prep, law, inputs, int(positions_per_pitch), periods)
+        return dataclasses.replace(model, held=held)
     # traced values (jit/vmap/grad): eqx.error_if raises EquinoxRuntimeError
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
@@ -220,7 +234,15 @@ def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactL
     period at the model's torque, the table, and each cell's mesh index (c,)."""
     check_integer("positions_per_pitch", positions_per_pitch, 4)
     law = contact_law(contact, model.damping.dtype)
-    prep = _prepare_rows(model.scene, model.mods, model.torque, law, positions_per_pitch)
+    prep = _held_or_prepare(
+        model.held,
+        model.scene,
+        model.mods,
+        model.torque,
+        law,
+        int(positions_per_pitch),
+        model.scene.scene_periods(),
+    )
     table = prep.table
     sizes = np.array([L * N for L, N in table.sizes])
     return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
