@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 from typing import NamedTuple
 
+import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
@@ -99,8 +100,17 @@ def contact_pressure(
     Returns:
         :class:`ContactPressure` (Pa, m), the shapes of ``line_load``.
     """
-    w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
-    R = jnp.where(result.cell_mask, relative_radius(pair, result.cell_s), 1.0)
+    return _hertz(
+        pair, result.line_load, result.cell_s, result.cell_mask, youngs_modulus, poisson_ratio
+    )
+
+
+@eqx.filter_jit
+def _hertz(pair, line_load, cell_s, cell_mask, youngs_modulus, poisson_ratio) -> ContactPressure:
+    """:func:`contact_pressure` on the result's arrays: one compiled program (its steps eager
+    were a dozen small programs per shape of a first run)."""
+    w = jnp.where(cell_mask, jnp.maximum(line_load, 0.0), 0.0)
+    R = jnp.where(cell_mask, relative_radius(pair, cell_s), 1.0)
     R = jnp.maximum(R, 1e-12)  # a cell exactly at a base circle: no load there anyway
     e_star = contact_modulus(youngs_modulus, poisson_ratio)
     return ContactPressure(

@@ -377,6 +377,26 @@ def test_gradient_wrt_tip_relief_matches_finite_differences(accessory):
     assert float(grad) == pytest.approx(fd, rel=2e-3, abs=1e-6)
 
 
+def test_held_table_serves_only_its_own_inputs(accessory):
+    """A built model holds its static rows (DynamicModel.held) for its runs at the build's law
+    and N_s; a model whose mods were replaced must not run on them: its static TE is that of
+    a model built afresh with the new mods (an independent build) and differs from the
+    original's (the stale rows would give the original's)."""
+    case, scene = accessory
+    kw = dict(contact=jg.ExactContact(), integrator=Newmark(16), window=SteadyState(6, 2))
+    model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)
+    assert model.held is not None
+    member = eqx.tree_at(lambda m: m.tip_relief_depth, model.mods.pinion, 30e-6)
+    swapped = eqx.tree_at(lambda m: m.mods.pinion, model, member)
+    fresh = dynamic_model(scene, swapped.mods, case.torque, positions_per_pitch=16)
+    te = {
+        name: np.asarray(simulate(m, 700.0, throw=False, **kw).static_te)
+        for name, m in (("own", model), ("swapped", swapped), ("fresh", fresh))
+    }
+    np.testing.assert_allclose(te["swapped"], te["fresh"], rtol=1e-12, atol=1e-18)
+    assert np.max(np.abs(te["swapped"] - te["own"])) > 1e-8
+
+
 def test_divergence_is_reported_not_silent(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=16)

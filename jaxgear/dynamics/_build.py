@@ -6,6 +6,7 @@ model's time-averaged mesh stiffness, modes and damping, with their per-mesh spl
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 
@@ -24,7 +25,15 @@ from ._hybrid import HybridModel
 from ._lumped import DynamicModel
 from ._damping import AbstractDamping, CompositeDamping, RayleighDamping, damping_matrix
 from ._modal import modal_analysis
-from ._model import AbstractDynamicModel, _mean_mesh_matrix, _prepare, _Prepared, deviations_in
+from ._model import (
+    AbstractDynamicModel,
+    _held_or_prepare,
+    _HeldTable,
+    _mean_mesh_matrix,
+    _prepare,
+    _Prepared,
+    deviations_in,
+)
 
 __all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means"]
 
@@ -168,7 +177,12 @@ def _build(scene, mods, torque, damping, law, positions_per_pitch, span=None):
         prep = _prepare_rows(scene, mods, torque, law, positions_per_pitch)
         if np.any(np.asarray(prep.static_result) != 0):
             raise eqx.EquinoxRuntimeError(failed)
-        return _averaged(scene, mods, torque, damping, prep, span)
+        model = _averaged(scene, mods, torque, damping, prep, span)
+        # the model holds these rows: its runs at this law and N_s reuse them (DynamicModel.held)
+        inputs = (model.scene, model.mods, model.torque)
+        periods = scene.scene_periods()
+        held = _HeldTable(prep, law, inputs, int(positions_per_pitch), periods)
+        return dataclasses.replace(model, held=held)
     # traced values (jit/vmap/grad): eqx.error_if raises EquinoxRuntimeError
     torque = eqx.error_if(
         torque, ~(torque > 0), "dynamic_model: torque must be > 0 N·m (the pinion drives)"
@@ -216,14 +230,53 @@ def _loaded_kl(prep: _Prepared) -> Float[Array, "S c"]:
 
 
 def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactLaw):
-    """The loaded cells' k l w (N/m), (S, c), over ``positions_per_pitch`` positions of a mesh
-    period at the model's torque, the table, and each cell's mesh index (c,)."""
+    """The table and static rows over ``positions_per_pitch`` positions of a mesh period at the
+    model's torque (the model's own when it holds them, :attr:`DynamicModel.held`), and each
+    cell's mesh index (c,), a tuple (static)."""
     check_integer("positions_per_pitch", positions_per_pitch, 4)
     law = contact_law(contact, model.damping.dtype)
-    prep = _prepare_rows(model.scene, model.mods, model.torque, law, positions_per_pitch)
-    table = prep.table
-    sizes = np.array([L * N for L, N in table.sizes])
-    return _loaded_kl(prep), table, np.repeat(np.arange(sizes.size), sizes)
+    prep = _held_or_prepare(
+        model.held,
+        model.scene,
+        model.mods,
+        model.torque,
+        law,
+        int(positions_per_pitch),
+        model.scene.scene_periods(),
+    )
+    sizes = np.array([L * N for L, N in prep.table.sizes])
+    return prep, tuple(int(k) for k in np.repeat(np.arange(sizes.size), sizes))
+
+
+# one compiled program each (their steps eager were some 30 small programs of a first run)
+@eqx.filter_jit
+def _stiffness_means(prep: _Prepared, of_mesh: tuple) -> Float[Array, " m"]:
+    kl, of_mesh = _loaded_kl(prep), np.asarray(of_mesh)
+    # the barrier: each mesh's sum over its cells, then its mean over the steps (XLA would
+    # merge the two reductions into one, summing in another order)
+    return jnp.stack(
+        [
+            jnp.mean(
+                jax.lax.optimization_barrier(
+                    jnp.sum(jnp.where(jnp.asarray(of_mesh == k), kl, 0.0), axis=1)
+                )
+            )
+            for k in range(int(of_mesh.max()) + 1)
+        ]
+    )
+
+
+@eqx.filter_jit
+def _energy_shares(prep: _Prepared, modes, of_mesh: tuple) -> Float[Array, "m n"]:
+    kl, table, of_mesh = _loaded_kl(prep), prep.table, np.asarray(of_mesh)
+    w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
+    out = []
+    for k in range(int(of_mesh.max()) + 1):
+        kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
+        Kk = _mean_mesh_matrix(table, kk)
+        strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
+        out.append(jnp.where(modes.rigid, 0.0, strain / w2))
+    return jnp.stack(out)
 
 
 def mesh_stiffness_means(
@@ -232,13 +285,7 @@ def mesh_stiffness_means(
     """Each mesh's time-averaged loaded stiffness k̄_k = ⟨Σ w k l⟩ over its cells (N/m), shape
     (meshes,), over ``positions_per_pitch`` positions of a mesh period at the model's torque
     (the split of :attr:`DynamicModel.mesh_stiffness_mean`)."""
-    kl, _, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
-    return jnp.stack(
-        [
-            jnp.mean(jnp.sum(jnp.where(jnp.asarray(of_mesh == k), kl, 0.0), axis=1))
-            for k in range(int(of_mesh.max()) + 1)
-        ]
-    )
+    return _stiffness_means(*_mesh_parts(model, positions_per_pitch, contact))
 
 
 def mesh_energy_shares(
@@ -249,16 +296,8 @@ def mesh_energy_shares(
     positions of a mesh period at the model's torque (the split of the model's K̄_m, which its
     modes diagonalise); the meshes' rows sum to the mode's mesh share (:attr:`ModalAnalysis.
     mesh_energy`, (2.36)) up to the averaging grid. 0 for the rigid modes."""
-    kl, table, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
-    modes = model.modes
-    w2 = jnp.where(modes.rigid, 1.0, modes.omega**2)
-    out = []
-    for k in range(int(of_mesh.max()) + 1):
-        kk = jnp.where(jnp.asarray(of_mesh == k)[None, :], kl, 0.0)
-        Kk = _mean_mesh_matrix(table, kk)
-        strain = jnp.sum(modes.shapes * (Kk @ modes.shapes), axis=0)
-        out.append(jnp.where(modes.rigid, 0.0, strain / w2))
-    return jnp.stack(out)
+    prep, of_mesh = _mesh_parts(model, positions_per_pitch, contact)
+    return _energy_shares(prep, model.modes, of_mesh)
 
 
 # --------------------------------------------------------------------------------------------

@@ -26,7 +26,8 @@ from ._modal import ModalAnalysis, excited_omega
 from ._model import (
     AbstractDynamicModel,
     MeshTable,
-    _prepare,
+    _held_or_prepare,
+    _HeldTable,
     _Prepared,
     cell_geometry,
     deviation_periods,
@@ -65,6 +66,12 @@ class DynamicModel(AbstractDynamicModel):
             deviations (static; None: the period over which they repeat,
             :func:`~jaxgear.dynamics.deviation_periods`). See
             :func:`~jaxgear.dynamics.span_periods`.
+        held: the mesh table and static rows the build solved (over the scene's period at
+            its ``positions_per_pitch`` with its contact law; None: none held): a run, a
+            settled sweep or :func:`~jaxgear.dynamics.mesh_stiffness_means` asking for these
+            very inputs reuses them instead of solving the static contact problem at every
+            step of the period again; any other (another law or N_s, the model's scene, mods or torque replaced, traced)
+            solves its own.
     """
 
     scene: DynamicScene
@@ -74,6 +81,7 @@ class DynamicModel(AbstractDynamicModel):
     modes: ModalAnalysis
     mesh_stiffness_mean: Float[Array, ""]
     deviation_span: int | None = eqx.field(static=True, default=None)
+    held: _HeldTable | None = None
 
     continues: ClassVar[bool] = True
 
@@ -433,7 +441,8 @@ def _prep(
     ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
     the largest: :attr:`MeshTable.steps`)."""
     periods = model.span_periods()
-    return _prepare(
+    return _held_or_prepare(
+        model.held,
         model.scene,
         model.mods,
         model.torque,

@@ -503,6 +503,70 @@ class _Prepared(eqx.Module):
     dofs: tuple | None = eqx.field(static=True, default=None)
 
 
+class _HeldTable(eqx.Module):
+    """A built model's own table and static rows (:func:`_prepare` as a run calls it: the
+    scene's period, each mesh over its own period, condensed, no traced N_s), with what they
+    were solved for: the model's ``(scene, mods, torque)`` (the very arrays), the contact law,
+    N_s and the periods. :func:`_held_or_prepare` hands them back to a call with these inputs
+    instead of solving them again; any other call (another law or N_s, a model whose scene,
+    mods or torque were replaced, traced values) solves its own."""
+
+    prep: _Prepared
+    law: ContactLaw
+    inputs: tuple
+    steps_per_period: int = eqx.field(static=True)
+    periods: int = eqx.field(static=True)
+
+    def serves(self, inputs, law, steps_per_period, periods) -> bool:
+        """Whether these rows are :func:`_prepare`'s of ``inputs`` = (scene, mods, torque),
+        ``law``, ``steps_per_period`` and ``periods`` (own periods, condensed, steps None):
+        the same arrays (identity, concrete only) and a law of equal values."""
+        if int(steps_per_period) != self.steps_per_period or int(periods) != self.periods:
+            return False
+        mine, theirs = jax.tree.flatten(self.inputs), jax.tree.flatten(inputs)
+        if mine[1] != theirs[1] or any(a is not b for a, b in zip(mine[0], theirs[0])):
+            return False
+        if any(isinstance(a, jax.core.Tracer) for a in mine[0]):
+            return False
+        held, asked = jax.tree.flatten(self.law), jax.tree.flatten(law)
+        if type(self.law) is not type(law) or held[1] != asked[1]:
+            return False
+        for a, b in zip(held[0], asked[0]):
+            if isinstance(a, jax.core.Tracer) or isinstance(b, jax.core.Tracer):
+                return False
+            a, b = np.asarray(a), np.asarray(b)
+            if a.dtype != b.dtype or a.shape != b.shape or not np.array_equal(a, b):
+                return False
+        return True
+
+
+def _held_or_prepare(
+    held: _HeldTable | None,
+    scene,
+    mods,
+    torque,
+    law: ContactLaw,
+    steps_per_period: int,
+    periods: int,
+    own_periods: bool = True,
+    condensed: bool = True,
+    steps=None,
+) -> _Prepared:
+    """:func:`_prepare`'s table and static rows, ``held``'s when it serves these arguments
+    (:meth:`_HeldTable.serves`; the same result: the same program on the same inputs)."""
+    if (
+        held is not None
+        and own_periods
+        and condensed
+        and steps is None
+        and held.serves((scene, mods, torque), law, steps_per_period, periods)
+    ):
+        return held.prep
+    return _prepare(
+        scene, mods, torque, law, steps_per_period, periods, own_periods, condensed, steps
+    )
+
+
 @eqx.filter_jit
 def _prepare(
     scene,
