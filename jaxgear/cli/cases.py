@@ -117,8 +117,8 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
         "(hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
         "-",
-        108,
-        87,
+        82,
+        73,
         True,
     ),
 }
