@@ -80,6 +80,16 @@ def test_willis_ratio_of_the_stepped_train(input, output, ratio):
     assert np.max(np.abs(k @ q)) < 1e-9 * np.max(np.abs(k)) * np.max(np.abs(q))
 
 
+def test_carrier_frequency_of_the_stepped_stage():
+    """jaxgear.gearbox.carrier_frequencies on a compound stage (ring held, sun in at 1 rad/s):
+    the carrier turns at 1 / (1 + z_r z_p1 / (z_s z_p2)) rad/s, from the tooth counts (the
+    stage's frame speed, as a planetary stage's; a parallel pair's is 0)."""
+    chain = gb.GearboxTorsional((_stage(cells=False),), [])
+    got = float(gb.carrier_frequencies(chain, 1.0)[0])
+    assert got == pytest.approx(1.0 / (1 + Z_R * Z_P1 / (Z_S * Z_P2)) / (2 * math.pi),
+                                rel=1e-12)
+
+
 # -- the torsional matrices and modes ---------------------------------------------------------
 
 

@@ -121,6 +121,12 @@ class AbstractGearboxStage(eqx.Module):
         constant springs sets no time scale of a run."""
         return True
 
+    def carrier_speed(self, input_speed):
+        """The speed (rad/s) of the frame the stage's coordinates are written in (a planetary
+        stage: its carrier's) at its input member's ``input_speed``; default 0 (the fixed
+        frame: a parallel pair)."""
+        return 0.0 * as_float(input_speed)
+
     def speed_terms(self, carrier_speed):
         """(C_Omega, K_Omega): the rotating frame's damping and stiffness terms (Coriolis,
         centripetal) on :meth:`coordinates` at the stage's carrier speed (rad/s); zero for a

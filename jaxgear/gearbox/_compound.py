@@ -414,6 +414,10 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
         rows = rows.at[1, _INDEX[self._held()]].set(1.0).at[2, _INDEX[self.input]].set(1.0)
         return jnp.linalg.solve(rows, jnp.stack([0.0 * w, 0.0 * w, w]))
 
+    def carrier_speed(self, input_speed):
+        """The carrier's speed (rad/s) at the input member's ``input_speed`` (:meth:`speeds`)."""
+        return self.speeds(input_speed)[0]
+
     def kinematics(self, input_speed, input_torque):
         r_s, r_p1, r_p2, r_r = self.base_radii
         w = self.speeds(input_speed)

@@ -191,8 +191,7 @@ def _assemble(chain, run, input_speed):
     kin = _kinematics(chain, input_speed, run.input_torque)
     c_w, k_w = [], []
     for s, (w, _, _) in zip(chain.stages, kin, strict=True):
-        carrier = s.carrier_speed(w) if hasattr(s, "carrier_speed") else jnp.zeros((), dtype)
-        c_k, k_k = s.speed_terms(carrier)
+        c_k, k_k = s.speed_terms(s.carrier_speed(w))
         c_w.append(c_k)
         k_w.append(k_k)
     c_omega, k_omega = embed(c_w), embed(k_w)

@@ -100,8 +100,7 @@ def carrier_frequencies(chain: GearboxTorsional, input_speed) -> Float[Array, " 
     kin = _kinematics(chain, as_float(input_speed), 1.0)
     out = []
     for s, (w, _, _) in zip(chain.stages, kin, strict=True):
-        c = s.carrier_speed(w) if isinstance(s, PlanetaryGearboxStage) else 0.0 * w
-        out.append(c / (2.0 * math.pi))
+        out.append(s.carrier_speed(w) / (2.0 * math.pi))
     return jnp.stack(out)
 
 
