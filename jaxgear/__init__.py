@@ -31,6 +31,7 @@ from ._contact import (
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )
+from ._extended import CornerContact as CornerContact, extension_table as extension_table
 from ._deviations import (
     Deviations as Deviations,
     GearDeviations as GearDeviations,

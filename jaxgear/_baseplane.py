@@ -23,6 +23,7 @@ from jax.scipy.linalg import block_diag
 from jaxtyping import Array, Bool, Float, Int
 
 from ._backlash import cell_flank, coast_phase
+from ._extended import extension_table, line_range
 from ._geometry import GearPair
 from ._util import as_float
 
@@ -174,6 +175,14 @@ class MeshModel(eqx.Module):
             θ_c − θ (docs/backlash.md, "Coast flank").
         coast: static; True: the cells hold the coast flanks too (rows ``n_drive_lines`` on,
             ``flank`` −1), whose contact closes when the motion takes up the backlash.
+        extension_span: (S_a, S_r) (m), how far the cells reach before the theoretical start of
+            contact (s ∈ [−S_a, 0)) and after its end (s ∈ (g_α, g_α + S_r]); (0, 0) without
+            ``extended_contact``.
+        extension_gap: the tip-corner gaps there (m, transverse, :class:`jaxgear.CornerContact`),
+            shape (2, n_ext): row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u equally spaced
+            on [0, 1].
+        extended_contact: static; True: contact beyond the theoretical path (premature
+            engagement and late disengagement at the tip corners; docs/extended-contact.md).
         n_lines: static, the rows of the cell arrays (drive and coast lines with ``coast``).
     """
 
@@ -192,6 +201,9 @@ class MeshModel(eqx.Module):
     backlash: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     coast_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     coast: bool = eqx.field(static=True, default=False)
+    extension_span: Float[Array, " 2"] = eqx.field(converter=as_float, default=(0.0, 0.0))
+    extension_gap: Float[Array, "2 n_ext"] = eqx.field(converter=as_float, default=((0.0, 0.0),) * 2)
+    extended_contact: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
         if self.n_slices < 1:
@@ -205,6 +217,7 @@ class MeshModel(eqx.Module):
         stiffness_k: np.ndarray,
         n_slices: int,
         coast: bool = False,
+        extended_contact: bool = False,
     ) -> MeshModel:
         """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
 
@@ -215,6 +228,9 @@ class MeshModel(eqx.Module):
             n_slices: slices N per contact line (>= 1).
             coast: also lay out the coast flanks (the second base plane) with the pair's
                 backlash (docs/backlash.md); default False: the drive flanks alone.
+            extended_contact: also lay out cells beyond the theoretical path of contact, where
+                the tip corners can touch the mating flanks under load
+                (:func:`jaxgear.extension_table`; docs/extended-contact.md).
         """
         if int(n_slices) != n_slices or n_slices < 1:
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
@@ -224,11 +240,15 @@ class MeshModel(eqx.Module):
                 "stiffness_s must be an equally spaced, increasing table of >= 2 points "
                 "(as stiffness_table returns)"
             )
-        lead = pair.face_width * math.tan(pair.base_helix_angle)
-        # s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt): a line can reach [0, g_α] only for
-        # 0 <= i <= (g_α + b tan β_b)/p_bt (the smallest s of line i is i p_bt − b tan β_b)
-        first = 0
-        last = int(math.floor((pair.path_of_contact + lead) / pair.base_pitch * (1 + 1e-12)))
+        span, gap = (0.0, 0.0), np.zeros((2, 2))
+        if extended_contact:
+            if coast:
+                raise ValueError(
+                    "mesh.extended_contact with backlash (coast flanks) is not modelled: set "
+                    "mesh.extended_contact = false or drop the tooth thickness allowances"
+                )
+            span, gap = extension_table(pair)
+        first, last = line_range(pair, span)
         n_lines = last - first + 1
         backlash = coast_angle = 0.0
         if coast:
@@ -250,6 +270,9 @@ class MeshModel(eqx.Module):
             backlash=backlash,
             coast_angle=coast_angle,
             coast=bool(coast),
+            extension_span=span,
+            extension_gap=gap,
+            extended_contact=bool(extended_contact),
         )
 
     @property
@@ -294,7 +317,8 @@ class MeshModel(eqx.Module):
             s = jnp.concatenate([s, layout(self.coast_angle - theta)])
             flank = jnp.concatenate([flank, -flank])
             line = jnp.concatenate([line, line])
-        mask = (s >= 0.0) & (s <= self.path_of_contact)
+        lo, hi = -self.extension_span[0], self.path_of_contact + self.extension_span[1]
+        mask = (s >= lo) & (s <= hi)
         k = _interp_uniform(s, self.stiffness_s, self.stiffness_k)
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
         zz = jnp.broadcast_to(z[None, :], s.shape)
@@ -309,6 +333,20 @@ class MeshModel(eqx.Module):
             theta=jnp.asarray(theta, s.dtype),
             flank=flank,
         )
+
+    def extension_separation(self, s: Float[Array, "..."]) -> Float[Array, "..."]:
+        """The flank-normal tip-corner gap (m) at base-plane coordinates ``s`` (m): 0 on the
+        theoretical path [0, g_α] and without ``extended_contact``; beyond it the table
+        ``extension_gap`` × cos β_b (interpolated)."""
+        if not self.extended_contact:
+            return jnp.zeros_like(s)
+        n = self.extension_gap.shape[1]
+        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
+        span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
+        before = _interp_uniform(-s / span[0], grid, self.extension_gap[0])
+        after = _interp_uniform((s - self.path_of_contact) / span[1], grid, self.extension_gap[1])
+        gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
+        return gap * jnp.cos(self.base_helix_angle)
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""

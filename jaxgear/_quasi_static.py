@@ -178,13 +178,20 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     angle ``theta``) add to e (docs/deviations.md, "Initial separation").
     """
     cells = mesh.cells(theta)
-    e = mods.deviation(cells.s / mesh.path_of_contact, cells.z / mesh.face_width)
+    # beyond the theoretical path (``mesh.extended_contact``) the tip corner touches the mating
+    # flank: the deviations are the path ends' and the corner's gap adds (docs/extended-contact.md)
+    on_path = cells
+    if mesh.extended_contact:
+        on_path = eqx.tree_at(lambda c: c.s, cells, jnp.clip(cells.s, 0.0, mesh.path_of_contact))
+    e = mods.deviation(on_path.s / mesh.path_of_contact, cells.z / mesh.face_width)
     deviations = mods.deviations
     if deviations is not None:
         check_no_coast(mesh, "deviations (per-tooth ISO 1328-1)")
-        e = e + deviations.deviation(mesh, cells)
+        e = e + deviations.deviation(mesh, on_path)
     # with coast flanks (docs/backlash.md) their gap holds the backlash
     e_max, delta0 = flank_separation(mesh, cells, e)
+    if mesh.extended_contact:
+        delta0 = delta0 + jnp.where(cells.mask, mesh.extension_separation(cells.s), 0.0)
     return cells, e_max, delta0
 
 

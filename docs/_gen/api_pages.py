@@ -39,7 +39,7 @@ PACKAGES = (
 #: module no section names goes to "Other" (a new module shows up, never disappears).
 SECTIONS = {
     "jaxgear": (
-        ("Geometry", ("_geometry", "_internal", "_backlash")),
+        ("Geometry", ("_geometry", "_internal", "_backlash", "_extended")),
         ("Contact and quasi-statics", ("_quasi_static", "_contact", "_compiled", "_results",
                                        "_maps", "_pressure", "_spectrum")),
         ("Mesh stiffness", ("_stiffness", "_stiffness_models", "_baseplane", "_cell_factor",

@@ -51,6 +51,9 @@ class MeshSettings:
             names it, :mod:`jaxgear.io` builds it).
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
+        extended_contact: contact beyond the theoretical path of contact (premature engagement
+            and late disengagement at the tip corners; :meth:`jaxgear.MeshModel.from_pair`,
+            docs/extended-contact.md).
     """
 
     youngs_modulus: float = 210e9
@@ -60,6 +63,7 @@ class MeshSettings:
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
+    extended_contact: bool = False
 
     def mesh_settings(self) -> dict:
         """These settings as keywords (``{field: value}``), for another case that shares them."""
@@ -605,7 +609,12 @@ class Case(MeshSettings):
             specific_load=self.specific_load(torque),
         )
         return MeshModel.from_pair(
-            self.pair, s, k, self.slices if slices is None else slices, coast=self.coast
+            self.pair,
+            s,
+            k,
+            self.slices if slices is None else slices,
+            coast=self.coast,
+            extended_contact=self.extended_contact,
         )
 
 

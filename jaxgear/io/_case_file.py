@@ -72,6 +72,7 @@ _KEY_TABLES: dict[str, set] = {
         "smooth_width_um",
         "foundation",
         "fe2d_size_um",
+        "extended_contact",
     },
 }
 #: a pair case's tables: the rating's keys too (a train is not rated yet: its parser keeps
@@ -299,6 +300,10 @@ def parse_material(data: dict) -> tuple[float, float, float]:
     return E, nu, rho
 
 
+#: ``[mesh] extended_contact`` when a case file does not say (docs/extended-contact.md)
+EXTENDED_CONTACT_DEFAULT = False
+
+
 def parse_mesh_settings(data: dict, normal_module: float) -> dict:
     """``[mesh]``: the :class:`Case` fields of the mesh model (stiffness model and its
     settings, slices, positions per pitch, smooth width); ``normal_module`` (m) scales the
@@ -363,6 +368,8 @@ def parse_mesh_settings(data: dict, normal_module: float) -> dict:
         "slices": slices,
         "positions_per_pitch": ppp,
         "smooth_width": width,
+        # contact beyond the theoretical path (docs/extended-contact.md)
+        "extended_contact": sc.boolean(m, "extended_contact", "mesh", EXTENDED_CONTACT_DEFAULT),
     }
 
 

@@ -181,12 +181,27 @@ class GearMesh(eqx.Module):
             self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
 
+    def _on_member(self, cells: Cells, side: float) -> Cells:
+        """The cells as gear ``side`` (+1 driving, −1 driven) carries them: beyond the
+        theoretical path (``extended_contact``) a tooth touches with its tip corner, so the
+        tip owner's contact stays at its tip (s ≤ g_α driving, s ≥ 0 driven) while the flank
+        owner's runs down its flank (docs/extended-contact.md). Along the line of action the
+        place does not change a rigid gear's vector; a condensed body's mortar needs it."""
+        plane = self.base_plane
+        if not plane.extended_contact:
+            return cells
+        s = jnp.minimum(cells.s, plane.path_of_contact) if side > 0 else jnp.maximum(cells.s, 0.0)
+        return eqx.tree_at(lambda c: c.s, cells, s)
+
     def _parts(self, members: tuple, cells: Cells, pad: int):
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         if not self.base_plane.coast:
-            P, line = self.points(cells), self.line()
+            line = self.line()
             return [
-                members[g].window(P, cells.mask, line, theta, self.base_plane, side, pad)
+                members[g].window(
+                    self.points(self._on_member(cells, side)), cells.mask, line, theta,
+                    self.base_plane, side, pad,
+                )
                 for g, side in zip(self.gears, (1.0, -1.0), strict=True)
             ]
         return self._flank_parts(members, cells, theta, pad)
