@@ -54,7 +54,12 @@ from ._internal import (
     PlanetaryGeometry as PlanetaryGeometry,
     planetary_geometry as planetary_geometry,
 )
-from ._maps import harris_map as harris_map, load_map as load_map
+from ._maps import (
+    LoadedPath as LoadedPath,
+    harris_map as harris_map,
+    load_map as load_map,
+    loaded_path as loaded_path,
+)
 from ._modifications import (
     AbstractEndReliefEdges as AbstractEndReliefEdges,
     AbstractReliefShape as AbstractReliefShape,

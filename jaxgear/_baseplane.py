@@ -12,6 +12,7 @@ with a mask for the cells inside [0, g_α], so shapes never change under jit.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from typing import NamedTuple
@@ -248,7 +249,8 @@ class MeshModel(eqx.Module):
                     "mesh.extended_contact = false or drop the tooth thickness allowances"
                 )
             span, gap = extension_table(pair)
-        first, last = line_range(pair, span)
+        lead = pair.face_width * math.tan(pair.base_helix_angle)
+        first, last = line_range(pair.path_of_contact, pair.base_pitch, lead, span)
         n_lines = last - first + 1
         backlash = coast_angle = 0.0
         if coast:
@@ -273,6 +275,26 @@ class MeshModel(eqx.Module):
             extension_span=span,
             extension_gap=gap,
             extended_contact=bool(extended_contact),
+        )
+
+    def with_extended_contact(self, extended: bool) -> MeshModel:
+        """This mesh model with (``True``) or without (``False``) its cells beyond the
+        theoretical path; the gap table of :meth:`from_pair` must be there to turn it on.
+
+        Raises:
+            ValueError: turning it on for a model built without ``extended_contact``.
+        """
+        if extended == self.extended_contact:
+            return self
+        if extended:
+            raise ValueError(
+                "extended_contact = True needs the gap table: build the mesh model with "
+                "MeshModel.from_pair(..., extended_contact=True)"
+            )
+        lead = self.face_width * jnp.tan(self.base_helix_angle)
+        first, last = line_range(self.path_of_contact, self.base_pitch, lead)
+        return dataclasses.replace(
+            self, n_lines=last - first + 1, first_line=first, extended_contact=False
         )
 
     @property
@@ -317,7 +339,9 @@ class MeshModel(eqx.Module):
             s = jnp.concatenate([s, layout(self.coast_angle - theta)])
             flank = jnp.concatenate([flank, -flank])
             line = jnp.concatenate([line, line])
-        lo, hi = -self.extension_span[0], self.path_of_contact + self.extension_span[1]
+        lo, hi = 0.0, self.path_of_contact
+        if self.extended_contact:  # the cells beyond the theoretical path
+            lo, hi = -self.extension_span[0], hi + self.extension_span[1]
         mask = (s >= lo) & (s <= hi)
         k = _interp_uniform(s, self.stiffness_s, self.stiffness_k)
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)

@@ -176,12 +176,12 @@ def extension_table(pair: AbstractGearPair, points: int = EXTENSION_POINTS) -> t
     return (float(spans[0]), float(spans[1])), gap
 
 
-def line_range(pair: AbstractGearPair, span=(0.0, 0.0)) -> tuple[int, int]:
+def line_range(path_of_contact, base_pitch, lead, span=(0.0, 0.0)) -> tuple[int, int]:
     """(first, last): the tooth-pair indices i of the contact lines s = roll + i p_bt − z tan β_b
-    (roll ∈ [0, p_bt)) that can reach the cells' range [−S_a, g_α + S_r] (``span`` = (S_a,
-    S_r), m): line i spans [i p_bt − b tan β_b, (i + 1) p_bt)."""
-    lead = pair.face_width * math.tan(pair.base_helix_angle)
-    pb = pair.base_pitch
+    (roll ∈ [0, p_bt)) that can reach the cells' range [−S_a, g_α + S_r] (g_α
+    ``path_of_contact``, p_bt ``base_pitch``, ``lead`` b tan β_b, ``span`` = (S_a, S_r), all
+    m): line i spans [i p_bt − b tan β_b, (i + 1) p_bt)."""
+    pb = float(base_pitch)
     first = -int(math.ceil(span[0] / pb * (1 - 1e-12))) if span[0] > 0 else 0
-    last = int(math.floor((pair.path_of_contact + span[1] + lead) / pb * (1 + 1e-12)))
+    last = int(math.floor((float(path_of_contact) + span[1] + float(lead)) / pb * (1 + 1e-12)))
     return first, last

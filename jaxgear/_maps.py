@@ -1,19 +1,25 @@
-"""Maps derived from quasi-static results: the load map over a tooth's passage and the Harris map
-(TE peak-to-peak against torque)."""
+"""Maps derived from quasi-static results: the load map over a tooth's passage, the Harris map
+(TE peak-to-peak against torque) and the loaded path of contact against torque (with contact
+beyond the theoretical path; docs/extended-contact.md)."""
 
 from __future__ import annotations
 
 import math
 
+import equinox as eqx
+import jax
+import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Float
 
+from ._baseplane import MeshModel, mesh_positions
 from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
-from ._quasi_static import QuasiStaticResult, at_torques
+from ._quasi_static import QuasiStaticResult, at_torques, per_mesh_modifications, separation
 from ._results import ContactResult, raise_if_failed
 from .scenes import cache_window_compliance
 
-__all__ = ["harris_map", "load_map"]
+__all__ = ["LoadedPath", "harris_map", "load_map", "loaded_path"]
 
 
 def load_map(
@@ -80,3 +86,103 @@ def harris_map(
     )
     raise_if_failed(result, ContactResult, "harris_map")
     return np.asarray(te)
+
+
+class LoadedPath(eqx.Module):
+    """The loaded path of contact of one mesh at each torque (arrays shaped (T,)).
+
+    Attributes:
+        torque: pinion torques (N·m).
+        start, end: base-plane coordinates s (m) of the loaded path's ends: the smallest and
+            the largest s of a loaded cell over the period (s < 0: premature engagement, s >
+            g_α: late disengagement; 0 and g_α within a position's step at zero load).
+        relief_start, relief_end: flank-normal depth (m) of extra tip relief at the driven
+            gear's tip (``relief_start``) and at the pinion's tip (``relief_end``) that keeps
+            its corner off the mating flank: the largest approach of the mesh without contact
+            beyond the path (the theoretical model at the same torque) less the corner's
+            separation, over the cells beyond each end; 0 where no corner touches.
+        path_of_contact: g_α (m), a scalar.
+    """
+
+    torque: Float[Array, " T"]
+    start: Float[Array, " T"]
+    end: Float[Array, " T"]
+    relief_start: Float[Array, " T"]
+    relief_end: Float[Array, " T"]
+    path_of_contact: Float[Array, ""]
+
+
+def loaded_path(
+    mesh: MeshModel,
+    modifications: Modifications | None,
+    torques,
+    *,
+    positions_per_pitch: int = 256,
+) -> LoadedPath:
+    """The loaded path of contact of the rigid pair ``mesh`` at pinion torques ``torques``:
+    beside the Harris map (:func:`harris_map`, the TE's peak-to-peak over torque), where
+    contact really starts and ends with the cells beyond the theoretical path, and the tip
+    relief that would keep the corners off the mating flanks (docs/extended-contact.md).
+
+    Args:
+        mesh: a :class:`~jaxgear.MeshModel` built with ``extended_contact=True``.
+        modifications: its flank modifications (``None``: perfect involutes).
+        torques: pinion torques (N·m), concrete, > 0, shape (T,).
+        positions_per_pitch: positions per mesh period (>= 2); the ends are resolved to one
+            position's roll, p_bt / ``positions_per_pitch``.
+
+    Returns:
+        :class:`LoadedPath`.
+
+    Raises:
+        ValueError: ``mesh`` not built with ``extended_contact``; bad torques or positions.
+    """
+    if not isinstance(mesh, MeshModel) or not mesh.extended_contact:
+        raise ValueError(
+            "loaded_path: mesh must be a jaxgear.MeshModel built with extended_contact=True "
+            "(MeshModel.from_pair(..., extended_contact=True))"
+        )
+    theoretical = mesh.with_extended_contact(False)
+    mods = per_mesh_modifications(modifications, 1)[0]
+
+    def loaded(r):
+        m = r.meshes[0]
+        on = m.line_load > 0
+        big = jnp.asarray(jnp.inf, m.cell_s.dtype)
+        return (
+            jnp.min(jnp.where(on, m.cell_s, big)),
+            jnp.max(jnp.where(on, m.cell_s, -big)),
+        )
+
+    (start, end), codes_ext = at_torques(
+        mesh, modifications, torques, loaded, positions_per_pitch=positions_per_pitch
+    )
+    te, codes = at_torques(
+        theoretical,
+        modifications,
+        torques,
+        lambda r: r.meshes[0].transmission_error,
+        positions_per_pitch=positions_per_pitch,
+    )
+    for c in (codes_ext, codes):
+        if bool(jnp.any(c != 0)):
+            raise ValueError("loaded_path: the contact solve failed at some torque and position")
+    theta = mesh_positions(mesh, positions_per_pitch)
+    cells, e_max, delta0 = jax.vmap(lambda t: separation(mesh, mods, t))(theta)
+    beyond = cells.mask & ((cells.s < 0) | (cells.s > mesh.path_of_contact))
+    # the approach of the theoretical model u = TE cos β_b + max e, against each corner cell's
+    # separation (max e − e + gap): what extra relief at the corner keeps it open
+    approach = te * jnp.cos(mesh.base_helix_angle) + e_max[None, :]  # (T, P)
+    over = approach[:, :, None, None] - delta0[None]
+
+    def side(where):
+        return jnp.maximum(jnp.max(jnp.where(where[None], over, 0.0), axis=(1, 2, 3)), 0.0)
+
+    return LoadedPath(
+        torque=jnp.asarray(torques, te.dtype),
+        start=start,
+        end=end,
+        relief_start=side(beyond & (cells.s < 0)),
+        relief_end=side(beyond & (cells.s > mesh.path_of_contact)),
+        path_of_contact=mesh.path_of_contact,
+    )

@@ -1,0 +1,172 @@
+"""Contact beyond the theoretical path (docs/extended-contact.md): the tip-corner gap against an
+independent placement of the teeth by their thickness (ISO 21771), its limits, and what the
+extended cells change in the quasi-static and dynamic solves."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxgear as jg
+import jaxgear.io as jio
+
+
+def _pair(z1=20, z2=40, m=0.004, x1=0.0, x2=0.0, b=0.02):
+    return jg.GearPair(
+        jg.Member(teeth=z1, face_width=b, profile_shift=x1),
+        jg.Member(teeth=z2, face_width=b, profile_shift=x2),
+        normal_module=m,
+        normal_pressure_angle=math.radians(20.0),
+    )
+
+
+def _psi(pair, member, r):
+    """The half angle from a tooth's centre line to its involute flank at radius r (ISO 21771:
+    s_t/(2 r_p) + inv α_t − inv α_r), written here from the tooth thickness."""
+    rp, rb = pair.pitch_radii[member], pair.base_radii[member]
+    at = pair.transverse_pressure_angle
+    ar = np.arccos(rb / np.asarray(r))
+    inv = lambda a: np.tan(a) - a  # noqa: E731
+    return pair.reference_thickness[member] / (2 * rp) + inv(at) - inv(ar)
+
+
+def _thickness_gap(pair, s):
+    """The approach (m) that closes the gap at base-plane coordinate ``s`` < 0 of an external
+    pair, from the teeth placed by their thickness: at s = 0 the gear's tip corner touches the
+    pinion's flank at the engagement point A (both drive flanks on the side at angle c + ψ(r),
+    the pinion turning counter-clockwise, the gear clockwise); rigid conjugate motion turns them
+    by s/r_b1 and −s/r_b2; the pinion then turns by Δ until its flank reaches the corner."""
+    a = pair.operating_pressure_angle
+    rb1, rb2 = pair.base_radii
+    ra2 = pair.tip_radii[1]
+    O2 = np.array([pair.center_distance, 0.0])
+    t = np.array([math.sin(a), math.cos(a)])
+    A = rb1 * np.array([math.cos(a), -math.sin(a)]) + pair.start_roll * t
+    c1 = math.atan2(A[1], A[0]) - _psi(pair, 0, np.hypot(*A))
+    c2 = math.atan2(A[1] - O2[1], A[0] - O2[0]) - _psi(pair, 1, ra2)
+    out = []
+    for si in np.atleast_1d(s):
+        c1s, c2s = c1 + si / rb1, c2 - si / rb2
+        ang = c2s + _psi(pair, 1, ra2)
+        P = O2 + ra2 * np.array([math.cos(ang), math.sin(ang)])
+        delta = math.atan2(P[1], P[0]) - c1s - _psi(pair, 0, np.hypot(*P))
+        out.append(rb1 * delta)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("shift", [(0.0, 0.0), (0.3, -0.1)])
+def test_corner_gap_matches_teeth_placed_by_thickness(shift):
+    pair = _pair(x1=shift[0], x2=shift[1])
+    pb = pair.base_pitch
+    s = -np.array([1e-3, 0.01, 0.05, 0.1, 0.15]) * pb
+    contact = jg.CornerContact(pair, s)
+    assert np.all(contact.on_flank)
+    ref = _thickness_gap(pair, s)
+    np.testing.assert_allclose(contact.gap, ref, rtol=1e-9, atol=1e-15)
+
+
+def test_corner_gap_vanishes_at_the_path_ends_quadratically():
+    # conjugate action: on the line of action the corner's velocity relative to the mating flank
+    # is tangent to it, so the gap grows as the square of the distance from the path's ends
+    for pair in (_pair(), _pair(z1=17, z2=71, x1=0.4, x2=0.2)):
+        g, pb = pair.path_of_contact, pair.base_pitch
+        for ends, sign in ((0.0, -1.0), (g, 1.0)):
+            h = np.array([1e-4, 2e-4]) * pb
+            gap = jg.CornerContact(pair, ends + sign * h).gap
+            assert np.all(gap > 0)
+            assert gap[1] / gap[0] == pytest.approx(4.0, rel=1e-3)
+            assert jg.CornerContact(pair, ends + sign * 1e-9 * pb).gap < 1e-15
+
+
+def test_internal_corner_gap_positive_and_quadratic():
+    ring = jg.InternalGearPair(
+        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
+        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+    )
+    g, pb = ring.path_of_contact, ring.base_pitch
+    span, table = jg.extension_table(ring)
+    assert min(span) > 0.02 * pb
+    for ends, sign in ((0.0, -1.0), (g, 1.0)):
+        h = np.array([1e-4, 2e-4]) * pb
+        gap = jg.CornerContact(ring, ends + sign * h).gap
+        assert np.all(gap > 0) and gap[1] / gap[0] == pytest.approx(4.0, rel=1e-3)
+    assert np.all(np.diff(table, axis=1) > 0)  # the gap grows away from the path
+
+
+def _mesh(pair, extended, slices=4):
+    s, k = jg.stiffness_table(pair, jg.Weber())
+    return jg.MeshModel.from_pair(pair, s, k, slices, extended_contact=extended)
+
+
+def test_zero_load_extended_path_is_the_theoretical_one():
+    pair = _pair()
+    torque = 1e-6  # N·m: the approach (~1e-13 m) closes no corner gap beyond a micrometre
+    r0 = jg.quasi_static(_mesh(pair, False), jg.Modifications(), torque, positions_per_pitch=32)
+    r1 = jg.quasi_static(_mesh(pair, True), jg.Modifications(), torque, positions_per_pitch=32)
+    te0 = np.asarray(r0.meshes[0].transmission_error)
+    te1 = np.asarray(r1.meshes[0].transmission_error)
+    np.testing.assert_allclose(te1, te0, rtol=1e-9)
+
+
+def test_enough_tip_relief_leaves_no_offline_contact():
+    pair = _pair()
+    mods = jg.Modifications(
+        pinion=jg.MemberModification(tip_relief_depth=40e-6, tip_relief_extent=0.3),
+        gear=jg.MemberModification(tip_relief_depth=40e-6, tip_relief_extent=0.3),
+    )
+    r0 = jg.quasi_static(_mesh(pair, False), mods, 300.0, positions_per_pitch=32)
+    r1 = jg.quasi_static(_mesh(pair, True), mods, 300.0, positions_per_pitch=32)
+    np.testing.assert_allclose(
+        np.asarray(r1.meshes[0].transmission_error),
+        np.asarray(r0.meshes[0].transmission_error),
+        rtol=1e-9,
+    )
+    ll = np.asarray(r1.meshes[0].line_load)
+    s = np.asarray(r1.meshes[0].cell_s)
+    outside = (s < 0) | (s > pair.path_of_contact)
+    assert np.all(ll[outside] == 0.0)
+
+
+def test_loaded_teeth_touch_before_the_start_and_after_the_end():
+    pair = _pair()
+    r = jg.quasi_static(_mesh(pair, True), jg.Modifications(), 400.0, positions_per_pitch=128)
+    ll = np.asarray(r.meshes[0].line_load)
+    s = np.asarray(r.meshes[0].cell_s)
+    loaded = ll > 0
+    assert s[loaded].min() < -0.02 * pair.base_pitch
+    assert s[loaded].max() > pair.path_of_contact + 0.02 * pair.base_pitch
+    # the extension is wide enough: the farthest cells stay open
+    span = _mesh(pair, True).extension_span
+    assert s[loaded].min() > -0.8 * float(span[0])
+
+
+def test_loaded_path_ends_and_the_relief_that_clears_them():
+    pair = _pair()
+    mesh = _mesh(pair, True)
+    torques = np.array([1e-3, 100.0, 400.0])
+    hm = jg.loaded_path(mesh, None, torques, positions_per_pitch=256)
+    step = pair.base_pitch / 256
+    # at (almost) zero load the loaded path is the theoretical one, within a position's roll
+    assert -step <= float(hm.start[0]) <= step
+    assert abs(float(hm.end[0]) - pair.path_of_contact) <= step
+    # the extension grows with the load, the relief with it
+    assert np.all(np.diff(np.asarray(hm.start)) < 0) and np.all(np.diff(np.asarray(hm.end)) > 0)
+    assert np.all(np.diff(np.asarray(hm.relief_start)) > 0)
+    # the relief read off the map: a short linear tip relief of the gear a little deeper keeps
+    # the driven tip off the pinion at that torque; a little shallower does not
+    T, E = 400.0, float(hm.relief_start[-1])
+
+    def start_with(depth):
+        gear = jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.05)
+        r = jg.quasi_static(mesh, jg.Modifications(gear=gear), T, positions_per_pitch=256)
+        on = np.asarray(r.meshes[0].line_load) > 0
+        return np.asarray(r.meshes[0].cell_s)[on].min()
+
+    assert start_with(1.02 * E) >= -1e-12
+    assert start_with(0.9 * E) < 0.0
