@@ -41,6 +41,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "load_map.png",
         "pressure_map.png",
         "harris_map.png",
+        "loaded_path.png",  # with [mesh] extended_contact
         "rating.md",  # with a [rating] table
         "root_stress_map.png",  # with a [rating] table (a train: root_stress_map_<mesh>.png)
         "root_stress_map_*.png",

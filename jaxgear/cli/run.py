@@ -14,6 +14,7 @@ from .. import (
     contact_pressure,
     harris_map,
     io as case_io,
+    loaded_path,
     quasi_static,
 )
 from ..io import (
@@ -36,6 +37,7 @@ from ._plots import (
     SCENE_STIFFNESS_NOTE,
     face_maps,
     harris_plot,
+    loaded_path_plot,
     mesh_stiffness_plot,
     transmission_error_plot,
 )
@@ -139,6 +141,12 @@ def run_case(
         label: harris_map(mesh, mods, torques, positions_per_pitch=ppp)
         for label, mods in (("unmodified", none), ("modified", case.modifications))
     }
+    path_map = {}
+    if mesh.extended_contact:  # where contact really starts and ends (docs/extended-contact.md)
+        path_map = {
+            label: loaded_path(mesh, mods, torques, positions_per_pitch=ppp)
+            for label, mods in (("unmodified", none), ("modified", case.modifications))
+        }
     steps.update()
     steps.set_postfix_str("contact pressure")
     pair = case.pair
@@ -170,6 +178,16 @@ def run_case(
         },
         "environment": environment_summary(mesh.base_pitch.dtype),
     }
+    if path_map:
+        summary["loaded_path"] = {
+            "torque_Nm": torques.tolist(),
+            "path_of_contact_m": float(mesh.path_of_contact),
+            **{
+                f"{key}_{label}_m": np.asarray(getattr(lp, key)).tolist()
+                for label, lp in path_map.items()
+                for key in ("start", "end", "relief_start", "relief_end")
+            },
+        }
     if case.coast:  # backlash and the coast flanks (docs/backlash.md)
         summary["backlash"] = {
             "backlash_normal_m": pair.normal_backlash,
@@ -285,6 +303,13 @@ def run_case(
         ylabel="TE peak-to-peak (µm), exact contact",
         title=f"{case.name}: Harris map (rigid mesh)",
     )
+    if path_map:
+        loaded_path_plot(
+            os.path.join(out_dir, "loaded_path.png"),
+            path_map if modified else {"no modifications": path_map["unmodified"]},
+            design_torque=case.torque,
+            title=f"{case.name}: the loaded path of contact (rigid mesh, exact contact)",
+        )
     steps.update()  # the four plots
     if case.deviations is not None:  # the span with the manufacturing deviations per tooth
         steps.set_postfix_str("TE with the deviations per tooth")

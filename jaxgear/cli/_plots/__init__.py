@@ -38,6 +38,7 @@ from ._quasi_static import (
     face_maps as face_maps,
     harris_plot as harris_plot,
     load_map_plot as load_map_plot,
+    loaded_path_plot as loaded_path_plot,
     map_difference_plot as map_difference_plot,
     mesh_stiffness_plot as mesh_stiffness_plot,
     root_stress_plot as root_stress_plot,

@@ -313,6 +313,36 @@ def harris_plot(
     return [t.get_text() for t in leg.get_texts()]
 
 
+def loaded_path_plot(path, path_map: dict, *, design_torque: float, title: str) -> None:
+    """The loaded path of contact over torque (:func:`jaxgear.loaded_path`), two panels: how
+    far contact reaches beyond the theoretical start and end (mm of roll along the line of
+    action) and the tip relief that keeps the corners off (µm), each design of ``path_map``
+    (``{label: LoadedPath}``), the design torque marked."""
+    fig = Figure(figsize=(10.5, 4.2), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 2)
+    for (lab, lp), color in zip(path_map.items(), ("C0", "C3"), strict=False):
+        t = np.asarray(lp.torque)
+        g = float(lp.path_of_contact)
+        axes[0].plot(t, -np.asarray(lp.start) * 1e3, "o-", color=color, label=f"{lab}: before the start")
+        axes[0].plot(t, (np.asarray(lp.end) - g) * 1e3, "s--", color=color, label=f"{lab}: after the end")
+        axes[1].plot(t, np.asarray(lp.relief_start) * 1e6, "o-", color=color, label=f"{lab}: gear tip")
+        axes[1].plot(t, np.asarray(lp.relief_end) * 1e6, "s--", color=color, label=f"{lab}: pinion tip")
+    for ax, ylabel in zip(
+        axes,
+        ("contact beyond the theoretical path (mm of roll)", "extra tip relief that clears the corner (µm)"),
+        strict=True,
+    ):
+        ax.axvline(design_torque, color="0.3", lw=0.8, ls="--")
+        ax.set_ylim(bottom=0)
+        ax.set_xlabel("pinion torque (N·m)")
+        ax.set_ylabel(ylabel)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(title)
+    savefig(fig, path)
+
+
 def train_phasing_plot(path, layout, pairs, gears, mesh_names, x, stiffness, *, title: str):
     """A gear train's layout and mesh phasing in one figure (two panels).
 
