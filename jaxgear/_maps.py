@@ -38,8 +38,10 @@ def load_map(
 
     Returns:
         (s_edges (n_s+1,), z (N,), load (n_s, N)): bin edges along the line of action (m), from
-        0 to the path of contact, slice mid-points across the face (m), and the maximum line load
-        per bin (N/m; NaN where no cell passed).
+        0 to the path of contact (with contact beyond the theoretical path,
+        docs/extended-contact.md: from the first to the last bin a loaded cell reaches beyond
+        its ends), slice mid-points across the face (m), and the maximum line load per bin
+        (N/m; NaN where no cell passed).
 
     The n_s = floor(path / step) bins are equal and at least one position step wide, the step
     of the contact lines along s (base pitch / positions per pitch): every slice's cells pass
@@ -52,13 +54,25 @@ def load_map(
     s = np.asarray(r.cell_s).reshape(-1, r.cell_s.shape[-1])
     p = np.asarray(r.line_load if field is None else field).reshape(s.shape)
     mask = np.asarray(r.cell_mask).reshape(s.shape)
-    idx = np.clip(np.floor(s / width).astype(int), 0, n_s - 1)
-    out = np.full((n_s, s.shape[1]), -np.inf)
+    # bins beyond the ends as far as a loaded cell reaches (contact beyond the path)
+    loaded = s[mask & (p > 0)]
+    n_lo = int(math.ceil(max(0.0, -loaded.min()) / width * (1 - 1e-9))) if loaded.size else 0
+    n_hi = (
+        int(math.ceil(max(0.0, loaded.max() - path_of_contact) / width * (1 - 1e-9)))
+        if loaded.size
+        else 0
+    )
+    lo, hi = -n_lo * width, path_of_contact + n_hi * width
+    n = n_lo + n_s + n_hi
+    tol = 1e-9 * width
+    keep = mask & (s >= lo - tol) & (s <= hi + tol)  # on the path: every cell on the flanks
+    idx = np.clip(np.floor((s - lo) / width).astype(int), 0, n - 1)
+    out = np.full((n, s.shape[1]), -np.inf)
     cols = np.broadcast_to(np.arange(s.shape[1]), s.shape)
-    np.maximum.at(out, (idx[mask], cols[mask]), p[mask])
+    np.maximum.at(out, (idx[keep], cols[keep]), p[keep])
     out[~np.isfinite(out)] = np.nan
     z = np.asarray(r.cell_z)[0, 0]
-    return np.linspace(0.0, path_of_contact, n_s + 1), z, out
+    return np.linspace(lo, hi, n + 1), z, out
 
 
 def harris_map(

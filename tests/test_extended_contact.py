@@ -99,8 +99,8 @@ def test_internal_corner_gap_positive_and_quadratic():
     assert np.all(np.diff(table, axis=1) > 0)  # the gap grows away from the path
 
 
-def _mesh(pair, extended, slices=4):
-    s, k = jg.stiffness_table(pair, jg.Weber())
+def _mesh(pair, extended, slices=4, stiffness=None):
+    s, k = jg.stiffness_table(pair, jg.Weber() if stiffness is None else stiffness)
     return jg.MeshModel.from_pair(pair, s, k, slices, extended_contact=extended)
 
 
@@ -170,3 +170,41 @@ def test_loaded_path_ends_and_the_relief_that_clears_them():
 
     assert start_with(1.02 * E) >= -1e-12
     assert start_with(0.9 * E) < 0.0
+
+
+def test_internal_mesh_and_the_smooth_law_reach_beyond_the_path():
+    ring = jg.InternalGearPair(
+        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
+        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+    )
+    mesh = _mesh(ring, True, stiffness=jg.ISO6336())
+    lp = jg.loaded_path(mesh, None, np.array([50.0, 600.0]), positions_per_pitch=128)
+    assert float(lp.start[-1]) < -0.01 * ring.base_pitch
+    assert float(lp.end[-1]) > ring.path_of_contact + 0.01 * ring.base_pitch
+    assert float(lp.start[-1]) < float(lp.start[0])
+    # the smooth law (a softplus ramp of width w) tends to the exact one: TE within a few w
+    w = 1e-8
+    exact = jg.quasi_static(mesh, None, 600.0, positions_per_pitch=64)
+    smooth = jg.quasi_static(
+        mesh, None, 600.0, contact=jg.SmoothContact(width=w), positions_per_pitch=64
+    )
+    te_e = np.asarray(exact.meshes[0].transmission_error)
+    te_s = np.asarray(smooth.meshes[0].transmission_error)
+    assert np.max(np.abs(te_s - te_e)) < 5 * w
+
+
+def test_load_map_covers_the_loaded_extension():
+    pair = _pair()
+    r = jg.quasi_static(_mesh(pair, True), None, 400.0, positions_per_pitch=64)
+    edges, z, grid = jg.load_map(r.meshes[0], 64, pair.base_pitch, pair.path_of_contact)
+    s = np.asarray(r.meshes[0].cell_s)
+    on = np.asarray(r.meshes[0].line_load) > 0
+    assert edges[0] <= s[on].min() < edges[0] + pair.base_pitch / 64 * 1.01
+    assert edges[-1] >= s[on].max() > edges[-1] - pair.base_pitch / 64 * 1.01
+    assert np.all(np.isfinite(grid))
+    # without the extension the map is the theoretical path's
+    r0 = jg.quasi_static(_mesh(pair, False), None, 400.0, positions_per_pitch=64)
+    e0, _, _ = jg.load_map(r0.meshes[0], 64, pair.base_pitch, pair.path_of_contact)
+    assert e0[0] == 0.0 and e0[-1] == pytest.approx(pair.path_of_contact, rel=1e-12)
