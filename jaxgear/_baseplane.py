@@ -372,6 +372,18 @@ class MeshModel(eqx.Module):
         gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
         return gap * jnp.cos(self.base_helix_angle)
 
+    def extension_limit(self, cells: Cells, delta0: Float[Array, "L N"]) -> Float[Array, ""]:
+        """The rigid approach (m, flank-normal) beyond which a corner would touch past the far
+        end of the cells beyond the path (the extension too short): the cells' separation
+        ``delta0`` without their corner gap, least over the cells beyond the path, plus the
+        smaller gap at the extension's ends; +inf without ``extended_contact``."""
+        if not self.extended_contact:
+            return jnp.asarray(jnp.inf, delta0.dtype)
+        beyond = cells.mask & ((cells.s < 0.0) | (cells.s > self.path_of_contact))
+        base = delta0 - self.extension_separation(cells.s)
+        least = jnp.min(jnp.where(beyond, base, jnp.inf))
+        return least + jnp.min(self.extension_gap[:, -1]) * jnp.cos(self.base_helix_angle)
+
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))

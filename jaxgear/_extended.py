@@ -139,10 +139,13 @@ def _form_radius(pair: AbstractGearPair, member: int) -> float:
     return math.hypot(rb, rho)
 
 
-#: the largest tip-corner gap the extended cells reach, over the normal module: the extension
-#: stops where the gap exceeds it (no deflection of a working gear closes 3 % of a module) or
-#: where the contact point leaves the mating involute, whichever comes first
+#: the largest tip-corner gap the extended cells reach: the extension stops where the gap
+#: exceeds EXTENSION_GAP × m_n or EXTENSION_GAP_MIN (m), the larger (a working gear's deflection,
+#: dynamic overloads and thin rims included, closes neither), or where the contact point leaves
+#: the mating involute, whichever comes first; a quasi-static solve whose approach would close
+#: the gap at the extension's end fails loudly (ContactResult.beyond_extension)
 EXTENSION_GAP = 0.03
+EXTENSION_GAP_MIN = 100e-6
 #: points of each side's gap table (equally spaced over the extension)
 EXTENSION_POINTS = 65
 
@@ -153,11 +156,11 @@ def extension_table(pair: AbstractGearPair, points: int = EXTENSION_POINTS) -> t
     and after its end, and ``gap`` (2, ``points``) (m, transverse) at s = −S_a u (row 0) and
     s = g_α + S_r u (row 1), u = linspace(0, 1, points) (:class:`CornerContact`).
 
-    Each side stops where the gap reaches :data:`EXTENSION_GAP` m_n or where the contact point
-    leaves the mating flank's involute (below its form circle), whichever comes first; at most
-    one base pitch."""
+    Each side stops where the gap reaches max(:data:`EXTENSION_GAP` m_n,
+    :data:`EXTENSION_GAP_MIN`) or where the contact point leaves the mating flank's involute
+    (below its form circle), whichever comes first; at most one base pitch."""
     g, pb = pair.path_of_contact, pair.base_pitch
-    cap = EXTENSION_GAP * pair.normal_module
+    cap = max(EXTENSION_GAP * pair.normal_module, EXTENSION_GAP_MIN)
     u = np.linspace(0.0, 1.0, 2001)[1:]
     spans = []
     for side in (-1.0, 1.0):

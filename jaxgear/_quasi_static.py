@@ -225,11 +225,25 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
                 cell_mask=c.mask,
             )
         )
+    # an approach that would close the corner gap at the far end of the cells beyond the
+    # theoretical path fails loudly: the extension is too short (docs/extended-contact.md)
+    over = [
+        u_x[k] > mesh.extension_limit(c, delta0)
+        for k, (mesh, (c, _, delta0)) in enumerate(zip(planes, parts, strict=True))
+        if mesh.extended_contact
+    ]
+    result = sol.result
+    if over:
+        result = jnp.where(
+            (result == ContactResult.successful) & jnp.any(jnp.stack(over)),
+            ContactResult.beyond_extension,
+            result,
+        )
     return QuasiStaticResult(
         theta=theta,
         x=x,
         iterations=sol.iterations,
-        result=sol.result,
+        result=result,
         meshes=tuple(meshes),
     )
 

@@ -45,6 +45,7 @@ class ContactResult(_Result):
     max_iterations = 1
     no_contact = 2
     non_finite = 3
+    beyond_extension = 4
 
 
 class DynamicsResult(_Result):
@@ -104,6 +105,9 @@ _MESSAGES = {
         " smooth: Newton residual above its round-off tolerance)",
         2: "no cell in contact (zero mesh stiffness): check the load and the deviations",
         3: "non-finite state in the contact solve",
+        4: "contact reaches the end of the cells beyond the theoretical path (extended_contact:"
+        " the deflection closes the tip-corner gap there, max(3 % of the normal module,"
+        " 100 µm)): check the load",
     },
     "DynamicsResult": {
         0: "converged",

@@ -208,3 +208,14 @@ def test_load_map_covers_the_loaded_extension():
     r0 = jg.quasi_static(_mesh(pair, False), None, 400.0, positions_per_pitch=64)
     e0, _, _ = jg.load_map(r0.meshes[0], 64, pair.base_pitch, pair.path_of_contact)
     assert e0[0] == 0.0 and e0[-1] == pytest.approx(pair.path_of_contact, rel=1e-12)
+
+
+def test_contact_at_the_end_of_the_extension_fails_loudly():
+    pair = _pair()
+    mesh = _mesh(pair, True)
+    r = jg.quasi_static(mesh, None, 8000.0, positions_per_pitch=32, throw=False)
+    assert jg.ContactResult.beyond_extension in set(np.asarray(r.result).tolist())
+    with pytest.raises(Exception, match="end of the cells beyond the theoretical path"):
+        jg.quasi_static(mesh, None, 8000.0, positions_per_pitch=32)
+    ok = jg.quasi_static(mesh, None, 400.0, positions_per_pitch=32, throw=False)
+    assert set(np.asarray(ok.result).tolist()) == {0}
