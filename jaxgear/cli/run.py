@@ -40,6 +40,7 @@ from ._plots import (
     transmission_error_plot,
 )
 from ._progress import progress
+from ._spectrum_report import spectrum_run_lines
 from ._rating_report import (
     measured_dynamic_factor,
     rating_outputs,
@@ -512,7 +513,9 @@ def rating_run_line(section: dict | None) -> list[str]:
     if section is None:
         return []
     h, f = (_pair_of(section[p][k]) for p, k in (("pitting", "S_H"), ("bending", "S_F")))
-    return [f"rating ({section['method']}, pinion / gear): S_H {h}, S_F {f} (rating.md)"]
+    return [f"rating ({section['method']}, pinion / gear): S_H {h}, S_F {f} (rating.md)"] + (
+        spectrum_run_lines(section.get("spectrum"))  # [rating.spectrum]: the damage per bin
+    )
 
 
 def train_rating_run_line(section: dict | None) -> list[str]:
