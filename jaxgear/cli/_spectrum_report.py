@@ -108,12 +108,15 @@ def spectrum_run_lines(section: dict | None) -> list[str]:
     if section is None:
         return []
     p, f, b = section["pitting"], section["bending"], section["bins"]
-    lines = [
+    head = (
         f"load spectrum (ISO 6336-6, {len(b['torque_Nm'])} bins, pinion / gear): S_H "
         f"{_pair(p['S_H'], '{:.3g}')}, S_F {_pair(f['S_F'], '{:.3g}')}; damage D_H "
         f"{_pair(p['damage_sum'], '{:.3g}')}, D_F {_pair(f['damage_sum'], '{:.3g}')}; life "
         f"{_pair(p['life_h'], '{:.3g}')} h (pitting), {_pair(f['life_h'], '{:.3g}')} h "
-        "(bending) (spectrum.csv)",
+        "(bending) (spectrum.csv)"
+    )
+    lines = [
+        head,
         "  bin   T1 (N·m)  n1 (1/min)     hours    D_H pinion / gear      D_F pinion / gear",
     ]
     for i, torque in enumerate(b["torque_Nm"]):

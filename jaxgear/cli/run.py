@@ -40,7 +40,6 @@ from ._plots import (
     transmission_error_plot,
 )
 from ._progress import progress
-from ._spectrum_report import spectrum_run_lines
 from ._rating_report import (
     measured_dynamic_factor,
     rating_outputs,
@@ -50,6 +49,7 @@ from ._rating_report import (
     train_mesh_results,
     write_rating_table,
 )
+from ._spectrum_report import spectrum_run_lines
 from ._stress_outputs import fillet_table
 from ._summary import (
     environment_summary,

@@ -100,7 +100,6 @@ from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
 from ._rating_inputs import modification_inputs
-from ._spectrum_table import parse_spectrum
 from ._rating_material_table import (
     TREATMENTS,
     pair_of,
@@ -108,6 +107,7 @@ from ._rating_material_table import (
     treatment_names,
     treatment_of,
 )
+from ._spectrum_table import parse_spectrum
 
 __all__ = [
     "EDITIONS",

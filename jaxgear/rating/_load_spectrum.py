@@ -33,6 +33,7 @@ import math
 from types import SimpleNamespace
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -273,11 +274,14 @@ def spectrum_safety(stress, cycles, curve: SNCurve, axis: int = 0) -> Array:
 
     lo, hi = (math.log(v) for v in SAFETY_BRACKET)
     shape = jnp.sum(s * n, axis=axis).shape
-    a, b = jnp.full(shape, lo), jnp.full(shape, hi)
-    for _ in range(64):  # the bracket's 13.8 halved 64 times: far below float64's resolution
+
+    def halve(_, ab):  # the bracket's 13.8 halved 64 times: below float64's resolution
+        a, b = ab
         m = (a + b) / 2
         below = total(jnp.exp(m)) < 1.0
-        a, b = jnp.where(below, m, a), jnp.where(below, b, m)
+        return jnp.where(below, m, a), jnp.where(below, b, m)
+
+    a, b = jax.lax.fori_loop(0, 64, halve, (jnp.full(shape, lo), jnp.full(shape, hi)))
     return jnp.where(total(jnp.exp(jnp.full(shape, hi))) < 1.0, jnp.inf, jnp.exp((a + b) / 2))
 
 
@@ -369,7 +373,7 @@ class SpectrumRating(eqx.Module):
 def _nulls(x):
     if isinstance(x, list):
         return [_nulls(e) for e in x]
-    return None if x != x else x
+    return None if math.isnan(x) else x
 
 
 _RATE = eqx.filter_jit(rate)
@@ -421,12 +425,8 @@ def rate_spectrum(geometry, spectrum: LoadSpectrum, settings) -> SpectrumRating:
         cf = SNCurve(tr.y_nt_points, ref_f[:, j], stat_f[:, j] * tr.y_nt_points[0][1])
         curves_h.append(ch)
         curves_f.append(cf)
-        out["nh"].append(jnp.where(active, ch.cycles_to_failure(sig_h[:, j]), jnp.inf))
-        out["nf"].append(jnp.where(active, cf.cycles_to_failure(sig_f[:, j]), jnp.inf))
-        out["dh"].append(miner_damage(sig_h[:, j], n[:, j], ch))
-        out["df"].append(miner_damage(sig_f[:, j], n[:, j], cf))
-        out["sh"].append(spectrum_safety(sig_h[:, j], n[:, j], ch))
-        out["sf"].append(spectrum_safety(sig_f[:, j], n[:, j], cf))
+        for key, value in _gear_columns(ch, cf, sig_h[:, j], sig_f[:, j], n[:, j], active).items():
+            out[key].append(value)
     cols = {k: jnp.stack(v, axis=-1) for k, v in out.items()}
     return SpectrumRating(
         spectrum=spectrum,
@@ -442,6 +442,19 @@ def rate_spectrum(geometry, spectrum: LoadSpectrum, settings) -> SpectrumRating:
         curves_H=tuple(curves_h),
         curves_F=tuple(curves_f),
     )
+
+
+@eqx.filter_jit
+def _gear_columns(ch: SNCurve, cf: SNCurve, sig_h, sig_f, n, active) -> dict:
+    """One gear's N_i, damage per bin and spectrum safety factors, pitting and bending."""
+    return {
+        "nh": jnp.where(active, ch.cycles_to_failure(sig_h), jnp.inf),
+        "nf": jnp.where(active, cf.cycles_to_failure(sig_f), jnp.inf),
+        "dh": miner_damage(sig_h, n, ch),
+        "df": miner_damage(sig_f, n, cf),
+        "sh": spectrum_safety(sig_h, n, ch),
+        "sf": spectrum_safety(sig_f, n, cf),
+    }
 
 
 def _stack(results):
