@@ -293,3 +293,24 @@ def test_bad_spectrum_keys_are_one_line_naming_the_key(spectrum, message):
     with pytest.raises(jio.SchemaError, match=message) as err:
         jio.parse_case(_case(spectrum))
     assert "\n" not in str(err.value)
+
+
+def test_wind_spectrum_example_counts_the_rayleigh_hours_and_writes_its_figure(tmp_path):
+    """examples/load_spectrum_wind.py: the hours at load are the Rayleigh share of the winds
+    between cut-in and cut-out (analytic), the bins above rated wind carry the case's rated
+    pinion torque (5 MW at 1165.9 1/min: 40 953 N·m), and at the loads scaled by the spectrum's
+    safety factors the Miner sums are 1 (what S means). About 30 s."""
+    from _examples import load_example
+
+    ex = load_example("load_spectrum_wind")
+    rec = ex.main(tmp_path)
+    assert (tmp_path / "load_spectrum_wind.png").stat().st_size > 10_000
+    hours = np.array(rec["hours"])
+    assert hours.sum() == pytest.approx(175_200.0, rel=1e-12)
+    c = 10.0 / math.gamma(1.5)  # the Rayleigh scale of a 10 m/s mean
+    share = math.exp(-((3.0 / c) ** 2)) - math.exp(-((25.0 / c) ** 2))
+    assert hours[:-1].sum() == pytest.approx(175_200.0 * share, rel=1e-12)
+    rated = [t for w, t in zip(rec["wind_m_s"], rec["torque_Nm"], strict=True) if w and w >= 12]
+    assert np.allclose(rated, 5e6 / (1165.9 * RPM), rtol=2e-4)
+    for name, damage in rec["damage_share_at_S"].items():
+        assert sum(damage) == pytest.approx(1.0, rel=1e-9), name
