@@ -393,7 +393,9 @@ def rate_spectrum(geometry, spectrum: LoadSpectrum, settings) -> SpectrumRating:
             n_i = t_i ω_i / 2π × the gear's cycles per pinion turn).
 
     Returns:
-        :class:`SpectrumRating`.
+        :class:`SpectrumRating`. Concrete values only (each bin is rated by a jitted
+        :func:`jaxgear.rate` in turn, an idle bin skipped), not under ``jit`` as a whole; its
+        parts :func:`miner_damage` and :func:`spectrum_safety` are pure ``jax.numpy``.
 
     Raises:
         ValueError: an argument of the wrong kind (one line naming it)."""
