@@ -78,6 +78,7 @@ SECTIONS = {
         ("Geometry and tooth form", ("_geometry", "_internal", "_bending")),
         ("Load factors, measured factors", ("_factors", "_measured")),
         ("Root stress", ("_root_stress",)),
+        ("Life under a load spectrum (ISO 6336-6)", ("_load_spectrum",)),
     ),
     "jaxgear.gearbox": (
         ("The stages and the torsional chain", ("_chain",)),

@@ -156,6 +156,18 @@ beta_s = 1e-7
 """,
 }
 
+#: a pair's load spectrum, each form with every key (on the rating's overlay)
+SAMPLE_OVERLAYS |= {
+    f"rating spectrum {form}": SAMPLE_OVERLAYS["rating"] + "[rating.spectrum]\n" + keys
+    for form, keys in (
+        ("hours", "torque_Nm = [80.0, 40.0]\nspeed_rpm = [3000.0, 3000.0]\nhours = [5e3, 1.5e4]\n"),
+        ("cycles", "torque_Nm = [80.0, 40.0]\nspeed_rpm = 3000.0\ncycles = [9e8, 2.7e9]\n"),
+        ("share", "torque_Nm = [80.0, 40.0]\nspeed_rpm = 3000.0\ntime_share = [0.25, 0.75]\n"),
+        ("series", ("series_torque_Nm = [80.0, 40.0, 60.0]\nseries_speed_rpm = [3000.0, 3000.0, "
+                    "2000.0]\nseries_step_s = 0.1\nlevels = 4\n")),
+    )
+}
+
 #: where paths → the table they belong to (array indices collapsed: ``gears[2]`` → ``gears[]``)
 _INDEX = re.compile(r"\[\d+\]")
 #: the per-member modification tables of a pair: the same entries as ``[modifications]``
@@ -697,11 +709,23 @@ and allowed range. Lengths are in mm, the modulus in GPa. A case file names a bo
 `[scene.gear_body] body`, `[scene.pinion_body] body` or `[scene.bodies.<shaft>] body`."""
 
 
+#: what the pair page says of a table beyond its keys
+PAIR_NOTES = {
+    "rating.spectrum": "A load spectrum (ISO 6336-6), in one of two forms. Bins: `torque_Nm` "
+    "(pinion), `speed_rpm` (one number or one per bin) and exactly one of `hours` (time in each "
+    "bin over the life), `cycles` (pinion load cycles) or `time_share` (shares of `[rating] "
+    "life_h`); each list as long as `torque_Nm`. Or a sampled history: `series_torque_Nm`, "
+    "`series_speed_rpm` (one or one per sample), `series_step_s` and `levels`, counted into "
+    "levels (time at level) and scaled to `life_h`. \"Required\" below is within the form "
+    "chosen. A pair case only (docs/rating.md, \"Load spectrum and life\").",
+}
+
+
 def pages() -> dict[str, str]:
     """``{file name: markdown}`` of the generated reference pages."""
     pair, train = trace_cases()
     bodies = trace_bodies()
-    case_page = markdown(pair, "Case-file reference: a gear pair", CASE_INTRO)
+    case_page = markdown(pair, "Case-file reference: a gear pair", CASE_INTRO, PAIR_NOTES)
     train_page = markdown(train, "Case-file reference: a gear train", CASE_INTRO, TRAIN_NOTES)
     body_page = markdown(bodies, "Body-file reference (fem_prep)", BODY_INTRO)
     gearbox_page = markdown(trace_gearbox(), "Case-file reference: a gearbox", GEARBOX_INTRO,

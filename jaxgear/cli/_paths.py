@@ -45,6 +45,7 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "rating.md",  # with a [rating] table
         "root_stress_map.png",  # with a [rating] table (a train: root_stress_map_<mesh>.png)
         "root_stress_map_*.png",
+        "spectrum.csv",  # with a [rating.spectrum] table (ISO 6336-6)
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
     "scene": (

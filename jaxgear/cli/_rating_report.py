@@ -36,6 +36,7 @@ from ..rating import (
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
+from ._spectrum_report import spectrum_lines, spectrum_section
 from ._stress_outputs import active_radii, fillet_table
 
 __all__ = [
@@ -95,7 +96,10 @@ def _section_and_table(form, case: Case, sections: list[dict],
 def _(form: PairForm, case: Case, sections: list[dict], ratings=None) -> tuple[dict, list[str]]:
     """A pair: its one mesh's section, the case's table."""
     rating = None if ratings is None else ratings[0]
-    return sections[0], _lines(case, 0, sections[0], case.name, rating=rating)
+    lines = _lines(case, 0, sections[0], case.name, rating=rating)
+    if sections[0].get("spectrum") is not None:  # [rating.spectrum]: ISO 6336-6
+        lines += [""] + spectrum_lines(sections[0]["spectrum"])
+    return sections[0], lines
 
 
 @_section_and_table.register
@@ -281,7 +285,8 @@ def rating_outputs(
 ) -> dict | None:
     """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
     the ``summary.json`` section; ``None`` (nothing written) without ``[rating]``. A pair: its
-    section; a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
+    section (with ``[rating.spectrum]`` its ``spectrum`` entry and ``spectrum.csv``:
+    :func:`jaxgear.cli._spectrum_report.spectrum_section`); a train: every mesh rated (:func:`jaxgear.io.ratings_of`), per-mesh lists and a
     table per mesh.
 
     Args:
@@ -331,6 +336,9 @@ def rating_outputs(
                     title,
                     float(rc.operating.torque),
                 )
+        spectrum = spectrum_section(rc, out_dir)  # a pair's [rating.spectrum] (ISO 6336-6)
+        if spectrum is not None:
+            section["spectrum"] = spectrum
         sections.append(section)
         ratings.append(rating)
     section, lines = _section_and_table(case.form, case, sections, ratings)

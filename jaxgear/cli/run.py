@@ -51,6 +51,7 @@ from ._rating_report import (
     train_mesh_results,
     write_rating_table,
 )
+from ._spectrum_report import spectrum_run_lines
 from ._stress_outputs import fillet_table
 from ._summary import (
     environment_summary,
@@ -537,7 +538,9 @@ def rating_run_line(section: dict | None) -> list[str]:
     if section is None:
         return []
     h, f = (_pair_of(section[p][k]) for p, k in (("pitting", "S_H"), ("bending", "S_F")))
-    return [f"rating ({section['method']}, pinion / gear): S_H {h}, S_F {f} (rating.md)"]
+    return [f"rating ({section['method']}, pinion / gear): S_H {h}, S_F {f} (rating.md)"] + (
+        spectrum_run_lines(section.get("spectrum"))  # [rating.spectrum]: the damage per bin
+    )
 
 
 def train_rating_run_line(section: dict | None) -> list[str]:

@@ -42,6 +42,9 @@ Keys (file units; ranges as checked)::
     use_measured = ["K_Hbeta"]      # measured factors that replace ISO's (jaxgear run): K_Hbeta
                                     # (load map), K_Halpha (load sharing; K_Falpha too), K_v
                                     # (the speed sweep at the rating speed); default none
+    [rating.spectrum]               # a pair's load spectrum (ISO 6336-6): torque_Nm, speed_rpm
+                                    # and hours | cycles | time_share per bin, or a series
+                                    # (jaxgear.io._spectrum_table)
 
 A train file's ``[rating]`` is a pair's for every mesh (:func:`parse_train_rating`): per-gear
 values a number or a table by gear name, ``[rating.<driving>-<driven>]`` replacing entries for
@@ -86,7 +89,13 @@ from .. import (
     ToothLoading,
 )
 from .._util import check_instance
-from ..rating import AbstractRatingStandard, Edition2006, Edition2019, ShaperCutterSection
+from ..rating import (
+    AbstractRatingStandard,
+    Edition2006,
+    Edition2019,
+    LoadSpectrum,
+    ShaperCutterSection,
+)
 from ._case import PairForm, TrainForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
@@ -98,6 +107,7 @@ from ._rating_material_table import (
     treatment_names,
     treatment_of,
 )
+from ._spectrum_table import parse_spectrum
 
 __all__ = [
     "EDITIONS",
@@ -186,6 +196,10 @@ class RatingCase:
     #: ISO 6336-1's modification inputs and where they come from: ``tip_relief_m`` (C_a of
     #: K_v) and ``crowning_m`` (C_β of K_Hβ), each with its ``*_source`` (:func:`modification_inputs`)
     modification_inputs: dict = dataclasses.field(default_factory=dict)
+    #: a pair's load spectrum (``[rating.spectrum]``, :func:`jaxgear.io._spectrum_table.
+    #: parse_spectrum`), or ``None``: ``jaxgear run`` then rates the spectrum too
+    #: (:func:`jaxgear.rating.rate_spectrum`, ISO 6336-6)
+    spectrum: LoadSpectrum | None = None
 
 
 def _need(table: dict, key: str, where: str) -> None:
@@ -230,9 +244,15 @@ def parse_rating(
             the file's units), unknown keys, a ``[material]`` key that neither gear reads
             (:func:`refuse_unread_material`); one line.
     """
-    rc = _mesh_rating(data, pair, material, modifications)
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | {"spectrum"})
+    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
+    own = {k: v for k, v in rt.items() if k != "spectrum"}
+    rc = _mesh_rating(data | {"rating": own}, pair, material, modifications)
     mat = data.get("material", {})
     refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
+    if "spectrum" in rt:
+        spectrum = parse_spectrum(spectrum_table, float(rc.settings.life))
+        rc = dataclasses.replace(rc, spectrum=spectrum)
     return rc
 
 

@@ -9,7 +9,9 @@ written beside them. The load factors jaxgear measures on its results (K_v of a 
 K_Hβ and K_Hα of a load map, K_γ of the load sharing) and the settings that rate with them
 (:func:`with_measured`) live here too. The tooth form
 factors (ISO 6336-3), the load factors (ISO 6336-1, with K_Hβ and K_Hα from a contact solution)
-and the finite-element root-stress map live here too. What a user reaches for first (``rate``,
+and the finite-element root-stress map live here too. Life under a load spectrum (ISO 6336-6:
+:class:`LoadSpectrum`, :func:`rate_spectrum`, Palmgren–Miner on the rating's S–N lines
+:class:`SNCurve`) lives here too. What a user reaches for first (``rate``,
 ``pitting_rating``, ``bending_rating``, the results, the settings and material classes, the
 geometries) is re-exported at :mod:`jaxgear`'s top level; the rest is reached as
 ``jaxgear.rating.X``.
@@ -47,6 +49,14 @@ from ._iso6336 import (
     Edition2019 as Edition2019,
     PittingRating as PittingRating,
     factor_clause as factor_clause,
+)
+from ._load_spectrum import (
+    LoadSpectrum as LoadSpectrum,
+    SNCurve as SNCurve,
+    SpectrumRating as SpectrumRating,
+    miner_damage as miner_damage,
+    rate_spectrum as rate_spectrum,
+    spectrum_safety as spectrum_safety,
 )
 from ._material import (
     AbstractTreatment as AbstractTreatment,

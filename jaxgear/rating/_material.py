@@ -97,16 +97,32 @@ def life_curve(cycles, points):
 class AbstractTreatment(eqx.Module):
     """The heat treatment of a gear material: the factors of ISO 6336 that depend on it.
 
-    Subclasses give :meth:`z_nt`, :meth:`y_nt` (life factors at ``cycles`` load cycles),
+    Subclasses give :attr:`z_nt_points`, :attr:`y_nt_points` (the life curves
+    :meth:`z_nt`, :meth:`y_nt` at ``cycles`` load cycles),
     :attr:`slip_layer` ρ' (m, ISO 6336-3), :meth:`y_r_rel` (relative roughness factor
     at the root's R_z, m), :meth:`y_x` (size factor at m_n, m) and :meth:`running_in`
     (the allowances y_α, y_β of ISO 6336-1 from a deviation, m)."""
 
-    @abc.abstractmethod
-    def z_nt(self, cycles): ...
+    #: the pitting life curve's corners, ((N, Z_NT), ...) with N increasing: static strength
+    #: at the first, the endurance reference at the second, the end of the curve (10¹⁰) at the
+    #: last (ISO 6336-2's Z_NT; :meth:`z_nt`, and the S–N line of a load spectrum,
+    #: :class:`jaxgear.rating.SNCurve`)
+    z_nt_points: eqx.AbstractClassVar[tuple[tuple[float, float], ...]]
+    #: the bending life curve's corners, as :attr:`z_nt_points` (ISO 6336-3's Y_NT)
+    y_nt_points: eqx.AbstractClassVar[tuple[tuple[float, float], ...]]
 
-    @abc.abstractmethod
-    def y_nt(self, cycles): ...
+    def z_nt(self, cycles):
+        """Z_NT at ``cycles`` load cycles (:func:`life_curve` of :attr:`z_nt_points`)."""
+        return life_curve(cycles, self.z_nt_points)
+
+    def y_nt(self, cycles):
+        """Y_NT at ``cycles`` load cycles (:func:`life_curve` of :attr:`y_nt_points`)."""
+        return life_curve(cycles, self.y_nt_points)
+
+    def per_gear(self) -> tuple[AbstractTreatment, AbstractTreatment]:
+        """(pinion's, gear's) treatment: this one for both (:class:`PairTreatment`: each its
+        own)."""
+        return (self, self)
 
     @property
     @abc.abstractmethod
@@ -158,11 +174,8 @@ class CaseHardened(AbstractTreatment):
     0.85 at 10¹⁰ cycles; Y_NT 2.5 at 10³, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' = 0.003 mm; y_α =
     0.075 f_pb ≤ 3 µm, y_β = 0.15 F_βx ≤ 6 µm; Y_X = 1.05 − 0.01 m_n (mm) in [0.8, 1]."""
 
-    def z_nt(self, cycles):
-        return life_curve(cycles, ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85)))
-
-    def y_nt(self, cycles):
-        return life_curve(cycles, ((1e3, 2.5), (3e6, 1.0), (1e10, 0.85)))
+    z_nt_points: ClassVar[tuple] = ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85))
+    y_nt_points: ClassVar[tuple] = ((1e3, 2.5), (3e6, 1.0), (1e10, 0.85))
 
     @property
     def slip_layer(self) -> float:
@@ -247,11 +260,8 @@ class ThroughHardened(AbstractTreatment):
         hb = min(max(float(self.brinell_hardness), 130.0), 470.0)
         return 1.2 - (hb - 130.0) / 1700.0
 
-    def z_nt(self, cycles):
-        return life_curve(cycles, ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85)))
-
-    def y_nt(self, cycles):
-        return life_curve(cycles, ((1e4, 2.5), (3e6, 1.0), (1e10, 0.85)))
+    z_nt_points: ClassVar[tuple] = ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85))
+    y_nt_points: ClassVar[tuple] = ((1e4, 2.5), (3e6, 1.0), (1e10, 0.85))
 
     @property
     def slip_layer(self) -> float:
@@ -275,11 +285,8 @@ class Nitrided(AbstractTreatment):
     Y_NT 1.6 at 10³, 1.0 at 3·10⁶, 0.85 at 10¹⁰; ρ' = 0.1005 mm; Y_RrelT = 1.025 below
     R_z = 1 µm, else 4.299 − 3.259 (R_z + 1)^0.005; y_α, y_β and Y_X as :class:`CaseHardened`."""
 
-    def z_nt(self, cycles):
-        return life_curve(cycles, ((1e5, 1.3), (2e6, 1.0), (1e10, 0.85)))
-
-    def y_nt(self, cycles):
-        return life_curve(cycles, ((1e3, 1.6), (3e6, 1.0), (1e10, 0.85)))
+    z_nt_points: ClassVar[tuple] = ((1e5, 1.3), (2e6, 1.0), (1e10, 0.85))
+    y_nt_points: ClassVar[tuple] = ((1e3, 1.6), (3e6, 1.0), (1e10, 0.85))
 
     @property
     def slip_layer(self) -> float:
@@ -327,6 +334,14 @@ class PairTreatment(AbstractTreatment):
         return jnp.stack(
             [getattr(self.pinion, name)(v[0]), getattr(self.gear, name)(v[1])]
         )
+
+    # the pair has no one curve: its gears' own (per_gear)
+    z_nt_points: ClassVar[tuple] = ()
+    y_nt_points: ClassVar[tuple] = ()
+
+    def per_gear(self) -> tuple[AbstractTreatment, AbstractTreatment]:
+        """(pinion's, gear's) own treatments."""
+        return (self.pinion, self.gear)
 
     def z_nt(self, cycles):
         return self._each("z_nt", cycles)
