@@ -81,6 +81,7 @@ __all__ = [
     "contact_point",
     "end_of_contact",
     "main",
+    "onset_breakdown",
     "scan",
     "single_pair_stiffness",
     "start_of_contact",
@@ -549,6 +550,25 @@ def scan(pm: PairModel, torque: float, s_values, focus: int = 0) -> list[dict]:
     return rows
 
 
+def onset_breakdown(pm: PairModel, s: float, torque: float) -> dict:
+    """At a loaded start (or end) of contact s (m): tooth pair 0's tip-corner rigid gap, the
+    loaded pinion's rigid approach there (Δθ times the corner's lever), and their difference:
+    the entering (leaving) teeth's own displacement under the other pairs' load (µm)."""
+    c = pm.candidates(pm.theta(s))
+    m = (c["pair"] == 0) & (c["corner"] == 1)
+    i = np.nonzero(m)[0][np.argmin(c["gap"][m])]
+    o = c["pair"] != 0
+    sub = {k: (v[o] if k != "W" else v[np.ix_(o, o)]) for k, v in c.items()}
+    st = pm.solve(pm.theta(s), torque, cand=sub)
+    approach = st.dtheta * c["arm"][i]
+    return {
+        "corner_rigid_gap_um": float(c["gap"][i]) * 1e6,
+        "rigid_approach_um": float(approach) * 1e6,
+        "carried_along_um": float(approach - c["gap"][i]) * 1e6,
+        "te_um": pm.rb1 * st.dtheta * 1e6,
+    }
+
+
 def single_pair_stiffness(pm: PairModel, torque: float, s: float | None = None) -> float:
     """Mesh stiffness (N/m per m face width) of the single pair in contact at roll distance s
     (default: the middle of the path, g_α/2, where tooth pair 0 is alone in contact): the
@@ -573,8 +593,12 @@ def main(argv=None) -> int:
     ``mesh`` {size_m (the production mesh), size_over_module, n_dofs [pinion, gear],
     n_elements}; ``torques`` list, one per torque: {torque_Nm, torque_per_width_Nm_per_m,
     normal_load_N_per_m (T'/r_b1), s_start_mm, s_end_mm (from A), s_end_minus_g_alpha_mm,
-    s_start_over_g_alpha, late_end_over_g_alpha, single_pair_stiffness_N_per_mm_um,
-    approach [rows], recess [rows], period [rows]}; each row {s_mm, dtheta_rad, te_um,
+    s_start_over_g_alpha, late_end_over_g_alpha, single_pair_stiffness_N_per_mm_um (pair 0
+    alone at g_α/2), onset_start / onset_end {corner_rigid_gap_um, rigid_approach_um,
+    carried_along_um, te_um} (at s_start / s_end: the tip corner's rigid gap = the pinion's
+    rigid approach less what the other pairs' load carries the entering/leaving teeth along),
+    approach [rows] (31 s from −0.3 p_b to +0.3 p_b), recess [rows] (31 s from g_α − 0.3 p_b
+    to g_α + 0.3 p_b), period [rows] (33 s over one base pitch from 0)}; each row {s_mm, dtheta_rad, te_um,
     load_N_per_m {"-1", "0", "+1"}, share (pair 0's share of the total normal load: the
     entering pair in ``approach``, the leaving pair in ``recess``), contact {loaded,
     r_pinion_mm, r_gear_mm, off_line_um, tip_corner_share, at_tip_corner} of pair 0};
@@ -625,6 +649,8 @@ def main(argv=None) -> int:
                 "s_start_over_g_alpha": s0 / ga,
                 "late_end_over_g_alpha": (s1 - ga) / ga,
                 "single_pair_stiffness_N_per_mm_um": k1 * 1e-9,
+                "onset_start": onset_breakdown(pm, s0, Tp),
+                "onset_end": onset_breakdown(pm, s1, Tp),
                 "approach": scan(pm, Tp, approach_s),
                 "recess": scan(pm, Tp, recess_s),
                 "period": scan(pm, Tp, period_s),
