@@ -600,7 +600,8 @@ def main(argv=None) -> int:
     fillet_radius_coeff, face_width_m, center_distance_m, youngs_modulus_Pa, poisson_ratio,
     torque_Nm (the case's), rim_radius_m [pinion, gear], n_teeth_meshed, loaded_teeth,
     element: "P2"}; ``geometry`` {base_radii_m, base_pitch_m, path_of_contact_m (g_α),
-    start_roll_m (pinion roll at A), operating_pressure_angle_deg}; ``convention`` (text);
+    start_roll_m (pinion roll at A), operating_pressure_angle_deg, operating_pitch_radii_m};
+    ``convention`` (text);
     ``mesh`` {size_m (the production mesh), size_over_module, n_dofs [pinion, gear],
     n_elements}; ``torques`` list, one per torque: {torque_Nm, torque_per_width_Nm_per_m,
     normal_load_N_per_m (T'/r_b1), s_start_mm, s_end_mm (from A), s_end_minus_g_alpha_mm,
@@ -609,14 +610,20 @@ def main(argv=None) -> int:
     carried_along_um, te_um} (at s_start / s_end: the tip corner's rigid gap = the pinion's
     rigid approach less what the other pairs' load carries the entering/leaving teeth along),
     approach [rows] (31 s from −0.3 p_b to +0.3 p_b), recess [rows] (31 s from g_α − 0.3 p_b
-    to g_α + 0.3 p_b), period [rows] (33 s over one base pitch from 0)}; each row {s_mm, dtheta_rad, te_um,
-    load_N_per_m {"-1", "0", "+1"}, share (pair 0's share of the total normal load: the
-    entering pair in ``approach``, the leaving pair in ``recess``), contact {loaded,
-    r_pinion_mm, r_gear_mm, off_line_um, tip_corner_share, at_tip_corner} of pair 0};
-    ``zero_load`` {s_start_mm, s_end_mm, s_end_minus_g_alpha_mm} (rigid geometry) and
-    ``small_load`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}]; ``convergence`` list per
-    mesh {size_over_module, size_m, n_dofs, s_start_mm, s_end_minus_g_alpha_mm, share_at (dict
-    s_mm -> share), te_at_um} for each torque; ``n_teeth_check`` (3 teeth meshed instead of 5);
+    to g_α + 0.3 p_b), period [rows] (33 s over one base pitch from 0)}; each row {s_mm,
+    dtheta_rad, te_um, load_N_per_m {"-1", "0", "+1"}, share (pair 0's share of the total
+    normal load: the entering pair in ``approach``, the leaving pair in ``recess``), contact
+    of pair 0 {loaded; where loaded: r_pinion_mm, r_gear_mm (load-weighted contact point),
+    off_line_um (from the line of action, > 0 towards the gear), tip_corner_share,
+    at_tip_corner}};
+    ``zero_load`` {s_start_mm, s_end_mm, s_end_minus_g_alpha_mm} (rigid teeth: where the tip
+    corners touch) and ``small_load`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}] at 1e-4
+    and 1e-2 of the torque (s ∝ √T down to the ~0.02 mm left by the contact points' spacing);
+    ``convergence`` list per mesh {size_over_module, size_m, n_dofs [pinion, gear], build_s,
+    torques [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm, share_at {s_mm: pair 0's share}
+    at s = −0.1 p_b, 0, +0.2 p_b, te_at_um {s_mm: TE}, single_pair_stiffness_N_per_mm_um}]};
+    ``n_teeth_check`` {n_teeth_meshed 3, torque_Nm, s_start_mm, s_end_minus_g_alpha_mm,
+    share_at_0} (3 teeth meshed instead of 5, production mesh);
     ``wall_s``.
     """
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -688,7 +695,7 @@ def _run(args) -> int:
                       "s_start_mm": start_of_contact(pm, T / b) * 1e3,
                       "s_end_minus_g_alpha_mm": (end_of_contact(pm, T / b) - ga) * 1e3})
     print("zero load:", zero, "small loads:", small, flush=True)
-    probe = (-0.2 * pb, 0.0, 0.2 * pb)
+    probe = (-0.1 * pb, 0.0, 0.2 * pb)
     convergence = []
     for div in conv_divs:
         m = model(div)

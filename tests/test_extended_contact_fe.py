@@ -18,6 +18,9 @@ here on coarse meshes (h = m_n/4 and m_n/6):
 * convergence between the two meshes.
 """
 
+import json
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -112,3 +115,32 @@ def test_start_of_contact_and_share_converge(coarse, finer):
             la = coarse.solve(coarse.theta(s), T).loads()
             lb = finer.solve(finer.theta(s), T).loads()
             assert la[1] / la.sum() == pytest.approx(lb[1] / lb.sum(), abs=0.02), s
+
+
+RECORD_PATH = pathlib.Path(__file__).resolve().parents[1] / "docs/bench/extended_contact_fe.json"
+
+
+def test_the_record_is_converged_and_reproduced_on_a_coarse_mesh(coarse):
+    """docs/bench/extended_contact_fe.json (``python benchmarks/extended_contact_fe.py``, h =
+    m_n/8): its meshes agree with each other, its zero-load ends are the theoretical ones, and
+    the coarse mesh here reproduces its start of contact and the entering pair's share."""
+    rec = json.loads(RECORD_PATH.read_text())
+    g = rec["geometry"]["path_of_contact_m"] * 1e3  # mm
+    assert g == pytest.approx(coarse.g_alpha * 1e3, rel=1e-12)
+    assert abs(rec["zero_load"]["s_start_mm"]) < 1e-3
+    assert abs(rec["zero_load"]["s_end_minus_g_alpha_mm"]) < 1e-3
+    for i, t in enumerate(rec["torques"]):
+        runs = [c["torques"][i] for c in rec["convergence"]]
+        starts = [r["s_start_mm"] for r in runs]
+        ends = [r["s_end_minus_g_alpha_mm"] for r in runs]
+        assert max(starts) - min(starts) < 0.005 * g, starts
+        assert max(ends) - min(ends) < 0.005 * g, ends
+        for key in runs[0]["share_at"]:
+            shares = [r["share_at"][key] for r in runs]
+            assert max(shares) - min(shares) < 0.02, (key, shares)
+        T = t["torque_per_width_Nm_per_m"]
+        assert start_of_contact(coarse, T) * 1e3 == pytest.approx(t["s_start_mm"], abs=0.005 * g)
+        row = t["approach"][15]  # s = 0
+        assert row["s_mm"] == pytest.approx(0.0, abs=1e-12)
+        loads = coarse.solve(0.0, T).loads()
+        assert loads[1] / loads.sum() == pytest.approx(row["share"], abs=0.02)
