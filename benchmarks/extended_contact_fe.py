@@ -89,6 +89,7 @@ __all__ = [
 ]
 
 N_MASTER = 3000  # exact points of each master flank polyline
+HARRIS_TORQUES = (5.0, 10.0, 20.0, 40.0, 60.0, 80.0, 120.0, 160.0)  # N·m, the record's map
 
 
 # ------------------------------------------------------------------------------------------
@@ -619,7 +620,8 @@ def main(argv=None) -> int:
     ``zero_load`` {s_start_mm, s_end_mm, s_end_minus_g_alpha_mm} (rigid teeth: where the tip
     corners touch) and ``small_load`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}] at 1e-4
     and 1e-2 of the torque (s ∝ √T down to the ~0.02 mm left by the contact points' spacing);
-    ``convergence`` list per mesh {size_over_module, size_m, n_dofs [pinion, gear], build_s,
+    ``harris`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}] at 5 … 160 N·m (the start
+    and end of contact over the torque, production mesh); ``convergence`` list per mesh {size_over_module, size_m, n_dofs [pinion, gear], build_s,
     torques [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm, share_at {s_mm: pair 0's share}
     at s = −0.1 p_b, 0, +0.2 p_b, te_at_um {s_mm: TE}, single_pair_stiffness_N_per_mm_um}]};
     ``n_teeth_check`` {n_teeth_meshed 3, torque_Nm, s_start_mm, s_end_minus_g_alpha_mm,
@@ -695,6 +697,14 @@ def _run(args) -> int:
                       "s_start_mm": start_of_contact(pm, T / b) * 1e3,
                       "s_end_minus_g_alpha_mm": (end_of_contact(pm, T / b) - ga) * 1e3})
     print("zero load:", zero, "small loads:", small, flush=True)
+    harris = []
+    for T in HARRIS_TORQUES:
+        s0, s1 = start_of_contact(pm, T / b), end_of_contact(pm, T / b)
+        harris.append({"torque_Nm": T, "s_start_mm": s0 * 1e3,
+                       "s_end_minus_g_alpha_mm": (s1 - ga) * 1e3})
+    print("start/end over torque:", [(h["torque_Nm"], round(h["s_start_mm"], 4),
+                                      round(h["s_end_minus_g_alpha_mm"], 4)) for h in harris],
+          flush=True)
     probe = (-0.1 * pb, 0.0, 0.2 * pb)
     convergence = []
     for div in conv_divs:
@@ -781,6 +791,7 @@ def _run(args) -> int:
         "torques": results,
         "zero_load": zero,
         "small_load": small,
+        "harris": harris,
         "convergence": convergence,
         "n_teeth_check": n3,
         "wall_s": time.perf_counter() - t_start,

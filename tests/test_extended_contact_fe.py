@@ -144,3 +144,18 @@ def test_the_record_is_converged_and_reproduced_on_a_coarse_mesh(coarse):
         assert row["s_mm"] == pytest.approx(0.0, abs=1e-12)
         loads = coarse.solve(0.0, T).loads()
         assert loads[1] / loads.sum() == pytest.approx(row["share"], abs=0.02)
+
+
+def test_the_records_start_of_contact_grows_as_the_root_of_the_torque():
+    """Over the record's map (5 … 160 N·m) the premature start and the late end grow with the
+    torque as √T: the corner's rigid gap grows quadratically before A (17.8 µm at 1 mm), and
+    the deflection that closes it about linearly with the load (to the Hertzian contact's
+    slight stiffening)."""
+    rec = json.loads(RECORD_PATH.read_text())
+    T = np.array([h["torque_Nm"] for h in rec["harris"]])
+    start = np.array([h["s_start_mm"] for h in rec["harris"]])
+    late = np.array([h["s_end_minus_g_alpha_mm"] for h in rec["harris"]])
+    assert np.all(np.diff(start) < 0) and np.all(np.diff(late) > 0)
+    for s in (start, late):
+        k = s**2 / T  # mm²/(N·m)
+        assert k.max() / k.min() < 1.3, k
