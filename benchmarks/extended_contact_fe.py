@@ -26,10 +26,10 @@ Model (per unit face width, plane strain, E, ν of the case):
 * Contact pairs, node to segment, single pass, per tooth pair: the gear's flank points above
   its operating pitch circle against the pinion's drive flank (approach: the gear's tip corner
   among them), and the pinion's flank points above its operating pitch circle against the
-  gear's flank (recess: the pinion's tip corner).  Coast flanks and friction are left out.  The gap g_i is the signed distance of the slave
-  point from the master flank, computed by brute force between discretised surfaces in their
-  rigid positions: the slave point's exact surface point and a polyline of 3000 exact points of
-  the master flank (fillet + involute; chord sag < 1e-10 m), measured along the master
+  gear's flank (recess: the pinion's tip corner).  Coast flanks and friction are left out.
+  The gap g_i is the signed distance of the slave point from the master flank, computed by
+  brute force between discretised surfaces in their rigid positions: the slave point's exact
+  surface point and a polyline of 3000 exact points of the master flank (fillet + involute; chord sag < 1e-10 m), measured along the master
   segment's normal (the closest segment among those next to the nearest polyline vertex);
   never the involute formula.  The slave points are 8 per slave facet (P2-interpolated, so
   that the rigid contact point never falls far between two of them).  Both sides'
@@ -623,7 +623,8 @@ def main(argv=None) -> int:
     corners touch) and ``small_load`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}] at 1e-4
     and 1e-2 of the torque (s ∝ √T down to the ~0.02 mm left by the contact points' spacing);
     ``harris`` [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm}] at 5 … 160 N·m (the start
-    and end of contact over the torque, production mesh); ``convergence`` list per mesh {size_over_module, size_m, n_dofs [pinion, gear], build_s,
+    and end of contact over the torque, production mesh); ``convergence`` list per mesh
+    {size_over_module, size_m, n_dofs [pinion, gear], build_s,
     torques [{torque_Nm, s_start_mm, s_end_minus_g_alpha_mm, share_at {s_mm: pair 0's share}
     at s = −0.1 p_b, 0, +0.2 p_b, te_at_um {s_mm: TE}, single_pair_stiffness_N_per_mm_um}]};
     ``n_teeth_check`` {n_teeth_meshed 3, torque_Nm, s_start_mm, s_end_minus_g_alpha_mm,
@@ -730,7 +731,8 @@ def _run(args) -> int:
             })
         convergence.append(row)
         print(f"h = m/{div:g}: " + "; ".join(
-            f"T {r['torque_Nm']:g}: s_start {r['s_start_mm']:.4f} s_end-g {r['s_end_minus_g_alpha_mm']:.4f} "
+            f"T {r['torque_Nm']:g}: s_start {r['s_start_mm']:.4f} "
+            f"s_end-g {r['s_end_minus_g_alpha_mm']:.4f} "
             f"shares {[round(v, 4) for v in r['share_at'].values()]}" for r in row["torques"]),
             flush=True)
         if div != prod_div:
