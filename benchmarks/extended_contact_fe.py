@@ -29,9 +29,9 @@ Model (per unit face width, plane strain, E, ν of the case):
   gear's flank (recess: the pinion's tip corner).  Coast flanks and friction are left out.
   The gap g_i is the signed distance of the slave point from the master flank, computed by
   brute force between discretised surfaces in their rigid positions: the slave point's exact
-  surface point and a polyline of 3000 exact points of the master flank (fillet + involute; chord sag < 1e-10 m), measured along the master
-  segment's normal (the closest segment among those next to the nearest polyline vertex);
-  never the involute formula.  The slave points are 8 per slave facet (P2-interpolated, so
+  surface point and a polyline of 3000 exact points of the master flank (fillet + involute;
+  chord sag < 1e-10 m), measured along the master segment's normal (the closest segment among
+  those next to the nearest polyline vertex); never the involute formula.  The slave points are 8 per slave facet (P2-interpolated, so
   that the rigid contact point never falls far between two of them).  Both sides'
   displacements at a contact point are the P2 edge interpolation of their flank nodes (the
   same shape functions spread the force); W gets 1e-9 of its mean diagonal (singular with
