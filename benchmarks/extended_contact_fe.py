@@ -31,9 +31,9 @@ Model (per unit face width, plane strain, E, ν of the case):
   brute force between discretised surfaces in their rigid positions: the slave point's exact
   surface point and a polyline of 3000 exact points of the master flank (fillet + involute;
   chord sag < 1e-10 m), measured along the master segment's normal (the closest segment among
-  those next to the nearest polyline vertex); never the involute formula.  The slave points are 8 per slave facet (P2-interpolated, so
-  that the rigid contact point never falls far between two of them).  Both sides'
-  displacements at a contact point are the P2 edge interpolation of their flank nodes (the
+  those next to the nearest polyline vertex); never the involute formula.  The slave points
+  are 8 per slave facet (P2-interpolated, so that the rigid contact point never falls far
+  between two of them).  Both sides' displacements at a contact point are the P2 edge interpolation of their flank nodes (the
   same shape functions spread the force); W gets 1e-9 of its mean diagonal (singular with
   more points than nodes).
 * With n_i the contact normal (out of the pinion), a_i = n_i · (y, −x) the pinion's lever at
