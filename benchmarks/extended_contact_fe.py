@@ -23,18 +23,18 @@ Model (per unit face width, plane strain, E, ν of the case):
   Δθ (rad) unknown, loaded by the torque T' = T / b (N·m/m).  A rigid rotation of a body
   clamped at its bore is its zero-energy mode, so the pinion clamped at its bore plus the rigid
   rotation Δθ is exactly the rigid bore ring.
-* Contact pairs, node to segment, single pass, per tooth pair: the gear's flank points above
-  its operating pitch circle against the pinion's drive flank (approach: the gear's tip corner
-  among them), and the pinion's flank points above its operating pitch circle against the
-  gear's flank (recess: the pinion's tip corner).  Coast flanks and friction are left out.
-  The gap g_i is the signed distance of the slave point from the master flank, computed by
-  brute force between discretised surfaces in their rigid positions: the slave point's exact
-  surface point and a polyline of 3000 exact points of the master flank (fillet + involute;
-  chord sag < 1e-10 m), measured along the master segment's normal (the closest segment among
-  those next to the nearest polyline vertex); never the involute formula.  The slave points
-  are 8 per slave facet (P2-interpolated, so that the rigid contact point never falls far
-  between two of them).  Both sides' displacements at a contact point are the P2 edge interpolation of their flank nodes (the
-  same shape functions spread the force); W gets 1e-9 of its mean diagonal (singular with
+* Contact pairs, node to segment, single pass, per tooth pair: the gear's flank points above its
+  operating pitch circle against the pinion's drive flank (approach: the gear's tip corner among
+  them), and the pinion's flank points above its operating pitch circle against the gear's flank
+  (recess: the pinion's tip corner). Coast flanks and friction are left out. The gap g_i is the
+  signed distance of the slave point from the master flank, computed by brute force between
+  discretised surfaces in their rigid positions: the slave point's exact surface point and a
+  polyline of 3000 exact points of the master flank (fillet + involute; chord sag < 1e-10 m),
+  measured along the master segment's normal (the closest segment among those next to the
+  nearest polyline vertex); never the involute formula. The slave points are 8 per slave facet
+  (P2-interpolated, so that the rigid contact point never falls far between two of them). Both
+  sides' displacements at a contact point are the P2 edge interpolation of their flank nodes
+  (the same shape functions spread the force); W gets 1e-9 of its mean diagonal (singular with
   more points than nodes).
 * With n_i the contact normal (out of the pinion), a_i = n_i · (y, −x) the pinion's lever at
   the contact point (its centre at the origin), and W = B₁G₁B₁ᵀ + B₂G₂B₂ᵀ the combined normal
