@@ -192,6 +192,7 @@ class MeshModel(eqx.Module):
     backlash: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     coast_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     coast: bool = eqx.field(static=True, default=False)
+    extended_contact: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
         if self.n_slices < 1:
