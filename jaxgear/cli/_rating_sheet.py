@@ -430,19 +430,20 @@ def k_v_note(mesh_hz: float, mode_hz: float, mode: str) -> tuple[bool, str]:
 
 
 def sweep_excitation(mesh_hz, first_hz: float) -> str | None:
-    """What a sweep's dynamic factors and dynamic K_γ are where every swept mesh frequency
-    (``mesh_hz``, Hz) lies below :data:`FAR_BELOW` of the model's first mode ``first_hz``
-    (Hz): not resonances but the entering-pair transient (:data:`ENTERING_PAIR`); None
-    otherwise."""
+    """What a sweep's dynamic factors are where every swept mesh frequency (``mesh_hz``, Hz)
+    lies below :data:`FAR_BELOW` of the model's first mode ``first_hz`` (Hz): not resonances
+    but the entering-pair transient (:data:`ENTERING_PAIR`), which the peak-based dynamic K_γ
+    (:func:`jaxgear.planetary.dynamic_load_sharing`) does not count again; None otherwise."""
     hi = float(np.max(mesh_hz))
     if hi >= FAR_BELOW * first_hz:
         return None
     return (f"mesh frequencies {number(float(np.min(mesh_hz)))}–{number(hi)} Hz, at most "
             f"{number(hi / first_hz)} × the first mode ({number(first_hz)} Hz): far below "
-            "resonance, where ISO 6336-1's K_v is about 1; the dynamic factors and the dynamic "
-            "K_γ here are the transient of each tooth pair entering contact (teeth without tip "
-            "relief, under exact contact, take their load at the theoretical start of contact "
-            "and ring the mesh), not comparable with ISO's K_v")
+            "resonance, where ISO 6336-1's K_v is about 1; the dynamic factors here are the "
+            "transient of each tooth pair entering contact (teeth without tip relief, under "
+            "exact contact, take their load at the theoretical start of contact and ring the "
+            "mesh), not comparable with ISO's K_v; the dynamic K_γ (peak-based: each planet "
+            "path's peak over the mean path's) does not count that transient again")
 
 
 #: the standing words on a measured factor's cause and comparability, by the factor it measures
