@@ -110,6 +110,7 @@ def test_the_run_hands_its_sweep_to_the_rating(tmp_path, monkeypatch):
     sweep = dict.fromkeys(["model", "speed_of", "speeds_rad_s", "dynamic_factor",
                            "max_dynamic_factor", "speed_of_max_rad_s", "mesh_names",
                            "max_dynamic_factor_mesh", "k_gamma", "max_k_gamma",
+                           "k_gamma_mean_load", "max_k_gamma_mean_load",
                            "ring_model", "ring", "steps_per_period",
                            "steps_resolution", "excitation"])
     seen = []
