@@ -194,13 +194,15 @@ def planetary_files(form, case, out: str, args, complete: bool,
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
-    rated = ratings_of(case) is not None
-    loads = stage_loads(case, spec, stage, models) if rated else None
-    # the sweep's meshes (build_dynamic_model's: the case's dynamic meshes): their contact model
-    contact = stage_contact_model(spec.dynamic_meshes(case, case.slices)) if rated else None
+    loads, k_v = None, None
+    if ratings_of(case) is not None:
+        loads = stage_loads(case, spec, stage, models)
+        # the sweep's meshes (build_dynamic_model's: the case's dynamic meshes): their contact
+        # model, which each measured K_v row states
+        contact = stage_contact_model(spec.dynamic_meshes(case, case.slices))
+        k_v = measured_k_v(sweep, case.speed, summary["load_sharing"], contact)
     rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
-                            face_load=summary.get("face_load"), loads=loads,
-                            k_v=measured_k_v(sweep, case.speed, summary["load_sharing"], contact))
+                            face_load=summary.get("face_load"), loads=loads, k_v=k_v)
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)
