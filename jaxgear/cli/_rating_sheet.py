@@ -4,7 +4,8 @@ confirms, the input data, material, lubrication and roughness, accuracy, life an
 the operating point, the load factors with the intermediate values behind K_v and K_Hβ, the
 pitting and bending factors and stresses, S_H and S_F against S_Hmin and S_Fmin with a
 pass/fail verdict, every row with its ISO 6336 part, edition and clause; the factors jaxgear
-measured, each with where it comes from and whether it is comparable with ISO's; where the case
+measured, each with where it comes from, the contact model that produced it
+(:class:`jaxgear.rating.MeasuredFactor`) and whether it is comparable with ISO's; where the case
 cites a published report (:func:`jaxgear.io.published_rating`), its printed values beside ours.
 One number format (:func:`number`: four significant digits), one notation (the symbols as ISO
 6336 writes them: K_Hβ, not K_Hbeta)."""
