@@ -91,7 +91,7 @@ def test_planetary_run_bar_over_its_stages(tmp_path, capsys, monkeypatch):
     sweep_keys = [
         *("model", "speed_of", "speeds_rad_s", "dynamic_factor", "max_dynamic_factor"),
         *("speed_of_max_rad_s", "mesh_names", "max_dynamic_factor_mesh", "k_gamma"),
-        *("max_k_gamma", "ring_model", "ring", "steps_per_period", "steps_resolution"),
+        *("max_k_gamma", "k_gamma_mean_load", "max_k_gamma_mean_load", "ring_model", "ring", "steps_per_period", "steps_resolution"),
         "excitation",
     ]
     monkeypatch.setattr(cli_planetary, "planetary_files", lambda *a: {"case": case.name})

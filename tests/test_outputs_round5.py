@@ -86,6 +86,7 @@ def test_the_unexcited_sweep_says_df_1(lin_parker, tmp_path, monkeypatch):
     figs = _capture(monkeypatch, ps)
     s = ps.planetary_sweep(lin_parker.form, lin_parker, LP_SPEEDS, str(tmp_path), **LP_RUN)
     assert s["dynamic_factor"] == [1.0, 1.0] and s["k_gamma"] == [1.0, 1.0]
+    assert s["k_gamma_mean_load"] == [1.0, 1.0]
     assert np.all(np.asarray(s["dynamic_factor_mesh"]) == 1.0)
     assert s["excitation"]["round_off_deviation"] < 1e-8
     assert s["ring_spectrum"]["speed_rad_s"] == 100.0

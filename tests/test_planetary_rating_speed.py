@@ -35,6 +35,9 @@ import jaxgear.io as jio
 import jaxgear.planetary as jp
 from jaxgear.io import CaseWarning
 
+# the contact model a stub measured row states (jaxgear.rating.contact_model's words)
+CONTACT = "stub contact model"
+
 jax.config.update("jax_enable_x64", True)
 
 TORQUE = 1000.0
@@ -137,7 +140,8 @@ def given(tmp_path_factory):
     for k, pair in enumerate(case.pairs):
         static.append(tuple(_synthetic_loads(pair, P, 10 * k + j) for j in range(3)))
         fast.append(tuple(_synthetic_loads(pair, P, 10 * k + j, F) for j in range(3)))
-    loads = StageLoads(tuple(static), (np.array([1.0, 1.0, 1.1]),) * 2, "stub loads")
+    loads = StageLoads(tuple(static), (np.array([1.0, 1.0, 1.1]),) * 2, "stub loads",
+                       CONTACT)
     at = StageAtSpeed(tuple(fast), (np.array([1.0, 1.2, 1.1]),) * 2, 1.0, loads, 1.5, 0, 2, P,
                       "stub run")
     with warnings.catch_warnings():

@@ -134,6 +134,9 @@ def test_the_rating_report_names_the_k_gamma_source(tmp_path):
     spatial = K_GAMMA_SOURCES["spatial"]
     sec = rating_section(jio.load_case("nrel-5mw-planetary"), str(tmp_path), 1.2,
                          spatial)
-    assert sec["K_gamma"] == {"value": [1.2, 1.2], "source": [spatial] * 2}
+    # the load sharing's linear mesh springs: the contact model the computed K_γ states
+    springs = jg.rating.MESH_SPRINGS
+    assert sec["K_gamma"] == {"value": [1.2, 1.2], "source": [spatial] * 2,
+                              "contact_model": [springs] * 2}
     md = (tmp_path / "rating.md").read_text()
-    assert md.count(f"| K_γ | 1.200 ({spatial}) |") == 2
+    assert md.count(f"| K_γ | 1.200 ({spatial}; contact model: {springs}) |") == 2

@@ -23,6 +23,9 @@ from jaxgear.cli import planetary_sweep as ps
 from jaxgear.cli.planetary import measured_k_v
 from test_planetary_step_plan import reference_plan
 
+# the contact model a stub measured row states (jaxgear.rating.contact_model's words)
+CONTACT = "stub contact model"
+
 RUN = {"periods": 2, "keep_periods": 1}
 
 
@@ -91,9 +94,9 @@ def test_the_measured_k_v_source_says_under_resolved(lumped):
                                   "resolved": False, "steps_per_period_resolved": 2388}}
     sharing = {"planar": {"sun_mesh_forces_N": [1.0, 1.0],
                                     "ring_mesh_forces_N": [1.0, 1.0]}}
-    kv = measured_k_v(sweep, 1.5, sharing)
+    kv = measured_k_v(sweep, 1.5, sharing, CONTACT)
     assert kv[0]["value"] == pytest.approx(1.25) and kv[1]["value"] == pytest.approx(1.45)
     assert "(time step under-resolved: n = 0.27 " in kv[0]["source"]
     assert "--steps-per-period >= 2388" in kv[0]["source"]
     sweep["steps_resolution"]["resolved"] = True
-    assert "under-resolved" not in measured_k_v(sweep, 1.5, sharing)[0]["source"]
+    assert "under-resolved" not in measured_k_v(sweep, 1.5, sharing, CONTACT)[0]["source"]

@@ -232,7 +232,8 @@ def test_planetary_rating_takes_the_stages_k_gamma_when_not_given(tmp_path):
 
     free = _rated_stage2(tmp_path, STAGE2_RATING.replace("K_gamma = 1.10\n", ""))
     sec = rating_section(free, str(tmp_path), 1.21)
-    assert sec["K_gamma"] == {"value": [1.21, 1.21], "source": [K_GAMMA_SOURCE] * 2}
+    assert sec["K_gamma"] == {"value": [1.21, 1.21], "source": [K_GAMMA_SOURCE] * 2,
+                              "contact_model": [jg.rating.MESH_SPRINGS] * 2}
     np.testing.assert_allclose(
         np.asarray(sec["pitting"]["sigma_H_Pa"]) / 1e6,
         np.sqrt(1.21 / 1.10) * np.array([[1071.17, 994.13], [404.76, 404.76]]),

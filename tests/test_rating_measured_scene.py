@@ -105,7 +105,7 @@ def test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says(tmp_path):
     phi = theta_f * f_n / (1 + (theta_mp + theta_mg) * c * b**3 / 12)
     want = 1 + np.mean(c * phi) * (b - b / n) / 2 / (f_n / b)
     assert want > 1.1
-    curves = {"model": "lumped3d", "results": {"exact": res}}
+    curves = {"model": "lumped3d", "results": {"exact": res}, "base_planes": scene.base_planes}
     with jax.disable_jit():  # the rating's values without its compilation
         section = cli.rating_outputs(
             case, str(tmp_path), result=rigid, model=cli.scene_loads(curves, 0.0)
@@ -133,13 +133,14 @@ def test_rigid_scene_reads_the_rigid_mesh_map():
     mesh = case.mesh_model()
     scene = jg.quasi_static(jg.RigidMesh(mesh), case.modifications, case.torque, periods=1)
     rigid = jg.quasi_static(mesh, case.modifications, case.torque, periods=1)
-    m = cli.measured_factors(rigid, cli.ModelLoads(scene.meshes, "rigid scene"), 0)
+    m = cli.measured_factors(rigid, cli.ModelLoads(scene.meshes, "rigid scene", (mesh,)), 0)
     assert m["K_Hbeta"]["value"] > 1.05
     for key in ("K_Hbeta", "K_Halpha"):
         assert m[key]["value"] == pytest.approx(m[f"{key}_rigid_mesh"]["value"], rel=1e-12)
     assert "rigid scene" in m["K_Hbeta"]["source"]
     # a hybrid scene's result is read the same way, its model and speed named
-    hybrid = cli.scene_loads({"model": "hybrid", "results": {"exact": scene}}, 50.0)
+    hybrid = cli.scene_loads({"model": "hybrid", "results": {"exact": scene},
+                                "base_planes": (mesh,)}, 50.0)
     assert hybrid.results == tuple(scene.meshes)
     assert hybrid.model == (
         "hybrid scene: condensed bodies, shafts and bearings, at 50 rad/s (centrifugal loads)"

@@ -10,6 +10,9 @@ import pytest
 import jaxgear.io as jio
 from test_rating_planetary_measured import iso_and_measured, rated_case
 
+# the contact model a stub measured row states (jaxgear.rating.contact_model's words)
+CONTACT = "stub contact model"
+
 #: a three-planet sweep as sweep.json writes it: 4 input speeds, per speed the 3 sun/planet
 #: meshes then the 3 ring/planet meshes (values chosen so that the largest planet differs
 #: between the speeds and between the kinds)
@@ -46,14 +49,14 @@ def test_k_v_is_the_largest_planets_interpolated_dynamic_factor():
     from jaxgear.cli.planetary import measured_k_v
 
     for speed in (237.5, 180.0, 300.0, 100.0):
-        k = measured_k_v(SWEEP, speed, EQUAL)
+        k = measured_k_v(SWEEP, speed, EQUAL, CONTACT)
         sun = max(_by_hand(speed, j) for j in range(3))
         ring = max(_by_hand(speed, j) for j in range(3, 6))
         assert k[0]["value"] == pytest.approx(sun, abs=1e-12)
         assert k[1]["value"] == pytest.approx(ring, abs=1e-12)
         assert "planar lumped model" in k[0]["source"] and "3 planets" in k[0]["source"]
-    assert measured_k_v(SWEEP, 99.0, EQUAL) is None and measured_k_v(SWEEP, 401.0, EQUAL) is None
-    assert measured_k_v(None, 200.0, EQUAL) is None
+    assert measured_k_v(SWEEP, 99.0, EQUAL, CONTACT) is None and measured_k_v(SWEEP, 401.0, EQUAL, CONTACT) is None
+    assert measured_k_v(None, 200.0, EQUAL, CONTACT) is None
 
 
 def test_unequal_sharing_divides_each_planet_by_its_static_share():
@@ -68,7 +71,7 @@ def test_unequal_sharing_divides_each_planet_by_its_static_share():
     sharing = {"planar": EQUAL["planar"],
                "spatial": {"sun_mesh_forces_N": f.tolist(), "ring_mesh_forces_N": (-f).tolist(),
                            "k_gamma": float(share.max())}}
-    k = measured_k_v(SWEEP, 237.5, sharing)
+    k = measured_k_v(SWEEP, 237.5, sharing, CONTACT)
     for kind in (0, 1):
         want = max(_by_hand(237.5, 3 * kind + j, share[j]) for j in range(3))
         assert k[kind]["value"] == pytest.approx(want, abs=1e-12)
@@ -82,7 +85,8 @@ def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
     rating.md's row saying it was used. Without a sweep: a one-line warning naming K_v."""
     from jaxgear.cli.planetary import rating_section
 
-    k_v = [{"value": 1.31, "source": "stub"}, {"value": 1.17, "source": "stub"}]
+    k_v = [{"value": 1.31, "source": "stub", "contact_model": CONTACT},
+           {"value": 1.17, "source": "stub", "contact_model": CONTACT}]
     given = 'K_Hbeta = 1.15\nK_Fbeta = 1.12\nK_Halpha = 1.0\nK_Falpha = 1.0\n'  # within ISO's limits
     plain = rating_section(rated_case(tmp_path, given), str(tmp_path), 1.1, k_v=k_v)
     assert plain["measured"]["K_v"]["value"] == [1.31, 1.17]
@@ -110,6 +114,7 @@ def test_the_run_hands_its_sweep_to_the_rating(tmp_path, monkeypatch):
     sweep = dict.fromkeys(["model", "speed_of", "speeds_rad_s", "dynamic_factor",
                            "max_dynamic_factor", "speed_of_max_rad_s", "mesh_names",
                            "max_dynamic_factor_mesh", "k_gamma", "max_k_gamma",
+                           "k_gamma_mean_load", "max_k_gamma_mean_load",
                            "ring_model", "ring", "steps_per_period",
                            "steps_resolution", "excitation"])
     seen = []
@@ -149,7 +154,7 @@ def test_embedded_stage_k_v_is_the_sweep_at_the_operating_speed(tmp_path):
     df = np.asarray(sw["dynamic_factor_mesh"])  # (3, 2N)
     apart = sw | {"speeds_rad_s": [s[i - 1], s[i + 1]], "dynamic_factor_mesh": df[[0, 2]],
                   "mesh_frequency_Hz": [sw["mesh_frequency_Hz"][k] for k in (0, 2)]}
-    k, k_apart = (measured_k_v(w, case.speed, sharing) for w in (sw, apart))
+    k, k_apart = (measured_k_v(w, case.speed, sharing, CONTACT) for w in (sw, apart))
     name = [m for m in ("planar", "spatial") if m in sharing][-1]
     n = spec.n_planets
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):

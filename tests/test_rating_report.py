@@ -20,6 +20,9 @@ from test_rating_kisssoft import RING_REPORTS, SPUR_REPORTS, STAGE_03_PRINTED
 import jaxgear.io as jio
 from jaxgear import cli
 
+# the contact model a stub measured row states (jaxgear.rating.contact_model's words)
+CONTACT = "stub contact model"
+
 ROOT = Path(__file__).resolve().parents[1]
 #: the report's sections (a pair's "##" headings), in order
 SECTIONS = ["Input data", "Material", "Lubrication and roughness", "Accuracy",
@@ -234,11 +237,11 @@ def test_measured_k_v_far_below_the_first_mode_is_not_comparable():
              "dynamic_factor_mesh": [[2.0, 2.0, 1.5, 1.5], [2.0, 2.0, 1.5, 1.5]],
              "model": "planar", "ring_model": "rigid", "mesh_frequency_Hz": [2.0, 13.0],
              "natural_frequencies_Hz": [100.0, 200.0]}
-    k = measured_k_v(sweep, 1.5, sharing)
+    k = measured_k_v(sweep, 1.5, sharing, CONTACT)
     assert k[0]["comparable"] is False and k[0]["note"].startswith("not comparable")
     assert "entering contact" in k[0]["note"] and "7.500 Hz" in k[0]["note"]
     sweep["mesh_frequency_Hz"] = [60.0, 100.0]
-    k = measured_k_v(sweep, 1.5, sharing)
+    k = measured_k_v(sweep, 1.5, sharing, CONTACT)
     assert k[0]["comparable"] is True and k[0]["note"].startswith("comparable")
 
 

@@ -25,14 +25,21 @@ from .. import (
 )
 from ..io import CaseWarning, ratings_of
 from ..rating import (
+    MeasuredFactor,
     RootStressMap,
     ShaperCutterSection,
+    contact_model,
     planet_dynamic_factor,
     planet_transverse_factor,
     root_stress_map,
     with_load_sharing,
 )
-from ..planetary import RigidRing, planetary_quasi_static
+from ..planetary import (
+    ContactMeshes,
+    DeviationMeshes,
+    RigidRing,
+    planetary_quasi_static,
+)
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_report import (
@@ -67,6 +74,7 @@ __all__ = [
     "rating_k_gamma",
     "rating_section",
     "stage_at_speed",
+    "stage_contact_model",
     "stage_loads",
     "stage_rating_lines",
     "stage_root_stress",
@@ -86,6 +94,24 @@ K_GAMMA_SOURCES = {
 }
 
 
+@functools.singledispatch
+def stage_contact_model(meshes) -> str:
+    """The contact model of a planetary stage's meshes kind, as its measured factors state it
+    (:func:`jaxgear.rating.contact_model` of its mesh models): a meshes kind without tooth
+    contact (:class:`jaxgear.ConstantMeshes`, a lumped model's springs) none."""
+    return contact_model(())
+
+
+@stage_contact_model.register
+def _(meshes: ContactMeshes) -> str:  # the gears' contact cells: the sun's and the ring's mesh
+    return contact_model((meshes.sun_mesh, meshes.ring_mesh))
+
+
+@stage_contact_model.register
+def _(meshes: DeviationMeshes) -> str:  # the contact cells with per-tooth deviations
+    return stage_contact_model(meshes.contact)
+
+
 #: where a planetary mesh's measured K_Hβ comes from (``summary.json``'s ``face_load``:
 #: :func:`jaxgear.cli.planetary.face_load_section`), ``{n}`` the number of planets
 FACE_LOAD_SOURCE = (
@@ -100,15 +126,18 @@ def measured_k_h_beta(face_load: dict | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hβ of the stage's two rated meshes (``sun-planet``,
     ``planet-ring``) from the run's ``face_load`` section (its ``k_h_beta``: the n sun/planet
     meshes, then the n ring/planet meshes): each the largest over the planets (the rating is of
-    the most loaded path, as K_γ), with :data:`FACE_LOAD_SOURCE`; ``None`` where the run has no
-    face load (a spur stage; a helical stage whose supports do not hold it: ``skipped``)."""
+    the most loaded path, as K_γ), with :data:`FACE_LOAD_SOURCE` and its contact model (the 3D
+    model's constant mesh springs, no tooth contact: :func:`jaxgear.rating.contact_model` of
+    no mesh model); ``None`` where the run has no face load (a spur stage; a helical stage
+    whose supports do not hold it: ``skipped``)."""
     k = (face_load or {}).get("k_h_beta")
     if k is None:
         return None
     n = len(k) // 2
     source = FACE_LOAD_SOURCE.format(n=n)
-    return [{"value": float(max(k[:n])), "source": source},
-            {"value": float(max(k[n:])), "source": source}]
+    springs = contact_model(())
+    return [MeasuredFactor(float(max(k[:n])), source, springs).entry(),
+            MeasuredFactor(float(max(k[n:])), source, springs).entry()]
 
 
 #: where a planetary mesh's measured K_v comes from (:func:`measured_k_v`)
@@ -125,7 +154,8 @@ UNRESOLVED_K_V = (" (time step under-resolved: n = {n:.3g} steps per period of {
                   "the lowest speed, < 20; --steps-per-period >= {need} resolves it)")
 
 
-def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] | None:
+def measured_k_v(sweep: dict | None, speed: float, sharing: dict,
+                 contact: str) -> list[dict] | None:
     """The ``rating.measured`` K_v of the stage's two rated meshes (``sun-planet``,
     ``planet-ring``) from the planetary speed sweep ``sweep`` (``sweep.json``'s content,
     :func:`jaxgear.cli.planetary_sweep.sweep_summary`: ``speeds_rad_s`` of the input,
@@ -141,7 +171,8 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     largest over the planets, with :data:`SWEEP_K_V_SOURCE` (and :data:`UNRESOLVED_K_V` where
     the sweep's ``steps_resolution`` is not resolved), ``comparable`` and ``note``: whether it
     is comparable with ISO's K_v, from the mesh frequency at ``speed`` against the sweep model's
-    first mode (:func:`jaxgear.cli._rating_sheet.k_v_note`). None without a sweep or outside
+    first mode (:func:`jaxgear.cli._rating_sheet.k_v_note`), and ``contact``, the contact
+    model of the sweep's meshes (:func:`stage_contact_model`). None without a sweep or outside
     its speeds."""
     if sweep is None:
         return None
@@ -158,17 +189,16 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict) -> list[dict] 
     if res is not None and not res["resolved"]:
         source += UNRESOLVED_K_V.format(n=res["steps_per_top_period_min"], f=res["f_max_Hz"],
                                         need=res["steps_per_period_resolved"])
-    cause = {}
+    comparable = note = None
     if sweep.get("mesh_frequency_Hz") and sweep.get("natural_frequencies_Hz"):
         mesh_hz = float(np.interp(speed, speeds, np.asarray(sweep["mesh_frequency_Hz"])))
         comparable, note = k_v_note(mesh_hz, float(sweep["natural_frequencies_Hz"][0]),
                                     "the sweep model's first mode")
-        cause = {"comparable": comparable, "note": note}
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
         per_planet = np.stack(curves[kind * n:(kind + 1) * n], axis=1)  # (speeds, planets)
         value = planet_dynamic_factor(speeds, per_planet, speed, sharing[name][key])
-        out.append({"value": value, "source": source, **cause})
+        out.append(MeasuredFactor(value, source, contact, comparable, note).entry())
     return out
 
 
@@ -228,11 +258,13 @@ class StageLoads(NamedTuple):
         forces: (sun/planet, planet/ring): each planet's mesh force (N, transverse, the mean
             over the positions), (n_planets,).
         source: :data:`STAGE_LOADS` filled in.
+        contact_model: the contact model of the solve's meshes (:func:`stage_contact_model`).
     """
 
     meshes: tuple
     forces: tuple
     source: str
+    contact_model: str
 
     def most_loaded(self, k: int) -> int:
         """The planet (0-based) whose mesh of kind ``k`` carries the largest mean force, the
@@ -275,7 +307,7 @@ def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None
                    for f in (q.sun_mesh_forces, q.ring_mesh_forces))
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
-    return StageLoads(tuple(kinds), forces, source)
+    return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes))
 
 
 def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
@@ -305,12 +337,13 @@ def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
     (:func:`stage_loads`): each planet's mesh measured as a pair's
     (:func:`jaxgear.rating.transverse_load_factor`: the load sharing between the tooth pairs in
-    contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE`; None without
-    loads."""
+    contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE` and the solve's
+    contact model; None without loads."""
     if loads is None:
         return None
     source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))
-    return [{"value": planet_transverse_factor(kind), "source": source} for kind in loads.meshes]
+    return [MeasuredFactor(planet_transverse_factor(kind), source, loads.contact_model).entry()
+            for kind in loads.meshes]
 
 
 @functools.singledispatch
@@ -482,8 +515,9 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
         if loads is not None:
             stage_root_stress(case, out, k, section, loads, table)
         section["factors"]["K_A"] = {"value": k_a, "source": "given"}
-        section |= {
-            "K_gamma": {"value": kg, "source": "given" if given else source},
+        section |= {  # K_γ of the run's load sharing: its linear mesh springs, no tooth contact
+            "K_gamma": ({"value": kg, "source": "given"} if given else
+                        MeasuredFactor(kg, source, contact_model(())).entry()),
             "torque_per_planet_path_Nm": float(rc.operating.torque),
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }

@@ -27,6 +27,8 @@ from ..io import (
     spec_window,
 )
 from ..rating import (
+    MeasuredFactor,
+    contact_model,
     dynamic_factor_at,
     face_load_factor,
     root_stress_map,
@@ -164,10 +166,13 @@ class ModelLoads(NamedTuple):
             scene's :class:`jaxgear.QuasiStaticResult`; a train's ``result.meshes[k]``).
         model: what the model is, as the factors' ``source`` names it (e.g. "lumped scene:
             shafts and bearings", "hybrid scene: condensed bodies", "coupled train: ...").
+        meshes: the model's mesh models (its scene's ``base_planes``, the case's mesh order):
+            the contact model each factor states (:func:`jaxgear.rating.contact_model`).
     """
 
     results: tuple
     model: str
+    meshes: tuple
 
 
 #: what each pair scene model of ``jaxgear run`` is (:func:`jaxgear.cli.scene.scene_model`'s
@@ -182,27 +187,31 @@ _AT_SPEED = {"lumped3d": "", "hybrid": ", at {:.4g} rad/s (centrifugal loads)"}
 
 def scene_loads(curves: dict | None, speed: float) -> ModelLoads | None:
     """The :class:`ModelLoads` of a pair's quasi-static scene as ``jaxgear run`` solved it
-    (:func:`jaxgear.cli.scene.scene_outputs`' ``curves``: its ``model`` and its exact-contact
-    result with the case's modifications, at the case's ``speed`` (rad/s; a hybrid scene's
-    centrifugal loads)); None without a scene."""
+    (:func:`jaxgear.cli.scene.scene_outputs`' ``curves``: its ``model``, its scene's
+    ``base_planes`` and its exact-contact result with the case's modifications, at the case's
+    ``speed`` (rad/s; a hybrid scene's centrifugal loads)); None without a scene."""
     if not curves:
         return None
     kind = curves["model"]
     model = SCENE_MODELS[kind] + (_AT_SPEED[kind].format(speed) if speed > 0 else "")
-    return ModelLoads(tuple(curves["results"]["exact"].meshes), model)
+    return ModelLoads(tuple(curves["results"]["exact"].meshes), model,
+                      tuple(curves["base_planes"]))
 
 
-def train_loads(case: Case, result) -> ModelLoads:
+def train_loads(case: Case, result, meshes: tuple | None = None) -> ModelLoads:
     """The :class:`ModelLoads` of a train's coupled quasi-static solve ``result`` (every mesh
     at once on the train's structure, exact contact, the case's modifications:
-    :func:`jaxgear.cli.train.run_train`'s), its model named by the train's scene."""
+    :func:`jaxgear.cli.train.run_train`'s), its model named by the train's scene; ``meshes``
+    the structure's mesh models (its ``base_planes``; None: the case's own,
+    :meth:`jaxgear.io.Case.mesh_models`, which the structure is built of)."""
     if case.flexible:
         what = "condensed bodies, shafts and bearings"
     elif case.lumped:
         what = "shafts and bearings"
     else:
         what = "torsional"
-    return ModelLoads(tuple(result.meshes), f"coupled train: {what}")
+    planes = case.mesh_models() if meshes is None else meshes
+    return ModelLoads(tuple(result.meshes), f"coupled train: {what}", tuple(planes))
 
 
 def rated_with_measured(rc: RatingCase, section: dict) -> dict:
@@ -249,29 +258,36 @@ def _(form: TrainForm, result) -> list:  # a train's: one per mesh
     return list(result)
 
 
-def _factors(result, model: str, suffix: str = "") -> dict:
-    """K_Hβ and K_Hα measured on one mesh's load map ``result`` of ``model`` (a source's name),
-    as ``rating.measured`` entries (keys with ``suffix``)."""
+def _factors(result, model: str, mesh, suffix: str = "") -> dict:
+    """K_Hβ and K_Hα measured on one mesh's load map ``result`` of ``model`` (a source's name)
+    whose mesh model is ``mesh`` (the contact model they state:
+    :func:`jaxgear.rating.contact_model`), as ``rating.measured`` entries (keys with
+    ``suffix``; :class:`jaxgear.rating.MeasuredFactor`)."""
+    words = contact_model(mesh)
     return {
-        f"K_Hbeta{suffix}": {
-            "value": float(face_load_factor(result)),
-            "source": MEASURED.format(model=model),
-        },
-        f"K_Halpha{suffix}": {
-            "value": float(transverse_load_factor(result)),
-            "source": MEASURED_ALPHA.format(model=model),
-        },
+        f"K_Hbeta{suffix}": MeasuredFactor(
+            float(face_load_factor(result)), MEASURED.format(model=model), words).entry(),
+        f"K_Halpha{suffix}": MeasuredFactor(
+            float(transverse_load_factor(result)), MEASURED_ALPHA.format(model=model),
+            words).entry(),
     }
 
 
-def measured_factors(rigid, model: ModelLoads | None, k: int) -> dict:
+def measured_factors(rigid, model: ModelLoads | None, k: int, mesh=None) -> dict:
     """Mesh ``k``'s ``rating.measured`` K_Hβ and K_Hα: of the model the case runs (``model``'s
     result; without one, the rigid mesh ``rigid`` is that model), and beside them, when the
     case runs more than the rigid mesh, the rigid mesh's as ``K_Hbeta_rigid_mesh``,
-    ``K_Halpha_rigid_mesh``."""
+    ``K_Halpha_rigid_mesh``. ``mesh``: the rigid mesh's :class:`jaxgear.MeshModel` (the
+    contact model its rows state; None: the model's mesh ``k``, which the case builds alike);
+    the model's rows state its own mesh ``k``'s."""
     if model is None:
-        return _factors(rigid, RIGID_MESH)
-    return _factors(model.results[k], model.model) | _factors(rigid, RIGID_MESH, "_rigid_mesh")
+        if mesh is None:
+            raise ValueError("measured_factors: mesh = None is out of range: allowed the rigid "
+                             "mesh's MeshModel (its rows state its contact model)")
+        return _factors(rigid, RIGID_MESH, mesh)
+    own = model.meshes[k]
+    return (_factors(model.results[k], model.model, own)
+            | _factors(rigid, RIGID_MESH, own if mesh is None else mesh, "_rigid_mesh"))
 
 
 def rating_outputs(
@@ -281,6 +297,7 @@ def rating_outputs(
     root_stress=None,
     model: ModelLoads | None = None,
     *,
+    meshes: tuple | None = None,
     write_table: bool = True,
 ) -> dict | None:
     """The rating of a case with ``[rating]``: writes ``rating.md`` into ``out_dir`` and returns
@@ -306,6 +323,10 @@ def rating_outputs(
             source naming it, and the rigid mesh's are kept beside them as
             ``K_Hbeta_rigid_mesh`` and ``K_Halpha_rigid_mesh``. The root-stress map stays the
             rigid mesh's.
+        meshes: with ``result``, the mesh models ``result`` was solved on (the case's mesh
+            order): the contact model every measured row states
+            (:func:`jaxgear.rating.contact_model`); None: the case's own
+            (:meth:`jaxgear.io.Case.mesh_models`, which the rigid meshes are built of).
         write_table: write ``rating.md`` (``jaxgear run`` writes it once, at the end:
             :func:`write_rating_table`).
     """
@@ -313,6 +334,8 @@ def rating_outputs(
     if rcs is None:
         return None
     results = None if result is None else _per_mesh(case.form, result)
+    if results is not None and meshes is None:
+        meshes = case.mesh_models()
     sections, ratings = [], []
     for k, rc in enumerate(rcs):
         rating = RATE(rc.geometry, rc.operating, rc.settings)
@@ -322,7 +345,7 @@ def rating_outputs(
             warnings.warn(f"{where}{note}", CaseWarning, stacklevel=2)
         section = rating.summary() | {"modification_inputs": modification_inputs(rc, rating)}
         if results is not None:
-            section["measured"] = measured_factors(results[k], model, k)
+            section["measured"] = measured_factors(results[k], model, k, meshes[k])
             section, rating = measured_rating(rc, section, rating)
             if root_stress is not None:
                 name = f"root_stress_map_{label}.png" if label else "root_stress_map.png"
@@ -381,7 +404,8 @@ def train_mesh_results(case: Case) -> tuple | None:
 
 
 def measured_dynamic_factor(
-    case: Case, out_dir: str, summary: dict, dynamics: dict, *, write_table: bool = True
+    case: Case, out_dir: str, summary: dict, dynamics: dict, *, meshes: tuple | None = None,
+    write_table: bool = True
 ) -> None:
     """K_v measured by jaxgear beside ISO's, for a case with ``[rating]`` (else nothing), per
     mesh: the dynamic factor of the case's speed sweep (``summary.json``'s ``dynamics``:
@@ -395,7 +419,11 @@ def measured_dynamic_factor(
     static one (the sweep's: the mesh force over a mesh period at steady state, of the scene's
     model, over the static mesh force; a train's each mesh's own: :func:`_mesh_curves`). Each
     entry says whether it is comparable with ISO's (``comparable``, ``note``: the mesh
-    frequency against ISO's mesh resonance, :func:`jaxgear.cli._rating_sheet.k_v_note`)."""
+    frequency against ISO's mesh resonance, :func:`jaxgear.cli._rating_sheet.k_v_note`) and
+    the contact model of the sweep's meshes (``meshes``, the sweep's scene's mesh models in the
+    case's mesh order; None: the case's own at the sweep's ``slices``,
+    :meth:`jaxgear.io.Case.mesh_models`, which its scene is built of;
+    :func:`jaxgear.rating.contact_model`)."""
     rcs = ratings_of(case)
     if rcs is None:
         return
@@ -404,6 +432,8 @@ def measured_dynamic_factor(
     if not speeds[0] <= speed <= speeds[-1]:
         return
     sections = _mesh_sections(case.form, summary["rating"])
+    if meshes is None:
+        meshes = case.mesh_models(dynamics.get("slices"))
     ratings = []
     for k, curve in enumerate(_mesh_curves(dynamics, len(rcs))):
         label = case.mesh_label(k)
@@ -418,8 +448,8 @@ def measured_dynamic_factor(
         n = float(rating.factors.details["resonance_ratio_N"])
         mesh_hz = rc.geometry.teeth[0] * float(rc.operating.speed) / (2 * np.pi)
         comparable, note = k_v_note(mesh_hz, mesh_hz / n, "ISO 6336-1's mesh resonance z₁ n_E1")
-        sections[k].setdefault("measured", {})["K_v"] = {
-            "value": value, "source": source, "comparable": comparable, "note": note}
+        sections[k].setdefault("measured", {})["K_v"] = MeasuredFactor(
+            value, source, contact_model(meshes[k]), comparable, note).entry()
         sections[k], rated = measured_rating(rcs[k], sections[k])
         ratings.append(rated)  # None: the section was not rated again here
     summary["rating"] = _write_sections(case, out_dir, sections, write_table, ratings)

@@ -4,7 +4,8 @@ confirms, the input data, material, lubrication and roughness, accuracy, life an
 the operating point, the load factors with the intermediate values behind K_v and K_Hβ, the
 pitting and bending factors and stresses, S_H and S_F against S_Hmin and S_Fmin with a
 pass/fail verdict, every row with its ISO 6336 part, edition and clause; the factors jaxgear
-measured, each with where it comes from and whether it is comparable with ISO's; where the case
+measured, each with where it comes from, the contact model that produced it
+(:class:`jaxgear.rating.MeasuredFactor`) and whether it is comparable with ISO's; where the case
 cites a published report (:func:`jaxgear.io.published_rating`), its printed values beside ours.
 One number format (:func:`number`: four significant digits), one notation (the symbols as ISO
 6336 writes them: K_Hβ, not K_Hbeta)."""
@@ -19,7 +20,7 @@ import numpy as np
 
 from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating
-from ..rating import FACTOR_CLAUSES, Edition2006, Edition2019, factor_clause
+from ..rating import FACTOR_CLAUSES, Edition2006, Edition2019, MeasuredFactor, factor_clause
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -351,12 +352,17 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
 
 def _k_gamma_row(t: _Table, section: dict, method: str) -> None:
     """A planetary mesh's load sharing factor K_γ (the mesh load factor), a factor of the load as
-    K_A (in σ_H's and σ_F's formulas)."""
+    K_A (in σ_H's and σ_F's formulas); one computed by jaxgear (not "given") states the contact
+    model that produced it (:class:`jaxgear.rating.MeasuredFactor`: it cannot be shown
+    without)."""
     kg = section.get("K_gamma")
     if kg is None:
         return
+    words = kg["source"]
+    if words != "given":
+        words += f"; contact model: {MeasuredFactor.of_entry(kg, 'K_gamma').contact_model}"
     t.row("mesh load factor (load sharing), a factor of the load as K_A", "K_γ",
-          f"{number(kg['value'])} ({kg['source']})", "",
+          f"{number(kg['value'])} ({words})", "",
           f"ISO 6336-1:{_year(method)} (mesh load factor; in σ_H: {reference('sigma_H', method)}, "
           f"σ_F: {reference('sigma_F', method)})", "K_gamma")
 
@@ -387,16 +393,28 @@ _INTERMEDIATES = {
 }
 
 
+#: the measured factor a factor rated with in its place follows (ISO ties K_Fβ to K_Hβ,
+#: K_Fα to K_Hα): whose contact model its row states
+_MEASURED_OF = {"K_Fbeta": "K_Hbeta", "K_Falpha": "K_Halpha"}
+
+
 def _factor_rows(t: _Table, section: dict, rating, method: str) -> None:
     """The load factors, K_γ after K_A (a planetary mesh's), and with a ``rating`` (None: the
     factors only) the intermediate values behind K_v, K_Hβ and K_Fβ (ISO's, computed whether
-    or not the factor is given) after their rows (:data:`_INTERMEDIATES`)."""
+    or not the factor is given) after their rows (:data:`_INTERMEDIATES`). A factor rated with
+    a measured one in its place states the contact model of that measurement."""
     det = {} if rating is None else {
         k: float(np.asarray(v)) for k, v in rating.factors.details.items()
         if np.asarray(v).ndim == 0}
+    measured = section.get("measured") or {}
     for key, what in _FACTORS:
         f = section["factors"][key]
-        value = f"{number(f['value'])} ({_source(f['source'])})"
+        words = _source(f["source"])
+        if f["source"].startswith("measured"):
+            of = _MEASURED_OF.get(key, key)
+            row = MeasuredFactor.of_entry(measured.get(of, {}), of)
+            words += f"; contact model: {row.contact_model}"
+        value = f"{number(f['value'])} ({words})"
         t.row(what, SYMBOLS[key], value, "", reference(key, method), key)
         if key == "K_A":
             _k_gamma_row(t, section, method)
@@ -430,19 +448,20 @@ def k_v_note(mesh_hz: float, mode_hz: float, mode: str) -> tuple[bool, str]:
 
 
 def sweep_excitation(mesh_hz, first_hz: float) -> str | None:
-    """What a sweep's dynamic factors and dynamic K_γ are where every swept mesh frequency
-    (``mesh_hz``, Hz) lies below :data:`FAR_BELOW` of the model's first mode ``first_hz``
-    (Hz): not resonances but the entering-pair transient (:data:`ENTERING_PAIR`); None
-    otherwise."""
+    """What a sweep's dynamic factors are where every swept mesh frequency (``mesh_hz``, Hz)
+    lies below :data:`FAR_BELOW` of the model's first mode ``first_hz`` (Hz): not resonances
+    but the entering-pair transient (:data:`ENTERING_PAIR`), which the peak-based dynamic K_γ
+    (:func:`jaxgear.planetary.dynamic_load_sharing`) does not count again; None otherwise."""
     hi = float(np.max(mesh_hz))
     if hi >= FAR_BELOW * first_hz:
         return None
     return (f"mesh frequencies {number(float(np.min(mesh_hz)))}–{number(hi)} Hz, at most "
             f"{number(hi / first_hz)} × the first mode ({number(first_hz)} Hz): far below "
-            "resonance, where ISO 6336-1's K_v is about 1; the dynamic factors and the dynamic "
-            "K_γ here are the transient of each tooth pair entering contact (teeth without tip "
-            "relief, under exact contact, take their load at the theoretical start of contact "
-            "and ring the mesh), not comparable with ISO's K_v")
+            "resonance, where ISO 6336-1's K_v is about 1; the dynamic factors here are the "
+            "transient of each tooth pair entering contact (teeth without tip relief, under "
+            "exact contact, take their load at the theoretical start of contact and ring the "
+            "mesh), not comparable with ISO's K_v; the dynamic K_γ (peak-based: each planet "
+            "path's peak over the mean path's) does not count that transient again")
 
 
 #: the standing words on a measured factor's cause and comparability, by the factor it measures
@@ -472,8 +491,9 @@ def _measured_lines(section: dict, heading: str) -> list[str]:
         return []
     out = [f"{heading}# Factors measured by jaxgear (where each comes from)", "",
            "| symbol | measured | ISO / given (rated) | used in the rating | source | "
-           "comparable with ISO's? |", "|---|---|---|---|---|---|"]
+           "contact model | comparable with ISO's? |", "|---|---|---|---|---|---|---|"]
     for key, m in measured.items():
+        row = MeasuredFactor.of_entry(m, key)  # no row without its contact model
         base = key.removesuffix("_rigid_mesh")
         factor = section["factors"].get(key)  # K_Hbeta_rigid_mesh: reported only
         used = factor is not None and factor["source"] != ISO_SOURCE and factor["source"] != \
@@ -483,7 +503,7 @@ def _measured_lines(section: dict, heading: str) -> list[str]:
         used_words = "yes: [rating] use_measured" if used else "no (reported only)"
         out.append(f"| {name} | {number(m['value'])} | {number(rated['value'])} "
                    f"({'measured' if used else rated['source']}) | {used_words} | "
-                   f"{m['source']} | {measured_note(key, m)} |")
+                   f"{row.source} | {row.contact_model} | {measured_note(key, m)} |")
     return out + [""]
 
 

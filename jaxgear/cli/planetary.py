@@ -48,6 +48,7 @@ from ._planetary_rating import (
     measured_k_v,
     rating_k_gamma,
     rating_section,
+    stage_contact_model,
     stage_loads,
     stage_root_stress,
 )
@@ -82,6 +83,7 @@ __all__ = [
     "ring_section",
     "sharing_models",
     "sharing_summary",
+    "stage_contact_model",
     "spatial_model",
     "stage_loads",
     "stage_root_stress",
@@ -192,10 +194,15 @@ def planetary_files(form, case, out: str, args, complete: bool,
     if case.pairs:
         summary["meshes"] = mesh_sections(case, out)
         summary["mesh"] = mesh_settings_summary(case)
-    loads = None if ratings_of(case) is None else stage_loads(case, spec, stage, models)
+    loads, k_v = None, None
+    if ratings_of(case) is not None:
+        loads = stage_loads(case, spec, stage, models)
+        # the sweep's meshes (build_dynamic_model's: the case's dynamic meshes): their contact
+        # model, which each measured K_v row states
+        contact = stage_contact_model(spec.dynamic_meshes(case, case.slices))
+        k_v = measured_k_v(sweep, case.speed, summary["load_sharing"], contact)
     rating = rating_section(case, out, *rating_k_gamma(summary["load_sharing"]),
-                            face_load=summary.get("face_load"), loads=loads,
-                            k_v=measured_k_v(sweep, case.speed, summary["load_sharing"]))
+                            face_load=summary.get("face_load"), loads=loads, k_v=k_v)
     if rating is not None:
         summary["rating"] = rating
     summary["environment"] = environment_summary(np.asarray(stage.planet_angles).dtype)

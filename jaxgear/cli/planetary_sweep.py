@@ -274,8 +274,10 @@ def sweep_summary(
     Keys: ``speeds_rad_s`` (input), ``carrier_speeds_rad_s``, ``mesh_frequency_Hz`` (carrier
     frame), ``mesh_names`` (``sun-planet 1..N``, then ``ring-planet 1..N``),
     ``dynamic_factor_mesh`` (s, 2N: each mesh's largest force over the kept periods over the
-    nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (dynamic
-    load sharing per speed), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
+    nominal T_s/(N r_bs)), ``dynamic_factor`` (the worst mesh per speed), ``k_gamma`` (the
+    dynamic load sharing factor per speed, peak-based: each planet path's peak sun-mesh force
+    over the mean of the paths' peaks) and ``k_gamma_mean_load`` (the time-mean shares' K_γ;
+    both :func:`jaxgear.planetary.dynamic_load_sharing`), their maxima and where, ``natural_frequencies_Hz`` (the sweep's model at
     the stage's constant mesh stiffness) and ``crossings``; the time discretisation
     (:func:`time_plan`, every speed in one compiled program at its own step): ``steps_per_period``
     and ``periods`` per speed (N_s, the mesh periods integrated), ``keep_periods``,
@@ -302,7 +304,7 @@ def sweep_summary(
     rec = sweep_records(dyn, speeds, plan)
     n = spec.n_planets
     fs = rec.static_force
-    per_mesh, k_gamma, periodicity, deflection = sweep_factors(rec, plan, n)
+    per_mesh, k_gamma, periodicity, deflection, k_mean = sweep_factors(rec, plan, n)
     code = rec.result
     period_of = rec.periods  # mesh periods integrated
     excite = excitation(model, stage, meshes, base, flexible)
@@ -310,8 +312,8 @@ def sweep_summary(
         "no excitation (constant mesh stiffness, no pin errors): dynamic factor = 1, K_γ = 1")
     if not excite["excited"]:  # the response is the static one: round-off is all that moves
         excite["round_off_deviation"] = float(np.nanmax(np.abs(
-            np.concatenate([per_mesh.ravel(), k_gamma]) - 1.0)))
-        per_mesh[:], k_gamma[:] = 1.0, 1.0
+            np.concatenate([per_mesh.ravel(), k_gamma, k_mean]) - 1.0)))
+        per_mesh[:], k_gamma[:], k_mean[:] = 1.0, 1.0, 1.0
     worst = per_mesh.max(axis=1)
     # the worst speed (the ring spectrum's); with nothing to excite, the operating speed's
     # nearest (not one chosen by round-off)
@@ -348,10 +350,12 @@ def sweep_summary(
         "dynamic_factor_mesh": per_mesh.tolist(),
         "dynamic_factor": worst.tolist(),
         "k_gamma": k_gamma.tolist(),
+        "k_gamma_mean_load": k_mean.tolist(),
         "max_dynamic_factor": float(worst[i]),
         "speed_of_max_rad_s": float(speeds[i]),
         "max_dynamic_factor_mesh": per_mesh.max(axis=0).tolist(),
         "max_k_gamma": float(k_gamma.max()),
+        "max_k_gamma_mean_load": float(k_mean.max()),
         "excitation": excite,
         "result": code.tolist(),
         "sun_torque_Nm": float(base.sun_torque),
@@ -386,8 +390,11 @@ def sweep_summary(
     summary["notes"] = (
         "dynamic stage: the sun loaded by |T_s| and free in rotation, ring and carrier held; "
         "dynamic factor: each mesh's largest transverse force over the kept periods over the "
-        "nominal T_s/(N r_bs) (pin errors included); k_gamma: the most loaded planet's sun-mesh "
-        "force over the planets' mean, largest over the kept periods"
+        "nominal T_s/(N r_bs) (pin errors included); k_gamma: the dynamic load sharing factor, "
+        "peak-based: the largest planet path's peak sun-mesh force over the kept periods over "
+        "the mean of the paths' peaks (each path's dynamic factor over the mean path's; the "
+        "per-instant ratio would count the dynamic factor a second time); k_gamma_mean_load: "
+        "the same of the paths' time-mean forces"
     )
     return summary, (stage, meshes, run_i, ring, model, settled_turn)
 
@@ -440,7 +447,7 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
                 names[g[0]].rsplit(" ", 1)[0] + " " + ", ".join(
                     names[j].rsplit(" ", 1)[1] for j in g) + " (coincide)")
             ax.plot(s, df[:, g[0]], "o-" if g[0] < n else "s--", ms=3, lw=1.0, label=label)
-        ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ")
+        ax.plot(s, summary["k_gamma"], "^:", color="k", ms=3, lw=1.0, label="dynamic K_γ (peak-based)")
     styles = {1: "tab:red", 2: "tab:purple", 3: "tab:brown"}
     seen = set()
     trans = blended_transform_factory(ax.transData, ax.transAxes)
@@ -591,7 +598,8 @@ def sweep_lines(case, s: dict) -> list[str]:
         f"{case.name}: {len(s['speeds_rad_s'])} input speeds, "
         + (quiet if quiet else
            f"max dynamic factor {s['max_dynamic_factor']:.4f} ({worst}) at "
-           f"{s['speed_of_max_rad_s']:.4g} rad/s, max dynamic K_γ {s['max_k_gamma']:.4f}")
+           f"{s['speed_of_max_rad_s']:.4g} rad/s, max dynamic K_γ {s['max_k_gamma']:.4f} "
+           f"(peak-based; mean-load {s['max_k_gamma_mean_load']:.4f})")
         + f"; {_ring_words(s)}"
         + f"; first natural frequencies {nat} Hz; "
         f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
@@ -612,7 +620,8 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
     (:func:`run_speeds`, the defaults of :func:`planetary_run`), then the stage's files
     (:func:`~jaxgear.cli.planetary.planetary_files`, the rating's measured K_v from the sweep)
     and ``summary.json``'s ``dynamics``: the worst mesh's dynamic factor per speed, each mesh's
-    maximum, the largest dynamic K_γ. A bar over the two stages (unless ``args.quiet``)."""
+    maximum, the dynamic K_γ per speed and its largest (peak-based, and the mean-load one
+    beside it: :func:`jaxgear.planetary.dynamic_load_sharing`). A bar over the two stages (unless ``args.quiet``)."""
     speeds = run_speeds(case)
     bar = progress(total=2, desc=f"jaxgear run {case.name}", disable=bool(args.quiet))
     bar.set_postfix_str(f"dynamic sweep, {speeds.size} speeds")
@@ -635,6 +644,8 @@ def planetary_run_files(form, case, out: str, args, complete: bool) -> dict:
         "max_dynamic_factor_mesh": sw["max_dynamic_factor_mesh"],
         "k_gamma": sw["k_gamma"],
         "max_k_gamma": sw["max_k_gamma"],
+        "k_gamma_mean_load": sw["k_gamma_mean_load"],
+        "max_k_gamma_mean_load": sw["max_k_gamma_mean_load"],
         "excitation": sw["excitation"],
         "steps_per_period": sw["steps_per_period"],
         "steps_resolution": sw["steps_resolution"],
@@ -658,7 +669,8 @@ def planetary_run_lines(form, case, summary: dict) -> list[str]:
         f"{d['speeds_rad_s'][0]:.4g}–{d['speeds_rad_s'][-1]:.4g} rad/s): "
         + (quiet if quiet else
            f"max {d['max_dynamic_factor']:.4f} at {d['speed_of_max_rad_s']:.4g} rad/s, "
-           f"dynamic K_γ max {d['max_k_gamma']:.4f}")
+           f"dynamic K_γ max {d['max_k_gamma']:.4f} (peak-based; mean-load "
+           f"{d['max_k_gamma_mean_load']:.4f})")
         + f", {_ring_words(d)} ({d['files']})"
     )
     far = d["excitation"].get("far_below_resonance")

@@ -325,6 +325,7 @@ def run_case(
         result=res["modified", "exact"],
         root_stress=fillet_table,
         model=scene_loads(scene, case.speed),
+        meshes=(mesh,),  # the contact model the measured rows state
         write_table=complete,
     )
     if rating is not None:
@@ -503,7 +504,7 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
         out,
         train_mesh_results(case),
         root_stress=fillet_table,
-        model=train_loads(case, coupled["exact"]),
+        model=train_loads(case, coupled["exact"], coupled["base_planes"]),
         write_table=complete,
     )
     if rating is not None:

@@ -165,8 +165,8 @@ def scene_outputs(
 
     ``curves``: a dict to fill with the scene's results, for ``te.csv``, ``mesh_stiffness.csv``
     and their plots beside the rigid mesh's, and for the rating's measured K_Hβ and K_Hα
-    (:func:`jaxgear.cli._rating_report.scene_loads`): ``model`` ("lumped3d" or "hybrid") and
-    ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
+    (:func:`jaxgear.cli._rating_report.scene_loads`): ``model`` ("lumped3d" or "hybrid"),
+    ``base_planes`` (the scene's mesh models) and ``results`` ({"exact": ..., "smooth": ...} at the case's speed, and "exact_at_rest" when it
     is not 0).
     """
     hybrid = case.scene.hybrid
@@ -202,6 +202,7 @@ def scene_outputs(
     if curves is not None:
         curves["model"] = out["model"]
         curves["results"] = dict(res)
+        curves["base_planes"] = scene.base_planes
     run = _SceneRun(case, out_dir, bar, curves)
     out.update(condensed_outputs(scene, run, bodies, res, pressure))
     bar.close()

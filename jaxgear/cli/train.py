@@ -60,8 +60,9 @@ def run_train(
     position of the largest line load (``body_vtu`` in the summary).
 
     ``results``: a dict to fill with the coupled quasi-static results of the case's
-    modifications (``"exact"``, ``"smooth"``: :class:`~jaxgear.QuasiStaticResult`, every mesh),
-    for the rating's measured factors (:func:`jaxgear.cli.rating_outputs`' ``model``).
+    modifications (``"exact"``, ``"smooth"``: :class:`~jaxgear.QuasiStaticResult`, every mesh)
+    and the structure's mesh models (``"base_planes"``), for the rating's measured factors
+    (:func:`jaxgear.cli.rating_outputs`' ``model``, :func:`jaxgear.cli.train_loads`).
 
     Returns:
         The summary dict (also in ``summary.json``).
@@ -90,6 +91,7 @@ def run_train(
             steps.update()
     if results is not None:
         results.update({m: res["modified", m] for m in ("exact", "smooth")})
+        results["base_planes"] = scene.base_planes
     n_meshes = len(case.pairs)
     names = [case.mesh_name(k) for k in range(n_meshes)]
     pressure = {  # each mesh's Hertzian contact pressure

@@ -17,7 +17,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   hunting period;
 - ``_analysis``: modes, mode types, Campbell diagram, mesh phasing, load sharing;
 - ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
-  :func:`planetary_mesh_modes`, the ring transducer and the order spectrum (on
+  :func:`planetary_mesh_modes`, the dynamic load sharing factor (:func:`dynamic_load_sharing`),
+  the ring transducer and the order spectrum (on
   :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with);
 - ``_model``: :class:`PlanetaryModel`, the stage's dynamics as a
   :class:`jaxgear.dynamics.AbstractDynamicModel` (:func:`jaxgear.dynamics.simulate` and
@@ -41,9 +42,11 @@ from ._analysis import (
     planetary_modes as planetary_modes,
 )
 from ._dynamics import (
+    DynamicLoadSharing as DynamicLoadSharing,
     PlanetaryDynamics as PlanetaryDynamics,
     PlanetaryRun as PlanetaryRun,
     PlanetaryStageSystem as PlanetaryStageSystem,
+    dynamic_load_sharing as dynamic_load_sharing,
     order_spectrum as order_spectrum,
     planetary_dynamics as planetary_dynamics,
     planetary_mesh_modes as planetary_mesh_modes,

@@ -46,11 +46,13 @@ from ._ring import AbstractRingModel, RigidRing, modal_damping
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = [
+    "DynamicLoadSharing",
     "PlanetaryDynamics",
     "PlanetaryRun",
     "PlanetaryStageSystem",
     "order_spectrum",
     "planetary_cell_row",
+    "dynamic_load_sharing",
     "planetary_dynamics",
     "planetary_mesh_modes",
     "planetary_speed_sweep",
@@ -116,6 +118,68 @@ class PlanetaryRun(eqx.Module):
                    where="PlanetaryRun")
 
 
+class DynamicLoadSharing(NamedTuple):
+    """The load sharing factor K_γ of a dynamic run (:func:`dynamic_load_sharing`).
+
+    Attributes:
+        k_gamma: the peak-based K_γ, the dynamic one reported: max_j P_j / mean_j P_j, P_j the
+            largest sun-mesh force of planet path j over the records (-), () (leading axes of
+            the forces kept).
+        k_gamma_mean_load: the mean-load K_γ: max_j M_j / mean_j M_j, M_j path j's time-mean
+            sun-mesh force over the records (-), same shape.
+    """
+
+    k_gamma: Any
+    k_gamma_mean_load: Any
+
+
+def dynamic_load_sharing(sun_mesh_forces) -> DynamicLoadSharing:
+    """The load sharing factor K_γ of a planetary stage's dynamic run, from its planet paths'
+    sun-mesh forces over the kept window (the records: whole mesh periods at steady state).
+
+    K_γ is ISO 6336-1's mesh load factor (clause 4, the general influence factors: F_t K_A K_γ
+    is the load of the most loaded path of a multiple-path drive; AGMA 6123 the same), the
+    most loaded path's load over the mean path's. A dynamic run gives two (one definition, one
+    home: every dynamic K_γ of jaxgear is this function's):
+
+    * the peak-based K_γ = max_j P_j / mean_j P_j, P_j = max_t F_j(t), each path's dynamic
+      factor P_j / F_0 relative to the mean path's (F_0 cancels). This is the dynamic K_γ
+      reported: with the dynamic factor K_v applied to each path's load as ISO does
+      (F_t K_A K_γ K_v), K_γ must not hold the dynamic overload a second time. The per-instant
+      ratio max_t (max_j F_j(t) / mean_j F_j(t)) does: with unmodified teeth each planet's
+      sun-mesh force peaks at k_after/k_before ≈ 2 F_0 when its entering pair takes its share
+      (the planets at different instants), the others at F_0, so it gives 3 DF/(DF + 2) ≈ 1.5
+      for three planets at quasi-static speeds where every path carries the same load and the
+      same peak (issue 68's diagnostic); the peak-based one gives 1 there;
+    * the mean-load K_γ = max_j M_j / mean_j M_j, M_j = mean_t F_j(t): the time-mean shares.
+
+    Both equal the quasi-static K_γ where the forces are constant in time (constant mesh
+    stiffness with pin errors, at low speed).
+
+    Args:
+        sun_mesh_forces: each planet path's sun-mesh force (N, compression positive) at each
+            recorded step, (..., t, n_planets) (:attr:`PlanetaryDynamics.sun_mesh_forces`; a
+            sweep's (s, t, n) gives (s,) factors). NumPy or JAX arrays (differentiable).
+
+    Returns:
+        :class:`DynamicLoadSharing` (each (...,)).
+
+    Raises:
+        ValueError: fewer than 2 dimensions, no recorded step or no planet, in one line.
+    """
+    shape = tuple(np.shape(sun_mesh_forces))
+    if len(shape) < 2 or shape[-2] < 1 or shape[-1] < 1:
+        raise ValueError(
+            f"dynamic_load_sharing: sun_mesh_forces shape {shape} is out of range: allowed "
+            "(..., t, n_planets) with t >= 1 and n_planets >= 1")
+    f = sun_mesh_forces if hasattr(sun_mesh_forces, "max") else np.asarray(sun_mesh_forces,
+                                                                              dtype=float)
+    peak = f.max(axis=-2)  # (..., n): each path's largest force over the window
+    mean = f.mean(axis=-2)  # (..., n): each path's time-mean force
+    return DynamicLoadSharing(peak.max(axis=-1) / peak.mean(axis=-1),
+                              mean.max(axis=-1) / mean.mean(axis=-1))
+
+
 class PlanetaryDynamics(eqx.Module):
     """The recorded steady state of a planetary run (the last ``keep_periods`` mesh periods).
 
@@ -163,10 +227,18 @@ class PlanetaryDynamics(eqx.Module):
 
     @property
     def k_gamma(self) -> Float[Array, ""]:
-        """Dynamic load sharing: the largest over the recorded steps of the most loaded planet's
-        sun-mesh force over the planets' mean, () (a sweep's: (n_speeds,))."""
-        f = self.sun_mesh_forces
-        return jnp.max(jnp.max(f, axis=-1) / jnp.mean(f, axis=-1), axis=-1)
+        """The dynamic load sharing factor K_γ, peak-based: the largest planet path's peak
+        sun-mesh force over the recorded steps over the mean of the paths' peaks, () (a
+        sweep's: (n_speeds,)); :func:`dynamic_load_sharing` (ISO 6336-1's mesh load factor, the
+        dynamic factor not counted twice)."""
+        return dynamic_load_sharing(self.sun_mesh_forces).k_gamma
+
+    @property
+    def k_gamma_mean_load(self) -> Float[Array, ""]:
+        """The mean-load K_γ: the largest planet path's time-mean sun-mesh force over the
+        recorded steps over the mean of the paths' means, () (a sweep's: (n_speeds,));
+        :func:`dynamic_load_sharing`."""
+        return dynamic_load_sharing(self.sun_mesh_forces).k_gamma_mean_load
 
 
 def _with_ring(A, B):

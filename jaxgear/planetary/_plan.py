@@ -28,7 +28,12 @@ from ..dynamics import (
     settling_time,
     steps_for_mode,
 )
-from ._dynamics import PlanetaryRun, planetary_dynamics, planetary_mesh_modes
+from ._dynamics import (
+    PlanetaryRun,
+    dynamic_load_sharing,
+    planetary_dynamics,
+    planetary_mesh_modes,
+)
 from ._meshes import AbstractPlanetaryMeshes
 from ._spatial import SpatialPlanetary
 from ._stage import AbstractPlanetaryModel, PlanarPlanetary, PlanetaryStage
@@ -349,39 +354,43 @@ class SweepFactors(NamedTuple):
     Attributes:
         dynamic_factor_mesh: (s, 2N) each mesh's largest transverse force over the kept
             periods over the nominal T_s / (N r_bs) (sun meshes, then ring meshes).
-        k_gamma: (s,) the most loaded planet's sun-mesh force over the planets' mean, the
-            largest over the kept steps (the dynamic load sharing).
+        k_gamma: (s,) the dynamic load sharing factor K_γ, peak-based: the largest planet
+            path's peak sun-mesh force over the kept steps over the mean of the paths' peaks
+            (:func:`~jaxgear.planetary.dynamic_load_sharing`).
         periodicity: (s,) max |F(last kept period) − F(the one before)| over the nominal force
             (NaN with one kept period).
         ring_deflection_max: (s,) the largest elastic ring displacement at a ring mesh (m; 0
             for a rigid ring).
+        k_gamma_mean_load: (s,) the mean-load K_γ: the largest planet path's time-mean
+            sun-mesh force over the kept steps over the mean of the paths' means.
     """
 
     dynamic_factor_mesh: np.ndarray
     k_gamma: np.ndarray
     periodicity: np.ndarray
     ring_deflection_max: np.ndarray
+    k_gamma_mean_load: np.ndarray
 
 
 def sweep_factors(records: SweepRecords, plan: TimePlan, n_planets: int) -> SweepFactors:
-    """The dynamic factor of every mesh, K_γ, the periodicity and the ring deflection at each
-    speed of :func:`steps_sweep`'s ``records`` (its own last ``plan.keep`` mesh periods of
-    ``plan.steps`` steps; :class:`SweepFactors`)."""
+    """The dynamic factor of every mesh, K_γ (peak-based and mean-load:
+    :func:`~jaxgear.planetary.dynamic_load_sharing`), the periodicity and the ring deflection
+    at each speed of :func:`steps_sweep`'s ``records`` (its own last ``plan.keep`` mesh
+    periods of ``plan.steps`` steps; :class:`SweepFactors`)."""
     n = n_planets
     fs = records.static_force
     n_s = len(records.forces)
-    per_mesh, k_gamma = np.zeros((n_s, 2 * n)), np.zeros(n_s)
+    per_mesh, k_gamma, k_mean = np.zeros((n_s, 2 * n)), np.zeros(n_s), np.zeros(n_s)
     periodicity, deflection = np.full(n_s, np.nan), np.zeros(n_s)
     for k in range(n_s):  # each speed's own last `keep` mesh periods
         S = int(plan.steps[k])
         f = records.forces[k]
         per_mesh[k] = f.max(axis=0) / fs
-        sun = f[:, :n]
-        k_gamma[k] = np.max(sun.max(axis=1) / sun.mean(axis=1))
+        k_gamma[k], k_mean[k] = dynamic_load_sharing(f[:, :n])
         if plan.keep >= 2:
             periodicity[k] = np.max(np.abs(f[-S:] - f[-2 * S:-S])) / fs
         deflection[k] = np.max(np.abs(records.deflection[k]))
-    return SweepFactors(per_mesh, k_gamma, periodicity, deflection)
+    return SweepFactors(per_mesh, k_gamma, periodicity, deflection, k_mean)
 
 
 def holds_stage(model: AbstractPlanetaryModel, stage: PlanetaryStage,

@@ -6,8 +6,9 @@ rating geometry (:class:`RatingGeometry`, :class:`InternalRatingGeometry`) under
 a kind passed as an object (:class:`AbstractRatingStandard`): ISO 6336 method B in its editions
 :class:`Edition2006` and :class:`Edition2019` (the default); a second standard is a subclass
 written beside them. The load factors jaxgear measures on its results (K_v of a speed sweep,
-K_Hβ and K_Hα of a load map, K_γ of the load sharing) and the settings that rate with them
-(:func:`with_measured`) live here too. The tooth form
+K_Hβ and K_Hα of a load map, K_γ of the load sharing), the row each is reported as with the
+contact model that produced it (:class:`MeasuredFactor`, :func:`contact_model`) and the settings
+that rate with them (:func:`with_measured`) live here too. The tooth form
 factors (ISO 6336-3), the load factors (ISO 6336-1, with K_Hβ and K_Hα from a contact solution)
 and the finite-element root-stress map live here too. Life under a load spectrum (ISO 6336-6:
 :class:`LoadSpectrum`, :func:`rate_spectrum`, Palmgren–Miner on the rating's S–N lines
@@ -66,6 +67,11 @@ from ._material import (
     ThroughHardened as ThroughHardened,
 )
 from ._measured import (
+    EXTENDED_CONTACT as EXTENDED_CONTACT,
+    MESH_SPRINGS as MESH_SPRINGS,
+    THEORETICAL_CONTACT as THEORETICAL_CONTACT,
+    MeasuredFactor as MeasuredFactor,
+    contact_model as contact_model,
     dynamic_factor_at as dynamic_factor_at,
     planet_dynamic_factor as planet_dynamic_factor,
     planet_transverse_factor as planet_transverse_factor,

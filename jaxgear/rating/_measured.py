@@ -5,23 +5,127 @@ planetary stage's planets), the transverse load factor K_Hα of a stage's planet
 into the load as K_A is (ISO 6336-1), and the settings that rate with them
 (:func:`with_measured`). The face load factor
 K_Hβ of one mesh is :func:`jaxgear.rating.face_load_factor`. Concrete values (NumPy): the
-results of a run, not traced."""
+results of a run, not traced.
+
+A measured factor is reported as a :class:`MeasuredFactor`, which cannot be made without the
+words of the contact model that produced it (:func:`contact_model`: the theoretical path of
+contact, the extended one, or mesh springs without tooth contact), so that no measured factor
+is shown beside ISO's without that caveat (issue 68)."""
 
 from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable
 
 import equinox as eqx
 import numpy as np
 
-from .._util import check_real
+from .._baseplane import MeshModel
+from .._util import check_instance, check_real
 from ._factors import transverse_load_factor
 
 __all__ = [
+    "EXTENDED_CONTACT",
+    "MESH_SPRINGS",
+    "THEORETICAL_CONTACT",
+    "MeasuredFactor",
+    "contact_model",
     "dynamic_factor_at",
     "planet_dynamic_factor",
     "planet_transverse_factor",
     "with_load_sharing",
     "with_measured",
 ]
+
+
+#: a mesh with contact beyond the theoretical path (``MeshModel.extended_contact`` True)
+EXTENDED_CONTACT = "extended path of contact (off-line contact at the tip corners)"
+#: a mesh with contact on the theoretical path only (``MeshModel.extended_contact`` False)
+THEORETICAL_CONTACT = "theoretical path of contact (contact on the line of action only)"
+#: a model without tooth contact (a lumped model's linear mesh springs)
+MESH_SPRINGS = "no tooth contact (linear mesh springs of a constant stiffness)"
+
+
+def contact_model(meshes) -> str:
+    """The words of the contact model of a run's meshes, the caveat every measured factor
+    carries (:class:`MeasuredFactor`): read from each mesh model's ``extended_contact``
+    (:class:`jaxgear.MeshModel`): :data:`EXTENDED_CONTACT` where True, :data:`THEORETICAL_CONTACT`
+    where False; :data:`MESH_SPRINGS` for no mesh model (an empty sequence: a lumped model's
+    constant mesh springs, no contact path). Meshes that differ: each named by its position
+    ("mesh 1: ...; mesh 2: ...").
+
+    Args:
+        meshes: one :class:`jaxgear.MeshModel` or a sequence of them (a scene's
+            ``base_planes``; a planetary stage's ``(sun_mesh, ring_mesh)``), or an empty one.
+
+    Raises:
+        ValueError: an entry that is not a MeshModel, in one line."""
+    planes = (meshes,) if isinstance(meshes, MeshModel) else tuple(
+        meshes if isinstance(meshes, Iterable) else (meshes,))
+    for k, m in enumerate(planes):
+        check_instance(f"meshes[{k}]", m, MeshModel, "a jaxgear.MeshModel",
+                       where="contact_model")
+    if not planes:
+        return MESH_SPRINGS
+    words = [EXTENDED_CONTACT if m.extended_contact else THEORETICAL_CONTACT for m in planes]
+    if len(set(words)) == 1:
+        return words[0]
+    return "; ".join(f"mesh {k + 1}: {w}" for k, w in enumerate(words))
+
+
+@dataclasses.dataclass(frozen=True)
+class MeasuredFactor:
+    """A load factor measured on jaxgear's results, as a rating report shows it beside the
+    standard's: a row cannot be made without the contact model that produced it.
+
+    Attributes:
+        value: the factor (-), or None where the run says nothing (a speed outside a sweep).
+        source: where it comes from (the model and the solve), non-empty.
+        contact_model: the contact model's words (:func:`contact_model`), non-empty.
+        comparable: whether it is comparable with the standard's (None: not said).
+        note: why (None: the report's standing words for the factor).
+
+    Raises:
+        ValueError: an empty or missing ``source`` or ``contact_model``, in one line."""
+
+    value: float | None
+    source: str
+    contact_model: str
+    comparable: bool | None = None
+    note: str | None = None
+
+    def __post_init__(self):
+        for name in ("source", "contact_model"):
+            v = getattr(self, name)
+            if not isinstance(v, str) or not v.strip():
+                raise ValueError(f"MeasuredFactor: {name} = {v!r} is out of range: allowed a "
+                                 "non-empty string (a measured factor states its "
+                                 f"{name.replace('_', ' ')})")
+        if self.value is not None:
+            object.__setattr__(self, "value", float(self.value))
+
+    def entry(self) -> dict:
+        """The row as ``summary.json``'s ``rating.measured`` holds it: ``value``, ``source``,
+        ``contact_model`` (and ``comparable``, ``note`` where given)."""
+        out = {"value": self.value, "source": self.source, "contact_model": self.contact_model}
+        if self.comparable is not None:
+            out["comparable"] = self.comparable
+        if self.note is not None:
+            out["note"] = self.note
+        return out
+
+    @classmethod
+    def of_entry(cls, entry: dict, name: str = "") -> MeasuredFactor:
+        """The row of a ``rating.measured`` entry (:meth:`entry`'s dict).
+
+        Raises:
+            ValueError: an entry without ``contact_model`` (or ``source``), in one line."""
+        for key in ("source", "contact_model"):
+            if key not in entry:
+                raise ValueError(f"measured factor {name or '?'}: no {key} (a measured factor "
+                                 "is never shown without the contact model that produced it)")
+        return cls(entry.get("value"), entry["source"], entry["contact_model"],
+                   entry.get("comparable"), entry.get("note"))
 
 
 def dynamic_factor_at(speeds, dynamic_factor, speed: float) -> float | None:
