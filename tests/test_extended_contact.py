@@ -219,3 +219,50 @@ def test_contact_at_the_end_of_the_extension_fails_loudly():
         jg.quasi_static(mesh, None, 8000.0, positions_per_pitch=32)
     ok = jg.quasi_static(mesh, None, 400.0, positions_per_pitch=32, throw=False)
     assert set(np.asarray(ok.result).tolist()) == {0}
+
+
+def _fe_record():
+    import json
+    import pathlib
+
+    path = pathlib.Path(__file__).resolve().parents[1] / "docs/bench/extended_contact_fe.json"
+    return json.loads(path.read_text())
+
+
+def _entering_share(mesh, pair, torque, s_rows):
+    """The share of the total load on the contact line at base-plane coordinate s, at the
+    pinion angles θ = s / r_b1 (the line that enters at s = 0, or leaves at s = g_α)."""
+    s = np.asarray(s_rows)
+    r = jg.quasi_static(mesh, None, torque, theta=s / pair.base_radii[0])
+    ll = np.asarray(r.meshes[0].line_load)[:, :, 0]
+    cs = np.asarray(r.meshes[0].cell_s)[:, :, 0]
+    k = np.argmin(np.abs(cs - s[:, None]), axis=1)
+    return ll[np.arange(len(k)), k] / ll.sum(axis=1)
+
+
+def test_against_the_plane_strain_fe_contact_reference():
+    # benchmarks/extended_contact_fe.py: the unmodified accessory pair in 2-D plane strain (five
+    # P2 teeth a member on their rims, exact unilateral contact on the generated forms, gaps by
+    # node-to-segment search), written separately; here the case's own Weber stiffness
+    fe = _fe_record()
+    text = jio.embedded_case_text("accessory-spur").replace("depth_um = 15.0", "depth_um = 0.0")
+    text = re.sub(r"^\[mesh\]$", "[mesh]\nextended_contact = true", text[: text.index("[scene]")],
+                  flags=re.M)
+    case = jio.parse_case(__import__("tomllib").loads(text), "accessory-unmodified")
+    pair, mesh = case.pair, case.mesh_model(slices=1)
+    g = pair.path_of_contact
+    assert fe["geometry"]["path_of_contact_m"] == pytest.approx(g, rel=1e-9)
+    for record in fe["torques"]:
+        T = record["torque_Nm"]
+        lp = jg.loaded_path(mesh, None, np.array([T]), positions_per_pitch=1024)
+        # the start and the end of contact within 2 % of the engagement interval g_α
+        assert float(lp.start[0]) == pytest.approx(record["s_start_mm"] * 1e-3, abs=0.02 * g)
+        assert float(lp.end[0]) - g == pytest.approx(
+            record["s_end_minus_g_alpha_mm"] * 1e-3, abs=0.02 * g
+        )
+        # the entering pair's share of the load within 0.05 across the engagement, the leaving
+        # pair's within 0.06
+        for rows, tol in ((record["approach"], 0.05), (record["recess"], 0.06)):
+            s = np.array([row["s_mm"] for row in rows]) * 1e-3
+            share = np.array([row["share"] for row in rows])
+            np.testing.assert_allclose(_entering_share(mesh, pair, T, s), share, atol=tol)
