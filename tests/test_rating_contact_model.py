@@ -126,3 +126,20 @@ def test_planetary_rows_state_the_stage_meshes_contact_model(tmp_path):
     md = (tmp_path / "rating.md").read_text(encoding="utf-8")
     assert md.count(f"contact model: {springs}) |") == 2  # the K_γ rows
     assert md.count(f"| {EXTENDED} |") == 2  # the K_v measured rows
+
+
+def test_k_v_far_below_resonance_is_comparable_only_with_contact_beyond_the_path():
+    """Far below the first mode a K_v measured on the theoretical path is the entering pairs'
+    step transient, not ISO's K_v (not comparable); with contact beyond the path the pairs take
+    their load gradually and the measured overload is comparable with ISO's below resonance."""
+    sweep = {"speeds_rad_s": [1.0, 2.0], "mesh_names": ["s1", "s2", "r1", "r2"],
+             "dynamic_factor_mesh": [[1.1, 1.2, 1.3, 1.4], [1.2, 1.3, 1.4, 1.5]],
+             "model": "planar", "ring_model": "rigid",
+             "mesh_frequency_Hz": [5.0, 10.0], "natural_frequencies_Hz": [60.0, 90.0]}
+    sharing = {"planar": {"sun_mesh_forces_N": [1.0, 1.0], "ring_mesh_forces_N": [1.0, 1.0]}}
+    theo = measured_k_v(sweep, 1.5, sharing, THEORETICAL)
+    ext = measured_k_v(sweep, 1.5, sharing, EXTENDED)
+    assert [k["comparable"] for k in theo] == [False, False]
+    assert all("theoretical start of contact" in k["note"] for k in theo)
+    assert [k["comparable"] for k in ext] == [True, True]
+    assert all("takes its load gradually" in k["note"] for k in ext)

@@ -193,7 +193,7 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict,
     if sweep.get("mesh_frequency_Hz") and sweep.get("natural_frequencies_Hz"):
         mesh_hz = float(np.interp(speed, speeds, np.asarray(sweep["mesh_frequency_Hz"])))
         comparable, note = k_v_note(mesh_hz, float(sweep["natural_frequencies_Hz"][0]),
-                                    "the sweep model's first mode")
+                                    "the sweep model's first mode", contact)
     out = []
     for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
         per_planet = np.stack(curves[kind * n:(kind + 1) * n], axis=1)  # (speeds, planets)

@@ -447,9 +447,12 @@ def measured_dynamic_factor(
         rating = RATE(rc.geometry, rc.operating, rc.settings)
         n = float(rating.factors.details["resonance_ratio_N"])
         mesh_hz = rc.geometry.teeth[0] * float(rc.operating.speed) / (2 * np.pi)
-        comparable, note = k_v_note(mesh_hz, mesh_hz / n, "ISO 6336-1's mesh resonance z₁ n_E1")
+        contact = contact_model(meshes[k])
+        comparable, note = k_v_note(
+            mesh_hz, mesh_hz / n, "ISO 6336-1's mesh resonance z₁ n_E1", contact
+        )
         sections[k].setdefault("measured", {})["K_v"] = MeasuredFactor(
-            value, source, contact_model(meshes[k]), comparable, note).entry()
+            value, source, contact, comparable, note).entry()
         sections[k], rated = measured_rating(rcs[k], sections[k])
         ratings.append(rated)  # None: the section was not rated again here
     summary["rating"] = _write_sections(case, out_dir, sections, write_table, ratings)

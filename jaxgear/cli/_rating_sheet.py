@@ -20,7 +20,14 @@ import numpy as np
 
 from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating
-from ..rating import FACTOR_CLAUSES, Edition2006, Edition2019, MeasuredFactor, factor_clause
+from ..rating import (
+    EXTENDED_CONTACT,
+    FACTOR_CLAUSES,
+    Edition2006,
+    Edition2019,
+    MeasuredFactor,
+    factor_clause,
+)
 from ._rating_inputs import modification_line
 
 __all__ = [
@@ -425,43 +432,68 @@ def _factor_rows(t: _Table, section: dict, rating, method: str) -> None:
 #: a mesh frequency below this share of the first mode is far below resonance: there ISO 6336-1's
 #: K_v (the subcritical range, N <= N_S) is about 1 plus its deviation terms
 FAR_BELOW = 0.5
-#: why a dynamic factor measured far below the first mode is not ISO's K_v
+#: why a dynamic factor measured far below the first mode is not ISO's K_v (the theoretical path
+#: of contact)
 ENTERING_PAIR = (
     "the measured factor there is the transient of each tooth pair entering contact (teeth "
-    "without tip relief, under exact contact, take their load at the theoretical start of "
-    "contact and ring the mesh), not the resonance amplification ISO's K_v bounds"
+    "without tip relief, under exact contact on the theoretical path, take their load at the "
+    "theoretical start of contact and ring the mesh), not the resonance amplification ISO's "
+    "K_v bounds"
+)
+#: what a dynamic factor measured far below the first mode is with contact beyond the path
+GRADUAL_ENTRY = (
+    "with contact beyond the theoretical path each entering pair takes its load gradually "
+    "(docs/extended-contact.md): the measured factor is the mesh's dynamic overload from the "
+    "varying mesh stiffness, as ISO's K_v is below resonance"
 )
 
 
-def k_v_note(mesh_hz: float, mode_hz: float, mode: str) -> tuple[bool, str]:
+def _extended(contact: str | None) -> bool:
+    """Whether the contact-model words ``contact`` (:func:`jaxgear.rating.contact_model`) are
+    the extended path's on every mesh."""
+    return contact == EXTENDED_CONTACT
+
+
+def k_v_note(
+    mesh_hz: float, mode_hz: float, mode: str, contact: str | None = None
+) -> tuple[bool, str]:
     """Whether a K_v measured at the mesh frequency ``mesh_hz`` (Hz) is comparable with ISO's,
-    from its ratio to the first mode ``mode_hz`` (Hz; ``mode`` says which), and why: (comparable,
-    words). Not comparable below :data:`FAR_BELOW` of the mode (:data:`ENTERING_PAIR`)."""
+    from its ratio to the first mode ``mode_hz`` (Hz; ``mode`` says which) and the contact model
+    ``contact`` (its words), and why: (comparable, words). On the theoretical path not
+    comparable below :data:`FAR_BELOW` of the mode (:data:`ENTERING_PAIR`); with contact beyond
+    it comparable there too (:data:`GRADUAL_ENTRY`)."""
     r = mesh_hz / mode_hz
     where = (f"mesh frequency {number(mesh_hz)} Hz = {number(r)} × {mode} "
              f"({number(mode_hz)} Hz)")
-    if r < FAR_BELOW:
+    if r < FAR_BELOW and not _extended(contact):
         return False, (f"not comparable with ISO's: {where}, far below resonance, where ISO's "
                        f"K_v is about 1 plus its deviation terms (B_p, B_f, B_k); {ENTERING_PAIR}")
+    if r < FAR_BELOW:
+        return True, f"comparable: {where}, far below resonance; {GRADUAL_ENTRY}"
     return True, (f"comparable: both the largest dynamic mesh load over the static one; "
                   f"{where}")
 
 
-def sweep_excitation(mesh_hz, first_hz: float) -> str | None:
+def sweep_excitation(mesh_hz, first_hz: float, contact: str | None = None) -> str | None:
     """What a sweep's dynamic factors are where every swept mesh frequency (``mesh_hz``, Hz)
-    lies below :data:`FAR_BELOW` of the model's first mode ``first_hz`` (Hz): not resonances
-    but the entering-pair transient (:data:`ENTERING_PAIR`), which the peak-based dynamic K_γ
-    (:func:`jaxgear.planetary.dynamic_load_sharing`) does not count again; None otherwise."""
+    lies below :data:`FAR_BELOW` of the model's first mode ``first_hz`` (Hz): on the
+    theoretical path not resonances but the entering-pair transient (:data:`ENTERING_PAIR`),
+    which the peak-based dynamic K_γ (:func:`jaxgear.planetary.dynamic_load_sharing`) does not
+    count again; with contact beyond the path (``contact``, the contact-model words) the
+    gradual entry's overload (:data:`GRADUAL_ENTRY`); None otherwise."""
     hi = float(np.max(mesh_hz))
     if hi >= FAR_BELOW * first_hz:
         return None
-    return (f"mesh frequencies {number(float(np.min(mesh_hz)))}–{number(hi)} Hz, at most "
-            f"{number(hi / first_hz)} × the first mode ({number(first_hz)} Hz): far below "
-            "resonance, where ISO 6336-1's K_v is about 1; the dynamic factors here are the "
-            "transient of each tooth pair entering contact (teeth without tip relief, under "
-            "exact contact, take their load at the theoretical start of contact and ring the "
-            "mesh), not comparable with ISO's K_v; the dynamic K_γ (peak-based: each planet "
-            "path's peak over the mean path's) does not count that transient again")
+    where = (f"mesh frequencies {number(float(np.min(mesh_hz)))}–{number(hi)} Hz, at most "
+             f"{number(hi / first_hz)} × the first mode ({number(first_hz)} Hz): far below "
+             "resonance, where ISO 6336-1's K_v is about 1")
+    if _extended(contact):
+        return f"{where}; {GRADUAL_ENTRY}"
+    return (f"{where}; the dynamic factors here are the transient of each tooth pair entering "
+            "contact (teeth without tip relief, under exact contact on the theoretical path, "
+            "take their load at the theoretical start of contact and ring the mesh), not "
+            "comparable with ISO's K_v; the dynamic K_γ (peak-based: each planet path's peak "
+            "over the mean path's) does not count that transient again")
 
 
 #: the standing words on a measured factor's cause and comparability, by the factor it measures

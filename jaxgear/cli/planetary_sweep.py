@@ -79,6 +79,7 @@ from ..planetary import (
 from ._planetary_steps import check_plan_size, resolution_checked
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
+from ._planetary_rating import stage_contact_model
 from ._rating_sheet import sweep_excitation
 from ._progress import progress
 from ._sweep_json import write_sweep_csv
@@ -377,7 +378,7 @@ def sweep_summary(
     }
     # what the factors are where every mesh frequency is far below the modes (None: not so)
     excite["far_below_resonance"] = (
-        sweep_excitation(speeds * f_mesh, float(natural[0]))
+        sweep_excitation(speeds * f_mesh, float(natural[0]), stage_contact_model(meshes))
         if natural.size and excite["words"] is None else None)
     if spec.ring_model.flexible:
         summary["ring_deflection_max_m"] = deflection.tolist()
