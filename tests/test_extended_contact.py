@@ -24,6 +24,15 @@ def _pair(z1=20, z2=40, m=0.004, x1=0.0, x2=0.0, b=0.02):
     )
 
 
+def _ring():
+    return jg.InternalGearPair(
+        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
+        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+    )
+
+
 def _psi(pair, member, r):
     """The half angle from a tooth's centre line to its involute flank at radius r (ISO 21771:
     s_t/(2 r_p) + inv α_t − inv α_r), written here from the tooth thickness."""
@@ -83,12 +92,7 @@ def test_corner_gap_vanishes_at_the_path_ends_quadratically():
 
 
 def test_internal_corner_gap_positive_and_quadratic():
-    ring = jg.InternalGearPair(
-        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
-        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
-        normal_module=0.004,
-        normal_pressure_angle=math.radians(20.0),
-    )
+    ring = _ring()
     g, pb = ring.path_of_contact, ring.base_pitch
     span, table = jg.extension_table(ring)
     assert min(span) > 0.02 * pb
@@ -173,12 +177,7 @@ def test_loaded_path_ends_and_the_relief_that_clears_them():
 
 
 def test_internal_mesh_and_the_smooth_law_reach_beyond_the_path():
-    ring = jg.InternalGearPair(
-        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
-        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
-        normal_module=0.004,
-        normal_pressure_angle=math.radians(20.0),
-    )
+    ring = _ring()
     mesh = _mesh(ring, True, stiffness=jg.ISO6336())
     lp = jg.loaded_path(mesh, None, np.array([50.0, 600.0]), positions_per_pitch=128)
     assert float(lp.start[-1]) < -0.01 * ring.base_pitch
