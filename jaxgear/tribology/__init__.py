@@ -1,0 +1,29 @@
+"""Tribology of the mesh: the elastohydrodynamic film along the path of contact, the specific
+film thickness λ, the tooth friction and the sliding power loss and efficiency, all from
+jaxgear's own line loads (:func:`jaxgear.quasi_static`) and differentiable.
+
+The lubricant (:class:`Lubricant`: Walther's viscosity–temperature line through ν₄₀ and ν₁₀₀,
+density, pressure–viscosity coefficient), the film formula as a kind (:class:`DowsonHigginson`,
+:class:`PanHamrock`, :class:`Grubin`), the friction law as a kind (:class:`Schlenk` as ISO/TR
+14179-2 gives it, :class:`GivenFriction`), Ohlendorf's tooth loss factor
+(:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
+(:func:`mesh_tribology` → :class:`MeshTribology`). docs/tribology.md.
+"""
+
+from ._film import (
+    AbstractFilmFormula as AbstractFilmFormula,
+    DowsonHigginson as DowsonHigginson,
+    FilmThickness as FilmThickness,
+    Grubin as Grubin,
+    PanHamrock as PanHamrock,
+    film_thickness as film_thickness,
+)
+from ._loss import (
+    AbstractFriction as AbstractFriction,
+    GivenFriction as GivenFriction,
+    Schlenk as Schlenk,
+    ohlendorf_loss_factor as ohlendorf_loss_factor,
+    pitch_point_roll as pitch_point_roll,
+)
+from ._lubricant import Lubricant as Lubricant
+from ._mesh import MeshTribology as MeshTribology, mesh_tribology as mesh_tribology
