@@ -37,8 +37,15 @@ TORQUE = 200.0  # pinion, N·m
 PPP = 128
 
 # GEARpie's oils (ASTM D341 constants m, n with c = 0.7, ρ₁₅, α_T, Gold's α at 75 °C, X_L)
-M320 = dict(m=9.0658, n=3.4730, rho15=902.0, expansion=5.8e-4, alpha=71.05e-9, xl=0.85)
-P68 = dict(m=7.9787, n=3.0914, rho15=859.0, expansion=5.5e-4, alpha=9.92e-9, xl=0.65)
+M320 = {
+    "m": 9.0658,
+    "n": 3.4730,
+    "rho15": 902.0,
+    "expansion": 5.8e-4,
+    "alpha": 71.05e-9,
+    "xl": 0.85,
+}
+P68 = {"m": 7.9787, "n": 3.0914, "rho15": 859.0, "expansion": 5.5e-4, "alpha": 9.92e-9, "xl": 0.65}
 
 
 def _astm(oil, t_c):
@@ -79,7 +86,10 @@ def _h501():
 
 def _mesh(pair, slices):
     s, k = jg.stiffness_table(
-        pair, jg.Weber(), youngs_modulus=E, poisson_ratio=NU,
+        pair,
+        jg.Weber(),
+        youngs_modulus=E,
+        poisson_ratio=NU,
         line_load=TORQUE / pair.pitch_radii[0] / pair.face_width,
     )
     return jg.MeshModel.from_pair(pair, s, k, slices)
@@ -172,8 +182,10 @@ def test_h501_power_loss_and_film_match_gearpie():
     lub = _lubricant(P68)
     mu = float(tr.Schlenk(P68["xl"]).coefficient(pair, lub, TORQUE, SPEED, RA))
     n = res.line_load.shape[-1]
-    l_min = float(jnp.min(jnp.sum(res.cell_mask, axis=(1, 2)))) * pair.face_width / (
-        n * math.cos(pair.base_helix_angle)
+    l_min = (
+        float(jnp.min(jnp.sum(res.cell_mask, axis=(1, 2))))
+        * pair.face_width
+        / (n * math.cos(pair.base_helix_angle))
     )
     f_bt = TORQUE / pair.base_radii[0]
     f_bn = f_bt / math.cos(pair.base_helix_angle)
@@ -285,9 +297,7 @@ def test_float32_matches_float64():
     names = ("mean_power_loss", "efficiency", "min_specific_film", "friction_coefficient")
     want = {name: float(getattr(ref, name)) for name in names}
     with jax.enable_x64(False):
-        res32 = jax.tree.map(
-            lambda x: x.astype(np.float32) if x.dtype == np.float64 else x, res
-        )
+        res32 = jax.tree.map(lambda x: x.astype(np.float32) if x.dtype == np.float64 else x, res)
         out = _run(pair, res32, M320)
         assert out.central_film.dtype == np.float32
         for name in names:
@@ -297,17 +307,20 @@ def test_float32_matches_float64():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(viscosity_100=400e-6), "viscosity_100 = 0.0004 m²/s is out of range"),
-        (dict(density=100.0), "density = 100"),
-        (dict(pressure_viscosity=-1e-9), "pressure_viscosity = -1e-09"),
-        (dict(oil_temperature=300.0), "oil_temperature = 300"),
+        ({"viscosity_100": 400e-6}, "viscosity_100 = 0.0004 m²/s is out of range"),
+        ({"density": 100.0}, "density = 100"),
+        ({"pressure_viscosity": -1e-9}, "pressure_viscosity = -1e-09"),
+        ({"oil_temperature": 300.0}, "oil_temperature = 300"),
     ],
 )
 def test_lubricant_bad_input(kwargs, match):
-    args = dict(
-        viscosity_40=320e-6, viscosity_100=22e-6, density=900.0, pressure_viscosity=20e-9,
-        oil_temperature=75.0,
-    )
+    args = {
+        "viscosity_40": 320e-6,
+        "viscosity_100": 22e-6,
+        "density": 900.0,
+        "pressure_viscosity": 20e-9,
+        "oil_temperature": 75.0,
+    }
     with pytest.raises(ValueError, match=match) as err:
         tr.Lubricant(**{**args, **kwargs})
     assert "\n" not in str(err.value)

@@ -34,6 +34,13 @@ from ._load import (
     load_case as load_case,
     published_rating as published_rating,
 )
+from ._lubricant_table import (
+    FILM_FORMULAS as FILM_FORMULAS,
+    LUBRICANT_KEYS as LUBRICANT_KEYS,
+    TribologyInputs as TribologyInputs,
+    parse_lubricant as parse_lubricant,
+    tribology_of as tribology_of,
+)
 from ._modifications_table import (
     case_text_with_modifications as case_text_with_modifications,
     modifications_with as modifications_with,

@@ -36,8 +36,8 @@ __all__ = [
 class FilmThickness(NamedTuple):
     """Central and minimum film thickness h_c, h_min (m), the shapes of the inputs."""
 
-    central: Float[Array, "..."]
-    minimum: Float[Array, "..."]
+    central: Float[Array, ...]
+    minimum: Float[Array, ...]
 
 
 class AbstractFilmFormula(NamedKind):

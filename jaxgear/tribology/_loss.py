@@ -30,11 +30,10 @@ import math
 from typing import ClassVar
 
 import equinox as eqx
-import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._geometry import AbstractGearPair
-from .._util import NamedKind, as_float, check_real
+from .._util import as_float, check_real
 
 __all__ = [
     "AbstractFriction",
@@ -96,8 +95,9 @@ class Schlenk(AbstractFriction):
     lubricant_factor: Float[Array, ""]
 
     def __init__(self, lubricant_factor=1.0):
-        check_real("lubricant_factor", lubricant_factor, lo=0.0, hi=2.0, lo_open=True,
-                   where="Schlenk")
+        check_real(
+            "lubricant_factor", lubricant_factor, lo=0.0, hi=2.0, lo_open=True, where="Schlenk"
+        )
         self.lubricant_factor = as_float(lubricant_factor)
 
     def coefficient(self, pair, lubricant, torque, speed, roughness):

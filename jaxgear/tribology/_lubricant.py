@@ -68,14 +68,25 @@ class Lubricant(eqx.Module):
                 f"{w}: viscosity_100 = {float(viscosity_100)!r} m²/s is out of range: allowed <"
                 f" viscosity_40 = {float(viscosity_40)!r} m²/s"
             )
-        check_real("density", density, "kg/m³", lo=500.0, hi=2000.0, lo_open=True,
-                   hi_open=True, where=w)
-        check_real("pressure_viscosity", pressure_viscosity, "1/Pa", lo=0.0, hi=1e-7,
-                   lo_open=True, where=w)
-        check_real("oil_temperature", oil_temperature, "°C", lo=-50.0, hi=250.0, lo_open=True,
-                   hi_open=True, where=w)
-        check_real("thermal_expansion", thermal_expansion, "1/K", lo=0.0, hi=0.01,
-                   hi_open=True, where=w)
+        check_real(
+            "density", density, "kg/m³", lo=500.0, hi=2000.0, lo_open=True, hi_open=True, where=w
+        )
+        check_real(
+            "pressure_viscosity", pressure_viscosity, "1/Pa", lo=0.0, hi=1e-7, lo_open=True, where=w
+        )
+        check_real(
+            "oil_temperature",
+            oil_temperature,
+            "°C",
+            lo=-50.0,
+            hi=250.0,
+            lo_open=True,
+            hi_open=True,
+            where=w,
+        )
+        check_real(
+            "thermal_expansion", thermal_expansion, "1/K", lo=0.0, hi=0.01, hi_open=True, where=w
+        )
         self.viscosity_40 = as_float(viscosity_40)
         self.viscosity_100 = as_float(viscosity_100)
         self.density = as_float(density)
@@ -83,7 +94,7 @@ class Lubricant(eqx.Module):
         self.oil_temperature = as_float(oil_temperature)
         self.thermal_expansion = as_float(thermal_expansion)
 
-    def kinematic_viscosity(self, temperature=None) -> Float[Array, "..."]:
+    def kinematic_viscosity(self, temperature=None) -> Float[Array, ...]:
         """ν (m²/s) at ``temperature`` (°C, any shape; default the oil temperature): Walther's
         equation through ν₄₀ and ν₁₀₀ (the module docstring)."""
         t = self.oil_temperature if temperature is None else jnp.asarray(temperature)
@@ -93,7 +104,7 @@ class Lubricant(eqx.Module):
         y = y40 - b * (jnp.log10(t + 273.15) - jnp.log10(_T40))
         return (10.0 ** (10.0**y) - 0.7) * 1e-6
 
-    def density_at(self, temperature=None) -> Float[Array, "..."]:
+    def density_at(self, temperature=None) -> Float[Array, ...]:
         """ρ (kg/m³) at ``temperature`` (°C; default the oil temperature)."""
         t = self.oil_temperature if temperature is None else jnp.asarray(temperature)
         return self.density * (1.0 - self.thermal_expansion * (t - 15.0))

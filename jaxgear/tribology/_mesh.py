@@ -111,7 +111,7 @@ def mesh_tribology(
     youngs_modulus,
     poisson_ratio,
     *,
-    film: AbstractFilmFormula = DowsonHigginson(),
+    film: AbstractFilmFormula | None = None,
     friction: AbstractFriction | None = None,
 ) -> MeshTribology:
     """Film thickness, λ and sliding loss of one mesh along its path of contact (the module
@@ -129,8 +129,8 @@ def mesh_tribology(
         speed: pinion speed ω₁ (rad/s) > 0.
         roughness: (R_a1, R_a2), the flanks' arithmetic mean roughness (m), each in (0, 1e-5].
         youngs_modulus, poisson_ratio: the material of both gears (Pa, -).
-        film: the film formula (default :class:`DowsonHigginson`).
-        friction: the friction law (default :class:`Schlenk` with X_L = 1).
+        film: the film formula (None: :class:`DowsonHigginson`).
+        friction: the friction law (None: :class:`Schlenk` with X_L = 1).
 
     Returns:
         :class:`MeshTribology`.
@@ -144,6 +144,7 @@ def mesh_tribology(
     w_ = "mesh_tribology"
     check_instance("pair", pair, AbstractGearPair, "a GearPair or InternalGearPair", w_)
     check_instance("lubricant", lubricant, Lubricant, "a jaxgear.tribology.Lubricant", w_)
+    film = DowsonHigginson() if film is None else film
     check_instance("film", film, AbstractFilmFormula, "a film formula kind", w_)
     friction = Schlenk() if friction is None else friction
     check_instance("friction", friction, AbstractFriction, "a friction kind", w_)
@@ -159,8 +160,18 @@ def mesh_tribology(
                 " or a one-mesh QuasiStaticResult"
             )
     return _tribology(
-        pair, result.line_load, result.cell_s, result.cell_mask, lubricant, jnp.asarray(torque),
-        jnp.asarray(speed), jnp.asarray(roughness), youngs_modulus, poisson_ratio, film, friction,
+        pair,
+        result.line_load,
+        result.cell_s,
+        result.cell_mask,
+        lubricant,
+        jnp.asarray(torque),
+        jnp.asarray(speed),
+        jnp.asarray(roughness),
+        youngs_modulus,
+        poisson_ratio,
+        film,
+        friction,
     )
 
 
