@@ -15,20 +15,20 @@ def path_of_contact_plot(path, s, line_load, central, minimum, lam, loss, *, pit
     """Four panels against the base-plane coordinate s (mm) of every loaded cell: the line load
     (N/mm), the central and minimum film (µm), λ and the local sliding loss (W/mm); the pitch
     point ``pitch`` (m) marked. Arrays in SI units, one entry per loaded cell."""
-    fig = Figure(figsize=(8, 9), layout="constrained")
+    fig = Figure(figsize=(8, 8), layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(4, 1, sharex=True)
     x = np.asarray(s) * 1e3
-    kw = {"s": 4, "alpha": 0.6}
-    axes[0].scatter(x, np.asarray(line_load) * 1e-3, color="C0", **kw)
+    kw = {"ls": "none", "marker": ".", "ms": 2.5}
+    axes[0].plot(x, np.asarray(line_load) * 1e-3, color="C0", **kw)
     axes[0].set_ylabel("line load (N/mm)")
-    axes[1].scatter(x, np.asarray(central) * 1e6, color="C0", label="central h_c", **kw)
-    axes[1].scatter(x, np.asarray(minimum) * 1e6, color="C3", label="minimum h_min", **kw)
+    axes[1].plot(x, np.asarray(central) * 1e6, color="C0", label="central h_c", **kw)
+    axes[1].plot(x, np.asarray(minimum) * 1e6, color="C3", label="minimum h_min", **kw)
     axes[1].set_ylabel("film (µm)")
     axes[1].legend(fontsize=8, frameon=False)
-    axes[2].scatter(x, np.asarray(lam), color="C2", **kw)
+    axes[2].plot(x, np.asarray(lam), color="C2", **kw)
     axes[2].set_ylabel("λ = h_min / R_a")
-    axes[3].scatter(x, np.asarray(loss) * 1e-3, color="C1", **kw)
+    axes[3].plot(x, np.asarray(loss) * 1e-3, color="C1", **kw)
     axes[3].set_ylabel("sliding loss μ w v_g (W/mm)")
     axes[3].set_xlabel("path of contact s (mm, from its start at the gear's tip)")
     for ax in axes:
