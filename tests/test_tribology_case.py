@@ -47,7 +47,7 @@ def test_lubricant_table_builds_the_objects():
 @pytest.mark.parametrize(
     "change, match",
     [
-        ({"viscosity_100C_mm2s": 400.0}, r"\[lubricant\] viscosity_100C_mm2s = 400"),
+        ({"viscosity_100C_mm2_s": 400.0}, r"\[lubricant\] viscosity_100C_mm2_s = 400"),
         ({"oil_temperature_C": 300.0}, r"\[lubricant\] oil_temperature_C = 300"),
         ({"roughness_Ra_um": [0.6]}, r"roughness_Ra_um"),
         ({"film": "reynolds"}, r"film"),

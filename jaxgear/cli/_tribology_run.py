@@ -39,7 +39,7 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
         "film_formula": inputs.film.name,
         "friction": inputs.friction.name,
         "speed_rad_s": inputs.speed,
-        "viscosity_at_oil_temperature_mm2s": float(inputs.lubricant.kinematic_viscosity()) * 1e6,
+        "viscosity_at_oil_temperature_mm2_s": float(inputs.lubricant.kinematic_viscosity()) * 1e6,
         "dynamic_viscosity_Pa_s": float(inputs.lubricant.dynamic_viscosity),
         **out.summary(),
         "files": ["tribology.json", "tribology.csv", "tribology.png"],

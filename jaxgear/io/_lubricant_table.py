@@ -3,11 +3,11 @@ the film formula of the mesh's film and sliding loss (:mod:`jaxgear.tribology`; 
 here only)::
 
     [lubricant]
-    viscosity_40C_mm2s = 316.0          # ν₄₀, (0, 1e5]
-    viscosity_100C_mm2s = 22.2          # ν₁₀₀, (0, ν₄₀)
+    viscosity_40C_mm2_s = 316.0          # ν₄₀, (0, 1e5]
+    viscosity_100C_mm2_s = 22.2          # ν₁₀₀, (0, ν₄₀)
     density_kg_m3 = 902.0               # at 15 °C, (500, 2000)
-    thermal_expansion_1_K = 5.8e-4      # optional (default 0), [0, 0.01)
-    pressure_viscosity_1_GPa = 71.05    # Barus' α at the oil temperature, (0, 100]
+    thermal_expansion_per_K = 5.8e-4      # optional (default 0), [0, 0.01)
+    pressure_viscosity_per_GPa = 71.05    # Barus' α at the oil temperature, (0, 100]
     oil_temperature_C = 75.0            # (−50, 250)
     roughness_Ra_um = [0.6, 0.6]        # R_a of pinion and gear flanks (or one number), (0, 10]
     lubricant_factor = 0.85             # Schlenk's X_L, optional (default 1.0, mineral oil)
@@ -40,11 +40,11 @@ __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubrican
 
 #: the keys of ``[lubricant]``
 LUBRICANT_KEYS = {
-    "viscosity_40C_mm2s",
-    "viscosity_100C_mm2s",
+    "viscosity_40C_mm2_s",
+    "viscosity_100C_mm2_s",
     "density_kg_m3",
-    "thermal_expansion_1_K",
-    "pressure_viscosity_1_GPa",
+    "thermal_expansion_per_K",
+    "pressure_viscosity_per_GPa",
     "oil_temperature_C",
     "roughness_Ra_um",
     "lubricant_factor",
@@ -80,18 +80,18 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
     """
     w = "lubricant"
     sc.check_keys(table, LUBRICANT_KEYS, w)
-    nu40 = sc.number(table, "viscosity_40C_mm2s", w, allowed="(0, 1e+05]")
-    nu100 = sc.number(table, "viscosity_100C_mm2s", w, allowed="(0, 1e+05]")
+    nu40 = sc.number(table, "viscosity_40C_mm2_s", w, allowed="(0, 1e+05]")
+    nu100 = sc.number(table, "viscosity_100C_mm2_s", w, allowed="(0, 1e+05]")
     if nu100 >= nu40:
         raise sc.fail(
             w,
-            "viscosity_100C_mm2s",
-            f"out of range, allowed < viscosity_40C_mm2s = {nu40:g} (an oil thins as it warms)",
+            "viscosity_100C_mm2_s",
+            f"out of range, allowed < viscosity_40C_mm2_s = {nu40:g} (an oil thins as it warms)",
             nu100,
         )
     rho = sc.number(table, "density_kg_m3", w, allowed="(500, 2000)")
-    gamma = sc.number(table, "thermal_expansion_1_K", w, 0.0, allowed="[0, 0.01)")
-    alpha = sc.number(table, "pressure_viscosity_1_GPa", w, allowed="(0, 100]")
+    gamma = sc.number(table, "thermal_expansion_per_K", w, 0.0, allowed="[0, 0.01)")
+    alpha = sc.number(table, "pressure_viscosity_per_GPa", w, allowed="(0, 100]")
     temp = sc.number(table, "oil_temperature_C", w, allowed="(-50, 250)")
     ra = table.get("roughness_Ra_um")
     if isinstance(ra, list):
