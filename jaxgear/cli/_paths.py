@@ -43,6 +43,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "harris_map.png",
         "rating.md",  # with a [rating] table
         "root_stress_map.png",  # with a [rating] table (a train: root_stress_map_<mesh>.png)
+        "tribology.json",  # with a [lubricant] table: film and sliding loss
+        "tribology.csv",
+        "tribology.png",
         "root_stress_map_*.png",
     ),
     # jaxgear run on a case whose scene has condensed bodies (subfolder scene/)
