@@ -7,7 +7,9 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 :class:`PanHamrock`, :class:`Grubin`), the friction law as a kind (:class:`Schlenk` as ISO/TR
 14179-2 gives it, :class:`GivenFriction`), Ohlendorf's tooth loss factor
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
-(:func:`mesh_tribology` → :class:`MeshTribology`). docs/tribology.md.
+(:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
+the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
+:class:`MeshScuffing`). docs/tribology.md.
 """
 
 from ._film import (
@@ -24,6 +26,21 @@ from ._loss import (
     Schlenk as Schlenk,
     ohlendorf_loss_factor as ohlendorf_loss_factor,
     pitch_point_roll as pitch_point_roll,
+)
+from ._flash import (
+    STEEL_THERMAL_CONTACT_COEFFICIENT as STEEL_THERMAL_CONTACT_COEFFICIENT,
+    AbstractBulkTemperature as AbstractBulkTemperature,
+    FlashBulkTemperature as FlashBulkTemperature,
+    GivenBulkTemperature as GivenBulkTemperature,
+    MeshScuffing as MeshScuffing,
+    ScuffingLimits as ScuffingLimits,
+    blok_flash_temperature as blok_flash_temperature,
+    fzg_integral_scuffing_temperature as fzg_integral_scuffing_temperature,
+    fzg_pinion_torque as fzg_pinion_torque,
+    fzg_scuffing_temperature as fzg_scuffing_temperature,
+    mesh_scuffing as mesh_scuffing,
+    thermal_contact_coefficient as thermal_contact_coefficient,
+    ts_flash_temperature as ts_flash_temperature,
 )
 from ._lubricant import Lubricant as Lubricant
 from ._mesh import MeshTribology as MeshTribology, mesh_tribology as mesh_tribology
