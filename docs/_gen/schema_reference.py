@@ -113,6 +113,13 @@ oil_temperature_C = 80.0
 roughness_Ra_um = [0.4, 0.5]
 friction_coefficient = 0.05
 film = "pan-hamrock"
+fzg_load_stage = 10
+scuffing_temperature_C = 320.0
+integral_scuffing_temperature_C = 300.0
+bulk_temperature_C = 95.0
+scuffing_lubricant_factor = 1.0
+structural_factor = 1.0
+relative_structural_factor = 1.0
 """,
     "modifications": """
 [modifications]

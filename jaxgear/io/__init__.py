@@ -96,6 +96,11 @@ from ._scene_spec import (
     spec_window as spec_window,
 )
 from ._scene_table import parse_scene as parse_scene
+from ._scuffing_table import (
+    SCUFFING_KEYS as SCUFFING_KEYS,
+    ScuffingInputs as ScuffingInputs,
+    parse_scuffing as parse_scuffing,
+)
 from ._train_file import parse_train as parse_train
 from ._writers import (
     atomic_open as atomic_open,

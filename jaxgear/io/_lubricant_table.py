@@ -35,6 +35,7 @@ from ..tribology import (
     PanHamrock,
     Schlenk,
 )
+from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubricant", "tribology_of"]
 
@@ -50,7 +51,7 @@ LUBRICANT_KEYS = {
     "lubricant_factor",
     "friction_coefficient",
     "film",
-}
+} | SCUFFING_KEYS  # the scuffing keys: jaxgear.io._scuffing_table
 
 #: film formula names → kinds
 FILM_FORMULAS = {
@@ -63,13 +64,15 @@ FILM_FORMULAS = {
 class TribologyInputs(NamedTuple):
     """What ``[lubricant]`` gives :func:`jaxgear.tribology.mesh_tribology` (SI units):
     ``lubricant``, ``roughness`` (R_a1, R_a2) (m), ``friction`` and ``film`` kinds, ``speed``
-    (pinion, rad/s)."""
+    (pinion, rad/s), ``scuffing`` (:class:`~jaxgear.io._scuffing_table.ScuffingInputs` or
+    None)."""
 
     lubricant: Lubricant
     roughness: tuple[float, float]
     friction: AbstractFriction
     film: AbstractFilmFormula
     speed: float
+    scuffing: ScuffingInputs | None = None
 
 
 def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
@@ -124,7 +127,8 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
     lub = Lubricant(nu40 * 1e-6, nu100 * 1e-6, rho, alpha * 1e-9, temp, gamma)
     friction = GivenFriction(mu) if mu is not None else Schlenk(xl)
     return TribologyInputs(
-        lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[film](), speed
+        lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[film](), speed,
+        parse_scuffing(table),
     )
 
 

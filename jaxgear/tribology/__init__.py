@@ -20,13 +20,6 @@ from ._film import (
     PanHamrock as PanHamrock,
     film_thickness as film_thickness,
 )
-from ._loss import (
-    AbstractFriction as AbstractFriction,
-    GivenFriction as GivenFriction,
-    Schlenk as Schlenk,
-    ohlendorf_loss_factor as ohlendorf_loss_factor,
-    pitch_point_roll as pitch_point_roll,
-)
 from ._flash import (
     STEEL_THERMAL_CONTACT_COEFFICIENT as STEEL_THERMAL_CONTACT_COEFFICIENT,
     AbstractBulkTemperature as AbstractBulkTemperature,
@@ -41,6 +34,13 @@ from ._flash import (
     mesh_scuffing as mesh_scuffing,
     thermal_contact_coefficient as thermal_contact_coefficient,
     ts_flash_temperature as ts_flash_temperature,
+)
+from ._loss import (
+    AbstractFriction as AbstractFriction,
+    GivenFriction as GivenFriction,
+    Schlenk as Schlenk,
+    ohlendorf_loss_factor as ohlendorf_loss_factor,
+    pitch_point_roll as pitch_point_roll,
 )
 from ._lubricant import Lubricant as Lubricant
 from ._mesh import MeshTribology as MeshTribology, mesh_tribology as mesh_tribology

@@ -15,7 +15,7 @@ the contact line (m/s; the transverse speeds × cos β_b), b_H = √(4 w R/(π E
 semi-width (R the relative radius in the normal section, E* the contact modulus) and
 B_M = √(λ_M ρ_M c_M) each flank's thermal contact coefficient (W s^½/(m² K); ISO/TS 6336-20's
 steel value 13.795 N/(mm s^½ K)). The constant 1.11 is the maximum over the band of Jaeger's
-surface temperature under a semi-elliptical (Hertzian) flux (tests/test_flash.py evaluates it).
+surface temperature under a semi-elliptical (Hertzian) flux (the tests evaluate it by quadrature).
 
 With involute kinematics (Γ = ρ₁/(r_b1 tan α_wt) − 1 the position on the path, 0 at the pitch
 point) and Hertz's b_H substituted, Blok's formula becomes the TS's closed form
@@ -151,7 +151,9 @@ def ts_flash_temperature(
     w_ = "ts_flash_temperature"
     check_instance("pair", pair, AbstractGearPair, "a GearPair", w_)
     if pair.gear_ratio < 0:
-        raise ValueError(f"{w_}: pair = internal (u = {pair.gear_ratio:g}): allowed an external pair")
+        raise ValueError(
+            f"{w_}: pair = internal (u = {pair.gear_ratio:g}): allowed an external pair"
+        )
     check_real("torque", torque, "N·m", lo=0.0, lo_open=True, where=w_)
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, where=w_)
     g = jnp.asarray(gamma)
@@ -206,7 +208,11 @@ def fzg_integral_scuffing_temperature(
     check_real("viscosity_40", viscosity_40, "m²/s", lo=0.0, hi=0.1, lo_open=True, where=w)
     check_real("lubricant_factor", lubricant_factor, lo=0.0, hi=2.0, lo_open=True, where=w)
     check_real(
-        "relative_structural_factor", relative_structural_factor, lo=0.0, hi=2.0, lo_open=True,
+        "relative_structural_factor",
+        relative_structural_factor,
+        lo=0.0,
+        hi=2.0,
+        lo_open=True,
         where=w,
     )
     t1t = fzg_pinion_torque(load_stage)
@@ -243,7 +249,9 @@ class FlashBulkTemperature(AbstractBulkTemperature):
         self.meshes = meshes
 
     def bulk(self, oil_temperature, mean_flash):
-        return oil_temperature + 0.47 * self.lubrication_factor * 0.5 * (1 + self.meshes) * mean_flash
+        return (
+            oil_temperature + 0.47 * self.lubrication_factor * 0.5 * (1 + self.meshes) * mean_flash
+        )
 
 
 class GivenBulkTemperature(AbstractBulkTemperature):
@@ -254,7 +262,13 @@ class GivenBulkTemperature(AbstractBulkTemperature):
 
     def __init__(self, value):
         check_real(
-            "value", value, "°C", lo=-50.0, hi=400.0, lo_open=True, hi_open=True,
+            "value",
+            value,
+            "°C",
+            lo=-50.0,
+            hi=400.0,
+            lo_open=True,
+            hi_open=True,
             where="GivenBulkTemperature",
         )
         self.value = as_float(value)
@@ -441,8 +455,13 @@ def mesh_scuffing(
     check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
     check_real(
-        "thermal_coefficients", thermal_coefficients, "W s^½/(m² K)", lo=0.0, lo_open=True,
-        shape=(2,), where=w_,
+        "thermal_coefficients",
+        thermal_coefficients,
+        "W s^½/(m² K)",
+        lo=0.0,
+        lo_open=True,
+        shape=(2,),
+        where=w_,
     )
     if not hasattr(result, "cell_mask"):
         raise ValueError(
