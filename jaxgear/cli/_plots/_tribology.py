@@ -36,7 +36,7 @@ def path_of_contact_plot(
     axes[3].set_ylabel("sliding loss μ w v_g (W/mm)")
     if flash is not None:
         axes[4].plot(x, np.asarray(flash), color="C4", **kw)
-        axes[4].set_ylabel("flash temperature θ_fl (K)")
+        axes[4].set_ylabel("flash temp. θ_fl (K)")
     axes[-1].set_xlabel("path of contact s (mm, from its start at the gear's tip)")
     for ax in axes:
         ax.axvline(pitch * 1e3, color="0.3", lw=0.8, ls="--")
