@@ -98,7 +98,7 @@ SECTIONS = {
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
-                                   "_lubricant_table")),
+                                   "_lubricant_table", "_scuffing_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (
