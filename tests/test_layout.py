@@ -27,6 +27,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.planetary",
     "jaxgear.rating",
     "jaxgear.gearbox",
+    "jaxgear.tribology",
     "jaxgear.io",
 )
 FORBIDDEN_IN_MODEL = (

@@ -167,6 +167,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY_AND_SWEEP,
         False,
     ),
+    # a pair with [lubricant]: the film and the sliding loss along the path of contact
+    "run-example-fzg-c14-lubricated": (
+        ["run", "examples/fzg-c14-lubricated.toml"],
+        SUMMARY,
+        False,
+    ),
 }
 
 

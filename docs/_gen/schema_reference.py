@@ -44,7 +44,7 @@ TRACED = ("check_keys", "subtable", "number", "number_list", "choice", "boolean"
 UNIT_WORDS = {
     "mm": "mm", "um": "µm", "m": "m", "mm2": "mm²", "m2": "m²", "m3": "m³",
     "N": "N", "Nm": "N·m", "kg": "kg", "GPa": "GPa", "MPa": "MPa", "deg": "deg", "rad": "rad",
-    "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI", "HB": "HB",
+    "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI", "HB": "HB", "K": "K", "C": "°C",
 }
 #: the second word of a two-word unit without ``per`` that divides (a rate, a density):
 #: ``_rad_s`` rad/s, ``_mm2_s`` mm²/s, ``_kg_m3`` kg/m³; any other pair multiplies (``_kg_m2``)
@@ -99,6 +99,27 @@ lp_order = 8
 objective = "least_safety"
 vars = ["pinion.crowning.depth"]
 te_limit_um = 1.0
+""",
+    "lubricant": """
+[operating]
+torque_Nm = 80.0
+speed_rad_s = 800.0
+[lubricant]
+viscosity_40C_mm2_s = 220.0
+viscosity_100C_mm2_s = 19.0
+density_kg_m3 = 890.0
+pressure_viscosity_per_GPa = 20.0
+oil_temperature_C = 80.0
+roughness_Ra_um = [0.4, 0.5]
+friction_coefficient = 0.05
+film = "pan-hamrock"
+fzg_load_stage = 10
+scuffing_temperature_C = 320.0
+integral_scuffing_temperature_C = 300.0
+bulk_temperature_C = 95.0
+scuffing_lubricant_factor = 1.0
+structural_factor = 1.0
+relative_structural_factor = 1.0
 """,
     "modifications": """
 [modifications]

@@ -44,6 +44,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "loaded_path.png",  # with [mesh] extended_contact
         "rating.md",  # with a [rating] table
         "root_stress_map.png",  # with a [rating] table (a train: root_stress_map_<mesh>.png)
+        "tribology.json",  # with a [lubricant] table: film and sliding loss
+        "tribology.csv",
+        "tribology.png",
         "root_stress_map_*.png",
         "spectrum.csv",  # with a [rating.spectrum] table (ISO 6336-6)
     ),

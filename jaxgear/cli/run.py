@@ -61,6 +61,7 @@ from ._summary import (
     result_summary,
     stiffness_line,
 )
+from ._tribology_run import tribology_outputs, tribology_run_line
 from .gearbox import gearbox_run_files, gearbox_run_lines
 from .planetary_speed import planetary_rated_run_files
 from .planetary_sweep import planetary_run_lines
@@ -330,6 +331,10 @@ def run_case(
     )
     if rating is not None:
         summary["rating"] = rating
+    # [lubricant]: film and sliding loss along the path of contact (tribology.json)
+    tribology = tribology_outputs(case, out_dir, res["modified", "exact"])
+    if tribology is not None:
+        summary["tribology"] = tribology
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
@@ -584,7 +589,11 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
             f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
         )
-    return lines + rating_run_line(summary.get("rating"))
+    return (
+        lines
+        + rating_run_line(summary.get("rating"))
+        + tribology_run_line(summary.get("tribology"))
+    )
 
 
 @run_lines.register

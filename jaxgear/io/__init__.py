@@ -34,6 +34,13 @@ from ._load import (
     load_case as load_case,
     published_rating as published_rating,
 )
+from ._lubricant_table import (
+    FILM_FORMULAS as FILM_FORMULAS,
+    LUBRICANT_KEYS as LUBRICANT_KEYS,
+    TribologyInputs as TribologyInputs,
+    parse_lubricant as parse_lubricant,
+    tribology_of as tribology_of,
+)
 from ._modifications_table import (
     case_text_with_modifications as case_text_with_modifications,
     modifications_with as modifications_with,
@@ -89,6 +96,11 @@ from ._scene_spec import (
     spec_window as spec_window,
 )
 from ._scene_table import parse_scene as parse_scene
+from ._scuffing_table import (
+    SCUFFING_KEYS as SCUFFING_KEYS,
+    ScuffingInputs as ScuffingInputs,
+    parse_scuffing as parse_scuffing,
+)
 from ._train_file import parse_train as parse_train
 from ._writers import (
     atomic_open as atomic_open,

@@ -20,6 +20,7 @@ from fem_prep import schema as sc
 from ._case import Case
 from .._geometry import JAM, GearPair, Member
 from ._deviations_table import parse_deviations
+from ._lubricant_table import parse_lubricant
 from ._modifications_table import parse_modifications
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
 from ._optimise_table import parse_optimise
@@ -90,6 +91,7 @@ _SCHEMA: dict[str, Any] = {
     "scene": None,  # checked by parse_scene
     "optimise": None,  # checked by parse_optimise
     "rating": None,  # checked by check_rating (ISO 6336 load capacity)
+    "lubricant": None,  # checked by parse_lubricant (film and sliding loss)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -441,6 +443,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     torque = parse_torque(data["operating"], pair)
     check_rating(data, pair, (E, nu, rho))
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
+    if "lubricant" in data:
+        parse_lubricant(data["lubricant"], data["operating"])
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (

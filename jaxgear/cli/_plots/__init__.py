@@ -58,3 +58,4 @@ from ._sweep import (
     name_peaks as name_peaks,
     pressure_speed_plot as pressure_speed_plot,
 )
+from ._tribology import path_of_contact_plot as path_of_contact_plot

@@ -1,0 +1,97 @@
+"""The scuffing keys of a pair case's ``[lubricant]`` table: the lubricant's FZG load stage or
+its scuffing temperatures, and the bulk-temperature rule of the flash-temperature method
+(:func:`jaxgear.tribology.mesh_scuffing`; names → objects here only)::
+
+    [lubricant]
+    ...                                 # the film keys (jaxgear.io._lubricant_table)
+    fzg_load_stage = 10                 # FZG A/8.3/90 load stage the oil passed, [1, 14]
+    scuffing_temperature_C = 320.0      # optional: θ_S instead of the load stage's, (0, 1000)
+    integral_scuffing_temperature_C = 300.0  # optional: θ_intS, (0, 1000)
+    bulk_temperature_C = 95.0           # optional: a given θ_M (default: ISO/TS 6336-20's rule)
+    bulk_lubrication_factor = 1.2       # optional: X_S of that rule (1.0 dip, 1.2 spray), (0, 2]
+    scuffing_lubricant_factor = 1.0     # optional: the TS's X_L (1.0 mineral oil), (0, 2]
+    structural_factor = 1.0             # optional: X_W, (0, 2]
+    relative_structural_factor = 1.0    # optional: X_WrelT, (0, 2]
+
+Without ``fzg_load_stage`` and ``scuffing_temperature_C`` the run computes no scuffing.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from fem_prep import schema as sc
+
+from ..tribology import (
+    AbstractBulkTemperature,
+    FlashBulkTemperature,
+    GivenBulkTemperature,
+    ScuffingLimits,
+)
+
+__all__ = ["SCUFFING_KEYS", "ScuffingInputs", "parse_scuffing"]
+
+#: the scuffing keys of ``[lubricant]``
+SCUFFING_KEYS = {
+    "fzg_load_stage",
+    "scuffing_temperature_C",
+    "integral_scuffing_temperature_C",
+    "bulk_temperature_C",
+    "bulk_lubrication_factor",
+    "scuffing_lubricant_factor",
+    "structural_factor",
+    "relative_structural_factor",
+}
+
+
+class ScuffingInputs(NamedTuple):
+    """What ``[lubricant]`` gives :func:`jaxgear.tribology.mesh_scuffing`: ``limits`` and the
+    ``bulk`` temperature rule."""
+
+    limits: ScuffingLimits
+    bulk: AbstractBulkTemperature
+
+
+def parse_scuffing(table: dict) -> ScuffingInputs | None:
+    """The scuffing keys of ``[lubricant]`` (validated), or None without ``fzg_load_stage`` and
+    ``scuffing_temperature_C``.
+
+    Raises:
+        SchemaError (a ``ValueError``): one line naming the key, its value and the allowed range.
+    """
+    w = "lubricant"
+    stage = sc.number(table, "fzg_load_stage", w, None, allowed="[1, 14]")
+    theta_s = sc.number(table, "scuffing_temperature_C", w, None, allowed="(0, 1000)")
+    theta_int = sc.number(table, "integral_scuffing_temperature_C", w, None, allowed="(0, 1000)")
+    bulk_c = sc.number(table, "bulk_temperature_C", w, None, allowed="(-50, 400)")
+    xs = sc.number(table, "bulk_lubrication_factor", w, 1.0, allowed="(0, 2]")
+    xl = sc.number(table, "scuffing_lubricant_factor", w, 1.0, allowed="(0, 2]")
+    xw = sc.number(table, "structural_factor", w, 1.0, allowed="(0, 2]")
+    xwr = sc.number(table, "relative_structural_factor", w, 1.0, allowed="(0, 2]")
+    if stage is None and theta_s is None and theta_int is None:
+        for key in SCUFFING_KEYS & set(table):
+            raise sc.fail(
+                w, key, "not read: give fzg_load_stage or scuffing_temperature_C", table[key]
+            )
+        return None
+    if stage is None and (theta_s is None or theta_int is None):
+        given = (
+            "scuffing_temperature_C" if theta_s is not None else "integral_scuffing_temperature_C"
+        )
+        raise sc.fail(
+            w,
+            given,
+            "needs fzg_load_stage (or both scuffing_temperature_C and"
+            " integral_scuffing_temperature_C)",
+            table[given],
+        )
+    if bulk_c is not None and "bulk_lubrication_factor" in table:
+        raise sc.fail(
+            w,
+            "bulk_lubrication_factor",
+            "not read: bulk_temperature_C is given (X_S is the TS rule's); remove one",
+            xs,
+        )
+    limits = ScuffingLimits(stage, theta_s, theta_int, xl, xw, xwr)
+    bulk = GivenBulkTemperature(bulk_c) if bulk_c is not None else FlashBulkTemperature(xs)
+    return ScuffingInputs(limits, bulk)

@@ -1,0 +1,46 @@
+"""Tribology of the mesh: the elastohydrodynamic film along the path of contact, the specific
+film thickness λ, the tooth friction and the sliding power loss and efficiency, all from
+jaxgear's own line loads (:func:`jaxgear.quasi_static`) and differentiable.
+
+The lubricant (:class:`Lubricant`: Walther's viscosity–temperature line through ν₄₀ and ν₁₀₀,
+density, pressure–viscosity coefficient), the film formula as a kind (:class:`DowsonHigginson`,
+:class:`PanHamrock`, :class:`Grubin`), the friction law as a kind (:class:`Schlenk` as ISO/TR
+14179-2 gives it, :class:`GivenFriction`), Ohlendorf's tooth loss factor
+(:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
+(:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
+the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
+:class:`MeshScuffing`). docs/tribology.md.
+"""
+
+from ._film import (
+    AbstractFilmFormula as AbstractFilmFormula,
+    DowsonHigginson as DowsonHigginson,
+    FilmThickness as FilmThickness,
+    Grubin as Grubin,
+    PanHamrock as PanHamrock,
+    film_thickness as film_thickness,
+)
+from ._flash import (
+    STEEL_THERMAL_CONTACT_COEFFICIENT as STEEL_THERMAL_CONTACT_COEFFICIENT,
+    AbstractBulkTemperature as AbstractBulkTemperature,
+    FlashBulkTemperature as FlashBulkTemperature,
+    GivenBulkTemperature as GivenBulkTemperature,
+    MeshScuffing as MeshScuffing,
+    ScuffingLimits as ScuffingLimits,
+    blok_flash_temperature as blok_flash_temperature,
+    fzg_integral_scuffing_temperature as fzg_integral_scuffing_temperature,
+    fzg_pinion_torque as fzg_pinion_torque,
+    fzg_scuffing_temperature as fzg_scuffing_temperature,
+    mesh_scuffing as mesh_scuffing,
+    thermal_contact_coefficient as thermal_contact_coefficient,
+    ts_flash_temperature as ts_flash_temperature,
+)
+from ._loss import (
+    AbstractFriction as AbstractFriction,
+    GivenFriction as GivenFriction,
+    Schlenk as Schlenk,
+    ohlendorf_loss_factor as ohlendorf_loss_factor,
+    pitch_point_roll as pitch_point_roll,
+)
+from ._lubricant import Lubricant as Lubricant
+from ._mesh import MeshTribology as MeshTribology, mesh_tribology as mesh_tribology

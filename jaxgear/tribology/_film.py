@@ -1,0 +1,130 @@
+"""Elastohydrodynamic film thickness of a line contact: the film formula is a kind passed as an
+object (:class:`DowsonHigginson`, :class:`PanHamrock`, :class:`Grubin`).
+
+Dimensionless groups (Dowson & Higginson's, with the reduced modulus E' = 2E*,
+E* = 1/((1 − ν₁²)/E₁ + (1 − ν₂²)/E₂) the contact modulus of :func:`jaxgear.contact_modulus`):
+
+    U = η₀ u / (E' R),   G = α E',   W = w / (E' R),   H = h / R,
+
+η₀ the dynamic viscosity at the inlet temperature and ambient pressure (Pa·s), u = (u₁ + u₂)/2
+the entrainment (mean rolling) speed (m/s), R the relative radius of curvature (m), w the load
+per unit length of contact line (N/m), α the pressure–viscosity coefficient (1/Pa).
+
+Isothermal formulas; none carries an inlet shear-heating factor (GEARpie's φ_T, 0.996 to 0.999 at
+the FZG points of docs/tribology.md, is left out).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar, NamedTuple
+
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from .._util import NamedKind
+
+__all__ = [
+    "AbstractFilmFormula",
+    "DowsonHigginson",
+    "FilmThickness",
+    "Grubin",
+    "PanHamrock",
+    "film_thickness",
+]
+
+
+class FilmThickness(NamedTuple):
+    """Central and minimum film thickness h_c, h_min (m), the shapes of the inputs."""
+
+    central: Float[Array, ...]
+    minimum: Float[Array, ...]
+
+
+class AbstractFilmFormula(NamedKind):
+    """A line-contact film formula: H_c(U, G, W) and H_min(U, G, W) (the module docstring). A
+    new formula is a subclass with ``name``, ``central`` and ``minimum``."""
+
+    name: ClassVar[str]
+
+    def central(self, U, G, W):
+        raise NotImplementedError
+
+    def minimum(self, U, G, W):
+        raise NotImplementedError
+
+
+class DowsonHigginson(AbstractFilmFormula):
+    """Dowson's regression of the Dowson–Higginson numerical solutions: minimum film
+    H_min = 2.65 U^0.70 G^0.54 W^−0.13 (D. Dowson, Proc. IMechE 182(3A), 1968, 151–167;
+    D. Dowson & G. R. Higginson, *Elasto-hydrodynamic Lubrication*, SI ed., Pergamon 1977, §7);
+    central film H_c = 3.06 U^0.69 G^0.56 W^−0.10 (D. Dowson & G. R. Toyoda, Proc. 5th
+    Leeds–Lyon Symposium, 1979, 60–65), the pair AGMA 925 and most gear texts use."""
+
+    name: ClassVar[str] = "dowson-higginson"
+
+    def central(self, U, G, W):
+        return 3.06 * U**0.69 * G**0.56 * W**-0.10
+
+    def minimum(self, U, G, W):
+        return 2.65 * U**0.70 * G**0.54 * W**-0.13
+
+
+class PanHamrock(AbstractFilmFormula):
+    """Hamrock's line-contact (rectangular) formulas: H_min = 1.714 W^−0.128 U^0.694 G^0.568,
+    H_c = 2.922 W^−0.166 U^0.692 G^0.470 (P. Pan & B. J. Hamrock, J. Tribol. 111(2), 1989,
+    246–251; B. J. Hamrock, S. R. Schmid & B. O. Jacobson, *Fundamentals of Fluid Film
+    Lubrication*, 2nd ed. 2004, eqs. (18.71)–(18.72)). The Hamrock–Dowson formulas proper are
+    for elliptical (point) contacts, their load a force, not a line load; this is their
+    line-contact counterpart from the same group, fitted to Hamrock's own numerical solutions."""
+
+    name: ClassVar[str] = "pan-hamrock"
+
+    def central(self, U, G, W):
+        return 2.922 * W**-0.166 * U**0.692 * G**0.470
+
+    def minimum(self, U, G, W):
+        return 1.714 * W**-0.128 * U**0.694 * G**0.568
+
+
+class Grubin(AbstractFilmFormula):
+    """Grubin's inlet analysis (A. N. Grubin, Central Sci. Res. Inst. Tech. Mech. Eng., Moscow,
+    book 30, 1949; DSIR transl. 337): central film H_c = 1.95 (G U)^(8/11) W^(−1/11). Grubin's
+    analysis gives no minimum film; ``minimum`` is Dowson's H_min (:class:`DowsonHigginson`), the
+    pair GEARpie reports."""
+
+    name: ClassVar[str] = "grubin"
+
+    def central(self, U, G, W):
+        return 1.95 * (G * U) ** (8.0 / 11.0) * W ** (-1.0 / 11.0)
+
+    def minimum(self, U, G, W):
+        return DowsonHigginson().minimum(U, G, W)
+
+
+def film_thickness(
+    formula: AbstractFilmFormula,
+    radius,
+    entrainment_speed,
+    line_load,
+    viscosity,
+    pressure_viscosity,
+    contact_modulus,
+) -> FilmThickness:
+    """h_c and h_min (m) of a line contact by ``formula`` (arrays broadcast together).
+
+    Args:
+        formula: an :class:`AbstractFilmFormula` kind.
+        radius: R (m) > 0, the relative radius of curvature in the section normal to the contact
+            line. entrainment_speed: u (m/s) > 0. line_load: w (N/m) > 0.
+        viscosity: η₀ (Pa·s). pressure_viscosity: α (1/Pa).
+        contact_modulus: E* (Pa) (E' = 2E* in the formulas).
+
+    Returns:
+        :class:`FilmThickness` (m). Non-positive inputs give inf or NaN; callers mask them
+        (:func:`jaxgear.tribology.mesh_tribology` does).
+    """
+    e_prime = 2.0 * jnp.asarray(contact_modulus)
+    U = viscosity * entrainment_speed / (e_prime * radius)
+    G = pressure_viscosity * e_prime
+    W = line_load / (e_prime * radius)
+    return FilmThickness(radius * formula.central(U, G, W), radius * formula.minimum(U, G, W))

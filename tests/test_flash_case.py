@@ -1,0 +1,90 @@
+"""The scuffing keys of ``[lubricant]`` (jaxgear.io) and ``jaxgear run``'s flash temperature in
+the tribology files (issue 67 items 4, 6), on examples/fzg-c14-lubricated.toml with an FZG load
+stage added. The references: the scuffing temperature of ISO/TS 6336-20 written here from the
+load stage (θ_S = 80 + 2.25 S_FZG² for X_W = X_L = 1), S_B from the files' own temperatures,
+and the CSV's cells against the summary."""
+
+from __future__ import annotations
+
+import csv
+import json
+import pathlib
+import tomllib
+
+import numpy as np
+import pytest
+
+import jaxgear.io as jio
+import jaxgear.tribology as tr
+from jaxgear.cli.run import run_case, run_lines
+
+EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "fzg-c14-lubricated.toml"
+
+
+def _data(**scuffing):
+    data = tomllib.loads(EXAMPLE.read_text())
+    data["lubricant"] |= scuffing
+    return data
+
+
+def test_scuffing_keys_build_the_objects():
+    inputs = jio.tribology_of(jio.parse_case(_data(fzg_load_stage=9)))
+    assert isinstance(inputs.scuffing.limits, tr.ScuffingLimits)
+    assert inputs.scuffing.limits.flash() == pytest.approx(80.0 + 2.25 * 81.0)
+    assert isinstance(inputs.scuffing.bulk, tr.FlashBulkTemperature)
+    given = jio.tribology_of(
+        jio.parse_case(
+            _data(
+                scuffing_temperature_C=300.0,
+                integral_scuffing_temperature_C=280.0,
+                bulk_temperature_C=95.0,
+            )
+        )
+    )
+    assert isinstance(given.scuffing.bulk, tr.GivenBulkTemperature)
+    assert given.scuffing.limits.flash() == 300.0
+    assert given.scuffing.limits.integral(100e-6) == 280.0
+    assert jio.tribology_of(jio.load_case(EXAMPLE)).scuffing is None
+
+
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        ({"fzg_load_stage": 15}, r"\[lubricant\] fzg_load_stage = 15"),
+        ({"scuffing_temperature_C": 300.0}, r"scuffing_temperature_C = 300.*needs fzg_load_stage"),
+        ({"structural_factor": 1.2}, r"structural_factor = 1.2.*not read"),
+        (
+            {"fzg_load_stage": 9, "bulk_temperature_C": 90.0, "bulk_lubrication_factor": 1.2},
+            r"bulk_lubrication_factor .*not read",
+        ),
+    ],
+)
+def test_scuffing_keys_bad_input_one_line(change, match):
+    with pytest.raises(ValueError, match=match) as err:
+        jio.parse_case(_data(**change))
+    assert "\n" not in str(err.value)
+
+
+def test_run_writes_the_flash_temperature(tmp_path):
+    case = jio.parse_case(_data(fzg_load_stage=10))
+    summary = run_case(case, str(tmp_path), show_progress=False)
+    sc = summary["tribology"]["scuffing"]
+    on_disk = json.loads((tmp_path / "tribology.json").read_text())["scuffing"]
+    assert on_disk["scuffing_safety_factor"] == pytest.approx(sc["scuffing_safety_factor"])
+    oil = 75.0  # the example's oil temperature
+    assert sc["scuffing_temperature_C"] == pytest.approx(80.0 + 2.25 * 100.0)
+    assert sc["scuffing_safety_factor"] == pytest.approx(
+        (sc["scuffing_temperature_C"] - oil) / (sc["max_contact_temperature_C"] - oil)
+    )
+    with open(tmp_path / "tribology.csv") as f:
+        rows = list(csv.DictReader(f))
+    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
+    tb = np.array([float(r["contact_temperature_C"]) for r in rows])
+    assert fl.max() == pytest.approx(sc["max_flash_temperature_K"], rel=1e-5)
+    np.testing.assert_allclose(tb - fl, sc["bulk_temperature_C"], rtol=1e-6)
+    # zero flash temperature where the sliding vanishes: at the pitch point
+    s = np.array([float(r["s_m"]) for r in rows])
+    s_c = tr.pitch_point_roll(case.pair)
+    assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
+    assert (tmp_path / "tribology.png").stat().st_size > 10_000
+    assert any("scuffing: max flash" in line for line in run_lines(case.form, case, summary))
