@@ -344,8 +344,12 @@ def plot(data: dict, path: pathlib.Path) -> None:
         color="0.4",
         rotation=90,
     )
-    ax.set_title(f"{PLANETARY} (unmodified), first mode {f1:.1f} Hz")
+    ax.set_title(f"{PLANETARY} (unmodified), first mode {f1:.1f} Hz", fontsize=10)
     ax.set_ylabel("dynamic factor, K$_\\gamma$")
+    angle = p["mesh_period_angle_rad_on"]  # carrier rotation per mesh period
+    top = ax.secondary_xaxis("top", functions=(lambda f: f * angle, lambda w: w / angle))
+    top.set_xlabel("carrier speed (rad/s)")
+    ax.legend(fontsize=7, loc="center", bbox_to_anchor=(0.5, 0.64), ncol=2)
     panels = [(ax, p)]
     ax = axes[1]
     s = data["spur"]
@@ -358,14 +362,21 @@ def plot(data: dict, path: pathlib.Path) -> None:
         ax.axvline(f1 / 5, color=f"C{i}", lw=1, ls=":")
         ax.text(
             f1 / 5,
-            0.99 - 0.08 * i,
-            f" f$_1$/5 = {f1 / 5:.0f} Hz ({sc})",
+            0.99 - 0.4 * i,
+            f" f$_1$/5 = {f1 / 5:.0f} Hz\n ({sc}"
+            + (
+                ""
+                if f1 == d["first_mesh_mode_Hz_on"]
+                else f":\n f$_1$ = {f1:.0f} Hz,\n no mesh energy"
+            )
+            + ")",
             transform=ax.get_xaxis_transform(),
             va="top",
             ha="left",
             fontsize=8,
         )
-    ax.set_title(f"{SPUR}, tip relief 0 (unmodified)")
+    ax.set_title(f"{SPUR}, tip relief 0 (unmodified), 80 N·m", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, 0.93))
     ax.set_ylabel("dynamic factor")
     panels.append((ax, s))
     for ax, _ in panels:
@@ -373,7 +384,6 @@ def plot(data: dict, path: pathlib.Path) -> None:
         ax.set_xlabel("mesh frequency (Hz)")
         ax.axhspan(1 - CRITERION, 1 + CRITERION, color="0.85", zorder=0, lw=0)
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, 0.93))
     fig.suptitle(
         "Dynamic factor with and without contact beyond the theoretical path (grey band: 1 ± 15 %)",
         fontsize=10,
