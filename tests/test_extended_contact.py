@@ -7,7 +7,6 @@ from __future__ import annotations
 import math
 import re
 
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -265,3 +264,81 @@ def test_against_the_plane_strain_fe_contact_reference():
             s = np.array([row["s_mm"] for row in rows]) * 1e-3
             share = np.array([row["share"] for row in rows])
             np.testing.assert_allclose(_entering_share(mesh, pair, T, s), share, atol=tol)
+
+
+# --- the dynamic factor of unmodified teeth at quasi-static speeds (issue 68's evidence) -------
+# References: at a mesh frequency far below the first mode the response is quasi-static, DF = 1
+# (the issue's criterion: within 15 % below a fifth of the first mode); a load that steps onto a
+# lightly damped oscillator overshoots to twice its static deflection (the undamped step
+# response, x_max = 2 F/k), which the theoretical path's engagement step approaches.
+
+
+def _extended_case_text(text: str, extended: bool) -> str:
+    out, n = re.subn(
+        r"^\[mesh\]$",
+        f"[mesh]\nextended_contact = {str(extended).lower()}",
+        text,
+        flags=re.MULTILINE,
+    )
+    assert n == 1
+    return out
+
+
+def _unmodified_spur_torsional(extended: bool):
+    import tomllib
+
+    text = jio.embedded_case_text("accessory-spur")
+    text, n = re.subn(r"depth_um = 15\.0", "depth_um = 0.0", text, count=1)  # no tip relief
+    assert n == 1
+    text = text[: text.index("[scene]")] + '[scene]\nmodel = "torsional"\n'
+    case = jio.parse_case(tomllib.loads(_extended_case_text(text, extended)))
+    return case, jio.build_dynamic_model(case, slices=2)[0]
+
+
+def _first_elastic_mode(model) -> float:
+    import jaxgear.dynamics as jd
+
+    modes = jd.mesh_averaged_modes(model)
+    return float(np.asarray(modes.frequency)[~np.asarray(modes.rigid)][0])
+
+
+def test_unmodified_spur_dynamic_factor_at_20_hz_mesh_frequency():
+    import jaxgear.dynamics as jd
+
+    df = {}
+    for extended in (False, True):
+        case, model = _unmodified_spur_torsional(extended)
+        f1 = _first_elastic_mode(model)
+        f_mesh = 20.0  # Hz: far below a fifth of the torsional mode (6.4 to 7 kHz)
+        assert f_mesh < f1 / 5
+        speed = 2 * np.pi * f_mesh / case.pair.pinion.teeth
+        # 4096 steps per mesh period resolve the mode's ringing (~15 steps per its period);
+        # the run starts from the static equilibrium, two periods suffice at this damping
+        r = jd.simulate(
+            model,
+            speed,
+            integrator=jd.Newmark(steps_per_period=4096),
+            window=jd.SteadyState(periods=2, keep_periods=2),
+        )
+        df[extended] = float(r.dynamic_factor)
+    assert abs(df[True] - 1.0) <= 0.15, df  # quasi-static: DF -> 1
+    assert df[False] >= 1.5, df  # the engagement step on the theoretical path rings
+
+
+@pytest.mark.slow
+def test_nrel_planetary_dynamic_factor_at_quarter_rad_per_s(tmp_path):
+    import jaxgear.dynamics as jd
+
+    speed = 0.25  # rad/s on the carrier: mesh frequency 2.2 Hz, the first mode 63 Hz
+    out = {}
+    for extended in (False, True):
+        path = tmp_path / f"planetary_{int(extended)}.toml"
+        path.write_text(_extended_case_text(jio.embedded_case_text("nrel-5mw-planetary"), extended))
+        model, _ = jio.build_dynamic_model(jio.load_case(path))
+        f1 = _first_elastic_mode(model)
+        assert speed / float(model.mesh_period_angle()) < f1 / 5
+        r = jd.speed_sweep(model, np.array([speed]))
+        sun, ring = r.results.dynamic_factors
+        out[extended] = np.array([np.max(np.asarray(sun)), np.max(np.asarray(ring))])
+    np.testing.assert_allclose(out[True], 1.0, atol=0.15)  # quasi-static
+    np.testing.assert_allclose(out[False], 2.0, atol=0.15)  # the undamped step's overshoot
