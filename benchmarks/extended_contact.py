@@ -319,7 +319,6 @@ def plot(data: dict, path: pathlib.Path) -> None:
     for key, label in (("off", "theoretical path"), ("on", "extended contact")):
         ax.plot(f, p[key]["df_sun"], color="C0", label=f"DF sun-planet, {label}", **style[key])
         ax.plot(f, p[key]["df_ring"], color="C1", label=f"DF ring-planet, {label}", **style[key])
-        ax.plot(f, p[key]["k_gamma"], color="C2", label=f"K$_\\gamma$, {label}", **style[key])
     f1 = p["first_mode_Hz_on"]
     ax.axvline(f1 / 5, color="k", lw=1, ls=":")
     ax.text(
@@ -345,7 +344,7 @@ def plot(data: dict, path: pathlib.Path) -> None:
         rotation=90,
     )
     ax.set_title(f"{PLANETARY} (unmodified), first mode {f1:.1f} Hz", fontsize=10)
-    ax.set_ylabel("dynamic factor, K$_\\gamma$")
+    ax.set_ylabel("dynamic factor")
     angle = p["mesh_period_angle_rad_on"]  # carrier rotation per mesh period
     top = ax.secondary_xaxis("top", functions=(lambda f: f * angle, lambda w: w / angle))
     top.set_xlabel("carrier speed (rad/s)")
