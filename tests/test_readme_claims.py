@@ -59,10 +59,11 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     summary = run_case(case, str(tmp_path), harris_points=3, show_progress=False)
     for name in OUTPUT_FILES["run"]:
         # sweep/ and optimise/ come only with a [scene] / [optimise], rating.md with a
-        # [rating] (and the root-stress maps), tribology.* with a [lubricant]; TRAIN_FILES with a
-        # train, PLANETARY_FILES with a [planetary] stage, GEARBOX_FILES with a gearbox
+        # [rating] (and the root-stress maps), spectrum.csv with a [rating.spectrum],
+        # tribology.* with a [lubricant], loaded_path.png with [mesh] extended_contact; TRAIN_FILES with a train, PLANETARY_FILES with a
+        # [planetary] stage, GEARBOX_FILES with a gearbox
         skip = TRAIN_FILES + PLANETARY_FILES + GEARBOX_FILES
-        only_with = ("rating", "root_stress", "tribology")
+        only_with = ("rating", "root_stress", "spectrum", "tribology", "loaded_path")
         if "/" not in name and name not in skip and not name.startswith(only_with):
             assert (tmp_path / name).stat().st_size > 0, name
     env = summary["environment"]
