@@ -8,7 +8,8 @@ quadratic element's edge nodes lie on the straight edges. Coordinates in m; the 
 
 Bearing seats (:class:`Seat`) are the boundary facets of a bore: facets whose normal is at more
 than 60° from the bore axis, whose centroid lies within ``radius + tolerance`` of the axis and
-within ``width / 2 + tolerance`` of the seat's centre along it. Feet (:class:`Foot`) are the
+within ``width / 2`` of the seat's centre along it (a structured mesh's bore is a staircase of
+cells: its tolerance is one cell diagonal; a gmsh bore's facets are chords of the circle). Feet (:class:`Foot`) are the
 boundary facets of the lowest plane ``z = z_min`` of the mesh whose centroid lies in a rectangle.
 """
 
@@ -255,6 +256,7 @@ class HousingMesh:
                 "Tet4()"
             )
         self._basis = None
+        self._scalar = None
 
     @property
     def basis(self) -> skfem.Basis:
@@ -267,7 +269,10 @@ class HousingMesh:
     @property
     def scalar_basis(self) -> skfem.Basis:
         """The scalar basis of the element: its DOFs are the FE nodes."""
-        return skfem.Basis(self.mesh, self.element.skfem_element(), intorder=self.element.intorder)
+        if self._scalar is None:
+            self._scalar = skfem.Basis(self.mesh, self.element.skfem_element(),
+                                       intorder=self.element.intorder)
+        return self._scalar
 
     @property
     def nodes(self) -> np.ndarray:
@@ -304,7 +309,7 @@ class HousingMesh:
         sel = (
             (np.abs(np.sum(n * a, axis=0)) < 0.5)
             & (radial <= seat.radius + tol)
-            & (np.abs(along) <= seat.width / 2 + tol)
+            & (np.abs(along) <= seat.width / 2 + 1e-9 * (seat.width + seat.radius))
         )
         if not sel.any():
             raise ValueError(
@@ -462,8 +467,9 @@ def mesh_box(
         return k
 
     mesh = _structured(*grids, keep)
-    h = max(max(np.diff(g).max() for g in grids), t / layers)
-    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=2.0 * h,
+    # a hole facet's centroid lies within one cell diagonal of the bore radius (module doc)
+    h = max(np.diff(g).max() for g in grids)
+    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=math.sqrt(2.0) * h,
                        source="structured box")
 
 
