@@ -339,17 +339,16 @@ class HousingMesh:
 
 
 def _grid(breaks, size: float, layers_between=()) -> np.ndarray:
-    """Grid lines through every break, each interval cut in ``ceil(length / size)`` parts (or
-    ``layers`` parts for the intervals listed in ``layers_between`` as ``(lo, hi, layers)``)."""
+    """Grid lines through every break, each interval cut in ``ceil(length / size)`` parts, or
+    finer inside an interval ``(lo, hi, k)`` of ``layers_between`` (cells of at most ``(hi - lo)
+    / k`` there: the wall's layers, the cells across a bore)."""
     b = np.unique(np.round(np.asarray(breaks, dtype=float), 12))
     pts = [b[:1]]
     for lo, hi in zip(b[:-1], b[1:]):
-        n = None
+        n = max(1, math.ceil((hi - lo) / size - 1e-9))
         for a, c, k in layers_between:
-            if abs(lo - a) < 1e-12 and abs(hi - c) < 1e-12:
-                n = k
-        if n is None:
-            n = max(1, math.ceil((hi - lo) / size - 1e-9))
+            if a - 1e-12 <= lo and hi <= c + 1e-12:  # inside a fixed interval: its cell size
+                n = max(n, math.ceil((hi - lo) / (c - a) * k - 1e-9))
         pts.append(np.linspace(lo, hi, n + 1)[1:])
     return np.concatenate(pts)
 
@@ -444,14 +443,24 @@ def mesh_box(
     _check_element(element)
     t = box.wall_thickness
     dims = (box.length, box.width, box.height)
+    seats = box.seats()
     grids = []
+    h_bore = 0.0
     for i, L in enumerate(dims):
         br = [0.0, t, L - t, L]
+        fixed = [(0.0, t, layers), (L - t, L, layers)]
         for f in box.feet:
             if i < 2:
                 br += list((f.x_range, f.y_range)[i])
-        grids.append(_grid(br, size, [(0.0, t, layers), (L - t, L, layers)]))
-    seats = box.seats()
+        for bore, s in zip(box.bores, seats):
+            if "xyz".index(bore.wall[0]) != i:
+                # across the bore: lines at its edges and at least 4 cells over its diameter
+                c, r = s.centre[i], bore.radius
+                n = max(4, math.ceil(2 * r / size - 1e-9))
+                br += [c - r, c + r]
+                fixed.append((c - r, c + r, n))
+                h_bore = max(h_bore, 2 * r / n)
+        grids.append(_grid(br, size, fixed))
 
     def keep(c):
         inside = np.ones(c.shape[1], bool)
@@ -467,9 +476,8 @@ def mesh_box(
         return k
 
     mesh = _structured(*grids, keep)
-    # a hole facet's centroid lies within one cell diagonal of the bore radius (module doc)
-    h = max(np.diff(g).max() for g in grids)
-    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=math.sqrt(2.0) * h,
+    # a hole facet's centroid lies within one diagonal of the bore's cells of its radius
+    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=math.sqrt(2.0) * h_bore,
                        source="structured box")
 
 
@@ -526,7 +534,8 @@ def mesh_box_gmsh(
             occ.fragment(occ.getEntities(3), [(2, rect)])
         occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", size)
-        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.2 * size)
+        gmsh.option.setNumber("Mesh.MeshSizeMin", 0.05 * size)
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 16)  # bores: 16 chords or more
         gmsh.model.mesh.generate(3)
         tags, coords, _ = gmsh.model.mesh.getNodes()
         _, elem_tags, elem_nodes = gmsh.model.mesh.getElements(3)
