@@ -75,8 +75,9 @@ def _omega2(f_hz) -> np.ndarray:
 
 
 def _check_loss(loss_factor) -> float:
-    if not (isinstance(loss_factor, (int, float)) and math.isfinite(loss_factor)
-            and loss_factor >= 0):
+    if not (
+        isinstance(loss_factor, (int, float)) and math.isfinite(loss_factor) and loss_factor >= 0
+    ):
         raise ValueError(f"loss_factor = {loss_factor!r}, allowed >= 0")
     return float(loss_factor)
 
@@ -121,8 +122,7 @@ class CondensedHousing:
         eta = _check_loss(loss_factor)
         nb = self.n_seat_dofs
         E = np.eye(self.K.shape[0])[:, :nb]
-        return np.stack([np.linalg.solve(self.K * (1 + 1j * eta) - w * self.M, E)[:nb]
-                         for w in w2])
+        return np.stack([np.linalg.solve(self.K * (1 + 1j * eta) - w * self.M, E)[:nb] for w in w2])
 
     def seat_stiffness(self) -> np.ndarray:
         """The static stiffness at the seats ``(6 n_seats, 6 n_seats)``: the Schur complement
@@ -207,11 +207,14 @@ class PreparedHousing:
         c = self.condensed
         seats = self.mesh.seats
         return CondensedHousing(
-            K=np.asarray(c.K), M=np.asarray(c.M), modes_hz=np.asarray(c.modes_hz),
-            cutoff_hz=self.cutoff_hz, seat_names=tuple(s.name or f"seat{k}"
-                                                        for k, s in enumerate(seats)),
+            K=np.asarray(c.K),
+            M=np.asarray(c.M),
+            modes_hz=np.asarray(c.modes_hz),
+            cutoff_hz=self.cutoff_hz,
+            seat_names=tuple(s.name or f"seat{k}" for k, s in enumerate(seats)),
             seat_positions=np.array([s.centre for s in seats]).reshape(-1, 3),
-            recovery=self.full_field(c.basis), key=key,
+            recovery=self.full_field(c.basis),
+            key=key,
         )
 
 
@@ -223,7 +226,9 @@ def _check(mesh, material, cutoff_hz, coupling):
     if not (isinstance(cutoff_hz, (int, float)) and math.isfinite(cutoff_hz) and cutoff_hz > 0):
         raise ValueError(f"cutoff_hz = {cutoff_hz!r}, allowed > 0 (Hz)")
     if not isinstance(coupling, BearingCoupling):
-        raise TypeError(f"coupling = {coupling!r}, allowed fem_prep.Rigid() or fem_prep.Averaging()")
+        raise TypeError(
+            f"coupling = {coupling!r}, allowed fem_prep.Rigid() or fem_prep.Averaging()"
+        )
     if not mesh.seats:
         raise ValueError("housing has no seats; give it at least one bore (Seat)")
 
@@ -240,20 +245,26 @@ def _condense_to_cutoff(K, M, b, cutoff_hz, progress) -> Condensed:
     n_i = len(i)
     k = min(16, n_i)
     while True:
-        c = condense(K, M, b, method=CraigBampton(), n_modes=k, interior_factor=Fii,
-                     progress=progress)
+        c = condense(
+            K, M, b, method=CraigBampton(), n_modes=k, interior_factor=Fii, progress=progress
+        )
         if k >= n_i or (c.modes_hz.size and c.modes_hz[-1] > cutoff_hz):
             break
         k = min(2 * k, n_i)
     n = int(np.sum(c.modes_hz <= cutoff_hz))
     m = len(b) + n
-    return dataclasses.replace(c, K=c.K[:m, :m], M=c.M[:m, :m], basis=c.basis[:, :m],
-                               n_modes=n, modes_hz=c.modes_hz[:n])
+    return dataclasses.replace(
+        c, K=c.K[:m, :m], M=c.M[:m, :m], basis=c.basis[:, :m], n_modes=n, modes_hz=c.modes_hz[:n]
+    )
 
 
 def prepare_housing(
-    housing: HousingMesh, material: Material, cutoff_hz: float, *,
-    coupling: BearingCoupling | None = None, progress: bool = False,
+    housing: HousingMesh,
+    material: Material,
+    cutoff_hz: float,
+    *,
+    coupling: BearingCoupling | None = None,
+    progress: bool = False,
 ) -> PreparedHousing:
     """Assemble the housing, couple its seats, clamp its feet and condense it (Craig–Bampton on
     the seat masters with every fixed-interface mode up to ``cutoff_hz``).
@@ -278,8 +289,9 @@ def prepare_housing(
     coupling = Rigid() if coupling is None else coupling
     _check(housing, material, cutoff_hz, coupling)
     rings = tuple(housing.seat_nodes(s) for s in housing.seats)
-    held_nodes = np.unique(np.concatenate([housing.foot_nodes(f) for f in housing.feet]
-                                          or [np.zeros(0, np.int64)]))
+    held_nodes = np.unique(
+        np.concatenate([housing.foot_nodes(f) for f in housing.feet] or [np.zeros(0, np.int64)])
+    )
     for s, r in zip(housing.seats, rings):
         if np.isin(r, held_nodes).any():
             raise ValueError(f"seat {s.name or s.centre}: its bore touches a foot; move it")
@@ -302,14 +314,17 @@ def prepare_housing(
     red_to_kept[kept] = np.arange(len(kept))
     seat_dofs = red_to_kept[cp.bearing_dofs]
     c = _condense_to_cutoff(K, M, seat_dofs.ravel(), float(cutoff_hz), progress)
-    return PreparedHousing(housing, material, coupling, ops, cp, kept, K, M, seat_dofs, c,
-                           float(cutoff_hz))
+    return PreparedHousing(
+        housing, material, coupling, ops, cp, kept, K, M, seat_dofs, c, float(cutoff_hz)
+    )
 
 
 def _inputs(housing: HousingMesh, material, cutoff_hz, coupling) -> dict:
     m = housing.mesh
-    geo = hashlib.sha256(np.ascontiguousarray(m.p, dtype=float).tobytes()
-                         + np.ascontiguousarray(m.t, dtype=np.int64).tobytes()).hexdigest()
+    geo = hashlib.sha256(
+        np.ascontiguousarray(m.p, dtype=float).tobytes()
+        + np.ascontiguousarray(m.t, dtype=np.int64).tobytes()
+    ).hexdigest()
     return {
         "format_version": HOUSING_FORMAT,
         "mesh_sha256": geo,
@@ -324,8 +339,12 @@ def _inputs(housing: HousingMesh, material, cutoff_hz, coupling) -> dict:
 
 
 def condensed_housing(
-    housing: HousingMesh, material: Material, cutoff_hz: float, *,
-    coupling: BearingCoupling | None = None, cache: bool | str | Path = True,
+    housing: HousingMesh,
+    material: Material,
+    cutoff_hz: float,
+    *,
+    coupling: BearingCoupling | None = None,
+    cache: bool | str | Path = True,
     progress: bool = False,
 ) -> CondensedHousing:
     """The condensed housing (:func:`prepare_housing`), built once and then read from fem_prep's
@@ -351,21 +370,36 @@ def condensed_housing(
         d = load_entry(path, key, HOUSING_FORMAT, inputs)
         if d is not None:
             return CondensedHousing(
-                K=d["K"], M=d["M"], modes_hz=d["modes_hz"], cutoff_hz=float(d["cutoff_hz"]),
+                K=d["K"],
+                M=d["M"],
+                modes_hz=d["modes_hz"],
+                cutoff_hz=float(d["cutoff_hz"]),
                 seat_names=tuple(str(s) for s in d["seat_names"]),
-                seat_positions=d["seat_positions"], recovery=d["recovery"], key=key,
+                seat_positions=d["seat_positions"],
+                recovery=d["recovery"],
+                key=key,
             )
-    out = prepare_housing(housing, material, cutoff_hz, coupling=coupling,
-                          progress=progress).condensed_housing(key)
+    out = prepare_housing(
+        housing, material, cutoff_hz, coupling=coupling, progress=progress
+    ).condensed_housing(key)
     if path is not None:
         import json
 
-        store_entry(path, {
-            "K": out.K, "M": out.M, "modes_hz": out.modes_hz, "cutoff_hz": out.cutoff_hz,
-            "seat_names": np.array(out.seat_names), "seat_positions": out.seat_positions,
-            "recovery": out.recovery, "key": key, "format_version": HOUSING_FORMAT,
-            "inputs": json.dumps(inputs, sort_keys=True),
-        })
+        store_entry(
+            path,
+            {
+                "K": out.K,
+                "M": out.M,
+                "modes_hz": out.modes_hz,
+                "cutoff_hz": out.cutoff_hz,
+                "seat_names": np.array(out.seat_names),
+                "seat_positions": out.seat_positions,
+                "recovery": out.recovery,
+                "key": key,
+                "format_version": HOUSING_FORMAT,
+                "inputs": json.dumps(inputs, sort_keys=True),
+            },
+        )
     return out
 
 
@@ -394,8 +428,9 @@ def write_housing_vtu(
     kind = "tetra10" if cells.shape[1] == 10 else "tetra"
     f, shapes = condensed.modes(n_modes)
     n_nodes = sb.N
-    data = {f"mode_{k + 1:02d}_{f[k]:.0f}Hz": shapes[:, k].reshape(n_nodes, 3)
-            for k in range(f.size)}
+    data = {
+        f"mode_{k + 1:02d}_{f[k]:.0f}Hz": shapes[:, k].reshape(n_nodes, 3) for k in range(f.size)
+    }
     seat = np.zeros(n_nodes)
     for k, s in enumerate(housing.seats):
         seat[housing.seat_nodes(s)] = k + 1

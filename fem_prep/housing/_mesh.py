@@ -15,6 +15,7 @@ boundary facets of the lowest plane ``z = z_min`` of the mesh whose centroid lie
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,8 +32,8 @@ __all__ = [
     "HousingBox",
     "HousingMesh",
     "Seat",
-    "Tet10",
     "Tet4",
+    "Tet10",
     "mesh_box",
     "mesh_box_gmsh",
     "mesh_plate",
@@ -190,8 +191,12 @@ class HousingBox:
                 raise TypeError(f"HousingBox: bores[{k}] = {b!r}, allowed a fem_prep.housing.Bore")
             (lo0, hi0), (lo1, hi1) = self._wall_extent(b.wall)
             u, v = b.centre
-            if not (lo0 + t <= u - b.radius and u + b.radius <= hi0 - t
-                    and lo1 + t <= v - b.radius and v + b.radius <= hi1 - t):
+            if not (
+                lo0 + t <= u - b.radius
+                and u + b.radius <= hi0 - t
+                and lo1 + t <= v - b.radius
+                and v + b.radius <= hi1 - t
+            ):
                 raise ValueError(
                     f"HousingBox: bores[{k}] (centre {b.centre}, radius {b.radius} m) leaves wall "
                     f"{b.wall}'s inner face (allowed within ({lo0 + t}, {hi0 - t}) x "
@@ -200,8 +205,12 @@ class HousingBox:
         for k, f in enumerate(self.feet):
             if not isinstance(f, Foot):
                 raise TypeError(f"HousingBox: feet[{k}] = {f!r}, allowed a fem_prep.housing.Foot")
-            if not (0 <= f.x_range[0] and f.x_range[1] <= self.length
-                    and 0 <= f.y_range[0] and f.y_range[1] <= self.width):
+            if not (
+                0 <= f.x_range[0]
+                and f.x_range[1] <= self.length
+                and 0 <= f.y_range[0]
+                and f.y_range[1] <= self.width
+            ):
                 raise ValueError(
                     f"HousingBox: feet[{k}] = {f!r} leaves the bottom face [0, {self.length}] x "
                     f"[0, {self.width}] m"
@@ -270,8 +279,9 @@ class HousingMesh:
     def scalar_basis(self) -> skfem.Basis:
         """The scalar basis of the element: its DOFs are the FE nodes."""
         if self._scalar is None:
-            self._scalar = skfem.Basis(self.mesh, self.element.skfem_element(),
-                                       intorder=self.element.intorder)
+            self._scalar = skfem.Basis(
+                self.mesh, self.element.skfem_element(), intorder=self.element.intorder
+            )
         return self._scalar
 
     @property
@@ -330,8 +340,10 @@ class HousingMesh:
         sel = (
             (np.abs(n[2]) > 0.99)
             & (np.abs(c[2] - z0) < 1e-9 * scale)
-            & (c[0] >= foot.x_range[0]) & (c[0] <= foot.x_range[1])
-            & (c[1] >= foot.y_range[0]) & (c[1] <= foot.y_range[1])
+            & (c[0] >= foot.x_range[0])
+            & (c[0] <= foot.x_range[1])
+            & (c[1] >= foot.y_range[0])
+            & (c[1] <= foot.y_range[1])
         )
         if not sel.any():
             raise ValueError(f"foot {foot}: no facet of the bottom plane z = {z0} m in it")
@@ -344,7 +356,7 @@ def _grid(breaks, size: float, layers_between=()) -> np.ndarray:
     / k`` there: the wall's layers, the cells across a bore)."""
     b = np.unique(np.round(np.asarray(breaks, dtype=float), 12))
     pts = [b[:1]]
-    for lo, hi in zip(b[:-1], b[1:]):
+    for lo, hi in itertools.pairwise(b):
         n = max(1, math.ceil((hi - lo) / size - 1e-9))
         for a, c, k in layers_between:
             if a - 1e-12 <= lo and hi <= c + 1e-12:  # inside a fixed interval: its cell size
@@ -362,7 +374,9 @@ def _structured(x, y, z, keep_cell) -> skfem.MeshTet1:
     # last vertices: their midpoint is the cell's centroid
     cent = 0.5 * (m.p[:, m.t[0]] + m.p[:, m.t[3]])
     half = 0.5 * np.array([np.diff(g).max() for g in (x, y, z)])[:, None]
-    inside = np.all(np.abs(m.p[:, m.t] - cent[:, None, :]) <= half[:, None, :] * (1 + 1e-9), axis=(0, 1))
+    inside = np.all(
+        np.abs(m.p[:, m.t] - cent[:, None, :]) <= half[:, None, :] * (1 + 1e-9), axis=(0, 1)
+    )
     if not inside.all():
         raise RuntimeError("structured mesher: scikit-fem's init_tensor split changed")
     keep = np.asarray(keep_cell(cent), dtype=bool)
@@ -381,7 +395,12 @@ def _check_element(element):
 
 
 def mesh_plate(
-    a: float, b: float, thickness: float, divisions: tuple[int, int], *, layers: int = 1,
+    a: float,
+    b: float,
+    thickness: float,
+    divisions: tuple[int, int],
+    *,
+    layers: int = 1,
     element: TetElement | None = None,
 ) -> HousingMesh:
     """A flat plate ``[0, a] x [0, b] x [0, thickness]`` by the box's structured mesher (one wall
@@ -400,8 +419,10 @@ def mesh_plate(
     element = Tet10() if element is None else element
     _check_element(element)
     mesh = _structured(
-        np.linspace(0, a, nx + 1), np.linspace(0, b, ny + 1),
-        np.linspace(0, thickness, layers + 1), lambda c: np.ones(c.shape[1], bool),
+        np.linspace(0, a, nx + 1),
+        np.linspace(0, b, ny + 1),
+        np.linspace(0, thickness, layers + 1),
+        lambda c: np.ones(c.shape[1], bool),
     )
     return HousingMesh(mesh, element, source="structured plate")
 
@@ -477,8 +498,14 @@ def mesh_box(
 
     mesh = _structured(*grids, keep)
     # a hole facet's centroid lies within one diagonal of the bore's cells of its radius
-    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=math.sqrt(2.0) * h_bore,
-                       source="structured box")
+    return HousingMesh(
+        mesh,
+        element,
+        seats,
+        box.feet,
+        seat_tolerance=math.sqrt(2.0) * h_bore,
+        source="structured box",
+    )
 
 
 def _gmsh():
@@ -529,8 +556,13 @@ def mesh_box_gmsh(
         occ.cut([(3, outer)], tools)
         # the feet's outlines on the bottom face, so that their facets are exact
         for f in box.feet:
-            rect = occ.addRectangle(f.x_range[0], f.y_range[0], 0.0,
-                                    f.x_range[1] - f.x_range[0], f.y_range[1] - f.y_range[0])
+            rect = occ.addRectangle(
+                f.x_range[0],
+                f.y_range[0],
+                0.0,
+                f.x_range[1] - f.x_range[0],
+                f.y_range[1] - f.y_range[0],
+            )
             occ.fragment(occ.getEntities(3), [(2, rect)])
         occ.synchronize()
         gmsh.option.setNumber("Mesh.MeshSizeMax", size)
@@ -538,7 +570,7 @@ def mesh_box_gmsh(
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 16)  # bores: 16 chords or more
         gmsh.model.mesh.generate(3)
         tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, elem_tags, elem_nodes = gmsh.model.mesh.getElements(3)
+        _, _, elem_nodes = gmsh.model.mesh.getElements(3)
         gmsh.model.remove()
     finally:
         if not started:
@@ -548,8 +580,9 @@ def mesh_box_gmsh(
     index[tags.astype(np.int64)] = np.arange(len(tags))
     tets = np.concatenate([n.reshape(-1, 4) for n in elem_nodes]).astype(np.int64)
     mesh = _compact(p, index[tets])
-    return HousingMesh(mesh, element, seats, box.feet, seat_tolerance=0.05 * size,
-                       source="gmsh box")
+    return HousingMesh(
+        mesh, element, seats, box.feet, seat_tolerance=0.05 * size, source="gmsh box"
+    )
 
 
 def _compact(p: np.ndarray, tets: np.ndarray) -> skfem.MeshTet1:
@@ -560,8 +593,13 @@ def _compact(p: np.ndarray, tets: np.ndarray) -> skfem.MeshTet1:
 
 
 def read_housing_mesh(
-    path, seats: tuple[Seat, ...] = (), feet: tuple[Foot, ...] = (), *, scale: float = 1.0,
-    seat_tolerance: float | None = None, element: TetElement | None = None,
+    path,
+    seats: tuple[Seat, ...] = (),
+    feet: tuple[Foot, ...] = (),
+    *,
+    scale: float = 1.0,
+    seat_tolerance: float | None = None,
+    element: TetElement | None = None,
 ) -> HousingMesh:
     """A housing mesh from a file meshio reads (gmsh ``.msh``, ``.vtu``, ``.inp``, ...): its
     tetrahedra (``tetra``, or ``tetra10`` whose corner nodes are kept: the element rebuilds
@@ -596,7 +634,9 @@ def read_housing_mesh(
     tol = seat_tolerance
     if tol is None:
         tol = 0.02 * min((s.radius for s in seats), default=0.0)
-    mesh = _compact(np.asarray(m.points[:, :3], dtype=float) * scale,
-                    np.concatenate(tets).astype(np.int64))
-    return HousingMesh(mesh, element, seats, tuple(feet), seat_tolerance=float(tol),
-                       source=str(path))
+    mesh = _compact(
+        np.asarray(m.points[:, :3], dtype=float) * scale, np.concatenate(tets).astype(np.int64)
+    )
+    return HousingMesh(
+        mesh, element, seats, tuple(feet), seat_tolerance=float(tol), source=str(path)
+    )
