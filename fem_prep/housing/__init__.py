@@ -1,7 +1,7 @@
 """A gearbox housing as a flexible body: meshed (a parametric box by the structured mesher or by
 gmsh, or a mesh file read by meshio), its bearing seats coupled to 6-DOF master nodes, its bolted
 feet clamped, and condensed by Craig–Bampton at the seats with the interior modes up to a cut-off
-frequency (issue 65, item 1; ``docs/fem_prep.md``, "Housing").
+frequency (``docs/fem_prep.md``, "Housing").
 
 NumPy/SciPy/scikit-fem (gmsh optional: ``pip install 'jaxgear[housing]'``); never imports JAX.
 """

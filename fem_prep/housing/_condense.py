@@ -54,7 +54,8 @@ HOUSING_FORMAT = 1
 
 def housing_cutoff_hz(highest_mesh_frequency_hz: float, factor: float = 1.5) -> float:
     """The default cut-off of the housing's interior modes: ``factor`` (1.5) times the highest
-    mesh-order frequency (Hz) of the speed range (issue 65's rule).
+    mesh-order frequency (Hz) of the speed range: every housing resonance the meshes
+    can excite is kept, and the first one above them.
 
     Raises:
         ValueError: a non-positive frequency or a factor < 1.
@@ -236,8 +237,8 @@ def _check(mesh, material, cutoff_hz, coupling):
 def _condense_to_cutoff(K, M, b, cutoff_hz, progress) -> Condensed:
     """Craig–Bampton on ``b`` with every fixed-interface mode at or below ``cutoff_hz``: the
     number of modes doubles (from 16) until one lies above the cut-off (or all are taken), the
-    factor of ``K_ii`` reused, and the modal columns above the cut-off are dropped (the modal
-    block of Craig–Bampton is diagonal: dropping columns is Craig–Bampton with fewer modes)."""
+    factor of ``K_ii`` reused, and the modal columns above the cut-off are dropped (the first n
+    modal columns of the basis are Craig–Bampton with the lowest n modes)."""
     mask = np.ones(K.shape[0], dtype=bool)
     mask[b] = False
     i = np.nonzero(mask)[0]
