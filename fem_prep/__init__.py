@@ -14,6 +14,9 @@ the one place where the names in a body file become objects: the element (:class
 :class:`Hex27`), the bearing coupling (:class:`Rigid`, :class:`Averaging`), the rim coupling
 (:class:`Distributing`, :class:`Nodal`), the condensation method (:class:`Guyan`,
 :class:`CraigBampton`, :class:`Herting`) and the support (:class:`Bearings`, :class:`Free`).
+
+:mod:`fem_prep.housing` is the gearbox housing: a box or a mesh file, condensed at its bearing
+seats (Craig–Bampton up to a cut-off frequency).
 """
 
 from ._assemble import Operators as Operators, assemble_operators as assemble_operators
@@ -148,6 +151,7 @@ from ._tooth_profile import (
     TrochoidFillet as TrochoidFillet,
     tooth_profile as tooth_profile,
 )
+from . import housing as housing
 from .checks import SchemaError as SchemaError
 from .cli import add_build_arguments as add_build_arguments, main as main, run_build as run_build
 from .schema import (

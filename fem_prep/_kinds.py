@@ -24,6 +24,7 @@ __all__ = [
     "RimCoupling",
     "RingSupport",
     "Support",
+    "TetElement",
 ]
 
 
@@ -66,6 +67,21 @@ class Element(Kind):
         ``faces`` faces (radial-axial faces and the two kinds of faces across them), per
         circumferential division: none for the serendipity element, one per face and cell for the
         Lagrange element (the mesh-size estimate of :mod:`fem_prep.schema`)."""
+
+
+class TetElement(Kind):
+    """The tetrahedron of a housing mesh (:class:`~fem_prep.housing.Tet4`,
+    :class:`~fem_prep.housing.Tet10`, on the straight-sided four-node geometry).
+
+    Attributes:
+        intorder: the quadrature order of the stiffness and mass integrals.
+    """
+
+    intorder: ClassVar[int]
+
+    @abc.abstractmethod
+    def skfem_element(self):
+        """The scalar scikit-fem element (``skfem.ElementTetP1()``, ``skfem.ElementTetP2()``)."""
 
 
 class BearingCoupling(Kind):

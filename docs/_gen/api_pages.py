@@ -30,6 +30,11 @@ PACKAGES = (
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
+    (
+        "fem_prep.housing",
+        "fem_prep.housing.md",
+        "the gearbox housing: box and file meshes, seats and feet, condensation at the seats",
+    ),
 )
 
 
