@@ -135,3 +135,12 @@ from ._sweep import (
     speed_sweep as speed_sweep,
     steps_multiple as steps_multiple,
 )
+from ._whine import (
+    AbstractWhineMethod as AbstractWhineMethod,
+    HarmonicBalance as HarmonicBalance,
+    TransmissionErrorSource as TransmissionErrorSource,
+    WhineResponse as WhineResponse,
+    fourier_coefficients as fourier_coefficients,
+    harmonic_balance as harmonic_balance,
+    whine_response as whine_response,
+)
