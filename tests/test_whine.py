@@ -16,6 +16,7 @@ References, each written apart from the code:
 
 import math
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -31,6 +32,7 @@ from jaxgear.dynamics import (
     SteadyState,
     TransmissionErrorSource,
     dynamic_model,
+    excited_omega,
     harmonic_balance,
     mesh_table,
     simulate,
@@ -276,3 +278,48 @@ def test_bad_inputs():
         whine_response(model, 100.0, "harmonic-balance")
     with pytest.raises(TypeError, match="model"):
         whine_response(model.scene, 100.0)
+
+
+def test_lumped3d_pair_against_newmark():
+    """The case's own lumped 3D scene of ``accessory-spur`` (60 coordinates: shafts, bearings,
+    the mesh spanning 2 of them) at 0.2 of the speed where order 1 meets its most excited
+    mode: orders 1-3 of the TE and mesh force within 1 % and 1° of Newmark's (256 steps, 60
+    periods; measured ≤ 0.6 % and 0.2°)."""
+    case = jio.load_case("accessory-spur")
+    model, _ = jio.build_dynamic_model(case, slices=4)
+    omega = float(excited_omega(model.modes))
+    speed = 0.2 * omega * float(model.mesh.mesh_period_angle) / (2 * math.pi)
+    w = whine_response(model, speed, HarmonicBalance(32), positions=256)
+    r = simulate(model, speed, integrator=Newmark(256), window=SteadyState(60, 4))
+    assert float(r.contact_loss) == 0.0 and float(w.nonlinearity[0, 0]) < 1e-3
+    for fd, td in (
+        (w.transmission_error, r.transmission_error),
+        (w.mesh_force, r.mesh_force),
+    ):
+        ref = _orders(r, speed, model, td)[1:]
+        got = np.asarray(fd[0, 1:4, 0])
+        np.testing.assert_allclose(np.abs(got) / np.abs(ref), 1.0, atol=0.01)
+        np.testing.assert_allclose(np.degrees(np.angle(got / ref)), 0.0, atol=1.0)
+
+
+def test_gradient_wrt_tip_relief_matches_central_differences():
+    """d|F_m,1|/d(tip relief depth of both members) at 0.3 of the critical speed by jax.grad
+    equals the central difference (step 1e-7 of the depth) to 1e-5 (measured 1e-8): the
+    static solve, the stiffness harmonics and the balance are differentiated through."""
+    model = _pair()
+    speed = 0.3 * _critical(model)
+    d0 = float(model.mods.pinion.tip_relief_depth)
+
+    def order_one(d):
+        mods = eqx.tree_at(
+            lambda m: (m.pinion.tip_relief_depth, m.gear.tip_relief_depth), model.mods, (d, d)
+        )
+        m = eqx.tree_at(lambda m: m.mods, model, mods)
+        w = whine_response(m, speed, HarmonicBalance(16), positions=128)
+        return jnp.abs(w.mesh_force[0, 1, 0])
+
+    grad = float(jax.grad(order_one)(jnp.asarray(d0)))
+    step = 1e-7 * d0
+    fd = float(order_one(d0 + step) - order_one(d0 - step)) / (2 * step)
+    assert grad != 0.0
+    np.testing.assert_allclose(grad, fd, rtol=1e-5)

@@ -32,7 +32,7 @@ import numpy as np
 from jaxtyping import Array, Bool, Complex, Float
 
 from .._contact import ContactLaw, ExactContact, contact_law
-from .._util import check_integer
+from .._util import check_integer, is_traced
 from ._lumped import DynamicModel, _prep
 from ._model import _rigid_penalty
 
@@ -112,21 +112,39 @@ def fourier_coefficients(samples, harmonics: int, offset: float = 0.5) -> Comple
 
 
 def harmonic_balance(
-    M, C, K, stiffness_harmonics, force_harmonics, omega, *, parametric: bool = True, gauge=None
+    M,
+    C,
+    K,
+    stiffness_harmonics,
+    force_harmonics,
+    omega,
+    *,
+    parametric: bool = True,
+    gauge=None,
+    basis=None,
 ) -> Complex[Array, "h n"]:
     """The periodic solution y = Σ_h Y_h e^{i h ω t} (h = −H..H) of M ÿ + C ẏ + (K + K_m(t)) y
     = f(t), K_m(t) = Σ_k K̂_k e^{i k ω t}, f(t) = Σ_h F̂_h e^{i h ω t}, truncated at H:
 
         (K − (hω)² M + i hω C) Y_h + Σ_{j=−H..H} K̂_{h−j} Y_j = F̂_h.
 
+    With a ``basis`` B (n, r) of the mesh stiffness (K_m(t) = B K_r(t) Bᵀ, ``stiffness_harmonics``
+    then K̂_r (4H + 1, r, r)), the coupling is solved on the r (2H + 1) unknowns Z_h = Bᵀ Y_h:
+    with D_h = K + B K̂_r,0 Bᵀ − (hω)² M + i hω C, (I + G 𝕂) Z = Bᵀ D⁻¹ F, G_h = Bᵀ D_h⁻¹ B and
+    𝕂_hj = K̂_r,h−j (h ≠ j), then Y_h = D_h⁻¹ (F_h − B Σ_j 𝕂_hj Z_j): the same solution (no
+    approximation) at (2H + 1) n³ + ((2H + 1) r)³ instead of ((2H + 1) n)³ (a lumped pair's
+    mesh spans r <= 12 of its n coordinates).
+
     Args:
         M, C, K: (n, n) mass (kg or kg·m²), damping and time-invariant stiffness (SI).
-        stiffness_harmonics: K̂_k, k = −2H..2H, shape (4H + 1, n, n) (index k + 2H).
+        stiffness_harmonics: K̂_k, k = −2H..2H, shape (4H + 1, n, n) (index k + 2H), or
+            (4H + 1, r, r) on ``basis``.
         force_harmonics: F̂_h, shape (2H + 1, n) (index h + H).
         omega: ω (rad/s), scalar (vmap it for a sweep).
         parametric: False keeps only K̂_0 (each harmonic alone).
         gauge: None, or an (n, n) matrix added to the h = 0 block (pins rigid-body modes of
             K + K̂_0 that the forcing does not load).
+        basis: None, or B (n, r) with K_m(t) = B K_r(t) Bᵀ.
 
     Returns:
         Y_h, shape (2H + 1, n), complex (index h + H).
@@ -135,25 +153,49 @@ def harmonic_balance(
     n_h, n = F.shape
     H = (n_h - 1) // 2
     Kh = jnp.asarray(stiffness_harmonics)
+    B = jnp.eye(n, dtype=M.dtype) if basis is None else jnp.asarray(basis)
+    r = B.shape[1]
     h = jnp.arange(-H, H + 1)
     w = h * omega
     D = (
         K[None]
         - (w**2)[:, None, None] * M[None]
         + 1j * w[:, None, None] * C[None]
-        + Kh[2 * H][None]
+        + (B @ Kh[2 * H] @ B.T)[None]
     )  # (2H+1, n, n)
     if gauge is not None:
         D = D.at[H].add(gauge)
     if not parametric:
         return jax.vmap(jnp.linalg.solve)(D, F)
-    # off-diagonal blocks K̂_{h−j} (the diagonal's K̂_0 is in D)
+    # 𝕂: the stiffness harmonics K̂_{h−j} off the diagonal (the diagonal's K̂_0 is in D)
     diff = h[:, None] - h[None, :] + 2 * H  # (2H+1, 2H+1)
-    blocks = jnp.where((diff == 2 * H)[..., None, None], 0.0, Kh[diff])
-    eye = jnp.eye(n_h, dtype=bool)[..., None, None]
-    A = jnp.where(eye, D[:, None], 0.0) + blocks  # (h, j, n, n)
-    A = A.transpose(0, 2, 1, 3).reshape(n_h * n, n_h * n)
-    return jnp.linalg.solve(A, F.reshape(-1)).reshape(n_h, n)
+    coupling = jnp.where((diff == 2 * H)[..., None, None], 0.0, Kh[diff])  # (h, j, r, r)
+    coupling = coupling.transpose(0, 2, 1, 3).reshape(n_h * r, n_h * r)
+    rhs = jnp.concatenate([F[:, :, None], jnp.broadcast_to(B.astype(F.dtype), (n_h, n, r))], -1)
+    sol = jnp.linalg.solve(D, rhs)  # (h, n, 1 + r): D⁻¹F, D⁻¹B
+    DF, DB = sol[..., 0], sol[..., 1:]
+    G = jnp.einsum("nr,hns->hrs", B, DB)  # (h, r, r)
+    g = (DF @ B).reshape(-1)  # (h r,)
+    GK = jnp.einsum("hrs,hsx->hrx", G, coupling.reshape(n_h, r, -1)).reshape(n_h * r, -1)
+    Z = jnp.linalg.solve(jnp.eye(n_h * r, dtype=GK.dtype) + GK, g)
+    KZ = (coupling @ Z).reshape(n_h, r)
+    return DF - jnp.einsum("hnr,hr->hn", DB, KZ)
+
+
+def _mesh_basis(V, mask) -> np.ndarray | None:
+    """An orthonormal basis (n, r) of the structure vectors of every cell on the flanks at
+    every position (concrete; None where they are traced: the full coordinates then): the
+    mesh stiffness is B K_r Bᵀ, K_r = Bᵀ K_m B, exactly."""
+    if is_traced((V, mask)):
+        return None
+    V = np.asarray(V).reshape(-1, np.shape(V)[-1])[np.asarray(mask).reshape(-1)]
+    if V.shape[0] == 0:
+        return None
+    _, sv, vt = np.linalg.svd(V, full_matrices=False)
+    r = int(np.sum(sv > sv[0] * 1e3 * np.finfo(V.dtype).eps))
+    if r >= V.shape[1]:
+        return None
+    return vt[:r].T
 
 
 class WhineResponse(eqx.Module):
@@ -182,6 +224,12 @@ class WhineResponse(eqx.Module):
         contact_loss: where min_mesh_force <= 0, (S, m): the linear result does not hold there
             (the time domain finds contact loss; a cell-wise separation before it is not
             flagged).
+        nonlinearity: how far the vibration leaves the held active set, (S, m): the largest
+            over the span of |Σ_c k l (max(g_c, 0) − w_c g_c)| / F_s, g_c = g_qs,c + V_c·y the
+            cell's total approach (the exact law's force against the linear one): the contact
+            force of cells that the vibration would bring into or out of contact (relieved
+            cells engaging early or late). The linear result is the time domain's to about this
+            fraction of F_s in the mesh force; a few per cent and more: not linear.
     """
 
     speed: Float[Array, " S"]
@@ -195,6 +243,7 @@ class WhineResponse(eqx.Module):
     static_force: Float[Array, " m"]
     min_mesh_force: Float[Array, "S m"]
     contact_loss: Bool[Array, "S m"]
+    nonlinearity: Float[Array, "S m"]
 
 
 def _one_sided(c, H):
@@ -265,11 +314,13 @@ def whine_response(
     law = contact_law(contact, model.dtype)
     prep = _prep(model, law, int(positions))
     speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
-    return _whine(model, prep, speeds, method)
+    basis = _mesh_basis(prep.table.V, prep.table.mask)
+    basis = None if basis is None else jnp.asarray(basis, model.dtype)
+    return _whine(model, prep, speeds, method, basis)
 
 
 @eqx.filter_jit
-def _whine(model, prep, speeds, method) -> WhineResponse:
+def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     H = method.harmonics
     scene, table = model.scene, prep.table
     S = table.span
@@ -280,10 +331,13 @@ def _whine(model, prep, speeds, method) -> WhineResponse:
     kl = jnp.where(mask, prep.static_weight * k * length, 0.0)  # (S, c)
     Km = jnp.einsum("sc,sci,scj->sij", kl, V, V)  # tangent mesh stiffness (S, n, n)
     x_qs = prep.static_x  # (S, n)
-    Kh = fourier_coefficients(Km, 2 * H)  # (4H+1, n, n)
+    gap = jnp.where(mask, jnp.einsum("sci,si->sc", V, x_qs) - table.take(table.delta0, steps), 0.0)
+    if basis is not None:  # the mesh stiffness on the span of the structure vectors
+        Km = basis.T @ Km @ basis
+    Kh = fourier_coefficients(Km, 2 * H)  # (4H+1, n, n) or (4H+1, r, r)
     Xh = fourier_coefficients(x_qs, H)  # (2H+1, n)
     M, Ks, C = scene.mass(), scene.stiffness(), model.damping
-    k_ref = jnp.trace(jnp.real(Kh[2 * H])) / M.shape[0]
+    k_ref = jnp.trace(jnp.real(Kh[2 * H])) / Kh.shape[1]
     gauge = _rigid_penalty(scene, k_ref)
     span_angle = table.period_angle * (S / table.step_count)
     h = jnp.arange(-H, H + 1)
@@ -293,17 +347,23 @@ def _whine(model, prep, speeds, method) -> WhineResponse:
         w = (h * omega)[:, None]
         F = (w**2) * (Xh @ M.T) - 1j * w * (Xh @ C.T)  # ((hω)² M − i hω C) X̂_h
         Y = harmonic_balance(
-            M, C, Ks, Kh, F, omega, parametric=method.parametric, gauge=gauge
+            M, C, Ks, Kh, F, omega, parametric=method.parametric, gauge=gauge, basis=basis
         )  # (2H+1, n)
         # the vibration at the span's positions, and the mesh force there
         s = (steps.astype(x_qs.dtype) + 0.5) / S
         E = jnp.exp(2j * jnp.pi * s[:, None] * h[None, :])  # (S, 2H+1)
         y = jnp.real(E @ Y)  # (S, n)
-        dyn = kl * jnp.einsum("sci,si->sc", V, y)
-        f, _ = table.mesh_forces(prep.static_force_density * length + dyn)  # (S, m)
-        return omega, Y, f
+        vy = jnp.einsum("sci,si->sc", V, y)
+        f, _ = table.mesh_forces(prep.static_force_density * length + kl * vy)  # (S, m)
+        # the force the held active set misplaces: the exact law's k l max(g, 0) against the
+        # linear w k l g, at the total gap g = g_s + V·y
+        g = gap + vy
+        kl_all = jnp.where(mask, k * length, 0.0)
+        wrong = kl_all * jnp.maximum(g, 0.0) - kl * g
+        misplaced, _ = table.mesh_forces(wrong)
+        return omega, Y, f, jnp.max(jnp.abs(misplaced), axis=0)
 
-    omega, Y, f = jax.vmap(at)(speeds)
+    omega, Y, f, misplaced = jax.vmap(at)(speeds)
     X = jax.vmap(lambda y: _one_sided(Xh + y, H))(Y)  # (S_sp, H+1, n)
     fh = jax.vmap(lambda ff: _one_sided(fourier_coefficients(ff, H), H))(f)
     U = scene.te_vectors()
@@ -332,4 +392,5 @@ def _whine(model, prep, speeds, method) -> WhineResponse:
         static_force=fs,
         min_mesh_force=fmin,
         contact_loss=fmin <= 0.0,
+        nonlinearity=misplaced / fs[None, :],
     )
