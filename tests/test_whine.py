@@ -46,7 +46,7 @@ C1 = 2 * ZETA * math.sqrt(K0 * M1)
 F0, F1, PHI = 1.0e3, 400.0, 0.7
 
 
-def _oscillator(omega, H, parametric=True):
+def _oscillator(omega, H, parametric=True, real=False):
     k = np.zeros((4 * H + 1, 1, 1), complex)
     k[2 * H] = K0
     k[2 * H - 1] = k[2 * H + 1] = K0 * EPS / 2
@@ -55,7 +55,9 @@ def _oscillator(omega, H, parametric=True):
     f[H + 1] = F1 * np.exp(1j * PHI) / 2
     f[H - 1] = np.conj(f[H + 1])
     m, c, z = (jnp.array([[v]]) for v in (M1, C1, 0.0))
-    Y = harmonic_balance(m, c, z, jnp.asarray(k), jnp.asarray(f), omega, parametric=parametric)
+    Y = harmonic_balance(
+        m, c, z, jnp.asarray(k), jnp.asarray(f), omega, parametric=parametric, real=real
+    )
     return np.asarray(Y)[:, 0]
 
 
@@ -101,6 +103,8 @@ def test_oscillator_converges_to_the_continued_fraction_solution(ratio):
     exact = _by_substitution(omega, _continued_fraction(omega, 1), _continued_fraction(omega, -1))
     Y = _oscillator(omega, 24)
     np.testing.assert_allclose(Y[23:26], exact, rtol=1e-10)
+    # a real system: the harmonics h < 0 as the conjugates of h > 0
+    np.testing.assert_allclose(_oscillator(omega, 24, real=True), Y, rtol=1e-12, atol=0)
     mean = _oscillator(omega, 24, parametric=False)
     assert abs(abs(mean[25]) / abs(exact[2]) - 1) > 0.01
 

@@ -122,6 +122,7 @@ def harmonic_balance(
     parametric: bool = True,
     gauge=None,
     basis=None,
+    real: bool = False,
 ) -> Complex[Array, "h n"]:
     """The periodic solution y = Σ_h Y_h e^{i h ω t} (h = −H..H) of M ÿ + C ẏ + (K + K_m(t)) y
     = f(t), K_m(t) = Σ_k K̂_k e^{i k ω t}, f(t) = Σ_h F̂_h e^{i h ω t}, truncated at H:
@@ -145,6 +146,9 @@ def harmonic_balance(
         gauge: None, or an (n, n) matrix added to the h = 0 block (pins rigid-body modes of
             K + K̂_0 that the forcing does not load).
         basis: None, or B (n, r) with K_m(t) = B K_r(t) Bᵀ.
+        real: the system and its forcing are real in time (M, C, K real, K̂_−k = conj K̂_k,
+            F̂_−h = conj F̂_h): the harmonics h < 0 are the conjugates of h > 0, and only
+            h >= 0 is factored (half the work).
 
     Returns:
         Y_h, shape (2H + 1, n), complex (index h + H).
@@ -156,23 +160,31 @@ def harmonic_balance(
     B = jnp.eye(n, dtype=M.dtype) if basis is None else jnp.asarray(basis)
     r = B.shape[1]
     h = jnp.arange(-H, H + 1)
-    w = h * omega
+    # the harmonics factored: h >= 0 alone for a real system (h < 0 their conjugates)
+    own = h[H:] if real else h
+    wo = own * omega
     D = (
         K[None]
-        - (w**2)[:, None, None] * M[None]
-        + 1j * w[:, None, None] * C[None]
+        - (wo**2)[:, None, None] * M[None]
+        + 1j * wo[:, None, None] * C[None]
         + (B @ Kh[2 * H] @ B.T)[None]
-    )  # (2H+1, n, n)
+    )  # (2H+1 or H+1, n, n)
     if gauge is not None:
-        D = D.at[H].add(gauge)
+        D = D.at[0 if real else H].add(gauge)
+
+    def both_sides(x):  # the h >= 0 rows of a real system, completed with h < 0
+        return jnp.concatenate([jnp.conj(x[1:][::-1]), x], axis=0) if real else x
+
     if not parametric:
-        return jax.vmap(jnp.linalg.solve)(D, F)
+        return both_sides(jax.vmap(jnp.linalg.solve)(D, F[H:] if real else F))
     # 𝕂: the stiffness harmonics K̂_{h−j} off the diagonal (the diagonal's K̂_0 is in D)
     diff = h[:, None] - h[None, :] + 2 * H  # (2H+1, 2H+1)
     coupling = jnp.where((diff == 2 * H)[..., None, None], 0.0, Kh[diff])  # (h, j, r, r)
     coupling = coupling.transpose(0, 2, 1, 3).reshape(n_h * r, n_h * r)
-    rhs = jnp.concatenate([F[:, :, None], jnp.broadcast_to(B.astype(F.dtype), (n_h, n, r))], -1)
-    sol = jnp.linalg.solve(D, rhs)  # (h, n, 1 + r): D⁻¹F, D⁻¹B
+    n_own = own.shape[0]
+    Fo = F[H:] if real else F
+    rhs = jnp.concatenate([Fo[:, :, None], jnp.broadcast_to(B.astype(F.dtype), (n_own, n, r))], -1)
+    sol = both_sides(jnp.linalg.solve(D, rhs))  # (h, n, 1 + r): D⁻¹F, D⁻¹B
     DF, DB = sol[..., 0], sol[..., 1:]
     G = jnp.einsum("nr,hns->hrs", B, DB)  # (h, r, r)
     g = (DF @ B).reshape(-1)  # (h r,)
@@ -347,7 +359,16 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
         w = (h * omega)[:, None]
         F = (w**2) * (Xh @ M.T) - 1j * w * (Xh @ C.T)  # ((hω)² M − i hω C) X̂_h
         Y = harmonic_balance(
-            M, C, Ks, Kh, F, omega, parametric=method.parametric, gauge=gauge, basis=basis
+            M,
+            C,
+            Ks,
+            Kh,
+            F,
+            omega,
+            parametric=method.parametric,
+            gauge=gauge,
+            basis=basis,
+            real=True,
         )  # (2H+1, n)
         # the vibration at the span's positions, and the mesh force there
         s = (steps.astype(x_qs.dtype) + 0.5) / S
