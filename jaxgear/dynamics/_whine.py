@@ -320,9 +320,12 @@ def whine_response(
             f"positions = {positions}: allowed >= (4 harmonics + 1) / span periods = "
             f"{-(-(4 * H + 1) // span)} for harmonics = {H}"
         )
-    sp = np.asarray(speeds, dtype=float)
-    if sp.ndim > 1 or sp.size == 0 or not np.all(np.isfinite(sp)) or np.any(sp <= 0):
-        raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s, (S,)")
+    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
+        raise ValueError(f"speeds = {speeds!r}: allowed pinion speeds > 0 rad/s, scalar or (S,)")
+    if not is_traced(speeds):  # traced speeds (under jit or grad): their shape only
+        sp = np.asarray(speeds, dtype=float)
+        if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
+            raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
     law = contact_law(contact, model.dtype)
     prep = _prep(model, law, int(positions))
     speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
