@@ -19,6 +19,10 @@ span's angular frequency, y = Σ_{h=-H..H} Y_h e^{i h ω t} and the harmonic bal
 the stiffness's (:class:`HarmonicBalance`, the multi-harmonic method); keeping only K̂_0 gives
 the time-invariant model excited by the quasi-static motion, "the transmission error as a
 displacement source" (:class:`TransmissionErrorSource`).
+
+Sources: the equations of motion are the seed's (2.31)-(2.37) with the active set held; the
+harmonic balance of a parametrically excited mesh: Blankenship & Kahraman, J. Sound Vib. 185
+(1995); Perret-Liaudet, J. Sound Vib. 196 (1996) (solved here directly, not iterated).
 """
 
 from __future__ import annotations
