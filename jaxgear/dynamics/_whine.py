@@ -401,8 +401,7 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     te = te.at[:, 0, :].add(-e_ref / cb)
     R = scene.reaction_matrix()
     bearing = jnp.einsum("shn,rn->shr", X, R.astype(X.dtype))
-    length_all = table.take(table.length, steps)
-    fm_qs, _ = table.mesh_forces(prep.static_force_density * length_all)
+    fm_qs, _ = table.mesh_forces(prep.static_force_density * length)
     fs = jnp.mean(fm_qs, axis=0)
     if fm_qs.shape[1] == 1:
         fs = scene.base_planes[0].normal_load(model.torque)[None]
