@@ -68,6 +68,7 @@ SECTIONS = {
                         "_newmark", "_damping", "_bearings")),
         ("Speed sweeps", ("_sweep", "_robust", "_settle")),
         ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
+        ("Gear whine in the frequency domain", ("_whine",)),
         ("Condensed bodies (hybrid)", ("_hybrid*",)),
     ),
     "jaxgear.planetary": (

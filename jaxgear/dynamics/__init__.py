@@ -21,6 +21,9 @@ band, for gradients); every engine's records (:class:`Records`) become one resul
 :class:`DynamicResponse` (:func:`steady_state`; in a :class:`SweepResult` for a sweep). All of
 them step with :func:`newmark`, the one Newmark loop with unilateral contact, which also
 integrates any M, C, K, F and cells given by hand.
+:func:`whine_response` gives a lumped model's steady state in the frequency domain instead:
+linearised about its quasi-static solution, a harmonic balance over the time-varying mesh
+stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; docs/whine.md).
 :func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
 (:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
 """
@@ -134,4 +137,13 @@ from ._sweep import (
     mesh_averaged_modes as mesh_averaged_modes,
     speed_sweep as speed_sweep,
     steps_multiple as steps_multiple,
+)
+from ._whine import (
+    AbstractWhineMethod as AbstractWhineMethod,
+    HarmonicBalance as HarmonicBalance,
+    TransmissionErrorSource as TransmissionErrorSource,
+    WhineResponse as WhineResponse,
+    fourier_coefficients as fourier_coefficients,
+    harmonic_balance as harmonic_balance,
+    whine_response as whine_response,
 )

@@ -1,0 +1,423 @@
+"""Gear whine in the frequency domain: the periodic steady state of the lumped dynamics
+linearised about the quasi-static operating point, by a harmonic balance over the time-varying
+mesh stiffness (docs/whine.md).
+
+Write the coordinates X(t) = x_qs(θ) + y(t) at the nominal motion θ = Ω t, x_qs the static
+contact solution at each mesh position (the lumped model's static rows, on the same structure
+and table as its time integration). With the active set of the static solution held, the
+equations of motion (seed (2.37)) are linear and the vibration about x_qs obeys
+
+    M ÿ + C ẏ + (K_s + K_m(θ)) y = −M ẍ_qs − C ẋ_qs,
+
+K_m(θ) = Σ_c w_c k_c l_c V_c V_cᵀ the tangent mesh stiffness at θ (w_c the static contact
+weights). Both K_m and x_qs repeat over the span (one mesh period for a pair); with ω the
+span's angular frequency, y = Σ_{h=-H..H} Y_h e^{i h ω t} and the harmonic balance
+
+    (K_s − (hω)² M + i hω C) Y_h + Σ_j K̂_{h−j} Y_j = ((hω)² M − i hω C) X̂_h,   |h| <= H,
+
+(K̂, X̂: the Fourier coefficients of K_m and x_qs over the span) couples the harmonics through
+the stiffness's (:class:`HarmonicBalance`, the multi-harmonic method); keeping only K̂_0 gives
+the time-invariant model excited by the quasi-static motion, "the transmission error as a
+displacement source" (:class:`TransmissionErrorSource`).
+
+Sources: the equations of motion are the seed's (2.31)-(2.37) with the active set held; the
+harmonic balance of a parametrically excited mesh: Blankenship & Kahraman, J. Sound Vib. 185
+(1995); Perret-Liaudet, J. Sound Vib. 196 (1996) (solved here directly, not iterated).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Bool, Complex, Float
+
+from .._contact import ContactLaw, ExactContact, contact_law
+from .._util import check_integer, is_traced
+from ._lumped import DynamicModel, _prep
+from ._model import _rigid_penalty
+
+__all__ = [
+    "AbstractWhineMethod",
+    "HarmonicBalance",
+    "TransmissionErrorSource",
+    "WhineResponse",
+    "fourier_coefficients",
+    "harmonic_balance",
+    "whine_response",
+]
+
+
+class AbstractWhineMethod(eqx.Module):
+    """How :func:`whine_response` couples the harmonics of the response: a kind passed as an
+    object. ``harmonics``: H, the harmonics of the span's fundamental kept (h = −H..H; an int
+    >= 1, static)."""
+
+    harmonics: eqx.AbstractVar[int]
+    #: whether the stiffness harmonics K̂_{h≠0} couple the response harmonics
+    parametric: ClassVar[bool]
+
+    def __check_init__(self):
+        check_integer("harmonics", self.harmonics, 1)
+
+
+class HarmonicBalance(AbstractWhineMethod):
+    """The multi-harmonic method: every stiffness harmonic K̂_{h−j}, |h−j| <= 2H, couples
+    response harmonic j into h (the parametric excitation: sidebands, the coupling of the mesh
+    orders, parametric resonances). One complex linear system of (2H+1) n unknowns per speed.
+    Exact for the linear periodic system as H grows (the only truncation)."""
+
+    harmonics: int = eqx.field(static=True, default=16)
+    parametric: ClassVar[bool] = True
+
+
+class TransmissionErrorSource(AbstractWhineMethod):
+    """The time-invariant model: the mean stiffness K_s + K̂_0 excited by the quasi-static
+    motion x_qs(θ) (whose mesh component is the loaded static TE); each harmonic solved alone,
+    (K_s + K̂_0 − (hω)² M + i hω C) Y_h = ((hω)² M − i hω C) X̂_h. It neglects the modulation
+    of the dynamic part by the varying stiffness (docs/whine.md)."""
+
+    harmonics: int = eqx.field(static=True, default=16)
+    parametric: ClassVar[bool] = False
+
+
+def fourier_coefficients(samples, harmonics: int, offset: float = 0.5) -> Complex[Array, "h ..."]:
+    """The complex Fourier coefficients ĝ_h, h = −``harmonics``..``harmonics``, of a periodic
+    function sampled at P equally spaced phases of its period, s_r = (r + ``offset``)/P (the
+    lumped table's mid-points for the default ½): ĝ_h = (1/P) Σ_r g(s_r) e^{−2πi h s_r}, so that
+    g(s) ≈ Σ_h ĝ_h e^{2πi h s}.
+
+    Args:
+        samples: (P, ...) real or complex. harmonics: H >= 0 (int), with P >= 2H + 1 (no
+            aliasing of the kept harmonics).
+
+    Returns:
+        (2H + 1, ...) complex, index h + H.
+
+    Raises:
+        ValueError: P < 2H + 1.
+    """
+    samples = jnp.asarray(samples)
+    P = samples.shape[0]
+    if P < 2 * harmonics + 1:
+        raise ValueError(
+            f"samples: {P} per period for harmonics = {harmonics}: allowed >= 2 harmonics + 1 "
+            f"= {2 * harmonics + 1}"
+        )
+    dtype = jnp.result_type(samples.dtype, jnp.float32)
+    real = jnp.finfo(dtype).dtype
+    h = jnp.arange(-harmonics, harmonics + 1, dtype=real)
+    s = (jnp.arange(P, dtype=real) + offset) / P
+    E = jnp.exp(-2j * jnp.pi * h[:, None] * s[None, :]) / P  # (2H+1, P)
+    return jnp.tensordot(E, samples, axes=(1, 0))
+
+
+def harmonic_balance(
+    M,
+    C,
+    K,
+    stiffness_harmonics,
+    force_harmonics,
+    omega,
+    *,
+    parametric: bool = True,
+    gauge=None,
+    basis=None,
+    real: bool = False,
+) -> Complex[Array, "h n"]:
+    """The periodic solution y = Σ_h Y_h e^{i h ω t} (h = −H..H) of M ÿ + C ẏ + (K + K_m(t)) y
+    = f(t), K_m(t) = Σ_k K̂_k e^{i k ω t}, f(t) = Σ_h F̂_h e^{i h ω t}, truncated at H:
+
+        (K − (hω)² M + i hω C) Y_h + Σ_{j=−H..H} K̂_{h−j} Y_j = F̂_h.
+
+    With a ``basis`` B (n, r) of the mesh stiffness (K_m(t) = B K_r(t) Bᵀ, ``stiffness_harmonics``
+    then K̂_r (4H + 1, r, r)), the coupling is solved on the r (2H + 1) unknowns Z_h = Bᵀ Y_h:
+    with D_h = K + B K̂_r,0 Bᵀ − (hω)² M + i hω C, (I + G 𝕂) Z = Bᵀ D⁻¹ F, G_h = Bᵀ D_h⁻¹ B and
+    𝕂_hj = K̂_r,h−j (h ≠ j), then Y_h = D_h⁻¹ (F_h − B Σ_j 𝕂_hj Z_j): the same solution (no
+    approximation) at (2H + 1) n³ + ((2H + 1) r)³ instead of ((2H + 1) n)³ (a lumped pair's
+    mesh spans r <= 12 of its n coordinates).
+
+    Args:
+        M, C, K: (n, n) mass (kg or kg·m²), damping and time-invariant stiffness (SI).
+        stiffness_harmonics: K̂_k, k = −2H..2H, shape (4H + 1, n, n) (index k + 2H), or
+            (4H + 1, r, r) on ``basis``.
+        force_harmonics: F̂_h, shape (2H + 1, n) (index h + H).
+        omega: ω (rad/s), scalar (vmap it for a sweep).
+        parametric: False keeps only K̂_0 (each harmonic alone).
+        gauge: None, or an (n, n) matrix added to the h = 0 block (pins rigid-body modes of
+            K + K̂_0 that the forcing does not load).
+        basis: None, or B (n, r) with K_m(t) = B K_r(t) Bᵀ.
+        real: the system and its forcing are real in time (M, C, K real, K̂_−k = conj K̂_k,
+            F̂_−h = conj F̂_h): the harmonics h < 0 are the conjugates of h > 0, and only
+            h >= 0 is factored (half the work).
+
+    Returns:
+        Y_h, shape (2H + 1, n), complex (index h + H).
+    """
+    F = jnp.asarray(force_harmonics)
+    n_h, n = F.shape
+    H = (n_h - 1) // 2
+    Kh = jnp.asarray(stiffness_harmonics)
+    B = jnp.eye(n, dtype=M.dtype) if basis is None else jnp.asarray(basis)
+    r = B.shape[1]
+    h = jnp.arange(-H, H + 1)
+    # the harmonics factored: h >= 0 alone for a real system (h < 0 their conjugates)
+    own = h[H:] if real else h
+    wo = own * omega
+    D = (
+        K[None]
+        - (wo**2)[:, None, None] * M[None]
+        + 1j * wo[:, None, None] * C[None]
+        + (B @ Kh[2 * H] @ B.T)[None]
+    )  # (2H+1 or H+1, n, n)
+    if gauge is not None:
+        D = D.at[0 if real else H].add(gauge)
+
+    def both_sides(x):  # the h >= 0 rows of a real system, completed with h < 0
+        return jnp.concatenate([jnp.conj(x[1:][::-1]), x], axis=0) if real else x
+
+    if not parametric:
+        return both_sides(jax.vmap(jnp.linalg.solve)(D, F[H:] if real else F))
+    # 𝕂: the stiffness harmonics K̂_{h−j} off the diagonal (the diagonal's K̂_0 is in D)
+    diff = h[:, None] - h[None, :] + 2 * H  # (2H+1, 2H+1)
+    coupling = jnp.where((diff == 2 * H)[..., None, None], 0.0, Kh[diff])  # (h, j, r, r)
+    coupling = coupling.transpose(0, 2, 1, 3).reshape(n_h * r, n_h * r)
+    n_own = own.shape[0]
+    Fo = F[H:] if real else F
+    rhs = jnp.concatenate([Fo[:, :, None], jnp.broadcast_to(B.astype(F.dtype), (n_own, n, r))], -1)
+    sol = both_sides(jnp.linalg.solve(D, rhs))  # (h, n, 1 + r): D⁻¹F, D⁻¹B
+    DF, DB = sol[..., 0], sol[..., 1:]
+    G = jnp.einsum("nr,hns->hrs", B, DB)  # (h, r, r)
+    g = (DF @ B).reshape(-1)  # (h r,)
+    GK = jnp.einsum("hrs,hsx->hrx", G, coupling.reshape(n_h, r, -1)).reshape(n_h * r, -1)
+    Z = jnp.linalg.solve(jnp.eye(n_h * r, dtype=GK.dtype) + GK, g)
+    KZ = (coupling @ Z).reshape(n_h, r)
+    return DF - jnp.einsum("hnr,hr->hn", DB, KZ)
+
+
+def _mesh_basis(V, mask) -> np.ndarray | None:
+    """An orthonormal basis (n, r) of the structure vectors of every cell on the flanks at
+    every position (concrete; None where they are traced: the full coordinates then): the
+    mesh stiffness is B K_r Bᵀ, K_r = Bᵀ K_m B, exactly."""
+    if is_traced((V, mask)):
+        return None
+    V = np.asarray(V).reshape(-1, np.shape(V)[-1])[np.asarray(mask).reshape(-1)]
+    if V.shape[0] == 0:
+        return None
+    _, sv, vt = np.linalg.svd(V, full_matrices=False)
+    r = int(np.sum(sv > sv[0] * 1e3 * np.finfo(V.dtype).eps))
+    if r >= V.shape[1]:
+        return None
+    return vt[:r].T
+
+
+class WhineResponse(eqx.Module):
+    """The frequency-domain steady state of a lumped model (:func:`whine_response`) at S speeds,
+    H + 1 orders (0..H of the span's fundamental; of the mesh frequency for a pair), n
+    coordinates, m meshes, r bearing-force components.
+
+    One-sided amplitudes: a quantity q(t) ≈ Re Σ_{h=0..H} q_h e^{i h ω t} = Σ |q_h| cos(hωt +
+    arg q_h), t on the clock of the nominal motion θ = Ω t (the time records of
+    :func:`~jaxgear.dynamics.simulate`, ``DynamicResponse.time``); q_0 the mean.
+
+    Attributes:
+        speed: pinion speeds Ω (rad/s), (S,). frequency: the fundamental f = ω/2π (Hz), (S,)
+            (the mesh frequency of a pair).
+        orders: the harmonics' orders of the first mesh's frequency, (H + 1,): h / q over a
+            span of q mesh periods (h for a pair).
+        coordinates: X_h (SI units of the coordinates), (S, H + 1, n), complex.
+        quasi_static: the quasi-static motion's harmonics, (H + 1, n), complex.
+        transmission_error: each mesh's dynamic TE (u·X − e_ref)/cos β_b (m), (S, H + 1, m).
+        mesh_force: each mesh's total flank-normal force (N), (S, H + 1, m), from the force
+            reconstructed over the span (the stiffness times the vibration is a product of
+            periodic functions).
+        bearing_force: R X (N), (S, H + 1, r).
+        static_force: each mesh's static force F_s (N), (m,).
+        min_mesh_force: the smallest reconstructed mesh force over the span (N), (S, m).
+        contact_loss: where min_mesh_force <= 0, (S, m): the linear result does not hold there
+            (the time domain finds contact loss; a cell-wise separation before it is not
+            flagged).
+        nonlinearity: how far the vibration leaves the held active set, (S, m): the largest
+            over the span of |Σ_c k l (max(g_c, 0) − w_c g_c)| / F_s, g_c = g_qs,c + V_c·y the
+            cell's total approach (the exact law's force against the linear one): the contact
+            force of cells that the vibration would bring into or out of contact (relieved
+            cells engaging early or late). The linear result is the time domain's to about this
+            fraction of F_s in the mesh force; a few per cent and more: not linear.
+    """
+
+    speed: Float[Array, " S"]
+    frequency: Float[Array, " S"]
+    orders: Float[Array, " h"]
+    coordinates: Complex[Array, "S h n"]
+    quasi_static: Complex[Array, "h n"]
+    transmission_error: Complex[Array, "S h m"]
+    mesh_force: Complex[Array, "S h m"]
+    bearing_force: Complex[Array, "S h r"]
+    static_force: Float[Array, " m"]
+    min_mesh_force: Float[Array, "S m"]
+    contact_loss: Bool[Array, "S m"]
+    nonlinearity: Float[Array, "S m"]
+
+
+def _one_sided(c, H):
+    """Two-sided coefficients (2H + 1, ...) → one-sided amplitudes (H + 1, ...)."""
+    return jnp.concatenate([c[H : H + 1], 2.0 * c[H + 1 :]], axis=0)
+
+
+def whine_response(
+    model: DynamicModel,
+    speeds,
+    method: AbstractWhineMethod = HarmonicBalance(),
+    *,
+    positions: int = 256,
+    contact: ContactLaw = ExactContact(),
+) -> WhineResponse:
+    """Gear whine in the frequency domain (docs/whine.md): the periodic response of a lumped
+    model linearised about its quasi-static solution, every coordinate, TE, mesh force and
+    bearing force at each order of the mesh frequency, over speeds.
+
+    The quasi-static solution and the tangent mesh stiffness come from the static contact
+    solve at ``positions`` positions per period of the first mesh, over the model's span
+    (:func:`~jaxgear.dynamics.span_periods`), on the structure the time integration uses;
+    the damping is the model's. Exact for the lumped model (the time domain of
+    :func:`~jaxgear.dynamics.simulate`) where no cell changes contact state about the
+    quasi-static active set, up to the truncation at H harmonics and the sampling of the
+    stiffness at ``positions`` points; ``contact_loss`` marks where it cannot hold.
+
+    Args:
+        model: a lumped :class:`~jaxgear.dynamics.DynamicModel` without coast flanks.
+        speeds: pinion speeds Ω (rad/s) > 0, scalar or (S,).
+        method: :class:`HarmonicBalance` (default, the parametric coupling) or
+            :class:`TransmissionErrorSource` (the mean stiffness alone), with its H.
+        positions: positions per mesh period (int >= 4H + 1 over the span).
+        contact: the contact law of the static solve (its tangent weights make K_m).
+
+    Returns:
+        :class:`WhineResponse` (S = 1 for a scalar speed).
+
+    Raises:
+        TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
+            too few positions.
+    """
+    if not isinstance(model, DynamicModel):
+        raise TypeError(
+            f"model: {type(model).__name__}: allowed a lumped jaxgear.dynamics.DynamicModel "
+            "(dynamic_model of a torsional or lumped 3D scene)"
+        )
+    if not isinstance(method, AbstractWhineMethod):
+        raise TypeError(
+            f"method = {method!r}: allowed HarmonicBalance(...) or TransmissionErrorSource(...)"
+        )
+    if model.coast_flanks():
+        raise ValueError(
+            "model: coast flanks (backlash): the linearised whine holds on the drive flanks "
+            "only (allowed a scene without coast flanks)"
+        )
+    check_integer("positions", positions, 4)
+    span = int(model.span_periods())
+    H = int(method.harmonics)
+    if positions * span < 4 * H + 1:
+        raise ValueError(
+            f"positions = {positions}: allowed >= (4 harmonics + 1) / span periods = "
+            f"{-(-(4 * H + 1) // span)} for harmonics = {H}"
+        )
+    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
+        raise ValueError(f"speeds = {speeds!r}: allowed pinion speeds > 0 rad/s, scalar or (S,)")
+    if not is_traced(speeds):  # traced speeds (under jit or grad): their shape only
+        sp = np.asarray(speeds, dtype=float)
+        if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
+            raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
+    law = contact_law(contact, model.dtype)
+    prep = _prep(model, law, int(positions))
+    speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
+    basis = _mesh_basis(prep.table.V, prep.table.mask)
+    basis = None if basis is None else jnp.asarray(basis, model.dtype)
+    return _whine(model, prep, speeds, method, basis)
+
+
+@eqx.filter_jit
+def _whine(model, prep, speeds, method, basis) -> WhineResponse:
+    H = method.harmonics
+    scene, table = model.scene, prep.table
+    S = table.span
+    steps = jnp.arange(S)
+    V = table.take(table.V, steps)  # (S, c, n)
+    mask = table.take(table.mask, steps)
+    k, length = table.take(table.k, steps), table.take(table.length, steps)
+    kl = jnp.where(mask, prep.static_weight * k * length, 0.0)  # (S, c)
+    Km = jnp.einsum("sc,sci,scj->sij", kl, V, V)  # tangent mesh stiffness (S, n, n)
+    x_qs = prep.static_x  # (S, n)
+    gap = jnp.where(mask, jnp.einsum("sci,si->sc", V, x_qs) - table.take(table.delta0, steps), 0.0)
+    if basis is not None:  # the mesh stiffness on the span of the structure vectors
+        Km = basis.T @ Km @ basis
+    Kh = fourier_coefficients(Km, 2 * H)  # (4H+1, n, n) or (4H+1, r, r)
+    Xh = fourier_coefficients(x_qs, H)  # (2H+1, n)
+    M, Ks, C = scene.mass(), scene.stiffness(), model.damping
+    k_ref = jnp.trace(jnp.real(Kh[2 * H])) / Kh.shape[1]
+    gauge = _rigid_penalty(scene, k_ref)
+    span_angle = table.period_angle * (S / table.step_count)
+    h = jnp.arange(-H, H + 1)
+
+    def at(speed):
+        omega = 2 * jnp.pi * speed / span_angle
+        w = (h * omega)[:, None]
+        F = (w**2) * (Xh @ M.T) - 1j * w * (Xh @ C.T)  # ((hω)² M − i hω C) X̂_h
+        Y = harmonic_balance(
+            M,
+            C,
+            Ks,
+            Kh,
+            F,
+            omega,
+            parametric=method.parametric,
+            gauge=gauge,
+            basis=basis,
+            real=True,
+        )  # (2H+1, n)
+        # the vibration at the span's positions, and the mesh force there
+        s = (steps.astype(x_qs.dtype) + 0.5) / S
+        E = jnp.exp(2j * jnp.pi * s[:, None] * h[None, :])  # (S, 2H+1)
+        y = jnp.real(E @ Y)  # (S, n)
+        vy = jnp.einsum("sci,si->sc", V, y)
+        f, _ = table.mesh_forces(prep.static_force_density * length + kl * vy)  # (S, m)
+        # the force the held active set misplaces: the exact law's k l max(g, 0) against the
+        # linear w k l g, at the total gap g = g_s + V·y
+        g = gap + vy
+        kl_all = jnp.where(mask, k * length, 0.0)
+        wrong = kl_all * jnp.maximum(g, 0.0) - kl * g
+        misplaced, _ = table.mesh_forces(wrong)
+        return omega, Y, f, jnp.max(jnp.abs(misplaced), axis=0)
+
+    omega, Y, f, misplaced = jax.vmap(at)(speeds)
+    X = jax.vmap(lambda y: _one_sided(Xh + y, H))(Y)  # (S_sp, H+1, n)
+    fh = jax.vmap(lambda ff: _one_sided(fourier_coefficients(ff, H), H))(f)
+    U = scene.te_vectors()
+    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
+    e_ref = table.e_max[0]
+    te = jnp.einsum("shn,mn->shm", X, U.astype(X.dtype)) / cb[None, None, :]
+    te = te.at[:, 0, :].add(-e_ref / cb)
+    R = scene.reaction_matrix()
+    bearing = jnp.einsum("shn,rn->shr", X, R.astype(X.dtype))
+    fm_qs, _ = table.mesh_forces(prep.static_force_density * length)
+    fs = jnp.mean(fm_qs, axis=0)
+    if fm_qs.shape[1] == 1:
+        fs = scene.base_planes[0].normal_load(model.torque)[None]
+    fmin = jnp.min(f, axis=1)
+    orders = jnp.arange(H + 1, dtype=model.dtype) / (S / table.step_count)
+    return WhineResponse(
+        speed=speeds,
+        frequency=omega / (2 * jnp.pi),
+        orders=orders,
+        coordinates=X,
+        quasi_static=_one_sided(Xh, H),
+        transmission_error=te,
+        mesh_force=fh,
+        bearing_force=bearing,
+        static_force=fs,
+        min_mesh_force=fmin,
+        contact_loss=fmin <= 0.0,
+        nonlinearity=misplaced / fs[None, :],
+    )
