@@ -23,6 +23,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.tribology as tr
+from test_tribology import _mesh  # the same pair table (Weber at 200 N·m)
 
 E, NU = 206e9, 0.3
 RA = (0.6e-6, 0.6e-6)
@@ -40,17 +41,6 @@ def _lubricant(t_c=90.0):
 def _pair(teeth, module, shifts, face, helix_deg):
     members = [jg.Member(z, x, 1.0, 1.25, face, 0.38) for z, x in zip(teeth, shifts)]
     return jg.GearPair(*members, module, math.radians(20.0), math.radians(helix_deg))
-
-
-def _mesh(pair, slices):
-    s, k = jg.stiffness_table(
-        pair,
-        jg.Weber(),
-        youngs_modulus=E,
-        poisson_ratio=NU,
-        line_load=TORQUE / pair.pitch_radii[0] / pair.face_width,
-    )
-    return jg.MeshModel.from_pair(pair, s, k, slices)
 
 
 @functools.cache
