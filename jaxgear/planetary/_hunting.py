@@ -428,7 +428,9 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
                 mesh, mods, t))(theta)
             arc = mesh.base_radius_pinion * cells.theta[:, None, None]
             first, second = teeth_of(_pair_index(arc, cells.line, mesh.base_pitch))
-            u = cells.s / mesh.path_of_contact
+            # beyond the theoretical path (extended_contact) a corner carries the path end's
+            # deviation (docs/extended-contact.md); on the path the clip changes nothing
+            u = jnp.clip(cells.s / mesh.path_of_contact, 0.0, 1.0)
             zeta = cells.z / mesh.face_width
             # the sun mesh: the sun's flank at u, the planet's at 1 - u; the ring mesh: the
             # planet's at u, the ring's at 1 - u (each member's roll from its own root)
