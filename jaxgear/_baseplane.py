@@ -203,7 +203,9 @@ class MeshModel(eqx.Module):
     coast_angle: Float[Array, ""] = eqx.field(converter=as_float, default=0.0)
     coast: bool = eqx.field(static=True, default=False)
     extension_span: Float[Array, " 2"] = eqx.field(converter=as_float, default=(0.0, 0.0))
-    extension_gap: Float[Array, "2 n_ext"] = eqx.field(converter=as_float, default=((0.0, 0.0),) * 2)
+    extension_gap: Float[Array, "2 n_ext"] = eqx.field(
+        converter=as_float, default=((0.0, 0.0), (0.0, 0.0))
+    )
     extended_contact: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):

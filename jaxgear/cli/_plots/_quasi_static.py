@@ -324,15 +324,18 @@ def loaded_path_plot(path, path_map: dict, *, design_torque: float, title: str) 
     for (lab, lp), color in zip(path_map.items(), ("C0", "C3"), strict=False):
         t = np.asarray(lp.torque)
         g = float(lp.path_of_contact)
-        axes[0].plot(t, -np.asarray(lp.start) * 1e3, "o-", color=color, label=f"{lab}: before the start")
-        axes[0].plot(t, (np.asarray(lp.end) - g) * 1e3, "s--", color=color, label=f"{lab}: after the end")
-        axes[1].plot(t, np.asarray(lp.relief_start) * 1e6, "o-", color=color, label=f"{lab}: gear tip")
-        axes[1].plot(t, np.asarray(lp.relief_end) * 1e6, "s--", color=color, label=f"{lab}: pinion tip")
-    for ax, ylabel in zip(
-        axes,
-        ("contact beyond the theoretical path (mm of roll)", "extra tip relief that clears the corner (µm)"),
-        strict=True,
-    ):
+        for ax, y, fmt, what in (
+            (axes[0], -np.asarray(lp.start) * 1e3, "o-", "before the start"),
+            (axes[0], (np.asarray(lp.end) - g) * 1e3, "s--", "after the end"),
+            (axes[1], np.asarray(lp.relief_start) * 1e6, "o-", "gear tip"),
+            (axes[1], np.asarray(lp.relief_end) * 1e6, "s--", "pinion tip"),
+        ):
+            ax.plot(t, y, fmt, color=color, label=f"{lab}: {what}")
+    ylabels = (
+        "contact beyond the theoretical path (mm of roll)",
+        "extra tip relief that clears the corner (µm)",
+    )
+    for ax, ylabel in zip(axes, ylabels, strict=True):
         ax.axvline(design_torque, color="0.3", lw=0.8, ls="--")
         ax.set_ylim(bottom=0)
         ax.set_xlabel("pinion torque (N·m)")
