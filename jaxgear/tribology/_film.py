@@ -16,6 +16,7 @@ the FZG points of docs/tribology.md, is left out).
 
 from __future__ import annotations
 
+import abc
 from typing import ClassVar, NamedTuple
 
 import jax.numpy as jnp
@@ -46,11 +47,13 @@ class AbstractFilmFormula(NamedKind):
 
     name: ClassVar[str]
 
+    @abc.abstractmethod
     def central(self, U, G, W):
-        raise NotImplementedError
+        """What a kind supplies (the class docstring)."""
 
+    @abc.abstractmethod
     def minimum(self, U, G, W):
-        raise NotImplementedError
+        """What a kind supplies (the class docstring)."""
 
 
 class DowsonHigginson(AbstractFilmFormula):

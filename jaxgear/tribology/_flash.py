@@ -47,6 +47,7 @@ and the safety factor S_intS = θ_intS/θ_int.
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import ClassVar
 
@@ -228,8 +229,9 @@ class AbstractBulkTemperature(eqx.Module):
 
     name: eqx.AbstractClassVar[str]
 
+    @abc.abstractmethod
     def bulk(self, oil_temperature, mean_flash):
-        raise NotImplementedError
+        """What a kind supplies (the class docstring)."""
 
 
 class FlashBulkTemperature(AbstractBulkTemperature):

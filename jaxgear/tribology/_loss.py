@@ -26,6 +26,7 @@ an approximation (the sum of contact-line lengths varies through the mesh).
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import ClassVar
 
@@ -69,8 +70,9 @@ class AbstractFriction(eqx.Module):
 
     name: eqx.AbstractClassVar[str]
 
+    @abc.abstractmethod
     def coefficient(self, pair, lubricant, torque, speed, roughness) -> Float[Array, ""]:
-        raise NotImplementedError
+        """What a kind supplies (the class docstring)."""
 
 
 class GivenFriction(AbstractFriction):
