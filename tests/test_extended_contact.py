@@ -244,8 +244,7 @@ def test_against_the_plane_strain_fe_contact_reference():
     # node-to-segment search), written separately; here the case's own Weber stiffness
     fe = _fe_record()
     text = jio.embedded_case_text("accessory-spur").replace("depth_um = 15.0", "depth_um = 0.0")
-    text = re.sub(r"^\[mesh\]$", "[mesh]\nextended_contact = true", text[: text.index("[scene]")],
-                  flags=re.M)
+    text = _extended_case_text(text[: text.index("[scene]")], True)
     case = jio.parse_case(__import__("tomllib").loads(text), "accessory-unmodified")
     pair, mesh = case.pair, case.mesh_model(slices=1)
     g = pair.path_of_contact
