@@ -87,6 +87,10 @@ def test_a_gearbox_file_and_its_errors(tmp_path):
             '[[stages]]\ncase = "nrel-5mw-stage2"\n',
             '[[stages]]\ncase = "nrel-5mw-stage2"\nshaft_Nm_per_rad = 1.0\n',
         ): "first stage",
+        # a stage case that is neither a file nor an embedded case: the gearbox file's error
+        GOOD.replace('case = "nrel-5mw-stage2"', 'case = "no-such-stage"'): (
+            r"\[stages\[0\]\] case: case 'no-such-stage' is neither a file"
+        ),
     }
     for text, needle in bad.items():
         with pytest.raises(SchemaError, match=needle) as err:

@@ -222,9 +222,12 @@ def _carried(case: Case, speed: float, torque: float) -> Case:
     return case.replace(speed=speed, torque=torque, raw=raw)
 
 
-def _stage_case(value: str, base: str | None, load_case) -> Case:
+def _stage_case(value: str, base: str | None, load_case, where: str) -> Case:
     path = os.path.join(base, value) if base is not None else value
-    return load_case(path if base is not None and os.path.isfile(path) else value)
+    try:
+        return load_case(path if base is not None and os.path.isfile(path) else value)
+    except FileNotFoundError as err:  # a missing stage file is the gearbox file's error
+        raise sc.fail(where, "case", str(err)) from None
 
 
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
@@ -235,7 +238,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     Raises:
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
-            is not a planetary stage or a pair; one line each.
+            is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
+            embedded case; one line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
@@ -249,7 +253,7 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     for k, t in enumerate(tables):
         where = f"stages[{k}]"
         sc.check_keys(t, _STAGE_KEYS, where)
-        case = _stage_case(sc.string(t, "case", where), base, load_case)
+        case = _stage_case(sc.string(t, "case", where), base, load_case, where)
         if k == 0 and "shaft_Nm_per_rad" in t:
             raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")
         shaft = 0.0 if k == 0 else sc.number(t, "shaft_Nm_per_rad", where, allowed="(0, 1e+15]")
