@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import json
 import math
+import pathlib
 import tomllib
-from importlib import resources
 from types import SimpleNamespace
 
 import jax
@@ -31,6 +31,7 @@ from jaxgear.cli._tribology_run import (
     train_tribology_outputs,
 )
 
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
 LUBRICANT = {
     "viscosity_40C_mm2_s": 320.0,
     "viscosity_100C_mm2_s": 24.0,
@@ -149,16 +150,13 @@ def test_planetary_efficiency_is_muellers_formula(stage, tmp_path):
 
 
 def test_idler_train_efficiency_is_the_meshes_product(tmp_path):
-    """The embedded idler train (torsional, coarse), lubricated: each mesh's loss at its
-    driving gear's torque and speed by hand (T z_idler/z_input, ω z_input/z_idler), the train's
-    efficiency their product and the energy balance; the gearbox of this train and a stage of
-    95 % their product."""
-    data = tomllib.loads(
-        resources.files("jaxgear.cases").joinpath("accessory-idler-train.toml").read_text())
+    """examples/idler-train-lubricated.toml (the embedded idler train with an oil; torsional,
+    coarse here): each mesh's loss at its driving gear's torque and speed by hand (T z_idler /
+    z_input, ω z_input / z_idler), the train's efficiency their product and the energy
+    balance; the gearbox of this train and a stage of 95 % their product."""
+    data = tomllib.loads(EXAMPLES.joinpath("idler-train-lubricated.toml").read_text())
     data["mesh"].update(slices=4, positions_per_pitch=8)
-    data.pop("scene")
     data["operating"]["speed_rad_s"] = 300.0
-    data["lubricant"] = LUBRICANT
     case = jio.parse_train(data)
     r = jg.quasi_static(case.static_train(), case.mesh_modifications(), case.torque,
                         contact=case.contact_law("exact"), positions_per_pitch=8, periods=1)
