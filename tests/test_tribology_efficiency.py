@@ -24,7 +24,7 @@ import pytest
 import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.tribology as tr
-from jaxgear.cli._tribology_run import (
+from jaxgear.cli import (
     efficiency_run_line,
     gearbox_tribology,
     planetary_tribology_outputs,

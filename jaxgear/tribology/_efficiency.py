@@ -21,7 +21,7 @@ torque per planet path, ω_k its speed): :func:`planetary_efficiency` is that se
 the stage's input power P_in = |T_in ω_in| in the fixed frame. It is the torque form of
 Müller's (H. W. Müller, Die Umlaufgetriebe, 1971; also Kreines) basic formulas: for the sun
 driving, the carrier driven and the ring fixed, η = 1 − (1 − η₀) z_r/(z_s + z_r), η₀ = η_sp
-η_pr the fixed-carrier efficiency (tests/test_tribology_efficiency.py writes it separately).
+η_pr the fixed-carrier efficiency (the test suite writes it separately).
 
 A gearbox: its stages in series (:func:`gearbox_efficiency`), each stage's efficiency its own
 (a pair's :class:`MeshTribology`, a train's or a stage's :class:`PowerFlow`). docs/tribology.md,
