@@ -11,6 +11,7 @@ passes the input's force on: T_idler = T z_idler / z_input)."""
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 import tomllib
 from importlib import resources
@@ -57,7 +58,7 @@ def _cycles_to_failure(points, reference, stress):
     f = stress / reference
     if f < points[-1][1]:
         return math.inf
-    for (n_a, f_a), (n_b, f_b) in zip(points, points[1:]):
+    for (n_a, f_a), (n_b, f_b) in itertools.pairwise(points):
         if f_b <= f <= f_a:
             k = math.log(f_a / f_b) / math.log(n_b / n_a)
             return n_a * (f_a / f) ** (1 / k)

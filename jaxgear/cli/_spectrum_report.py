@@ -152,5 +152,6 @@ def mesh_spectrum_run_lines(names: list[str], section: dict | None) -> list[str]
         for k, n in enumerate(names)
     )
     bins = len(section["bins"]["torque_Nm"][0])
-    return [f"load spectrum (ISO 6336-6, {bins} bins of the input, driving / driven): {per} "
-            "(spectrum_<mesh>.csv)"]
+    line = (f"load spectrum (ISO 6336-6, {bins} bins of the input, driving / driven): {per} "
+            "(spectrum_<mesh>.csv)")
+    return [line]

@@ -254,10 +254,11 @@ def efficiency_run_line(section: dict | None) -> list[str]:
     flow = section.get("overall", section)
     per = ", ".join(f"{n} {100 * e:.2f} %" for n, e in
                     zip(flow["names"], flow["efficiency_each"], strict=True))
-    return [
+    line = (
         f"efficiency {100 * flow['efficiency']:.2f} % (loss {flow['total_loss_W']:.4g} W of "
         f"{flow['input_power_W']:.4g} W; {per}) (tribology.json)"
-    ]
+    )
+    return [line]
 
 
 def tribology_run_line(section: dict | None) -> list[str]:
