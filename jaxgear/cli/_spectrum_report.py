@@ -44,7 +44,6 @@ def spectrum_section(rc: RatingCase, out_dir: str | None = None, name: str = "sp
         settings = with_load_sharing(settings, k_gamma)
     section = rate_spectrum(rc.geometry, rc.spectrum, settings).summary() | {"note": NOTE}
     if out_dir is not None:
-        section["file"] = name
         with atomic_open(os.path.join(out_dir, name), "w") as f:
             w = csv.writer(f)
             for row in spectrum_csv_rows(section):

@@ -71,7 +71,6 @@ def mesh_tribology_files(pair, result, theta, inputs, torque, speed, case, out_d
         "film_formula": inputs.film.name,
         "friction": inputs.friction.name,
         "speed_rad_s": float(speed),
-        "torque_Nm": float(torque),
         "viscosity_at_oil_temperature_mm2_s": float(inputs.lubricant.kinematic_viscosity()) * 1e6,
         "dynamic_viscosity_Pa_s": float(inputs.lubricant.dynamic_viscosity),
         **out.summary(),
@@ -183,7 +182,7 @@ def _meshes_outputs(case, out_dir: str, inputs, entries, efficiency, method: str
         stem = f"tribology_{column_tag(name)}"
         section, out = mesh_tribology_files(pair, result, theta, inputs, torque, speed, case,
                                             out_dir, stem, f"{case.name} {name}")
-        meshes[name] = section
+        meshes[name] = {"torque_Nm": float(torque)} | section
         outs.append(out)
     flow = efficiency(outs)
     overall = {"method": method} | flow.summary(names)
