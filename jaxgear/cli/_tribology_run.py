@@ -1,9 +1,13 @@
-"""``jaxgear run``'s film and sliding loss along the path of contact, for a pair case with
+"""``jaxgear run``'s film and sliding loss along the path of contact, for a case with
 ``[lubricant]`` (:func:`jaxgear.tribology.mesh_tribology` on the run's modified exact-contact
-quasi-static result): ``tribology.json``, ``tribology.csv`` (every loaded cell) and
+quasi-static result): a pair's ``tribology.json``, ``tribology.csv`` (every loaded cell) and
 ``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`); with the scuffing keys of
 ``[lubricant]``, Blok's flash temperature along the path and the scuffing safety factors
-(:func:`jaxgear.tribology.mesh_scuffing`) in the same files."""
+(:func:`jaxgear.tribology.mesh_scuffing`) in the same files. A train's or a planetary stage's
+meshes each write the pair's files as ``tribology_<mesh>.csv`` and ``.png``, and the whole its
+efficiency (:func:`jaxgear.tribology.train_efficiency`,
+:func:`jaxgear.tribology.planetary_efficiency`) into ``tribology.json`` and ``tribology.csv`` (a
+row per mesh); a gearbox its stages' in series (:func:`jaxgear.tribology.gearbox_efficiency`)."""
 
 from __future__ import annotations
 
@@ -135,7 +139,8 @@ def train_tribology_outputs(case, out_dir: str, result) -> dict | None:
     entries = []
     for k in range(len(case.pairs)):
         one = case.form.mesh_case(at, k)
-        entries.append((case.pairs[k], result.meshes[k], result.theta, one.torque, one.speed))
+        entries.append((case.pairs[k], result.meshes[k], result.theta, abs(one.torque),
+                        abs(one.speed)))
     return _meshes_outputs(
         case, out_dir, inputs, entries,
         lambda outs: train_efficiency(outs, case.gears, case.shaft_of,
@@ -160,7 +165,7 @@ def planetary_tribology_outputs(case, out_dir: str, results) -> dict | None:
     entries = []
     for k, r in enumerate(results):
         one = case.form.mesh_case(at, k)
-        entries.append((case.pairs[k], r, r.theta, one.torque, one.speed))
+        entries.append((case.pairs[k], r, r.theta, abs(one.torque), abs(one.speed)))
     member = spec.input.name.lower()
     p_in = abs(spec.torques(case.torque)[member] * spec.speeds(inputs.speed)[member])
     n_p = int(spec.n_planets)
