@@ -181,3 +181,16 @@ def test_idler_train_efficiency_is_the_meshes_product(tmp_path):
         str(tmp_path))
     assert box["efficiency"] == pytest.approx(math.prod(each) * 0.95, rel=1e-12)
     assert gearbox_tribology([{"stage": "stage1", "summary": {}}], str(tmp_path)) is None
+
+
+def test_a_train_files_lubricant_is_checked_at_load():
+    data = tomllib.loads(EXAMPLES.joinpath("idler-train-lubricated.toml").read_text())
+    assert jio.tribology_of(jio.parse_train(data)).speed == pytest.approx(628.3)
+    data["lubricant"]["oil_temperature_C"] = 300.0
+    with pytest.raises(ValueError, match=r"\[lubricant\] oil_temperature_C = 300") as err:
+        jio.parse_train(data)
+    assert "\n" not in str(err.value)
+    lumped = tomllib.loads(jio.embedded_case_text("lin-parker-1999"))  # no [[gears]]
+    lumped["lubricant"] = LUBRICANT
+    with pytest.raises(ValueError, match=r"lubricant .*allowed only with \[\[gears\]\]"):
+        jio.parse_train(lumped)
