@@ -173,6 +173,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY,
         False,
     ),
+    # a train with [lubricant]: each mesh's film and loss on the coupled solve, the efficiency
+    "run-example-idler-train-lubricated": (
+        ["run", "examples/idler-train-lubricated.toml"],
+        SUMMARY,
+        False,
+    ),
 }
 
 

@@ -98,6 +98,7 @@ SECTIONS = {
         ("Film thickness", ("_film",)),
         ("Friction and the tooth loss factor", ("_loss",)),
         ("Film and loss along the path of contact", ("_mesh",)),
+        ("Efficiency of trains, planetary stages and gearboxes", ("_efficiency",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),

@@ -430,6 +430,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     for mesh in data["meshes"]:  # each mesh's own [rating.<driving>-<driven>], every key
         data["rating"][f"{mesh['driving']}-{mesh['driven']}"] = dict(shared)
     yield data, None
+    # the same train under a load spectrum of its input, each form with every key
+    for key in [k for k in SAMPLE_OVERLAYS if k.startswith("rating spectrum ")]:
+        spectrum = tomllib.loads(SAMPLE_OVERLAYS[key])["rating"]["spectrum"]
+        yield data | {"rating": dict(shared) | {"spectrum": spectrum}}, None
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
     data["scene"]["pinion_body"] = {"body": "accessory-pinion"}
@@ -721,6 +725,13 @@ TRAIN_NOTES = {
     "cutter's tip radius over m_n, default the ring's `fillet_radius_coeff`) are their older "
     "spelling, refused together with them; without a cutter, ISO's substitute rack (the other "
     "two keys are refused without `ring_cutter_teeth`).",
+    "rating.spectrum": "A load spectrum (ISO 6336-6) of the input member (a train's input gear, "
+    "a planetary stage's `[planetary] input`), the keys a pair's: each mesh's bins are it "
+    "carried by the mesh's lossless torque and speed ratios (docs/rating.md, \"Trains and "
+    "planetary stages\").",
+    "lubricant": "A pair's `[lubricant]` for every mesh (a planetary stage with `[[gears]]` "
+    "only): each mesh's film and sliding loss and the train's or stage's efficiency "
+    "(docs/tribology.md, \"Trains, planetary stages and gearboxes\").",
 }
 
 BODY_INTRO = """\
@@ -738,7 +749,8 @@ PAIR_NOTES = {
     "life_h`); each list as long as `torque_Nm`. Or a sampled history: `series_torque_Nm`, "
     "`series_speed_rpm` (one or one per sample), `series_step_s` and `levels`, counted into "
     "levels (time at level) and scaled to `life_h`. \"Required\" below is within the form "
-    "chosen. A pair case only (docs/rating.md, \"Load spectrum and life\").",
+    "chosen. A train's or a planetary stage's: the same keys for its input member, carried to "
+    "each mesh (docs/rating.md, \"Load spectrum and life\").",
 }
 
 

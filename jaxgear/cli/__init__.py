@@ -54,6 +54,12 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         fillet_table as fillet_table,
     )
     from ._summary import result_summary as result_summary
+    from ._tribology_run import (
+        efficiency_run_line as efficiency_run_line,
+        gearbox_tribology as gearbox_tribology,
+        planetary_tribology_outputs as planetary_tribology_outputs,
+        train_tribology_outputs as train_tribology_outputs,
+    )
     from .run import (
         format_table as format_table,
         rating_run_line as rating_run_line,
@@ -100,6 +106,10 @@ _EXPORTS = {
     "train_mesh_results": "._rating_report",
     "write_rating_table": "._rating_report",
     "result_summary": "._summary",
+    "efficiency_run_line": "._tribology_run",
+    "gearbox_tribology": "._tribology_run",
+    "planetary_tribology_outputs": "._tribology_run",
+    "train_tribology_outputs": "._tribology_run",
     "format_table": ".run",
     "run_case": ".run",
     "scene_outputs": ".scene",

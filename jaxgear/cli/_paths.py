@@ -98,8 +98,11 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "bench xla-cache": ("bench_xla_cache.json", "bench_xla_cache.png"),
 }
 # what ``jaxgear run`` writes for a train case besides a pair's names: a load map and a pressure
-# map per mesh (named after its gears), the layout with its phasing, its flexible gears' bodies
-TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vtu")
+# map per mesh (named after its gears), the layout with its phasing, its flexible gears' bodies;
+# with [lubricant] each mesh's film and loss, with [rating.spectrum] each mesh's bins (a planetary
+# stage's too)
+TRAIN_FILES = ("load_map_*.png", "pressure_map_*.png", "phasing.png", "body_*.vtu",
+               "tribology_*.csv", "tribology_*.png", "spectrum_*.csv")
 OUTPUT_FILES["run"] += TRAIN_FILES
 # what ``jaxgear run`` writes for a planetary stage ([planetary]) besides summary.json: the modes
 # with their types, the Campbell diagram in the carrier frame, each mesh's quasi-static curves,

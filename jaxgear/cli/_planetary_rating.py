@@ -52,7 +52,9 @@ from ._rating_report import (
     write_rating_md,
 )
 from ._rating_sheet import inputs_of, k_v_note, rating_lines
+from ._spectrum_report import spectrum_lines, spectrum_section
 from ._stress_outputs import active_radii, fillet_table
+from ._sweep_json import column_tag
 from .scene import first_peak
 
 __all__ = [
@@ -521,6 +523,10 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
             "torque_per_planet_path_Nm": float(rc.operating.torque),
             "speed_relative_to_carrier_rad_s": float(rc.operating.speed),
         }
+        # [rating.spectrum] (ISO 6336-6): the input's bins carried to the mesh, K_A = 1 K_γ
+        spectrum = spectrum_section(rc, out, f"spectrum_{column_tag(name)}.csv", kg)
+        if spectrum is not None:
+            section["spectrum"] = spectrum
         sections.append(section)
         ratings.append(rating)
     write_rating_md(out, stage_rating_lines(case, sections, ratings))
@@ -551,6 +557,8 @@ def stage_rating_lines(case, sections: list[dict], ratings=None) -> list[str]:
         rating = None if ratings is None else ratings[k]
         lines += rating_lines(section, f"{case.name}, mesh {case.mesh_name(k)}", heading="##",
                               inputs=inputs_of(case, k, rc, settings, rating))
+        if section.get("spectrum") is not None:  # [rating.spectrum]: the input's, carried
+            lines += [""] + spectrum_lines(section["spectrum"], heading="###") + [""]
     return lines
 
 

@@ -40,6 +40,7 @@ from ._rating_inputs import modification_inputs
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
 from ._spectrum_report import spectrum_lines, spectrum_section
 from ._stress_outputs import active_radii, fillet_table
+from ._sweep_json import column_tag
 
 __all__ = [
     "RATE",
@@ -122,6 +123,8 @@ def _(form: TrainForm, case: Case, sections: list[dict], ratings=None) -> tuple[
         rating = None if ratings is None else ratings[k]
         lines += _lines(case, k, sec, f"{case.name}, mesh {name}", heading="##",
                         rating=rating) + [""]
+        if sec.get("spectrum") is not None:  # [rating.spectrum]: the input's, carried
+            lines += spectrum_lines(sec["spectrum"], heading="###") + [""]
     return stacked_meshes(names, sections), lines
 
 
@@ -359,7 +362,9 @@ def rating_outputs(
                     title,
                     float(rc.operating.torque),
                 )
-        spectrum = spectrum_section(rc, out_dir)  # a pair's [rating.spectrum] (ISO 6336-6)
+        # [rating.spectrum] (ISO 6336-6): a train's mesh its input's, carried to the mesh
+        csv_name = f"spectrum_{column_tag(label)}.csv" if label else "spectrum.csv"
+        spectrum = spectrum_section(rc, out_dir, csv_name)
         if spectrum is not None:
             section["spectrum"] = spectrum
         sections.append(section)

@@ -10,9 +10,15 @@ import os
 import equinox as eqx
 
 from ..io import RatingCase, atomic_open
-from ..rating import rate_spectrum
+from ..rating import rate_spectrum, with_load_sharing
 
-__all__ = ["spectrum_csv_rows", "spectrum_lines", "spectrum_run_lines", "spectrum_section"]
+__all__ = [
+    "mesh_spectrum_run_lines",
+    "spectrum_csv_rows",
+    "spectrum_lines",
+    "spectrum_run_lines",
+    "spectrum_section",
+]
 
 #: what the spectrum is rated with, as the report states it
 NOTE = (
@@ -23,17 +29,22 @@ NOTE = (
 )
 
 
-def spectrum_section(rc: RatingCase, out_dir: str | None = None) -> dict | None:
-    """The ``rating.spectrum`` section of a pair's :class:`jaxgear.io.RatingCase` (``None``
-    without a spectrum): :meth:`jaxgear.rating.SpectrumRating.summary` of
-    :func:`jaxgear.rating.rate_spectrum` with K_A = 1, and ``spectrum.csv`` written atomically
-    into ``out_dir`` when given."""
+def spectrum_section(rc: RatingCase, out_dir: str | None = None, name: str = "spectrum.csv",
+                     k_gamma: float = 1.0) -> dict | None:
+    """The ``rating.spectrum`` section of a mesh's :class:`jaxgear.io.RatingCase` (``None``
+    without a spectrum; a train's or a planetary stage's mesh: the input's spectrum carried to
+    it): :meth:`jaxgear.rating.SpectrumRating.summary` of :func:`jaxgear.rating.rate_spectrum`
+    with K_A = 1 (a planetary mesh: times its load sharing factor ``k_gamma``,
+    :func:`jaxgear.rating.with_load_sharing`), and the CSV ``name`` written atomically into
+    ``out_dir`` when given."""
     if rc.spectrum is None:
         return None
     settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0)
+    if k_gamma != 1.0:
+        settings = with_load_sharing(settings, k_gamma)
     section = rate_spectrum(rc.geometry, rc.spectrum, settings).summary() | {"note": NOTE}
     if out_dir is not None:
-        with atomic_open(os.path.join(out_dir, "spectrum.csv"), "w") as f:
+        with atomic_open(os.path.join(out_dir, name), "w") as f:
             w = csv.writer(f)
             for row in spectrum_csv_rows(section):
                 w.writerow(row)
@@ -125,3 +136,21 @@ def spectrum_run_lines(section: dict | None) -> list[str]:
             f"{_pair(p['damage'][i], '{:.3g}'):<22} {_pair(f['damage'][i], '{:.3g}')}"
         )
     return lines
+
+
+def mesh_spectrum_run_lines(names: list[str], section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of a train's or a planetary stage's spectrum (the stacked
+    ``rating.spectrum`` of its meshes; nothing without one): per mesh S_H, S_F and the damage
+    sums, driving / driven."""
+    if section is None:
+        return []
+    p, f = section["pitting"], section["bending"]
+    per = "; ".join(
+        f"{n} S_H {_pair(p['S_H'][k], '{:.3g}')}, S_F {_pair(f['S_F'][k], '{:.3g}')}, D_H "
+        f"{_pair(p['damage_sum'][k], '{:.3g}')}, D_F {_pair(f['damage_sum'][k], '{:.3g}')}"
+        for k, n in enumerate(names)
+    )
+    bins = len(section["bins"]["torque_Nm"][0])
+    line = (f"load spectrum (ISO 6336-6, {bins} bins of the input, driving / driven): {per} "
+            "(spectrum_<mesh>.csv)")
+    return [line]

@@ -1,21 +1,42 @@
-"""``jaxgear run``'s film and sliding loss along the path of contact, for a pair case with
+"""``jaxgear run``'s film and sliding loss along the path of contact, for a case with
 ``[lubricant]`` (:func:`jaxgear.tribology.mesh_tribology` on the run's modified exact-contact
-quasi-static result): ``tribology.json``, ``tribology.csv`` (every loaded cell) and
+quasi-static result): a pair's ``tribology.json``, ``tribology.csv`` (every loaded cell) and
 ``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`); with the scuffing keys of
 ``[lubricant]``, Blok's flash temperature along the path and the scuffing safety factors
-(:func:`jaxgear.tribology.mesh_scuffing`) in the same files."""
+(:func:`jaxgear.tribology.mesh_scuffing`) in the same files. A train's or a planetary stage's
+meshes each write the pair's files as ``tribology_<mesh>.csv`` and ``.png``, and the whole its
+efficiency (:func:`jaxgear.tribology.train_efficiency`,
+:func:`jaxgear.tribology.planetary_efficiency`) into ``tribology.json`` and ``tribology.csv`` (a
+row per mesh); a gearbox its stages' in series (:func:`jaxgear.tribology.gearbox_efficiency`)."""
 
 from __future__ import annotations
 
 import os
+from types import SimpleNamespace
 
 import numpy as np
 
 from ..io import tribology_of, write_csv, write_json
-from ..tribology import mesh_scuffing, mesh_tribology, pitch_point_roll
+from ..tribology import (
+    gearbox_efficiency,
+    mesh_scuffing,
+    mesh_tribology,
+    pitch_point_roll,
+    planetary_efficiency,
+    train_efficiency,
+)
 from ._plots import path_of_contact_plot
+from ._sweep_json import column_tag
 
-__all__ = ["tribology_outputs", "tribology_run_line"]
+__all__ = [
+    "efficiency_run_line",
+    "gearbox_tribology",
+    "mesh_tribology_files",
+    "planetary_tribology_outputs",
+    "train_tribology_outputs",
+    "tribology_outputs",
+    "tribology_run_line",
+]
 
 
 def tribology_outputs(case, out_dir: str, result) -> dict | None:
@@ -24,13 +45,26 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
     inputs = tribology_of(case)
     if inputs is None:
         return None
-    pair = case.pair
+    section, _ = mesh_tribology_files(
+        case.pair, result, result.theta, inputs, case.torque, inputs.speed, case, out_dir,
+        "tribology", case.name,
+    )
+    write_json(os.path.join(out_dir, "tribology.json"), section)
+    return section
+
+
+def mesh_tribology_files(pair, result, theta, inputs, torque, speed, case, out_dir: str,
+                         stem: str, label: str) -> tuple[dict, object]:
+    """One mesh's film, loss (and with the scuffing keys, flash temperature) from ``result``
+    (a one-mesh result or a train's ``MeshResult``, at the positions ``theta``) at its driving
+    ``torque`` (N·m) and ``speed`` (rad/s): ``<stem>.csv`` (every loaded cell) and
+    ``<stem>.png`` written; returns (its section, the :class:`jaxgear.tribology.MeshTribology`)."""
     out = mesh_tribology(
         pair,
         result,
         inputs.lubricant,
-        case.torque,
-        inputs.speed,
+        torque,
+        speed,
         inputs.roughness,
         case.youngs_modulus,
         case.poisson_ratio,
@@ -40,14 +74,14 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
     section = {
         "film_formula": inputs.film.name,
         "friction": inputs.friction.name,
-        "speed_rad_s": inputs.speed,
+        "speed_rad_s": float(speed),
         "viscosity_at_oil_temperature_mm2_s": float(inputs.lubricant.kinematic_viscosity()) * 1e6,
         "dynamic_viscosity_Pa_s": float(inputs.lubricant.dynamic_viscosity),
         **out.summary(),
-        "files": ["tribology.json", "tribology.csv", "tribology.png"],
+        "files": ["tribology.json", f"{stem}.csv", f"{stem}.png"],
     }
     loaded = np.asarray(out.loaded)
-    theta = np.broadcast_to(np.asarray(result.theta)[:, None, None], loaded.shape)[loaded]
+    theta = np.broadcast_to(np.asarray(theta)[:, None, None], loaded.shape)[loaded]
     cols = {
         "theta_rad": theta,
         "s_m": np.asarray(out.cell_s)[loaded],
@@ -77,9 +111,9 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
         flash = np.asarray(scuff.flash_temperature)[loaded]
         cols["flash_temperature_K"] = flash
         cols["contact_temperature_C"] = np.asarray(scuff.contact_temperature)[loaded]
-    write_csv(os.path.join(out_dir, "tribology.csv"), list(cols), list(cols.values()))
+    write_csv(os.path.join(out_dir, f"{stem}.csv"), list(cols), list(cols.values()))
     path_of_contact_plot(
-        os.path.join(out_dir, "tribology.png"),
+        os.path.join(out_dir, f"{stem}.png"),
         cols["s_m"],
         cols["line_load_N_per_m"],
         cols["central_film_m"],
@@ -88,11 +122,147 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
         cols["local_loss_W_per_m"],
         pitch=pitch_point_roll(pair),
         flash=flash,
-        title=f"{case.name}: film and sliding loss along the path of contact ({inputs.film.name}, "
-        f"μ {section['friction_coefficient']:.4f}, {inputs.speed:g} rad/s)",
+        title=f"{label}: film and sliding loss along the path of contact ({inputs.film.name}, "
+        f"μ {section['friction_coefficient']:.4f}, {float(speed):g} rad/s)",
+    )
+    return section, out
+
+
+def train_tribology_outputs(case, out_dir: str, result) -> dict | None:
+    """A train's film and loss per mesh from its coupled quasi-static ``result`` (every mesh,
+    at ``case.torque``) and its efficiency (:func:`jaxgear.tribology.train_efficiency`: the
+    meshes' series power flow along the gears and shafts); None without ``[lubricant]``."""
+    inputs = tribology_of(case)
+    if inputs is None:
+        return None
+    at = case.replace(speed=inputs.speed)
+    entries = []
+    for k in range(len(case.pairs)):
+        one = case.form.mesh_case(at, k)
+        entries.append((case.pairs[k], result.meshes[k], result.theta, abs(one.torque),
+                        abs(one.speed)))
+    return _meshes_outputs(
+        case, out_dir, inputs, entries,
+        lambda outs: train_efficiency(outs, case.gears, case.shaft_of,
+                                      input_power=case.torque * inputs.speed),
+        "series power flow of the meshes along the gears and shafts (a chain: the product of "
+        "the meshes' efficiencies)",
+    )
+
+
+def planetary_tribology_outputs(case, out_dir: str, results) -> dict | None:
+    """A planetary stage's film and loss per mesh from each mesh's quasi-static result at one
+    planet path's mean load (``results``, sun–planet then planet–ring, as
+    :func:`jaxgear.cli.planetary.mesh_sections` solves them), each at its driving member's
+    speed relative to the carrier, and the stage's efficiency
+    (:func:`jaxgear.tribology.planetary_efficiency`: the rolling power in the carrier's frame,
+    n_p paths per mesh); None without ``[lubricant]``."""
+    inputs = tribology_of(case)
+    if inputs is None:
+        return None
+    spec = case.form.spec
+    at = case.replace(speed=inputs.speed)
+    entries = []
+    for k, r in enumerate(results):
+        one = case.form.mesh_case(at, k)
+        entries.append((case.pairs[k], r, r.theta, abs(one.torque), abs(one.speed)))
+    member = spec.input.name.lower()
+    p_in = abs(spec.torques(case.torque)[member] * spec.speeds(inputs.speed)[member])
+    n_p = int(spec.n_planets)
+    return _meshes_outputs(
+        case, out_dir, inputs, entries,
+        lambda outs: planetary_efficiency(outs, n_p, p_in),
+        f"the meshes' rolling power in the carrier's frame, {n_p} planet paths each, in series "
+        "(sun-planet, planet-ring); input power in the fixed frame",
+    )
+
+
+def _meshes_outputs(case, out_dir: str, inputs, entries, efficiency, method: str) -> dict:
+    """Each mesh's files (:func:`mesh_tribology_files`, ``tribology_<mesh>.csv/.png``), the
+    ``efficiency(outs)`` :class:`jaxgear.tribology.PowerFlow`, ``tribology.csv`` (one row per
+    mesh) and ``tribology.json``; returns the summary section."""
+    names = [case.mesh_name(k) for k in range(len(entries))]
+    meshes, outs = {}, []
+    for name, (pair, result, theta, torque, speed) in zip(names, entries, strict=True):
+        stem = f"tribology_{column_tag(name)}"
+        section, out = mesh_tribology_files(pair, result, theta, inputs, torque, speed, case,
+                                            out_dir, stem, f"{case.name} {name}")
+        meshes[name] = {"torque_Nm": float(torque)} | section
+        outs.append(out)
+    flow = efficiency(outs)
+    overall = {"method": method} | flow.summary(names)
+    write_csv(
+        os.path.join(out_dir, "tribology.csv"),
+        ["mesh", "torque_Nm", "speed_rad_s", "transmitted_power_W", "power_W", "loss_W",
+         "efficiency", "friction_coefficient", "min_specific_film", "loss_factor_integrated"],
+        [
+            list(range(1, len(names) + 1)),
+            [meshes[n]["torque_Nm"] for n in names],
+            [meshes[n]["speed_rad_s"] for n in names],
+            overall["transmitted_power_W"],
+            overall["power_W"],
+            overall["loss_W"],
+            overall["efficiency_each"],
+            [meshes[n]["friction_coefficient"] for n in names],
+            [meshes[n]["min_specific_film"] for n in names],
+            [meshes[n]["loss_factor_integrated"] for n in names],
+        ],
+    )
+    section = {
+        "film_formula": inputs.film.name,
+        "friction": inputs.friction.name,
+        "speed_rad_s": inputs.speed,
+        "meshes": meshes,
+        "overall": overall,
+        "files": ["tribology.json", "tribology.csv",
+                  *(f for n in names for f in meshes[n]["files"][1:])],
+    }
+    write_json(os.path.join(out_dir, "tribology.json"), section)
+    return section
+
+
+def gearbox_tribology(stages: list[dict], out_dir: str) -> dict | None:
+    """A gearbox's efficiency from its stages' own ``tribology`` sections (``stages``: the
+    gearbox summary's entries, each with its stage's ``summary``): the stages in series
+    (:func:`jaxgear.tribology.gearbox_efficiency`), ``tribology.json`` and ``tribology.csv``
+    (one row per stage) written; None unless every stage has a ``[lubricant]``."""
+    found = [s["summary"].get("tribology") for s in stages]
+    if not found or any(t is None for t in found):
+        return None
+    each = [t.get("overall", t) for t in found]  # a train's or a stage's overall; a pair's own
+    flow = gearbox_efficiency(
+        [SimpleNamespace(efficiency=t["efficiency"], input_power=t["input_power_W"]) for t in each]
+    )
+    names = [s["stage"] for s in stages]
+    section = {
+        "method": "the stages in series, each stage's efficiency its own run's (its meshes' "
+                  "sliding loss)",
+        **flow.summary(names),
+        "files": ["tribology.json", "tribology.csv"],
+    }
+    write_csv(
+        os.path.join(out_dir, "tribology.csv"),
+        ["stage", "transmitted_power_W", "power_W", "loss_W", "efficiency"],
+        [list(range(1, len(names) + 1)), section["transmitted_power_W"], section["power_W"],
+         section["loss_W"], section["efficiency_each"]],
     )
     write_json(os.path.join(out_dir, "tribology.json"), section)
     return section
+
+
+def efficiency_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of a train's, a stage's or a gearbox's efficiency (nothing
+    without one)."""
+    if section is None:
+        return []
+    flow = section.get("overall", section)
+    per = ", ".join(f"{n} {100 * e:.2f} %" for n, e in
+                    zip(flow["names"], flow["efficiency_each"], strict=True))
+    line = (
+        f"efficiency {100 * flow['efficiency']:.2f} % (loss {flow['total_loss_W']:.4g} W of "
+        f"{flow['input_power_W']:.4g} W; {per}) (tribology.json)"
+    )
+    return [line]
 
 
 def tribology_run_line(section: dict | None) -> list[str]:

@@ -37,6 +37,7 @@ from ..gearbox import (
 )
 from ..io import write_json
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
+from ._tribology_run import efficiency_run_line, gearbox_tribology
 
 __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
            "gearbox_run_lines", "housing_point_spectrum", "least_safety"]
@@ -98,6 +99,7 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
                 "summary": summary,
             }
         )
+    tribology = gearbox_tribology(stages, out)  # every stage with [lubricant]: in series
     modes = chain_modes(form)
     write_json(os.path.join(out, "modes.json"), {"case": case.name, "torsional_chain": modes})
     coupled = coupled_sweep(form, out)
@@ -117,6 +119,8 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         "campbell": campbell,
         "housing_spectrum": spectrum,
     }
+    if tribology is not None:
+        result["tribology"] = tribology
     write_json(os.path.join(out, "summary.json"), result)
     return result
 
@@ -373,4 +377,4 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"planet pass {hs['planet_pass_Hz']:.4g} Hz, lines {ms} beside the mesh frequency "
             f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
             f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
-    return lines
+    return lines + efficiency_run_line(summary.get("tribology"))

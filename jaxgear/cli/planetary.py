@@ -55,7 +55,9 @@ from ._planetary_rating import (
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
 from ._rating_report import RATE  # the compiled rating (tests use the run's program)
+from ._spectrum_report import mesh_spectrum_run_lines
 from ._summary import environment_summary, mesh_settings_summary, result_summary
+from ._tribology_run import efficiency_run_line, planetary_tribology_outputs
 
 __all__ = [
     "K_GAMMA_SOURCE",
@@ -192,8 +194,13 @@ def planetary_files(form, case, out: str, args, complete: bool,
     if case.deviations is not None:  # [deviations]: every tooth's, over the hunting period
         summary["hunting"] = hunting_section(case, spec, stage, out)
     if case.pairs:
-        summary["meshes"] = mesh_sections(case, out)
+        solved = []
+        summary["meshes"] = mesh_sections(case, out, solved)
         summary["mesh"] = mesh_settings_summary(case)
+        # [lubricant]: each mesh's film and sliding loss, the stage's efficiency
+        tribology = planetary_tribology_outputs(case, out, solved)
+        if tribology is not None:
+            summary["tribology"] = tribology
     loads, k_v = None, None
     if ratings_of(case) is not None:
         loads = stage_loads(case, spec, stage, models)
@@ -552,9 +559,10 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     }
 
 
-def mesh_sections(case, out: str) -> dict:
+def mesh_sections(case, out: str, results: list | None = None) -> dict:
     """Each mesh's quasi-static TE and stiffness (rigid mesh, exact contact, the case's
-    modifications) at the mean planet load; ``mesh_<name>.csv``."""
+    modifications) at the mean planet load; ``mesh_<name>.csv``. ``results``: a list to fill
+    with each mesh's :class:`~jaxgear.QuasiStaticResult` (the film and sliding loss's)."""
     res = {}
     for k in range(len(case.pairs)):
         one = case.mesh_case(k)
@@ -567,6 +575,8 @@ def mesh_sections(case, out: str) -> dict:
             periods=2,
         )
         p = contact_pressure(one.pair, r, one.youngs_modulus, one.poisson_ratio)
+        if results is not None:
+            results.append(r)
         write_csv(
             os.path.join(out, f"mesh_{name}.csv"),
             ["theta_rad", "te_m", "mesh_stiffness_N_per_m"],
@@ -645,6 +655,7 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
                 )
             ) + " (rating.md)"
         )
+        lines += mesh_spectrum_run_lines(rt["meshes"], rt.get("spectrum"))
     for name, mesh in summary.get("meshes", {}).items():
         q = mesh["quasi_static"]
         lines.append(
@@ -653,4 +664,4 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
             f"N/µm, max line load {q['max_line_load_N_per_m'] / 1e3:.1f} N/mm, max pressure "
             f"{q['max_contact_pressure_Pa'] / 1e6:.0f} MPa"
         )
-    return lines
+    return lines + efficiency_run_line(summary.get("tribology"))

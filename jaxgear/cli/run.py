@@ -51,7 +51,7 @@ from ._rating_report import (
     train_mesh_results,
     write_rating_table,
 )
-from ._spectrum_report import spectrum_run_lines
+from ._spectrum_report import mesh_spectrum_run_lines, spectrum_run_lines
 from ._stress_outputs import fillet_table
 from ._summary import (
     environment_summary,
@@ -61,7 +61,12 @@ from ._summary import (
     result_summary,
     stiffness_line,
 )
-from ._tribology_run import tribology_outputs, tribology_run_line
+from ._tribology_run import (
+    efficiency_run_line,
+    train_tribology_outputs,
+    tribology_outputs,
+    tribology_run_line,
+)
 from .gearbox import gearbox_run_files, gearbox_run_lines
 from .planetary_speed import planetary_rated_run_files
 from .planetary_sweep import planetary_run_lines
@@ -514,6 +519,11 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     )
     if rating is not None:
         summary["rating"] = rating
+    # [lubricant]: every mesh's film and sliding loss on the coupled solve, the efficiency
+    tribology = train_tribology_outputs(case, out, coupled["exact"])
+    if tribology is not None:
+        summary["tribology"] = tribology
+    if rating is not None or tribology is not None:
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 
@@ -560,7 +570,9 @@ def train_rating_run_line(section: dict | None) -> list[str]:
             section["meshes"], section["pitting"]["S_H"], section["bending"]["S_F"], strict=True
         )
     )
-    return [f"rating ({section['method']}, driving / driven): {per} (rating.md)"]
+    return [f"rating ({section['method']}, driving / driven): {per} (rating.md)"] + (
+        mesh_spectrum_run_lines(section["meshes"], section.get("spectrum"))
+    )
 
 
 @functools.singledispatch
@@ -620,7 +632,11 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
             "(not run by jaxgear run: a hybrid train takes tens of seconds per speed on a 2-core "
             f"CPU), into jaxgear-out/{case.name}/sweep-A-B-N/"
         )
-    return lines + train_rating_run_line(summary.get("rating"))
+    return (
+        lines
+        + train_rating_run_line(summary.get("rating"))
+        + efficiency_run_line(summary.get("tribology"))
+    )
 
 
 run_lines.register(PlanetaryForm, planetary_run_lines)

@@ -1,4 +1,5 @@
-"""The ``[lubricant]`` table of a pair case: the oil, the flanks' roughness, the friction law and
+"""The ``[lubricant]`` table of a case (a pair's; a train's or a planetary stage's with
+``[[gears]]``, for every mesh): the oil, the flanks' roughness, the friction law and
 the film formula of the mesh's film and sliding loss (:mod:`jaxgear.tribology`; names → objects
 here only)::
 
@@ -14,8 +15,8 @@ here only)::
     friction_coefficient = 0.05         # optional: a given μ instead of Schlenk's
     film = "dowson-higginson"           # optional: "dowson-higginson", "pan-hamrock", "grubin"
 
-The pinion speed comes from ``[operating] speed_rad_s`` (> 0) or, without it, ``[operating]
-speed_rpm`` (the rating's).
+The pinion speed (a train's or a stage's: its input member's) comes from ``[operating]
+speed_rad_s`` (> 0) or, without it, ``[operating] speed_rpm`` (the rating's).
 """
 
 from __future__ import annotations
@@ -133,8 +134,8 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
 
 
 def tribology_of(case) -> TribologyInputs | None:
-    """The ``[lubricant]`` inputs of a pair case (:class:`TribologyInputs`), or None without
-    the table."""
+    """The ``[lubricant]`` inputs of a case (:class:`TribologyInputs`; a train's or a planetary
+    stage's speed its input member's), or None without the table."""
     raw = getattr(case, "raw", None) or {}
     if "lubricant" not in raw:
         return None

@@ -42,7 +42,7 @@ Keys (file units; ranges as checked)::
     use_measured = ["K_Hbeta"]      # measured factors that replace ISO's (jaxgear run): K_Hbeta
                                     # (load map), K_Halpha (load sharing; K_Falpha too), K_v
                                     # (the speed sweep at the rating speed); default none
-    [rating.spectrum]               # a pair's load spectrum (ISO 6336-6): torque_Nm, speed_rpm
+    [rating.spectrum]               # a load spectrum (ISO 6336-6): torque_Nm, speed_rpm
                                     # and hours | cycles | time_share per bin, or a series
                                     # (jaxgear.io._spectrum_table)
 
@@ -196,9 +196,10 @@ class RatingCase:
     #: ISO 6336-1's modification inputs and where they come from: ``tip_relief_m`` (C_a of
     #: K_v) and ``crowning_m`` (C_β of K_Hβ), each with its ``*_source`` (:func:`modification_inputs`)
     modification_inputs: dict = dataclasses.field(default_factory=dict)
-    #: a pair's load spectrum (``[rating.spectrum]``, :func:`jaxgear.io._spectrum_table.
-    #: parse_spectrum`), or ``None``: ``jaxgear run`` then rates the spectrum too
-    #: (:func:`jaxgear.rating.rate_spectrum`, ISO 6336-6)
+    #: the mesh's load spectrum (``[rating.spectrum]``, :func:`jaxgear.io._spectrum_table.
+    #: parse_spectrum`; a train's or a planetary stage's: its input's, carried to the mesh,
+    #: :meth:`jaxgear.rating.LoadSpectrum.carried`), or ``None``: ``jaxgear run`` then rates
+    #: the spectrum too (:func:`jaxgear.rating.rate_spectrum`, ISO 6336-6)
     spectrum: LoadSpectrum | None = None
 
 
@@ -447,7 +448,8 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
                 f"mesh {meshes[k]} is internal ({case.gear_names[h]}: teeth "
                 f"{case.pairs[k].gear.teeth}): the rating covers external pairs only",
             )
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes))
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | {"spectrum"})
+    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
     own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
     mat, op = data.get("material", {}), data.get("operating", {})
     names = case.gear_names
@@ -472,7 +474,28 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
         treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
     refuse_unread_material(mat, treatments)
-    return tuple(out)
+    return _with_spectrum(rt, spectrum_table, out, case.torque, speed)
+
+
+def _with_spectrum(rt: dict, table: dict | None, rcs: list, torque: float, speed: float) -> tuple:
+    """The meshes' :class:`RatingCase` with a train's or a planetary stage's ``[rating.spectrum]``
+    (the input member's bins, :func:`jaxgear.io._spectrum_table.parse_spectrum`, its
+    ``time_share`` scaled to ``[rating] life_h``) carried to each mesh by the lossless ratios of
+    its operating point to the input's (``torque`` N·m, ``speed`` rad/s):
+    :meth:`jaxgear.rating.LoadSpectrum.carried`, as :func:`jaxgear.rating.rate_train_spectrum`
+    carries it."""
+    if "spectrum" not in rt:
+        return tuple(rcs)
+    life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
+    spectrum = parse_spectrum(table, life)
+    return tuple(
+        dataclasses.replace(
+            rc,
+            spectrum=spectrum.carried(abs(float(rc.operating.torque)) / torque,
+                                      abs(float(rc.operating.speed)) / speed),
+        )
+        for rc in rcs
+    )
 
 
 def check_train_rating(data: dict, case) -> None:
@@ -512,7 +535,9 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "gears to rate: give the stage by its [[gears]]",
         )
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS)
+    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS
+                     | {"spectrum"})
+    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
     k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
     section = ring_cutter(data, case)
     rt = {k: v for k, v in rt.items() if k not in PLANETARY_KEYS}
@@ -547,7 +572,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
                 "model's face load; a spur stage has none, and would be rated with ISO's K_Hβ): "
                 "remove it", list(rc.use_measured),
             )
-    return tuple(out)
+    return _with_spectrum(rt, spectrum_table, out, case.torque, case.speed)
 
 
 def _ring_table(data: dict, case) -> tuple[str, dict]:

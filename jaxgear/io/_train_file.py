@@ -105,6 +105,7 @@ from ._case_file import (
     parse_mesh_settings,
     parse_torque,
 )
+from ._lubricant_table import parse_lubricant
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
@@ -141,6 +142,7 @@ _TOP_KEYS = {
     "planetary",
     "rating",
     "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
+    "lubricant",  # every mesh's film, loss and the efficiency (jaxgear/io/_lubricant_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -451,7 +453,19 @@ def _planetary_case(data: dict, name: str) -> Case:
     if older is not None:
         case = case.replace(stiffness=case.stiffness.with_ring_cutter(older))
     check_internal_stiffness(case, "[planetary]")
+    _check_lubricant(data, case)
     return case
+
+
+def _check_lubricant(data: dict, case) -> None:
+    """``[lubricant]`` of a train or a planetary stage checked whole (:func:`parse_lubricant`):
+    every mesh's film and sliding loss and the efficiency; a lumped stage (no gears) refused."""
+    if "lubricant" not in data:
+        return
+    if not case.pairs:
+        raise sc.fail("", "lubricant", "allowed only with [[gears]] (a lumped planetary stage "
+                      "has no flanks to lubricate)", "[lubricant]")
+    parse_lubricant(data["lubricant"], data.get("operating", {}))
 
 
 def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> Case:
@@ -638,10 +652,12 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     if internal:
         check_internal_stiffness(case, f"meshes[{internal[0]}]")
         check_train_rating(data, case)  # [rating]: refused (external pairs only)
+        _check_lubricant(data, case)
         return case
     _check_overlap(case)
     _check_power(case)
     check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
+    _check_lubricant(data, case)
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
         raise sc.fail(

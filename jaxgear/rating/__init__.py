@@ -11,7 +11,8 @@ contact model that produced it (:class:`MeasuredFactor`, :func:`contact_model`) 
 that rate with them (:func:`with_measured`) live here too. The tooth form
 factors (ISO 6336-3), the load factors (ISO 6336-1, with K_Hβ and K_Hα from a contact solution)
 and the finite-element root-stress map live here too. Life under a load spectrum (ISO 6336-6:
-:class:`LoadSpectrum`, :func:`rate_spectrum`, Palmgren–Miner on the rating's S–N lines
+:class:`LoadSpectrum`, :func:`rate_spectrum`, a train's or a planetary stage's meshes
+:func:`rate_train_spectrum`, Palmgren–Miner on the rating's S–N lines
 :class:`SNCurve`) lives here too. What a user reaches for first (``rate``,
 ``pitting_rating``, ``bending_rating``, the results, the settings and material classes, the
 geometries) is re-exported at :mod:`jaxgear`'s top level; the rest is reached as
@@ -57,6 +58,7 @@ from ._load_spectrum import (
     SpectrumRating as SpectrumRating,
     miner_damage as miner_damage,
     rate_spectrum as rate_spectrum,
+    rate_train_spectrum as rate_train_spectrum,
     spectrum_safety as spectrum_safety,
 )
 from ._material import (

@@ -48,6 +48,7 @@ __all__ = [
     "SpectrumRating",
     "miner_damage",
     "rate_spectrum",
+    "rate_train_spectrum",
     "spectrum_safety",
 ]
 
@@ -173,6 +174,21 @@ class LoadSpectrum(eqx.Module):
     def total_duration(self) -> Float[Array, ""]:
         """Σ t_i (s)."""
         return jnp.sum(self.duration)
+
+    def carried(self, torque_ratio, speed_ratio) -> LoadSpectrum:
+        """The spectrum carried to another member by lossless ratios: every bin's torque times
+        ``torque_ratio`` and speed times ``speed_ratio`` (each > 0), its time unchanged (a
+        train's input spectrum at a mesh's driving gear: T_k/T_in and ω_k/ω_in; a planetary
+        mesh's: per planet path, relative to the carrier).
+
+        Raises:
+            ValueError: a ratio not a finite number > 0 (one line)."""
+        w = "LoadSpectrum.carried"
+        check_real("torque_ratio", torque_ratio, lo=0.0, lo_open=True, where=w)
+        check_real("speed_ratio", speed_ratio, lo=0.0, lo_open=True, where=w)
+        return LoadSpectrum(np.asarray(self.torque) * float(torque_ratio),
+                            np.asarray(self.speed) * float(speed_ratio),
+                            np.asarray(self.duration))
 
     def scaled_to(self, life) -> LoadSpectrum:
         """The spectrum with its times scaled so that they add up to ``life`` (s, > 0): a
@@ -468,3 +484,47 @@ def _stack(results):
         if hasattr(first, name):
             arrays[name] = jnp.stack([jnp.asarray(getattr(r, name)) for r in results])
     return SimpleNamespace(**arrays)
+
+
+def rate_train_spectrum(meshes, spectrum: LoadSpectrum, reference) -> tuple[SpectrumRating, ...]:
+    """Rate every mesh of a gear train or a planetary stage under the load spectrum of its
+    input (ISO 6336-6:2019, module docstring): each mesh's bins are the input's carried to its
+    driving member by the lossless ratios of its operating point to the input's
+    (:meth:`LoadSpectrum.carried`: T_i T_k/T_ref, ω_i ω_k/ω_ref), each bin rated at its torque
+    and speed as the mesh's single-point rating is (:func:`rate_spectrum`).
+
+    Args:
+        meshes: (geometry, operating, settings) of each mesh: its single-point rating's
+            arguments at the input's ``reference`` point (:func:`jaxgear.io.ratings_of`' for a
+            train case: its driving gear's torque and speed; a planetary stage's: one planet
+            path's torque and the driving member's speed relative to the carrier, the load
+            sharing factor in the settings, :func:`jaxgear.rating.with_load_sharing`).
+        spectrum: :class:`LoadSpectrum` of the input member (torque and speed per bin).
+        reference: :class:`jaxgear.OperatingPoint`, the input's torque (N·m) and speed (rad/s)
+            at which ``meshes``' operating points hold, each > 0.
+
+    Returns:
+        A :class:`SpectrumRating` per mesh (pinion / gear = driving / driven).
+
+    Raises:
+        ValueError: a reference not an OperatingPoint or not > 0, a mesh not three items, as
+            :func:`rate_spectrum` (one line naming the argument)."""
+    w = "rate_train_spectrum"
+    check_instance("spectrum", spectrum, LoadSpectrum, "a jaxgear.rating.LoadSpectrum", w)
+    check_instance("reference", reference, OperatingPoint,
+                   "a jaxgear.OperatingPoint(torque, speed) of the input", w)
+    t_ref, w_ref = float(reference.torque), float(reference.speed)
+    for name, v in (("reference.torque", t_ref), ("reference.speed", w_ref)):
+        check_real(name, v, lo=0.0, lo_open=True, where=w)
+    out = []
+    for k, mesh in enumerate(meshes):
+        if not isinstance(mesh, tuple | list) or len(mesh) != 3:
+            raise ValueError(f"{w}: meshes[{k}] = {type(mesh).__name__}: allowed a (geometry, "
+                             "operating, settings) triple")
+        geometry, operating, settings = mesh
+        check_instance(f"meshes[{k}] operating", operating, OperatingPoint,
+                       "a jaxgear.OperatingPoint", w)
+        carried = spectrum.carried(abs(float(operating.torque)) / t_ref,
+                                   abs(float(operating.speed)) / w_ref)
+        out.append(rate_spectrum(geometry, carried, settings))
+    return tuple(out)

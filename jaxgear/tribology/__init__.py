@@ -9,9 +9,18 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
 (:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
 the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
-:class:`MeshScuffing`). docs/tribology.md.
+:class:`MeshScuffing`); the power loss and efficiency of a gear train, a planetary stage and a
+gearbox from their meshes' own sliding loss, by a series power flow (:func:`train_efficiency`,
+:func:`planetary_efficiency`, :func:`gearbox_efficiency` → :class:`PowerFlow`). docs/tribology.md.
 """
 
+from ._efficiency import (
+    PowerFlow as PowerFlow,
+    gearbox_efficiency as gearbox_efficiency,
+    planetary_efficiency as planetary_efficiency,
+    power_flow as power_flow,
+    train_efficiency as train_efficiency,
+)
 from ._film import (
     AbstractFilmFormula as AbstractFilmFormula,
     DowsonHigginson as DowsonHigginson,
