@@ -57,7 +57,7 @@ from jaxtyping import Array, Bool, Float
 
 from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus
-from .._util import as_float, check_instance, check_real, safe_max
+from .._util import as_float, check_instance, check_real, is_traced, safe_max
 from ._lubricant import Lubricant
 from ._mesh import MeshTribology
 
@@ -218,7 +218,8 @@ def fzg_integral_scuffing_temperature(
     )
     t1t = fzg_pinion_torque(load_stage)
     theta_mt = 80.0 + 0.23 * t1t * lubricant_factor
-    theta_fl = 0.2 * t1t * (100.0 / (float(viscosity_40) * 1e6)) ** 0.02 * lubricant_factor
+    nu40 = viscosity_40 if is_traced(viscosity_40) else float(viscosity_40)
+    theta_fl = 0.2 * t1t * (100.0 / (nu40 * 1e6)) ** 0.02 * lubricant_factor
     return theta_mt + relative_structural_factor * _C2 * theta_fl
 
 
@@ -471,7 +472,8 @@ def mesh_scuffing(
             " or a one-mesh QuasiStaticResult"
         )
     theta_s = limits.flash()
-    theta_int_s = limits.integral(float(lubricant.viscosity_40))
+    nu40 = lubricant.viscosity_40  # traced when the lubricant is a leaf of a jitted objective
+    theta_int_s = limits.integral(nu40 if is_traced(nu40) else float(nu40))
     return _scuffing(
         pair,
         result.cell_mask,
