@@ -5,9 +5,9 @@ range, :class:`MaxLineLoad`, :class:`LoadCentroid` across the face, :class:`Line
 line load, :class:`DynamicFactor` over a speed band, :class:`LeastSafetyFactor` of the rating, the
 tribology objectives :class:`MeshPowerLoss`, :class:`EfficiencyLoss`, :class:`MinSpecificFilm`,
 :class:`MaxFlashTemperature` of a :class:`MeshLubrication`) on the rigid mesh or on any scene
-(the hybrid scene at speed included), design variables normalised and bounded by reparametrisation; any
-optimistix quasi-Newton minimiser or optax gradient transformation solves it (:func:`minimise`,
-L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
+(the hybrid scene at speed included), design variables normalised and bounded by
+reparametrisation; any optimistix quasi-Newton minimiser or optax gradient transformation
+solves it (:func:`minimise`, L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
 sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile` statistic).
 Case-file names map to these objects in :mod:`jaxgear.io` (``case_problem``).
 """

@@ -111,8 +111,8 @@ def add_optimise_arguments(o) -> None:
     o.add_argument(
         "--reduce",
         choices=STATISTIC_NAMES,
-        help="robust_te_rms, tribology objectives: worst case or mean over the torques (default: the case's "
-        "[optimise], else the worst case)",
+        help="robust_te_rms, tribology objectives: worst case or mean over the torques "
+        "(default: the case's [optimise], else the worst case)",
     )
     o.add_argument("--method", choices=OPTIMISER_NAMES, help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")
