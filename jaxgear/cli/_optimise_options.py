@@ -61,7 +61,7 @@ def add_optimise_arguments(o) -> None:
         "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
         "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um); power_loss, "
         "efficiency_loss, min_specific_film (as 1/λ), max_flash_temperature: the mesh's "
-        "tribology (a case with [lubricant]; --torques, --reduce)",
+        "tribology (a case with [lubricant])",
     )
     o.add_argument(
         "--te-limit-um",
