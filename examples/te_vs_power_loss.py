@@ -170,6 +170,7 @@ def main(out_dir=OUT, n_grid: int = 25, positions: int = 32, max_iterations: int
         "the weighted sums minimised in the smooth law (case width) by L-BFGS",
     }
     (out_dir / "te_vs_power_loss.json").write_text(json.dumps(record, indent=1) + "\n")
+    np.savez(out_dir / "te_vs_power_loss_map.npz", depths=depths, extents=extents, te=te, loss=loss)
     plot(record, depths, extents, te, loss, out_dir / "te_vs_power_loss.png")
     a, b = record["te_optimal"], record["loss_optimal"]
     print(
@@ -186,43 +187,60 @@ def plot(record, depths, extents, te, loss, path) -> None:
     n = len(depths)
     te_map = te.reshape(n, n) * 1e6  # rows: extents, columns: depths
     loss_map = loss.reshape(n, n)
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), layout="constrained")
-    a, b = record["te_optimal"], record["loss_optimal"]
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.6), layout="constrained")
+    a, b, ws = record["te_optimal"], record["loss_optimal"], record["weighted_sums"]
+    marks = {"clip_on": False, "zorder": 5, "ms": 9, "mec": "k"}
     for ax, z, label, cmap in (
         (axes[0], te_map, "TE peak-to-peak (µm)", "viridis"),
         (axes[1], loss_map, "mesh power loss P_VZP (W)", "magma"),
     ):
         c = ax.contourf(extents, depths, z.T, levels=20, cmap=cmap)
         fig.colorbar(c, ax=ax, label=label)
-        ax.plot(a["extent"], a["depth_E_star"], "o", mfc="w", mec="k", ms=8, label="TE-optimal")
-        ax.plot(b["extent"], b["depth_E_star"], "s", mfc="w", mec="k", ms=8, label="loss-optimal")
-        ws = record["weighted_sums"]
-        ax.plot([d["extent"] for d in ws], [d["depth_E_star"] for d in ws], "w.--", lw=1,
-                label="weighted sums")
+        ax.plot(a["extent"], a["depth_E_star"], "o", mfc="w", label="TE-optimal (map)", **marks)
+        ax.plot(b["extent"], b["depth_E_star"], "s", mfc="w", label="loss-optimal (map)", **marks)
+        ax.plot([d["extent"] for d in ws], [d["depth_E_star"] for d in ws], "^", mfc="C3",
+                label="weighted sums (L-BFGS)", **{**marks, "ms": 7})
+        for d in ws:
+            ax.annotate(f"w {d['weight']:.1f}", (d["extent"], d["depth_E_star"]),
+                        xytext=(6, -10), textcoords="offset points", color="w", fontsize=7)
         ax.set_xlabel("tip relief extent Γ (fraction of the path of contact)")
         ax.set_ylabel("tip relief depth E* = E/δ_m")
-        ax.set_title(label.split(" (")[0])
-        ax.legend(loc="upper left", fontsize=8)
+        ax.set_title(label.split(" (")[0] + " over the tip relief")
+        ax.legend(loc="lower right", fontsize=7)
     ax = axes[2]
     ax.plot(te * 1e6, loss, ".", color="0.75", ms=3, label="designs of the map")
     fr = record["front"]
-    ax.plot([d["te_ptp_um"] for d in fr], [d["power_loss_W"] for d in fr], "k-", lw=1.5,
+    ax.plot([d["te_ptp_um"] for d in fr], [d["power_loss_W"] for d in fr], "k-", lw=2,
             label="front (map)")
-    ws = record["weighted_sums"]
-    ax.plot([d["te_ptp_um"] for d in ws], [d["power_loss_W"] for d in ws], "o", color="C3",
-            label="weighted sums (L-BFGS)")
+    ax.plot(a["te_ptp_um"], a["power_loss_W"], "o", mfc="w", label="TE-optimal (map)", **marks)
+    ax.plot(b["te_ptp_um"], b["power_loss_W"], "s", mfc="w", label="loss-optimal (map)", **marks)
+    ax.plot([d["te_ptp_um"] for d in ws], [d["power_loss_W"] for d in ws], "^", color="C3",
+            ms=7, label="weighted sums (L-BFGS)")
+    for d in ws:
+        ax.annotate(f"w {d['weight']:.1f}", (d["te_ptp_um"], d["power_loss_W"]),
+                    xytext=(5, 2), textcoords="offset points", color="C3", fontsize=7)
     u = record["unmodified"]
-    ax.plot(u["te_ptp_um"], u["power_loss_W"], "x", color="k", ms=8, label="unmodified")
+    ax.plot(u["te_ptp_um"], u["power_loss_W"], "x", color="k", ms=9, label="unmodified")
+    ax.set_xlim(0.0, 1.15 * u["te_ptp_um"])
     ax.set_xlabel("TE peak-to-peak (µm)")
     ax.set_ylabel("mesh power loss P_VZP (W)")
-    ax.set_title("front: TE against power loss")
-    ax.legend(fontsize=8)
+    ax.set_title("the trade-off: TE against power loss")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="upper right")
     fig.suptitle(
-        f"{record['case']}: tip relief on both gears, {record['torque_Nm']:.0f} N·m, "
-        f"{record['speed_rad_s']:.0f} rad/s (exact contact)"
+        f"{record['case']}: the same tip relief on both gears, {record['torque_Nm']:.0f} N·m, "
+        f"{record['speed_rad_s']:.0f} rad/s, δ_m {record['delta_m_um']:.1f} µm (exact contact)"
     )
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def replot(out_dir=OUT) -> None:
+    """Redraw the figure from the record and the map in ``out_dir`` (no solve)."""
+    out_dir = pathlib.Path(out_dir)
+    record = json.loads((out_dir / "te_vs_power_loss.json").read_text())
+    m = np.load(out_dir / "te_vs_power_loss_map.npz")
+    plot(record, m["depths"], m["extents"], m["te"], m["loss"], out_dir / "te_vs_power_loss.png")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 """Tribology objectives: the mesh power loss, the mesh's loss of efficiency, the smallest specific
 film thickness λ and the largest flash temperature along the path of contact, each read from the
 quasi-static result of the design at a torque by :func:`jaxgear.tribology.mesh_tribology` (and
-:func:`jaxgear.tribology.mesh_scuffing` for the flash temperature); docs/tribology.md,
+:func:`jaxgear.tribology.mesh_flash_temperature`); docs/tribology.md,
 "Optimising the tribology".
 
 Each is an :class:`~optimise.AbstractQuasiStaticObjective`: the design is solved at each torque of
@@ -13,9 +13,8 @@ is one :class:`MeshLubrication`; a case file's ``[lubricant]`` builds it in :mod
 
 Differentiable in the tooth modifications through the line loads (the smooth contact law of the
 problem); μ (Schlenk's) depends on the torque and the oil, not on the modifications. The minimum
-λ and the maximum flash temperature are maxima over the cells (:func:`jaxgear.tribology`'s
-``safe_max`` rule): differentiable almost everywhere, with a kink where the critical cell
-changes, as :class:`~optimise.MaxLineLoad`.
+λ and the maximum flash temperature are extrema over the cells: differentiable almost
+everywhere, with a kink where the critical cell changes, as :class:`~optimise.MaxLineLoad`.
 """
 
 from __future__ import annotations
@@ -41,11 +40,6 @@ __all__ = [
     "MeshPowerLoss",
     "MinSpecificFilm",
 ]
-
-# the scuffing limits only set mesh_scuffing's safety factors, never the flash temperature the
-# objective reads: any valid pair of temperatures (°C) will do
-_ANY_LIMITS = tr.ScuffingLimits(scuffing_temperature=300.0, integral_scuffing_temperature=300.0)
-
 
 class MeshLubrication(eqx.Module):
     """The lubricated mesh of the tribology objectives: what
@@ -151,18 +145,16 @@ class MeshLubrication(eqx.Module):
 
     def max_flash_temperature(self, result: jg.QuasiStaticResult, torque) -> Float[Array, ""]:
         """Blok's largest flash temperature θ_fl (K) along the path of contact of ``result`` at
-        ``torque`` (N·m) (:func:`jaxgear.tribology.mesh_scuffing`)."""
-        scuffing = tr.mesh_scuffing(
+        ``torque`` (N·m) (:func:`jaxgear.tribology.mesh_flash_temperature`); its derivative is
+        the one at the hottest cell (the first, at a tie)."""
+        flash = tr.mesh_flash_temperature(
             self.pair,
-            result,
             self.tribology(result, torque),
-            self.lubricant,
             self.youngs_modulus,
             self.poisson_ratio,
-            _ANY_LIMITS,
             thermal_coefficients=self.thermal_coefficients.astype(result.line_load.dtype),
-        )
-        return scuffing.max_flash_temperature
+        ).reshape(-1)
+        return flash[jnp.argmax(flash)]
 
 
 def _positive(where, name, value, unit, hi):

@@ -1,9 +1,11 @@
 """``jaxgear run``'s film and sliding loss along the path of contact, for a pair case with
 ``[lubricant]`` (:func:`jaxgear.tribology.mesh_tribology` on the run's modified exact-contact
 quasi-static result): ``tribology.json``, ``tribology.csv`` (every loaded cell) and
-``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`); with the scuffing keys of
-``[lubricant]``, Blok's flash temperature along the path and the scuffing safety factors
-(:func:`jaxgear.tribology.mesh_scuffing`) in the same files."""
+``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`: line load, film, λ, local
+sliding loss and Blok's flash temperature along the path,
+:func:`jaxgear.tribology.mesh_flash_temperature`); with the scuffing keys of ``[lubricant]``,
+the contact temperature and the scuffing safety factors (:func:`jaxgear.tribology.mesh_scuffing`)
+in the same files."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import os
 import numpy as np
 
 from ..io import tribology_of, write_csv, write_json
-from ..tribology import mesh_scuffing, mesh_tribology, pitch_point_roll
+from ..tribology import mesh_flash_temperature, mesh_scuffing, mesh_tribology, pitch_point_roll
 from ._plots import path_of_contact_plot
 
 __all__ = ["tribology_outputs", "tribology_run_line"]
@@ -60,8 +62,15 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
         "specific_film": np.asarray(out.specific_film)[loaded],
         "local_loss_W_per_m": np.asarray(out.local_loss)[loaded],
     }
-    flash = None
-    if inputs.scuffing is not None:
+    if inputs.scuffing is None:
+        # Blok's flash temperature along the path needs no scuffing limits: drawn and written
+        # beside the film and the loss, with no safety factor
+        flash = np.asarray(
+            mesh_flash_temperature(pair, out, case.youngs_modulus, case.poisson_ratio)
+        )[loaded]
+        cols["flash_temperature_K"] = flash
+        section["max_flash_temperature_K"] = float(flash.max()) if flash.size else 0.0
+    else:
         scuff = mesh_scuffing(
             pair,
             result,

@@ -9,7 +9,8 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
 (:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
 the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
-:class:`MeshScuffing`). docs/tribology.md.
+:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`).
+docs/tribology.md.
 """
 
 from ._film import (
@@ -31,6 +32,7 @@ from ._flash import (
     fzg_integral_scuffing_temperature as fzg_integral_scuffing_temperature,
     fzg_pinion_torque as fzg_pinion_torque,
     fzg_scuffing_temperature as fzg_scuffing_temperature,
+    mesh_flash_temperature as mesh_flash_temperature,
     mesh_scuffing as mesh_scuffing,
     thermal_contact_coefficient as thermal_contact_coefficient,
     ts_flash_temperature as ts_flash_temperature,
