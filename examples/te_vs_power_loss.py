@@ -182,6 +182,20 @@ def main(out_dir=OUT, n_grid: int = 25, positions: int = 32, max_iterations: int
     return record
 
 
+def _weight_labels(ws, key=None, tol=0.02) -> dict:
+    """One label per distinct point of the weighted sums ("w 0.8, 0.6" where two weights give
+    the same design), by the point's (Γ, E*) or by ``d[key]``."""
+    out: dict = {}
+    for d in ws:
+        at = d[key] if key else (d["extent"], d["depth_E_star"])
+        near = next((p for p in out if abs(p[0] - at[0]) + abs(p[1] - at[1]) < tol), None)
+        if near is None:
+            out[at] = f"w {d['weight']:.1f}"
+        else:
+            out[near] += f", {d['weight']:.1f}"
+    return out
+
+
 def plot(record, depths, extents, te, loss, path) -> None:
     """Left: TE_ptp over (Γ, E*); middle: P_VZP over the same; right: the front."""
     n = len(depths)
@@ -200,9 +214,9 @@ def plot(record, depths, extents, te, loss, path) -> None:
         ax.plot(b["extent"], b["depth_E_star"], "s", mfc="w", label="loss-optimal (map)", **marks)
         ax.plot([d["extent"] for d in ws], [d["depth_E_star"] for d in ws], "^", mfc="C3",
                 label="weighted sums (L-BFGS)", **{**marks, "ms": 7})
-        for d in ws:
-            ax.annotate(f"w {d['weight']:.1f}", (d["extent"], d["depth_E_star"]),
-                        xytext=(6, -10), textcoords="offset points", color="w", fontsize=7)
+        for (g, e), text in _weight_labels(ws).items():
+            ax.annotate(text, (g, e), xytext=(6, -10), textcoords="offset points", color="w",
+                        fontsize=7)
         ax.set_xlabel("tip relief extent Γ (fraction of the path of contact)")
         ax.set_ylabel("tip relief depth E* = E/δ_m")
         ax.set_title(label.split(" (")[0] + " over the tip relief")
@@ -217,8 +231,11 @@ def plot(record, depths, extents, te, loss, path) -> None:
     ax.plot([d["te_ptp_um"] for d in ws], [d["power_loss_W"] for d in ws], "^", color="C3",
             ms=7, label="weighted sums (L-BFGS)")
     for d in ws:
-        ax.annotate(f"w {d['weight']:.1f}", (d["te_ptp_um"], d["power_loss_W"]),
-                    xytext=(5, 2), textcoords="offset points", color="C3", fontsize=7)
+        d["_at"] = (d["te_ptp_um"], d["power_loss_W"])
+    for at, text in _weight_labels(ws, "_at", 0.2).items():
+        ax.annotate(text, at, xytext=(5, 2), textcoords="offset points", color="C3", fontsize=7)
+    for d in ws:
+        del d["_at"]
     u = record["unmodified"]
     ax.plot(u["te_ptp_um"], u["power_loss_W"], "x", color="k", ms=9, label="unmodified")
     ax.set_xlim(0.0, 1.15 * u["te_ptp_um"])
@@ -226,7 +243,7 @@ def plot(record, depths, extents, te, loss, path) -> None:
     ax.set_ylabel("mesh power loss P_VZP (W)")
     ax.set_title("the trade-off: TE against power loss")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, loc="upper right")
+    ax.legend(fontsize=7, loc="lower right", framealpha=0.95)
     fig.suptitle(
         f"{record['case']}: the same tip relief on both gears, {record['torque_Nm']:.0f} N·m, "
         f"{record['speed_rad_s']:.0f} rad/s, δ_m {record['delta_m_um']:.1f} µm (exact contact)"
