@@ -101,7 +101,7 @@ def _tribology(kind):
 
 
 # ``objective = "..."``: the objective object, from the design torque (N·m) and the settings
-# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit)
+# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit, lubrication)
 OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "te_rms": lambda torque, **_: op.TeRms(),
     "te_ptp": lambda torque, **_: op.TePeakToPeak(),
@@ -116,7 +116,6 @@ OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "min_specific_film": _tribology(op.MinSpecificFilm),
     "max_flash_temperature": _tribology(op.MaxFlashTemperature),
 }
-
 
 # ``method = "..."``: the optimiser object (an optimistix minimiser or an optax transformation)
 OPTIMISERS: dict[str, Callable[..., object]] = {
