@@ -147,3 +147,14 @@ def test_bad_lubrication_one_line(case):
     lub = op.MeshLubrication(*args)
     with pytest.raises(ValueError, match=r"torques = \[-5.0\] N·m: allowed"):
         op.MeshPowerLoss(lub, [-5.0])
+
+
+def test_cli_settings_take_the_tribology_objectives(case):
+    """``jaxgear optimise``'s settings: a torque range goes with a tribology objective; a case
+    without ``[lubricant]`` is refused in one line naming the table."""
+    from jaxgear.cli import check_settings
+
+    ok = {"objective": "max_flash_temperature", "torques": "100:300:3", "max_iterations": 5}
+    assert check_settings(ok, case) is ok
+    with pytest.raises(ValueError, match=r"'accessory-spur' has no \[lubricant\] table"):
+        check_settings({**ok, "torques": None}, jio.load_case("accessory-spur"))
