@@ -97,8 +97,8 @@ def tribology_outputs(case, out_dir: str, result) -> dict | None:
         cols["local_loss_W_per_m"],
         pitch=pitch_point_roll(pair),
         flash=flash,
-        title=f"{case.name}: film and sliding loss along the path of contact ({inputs.film.name}, "
-        f"μ {section['friction_coefficient']:.4f}, {inputs.speed:g} rad/s)",
+        title=f"{case.name}: film, sliding loss and flash temperature along the path of contact "
+        f"({inputs.film.name}, μ {section['friction_coefficient']:.4f}, {inputs.speed:g} rad/s)",
     )
     write_json(os.path.join(out_dir, "tribology.json"), section)
     return section
