@@ -20,8 +20,6 @@ by default ``jaxgear-out/te_vs_power_loss``. Run from anywhere:
 ``python examples/te_vs_power_loss.py [out_dir]`` (a few minutes on 2 loaded cores).
 """
 
-from __future__ import annotations
-
 import json
 import pathlib
 import sys
@@ -77,9 +75,16 @@ def _front(te, loss) -> np.ndarray:
     return np.asarray(keep)
 
 
-def main(out_dir=OUT, n_grid: int = 25, positions: int = 32, max_iterations: int = 30) -> dict:
-    """Run the example at ``n_grid``² designs and ``positions`` per pitch; write the record and
-    the figure into ``out_dir`` (created if missing); returns the record."""
+def main(
+    out_dir=OUT,
+    n_grid: int = 25,
+    positions: int = 32,
+    max_iterations: int = 30,
+    weights=WEIGHTS,
+) -> dict:
+    """Run the example at ``n_grid``² designs, ``positions`` per pitch and the weighted sums of
+    ``weights``; write the record and the figure into ``out_dir`` (created if missing);
+    returns the record."""
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     case = jio.load_case(HERE / "fzg-c14-lubricated.toml")
@@ -104,7 +109,7 @@ def main(out_dir=OUT, n_grid: int = 25, positions: int = 32, max_iterations: int
     # the weighted sums, each started from the map's best design for its weight (TE_ptp has
     # several valleys over the map: a start from the previous optimum stays in its valley)
     walked = []
-    for w in WEIGHTS:
+    for w in weights:
         x = jnp.clip(grid[int(np.argmin(w * te / te0 + (1.0 - w) * loss / loss0))],
                      jnp.asarray([0.15, 0.07]), jnp.asarray([2.85, 0.93]))
         obj = TeAndLoss(lub, weight=w, te_scale=te0, loss_scale=loss0)

@@ -158,3 +158,32 @@ def test_cli_settings_take_the_tribology_objectives(case):
     assert check_settings(ok, case) is ok
     with pytest.raises(ValueError, match=r"'accessory-spur' has no \[lubricant\] table"):
         check_settings({**ok, "torques": None}, jio.load_case("accessory-spur"))
+
+
+def test_te_vs_power_loss_example_front(tmp_path):
+    """examples/te_vs_power_loss.py at a small size (7 × 7 designs, 16 positions, two weights,
+    two L-BFGS steps): its front is the non-dominated set of its map (checked by brute force
+    over every pair of designs), ordered by rising TE and falling loss, from the TE-optimal to
+    the loss-optimal design; the figure is written."""
+    from _examples import load_example
+
+    ex = load_example("te_vs_power_loss")
+    rec = ex.main(tmp_path, n_grid=7, positions=16, max_iterations=2, weights=(1.0, 0.0))
+    m = np.load(tmp_path / "te_vs_power_loss_map.npz")
+    te, loss = m["te"] * 1e6, m["loss"]
+    dominated = [
+        any((te[j] <= te[i] and loss[j] < loss[i]) or (te[j] < te[i] and loss[j] <= loss[i])
+            for j in range(te.size))
+        for i in range(te.size)
+    ]
+    front = {(round(d["te_ptp_um"], 9), round(d["power_loss_W"], 6)) for d in rec["front"]}
+    want = {(round(t, 9), round(w, 6)) for t, w, d in zip(te, loss, dominated) if not d}
+    assert front == want
+    fr = rec["front"]
+    assert all(a["te_ptp_um"] < b["te_ptp_um"] and a["power_loss_W"] > b["power_loss_W"]
+               for a, b in zip(fr, fr[1:]))
+    assert fr[0]["te_ptp_um"] == pytest.approx(float(te.min()))
+    assert fr[-1]["power_loss_W"] == pytest.approx(float(loss.min()))
+    assert rec["loss_optimal"]["power_loss_W"] < rec["unmodified"]["power_loss_W"]
+    assert len(rec["weighted_sums"]) == 2
+    assert (tmp_path / "te_vs_power_loss.png").stat().st_size > 20_000
