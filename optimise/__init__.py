@@ -2,10 +2,12 @@
 
 Objectives are objects (:class:`TeRms`, :class:`TePeakToPeak`, :class:`RobustTeRms` over a torque
 range, :class:`MaxLineLoad`, :class:`LoadCentroid` across the face, :class:`LineLoadLp` of the
-line load, :class:`DynamicFactor` over a speed band) on the rigid mesh or on any scene (the hybrid
-scene at speed included), design variables normalised and bounded by reparametrisation; any
-optimistix quasi-Newton minimiser or optax gradient transformation solves it (:func:`minimise`,
-L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
+line load, :class:`DynamicFactor` over a speed band, :class:`LeastSafetyFactor` of the rating, the
+tribology objectives :class:`MeshPowerLoss`, :class:`EfficiencyLoss`, :class:`MinSpecificFilm`,
+:class:`MaxFlashTemperature` of a :class:`MeshLubrication`) on the rigid mesh or on any scene
+(the hybrid scene at speed included), design variables normalised and bounded by
+reparametrisation; any optimistix quasi-Newton minimiser or optax gradient transformation
+solves it (:func:`minimise`, L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
 sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile` statistic).
 Case-file names map to these objects in :mod:`jaxgear.io` (``case_problem``).
 """
@@ -38,8 +40,16 @@ from ._problem import (
     make_problem as make_problem,
     zero_fluctuation_depth as zero_fluctuation_depth,
 )
-from ._safety import LeastSafetyFactor as LeastSafetyFactor, soft_min as soft_min
 from ._robust import RobustProblem as RobustProblem, robust_problem as robust_problem
+from ._safety import LeastSafetyFactor as LeastSafetyFactor, soft_min as soft_min
+from ._tribology import (
+    AbstractTribologyObjective as AbstractTribologyObjective,
+    EfficiencyLoss as EfficiencyLoss,
+    MaxFlashTemperature as MaxFlashTemperature,
+    MeshLubrication as MeshLubrication,
+    MeshPowerLoss as MeshPowerLoss,
+    MinSpecificFilm as MinSpecificFilm,
+)
 from ._variables import (
     VARIABLES as VARIABLES,
     AbstractKind as AbstractKind,

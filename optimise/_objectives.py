@@ -167,9 +167,10 @@ class AbstractObjective(eqx.Module):
         ``positions_per_pitch``, ``face_width``)."""
 
     @abc.abstractmethod
-    def scale(self, unmodified: jg.QuasiStaticResult) -> float:
+    def scale(self, unmodified: jg.QuasiStaticResult, torque) -> float:
         """The value the objective is divided by (``units``): the unmodified design's value at
-        the design torque (exact contact), ``unmodified``, for most objectives."""
+        the design torque ``torque`` (N·m; exact contact), ``unmodified``, for most
+        objectives."""
 
     @abc.abstractmethod
     def prepare(self, scene, positions_per_pitch: int):
@@ -223,7 +224,7 @@ class AbstractQuasiStaticObjective(AbstractObjective):
             positions_per_pitch=problem.positions_per_pitch,
         )
 
-    def scale(self, unmodified):
+    def scale(self, unmodified, torque):
         return float(self.of_result(unmodified, None))
 
     def prepare(self, scene, positions_per_pitch):
@@ -313,7 +314,7 @@ class LoadCentroid(AbstractQuasiStaticObjective):
     def of_result(self, result, problem):
         return load_centroid(result, problem.face_width) ** 2
 
-    def scale(self, unmodified):
+    def scale(self, unmodified, torque):
         return CENTROID_SCALE
 
 
@@ -341,7 +342,7 @@ class LineLoadLp(AbstractQuasiStaticObjective):
     def of_result(self, result, problem):
         return line_load_lp(result, self.order)
 
-    def scale(self, unmodified):
+    def scale(self, unmodified, torque):
         return float(line_load_lp(unmodified, float(self.order)))
 
     def metric_order(self):
@@ -405,7 +406,7 @@ class DynamicFactor(AbstractObjective):
             window=self.window,
         )
 
-    def scale(self, unmodified):
+    def scale(self, unmodified, torque):
         return 1.0
 
     def prepare(self, scene, positions_per_pitch):

@@ -7,7 +7,9 @@ kept by the reparametrisation x = lo + (hi − lo)·sigmoid(u), u ∈ ℝ free.
 
 The objective is an object (:mod:`optimise._objectives`: :class:`TeRms`, :class:`TePeakToPeak`,
 :class:`RobustTeRms`, :class:`MaxLineLoad`, :class:`LoadCentroid`, :class:`LineLoadLp`,
-:class:`DynamicFactor`), scaled by its unmodified value at the design torque, so O(1)
+:class:`DynamicFactor`, :class:`LeastSafetyFactor`, the tribology objectives
+:class:`MeshPowerLoss`, :class:`EfficiencyLoss`, :class:`MinSpecificFilm`,
+:class:`MaxFlashTemperature`), scaled by its unmodified value at the design torque, so O(1)
 (``LoadCentroid`` by a fixed 0.01). Every quasi-static objective works on the rigid mesh and on
 any scene, e.g. the hybrid scene of :func:`jaxgear.io.static_scene` at a pinion speed
 (centrifugal loads).
@@ -39,6 +41,7 @@ from ._objectives import (
     load_centroid,
 )
 from ._safety import LeastSafetyFactor
+from ._tribology import EfficiencyLoss, MaxFlashTemperature, MeshPowerLoss, MinSpecificFilm
 from ._variables import Variable, variables_of
 
 __all__ = [
@@ -60,6 +63,10 @@ _OBJECTIVE_CLASSES = (
     LineLoadLp,
     DynamicFactor,
     LeastSafetyFactor,
+    MeshPowerLoss,
+    EfficiencyLoss,
+    MinSpecificFilm,
+    MaxFlashTemperature,
 )
 # the objectives' names (case files map them to objects in jaxgear.io) and their units
 OBJECTIVES = tuple(c.name for c in _OBJECTIVE_CLASSES)
@@ -403,7 +410,7 @@ def make_problem(
         torques=jnp.asarray(torques),
         design_torque=jnp.asarray(float(torque)),
         delta_m=jnp.asarray(delta_m),
-        scale=jnp.asarray(float(objective.scale(unmod))),
+        scale=jnp.asarray(float(objective.scale(unmod, torque))),
         lower=jnp.asarray(lo),
         upper=jnp.asarray(hi),
         contact=contact.astype(jnp.asarray(delta_m).dtype),

@@ -105,7 +105,7 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
         r = self.rating(result, modifications)
         return jnp.concatenate([r.pitting.S_H, r.bending.S_F])
 
-    def scale(self, unmodified):
+    def scale(self, unmodified, torque):
         """1/S̃ of the unmodified design (no modification: C_a the running-in C_ay; no
         penalty: an unmodified design's TE may be far above the limit that the modifications
         are to keep)."""

@@ -29,8 +29,18 @@ def problem(case):
 def test_case_file_names_map_to_objects(case):
     """Every objective name of the case files gives its class, whose name is that name."""
     rating = jio.rating_of(rated_accessory_case(3, 16))
+    oiled = jio.load_case("examples/fzg-c14-lubricated.toml")
+    inputs = jio.tribology_of(oiled)
+    lubrication = op.MeshLubrication(
+        oiled.pair, inputs.lubricant, inputs.speed, inputs.roughness, 206e9, 0.3
+    )
     settings = dict(
-        torques=[40.0, 80.0], reduce="mean", lp_order=6.0, speeds=[1000.0], rating=rating
+        torques=[40.0, 80.0],
+        reduce="mean",
+        lp_order=6.0,
+        speeds=[1000.0],
+        rating=rating,
+        lubrication=lubrication,
     )
     for name in jio.OBJECTIVES:
         obj = jio.objective_from_name(name, case.torque, **settings)

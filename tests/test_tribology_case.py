@@ -94,3 +94,20 @@ def test_run_writes_film_and_loss_files(tmp_path):
     assert s.min() >= 0.0 and s.max() <= case.pair.path_of_contact * (1 + 1e-6)
     assert (tmp_path / "tribology.png").stat().st_size > 10_000
     assert any("film and loss" in line for line in run_lines(case.form, case, summary))
+    # Blok's flash temperature along the path, written without the scuffing keys: at the
+    # hottest cell, Blok's formula again from the file's own columns (spur: speeds normal to
+    # the line are the transverse ones; R from p₀ = √(w E*/(π R)), b_H = √(4 w R/(π E*)))
+    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
+    assert fl.max() == pytest.approx(section["max_flash_temperature_K"], rel=1e-9)
+    hot = rows[int(np.argmax(fl))]
+    w, p0 = float(hot["line_load_N_per_m"]), float(hot["max_pressure_Pa"])
+    u, vg = float(hot["entrainment_speed_m_s"]), float(hot["sliding_speed_m_s"])
+    e_star = 1.0 / (2 * (1 - 0.3**2) / 206e9)
+    r_rel = w * e_star / (np.pi * p0**2)
+    b_h = np.sqrt(4 * w * r_rel / (np.pi * e_star))
+    v1, v2 = u + vg / 2, u - vg / 2
+    b_m = tr.STEEL_THERMAL_CONTACT_COEFFICIENT
+    blok = 1.11 * section["friction_coefficient"] * w * vg / (
+        b_m * (np.sqrt(v1) + np.sqrt(v2)) * np.sqrt(2 * b_h)
+    )
+    assert fl.max() == pytest.approx(blok, rel=1e-6)

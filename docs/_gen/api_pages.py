@@ -110,7 +110,7 @@ SECTIONS = {
         ("Writing files", ("_writers",)),
     ),
     "optimise": (
-        ("Objectives", ("_objectives", "_safety")),
+        ("Objectives", ("_objectives", "_safety", "_tribology")),
         ("Problems and variables", ("_problem", "_variables")),
         ("Minimisers", ("_minimise", "_master_curve", "_robust")),
     ),

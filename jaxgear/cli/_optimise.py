@@ -23,6 +23,7 @@ import numpy as np
 import jaxgear as jg
 from optimise import (
     VARIABLES,
+    AbstractTribologyObjective,
     LeastSafetyFactor,
     LineLoadLp,
     LoadCentroid,
@@ -39,6 +40,7 @@ from optimise import (
 
 from ..io import (
     OPTIMISE_DEFAULTS,
+    TORQUE_RANGE_OBJECTIVES,
     Case,
     TrainForm,
     atomic_open,
@@ -49,6 +51,7 @@ from ..io import (
     optimiser_from_name,
     rating_of,
     static_scene,
+    tribology_of,
     write_design_case,
     write_json,
 )
@@ -132,6 +135,13 @@ def _harris_torques(objective, design_torque: float) -> np.ndarray:
 
 @_harris_torques.register
 def _(objective: RobustTeRms, design_torque: float) -> np.ndarray:
+    return np.array(objective.torques_Nm, dtype=float)  # the objective's own torque range
+
+
+@_harris_torques.register
+def _(objective: AbstractTribologyObjective, design_torque: float) -> np.ndarray:
+    if objective.torques_Nm is None:
+        return _harris_torques.dispatch(object)(objective, design_torque)
     return np.array(objective.torques_Nm, dtype=float)  # the objective's own torque range
 
 
@@ -441,10 +451,11 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
         ValueError: one line naming the setting.
     """
     if settings.get("torques"):
-        if settings["objective"] != "robust_te_rms":
+        if settings["objective"] not in TORQUE_RANGE_OBJECTIVES:
+            others = ", ".join(TORQUE_RANGE_OBJECTIVES[1:])
             raise ValueError(
-                f"torques {settings['torques']!r} apply to the objective robust_te_rms only, "
-                f"not {settings['objective']}"
+                f"torques {settings['torques']!r} apply to the objectives {others} and "
+                f"robust_te_rms only, not {settings['objective']}"
             )
         parse_range(settings["torques"], "--torques", positive=True)
     if int(settings["max_iterations"]) < 1:
@@ -499,6 +510,12 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
             f"--objective least_safety rates the pair to ISO 6336: the case {case.name!r} has no "
             "[rating] table (life_h, viscosity_40C_mm2_s, roughness_Rz_flank_um, "
             "roughness_Rz_root_um)"
+        )
+    lubricated = settings["objective"] in TORQUE_RANGE_OBJECTIVES[1:]
+    if lubricated and case is not None and tribology_of(case) is None:
+        raise ValueError(
+            f"--objective {settings['objective']} rates the mesh's film and sliding loss: the "
+            f"case {case.name!r} has no [lubricant] table (docs/tribology.md)"
         )
     speed = settings.get("speed")
     if speed is not None:

@@ -27,6 +27,10 @@ OBJECTIVE_NAMES = (
     "line_load_lp",
     "dynamic_factor",
     "least_safety",
+    "power_loss",
+    "efficiency_loss",
+    "min_specific_film",
+    "max_flash_temperature",
 )
 #: ``--reduce``: the keys of :data:`jaxgear.io.STATISTICS`
 STATISTIC_NAMES = ("max", "mean")
@@ -55,7 +59,9 @@ def add_optimise_arguments(o) -> None:
         help="objective (default te_rms, or the case's [optimise]); load_centroid: the load "
         "centroid's offset from mid-face squared (0 = centred), line_load_lp: the L_p norm of the "
         "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
-        "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um)",
+        "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um); power_loss, "
+        "efficiency_loss, min_specific_film (as 1/λ), max_flash_temperature: the mesh's "
+        "tribology (a case with [lubricant])",
     )
     o.add_argument(
         "--te-limit-um",
@@ -70,7 +76,8 @@ def add_optimise_arguments(o) -> None:
         "case's [optimise] vars, else tip_relief.depth,tip_relief.extent)",
     )
     o.add_argument(
-        "--torques", help="START:STOP:N torque range (N·m) of the robust_te_rms objective"
+        "--torques",
+        help="START:STOP:N torque range (N·m) of the robust_te_rms and tribology objectives",
     )
     speed = o.add_mutually_exclusive_group()
     speed.add_argument(
@@ -104,8 +111,8 @@ def add_optimise_arguments(o) -> None:
     o.add_argument(
         "--reduce",
         choices=STATISTIC_NAMES,
-        help="robust_te_rms: worst case or mean over the torques (default: the case's "
-        "[optimise], else the worst case)",
+        help="robust_te_rms, tribology objectives: worst case or mean over the torques "
+        "(default: the case's [optimise], else the worst case)",
     )
     o.add_argument("--method", choices=OPTIMISER_NAMES, help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")

@@ -1,9 +1,11 @@
 """``jaxgear run``'s film and sliding loss along the path of contact, for a case with
 ``[lubricant]`` (:func:`jaxgear.tribology.mesh_tribology` on the run's modified exact-contact
 quasi-static result): a pair's ``tribology.json``, ``tribology.csv`` (every loaded cell) and
-``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`); with the scuffing keys of
-``[lubricant]``, Blok's flash temperature along the path and the scuffing safety factors
-(:func:`jaxgear.tribology.mesh_scuffing`) in the same files. A train's or a planetary stage's
+``tribology.png`` (:func:`~jaxgear.cli.plots.path_of_contact_plot`: line load, film, λ, local
+sliding loss and Blok's flash temperature along the path,
+:func:`jaxgear.tribology.mesh_flash_temperature`); with the scuffing keys of ``[lubricant]``, the
+contact temperature and the scuffing safety factors (:func:`jaxgear.tribology.mesh_scuffing`) in
+the same files. A train's or a planetary stage's
 meshes each write the pair's files as ``tribology_<mesh>.csv`` and ``.png``, and the whole its
 efficiency (:func:`jaxgear.tribology.train_efficiency`,
 :func:`jaxgear.tribology.planetary_efficiency`) into ``tribology.json`` and ``tribology.csv`` (a
@@ -19,6 +21,7 @@ import numpy as np
 from ..io import tribology_of, write_csv, write_json
 from ..tribology import (
     gearbox_efficiency,
+    mesh_flash_temperature,
     mesh_scuffing,
     mesh_tribology,
     pitch_point_roll,
@@ -94,8 +97,15 @@ def mesh_tribology_files(pair, result, theta, inputs, torque, speed, case, out_d
         "specific_film": np.asarray(out.specific_film)[loaded],
         "local_loss_W_per_m": np.asarray(out.local_loss)[loaded],
     }
-    flash = None
-    if inputs.scuffing is not None:
+    if inputs.scuffing is None:
+        # Blok's flash temperature along the path needs no scuffing limits: drawn and written
+        # beside the film and the loss, with no safety factor
+        flash = np.asarray(
+            mesh_flash_temperature(pair, out, case.youngs_modulus, case.poisson_ratio)
+        )[loaded]
+        cols["flash_temperature_K"] = flash
+        section["max_flash_temperature_K"] = float(flash.max()) if flash.size else 0.0
+    else:
         scuff = mesh_scuffing(
             pair,
             result,
@@ -122,8 +132,8 @@ def mesh_tribology_files(pair, result, theta, inputs, torque, speed, case, out_d
         cols["local_loss_W_per_m"],
         pitch=pitch_point_roll(pair),
         flash=flash,
-        title=f"{label}: film and sliding loss along the path of contact ({inputs.film.name}, "
-        f"μ {section['friction_coefficient']:.4f}, {float(speed):g} rad/s)",
+        title=f"{label}: film, sliding loss and flash temperature along the path of contact "
+        f"({inputs.film.name}, μ {section['friction_coefficient']:.4f}, {float(speed):g} rad/s)",
     )
     return section, out
 

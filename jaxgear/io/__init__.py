@@ -58,6 +58,7 @@ from ._gearbox_file import (
 )
 from ._optimise_table import (
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
+    TORQUE_RANGE_OBJECTIVES as TORQUE_RANGE_OBJECTIVES,
     parse_optimise as parse_optimise,
 )
 from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility

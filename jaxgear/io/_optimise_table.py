@@ -9,7 +9,17 @@ from typing import Any
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
-__all__ = ["OPTIMISE_DEFAULTS", "parse_optimise"]
+__all__ = ["OPTIMISE_DEFAULTS", "TORQUE_RANGE_OBJECTIVES", "parse_optimise"]
+
+#: the objectives that take a torque range (``torques``) and its statistic (``reduce``): the TE
+#: RMS and the tribology objectives (:mod:`jaxgear.io._problem` maps the names to objects)
+TORQUE_RANGE_OBJECTIVES = (
+    "robust_te_rms",
+    "power_loss",
+    "efficiency_loss",
+    "min_specific_film",
+    "max_flash_temperature",
+)
 
 #: what ``jaxgear optimise`` takes for a key that neither the command line nor the case's
 #: ``[optimise]`` gives (None: none, or the objective's own: ``lp_order`` 8, no TE limit); the
@@ -142,11 +152,12 @@ def parse_optimise(table) -> dict:
                 "[2, 10000]",
                 v,
             )
-        if out.get("objective", "robust_te_rms") != "robust_te_rms":
+        if out.get("objective", "robust_te_rms") not in TORQUE_RANGE_OBJECTIVES:
             raise sc.fail(
                 w,
                 "torques",
-                f"applies to objective = 'robust_te_rms' only, not {out['objective']!r}",
+                "applies to objective = 'robust_te_rms' or a tribology objective "
+                f"({', '.join(TORQUE_RANGE_OBJECTIVES[1:])}) only, not {out['objective']!r}",
                 v,
             )
         out["torques"] = [float(v[0]), float(v[1]), int(v[2])]

@@ -24,6 +24,7 @@ from optimise import Problem, make_problem
 
 from ._case import Case
 from ._load import load_case
+from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
 from ._rating_table import RatingCase, rating_of
 
@@ -67,8 +68,40 @@ def _least_safety(torque, rating: RatingCase | None = None, te_limit=None, **_):
     )
 
 
+def _lubrication(case: Case) -> op.MeshLubrication | None:
+    """The lubricated mesh of a pair case's ``[lubricant]`` (None without the table)."""
+    inputs = tribology_of(case)
+    if inputs is None:
+        return None
+    return op.MeshLubrication(
+        case.pair,
+        inputs.lubricant,
+        inputs.speed,
+        inputs.roughness,
+        case.youngs_modulus,
+        case.poisson_ratio,
+        film=inputs.film,
+        friction=inputs.friction,
+    )
+
+
+def _tribology(kind):
+    """The builder of a tribology objective ``kind``: the case's lubricated mesh, the torque
+    range (None: the design torque) and its statistic."""
+
+    def build(torque, lubrication=None, torques=None, reduce="max", **_):
+        if lubrication is None:
+            raise ValueError(
+                f"objective = {kind.name!r} needs the case's [lubricant] table (the oil, its "
+                "temperature and the flanks' roughness; docs/tribology.md)"
+            )
+        return kind(lubrication, torques, _statistic(reduce))
+
+    return build
+
+
 # ``objective = "..."``: the objective object, from the design torque (N·m) and the settings
-# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit)
+# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit, lubrication)
 OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "te_rms": lambda torque, **_: op.TeRms(),
     "te_ptp": lambda torque, **_: op.TePeakToPeak(),
@@ -78,6 +111,10 @@ OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "line_load_lp": lambda torque, lp_order=8.0, **_: op.LineLoadLp(lp_order),
     "dynamic_factor": _dynamic,
     "least_safety": _least_safety,
+    "power_loss": _tribology(op.MeshPowerLoss),
+    "efficiency_loss": _tribology(op.EfficiencyLoss),
+    "min_specific_film": _tribology(op.MinSpecificFilm),
+    "max_flash_temperature": _tribology(op.MaxFlashTemperature),
 }
 
 # ``method = "..."``: the optimiser object (an optimistix minimiser or an optax transformation)
@@ -129,11 +166,15 @@ def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
             ``lp_order`` of "line_load_lp", ``speeds`` (rad/s), ``integrator``, ``window`` of
             "dynamic_factor", ``rating`` (the case's :class:`RatingCase`,
             :func:`rating_of`) and ``te_limit`` (the TE RMS limit, m, > 0, or None) of
-            "least_safety"; the others are ignored.
+            "least_safety", ``lubrication`` (the case's :class:`optimise.MeshLubrication`, from
+            its ``[lubricant]``), ``torques`` and ``reduce`` of the tribology objectives
+            ("power_loss", "efficiency_loss", "min_specific_film", "max_flash_temperature");
+            the others are ignored.
 
     Raises:
         ValueError: an unknown name or reduce, settings out of range (as the objective class),
-            "least_safety" without ``rating`` (the case has no ``[rating]`` table).
+            "least_safety" without ``rating`` (the case has no ``[rating]`` table), a
+            tribology objective without ``lubrication`` (no ``[lubricant]``).
     """
     return _lookup(OBJECTIVES, "objective", name)(torque, **settings)
 
@@ -177,7 +218,8 @@ def case_problem(
         positions_per_pitch: default the case's.
         settings: the objective's settings (:func:`objective_from_name`: ``torques``,
             ``reduce``, ``lp_order``, ``speeds``, ``integrator``, ``window``, ``te_limit`` in
-            m; "least_safety" rates with the case's ``[rating]``), the smoothing
+            m; "least_safety" rates with the case's ``[rating]``, the tribology objectives
+            with its ``[lubricant]``), the smoothing
             (``contact``, default ``SmoothContact`` of the case's width; ``relief_blend``,
             ``end_relief_blend``: :class:`optimise.Smoothing`) and the other keywords of
             :func:`optimise.make_problem` (``bounds``, ``speed``).
@@ -191,7 +233,9 @@ def case_problem(
         raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
     smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
     problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
-    goal = objective_from_name(objective, case.torque, rating=rating_of(case), **settings)
+    goal = objective_from_name(
+        objective, case.torque, rating=rating_of(case), lubrication=_lubrication(case), **settings
+    )
     if smoothing["contact"] is None:
         smoothing["contact"] = goal.default_contact(case.smooth_width)
     mesh = case.mesh_model(slices=slices) if scene is None else scene

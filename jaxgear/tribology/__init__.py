@@ -9,9 +9,10 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
 (:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
 the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
-:class:`MeshScuffing`); the power loss and efficiency of a gear train, a planetary stage and a
-gearbox from their meshes' own sliding loss, by a series power flow (:func:`train_efficiency`,
-:func:`planetary_efficiency`, :func:`gearbox_efficiency` → :class:`PowerFlow`). docs/tribology.md.
+:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`); the power
+loss and efficiency of a gear train, a planetary stage and a gearbox from their meshes' own
+sliding loss, by a series power flow (:func:`train_efficiency`, :func:`planetary_efficiency`,
+:func:`gearbox_efficiency` → :class:`PowerFlow`). docs/tribology.md.
 """
 
 from ._efficiency import (
@@ -40,6 +41,7 @@ from ._flash import (
     fzg_integral_scuffing_temperature as fzg_integral_scuffing_temperature,
     fzg_pinion_torque as fzg_pinion_torque,
     fzg_scuffing_temperature as fzg_scuffing_temperature,
+    mesh_flash_temperature as mesh_flash_temperature,
     mesh_scuffing as mesh_scuffing,
     thermal_contact_coefficient as thermal_contact_coefficient,
     ts_flash_temperature as ts_flash_temperature,

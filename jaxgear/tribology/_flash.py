@@ -57,7 +57,7 @@ from jaxtyping import Array, Bool, Float
 
 from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus
-from .._util import as_float, check_instance, check_real, safe_max
+from .._util import as_float, check_instance, check_real, is_traced, safe_max
 from ._lubricant import Lubricant
 from ._mesh import MeshTribology
 
@@ -72,6 +72,7 @@ __all__ = [
     "fzg_integral_scuffing_temperature",
     "fzg_pinion_torque",
     "fzg_scuffing_temperature",
+    "mesh_flash_temperature",
     "mesh_scuffing",
     "thermal_contact_coefficient",
     "ts_flash_temperature",
@@ -218,7 +219,8 @@ def fzg_integral_scuffing_temperature(
     )
     t1t = fzg_pinion_torque(load_stage)
     theta_mt = 80.0 + 0.23 * t1t * lubricant_factor
-    theta_fl = 0.2 * t1t * (100.0 / (float(viscosity_40) * 1e6)) ** 0.02 * lubricant_factor
+    nu40 = viscosity_40 if is_traced(viscosity_40) else float(viscosity_40)
+    theta_fl = 0.2 * t1t * (100.0 / (nu40 * 1e6)) ** 0.02 * lubricant_factor
     return theta_mt + relative_structural_factor * _C2 * theta_fl
 
 
@@ -471,7 +473,8 @@ def mesh_scuffing(
             " or a one-mesh QuasiStaticResult"
         )
     theta_s = limits.flash()
-    theta_int_s = limits.integral(float(lubricant.viscosity_40))
+    nu40 = lubricant.viscosity_40  # traced when the lubricant is a leaf of a jitted objective
+    theta_int_s = limits.integral(nu40 if is_traced(nu40) else float(nu40))
     return _scuffing(
         pair,
         result.cell_mask,
@@ -485,9 +488,54 @@ def mesh_scuffing(
     )
 
 
-@eqx.filter_jit
-def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
-    """:func:`mesh_scuffing` on arrays: one compiled program."""
+def mesh_flash_temperature(
+    pair: AbstractGearPair,
+    tribology: MeshTribology,
+    youngs_modulus,
+    poisson_ratio,
+    *,
+    thermal_coefficients=(STEEL_THERMAL_CONTACT_COEFFICIENT, STEEL_THERMAL_CONTACT_COEFFICIENT),
+) -> Float[Array, "P L N"]:
+    """Blok's flash temperature θ_fl (K) at every cell along the path of contact (the module
+    docstring), from :func:`mesh_tribology`'s line loads, speeds, radii and μ: what
+    :func:`mesh_scuffing` rates, without the scuffing limits (the flash temperature does not
+    depend on them). Differentiable (jit, grad).
+
+    Args:
+        pair: the mesh's gear pair. tribology: :func:`mesh_tribology`'s output.
+        youngs_modulus, poisson_ratio: both gears' (Pa, -).
+        thermal_coefficients: (B_M1, B_M2) (W s^½/(m² K)), each > 0; default steel's.
+
+    Returns:
+        θ_fl (K), shape (P, L, N) of the result's line loads; 0 off the loaded cells.
+
+    Raises:
+        ValueError: one line naming the argument, its value and the allowed range.
+    """
+    w_ = "mesh_flash_temperature"
+    check_instance("pair", pair, AbstractGearPair, "a GearPair or InternalGearPair", w_)
+    check_instance("tribology", tribology, MeshTribology, "a MeshTribology", w_)
+    check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
+    check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
+    check_real(
+        "thermal_coefficients",
+        thermal_coefficients,
+        "W s^½/(m² K)",
+        lo=0.0,
+        lo_open=True,
+        shape=(2,),
+        where=w_,
+    )
+    return _cell_flash(
+        pair,
+        tribology,
+        contact_modulus(youngs_modulus, poisson_ratio),
+        jnp.asarray(thermal_coefficients),
+    )
+
+
+def _cell_flash(pair, trib, e_star, b_m):
+    """θ_fl (K) at the cells of ``trib`` (0 off the loaded ones)."""
     dtype = trib.line_load.dtype
     zero = jnp.zeros((), dtype)
     loaded = trib.loaded
@@ -500,7 +548,16 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     v2 = jnp.where(loaded, jnp.maximum((u - 0.5 * vg) * cb, 1e-9), 1.0)
     b_h = jnp.sqrt(4.0 * w * R / (jnp.pi * e_star))
     mu = trib.friction_coefficient
-    fl = jnp.where(loaded, blok_flash_temperature(mu, w, v1, v2, b_h, b_m[0], b_m[1]), zero)
+    return jnp.where(loaded, blok_flash_temperature(mu, w, v1, v2, b_h, b_m[0], b_m[1]), zero)
+
+
+@eqx.filter_jit
+def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
+    """:func:`mesh_scuffing` on arrays: one compiled program."""
+    dtype = trib.line_load.dtype
+    zero = jnp.zeros((), dtype)
+    loaded = trib.loaded
+    fl = _cell_flash(pair, trib, e_star, b_m)
     fl_max = safe_max(jnp.where(loaded, fl, -jnp.inf))
     n_path = jnp.maximum(jnp.sum(mask), 1)
     fl_mean = jnp.sum(jnp.where(mask, fl, zero)) / n_path

@@ -1,0 +1,189 @@
+"""The tribology objectives of optimise (issue 67 item 5): mesh power loss, loss of efficiency,
+minimum specific film thickness and maximum flash temperature along the path of contact, on the
+FZG C14 case (examples/fzg-c14-lubricated.toml).
+
+References: the sliding loss Σ μ w |v₁ − v₂| l written again here in NumPy from the result's line
+loads and the involute kinematics (roll distances ρ₁ = ρ_A + s, ρ₂ from the pair; v = ω ρ);
+central differences of the scaled objectives in the smooth law (two step sizes agreeing: no kink
+crossed); float32 against float64."""
+
+import math
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxgear as jg
+import jaxgear.io as jio
+import optimise as op
+
+jax.config.update("jax_enable_x64", True)
+
+CASE = "examples/fzg-c14-lubricated.toml"
+PPP = 16
+VARS = "tip_relief.depth,tip_relief.extent,crowning.depth"
+X0 = np.array([0.9, 0.35, 0.6])  # E*, Γ, crowning E*: a relief near the TE-optimal one
+
+
+@pytest.fixture(scope="module")
+def case():
+    return jio.load_case(CASE)
+
+
+def _problem(case, objective, **settings):
+    return jio.case_problem(case, VARS, objective, positions_per_pitch=PPP, **settings)
+
+
+def test_power_loss_objective_is_the_sliding_loss_by_hand(case):
+    """The unscaled power_loss objective of a design in exact contact is Σ μ w |v₁ − v₂| l over
+    the loaded cells, averaged over the positions, with Schlenk's μ of the case; efficiency_loss
+    is that over T ω₁; the scale is the unmodified design's loss (GEARpie's C14 P_VZP is
+    295.17 W with rigid load sharing: within 2 %)."""
+    prob = _problem(case, "power_loss")
+    loss = np.asarray(prob.sharp().per_torque(jnp.asarray(X0)))[0]
+    inputs = jio.tribology_of(case)
+    pair, omega = case.pair, inputs.speed
+    res = jg.quasi_static(
+        prob.sharp().mesh,
+        prob.sharp().modifications(jnp.asarray(X0)),
+        case.torque,
+        positions_per_pitch=PPP,
+    )
+    w = np.asarray(res.line_load)
+    s = np.asarray(res.cell_s)
+    on = np.asarray(res.cell_mask) & (w > 0)
+    s = np.where(on, s, 0.0)
+    v1 = omega * np.asarray(pair.roll_distance(jnp.asarray(s), 0))
+    v2 = omega / abs(float(pair.gear_ratio)) * np.asarray(pair.roll_distance(jnp.asarray(s), 1))
+    mu = float(inputs.friction.coefficient(pair, inputs.lubricant, case.torque, omega,
+                                           jnp.asarray(inputs.roughness)))
+    length = float(pair.face_width) / w.shape[-1]  # spur: β_b = 0
+    by_hand = np.mean(np.sum(np.where(on, mu * w * np.abs(v1 - v2), 0.0), axis=(1, 2))) * length
+    assert loss == pytest.approx(by_hand, rel=1e-9)
+    assert float(prob.scale) == pytest.approx(295.17, rel=0.02)
+    eff = _problem(case, "efficiency_loss")
+    e = float(np.asarray(eff.sharp().per_torque(jnp.asarray(X0)))[0])
+    assert e == pytest.approx(by_hand / (case.torque * omega), rel=1e-9)
+
+
+def test_torque_range_and_statistic_from_the_case_names(case):
+    """``torques`` and ``reduce`` map to the objective's torque range and statistic: the mean
+    over two torques is the mean of the single-torque objectives' unscaled values."""
+    rng = _problem(case, "min_specific_film", torques=[150.0, 250.0], reduce="mean")
+    assert isinstance(rng.objective, op.MinSpecificFilm)
+    assert isinstance(rng.objective.statistic, op.Mean)
+    per = np.asarray(rng.sharp().per_torque(jnp.asarray(X0)))
+    assert per.shape == (2,) and per[1] > per[0]  # 1/λ_min rises with the load
+    lub = rng.objective.lubrication
+    singles = []
+    for t in (150.0, 250.0):
+        res = jg.quasi_static(
+            rng.sharp().mesh, rng.sharp().modifications(jnp.asarray(X0)), t,
+            positions_per_pitch=PPP,
+        )
+        singles.append(1.0 / float(lub.tribology(res, t).min_specific_film))
+    np.testing.assert_allclose(per, singles, rtol=1e-9)
+    with pytest.raises(ValueError, match=r"'power_loss' needs the case's \[lubricant\] table"):
+        jio.case_problem(jio.load_case("accessory-spur"), VARS, "power_loss")
+    table = jio.parse_optimise({"objective": "power_loss", "torques": [100.0, 300.0, 3]})
+    assert table["torques"] == [100.0, 300.0, 3]
+    with pytest.raises(ValueError, match="applies to objective = 'robust_te_rms' or a tribology"):
+        jio.parse_optimise({"objective": "te_rms", "torques": [100.0, 300.0, 3]})
+
+
+@pytest.mark.parametrize(
+    "name", ["power_loss", "min_specific_film", "max_flash_temperature"]
+)
+def test_gradients_wrt_tip_relief_and_crowning_match_central_differences(case, name):
+    """d(scaled objective)/d(tip relief depth, tip relief extent, crowning depth) in the smooth
+    law against central differences (relative 1e-4 of the largest component). Crowning of a spur
+    pair moves load across the face, not along the path: the power loss does not depend on it,
+    the minimum λ and the maximum flash temperature (on the most loaded slice) do."""
+    prob = _problem(case, name)
+    f = jax.jit(lambda x: prob.value(x))
+    g = np.asarray(jax.jit(jax.grad(lambda x: prob.value(x)))(jnp.asarray(X0)))
+    scale = np.max(np.abs(g))
+    for i in range(3):
+        e = np.zeros(3)
+        e[i] = 1e-4
+        fd = (float(f(jnp.asarray(X0 + e))) - float(f(jnp.asarray(X0 - e)))) / 2e-4
+        fd2 = (float(f(jnp.asarray(X0 + e / 2))) - float(f(jnp.asarray(X0 - e / 2)))) / 1e-4
+        assert fd2 == pytest.approx(fd, abs=1e-4 * scale)
+        assert g[i] == pytest.approx(fd, abs=1e-4 * scale), (name, i)
+    assert abs(g[0]) > 1e-3 and abs(g[1]) > 1e-3
+    if name == "power_loss":
+        assert abs(g[2]) < 1e-8 * scale
+    else:
+        assert abs(g[2]) > 1e-3
+
+
+def test_float32_objective_and_gradient(case):
+    """The efficiency-loss problem built and evaluated in float32 gives the float64 value and
+    gradient within float32's reach."""
+    ref = _problem(case, "efficiency_loss")
+    v64 = float(ref.value(jnp.asarray(X0)))
+    g64 = np.asarray(jax.grad(ref.value)(jnp.asarray(X0)))
+    with jax.enable_x64(False):
+        p32 = _problem(jio.load_case(CASE), "efficiency_loss")  # loaded in float32
+        x = jnp.asarray(X0, dtype=jnp.float32)
+        v32 = p32.value(x)
+        g32 = jax.grad(lambda y: p32.value(y))(x)
+        assert v32.dtype == jnp.float32 and g32.dtype == jnp.float32
+        assert math.isfinite(float(v32))
+        assert float(v32) == pytest.approx(v64, rel=2e-4)
+        np.testing.assert_allclose(np.asarray(g32), g64, atol=2e-3 * np.max(np.abs(g64)))
+
+
+def test_bad_lubrication_one_line(case):
+    inputs = jio.tribology_of(case)
+    args = (case.pair, inputs.lubricant, inputs.speed, inputs.roughness, 206e9, 0.3)
+    with pytest.raises(ValueError, match=r"MeshLubrication: speed = -1.0 rad/s is out of range"):
+        op.MeshLubrication(*args[:2], -1.0, *args[3:])
+    with pytest.raises(ValueError, match=r"roughness = \(1.0, 1.0\) m is out of range"):
+        op.MeshLubrication(*args[:3], (1.0, 1.0), *args[4:])
+    with pytest.raises(ValueError, match="lubricant = float: allowed a jaxgear.tribology"):
+        op.MeshLubrication(args[0], 1.0, *args[2:])
+    lub = op.MeshLubrication(*args)
+    with pytest.raises(ValueError, match=r"torques = \[-5.0\] N·m: allowed"):
+        op.MeshPowerLoss(lub, [-5.0])
+
+
+def test_cli_settings_take_the_tribology_objectives(case):
+    """``jaxgear optimise``'s settings: a torque range goes with a tribology objective; a case
+    without ``[lubricant]`` is refused in one line naming the table."""
+    from jaxgear.cli import check_settings
+
+    ok = {"objective": "max_flash_temperature", "torques": "100:300:3", "max_iterations": 5}
+    assert check_settings(ok, case) is ok
+    with pytest.raises(ValueError, match=r"'accessory-spur' has no \[lubricant\] table"):
+        check_settings({**ok, "torques": None}, jio.load_case("accessory-spur"))
+
+
+def test_te_vs_power_loss_example_front(tmp_path):
+    """examples/te_vs_power_loss.py at a small size (7 × 7 designs, 16 positions, two weights,
+    two L-BFGS steps): its front is the non-dominated set of its map (checked by brute force
+    over every pair of designs), ordered by rising TE and falling loss, from the TE-optimal to
+    the loss-optimal design; the figure is written."""
+    from _examples import load_example
+
+    ex = load_example("te_vs_power_loss")
+    rec = ex.main(tmp_path, n_grid=7, positions=16, max_iterations=2, weights=(1.0, 0.0))
+    m = np.load(tmp_path / "te_vs_power_loss_map.npz")
+    te, loss = m["te"] * 1e6, m["loss"]
+    dominated = [
+        any((te[j] <= te[i] and loss[j] < loss[i]) or (te[j] < te[i] and loss[j] <= loss[i])
+            for j in range(te.size))
+        for i in range(te.size)
+    ]
+    front = {(round(d["te_ptp_um"], 9), round(d["power_loss_W"], 6)) for d in rec["front"]}
+    want = {(round(t, 9), round(w, 6)) for t, w, d in zip(te, loss, dominated) if not d}
+    assert front == want
+    fr = rec["front"]
+    assert all(a["te_ptp_um"] < b["te_ptp_um"] and a["power_loss_W"] > b["power_loss_W"]
+               for a, b in zip(fr, fr[1:]))
+    assert fr[0]["te_ptp_um"] == pytest.approx(float(te.min()))
+    assert fr[-1]["power_loss_W"] == pytest.approx(float(loss.min()))
+    assert rec["loss_optimal"]["power_loss_W"] < rec["unmodified"]["power_loss_W"]
+    assert len(rec["weighted_sums"]) == 2
+    assert (tmp_path / "te_vs_power_loss.png").stat().st_size > 20_000
