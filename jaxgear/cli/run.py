@@ -449,7 +449,7 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         write_json(summary_path, summary)
     if not last:
         if summary.get("rating") is not None:  # rating.md once, of the final section
-            write_rating_table(case, out, summary["rating"])
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         summary["complete"] = True
         write_json(summary_path, summary)
     print("\n".join(run_lines(case.form, case, summary)))
@@ -491,7 +491,7 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
         summary["quasi_static_scene"] = scene_section
         summary["complete"] = bool(complete)
         if complete and summary.get("rating") is not None:  # the run ends here
-            write_rating_table(case, out, summary["rating"])
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 

@@ -35,6 +35,7 @@ from ..tribology import (
     PanHamrock,
     Schlenk,
 )
+from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
 from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubricant", "tribology_of"]
@@ -51,7 +52,7 @@ LUBRICANT_KEYS = {
     "lubricant_factor",
     "friction_coefficient",
     "film",
-} | SCUFFING_KEYS  # the scuffing keys: jaxgear.io._scuffing_table
+} | SCUFFING_KEYS | MICROPITTING_KEYS  # jaxgear.io._scuffing_table, ._micropitting_table
 
 #: film formula names → kinds
 FILM_FORMULAS = {
@@ -65,6 +66,7 @@ class TribologyInputs(NamedTuple):
     """What ``[lubricant]`` gives :func:`jaxgear.tribology.mesh_tribology` (SI units):
     ``lubricant``, ``roughness`` (R_a1, R_a2) (m), ``friction`` and ``film`` kinds, ``speed``
     (pinion, rad/s), ``scuffing`` (:class:`~jaxgear.io._scuffing_table.ScuffingInputs` or
+    None), ``micropitting`` (:class:`~jaxgear.io._micropitting_table.MicropittingInputs` or
     None)."""
 
     lubricant: Lubricant
@@ -73,6 +75,7 @@ class TribologyInputs(NamedTuple):
     film: AbstractFilmFormula
     speed: float
     scuffing: ScuffingInputs | None = None
+    micropitting: MicropittingInputs | None = None
 
 
 def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
@@ -128,7 +131,8 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
     friction = GivenFriction(mu) if mu is not None else Schlenk(xl)
     return TribologyInputs(
         lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[film](), speed,
-        parse_scuffing(table),
+        parse_scuffing(table, bulk_read=bool(MICROPITTING_KEYS & set(table))),
+        parse_micropitting(table),
     )
 
 
