@@ -335,6 +335,8 @@ def run_case(
     tribology = tribology_outputs(case, out_dir, res["modified", "exact"])
     if tribology is not None:
         summary["tribology"] = tribology
+        if complete and rating is not None:  # rating.md again, with the tribology lines
+            write_rating_table(case, out_dir, rating, tribology)
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
