@@ -54,6 +54,10 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         fillet_table as fillet_table,
     )
     from ._summary import result_summary as result_summary
+    from ._tribology_run import (
+        tribology_outputs as tribology_outputs,
+        tribology_rating_lines as tribology_rating_lines,
+    )
     from .run import (
         format_table as format_table,
         rating_run_line as rating_run_line,
@@ -99,6 +103,8 @@ _EXPORTS = {
     "fillet_table": "._stress_outputs",
     "train_mesh_results": "._rating_report",
     "write_rating_table": "._rating_report",
+    "tribology_outputs": "._tribology_run",
+    "tribology_rating_lines": "._tribology_run",
     "result_summary": "._summary",
     "format_table": ".run",
     "run_case": ".run",
