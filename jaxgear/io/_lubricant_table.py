@@ -12,7 +12,11 @@ here only)::
     roughness_Ra_um = [0.6, 0.6]        # R_a of pinion and gear flanks (or one number), (0, 10]
     lubricant_factor = 0.85             # Schlenk's X_L, optional (default 1.0, mineral oil)
     friction_coefficient = 0.05         # optional: a given μ instead of Schlenk's
-    film = "dowson-higginson"           # optional: "dowson-higginson", "pan-hamrock", "grubin"
+    film = "dowson-higginson"           # optional: "dowson-higginson", "pan-hamrock", "grubin",
+                                        # "iso-ts-6336-22"
+
+The scuffing keys: :mod:`jaxgear.io._scuffing_table`; the micropitting keys (ISO/TS 6336-22):
+:mod:`jaxgear.io._micropitting_table`.
 
 The pinion speed comes from ``[operating] speed_rad_s`` (> 0) or, without it, ``[operating]
 speed_rpm`` (the rating's).
@@ -34,6 +38,7 @@ from ..tribology import (
     Lubricant,
     PanHamrock,
     Schlenk,
+    TSMicropittingFilm,
 )
 from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
 from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
@@ -59,6 +64,7 @@ FILM_FORMULAS = {
     "dowson-higginson": DowsonHigginson,
     "pan-hamrock": PanHamrock,
     "grubin": Grubin,
+    "iso-ts-6336-22": TSMicropittingFilm,
 }
 
 

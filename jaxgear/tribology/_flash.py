@@ -44,6 +44,16 @@ bulk temperature θ_M,int = θ_oil + C₁ X_S X_mp θ_fla,int (C₁ = 0.7; X_S, 
 θ_intS = θ_MT + X_WrelT C₂ θ_flaintT with T₁T = 3.726 S_FZG² N·m, θ_MT = 80 + 0.23 T₁T X_L,
 θ_flaintT = 0.2 T₁T (100/ν₄₀)^0.02 X_L (ν₄₀ in mm²/s) (:func:`fzg_integral_scuffing_temperature`),
 and the safety factor S_intS = θ_intS/θ_int.
+
+Sources of the constants: no text of the TSs was available. 0.47 X_S X_mp, θ_S = 80 + (0.85 +
+1.4 X_W) X_L S², S_B, C₁ = 0.7 (with X_S X_mp), C₂ = 1.5, T₁T = 3.726 S², 0.23, 0.2, (100/ν₄₀)^0.02,
+θ_intS = θ_MT + X_WrelT C₂ θ_flaintT (X_WrelT = X_W/X_WT, X_WT = 1) and S_intS are those of ISO/TR
+13989-1/-2:2000, the TSs' predecessors, as an independent public implementation transcribes them
+(hakangunes258/mekanika, ``Services/Iso13989FlashTemperature.cs`` eqs. (22), (99), (100);
+``Services/Iso13989IntegralTemperature.cs`` eqs. (14), (17), (20), (21), (94)–(97), (102)); the
+same C₂ = 1.5 and the two methods' structure in the GB/Z 6413.1/.2 comparison at
+zhygear.com/comparative-study-on-cylindrical-gear-scuffing-capacity-standards. docs/tribology.md
+says which are confirmed and how far.
 """
 
 from __future__ import annotations
