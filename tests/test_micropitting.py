@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import math
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -111,12 +112,17 @@ def test_figure_a1_points_and_shape():
 
 
 @functools.cache
-def _c14():
-    """The FZG C-type pair (m 4.5, z 16/24, b 14 mm), 200 N·m, 1500 rpm, an ISO VG 320 oil at
-    75 °C, its film and loss along the path."""
+def _c14_result():
+    """The FZG C-type pair (m 4.5, z 16/24, b 14 mm) at 200 N·m: its pair and contact solve."""
     members = [jg.Member(z, x, 1.0, 1.25, 0.014, 0.38) for z, x in ((16, 0.1817), (24, 0.1715))]
     pair = jg.GearPair(*members, 4.5e-3, math.radians(20.0), 0.0)
-    res = jg.quasi_static(_mesh(pair, 1), None, TORQUE, positions_per_pitch=32).mesh
+    return pair, jg.quasi_static(_mesh(pair, 1), None, TORQUE, positions_per_pitch=32).mesh
+
+
+@functools.cache
+def _c14():
+    """That pair at 1500 rpm with an ISO VG 320 oil at 75 °C: its film and loss along the path."""
+    pair, res = _c14_result()
     lub = tr.Lubricant(316e-6, 22.2e-6, 902.0, 25e-9, 75.0, 5.8e-4)
     trib = tr.mesh_tribology(pair, res, lub, TORQUE, SPEED, RA, E, NU)
     return pair, lub, trib
@@ -167,6 +173,34 @@ def test_sliding_parameter_and_safety_factor():
     lam = np.asarray(mp.specific_film)[L]
     assert float(mp.min_specific_film) == pytest.approx(lam.min())
     assert float(mp.safety_factor) == pytest.approx(lam.min() / 0.25)
-    with pytest.raises(ValueError, match=r"permissible_specific_film = 0 .*allowed \(0, 10\]") as err:
+    with pytest.raises(
+        ValueError, match=r"permissible_specific_film = 0 .*allowed \(0, 10\]"
+    ) as err:
         tr.mesh_micropitting(pair, trib, lub, RA, E, NU, 0.0)
     assert "\n" not in str(err.value)
+
+
+def test_gradient_wrt_oil_temperature_and_float32():
+    """S_λ and λ_GF,min through the oil temperature (viscosity, bulk and contact temperatures,
+    S_GF, the smallest cell): jax.grad against central differences; float32 against float64."""
+    pair, res = _c14_result()
+
+    def f(t_oil):
+        oil = tr.Lubricant(316e-6, 22.2e-6, 902.0, 25e-9, t_oil, 5.8e-4)
+        trib = tr.mesh_tribology(pair, res, oil, TORQUE, SPEED, RA, E, NU)
+        mp = tr.mesh_micropitting(pair, trib, oil, RA, E, NU, 0.25)
+        return mp.safety_factor
+
+    t0, h = 75.0, 1e-3
+    g = float(jax.grad(f)(jnp.asarray(t0)))
+    fd = (float(f(jnp.asarray(t0 + h))) - float(f(jnp.asarray(t0 - h)))) / (2 * h)
+    assert g < 0  # a hotter oil, a thinner film
+    assert g == pytest.approx(fd, rel=1e-5)
+    want = float(f(jnp.asarray(t0)))
+    with jax.enable_x64(False):
+        res32 = jax.tree.map(lambda x: x.astype(np.float32) if x.dtype == np.float64 else x, res)
+        oil = tr.Lubricant(316e-6, 22.2e-6, 902.0, 25e-9, 75.0, 5.8e-4)
+        trib = tr.mesh_tribology(pair, res32, oil, TORQUE, SPEED, RA, E, NU)
+        mp = tr.mesh_micropitting(pair, trib, oil, RA, E, NU, 0.25)
+        assert mp.specific_film.dtype == np.float32
+        assert float(mp.safety_factor) == pytest.approx(want, rel=1e-4)
