@@ -75,8 +75,12 @@ def parse_scuffing(table: dict, bulk_read: bool = False) -> ScuffingInputs | Non
         for key in SCUFFING_KEYS & set(table):
             if bulk_read and key in _BULK_KEYS:
                 continue
+            also = " (or a micropitting key)" if key in _BULK_KEYS else ""
             raise sc.fail(
-                w, key, "not read: give fzg_load_stage or scuffing_temperature_C", table[key]
+                w,
+                key,
+                f"not read: give fzg_load_stage or scuffing_temperature_C{also}",
+                table[key],
             )
         return None
     if stage is None and (theta_s is None or theta_int is None):
