@@ -240,6 +240,15 @@ def test_safety_factors_from_the_temperatures():
         100.0 + 1.5 * float(out.mean_flash_temperature), rel=1e-9
     )
     assert set(out.summary()) >= {"max_flash_temperature_K", "scuffing_safety_factor"}
+    # spray lubrication, a gear in two meshes: X_S X_mp in both methods' bulk temperatures
+    # (ISO/TR 13989-1 eqs. (22), (23) and -2 eqs. (20), (21) as hakangunes258/mekanika gives them)
+    _, spray = _scuff(pair, res, bulk=tr.FlashBulkTemperature(1.2, meshes=2))
+    xs_xmp = 1.2 * 1.5
+    flm = float(out.mean_flash_temperature)
+    assert float(spray.bulk_temperature) == pytest.approx(oil + 0.47 * xs_xmp * flm, rel=1e-12)
+    assert float(spray.integral_bulk_temperature) == pytest.approx(
+        oil + 0.7 * xs_xmp * flm, rel=1e-12
+    )
 
 
 def test_own_load_sharing_lowers_the_peak_flash_temperature():

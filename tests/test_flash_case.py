@@ -66,7 +66,8 @@ def test_scuffing_keys_bad_input_one_line(change, match):
 
 
 def test_run_writes_the_flash_temperature(tmp_path):
-    case = jio.parse_case(_data(fzg_load_stage=10))
+    # the micropitting keys ride along (tests/test_micropitting_case.py reads their outputs)
+    case = jio.parse_case(_data(fzg_load_stage=10, micropitting_load_stage=8))
     summary = run_case(case, str(tmp_path), show_progress=False)
     sc = summary["tribology"]["scuffing"]
     on_disk = json.loads((tmp_path / "tribology.json").read_text())["scuffing"]
@@ -87,4 +88,17 @@ def test_run_writes_the_flash_temperature(tmp_path):
     s_c = tr.pitch_point_roll(case.pair)
     assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
     assert (tmp_path / "tribology.png").stat().st_size > 10_000
-    assert any("scuffing: max flash" in line for line in run_lines(case.form, case, summary))
+    lines = run_lines(case.form, case, summary)
+    assert any("scuffing: max flash" in line for line in lines)
+    # micropitting: S_λ and λ_GF,min in tribology.json and summary.json, λ_GF,min the CSV's least
+    mp = summary["tribology"]["micropitting"]
+    on_disk = json.loads((tmp_path / "tribology.json").read_text())["micropitting"]
+    in_summary = json.loads((tmp_path / "summary.json").read_text())["tribology"]["micropitting"]
+    for key in ("min_specific_film", "safety_factor", "bulk_temperature_C"):
+        assert on_disk[key] == pytest.approx(mp[key]) and in_summary[key] == pytest.approx(mp[key])
+    lam = np.array([float(r["micropitting_specific_film"]) for r in rows])
+    assert mp["min_specific_film"] == pytest.approx(lam.min(), rel=1e-5)
+    lam_p = tr.figure_a1_permissible_film(8, 315.997e-6)  # the example's ν₄₀
+    assert mp["permissible_specific_film"] == pytest.approx(lam_p)
+    assert mp["safety_factor"] == pytest.approx(lam.min() / lam_p, rel=1e-5)
+    assert any(line.startswith("micropitting (ISO/TS 6336-22)") for line in lines)

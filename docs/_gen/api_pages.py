@@ -99,6 +99,8 @@ SECTIONS = {
         ("Friction and the tooth loss factor", ("_loss",)),
         ("Film and loss along the path of contact", ("_mesh",)),
         ("Efficiency of trains, planetary stages and gearboxes", ("_efficiency",)),
+        ("Flash temperature and scuffing", ("_flash",)),
+        ("Micropitting", ("_micropitting",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
@@ -106,7 +108,8 @@ SECTIONS = {
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
-                                   "_lubricant_table", "_scuffing_table")),
+                                   "_lubricant_table", "_scuffing_table",
+                                   "_micropitting_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (

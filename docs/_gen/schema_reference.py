@@ -120,6 +120,7 @@ bulk_temperature_C = 95.0
 scuffing_lubricant_factor = 1.0
 structural_factor = 1.0
 relative_structural_factor = 1.0
+micropitting_load_stage = 8
 """,
     "modifications": """
 [modifications]

@@ -59,6 +59,8 @@ if TYPE_CHECKING:  # the same names, for type checkers and editors
         gearbox_tribology as gearbox_tribology,
         planetary_tribology_outputs as planetary_tribology_outputs,
         train_tribology_outputs as train_tribology_outputs,
+        tribology_outputs as tribology_outputs,
+        tribology_rating_lines as tribology_rating_lines,
     )
     from .run import (
         format_table as format_table,
@@ -105,6 +107,8 @@ _EXPORTS = {
     "fillet_table": "._stress_outputs",
     "train_mesh_results": "._rating_report",
     "write_rating_table": "._rating_report",
+    "tribology_outputs": "._tribology_run",
+    "tribology_rating_lines": "._tribology_run",
     "result_summary": "._summary",
     "efficiency_run_line": "._tribology_run",
     "gearbox_tribology": "._tribology_run",

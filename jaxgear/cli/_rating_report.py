@@ -41,6 +41,7 @@ from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
 from ._spectrum_report import spectrum_lines, spectrum_section
 from ._stress_outputs import active_radii, fillet_table
 from ._sweep_json import column_tag
+from ._tribology_run import tribology_rating_lines
 
 __all__ = [
     "RATE",
@@ -375,11 +376,17 @@ def rating_outputs(
     return section
 
 
-def write_rating_table(case: Case, out_dir: str, section: dict) -> None:
+def write_rating_table(
+    case: Case, out_dir: str, section: dict, tribology: dict | None = None
+) -> None:
     """``rating.md`` of the case's final ``rating`` ``section`` (``summary.json``'s: a train's
     per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
-    every step that adds to the section (the measured K_v, the root stress at speed)."""
-    write_rating_md(out_dir, rating_table_lines(case, section))
+    every step that adds to the section (the measured K_v, the root stress at speed); with the
+    run's ``tribology`` section, its scuffing and micropitting lines after the rating's."""
+    lines, extra = rating_table_lines(case, section), tribology_rating_lines(tribology)
+    if extra and lines and not lines[-1]:
+        extra = extra[1:]  # one blank line between
+    write_rating_md(out_dir, lines + extra)
 
 
 def rating_table_lines(case: Case, section: dict) -> list[str]:

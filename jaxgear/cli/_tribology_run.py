@@ -5,7 +5,8 @@ quasi-static result): a pair's ``tribology.json``, ``tribology.csv`` (every load
 sliding loss and Blok's flash temperature along the path,
 :func:`jaxgear.tribology.mesh_flash_temperature`); with the scuffing keys of ``[lubricant]``, the
 contact temperature and the scuffing safety factors (:func:`jaxgear.tribology.mesh_scuffing`) in
-the same files. A train's or a planetary stage's
+the same files; with its micropitting keys, the micropitting safety factor of ISO/TS 6336-22
+(:func:`jaxgear.tribology.mesh_micropitting`). A train's or a planetary stage's
 meshes each write the pair's files as ``tribology_<mesh>.csv`` and ``.png``, and the whole its
 efficiency (:func:`jaxgear.tribology.train_efficiency`,
 :func:`jaxgear.tribology.planetary_efficiency`) into ``tribology.json`` and ``tribology.csv`` (a
@@ -22,6 +23,7 @@ from ..io import tribology_of, write_csv, write_json
 from ..tribology import (
     gearbox_efficiency,
     mesh_flash_temperature,
+    mesh_micropitting,
     mesh_scuffing,
     mesh_tribology,
     pitch_point_roll,
@@ -38,6 +40,7 @@ __all__ = [
     "planetary_tribology_outputs",
     "train_tribology_outputs",
     "tribology_outputs",
+    "tribology_rating_lines",
     "tribology_run_line",
 ]
 
@@ -121,6 +124,28 @@ def mesh_tribology_files(pair, result, theta, inputs, torque, speed, case, out_d
         flash = np.asarray(scuff.flash_temperature)[loaded]
         cols["flash_temperature_K"] = flash
         cols["contact_temperature_C"] = np.asarray(scuff.contact_temperature)[loaded]
+    if inputs.micropitting is not None:
+        mp_in = inputs.micropitting
+        mp = mesh_micropitting(
+            pair,
+            out,
+            inputs.lubricant,
+            inputs.roughness,
+            case.youngs_modulus,
+            case.poisson_ratio,
+            mp_in.permissible,
+            bulk_temperature=mp_in.bulk_temperature,
+            lubrication_factor=mp_in.lubrication_factor,
+        )
+        section["micropitting"] = {
+            "method": "ISO/TS 6336-22 with jaxgear's line loads at every loaded cell",
+            "permissible_source": mp_in.source,
+            "bulk_temperature_rule": "given"
+            if mp_in.bulk_temperature is not None
+            else "ts-6336-22",
+            **mp.summary(),
+        }
+        cols["micropitting_specific_film"] = np.asarray(mp.specific_film)[loaded]
     write_csv(os.path.join(out_dir, f"{stem}.csv"), list(cols), list(cols.values()))
     path_of_contact_plot(
         os.path.join(out_dir, f"{stem}.png"),
@@ -289,6 +314,13 @@ def tribology_run_line(section: dict | None) -> list[str]:
             f"(θ_intS {sc['integral_scuffing_temperature_C']:.0f}), S_intS "
             f"{sc['integral_scuffing_safety_factor']:.2f} (tribology.json)"
         )
+    if "micropitting" in section:
+        mp = section["micropitting"]
+        lines.append(
+            f"micropitting (ISO/TS 6336-22): λ_GF,min {mp['min_specific_film']:.3f}, λ_GFP "
+            f"{mp['permissible_specific_film']:.3f} ({mp['permissible_source']}), S_λ "
+            f"{mp['safety_factor']:.2f}, θ_M {mp['bulk_temperature_C']:.1f} °C (tribology.json)"
+        )
     film = (
         f"film and loss ({section['film_formula']}, μ {section['friction_coefficient']:.4f} "
         f"{section['friction']}): min λ {section['min_specific_film']:.2f}, P_VZP "
@@ -297,3 +329,29 @@ def tribology_run_line(section: dict | None) -> list[str]:
         f"(Ohlendorf {section['loss_factor_ohlendorf']:.4f}) (tribology.json)"
     )
     return [film, *lines]
+
+
+def tribology_rating_lines(section: dict | None) -> list[str]:
+    """``rating.md``'s tribology lines (the scuffing and micropitting safety factors of
+    ``jaxgear run``'s ``tribology`` section; nothing without them)."""
+    if section is None or not ({"scuffing", "micropitting"} & set(section)):
+        return []
+    lines = ["", "## Scuffing and micropitting (jaxgear's line loads; docs/tribology.md)", ""]
+    if "scuffing" in section:
+        sc = section["scuffing"]
+        lines.append(
+            f"- Scuffing, flash-temperature method (ISO/TS 6336-20): θ_B,max "
+            f"{sc['max_contact_temperature_C']:.1f} °C, θ_S {sc['scuffing_temperature_C']:.0f} °C,"
+            f" S_B {sc['scuffing_safety_factor']:.2f}; integral-temperature method (ISO/TS"
+            f" 6336-21): θ_int {sc['integral_temperature_C']:.1f} °C, θ_intS"
+            f" {sc['integral_scuffing_temperature_C']:.0f} °C, S_intS"
+            f" {sc['integral_scuffing_safety_factor']:.2f}"
+        )
+    if "micropitting" in section:
+        mp = section["micropitting"]
+        lines.append(
+            f"- Micropitting (ISO/TS 6336-22): λ_GF,min {mp['min_specific_film']:.3f}, λ_GFP "
+            f"{mp['permissible_specific_film']:.3f} ({mp['permissible_source']}), S_λ "
+            f"{mp['safety_factor']:.2f} (θ_M {mp['bulk_temperature_C']:.1f} °C)"
+        )
+    return lines

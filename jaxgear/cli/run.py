@@ -340,6 +340,8 @@ def run_case(
     tribology = tribology_outputs(case, out_dir, res["modified", "exact"])
     if tribology is not None:
         summary["tribology"] = tribology
+        if complete and rating is not None:  # rating.md again, with the tribology lines
+            write_rating_table(case, out_dir, rating, tribology)
 
     with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
@@ -454,7 +456,7 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         write_json(summary_path, summary)
     if not last:
         if summary.get("rating") is not None:  # rating.md once, of the final section
-            write_rating_table(case, out, summary["rating"])
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         summary["complete"] = True
         write_json(summary_path, summary)
     print("\n".join(run_lines(case.form, case, summary)))
@@ -496,7 +498,7 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
         summary["quasi_static_scene"] = scene_section
         summary["complete"] = bool(complete)
         if complete and summary.get("rating") is not None:  # the run ends here
-            write_rating_table(case, out, summary["rating"])
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 

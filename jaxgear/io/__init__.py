@@ -41,6 +41,11 @@ from ._lubricant_table import (
     parse_lubricant as parse_lubricant,
     tribology_of as tribology_of,
 )
+from ._micropitting_table import (
+    MICROPITTING_KEYS as MICROPITTING_KEYS,
+    MicropittingInputs as MicropittingInputs,
+    parse_micropitting as parse_micropitting,
+)
 from ._modifications_table import (
     case_text_with_modifications as case_text_with_modifications,
     modifications_with as modifications_with,

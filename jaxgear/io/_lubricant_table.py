@@ -13,7 +13,11 @@ here only)::
     roughness_Ra_um = [0.6, 0.6]        # R_a of pinion and gear flanks (or one number), (0, 10]
     lubricant_factor = 0.85             # Schlenk's X_L, optional (default 1.0, mineral oil)
     friction_coefficient = 0.05         # optional: a given μ instead of Schlenk's
-    film = "dowson-higginson"           # optional: "dowson-higginson", "pan-hamrock", "grubin"
+    film = "dowson-higginson"           # optional: "dowson-higginson", "pan-hamrock", "grubin",
+                                        # "iso-ts-6336-22"
+
+The scuffing keys: :mod:`jaxgear.io._scuffing_table`; the micropitting keys (ISO/TS 6336-22):
+:mod:`jaxgear.io._micropitting_table`.
 
 The pinion speed (a train's or a stage's: its input member's) comes from ``[operating]
 speed_rad_s`` (> 0) or, without it, ``[operating] speed_rpm`` (the rating's).
@@ -35,7 +39,9 @@ from ..tribology import (
     Lubricant,
     PanHamrock,
     Schlenk,
+    TSMicropittingFilm,
 )
+from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
 from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubricant", "tribology_of"]
@@ -52,13 +58,14 @@ LUBRICANT_KEYS = {
     "lubricant_factor",
     "friction_coefficient",
     "film",
-} | SCUFFING_KEYS  # the scuffing keys: jaxgear.io._scuffing_table
+} | SCUFFING_KEYS | MICROPITTING_KEYS  # jaxgear.io._scuffing_table, ._micropitting_table
 
 #: film formula names → kinds
 FILM_FORMULAS = {
     "dowson-higginson": DowsonHigginson,
     "pan-hamrock": PanHamrock,
     "grubin": Grubin,
+    "iso-ts-6336-22": TSMicropittingFilm,
 }
 
 
@@ -66,6 +73,7 @@ class TribologyInputs(NamedTuple):
     """What ``[lubricant]`` gives :func:`jaxgear.tribology.mesh_tribology` (SI units):
     ``lubricant``, ``roughness`` (R_a1, R_a2) (m), ``friction`` and ``film`` kinds, ``speed``
     (pinion, rad/s), ``scuffing`` (:class:`~jaxgear.io._scuffing_table.ScuffingInputs` or
+    None), ``micropitting`` (:class:`~jaxgear.io._micropitting_table.MicropittingInputs` or
     None)."""
 
     lubricant: Lubricant
@@ -74,6 +82,7 @@ class TribologyInputs(NamedTuple):
     film: AbstractFilmFormula
     speed: float
     scuffing: ScuffingInputs | None = None
+    micropitting: MicropittingInputs | None = None
 
 
 def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
@@ -129,7 +138,8 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
     friction = GivenFriction(mu) if mu is not None else Schlenk(xl)
     return TribologyInputs(
         lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[film](), speed,
-        parse_scuffing(table),
+        parse_scuffing(table, bulk_read=bool(MICROPITTING_KEYS & set(table))),
+        parse_micropitting(table),
     )
 
 

@@ -43,6 +43,8 @@ SCUFFING_KEYS = {
     "relative_structural_factor",
 }
 
+_BULK_KEYS = {"bulk_temperature_C", "bulk_lubrication_factor"}
+
 
 class ScuffingInputs(NamedTuple):
     """What ``[lubricant]`` gives :func:`jaxgear.tribology.mesh_scuffing`: ``limits`` and the
@@ -52,9 +54,10 @@ class ScuffingInputs(NamedTuple):
     bulk: AbstractBulkTemperature
 
 
-def parse_scuffing(table: dict) -> ScuffingInputs | None:
+def parse_scuffing(table: dict, bulk_read: bool = False) -> ScuffingInputs | None:
     """The scuffing keys of ``[lubricant]`` (validated), or None without ``fzg_load_stage`` and
-    ``scuffing_temperature_C``.
+    ``scuffing_temperature_C``. ``bulk_read``: the micropitting keys read the bulk keys
+    (``bulk_temperature_C``, ``bulk_lubrication_factor``) when no scuffing is computed.
 
     Raises:
         SchemaError (a ``ValueError``): one line naming the key, its value and the allowed range.
@@ -70,8 +73,14 @@ def parse_scuffing(table: dict) -> ScuffingInputs | None:
     xwr = sc.number(table, "relative_structural_factor", w, 1.0, allowed="(0, 2]")
     if stage is None and theta_s is None and theta_int is None:
         for key in SCUFFING_KEYS & set(table):
+            if bulk_read and key in _BULK_KEYS:
+                continue
+            also = " (or a micropitting key)" if key in _BULK_KEYS else ""
             raise sc.fail(
-                w, key, "not read: give fzg_load_stage or scuffing_temperature_C", table[key]
+                w,
+                key,
+                f"not read: give fzg_load_stage or scuffing_temperature_C{also}",
+                table[key],
             )
         return None
     if stage is None and (theta_s is None or theta_int is None):

@@ -9,10 +9,12 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
 (:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
 the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
-:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`); the power
-loss and efficiency of a gear train, a planetary stage and a gearbox from their meshes' own
-sliding loss, by a series power flow (:func:`train_efficiency`, :func:`planetary_efficiency`,
-:func:`gearbox_efficiency` → :class:`PowerFlow`). docs/tribology.md.
+:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`); the
+micropitting safety factor of ISO/TS 6336-22 (:func:`mesh_micropitting` →
+:class:`MeshMicropitting`); the power loss and efficiency of a gear train, a planetary stage and a
+gearbox from their meshes' own sliding loss, by a series power flow (:func:`train_efficiency`,
+:func:`planetary_efficiency`, :func:`gearbox_efficiency` → :class:`PowerFlow`).
+docs/tribology.md.
 """
 
 from ._efficiency import (
@@ -55,3 +57,11 @@ from ._loss import (
 )
 from ._lubricant import Lubricant as Lubricant
 from ._mesh import MeshTribology as MeshTribology, mesh_tribology as mesh_tribology
+from ._micropitting import (
+    MeshMicropitting as MeshMicropitting,
+    TSMicropittingFilm as TSMicropittingFilm,
+    figure_a1_permissible_film as figure_a1_permissible_film,
+    mesh_micropitting as mesh_micropitting,
+    micropitting_bulk_temperature as micropitting_bulk_temperature,
+    pressure_viscosity_temperature_factor as pressure_viscosity_temperature_factor,
+)

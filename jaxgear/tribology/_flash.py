@@ -38,11 +38,22 @@ the safety factor S_B = (θ_S − θ_oil)/(θ_B,max − θ_oil).
 
 Integral-temperature method (ISO/TS 6336-21): θ_fla,int the mean flash temperature along the
 path (here θ_flm, from jaxgear's loads; the TS's closed form θ_flaE X_ε is not carried), the
-bulk temperature θ_M,int = θ_oil + C₁ θ_fla,int (C₁ = 0.7), the integral temperature
+bulk temperature θ_M,int = θ_oil + C₁ X_S X_mp θ_fla,int (C₁ = 0.7; X_S, X_mp those of
+:class:`FlashBulkTemperature`), the integral temperature
 θ_int = θ_M,int + C₂ θ_fla,int (C₂ = 1.5), the allowable one from the FZG test
 θ_intS = θ_MT + X_WrelT C₂ θ_flaintT with T₁T = 3.726 S_FZG² N·m, θ_MT = 80 + 0.23 T₁T X_L,
 θ_flaintT = 0.2 T₁T (100/ν₄₀)^0.02 X_L (ν₄₀ in mm²/s) (:func:`fzg_integral_scuffing_temperature`),
 and the safety factor S_intS = θ_intS/θ_int.
+
+Sources of the constants: no text of the TSs was available. 0.47 X_S X_mp, θ_S = 80 + (0.85 +
+1.4 X_W) X_L S², S_B, C₁ = 0.7 (with X_S X_mp), C₂ = 1.5, T₁T = 3.726 S², 0.23, 0.2, (100/ν₄₀)^0.02,
+θ_intS = θ_MT + X_WrelT C₂ θ_flaintT (X_WrelT = X_W/X_WT, X_WT = 1) and S_intS are those of ISO/TR
+13989-1/-2:2000, the TSs' predecessors, as an independent public implementation transcribes them
+(hakangunes258/mekanika, ``Services/Iso13989FlashTemperature.cs`` eqs. (22), (99), (100);
+``Services/Iso13989IntegralTemperature.cs`` eqs. (14), (17), (20), (21), (94)–(97), (102)); the
+same C₂ = 1.5 and the two methods' structure in the GB/Z 6413.1/.2 comparison at
+zhygear.com/comparative-study-on-cylindrical-gear-scuffing-capacity-standards. docs/tribology.md
+says which are confirmed and how far.
 """
 
 from __future__ import annotations
@@ -526,7 +537,7 @@ def mesh_flash_temperature(
         shape=(2,),
         where=w_,
     )
-    return _cell_flash(
+    return cell_flash_temperature(
         pair,
         tribology,
         contact_modulus(youngs_modulus, poisson_ratio),
@@ -534,10 +545,11 @@ def mesh_flash_temperature(
     )
 
 
-def _cell_flash(pair, trib, e_star, b_m):
-    """θ_fl (K) at the cells of ``trib`` (0 off the loaded ones)."""
+def cell_flash_temperature(pair, trib: MeshTribology, e_star, b_m) -> Float[Array, "P L N"]:
+    """Blok's θ_fl (K) at every loaded cell of ``trib`` (0 elsewhere): the flanks' speeds normal
+    to the contact line, Hertz's b_H from E* (Pa), (B_M1, B_M2) ``b_m``. Traced; shared by
+    :func:`mesh_scuffing` and :func:`jaxgear.tribology.mesh_micropitting`."""
     dtype = trib.line_load.dtype
-    zero = jnp.zeros((), dtype)
     loaded = trib.loaded
     w = jnp.where(loaded, trib.line_load, 1.0)
     R = jnp.where(loaded, trib.radius, 1.0)
@@ -548,7 +560,8 @@ def _cell_flash(pair, trib, e_star, b_m):
     v2 = jnp.where(loaded, jnp.maximum((u - 0.5 * vg) * cb, 1e-9), 1.0)
     b_h = jnp.sqrt(4.0 * w * R / (jnp.pi * e_star))
     mu = trib.friction_coefficient
-    return jnp.where(loaded, blok_flash_temperature(mu, w, v1, v2, b_h, b_m[0], b_m[1]), zero)
+    fl = blok_flash_temperature(mu, w, v1, v2, b_h, b_m[0], b_m[1])
+    return jnp.where(loaded, fl, jnp.zeros((), dtype))
 
 
 @eqx.filter_jit
@@ -557,7 +570,7 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     dtype = trib.line_load.dtype
     zero = jnp.zeros((), dtype)
     loaded = trib.loaded
-    fl = _cell_flash(pair, trib, e_star, b_m)
+    fl = cell_flash_temperature(pair, trib, e_star, b_m)
     fl_max = safe_max(jnp.where(loaded, fl, -jnp.inf))
     n_path = jnp.maximum(jnp.sum(mask), 1)
     fl_mean = jnp.sum(jnp.where(mask, fl, zero)) / n_path
@@ -566,6 +579,8 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     # integral method: its own bulk rule unless a bulk temperature is given
     if isinstance(bulk, GivenBulkTemperature):
         theta_m_int = theta_m
+    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
+        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
     else:
         theta_m_int = oil + _C1 * fl_mean
     theta_int = theta_m_int + _C2 * fl_mean
