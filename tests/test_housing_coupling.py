@@ -184,10 +184,33 @@ def test_bearing_loads_give_the_housing_static_seat_deflection():
     assert np.abs(u[seats]).max() > 1e-7  # the housing does deflect (m)
 
 
-def test_stiff_light_housing_tends_to_the_grounded_bearings():
-    """Young's modulus × 100 and density / 100 per step: the coupled pair's mesh-averaged
-    modes below 5 kHz and its order-1 mesh force from the harmonic balance tend to the
-    grounded pair's, the difference falling by >= 30 per step (∝ the housing's compliance)."""
+def test_stiff_housing_structure_tends_to_the_grounded_one():
+    """The housing's Young's modulus x 10 per step (steel's density: a stiff housing does not
+    move, so its mass drops out): the coupled structure's natural frequencies below 5 kHz tend
+    to the grounded structure's, the difference falling as the housing's compliance (measured
+    x 0.100 per step; asserted <= x 0.125)."""
+    case = _case()
+    g = _scene(case).structure
+    f0 = np.sqrt(np.abs(sla.eigvalsh(np.asarray(g.K), np.asarray(g.M)))) / (2 * math.pi)
+    f0 = f0[(f0 > 1.0) & (f0 < 5000.0)]
+    errs = []
+    for scale in (1e1, 1e2, 1e3):
+        _, ph, off = _prepared(fem_prep.Material(210e9 * scale, 0.3, 7800.0), 5000.0)
+        st = _scene(case, Housing.of(ph.condensed_housing(), rotation=R, offset=off)).structure
+        f = np.sqrt(np.abs(sla.eigvalsh(np.asarray(st.K), np.asarray(st.M)))) / (2 * math.pi)
+        f = f[f > 1.0][: f0.size]
+        errs.append(np.abs(f / f0 - 1).max())
+    errs = np.array(errs)
+    assert np.all(errs[1:] < errs[:-1] / 8) and errs[-1] < 1e-4
+
+
+@pytest.mark.slow
+def test_stiff_housing_dynamics_tend_to_the_grounded_ones():
+    """As above through the engine (16 s): the coupled pair's mesh-averaged modes below 5 kHz
+    (:class:`~jaxgear.dynamics.DynamicModel`) and its order-1 mesh force by the harmonic
+    balance (:func:`~jaxgear.dynamics.whine_response`, a 2 % loss factor on the housing) tend
+    to the grounded pair's (measured differences 6.2e-3, 6.2e-4, 6.2e-5 and 5.3e-3, 5.3e-4,
+    5.3e-5 at E x 10, 100, 1000)."""
     case = _case()
     grounded = dynamic_model(_scene(case), case.modifications, case.torque)
     f0 = np.asarray(grounded.modes.frequency)
@@ -196,8 +219,8 @@ def test_stiff_light_housing_tends_to_the_grounded_bearings():
     w0 = whine_response(grounded, speed, HarmonicBalance(8), positions=64)
     F0 = complex(w0.mesh_force[0, 1, 0])
     errs_f, errs_w = [], []
-    for scale in (1e2, 1e4, 1e6):
-        _, ph, off = _prepared(fem_prep.Material(210e9 * scale, 0.3, 7800.0 / scale), 5000.0)
+    for scale in (1e1, 1e2, 1e3):
+        _, ph, off = _prepared(fem_prep.Material(210e9 * scale, 0.3, 7800.0), 5000.0)
         housing = Housing.of(ph.condensed_housing(), loss_factor=0.02, rotation=R, offset=off)
         model = dynamic_model(_scene(case, housing), case.modifications, case.torque)
         f = np.asarray(model.modes.frequency)
@@ -206,8 +229,8 @@ def test_stiff_light_housing_tends_to_the_grounded_bearings():
         w = whine_response(model, speed, HarmonicBalance(8), positions=64)
         errs_w.append(abs(complex(w.mesh_force[0, 1, 0]) / F0 - 1))
     errs_f, errs_w = np.array(errs_f), np.array(errs_w)
-    assert np.all(errs_f[1:] < errs_f[:-1] / 30) and errs_f[-1] < 1e-5
-    assert np.all(errs_w[1:] < errs_w[:-1] / 30) and errs_w[-1] < 1e-5
+    assert np.all(errs_f[1:] < errs_f[:-1] / 8) and errs_f[-1] < 1e-4
+    assert np.all(errs_w[1:] < errs_w[:-1] / 8) and errs_w[-1] < 1e-4
 
 
 def test_housing_bad_input_one_line():
