@@ -255,3 +255,78 @@ def test_housing_bad_input_one_line():
             housing=h,
             seats=(0, 9, 1, 3),
         )
+
+
+# -------------------------------------------------------------------------------------------
+# the [housing] case table
+
+_TABLE = """
+[housing]
+width_mm = 250.0
+height_mm = 160.0
+wall_thickness_mm = 10.0
+bore_diameter_mm = 50.0
+mesh_size_mm = 40.0
+element = "tet4"
+youngs_modulus_GPa = 7.0
+density_kg_m3 = 2700.0
+cutoff_Hz = 2000.0
+loss_factor = 0.02
+"""
+
+
+def _case_with(tmp_path, table=_TABLE, name="accessory-spur", cut_scene=False):
+    text = jio.embedded_case_text(name)
+    if cut_scene:
+        text = text[: text.index("[scene]")]
+    path = tmp_path / "case.toml"
+    path.write_text(text + table)
+    return jio.load_case(path)
+
+
+def test_case_housing_seats_hold_the_bearings(tmp_path):
+    """The box of ``[housing]`` round the pair: its end walls' mid-planes at the outermost
+    bearings (±50 mm of the gears), a seat on each shaft's axis in each wall, so that every
+    bearing sits at its seat's centre; the case's scene carries the housing (its part, its
+    seats' nodes, its coordinates after the shafts')."""
+    case = _case_with(tmp_path)
+    a = case.pair.center_distance
+    s = case.scene
+    shafts = (s.pinion_shaft, s.gear_shaft)
+    h = case.build_housing(shafts, [(0.0, 0.0, 0.0), (a, 0.0, 0.0)], [0.05, 0.05])
+    want = {(x, 0.0, z) for x in (0.0, a) for z in (-0.05, 0.05)}
+    got = np.array(h.seat_positions)
+    assert len(got) == 4
+    for p in want:
+        assert np.min(np.linalg.norm(got - np.array(p), axis=1)) < 1e-12
+    base = jio.static_scene(case, slices=4)[0].base
+    st = base.structure
+    assert st.part_names[-1] == "housing"
+    assert st.size == 60 + h.size and st.node("housing seat0") == 60
+    np.testing.assert_allclose(np.asarray(st.M)[60:, 60:], np.asarray(h.M))
+
+
+@pytest.mark.parametrize(
+    "table, match",
+    [
+        (_TABLE.replace("cutoff_Hz = 2000.0", ""), "cutoff_Hz"),
+        (_TABLE.replace("wall_thickness_mm = 10.0", "wall_thickness_mm = -1.0"), "-1"),
+        (_TABLE + "colour = 1\n", "colour"),
+        (_TABLE.replace('"tet4"', '"hex8"'), "hex8"),
+        (_TABLE + "loss_factor_x = 0.1\n", "loss_factor_x"),
+        (_TABLE.replace("loss_factor = 0.02", "loss_factor = 3.0"), r"loss_factor.*\[0, 1\]"),
+        (_TABLE + 'mesh_file = "nowhere.msh"\n', "wall|mesh_file"),
+        (_TABLE.replace("width_mm = 250.0", "width_mm = 60.0"), "does not fit"),
+    ],
+)
+def test_housing_table_errors_one_line(tmp_path, table, match):
+    with pytest.raises(ValueError, match=match) as err:
+        case = _case_with(tmp_path, table)
+        jio.static_scene(case, slices=4)  # the box's fit is checked when it is built
+    assert "\n" not in str(err.value)
+
+
+def test_housing_needs_a_lumped_scene(tmp_path):
+    with pytest.raises(ValueError, match="lumped3d") as err:
+        _case_with(tmp_path, cut_scene=True)
+    assert "\n" not in str(err.value)
