@@ -35,13 +35,9 @@ def _placed_box(case, t=0.01, width=0.25, height=0.16):
     a = case.pair.center_distance
     L = 0.1 + t
     off = np.array([-(width / 2 - a / 2), -height / 2, -L / 2])
-    bores = tuple(
-        Bore(w, (x - off[0], height / 2), 0.025) for w in ("x-", "x+") for x in (0.0, a)
-    )
+    bores = tuple(Bore(w, (x - off[0], height / 2), 0.025) for w in ("x-", "x+") for x in (0.0, a))
     f = 0.03
-    feet = tuple(
-        Foot((x0, x0 + f), (y0, y0 + f)) for x0 in (0.0, L - f) for y0 in (0.0, width - f)
-    )
+    feet = tuple(Foot((x0, x0 + f), (y0, y0 + f)) for x0 in (0.0, L - f) for y0 in (0.0, width - f))
     return HousingBox(L, width, height, t, bores=bores, feet=feet), off
 
 
@@ -140,7 +136,9 @@ def test_coupled_modes_match_the_full_housing_below_the_cutoff():
     assert len(got) >= 6
     np.testing.assert_allclose(got, ref, rtol=0.01)
     # and the condensation is what the agreement needs: the grounded scene is far off
-    grounded = sla.eigvalsh(np.asarray(_scene(case).structure.K), np.asarray(_scene(case).structure.M))
+    grounded = sla.eigvalsh(
+        np.asarray(_scene(case).structure.K), np.asarray(_scene(case).structure.M)
+    )
     g = np.sqrt(np.abs(grounded)) / (2 * math.pi)
     assert abs(g[g > 1.0][0] / got[0] - 1) > 0.05
 

@@ -145,9 +145,7 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
         raise sc.SchemaError(f"[housing] must be a table, not {type(table).__name__}")
     sc.check_keys(table, _KEYS, w)
     if ("cutoff_Hz" in table) == ("highest_mesh_frequency_Hz" in table):
-        raise sc.fail(
-            w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz"
-        )
+        raise sc.fail(w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
     if "cutoff_Hz" in table:
         cutoff = sc.number(table, "cutoff_Hz", w, allowed="(0, 1e+06]")
     else:
@@ -156,13 +154,13 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
     E = sc.number(table, "youngs_modulus_GPa", w, E0 * 1e-9, allowed="[0.1, 1e+07]") * 1e9
     nu = sc.number(table, "poisson_ratio", w, nu0, allowed="[0, 0.5)")
     rho = sc.number(table, "density_kg_m3", w, rho0, allowed="[1, 1e+05]")
-    common = dict(
-        cutoff=cutoff,
-        material=(E, nu, rho),
-        loss_factor=sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
-        coupling=sc.choice(table, "coupling", w, COUPLINGS, "rigid"),
-        element=sc.choice(table, "element", w, ELEMENTS, "tet10"),
-    )
+    common = {
+        "cutoff": cutoff,
+        "material": (E, nu, rho),
+        "loss_factor": sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
+        "coupling": sc.choice(table, "coupling", w, COUPLINGS, "rigid"),
+        "element": sc.choice(table, "element", w, ELEMENTS, "tet10"),
+    }
     if "mesh_file" in table:
         for key in _BOX_ONLY:
             if key in table:

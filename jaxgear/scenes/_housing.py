@@ -125,8 +125,11 @@ class Housing(eqx.Module):
             raise ValueError(f"Housing: offset = {offset!r}, allowed 3 finite numbers (m)")
         K, M = np.asarray(condensed.K, float), np.asarray(condensed.M, float)
         names = tuple(str(s) for s in condensed.seat_names)
-        if K.ndim != 2 or K.shape[0] != K.shape[1] or K.shape != M.shape or K.shape[0] < 6 * len(
-            names
+        if (
+            K.ndim != 2
+            or K.shape[0] != K.shape[1]
+            or K.shape != M.shape
+            or K.shape[0] < 6 * len(names)
         ):
             raise ValueError(
                 f"Housing: K {K.shape} and M {M.shape}, allowed square, equal, >= 6 per seat "
@@ -206,7 +209,9 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     h = housing.size
     N = n + h
     flat = [
-        (i, b, np.asarray(p)) for i, s in enumerate(shafts) for b, p in zip(s.bearings, positions[i])
+        (i, b, np.asarray(p))
+        for i, s in enumerate(shafts)
+        for b, p in zip(s.bearings, positions[i])
     ]
     if seats is None:
         seats = [housing.nearest_seat(p) for _, _, p in flat]
@@ -214,10 +219,12 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     if len(seats) != len(flat):
         raise ValueError(f"seats: {len(seats)} entries for {len(flat)} bearings, allowed one each")
     for k, s in enumerate(seats):
-        if isinstance(s, bool) or not isinstance(s, (int, np.integer)) or not 0 <= s < housing.n_seats:
-            raise ValueError(
-                f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1}"
-            )
+        if (
+            isinstance(s, bool)
+            or not isinstance(s, (int, np.integer))
+            or not 0 <= s < housing.n_seats
+        ):
+            raise ValueError(f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1}")
 
     def grow(a):
         out = np.zeros(a.shape[:-2] + (N, N))
