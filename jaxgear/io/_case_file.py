@@ -500,6 +500,7 @@ def case_housing(data: dict, scene, base_dir, material):
     without condensed bodies (the bearings it carries are the lumped scene's)."""
     if "housing" not in data:
         return None
+    table = sc.subtable(data, "housing", "")  # checked by parse_housing
     if scene is None or not scene.lumped or scene.hybrid:
         raise sc.fail(
             "housing",
@@ -507,7 +508,7 @@ def case_housing(data: dict, scene, base_dir, material):
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
             "model = 'lumped3d' without condensed bodies",
         )
-    return parse_housing(data["housing"], base_dir, material)
+    return parse_housing(table, base_dir, material)
 
 
 def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:

@@ -138,7 +138,8 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
     Raises:
         SchemaError: an unknown key, a value out of range, a box key with ``mesh_file`` or a
             file key without it, neither or both of ``cutoff_Hz`` and
-            ``highest_mesh_frequency_Hz``, a mesh file that does not exist.
+            ``highest_mesh_frequency_Hz`` (a mesh file that does not exist: when the housing
+            is built, :func:`build_housing`).
     """
     w = "housing"
     if not isinstance(table, dict):
@@ -166,9 +167,8 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
             if key in table:
                 raise sc.fail(w, key, "a box key: not with mesh_file", table[key])
         ref = sc.string(table, "mesh_file", w)
+        # the path resolved here, the file read when the housing is built (build_housing)
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
-        if not os.path.isfile(path):
-            raise sc.fail(w, "mesh_file", "no such file", ref)
         unit = sc.choice(table, "mesh_unit", w, ("mm", "m"), "mm")
         seats = []
         for k, s in enumerate(table.get("seats", [])):
@@ -268,7 +268,8 @@ def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=
             (:func:`jaxgear.scenes.bearing_positions`). cache: as ``condensed_housing``'s.
 
     Raises:
-        SchemaError: a box that does not fit round the shafts (a bore through a wall's edge).
+        SchemaError: a box that does not fit round the shafts (a bore through a wall's edge),
+            a mesh file that does not exist (before anything is meshed).
     """
     import fem_prep
     from fem_prep.housing import (
@@ -287,6 +288,8 @@ def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=
     element = {"tet10": Tet10, "tet4": Tet4}[spec.element]()
     coupling = {"rigid": fem_prep.Rigid, "averaging": fem_prep.Averaging}[spec.coupling]()
     if spec.mesh_file is not None:
+        if not os.path.isfile(spec.mesh_file):
+            raise sc.fail("housing", "mesh_file", "no such file", spec.mesh_file)
         seats = tuple(Seat(c, a, d / 2, wd, name) for c, a, d, wd, name in spec.seats)
         feet = tuple(Foot(x, y) for x, y in spec.feet)
         mesh = read_housing_mesh(
