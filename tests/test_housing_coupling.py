@@ -342,3 +342,37 @@ def test_housing_needs_a_lumped_scene(tmp_path):
     with pytest.raises(ValueError, match="lumped3d") as err:
         _case_with(tmp_path, cut_scene=True)
     assert "\n" not in str(err.value)
+
+
+def test_train_on_a_stiffening_housing_tends_to_the_grounded_train(tmp_path):
+    """The ``two-stage`` train (three shafts, six bearings) with a ``[housing]`` box: its
+    structure's natural frequencies below 5 kHz tend to the grounded train's as the housing's
+    Young's modulus grows (x 10: the difference / 10, measured 0.100)."""
+    path = tmp_path / "train.toml"
+    base = jio.embedded_case_text("two-stage")
+    table = """
+[housing]
+width_mm = 400.0
+height_mm = 250.0
+wall_thickness_mm = 12.0
+mesh_size_mm = 60.0
+element = "tet4"
+cutoff_Hz = 5000.0
+youngs_modulus_GPa = {E}
+"""
+
+    def freqs(structure):
+        lam = sla.eigvalsh(np.asarray(structure.K), np.asarray(structure.M))
+        f = np.sqrt(np.abs(lam)) / (2 * math.pi)
+        return f[f > 1.0]
+
+    grounded = jio.load_case("two-stage").lumped_train(slices=4).structure
+    f0 = freqs(grounded)
+    f0 = f0[f0 < 5000.0]
+    errs = []
+    for E in (2.1e3, 2.1e4):
+        path.write_text(base + table.format(E=E))
+        st = jio.load_case(path).lumped_train(slices=4).structure
+        assert st.size == grounded.size + 6 * 6 and st.part_names[-1] == "housing"
+        errs.append(np.abs(freqs(st)[: f0.size] / f0 - 1).max())
+    assert errs[1] < errs[0] / 8 and errs[1] < 1e-3
