@@ -347,7 +347,8 @@ def test_housing_needs_a_lumped_scene(tmp_path):
 def test_train_on_a_stiffening_housing_tends_to_the_grounded_train(tmp_path):
     """The ``two-stage`` train (three shafts, six bearings) with a ``[housing]`` box: its
     structure's natural frequencies below 5 kHz tend to the grounded train's as the housing's
-    Young's modulus grows (x 10: the difference / 10, measured 0.100)."""
+    Young's modulus grows (x 10: the difference / 10; measured 2.6e-3, 2.5e-4 at 100 and
+    1000 x steel)."""
     path = tmp_path / "train.toml"
     base = jio.embedded_case_text("two-stage")
     table = """
@@ -355,7 +356,7 @@ def test_train_on_a_stiffening_housing_tends_to_the_grounded_train(tmp_path):
 width_mm = 400.0
 height_mm = 250.0
 wall_thickness_mm = 12.0
-mesh_size_mm = 60.0
+mesh_size_mm = 80.0
 element = "tet4"
 cutoff_Hz = 5000.0
 youngs_modulus_GPa = {E}
@@ -370,7 +371,7 @@ youngs_modulus_GPa = {E}
     f0 = freqs(grounded)
     f0 = f0[f0 < 5000.0]
     errs = []
-    for E in (2.1e3, 2.1e4):
+    for E in (2.1e4, 2.1e5):
         path.write_text(base + table.format(E=E))
         st = jio.load_case(path).lumped_train(slices=4).structure
         assert st.size == grounded.size + 6 * 6 and st.part_names[-1] == "housing"
