@@ -60,6 +60,7 @@ SECTIONS = {
     "jaxgear.scenes": (
         ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),
         ("Shafts and meshes", ("_shaft", "_gear_mesh", "_window_compliance")),
+        ("A flexible housing", ("_housing",)),
         ("Condensed bodies (hybrid)", ("_hybrid", "_interface")),
         ("Trains", ("_train",)),
     ),
@@ -109,7 +110,7 @@ SECTIONS = {
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
                                    "_lubricant_table", "_scuffing_table",
-                                   "_micropitting_table")),
+                                   "_micropitting_table", "_housing_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (

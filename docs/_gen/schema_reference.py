@@ -122,6 +122,41 @@ structural_factor = 1.0
 relative_structural_factor = 1.0
 micropitting_load_stage = 8
 """,
+    "housing": """
+[housing]
+width_mm = 250.0
+height_mm = 160.0
+wall_thickness_mm = 10.0
+length_mm = 110.0
+bore_diameter_mm = 50.0
+foot_size_mm = 30.0
+mesh_size_mm = 40.0
+layers = 1
+mesher = "structured"
+element = "tet10"
+youngs_modulus_GPa = 70.0
+poisson_ratio = 0.33
+density_kg_m3 = 2700.0
+cutoff_Hz = 3000.0
+loss_factor = 0.02
+coupling = "rigid"
+""",
+    "housing mesh file": """
+[housing]
+mesh_file = "housing.msh"
+mesh_unit = "mm"
+offset_mm = [0.0, 0.0, 0.0]
+highest_mesh_frequency_Hz = 2000.0
+[[housing.seats]]
+centre_mm = [0.0, 80.0, 75.0]
+axis = [1.0, 0.0, 0.0]
+diameter_mm = 50.0
+width_mm = 10.0
+name = "input_a"
+[[housing.feet]]
+x_mm = [0.0, 30.0]
+y_mm = [0.0, 30.0]
+""",
     "modifications": """
 [modifications]
 tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }
@@ -435,6 +470,11 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     for key in [k for k in SAMPLE_OVERLAYS if k.startswith("rating spectrum ")]:
         spectrum = tomllib.loads(SAMPLE_OVERLAYS[key])["rating"]["spectrum"]
         yield data | {"rating": dict(shared) | {"spectrum": spectrum}}, None
+    # a lumped 3D train on a flexible housing (its [housing] as a pair's)
+    data = tomllib.loads(jio.embedded_case_text("two-stage"))
+    for overlay in ("housing", "housing mesh file"):
+        data["housing"] = tomllib.loads(SAMPLE_OVERLAYS[overlay])["housing"]
+        yield copy.deepcopy(data), None
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
     data["scene"]["pinion_body"] = {"body": "accessory-pinion"}

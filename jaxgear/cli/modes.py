@@ -13,7 +13,8 @@ By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
   stiffness (:func:`jaxgear.dynamics.mesh_averaged_modes`, the modes ``jaxgear sweep`` reads),
   each typed by the **coordinate group carrying most of its kinetic energy**: a shaft node's
   u_x, u_y, φ_x, φ_y ``bending``, u_z ``axial``, φ_z ``torsional`` (the shaft axis z); a
-  torsional scene's coordinates are all ``torsional``. The share of mode i in group g is
+  torsional scene's coordinates are all ``torsional``, a flexible housing's (``[housing]``:
+  its seats' and its modal coordinates) ``housing``. The share of mode i in group g is
   e_g = Σ_{j∈g} φ_ji (M φ_i)_j (mass-normalised φ_i: the shares sum to 1); a rigid mode
   (0 Hz: the drive rotation) is typed ``rigid``;
 * **flexible cases** (condensed FE bodies: the hybrid model): the lowest
@@ -57,15 +58,22 @@ HYBRID_MODES = 20
 MODES_SLICES = 8
 
 
-def group_shares(mass, shapes, node_dofs: int) -> tuple[tuple, np.ndarray]:
+def group_shares(
+    mass, shapes, node_dofs: int, housing_from: int | None = None
+) -> tuple[tuple, np.ndarray]:
     """(group names, shares (g, n)): each mode's kinetic-energy share per coordinate group
-    (:data:`DOF_GROUPS` of ``node_dofs`` coordinates per node), mass-normalised ``shapes``
-    (n_dof, n) and ``mass`` (n_dof, n_dof)."""
+    (:data:`DOF_GROUPS` of ``node_dofs`` coordinates per node; the coordinates from
+    ``housing_from`` on, a flexible housing's seats and modal coordinates, the group
+    ``housing``), mass-normalised ``shapes`` (n_dof, n) and ``mass`` (n_dof, n_dof)."""
     labels = DOF_GROUPS[node_dofs]
     phi = np.asarray(shapes)
     energy = phi * (np.asarray(mass) @ phi)  # (n_dof, n): sums to 1 over the coordinates
-    names = tuple(dict.fromkeys(labels))
-    of = np.array([names.index(labels[j % node_dofs]) for j in range(phi.shape[0])])
+    n = phi.shape[0] if housing_from is None else housing_from
+    names = tuple(dict.fromkeys(labels)) + (() if housing_from is None else ("housing",))
+    of = np.array(
+        [names.index(labels[j % node_dofs]) for j in range(n)]
+        + [len(names) - 1] * (phi.shape[0] - n)
+    )
     shares = np.stack([energy[of == g].sum(axis=0) for g in range(len(names))])
     return names, shares
 
@@ -80,7 +88,10 @@ def typed_modes(model, modes) -> dict:
 @typed_modes.register
 def _(model: DynamicModel, modes) -> dict:
     scene = model.scene
-    names, shares = group_shares(scene.mass(), modes.shapes, scene.structure.node_dofs)
+    seats = [first for name, first in scene.structure.nodes if name.startswith("housing ")]
+    names, shares = group_shares(
+        scene.mass(), modes.shapes, scene.structure.node_dofs, min(seats) if seats else None
+    )
     rigid = np.asarray(modes.rigid)
     rows = []
     for i, f in enumerate(np.asarray(modes.frequency)):

@@ -26,6 +26,7 @@ from .._modifications import Modifications
 from .._stiffness_models import FE2D, AbstractStiffness, stiffness_table
 from ..scenes import (
     TrainSpec,
+    bearing_positions,
     Wrench,
     disc_inertia,
     grounded,
@@ -233,6 +234,7 @@ class Case(MeshSettings):
     wrenches: tuple = ()
     shaft_names: tuple = ()
     scene: Any = None
+    housing: Any = None  # [housing]: a HousingSpec (docs/housing.md), lumped 3D scenes only
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
     deviations: Any = None
     deviation_settings: dict | None = None
@@ -493,15 +495,32 @@ class Case(MeshSettings):
         """
         if not self.lumped:
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
-        return lumped_train(
-            TrainSpec(
-                tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
-                self.layout(),
-                self.scene.shafts,
-                self.shaft_of,
-                **self._lumped_args(),
-            )
+        spec = TrainSpec(
+            tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
+            self.layout(),
+            self.scene.shafts,
+            self.shaft_of,
+            **self._lumped_args(),
         )
+        housing = None
+        if self.housing is not None:
+            first = [spec.shaft_gears[i][0] for i in range(spec.n_shafts)]
+            housing = self.build_housing(
+                spec.shafts,
+                [spec.layout.centres[g] for g in first],
+                [s.gear_positions[0] for s in spec.shafts],
+            )
+        return lumped_train(spec, housing)
+
+    def build_housing(self, shafts, centres, gear_z, *, cache=True):
+        """The case's ``[housing]`` (:attr:`housing`) as a :class:`jaxgear.scenes.Housing`
+        round the bearings of ``shafts`` (axes through ``centres``, the first gears at
+        ``gear_z`` along them; :func:`jaxgear.scenes.bearing_positions`): meshed, condensed
+        (cached) and damped (docs/housing.md)."""
+        from ._housing_table import build_housing
+
+        positions = bearing_positions(shafts, centres, gear_z)
+        return build_housing(self.housing, shafts, positions, cache=cache)
 
     def hybrid_train(self, bodies: tuple, slices: int | None = None, *, tooth_mass: bool = True):
         """The train's lumped 3D scene with its flexible gears as condensed FE bodies

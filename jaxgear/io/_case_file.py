@@ -27,6 +27,7 @@ from ._optimise_table import parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
+from ._housing_table import parse_housing
 from ._scene_table import parse_scene
 
 __all__ = [
@@ -92,6 +93,7 @@ _SCHEMA: dict[str, Any] = {
     "optimise": None,  # checked by parse_optimise
     "rating": None,  # checked by check_rating (ISO 6336 load capacity)
     "lubricant": None,  # checked by parse_lubricant (film and sliding loss)
+    "housing": None,  # checked by parse_housing (a flexible housing, docs/housing.md)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -457,6 +459,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
             grade_from_deviations=(deviation_settings or {}).get("grade"),
         )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
+    housing = case_housing(data, scene, base_dir, (E, nu, rho))
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
         raise sc.fail(
@@ -483,12 +486,29 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         speed=speed,
         **mesh,
         scene=scene,
+        housing=housing,
         optimise=optimise,
         raw=data,
     )
     for text in plausibility(case):
         warnings.warn(text, CaseWarning, stacklevel=2)
     return case
+
+
+def case_housing(data: dict, scene, base_dir, material):
+    """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene
+    without condensed bodies (the bearings it carries are the lumped scene's)."""
+    if "housing" not in data:
+        return None
+    table = sc.subtable(data, "housing", "")  # checked by parse_housing
+    if scene is None or not scene.lumped or scene.hybrid:
+        raise sc.fail(
+            "housing",
+            None,
+            "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
+            "model = 'lumped3d' without condensed bodies",
+        )
+    return parse_housing(table, base_dir, material)
 
 
 def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:

@@ -25,6 +25,7 @@ from ..scenes import (
     disc_inertia,
     grounded,
     hybrid_pair,
+    line_of_action,
     lumped_pair,
 )
 from ._case import Case, PairForm, TrainForm
@@ -182,16 +183,24 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
     """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings."""
     i1, i2 = _inertias(case, spec)
     masses, inertias = _gear_bodies(case, spec, i1, i2)
+    shafts = (spec.pinion_shaft, spec.gear_shaft)
+    housing = None
+    if case.housing is not None:  # [housing]: the bearings on its seats (docs/housing.md)
+        housing = case.build_housing(
+            shafts,
+            line_of_action(case.pair)["centres"],
+            [s.gear_positions[0] for s in shafts],
+        )
     return lumped_pair(
         case.pair,
         mesh,
-        spec.pinion_shaft,
-        spec.gear_shaft,
+        *shafts,
         masses=masses,
         inertias=inertias,
         youngs_modulus=case.youngs_modulus,
         poisson_ratio=case.poisson_ratio,
         density=case.density,
+        housing=housing,
     )
 
 

@@ -100,6 +100,7 @@ from ._case_file import (
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
     _member,
+    case_housing,
     check_member_size,
     parse_material,
     parse_mesh_settings,
@@ -139,6 +140,7 @@ _TOP_KEYS = {
     "modifications",
     "operating",
     "scene",
+    "housing",
     "planetary",
     "rating",
     "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
@@ -624,6 +626,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
+    housing = case_housing(data, scene, base_dir, (E, nu, rho))
     case = Case(
         name=name,
         gear_names=tuple(names),
@@ -646,6 +649,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         wrenches=wrenches,
         shaft_names=tuple(shaft_list),
         scene=scene,
+        housing=housing,
         raw=data,
         form=InternalMeshForm() if internal else TrainForm(),
     )

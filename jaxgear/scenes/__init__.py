@@ -17,7 +17,9 @@ torsional model, the lumped 3D and the hybrid scenes are structures with their m
 :class:`TrainSpec` (laid out by :func:`train_layout`) and built from it as each scene kind:
 torsional (:meth:`TorsionalTrain.of`, :func:`torsional_train`), lumped 3D
 (:meth:`LumpedTrain.of`), hybrid (:meth:`HybridScene.train`); the first two are a
-:class:`GearTrain`. :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
+:class:`GearTrain`. :class:`Housing` is a condensed flexible housing the lumped scenes' bearings join the shafts to
+(``housing=`` of :func:`lumped_pair` and :meth:`LumpedTrain.of`) instead of the ground.
+:func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
 as a load on the structure (zone compliances fᵀ K⁻¹ f).
 """
 
@@ -36,6 +38,7 @@ from ._hybrid import (
     hybrid_pair as hybrid_pair,
     hybrid_train as hybrid_train,
 )
+from ._housing import Housing as Housing, bearing_positions as bearing_positions
 from ._interface import (
     FlexibleMember as FlexibleMember,
     GearMember as GearMember,

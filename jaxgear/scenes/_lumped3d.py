@@ -28,6 +28,7 @@ from jaxtyping import Array, Float
 from .._baseplane import MeshModel
 from .._geometry import GearPair
 from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
+from ._housing import Housing, bearing_positions, couple_housing, housing_nodes
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._shaft import ShaftSpec, _add_gear_body, _shaft_arrays, _shaft_structure
@@ -124,6 +125,8 @@ def lumped_pair(
     youngs_modulus: float = 210e9,
     poisson_ratio: float = 0.3,
     density: float = 7800.0,
+    housing: Housing | None = None,
+    seats=None,
 ) -> LumpedPair:
     """Assemble the 3D lumped scene.
 
@@ -133,11 +136,29 @@ def lumped_pair(
         masses: gear body masses (kg), added at the gear nodes.
         inertias: ((I_diametral, I_polar) pinion, (…) gear) (kg·m²) of the gear bodies.
         youngs_modulus, poisson_ratio, density: shaft material.
+        housing: a flexible :class:`~jaxgear.scenes.Housing` the bearings join the shafts to
+            (its coordinates after the shafts'; the structure's part ``housing`` and nodes
+            ``housing <seat>``), or None: the bearings hold the shafts to the ground. Scene
+            frame: the pinion's axis is the z axis, the gear's through (a_w, 0), both gears'
+            centres at z = 0 (a shaft position s lies at z = s − its ``gear_z``).
+        seats: with ``housing``, each bearing's seat index (pinion's bearings, then the
+            gear's); None: the seat nearest each bearing.
+
+    Raises:
+        ValueError: what :func:`~jaxgear.scenes._housing.couple_housing` refuses.
     """
     d = _lumped_arrays(
         pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
     )
     line = line_of_action(pair)
+    d = _housed(
+        d,
+        (pinion_shaft, gear_shaft),
+        line["centres"],
+        (pinion_shaft.gear_positions[0], gear_shaft.gear_positions[0]),
+        housing,
+        seats,
+    )
     members = tuple(
         RigidMember(line["centres"][m], tuple(range(g, g + 6)))
         for m, g in enumerate(d["gear_dofs"])
@@ -155,7 +176,11 @@ def lumped_pair(
     f_torque = np.zeros(n)
     f_torque[t_in] += 1.0
     f_torque[t_out] += pair.base_radii[1] / pair.base_radii[0]
-    structure = _shaft_structure(d, ("pinion_shaft", "gear_shaft", "bearings"), d["nodes"])
+    structure = _shaft_structure(
+        d,
+        ("pinion_shaft", "gear_shaft", "bearings") + (("housing",) if housing is not None else ()),
+        d["nodes"],
+    )
     return LumpedPair(
         structure=structure,
         meshes=(pair_mesh(mesh, line, te),),
@@ -163,6 +188,19 @@ def lumped_pair(
         f_torque=jnp.asarray(f_torque),
         rigid=jnp.asarray(d["rigid"]),
     )
+
+
+def _housed(d: dict, shafts, centres, gear_z, housing, seats) -> dict:
+    """``d`` with ``housing`` coupled (:func:`couple_housing`): the rigid rotation padded, the
+    seats' nodes named."""
+    if housing is None:
+        return d
+    n = d["M"].shape[0]
+    out = couple_housing(d, shafts, bearing_positions(shafts, centres, gear_z), housing, seats)
+    out["nodes"] = (*d["nodes"], *housing_nodes(housing, n))
+    if "rigid" in d:
+        out["rigid"] = np.concatenate([d["rigid"], np.zeros(housing.size)])
+    return out
 
 
 @dataclasses.dataclass(frozen=True)
@@ -231,7 +269,7 @@ class LumpedTrain(GearTrain):
     node. Build with :meth:`of` from the train's :class:`~jaxgear.scenes.TrainSpec`."""
 
     @classmethod
-    def of(cls, spec: TrainSpec) -> LumpedTrain:
+    def of(cls, spec: TrainSpec, housing: Housing | None = None, seats=None) -> LumpedTrain:
         """The lumped 3D scene of the train ``spec`` (its layout, shafts, gear bodies, loads
         and material).
 
@@ -244,12 +282,30 @@ class LumpedTrain(GearTrain):
         at theirs (:func:`~jaxgear.scenes.shaft_torques`), each about the shaft's sense of
         rotation; wrenches add forces and tilting moments at shaft nodes.
 
+        With ``housing`` (a :class:`~jaxgear.scenes.Housing`) the bearings join the shafts to
+        its seats (``seats``: each bearing's seat index, shaft after shaft; None: the nearest
+        seat) instead of the ground, its coordinates after the shafts' (:func:`lumped_pair`'s
+        ``housing``); shaft i's axis runs through its first gear's layout centre, a shaft
+        position s at z = centre_z + s − that gear's position along the shaft.
+
         Raises:
             ValueError: gears and shafts that do not match (a shaft's ``gear_z`` count against
                 its gears), a wrench on no shaft, or what :func:`shaft_speeds`,
                 :func:`shaft_torques` and :func:`scene_span` refuse.
         """
         t = _train_arrays(spec, spec.masses)
+        n0 = t["d"]["M"].shape[0]
+        on = spec.shaft_gears
+        t["d"] = _housed(
+            dict(t["d"], nodes=t["nodes"]),
+            spec.shafts,
+            [spec.layout.centres[on[i][0]] for i in range(spec.n_shafts)],
+            [s.gear_positions[0] for s in spec.shafts],
+            housing,
+            seats,
+        )
+        t["nodes"] = t["d"].pop("nodes")
+        t["f_torque"] = np.concatenate([t["f_torque"], np.zeros(t["d"]["M"].shape[0] - n0)])
         d, first, n = t["d"], t["first"], t["d"]["M"].shape[0]
         offsets, mats = d["shaft_offsets"], d["mats"]
         rb0 = float(spec.meshes[0][0].base_radius_pinion)
@@ -263,7 +319,13 @@ class LumpedTrain(GearTrain):
             for g in range(spec.n_gears)
         )
         structure = _shaft_structure(
-            d, (*(f"{name}_shaft" for name in spec.names), "bearings"), t["nodes"]
+            d,
+            (
+                *(f"{name}_shaft" for name in spec.names),
+                "bearings",
+                *(("housing",) if housing is not None else ()),
+            ),
+            t["nodes"],
         )
         return cls(
             structure=structure,
@@ -276,13 +338,14 @@ class LumpedTrain(GearTrain):
         )
 
 
-def lumped_train(spec: TrainSpec) -> LumpedTrain:
-    """The lumped 3D scene of the train ``spec``: :meth:`LumpedTrain.of`.
+def lumped_train(spec: TrainSpec, housing: Housing | None = None, seats=None) -> LumpedTrain:
+    """The lumped 3D scene of the train ``spec`` (with ``housing``: its bearings on the
+    housing's seats): :meth:`LumpedTrain.of`.
 
     Raises:
         ValueError: what :meth:`LumpedTrain.of` refuses.
     """
-    return LumpedTrain.of(spec)
+    return LumpedTrain.of(spec, housing, seats)
 
 
 def _train_arrays(spec: TrainSpec, masses, bodies_z=None) -> dict:

@@ -29,10 +29,12 @@ class Structure(eqx.Module):
         M: mass (n, n) (kg, kg·m²).
         parts_K: K split by part, (p, n, n) summing to K (names in ``part_names``), or None for
             one part named ``part_names[0]``.
-        C_bearing: bearing damping (units of K·s) on the first s coordinates (the shafts), (s, s).
+        C_bearing: bearing damping (units of K·s) on the first s coordinates (the shafts, and
+            with a flexible housing its coordinates and damping too), (s, s).
         reaction: bearing force rows (r, n): R X the elastic force components k u (N), names in
             ``reaction_names``, each on shaft ``reaction_member`` (the shaft's index: 0 pinion,
-            1 gear for a pair).
+            1 gear for a pair); on a flexible housing k d, d the shaft node's displacement
+            relative to its seat (:class:`~jaxgear.scenes.Housing`).
         gyroscopic: Coriolis matrix per unit pinion speed (n, n) of the members whose frames turn
             (zeros for a structure in the fixed frame).
         spin_stiffness: spin softening plus centrifugal stress stiffening per unit pinion speed²

@@ -1,0 +1,317 @@
+"""The ``[housing]`` table of a case (docs/housing.md): a flexible housing the lumped 3D scene's
+bearings join the shafts to, condensed by :mod:`fem_prep.housing` (built once, then cached).
+
+.. code-block:: toml
+
+    [housing]
+    # a parametric box round the shafts (or mesh_file, below)
+    width_mm = 250.0             # across the shafts' plane (scene x)
+    height_mm = 160.0            # scene y; the feet on the bottom (y min)
+    wall_thickness_mm = 10.0
+    length_mm = 110.0            # along the shafts; default: the bearings' span + the wall
+    bore_diameter_mm = 50.0      # default: 1.5 x the largest shaft diameter
+    foot_size_mm = 30.0          # square feet at the bottom's four corners; default 3 walls
+    mesh_size_mm = 40.0          # the mesher's largest cell edge
+    mesher = "structured"        # or "gmsh" (pip install 'jaxgear[housing]')
+    element = "tet10"            # or "tet4"
+    youngs_modulus_GPa = 210.0   # default: the case's [material]
+    poisson_ratio = 0.3
+    density_kg_m3 = 7800.0
+    cutoff_Hz = 3000.0           # the interior modes kept; or highest_mesh_frequency_Hz
+                                 # (cut-off 1.5 x it)
+    loss_factor = 0.02           # modal damping zeta = loss_factor / 2 on the housing's modes
+    coupling = "rigid"           # the seats' coupling: "rigid" or "averaging"
+
+The box's frame: its length along the shafts (scene z), its width along scene x, its height
+along scene y; centred on the shafts' axes across, its end walls' mid-planes at the outermost
+bearings along; a bore round every shaft in both end walls; each bearing on its nearest seat.
+``mesh_file`` (any meshio format, in the housing frame: x along the shafts, z up, the feet on
+its lowest plane) replaces the box: ``mesh_unit`` ("mm" or "m"), ``offset_mm`` (the scene
+position of the mesh's origin), ``[[housing.seats]]`` (``centre_mm``, ``axis``,
+``diameter_mm``, ``width_mm``, ``name``) and ``[[housing.feet]]`` (``x_mm``, ``y_mm``:
+(min, max)).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+
+import numpy as np
+
+from fem_prep import schema as sc
+
+__all__ = ["HousingSpec", "build_housing", "parse_housing"]
+
+_KEYS = {
+    "width_mm",
+    "height_mm",
+    "wall_thickness_mm",
+    "length_mm",
+    "bore_diameter_mm",
+    "foot_size_mm",
+    "mesh_size_mm",
+    "layers",
+    "mesher",
+    "element",
+    "youngs_modulus_GPa",
+    "poisson_ratio",
+    "density_kg_m3",
+    "cutoff_Hz",
+    "highest_mesh_frequency_Hz",
+    "loss_factor",
+    "coupling",
+    "mesh_file",
+    "mesh_unit",
+    "offset_mm",
+    "seats",
+    "feet",
+}
+_BOX_ONLY = (
+    "width_mm",
+    "height_mm",
+    "wall_thickness_mm",
+    "length_mm",
+    "bore_diameter_mm",
+    "foot_size_mm",
+    "mesh_size_mm",
+    "layers",
+    "mesher",
+)
+_FILE_ONLY = ("mesh_unit", "offset_mm", "seats", "feet")
+MESHERS = ("structured", "gmsh")
+ELEMENTS = ("tet10", "tet4")
+COUPLINGS = ("rigid", "averaging")
+#: the housing frame -> the scene frame: housing x (length) along the shafts (scene z), housing
+#: y (width) along scene x, housing z (height, feet at z = 0) along scene y
+ROTATION = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
+
+
+@dataclasses.dataclass(frozen=True)
+class HousingSpec:
+    """A case's ``[housing]`` in SI (m, Pa, kg/m³, Hz); ``None``: the default (module
+    docstring). ``seats``: (centre (3,), axis (3,), diameter, width, name) per seat and
+    ``feet``: ((x_min, x_max), (y_min, y_max)) per foot, of a mesh file (housing frame, m)."""
+
+    cutoff: float
+    width: float | None = None
+    height: float | None = None
+    wall_thickness: float | None = None
+    length: float | None = None
+    bore_diameter: float | None = None
+    foot_size: float | None = None
+    mesh_size: float | None = None
+    layers: int = 1
+    mesher: str = "structured"
+    element: str = "tet10"
+    material: tuple | None = None
+    loss_factor: float = 0.0
+    coupling: str = "rigid"
+    mesh_file: str | None = None
+    mesh_scale: float = 1e-3
+    offset: tuple = (0.0, 0.0, 0.0)
+    seats: tuple = ()
+    feet: tuple = ()
+
+
+def _vec(table, key, where, n, default=None):
+    if key not in table:
+        return default
+    v = table[key]
+    ok = (
+        isinstance(v, list)
+        and len(v) == n
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+        and all(math.isfinite(x) for x in v)
+    )
+    if not ok:
+        raise sc.fail(where, key, f"allowed {n} finite numbers", v)
+    return tuple(float(x) for x in v)
+
+
+def parse_housing(table, base_dir: str | None = None, material=None) -> HousingSpec:
+    """Check ``[housing]`` (one-line errors naming the key, its value and the allowed range,
+    before anything is built) into a :class:`HousingSpec`; ``material`` the case's (E, ν, ρ),
+    the default.
+
+    Raises:
+        SchemaError: an unknown key, a value out of range, a box key with ``mesh_file`` or a
+            file key without it, neither or both of ``cutoff_Hz`` and
+            ``highest_mesh_frequency_Hz`` (a mesh file that does not exist: when the housing
+            is built, :func:`build_housing`).
+    """
+    w = "housing"
+    if not isinstance(table, dict):
+        raise sc.SchemaError(f"[housing] must be a table, not {type(table).__name__}")
+    sc.check_keys(table, _KEYS, w)
+    if ("cutoff_Hz" in table) == ("highest_mesh_frequency_Hz" in table):
+        raise sc.fail(w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
+    if "cutoff_Hz" in table:
+        cutoff = sc.number(table, "cutoff_Hz", w, allowed="(0, 1e+06]")
+    else:
+        cutoff = 1.5 * sc.number(table, "highest_mesh_frequency_Hz", w, allowed="(0, 1e+06]")
+    E0, nu0, rho0 = material or (210e9, 0.3, 7800.0)
+    E = sc.number(table, "youngs_modulus_GPa", w, E0 * 1e-9, allowed="[0.1, 1e+07]") * 1e9
+    nu = sc.number(table, "poisson_ratio", w, nu0, allowed="[0, 0.5)")
+    rho = sc.number(table, "density_kg_m3", w, rho0, allowed="[1, 1e+05]")
+    common = {
+        "cutoff": cutoff,
+        "material": (E, nu, rho),
+        "loss_factor": sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
+        "coupling": sc.choice(table, "coupling", w, COUPLINGS, "rigid"),
+        "element": sc.choice(table, "element", w, ELEMENTS, "tet10"),
+    }
+    if "mesh_file" in table:
+        for key in _BOX_ONLY:
+            if key in table:
+                raise sc.fail(w, key, "a box key: not with mesh_file", table[key])
+        ref = sc.string(table, "mesh_file", w)
+        # the path resolved here, the file read when the housing is built (build_housing)
+        path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
+        unit = sc.choice(table, "mesh_unit", w, ("mm", "m"), "mm")
+        seats = []
+        for k, s in enumerate(table.get("seats", [])):
+            where = f"housing.seats[{k}]"
+            if not isinstance(s, dict):
+                raise sc.fail(where, None, "allowed a table", s)
+            sc.check_keys(s, {"centre_mm", "axis", "diameter_mm", "width_mm", "name"}, where)
+            c = _vec(s, "centre_mm", where, 3)
+            if c is None:
+                raise sc.fail(where, "centre_mm", "required")
+            axis = _vec(s, "axis", where, 3, (1.0, 0.0, 0.0))
+            if not any(axis):
+                raise sc.fail(where, "axis", "allowed a non-zero vector", list(axis))
+            seats.append(
+                (
+                    tuple(x * 1e-3 for x in c),
+                    axis,
+                    sc.number(s, "diameter_mm", where, allowed="(0, 1e+05]") * 1e-3,
+                    sc.number(s, "width_mm", where, allowed="(0, 1e+05]") * 1e-3,
+                    sc.string(s, "name", where, f"seat{k}"),
+                )
+            )
+        if not seats:
+            raise sc.fail(w, "seats", "a mesh file needs [[housing.seats]] (one per bore)")
+        feet = []
+        for k, f in enumerate(table.get("feet", [])):
+            where = f"housing.feet[{k}]"
+            if not isinstance(f, dict):
+                raise sc.fail(where, None, "allowed a table", f)
+            sc.check_keys(f, {"x_mm", "y_mm"}, where)
+            rx, ry = (_vec(f, key, where, 2) for key in ("x_mm", "y_mm"))
+            for key, r in (("x_mm", rx), ("y_mm", ry)):
+                if r is None or not r[1] > r[0]:
+                    raise sc.fail(where, key, "allowed [min, max], max > min", f.get(key))
+            feet.append((tuple(x * 1e-3 for x in rx), tuple(x * 1e-3 for x in ry)))
+        offset = _vec(table, "offset_mm", w, 3, (0.0, 0.0, 0.0))
+        return HousingSpec(
+            **common,
+            mesh_file=path,
+            mesh_scale=1e-3 if unit == "mm" else 1.0,
+            offset=tuple(x * 1e-3 for x in offset),
+            seats=tuple(seats),
+            feet=tuple(feet),
+        )
+    for key in _FILE_ONLY:
+        if key in table:
+            raise sc.fail(w, key, "a mesh file's key: allowed with mesh_file only", table[key])
+    mm = lambda key, default=sc.MISSING: sc.number(table, key, w, default, allowed="(0, 1e+05]")
+    out = {k: mm(f"{k}_mm") * 1e-3 for k in ("width", "height", "wall_thickness")}
+    for k in ("length", "bore_diameter", "foot_size", "mesh_size"):
+        v = mm(f"{k}_mm", None)
+        out[k] = None if v is None else v * 1e-3
+    return HousingSpec(
+        **common,
+        **out,
+        layers=int(sc.number(table, "layers", w, 1, allowed="[1, 8]", integer=True)),
+        mesher=sc.choice(table, "mesher", w, MESHERS, "structured"),
+    )
+
+
+def _box(spec: HousingSpec, shafts, positions):
+    """The :class:`fem_prep.housing.HousingBox` round the bearings (module docstring) and the
+    scene position of its origin (m)."""
+    from fem_prep.housing import Bore, Foot, HousingBox
+
+    P = np.array([p for ps in positions for p in ps]).reshape(-1, 3)
+    axes = np.array([ps[0][:2] for ps in positions if ps])
+    t = spec.wall_thickness
+    z0, z1 = float(P[:, 2].min()), float(P[:, 2].max())
+    length = spec.length if spec.length is not None else (z1 - z0) + t
+    mid = 0.5 * (axes.min(axis=0) + axes.max(axis=0))
+    off = np.array(
+        [mid[0] - spec.width / 2, mid[1] - spec.height / 2, 0.5 * (z0 + z1) - length / 2]
+    )
+    d = spec.bore_diameter or 1.5 * max(s.diameter for s in shafts)
+    bores = tuple(
+        Bore(wall, (a[0] - off[0], a[1] - off[1]), d / 2) for wall in ("x-", "x+") for a in axes
+    )
+    f = spec.foot_size or 3 * t
+    feet = tuple(
+        Foot((x, x + f), (y, y + f)) for x in (0.0, length - f) for y in (0.0, spec.width - f)
+    )
+    try:
+        box = HousingBox(length, spec.width, spec.height, t, bores=bores, feet=feet)
+    except (ValueError, TypeError) as err:
+        raise sc.SchemaError(f"[housing]: the box round the shafts does not fit: {err}") from None
+    return box, off
+
+
+def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=False):
+    """The :class:`jaxgear.scenes.Housing` of ``spec`` placed round the scene's bearings:
+    meshed, condensed (:func:`fem_prep.housing.condensed_housing`, cached) and damped.
+
+    Args:
+        spec: the case's ``[housing]``. shafts: each shaft's :class:`~jaxgear.scenes.ShaftSpec`.
+        positions: each shaft's bearings' scene positions
+            (:func:`jaxgear.scenes.bearing_positions`). cache: as ``condensed_housing``'s.
+
+    Raises:
+        SchemaError: a box that does not fit round the shafts (a bore through a wall's edge),
+            a mesh file that does not exist (before anything is meshed).
+    """
+    import fem_prep
+    from fem_prep.housing import (
+        Foot,
+        Seat,
+        Tet4,
+        Tet10,
+        condensed_housing,
+        mesh_box,
+        mesh_box_gmsh,
+        read_housing_mesh,
+    )
+
+    from ..scenes import Housing
+
+    element = {"tet10": Tet10, "tet4": Tet4}[spec.element]()
+    coupling = {"rigid": fem_prep.Rigid, "averaging": fem_prep.Averaging}[spec.coupling]()
+    if spec.mesh_file is not None:
+        if not os.path.isfile(spec.mesh_file):
+            raise sc.fail("housing", "mesh_file", "no such file", spec.mesh_file)
+        seats = tuple(Seat(c, a, d / 2, wd, name) for c, a, d, wd, name in spec.seats)
+        feet = tuple(Foot(x, y) for x, y in spec.feet)
+        mesh = read_housing_mesh(
+            spec.mesh_file, seats, feet, scale=spec.mesh_scale, element=element
+        )
+        offset = np.asarray(spec.offset)
+    else:
+        box, off = _box(spec, shafts, positions)
+        size = spec.mesh_size or min(box.width, box.height, box.length) / 4
+        if spec.mesher == "gmsh":
+            mesh = mesh_box_gmsh(box, size, element=element)
+        else:
+            mesh = mesh_box(box, size, layers=spec.layers, element=element)
+        offset = off  # the scene position of the housing's origin
+    condensed = condensed_housing(
+        mesh,
+        fem_prep.Material(*spec.material),
+        spec.cutoff,
+        coupling=coupling,
+        cache=cache,
+        progress=progress,
+    )
+    return Housing.of(
+        condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
+    )

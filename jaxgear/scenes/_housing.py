@@ -1,0 +1,268 @@
+"""A flexible housing as a body of a lumped 3D scene: the bearings join the shafts to the
+housing's seats instead of the ground (docs/housing.md).
+
+The housing is condensed at its bearing seats by Craig–Bampton (:mod:`fem_prep.housing`): its
+``h`` coordinates are the seats' 6-DOF masters (u_x, u_y, u_z, θ_x, θ_y, θ_z in the housing's
+frame) and its interior fixed-interface modal coordinates, with the condensed stiffness K_h and
+mass M_h (the feet clamped). :class:`Housing` places it in the scene's frame (a rotation R and
+an offset t: x_scene = R x_housing + t) and gives it a damping C_h.
+
+Coupling. A bearing at the shaft node of DOFs u_s (6) and scene position p, seated in the seat
+of centre c (scene frame) and DOFs q (6, housing frame), acts on the relative displacement
+
+    d = u_s − G q,   G = [[R, −S(p − c) R], [0, R]],
+
+S(a) the cross-product matrix (a × ·): the point p moves with the seat as a rigid body,
+u_p = R u_c + (R θ) × (p − c). Its energy ½ dᵀ K_b d adds K_b on the shaft node, −K_b G and
+−Gᵀ K_b between shaft node and seat, and Gᵀ K_b G on the seat; its damping C_b likewise. The
+bearing's force rows (:attr:`~jaxgear.scenes.Structure.reaction`) become K_b[:3] d: the force the
+bearing transmits between shaft and housing. With a rigid, massless housing (q = 0) this is the
+grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly.
+
+Source: Craig & Bampton, AIAA J. 6 (1968); the seat coupling is the rigid-link (RBE2) relation of
+the condensed bodies' bearing masters (:func:`fem_prep.couple_masters`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+import scipy.linalg as sla
+from jaxtyping import Array, Float
+
+__all__ = ["Housing", "bearing_positions"]
+
+
+def _skew(a) -> np.ndarray:
+    x, y, z = a
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def _rotation(value) -> np.ndarray:
+    R = np.eye(3) if value is None else np.asarray(value, dtype=float)
+    if (
+        R.shape != (3, 3)
+        or not np.all(np.isfinite(R))
+        or not np.allclose(R @ R.T, np.eye(3), atol=1e-9)
+        or not np.linalg.det(R) > 0
+    ):
+        raise ValueError(
+            f"Housing: rotation = {value!r}, allowed a proper rotation matrix (3, 3) "
+            "(R Rᵀ = I, det R = +1)"
+        )
+    return R
+
+
+class Housing(eqx.Module):
+    """A condensed housing placed in a scene's frame, with its damping (build with :meth:`of`).
+
+    Attributes:
+        K, M: the condensed stiffness (SI per coordinate pair) and mass (kg, kg·m²), (h, h);
+            rows ``6 s .. 6 s + 5`` seat ``s``'s master (u_x, u_y, u_z (m), θ_x, θ_y, θ_z
+            (rad), housing frame), then the interior modal coordinates.
+        C: the damping (units of K·s), (h, h): modal, ζ_k = η/2 on each free-seat mode k of
+            (K, M) (:meth:`of`), the viscous equivalent of the loss factor η at resonance.
+        seat_positions: static, the seats' centres in the scene frame (m), ((x, y, z), ...).
+        rotation: static, R (3 × 3 nested tuple): housing frame → scene frame.
+        seat_names: static, the seats' labels.
+        modes_hz: static, the kept fixed-interface modes' frequencies (Hz).
+        cutoff_hz: static, the condensation's cut-off (Hz).
+    """
+
+    K: Float[Array, "h h"]
+    M: Float[Array, "h h"]
+    C: Float[Array, "h h"]
+    seat_positions: tuple = eqx.field(static=True)
+    rotation: tuple = eqx.field(static=True)
+    seat_names: tuple = eqx.field(static=True)
+    modes_hz: tuple = eqx.field(static=True, default=())
+    cutoff_hz: float = eqx.field(static=True, default=math.inf)
+
+    @property
+    def size(self) -> int:
+        """h, the housing's coordinates."""
+        return self.K.shape[0]
+
+    @property
+    def n_seats(self) -> int:
+        return len(self.seat_names)
+
+    @classmethod
+    def of(
+        cls,
+        condensed,
+        *,
+        loss_factor: float = 0.0,
+        rotation=None,
+        offset=(0.0, 0.0, 0.0),
+    ) -> Housing:
+        """The housing of a condensed housing (:class:`fem_prep.housing.CondensedHousing`, or
+        any object with its ``K``, ``M``, ``seat_positions``, ``seat_names``, ``modes_hz`` and
+        ``cutoff_hz``), placed by x_scene = R x_housing + ``offset``.
+
+        Args:
+            condensed: the condensed housing (seat masters first, in its own frame, m).
+            loss_factor: η >= 0: modal damping C = M Φ diag(η ω_k) Φᵀ M on the free-seat
+                modes Φ (mass-normalised) of (K, M), ζ_k = η/2.
+            rotation: R (3, 3), housing frame → scene frame (None: the identity).
+            offset: t (3,) (m).
+
+        Raises:
+            ValueError/TypeError: a negative loss factor, R not a proper rotation, an offset
+                not 3 finite numbers, K and M not square of equal size or smaller than the
+                seats' DOFs.
+        """
+        if isinstance(loss_factor, bool) or not isinstance(loss_factor, (int, float)):
+            raise TypeError(f"Housing: loss_factor = {loss_factor!r}, allowed a number >= 0")
+        if not (math.isfinite(loss_factor) and loss_factor >= 0):
+            raise ValueError(f"Housing: loss_factor = {loss_factor!r}, allowed >= 0")
+        R = _rotation(rotation)
+        t = np.asarray(offset, dtype=float)
+        if t.shape != (3,) or not np.all(np.isfinite(t)):
+            raise ValueError(f"Housing: offset = {offset!r}, allowed 3 finite numbers (m)")
+        K, M = np.asarray(condensed.K, float), np.asarray(condensed.M, float)
+        names = tuple(str(s) for s in condensed.seat_names)
+        if (
+            K.ndim != 2
+            or K.shape[0] != K.shape[1]
+            or K.shape != M.shape
+            or K.shape[0] < 6 * len(names)
+        ):
+            raise ValueError(
+                f"Housing: K {K.shape} and M {M.shape}, allowed square, equal, >= 6 per seat "
+                f"({6 * len(names)})"
+            )
+        K, M = 0.5 * (K + K.T), 0.5 * (M + M.T)
+        C = np.zeros_like(K)
+        if loss_factor > 0:
+            lam, phi = sla.eigh(K, M)
+            MP = M @ phi
+            C = MP @ np.diag(loss_factor * np.sqrt(np.maximum(lam, 0.0))) @ MP.T
+        seats = np.asarray(condensed.seat_positions, float).reshape(-1, 3) @ R.T + t
+        return cls(
+            K=jnp.asarray(K),
+            M=jnp.asarray(M),
+            C=jnp.asarray(C),
+            seat_positions=tuple(tuple(float(x) for x in p) for p in seats),
+            rotation=tuple(tuple(float(x) for x in r) for r in R),
+            seat_names=names,
+            modes_hz=tuple(float(f) for f in np.asarray(getattr(condensed, "modes_hz", ()))),
+            cutoff_hz=float(getattr(condensed, "cutoff_hz", math.inf)),
+        )
+
+    def seat_transform(self, seat: int, point) -> np.ndarray:
+        """G (6, 6) of the module docstring: the scene-frame motion (u, θ) of the point
+        ``point`` (3,) (m, scene frame) rigidly attached to seat ``seat``, per unit seat
+        coordinate (housing frame)."""
+        R = np.asarray(self.rotation)
+        c = np.asarray(self.seat_positions[seat])
+        G = np.zeros((6, 6))
+        G[:3, :3] = R
+        G[3:, 3:] = R
+        G[:3, 3:] = -_skew(np.asarray(point, float) - c) @ R
+        return G
+
+    def nearest_seat(self, point) -> int:
+        """The seat whose centre is nearest ``point`` (3,) (m, scene frame)."""
+        d = np.linalg.norm(np.asarray(self.seat_positions) - np.asarray(point, float), axis=1)
+        return int(np.argmin(d))
+
+
+def bearing_positions(shafts, centres, gear_z) -> list[list[np.ndarray]]:
+    """The scene-frame position (m) of every bearing, shaft after shaft in each shaft's bearing
+    order: shaft i's axis runs along +z through ``centres[i]`` (the centre of its first gear,
+    (3,)), its position ``s`` along the shaft (m from its start) at z = centre_z + s −
+    ``gear_z[i]`` (that gear's position along the shaft).
+
+    Args:
+        shafts: the :class:`~jaxgear.scenes.ShaftSpec` of each shaft. centres: (n_shafts, 3) (m).
+        gear_z: (n_shafts,) (m).
+
+    Returns:
+        per shaft, a list of (3,) positions.
+    """
+    out = []
+    for spec, c, g in zip(shafts, centres, gear_z, strict=True):
+        c = np.asarray(c, float)
+        out.append([c + np.array([0.0, 0.0, b.z - float(g)]) for b in spec.bearings])
+    return out
+
+
+def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=None) -> dict:
+    """The shafts' NumPy parts (:func:`~jaxgear.scenes._shaft._shaft_arrays`) with ``housing``
+    appended after the shaft coordinates and every bearing re-seated from the ground onto a
+    seat (module docstring): M, the stiffness parts (a ``housing`` part appended; the
+    ``bearings`` part holding the bearing couplings), the damping (n', n') and the bearing
+    force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions`; ``seats``: the
+    seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest).
+    ``housing`` None returns ``d`` unchanged.
+
+    Raises:
+        ValueError: ``seats`` of another length than the bearings, or a seat index out of range.
+    """
+    if housing is None:
+        return d
+    n = d["M"].shape[0]
+    h = housing.size
+    N = n + h
+    flat = [
+        (i, b, np.asarray(p))
+        for i, s in enumerate(shafts)
+        for b, p in zip(s.bearings, positions[i])
+    ]
+    if seats is None:
+        seats = [housing.nearest_seat(p) for _, _, p in flat]
+    seats = list(seats)
+    if len(seats) != len(flat):
+        raise ValueError(f"seats: {len(seats)} entries for {len(flat)} bearings, allowed one each")
+    for k, s in enumerate(seats):
+        if (
+            isinstance(s, bool)
+            or not isinstance(s, (int, np.integer))
+            or not 0 <= s < housing.n_seats
+        ):
+            raise ValueError(f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1}")
+
+    def grow(a):
+        out = np.zeros(a.shape[:-2] + (N, N))
+        out[..., :n, :n] = a
+        return out
+
+    M = grow(d["M"])
+    M[n:, n:] = np.asarray(housing.M)
+    parts = grow(d["parts"])
+    housing_part = np.zeros((1, N, N))
+    housing_part[0, n:, n:] = np.asarray(housing.K)
+    parts = np.concatenate([parts, housing_part])
+    C = grow(d["bearing_C"])
+    C[n:, n:] += np.asarray(housing.C)
+    reaction = np.zeros((d["reaction"].shape[0], N))
+    reaction[:, :n] = d["reaction"]
+    offsets, mats = d["shaft_offsets"], d["mats"]
+    row = 0
+    for (i, b, p), s in zip(flat, seats, strict=True):
+        node = int(np.argmin(np.abs(mats[i].nodes - b.z)))
+        u = slice(offsets[i] + 6 * node, offsets[i] + 6 * node + 6)
+        q = slice(n + 6 * s, n + 6 * s + 6)
+        G = housing.seat_transform(s, p)
+        for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
+            target[u, q] -= a @ G
+            target[q, u] -= G.T @ a
+            target[q, q] += G.T @ a @ G
+        kb = b.stiffness_matrix()
+        for k in range(3):  # the rows _shaft_arrays made, in its order
+            if np.any(kb[k] != 0):
+                reaction[row, q] = -kb[k] @ G
+                row += 1
+    return dict(d, M=M, parts=parts, bearing_C=C, reaction=reaction, housing_offset=n)
+
+
+def housing_nodes(housing: Housing | None, offset: int) -> tuple:
+    """The structure's named nodes of the housing's seats, ``("housing <seat>", first DOF)``
+    (its modal coordinates follow the last seat's six)."""
+    if housing is None:
+        return ()
+    return tuple((f"housing {name}", offset + 6 * k) for k, name in enumerate(housing.seat_names))
