@@ -72,21 +72,21 @@ def test_pulsating_and_oscillating_sphere_converge(spheres):
 
 
 def test_burton_miller_through_the_irregular_frequency():
-    """Near ka = π (the first interior Dirichlet eigenvalue of the sphere, shifted a little by
-    the inscribed polyhedron) the direct equation alone fails on the pulsating sphere, while
-    Burton–Miller keeps the power within the mesh's error of the analytic one at every
-    frequency of the scan (258 vertices)."""
-    s = fa.sphere_surface(A, 3)
+    """Near ka = π (the first interior Dirichlet eigenvalue of the sphere; the inscribed
+    polyhedron of 66 vertices has it between ka = 3.2 and 3.25) the direct equation alone
+    fails on the pulsating sphere (measured: -27 % at ka = 3.25), while Burton–Miller stays
+    at the coarse mesh's own error (-4.2 % at every ka of the scan; -6.7 % at ka = 1)."""
+    s = fa.sphere_surface(A, 2)
     v = np.full(s.n_vertices, V0 + 0j)
     worst = {"direct": 0.0, "burton-miller": 0.0}
-    for ka in (3.0, 3.1, 3.14159, 3.17, 3.2, 3.25):
+    for ka in (3.0, 3.1, 3.2, 3.25):
         f = ka * AIR.sound_speed / (2 * np.pi * A)
         for form in (fa.Direct(), fa.BurtonMiller()):
             R = fa.radiation_resistance(s, [f], method=fa.BEM(form), cache=False).matrix(0)
             err = abs(float(ja.radiated_power(v, R)) / _pulsating(ka) - 1)
             worst[str(form)] = max(worst[str(form)], err)
-    assert worst["burton-miller"] < IRREGULAR_BM
-    assert worst["direct"] > IRREGULAR_DIRECT
+    assert worst["burton-miller"] < 0.05
+    assert worst["direct"] > 0.2
 
 
 def _sphere_quadrature(radius, n_theta=24, n_phi=48):
