@@ -27,6 +27,7 @@ NumPy and bempp-cl (imported on first use); never JAX.
 from __future__ import annotations
 
 import abc
+import warnings
 
 import numpy as np
 from tqdm import tqdm
@@ -81,8 +82,16 @@ def _check(surface, frequency_hz, fluid, formulation, fn):
     return fluid.wavenumber(frequency_hz)
 
 
+def _bempp():
+    """bempp_cl.api, imported on first use (its import warns of a SciPy namespace it uses)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import bempp_cl.api as bempp
+    return bempp
+
+
 def _space(surface):
-    import bempp_cl.api as bempp
+    bempp = _bempp()
 
     grid = bempp.Grid(surface.vertices.T.copy(), surface.triangles.T.astype(np.uint32))
     space = bempp.function_space(grid, "P", 1)
