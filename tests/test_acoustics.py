@@ -2,7 +2,7 @@
 radiation resistance and Wallace's (1972) plate radiation efficiencies, the power against the
 far-field intensity integrated over a hemisphere, the cache, and the JAX power, its gradient,
 levels and the A weighting (jaxgear.acoustics) against IEC 61672-1's table and central
-differences. The BEM's checks (bempp-cl, a numba compile of about 30 s per process) are in
+differences. The BEM's checks (bempp-cl, a numba compile of about 60 s of CPU per process) are in
 tests/test_acoustics_bem.py."""
 
 from __future__ import annotations

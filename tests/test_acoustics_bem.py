@@ -3,7 +3,7 @@ the pulsating and the oscillating sphere converging under refinement, Burton–M
 irregular frequency, the power against the far-field intensity over an enclosing sphere, and
 the BEM against the Rayleigh integral on a thin baffled panel.
 
-Slow: bempp-cl's numba back end compiles its kernels once per process (about 30 s of CPU for
+Slow: bempp-cl's numba back end compiles its kernels once per process (about 60 s of CPU for
 the four Helmholtz operators, more on a loaded machine) and the finest sphere (1026 vertices)
 is a dense solve; the fast checks of the acoustic chain (Rayleigh, JAX) are in
 tests/test_acoustics.py.

@@ -18,7 +18,7 @@ D p = -(½I + K') ∂p/∂n:
     (½I - K + α D) p = -(V + α(½I + K')) ∂p/∂n,   α = i/k,
 
 which is uniquely solvable at every real k. Both sides are assembled densely in the Galerkin
-(P1 × P1) weak form by bempp-cl (its numba back end compiles the kernels on first use: about 30 s
+(P1 × P1) weak form by bempp-cl (its numba back end compiles the kernels on first use: about 60 s
 per process; the assembly is O(n²)).
 
 NumPy and bempp-cl (imported on first use); never JAX.
@@ -27,6 +27,7 @@ NumPy and bempp-cl (imported on first use); never JAX.
 from __future__ import annotations
 
 import abc
+import contextlib
 import warnings
 
 import numpy as np
@@ -82,10 +83,20 @@ def _check(surface, frequency_hz, fluid, formulation, fn):
     return fluid.wavenumber(frequency_hz)
 
 
-def _bempp():
-    """bempp_cl.api, imported on first use (its import warns of a SciPy namespace it uses)."""
+@contextlib.contextmanager
+def _quiet():
+    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses and
+    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning)."""
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
+        warnings.filterwarnings("ignore", module=r"bempp_cl\.")
+        warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*scipy")
+        warnings.filterwarnings("ignore", message=".*faster on contiguous arrays")
+        yield
+
+
+def _bempp():
+    """bempp_cl.api, imported on first use."""
+    with _quiet():
         import bempp_cl.api as bempp
     return bempp
 
@@ -93,8 +104,9 @@ def _bempp():
 def _space(surface):
     bempp = _bempp()
 
-    grid = bempp.Grid(surface.vertices.T.copy(), surface.triangles.T.astype(np.uint32))
-    space = bempp.function_space(grid, "P", 1)
+    with _quiet():
+        grid = bempp.Grid(surface.vertices.T.copy(), surface.triangles.T.astype(np.uint32))
+        space = bempp.function_space(grid, "P", 1)
     # bempp numbers the P1 dofs itself: dof[i] is the dof of vertex i
     dof = np.full(surface.n_vertices, -1)
     dof[surface.triangles.ravel()] = np.asarray(space.local2global).ravel()
@@ -140,9 +152,10 @@ def bem_impedance(
     bar = tqdm(total=len(names) + 2, desc=f"BEM {frequency_hz:.6g} Hz", disable=not progress)
 
     def weak(op):
-        a = op.weak_form().A
+        with _quiet():
+            a = op.weak_form().to_dense()
         bar.update()
-        return (a.toarray() if hasattr(a, "toarray") else np.asarray(a))[ix]
+        return np.asarray(a)[ix]
 
     ident = weak(b.sparse.identity(sp, sp, sp))
     ops = {n: weak(getattr(b.helmholtz, n)(sp, sp, sp, k)) for n in names}
@@ -204,5 +217,6 @@ def bem_field_pressure(
     q[dof] = 1j * omega * fluid.density * v
     p_s, q = bempp.GridFunction(sp, coefficients=p_s), bempp.GridFunction(sp, coefficients=q)
     pot = bempp.operators.potential.helmholtz
-    p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
+    with _quiet():
+        p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
     return np.asarray(p).reshape(-1)
