@@ -52,6 +52,8 @@ class Direct(Formulation):
     """The direct equation (½I - K) p = -V ∂p/∂n alone: wrong near the irregular frequencies
     (for a sphere of radius a, ka = π, 4.49, …); kept for checks."""
 
+    name = "direct"
+
     def coupling(self, k):
         return 0.0
 
