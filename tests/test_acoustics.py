@@ -250,3 +250,18 @@ def test_levels():
     a = np.asarray(ja.a_weighting(jnp.array([1000.0, 100.0])))  # A(1 kHz) is 0 to 2 mdB
     assert float(lwa) == pytest.approx(10 * np.log10(1e9 * np.sum(10 ** (a / 10))))
     assert float(ja.sound_pressure_level(np.sqrt(2.0))) == pytest.approx(20 * np.log10(1 / 20e-6))
+
+
+def test_normal_velocity_of_a_rigid_translation():
+    """On a sphere the area-weighted vertex normals tend to the radius: the normal component
+    of a rigid translation v₀ e_z tends to v₀ z/a (the oscillating sphere's), the largest
+    error halving per refinement (first order in h; measured 6 % and 3 % of v₀ at 66 and 258
+    vertices)."""
+    errs = []
+    for level in (2, 3):
+        s = fa.sphere_surface(1.0, level)
+        vel = np.tile([0.0, 0.0, 1e-3], (s.n_vertices, 1))
+        errs.append(np.max(np.abs(s.normal_velocity_of(vel) - 1e-3 * s.vertices[:, 2])) / 1e-3)
+    assert errs[0] > 1.8 * errs[1] and errs[1] < 0.04
+    with pytest.raises(ValueError, match="velocity"):
+        s.normal_velocity_of(np.zeros((3, 3)))
