@@ -28,6 +28,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.rating",
     "jaxgear.gearbox",
     "jaxgear.tribology",
+    "jaxgear.acoustics",
     "jaxgear.io",
 )
 FORBIDDEN_IN_MODEL = (
@@ -93,7 +94,7 @@ def _imports(path: pathlib.Path):
 
 #: fem_prep's subpackages (one concept spanning several modules); like the model subpackages
 #: they may import the private modules of the fem_prep root
-FEM_PREP_SUBPACKAGES = ("fem_prep.housing",)
+FEM_PREP_SUBPACKAGES = ("fem_prep.housing", "fem_prep.acoustics")
 
 
 def _package_of(module: str) -> str:

@@ -27,6 +27,7 @@ PACKAGES = (
     ("jaxgear.rating", "jaxgear.rating.md", "load capacity: ISO 6336 ratings, load factors, root stress"),
     ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
+    ("jaxgear.acoustics", "jaxgear.acoustics.md", "radiated sound power from a cached radiation resistance, levels, A weighting"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -34,6 +35,11 @@ PACKAGES = (
         "fem_prep.housing",
         "fem_prep.housing.md",
         "the gearbox housing: box and file meshes, seats and feet, condensation at the seats",
+    ),
+    (
+        "fem_prep.acoustics",
+        "fem_prep.acoustics.md",
+        "sound radiation: exterior BEM (bempp-cl), Rayleigh integral, cached radiation resistance",
     ),
 )
 
@@ -102,6 +108,16 @@ SECTIONS = {
         ("Efficiency of trains, planetary stages and gearboxes", ("_efficiency",)),
         ("Flash temperature and scuffing", ("_flash",)),
         ("Micropitting", ("_micropitting",)),
+    ),
+    "jaxgear.acoustics": (
+        ("Sound power and levels", ("_power",)),
+        ("A weighting", ("_weighting",)),
+    ),
+    "fem_prep.acoustics": (
+        ("Surfaces and fluid", ("_surface",)),
+        ("Radiation resistance (cached)", ("_resistance",)),
+        ("Boundary elements", ("_bem",)),
+        ("Rayleigh integral", ("_rayleigh",)),
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),

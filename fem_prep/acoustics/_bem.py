@@ -1,0 +1,224 @@
+"""Exterior radiation by the boundary-element method (bempp-cl): the surface pressure of a closed
+vibrating surface, its pressure at field points, and the formulations (kinds) that give it.
+
+Time dependence e^{-iωt}; the fluid is outside the closed surface S, its normal n points into the
+fluid; the normal velocity v (m/s) on the vertices gives the Neumann datum ∂p/∂n = iωρ v. With
+the outgoing Green's function G = e^{ik|x-y|}/(4π|x-y|), the single layer V, the double layer K,
+its adjoint K' and the hypersingular operator D = -∂/∂n K (bempp-cl's definitions), the
+exterior pressure is the Helmholtz representation (Colton & Kress, *Integral Equation Methods in
+Scattering Theory*, 1983, Thm. 3.1)
+
+    p(x) = (K p)(x) - (V ∂p/∂n)(x),   x outside S,
+
+whose trace gives the direct boundary integral equation (½I - K) p = -V ∂p/∂n. That equation
+fails at the interior Dirichlet eigenfrequencies of S (the irregular frequencies); Burton &
+Miller (Proc. R. Soc. A 323 (1971) 201) add α times its normal derivative,
+D p = -(½I + K') ∂p/∂n:
+
+    (½I - K + α D) p = -(V + α(½I + K')) ∂p/∂n,   α = i/k,
+
+which is uniquely solvable at every real k. Both sides are assembled densely in the Galerkin
+(P1 × P1) weak form by bempp-cl (its numba back end compiles the kernels on first use: about 60 s
+per process; the assembly is O(n²)).
+
+NumPy and bempp-cl (imported on first use); never JAX.
+"""
+
+from __future__ import annotations
+
+import abc
+import contextlib
+import warnings
+
+import numpy as np
+from tqdm import tqdm
+
+from .._kinds import Kind
+from ._surface import AIR, Fluid, RadiatingSurface
+
+__all__ = ["BurtonMiller", "Direct", "Formulation", "bem_field_pressure", "bem_impedance"]
+
+
+class Formulation(Kind):
+    """A boundary integral formulation of the exterior Neumann problem (a kind: pass an
+    instance; printed and compared by its name)."""
+
+    @abc.abstractmethod
+    def coupling(self, k: float) -> complex:
+        """The Burton–Miller coupling α at wavenumber ``k`` (0: the plain direct equation)."""
+
+
+class Direct(Formulation):
+    """The direct equation (½I - K) p = -V ∂p/∂n alone: wrong near the irregular frequencies
+    (for a sphere of radius a, ka = π, 4.49, …); kept for checks."""
+
+    name = "direct"
+
+    def coupling(self, k):
+        return 0.0
+
+
+class BurtonMiller(Formulation):
+    """Burton–Miller: the direct equation plus α = i/k times its normal derivative (uniquely
+    solvable at every frequency). The default."""
+
+    name = "burton-miller"
+
+    def coupling(self, k):
+        return 1j / k
+
+
+def _check(surface, frequency_hz, fluid, formulation, fn):
+    if not isinstance(surface, RadiatingSurface):
+        raise TypeError(f"{fn}: surface must be a RadiatingSurface, got {type(surface).__name__}")
+    if not surface.closed:
+        raise ValueError(
+            f"{fn}: the exterior BEM needs a closed surface (every edge in 2 triangles)"
+        )
+    if not isinstance(fluid, Fluid):
+        raise TypeError(f"{fn}: fluid must be a Fluid, got {type(fluid).__name__}")
+    if not isinstance(formulation, Formulation):
+        raise TypeError(
+            f"{fn}: formulation must be a Formulation (BurtonMiller(), Direct()), "
+            f"got {formulation!r}"
+        )
+    return fluid.wavenumber(frequency_hz)
+
+
+@contextlib.contextmanager
+def _quiet():
+    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses and
+    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", module=r"bempp_cl\.")
+        warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*scipy")
+        warnings.filterwarnings("ignore", message=".*faster on contiguous arrays")
+        yield
+
+
+def _bempp():
+    """bempp_cl.api, imported on first use."""
+    with _quiet():
+        import bempp_cl.api as bempp
+    return bempp
+
+
+def _space(surface):
+    bempp = _bempp()
+
+    with _quiet():
+        grid = bempp.Grid(surface.vertices.T.copy(), surface.triangles.T.astype(np.uint32))
+        space = bempp.function_space(grid, "P", 1)
+    # bempp numbers the P1 dofs itself: dof[i] is the dof of vertex i
+    dof = np.full(surface.n_vertices, -1)
+    dof[surface.triangles.ravel()] = np.asarray(space.local2global).ravel()
+    if space.global_dof_count != surface.n_vertices or sorted(dof) != list(range(len(dof))):
+        raise ValueError("RadiatingSurface: a vertex in no triangle (bempp's P1 space skips it)")
+    return bempp, space, dof
+
+
+def bem_impedance(
+    surface: RadiatingSurface,
+    frequency_hz: float,
+    fluid: Fluid = AIR,
+    formulation: Formulation | None = None,
+    *,
+    progress: bool = False,
+) -> np.ndarray:
+    """The surface impedance matrix Z of a closed radiating surface: p = Z v on the vertices.
+
+    Args:
+        surface: a closed :class:`RadiatingSurface` (normals outward, into the fluid).
+        frequency_hz: f > 0 (Hz).
+        fluid: the medium outside.
+        formulation: :class:`BurtonMiller` (default) or :class:`Direct`.
+        progress: a tqdm bar over the operator assemblies and the solve.
+
+    Returns:
+        ``(n, n)`` complex Z (Pa s/m): the vertex pressure amplitudes (Pa, peak, e^{-iωt}) for
+        vertex normal velocity amplitudes v (m/s).
+
+    Raises:
+        TypeError: a surface, fluid or formulation of another type.
+        ValueError: an open surface, ``frequency_hz`` ≤ 0.
+    """
+    formulation = BurtonMiller() if formulation is None else formulation
+    k = _check(surface, frequency_hz, fluid, formulation, "bem_impedance")
+    bempp, sp, dof = _space(surface)
+    b = bempp.operators.boundary
+    alpha = formulation.coupling(k)
+    ix = np.ix_(dof, dof)  # the vertex order
+    names = ["single_layer", "double_layer"]
+    if alpha != 0:
+        names += ["hypersingular", "adjoint_double_layer"]
+    bar = tqdm(total=len(names) + 2, desc=f"BEM {frequency_hz:.6g} Hz", disable=not progress)
+
+    def weak(op):
+        with _quiet():
+            a = op.weak_form().to_dense()
+        bar.update()
+        return np.asarray(a)[ix]
+
+    ident = weak(b.sparse.identity(sp, sp, sp))
+    ops = {n: weak(getattr(b.helmholtz, n)(sp, sp, sp, k)) for n in names}
+    lhs = 0.5 * ident - ops["double_layer"]
+    rhs = -ops["single_layer"]
+    if alpha != 0:
+        lhs = lhs + alpha * ops["hypersingular"]
+        rhs = rhs - alpha * (0.5 * ident + ops["adjoint_double_layer"])
+    omega = 2 * np.pi * frequency_hz
+    Z = 1j * omega * fluid.density * np.linalg.solve(lhs, rhs)
+    bar.update()
+    bar.close()
+    return Z
+
+
+def bem_field_pressure(
+    surface: RadiatingSurface,
+    frequency_hz: float,
+    velocity: np.ndarray,
+    points: np.ndarray,
+    fluid: Fluid = AIR,
+    formulation: Formulation | None = None,
+    impedance: np.ndarray | None = None,
+) -> np.ndarray:
+    """The pressure amplitude (Pa, peak, e^{-iωt}) at field points (microphones) outside a
+    closed surface vibrating with vertex normal velocity ``velocity`` ``(n,)`` (m/s): the
+    representation p = K p_S - V ∂p/∂n with the surface pressure p_S = Z v.
+
+    Args:
+        surface, frequency_hz, fluid, formulation: as :func:`bem_impedance`.
+        velocity: ``(n,)`` complex normal velocity amplitudes on the vertices (m/s).
+        points: ``(q, 3)`` field points (m), outside the surface.
+        impedance: Z from :func:`bem_impedance` at this frequency (computed if ``None``).
+
+    Returns:
+        ``(q,)`` complex pressure amplitudes (Pa).
+
+    Raises:
+        TypeError, ValueError: as :func:`bem_impedance`; shapes that do not fit.
+    """
+    formulation = BurtonMiller() if formulation is None else formulation
+    k = _check(surface, frequency_hz, fluid, formulation, "bem_field_pressure")
+    v = np.asarray(velocity)
+    if v.shape != (surface.n_vertices,):
+        raise ValueError(
+            f"bem_field_pressure: velocity must be ({surface.n_vertices},), got {v.shape}"
+        )
+    x = np.asarray(points, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 3 or not np.all(np.isfinite(x)):
+        raise ValueError(f"bem_field_pressure: points must be finite (q, 3), got {x.shape}")
+    if impedance is None:
+        impedance = bem_impedance(surface, frequency_hz, fluid, formulation)
+    if np.shape(impedance) != (surface.n_vertices,) * 2:
+        raise ValueError(f"bem_field_pressure: impedance must be (n, n), got {np.shape(impedance)}")
+    bempp, sp, dof = _space(surface)
+    omega = 2 * np.pi * frequency_hz
+    p_s, q = np.zeros(len(dof), complex), np.zeros(len(dof), complex)
+    p_s[dof] = np.asarray(impedance) @ v
+    q[dof] = 1j * omega * fluid.density * v
+    p_s, q = bempp.GridFunction(sp, coefficients=p_s), bempp.GridFunction(sp, coefficients=q)
+    pot = bempp.operators.potential.helmholtz
+    with _quiet():
+        p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
+    return np.asarray(p).reshape(-1)
