@@ -193,17 +193,48 @@ class GearMesh(eqx.Module):
         s = jnp.minimum(cells.s, plane.path_of_contact) if side > 0 else jnp.maximum(cells.s, 0.0)
         return eqx.tree_at(lambda c: c.s, cells, s)
 
+    def _corner(self, members: tuple, cells: Cells) -> tuple:
+        """Where the cells' forces act (docs/extended-contact.md, "Where it acts"): the contact
+        points P (L, N, 3), the driving gear's outward normals n' (L, N, 3) and the two gears'
+        lever ratios ((L, N) each, driving then driven) from :meth:`MeshModel.corner`. On the
+        path P = M, n' = n, ratios 1; beyond it P is the tip owner's corner, n' = cos β_b (cos ε
+        t − sin ε v) + a sin β_b e_z, v the unit vector from the driving gear's centre to T1
+        (from a member placed in space; a torsional scene needs only the ratios)."""
+        plane = self.base_plane
+        lever_driving, lever_driven, eps, o_t, o_v = plane.corner(cells.s)
+        centre = getattr(members[self.gears[0]], "centre", None)
+        M = self.points(cells)
+        if centre is None:  # a torsional member: no place in space, the ratios alone
+            return M, self.normal, (lever_driving, lever_driven)
+        ez = jnp.array([0.0, 0.0, 1.0], M.dtype)
+        d = self.tangent_point - centre
+        d = d - (d @ self.direction) * self.direction - (d @ ez) * ez
+        lead = (1,) * cells.s.ndim + (3,)
+        v = (d / jnp.linalg.norm(d)).reshape(lead)
+        t = self.direction.reshape(lead)
+        P = M + o_t[..., None] * t + o_v[..., None] * v
+        cb = jnp.cos(plane.base_helix_angle)
+        turn = (jnp.cos(eps) - 1.0)[..., None] * t - jnp.sin(eps)[..., None] * v
+        n = self.normal.reshape(lead) + cb * turn
+        return P, n, (lever_driving, lever_driven)
+
     def _parts(self, members: tuple, cells: Cells, pad: int):
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         if not self.base_plane.coast:
             line = self.line()
-            return [
-                members[g].window(
-                    self.points(self._on_member(cells, side)), cells.mask, line, theta,
-                    self.base_plane, side, pad,
+            if self.base_plane.extended_contact:
+                P, n, levers = self._corner(members, cells)
+            parts = []
+            for g, side, k in zip(self.gears, (1.0, -1.0), (0, 1), strict=True):
+                points, here = self.points(self._on_member(cells, side)), line
+                if self.base_plane.extended_contact and members[g].corner_geometry:
+                    points, here = P, {**line, "normal": n, "lever": levers[k]}
+                parts.append(
+                    members[g].window(
+                        points, cells.mask, here, theta, self.base_plane, side, pad
+                    )
                 )
-                for g, side in zip(self.gears, (1.0, -1.0), strict=True)
-            ]
+            return parts
         return self._flank_parts(members, cells, theta, pad)
 
     def _flank_parts(self, members: tuple, cells: Cells, theta, pad: int):

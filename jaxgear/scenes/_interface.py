@@ -140,6 +140,10 @@ class GearMember(eqx.Module):
         coast_flanks: the member's coast flanks are modelled (backlash): a rigid gear's on the
             coast line of action, a torsional gear's with the flank's sign; not a condensed
             body's.
+        corner_geometry: beyond the theoretical path (``extended_contact``) its window takes
+            the corner's contact points, the turned normals (``line["normal"]`` per cell) and
+            its lever ratio ``line["lever"]`` (docs/extended-contact.md, "Where it acts"); a
+            condensed body's (False) keeps the line of action.
         needs_coast_line: its coast rows need the mesh's coast line of action (a member placed
             in space).
         turns_frame: the member's coordinates (and its shaft's) are taken in a frame that turns
@@ -147,6 +151,7 @@ class GearMember(eqx.Module):
     """
 
     coast_flanks: ClassVar[bool] = True
+    corner_geometry: ClassVar[bool] = True
     needs_coast_line: ClassVar[bool] = False
     turns_frame: ClassVar[bool] = False
 
@@ -239,7 +244,10 @@ class TorsionalMember(GearMember):
         flips it; ``points`` and ``pad`` unused: the vector is the same for every cell."""
         r = mesh.base_radius_pinion if side > 0 else mesh.base_radius_gear
         v = side * line.get("flank", 1.0) * jnp.cos(mesh.base_helix_angle) * r
-        return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
+        v = jnp.broadcast_to(v, mask.shape + (1,))
+        if "lever" in line:  # beyond the theoretical path: the tip owner's lever ratio λ
+            v = v * line["lever"][..., None]
+        return jnp.asarray([self.dof]), v, jnp.array(False)
 
 
 class FlexibleMember(GearMember):
@@ -279,6 +287,7 @@ class FlexibleMember(GearMember):
     n_window: int = eqx.field(static=True)
 
     coast_flanks: ClassVar[bool] = False
+    corner_geometry: ClassVar[bool] = False
     turns_frame: ClassVar[bool] = True
 
     @property
