@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -269,3 +270,127 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
             rtol=1e-12,
             atol=1e-18,
         )
+
+
+def _planetary():
+    b, m_n = 0.03, 0.003
+    geo = jg.planetary_geometry(
+        jg.Member(20, face_width=b),
+        jg.Member(30, face_width=b, dedendum_coeff=1.3),
+        jg.Member(-80, face_width=b),
+        m_n,
+        math.radians(20.0),
+    )
+    psi = 2 * np.pi * np.arange(4) / 4
+    models = tuple(
+        jg.MeshModel.from_pair(p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1,
+                               extended_contact=True)
+        for p in (geo.sun_planet, geo.planet_ring)
+    )
+    r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
+    r_r = float(geo.planet_ring.base_radii[1])
+    member = jg.PlanetaryMember
+    stage = jg.PlanetaryStage(
+        sun=member(1.0, 1e-3, r_s),
+        ring=member(10.0, 1.0, r_r, torsional_stiffness=1e9),
+        carrier=member(10.0, 1.0, float(geo.center_distance)),
+        planet=member(0.5, 1e-3, r_p),
+        planet_angles=psi,
+        sun_pressure_angle=geo.sun_pressure_angle,
+        ring_pressure_angle=geo.ring_pressure_angle,
+        sun_mesh_stiffness=1e9,
+        ring_mesh_stiffness=1e9,
+    )
+    return geo, models, jg.ContactMeshes.from_models(geo, psi, models), stage
+
+
+@pytest.mark.parametrize("which", ["sun", "ring"])
+def test_planetary_rows_are_the_corner_gap_derivative(which):
+    # planet 1 sits at ψ = 0: the sun pair's frame is the stage's (the sun at the origin turning
+    # counter-clockwise, the planet on +x); the ring pair's (the planet its pinion, turning
+    # clockwise in the stage) is the stage's mirrored about the x axis, its centre at −a_w
+    geo, models, meshes, stage = _planetary()
+    k = 0 if which == "sun" else 1
+    pair, mesh = (geo.sun_planet, geo.planet_ring)[k], models[k]
+    r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
+    r_r = float(geo.planet_ring.base_radii[1])
+    model = jg.planetary.PlanarPlanetary()
+    names = model.dof_names(stage)
+    zero = jnp.zeros(4)
+    g, pb = float(mesh.path_of_contact), float(mesh.base_pitch)
+    seen = []
+    xs = np.linspace(0.0, pb, 64, endpoint=False) + 1e-6
+    every = eqx.filter_jit(jax.vmap(lambda x: meshes.planet_cells(x)[k][0]))(jnp.asarray(xs))
+    for i, x in enumerate(xs):
+        s, on = np.asarray(every.s)[i, 0, :, 0], np.asarray(every.mask)[i, 0, :, 0]
+        far = on & ((s < -0.3 * float(mesh.extension_span[0]))
+                    | (s > g + 0.3 * float(mesh.extension_span[1])))
+        for line in np.flatnonzero(far):
+            if (s[line] < 0) in seen:
+                continue
+            seen.append(bool(s[line] < 0))
+            V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
+            V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
+            d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
+            pick = [V[names.index(n)] for n in (
+                ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1") if k == 0
+                else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r"))]
+            if k == 0:  # u = r_b θ, the planet's motion clockwise
+                ref = [-d[0] / r_s, d[1] / r_p, -d[2], -d[3], -d[4], -d[5]]
+            else:  # mirrored: both turn clockwise in the stage, y flips
+                ref = [d[0] / r_p, d[1] / r_r, -d[2], d[3], -d[4], d[5]]
+            np.testing.assert_allclose(pick, ref, atol=2e-6)
+            assert abs(pick[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
+    assert sorted(seen) == [False, True]
+
+
+def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache):
+    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
+    # the corner gap's derivative (the mortar at the corner with the turned normal); the
+    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+    import pathlib
+
+    import fem_prep
+    from jaxgear import io as jio
+    from jaxgear.io import static_scene
+
+    data = pathlib.Path(__file__).parent / "data"
+    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
+    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
+    sc = static_scene(case, bodies=(None, body))[0]
+    pair, member = case.pair, sc.members[1]
+    assert isinstance(member, jg.scenes.FlexibleMember)
+    mesh = sc.mesh
+    g = pair.path_of_contact
+    dofs = np.asarray(member.rim_dofs)
+    Z, n_ax, _ = dofs.shape
+    ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)
+    R = float(member.rim_radius)
+    checked = 0
+    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4:
+        cells = mesh.cells(jnp.asarray(theta))
+        V = np.asarray(sc.cell_vectors(cells))
+        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        rot = float(member.frame_angle(theta))
+        for (i, j) in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
+            if abs(s[i, j] - (0 if s[i, j] < 0 else g)) < 0.3 * pair.base_pitch * 0.05:
+                continue
+            d = _gap_derivative(pair, float(s[i, j]))  # −∂gap/∂(φ1, φ2, x1, y1, x2, y2)
+            for a_b, w_z, want, tol in (
+                (np.array([1.0, 0.0, 0.0]), 0.0, None, 2e-5),  # ε interpolated
+                (np.array([0.0, 1.0, 0.0]), 0.0, None, 2e-5),
+                (np.zeros(3), 1.0, -d[1], 2e-3),  # the wheel turns about −z
+            ):
+                X = np.zeros(sc.structure.K.shape[0])
+                for k in range(Z):
+                    for m in range(n_ax):
+                        x = np.array([R * math.cos(ang[k]), R * math.sin(ang[k]), 0.0])
+                        X[dofs[k, m]] = a_b + np.cross([0.0, 0.0, w_z], x)
+                if want is None:  # the translation in the fixed frame
+                    c, sn = math.cos(rot), math.sin(rot)
+                    a = np.array([c * a_b[0] - sn * a_b[1], sn * a_b[0] + c * a_b[1]])
+                    want = d[4:6] @ a
+                got = float(V[i, j] @ X)
+                assert got == pytest.approx(want, rel=tol, abs=tol * abs(d[1])), (s[i, j], a_b)
+            checked += 1
+    assert checked >= 2

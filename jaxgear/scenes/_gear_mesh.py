@@ -228,7 +228,7 @@ class GearMesh(eqx.Module):
             for g, side, k in zip(self.gears, (1.0, -1.0), (0, 1), strict=True):
                 points, here = self.points(self._on_member(cells, side)), line
                 if self.base_plane.extended_contact and members[g].corner_geometry:
-                    points, here = P, {**line, "normal": n, "lever": levers[k]}
+                    points, here = P, {**line, "cell_normal": n, "lever": levers[k]}
                 parts.append(
                     members[g].window(
                         points, cells.mask, here, theta, self.base_plane, side, pad

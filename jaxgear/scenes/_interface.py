@@ -141,9 +141,9 @@ class GearMember(eqx.Module):
             coast line of action, a torsional gear's with the flank's sign; not a condensed
             body's.
         corner_geometry: beyond the theoretical path (``extended_contact``) its window takes
-            the corner's contact points, the turned normals (``line["normal"]`` per cell) and
-            its lever ratio ``line["lever"]`` (docs/extended-contact.md, "Where it acts"); a
-            condensed body's (False) keeps the line of action.
+            the corner's contact points, the turned normals (``line["cell_normal"]``, (L, N,
+            3)) and its lever ratio ``line["lever"]`` (L, N) (docs/extended-contact.md, "Where
+            it acts"); False: the line of action's points and normal.
         needs_coast_line: its coast rows need the mesh's coast line of action (a member placed
             in space).
         turns_frame: the member's coordinates (and its shaft's) are taken in a frame that turns
@@ -217,7 +217,7 @@ class RigidMember(GearMember):
         """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow. ``side``: +1 the
         mesh's driving gear (n_m = n), −1 its driven gear (n_m = −n); ``pad``: unused, the
         node's DOFs are the whole window."""
-        v = rigid_node_vector(points, self.centre, side * line["normal"])
+        v = rigid_node_vector(points, self.centre, side * line.get("cell_normal", line["normal"]))
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
@@ -287,7 +287,6 @@ class FlexibleMember(GearMember):
     n_window: int = eqx.field(static=True)
 
     coast_flanks: ClassVar[bool] = False
-    corner_geometry: ClassVar[bool] = False
     turns_frame: ClassVar[bool] = True
 
     @property
@@ -402,7 +401,8 @@ class FlexibleMember(GearMember):
         # root points M_p1, M_p2 on the face at the slice centre, in the fixed frame
         pk = _rot(rot, jnp.concatenate([face[..., 1, :], jnp.zeros_like(face[..., 1, :1])], -1))
         pk = pk[..., :2] + _lead(self.centre[:2], pk[..., :2])  # (L, N, 2, 2)
-        c1, c2 = self.coefficients(points, side * line["normal"], pk[..., 0, :], pk[..., 1, :])
+        normal = side * line.get("cell_normal", line["normal"])  # per cell beyond the path
+        c1, c2 = self.coefficients(points, normal, pk[..., 0, :], pk[..., 1, :])
         # coefficients in the body frame: c·u_fixed = (R(−φ_rot) c)·u_body
         cb = jnp.stack([_rot(-rot, c1), _rot(-rot, c2)], axis=-2)  # (L, N, 2, 3)
         w = w * jnp.asarray(MORTAR, points.dtype).reshape((1,) * (w.ndim - 3) + (3, 1, 1))
