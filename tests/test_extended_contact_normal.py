@@ -131,9 +131,7 @@ def _psi(pair, member, r):
     rp, rb = pair.pitch_radii[member], pair.base_radii[member]
     at = pair.transverse_pressure_angle
     ar = math.acos(rb / r)
-    return pair.reference_thickness[member] / (2 * rp) + (math.tan(at) - at) - (
-        math.tan(ar) - ar
-    )
+    return pair.reference_thickness[member] / (2 * rp) + (math.tan(at) - at) - (math.tan(ar) - ar)
 
 
 def _corner_by_hand(pair, s):
@@ -247,7 +245,9 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
     T = 300.0
     # at λ = 1, ε = 0 the pinion's advance, its rotation and the 3D nodes agree cell by cell
     te = [
-        np.asarray(jg.quasi_static(sc, None, T, positions_per_pitch=16).meshes[0].transmission_error)
+        np.asarray(
+            jg.quasi_static(sc, None, T, positions_per_pitch=16).meshes[0].transmission_error
+        )
         for sc in (loa, jg.scenes.TorsionalPair(loa, 1e12))
     ]
     np.testing.assert_allclose(te[1], te[0], rtol=1e-9)
@@ -283,8 +283,9 @@ def _planetary():
     )
     psi = 2 * np.pi * np.arange(4) / 4
     models = tuple(
-        jg.MeshModel.from_pair(p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1,
-                               extended_contact=True)
+        jg.MeshModel.from_pair(
+            p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1, extended_contact=True
+        )
         for p in (geo.sun_planet, geo.planet_ring)
     )
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
@@ -323,8 +324,10 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     every = eqx.filter_jit(jax.vmap(lambda x: meshes.planet_cells(x)[k][0]))(jnp.asarray(xs))
     for i, x in enumerate(xs):
         s, on = np.asarray(every.s)[i, 0, :, 0], np.asarray(every.mask)[i, 0, :, 0]
-        far = on & ((s < -0.3 * float(mesh.extension_span[0]))
-                    | (s > g + 0.3 * float(mesh.extension_span[1])))
+        far = on & (
+            (s < -0.3 * float(mesh.extension_span[0]))
+            | (s > g + 0.3 * float(mesh.extension_span[1]))
+        )
         for line in np.flatnonzero(far):
             if (s[line] < 0) in seen:
                 continue
@@ -332,9 +335,14 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
             V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
             V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
             d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
-            pick = [V[names.index(n)] for n in (
-                ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1") if k == 0
-                else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r"))]
+            pick = [
+                V[names.index(n)]
+                for n in (
+                    ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1")
+                    if k == 0
+                    else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r")
+                )
+            ]
             if k == 0:  # u = r_b θ, the planet's motion clockwise
                 ref = [-d[0] / r_s, d[1] / r_p, -d[2], -d[3], -d[4], -d[5]]
             else:  # mirrored: both turn clockwise in the stage, y flips
@@ -372,7 +380,7 @@ def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache
         V = np.asarray(sc.cell_vectors(cells))
         s, mask = np.asarray(cells.s), np.asarray(cells.mask)
         rot = float(member.frame_angle(theta))
-        for (i, j) in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
+        for i, j in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
             if abs(s[i, j] - (0 if s[i, j] < 0 else g)) < 0.3 * pair.base_pitch * 0.05:
                 continue
             d = _gap_derivative(pair, float(s[i, j]))  # −∂gap/∂(φ1, φ2, x1, y1, x2, y2)

@@ -181,18 +181,6 @@ class GearMesh(eqx.Module):
             self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
 
-    def _on_member(self, cells: Cells, side: float) -> Cells:
-        """The cells as gear ``side`` (+1 driving, −1 driven) carries them: beyond the
-        theoretical path (``extended_contact``) a tooth touches with its tip corner, so the
-        tip owner's contact stays at its tip (s ≤ g_α driving, s ≥ 0 driven) while the flank
-        owner's runs down its flank (docs/extended-contact.md). Along the line of action the
-        place does not change a rigid gear's vector; a condensed body's mortar needs it."""
-        plane = self.base_plane
-        if not plane.extended_contact:
-            return cells
-        s = jnp.minimum(cells.s, plane.path_of_contact) if side > 0 else jnp.maximum(cells.s, 0.0)
-        return eqx.tree_at(lambda c: c.s, cells, s)
-
     def _corner(self, members: tuple, cells: Cells) -> tuple:
         """Where the cells' forces act (docs/extended-contact.md, "Where it acts"): the contact
         points P (L, N, 3), the driving gear's outward normals n' (L, N, 3) and the two gears'
@@ -222,19 +210,22 @@ class GearMesh(eqx.Module):
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         if not self.base_plane.coast:
             line = self.line()
-            if self.base_plane.extended_contact:
-                P, n, levers = self._corner(members, cells)
-            parts = []
-            for g, side, k in zip(self.gears, (1.0, -1.0), (0, 1), strict=True):
-                points, here = self.points(self._on_member(cells, side)), line
-                if self.base_plane.extended_contact and members[g].corner_geometry:
-                    points, here = P, {**line, "cell_normal": n, "lever": levers[k]}
-                parts.append(
-                    members[g].window(
-                        points, cells.mask, here, theta, self.base_plane, side, pad
-                    )
+            if not self.base_plane.extended_contact:
+                points = self.points(cells)
+                return [
+                    members[g].window(points, cells.mask, line, theta, self.base_plane, side, pad)
+                    for g, side in zip(self.gears, (1.0, -1.0), strict=True)
+                ]
+            # beyond the theoretical path each member sees the corner's point, its turned
+            # normal and its own lever ratio (docs/extended-contact.md, "Where it acts")
+            P, n, levers = self._corner(members, cells)
+            return [
+                members[g].window(
+                    P, cells.mask, {**line, "cell_normal": n, "lever": lever}, theta,
+                    self.base_plane, side, pad,
                 )
-            return parts
+                for g, side, lever in zip(self.gears, (1.0, -1.0), levers, strict=True)
+            ]
         return self._flank_parts(members, cells, theta, pad)
 
     def _flank_parts(self, members: tuple, cells: Cells, theta, pad: int):

@@ -140,10 +140,6 @@ class GearMember(eqx.Module):
         coast_flanks: the member's coast flanks are modelled (backlash): a rigid gear's on the
             coast line of action, a torsional gear's with the flank's sign; not a condensed
             body's.
-        corner_geometry: beyond the theoretical path (``extended_contact``) its window takes
-            the corner's contact points, the turned normals (``line["cell_normal"]``, (L, N,
-            3)) and its lever ratio ``line["lever"]`` (L, N) (docs/extended-contact.md, "Where
-            it acts"); False: the line of action's points and normal.
         needs_coast_line: its coast rows need the mesh's coast line of action (a member placed
             in space).
         turns_frame: the member's coordinates (and its shaft's) are taken in a frame that turns
@@ -151,7 +147,6 @@ class GearMember(eqx.Module):
     """
 
     coast_flanks: ClassVar[bool] = True
-    corner_geometry: ClassVar[bool] = True
     needs_coast_line: ClassVar[bool] = False
     turns_frame: ClassVar[bool] = False
 
@@ -167,7 +162,11 @@ class GearMember(eqx.Module):
         ``points`` (L, N, 3) with mask (L, N) on the mesh's ``line``
         (:meth:`~jaxgear.scenes.GearMesh.line`) at scene angle θ (rad) of base plane ``mesh``;
         ``side`` +1 the mesh's driving gear, −1 its driven gear; ``pad`` rim stations more on
-        each side of a window that follows the contact."""
+        each side of a window that follows the contact. With contact beyond the theoretical
+        path (``mesh.extended_contact``) ``points`` are the corners' contact points, ``line``'s
+        ``cell_normal`` (L, N, 3) the driving gear's outward normal of each cell (turned by ε
+        beyond the path) and its ``lever`` (L, N) this member's lever ratio (λ where it owns
+        the tip corner, else 1; docs/extended-contact.md, "Where it acts")."""
 
     @property
     def contact_dofs(self) -> tuple | None:
