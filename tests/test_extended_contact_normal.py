@@ -402,3 +402,42 @@ def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache
                 assert got == pytest.approx(want, rel=tol, abs=tol * abs(d[1])), (s[i, j], a_b)
             checked += 1
     assert checked >= 2
+
+
+def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
+    # a corner cell's gap changes as the mesh position moves (its vector has a part along the
+    # drive rotation R), but a dynamic scene's nominal motion sets the mesh position: the rows
+    # the solvers use keep V·R = 0 (the rigid modes' contract), the part along R taken off
+    # along M R on the mesh's DOFs; on the path nothing changes
+    pair = _pair()
+    mesh = _mesh(pair)
+    scene = _lumped(pair, mesh)
+    s = -0.5 * float(mesh.extension_span[0])
+    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    k = _cell(cells, s)
+    exact = np.asarray(scene.cell_vectors(cells))
+    row = scene.cell_row((cells,), (jnp.zeros_like(cells.s),))
+    used = np.asarray(row.V).reshape(exact.shape)
+    R = np.asarray(scene.rigid_modes())[:, 0]
+    assert abs(exact[k, 0] @ R) > 1e-3 * np.abs(exact[k, 0]).max() * np.abs(R).max()
+    assert abs(used[k, 0] @ R) < 1e-12 * np.abs(exact[k, 0]).max() * np.abs(R).max()
+    on = (
+        np.asarray(cells.mask)
+        & (np.asarray(cells.s) >= 0)
+        & (np.asarray(cells.s) <= pair.path_of_contact)
+    )
+    np.testing.assert_array_equal(used[on], exact[on])
+    # the difference lies along M R on the two gear nodes
+    G = np.asarray(scene.mass()) @ R
+    dofs = [d for m in scene.members for d in m.dofs]
+    diff = used[k, 0] - exact[k, 0]
+    g = np.zeros_like(G)
+    g[dofs] = G[dofs]
+    np.testing.assert_allclose(diff, (diff @ g) / (g @ g) * g, atol=1e-12 * np.abs(diff).max())
+    # the torsional dynamics: the drive rotation is a rigid mode again (no corner stiffness)
+    import jaxgear.dynamics as jd
+
+    dyn = jg.scenes.TorsionalDynamics(mesh, 1e-3, 4e-3)
+    model = jd.dynamic_model(dyn, None, 400.0)
+    modes = jd.mesh_averaged_modes(model)
+    assert int(np.sum(np.asarray(modes.rigid))) == 1
