@@ -28,6 +28,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.rating",
     "jaxgear.gearbox",
     "jaxgear.tribology",
+    "jaxgear.acoustics",
     "jaxgear.io",
 )
 FORBIDDEN_IN_MODEL = (

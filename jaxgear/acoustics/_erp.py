@@ -1,0 +1,274 @@
+"""The housing's forced vibration at its outer surface and its equivalent radiated power (ERP)
+from the bearing forces at its seats (docs/whine.md, "Housing and ERP"): a one-way path (the
+housing loaded by the forces of a gearbox on rigid supports), which the coupled model reuses
+with its own seat forces.
+
+At a frequency f (ω = 2πf) the condensed housing (Craig–Bampton at its seats,
+:func:`fem_prep.housing.condensed_housing`) with a structural loss factor η answers the seat
+forces F_b (6 per seat: forces, N, and moments, N·m) by
+
+    (K (1 + iη) − ω² M) q = Eᵀ F_b,      u = Φ q,      v_n = iω N u,
+
+Φ the recovery of the full FE displacement, N the facets' mean outward normal
+(:func:`fem_prep.housing.outer_surface`), and the ERP, the power a surface vibrating with v_n
+would radiate if every facet radiated as a plane wave (radiation efficiency 1, an upper bound
+above the coincidence frequency),
+
+    P = ½ ρ c Σ_f |v_n,f|² A_f   (W; one-sided amplitudes v_n: v(t) = Re v_n e^{iωt}),
+
+L_W = 10 log10(P / 1 pW) dB. Source: the ERP as in Fritze, Marburg & Hardtke, J. Acoust. Soc.
+Am. 118 (2005); Kollmann, Schösser & Angert, "Practical Machinery Vibration Analysis" (2000),
+the radiated power ½ ρ c σ ⟨v²⟩ A with σ = 1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Complex, Float
+
+__all__ = [
+    "HousingAcoustics",
+    "HousingResponse",
+    "erp",
+    "erp_db",
+    "housing_acoustics",
+    "housing_response",
+    "seat_forces",
+    "total_level",
+]
+
+#: the reference power of L_W (W)
+REFERENCE_POWER = 1e-12
+
+
+def erp(normal_velocity, areas, density: float = 1.204, sound_speed: float = 343.2):
+    """The equivalent radiated power P = ½ ρ c Σ_f |v_f|² A_f (W) of one-sided complex normal
+    velocity amplitudes ``normal_velocity`` (m/s, (..., F)) on facets of ``areas`` (m², (F,)):
+    the time mean of a harmonic velocity Re(v e^{iωt}) squared is ½|v|².
+
+    Args:
+        density: ρ of the fluid (kg/m³; air at 20 °C: 1.204). sound_speed: c (m/s; 343.2).
+
+    Returns:
+        (...) W.
+    """
+    v = jnp.asarray(normal_velocity)
+    return 0.5 * density * sound_speed * jnp.einsum("...f,f->...", jnp.abs(v) ** 2, jnp.asarray(areas))
+
+
+def erp_db(power):
+    """The sound power level L_W = 10 log10(P / 1 pW) (dB) of a power P (W); −inf at 0."""
+    return 10.0 * jnp.log10(jnp.asarray(power) / REFERENCE_POWER)
+
+
+class HousingAcoustics(eqx.Module):
+    """A condensed housing ready for its forced response (:func:`housing_acoustics`).
+
+    Attributes:
+        K, M: the condensed stiffness and mass (n_c, n_c), seat DOFs first (6 per seat).
+        normal_map: (F, n_c): each skin facet's mean outward normal displacement (m) per
+            condensed coordinate.
+        point_map: (P, n_c): the named points' outward normal displacement per coordinate.
+        areas: (F,) facet areas (m²).
+        loss_factor: η of the housing's structural damping.
+        density, sound_speed: ρ (kg/m³) and c (m/s) of the fluid.
+        n_seats: seats (static). point_names: labels (static).
+    """
+
+    K: Float[Array, "n n"]
+    M: Float[Array, "n n"]
+    normal_map: Float[Array, "F n"]
+    point_map: Float[Array, "P n"]
+    areas: Float[Array, " F"]
+    loss_factor: Float[Array, ""]
+    density: Float[Array, ""]
+    sound_speed: Float[Array, ""]
+    n_seats: int = eqx.field(static=True)
+    point_names: tuple[str, ...] = eqx.field(static=True, default=())
+
+
+def _check_positive(name, value, unit, zero=False):
+    ok = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool)
+    if not ok or not math.isfinite(value) or (value < 0 if zero else value <= 0):
+        raise ValueError(f"{name} = {value!r}: allowed a number {'>=' if zero else '>'} 0 {unit}")
+
+
+def housing_acoustics(
+    condensed,
+    surface,
+    *,
+    loss_factor: float = 0.02,
+    density: float = 1.204,
+    sound_speed: float = 343.2,
+    dtype=None,
+) -> HousingAcoustics:
+    """Gather a condensed housing and its skin for :func:`housing_response`.
+
+    Args:
+        condensed: a :class:`fem_prep.housing.CondensedHousing` (K, M, recovery, seat names).
+        surface: its mesh's :func:`fem_prep.housing.outer_surface` (the same mesh: the
+            recovery's rows are its DOFs).
+        loss_factor: η >= 0, the housing's structural damping (K (1 + iη); 0.02: a
+            cast-iron or aluminium casing with its joints, about 1 % of critical damping).
+        density, sound_speed: the fluid's ρ (kg/m³) and c (m/s), > 0 (air at 20 °C).
+        dtype: float dtype (None: JAX's default float).
+
+    Returns:
+        :class:`HousingAcoustics`.
+
+    Raises:
+        ValueError: a surface of another mesh, a negative loss factor, ρ or c <= 0.
+    """
+    _check_positive("loss_factor", loss_factor, "", zero=True)
+    _check_positive("density", density, "kg/m^3")
+    _check_positive("sound_speed", sound_speed, "m/s")
+    rec = np.asarray(condensed.recovery)
+    if surface.normal_operator.shape[1] != rec.shape[0]:
+        raise ValueError(
+            f"surface: {surface.normal_operator.shape[1]} DOFs, condensed housing of "
+            f"{rec.shape[0]}: allowed the outer_surface of the condensed housing's own mesh"
+        )
+    dtype = jnp.zeros(()).dtype if dtype is None else dtype
+    pop = surface.point_operator
+    pmap = np.zeros((0, rec.shape[1])) if pop is None else pop @ rec
+    return HousingAcoustics(
+        K=jnp.asarray(condensed.K, dtype),
+        M=jnp.asarray(condensed.M, dtype),
+        normal_map=jnp.asarray(surface.normal_operator @ rec, dtype),
+        point_map=jnp.asarray(pmap, dtype),
+        areas=jnp.asarray(surface.areas, dtype),
+        loss_factor=jnp.asarray(loss_factor, dtype),
+        density=jnp.asarray(density, dtype),
+        sound_speed=jnp.asarray(sound_speed, dtype),
+        n_seats=len(condensed.seat_names),
+        point_names=tuple(surface.point_names),
+    )
+
+
+def seat_forces(bearing_force, seats, axes, n_seats: int, rotation=None) -> Complex[Array, "... s"]:
+    """The seat loads (..., 6 n_seats) of bearing force components (..., r): component j (N;
+    the force the shaft puts on its support, ``R X`` of a lumped 3D scene:
+    :attr:`~jaxgear.dynamics.WhineResponse.bearing_force`, names in the scene's
+    ``reaction_names``) added to the force along axis ``axes[j]`` of seat ``seats[j]``; the
+    moments stay zero (each bearing at its seat's centre).
+
+    Args:
+        bearing_force: (..., r), real or complex.
+        seats: r seat indices (ints 0..n_seats − 1; a seat may take several bearings).
+        axes: r axes of the gear model's frame: 0, 1, 2 or "x", "y", "z", or a reaction name
+            ending in "Fx", "Fy", "Fz" (a scene's ``reaction_names``).
+        n_seats: the housing's seats.
+        rotation: None, or the (3, 3) matrix from the gear model's axes to the housing's.
+
+    Raises:
+        ValueError: lengths that differ from r, a seat index or an axis out of range.
+    """
+    f = jnp.asarray(bearing_force)
+    r = f.shape[-1]
+    seats = tuple(int(s) for s in seats)
+    axes = tuple(axes)
+    if len(seats) != r or len(axes) != r:
+        raise ValueError(
+            f"seats, axes: {len(seats)} and {len(axes)} entries for {r} force components: "
+            "allowed one each per component"
+        )
+    bad = [s for s in seats if not 0 <= s < n_seats]
+    if bad:
+        raise ValueError(f"seats = {seats}: allowed indices 0..{n_seats - 1}")
+
+    def axis(a):
+        k = "xyz".find(a[-1].lower()) if isinstance(a, str) and a else a
+        if isinstance(k, bool) or k not in (0, 1, 2):
+            raise ValueError(f"axes: {a!r}, allowed 0, 1, 2, 'x', 'y', 'z' or a name ending Fx")
+        return k
+
+    S = np.zeros((n_seats, 3, r))
+    for j, (s, a) in enumerate(zip(seats, axes, strict=True)):
+        S[s, axis(a), j] = 1.0
+    real = f.real.dtype
+    g = jnp.einsum("sij,...j->...si", jnp.asarray(S, real), f)  # (..., n_seats, 3)
+    if rotation is not None:
+        g = jnp.einsum("ij,...sj->...si", jnp.asarray(rotation, real), g)
+    out = jnp.concatenate([g, jnp.zeros_like(g)], axis=-1)  # forces, then zero moments
+    return out.reshape(*g.shape[:-2], 6 * n_seats)
+
+
+class HousingResponse(eqx.Module):
+    """The housing's steady response to seat loads at frequencies (..., one per order and
+    speed), one-sided complex amplitudes (q(t) = Re q e^{iωt}).
+
+    Attributes:
+        frequency: f (Hz), (...).
+        coordinates: q (..., n_c): the condensed coordinates (seat DOFs, m / rad, then the
+            modal amplitudes; :func:`fem_prep.housing.write_housing_ods_vtu` draws them).
+        normal_velocity: v_n (m/s), (..., F): each skin facet's mean outward normal velocity.
+        point_velocity: (m/s), (..., P): at the named points.
+        power: ERP (W), (...). level: its L_W (dB re 1 pW), (...).
+    """
+
+    frequency: Float[Array, "..."]
+    coordinates: Complex[Array, "... n"]
+    normal_velocity: Complex[Array, "... F"]
+    point_velocity: Complex[Array, "... P"]
+    power: Float[Array, "..."]
+    level: Float[Array, "..."]
+
+
+def total_level(power, axis=-1):
+    """The overall L_W (dB re 1 pW) of powers summed over ``axis`` (the orders)."""
+    return erp_db(jnp.sum(jnp.asarray(power), axis=axis))
+
+
+def housing_response(acoustics: HousingAcoustics, loads, frequency) -> HousingResponse:
+    """The housing's vibration and ERP under seat loads (the module's equations).
+
+    Args:
+        acoustics: :func:`housing_acoustics`.
+        loads: seat loads F_b (..., 6 n_seats), complex one-sided amplitudes (N, N·m), the
+            seats' DOF order (u_x, u_y, u_z, θ_x, θ_y, θ_z per seat; :func:`seat_forces`).
+        frequency: f (Hz) >= 0 of each load, broadcastable to loads' leading shape (a whine
+            sweep's order frequencies: ``w.frequency[:, None] * w.orders[None, :]``).
+
+    Returns:
+        :class:`HousingResponse` with the loads' leading shape.
+
+    Raises:
+        TypeError: not a HousingAcoustics. ValueError: loads of another seat count.
+    """
+    if not isinstance(acoustics, HousingAcoustics):
+        raise TypeError(f"acoustics = {acoustics!r}: allowed housing_acoustics(...)")
+    F = jnp.asarray(loads)
+    nb = 6 * acoustics.n_seats
+    if F.shape[-1] != nb:
+        raise ValueError(
+            f"loads: {F.shape[-1]} per frequency, allowed 6 n_seats = {nb} (forces and moments)"
+        )
+    lead = F.shape[:-1]
+    f = jnp.broadcast_to(jnp.asarray(frequency, acoustics.K.dtype), lead)
+    K, M = acoustics.K, acoustics.M
+    cdt = jnp.result_type(K.dtype, jnp.complex64)
+    Kd = K * (1 + 1j * acoustics.loss_factor)
+
+    def one(fb, fr):
+        w = 2 * jnp.pi * fr
+        rhs = jnp.zeros(K.shape[0], cdt).at[:nb].set(fb.astype(cdt))
+        return jnp.linalg.solve(Kd - w**2 * M, rhs)
+
+    q = jax.vmap(one)(F.reshape(-1, nb), f.reshape(-1)).reshape(*lead, K.shape[0])
+    iw = (2j * jnp.pi * f)[..., None]
+    vn = iw * (q @ acoustics.normal_map.T.astype(cdt))
+    vp = iw * (q @ acoustics.point_map.T.astype(cdt))
+    p = erp(vn, acoustics.areas, acoustics.density, acoustics.sound_speed)
+    return HousingResponse(
+        frequency=f,
+        coordinates=q,
+        normal_velocity=vn,
+        point_velocity=vp,
+        power=p,
+        level=erp_db(p),
+    )
