@@ -28,6 +28,7 @@ from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
 from ._scene_table import parse_scene
+from ._whine_table import parse_whine
 
 __all__ = [
     "check_member_size",
@@ -92,6 +93,7 @@ _SCHEMA: dict[str, Any] = {
     "optimise": None,  # checked by parse_optimise
     "rating": None,  # checked by check_rating (ISO 6336 load capacity)
     "lubricant": None,  # checked by parse_lubricant (film and sliding loss)
+    "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -445,6 +447,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     if "lubricant" in data:
         parse_lubricant(data["lubricant"], data["operating"])
+    if "whine" in data:
+        parse_whine(data["whine"])
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (
