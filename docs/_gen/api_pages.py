@@ -77,6 +77,7 @@ SECTIONS = {
         ("Flexible ring", ("_ring",)),
         ("Modes, phasing and load sharing", ("_analysis",)),
         ("Dynamics and the engine model", ("_dynamics", "_model")),
+        ("Gear whine in the frequency domain", ("_whine",)),
         ("Time plan of a sweep", ("_plan",)),
     ),
     "jaxgear.rating": (

@@ -226,6 +226,13 @@ class PlanetaryModel(AbstractDynamicModel):
         s = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, 1)
         return s.m, s.k_b
 
+    def whine(self, speeds, method, *, positions: int = 256, contact=ExactContact()):
+        """The stage's gear whine in the frequency domain (:func:`jaxgear.dynamics.whine_response`
+        delegates here): :func:`~jaxgear.planetary.planetary_whine`."""
+        from ._whine import planetary_whine  # (it imports this module)
+
+        return planetary_whine(self, speeds, method, positions=positions, contact=contact)
+
     # --- the engine ------------------------------------------------------------------------
 
     def default_settings(self):
