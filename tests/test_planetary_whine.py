@@ -47,10 +47,10 @@ def test_planetary_stage_against_newmark_in_its_linear_regime():
     """The three-planet stage of tests/_planetary_stage.py (uniform cell stiffness, ring held,
     carrier input) with its mesh frequency at 0.1 of the mode the meshes excite most: every sun
     and ring mesh's orders 1-3 within 1 % in amplitude and 1° in phase of Newmark's (384 steps
-    per period, 40 periods, 4 kept; measured ≤ 0.62 % and 0.24°, the second order the farthest (the
-    planar model the same to 1e-5 here): Newmark's first-order error across the stiffness jumps). Neither loses contact.
-    The mean-stiffness model (TE as a displacement source) misses an order by more than 3 %
-    (measured 5-18 %)."""
+    per period, 40 periods, 4 kept; measured <= 0.62 % and 0.24°, the second order the
+    farthest: Newmark's first-order error across the stiffness jumps; the planar model gives
+    the same to 1e-5 at this speed). Neither loses contact. The mean-stiffness model (TE as a
+    displacement source) misses an order by more than 3 % (measured 5-18 %)."""
     kind = jg.TorsionalPlanetary()
     model = _model(kind)
     omega = float(excited_omega(model.averaged_modes()))
