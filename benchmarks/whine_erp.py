@@ -2,12 +2,12 @@
 ``accessory-spur`` pair in its case's lumped 3D scene (4 slices) with a ``[whine]`` table (60
 speeds, 50-1600 rad/s, harmonic balance H = 16 on 128 positions) through ``jaxgear run``'s whine
 outputs (the order plot of the TE and the waterfall of the bearing forces, copied to docs/img),
-then its four bearings' forces on the four seats of an aluminium box housing (300 x 200 x 200 mm,
-8 mm walls, two feet; structured Tet10 mesh of 50 mm, Craig–Bampton with the fixed-interface
-modes to 1.5 x the highest order-4 frequency) and the ERP of orders 1-4 and overall against speed
-(docs/img/whine_erp.png), an operating deflection shape at the loudest speed and order to VTU (a temporary file),
-the costs in docs/bench/whine_erp.json. From the repository root:
-``python -m benchmarks.whine_erp``.
+then its four bearings' forces on the four seats of an aluminium box housing (360 x 200 x 220
+mm, 8 mm walls, two feet; structured Tet10 mesh of 50 mm, Craig–Bampton with the
+fixed-interface modes to 1.5 x the highest order-4 frequency) and the ERP of orders 1-4 and
+overall against speed (docs/img/whine_erp.png), an operating deflection shape at the loudest
+speed and order to VTU (a temporary file), the costs in docs/bench/whine_erp.json. From the
+repository root: ``python -m benchmarks.whine_erp``.
 """
 
 from __future__ import annotations
@@ -22,7 +22,6 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import jax.numpy as jnp
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
@@ -40,7 +39,7 @@ from fem_prep.housing import (
     write_housing_ods_vtu,
 )
 from jaxgear.acoustics import housing_acoustics, housing_response, seat_forces, total_level
-from jaxgear.cli._whine_run import whine_outputs
+from jaxgear.cli.run import whine_outputs  # (jaxgear run's whine files)
 from jaxgear.dynamics import whine_response
 
 from ._timing import environment

@@ -88,4 +88,7 @@ def test_planetary_whine_bad_inputs():
     ecc = eqx.tree_at(lambda s: s.eccentricities, model.stage, jp.Eccentricities(sun=1e-5),
                       is_leaf=lambda x: x is None)
     with pytest.raises(ValueError, match="eccentricit"):
-        jp.planetary_whine(jp.PlanetaryModel(model.kind, ecc, model.meshes, model.run), 100.0)
+        whine_response(jp.PlanetaryModel(model.kind, ecc, model.meshes, model.run), 100.0)
+    with pytest.raises(ValueError, match="mesh_speeds"):
+        jp.planetary_whine(model.kind, model.stage, model.meshes, model.run, 10.0,
+                           mesh_speeds=-1.0)

@@ -121,6 +121,15 @@ scuffing_lubricant_factor = 1.0
 structural_factor = 1.0
 relative_structural_factor = 1.0
 """,
+    "whine": """
+[whine]
+speed_min_rad_s = 50.0
+speed_max_rad_s = 1600.0
+speeds = 10
+harmonics = 8
+method = "harmonic-balance"
+positions_per_period = 64
+""",
     "modifications": """
 [modifications]
 tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }
@@ -420,6 +429,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}
+    yield data, None
+    # a train's gear whine in the frequency domain
+    data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
     yield data, None
     # a train rated to ISO 6336: the shared [rating] and each mesh's own
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))

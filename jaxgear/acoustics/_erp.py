@@ -58,7 +58,8 @@ def erp(normal_velocity, areas, density: float = 1.204, sound_speed: float = 343
         (...) W.
     """
     v = jnp.asarray(normal_velocity)
-    return 0.5 * density * sound_speed * jnp.einsum("...f,f->...", jnp.abs(v) ** 2, jnp.asarray(areas))
+    v2 = jnp.abs(v) ** 2
+    return 0.5 * density * sound_speed * jnp.einsum("...f,f->...", v2, jnp.asarray(areas))
 
 
 def erp_db(power):

@@ -32,10 +32,11 @@ from ..dynamics import (
     fourier_coefficients,
     harmonic_balance,
 )
-from ._dynamics import planetary_cell_row, planetary_stage_system
-from ._model import PlanetaryModel
+from ._dynamics import PlanetaryRun, planetary_cell_row, planetary_stage_system
+from ._meshes import AbstractPlanetaryMeshes
 from ._plan import carrier_periodic
-from ._ring import modal_damping
+from ._ring import AbstractRingModel, RigidRing, modal_damping
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = ["PlanetaryWhine", "planetary_whine"]
 
@@ -47,7 +48,9 @@ class PlanetaryWhine(eqx.Module):
     One-sided amplitudes on the mesh travel (module docstring); order 0 the mean.
 
     Attributes:
-        speed: input speeds ω_in (rad/s), (S,). frequency: the mesh frequency v / p_b (Hz), (S,).
+        speed: the speeds (rad/s), (S,): the carrier's of :func:`planetary_whine`, the input
+            member's of :func:`jaxgear.dynamics.whine_response`.
+        frequency: the mesh frequency v / p_b (Hz), (S,).
         orders: 0..H, (H + 1,).
         coordinates: q_h (m; the stage's coordinates), (S, H + 1, n), complex.
         sun_mesh_force, ring_mesh_force: transverse mesh forces (N, compression positive,
@@ -78,48 +81,58 @@ def _one_sided(c, H):
 
 
 def planetary_whine(
-    model,
-    speeds,
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    run: PlanetaryRun,
+    carrier_speeds,
     method: AbstractWhineMethod = HarmonicBalance(),
     *,
+    mesh_speeds=None,
+    ring: AbstractRingModel = RigidRing(),
     positions: int = 256,
     contact: ContactLaw = ExactContact(),
 ) -> PlanetaryWhine:
-    """Gear whine of a planetary stage in the frequency domain (module docstring):
-    :func:`jaxgear.dynamics.whine_response` of a :class:`~jaxgear.planetary.PlanetaryModel`.
+    """Gear whine of a planetary stage in the frequency domain (module docstring), with the
+    arguments of :func:`~jaxgear.planetary.planetary_dynamics`;
+    :func:`jaxgear.dynamics.whine_response` of a :class:`~jaxgear.planetary.PlanetaryModel`
+    calls it at the model's carrier and mesh speeds.
 
-    The damping is the model's run's (modal, ``run.damping_ratio`` on the modes of M and
-    K_b + K̄_m, K̄_m the meshes' stiffness averaged over the ``positions`` travels, as
+    The damping is the run's (modal, ``run.damping_ratio`` on the modes of M and K_b + K̄_m,
+    K̄_m the meshes' stiffness averaged over the ``positions`` travels, as
     :func:`~jaxgear.planetary.planetary_dynamics` takes it over its steps), the pin errors'
     offsets and load as the run's.
 
     Args:
-        model: a :class:`~jaxgear.planetary.PlanetaryModel` with a rigid ring, no eccentricity
-            or runout and no unbalance (its steady state repeats every mesh period in the
-            carrier frame).
-        speeds: input speeds ω_in (rad/s) > 0, scalar or (S,) (the model's convention: carrier
-            Ω = ``carrier_per_input`` ω_in).
+        model: the model kind (:class:`~jaxgear.TorsionalPlanetary`,
+            :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`).
+        stage: the stage, without eccentricity, runout or unbalance (its steady state repeats
+            every mesh period in the carrier frame). meshes: the meshes kind. run: the
+            :class:`~jaxgear.planetary.PlanetaryRun` (torque, damping ratio, pin errors; its
+            step counts are not read).
+        carrier_speeds: Ω (rad/s) != 0, scalar or (S,).
         method: :class:`~jaxgear.dynamics.HarmonicBalance` or
             :class:`~jaxgear.dynamics.TransmissionErrorSource`, with its H.
+        mesh_speeds: v (m/s) > 0, as ``carrier_speeds``; None: the ring held, v = r_br |Ω|.
+        ring: :class:`~jaxgear.planetary.RigidRing` only (a flexible ring's stations turn
+            relative to the carrier).
         positions: travels per mesh period (int >= 4H + 1).
         contact: the static solve's contact law.
 
     Returns:
-        :class:`PlanetaryWhine`.
+        :class:`PlanetaryWhine` (``speed``: the carrier speeds).
 
     Raises:
         TypeError: another method. ValueError: a flexible ring, eccentricities or unbalances,
-            a speed <= 0, too few positions.
+            a carrier speed of 0 or a mesh speed <= 0, too few positions.
     """
-    if not isinstance(model, PlanetaryModel):
-        raise TypeError(f"model: {type(model).__name__}: allowed a jaxgear.planetary.PlanetaryModel")
     if not isinstance(method, AbstractWhineMethod):
         raise TypeError(
             f"method = {method!r}: allowed HarmonicBalance(...) or TransmissionErrorSource(...)"
         )
-    if not carrier_periodic(model.stage, model.flexible_ring()):
+    if not carrier_periodic(stage, not isinstance(ring, RigidRing)):
         raise ValueError(
-            "model: a flexible ring, an eccentricity, runout or unbalance: the whine needs a "
+            "stage: a flexible ring, an eccentricity, runout or unbalance: the whine needs a "
             "stage that repeats every mesh period in the carrier frame (allowed a rigid ring, "
             "no eccentricities, no unbalances)"
         )
@@ -127,21 +140,28 @@ def planetary_whine(
     H = int(method.harmonics)
     if positions < 4 * H + 1:
         raise ValueError(f"positions = {positions}: allowed >= 4 harmonics + 1 = {4 * H + 1}")
-    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
-        raise ValueError(f"speeds = {speeds!r}: allowed input speeds > 0 rad/s, scalar or (S,)")
-    if not is_traced(speeds):
-        sp = np.asarray(speeds, dtype=float)
-        if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
-            raise ValueError(f"speeds = {speeds!r}: allowed finite input speeds > 0 rad/s")
-    law = contact_law(contact, model.dtype)
-    speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
-    return _whine(model, speeds, method, int(positions), law)
+    for name, value in (("speeds", carrier_speeds), ("mesh_speeds", mesh_speeds)):
+        if value is None:
+            continue
+        if np.ndim(value) > 1 or np.size(value) == 0:
+            raise ValueError(f"{name} = {value!r}: allowed a scalar or (S,) (rad/s, m/s)")
+        if not is_traced(value):
+            v = np.asarray(value, dtype=float)
+            bad = v <= 0 if name == "mesh_speeds" else v == 0
+            if not np.all(np.isfinite(v)) or np.any(bad):
+                what = "> 0 m/s" if name == "mesh_speeds" else "!= 0 rad/s"
+                raise ValueError(f"{name} = {value!r}: allowed finite values {what}")
+    dtype = run.sun_torque.dtype
+    law = contact_law(contact, dtype)
+    omega = jnp.atleast_1d(jnp.asarray(carrier_speeds, dtype))
+    v = (stage.ring.base_radius * jnp.abs(omega) if mesh_speeds is None
+         else jnp.broadcast_to(jnp.asarray(mesh_speeds, dtype), omega.shape))
+    return _whine(model, stage, meshes, run, omega, v, method, int(positions), law)
 
 
 @eqx.filter_jit
-def _whine(model, speeds, method, P, law) -> PlanetaryWhine:
+def _whine(kind, stage, meshes, run, speeds, mesh_speeds, method, P, law) -> PlanetaryWhine:
     H = method.harmonics
-    kind, stage, meshes, run = model.kind, model.stage, model.meshes, model.run
     m, k_b, f, k_mean, _ = planetary_stage_system(kind, stage, meshes, run, P)
     c_modal = modal_damping(m, k_b + k_mean, run.damping_ratio)
     g_v, k_v = kind.spin_matrices(stage)
@@ -156,9 +176,8 @@ def _whine(model, speeds, method, P, law) -> PlanetaryWhine:
     s = (jnp.arange(P, dtype=p_b.dtype) + 0.5) / P
     E = jnp.exp(2j * jnp.pi * s[:, None] * h[None, :])  # (P, 2H+1)
 
-    def at(speed):
-        omega_c = model.carrier_per_input * speed
-        v = model._mesh_speed(speed)
+    def at(speed_v):
+        omega_c, v = speed_v
         K = k_b - omega_c**2 * K_om + omega_c * v * k_v
         C = c_modal + omega_c * G + v * g_v
         static = jax.vmap(
@@ -184,7 +203,7 @@ def _whine(model, speeds, method, P, law) -> PlanetaryWhine:
         X = _one_sided(Xh + Y, H)
         return w0, X, fh, jnp.min(fm, axis=0), misplaced
 
-    w0, X, fh, fmin, misplaced = jax.lax.map(at, speeds)
+    w0, X, fh, fmin, misplaced = jax.lax.map(at, (speeds, mesh_speeds))
     fs = run.sun_torque / (n_pl * stage.sun.base_radius)
     return PlanetaryWhine(
         speed=speeds,
