@@ -27,6 +27,7 @@ PACKAGES = (
     ("jaxgear.rating", "jaxgear.rating.md", "load capacity: ISO 6336 ratings, load factors, root stress"),
     ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
+    ("jaxgear.acoustics", "jaxgear.acoustics.md", "the housing's surface vibration and radiated power (ERP)"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -100,13 +101,16 @@ SECTIONS = {
         ("Friction and the tooth loss factor", ("_loss",)),
         ("Film and loss along the path of contact", ("_mesh",)),
     ),
+    "jaxgear.acoustics": (
+        ("Housing response and equivalent radiated power", ("_erp",)),
+    ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
-                                   "_lubricant_table", "_scuffing_table")),
+                                   "_lubricant_table", "_scuffing_table", "_whine_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (
