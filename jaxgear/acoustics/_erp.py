@@ -9,16 +9,17 @@ forces F_b (6 per seat: forces, N, and moments, N·m) by
 
     (K (1 + iη) − ω² M) q = Eᵀ F_b,      u = Φ q,      v_n = iω N u,
 
-Φ the recovery of the full FE displacement, N the facets' mean outward normal
+solved on the condensed housing's modes (exact: K (1 + iη) and M share them), Φ the recovery
+of the full FE displacement, N the facets' mean outward normal
 (:func:`fem_prep.housing.outer_surface`), and the ERP, the power a surface vibrating with v_n
-would radiate if every facet radiated as a plane wave (radiation efficiency 1, an upper bound
-above the coincidence frequency),
+would radiate if every facet radiated as a plane wave (radiation efficiency 1: close to the
+radiated power above the coincidence frequency, an overestimate below it),
 
     P = ½ ρ c Σ_f |v_n,f|² A_f   (W; one-sided amplitudes v_n: v(t) = Re v_n e^{iωt}),
 
-L_W = 10 log10(P / 1 pW) dB. Source: the ERP as in Fritze, Marburg & Hardtke, J. Acoust. Soc.
-Am. 118 (2005); Kollmann, Schösser & Angert, "Practical Machinery Vibration Analysis" (2000),
-the radiated power ½ ρ c σ ⟨v²⟩ A with σ = 1.
+L_W = 10 log10(P / 1 pW) dB. Source: the ERP and its limits as compared in Fritze, Marburg &
+Hardtke, "Estimation of radiated sound power: a case study on common approximation methods",
+Acta Acustica united with Acustica 95 (2009).
 """
 
 from __future__ import annotations
@@ -72,6 +73,9 @@ class HousingAcoustics(eqx.Module):
 
     Attributes:
         K, M: the condensed stiffness and mass (n_c, n_c), seat DOFs first (6 per seat).
+        eigenvalues: λ_k = ω_k² (rad²/s²) of (K, M), (n_c,) (the housing on its feet).
+        shapes: Φ (n_c, n_c), mass-normalised (Φᵀ M Φ = I): with the structural damping
+            K (1 + iη) the response is modal exactly, q = Φ diag(1 / ((1 + iη) λ − ω²)) Φᵀ F.
         normal_map: (F, n_c): each skin facet's mean outward normal displacement (m) per
             condensed coordinate.
         point_map: (P, n_c): the named points' outward normal displacement per coordinate.
@@ -83,6 +87,8 @@ class HousingAcoustics(eqx.Module):
 
     K: Float[Array, "n n"]
     M: Float[Array, "n n"]
+    eigenvalues: Float[Array, " n"]
+    shapes: Float[Array, "n n"]
     normal_map: Float[Array, "F n"]
     point_map: Float[Array, "P n"]
     areas: Float[Array, " F"]
@@ -137,9 +143,14 @@ def housing_acoustics(
     dtype = jnp.zeros(()).dtype if dtype is None else dtype
     pop = surface.point_operator
     pmap = np.zeros((0, rec.shape[1])) if pop is None else pop @ rec
+    import scipy.linalg as sla  # the modes once, at construction (the housing is NumPy's)
+
+    lam, phi = sla.eigh(np.asarray(condensed.K), np.asarray(condensed.M))
     return HousingAcoustics(
         K=jnp.asarray(condensed.K, dtype),
         M=jnp.asarray(condensed.M, dtype),
+        eigenvalues=jnp.asarray(lam, dtype),
+        shapes=jnp.asarray(phi, dtype),
         normal_map=jnp.asarray(surface.normal_operator @ rec, dtype),
         point_map=jnp.asarray(pmap, dtype),
         areas=jnp.asarray(surface.areas, dtype),
@@ -251,16 +262,13 @@ def housing_response(acoustics: HousingAcoustics, loads, frequency) -> HousingRe
         )
     lead = F.shape[:-1]
     f = jnp.broadcast_to(jnp.asarray(frequency, acoustics.K.dtype), lead)
-    K, M = acoustics.K, acoustics.M
-    cdt = jnp.result_type(K.dtype, jnp.complex64)
-    Kd = K * (1 + 1j * acoustics.loss_factor)
-
-    def one(fb, fr):
-        w = 2 * jnp.pi * fr
-        rhs = jnp.zeros(K.shape[0], cdt).at[:nb].set(fb.astype(cdt))
-        return jnp.linalg.solve(Kd - w**2 * M, rhs)
-
-    q = jax.vmap(one)(F.reshape(-1, nb), f.reshape(-1)).reshape(*lead, K.shape[0])
+    cdt = jnp.result_type(acoustics.K.dtype, jnp.complex64)
+    phi = acoustics.shapes
+    lam = acoustics.eigenvalues * (1 + 1j * acoustics.loss_factor)
+    w2 = (2 * jnp.pi * f)[..., None] ** 2
+    lam = lam.reshape((1,) * (w2.ndim - 1) + lam.shape)
+    modal = (F.astype(cdt) @ phi[:nb].astype(cdt)) / (lam - w2)  # Φ_bᵀ F / ((1 + iη) λ − ω²)
+    q = modal @ phi.T.astype(cdt)
     iw = (2j * jnp.pi * f)[..., None]
     vn = iw * (q @ acoustics.normal_map.T.astype(cdt))
     vp = iw * (q @ acoustics.point_map.T.astype(cdt))
