@@ -44,7 +44,7 @@ def test_whine_table_bad_input_one_line(extra, match):
     assert "\n" not in str(e.value)
 
 
-def test_whine_table_refused_in_a_pair_case_file(tmp_path):
+def test_whine_table_is_checked_when_a_case_loads(tmp_path):
     path = tmp_path / "c.toml"
     path.write_text(small_helical_pair("c", slices=2) + "[whine]\nspeed_min_rad_s = 10.0\n")
     with pytest.raises(ValueError, match="speed_max_rad_s") as e:
