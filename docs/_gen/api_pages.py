@@ -27,7 +27,7 @@ PACKAGES = (
     ("jaxgear.rating", "jaxgear.rating.md", "load capacity: ISO 6336 ratings, load factors, root stress"),
     ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
-    ("jaxgear.acoustics", "jaxgear.acoustics.md", "radiated sound power from a cached radiation resistance, levels, A weighting"),
+    ("jaxgear.acoustics", "jaxgear.acoustics.md", "the housing's surface vibration, its equivalent radiated power (ERP) and radiated sound power from a cached radiation resistance, levels, A weighting"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -84,6 +84,7 @@ SECTIONS = {
         ("Flexible ring", ("_ring",)),
         ("Modes, phasing and load sharing", ("_analysis",)),
         ("Dynamics and the engine model", ("_dynamics", "_model")),
+        ("Gear whine in the frequency domain", ("_whine",)),
         ("Time plan of a sweep", ("_plan",)),
     ),
     "jaxgear.rating": (
@@ -119,6 +120,9 @@ SECTIONS = {
         ("Boundary elements", ("_bem",)),
         ("Rayleigh integral", ("_rayleigh",)),
     ),
+    "jaxgear.acoustics": (
+        ("Housing response and equivalent radiated power", ("_erp",)),
+    ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
@@ -126,7 +130,7 @@ SECTIONS = {
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
                                    "_lubricant_table", "_scuffing_table",
-                                   "_micropitting_table", "_housing_table")),
+                                   "_micropitting_table", "_housing_table", "_whine_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (

@@ -157,6 +157,15 @@ name = "input_a"
 x_mm = [0.0, 30.0]
 y_mm = [0.0, 30.0]
 """,
+    "whine": """
+[whine]
+speed_min_rad_s = 50.0
+speed_max_rad_s = 1600.0
+speeds = 10
+harmonics = 8
+method = "harmonic-balance"
+positions_per_period = 64
+""",
     "modifications": """
 [modifications]
 tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }
@@ -456,6 +465,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     # a train gear's own modifications
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.setdefault("modifications", {})["idler"] = {"root_relief": {"depth_um": 2.0}}
+    yield data, None
+    # a train's gear whine in the frequency domain
+    data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
     yield data, None
     # a train rated to ISO 6336: the shared [rating] and each mesh's own
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))

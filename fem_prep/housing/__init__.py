@@ -27,3 +27,8 @@ from ._mesh import (
     mesh_plate as mesh_plate,
     read_housing_mesh as read_housing_mesh,
 )
+from ._surface import (
+    HousingSurface as HousingSurface,
+    outer_surface as outer_surface,
+    write_housing_ods_vtu as write_housing_ods_vtu,
+)

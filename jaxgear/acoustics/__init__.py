@@ -1,10 +1,21 @@
-"""Radiated noise in JAX (``docs/acoustics.md``): the sound power W = Re(vᴴ R v) of a surface's
+"""Acoustics of the gearbox (``docs/acoustics.md``, ``docs/whine.md`` "Housing and ERP"), in JAX
+and differentiable: the housing's vibration at its outer surface and its equivalent radiated
+power (ERP) from the bearing forces at its seats; the sound power W = Re(vᴴ R v) of a surface's
 normal velocity from a cached radiation resistance matrix R (:mod:`fem_prep.acoustics`: the BEM
-or the Rayleigh integral), its low-rank form over the radiation modes, the radiation
-efficiency, sound power and pressure levels, and the A weighting of IEC 61672-1, all
-differentiable.
+or the Rayleigh integral), its low-rank form over the radiation modes, the radiation efficiency,
+sound power and pressure levels, and the A weighting of IEC 61672-1. The housing's geometry and
+condensation come from :mod:`fem_prep.housing` (NumPy), loaded by the caller.
 """
 
+from ._erp import (
+    HousingAcoustics as HousingAcoustics,
+    HousingResponse as HousingResponse,
+    erp as erp,
+    housing_acoustics as housing_acoustics,
+    housing_response as housing_response,
+    seat_forces as seat_forces,
+    total_level as total_level,
+)
 from ._power import (
     P_REF as P_REF,
     W_REF as W_REF,

@@ -84,6 +84,10 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "modes": ("modes.json",),
     # jaxgear run on a case with [deviations] (subfolder deviations/)
     "deviations": ("te_span.csv", "spectrum.csv", "spectrum.json", "te_spectrum.png"),
+    # jaxgear run on a case with [whine] (subfolder whine/): the orders and waterfalls of the
+    # TE and bearing forces over the speed range
+    "whine": ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png",
+              "te_waterfall.png", "bearing_waterfall.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
@@ -118,7 +122,8 @@ GEARBOX_FILES = ("coupled.json", "coupled.png", "campbell.json", "housing_spectr
 OUTPUT_FILES["run"] += GEARBOX_FILES
 # ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
-    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations") for n in OUTPUT_FILES[sub]
+    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations", "whine")
+    for n in OUTPUT_FILES[sub]
 )
 
 

@@ -25,6 +25,7 @@ from ..io import (
     PlanetaryForm,
     TrainForm,
     atomic_open,
+    whine_of,
     write_csv,
     write_json,
 )
@@ -67,6 +68,7 @@ from ._tribology_run import (
     tribology_outputs,
     tribology_run_line,
 )
+from ._whine_run import whine_outputs, whine_run_line
 from .gearbox import gearbox_run_files, gearbox_run_lines
 from .planetary_speed import planetary_rated_run_files
 from .planetary_sweep import planetary_run_lines
@@ -429,7 +431,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     ``settings``: :func:`optimise_settings`."""
     summary_path = os.path.join(out, "summary.json")
     sweep = sweeps(case)
-    last = not sweep and case.optimise is None
+    whine = whine_of(case) is not None  # [whine]: the frequency-domain whine after the rest
+    last = not sweep and case.optimise is None and not whine
     summary = quasi_static_files(case.form, case, out, args, last)
     if sweep:  # the case has a dynamic scene: add its dynamic factor curve
         dynamics, worst_run = _sweep_section(case, out, args.quiet)
@@ -453,6 +456,9 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
                 "converged",
             )
         }
+        write_json(summary_path, summary)
+    if whine:
+        summary["whine"] = whine_outputs(case, out)
         write_json(summary_path, summary)
     if not last:
         if summary.get("rating") is not None:  # rating.md once, of the final section
@@ -607,6 +613,7 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
         lines
         + rating_run_line(summary.get("rating"))
         + tribology_run_line(summary.get("tribology"))
+        + whine_run_line(summary.get("whine"))
     )
 
 
@@ -638,6 +645,7 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
         lines
         + train_rating_run_line(summary.get("rating"))
         + efficiency_run_line(summary.get("tribology"))
+        + whine_run_line(summary.get("whine"))
     )
 
 

@@ -38,7 +38,7 @@ from jaxtyping import Array, Bool, Complex, Float
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, is_traced
 from ._lumped import DynamicModel, _prep
-from ._model import _rigid_penalty
+from ._model import AbstractDynamicModel, _rigid_penalty
 
 __all__ = [
     "AbstractWhineMethod",
@@ -302,6 +302,10 @@ def whine_response(
         TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
             too few positions.
     """
+    whine = getattr(model, "whine", None)
+    if isinstance(model, AbstractDynamicModel) and not isinstance(model, DynamicModel) and whine:
+        # a model with its own linearisation (a planetary stage: its PlanetaryModel.whine)
+        return whine(speeds, method, positions=positions, contact=contact)
     if not isinstance(model, DynamicModel):
         raise TypeError(
             f"model: {type(model).__name__}: allowed a lumped jaxgear.dynamics.DynamicModel "

@@ -108,6 +108,13 @@ from ._scuffing_table import (
     parse_scuffing as parse_scuffing,
 )
 from ._train_file import parse_train as parse_train
+from ._whine_table import (
+    WHINE_KEYS as WHINE_KEYS,
+    WHINE_METHODS as WHINE_METHODS,
+    WhineInputs as WhineInputs,
+    parse_whine as parse_whine,
+    whine_of as whine_of,
+)
 from ._writers import (
     atomic_open as atomic_open,
     write_csv as write_csv,

@@ -29,6 +29,7 @@ from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_ra
 from ._robust_table import parse_robust
 from ._housing_table import parse_housing
 from ._scene_table import parse_scene
+from ._whine_table import parse_whine
 
 __all__ = [
     "check_member_size",
@@ -94,6 +95,7 @@ _SCHEMA: dict[str, Any] = {
     "rating": None,  # checked by check_rating (ISO 6336 load capacity)
     "lubricant": None,  # checked by parse_lubricant (film and sliding loss)
     "housing": None,  # checked by parse_housing (a flexible housing, docs/housing.md)
+    "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -447,6 +449,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     if "lubricant" in data:
         parse_lubricant(data["lubricant"], data["operating"])
+    if "whine" in data:
+        parse_whine(data["whine"])
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (

@@ -128,6 +128,7 @@ from ._rating_table import (
     older_ring_cutter,
 )
 from ._train_scene import check_table_size, shaft_of_table, train_scene
+from ._whine_table import parse_whine
 
 __all__ = ["is_train", "parse_train"]
 
@@ -145,6 +146,7 @@ _TOP_KEYS = {
     "rating",
     "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
     "lubricant",  # every mesh's film, loss and the efficiency (jaxgear/io/_lubricant_table.py)
+    "whine",  # a train's gear whine (jaxgear/io/_whine_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -488,7 +490,12 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
     sc.subtable(data, "operating", "", op_keys, required=True)
     if is_planetary(data):
+        if "whine" in data:
+            raise sc.fail("", "whine", "not in a planetary stage's case yet (allowed: a pair's or "
+                          "a train's case with a lumped scene)", "[whine]")
         return _planetary_case(data, name)
+    if "whine" in data:
+        parse_whine(data["whine"])
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")

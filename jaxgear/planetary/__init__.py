@@ -129,3 +129,4 @@ from ._stage import (
     max_planets as max_planets,
     speed_ratio as speed_ratio,
 )
+from ._whine import PlanetaryWhine as PlanetaryWhine, planetary_whine as planetary_whine

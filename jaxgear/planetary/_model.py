@@ -26,7 +26,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact
-from .._util import as_float, check_instance
+from .._util import as_float, check_instance, is_traced
 import numpy as np
 
 from ..dynamics import (
@@ -61,6 +61,7 @@ from ._plan import (
 )
 from ._ring import AbstractRingModel, RigidRing
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
+from ._whine import planetary_whine
 
 __all__ = ["PlanetaryModel", "PlanetaryPrepared", "PlanetarySpan", "sweep_records"]
 
@@ -225,6 +226,22 @@ class PlanetaryModel(AbstractDynamicModel):
         errors' offsets in the holds), each (n_dof, n_dof)."""
         s = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, 1)
         return s.m, s.k_b
+
+    def whine(self, speeds, method, *, positions: int = 256, contact=ExactContact()):
+        """The stage's gear whine in the frequency domain at the input ``speeds`` (rad/s):
+        :func:`~jaxgear.planetary.planetary_whine` at the carrier and mesh speeds they give
+        (:func:`jaxgear.dynamics.whine_response` delegates here)."""
+        if np.ndim(speeds) > 1 or np.size(speeds) == 0:
+            raise ValueError(f"speeds = {speeds!r}: allowed input speeds > 0 rad/s, scalar or (S,)")
+        if not is_traced(speeds):
+            sp = np.asarray(speeds, dtype=float)
+            if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
+                raise ValueError(f"speeds = {speeds!r}: allowed finite input speeds > 0 rad/s")
+        s = jnp.atleast_1d(jnp.asarray(speeds, self.dtype))
+        w = planetary_whine(self.kind, self.stage, self.meshes, self.run,
+                            self.carrier_per_input * s, method, mesh_speeds=self._mesh_speed(s),
+                            ring=self.ring, positions=positions, contact=contact)
+        return eqx.tree_at(lambda r: r.speed, w, s)
 
     # --- the engine ------------------------------------------------------------------------
 

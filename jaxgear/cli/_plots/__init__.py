@@ -59,3 +59,7 @@ from ._sweep import (
     pressure_speed_plot as pressure_speed_plot,
 )
 from ._tribology import path_of_contact_plot as path_of_contact_plot
+from ._whine import (
+    whine_order_plot as whine_order_plot,
+    whine_waterfall_plot as whine_waterfall_plot,
+)

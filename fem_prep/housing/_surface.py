@@ -1,0 +1,195 @@
+"""The housing's outer surface for its vibration and radiated power: the boundary facets of the
+outer skin, their areas and outward normals, the operator from the FE displacement to each
+facet's mean normal displacement, named points on the skin, and operating deflection shapes to
+VTU.
+
+The outer skin is the connected set of boundary facets (facets sharing a vertex) that holds the
+boundary facet farthest along +x, the bearing seats' bore facets left out: a closed box's inner
+wall faces form a set of their own (the bores through the walls are the only paths between
+them), so they are not counted. The mean normal displacement of a facet is exact for the
+element's shape functions: on a quadratic triangle the vertex functions integrate to zero and
+each edge-midpoint function to A / 3, so the mean is the average of the three edge-midpoint
+nodes (:class:`~fem_prep.housing.Tet10`); on a linear one, of the three vertices.
+
+NumPy/SciPy/scikit-fem; never imports JAX.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+from ..files import atomic_write
+from ._mesh import HousingMesh
+
+__all__ = ["HousingSurface", "outer_surface", "write_housing_ods_vtu"]
+
+
+@dataclass(frozen=True)
+class HousingSurface:
+    """The outer skin of a housing mesh (:func:`outer_surface`).
+
+    Attributes:
+        facets: ``(F,)`` indices of the skin's facets in ``mesh.facets``.
+        centroids: ``(F, 3)`` facet centroids (m).
+        normals: ``(F, 3)`` outward unit normals.
+        areas: ``(F,)`` facet areas (m^2).
+        normal_operator: ``(F, n_dofs)`` sparse: the facets' mean outward normal displacement
+            (m) of a full FE displacement ``u`` (m; node k's DOFs ``3k .. 3k + 2``).
+        point_names: the named points' labels ``(P,)``.
+        point_positions: ``(P, 3)`` the skin node nearest each named point (m).
+        point_operator: ``(P, n_dofs)`` sparse: the outward normal displacement (m) at those
+            nodes, along the normal of the skin facet nearest each point.
+    """
+
+    facets: np.ndarray
+    centroids: np.ndarray
+    normals: np.ndarray
+    areas: np.ndarray
+    normal_operator: sp.csr_matrix
+    point_names: tuple[str, ...] = ()
+    point_positions: np.ndarray | None = None
+    point_operator: sp.csr_matrix | None = None
+
+    @property
+    def area(self) -> float:
+        """The skin's total area (m^2)."""
+        return float(np.sum(self.areas))
+
+
+def _outward(mesh, facets: np.ndarray) -> np.ndarray:
+    """Unit normals of boundary facets, pointing out of their element."""
+    v = mesh.p[:, mesh.facets[:, facets]]  # (3, 3, F)
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0], axis=0)
+    tet = mesh.t[:, mesh.f2t[0, facets]]  # (4, F)
+    inner = mesh.p[:, tet].mean(axis=1)  # the element's centroid, inside
+    c = v.mean(axis=1)
+    n = n * np.sign(np.sum(n * (c - inner), axis=0))
+    return (n / np.linalg.norm(n, axis=0)).T
+
+
+def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSurface:
+    """The outer skin of ``housing`` (the module's rule), with the operator to each facet's
+    mean outward normal displacement and the named ``points``.
+
+    Args:
+        housing: a :class:`~fem_prep.housing.HousingMesh`.
+        points: ``{name: (x, y, z)}`` (m): points where the normal vibration is read (an
+            accelerometer's place); each is moved to the nearest node of the skin.
+
+    Returns:
+        The :class:`HousingSurface`.
+
+    Raises:
+        TypeError: not a housing mesh. ValueError: a point that is not three finite numbers.
+    """
+    if not isinstance(housing, HousingMesh):
+        raise TypeError(f"housing = {housing!r}, allowed a fem_prep.housing.HousingMesh")
+    mesh = housing.mesh
+    f, c, _ = housing._boundary()
+    seat = np.zeros(mesh.nfacets, bool)
+    for s in housing.seats:
+        a = np.asarray(s.axis)[:, None]
+        d = c - np.asarray(s.centre)[:, None]
+        along = np.sum(d * a, axis=0)
+        radial = np.linalg.norm(d - along * a, axis=0)
+        v = mesh.p[:, mesh.facets[:, f]]
+        n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0], axis=0)
+        n = n / np.linalg.norm(n, axis=0)
+        sel = (
+            (np.abs(np.sum(n * a, axis=0)) < 0.5)
+            & (radial <= s.radius + housing.seat_tolerance)
+            & (np.abs(along) <= s.width / 2 + 1e-9 * (s.width + s.radius))
+        )
+        seat[f[sel]] = True
+    f = f[~seat[f]]
+    # facets sharing a vertex are connected; the skin is the set holding the largest x
+    vert = mesh.facets[:, f]  # (3, F)
+    rows = np.repeat(np.arange(f.size), 3)
+    inc = sp.csr_matrix((np.ones(rows.size), (rows, vert.T.ravel())), (f.size, mesh.nvertices))
+    _, label = connected_components(inc @ inc.T, directed=False)
+    cx = mesh.p[0, vert].mean(axis=0)
+    f = f[label == label[int(np.argmax(cx))]]
+    normals = _outward(mesh, f)
+    v = mesh.p[:, mesh.facets[:, f]]
+    areas = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0], axis=0), axis=0)
+    centroids = v.mean(axis=1).T
+    # the nodes whose mean is the facet's mean: edge midpoints (P2) or vertices (P1)
+    nodes = housing.nodes
+    tree = cKDTree(nodes)
+    if housing.scalar_basis.N > mesh.nvertices:
+        mids = 0.5 * (v + np.roll(v, -1, axis=1))  # (3, 3 edges, F)
+        _, idx = tree.query(mids.transpose(2, 1, 0).reshape(-1, 3))
+        idx = idx.reshape(f.size, 3)
+    else:
+        idx = mesh.facets[:, f].T
+    F = f.size
+    r = np.repeat(np.arange(F), 9)
+    cols = (3 * idx[:, :, None] + np.arange(3)[None, None, :]).reshape(F, 9).ravel()
+    vals = (np.repeat(normals[:, None, :], 3, axis=1) / 3.0).reshape(F, 9).ravel()
+    op = sp.csr_matrix((vals, (r, cols)), shape=(F, housing.n_dofs))
+    names, pos, pop = (), None, None
+    if points:
+        names = tuple(str(k) for k in points)
+        xyz = []
+        for k, p in points.items():
+            q = np.asarray(p, dtype=float) if not isinstance(p, str) else np.zeros(0)
+            if q.shape != (3,) or not np.all(np.isfinite(q)):
+                raise ValueError(f"points[{k!r}] = {p!r}, allowed (x, y, z): 3 finite numbers (m)")
+            xyz.append(q)
+        xyz = np.array(xyz)
+        skin = np.unique(housing.scalar_basis.get_dofs(f).flatten())
+        _, j = cKDTree(nodes[skin]).query(xyz)
+        node = skin[j]
+        _, near = cKDTree(centroids).query(nodes[node])
+        nn = normals[near]
+        P = len(names)
+        pop = sp.csr_matrix(
+            (nn.ravel(), (np.repeat(np.arange(P), 3), (3 * node[:, None] + np.arange(3)).ravel())),
+            shape=(P, housing.n_dofs),
+        )
+        pos = nodes[node]
+    return HousingSurface(f, centroids, normals, areas, op, names, pos, pop)
+
+
+def write_housing_ods_vtu(housing: HousingMesh, condensed, shapes: dict, path) -> Path:
+    """Write operating deflection shapes of a housing to a ``.vtu`` (meshio; ParaView),
+    atomically: for each ``{label: q}`` (``q`` the condensed coordinates' complex amplitudes
+    ``(n_c,)``, one order at one speed: :attr:`~jaxgear.acoustics.HousingResponse.coordinates`)
+    the full FE displacement ``u = recovery q`` (m) as point data ``<label>_real``,
+    ``<label>_imag`` (``u(t) = Re(u e^{i w t})``: the shape at t = 0 and a quarter period
+    earlier) and ``<label>_amplitude`` (``|u|`` per node, m).
+
+    Raises:
+        ValueError: a condensed housing of another mesh, a shape of the wrong size.
+    """
+    import meshio  # lazy: only when a file is written
+
+    if condensed.recovery.shape[0] != housing.n_dofs:
+        raise ValueError(
+            f"condensed housing of {condensed.recovery.shape[0]} DOFs, mesh of "
+            f"{housing.n_dofs}: not the same housing"
+        )
+    sb = housing.scalar_basis
+    n_nodes = sb.N
+    data = {}
+    for label, q in shapes.items():
+        q = np.asarray(q)
+        if q.shape != (condensed.recovery.shape[1],):
+            raise ValueError(
+                f"shapes[{label!r}]: shape {q.shape}, allowed ({condensed.recovery.shape[1]},) "
+                "(the condensed coordinates)"
+            )
+        u = (condensed.recovery @ q).reshape(n_nodes, 3)
+        data[f"{label}_real"] = np.real(u)
+        data[f"{label}_imag"] = np.imag(u)
+        data[f"{label}_amplitude"] = np.sqrt(np.sum(np.abs(u) ** 2, axis=1))
+    cells = np.ascontiguousarray(sb.element_dofs.T)
+    kind = "tetra10" if cells.shape[1] == 10 else "tetra"
+    mesh = meshio.Mesh(sb.doflocs.T, [(kind, cells)], point_data=data)
+    return atomic_write(Path(path), lambda p: meshio.write(str(p), mesh, file_format="vtu"))

@@ -1,0 +1,172 @@
+"""``jaxgear run``'s gear whine, for a pair or train case with ``[whine]``
+(:func:`jaxgear.dynamics.whine_response` on the case's lumped dynamic model over the table's
+speeds): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
+force component at every speed, with the validity flags), ``whine/whine.csv`` (the same, one row
+per speed and order), the order plots and the waterfalls of the TE and of the bearing forces
+(docs/whine.md, "Outputs")."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from ..dynamics import DynamicModel, whine_response
+from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ._plots import whine_order_plot, whine_waterfall_plot
+
+__all__ = ["whine_outputs", "whine_run_line"]
+
+#: orders drawn in the order plots (the first, by the model's span: 1, 2, 3, 4 of a pair's mesh)
+ORDERS_DRAWN = 4
+#: orders drawn in the waterfalls (the higher ones are in whine.csv)
+WATERFALL_ORDERS = 8
+#: files of the whine/ folder
+FILES = ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png", "te_waterfall.png",
+         "bearing_waterfall.png")
+#: ``nonlinearity`` above which a speed's linear result is flagged as doubtful (docs/whine.md:
+#: within about 1 % of the time domain below 0.5 %)
+NONLINEAR_LIMIT = 0.02
+
+
+def _amp_phase(z):
+    z = np.asarray(z)
+    return np.abs(z), np.degrees(np.angle(z))
+
+
+def whine_outputs(case, out_dir: str) -> dict | None:
+    """The whine of ``case`` over its ``[whine]`` speeds into ``out_dir/whine``; None without
+    the table. Returns the summary section.
+
+    Raises:
+        ValueError: a case whose model is not lumped (condensed bodies, a planetary stage), or
+            with coast flanks (one line each).
+    """
+    inputs = whine_of(case)
+    if inputs is None:
+        return None
+    model, _ = build_dynamic_model(case)
+    if not isinstance(model, DynamicModel):
+        raise ValueError(
+            f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
+            "(torsional or lumped 3D; no condensed bodies)"
+        )
+    w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
+                       positions=inputs.positions)
+    folder = os.path.join(out_dir, "whine")
+    os.makedirs(folder, exist_ok=True)
+    speeds = np.asarray(w.speed, dtype=float)
+    f1 = np.asarray(w.frequency, dtype=float)
+    orders = np.asarray(w.orders, dtype=float)
+    n_meshes = int(w.transmission_error.shape[-1])
+    mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
+    names = list(getattr(model.scene, "reaction_names", ()))
+    te_a, te_p = _amp_phase(w.transmission_error)
+    fm_a, fm_p = _amp_phase(w.mesh_force)
+    br_a, br_p = _amp_phase(w.bearing_force)
+    loss = np.asarray(w.contact_loss, dtype=bool)  # (S, m)
+    nonlin = np.asarray(w.nonlinearity, dtype=float)
+    invalid = loss.any(axis=1)
+    doubtful = (nonlin > NONLINEAR_LIMIT).any(axis=1) & ~invalid
+    # whine.csv: one row per speed and order (order 0: the mean)
+    S, h = speeds.size, orders.size
+    cols = {
+        "speed_rad_s": np.repeat(speeds, h),
+        "order": np.tile(orders, S),
+        "frequency_Hz": (f1[:, None] * orders[None, :]).ravel(),
+    }
+    for k, n in enumerate(mesh_names):
+        cols[f"te_{n}_um"] = te_a[:, :, k].ravel() * 1e6
+        cols[f"te_{n}_phase_deg"] = te_p[:, :, k].ravel()
+        cols[f"mesh_force_{n}_N"] = fm_a[:, :, k].ravel()
+        cols[f"mesh_force_{n}_phase_deg"] = fm_p[:, :, k].ravel()
+    for k, n in enumerate(names):
+        key = n.replace(" ", "_").replace("=", "")
+        cols[f"bearing_{key}_N"] = br_a[:, :, k].ravel()
+        cols[f"bearing_{key}_phase_deg"] = br_p[:, :, k].ravel()
+    cols["contact_loss"] = np.repeat(invalid.astype(float), h)
+    cols["nonlinearity"] = np.repeat(nonlin.max(axis=1), h)
+    write_csv(os.path.join(folder, "whine.csv"), list(cols), list(cols.values()))
+    # the order plots and waterfalls (orders 1.. of the span's fundamental)
+    drawn = [j for j in range(1, h) if orders[j] == round(orders[j])][:ORDERS_DRAWN] or [1]
+    wf = slice(1, 1 + WATERFALL_ORDERS)
+    te_total = np.sqrt(np.sum(te_a**2, axis=2))  # (S, h): every mesh's TE, root-sum-square
+    title = f"{case.name}: gear whine ({type(inputs.method).__name__}, H = "
+    title += f"{inputs.method.harmonics})"
+    te_what = "TE" if n_meshes == 1 else f"TE, root-sum-square of the {n_meshes} meshes"
+    whine_order_plot(
+        os.path.join(folder, "te_orders.png"), speeds, te_total[:, drawn] * 1e6,
+        orders[drawn], ylabel=f"{te_what} (µm)", title=title, invalid=invalid,
+        note="orders of the first mesh's frequency; one-sided amplitudes",
+    )
+    whine_waterfall_plot(
+        os.path.join(folder, "te_waterfall.png"), speeds, f1, orders[wf],
+        te_total[:, wf] * 1e6, label=f"{te_what} (µm)", title=case.name, invalid=invalid,
+    )
+    if names:
+        br_total = np.sqrt(np.sum(br_a**2, axis=2))  # every bearing component, root-sum-square
+        b_what = f"bearing force, root-sum-square of the {len(names)} components (N)"
+        whine_order_plot(
+            os.path.join(folder, "bearing_orders.png"), speeds, br_total[:, drawn],
+            orders[drawn], ylabel="bearing force (N)", title=title, invalid=invalid,
+            note=f"{b_what}; each component in whine.csv",
+        )
+        whine_waterfall_plot(
+            os.path.join(folder, "bearing_waterfall.png"), speeds, f1, orders[wf],
+            br_total[:, wf], label="bearing force (N)", title=case.name, invalid=invalid,
+        )
+    files = [f"whine/{n}" for n in FILES if os.path.exists(os.path.join(folder, n))]
+    valid_note = (
+        "contact loss at the flagged speeds: the linear (frequency-domain) result does not hold "
+        "there; the time domain (jaxgear sweep) is the reference"
+        if invalid.any() else "no contact loss over the range"
+    )
+    section = {
+        "method": type(inputs.method).__name__,
+        "harmonics": inputs.method.harmonics,
+        "positions_per_period": inputs.positions,
+        "speeds_rad_s": speeds.tolist(),
+        "fundamental_Hz": f1.tolist(),
+        "orders": orders.tolist(),
+        "meshes": mesh_names,
+        "bearing_components": names,
+        "transmission_error_m": {"amplitude": te_a.tolist(), "phase_deg": te_p.tolist()},
+        "mesh_force_N": {"amplitude": fm_a.tolist(), "phase_deg": fm_p.tolist()},
+        "bearing_force_N": {"amplitude": br_a.tolist(), "phase_deg": br_p.tolist()},
+        "static_force_N": np.asarray(w.static_force, dtype=float).tolist(),
+        "contact_loss": loss.tolist(),
+        "nonlinearity": nonlin.tolist(),
+        "linear_result_invalid_at_rad_s": speeds[invalid].tolist(),
+        "nonlinearity_above_2_percent_at_rad_s": speeds[doubtful].tolist(),
+        "validity": valid_note,
+        "files": files,
+    }
+    write_json(os.path.join(folder, "whine.json"), {"case": case.name, **section})
+    # the summary keeps the headline, not the arrays
+    peak = int(np.argmax(te_total[:, 1])) if h > 1 else 0
+    return {
+        k: section[k]
+        for k in ("method", "harmonics", "positions_per_period", "orders", "validity",
+                  "linear_result_invalid_at_rad_s", "nonlinearity_above_2_percent_at_rad_s",
+                  "files")
+    } | {
+        "speed_range_rad_s": [float(speeds[0]), float(speeds[-1])],
+        "speeds": int(S),
+        "max_te_order_1_um": float(te_total[peak, 1] * 1e6) if h > 1 else 0.0,
+        "speed_of_max_te_order_1_rad_s": float(speeds[peak]),
+    }
+
+
+def whine_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of the ``whine`` section (nothing without one)."""
+    if section is None:
+        return []
+    bad = section["linear_result_invalid_at_rad_s"]
+    flag = (f"; contact loss at {len(bad)} speed(s) ({bad[0]:.0f}-{bad[-1]:.0f} rad/s): the "
+            "linear result does not hold there" if bad else "; no contact loss")
+    lo, hi = section["speed_range_rad_s"]
+    return [
+        f"whine ({section['method']}, H = {section['harmonics']}, {section['speeds']} speeds "
+        f"{lo:g}-{hi:g} rad/s): TE order 1 max {section['max_te_order_1_um']:.3g} µm at "
+        f"{section['speed_of_max_te_order_1_rad_s']:.0f} rad/s{flag} (whine/)"
+    ]

@@ -1,0 +1,90 @@
+"""The case file's ``[whine]`` table: gear whine in the frequency domain over a speed range
+(:func:`jaxgear.dynamics.whine_response`, docs/whine.md), checked whole and mapped to the
+method object here only.
+
+Keys (file units; ranges as checked)::
+
+    [whine]
+    speed_min_rad_s = 50.0          # the input (pinion) speed range, (0, 1e5] rad/s ...
+    speed_max_rad_s = 1500.0        # ... > speed_min_rad_s
+    speeds = 48                     # speeds, equally spaced, [2, 2000]; default 48
+    harmonics = 16                  # H, the orders of the span's fundamental kept, [1, 256]
+    method = "harmonic-balance"     # or "te-source" (the mean stiffness: TE as a displacement
+                                    # source); default "harmonic-balance"
+    positions_per_period = 256      # quasi-static positions per mesh period, [4, 8192], and
+                                    # at least 4 harmonics + 1 over the model's span
+
+``jaxgear run`` on a pair or train case with a lumped scene (torsional or lumped 3D; a pair
+without ``[scene]``: the torsional one) writes ``whine/whine.json``, ``whine/whine.csv``, the
+order plots and the waterfall of the TE and the bearing forces; a gearbox's stages each run
+their own case's table.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+from fem_prep import schema as sc
+
+from ..dynamics import AbstractWhineMethod, HarmonicBalance, TransmissionErrorSource
+
+__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "parse_whine", "whine_of"]
+
+WHERE = "whine"
+#: ``[whine] method`` names
+WHINE_METHODS = {"harmonic-balance": HarmonicBalance, "te-source": TransmissionErrorSource}
+WHINE_KEYS = {
+    "speed_min_rad_s",
+    "speed_max_rad_s",
+    "speeds",
+    "harmonics",
+    "method",
+    "positions_per_period",
+}
+
+
+class WhineInputs(NamedTuple):
+    """``[whine]`` in SI: ``speeds`` (rad/s, a list), the ``method`` object with its H, and
+    ``positions`` per mesh period."""
+
+    speeds: list[float]
+    method: AbstractWhineMethod
+    positions: int
+
+
+def parse_whine(table: dict) -> WhineInputs:
+    """``[whine]`` (module docstring) as :class:`WhineInputs`.
+
+    Raises:
+        SchemaError: an unknown key, a value out of range, a range whose maximum is not above
+            its minimum, an unknown method; one line naming the key, its value and the allowed
+            range.
+    """
+    if not isinstance(table, dict):
+        raise sc.fail("", WHERE, "must be a table ([whine])", table)
+    sc.check_keys(table, WHINE_KEYS, WHERE)
+    lo = sc.number(table, "speed_min_rad_s", WHERE, allowed="(0, 1e+05]")
+    hi = sc.number(table, "speed_max_rad_s", WHERE, allowed="(0, 1e+05]")
+    if not hi > lo:
+        raise sc.fail(WHERE, "speed_max_rad_s", f"out of range, allowed > speed_min_rad_s = {lo:g}",
+                      hi)
+    n = int(sc.number(table, "speeds", WHERE, 48, allowed="[2, 2000]", integer=True))
+    H = int(sc.number(table, "harmonics", WHERE, 16, allowed="[1, 256]", integer=True))
+    name = sc.choice(table, "method", WHERE, tuple(WHINE_METHODS), "harmonic-balance")
+    P = int(sc.number(table, "positions_per_period", WHERE, 256, allowed="[4, 8192]",
+                      integer=True))
+    if P < 4 * H + 1:
+        raise sc.fail(WHERE, "positions_per_period",
+                      f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
+    speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
+    assert all(math.isfinite(s) for s in speeds)
+    return WhineInputs(speeds, WHINE_METHODS[name](H), P)
+
+
+def whine_of(case) -> WhineInputs | None:
+    """The ``[whine]`` inputs of a case (:class:`WhineInputs`), None without the table."""
+    raw = getattr(case, "raw", None) or {}
+    if "whine" not in raw:
+        return None
+    return parse_whine(raw["whine"])

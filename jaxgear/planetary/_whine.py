@@ -1,0 +1,219 @@
+"""Gear whine of a planetary stage in the frequency domain (docs/whine.md, "Planetary stage"):
+the harmonic balance of :func:`jaxgear.dynamics.whine_response` on the carrier-frame system of
+:func:`~jaxgear.planetary.planetary_dynamics`,
+
+    M q'' + C(Ω, v) q' + K(Ω, v) q + Σ_c w_c k_c l_c V_c (V_c·q − δ0_c) = f,
+
+C = C_modal + Ω G + v G_v and K = K_b − Ω² K_Ω + Ω v K_v at the carrier speed Ω and mesh travel
+speed v (constant: time-invariant), the 2N meshes' cells at the travel x = v t, periodic in the
+base pitch p_b. Linearised about the quasi-static solution x_qs(x) (the static contact solve at
+``positions`` travels of one mesh period with K(Ω, v), the active set held) the vibration y =
+q − x_qs obeys the pair's equation, and its harmonics of the mesh frequency ω = 2π v / p_b come
+from :func:`~jaxgear.dynamics.harmonic_balance` (seed (2.31)–(2.37) with the carrier-frame
+terms of docs/planetary.md; Blankenship & Kahraman 1995 for the multi-harmonic balance).
+
+Phases are on the mesh travel: q(x) = Re Σ_h q_h e^{2πi h x / p_b}, x the travel that
+:class:`~jaxgear.planetary.PlanetaryDynamics` records (``travel``).
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Bool, Complex, Float
+
+from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
+from .._util import check_integer, is_traced
+from ..dynamics import (
+    AbstractWhineMethod,
+    HarmonicBalance,
+    fourier_coefficients,
+    harmonic_balance,
+)
+from ._dynamics import PlanetaryRun, planetary_cell_row, planetary_stage_system
+from ._meshes import AbstractPlanetaryMeshes
+from ._plan import carrier_periodic
+from ._ring import AbstractRingModel, RigidRing, modal_damping
+from ._stage import AbstractPlanetaryModel, PlanetaryStage
+
+__all__ = ["PlanetaryWhine", "planetary_whine"]
+
+
+class PlanetaryWhine(eqx.Module):
+    """The frequency-domain steady state of a planetary stage (:func:`planetary_whine`) at S
+    input speeds, H + 1 orders of the mesh frequency, n coordinates, N planets.
+
+    One-sided amplitudes on the mesh travel (module docstring); order 0 the mean.
+
+    Attributes:
+        speed: the speeds (rad/s), (S,): the carrier's of :func:`planetary_whine`, the input
+            member's of :func:`jaxgear.dynamics.whine_response`.
+        frequency: the mesh frequency v / p_b (Hz), (S,).
+        orders: 0..H, (H + 1,).
+        coordinates: q_h (m; the stage's coordinates), (S, H + 1, n), complex.
+        sun_mesh_force, ring_mesh_force: transverse mesh forces (N, compression positive,
+            :class:`~jaxgear.planetary.PlanetaryDynamics`' ``sun_mesh_forces``,
+            ``ring_mesh_forces``), reconstructed over the period, (S, H + 1, N), complex.
+        static_force: the nominal transverse mesh force T_s / (N r_bs) (N), ().
+        min_mesh_force: each mesh's smallest reconstructed force over the period (N),
+            (S, 2N).
+        contact_loss: min_mesh_force <= 0 (S, 2N): the linear result does not hold there.
+        nonlinearity: the contact force the held active set misplaces over the static force,
+            the largest over the period, (S, 2N) (as :class:`~jaxgear.dynamics.WhineResponse`).
+    """
+
+    speed: Float[Array, " S"]
+    frequency: Float[Array, " S"]
+    orders: Float[Array, " h"]
+    coordinates: Complex[Array, "S h n"]
+    sun_mesh_force: Complex[Array, "S h N"]
+    ring_mesh_force: Complex[Array, "S h N"]
+    static_force: Float[Array, ""]
+    min_mesh_force: Float[Array, "S m"]
+    contact_loss: Bool[Array, "S m"]
+    nonlinearity: Float[Array, "S m"]
+
+
+def _one_sided(c, H):
+    return jnp.concatenate([c[H : H + 1], 2.0 * c[H + 1 :]], axis=0)
+
+
+def planetary_whine(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    meshes: AbstractPlanetaryMeshes,
+    run: PlanetaryRun,
+    carrier_speeds,
+    method: AbstractWhineMethod = HarmonicBalance(),
+    *,
+    mesh_speeds=None,
+    ring: AbstractRingModel = RigidRing(),
+    positions: int = 256,
+    contact: ContactLaw = ExactContact(),
+) -> PlanetaryWhine:
+    """Gear whine of a planetary stage in the frequency domain (module docstring), with the
+    arguments of :func:`~jaxgear.planetary.planetary_dynamics`;
+    :func:`jaxgear.dynamics.whine_response` of a :class:`~jaxgear.planetary.PlanetaryModel`
+    calls it at the model's carrier and mesh speeds.
+
+    The damping is the run's (modal, ``run.damping_ratio`` on the modes of M and K_b + K̄_m,
+    K̄_m the meshes' stiffness averaged over the ``positions`` travels, as
+    :func:`~jaxgear.planetary.planetary_dynamics` takes it over its steps), the pin errors'
+    offsets and load as the run's.
+
+    Args:
+        model: the model kind (:class:`~jaxgear.TorsionalPlanetary`,
+            :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`).
+        stage: the stage, without eccentricity, runout or unbalance (its steady state repeats
+            every mesh period in the carrier frame). meshes: the meshes kind. run: the
+            :class:`~jaxgear.planetary.PlanetaryRun` (torque, damping ratio, pin errors; its
+            step counts are not read).
+        carrier_speeds: Ω (rad/s) != 0, scalar or (S,).
+        method: :class:`~jaxgear.dynamics.HarmonicBalance` or
+            :class:`~jaxgear.dynamics.TransmissionErrorSource`, with its H.
+        mesh_speeds: v (m/s) > 0, as ``carrier_speeds``; None: the ring held, v = r_br |Ω|.
+        ring: :class:`~jaxgear.planetary.RigidRing` only (a flexible ring's stations turn
+            relative to the carrier).
+        positions: travels per mesh period (int >= 4H + 1).
+        contact: the static solve's contact law.
+
+    Returns:
+        :class:`PlanetaryWhine` (``speed``: the carrier speeds).
+
+    Raises:
+        TypeError: another method. ValueError: a flexible ring, eccentricities or unbalances,
+            a carrier speed of 0 or a mesh speed <= 0, too few positions.
+    """
+    if not isinstance(method, AbstractWhineMethod):
+        raise TypeError(
+            f"method = {method!r}: allowed HarmonicBalance(...) or TransmissionErrorSource(...)"
+        )
+    if not carrier_periodic(stage, not isinstance(ring, RigidRing)):
+        raise ValueError(
+            "stage: a flexible ring, an eccentricity, runout or unbalance: the whine needs a "
+            "stage that repeats every mesh period in the carrier frame (allowed a rigid ring, "
+            "no eccentricities, no unbalances)"
+        )
+    check_integer("positions", positions, 4)
+    H = int(method.harmonics)
+    if positions < 4 * H + 1:
+        raise ValueError(f"positions = {positions}: allowed >= 4 harmonics + 1 = {4 * H + 1}")
+    for name, value in (("speeds", carrier_speeds), ("mesh_speeds", mesh_speeds)):
+        if value is None:
+            continue
+        if np.ndim(value) > 1 or np.size(value) == 0:
+            raise ValueError(f"{name} = {value!r}: allowed a scalar or (S,) (rad/s, m/s)")
+        if not is_traced(value):
+            v = np.asarray(value, dtype=float)
+            bad = v <= 0 if name == "mesh_speeds" else v == 0
+            if not np.all(np.isfinite(v)) or np.any(bad):
+                what = "> 0 m/s" if name == "mesh_speeds" else "!= 0 rad/s"
+                raise ValueError(f"{name} = {value!r}: allowed finite values {what}")
+    dtype = run.sun_torque.dtype
+    law = contact_law(contact, dtype)
+    omega = jnp.atleast_1d(jnp.asarray(carrier_speeds, dtype))
+    v = (stage.ring.base_radius * jnp.abs(omega) if mesh_speeds is None
+         else jnp.broadcast_to(jnp.asarray(mesh_speeds, dtype), omega.shape))
+    return _whine(model, stage, meshes, run, omega, v, method, int(positions), law)
+
+
+@eqx.filter_jit
+def _whine(kind, stage, meshes, run, speeds, mesh_speeds, method, P, law) -> PlanetaryWhine:
+    H = method.harmonics
+    m, k_b, f, k_mean, _ = planetary_stage_system(kind, stage, meshes, run, P)
+    c_modal = modal_damping(m, k_b + k_mean, run.damping_ratio)
+    g_v, k_v = kind.spin_matrices(stage)
+    G, K_om = kind.gyroscopic_matrix(stage), kind.centripetal_matrix(stage)
+    p_b = meshes.mesh_period()
+    x_one = meshes.positions(P, 1)  # mid-points: s_r = (r + 1/2) / P
+    rows = jax.vmap(lambda x: planetary_cell_row(kind, stage, meshes, run, x))(x_one)
+    V = rows.V  # (P, c, n) (the rigid ring: every coordinate)
+    kl_all = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+    n_pl = stage.n_planets
+    h = jnp.arange(-H, H + 1)
+    s = (jnp.arange(P, dtype=p_b.dtype) + 0.5) / P
+    E = jnp.exp(2j * jnp.pi * s[:, None] * h[None, :])  # (P, 2H+1)
+
+    def at(speed_v):
+        omega_c, v = speed_v
+        K = k_b - omega_c**2 * K_om + omega_c * v * k_v
+        C = c_modal + omega_c * G + v * g_v
+        static = jax.vmap(
+            lambda Vr, kr, lr, dr, mr: solve_contact(K, f, Vr, kr, lr, dr, mr, law)
+        )(V, rows.k, rows.length, rows.delta0, rows.mask)
+        x_qs = static.x  # (P, n)
+        kl = jnp.where(rows.mask, static.weight * kl_all, 0.0)  # tangent (P, c)
+        Km = jnp.einsum("pc,pci,pcj->pij", kl, V, V)
+        Kh = fourier_coefficients(Km, 2 * H)  # (4H+1, n, n)
+        Xh = fourier_coefficients(x_qs, H)  # (2H+1, n)
+        w0 = 2 * jnp.pi * v / p_b
+        w = (h * w0)[:, None]
+        F = (w**2) * (Xh @ m.T) - 1j * w * (Xh @ C.T)
+        Y = harmonic_balance(m, C, K, Kh, F, w0, parametric=method.parametric, real=True)
+        y = jnp.real(E @ Y)  # (P, n)
+        vy = jnp.einsum("pci,pi->pc", V, y)
+        cell = static.force_density * rows.length + kl * vy
+        fm = meshes.mesh_forces(cell)  # (P, 2N)
+        g = static.gap + vy
+        wrong = kl_all * jnp.maximum(g, 0.0) - kl * g
+        misplaced = jnp.max(jnp.abs(meshes.mesh_forces(wrong)), axis=0)
+        fh = _one_sided(fourier_coefficients(fm, H), H)  # (H+1, 2N)
+        X = _one_sided(Xh + Y, H)
+        return w0, X, fh, jnp.min(fm, axis=0), misplaced
+
+    w0, X, fh, fmin, misplaced = jax.lax.map(at, (speeds, mesh_speeds))
+    fs = run.sun_torque / (n_pl * stage.sun.base_radius)
+    return PlanetaryWhine(
+        speed=speeds,
+        frequency=w0 / (2 * jnp.pi),
+        orders=jnp.arange(H + 1, dtype=speeds.dtype),
+        coordinates=X,
+        sun_mesh_force=fh[..., :n_pl],
+        ring_mesh_force=fh[..., n_pl:],
+        static_force=fs,
+        min_mesh_force=fmin,
+        contact_loss=fmin <= 0.0,
+        nonlinearity=misplaced / fs,
+    )
