@@ -198,10 +198,11 @@ def test_torsional_mode_and_critical_speeds_of_the_accessory_pair():
 
 def test_lumped3d_example_peak_and_mode():
     """docs/dynamics.md: "`jaxgear sweep examples/accessory-lumped3d.toml --speeds 200:2000:40`
-    (…) puts the main peak (dynamic factor 1.74) at 938 rad/s against 939 rad/s predicted by the
-    mode at 6728 Hz holding 89 % of its strain energy in the mesh". The sweep here runs the peak
-    speed of that grid and its two neighbours only (same model and integration settings).
-    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.575, 1.741, 1.537."""
+    (…) puts the main peak (dynamic factor 1.66; …) at 938 rad/s against 939 rad/s predicted by
+    the mode at 6728 Hz holding 89 % of its strain energy in the mesh". The sweep here runs the
+    peak speed of that grid and its two neighbours only (same model and integration settings).
+    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.548, 1.656, 1.537 with contact beyond the
+    path (the case files' default; 1.575, 1.741, 1.537 on the theoretical path)."""
     case = jio.load_case(str(ROOT / "examples" / "accessory-lumped3d.toml"))
     model, spec = build_dynamic_model(case)
     f = np.asarray(model.modes.frequency)
@@ -221,7 +222,7 @@ def test_lumped3d_example_peak_and_mode():
     df = np.asarray(s.dynamic_factor)
     assert np.all(np.asarray(s.results.result) == 0)
     assert speeds[1] == pytest.approx(938, abs=0.5)
-    assert df[1] == pytest.approx(1.74, abs=0.005) and df[1] > df[0] and df[1] > df[2]
+    assert df[1] == pytest.approx(1.656, abs=0.005) and df[1] > df[0] and df[1] > df[2]
 
 
 def test_license_and_thesis_citation():
