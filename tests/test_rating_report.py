@@ -265,8 +265,8 @@ def test_pair_measured_k_v_says_whether_it_is_comparable(tmp_path):
     """A pair's measured K_v (a speed sweep's dynamic factor at the rating speed) carries
     ``comparable`` and ``note`` from its mesh frequency z₁ n₁ against ISO 6336-1's mesh
     resonance z₁ n_E1 (f_mesh/f_E1 = ISO's N): nrel-5mw-stage3 at N = 0.419 (ISO's
-    ↳ row) not comparable, power-helical at N = 3.54 comparable; rating.md prints the note in
-    its K_v measured row."""
+    ↳ row) not comparable on the theoretical path, comparable with contact beyond it,
+    power-helical at N = 3.54 comparable; rating.md prints the note in its K_v measured row."""
     # far below resonance on the theoretical path not comparable; with contact beyond it (the
     # case files' default) comparable (docs/extended-contact.md)
     for name, n_iso, extended, comparable in (("nrel-5mw-stage3", 0.4188, False, False),
