@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from typing import NamedTuple
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.scipy.linalg import block_diag
@@ -36,6 +37,7 @@ __all__ = [
     "check_positions",
     "coast_phase",
     "mesh_positions",
+    "on_the_path",
     "split_by_mesh",
 ]
 
@@ -428,6 +430,25 @@ class MeshModel(eqx.Module):
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))
+
+
+def on_the_path(tree):
+    """``tree`` (a :class:`MeshModel`, or a pytree holding mesh models: a planetary stage's
+    meshes, a gearbox stage) with each mesh model's cells beyond the theoretical path masked
+    off, the shapes kept (the lines laid out stay, ``extended_contact`` False): the cells that a
+    mean over the flanks at no load takes (K̄_m of the modes and of the modal damping, the
+    unloaded mesh stiffness). Beyond the path a cell holds the corner's gap and carries load only
+    where the deflection closes it (docs/extended-contact.md), so counting it as a spring there
+    would stiffen those means. ``tree`` itself where no mesh model in it has
+    ``extended_contact``."""
+    is_mesh = lambda x: isinstance(x, MeshModel)
+    if not any(m.extended_contact for m in jax.tree.leaves(tree, is_leaf=is_mesh) if is_mesh(m)):
+        return tree
+    return jax.tree.map(
+        lambda x: dataclasses.replace(x, extended_contact=False) if is_mesh(x) else x,
+        tree,
+        is_leaf=is_mesh,
+    )
 
 
 def mesh_positions(

@@ -114,6 +114,13 @@ def _hertz(pair, line_load, cell_s, cell_mask, youngs_modulus, poisson_ratio) ->
     R = jnp.maximum(R, 1e-12)  # a cell exactly at a base circle: no load there anyway
     e_star = contact_modulus(youngs_modulus, poisson_ratio)
     return ContactPressure(
-        max_pressure=jnp.sqrt(w * e_star / (jnp.pi * R)),
-        half_width=jnp.sqrt(4.0 * w * R / (jnp.pi * e_star)),
+        max_pressure=_sqrt0(w * e_star / (jnp.pi * R)),
+        half_width=_sqrt0(4.0 * w * R / (jnp.pi * e_star)),
     )
+
+
+def _sqrt0(x):
+    """√x, and 0 with a zero derivative where x <= 0: an unloaded cell (w = 0; the cells beyond
+    the path of contact, a relieved tip) would otherwise give √'(0) · 0 = NaN in a gradient."""
+    positive = x > 0
+    return jnp.where(positive, jnp.sqrt(jnp.where(positive, x, 1.0)), 0.0)

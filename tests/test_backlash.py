@@ -141,7 +141,8 @@ def test_lumped_3d_reversed_torque_mirrors_the_bearing_forces():
         gear=dataclasses.replace(p.gear, tooth_thickness_allowance=-30e-6),
         center_distance=p.center_distance,
     )
-    case = case.replace(pair=pair, coast=True)
+    # coast flanks: the theoretical path (extended contact with backlash is refused)
+    case = case.replace(pair=pair, coast=True, extended_contact=False)
     scene, _ = static_scene(case)
     mesh = scene.base_planes[0]
     th = jg.mesh_positions(mesh, 6)
@@ -193,6 +194,30 @@ def test_case_keys_give_the_allowances_and_the_coast_flanks():
         )
     )
     assert not plain.coast and not plain.mesh_model().coast
+
+
+def test_extended_contact_default_is_off_with_backlash():
+    """docs/extended-contact.md, "Where it is on": a case file that does not say has contact
+    beyond the path; with a tooth thickness allowance (the coast flanks, where it is not
+    modelled) the default resolves to the theoretical path; an explicit true beside it is a
+    one-line error, an explicit false is accepted."""
+    plain = _parse(
+        SMALL.replace("tooth_thickness_allowance_um = -40.0\n", "").replace(
+            "tooth_thickness_allowance_um = -30.0\n", ""
+        )
+    )
+    assert plain.extended_contact is True and plain.mesh_model().extended_contact
+    case = _parse(SMALL)
+    assert case.coast and case.extended_contact is False
+    assert not case.mesh_model().extended_contact
+    with pytest.raises(
+        jio.SchemaError,
+        match=r"^\[mesh\] extended_contact = true: with backlash \(coast flanks; a "
+        r"tooth_thickness_allowance_um\) is not modelled: set it false or drop the allowances$",
+    ):
+        _parse(SMALL.replace("[mesh]\n", "[mesh]\nextended_contact = true\n"))
+    off = _parse(SMALL.replace("[mesh]\n", "[mesh]\nextended_contact = false\n"))
+    assert off.coast and off.extended_contact is False
 
 
 @pytest.mark.parametrize(

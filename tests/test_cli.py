@@ -123,9 +123,11 @@ def test_quickstart_example_runs(tmp_path):
     assert res["summary"]["case"] == "accessory-spur"
     for name in PNGS:
         assert (tmp_path / name).exists()
-    # docs/guide/pair.md "What `jaxgear run` writes": the two CSV files and the five plots (no
-    # sweep, scene or optimisation folder)
+    # docs/reference/outputs.md: the two CSV files and the six plots, loaded_path.png with the
+    # case files' default extended_contact (no sweep, scene or optimisation folder)
     files = sorted(p.name for p in tmp_path.iterdir() if not p.name.startswith("."))
-    assert [f for f in files if f.endswith(".png")] == sorted([*PNGS, "pressure_map.png"])
+    assert [f for f in files if f.endswith(".png")] == sorted(
+        [*PNGS, "pressure_map.png", "loaded_path.png"]
+    )
     assert [f for f in files if f.endswith(".csv")] == ["mesh_stiffness.csv", "te.csv"]
     assert not [p for p in tmp_path.iterdir() if p.is_dir()]

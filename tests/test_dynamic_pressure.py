@@ -125,8 +125,9 @@ def test_in_loop_max_pressure_is_the_max_of_the_recorded_pressures(accessory):
     the recorded loads of the same run: a two-speed vmapped sweep (a resonance and above it;
     one speed's :func:`simulate`: test_low_speed_cell_loads_and_pressures_are_the_quasi_static_ones).
     Its static counterpart is the rigid mesh's quasi-static maximum at the same positions (the
-    model's static solution; 1e-9). At the resonance p₀/p₀,static = 1.30 (dynamic factor 1.75,
-    per tooth 1.75: √1.75 = 1.32)."""
+    model's static solution; 1e-9). At the resonance p₀/p₀,static = 1.27 with contact beyond the
+    path (the case files' default; dynamic factor 1.68, √1.68 = 1.30; on the theoretical path
+    1.30 and 1.75)."""
     case, scene, hertz = accessory
     model = dynamic_model(scene, case.modifications, case.torque)
     kw = {"integrator": Newmark(64), "window": SteadyState(30, 4)}
@@ -135,7 +136,7 @@ def test_in_loop_max_pressure_is_the_max_of_the_recorded_pressures(accessory):
     qs = jg.quasi_static(scene.mesh, case.modifications, case.torque, positions_per_pitch=64)
     static = _pressure(case, qs).max()
     np.testing.assert_allclose(np.asarray(s.max_pressure_static), static, rtol=1e-9)
-    assert float(s.max_pressure[0] / s.max_pressure_static[0]) == pytest.approx(1.30, abs=0.01)
+    assert float(s.max_pressure[0] / s.max_pressure_static[0]) == pytest.approx(1.27, abs=0.01)
     for i in range(2):
         p = np.asarray(
             jg.contact_pressure(

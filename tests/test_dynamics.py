@@ -339,7 +339,11 @@ def test_main_critical_speed_linear_case(linear_case):
 
 
 def test_jump_and_hysteresis_with_contact_loss(accessory):
-    case, scene = accessory
+    case, _ = accessory
+    # theoretical path: the softening jump of contact loss alone; the corner contact beyond the
+    # path stiffens the overloaded mesh and moves the branches (docs/extended-contact.md)
+    case = case.replace(extended_contact=False)
+    scene = TorsionalDynamics(case.mesh_model(), *_inertias(case))
     model = dynamic_model(
         scene, case.modifications, case.torque, Damping("modal", ratio=0.03), positions_per_pitch=32
     )

@@ -407,7 +407,7 @@ def test_the_speed_is_an_argument_of_the_solve(case, scene):
     assert float(a.te_mean) == float(b.te_mean)
 
 
-def test_cached_window_compliance_gives_the_same_solve(case, scene):
+def test_cached_window_compliance_gives_the_same_solve(case, body):
     """The window compliance cached per position (it depends on the scene and the position
     only) gives the quasi-static result formed at each position: TE, line loads and coordinates
     to 1e-12 (relative), at two torques and another tip relief (the exact law on the factored
@@ -415,6 +415,10 @@ def test_cached_window_compliance_gives_the_same_solve(case, scene):
     the relief depth, equal to a central difference; a position that is not cached raises."""
     from jaxgear.scenes import cache_window_compliance
 
+    # theoretical path: at 2.5 times the torque the corner contact beyond it trips the check
+    # that the cells reach far enough (beyond_extension, an open point of docs/extended-contact.md)
+    case = case.replace(extended_contact=False)
+    scene = static_scene(case, bodies=(None, body))[0]
     # the 4 positions of the module's other solves of this scene: one compiled program
     theta = jg.mesh_positions(case.mesh_model(), 4, 1)
     cached = cache_window_compliance(scene, theta)

@@ -47,6 +47,8 @@ stiffness = "uniform"
 stiffness_per_length_N_per_mm_per_um = {K0}
 slices = 2
 positions_per_pitch = 32
+# theoretical path: the reference counts the contact lines on the path
+extended_contact = false
 [operating]
 torque_Nm = {TORQUE}
 """

@@ -236,7 +236,8 @@ def test_failed_late_run_leaves_the_earlier_results(tmp_path, capsys, monkeypatc
     assert main(["run", case, "--out", str(out), "--quiet"]) == 0
     before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
     assert json.loads((out / "summary.json").read_text())["complete"] is True
-    assert len(before) == 9  # 8 files and the manifest
+    # 9 files (loaded_path.png with the case files' default extended_contact) and the manifest
+    assert len(before) == 10
     real = run_module.write_csv
 
     def fail_second(path, header, columns):

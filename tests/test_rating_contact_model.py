@@ -29,8 +29,10 @@ EXTENDED = "extended path of contact (off-line contact at the tip corners)"
 
 
 def _meshes():
+    """The case's mesh model on the theoretical path and beyond it (the case files' default)."""
     mesh = jio.parse_case(_case()).mesh_model()
-    return mesh, dataclasses.replace(mesh, extended_contact=True)
+    assert mesh.extended_contact is True  # the case files' default
+    return mesh.with_extended_contact(False), mesh
 
 
 def test_contact_model_reads_each_mesh_models_extended_contact():
@@ -38,7 +40,7 @@ def test_contact_model_reads_each_mesh_models_extended_contact():
     meshes named by position), none for no mesh model (linear springs); a wrong entry
     refused in one line."""
     plain, extended = _meshes()
-    assert plain.extended_contact is False  # the default: today's theoretical path
+    assert plain.extended_contact is False
     assert jg.rating.contact_model(plain) == THEORETICAL
     assert jg.rating.contact_model(extended) == EXTENDED
     assert jg.rating.contact_model((extended, extended)) == EXTENDED
@@ -73,9 +75,13 @@ def test_every_measured_row_states_its_contact_model(tmp_path):
     for symbol in ("K_v", "K_Hβ", "K_Hα", "K_Fα"):  # rated with the measured ones
         row = next(r for r in md.splitlines() if f"| {symbol} | " in r and "factor" in r)
         assert f"contact model: {EXTENDED}" in row, row
-    # the case's own mesh models (today's: the theoretical path) where the caller gives none
+    # the case's own mesh models (the case files' default: beyond the path) where the caller
+    # gives none; on the theoretical path where the case says so
     default = cli.rating_outputs(case, str(tmp_path / "d"), result=loads)
-    assert {m["contact_model"] for m in default["measured"].values()} == {THEORETICAL}
+    assert {m["contact_model"] for m in default["measured"].values()} == {EXTENDED}
+    off = case.replace(extended_contact=False)
+    plain_rows = cli.rating_outputs(off, str(tmp_path / "p"), result=loads)
+    assert {m["contact_model"] for m in plain_rows["measured"].values()} == {THEORETICAL}
 
 
 def test_a_measured_row_without_its_contact_model_cannot_be_made_or_shown(tmp_path):

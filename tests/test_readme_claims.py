@@ -105,16 +105,17 @@ def test_lumped3d_mean_te_35um_against_12um_rigid():
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_active_set_passes(name):
     """docs/guide/pair.md "Contact law": "Newton's method on a piecewise-linear equation started
-    with every cell in contact: finite passes (1–3 per position for the embedded cases at their
-    torque, at most 5 at a tenth of it)". Measured: 1–2 (accessory-spur), 1–3
-    (power-helical); 4–5 at 0.1 × torque with the helical pair's crowning."""
+    with every cell in contact: finite passes (1–4 per position for the embedded cases at their
+    torque, at most 6 at a tenth of it)", the case files' default cells beyond the path's ends
+    included. Measured: 1–3 (accessory-spur, both loads), 3–4 (power-helical); 5–6 at 0.1 ×
+    torque with the helical pair's relief and crowning (1–3 and 4–5 on the theoretical path)."""
     case = jio.load_case(name)
     mesh = case.mesh_model()
     for mods in (None, case.modifications):
         it = np.asarray(jg.quasi_static(mesh, mods, case.torque).iterations)
-        assert it.min() >= 1 and it.max() <= 3, (mods, np.unique(it))
+        assert it.min() >= 1 and it.max() <= 4, (mods, np.unique(it))
         it = np.asarray(jg.quasi_static(mesh, mods, 0.1 * case.torque).iterations)
-        assert it.max() <= 5, (mods, np.unique(it))
+        assert it.max() <= 6, (mods, np.unique(it))
 
 
 def test_quasi_static_failure_raises_or_returns_a_code():
@@ -135,7 +136,8 @@ def test_quasi_static_failure_raises_or_returns_a_code():
 
 @pytest.fixture(scope="module")
 def accessory_problem():
-    case = jio.load_case("accessory-spur").replace(slices=4)
+    # theoretical path: the landscape the docs quote is the thesis's (its Master Curve)
+    case = jio.load_case("accessory-spur").replace(slices=4, extended_contact=False)
     return jio.case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=64, relief_blend=0
     )
@@ -196,10 +198,11 @@ def test_torsional_mode_and_critical_speeds_of_the_accessory_pair():
 
 def test_lumped3d_example_peak_and_mode():
     """docs/dynamics.md: "`jaxgear sweep examples/accessory-lumped3d.toml --speeds 200:2000:40`
-    (…) puts the main peak (dynamic factor 1.74) at 938 rad/s against 939 rad/s predicted by the
-    mode at 6728 Hz holding 89 % of its strain energy in the mesh". The sweep here runs the peak
-    speed of that grid and its two neighbours only (same model and integration settings).
-    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.575, 1.741, 1.537."""
+    (…) puts the main peak (dynamic factor 1.66; …) at 938 rad/s against 939 rad/s predicted by
+    the mode at 6728 Hz holding 89 % of its strain energy in the mesh". The sweep here runs the
+    peak speed of that grid and its two neighbours only (same model and integration settings).
+    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.548, 1.656, 1.537 with contact beyond the
+    path (the case files' default; 1.575, 1.741, 1.537 on the theoretical path)."""
     case = jio.load_case(str(ROOT / "examples" / "accessory-lumped3d.toml"))
     model, spec = build_dynamic_model(case)
     f = np.asarray(model.modes.frequency)
@@ -219,7 +222,7 @@ def test_lumped3d_example_peak_and_mode():
     df = np.asarray(s.dynamic_factor)
     assert np.all(np.asarray(s.results.result) == 0)
     assert speeds[1] == pytest.approx(938, abs=0.5)
-    assert df[1] == pytest.approx(1.74, abs=0.005) and df[1] > df[0] and df[1] > df[2]
+    assert df[1] == pytest.approx(1.656, abs=0.005) and df[1] > df[0] and df[1] > df[2]
 
 
 def test_license_and_thesis_citation():

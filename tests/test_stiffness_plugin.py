@@ -29,7 +29,10 @@ class Linear(jg.AbstractStiffness):
 
 
 def test_a_stiffness_model_defined_in_a_test_runs_through_the_public_api():
-    case = jio.load_case("accessory-spur").replace(stiffness=Linear(K0, RISE))
+    # theoretical path: the reference below counts the contact lines in [0, g_α]
+    case = jio.load_case("accessory-spur").replace(
+        stiffness=Linear(K0, RISE), extended_contact=False
+    )
     pair = case.pair
     assert pair.helix_angle == 0  # spur: straight contact lines across the face
     mesh = case.mesh_model(slices=3)

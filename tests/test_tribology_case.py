@@ -91,7 +91,12 @@ def test_run_writes_film_and_loss_files(tmp_path):
     lam = np.array([float(r["specific_film"]) for r in rows])
     assert lam.min() == pytest.approx(section["min_specific_film"], rel=1e-5)
     s = np.array([float(r["s_m"]) for r in rows])
-    assert s.min() >= 0.0 and s.max() <= case.pair.path_of_contact * (1 + 1e-6)
+    # on the loaded path: the theoretical one and the cells beyond its ends (the case files'
+    # default, docs/extended-contact.md), where the corners of this unmodified pair touch
+    before, after = (float(x) for x in case.mesh_model().extension_span)
+    g = case.pair.path_of_contact
+    assert s.min() < 0.0 and s.max() > g  # the loaded corners' rows are there
+    assert s.min() >= -before * (1 + 1e-6) and s.max() <= (g + after) * (1 + 1e-6)
     assert (tmp_path / "tribology.png").stat().st_size > 10_000
     assert any("film and loss" in line for line in run_lines(case.form, case, summary))
     # Blok's flash temperature along the path, written without the scuffing keys: at the

@@ -25,7 +25,7 @@ import jax.scipy.linalg
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, MeshModel
+from .._baseplane import CellRow, MeshModel, on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance
@@ -320,7 +320,9 @@ class PairGearboxStage(AbstractGearboxStage):
     def dynamic_parts(self, positions):
         m, _ = self.matrices()
         x = self.mesh_period() * (jnp.arange(positions) + 0.5) / positions
-        rows = jax.vmap(self.cell_row)(x)
+        # the cells on the theoretical path (jaxgear.MeshModel's extended_contact: beyond it a
+        # corner's cell carries load only under deflection)
+        rows = jax.vmap(on_the_path(self).cell_row)(x)
         kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
         k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
         z = jnp.zeros_like(m)

@@ -60,7 +60,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, MeshModel
+from .._baseplane import CellRow, MeshModel, on_the_path
 from .._geometry import GearPair
 from .._internal import InternalGearPair
 from .._modifications import Modifications
@@ -347,7 +347,8 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
     def dynamic_parts(self, positions):
         p_s, p_r, _ = self._pitches()
         k_mean = 0.0
-        for row, period in ((self._sun_row, p_s), (self._ring_row, p_r)):
+        path = on_the_path(self)  # the cells on the theoretical path (extended_contact)
+        for row, period in ((path._sun_row, p_s), (path._ring_row, p_r)):
             x = period * (jnp.arange(positions) + 0.5) / positions  # each mesh its own period
             rows = jax.vmap(row)(x)
             kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)

@@ -28,7 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow
+from .._baseplane import CellRow, on_the_path
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
 from ..dynamics import LinearSystem, ModalAnalysis, StepCells, matrix_modal_analysis, newmark
@@ -421,7 +421,7 @@ def _coupled_modes(chain, run):
     for s, off in zip(chain.stages, offsets, strict=True):
         P = run.mean_positions
         x = s.mesh_period() * (jnp.arange(P) + 0.5) / P
-        rows = jax.vmap(s.cell_row)(x)
+        rows = jax.vmap(on_the_path(s).cell_row)(x)  # K̄_m's cells (on the path)
         kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)  # (p, c)
         d = jnp.einsum("pci,in->pcn", rows.V, phi[off:off + rows.V.shape[-1]])
         cell_e = jnp.mean(kl[..., None] * d**2, axis=0)  # (c, n)

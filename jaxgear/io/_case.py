@@ -54,7 +54,8 @@ class MeshSettings:
         smooth_width: smoothing width of the smooth contact law (m).
         extended_contact: contact beyond the theoretical path of contact (premature engagement
             and late disengagement at the tip corners; :meth:`jaxgear.MeshModel.from_pair`,
-            docs/extended-contact.md).
+            docs/extended-contact.md). False for a case built in Python; a case file's
+            ``[mesh] extended_contact`` defaults to True (False with backlash).
     """
 
     youngs_modulus: float = 210e9

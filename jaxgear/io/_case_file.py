@@ -306,8 +306,10 @@ def parse_material(data: dict) -> tuple[float, float, float]:
     return E, nu, rho
 
 
-#: ``[mesh] extended_contact`` when a case file does not say (docs/extended-contact.md)
-EXTENDED_CONTACT_DEFAULT = False
+#: ``[mesh] extended_contact`` when a case file does not say (docs/extended-contact.md, "Where it
+#: is on"); a pair case with backlash (coast flanks) resolves it to False, an explicit true there
+#: is refused
+EXTENDED_CONTACT_DEFAULT = True
 
 
 def parse_mesh_settings(data: dict, normal_module: float) -> dict:
@@ -476,6 +478,17 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     coast = any("tooth_thickness_allowance_um" in data[tag] for tag in ("pinion", "gear"))
     if coast:
         _refuse_with_backlash(data, deviations is not None, scene)
+        # contact beyond the path is not modelled with the coast flanks: the default resolves
+        # to the theoretical path there; an explicit true is refused (docs/extended-contact.md)
+        if "extended_contact" in data.get("mesh", {}) and mesh["extended_contact"]:
+            raise sc.fail(
+                "mesh",
+                "extended_contact",
+                "with backlash (coast flanks; a tooth_thickness_allowance_um) is not modelled: "
+                "set it false or drop the allowances",
+                data["mesh"]["extended_contact"],
+            )
+        mesh["extended_contact"] = False
     case = Case.of_pair(
         coast=coast,
         name=name,

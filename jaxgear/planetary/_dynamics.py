@@ -22,7 +22,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow
+from .._baseplane import CellRow, on_the_path
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
 from ..dynamics import (
@@ -360,8 +360,14 @@ def _mean_mesh_stiffness(model, stage, meshes, offsets, positions: int):
     and :func:`planetary_mesh_modes` add to K_b."""
     x_one = meshes.positions(positions, 1)
     rows = jax.vmap(lambda x: meshes.cell_row(model, stage, x, offsets))(x_one)
-    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-    return jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0), rows
+    # the cells on the theoretical path: beyond it a corner's cell carries load only under
+    # deflection (docs/extended-contact.md)
+    path = on_the_path(meshes)
+    on = rows
+    if path is not meshes:
+        on = jax.vmap(lambda x: path.cell_row(model, stage, x, offsets))(x_one)
+    kl = jnp.where(on.mask, on.k * on.length, 0.0)
+    return jnp.mean(jnp.einsum("pci,pc,pcj->pij", on.V, kl, on.V), axis=0), rows
 
 
 class PlanetaryStageSystem(NamedTuple):

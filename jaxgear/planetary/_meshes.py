@@ -32,7 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, Cells, MeshModel
+from .._baseplane import CellRow, Cells, MeshModel, on_the_path
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._internal import PlanetaryGeometry
 from .._modifications import Modifications
@@ -428,9 +428,10 @@ class ContactMeshes(AbstractPlanetaryMeshes):
 
     def mesh_stiffness(self, model, stage, positions):
         zero = jnp.zeros((stage.n_planets,), dtype=self.ring_offset.dtype)
+        path = on_the_path(self)  # unloaded: the cells on the theoretical path (extended_contact)
 
         def one(x):
-            row = self.cell_row(model, stage, x, (zero, zero))
+            row = path.cell_row(model, stage, x, (zero, zero))
             return self.mesh_forces(jnp.where(row.mask, row.k * row.length, 0.0))
 
         k = jnp.cos(self.sun_mesh.base_helix_angle) * jax.vmap(one)(as_float(positions))
