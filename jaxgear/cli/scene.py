@@ -285,10 +285,10 @@ def _(scene: HybridScene, run: _SceneRun, bodies, res: dict, pressure: dict) -> 
         ("load", lambda r: None, "max line load (N/mm)", 1e3),
         ("pressure", lambda r: _hertz(case, r).max_pressure, "max contact pressure (MPa)", 1e6),
     ):
-        grids = [
+        grids = _common_bins([
             load_map(r, ppp, pair.base_pitch, pair.path_of_contact, field=field(r))
             for _, r, _ in maps
-        ]
+        ])
         vmax = max(float(np.nanmax(m)) for _, _, m in grids)  # one scale: at rest vs at speed
         for (name, _, when), (s_edges, z, grid) in zip(maps, grids, strict=True):
             name = name.replace("load_map", f"{kind}_map")
@@ -397,3 +397,21 @@ def write_body_series(out_dir, scene, bodies, dyn, names=None) -> list[str]:
             )
         written.append(f"body_{name}.pvd")
     return written
+
+
+def _common_bins(grids: list) -> list:
+    """:func:`jaxgear.load_map` grids (s_edges, z, map) on the union of their bins, NaN where
+    a grid has none: with contact beyond the theoretical path each map reaches as far as its
+    own loaded cells (at rest and at speed differ), on one lattice of equal bins from s = 0."""
+    width = float(grids[0][0][1] - grids[0][0][0])
+    lo = min(float(g[0][0]) for g in grids)
+    hi = max(float(g[0][-1]) for g in grids)
+    n = int(round((hi - lo) / width))
+    out = []
+    for edges, z, grid in grids:
+        k = int(round((float(edges[0]) - lo) / width))
+        full = np.full((n, grid.shape[1]), np.nan)
+        full[k : k + grid.shape[0]] = grid
+        out.append((np.linspace(lo, hi, n + 1), z, full))
+    return out
+
