@@ -283,7 +283,7 @@ def test_moved_claims_are_still_stated():
         "reference/outputs.md": ("TE(θ) over two mesh periods",),
         "guide/pair.md": (
             "35 µm mean TE for the default case against 12 µm for rigid bodies",
-            "1–3 per position for the embedded cases at their torque, at most 5 at a tenth of it",
+            "1–4 per position for the embedded cases at their torque, at most 6 at a tenth of it",
             "come back as a result code per position",
         ),
         "guide/modifications.md": (
