@@ -28,7 +28,10 @@ X0 = np.array([0.9, 0.35, 0.6])  # E*, Γ, crowning E*: a relief near the TE-opt
 
 @pytest.fixture(scope="module")
 def case():
-    return jio.load_case(CASE)
+    # theoretical path: GEARpie's C14 reference (rigid sharing on the path of contact) and the
+    # example's figures; with the case file's default contact beyond the path the unmodified loss
+    # is 310 W, and the relief map of the example meets a non-finite contact state (open)
+    return jio.load_case(CASE).replace(extended_contact=False)
 
 
 def _problem(case, objective, **settings):
@@ -125,7 +128,8 @@ def test_float32_objective_and_gradient(case):
     v64 = float(ref.value(jnp.asarray(X0)))
     g64 = np.asarray(jax.grad(ref.value)(jnp.asarray(X0)))
     with jax.enable_x64(False):
-        p32 = _problem(jio.load_case(CASE), "efficiency_loss")  # loaded in float32
+        # loaded in float32, on the theoretical path as the fixture
+        p32 = _problem(jio.load_case(CASE).replace(extended_contact=False), "efficiency_loss")
         x = jnp.asarray(X0, dtype=jnp.float32)
         v32 = p32.value(x)
         g32 = jax.grad(lambda y: p32.value(y))(x)
