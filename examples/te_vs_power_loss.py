@@ -104,7 +104,9 @@ def main(
     extents = np.linspace(0.05, 0.95, n_grid)
     grid = jnp.asarray([[e, g] for g in extents for e in depths])
     te, loss = (np.asarray(a) for a in jax.jit(jax.vmap(te_and_loss))(grid))
-    te0, loss0 = (float(a) for a in jax.jit(te_and_loss)(jnp.zeros(2)))
+    # the unmodified design: depth 0 (at an extent inside its range (0, 1]; Γ = 0 would divide
+    # 0/0 at the path's ends, which contact beyond the path reaches)
+    te0, loss0 = (float(a) for a in jax.jit(te_and_loss)(jnp.asarray([0.0, 0.5])))
     front = _front(te, loss)
 
     # the weighted sums, each started from the map's best design for its weight (TE_ptp has

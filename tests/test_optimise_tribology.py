@@ -30,7 +30,7 @@ X0 = np.array([0.9, 0.35, 0.6])  # E*, Γ, crowning E*: a relief near the TE-opt
 def case():
     # theoretical path: GEARpie's C14 reference (rigid sharing on the path of contact) and the
     # example's figures; with the case file's default contact beyond the path the unmodified loss
-    # is 310 W, and the relief map of the example meets a non-finite contact state (open)
+    # is 310 W
     return jio.load_case(CASE).replace(extended_contact=False)
 
 
