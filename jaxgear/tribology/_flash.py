@@ -428,6 +428,20 @@ class MeshScuffing(eqx.Module):
         }
 
 
+
+def check_thermal_coefficients(thermal_coefficients, where: str) -> None:
+    """(B_M1, B_M2) (W s^½/(m² K)): two values, each > 0; one-line ValueError otherwise. Shared
+    by the flash-temperature, scuffing and micropitting entry points."""
+    check_real(
+        "thermal_coefficients",
+        thermal_coefficients,
+        "W s^½/(m² K)",
+        lo=0.0,
+        lo_open=True,
+        shape=(2,),
+        where=where,
+    )
+
 def mesh_scuffing(
     pair: AbstractGearPair,
     result,
@@ -469,15 +483,7 @@ def mesh_scuffing(
     check_instance("bulk", bulk, AbstractBulkTemperature, "a bulk-temperature kind", w_)
     check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
-    check_real(
-        "thermal_coefficients",
-        thermal_coefficients,
-        "W s^½/(m² K)",
-        lo=0.0,
-        lo_open=True,
-        shape=(2,),
-        where=w_,
-    )
+    check_thermal_coefficients(thermal_coefficients, w_)
     if not hasattr(result, "cell_mask"):
         raise ValueError(
             f"{w_}: result = {type(result).__name__} has no cell_mask: allowed a MeshResult"
@@ -528,15 +534,7 @@ def mesh_flash_temperature(
     check_instance("tribology", tribology, MeshTribology, "a MeshTribology", w_)
     check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
-    check_real(
-        "thermal_coefficients",
-        thermal_coefficients,
-        "W s^½/(m² K)",
-        lo=0.0,
-        lo_open=True,
-        shape=(2,),
-        where=w_,
-    )
+    check_thermal_coefficients(thermal_coefficients, w_)
     return cell_flash_temperature(
         pair,
         tribology,

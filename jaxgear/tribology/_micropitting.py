@@ -56,7 +56,11 @@ from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus
 from .._util import check_instance, check_real, safe_max
 from ._film import AbstractFilmFormula, DowsonHigginson
-from ._flash import STEEL_THERMAL_CONTACT_COEFFICIENT, cell_flash_temperature
+from ._flash import (
+    STEEL_THERMAL_CONTACT_COEFFICIENT,
+    cell_flash_temperature,
+    check_thermal_coefficients,
+)
 from ._lubricant import Lubricant
 from ._mesh import MeshTribology
 
@@ -259,15 +263,7 @@ def mesh_micropitting(
             lubricant.oil_temperature,
             lubrication_factor,
         )
-    check_real(
-        "thermal_coefficients",
-        thermal_coefficients,
-        "W s^½/(m² K)",
-        lo=0.0,
-        lo_open=True,
-        shape=(2,),
-        where=w_,
-    )
+    check_thermal_coefficients(thermal_coefficients, w_)
     return _micropitting(
         pair,
         tribology,
